@@ -1,0 +1,34 @@
+"""rotordyn_modal: linear dynamics and modal analysis of multi-rotor machines.
+
+A rigid stator on suspensions carrying rigid rotors with parallel spin axes,
+coupled by gears or belts::
+
+    import rotordyn_modal as rdm
+    model = rdm.load_model("examples/gear_machine.toml")
+    M, C, G, K = model.matrices()
+    res = rdm.campbell(model, rdm.rpm(np.linspace(0, 12000, 241)))
+    res.plot()
+"""
+
+from .analysis import (
+    CampbellResult, CriticalSpeeds, ModalResult, StabilityMap, StabilityResult, campbell,
+    critical_speeds, excitation_sources, mac, modal, stability, stability_map,
+)
+from .assembly import Matrices, matrices
+from .errors import InputError, ModelError
+from .geometry import shift_cross, shift_matrix, skew
+from .io import load_model, save_model
+from .linear_system import state_matrices, state_space
+from .model import Excitation, Model, Rotor, Sensor, Stator, Suspension, Transmission, Unbalance
+from .units import hz, rpm, to_hz, to_rpm
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Model", "Stator", "Rotor", "Transmission", "Suspension", "Unbalance", "Sensor", "Excitation",
+    "load_model", "save_model", "matrices", "Matrices", "state_space", "state_matrices",
+    "modal", "ModalResult", "mac", "campbell", "CampbellResult", "critical_speeds", "CriticalSpeeds",
+    "excitation_sources", "stability", "stability_map", "StabilityResult", "StabilityMap",
+    "shift_matrix", "shift_cross", "skew", "rpm", "to_rpm", "hz", "to_hz",
+    "InputError", "ModelError", "__version__",
+]

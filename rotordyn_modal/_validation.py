@@ -1,0 +1,388 @@
+"""Validation rules of a model description, one small function per table.
+
+Each function takes the raw table (plain Python values, as TOML gives them)
+and returns the validated component with numpy arrays, or raises
+:class:`~rotordyn_modal.errors.ModelError` naming source, table, key, value and
+what was expected.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from typing import Any, Mapping
+
+import numpy as np
+
+from .errors import ModelError
+from .geometry import skew
+from .model import (
+    ARRAY_TABLES, TOP_LEVEL_KEYS, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
+    Unbalance, input_keys, is_finite_number,
+)
+
+_RATIO_TOLERANCE = 1e-9
+_AXES_TOLERANCE = 1e-6
+
+
+class _Table:
+    """Where a value sits in the description, for messages: ``[rotors.fan]``."""
+
+    def __init__(self, source: str, label: str, data: Mapping[str, Any]):
+        self.source = source
+        self.label = label
+        self.data = data
+
+    def error(self, key: str, value, expected: str) -> ModelError:
+        where = f"[{self.label}] {key}" if self.label else key
+        return ModelError(self.source, where, value, expected)
+
+    def check_keys(self, allowed) -> None:
+        for key in self.data:
+            if key not in allowed:
+                raise self.error(key, self.data[key], "one of the keys " + ", ".join(allowed)
+                                 + " (unknown key)")
+
+    def require(self, key: str):
+        if key not in self.data:
+            raise self.error(key, "<missing>", "a value (the key is required)")
+        return self.data[key]
+
+    # -- typed readers ---------------------------------------------------------------
+    def number(self, key: str, default=None, *, positive=False, nonnegative=False,
+               required=False) -> float:
+        if key not in self.data:
+            if required:
+                self.require(key)
+            return default
+        value = self.data[key]
+        if not is_finite_number(value):
+            raise self.error(key, value, "a finite number")
+        value = float(value)
+        if positive and not value > 0:
+            raise self.error(key, value, "a finite number > 0")
+        if nonnegative and not value >= 0:
+            raise self.error(key, value, "a finite number >= 0")
+        return value
+
+    def text(self, key: str, default=None, *, choices=None, required=False) -> str:
+        if key not in self.data:
+            if required:
+                self.require(key)
+            return default
+        value = self.data[key]
+        if not isinstance(value, str) or not value.strip():
+            raise self.error(key, value, "a non-empty string")
+        if choices is not None and value not in choices:
+            raise self.error(key, value, "one of " + ", ".join(repr(c) for c in choices))
+        return value
+
+    def array(self, key: str, shapes, default=None, *, required=False) -> np.ndarray:
+        """A finite numeric array of one of ``shapes``."""
+        if key not in self.data:
+            if required:
+                self.require(key)
+            return None if default is None else np.array(default, dtype=float)
+        value = self.data[key]
+        expected = " or ".join(_shape_text(s) for s in shapes)
+        try:
+            arr = np.array(value, dtype=float)
+        except (TypeError, ValueError):
+            raise self.error(key, value, expected + " of numbers") from None
+        if isinstance(value, (str, bytes)) or arr.shape not in shapes:
+            raise self.error(key, value, expected + f" (got shape {arr.shape})")
+        if not np.all(np.isfinite(arr)):
+            raise self.error(key, value, expected + " of finite numbers")
+        return arr
+
+    def vector3(self, key: str, default=None, *, required=False, nonzero=False) -> np.ndarray:
+        vec = self.array(key, [(3,)], default, required=required)
+        if nonzero and vec is not None and not np.linalg.norm(vec) > 0:
+            raise self.error(key, self.data.get(key), "a 3-vector of non-zero length")
+        return vec
+
+
+def _shape_text(shape) -> str:
+    if len(shape) == 1:
+        return f"a {shape[0]}-list"
+    return f"a {shape[0]}x{shape[1]} matrix"
+
+
+# ----------------------------------------------------------------------------------------
+def plain_copy(data: Mapping[str, Any], source: str) -> dict[str, Any]:
+    """A deep copy of the description with numpy arrays turned into lists."""
+    if not isinstance(data, Mapping):
+        raise ModelError(source, "<model>", type(data).__name__, "a table of keys (a mapping)")
+    return _plain(data)
+
+
+def _plain(value):
+    if isinstance(value, Mapping):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def validate(data: dict[str, Any], source: str) -> dict[str, Any]:
+    """Validate a whole description; returns the validated parts by table name."""
+    top = _Table(source, "", data)
+    top.check_keys(TOP_LEVEL_KEYS)
+    for key in ARRAY_TABLES:
+        value = data.get(key, [])
+        if not isinstance(value, list) or not all(isinstance(v, Mapping) for v in value):
+            raise top.error(key, value, f"an array of tables ([[{key}]])")
+    if "stator" in data and not isinstance(data["stator"], Mapping):
+        raise top.error("stator", data["stator"], "a table ([stator])")
+
+    spin_axis = top.vector3("spin_axis", default=[1.0, 0.0, 0.0], nonzero=True)
+    spin_axis = spin_axis / np.linalg.norm(spin_axis)
+    name = data.get("name", "")
+    if not isinstance(name, str):
+        raise top.error("name", name, "a string")
+
+    stator = _stator(source, data["stator"]) if "stator" in data else None
+    rotor_tables = _named_tables(source, data, "rotors")
+    if not rotor_tables and stator is None:
+        raise top.error("rotors", [], "at least one [[rotors]] table or a [stator] table")
+    reference = _reference_rotor(top, rotor_tables)
+    transmissions = [_transmission(t, rotor_tables) for t in _indexed_tables(source, data, "transmissions")]
+    ratios = _speed_ratios(source, rotor_tables, transmissions, reference)
+    rotors = [_rotor(t, ratios[name]) for name, t in rotor_tables.items()]
+    suspensions = [_suspension(t) for t in _named_tables(source, data, "suspensions").values()]
+    unbalances = [_unbalance(t, rotor_tables) for t in _indexed_tables(source, data, "unbalances")]
+    sensors = [_sensor(t) for t in _named_tables(source, data, "sensors").values()]
+    excitations = [_excitation(t) for t in _named_tables(source, data, "excitations").values()]
+    gravity = top.vector3("gravity", default=[0.0, 0.0, 0.0])
+    return {
+        "name": name, "spin_axis": spin_axis, "reference_rotor": reference, "gravity": gravity,
+        "stator": stator, "rotors": tuple(rotors), "transmissions": tuple(transmissions),
+        "suspensions": tuple(suspensions), "unbalances": tuple(unbalances),
+        "sensors": tuple(sensors), "excitations": tuple(excitations),
+    }
+
+
+def _named_tables(source: str, data, key: str) -> dict[str, _Table]:
+    """The tables of an array, by their unique ``name``."""
+    tables: dict[str, _Table] = {}
+    for index, raw in enumerate(data.get(key, [])):
+        label = f"{key}[{index}]"
+        name = _Table(source, label, raw).text("name", required=True)
+        if name in tables:
+            raise _Table(source, label, raw).error("name", name, f"a name unique among the [[{key}]]")
+        tables[name] = _Table(source, f"{key}.{name}", raw)
+    return tables
+
+
+def _indexed_tables(source: str, data, key: str) -> list[_Table]:
+    return [_Table(source, f"{key}[{i}]", raw) for i, raw in enumerate(data.get(key, []))]
+
+
+def _reference_rotor(top: _Table, rotor_tables: Mapping[str, _Table]) -> str | None:
+    if not rotor_tables:
+        if "reference_rotor" in top.data:
+            raise top.error("reference_rotor", top.data["reference_rotor"], "no reference rotor: the model has no rotors")
+        return None
+    if "reference_rotor" not in top.data:
+        if len(rotor_tables) == 1:
+            return next(iter(rotor_tables))
+        raise top.error("reference_rotor", "<missing>", "the name of one of the rotors "
+                        + ", ".join(rotor_tables) + " (required with several rotors)")
+    name = top.data["reference_rotor"]
+    if name not in rotor_tables:
+        raise top.error("reference_rotor", name, "the name of one of the rotors " + ", ".join(rotor_tables))
+    return name
+
+
+# ----------------------------------------------------------------------------------------
+def _inertia_tensor(table: _Table, key: str) -> np.ndarray:
+    value = table.array(key, [(3,), (3, 3)], required=True)
+    tensor = np.diag(value) if value.shape == (3,) else value
+    scale = max(np.abs(tensor).max(), 1e-300)
+    if not np.allclose(tensor, tensor.T, rtol=0, atol=1e-9 * scale):
+        raise table.error(key, table.data[key], "a symmetric tensor")
+    tensor = 0.5 * (tensor + tensor.T)
+    principal = np.linalg.eigvalsh(tensor)
+    if not principal[0] > 0:
+        raise table.error(key, table.data[key], "a positive definite tensor (principal moments "
+                          f"{_fmt(principal)} must all be > 0)")
+    total = principal.sum()
+    if np.any(principal > total - principal + 1e-9 * total):
+        raise table.error(key, table.data[key], "principal moments that satisfy the triangle "
+                          f"inequality (each <= sum of the other two; got {_fmt(principal)})")
+    return tensor
+
+
+def _fmt(values) -> str:
+    return "[" + ", ".join(f"{v:.6g}" for v in values) + "]"
+
+
+def _stator(source: str, raw) -> Stator:
+    table = _Table(source, "stator", raw)
+    table.check_keys(input_keys("stator"))
+    return Stator(
+        mass=table.number("mass", required=True, positive=True),
+        inertia=_inertia_tensor(table, "inertia"),
+        center_of_mass=table.vector3("center_of_mass", default=[0.0, 0.0, 0.0]),
+    )
+
+
+def _rotor(table: _Table, ratio: float) -> Rotor:
+    table.check_keys(input_keys("rotors"))
+    polar = table.number("polar_inertia", required=True, positive=True)
+    diametral = table.number("diametral_inertia", required=True, positive=True)
+    if polar > 2.0 * diametral * (1 + 1e-12):
+        raise table.error("polar_inertia", polar, f"at most twice diametral_inertia = {diametral:g} "
+                          "(triangle inequality of a rigid body's principal moments)")
+    return Rotor(
+        name=table.data["name"],
+        mass=table.number("mass", required=True, positive=True),
+        center_of_mass=table.vector3("center_of_mass", required=True),
+        polar_inertia=polar,
+        diametral_inertia=diametral,
+        speed_ratio=ratio,
+    )
+
+
+def _transmission(table: _Table, rotor_tables) -> Transmission:
+    table.check_keys(input_keys("transmissions"))
+    kind = table.text("type", required=True, choices=("gear", "belt"))
+    names = []
+    for key in ("driver", "driven"):
+        name = table.text(key, required=True)
+        if name not in rotor_tables:
+            raise table.error(key, name, "the name of one of the rotors " + ", ".join(rotor_tables))
+        names.append(name)
+    if names[0] == names[1]:
+        raise table.error("driven", names[1], "a rotor other than the driver")
+    teeth = table.data.get("driver_teeth")
+    if teeth is not None and (isinstance(teeth, bool) or not isinstance(teeth, int) or teeth < 1):
+        raise table.error("driver_teeth", teeth, "a whole number >= 1")
+    return Transmission(type=kind, driver=names[0], driven=names[1],
+                        ratio=table.number("ratio", required=True, positive=True), driver_teeth=teeth)
+
+
+def _speed_ratios(source: str, rotor_tables: Mapping[str, _Table], transmissions, reference) -> dict[str, float]:
+    """Resolve every rotor's speed ratio from ``speed_ratio`` keys and the transmission graph.
+
+    Each rotor must be fixed by at least one route; routes that disagree are refused.
+    """
+    fixed: dict[str, tuple[float, str]] = {}
+    queue: deque[str] = deque()
+
+    def fix(name: str, ratio: float, route: str, table: _Table, key: str):
+        if name in fixed:
+            known, known_route = fixed[name]
+            if not math.isclose(known, ratio, rel_tol=_RATIO_TOLERANCE, abs_tol=1e-300):
+                raise table.error(key, table.data.get(key), f"a value consistent with {known_route}, "
+                                  f"which fixes the speed ratio of {name!r} to {known:.10g} (this "
+                                  f"route gives {ratio:.10g})")
+            return
+        fixed[name] = (ratio, route)
+        queue.append(name)
+
+    if reference is not None:
+        fix(reference, 1.0, "the reference rotor (ratio 1)", rotor_tables[reference], "speed_ratio")
+    for name, table in rotor_tables.items():
+        if "speed_ratio" in table.data:
+            fix(name, table.number("speed_ratio"), f"[rotors.{name}] speed_ratio", table, "speed_ratio")
+    edges: dict[str, list[tuple[str, float, Transmission]]] = {name: [] for name in rotor_tables}
+    for t in transmissions:
+        factor = t.direction_sign / t.ratio  # omega_driven = factor * omega_driver
+        edges[t.driver].append((t.driven, factor, t))
+        edges[t.driven].append((t.driver, 1.0 / factor, t))
+    while queue:
+        name = queue.popleft()
+        ratio = fixed[name][0]
+        for other, factor, t in edges[name]:
+            route = f"the {t.type} {t.driver}->{t.driven}"
+            fix(other, ratio * factor, route, _Table(source, f"transmissions {t.driver}->{t.driven}",
+                                                     {"ratio": t.ratio}), "ratio")
+    for name, table in rotor_tables.items():
+        if name not in fixed:
+            raise table.error("speed_ratio", "<missing>", "a speed ratio: neither speed_ratio nor a "
+                              "chain of [[transmissions]] from the reference rotor fixes this rotor's speed")
+    return {name: value for name, (value, _) in fixed.items()}
+
+
+def _orthonormal_axes(table: _Table, key: str) -> np.ndarray:
+    axes = table.array(key, [(3, 3)], default=np.eye(3))
+    if key not in table.data:
+        return axes
+    norms = np.linalg.norm(axes, axis=1)
+    if np.any(norms == 0):
+        raise table.error(key, table.data[key], "three non-zero rows (the suspension's axes)")
+    axes = axes / norms[:, None]
+    if not np.allclose(axes @ axes.T, np.eye(3), rtol=0, atol=_AXES_TOLERANCE):
+        raise table.error(key, table.data[key], "mutually orthogonal rows (the suspension's axes)")
+    # nearest orthogonal matrix, so that rounding in the file does not leak into the model
+    u, _, vt = np.linalg.svd(axes)
+    return u @ vt
+
+
+def _suspension_matrix(table: _Table, key: str, axes: np.ndarray, required: bool) -> np.ndarray:
+    """The 6x6 matrix acting on [u_P, theta] in model axes from a 3-, 6-list, 3x3 or 6x6 value."""
+    value = table.array(key, [(3,), (6,), (3, 3), (6, 6)], required=required)
+    if value is None:
+        return np.zeros((6, 6))
+    if value.ndim == 1:
+        if np.any(value < 0):
+            raise table.error(key, table.data[key], "non-negative diagonal values")
+        value = np.diag(value)
+    local = np.zeros((6, 6))
+    local[: value.shape[0], : value.shape[1]] = value
+    rotation = np.zeros((6, 6))
+    rotation[:3, :3] = rotation[3:, 3:] = axes  # local = axes @ model
+    return rotation.T @ local @ rotation
+
+
+def _suspension(table: _Table) -> Suspension:
+    table.check_keys(input_keys("suspensions"))
+    axes = _orthonormal_axes(table, "axes")
+    return Suspension(
+        name=table.data["name"],
+        position=table.vector3("position", required=True),
+        stiffness=table.data["stiffness"] if "stiffness" in table.data else table.require("stiffness"),
+        damping=table.data.get("damping"),
+        loss_factor=table.number("loss_factor", default=0.0, nonnegative=True),
+        axes=axes,
+        stiffness_matrix=_suspension_matrix(table, "stiffness", axes, required=True),
+        damping_matrix=_suspension_matrix(table, "damping", axes, required=False),
+    )
+
+
+def _unbalance(table: _Table, rotor_tables) -> Unbalance:
+    table.check_keys(input_keys("unbalances"))
+    rotor = table.text("rotor", required=True)
+    if rotor not in rotor_tables:
+        raise table.error("rotor", rotor, "the name of one of the rotors " + ", ".join(rotor_tables))
+    return Unbalance(
+        rotor=rotor,
+        amount=table.number("amount", required=True, positive=True),
+        phase_deg=table.number("phase_deg", default=0.0),
+        axial_offset=table.number("axial_offset", default=0.0),
+    )
+
+
+def _sensor(table: _Table) -> Sensor:
+    table.check_keys(input_keys("sensors"))
+    direction = table.vector3("direction", required=True, nonzero=True)
+    return Sensor(name=table.data["name"], position=table.vector3("position", required=True),
+                  direction=direction / np.linalg.norm(direction))
+
+
+def _excitation(table: _Table) -> Excitation:
+    table.check_keys(input_keys("excitations"))
+    kind = table.text("kind", default="force", choices=("force", "moment"))
+    direction = table.vector3("direction", required=True, nonzero=True)
+    position = table.vector3("position", default=None if kind == "force" else [0.0, 0.0, 0.0],
+                             required=kind == "force")
+    return Excitation(name=table.data["name"], position=position,
+                      direction=direction / np.linalg.norm(direction), kind=kind)
+
+
+__all__ = ["validate", "plain_copy", "skew"]

@@ -1,0 +1,9 @@
+"""Analyses: each a plain function taking a model and returning a result object."""
+
+from .campbell import CampbellResult, CriticalSpeeds, campbell, critical_speeds, excitation_sources
+from .modal import ModalResult, mac, modal
+from .stability import StabilityMap, StabilityResult, stability, stability_map
+
+__all__ = ["modal", "ModalResult", "mac", "campbell", "CampbellResult", "critical_speeds",
+           "CriticalSpeeds", "excitation_sources", "stability", "stability_map", "StabilityResult",
+           "StabilityMap"]

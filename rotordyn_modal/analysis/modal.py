@@ -1,0 +1,189 @@
+"""Modal analysis at one speed: eigenvalues, frequencies, damping, whirl, shapes."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+
+from ..geometry import point_motion_row
+from ..linear_system import speed_linear_form
+from . import _eigen
+
+__all__ = ["ModalResult", "modal", "mac", "modal_quantities"]
+
+
+def modal_quantities(eigenvalues):
+    """Frequencies [Hz], damping ratios and log decrements from eigenvalues.
+
+    Parameters
+    ----------
+    eigenvalues : array_like, complex [1/s]
+
+    Returns
+    -------
+    frequencies_hz, damping_ratios, log_decrements : ndarray, same shape
+        ``Im(lam) / 2 pi``, ``-Re(lam) / |lam|`` and ``-2 pi Re(lam) / Im(lam)``
+        (inf where the mode does not oscillate, nan where lam = 0).
+    """
+    lam = np.asarray(eigenvalues)
+    magnitude = np.abs(lam)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        zeta = np.where(magnitude > 0, -lam.real / np.where(magnitude > 0, magnitude, 1), np.nan)
+        log_dec = np.where(lam.imag > 0, -2 * np.pi * lam.real / np.where(lam.imag > 0, lam.imag, 1),
+                           np.where(lam.real < 0, np.inf, np.where(lam.real > 0, -np.inf, np.nan)))
+    return lam.imag / (2 * np.pi), zeta, log_dec
+
+
+@dataclass(frozen=True)
+class ModalResult:
+    """Modes of the machine at one speed, sorted by frequency.
+
+    Attributes
+    ----------
+    speed : float
+        Reference rotor speed [rad/s].
+    eigenvalues : ndarray, shape (n_modes,), complex [1/s]
+        One of each conjugate pair (Im >= 0).
+    frequencies_hz, damping_ratios, log_decrements : ndarray, shape (n_modes,)
+    whirl_ratios : ndarray, shape (n_modes,)
+        +1 circular forward, -1 circular backward, 0 straight line (vs the reference spin).
+    whirl : ndarray of str, shape (n_modes,)
+        'forward', 'backward' or 'none'.
+    shapes : ndarray, shape (n_modes, 6), complex
+        ``[u_x, u_y, u_z, theta_x, theta_y, theta_z]`` at the reference point
+        [m, rad], unit mass-weighted norm, largest component real.
+    reference_point : ndarray, shape (3,) [m]
+    oscillatory : ndarray of bool, shape (n_modes,)
+    """
+
+    speed: float
+    eigenvalues: np.ndarray
+    frequencies_hz: np.ndarray
+    damping_ratios: np.ndarray
+    log_decrements: np.ndarray
+    whirl_ratios: np.ndarray
+    whirl: np.ndarray
+    shapes: np.ndarray
+    reference_point: np.ndarray
+    oscillatory: np.ndarray
+
+    def shape_at(self, point, direction=None) -> np.ndarray:
+        """Mode shapes at a point of the stator.
+
+        Parameters
+        ----------
+        point : array_like, shape (3,) [m], model axes
+        direction : array_like, shape (3,), optional
+            If given, the component along this (normalised) direction.
+
+        Returns
+        -------
+        ndarray, shape (n_modes, 3) or (n_modes,), complex [m per unit modal amplitude]
+        """
+        rows = np.array([point_motion_row(point, self.reference_point, axis) for axis in np.eye(3)])
+        motion = self.shapes @ rows.T
+        if direction is None:
+            return motion
+        d = np.asarray(direction, dtype=float)
+        return motion @ (d / np.linalg.norm(d))
+
+    def to_dataframe(self, oscillatory_only: bool = True):
+        """Table with the command line's columns (``pandas.DataFrame``)."""
+        import pandas as pd
+
+        keep = self.oscillatory if oscillatory_only else np.ones_like(self.oscillatory)
+        return pd.DataFrame({
+            "mode": np.arange(1, keep.sum() + 1),
+            "frequency_hz": self.frequencies_hz[keep],
+            "damping_ratio": self.damping_ratios[keep],
+            "log_decrement": self.log_decrements[keep],
+            "whirl": self.whirl[keep],
+            "whirl_ratio": self.whirl_ratios[keep],
+            "real_part": self.eigenvalues.real[keep],
+        })
+
+    def plot(self, **kwargs):
+        """Bar chart of the modes' DOF participation; see :func:`rotordyn_modal.plotting.plot_modes`."""
+        from ..plotting import plot_modes
+
+        return plot_modes(self, **kwargs)
+
+
+def modal(model, speed: float = 0.0) -> ModalResult:
+    """Modal analysis at one speed.
+
+    Parameters
+    ----------
+    model : Model
+    speed : float
+        Reference rotor speed [rad/s]; negative reverses every rotor's spin.
+
+    Returns
+    -------
+    ModalResult
+    """
+    form = speed_linear_form(model)
+    values, vectors = scipy.linalg.eig(form.at(float(speed)))
+    n = form.n_dof
+    upper = _eigen.select_upper(values)
+    # the LAPACK vectors of the chosen eigenvalues (nearest match; values are identical)
+    index = [int(np.argmin(np.abs(values - lam))) for lam in upper]
+    index = _unique_indices(index, values, upper)
+    shapes = vectors[:n, index].T
+    M = form.matrices.M
+    shapes = _normalise(shapes, M)
+    W, N = _eigen.whirl_forms(model)
+    ratios = _eigen.whirl_ratios(shapes[None], W, N, np.array([speed]))[0]
+    freq, zeta, log_dec = modal_quantities(upper)
+    oscillatory = upper.imag > 0
+    return ModalResult(
+        speed=float(speed), eigenvalues=upper, frequencies_hz=freq, damping_ratios=zeta,
+        log_decrements=log_dec, whirl_ratios=ratios, whirl=_eigen.whirl_labels(ratios),
+        shapes=shapes, reference_point=np.asarray(model.reference_point), oscillatory=oscillatory,
+    )
+
+
+def _unique_indices(index, values, upper):
+    """Resolve repeated eigenvalues to distinct LAPACK columns."""
+    used: set[int] = set()
+    out = []
+    for i, lam in zip(index, upper):
+        if i in used:
+            candidates = np.argsort(np.abs(values - lam))
+            i = next(int(c) for c in candidates if int(c) not in used)
+        used.add(i)
+        out.append(i)
+    return out
+
+
+def _normalise(shapes, M):
+    """Unit mass-weighted norm, largest component real and positive."""
+    norms = np.sqrt(np.einsum("mi,ij,mj->m", shapes.conj(), M, shapes).real)
+    shapes = shapes / norms[:, None]
+    biggest = shapes[np.arange(len(shapes)), np.argmax(np.abs(shapes), axis=1)]
+    return shapes * (np.abs(biggest) / biggest)[:, None]
+
+
+def mac(shapes_a, shapes_b, mass=None) -> np.ndarray:
+    """Modal assurance criterion between two sets of mode shapes.
+
+    Parameters
+    ----------
+    shapes_a : array_like, shape (m, n)
+    shapes_b : array_like, shape (p, n)
+    mass : array_like, shape (n, n), optional
+        Weighting matrix (e.g. the mass matrix, for unit-consistent shapes).
+
+    Returns
+    -------
+    ndarray, shape (m, p), values in [0, 1]
+    """
+    a = np.atleast_2d(np.asarray(shapes_a, dtype=complex))
+    b = np.atleast_2d(np.asarray(shapes_b, dtype=complex))
+    weight = np.eye(a.shape[1]) if mass is None else np.asarray(mass)
+    cross = np.abs(a.conj() @ weight @ b.T) ** 2
+    norm_a = np.einsum("mi,ij,mj->m", a.conj(), weight, a).real
+    norm_b = np.einsum("mi,ij,mj->m", b.conj(), weight, b).real
+    return cross / np.outer(norm_a, norm_b)

@@ -1,0 +1,82 @@
+"""Mode tracking across a speed sweep by mode-shape correlation.
+
+Between neighbouring speeds the assignment is the one that maximises the
+mass-weighted MAC, with the eigenvalue distance as a tie-breaker. Most steps
+are unambiguous (each mode's best match is distinct and close to 1) and are
+resolved in one vectorised pass. The rest (degenerate points such as the
+zero-speed double roots of a symmetric machine, coarse steps through a
+veering) are solved one by one with an optimal assignment against the last
+unambiguous shape of each mode and a linear extrapolation of its eigenvalue,
+so a mode keeps its label through crossings and through points where its
+shape is not defined.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from ._eigen import mac_matrix
+
+__all__ = ["track_modes"]
+
+_CONFIDENT_MAC = 0.8
+_EIGEN_WEIGHT_RELATIVE = 0.02
+
+
+def track_modes(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
+    """Order that follows each mode across speeds.
+
+    Parameters
+    ----------
+    eigenvalues : ndarray, shape (N, n), complex
+    shapes : ndarray, shape (N, n, d), complex
+        Unit-norm (mass-weighted) shapes.
+
+    Returns
+    -------
+    ndarray of int, shape (N, n)
+        ``order[k, label]`` is the index, at speed k, of the mode called ``label``;
+        labels are numbered by ascending frequency at the first speed.
+    """
+    count, n = eigenvalues.shape
+    order = np.empty((count, n), dtype=int)
+    order[0] = np.arange(n)
+    if count == 1:
+        return order
+    correlation = mac_matrix(shapes[:-1], shapes[1:])  # (N-1, n, n)
+    best = np.argmax(correlation, axis=-1)
+    best_mac = np.take_along_axis(correlation, best[..., None], axis=-1)[..., 0]
+    distinct = np.all(np.sort(best, axis=-1) == np.arange(n), axis=-1)
+    confident = distinct & np.all(best_mac > _CONFIDENT_MAC, axis=-1)
+    last_good = np.zeros(n, dtype=int)  # last speed at which each label's shape was sure
+    for k in range(1, count):
+        if confident[k - 1]:
+            order[k] = best[k - 1][order[k - 1]]
+            last_good[:] = k
+            continue
+        order[k], sure = _ambiguous_step(k, order, eigenvalues, shapes, last_good)
+        last_good[sure] = k
+    return order
+
+
+def _ambiguous_step(k, order, eigenvalues, shapes, last_good):
+    """Optimal assignment at speed k against each mode's last sure shape and trend."""
+    n = eigenvalues.shape[1]
+    labels = np.arange(n)
+    reference = shapes[last_good, order[last_good, labels]]  # (n, d)
+    correlation = mac_matrix(reference, shapes[k])  # (n, n)
+    previous = eigenvalues[k - 1, order[k - 1]]
+    if k >= 2:
+        predicted = 2 * previous - eigenvalues[k - 2, order[k - 2]]
+    else:
+        predicted = previous
+    scale = _EIGEN_WEIGHT_RELATIVE * np.maximum(np.abs(predicted), np.abs(eigenvalues[k]).max() * 1e-3 + 1e-300)
+    distance = np.abs(predicted[:, None] - eigenvalues[k][None, :]) / scale[:, None]
+    cost = (1.0 - correlation) + distance
+    rows, columns = linear_sum_assignment(cost)
+    assigned = np.empty(n, dtype=int)
+    assigned[rows] = columns
+    local = mac_matrix(shapes[k - 1, order[k - 1]], shapes[k, assigned])
+    sure = np.diagonal(local) > _CONFIDENT_MAC
+    return assigned, sure

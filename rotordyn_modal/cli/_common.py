@@ -1,0 +1,152 @@
+"""Options and helpers shared by the sub-commands."""
+
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+
+from ..errors import InputError
+from ..io import atomic_write, check_not_input, load_model
+from ..units import SPEED_UNITS
+
+#: options that take a value which may start with '-' (a negative speed or range)
+VALUE_OPTIONS = ("--speed", "--speeds", "--values", "--scale", "--freqs", "--orders", "--impulse",
+                 "--ramp", "--duration")
+
+
+def join_negative_values(argv, options):
+    """Turn ``--speeds -6000:6000:13`` into ``--speeds=-6000:6000:13`` for argparse."""
+    out, i = [], 0
+    while i < len(argv):
+        token = argv[i]
+        if token in options and i + 1 < len(argv) and argv[i + 1].startswith("-") \
+                and len(argv[i + 1]) > 1 and (argv[i + 1][1].isdigit() or argv[i + 1][1] == "."):
+            out.append(f"{token}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(token)
+        i += 1
+    return out
+
+
+def parse_number(text: str, option: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(f"{option} {text!r}: expected a number") from None
+    if not math.isfinite(value):
+        raise InputError(f"{option} {text!r}: expected a finite number")
+    return value
+
+
+def parse_range(text: str, option: str) -> np.ndarray:
+    """``START:STOP:N`` -> N points from START to STOP, both included."""
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise InputError(f"{option} {text!r}: expected START:STOP:N (N points, both ends included), "
+                         "e.g. 0:12000:241")
+    start, stop = parse_number(parts[0], option), parse_number(parts[1], option)
+    try:
+        count = int(parts[2])
+    except ValueError:
+        raise InputError(f"{option} {text!r}: N = {parts[2]!r} must be a whole number >= 1") from None
+    if count < 1 or (count == 1 and start != stop):
+        raise InputError(f"{option} {text!r}: N must be >= 2 for a range (or START = STOP with N = 1)")
+    if count > 1 and not stop > start:
+        raise InputError(f"{option} {text!r}: STOP must be greater than START")
+    return np.linspace(start, stop, count)
+
+
+def parse_list(text: str, option: str) -> np.ndarray:
+    """``1,2,0.5`` -> array."""
+    values = [parse_number(item.strip(), option) for item in text.split(",") if item.strip()]
+    if not values:
+        raise InputError(f"{option} {text!r}: expected a comma-separated list of numbers")
+    return np.array(values)
+
+
+def add_model_argument(parser):
+    parser.add_argument("model", metavar="MODEL", help="model file (TOML), see docs/model-file.md")
+
+
+def add_speed_unit(parser):
+    parser.add_argument("--speed-unit", choices=sorted(SPEED_UNITS), default="rpm", type=str.lower,
+                        help="unit of --speed/--speeds (default rpm)")
+
+
+def add_outputs(parser, table: bool = True, plot: bool = True):
+    if table:
+        parser.add_argument("--out", metavar="FILE.csv",
+                            help="write the table as CSV ('-' for standard output)")
+    if plot:
+        parser.add_argument("--plot", metavar="FILE.png|FILE.svg|FILE.pdf", help="draw the figure to this file")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar, no table on the terminal")
+
+
+def to_rad_s(values, unit: str):
+    return np.asarray(values, dtype=float) * SPEED_UNITS[unit]
+
+
+def speeds_option(args) -> np.ndarray:
+    return to_rad_s(parse_range(args.speeds, "--speeds"), args.speed_unit)
+
+
+def open_model(args):
+    return load_model(args.model)
+
+
+def show_progress(args) -> bool:
+    return not args.quiet and sys.stderr.isatty()
+
+
+def write_table(table, args, float_format="%.10g"):
+    """Write a DataFrame to --out (atomic), or print it on the terminal."""
+    out = getattr(args, "out", None)
+    if out == "-":
+        table.to_csv(sys.stdout, index=False, float_format=float_format)
+    elif out:
+        check_outputs(args, out)
+        with atomic_write(out, "w", newline="") as handle:
+            table.to_csv(handle, index=False, float_format=float_format)
+    if out != "-" and not args.quiet:
+        with _pandas_display():
+            print(table.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+
+
+class _pandas_display:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+
+_FIGURE_FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
+
+
+def check_outputs(args, path):
+    check_not_input(path, [getattr(args, "model", None), getattr(args, "measured", None),
+                           getattr(args, "spec", None)])
+
+
+def save_figure(fig, args):
+    """Save ``fig`` to --plot atomically; the format follows the file ending."""
+    from pathlib import Path
+
+    path = Path(args.plot)
+    fmt = _FIGURE_FORMATS.get(path.suffix.lower())
+    if fmt is None:
+        raise InputError(f"--plot {args.plot}: expected a file ending in .png, .svg or .pdf")
+    check_outputs(args, path)
+    with atomic_write(path, None) as temporary:
+        fig.savefig(temporary, format=fmt, dpi=150)
+    if not args.quiet:
+        print(f"figure written to {path}", file=sys.stderr)
+
+
+def use_agg():
+    import matplotlib
+
+    matplotlib.use("Agg")

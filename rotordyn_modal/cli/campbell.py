@@ -1,0 +1,40 @@
+"""``campbell MODEL --speeds R``: tracked Campbell diagram."""
+
+from __future__ import annotations
+
+from ..analysis import campbell
+from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
+                      save_figure, show_progress, speeds_option, use_agg, write_table)
+
+NAME = "campbell"
+HELP = "Campbell diagram: modes tracked across speeds"
+DESCRIPTION = """Natural frequencies, damping and whirl of every mode over a speed range, each mode
+tracked by its shape so that it keeps its label where frequencies cross. The figure
+shows forward (solid blue) and backward (dashed red) whirl, every rotor's and gear
+mesh's excitation orders, and the critical speeds.
+
+CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part
+
+example:
+  rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png"""
+
+
+def add_arguments(parser):
+    add_model_argument(parser)
+    parser.add_argument("--speeds", required=True, help="START:STOP:N speeds of the reference rotor")
+    add_speed_unit(parser)
+    parser.add_argument("--orders", default="1", help="excitation orders drawn and marked (default 1), e.g. 1,2")
+    parser.add_argument("--color-by", choices=["log_decrement", "damping_ratio"],
+                        help="colour the curves by this quantity instead of by whirl")
+    add_outputs(parser)
+
+
+def run(args) -> int:
+    model = open_model(args)
+    result = campbell(model, speeds_option(args), orders=tuple(parse_list(args.orders, "--orders")),
+                      progress=show_progress(args))
+    write_table(result.to_dataframe(), args)
+    if args.plot:
+        use_agg()
+        save_figure(result.plot(color_by=args.color_by, title=model.name or None), args)
+    return 0

@@ -1,0 +1,60 @@
+"""Entry point: argument parsing, error handling and exit codes."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+from ..errors import InputError
+from ._common import VALUE_OPTIONS, join_negative_values
+
+PROGRAM = "rotordyn-modal"
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # usage errors: one line, exit 2
+        self.print_usage(sys.stderr)
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from . import SUBCOMMANDS
+    from .. import __version__
+
+    parser = _Parser(prog=PROGRAM, description="Linear dynamics and modal analysis of multi-rotor "
+                     "machines: modes, Campbell diagrams, critical speeds, stability, FRFs.",
+                     epilog=f"Run '{PROGRAM} SUB --help' for the options of a sub-command.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    subparsers = parser.add_subparsers(dest="command", metavar="SUB", required=True, parser_class=_Parser)
+    for module in SUBCOMMANDS:
+        sub = subparsers.add_parser(module.NAME, help=module.HELP, description=module.DESCRIPTION,
+                                    formatter_class=argparse.RawDescriptionHelpFormatter)
+        module.add_arguments(sub)
+        sub.set_defaults(handler=module.run)
+    return parser
+
+
+def main(argv=None) -> int:
+    """Run the command line; returns the exit code (0 done, 2 bad input, 1 other failure)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    parser = build_parser()
+    args = parser.parse_args(join_negative_values(argv, VALUE_OPTIONS))
+    try:
+        return int(args.handler(args) or 0)
+    except InputError as error:
+        print(f"{PROGRAM} {args.command}: error: {error}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"{PROGRAM} {args.command}: interrupted", file=sys.stderr)
+        return 130
+    except Exception as error:  # noqa: BLE001 - the last line of defence, exit code 1
+        if os.environ.get("ROTORDYN_MODAL_DEBUG"):
+            raise
+        print(f"{PROGRAM} {args.command}: failed: {type(error).__name__}: {error} "
+              "(set ROTORDYN_MODAL_DEBUG=1 for the traceback)", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,106 @@
+"""Shift matrices of seed 000 (eqs. 1-11) and small vector helpers.
+
+Conventions (see ``docs/theory.md``):
+
+* ``A_PO = skew(P - O)``, so that ``A_PO @ a = (P - O) x a`` (eq. 2);
+  ``A_PO.T = -A_PO = A_OP`` (eq. 3).
+* ``B_PO = [[I, 0], [-A_PO, I]]`` moves a generalized force
+  ``T = [F, C]`` from point O to point P: ``T_P = B_PO @ T_O`` (eqs. 7-9);
+  ``B_NO = B_NP @ B_PO`` (eq. 10) and ``inv(B_PO) = B_OP`` (eq. 11).
+* Its transpose moves small motions the other way: if ``q_P = [u_P, theta]``
+  is the motion of a rigid body at P, its motion at O is ``q_O = B_PO.T @ q_P``
+  (seed eq. 60 reads ``[u_1, w] = B_S1.T [u_S, w]``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["skew", "shift_cross", "shift_matrix", "point_motion_row", "point_force_column"]
+
+
+def skew(vector) -> np.ndarray:
+    """Cross-product matrix: ``skew(a) @ b == np.cross(a, b)``.
+
+    Parameters
+    ----------
+    vector : array_like, shape (..., 3)
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+    """
+    v = np.asarray(vector, dtype=float)
+    out = np.zeros(v.shape[:-1] + (3, 3))
+    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
+    return out
+
+
+def shift_cross(p, o) -> np.ndarray:
+    """Seed 000 eq. (2): ``A_PO``, the matrix of ``(P - O) x``.
+
+    Parameters
+    ----------
+    p, o : array_like, shape (3,)
+        Points P and O [m].
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+    """
+    return skew(np.asarray(p, dtype=float) - np.asarray(o, dtype=float))
+
+
+def shift_matrix(p, o) -> np.ndarray:
+    """Seed 000 eq. (8): ``B_PO``, moving a generalized force from O to P.
+
+    Parameters
+    ----------
+    p, o : array_like, shape (3,)
+        Points P and O [m].
+
+    Returns
+    -------
+    ndarray, shape (6, 6)
+        ``[[I, 0], [-A_PO, I]]``: ``T_P = B_PO @ T_O`` for ``T = [F (N), C (N m)]``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> B = shift_matrix([1.0, 0, 0], [0, 0, 0])
+    >>> B @ [0, 1.0, 0, 0, 0, 0]    # a force along y at O seen from P = (1, 0, 0)
+    array([ 0.,  1.,  0.,  0.,  0., -1.])
+    """
+    out = np.eye(6)
+    out[3:, :3] = -shift_cross(p, o)
+    return out
+
+
+def point_motion_row(point, reference, direction) -> np.ndarray:
+    """Row ``r`` with ``r @ q`` = displacement of ``point`` along ``direction``.
+
+    ``q = [u, theta]`` is the small motion of the rigid stator at ``reference``;
+    the displacement of P is ``u + theta x (P - S)``, so the row is
+    ``[d, (P - S) x d]``.
+
+    Returns
+    -------
+    ndarray, shape (6,)
+    """
+    d = np.asarray(direction, dtype=float)
+    arm = np.asarray(point, dtype=float) - np.asarray(reference, dtype=float)
+    return np.concatenate([d, np.cross(arm, d)])
+
+
+def point_force_column(point, reference, direction) -> np.ndarray:
+    """Generalized force at ``reference`` of a unit force along ``direction`` at ``point``.
+
+    Equal to :func:`point_motion_row` (reciprocity): ``B_SP @ [d, 0]``.
+
+    Returns
+    -------
+    ndarray, shape (6,)
+    """
+    return point_motion_row(point, reference, direction)

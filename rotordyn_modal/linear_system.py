@@ -1,0 +1,134 @@
+"""The linear system ``M q'' + (C + Omega G) q' + K q = B_f u``, ``y = C_s q``, in state space.
+
+State ``x = [q, q']`` (12 states); ``A(Omega) = A0 + Omega A1`` with::
+
+    A0 = [[0, I], [-M^-1 K, -M^-1 C]],   A1 = [[0, 0], [0, -M^-1 G]]
+
+so that all speeds of a sweep are built in one broadcast.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .assembly import excitation_columns, matrices, sensor_rows
+from .errors import InputError
+
+__all__ = ["SpeedLinearForm", "speed_linear_form", "state_matrices", "state_space"]
+
+_QUANTITY_ORDER = {"displacement": 0, "receptance": 0, "velocity": 1, "mobility": 1,
+                   "acceleration": 2, "accelerance": 2}
+
+
+class SpeedLinearForm:
+    """The state matrix as ``A0 + Omega A1`` (each (12, 12)), with M and its inverse.
+
+    Parameters
+    ----------
+    model : Model
+    """
+
+    def __init__(self, model):
+        self.matrices = matrices(model)
+        M, C, G, K = self.matrices
+        n = M.shape[0]
+        self.n_dof = n
+        m_inv = np.linalg.inv(M)
+        self.A0 = np.zeros((2 * n, 2 * n))
+        self.A0[:n, n:] = np.eye(n)
+        self.A0[n:, :n] = -m_inv @ K
+        self.A0[n:, n:] = -m_inv @ C
+        self.A1 = np.zeros((2 * n, 2 * n))
+        self.A1[n:, n:] = -m_inv @ G
+        self.mass_inverse = m_inv
+
+    def at(self, speeds) -> np.ndarray:
+        """State matrices at ``speeds`` [rad/s].
+
+        Parameters
+        ----------
+        speeds : array_like, shape (N,) or scalar
+
+        Returns
+        -------
+        ndarray, shape (N, 12, 12) (or (12, 12) for a scalar speed)
+        """
+        speeds = np.asarray(speeds, dtype=float)
+        return self.A0 + speeds[..., None, None] * self.A1
+
+
+def speed_linear_form(model) -> SpeedLinearForm:
+    """The speed-linear state matrix of ``model``; see :class:`SpeedLinearForm`."""
+    return SpeedLinearForm(model)
+
+
+def state_matrices(model, speeds) -> np.ndarray:
+    """State matrices ``A(Omega)`` for many speeds at once.
+
+    Parameters
+    ----------
+    model : Model
+    speeds : array_like, shape (N,)
+        Reference rotor speeds [rad/s].
+
+    Returns
+    -------
+    ndarray, shape (N, 12, 12) [1/s, 1/s^2]
+    """
+    return SpeedLinearForm(model).at(speeds)
+
+
+def state_space(model, speed: float, quantity: str = "displacement", inputs=None, outputs=None):
+    """python-control ``StateSpace`` of the machine at one speed.
+
+    Parameters
+    ----------
+    model : Model
+    speed : float
+        Reference rotor speed [rad/s]; negative reverses every rotor's spin.
+    quantity : {'displacement', 'velocity', 'acceleration'}
+        What the sensors measure (also accepted: 'receptance', 'mobility', 'accelerance').
+    inputs, outputs : list of str, optional
+        Excitation and sensor names (default: all, in model order).
+
+    Returns
+    -------
+    control.StateSpace
+        Inputs named after the ``[[excitations]]`` [N or N m], outputs after the
+        ``[[sensors]]`` [m, m/s or m/s^2], states ``q0..q5, dq0..dq5``.
+    """
+    import control
+
+    if quantity not in _QUANTITY_ORDER:
+        raise InputError(f"quantity {quantity!r}: expected one of {', '.join(_QUANTITY_ORDER)}")
+    form = SpeedLinearForm(model)
+    n = form.n_dof
+    a = form.at(float(speed))
+    columns = excitation_columns(model, inputs)
+    rows = sensor_rows(model, outputs)
+    b = np.vstack([np.zeros((n, columns.shape[1])), form.mass_inverse @ columns])
+    c, d = _output_matrices(a, b, rows, _QUANTITY_ORDER[quantity])
+    input_names = [x.name for x in _named(model.excitations, inputs)]
+    output_names = [s.name for s in _named(model.sensors, outputs)]
+    states = [f"q{i}" for i in range(n)] + [f"dq{i}" for i in range(n)]
+    return control.ss(a, b, c, d, inputs=input_names or None, outputs=output_names or None,
+                      states=states, name=model.name or None)
+
+
+def _output_matrices(a, b, rows, order: int):
+    """C and D giving the ``order``-th time derivative of the sensor displacements."""
+    n = rows.shape[1]
+    selector = np.hstack([rows, np.zeros_like(rows)])  # displacement: C x
+    c = selector
+    d = np.zeros((rows.shape[0], b.shape[1]))
+    for _ in range(order):
+        c, d = c @ a, c @ b  # d/dt (C x + D u) with u held: C A x + C B u
+    return c, d
+
+
+def _named(items, names):
+    if names is None:
+        return list(items)
+    names = [names] if isinstance(names, str) else names
+    by_name = {i.name: i for i in items}
+    return [by_name[n] for n in names]

@@ -1,0 +1,120 @@
+"""Dotted keys that address one value of a model description.
+
+``suspensions.mount-FL.damping`` names the key ``damping`` of the suspension
+called ``mount-FL``; ``rotors.fan.polar_inertia`` likewise; ``stator.mass`` a
+key of the stator table; ``spin_axis`` a top-level key. Tables of arrays
+without names (transmissions, unbalances) are addressed by their index:
+``transmissions.0.ratio``. One element of an array is selected with indices:
+``suspensions.mount-FL.stiffness[2]`` or ``...stiffness[3][4]``.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+import numpy as np
+
+from .errors import InputError
+from .model import ARRAY_TABLES
+
+__all__ = ["parse_key", "get_value", "set_value", "scale_value"]
+
+_INDEX = re.compile(r"\[(-?\d+)\]")
+
+
+def parse_key(key: str, data: dict, source: str = "<model>"):
+    """Split a dotted key into (container, field, indices), resolving table names.
+
+    Returns
+    -------
+    container : dict
+        The table that holds the field.
+    field : str
+    indices : tuple of int
+    """
+    if not isinstance(key, str) or not key:
+        raise InputError(f"{source}: parameter key {key!r}: expected a dotted key such as "
+                         "'suspensions.mount-FL.damping'")
+    match = re.search(r"(\[-?\d+\])+$", key)
+    indices = tuple(int(i) for i in _INDEX.findall(match.group(0))) if match else ()
+    path = key[: match.start()] if match else key
+    table, _, rest = path.partition(".")
+    if table in ARRAY_TABLES:
+        container, field = _array_element(data, table, rest, key, source)
+    elif table == "stator" and rest:
+        container, field = data.get("stator", {}), rest
+        if "stator" not in data:
+            raise InputError(f"{source}: parameter key {key!r}: the model has no [stator]")
+    elif not rest:
+        container, field = data, table
+    else:
+        raise InputError(f"{source}: parameter key {key!r}: expected it to start with one of "
+                         + ", ".join(("stator",) + ARRAY_TABLES) + " or to be a top-level key")
+    if field not in container:
+        known = ", ".join(k for k in container if not isinstance(container[k], (dict, list)) or
+                          (isinstance(container[k], list) and container[k] and not isinstance(container[k][0], dict)))
+        raise InputError(f"{source}: parameter key {key!r}: no value {field!r} there (it has {known})")
+    return container, field, indices
+
+
+def _array_element(data, table, rest, key, source):
+    items = data.get(table, [])
+    names = [str(item.get("name", i)) for i, item in enumerate(items)]
+    for name, item in sorted(zip(names, items), key=lambda pair: -len(pair[0])):
+        if rest.startswith(name + "."):
+            return item, rest[len(name) + 1:]
+    for i, item in enumerate(items):  # index for tables without names
+        if rest.startswith(f"{i}."):
+            return item, rest[len(str(i)) + 1:]
+    raise InputError(f"{source}: parameter key {key!r}: expected {table}.NAME.KEY with NAME one of "
+                     + (", ".join(names) or f"(no [[{table}]] defined)"))
+
+
+def get_value(data: dict, key: str, source: str = "<model>"):
+    """The value a dotted key names."""
+    container, field, indices = parse_key(key, data, source)
+    value = container[field]
+    for depth, index in enumerate(indices):
+        value = _index(value, index, key, depth, source)
+    return value
+
+
+def _index(value, index, key, depth, source):
+    if not isinstance(value, list) or not -len(value) <= index < len(value):
+        size = len(value) if isinstance(value, list) else 0
+        raise InputError(f"{source}: parameter key {key!r}: index {index} at depth {depth + 1} "
+                         f"out of range (that level has {size} elements)")
+    return value[index]
+
+
+def set_value(data: dict, key: str, value: Any, source: str = "<model>") -> None:
+    """Set the value a dotted key names (in place)."""
+    container, field, indices = parse_key(key, data, source)
+    if not indices:
+        container[field] = _plain(value)
+        return
+    target = container[field]
+    for depth, index in enumerate(indices[:-1]):
+        target = _index(target, index, key, depth, source)
+    _index(target, indices[-1], key, len(indices) - 1, source)
+    target[indices[-1]] = _plain(value)
+
+
+def scale_value(data: dict, key: str, factor: float, source: str = "<model>") -> None:
+    """Multiply the value (a number, or every number of an array) a dotted key names."""
+    current = get_value(data, key, source)
+    try:
+        scaled = (np.asarray(current, dtype=float) * float(factor)).tolist()
+    except (TypeError, ValueError):
+        raise InputError(f"{source}: parameter key {key!r}: holds {current!r}, which is not numeric "
+                         "and cannot be scaled") from None
+    set_value(data, key, scaled, source)
+
+
+def _plain(value):
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    return value

@@ -190,14 +190,17 @@ class Model:
     description with :meth:`from_dict`, or in code::
 
         >>> import rotordyn_modal as rdm
-        >>> m = rdm.Model(
+        >>> machine = rdm.Model(
         ...     stator=rdm.Stator(mass=100.0, inertia=[5.0, 4.0, 4.0]),
         ...     rotors=[rdm.Rotor("r", 10.0, [0, 0, 0], 0.05, 0.04, speed_ratio=1.0)],
         ...     suspensions=[rdm.Suspension("s", [0, 0, 0], [1e5, 1e5, 1e5, 1e3, 1e3, 1e3])],
         ... )
+        >>> machine.speed_ratios
+        {'r': 1.0}
+        >>> rdm.Model(rotors=[rdm.Rotor("r", -1.0, [0, 0, 0], 0.05, 0.04, speed_ratio=1.0)])
         Traceback (most recent call last):
         ...
-        rotordyn_modal.errors.ModelError: <model>: [suspensions.s] stiffness = ...
+        rotordyn_modal.errors.ModelError: <model>: [rotors.r] mass = -1.0: expected a finite number > 0
 
     Attributes
     ----------

@@ -15,7 +15,7 @@ from .tracking import track_modes
 __all__ = ["CampbellResult", "CriticalSpeeds", "ExcitationSources", "campbell", "critical_speeds",
            "excitation_sources", "solve_sweep"]
 
-_CHUNK = 2048
+_CHUNK = 4096
 
 
 @dataclass(frozen=True)
@@ -308,18 +308,30 @@ def _refine_crossing(form, whirl_forms, speeds, values, weighted, mode, k, slope
     M = form.matrices.M
     a, b = speeds[k], speeds[k + 1]
 
+    spread = abs(values[k + 1, mode] - values[k, mode]) + 1e-9 * abs(values[k, mode]) + 1e-300
+
+    def eigenvalue_at(speed):
+        """The tracked mode's eigenvalue: the nearest to the bracket's interpolation,
+        confirmed by its shape when another eigenvalue is about as near."""
+        lam = _eigen.select_upper(np.linalg.eigvals(form.at(speed)))
+        t = (speed - a) / (b - a)
+        distance = np.abs(lam - ((1 - t) * values[k, mode] + t * values[k + 1, mode]))
+        nearest, second = np.argsort(distance)[:2]
+        if distance[second] > 4 * distance[nearest] + 2 * spread:
+            return lam[nearest]
+        return mode_at(speed)[0]
+
     def mode_at(speed):
         lam, phi = _eigen.solve_batch(form, np.array([speed]))
         psi = _eigen.mass_normalized(phi, M)
         t = (speed - a) / (b - a)
         expected = (1 - t) * values[k, mode] + t * values[k + 1, mode]
         correlation = _eigen.mac_matrix(weighted[k, mode][None], psi[0])[0]
-        spread = abs(values[k + 1, mode] - values[k, mode]) + 1e-9 * abs(expected) + 1e-300
         j = int(np.argmin((1 - correlation) + np.abs(lam[0] - expected) / spread))
         return lam[0, j], phi[0, j]
 
     def gap(speed):
-        return mode_at(speed)[0].imag - slope * abs(speed)
+        return eigenvalue_at(speed).imag - slope * abs(speed)
 
     if gap(a) == 0:
         root = a

@@ -41,16 +41,17 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
         _draw_coloured(ax, fig, x, result, color_by)
     else:
         _draw_by_whirl(ax, x, result)
-    _draw_orders(ax, result, x, sources)
-    _draw_critical(ax, result, scale, annotate_critical, sources)
-    top = np.nanmax(np.where(result.oscillatory, result.frequencies_hz, np.nan)) if result.oscillatory.any() else 1.0
-    ax.set_ylim(0, 1.15 * top)
+    top = 1.15 * (np.nanmax(np.where(result.oscillatory, result.frequencies_hz, np.nan))
+                  if result.oscillatory.any() else 1.0)
+    _draw_orders(ax, result, x, sources, top)
+    _draw_critical(ax, result, scale, annotate_critical and len(result.critical) <= 24, sources)
+    ax.set_ylim(0, top)
     ax.set_xlim(x.min(), x.max() if x.max() > x.min() else x.min() + 1)
     ax.set_xlabel(speed_label(speed_unit))
     ax.set_ylabel("Damped natural frequency [Hz]")
     ax.set_title(title or "Campbell diagram")
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="upper left", fontsize="small", ncols=2)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), fontsize="small", ncols=4, frameon=False)
     return fig
 
 
@@ -106,18 +107,23 @@ def _label_curve_end(ax, x, f, text):
                     fontsize="x-small", va="center")
 
 
-def _draw_orders(ax, result, x, sources):
+def _draw_orders(ax, result, x, sources, top):
+    """Straight order lines, each labelled where it leaves the plotted frequency range."""
     speeds_abs = np.abs(result.speeds)
     colors = ["0.2", "tab:green", "tab:purple", "tab:brown", "tab:olive", "tab:cyan"]
     for i, (name, multiplier) in enumerate(zip(result.sources.names, result.sources.multipliers)):
         if sources is not None and name not in sources:
             continue
+        color = colors[i % len(colors)]
         for order in result.orders:
             f = order * multiplier * speeds_abs / (2 * np.pi)
-            ax.plot(x, f, color=colors[i % len(colors)], linewidth=0.9, alpha=0.8)
-            k = int(np.argmax(speeds_abs))
-            ax.annotate(f"{order:g}X {name}", (x[k], f[k]), xytext=(-4, 2), textcoords="offset points",
-                        fontsize="x-small", ha="right", color=colors[i % len(colors)], clip_on=True)
+            ax.plot(x, f, color=color, linewidth=0.9, alpha=0.8)
+            inside = np.nonzero(f <= top)[0]
+            if not inside.size:
+                continue
+            k = inside[-1] if x[-1] >= abs(x[0]) else inside[0]
+            ax.annotate(f"{order:g}X {name}", (x[k], f[k]), xytext=(-3, -3), textcoords="offset points",
+                        fontsize="x-small", ha="right", va="top", color=color, rotation=0)
 
 
 def _draw_critical(ax, result, scale, annotate, sources):

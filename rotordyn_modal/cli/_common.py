@@ -111,16 +111,18 @@ def write_table(table, args, float_format="%.10g"):
         with atomic_write(out, "w", newline="") as handle:
             table.to_csv(handle, index=False, float_format=float_format)
     if out != "-" and not args.quiet:
-        with _pandas_display():
-            print(table.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+        print_table(table)
 
 
-class _pandas_display:
-    def __enter__(self):
-        return self
+_TERMINAL_ROWS = 40
 
-    def __exit__(self, *exc):
-        return False
+
+def print_table(table):
+    """Print a table on the terminal, shortened to its first rows when long."""
+    shown = table.head(_TERMINAL_ROWS)
+    print(shown.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+    if len(table) > len(shown):
+        print(f"... {len(table) - len(shown)} more rows ({len(table)} in all; --out FILE.csv writes them all)")
 
 
 _FIGURE_FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}

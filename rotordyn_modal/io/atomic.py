@@ -29,6 +29,12 @@ def check_not_input(output, inputs) -> None:
             raise InputError(f"{output}: refusing to write over the input file {source}")
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 @contextlib.contextmanager
 def atomic_write(path, mode: str = "w", **kwargs):
     """Open a temporary file beside ``path``; rename it to ``path`` only on success.
@@ -49,6 +55,7 @@ def atomic_write(path, mode: str = "w", **kwargs):
         else:
             with os.fdopen(fd, mode, **kwargs) as handle:
                 yield handle
+        os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual mode
         os.replace(temporary, path)
     except BaseException:
         with contextlib.suppress(OSError):

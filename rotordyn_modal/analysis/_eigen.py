@@ -12,13 +12,15 @@ from __future__ import annotations
 import os
 from concurrent.futures import ThreadPoolExecutor
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ..assembly import body_inertias
 from ..geometry import skew
 
 __all__ = ["upper_eigenvalues", "mode_shapes", "solve_batch", "whirl_forms", "whirl_ratios",
-           "mass_normalized", "mac_matrix", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
+           "mass_normalized", "mac_matrix", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
 
 #: |Im lam| below this fraction of the largest |lam| of a speed counts as non-oscillatory
 OSCILLATORY_TOLERANCE = 1e-6
@@ -170,49 +172,61 @@ def _body_quadratic(mass, center, second_moment, X) -> np.ndarray:
     return out
 
 
-def whirl_forms(model):
-    """Quadratic forms ``W`` and ``N`` of the whirl ratio of a mode shape phi.
+class WhirlForms(NamedTuple):
+    """Quadratic forms of the whirl ratio (each (6, 6)); see :func:`whirl_forms`."""
+
+    W: np.ndarray
+    N: np.ndarray
+    total: np.ndarray
+
+
+def whirl_forms(model) -> WhirlForms:
+    """Quadratic forms ``W``, ``N`` and ``total`` of the whirl ratio of a mode shape phi.
 
     ``-i phi^H W phi`` is the mass-weighted orbital angular momentum of the
-    whole machine's vibration about the spin axis (per unit frequency) and
-    ``phi^H N phi`` the mass-weighted mean square motion normal to it; their
-    ratio is +1 for a circular orbit turning about ``+spin_axis``, -1 against,
-    0 for straight-line orbits. See ``docs/theory.md``.
-
-    Returns
-    -------
-    W, N : ndarray, shape (6, 6)
+    whole machine's vibration about the spin axis (per unit frequency),
+    ``phi^H N phi`` the mass-weighted mean square motion normal to it and
+    ``phi^H total phi`` that of the whole motion (``total`` equals the mass
+    matrix). See ``docs/theory.md``.
     """
     e = model.spin_axis
-    along = skew(e)
-    across = np.eye(3) - np.outer(e, e)
     reference = model.reference_point
-    W = np.zeros((6, 6))
-    N = np.zeros((6, 6))
+    parts = {name: np.zeros((6, 6)) for name in ("W", "N", "total")}
+    directions = {"W": skew(e), "N": np.eye(3) - np.outer(e, e), "total": np.eye(3)}
     for mass, center, inertia in body_inertias(model):
         arm = np.asarray(center) - reference
-        second_central = 0.5 * np.trace(inertia) * np.eye(3) - inertia
-        second = second_central + mass * np.outer(arm, arm)
-        W += _body_quadratic(mass, arm, second, along)
-        N += _body_quadratic(mass, arm, second, across)
-    return W, N
+        second = 0.5 * np.trace(inertia) * np.eye(3) - inertia + mass * np.outer(arm, arm)
+        for name, X in directions.items():
+            parts[name] += _body_quadratic(mass, arm, second, X)
+    return WhirlForms(**parts)
 
 
-def whirl_ratios(shapes, W, N, speeds) -> np.ndarray:
+def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     """Signed whirl ratio in [-1, 1] relative to the reference rotor's spin.
+
+    +1 for a circular orbit normal to the spin axis turning with the spin, -1
+    against it, 0 for straight-line orbits. Modes whose motion normal to the
+    axis is below ``1e-9`` of their whole motion (pure axial or roll motion)
+    get 0, not a ratio of round-off to round-off.
 
     Parameters
     ----------
     shapes : ndarray, shape (..., m, 6)
+    forms : WhirlForms
     speeds : ndarray, shape (...) [rad/s]; the sign of the spin (0 counts as +)
 
     Returns
     -------
     ndarray, shape (..., m)
     """
-    momentum = np.einsum("...i,ij,...j->...", shapes.conj(), W, shapes)
-    norm = np.einsum("...i,ij,...j->...", shapes.conj(), N, shapes).real
-    ratio = np.where(norm > 0, (-1j * momentum).real / np.where(norm > 0, norm, 1.0), 0.0)
+    def form(matrix):
+        return np.einsum("...i,ij,...j->...", shapes.conj(), matrix, shapes)
+
+    momentum = (-1j * form(forms.W)).real
+    across = form(forms.N).real
+    whole = form(forms.total).real
+    whirling = across > 1e-9 * whole
+    ratio = np.where(whirling, momentum / np.where(whirling, across, 1.0), 0.0)
     sign = np.where(np.asarray(speeds) < 0, -1.0, 1.0)
     return np.clip(ratio * np.asarray(sign)[..., None], -1.0, 1.0)
 

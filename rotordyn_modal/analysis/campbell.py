@@ -228,12 +228,12 @@ def campbell(model, speeds, orders=(1,), progress=False) -> CampbellResult:
     speeds = _check_speeds(speeds)
     form = speed_linear_form(model)
     values, shapes, weighted = solve_sweep(model, speeds, progress, form)
-    W, N = _eigen.whirl_forms(model)
-    ratios = _eigen.whirl_ratios(shapes, W, N, speeds)
+    forms = _eigen.whirl_forms(model)
+    ratios = _eigen.whirl_ratios(shapes, forms, speeds)
     freq, zeta, log_dec = modal_quantities(values)
     sources = excitation_sources(model)
     n = values.shape[1]
-    critical = _find_critical_speeds(form, (W, N), speeds, values, weighted, sources, tuple(orders))
+    critical = _find_critical_speeds(form, forms, speeds, values, weighted, sources, tuple(orders))
     return CampbellResult(
         speeds=speeds, eigenvalues=values, frequencies_hz=freq, damping_ratios=zeta,
         log_decrements=log_dec, whirl_ratios=ratios, whirl=_eigen.whirl_labels(ratios),
@@ -340,7 +340,7 @@ def _refine_crossing(form, whirl_forms, speeds, values, weighted, mode, k, slope
     else:
         root = brentq(gap, a, b, xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
     lam, phi = mode_at(root)
-    ratio = _eigen.whirl_ratios(phi[None, None], *whirl_forms, np.array([root]))[0, 0]
+    ratio = _eigen.whirl_ratios(phi[None, None], whirl_forms, np.array([root]))[0, 0]
     _, zeta, _ = modal_quantities(lam)
     return (name, float(order), mode + 1, float(root), lam.imag / (2 * np.pi),
             str(_eigen.whirl_labels(ratio)), float(ratio), float(zeta))

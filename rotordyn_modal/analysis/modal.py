@@ -134,8 +134,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     shapes = vectors[:n, index].T
     M = form.matrices.M
     shapes = _normalise(shapes, M)
-    W, N = _eigen.whirl_forms(model)
-    ratios = _eigen.whirl_ratios(shapes[None], W, N, np.array([speed]))[0]
+    ratios = _eigen.whirl_ratios(shapes[None], _eigen.whirl_forms(model), np.array([speed]))[0]
     freq, zeta, log_dec = modal_quantities(upper)
     oscillatory = upper.imag > 0
     return ModalResult(

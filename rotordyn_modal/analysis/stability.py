@@ -162,8 +162,7 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
     speeds = _check_speeds(speeds)
     form = speed_linear_form(model)
     eigenvalues, shapes, _ = solve_sweep(model, speeds, progress, form)
-    W, N = _eigen.whirl_forms(model)
-    ratios = _eigen.whirl_ratios(shapes, W, N, speeds)
+    ratios = _eigen.whirl_ratios(shapes, _eigen.whirl_forms(model), speeds)
     freq, zeta, log_dec = modal_quantities(eigenvalues)
     thresholds, threshold_modes, onsets = threshold_speeds(form, speeds, eigenvalues)
     return StabilityResult(

@@ -94,7 +94,24 @@ def speeds_option(args) -> np.ndarray:
 
 
 def open_model(args):
+    """Check the output options (before any work), then load and validate the model."""
+    check_output_options(args)
     return load_model(args.model)
+
+
+def check_output_options(args):
+    """Refuse a bad --plot ending or an output over an input before computing anything."""
+    from pathlib import Path
+
+    plot = getattr(args, "plot", None)
+    if plot and Path(plot).suffix.lower() not in _FIGURE_FORMATS:
+        raise InputError(f"--plot {plot}: expected a file ending in .png, .svg or .pdf")
+    for option in ("out", "plot"):
+        path = getattr(args, option, None)
+        if path and path != "-":
+            check_outputs(args, path)
+            if not Path(path).parent.exists():
+                raise InputError(f"--{option} {path}: the folder {Path(path).parent} does not exist")
 
 
 def show_progress(args) -> bool:

@@ -208,6 +208,11 @@ def stability_map(model, speeds, key: str, values=None, scale=None, progress=Fal
 def threshold_speeds(form, speeds, eigenvalues):
     """Speeds where the largest real part of the eigenvalues crosses zero.
 
+    Real parts within round-off of zero (``1e-10`` of the largest ``|lam|``, as in an
+    undamped machine) count as zero: marginal stability is not read as crossings.
+    A clean sign change is refined with Brent's method on the eigenproblem; a change
+    from (or to) marginal is located by bisection of the predicate "unstable".
+
     Parameters
     ----------
     form : SpeedLinearForm
@@ -219,19 +224,33 @@ def threshold_speeds(form, speeds, eigenvalues):
     speeds : ndarray [rad/s]; modes : ndarray of int (1-based); onsets : ndarray of bool
     """
     largest = _significant_real_parts(eigenvalues).max(axis=1)
+    unstable = largest > 0
     found, modes, onsets = [], [], []
-    for k in np.nonzero(np.sign(largest[:-1]) != np.sign(largest[1:]))[0]:
+    for k in np.nonzero(unstable[:-1] != unstable[1:])[0]:
         a, b = speeds[k], speeds[k + 1]
-        if largest[k] == 0:
-            root = a
-        else:
+        if largest[k] < 0 < largest[k + 1] or largest[k + 1] < 0 < largest[k]:
             root = brentq(lambda s: _largest_real_part(form, s), a, b,
                           xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
-        side = k + 1 if largest[k] < 0 else k  # the speed where it is unstable
+        else:
+            root = _bisect_change(lambda s: _largest_real_part(form, s) > 0, a, b)
+        side = k + 1 if unstable[k + 1] else k  # the speed where it is unstable
         found.append(root)
         modes.append(int(np.argmax(eigenvalues[side].real)) + 1)
-        onsets.append(bool(largest[k + 1] > largest[k]))
+        onsets.append(bool(unstable[k + 1]))
     return np.array(found), np.array(modes, dtype=int), np.array(onsets, dtype=bool)
+
+
+def _bisect_change(predicate, a, b):
+    """The point in [a, b] where a boolean predicate changes value (to 1e-13 relative)."""
+    at_a = predicate(a)
+    tolerance = 1e-13 * max(abs(a), abs(b), 1.0)
+    while b - a > tolerance:
+        middle = 0.5 * (a + b)
+        if predicate(middle) == at_a:
+            a = middle
+        else:
+            b = middle
+    return 0.5 * (a + b)
 
 
 def _largest_real_part(form, speed) -> float:
@@ -240,7 +259,12 @@ def _largest_real_part(form, speed) -> float:
 
 def _significant_real_parts(eigenvalues) -> np.ndarray:
     """Real parts, with rigid-body roots (lam = 0 to round-off: a direction without
-    suspension) set to -inf so that their round-off sign is not read as instability."""
+    suspension) set to -inf so that their round-off sign is not read as instability,
+    and real parts within round-off of zero (undamped modes) set to exactly 0."""
     scale = np.abs(eigenvalues).max(axis=-1, keepdims=True)
     rigid = np.abs(eigenvalues) <= _eigen.OSCILLATORY_TOLERANCE * scale
-    return np.where(rigid, -np.inf, eigenvalues.real)
+    real = np.where(np.abs(eigenvalues.real) <= _MARGINAL_TOLERANCE * scale, 0.0, eigenvalues.real)
+    return np.where(rigid, -np.inf, real)
+
+
+_MARGINAL_TOLERANCE = 1e-10

@@ -352,7 +352,29 @@ def _suspension(table: _Table) -> Suspension:
         axes=axes,
         stiffness_matrix=_suspension_matrix(table, "stiffness", axes, required=True),
         damping_matrix=_suspension_matrix(table, "damping", axes, required=False),
+        maxwell_stiffness=table.data.get("maxwell_stiffness"),
+        maxwell_time=table.data.get("maxwell_time"),
+        maxwell_stiffness_matrix=_maxwell_branches(table, axes),
     )
+
+
+def _maxwell_branches(table: _Table, axes: np.ndarray):
+    """(n_branches, 6, 6) branch stiffnesses in model axes, or None without branches."""
+    if "maxwell_stiffness" not in table.data and "maxwell_time" not in table.data:
+        return None
+    stiffness, times = table.require("maxwell_stiffness"), table.require("maxwell_time")
+    if not isinstance(stiffness, (list, tuple)) or not isinstance(times, (list, tuple)) \
+            or len(stiffness) != len(times) or not stiffness:
+        raise table.error("maxwell_time", times, "a list of relaxation times [s], one per branch of "
+                          f"maxwell_stiffness ({len(stiffness) if isinstance(stiffness, list) else 0} branches)")
+    for i, tau in enumerate(times):
+        if not is_finite_number(tau) or not tau > 0:
+            raise table.error(f"maxwell_time[{i}]", tau, "a finite relaxation time > 0 [s]")
+    branches = []
+    for i, branch in enumerate(stiffness):
+        sub = _Table(table.source, table.label, {f"maxwell_stiffness[{i}]": branch})
+        branches.append(_suspension_matrix(sub, f"maxwell_stiffness[{i}]", axes, required=True))
+    return np.array(branches)
 
 
 def _unbalance(table: _Table, rotor_tables) -> Unbalance:

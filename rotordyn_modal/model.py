@@ -123,6 +123,11 @@ class Suspension:
     point, in the suspension's own ``axes`` (rows are its axes in model axes).
     After validation :attr:`stiffness_matrix` and :attr:`damping_matrix` hold
     the 6x6 matrices in model axes acting on ``[u_P, theta]`` at the point.
+
+    ``maxwell_stiffness`` (a list of branches, each shaped like ``stiffness``)
+    and ``maxwell_time`` (their relaxation times [s]) add generalized Maxwell
+    branches (a spring ``k_b`` in series with a dashpot ``k_b tau_b``) for
+    rubber: ``K_b i w tau_b / (1 + i w tau_b)`` in the frequency domain.
     """
 
     name: str
@@ -131,8 +136,12 @@ class Suspension:
     damping: Any = None
     loss_factor: float = 0.0
     axes: Any = None
+    maxwell_stiffness: Any = None
+    maxwell_time: Any = None
     stiffness_matrix: np.ndarray | None = field(default=None, repr=False, compare=False)
     damping_matrix: np.ndarray | None = field(default=None, repr=False, compare=False)
+    #: (n_branches, 6, 6) stiffness of each Maxwell branch in model axes [N/m, ...]
+    maxwell_stiffness_matrix: np.ndarray | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,276 @@
+"""Frequency response functions from excitations to sensors.
+
+The machine's dynamic stiffness at circular frequency ``w`` [rad/s] and
+reference speed ``Omega`` [rad/s] is::
+
+    Z(w) = K (1 + i eta) + K_f(w) + i w (C + Omega G) - w^2 M
+
+with ``K (1 + i eta)`` the hysteretic mounts (``loss_factor``) and ``K_f(w)``
+the frequency-dependent mounts (Maxwell branches, see
+:mod:`rotordyn_modal.analysis.mounts`). The receptance from the excitations'
+generalized forces ``B_f`` to the sensors' rows ``C_s`` is
+``H(w) = C_s Z(w)^-1 B_f``; mobility and accelerance multiply it by ``i w``
+and ``(i w)^2``.
+
+Two engines behind :func:`frf`, chosen automatically:
+
+* ``"modal"``: when every mount is viscous (no loss factor, no Maxwell
+  branch), one eigen-decomposition ``A = V diag(lam) V^-1`` of the 12-state
+  matrix gives ``H(w) = sum_k (C V)_k (V^-1 B)_k / (i w - lam_k)`` for all
+  frequencies at once. Used only when ``V`` is well conditioned.
+* ``"direct"``: a batched complex solve of ``Z(w) X = B_f`` at every
+  frequency (one LAPACK call over the stack of 6x6 systems).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..assembly import excitation_columns, loss_stiffness, matrices, sensor_rows
+from ..errors import InputError
+
+__all__ = ["FRFResult", "frf", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]
+
+#: quantity -> power of (i w) applied to the receptance
+QUANTITIES = {"receptance": 0, "mobility": 1, "accelerance": 2}
+_OUTPUT_UNITS = {0: "m", 1: "m/s", 2: "m/s^2"}
+#: condition number of the eigenvector matrix above which the modal engine is not trusted
+_MAX_CONDITION = 1e8
+
+
+@dataclass(frozen=True)
+class FRFResult:
+    """Frequency responses at one speed.
+
+    Attributes
+    ----------
+    H : ndarray, shape (n_outputs, n_inputs, n_freq), complex
+        Indexed by output, input, frequency (as python-control) [output unit / N or N m].
+    frequencies_hz : ndarray, shape (n_freq,) [Hz]
+    speed : float
+        Reference rotor speed [rad/s].
+    inputs, outputs : tuple of str
+        Names of the excitations and of the outputs (sensors, or force components).
+    quantity : str
+        'receptance', 'mobility', 'accelerance' or 'force' (transmitted forces).
+    engine : str
+        'modal' or 'direct'.
+    coherence : ndarray, shape like H, or None
+        Measured coherence (None for a model).
+    """
+
+    H: np.ndarray
+    frequencies_hz: np.ndarray
+    speed: float
+    inputs: tuple
+    outputs: tuple
+    quantity: str = "receptance"
+    engine: str = "direct"
+    coherence: np.ndarray | None = None
+
+    @property
+    def omega(self) -> np.ndarray:
+        """Circular frequencies [rad/s], shape (n_freq,)."""
+        return 2 * np.pi * self.frequencies_hz
+
+    def to_control(self):
+        """``control.FrequencyResponseData`` with the same data, names and frequencies [rad/s]."""
+        import control
+
+        return control.FrequencyResponseData(self.H, self.omega, inputs=list(self.inputs),
+                                             outputs=list(self.outputs))
+
+    @classmethod
+    def from_control(cls, data, speed: float = 0.0, quantity: str = "receptance") -> "FRFResult":
+        """An :class:`FRFResult` from a ``control.FrequencyResponseData``."""
+        H = np.asarray(data.fresp).reshape(data.noutputs, data.ninputs, -1)
+        return cls(H=H, frequencies_hz=np.asarray(data.omega) / (2 * np.pi), speed=float(speed),
+                   inputs=tuple(data.input_labels), outputs=tuple(data.output_labels),
+                   quantity=quantity, engine="control")
+
+    def select(self, outputs=None, inputs=None) -> "FRFResult":
+        """The FRFs of some outputs and inputs (names), in the order given."""
+        o = _positions(self.outputs, outputs, "output")
+        i = _positions(self.inputs, inputs, "input")
+        coh = None if self.coherence is None else self.coherence[np.ix_(o, i)]
+        return FRFResult(self.H[np.ix_(o, i)], self.frequencies_hz, self.speed,
+                         tuple(self.inputs[k] for k in i), tuple(self.outputs[k] for k in o),
+                         self.quantity, self.engine, coh)
+
+    def to_dataframe(self):
+        """Long table ``frequency_hz,output,input,real,imag,magnitude,phase_deg[,coherence]``."""
+        import pandas as pd
+
+        n_o, n_i, n_f = self.H.shape
+        o, i, f = (a.ravel() for a in np.meshgrid(np.arange(n_o), np.arange(n_i), np.arange(n_f),
+                                                  indexing="ij"))
+        h = self.H[o, i, f]
+        table = pd.DataFrame({
+            "frequency_hz": self.frequencies_hz[f],
+            "output": np.asarray(self.outputs, dtype=object)[o],
+            "input": np.asarray(self.inputs, dtype=object)[i],
+            "real": h.real, "imag": h.imag, "magnitude": np.abs(h),
+            "phase_deg": np.degrees(np.angle(h)),
+        })
+        if self.coherence is not None:
+            table["coherence"] = self.coherence[o, i, f]
+        return table
+
+    def plot(self, measured=None, **kwargs):
+        """Bode figure (magnitude and phase); see :func:`rotordyn_modal.plotting.plot_frf`."""
+        from ..plotting.frf import plot_frf
+
+        return plot_frf(self, measured=measured, **kwargs)
+
+
+def _positions(names, wanted, what):
+    if wanted is None:
+        return list(range(len(names)))
+    wanted = [wanted] if isinstance(wanted, str) else list(wanted)
+    missing = [w for w in wanted if w not in names]
+    if missing:
+        raise InputError(f"unknown {what} {', '.join(map(repr, missing))}: expected one of {', '.join(names)}")
+    return [list(names).index(w) for w in wanted]
+
+
+def _names(items, wanted):
+    if wanted is None:
+        return tuple(item.name for item in items)
+    return (wanted,) if isinstance(wanted, str) else tuple(wanted)
+
+
+def _check_frequencies(freqs_hz) -> np.ndarray:
+    f = np.atleast_1d(np.asarray(freqs_hz, dtype=float))
+    if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f < 0):
+        raise InputError(f"frequencies: expected a 1-D array of finite values >= 0 Hz, got {freqs_hz!r}"[:200])
+    return f
+
+
+def choose_engine(model) -> str:
+    """'modal' when every mount is viscous, else 'direct' (loss factors, Maxwell branches)."""
+    from .mounts import has_frequency_dependence
+
+    if any(s.loss_factor for s in model.suspensions) or has_frequency_dependence(model):
+        return "direct"
+    return "modal"
+
+
+def dynamic_stiffness(model, speed: float, omega) -> np.ndarray:
+    """``Z(w) = K(1 + i eta) + K_f(w) + i w (C + Omega G) - w^2 M`` for many frequencies.
+
+    Parameters
+    ----------
+    model : Model
+    speed : float or array_like, shape (n_freq,)
+        Reference rotor speed [rad/s] (one per frequency for unbalance sweeps).
+    omega : array_like, shape (n_freq,)
+        Circular frequencies [rad/s].
+
+    Returns
+    -------
+    ndarray, shape (n_freq, 6, 6), complex [N/m, ...]
+    """
+    from .mounts import maxwell_stiffness
+
+    M, C, G, K = matrices(model)
+    w = np.atleast_1d(np.asarray(omega, dtype=float))
+    speed = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)[:, None, None]
+    w3 = w[:, None, None]
+    Z = K + 1j * loss_stiffness(model) + 1j * w3 * (C + speed * G) - w3 ** 2 * M
+    return Z + maxwell_stiffness(model, w)
+
+
+def dof_response(model, speed: float, omega, forces) -> np.ndarray:
+    """Complex amplitude of ``q`` under harmonic generalized forces (direct solve).
+
+    Parameters
+    ----------
+    model : Model
+    speed : float or array_like, shape (n_freq,) [rad/s]
+    omega : array_like, shape (n_freq,) [rad/s]
+    forces : array_like, shape (6, n) or (n_freq, 6, n)
+        Generalized forces at the reference point [N, N m].
+
+    Returns
+    -------
+    ndarray, shape (n_freq, 6, n), complex [m, rad]
+    """
+    Z = dynamic_stiffness(model, speed, omega)
+    rhs = np.broadcast_to(np.asarray(forces, dtype=complex), (Z.shape[0],) + np.shape(forces)[-2:])
+    return np.linalg.solve(Z, rhs)
+
+
+def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str = "receptance",
+        engine: str = "auto") -> FRFResult:
+    """Frequency responses from excitations to sensors at one speed.
+
+    Parameters
+    ----------
+    model : Model
+    speed : float
+        Reference rotor speed [rad/s]; negative reverses every rotor's spin.
+    freqs_hz : array_like, shape (n_freq,)
+        Frequencies [Hz], >= 0.
+    inputs, outputs : str or list of str, optional
+        Excitation and sensor names (default: all, in model order).
+    quantity : {'receptance', 'mobility', 'accelerance'}
+        Displacement [m/N], velocity [m/s/N] or acceleration [m/s^2/N] per force.
+    engine : {'auto', 'modal', 'direct'}
+        'auto' takes 'modal' for viscous models and 'direct' otherwise; 'modal'
+        on a model with loss factors or Maxwell branches is refused.
+
+    Returns
+    -------
+    FRFResult
+        ``H`` of shape (n_outputs, n_inputs, n_freq).
+
+    Examples
+    --------
+    >>> import numpy as np, rotordyn_modal as rdm
+    >>> m = rdm.Model(stator=rdm.Stator(mass=2.0, inertia=[1, 1, 1]),
+    ...     suspensions=[rdm.Suspension("s", [0, 0, 0], [800.0] * 6)],
+    ...     sensors=[rdm.Sensor("z", [0, 0, 0], [0, 0, 1])],
+    ...     excitations=[rdm.Excitation("f", [0, 0, 0], [0, 0, 1])])
+    >>> res = rdm.frf(m, 0.0, [0.0])
+    >>> float(res.H[0, 0, 0].real)   # static compliance 1/k
+    0.00125
+    """
+    if quantity not in QUANTITIES:
+        raise InputError(f"quantity {quantity!r}: expected one of {', '.join(QUANTITIES)}")
+    if engine not in ("auto", "modal", "direct"):
+        raise InputError(f"engine {engine!r}: expected 'auto', 'modal' or 'direct'")
+    f = _check_frequencies(freqs_hz)
+    columns = excitation_columns(model, inputs)
+    rows = sensor_rows(model, outputs)
+    natural = choose_engine(model)
+    if engine == "modal" and natural != "modal":
+        raise InputError("engine 'modal' needs a viscous model: this one has loss factors or Maxwell branches")
+    used = natural if engine == "auto" else engine
+    omega = 2 * np.pi * f
+    H = _modal_receptance(model, speed, omega, rows, columns) if used == "modal" else None
+    if H is None:
+        used = "direct"
+        H = np.einsum("sd,fdi->sif", rows, dof_response(model, speed, omega, columns))
+    H = H * (1j * omega) ** QUANTITIES[quantity]
+    return FRFResult(H=H, frequencies_hz=f, speed=float(speed), inputs=_names(model.excitations, inputs),
+                     outputs=_names(model.sensors, outputs), quantity=quantity, engine=used)
+
+
+def _modal_receptance(model, speed, omega, rows, columns):
+    """Receptance by modal superposition; None when the eigenvectors are ill conditioned."""
+    import scipy.linalg
+
+    from ..linear_system import speed_linear_form
+
+    form = speed_linear_form(model)
+    n = form.n_dof
+    values, vectors = scipy.linalg.eig(form.at(float(speed)))
+    if np.linalg.cond(vectors) > _MAX_CONDITION:
+        return None
+    b = np.vstack([np.zeros((n, columns.shape[1])), form.mass_inverse @ columns])
+    left = rows @ vectors[:n]                      # (n_s, 2n)
+    right = np.linalg.solve(vectors, b)            # (2n, n_e)
+    poles = 1.0 / (1j * omega[None, :] - values[:, None])   # (2n, n_f)
+    return np.einsum("sk,ki,kf->sif", left, right, poles)

@@ -1,0 +1,298 @@
+"""Steady unbalance response over a speed sweep, each rotor at its own spin frequency.
+
+Rotor ``j`` spins at ``r_j Omega`` about the spin axis ``e`` (``r_j`` its speed
+ratio, negative = the other way). An unbalance ``amount`` [kg m] at
+``phase_deg`` turns with it; its centrifugal force on the rotor is::
+
+    F(t) = amount w_j^2 (cos(theta(t)) a + sin(theta(t)) b),  theta(t) = r_j Omega t + phase
+
+with ``w_j = |r_j Omega|`` and the **phase reference** ``a``: the component of
+the model z-axis normal to ``e`` (the model x-axis when ``e`` is along z),
+``b = e x a``; ``phase_deg`` turns from ``a`` towards ``b`` (positive about
+``e``). As a complex amplitude at ``e^{i w_j t}`` (``x(t) = Re(x_hat e^{i w_j t})``)
+with ``s = sign(r_j Omega)``: ``F_hat = amount w_j^2 e^{i s phase} (a - i s b)``,
+applied at ``R_j + axial_offset e``.
+
+Every output ``x(t) = sum_j A_j cos(w_j t + phi_j)``: one harmonic per rotor
+(source), reported separately with its 0-peak amplitude ``A_j`` and phase
+``phi_j`` (the phase of the cosine at ``t = 0``, degrees).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..assembly import sensor_rows
+from ..errors import InputError
+from ..geometry import point_motion_row
+from .forces import COMPONENTS, bearing_forces, suspension_forces
+from .frf import dof_response
+
+__all__ = ["UnbalanceResult", "unbalance_response", "phase_reference", "unbalance_forces",
+           "amplification_factors", "required_separation_margin"]
+
+_ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
+
+
+def phase_reference(spin_axis) -> tuple[np.ndarray, np.ndarray]:
+    """Axes ``a`` (phase 0) and ``b = e x a`` (phase 90 deg) in the rotors' plane.
+
+    ``a`` is the model z-axis made normal to the spin axis ``e``; the model
+    x-axis when ``e`` is along z.
+
+    Returns
+    -------
+    a, b : ndarray, shape (3,) each, unit
+    """
+    e = np.asarray(spin_axis, dtype=float)
+    e = e / np.linalg.norm(e)
+    for axis in (np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])):
+        a = axis - (axis @ e) * e
+        if np.linalg.norm(a) > 1e-6:
+            a = a / np.linalg.norm(a)
+            return a, np.cross(e, a)
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def unbalance_forces(model, speeds):
+    """Complex generalized unbalance forces of each rotor, at its centre of mass.
+
+    Parameters
+    ----------
+    model : Model
+    speeds : array_like, shape (N,) [rad/s]
+
+    Returns
+    -------
+    sources : list of str
+        Rotors that carry unbalances.
+    frequencies : ndarray, shape (n_sources, N) [rad/s]
+        ``|r_j Omega|``.
+    forces : ndarray, shape (n_sources, N, 6), complex
+        ``[F, C]`` at the rotor's centre of mass [N, N m].
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    a, b = phase_reference(model.spin_axis)
+    e = model.spin_axis
+    sources = [r.name for r in model.rotors if any(u.rotor == r.name for u in model.unbalances)]
+    frequencies, forces = [], []
+    for name in sources:
+        rotor = model.rotor(name)
+        spin = rotor.speed_ratio * speeds
+        s, w = np.sign(spin), np.abs(spin)
+        total = np.zeros((len(speeds), 6), dtype=complex)
+        for u in (u for u in model.unbalances if u.rotor == name):
+            direction = np.exp(1j * s * np.radians(u.phase_deg))[:, None] * (a - 1j * s[:, None] * b)
+            force = u.amount * w[:, None] ** 2 * direction
+            arm = u.axial_offset * e
+            total += np.concatenate([force, np.cross(arm, force)], axis=1)
+        frequencies.append(w)
+        forces.append(total)
+    return sources, np.array(frequencies).reshape(-1, len(speeds)), np.array(forces).reshape(-1, len(speeds), 6)
+
+
+@dataclass(frozen=True)
+class UnbalanceResult:
+    """Steady unbalance response over speed, one harmonic per source rotor.
+
+    Attributes
+    ----------
+    speeds : ndarray, shape (N,) [rad/s]
+    sources : tuple of str
+        Rotors with unbalances.
+    frequencies_hz : ndarray, shape (n_sources, N) [Hz]
+        Each source's excitation frequency ``|r_j Omega| / 2 pi``.
+    outputs : tuple of str
+        Sensor names.
+    response : ndarray, shape (n_outputs, n_sources, N), complex
+        Complex amplitude of each harmonic [m, m/s or m/s^2 by ``quantity``].
+    quantity : str
+    suspension_names, rotor_names : tuple of str
+    ground_forces : ndarray, shape (n_suspensions, 6, n_sources, N), complex
+        Force each suspension passes to the ground, ``[F, C]`` at its point [N, N m].
+    bearing_forces : ndarray, shape (n_rotors, 6, n_sources, N), complex
+        Force each rotor passes to the stator at its centre of mass [N, N m].
+    """
+
+    speeds: np.ndarray
+    sources: tuple
+    frequencies_hz: np.ndarray
+    outputs: tuple
+    response: np.ndarray
+    quantity: str
+    suspension_names: tuple
+    rotor_names: tuple
+    ground_forces: np.ndarray
+    bearing_forces: np.ndarray
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        """0-peak amplitude, shape (n_outputs, n_sources, N)."""
+        return np.abs(self.response)
+
+    @property
+    def phase_deg(self) -> np.ndarray:
+        """Phase of ``A cos(w t + phase)`` [deg], shape (n_outputs, n_sources, N)."""
+        return np.degrees(np.angle(self.response))
+
+    def to_dataframe(self):
+        """Table ``speed_rpm,output,source,frequency_hz,amplitude,phase_deg`` (sensors,
+        then the suspensions' ground forces ``NAME:Fx`` ... as more outputs)."""
+        import pandas as pd
+
+        names = list(self.outputs) + [f"{n}:{c}" for n in self.suspension_names for c in COMPONENTS]
+        values = np.concatenate([self.response, self.ground_forces.reshape(-1, *self.response.shape[1:])])
+        o, s, k = (x.ravel() for x in np.meshgrid(np.arange(len(names)), np.arange(len(self.sources)),
+                                                  np.arange(len(self.speeds)), indexing="ij"))
+        v = values[o, s, k]
+        return pd.DataFrame({
+            "speed_rpm": self.speeds[k] * 30 / np.pi,
+            "output": np.asarray(names, dtype=object)[o],
+            "source": np.asarray(self.sources, dtype=object)[s],
+            "frequency_hz": self.frequencies_hz[s, k],
+            "amplitude": np.abs(v), "phase_deg": np.degrees(np.angle(v)),
+        })
+
+    def peaks(self, operating_speed: float | None = None):
+        """Peaks of each sensor's amplitude vs speed with API 684 figures.
+
+        Parameters
+        ----------
+        operating_speed : float, optional
+            [rad/s]; gives the actual separation margin.
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``output, source, speed_rpm, amplitude, amplification_factor,
+            separation_margin_pct, required_margin_pct``.
+        """
+        import pandas as pd
+
+        rows = []
+        for i, out in enumerate(self.outputs):
+            for j, src in enumerate(self.sources):
+                for peak in amplification_factors(self.speeds, self.amplitude[i, j]):
+                    speed, amp, af = peak
+                    margin = np.nan if operating_speed is None else \
+                        100 * abs(operating_speed - speed) / abs(operating_speed)
+                    rows.append({"output": out, "source": src, "speed_rpm": speed * 30 / np.pi,
+                                 "amplitude": amp, "amplification_factor": af,
+                                 "separation_margin_pct": margin,
+                                 "required_margin_pct": required_separation_margin(af)})
+        return pd.DataFrame(rows, columns=["output", "source", "speed_rpm", "amplitude",
+                                           "amplification_factor", "separation_margin_pct",
+                                           "required_margin_pct"])
+
+    def plot(self, outputs=None, **kwargs):
+        """Bode figure: amplitude and phase vs speed; see :func:`rotordyn_modal.plotting.plot_unbalance`."""
+        from ..plotting.frf import plot_unbalance
+
+        return plot_unbalance(self, outputs=outputs, **kwargs)
+
+
+def amplification_factors(speeds, amplitude):
+    """Peaks of an amplitude-vs-speed curve and their API 684 amplification factor.
+
+    ``AF = N_c / (N_2 - N_1)``: the peak speed over the width of the band where
+    the amplitude exceeds ``peak / sqrt(2)`` (half-power points, linearly
+    interpolated). NaN where the band leaves the sweep.
+
+    Parameters
+    ----------
+    speeds : array_like, shape (N,) [rad/s], increasing
+    amplitude : array_like, shape (N,)
+
+    Returns
+    -------
+    list of (speed [rad/s], amplitude, amplification factor)
+    """
+    from scipy.signal import find_peaks
+
+    x, y = np.abs(np.asarray(speeds, dtype=float)), np.asarray(amplitude, dtype=float)
+    out = []
+    for k in find_peaks(y)[0]:
+        level = y[k] / np.sqrt(2)
+        left, right = _crossing(x, y, k, level, -1), _crossing(x, y, k, level, +1)
+        af = x[k] / (right - left) if np.isfinite(left) and np.isfinite(right) and right > left else np.nan
+        out.append((float(speeds[k]), float(y[k]), float(af)))
+    return out
+
+
+def _crossing(x, y, k, level, step):
+    i = k
+    while 0 <= i + step < len(y) and y[i + step] > level:
+        i += step
+    j = i + step
+    if not 0 <= j < len(y):
+        return np.nan
+    return x[i] + (level - y[i]) * (x[j] - x[i]) / (y[j] - y[i])
+
+
+def required_separation_margin(af: float) -> float:
+    """API 684 required separation margin [%] for an amplification factor.
+
+    0 below AF 2.5; 15 % for 2.5 <= AF <= 3.55; ``17 (1 - 1 / (AF - 1.5))`` above.
+    """
+    if not np.isfinite(af) or af < 2.5:
+        return 0.0 if np.isfinite(af) else np.nan
+    return 15.0 if af <= 3.55 else 17.0 * (1 - 1 / (af - 1.5))
+
+
+def unbalance_response(model, speeds, outputs=None, quantity: str = "displacement",
+                       progress: bool = False) -> UnbalanceResult:
+    """Steady response to the model's ``[[unbalances]]`` over a speed sweep.
+
+    Parameters
+    ----------
+    model : Model
+    speeds : array_like, shape (N,)
+        Reference rotor speeds [rad/s] (negative reverses every rotor).
+    outputs : str or list of str, optional
+        Sensor names (default all).
+    quantity : {'displacement', 'velocity', 'acceleration'}
+    progress : bool
+        Unused (the sweep is one batched solve); kept for a uniform interface.
+
+    Returns
+    -------
+    UnbalanceResult
+    """
+    if quantity not in _ORDER:
+        raise InputError(f"quantity {quantity!r}: expected one of {', '.join(_ORDER)}")
+    if not model.unbalances:
+        raise InputError(f"{model.source}: the model has no [[unbalances]]: nothing excites an unbalance response")
+    speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+    sources, w, rotor_forces = unbalance_forces(model, speeds)
+    rows = sensor_rows(model, outputs)
+    n_src, n = len(sources), len(speeds)
+    omega = w.ravel()                                         # (n_src * N,)
+    speed_all = np.tile(speeds, n_src)
+    at_s = np.stack([_shift_to_reference(model, src, rotor_forces[j]) for j, src in enumerate(sources)])
+    q = dof_response(model, speed_all, omega, at_s.reshape(-1, 6)[:, :, None])   # (n_src N, 6, 1)
+    response = (rows @ q[..., 0].T).reshape(len(rows), n_src, n) * (1j * w) ** _ORDER[quantity]
+    ground = suspension_forces(model, omega, q)[..., 0]       # (n_susp, n_src N, 6)
+    ext = np.zeros((len(model.rotors), n_src * n, 6, 1), dtype=complex)
+    for j, src in enumerate(sources):
+        ext[[r.name for r in model.rotors].index(src), j * n:(j + 1) * n, :, 0] = rotor_forces[j]
+    bearing = bearing_forces(model, speed_all, omega, q, ext)[..., 0]
+    names = tuple(s.name for s in model.sensors) if outputs is None else \
+        ((outputs,) if isinstance(outputs, str) else tuple(outputs))
+    return UnbalanceResult(
+        speeds=speeds, sources=tuple(sources), frequencies_hz=w / (2 * np.pi), outputs=names,
+        response=response, quantity=quantity,
+        suspension_names=tuple(s.name for s in model.suspensions),
+        rotor_names=tuple(r.name for r in model.rotors),
+        ground_forces=np.moveaxis(ground.reshape(len(model.suspensions), n_src, n, 6), 3, 1),
+        bearing_forces=np.moveaxis(bearing.reshape(len(model.rotors), n_src, n, 6), 3, 1),
+    )
+
+
+def _shift_to_reference(model, rotor_name, forces):
+    """``[F, C]`` at the rotor's centre of mass -> at the reference point (``B_SR``)."""
+    from ..geometry import shift_matrix
+
+    shift = shift_matrix(model.reference_point, model.rotor(rotor_name).center_of_mass)
+    return forces @ shift.T

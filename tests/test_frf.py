@@ -1,0 +1,216 @@
+"""FRFs against closed forms, python-control, an independent solve, reciprocity and spin reversal."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import control
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import rotordyn_modal as rdm
+from rotordyn_modal.analysis.forces import force_frf
+from rotordyn_modal.analysis.frf import dynamic_stiffness, frf
+from rotordyn_modal.errors import InputError
+
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "gear_machine.toml"
+
+
+def _block(k=8.0e4, c=40.0, eta=0.0, maxwell=None):
+    """A 2 kg block on one isotropic mount at its centre of mass: six uncoupled oscillators."""
+    extra = {} if maxwell is None else {"maxwell_stiffness": [[maxwell[0]] * 6], "maxwell_time": [maxwell[1]]}
+    return rdm.Model.from_dict({
+        "stator": {"mass": 2.0, "inertia": [0.1, 0.1, 0.1]},
+        "suspensions": [{"name": "s", "position": [0, 0, 0], "stiffness": [k] * 6,
+                         "damping": [c] * 6, "loss_factor": eta, **extra}],
+        "sensors": [{"name": "z", "position": [0, 0, 0], "direction": [0, 0, 1]}],
+        "excitations": [{"name": "f", "position": [0, 0, 0], "direction": [0, 0, 1]}],
+    })
+
+
+def _colocated(loss_factor=0.0):
+    """The gear machine with sensors placed where (and along what) the excitations act."""
+    data = rdm.load_model(EXAMPLE).to_dict()
+    data["sensors"] = [{"name": f"at-{x['name']}", "position": x["position"], "direction": x["direction"]}
+                       for x in data["excitations"]]
+    for s in data["suspensions"]:
+        s["loss_factor"] = loss_factor
+    return rdm.Model.from_dict(data)
+
+
+FREQS = np.linspace(0.0, 60.0, 241)
+
+
+@pytest.mark.parametrize("engine", ["modal", "direct"])
+def test_single_oscillator_closed_form(engine):
+    w = 2 * np.pi * FREQS
+    expected = 1 / (8.0e4 - 2.0 * w ** 2 + 1j * w * 40.0)
+    res = frf(_block(), 0.0, FREQS, engine=engine)
+    np.testing.assert_allclose(res.H[0, 0], expected, rtol=1e-10)
+    assert res.engine == engine
+    acc = frf(_block(), 0.0, FREQS, quantity="accelerance", engine=engine)
+    np.testing.assert_allclose(acc.H[0, 0], -w ** 2 * expected, rtol=1e-10, atol=1e-14)
+
+
+def test_loss_factor_closed_form_uses_direct_engine():
+    w = 2 * np.pi * FREQS
+    res = frf(_block(c=0.0, eta=0.08), 0.0, FREQS)
+    assert res.engine == "direct"
+    np.testing.assert_allclose(res.H[0, 0], 1 / (8.0e4 * (1 + 0.08j) - 2.0 * w ** 2), rtol=1e-12)
+
+
+def test_maxwell_branch_closed_form():
+    w = 2 * np.pi * FREQS
+    res = frf(_block(c=0.0, maxwell=(3.0e4, 0.004)), 0.0, FREQS)
+    branch = 3.0e4 * 1j * w * 0.004 / (1 + 1j * w * 0.004)
+    np.testing.assert_allclose(res.H[0, 0], 1 / (8.0e4 + branch - 2.0 * w ** 2), rtol=1e-12)
+    assert res.engine == "direct"
+
+
+@pytest.mark.parametrize("quantity,ss_quantity", [("receptance", "displacement"), ("mobility", "velocity"),
+                                                  ("accelerance", "acceleration")])
+@pytest.mark.parametrize("speed_rpm", [0.0, 3000.0, -4500.0])
+def test_agrees_with_python_control_state_space(quantity, ss_quantity, speed_rpm):
+    model = rdm.load_model(EXAMPLE)
+    speed = rdm.rpm(speed_rpm)
+    res = frf(model, speed, FREQS, quantity=quantity)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", FutureWarning)
+        reference = control.frequency_response(model.state_space(speed, ss_quantity), 2 * np.pi * FREQS)
+        H = np.asarray(reference.frdata if hasattr(reference, "frdata") else reference.fresp)
+    # relative to each FRF's peak; one FRF is zero by symmetry at zero speed, so against the largest
+    peak = np.abs(H).max(axis=-1, keepdims=True)
+    scale = np.where(peak > 1e-6 * peak.max(), peak, peak.max())
+    assert (np.abs(res.H - H) / scale).max() < 1e-9
+
+
+def test_direct_engine_equals_independent_loop_solve_with_loss_factor():
+    """One np.linalg.solve per frequency from M, C, G, K and (1 + i eta) K written out here."""
+    model = _colocated(loss_factor=0.05)
+    speed = rdm.rpm(2000)
+    M, C, G, K = model.matrices()
+    loss = sum(0.05 * (rdm.shift_matrix(model.reference_point, s.position) @ s.stiffness_matrix
+                       @ rdm.shift_matrix(model.reference_point, s.position).T) for s in model.suspensions)
+    rows = np.array([np.concatenate([s.direction, np.cross(s.position - model.reference_point, s.direction)])
+                     for s in model.sensors])
+    cols = rows.T  # sensors are colocated with the excitations
+    res = frf(model, speed, FREQS)
+    for k, f in enumerate(FREQS):
+        w = 2 * np.pi * f
+        Z = K + 1j * loss + 1j * w * (C + speed * G) - w ** 2 * M
+        np.testing.assert_allclose(res.H[:, :, k], rows @ np.linalg.solve(Z, cols), rtol=1e-10)
+
+
+@pytest.mark.parametrize("eta", [0.0, 0.05])
+def test_reciprocal_at_zero_speed(eta):
+    H = frf(_colocated(eta), 0.0, FREQS).H
+    np.testing.assert_allclose(H, np.swapaxes(H, 0, 1), rtol=1e-10, atol=1e-16)
+    assert np.abs(H[0, 1] - H[1, 0]).max() < 1e-10 * np.abs(H[0, 1]).max()
+
+
+@settings(max_examples=15, deadline=None)
+@given(speed=st.floats(min_value=10.0, max_value=2000.0), eta=st.sampled_from([0.0, 0.03]))
+def test_spin_reversal_transposes(speed, eta):
+    model = _colocated(eta)
+    forward, backward = frf(model, speed, FREQS).H, frf(model, -speed, FREQS).H
+    np.testing.assert_allclose(forward, np.swapaxes(backward, 0, 1), rtol=1e-9, atol=1e-16)
+    # and spin really matters here (the test is not vacuous)
+    assert np.abs(forward[0, 1] - forward[1, 0]).max() > 1e-6 * np.abs(forward[0, 1]).max()
+
+
+def test_to_control_round_trip():
+    res = frf(rdm.load_model(EXAMPLE), 100.0, FREQS[1:])
+    data = res.to_control()
+    assert isinstance(data, control.FrequencyResponseData)
+    np.testing.assert_allclose(data.omega, 2 * np.pi * FREQS[1:])
+    back = type(res).from_control(data)
+    np.testing.assert_array_equal(back.H, res.H)
+    assert back.outputs == res.outputs and back.inputs == res.inputs
+
+
+def test_dataframe_columns_and_rows():
+    res = frf(rdm.load_model(EXAMPLE), 0.0, FREQS, inputs="hammer-z")
+    table = res.to_dataframe()
+    assert list(table.columns)[:7] == ["frequency_hz", "output", "input", "real", "imag", "magnitude", "phase_deg"]
+    assert len(table) == 2 * 1 * len(FREQS)
+    row = table[(table.output == "acc-side-y")].iloc[7]
+    assert row.real == res.H[1, 0, 7].real and row.frequency_hz == FREQS[7]
+
+
+def test_ground_forces_at_zero_frequency_balance_the_input():
+    """Statically the suspensions pass the whole applied force (and its moment) to the ground."""
+    model = rdm.load_model(EXAMPLE)
+    res = force_frf(model, 0.0, [0.0])
+    total = np.zeros((6, 2), dtype=complex)
+    for k, s in enumerate(model.suspensions):
+        total += rdm.shift_matrix([0, 0, 0], s.position) @ res.H[6 * k:6 * k + 6, :, 0]
+    for i, x in enumerate(model.excitations):
+        applied = np.concatenate([x.direction, np.cross(x.position, x.direction)])
+        np.testing.assert_allclose(total[:, i], applied, atol=1e-12)
+
+
+def test_stator_equilibrium_with_bearing_and_suspension_forces():
+    """Seed eq. (70): M_S q'' = -sum B_SP T_susp + sum B_SR T_B + B_f f, at speed, with loss factor."""
+    model = _colocated(loss_factor=0.04)
+    speed, freqs = rdm.rpm(3000), np.array([3.0, 11.0, 27.0])
+    S = model.reference_point
+    susp = force_frf(model, speed, freqs).H
+    bear = force_frf(model, speed, freqs, where="bearings").H
+    q = rdm.analysis.frf.dof_response(model, speed, 2 * np.pi * freqs,
+                                      rdm.assembly.excitation_columns(model))
+    st_ = model.stator
+    mass = rdm.assembly.rigid_mass_matrix(st_.mass, st_.inertia, st_.center_of_mass, S)
+    for k, f in enumerate(freqs):
+        w = 2 * np.pi * f
+        lhs = -w ** 2 * mass @ q[k]
+        rhs = rdm.assembly.excitation_columns(model).astype(complex)
+        for i, s in enumerate(model.suspensions):
+            rhs -= rdm.shift_matrix(S, s.position) @ susp[6 * i:6 * i + 6, :, k]
+        for j, r in enumerate(model.rotors):
+            rhs += rdm.shift_matrix(S, r.center_of_mass) @ bear[6 * j:6 * j + 6, :, k]
+        np.testing.assert_allclose(lhs, rhs, rtol=1e-9, atol=1e-9 * np.abs(rhs).max())
+
+
+def test_dynamic_stiffness_shape():
+    Z = dynamic_stiffness(rdm.load_model(EXAMPLE), 10.0, FREQS)
+    assert Z.shape == (len(FREQS), 6, 6) and Z.dtype == complex
+
+
+@pytest.mark.parametrize("kwargs,message", [
+    ({"quantity": "stiffness"}, "quantity 'stiffness': expected one of receptance, mobility, accelerance"),
+    ({"engine": "fast"}, "engine 'fast': expected 'auto', 'modal' or 'direct'"),
+    ({"outputs": ["nope"]}, "unknown sensor 'nope': the model's sensors are acc-top-z, acc-side-y"),
+    ({"inputs": "nope"}, "unknown excitation 'nope': the model's excitations are hammer-z, shaker-y"),
+    ({"freqs_hz": [1.0, -2.0]}, "frequencies: expected a 1-D array of finite values >= 0 Hz"),
+])
+def test_errors(kwargs, message):
+    args = {"freqs_hz": FREQS, **kwargs}
+    with pytest.raises(InputError) as info:
+        frf(rdm.load_model(EXAMPLE), 0.0, **args)
+    assert message in str(info.value)
+
+
+def test_modal_engine_refused_for_hysteretic_model():
+    with pytest.raises(InputError, match="engine 'modal' needs a viscous model"):
+        frf(_block(eta=0.1), 0.0, FREQS, engine="modal")
+
+
+def test_force_frf_refuses_unknown_place():
+    with pytest.raises(InputError, match="where 'shafts': expected 'suspensions' or 'bearings'"):
+        force_frf(_block(), 0.0, FREQS, where="shafts")
+
+
+@pytest.mark.parametrize("bad,message", [
+    ({"maxwell_stiffness": [[1e4] * 3]}, "maxwell_time = '<missing>'"),
+    ({"maxwell_stiffness": [[1e4] * 3], "maxwell_time": [0.1, 0.2]}, "one per branch"),
+    ({"maxwell_stiffness": [[1e4] * 3], "maxwell_time": [-0.1]}, "maxwell_time[0] = -0.1: expected a finite relaxation time > 0"),
+    ({"maxwell_stiffness": [[1e4] * 4], "maxwell_time": [0.1]}, "maxwell_stiffness[0]"),
+])
+def test_maxwell_keys_are_validated(bad, message):
+    data = _block().to_dict()
+    data["suspensions"][0].update(bad)
+    with pytest.raises(rdm.ModelError) as info:
+        rdm.Model.from_dict(data, "m.toml")
+    assert message in str(info.value)

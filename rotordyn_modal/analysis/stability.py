@@ -229,7 +229,7 @@ def threshold_speeds(form, speeds, eigenvalues):
     for k in np.nonzero(unstable[:-1] != unstable[1:])[0]:
         a, b = speeds[k], speeds[k + 1]
         if largest[k] < 0 < largest[k + 1] or largest[k + 1] < 0 < largest[k]:
-            root = brentq(lambda s: _largest_real_part(form, s), a, b,
+            root = brentq(lambda s: _largest_real_part(form, s, clip=False), a, b,
                           xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
         else:
             root = _bisect_change(lambda s: _largest_real_part(form, s) > 0, a, b)
@@ -253,17 +253,19 @@ def _bisect_change(predicate, a, b):
     return 0.5 * (a + b)
 
 
-def _largest_real_part(form, speed) -> float:
-    return float(_significant_real_parts(np.linalg.eigvals(form.at(speed))).max())
+def _largest_real_part(form, speed, clip: bool = True) -> float:
+    return float(_significant_real_parts(np.linalg.eigvals(form.at(speed)), clip).max())
 
 
-def _significant_real_parts(eigenvalues) -> np.ndarray:
+def _significant_real_parts(eigenvalues, clip: bool = True) -> np.ndarray:
     """Real parts, with rigid-body roots (lam = 0 to round-off: a direction without
     suspension) set to -inf so that their round-off sign is not read as instability,
     and real parts within round-off of zero (undamped modes) set to exactly 0."""
     scale = np.abs(eigenvalues).max(axis=-1, keepdims=True)
     rigid = np.abs(eigenvalues) <= _eigen.OSCILLATORY_TOLERANCE * scale
-    real = np.where(np.abs(eigenvalues.real) <= _MARGINAL_TOLERANCE * scale, 0.0, eigenvalues.real)
+    real = eigenvalues.real
+    if clip:
+        real = np.where(np.abs(real) <= _MARGINAL_TOLERANCE * scale, 0.0, real)
     return np.where(rigid, -np.inf, real)
 
 

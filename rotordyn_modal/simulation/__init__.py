@@ -1,0 +1,14 @@
+"""Nonlinear large-rotation time simulation (seed 001) and its run-up analyses.
+
+:func:`simulate` integrates the machine's exact equations of motion; :func:`linearize`
+differentiates them about steady spin (to check the linear model of seed 000);
+:func:`order_track` and :func:`waterfall` analyse a run-up.
+"""
+
+from .linearize import linearize
+from .result import SimulationResult
+from .runup import OrderTrack, Waterfall, order_track, waterfall
+from .simulate import BACKENDS, DRIVES, simulate
+
+__all__ = ["simulate", "SimulationResult", "linearize", "order_track", "waterfall", "OrderTrack",
+           "Waterfall", "DRIVES", "BACKENDS"]

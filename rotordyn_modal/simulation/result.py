@@ -1,0 +1,186 @@
+"""Result of a time simulation: arrays sampled at the output times."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["SimulationResult"]
+
+
+@dataclass
+class SimulationResult:
+    """Sampled motion of the machine (arrays and labels only: it pickles).
+
+    Attributes
+    ----------
+    time : ndarray, shape (N,) [s]
+    displacement : ndarray, shape (N, 6)
+        ``[u, theta]`` of the stator at the model's reference point, model axes [m, rad];
+        ``theta = gamma + psi e`` (transverse Euler vector plus roll angle).
+    velocity : ndarray, shape (N, 6)
+        Velocity of the reference point [m/s] and angular velocity of the stator [rad/s].
+    gamma : ndarray, shape (N, 3)
+        Stator's transverse Euler vector [rad] (normal to the spin axis).
+    drive_angle, drive_speed : ndarray, shape (N,)
+        Reference rotor's angle [rad] and speed [rad/s] relative to the stator.
+    spin_speed : ndarray, shape (N,)
+        Reference rotor's axial angular velocity ``omega_phi`` (seed 001, eq. 8) [rad/s]:
+        the stator's roll rate plus the relative speed.
+    rotor_angles : ndarray, shape (N, n_rotors)
+        Axial angle of every rotor (roll of the stator plus its own turn) [rad].
+    drive_torque : ndarray, shape (N,)
+        Torque of the ideal drive on the reference rotor (reacted by the stator) [N m]; 0 in
+        free spin.
+    rotor_centers : ndarray, shape (N, n_rotors, 3)
+        Position of every rotor's centre of mass, model axes [m].
+    sensors : ndarray, shape (N, n_sensors)
+        Displacement of each sensor's point along its direction (fixed in the ground) [m].
+    kinetic_energy, elastic_energy, gravity_energy : ndarray, shape (N,) [J]
+        Gravity energy is ``-sum m g . r`` (zero at the model-axes origin).
+    states : ndarray, shape (N, 2 n_dof)
+        Raw states ``[q, dq/dt]``, ``q = [x, g1, g2, (psi), phi]`` (see
+        ``rotordyn_modal.simulation._kernels``).
+    sensor_names, rotor_names : list of str
+    speed_ratios : ndarray, shape (n_rotors,)
+    drive : str
+        ``'constant'``, ``'ramp'`` or ``'free'``.
+    model_name : str
+    """
+
+    time: np.ndarray
+    displacement: np.ndarray
+    velocity: np.ndarray
+    gamma: np.ndarray
+    drive_angle: np.ndarray
+    drive_speed: np.ndarray
+    spin_speed: np.ndarray
+    rotor_angles: np.ndarray
+    drive_torque: np.ndarray
+    rotor_centers: np.ndarray
+    sensors: np.ndarray
+    kinetic_energy: np.ndarray
+    elastic_energy: np.ndarray
+    gravity_energy: np.ndarray
+    states: np.ndarray
+    sensor_names: list
+    rotor_names: list
+    speed_ratios: np.ndarray
+    drive: str
+    model_name: str = ""
+
+    @property
+    def total_energy(self) -> np.ndarray:
+        """Kinetic + elastic + gravity energy [J], shape (N,)."""
+        return self.kinetic_energy + self.elastic_energy + self.gravity_energy
+
+    def sensor(self, name: str) -> np.ndarray:
+        """Signal of the sensor ``name`` [m], shape (N,)."""
+        from ..errors import InputError
+
+        if name not in self.sensor_names:
+            known = ", ".join(self.sensor_names) or "none defined"
+            raise InputError(f"unknown sensor {name!r}: the model's sensors are {known}")
+        return self.sensors[:, self.sensor_names.index(name)]
+
+    def to_dataframe(self):
+        """One row per output time (``pandas.DataFrame``); columns start with
+        ``time_s,u_x,u_y,u_z,theta_x,theta_y,theta_z,spin_speed_rad_s,drive_torque_nm``."""
+        import pandas as pd
+
+        columns = {"time_s": self.time}
+        for i, label in enumerate(("u_x", "u_y", "u_z", "theta_x", "theta_y", "theta_z")):
+            columns[label] = self.displacement[:, i]
+        columns["spin_speed_rad_s"] = self.spin_speed
+        columns["drive_torque_nm"] = self.drive_torque
+        columns["drive_speed_rad_s"] = self.drive_speed
+        for j, name in enumerate(self.sensor_names):
+            columns[name] = self.sensors[:, j]
+        for j, name in enumerate(self.rotor_names):
+            for k, axis in enumerate("xyz"):
+                columns[f"{name}_center_{axis}"] = self.rotor_centers[:, j, k]
+        columns["kinetic_energy_j"] = self.kinetic_energy
+        columns["potential_energy_j"] = self.elastic_energy + self.gravity_energy
+        columns["total_energy_j"] = self.total_energy
+        return pd.DataFrame(columns)
+
+    def order_track(self, sensor: str, order: float = 1.0, rotor: str | None = None, revolutions: int = 4):
+        """Order-tracked amplitude and phase of a sensor; see :func:`order_track`."""
+        from .runup import order_track
+
+        return order_track(self, sensor, order=order, rotor=rotor, revolutions=revolutions)
+
+    def waterfall(self, sensor: str, segments: int = 60):
+        """Spectrum of a sensor against speed; see :func:`waterfall`."""
+        from .runup import waterfall
+
+        return waterfall(self, sensor, segments=segments)
+
+    def plot(self, sensor: str | None = None, critical=None, title: str | None = None):
+        """Time histories (constant speed, free spin) or run-up figures (ramp).
+
+        Parameters
+        ----------
+        sensor : str, optional
+            Sensor of the run-up figures (default: the first).
+        critical : CriticalSpeeds, optional
+            Critical speeds overlaid on the run-up figures.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from ..plotting.simulation import plot_runup, plot_simulation
+
+        if self.drive == "ramp" and self.sensor_names:
+            return plot_runup(self, sensor or self.sensor_names[0], critical=critical, title=title)
+        return plot_simulation(self, title=title)
+
+    @classmethod
+    def from_states(cls, model, system, kn, extra, times, states, drive):
+        """Derived outputs of the raw states (``kn`` the kernels that produced them)."""
+        from ..kinematics import axial_rotation, rotation_tensor
+
+        n = system.n_dof
+        s = system.s
+        q, dq = states[:, :n], states[:, n:]
+        gamma = q[:, 3:5] @ system.E2.T
+        psi = q[:, 5] if s else np.zeros(len(times))
+        psi_dot = dq[:, 5] if s else np.zeros(len(times))
+        theta = gamma + psi[:, None] * system.e
+        arguments = system.kernel_arguments()
+        count = len(times)
+        omega = np.empty((count, 3))
+        torque = np.empty(count)
+        kinetic, elastic, weight = np.empty(count), np.empty(count), np.empty(count)
+        centers = np.empty((count, len(model.rotors), 3))
+        sensor_points = np.array([np.asarray(x.position) - system.reference_point for x in model.sensors]).reshape(-1, 3)
+        sensor_dirs = np.array([x.direction for x in model.sensors]).reshape(-1, 3)
+        sensors = np.empty((count, len(model.sensors)))
+        for i in range(count):
+            y = states[i]
+            M, _ = kn.assemble(times[i], y, *arguments)
+            kinetic[i] = 0.5 * dq[i] @ M @ dq[i]
+            elastic[i], weight[i] = kn.potential(y, system.e, system.E2, s, system.gravity, system.mass,
+                                                 system.center, system.offset, system.ratio, system.spos, system.sK)
+            torque[i] = kn.accelerations(times[i], y, *arguments, *extra)[1]
+            Rs = rotation_tensor(gamma[i]) @ axial_rotation(psi[i], system.e)
+            H = kn.stator_kinematics(q[i], dq[i], system.e, system.E2, s)[2]
+            omega[i] = H @ dq[i, 3:3 + 2 + s]
+            for j, b in enumerate(system.rotor_index):
+                local = system.center[b] + axial_rotation(system.ratio[b] * q[i, n - 1], system.e) @ system.offset[b]
+                centers[i, j] = system.reference_point + q[i, :3] + Rs @ local
+            moved = q[i, :3] + sensor_points @ Rs.T - sensor_points
+            sensors[i] = np.einsum("ij,ij->i", moved, sensor_dirs)
+        ratios = np.array([r.speed_ratio for r in model.rotors])
+        weight = weight - system.gravity @ system.reference_point * system.mass.sum()
+        return cls(
+            time=np.asarray(times), displacement=np.hstack([q[:, :3], theta]),
+            velocity=np.hstack([dq[:, :3], omega]), gamma=gamma,
+            drive_angle=q[:, n - 1], drive_speed=dq[:, n - 1], spin_speed=psi_dot + dq[:, n - 1],
+            rotor_angles=psi[:, None] + q[:, n - 1][:, None] * ratios, drive_torque=torque,
+            rotor_centers=centers, sensors=sensors, kinetic_energy=kinetic, elastic_energy=elastic,
+            gravity_energy=weight, states=np.asarray(states), sensor_names=[x.name for x in model.sensors],
+            rotor_names=[r.name for r in model.rotors], speed_ratios=ratios, drive=drive,
+            model_name=model.name)

@@ -21,6 +21,8 @@ from .io import load_model, save_model
 from .linear_system import state_matrices, state_space
 from .model import Excitation, Model, Rotor, Sensor, Stator, Suspension, Transmission, Unbalance
 from .units import hz, rpm, to_hz, to_rpm
+from . import kinematics, simulation
+from .simulation import SimulationResult, simulate
 
 __version__ = "0.1.0"
 
@@ -31,4 +33,5 @@ __all__ = [
     "excitation_sources", "stability", "stability_map", "StabilityResult", "StabilityMap",
     "shift_matrix", "shift_cross", "skew", "rpm", "to_rpm", "hz", "to_hz",
     "InputError", "ModelError", "__version__",
+    "kinematics", "simulation", "simulate", "SimulationResult",
 ]

@@ -40,7 +40,7 @@ def cross(a, b):
 
 def drive_acceleration(t, accel, t_start, t_stop):
     """Prescribed angular acceleration of the reference rotor [rad/s^2] at time ``t`` [s]."""
-    if t_start <= t < t_stop:
+    if t_start <= t <= t_stop:
         return accel
     return 0.0
 

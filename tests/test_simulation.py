@@ -1,0 +1,180 @@
+"""Large-rotation simulation against independent answers: a quaternion integration of the
+document's example, energy conservation, the linear model of seed 000 (state matrix and
+impulse response), and bad input."""
+
+from __future__ import annotations
+
+import pickle
+
+import control
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.spatial.transform import Rotation
+
+import rotordyn_modal as rdm
+from rotordyn_modal.errors import InputError
+from rotordyn_modal.linear_system import speed_linear_form
+
+OMEGA0 = 50.0
+
+
+@pytest.fixture(scope="module")
+def example(request):
+    from pathlib import Path
+
+    return rdm.load_model(Path(__file__).resolve().parent.parent / "examples" / "spring_block_rotor.toml")
+
+
+@pytest.fixture(scope="module")
+def gear_machine():
+    from pathlib import Path
+
+    return rdm.load_model(Path(__file__).resolve().parent.parent / "examples" / "gear_machine.toml")
+
+
+def _without(model, **changes):
+    data = model.to_dict()
+    data.update(changes)
+    return rdm.Model.from_dict(data, model.source)
+
+
+def _quaternion_reference(times):
+    """Seed 001, section 4, integrated independently: quaternion, body-frame Euler equations.
+
+    Disk m = 5 kg, D = 0.5 m; rod end a at l = 0.75 m behind the centre along the body x axis;
+    force -C1 r_a at a, moment -C2 gamma with gamma the rotation about e x f taking
+    e = x to the rod's direction f by the shortest arc; gravity -z; spin 50 rad/s about x.
+    """
+    m, D, l, C1, C2, g = 5.0, 0.5, 0.75, 2000.0, 500.0, 9.81
+    inertia = np.array([m * D**2 / 8, m * D**2 / 16, m * D**2 / 16])
+    e = np.array([1.0, 0, 0])
+
+    def rhs(t, y):
+        r, v, quat, w_body = y[:3], y[3:6], y[6:10], y[10:]
+        R = Rotation.from_quat(quat).as_matrix()
+        f = R @ e
+        r_a = r - l * f
+        axis = np.cross(e, f)
+        angle = np.arctan2(np.linalg.norm(axis), e @ f)
+        gamma = axis * (angle / np.linalg.norm(axis)) if np.linalg.norm(axis) > 0 else np.zeros(3)
+        force = -C1 * r_a
+        moment = np.cross(r_a - r, force) - C2 * gamma
+        moment_body = R.T @ moment
+        w_dot = (moment_body - np.cross(w_body, inertia * w_body)) / inertia
+        x, yq, z, s = quat  # scipy order (x, y, z, w): dq/dt = q (x) [w/2, 0]
+        wx, wy, wz = w_body / 2
+        q_dot = np.array([s * wx + yq * wz - z * wy, s * wy + z * wx - x * wz,
+                          s * wz + x * wy - yq * wx, -x * wx - yq * wy - z * wz])
+        return np.concatenate([v, force / m + [0, 0, -g], q_dot, w_dot])
+
+    y0 = np.concatenate([[l, 0, 0], [0, 0, 0], [0, 0, 0, 1.0], [OMEGA0, 0, 0]])
+    sol = solve_ivp(rhs, (0, times[-1]), y0, method="DOP853", t_eval=times, rtol=1e-12, atol=1e-13)
+    return sol.y[:3].T
+
+
+@pytest.fixture(scope="module")
+def example_run(example):
+    return rdm.simulate(example, 3.0, OMEGA0, drive="free", samples=301, rtol=1e-11, atol=1e-13)
+
+
+def test_example_matches_a_quaternion_integration(example_run):
+    times = example_run.time[::50]
+    reference = _quaternion_reference(times)
+    np.testing.assert_allclose(example_run.rotor_centers[::50, 0, :], reference, atol=1e-6, rtol=0)
+    assert np.abs(reference - reference[0]).max() > 0.05  # the disk really moved
+
+
+def test_example_keeps_its_axial_speed_and_energy(example_run):
+    deviation = np.abs(example_run.spin_speed / OMEGA0 - 1)
+    assert 1e-5 < deviation.max() < 1e-3  # seed 001, Fig. 6: varies, below 0.1 %
+    energy = example_run.total_energy
+    assert np.abs(energy - energy[0]).max() < 1e-9 * example_run.kinetic_energy[0]
+    assert np.ptp(example_run.kinetic_energy) > 1.0  # energy really moved between its terms
+    assert abs(energy[0] - 0.5 * 5 * 0.5**2 / 8 * OMEGA0**2 + 5 * 0 * 9.81) < 1e-12
+
+
+def test_result_pickles_and_tabulates(example_run):
+    copy = pickle.loads(pickle.dumps(example_run))
+    np.testing.assert_array_equal(copy.states, example_run.states)
+    table = example_run.to_dataframe()
+    assert list(table.columns[:9]) == ["time_s", "u_x", "u_y", "u_z", "theta_x", "theta_y", "theta_z",
+                                       "spin_speed_rad_s", "drive_torque_nm"]
+    assert len(table) == len(example_run.time)
+
+
+def test_numpy_and_numba_kernels_agree(example):
+    runs = [rdm.simulate(example, 0.2, OMEGA0, drive="free", samples=5, backend=b, rtol=1e-10)
+            for b in ("numpy", "auto")]
+    np.testing.assert_allclose(runs[0].states, runs[1].states, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("speed", [0.0, 314.0, -500.0])
+def test_linearisation_reproduces_the_core_state_matrix(gear_machine, speed):
+    A = rdm.simulation.linearize(gear_machine, speed)
+    reference = speed_linear_form(gear_machine).at(speed)
+    assert np.abs(A - reference).max() < 1e-8 * np.abs(reference).max()
+
+
+def test_small_impulse_response_equals_the_linear_one(gear_machine):
+    """Undamped, spinning two-rotor gear machine hit by a hammer: nonlinear vs python-control."""
+    model = _without(gear_machine, unbalances=[], suspensions=[
+        {k: v for k, v in s.items() if k != "damping"} for s in gear_machine.to_dict()["suspensions"]])
+    speed, size, duration = 300.0, 0.05, 0.3
+    res = rdm.simulate(model, duration, speed, impulse="hammer-z", impulse_size=size, samples=601,
+                       rtol=1e-11, atol=1e-15)
+    system = model.state_space(speed)
+    column = [x.name for x in model.excitations].index("hammer-z")
+    linear = control.impulse_response(system, T=res.time, input=column)
+    expected = size * np.atleast_2d(np.squeeze(linear.outputs)).T
+    peak = np.abs(expected).max()
+    nonlinear = res.sensors - res.sensors[0]
+    difference = np.abs(nonlinear - expected).max()
+    assert peak > 1e-6
+    # the neglected terms are quadratic in the motion: relative error of order |theta|
+    rotation = np.abs(res.displacement[:, 3:]).max()
+    assert difference < 20 * rotation * peak
+    assert difference < 1e-3 * peak
+
+
+def test_drive_torque_supplies_the_energy_of_a_run_up(gear_machine):
+    """With an ideal drive, d(energy)/dt = drive torque x relative speed (no damping)."""
+    model = _without(gear_machine, suspensions=[
+        {k: v for k, v in s.items() if k != "damping"} for s in gear_machine.to_dict()["suspensions"]])
+    res = rdm.simulate(model, 0.5, 0.0, drive="ramp", final_speed=400.0, samples=2001, rtol=1e-10)
+    work = np.concatenate([[0], np.cumsum(np.diff(res.time) * 0.5 * (
+        res.drive_torque[1:] * res.drive_speed[1:] + res.drive_torque[:-1] * res.drive_speed[:-1]))])
+    energy = res.total_energy - res.total_energy[0]
+    assert np.abs(energy - work).max() < 1e-4 * np.abs(energy).max()
+    np.testing.assert_allclose(res.drive_speed, 800.0 * res.time, atol=1e-9)
+
+
+def test_run_up_order_tracking_peaks_near_a_critical_speed(gear_machine):
+    model = _without(gear_machine, excitations=[])
+    res = rdm.simulate(model, 1.5, 0.0, drive="ramp", final_speed=400.0, samples=6001, rtol=1e-8)
+    track = res.order_track("acc-top-z", rotor="fan")
+    fall = res.waterfall("acc-top-z", segments=30)
+    assert fall.amplitude.shape == (30, len(fall.frequencies_hz))
+    assert np.all(np.diff(track.speeds) > 0) and track.amplitude.max() > 0
+    critical = rdm.campbell(model, np.linspace(1, 400, 81), orders=(1,)).critical
+    fan = critical.speeds[critical.source == "fan"]
+    peak_speed = track.speeds[np.argmax(track.amplitude)]
+    assert np.min(np.abs(fan - peak_speed)) < 0.15 * peak_speed
+
+
+def test_hysteretic_loss_factor_is_refused(gear_machine):
+    data = gear_machine.to_dict()
+    data["suspensions"][0]["loss_factor"] = 0.05
+    with pytest.raises(InputError, match="loss_factor = 0.05.*no meaning in the time domain"):
+        rdm.simulate(rdm.Model.from_dict(data), 0.1, 100.0)
+
+
+def test_unknown_excitation_and_bad_options_are_refused(gear_machine):
+    with pytest.raises(InputError, match="unknown excitation 'nope'.*hammer-z, shaker-y"):
+        rdm.simulate(gear_machine, 0.1, 100.0, impulse="nope")
+    with pytest.raises(InputError, match="final_speed"):
+        rdm.simulate(gear_machine, 0.1, 100.0, drive="ramp")
+    with pytest.raises(InputError, match="drive 'spin'"):
+        rdm.simulate(gear_machine, 0.1, 100.0, drive="spin")
+    with pytest.raises(InputError, match="duration"):
+        rdm.simulate(gear_machine, -1.0, 100.0)

@@ -6,9 +6,9 @@ and ``run``; :data:`SUBCOMMANDS` lists them in ``--help`` order.
 
 from __future__ import annotations
 
-from . import campbell, check, critical_speeds, modes, stability
+from . import campbell, check, critical_speeds, modes, simulate, stability
 from .main import main
 
-SUBCOMMANDS = [check, modes, campbell, critical_speeds, stability]
+SUBCOMMANDS = [check, modes, campbell, critical_speeds, stability, simulate]
 
 __all__ = ["main", "SUBCOMMANDS"]

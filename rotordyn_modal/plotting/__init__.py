@@ -6,6 +6,7 @@ only when a function is called.
 
 from .campbell import plot_campbell
 from .modes import plot_modes
+from .simulation import plot_runup, plot_simulation
 from .stability import plot_stability, plot_stability_map
 
-__all__ = ["plot_campbell", "plot_modes", "plot_stability", "plot_stability_map"]
+__all__ = ["plot_campbell", "plot_modes", "plot_stability", "plot_stability_map", "plot_simulation", "plot_runup"]

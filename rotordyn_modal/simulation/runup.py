@@ -103,24 +103,29 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=4) -> OrderTr
 
 
 def waterfall(result, sensor, segments=60) -> Waterfall:
-    """Spectra of ``segments`` consecutive, equal, Hann-windowed pieces of a sensor's signal.
+    """Spectra of ``segments`` Hann-windowed pieces of a sensor's signal, 75 % overlapping.
+
+    Each piece is ``4 / (segments + 3)`` of the record long, so the frequency resolution is
+    ``(segments + 3) / (4 duration)`` [Hz].
 
     Returns
     -------
     Waterfall
     """
     signal = result.sensor(sensor)
-    count = len(signal) // int(segments)
+    segments = int(segments)
+    count = 4 * len(signal) // (segments + 3)
     if count < 16:
         raise InputError(f"waterfall: {len(signal)} samples are too few for {segments} segments "
                          "(give more samples or fewer segments)")
+    hop = max(1, count // 4)
     step = result.time[1] - result.time[0]
     window = np.hanning(count)
     spectra, speeds = [], []
-    for k in range(int(segments)):
-        piece = signal[k * count:(k + 1) * count]
+    for start in range(0, len(signal) - count + 1, hop):
+        piece = signal[start:start + count]
         spectra.append(2 * np.abs(np.fft.rfft((piece - piece.mean()) * window)) / window.sum())
-        speeds.append(result.drive_speed[k * count:(k + 1) * count].mean())
+        speeds.append(result.drive_speed[start:start + count].mean())
     return Waterfall(speeds=np.array(speeds), frequencies_hz=np.fft.rfftfreq(count, step),
                      amplitude=np.array(spectra), sensor=sensor)
 

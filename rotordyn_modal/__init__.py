@@ -23,6 +23,10 @@ from .model import Excitation, Model, Rotor, Sensor, Stator, Suspension, Transmi
 from .units import hz, rpm, to_hz, to_rpm
 from . import kinematics, simulation
 from .simulation import SimulationResult, simulate
+from .analysis import (FitResult, FRFResult, UnbalanceResult, fit, force_frf, frf,  # issue 4
+                       unbalance_response)
+from .io.measured import read_measured, write_csv as write_measured_csv
+from .io.uff import write_uff58
 
 __version__ = "0.1.0"
 
@@ -34,4 +38,6 @@ __all__ = [
     "shift_matrix", "shift_cross", "skew", "rpm", "to_rpm", "hz", "to_hz",
     "InputError", "ModelError", "__version__",
     "kinematics", "simulation", "simulate", "SimulationResult",
+    "frf", "FRFResult", "force_frf", "unbalance_response", "UnbalanceResult", "fit", "FitResult",
+    "read_measured", "write_measured_csv", "write_uff58",
 ]

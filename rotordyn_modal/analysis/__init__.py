@@ -3,7 +3,12 @@
 from .campbell import CampbellResult, CriticalSpeeds, campbell, critical_speeds, excitation_sources
 from .modal import ModalResult, mac, modal
 from .stability import StabilityMap, StabilityResult, stability, stability_map
+from .fit import FitResult, fit
+from .forces import force_frf
+from .frf import FRFResult, frf
+from .unbalance import UnbalanceResult, unbalance_response
 
 __all__ = ["modal", "ModalResult", "mac", "campbell", "CampbellResult", "critical_speeds",
            "CriticalSpeeds", "excitation_sources", "stability", "stability_map", "StabilityResult",
-           "StabilityMap"]
+           "StabilityMap",
+           "frf", "FRFResult", "force_frf", "unbalance_response", "UnbalanceResult", "fit", "FitResult"]

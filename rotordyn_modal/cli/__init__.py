@@ -7,8 +7,10 @@ and ``run``; :data:`SUBCOMMANDS` lists them in ``--help`` order.
 from __future__ import annotations
 
 from . import campbell, check, critical_speeds, modes, simulate, stability
+from . import fit, frf, unbalance
 from .main import main
 
 SUBCOMMANDS = [check, modes, campbell, critical_speeds, stability, simulate]
+SUBCOMMANDS += [frf, unbalance, fit]
 
 __all__ = ["main", "SUBCOMMANDS"]

@@ -1,0 +1,273 @@
+"""Identification of model parameters from measured FRFs (least squares).
+
+Each parameter is a dotted key of the model file (``suspensions.mount-FL.stiffness[2]``,
+``suspensions.mount-FL.damping``, a whole array is scaled as one) or ``gain``
+(a factor on every model FRF, e.g. a sensor calibration). The unknowns are the
+logarithms of the factors that multiply the starting values, so that stiffness
+and damping of different magnitudes are equally well scaled and stay positive.
+
+Residual, stacked over speeds, FRFs and the frequency lines in the band::
+
+    r = w (H_model - H_meas) / |H_meas|      (real and imaginary parts)
+
+a relative complex error, so that every line counts alike whatever the FRF's
+magnitude (``|H_meas|`` floored at 1e-3 of the RMS of the largest FRF of that
+speed, a 60 dB dynamic range, so that anti-resonances and FRFs that vanish by
+symmetry do not dominate). With coherence ``g2`` the weight is ``w = sqrt(g2 / (1 - g2))``
+(the inverse of the relative standard error of an H1 estimate, up to the
+number of averages), normalised to a mean of 1; ``1 - g2`` is floored at
+1e-3. Uncertainties come from the Jacobian at the optimum:
+``cov = s^2 (J^T J)^-1`` with ``s^2 = |r|^2 / (m - n)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from .frf import frf
+
+__all__ = ["FitResult", "fit"]
+
+_BOUND_FACTOR = 100.0
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """Fitted parameters with standard uncertainties.
+
+    Attributes
+    ----------
+    keys : tuple of str
+        Dotted keys (or ``gain``).
+    start_values, values : tuple
+        Values (scalars or lists, in the key's units) at the start and fitted.
+    factors : ndarray, shape (n_params,)
+        Fitted value / start value.
+    std_relative : ndarray, shape (n_params,)
+        Standard uncertainty of each factor, relative (std of the log).
+    correlation : ndarray, shape (n_params, n_params)
+    cost : float
+        RMS of the weighted relative residual at the optimum.
+    converged : bool
+    message : str
+        Why the optimiser stopped, or why the fit is not trusted.
+    n_points : int
+        Complex frequency lines used.
+    start_costs : ndarray, shape (n_starts,)
+        RMS residual reached from each starting point.
+    """
+
+    keys: tuple
+    start_values: tuple
+    values: tuple
+    factors: np.ndarray
+    std_relative: np.ndarray
+    correlation: np.ndarray
+    cost: float
+    converged: bool
+    message: str
+    n_points: int
+    start_costs: np.ndarray
+
+    def fitted_model(self, model):
+        """The model with the fitted values (``gain`` is not a model value)."""
+        return _apply(model, self.keys, np.log(self.factors))
+
+    def to_dataframe(self):
+        """Table ``key,start,fitted,factor,std_relative`` (std_relative of the value)."""
+        import pandas as pd
+
+        return pd.DataFrame({"key": self.keys, "start": [_text(v) for v in self.start_values],
+                             "fitted": [_text(v) for v in self.values], "factor": self.factors,
+                             "std_relative": self.std_relative})
+
+    def plot(self):
+        """The parameter correlation matrix as an image."""
+        from ..plotting.correlation import plot_fit_correlation
+
+        return plot_fit_correlation(self)
+
+
+def _text(value):
+    return f"{value:.6g}" if np.ndim(value) == 0 else "[" + ", ".join(f"{v:.6g}" for v in np.ravel(value)) + "]"
+
+
+def _apply(model, keys, logs):
+    factors = {k: float(np.exp(x)) for k, x in zip(keys, logs) if k != "gain"}
+    return model.scaled(factors) if factors else model
+
+
+def _gain(keys, logs):
+    return float(np.exp(logs[list(keys).index("gain")])) if "gain" in keys else 1.0
+
+
+class _Problem:
+    """The measured data cut to the band, with weights, and the residual function."""
+
+    def __init__(self, model, measured, keys, band_hz, weighting):
+        self.model, self.keys = model, tuple(keys)
+        self.sets = []
+        for res in measured:
+            f = res.frequencies_hz
+            keep = np.ones(len(f), bool) if band_hz is None else (f >= band_hz[0]) & (f <= band_hz[1])
+            H = res.H[..., keep]
+            valid = np.isfinite(H)
+            H = np.where(valid, H, 0.0)
+            weight = np.ones(H.shape)
+            if weighting == "coherence" and res.coherence is not None:
+                g2 = np.clip(np.nan_to_num(res.coherence[..., keep]), 0.0, 1.0)
+                weight = np.sqrt(g2 / np.maximum(1.0 - g2, 1e-3))
+            if keep.any():
+                self.sets.append((res, f[keep], H, valid, weight * valid))
+        n = sum(int(v.sum()) for *_, v, _ in self.sets)
+        if n == 0:
+            raise InputError("fit: no measured frequency line in the band "
+                             f"{band_hz if band_hz is not None else ''}: nothing to fit")
+        mean_w = np.mean(np.concatenate([w[v] for *_, v, w in self.sets]))
+        self.weights = [w / mean_w / _scale(H, v) for (_, _, H, v, w) in self.sets]
+        self.n_points = n
+
+    def residual(self, logs):
+        model = _apply(self.model, self.keys, logs)
+        gain = _gain(self.keys, logs)
+        parts = []
+        for (res, f, H, valid, _), w in zip(self.sets, self.weights):
+            Hm = frf(model, res.speed, f, inputs=list(res.inputs), outputs=list(res.outputs),
+                     quantity=res.quantity, engine="direct").H * gain
+            r = (w * (Hm - H))[valid]
+            parts += [r.real, r.imag]
+        return np.concatenate(parts)
+
+
+def _scale(H, valid):
+    """Denominator of the relative residual: ``|H|`` floored at 1e-3 of the RMS of the largest FRF."""
+    magnitude = np.where(valid, np.abs(H), 0.0)
+    rms = np.sqrt(np.mean(magnitude ** 2, axis=-1, keepdims=True))
+    return np.maximum(magnitude, 1e-3 * np.maximum(rms, rms.max()))
+
+
+def fit(model, measured, params, bounds=None, band_hz=None, weighting: str = "coherence", starts: int = 3,
+        seed: int = 0, progress: bool = False, max_evaluations: int = 400) -> FitResult:
+    """Fit model parameters to measured FRFs.
+
+    Parameters
+    ----------
+    model : Model
+        The starting point (values of the keys are the starting values).
+    measured : FRFResult or list of FRFResult
+        Measured FRFs (one per speed), named after the model's sensors and excitations.
+    params : list of str
+        Dotted keys (positive values) or ``'gain'``.
+    bounds : dict[str, (float, float)], optional
+        Bounds on each key's **factor** relative to its start (default 1/100 to 100).
+    band_hz : (float, float), optional
+        Frequency band used [Hz].
+    weighting : {'coherence', 'none'}
+    starts : int
+        Starting points: the model's values, then ``starts - 1`` log-uniform draws within the bounds.
+    seed : int
+        Seed of those draws.
+    progress : bool
+        tqdm bar over the starting points.
+    max_evaluations : int
+        Model evaluations allowed per start.
+
+    Returns
+    -------
+    FitResult
+    """
+    import scipy.optimize
+
+    measured = [measured] if not isinstance(measured, (list, tuple)) else list(measured)
+    keys = _check_params(model, params)
+    if weighting not in ("coherence", "none"):
+        raise InputError(f"weighting {weighting!r}: expected 'coherence' or 'none'")
+    if starts < 1:
+        raise InputError(f"starts = {starts}: expected at least 1")
+    lower, upper = _log_bounds(keys, bounds)
+    problem = _Problem(model, measured, keys, band_hz, weighting)
+    rng = np.random.default_rng(seed)
+    points = [np.zeros(len(keys))] + [rng.uniform(lower, upper) for _ in range(starts - 1)]
+    outcomes = []
+    from tqdm.auto import tqdm
+
+    for x0 in tqdm(points, desc="fit (starting points)", disable=not progress):
+        outcomes.append(scipy.optimize.least_squares(
+            problem.residual, np.clip(x0, lower, upper), bounds=(lower, upper), x_scale=1.0,
+            diff_step=1e-6, max_nfev=max_evaluations, xtol=1e-12, ftol=1e-12, gtol=1e-12))
+    costs = np.array([np.sqrt(2 * o.cost / len(o.fun)) for o in outcomes])
+    best = outcomes[int(np.argmin(costs))]
+    return _result(model, keys, best, costs, problem.n_points, lower, upper)
+
+
+def _check_params(model, params):
+    keys = [params] if isinstance(params, str) else list(params)
+    if not keys:
+        raise InputError("fit: give at least one parameter (a dotted key such as suspensions.mount-FL.stiffness)")
+    if len(set(keys)) != len(keys):
+        raise InputError(f"fit: a parameter is given twice in {', '.join(keys)}")
+    for key in keys:
+        if key == "gain":
+            continue
+        value = np.asarray(model.get(key), dtype=float)
+        if not np.all(value >= 0) or not np.any(value > 0):
+            raise InputError(f"fit: {key} = {model.get(key)!r}: a fitted value must be > 0 at the start "
+                             "(the fit scales it by a positive factor)")
+    return tuple(keys)
+
+
+def _log_bounds(keys, bounds):
+    bounds = dict(bounds or {})
+    unknown = set(bounds) - set(keys)
+    if unknown:
+        raise InputError(f"fit: bounds given for {', '.join(sorted(unknown))}, which is not fitted")
+    lower, upper = [], []
+    for key in keys:
+        lo, hi = bounds.get(key, (1 / _BOUND_FACTOR, _BOUND_FACTOR))
+        if not 0 < lo < 1 < hi:
+            raise InputError(f"fit: bounds of {key} = ({lo}, {hi}): expected factors 0 < low < 1 < high "
+                             "around the starting value")
+        lower.append(np.log(lo))
+        upper.append(np.log(hi))
+    return np.array(lower), np.array(upper)
+
+
+def _result(model, keys, best, costs, n_points, lower, upper):
+    J, r = best.jac, best.fun
+    m, n = J.shape
+    s2 = float(r @ r) / max(m - n, 1)
+    singular = np.linalg.svd(J, compute_uv=False)
+    cov = np.linalg.pinv(J.T @ J) * s2
+    std = np.sqrt(np.clip(np.diag(cov), 0, None))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(std, std)
+    converged, message = best.status > 0, best.message
+    at_bound = np.isclose(best.x, lower, atol=1e-6) | np.isclose(best.x, upper, atol=1e-6)
+    if singular.min() < 1e-8 * singular.max() or not np.all(np.isfinite(std)):
+        converged = False
+        weak = keys[int(np.argmin(np.abs(J).sum(axis=0)))]
+        message = (f"the measured FRFs do not determine the parameters: {weak} hardly changes them, or two "
+                   "parameters change them alike (Jacobian rank deficient); fit fewer parameters or add data")
+    elif at_bound.any():
+        converged = False
+        message = (f"{', '.join(k for k, b in zip(keys, at_bound) if b)} ended on a bound: the optimum lies "
+                   "outside the bounds (widen them, or check the model and the data)")
+    elif best.status <= 0:
+        message = f"the optimiser stopped before converging: {best.message}"
+    fitted = _apply(model, keys, best.x)
+    values = tuple(_get(fitted, k, best.x, keys) for k in keys)
+    starts = tuple(_get(model, k, np.zeros(len(keys)), keys) for k in keys)
+    return FitResult(keys=tuple(keys), start_values=starts, values=values, factors=np.exp(best.x),
+                     std_relative=std, correlation=corr, cost=float(np.sqrt(2 * best.cost / m)),
+                     converged=bool(converged), message=str(message), n_points=n_points,
+                     start_costs=costs)
+
+
+def _get(model, key, logs, keys):
+    if key == "gain":
+        return _gain(keys, logs)
+    value = model.get(key)
+    return float(value) if np.ndim(value) == 0 else list(np.asarray(value, dtype=float).ravel())

@@ -1,0 +1,77 @@
+"""``fit MODEL --measured FILE --params KEY[,KEY...] --out FITTED.toml``."""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from ..analysis.fit import fit
+from ..errors import InputError
+from ..io import save_model
+from ..io.measured import read_measured
+from ._common import add_model_argument, check_outputs, load_model, parse_list, show_progress
+
+NAME = "fit"
+HELP = "identify model parameters (mount stiffness, damping, ...) from measured FRFs"
+DESCRIPTION = """Least-squares fit of model parameters to measured FRFs (UFF 58/58b or CSV), at
+every speed in the file: log-scaled parameters within bounds, relative complex residual,
+coherence weighting, an optional frequency band, several starting points. Prints the fitted
+values with standard uncertainties and the correlation matrix and writes the fitted model
+file (never over the input). A fit that does not converge, or whose parameters the data do
+not determine, says why and exits with code 1 without writing the model.
+
+KEY is a dotted key (a whole array is scaled as one) or 'gain'.
+
+example:
+  rotordyn-modal fit start.toml --measured measured.uff --band 2:40 \\
+      --params suspensions.mount-FL.stiffness,suspensions.mount-FL.damping --out fitted.toml"""
+
+
+def add_arguments(parser):
+    add_model_argument(parser)
+    parser.add_argument("--measured", required=True, metavar="FILE", help="measured FRFs (.uff/.unv or .csv)")
+    parser.add_argument("--mapping", metavar="FILE.csv", help="UFF node/direction to channel table")
+    parser.add_argument("--params", required=True, help="comma-separated dotted keys (or 'gain')")
+    parser.add_argument("--out", required=True, metavar="FITTED.toml", help="fitted model file to write")
+    parser.add_argument("--band", metavar="LOW:HIGH", help="frequency band used [Hz]")
+    parser.add_argument("--bound-factor", default="100", help="each parameter within start/F .. start*F (default 100)")
+    parser.add_argument("--starts", type=int, default=3, help="starting points (default 3)")
+    parser.add_argument("--no-coherence", action="store_true", help="do not weight by coherence")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar, no table on the terminal")
+
+
+def run(args) -> int:
+    check_outputs(args, args.out)
+    model = load_model(args.model)
+    params = [p.strip() for p in args.params.split(",") if p.strip()]
+    band = tuple(parse_list(args.band.replace(":", ","), "--band")) if args.band else None
+    if band is not None and (len(band) != 2 or not band[1] > band[0] >= 0):
+        raise InputError(f"--band {args.band}: expected LOW:HIGH in Hz with 0 <= LOW < HIGH")
+    factor = float(parse_list(args.bound_factor, "--bound-factor")[0])
+    if not factor > 1:
+        raise InputError(f"--bound-factor {args.bound_factor}: expected a number > 1")
+    measured = read_measured(args.measured, model, args.mapping)
+    result = fit(model, measured, params, bounds={p: (1 / factor, factor) for p in params}, band_hz=band,
+                 weighting="none" if args.no_coherence else "coherence", starts=args.starts,
+                 progress=show_progress(args))
+    _report(result)
+    if not result.converged:
+        print(f"rotordyn-modal fit: not converged: {result.message}", file=sys.stderr)
+        return 1
+    save_model(result.fitted_model(model), args.out, inputs=[args.model, args.measured])
+    print(f"fitted model written to {args.out}", file=sys.stderr)
+    return 0
+
+
+def _report(result):
+    import pandas as pd
+
+    table = result.to_dataframe()
+    with pd.option_context("display.width", 200, "display.max_colwidth", 80):
+        print(table.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+        print("\nparameter correlation:")
+        print(pd.DataFrame(result.correlation, index=result.keys, columns=range(1, len(result.keys) + 1))
+              .to_string(float_format=lambda v: f"{v:+.3f}"))
+    print(f"\nRMS relative residual {result.cost:.4g} over {result.n_points} frequency lines; "
+          f"from each start: {', '.join(f'{c:.3g}' for c in result.start_costs)}")

@@ -1,0 +1,80 @@
+"""``frf MODEL --speed S --freqs R [--input NAME] [--output NAME] [--quantity Q] [--measured FILE]``."""
+
+from __future__ import annotations
+
+from ..analysis.forces import force_frf
+from ..analysis.frf import QUANTITIES, frf
+from ..errors import InputError
+from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
+                      parse_range, save_figure, to_rad_s, use_agg, write_table)
+
+NAME = "frf"
+HELP = "frequency response from excitations to sensors (or forces), over measured data"
+DESCRIPTION = """Frequency response functions at one speed of the reference rotor, from the
+[[excitations]] to the [[sensors]]: receptance [m/N], mobility [m/s/N] or accelerance
+[m/s^2/N]. Viscous models use modal superposition, models with loss factors or Maxwell
+branches a direct solve at every frequency. --forces suspensions gives the force each
+suspension passes to the ground per unit input (transmissibility), --forces bearings the
+force each rotor passes to the stator (seed 000 eq. 73/74). --measured FILE (UFF 58/58b
+.uff/.unv, or CSV) draws the measurement of the same speed under the model in --plot.
+
+CSV columns: frequency_hz,output,input,real,imag,magnitude,phase_deg
+
+examples:
+  rotordyn-modal frf examples/gear_machine.toml --speed 3000 --freqs 1:60:600 \\
+      --input hammer-z --output acc-top-z --quantity accelerance --plot frf.png
+  rotordyn-modal frf examples/gear_machine.toml --speed 0 --freqs 1:60:300 --forces suspensions"""
+
+
+def add_arguments(parser):
+    add_model_argument(parser)
+    parser.add_argument("--speed", default="0", help="reference rotor speed (default 0; negative reverses the spin)")
+    add_speed_unit(parser)
+    parser.add_argument("--freqs", required=True, help="START:STOP:N frequencies [Hz]")
+    parser.add_argument("--input", help="excitation name(s), comma-separated (default all)")
+    parser.add_argument("--output", help="sensor name(s), comma-separated (default all)")
+    parser.add_argument("--quantity", choices=list(QUANTITIES), default="receptance")
+    parser.add_argument("--forces", choices=["suspensions", "bearings"],
+                        help="forces per unit input instead of sensor motion")
+    parser.add_argument("--measured", metavar="FILE", help="measured FRFs (.uff/.unv or .csv) to draw under the model")
+    parser.add_argument("--mapping", metavar="FILE.csv", help="UFF node/direction to channel table: name,node,direction[,sign]")
+    add_outputs(parser)
+
+
+def names(text):
+    return None if text is None else [n.strip() for n in text.split(",") if n.strip()]
+
+
+def run(args) -> int:
+    model = open_model(args)
+    speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
+    freqs = parse_range(args.freqs, "--freqs")
+    if freqs.min() < 0:
+        raise InputError(f"--freqs {args.freqs}: frequencies must be >= 0 Hz")
+    if args.forces:
+        result = force_frf(model, speed, freqs, inputs=names(args.input), where=args.forces)
+    else:
+        result = frf(model, speed, freqs, inputs=names(args.input), outputs=names(args.output),
+                     quantity=args.quantity)
+    measured = _measured_at(args, model, speed) if args.measured else None
+    write_table(result.to_dataframe(), args)
+    if args.plot:
+        use_agg()
+        save_figure(result.plot(measured=measured), args)
+    return 0
+
+
+def _measured_at(args, model, speed):
+    import numpy as np
+
+    from ..io.measured import read_measured
+
+    sets = read_measured(args.measured, model, args.mapping)
+    best = min(sets, key=lambda s: abs(s.speed - speed))
+    if abs(best.speed - speed) > 1e-6 * max(1.0, abs(speed)):
+        raise InputError(f"--measured {args.measured}: no data at {speed * 30 / np.pi:g} rpm; the file has "
+                         f"{', '.join(f'{s.speed * 30 / np.pi:g}' for s in sets)} rpm")
+    if best.quantity != args.quantity and not args.forces:
+        raise InputError(f"--measured {args.measured}: the file holds {best.quantity}, the model is asked for "
+                         f"{args.quantity}: give --quantity {best.quantity}")
+    return best

@@ -1,0 +1,219 @@
+"""Measured FRFs: plain CSV files, the channel mapping table, and dispatch by file type.
+
+A measured data set is a list of :class:`~rotordyn_modal.analysis.frf.FRFResult`,
+one per spin speed, each with ``H`` of shape (n_outputs, n_inputs, n_freq)
+named after the model's ``[[sensors]]`` and ``[[excitations]]`` (NaN where a
+pair was not measured) and ``coherence`` when the file has it.
+
+CSV layout (one row per output, input and frequency; ``--out`` of ``frf`` writes it)::
+
+    speed_rpm,frequency_hz,output,input,real,imag[,coherence][,quantity]
+
+``speed_rpm`` may be left out (0); ``magnitude,phase_deg`` may replace ``real,imag``.
+
+Mapping table (CSV ``name,node,direction[,sign]``): which UFF node and
+direction code (1/2/3 = +X/+Y/+Z, negative for minus, 4-6 rotations) is which
+sensor or excitation of the model; ``sign`` -1 flips a channel. Without a table
+the default mapping is used: sensor k (from 1) is node k, excitation k is node
+100 + k, and the direction code is the model axis nearest to the channel's
+direction (signed).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..analysis.frf import FRFResult
+from ..errors import InputError
+
+__all__ = ["read_measured", "read_csv", "write_csv", "read_mapping", "default_mapping", "ChannelMap"]
+
+_QUANTITIES = ("receptance", "mobility", "accelerance")
+
+
+class ChannelMap:
+    """``(node, direction) -> (name, sign)`` for outputs (sensors) and inputs (excitations).
+
+    Attributes
+    ----------
+    outputs, inputs : dict[tuple[int, int], tuple[str, float]]
+    """
+
+    def __init__(self, outputs, inputs):
+        self.outputs = dict(outputs)
+        self.inputs = dict(inputs)
+
+    def node_of(self, name):
+        """``(node, direction, sign)`` of a sensor or excitation name."""
+        for table in (self.outputs, self.inputs):
+            for (node, direction), (n, sign) in table.items():
+                if n == name:
+                    return node, direction, sign
+        raise InputError(f"channel {name!r} is not in the mapping table")
+
+
+def _axis_code(direction, rotation: bool = False) -> int:
+    d = np.asarray(direction, dtype=float)
+    k = int(np.argmax(np.abs(d)))
+    return (k + 1 + 3 * rotation) * (1 if d[k] > 0 else -1)
+
+
+def default_mapping(model) -> ChannelMap:
+    """Sensor k -> node k, excitation k -> node 100 + k; direction = nearest signed model axis."""
+    outputs = {(k + 1, _axis_code(s.direction)): (s.name, 1.0) for k, s in enumerate(model.sensors)}
+    inputs = {(101 + k, _axis_code(x.direction, x.kind == "moment")): (x.name, 1.0)
+              for k, x in enumerate(model.excitations)}
+    return ChannelMap(outputs, inputs)
+
+
+def read_mapping(path, model) -> ChannelMap:
+    """Read a mapping table ``name,node,direction[,sign]`` (CSV) against the model's channel names."""
+    import pandas as pd
+
+    try:
+        table = pd.read_csv(path)
+    except (OSError, ValueError) as error:
+        raise InputError(f"{path}: cannot read the mapping table ({error})") from None
+    missing = {"name", "node", "direction"} - set(table.columns)
+    if missing:
+        raise InputError(f"{path}: mapping table lacks the column(s) {', '.join(sorted(missing))}: "
+                         "expected name,node,direction[,sign]")
+    sensors, excitations = {s.name for s in model.sensors}, {x.name for x in model.excitations}
+    outputs, inputs = {}, {}
+    for row in table.itertuples(index=False):
+        sign = float(getattr(row, "sign", 1.0)) if "sign" in table.columns else 1.0
+        key = (int(row.node), int(row.direction))
+        if row.name in sensors:
+            outputs[key] = (row.name, sign)
+        elif row.name in excitations:
+            inputs[key] = (row.name, sign)
+        else:
+            raise InputError(f"{path}: name {row.name!r} is neither a sensor ({', '.join(sorted(sensors))}) "
+                             f"nor an excitation ({', '.join(sorted(excitations))}) of the model")
+    return ChannelMap(outputs, inputs)
+
+
+def read_measured(path, model, mapping=None) -> list[FRFResult]:
+    """Read measured FRFs (UFF 58/58b ``.uff``/``.unv``, or CSV) into model-named FRF sets.
+
+    Parameters
+    ----------
+    path : str or path-like
+    model : Model
+        Gives the sensor and excitation names (and the default mapping).
+    mapping : str, path-like or ChannelMap, optional
+        Mapping table for UFF files (see the module docstring).
+
+    Returns
+    -------
+    list of FRFResult
+        One per speed, sorted by speed; ``engine='measured'``.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: measured data file not found")
+    if path.suffix.lower() == ".csv":
+        return read_csv(path, model)
+    if path.suffix.lower() in (".uff", ".unv", ".uf"):
+        from .uff import read_uff58
+
+        if mapping is None or isinstance(mapping, ChannelMap):
+            channel_map = mapping or default_mapping(model)
+        else:
+            channel_map = read_mapping(mapping, model)
+        return read_uff58(path, model, channel_map)
+    raise InputError(f"{path}: unknown measured data format {path.suffix!r}: expected .uff/.unv "
+                     "(UFF 58/58b) or .csv")
+
+
+def read_csv(path, model) -> list[FRFResult]:
+    """Read the plain CSV layout (see the module docstring)."""
+    import pandas as pd
+
+    try:
+        table = pd.read_csv(path)
+    except (OSError, ValueError) as error:
+        raise InputError(f"{path}: cannot read as CSV ({error})") from None
+    needed = {"frequency_hz", "output", "input"}
+    if not needed <= set(table.columns) or not ({"real", "imag"} <= set(table.columns)
+                                                or {"magnitude", "phase_deg"} <= set(table.columns)):
+        raise InputError(f"{path}: expected the columns speed_rpm,frequency_hz,output,input,real,imag"
+                         f"[,coherence] (or magnitude,phase_deg); found {','.join(map(str, table.columns))}")
+    if "real" in table.columns:
+        values = table["real"].to_numpy(float) + 1j * table["imag"].to_numpy(float)
+    else:
+        values = table["magnitude"].to_numpy(float) * np.exp(1j * np.radians(table["phase_deg"].to_numpy(float)))
+    if not np.all(np.isfinite(values)) or not np.all(np.isfinite(table["frequency_hz"].to_numpy(float))):
+        raise InputError(f"{path}: non-finite numbers in the data")
+    quantity = _csv_quantity(table, path)
+    speeds = table["speed_rpm"].to_numpy(float) if "speed_rpm" in table.columns else np.zeros(len(table))
+    coherence = table["coherence"].to_numpy(float) if "coherence" in table.columns else None
+    records = [(float(speeds[k]), float(table["frequency_hz"].iat[k]), str(table["output"].iat[k]),
+                str(table["input"].iat[k]), values[k], None if coherence is None else coherence[k])
+               for k in range(len(table))]
+    return assemble(records, model, quantity, str(path))
+
+
+def _csv_quantity(table, path):
+    if "quantity" not in table.columns:
+        return "receptance"
+    found = set(table["quantity"].astype(str))
+    if len(found) != 1 or not found <= set(_QUANTITIES):
+        raise InputError(f"{path}: quantity column holds {sorted(found)}: expected one of "
+                         f"{', '.join(_QUANTITIES)}, the same in every row")
+    return found.pop()
+
+
+def assemble(records, model, quantity, source) -> list[FRFResult]:
+    """Group ``(speed_rpm, freq_hz, output, input, value, coherence)`` records into one FRF set per speed."""
+    sensors = [s.name for s in model.sensors]
+    excitations = [x.name for x in model.excitations]
+    unknown = sorted({r[2] for r in records} - set(sensors)) + sorted({r[3] for r in records} - set(excitations))
+    if unknown:
+        raise InputError(f"{source}: channel(s) {', '.join(unknown)} are not sensors ({', '.join(sensors)}) "
+                         f"or excitations ({', '.join(excitations)}) of the model")
+    results = []
+    for speed in sorted({r[0] for r in records}):
+        rows = [r for r in records if r[0] == speed]
+        outputs = [s for s in sensors if any(r[2] == s for r in rows)]
+        inputs = [x for x in excitations if any(r[3] == x for r in rows)]
+        freqs = np.array(sorted({r[1] for r in rows}))
+        H = np.full((len(outputs), len(inputs), len(freqs)), np.nan + 0j)
+        coh = np.full(H.shape, np.nan) if any(r[5] is not None for r in rows) else None
+        counts = np.zeros(H.shape[:2], dtype=int)
+        for _, f, o, i, value, c in rows:
+            index = (outputs.index(o), inputs.index(i), int(np.searchsorted(freqs, f)))
+            H[index] = value
+            counts[index[:2]] += 1
+            if coh is not None and c is not None:
+                coh[index] = c
+        partial = (counts > 0) & (counts != len(freqs))
+        if partial.any():
+            a, b = (int(x[0]) for x in np.nonzero(partial))
+            raise InputError(f"{source}: at {speed:g} rpm the FRF {outputs[a]} / {inputs[b]} has {counts[a, b]} "
+                             f"frequencies where the data of that speed has {len(freqs)}: every FRF of one "
+                             "speed must share the frequency lines")
+        results.append(FRFResult(H=H, frequencies_hz=freqs, speed=speed * np.pi / 30, inputs=tuple(inputs),
+                                 outputs=tuple(outputs), quantity=quantity, engine="measured", coherence=coh))
+    if not results:
+        raise InputError(f"{source}: no FRF found in the file")
+    return results
+
+
+def write_csv(results, path, inputs=()) -> None:
+    """Write FRF sets (one per speed) in the plain CSV layout, atomically."""
+    import pandas as pd
+
+    from .atomic import atomic_write, check_not_input
+
+    check_not_input(path, inputs)
+    tables = []
+    for res in results:
+        t = res.to_dataframe()
+        t.insert(0, "speed_rpm", res.speed * 30 / np.pi)
+        t["quantity"] = res.quantity
+        tables.append(t)
+    with atomic_write(path, "w", newline="") as handle:
+        pd.concat(tables).to_csv(handle, index=False, float_format="%.17g")

@@ -12,7 +12,7 @@ from hypothesis import given, settings, strategies as st
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis.forces import force_frf
-from rotordyn_modal.analysis.frf import dynamic_stiffness, frf
+from rotordyn_modal.analysis.frf import dof_response, dynamic_stiffness, frf
 from rotordyn_modal.errors import InputError
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "gear_machine.toml"
@@ -158,8 +158,8 @@ def test_stator_equilibrium_with_bearing_and_suspension_forces():
     S = model.reference_point
     susp = force_frf(model, speed, freqs).H
     bear = force_frf(model, speed, freqs, where="bearings").H
-    q = rdm.analysis.frf.dof_response(model, speed, 2 * np.pi * freqs,
-                                      rdm.assembly.excitation_columns(model))
+    q = dof_response(model, speed, 2 * np.pi * freqs,
+                     rdm.assembly.excitation_columns(model))
     st_ = model.stator
     mass = rdm.assembly.rigid_mass_matrix(st_.mass, st_.inertia, st_.center_of_mass, S)
     for k, f in enumerate(freqs):

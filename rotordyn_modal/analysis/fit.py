@@ -17,7 +17,10 @@ symmetry do not dominate). With coherence ``g2`` the weight is ``w = sqrt(g2 / (
 (the inverse of the relative standard error of an H1 estimate, up to the
 number of averages), normalised to a mean of 1; ``1 - g2`` is floored at
 1e-3. Uncertainties come from the Jacobian at the optimum:
-``cov = s^2 (J^T J)^-1`` with ``s^2 = |r|^2 / (m - n)``.
+``cov = s^2 (J^T J)^-1`` with ``s^2 = |r|^2 / (m - n)``. The fit is reported as
+not converged when the optimiser did not converge, a parameter ends on a bound,
+``J`` is rank deficient, or a parameter's log has a standard uncertainty above 1
+(the data do not pin it within a factor e).
 """
 
 from __future__ import annotations
@@ -32,6 +35,8 @@ from .frf import frf
 __all__ = ["FitResult", "fit"]
 
 _BOUND_FACTOR = 100.0
+#: a parameter known only within a factor e (std of its log > 1) is not determined by the data
+_MAX_LOG_STD = 1.0
 
 
 @dataclass(frozen=True)
@@ -239,16 +244,19 @@ def _result(model, keys, best, costs, n_points, lower, upper):
     J, r = best.jac, best.fun
     m, n = J.shape
     s2 = float(r @ r) / max(m - n, 1)
-    singular = np.linalg.svd(J, compute_uv=False)
-    cov = np.linalg.pinv(J.T @ J) * s2
+    _, singular, vt = np.linalg.svd(J, full_matrices=False)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inverse = np.where(singular > 0, 1 / singular ** 2, np.inf)
+        cov = np.nan_to_num((vt.T * inverse) @ vt, nan=np.inf) * s2   # s2 (J^T J)^-1, inf where singular
     std = np.sqrt(np.clip(np.diag(cov), 0, None))
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(std, std)
     converged, message = best.status > 0, best.message
     at_bound = np.isclose(best.x, lower, atol=1e-6) | np.isclose(best.x, upper, atol=1e-6)
-    if singular.min() < 1e-8 * singular.max() or not np.all(np.isfinite(std)):
+    undetermined = ~np.isfinite(std) | (std > _MAX_LOG_STD)
+    if singular.min() < 1e-8 * singular.max() or undetermined.any():
         converged = False
-        weak = keys[int(np.argmin(np.abs(J).sum(axis=0)))]
+        weak = keys[int(np.argmax(np.where(np.isfinite(std), std, np.inf)))]
         message = (f"the measured FRFs do not determine the parameters: {weak} hardly changes them, or two "
                    "parameters change them alike (Jacobian rank deficient); fit fewer parameters or add data")
     elif at_bound.any():
@@ -270,4 +278,4 @@ def _get(model, key, logs, keys):
     if key == "gain":
         return _gain(keys, logs)
     value = model.get(key)
-    return float(value) if np.ndim(value) == 0 else list(np.asarray(value, dtype=float).ravel())
+    return float(value) if np.ndim(value) == 0 else [float(v) for v in np.ravel(value)]

@@ -115,9 +115,25 @@ def read_uff58(path, model, mapping):
     return assemble(records, model, quantity, str(path))
 
 
+def _check_complete(path):
+    """Refuse a truncated or padded ASCII file: datasets sit between pairs of ``-1`` lines."""
+    with open(path, "rb") as handle:
+        head = handle.read(4096)
+    if b"\0" in head or b"58b" in head.lower():
+        return  # binary 58b sets: pyuff checks their byte counts
+    lines = open(path, encoding="latin-1").read().splitlines()
+    marks = [k for k, line in enumerate(lines) if line.strip() == "-1" and line.startswith("    -1")]
+    tail = [line for line in lines[(marks[-1] + 1 if marks else 0):] if line.strip()]
+    if len(marks) % 2 or tail:
+        line = (marks[-1] + 2) if marks else 1
+        raise InputError(f"{path}: incomplete Universal File: a dataset is not closed by a '    -1' line "
+                         f"(from line {line}): the file is truncated or has trailing text")
+
+
 def _read_sets(path):
     import pyuff
 
+    _check_complete(path)
     try:
         uff = pyuff.UFF(str(path))
         types = list(uff.get_set_types())

@@ -1,0 +1,243 @@
+"""Model versus measurement: FRAC, CSAC, CSF, and a MAC-paired natural-frequency table.
+
+For model FRFs ``H_a`` and measured ``H_m`` on the same frequency lines:
+
+* FRAC of one FRF (over frequency):
+  ``|sum H_m^* H_a|^2 / (sum |H_m|^2 sum |H_a|^2)`` in [0, 1].
+* CSAC at one frequency (over the vector of every output/input pair):
+  ``|H_m^H H_a|^2 / ((H_m^H H_m)(H_a^H H_a))``: shape agreement, blind to scale.
+* CSF at one frequency: ``2 |H_m^H H_a| / (H_m^H H_m + H_a^H H_a)``: also sensitive to amplitude.
+
+Measured modes come from a simple documented curve fit (:func:`fit_measured_modes`):
+peaks of the summed magnitude of every measured FRF, then around each peak one
+pole shared by every FRF, ``H_k(w) = A_k / (i w - lam) + B_k`` (a global
+single-degree-of-freedom fit with a constant residual), least squares in
+``lam`` with ``A_k, B_k`` solved linearly (variable projection). The residues
+``A_k`` of the FRFs of one input across the outputs are the measured mode
+shape; the model's shapes at the sensors are paired to them by MAC.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["Correlation", "correlate", "frac", "csac", "csf", "fit_measured_modes", "MeasuredModes",
+           "pair_modes"]
+
+
+def _pairs(model_frf, measured):
+    """Model and measured H on the measured pairs, (n_pairs, n_freq), after checking they match."""
+    if not np.allclose(model_frf.frequencies_hz, measured.frequencies_hz, rtol=1e-9, atol=1e-9):
+        raise InputError("correlation: the model FRFs must be computed on the measured frequency lines")
+    model_part = model_frf.select(measured.outputs, measured.inputs)
+    a = model_part.H.reshape(-1, model_part.H.shape[-1])
+    m = measured.H.reshape(-1, measured.H.shape[-1])
+    keep = np.all(np.isfinite(m), axis=1)
+    return a[keep], m[keep]
+
+
+def frac(model_H, measured_H) -> np.ndarray:
+    """FRAC of each FRF: arrays (..., n_freq) -> (...)."""
+    cross = np.abs(np.sum(measured_H.conj() * model_H, axis=-1)) ** 2
+    return cross / (np.sum(np.abs(measured_H) ** 2, axis=-1) * np.sum(np.abs(model_H) ** 2, axis=-1))
+
+
+def csac(model_H, measured_H) -> np.ndarray:
+    """CSAC at each frequency: arrays (n_pairs, n_freq) -> (n_freq,)."""
+    return frac(model_H.T, measured_H.T)
+
+
+def csf(model_H, measured_H) -> np.ndarray:
+    """CSF at each frequency: arrays (n_pairs, n_freq) -> (n_freq,)."""
+    cross = np.abs(np.sum(measured_H.conj() * model_H, axis=0))
+    return 2 * cross / (np.sum(np.abs(measured_H) ** 2, axis=0) + np.sum(np.abs(model_H) ** 2, axis=0))
+
+
+@dataclass(frozen=True)
+class MeasuredModes:
+    """Modes fitted to measured FRFs.
+
+    Attributes
+    ----------
+    frequencies_hz, damping_ratios : ndarray, shape (n_modes,)
+    poles : ndarray, shape (n_modes,), complex [1/s]
+    shapes : ndarray, shape (n_modes, n_outputs, n_inputs), complex
+        Residues ``A`` of every FRF at each pole.
+    outputs, inputs : tuple of str
+    """
+
+    frequencies_hz: np.ndarray
+    damping_ratios: np.ndarray
+    poles: np.ndarray
+    shapes: np.ndarray
+    outputs: tuple
+    inputs: tuple
+
+
+def fit_measured_modes(measured, max_modes: int = 12, band_fraction: float = 0.08) -> MeasuredModes:
+    """Global single-pole fits around the peaks of the summed measured FRF magnitudes.
+
+    Parameters
+    ----------
+    measured : FRFResult
+    max_modes : int
+        Largest peaks kept.
+    band_fraction : float
+        Half-width of the band fitted around a peak, relative to its frequency.
+
+    Returns
+    -------
+    MeasuredModes
+    """
+    from scipy.signal import find_peaks
+
+    f, H = measured.frequencies_hz, np.nan_to_num(measured.H)
+    total = np.abs(H).reshape(-1, len(f)).sum(axis=0)
+    peaks, props = find_peaks(total, prominence=0.05 * total.max())
+    order = np.argsort(props["prominences"])[::-1][:max_modes]
+    poles, shapes = [], []
+    for k in sorted(peaks[order]):
+        band = np.abs(f - f[k]) <= band_fraction * f[k]
+        if band.sum() < 5:
+            continue
+        pole, residues = _single_pole(2 * np.pi * f[band], H[..., band].reshape(-1, band.sum()), 2 * np.pi * f[k])
+        poles.append(pole)
+        shapes.append(residues.reshape(H.shape[:2]))
+    poles = np.array(poles, dtype=complex)
+    return MeasuredModes(frequencies_hz=poles.imag / (2 * np.pi), damping_ratios=-poles.real / np.abs(poles),
+                         poles=poles, shapes=np.array(shapes).reshape(len(poles), *H.shape[:2]),
+                         outputs=measured.outputs, inputs=measured.inputs)
+
+
+def _single_pole(w, H, w_peak):
+    """Least squares over ``lam`` of ``H_k = A_k / (i w - lam) + B_k``; returns lam and A."""
+    import scipy.optimize
+
+    scale = np.abs(H).max() or 1.0
+    H = H / scale                      # the optimiser's tolerances are absolute
+
+    def solve_linear(x):
+        lam = complex(-abs(x[0]), x[1])
+        basis = np.stack([1 / (1j * w - lam), np.ones_like(w, dtype=complex)], axis=1)
+        coef, *_ = np.linalg.lstsq(basis, H.T, rcond=None)
+        return lam, coef, basis
+
+    def residual(x):
+        _, coef, basis = solve_linear(x)
+        r = (basis @ coef - H.T).ravel()
+        return np.concatenate([r.real, r.imag])
+
+    sol = scipy.optimize.least_squares(residual, [0.02 * w_peak, w_peak], x_scale=[0.02 * w_peak, w_peak])
+    lam, coef, _ = solve_linear(sol.x)
+    return lam, coef[0] * scale
+
+
+def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=0):
+    """Pair each measured mode with the model mode of largest MAC at the sensors.
+
+    Parameters
+    ----------
+    model_modes : ModalResult
+    measured_modes : MeasuredModes
+    sensor_rows : ndarray, shape (n_outputs, 6)
+        Rows of the measured outputs (``assembly.sensor_rows``).
+    excitation_index : int
+        Input whose residues give the measured shape.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``measured_mode, measured_hz, measured_damping, model_mode, model_hz, model_damping,
+        difference_pct, mac``.
+    """
+    import pandas as pd
+
+    from .modal import mac
+
+    osc = np.nonzero(model_modes.oscillatory)[0]
+    model_shapes = model_modes.shapes[osc] @ sensor_rows.T            # (n_model, n_outputs)
+    measured_shapes = measured_modes.shapes[:, :, excitation_index]   # (n_meas, n_outputs)
+    rows = []
+    if len(measured_shapes) and len(osc):
+        macs = mac(measured_shapes, model_shapes)
+        for i, row in enumerate(macs):
+            # among the model modes, the MAC decides; ties (few sensors) go to the nearest frequency
+            near = np.abs(model_modes.frequencies_hz[osc] - measured_modes.frequencies_hz[i])
+            j = int(np.lexsort((near, -np.round(row, 2)))[0])
+            f_model = model_modes.frequencies_hz[osc[j]]
+            rows.append({"measured_mode": i + 1, "measured_hz": measured_modes.frequencies_hz[i],
+                         "measured_damping": measured_modes.damping_ratios[i], "model_mode": j + 1,
+                         "model_hz": f_model, "model_damping": model_modes.damping_ratios[osc[j]],
+                         "difference_pct": 100 * (f_model - measured_modes.frequencies_hz[i])
+                         / measured_modes.frequencies_hz[i], "mac": row[j]})
+    return pd.DataFrame(rows, columns=["measured_mode", "measured_hz", "measured_damping", "model_mode",
+                                       "model_hz", "model_damping", "difference_pct", "mac"])
+
+
+@dataclass(frozen=True)
+class Correlation:
+    """Agreement of model and measured FRFs at one speed.
+
+    Attributes
+    ----------
+    speed : float [rad/s]
+    frequencies_hz : ndarray, shape (n_freq,)
+    pairs : tuple of (output, input)
+    frac : ndarray, shape (n_pairs,)
+    csac, csf : ndarray, shape (n_freq,)
+    modes : pandas.DataFrame
+        The MAC-paired natural-frequency table (see :func:`pair_modes`).
+    """
+
+    speed: float
+    frequencies_hz: np.ndarray
+    pairs: tuple
+    frac: np.ndarray
+    csac: np.ndarray
+    csf: np.ndarray
+    modes: object
+
+    def to_dataframe(self):
+        """FRAC per FRF: ``output,input,frac``."""
+        import pandas as pd
+
+        return pd.DataFrame({"output": [p[0] for p in self.pairs], "input": [p[1] for p in self.pairs],
+                             "frac": self.frac})
+
+    def plot(self):
+        """CSAC and CSF against frequency; see :func:`rotordyn_modal.plotting.correlation.plot_correlation`."""
+        from ..plotting.correlation import plot_correlation
+
+        return plot_correlation(self)
+
+
+def correlate(model, measured) -> Correlation:
+    """Correlate the model with one measured FRF set (its speed, quantity and frequency lines).
+
+    Parameters
+    ----------
+    model : Model
+    measured : FRFResult
+        Measured FRFs named after the model's sensors and excitations.
+
+    Returns
+    -------
+    Correlation
+    """
+    from ..assembly import sensor_rows
+    from .frf import frf
+    from .modal import modal
+
+    model_frf = frf(model, measured.speed, measured.frequencies_hz, inputs=list(measured.inputs),
+                    outputs=list(measured.outputs), quantity=measured.quantity)
+    a, m = _pairs(model_frf, measured)
+    pairs = tuple((o, i) for o in measured.outputs for i in measured.inputs
+                  if np.all(np.isfinite(measured.H[measured.outputs.index(o), measured.inputs.index(i)])))
+    modes = pair_modes(modal(model, measured.speed), fit_measured_modes(measured),
+                       sensor_rows(model, list(measured.outputs)))
+    return Correlation(speed=measured.speed, frequencies_hz=measured.frequencies_hz, pairs=pairs,
+                       frac=frac(a, m), csac=csac(a, m), csf=csf(a, m), modes=modes)

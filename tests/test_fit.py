@@ -1,0 +1,105 @@
+"""Identification: recovery of known mount parameters from noisy UFF58 data, and honest failures."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.analysis.fit import fit
+from rotordyn_modal.analysis.frf import FRFResult
+from rotordyn_modal.errors import InputError
+from rotordyn_modal.io.measured import default_mapping, read_measured
+from rotordyn_modal.io.uff import write_uff58
+
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "gear_machine.toml"
+KEYS = ["suspensions.mount-FL.stiffness", "suspensions.mount-RR.damping", "suspensions.mount-FR.stiffness[2]"]
+START = {KEYS[0]: 1.6, KEYS[1]: 0.6, KEYS[2]: 1.5}   # every start is off by a factor >= 1.5
+
+
+@pytest.fixture(scope="module")
+def measured_file(tmp_path_factory):
+    """FRFs of the true model at two speeds with 3 % complex noise, written to UFF58 and read back."""
+    true = rdm.load_model(EXAMPLE)
+    rng = np.random.default_rng(7)
+    sets = []
+    for speed in (0.0, rdm.rpm(2400)):
+        res = rdm.frf(true, speed, np.linspace(3.0, 40.0, 200), quantity="accelerance")
+        noise = 0.03 * (rng.normal(size=res.H.shape) + 1j * rng.normal(size=res.H.shape)) / np.sqrt(2)
+        coherence = 1 / (1 + np.abs(noise) ** 2)
+        sets.append(FRFResult(**{**res.__dict__, "H": res.H * (1 + noise), "coherence": coherence}))
+    path = tmp_path_factory.mktemp("fit") / "measured.uff"
+    write_uff58(sets, path, default_mapping(true))
+    return path
+
+
+def test_recovers_known_parameters_within_two_percent(measured_file):
+    true = rdm.load_model(EXAMPLE)
+    start = true.scaled(START)
+    measured = read_measured(measured_file, start)
+    result = fit(start, measured, KEYS, starts=2)
+    assert result.converged, result.message
+    fitted = result.fitted_model(start)
+    for key in KEYS:
+        np.testing.assert_allclose(fitted.get(key), true.get(key), rtol=0.02)
+    # the reported uncertainty is consistent with the actual error (within 4 standard deviations)
+    error = np.abs(np.log(result.factors * [START[k] for k in KEYS]))
+    assert np.all(error < 4 * result.std_relative + 1e-12)
+    assert result.correlation.shape == (3, 3)
+    np.testing.assert_allclose(np.diag(result.correlation), 1.0)
+
+
+def test_gain_factor_and_band(measured_file):
+    true = rdm.load_model(EXAMPLE)
+    measured = read_measured(measured_file, true)
+    scaled = [FRFResult(**{**m.__dict__, "H": 1.25 * m.H}) for m in measured]
+    result = fit(true, scaled, ["gain"], band_hz=(5.0, 30.0), starts=1)
+    assert result.values[0] == pytest.approx(1.25, rel=2e-3)
+    assert result.n_points == sum(((m.frequencies_hz >= 5) & (m.frequencies_hz <= 30)).sum() * 4 for m in measured)
+
+
+def test_parameter_without_effect_is_reported_not_converged(measured_file):
+    """A mount of 1e-6 N/m changes nothing the sensors see: the fit must say so, and why."""
+    data = rdm.load_model(EXAMPLE).to_dict()
+    data["suspensions"].append({"name": "feeler", "position": [0.0, 0.0, 0.0], "stiffness": [1e-6] * 3})
+    model = rdm.Model.from_dict(data)
+    result = fit(model, read_measured(measured_file, model), ["suspensions.feeler.stiffness"], starts=1)
+    assert not result.converged
+    assert "do not determine the parameters: suspensions.feeler.stiffness hardly changes them" in result.message
+
+
+def test_optimum_outside_the_bounds_is_reported(measured_file):
+    true = rdm.load_model(EXAMPLE)
+    start = true.scaled({KEYS[0]: 3.0})
+    result = fit(start, read_measured(measured_file, start), [KEYS[0]], bounds={KEYS[0]: (0.5, 2.0)}, starts=1)
+    assert not result.converged
+    assert "suspensions.mount-FL.stiffness ended on a bound" in result.message
+
+
+def test_result_table_and_figure(measured_file):
+    model = rdm.load_model(EXAMPLE)
+    result = fit(model, read_measured(measured_file, model), ["gain"], starts=1)
+    assert list(result.to_dataframe().columns) == ["key", "start", "fitted", "factor", "std_relative"]
+    assert result.plot() is not None
+
+
+@pytest.mark.parametrize("kwargs,message", [
+    ({"params": []}, "give at least one parameter"),
+    ({"params": ["gain", "gain"]}, "a parameter is given twice"),
+    ({"params": ["rotors.motor.mass"], "bounds": {"gain": (0.5, 2)}}, "bounds given for gain, which is not fitted"),
+    ({"params": ["gain"], "bounds": {"gain": (2, 3)}}, "bounds of gain = (2, 3): expected factors 0 < low < 1 < high"),
+    ({"params": ["gain"], "band_hz": (100.0, 200.0)}, "no measured frequency line in the band"),
+    ({"params": ["gain"], "weighting": "snr"}, "weighting 'snr': expected 'coherence' or 'none'"),
+    ({"params": ["gain"], "starts": 0}, "starts = 0: expected at least 1"),
+    ({"params": ["suspensions.mount-FL.loss_factor"]}, "suspensions.mount-FL.loss_factor = 0.0: a fitted value must be > 0"),
+])
+def test_errors(measured_file, kwargs, message):
+    model = rdm.load_model(EXAMPLE)
+    data = model.to_dict()
+    data["suspensions"][0]["loss_factor"] = 0.0
+    model = rdm.Model.from_dict(data)
+    with pytest.raises(InputError) as info:
+        fit(model, read_measured(measured_file, model), **kwargs)
+    assert message in str(info.value)

@@ -1,0 +1,167 @@
+"""Measured data: UFF 58/58b and CSV round trips, a file from another tool, refusals."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import pyuff
+
+import rotordyn_modal as rdm
+from rotordyn_modal.analysis.frf import FRFResult
+from rotordyn_modal.errors import InputError
+from rotordyn_modal.io.measured import default_mapping, read_measured, write_csv
+from rotordyn_modal.io.uff import write_uff58
+
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "gear_machine.toml"
+FREQS = np.linspace(1.0, 40.0, 79)
+
+
+@pytest.fixture
+def model():
+    return rdm.load_model(EXAMPLE)
+
+
+def _sets(model, quantity="accelerance"):
+    out = []
+    for speed in (0.0, rdm.rpm(3000)):
+        res = rdm.frf(model, speed, FREQS, quantity=quantity)
+        coh = np.linspace(0.5, 1.0, res.H.size).reshape(res.H.shape)
+        out.append(FRFResult(**{**res.__dict__, "coherence": coh}))
+    return out
+
+
+@pytest.mark.parametrize("suffix,binary", [(".uff", False), (".uff", True), (".csv", None)])
+def test_round_trip(tmp_path, model, suffix, binary):
+    sets = _sets(model)
+    path = tmp_path / f"m{suffix}"
+    if suffix == ".csv":
+        write_csv(sets, path)
+    else:
+        write_uff58(sets, path, default_mapping(model), binary=binary)
+    back = read_measured(path, model)
+    assert [b.speed for b in back] == pytest.approx([s.speed for s in sets])
+    for b, s in zip(back, sets):
+        assert b.outputs == s.outputs and b.inputs == s.inputs and b.quantity == "accelerance"
+        # ASCII UFF holds 12 significant digits, binary and CSV hold all of them
+        np.testing.assert_allclose(b.H, s.H, rtol=1e-10 if binary is False else 1e-15)
+        np.testing.assert_allclose(b.coherence, s.coherence, rtol=1e-10)
+        np.testing.assert_allclose(b.frequencies_hz, FREQS, rtol=1e-12)
+
+
+def test_uff_records_speed_units_and_types(tmp_path, model):
+    path = tmp_path / "m.uff"
+    write_uff58(_sets(model, "mobility"), path, default_mapping(model))
+    sets = pyuff.UFF(str(path)).read_sets()
+    frfs = [s for s in sets if s["func_type"] == 4]
+    assert sorted({s["z_axis_value"] for s in frfs}) == pytest.approx([0.0, 3000.0])
+    assert {s["ordinate_spec_data_type"] for s in frfs} == {11}
+    assert {s["orddenom_spec_data_type"] for s in frfs} == {13}
+    assert {s["abscissa_spec_data_type"] for s in frfs} == {18}
+    assert len([s for s in sets if s["func_type"] == 6]) == len(frfs)
+
+
+def _foreign_file(path, **overrides):
+    """A file as another tool writes it: its own node numbers, one FRF, units labelled."""
+    h = rdm.frf(rdm.load_model(EXAMPLE), 0.0, FREQS, "hammer-z", "acc-top-z", "accelerance").H[0, 0]
+    data = dict(binary=0, func_type=4, rsp_node=7, rsp_dir=3, ref_node=12, ref_dir=-3,
+                ordinate_spec_data_type=12, ordinate_axis_units_lab="m/s^2", orddenom_spec_data_type=13,
+                orddenom_axis_units_lab="N", abscissa_spec_data_type=18, data=-h, x=FREQS, z_axis_value=0.0)
+    data.update(overrides)
+    open(path, "w").close()
+    pyuff.UFF(str(path)).write_sets([pyuff.prepare_58(**data)], mode="add")
+    return h
+
+
+def test_file_from_another_tool_with_mapping_table(tmp_path, model):
+    h = _foreign_file(tmp_path / "lab.unv")
+    table = tmp_path / "map.csv"
+    table.write_text("name,node,direction,sign\nacc-top-z,7,3,1\nhammer-z,12,-3,-1\n")
+    res, = read_measured(tmp_path / "lab.unv", model, table)
+    assert res.outputs == ("acc-top-z",) and res.inputs == ("hammer-z",)
+    np.testing.assert_allclose(res.H[0, 0], h, rtol=1e-10)
+
+
+def test_unmapped_channel_is_refused_with_the_table(tmp_path, model):
+    _foreign_file(tmp_path / "lab.unv")
+    with pytest.raises(InputError) as info:
+        read_measured(tmp_path / "lab.unv", model)
+    assert "response node 7 direction 3 is not in the mapping table" in str(info.value)
+    assert "1:3=acc-top-z" in str(info.value) and "--mapping" in str(info.value)
+
+
+@pytest.mark.parametrize("overrides,message", [
+    ({"ordinate_axis_units_lab": "g"}, "ordinate unit 'g': expected SI m/s^2 for accelerance"),
+    ({"orddenom_axis_units_lab": "lbf"}, "denominator unit 'lbf': expected N"),
+    ({"orddenom_spec_data_type": 8}, "denominator data type 8: expected 13"),
+    ({"ordinate_spec_data_type": 2}, "ordinate data type(s) [2]: expected one of 8"),
+    ({"func_type": 1}, "no FRF (dataset 58, function type 4) in the file; function types found: [1]"),
+])
+def test_wrong_units_and_types_are_refused(tmp_path, model, overrides, message):
+    _foreign_file(tmp_path / "lab.uff", **overrides)
+    table = tmp_path / "map.csv"
+    table.write_text("name,node,direction\nacc-top-z,7,3\nhammer-z,12,-3\n")
+    with pytest.raises(InputError) as info:
+        read_measured(tmp_path / "lab.uff", model, table)
+    assert message in str(info.value)
+
+
+def test_broken_file_is_refused(tmp_path, model):
+    path = tmp_path / "broken.uff"
+    write_uff58(_sets(model), path, default_mapping(model))
+    text = path.read_text()
+    path.write_text(text[: len(text) // 2] + "garbage 1.2.3\n")
+    with pytest.raises(InputError, match="broken.uff: "):
+        read_measured(path, model)
+
+
+def test_not_a_uff_file(tmp_path, model):
+    path = tmp_path / "notes.uff"
+    path.write_text("hello\n")
+    with pytest.raises(InputError, match="notes.uff: "):
+        read_measured(path, model)
+
+
+def test_missing_file_and_unknown_format(tmp_path, model):
+    with pytest.raises(InputError, match="measured data file not found"):
+        read_measured(tmp_path / "nope.uff", model)
+    (tmp_path / "x.mat").write_text("")
+    with pytest.raises(InputError, match="unknown measured data format '.mat'"):
+        read_measured(tmp_path / "x.mat", model)
+
+
+def test_csv_refusals(tmp_path, model):
+    path = tmp_path / "m.csv"
+    path.write_text("frequency_hz,output,real,imag\n1,acc-top-z,1,0\n")
+    with pytest.raises(InputError, match="expected the columns speed_rpm,frequency_hz,output,input,real,imag"):
+        read_measured(path, model)
+    path.write_text("frequency_hz,output,input,real,imag\n1,acc-top-q,hammer-z,1,0\n")
+    with pytest.raises(InputError, match="channel\\(s\\) acc-top-q are not sensors"):
+        read_measured(path, model)
+    path.write_text("frequency_hz,output,input,real,imag\n1,acc-top-z,hammer-z,1,0\n2,acc-top-z,hammer-z,1,0\n"
+                    "1,acc-side-y,hammer-z,1,0\n")
+    with pytest.raises(InputError, match="has 1 frequencies where the data of that speed has 2"):
+        read_measured(path, model)
+    path.write_text("frequency_hz,output,input,real,imag,quantity\n1,acc-top-z,hammer-z,1,0,force\n")
+    with pytest.raises(InputError, match="quantity column holds \\['force'\\]"):
+        read_measured(path, model)
+
+
+def test_mapping_table_refusals(tmp_path, model):
+    _foreign_file(tmp_path / "lab.uff")
+    table = tmp_path / "map.csv"
+    table.write_text("name,node\nacc-top-z,7\n")
+    with pytest.raises(InputError, match="lacks the column\\(s\\) direction"):
+        read_measured(tmp_path / "lab.uff", model, table)
+    table.write_text("name,node,direction\nacc-top-q,7,3\n")
+    with pytest.raises(InputError, match="name 'acc-top-q' is neither a sensor"):
+        read_measured(tmp_path / "lab.uff", model, table)
+
+
+def test_writes_never_over_an_input(tmp_path, model):
+    path = tmp_path / "m.uff"
+    path.write_text("keep")
+    with pytest.raises(InputError, match="refusing to write over the input file"):
+        write_uff58(_sets(model), path, default_mapping(model), inputs=[path])
+    assert path.read_text() == "keep"

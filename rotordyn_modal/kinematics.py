@@ -184,8 +184,10 @@ def axial_rotation(phi, e):
 def transverse_basis(e):
     """Two unit vectors ``e1, e2`` normal to the unit vector ``e``, with ``e1 x e2 = e``.
 
-    ``e1`` is the model axis least aligned with ``e`` made normal to it (for ``e = x``:
-    ``e1 = y``, ``e2 = z``). Unbalance phases are measured from ``e1`` towards ``e2``.
+    ``e1`` is the model z-axis made normal to ``e`` (the model x-axis when ``e`` is along z),
+    ``e2 = e x e1``: for ``e = x``, ``e1 = z`` and ``e2 = -y``. This is the unbalance phase
+    reference of ``rotordyn_modal.analysis.unbalance.phase_reference``: phases turn from
+    ``e1`` towards ``e2``.
 
     Returns
     -------
@@ -193,8 +195,10 @@ def transverse_basis(e):
         Columns ``e1, e2``.
     """
     e = np.asarray(e, dtype=float)
-    axis = np.zeros(3)
-    axis[int(np.argmin(np.abs(e)))] = 1.0
+    e = e / np.linalg.norm(e)
+    axis = np.array([0.0, 0.0, 1.0])
+    if np.linalg.norm(axis - (axis @ e) * e) <= 1e-6:
+        axis = np.array([1.0, 0.0, 0.0])
     e1 = axis - (axis @ e) * e
     e1 /= np.linalg.norm(e1)
     return np.column_stack([e1, np.cross(e, e1)])

@@ -59,6 +59,12 @@ def refuse_hysteretic(model) -> None:
             f"{model.source}: suspensions {names}: a hysteretic loss factor has no meaning in the time "
             "domain; set loss_factor = 0 to simulate, and give the suspension viscous damping instead "
             "(damping = loss_factor * stiffness / omega matches it at one circular frequency omega)")
+    branched = [s.name for s in model.suspensions if getattr(s, "maxwell_stiffness_matrix", None) is not None]
+    if branched:
+        raise InputError(
+            f"{model.source}: suspensions {', '.join(map(repr, branched))}: Maxwell branches "
+            "(maxwell_stiffness, maxwell_time) are not simulated in time yet; remove them to simulate "
+            "with the static stiffness and viscous damping")
 
 
 def unbalance_directions(model, phases_deg=None) -> np.ndarray:

@@ -1,0 +1,136 @@
+"""Command line: frf, unbalance, fit (exit codes, CSV columns, refusals), as a new user tries them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.analysis.frf import FRFResult
+from rotordyn_modal.cli import main
+from rotordyn_modal.io.measured import default_mapping
+from rotordyn_modal.io.uff import write_uff58
+
+EXAMPLE = str(Path(__file__).resolve().parent.parent / "examples" / "gear_machine.toml")
+
+
+def test_frf_csv_matches_the_api(tmp_path):
+    out = tmp_path / "frf.csv"
+    code = main(["frf", EXAMPLE, "--speed", "-3000", "--freqs", "1:40:40", "--input", "hammer-z",
+                 "--output", "acc-top-z,acc-side-y", "--quantity", "mobility", "--out", str(out), "--quiet"])
+    assert code == 0
+    table = pd.read_csv(out)
+    assert list(table.columns)[:7] == ["frequency_hz", "output", "input", "real", "imag", "magnitude", "phase_deg"]
+    H = rdm.frf(rdm.load_model(EXAMPLE), rdm.rpm(-3000), np.linspace(1, 40, 40), "hammer-z", None, "mobility").H
+    got = table[table.output == "acc-side-y"]
+    np.testing.assert_allclose(got.real + 1j * got.imag, H[1, 0], rtol=1e-9)
+
+
+def test_frf_forces_and_plot(tmp_path):
+    out, plot = tmp_path / "f.csv", tmp_path / "f.png"
+    assert main(["frf", EXAMPLE, "--freqs", "0:40:5", "--forces", "suspensions", "--out", str(out),
+                 "--plot", str(plot), "--quiet"]) == 0
+    assert plot.stat().st_size > 0
+    assert "mount-FL:Fz" in set(pd.read_csv(out).output)
+
+
+def _measured(tmp_path, quantity="receptance"):
+    model = rdm.load_model(EXAMPLE)
+    res = rdm.frf(model, rdm.rpm(3000), np.linspace(2, 40, 120), quantity=quantity)
+    path = tmp_path / "measured.uff"
+    write_uff58([FRFResult(**{**res.__dict__, "coherence": np.full(res.H.shape, 0.99)})], path,
+                default_mapping(model))
+    return path
+
+
+def test_frf_over_measured(tmp_path):
+    meas = _measured(tmp_path)
+    assert main(["frf", EXAMPLE, "--speed", "3000", "--freqs", "2:40:200", "--measured", str(meas),
+                 "--plot", str(tmp_path / "o.png"), "--quiet"]) == 0
+
+
+@pytest.mark.parametrize("extra,message", [
+    (["--speed", "1000"], "no data at 1000 rpm; the file has 3000 rpm"),
+    (["--speed", "3000", "--quantity", "accelerance"], "the file holds receptance"),
+])
+def test_frf_measured_mismatch_exit_2(tmp_path, capsys, extra, message):
+    meas = _measured(tmp_path)
+    code = main(["frf", EXAMPLE, "--freqs", "2:40:20", "--measured", str(meas), "--quiet", *extra])
+    assert code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_frf_broken_measured_file_exit_2(tmp_path, capsys):
+    bad = tmp_path / "bad.uff"
+    bad.write_text("    -1\n    58\nnot a dataset\n")
+    assert main(["frf", EXAMPLE, "--freqs", "2:40:20", "--measured", str(bad), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "bad.uff" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--freqs", "1:2"], "--freqs '1:2': expected START:STOP:N"),
+    (["--freqs", "1:40:5", "--output", "nope"], "unknown sensor 'nope'"),
+])
+def test_frf_bad_options_exit_2(capsys, args, message):
+    assert main(["frf", EXAMPLE, *args, "--quiet"]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_unbalance_csv(tmp_path):
+    out = tmp_path / "u.csv"
+    assert main(["unbalance", EXAMPLE, "--speeds", "0:6000:61", "--output", "acc-top-z", "--out", str(out),
+                 "--plot", str(tmp_path / "u.png"), "--operating-speed", "3000", "--quiet"]) == 0
+    table = pd.read_csv(out)
+    assert list(table.columns)[:6] == ["speed_rpm", "output", "source", "frequency_hz", "amplitude", "phase_deg"]
+    fan = table[(table.output == "acc-top-z") & (table.source == "fan")]
+    # the CSV holds 10 significant digits
+    np.testing.assert_allclose(fan.frequency_hz, 0.4 * np.linspace(0, 6000, 61) / 60, rtol=1e-9)
+
+
+def test_fit_writes_the_model_and_never_over_the_input(tmp_path, capsys):
+    true = rdm.load_model(EXAMPLE)
+    start = true.scaled({"suspensions.mount-FL.stiffness": 1.5})
+    start_path = tmp_path / "start.toml"
+    rdm.save_model(start, start_path)
+    meas = _measured(tmp_path)
+    out = tmp_path / "fitted.toml"
+    assert main(["fit", str(start_path), "--measured", str(meas), "--params", "suspensions.mount-FL.stiffness",
+                 "--out", str(out), "--quiet"]) == 0
+    fitted = rdm.load_model(out)
+    np.testing.assert_allclose(fitted.get("suspensions.mount-FL.stiffness"),
+                               true.get("suspensions.mount-FL.stiffness"), rtol=1e-6)
+    assert "std_relative" in capsys.readouterr().out
+    before = start_path.read_text()
+    assert main(["fit", str(start_path), "--measured", str(meas), "--params", "gain", "--out", str(start_path),
+                 "--quiet"]) == 2
+    assert start_path.read_text() == before
+    assert "refusing to write over the input file" in capsys.readouterr().err
+
+
+def test_fit_that_cannot_converge_says_why(tmp_path, capsys):
+    data = rdm.load_model(EXAMPLE).to_dict()
+    data["suspensions"].append({"name": "feeler", "position": [0.0, 0.0, 0.0], "stiffness": [1e-6] * 3})
+    start = tmp_path / "start.toml"
+    rdm.save_model(rdm.Model.from_dict(data), start)
+    out = tmp_path / "fitted.toml"
+    code = main(["fit", str(start), "--measured", str(_measured(tmp_path)), "--params",
+                 "suspensions.feeler.stiffness", "--out", str(out), "--quiet", "--starts", "1"])
+    assert code == 1
+    assert "not converged: the measured FRFs do not determine the parameters" in capsys.readouterr().err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--params", "suspensions.nope.stiffness"], "nope"),
+    (["--params", "gain", "--band", "40:2"], "--band 40:2: expected LOW:HIGH"),
+    (["--params", "gain", "--bound-factor", "0.5"], "--bound-factor 0.5: expected a number > 1"),
+])
+def test_fit_bad_options_exit_2(tmp_path, capsys, args, message):
+    code = main(["fit", EXAMPLE, "--measured", str(_measured(tmp_path)), "--out", str(tmp_path / "f.toml"),
+                 "--quiet", *args])
+    assert code == 2
+    assert message in capsys.readouterr().err

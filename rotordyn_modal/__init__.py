@@ -23,8 +23,8 @@ from .model import Excitation, Model, Rotor, Sensor, Stator, Suspension, Transmi
 from .units import hz, rpm, to_hz, to_rpm
 from . import kinematics, simulation
 from .simulation import SimulationResult, simulate
-from .analysis import (FitResult, FRFResult, UnbalanceResult, fit, force_frf, frf,  # issue 4
-                       unbalance_response)
+from .analysis import (Correlation, FitResult, FRFResult, RigidBodyMotion, UnbalanceResult,  # issue 4
+                       correlate, fit, force_frf, frf, stator_motion, unbalance_response)
 from .io.measured import read_measured, write_csv as write_measured_csv
 from .io.uff import write_uff58
 
@@ -39,5 +39,6 @@ __all__ = [
     "InputError", "ModelError", "__version__",
     "kinematics", "simulation", "simulate", "SimulationResult",
     "frf", "FRFResult", "force_frf", "unbalance_response", "UnbalanceResult", "fit", "FitResult",
-    "read_measured", "write_measured_csv", "write_uff58",
+    "read_measured", "write_measured_csv", "write_uff58", "correlate", "Correlation", "stator_motion",
+    "RigidBodyMotion",
 ]

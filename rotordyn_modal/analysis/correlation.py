@@ -14,7 +14,8 @@ pole shared by every FRF, ``H_k(w) = A_k / (i w - lam) + B_k`` (a global
 single-degree-of-freedom fit with a constant residual), least squares in
 ``lam`` with ``A_k, B_k`` solved linearly (variable projection). The residues
 ``A_k`` of the FRFs of one input across the outputs are the measured mode
-shape; the model's shapes at the sensors are paired to them by MAC.
+shape; the model's shapes at the sensors are paired to them one to one by MAC and
+relative frequency distance (see :func:`pair_modes`).
 """
 
 from __future__ import annotations
@@ -137,7 +138,11 @@ def _single_pole(w, H, w_peak):
 
 
 def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=0):
-    """Pair each measured mode with the model mode of largest MAC at the sensors.
+    """Pair measured and model modes one to one, by MAC at the sensors and by frequency.
+
+    With few sensors MAC alone cannot tell modes apart (two channels give MAC near 1 for
+    unrelated modes), so the assignment minimises ``sum (1 - MAC) + |f_model - f_meas| / f_meas``
+    (``scipy.optimize.linear_sum_assignment``); the table reports the MAC of each pair.
 
     Parameters
     ----------
@@ -163,11 +168,16 @@ def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=0):
     measured_shapes = measured_modes.shapes[:, :, excitation_index]   # (n_meas, n_outputs)
     rows = []
     if len(measured_shapes) and len(osc):
+        from scipy.optimize import linear_sum_assignment
+
         macs = mac(measured_shapes, model_shapes)
+        f_meas = measured_modes.frequencies_hz[:, None]
+        distance = np.abs(model_modes.frequencies_hz[osc][None, :] - f_meas) / f_meas
+        pairs = dict(zip(*linear_sum_assignment((1 - macs) + distance)))
         for i, row in enumerate(macs):
-            # among the model modes, the MAC decides; ties (few sensors) go to the nearest frequency
-            near = np.abs(model_modes.frequencies_hz[osc] - measured_modes.frequencies_hz[i])
-            j = int(np.lexsort((near, -np.round(row, 2)))[0])
+            if i not in pairs:
+                continue
+            j = int(pairs[i])
             f_model = model_modes.frequencies_hz[osc[j]]
             rows.append({"measured_mode": i + 1, "measured_hz": measured_modes.frequencies_hz[i],
                          "measured_damping": measured_modes.damping_ratios[i], "model_mode": j + 1,

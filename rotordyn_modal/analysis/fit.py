@@ -197,9 +197,11 @@ def fit(model, measured, params, bounds=None, band_hz=None, weighting: str = "co
     rng = np.random.default_rng(seed)
     points = [np.zeros(len(keys))] + [rng.uniform(lower, upper) for _ in range(starts - 1)]
     outcomes = []
-    from tqdm.auto import tqdm
+    if progress:
+        from tqdm.auto import tqdm
 
-    for x0 in tqdm(points, desc="fit (starting points)", disable=not progress):
+        points = tqdm(points, desc="fit (starting points)")
+    for x0 in points:
         outcomes.append(scipy.optimize.least_squares(
             problem.residual, np.clip(x0, lower, upper), bounds=(lower, upper), x_scale=1.0,
             diff_step=1e-6, max_nfev=max_evaluations, xtol=1e-12, ftol=1e-12, gtol=1e-12))

@@ -8,5 +8,9 @@ from .campbell import plot_campbell
 from .modes import plot_modes
 from .simulation import plot_runup, plot_simulation
 from .stability import plot_stability, plot_stability_map
+from .correlation import plot_correlation, plot_fit_correlation, plot_rigid_body
+from .frf import plot_frf, plot_overlay, plot_unbalance
 
-__all__ = ["plot_campbell", "plot_modes", "plot_stability", "plot_stability_map", "plot_simulation", "plot_runup"]
+__all__ = ["plot_campbell", "plot_modes", "plot_stability", "plot_stability_map", "plot_simulation", "plot_runup",
+           "plot_frf", "plot_overlay", "plot_unbalance", "plot_correlation", "plot_fit_correlation",
+           "plot_rigid_body"]

@@ -6,6 +6,8 @@ import numpy as np
 
 __all__ = ["plot_frf", "plot_unbalance", "plot_overlay"]
 
+#: more FRFs than this are drawn without a legend
+_MAX_LEGEND = 12
 _UNITS = {"receptance": "m/N", "mobility": "m/s/N", "accelerance": "m/s²/N", "force": "N/N"}
 
 
@@ -48,8 +50,10 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None):
         phase.plot(result.frequencies_hz, np.degrees(np.angle(h)), color=colour)
     mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '')}]")
     phase.set_xlabel("Frequency [Hz]")
-    mag.legend(fontsize="small", title="model (line), measured (dots)" if measured is not None else None)
-    mag.set_title(title or f"{result.quantity.capitalize()} at {result.speed * 30 / np.pi:.0f} rpm")
+    if len(pairs) <= _MAX_LEGEND:
+        mag.legend(fontsize="small", title="model (line), measured (dots)" if measured is not None else None)
+    mag.set_title(title or f"{result.quantity.capitalize()} at {result.speed * 30 / np.pi:.0f} rpm"
+                  + (f" ({len(pairs)} FRFs)" if len(pairs) > _MAX_LEGEND else ""))
     return fig
 
 

@@ -95,7 +95,9 @@ def state_space(model, speed: float, quantity: str = "displacement", inputs=None
     -------
     control.StateSpace
         Inputs named after the ``[[excitations]]`` [N or N m], outputs after the
-        ``[[sensors]]`` [m, m/s or m/s^2], states ``q0..q5, dq0..dq5``.
+        ``[[sensors]]`` [m, m/s or m/s^2], states ``q0..q5, dq0..dq5``, then six
+        states per Maxwell branch of the mounts (see
+        :func:`rotordyn_modal.analysis.mounts.with_branch_states`).
     """
     import control
 
@@ -107,10 +109,13 @@ def state_space(model, speed: float, quantity: str = "displacement", inputs=None
     columns = excitation_columns(model, inputs)
     rows = sensor_rows(model, outputs)
     b = np.vstack([np.zeros((n, columns.shape[1])), form.mass_inverse @ columns])
+    from .analysis.mounts import with_branch_states  # Maxwell branches add 6 states each (issue 4)
+
+    a, b, branch_states = with_branch_states(model, a, b, form.mass_inverse)
     c, d = _output_matrices(a, b, rows, _QUANTITY_ORDER[quantity])
     input_names = [x.name for x in _named(model.excitations, inputs)]
     output_names = [s.name for s in _named(model.sensors, outputs)]
-    states = [f"q{i}" for i in range(n)] + [f"dq{i}" for i in range(n)]
+    states = [f"q{i}" for i in range(n)] + [f"dq{i}" for i in range(n)] + branch_states
     return control.ss(a, b, c, d, inputs=input_names or None, outputs=output_names or None,
                       states=states, name=model.name or None)
 
@@ -118,7 +123,7 @@ def state_space(model, speed: float, quantity: str = "displacement", inputs=None
 def _output_matrices(a, b, rows, order: int):
     """C and D giving the ``order``-th time derivative of the sensor displacements."""
     n = rows.shape[1]
-    selector = np.hstack([rows, np.zeros_like(rows)])  # displacement: C x
+    selector = np.hstack([rows, np.zeros((rows.shape[0], a.shape[0] - n))])  # displacement: C x
     c = selector
     d = np.zeros((rows.shape[0], b.shape[1]))
     for _ in range(order):

@@ -214,3 +214,29 @@ def test_maxwell_keys_are_validated(bad, message):
     with pytest.raises(rdm.ModelError) as info:
         rdm.Model.from_dict(data, "m.toml")
     assert message in str(info.value)
+
+
+def _maxwell_machine():
+    data = rdm.load_model(EXAMPLE).to_dict()
+    data["suspensions"][0].update(maxwell_stiffness=[[6e4, 4.5e4, 1.2e5], [3e4, 2e4, 6e4, 10, 10, 10]],
+                                  maxwell_time=[0.02, 0.002])
+    data["suspensions"][2].update(maxwell_stiffness=[[6e4, 4.5e4, 1.2e5]], maxwell_time=[0.01])
+    return rdm.Model.from_dict(data)
+
+
+@pytest.mark.parametrize("quantity,ss_quantity", [("receptance", "displacement"), ("accelerance", "acceleration")])
+def test_maxwell_branches_are_states_of_the_state_space(quantity, ss_quantity):
+    model = _maxwell_machine()
+    system = model.state_space(rdm.rpm(3000), ss_quantity)
+    assert system.nstates == 12 + 6 * 3
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", FutureWarning)
+        reference = control.frequency_response(system, 2 * np.pi * FREQS)
+    H = np.asarray(reference.frdata if hasattr(reference, "frdata") else reference.fresp)
+    res = frf(model, rdm.rpm(3000), FREQS, quantity=quantity)
+    assert res.engine == "direct"
+    assert np.abs(res.H - H).max() < 1e-10 * np.abs(H).max()
+
+
+def test_models_without_branches_keep_twelve_states():
+    assert rdm.load_model(EXAMPLE).state_space(100.0).nstates == 12

@@ -61,3 +61,48 @@ def maxwell_stiffness(model, omega) -> np.ndarray | float:
     w = np.asarray(omega, dtype=float)[:, None]
     factor = 1j * w * times / (1 + 1j * w * times)        # (n_freq, n_branches)
     return np.einsum("fb,bij->fij", factor, stiffness)
+
+
+def with_branch_states(model, a, b, mass_inverse):
+    """Add the Maxwell branches to a 12-state model as 6 first-order states each.
+
+    Branch ``b`` at point ``P`` has an internal coordinate ``z_b`` (the spring-dashpot
+    junction, 6 components at ``P``, model axes): the stator feels
+    ``-B_SP K_b (B_SP^T q - z_b)`` and ``tau_b z_b' = B_SP^T q - z_b``, which gives
+    ``K_b i w tau_b / (1 + i w tau_b)`` in the frequency domain.
+
+    Parameters
+    ----------
+    model : Model
+    a : ndarray, shape (12, 12)
+        State matrix of ``x = [q, q']`` at one speed.
+    b : ndarray, shape (12, n_inputs)
+    mass_inverse : ndarray, shape (6, 6)
+
+    Returns
+    -------
+    a, b : ndarray, shapes (12 + 6 n_branches, ...) (unchanged without branches)
+    names : list of str
+        Names of the added states, ``"<suspension>.branch<k>.z<i>"``.
+    """
+    reference = model.reference_point
+    blocks, names = [], []
+    for s in model.suspensions:
+        if getattr(s, "maxwell_stiffness_matrix", None) is None:
+            continue
+        shift = shift_matrix(reference, s.position)
+        for k, (k_b, tau) in enumerate(zip(s.maxwell_stiffness_matrix, s.maxwell_time)):
+            blocks.append((shift, k_b, float(tau)))
+            names += [f"{s.name}.branch{k}.z{i}" for i in range(6)]
+    if not blocks:
+        return a, b, []
+    n, m = a.shape[0], a.shape[0] + 6 * len(blocks)
+    out = np.zeros((m, m))
+    out[:n, :n] = a
+    for index, (shift, k_b, tau) in enumerate(blocks):
+        rows = slice(n + 6 * index, n + 6 * index + 6)
+        out[6:12, :6] -= mass_inverse @ shift @ k_b @ shift.T       # the branch's spring on q
+        out[6:12, rows] = mass_inverse @ shift @ k_b                 # ... released by z_b
+        out[rows, :6] = shift.T / tau
+        out[rows, rows] = -np.eye(6) / tau
+    return out, np.vstack([b, np.zeros((m - n, b.shape[1]))]), names

@@ -134,3 +134,14 @@ def test_fit_bad_options_exit_2(tmp_path, capsys, args, message):
                  "--quiet", *args])
     assert code == 2
     assert message in capsys.readouterr().err
+
+
+def test_frf_measured_missing_channel_exit_2(tmp_path, capsys):
+    model = rdm.load_model(EXAMPLE)
+    res = rdm.frf(model, 0.0, np.linspace(2, 40, 50), outputs=["acc-top-z"])
+    path = tmp_path / "one.uff"
+    write_uff58([res], path, default_mapping(model))
+    code = main(["frf", EXAMPLE, "--freqs", "2:40:20", "--measured", str(path), "--output", "acc-side-y",
+                 "--quiet"])
+    assert code == 2
+    assert "no channel acc-side-y (--output) in the file at this speed; it has acc-top-z" in capsys.readouterr().err

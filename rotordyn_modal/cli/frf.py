@@ -77,4 +77,10 @@ def _measured_at(args, model, speed):
     if best.quantity != args.quantity and not args.forces:
         raise InputError(f"--measured {args.measured}: the file holds {best.quantity}, the model is asked for "
                          f"{args.quantity}: give --quantity {best.quantity}")
+    for option, wanted, present in (("--output", names(args.output), best.outputs),
+                                    ("--input", names(args.input), best.inputs)):
+        missing = [n for n in (wanted or []) if n not in present]
+        if missing and not args.forces:
+            raise InputError(f"--measured {args.measured}: no channel {', '.join(missing)} ({option}) in the "
+                             f"file at this speed; it has {', '.join(present)}")
     return best

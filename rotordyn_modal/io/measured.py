@@ -150,9 +150,9 @@ def read_csv(path, model) -> list[FRFResult]:
     quantity = _csv_quantity(table, path)
     speeds = table["speed_rpm"].to_numpy(float) if "speed_rpm" in table.columns else np.zeros(len(table))
     coherence = table["coherence"].to_numpy(float) if "coherence" in table.columns else None
-    records = [(float(speeds[k]), float(table["frequency_hz"].iat[k]), str(table["output"].iat[k]),
-                str(table["input"].iat[k]), values[k], None if coherence is None else coherence[k])
-               for k in range(len(table))]
+    records = {"speed_rpm": speeds, "frequency_hz": table["frequency_hz"].to_numpy(float),
+               "output": table["output"].astype(str).to_numpy(), "input": table["input"].astype(str).to_numpy(),
+               "value": values, "coherence": coherence}
     return assemble(records, model, quantity, str(path))
 
 
@@ -167,39 +167,67 @@ def _csv_quantity(table, path):
 
 
 def assemble(records, model, quantity, source) -> list[FRFResult]:
-    """Group ``(speed_rpm, freq_hz, output, input, value, coherence)`` records into one FRF set per speed."""
+    """Group measured lines into one FRF set per speed.
+
+    Parameters
+    ----------
+    records : dict of arrays, each shape (n_lines,)
+        ``speed_rpm``, ``frequency_hz``, ``output``, ``input`` (names), ``value`` (complex) and
+        ``coherence`` (or None).
+    model : Model
+    quantity : str
+    source : str
+        File name, for messages.
+
+    Returns
+    -------
+    list of FRFResult, sorted by speed
+    """
     sensors = [s.name for s in model.sensors]
     excitations = [x.name for x in model.excitations]
-    unknown = sorted({r[2] for r in records} - set(sensors)) + sorted({r[3] for r in records} - set(excitations))
+    outs, ins = np.asarray(records["output"], dtype=str), np.asarray(records["input"], dtype=str)
+    unknown = sorted(set(outs) - set(sensors)) + sorted(set(ins) - set(excitations))
     if unknown:
         raise InputError(f"{source}: channel(s) {', '.join(unknown)} are not sensors ({', '.join(sensors)}) "
                          f"or excitations ({', '.join(excitations)}) of the model")
-    results = []
-    for speed in sorted({r[0] for r in records}):
-        rows = [r for r in records if r[0] == speed]
-        outputs = [s for s in sensors if any(r[2] == s for r in rows)]
-        inputs = [x for x in excitations if any(r[3] == x for r in rows)]
-        freqs = np.array(sorted({r[1] for r in rows}))
-        H = np.full((len(outputs), len(inputs), len(freqs)), np.nan + 0j)
-        coh = np.full(H.shape, np.nan) if any(r[5] is not None for r in rows) else None
-        counts = np.zeros(H.shape[:2], dtype=int)
-        for _, f, o, i, value, c in rows:
-            index = (outputs.index(o), inputs.index(i), int(np.searchsorted(freqs, f)))
-            H[index] = value
-            counts[index[:2]] += 1
-            if coh is not None and c is not None:
-                coh[index] = c
-        partial = (counts > 0) & (counts != len(freqs))
-        if partial.any():
-            a, b = (int(x[0]) for x in np.nonzero(partial))
-            raise InputError(f"{source}: at {speed:g} rpm the FRF {outputs[a]} / {inputs[b]} has {counts[a, b]} "
-                             f"frequencies where the data of that speed has {len(freqs)}: every FRF of one "
-                             "speed must share the frequency lines")
-        results.append(FRFResult(H=H, frequencies_hz=freqs, speed=speed * np.pi / 30, inputs=tuple(inputs),
-                                 outputs=tuple(outputs), quantity=quantity, engine="measured", coherence=coh))
-    if not results:
+    if len(outs) == 0:
         raise InputError(f"{source}: no FRF found in the file")
+    speeds = np.asarray(records["speed_rpm"], dtype=float)
+    coherence = records.get("coherence")
+    results = []
+    for speed in np.unique(speeds):
+        at = speeds == speed
+        results.append(_one_speed(speed, np.asarray(records["frequency_hz"], float)[at], outs[at], ins[at],
+                                  np.asarray(records["value"], complex)[at],
+                                  None if coherence is None else np.asarray(coherence, float)[at],
+                                  sensors, excitations, quantity, source))
     return results
+
+
+def _one_speed(speed, freq, outs, ins, values, coherence, sensors, excitations, quantity, source):
+    outputs = [s for s in sensors if s in set(outs)]
+    inputs = [x for x in excitations if x in set(ins)]
+    freqs, f_index = np.unique(freq, return_inverse=True)
+    o_index = np.searchsorted(np.array(outputs), outs, sorter=np.argsort(outputs))
+    o_index = np.argsort(outputs)[o_index]
+    i_index = np.argsort(inputs)[np.searchsorted(np.array(inputs), ins, sorter=np.argsort(inputs))]
+    shape = (len(outputs), len(inputs), len(freqs))
+    counts = np.zeros(shape[:2], dtype=int)
+    np.add.at(counts, (o_index, i_index), 1)
+    partial = (counts > 0) & (counts != len(freqs))
+    if partial.any():
+        a, b = (int(x[0]) for x in np.nonzero(partial))
+        raise InputError(f"{source}: at {speed:g} rpm the FRF {outputs[a]} / {inputs[b]} has {counts[a, b]} "
+                         f"frequencies where the data of that speed has {len(freqs)}: every FRF of one "
+                         "speed must share the frequency lines")
+    H = np.full(shape, np.nan + 0j)
+    H[o_index, i_index, f_index] = values
+    coh = None
+    if coherence is not None:
+        coh = np.full(shape, np.nan)
+        coh[o_index, i_index, f_index] = coherence
+    return FRFResult(H=H, frequencies_hz=freqs, speed=float(speed) * np.pi / 30, inputs=tuple(inputs),
+                     outputs=tuple(outputs), quantity=quantity, engine="measured", coherence=coh)
 
 
 def write_csv(results, path, inputs=()) -> None:

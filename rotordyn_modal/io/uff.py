@@ -103,15 +103,20 @@ def read_uff58(path, model, mapping):
         raise InputError(f"{path}: no FRF (dataset 58, function type 4) in the file; function types found: {kinds}")
     quantity = _quantity(frfs, path)
     coherence = {_key(s): np.real(np.asarray(s["data"])) for s in sets if s.get("func_type") == _COHERENCE}
-    records = []
+    parts = []
     for s in frfs:
         _check_set(s, path)
         out, out_sign = _lookup(mapping.outputs, s["rsp_node"], s["rsp_dir"], "response", path)
         inp, in_sign = _lookup(mapping.inputs, s["ref_node"], s["ref_dir"], "reference", path)
+        x = np.asarray(s["x"], float)
         coh = coherence.get(_key(s))
-        for k, (f, h) in enumerate(zip(np.asarray(s["x"], float), np.asarray(s["data"], complex))):
-            records.append((round(float(s.get("z_axis_value", 0.0)), 9), f, out, inp, h * out_sign * in_sign,
-                            None if coh is None else float(coh[k])))
+        parts.append({"speed_rpm": np.full(len(x), round(float(s.get("z_axis_value", 0.0)), 9)),
+                      "frequency_hz": x, "output": np.full(len(x), out), "input": np.full(len(x), inp),
+                      "value": np.asarray(s["data"], complex) * out_sign * in_sign,
+                      "coherence": np.full(len(x), np.nan) if coh is None else coh})
+    records = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+    if not coherence:
+        records["coherence"] = None
     return assemble(records, model, quantity, str(path))
 
 

@@ -199,8 +199,9 @@ class Correlation:
     pairs : tuple of (output, input)
     frac : ndarray, shape (n_pairs,)
     csac, csf : ndarray, shape (n_freq,)
-    modes : pandas.DataFrame
-        The MAC-paired natural-frequency table (see :func:`pair_modes`).
+    mode_pairs : dict[str, ndarray]
+        Columns of the MAC-paired natural-frequency table (see :func:`pair_modes`);
+        :attr:`modes` gives it as a DataFrame.
     """
 
     speed: float
@@ -209,7 +210,15 @@ class Correlation:
     frac: np.ndarray
     csac: np.ndarray
     csf: np.ndarray
-    modes: object
+    mode_pairs: dict
+
+    @property
+    def modes(self):
+        """The natural-frequency table: ``measured_mode, measured_hz, measured_damping,
+        model_mode, model_hz, model_damping, difference_pct, mac`` (``pandas.DataFrame``)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.mode_pairs)
 
     def to_dataframe(self):
         """FRAC per FRF: ``output,input,frac``."""
@@ -250,4 +259,5 @@ def correlate(model, measured) -> Correlation:
     modes = pair_modes(modal(model, measured.speed), fit_measured_modes(measured),
                        sensor_rows(model, list(measured.outputs)))
     return Correlation(speed=measured.speed, frequencies_hz=measured.frequencies_hz, pairs=pairs,
-                       frac=frac(a, m), csac=csac(a, m), csf=csf(a, m), modes=modes)
+                       frac=frac(a, m), csac=csac(a, m), csf=csf(a, m),
+                       mode_pairs={k: modes[k].to_numpy() for k in modes.columns})

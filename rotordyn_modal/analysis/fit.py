@@ -134,8 +134,11 @@ class _Problem:
         mean_w = np.mean(np.concatenate([w[v] for *_, v, w in self.sets]))
         self.weights = [w / mean_w / _scale(H, v) for (_, _, H, v, w) in self.sets]
         self.n_points = n
+        self.bar = None
 
     def residual(self, logs):
+        if self.bar is not None:
+            self.bar.update(1)
         model = _apply(self.model, self.keys, logs)
         gain = _gain(self.keys, logs)
         parts = []
@@ -176,7 +179,7 @@ def fit(model, measured, params, bounds=None, band_hz=None, weighting: str = "co
     seed : int
         Seed of those draws.
     progress : bool
-        tqdm bar over the starting points.
+        tqdm bar counting model evaluations (with the current start).
     max_evaluations : int
         Model evaluations allowed per start.
 
@@ -200,11 +203,17 @@ def fit(model, measured, params, bounds=None, band_hz=None, weighting: str = "co
     if progress:
         from tqdm.auto import tqdm
 
-        points = tqdm(points, desc="fit (starting points)")
-    for x0 in points:
-        outcomes.append(scipy.optimize.least_squares(
-            problem.residual, np.clip(x0, lower, upper), bounds=(lower, upper), x_scale=1.0,
-            diff_step=1e-6, max_nfev=max_evaluations, xtol=1e-12, ftol=1e-12, gtol=1e-12))
+        problem.bar = tqdm(desc="fit (model evaluations)", unit="eval")
+    try:
+        for k, x0 in enumerate(points):
+            if problem.bar is not None:
+                problem.bar.set_postfix_str(f"start {k + 1}/{len(points)}")
+            outcomes.append(scipy.optimize.least_squares(
+                problem.residual, np.clip(x0, lower, upper), bounds=(lower, upper), x_scale=1.0,
+                diff_step=1e-6, max_nfev=max_evaluations, xtol=1e-12, ftol=1e-12, gtol=1e-12))
+    finally:
+        if problem.bar is not None:
+            problem.bar.close()
     costs = np.array([np.sqrt(2 * o.cost / len(o.fun)) for o in outcomes])
     best = outcomes[int(np.argmin(costs))]
     return _result(model, keys, best, costs, problem.n_points, lower, upper)

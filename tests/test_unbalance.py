@@ -7,6 +7,7 @@ from pathlib import Path
 import control
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis.unbalance import (amplification_factors, phase_reference,
@@ -168,3 +169,23 @@ def test_errors():
         unbalance_response(rdm.Model.from_dict(data, "x.toml"), SPEEDS)
     with pytest.raises(InputError, match="quantity 'force': expected one of displacement, velocity, acceleration"):
         unbalance_response(_model(), SPEEDS, quantity="force")
+
+
+@settings(max_examples=20, deadline=None)
+@given(factor=st.floats(0.1, 10.0), shift=st.floats(-180.0, 180.0), speed_rpm=st.floats(200.0, 6000.0))
+def test_linear_in_amount_and_phase_turns_with_the_rotor(factor, shift, speed_rpm):
+    """Scaling ``amount`` scales the response; adding ``shift`` to ``phase_deg`` of an unbalance on a
+    rotor turning r Omega shifts its harmonic's phase by sign(r Omega) * shift (the unbalance is
+    just further round at t = 0)."""
+    base = _model()
+    data = base.to_dict()
+    for u in data["unbalances"]:
+        u["amount"] *= factor
+        u["phase_deg"] += shift
+    moved = rdm.Model.from_dict(data)
+    speed = rdm.rpm(speed_rpm)
+    a, b = unbalance_response(base, [speed]), unbalance_response(moved, [speed])
+    for j, source in enumerate(a.sources):
+        s = np.sign(base.speed_ratios[source])
+        np.testing.assert_allclose(b.response[:, j], factor * np.exp(1j * s * np.radians(shift)) * a.response[:, j],
+                                   rtol=1e-10, atol=1e-20)

@@ -240,3 +240,14 @@ def test_maxwell_branches_are_states_of_the_state_space(quantity, ss_quantity):
 
 def test_models_without_branches_keep_twelve_states():
     assert rdm.load_model(EXAMPLE).state_space(100.0).nstates == 12
+
+
+def test_model_without_sensors_is_refused():
+    data = _block().to_dict()
+    data["sensors"] = []
+    model = rdm.Model.from_dict(data, "bare.toml")
+    with pytest.raises(InputError, match="bare.toml: the model has no \\[\\[sensors\\]\\]: an FRF needs"):
+        frf(model, 0.0, FREQS)
+    data["excitations"] = []
+    with pytest.raises(InputError, match="the model has no \\[\\[excitations\\]\\]: a force FRF needs one"):
+        force_frf(rdm.Model.from_dict(data, "bare.toml"), 0.0, FREQS)

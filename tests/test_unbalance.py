@@ -189,3 +189,10 @@ def test_linear_in_amount_and_phase_turns_with_the_rotor(factor, shift, speed_rp
         s = np.sign(base.speed_ratios[source])
         np.testing.assert_allclose(b.response[:, j], factor * np.exp(1j * s * np.radians(shift)) * a.response[:, j],
                                    rtol=1e-10, atol=1e-20)
+
+
+def test_figure_marks_peaks():
+    res = unbalance_response(_model(), rdm.rpm(np.linspace(0, 6000, 301)))
+    fig = res.plot(peaks=res.peaks(rdm.rpm(3000)))
+    texts = [t.get_text() for t in fig.axes[0].texts]
+    assert any(t.startswith("AF ") and "SM " in t for t in texts)

@@ -129,7 +129,10 @@ def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensi
         raise InputError(f"where {where!r}: expected 'suspensions' or 'bearings'")
     f = _check_frequencies(freqs_hz)
     omega = 2 * np.pi * f
-    q = dof_response(model, speed, omega, excitation_columns(model, inputs))
+    columns = excitation_columns(model, inputs)
+    if columns.shape[1] == 0:
+        raise InputError(f"{model.source}: the model has no [[excitations]]: a force FRF needs one")
+    q = dof_response(model, speed, omega, columns)
     if where == "suspensions":
         forces, items = suspension_forces(model, omega, q), model.suspensions
     else:

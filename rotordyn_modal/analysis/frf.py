@@ -245,6 +245,7 @@ def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str 
     f = _check_frequencies(freqs_hz)
     columns = excitation_columns(model, inputs)
     rows = sensor_rows(model, outputs)
+    _check_channels(model, rows, columns)
     natural = choose_engine(model)
     if engine == "modal" and natural != "modal":
         raise InputError("engine 'modal' needs a viscous model: this one has loss factors or Maxwell branches")
@@ -257,6 +258,13 @@ def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str 
     H = H * (1j * omega) ** QUANTITIES[quantity]
     return FRFResult(H=H, frequencies_hz=f, speed=float(speed), inputs=_names(model.excitations, inputs),
                      outputs=_names(model.sensors, outputs), quantity=quantity, engine=used)
+
+
+def _check_channels(model, rows, columns):
+    for table, count in (("sensors", len(rows)), ("excitations", columns.shape[1])):
+        if count == 0:
+            raise InputError(f"{model.source}: the model has no [[{table}]]: an FRF needs at least one "
+                             "sensor and one excitation (see docs/model-file.md)")
 
 
 def _modal_receptance(model, speed, omega, rows, columns):

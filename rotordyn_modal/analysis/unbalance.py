@@ -187,7 +187,8 @@ class UnbalanceResult:
                                            "required_margin_pct"])
 
     def plot(self, outputs=None, **kwargs):
-        """Bode figure: amplitude and phase vs speed; see :func:`rotordyn_modal.plotting.plot_unbalance`."""
+        """Bode figure: amplitude and phase vs speed (``peaks=self.peaks(...)`` marks the API 684
+        figures); see :func:`rotordyn_modal.plotting.plot_unbalance`."""
         from ..plotting.frf import plot_unbalance
 
         return plot_unbalance(self, outputs=outputs, **kwargs)

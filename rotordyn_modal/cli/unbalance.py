@@ -41,10 +41,11 @@ def run(args) -> int:
     write_table(result.to_dataframe(), args)
     operating = None if args.operating_speed is None else \
         float(to_rad_s(parse_number(args.operating_speed, "--operating-speed"), args.speed_unit))
+    peaks = result.peaks(operating)
     if not args.quiet:
         print("\npeaks (API 684):", file=sys.stderr)
-        print_table(result.peaks(operating))
+        print_table(peaks)
     if args.plot:
         use_agg()
-        save_figure(result.plot(), args)
+        save_figure(result.plot(peaks=peaks, speed_unit=args.speed_unit), args)
     return 0

@@ -88,7 +88,7 @@ def plot_overlay(models, measured, title: str | None = None):
     return fig
 
 
-def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", title: str | None = None):
+def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, title: str | None = None):
     """Amplitude (0-peak) and phase of each source's harmonic against speed.
 
     Parameters
@@ -97,6 +97,9 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", title: str | N
     outputs : list of str, optional
         Sensors to draw (default all).
     speed_unit : {'rpm', 'rad/s', 'hz'}
+    peaks : pandas.DataFrame, optional
+        ``result.peaks(...)``: each peak is marked with its amplification factor (and
+        separation margin when known).
 
     Returns
     -------
@@ -116,8 +119,23 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", title: str | N
             mag.plot(x, result.amplitude[i, j], color=colour, label=f"{o}: {s} (1x {s})")
             phase.plot(x, result.phase_deg[i, j], color=colour)
             n += 1
+    if peaks is not None:
+        _mark_peaks(mag, peaks, outputs, speed_scale(speed_unit) * np.pi / 30)
+        mag.margins(y=0.15)
     mag.set_ylabel(f"Amplitude, 0-peak [{unit}]")
     phase.set_xlabel(speed_label(speed_unit))
     mag.legend(fontsize="small")
     mag.set_title(title or "Unbalance response")
     return fig
+
+
+def _mark_peaks(ax, peaks, outputs, rpm_to_unit):
+    for row in peaks.itertuples(index=False):
+        if (outputs is not None and row.output not in outputs) or not np.isfinite(row.amplification_factor):
+            continue
+        x = row.speed_rpm * rpm_to_unit
+        text = f"AF {row.amplification_factor:.1f}"
+        if np.isfinite(row.separation_margin_pct):
+            text += f"\nSM {row.separation_margin_pct:.0f} % (API {row.required_margin_pct:.0f} %)"
+        ax.plot(x, row.amplitude, "v", color="k", ms=4)
+        ax.annotate(text, (x, row.amplitude), textcoords="offset points", xytext=(4, 4), fontsize="x-small")

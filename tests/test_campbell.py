@@ -1,0 +1,120 @@
+"""Campbell diagrams: batch equals single-speed solves, flat diagrams of counter-rotating
+pairs, excitation orders of every rotor and gear mesh, critical speeds against closed forms."""
+
+from __future__ import annotations
+
+import tomllib
+
+import numpy as np
+import pytest
+from scipy.optimize import linear_sum_assignment
+
+import rotordyn_modal as rdm
+from reference_model import ReferenceMachine
+from test_tracking import JD, JP, JT_S, JX, K, K_ROLL, KX, KY_EXTRA, A, MR, MS, crossing_machine
+
+
+def closed_form_critical(order):
+    """Speeds Omega > 0 where a branch of the crossing machine meets w = order * Omega."""
+    m, jt, kt = MS + MR, JT_S + JD, 2 * K * A**2
+    flat = np.array([np.sqrt(2 * KX / m), np.sqrt((2 * K + KY_EXTRA) / m), np.sqrt(2 * K / m),
+                     np.sqrt(2 * K_ROLL / (JX + JP))]) / order
+    # (Omega Jp +- s) / (2 Jt) = n Omega  =>  Omega^2 (4 n^2 Jt^2 -+ 4 n Jt Jp) = 4 Jt kt
+    forward = np.sqrt(kt / (order**2 * jt - order * JP))
+    backward = np.sqrt(kt / (order**2 * jt + order * JP))
+    return flat, forward, backward
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_critical_speeds_equal_the_closed_form(order):
+    flat, forward, backward = closed_form_critical(order)
+    result = rdm.campbell(crossing_machine(), np.linspace(0.0, 3000.0, 61), orders=(order,))
+    crit = result.critical
+    crit_order = crit.order == order
+    speeds = crit.speeds[crit_order]
+    expected = np.sort(np.concatenate([flat, [forward, backward]]))
+    assert len(speeds) == len(expected)
+    np.testing.assert_allclose(np.sort(speeds), expected, rtol=1e-9)
+    whirl = dict(zip(np.round(speeds, 6), crit.whirl[crit_order]))
+    assert whirl[round(forward, 6)] == "forward"
+    assert whirl[round(backward, 6)] == "backward"
+    np.testing.assert_allclose(crit.frequencies_hz * 2 * np.pi, order * crit.speeds, rtol=1e-12)
+    assert set(crit.source) == {"rotor"}
+
+
+def test_critical_speeds_at_negative_speeds_mirror():
+    result = rdm.campbell(crossing_machine(), np.linspace(-3000.0, 3000.0, 121))
+    flat, forward, backward = closed_form_critical(1)
+    expected = np.sort(np.concatenate([flat, [forward, backward]]))
+    np.testing.assert_allclose(np.sort(-result.critical.speeds[result.critical.speeds < 0]), expected, rtol=1e-9)
+    np.testing.assert_allclose(np.sort(result.critical.speeds[result.critical.speeds > 0]), expected, rtol=1e-9)
+    labels = dict(zip(np.round(result.critical.speeds, 6), result.critical.whirl))
+    assert labels[round(-forward, 6)] == "forward" and labels[round(-backward, 6)] == "backward"
+
+
+def test_batch_equals_single_speed_solves(examples_dir):
+    model = rdm.load_model(examples_dir / "gear_machine.toml")
+    speeds = np.linspace(-2000.0, 2000.0, 9)
+    result = rdm.campbell(model, speeds)
+    for k, speed in enumerate(speeds):
+        single = rdm.modal(model, speed).eigenvalues
+        i, j = linear_sum_assignment(np.abs(result.eigenvalues[k][:, None] - single[None]))
+        np.testing.assert_allclose(result.eigenvalues[k][i], single[j], rtol=1e-10)
+
+
+def test_gear_machine_sources_orders_and_crossings(examples_dir):
+    path = examples_dir / "gear_machine.toml"
+    model = rdm.load_model(path)
+    sources = rdm.excitation_sources(model)
+    assert sources.names == ("motor", "fan", "mesh:motor-fan")
+    np.testing.assert_allclose(sources.multipliers, [1.0, 1 / 2.5, 23.0], rtol=1e-15)
+    result = rdm.campbell(model, np.linspace(0.0, rdm.rpm(12000), 121), orders=(1, 2))
+    crit = result.critical
+    assert len(crit) > 0 and set(crit.source) <= set(sources.names)
+    with open(path, "rb") as handle:
+        ref = ReferenceMachine(tomllib.load(handle))
+    multiplier = dict(zip(sources.names, sources.multipliers))
+    for source, order, speed, f_hz in zip(crit.source, crit.order, crit.speeds, crit.frequencies_hz):
+        w = 2 * np.pi * f_hz
+        assert w == pytest.approx(order * multiplier[source] * abs(speed), rel=1e-10)
+        values = ref.modes(speed)[0]
+        assert np.min(np.abs(values.imag - w)) <= 1e-9 * w  # an eigenfrequency of the machine there
+    assert np.all(np.diff(crit.speeds) >= 0)
+    table = crit.to_dataframe()
+    assert list(table.columns[:6]) == ["source", "order", "mode", "speed_rpm", "frequency_hz", "whirl"]
+
+
+def test_counter_rotating_gear_with_momenta_cancelling_is_flat():
+    """Gear ratio tau, driven polar inertia tau * Jp: Jp * 1 + tau Jp * (-1 / tau) = 0."""
+    tau, jp = 2.5, 0.08
+    model = rdm.Model(
+        stator=rdm.Stator(mass=90.0, inertia=[[5.0, 0.2, 0.0], [0.2, 4.0, 0.1], [0.0, 0.1, 3.0]]),
+        rotors=[rdm.Rotor("m", 10.0, [0.2, 0.1, 0.1], jp, 0.06, speed_ratio=1.0),
+                rdm.Rotor("f", 7.0, [-0.3, 0.0, 0.2], tau * jp, 0.15)],
+        transmissions=[rdm.Transmission("gear", "m", "f", tau, 19)], reference_rotor="m",
+        suspensions=[rdm.Suspension(f"s{i}", p, [2e5, 1e5, 3e5], [50.0, 50.0, 80.0])
+                     for i, p in enumerate([[0.4, 0.3, -0.2], [0.4, -0.3, -0.2], [-0.4, 0.0, -0.2]])],
+    )
+    np.testing.assert_allclose(model.matrices().G, 0.0, atol=4 * np.finfo(float).eps * jp)  # round-off of Jp - tau Jp / tau
+    result = rdm.campbell(model, np.linspace(-rdm.rpm(20000), rdm.rpm(20000), 41))
+    spread = np.abs(result.eigenvalues - result.eigenvalues[0]).max()
+    assert spread <= 1e-12 * np.abs(result.eigenvalues).max()
+
+
+def test_result_table_and_labels(examples_dir):
+    model = rdm.load_model(examples_dir / "gear_machine.toml")
+    result = rdm.campbell(model, rdm.rpm(np.linspace(-6000, 6000, 13)))
+    table = result.to_dataframe()
+    assert list(table.columns[:6]) == ["speed_rpm", "mode", "frequency_hz", "damping_ratio",
+                                       "log_decrement", "whirl"]
+    assert set(table.whirl) <= {"forward", "backward", "none"}
+    np.testing.assert_allclose(np.unique(table.speed_rpm), np.linspace(-6000, 6000, 13), rtol=1e-12)
+    assert result.frequencies_hz.shape == (13, 6)
+    np.testing.assert_allclose(result.log_decrements,
+                               -2 * np.pi * result.eigenvalues.real / result.eigenvalues.imag, rtol=1e-12)
+
+
+@pytest.mark.parametrize("speeds", [[], [0.0, 0.0], [1.0, np.nan], [3.0, 2.0]])
+def test_bad_speed_grids_are_refused(speeds):
+    with pytest.raises(rdm.InputError):
+        rdm.campbell(crossing_machine(), speeds)

@@ -145,3 +145,13 @@ def test_frf_measured_missing_channel_exit_2(tmp_path, capsys):
                  "--quiet"])
     assert code == 2
     assert "no channel acc-side-y (--output) in the file at this speed; it has acc-top-z" in capsys.readouterr().err
+
+
+def test_frf_out_uff_reads_back(tmp_path):
+    out = tmp_path / "model.uff"
+    assert main(["frf", EXAMPLE, "--speed", "1500", "--freqs", "1:40:30", "--quantity", "accelerance",
+                 "--out", str(out), "--quiet"]) == 0
+    back, = rdm.read_measured(out, rdm.load_model(EXAMPLE))
+    H = rdm.frf(rdm.load_model(EXAMPLE), rdm.rpm(1500), np.linspace(1, 40, 30), quantity="accelerance").H
+    np.testing.assert_allclose(back.H, H, rtol=1e-10)
+    assert back.speed == pytest.approx(rdm.rpm(1500))

@@ -17,6 +17,8 @@ branches a direct solve at every frequency. --forces suspensions gives the force
 suspension passes to the ground per unit input (transmissibility), --forces bearings the
 force each rotor passes to the stator (seed 000 eq. 73/74). --measured FILE (UFF 58/58b
 .uff/.unv, or CSV) draws the measurement of the same speed under the model in --plot.
+--out FILE.uff (or .unv) writes UFF 58 instead of CSV (nodes from --mapping, or the default
+mapping: sensor k is node k, excitation k is node 100 + k).
 
 CSV columns: frequency_hz,output,input,real,imag,magnitude,phase_deg
 
@@ -57,11 +59,28 @@ def run(args) -> int:
         result = frf(model, speed, freqs, inputs=names(args.input), outputs=names(args.output),
                      quantity=args.quantity)
     measured = _measured_at(args, model, speed) if args.measured else None
-    write_table(result.to_dataframe(), args)
+    if args.out and args.out.lower().endswith((".uff", ".unv")):
+        _write_uff(result, model, args)
+    else:
+        write_table(result.to_dataframe(), args)
     if args.plot:
         use_agg()
         save_figure(result.plot(measured=measured), args)
     return 0
+
+
+def _write_uff(result, model, args):
+    import sys
+
+    from ..io.measured import default_mapping, read_mapping
+    from ..io.uff import write_uff58
+
+    if args.forces:
+        raise InputError(f"--out {args.out}: force FRFs are written as CSV only")
+    mapping = read_mapping(args.mapping, model) if args.mapping else default_mapping(model)
+    write_uff58([result], args.out, mapping, inputs=[args.model, args.measured])
+    if not args.quiet:
+        print(f"{result.H.shape[0] * result.H.shape[1]} FRFs written to {args.out} (UFF 58)", file=sys.stderr)
 
 
 def _measured_at(args, model, speed):

@@ -1,0 +1,219 @@
+"""Every validation rule, with its message: file, table and key, value, what was expected."""
+
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+import pytest
+import tomli_w
+
+import rotordyn_modal as rdm
+from rotordyn_modal.errors import InputError, ModelError
+
+BASE = {
+    "name": "valid",
+    "spin_axis": [1.0, 0.0, 0.0],
+    "reference_rotor": "motor",
+    "stator": {"mass": 150.0, "center_of_mass": [0.0, 0.0, 0.1],
+               "inertia": [[12.0, 0.0, 0.3], [0.0, 10.0, 0.0], [0.3, 0.0, 8.0]]},
+    "rotors": [
+        {"name": "motor", "mass": 20.0, "center_of_mass": [0.2, 0.0, 0.15], "polar_inertia": 0.08,
+         "diametral_inertia": 0.05, "speed_ratio": 1.0},
+        {"name": "fan", "mass": 8.0, "center_of_mass": [-0.3, 0.0, 0.25], "polar_inertia": 0.3,
+         "diametral_inertia": 0.16},
+    ],
+    "transmissions": [{"type": "gear", "driver": "motor", "driven": "fan", "ratio": 2.5, "driver_teeth": 23}],
+    "suspensions": [{"name": "mount-FL", "position": [0.4, 0.3, -0.2], "stiffness": [2e5, 1.5e5, 4e5],
+                     "damping": [150.0, 120.0, 300.0]},
+                    {"name": "mount-RR", "position": [-0.4, -0.3, -0.2], "stiffness": [2e5, 1.5e5, 4e5]}],
+    "unbalances": [{"rotor": "fan", "amount": 2e-4}],
+    "sensors": [{"name": "acc", "position": [0.0, 0.0, 0.5], "direction": [0.0, 0.0, 1.0]}],
+    "excitations": [{"name": "hammer", "position": [0.0, 0.3, 0.5], "direction": [0.0, 0.0, 1.0]}],
+}
+
+
+def test_base_is_valid():
+    model = rdm.Model.from_dict(BASE)
+    assert model.speed_ratios == {"motor": 1.0, "fan": pytest.approx(-0.4, rel=1e-15)}
+
+
+def edit(path, value):
+    """A description with one value replaced (path: keys and indices), or deleted (value=DEL)."""
+    data = copy.deepcopy(BASE)
+    target = data
+    for key in path[:-1]:
+        target = target[key]
+    if value is DEL:
+        del target[path[-1]]
+    else:
+        target[path[-1]] = value
+    return data
+
+
+DEL = object()
+NOT_SPD = [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]]
+NOT_SYMMETRIC = [[12.0, 0.5, 0.3], [0.0, 10.0, 0.0], [0.3, 0.0, 8.0]]
+TRIANGLE = [1.0, 1.0, 3.0]
+
+CASES = [
+    # (path, value, where, expected (substring))
+    (("stator", "mass"), -1.0, "[stator] mass", "> 0"),
+    (("stator", "mass"), 0.0, "[stator] mass", "> 0"),
+    (("stator", "mass"), math.nan, "[stator] mass", "finite"),
+    (("stator", "mass"), math.inf, "[stator] mass", "finite"),
+    (("stator", "mass"), "heavy", "[stator] mass", "finite number"),
+    (("stator", "mass"), True, "[stator] mass", "finite number"),
+    (("stator", "mass"), DEL, "[stator] mass", "required"),
+    (("rotors", 1, "mass"), -8.0, "[rotors.fan] mass", "> 0"),
+    (("rotors", 0, "polar_inertia"), 0.0, "[rotors.motor] polar_inertia", "> 0"),
+    (("rotors", 0, "diametral_inertia"), math.nan, "[rotors.motor] diametral_inertia", "finite"),
+    (("stator", "inertia"), NOT_SYMMETRIC, "[stator] inertia", "symmetric"),
+    (("stator", "inertia"), NOT_SPD, "[stator] inertia", "positive definite"),
+    (("stator", "inertia"), [0.0, 1.0, 1.0], "[stator] inertia", "positive definite"),
+    (("stator", "inertia"), TRIANGLE, "[stator] inertia", "triangle inequality"),
+    (("stator", "inertia"), [1.0, 2.0], "[stator] inertia", "3-list or a 3x3 matrix"),
+    (("stator", "inertia"), [[1.0, 0.0], [0.0, 1.0]], "[stator] inertia", "3x3"),
+    (("rotors", 1, "polar_inertia"), 0.33, "[rotors.fan] polar_inertia", "at most twice diametral_inertia"),
+    (("rotors", 0, "center_of_mass"), [0.1, 0.2], "[rotors.motor] center_of_mass", "3-list"),
+    (("rotors", 0, "center_of_mass"), [0.1, 0.2, math.inf], "[rotors.motor] center_of_mass", "finite"),
+    (("rotors", 0, "center_of_mass"), DEL, "[rotors.motor] center_of_mass", "required"),
+    (("suspensions", 0, "position"), [[0.0, 0.0, 0.0]], "[suspensions.mount-FL] position", "3-list"),
+    (("suspensions", 0, "stiffness"), [1.0, 2.0, 3.0, 4.0], "[suspensions.mount-FL] stiffness", "6x6"),
+    (("suspensions", 0, "stiffness"), [1e5, -1e5, 1e5], "[suspensions.mount-FL] stiffness", "non-negative"),
+    (("suspensions", 0, "stiffness"), DEL, "[suspensions.mount-FL] stiffness", "required"),
+    (("suspensions", 0, "damping"), [[1.0, 2.0]], "[suspensions.mount-FL] damping", "3x3"),
+    (("suspensions", 0, "loss_factor"), -0.1, "[suspensions.mount-FL] loss_factor", ">= 0"),
+    (("suspensions", 0, "axes"), [[1.0, 0.0, 0.0], [0.5, 1.0, 0.0], [0.0, 0.0, 1.0]],
+     "[suspensions.mount-FL] axes", "orthogonal"),
+    (("suspensions", 0, "axes"), [[1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
+     "[suspensions.mount-FL] axes", "non-zero"),
+    (("suspensions", 0, "axes"), [1.0, 0.0, 0.0], "[suspensions.mount-FL] axes", "3x3"),
+    (("reference_rotor",), "pump", "reference_rotor", "one of the rotors motor, fan"),
+    (("reference_rotor",), DEL, "reference_rotor", "required with several rotors"),
+    (("transmissions", 0, "driver"), "pump", "[transmissions[0]] driver", "one of the rotors motor, fan"),
+    (("transmissions", 0, "driven"), "pump", "[transmissions[0]] driven", "one of the rotors motor, fan"),
+    (("transmissions", 0, "driven"), "motor", "[transmissions[0]] driven", "other than the driver"),
+    (("transmissions", 0, "type"), "chain", "[transmissions[0]] type", "'gear', 'belt'"),
+    (("transmissions", 0, "ratio"), 0.0, "[transmissions[0]] ratio", "> 0"),
+    (("transmissions", 0, "driver_teeth"), 2.5, "[transmissions[0]] driver_teeth", "whole number"),
+    (("unbalances", 0, "rotor"), "pump", "[unbalances[0]] rotor", "one of the rotors motor, fan"),
+    (("unbalances", 0, "amount"), -1e-4, "[unbalances[0]] amount", "> 0"),
+    (("spin_axis",), [0.0, 0.0, 0.0], "spin_axis", "non-zero length"),
+    (("spin_axis",), [1.0, 0.0], "spin_axis", "3-list"),
+    (("sensors", 0, "direction"), [0.0, 0.0, 0.0], "[sensors.acc] direction", "non-zero length"),
+    (("excitations", 0, "kind"), "torque", "[excitations.hammer] kind", "'force', 'moment'"),
+    (("colour",), "red", "colour", "unknown key"),
+    (("stator", "colour"), "red", "[stator] colour", "unknown key"),
+    (("rotors", 0, "spin"), 1.0, "[rotors.motor] spin", "unknown key"),
+    (("suspensions", 1, "stifness"), [1.0, 1.0, 1.0], "[suspensions.mount-RR] stifness", "unknown key"),
+    (("transmissions", 0, "teeth"), 3, "[transmissions[0]] teeth", "unknown key"),
+    (("rotors", 1, "name"), "motor", "[rotors[1]] name", "unique"),
+    (("rotors",), {"name": "x"}, "rotors", "array of tables"),
+    (("stator",), [1, 2], "stator", "a table"),
+]
+
+
+@pytest.mark.parametrize("path, value, where, expected", CASES,
+                         ids=[f"{'.'.join(map(str, c[0]))}={c[1]!r}"[:60] for c in CASES])
+def test_rule_and_message(path, value, where, expected):
+    data = edit(path, value)
+    with pytest.raises(ModelError) as info:
+        rdm.Model.from_dict(data, source="machine.toml")
+    error = info.value
+    message = str(error)
+    assert message.startswith("machine.toml: ")
+    assert where in message, message
+    assert expected in message, message
+    assert error.source == "machine.toml"
+    if value is not DEL and not isinstance(value, dict):
+        assert repr(value)[:20] in message or str(value)[:20] in message, message
+    assert isinstance(error, InputError)
+
+
+def test_rotor_that_nothing_fixes():
+    data = edit(("transmissions",), [])
+    with pytest.raises(ModelError) as info:
+        rdm.Model.from_dict(data, source="m.toml")
+    assert "[rotors.fan] speed_ratio" in str(info.value)
+    assert "neither speed_ratio nor a chain" in str(info.value)
+
+
+def test_two_routes_that_disagree():
+    data = edit(("rotors", 1, "speed_ratio"), 0.4)  # the gear gives -0.4
+    with pytest.raises(ModelError) as info:
+        rdm.Model.from_dict(data, source="m.toml")
+    message = str(info.value)
+    assert "fan" in message and "-0.4" in message and "0.4" in message
+    # two routes that agree are accepted
+    assert rdm.Model.from_dict(edit(("rotors", 1, "speed_ratio"), -0.4)).speed_ratios["fan"] == -0.4
+
+
+def test_a_cycle_of_transmissions_that_disagrees():
+    data = copy.deepcopy(BASE)
+    data["rotors"].append({"name": "pump", "mass": 3.0, "center_of_mass": [0, 0, 0], "polar_inertia": 0.01,
+                           "diametral_inertia": 0.01})
+    data["transmissions"] += [{"type": "belt", "driver": "motor", "driven": "pump", "ratio": 2.0},
+                              {"type": "belt", "driver": "pump", "driven": "fan", "ratio": 1.0}]
+    with pytest.raises(ModelError, match="speed ratio"):
+        rdm.Model.from_dict(data)
+    data["transmissions"][2]["type"] = "gear"
+    data["transmissions"][2]["ratio"] = 1.25  # motor -> pump 0.5 -> fan -0.4: consistent
+    assert rdm.Model.from_dict(data).speed_ratios["fan"] == pytest.approx(-0.4, rel=1e-12)
+
+
+def test_spin_axis_is_normalised_and_axes_orthonormalised():
+    data = edit(("spin_axis",), [3.0, 0.0, 4.0])
+    data["suspensions"][0]["axes"] = [[2.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 0.5]]
+    model = rdm.Model.from_dict(data)
+    np.testing.assert_allclose(model.spin_axis, [0.6, 0.0, 0.8], rtol=1e-15)
+    np.testing.assert_allclose(model.suspensions[0].axes, np.eye(3), atol=1e-15)
+
+
+def test_no_rotors_and_no_stator():
+    with pytest.raises(ModelError, match="at least one"):
+        rdm.Model.from_dict({"suspensions": []})
+
+
+def test_not_a_mapping():
+    with pytest.raises(ModelError):
+        rdm.Model.from_dict([1, 2, 3])
+
+
+# -- files ---------------------------------------------------------------------------------
+def test_file_that_is_not_toml(tmp_path):
+    path = tmp_path / "broken.toml"
+    path.write_text("[stator\nmass = 1\n")
+    with pytest.raises(ModelError) as info:
+        rdm.load_model(path)
+    assert str(path) in str(info.value) and "valid TOML" in str(info.value)
+
+
+def test_missing_file(tmp_path):
+    path = tmp_path / "nowhere.toml"
+    with pytest.raises(ModelError) as info:
+        rdm.load_model(path)
+    assert str(path) in str(info.value) and "no such file" in str(info.value)
+
+
+def test_a_folder_and_binary_file(tmp_path):
+    with pytest.raises(ModelError, match="folder"):
+        rdm.load_model(tmp_path)
+    binary = tmp_path / "x.toml"
+    binary.write_bytes(b"\xff\xfe\x00name")
+    with pytest.raises(ModelError, match="UTF-8"):
+        rdm.load_model(binary)
+
+
+def test_file_errors_name_the_file(tmp_path):
+    path = tmp_path / "fan.toml"
+    path.write_bytes(tomli_w.dumps(edit(("rotors", 1, "mass"), -3.0)).encode())
+    with pytest.raises(ModelError) as info:
+        rdm.load_model(path)
+    assert str(info.value) == f"{path}: [rotors.fan] mass = -3.0: expected a finite number > 0"
+
+
+def test_model_built_in_code_is_validated_too():
+    with pytest.raises(ModelError, match=r"\[rotors.r\] mass = -1.0"):
+        rdm.Model(rotors=[rdm.Rotor("r", -1.0, [0, 0, 0], 0.05, 0.04, speed_ratio=1.0)])

@@ -1,0 +1,360 @@
+"""Side-by-side with ROSS: a rigid rotor on two isotropic bearings, accuracy and Campbell speed.
+
+ROSS (https://ross.readthedocs.io/, ``pip install ross-rotordynamics``) is *not* a
+dependency of rotordyn_modal; this script runs in a separate venv where both import::
+
+    ~/.pyenv/versions/3.13.0/bin/python -m venv /tmp/ross-venv   # ROSS 3.x needs Python 3.13
+    /tmp/ross-venv/bin/pip install ross-rotordynamics
+    /tmp/ross-venv/bin/python benchmarks/bench_ross.py [--repeat 3] [--repeat-long 1] [--figure]
+
+rotordyn_modal is imported from this checkout (the repository root is put on ``sys.path``)
+unless it is already installed in that venv. Without ROSS the script says so and exits 0.
+
+The machine: a steel shaft (L = 0.5 m, d = 0.1 m, 2 Timoshenko elements in ROSS) carrying a
+disk at mid-span, on two isotropic bearings k = 1e6 N/m at its ends (axial positions +-a,
+a = L/2), spinning about its axis, no damping. rotordyn_modal models it as one rigid rotor
+(no ``[stator]``: a massless frame) whose mass, polar and diametral inertia are the totals
+of ROSS's disk + shaft, on two suspensions at +-a. The 4 lateral rigid-body modes have
+closed forms:
+
+* cylindrical (twice): w = sqrt(2 k / m)
+* conical: w = (Omega Jp +- sqrt((Omega Jp)^2 + 4 Jt kt)) / (2 Jt), kt = 2 a^2 k
+
+rotordyn_modal should equal them to rounding; ROSS (a flexible shaft) should approach them
+as the shaft's E (and G) grows, which the script shows for E x 1, 10, 100, 1000.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import os
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parent.parent
+
+# --------------------------------------------------------------------------- imports
+
+
+@contextlib.contextmanager
+def _quiet():
+    """Silence C-level and Python output (ROSS's ccp dependency prints REFPROP notices)."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = os.dup(1), os.dup(2)
+    with open(os.devnull, "w") as null:
+        os.dup2(null.fileno(), 1)
+        os.dup2(null.fileno(), 2)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                yield
+        finally:
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os.dup2(saved[0], 1)
+            os.dup2(saved[1], 2)
+            os.close(saved[0])
+            os.close(saved[1])
+
+
+try:
+    with _quiet():
+        import ross as rs
+except ImportError:
+    print(
+        "ross is not installed in this interpreter; nothing to compare. To run the comparison:\n"
+        "  ~/.pyenv/versions/3.13.0/bin/python -m venv /tmp/ross-venv\n"
+        "  /tmp/ross-venv/bin/pip install ross-rotordynamics\n"
+        f"  /tmp/ross-venv/bin/python {Path(__file__).resolve()}"
+    )
+    sys.exit(0)
+
+try:
+    import rotordyn_modal as rdm
+except ImportError:
+    sys.path.insert(0, str(REPO))
+    import rotordyn_modal as rdm
+
+# --------------------------------------------------------------------------- machine
+
+L = 0.5  # shaft length [m]; bearings at both ends
+D = 0.1  # shaft diameter [m]
+A = L / 2  # bearing half-span [m]
+K = 1.0e6  # bearing stiffness [N/m], each, isotropic
+DISK_M, DISK_ID, DISK_IP = 20.0, 0.2, 0.35  # [kg], [kg m^2]
+RHO, E, G = 7810.0, 211e9, 81.2e9  # steel
+N_EL = 2  # shaft elements (disk on the middle node)
+
+SPEEDS_RPM = (0.0, 1000.0, 3000.0, 6000.0, 10000.0)
+E_SCALES = (1.0, 10.0, 100.0, 1000.0)
+MODES = ("cyl", "con-bw", "con-fw")
+
+
+def ross_rotor(e_scale: float = 1.0, n_el: int = N_EL):
+    steel = rs.Material(name=f"steel_x{e_scale:g}", rho=RHO, E=E * e_scale, G_s=G * e_scale)
+    shaft = [rs.ShaftElement(L / n_el, idl=0.0, odl=D, material=steel) for _ in range(n_el)]
+    disk = rs.DiskElement(n=n_el // 2, m=DISK_M, Id=DISK_ID, Ip=DISK_IP)
+    bearings = [rs.BearingElement(n=0, kxx=K, cxx=0.0), rs.BearingElement(n=n_el, kxx=K, cxx=0.0)]
+    return rs.Rotor(shaft, [disk], bearings)
+
+
+def rigid_properties():
+    """Total mass, polar and diametral inertia of disk + shaft about the centre (analytic)."""
+    m_shaft = RHO * np.pi * D**2 / 4 * L
+    mass = DISK_M + m_shaft
+    jp = DISK_IP + m_shaft * D**2 / 8
+    jd = DISK_ID + m_shaft * (L**2 / 12 + D**2 / 16)
+    return mass, jp, jd
+
+
+def ross_rigid_projection(rotor):
+    """ROSS's own M and G projected on the 4 lateral rigid-body motions: (m, Jd, Jp)."""
+    n = rotor.number_dof  # 6 per node in ROSS 3: x, y, z, alpha, beta, theta
+    T = np.zeros((rotor.ndof, 4))
+    for i, z in enumerate(rotor.nodes_pos):
+        zc = float(z) - L / 2
+        T[n * i + 0, 0] = 1.0  # x translation
+        T[n * i + 1, 1] = 1.0  # y translation
+        T[n * i + 0, 2], T[n * i + 4, 2] = zc, 1.0  # tilt: x = zc beta
+        T[n * i + 1, 3], T[n * i + 3, 3] = -zc, 1.0  # tilt: y = -zc alpha
+    Mr = T.T @ rotor.M(0.0) @ T
+    Gr = T.T @ rotor.G() @ T
+    return Mr[0, 0], Mr[2, 2], abs(Gr[2, 3])
+
+
+def rdm_model(mass, jp, jd):
+    # axial and torsional directions: small stiffness (ROSS leaves them free); only the 4
+    # lateral modes are compared
+    stiff = [1e2, K, K, 1e-2, 0.0, 0.0]
+    return rdm.Model(
+        name="rigid rotor on two bearings (ROSS comparison)",
+        rotors=[rdm.Rotor("rotor", mass, [0.0, 0.0, 0.0], jp, jd, speed_ratio=1.0)],
+        suspensions=[
+            rdm.Suspension("brg-A", [-A, 0.0, 0.0], stiff),
+            rdm.Suspension("brg-B", [A, 0.0, 0.0], stiff),
+        ],
+    )
+
+
+def closed_form(speed, mass, jp, jd):
+    """(cylindrical, conical backward, conical forward) [rad/s] at spin speed [rad/s]."""
+    speed = np.asarray(speed, dtype=float)
+    kt = 2 * A**2 * K
+    root = np.sqrt((speed * jp) ** 2 + 4 * jd * kt)
+    cyl = np.sqrt(2 * K / mass) * np.ones_like(speed)
+    return cyl, (root - speed * jp) / (2 * jd), (root + speed * jp) / (2 * jd)
+
+
+# --------------------------------------------------------------------------- classification
+
+
+def rdm_lateral(result, mass, jd):
+    """Frequencies [rad/s] of rotordyn_modal's lateral modes: dict cyl (2), con-bw, con-fw."""
+    w = 2 * np.pi * np.asarray(result.frequencies_hz)
+    s = np.abs(np.asarray(result.shapes)) ** 2  # (modes, 6): ux uy uz thx thy thz
+    trans, rot = mass * (s[:, 1] + s[:, 2]), jd * (s[:, 4] + s[:, 5])
+    other = mass * s[:, 0] + jd * s[:, 3]
+    cyl = np.sort(w[(trans > rot) & (trans > other)])
+    con = np.sort(w[(rot > trans) & (rot > other)])
+    assert cyl.size == 2 and con.size == 2, (cyl, con)
+    return {"cyl": cyl, "con-bw": con[0], "con-fw": con[1]}
+
+
+def ross_lateral(modal, rotor):
+    """The 4 lowest ROSS modes, split into cylindrical / conical by the mid-span node."""
+    w = np.asarray(modal.wd)[:4]
+    c = (len(rotor.nodes_pos) // 2) * rotor.number_dof
+    v = np.abs(np.asarray(modal.evectors)[: rotor.ndof, :4]) ** 2
+    mass, jp, jd = rigid_properties()
+    trans, rot = mass * (v[c] + v[c + 1]), jd * (v[c + 3] + v[c + 4])
+    cyl, con = np.sort(w[trans > rot]), np.sort(w[rot > trans])
+    assert cyl.size == 2 and con.size == 2, (w, trans, rot)
+    return {"cyl": cyl, "con-bw": con[0], "con-fw": con[1]}
+
+
+def rel_errors(found, exact):
+    cyl, bw, fw = exact
+    return (
+        float(np.max(np.abs(found["cyl"] - cyl) / cyl)),
+        abs(found["con-bw"] - bw) / bw,
+        abs(found["con-fw"] - fw) / fw,
+    )
+
+
+# --------------------------------------------------------------------------- main
+
+
+def best_time(function, repeat):
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def lateral_campbell_rdm(camp, mass, jd):
+    """(N, 4) sorted lateral frequencies [rad/s] of an rdm Campbell result."""
+    out = []
+    for i in range(len(camp.speeds)):
+        w = 2 * np.pi * camp.frequencies_hz[i]
+        s = np.abs(camp.shapes[i]) ** 2
+        lateral = mass * (s[:, 1] + s[:, 2]) + jd * (s[:, 4] + s[:, 5])
+        other = mass * s[:, 0] + jd * s[:, 3]
+        out.append(np.sort(w[lateral > other]))
+    return np.array(out)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=3, help="best of N (ROSS 1001 speeds: --repeat-long)")
+    parser.add_argument("--repeat-long", type=int, default=1, help="best of N for ROSS at 1001 speeds")
+    parser.add_argument("--figure", action="store_true", help="write benchmarks/ross_comparison.png")
+    args = parser.parse_args()
+
+    import scipy
+
+    print(
+        f"ROSS {rs.__version__}, Python {sys.version.split()[0]}, numpy {np.__version__}, "
+        f"scipy {scipy.__version__}; rotordyn_modal from {Path(rdm.__file__).parent}"
+    )
+    mass, jp, jd = rigid_properties()
+    rotor1 = ross_rotor(1.0)
+    with _quiet():
+        start = time.perf_counter()
+        rotor1.run_modal(0.0)  # ROSS's first call compiles / caches (numba); timed apart
+        warm = time.perf_counter() - start
+    pm, pjd, pjp = ross_rigid_projection(rotor1)
+    print(
+        f"rigid properties: m = {mass:.6f} kg, Jp = {jp:.6f}, Jd = {jd:.6f} kg m^2 "
+        f"(ROSS M, G projected on rigid motions: rel. diff {abs(pm - mass) / mass:.1e}, "
+        f"{abs(pjp - jp) / jp:.1e}, {abs(pjd - jd) / jd:.1e})"
+    )
+    model = rdm_model(mass, jp, jd)
+
+    # ---- accuracy
+    speeds = np.array(SPEEDS_RPM) * np.pi / 30
+    print("\nclosed form [Hz] and rotordyn_modal's relative difference to it (rdm.modal)")
+    print(f"{'rpm':>7} | {'cyl':>9} {'con-bw':>9} {'con-fw':>9} | {'cyl':>8} {'con-bw':>8} {'con-fw':>8}")
+    rdm_worst = 0.0
+    for rpm, speed in zip(SPEEDS_RPM, speeds):
+        exact = closed_form(speed, mass, jp, jd)
+        err = rel_errors(rdm_lateral(rdm.modal(model, speed), mass, jd), exact)
+        rdm_worst = max(rdm_worst, *err)
+        hz = [float(x) / (2 * np.pi) for x in exact]
+        print(f"{rpm:7.0f} | {hz[0]:9.4f} {hz[1]:9.4f} {hz[2]:9.4f} | "
+              + " ".join(f"{e:8.1e}" for e in err))
+
+    print("\nROSS run_modal(speed, sparse=False): relative difference to the closed form")
+    print(f"{'E x':>6} {'1st bending Hz':>15} | " + " | ".join(f"{r:>5.0f} rpm: cyl  bw  fw".rjust(30) for r in SPEEDS_RPM[::2]))
+    ross_table = {}
+    for scale in E_SCALES:
+        rotor = ross_rotor(scale)
+        rows = []
+        for speed in speeds:
+            with _quiet():
+                modal = rotor.run_modal(speed, num_modes=12, sparse=False)
+            rows.append(rel_errors(ross_lateral(modal, rotor), closed_form(speed, mass, jp, jd)))
+            if speed == 0:
+                bending = float(np.asarray(modal.wd)[4]) / (2 * np.pi)
+        ross_table[scale] = np.array(rows)
+        cells = [" ".join(f"{e:8.1e}" for e in rows[i]) for i in range(0, len(speeds), 2)]
+        print(f"{scale:6g} {bending:15.1f} | " + " | ".join(c.rjust(30) for c in cells))
+    print("worst over the speeds " + ", ".join(f"{r:g}" for r in SPEEDS_RPM) + " rpm:")
+    for scale in E_SCALES:
+        worst = ross_table[scale].max(axis=0)
+        print(f"  ROSS E x {scale:<6g}: cyl {worst[0]:.2e}  con-bw {worst[1]:.2e}  con-fw {worst[2]:.2e}")
+    print(f"  rotordyn_modal : all modes {rdm_worst:.1e}")
+    ratios = [ross_table[a].max() / ross_table[b].max() for a, b in zip(E_SCALES, E_SCALES[1:])]
+    print("  ROSS worst-error ratio per x10 of E: " + ", ".join(f"{r:.1f}" for r in ratios))
+
+    # ---- whirl labels of the 4 lateral modes at 3000 rpm (cylindrical pair is degenerate)
+    speed = 3000 * np.pi / 30
+    res = rdm.modal(model, speed)
+    camp = rdm.campbell(model, np.array([0.0, speed]))
+    with _quiet():
+        ross_modal = rotor1.run_modal(speed, num_modes=12, sparse=False)
+    lateral = np.argsort(res.frequencies_hz)[-4:]
+    order_c = np.argsort(camp.frequencies_hz[1])[-4:]
+    print("\nwhirl of the 4 lateral modes at 3000 rpm (ascending frequency: cyl, cyl, con-bw, con-fw)")
+    print("  rdm.modal   : " + " ".join(f"{w}({r:+.2f})" for w, r in zip(res.whirl[lateral], res.whirl_ratios[lateral])))
+    print("  rdm.campbell: " + " ".join(f"{w}({r:+.2f})" for w, r in zip(camp.whirl[1, order_c], camp.whirl_ratios[1, order_c])))
+    print("  ROSS        : " + " ".join(str(w) for w in np.asarray(ross_modal.whirl_direction())[:4]))
+
+    # ---- speed: Campbell diagrams
+    print(f"\nCampbell diagram 0..10000 rpm, best of {args.repeat} (ROSS at 1001 speeds: best of {args.repeat_long})")
+    rdm.campbell(model, np.linspace(0, 100, 3))
+    print(f"(ROSS's first run_modal call, excluded: {warm:.1f} s; ROSS model: {N_EL} elements, "
+          f"{rotor1.ndof} DOF; rotordyn_modal: 6 DOF)")
+    figure_data = None
+    for n_speeds in (101, 1001):
+        grid = np.linspace(0.0, 10000.0, n_speeds) * np.pi / 30
+        rep = args.repeat if n_speeds <= 101 else args.repeat_long
+        # ROSS memoises run_modal per Rotor instance (methodtools lru_cache, 128 entries):
+        # each repetition gets a fresh, identical Rotor, built outside the timed part
+        t_ross = np.inf
+        for _ in range(rep):
+            rotor = ross_rotor(1.0)
+            start = time.perf_counter()
+            with _quiet():
+                ross_campbell = rotor.run_campbell(grid)
+            t_ross = min(t_ross, time.perf_counter() - start)
+        t_rdm = best_time(lambda: rdm.campbell(model, grid), max(args.repeat, 5))
+        camp = rdm.campbell(model, grid)
+        exact = np.sort(np.column_stack([closed_form(grid, mass, jp, jd)[i] for i in (0, 0, 1, 2)]), axis=1)
+        w_rdm = lateral_campbell_rdm(camp, mass, jd)
+        w_ross = np.sort(np.asarray(ross_campbell.wd), axis=1)[:, :4]
+        e_rdm = np.max(np.abs(w_rdm - exact) / exact)
+        e_ross = np.max(np.abs(w_ross - exact) / exact)
+        print(
+            f"{n_speeds:5d} speeds: ROSS run_campbell {t_ross * 1e3:9.1f} ms ({t_ross / n_speeds * 1e3:.1f} ms/speed)"
+            f" | rdm.campbell {t_rdm * 1e3:7.2f} ms | ROSS / rdm = {t_ross / t_rdm:7.0f}x"
+            f" | max rel. diff to closed form: ROSS {e_ross:.1e}, rdm {e_rdm:.1e}"
+        )
+        figure_data = (grid, exact, w_rdm, w_ross)
+
+    if args.figure:
+        write_figure(figure_data, ross_table, rdm_worst)
+
+
+def write_figure(data, ross_table, rdm_worst):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    grid, exact, w_rdm, w_ross = data
+    rpm = grid * 30 / np.pi
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9.0, 3.6))
+    step = max(1, len(rpm) // 40)
+    for j in range(4):
+        ax1.plot(rpm, exact[:, j] / (2 * np.pi), "k-", lw=1, label="closed form" if j == 0 else None)
+        ax1.plot(rpm[::step], w_rdm[::step, j] / (2 * np.pi), "o", ms=3, mfc="none", color="C0",
+                 label="rotordyn_modal" if j == 0 else None)
+        ax1.plot(rpm[step // 2::step], w_ross[step // 2::step, j] / (2 * np.pi), "x", ms=3, color="C3",
+                 label="ROSS (E x 1)" if j == 0 else None)
+    ax1.plot(rpm, grid / (2 * np.pi), "k:", lw=0.8, label="1X")
+    ax1.set(xlabel="speed [rpm]", ylabel="frequency [Hz]", title="Campbell: 4 lateral rigid-body modes",
+            ylim=(0, 1.1 * exact.max() / (2 * np.pi)))
+    ax1.legend(fontsize=7)
+    scales = np.array(E_SCALES)
+    for i, name in enumerate(("cylindrical", "conical backward", "conical forward")):
+        ax2.loglog(scales, [ross_table[s][:, i].max() for s in scales], "o-", ms=4, label=f"ROSS {name}")
+    ax2.axhline(max(rdm_worst, 1e-16), color="C0", ls="--", lw=1, label="rotordyn_modal (all modes)")
+    ax2.set(xlabel="shaft E, G scale factor", ylabel="max relative difference to closed form",
+            title="convergence to the rigid-rotor limit")
+    ax2.legend(fontsize=7)
+    fig.tight_layout()
+    out = REPO / "benchmarks" / "ross_comparison.png"
+    fig.savefig(out, dpi=90)
+    print(f"figure: {out} ({out.stat().st_size / 1024:.0f} kB)")
+
+
+if __name__ == "__main__":
+    main()

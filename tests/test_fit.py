@@ -103,3 +103,24 @@ def test_errors(measured_file, kwargs, message):
     with pytest.raises(InputError) as info:
         fit(model, read_measured(measured_file, model), **kwargs)
     assert message in str(info.value)
+
+
+def test_reported_uncertainty_matches_monte_carlo_scatter():
+    """20 noisy data sets (2 % relative + a noise floor of 0.3 % of the largest FRF): the scatter of
+    the fitted log factors equals the mean reported standard uncertainty within the sampling error
+    of a standard deviation from 20 samples (1/sqrt(2 * 19) = 16 %; 3 of those allowed)."""
+    model = rdm.load_model(EXAMPLE)
+    clean = [rdm.frf(model, s, np.linspace(3.0, 40.0, 150), quantity="accelerance") for s in (0.0, rdm.rpm(2400))]
+    fitted, reported = [], []
+    for seed in range(20):
+        rng = np.random.default_rng(seed)
+        noisy = []
+        for c in clean:
+            def noise():
+                return (rng.normal(size=c.H.shape) + 1j * rng.normal(size=c.H.shape)) / np.sqrt(2)
+            noisy.append(FRFResult(**{**c.__dict__, "H": c.H * (1 + 0.02 * noise()) + 0.003 * np.abs(c.H).max() * noise()}))
+        result = fit(model, noisy, KEYS, starts=1)
+        fitted.append(np.log(result.factors))
+        reported.append(result.std_relative)
+    ratio = np.std(fitted, axis=0, ddof=1) / np.mean(reported, axis=0)
+    assert np.all((ratio > 0.52) & (ratio < 1.48)), ratio

@@ -45,6 +45,12 @@ def phase_reference(spin_axis) -> tuple[np.ndarray, np.ndarray]:
     Returns
     -------
     a, b : ndarray, shape (3,) each, unit
+
+    Examples
+    --------
+    >>> a, b = phase_reference([1.0, 0.0, 0.0])   # spin about x: phase 0 along z, 90 deg along -y
+    >>> a.tolist(), (b + 0.0).tolist()
+    ([0.0, 0.0, 1.0], [0.0, -1.0, 0.0])
     """
     e = np.asarray(spin_axis, dtype=float)
     e = e / np.linalg.norm(e)

@@ -192,7 +192,7 @@ def _reference_rotor(top: _Table, rotor_tables: Mapping[str, _Table]) -> str | N
             return next(iter(rotor_tables))
         raise top.error("reference_rotor", "<missing>", "the name of one of the rotors "
                         + ", ".join(rotor_tables) + " (required with several rotors)")
-    name = top.data["reference_rotor"]
+    name = top.text("reference_rotor")
     if name not in rotor_tables:
         raise top.error("reference_rotor", name, "the name of one of the rotors " + ", ".join(rotor_tables))
     return name

@@ -92,6 +92,8 @@ CASES = [
     (("suspensions", 0, "axes"), [1.0, 0.0, 0.0], "[suspensions.mount-FL] axes", "3x3"),
     (("reference_rotor",), "pump", "reference_rotor", "one of the rotors motor, fan"),
     (("reference_rotor",), DEL, "reference_rotor", "required with several rotors"),
+    (("reference_rotor",), ["motor"], "reference_rotor", "a non-empty string"),
+    (("reference_rotor",), {"a": 1}, "reference_rotor", "a non-empty string"),
     (("transmissions", 0, "driver"), "pump", "[transmissions[0]] driver", "one of the rotors motor, fan"),
     (("transmissions", 0, "driven"), "pump", "[transmissions[0]] driven", "one of the rotors motor, fan"),
     (("transmissions", 0, "driven"), "motor", "[transmissions[0]] driven", "other than the driver"),

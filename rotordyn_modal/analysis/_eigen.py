@@ -134,13 +134,16 @@ def _solve(matrices, rhs):
         return out
 
 
-def solve_batch(form, speeds):
+def solve_batch(form, speeds, forms=None):
     """Upper eigenvalues and their mode shapes at many speeds.
 
     Parameters
     ----------
     form : SpeedLinearForm
     speeds : ndarray, shape (N,) [rad/s]
+    forms : WhirlForms, optional
+        When given, the shapes of repeated eigenvalues are made the circular
+        (extreme-whirl) combinations; see :func:`resolve_repeated`.
 
     Returns
     -------
@@ -152,7 +155,63 @@ def solve_batch(form, speeds):
     M, C, G, K = form.matrices
     damping = C + speeds[:, None, None] * G
     shapes = mode_shapes(M, damping, K, eigenvalues)
+    if forms is not None:
+        shapes = resolve_repeated(eigenvalues, shapes, forms)
     return eigenvalues, shapes
+
+
+#: eigenvalues closer than this (relative) are one repeated eigenvalue
+REPEATED_TOLERANCE = 1e-9
+
+
+def resolve_repeated(eigenvalues, shapes, forms):
+    """Make the shapes of a repeated eigenvalue its forward and backward whirl combinations.
+
+    Any combination of the shapes of a double eigenvalue is a mode shape, so the
+    solver's choice (and with it the whirl label) would be arbitrary. Within each
+    pair this picks the two combinations with extreme whirl ratio: the
+    eigenvectors of ``-i Phi^H W Phi v = mu Phi^H M Phi v`` (circular orbits, one
+    turning each way, for an axisymmetric machine). Pairs whose motion has no
+    whirl keep their shapes. Groups of three or more are left as they are.
+
+    Parameters
+    ----------
+    eigenvalues : ndarray, shape (N, m), sorted so that equal values are adjacent
+    shapes : ndarray, shape (N, m, n)
+    forms : WhirlForms
+
+    Returns
+    -------
+    ndarray, shape (N, m, n): shapes, with repeated pairs replaced (backward first)
+    """
+    lam = eigenvalues
+    scale = np.abs(lam).max(axis=-1, keepdims=True) + 1e-300
+    close = np.abs(np.diff(lam, axis=-1)) <= REPEATED_TOLERANCE * scale  # (N, m-1)
+    padded = np.pad(close, ((0, 0), (1, 1)))
+    pair = close & ~padded[:, :-2] & ~padded[:, 2:]  # exactly two equal, not three
+    pair &= np.abs(lam[:, :-1]) > OSCILLATORY_TOLERANCE * scale  # not rigid-body zeros
+    rows, first = np.nonzero(pair)
+    basis = np.stack([shapes[rows, first], shapes[rows, first + 1]], axis=-1)  # (P, n, 2)
+    total = np.einsum("pia,ij,pjb->pab", basis.conj(), forms.total, basis)
+    # the two shapes must span a plane (two inverse iterations could give one direction)
+    spans = np.abs(np.linalg.det(total)) > 1e-6 * np.abs(total[:, 0, 0] * total[:, 1, 1])
+    rows, first, basis, total = rows[spans], first[spans], basis[spans], total[spans]
+    if not rows.size:
+        return shapes
+    momentum = -1j * np.einsum("pia,ij,pjb->pab", basis.conj(), forms.W, basis)
+    momentum = 0.5 * (momentum + np.conj(np.swapaxes(momentum, -1, -2)))
+    factor = np.linalg.cholesky(0.5 * (total + np.conj(np.swapaxes(total, -1, -2))))
+    inverse = np.linalg.inv(factor)
+    reduced = inverse @ momentum @ np.conj(np.swapaxes(inverse, -1, -2))
+    mu, vectors = np.linalg.eigh(reduced)
+    combinations = np.conj(np.swapaxes(inverse, -1, -2)) @ vectors  # (P, 2, 2)
+    resolved = basis @ combinations  # (P, n, 2)
+    whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
+    resolved /= np.linalg.norm(resolved, axis=1, keepdims=True)
+    out = shapes.copy()
+    out[rows[whirling], first[whirling]] = resolved[whirling, :, 0]
+    out[rows[whirling], first[whirling] + 1] = resolved[whirling, :, 1]
+    return out
 
 
 # ----------------------------------------------------------------------------------------

@@ -159,7 +159,7 @@ class CampbellResult:
 
 
 # ----------------------------------------------------------------------------------------
-def solve_sweep(model, speeds, progress=False, form=None):
+def solve_sweep(model, speeds, progress=False, form=None, forms=None):
     """Eigenvalues and unit mass-weighted shapes at every speed, tracked.
 
     Parameters
@@ -176,11 +176,12 @@ def solve_sweep(model, speeds, progress=False, form=None):
     weighted : ndarray, shape (N, n, 6), complex, unit mass-weighted
     """
     form = form or speed_linear_form(model)
+    forms = forms if forms is not None else _eigen.whirl_forms(model)
     speeds = np.asarray(speeds, dtype=float)
     chunks = [speeds[i:i + _CHUNK] for i in range(0, len(speeds), _CHUNK)]
     values, shapes = [], []
     for chunk in _progress(chunks, progress, "eigen-solve"):
-        lam, phi = _eigen.solve_batch(form, chunk)
+        lam, phi = _eigen.solve_batch(form, chunk, forms)
         values.append(lam)
         shapes.append(phi)
     values = np.concatenate(values)
@@ -227,8 +228,8 @@ def campbell(model, speeds, orders=(1,), progress=False) -> CampbellResult:
     """
     speeds = _check_speeds(speeds)
     form = speed_linear_form(model)
-    values, shapes, weighted = solve_sweep(model, speeds, progress, form)
     forms = _eigen.whirl_forms(model)
+    values, shapes, weighted = solve_sweep(model, speeds, progress, form, forms)
     ratios = _eigen.whirl_ratios(shapes, forms, speeds)
     freq, zeta, log_dec = modal_quantities(values)
     sources = excitation_sources(model)
@@ -322,7 +323,7 @@ def _refine_crossing(form, whirl_forms, speeds, values, weighted, mode, k, slope
         return mode_at(speed)[0]
 
     def mode_at(speed):
-        lam, phi = _eigen.solve_batch(form, np.array([speed]))
+        lam, phi = _eigen.solve_batch(form, np.array([speed]), whirl_forms)
         psi = _eigen.mass_normalized(phi, M)
         t = (speed - a) / (b - a)
         expected = (1 - t) * values[k, mode] + t * values[k + 1, mode]

@@ -131,10 +131,10 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     # the LAPACK vectors of the chosen eigenvalues (nearest match; values are identical)
     index = [int(np.argmin(np.abs(values - lam))) for lam in upper]
     index = _unique_indices(index, values, upper)
-    shapes = vectors[:n, index].T
-    M = form.matrices.M
-    shapes = _normalise(shapes, M)
-    ratios = _eigen.whirl_ratios(shapes[None], _eigen.whirl_forms(model), np.array([speed]))[0]
+    forms = _eigen.whirl_forms(model)
+    shapes = _eigen.resolve_repeated(upper[None], vectors[:n, index].T[None], forms)[0]
+    shapes = _normalise(shapes, form.matrices.M)
+    ratios = _eigen.whirl_ratios(shapes[None], forms, np.array([speed]))[0]
     freq, zeta, log_dec = modal_quantities(upper)
     oscillatory = upper.imag > 0
     return ModalResult(

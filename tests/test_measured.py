@@ -40,6 +40,7 @@ def test_round_trip(tmp_path, model, suffix, binary):
         write_csv(sets, path)
     else:
         write_uff58(sets, path, default_mapping(model), binary=binary)
+        assert (path.read_bytes()[:200].lower().count(b"58b") == 1) == bool(binary)
     back = read_measured(path, model)
     assert [b.speed for b in back] == pytest.approx([s.speed for s in sets])
     for b, s in zip(back, sets):
@@ -165,3 +166,16 @@ def test_writes_never_over_an_input(tmp_path, model):
     with pytest.raises(InputError, match="refusing to write over the input file"):
         write_uff58(_sets(model), path, default_mapping(model), inputs=[path])
     assert path.read_text() == "keep"
+
+
+def test_frequencies_that_ascii_would_round_go_binary(tmp_path, model):
+    """E13.5 keeps 6 digits: 37/199 Hz steps would move by up to 5e-5 Hz in ASCII."""
+    res = rdm.frf(model, rdm.rpm(2400), np.linspace(3.0, 40.0, 200))
+    auto, ascii_ = tmp_path / "auto.uff", tmp_path / "ascii.uff"
+    write_uff58([res], auto, default_mapping(model))
+    back, = read_measured(auto, model)
+    np.testing.assert_array_equal(back.frequencies_hz, res.frequencies_hz)
+    with pytest.warns(UserWarning, match="keeps frequencies and speeds to 6 significant digits only"):
+        write_uff58([res], ascii_, default_mapping(model), binary=False)
+    rounded, = read_measured(ascii_, model)
+    assert 0 < np.abs(rounded.frequencies_hz - res.frequencies_hz).max() <= 5e-6 * 40

@@ -10,7 +10,8 @@ from ..analysis.fit import fit
 from ..errors import InputError
 from ..io import save_model
 from ..io.measured import read_measured
-from ._common import add_model_argument, check_outputs, load_model, parse_list, show_progress
+from ._common import (add_model_argument, check_output_options, check_outputs, load_model, parse_list,
+                      save_figure, show_progress, use_agg)
 
 NAME = "fit"
 HELP = "identify model parameters (mount stiffness, damping, ...) from measured FRFs"
@@ -38,11 +39,14 @@ def add_arguments(parser):
     parser.add_argument("--bound-factor", default="100", help="each parameter within start/F .. start*F (default 100)")
     parser.add_argument("--starts", type=int, default=3, help="starting points (default 3)")
     parser.add_argument("--no-coherence", action="store_true", help="do not weight by coherence")
+    parser.add_argument("--plot", metavar="FILE.png|FILE.svg|FILE.pdf",
+                        help="overlay of the fitted model on the measurement at every speed")
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no table on the terminal")
 
 
 def run(args) -> int:
     check_outputs(args, args.out)
+    check_output_options(args)
     model = load_model(args.model)
     params = [p.strip() for p in args.params.split(",") if p.strip()]
     band = tuple(parse_list(args.band.replace(":", ","), "--band")) if args.band else None
@@ -56,10 +60,15 @@ def run(args) -> int:
                  weighting="none" if args.no_coherence else "coherence", starts=args.starts,
                  progress=show_progress(args))
     _report(result)
+    fitted = result.fitted_model(model)
+    if not args.quiet:
+        _print_frac(model, fitted, measured)
+    if args.plot:
+        _overlay(fitted, measured, args)
     if not result.converged:
         print(f"rotordyn-modal fit: not converged: {result.message}", file=sys.stderr)
         return 1
-    save_model(result.fitted_model(model), args.out, inputs=[args.model, args.measured])
+    save_model(fitted, args.out, inputs=[args.model, args.measured])
     print(f"fitted model written to {args.out}", file=sys.stderr)
     return 0
 
@@ -75,3 +84,26 @@ def _report(result):
               .to_string(float_format=lambda v: f"{v:+.3f}"))
     print(f"\nRMS relative residual {result.cost:.4g} over {result.n_points} frequency lines; "
           f"from each start: {', '.join(f'{c:.3g}' for c in result.start_costs)}")
+
+
+def _model_sets(model, measured):
+    from ..analysis.frf import frf
+
+    return [frf(model, m.speed, m.frequencies_hz, list(m.inputs), list(m.outputs), m.quantity) for m in measured]
+
+
+def _print_frac(start, fitted, measured):
+    from ..analysis.correlation import frac
+
+    for m, a, b in zip(measured, _model_sets(start, measured), _model_sets(fitted, measured)):
+        keep = np.all(np.isfinite(m.H), axis=-1)
+        print(f"FRAC at {m.speed * 30 / np.pi:g} rpm: start {np.round(frac(a.H[keep], m.H[keep]), 3)}, "
+              f"fitted {np.round(frac(b.H[keep], m.H[keep]), 3)}")
+
+
+def _overlay(fitted, measured, args):
+    from ..plotting.frf import plot_overlay
+
+    use_agg()
+    save_figure(plot_overlay(_model_sets(fitted, measured), measured,
+                             title="Fitted model (lines) over the measurement (dots)"), args)

@@ -17,7 +17,7 @@ branches a direct solve at every frequency. --forces suspensions gives the force
 suspension passes to the ground per unit input (transmissibility), --forces bearings the
 force each rotor passes to the stator (seed 000 eq. 73/74). --measured FILE (UFF 58/58b
 .uff/.unv, or CSV) draws the measurement of the same speed under the model in --plot.
---out FILE.uff (or .unv) writes UFF 58 instead of CSV (nodes from --mapping, or the default
+--out FILE.uff (or .unv) writes UFF 58 (58b when ASCII would round the frequencies) instead of CSV (nodes from --mapping, or the default
 mapping: sensor k is node k, excitation k is node 100 + k).
 
 CSV columns: frequency_hz,output,input,real,imag,magnitude,phase_deg

@@ -30,8 +30,12 @@ _FREQUENCY = 18
 _FRF, _COHERENCE = 4, 6
 
 
-def write_uff58(results, path, mapping, binary: bool = False, inputs=()) -> None:
+def write_uff58(results, path, mapping, binary: bool | None = None, inputs=()) -> None:
     """Write FRF sets (one per speed) as UFF 58 (ASCII) or 58b (binary), atomically.
+
+    ASCII dataset 58 holds the values to 12 significant digits but an uneven abscissa
+    (and the speed) only to 6 (format E13.5); with ``binary=None`` the file is ASCII when
+    every frequency line survives that, else 58b (doubles throughout).
 
     Parameters
     ----------
@@ -39,8 +43,8 @@ def write_uff58(results, path, mapping, binary: bool = False, inputs=()) -> None
     path : str or path-like
     mapping : ChannelMap
         Node and direction of every sensor and excitation.
-    binary : bool
-        58b when True.
+    binary : bool or None
+        58b when True, ASCII 58 when False (a warning if frequencies lose digits), automatic when None.
     inputs : iterable of path-like
         Files that must not be overwritten.
     """
@@ -49,6 +53,15 @@ def write_uff58(results, path, mapping, binary: bool = False, inputs=()) -> None
     from .atomic import atomic_write, check_not_input
 
     check_not_input(path, inputs)
+    lossless = all(_survives_ascii(res.frequencies_hz) and _survives_ascii([res.speed * 30 / np.pi])
+                   for res in results)
+    if binary is None:
+        binary = not lossless
+    elif not binary and not lossless:
+        import warnings
+
+        warnings.warn(f"{path}: ASCII UFF 58 keeps frequencies and speeds to 6 significant digits only; "
+                      "binary=True (58b) keeps them exactly", stacklevel=2)
     sets = [d for res in results for d in _datasets(res, mapping, binary)]
     with atomic_write(path, None) as temporary:
         pyuff.UFF(temporary).write_sets(sets, mode="add")
@@ -75,6 +88,11 @@ def _datasets(res, mapping, binary):
                 yield pyuff.prepare_58(func_type=_COHERENCE, ordinate_spec_data_type=0,
                                        orddenom_spec_data_type=0,
                                        data=np.asarray(res.coherence[a, b], float), **common)
+
+
+def _survives_ascii(values) -> bool:
+    values = np.asarray(values, dtype=float)
+    return bool(np.all(np.array([float(f"{v:13.5e}") for v in values]) == values))
 
 
 def _label(quantity):

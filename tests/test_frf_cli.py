@@ -99,7 +99,8 @@ def test_fit_writes_the_model_and_never_over_the_input(tmp_path, capsys):
     meas = _measured(tmp_path)
     out = tmp_path / "fitted.toml"
     assert main(["fit", str(start_path), "--measured", str(meas), "--params", "suspensions.mount-FL.stiffness",
-                 "--out", str(out), "--quiet"]) == 0
+                 "--out", str(out), "--plot", str(tmp_path / "fit.png")]) == 0
+    assert (tmp_path / "fit.png").stat().st_size > 0
     fitted = rdm.load_model(out)
     np.testing.assert_allclose(fitted.get("suspensions.mount-FL.stiffness"),
                                true.get("suspensions.mount-FL.stiffness"), rtol=1e-6)

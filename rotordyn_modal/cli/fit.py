@@ -59,9 +59,9 @@ def run(args) -> int:
     result = fit(model, measured, params, bounds={p: (1 / factor, factor) for p in params}, band_hz=band,
                  weighting="none" if args.no_coherence else "coherence", starts=args.starts,
                  progress=show_progress(args))
-    _report(result)
     fitted = result.fitted_model(model)
     if not args.quiet:
+        _report(result)
         _print_frac(model, fitted, measured)
     if args.plot:
         _overlay(fitted, measured, args)
@@ -69,7 +69,8 @@ def run(args) -> int:
         print(f"rotordyn-modal fit: not converged: {result.message}", file=sys.stderr)
         return 1
     save_model(fitted, args.out, inputs=[args.model, args.measured])
-    print(f"fitted model written to {args.out}", file=sys.stderr)
+    if not args.quiet:
+        print(f"fitted model written to {args.out}", file=sys.stderr)
     return 0
 
 

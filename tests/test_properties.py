@@ -1,0 +1,165 @@
+"""Hypothesis property tests over random valid (and invalid) model descriptions."""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+
+import rotordyn_modal as rdm
+from reference_model import ReferenceMachine, translated
+
+SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+finite = dict(allow_nan=False, allow_infinity=False)
+
+
+@st.composite
+def rotations(draw):
+    q = np.array(draw(st.lists(st.floats(-1, 1, **finite), min_size=4, max_size=4)))
+    assume(np.linalg.norm(q) > 0.1)
+    w, x, y, z = q / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def vectors(low=-0.5, high=0.5):
+    return st.lists(st.floats(low, high, **finite), min_size=3, max_size=3)
+
+
+@st.composite
+def inertia_tensors(draw):
+    a = draw(st.floats(0.5, 10.0))
+    b = draw(st.floats(0.5, 10.0))
+    c = draw(st.floats(abs(a - b) * 1.01 + 0.01, (a + b) * 0.99))
+    R = draw(rotations())
+    return (R @ np.diag([a, b, c]) @ R.T).tolist()
+
+
+@st.composite
+def descriptions(draw, damping=True):
+    spin = np.array(draw(vectors(-1, 1)))
+    assume(np.linalg.norm(spin) > 0.2)
+    n_rotors = draw(st.integers(1, 3))
+    rotors, transmissions = [], []
+    for j in range(n_rotors):
+        jd = draw(st.floats(0.01, 0.5))
+        rotor = {"name": f"r{j}", "mass": draw(st.floats(0.5, 50.0)), "center_of_mass": draw(vectors()),
+                 "polar_inertia": jd * draw(st.floats(0.05, 2.0)), "diametral_inertia": jd}
+        if j == 0 or draw(st.booleans()):
+            rotor["speed_ratio"] = 1.0 if j == 0 else draw(st.floats(-4, 4, **finite))
+        else:
+            transmissions.append({"type": draw(st.sampled_from(["gear", "belt"])), "driver": f"r{j - 1}",
+                                  "driven": f"r{j}", "ratio": draw(st.floats(0.2, 5.0))})
+        rotors.append(rotor)
+    suspensions = []
+    for i, corner in enumerate([(1, 1, -1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)]):
+        s = {"name": f"s{i}",
+             "position": (0.4 * np.array(corner) + np.array(draw(vectors(-0.1, 0.1)))).tolist(),
+             "stiffness": draw(st.lists(st.floats(1e4, 1e6), min_size=3, max_size=3)),
+             "axes": draw(rotations()).tolist()}
+        if damping:
+            s["damping"] = draw(st.lists(st.floats(0.0, 500.0), min_size=3, max_size=3))
+        suspensions.append(s)
+    return {"name": "hypothesis", "spin_axis": spin.tolist(), "reference_rotor": "r0",
+            "stator": {"mass": draw(st.floats(5.0, 500.0)), "center_of_mass": draw(vectors()),
+                       "inertia": draw(inertia_tensors())},
+            "rotors": rotors, "transmissions": transmissions, "suspensions": suspensions}
+
+
+speeds = st.floats(-3000.0, 3000.0, **finite)
+
+
+@SETTINGS
+@given(descriptions())
+def test_matrix_structure_and_reference(data):
+    model = rdm.Model.from_dict(data)
+    M, C, G, K = model.matrices()
+    assert np.allclose(M, M.T, rtol=0, atol=0) and np.linalg.eigvalsh(M).min() > 0
+    assert np.array_equal(G, -G.T)
+    assert np.allclose(K, K.T, rtol=0, atol=1e-10 * np.abs(K).max())
+    ref = ReferenceMachine(data)
+    T = np.eye(6)
+    T[:3, 3:] = -rdm.skew(model.reference_point)
+    for mine, theirs in ((M, ref.M), (C, ref.C), (G, ref.G), (K, ref.K)):
+        assert np.allclose(T.T @ mine @ T, theirs, rtol=0, atol=1e-12 * max(np.abs(theirs).max(), 1e-300))
+
+
+@SETTINGS
+@given(descriptions(damping=False), speeds)
+def test_undamped_eigenvalues_purely_imaginary(data, speed):
+    lam = rdm.modal(rdm.Model.from_dict(data), speed).eigenvalues
+    assert np.all(np.abs(lam.real) <= 1e-9 * np.abs(lam).max())
+
+
+@SETTINGS
+@given(descriptions(), speeds, vectors(-10, 10))
+def test_origin_shift_and_reversed_speed(data, speed, shift):
+    model = rdm.Model.from_dict(data)
+    base = rdm.modal(model, speed).eigenvalues
+    moved = rdm.modal(rdm.Model.from_dict(translated(data, shift)), speed).eigenvalues
+    np.testing.assert_allclose(moved, base, rtol=1e-8, atol=1e-10 * np.abs(base).max())
+    reversed_ = rdm.modal(model, -speed).eigenvalues  # K, C symmetric: same spectrum
+    np.testing.assert_allclose(reversed_, base, rtol=1e-8, atol=1e-10 * np.abs(base).max())
+
+
+@SETTINGS
+@given(descriptions(), speeds)
+def test_state_space_equals_modal(data, speed):
+    model = rdm.Model.from_dict(data)
+    poles = np.sort_complex(model.state_space(speed).poles())
+    lam = rdm.modal(model, speed).eigenvalues
+    expected = np.sort_complex(np.concatenate([lam, lam.conj()]))
+    np.testing.assert_allclose(poles, expected, rtol=1e-8, atol=1e-10 * np.abs(expected).max())
+
+
+@settings(max_examples=15, deadline=None)
+@given(data=descriptions())
+def test_save_load_round_trip(tmp_path_factory, data):
+    model = rdm.Model.from_dict(data)
+    path = tmp_path_factory.mktemp("rt") / "model.toml"
+    rdm.save_model(model, path)
+    again = rdm.load_model(path)
+    assert again.to_dict() == {k: v for k, v in model.to_dict().items() if v not in ([], None, "")}
+    for a, b in zip(model.matrices(), again.matrices()):
+        np.testing.assert_array_equal(a, b)
+    assert again.speed_ratios == model.speed_ratios
+
+
+JUNK = st.one_of(st.none(), st.booleans(), st.integers(-10, 10), st.floats(), st.text(max_size=5),
+                 st.lists(st.floats(), max_size=4), st.lists(st.lists(st.floats(), max_size=3), max_size=3),
+                 st.dictionaries(st.text(max_size=3), st.integers(), max_size=2))
+
+
+@settings(max_examples=150, deadline=None)
+@given(descriptions(), st.data())
+def test_invalid_input_raises_only_model_error(data, draw):
+    broken = copy.deepcopy(data)
+    # walk to a random table and replace (or add) a random key with junk
+    table = draw.draw(st.sampled_from(["top", "stator", "rotors", "transmissions", "suspensions"]))
+    if table == "top":
+        target = broken
+    elif table == "stator":
+        target = broken["stator"]
+    else:
+        assume(broken[table])
+        target = broken[table][draw.draw(st.integers(0, len(broken[table]) - 1))]
+    key = draw.draw(st.sampled_from(sorted(target) + ["unknown"]))
+    target[key] = draw.draw(JUNK)
+    try:
+        rdm.Model.from_dict(broken)
+    except rdm.ModelError:
+        pass
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.recursive(JUNK, lambda inner: st.dictionaries(
+    st.sampled_from(["stator", "rotors", "mass", "inertia", "name", "spin_axis", "suspensions"]),
+    st.one_of(inner, st.lists(inner, max_size=2)), max_size=4), max_leaves=12))
+def test_arbitrary_structures_raise_only_model_error(structure):
+    try:
+        rdm.Model.from_dict(structure)
+    except rdm.ModelError:
+        pass

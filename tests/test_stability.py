@@ -1,0 +1,120 @@
+"""Stability over speed and stability maps, against the independent reference.
+
+(The closed-form threshold of the shipped cross-coupled example is tested in
+tests/test_unstable_example.py.)
+"""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+import rotordyn_modal as rdm
+from reference_model import ReferenceMachine, random_description
+
+
+def largest_real_part(ref, speed):
+    return ref.eig(speed)[0].real.max()
+
+
+def reference_thresholds(data, speeds):
+    """Roots of the reference's largest real part between grid points where it changes sign."""
+    ref = ReferenceMachine(data)
+    values = np.array([largest_real_part(ref, s) for s in speeds])
+    roots = []
+    for k in np.nonzero(np.sign(values[:-1]) != np.sign(values[1:]))[0]:
+        roots.append(brentq(lambda s: largest_real_part(ref, s), speeds[k], speeds[k + 1], xtol=1e-12, rtol=1e-14))
+    return np.array(roots)
+
+
+@pytest.fixture
+def skewed_unstable(examples_dir):
+    """The cross-coupled example made generic: rotor off the axis and off the centre of mass,
+    a non-principal stator tensor, supports moved: no closed form, only the reference."""
+    with open(examples_dir / "unstable_cross_coupled.toml", "rb") as handle:
+        data = tomllib.load(handle)
+    data = copy.deepcopy(data)
+    data["stator"]["inertia"] = [[0.8, 0.05, 0.02], [0.05, 1.5, 0.1], [0.02, 0.1, 1.4]]
+    data["rotors"][0]["center_of_mass"] = [0.03, 0.02, -0.01]
+    data["suspensions"][0]["position"] = [0.22, 0.01, 0.0]
+    return data
+
+
+def test_threshold_speeds_equal_the_reference_roots(skewed_unstable):
+    speeds = np.linspace(-2500.0, 2500.0, 101)
+    result = rdm.stability(rdm.Model.from_dict(skewed_unstable), speeds)
+    expected = reference_thresholds(skewed_unstable, speeds)
+    assert len(expected) >= 1
+    np.testing.assert_allclose(np.sort(result.thresholds), np.sort(expected), rtol=1e-9)
+    onset = result.threshold_speed
+    assert onset == pytest.approx(expected[expected >= 0].min(), rel=1e-9)
+    ref = ReferenceMachine(skewed_unstable)
+    assert largest_real_part(ref, 0.999 * onset) < 0 < largest_real_part(ref, 1.001 * onset)
+    expected_stable = [largest_real_part(ref, s) < 0 for s in speeds]
+    assert list(result.stable) == expected_stable
+
+
+def test_map_thresholds_equal_the_reference(skewed_unstable):
+    model = rdm.Model.from_dict(skewed_unstable)
+    speeds = np.linspace(0.0, 3000.0, 61)
+    factors = np.array([0.7, 1.0, 1.5])
+    result = rdm.stability_map(model, speeds, "suspensions.bearing-A.damping", scale=factors)
+    for factor, found in zip(factors, result.threshold_speeds):
+        data = copy.deepcopy(skewed_unstable)
+        data["suspensions"][0]["damping"] = (np.array(data["suspensions"][0]["damping"]) * factor).tolist()
+        roots = reference_thresholds(data, speeds)
+        assert found == pytest.approx(roots.min(), rel=1e-9)
+    table = result.to_dataframe()
+    assert list(table.columns[:6]) == ["speed_rpm", "value", "mode", "real_part", "damping_ratio",
+                                       "log_decrement"]
+    assert sorted(set(table.value)) == list(factors)
+    assert result.max_real_parts.shape == (3, 61)
+
+
+def test_damped_gyroscopic_machine_with_symmetric_supports_is_stable(examples_dir):
+    """Symmetric K > 0, C > 0: stable at every speed (Thomson-Tait-Chetaev); no thresholds;
+    real parts equal the reference's."""
+    path = examples_dir / "gear_machine.toml"
+    model = rdm.load_model(path)
+    assert np.linalg.eigvalsh(model.matrices().C).min() > 0
+    speeds = rdm.rpm(np.linspace(-12000, 12000, 49))
+    result = rdm.stability(model, speeds)
+    assert result.stable.all() and len(result.thresholds) == 0 and np.isnan(result.threshold_speed)
+    with open(path, "rb") as handle:
+        ref = ReferenceMachine(tomllib.load(handle))
+    for k in (0, 20, 48):
+        expected = np.sort(ref.modes(speeds[k])[0].real)
+        np.testing.assert_allclose(np.sort(result.real_parts[k]), expected, rtol=1e-8)
+    lam = result.eigenvalues
+    np.testing.assert_allclose(result.damping_ratios, -lam.real / np.abs(lam), rtol=1e-12)
+    np.testing.assert_allclose(result.log_decrements, -2 * np.pi * lam.real / lam.imag, rtol=1e-12)
+
+
+def test_undamped_machine_is_marginal_without_spurious_thresholds():
+    data = random_description(np.random.default_rng(4), n_rotors=2, damping=False)
+    result = rdm.stability(rdm.Model.from_dict(data), np.linspace(-3000.0, 3000.0, 61))
+    assert len(result.thresholds) == 0
+    assert np.all(np.abs(result.real_parts) <= 1e-9 * np.abs(result.eigenvalues).max())
+
+
+def test_unsupported_direction_is_not_read_as_instability():
+    model = rdm.Model(stator=rdm.Stator(mass=50.0, inertia=[2.0, 3.0, 4.0]),
+                      rotors=[rdm.Rotor("r", 5.0, [0.1, 0.0, 0.0], 0.05, 0.04, speed_ratio=1.0)],
+                      suspensions=[rdm.Suspension(f"s{s}", [s * 0.3, 0.0, 0.0], [1e5, 1e5, 1e5],
+                                                  [50.0, 50.0, 50.0]) for s in (1, -1)])
+    result = rdm.stability(model, np.linspace(0.0, 2000.0, 21))  # roll about x is free
+    assert len(result.thresholds) == 0 and result.stable.all()
+
+
+def test_refusals(skewed_unstable):
+    model = rdm.Model.from_dict(skewed_unstable)
+    with pytest.raises(rdm.InputError):
+        rdm.stability(model, [0.0, 1.0], vary="suspensions.bearing-A.damping")
+    with pytest.raises(rdm.InputError):
+        rdm.stability(model, [0.0, 1.0], values=[1.0])
+    with pytest.raises(rdm.InputError, match="no value"):
+        rdm.stability(model, [0.0, 1.0], vary="suspensions.bearing-A.nope", scale=[1.0])

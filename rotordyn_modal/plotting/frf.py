@@ -48,6 +48,7 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None):
             phase.plot(measured.frequencies_hz, np.degrees(np.angle(hm)), ".", ms=2.5, color=colour, alpha=0.5)
         mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, label=f"{o} / {i}")
         phase.plot(result.frequencies_hz, np.degrees(np.angle(h)), color=colour)
+    _limit_range(mag)
     mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '')}]")
     phase.set_xlabel("Frequency [Hz]")
     if len(pairs) <= _MAX_LEGEND:
@@ -81,6 +82,7 @@ def plot_overlay(models, measured, title: str | None = None):
                 mag.semilogy(model.frequencies_hz, np.abs(h), color=colour)
                 phase.plot(model.frequencies_hz, np.degrees(np.angle(h)), color=colour)
         mag.plot([], [], color=colour, label=f"{model.speed * 30 / np.pi:.0f} rpm")
+    _limit_range(mag)
     mag.set_ylabel(f"|H| [{_UNITS.get(models[0].quantity, '')}]")
     phase.set_xlabel("Frequency [Hz]")
     mag.legend(fontsize="small", title="model (line), measured (dots)")
@@ -139,3 +141,16 @@ def _mark_peaks(ax, peaks, outputs, rpm_to_unit):
             text += f"\nSM {row.separation_margin_pct:.0f} % (API {row.required_margin_pct:.0f} %)"
         ax.plot(x, row.amplitude, "v", color="k", ms=4)
         ax.annotate(text, (x, row.amplitude), textcoords="offset points", xytext=(4, 4), fontsize="x-small")
+
+
+#: magnitudes below this fraction of the largest are round-off (an FRF zero by symmetry): not shown
+_DYNAMIC_RANGE = 1e-6
+
+
+def _limit_range(ax):
+    """Keep the magnitude axis to six decades below the largest value drawn."""
+    values = [np.nanmax(line.get_ydata()) for line in ax.get_lines() if len(line.get_ydata())]
+    if values and np.isfinite(max(values)) and max(values) > 0:
+        top = max(values)
+        low = ax.get_ylim()[0]
+        ax.set_ylim(max(low, _DYNAMIC_RANGE * top), ax.get_ylim()[1])

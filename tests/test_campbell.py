@@ -118,3 +118,28 @@ def test_result_table_and_labels(examples_dir):
 def test_bad_speed_grids_are_refused(speeds):
     with pytest.raises(rdm.InputError):
         rdm.campbell(crossing_machine(), speeds)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_campbell_whirl_and_damping_equal_the_reference(seed, examples_dir):
+    """The sweep's shapes come from inverse iteration (not LAPACK vectors as in modal):
+    their whirl ratios must still equal the reference's particle-orbit definition."""
+    from reference_model import random_description
+
+    rng = np.random.default_rng(300 + seed)
+    data = random_description(rng, n_rotors=2, damping=seed != 1)
+    if seed == 2:
+        with open(examples_dir / "gear_machine.toml", "rb") as handle:
+            data = tomllib.load(handle)
+    ref = ReferenceMachine(data)
+    speeds = np.linspace(-2000.0, 2000.0, 21)
+    result = rdm.campbell(rdm.Model.from_dict(data), speeds)
+    for k, speed in enumerate(speeds):
+        values, shapes = ref.modes(speed)
+        osc = result.oscillatory[k]
+        i, j = linear_sum_assignment(np.abs(values[:, None] - result.eigenvalues[k][osc][None]))
+        np.testing.assert_allclose(result.eigenvalues[k][osc][j], values[i], rtol=1e-9)
+        ratios = np.array([ref.whirl_ratio(shapes[m], speed) for m in i])
+        np.testing.assert_allclose(result.whirl_ratios[k][osc][j], ratios, atol=1e-6)
+        zeta = -values[i].real / np.abs(values[i])
+        np.testing.assert_allclose(result.damping_ratios[k][osc][j], zeta, atol=1e-9)

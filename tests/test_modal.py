@@ -267,3 +267,45 @@ def test_mac_helper():
     # modes of distinct eigenvalues of an undamped gyroscopic system are not M-orthogonal in
     # general, but the MAC is a squared cosine: within [0, 1]
     assert np.all((m >= -1e-12) & (m <= 1 + 1e-12))
+
+
+@pytest.mark.parametrize("quantity, power", [("displacement", 0), ("velocity", 1), ("acceleration", 2)])
+def test_state_space_response_equals_reference_receptance(examples_dir, quantity, power):
+    """H(i w) of model.state_space (named inputs/outputs) against the reference's
+    d_s . J(P_s) (K - w^2 M + i w (C + Omega G))^-1 J(P_e)^T d_e, times (i w)^power."""
+    from reference_model import _jacobian
+
+    data = load_description(examples_dir, "gear_machine.toml")
+    data["excitations"].append({"name": "torque-x", "direction": [1.0, 0.0, 0.0], "kind": "moment"})
+    model = rdm.Model.from_dict(data)
+    ref = ReferenceMachine(data)
+    speed = 420.0
+    sys = model.state_space(speed, quantity=quantity)
+    assert list(sys.input_labels) == ["hammer-z", "shaker-y", "torque-x"]
+    assert list(sys.output_labels) == ["acc-top-z", "acc-side-y"]
+    rows = np.array([s["direction"] @ _jacobian(np.array(s["position"])) for s in data["sensors"]])
+    columns = []
+    for x in data["excitations"]:
+        if x.get("kind") == "moment":
+            columns.append(np.concatenate([np.zeros(3), x["direction"]]))
+        else:
+            columns.append(_jacobian(np.array(x["position"])).T @ np.array(x["direction"]))
+    columns = np.array(columns).T
+    for w in (5.0, 60.0, 400.0):
+        dynamic = ref.K - w**2 * ref.M + 1j * w * (ref.C + speed * ref.G)
+        expected = (1j * w) ** power * rows @ np.linalg.solve(dynamic, columns)
+        np.testing.assert_allclose(sys(1j * w), expected, rtol=1e-9, atol=1e-12 * np.abs(expected).max())
+
+
+def test_shapes_are_mass_normalised_with_largest_component_real(examples_dir):
+    model = rdm.load_model(examples_dir / "gear_machine.toml")
+    res = rdm.modal(model, 500.0)
+    M = model.matrices().M
+    np.testing.assert_allclose(np.einsum("mi,ij,mj->m", res.shapes.conj(), M, res.shapes).real, 1.0, rtol=1e-12)
+    biggest = res.shapes[np.arange(6), np.argmax(np.abs(res.shapes), axis=1)]
+    np.testing.assert_allclose(biggest.imag, 0.0, atol=1e-14)
+    assert np.all(biggest.real > 0)
+    point, direction = np.array([0.3, -0.2, 0.4]), np.array([0.0, 3.0, 4.0])
+    along = res.shape_at(point, direction)
+    moved = res.shapes[:, :3] + np.cross(res.shapes[:, 3:], point - model.reference_point)
+    np.testing.assert_allclose(along, moved @ (direction / 5.0), rtol=1e-12, atol=1e-15)

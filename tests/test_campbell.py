@@ -143,3 +143,23 @@ def test_campbell_whirl_and_damping_equal_the_reference(seed, examples_dir):
         np.testing.assert_allclose(result.whirl_ratios[k][osc][j], ratios, atol=1e-6)
         zeta = -values[i].real / np.abs(values[i])
         np.testing.assert_allclose(result.damping_ratios[k][osc][j], zeta, atol=1e-9)
+
+
+def test_every_crossing_is_found(examples_dir):
+    """Count the crossings independently: the reference's sorted frequencies (continuous
+    curves) minus each excitation line, on a fine grid, change sign once per crossing."""
+    path = examples_dir / "gear_machine.toml"
+    with open(path, "rb") as handle:
+        ref = ReferenceMachine(tomllib.load(handle))
+    model = rdm.load_model(path)
+    top = rdm.rpm(12000)
+    result = rdm.campbell(model, np.linspace(0.0, top, 97), orders=(1, 2))
+    fine = np.linspace(0.0, top, 1201)
+    sorted_w = np.array([np.sort(ref.modes(s)[0].imag) for s in fine])
+    sources = rdm.excitation_sources(model)
+    for name, multiplier in zip(sources.names, sources.multipliers):
+        for order in (1, 2):
+            gap = sorted_w - order * multiplier * fine[:, None]
+            expected = int(np.sum(np.sign(gap[:-1]) != np.sign(gap[1:])))
+            found = np.sum((result.critical.source == name) & (result.critical.order == order))
+            assert found == expected, (name, order)

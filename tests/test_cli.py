@@ -157,8 +157,11 @@ def test_speed_unit(unit, factor, gear, tmp_path, capsys):
 @pytest.mark.parametrize("suffix, magic", [(".png", b"\x89PNG"), (".svg", b"<?xml"), (".pdf", b"%PDF")])
 def test_plots(suffix, magic, gear, tmp_path, capsys):
     for name, extra in (("campbell", ["--speeds", "0:6000:7"]), ("modes", ["--speed", "1000"]),
-                        ("stability", ["--speeds", "0:6000:4"])):
-        path = tmp_path / f"{name}{suffix}"
+                        ("stability", ["--speeds", "0:6000:4"]),
+                        ("critical-speeds", ["--speeds", "0:6000:13"]),
+                        ("stability", ["--speeds", "0:6000:4", "--vary", "rotors.fan.polar_inertia",
+                                       "--scale", "0.5,0.8,1"])):
+        path = tmp_path / f"{name}-{len(extra)}{suffix}"
         code, _, err = run([name, gear, *extra, "--plot", path, "--quiet"], capsys)
         assert code == 0, err
         assert path.read_bytes().startswith(magic)
@@ -209,3 +212,14 @@ def test_python_module_entry(gear):
                              f"sys.exit(main(['check', {str(gear)!r}]))"], capture_output=True, text=True,
                             timeout=60)
     assert result.returncode == 0
+
+
+def test_progress_bar_only_on_a_terminal_and_not_quiet(gear, capsys, monkeypatch):
+    argv = ["campbell", str(gear), "--speeds", "0:6000:9000", "--out", "-"]
+    main(argv)
+    assert "eigen-solve" not in capsys.readouterr().err  # not a terminal
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    main(argv)
+    assert "eigen-solve" in capsys.readouterr().err
+    main(argv + ["--quiet"])
+    assert "eigen-solve" not in capsys.readouterr().err

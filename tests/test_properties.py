@@ -137,8 +137,13 @@ JUNK = st.one_of(st.none(), st.booleans(), st.integers(-10, 10), st.floats(), st
 @given(descriptions(), st.data())
 def test_invalid_input_raises_only_model_error(data, draw):
     broken = copy.deepcopy(data)
+    broken["unbalances"] = [{"rotor": "r0", "amount": 1e-4, "phase_deg": 30.0}]
+    broken["sensors"] = [{"name": "acc", "position": [0.0, 0.0, 0.5], "direction": [0.0, 0.0, 1.0]}]
+    broken["excitations"] = [{"name": "m", "direction": [1.0, 0.0, 0.0], "kind": "moment"}]
+    broken["suspensions"][0].update(maxwell_stiffness=[[1e4, 1e4, 1e4]], maxwell_time=[0.01])
     # walk to a random table and replace (or add) a random key with junk
-    table = draw.draw(st.sampled_from(["top", "stator", "rotors", "transmissions", "suspensions"]))
+    table = draw.draw(st.sampled_from(["top", "stator", "rotors", "transmissions", "suspensions",
+                                       "unbalances", "sensors", "excitations"]))
     if table == "top":
         target = broken
     elif table == "stator":

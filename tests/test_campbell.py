@@ -163,3 +163,12 @@ def test_every_crossing_is_found(examples_dir):
             expected = int(np.sum(np.sign(gap[:-1]) != np.sign(gap[1:])))
             found = np.sum((result.critical.source == name) & (result.critical.order == order))
             assert found == expected, (name, order)
+
+
+def test_labels_ascend_in_frequency_at_the_speed_nearest_zero(examples_dir):
+    model = rdm.load_model(examples_dir / "gear_machine.toml")
+    speeds = np.linspace(-1500.0, 3000.0, 31)  # nearest to zero: 0.0
+    result = rdm.campbell(model, speeds)
+    k0 = int(np.argmin(np.abs(speeds)))
+    assert np.all(np.diff(result.frequencies_hz[k0]) >= 0)
+    np.testing.assert_array_equal(result.modes, np.arange(1, 7))

@@ -219,3 +219,18 @@ def test_file_errors_name_the_file(tmp_path):
 def test_model_built_in_code_is_validated_too():
     with pytest.raises(ModelError, match=r"\[rotors.r\] mass = -1.0"):
         rdm.Model(rotors=[rdm.Rotor("r", -1.0, [0, 0, 0], 0.05, 0.04, speed_ratio=1.0)])
+
+
+def test_boundaries_are_accepted():
+    """A thin disc (Jp = 2 Jd) and a flat plate (Izz = Ixx + Iyy) are rigid bodies."""
+    data = edit(("rotors", 1, "polar_inertia"), 0.32)
+    data["stator"]["inertia"] = [3.0, 5.0, 8.0]
+    model = rdm.Model.from_dict(data)
+    assert model.rotor("fan").polar_inertia == 0.32
+
+
+def test_reference_rotor_with_a_ratio_other_than_one():
+    data = edit(("rotors", 0, "speed_ratio"), 2.0)
+    with pytest.raises(ModelError) as info:
+        rdm.Model.from_dict(data, source="m.toml")
+    assert "[rotors.motor] speed_ratio = 2.0" in str(info.value) and "ratio 1" in str(info.value)

@@ -68,17 +68,22 @@ def test_gear_machine_sources_orders_and_crossings(examples_dir):
     sources = rdm.excitation_sources(model)
     assert sources.names == ("motor", "fan", "mesh:motor-fan")
     np.testing.assert_allclose(sources.multipliers, [1.0, 1 / 2.5, 23.0], rtol=1e-15)
-    result = rdm.campbell(model, np.linspace(0.0, rdm.rpm(12000), 121), orders=(1, 2))
+    result = rdm.campbell(model, np.linspace(-rdm.rpm(12000), rdm.rpm(12000), 241), orders=(1, 2))
     crit = result.critical
     assert len(crit) > 0 and set(crit.source) <= set(sources.names)
     with open(path, "rb") as handle:
         ref = ReferenceMachine(tomllib.load(handle))
     multiplier = dict(zip(sources.names, sources.multipliers))
-    for source, order, speed, f_hz in zip(crit.source, crit.order, crit.speeds, crit.frequencies_hz):
+    for source, order, speed, f_hz, ratio, zeta in zip(crit.source, crit.order, crit.speeds,
+                                                       crit.frequencies_hz, crit.whirl_ratios,
+                                                       crit.damping_ratios):
         w = 2 * np.pi * f_hz
         assert w == pytest.approx(order * multiplier[source] * abs(speed), rel=1e-10)
-        values = ref.modes(speed)[0]
-        assert np.min(np.abs(values.imag - w)) <= 1e-9 * w  # an eigenfrequency of the machine there
+        values, shapes = ref.modes(speed)
+        m = int(np.argmin(np.abs(values.imag - w)))
+        assert abs(values[m].imag - w) <= 1e-9 * w  # an eigenfrequency of the machine there
+        assert ratio == pytest.approx(ref.whirl_ratio(shapes[m], speed), abs=1e-6)
+        assert zeta == pytest.approx(-values[m].real / abs(values[m]), abs=1e-9)
     assert np.all(np.diff(crit.speeds) >= 0)
     table = crit.to_dataframe()
     assert list(table.columns[:6]) == ["source", "order", "mode", "speed_rpm", "frequency_hz", "whirl"]

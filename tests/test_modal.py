@@ -309,3 +309,17 @@ def test_shapes_are_mass_normalised_with_largest_component_real(examples_dir):
     along = res.shape_at(point, direction)
     moved = res.shapes[:, :3] + np.cross(res.shapes[:, 3:], point - model.reference_point)
     np.testing.assert_allclose(along, moved @ (direction / 5.0), rtol=1e-12, atol=1e-15)
+
+
+def test_reversed_spin_axis_at_reversed_speed_is_the_same_machine():
+    """Spin vector r Omega e is unchanged by (e, Omega) -> (-e, -Omega): same eigenvalues,
+    shapes and whirl labels (judged against the same physical spin)."""
+    rng = np.random.default_rng(31)
+    data = random_description(rng, n_rotors=2)
+    flipped = dict(data, spin_axis=(-np.asarray(data["spin_axis"])).tolist())
+    speed = 1300.0
+    a = rdm.modal(rdm.Model.from_dict(data), speed)
+    b = rdm.modal(rdm.Model.from_dict(flipped), -speed)
+    np.testing.assert_allclose(b.eigenvalues, a.eigenvalues, rtol=1e-12)
+    np.testing.assert_allclose(b.whirl_ratios, a.whirl_ratios, atol=1e-9)
+    assert list(b.whirl) == list(a.whirl)

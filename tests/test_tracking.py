@@ -127,3 +127,50 @@ def test_veering_pair_is_followed_by_shape():
     second = np.abs(np.diff(w, n=2, axis=0))
     step = np.abs(np.diff(w, axis=0)).max()
     assert second.max() < 0.5 * step
+
+
+C_MOUNT, CX_MOUNT, C_ROLL = 150.0, 300.0, 2.0
+
+
+def damped_crossing_machine():
+    mounts = [rdm.Suspension(f"m{s}", [s * A, 0.0, 0.0], [KX, K, K, K_ROLL, 0.0, 0.0],
+                             [CX_MOUNT, C_MOUNT, C_MOUNT, C_ROLL, 0.0, 0.0]) for s in (1, -1)]
+    mounts.append(rdm.Suspension("y-only", [0.0, 0.0, 0.0], [0.0, KY_EXTRA, 0.0]))
+    return rdm.Model(stator=rdm.Stator(mass=MS, inertia=[JX, JT_S, JT_S]),
+                     rotors=[rdm.Rotor("rotor", MR, [0.0, 0.0, 0.0], JP, JD, speed_ratio=1.0)],
+                     suspensions=mounts)
+
+
+def damped_branches(speeds):
+    """Closed-form eigenvalues (Im > 0) of every branch, shape (N, 6), complex.
+
+    Tilts, z = theta_y + i theta_z: Jt z'' + (ct - i Omega Jp) z' + kt z = 0. A root with
+    Im > 0 is an orbit turning about +e; the conjugate of the root with Im < 0 is the
+    upper eigenvalue of the orbit turning about -e."""
+    m, jt, kt, ct = MS + MR, JT_S + JD, 2 * K * A**2, 2 * C_MOUNT * A**2
+
+    def upper(a, b, c):
+        return (-b + np.emath.sqrt(b * b - 4 * a * c)) / (2 * a) * np.ones_like(speeds)
+
+    out = [upper(m, 2 * CX_MOUNT, 2 * KX), upper(m, 2 * C_MOUNT, 2 * K + KY_EXTRA),
+           upper(m, 2 * C_MOUNT, 2 * K), upper(JX + JP, 2 * C_ROLL, 2 * K_ROLL)]
+    b = ct - 1j * speeds * JP
+    disc = np.sqrt(b * b - 4 * jt * kt + 0j)
+    roots = np.stack([(-b + disc) / (2 * jt), (-b - disc) / (2 * jt)], axis=1)
+    plus = np.where(roots[:, 0].imag > 0, roots[:, 0], roots[:, 1])
+    minus = np.where(roots[:, 0].imag > 0, roots[:, 1], roots[:, 0])
+    return np.column_stack(out + [plus, minus.conj()])
+
+
+def test_damped_machine_tracked_through_crossings_and_zero_speed():
+    speeds = np.linspace(-3000.0, 3000.0, 121)
+    expected = damped_branches(speeds)
+    assert np.all(expected.imag > 0)
+    result = rdm.campbell(damped_crossing_machine(), speeds)
+    lam = result.eigenvalues
+    columns = [int(np.argmin(np.abs(expected - lam[:, [m]]).sum(axis=0))) for m in range(6)]
+    assert sorted(columns) == list(range(6))
+    for mode, branch in enumerate(columns):
+        np.testing.assert_allclose(lam[:, mode], expected[:, branch], rtol=1e-10)
+    up = columns.index(4)
+    assert set(result.whirl[speeds < 0, up]) == {"backward"} and set(result.whirl[speeds > 0, up]) == {"forward"}

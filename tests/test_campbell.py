@@ -177,3 +177,22 @@ def test_labels_ascend_in_frequency_at_the_speed_nearest_zero(examples_dir):
     k0 = int(np.argmin(np.abs(speeds)))
     assert np.all(np.diff(result.frequencies_hz[k0]) >= 0)
     np.testing.assert_array_equal(result.modes, np.arange(1, 7))
+
+
+def test_damped_critical_speeds_equal_the_closed_form_roots():
+    """Damped symmetric machine: the crossings Im lam(Omega) = Omega of its closed-form
+    branches (tests/test_tracking.py), solved with brentq to round-off."""
+    from scipy.optimize import brentq
+
+    from test_tracking import damped_branches, damped_crossing_machine
+
+    grid = np.linspace(0.0, 3000.0, 3001)
+    w = damped_branches(grid).imag
+    expected = []
+    for b in range(6):
+        gap = w[:, b] - grid
+        for k in np.nonzero(np.sign(gap[:-1]) != np.sign(gap[1:]))[0]:
+            expected.append(brentq(lambda s: damped_branches(np.array([s]))[0, b].imag - s,
+                                   grid[k], grid[k + 1], xtol=1e-14, rtol=4 * np.finfo(float).eps))
+    result = rdm.campbell(damped_crossing_machine(), np.linspace(0.0, 3000.0, 41))
+    np.testing.assert_allclose(np.sort(result.critical.speeds), np.sort(expected), rtol=1e-9)

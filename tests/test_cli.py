@@ -223,3 +223,28 @@ def test_progress_bar_only_on_a_terminal_and_not_quiet(gear, capsys, monkeypatch
     assert "eigen-solve" in capsys.readouterr().err
     main(argv + ["--quiet"])
     assert "eigen-solve" not in capsys.readouterr().err
+
+
+def test_output_through_a_link_to_the_model_is_refused(gear, tmp_path, capsys):
+    link = tmp_path / "link.csv"
+    link.symlink_to(gear)
+    hard = tmp_path / "hard.csv"
+    os.link(gear, hard)
+    before = gear.read_bytes()
+    for target in (link, hard):
+        code, _, err = run(["modes", gear, "--out", target, "--quiet"], capsys)
+        assert code == 2 and "refusing to write over the input file" in err
+    assert gear.read_bytes() == before
+
+
+def test_save_model_never_overwrites_its_source(gear, tmp_path):
+    model = rdm.load_model(gear)
+    before = gear.read_bytes()
+    with pytest.raises(rdm.InputError, match="refusing"):
+        rdm.save_model(model, gear)
+    with pytest.raises(rdm.InputError, match="refusing"):
+        rdm.save_model(model, tmp_path / "other.toml", inputs=[tmp_path / "other.toml"])
+    assert gear.read_bytes() == before
+    rdm.save_model(model, tmp_path / "copy.toml")
+    assert rdm.load_model(tmp_path / "copy.toml").to_dict() == {
+        k: v for k, v in model.to_dict().items() if v not in ([], None, "")}

@@ -196,3 +196,17 @@ def test_damped_critical_speeds_equal_the_closed_form_roots():
                                    grid[k], grid[k + 1], xtol=1e-14, rtol=4 * np.finfo(float).eps))
     result = rdm.campbell(damped_crossing_machine(), np.linspace(0.0, 3000.0, 41))
     np.testing.assert_allclose(np.sort(result.critical.speeds), np.sort(expected), rtol=1e-9)
+
+
+def test_critical_speeds_do_not_depend_on_origin_or_axes(examples_dir):
+    from reference_model import rotated, rotation, translated
+
+    with open(examples_dir / "gear_machine.toml", "rb") as handle:
+        data = tomllib.load(handle)
+    speeds = np.linspace(-rdm.rpm(9000), rdm.rpm(9000), 91)
+    base = rdm.campbell(rdm.Model.from_dict(data), speeds, orders=(1, 2)).critical
+    other = rotated(translated(data, [2.0, -3.0, 0.5]), rotation(np.random.default_rng(8)))
+    moved = rdm.campbell(rdm.Model.from_dict(other), speeds, orders=(1, 2)).critical
+    np.testing.assert_allclose(moved.speeds, base.speeds, rtol=1e-9)
+    assert list(moved.source) == list(base.source) and list(moved.whirl) == list(base.whirl)
+    np.testing.assert_array_equal(moved.mode, base.mode)

@@ -336,7 +336,10 @@ def _suspension_matrix(table: _Table, key: str, axes: np.ndarray, required: bool
     local = np.zeros((6, 6))
     local[: value.shape[0], : value.shape[1]] = value
     rotation = np.zeros((6, 6))
-    rotation[:3, :3] = rotation[3:, 3:] = axes  # local = axes @ model
+    rotation[:3, :3] = axes  # local = axes @ model
+    # rotations and moments are axial vectors: in a left-handed set of axes their
+    # components change sign (det = -1), so a 6x6 coupling keeps its physical meaning
+    rotation[3:, 3:] = np.linalg.det(axes) * axes
     return rotation.T @ local @ rotation
 
 

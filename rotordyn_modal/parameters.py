@@ -99,6 +99,9 @@ def set_value(data: dict, key: str, value: Any, source: str = "<model>") -> None
         target = _index(target, index, key, depth, source)
     _index(target, indices[-1], key, len(indices) - 1, source)
     target[indices[-1]] = _plain(value)
+    if field == "inertia" and len(indices) == 2 and indices[0] != indices[1]:
+        # a product of inertia is one parameter: keep the tensor symmetric
+        container[field][indices[1]][indices[0]] = _plain(value)
 
 
 def scale_value(data: dict, key: str, factor: float, source: str = "<model>") -> None:

@@ -57,7 +57,8 @@ def test_set_and_scale_in_place():
     set_value(data, "stator.inertia[1][0]", np.float64(0.5))
     assert data["stator"]["inertia"][1][0] == 0.5 and type(data["stator"]["inertia"][1][0]) is float
     scale_value(data, "stator.inertia", 2.0)
-    assert data["stator"]["inertia"] == [[2.0, 0.0], [1.0, 2.0]]
+    # a product of inertia is one parameter: setting [1][0] sets [0][1] too
+    assert data["stator"]["inertia"] == [[2.0, 1.0], [1.0, 2.0]]
     set_value(data, "stator.mass", np.array(3.0))
     assert data["stator"]["mass"] == 3.0
 

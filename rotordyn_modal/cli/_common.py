@@ -106,6 +106,9 @@ def check_output_options(args):
     plot = getattr(args, "plot", None)
     if plot and Path(plot).suffix.lower() not in _FIGURE_FORMATS:
         raise InputError(f"--plot {plot}: expected a file ending in .png, .svg or .pdf")
+    out = getattr(args, "out", None)
+    if plot and out and out != "-" and Path(plot).resolve() == Path(out).resolve():
+        raise InputError(f"--out and --plot name the same file {out}: give two different files")
     for option in ("out", "plot"):
         path = getattr(args, option, None)
         if path and path != "-":

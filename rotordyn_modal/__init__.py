@@ -27,6 +27,8 @@ from .analysis import (Correlation, FitResult, FRFResult, RigidBodyMotion, Unbal
                        correlate, fit, force_frf, frf, stator_motion, unbalance_response)
 from .io.measured import read_measured, write_csv as write_measured_csv
 from .io.uff import write_uff58
+from . import study  # issue 7: parameter studies; the module is callable: rdm.study(model, spec)
+from .study import StudyResult, load_study
 
 __version__ = "0.1.0"
 
@@ -41,4 +43,5 @@ __all__ = [
     "frf", "FRFResult", "force_frf", "unbalance_response", "UnbalanceResult", "fit", "FitResult",
     "read_measured", "write_measured_csv", "write_uff58", "correlate", "Correlation", "stator_motion",
     "RigidBodyMotion",
+    "study", "StudyResult", "load_study",
 ]

@@ -8,9 +8,11 @@ from __future__ import annotations
 
 from . import campbell, check, critical_speeds, modes, simulate, stability
 from . import fit, frf, unbalance
+from . import study
 from .main import main
 
 SUBCOMMANDS = [check, modes, campbell, critical_speeds, stability, simulate]
 SUBCOMMANDS += [frf, unbalance, fit]
+SUBCOMMANDS += [study]
 
 __all__ = ["main", "SUBCOMMANDS"]

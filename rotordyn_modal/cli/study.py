@@ -1,0 +1,205 @@
+"""``study MODEL --spec STUDY.toml [--workers N | --scheduler ADDRESS] --out RESULTS.nc``."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ._common import add_model_argument, check_outputs, parse_number, print_table, show_progress, use_agg
+
+NAME = "study"
+HELP = "parameter study (tolerance Monte Carlo, designs of experiments, grids) over model variants"
+DESCRIPTION = """Runs the analyses of a study file (docs/study-file.md) on every variant of the
+model: parameters addressed by dotted keys, as grids or distributions (normal, lognormal,
+uniform; truncation, correlation) sampled by Monte Carlo, Latin hypercube, Sobol or a
+Saltelli design. Serial by default; --workers N uses a local process pool, --scheduler
+ADDRESS a dask.distributed cluster. Results go to one netCDF file over (variant, speed,
+mode, ...) that xarray, netCDF4 or ncdump open without this package.
+
+Finished chunks are saved in RESULTS.nc.partial/ as they complete: after Ctrl-C (or a
+crash) run the same command again and only the missing chunks are computed.
+Failed variants (a model that validation refuses, a solver error) are recorded with
+their reason and do not stop the study.
+
+examples:
+  rotordyn-modal study examples/gear_machine.toml --spec examples/mount_tolerance.study.toml \\
+      --out tolerance.nc --workers 2 --band 2700:3300 --plot campbell.png
+  rotordyn-modal study examples/unstable_cross_coupled.toml \\
+      --spec examples/stability_map.study.toml --out map.nc --plot-map map.png"""
+
+
+def add_arguments(parser):
+    add_model_argument(parser)
+    parser.add_argument("--spec", required=True, metavar="STUDY.toml", help="study file (docs/study-file.md)")
+    parser.add_argument("--out", required=True, metavar="RESULTS.nc", help="netCDF file of the results")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, metavar="N", help="run on a local pool of N processes")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on a dask.distributed cluster (e.g. tcp://10.0.0.5:8786)")
+    parser.add_argument("--chunk-size", type=int, metavar="N", help="variants per chunk (default: chosen)")
+    parser.add_argument("--restart", action="store_true",
+                        help="discard the finished chunks of an earlier run instead of resuming")
+    parser.add_argument("--band", metavar="LOW:HIGH",
+                        help="operating band [rpm]: report P(critical speed inside) (default: the study file's)")
+    parser.add_argument("--table", metavar="FILE.csv", help="write the per-variant table as CSV")
+    parser.add_argument("--plot", metavar="FILE.png", help="Campbell diagram with tolerance bands")
+    parser.add_argument("--plot-histogram", metavar="FILE.png", help="histograms of the critical speeds")
+    parser.add_argument("--plot-map", metavar="FILE.png", help="stability map over a two-parameter grid")
+    parser.add_argument("--plot-sensitivity", metavar="FILE.png", help="sensitivity bar chart")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar, no summary on the terminal")
+
+
+_PLOTS = (("plot", "plot_campbell"), ("plot_histogram", "plot_critical_histograms"),
+          ("plot_map", "plot_stability_map"), ("plot_sensitivity", "plot_sensitivity"))
+
+
+def run(args) -> int:
+    from ..io import load_model
+    from ..study import checkpoint_folder, read_study, study
+
+    _check_options(args)
+    model = load_model(args.model)
+    definition = read_study(args.spec, model)
+    band = _band(args.band) if args.band else definition.operating_band_rpm
+    folder = checkpoint_folder(args.out)
+    if args.restart and folder.exists():
+        from ..study.execution import remove_checkpoint
+
+        remove_checkpoint(folder)
+    with _executor(args) as executor:
+        try:
+            result = study(model, definition, executor=executor, checkpoint=folder,
+                           chunk_size=args.chunk_size, progress=show_progress(args))
+        except KeyboardInterrupt:
+            done = len(list(folder.glob("chunk-*.npz")))
+            print(f"interrupted: {done} finished chunks kept in {folder}; run the same command "
+                  "again to resume", file=sys.stderr)
+            raise
+    _write(result, args, folder)
+    if not args.quiet:
+        _report(result, band)
+    _plots(result, args, band)
+    return 0
+
+
+def _check_options(args):
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers {args.workers}: expected a whole number >= 1")
+    if args.chunk_size is not None and args.chunk_size < 1:
+        raise InputError(f"--chunk-size {args.chunk_size}: expected a whole number >= 1")
+    for option in ("out", "table", "plot", "plot_histogram", "plot_map", "plot_sensitivity"):
+        path = getattr(args, option, None)
+        if not path:
+            continue
+        check_outputs(args, path)
+        if not Path(path).parent.exists():
+            raise InputError(f"--{option.replace('_', '-')} {path}: the folder {Path(path).parent} does not exist")
+        if option.startswith("plot") and Path(path).suffix.lower() not in (".png", ".svg", ".pdf"):
+            raise InputError(f"--{option.replace('_', '-')} {path}: expected a file ending in .png, .svg or .pdf")
+    if Path(args.out).suffix.lower() != ".nc":
+        raise InputError(f"--out {args.out}: expected a netCDF file name ending in .nc")
+
+
+def _band(text):
+    parts = text.split(":")
+    if len(parts) != 2:
+        raise InputError(f"--band {text!r}: expected LOW:HIGH in rpm, e.g. 2700:3300")
+    low, high = parse_number(parts[0], "--band"), parse_number(parts[1], "--band")
+    if not high > low:
+        raise InputError(f"--band {text!r}: expected LOW < HIGH")
+    return low, high
+
+
+class _executor:
+    """Context manager: None, a process pool, or a dask.distributed executor."""
+
+    def __init__(self, args):
+        self.args = args
+        self.pool = self.client = None
+
+    def __enter__(self):
+        if self.args.workers and self.args.workers > 1:
+            from concurrent.futures import ProcessPoolExecutor
+
+            from ..study.execution import worker_initializer
+
+            self.pool = ProcessPoolExecutor(self.args.workers, initializer=worker_initializer)
+            return self.pool
+        if self.args.scheduler:
+            try:
+                from distributed import Client
+            except ImportError:
+                raise InputError("--scheduler needs dask.distributed: pip install 'dask[distributed]'") from None
+            try:
+                self.client = Client(self.args.scheduler, timeout=30)
+            except OSError as error:
+                raise InputError(f"--scheduler {self.args.scheduler}: cannot connect ({error})") from None
+            return self.client.get_executor()
+        return None
+
+    def __exit__(self, kind, value, traceback):
+        if self.pool is not None:
+            self.pool.shutdown(wait=kind is None, cancel_futures=True)
+        if self.client is not None:
+            self.client.close()
+        return False
+
+
+def _write(result, args, folder):
+    from ..io import atomic_write
+    from ..study.execution import remove_checkpoint
+
+    result.save(args.out)
+    remove_checkpoint(folder)
+    if args.table:
+        with atomic_write(args.table, "w", newline="") as handle:
+            result.to_dataframe().to_csv(handle, index=False, float_format="%.10g")
+
+
+def _report(result, band):
+    failed = int(result.failed.sum())
+    print(f"{result.n_variants} variants, {failed} failed"
+          + (f", {result.resumed_chunks} chunks resumed from an earlier run" if result.resumed_chunks else ""),
+          file=sys.stderr)
+    if failed:
+        reasons = result.dataset["error"].values[result.failed]
+        print(f"first failure: {reasons[0]}", file=sys.stderr)
+    table = _in_rpm(result.summary())
+    if len(table):
+        print_table(table[[c for c in table.columns if not c.endswith(("_low", "_high"))]])
+    if band is not None and "critical_speed" in result.dataset:
+        p = result.probability_in_band(band[0] * np.pi / 30, band[1] * np.pi / 30)
+        print(f"P(critical speed in {band[0]:g}-{band[1]:g} rpm) = {p['probability']:.4g} "
+              f"+/- {p['standard_error']:.2g} (95 % {p['low']:.3g}..{p['high']:.3g}, n = {p['n']})")
+
+
+_SPEEDS = ("critical_speed", "threshold_speed", "instability_speed", "unbalance_peak_speed")
+
+
+def _in_rpm(table):
+    """Speeds of the summary [rad/s] -> rpm, their names marked ``(rpm)``."""
+    speed = table["output"].str.startswith(_SPEEDS)
+    numbers = [c for c in table.columns if c not in ("output", "n")]
+    table.loc[speed, numbers] = table.loc[speed, numbers] * 30 / np.pi
+    table.loc[speed, "output"] = table.loc[speed, "output"] + " (rpm)"
+    return table
+
+
+def _plots(result, args, band):
+    wanted = [(option, method) for option, method in _PLOTS if getattr(args, option)]
+    if not wanted:
+        return
+    use_agg()
+    from ..io import atomic_write
+
+    for option, method in wanted:
+        kwargs = {"band_rpm": band} if method in ("plot_campbell", "plot_critical_histograms") else {}
+        fig = getattr(result, method)(**kwargs)
+        path = Path(getattr(args, option))
+        with atomic_write(path, None) as temporary:
+            fig.savefig(temporary, format=path.suffix.lower()[1:], dpi=150)
+        if not args.quiet:
+            print(f"figure written to {path}", file=sys.stderr)

@@ -1,0 +1,216 @@
+"""Figures of parameter studies: Campbell tolerance bands, critical-speed histograms,
+stability maps over two grid parameters, sensitivity bars. They draw a
+:class:`~rotordyn_modal.study.StudyResult` (or a sensitivity table); they compute nothing
+beyond percentiles of what is stored."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._style import new_figure, speed_label, speed_scale
+
+__all__ = ["plot_study_campbell", "plot_critical_histograms", "plot_study_stability_map", "plot_sensitivity"]
+
+
+def _band(ax, band_rpm, scale_rpm, label="operating band"):
+    if band_rpm is not None:
+        ax.axvspan(band_rpm[0] * scale_rpm, band_rpm[1] * scale_rpm, color="tab:orange", alpha=0.2, label=label)
+
+
+def plot_study_campbell(result, percentiles=(5.0, 95.0), band_rpm=None, speed_unit: str = "rpm",
+                        ax=None, title: str | None = None):
+    """Campbell diagram: median and percentile envelope of each tracked mode over variants.
+
+    Parameters
+    ----------
+    result : StudyResult
+        With the ``campbell`` analysis.
+    percentiles : (float, float)
+        Envelope drawn as a band [percent].
+    band_rpm : (float, float), optional
+        Operating band [rpm], shaded.
+    speed_unit : {'rpm', 'rad/s', 'hz'}
+    ax : matplotlib Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    ds = result.dataset
+    fig, ax = new_figure(ax)
+    x = ds["speed"].values * speed_scale(speed_unit)
+    freq = ds["frequency_hz"].values[~result.failed]  # (variant, speed, mode)
+    freq = np.where(freq > 0, freq, np.nan)
+    colors = [f"C{i}" for i in range(10)]
+    for m, label in enumerate(ds["mode"].values):
+        column = freq[:, :, m]
+        if not np.isfinite(column).any():
+            continue
+        low, mid, high = np.nanpercentile(column, [percentiles[0], 50.0, percentiles[1]], axis=0)
+        ax.fill_between(x, low, high, color=colors[m % 10], alpha=0.25, linewidth=0)
+        ax.plot(x, mid, color=colors[m % 10], label=f"mode {label}")
+    if "excitation" in ds.coords:
+        for name, slope in zip(ds["excitation"].values, ds["excitation_slope"].values):
+            ax.plot(x, slope * np.abs(ds["speed"].values), color="0.4", linewidth=0.8, linestyle="--")
+            ax.annotate(str(name), (x[-1], slope * abs(ds["speed"].values[-1])), fontsize="x-small", color="0.3")
+    _band(ax, band_rpm, speed_scale(speed_unit) * np.pi / 30)
+    top = np.nanmax(freq) if np.isfinite(freq).any() else 1.0
+    ax.set_ylim(0, 1.1 * top)
+    ax.set_xlabel(speed_label(speed_unit))
+    ax.set_ylabel("Damped natural frequency [Hz]")
+    ax.set_title(title or f"Campbell diagram: median and {percentiles[0]:g}-{percentiles[1]:g} % band "
+                 f"of {int((~result.failed).sum())} variants")
+    ax.legend(fontsize="small", ncols=2, loc="upper left")
+    ax.grid(True, alpha=0.3)
+    return fig
+
+
+def plot_critical_histograms(result, band_rpm=None, bins: int = 25, max_crossings: int = 6,
+                             min_fraction: float = 0.5, title: str | None = None):
+    """Histograms of critical speeds [rpm], one panel per crossing (source, order, mode).
+
+    Parameters
+    ----------
+    result : StudyResult
+        With the ``critical_speeds`` analysis.
+    band_rpm : (float, float), optional
+        Operating band [rpm], shaded; the crossings nearest it are drawn first.
+    bins : int
+    max_crossings : int
+        At most this many panels (nearest the band, else the lowest by median).
+    min_fraction : float
+        Crossings present in fewer variants than this fraction are left out.
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib.pyplot as plt
+
+    ds = result.dataset
+    speeds = np.abs(ds["critical_speed"].values[~result.failed]) * 30 / np.pi  # (variant, crossing) rpm
+    present = np.isfinite(speeds).mean(axis=0) >= min_fraction
+    median = np.nanmedian(np.where(present, speeds, np.inf), axis=0)
+    rank = median if band_rpm is None else np.abs(median - 0.5 * (band_rpm[0] + band_rpm[1]))
+    chosen = [i for i in np.argsort(rank) if present[i]][:max_crossings]
+    columns = 2 if len(chosen) > 1 else 1
+    rows = max(1, -(-len(chosen) // columns))
+    fig, axes = plt.subplots(rows, columns, figsize=(8.0, 2.4 * rows + 0.6), layout="constrained", squeeze=False)
+    for ax, i in zip(axes.flat, sorted(chosen, key=lambda i: median[i])):
+        x = speeds[:, i][np.isfinite(speeds[:, i])]
+        ax.hist(x, bins=bins, color="tab:blue", alpha=0.7)
+        _band(ax, band_rpm, 1.0)
+        ax.set_title(f"{ds['crossing_source'].values[i]} {ds['crossing_order'].values[i]:g}X, "
+                     f"mode {ds['crossing_mode'].values[i]}", fontsize="small")
+        ax.set_xlim(*_window(x, band_rpm))
+    for ax in axes.flat[len(chosen):]:
+        ax.set_visible(False)
+    for ax in axes[-1]:
+        ax.set_xlabel("Critical speed [rpm]")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("Variants")
+    fig.suptitle(title or f"Critical speeds over {int((~result.failed).sum())} variants"
+                 + ("" if band_rpm is None else " (shaded: operating band)"))
+    return fig
+
+
+def _window(x, band):
+    """x-limits: the data padded by 10 %, widened to the band when the band is near."""
+    pad = 0.1 * (np.ptp(x) or abs(x.mean()) or 1.0)
+    low, high = x.min() - pad, x.max() + pad
+    if band is not None and band[0] < high + 3 * pad and band[1] > low - 3 * pad:
+        low, high = min(low, band[0] - pad), max(high, band[1] + pad)
+    return low, high
+
+
+def plot_study_stability_map(result, x: str | None = None, y: str | None = None, speed_rpm: float | None = None,
+                             ax=None, title: str | None = None):
+    """Threshold speed over two grid parameters, with the boundary of stability up to a speed.
+
+    Parameters
+    ----------
+    result : StudyResult
+        A grid study (two grid parameters, no distributions) with the
+        ``stability`` analysis.
+    x, y : str, optional
+        Parameter names (default: the two grid parameters in order).
+    speed_rpm : float, optional
+        The boundary is where the lowest unstable speed equals this speed
+        (default: half the top of the stability sweep).
+    ax : matplotlib Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from ..errors import InputError
+
+    ds = result.dataset
+    grid = [str(p) for p, g in zip(ds["parameter"].values, ds["parameter_is_grid"].values) if g]
+    x, y = x or (grid[0] if grid else None), y or (grid[1] if len(grid) > 1 else None)
+    if x is None or y is None or len(grid) != ds.sizes["parameter"]:
+        raise InputError("a stability map needs a study over exactly two grid parameters")
+    values = result.samples
+    xs, ys = np.unique(values[x]), np.unique(values[y])
+    table = values.assign(threshold=ds["instability_speed"].values * 30 / np.pi)
+    field = table.pivot_table(index=y, columns=x, values="threshold", dropna=False, aggfunc="first")
+    field = field.reindex(index=ys, columns=xs).values
+    top = ds["stability_speed"].values.max() * 30 / np.pi
+    level = 0.5 * top if speed_rpm is None else speed_rpm
+    fig, ax = new_figure(ax)
+    import matplotlib
+
+    cmap = matplotlib.colormaps["viridis"].copy()
+    cmap.set_bad("0.85")
+    mesh = ax.pcolormesh(xs, ys, np.ma.masked_invalid(field), cmap=cmap, shading="nearest")
+    fig.colorbar(mesh, ax=ax, label="lowest unstable speed [rpm] (grey: stable over the sweep)")
+    filled = np.where(np.isfinite(field), field, 2 * top)
+    if len(xs) > 1 and len(ys) > 1 and filled.min() < level < filled.max():
+        ax.contour(xs, ys, filled, levels=[level], colors="k", linewidths=2.0)
+    ax.set_xlabel(x)
+    ax.set_ylabel(y)
+    ax.set_title(title or f"Stability map: stable up to {level:.0f} rpm below/right of the black line")
+    return fig
+
+
+def plot_sensitivity(table, outputs=None, max_outputs: int = 6, ax=None, title: str | None = None):
+    """Bar chart of sensitivity indices, grouped by output.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        From :meth:`StudyResult.sensitivity`: ``output, parameter`` and ``S1``/``ST``
+        (Sobol) or ``SRC`` (regression).
+    outputs : list of str, optional
+        Outputs to draw (default: the first ``max_outputs``).
+    max_outputs : int
+    ax : matplotlib Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    names = list(outputs or list(dict.fromkeys(table["output"]))[:max_outputs])
+    parameters = list(dict.fromkeys(table["parameter"]))
+    column = "ST" if "ST" in table else "SRC"
+    fig, ax = new_figure(ax, figsize=(8.0, 1.2 + 0.5 * len(names) * max(1, len(parameters)) ** 0.5))
+    height = 0.8 / max(1, len(parameters))
+    for j, parameter in enumerate(parameters):
+        rows = table[table["parameter"] == parameter].set_index("output").reindex(names)
+        position = np.arange(len(names)) + j * height
+        error = rows[f"{column}_se"].values if f"{column}_se" in rows else None
+        ax.barh(position, rows[column].values, height=height, xerr=error, label=parameter)
+        if column == "ST":
+            ax.plot(rows["S1"].values, position, "k|", markersize=8)
+    ax.set_yticks(np.arange(len(names)) + 0.4 - height / 2, names, fontsize="small")
+    ax.invert_yaxis()
+    ax.axvline(0.0, color="k", linewidth=0.8)
+    ax.set_xlabel({"ST": "total Sobol index ST (| marks first order S1)",
+                   "SRC": "standardised regression coefficient"}[column])
+    ax.set_title(title or "Sensitivity of each output to each parameter")
+    ax.legend(fontsize="x-small")
+    return fig

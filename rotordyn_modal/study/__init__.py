@@ -1,0 +1,108 @@
+"""Parameter studies: tolerance Monte Carlo, designs of experiments and grids over
+model variants, run serially or through any ``concurrent.futures`` executor.
+
+    >>> import rotordyn_modal as rdm
+    >>> from rotordyn_modal.study import parse_study
+    >>> model = rdm.load_model("examples/gear_machine.toml")
+    >>> spec = parse_study({"seed": 1, "samples": 4, "parameters": [
+    ...     {"key": "stator.mass", "distribution": "uniform", "low": 140.0, "high": 160.0}],
+    ...     "analyses": {"modes": {"speed_rpm": 0.0}}}, model=model)
+    >>> result = rdm.study(model, spec)
+    >>> result.dataset["modal_frequency_hz"].shape
+    (4, 6)
+
+The study file is described in ``docs/study-file.md``. This module is callable:
+``rdm.study(model, spec, ...)`` is :func:`study` (see its docstring for the arguments).
+"""
+
+from __future__ import annotations
+
+import sys
+import types
+from pathlib import Path
+
+from .definition import Parameter, StudyDefinition, StudyError, parse_study, read_study
+from .results import StudyResult, load_study
+from .sampling import sample_variants
+
+__all__ = ["study", "StudyResult", "StudyDefinition", "StudyError", "Parameter", "read_study",
+           "parse_study", "load_study", "sample_variants", "checkpoint_folder"]
+
+
+def checkpoint_folder(out) -> Path:
+    """The folder where a study writing ``out`` keeps its finished chunks: ``OUT.partial``."""
+    out = Path(out)
+    return out.with_name(out.name + ".partial")
+
+
+def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = None,
+          progress: bool = False) -> StudyResult:
+    """Run a parameter study: every variant through the study's analyses.
+
+    Parameters
+    ----------
+    model : Model
+        The base model.
+    spec : StudyDefinition, dict or path-like
+        The study (``docs/study-file.md``): a parsed definition, a description
+        with the file's structure, or the path of a TOML study file.
+    executor : concurrent.futures.Executor, optional
+        ``None`` runs serially in this process. Otherwise chunks of variants go
+        through ``executor.map`` (a ``ProcessPoolExecutor``,
+        ``dask.distributed.Client(...).get_executor()``, ...) and each worker
+        uses one BLAS thread.
+    checkpoint : path-like, optional
+        Folder where finished chunks are saved as they complete; running the
+        same study again with the same folder computes only the missing chunks.
+    chunk_size : int, optional
+        Variants per chunk (default: the study file's ``chunk_size``, else
+        chosen from the number of variants and workers).
+    progress : bool
+        Show a progress bar (tqdm) over variants.
+
+    Returns
+    -------
+    StudyResult
+        One data set over (variant, speed, mode, ...); failed variants are NaN
+        with their reason in ``error``.
+    """
+    from .analyses import describe
+    from .execution import Checkpoint, default_chunk_size, execute, fingerprint, make_tasks
+    from .results import build_dataset
+
+    definition = _definition(spec, model)
+    values = sample_variants(definition)
+    variables, coords, layouts = describe(model, definition.analyses)
+    shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
+    size = chunk_size or definition.chunk_size or default_chunk_size(len(values), executor)
+    base = {"keys": tuple(p.keys for p in definition.parameters),
+            "applies": tuple(p.apply for p in definition.parameters),
+            "model_data": model.to_dict(), "model_source": model.source, "analyses": definition.analyses,
+            "layouts": layouts, "shapes": shapes, "single_thread": executor is not None}
+    tasks = make_tasks(values, size, base)
+    store = None
+    if checkpoint is not None:
+        store = Checkpoint(checkpoint, fingerprint(model.to_dict(), definition.raw, size, values))
+    chunks, resumed = execute(tasks, executor, store, progress, len(values))
+    dataset = build_dataset(chunks, values, definition, variables, coords, model,
+                            attrs={"chunk_size": size})
+    return StudyResult(dataset, resumed_chunks=resumed)
+
+
+def _definition(spec, model) -> StudyDefinition:
+    if isinstance(spec, StudyDefinition):
+        return spec
+    if isinstance(spec, dict):
+        return parse_study(spec, "<study>", model)
+    return read_study(spec, model)
+
+
+class _CallableModule(types.ModuleType):
+    """``rdm.study(...)`` calls :func:`study`; submodules import as usual."""
+
+    def __call__(self, model, spec, executor=None, checkpoint=None, chunk_size=None, progress=False):
+        return study(model, spec, executor=executor, checkpoint=checkpoint, chunk_size=chunk_size,
+                     progress=progress)
+
+
+sys.modules[__name__].__class__ = _CallableModule

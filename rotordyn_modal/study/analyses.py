@@ -1,0 +1,319 @@
+"""The analyses a study runs on every variant: a registry of small adapters.
+
+Each entry of :data:`ANALYSES` turns one single analysis of the package into
+fixed-shape arrays per variant, so that variants stack into one data set:
+
+* ``parse(table, where, source)`` validates the options of ``[analyses.NAME]``;
+* ``describe(model, options)`` gives, from the base model, the output variables
+  with their dimensions (after ``variant``) and the coordinates of those
+  dimensions;
+* ``run(model, options, layout, cache)`` returns ``{variable: ndarray}`` for one
+  variant (shapes as described; NaN where a quantity does not exist).
+
+A new analysis plugs in by adding an :class:`Analysis` to :data:`ANALYSES`.
+The unbalance adapter is registered only when ``rotordyn_modal.analysis``
+provides ``unbalance_response``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+__all__ = ["Analysis", "ANALYSES", "parse_analyses", "describe", "run_analyses"]
+
+_RPM = math.pi / 30.0
+N_MODES = 6  # six rigid-body DOF of the stator: six modes per speed
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """Adapter of one single analysis; see the module docstring."""
+
+    name: str
+    keys: tuple
+    parse: Callable
+    describe: Callable
+    run: Callable
+
+
+# ---------------------------------------------------------------------------- options
+def _error(source, where, value, expected):
+    from .definition import StudyError
+
+    return StudyError(source, where, value, expected)
+
+
+def _speeds(value, where, source, default=None) -> np.ndarray:
+    """``'START:STOP:N'`` or a list [rpm] -> increasing speeds [rad/s]."""
+    from .definition import _grid
+
+    if value is None:
+        if default is None:
+            raise _error(source, where, value, "speeds in rpm: 'START:STOP:N' or a list")
+        return default
+    speeds = _grid(value, where, source) * _RPM
+    if len(speeds) > 1 and not np.all(np.diff(speeds) > 0):
+        raise _error(source, where, value, "strictly increasing speeds")
+    return speeds
+
+
+def _orders(value, where, source) -> tuple:
+    if value is None:
+        return (1.0,)
+    if not isinstance(value, list) or not value or not all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0 for v in value):
+        raise _error(source, where, value, "a list of excitation orders > 0, e.g. [1, 2]")
+    return tuple(float(v) for v in value)
+
+
+def _parse_sweep(table, where, source):
+    return {"speeds": _speeds(table.get("speeds_rpm"), f"{where} speeds_rpm", source),
+            "orders": _orders(table.get("orders"), f"{where} orders", source)}
+
+
+def _parse_modes(table, where, source):
+    speed = table.get("speed_rpm", 0.0)
+    if not isinstance(speed, (int, float)) or isinstance(speed, bool) or not math.isfinite(speed):
+        raise _error(source, f"{where} speed_rpm", speed, "a finite speed in rpm")
+    return {"speed": float(speed) * _RPM}
+
+
+def _parse_stability(table, where, source):
+    return {"speeds": _speeds(table.get("speeds_rpm"), f"{where} speeds_rpm", source)}
+
+
+def _parse_unbalance(table, where, source):
+    outputs = table.get("outputs")
+    if outputs is not None and (not isinstance(outputs, list) or not all(isinstance(o, str) for o in outputs)):
+        raise _error(source, f"{where} outputs", outputs, "a list of sensor names")
+    operating = table.get("operating_speed_rpm")
+    if operating is not None and (not isinstance(operating, (int, float)) or isinstance(operating, bool)
+                                  or not math.isfinite(operating) or operating == 0):
+        raise _error(source, f"{where} operating_speed_rpm", operating, "a finite non-zero speed in rpm")
+    quantity = table.get("quantity", "displacement")
+    if quantity not in ("displacement", "velocity", "acceleration"):
+        raise _error(source, f"{where} quantity", quantity, "displacement, velocity or acceleration")
+    return {"speeds": _speeds(table.get("speeds_rpm"), f"{where} speeds_rpm", source),
+            "outputs": outputs, "quantity": quantity,
+            "operating_speed": None if operating is None else float(operating) * _RPM}
+
+
+# ---------------------------------------------------------------------------- campbell
+def _campbell_of(model, options, cache):
+    from ..analysis import campbell
+
+    key = ("campbell", options["speeds"].tobytes(), options["orders"])
+    if key not in cache:
+        cache[key] = campbell(model, options["speeds"], orders=options["orders"])
+    return cache[key]
+
+
+def _describe_campbell(model, options):
+    from ..analysis import excitation_sources
+
+    dims = ("speed", "mode")
+    variables = {name: dims for name in ("frequency_hz", "damping_ratio", "real_part", "whirl_ratio")}
+    sources = excitation_sources(model)
+    lines = [(f"{name} {order:g}X", order * multiplier / (2 * np.pi))
+             for name, multiplier in zip(sources.names, sources.multipliers) for order in options["orders"]]
+    coords = {"speed": ("speed", options["speeds"], {"units": "rad/s"}),
+              "speed_rpm": ("speed", options["speeds"] / _RPM, {"units": "rpm"}),
+              "mode": ("mode", np.arange(1, N_MODES + 1), {}),
+              "excitation": ("excitation", np.array([line[0] for line in lines], dtype=str), {}),
+              "excitation_slope": ("excitation", np.array([line[1] for line in lines]),
+                                   {"units": "Hz per rad/s of the reference speed (base model)"})}
+    return variables, coords, None
+
+
+def _run_campbell(model, options, layout, cache):
+    result = _campbell_of(model, options, cache)
+    return {"frequency_hz": result.frequencies_hz, "damping_ratio": result.damping_ratios,
+            "real_part": result.eigenvalues.real, "whirl_ratio": result.whirl_ratios}
+
+
+def _describe_critical(model, options):
+    from ..analysis import excitation_sources
+
+    sources = excitation_sources(model).names
+    rows = [(s, o, m) for s in sources for o in options["orders"] for m in range(1, N_MODES + 1)]
+    coords = {"crossing": ("crossing", np.arange(len(rows)), {}),
+              "crossing_source": ("crossing", np.array([r[0] for r in rows], dtype=str), {}),
+              "crossing_order": ("crossing", np.array([r[1] for r in rows]), {}),
+              "crossing_mode": ("crossing", np.array([r[2] for r in rows]), {})}
+    variables = {"critical_speed": ("crossing",), "critical_frequency_hz": ("crossing",),
+                 "critical_count": ()}
+    return variables, coords, {row: i for i, row in enumerate(rows)}
+
+
+def _run_critical(model, options, layout, cache):
+    """Per (source, order, mode): the crossing nearest zero speed (NaN if none)."""
+    critical = _campbell_of(model, options, cache).critical
+    speeds = np.full(len(layout), np.nan)
+    freqs = np.full(len(layout), np.nan)
+    for source, order, mode, speed, freq in zip(critical.source, critical.order, critical.mode,
+                                                critical.speeds, critical.frequencies_hz):
+        i = layout.get((str(source), float(order), int(mode)))
+        if i is not None and not abs(speed) >= abs(speeds[i]):  # NaN compares False: take it
+            speeds[i], freqs[i] = speed, freq
+    return {"critical_speed": speeds, "critical_frequency_hz": freqs,
+            "critical_count": np.array(float(len(critical)))}
+
+
+# ---------------------------------------------------------------------------- modes
+def _describe_modes(model, options):
+    coords = {"mode": ("mode", np.arange(1, N_MODES + 1), {})}
+    return {"modal_frequency_hz": ("mode",), "modal_damping_ratio": ("mode",)}, coords, None
+
+
+def _run_modes(model, options, layout, cache):
+    from ..analysis import modal
+
+    result = modal(model, options["speed"])
+    return {"modal_frequency_hz": result.frequencies_hz, "modal_damping_ratio": result.damping_ratios}
+
+
+# ---------------------------------------------------------------------------- stability
+def _describe_stability(model, options):
+    coords = {"stability_speed": ("stability_speed", options["speeds"], {"units": "rad/s"})}
+    variables = {"threshold_speed": (), "instability_speed": (), "max_real_part": ("stability_speed",)}
+    return variables, coords, None
+
+
+def _run_stability(model, options, layout, cache):
+    from ..analysis import stability
+    from ..analysis.stability import _significant_real_parts
+
+    result = stability(model, options["speeds"])
+    largest = _significant_real_parts(result.eigenvalues).max(axis=1)
+    # lowest speed of the sweep where the machine is unstable: the threshold, or the
+    # sweep's start when it is unstable there already (NaN: stable over the sweep)
+    start = result.speeds[0] if largest[0] > 0 else result.threshold_speed
+    return {"threshold_speed": np.array(result.threshold_speed), "instability_speed": np.array(start),
+            "max_real_part": largest}
+
+
+# ---------------------------------------------------------------------------- unbalance
+def _describe_unbalance(model, options):
+    from ..analysis.unbalance import unbalance_forces
+
+    outputs = options["outputs"] or [s.name for s in model.sensors]
+    sources = unbalance_forces(model, options["speeds"][:1])[0]
+    coords = {"output": ("output", np.array(outputs, dtype=str), {}),
+              "unbalance_source": ("unbalance_source", np.array(sources, dtype=str), {})}
+    dims = ("output", "unbalance_source")
+    names = ("unbalance_peak_amplitude", "unbalance_peak_speed", "amplification_factor",
+             "separation_margin_pct", "required_margin_pct")
+    return {name: dims for name in names}, coords, (tuple(outputs), tuple(sources))
+
+
+def _run_unbalance(model, options, layout, cache):
+    from ..analysis.unbalance import amplification_factors, required_separation_margin, unbalance_response
+
+    outputs, sources = layout
+    result = unbalance_response(model, options["speeds"], outputs=list(outputs), quantity=options["quantity"])
+    out = {name: np.full((len(outputs), len(sources)), np.nan) for name in
+           ("unbalance_peak_amplitude", "unbalance_peak_speed", "amplification_factor",
+            "separation_margin_pct", "required_margin_pct")}
+    operating = options["operating_speed"]
+    for j, source in enumerate(sources):
+        if source not in result.sources:
+            continue
+        k = result.sources.index(source)
+        for i in range(len(outputs)):
+            _unbalance_peak(out, i, j, options["speeds"], result.amplitude[i, k], operating,
+                            amplification_factors, required_separation_margin)
+    return out
+
+
+def _unbalance_peak(out, i, j, speeds, amplitude, operating, factors, required):
+    """The largest peak of one amplitude curve: its amplitude, speed, AF and margins."""
+    peaks = factors(speeds, amplitude)
+    if peaks:
+        speed, amp, af = max(peaks, key=lambda p: p[1])
+    else:  # monotonic curve: the end of the sweep
+        k = int(np.argmax(amplitude))
+        speed, amp, af = float(speeds[k]), float(amplitude[k]), np.nan
+    out["unbalance_peak_amplitude"][i, j] = amp
+    out["unbalance_peak_speed"][i, j] = speed
+    out["amplification_factor"][i, j] = af
+    out["required_margin_pct"][i, j] = required(af)
+    if operating is not None:
+        out["separation_margin_pct"][i, j] = 100 * abs(operating - speed) / abs(operating)
+
+
+# ---------------------------------------------------------------------------- registry
+ANALYSES = {
+    "modes": Analysis("modes", ("speed_rpm",), _parse_modes, _describe_modes, _run_modes),
+    "campbell": Analysis("campbell", ("speeds_rpm", "orders"), _parse_sweep, _describe_campbell,
+                         _run_campbell),
+    "critical_speeds": Analysis("critical_speeds", ("speeds_rpm", "orders"), _parse_sweep,
+                                _describe_critical, _run_critical),
+    "stability": Analysis("stability", ("speeds_rpm",), _parse_stability, _describe_stability,
+                          _run_stability),
+}
+try:  # the response issue provides it; plug in only if it is there
+    from ..analysis import unbalance_response as _unbalance_response  # noqa: F401
+except ImportError:  # pragma: no cover
+    pass
+else:
+    ANALYSES["unbalance"] = Analysis("unbalance", ("speeds_rpm", "outputs", "operating_speed_rpm", "quantity"),
+                                     _parse_unbalance, _describe_unbalance, _run_unbalance)
+
+
+def parse_analyses(table, source, model=None) -> dict:
+    """Validate ``[analyses]``: name -> options (speeds in rad/s).
+
+    ``critical_speeds`` without ``speeds_rpm`` takes the Campbell sweep's speeds
+    and orders (one eigen-solution serves both).
+    """
+    if not isinstance(table, dict) or not table:
+        raise _error(source, "[analyses]", table, "at least one of " + ", ".join(
+            f"[analyses.{name}]" for name in ANALYSES))
+    out = {}
+    for name in sorted(table, key=lambda n: n == "critical_speeds"):
+        options = table[name]
+        where = f"[analyses.{name}]"
+        if name not in ANALYSES:
+            raise _error(source, "[analyses]", name, "analyses among " + ", ".join(ANALYSES))
+        if not isinstance(options, dict):
+            raise _error(source, where, options, "a table of options")
+        for key in options:
+            if key not in ANALYSES[name].keys:
+                raise _error(source, f"{where} {key}", options[key],
+                             "one of the keys " + (", ".join(ANALYSES[name].keys) or "(none)"))
+        if name == "critical_speeds" and "speeds_rpm" not in options and "campbell" in out:
+            options = {"orders": table["campbell"].get("orders"), **options}
+            out[name] = {"speeds": out["campbell"]["speeds"],
+                         "orders": _orders(options["orders"], f"{where} orders", source)}
+            continue
+        out[name] = ANALYSES[name].parse(options, where, source)
+    if model is not None:
+        try:
+            describe(model, out)
+        except Exception as error:  # an option the base model cannot serve (unknown sensor...)
+            raise _error(source, "[analyses]", sorted(out), f"analyses the model supports ({error})") from None
+    return out
+
+
+def describe(model, analyses) -> tuple:
+    """Variables (name -> dims after ``variant``), coordinates and per-analysis layouts."""
+    variables, coords, layouts = {}, {}, {}
+    for name, options in analyses.items():
+        v, c, layout = ANALYSES[name].describe(model, options)
+        variables.update(v)
+        coords.update(c)
+        layouts[name] = layout
+    return variables, coords, layouts
+
+
+def run_analyses(model, analyses, layouts) -> dict:
+    """Every analysis of one variant: ``{variable: ndarray}``."""
+    cache: dict = {}
+    out = {}
+    for name, options in analyses.items():
+        out.update(ANALYSES[name].run(model, options, layouts[name], cache))
+    return out

@@ -1,0 +1,407 @@
+"""The study file (``docs/study-file.md``): read, validate, and hold it as plain data.
+
+A study is a base model, parameters addressed by dotted keys (each a grid or a
+distribution), a sampling design, the analyses run on every variant and a seed.
+Every rule refuses a bad file with :class:`StudyError`, whose message names the
+file, the table and key, the value found and what was expected, like a bad model.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["StudyError", "Parameter", "StudyDefinition", "read_study", "parse_study",
+           "DESIGNS", "DISTRIBUTIONS"]
+
+#: sampling designs of the distributions' parameters
+DESIGNS = ("monte-carlo", "latin-hypercube", "sobol", "saltelli")
+#: distribution name -> keys it needs (one of the alternatives)
+DISTRIBUTIONS = {
+    "normal": (("mean", "std"),),
+    "lognormal": (("median", "log_std"), ("mean", "std")),
+    "uniform": (("low", "high"),),
+}
+_TOP_KEYS = ("seed", "samples", "design", "chunk_size", "parameters", "correlation", "analyses",
+             "operating_band_rpm", "model", "name")
+_PARAMETER_KEYS = ("name", "key", "keys", "values", "scale", "distribution", "apply", "mean", "std",
+                   "median", "log_std", "low", "high", "truncate")
+
+
+class StudyError(InputError):
+    """A study file that fails validation: ``file: where = value: expected ...``."""
+
+    def __init__(self, source: str, where: str, value, expected: str):
+        self.source, self.where, self.value, self.expected = source, where, value, expected
+        text = repr(value)
+        text = text if len(text) <= 80 else text[:77] + "..."
+        super().__init__(f"{source}: {where} = {text}: expected {expected}")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One varied quantity of a study.
+
+    Attributes
+    ----------
+    name : str
+        Label in results (default: the first key).
+    keys : tuple of str
+        Dotted keys that all receive the same sampled number.
+    apply : {'value', 'scale'}
+        Set the keys to the number, or multiply them (whole arrays too) by it.
+    grid : ndarray or None, shape (G,)
+        Grid points (a grid parameter); None for a distribution.
+    distribution : str or None
+        'normal', 'lognormal' or 'uniform'.
+    arguments : dict
+        scipy.stats arguments of the distribution (``loc``, ``scale``, ``s``).
+    truncate : tuple of float or None
+        (low, high) bounds of a truncated distribution.
+    """
+
+    name: str
+    keys: tuple
+    apply: str
+    grid: np.ndarray | None = None
+    distribution: str | None = None
+    arguments: dict = field(default_factory=dict)
+    truncate: tuple | None = None
+
+    @property
+    def is_grid(self) -> bool:
+        return self.grid is not None
+
+    def frozen(self):
+        """The scipy.stats frozen distribution."""
+        from scipy import stats
+
+        return {"normal": stats.norm, "lognormal": stats.lognorm,
+                "uniform": stats.uniform}[self.distribution](**self.arguments)
+
+
+@dataclass(frozen=True)
+class StudyDefinition:
+    """A validated study.
+
+    Attributes
+    ----------
+    parameters : tuple of Parameter
+    design : str
+        One of :data:`DESIGNS` (used only when some parameter is a distribution).
+    samples : int
+        Samples of the distributions (per grid point); for 'saltelli' the base
+        sample N, giving N (d + 2) variants.
+    seed : int or None
+    correlation : ndarray, shape (n_random, n_random)
+        Correlation of the distributions' parameters (Gaussian copula), in the
+        order of the distribution parameters.
+    analyses : dict
+        Analysis name -> validated options (see :mod:`rotordyn_modal.study.analyses`).
+    chunk_size : int or None
+        Variants per chunk sent to a worker (None: chosen by the executor).
+    operating_band_rpm : tuple or None
+        (low, high) operating speed band [rpm] for reports.
+    source : str
+    raw : dict
+        The study description as given.
+    """
+
+    parameters: tuple
+    design: str
+    samples: int
+    seed: int | None
+    correlation: np.ndarray
+    analyses: dict
+    chunk_size: int | None
+    operating_band_rpm: tuple | None
+    source: str
+    raw: dict
+
+    @property
+    def grid_parameters(self) -> tuple:
+        return tuple(p for p in self.parameters if p.is_grid)
+
+    @property
+    def random_parameters(self) -> tuple:
+        return tuple(p for p in self.parameters if not p.is_grid)
+
+
+# ----------------------------------------------------------------------------------------
+def read_study(path, model=None) -> StudyDefinition:
+    """Read and validate a study file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        TOML study file (``docs/study-file.md``).
+    model : Model, optional
+        Base model; its dotted keys are checked when given.
+
+    Returns
+    -------
+    StudyDefinition
+    """
+    path = Path(path)
+    source = str(path)
+    try:
+        data = tomllib.loads(path.read_bytes().decode("utf-8"))
+    except FileNotFoundError:
+        raise StudyError(source, "<file>", source, "an existing study file (no such file)") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise StudyError(source, "<file>", source, f"a readable UTF-8 file ({error})") from None
+    except tomllib.TOMLDecodeError as error:
+        raise StudyError(source, "<file>", str(error), "valid TOML") from None
+    return parse_study(data, source, model)
+
+
+def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinition:
+    """Validate a study description (the structure of the TOML file).
+
+    Parameters
+    ----------
+    data : dict
+    source : str
+        Named in messages.
+    model : Model, optional
+        Base model whose dotted keys are checked.
+
+    Returns
+    -------
+    StudyDefinition
+    """
+    from .analyses import parse_analyses
+
+    if not isinstance(data, dict):
+        raise StudyError(source, "<study>", data, "a table")
+    _unknown(data, _TOP_KEYS, source, "<top level>")
+    seed = data.get("seed")
+    if seed is not None and (not isinstance(seed, int) or isinstance(seed, bool) or seed < 0):
+        raise StudyError(source, "seed", seed, "a whole number >= 0")
+    design = data.get("design", "monte-carlo")
+    if design not in DESIGNS:
+        raise StudyError(source, "design", design, "one of " + ", ".join(DESIGNS))
+    chunk = data.get("chunk_size")
+    if chunk is not None and (not _is_int(chunk) or chunk < 1):
+        raise StudyError(source, "chunk_size", chunk, "a whole number >= 1")
+    items = data.get("parameters")
+    if not isinstance(items, list) or not items:
+        raise StudyError(source, "[[parameters]]", items, "at least one [[parameters]] table")
+    parameters = tuple(_parameter(item, i, source, model) for i, item in enumerate(items))
+    _unique_names(parameters, source)
+    random = [p for p in parameters if not p.is_grid]
+    samples = data.get("samples", 0 if not random else None)
+    if random and (not _is_int(samples) or samples < 2):
+        raise StudyError(source, "samples", samples, "a whole number >= 2 (samples of the distributions)")
+    if not random and samples not in (0, None):
+        raise StudyError(source, "samples", samples, "no samples: every parameter is a grid "
+                         "(give a distribution to sample)")
+    correlation = _correlation(data.get("correlation"), random, source)
+    if design == "saltelli" and not np.allclose(correlation, np.eye(len(random))):
+        raise StudyError(source, "design", design, "independent parameters (Sobol indices assume "
+                         "no correlation); remove [correlation] or use another design")
+    if design == "saltelli" and len(random) != len(parameters):
+        raise StudyError(source, "design", design, "distributions only (a Saltelli design takes no grid "
+                         "parameters)")
+    analyses = parse_analyses(data.get("analyses"), source, model)
+    band = _band(data.get("operating_band_rpm"), source)
+    return StudyDefinition(parameters=parameters, design=design, samples=int(samples or 0),
+                           seed=seed, correlation=correlation, analyses=analyses,
+                           chunk_size=chunk, operating_band_rpm=band, source=source, raw=data)
+
+
+def _is_int(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _unknown(table, allowed, source, where):
+    for key in table:
+        if key not in allowed:
+            raise StudyError(source, f"{where} {key}", table[key], "one of the keys " + ", ".join(allowed))
+
+
+def _unique_names(parameters, source):
+    seen = set()
+    for i, p in enumerate(parameters):
+        if p.name in seen:
+            raise StudyError(source, f"[[parameters]] {i + 1} name", p.name, "a name used once")
+        seen.add(p.name)
+
+
+def _parameter(item, i, source, model) -> Parameter:
+    where = f"[[parameters]] {i + 1}"
+    if not isinstance(item, dict):
+        raise StudyError(source, where, item, "a table")
+    _unknown(item, _PARAMETER_KEYS, source, where)
+    keys = _keys(item, where, source)
+    name = item.get("name", keys[0])
+    if not isinstance(name, str) or not name:
+        raise StudyError(source, f"{where} name", name, "a non-empty string")
+    grid_keys = [k for k in ("values", "scale") if k in item]
+    if len(grid_keys) > 1 or (grid_keys and "distribution" in item):
+        raise StudyError(source, where, sorted(item), "exactly one of values, scale or distribution")
+    if grid_keys:
+        grid = _grid(item[grid_keys[0]], f"{where} {grid_keys[0]}", source)
+        apply = "value" if grid_keys[0] == "values" else "scale"
+        parameter = Parameter(name=name, keys=keys, apply=apply, grid=grid)
+        _check_keys(parameter, grid[0], model, where, source)
+        return parameter
+    if "distribution" not in item:
+        raise StudyError(source, where, sorted(item), "one of values, scale (a grid) or distribution")
+    parameter = _distribution(item, name, keys, where, source)
+    _check_keys(parameter, parameter.frozen().median(), model, where, source)
+    return parameter
+
+
+def _keys(item, where, source) -> tuple:
+    if ("key" in item) == ("keys" in item):
+        raise StudyError(source, where, sorted(item), "exactly one of key (a dotted key) or keys (a list)")
+    keys = [item["key"]] if "key" in item else item["keys"]
+    if not isinstance(keys, list) or not keys or not all(isinstance(k, str) and k for k in keys):
+        raise StudyError(source, f"{where} key", keys, "dotted keys such as 'suspensions.mount-FL.stiffness'")
+    return tuple(keys)
+
+
+def _grid(value, where, source) -> np.ndarray:
+    if isinstance(value, str):
+        parts = value.split(":")
+        try:
+            start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+        except (ValueError, IndexError):
+            raise StudyError(source, where, value, "a list of numbers or 'START:STOP:N'") from None
+        if len(parts) != 3 or count < 1 or not (math.isfinite(start) and math.isfinite(stop)):
+            raise StudyError(source, where, value, "'START:STOP:N' with N >= 1 and finite ends")
+        return np.linspace(start, stop, count)
+    if not isinstance(value, list) or not value or not all(_is_number(v) for v in value):
+        raise StudyError(source, where, value, "a non-empty list of finite numbers or 'START:STOP:N'")
+    return np.array(value, dtype=float)
+
+
+def _positive(item, key, where, source) -> float:
+    value = item.get(key)
+    if not _is_number(value) or value <= 0:
+        raise StudyError(source, f"{where} {key}", value, "a finite number > 0")
+    return float(value)
+
+
+def _number(item, key, where, source) -> float:
+    value = item.get(key)
+    if not _is_number(value):
+        raise StudyError(source, f"{where} {key}", value, "a finite number")
+    return float(value)
+
+
+def _distribution(item, name, keys, where, source) -> Parameter:
+    kind = item["distribution"]
+    if kind not in DISTRIBUTIONS:
+        raise StudyError(source, f"{where} distribution", kind, "one of " + ", ".join(DISTRIBUTIONS))
+    apply = item.get("apply", "value")
+    if apply not in ("value", "scale"):
+        raise StudyError(source, f"{where} apply", apply, "'value' (set the key) or 'scale' (multiply it)")
+    arguments = _distribution_arguments(kind, item, where, source)
+    truncate = _truncation(item.get("truncate"), where, source)
+    parameter = Parameter(name=name, keys=keys, apply=apply, distribution=kind, arguments=arguments,
+                          truncate=truncate)
+    if truncate is not None:
+        dist = parameter.frozen()
+        if not dist.cdf(truncate[1]) - dist.cdf(truncate[0]) > 1e-12:
+            raise StudyError(source, f"{where} truncate", list(truncate),
+                             "bounds that keep some probability of the distribution")
+    return parameter
+
+
+def _distribution_arguments(kind, item, where, source) -> dict:
+    alternatives = DISTRIBUTIONS[kind]
+    given = [alt for alt in alternatives if any(k in item for k in alt)]
+    if len(given) != 1 or not all(k in item for k in given[0]):
+        expected = " or ".join(" and ".join(alt) for alt in alternatives)
+        present = {k: item[k] for k in ("mean", "std", "median", "log_std", "low", "high") if k in item}
+        raise StudyError(source, f"{where} ({kind})", present, expected)
+    if kind == "normal":
+        return {"loc": _number(item, "mean", where, source), "scale": _positive(item, "std", where, source)}
+    if kind == "uniform":
+        low, high = _number(item, "low", where, source), _number(item, "high", where, source)
+        if not high > low:
+            raise StudyError(source, f"{where} high", high, f"a number > low = {low}")
+        return {"loc": low, "scale": high - low}
+    if "median" in item:
+        median, log_std = _positive(item, "median", where, source), _positive(item, "log_std", where, source)
+    else:
+        mean, std = _positive(item, "mean", where, source), _positive(item, "std", where, source)
+        log_std = math.sqrt(math.log1p((std / mean) ** 2))
+        median = mean / math.sqrt(1 + (std / mean) ** 2)
+    return {"s": log_std, "scale": median}
+
+
+def _truncation(value, where, source):
+    if value is None:
+        return None
+    if not isinstance(value, list) or len(value) != 2 or not all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in value) \
+            or not value[1] > value[0]:
+        raise StudyError(source, f"{where} truncate", value, "[low, high] with low < high "
+                         "(use -inf or inf for one side)")
+    return float(value[0]), float(value[1])
+
+
+def _check_keys(parameter, number, model, where, source):
+    """Apply a representative number to the base model's keys (refuses unknown keys)."""
+    if model is None:
+        return
+    from ..parameters import scale_value, set_value
+
+    data = model.to_dict()
+    for key in parameter.keys:
+        try:
+            (set_value if parameter.apply == "value" else scale_value)(data, key, float(number), model.source)
+        except InputError as error:
+            raise StudyError(source, f"{where} key", key, f"a dotted key of the model ({error})") from None
+
+
+def _correlation(table, random, source) -> np.ndarray:
+    d = len(random)
+    if table is None:
+        return np.eye(d)
+    where = "[correlation]"
+    if not isinstance(table, dict):
+        raise StudyError(source, where, table, "a table with parameters and matrix")
+    _unknown(table, ("parameters", "matrix"), source, where)
+    names = table.get("parameters")
+    known = [p.name for p in random]
+    if not isinstance(names, list) or not names or any(n not in known for n in names) \
+            or len(set(names)) != len(names):
+        raise StudyError(source, f"{where} parameters", names,
+                         "distinct names of distribution parameters: " + ", ".join(known))
+    try:
+        matrix = np.array(table.get("matrix"), dtype=float)
+    except (TypeError, ValueError):
+        matrix = np.empty(0)
+    k = len(names)
+    if matrix.shape != (k, k) or not np.all(np.isfinite(matrix)) or not np.allclose(matrix, matrix.T) \
+            or not np.allclose(np.diag(matrix), 1.0) or np.any(np.abs(matrix) > 1):
+        raise StudyError(source, f"{where} matrix", table.get("matrix"),
+                         f"a symmetric {k}x{k} matrix with ones on the diagonal and entries in [-1, 1]")
+    if np.linalg.eigvalsh(matrix).min() <= 1e-12:
+        raise StudyError(source, f"{where} matrix", table.get("matrix"), "a positive definite matrix")
+    full = np.eye(d)
+    index = [known.index(n) for n in names]
+    full[np.ix_(index, index)] = matrix
+    return full
+
+
+def _band(value, source):
+    if value is None:
+        return None
+    if not isinstance(value, list) or len(value) != 2 or not all(_is_number(v) for v in value) \
+            or not value[1] > value[0]:
+        raise StudyError(source, "operating_band_rpm", value, "[low, high] in rpm with low < high")
+    return float(value[0]), float(value[1])

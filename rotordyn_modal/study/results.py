@@ -1,0 +1,381 @@
+"""The results of a study: one labelled data set over (variant, speed, mode, ...).
+
+:class:`StudyResult` wraps an ``xarray.Dataset`` (arrays and labels only, so it
+pickles) and saves it as netCDF (classic 64-bit-offset format through scipy,
+no extra engine), which opens without this package (``xarray.open_dataset``,
+``netCDF4``, ``ncdump``, MATLAB, R).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["StudyResult", "build_dataset", "load_study", "percentile_interval"]
+
+#: dimensions too long to spread into columns of the per-variant table
+_SWEEP_DIMS = ("speed", "stability_speed")
+
+
+def build_dataset(chunks, values, definition, variables, coords, model, attrs=None):
+    """Stack chunk results into one ``xarray.Dataset``.
+
+    Parameters
+    ----------
+    chunks : list of dict
+        From :func:`rotordyn_modal.study.execution.execute`, in variant order.
+    values : ndarray, shape (n_variants, n_parameters)
+    definition : StudyDefinition
+    variables : dict
+        Output variable -> dims after ``variant``.
+    coords : dict
+        Coordinate name -> (dim, values, attrs).
+    model : Model
+        The base model (its description is stored as an attribute).
+    attrs : dict, optional
+        More global attributes.
+    """
+    import xarray as xr
+
+    from .. import __version__
+
+    data = {name: (("variant",) + dims, np.concatenate([c[name] for c in chunks]))
+            for name, dims in variables.items()}
+    errors = np.concatenate([c["error"] for c in chunks]).astype(str)
+    params = definition.parameters
+    data["sample_value"] = (("variant", "parameter"), values)
+    data["error"] = (("variant",), errors)
+    data["failed"] = (("variant",), (errors != "").astype(np.int8))
+    coordinates = {name: (dim, vals, a) for name, (dim, vals, a) in coords.items()}
+    coordinates["variant"] = ("variant", np.arange(len(values)), {})
+    coordinates["parameter"] = ("parameter", np.array([p.name for p in params], dtype=str), {})
+    coordinates["parameter_keys"] = ("parameter", np.array([",".join(p.keys) for p in params], dtype=str), {})
+    coordinates["parameter_apply"] = ("parameter", np.array([p.apply for p in params], dtype=str), {})
+    coordinates["parameter_is_grid"] = ("parameter", np.array([p.is_grid for p in params], dtype=np.int8), {})
+    ds = xr.Dataset(data, coords=coordinates)
+    ds.attrs.update({
+        "title": f"rotordyn_modal parameter study of {model.name or model.source}",
+        "design": definition.design, "samples": definition.samples,
+        "seed": -1 if definition.seed is None else definition.seed,
+        "study": json.dumps(definition.raw, default=str), "model": json.dumps(model.to_dict(), default=str),
+        "model_source": model.source, "study_source": definition.source,
+        "rotordyn_modal_version": __version__,
+        "conventions": "speeds in rad/s (speed_rpm coordinate in rpm); frequencies in Hz; "
+                       "NaN where a quantity does not exist or the variant failed (see error)",
+    })
+    if definition.operating_band_rpm is not None:
+        ds.attrs["operating_band_rpm"] = np.array(definition.operating_band_rpm)
+    ds.attrs.update(attrs or {})
+    for name, unit in _UNITS.items():
+        if name in ds:
+            ds[name].attrs["units"] = unit
+    return ds
+
+
+_UNITS = {"frequency_hz": "Hz", "damping_ratio": "1", "real_part": "1/s", "whirl_ratio": "1",
+          "critical_speed": "rad/s", "critical_frequency_hz": "Hz", "modal_frequency_hz": "Hz",
+          "modal_damping_ratio": "1", "threshold_speed": "rad/s", "instability_speed": "rad/s", "max_real_part": "1/s",
+          "unbalance_peak_speed": "rad/s", "separation_margin_pct": "%", "required_margin_pct": "%"}
+
+
+def percentile_interval(x, q: float, confidence: float = 0.95):
+    """Distribution-free confidence interval of the q-th percentile from order statistics.
+
+    The interval ``[x_(j), x_(k)]`` with ``j, k`` the binomial(n, q/100)
+    quantiles of ``(1 -+ confidence) / 2`` covers the true percentile with
+    probability >= ``confidence``.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,), finite
+    q : float
+        Percentile in [0, 100].
+    confidence : float
+
+    Returns
+    -------
+    low, high : float
+    """
+    from scipy.stats import binom
+
+    x = np.sort(np.asarray(x, dtype=float))
+    n = len(x)
+    alpha = (1 - confidence) / 2
+    j = int(binom.ppf(alpha, n, q / 100))
+    k = int(binom.ppf(1 - alpha, n, q / 100)) + 1
+    return float(x[max(j - 1, 0)]), float(x[min(k - 1, n - 1)])
+
+
+@dataclass(frozen=True)
+class StudyResult:
+    """Results of a parameter study.
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset
+        Dims ``variant`` (every variant), ``parameter``, and those of the
+        analyses: ``speed`` and ``mode`` (Campbell: ``frequency_hz``,
+        ``damping_ratio``, ``real_part``, ``whirl_ratio``, each
+        (variant, speed, mode)), ``crossing`` (``critical_speed`` [rad/s],
+        ``critical_frequency_hz``: the crossing nearest zero speed of each
+        source, order and tracked mode), ``stability_speed``
+        (``max_real_part``; ``threshold_speed`` [rad/s] per variant), ``mode``
+        (``modal_frequency_hz``), ``output`` x ``unbalance_source`` (unbalance
+        peaks and separation margins). ``sample_value`` (variant, parameter)
+        holds the value set (or the factor applied); ``error`` the reason a
+        variant failed ('' if it did not).
+    resumed_chunks : int
+        Chunks read from a checkpoint instead of computed.
+    """
+
+    dataset: object
+    resumed_chunks: int = 0
+
+    # -- basic views ----------------------------------------------------------------------
+    @property
+    def n_variants(self) -> int:
+        return int(self.dataset.sizes["variant"])
+
+    @property
+    def failed(self) -> np.ndarray:
+        """(n_variants,) bool: the variant failed (its outputs are NaN)."""
+        return self.dataset["failed"].values.astype(bool)
+
+    @property
+    def parameters(self) -> list:
+        return [str(p) for p in self.dataset["parameter"].values]
+
+    @property
+    def samples(self):
+        """``pandas.DataFrame`` of the parameter values, one row per variant."""
+        import pandas as pd
+
+        return pd.DataFrame(self.dataset["sample_value"].values, columns=self.parameters,
+                            index=pd.Index(self.dataset["variant"].values, name="variant"))
+
+    def outputs(self) -> list:
+        """Names of the output variables (not the samples or the errors)."""
+        return [str(v) for v in self.dataset.data_vars if v not in ("sample_value", "error", "failed")]
+
+    def to_dataframe(self, variable: str | None = None):
+        """Results as a table (``pandas.DataFrame``).
+
+        Parameters
+        ----------
+        variable : str, optional
+            Without it: one row per variant with the parameter values, ``error``
+            and every output that has no speed dimension (outputs over
+            ``crossing``, ``mode``, ``output`` spread over columns such as
+            ``critical_speed[motor,1,2]``). With it: the long table of that
+            variable over all its dimensions, joined with the parameter values.
+        """
+        if variable is not None:
+            table = self.dataset[variable].to_dataframe().reset_index()
+            keep = [c for c in table.columns if c not in self.dataset.coords or c in self.dataset[variable].dims
+                    or c in ("speed_rpm",)]
+            return table[keep].join(self.samples, on="variant")
+        table = self.samples.copy()
+        table["error"] = self.dataset["error"].values
+        for name in self.outputs():
+            for column, values in _columns(self.dataset, name):
+                table[column] = values
+        return table
+
+    def scalar_outputs(self) -> dict:
+        """Every per-variant number: column name -> ndarray (n_variants,)."""
+        return {column: values for name in self.outputs() for column, values in _columns(self.dataset, name)}
+
+    # -- statistics -------------------------------------------------------------------------
+    def summary(self, variables=None, percentiles=(5.0, 50.0, 95.0), confidence: float = 0.95):
+        """Mean, standard deviation and percentiles of each output, with sampling errors.
+
+        Failed variants and NaN (a quantity that does not exist for a variant)
+        are left out; ``n`` counts what is left. ``mean_se = std / sqrt(n)``;
+        each percentile ``pQ`` has a distribution-free ``confidence`` interval
+        ``pQ_low``, ``pQ_high`` (:func:`percentile_interval`).
+
+        Parameters
+        ----------
+        variables : list of str, optional
+            Column names of :meth:`scalar_outputs` (default: all).
+        percentiles : sequence of float
+        confidence : float
+
+        Returns
+        -------
+        pandas.DataFrame, one row per output
+        """
+        import pandas as pd
+
+        columns = self.scalar_outputs()
+        rows = []
+        for name in variables or columns:
+            x = columns[name] if name in columns else self.dataset[name].values
+            x = np.asarray(x, dtype=float)
+            x = x[np.isfinite(x)]
+            row = {"output": name, "n": len(x)}
+            if len(x):
+                row.update(mean=x.mean(), std=x.std(ddof=1) if len(x) > 1 else np.nan)
+                row["mean_se"] = row["std"] / np.sqrt(len(x))
+                for q in percentiles:
+                    row[f"p{q:g}"] = np.percentile(x, q)
+                    row[f"p{q:g}_low"], row[f"p{q:g}_high"] = percentile_interval(x, q, confidence)
+            rows.append(row)
+        return pd.DataFrame(rows)
+
+    def probability_in_band(self, low: float, high: float, sources=None, orders=None, modes=None) -> dict:
+        """Probability that a critical speed falls inside an operating band.
+
+        A variant counts when any of its critical speeds (the crossings chosen by
+        ``sources``, ``orders``, ``modes``; default all) has ``low <= |speed| <= high``.
+        Failed variants are left out.
+
+        Parameters
+        ----------
+        low, high : float
+            Band [rad/s].
+        sources, orders, modes : sequence, optional
+            Restrict the crossings (e.g. ``sources=["motor"]``, ``orders=[1]``).
+
+        Returns
+        -------
+        dict
+            ``probability``, ``standard_error`` (``sqrt(p (1 - p) / n)``), ``n``,
+            ``hits``, and the 95 % Wilson interval ``low``, ``high``.
+        """
+        ds = self.dataset
+        if "critical_speed" not in ds:
+            from ..errors import InputError
+
+            raise InputError("probability_in_band needs the critical_speeds analysis in the study")
+        chosen = np.ones(ds.sizes["crossing"], bool)
+        for values, coord in ((sources, "crossing_source"), (orders, "crossing_order"), (modes, "crossing_mode")):
+            if values is not None:
+                chosen &= np.isin(ds[coord].values, list(values))
+        speeds = np.abs(ds["critical_speed"].values[:, chosen])
+        inside = np.any((speeds >= low) & (speeds <= high), axis=1)[~self.failed]
+        n, hits = len(inside), int(inside.sum())
+        p = hits / n if n else np.nan
+        z = 1.959963984540054
+        centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+        half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+        return {"probability": p, "standard_error": float(np.sqrt(p * (1 - p) / n)), "n": n, "hits": hits,
+                "low": float(centre - half), "high": float(centre + half)}
+
+    def sensitivity(self, variables=None):
+        """Global sensitivity of each output to each parameter.
+
+        A study with ``design = "saltelli"`` gives Sobol indices (first order
+        ``S1`` and total ``ST`` with bootstrap standard errors); any other
+        design gives standardised regression coefficients ``SRC`` with the
+        fit's ``R2`` (``SRC^2`` is a variance share only where ``R2`` is near 1).
+
+        Parameters
+        ----------
+        variables : list of str, optional
+            Column names of :meth:`scalar_outputs` (default: those that vary).
+
+        Returns
+        -------
+        pandas.DataFrame, one row per (output, parameter)
+        """
+        import pandas as pd
+
+        from .sensitivity import sobol_indices, standardized_regression
+
+        columns = self.scalar_outputs()
+        names = variables or [c for c, v in columns.items() if _varies(v)]
+        X = self.dataset["sample_value"].values
+        rows = []
+        for name in names:
+            y = np.where(self.failed, np.nan, columns[name])
+            if self.dataset.attrs.get("design") == "saltelli":
+                random = self.dataset["parameter_is_grid"].values == 0
+                result = sobol_indices(y, int(random.sum()))
+                for i, p in enumerate(np.array(self.parameters)[random]):
+                    rows.append({"output": name, "parameter": p, "S1": result["S1"][i], "S1_se": result["S1_se"][i],
+                                 "ST": result["ST"][i], "ST_se": result["ST_se"][i]})
+            else:
+                result = standardized_regression(X, y)
+                for i, p in enumerate(self.parameters):
+                    rows.append({"output": name, "parameter": p, "SRC": result["SRC"][i], "R2": result["R2"]})
+        return pd.DataFrame(rows)
+
+    # -- files and figures -----------------------------------------------------------------
+    def save(self, path) -> None:
+        """Write the data set as netCDF (classic 64-bit offset, through scipy), atomically."""
+        from ..io import atomic_write
+
+        with atomic_write(path, None) as temporary:
+            self.dataset.to_netcdf(temporary, engine="scipy", format="NETCDF3_64BIT")
+
+    def plot_campbell(self, **kwargs):
+        """Campbell diagram with tolerance bands; see :func:`rotordyn_modal.plotting.plot_study_campbell`."""
+        from ..plotting.study import plot_study_campbell
+
+        return plot_study_campbell(self, **kwargs)
+
+    def plot_critical_histograms(self, **kwargs):
+        """Histograms of critical speeds; see :func:`rotordyn_modal.plotting.plot_critical_histograms`."""
+        from ..plotting.study import plot_critical_histograms
+
+        return plot_critical_histograms(self, **kwargs)
+
+    def plot_stability_map(self, **kwargs):
+        """Threshold speed over a two-parameter grid; see :func:`rotordyn_modal.plotting.plot_study_stability_map`."""
+        from ..plotting.study import plot_study_stability_map
+
+        return plot_study_stability_map(self, **kwargs)
+
+    def plot_sensitivity(self, variables=None, **kwargs):
+        """Bar chart of :meth:`sensitivity`; see :func:`rotordyn_modal.plotting.plot_sensitivity`."""
+        from ..plotting.study import plot_sensitivity
+
+        return plot_sensitivity(self.sensitivity(variables), **kwargs)
+
+
+def _varies(values) -> bool:
+    finite = np.asarray(values, dtype=float)
+    finite = finite[np.isfinite(finite)]
+    return len(finite) > 2 and finite.std() > 0
+
+
+def _columns(ds, name):
+    """(column name, values over variants) of one variable, small dims spread out."""
+    array = ds[name]
+    dims = array.dims[1:]
+    if any(d in _SWEEP_DIMS for d in dims):
+        return []
+    if not dims:
+        return [(name, array.values)]
+    labels = [_labels(ds, d) for d in dims]
+    flat = array.values.reshape(array.shape[0], -1)
+    names = [f"{name}[{','.join(parts)}]" for parts in np.array(np.meshgrid(*labels, indexing="ij"),
+                                                                 dtype=object).reshape(len(dims), -1).T]
+    return list(zip(names, flat.T))
+
+
+def _labels(ds, dim):
+    if dim == "crossing":
+        return [f"{s},{o:g},{m}" for s, o, m in zip(ds["crossing_source"].values, ds["crossing_order"].values,
+                                                     ds["crossing_mode"].values)]
+    return [str(v) for v in ds[dim].values]
+
+
+def load_study(path) -> StudyResult:
+    """Open a study saved by :meth:`StudyResult.save` (or the ``study`` command).
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    StudyResult
+    """
+    import xarray as xr
+
+    with xr.open_dataset(path, engine="scipy") as ds:
+        return StudyResult(ds.load())

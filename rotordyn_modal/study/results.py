@@ -176,12 +176,11 @@ class StudyResult:
             keep = [c for c in table.columns if c not in self.dataset.coords or c in self.dataset[variable].dims
                     or c in ("speed_rpm",)]
             return table[keep].join(self.samples, on="variant")
-        table = self.samples.copy()
-        table["error"] = self.dataset["error"].values
-        for name in self.outputs():
-            for column, values in _columns(self.dataset, name):
-                table[column] = values
-        return table
+        import pandas as pd
+
+        samples = self.samples
+        columns = {"error": self.dataset["error"].values, **self.scalar_outputs()}
+        return pd.concat([samples, pd.DataFrame(columns, index=samples.index)], axis=1)
 
     def scalar_outputs(self) -> dict:
         """Every per-variant number: column name -> ndarray (n_variants,)."""

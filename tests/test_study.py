@@ -1,0 +1,337 @@
+"""Parameter studies (rotordyn_modal.study): samples, single-analysis equality, closed-form
+Monte Carlo, failures, bad study files, checkpoint and resume, storage, sensitivity, figures."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy import stats
+
+import rotordyn_modal as rdm
+from rotordyn_modal.study import StudyError, load_study, parse_study, read_study, sample_variants
+from rotordyn_modal.study.sampling import saltelli_matrix
+from rotordyn_modal.study.sensitivity import sobol_indices, standardized_regression
+
+# ---------------------------------------------------------------------------- models
+STATOR_MASS, ROTOR_MASS, HALF_X, HALF_Y = 90.0, 10.0, 0.4, 0.5
+K0, LOG_STD = 1.0e5, 0.2  # median and log-std of each mount's x stiffness [N/m]
+
+
+def translating_machine():
+    """Four mounts at the corners of a rectangle through the centre of mass (z = 0), rotor
+    at the centre of mass, spin along z. An x translation meets only the x springs, whose
+    moments cancel: omega_x^2 = 4 k_x / m exactly, the lowest mode (y, z, rotations stiffer)."""
+    mounts = [{"name": f"m{i}", "position": [sx * HALF_X, sy * HALF_Y, 0.0],
+               "stiffness": [K0, 10 * K0, 10 * K0], "damping": [0.0, 0.0, 0.0]}
+              for i, (sx, sy) in enumerate([(1, 1), (1, -1), (-1, 1), (-1, -1)])]
+    return rdm.Model.from_dict({
+        "spin_axis": [0.0, 0.0, 1.0],
+        "stator": {"mass": STATOR_MASS, "inertia": [5.0, 5.0, 5.0]},
+        "rotors": [{"name": "r", "mass": ROTOR_MASS, "center_of_mass": [0, 0, 0], "polar_inertia": 0.05,
+                    "diametral_inertia": 0.04, "speed_ratio": 1.0}],
+        "suspensions": mounts}, "translating")
+
+
+def lognormal_study(samples=400, seed=11, design="monte-carlo"):
+    return {"seed": seed, "samples": samples, "design": design,
+            "parameters": [{"name": "k", "keys": [f"suspensions.m{i}.stiffness[0]" for i in range(4)],
+                            "distribution": "lognormal", "median": K0, "log_std": LOG_STD}],
+            "analyses": {"modes": {"speed_rpm": 0.0}}}
+
+
+@pytest.fixture
+def gear(examples_dir):
+    return rdm.load_model(examples_dir / "gear_machine.toml")
+
+
+def small_gear_study(samples=6, seed=3):
+    return {"seed": seed, "samples": samples, "design": "latin-hypercube",
+            "parameters": [
+                {"key": "suspensions.mount-FL.stiffness", "apply": "scale", "distribution": "uniform",
+                 "low": 0.85, "high": 1.15},
+                {"name": "rear", "keys": ["suspensions.mount-RL.damping", "suspensions.mount-RR.damping"],
+                 "apply": "scale", "distribution": "normal", "mean": 1.0, "std": 0.2, "truncate": [0.5, 1.5]},
+                {"key": "rotors.fan.polar_inertia", "distribution": "lognormal", "mean": 0.30, "std": 0.01}],
+            "analyses": {"campbell": {"speeds_rpm": "0:6000:41", "orders": [1, 2]}, "critical_speeds": {},
+                         "modes": {"speed_rpm": 1500.0}, "stability": {"speeds_rpm": "0:6000:21"},
+                         "unbalance": {"speeds_rpm": "100:6000:40", "operating_speed_rpm": 3000.0}}}
+
+
+# ---------------------------------------------------------------------------- samples
+@pytest.mark.parametrize("design", ["monte-carlo", "latin-hypercube", "sobol", "saltelli"])
+def test_same_seed_same_samples_other_seed_other_samples(gear, design):
+    spec = small_gear_study()
+    spec["design"] = design
+    spec["parameters"] = spec["parameters"][:1] + spec["parameters"][2:]
+    a = sample_variants(parse_study(spec, model=gear))
+    b = sample_variants(parse_study(spec, model=gear))
+    np.testing.assert_array_equal(a, b)
+    spec["seed"] = 4
+    assert not np.array_equal(a, sample_variants(parse_study(spec, model=gear)))
+    rows = spec["samples"] * (4 if design == "saltelli" else 1)
+    assert a.shape == (rows, 2)
+
+
+def test_latin_hypercube_puts_one_sample_in_each_stratum(gear):
+    spec = small_gear_study(samples=50)
+    spec["parameters"] = spec["parameters"][:1]
+    x = sample_variants(parse_study(spec, model=gear))[:, 0]
+    strata = np.floor((x - 0.85) / 0.30 * 50).astype(int)
+    assert sorted(strata) == list(range(50))
+
+
+def test_truncation_and_correlation_follow_their_definitions(gear):
+    spec = {"seed": 1, "samples": 4000, "parameters": [
+        {"name": "a", "key": "stator.mass", "distribution": "normal", "mean": 150.0, "std": 10.0,
+         "truncate": [140.0, 175.0]},
+        {"name": "b", "key": "rotors.fan.mass", "distribution": "uniform", "low": 7.0, "high": 9.0}],
+        "correlation": {"parameters": ["a", "b"], "matrix": [[1.0, 0.6], [0.6, 1.0]]},
+        "analyses": {"modes": {}}}
+    x = sample_variants(parse_study(spec, model=gear))
+    assert x[:, 0].min() >= 140.0 and x[:, 0].max() <= 175.0
+    exact = stats.truncnorm((140 - 150) / 10, (175 - 150) / 10, loc=150, scale=10)
+    assert abs(x[:, 0].mean() - exact.mean()) < 4 * exact.std() / math.sqrt(len(x))
+    # Gaussian copula: the normal scores of the two marginals have correlation 0.6
+    z = stats.norm.ppf(np.column_stack([exact.cdf(x[:, 0]), (x[:, 1] - 7.0) / 2.0]))
+    r = np.corrcoef(z.T)[0, 1]
+    assert abs(r - 0.6) < 4 * (1 - 0.36) / math.sqrt(len(x))
+
+
+# ---------------------------------------------------------------------------- equality with single analyses
+def test_each_variant_equals_the_single_analyses_of_its_model(gear):
+    spec = parse_study(small_gear_study(), model=gear)
+    result = rdm.study(gear, spec)
+    ds = result.dataset
+    assert not result.failed.any()
+    options = spec.analyses
+    for v, (k, rear, inertia) in enumerate(ds["sample_value"].values):
+        model = gear.scaled({"suspensions.mount-FL.stiffness": k, "suspensions.mount-RL.damping": rear,
+                             "suspensions.mount-RR.damping": rear}).with_values({"rotors.fan.polar_inertia": inertia})
+        camp = rdm.campbell(model, options["campbell"]["speeds"], orders=(1, 2))
+        np.testing.assert_array_equal(ds["frequency_hz"].values[v], camp.frequencies_hz)
+        np.testing.assert_array_equal(ds["damping_ratio"].values[v], camp.damping_ratios)
+        np.testing.assert_array_equal(ds["whirl_ratio"].values[v], camp.whirl_ratios)
+        crit = camp.critical
+        for i, (src, order, mode) in enumerate(zip(ds["crossing_source"].values, ds["crossing_order"].values,
+                                                    ds["crossing_mode"].values)):
+            chosen = (crit.source == src) & (crit.order == order) & (crit.mode == mode)
+            expected = crit.speeds[chosen][np.argmin(np.abs(crit.speeds[chosen]))] if chosen.any() else np.nan
+            np.testing.assert_array_equal(ds["critical_speed"].values[v, i], expected)
+        assert ds["critical_count"].values[v] == len(crit)
+        modal = rdm.modal(model, rdm.rpm(1500.0))
+        np.testing.assert_array_equal(ds["modal_frequency_hz"].values[v], modal.frequencies_hz)
+        stab = rdm.stability(model, options["stability"]["speeds"])
+        np.testing.assert_array_equal(ds["threshold_speed"].values[v], stab.threshold_speed)
+        unb = rdm.unbalance_response(model, options["unbalance"]["speeds"])
+        np.testing.assert_array_equal(ds["unbalance_peak_amplitude"].values[v].max(axis=1),
+                                      unb.amplitude.max(axis=2).max(axis=1))
+
+
+# ---------------------------------------------------------------------------- closed-form Monte Carlo
+def test_monte_carlo_of_sqrt_k_over_m_reproduces_the_lognormal_moments_within_reported_error():
+    model = translating_machine()
+    result = rdm.study(model, lognormal_study())
+    k = result.samples["k"].values
+    f = result.dataset["modal_frequency_hz"].values[:, 0]
+    m = STATOR_MASS + ROTOR_MASS
+    # each variant: the exact frequency of the x translation
+    np.testing.assert_allclose(f, np.sqrt(4 * k / m) / (2 * np.pi), rtol=1e-10)
+    # the distribution: f is lognormal with median f0 and log-std LOG_STD / 2
+    f0, s = math.sqrt(4 * K0 / m) / (2 * math.pi), LOG_STD / 2
+    exact_mean = f0 * math.exp(s * s / 2)
+    exact_std = exact_mean * math.sqrt(math.expm1(s * s))
+    table = result.summary(["modal_frequency_hz[1]"], percentiles=(5, 50, 95), confidence=0.99).iloc[0]
+    assert table["n"] == 400
+    assert abs(table["mean"] - exact_mean) < 3 * table["mean_se"]
+    assert table["mean_se"] == pytest.approx(exact_std / math.sqrt(400), rel=0.15)  # the error reported is right
+    for q in (5, 50, 95):
+        exact = f0 * math.exp(s * stats.norm.ppf(q / 100))
+        assert table[f"p{q}_low"] <= exact <= table[f"p{q}_high"]
+        # and its width is the asymptotic one, 2 z_0.995 sqrt(q (1 - q) / n) / pdf(x_q)
+        pdf = stats.lognorm(s, scale=f0).pdf(exact)
+        width = 2 * stats.norm.ppf(0.995) * math.sqrt(q / 100 * (1 - q / 100) / 400) / pdf
+        assert table[f"p{q}_high"] - table[f"p{q}_low"] == pytest.approx(width, rel=0.5)
+
+
+def test_probability_of_a_critical_speed_in_a_band_matches_the_lognormal_within_its_error():
+    model = translating_machine()
+    spec = lognormal_study(samples=300, seed=5)
+    spec["analyses"] = {"critical_speeds": {"speeds_rpm": "0:4000:81"}}
+    result = rdm.study(model, spec)
+    m = STATOR_MASS + ROTOR_MASS
+    low, high = 55.0, 65.0  # rad/s; the x translation crosses 1X at omega = sqrt(4 k / m)
+    exact = stats.lognorm(LOG_STD, scale=K0).cdf(np.array([low, high]) ** 2 * m / 4) @ [-1, 1]
+    p = result.probability_in_band(low, high, modes=[1])
+    assert 0.1 < exact < 0.9 and p["n"] == 300
+    assert abs(p["probability"] - exact) < 3 * p["standard_error"]
+    assert p["low"] <= exact <= p["high"]
+
+
+# ---------------------------------------------------------------------------- failures and bad input
+def test_a_failing_variant_is_recorded_with_its_reason_and_the_others_run(gear):
+    spec = {"parameters": [{"key": "rotors.fan.polar_inertia", "values": [0.3, 0.5, 0.2]}],
+            "analyses": {"modes": {}}}
+    result = rdm.study(gear, spec)
+    assert result.failed.tolist() == [False, True, False]
+    error = result.dataset["error"].values[1]
+    assert "ModelError" in error and "[rotors.fan] polar_inertia" in error
+    assert np.isnan(result.dataset["modal_frequency_hz"].values[1]).all()
+    ok = rdm.modal(gear.with_values({"rotors.fan.polar_inertia": 0.2}), 0.0)
+    np.testing.assert_array_equal(result.dataset["modal_frequency_hz"].values[2], ok.frequencies_hz)
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda s: s["parameters"][0].update(key="suspensions.mount-FX.stiffness"),
+     r"study.toml: \[\[parameters\]\] 1 key = 'suspensions.mount-FX.stiffness': expected a dotted key .*mount-FL"),
+    (lambda s: s["parameters"][1].update(std=-0.2),
+     r"study.toml: \[\[parameters\]\] 2 std = -0.2: expected a finite number > 0"),
+    (lambda s: s["parameters"][0].update(distribution="gauss"),
+     r"\[\[parameters\]\] 1 distribution = 'gauss': expected one of normal, lognormal, uniform"),
+    (lambda s: s.update(design="random"), r"design = 'random': expected one of monte-carlo"),
+    (lambda s: s.update(samples=1), r"samples = 1: expected a whole number >= 2"),
+    (lambda s: s["analyses"].update(campbel={}), r"\[analyses\] = 'campbel': expected analyses among"),
+    (lambda s: s["analyses"]["campbell"].update(speeds_rpm="0:100"), r"speeds_rpm = '0:100'"),
+    (lambda s: s["parameters"][1].update(truncate=[2.0, 1.0]), r"truncate = \[2.0, 1.0\]"),
+    (lambda s: s.update(correlation={"parameters": ["rear", "rotors.fan.polar_inertia"],
+                                     "matrix": [[1.0, 1.2], [1.2, 1.0]]}), r"\[correlation\] matrix"),
+    (lambda s: s["parameters"][0].update(lows=0.8), r"\[\[parameters\]\] 1 lows = 0.8: expected one of the keys"),
+])
+def test_bad_study_files_are_refused_naming_file_key_value_and_expectation(gear, tmp_path, change, message):
+    import tomli_w
+
+    spec = small_gear_study()
+    change(spec)
+    path = tmp_path / "study.toml"
+    path.write_text(tomli_w.dumps(spec))
+    with pytest.raises(StudyError, match=message):
+        read_study(path, gear)
+
+
+def test_missing_and_broken_study_files(tmp_path, gear):
+    with pytest.raises(StudyError, match="no such file"):
+        read_study(tmp_path / "none.toml", gear)
+    (tmp_path / "bad.toml").write_text("seed = = 1\n")
+    with pytest.raises(StudyError, match="valid TOML"):
+        read_study(tmp_path / "bad.toml", gear)
+
+
+# ---------------------------------------------------------------------------- checkpoint and resume
+class _InterruptingExecutor:
+    """Runs ``map`` serially and raises KeyboardInterrupt after ``after`` results."""
+
+    def __init__(self, after):
+        self.after, self.calls = after, 0
+
+    def map(self, function, tasks):
+        for task in tasks:
+            if self.calls == self.after:
+                raise KeyboardInterrupt
+            self.calls += 1
+            yield function(task)
+
+
+def test_an_interrupted_study_resumes_without_recomputing_finished_chunks(gear, tmp_path):
+    spec = small_gear_study(samples=8)
+    spec["analyses"] = {"modes": {}, "critical_speeds": {"speeds_rpm": "0:3000:31"}}
+    folder = tmp_path / "out.nc.partial"
+    with pytest.raises(KeyboardInterrupt):
+        rdm.study(gear, spec, executor=_InterruptingExecutor(after=3), checkpoint=folder, chunk_size=2)
+    assert len(list(folder.glob("chunk-*.npz"))) == 3
+    counting = _InterruptingExecutor(after=10**9)
+    resumed = rdm.study(gear, spec, executor=counting, checkpoint=folder, chunk_size=2)
+    assert counting.calls == 1 and resumed.resumed_chunks == 3  # 4 chunks, 3 kept
+    fresh = rdm.study(gear, spec, chunk_size=2)
+    for name in ("modal_frequency_hz", "critical_speed", "sample_value"):
+        np.testing.assert_array_equal(resumed.dataset[name].values, fresh.dataset[name].values)
+
+
+def test_a_checkpoint_of_another_study_is_refused(gear, tmp_path):
+    spec = small_gear_study(samples=4)
+    spec["analyses"] = {"modes": {}}
+    rdm.study(gear, spec, checkpoint=tmp_path / "c", chunk_size=2)
+    spec["seed"] = 99
+    with pytest.raises(rdm.InputError, match="different study"):
+        rdm.study(gear, spec, checkpoint=tmp_path / "c", chunk_size=2)
+
+
+# ---------------------------------------------------------------------------- storage and tables
+def test_netcdf_opens_without_the_package_and_round_trips(gear, tmp_path):
+    import scipy.io
+    import xarray as xr
+
+    result = rdm.study(gear, small_gear_study(samples=3))
+    path = tmp_path / "r.nc"
+    result.save(path)
+    with scipy.io.netcdf_file(path, "r", mmap=False) as plain:  # no xarray, no rotordyn_modal
+        np.testing.assert_array_equal(plain.variables["frequency_hz"][:], result.dataset["frequency_hz"].values)
+        assert plain.variables["frequency_hz"].dimensions == ("variant", "speed", "mode")
+        assert plain.variables["critical_speed"].units == b"rad/s"
+    with xr.open_dataset(path, engine="scipy") as ds:
+        np.testing.assert_array_equal(ds["sample_value"].values, result.dataset["sample_value"].values)
+        assert list(ds["parameter"].values) == result.parameters
+    loaded = load_study(path)
+    np.testing.assert_array_equal(loaded.dataset["critical_speed"].values, result.dataset["critical_speed"].values)
+    assert loaded.to_dataframe().shape == result.to_dataframe().shape
+
+
+def test_tables(gear):
+    result = rdm.study(gear, small_gear_study(samples=3))
+    wide = result.to_dataframe()
+    assert len(wide) == 3 and "threshold_speed" in wide and "critical_speed[motor,1,1]" in wide
+    np.testing.assert_array_equal(wide["critical_speed[motor,1,1]"].values,
+                                  result.dataset["critical_speed"].sel(crossing=0).values)
+    long = result.to_dataframe("frequency_hz")
+    assert len(long) == 3 * 41 * 6 and {"variant", "speed", "mode", "frequency_hz", "rear"} <= set(long)
+
+
+# ---------------------------------------------------------------------------- sensitivity
+def test_sobol_indices_of_a_linear_function_equal_the_variance_shares():
+    a = np.array([1.0, 2.0, 0.5])
+    rng = np.random.default_rng(0)
+    rows = saltelli_matrix(rng.random((4096, 3)), rng.random((4096, 3)))
+    result = sobol_indices(rows @ a, 3, bootstrap=100)
+    exact = a**2 / np.sum(a**2)  # equal variances (uniform on [0, 1])
+    assert np.all(np.abs(result["S1"] - exact) < 4 * result["S1_se"] + 1e-3)
+    assert np.all(np.abs(result["ST"] - exact) < 4 * result["ST_se"] + 1e-3)
+
+
+def test_standardized_regression_of_an_exactly_linear_output():
+    rng = np.random.default_rng(1)
+    X = rng.normal(size=(200, 3)) * [1.0, 3.0, 0.1]
+    y = X @ [2.0, -1.0, 5.0] + 7.0
+    result = standardized_regression(X, y)
+    np.testing.assert_allclose(result["SRC"], [2.0, -1.0, 5.0] * X.std(axis=0) / y.std(), rtol=1e-10)
+    assert result["R2"] == pytest.approx(1.0, abs=1e-12)
+
+
+def test_study_sensitivity_ranks_the_parameter_that_matters(examples_dir):
+    model = translating_machine()
+    spec = lognormal_study(samples=32, design="saltelli")
+    spec["parameters"].append({"key": "rotors.r.polar_inertia", "distribution": "uniform", "low": 0.04,
+                               "high": 0.06})
+    table = rdm.study(model, spec).sensitivity(["modal_frequency_hz[1]"])
+    s = table.set_index("parameter")
+    # f1 depends on k alone: the other's AB rows repeat A's outputs, so its estimates are 0 exactly
+    assert s.loc["rotors.r.polar_inertia", "ST"] == 0.0 and s.loc["rotors.r.polar_inertia", "S1"] == 0.0
+    assert abs(s.loc["k", "ST"] - 1.0) < 3 * s.loc["k", "ST_se"]
+    assert abs(s.loc["k", "S1"] - 1.0) < 3 * s.loc["k", "S1_se"]
+
+
+# ---------------------------------------------------------------------------- figures
+def test_figures(gear, examples_dir):
+    import matplotlib.figure
+
+    result = rdm.study(gear, small_gear_study(samples=4))
+    for fig in (result.plot_campbell(band_rpm=(3400, 3700)), result.plot_critical_histograms(band_rpm=(3400, 3700)),
+                result.plot_sensitivity()):
+        assert isinstance(fig, matplotlib.figure.Figure)
+    with pytest.raises(rdm.InputError, match="two grid parameters"):
+        result.plot_stability_map()
+    unstable = rdm.load_model(examples_dir / "unstable_cross_coupled.toml")
+    grid = rdm.study(unstable, examples_dir / "stability_map.study.toml")
+    fig = grid.plot_stability_map(speed_rpm=15000)
+    assert isinstance(fig, matplotlib.figure.Figure)
+    # the grid holds each combination once: 11 damping x 8 cross-coupling factors
+    assert grid.n_variants == 88 and len(np.unique(grid.dataset["sample_value"].values, axis=0)) == 88

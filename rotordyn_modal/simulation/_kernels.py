@@ -204,7 +204,21 @@ def compiled_namespace():
         function = getattr(module, name) if module is not None else globals()[name]
         rebound = types.FunctionType(function.__code__, namespace, name, function.__defaults__)
         namespace[name] = numba.njit(cache=True, fastmath=False)(rebound)
-    return types.SimpleNamespace(**{name: namespace[name] for name in _KERNELS})
+    compiled = types.SimpleNamespace(**{name: namespace[name] for name in _KERNELS})
+    compiled.rhs, compiled.rhs_flat = _compiled_fast_rhs(numba)
+    return compiled
+
+
+def _compiled_fast_rhs(numba):
+    """The allocation-light right-hand side of ``_fast``, compiled."""
+    from . import _fast
+
+    namespace = {"__name__": _fast.__name__, "np": np, "SERIES": _fast.SERIES}
+    for name in _fast.FUNCTIONS:
+        function = getattr(_fast, name)
+        rebound = types.FunctionType(function.__code__, namespace, name, function.__defaults__)
+        namespace[name] = numba.njit(cache=True)(rebound)
+    return namespace["rhs"], namespace["rhs_flat"]
 
 
 def plain_namespace():

@@ -140,24 +140,20 @@ class SimulationResult:
     @classmethod
     def from_states(cls, model, system, kn, extra, times, states, drive):
         """Derived outputs of the raw states (``kn`` the kernels that produced them)."""
-        from ..kinematics import axial_rotation, rotation_tensor
+        from scipy.spatial.transform import Rotation
 
         n = system.n_dof
         s = system.s
+        count = len(times)
         q, dq = states[:, :n], states[:, n:]
         gamma = q[:, 3:5] @ system.E2.T
-        psi = q[:, 5] if s else np.zeros(len(times))
-        psi_dot = dq[:, 5] if s else np.zeros(len(times))
+        psi = q[:, 5] if s else np.zeros(count)
+        psi_dot = dq[:, 5] if s else np.zeros(count)
         theta = gamma + psi[:, None] * system.e
+        stator = (Rotation.from_rotvec(gamma) * Rotation.from_rotvec(psi[:, None] * system.e)).as_matrix()
         arguments = system.kernel_arguments()
-        count = len(times)
-        omega = np.empty((count, 3))
-        torque = np.empty(count)
+        omega, torque = np.empty((count, 3)), np.empty(count)
         kinetic, elastic, weight = np.empty(count), np.empty(count), np.empty(count)
-        centers = np.empty((count, len(model.rotors), 3))
-        sensor_points = np.array([np.asarray(x.position) - system.reference_point for x in model.sensors]).reshape(-1, 3)
-        sensor_dirs = np.array([x.direction for x in model.sensors]).reshape(-1, 3)
-        sensors = np.empty((count, len(model.sensors)))
         for i in range(count):
             y = states[i]
             M, _ = kn.assemble(times[i], y, *arguments)
@@ -165,14 +161,16 @@ class SimulationResult:
             elastic[i], weight[i] = kn.potential(y, system.e, system.E2, s, system.gravity, system.mass,
                                                  system.center, system.offset, system.ratio, system.spos, system.sK)
             torque[i] = kn.accelerations(times[i], y, *arguments, *extra)[1]
-            Rs = rotation_tensor(gamma[i]) @ axial_rotation(psi[i], system.e)
-            H = kn.stator_kinematics(q[i], dq[i], system.e, system.E2, s)[2]
-            omega[i] = H @ dq[i, 3:3 + 2 + s]
-            for j, b in enumerate(system.rotor_index):
-                local = system.center[b] + axial_rotation(system.ratio[b] * q[i, n - 1], system.e) @ system.offset[b]
-                centers[i, j] = system.reference_point + q[i, :3] + Rs @ local
-            moved = q[i, :3] + sensor_points @ Rs.T - sensor_points
-            sensors[i] = np.einsum("ij,ij->i", moved, sensor_dirs)
+            omega[i] = kn.stator_kinematics(q[i], dq[i], system.e, system.E2, s)[3]
+        centers = np.empty((count, len(model.rotors), 3))
+        for j, b in enumerate(system.rotor_index):
+            spin = Rotation.from_rotvec((system.ratio[b] * q[:, n - 1])[:, None] * system.e).apply(system.offset[b])
+            local = system.center[b] + spin
+            centers[:, j] = system.reference_point + q[:, :3] + np.einsum("tij,tj->ti", stator, local)
+        points = np.array([np.asarray(x.position) - system.reference_point for x in model.sensors]).reshape(-1, 3)
+        directions = np.array([x.direction for x in model.sensors]).reshape(-1, 3)
+        moved = q[:, None, :3] + np.einsum("tij,kj->tki", stator, points) - points
+        sensors = np.einsum("tki,ki->tk", moved, directions)
         ratios = np.array([r.speed_ratio for r in model.rotors])
         weight = weight - system.gravity @ system.reference_point * system.mass.sum()
         return cls(

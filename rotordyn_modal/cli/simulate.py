@@ -90,11 +90,8 @@ def run(args) -> int:
     if args.plot:
         use_agg()
         critical = None
-        if drive == "ramp":
-            low, high = sorted((abs(speed), abs(final)))
-            critical = campbell(model, np.linspace(max(low, 1e-3), max(high, 1e-2), 121)).critical
-            if final < 0 or speed < 0:
-                critical = None
+        if drive == "ramp" and final != speed:
+            critical = campbell(model, np.linspace(min(speed, final), max(speed, final), 121)).critical
         save_figure(result.plot(sensor=args.sensor, critical=critical, title=model.name or None), args)
     return 0
 

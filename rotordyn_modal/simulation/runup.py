@@ -64,7 +64,8 @@ class Waterfall:
 def order_track(result, sensor, order=1.0, rotor=None, revolutions=4) -> OrderTrack:
     """Order tracking by demodulation with the rotor's own angle.
 
-    Over consecutive windows of ``revolutions`` turns of the rotor, the complex amplitude
+    Over consecutive windows of ``revolutions`` turns of the rotor (counted as travelled, so a
+    run-down through zero speed works), the complex amplitude
     ``c = 2 <s(t) exp(-i k phi(t))>`` (time average) gives ``s ~ |c| cos(k phi + arg c)``.
 
     Parameters
@@ -85,7 +86,7 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=4) -> OrderTr
     signal = result.sensor(sensor)
     index = _rotor_index(result, rotor)
     angle = result.rotor_angles[:, index]
-    turns = np.abs(angle - angle[0]) / (2 * np.pi)
+    turns = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(angle)))]) / (2 * np.pi)  # travelled, any direction
     edges = np.arange(0.0, turns[-1] + 1e-12, revolutions)
     speeds, values = [], []
     for start, stop in zip(edges[:-1], edges[1:]):

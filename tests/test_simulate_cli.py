@@ -1,0 +1,52 @@
+"""``rotordyn-modal simulate`` as a user runs it: outputs, figures, refusals with exit 2."""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from rotordyn_modal.cli import main
+
+
+def test_run_up_writes_table_and_figure(examples_dir, tmp_path):
+    out, plot = tmp_path / "runup.csv", tmp_path / "runup.png"
+    code = main(["simulate", str(examples_dir / "gear_machine.toml"), "--speed", "0", "--ramp", "1500",
+                 "--duration", "0.5", "--samples", "2001", "--sensor", "acc-top-z", "--out", str(out),
+                 "--plot", str(plot), "--quiet"])
+    assert code == 0
+    table = pd.read_csv(out)
+    assert list(table.columns[:9]) == ["time_s", "u_x", "u_y", "u_z", "theta_x", "theta_y", "theta_z",
+                                       "spin_speed_rad_s", "drive_torque_nm"]
+    assert len(table) == 2001 and abs(table["drive_speed_rad_s"].iloc[-1] - 1500 * 3.141592653589793 / 30) < 1e-6
+    assert plot.stat().st_size > 10_000
+
+
+def test_paper_example_free_spin_in_rad_per_s(examples_dir, tmp_path, capsys):
+    out = tmp_path / "sb.csv"
+    code = main(["simulate", str(examples_dir / "spring_block_rotor.toml"), "--speed", "50", "--speed-unit", "rad/s",
+                 "--free-spin", "--duration", "0.5", "--samples", "51", "--out", str(out)])
+    assert code == 0
+    table = pd.read_csv(out)
+    assert abs(table["spin_speed_rad_s"] / 50 - 1).max() < 1e-3
+    assert (table["drive_torque_nm"] == 0).all()
+    assert "relative change of total energy" in capsys.readouterr().err
+
+
+def test_hysteretic_model_is_refused_with_exit_2(examples_dir, tmp_path, capsys):
+    text = (examples_dir / "gear_machine.toml").read_text()
+    lossy = tmp_path / "lossy.toml"
+    lossy.write_text(text.replace("damping = [150.0, 120.0, 300.0]", "damping = [150.0, 120.0, 300.0]\nloss_factor = 0.1", 1))
+    assert main(["simulate", str(lossy), "--duration", "0.1", "--speed", "1000"]) == 2
+    err = capsys.readouterr().err
+    assert "loss_factor = 0.1" in err and "time domain" in err and "Traceback" not in err
+
+
+def test_impulse_through_a_missing_excitation_is_refused_with_exit_2(examples_dir, capsys):
+    assert main(["simulate", str(examples_dir / "gear_machine.toml"), "--duration", "0.1", "--impulse", "kick"]) == 2
+    assert "unknown excitation 'kick'" in capsys.readouterr().err
+
+
+def test_negative_ramp_is_read_as_a_value(examples_dir, tmp_path):
+    out = tmp_path / "down.csv"
+    assert main(["simulate", str(examples_dir / "gear_machine.toml"), "--speed", "300", "--ramp", "-300",
+                 "--duration", "0.2", "--samples", "101", "--out", str(out), "--quiet"]) == 0
+    assert pd.read_csv(out)["drive_speed_rad_s"].iloc[-1] < 0

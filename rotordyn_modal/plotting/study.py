@@ -163,8 +163,7 @@ def plot_study_stability_map(result, x: str | None = None, y: str | None = None,
     fig, ax = new_figure(ax)
     import matplotlib
 
-    cmap = matplotlib.colormaps["viridis"].copy()
-    cmap.set_bad("0.85")
+    cmap = matplotlib.colormaps["viridis"].with_extremes(bad="0.85")
     mesh = ax.pcolormesh(xs, ys, np.ma.masked_invalid(field), cmap=cmap, shading="nearest")
     fig.colorbar(mesh, ax=ax, label="lowest unstable speed [rpm] (grey: stable over the sweep)")
     filled = np.where(np.isfinite(field), field, 2 * top)

@@ -162,7 +162,13 @@ def worker_initializer():
     import signal
 
     for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "ROTORDYN_MODAL_THREADS"):
-        os.environ[name] = "1"
+        os.environ[name] = "1"  # for libraries loaded from now on
+    try:  # and for those already loaded (a forked worker inherits numpy's OpenBLAS)
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover
+        pass
+    else:
+        threadpool_limits(1)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 

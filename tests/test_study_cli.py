@@ -1,0 +1,119 @@
+"""``rotordyn-modal study``: as a new user would try it (typo in a key, negative std,
+Ctrl-C and run again), outputs, exit codes."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.cli import main
+from rotordyn_modal.study import load_study
+
+STUDY = """seed = 3
+samples = {samples}
+design = "latin-hypercube"
+chunk_size = {chunk}
+operating_band_rpm = [3400.0, 3700.0]
+
+[[parameters]]
+key = "{key}"
+apply = "scale"
+distribution = "normal"
+mean = 1.0
+std = {std}
+truncate = [0.7, 1.3]
+
+[analyses.campbell]
+speeds_rpm = "0:6000:{speeds}"
+
+[analyses.critical_speeds]
+"""
+
+
+def write_study(path, samples=6, chunk=2, key="suspensions.mount-FL.stiffness", std=0.1, speeds=31):
+    path.write_text(STUDY.format(samples=samples, chunk=chunk, key=key, std=std, speeds=speeds))
+    return path
+
+
+def test_typo_in_a_dotted_key_exit_2_one_line_naming_file_key_and_choices(tmp_path, examples_dir, capsys):
+    spec = write_study(tmp_path / "s.toml", key="suspensions.mount-FX.stiffness")
+    code = main(["study", str(examples_dir / "gear_machine.toml"), "--spec", str(spec), "--out", str(tmp_path / "r.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
+    assert "s.toml: [[parameters]] 1 key = 'suspensions.mount-FX.stiffness'" in err
+    assert "mount-FL, mount-FR, mount-RL, mount-RR" in err
+    assert not (tmp_path / "r.nc").exists()
+
+
+def test_negative_standard_deviation_exit_2(tmp_path, examples_dir, capsys):
+    spec = write_study(tmp_path / "s.toml", std=-0.1)
+    code = main(["study", str(examples_dir / "gear_machine.toml"), "--spec", str(spec), "--out", str(tmp_path / "r.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and "[[parameters]] 1 std = -0.1: expected a finite number > 0" in err
+
+
+def test_bad_options_exit_2(tmp_path, examples_dir, capsys):
+    spec = write_study(tmp_path / "s.toml")
+    model = str(examples_dir / "gear_machine.toml")
+    for extra in (["--out", str(tmp_path / "r.csv")], ["--out", str(tmp_path / "r.nc"), "--workers", "0"],
+                  ["--out", str(spec)], ["--out", str(tmp_path / "r.nc"), "--plot", str(tmp_path / "c.txt")]):
+        assert main(["study", model, "--spec", str(spec), *extra]) == 2
+    assert capsys.readouterr().err.count("error:") == 4
+
+
+def test_a_run_writes_results_table_and_figures_and_reports_the_band(tmp_path, examples_dir, capsys):
+    spec = write_study(tmp_path / "s.toml")
+    out = tmp_path / "r.nc"
+    code = main(["study", str(examples_dir / "gear_machine.toml"), "--spec", str(spec), "--out", str(out),
+                 "--workers", "2", "--table", str(tmp_path / "t.csv"), "--plot", str(tmp_path / "c.png"),
+                 "--plot-histogram", str(tmp_path / "h.png"), "--plot-sensitivity", str(tmp_path / "s.png")])
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    assert "P(critical speed in 3400-3700 rpm)" in captured.out
+    assert not (tmp_path / "r.nc.partial").exists()  # the checkpoint is removed when done
+    for name in ("t.csv", "c.png", "h.png", "s.png"):
+        assert (tmp_path / name).stat().st_size > 0
+    serial = rdm.study(rdm.load_model(examples_dir / "gear_machine.toml"), spec)
+    np.testing.assert_array_equal(load_study(out).dataset["critical_speed"].values,
+                                  serial.dataset["critical_speed"].values)
+
+
+def test_ctrl_c_then_the_same_command_resumes(tmp_path, examples_dir):
+    """A real SIGINT to the command: exit 130, chunks kept; the rerun computes only the rest."""
+    spec = write_study(tmp_path / "s.toml", samples=60, chunk=2, speeds=201)
+    out = tmp_path / "r.nc"
+    folder = tmp_path / "r.nc.partial"
+    command = [sys.executable, "-m", "rotordyn_modal.cli.main", "study", str(examples_dir / "gear_machine.toml"),
+               "--spec", str(spec), "--out", str(out), "--quiet"]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 60
+    while len(list(folder.glob("chunk-*.npz"))) < 2 and time.time() < deadline and process.poll() is None:
+        time.sleep(0.05)
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 130, err
+    assert "run the same command again to resume" in err and "Traceback" not in err
+    kept = len(list(folder.glob("chunk-*.npz")))
+    assert 2 <= kept < 30 and not out.exists()
+    rerun = subprocess.run(command[:-1], capture_output=True, text=True, timeout=120)
+    assert rerun.returncode == 0, rerun.stderr
+    assert f"{kept} chunks resumed" in rerun.stderr
+    fresh = rdm.study(rdm.load_model(examples_dir / "gear_machine.toml"), spec)
+    resumed = load_study(out)
+    for name in ("sample_value", "frequency_hz", "critical_speed"):
+        np.testing.assert_array_equal(resumed.dataset[name].values, fresh.dataset[name].values)
+
+
+def test_help_lists_the_options(capsys):
+    with pytest.raises(SystemExit):
+        main(["study", "--help"])
+    text = capsys.readouterr().out
+    for option in ("--spec", "--workers", "--scheduler", "--out", "--band", "--restart"):
+        assert option in text

@@ -81,7 +81,7 @@ def example_run(example):
 def test_example_matches_a_quaternion_integration(example_run):
     times = example_run.time[::50]
     reference = _quaternion_reference(times)
-    np.testing.assert_allclose(example_run.rotor_centers[::50, 0, :], reference, atol=1e-6, rtol=0)
+    np.testing.assert_allclose(example_run.rotor_centers[::50, 0, :], reference, atol=1e-9, rtol=0)
     assert np.abs(reference - reference[0]).max() > 0.05  # the disk really moved
 
 
@@ -92,6 +92,13 @@ def test_example_keeps_its_axial_speed_and_energy(example_run):
     assert np.abs(energy - energy[0]).max() < 1e-9 * example_run.kinetic_energy[0]
     assert np.ptp(example_run.kinetic_energy) > 1.0  # energy really moved between its terms
     assert abs(energy[0] - 0.5 * 5 * 0.5**2 / 8 * OMEGA0**2 + 5 * 0 * 9.81) < 1e-12
+
+
+def test_time_history_figure_has_the_documents_panels(example_run):
+    fig = example_run.plot()
+    titles = [ax.get_title() for ax in fig.axes]
+    assert any("Path" in t for t in titles) and any("Energy" in t for t in titles)
+    assert any("Axial angular velocity" in t for t in titles)
 
 
 def test_result_pickles_and_tabulates(example_run):

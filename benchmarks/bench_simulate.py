@@ -10,6 +10,7 @@
      and LSODA (``odeint``) with the compiled right-hand side,
 
    each with its relative energy drift and its largest difference from the baseline.
+   * JAX + diffrax (Dopri8) when installed (not a dependency of the package).
 2. A batch of run-ups of ``examples/gear_machine.toml`` (0 -> 3000 rpm in 2 s) with random
    unbalance phases (default 64), serial and on a ``ProcessPoolExecutor`` with 2 workers.
 
@@ -116,6 +117,128 @@ def bench_example(repeat):
           f"speed-up {baseline_time / end_to_end:5.1f}x")
 
 
+def _jax_rhs(system, mode, accel, t_start, t_stop):
+    """The right-hand side in jax.numpy (same equations as ``_kernels``), for diffrax."""
+    import jax
+    import jax.numpy as jnp
+    jax.config.update("jax_enable_x64", True)
+
+    e, E2, s = jnp.asarray(system.e), jnp.asarray(system.E2), system.s
+    n, m_rot = 6 + s, 2 + s
+    g = jnp.asarray(system.gravity)
+
+    def skew(v):
+        return jnp.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+    def coeffs(t2):
+        small = t2 < 0.05 ** 2
+        ts = jnp.where(small, 1.0, t2)
+        t = jnp.sqrt(ts)
+        sn, co = jnp.sin(t), jnp.cos(t)
+        def pick(series, closed):
+            return jnp.where(small, series, closed)
+        a = pick(1 - t2 / 6 * (1 - t2 / 20 * (1 - t2 / 42)), sn / t)
+        c = pick(0.5 - t2 / 24 * (1 - t2 / 30 * (1 - t2 / 56)), (1 - co) / ts)
+        b = pick(1 / 6 - t2 / 120 * (1 - t2 / 42 * (1 - t2 / 72)), (t - sn) / (ts * t))
+        da = pick(-1 / 3 + t2 / 30 - t2 * t2 / 840, (t * co - sn) / (ts * t))
+        dc = pick(-1 / 12 + t2 / 180 - t2 * t2 / 6720, (t * sn - 2 * (1 - co)) / (ts * ts))
+        db = pick(-1 / 60 + t2 / 1260 - t2 * t2 / 60480, (1 - co) / (ts * ts) - 3 * (t - sn) / (ts * ts * t))
+        return a, c, b, da, dc, db
+
+    def axial(phi):
+        return jnp.cos(phi) * jnp.eye(3) + (1 - jnp.cos(phi)) * jnp.outer(e, e) + jnp.sin(phi) * skew(e)
+
+    def rhs(t, y, args=None):
+        q, dq = y[:n], y[n:]
+        gamma, gdot = E2 @ q[3:5], E2 @ dq[3:5]
+        psi = q[5] if s else 0.0
+        psid = dq[5] if s else 0.0
+        phi, phid = q[n - 1], dq[n - 1]
+        t2 = gamma @ gamma
+        a, c, b, da, dc, db = coeffs(t2)
+        Lg = (1 - c * t2) * jnp.eye(3) + c * jnp.outer(gamma, gamma) + a * skew(gamma)
+        Bg = a * jnp.eye(3) + b * jnp.outer(gamma, gamma) + c * skew(gamma)
+        Rs = Lg @ axial(psi)
+        eg = Lg @ e
+        H = jnp.column_stack([Bg @ E2[:, 0], Bg @ E2[:, 1]] + ([eg] if s else []))
+        og = Bg @ gdot
+        omega = og + psid * eg
+        vw, ww = gamma @ gdot, gdot @ gdot
+        wdot0 = (da * vw * gdot + db * vw * vw * gamma + b * (vw * gdot + ww * gamma)
+                 + dc * vw * jnp.cross(gamma, gdot) + psid * jnp.cross(og, eg))
+        M = jnp.zeros((n, n))
+        f = jnp.zeros(n)
+        for k in range(len(system.mass)):
+            r = float(system.ratio[k])
+            Rb = Rs @ axial(r * phi)
+            w = Rb @ system.offset[k]
+            arm = Rs @ system.center[k]
+            d = arm + w
+            bo = omega + r * phid * eg
+            al = wdot0 + r * phid * jnp.cross(omega, eg)
+            a0 = jnp.cross(wdot0, arm) + jnp.cross(omega, jnp.cross(omega, arm)) + jnp.cross(al, w) \
+                + jnp.cross(bo, jnp.cross(bo, w))
+            P = jnp.concatenate([jnp.eye(3), -skew(d) @ H, (r * jnp.cross(eg, w))[:, None]], axis=1)
+            W = jnp.concatenate([jnp.zeros((3, 3)), H, (r * eg)[:, None]], axis=1)
+            Ib = Rb @ system.inertia[k] @ Rb.T
+            mb = float(system.mass[k])
+            M = M + mb * P.T @ P + W.T @ Ib @ W
+            f = f + P.T @ (mb * (g - a0)) - W.T @ (Ib @ al + jnp.cross(bo, Ib @ bo))
+        theta = gamma + psi * e
+        for i in range(len(system.spos)):
+            p = system.spos[i]
+            rp = Rs @ p
+            top = jnp.concatenate([jnp.eye(3), -skew(rp) @ H, jnp.zeros((3, 1))], axis=1)
+            bottom = jnp.concatenate([jnp.zeros((3, 3)), E2] + ([e[:, None]] if s else []) + [jnp.zeros((3, 1))], axis=1)
+            Z = jnp.concatenate([top, bottom], axis=0)
+            z = jnp.concatenate([q[:3] + rp - p, theta])
+            f = f - Z.T @ (system.sK[i] @ z + system.sC[i] @ (Z @ dq))
+        if mode == 0:
+            qdd = jnp.linalg.solve(M, f)
+        else:
+            alpha = jnp.where((t >= t_start) & (t <= t_stop), accel, 0.0)
+            k = n - 1
+            q1 = jnp.linalg.solve(M[:k, :k], f[:k] - M[:k, k] * alpha)
+            qdd = jnp.concatenate([q1, jnp.array([alpha])])
+        return jnp.concatenate([dq, qdd])
+
+    return rhs
+
+
+def bench_jax(repeat):
+    """JAX + diffrax (Dopri8, PID controller) on the example, if both are installed."""
+    try:
+        import diffrax
+        import jax
+        import jax.numpy as jnp
+    except ImportError:
+        print("JAX + diffrax: not installed (pip install 'jax[cpu]' diffrax), skipped")
+        return
+    jax.config.update("jax_enable_x64", True)
+    model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
+    system = system_arrays(model)
+    n = system.n_dof
+    y0 = np.zeros(2 * n)
+    y0[-1] = SPEED
+    times = jnp.linspace(0, DURATION, 2001)
+    term = diffrax.ODETerm(_jax_rhs(system, 0, 0.0, 0.0, DURATION))
+
+    @jax.jit
+    def solve(y):
+        return diffrax.diffeqsolve(term, diffrax.Dopri8(), t0=0.0, t1=DURATION, dt0=1e-3, y0=y,
+                                   saveat=diffrax.SaveAt(ts=times), max_steps=10**6,
+                                   stepsize_controller=diffrax.PIDController(rtol=RTOL, atol=ATOL)).ys
+    first = _timed(lambda: solve(jnp.asarray(y0)).block_until_ready())
+    run = min(_timed(lambda: solve(jnp.asarray(y0)).block_until_ready()) for _ in range(repeat))
+    states = np.asarray(solve(jnp.asarray(y0)))
+    reference = rdm.simulate(model, DURATION, SPEED, drive="free", samples=2001, rtol=RTOL, atol=ATOL)
+    energy = _energy(kernels("numba"), system, states)
+    print(f"{'JAX + diffrax Dopri8 (jit), first call':46s}: {first:7.3f} s (compilation included)")
+    print(f"{'JAX + diffrax Dopri8 (jit), later calls':46s}: {run:7.3f} s  energy drift "
+          f"{np.abs(energy - energy[0]).max() / abs(energy[0]):.1e}  |x - rdm.simulate| "
+          f"{np.abs(states[:, :3] - reference.states[:, :3]).max():.1e} m")
+
+
 def _run_up(phases):
     """One run-up with the given unbalance phases [deg]; returns the sensor's peak [m]."""
     model = rdm.load_model(EXAMPLES / "gear_machine.toml")
@@ -158,6 +281,7 @@ def main():
     args = parser.parse_args()
     bench_example(args.repeat)
     bench_batch(args.batch)
+    bench_jax(args.repeat)  # last: JAX's threads do not mix with the batch's forked workers
 
 
 if __name__ == "__main__":

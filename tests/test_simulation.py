@@ -277,3 +277,20 @@ def test_free_floating_machine_tumbling_keeps_momenta_and_energy(gear_machine):
     change = np.abs(momentum[inner] - momentum[inner][0]).max() / np.linalg.norm(momentum[inner][0])
     # second-order differences of motions turning at up to |omega| err by about (|omega| dt)^2
     assert change < (np.linalg.norm(omega_s, axis=1).max() * dt) ** 2, change
+
+
+def test_static_equilibrium_under_gravity_stays_put(gear_machine):
+    """Gravity on the gear machine: started in equilibrium the stator does not move; its sag
+    equals the linear static deflection K^-1 f_gravity to the nonlinearity's size."""
+    model = _without(gear_machine, unbalances=[], gravity=[0.0, 0.0, -9.81])
+    res = rdm.simulate(model, 0.2, 200.0, initial="equilibrium", samples=21, rtol=1e-11, atol=1e-14)
+    q0 = res.displacement[0]
+    np.testing.assert_allclose(res.displacement, np.tile(q0, (21, 1)), atol=1e-12)
+    M, C, G, K = model.matrices()
+    weight = np.zeros(6)
+    for mass, center, _ in rdm.assembly.body_inertias(model):
+        weight += mass * 9.81 * rdm.geometry.point_force_column(center, model.reference_point, [0, 0, -1.0])
+    linear = np.linalg.solve(K, weight)
+    assert np.abs(q0 - linear).max() < 1e-3 * np.abs(linear).max()
+    with pytest.raises(InputError, match="initial 'sideways'"):
+        rdm.simulate(model, 0.1, 0.0, initial="sideways")

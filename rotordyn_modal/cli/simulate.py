@@ -17,7 +17,8 @@ body with large rotation (axial angle + transverse Euler vector, seed 001), the 
 turning in bearings fixed in the stator (coupled by the transmissions), exact gyroscopic
 coupling, unbalances as rotating masses, gravity (top-level 'gravity' key) and suspension
 forces that follow their attachment points. At t = 0 the machine is at rest in its
-undeformed position (springs unstretched, --initial rest) and the rotors spin at --speed.
+undeformed position (springs unstretched, --initial rest) or in static equilibrium under
+gravity (--initial equilibrium), and the rotors spin at --speed.
 
 Drive modes: an ideal drive holds --speed (default; the drive torque is an output);
 --ramp STOP runs the speed up (or down) linearly from --speed to STOP over --duration
@@ -52,8 +53,10 @@ def add_arguments(parser):
     drive = parser.add_mutually_exclusive_group()
     drive.add_argument("--ramp", metavar="STOP", help="run-up: speed at the end of --duration (same unit)")
     drive.add_argument("--free-spin", action="store_true", help="no drive torque: the spin is free")
-    parser.add_argument("--initial", choices=["rest"], default="rest",
-                        help="initial state: 'rest' = undeformed, at rest, rotors spinning at --speed")
+    parser.add_argument("--initial", choices=["rest", "equilibrium"], default="rest",
+                        help="initial state of the stator, at rest with the rotors spinning at --speed: "
+                        "'rest' undeformed (springs unstretched, default), 'equilibrium' in static "
+                        "equilibrium under gravity")
     parser.add_argument("--impulse", metavar="EXCITATION", help="hit this [[excitations]] entry at t = 0")
     parser.add_argument("--impulse-size", default="1", help="impulse [N s] (N m s for a moment), default 1")
     parser.add_argument("--samples", type=int, help="number of output times (default: 20 per period of the "
@@ -80,7 +83,7 @@ def run(args) -> int:
         raise InputError(f"--sensor {args.sensor!r}: unknown sensor; the model's sensors are {known}")
     drive = "ramp" if final is not None else ("free" if args.free_spin else "constant")
     result = simulate(model, parse_number(args.duration, "--duration"), speed, drive=drive, final_speed=final,
-                      impulse=args.impulse, impulse_size=parse_number(args.impulse_size, "--impulse-size"),
+                      initial=args.initial, impulse=args.impulse, impulse_size=parse_number(args.impulse_size, "--impulse-size"),
                       samples=args.samples, rtol=parse_number(args.rtol, "--rtol"),
                       atol=parse_number(args.atol, "--atol"), backend=args.backend, progress=show_progress(args))
     if args.out or not args.quiet:

@@ -33,16 +33,17 @@ def kernels(backend: str = "auto"):
     return _kernels.plain_namespace()
 
 
-def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, impulse=None,
-             impulse_size=1.0, samples=None, rtol=1e-9, atol=1e-12, unbalance_phases_deg=None,
-             backend="auto", progress=False) -> SimulationResult:
+def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, initial="rest",
+             impulse=None, impulse_size=1.0, samples=None, rtol=1e-9, atol=1e-12,
+             unbalance_phases_deg=None, backend="auto", progress=False) -> SimulationResult:
     """Integrate the machine's nonlinear equations of motion with large rotations.
 
     The stator is a rigid body whose rotation is an axial (roll) angle plus a transverse Euler
     vector (seed 001); every rotor turns in bearings fixed in the stator by its speed ratio
     times the drive angle; gyroscopic coupling, unbalances (rotating masses), gravity and
     suspension forces that follow their attachment points are exact. At t = 0 the stator is
-    at rest in its undeformed position (springs unstretched) and the rotors spin at ``speed``.
+    at rest (in its undeformed position, or in static equilibrium under gravity) and the
+    rotors spin at ``speed``.
 
     Parameters
     ----------
@@ -59,6 +60,10 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         torque, the spin is a degree of freedom.
     final_speed : float, optional
         End speed of a ramp [rad/s] (required with ``drive='ramp'``).
+    initial : {'rest', 'equilibrium'}
+        ``'rest'``: undeformed position, springs unstretched; ``'equilibrium'``: the static
+        equilibrium under gravity (found by Newton's method on the machine at rest without
+        its unbalances).
     impulse : str, optional
         Name of an ``[[excitations]]`` entry hit at t = 0 by an impulse of ``impulse_size``
         [N s, or N m s for a moment].
@@ -94,6 +99,10 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     kn = kernels(backend)
     n = system.n_dof
     y0 = np.zeros(2 * n)
+    if initial == "equilibrium":
+        y0[:n - 1] = _static_equilibrium(model, kn, system.n_dof)
+    elif initial != "rest":
+        raise InputError(f"initial {initial!r}: expected 'rest' or 'equilibrium'")
     y0[2 * n - 1] = speed
     if impulse is not None:
         y0[n:] += _impulse_velocity(model, system, kn, y0, impulse, impulse_size, mode)
@@ -168,6 +177,27 @@ def _drive(drive, speed, final_speed, duration):
     if final_speed is not None:
         raise InputError(f"final_speed is only used with drive 'ramp' (drive is {drive!r})")
     return (_kernels.FREE if drive == "free" else _kernels.PRESCRIBED), 0.0
+
+
+def _static_equilibrium(model, kn, n):
+    """Coordinates ``[x, g, (psi)]`` where gravity and the suspensions balance, at rest."""
+    from scipy.optimize import root
+
+    data = model.to_dict()
+    data["unbalances"] = []
+    still = system_arrays(type(model).from_dict(data, model.source))
+    arguments = still.kernel_arguments() + (_kernels.PRESCRIBED, 0.0, 0.0, 0.0)
+
+    def residual(coordinates):
+        y = np.zeros(2 * n)
+        y[:n - 1] = coordinates
+        return kn.accelerations(0.0, y, *arguments)[0][:n - 1]
+
+    solution = root(residual, np.zeros(n - 1), method="hybr", tol=1e-12)
+    if np.abs(residual(solution.x)).max() > 1e-8:  # judged by the residual acceleration [m/s^2, rad/s^2]
+        raise InputError(f"{model.source}: no static equilibrium under gravity found ({solution.message}); "
+                         "do the suspensions restrain every direction? Use initial 'rest'")
+    return solution.x
 
 
 def _impulse_velocity(model, system, kn, y0, name, size, mode):

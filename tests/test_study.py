@@ -335,3 +335,19 @@ def test_figures(gear, examples_dir):
     assert isinstance(fig, matplotlib.figure.Figure)
     # the grid holds each combination once: 11 damping x 8 cross-coupling factors
     assert grid.n_variants == 88 and len(np.unique(grid.dataset["sample_value"].values, axis=0)) == 88
+
+
+def test_a_study_without_seed_records_the_one_it_drew_and_resumes_with_it(gear, tmp_path):
+    spec = small_gear_study(samples=6)
+    del spec["seed"]
+    spec["analyses"] = {"modes": {}}
+    folder = tmp_path / "c"
+    with pytest.raises(KeyboardInterrupt):
+        rdm.study(gear, spec, executor=_InterruptingExecutor(after=1), checkpoint=folder, chunk_size=2)
+    resumed = rdm.study(gear, spec, checkpoint=folder, chunk_size=2)
+    assert resumed.resumed_chunks == 1
+    seed = int(resumed.dataset.attrs["seed"])
+    again = rdm.study(gear, {**spec, "seed": seed}, chunk_size=2)
+    np.testing.assert_array_equal(resumed.dataset["sample_value"].values, again.dataset["sample_value"].values)
+    np.testing.assert_array_equal(resumed.dataset["modal_frequency_hz"].values,
+                                  again.dataset["modal_frequency_hz"].values)

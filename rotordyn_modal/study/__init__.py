@@ -17,9 +17,12 @@ The study file is described in ``docs/study-file.md``. This module is callable:
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 import types
 from pathlib import Path
+
+import numpy as np
 
 from .definition import Parameter, StudyDefinition, StudyError, parse_study, read_study
 from .results import StudyResult, load_study
@@ -71,6 +74,10 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     from .results import build_dataset
 
     definition = _definition(spec, model)
+    if definition.seed is None:  # draw one, record it (results attrs, checkpoint) so the study can be redone
+        seed = Checkpoint.saved_seed(checkpoint) if checkpoint is not None else None
+        seed = int(np.random.SeedSequence().entropy % 2**31) if seed is None else seed
+        definition = dataclasses.replace(definition, seed=seed)
     values = sample_variants(definition)
     variables, coords, layouts = describe(model, definition.analyses)
     shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
@@ -82,7 +89,7 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     tasks = make_tasks(values, size, base)
     store = None
     if checkpoint is not None:
-        store = Checkpoint(checkpoint, fingerprint(model.to_dict(), definition.raw, size, values))
+        store = Checkpoint(checkpoint, fingerprint(model.to_dict(), definition.raw, size, values), definition.seed)
     chunks, resumed = execute(tasks, executor, store, progress, len(values))
     dataset = build_dataset(chunks, values, definition, variables, coords, model,
                             attrs={"chunk_size": size})

@@ -28,7 +28,7 @@ DISTRIBUTIONS = {
     "uniform": (("low", "high"),),
 }
 _TOP_KEYS = ("seed", "samples", "design", "chunk_size", "parameters", "correlation", "analyses",
-             "operating_band_rpm", "model", "name")
+             "operating_band_rpm", "name")
 _PARAMETER_KEYS = ("name", "key", "keys", "values", "scale", "distribution", "apply", "mean", "std",
                    "median", "log_std", "low", "high", "truncate")
 

@@ -206,9 +206,18 @@ class Checkpoint:
     fingerprint : str
         Hash of everything that determines the results; a folder written by a
         different study is refused, not mixed in.
+    seed : int, optional
+        The seed the samples were drawn with (kept so that a study without a
+        seed of its own resumes with the same samples).
     """
 
-    def __init__(self, folder, fingerprint: str):
+    @staticmethod
+    def saved_seed(folder):
+        """The seed recorded in a checkpoint folder (None if there is none)."""
+        manifest = Path(folder) / "study.json"
+        return json.loads(manifest.read_text()).get("seed") if manifest.exists() else None
+
+    def __init__(self, folder, fingerprint: str, seed=None):
         self.folder = Path(folder)
         self.fingerprint = fingerprint
         manifest = self.folder / "study.json"
@@ -219,7 +228,7 @@ class Checkpoint:
                                  "study file or chunk size); delete the folder to start afresh")
         else:
             self.folder.mkdir(parents=True, exist_ok=True)
-            _atomic_bytes(manifest, json.dumps({"fingerprint": fingerprint}).encode())
+            _atomic_bytes(manifest, json.dumps({"fingerprint": fingerprint, "seed": seed}).encode())
 
     def done(self) -> dict:
         """Finished chunks: index -> chunk result."""

@@ -1,0 +1,128 @@
+"""Parameter study at scale: 2,000 variants x 201 speeds of the gear machine.
+
+Runs the mount-tolerance study (``examples/mount_tolerance.study.toml``: four mount
+stiffness factors, Latin hypercube; Campbell 0-6,000 rpm and its 1X critical speeds) with
+2,000 samples and 201 speeds:
+
+* serially (``executor=None``),
+* on a local process pool of 2 workers (``ProcessPoolExecutor``),
+* on a ``dask.distributed`` LocalCluster of 2 worker processes (``client.get_executor()``),
+  with dask's statistical profiler on (its default) and off,
+
+and compares the serial cost per variant with one ``rdm.campbell`` call (the same
+analysis on one model: the base model, and the mean over 100 of the variants' models,
+built beforehand). Checks that the three runs give the same results.
+
+    python benchmarks/bench_study.py [--variants 2000] [--speeds 201]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+import rotordyn_modal as rdm
+from rotordyn_modal.study import parse_study
+from rotordyn_modal.study.execution import variant_model, worker_initializer
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def spec(variants: int, speeds: int) -> dict:
+    import tomllib
+
+    data = tomllib.loads((EXAMPLES / "mount_tolerance.study.toml").read_text())
+    data["samples"] = variants
+    data["analyses"]["campbell"]["speeds_rpm"] = f"0:6000:{speeds}"
+    return data
+
+
+def best(function, repeat: int) -> float:
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def single_campbell(model, definition, count: int = 100):
+    """Best-of-5 time of one campbell call: base model, and mean over `count` variant models."""
+    speeds = definition.analyses["campbell"]["speeds"]
+    base = best(lambda: rdm.campbell(model, speeds), 5)
+    values = rdm.study.sample_variants(definition)[:count]
+    keys = tuple(p.keys for p in definition.parameters)
+    applies = tuple(p.apply for p in definition.parameters)
+    models = [variant_model(model.to_dict(), model.source, keys, applies, v) for v in values]
+    variants = best(lambda: [rdm.campbell(m, speeds) for m in models], 3) / count
+    return base, variants
+
+
+def timed_study(model, definition, executor=None):
+    start = time.perf_counter()
+    result = rdm.study(model, definition, executor=executor)
+    return time.perf_counter() - start, result
+
+
+def same(a, b) -> bool:
+    return all(np.array_equal(a.dataset[n].values, b.dataset[n].values, equal_nan=True)
+               for n in ("sample_value", "frequency_hz", "damping_ratio", "critical_speed"))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--variants", type=int, default=2000)
+    parser.add_argument("--speeds", type=int, default=201)
+    args = parser.parse_args()
+    model = rdm.load_model(EXAMPLES / "gear_machine.toml")
+    definition = parse_study(spec(args.variants, args.speeds), "mount_tolerance", model)
+    n = args.variants
+    print(f"model: gear_machine.toml, {n} variants x {args.speeds} speeds, 1X critical speeds of 3 sources, "
+          f"{os.cpu_count()} cores")
+    rdm.study(model, spec(4, 11))  # warm-up: imports (xarray, scipy.stats) are not per-variant costs
+    base, variants = single_campbell(model, definition)
+    print(f"one rdm.campbell call, base model (best of 5)           : {base * 1e3:8.2f} ms")
+    print(f"one rdm.campbell call, mean over 100 variant models     : {variants * 1e3:8.2f} ms")
+
+    serial_time, serial = timed_study(model, definition)
+    per_variant = serial_time / n
+    print(f"study serial                                            : {serial_time:8.2f} s  "
+          f"({per_variant * 1e3:.2f} ms/variant = {per_variant / variants:.2f}x one campbell call, "
+          f"{per_variant / base:.2f}x the base model's; target <= 1.3x)")
+
+    start = time.perf_counter()
+    with ProcessPoolExecutor(2, initializer=worker_initializer) as pool:
+        started = time.perf_counter() - start
+        pool_time, pooled = timed_study(model, definition, pool)
+    total = time.perf_counter() - start
+    print(f"study, ProcessPoolExecutor(2)                           : {pool_time:8.2f} s  "
+          f"speed-up {serial_time / pool_time:.2f}x  (with pool start-up and shutdown {total:.2f} s: "
+          f"{serial_time / total:.2f}x)  same results: {same(pooled, serial)}")
+
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        print("dask.distributed not installed: LocalCluster skipped")
+        return
+    import dask
+
+    for profile in (True, False):  # dask's statistical profiler samples worker stacks every 10 ms
+        with dask.config.set({"distributed.worker.profile.enabled": profile}):
+            start = time.perf_counter()
+            with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
+                    Client(cluster) as client:
+                started = time.perf_counter() - start
+                cluster_time, clustered = timed_study(model, definition, client.get_executor())
+        print(f"study, dask LocalCluster(2 processes), profiler {'on ' if profile else 'off'}   : {cluster_time:8.2f} s  "
+              f"speed-up {serial_time / cluster_time:.2f}x  (cluster start-up {started:.2f} s)  "
+              f"same results: {same(clustered, serial)}")
+    print(f"failed variants: {int(serial.failed.sum())}")
+
+
+if __name__ == "__main__":
+    main()

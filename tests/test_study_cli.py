@@ -117,3 +117,24 @@ def test_help_lists_the_options(capsys):
     text = capsys.readouterr().out
     for option in ("--spec", "--workers", "--scheduler", "--out", "--band", "--restart"):
         assert option in text
+
+
+def test_scheduler_option_runs_on_a_dask_cluster(tmp_path, examples_dir, capsys):
+    distributed = pytest.importorskip("distributed")
+    spec = write_study(tmp_path / "s.toml", samples=4)
+    out = tmp_path / "r.nc"
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=":0") as cluster:
+        code = main(["study", str(examples_dir / "gear_machine.toml"), "--spec", str(spec), "--out", str(out),
+                     "--scheduler", cluster.scheduler_address, "--quiet"])
+    assert code == 0, capsys.readouterr().err
+    serial = rdm.study(rdm.load_model(examples_dir / "gear_machine.toml"), spec)
+    np.testing.assert_array_equal(load_study(out).dataset["frequency_hz"].values, serial.dataset["frequency_hz"].values)
+
+
+def test_unreachable_scheduler_exit_2(tmp_path, examples_dir, capsys):
+    pytest.importorskip("distributed")
+    spec = write_study(tmp_path / "s.toml", samples=4)
+    code = main(["study", str(examples_dir / "gear_machine.toml"), "--spec", str(spec),
+                 "--out", str(tmp_path / "r.nc"), "--scheduler", "tcp://127.0.0.1:9", "--quiet"])
+    assert code == 2 and "cannot connect" in capsys.readouterr().err

@@ -134,7 +134,7 @@ class _executor:
             except ImportError:
                 raise InputError("--scheduler needs dask.distributed: pip install 'dask[distributed]'") from None
             try:
-                self.client = Client(self.args.scheduler, timeout=30)
+                self.client = Client(self.args.scheduler, timeout=10)
             except OSError as error:
                 raise InputError(f"--scheduler {self.args.scheduler}: cannot connect ({error})") from None
             return self.client.get_executor()

@@ -132,8 +132,9 @@ def test_scheduler_option_runs_on_a_dask_cluster(tmp_path, examples_dir, capsys)
     np.testing.assert_array_equal(load_study(out).dataset["frequency_hz"].values, serial.dataset["frequency_hz"].values)
 
 
-def test_unreachable_scheduler_exit_2(tmp_path, examples_dir, capsys):
+def test_unreachable_scheduler_exit_2(tmp_path, examples_dir, capsys, monkeypatch):
     pytest.importorskip("distributed")
+    monkeypatch.setattr("rotordyn_modal.cli.study.SCHEDULER_TIMEOUT", 1)
     spec = write_study(tmp_path / "s.toml", samples=4)
     code = main(["study", str(examples_dir / "gear_machine.toml"), "--spec", str(spec),
                  "--out", str(tmp_path / "r.nc"), "--scheduler", "tcp://127.0.0.1:9", "--quiet"])

@@ -52,6 +52,9 @@ def add_arguments(parser):
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no summary on the terminal")
 
 
+#: seconds to wait for a --scheduler to answer
+SCHEDULER_TIMEOUT = 10
+
 _PLOTS = (("plot", "plot_campbell"), ("plot_histogram", "plot_critical_histograms"),
           ("plot_map", "plot_stability_map"), ("plot_sensitivity", "plot_sensitivity"))
 
@@ -134,7 +137,7 @@ class _executor:
             except ImportError:
                 raise InputError("--scheduler needs dask.distributed: pip install 'dask[distributed]'") from None
             try:
-                self.client = Client(self.args.scheduler, timeout=10)
+                self.client = Client(self.args.scheduler, timeout=SCHEDULER_TIMEOUT)
             except OSError as error:
                 raise InputError(f"--scheduler {self.args.scheduler}: cannot connect ({error})") from None
             return self.client.get_executor()

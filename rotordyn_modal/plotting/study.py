@@ -50,20 +50,28 @@ def plot_study_campbell(result, percentiles=(5.0, 95.0), band_rpm=None, speed_un
         low, mid, high = np.nanpercentile(column, [percentiles[0], 50.0, percentiles[1]], axis=0)
         ax.fill_between(x, low, high, color=colors[m % 10], alpha=0.25, linewidth=0)
         ax.plot(x, mid, color=colors[m % 10], label=f"mode {label}")
+    top = 1.1 * (np.nanmax(freq) if np.isfinite(freq).any() else 1.0)
     if "excitation" in ds.coords:
-        for name, slope in zip(ds["excitation"].values, ds["excitation_slope"].values):
-            ax.plot(x, slope * np.abs(ds["speed"].values), color="0.4", linewidth=0.8, linestyle="--")
-            ax.annotate(str(name), (x[-1], slope * abs(ds["speed"].values[-1])), fontsize="x-small", color="0.3")
+        _excitation_lines(ax, x, np.abs(ds["speed"].values), ds["excitation"].values, ds["excitation_slope"].values, top)
     _band(ax, band_rpm, speed_scale(speed_unit) * np.pi / 30)
-    top = np.nanmax(freq) if np.isfinite(freq).any() else 1.0
-    ax.set_ylim(0, 1.1 * top)
+    ax.set_ylim(0, top)
     ax.set_xlabel(speed_label(speed_unit))
     ax.set_ylabel("Damped natural frequency [Hz]")
     ax.set_title(title or f"Campbell diagram: median and {percentiles[0]:g}-{percentiles[1]:g} % band "
                  f"of {int((~result.failed).sum())} variants")
-    ax.legend(fontsize="small", ncols=2, loc="upper left")
+    ax.legend(fontsize="small", ncols=2, loc="lower right")
     ax.grid(True, alpha=0.3)
     return fig
+
+
+def _excitation_lines(ax, x, speeds, names, slopes, top):
+    """Dashed excitation lines (base model), each labelled where it leaves the frame."""
+    for name, slope in zip(names, slopes):
+        y = slope * speeds
+        ax.plot(x, y, color="0.4", linewidth=0.8, linestyle="--")
+        k = int(np.searchsorted(y, 0.95 * top)) if y[-1] > 0.95 * top else len(x) - 1
+        ax.annotate(str(name), (x[min(k, len(x) - 1)], min(y[min(k, len(x) - 1)], 0.95 * top)),
+                    fontsize="x-small", color="0.3", ha="right", va="bottom")
 
 
 def plot_critical_histograms(result, band_rpm=None, bins: int = 25, max_crossings: int = 6,

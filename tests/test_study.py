@@ -197,6 +197,8 @@ def test_a_failing_variant_is_recorded_with_its_reason_and_the_others_run(gear):
     (lambda s: s.update(correlation={"parameters": ["rear", "rotors.fan.polar_inertia"],
                                      "matrix": [[1.0, 1.2], [1.2, 1.0]]}), r"\[correlation\] matrix"),
     (lambda s: s["parameters"][0].update(lows=0.8), r"\[\[parameters\]\] 1 lows = 0.8: expected one of the keys"),
+    (lambda s: s["parameters"][0].update(apply="value"),
+     r"1 key = 'suspensions.mount-FL.stiffness': expected a key holding one number to set"),
 ])
 def test_bad_study_files_are_refused_naming_file_key_value_and_expectation(gear, tmp_path, change, message):
     import tomli_w

@@ -361,10 +361,22 @@ def _check_keys(parameter, number, model, where, source):
 
     data = model.to_dict()
     for key in parameter.keys:
+        if parameter.apply == "value" and _holds_array(data, key, model.source):
+            raise StudyError(source, f"{where} key", key, "a key holding one number to set (it holds an "
+                             "array: multiply it with scale / apply = 'scale', or pick an element with [i])")
         try:
             (set_value if parameter.apply == "value" else scale_value)(data, key, float(number), model.source)
         except InputError as error:
             raise StudyError(source, f"{where} key", key, f"a dotted key of the model ({error})") from None
+
+
+def _holds_array(data, key, model_source) -> bool:
+    from ..parameters import get_value
+
+    try:
+        return isinstance(get_value(data, key, model_source), list)
+    except InputError:
+        return False  # an unknown key: refused with the model's message below
 
 
 def _correlation(table, random, source) -> np.ndarray:

@@ -353,3 +353,20 @@ def test_a_study_without_seed_records_the_one_it_drew_and_resumes_with_it(gear, 
     np.testing.assert_array_equal(resumed.dataset["sample_value"].values, again.dataset["sample_value"].values)
     np.testing.assert_array_equal(resumed.dataset["modal_frequency_hz"].values,
                                   again.dataset["modal_frequency_hz"].values)
+
+
+@pytest.mark.parametrize("study_file, model_file", [
+    ("mount_tolerance.study.toml", "gear_machine.toml"), ("mount_sobol.study.toml", "gear_machine.toml"),
+    ("stability_map.study.toml", "unstable_cross_coupled.toml")])
+def test_example_study_files_are_valid(examples_dir, study_file, model_file):
+    definition = read_study(examples_dir / study_file, rdm.load_model(examples_dir / model_file))
+    assert definition.analyses and definition.parameters
+
+
+def test_sobol_example_indices_are_variance_shares(examples_dir):
+    result = rdm.study(rdm.load_model(examples_dir / "gear_machine.toml"), examples_dir / "mount_sobol.study.toml")
+    assert result.n_variants == 64 * (4 + 2) and not result.failed.any()
+    table = result.sensitivity(["modal_frequency_hz[1]"]).set_index("parameter")
+    # first-order shares of a nearly additive output: each in [0, 1] and together about 1
+    assert np.all(table["S1"] > -3 * table["S1_se"]) and np.all(table["ST"] < 1 + 3 * table["ST_se"])
+    assert abs(table["S1"].sum() - 1) < 3 * np.sqrt((table["S1_se"] ** 2).sum())

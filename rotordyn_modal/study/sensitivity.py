@@ -4,8 +4,9 @@ coefficients otherwise.
 Sobol estimators (Saltelli et al. 2010, Comput. Phys. Commun. 181: 259-270):
 first order ``S_i = mean(f(B) (f(AB_i) - f(A))) / V`` and total (Jansen)
 ``ST_i = mean((f(A) - f(AB_i))^2) / (2 V)``, ``V`` the variance of
-``f(A), f(B)`` together. Their standard errors come from a bootstrap over the
-N base rows (seeded).
+``f(A), f(B)`` together; outputs are centred on the mean of ``f(A), f(B)``
+first (same expectation, far smaller variance for outputs with a large mean).
+Their standard errors come from a bootstrap over the N base rows (seeded).
 """
 
 from __future__ import annotations
@@ -47,6 +48,8 @@ def sobol_indices(y, d: int, bootstrap: int = 200, seed: int = 0) -> dict:
 
 
 def _estimate(blocks):
+    # centred: the first-order estimator's variance grows with the outputs' mean squared
+    blocks = blocks - np.concatenate([blocks[0], blocks[1]]).mean()
     fA, fB, fAB = blocks[0], blocks[1], blocks[2:]
     variance = np.var(np.concatenate([fA, fB]))
     if not variance > 0:

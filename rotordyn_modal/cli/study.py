@@ -26,7 +26,7 @@ their reason and do not stop the study.
 
 examples:
   rotordyn-modal study examples/gear_machine.toml --spec examples/mount_tolerance.study.toml \\
-      --out tolerance.nc --workers 2 --band 2700:3300 --plot campbell.png
+      --out tolerance.nc --workers 2 --band 3400:3700 --plot campbell.png
   rotordyn-modal study examples/unstable_cross_coupled.toml \\
       --spec examples/stability_map.study.toml --out map.nc --plot-map map.png"""
 

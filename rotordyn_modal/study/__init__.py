@@ -73,6 +73,7 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     from .execution import Checkpoint, default_chunk_size, execute, fingerprint, make_tasks
     from .results import build_dataset
 
+    _require_xarray()
     definition = _definition(spec, model)
     if definition.seed is None:  # draw one, record it (results attrs, checkpoint) so the study can be redone
         seed = Checkpoint.saved_seed(checkpoint) if checkpoint is not None else None
@@ -94,6 +95,15 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     dataset = build_dataset(chunks, values, definition, variables, coords, model,
                             attrs={"chunk_size": size})
     return StudyResult(dataset, resumed_chunks=resumed)
+
+
+def _require_xarray():
+    """Fail before any work when the results' data set cannot be built."""
+    try:
+        import xarray  # noqa: F401
+    except ImportError:
+        raise ImportError("parameter studies store their results as an xarray.Dataset: "
+                          "pip install 'rotordyn_modal[study]' (or xarray)") from None
 
 
 def _definition(spec, model) -> StudyDefinition:

@@ -256,7 +256,9 @@ class StudyResult:
         speeds = np.abs(ds["critical_speed"].values[:, chosen])
         inside = np.any((speeds >= low) & (speeds <= high), axis=1)[~self.failed]
         n, hits = len(inside), int(inside.sum())
-        p = hits / n if n else np.nan
+        if n == 0:
+            return {"probability": np.nan, "standard_error": np.nan, "n": 0, "hits": 0, "low": np.nan, "high": np.nan}
+        p = hits / n
         z = 1.959963984540054
         centre = (p + z * z / (2 * n)) / (1 + z * z / n)
         half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)

@@ -14,7 +14,6 @@ and prints the best of several runs and the ratios. Run::
 from __future__ import annotations
 
 import argparse
-import time
 from pathlib import Path
 
 import numpy as np
@@ -22,17 +21,11 @@ import scipy.linalg
 
 import rotordyn_modal as rdm
 from rotordyn_modal.linear_system import state_matrices
+from _timing import best_time  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 MODEL = Path(__file__).resolve().parent.parent / "examples" / "gear_machine.toml"
 
 
-def best_time(function, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def main() -> None:

@@ -15,7 +15,6 @@ checks that the viscous results agree, and prints best-of-N times and the ratios
 from __future__ import annotations
 
 import argparse
-import time
 import warnings
 from pathlib import Path
 
@@ -23,17 +22,11 @@ import control
 import numpy as np
 
 import rotordyn_modal as rdm
+from _timing import best_time  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 MODEL = Path(__file__).resolve().parent.parent / "examples" / "gear_machine.toml"
 
 
-def best_time(function, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def main(argv=None):

@@ -29,6 +29,7 @@ import numpy as np
 import rotordyn_modal as rdm
 from rotordyn_modal.study import parse_study
 from rotordyn_modal.study.execution import variant_model, worker_initializer
+from _timing import best_time  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
@@ -42,24 +43,17 @@ def spec(variants: int, speeds: int) -> dict:
     return data
 
 
-def best(function, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def single_campbell(model, definition, count: int = 100):
     """Best-of-5 time of one campbell call: base model, and mean over `count` variant models."""
     speeds = definition.analyses["campbell"]["speeds"]
-    base = best(lambda: rdm.campbell(model, speeds), 5)
+    base = best_time(lambda: rdm.campbell(model, speeds), 5)
     values = rdm.study.sample_variants(definition)[:count]
     keys = tuple(p.keys for p in definition.parameters)
     applies = tuple(p.apply for p in definition.parameters)
     models = [variant_model(model.to_dict(), model.source, keys, applies, v) for v in values]
-    variants = best(lambda: [rdm.campbell(m, speeds) for m in models], 3) / count
+    variants = best_time(lambda: [rdm.campbell(m, speeds) for m in models], 3) / count
     return base, variants
 
 

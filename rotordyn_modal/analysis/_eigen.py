@@ -37,21 +37,21 @@ _START_VECTORS = _rng_vectors[0] + 1j * _rng_vectors[1]
 _POOL: ThreadPoolExecutor | None = None
 
 
-def _threaded(function, batch: np.ndarray) -> np.ndarray:
-    """Apply a batched numpy routine over the first axis using a few threads.
+def _threaded(function, *batches: np.ndarray) -> np.ndarray:
+    """Apply a batched numpy routine over the first axis of its arrays using a few threads.
 
-    LAPACK-backed numpy routines release the GIL, so the parts run in parallel.
-    Set ``ROTORDYN_MODAL_THREADS=1`` (as parameter studies do in their worker
-    processes) to stay on one core.
+    LAPACK-backed numpy routines and large array arithmetic release the GIL, so
+    the parts run in parallel. Set ``ROTORDYN_MODAL_THREADS=1`` (as parameter
+    studies do in their worker processes) to stay on one core.
     """
     global _POOL
     threads = int(os.environ.get("ROTORDYN_MODAL_THREADS", _THREADS))
-    if len(batch) < 2 * _CHUNK or threads <= 1:
-        return function(batch)
+    if len(batches[0]) < 2 * _CHUNK or threads <= 1:
+        return function(*batches)
     if _POOL is None or _POOL._max_workers != threads:
         _POOL = ThreadPoolExecutor(threads, thread_name_prefix="rotordyn-eig")
-    parts = np.array_split(batch, threads)
-    return np.concatenate(list(_POOL.map(function, parts)))
+    parts = [np.array_split(batch, threads) for batch in batches]
+    return np.concatenate(list(_POOL.map(function, *parts)))
 
 
 def upper_eigenvalues(state_matrices: np.ndarray) -> np.ndarray:
@@ -104,24 +104,24 @@ def mode_shapes(M, damping, K, eigenvalues) -> np.ndarray:
     ndarray, shape (N, m, n), complex
         Unit-norm shapes (displacement part of the state eigenvectors).
     """
+    return _threaded(lambda d, lam: _mode_shapes_part(M, d, K, lam), damping, eigenvalues)
+
+
+def _mode_shapes_part(M, damping, K, eigenvalues):
     lam = eigenvalues[..., None, None]
     scale = np.abs(eigenvalues).max(axis=-1, keepdims=True)[..., None, None] + 1e-300
     # a shift at round-off level keeps an exactly singular pencil (lam = 0 with an
     # unsupported direction) solvable without changing the converged direction
     shifted = lam + 1e-13 * scale * (1 + 1j)
-    pencil = shifted**2 * M + shifted * damping[:, None] + K
+    pencil = shifted * damping[:, None]
+    pencil += K
+    pencil += shifted**2 * M
     m, n = eigenvalues.shape[-1], M.shape[0]
     start = np.broadcast_to(_START_VECTORS[:m, :n, None], pencil.shape[:-2] + (n, 1))
     # one step suffices: the shift is at round-off level, so the other modes' share of the
     # result is |lam - shifted| / |lam_other - shifted|, about 1e-13 of the gap
-    batch = np.concatenate([pencil, start], axis=-1).reshape((-1, n, n + 1))
-    vectors = _threaded(_solve_augmented, batch).reshape(pencil.shape[:-1])
+    vectors = _solve(pencil, start)[..., 0]
     return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
-
-
-def _solve_augmented(batch):
-    """Solve ``[A | b]`` systems stacked as (..., n, n + 1)."""
-    return _solve(batch[..., :-1], batch[..., -1:])[..., 0]
 
 
 def _solve(matrices, rhs):
@@ -278,8 +278,8 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     -------
     ndarray, shape (..., m)
     """
-    def form(matrix):
-        return np.einsum("...i,ij,...j->...", shapes.conj(), matrix, shapes)
+    def form(matrix):  # phi^H X phi for every shape, as one batched product
+        return (shapes.conj() * (shapes @ matrix.T)).sum(axis=-1)
 
     momentum = (-1j * form(forms.W)).real
     across = form(forms.N).real

@@ -41,6 +41,22 @@ class SpeedLinearForm:
         self.A1 = np.zeros((2 * n, 2 * n))
         self.A1[n:, n:] = -m_inv @ G
         self.mass_inverse = m_inv
+        self._add_maxwell_branches(model)
+
+    def _add_maxwell_branches(self, model):
+        """Rubber mounts' Maxwell branches add 6 first-order states each (after q, q')."""
+        from .analysis.mounts import maxwell_branches, with_branch_states
+
+        self.branch_stiffness, self.branch_times = maxwell_branches(model)
+        self.A0, _, self.branch_state_names = with_branch_states(
+            model, self.A0, np.zeros((2 * self.n_dof, 0)), self.mass_inverse)
+        extra = self.A0.shape[0] - self.A1.shape[0]
+        self.A1 = np.pad(self.A1, ((0, extra), (0, extra)))
+
+    @property
+    def n_states(self) -> int:
+        """12, plus 6 per Maxwell branch."""
+        return self.A0.shape[0]
 
     def at(self, speeds) -> np.ndarray:
         """State matrices at ``speeds`` [rad/s].
@@ -51,7 +67,7 @@ class SpeedLinearForm:
 
         Returns
         -------
-        ndarray, shape (N, 12, 12) (or (12, 12) for a scalar speed)
+        ndarray, shape (N, n_states, n_states) (or (n_states, n_states) for a scalar speed)
         """
         speeds = np.asarray(speeds, dtype=float)
         return self.A0 + speeds[..., None, None] * self.A1
@@ -108,10 +124,9 @@ def state_space(model, speed: float, quantity: str = "displacement", inputs=None
     a = form.at(float(speed))
     columns = excitation_columns(model, inputs)
     rows = sensor_rows(model, outputs)
-    b = np.vstack([np.zeros((n, columns.shape[1])), form.mass_inverse @ columns])
-    from .analysis.mounts import with_branch_states  # Maxwell branches add 6 states each (issue 4)
-
-    a, b, branch_states = with_branch_states(model, a, b, form.mass_inverse)
+    b = np.zeros((form.n_states, columns.shape[1]))
+    b[n:2 * n] = form.mass_inverse @ columns
+    branch_states = form.branch_state_names
     c, d = _output_matrices(a, b, rows, _QUANTITY_ORDER[quantity])
     input_names = [x.name for x in _named(model.excitations, inputs)]
     output_names = [s.name for s in _named(model.sensors, outputs)]

@@ -89,7 +89,7 @@ def select_upper(values: np.ndarray) -> np.ndarray:
     return np.take_along_axis(upper, final, axis=-1)
 
 
-def mode_shapes(M, damping, K, eigenvalues) -> np.ndarray:
+def mode_shapes(M, damping, K, eigenvalues, branches=None) -> np.ndarray:
     """Right eigenvectors ``phi`` of ``Q(lam) phi = 0`` by one inverse-iteration step.
 
     Parameters
@@ -98,16 +98,19 @@ def mode_shapes(M, damping, K, eigenvalues) -> np.ndarray:
     damping : ndarray, shape (N, n, n)
         ``C + Omega G`` at each speed.
     eigenvalues : ndarray, shape (N, m), complex
+    branches : (ndarray (n_b, n, n), ndarray (n_b,)), optional
+        Maxwell branches' stiffness [N/m, ...] and relaxation times [s]: the pencil
+        gains ``sum_b lam tau_b / (1 + lam tau_b) K_b``.
 
     Returns
     -------
     ndarray, shape (N, m, n), complex
         Unit-norm shapes (displacement part of the state eigenvectors).
     """
-    return _threaded(lambda d, lam: _mode_shapes_part(M, d, K, lam), damping, eigenvalues)
+    return _threaded(lambda d, lam: _mode_shapes_part(M, d, K, lam, branches), damping, eigenvalues)
 
 
-def _mode_shapes_part(M, damping, K, eigenvalues):
+def _mode_shapes_part(M, damping, K, eigenvalues, branches=None):
     lam = eigenvalues[..., None, None]
     scale = np.abs(eigenvalues).max(axis=-1, keepdims=True)[..., None, None] + 1e-300
     # a shift at round-off level keeps an exactly singular pencil (lam = 0 with an
@@ -116,6 +119,11 @@ def _mode_shapes_part(M, damping, K, eigenvalues):
     pencil = shifted * damping[:, None]
     pencil += K
     pencil += shifted**2 * M
+    if branches is not None and len(branches[1]):
+        stiffness, times = branches
+        # a relaxation root sits near the pole lam = -1/tau; the round-off shift keeps it finite
+        factor = shifted[..., 0, 0, None] * times / (1 + shifted[..., 0, 0, None] * times)
+        pencil += np.einsum("nmb,bij->nmij", factor, stiffness)
     m, n = eigenvalues.shape[-1], M.shape[0]
     start = np.broadcast_to(_START_VECTORS[:m, :n, None], pencil.shape[:-2] + (n, 1))
     # one step suffices: the shift is at round-off level, so the other modes' share of the
@@ -154,7 +162,7 @@ def solve_batch(form, speeds, forms=None):
     eigenvalues = upper_eigenvalues(form.at(speeds))
     M, C, G, K = form.matrices
     damping = C + speeds[:, None, None] * G
-    shapes = mode_shapes(M, damping, K, eigenvalues)
+    shapes = mode_shapes(M, damping, K, eigenvalues, (form.branch_stiffness, form.branch_times))
     if forms is not None:
         shapes = resolve_repeated(eigenvalues, shapes, forms)
     return eigenvalues, shapes

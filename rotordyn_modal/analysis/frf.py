@@ -278,7 +278,8 @@ def _modal_receptance(model, speed, omega, rows, columns):
     values, vectors = scipy.linalg.eig(form.at(float(speed)))
     if np.linalg.cond(vectors) > _MAX_CONDITION:
         return None
-    b = np.vstack([np.zeros((n, columns.shape[1])), form.mass_inverse @ columns])
+    b = np.zeros((form.n_states, columns.shape[1]))
+    b[n:2 * n] = form.mass_inverse @ columns
     left = rows @ vectors[:n]                      # (n_s, 2n)
     right = np.linalg.solve(vectors, b)            # (2n, n_e)
     poles = 1.0 / (1j * omega[None, :] - values[:, None])   # (2n, n_f)

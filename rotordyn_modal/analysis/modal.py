@@ -160,9 +160,13 @@ def _unique_indices(index, values, upper):
 def _normalise(shapes, M):
     """Unit mass-weighted norm, largest component real and positive."""
     norms = np.sqrt(np.einsum("mi,ij,mj->m", shapes.conj(), M, shapes).real)
+    # internal modes of Maxwell branches (a junction relaxing with the stator at rest)
+    # have no displacement: keep their shape zero
+    norms = np.where(norms > 0, norms, 1.0)
     shapes = shapes / norms[:, None]
     biggest = shapes[np.arange(len(shapes)), np.argmax(np.abs(shapes), axis=1)]
-    return shapes * (np.abs(biggest) / biggest)[:, None]
+    phase = np.where(np.abs(biggest) > 0, np.abs(biggest) / np.where(biggest != 0, biggest, 1), 1.0)
+    return shapes * phase[:, None]
 
 
 def mac(shapes_a, shapes_b, mass=None) -> np.ndarray:

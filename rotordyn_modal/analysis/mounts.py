@@ -31,16 +31,22 @@ def maxwell_branches(model):
         ``B_SP K_b B_SP^T``.
     times : ndarray, shape (n_branches,) [s]
     """
-    reference = model.reference_point
     stiffness, times = [], []
+    for _, _, shift, k_b, tau in _each_branch(model):
+        stiffness.append(shift @ k_b @ shift.T)
+        times.append(tau)
+    return np.array(stiffness).reshape(-1, 6, 6), np.array(times)
+
+
+def _each_branch(model):
+    """``(suspension, index, B_SP, K_b, tau_b)`` for every Maxwell branch of the model."""
+    reference = model.reference_point
     for s in model.suspensions:
         if getattr(s, "maxwell_stiffness_matrix", None) is None:
             continue
         shift = shift_matrix(reference, s.position)
-        for k_b, tau in zip(s.maxwell_stiffness_matrix, s.maxwell_time):
-            stiffness.append(shift @ k_b @ shift.T)
-            times.append(float(tau))
-    return np.array(stiffness).reshape(-1, 6, 6), np.array(times)
+        for k, (k_b, tau) in enumerate(zip(s.maxwell_stiffness_matrix, s.maxwell_time)):
+            yield s, k, shift, k_b, float(tau)
 
 
 def maxwell_stiffness(model, omega) -> np.ndarray | float:
@@ -85,15 +91,10 @@ def with_branch_states(model, a, b, mass_inverse):
     names : list of str
         Names of the added states, ``"<suspension>.branch<k>.z<i>"``.
     """
-    reference = model.reference_point
     blocks, names = [], []
-    for s in model.suspensions:
-        if getattr(s, "maxwell_stiffness_matrix", None) is None:
-            continue
-        shift = shift_matrix(reference, s.position)
-        for k, (k_b, tau) in enumerate(zip(s.maxwell_stiffness_matrix, s.maxwell_time)):
-            blocks.append((shift, k_b, float(tau)))
-            names += [f"{s.name}.branch{k}.z{i}" for i in range(6)]
+    for s, k, shift, k_b, tau in _each_branch(model):
+        blocks.append((shift, k_b, tau))
+        names += [f"{s.name}.branch{k}.z{i}" for i in range(6)]
     if not blocks:
         return a, b, []
     n, m = a.shape[0], a.shape[0] + 6 * len(blocks)

@@ -15,7 +15,6 @@ from typing import Any, Mapping
 import numpy as np
 
 from .errors import ModelError
-from .geometry import skew
 from .model import (
     ARRAY_TABLES, TOP_LEVEL_KEYS, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
     Unbalance, input_keys, is_finite_number,
@@ -410,4 +409,4 @@ def _excitation(table: _Table) -> Excitation:
                       direction=direction / np.linalg.norm(direction), kind=kind)
 
 
-__all__ = ["validate", "plain_copy", "skew"]
+__all__ = ["validate", "plain_copy"]

@@ -41,7 +41,6 @@ TOP_LEVEL_KEYS = (
 #: the tables that are arrays of tables
 ARRAY_TABLES = ("rotors", "transmissions", "suspensions", "unbalances", "sensors", "excitations")
 
-_AXES_TOLERANCE = 1e-6
 
 
 # ----------------------------------------------------------------------------------------

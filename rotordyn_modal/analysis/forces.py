@@ -44,8 +44,6 @@ def suspension_forces(model, omega, q) -> np.ndarray:
     ndarray, shape (n_suspensions, n_freq, 6, n), complex
         ``[F, C]`` at each suspension's point, model axes [N, N m].
     """
-    from .mounts import maxwell_stiffness
-
     w = np.asarray(omega, dtype=float)[:, None, None]
     out = []
     for s in model.suspensions:

@@ -26,7 +26,6 @@ import numpy as np
 
 from ..assembly import sensor_rows
 from ..errors import InputError
-from ..geometry import point_motion_row
 from .forces import COMPONENTS, bearing_forces, suspension_forces
 from .frf import dof_response
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import tomllib
 from pathlib import Path
 
-from ..errors import InputError, ModelError
+from ..errors import ModelError
 from ..model import Model
 from .atomic import atomic_write, check_not_input
 
@@ -65,5 +65,3 @@ def save_model(model: Model, path, inputs=()) -> None:
     data = {k: v for k, v in model.to_dict().items() if v not in ([], None, "")}
     with atomic_write(path, "wb") as handle:
         tomli_w.dump(data, handle)
-    if not isinstance(model, Model):  # pragma: no cover - defensive
-        raise InputError("save_model expects a Model")

@@ -185,7 +185,32 @@ def potential(y, e, E2, s, gravity, mass, center, offset, ratio, spos, sK):
 _KINEMATICS = ("skew", "_coefficients", "_inverse_coefficient", "rotation_tensor", "zhilin_tensor",
                "zhilin_inverse", "zhilin_derivative", "axial_rotation")
 _KERNELS = ("cross", "drive_acceleration", "stator_kinematics", "assemble", "accelerations", "rhs",
-            "potential")
+            "potential", "sample_outputs")
+
+
+def sample_outputs(times, states, e, E2, s, gravity, mass, center, offset, inertia, ratio, spos, sK, sC,
+                   mode, accel, t_start, t_stop):
+    """Per-sample derived outputs, in one loop (compiled, it runs without Python overhead).
+
+    Returns
+    -------
+    kinetic, elastic, weight, torque : ndarray, shape (count,) [J, J, J, N m]
+    omega : ndarray, shape (count, 3) [rad/s]
+    """
+    count = times.shape[0]
+    n = 6 + s
+    kinetic, elastic, weight = np.empty(count), np.empty(count), np.empty(count)
+    torque, omega = np.empty(count), np.empty((count, 3))
+    for i in range(count):
+        y = states[i]
+        q, dq = y[:n], y[n:]
+        M, _ = assemble(times[i], y, e, E2, s, gravity, mass, center, offset, inertia, ratio, spos, sK, sC)
+        kinetic[i] = 0.5 * dq @ (M @ dq)
+        elastic[i], weight[i] = potential(y, e, E2, s, gravity, mass, center, offset, ratio, spos, sK)
+        torque[i] = accelerations(times[i], y, e, E2, s, gravity, mass, center, offset, inertia, ratio,
+                                  spos, sK, sC, mode, accel, t_start, t_stop)[1]
+        omega[i] = stator_kinematics(q, dq, e, E2, s)[3]
+    return kinetic, elastic, weight, torque, omega
 
 
 def compiled_namespace():

@@ -151,17 +151,9 @@ class SimulationResult:
         psi_dot = dq[:, 5] if s else np.zeros(count)
         theta = gamma + psi[:, None] * system.e
         stator = (Rotation.from_rotvec(gamma) * Rotation.from_rotvec(psi[:, None] * system.e)).as_matrix()
-        arguments = system.kernel_arguments()
-        omega, torque = np.empty((count, 3)), np.empty(count)
-        kinetic, elastic, weight = np.empty(count), np.empty(count), np.empty(count)
-        for i in range(count):
-            y = states[i]
-            M, _ = kn.assemble(times[i], y, *arguments)
-            kinetic[i] = 0.5 * dq[i] @ M @ dq[i]
-            elastic[i], weight[i] = kn.potential(y, system.e, system.E2, s, system.gravity, system.mass,
-                                                 system.center, system.offset, system.ratio, system.spos, system.sK)
-            torque[i] = kn.accelerations(times[i], y, *arguments, *extra)[1]
-            omega[i] = kn.stator_kinematics(q[i], dq[i], system.e, system.E2, s)[3]
+        kinetic, elastic, weight, torque, omega = kn.sample_outputs(
+            np.ascontiguousarray(times, dtype=float), np.ascontiguousarray(states, dtype=float),
+            *system.kernel_arguments(), *extra)
         centers = np.empty((count, len(model.rotors), 3))
         for j, b in enumerate(system.rotor_index):
             spin = Rotation.from_rotvec((system.ratio[b] * q[:, n - 1])[:, None] * system.e).apply(system.offset[b])

@@ -85,12 +85,17 @@ def _readable(fast, t, y, arguments):
     return out
 
 
-def bench_example(repeat):
+def example_start():
+    """The seed 001 example's arrays and initial state (at rest, spinning at SPEED)."""
     model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
     system = system_arrays(model)
-    n = system.n_dof
-    y0 = np.zeros(2 * n)
+    y0 = np.zeros(2 * system.n_dof)
     y0[-1] = SPEED
+    return model, system, y0
+
+
+def bench_example(repeat):
+    model, system, y0 = example_start()
     times = np.linspace(0, DURATION, 2001)
     fast = kernels("numba")
     fast.rhs_flat(0.0, y0, *pack(system, 0, 0.0, 0.0, 1.0))  # compile (or load the cache)
@@ -110,8 +115,7 @@ def bench_example(repeat):
         difference = np.abs(states[:, :3] - baseline[:, :3]).max()
         print(f"{label:46s}: {min(elapsed):7.3f} s  speed-up {baseline_time / min(elapsed):5.1f}x  "
               f"energy drift {drift:.1e}  |x - baseline| {difference:.1e} m")
-    example = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
-    end_to_end = min(_timed(lambda: rdm.simulate(example, DURATION, SPEED, drive="free", samples=2001,
+    end_to_end = min(_timed(lambda: rdm.simulate(model, DURATION, SPEED, drive="free", samples=2001,
                                                  rtol=RTOL, atol=ATOL)) for _ in range(repeat))
     print(f"{'rdm.simulate end to end (with derived outputs)':46s}: {end_to_end:7.3f} s  "
           f"speed-up {baseline_time / end_to_end:5.1f}x")
@@ -124,7 +128,7 @@ def _jax_rhs(system, mode, accel, t_start, t_stop):
     jax.config.update("jax_enable_x64", True)
 
     e, E2, s = jnp.asarray(system.e), jnp.asarray(system.E2), system.s
-    n, m_rot = 6 + s, 2 + s
+    n = 6 + s
     g = jnp.asarray(system.gravity)
 
     def skew(v):
@@ -215,11 +219,7 @@ def bench_jax(repeat):
         print("JAX + diffrax: not installed (pip install 'jax[cpu]' diffrax), skipped")
         return
     jax.config.update("jax_enable_x64", True)
-    model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
-    system = system_arrays(model)
-    n = system.n_dof
-    y0 = np.zeros(2 * n)
-    y0[-1] = SPEED
+    model, system, y0 = example_start()
     times = jnp.linspace(0, DURATION, 2001)
     term = diffrax.ODETerm(_jax_rhs(system, 0, 0.0, 0.0, DURATION))
 

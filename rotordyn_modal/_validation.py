@@ -15,96 +15,15 @@ from typing import Any, Mapping
 import numpy as np
 
 from .errors import ModelError
-from .model import (
+from . import _bearing_validation
+from ._table import Table as _Table
+from .components import (
     ARRAY_TABLES, TOP_LEVEL_KEYS, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
     Unbalance, input_keys, is_finite_number,
 )
 
 _RATIO_TOLERANCE = 1e-9
 _AXES_TOLERANCE = 1e-6
-
-
-class _Table:
-    """Where a value sits in the description, for messages: ``[rotors.fan]``."""
-
-    def __init__(self, source: str, label: str, data: Mapping[str, Any]):
-        self.source = source
-        self.label = label
-        self.data = data
-
-    def error(self, key: str, value, expected: str) -> ModelError:
-        where = f"[{self.label}] {key}" if self.label else key
-        return ModelError(self.source, where, value, expected)
-
-    def check_keys(self, allowed) -> None:
-        for key in self.data:
-            if key not in allowed:
-                raise self.error(key, self.data[key], "one of the keys " + ", ".join(allowed)
-                                 + " (unknown key)")
-
-    def require(self, key: str):
-        if key not in self.data:
-            raise self.error(key, "<missing>", "a value (the key is required)")
-        return self.data[key]
-
-    # -- typed readers ---------------------------------------------------------------
-    def number(self, key: str, default=None, *, positive=False, nonnegative=False,
-               required=False) -> float:
-        if key not in self.data:
-            if required:
-                self.require(key)
-            return default
-        value = self.data[key]
-        if not is_finite_number(value):
-            raise self.error(key, value, "a finite number")
-        value = float(value)
-        if positive and not value > 0:
-            raise self.error(key, value, "a finite number > 0")
-        if nonnegative and not value >= 0:
-            raise self.error(key, value, "a finite number >= 0")
-        return value
-
-    def text(self, key: str, default=None, *, choices=None, required=False) -> str:
-        if key not in self.data:
-            if required:
-                self.require(key)
-            return default
-        value = self.data[key]
-        if not isinstance(value, str) or not value.strip():
-            raise self.error(key, value, "a non-empty string")
-        if choices is not None and value not in choices:
-            raise self.error(key, value, "one of " + ", ".join(repr(c) for c in choices))
-        return value
-
-    def array(self, key: str, shapes, default=None, *, required=False) -> np.ndarray:
-        """A finite numeric array of one of ``shapes``."""
-        if key not in self.data:
-            if required:
-                self.require(key)
-            return None if default is None else np.array(default, dtype=float)
-        value = self.data[key]
-        expected = " or ".join(_shape_text(s) for s in shapes)
-        try:
-            arr = np.array(value, dtype=float)
-        except (TypeError, ValueError):
-            raise self.error(key, value, expected + " of numbers") from None
-        if isinstance(value, (str, bytes)) or arr.shape not in shapes:
-            raise self.error(key, value, expected + f" (got shape {arr.shape})")
-        if not np.all(np.isfinite(arr)):
-            raise self.error(key, value, expected + " of finite numbers")
-        return arr
-
-    def vector3(self, key: str, default=None, *, required=False, nonzero=False) -> np.ndarray:
-        vec = self.array(key, [(3,)], default, required=required)
-        if nonzero and vec is not None and not np.linalg.norm(vec) > 0:
-            raise self.error(key, self.data.get(key), "a 3-vector of non-zero length")
-        return vec
-
-
-def _shape_text(shape) -> str:
-    if len(shape) == 1:
-        return f"a {shape[0]}-list"
-    return f"a {shape[0]}x{shape[1]} matrix"
 
 
 # ----------------------------------------------------------------------------------------
@@ -154,13 +73,18 @@ def validate(data: dict[str, Any], source: str) -> dict[str, Any]:
     rotors = [_rotor(t, ratios[name]) for name, t in rotor_tables.items()]
     suspensions = [_suspension(t) for t in _named_tables(source, data, "suspensions").values()]
     unbalances = [_unbalance(t, rotor_tables) for t in _indexed_tables(source, data, "unbalances")]
-    sensors = [_sensor(t) for t in _named_tables(source, data, "sensors").values()]
-    excitations = [_excitation(t) for t in _named_tables(source, data, "excitations").values()]
     gravity = top.vector3("gravity", default=[0.0, 0.0, 0.0])
+    bearings = _bearing_validation.bearings(_named_tables(source, data, "bearings"), rotors,
+                                            spin_axis, gravity)
+    on_bearings = {b.rotor for b in bearings}
+    sensors = [_sensor(t, rotor_tables, on_bearings) for t in _named_tables(source, data, "sensors").values()]
+    excitations = [_excitation(t, rotor_tables) for t in _named_tables(source, data, "excitations").values()]
+    _bearing_validation.check_frame(top, stator, suspensions, bearings, sensors, excitations)
     return {
         "name": name, "spin_axis": spin_axis, "reference_rotor": reference, "gravity": gravity,
         "stator": stator, "rotors": tuple(rotors), "transmissions": tuple(transmissions),
-        "suspensions": tuple(suspensions), "unbalances": tuple(unbalances),
+        "suspensions": tuple(suspensions), "bearings": tuple(bearings),
+        "unbalances": tuple(unbalances),
         "sensors": tuple(sensors), "excitations": tuple(excitations),
     }
 
@@ -392,21 +316,39 @@ def _unbalance(table: _Table, rotor_tables) -> Unbalance:
     )
 
 
-def _sensor(table: _Table) -> Sensor:
+def _sensor(table: _Table, rotor_names, on_bearings) -> Sensor:
     table.check_keys(input_keys("sensors"))
     direction = table.vector3("direction", required=True, nonzero=True)
+    rotor = _carrying_rotor(table, rotor_names)
+    measure = table.text("measure", default="absolute", choices=("absolute", "relative"))
+    if measure == "relative" and rotor is None:
+        raise table.error("measure", measure, "'absolute' for a point of the stator (a 'relative' "
+                          "sensor, a proximity probe, needs rotor = NAME of a rotor on bearings)")
+    if measure == "relative" and rotor not in on_bearings:
+        raise table.error("measure", measure, f"'absolute': rotor {rotor!r} has no [[bearings]], so "
+                          "its motion relative to the stator is zero")
     return Sensor(name=table.data["name"], position=table.vector3("position", required=True),
-                  direction=direction / np.linalg.norm(direction))
+                  direction=direction / np.linalg.norm(direction), rotor=rotor, measure=measure)
 
 
-def _excitation(table: _Table) -> Excitation:
+def _excitation(table: _Table, rotor_names) -> Excitation:
     table.check_keys(input_keys("excitations"))
     kind = table.text("kind", default="force", choices=("force", "moment"))
     direction = table.vector3("direction", required=True, nonzero=True)
     position = table.vector3("position", default=None if kind == "force" else [0.0, 0.0, 0.0],
                              required=kind == "force")
     return Excitation(name=table.data["name"], position=position,
-                      direction=direction / np.linalg.norm(direction), kind=kind)
+                      direction=direction / np.linalg.norm(direction), kind=kind,
+                      rotor=_carrying_rotor(table, rotor_names))
+
+
+def _carrying_rotor(table: _Table, rotor_names) -> str | None:
+    """The optional ``rotor`` key of a sensor or excitation (None: the stator)."""
+    rotor = table.text("rotor", default=None)
+    if rotor is not None and rotor not in rotor_names:
+        raise table.error("rotor", rotor, "the name of one of the rotors " + ", ".join(rotor_names)
+                          + " (or no rotor key for a point of the stator)")
+    return rotor
 
 
 __all__ = ["validate", "plain_copy"]

@@ -2,7 +2,9 @@
 
 Coordinates ``q = [u_x, u_y, u_z, theta_x, theta_y, theta_z]``: small
 translation [m] and rotation [rad] of the stator at the reference point S
-(its centre of mass), model axes. The linearized equation is::
+(its centre of mass), model axes, followed by the coordinates of each rotor on
+bearings relative to the stator (:mod:`rotordyn_modal.dofs`). The linearized
+equation is::
 
     M q'' + (C + Omega G) q' + K q = f
 
@@ -12,6 +14,9 @@ translation [m] and rotation [rad] of the stator at the reference point S
   ``g_j = -J_p,j r_j skew(e)`` per unit reference speed (eq. 52, r_j the
   speed ratio); the shift leaves it unchanged, since G_j acts on rotations only.
 * ``K = sum_i B_SP_i K_i B_SP_i^T`` and likewise C for the suspensions.
+* A rotor on bearings moves with ``T_j = T_S + B_RjS^T P_j E_j``: its mass and
+  gyroscopic matrices enter as ``T_j^T X_j T_j``; a bearing at point P adds
+  ``E_j^T P_j^T B_RjP K_b B_RjP^T P_j E_j`` (it only sees the relative motion).
 
 Derivations and sign conventions: ``docs/theory.md``.
 """
@@ -22,10 +27,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .geometry import point_force_column, point_motion_row, shift_matrix, skew
+from .errors import InputError
+from .geometry import point_force_column, shift_matrix, skew
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
-           "sensor_rows", "excitation_columns"]
+           "mass_matrix", "gyroscopic_matrix", "constant_matrices", "bearing_matrices", "bearing_motion", "frame_block",
+           "add_rotor_body", "rotor_gyroscopic", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force"]
 
 
 class Matrices(NamedTuple):
@@ -98,12 +105,52 @@ def _suspension_sum(model, attribute: str) -> np.ndarray:
     return total
 
 
+def frame_block(model, block6: np.ndarray) -> np.ndarray:
+    """A 6x6 matrix on the stator's motion placed in the ``n x n`` generalized space.
+
+    Parameters
+    ----------
+    model : Model
+    block6 : ndarray, shape (..., 6, 6)
+
+    Returns
+    -------
+    ndarray, shape (..., n, n) (zeros when the frame is the ground)
+    """
+    layout = model.dofs
+    out = np.zeros(block6.shape[:-2] + (layout.n, layout.n), dtype=block6.dtype)
+    k = layout.n_frame
+    out[..., :k, :k] = block6[..., :k, :k]
+    return out
+
+
+def add_rotor_body(out: np.ndarray, model, rotor: str, body6: np.ndarray) -> None:
+    """Add ``T_j^T X T_j - T_S^T X T_S`` of a rotor on bearings to ``out`` (in place).
+
+    ``X`` (6x6 about the reference point) is a quadratic form of the rotor's rigid
+    motion; its stator block is assumed already in ``out`` (every body's share of
+    the stator block is summed the way seed 000 sums it), so only the coupling and
+    the rotor's own blocks are added. Nothing for a rotor without bearings.
+    """
+    layout = model.dofs
+    if not layout.on_bearings(rotor):
+        return
+    j = layout.rotors.index(rotor)
+    own = layout.slices[j]
+    moves = layout.local_relative_motion(rotor, layout.reference_point)     # (6, k)
+    k = layout.n_frame
+    if k:
+        out[:k, own] += body6[:k] @ moves
+        out[own, :k] += moves.T @ body6[:, :k]
+    out[own, own] += moves.T @ body6 @ moves
+
+
 def loss_stiffness(model) -> np.ndarray:
     """``sum_i eta_i B K_i B^T``: the imaginary part of the hysteretic stiffness ``K (1 + i eta)``.
 
     Returns
     -------
-    ndarray, shape (6, 6) [N/m, ...]
+    ndarray, shape (n, n) [N/m, ...]
     """
     reference = model.reference_point
     total = np.zeros((6, 6))
@@ -111,7 +158,15 @@ def loss_stiffness(model) -> np.ndarray:
         if suspension.loss_factor:
             shift = shift_matrix(reference, suspension.position)
             total += suspension.loss_factor * (shift @ suspension.stiffness_matrix @ shift.T)
-    return total
+    return frame_block(model, total)
+
+
+def rotor_gyroscopic(model, rotor) -> np.ndarray:
+    """``diag(0, -J_p r skew(e))``: a rotor's gyroscopic matrix per unit reference speed
+    (seed eq. 52), on its rotations, shape (6, 6) [kg m^2]."""
+    out = np.zeros((6, 6))
+    out[3:, 3:] = -rotor.polar_inertia * rotor.speed_ratio * skew(model.spin_axis)
+    return out
 
 
 def gyroscopic_matrix(model) -> np.ndarray:
@@ -119,71 +174,212 @@ def gyroscopic_matrix(model) -> np.ndarray:
 
     Returns
     -------
-    ndarray, shape (6, 6) [kg m^2]
+    ndarray, shape (n, n) [kg m^2]
     """
     polar_momentum = sum(r.polar_inertia * r.speed_ratio for r in model.rotors)
-    out = np.zeros((6, 6))
-    out[3:, 3:] = -polar_momentum * skew(model.spin_axis)
+    stator = np.zeros((6, 6))
+    stator[3:, 3:] = -polar_momentum * skew(model.spin_axis)
+    out = frame_block(model, stator)
+    for rotor in model.rotors:
+        add_rotor_body(out, model, rotor.name, rotor_gyroscopic(model, rotor))
     return out
 
 
-def matrices(model) -> Matrices:
+def mass_matrix(model) -> np.ndarray:
+    """Global mass matrix (seed eq. 77, with the rotors on bearings' own coordinates).
+
+    Returns
+    -------
+    ndarray, shape (n, n) [kg, kg m, kg m^2]
+    """
+    reference = model.reference_point
+    bodies = body_inertias(model)
+    mass = frame_block(model, sum(rigid_mass_matrix(m, J, c, reference) for m, c, J in bodies))
+    first_rotor = len(bodies) - len(model.rotors)
+    for rotor, (m, c, J) in zip(model.rotors, bodies[first_rotor:]):
+        add_rotor_body(mass, model, rotor.name, rigid_mass_matrix(m, J, c, reference))
+    return 0.5 * (mass + mass.T)
+
+
+def bearing_matrices(model, speed: float | None = None, constant_only: bool = False,
+                     dependent_only: bool = False):
+    """Stiffness and damping of the bearings in the generalized space.
+
+    Parameters
+    ----------
+    model : Model
+    speed : float, optional
+        Reference speed [rad/s]; needed for speed-dependent bearings unless ``constant_only``.
+    constant_only, dependent_only : bool
+        Only the bearings whose coefficients do not (do) depend on speed.
+
+    Returns
+    -------
+    K, C : ndarray, shape (n, n) each
+    """
+    from .bearings import evaluate
+
+    n = model.dofs.n
+    K, C = np.zeros((n, n)), np.zeros((n, n))
+    for bearing in model.bearings:
+        dependent = bearing.coefficients.kind != "constant"
+        if (dependent and constant_only) or (not dependent and dependent_only):
+            continue
+        if dependent and speed is None:
+            raise InputError(f"{model.source}: [bearings.{bearing.name}] has speed-dependent "
+                             "coefficients: give the speed (matrices(speed=...))")
+        own = 0.0 if speed is None else model.rotor(bearing.rotor).speed_ratio * float(speed)
+        k6, c6 = evaluate(bearing.coefficients, [own], f"{model.source}: [bearings.{bearing.name}]")
+        rows, moves = bearing_motion(model, bearing)
+        K[rows, rows] += moves.T @ k6[0] @ moves
+        C[rows, rows] += moves.T @ c6[0] @ moves
+    return K, C
+
+
+def dependent_bearing_matrices(model, speeds):
+    """Stiffness and damping of the speed-dependent bearings at many reference speeds.
+
+    Parameters
+    ----------
+    model : Model
+    speeds : array_like, shape (N,)
+        Reference speeds [rad/s].
+
+    Returns
+    -------
+    K, C : ndarray, shape (N, n, n) each (zeros without such bearings)
+    """
+    from .bearings import evaluate
+
+    speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+    n = model.dofs.n
+    K, C = np.zeros((len(speeds), n, n)), np.zeros((len(speeds), n, n))
+    for bearing in model.bearings:
+        if bearing.coefficients.kind == "constant":
+            continue
+        own = model.rotor(bearing.rotor).speed_ratio * speeds
+        k6, c6 = evaluate(bearing.coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
+        rows, moves = bearing_motion(model, bearing)
+        K[:, rows, rows] += moves.T @ k6 @ moves
+        C[:, rows, rows] += moves.T @ c6 @ moves
+    return K, C
+
+
+def bearing_motion(model, bearing):
+    """Where a bearing's rotor coordinates sit, and the relative motion at the bearing point.
+
+    Returns
+    -------
+    rows : slice
+        The carried rotor's coordinates in ``q``.
+    moves : ndarray, shape (6, k)
+        Relative motion ``[u, theta]`` of rotor and stator at the bearing point per coordinate.
+    """
+    layout = model.dofs
+    j = layout.rotors.index(bearing.rotor)
+    return layout.slices[j], layout.local_relative_motion(bearing.rotor, bearing.position)
+
+
+def matrices(model, speed: float | None = None) -> Matrices:
     """``M, C, G, K`` of the linearized global equation (seed 000, eq. 77).
 
     Parameters
     ----------
     model : Model
+    speed : float, optional
+        Reference speed [rad/s], needed when bearing coefficients depend on speed.
 
     Returns
     -------
     Matrices
-        Named tuple ``(M, C, G, K)``, each ndarray of shape (6, 6).
+        Named tuple ``(M, C, G, K)``, each ndarray of shape (n, n) over the
+        generalized coordinates ``model.dofs`` (6 x 6 without bearings).
     """
-    reference = model.reference_point
-    mass = sum(rigid_mass_matrix(m, J, c, reference) for m, c, J in body_inertias(model))
-    return Matrices(
-        M=0.5 * (mass + mass.T),
-        C=_suspension_sum(model, "damping_matrix"),
-        G=gyroscopic_matrix(model),
-        K=_suspension_sum(model, "stiffness_matrix"),
-    )
+    constant = constant_matrices(model)
+    if not model.speed_dependent:
+        return constant
+    k_b, c_b = bearing_matrices(model, speed, dependent_only=True)
+    return constant._replace(K=constant.K + k_b, C=constant.C + c_b)
+
+
+def constant_matrices(model) -> Matrices:
+    """``M, C, G, K`` without the bearings whose coefficients depend on speed.
+
+    Returns
+    -------
+    Matrices, each (n, n)
+    """
+    K = frame_block(model, _suspension_sum(model, "stiffness_matrix"))
+    C = frame_block(model, _suspension_sum(model, "damping_matrix"))
+    if model.bearings:
+        k_b, c_b = bearing_matrices(model, constant_only=True)
+        K, C = K + k_b, C + c_b
+    return Matrices(M=mass_matrix(model), C=C, G=gyroscopic_matrix(model), K=K)
 
 
 def sensor_rows(model, names=None) -> np.ndarray:
     """Rows mapping ``q`` to the sensors' displacements along their directions.
 
+    A sensor on the stator reads its point's motion; one on a rotor reads the
+    rotor point's motion, or (``measure = "relative"``, a proximity probe) the
+    rotor's motion relative to the stator at that point.
+
     Returns
     -------
-    ndarray, shape (n_sensors, 6) [m/m, m/rad]
+    ndarray, shape (n_sensors, n) [m/m, m/rad]
     """
     sensors = _select(model.sensors, names, "sensor")
-    reference = model.reference_point
-    return np.array([point_motion_row(s.position, reference, s.direction) for s in sensors]).reshape(-1, 6)
+    layout = model.dofs
+    rows = [layout.point_rows(s.position, s.direction, s.rotor, s.measure == "relative") for s in sensors]
+    return np.array(rows).reshape(-1, layout.n)
 
 
 def excitation_columns(model, names=None) -> np.ndarray:
-    """Columns mapping the excitations' amplitudes to generalized forces at S.
+    """Columns mapping the excitations' amplitudes to generalized forces.
+
+    A force ``d`` at point P of a body is ``T_b^T B_SP [d, 0]``; a moment
+    ``T_b^T [0, d]`` (``T_b`` the body's motion at S per coordinate).
 
     Returns
     -------
-    ndarray, shape (6, n_excitations) [N/N, N m/N, ...]
+    ndarray, shape (n, n_excitations) [N/N, N m/N, ...]
     """
     excitations = _select(model.excitations, names, "excitation")
+    layout = model.dofs
     reference = model.reference_point
     columns = []
     for x in excitations:
         if x.kind == "moment":
-            columns.append(np.concatenate([np.zeros(3), x.direction]))
+            at_reference = np.concatenate([np.zeros(3), x.direction])
         else:
-            columns.append(point_force_column(x.position, reference, x.direction))
-    return np.array(columns).reshape(-1, 6).T
+            at_reference = point_force_column(x.position, reference, x.direction)
+        columns.append(layout.body_motion(x.rotor).T @ at_reference)
+    return np.array(columns).reshape(-1, layout.n).T
+
+
+def generalized_force(model, body: str | None, point, wrench) -> np.ndarray:
+    """Generalized forces of wrenches ``[F, C]`` acting at ``point`` of a body.
+
+    Parameters
+    ----------
+    model : Model
+    body : str or None
+        A rotor name, or None for the stator.
+    point : array_like, shape (3,) [m]
+    wrench : array_like, shape (..., 6)
+        ``[F, C]`` at ``point`` [N, N m], complex allowed.
+
+    Returns
+    -------
+    ndarray, shape (..., n)
+    """
+    at_reference = np.asarray(wrench) @ shift_matrix(model.reference_point, point).T
+    return at_reference @ model.dofs.body_motion(body)
 
 
 def _select(items, names, what: str):
     if names is None:
         return list(items)
-    from .errors import InputError
-
     by_name = {item.name: item for item in items}
     if isinstance(names, str):
         names = [names]

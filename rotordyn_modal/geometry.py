@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["skew", "shift_cross", "shift_matrix", "point_motion_row", "point_force_column"]
+__all__ = ["skew", "shift_cross", "shift_matrix", "point_motion_row", "point_force_column",
+           "transverse_axes"]
 
 
 def skew(vector) -> np.ndarray:
@@ -104,3 +105,31 @@ def point_force_column(point, reference, direction) -> np.ndarray:
     ndarray, shape (6,)
     """
     return point_motion_row(point, reference, direction)
+
+
+def transverse_axes(spin_axis) -> np.ndarray:
+    """Two unit axes ``a, b`` normal to the spin axis ``e``, with ``a x b = e``.
+
+    ``a`` is the model axis that follows ``e``'s largest component in the cycle
+    x -> y -> z -> x, made normal to ``e``: for ``e`` along x, y or z the pair is
+    (y, z), (z, x) or (x, y). Rotors on bearings move along these axes.
+
+    Parameters
+    ----------
+    spin_axis : array_like, shape (3,)
+
+    Returns
+    -------
+    ndarray, shape (2, 3): rows ``a`` and ``b``
+
+    Examples
+    --------
+    >>> transverse_axes([1.0, 0.0, 0.0]).tolist()
+    [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    """
+    e = np.asarray(spin_axis, dtype=float)
+    e = e / np.linalg.norm(e)
+    following = np.eye(3)[(int(np.argmax(np.abs(e))) + 1) % 3]
+    a = following - (following @ e) * e
+    a = a / np.linalg.norm(a)
+    return np.array([a, np.cross(e, a)]) + 0.0

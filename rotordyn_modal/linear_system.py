@@ -1,18 +1,25 @@
 """The linear system ``M q'' + (C + Omega G) q' + K q = B_f u``, ``y = C_s q``, in state space.
 
-State ``x = [q, q']`` (12 states); ``A(Omega) = A0 + Omega A1`` with::
+State ``x = [q, q']`` (``2n`` states for ``n`` generalized coordinates, see
+:mod:`rotordyn_modal.dofs`), then six states per Maxwell branch of the mounts.
+With constant coefficients ``A(Omega) = A0 + Omega A1`` with::
 
     A0 = [[0, I], [-M^-1 K, -M^-1 C]],   A1 = [[0, 0], [0, -M^-1 G]]
 
-so that all speeds of a sweep are built in one broadcast.
+so that all speeds of a sweep are built in one broadcast. Bearings whose
+coefficients depend on speed add ``[[0, 0], [-M^-1 K_b(Omega), -M^-1 C_b(Omega)]]``,
+evaluated for all speeds at once (each bearing only touches its rotor's columns).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .assembly import excitation_columns, matrices, sensor_rows
+from .assembly import bearing_motion, constant_matrices, dependent_bearing_matrices, excitation_columns, \
+    sensor_rows
+from .bearings import evaluate
 from .errors import InputError
+from .mounts import maxwell_branches, with_branch_states
 
 __all__ = ["SpeedLinearForm", "speed_linear_form", "state_matrices", "state_space"]
 
@@ -21,15 +28,27 @@ _QUANTITY_ORDER = {"displacement": 0, "receptance": 0, "velocity": 1, "mobility"
 
 
 class SpeedLinearForm:
-    """The state matrix as ``A0 + Omega A1`` (each (12, 12)), with M and its inverse.
+    """The state matrix ``A(Omega) = A0 + Omega A1 (+ A_b(Omega))`` with M and its inverse.
 
     Parameters
     ----------
     model : Model
+
+    Attributes
+    ----------
+    matrices : Matrices
+        ``M, C, G, K`` of the parts that do not depend on speed.
+    n_dof : int
+        Number of generalized coordinates n.
+    A0, A1 : ndarray, shape (n_states, n_states)
+    mass_inverse : ndarray, shape (n, n)
+    speed_dependent : bool
+        True when bearing coefficients depend on speed (then A is not linear in speed).
     """
 
     def __init__(self, model):
-        self.matrices = matrices(model)
+        self.model = model
+        self.matrices = constant_matrices(model)
         M, C, G, K = self.matrices
         n = M.shape[0]
         self.n_dof = n
@@ -42,11 +61,11 @@ class SpeedLinearForm:
         self.A1[n:, n:] = -m_inv @ G
         self.mass_inverse = m_inv
         self._add_maxwell_branches(model)
+        self._dependent = _dependent_bearings(model, m_inv)
+        self.speed_dependent = bool(self._dependent)
 
     def _add_maxwell_branches(self, model):
         """Rubber mounts' Maxwell branches add 6 first-order states each (after q, q')."""
-        from .analysis.mounts import maxwell_branches, with_branch_states
-
         self.branch_stiffness, self.branch_times = maxwell_branches(model)
         self.A0, _, self.branch_state_names = with_branch_states(
             model, self.A0, np.zeros((2 * self.n_dof, 0)), self.mass_inverse)
@@ -55,7 +74,7 @@ class SpeedLinearForm:
 
     @property
     def n_states(self) -> int:
-        """12, plus 6 per Maxwell branch."""
+        """2n, plus 6 per Maxwell branch."""
         return self.A0.shape[0]
 
     def at(self, speeds) -> np.ndarray:
@@ -70,11 +89,50 @@ class SpeedLinearForm:
         ndarray, shape (N, n_states, n_states) (or (n_states, n_states) for a scalar speed)
         """
         speeds = np.asarray(speeds, dtype=float)
-        return self.A0 + speeds[..., None, None] * self.A1
+        out = self.A0 + speeds[..., None, None] * self.A1
+        if self._dependent:
+            n = self.n_dof
+            flat = out.reshape((-1,) + out.shape[-2:])
+            for rows, left, right, k, c in self._bearing_terms(np.ravel(speeds)):
+                flat[:, n:2 * n, rows] -= left @ k @ right
+                flat[:, n:2 * n, n + rows.start:n + rows.stop] -= left @ c @ right
+        return out
+
+    def stiffness_at(self, speeds) -> np.ndarray:
+        """Stiffness ``K(Omega)`` [N/m, ...], shape (N, n, n) (or (n, n) when constant)."""
+        if not self._dependent:
+            return self.matrices.K
+        return self.matrices.K + dependent_bearing_matrices(self.model, speeds)[0]
+
+    def damping_at(self, speeds) -> np.ndarray:
+        """Damping ``C(Omega)`` without the gyroscopic part, shape (N, n, n) (or (n, n))."""
+        if not self._dependent:
+            return self.matrices.C
+        return self.matrices.C + dependent_bearing_matrices(self.model, speeds)[1]
+
+    def _bearing_terms(self, speeds):
+        """Per speed-dependent bearing: rotor rows, ``M^-1 E^T``, E, K_b(N), C_b(N)."""
+        for rows, left, moves, coefficients, ratio, where in self._dependent:
+            k, c = evaluate(coefficients, ratio * speeds, where)
+            yield rows, left, moves, k, c
+
+
+def _dependent_bearings(model, mass_inverse):
+    """``(rows, M^-1[:, rows] E^T, E, coefficients, speed ratio, name)`` of each bearing
+    whose coefficients depend on speed; empty when none does."""
+    terms = []
+    for bearing in model.bearings:
+        if bearing.coefficients.kind == "constant":
+            continue
+        rows, moves = bearing_motion(model, bearing)
+        left = mass_inverse[:, rows] @ moves.T
+        terms.append((rows, left, moves, bearing.coefficients,
+                      model.rotor(bearing.rotor).speed_ratio, f"{model.source}: [bearings.{bearing.name}]"))
+    return terms
 
 
 def speed_linear_form(model) -> SpeedLinearForm:
-    """The speed-linear state matrix of ``model``; see :class:`SpeedLinearForm`."""
+    """The speed-dependent state matrix of ``model``; see :class:`SpeedLinearForm`."""
     return SpeedLinearForm(model)
 
 
@@ -89,7 +147,7 @@ def state_matrices(model, speeds) -> np.ndarray:
 
     Returns
     -------
-    ndarray, shape (N, 12, 12) [1/s, 1/s^2]
+    ndarray, shape (N, n_states, n_states) [1/s, 1/s^2]
     """
     return SpeedLinearForm(model).at(speeds)
 
@@ -111,9 +169,9 @@ def state_space(model, speed: float, quantity: str = "displacement", inputs=None
     -------
     control.StateSpace
         Inputs named after the ``[[excitations]]`` [N or N m], outputs after the
-        ``[[sensors]]`` [m, m/s or m/s^2], states ``q0..q5, dq0..dq5``, then six
-        states per Maxwell branch of the mounts (see
-        :func:`rotordyn_modal.analysis.mounts.with_branch_states`).
+        ``[[sensors]]`` [m, m/s or m/s^2], states ``q0..q{n-1}, dq0..dq{n-1}`` (the
+        generalized coordinates ``model.dofs.names``), then six states per Maxwell
+        branch of the mounts (see :func:`rotordyn_modal.mounts.with_branch_states`).
     """
     import control
 

@@ -14,179 +14,19 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import math
-from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 import numpy as np
 
-from .errors import ModelError
+from . import _validation
+from .components import (Bearing, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
+                         Unbalance, input_keys)
+from .parameters import get_value, scale_value, set_value
 
 __all__ = [
-    "Model",
-    "Stator",
-    "Rotor",
-    "Transmission",
-    "Suspension",
-    "Unbalance",
-    "Sensor",
+    "Model", "Stator", "Rotor", "Transmission", "Suspension", "Bearing", "Unbalance", "Sensor",
     "Excitation",
 ]
-
-#: keys read at the top level of a model description
-TOP_LEVEL_KEYS = (
-    "name", "spin_axis", "reference_rotor", "gravity", "stator", "rotors", "transmissions",
-    "suspensions", "unbalances", "sensors", "excitations",
-)
-#: the tables that are arrays of tables
-ARRAY_TABLES = ("rotors", "transmissions", "suspensions", "unbalances", "sensors", "excitations")
-
-
-
-# ----------------------------------------------------------------------------------------
-# Components. Their fields are the model-file keys; validation fills normalised values.
-# ----------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class Stator:
-    """The rigid stator (casing, skid, housing).
-
-    Parameters
-    ----------
-    mass : float
-        Mass [kg], > 0.
-    inertia : array_like, shape (3,) or (3, 3)
-        Inertia tensor about the stator's centre of mass, model axes [kg m^2];
-        a 3-vector means a diagonal tensor.
-    center_of_mass : array_like, shape (3,)
-        Centre of mass in model axes [m].
-    """
-
-    mass: float
-    inertia: Any
-    center_of_mass: Any = (0.0, 0.0, 0.0)
-
-
-@dataclass(frozen=True)
-class Rotor:
-    """A rigid, axisymmetric rotor spinning about an axis parallel to ``spin_axis``.
-
-    Parameters
-    ----------
-    name : str
-    mass : float
-        [kg], > 0.
-    center_of_mass : array_like, shape (3,)
-        [m], model axes.
-    polar_inertia, diametral_inertia : float
-        About the spin axis and about any normal axis through the centre of mass
-        [kg m^2]; ``polar_inertia <= 2 * diametral_inertia``.
-    speed_ratio : float or None
-        Spin speed / reference speed, signed about ``spin_axis``; None when a
-        transmission fixes it. After validation it holds the resolved ratio.
-    """
-
-    name: str
-    mass: float
-    center_of_mass: Any
-    polar_inertia: float
-    diametral_inertia: float
-    speed_ratio: float | None = None
-
-
-@dataclass(frozen=True)
-class Transmission:
-    """A gear (opposite directions) or belt (same direction) between two rotors.
-
-    ``ratio`` is tau = |omega_driver| / |omega_driven| (seed 000, eq. 14);
-    ``driver_teeth`` gives the gear-mesh order per revolution of the driver.
-    """
-
-    type: str
-    driver: str
-    driven: str
-    ratio: float
-    driver_teeth: int | None = None
-
-    @property
-    def direction_sign(self) -> float:
-        """-1 for a gear (external mesh), +1 for a belt."""
-        return -1.0 if self.type == "gear" else 1.0
-
-
-@dataclass(frozen=True)
-class Suspension:
-    """A spring-damper between a point of the stator and the ground.
-
-    ``stiffness`` and ``damping`` are a 3-vector (diagonal, N/m and N s/m), a
-    3x3 translational matrix or a 6x6 matrix coupling forces and moments at the
-    point, in the suspension's own ``axes`` (rows are its axes in model axes).
-    After validation :attr:`stiffness_matrix` and :attr:`damping_matrix` hold
-    the 6x6 matrices in model axes acting on ``[u_P, theta]`` at the point.
-
-    ``maxwell_stiffness`` (a list of branches, each shaped like ``stiffness``)
-    and ``maxwell_time`` (their relaxation times [s]) add generalized Maxwell
-    branches (a spring ``k_b`` in series with a dashpot ``k_b tau_b``) for
-    rubber: ``K_b i w tau_b / (1 + i w tau_b)`` in the frequency domain.
-    """
-
-    name: str
-    position: Any
-    stiffness: Any
-    damping: Any = None
-    loss_factor: float = 0.0
-    axes: Any = None
-    maxwell_stiffness: Any = None
-    maxwell_time: Any = None
-    stiffness_matrix: np.ndarray | None = field(default=None, repr=False, compare=False)
-    damping_matrix: np.ndarray | None = field(default=None, repr=False, compare=False)
-    #: (n_branches, 6, 6) stiffness of each Maxwell branch in model axes [N/m, ...]
-    maxwell_stiffness_matrix: np.ndarray | None = field(default=None, repr=False, compare=False)
-
-
-@dataclass(frozen=True)
-class Unbalance:
-    """A mass unbalance on a rotor: ``amount`` [kg m] at ``phase_deg`` [deg] at t = 0,
-    ``axial_offset`` [m] along the spin axis from the rotor's centre of mass."""
-
-    rotor: str
-    amount: float
-    phase_deg: float = 0.0
-    axial_offset: float = 0.0
-
-
-@dataclass(frozen=True)
-class Sensor:
-    """A measurement direction (unit vector after validation) at a point of the stator."""
-
-    name: str
-    position: Any
-    direction: Any
-
-
-@dataclass(frozen=True)
-class Excitation:
-    """A force [N] (or, with ``kind="moment"``, a moment [N m]) input at a point of the stator."""
-
-    name: str
-    position: Any
-    direction: Any
-    kind: str = "force"
-
-
-_COMPONENTS = {
-    "stator": Stator,
-    "rotors": Rotor,
-    "transmissions": Transmission,
-    "suspensions": Suspension,
-    "unbalances": Unbalance,
-    "sensors": Sensor,
-    "excitations": Excitation,
-}
-
-
-def _input_keys(cls) -> tuple[str, ...]:
-    return tuple(f.name for f in dataclasses.fields(cls) if f.init and not f.name.endswith("_matrix"))
-
 
 # ----------------------------------------------------------------------------------------
 # The model
@@ -227,6 +67,7 @@ class Model:
         rotors=(),
         stator: Stator | Mapping | None = None,
         suspensions=(),
+        bearings=(),
         transmissions=(),
         unbalances=(),
         sensors=(),
@@ -245,7 +86,8 @@ class Model:
         if stator is not None:
             data["stator"] = _as_table(stator)
         for key, items in (("rotors", rotors), ("transmissions", transmissions),
-                           ("suspensions", suspensions), ("unbalances", unbalances),
+                           ("suspensions", suspensions), ("bearings", bearings),
+                           ("unbalances", unbalances),
                            ("sensors", sensors), ("excitations", excitations)):
             data[key] = [_as_table(item) for item in items]
         self._build(data, source)
@@ -259,8 +101,6 @@ class Model:
         return self
 
     def _build(self, data: Mapping[str, Any], source: str) -> None:
-        from . import _validation  # the rules live in one module of their own
-
         self.source = source
         self._data = _validation.plain_copy(data, source)
         validated = _validation.validate(self._data, source)
@@ -272,6 +112,7 @@ class Model:
         self.rotors = validated["rotors"]
         self.transmissions = validated["transmissions"]
         self.suspensions = validated["suspensions"]
+        self.bearings = validated["bearings"]
         self.unbalances = validated["unbalances"]
         self.sensors = validated["sensors"]
         self.excitations = validated["excitations"]
@@ -284,14 +125,10 @@ class Model:
 
     def get(self, key: str):
         """Value of a dotted key, e.g. ``"suspensions.mount-FL.stiffness[2]"``."""
-        from .parameters import get_value
-
         return get_value(self._data, key, self.source)
 
     def with_values(self, values: Mapping[str, Any]) -> "Model":
         """A new, validated model with dotted keys set to the given values."""
-        from .parameters import set_value
-
         data = self.to_dict()
         for key, value in values.items():
             set_value(data, key, value, self.source)
@@ -299,8 +136,6 @@ class Model:
 
     def scaled(self, factors: Mapping[str, float]) -> "Model":
         """A new, validated model with dotted keys (scalars or whole arrays) multiplied."""
-        from .parameters import scale_value
-
         data = self.to_dict()
         for key, factor in factors.items():
             scale_value(data, key, factor, self.source)
@@ -323,6 +158,25 @@ class Model:
         stator_mass = self.stator.mass if self.stator is not None else 0.0
         return stator_mass + sum(r.mass for r in self.rotors)
 
+    @property
+    def dofs(self):
+        """The generalized coordinates (:class:`rotordyn_modal.dofs.Dofs`): the stator's six
+        motions, then those of each rotor on bearings."""
+        if getattr(self, "_dofs", None) is None:
+            from .dofs import dofs
+
+            self._dofs = dofs(self)
+        return self._dofs
+
+    @property
+    def speed_dependent(self) -> bool:
+        """True when a bearing's coefficients depend on speed (tables, journal bearings)."""
+        return any(b.coefficients.kind != "constant" for b in self.bearings)
+
+    def bearings_of(self, rotor: str) -> list:
+        """The bearings that carry ``rotor`` (empty: it is rigidly attached to the stator)."""
+        return [b for b in self.bearings if b.rotor == rotor]
+
     def rotor(self, name: str) -> Rotor:
         """The rotor called ``name``."""
         for rotor in self.rotors:
@@ -330,15 +184,18 @@ class Model:
                 return rotor
         raise KeyError(name)
 
-    def matrices(self):
-        """``M, C, G, K``: 6x6 each, about :attr:`reference_point`, model axes.
+    def matrices(self, speed: float | None = None):
+        """``M, C, G, K`` over the generalized coordinates :attr:`dofs`, model axes.
 
-        G is per unit reference speed [rad/s]: the velocity matrix at speed
-        ``Omega`` is ``C + Omega * G``. See :func:`rotordyn_modal.assembly.matrices`.
+        6x6 each, about :attr:`reference_point`, for a machine whose rotors are
+        rigidly attached; rotors on bearings add their own coordinates. G is per
+        unit reference speed [rad/s]: the velocity matrix at speed ``Omega`` is
+        ``C + Omega * G``. ``speed`` [rad/s] is needed when bearing coefficients
+        depend on speed. See :func:`rotordyn_modal.assembly.matrices`.
         """
         from .assembly import matrices
 
-        return matrices(self)
+        return matrices(self, speed)
 
     def state_space(self, speed: float, quantity: str = "displacement"):
         """python-control ``StateSpace`` at ``speed`` [rad/s of the reference rotor].
@@ -355,29 +212,17 @@ class Model:
                 f"suspensions={len(self.suspensions)}, source={self.source!r})")
 
 
+_TABLE_OF = {Stator: "stator", Rotor: "rotors", Transmission: "transmissions",
+             Suspension: "suspensions", Bearing: "bearings", Unbalance: "unbalances",
+             Sensor: "sensors", Excitation: "excitations"}
+
+
 def _as_table(item) -> dict[str, Any]:
     if isinstance(item, Mapping):
         return dict(item)
     if dataclasses.is_dataclass(item):
-        keys = _input_keys(type(item))
+        keys = input_keys(_TABLE_OF[type(item)])
         return {k: getattr(item, k) for k in keys if getattr(item, k) is not None}
     raise TypeError(f"expected a component or a mapping, got {type(item).__name__}")
 
 
-def component_class(table: str):
-    """The component dataclass of a table name (``"rotors"`` -> :class:`Rotor`)."""
-    return _COMPONENTS[table]
-
-
-def input_keys(table: str) -> tuple[str, ...]:
-    """The keys a table of the model description may hold."""
-    return _input_keys(_COMPONENTS[table])
-
-
-def is_finite_number(value) -> bool:
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) \
-        and math.isfinite(float(value))
-
-
-def model_error(source: str, where: str, value, expected: str) -> ModelError:
-    return ModelError(source, where, value, expected)

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from .errors import InputError
-from .model import ARRAY_TABLES
+from .components import ARRAY_TABLES
 
 __all__ = ["parse_key", "get_value", "set_value", "scale_value"]
 

@@ -16,10 +16,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..assembly import body_inertias
+from ..assembly import add_rotor_body, body_inertias, frame_block
 from ..geometry import skew
 
-__all__ = ["upper_eigenvalues", "mode_shapes", "solve_batch", "whirl_forms", "whirl_ratios",
+__all__ = ["upper_eigenvalues", "mode_shapes", "solve_batch", "whirl_forms", "rotor_whirl_forms",
+           "whirl_ratios",
            "mass_normalized", "mac_matrix", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
 
 #: |Im lam| below this fraction of the largest |lam| of a speed counts as non-oscillatory
@@ -94,9 +95,11 @@ def mode_shapes(M, damping, K, eigenvalues, branches=None) -> np.ndarray:
 
     Parameters
     ----------
-    M, K : ndarray, shape (n, n)
+    M : ndarray, shape (n, n)
     damping : ndarray, shape (N, n, n)
         ``C + Omega G`` at each speed.
+    K : ndarray, shape (n, n) or (N, n, n)
+        Stiffness (per speed when bearing coefficients depend on speed).
     eigenvalues : ndarray, shape (N, m), complex
     branches : (ndarray (n_b, n, n), ndarray (n_b,)), optional
         Maxwell branches' stiffness [N/m, ...] and relaxation times [s]: the pencil
@@ -107,6 +110,9 @@ def mode_shapes(M, damping, K, eigenvalues, branches=None) -> np.ndarray:
     ndarray, shape (N, m, n), complex
         Unit-norm shapes (displacement part of the state eigenvectors).
     """
+    if np.ndim(K) == 3:
+        return _threaded(lambda d, lam, k: _mode_shapes_part(M, d, k[:, None], lam, branches),
+                         damping, eigenvalues, K)
     return _threaded(lambda d, lam: _mode_shapes_part(M, d, K, lam, branches), damping, eigenvalues)
 
 
@@ -160,9 +166,10 @@ def solve_batch(form, speeds, forms=None):
     """
     speeds = np.asarray(speeds, dtype=float)
     eigenvalues = upper_eigenvalues(form.at(speeds))
-    M, C, G, K = form.matrices
-    damping = C + speeds[:, None, None] * G
-    shapes = mode_shapes(M, damping, K, eigenvalues, (form.branch_stiffness, form.branch_times))
+    M, _, G, _ = form.matrices
+    damping = form.damping_at(speeds) + speeds[:, None, None] * G
+    shapes = mode_shapes(M, damping, form.stiffness_at(speeds), eigenvalues,
+                         (form.branch_stiffness, form.branch_times))
     if forms is not None:
         shapes = resolve_repeated(eigenvalues, shapes, forms)
     return eigenvalues, shapes
@@ -240,11 +247,23 @@ def _body_quadratic(mass, center, second_moment, X) -> np.ndarray:
 
 
 class WhirlForms(NamedTuple):
-    """Quadratic forms of the whirl ratio (each (6, 6)); see :func:`whirl_forms`."""
+    """Quadratic forms of the whirl ratio (each (n, n)); see :func:`whirl_forms`."""
 
     W: np.ndarray
     N: np.ndarray
     total: np.ndarray
+
+
+_DIRECTIONS = ("W", "N", "total")
+
+
+def _body_forms(model, mass, center, inertia) -> dict:
+    """The 6x6 forms W, N, total of one rigid body's motion at the reference point."""
+    e = model.spin_axis
+    directions = {"W": skew(e), "N": np.eye(3) - np.outer(e, e), "total": np.eye(3)}
+    arm = np.asarray(center) - model.reference_point
+    second = 0.5 * np.trace(inertia) * np.eye(3) - inertia + mass * np.outer(arm, arm)
+    return {name: _body_quadratic(mass, arm, second, X) for name, X in directions.items()}
 
 
 def whirl_forms(model) -> WhirlForms:
@@ -254,18 +273,26 @@ def whirl_forms(model) -> WhirlForms:
     whole machine's vibration about the spin axis (per unit frequency),
     ``phi^H N phi`` the mass-weighted mean square motion normal to it and
     ``phi^H total phi`` that of the whole motion (``total`` equals the mass
-    matrix). See ``docs/theory.md``.
+    matrix). Each body contributes ``T_b^T X_b T_b`` (its motion ``T_b`` over the
+    generalized coordinates). See ``docs/theory.md``.
     """
-    e = model.spin_axis
-    reference = model.reference_point
-    parts = {name: np.zeros((6, 6)) for name in ("W", "N", "total")}
-    directions = {"W": skew(e), "N": np.eye(3) - np.outer(e, e), "total": np.eye(3)}
-    for mass, center, inertia in body_inertias(model):
-        arm = np.asarray(center) - reference
-        second = 0.5 * np.trace(inertia) * np.eye(3) - inertia + mass * np.outer(arm, arm)
-        for name, X in directions.items():
-            parts[name] += _body_quadratic(mass, arm, second, X)
+    bodies = body_inertias(model)
+    forms = [_body_forms(model, *body) for body in bodies]
+    parts = {name: frame_block(model, sum(f[name] for f in forms)) for name in _DIRECTIONS}
+    first_rotor = len(bodies) - len(model.rotors)
+    for rotor, body in zip(model.rotors, forms[first_rotor:]):
+        for name in _DIRECTIONS:
+            add_rotor_body(parts[name], model, rotor.name, body[name])
     return WhirlForms(**parts)
+
+
+def rotor_whirl_forms(model, rotor: str) -> WhirlForms:
+    """The whirl forms of one rotor's own motion (absolute), each (n, n)."""
+    index = [r.name for r in model.rotors].index(rotor)
+    mass, center, inertia = body_inertias(model)[len(body_inertias(model)) - len(model.rotors) + index]
+    body = _body_forms(model, mass, center, inertia)
+    motion = model.dofs.body_motion(rotor)
+    return WhirlForms(**{name: motion.T @ body[name] @ motion for name in _DIRECTIONS})
 
 
 def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
@@ -278,7 +305,7 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
 
     Parameters
     ----------
-    shapes : ndarray, shape (..., m, 6)
+    shapes : ndarray, shape (..., m, n)
     forms : WhirlForms
     speeds : ndarray, shape (...) [rad/s]; the sign of the spin (0 counts as +)
 

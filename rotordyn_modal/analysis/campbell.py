@@ -9,7 +9,7 @@ from scipy.optimize import brentq
 
 from ..linear_system import speed_linear_form
 from . import _eigen
-from .modal import modal_quantities
+from .modal import is_oscillating, modal_quantities
 from .tracking import track_modes
 
 __all__ = ["CampbellResult", "CriticalSpeeds", "ExcitationSources", "campbell", "critical_speeds",
@@ -101,10 +101,12 @@ class CampbellResult:
         Column ``m`` is tracked mode ``m + 1`` at every speed.
     frequencies_hz, damping_ratios, log_decrements, whirl_ratios : ndarray, shape (N, n_modes)
     whirl : ndarray of str, shape (N, n_modes)
-    shapes : ndarray, shape (N, n_modes, 6), complex
-        Unit-norm mode shapes at the reference point.
+    shapes : ndarray, shape (N, n_modes, n), complex
+        Unit-norm mode shapes over the generalized coordinates (the stator's six
+        motions at the reference point, then each rotor on bearings).
     modes : ndarray of int, shape (n_modes,)
-        Mode labels (1-based), numbered by frequency at the speed nearest zero.
+        Mode labels (1-based): the roots that are modes at the speed nearest zero
+        first, by frequency there, then the others (real and overdamped roots).
     sources : ExcitationSources
     critical : CriticalSpeeds
         Crossings with the orders in ``orders``.
@@ -130,8 +132,9 @@ class CampbellResult:
 
     @property
     def oscillatory(self) -> np.ndarray:
-        """(N, n_modes) bool: the mode oscillates (Im lam > 0) at that speed."""
-        return self.eigenvalues.imag > 0
+        """(N, n_modes) bool: the root is a mode at that speed (Im lam > 0, not overdamped;
+        see :func:`rotordyn_modal.analysis.modal.is_oscillating`)."""
+        return is_oscillating(self.eigenvalues)
 
     def to_dataframe(self, oscillatory_only: bool = True):
         """Long table ``speed_rpm, mode, frequency_hz, damping_ratio, log_decrement, whirl, ...``."""
@@ -171,9 +174,9 @@ def solve_sweep(model, speeds, progress=False, form=None, forms=None):
 
     Returns
     -------
-    eigenvalues : ndarray, shape (N, n), complex, tracked columns
-    shapes : ndarray, shape (N, n, 6), complex, unit norm
-    weighted : ndarray, shape (N, n, 6), complex, unit mass-weighted
+    eigenvalues : ndarray, shape (N, m), complex, tracked columns
+    shapes : ndarray, shape (N, m, n), complex, unit norm
+    weighted : ndarray, shape (N, m, n), complex, unit mass-weighted
     """
     form = form or speed_linear_form(model)
     forms = forms if forms is not None else _eigen.whirl_forms(model)
@@ -194,10 +197,11 @@ def solve_sweep(model, speeds, progress=False, form=None, forms=None):
 
 
 def _relabel_by_frequency(order, values, speeds):
-    """Number tracked modes by ascending frequency at the speed nearest zero."""
+    """Number tracked roots at the speed nearest zero: modes first, by ascending frequency,
+    then the roots that are not modes there (so mode labels match :func:`modal`'s)."""
     k0 = int(np.argmin(np.abs(speeds)))
     at_k0 = values[k0, order[k0]]
-    labels = np.lexsort((at_k0.real, at_k0.imag))
+    labels = np.lexsort((at_k0.real, at_k0.imag, ~is_oscillating(at_k0)))
     return order[:, labels]
 
 
@@ -230,7 +234,7 @@ def campbell(model, speeds, orders=(1,), progress=False) -> CampbellResult:
     form = speed_linear_form(model)
     forms = _eigen.whirl_forms(model)
     values, shapes, weighted = solve_sweep(model, speeds, progress, form, forms)
-    ratios = _eigen.whirl_ratios(shapes, forms, speeds)
+    ratios = np.where(is_oscillating(values), _eigen.whirl_ratios(shapes, forms, speeds), 0.0)
     freq, zeta, log_dec = modal_quantities(values)
     sources = excitation_sources(model)
     n = values.shape[1]
@@ -300,7 +304,8 @@ def _find_critical_speeds(form, whirl_forms, speeds, values, weighted, sources, 
 
 def _sign_changes(gap, lam):
     """Indices k with a crossing in [speeds[k], speeds[k+1]] of an oscillating mode."""
-    oscillating = (lam.imag[:-1] > 0) & (lam.imag[1:] > 0)
+    mode = is_oscillating(lam)
+    oscillating = mode[:-1] & mode[1:]
     change = (np.sign(gap[:-1]) != np.sign(gap[1:])) & (gap[:-1] != 0)
     return np.nonzero(change & oscillating)[0]
 

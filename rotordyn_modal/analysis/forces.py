@@ -1,4 +1,5 @@
-"""Forces: what each suspension passes to the ground, and what each rotor passes to the stator.
+"""Forces: what each suspension passes to the ground, what each rotor passes to the stator,
+and what each bearing carries.
 
 * Suspension ``i`` at point ``P_i`` pushes on the ground with the generalized
   force (``[F, C]`` at ``P_i``, model axes)
@@ -11,19 +12,26 @@
   unbalance force on the rotor moved to ``R_j``. Move it to a bearing at ``P``
   with ``shift_matrix(P, R_j) @ T_Bj``.
 
-Both are linear in the complex amplitude ``q`` of the stator's motion; the
-functions here take ``q`` from :func:`rotordyn_modal.analysis.frf.dof_response`.
+  The rotor's motion is its own (``T_j q``): for a rotor on bearings it moves
+  relative to the stator, and this is the sum of its bearings' forces.
+* Bearing ``b`` at point ``P`` of rotor j pushes the stator (or the ground) with
+  ``(K_b + i w C_b) B_RjP^T P_j p_j``: its springs and dampers acting on the
+  rotor's motion relative to the stator there (``[F, C]`` at P).
+
+All are linear in the complex amplitude ``q`` of the generalized coordinates;
+the functions here take ``q`` from :func:`rotordyn_modal.analysis.frf.dof_response`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..geometry import shift_matrix, skew
+from ..assembly import bearing_motion, excitation_columns, rotor_gyroscopic
+from ..bearings import evaluate
+from ..geometry import shift_matrix
 from .frf import FRFResult, _check_frequencies, _names, dof_response
-from ..assembly import excitation_columns
 
-__all__ = ["suspension_forces", "bearing_forces", "force_frf", "COMPONENTS"]
+__all__ = ["suspension_forces", "bearing_forces", "bearing_point_forces", "force_frf", "COMPONENTS"]
 
 #: names of the six components of a generalized force
 COMPONENTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
@@ -36,8 +44,8 @@ def suspension_forces(model, omega, q) -> np.ndarray:
     ----------
     model : Model
     omega : array_like, shape (n_freq,) [rad/s]
-    q : ndarray, shape (n_freq, 6, n), complex
-        Motion of the stator at the reference point [m, rad].
+    q : ndarray, shape (n_freq, n_dof, n), complex
+        Generalized coordinates [m, rad].
 
     Returns
     -------
@@ -45,10 +53,11 @@ def suspension_forces(model, omega, q) -> np.ndarray:
         ``[F, C]`` at each suspension's point, model axes [N, N m].
     """
     w = np.asarray(omega, dtype=float)[:, None, None]
+    stator = np.einsum("dj,fjn->fdn", model.dofs.frame_motion(), q)  # the stator's motion at S
     out = []
     for s in model.suspensions:
         shift = shift_matrix(model.reference_point, s.position)
-        point_motion = np.einsum("dk,fdn->fkn", shift, q)          # B_SP^T q
+        point_motion = np.einsum("dk,fdn->fkn", shift, stator)     # B_SP^T q_S
         stiffness = s.stiffness_matrix * (1 + 1j * s.loss_factor) + 1j * w * s.damping_matrix
         if getattr(s, "maxwell_stiffness_matrix", None) is not None:
             stiffness = stiffness + _branch_stiffness(s, np.ravel(w))
@@ -71,7 +80,7 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     speed : float or array_like, shape (n_freq,)
         Reference rotor speed [rad/s].
     omega : array_like, shape (n_freq,) [rad/s]
-    q : ndarray, shape (n_freq, 6, n), complex [m, rad]
+    q : ndarray, shape (n_freq, n_dof, n), complex [m, rad]
     rotor_forces : ndarray, shape (n_rotors, n_freq, 6, n), optional
         External forces on each rotor (unbalance), ``[F, C]`` at its centre of mass.
 
@@ -83,22 +92,51 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     w = np.asarray(omega, dtype=float)
     speed = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
     e = model.spin_axis
+    layout = model.dofs
     out = []
     for j, rotor in enumerate(model.rotors):
         shift = shift_matrix(model.reference_point, rotor.center_of_mass)
-        motion = np.einsum("dk,fdn->fkn", shift, q)                 # B_SR^T q at R_j
+        own = np.einsum("dj,fjn->fdn", layout.body_motion(rotor.name), q)   # T_j q, at S
+        motion = np.einsum("dk,fdn->fkn", shift, own)                      # B_SR^T T_j q at R_j
         local = np.zeros((6, 6))
         local[:3, :3] = rotor.mass * np.eye(3)
         local[3:, 3:] = rotor.diametral_inertia * np.eye(3) + \
             (rotor.polar_inertia - rotor.diametral_inertia) * np.outer(e, e)
-        gyro = np.zeros((6, 6))
-        gyro[3:, 3:] = -rotor.polar_inertia * rotor.speed_ratio * skew(e)
+        gyro = rotor_gyroscopic(model, rotor)
         inertia = (-w[:, None, None] ** 2 * local + 1j * (w * speed)[:, None, None] * gyro)
         force = -np.einsum("fij,fjn->fin", inertia, motion)
         if rotor_forces is not None:
             force = force + rotor_forces[j]
         out.append(force)
     return np.array(out).reshape(len(model.rotors), len(w), 6, q.shape[-1])
+
+
+def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
+    """Force each of the model's ``[[bearings]]`` passes to the stator (or the ground).
+
+    Parameters
+    ----------
+    model : Model
+    speed : float or array_like, shape (n_freq,)
+        Reference rotor speed [rad/s] (the coefficients may depend on it).
+    omega : array_like, shape (n_freq,) [rad/s]
+    q : ndarray, shape (n_freq, n_dof, n), complex [m, rad]
+
+    Returns
+    -------
+    ndarray, shape (n_bearings, n_freq, 6, n), complex
+        ``[F, C]`` at each bearing's point, model axes [N, N m].
+    """
+    w = np.asarray(omega, dtype=float)
+    speed = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
+    out = []
+    for bearing in model.bearings:
+        rows, moves = bearing_motion(model, bearing)
+        own = model.rotor(bearing.rotor).speed_ratio * speed
+        k6, c6 = evaluate(bearing.coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
+        relative = np.einsum("dk,fkn->fdn", moves, q[:, rows])
+        out.append(np.einsum("fij,fjn->fin", k6 + 1j * w[:, None, None] * c6, relative))
+    return np.array(out).reshape(len(model.bearings), len(w), 6, q.shape[-1])
 
 
 def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensions") -> FRFResult:
@@ -112,19 +150,21 @@ def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensi
     freqs_hz : array_like, shape (n_freq,) [Hz]
     inputs : str or list of str, optional
         Excitation names (default all).
-    where : {'suspensions', 'bearings'}
-        Ground force of each suspension, or force of each rotor on the stator.
+    where : {'suspensions', 'bearings', 'rotors'}
+        Ground force of each suspension; force of each of the model's ``[[bearings]]``
+        at its point and of each rigidly attached rotor at its centre of mass (without
+        ``[[bearings]]``: of each rotor); or the total force of each rotor on the stator.
 
     Returns
     -------
     FRFResult
-        ``quantity='force'``; outputs ``"NAME:Fx" ... "NAME:Mz"`` (6 per suspension
-        or rotor) [N/N, N m/N]; H of shape (6 n_items, n_inputs, n_freq).
+        ``quantity='force'``; outputs ``"NAME:Fx" ... "NAME:Mz"`` (6 per suspension,
+        bearing or rotor) [N/N, N m/N]; H of shape (6 n_items, n_inputs, n_freq).
     """
     from ..errors import InputError
 
-    if where not in ("suspensions", "bearings"):
-        raise InputError(f"where {where!r}: expected 'suspensions' or 'bearings'")
+    if where not in ("suspensions", "bearings", "rotors"):
+        raise InputError(f"where {where!r}: expected 'suspensions', 'bearings' or 'rotors'")
     f = _check_frequencies(freqs_hz)
     omega = 2 * np.pi * f
     columns = excitation_columns(model, inputs)
@@ -133,9 +173,19 @@ def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensi
     q = dof_response(model, speed, omega, columns)
     if where == "suspensions":
         forces, items = suspension_forces(model, omega, q), model.suspensions
-    else:
+    elif where == "rotors":
         forces, items = bearing_forces(model, speed, omega, q), model.rotors
+    else:
+        forces, items = _bearing_items(model, speed, omega, q)
     H = np.moveaxis(forces, 1, -1).reshape(len(items) * 6, q.shape[-1], len(f))
     outputs = tuple(f"{item.name}:{c}" for item in items for c in COMPONENTS)
     return FRFResult(H=H, frequencies_hz=f, speed=float(speed), inputs=_names(model.excitations, inputs),
                      outputs=outputs, quantity="force", engine="direct")
+
+
+def _bearing_items(model, speed, omega, q):
+    """Forces of the ``[[bearings]]``, then of the rotors that are rigidly attached."""
+    attached = [j for j, r in enumerate(model.rotors) if not model.bearings_of(r.name)]
+    rotors = bearing_forces(model, speed, omega, q)[attached]
+    forces = np.concatenate([bearing_point_forces(model, speed, omega, q), rotors])
+    return forces, list(model.bearings) + [model.rotors[j] for j in attached]

@@ -7,7 +7,7 @@ reference speed ``Omega`` [rad/s] is::
 
 with ``K (1 + i eta)`` the hysteretic mounts (``loss_factor``) and ``K_f(w)``
 the frequency-dependent mounts (Maxwell branches, see
-:mod:`rotordyn_modal.analysis.mounts`). The receptance from the excitations'
+:mod:`rotordyn_modal.mounts`). The receptance from the excitations'
 generalized forces ``B_f`` to the sensors' rows ``C_s`` is
 ``H(w) = C_s Z(w)^-1 B_f``; mobility and accelerance multiply it by ``i w``
 and ``(i w)^2``.
@@ -28,8 +28,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..assembly import excitation_columns, loss_stiffness, matrices, sensor_rows
+from ..assembly import constant_matrices, dependent_bearing_matrices, excitation_columns, \
+    loss_stiffness, sensor_rows
 from ..errors import InputError
+from ..mounts import has_frequency_dependence, maxwell_stiffness
 
 __all__ = ["FRFResult", "frf", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]
 
@@ -151,8 +153,6 @@ def _check_frequencies(freqs_hz) -> np.ndarray:
 
 def choose_engine(model) -> str:
     """'modal' when every mount is viscous, else 'direct' (loss factors, Maxwell branches)."""
-    from .mounts import has_frequency_dependence
-
     if any(s.loss_factor for s in model.suspensions) or has_frequency_dependence(model):
         return "direct"
     return "modal"
@@ -171,13 +171,15 @@ def dynamic_stiffness(model, speed: float, omega) -> np.ndarray:
 
     Returns
     -------
-    ndarray, shape (n_freq, 6, 6), complex [N/m, ...]
+    ndarray, shape (n_freq, n, n), complex [N/m, ...]
     """
-    from .mounts import maxwell_stiffness
-
-    M, C, G, K = matrices(model)
+    M, C, G, K = constant_matrices(model)
     w = np.atleast_1d(np.asarray(omega, dtype=float))
-    speed = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)[:, None, None]
+    speeds = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
+    if model.speed_dependent:
+        k_b, c_b = dependent_bearing_matrices(model, speeds)
+        K, C = K + k_b, C + c_b
+    speed = speeds[:, None, None]
     w3 = w[:, None, None]
     Z = K + 1j * loss_stiffness(model) + 1j * w3 * (C + speed * G) - w3 ** 2 * M
     return Z + maxwell_stiffness(model, w)
@@ -191,12 +193,12 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     model : Model
     speed : float or array_like, shape (n_freq,) [rad/s]
     omega : array_like, shape (n_freq,) [rad/s]
-    forces : array_like, shape (6, n) or (n_freq, 6, n)
-        Generalized forces at the reference point [N, N m].
+    forces : array_like, shape (n_dof, k) or (n_freq, n_dof, k)
+        Generalized forces [N, N m].
 
     Returns
     -------
-    ndarray, shape (n_freq, 6, n), complex [m, rad]
+    ndarray, shape (n_freq, n_dof, k), complex [m, rad]
     """
     Z = dynamic_stiffness(model, speed, omega)
     rhs = np.broadcast_to(np.asarray(forces, dtype=complex), (Z.shape[0],) + np.shape(forces)[-2:])

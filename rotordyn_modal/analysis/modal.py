@@ -11,7 +11,31 @@ from ..geometry import point_motion_row
 from ..linear_system import speed_linear_form
 from . import _eigen
 
-__all__ = ["ModalResult", "modal", "mac", "modal_quantities"]
+__all__ = ["ModalResult", "modal", "mac", "modal_quantities", "is_oscillating", "OVERDAMPED_LIMIT"]
+
+#: a root whose damping ratio exceeds this is overdamped: listed apart, never drawn as a mode
+#: (log decrement above 44: the motion dies within a fraction of a period)
+OVERDAMPED_LIMIT = 0.99
+
+
+def is_oscillating(eigenvalues) -> np.ndarray:
+    """True for roots that are modes: ``Im lam > 0`` and damping ratio at most
+    :data:`OVERDAMPED_LIMIT`. Real roots (rigid-body zeros, relaxations of rubber
+    mounts) and near-critically damped pairs are not.
+
+    Parameters
+    ----------
+    eigenvalues : array_like, complex [1/s]
+
+    Returns
+    -------
+    ndarray of bool, same shape
+    """
+    lam = np.asarray(eigenvalues)
+    magnitude = np.abs(lam)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        zeta = np.where(magnitude > 0, -lam.real / np.where(magnitude > 0, magnitude, 1.0), 0.0)
+    return (lam.imag > 0) & (zeta <= OVERDAMPED_LIMIT)
 
 
 def modal_quantities(eigenvalues):
@@ -44,18 +68,29 @@ class ModalResult:
     ----------
     speed : float
         Reference rotor speed [rad/s].
-    eigenvalues : ndarray, shape (n_modes,), complex [1/s]
-        One of each conjugate pair (Im >= 0).
-    frequencies_hz, damping_ratios, log_decrements : ndarray, shape (n_modes,)
-    whirl_ratios : ndarray, shape (n_modes,)
-        +1 circular forward, -1 circular backward, 0 straight line (vs the reference spin).
-    whirl : ndarray of str, shape (n_modes,)
+    eigenvalues : ndarray, shape (n_roots,), complex [1/s]
+        One of each conjugate pair (Im >= 0), and the real roots.
+    frequencies_hz, damping_ratios, log_decrements : ndarray, shape (n_roots,)
+    whirl_ratios : ndarray, shape (n_roots,)
+        The machine's: +1 circular forward, -1 circular backward, 0 straight line
+        (vs the reference spin); 0 for roots that do not oscillate.
+    whirl : ndarray of str, shape (n_roots,)
         'forward', 'backward' or 'none'.
-    shapes : ndarray, shape (n_modes, 6), complex
-        ``[u_x, u_y, u_z, theta_x, theta_y, theta_z]`` at the reference point
-        [m, rad], unit mass-weighted norm, largest component real.
+    shapes : ndarray, shape (n_roots, n), complex
+        Over the generalized coordinates ``dof_names`` (the stator's
+        ``[u_x, u_y, u_z, theta_x, theta_y, theta_z]`` at the reference point, then
+        each rotor on bearings) [m, rad], unit mass-weighted norm, largest component real.
     reference_point : ndarray, shape (3,) [m]
-    oscillatory : ndarray of bool, shape (n_modes,)
+    oscillatory : ndarray of bool, shape (n_roots,)
+        The roots that are modes (see :func:`is_oscillating`); the others are
+        rigid-body or relaxation roots, or overdamped.
+    dof_names : tuple of str, length n
+    rotor_names : tuple of str
+    rotor_whirl_ratios : ndarray, shape (n_roots, n_rotors)
+        Whirl ratio of each rotor's own (absolute) motion.
+    body_motions : ndarray, shape (1 + n_rotors, 6, n)
+        Rigid motion at the reference point of the stator, then of each rotor,
+        per generalized coordinate (used by :meth:`shape_at`).
     """
 
     speed: float
@@ -68,26 +103,51 @@ class ModalResult:
     shapes: np.ndarray
     reference_point: np.ndarray
     oscillatory: np.ndarray
+    dof_names: tuple = ()
+    rotor_names: tuple = ()
+    rotor_whirl_ratios: np.ndarray | None = None
+    body_motions: np.ndarray | None = None
 
-    def shape_at(self, point, direction=None) -> np.ndarray:
-        """Mode shapes at a point of the stator.
+    @property
+    def rotor_whirl(self) -> np.ndarray:
+        """'forward', 'backward' or 'none' for each rotor, shape (n_roots, n_rotors)."""
+        return _eigen.whirl_labels(self.rotor_whirl_ratios)
+
+    def shape_at(self, point, direction=None, body=None, relative: bool = False) -> np.ndarray:
+        """Mode shapes at a point of the stator or of a rotor.
 
         Parameters
         ----------
         point : array_like, shape (3,) [m], model axes
         direction : array_like, shape (3,), optional
             If given, the component along this (normalised) direction.
+        body : str, optional
+            A rotor name; default the stator.
+        relative : bool
+            The rotor's motion relative to the stator point at the same place.
 
         Returns
         -------
-        ndarray, shape (n_modes, 3) or (n_modes,), complex [m per unit modal amplitude]
+        ndarray, shape (n_roots, 3) or (n_roots,), complex [m per unit modal amplitude]
         """
+        motion = self._motion(body, relative)
         rows = np.array([point_motion_row(point, self.reference_point, axis) for axis in np.eye(3)])
-        motion = self.shapes @ rows.T
+        motion = self.shapes @ (rows @ motion).T
         if direction is None:
             return motion
         d = np.asarray(direction, dtype=float)
         return motion @ (d / np.linalg.norm(d))
+
+    def _motion(self, body, relative):
+        if body is None or body == "stator":
+            return self.body_motions[0]
+        if body not in self.rotor_names:
+            from ..errors import InputError
+
+            raise InputError(f"body {body!r}: expected None (the stator) or one of the rotors "
+                             + ", ".join(self.rotor_names))
+        motion = self.body_motions[1 + self.rotor_names.index(body)]
+        return motion - self.body_motions[0] if relative else motion
 
     def to_dataframe(self, oscillatory_only: bool = True):
         """Table with the command line's columns (``pandas.DataFrame``)."""
@@ -103,6 +163,11 @@ class ModalResult:
             "whirl_ratio": self.whirl_ratios[keep],
             "real_part": self.eigenvalues.real[keep],
         })
+
+    @property
+    def overdamped(self) -> np.ndarray:
+        """(n_roots,) bool: complex roots damped beyond :data:`OVERDAMPED_LIMIT` (not modes)."""
+        return (self.eigenvalues.imag > 0) & ~self.oscillatory
 
     def plot(self, **kwargs):
         """Bar chart of the modes' DOF participation; see :func:`rotordyn_modal.plotting.plot_modes`."""
@@ -134,13 +199,20 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     forms = _eigen.whirl_forms(model)
     shapes = _eigen.resolve_repeated(upper[None], vectors[:n, index].T[None], forms)[0]
     shapes = _normalise(shapes, form.matrices.M)
-    ratios = _eigen.whirl_ratios(shapes[None], forms, np.array([speed]))[0]
+    oscillatory = is_oscillating(upper)
+    ratios = np.where(oscillatory, _eigen.whirl_ratios(shapes[None], forms, np.array([speed]))[0], 0.0)
+    rotor_ratios = np.array([_eigen.whirl_ratios(shapes[None], _eigen.rotor_whirl_forms(model, r.name),
+                                                 np.array([speed]))[0] for r in model.rotors]).reshape(
+        len(model.rotors), len(upper)).T * oscillatory[:, None]
     freq, zeta, log_dec = modal_quantities(upper)
-    oscillatory = upper.imag > 0
+    layout = model.dofs
     return ModalResult(
         speed=float(speed), eigenvalues=upper, frequencies_hz=freq, damping_ratios=zeta,
         log_decrements=log_dec, whirl_ratios=ratios, whirl=_eigen.whirl_labels(ratios),
         shapes=shapes, reference_point=np.asarray(model.reference_point), oscillatory=oscillatory,
+        dof_names=layout.names, rotor_names=tuple(r.name for r in model.rotors),
+        rotor_whirl_ratios=rotor_ratios,
+        body_motions=np.array([layout.frame_motion()] + [layout.body_motion(r.name) for r in model.rotors]),
     )
 
 

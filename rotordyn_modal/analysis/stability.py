@@ -11,7 +11,7 @@ from ..errors import InputError
 from ..linear_system import speed_linear_form
 from . import _eigen
 from .campbell import _check_speeds, _progress, solve_sweep
-from .modal import modal_quantities
+from .modal import is_oscillating, modal_quantities
 
 __all__ = ["StabilityResult", "StabilityMap", "stability", "stability_map", "threshold_speeds"]
 
@@ -162,7 +162,8 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
     speeds = _check_speeds(speeds)
     form = speed_linear_form(model)
     eigenvalues, shapes, _ = solve_sweep(model, speeds, progress, form)
-    ratios = _eigen.whirl_ratios(shapes, _eigen.whirl_forms(model), speeds)
+    ratios = np.where(is_oscillating(eigenvalues),
+                      _eigen.whirl_ratios(shapes, _eigen.whirl_forms(model), speeds), 0.0)
     freq, zeta, log_dec = modal_quantities(eigenvalues)
     thresholds, threshold_modes, onsets = threshold_speeds(form, speeds, eigenvalues)
     return StabilityResult(

@@ -24,9 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..assembly import sensor_rows
+from ..assembly import generalized_force, sensor_rows
 from ..errors import InputError
-from .forces import COMPONENTS, bearing_forces, suspension_forces
+from .forces import COMPONENTS, bearing_forces, bearing_point_forces, suspension_forces
 from .frf import dof_response
 
 __all__ = ["UnbalanceResult", "unbalance_response", "phase_reference", "unbalance_forces",
@@ -119,6 +119,10 @@ class UnbalanceResult:
         Force each suspension passes to the ground, ``[F, C]`` at its point [N, N m].
     bearing_forces : ndarray, shape (n_rotors, 6, n_sources, N), complex
         Force each rotor passes to the stator at its centre of mass [N, N m].
+    bearing_names : tuple of str
+        The model's ``[[bearings]]``.
+    bearing_point_forces : ndarray, shape (n_bearings, 6, n_sources, N), complex
+        Force each bearing passes to the stator (or the ground), ``[F, C]`` at its point.
     """
 
     speeds: np.ndarray
@@ -131,6 +135,8 @@ class UnbalanceResult:
     rotor_names: tuple
     ground_forces: np.ndarray
     bearing_forces: np.ndarray
+    bearing_names: tuple = ()
+    bearing_point_forces: np.ndarray | None = None
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -276,14 +282,16 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     n_src, n = len(sources), len(speeds)
     omega = w.ravel()                                         # (n_src * N,)
     speed_all = np.tile(speeds, n_src)
-    at_s = np.stack([_shift_to_reference(model, src, rotor_forces[j]) for j, src in enumerate(sources)])
-    q = dof_response(model, speed_all, omega, at_s.reshape(-1, 6)[:, :, None])   # (n_src N, 6, 1)
+    generalized = np.stack([generalized_force(model, src, model.rotor(src).center_of_mass, rotor_forces[j])
+                            for j, src in enumerate(sources)])                 # (n_src, N, n_dof)
+    q = dof_response(model, speed_all, omega, generalized.reshape(n_src * n, -1)[:, :, None])
     response = (rows @ q[..., 0].T).reshape(len(rows), n_src, n) * (1j * w) ** _ORDER[quantity]
     ground = suspension_forces(model, omega, q)[..., 0]       # (n_susp, n_src N, 6)
     ext = np.zeros((len(model.rotors), n_src * n, 6, 1), dtype=complex)
     for j, src in enumerate(sources):
         ext[[r.name for r in model.rotors].index(src), j * n:(j + 1) * n, :, 0] = rotor_forces[j]
     bearing = bearing_forces(model, speed_all, omega, q, ext)[..., 0]
+    at_bearings = bearing_point_forces(model, speed_all, omega, q)[..., 0]
     names = tuple(s.name for s in model.sensors) if outputs is None else \
         ((outputs,) if isinstance(outputs, str) else tuple(outputs))
     return UnbalanceResult(
@@ -293,12 +301,6 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         rotor_names=tuple(r.name for r in model.rotors),
         ground_forces=np.moveaxis(ground.reshape(len(model.suspensions), n_src, n, 6), 3, 1),
         bearing_forces=np.moveaxis(bearing.reshape(len(model.rotors), n_src, n, 6), 3, 1),
+        bearing_names=tuple(b.name for b in model.bearings),
+        bearing_point_forces=np.moveaxis(at_bearings.reshape(len(model.bearings), n_src, n, 6), 3, 1),
     )
-
-
-def _shift_to_reference(model, rotor_name, forces):
-    """``[F, C]`` at the rotor's centre of mass -> at the reference point (``B_SR``)."""
-    from ..geometry import shift_matrix
-
-    shift = shift_matrix(model.reference_point, model.rotor(rotor_name).center_of_mass)
-    return forces @ shift.T

@@ -5,14 +5,15 @@ axes) in series with a dashpot ``tau_b K_b``. In the frequency domain it adds
 ``K_b i w tau_b / (1 + i w tau_b)`` to the mount's stiffness: nothing at
 ``w = 0`` (the static stiffness is ``stiffness``), ``K_b`` at high frequency
 (the rubber stiffens), with the largest loss near ``w = 1 / tau_b``. Shifted to
-the reference point like every suspension: ``B_SP K_b B_SP^T``.
+the reference point like every suspension: ``B_SP K_b B_SP^T``, and act on the
+stator's six coordinates of the generalized space (:mod:`rotordyn_modal.dofs`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..geometry import shift_matrix
+from .geometry import shift_matrix
 
 __all__ = ["has_frequency_dependence", "maxwell_stiffness", "maxwell_branches"]
 
@@ -27,15 +28,17 @@ def maxwell_branches(model):
 
     Returns
     -------
-    stiffness : ndarray, shape (n_branches, 6, 6) [N/m, ...]
-        ``B_SP K_b B_SP^T``.
+    stiffness : ndarray, shape (n_branches, n, n) [N/m, ...]
+        ``B_SP K_b B_SP^T`` on the stator's coordinates of the generalized space.
     times : ndarray, shape (n_branches,) [s]
     """
+    from .assembly import frame_block
+
     stiffness, times = [], []
     for _, _, shift, k_b, tau in _each_branch(model):
         stiffness.append(shift @ k_b @ shift.T)
         times.append(tau)
-    return np.array(stiffness).reshape(-1, 6, 6), np.array(times)
+    return frame_block(model, np.array(stiffness).reshape(-1, 6, 6)), np.array(times)
 
 
 def _each_branch(model):
@@ -59,7 +62,7 @@ def maxwell_stiffness(model, omega) -> np.ndarray | float:
 
     Returns
     -------
-    ndarray, shape (n_freq, 6, 6), complex [N/m, ...], or 0.0 without branches
+    ndarray, shape (n_freq, n, n), complex [N/m, ...], or 0.0 without branches
     """
     stiffness, times = maxwell_branches(model)
     if not len(times):
@@ -70,7 +73,7 @@ def maxwell_stiffness(model, omega) -> np.ndarray | float:
 
 
 def with_branch_states(model, a, b, mass_inverse):
-    """Add the Maxwell branches to a 12-state model as 6 first-order states each.
+    """Add the Maxwell branches to a ``2n``-state model as 6 first-order states each.
 
     Branch ``b`` at point ``P`` has an internal coordinate ``z_b`` (the spring-dashpot
     junction, 6 components at ``P``, model axes): the stator feels
@@ -80,14 +83,14 @@ def with_branch_states(model, a, b, mass_inverse):
     Parameters
     ----------
     model : Model
-    a : ndarray, shape (12, 12)
+    a : ndarray, shape (2n, 2n)
         State matrix of ``x = [q, q']`` at one speed.
-    b : ndarray, shape (12, n_inputs)
-    mass_inverse : ndarray, shape (6, 6)
+    b : ndarray, shape (2n, n_inputs)
+    mass_inverse : ndarray, shape (n, n)
 
     Returns
     -------
-    a, b : ndarray, shapes (12 + 6 n_branches, ...) (unchanged without branches)
+    a, b : ndarray, shapes (2n + 6 n_branches, ...) (unchanged without branches)
     names : list of str
         Names of the added states, ``"<suspension>.branch<k>.z<i>"``.
     """
@@ -97,13 +100,16 @@ def with_branch_states(model, a, b, mass_inverse):
         names += [f"{s.name}.branch{k}.z{i}" for i in range(6)]
     if not blocks:
         return a, b, []
-    n, m = a.shape[0], a.shape[0] + 6 * len(blocks)
+    n_states, m = a.shape[0], a.shape[0] + 6 * len(blocks)
+    n = mass_inverse.shape[0]
+    frame = model.dofs.frame_motion()                                # (6, n): T_S
     out = np.zeros((m, m))
-    out[:n, :n] = a
+    out[:n_states, :n_states] = a
     for index, (shift, k_b, tau) in enumerate(blocks):
-        rows = slice(n + 6 * index, n + 6 * index + 6)
-        out[6:12, :6] -= mass_inverse @ shift @ k_b @ shift.T       # the branch's spring on q
-        out[6:12, rows] = mass_inverse @ shift @ k_b                 # ... released by z_b
-        out[rows, :6] = shift.T / tau
+        rows = slice(n_states + 6 * index, n_states + 6 * index + 6)
+        point = shift.T @ frame                                      # motion at P per coordinate
+        out[n:2 * n, :n] -= mass_inverse @ point.T @ k_b @ point     # the branch's spring on q
+        out[n:2 * n, rows] = mass_inverse @ point.T @ k_b            # ... released by z_b
+        out[rows, :n] = point / tau
         out[rows, rows] = -np.eye(6) / tau
-    return out, np.vstack([b, np.zeros((m - n, b.shape[1]))]), names
+    return out, np.vstack([b, np.zeros((m - n_states, b.shape[1]))]), names

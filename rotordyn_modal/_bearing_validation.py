@@ -1,0 +1,285 @@
+"""Validation rules of ``[[bearings]]`` and of the frame that bearings need.
+
+A bearing is checked on its own (rotor, point on the spin axis, axes,
+coefficients and their speed table, or a journal bearing's physical data),
+then with the other bearings of its rotor (the static load share of a journal
+bearing, and whether the rotor is held in tilt), then with the rest of the
+model (without a ``[stator]`` bearings go to the ground, so nothing may stand
+on a stator that is not there).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ._table import Table
+from .bearings import BearingCoefficients, JournalData, local_to_model
+from .components import Bearing, input_keys, is_finite_number
+from .errors import ModelError
+from .geometry import transverse_axes
+
+__all__ = ["bearings", "check_frame"]
+
+_ON_AXIS_TOLERANCE = 1e-6  # m, plus the same fraction of the distance along the axis
+_AXES_TOLERANCE = 1e-6
+_RADIAL_KEYS = ("stiffness", "damping", "moment_stiffness", "moment_damping")
+_AXIAL_KEYS = ("axial_stiffness", "axial_damping")
+_JOURNAL_KEYS = ("diameter", "length", "clearance", "viscosity", "load", "load_direction")
+_JOURNAL_COMPUTES = ("stiffness", "damping", "speeds_rpm")
+
+
+def bearings(tables: dict, rotors, spin_axis: np.ndarray, gravity: np.ndarray) -> list[Bearing]:
+    """Validate every ``[[bearings]]`` table.
+
+    Parameters
+    ----------
+    tables : dict of str to Table
+        The bearing tables by name.
+    rotors : sequence of Rotor
+        Validated rotors.
+    spin_axis, gravity : ndarray, shape (3,)
+
+    Returns
+    -------
+    list of Bearing, with :attr:`Bearing.coefficients` filled.
+    """
+    by_name = {r.name: r for r in rotors}
+    parsed = [_bearing(table, by_name, spin_axis) for table in tables.values()]
+    parsed = [_with_journal_load(b, tables[b.name], parsed, by_name, spin_axis, gravity) for b in parsed]
+    for rotor in {b.rotor for b in parsed}:
+        _check_tilt_support(rotor, [b for b in parsed if b.rotor == rotor], tables, spin_axis)
+    return parsed
+
+
+# ----------------------------------------------------------------------------------------
+def _bearing(table: Table, rotors, e: np.ndarray) -> Bearing:
+    table.check_keys(input_keys("bearings"))
+    rotor = table.text("rotor", required=True)
+    if rotor not in rotors:
+        raise table.error("rotor", rotor, "the name of one of the rotors " + ", ".join(rotors))
+    position = _on_spin_axis(table, rotors[rotor], e)
+    kind = table.text("type", default="linear", choices=("linear", "journal"))
+    _check_keys_of_type(table, kind)
+    axes = _radial_axes(table, e)
+    speeds = _speed_table(table) if kind == "linear" else None
+    count = 1 if speeds is None else len(speeds)
+    local_k, local_c = _local_matrices(table, count, radial_required=kind == "linear")
+    coefficients = BearingCoefficients(
+        kind="journal" if kind == "journal" else ("table" if speeds is not None else "constant"),
+        stiffness=local_to_model(local_k, axes), damping=local_to_model(local_c, axes),
+        speeds=speeds, axial="axial_stiffness" in table.data,
+    )
+    values = {key: table.data.get(key) for key in input_keys("bearings")}
+    values.update(name=table.data["name"], rotor=rotor, position=position, type=kind, axes=axes[:2])
+    return Bearing(**values, coefficients=coefficients)
+
+
+def _on_spin_axis(table: Table, rotor, e: np.ndarray) -> np.ndarray:
+    """The bearing point, which must lie on the rotor's spin axis (snapped onto it)."""
+    position = table.vector3("position", required=True)
+    centre = np.asarray(rotor.center_of_mass)
+    along = (position - centre) @ e
+    off = np.linalg.norm(position - centre - along * e)
+    if off > _ON_AXIS_TOLERANCE * (1.0 + abs(along)):
+        raise table.error("position", table.data["position"],
+                          f"a point on the spin axis of rotor {rotor.name!r} (the line through its "
+                          f"center_of_mass {_fmt(centre)} along spin_axis); this point is {off:.4g} m off it")
+    return centre + along * e
+
+
+def _check_keys_of_type(table: Table, kind: str) -> None:
+    if kind == "journal":
+        for key in _JOURNAL_COMPUTES:
+            if key in table.data:
+                raise table.error(key, table.data[key], "no value: a type = 'journal' bearing computes "
+                                  "its radial coefficients from diameter, length, clearance, viscosity "
+                                  "and load (use type = 'linear' to give them)")
+        return
+    for key in _JOURNAL_KEYS:
+        if key in table.data:
+            raise table.error(key, table.data[key], "no value: this key is for type = 'journal' bearings")
+
+
+def _radial_axes(table: Table, e: np.ndarray) -> np.ndarray:
+    """Rows: the bearing's two radial axes, then their cross product (+-e)."""
+    if "axes" not in table.data:
+        pair = transverse_axes(e)
+    else:
+        pair = table.array("axes", [(2, 3)])
+        norms = np.linalg.norm(pair, axis=1)
+        if np.any(norms == 0):
+            raise table.error("axes", table.data["axes"], "two non-zero rows (the bearing's radial axes)")
+        pair = pair / norms[:, None]
+        if abs(pair[0] @ pair[1]) > _AXES_TOLERANCE or np.any(np.abs(pair @ e) > _AXES_TOLERANCE):
+            raise table.error("axes", table.data["axes"], "two orthogonal rows normal to spin_axis "
+                              "(the bearing's radial axes)")
+        pair = pair - np.outer(pair @ e, e)                      # exactly normal to e
+        pair[1] -= (pair[1] @ pair[0]) / (pair[0] @ pair[0]) * pair[0]
+        pair = pair / np.linalg.norm(pair, axis=1)[:, None]
+    return np.array([pair[0], pair[1], np.cross(pair[0], pair[1])])
+
+
+def _speed_table(table: Table) -> np.ndarray | None:
+    """Table speeds [rad/s] from ``speeds_rpm``: at least two, strictly increasing."""
+    if "speeds_rpm" not in table.data:
+        return None
+    raw = table.data["speeds_rpm"]
+    values = np.array(raw, dtype=float) if _is_number_list(raw) else None
+    if values is None or values.ndim != 1 or len(values) < 2 or not np.all(np.isfinite(values)):
+        raise table.error("speeds_rpm", raw, "a list of at least two finite speeds [rpm]")
+    if not np.all(np.diff(values) > 0):
+        raise table.error("speeds_rpm", raw, "strictly increasing speeds [rpm]")
+    return values * np.pi / 30.0
+
+
+def _is_number_list(value) -> bool:
+    return isinstance(value, list) and all(is_finite_number(v) or isinstance(v, float) for v in value)
+
+
+def _local_matrices(table: Table, count: int, radial_required: bool):
+    """(count, 6, 6) stiffness and damping in the bearing's own axes."""
+    stiffness, damping = np.zeros((count, 6, 6)), np.zeros((count, 6, 6))
+    if radial_required and "stiffness" not in table.data:
+        table.require("stiffness")
+    for key, target, block in (("stiffness", stiffness, slice(0, 2)), ("damping", damping, slice(0, 2)),
+                               ("moment_stiffness", stiffness, slice(3, 5)),
+                               ("moment_damping", damping, slice(3, 5))):
+        if key in table.data:
+            target[:, block, block] = _per_speed(table, key, count, _radial_matrix)
+    for key, target in (("axial_stiffness", stiffness), ("axial_damping", damping)):
+        if key in table.data:
+            target[:, 2, 2] = _per_speed(table, key, count, _axial_value)
+    return stiffness, damping
+
+
+def _per_speed(table: Table, key: str, count: int, reader):
+    """One value (count 1) or one per table speed, each read by ``reader``."""
+    raw = table.data[key]
+    if count == 1:
+        return reader(table, key, raw)[None]
+    if not isinstance(raw, list) or len(raw) != count:
+        raise table.error(key, raw, f"a list of {count} values, one per speed of speeds_rpm")
+    return np.array([reader(table, f"{key}[{i}]", value) for i, value in enumerate(raw)])
+
+
+def _radial_matrix(table: Table, key: str, raw) -> np.ndarray:
+    """A 2x2 matrix from a scalar (isotropic), a 2-list (diagonal) or a 2x2 matrix."""
+    sub = Table(table.source, table.label, {key: raw})
+    value = sub.array(key, [(), (2,), (2, 2)], required=True)
+    if value.ndim < 2:
+        if np.any(value < 0):
+            raise table.error(key, raw, "non-negative values (a scalar or 2-list is a diagonal "
+                              "matrix; give a 2x2 matrix for coupled values)")
+        return np.diag(np.broadcast_to(value, (2,))).astype(float)
+    return value
+
+
+def _axial_value(table: Table, key: str, raw) -> float:
+    sub = Table(table.source, table.label, {key: raw})
+    return sub.number(key, required=True, nonnegative=True)
+
+
+# ----------------------------------------------------------------------------------------
+def _with_journal_load(bearing: Bearing, table: Table, every, rotors, e, gravity) -> Bearing:
+    """A journal bearing with its :class:`JournalData` (load given, or the weight share)."""
+    if bearing.type != "journal":
+        return bearing
+    diameter = table.number("diameter", required=True, positive=True)
+    clearance = table.number("clearance", required=True, positive=True)
+    if not clearance < 0.5 * diameter:
+        raise table.error("clearance", clearance, f"a radial clearance smaller than the journal's "
+                          f"radius {0.5 * diameter:g} m")
+    load_vector = _static_load(bearing, table, every, rotors[bearing.rotor], e, gravity)
+    x = load_vector / np.linalg.norm(load_vector)
+    journal = JournalData(
+        diameter=diameter, length=table.number("length", required=True, positive=True),
+        clearance=clearance, viscosity=table.number("viscosity", required=True, positive=True),
+        load=float(np.linalg.norm(load_vector)), axes=np.array([x, np.cross(e, x), e]),
+    )
+    coefficients = dataclasses.replace(bearing.coefficients, journal=journal)
+    return dataclasses.replace(bearing, coefficients=coefficients)
+
+
+def _static_load(bearing, table: Table, every, rotor, e, gravity) -> np.ndarray:
+    """The static load vector on the journal [N], normal to the spin axis."""
+    given = table.number("load", positive=True)
+    direction = _load_direction(table, e)
+    if given is not None:
+        if direction is None:
+            direction = _normal_part(gravity, e)
+            if not np.linalg.norm(direction) > 0:
+                raise table.error("load_direction", "<missing>", "the direction in which the load pushes "
+                                  "the journal (gravity has no component normal to spin_axis)")
+        return given * direction / np.linalg.norm(direction)
+    weight = rotor.mass * _normal_part(gravity, e)
+    if not np.linalg.norm(weight) > 0:
+        raise table.error("load", "<missing>", "a static load [N] > 0 (without it the load is the "
+                          "rotor's weight share, but gravity has no component normal to spin_axis)")
+    share = _weight_share(bearing, table, [b for b in every if b.rotor == bearing.rotor], rotor, e)
+    return share * weight
+
+
+def _load_direction(table: Table, e):
+    if "load_direction" not in table.data:
+        return None
+    direction = _normal_part(table.vector3("load_direction", nonzero=True), e)
+    if not np.linalg.norm(direction) > 1e-6 * np.linalg.norm(table.vector3("load_direction")):
+        raise table.error("load_direction", table.data["load_direction"], "a direction normal to spin_axis")
+    return direction
+
+
+def _normal_part(vector, e) -> np.ndarray:
+    vector = np.asarray(vector, dtype=float)
+    return vector - (vector @ e) * e
+
+
+def _weight_share(bearing, table: Table, mates, rotor, e) -> float:
+    """Fraction of the rotor's weight this bearing carries (lever rule, one or two bearings)."""
+    if len(mates) == 1:
+        return 1.0
+    if len(mates) > 2:
+        raise table.error("load", "<missing>", f"a static load [N]: rotor {rotor.name!r} has "
+                          f"{len(mates)} bearings, so its weight split is statically indeterminate")
+    centre = np.asarray(rotor.center_of_mass)
+    s_self, s_other = ((np.asarray(b.position) - centre) @ e for b in
+                       sorted(mates, key=lambda b: b is not bearing))
+    share = s_other / (s_other - s_self) if s_other != s_self else 0.0
+    if share == 0.0:
+        raise table.error("load", "<missing>", f"a static load [N]: this bearing carries none of rotor "
+                          f"{rotor.name!r}'s weight (its centre of mass is at the other bearing)")
+    return float(share)
+
+
+def _check_tilt_support(rotor: str, mates, tables, e) -> None:
+    """A rotor on bearings must be held in tilt: two bearing points, or a moment stiffness."""
+    if any(b.moment_stiffness is not None for b in mates):
+        return
+    stations = {round(float(np.asarray(b.position) @ e), 12) for b in mates}
+    if len(stations) < 2:
+        table = tables[mates[0].name]
+        raise table.error("moment_stiffness", "<missing>", f"a tilt stiffness [N m/rad]: rotor {rotor!r} "
+                          "sits on bearings at a single point of its axis, so nothing holds it in tilt "
+                          "(add a second bearing elsewhere on the axis, or moment_stiffness)")
+
+
+# ----------------------------------------------------------------------------------------
+def check_frame(top: Table, stator, suspensions, bearings, sensors, excitations) -> None:
+    """Without a ``[stator]``, bearings go to the ground: nothing may stand on the stator."""
+    if stator is not None or not bearings:
+        return
+    if suspensions:
+        raise top.error("suspensions", [s.name for s in suspensions], "no [[suspensions]]: without a "
+                        "[stator] the [[bearings]] connect the rotors to the ground (add a [stator] "
+                        "to put the machine on mounts)")
+    for kind, items in (("sensors", sensors), ("excitations", excitations)):
+        for item in items:
+            if item.rotor is None:
+                raise ModelError(top.source, f"[{kind}.{item.name}] rotor", "<missing>",
+                                 "the name of a rotor: without a [stator] the [[bearings]] are fixed to "
+                                 "the ground, so a point of the stator does not move")
+
+
+def _fmt(values) -> str:
+    return "[" + ", ".join(f"{v:.6g}" for v in values) + "]"

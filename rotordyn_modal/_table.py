@@ -1,0 +1,96 @@
+"""Reading one table of a model description, with messages that say where a value sits."""
+
+from __future__ import annotations
+
+from typing import Any, Mapping
+
+import numpy as np
+
+from .components import is_finite_number
+from .errors import ModelError
+
+__all__ = ["Table", "shape_text"]
+
+
+class Table:
+    """Where a value sits in the description, for messages: ``[rotors.fan]``."""
+
+    def __init__(self, source: str, label: str, data: Mapping[str, Any]):
+        self.source = source
+        self.label = label
+        self.data = data
+
+    def error(self, key: str, value, expected: str) -> ModelError:
+        where = f"[{self.label}] {key}" if self.label else key
+        return ModelError(self.source, where, value, expected)
+
+    def check_keys(self, allowed) -> None:
+        for key in self.data:
+            if key not in allowed:
+                raise self.error(key, self.data[key], "one of the keys " + ", ".join(allowed)
+                                 + " (unknown key)")
+
+    def require(self, key: str):
+        if key not in self.data:
+            raise self.error(key, "<missing>", "a value (the key is required)")
+        return self.data[key]
+
+    # -- typed readers ---------------------------------------------------------------
+    def number(self, key: str, default=None, *, positive=False, nonnegative=False,
+               required=False) -> float:
+        if key not in self.data:
+            if required:
+                self.require(key)
+            return default
+        value = self.data[key]
+        if not is_finite_number(value):
+            raise self.error(key, value, "a finite number")
+        value = float(value)
+        if positive and not value > 0:
+            raise self.error(key, value, "a finite number > 0")
+        if nonnegative and not value >= 0:
+            raise self.error(key, value, "a finite number >= 0")
+        return value
+
+    def text(self, key: str, default=None, *, choices=None, required=False) -> str:
+        if key not in self.data:
+            if required:
+                self.require(key)
+            return default
+        value = self.data[key]
+        if not isinstance(value, str) or not value.strip():
+            raise self.error(key, value, "a non-empty string")
+        if choices is not None and value not in choices:
+            raise self.error(key, value, "one of " + ", ".join(repr(c) for c in choices))
+        return value
+
+    def array(self, key: str, shapes, default=None, *, required=False) -> np.ndarray:
+        """A finite numeric array of one of ``shapes``."""
+        if key not in self.data:
+            if required:
+                self.require(key)
+            return None if default is None else np.array(default, dtype=float)
+        value = self.data[key]
+        expected = " or ".join(shape_text(s) for s in shapes)
+        try:
+            arr = np.array(value, dtype=float)
+        except (TypeError, ValueError):
+            raise self.error(key, value, expected + " of numbers") from None
+        if isinstance(value, (str, bytes)) or arr.shape not in shapes:
+            raise self.error(key, value, expected + f" (got shape {arr.shape})")
+        if not np.all(np.isfinite(arr)):
+            raise self.error(key, value, expected + " of finite numbers")
+        return arr
+
+    def vector3(self, key: str, default=None, *, required=False, nonzero=False) -> np.ndarray:
+        vec = self.array(key, [(3,)], default, required=required)
+        if nonzero and vec is not None and not np.linalg.norm(vec) > 0:
+            raise self.error(key, self.data.get(key), "a 3-vector of non-zero length")
+        return vec
+
+
+def shape_text(shape) -> str:
+    """``'a 3-list'`` or ``'a 3x3 matrix'``."""
+    if len(shape) == 1:
+        return f"a {shape[0]}-list"
+    return f"a {shape[0]}x{shape[1]} matrix"

@@ -1,0 +1,179 @@
+"""Bearing coefficients: constant, tabulated over speed, or of a plain short journal bearing.
+
+A bearing acts between a rotor and the stator (or the ground) at a point of the
+rotor's spin axis. Its coefficients are 6x6 matrices in model axes acting on the
+relative motion ``[u, theta]`` of the rotor at that point: radial stiffness and
+damping (2x2, in the bearing's radial axes, cross-coupled and non-symmetric
+allowed), an axial stiffness and damping, and a moment (tilt) stiffness and
+damping (2x2). The rotation about the spin axis carries nothing: the spin is
+fixed by the speed ratios.
+
+Coefficients may depend on the carried rotor's own speed (signed about the spin
+axis, rad/s): tables are interpolated linearly and refused outside their range;
+a journal bearing's radial coefficients come from short-bearing theory at each
+speed. :func:`evaluate` gives them for many speeds at once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InputError
+
+__all__ = ["BearingCoefficients", "JournalData", "evaluate", "local_to_model", "is_speed_dependent"]
+
+
+@dataclass(frozen=True)
+class JournalData:
+    """Physical data of a plain journal bearing (SI units).
+
+    Attributes
+    ----------
+    diameter, length, clearance : float
+        Journal diameter, bearing length and radial clearance [m].
+    viscosity : float
+        Dynamic viscosity of the oil [Pa s].
+    load : float
+        Static load on the journal [N], > 0.
+    axes : ndarray, shape (3, 3)
+        Rows ``x, y, e``: ``x`` the unit direction in which the load pushes the
+        journal (normal to the spin axis), ``y = e x x``, ``e`` the spin axis. The
+        film coefficients are computed in ``(x, y)``.
+    """
+
+    diameter: float
+    length: float
+    clearance: float
+    viscosity: float
+    load: float
+    axes: np.ndarray
+
+
+@dataclass(frozen=True)
+class BearingCoefficients:
+    """A bearing's coefficients after validation.
+
+    Attributes
+    ----------
+    kind : {'constant', 'table', 'journal'}
+    stiffness, damping : ndarray, shape (n_s, 6, 6)
+        In model axes at the bearing point [N/m, N/rad, N m/m, N m/rad] and the
+        corresponding damping; ``n_s = 1`` unless tabulated. For a journal bearing
+        they hold the constant axial and moment parts; the radial part is computed.
+    speeds : ndarray, shape (n_s,), or None
+        Own speeds of the carried rotor at the table's rows [rad/s], increasing.
+    axial : bool
+        True when the bearing gives an axial stiffness (the rotor then moves axially).
+    journal : JournalData or None
+    """
+
+    kind: str
+    stiffness: np.ndarray
+    damping: np.ndarray
+    speeds: np.ndarray | None = None
+    axial: bool = False
+    journal: JournalData | None = None
+
+
+def is_speed_dependent(coefficients: BearingCoefficients) -> bool:
+    """True for tables and journal bearings."""
+    return coefficients.kind != "constant"
+
+
+def local_to_model(local: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    """6x6 matrices in a bearing's own axes to model axes.
+
+    Parameters
+    ----------
+    local : ndarray, shape (..., 6, 6)
+        Acting on ``[u_1, u_2, u_3, theta_1, theta_2, theta_3]`` along the rows of ``axes``.
+    axes : ndarray, shape (3, 3)
+        Rows are the bearing's axes in model axes (orthonormal).
+
+    Returns
+    -------
+    ndarray, shape (..., 6, 6)
+    """
+    rotation = np.zeros((6, 6))
+    rotation[:3, :3] = axes
+    # rotations are axial vectors: in left-handed axes their components change sign
+    rotation[3:, 3:] = np.linalg.det(axes) * axes
+    return rotation.T @ local @ rotation
+
+
+def evaluate(coefficients: BearingCoefficients, own_speeds, where: str = "bearing"):
+    """Stiffness and damping of a bearing at many own speeds of its rotor.
+
+    Parameters
+    ----------
+    coefficients : BearingCoefficients
+    own_speeds : array_like, shape (N,)
+        The carried rotor's spin speed, signed about the spin axis [rad/s].
+    where : str
+        How to name the bearing in an error message (``"model.toml: [bearings.DE]"``).
+
+    Returns
+    -------
+    stiffness, damping : ndarray, shape (N, 6, 6)
+        Model axes, at the bearing point.
+
+    Raises
+    ------
+    InputError
+        A speed outside a table's range, or a journal bearing without a film.
+    """
+    speeds = np.atleast_1d(np.asarray(own_speeds, dtype=float))
+    if coefficients.kind == "table":
+        return _interpolate(coefficients, speeds, where)
+    shape = (len(speeds), 6, 6)
+    stiffness = np.broadcast_to(coefficients.stiffness[0], shape).copy()
+    damping = np.broadcast_to(coefficients.damping[0], shape).copy()
+    if coefficients.kind == "journal":
+        k_film, c_film = _journal_film(coefficients.journal, speeds, where)
+        stiffness += k_film
+        damping += c_film
+    return stiffness, damping
+
+
+def _interpolate(coefficients: BearingCoefficients, speeds: np.ndarray, where: str):
+    table = coefficients.speeds
+    outside = (speeds < table[0]) | (speeds > table[-1])
+    if np.any(outside):
+        bad = speeds[outside]
+        raise InputError(
+            f"{where}: the rotor's own speed reaches {_rpm(bad[np.argmax(np.abs(bad))])} rpm, outside "
+            f"the coefficient table's speeds_rpm range {_rpm(table[0])} .. {_rpm(table[-1])} rpm "
+            "(own speed of the carried rotor, signed about spin_axis): extend the table or the "
+            "sweep's range")
+    right = np.clip(np.searchsorted(table, speeds, side="right"), 1, len(table) - 1)
+    left = right - 1
+    t = ((speeds - table[left]) / (table[right] - table[left]))[:, None, None]
+    stiffness = (1 - t) * coefficients.stiffness[left] + t * coefficients.stiffness[right]
+    damping = (1 - t) * coefficients.damping[left] + t * coefficients.damping[right]
+    return stiffness, damping
+
+
+def _journal_film(journal: JournalData, speeds: np.ndarray, where: str):
+    """Radial film coefficients of a journal bearing, (N, 6, 6) each in model axes."""
+    from .journal import short_journal_bearing
+
+    try:
+        film = short_journal_bearing(speeds, diameter=journal.diameter, length=journal.length,
+                                     clearance=journal.clearance, viscosity=journal.viscosity,
+                                     load=journal.load)
+    except InputError as error:
+        raise InputError(f"{where}: {error}") from None
+    return _embed_radial(film.stiffness, journal.axes), _embed_radial(film.damping, journal.axes)
+
+
+def _embed_radial(radial: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    """(N, 2, 2) in the frame of ``axes[:2]`` to (N, 6, 6) in model axes."""
+    local = np.zeros(radial.shape[:-2] + (6, 6))
+    local[..., :2, :2] = radial
+    return local_to_model(local, axes)
+
+
+def _rpm(speed: float) -> str:
+    return f"{speed * 30.0 / np.pi:.6g}"

@@ -1,0 +1,250 @@
+"""The components of a machine model, one dataclass per table of the model file.
+
+Their fields are the model-file keys (``docs/model-file.md``); validation
+(:mod:`rotordyn_modal._validation`) fills the normalised values. All vectors and
+tensors are in *model axes* (the stator-fixed frame), SI units.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "Stator", "Rotor", "Transmission", "Suspension", "Bearing", "Unbalance", "Sensor", "Excitation",
+    "TOP_LEVEL_KEYS", "ARRAY_TABLES", "component_class", "input_keys", "is_finite_number",
+]
+
+#: keys read at the top level of a model description
+TOP_LEVEL_KEYS = (
+    "name", "spin_axis", "reference_rotor", "gravity", "stator", "rotors", "transmissions",
+    "suspensions", "bearings", "unbalances", "sensors", "excitations",
+)
+#: the tables that are arrays of tables
+ARRAY_TABLES = ("rotors", "transmissions", "suspensions", "bearings", "unbalances", "sensors",
+                "excitations")
+
+
+
+# ----------------------------------------------------------------------------------------
+# Components. Their fields are the model-file keys; validation fills normalised values.
+# ----------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Stator:
+    """The rigid stator (casing, skid, housing).
+
+    Parameters
+    ----------
+    mass : float
+        Mass [kg], > 0.
+    inertia : array_like, shape (3,) or (3, 3)
+        Inertia tensor about the stator's centre of mass, model axes [kg m^2];
+        a 3-vector means a diagonal tensor.
+    center_of_mass : array_like, shape (3,)
+        Centre of mass in model axes [m].
+    """
+
+    mass: float
+    inertia: Any
+    center_of_mass: Any = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Rotor:
+    """A rigid, axisymmetric rotor spinning about an axis parallel to ``spin_axis``.
+
+    Parameters
+    ----------
+    name : str
+    mass : float
+        [kg], > 0.
+    center_of_mass : array_like, shape (3,)
+        [m], model axes.
+    polar_inertia, diametral_inertia : float
+        About the spin axis and about any normal axis through the centre of mass
+        [kg m^2]; ``polar_inertia <= 2 * diametral_inertia``.
+    speed_ratio : float or None
+        Spin speed / reference speed, signed about ``spin_axis``; None when a
+        transmission fixes it. After validation it holds the resolved ratio.
+    """
+
+    name: str
+    mass: float
+    center_of_mass: Any
+    polar_inertia: float
+    diametral_inertia: float
+    speed_ratio: float | None = None
+
+
+@dataclass(frozen=True)
+class Transmission:
+    """A gear (opposite directions) or belt (same direction) between two rotors.
+
+    ``ratio`` is tau = |omega_driver| / |omega_driven| (seed 000, eq. 14);
+    ``driver_teeth`` gives the gear-mesh order per revolution of the driver.
+    """
+
+    type: str
+    driver: str
+    driven: str
+    ratio: float
+    driver_teeth: int | None = None
+
+    @property
+    def direction_sign(self) -> float:
+        """-1 for a gear (external mesh), +1 for a belt."""
+        return -1.0 if self.type == "gear" else 1.0
+
+
+@dataclass(frozen=True)
+class Suspension:
+    """A spring-damper between a point of the stator and the ground.
+
+    ``stiffness`` and ``damping`` are a 3-vector (diagonal, N/m and N s/m), a
+    3x3 translational matrix or a 6x6 matrix coupling forces and moments at the
+    point, in the suspension's own ``axes`` (rows are its axes in model axes).
+    After validation :attr:`stiffness_matrix` and :attr:`damping_matrix` hold
+    the 6x6 matrices in model axes acting on ``[u_P, theta]`` at the point.
+
+    ``maxwell_stiffness`` (a list of branches, each shaped like ``stiffness``)
+    and ``maxwell_time`` (their relaxation times [s]) add generalized Maxwell
+    branches (a spring ``k_b`` in series with a dashpot ``k_b tau_b``) for
+    rubber: ``K_b i w tau_b / (1 + i w tau_b)`` in the frequency domain.
+    """
+
+    name: str
+    position: Any
+    stiffness: Any
+    damping: Any = None
+    loss_factor: float = 0.0
+    axes: Any = None
+    maxwell_stiffness: Any = None
+    maxwell_time: Any = None
+    stiffness_matrix: np.ndarray | None = field(default=None, repr=False, compare=False)
+    damping_matrix: np.ndarray | None = field(default=None, repr=False, compare=False)
+    #: (n_branches, 6, 6) stiffness of each Maxwell branch in model axes [N/m, ...]
+    maxwell_stiffness_matrix: np.ndarray | None = field(default=None, repr=False, compare=False)
+
+
+@dataclass(frozen=True)
+class Bearing:
+    """A bearing: springs and dampers between a rotor and the stator (or the ground).
+
+    It acts at ``position``, a point on the rotor's spin axis, between the rotor
+    and the stator point at the same place. A rotor with at least one bearing
+    moves relative to the stator (lateral translations and tilts, and axially
+    when a bearing gives ``axial_stiffness``); its spin stays fixed by its speed
+    ratio. Without a ``[stator]`` the bearings connect the rotors to the ground.
+
+    Coefficients (in the bearing's radial ``axes``, normal to the spin axis):
+    ``stiffness``/``damping`` radial [N/m, N s/m], ``axial_stiffness``/
+    ``axial_damping`` [N/m, N s/m], ``moment_stiffness``/``moment_damping`` (tilt)
+    [N m/rad, N m s/rad]; each a scalar (isotropic), a 2-list (diagonal) or a 2x2
+    matrix (cross-coupled, non-symmetric allowed); axial ones scalars. With
+    ``speeds_rpm`` each is given per speed (a list of such values) and
+    interpolated linearly in the carried rotor's own speed. ``type = "journal"``
+    computes the radial coefficients of a plain short journal bearing from
+    ``diameter``, ``length``, ``clearance`` (radial), ``viscosity`` and the static
+    ``load`` (given, or the rotor's weight share under ``gravity``).
+
+    After validation :attr:`coefficients` holds the normalised description
+    (see :class:`rotordyn_modal.bearing_coefficients.BearingCoefficients`).
+    """
+
+    name: str
+    rotor: str
+    position: Any
+    type: str = "linear"
+    stiffness: Any = None
+    damping: Any = None
+    axial_stiffness: Any = None
+    axial_damping: Any = None
+    moment_stiffness: Any = None
+    moment_damping: Any = None
+    axes: Any = None
+    speeds_rpm: Any = None
+    diameter: float | None = None
+    length: float | None = None
+    clearance: float | None = None
+    viscosity: float | None = None
+    load: float | None = None
+    load_direction: Any = None
+    coefficients: Any = field(default=None, repr=False, compare=False)
+
+
+@dataclass(frozen=True)
+class Unbalance:
+    """A mass unbalance on a rotor: ``amount`` [kg m] at ``phase_deg`` [deg] at t = 0,
+    ``axial_offset`` [m] along the spin axis from the rotor's centre of mass."""
+
+    rotor: str
+    amount: float
+    phase_deg: float = 0.0
+    axial_offset: float = 0.0
+
+
+@dataclass(frozen=True)
+class Sensor:
+    """A measurement direction (unit vector after validation) at a point of the machine.
+
+    By default the point belongs to the stator (an accelerometer on the casing).
+    With ``rotor`` it belongs to that rotor: ``measure = "absolute"`` gives the
+    rotor point's motion, ``measure = "relative"`` its motion relative to the
+    stator point at the same place (a proximity probe mounted in a bearing
+    housing, reading the shaft).
+    """
+
+    name: str
+    position: Any
+    direction: Any
+    rotor: str | None = None
+    measure: str = "absolute"
+
+
+@dataclass(frozen=True)
+class Excitation:
+    """A force [N] (or, with ``kind="moment"``, a moment [N m]) input at a point of the
+    stator, or of ``rotor`` when given."""
+
+    name: str
+    position: Any
+    direction: Any
+    kind: str = "force"
+    rotor: str | None = None
+
+
+_COMPONENTS = {
+    "stator": Stator,
+    "rotors": Rotor,
+    "transmissions": Transmission,
+    "suspensions": Suspension,
+    "bearings": Bearing,
+    "unbalances": Unbalance,
+    "sensors": Sensor,
+    "excitations": Excitation,
+}
+
+
+def _input_keys(cls) -> tuple[str, ...]:
+    return tuple(f.name for f in dataclasses.fields(cls)
+                 if f.init and not f.name.endswith("_matrix") and f.name != "coefficients")
+
+
+def component_class(table: str):
+    """The component dataclass of a table name (``"rotors"`` -> :class:`Rotor`)."""
+    return _COMPONENTS[table]
+
+
+def input_keys(table: str) -> tuple[str, ...]:
+    """The keys a table of the model description may hold."""
+    return _input_keys(_COMPONENTS[table])
+
+
+def is_finite_number(value) -> bool:
+    """True for an int or float (not a bool) that is finite."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) \
+        and math.isfinite(float(value))

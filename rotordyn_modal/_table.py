@@ -90,7 +90,9 @@ class Table:
 
 
 def shape_text(shape) -> str:
-    """``'a 3-list'`` or ``'a 3x3 matrix'``."""
+    """``'a number'``, ``'a 3-list'`` or ``'a 3x3 matrix'``."""
+    if len(shape) == 0:
+        return "a number"
     if len(shape) == 1:
         return f"a {shape[0]}-list"
     return f"a {shape[0]}x{shape[1]} matrix"

@@ -158,7 +158,7 @@ def _per_speed(table: Table, key: str, count: int, reader):
     """One value (count 1) or one per table speed, each read by ``reader``."""
     raw = table.data[key]
     if count == 1:
-        return reader(table, key, raw)[None]
+        return np.asarray(reader(table, key, raw))[None]
     if not isinstance(raw, list) or len(raw) != count:
         raise table.error(key, raw, f"a list of {count} values, one per speed of speeds_rpm")
     return np.array([reader(table, f"{key}[{i}]", value) for i, value in enumerate(raw)])

@@ -28,6 +28,7 @@ from ..assembly import generalized_force, sensor_rows
 from ..errors import InputError
 from .forces import COMPONENTS, bearing_forces, bearing_point_forces, suspension_forces
 from .frf import dof_response
+from .orbits import orbit_ellipses, precession_labels, probe_pairs
 
 __all__ = ["UnbalanceResult", "unbalance_response", "phase_reference", "unbalance_forces",
            "amplification_factors", "required_separation_margin"]
@@ -123,6 +124,14 @@ class UnbalanceResult:
         The model's ``[[bearings]]``.
     bearing_point_forces : ndarray, shape (n_bearings, 6, n_sources, N), complex
         Force each bearing passes to the stator (or the ground), ``[F, C]`` at its point.
+    orbit_pairs : tuple of (str, str)
+        Sensor pairs that see an orbit (same point, body and measure; directions normal
+        to the spin axis), see :mod:`rotordyn_modal.analysis.orbits`.
+    orbit_planes : ndarray, shape (n_pairs, n_sources, N, 2), complex
+        In-plane amplitudes ``(D_u, D_w)`` of each pair's point (``u`` the first sensor's
+        direction, ``w = e x u``).
+    spin_signs : ndarray, shape (n_sources, N)
+        +1 where the source rotor spins about +spin_axis, -1 about -spin_axis.
     """
 
     speeds: np.ndarray
@@ -137,6 +146,9 @@ class UnbalanceResult:
     bearing_forces: np.ndarray
     bearing_names: tuple = ()
     bearing_point_forces: np.ndarray | None = None
+    orbit_pairs: tuple = ()
+    orbit_planes: np.ndarray | None = None
+    spin_signs: np.ndarray | None = None
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -165,6 +177,37 @@ class UnbalanceResult:
             "frequency_hz": self.frequencies_hz[s, k],
             "amplitude": np.abs(v), "phase_deg": np.degrees(np.angle(v)),
         })
+
+    def orbits(self):
+        """Orbit of every probe pair, source and speed (``pandas.DataFrame``).
+
+        Columns ``speed_rpm, pair, source, frequency_hz, major, minor, inclination_deg,
+        precession, precession_ratio``: semi-axes [output unit], the major axis's angle from
+        the first probe towards ``e x u`` [deg], 'forward'/'backward' (turning with/against
+        the source rotor's spin) or 'none' (a straight line), and the signed ratio
+        ``2ab / (a^2 + b^2)``.
+        """
+        import pandas as pd
+
+        major, minor, inclination, ratio = orbit_ellipses(self.orbit_planes, self.spin_signs[None])
+        p, s, k = (x.ravel() for x in np.meshgrid(np.arange(len(self.orbit_pairs)), np.arange(len(self.sources)),
+                                                  np.arange(len(self.speeds)), indexing="ij"))
+        return pd.DataFrame({
+            "speed_rpm": self.speeds[k] * 30 / np.pi,
+            "pair": np.array(["/".join(pair) for pair in self.orbit_pairs], dtype=object).reshape(-1)[p]
+            if len(self.orbit_pairs) else np.array([], dtype=object),
+            "source": np.asarray(self.sources, dtype=object)[s],
+            "frequency_hz": self.frequencies_hz[s, k],
+            "major": major[p, s, k], "minor": minor[p, s, k],
+            "inclination_deg": inclination[p, s, k],
+            "precession": precession_labels(ratio[p, s, k]), "precession_ratio": ratio[p, s, k],
+        })
+
+    def plot_orbits(self, speeds=None, **kwargs):
+        """Orbits of the probe pairs at a few speeds; see :func:`rotordyn_modal.plotting.plot_orbits`."""
+        from ..plotting.orbits import plot_orbits
+
+        return plot_orbits(self, speeds=speeds, **kwargs)
 
     def peaks(self, operating_speed: float | None = None):
         """Peaks of each sensor's amplitude vs speed with API 684 figures.
@@ -294,6 +337,10 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     at_bearings = bearing_point_forces(model, speed_all, omega, q)[..., 0]
     names = tuple(s.name for s in model.sensors) if outputs is None else \
         ((outputs,) if isinstance(outputs, str) else tuple(outputs))
+    pairs = probe_pairs(model, [next(s for s in model.sensors if s.name == name) for name in names])
+    planes = np.einsum("pij,pjsn->psni", pairs.to_plane, response[pairs.indices]) if len(pairs) else \
+        np.zeros((0, n_src, n, 2), dtype=complex)
+    spin_signs = np.array([np.where(model.rotor(src).speed_ratio * speeds < 0, -1.0, 1.0) for src in sources])
     return UnbalanceResult(
         speeds=speeds, sources=tuple(sources), frequencies_hz=w / (2 * np.pi), outputs=names,
         response=response, quantity=quantity,
@@ -303,4 +350,5 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         bearing_forces=np.moveaxis(bearing.reshape(len(model.rotors), n_src, n, 6), 3, 1),
         bearing_names=tuple(b.name for b in model.bearings),
         bearing_point_forces=np.moveaxis(at_bearings.reshape(len(model.bearings), n_src, n, 6), 3, 1),
+        orbit_pairs=pairs.names, orbit_planes=planes, spin_signs=spin_signs.reshape(n_src, n),
     )

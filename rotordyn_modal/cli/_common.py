@@ -121,6 +121,30 @@ def show_progress(args) -> bool:
     return not args.quiet and sys.stderr.isatty()
 
 
+def check_extra_output(args, path, option: str, figure: bool = False):
+    """Refuse a bad extra output (``--orbits FILE``) before any work: its ending, its folder,
+    an input file, or the same file as --out or --plot."""
+    from pathlib import Path
+
+    if not path:
+        return
+    if figure and Path(path).suffix.lower() not in _FIGURE_FORMATS:
+        raise InputError(f"{option} {path}: expected a file ending in .png, .svg or .pdf")
+    for other in ("out", "plot"):
+        taken = getattr(args, other, None)
+        if taken and taken != "-" and Path(taken).resolve() == Path(path).resolve():
+            raise InputError(f"{option} and --{other} name the same file {path}: give two different files")
+    check_outputs(args, path)
+    if not Path(path).parent.exists():
+        raise InputError(f"{option} {path}: the folder {Path(path).parent} does not exist")
+
+
+def write_csv(table, path, float_format="%.10g"):
+    """Write a DataFrame to a CSV file atomically."""
+    with atomic_write(path, "w", newline="") as handle:
+        table.to_csv(handle, index=False, float_format=float_format)
+
+
 def write_table(table, args, float_format="%.10g"):
     """Write a DataFrame to --out (atomic), or print it on the terminal."""
     out = getattr(args, "out", None)
@@ -153,14 +177,14 @@ def check_outputs(args, path):
                            getattr(args, "spec", None)])
 
 
-def save_figure(fig, args):
-    """Save ``fig`` to --plot atomically; the format follows the file ending."""
+def save_figure(fig, args, path=None, option: str = "--plot"):
+    """Save ``fig`` to --plot (or ``path``) atomically; the format follows the file ending."""
     from pathlib import Path
 
-    path = Path(args.plot)
+    path = Path(args.plot if path is None else path)
     fmt = _FIGURE_FORMATS.get(path.suffix.lower())
     if fmt is None:
-        raise InputError(f"--plot {args.plot}: expected a file ending in .png, .svg or .pdf")
+        raise InputError(f"{option} {path}: expected a file ending in .png, .svg or .pdf")
     check_outputs(args, path)
     with atomic_write(path, None) as temporary:
         fig.savefig(temporary, format=fmt, dpi=150)

@@ -8,8 +8,8 @@ from ._common import add_model_argument, open_model
 
 NAME = "check"
 HELP = "validate a model file and print a summary"
-DESCRIPTION = """Validate MODEL and print its masses, rotors with their speed ratios and
-suspensions. Exit code 0 when the model is valid, 2 (with one message naming the
+DESCRIPTION = """Validate MODEL and print its masses, rotors with their speed ratios,
+suspensions, bearings and generalized coordinates. Exit code 0 when the model is valid, 2 (with one message naming the
 file, table, key, value and what was expected) when it is not."""
 
 
@@ -24,7 +24,9 @@ def run(args) -> int:
 
 
 def summary(model) -> str:
-    M, C, G, K = model.matrices()
+    from ..assembly import constant_matrices
+
+    K = constant_matrices(model).K
     lines = [f"{model.source}: valid model {model.name!r}",
              f"  spin axis {np.round(model.spin_axis, 6).tolist()}, reference rotor {model.reference_rotor!r}",
              f"  total mass {model.total_mass:.6g} kg, matrices about {np.round(model.reference_point, 6).tolist()} m"]
@@ -42,11 +44,38 @@ def summary(model) -> str:
         diag = np.diag(s.stiffness_matrix)[:3]
         lines.append(f"    {s.name:<16} at {np.round(s.position, 4).tolist()} m, translational stiffness "
                      f"(model axes) {np.array2string(diag, precision=4)} N/m, loss factor {s.loss_factor:g}")
+    lines += _bearing_lines(model)
     lines.append(f"  sensors: {', '.join(s.name for s in model.sensors) or 'none'}; "
                  f"excitations: {', '.join(x.name for x in model.excitations) or 'none'}; "
                  f"unbalances: {len(model.unbalances)}")
+    layout = model.dofs
+    lines.append(f"  coordinates ({layout.n}): {', '.join(layout.names)}")
     rank = np.linalg.matrix_rank(K)
-    if rank < 6:
-        lines.append(f"  note: the suspensions restrain {rank} of 6 rigid-body directions "
+    if rank < layout.n and not model.speed_dependent:
+        lines.append(f"  note: the suspensions and bearings restrain {rank} of {layout.n} directions "
                      "(the others give zero eigenvalues)")
     return "\n".join(lines)
+
+
+def _bearing_lines(model) -> list[str]:
+    if not model.bearings:
+        return []
+    where = "the stator" if model.stator is not None else "the ground"
+    lines = [f"  bearings ({len(model.bearings)}, to {where}):"]
+    for b in model.bearings:
+        lines.append(f"    {b.name:<16} rotor {b.rotor!r} at {np.round(b.position, 4).tolist()} m, "
+                     + _coefficient_text(b.coefficients))
+    return lines
+
+
+def _coefficient_text(coefficients) -> str:
+    if coefficients.kind == "journal":
+        j = coefficients.journal
+        return (f"plain journal D {j.diameter:g} m x L {j.length:g} m, clearance {j.clearance:g} m, "
+                f"viscosity {j.viscosity:g} Pa s, static load {j.load:.4g} N")
+    radial = np.linalg.eigvals(coefficients.stiffness[0][:3, :3])
+    text = f"radial stiffness {np.array2string(np.sort(np.abs(radial))[1:], precision=4)} N/m"
+    if coefficients.kind == "table":
+        rpm = coefficients.speeds * 30 / np.pi
+        text += f" at {rpm[0]:g} rpm, tabulated over {len(rpm)} speeds {rpm[0]:g} .. {rpm[-1]:g} rpm"
+    return text

@@ -5,8 +5,10 @@ from __future__ import annotations
 import sys
 
 from ..analysis.unbalance import unbalance_response
-from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
-                      print_table, save_figure, speeds_option, to_rad_s, use_agg, write_table)
+from ..errors import InputError
+from ._common import (add_model_argument, add_outputs, add_speed_unit, check_extra_output, open_model,
+                      parse_number, print_table, save_figure, speeds_option, to_rad_s, use_agg, write_csv,
+                      write_table)
 from .frf import names
 
 NAME = "unbalance"
@@ -18,7 +20,14 @@ phase (x(t) = amplitude cos(2 pi frequency t + phase)). Rows for the force each 
 passes to the ground (output NAME:Fx ... NAME:Mz, N and N m) follow the sensors'. Peaks get
 the API 684 amplification factor and, with --operating-speed, the separation margin.
 
+Two sensors at one point of the same body with directions normal to the spin axis (a
+pair of proximity probes, measure = "relative") see an orbit: --orbits FILE.csv writes
+each pair's ellipse per source and speed (semi-axes, inclination, forward/backward
+precession) and --orbit-plot FILE.png draws the orbits at the largest response and at
+the last speed.
+
 CSV columns: speed_rpm,output,source,frequency_hz,amplitude,phase_deg
+orbit CSV columns: speed_rpm,pair,source,frequency_hz,major,minor,inclination_deg,precession,precession_ratio
 
 example:
   rotordyn-modal unbalance examples/gear_machine.toml --speeds 0:6000:601 --output acc-top-z \\
@@ -32,12 +41,19 @@ def add_arguments(parser):
     parser.add_argument("--output", help="sensor name(s), comma-separated (default all)")
     parser.add_argument("--quantity", choices=["displacement", "velocity", "acceleration"], default="displacement")
     parser.add_argument("--operating-speed", help="operating speed (same unit as --speeds) for the separation margin")
+    parser.add_argument("--orbits", metavar="FILE.csv", help="write the orbits of the probe pairs")
+    parser.add_argument("--orbit-plot", metavar="FILE", help="draw the orbits of the probe pairs (.png, .svg, .pdf)")
     add_outputs(parser)
 
 
 def run(args) -> int:
+    check_extra_output(args, args.orbits, "--orbits")
+    check_extra_output(args, args.orbit_plot, "--orbit-plot", figure=True)
     model = open_model(args)
     result = unbalance_response(model, speeds_option(args), outputs=names(args.output), quantity=args.quantity)
+    if (args.orbits or args.orbit_plot) and not result.orbit_pairs:
+        raise InputError(f"{model.source}: --orbits/--orbit-plot need a probe pair among the outputs: two "
+                         "sensors at one point of the same body, directions normal to spin_axis")
     write_table(result.to_dataframe(), args)
     operating = None if args.operating_speed is None else \
         float(to_rad_s(parse_number(args.operating_speed, "--operating-speed"), args.speed_unit))
@@ -48,4 +64,18 @@ def run(args) -> int:
     if args.plot:
         use_agg()
         save_figure(result.plot(peaks=peaks, speed_unit=args.speed_unit), args)
+    _write_orbits(result, args)
     return 0
+
+
+def _write_orbits(result, args):
+    if result.orbit_pairs and not args.quiet:
+        table = result.orbits()
+        largest = table.loc[table.groupby(["pair", "source"])["major"].idxmax()]
+        print("\nlargest orbit of each probe pair:", file=sys.stderr)
+        print_table(largest)
+    if args.orbits:
+        write_csv(result.orbits(), args.orbits)
+    if args.orbit_plot:
+        use_agg()
+        save_figure(result.plot_orbits(), args, args.orbit_plot, "--orbit-plot")

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import sys
+
 from ..analysis import modal
+from ..analysis.modal import OVERDAMPED_LIMIT
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
                       save_figure, to_rad_s, use_agg, write_table)
 
@@ -29,6 +32,10 @@ def run(args) -> int:
     speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
     result = modal(model, speed)
     write_table(result.to_dataframe(), args)
+    overdamped = int(result.overdamped.sum())
+    if overdamped and not args.quiet:
+        print(f"{overdamped} overdamped root pair(s) (damping ratio > {OVERDAMPED_LIMIT}) not listed as modes "
+              "(docs/model-file.md, roots that are not modes)", file=sys.stderr)
     if args.plot:
         use_agg()
         save_figure(result.plot(), args)

@@ -148,7 +148,7 @@ def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=0):
     ----------
     model_modes : ModalResult
     measured_modes : MeasuredModes
-    sensor_rows : ndarray, shape (n_outputs, 6)
+    sensor_rows : ndarray, shape (n_outputs, n_dof)
         Rows of the measured outputs (``assembly.sensor_rows``).
     excitation_index : int
         Input whose residues give the measured shape.

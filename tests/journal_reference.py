@@ -101,7 +101,7 @@ def static_equilibrium(bearing: Bearing, load: float, speed: float):
         return film_force(bearing, (eps * c, 0.0), (0.0, 0.0), speed)
 
     eps = optimize.brentq(lambda eps: np.hypot(*force_on_x_axis(eps)) - load, 1e-12, 1 - 1e-4,
-                          xtol=1e-16, rtol=4 * np.finfo(float).eps, maxiter=200)
+                          xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=200)
     fx, fy = force_on_x_axis(eps)
     turn = np.pi - np.arctan2(fy, fx)
     position = _rotation(turn) @ np.array([eps * c, 0.0])
@@ -244,6 +244,6 @@ def lund_threshold(mass_per_bearing, diameter, length, clearance, viscosity, *, 
     if unstable.size == 0 or unstable[-1] == grid.size - 1:
         raise ValueError("no threshold on the eccentricity grid")
     upper = unstable[-1]
-    eps = optimize.brentq(margin, grid[upper], grid[upper + 1], xtol=1e-15, rtol=1e-15)
+    eps = optimize.brentq(margin, grid[upper], grid[upper + 1], xtol=1e-300, rtol=1e-15)
     speed, k_eq, w2 = speed_and_parameters(eps)
     return speed, np.sqrt(w2) / speed

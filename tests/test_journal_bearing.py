@@ -61,7 +61,7 @@ def test_coefficients_equal_finite_differences_of_the_film_force(eps, direction)
     assert result.attitude_angle[0] == pytest.approx(attitude_ref, abs=1e-12)
     assert scaled_error(result.stiffness[0], stiffness) < 1e-7
     assert scaled_error(result.damping[0], damping) < 1e-7
-    # the short bearing's damping is symmetric (docs eq. 12.8): here from the differences alone
+    # the short bearing's damping is symmetric (docs eq. 12.10): here from the differences alone
     assert abs(damping[0, 1] - damping[1, 0]) < 1e-7 * np.abs(damping).max()
     # the reference's fast route (derivatives of the pressure integrand, used by lund_threshold)
     _, stiffness_q, damping_q, attitude_q = reference.coefficients_by_quadrature(BEARING, eps, speed)
@@ -75,7 +75,7 @@ def test_coefficients_equal_finite_differences_of_the_film_force(eps, direction)
 @pytest.mark.parametrize("eps", [1e-3, 0.1, 0.5, 0.9, 0.99])
 def test_load_capacity_and_attitude_angle_closed_forms(eps):
     """Quadrature force = mu w R L³ eps sqrt(16 eps² + pi² (1 - eps²)) / (4 c² (1 - eps²)²),
-    at tan(phi) = pi sqrt(1 - eps²) / (4 eps) from the load line (docs eq. 12.5)."""
+    at tan(phi) = pi sqrt(1 - eps²) / (4 eps) from the load line (docs eqs. 12.7, 12.8)."""
     mu, c, L, R = BEARING.viscosity, BEARING.clearance, BEARING.length, BEARING.radius
     force = reference.film_force(BEARING, (eps * c, 0.0), (0.0, 0.0), SPEED)
     s = 1 - eps**2
@@ -108,7 +108,8 @@ def test_eccentricity_solves_the_load_capacity_to_round_off(speed):
 def test_light_load_limits():
     """A centred journal (eps -> 0): the film force is the tangential force
     k0 e × r - (2 k0 / w) r', k0 = pi mu w R L³ / (4 c³), plus the load's own terms
-    (W/c) diag(4/pi, 8/pi) in K and (W/(c w)) 8/pi in c_xy = c_yx; remainders O(eps²) (docs)."""
+    (W/c) diag(4/pi, 8/pi) in K and (W/(c w)) 8/pi in c_xy = c_yx; remainders O(eps²)
+    (docs eq. 12.12)."""
     mu, c, L, R = BEARING.viscosity, BEARING.clearance, BEARING.length, BEARING.radius
     load = 1e-4 * np.pi * mu * SPEED * R * L**3 / (4 * c**2)  # eps ~ 1e-4
     result = bearing_at(SPEED, load)
@@ -138,7 +139,8 @@ def test_scaling_and_mirror(diameter, ratio, clearance, viscosity, load, speed, 
                 viscosity=viscosity)
     base = short_journal_bearing([speed, -speed], load=load, **data)
     faster = short_journal_bearing([factor * speed], load=factor * load, **data)
-    thicker = short_journal_bearing([speed / factor2], load=load, **{**data, "viscosity": viscosity * factor2})
+    thicker = short_journal_bearing([speed / factor2], load=load,
+                                    **{**data, "viscosity": viscosity * factor2})
     np.testing.assert_allclose(faster.stiffness[0], factor * base.stiffness[0], rtol=1e-10,
                                atol=1e-12 * factor * np.abs(base.stiffness[0]).max())
     np.testing.assert_allclose(faster.damping[0], base.damping[0], rtol=1e-10,
@@ -187,7 +189,8 @@ def test_overflowing_coefficients_are_refused():
     ("diameter", "big"), ("length", [0.02, 0.03]), ("load", None)])
 def test_bad_data_is_refused_naming_argument_and_value(name, value):
     data = {**GEOMETRY, "load": 100.0, name: value}
-    with pytest.raises(InputError, match=re.escape(f"{name} = {value!r}: expected a finite number > 0")):
+    expected = re.escape(f"{name} = {value!r}: expected a finite number > 0")
+    with pytest.raises(InputError, match=expected):
         short_journal_bearing([100.0], **data)
 
 
@@ -234,9 +237,10 @@ def test_lund_threshold_equals_the_eigenvalue_crossing(mass):
     round-off (~1e-13 of |lambda| ~ 600 rad/s) over the real part's slope (~1e-2 per rad/s)
     moves the crossing by ~1e-11 rad/s, far below the 1e-9 relative asserted."""
     speed, ratio = reference.lund_threshold(mass, **GEOMETRY)
-    assert largest_eigenvalue(mass, 0.999 * speed).real < 0 < largest_eigenvalue(mass, 1.001 * speed).real
-    crossing = optimize.brentq(lambda w: largest_eigenvalue(mass, w).real, 0.99 * speed, 1.01 * speed,
-                               xtol=1e-12, rtol=1e-15)
+    assert largest_eigenvalue(mass, 0.999 * speed).real < 0
+    assert largest_eigenvalue(mass, 1.001 * speed).real > 0
+    crossing = optimize.brentq(lambda w: largest_eigenvalue(mass, w).real,
+                               0.99 * speed, 1.01 * speed, xtol=1e-12, rtol=1e-15)
     assert crossing == pytest.approx(speed, rel=1e-9)
     assert abs(largest_eigenvalue(mass, crossing).imag) / crossing == pytest.approx(ratio, rel=1e-9)
 

@@ -30,6 +30,9 @@ from .io.uff import write_uff58
 from . import study  # issue 7: parameter studies; the module is callable: rdm.study(model, spec)
 from .study import StudyResult, load_study
 
+# measurement side and pictures: modal identification (LSCF through the 'ema' extra)
+from .analysis.identification import MeasuredModes, StabilizationChart, identify_modes
+
 __version__ = "0.1.0"
 
 __all__ = [
@@ -45,3 +48,4 @@ __all__ = [
     "RigidBodyMotion",
     "study", "StudyResult", "load_study",
 ]
+__all__ += ["identify_modes", "MeasuredModes", "StabilizationChart"]

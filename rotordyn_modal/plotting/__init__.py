@@ -10,9 +10,10 @@ from .simulation import plot_runup, plot_simulation
 from .stability import plot_stability, plot_stability_map
 from .correlation import plot_correlation, plot_fit_correlation, plot_rigid_body
 from .frf import plot_frf, plot_overlay, plot_unbalance
+from .identification import plot_stabilization
 from .study import plot_critical_histograms, plot_sensitivity, plot_study_campbell, plot_study_stability_map
 
 __all__ = ["plot_campbell", "plot_modes", "plot_stability", "plot_stability_map", "plot_simulation", "plot_runup",
            "plot_frf", "plot_overlay", "plot_unbalance", "plot_correlation", "plot_fit_correlation",
            "plot_rigid_body", "plot_study_campbell", "plot_critical_histograms", "plot_study_stability_map",
-           "plot_sensitivity"]
+           "plot_sensitivity", "plot_stabilization"]

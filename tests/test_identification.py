@@ -122,3 +122,23 @@ def test_missing_sdypy_named_in_the_message(monkeypatch):
     measured, _, _ = _close_modes()
     with pytest.raises(InputError, match=r"pip install 'rotordyn_modal\[ema\]'"):
         identify_modes(measured, method="lscf")
+
+
+def test_measured_modes_as_rigid_body_shapes():
+    """Nine channels of three triaxial accelerometers: the identified modes' rigid-body shapes are
+    the model's own (MAC 1 with the mass matrix), and their whirl labels agree."""
+    from rotordyn_modal.analysis.experimental import measured_modal_result
+
+    data = rdm.load_model(EXAMPLE).to_dict()
+    points = ([0.3, 0.3, 0.45], [0.3, -0.3, 0.45], [-0.3, 0.0, -0.15])
+    data["sensors"] = [{"name": f"s{k}{a}", "position": p, "direction": d}
+                       for k, p in enumerate(points) for a, d in zip("xyz", np.eye(3).tolist())]
+    model = rdm.Model.from_dict(data)
+    speed = rdm.rpm(1500)
+    measured = rdm.frf(model, speed, np.linspace(2, 40, 609))
+    result = measured_modal_result(model, identify_modes(measured, method="lscf"), speed=speed)
+    truth = rdm.modal(model, speed)
+    M = model.matrices().M
+    np.testing.assert_allclose(np.diag(rdm.mac(result.shapes, truth.shapes[truth.oscillatory], M)), 1.0, atol=1e-9)
+    np.testing.assert_allclose(result.frequencies_hz, truth.frequencies_hz[truth.oscillatory], rtol=1e-9)
+    assert list(result.whirl) == list(truth.whirl[truth.oscillatory])

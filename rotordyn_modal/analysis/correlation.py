@@ -56,7 +56,7 @@ def csf(model_H, measured_H) -> np.ndarray:
     return 2 * cross / (np.sum(np.abs(measured_H) ** 2, axis=0) + np.sum(np.abs(model_H) ** 2, axis=0))
 
 
-def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=0):
+def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=None):
     """Pair measured and model modes one to one, by MAC at the sensors and by frequency.
 
     With few sensors MAC alone cannot tell modes apart (two channels give MAC near 1 for
@@ -69,8 +69,9 @@ def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=0):
     measured_modes : MeasuredModes
     sensor_rows : ndarray, shape (n_outputs, 6)
         Rows of the measured outputs (``assembly.sensor_rows``).
-    excitation_index : int
-        Input whose residues give the measured shape.
+    excitation_index : int, optional
+        Input whose modal constants give the measured shapes (default: for each mode the input
+        with the largest constants, the one that excites it best).
 
     Returns
     -------
@@ -84,7 +85,10 @@ def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=0):
 
     osc = np.nonzero(model_modes.oscillatory)[0]
     model_shapes = model_modes.shapes[osc] @ sensor_rows.T            # (n_model, n_outputs)
-    measured_shapes = measured_modes.shapes[:, :, excitation_index]   # (n_meas, n_outputs)
+    shapes = measured_modes.shapes                                     # (n_meas, n_outputs, n_inputs)
+    columns = np.argmax(np.linalg.norm(shapes, axis=1), axis=1) if excitation_index is None \
+        else np.full(len(shapes), excitation_index)
+    measured_shapes = shapes[np.arange(len(shapes)), :, columns]      # (n_meas, n_outputs)
     rows = []
     if len(measured_shapes) and len(osc):
         from scipy.optimize import linear_sum_assignment

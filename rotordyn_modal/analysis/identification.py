@@ -136,7 +136,7 @@ class MeasuredModes:
         """The stabilization chart (LSCF only)."""
         if self.stabilization is None:
             raise InputError(f"modes identified by {self.method!r} have no stabilization chart: use method='lscf'")
-        return self.stabilization.plot(**kwargs)
+        return self.stabilization.plot(modes=self, **kwargs)
 
 
 def _from_poles(poles, constants, measured, method, chart=None) -> MeasuredModes:
@@ -227,8 +227,7 @@ def _prepared(measured, band_hz):
     if not (f[0] <= low < high <= f[-1]):
         raise InputError(f"identification band {low:g}..{high:g} Hz: expected inside the measured lines "
                          f"{f[0]:g}..{f[-1]:g} Hz")
-    scale = np.abs(H[keep]).max(axis=1)
-    scale = np.where(scale > 0, scale, 1.0)
+    scale = np.full(int(keep.sum()), np.abs(H[keep]).max() or 1.0)
     return H[keep] / scale[:, None], keep, scale, f, (low, high)
 
 

@@ -214,7 +214,7 @@ def _h1(S_ff, S_fx, S_xx):
     Ht = np.linalg.solve(Sff, Sfx)                         # (f, i, o) = H^T
     explained = np.einsum("fio,fij,fjo->fo", Ht.conj(), Sff, Ht).real
     H = np.moveaxis(Ht, 0, -1).transpose(1, 0, 2)          # (o, i, f)
-    coherence = np.clip(explained.T / S_xx, 0.0, 1.0)      # (o, f)
+    coherence = np.clip(_ratio(explained.T, S_xx), 0.0, 1.0)   # (o, f)
     return H, np.repeat(coherence[:, None, :], H.shape[1], axis=1)
 
 
@@ -222,5 +222,11 @@ def _h2(S_ff, S_fx, S_xx):
     """H2 = S_xx / S_xf for one input; ordinary coherence."""
     S_xf = S_fx[0].conj()                                  # (o, f)
     H = (S_xx / S_xf)[:, None, :]
-    coherence = np.abs(S_fx[0]) ** 2 / (S_ff[0, 0].real[None, :] * S_xx)
+    coherence = _ratio(np.abs(S_fx[0]) ** 2, S_ff[0, 0].real[None, :] * S_xx)
     return H, np.clip(coherence, 0.0, 1.0)[:, None, :]
+
+
+def _ratio(numerator, denominator):
+    """numerator / denominator, 0 where the denominator is 0 (a channel without power has no coherence)."""
+    out = np.zeros(np.broadcast_shapes(np.shape(numerator), np.shape(denominator)))
+    return np.divide(numerator, denominator, out=out, where=denominator > 0)

@@ -61,7 +61,7 @@ def _identified_label(frequencies_hz):
 def _magnitude_behind(ax, chart):
     twin = ax.twinx()
     twin.semilogy(chart.frequency_lines_hz, chart.summed_magnitude, color="0.3", linewidth=0.8, alpha=0.6)
-    twin.set_ylabel("sum of |H| (each FRF scaled to its peak)", color="0.35")
+    twin.set_ylabel("sum of |H| over the FRFs (relative)", color="0.35")
     twin.tick_params(axis="y", colors="0.35", labelsize="small")
     ax.set_zorder(twin.get_zorder() + 1)
     ax.patch.set_visible(False)

@@ -206,11 +206,18 @@ class TuningWidget:
         Dotted keys of the model (e.g. ``suspensions.mount-FL.stiffness``).
     low, high : float
         Slider range of every factor.
+    pairs : list of (output, input), optional
+        FRFs drawn (of the first measured set; default: its first four); the FRAC in the
+        title is the mean over every FRF of every set.
     """
 
-    def __init__(self, model, measured, keys, low: float = 0.25, high: float = 4.0):
+    def __init__(self, model, measured, keys, low: float = 0.25, high: float = 4.0, pairs=None):
         self.model, self.measured, self.keys = model, list(measured), list(keys)
         self.low, self.high = float(low), float(high)
+        first = self.measured[0]
+        finite = [(o, i) for a, o in enumerate(first.outputs) for b, i in enumerate(first.inputs)
+                  if np.isfinite(first.H[a, b]).all()]
+        self.pairs = list(pairs) if pairs is not None else finite[:4]
         self.factors = {k: 1.0 for k in self.keys}
         self.figure = None
 
@@ -234,7 +241,7 @@ class TuningWidget:
     def _draw(self):
         from ..analysis.correlation import frac
         from ..analysis.frf import frf
-        from .frf import plot_overlay
+        from .frf import plot_frf
 
         import matplotlib.pyplot as plt
 
@@ -246,8 +253,8 @@ class TuningWidget:
         if self.figure is not None:
             plt.close(self.figure)
         settings = ", ".join(f"{k.split('.', 1)[-1]} x{v:.3g}" for k, v in self.factors.items())
-        self.figure = plot_overlay(models, self.measured,
-                                   title=f"{settings}\nFRAC {', '.join(f'{np.mean(f):.3f}' for f in fracs)}")
+        self.figure = plot_frf(models[0], measured=self.measured[0], pairs=self.pairs,
+                               title=f"{settings}\nmean FRAC {np.mean(np.concatenate(fracs)):.3f}")
         return self.figure
 
     def widget(self):

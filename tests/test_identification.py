@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import builtins
 from pathlib import Path
 
 import numpy as np
@@ -110,15 +109,8 @@ def test_uneven_lines_refused_by_lscf_and_auto_falls_back():
         identify_modes(measured, method="lscf", band_hz=(5, 25))
 
 
-def test_missing_sdypy_named_in_the_message(monkeypatch):
-    real_import = builtins.__import__
-
-    def no_sdypy(name, *args, **kwargs):
-        if name.startswith("sdypy"):
-            raise ImportError(name)
-        return real_import(name, *args, **kwargs)
-
-    monkeypatch.setattr(builtins, "__import__", no_sdypy)
+def test_missing_sdypy_named_in_the_message(without_module):
+    without_module("sdypy")
     measured, _, _ = _close_modes()
     with pytest.raises(InputError, match=r"pip install 'rotordyn_modal\[ema\]'"):
         identify_modes(measured, method="lscf")

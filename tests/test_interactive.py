@@ -3,7 +3,6 @@ redraws the overlay for the factors given (and builds its sliders when ipywidget
 
 from __future__ import annotations
 
-import builtins
 from pathlib import Path
 
 import numpy as np
@@ -70,15 +69,15 @@ def test_tuning_widget_redraws_with_the_factors(gear):
     assert box.children[0].description == "mount-FL.stiffness"
 
 
-def test_missing_plotly_is_named(monkeypatch, gear):
-    real_import = builtins.__import__
-
-    def no_plotly(name, *args, **kwargs):
-        if name.startswith("plotly"):
-            raise ImportError(name)
-        return real_import(name, *args, **kwargs)
-
-    monkeypatch.setattr(builtins, "__import__", no_plotly)
+def test_missing_plotly_is_named(without_module, gear):
+    without_module("plotly")
     res = rdm.campbell(gear, rdm.rpm(np.linspace(0, 3000, 5)))
     with pytest.raises(InputError, match=r"pip install 'rotordyn_modal\[interactive\]'"):
         campbell_figure(res)
+
+
+def test_missing_ipywidgets_is_named(without_module, gear):
+    tuner = TuningWidget(gear, [rdm.frf(gear, 0.0, np.linspace(2, 40, 20))], ["suspensions.mount-FL.stiffness"])
+    without_module("ipywidgets")
+    with pytest.raises(InputError, match=r"the tuning widget needs ipywidgets: pip install 'rotordyn_modal\[interactive\]'"):
+        tuner.widget()

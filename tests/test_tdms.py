@@ -43,3 +43,9 @@ def test_misfits_refused(kwargs, message):
 def test_damaged_file_refused():
     with pytest.raises(InputError, match="faulty_tdms_01.tdms: not a readable TDMS file"):
         read_tdms_records(DATA / "faulty_tdms_01.tdms")
+
+
+def test_missing_nptdms_named_in_the_message(without_module):
+    without_module("nptdms")
+    with pytest.raises(InputError, match=r"pip install 'rotordyn_modal\[tdms\]'"):
+        read_tdms_records(GOOD)

@@ -60,3 +60,22 @@ def test_overlay_of_model_and_measurement_on_probe_channels(fan, tmp_path):
     lines = [line for ax in figure.axes for line in ax.get_lines()]
     assert len(lines) >= 8                                   # 2 FRFs x (model, measured) x (magnitude, phase)
     figure.savefig(tmp_path / "overlay.png")
+
+
+def test_3d_shape_moves_each_rotor_in_its_bearings(fan, tmp_path):
+    """The drawn vertices of each body move by its own motion: the rotor in its bearings
+    (shape_at with body=rotor), the housing by the stator's; bearings are springs between them."""
+    from rotordyn_modal.analysis.mode_shapes import mode_shape_3d
+
+    result = rdm.modal(fan, rdm.rpm(3000))
+    view = mode_shape_3d(result, fan, 13)
+    k = np.nonzero(result.oscillatory)[0][12]
+    for body, motion in zip(view.outline.bodies, view.body_motion):
+        owner = body.name if body.name in result.rotor_names else None
+        expected = np.array([result.shape_at(p, body=owner)[k] for p in body.vertices])
+        np.testing.assert_allclose(motion, view.scale * expected, rtol=1e-12, atol=1e-15)
+    motor = [m for b, m in zip(view.outline.bodies, view.body_motion) if b.name == "motor"][0]
+    stator = [m for b, m in zip(view.outline.bodies, view.body_motion) if b.name == "stator"][0]
+    assert np.abs(motor).max() > 10 * np.abs(stator).max()      # mode 13: the motor whirls in its bearings
+    assert sum(s.kind == "bearing" for s in view.outline.springs) == len(fan.bearings)
+    result.plot_shape(13, fan).savefig(tmp_path / "shape.png")

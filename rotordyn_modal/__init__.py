@@ -1,58 +1,82 @@
 """rotordyn_modal: linear dynamics and modal analysis of multi-rotor machines.
 
-A rigid stator on suspensions carrying rigid rotors with parallel spin axes,
-coupled by gears or belts::
+A rigid stator on suspensions carrying rigid rotors with parallel spin axes, rigidly
+attached or on flexible bearings, coupled by gears or belts::
 
     import rotordyn_modal as rdm
     model = rdm.load_model("examples/gear_machine.toml")
     M, C, G, K = model.matrices()
     res = rdm.campbell(model, rdm.rpm(np.linspace(0, 12000, 241)))
     res.plot()
+
+The public names below are grouped by concept. Each is imported from its module the first
+time it is used (:pep:`562`), so ``import rotordyn_modal`` and ``rotordyn-modal check`` load
+numpy and the model only, not scipy, python-control, pandas, matplotlib or the rest.
 """
 
-from .analysis import (
-    CampbellResult, CriticalSpeeds, ModalResult, StabilityMap, StabilityResult, campbell,
-    critical_speeds, excitation_sources, mac, modal, stability, stability_map,
-)
-from .assembly import Matrices, matrices
-from .errors import InputError, ModelError
-from .geometry import shift_cross, shift_matrix, skew
-from .io import load_model, save_model
-from .linear_system import state_matrices, state_space
-from .model import Excitation, Model, Rotor, Sensor, Stator, Suspension, Transmission, Unbalance
-from .units import hz, rpm, to_hz, to_rpm
-from . import kinematics, simulation
-from .simulation import SimulationResult, simulate
-from .analysis import (Correlation, FitResult, FRFResult, RigidBodyMotion, UnbalanceResult,  # issue 4
-                       correlate, fit, force_frf, frf, stator_motion, unbalance_response)
-from .io.measured import read_measured, write_csv as write_measured_csv
-from .io.uff import write_uff58
-from . import study  # issue 7: parameter studies; the module is callable: rdm.study(model, spec)
-from .study import StudyResult, load_study
+from __future__ import annotations
 
-# measurement side and pictures: time records and H1/H2, UFF geometry and time records, TDMS
-# ('tdms' extra), modal identification (LSCF: 'ema' extra), 3D mode shapes
-from .analysis.identification import MeasuredModes, StabilizationChart, identify_modes
-from .analysis.mode_shapes import ModeShape3D, mode_shape_3d
-from .analysis.spectra import TimeRecords, estimate_frf
-from .io.tdms import read_tdms_records
-from .io.uff import place_channels, read_uff_info, read_uff_nodes, read_uff_time_records
+import importlib
+
+from .errors import InputError, ModelError
+from .units import hz, rpm, to_hz, to_rpm
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "Model", "Stator", "Rotor", "Transmission", "Suspension", "Unbalance", "Sensor", "Excitation",
-    "load_model", "save_model", "matrices", "Matrices", "state_space", "state_matrices",
-    "modal", "ModalResult", "mac", "campbell", "CampbellResult", "critical_speeds", "CriticalSpeeds",
-    "excitation_sources", "stability", "stability_map", "StabilityResult", "StabilityMap",
-    "shift_matrix", "shift_cross", "skew", "rpm", "to_rpm", "hz", "to_hz",
-    "InputError", "ModelError", "__version__",
-    "kinematics", "simulation", "simulate", "SimulationResult",
-    "frf", "FRFResult", "force_frf", "unbalance_response", "UnbalanceResult", "fit", "FitResult",
-    "read_measured", "write_measured_csv", "write_uff58", "correlate", "Correlation", "stator_motion",
-    "RigidBodyMotion",
-    "study", "StudyResult", "load_study",
-]
-__all__ += ["identify_modes", "MeasuredModes", "StabilizationChart", "ModeShape3D", "mode_shape_3d", "TimeRecords",
-            "estimate_frf", "read_tdms_records", "place_channels", "read_uff_info", "read_uff_nodes",
-            "read_uff_time_records"]
+#: public name -> module that defines it, by concept
+_API = {
+    # the model: components, files
+    "Model": "model", "Stator": "components", "Rotor": "components", "Transmission": "components",
+    "Suspension": "components", "Bearing": "components", "Unbalance": "components",
+    "Sensor": "components", "Excitation": "components",
+    "load_model": "io", "save_model": "io",
+    # geometry, matrices and the linear system
+    "shift_matrix": "geometry", "shift_cross": "geometry", "skew": "geometry",
+    "matrices": "assembly", "Matrices": "assembly",
+    "state_space": "linear_system", "state_matrices": "linear_system",
+    # modal analyses
+    "modal": "analysis.modal", "ModalResult": "analysis.modal", "mac": "analysis.modal",
+    "campbell": "analysis.campbell", "CampbellResult": "analysis.campbell",
+    "critical_speeds": "analysis.campbell", "CriticalSpeeds": "analysis.campbell",
+    "excitation_sources": "analysis.campbell",
+    "stability": "analysis.stability", "stability_map": "analysis.stability",
+    "StabilityResult": "analysis.stability", "StabilityMap": "analysis.stability",
+    "mode_shape_3d": "analysis.mode_shapes", "ModeShape3D": "analysis.mode_shapes",
+    # responses and forces
+    "frf": "analysis.frf", "FRFResult": "analysis.frf", "force_frf": "analysis.forces",
+    "unbalance_response": "analysis.unbalance", "UnbalanceResult": "analysis.unbalance",
+    # model versus measurement
+    "read_measured": "io.measured", "write_measured_csv": "io.measured", "write_uff58": "io.uff",
+    "read_uff_info": "io.uff", "read_uff_nodes": "io.uff", "read_uff_time_records": "io.uff",
+    "place_channels": "io.uff", "read_tdms_records": "io.tdms",
+    "TimeRecords": "analysis.spectra", "estimate_frf": "analysis.spectra",
+    "identify_modes": "analysis.identification", "MeasuredModes": "analysis.identification",
+    "StabilizationChart": "analysis.identification",
+    "correlate": "analysis.correlation", "Correlation": "analysis.correlation",
+    "fit": "analysis.fit", "FitResult": "analysis.fit",
+    "stator_motion": "analysis.experimental", "RigidBodyMotion": "analysis.experimental",
+    # large rotations and time simulation
+    "kinematics": None, "simulation": None,
+    "simulate": "simulation", "SimulationResult": "simulation",
+    # parameter studies (the module is callable: rdm.study(model, spec))
+    "study": None, "StudyResult": "study", "load_study": "study",
+}
+_RENAMED = {"write_measured_csv": "write_csv"}
+
+__all__ = sorted(_API) + ["InputError", "ModelError", "rpm", "to_rpm", "hz", "to_hz", "__version__"]
+
+
+def __getattr__(name: str):
+    if name not in _API:
+        raise AttributeError(f"module 'rotordyn_modal' has no attribute {name!r}")
+    module = _API[name]
+    if module is None:
+        value = importlib.import_module(f".{name}", __name__)
+    else:
+        value = getattr(importlib.import_module(f".{module}", __name__), _RENAMED.get(name, name))
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_API))

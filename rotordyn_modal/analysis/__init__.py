@@ -1,20 +1,41 @@
-"""Analyses: each a plain function taking a model and returning a result object."""
+"""Analyses: each a plain function taking a model and returning a result object.
 
-from .campbell import CampbellResult, CriticalSpeeds, campbell, critical_speeds, excitation_sources
-from .modal import ModalResult, mac, modal
-from .stability import StabilityMap, StabilityResult, stability, stability_map
-from .fit import FitResult, fit
-from .forces import force_frf
-from .frf import FRFResult, frf
-from .unbalance import UnbalanceResult, unbalance_response
-from .correlation import Correlation, correlate, fit_measured_modes
-from .identification import MeasuredModes, StabilizationChart, identify_modes
-from .experimental import RigidBodyMotion, stator_motion, transformation_matrix
+One module per analysis (``modal``, ``campbell``, ``stability``, ``frf``, ``unbalance``, ...).
+The functions are public from the package root (``rdm.campbell``) or their module
+(``rotordyn_modal.analysis.campbell.campbell``); here a name that is also a module's name
+(``modal``, ``campbell``, ``stability``, ``frf``, ``fit``) is that module. The other names are
+imported from their module when first used, so that one analysis does not load the others.
+"""
 
-__all__ = ["modal", "ModalResult", "mac", "campbell", "CampbellResult", "critical_speeds",
-           "CriticalSpeeds", "excitation_sources", "stability", "stability_map", "StabilityResult",
-           "StabilityMap",
-           "frf", "FRFResult", "force_frf", "unbalance_response", "UnbalanceResult", "fit", "FitResult",
-           "correlate", "Correlation", "fit_measured_modes", "identify_modes", "MeasuredModes",
-           "StabilizationChart", "stator_motion", "RigidBodyMotion",
-           "transformation_matrix"]
+from __future__ import annotations
+
+import importlib
+
+_API = {
+    "ModalResult": "modal", "mac": "modal",
+    "CampbellResult": "campbell", "critical_speeds": "campbell",
+    "CriticalSpeeds": "campbell", "excitation_sources": "campbell",
+    "stability_map": "stability", "StabilityResult": "stability", "StabilityMap": "stability",
+    "FRFResult": "frf", "force_frf": "forces",
+    "unbalance_response": "unbalance", "UnbalanceResult": "unbalance",
+    "FitResult": "fit",
+    "correlate": "correlation", "Correlation": "correlation", "fit_measured_modes": "correlation",
+    "identify_modes": "identification", "MeasuredModes": "identification",
+    "StabilizationChart": "identification",
+    "stator_motion": "experimental", "RigidBodyMotion": "experimental",
+    "transformation_matrix": "experimental",
+}
+
+__all__ = sorted(_API)
+
+
+def __getattr__(name: str):
+    if name not in _API:
+        raise AttributeError(f"module 'rotordyn_modal.analysis' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{_API[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_API))

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from ..analysis import campbell
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       save_figure, show_progress, speeds_option, use_agg, write_table)
 
@@ -30,6 +29,7 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
+    from ..analysis.campbell import campbell
     model = open_model(args)
     result = campbell(model, speeds_option(args), orders=tuple(parse_list(args.orders, "--orders")),
                       progress=show_progress(args))

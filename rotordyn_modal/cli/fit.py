@@ -6,10 +6,8 @@ import sys
 
 import numpy as np
 
-from ..analysis.fit import fit
 from ..errors import InputError
 from ..io import save_model
-from ..io.measured import read_measured
 from ._common import (add_model_argument, check_output_options, check_outputs, load_model, parse_list,
                       save_figure, show_progress, use_agg)
 
@@ -45,6 +43,8 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
+    from ..analysis.fit import fit
+    from ..io.measured import read_measured
     check_outputs(args, args.out)
     check_output_options(args)
     model = load_model(args.model)

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from ..analysis.forces import force_frf
-from ..analysis.frf import QUANTITIES, frf
 from ..errors import InputError
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
                       parse_range, save_figure, to_rad_s, use_agg, write_table)
@@ -37,7 +35,7 @@ def add_arguments(parser):
     parser.add_argument("--freqs", required=True, help="START:STOP:N frequencies [Hz]")
     parser.add_argument("--input", help="excitation name(s), comma-separated (default all)")
     parser.add_argument("--output", help="sensor name(s), comma-separated (default all)")
-    parser.add_argument("--quantity", choices=list(QUANTITIES), default="receptance")
+    parser.add_argument("--quantity", choices=["receptance", "mobility", "accelerance"], default="receptance")
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors"],
                         help="forces per unit input instead of sensor motion")
     parser.add_argument("--measured", metavar="FILE", help="measured FRFs (.uff/.unv or .csv) to draw under the model")
@@ -50,6 +48,8 @@ def names(text):
 
 
 def run(args) -> int:
+    from ..analysis.forces import force_frf
+    from ..analysis.frf import frf
     model = open_model(args)
     speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
     freqs = parse_range(args.freqs, "--freqs")

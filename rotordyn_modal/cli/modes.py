@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import sys
 
-from ..analysis import modal
-from ..analysis.modal import OVERDAMPED_LIMIT
 from ..errors import InputError
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
                       save_figure, to_rad_s, use_agg, write_table)
@@ -43,7 +41,15 @@ def add_arguments(parser):
     add_outputs(parser)
 
 
+def modal(model, speed):
+    """:func:`rotordyn_modal.analysis.modal.modal`, imported when a command runs (fast start-up)."""
+    from ..analysis.modal import modal as compute
+
+    return compute(model, speed)
+
+
 def run(args) -> int:
+    from ..analysis.modal import OVERDAMPED_LIMIT
     _check_shape_options(args)
     model = open_model(args)
     speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))

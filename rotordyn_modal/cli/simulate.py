@@ -70,7 +70,7 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
-    from ..analysis import campbell
+    from ..analysis.campbell import campbell
     from ..simulation import simulate
 
     model = open_model(args)

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import sys
 
-from ..analysis import stability
 from ..errors import InputError
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       parse_range, save_figure, show_progress, speeds_option, use_agg, write_table)
@@ -42,6 +41,7 @@ def _grid(text, option):
 
 
 def run(args) -> int:
+    from ..analysis.stability import stability
     model = open_model(args)
     if args.vary and not (args.values or args.scale):
         raise InputError("--vary needs --values or --scale")

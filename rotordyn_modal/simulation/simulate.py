@@ -221,7 +221,7 @@ def _impulse_velocity(model, system, kn, y0, name, size, mode):
 
 
 def _default_samples(model, speed, final_speed, duration):
-    from ..analysis import modal
+    from ..analysis.modal import modal
 
     fastest_spin = max(abs(speed), abs(final_speed or 0.0)) * max(abs(r) for r in model.speed_ratios.values())
     try:

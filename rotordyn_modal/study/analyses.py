@@ -109,7 +109,7 @@ def _parse_unbalance(table, where, source):
 
 # ---------------------------------------------------------------------------- campbell
 def _campbell_of(model, options, cache):
-    from ..analysis import campbell
+    from ..analysis.campbell import campbell
 
     key = ("campbell", options["speeds"].tobytes(), options["orders"])
     if key not in cache:
@@ -118,7 +118,7 @@ def _campbell_of(model, options, cache):
 
 
 def _describe_campbell(model, options):
-    from ..analysis import excitation_sources
+    from ..analysis.campbell import excitation_sources
 
     dims = ("speed", "mode")
     variables = {name: dims for name in ("frequency_hz", "damping_ratio", "real_part", "whirl_ratio")}
@@ -141,7 +141,7 @@ def _run_campbell(model, options, layout, cache):
 
 
 def _describe_critical(model, options):
-    from ..analysis import excitation_sources
+    from ..analysis.campbell import excitation_sources
 
     sources = excitation_sources(model).names
     rows = [(s, o, m) for s in sources for o in options["orders"] for m in range(1, mode_count(model) + 1)]
@@ -175,7 +175,7 @@ def _describe_modes(model, options):
 
 
 def _run_modes(model, options, layout, cache):
-    from ..analysis import modal
+    from ..analysis.modal import modal
 
     result = modal(model, options["speed"])
     return {"modal_frequency_hz": result.frequencies_hz, "modal_damping_ratio": result.damping_ratios}
@@ -189,7 +189,7 @@ def _describe_stability(model, options):
 
 
 def _run_stability(model, options, layout, cache):
-    from ..analysis import stability
+    from ..analysis.stability import stability
     from ..analysis.stability import _significant_real_parts
 
     result = stability(model, options["speeds"])
@@ -261,7 +261,7 @@ ANALYSES = {
                           _run_stability),
 }
 try:  # the response issue provides it; plug in only if it is there
-    from ..analysis import unbalance_response as _unbalance_response  # noqa: F401
+    from ..analysis.unbalance import unbalance_response as _unbalance_response  # noqa: F401
 except ImportError:  # pragma: no cover
     pass
 else:

@@ -52,6 +52,10 @@ def plot_mode_shape(view, ax=None, phase: float = 0.0, orbits: bool = True, labe
     """
     projections = ax is None if projections is None else projections
     fig, ax, flat = _figure(ax, projections)
+    # frame first and hold it: mplot3d's autoscaling can overflow to infinite limits when
+    # collections arrive on a fresh 3D axes
+    _frame(ax, flat, view)
+    ax.set_autoscale_on(False)
     _draw_static(ax, flat, view, orbits)
     _draw_displaced(ax, flat, view, phase)
     if labels:
@@ -238,7 +242,7 @@ def _draw_displaced(ax, flat, view, phase):
             faces = Poly3DCollection([points[list(face)] for face in body.faces], facecolor=colour,
                                      alpha=0.15 if body.kind == "stator" else 0.35, edgecolor="none")
             faces.set_gid(f"displaced-faces:{body.name}")
-            ax.add_collection3d(faces)
+            ax.add_collection3d(faces, autolim=False)
     for k, (bracket, motion) in enumerate(zip(view.outline.brackets, view.bracket_motion)):
         _polyline(ax, flat, bracket + np.real(motion * turn), f"displaced-bracket:{k}", color="tab:blue",
                   linewidth=1.4)

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..errors import InputError
 from . import _kernels
-from ._system import system_arrays
+from ._system import check_table_speeds, system_arrays
 from .result import SimulationResult
 
 __all__ = ["simulate", "DRIVES", "BACKENDS", "kernels"]
@@ -96,11 +96,13 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     duration, speed = _positive(duration, "duration"), _finite(speed, "speed")
     system = system_arrays(model, unbalance_phases_deg)
     mode, accel = _drive(drive, speed, final_speed, duration)
+    span = [speed] if final_speed is None else [speed, final_speed]
+    check_table_speeds(model, span, "the simulation's speeds " + " .. ".join(f"{v:.6g}" for v in span) + " rad/s")
     kn = kernels(backend)
     n = system.n_dof
     y0 = np.zeros(2 * n)
     if initial == "equilibrium":
-        y0[:n - 1] = _static_equilibrium(model, kn, system.n_dof)
+        y0[:n - 1] = _static_equilibrium(model, kn, system.n_dof, speed)
     elif initial != "rest":
         raise InputError(f"initial {initial!r}: expected 'rest' or 'equilibrium'")
     y0[2 * n - 1] = speed
@@ -109,6 +111,9 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     times = np.linspace(0.0, duration, samples or _default_samples(model, speed, final_speed, duration))
     extra = (mode, accel, 0.0, duration)
     states = _integrate(kn, system, extra, y0, times, rtol, atol, progress)
+    if drive == "free":
+        check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
+                           "with an ideal drive, or extend the table")
     return SimulationResult.from_states(model, system, kn, extra, times, states, drive=drive)
 
 
@@ -179,8 +184,9 @@ def _drive(drive, speed, final_speed, duration):
     return (_kernels.FREE if drive == "free" else _kernels.PRESCRIBED), 0.0
 
 
-def _static_equilibrium(model, kn, n):
-    """Coordinates ``[x, g, (psi)]`` where gravity and the suspensions balance, at rest."""
+def _static_equilibrium(model, kn, n, speed):
+    """Coordinates (all but ``phi``) where gravity, the suspensions and the bearings balance,
+    at rest (the rotors spinning at ``speed``, which only sets speed-dependent bearings)."""
     from scipy.optimize import root
 
     data = model.to_dict()
@@ -191,29 +197,33 @@ def _static_equilibrium(model, kn, n):
     def residual(coordinates):
         y = np.zeros(2 * n)
         y[:n - 1] = coordinates
+        y[2 * n - 1] = speed
         return kn.accelerations(0.0, y, *arguments)[0][:n - 1]
 
     solution = root(residual, np.zeros(n - 1), method="hybr", tol=1e-12)
     if np.abs(residual(solution.x)).max() > 1e-8:  # judged by the residual acceleration [m/s^2, rad/s^2]
         raise InputError(f"{model.source}: no static equilibrium under gravity found ({solution.message}); "
-                         "do the suspensions restrain every direction? Use initial 'rest'")
+                         "do the suspensions and bearings restrain every direction? Use initial 'rest'")
     return solution.x
 
 
 def _impulse_velocity(model, system, kn, y0, name, size, mode):
     """Velocity jump ``M^-1 Q`` of an impulse ``size`` through excitation ``name``."""
-    from ..assembly import excitation_columns
+    from ..assembly import _select
+    from ._kernels import point_partials
 
-    column = excitation_columns(model, [name])[:, 0] * _finite(size, "impulse size")
+    excitation = _select(model.excitations, [name], "excitation")[0]
+    size = _finite(size, "impulse size")
     n = system.n_dof
     M, _ = kn.assemble(0.0, y0, *system.kernel_arguments())
-    # generalized force on [x, g, psi, phi] of a force/moment given on [u, theta] at rest
-    basis = np.zeros((6, n))
-    basis[:3, :3] = np.eye(3)
-    basis[3:, 3:5] = system.E2
-    if system.s:
-        basis[3:, 5] = system.e
-    force = basis.T @ column
+    point = np.asarray(excitation.position, dtype=float) - system.reference_point
+    if excitation.rotor is None:
+        body = (0.0, -1, 2, point, np.zeros(3))
+    else:
+        b = system.rotor_index[[r.name for r in model.rotors].index(excitation.rotor)]
+        body = (system.ratio[b], system.slot[b], system.ntrans[b], system.center[b], point - system.center[b])
+    P, W = point_partials(y0, system.e, system.E2, system.nf, system.A3, *body)
+    force = (W if excitation.kind == "moment" else P).T @ (size * np.asarray(excitation.direction, dtype=float))
     jump = np.zeros(n)
     k = n if mode == _kernels.FREE else n - 1
     jump[:k] = np.linalg.solve(M[:k, :k], force[:k])
@@ -224,10 +234,13 @@ def _default_samples(model, speed, final_speed, duration):
     from ..analysis import modal
 
     fastest_spin = max(abs(speed), abs(final_speed or 0.0)) * max(abs(r) for r in model.speed_ratios.values())
-    try:
-        natural = np.max(np.abs(modal(model, 0.0).eigenvalues.imag), initial=0.0)
-    except Exception:  # noqa: BLE001 - a model without restoring force still simulates
-        natural = 0.0
+    natural = 0.0
+    for at in [v for v in (0.0, speed, final_speed) if v is not None]:  # tables may not reach 0
+        try:
+            natural = max(natural, np.max(np.abs(modal(model, at).eigenvalues.imag), initial=0.0))
+            break
+        except Exception:  # noqa: BLE001 - a model without restoring force still simulates
+            continue
     rate = 20.0 * max(fastest_spin, natural) / (2 * np.pi)
     return int(min(max(201, rate * duration + 1), 2_000_001))
 

@@ -105,65 +105,133 @@ def _interpolate(speeds, count, K, C, own, Kout, Cout):
             Cout[i, k] = (1.0 - t) * C[lo, i, k] + t * C[hi, i, k]
 
 
-def rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-        spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, mode, accel, t_start, t_stop):
-    """``dy/dt`` (2n,); see :func:`rotordyn_modal.simulation._kernels.rhs`."""
+def _frame(y, n, e, E2, nf, Rs, H, eg, omega, wdot0, gamma, mats, vec):
+    """The frame's rotation ``Rs``, ``H`` (columns of ``omega = H eta``), spin axis ``eg``,
+    angular velocity, its rate at zero second derivatives, and Euler vector (all filled in;
+    identity and zeros on the ground). ``mats`` (3, 3, 3) and ``vec`` (4, 3) are scratch.
+
+    Returns
+    -------
+    psi : float
+        The roll angle [rad] (0 without a stator).
+    """
+    m_rot = nf - 3 if nf > 0 else 0
+    psi = 0.0
+    for i in range(3):
+        eg[i], omega[i], wdot0[i], gamma[i] = e[i], 0.0, 0.0, 0.0
+        for k in range(3):
+            Rs[i, k] = 1.0 if i == k else 0.0
+    if nf == 0:
+        return psi
+    Lg, Bg, R1 = mats[0], mats[1], mats[2]
+    gdot, og, v1, v2 = vec[0], vec[1], vec[2], vec[3]
+    for i in range(3):
+        gamma[i] = E2[i, 0] * y[3] + E2[i, 1] * y[4]
+        gdot[i] = E2[i, 0] * y[n + 3] + E2[i, 1] * y[n + 4]
+    psi_dot = 0.0
+    if m_rot == 3:
+        psi, psi_dot = y[5], y[n + 5]
+    t2 = gamma[0] * gamma[0] + gamma[1] * gamma[1] + gamma[2] * gamma[2]
+    a, c, b, da, dc, db = _coefficients(t2)
+    _rodrigues(1.0 - c * t2, c, a, gamma, Lg)
+    _rodrigues(a, b, c, gamma, Bg)
+    _rodrigues(np.cos(psi), 1.0 - np.cos(psi), np.sin(psi), e, R1)
+    _mat3(Lg, R1, Rs)
+    _mv3(Lg, e, eg)
+    for i in range(3):
+        for k in range(2):
+            H[i, k] = Bg[i, 0] * E2[0, k] + Bg[i, 1] * E2[1, k] + Bg[i, 2] * E2[2, k]
+        H[i, 2] = eg[i]
+    _mv3(Bg, gdot, og)
+    for i in range(3):
+        omega[i] = og[i] + psi_dot * eg[i]
+    # D B(gamma)[gdot] gdot + psi_dot og x eg
+    vw = gamma[0] * gdot[0] + gamma[1] * gdot[1] + gamma[2] * gdot[2]
+    ww = gdot[0] * gdot[0] + gdot[1] * gdot[1] + gdot[2] * gdot[2]
+    _cross(gamma, gdot, v1)
+    _cross(og, eg, v2)
+    for i in range(3):
+        wdot0[i] = (da * vw * gdot[i] + db * vw * vw * gamma[i] + b * (vw * gdot[i] + ww * gamma[i])
+                    + dc * vw * v1[i] + psi_dot * v2[i])
+    return psi
+
+
+def _relative(y, n, j, kt, A3, u, ud, gj, gjd):
+    """A rotor's translation, transverse Euler vector and their rates relative to the frame
+    (frame axes), filled in from the coordinates starting at ``j``."""
+    for i in range(3):
+        u[i] = A3[i, 0] * y[j] + A3[i, 1] * y[j + 1]
+        ud[i] = A3[i, 0] * y[n + j] + A3[i, 1] * y[n + j + 1]
+        if kt == 3:
+            u[i] += A3[i, 2] * y[j + 2]
+            ud[i] += A3[i, 2] * y[n + j + 2]
+        gj[i] = A3[i, 0] * y[j + kt] + A3[i, 1] * y[j + kt + 1]
+        gjd[i] = A3[i, 0] * y[n + j + kt] + A3[i, 1] * y[n + j + kt + 1]
+
+
+def _bearing_stretch(y, n, j, kt, A3, Lj, Bj, point, u, gj, z, zd, Zb, BA, lb):
+    """A bearing's ``z = [u + Lj b - b, gamma_j]``, ``dz/dt`` and its Jacobian ``Zb`` (6, kt + 2)
+    on the rotor's own coordinates (``u``, ``gj`` its relative motion, ``BA``, ``lb`` scratch)."""
+    nk = kt + 2
+    _mv3(Lj, point, lb)
+    for i in range(3):
+        z[i] = u[i] + lb[i] - point[i]
+        z[3 + i] = gj[i]
+        for k in range(nk):
+            Zb[i, k] = 0.0
+            Zb[3 + i, k] = 0.0
+        for k in range(kt):
+            Zb[i, k] = A3[i, k]
+    for k in range(2):
+        for i in range(3):
+            BA[i, k] = Bj[i, 0] * A3[0, k] + Bj[i, 1] * A3[1, k] + Bj[i, 2] * A3[2, k]
+            Zb[3 + i, kt + k] = A3[i, k]
+        # -lb x (B A)_k
+        Zb[0, kt + k] = -(lb[1] * BA[2, k] - lb[2] * BA[1, k])
+        Zb[1, kt + k] = -(lb[2] * BA[0, k] - lb[0] * BA[2, k])
+        Zb[2, kt + k] = -(lb[0] * BA[1, k] - lb[1] * BA[0, k])
+    for i in range(6):
+        v = 0.0
+        for k in range(nk):
+            v += Zb[i, k] * y[n + j + k]
+        zd[i] = v
+
+
+def _tilt(gj, Lj, Bj):
+    """``L(gamma_j)``, ``B(gamma_j)`` into ``Lj``, ``Bj``; returns the coefficients of
+    :func:`_coefficients` (for ``D B``)."""
+    t2 = gj[0] * gj[0] + gj[1] * gj[1] + gj[2] * gj[2]
+    a, c, b, da, dc, db = _coefficients(t2)
+    _rodrigues(1.0 - c * t2, c, a, gj, Lj)
+    _rodrigues(a, b, c, gj, Bj)
+    return b, c, da, dc, db
+
+
+def assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, M, f):
+    """Add the generalized mass matrix to ``M`` (n, n) and the force to ``f`` (n,), both
+    zero on entry; see :func:`rotordyn_modal.simulation._kernels.assemble`."""
     n = y.shape[0] // 2
     m_rot = nf - 3 if nf > 0 else 0
     nb = mass.shape[0]
     phi, phi_dot = y[n - 1], y[2 * n - 1]
-    Lg, Bg, R1, Rs = np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3))
-    Rb, Ib, T3, Rl = np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3))
-    eg, og, omega, wdot0 = np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3)
-    gamma, gdot = np.zeros(3), np.zeros(3)
-    v1, v2, v3 = np.empty(3), np.empty(3), np.empty(3)
-    H = np.zeros((3, 3))
-    psi = 0.0
-    for i in range(3):
-        eg[i] = e[i]
-        for k in range(3):
-            Rs[i, k] = 1.0 if i == k else 0.0
-    if nf > 0:
-        for i in range(3):
-            gamma[i] = E2[i, 0] * y[3] + E2[i, 1] * y[4]
-            gdot[i] = E2[i, 0] * y[n + 3] + E2[i, 1] * y[n + 4]
-        psi_dot = 0.0
-        if m_rot == 3:
-            psi, psi_dot = y[5], y[n + 5]
-        t2 = gamma[0] * gamma[0] + gamma[1] * gamma[1] + gamma[2] * gamma[2]
-        a, c, b, da, dc, db = _coefficients(t2)
-        _rodrigues(1.0 - c * t2, c, a, gamma, Lg)
-        _rodrigues(a, b, c, gamma, Bg)
-        _rodrigues(np.cos(psi), 1.0 - np.cos(psi), np.sin(psi), e, R1)
-        _mat3(Lg, R1, Rs)
-        _mv3(Lg, e, eg)
-        for i in range(3):
-            for k in range(2):
-                H[i, k] = Bg[i, 0] * E2[0, k] + Bg[i, 1] * E2[1, k] + Bg[i, 2] * E2[2, k]
-            H[i, 2] = eg[i]
-        _mv3(Bg, gdot, og)
-        for i in range(3):
-            omega[i] = og[i] + psi_dot * eg[i]
-        # D B(gamma)[gdot] gdot + psi_dot og x eg
-        vw = gamma[0] * gdot[0] + gamma[1] * gdot[1] + gamma[2] * gdot[2]
-        ww = gdot[0] * gdot[0] + gdot[1] * gdot[1] + gdot[2] * gdot[2]
-        _cross(gamma, gdot, v1)
-        _cross(og, eg, v2)
-        for i in range(3):
-            wdot0[i] = (da * vw * gdot[i] + db * vw * vw * gamma[i] + b * (vw * gdot[i] + ww * gamma[i])
-                        + dc * vw * v1[i] + psi_dot * v2[i])
-    M = np.zeros((n, n))
-    f = np.zeros(n)
-    P = np.zeros((3, n))
-    W = np.zeros((3, n))
-    IW = np.empty((3, n))
+    mats = np.empty((13, 3, 3))    # scratch: one allocation for the small arrays
+    R1, Rs, Rb, Ib, T3, Rl = mats[0], mats[1], mats[2], mats[3], mats[4], mats[5]
+    Lj, Bj, H = mats[6], mats[7], mats[8]
+    vec = np.zeros((32, 3))
+    eg, omega, wdot0, gamma = vec[0], vec[1], vec[2], vec[3]
+    v1, v2, v3 = vec[4], vec[5], vec[6]
+    u, ud, gj, gjd, orel, drel = vec[7], vec[8], vec[9], vec[10], vec[11], vec[12]
+    ej, vrel, cu, fat, w, arm = vec[13], vec[14], vec[15], vec[16], vec[17], vec[18]
+    d, bo, al, a0, mom, rhs3, lb = vec[19], vec[20], vec[21], vec[22], vec[23], vec[24], vec[25]
+    psi = _frame(y, n, e, E2, nf, Rs, H, eg, omega, wdot0, gamma, mats[9:12], vec[26:30])
+    PW = np.zeros((3, 3, n))
+    P, W, IW = PW[0], PW[1], PW[2]
     cols = np.empty(n, dtype=np.int64)
-    Lrel, Brel = np.empty((nb, 3, 3)), np.empty((nb, 3, 3))
-    Lj, Bj, Hj, BA = np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 2)), np.empty((3, 2))
-    u, ud, gj, gjd = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    orel, drel, ej, vrel, cu, fat = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    w, arm, d, bo = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    al, a0, mom, rhs3 = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    rel = np.empty((2, nb, 3, 3))
+    Lrel, Brel = rel[0], rel[1]
+    HB = np.empty((2, 3, 2))
+    Hj, BA = HB[0], HB[1]
     for bdy in range(nb):
         r = ratio[bdy]
         j = slot[bdy]
@@ -176,18 +244,8 @@ def rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, nt
             for k in range(kt + 2):
                 cols[ncol] = j + k
                 ncol += 1
-            for i in range(3):
-                u[i] = A3[i, 0] * y[j] + A3[i, 1] * y[j + 1]
-                ud[i] = A3[i, 0] * y[n + j] + A3[i, 1] * y[n + j + 1]
-                if kt == 3:
-                    u[i] += A3[i, 2] * y[j + 2]
-                    ud[i] += A3[i, 2] * y[n + j + 2]
-                gj[i] = A3[i, 0] * y[j + kt] + A3[i, 1] * y[j + kt + 1]
-                gjd[i] = A3[i, 0] * y[n + j + kt] + A3[i, 1] * y[n + j + kt + 1]
-            t2 = gj[0] * gj[0] + gj[1] * gj[1] + gj[2] * gj[2]
-            a, c, b, da, dc, db = _coefficients(t2)
-            _rodrigues(1.0 - c * t2, c, a, gj, Lj)
-            _rodrigues(a, b, c, gj, Bj)
+            _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+            b, c, da, dc, db = _tilt(gj, Lj, Bj)
             for i in range(3):
                 for k in range(3):
                     Lrel[bdy, i, k] = Lj[i, k]
@@ -200,6 +258,7 @@ def rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, nt
                     Hj[i, k] = Rs[i, 0] * BA[0, k] + Rs[i, 1] * BA[1, k] + Rs[i, 2] * BA[2, k]
             _mv3(Bj, gjd, v1)
             _mv3(Rs, v1, orel)
+            # D B(gamma_j)[gjd] gjd
             vw = gj[0] * gjd[0] + gj[1] * gjd[1] + gj[2] * gjd[2]
             ww = gjd[0] * gjd[0] + gjd[1] * gjd[1] + gjd[2] * gjd[2]
             _cross(gj, gjd, v1)
@@ -297,9 +356,11 @@ def rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, nt
             k = cols[ci]
             f[k] += (P[0, k] * v3[0] + P[1, k] * v3[1] + P[2, k] * v3[2]
                      - W[0, k] * rhs3[0] - W[1, k] * rhs3[1] - W[2, k] * rhs3[2])
-    z, zd, gz = np.empty(6), np.empty(6), np.empty(6)
+    sixes = np.empty((3, 6))
+    z, zd, gz = sixes[0], sixes[1], sixes[2]
+    blocks = np.zeros((4, 6, 6))
+    Kb, Cb, Zb, Z = blocks[0], blocks[1], blocks[2], blocks[3]
     if nf > 0:
-        Z = np.zeros((6, nf))
         for i in range(3):
             Z[i, i] = 1.0
             for k in range(2):
@@ -331,68 +392,196 @@ def rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, nt
                 for i in range(6):
                     v += Z[i, k] * gz[i]
                 f[k] -= v
-    Kb, Cb, Zb = np.empty((6, 6)), np.empty((6, 6)), np.empty((6, 5))
-    lb = np.empty(3)
     for br in range(bbody.shape[0]):
         bdy = bbody[br]
         j = slot[bdy]
         kt = ntrans[bdy]
-        nk = kt + 2
         _interpolate(bspeeds[br], bcount[br], bK[br], bC[br], ratio[bdy] * phi_dot, Kb, Cb)
-        for i in range(3):
-            u[i] = A3[i, 0] * y[j] + A3[i, 1] * y[j + 1]
-            if kt == 3:
-                u[i] += A3[i, 2] * y[j + 2]
-            gj[i] = A3[i, 0] * y[j + kt] + A3[i, 1] * y[j + kt + 1]
-        _mv3(Lrel[bdy], bpos[br], lb)
-        for i in range(3):
-            z[i] = u[i] + lb[i] - bpos[br, i]
-            z[3 + i] = gj[i]
-            for k in range(nk):
-                Zb[i, k] = 0.0
-                Zb[3 + i, k] = 0.0
-            for k in range(kt):
-                Zb[i, k] = A3[i, k]
-        Bj = Brel[bdy]
-        for k in range(2):
-            for i in range(3):
-                BA[i, k] = Bj[i, 0] * A3[0, k] + Bj[i, 1] * A3[1, k] + Bj[i, 2] * A3[2, k]
-                Zb[3 + i, kt + k] = A3[i, k]
-            # -lb x (B A)_k
-            Zb[0, kt + k] = -(lb[1] * BA[2, k] - lb[2] * BA[1, k])
-            Zb[1, kt + k] = -(lb[2] * BA[0, k] - lb[0] * BA[2, k])
-            Zb[2, kt + k] = -(lb[0] * BA[1, k] - lb[1] * BA[0, k])
-        for i in range(6):
-            v = 0.0
-            for k in range(nk):
-                v += Zb[i, k] * y[n + j + k]
-            zd[i] = v
+        _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+        _bearing_stretch(y, n, j, kt, A3, Lrel[bdy], Brel[bdy], bpos[br], u, gj, z, zd, Zb, BA, lb)
         for i in range(6):
             v = 0.0
             for k in range(6):
                 v += Kb[i, k] * z[k] + Cb[i, k] * zd[k]
             gz[i] = v
-        for k in range(nk):
+        for k in range(kt + 2):
             v = 0.0
             for i in range(6):
                 v += Zb[i, k] * gz[i]
             f[j + k] -= v
+
+
+def assemble(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+             spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC):
+    """``(M, f)``: :func:`rotordyn_modal.simulation._kernels.assemble`, allocation-light."""
+    n = y.shape[0] // 2
+    M = np.zeros((n, n))
+    f = np.zeros(n)
+    assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, M, f)
+    return M, f
+
+
+def _solve_motion(M, f, t, mode, accel, t_start, t_stop, qdd):
+    """``d2q/dt2`` into ``qdd`` (``M[:k, :k]`` and ``f[:k]`` overwritten); returns the drive
+    torque [N m]; see :func:`rotordyn_modal.simulation._kernels.solve_motion`."""
+    n = f.shape[0]
+    if mode == 0:
+        _solve_spd(M, f, n, qdd)
+        return 0.0
+    alpha = accel if t_start <= t <= t_stop else 0.0
+    k = n - 1
+    for i in range(k):
+        f[i] -= M[i, k] * alpha
+    _solve_spd(M, f, k, qdd)     # leaves row k of M and f[k] alone
+    qdd[k] = alpha
+    torque = M[k, k] * alpha - f[k]
+    for i in range(k):
+        torque += M[k, i] * qdd[i]
+    return torque
+
+
+def rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+        spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, mode, accel, t_start, t_stop):
+    """``dy/dt`` (2n,); see :func:`rotordyn_modal.simulation._kernels.rhs`."""
+    n = y.shape[0] // 2
+    work = np.zeros(n * n + n)
+    M = work[:n * n].reshape((n, n))
+    f = work[n * n:]
+    assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, M, f)
     out = np.empty(2 * n)
     for i in range(n):
         out[i] = y[n + i]
-    qdd = np.empty(n)
-    if mode == 0:
-        _solve_spd(M, f, n, qdd)
-    else:
-        alpha = accel if t_start <= t <= t_stop else 0.0
-        k = n - 1
-        for i in range(k):
-            f[i] -= M[i, k] * alpha
-        _solve_spd(M, f, k, qdd)
-        qdd[k] = alpha
-    for i in range(n):
-        out[n + i] = qdd[i]
+    _solve_motion(M, f, t, mode, accel, t_start, t_stop, out[n:])
     return out
+
+
+def potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, A3, spos, sK,
+              bbody, bpos, bspeeds, bcount, bK, bC):
+    """Elastic and gravitational potential energy [J]; see
+    :func:`rotordyn_modal.simulation._kernels.potential`."""
+    n = y.shape[0] // 2
+    mats = np.empty((9, 3, 3))
+    Rs, H, R1, Lj, Bj, Rl = mats[0], mats[1], mats[2], mats[3], mats[4], mats[5]
+    blocks = np.empty((3, 6, 6))
+    Kb, Cb, Zb = blocks[0], blocks[1], blocks[2]
+    vec = np.zeros((16, 3))
+    eg, omega, wdot0, gamma, u, ud, gj, gjd, lb, v1, v2 = (vec[0], vec[1], vec[2], vec[3], vec[4], vec[5],
+                                                           vec[6], vec[7], vec[8], vec[9], vec[10])
+    psi = _frame(y, n, e, E2, nf, Rs, H, eg, omega, wdot0, gamma, mats[6:9], vec[11:15])
+    z, zd = np.empty(6), np.empty(6)
+    BA = np.empty((3, 2))
+    elastic = 0.0
+    if nf > 0:
+        for sp in range(spos.shape[0]):
+            _mv3(Rs, spos[sp], v1)
+            for i in range(3):
+                z[i] = y[i] + v1[i] - spos[sp, i]
+                z[3 + i] = gamma[i] + psi * e[i]
+            elastic += 0.5 * _quadratic(sK[sp], z)
+    for br in range(bbody.shape[0]):
+        bdy = bbody[br]
+        j, kt = slot[bdy], ntrans[bdy]
+        _interpolate(bspeeds[br], bcount[br], bK[br], bC[br], ratio[bdy] * y[2 * n - 1], Kb, Cb)
+        _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+        _tilt(gj, Lj, Bj)
+        _bearing_stretch(y, n, j, kt, A3, Lj, Bj, bpos[br], u, gj, z, zd, Zb, BA, lb)
+        elastic += 0.5 * _quadratic(Kb, z)
+    weight = 0.0
+    for bdy in range(mass.shape[0]):
+        j, kt = slot[bdy], ntrans[bdy]
+        for i in range(3):
+            v1[i] = center[bdy, i]
+        if j >= 0:
+            _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+            _tilt(gj, Lj, Bj)
+            for i in range(3):
+                v1[i] += u[i]
+        else:
+            for i in range(3):
+                for k in range(3):
+                    Lj[i, k] = 1.0 if i == k else 0.0
+        ang = ratio[bdy] * y[n - 1]
+        _rodrigues(np.cos(ang), 1.0 - np.cos(ang), np.sin(ang), e, R1)
+        _mat3(Lj, R1, Rl)
+        _mv3(Rl, offset[bdy], v2)
+        for i in range(3):
+            v1[i] += v2[i]
+        _mv3(Rs, v1, v2)
+        for i in range(3):
+            weight -= mass[bdy] * gravity[i] * ((y[i] if nf > 0 else 0.0) + v2[i])
+    return elastic, weight
+
+
+def _quadratic(K, z):
+    """``z . K z`` for a 6x6 ``K``."""
+    total = 0.0
+    for i in range(6):
+        for k in range(6):
+            total += z[i] * K[i, k] * z[k]
+    return total
+
+
+def bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC):
+    """``K z + C dz/dt`` of every bearing, shape (nbr, 6); see
+    :func:`rotordyn_modal.simulation._kernels.bearing_wrenches`."""
+    n = y.shape[0] // 2
+    out = np.empty((bbody.shape[0], 6))
+    mats = np.empty((2, 3, 3))
+    Lj, Bj = mats[0], mats[1]
+    blocks = np.empty((3, 6, 6))
+    Kb, Cb, Zb = blocks[0], blocks[1], blocks[2]
+    vec = np.empty((5, 3))
+    u, ud, gj, gjd, lb = vec[0], vec[1], vec[2], vec[3], vec[4]
+    z, zd = np.empty(6), np.empty(6)
+    BA = np.empty((3, 2))
+    for br in range(bbody.shape[0]):
+        bdy = bbody[br]
+        j, kt = slot[bdy], ntrans[bdy]
+        _interpolate(bspeeds[br], bcount[br], bK[br], bC[br], ratio[bdy] * y[2 * n - 1], Kb, Cb)
+        _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+        _tilt(gj, Lj, Bj)
+        _bearing_stretch(y, n, j, kt, A3, Lj, Bj, bpos[br], u, gj, z, zd, Zb, BA, lb)
+        for i in range(6):
+            v = 0.0
+            for k in range(6):
+                v += Kb[i, k] * z[k] + Cb[i, k] * zd[k]
+            out[br, i] = v
+    return out
+
+
+def sample_outputs(times, states, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans,
+                   A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, mode, accel, t_start, t_stop):
+    """Per-sample derived outputs; see :func:`rotordyn_modal.simulation._kernels.sample_outputs`."""
+    count = times.shape[0]
+    n = states.shape[1] // 2
+    kinetic, elastic, weight = np.empty(count), np.empty(count), np.empty(count)
+    torque, omega = np.empty(count), np.empty((count, 3))
+    wrenches = np.empty((count, bbody.shape[0], 6))
+    work = np.empty(n * n + 2 * n)
+    M = work[:n * n].reshape((n, n))
+    f = work[n * n:n * n + n]
+    qdd = work[n * n + n:]
+    mats = np.empty((5, 3, 3))
+    vec = np.empty((7, 3))
+    for s in range(count):
+        y = states[s]
+        for i in range(n * n + n):
+            work[i] = 0.0
+        assemble_into(times[s], y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+                      spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, M, f)
+        total = 0.0
+        for i in range(n):
+            for k in range(n):
+                total += y[n + i] * M[i, k] * y[n + k]
+        kinetic[s] = 0.5 * total
+        torque[s] = _solve_motion(M, f, times[s], mode, accel, t_start, t_stop, qdd)
+        elastic[s], weight[s] = potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, A3,
+                                          spos, sK, bbody, bpos, bspeeds, bcount, bK, bC)
+        _frame(y, n, e, E2, nf, mats[0], mats[1], vec[0], omega[s], vec[1], vec[2], mats[2:5], vec[3:7])
+        wrenches[s] = bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC)
+    return kinetic, elastic, weight, torque, omega, wrenches
 
 
 def rhs_flat(t, y, floats, ints):
@@ -455,5 +644,6 @@ def pack(system, mode, accel, t_start, t_stop):
     return floats, ints
 
 
-FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_spd", "_interpolate", "rhs",
-             "rhs_flat")
+FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_spd", "_interpolate", "_frame",
+             "_relative", "_bearing_stretch", "_tilt", "assemble_into", "assemble", "_solve_motion", "rhs",
+             "potential", "_quadratic", "bearing_wrenches", "sample_outputs", "rhs_flat")

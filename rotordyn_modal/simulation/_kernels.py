@@ -251,9 +251,15 @@ def assemble(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slo
 def accelerations(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
                   spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, mode, accel, t_start, t_stop):
     """Second derivatives ``d2q/dt2`` (n,) and the drive torque [N m] at ``(t, y)``."""
-    n = y.shape[0] // 2
     M, f = assemble(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
                     spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC)
+    return solve_motion(M, f, t, mode, accel, t_start, t_stop)
+
+
+def solve_motion(M, f, t, mode, accel, t_start, t_stop):
+    """``d2q/dt2`` and the drive torque [N m] from ``M d2q/dt2 = f`` (+ the drive torque in
+    the last row): all of it free, or the last coordinate's acceleration prescribed."""
+    n = f.shape[0]
     if mode == FREE:
         return np.linalg.solve(M, f), 0.0
     alpha = drive_acceleration(t, accel, t_start, t_stop)
@@ -338,14 +344,12 @@ def sample_outputs(times, states, e, E2, nf, gravity, mass, center, offset, iner
     for i in range(count):
         y = states[i]
         q, dq = y[:n], y[n:]
-        M, _ = assemble(times[i], y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans,
+        M, f = assemble(times[i], y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans,
                         A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC)
         kinetic[i] = 0.5 * dq @ (M @ dq)
         elastic[i], weight[i] = potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, A3,
                                           spos, sK, bbody, bpos, bspeeds, bcount, bK, bC)
-        torque[i] = accelerations(times[i], y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot,
-                                  ntrans, A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC,
-                                  mode, accel, t_start, t_stop)[1]
+        torque[i] = solve_motion(M, f, times[i], mode, accel, t_start, t_stop)[1]
         omega[i] = frame_kinematics(q, dq, e, E2, nf)[3]
         wrenches[i] = bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC)
     return kinetic, elastic, weight, torque, omega, wrenches
@@ -371,18 +375,24 @@ def point_partials(y, e, E2, nf, A3, r, j, kt, center, point):
     return P, W
 
 
+#: kernels replaced by their allocation-light versions of ``_fast`` when compiled
+_FAST = ("assemble", "rhs", "potential", "bearing_wrenches", "sample_outputs")
 _KINEMATICS = ("skew", "_coefficients", "_inverse_coefficient", "rotation_tensor", "zhilin_tensor",
                "zhilin_inverse", "zhilin_derivative", "axial_rotation")
 _KERNELS = ("cross", "drive_acceleration", "frame_kinematics", "relative_motion", "body_kinematics",
-            "bearing_coefficients", "bearing_stretch", "suspension_stretch", "assemble", "accelerations",
-            "rhs", "potential", "bearing_wrenches", "sample_outputs")
+            "bearing_coefficients", "bearing_stretch", "suspension_stretch", "assemble", "solve_motion",
+            "accelerations", "rhs", "potential", "bearing_wrenches", "sample_outputs")
 
 
 def compiled_namespace():
     """The kernels compiled by numba (``None`` when numba is not installed).
 
     Each function is rebound to a namespace whose globals are the compiled versions of the
-    others, so numba can call them from machine code.
+    others, so numba can call them from machine code. The ones ``rdm.simulate`` calls
+    (``assemble``, ``rhs``, ``potential``, ``bearing_wrenches``, ``sample_outputs``) are the
+    allocation-light versions of :mod:`rotordyn_modal.simulation._fast` (same results to
+    round-off, tested), which also compile much faster; the readable ones compile only
+    when called.
     """
     try:
         import numba
@@ -394,13 +404,16 @@ def compiled_namespace():
         function = getattr(module, name) if module is not None else globals()[name]
         rebound = types.FunctionType(function.__code__, namespace, name, function.__defaults__)
         namespace[name] = numba.njit(cache=True, fastmath=False)(rebound)
+    fast = _compiled_fast(numba)
+    for name in _FAST:     # looked up by the readable callers when they compile, on first call
+        namespace[name] = fast[name]
     compiled = types.SimpleNamespace(**{name: namespace[name] for name in _KERNELS})
-    compiled.rhs, compiled.rhs_flat = _compiled_fast_rhs(numba)
+    compiled.rhs_flat = fast["rhs_flat"]
     return compiled
 
 
-def _compiled_fast_rhs(numba):
-    """The allocation-light right-hand side of ``_fast``, compiled."""
+def _compiled_fast(numba):
+    """The allocation-light kernels of ``_fast``, compiled (a dict by name)."""
     from . import _fast
 
     namespace = {"__name__": _fast.__name__, "np": np, "SERIES": _fast.SERIES}
@@ -408,7 +421,7 @@ def _compiled_fast_rhs(numba):
         function = getattr(_fast, name)
         rebound = types.FunctionType(function.__code__, namespace, name, function.__defaults__)
         namespace[name] = numba.njit(cache=True)(rebound)
-    return namespace["rhs"], namespace["rhs_flat"]
+    return namespace
 
 
 def plain_namespace():

@@ -198,7 +198,7 @@ def _static_equilibrium(model, kn, n, speed):
         y = np.zeros(2 * n)
         y[:n - 1] = coordinates
         y[2 * n - 1] = speed
-        return kn.accelerations(0.0, y, *arguments)[0][:n - 1]
+        return kn.rhs(0.0, y, *arguments)[n:2 * n - 1]
 
     solution = root(residual, np.zeros(n - 1), method="hybr", tol=1e-12)
     if np.abs(residual(solution.x)).max() > 1e-8:  # judged by the residual acceleration [m/s^2, rad/s^2]

@@ -39,16 +39,22 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     """Integrate the machine's nonlinear equations of motion with large rotations.
 
     The stator is a rigid body whose rotation is an axial (roll) angle plus a transverse Euler
-    vector (seed 001); every rotor turns in bearings fixed in the stator by its speed ratio
-    times the drive angle; gyroscopic coupling, unbalances (rotating masses), gravity and
-    suspension forces that follow their attachment points are exact. At t = 0 the stator is
-    at rest (in its undeformed position, or in static equilibrium under gravity) and the
-    rotors spin at ``speed``.
+    vector (seed 001); a rotor on ``[[bearings]]`` is a rigid body of its own that translates
+    and tilts in its bearings' springs and dampers (its orientation relative to the stator
+    again an axial angle plus a transverse Euler vector; the bearings stand on the ground
+    without a ``[stator]``); the other rotors turn in bearings fixed in the stator. Every
+    rotor's axial angle relative to the stator is its speed ratio times the drive angle;
+    gyroscopic coupling, unbalances (rotating masses), gravity and suspension and bearing
+    forces that follow their attachment points are exact. At t = 0 the machine is at rest
+    (in its undeformed position, or in static equilibrium under gravity) and the rotors spin
+    at ``speed``.
 
     Parameters
     ----------
     model : Model
-        A model without hysteretic damping (``loss_factor`` must be 0).
+        A model without hysteretic damping (``loss_factor`` must be 0), Maxwell branches or
+        journal bearings; tabulated bearing coefficients are followed at each rotor's own
+        speed (the simulated speeds must stay inside the tables).
     duration : float
         Simulated time [s], > 0.
     speed : float
@@ -62,8 +68,9 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         End speed of a ramp [rad/s] (required with ``drive='ramp'``).
     initial : {'rest', 'equilibrium'}
         ``'rest'``: undeformed position, springs unstretched; ``'equilibrium'``: the static
-        equilibrium under gravity (found by Newton's method on the machine at rest without
-        its unbalances).
+        equilibrium under gravity (found by Newton's method on the machine without its
+        unbalances, the rotors spinning at ``speed``, which only matters to speed-dependent
+        bearings).
     impulse : str, optional
         Name of an ``[[excitations]]`` entry hit at t = 0 by an impulse of ``impulse_size``
         [N s, or N m s for a moment].

@@ -123,21 +123,28 @@ def body_kinematics(q, dq, e, A3, nf, Rs, eg, H, omega, wdot0, r, j, kt, center,
     n = q.shape[0]
     phi, phi_dot = q[n - 1], dq[n - 1]
     m_rot = nf - 3 if nf > 0 else 0
-    u, u_dot, gj, gj_dot = relative_motion(q, dq, j, kt, A3)
-    Lj = rotation_tensor(gj)
-    Bj = zhilin_tensor(gj)
-    Hj = Rs @ Bj @ A3[:, :2].copy()
-    omega_rel = Rs @ (Bj @ gj_dot)
-    ej = Rs @ (Lj @ e)
-    v_rel = Rs @ u_dot
-    Rb = Rs @ Lj @ axial_rotation(r * phi, e)
+    if j >= 0:   # on bearings: its own translation and tilt in the frame
+        u, u_dot, gj, gj_dot = relative_motion(q, dq, j, kt, A3)
+        Lj = rotation_tensor(gj)
+        Bj = zhilin_tensor(gj)
+        Hj = Rs @ Bj @ A3[:, :2].copy()
+        omega_rel = Rs @ (Bj @ gj_dot)
+        tilt_rate = Rs @ (zhilin_derivative(gj, gj_dot) @ gj_dot)
+        ej = Rs @ (Lj @ e)
+        v_rel = Rs @ u_dot
+        Rt = Rs @ Lj
+    else:        # fixed in the frame
+        u, omega_rel, tilt_rate, v_rel = np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3)
+        Hj = np.zeros((3, 2))
+        ej = eg.copy()
+        Rt = Rs.copy()
+    Rb = Rt @ axial_rotation(r * phi, e)
     w = Rb @ offset
     arm = Rs @ (center + u)
     d = arm + w
     frame_and_tilt = omega + omega_rel
     body_omega = frame_and_tilt + r * phi_dot * ej
-    alpha0 = (wdot0 + cross(omega, omega_rel) + Rs @ (zhilin_derivative(gj, gj_dot) @ gj_dot)
-              + r * phi_dot * cross(frame_and_tilt, ej))
+    alpha0 = wdot0 + cross(omega, omega_rel) + tilt_rate + r * phi_dot * cross(frame_and_tilt, ej)
     a0 = (cross(wdot0, arm) + cross(omega, cross(omega, arm)) + 2.0 * cross(omega, v_rel)
           + cross(alpha0, w) + cross(body_omega, cross(body_omega, w)))
     P = np.zeros((3, n))

@@ -30,6 +30,14 @@ from .io.uff import write_uff58
 from . import study  # issue 7: parameter studies; the module is callable: rdm.study(model, spec)
 from .study import StudyResult, load_study
 
+# measurement side and pictures: time records and H1/H2, UFF geometry and time records, TDMS
+# ('tdms' extra), modal identification (LSCF: 'ema' extra), 3D mode shapes
+from .analysis.identification import MeasuredModes, StabilizationChart, identify_modes
+from .analysis.mode_shapes import ModeShape3D, mode_shape_3d
+from .analysis.spectra import TimeRecords, estimate_frf
+from .io.tdms import read_tdms_records
+from .io.uff import place_channels, read_uff_info, read_uff_nodes, read_uff_time_records
+
 __version__ = "0.1.0"
 
 __all__ = [
@@ -45,3 +53,6 @@ __all__ = [
     "RigidBodyMotion",
     "study", "StudyResult", "load_study",
 ]
+__all__ += ["identify_modes", "MeasuredModes", "StabilizationChart", "ModeShape3D", "mode_shape_3d", "TimeRecords",
+            "estimate_frf", "read_tdms_records", "place_channels", "read_uff_info", "read_uff_nodes",
+            "read_uff_time_records"]

@@ -23,3 +23,22 @@ def _close_figures():
 @pytest.fixture
 def examples_dir() -> Path:
     return EXAMPLES
+
+
+@pytest.fixture
+def without_module(monkeypatch):
+    """``without_module("plotly")``: importing that package (or its submodules) fails, as when
+    an optional extra is not installed."""
+    import builtins
+
+    real_import = builtins.__import__
+
+    def block(prefix):
+        def guarded(name, *args, **kwargs):
+            if name == prefix or name.startswith(prefix + "."):
+                raise ImportError(name)
+            return real_import(name, *args, **kwargs)
+
+        monkeypatch.setattr(builtins, "__import__", guarded)
+
+    return block

@@ -293,3 +293,23 @@ def test_a_journal_bearing_with_zero_clearance_is_refused():
         bearing.update(type="journal", diameter=0.05, length=0.02, clearance=0.0, viscosity=0.02)
     with pytest.raises(ModelError, match=r"\[bearings.A\] clearance = 0.0: expected a finite number > 0"):
         rdm.Model.from_dict(data)
+
+
+def test_a_rotors_bearing_forces_add_up_to_what_its_inertia_and_unbalance_leave(examples_dir):
+    """Newton for rotor j: the forces its bearings pass to the stator, moved to its centre of mass,
+    equal F_unbalance - M_j a - Omega G_j v (seed 000 eq. 73/74 with the rotor's own motion) in
+    every component but the torque about the spin axis, which the drive carries."""
+    from rotordyn_modal.geometry import shift_matrix
+
+    model = rdm.load_model(examples_dir / "fan_on_bearings.toml")
+    result = rdm.unbalance_response(model, rdm.rpm(np.linspace(500, 8000, 16)))
+    names = list(result.bearing_names)
+    for j, rotor in enumerate(model.rotors):
+        total = np.zeros_like(result.bearing_forces[j])
+        for bearing in model.bearings_of(rotor.name):
+            shift = shift_matrix(rotor.center_of_mass, bearing.position)        # B_{R P}: P -> R
+            total += np.einsum("ij,jsn->isn", shift, result.bearing_point_forces[names.index(bearing.name)])
+        carried = [0, 1, 2, 4, 5]                  # all but M_x: the spin axis is x
+        scale = np.abs(result.bearing_forces[j]).max()
+        assert np.max(np.abs(total - result.bearing_forces[j])[carried]) <= 1e-9 * scale
+        assert np.max(np.abs(total[3])) <= 1e-12 * scale

@@ -8,11 +8,13 @@ from .forces import force_frf
 from .frf import FRFResult, frf
 from .unbalance import UnbalanceResult, unbalance_response
 from .correlation import Correlation, correlate, fit_measured_modes
+from .identification import MeasuredModes, StabilizationChart, identify_modes
 from .experimental import RigidBodyMotion, stator_motion, transformation_matrix
 
 __all__ = ["modal", "ModalResult", "mac", "campbell", "CampbellResult", "critical_speeds",
            "CriticalSpeeds", "excitation_sources", "stability", "stability_map", "StabilityResult",
            "StabilityMap",
            "frf", "FRFResult", "force_frf", "unbalance_response", "UnbalanceResult", "fit", "FitResult",
-           "correlate", "Correlation", "fit_measured_modes", "stator_motion", "RigidBodyMotion",
+           "correlate", "Correlation", "fit_measured_modes", "identify_modes", "MeasuredModes",
+           "StabilizationChart", "stator_motion", "RigidBodyMotion",
            "transformation_matrix"]

@@ -8,14 +8,11 @@ For model FRFs ``H_a`` and measured ``H_m`` on the same frequency lines:
   ``|H_m^H H_a|^2 / ((H_m^H H_m)(H_a^H H_a))``: shape agreement, blind to scale.
 * CSF at one frequency: ``2 |H_m^H H_a| / (H_m^H H_m + H_a^H H_a)``: also sensitive to amplitude.
 
-Measured modes come from a simple documented curve fit (:func:`fit_measured_modes`):
-peaks of the summed magnitude of every measured FRF, then around each peak one
-pole shared by every FRF, ``H_k(w) = A_k / (i w - lam) + B_k`` (a global
-single-degree-of-freedom fit with a constant residual), least squares in
-``lam`` with ``A_k, B_k`` solved linearly (variable projection). The residues
-``A_k`` of the FRFs of one input across the outputs are the measured mode
-shape; the model's shapes at the sensors are paired to them one to one by MAC and
-relative frequency distance (see :func:`pair_modes`).
+Measured modes come from :func:`~rotordyn_modal.analysis.identification.identify_modes`
+(LSCF + LSFD through ``sdypy-ema`` when the ``ema`` extra is installed, else single-pole fits);
+their modal constants at the sensors (one input) are the measured mode shapes; the model's
+shapes at the sensors are paired to them one to one by MAC and relative frequency distance
+(see :func:`pair_modes`).
 """
 
 from __future__ import annotations
@@ -25,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from .identification import MeasuredModes, fit_measured_modes, identify_modes
 
 __all__ = ["Correlation", "correlate", "frac", "csac", "csf", "fit_measured_modes", "MeasuredModes",
            "pair_modes"]
@@ -58,86 +56,7 @@ def csf(model_H, measured_H) -> np.ndarray:
     return 2 * cross / (np.sum(np.abs(measured_H) ** 2, axis=0) + np.sum(np.abs(model_H) ** 2, axis=0))
 
 
-@dataclass(frozen=True)
-class MeasuredModes:
-    """Modes fitted to measured FRFs.
-
-    Attributes
-    ----------
-    frequencies_hz, damping_ratios : ndarray, shape (n_modes,)
-    poles : ndarray, shape (n_modes,), complex [1/s]
-    shapes : ndarray, shape (n_modes, n_outputs, n_inputs), complex
-        Residues ``A`` of every FRF at each pole.
-    outputs, inputs : tuple of str
-    """
-
-    frequencies_hz: np.ndarray
-    damping_ratios: np.ndarray
-    poles: np.ndarray
-    shapes: np.ndarray
-    outputs: tuple
-    inputs: tuple
-
-
-def fit_measured_modes(measured, max_modes: int = 12, band_fraction: float = 0.08) -> MeasuredModes:
-    """Global single-pole fits around the peaks of the summed measured FRF magnitudes.
-
-    Parameters
-    ----------
-    measured : FRFResult
-    max_modes : int
-        Largest peaks kept.
-    band_fraction : float
-        Half-width of the band fitted around a peak, relative to its frequency.
-
-    Returns
-    -------
-    MeasuredModes
-    """
-    from scipy.signal import find_peaks
-
-    f, H = measured.frequencies_hz, np.nan_to_num(measured.H)
-    total = np.abs(H).reshape(-1, len(f)).sum(axis=0)
-    peaks, props = find_peaks(total, prominence=0.05 * total.max())
-    order = np.argsort(props["prominences"])[::-1][:max_modes]
-    poles, shapes = [], []
-    for k in sorted(peaks[order]):
-        band = np.abs(f - f[k]) <= band_fraction * f[k]
-        if band.sum() < 5:
-            continue
-        pole, residues = _single_pole(2 * np.pi * f[band], H[..., band].reshape(-1, band.sum()), 2 * np.pi * f[k])
-        poles.append(pole)
-        shapes.append(residues.reshape(H.shape[:2]))
-    poles = np.array(poles, dtype=complex)
-    return MeasuredModes(frequencies_hz=poles.imag / (2 * np.pi), damping_ratios=-poles.real / np.abs(poles),
-                         poles=poles, shapes=np.array(shapes).reshape(len(poles), *H.shape[:2]),
-                         outputs=measured.outputs, inputs=measured.inputs)
-
-
-def _single_pole(w, H, w_peak):
-    """Least squares over ``lam`` of ``H_k = A_k / (i w - lam) + B_k``; returns lam and A."""
-    import scipy.optimize
-
-    scale = np.abs(H).max() or 1.0
-    H = H / scale                      # the optimiser's tolerances are absolute
-
-    def solve_linear(x):
-        lam = complex(-abs(x[0]), x[1])
-        basis = np.stack([1 / (1j * w - lam), np.ones_like(w, dtype=complex)], axis=1)
-        coef, *_ = np.linalg.lstsq(basis, H.T, rcond=None)
-        return lam, coef, basis
-
-    def residual(x):
-        _, coef, basis = solve_linear(x)
-        r = (basis @ coef - H.T).ravel()
-        return np.concatenate([r.real, r.imag])
-
-    sol = scipy.optimize.least_squares(residual, [0.02 * w_peak, w_peak], x_scale=[0.02 * w_peak, w_peak])
-    lam, coef, _ = solve_linear(sol.x)
-    return lam, coef[0] * scale
-
-
-def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=0):
+def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=None):
     """Pair measured and model modes one to one, by MAC at the sensors and by frequency.
 
     With few sensors MAC alone cannot tell modes apart (two channels give MAC near 1 for
@@ -148,10 +67,11 @@ def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=0):
     ----------
     model_modes : ModalResult
     measured_modes : MeasuredModes
-    sensor_rows : ndarray, shape (n_outputs, 6)
+    sensor_rows : ndarray, shape (n_outputs, n_dof)
         Rows of the measured outputs (``assembly.sensor_rows``).
-    excitation_index : int
-        Input whose residues give the measured shape.
+    excitation_index : int, optional
+        Input whose modal constants give the measured shapes (default: for each mode the input
+        with the largest constants, the one that excites it best).
 
     Returns
     -------
@@ -165,7 +85,10 @@ def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=0):
 
     osc = np.nonzero(model_modes.oscillatory)[0]
     model_shapes = model_modes.shapes[osc] @ sensor_rows.T            # (n_model, n_outputs)
-    measured_shapes = measured_modes.shapes[:, :, excitation_index]   # (n_meas, n_outputs)
+    shapes = measured_modes.shapes                                     # (n_meas, n_outputs, n_inputs)
+    columns = np.argmax(np.linalg.norm(shapes, axis=1), axis=1) if excitation_index is None \
+        else np.full(len(shapes), excitation_index)
+    measured_shapes = shapes[np.arange(len(shapes)), :, columns]      # (n_meas, n_outputs)
     rows = []
     if len(measured_shapes) and len(osc):
         from scipy.optimize import linear_sum_assignment
@@ -202,6 +125,10 @@ class Correlation:
     mode_pairs : dict[str, ndarray]
         Columns of the MAC-paired natural-frequency table (see :func:`pair_modes`);
         :attr:`modes` gives it as a DataFrame.
+    identification : str
+        How the measured modes were identified: 'lscf' or 'single-pole'.
+    measured_modes : MeasuredModes or None
+        The identified modes (with the stabilization chart of an LSCF identification).
     """
 
     speed: float
@@ -211,6 +138,8 @@ class Correlation:
     csac: np.ndarray
     csf: np.ndarray
     mode_pairs: dict
+    identification: str = "single-pole"
+    measured_modes: MeasuredModes | None = None
 
     @property
     def modes(self):
@@ -234,7 +163,7 @@ class Correlation:
         return plot_correlation(self)
 
 
-def correlate(model, measured) -> Correlation:
+def correlate(model, measured, identification: str = "auto") -> Correlation:
     """Correlate the model with one measured FRF set (its speed, quantity and frequency lines).
 
     Parameters
@@ -242,6 +171,9 @@ def correlate(model, measured) -> Correlation:
     model : Model
     measured : FRFResult
         Measured FRFs named after the model's sensors and excitations.
+    identification : {'auto', 'lscf', 'single-pole'} or MeasuredModes
+        How the measured modes of the natural-frequency table are found (see
+        :func:`~rotordyn_modal.analysis.identification.identify_modes`), or modes already identified.
 
     Returns
     -------
@@ -256,8 +188,10 @@ def correlate(model, measured) -> Correlation:
     a, m = _pairs(model_frf, measured)
     pairs = tuple((o, i) for o in measured.outputs for i in measured.inputs
                   if np.all(np.isfinite(measured.H[measured.outputs.index(o), measured.inputs.index(i)])))
-    modes = pair_modes(modal(model, measured.speed), fit_measured_modes(measured),
-                       sensor_rows(model, list(measured.outputs)))
+    identified = identification if isinstance(identification, MeasuredModes) \
+        else identify_modes(measured, method=identification)
+    modes = pair_modes(modal(model, measured.speed), identified, sensor_rows(model, list(measured.outputs)))
     return Correlation(speed=measured.speed, frequencies_hz=measured.frequencies_hz, pairs=pairs,
                        frac=frac(a, m), csac=csac(a, m), csf=csf(a, m),
-                       mode_pairs={k: modes[k].to_numpy() for k in modes.columns})
+                       mode_pairs={k: modes[k].to_numpy() for k in modes.columns},
+                       identification=identified.method, measured_modes=identified)

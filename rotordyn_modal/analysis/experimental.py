@@ -18,7 +18,7 @@ import numpy as np
 from ..errors import InputError
 from ..geometry import point_motion_row, shift_matrix
 
-__all__ = ["transformation_matrix", "RigidBodyMotion", "stator_motion", "shift_motion"]
+__all__ = ["transformation_matrix", "RigidBodyMotion", "stator_motion", "shift_motion", "measured_modal_result"]
 
 _DOF = ("u_x", "u_y", "u_z", "theta_x", "theta_y", "theta_z")
 #: singular values below this fraction of the largest count as missing
@@ -135,3 +135,52 @@ def _check_rank(T, names):
 def shift_motion(q, from_point, to_point):
     """Rigid motion at ``to_point`` from the motion at ``from_point``: ``B_{from,to}^T q``."""
     return np.einsum("ij,i...->j...", shift_matrix(from_point, to_point), q)
+
+
+def measured_modal_result(model, modes, excitation=None, speed=None):
+    """Identified modes as a :class:`~rotordyn_modal.analysis.modal.ModalResult` of the stator's
+    rigid-body motion, so that they are tabled, paired and drawn (in 3D) like the model's.
+
+    Each mode's shape is the least-squares rigid-body motion (:func:`stator_motion`) of its
+    modal constants at the sensors for one excitation, scaled to its largest component real.
+
+    Parameters
+    ----------
+    model : Model
+        Gives the sensors (at least six channels that see every rigid-body motion).
+    modes : MeasuredModes
+    excitation : str, optional
+        The input whose modal constants are the shapes (default: for each mode the input
+        with the largest modal constants, the one that excites it best).
+    speed : float, optional
+        Reference rotor speed [rad/s] (default 0).
+
+    Returns
+    -------
+    ModalResult
+        ``shapes`` of shape (n_modes, n) over the model's coordinates: the stator's six from the
+        fit, the rotors on bearings' relative coordinates zero (stator sensors do not see them).
+    """
+    from . import _eigen
+    from .modal import ModalResult, modal_quantities
+
+    if excitation is None:        # per mode, the input that excites it most
+        columns = np.argmax(np.linalg.norm(modes.shapes, axis=1), axis=1)
+    else:
+        columns = np.full(len(modes.poles), list(modes.inputs).index(excitation))
+    constants = modes.shapes[np.arange(len(columns)), :, columns]                               # (n_modes, n_outputs)
+    q = stator_motion(model, constants.T, sensors=list(modes.outputs)).q.T                     # (n_modes, 6)
+    biggest = q[np.arange(len(q)), np.argmax(np.abs(q), axis=1)] if len(q) else np.zeros(0)
+    q = q * np.where(biggest != 0, np.abs(biggest) / np.where(biggest != 0, biggest, 1), 1.0)[:, None]
+    speed = 0.0 if speed is None else float(speed)
+    layout = model.dofs
+    q = q @ layout.frame_motion()                                   # (n_modes, n): rotors' own motion unseen
+    ratios = _eigen.whirl_ratios(q[None], _eigen.whirl_forms(model), np.array([speed]))[0]
+    freq, zeta, log_dec = modal_quantities(modes.poles)
+    return ModalResult(speed=speed, eigenvalues=np.asarray(modes.poles), frequencies_hz=freq, damping_ratios=zeta,
+                       log_decrements=log_dec, whirl_ratios=ratios, whirl=_eigen.whirl_labels(ratios), shapes=q,
+                       reference_point=np.asarray(model.reference_point, float),
+                       oscillatory=np.ones(len(q), dtype=bool), dof_names=layout.names,
+                       rotor_names=tuple(r.name for r in model.rotors),
+                       body_motions=np.array([layout.frame_motion()]
+                                             + [layout.body_motion(r.name) for r in model.rotors]))

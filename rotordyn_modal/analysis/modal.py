@@ -175,6 +175,21 @@ class ModalResult:
 
         return plot_modes(self, **kwargs)
 
+    def plot_shape(self, mode: int, model, scale=None, outline=None, **kwargs):
+        """3D figure of one mode (number as in :meth:`to_dataframe`) on the model's geometry;
+        see :func:`rotordyn_modal.analysis.mode_shapes.mode_shape_3d` and
+        :func:`rotordyn_modal.plotting.plot_mode_shape`."""
+        from .mode_shapes import mode_shape_3d
+
+        return mode_shape_3d(self, model, mode, scale=scale, outline=outline).plot(**kwargs)
+
+    def animate(self, mode: int, model, path=None, scale=None, outline=None, **kwargs):
+        """Animation of one mode, written to ``path`` (.gif, .html, .mp4) if given; see
+        :func:`rotordyn_modal.plotting.animate_mode_shape`."""
+        from .mode_shapes import mode_shape_3d
+
+        return mode_shape_3d(self, model, mode, scale=scale, outline=outline).animate(path, **kwargs)
+
 
 def modal(model, speed: float = 0.0) -> ModalResult:
     """Modal analysis at one speed.

@@ -104,7 +104,10 @@ def check_output_options(args):
     from pathlib import Path
 
     plot = getattr(args, "plot", None)
-    if plot and Path(plot).suffix.lower() not in _FIGURE_FORMATS:
+    endings = getattr(args, "plot_endings", None)
+    if plot and endings and Path(plot).suffix.lower() not in endings:
+        raise InputError(f"--plot {plot}: expected a file ending in {', '.join(endings[:-1])} or {endings[-1]}")
+    if plot and not endings and Path(plot).suffix.lower() not in _FIGURE_FORMATS:
         raise InputError(f"--plot {plot}: expected a file ending in .png, .svg or .pdf")
     out = getattr(args, "out", None)
     if plot and out and out != "-" and Path(plot).resolve() == Path(out).resolve():

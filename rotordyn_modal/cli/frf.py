@@ -15,7 +15,9 @@ DESCRIPTION = """Frequency response functions at one speed of the reference roto
 [m/s^2/N]. Viscous models use modal superposition, models with loss factors or Maxwell
 branches a direct solve at every frequency. --forces suspensions gives the force each
 suspension passes to the ground per unit input (transmissibility), --forces bearings the
-force each rotor passes to the stator (seed 000 eq. 73/74). --measured FILE (UFF 58/58b
+force each [[bearings]] entry passes to the stator (or the ground) at its point and each
+rigidly attached rotor at its centre of mass (seed 000 eq. 73/74), --forces rotors the total
+force each rotor passes to the stator. --measured FILE (UFF 58/58b
 .uff/.unv, or CSV) draws the measurement of the same speed under the model in --plot.
 --out FILE.uff (or .unv) writes UFF 58 (58b when ASCII would round the frequencies) instead of CSV (nodes from --mapping, or the default
 mapping: sensor k is node k, excitation k is node 100 + k).
@@ -36,7 +38,7 @@ def add_arguments(parser):
     parser.add_argument("--input", help="excitation name(s), comma-separated (default all)")
     parser.add_argument("--output", help="sensor name(s), comma-separated (default all)")
     parser.add_argument("--quantity", choices=list(QUANTITIES), default="receptance")
-    parser.add_argument("--forces", choices=["suspensions", "bearings"],
+    parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors"],
                         help="forces per unit input instead of sensor motion")
     parser.add_argument("--measured", metavar="FILE", help="measured FRFs (.uff/.unv or .csv) to draw under the model")
     parser.add_argument("--mapping", metavar="FILE.csv", help="UFF node/direction to channel table: name,node,direction[,sign]")

@@ -9,6 +9,12 @@ __all__ = ["plot_modes"]
 _DOF = ["u_x", "u_y", "u_z", "θ_x", "θ_y", "θ_z"]
 
 
+def _labels(result) -> list[str]:
+    """Coordinate labels: the stator's six as u_x ... θ_z, rotors' as ROTOR.uy ..."""
+    names = list(result.dof_names) or _DOF
+    return _DOF + names[6:] if names[:1] and names[0].startswith(("stator.", "frame.")) else names
+
+
 def plot_modes(result, title: str | None = None):
     """Bar chart of each oscillatory mode's mass-weighted DOF participation.
 
@@ -26,13 +32,17 @@ def plot_modes(result, title: str | None = None):
     modes = np.nonzero(result.oscillatory)[0]
     cols = max(1, min(3, len(modes)))
     rows = max(1, int(np.ceil(len(modes) / cols)))
-    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 2.6 * rows), layout="constrained",
+    labels = _labels(result)
+    width = 3.2 if len(labels) <= 6 else 0.35 * len(labels) + 1.0
+    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, 2.6 * rows), layout="constrained",
                              squeeze=False)
     for ax in axes.ravel()[len(modes):]:
         ax.set_visible(False)
     for i, (ax, m) in enumerate(zip(axes.ravel(), modes)):
         magnitude = np.abs(result.shapes[m])
-        ax.bar(_DOF, magnitude / magnitude.max(), color="tab:blue")
+        ax.bar(labels, magnitude / magnitude.max(), color="tab:blue")
+        if len(labels) > 6:
+            ax.tick_params(axis="x", labelrotation=90, labelsize="x-small")
         ax.set_title(f"mode {i + 1}: {result.frequencies_hz[m]:.2f} Hz, ζ={result.damping_ratios[m]:.3f}\n"
                      f"{result.whirl[m]} (ratio {result.whirl_ratios[m]:+.2f})", fontsize="small")
         ax.set_ylim(0, 1.05)

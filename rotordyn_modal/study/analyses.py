@@ -26,7 +26,12 @@ import numpy as np
 __all__ = ["Analysis", "ANALYSES", "parse_analyses", "describe", "run_analyses"]
 
 _RPM = math.pi / 30.0
-N_MODES = 6  # six rigid-body DOF of the stator: six modes per speed
+def mode_count(model) -> int:
+    """Roots per speed (one of each conjugate pair): the coordinates, plus three per Maxwell
+    branch (its six first-order states); the same for every variant of a study."""
+    from ..linear_system import speed_linear_form
+
+    return speed_linear_form(model).n_states // 2
 
 
 @dataclass(frozen=True)
@@ -122,7 +127,7 @@ def _describe_campbell(model, options):
              for name, multiplier in zip(sources.names, sources.multipliers) for order in options["orders"]]
     coords = {"speed": ("speed", options["speeds"], {"units": "rad/s"}),
               "speed_rpm": ("speed", options["speeds"] / _RPM, {"units": "rpm"}),
-              "mode": ("mode", np.arange(1, N_MODES + 1), {}),
+              "mode": ("mode", np.arange(1, mode_count(model) + 1), {}),
               "excitation": ("excitation", np.array([line[0] for line in lines], dtype=str), {}),
               "excitation_slope": ("excitation", np.array([line[1] for line in lines]),
                                    {"units": "Hz per rad/s of the reference speed (base model)"})}
@@ -139,7 +144,7 @@ def _describe_critical(model, options):
     from ..analysis import excitation_sources
 
     sources = excitation_sources(model).names
-    rows = [(s, o, m) for s in sources for o in options["orders"] for m in range(1, N_MODES + 1)]
+    rows = [(s, o, m) for s in sources for o in options["orders"] for m in range(1, mode_count(model) + 1)]
     coords = {"crossing": ("crossing", np.arange(len(rows)), {}),
               "crossing_source": ("crossing", np.array([r[0] for r in rows], dtype=str), {}),
               "crossing_order": ("crossing", np.array([r[1] for r in rows]), {}),
@@ -165,7 +170,7 @@ def _run_critical(model, options, layout, cache):
 
 # ---------------------------------------------------------------------------- modes
 def _describe_modes(model, options):
-    coords = {"mode": ("mode", np.arange(1, N_MODES + 1), {})}
+    coords = {"mode": ("mode", np.arange(1, mode_count(model) + 1), {})}
     return {"modal_frequency_hz": ("mode",), "modal_damping_ratio": ("mode",)}, coords, None
 
 

@@ -1,0 +1,383 @@
+"""3D mode shapes: the machine's geometry and the motion of each of its points in one mode.
+
+The geometry (:class:`MachineOutline`, model axes [m]) is made of
+
+* bodies, each a set of vertices and polygon faces: the stator as the box with its mass and
+  principal inertias (a uniform box of half-sides ``a_i`` has
+  ``a_i^2 = 3 (I_j + I_k - I_i) / (2 m)``), or an outline given by the user (polylines); each
+  rotor as the solid cylinder with its mass, polar and diametral inertia
+  (``r^2 = 2 J_p / m``, ``L^2 = 12 I_d / m - 3 r^2``) along the spin axis;
+* brackets: lines from the stator's box to its attachment points that lie outside it;
+* springs between two bodies, or a body and the ground (suspensions today), each from a point
+  of one to a point of the other;
+* sensors and excitations as arrows along their directions.
+
+:func:`mode_shape_3d` gives every one of those points its complex displacement in one mode,
+``scale * shape_at(point)``: the drawn position at phase ``phi`` is
+``x + Re(d exp(i phi))``, and ``phi`` from 0 to 2 pi traces each point's whirl orbit.
+Every body's motion at a point comes from :func:`_point_motion`, the one place that knows how
+a body moves in a mode.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["MachineOutline", "Body", "Spring", "Arrow", "machine_outline", "ModeShape3D", "mode_shape_3d",
+           "mode_index"]
+
+#: segments of a rotor's circles
+_CIRCLE = 24
+#: largest displacement drawn, relative to the machine's size
+_DISPLAY_FRACTION = 0.15
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body's drawing: vertices [m] and faces (polygons as vertex indices).
+
+    ``kind`` is 'stator', 'rotor' or 'outline' (user polylines: ``faces`` are then open
+    polylines, drawn as lines, not filled).
+    """
+
+    name: str
+    kind: str
+    vertices: np.ndarray
+    faces: tuple
+    axis: np.ndarray | None = None
+    spin: float = 0.0
+
+
+@dataclass(frozen=True)
+class Spring:
+    """A spring-damper from ``point_a`` of ``body_a`` to ``point_b`` of ``body_b`` ('ground' is fixed)."""
+
+    name: str
+    kind: str
+    body_a: str
+    point_a: np.ndarray
+    body_b: str
+    point_b: np.ndarray
+
+
+@dataclass(frozen=True)
+class Arrow:
+    """A sensor or excitation: ``kind`` 'sensor' or 'excitation', on ``body`` at ``point``."""
+
+    name: str
+    kind: str
+    body: str
+    point: np.ndarray
+    direction: np.ndarray
+
+
+@dataclass(frozen=True)
+class MachineOutline:
+    """What is drawn of a machine (model axes [m]).
+
+    Attributes
+    ----------
+    bodies : tuple of Body
+    brackets : ndarray, shape (n_brackets, 2, 3)
+        Lines of the body that holds the suspensions, sensors and excitations: from the
+        stator's box to its attachment points outside it, or (no stator) from the first
+        rotor's centre to them (the massless carrier).
+    bracket_body : str
+        'stator', or the first rotor's name when there is no stator.
+    springs : tuple of Spring
+    arrows : tuple of Arrow
+    size : float
+        Largest extent of the drawing [m] (sets arrow lengths and the display scale).
+    spin_axis : ndarray, shape (3,)
+    """
+
+    bodies: tuple
+    brackets: np.ndarray
+    bracket_body: str
+    springs: tuple
+    arrows: tuple
+    size: float
+    spin_axis: np.ndarray
+
+
+def machine_outline(model, outline=None) -> MachineOutline:
+    """The drawing of a machine: stator box (or ``outline``), rotors, springs, sensors.
+
+    Parameters
+    ----------
+    model : Model
+    outline : array_like, shape (n_points, 3), optional
+        The stator's outline as polylines [m], model axes; rows of NaN separate the lines.
+
+    Returns
+    -------
+    MachineOutline
+    """
+    axis = np.asarray(model.spin_axis, dtype=float)
+    bodies = [_rotor_body(model, rotor, axis) for rotor in model.rotors]
+    brackets = np.zeros((0, 2, 3))
+    if outline is not None:
+        bodies.insert(0, _outline_body(outline))
+    elif model.stator is not None:
+        box = _stator_box(model.stator)
+        bodies.insert(0, box)
+        brackets = _brackets(model, box)
+    else:
+        brackets = _carrier(model)
+    points = np.concatenate([b.vertices for b in bodies] + [brackets.reshape(-1, 3)]
+                            + [[s.position for s in model.suspensions]] * bool(model.suspensions))
+    size = float(np.max(np.ptp(points, axis=0))) or 1.0
+    springs = tuple(_suspension_spring(model, s, 0.3 * size) for s in model.suspensions) \
+        + tuple(_bearing_spring(model, b) for b in model.bearings)
+    arrows = tuple([Arrow(s.name, "sensor", s.rotor or _holder(model), np.asarray(s.position, float),
+                          np.asarray(s.direction, float)) for s in model.sensors]
+                   + [Arrow(x.name, "excitation", x.rotor or _holder(model), np.asarray(x.position, float),
+                            np.asarray(x.direction, float)) for x in model.excitations if x.kind == "force"])
+    return MachineOutline(bodies=tuple(bodies), brackets=brackets, bracket_body=_holder(model), springs=springs,
+                          arrows=arrows, size=size, spin_axis=axis)
+
+
+def _holder(model):
+    """The body that carries sensors, excitations and suspensions: the stator, the ground when
+    rotors sit on bearings to the ground, or else the first rotor (a massless frame)."""
+    if model.stator is not None:
+        return "stator"
+    return "ground" if model.bearings else model.rotors[0].name
+
+
+def _stator_box(stator) -> Body:
+    m = float(stator.mass)
+    inertia = np.asarray(stator.inertia, dtype=float)
+    principal, axes = np.linalg.eigh(inertia)
+    total = principal.sum()
+    half = np.sqrt(np.maximum(3.0 * (total - 2 * principal) / (2 * m), 0.0))
+    half = np.maximum(half, 0.05 * half.max())
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+    vertices = np.asarray(stator.center_of_mass, float) + (corners * half) @ axes.T
+    faces = ((0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5))
+    return Body("stator", "stator", vertices, faces)
+
+
+def _outline_body(outline) -> Body:
+    points = np.asarray(outline, dtype=float)
+    if points.ndim != 2 or points.shape[1] != 3 or len(points) < 2:
+        raise InputError(f"outline: expected points of shape (n, 3) with n >= 2 (NaN rows separate lines), "
+                         f"got shape {points.shape}")
+    breaks = np.nonzero(np.isnan(points).any(axis=1))[0]
+    lines, start = [], 0
+    for stop in list(breaks) + [len(points)]:
+        if stop - start >= 2:
+            lines.append(tuple(range(start, stop)))
+        start = stop + 1
+    if not lines:
+        raise InputError("outline: no line of two or more points")
+    return Body("stator", "outline", np.nan_to_num(points), tuple(lines))
+
+
+def _rotor_body(model, rotor, axis) -> Body:
+    m = float(rotor.mass)
+    radius = np.sqrt(2 * rotor.polar_inertia / m)
+    length = np.sqrt(max(12 * rotor.diametral_inertia / m - 3 * radius ** 2, 0.0))
+    length = max(length, 0.15 * radius)
+    e1 = np.cross(axis, [1.0, 0.0, 0.0] if abs(axis[0]) < 0.9 else [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(axis, e1)
+    angles = 2 * np.pi * np.arange(_CIRCLE) / _CIRCLE
+    ring = radius * (np.cos(angles)[:, None] * e1 + np.sin(angles)[:, None] * e2)
+    centre = np.asarray(rotor.center_of_mass, float)
+    vertices = np.concatenate([centre - 0.5 * length * axis + ring, centre + 0.5 * length * axis + ring,
+                               [centre - 0.5 * length * axis, centre + 0.5 * length * axis]])
+    n = _CIRCLE
+    sides = tuple((k, (k + 1) % n, n + (k + 1) % n, n + k) for k in range(n))
+    faces = sides + (tuple(range(n)), tuple(range(n, 2 * n)))
+    return Body(rotor.name, "rotor", vertices, faces, axis=axis, spin=float(model.speed_ratios[rotor.name]))
+
+
+def _brackets(model, box) -> np.ndarray:
+    """A line from each attachment point outside the box to the nearest point of the box."""
+    centre = box.vertices.mean(axis=0)
+    axes = _box_axes(box)
+    half = 0.5 * np.ptp((box.vertices - centre) @ axes, axis=0)
+    points = [s.position for s in model.suspensions] + [s.position for s in model.sensors] \
+        + [x.position for x in model.excitations]
+    lines = []
+    for p in np.asarray(points, dtype=float).reshape(-1, 3):
+        local = (p - centre) @ axes
+        nearest = np.clip(local, -half, half)
+        if np.linalg.norm(local - nearest) > 1e-9:
+            lines.append([centre + axes @ nearest, p])
+    return np.asarray(lines, dtype=float).reshape(-1, 2, 3)
+
+
+def _carrier(model) -> np.ndarray:
+    """Without a stator: lines from the first rotor's centre to the attachment points."""
+    centre = np.asarray(model.rotors[0].center_of_mass, float)
+    points = [s.position for s in model.suspensions] + [s.position for s in model.sensors] \
+        + [x.position for x in model.excitations]
+    lines = [[centre, p] for p in np.asarray(points, dtype=float).reshape(-1, 3)
+             if np.linalg.norm(p - centre) > 1e-9]
+    return np.asarray(lines, dtype=float).reshape(-1, 2, 3)
+
+
+def _box_axes(box):
+    v = box.vertices
+    return np.stack([(v[4] - v[0]) / np.linalg.norm(v[4] - v[0]), (v[2] - v[0]) / np.linalg.norm(v[2] - v[0]),
+                     (v[1] - v[0]) / np.linalg.norm(v[1] - v[0])], axis=1)
+
+
+def _suspension_spring(model, suspension, length) -> Spring:
+    """Ground end along the stiffest translational axis, away from the reference point."""
+    K = np.asarray(suspension.stiffness_matrix, dtype=float)[:3, :3]
+    values, vectors = np.linalg.eigh(0.5 * (K + K.T))
+    direction = vectors[:, int(np.argmax(values))]
+    p = np.asarray(suspension.position, dtype=float)
+    outward = p - np.asarray(model.reference_point, float)
+    if np.dot(direction, outward) < 0:
+        direction = -direction
+    return Spring(suspension.name, "suspension", _holder(model), p, "ground", p + length * direction)
+
+
+def _bearing_spring(model, bearing) -> Spring:
+    """A radial spoke from the rotor's axis at the bearing to the stator (or ground) just outside
+    the rotor's drawn radius, so that the rotor's motion in its bearing shows."""
+    rotor = model.rotor(bearing.rotor)
+    radius = np.sqrt(2 * rotor.polar_inertia / rotor.mass)
+    e = np.asarray(model.spin_axis, dtype=float)
+    down = np.array([0.0, 0.0, -1.0]) - e[2] * e
+    down = down / np.linalg.norm(down) if np.linalg.norm(down) > 1e-6 else np.cross(e, [0.0, 1.0, 0.0])
+    p = np.asarray(bearing.position, dtype=float)
+    return Spring(bearing.name, "bearing", rotor.name, p, _holder(model) if model.stator is not None else "ground",
+                  p + 1.4 * radius * down)
+
+
+# ---------------------------------------------------------------------------------------------
+# one mode
+# ---------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class ModeShape3D:
+    """The machine's drawing and the complex displacement of each of its points in one mode.
+
+    Attributes
+    ----------
+    outline : MachineOutline
+    mode : int
+        Mode number as in ``ModalResult.to_dataframe()`` (1 = lowest oscillatory mode).
+    frequency_hz, damping_ratio, whirl_ratio : float
+    whirl : str
+    speed : float
+        Reference rotor speed [rad/s].
+    scale : float
+        Factor applied to the mode shape [m per unit modal amplitude]: largest drawn
+        displacement 15 % of the machine's size unless given.
+    body_motion : tuple of ndarray, each shape (n_vertices, 3), complex [m]
+        Displacement of each body's vertices (same order as ``outline.bodies``).
+    bracket_motion : ndarray, shape (n_brackets, 2, 3), complex [m]
+    spring_motion : ndarray, shape (n_springs, 2, 3), complex [m]
+        Displacement of each spring's two ends (zero at the ground).
+    arrow_motion : ndarray, shape (n_arrows, 3), complex [m]
+    label : str
+        'model' or e.g. 'measured'.
+    """
+
+    outline: MachineOutline
+    mode: int
+    frequency_hz: float
+    damping_ratio: float
+    whirl: str
+    whirl_ratio: float
+    speed: float
+    scale: float
+    body_motion: tuple
+    bracket_motion: np.ndarray
+    spring_motion: np.ndarray
+    arrow_motion: np.ndarray
+    label: str = "model"
+
+    def at_phase(self, phase: float):
+        """Displaced vertices of every body at ``phase`` [rad]: list of (n_vertices, 3) [m]."""
+        turn = np.exp(1j * phase)
+        return [b.vertices + np.real(d * turn) for b, d in zip(self.outline.bodies, self.body_motion)]
+
+    def plot(self, **kwargs):
+        """The 3D figure; see :func:`rotordyn_modal.plotting.plot_mode_shape`."""
+        from ..plotting.shapes3d import plot_mode_shape
+
+        return plot_mode_shape(self, **kwargs)
+
+    def animate(self, path=None, **kwargs):
+        """The animation; see :func:`rotordyn_modal.plotting.animate_mode_shape`."""
+        from ..plotting.shapes3d import animate_mode_shape
+
+        return animate_mode_shape(self, path, **kwargs)
+
+
+def mode_index(result, mode: int) -> int:
+    """Index into ``result`` of the oscillatory mode numbered ``mode`` (from 1, as in the table)."""
+    oscillatory = np.nonzero(result.oscillatory)[0]
+    if not 1 <= int(mode) <= len(oscillatory) or int(mode) != mode:
+        raise InputError(f"mode {mode!r}: expected a mode number from 1 to {len(oscillatory)} "
+                         "(the 'mode' column of the modes table)")
+    return int(oscillatory[int(mode) - 1])
+
+
+def mode_shape_3d(result, model, mode: int, scale: float | None = None, outline=None,
+                  label: str = "model") -> ModeShape3D:
+    """The motion of every drawn point of the machine in one mode.
+
+    Parameters
+    ----------
+    result : ModalResult
+    model : Model
+        The model analysed (its geometry).
+    mode : int
+        Mode number as in ``result.to_dataframe()`` (1 = lowest oscillatory mode).
+    scale : float, optional
+        Displacement per unit modal amplitude drawn [m]; default: the largest displacement is
+        15 % of the machine's size.
+    outline : array_like, shape (n, 3), optional
+        The stator as polylines (see :func:`machine_outline`).
+    label : str
+
+    Returns
+    -------
+    ModeShape3D
+    """
+    k = mode_index(result, mode)
+    drawing = machine_outline(model, outline)
+    bodies = [_point_motion(result, b.vertices, b.name)[k] for b in drawing.bodies]
+    brackets = _point_motion(result, drawing.brackets.reshape(-1, 3), drawing.bracket_body)[k].reshape(-1, 2, 3)
+    springs = np.array([[_end_motion(result, s.body_a, s.point_a, k), _end_motion(result, s.body_b, s.point_b, k)]
+                        for s in drawing.springs], dtype=complex).reshape(-1, 2, 3)
+    arrows = np.array([_point_motion(result, a.point[None], a.body)[k, 0] for a in drawing.arrows],
+                      dtype=complex).reshape(-1, 3)
+    largest = max([np.abs(b).max(initial=0.0) for b in bodies] + [np.abs(springs).max(initial=0.0)])
+    if scale is None:
+        scale = _DISPLAY_FRACTION * drawing.size / largest if largest > 0 else 1.0
+    return ModeShape3D(outline=drawing, mode=int(mode), frequency_hz=float(result.frequencies_hz[k]),
+                       damping_ratio=float(result.damping_ratios[k]), whirl=str(result.whirl[k]),
+                       whirl_ratio=float(result.whirl_ratios[k]), speed=float(result.speed), scale=float(scale),
+                       body_motion=tuple(scale * b for b in bodies), bracket_motion=scale * brackets,
+                       spring_motion=scale * springs, arrow_motion=scale * arrows, label=label)
+
+
+def _end_motion(result, body, point, k):
+    if body == "ground":
+        return np.zeros(3, complex)
+    return _point_motion(result, np.asarray(point)[None], body)[k, 0]
+
+
+def _point_motion(result, points, body):
+    """Complex motion of points of ``body`` in every mode: (n_modes, n_points, 3) [m per unit amplitude].
+
+    A rotor on bearings moves with its own coordinates, a rigidly attached rotor with the
+    stator, the ground not at all; anything else (stator box, outline) is the stator.
+    """
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    if not len(points) or body == "ground":
+        return np.zeros((len(result.eigenvalues), len(points), 3), complex)
+    rotor = body if body in getattr(result, "rotor_names", ()) else None
+    return np.stack([result.shape_at(p, body=rotor) for p in points], axis=1)

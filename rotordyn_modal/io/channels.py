@@ -1,0 +1,144 @@
+"""Channels of measured data: which file channel is which sensor or excitation of the model,
+and the grouping of measured FRF lines into model-named FRF sets.
+
+Mapping table (CSV ``name,node,direction[,sign]``): which UFF node and direction code
+(1/2/3 = +X/+Y/+Z, negative for minus, 4-6 rotations) is which sensor or excitation of the
+model; ``sign`` -1 flips a channel. Without a table the default mapping is used: sensor k (from
+1) is node k, excitation k is node 100 + k, and the direction code is the model axis nearest
+to the channel's direction (signed).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..analysis.frf import FRFResult
+from ..errors import InputError
+
+__all__ = ["ChannelMap", "default_mapping", "read_mapping", "assemble"]
+
+
+class ChannelMap:
+    """``(node, direction) -> (name, sign)`` for outputs (sensors) and inputs (excitations).
+
+    Attributes
+    ----------
+    outputs, inputs : dict[tuple[int, int], tuple[str, float]]
+    """
+
+    def __init__(self, outputs, inputs):
+        self.outputs = dict(outputs)
+        self.inputs = dict(inputs)
+
+    def node_of(self, name):
+        """``(node, direction, sign)`` of a sensor or excitation name."""
+        for table in (self.outputs, self.inputs):
+            for (node, direction), (n, sign) in table.items():
+                if n == name:
+                    return node, direction, sign
+        raise InputError(f"channel {name!r} is not in the mapping table")
+
+
+def _axis_code(direction, rotation: bool = False) -> int:
+    d = np.asarray(direction, dtype=float)
+    k = int(np.argmax(np.abs(d)))
+    return (k + 1 + 3 * rotation) * (1 if d[k] > 0 else -1)
+
+
+def default_mapping(model) -> ChannelMap:
+    """Sensor k -> node k, excitation k -> node 100 + k; direction = nearest signed model axis."""
+    outputs = {(k + 1, _axis_code(s.direction)): (s.name, 1.0) for k, s in enumerate(model.sensors)}
+    inputs = {(101 + k, _axis_code(x.direction, x.kind == "moment")): (x.name, 1.0)
+              for k, x in enumerate(model.excitations)}
+    return ChannelMap(outputs, inputs)
+
+
+def read_mapping(path, model) -> ChannelMap:
+    """Read a mapping table ``name,node,direction[,sign]`` (CSV) against the model's channel names."""
+    import pandas as pd
+
+    try:
+        table = pd.read_csv(path)
+    except (OSError, ValueError) as error:
+        raise InputError(f"{path}: cannot read the mapping table ({error})") from None
+    missing = {"name", "node", "direction"} - set(table.columns)
+    if missing:
+        raise InputError(f"{path}: mapping table lacks the column(s) {', '.join(sorted(missing))}: "
+                         "expected name,node,direction[,sign]")
+    sensors, excitations = {s.name for s in model.sensors}, {x.name for x in model.excitations}
+    outputs, inputs = {}, {}
+    for row in table.itertuples(index=False):
+        sign = float(getattr(row, "sign", 1.0)) if "sign" in table.columns else 1.0
+        key = (int(row.node), int(row.direction))
+        if row.name in sensors:
+            outputs[key] = (row.name, sign)
+        elif row.name in excitations:
+            inputs[key] = (row.name, sign)
+        else:
+            raise InputError(f"{path}: name {row.name!r} is neither a sensor ({', '.join(sorted(sensors))}) "
+                             f"nor an excitation ({', '.join(sorted(excitations))}) of the model")
+    return ChannelMap(outputs, inputs)
+
+
+def assemble(records, model, quantity, source) -> list[FRFResult]:
+    """Group measured lines into one FRF set per speed.
+
+    Parameters
+    ----------
+    records : dict of arrays, each shape (n_lines,)
+        ``speed_rpm``, ``frequency_hz``, ``output``, ``input`` (names), ``value`` (complex) and
+        ``coherence`` (or None).
+    model : Model
+    quantity : str
+    source : str
+        File name, for messages.
+
+    Returns
+    -------
+    list of FRFResult, sorted by speed
+    """
+    sensors = [s.name for s in model.sensors]
+    excitations = [x.name for x in model.excitations]
+    outs, ins = np.asarray(records["output"], dtype=str), np.asarray(records["input"], dtype=str)
+    unknown = sorted(set(outs) - set(sensors)) + sorted(set(ins) - set(excitations))
+    if unknown:
+        raise InputError(f"{source}: channel(s) {', '.join(unknown)} are not sensors ({', '.join(sensors)}) "
+                         f"or excitations ({', '.join(excitations)}) of the model")
+    if len(outs) == 0:
+        raise InputError(f"{source}: no FRF found in the file")
+    speeds = np.asarray(records["speed_rpm"], dtype=float)
+    coherence = records.get("coherence")
+    results = []
+    for speed in np.unique(speeds):
+        at = speeds == speed
+        results.append(_one_speed(speed, np.asarray(records["frequency_hz"], float)[at], outs[at], ins[at],
+                                  np.asarray(records["value"], complex)[at],
+                                  None if coherence is None else np.asarray(coherence, float)[at],
+                                  sensors, excitations, quantity, source))
+    return results
+
+
+def _one_speed(speed, freq, outs, ins, values, coherence, sensors, excitations, quantity, source):
+    outputs = [s for s in sensors if s in set(outs)]
+    inputs = [x for x in excitations if x in set(ins)]
+    freqs, f_index = np.unique(freq, return_inverse=True)
+    o_index = np.searchsorted(np.array(outputs), outs, sorter=np.argsort(outputs))
+    o_index = np.argsort(outputs)[o_index]
+    i_index = np.argsort(inputs)[np.searchsorted(np.array(inputs), ins, sorter=np.argsort(inputs))]
+    shape = (len(outputs), len(inputs), len(freqs))
+    counts = np.zeros(shape[:2], dtype=int)
+    np.add.at(counts, (o_index, i_index), 1)
+    partial = (counts > 0) & (counts != len(freqs))
+    if partial.any():
+        a, b = (int(x[0]) for x in np.nonzero(partial))
+        raise InputError(f"{source}: at {speed:g} rpm the FRF {outputs[a]} / {inputs[b]} has {counts[a, b]} "
+                         f"frequencies where the data of that speed has {len(freqs)}: every FRF of one "
+                         "speed must share the frequency lines")
+    H = np.full(shape, np.nan + 0j)
+    H[o_index, i_index, f_index] = values
+    coh = None
+    if coherence is not None:
+        coh = np.full(shape, np.nan)
+        coh[o_index, i_index, f_index] = coherence
+    return FRFResult(H=H, frequencies_hz=freqs, speed=float(speed) * np.pi / 30, inputs=tuple(inputs),
+                     outputs=tuple(outputs), quantity=quantity, engine="measured", coherence=coh)

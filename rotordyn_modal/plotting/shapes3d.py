@@ -1,0 +1,384 @@
+"""3D mode shape figures and animations (matplotlib's 3D axes and animation writers).
+
+They draw a :class:`~rotordyn_modal.analysis.mode_shapes.ModeShape3D`: the machine undeformed
+(grey), displaced at one phase of the mode (coloured), the whirl orbit of the rotors' axis ends
+and of the spring points with an arrowhead in the direction of motion, the rotors' spin
+direction, and the sensors and excitations as arrows.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["plot_mode_shape", "plot_mode_shapes", "animate_mode_shape", "ANIMATION_FORMATS"]
+
+#: file endings of animations and how each is written
+ANIMATION_FORMATS = (".gif", ".html", ".mp4")
+_BODY_COLOURS = {"stator": "tab:blue", "outline": "tab:blue", "rotor": "tab:orange"}
+_ARROW_COLOURS = {"sensor": "tab:green", "excitation": "tab:purple"}
+_SPRING_COILS = 6
+#: resolution of animation frames (a 12 x 8 inch figure: 864 x 576 pixels)
+_ANIMATION_DPI = 72
+
+
+def plot_mode_shape(view, ax=None, phase: float = 0.0, orbits: bool = True, labels: bool = True,
+                    projections: bool | None = None, title: str | None = None):
+    """Draw the machine undeformed and displaced in one mode.
+
+    Parameters
+    ----------
+    view : ModeShape3D
+    ax : matplotlib 3D Axes, optional
+        Draw the 3D view there (and no projections unless asked).
+    phase : float
+        Phase of the displaced drawing [rad] (0: the largest motion component real, at its
+        positive extreme).
+    orbits : bool
+        Trace the whirl orbits (one period) with an arrowhead in the direction of motion.
+    labels : bool
+        Name the sensors and excitations.
+    projections : bool, optional
+        Add the top (x-y), front (x-z) and side (y-z) views beside the 3D view (default: when
+        ``ax`` is not given).
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    projections = ax is None if projections is None else projections
+    fig, ax, flat = _figure(ax, projections)
+    _draw_static(ax, flat, view, orbits)
+    _draw_displaced(ax, flat, view, phase)
+    if labels:
+        _label_arrows(ax, view)
+    _frame(ax, flat, view)
+    ax.set_title(title or _title(view), fontsize="medium")
+    _legend(ax, view, orbits)
+    return fig
+
+
+def plot_mode_shapes(views, titles=None, phase: float = 0.0, suptitle: str | None = None):
+    """Several mode shapes side by side (e.g. model and measured), one 3D panel each.
+
+    Parameters
+    ----------
+    views : list of ModeShape3D
+    titles : list of str, optional
+    phase : float [rad]
+    suptitle : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib.pyplot as plt
+
+    n = len(views)
+    fig = plt.figure(figsize=(5.6 * n, 5.8), layout="constrained")
+    for k, view in enumerate(views):
+        ax = fig.add_subplot(1, n, k + 1, projection="3d")
+        plot_mode_shape(view, ax=ax, phase=phase, labels=False,
+                        title=None if titles is None else titles[k])
+    if suptitle:
+        fig.suptitle(suptitle)
+    return fig
+
+
+def animate_mode_shape(view, path=None, frames: int = 36, fps: int = 18, inputs=()):
+    """Animate one period of the mode; write it to ``path`` (.gif, .html or .mp4) if given.
+
+    Parameters
+    ----------
+    view : ModeShape3D
+    path : str or path-like, optional
+        ``.gif`` (Pillow), ``.html`` (self-contained, JavaScript player) or ``.mp4`` (needs
+        ffmpeg); written whole or not at all.
+    frames : int
+        Frames per period.
+    fps : int
+        Frames per second of the file.
+    inputs : iterable of path-like
+        Files that must not be overwritten.
+
+    Returns
+    -------
+    matplotlib.animation.FuncAnimation
+    """
+    from matplotlib.animation import FuncAnimation
+
+    suffix = None if path is None else Path(path).suffix.lower()
+    if suffix is not None and suffix not in ANIMATION_FORMATS:
+        raise InputError(f"{path}: expected an animation file ending in {', '.join(ANIMATION_FORMATS)}")
+    fig = plot_mode_shape(view)
+    ax, flat = fig.axes[0], list(zip(fig.axes[1:4], [pair for _, pair in _PROJECTIONS]))
+    phases = 2 * np.pi * np.arange(int(frames)) / int(frames)
+
+    def update(k):
+        for axes in [ax] + [panel for panel, _ in flat]:
+            for artist in [a for a in axes.get_children() if str(a.get_gid()).startswith("displaced")]:
+                artist.remove()
+        _draw_displaced(ax, flat, view, phases[k])
+        return []
+
+    animation = FuncAnimation(fig, update, frames=len(phases), interval=1000.0 / fps, blit=False)
+    if path is not None:
+        _write_animation(animation, fig, Path(path), suffix, fps, inputs)
+    return animation
+
+
+def _write_animation(animation, fig, path, suffix, fps, inputs):
+    from matplotlib import animation as mpl_animation
+
+    from ..io.atomic import atomic_write, check_not_input
+
+    check_not_input(path, inputs)
+    fig.set_dpi(_ANIMATION_DPI)
+    if suffix == ".html":
+        text = animation.to_jshtml(fps=fps)
+        with atomic_write(path, "w") as handle:
+            handle.write(text)
+        return
+    if suffix == ".mp4" and not mpl_animation.FFMpegWriter.isAvailable():
+        raise InputError(f"{path}: writing MP4 needs ffmpeg on the PATH; write .gif or .html instead")
+    writer = mpl_animation.PillowWriter(fps=fps) if suffix == ".gif" else mpl_animation.FFMpegWriter(fps=fps)
+    with atomic_write(path, None) as temporary:
+        animation.save(str(temporary), writer=writer, dpi=_ANIMATION_DPI)
+
+
+# ---------------------------------------------------------------------------------------------
+# drawing: polylines (n, 3) drawn in the 3D view and projected on the flat views
+# ---------------------------------------------------------------------------------------------
+#: flat views: title and the two model axes shown
+_PROJECTIONS = (("top view (from +z)", (0, 1)), ("front view (from -y)", (0, 2)), ("side view (from +x)", (1, 2)))
+_AXIS_NAMES = "xyz"
+
+
+def _figure(ax, projections):
+    import matplotlib.pyplot as plt
+
+    if ax is not None:
+        return ax.figure, ax, []
+    if not projections:
+        fig = plt.figure(figsize=(8.0, 7.0), layout="constrained")
+        return fig, fig.add_subplot(projection="3d"), []
+    fig = plt.figure(figsize=(12.0, 8.0), layout="constrained")
+    grid = fig.add_gridspec(3, 3, width_ratios=[1.0, 1.0, 0.9])
+    ax = fig.add_subplot(grid[:, :2], projection="3d")
+    flat = [(fig.add_subplot(grid[k, 2]), pair) for k, (_, pair) in enumerate(_PROJECTIONS)]
+    return fig, ax, flat
+
+
+def _polyline(ax, flat, xyz, gid, **style):
+    """One polyline in the 3D view and in every flat view, tagged ``gid``."""
+    xyz = np.asarray(xyz, dtype=float)
+    (line,) = ax.plot(xyz[:, 0], xyz[:, 1], xyz[:, 2], **style)
+    line.set_gid(gid)
+    for panel, (i, j) in flat:
+        (projected,) = panel.plot(xyz[:, i], xyz[:, j], **style)
+        projected.set_gid(gid)
+
+
+def _arrow(ax, flat, start, vector, gid, colour, head=0.3, width=1.5):
+    """An arrow in the 3D view (quiver) and in every flat view (annotate)."""
+    quiver = ax.quiver(*start, *vector, color=colour, linewidth=width, arrow_length_ratio=head)
+    quiver.set_gid(gid)
+    for panel, (i, j) in flat:
+        if np.hypot(vector[i], vector[j]) < 1e-12:
+            continue
+        note = panel.annotate("", xy=(start[i] + vector[i], start[j] + vector[j]), xytext=(start[i], start[j]),
+                              arrowprops={"arrowstyle": "-|>", "color": colour, "lw": width, "shrinkA": 0,
+                                          "shrinkB": 0, "mutation_scale": 9})
+        note.set_gid(gid)
+
+
+def _edges(body, points):
+    """Polylines of a body's edges through ``points`` (NaN-separated), shape (n, 3)."""
+    if body.kind == "rotor":
+        n = (len(points) - 2) // 2
+        loops = [list(range(n)) + [0], list(range(n, 2 * n)) + [n]]
+        loops += [[k, n + k] for k in range(0, n, max(1, n // 4))]
+    elif body.kind == "outline":
+        loops = [list(line) for line in body.faces]
+    else:
+        loops = [list(face) + [face[0]] for face in body.faces]
+    rows = []
+    for loop in loops:
+        rows.extend(points[loop])
+        rows.append([np.nan] * 3)
+    return np.asarray(rows)
+
+
+def _draw_static(ax, flat, view, orbits):
+    """What does not move: the machine at rest, the ground, the orbits and the spin arrows."""
+    for body in view.outline.bodies:
+        _polyline(ax, flat, _edges(body, body.vertices), f"undeformed:{body.name}", color="0.55",
+                  linewidth=0.8, linestyle="--")
+    for k, bracket in enumerate(view.outline.brackets):
+        _polyline(ax, flat, bracket, f"undeformed-bracket:{k}", color="0.55", linewidth=0.8, linestyle="--")
+    for spring in view.outline.springs:
+        _ground(ax, flat, spring, view.outline.size)
+    if orbits:
+        _draw_orbits(ax, flat, view)
+    _draw_spin(ax, flat, view)
+
+
+def _draw_displaced(ax, flat, view, phase):
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    turn = np.exp(1j * phase)
+    for body, points in zip(view.outline.bodies, view.at_phase(phase)):
+        colour = _BODY_COLOURS[body.kind]
+        _polyline(ax, flat, _edges(body, points), f"displaced:{body.name}", color=colour, linewidth=1.4)
+        if body.kind != "outline":
+            faces = Poly3DCollection([points[list(face)] for face in body.faces], facecolor=colour,
+                                     alpha=0.15 if body.kind == "stator" else 0.35, edgecolor="none")
+            faces.set_gid(f"displaced-faces:{body.name}")
+            ax.add_collection3d(faces)
+    for k, (bracket, motion) in enumerate(zip(view.outline.brackets, view.bracket_motion)):
+        _polyline(ax, flat, bracket + np.real(motion * turn), f"displaced-bracket:{k}", color="tab:blue",
+                  linewidth=1.4)
+    for spring, motion in zip(view.outline.springs, view.spring_motion):
+        a, b = spring.point_a + np.real(motion[0] * turn), spring.point_b + np.real(motion[1] * turn)
+        _polyline(ax, flat, _zigzag(a, b, view.outline.size), f"displaced-spring:{spring.name}", color="0.2",
+                  linewidth=1.0)
+    for arrow, motion in zip(view.outline.arrows, view.arrow_motion):
+        start = arrow.point + np.real(motion * turn)
+        d = 0.12 * view.outline.size * arrow.direction / np.linalg.norm(arrow.direction)
+        tail = start - d if arrow.kind == "excitation" else start
+        _arrow(ax, [], tail, d, f"displaced-arrow:{arrow.name}", _ARROW_COLOURS[arrow.kind])
+
+
+def _zigzag(a, b, size):
+    """A spring drawn as a zigzag from ``a`` to ``b`` (straight leads at both ends)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    axis = b - a
+    length = np.linalg.norm(axis)
+    if length == 0:
+        return np.array([a, b])
+    unit = axis / length
+    side = np.cross(unit, [0.0, 0.0, 1.0] if abs(unit[2]) < 0.9 else [1.0, 0.0, 0.0])
+    side = side / np.linalg.norm(side) * 0.025 * size
+    t = np.linspace(0.2, 0.8, 2 * _SPRING_COILS + 1)
+    swing = np.where(np.arange(len(t)) % 2, 1.0, -1.0)
+    swing[[0, -1]] = 0.0
+    middle = a + t[:, None] * axis + swing[:, None] * side
+    return np.vstack([a, middle, b])
+
+
+def _ground(ax, flat, spring, size):
+    if spring.body_b != "ground":
+        return
+    p = np.asarray(spring.point_b, float)
+    unit = (p - spring.point_a) / np.linalg.norm(p - spring.point_a)
+    side = np.cross(unit, [0.0, 0.0, 1.0] if abs(unit[2]) < 0.9 else [1.0, 0.0, 0.0])
+    side = side / np.linalg.norm(side) * 0.04 * size
+    _polyline(ax, flat, np.array([p - side, p + side]), f"ground:{spring.name}", color="k", linewidth=2.5)
+
+
+def _orbit_points(view):
+    """Points whose orbits are traced: each body's centre, the springs' machine ends."""
+    points, motions = [], []
+    for body, motion in zip(view.outline.bodies, view.body_motion):
+        if body.kind == "rotor":
+            points.extend(body.vertices[-2:])
+            motions.extend(motion[-2:])
+        elif body.kind == "stator":
+            points.append(body.vertices.mean(axis=0))
+            motions.append(motion.mean(axis=0))
+    for spring, motion in zip(view.outline.springs, view.spring_motion):
+        points.append(spring.point_a)
+        motions.append(motion[0])
+    return np.asarray(points, float).reshape(-1, 3), np.asarray(motions, complex).reshape(-1, 3)
+
+
+def _draw_orbits(ax, flat, view):
+    """Each orbit over one period, and an arrow along the motion where the drawing stands (phase 0)."""
+    points, motions = _orbit_points(view)
+    phases = np.linspace(0, 2 * np.pi, 73)
+    for k, (p, d) in enumerate(zip(points, motions)):
+        orbit = p + np.real(d[None, :] * np.exp(1j * phases)[:, None])
+        _polyline(ax, flat, orbit, f"orbit:{k}", color="tab:red", linewidth=0.9)
+        velocity = np.real(1j * d)            # d/dphi of Re(d e^{i phi}) at phi = 0
+        if np.linalg.norm(velocity) > 0.05 * np.linalg.norm(np.abs(d)):
+            _arrow(ax, flat, p + np.real(d), 0.8 * velocity, f"orbit-arrow:{k}", "tab:red", head=0.5, width=1.4)
+
+
+def _draw_spin(ax, flat, view):
+    """A three-quarter arc with an arrowhead around each rotor's front face, turning its way."""
+    if view.speed == 0:
+        return
+    for body in view.outline.bodies:
+        if body.kind != "rotor" or body.spin == 0:
+            continue
+        n = (len(body.vertices) - 2) // 2
+        centre = body.vertices[-1]
+        ring = body.vertices[n:2 * n] - centre
+        e1 = ring[0] / np.linalg.norm(ring[0])
+        e2 = np.cross(body.axis, e1)
+        angles = np.linspace(0, 1.5 * np.pi, 28) * np.sign(body.spin * view.speed)
+        arc = centre + 1.2 * np.linalg.norm(ring[0]) * (np.cos(angles)[:, None] * e1 + np.sin(angles)[:, None] * e2)
+        along = _facing(flat, body.axis)
+        _polyline(ax, along, arc[:-3], f"spin:{body.name}", color="k", linewidth=1.0)
+        _arrow(ax, along, arc[-4], arc[-1] - arc[-4], f"spin-arrow:{body.name}", "k", head=0.8, width=1.0)
+
+
+def _facing(flat, axis):
+    """The flat views looking along ``axis`` (where a spin arc is a circle, not a line)."""
+    normals = {(0, 1): 2, (0, 2): 1, (1, 2): 0}
+    return [(panel, pair) for panel, pair in flat if abs(axis[normals[pair]]) > 0.7]
+
+
+def _label_arrows(ax, view):
+    for arrow, motion in zip(view.outline.arrows, view.arrow_motion):
+        d = arrow.direction / np.linalg.norm(arrow.direction)
+        tip = arrow.point + np.real(motion) + (0.13 * view.outline.size * d if arrow.kind == "sensor" else 0)
+        ax.text(*tip, arrow.name, fontsize="x-small", color=_ARROW_COLOURS[arrow.kind])
+
+
+def _frame(ax, flat, view):
+    points = np.concatenate([b.vertices for b in view.outline.bodies]
+                            + [np.array([s.point_b for s in view.outline.springs]).reshape(-1, 3)])
+    low, high = points.min(axis=0), points.max(axis=0)
+    centre, half = 0.5 * (low + high), 0.5 * (high - low).max() + 0.15 * view.outline.size
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre):
+        setter(c - half, c + half)
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
+    ax.tick_params(labelsize="x-small")
+    for (panel, (i, j)), (name, _) in zip(flat, _PROJECTIONS):
+        panel.set_xlim(centre[i] - half, centre[i] + half)
+        panel.set_ylim(centre[j] - half, centre[j] + half)
+        panel.set_aspect("equal")
+        panel.set_xlabel(f"{_AXIS_NAMES[i]} [m]", fontsize="small", labelpad=1)
+        panel.set_ylabel(f"{_AXIS_NAMES[j]} [m]", fontsize="small", labelpad=1)
+        panel.set_title(name, fontsize="small")
+        panel.tick_params(labelsize="x-small")
+        panel.grid(True, alpha=0.3)
+
+
+def _title(view):
+    rpm = view.speed * 30 / np.pi
+    whirl = "no whirl" if view.whirl == "none" else f"{view.whirl} whirl ({view.whirl_ratio:+.2f})"
+    return (f"{view.label.capitalize()} mode {view.mode}: {view.frequency_hz:.3f} Hz, "
+            f"ζ = {view.damping_ratio:.4f}, {whirl}, {rpm:.0f} rpm")
+
+
+def _legend(ax, view, orbits):
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color="0.55", linestyle="--", label="at rest"),
+               Line2D([], [], color="tab:blue", label="displaced (exaggerated)")]
+    if orbits:
+        handles.append(Line2D([], [], color="tab:red", marker=">", label="orbit; arrow: direction of motion"))
+    if view.speed != 0 and any(b.kind == "rotor" for b in view.outline.bodies):
+        handles.append(Line2D([], [], color="k", marker=">", label="spin of the rotors"))
+    kinds = {a.kind for a in view.outline.arrows}
+    handles += [Line2D([], [], color=_ARROW_COLOURS[k], label=k) for k in ("sensor", "excitation") if k in kinds]
+    ax.legend(handles=handles, loc="upper left", fontsize="x-small", framealpha=0.8)

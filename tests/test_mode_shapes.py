@@ -1,0 +1,213 @@
+"""3D mode shapes: the drawn displacement of every point is the mode shape there, the geometry
+has the bodies' inertia, orbits turn the way the mode whirls; figures, animations, command line."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.analysis.mode_shapes import machine_outline, mode_shape_3d
+from rotordyn_modal.errors import InputError
+from rotordyn_modal.plotting.shapes3d import animate_mode_shape, plot_mode_shapes
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+@pytest.fixture(scope="module")
+def gear():
+    model = rdm.load_model(EXAMPLES / "gear_machine.toml")
+    return model, rdm.modal(model, rdm.rpm(3000))
+
+
+def _lines(axes, gid):
+    return [line for line in axes.get_lines() if line.get_gid() == gid]
+
+
+def _xyz(line):
+    x, y, z = line.get_data_3d()
+    xyz = np.column_stack([x, y, z]).astype(float)
+    return xyz[~np.isnan(xyz).any(axis=1)]
+
+
+@pytest.mark.parametrize("mode", [1, 5, 6])
+@pytest.mark.parametrize("body", ["stator", "motor", "fan"])
+def test_drawn_displacement_is_the_scaled_mode_shape(gear, mode, body):
+    """Every drawn vertex moved by Re(scale shape_at(vertex)) from where it is drawn at rest."""
+    model, result = gear
+    view = mode_shape_3d(result, model, mode)
+    fig = view.plot()
+    ax = fig.axes[0]
+    rest, = _lines(ax, f"undeformed:{body}")
+    moved, = _lines(ax, f"displaced:{body}")
+    k = np.nonzero(result.oscillatory)[0][mode - 1]
+    expected = np.array([p + np.real(view.scale * result.shape_at(p)[k]) for p in _xyz(rest)])
+    np.testing.assert_allclose(_xyz(moved), expected, rtol=0, atol=1e-12)
+    # the top view draws the same points projected on x-y
+    top = fig.axes[1]
+    x, y = _lines(top, f"displaced:{body}")[0].get_data()
+    keep = ~np.isnan(np.asarray(x, float))
+    np.testing.assert_allclose(np.column_stack([x, y])[keep].astype(float), expected[:, :2], atol=1e-12)
+
+
+def test_displacement_at_a_quarter_period(gear):
+    model, result = gear
+    view = mode_shape_3d(result, model, 3, scale=0.5)
+    k = np.nonzero(result.oscillatory)[0][2]
+    for body, points in zip(view.outline.bodies, view.at_phase(np.pi / 2)):
+        expected = body.vertices + np.real(0.5 * np.array([result.shape_at(p)[k] for p in body.vertices]) * 1j)
+        np.testing.assert_allclose(points, expected, atol=1e-14)
+
+
+def test_springs_and_arrows_move_with_the_machine_and_the_ground_stays(gear):
+    model, result = gear
+    view = mode_shape_3d(result, model, 2)
+    k = np.nonzero(result.oscillatory)[0][1]
+    for spring, motion in zip(view.outline.springs, view.spring_motion):
+        np.testing.assert_allclose(motion[0], view.scale * result.shape_at(spring.point_a)[k], atol=1e-15)
+        np.testing.assert_array_equal(motion[1], 0.0)
+    for arrow, motion in zip(view.outline.arrows, view.arrow_motion):
+        np.testing.assert_allclose(motion, view.scale * result.shape_at(arrow.point)[k], atol=1e-15)
+    largest = max(np.abs(m).max() for m in view.body_motion)
+    assert largest == pytest.approx(0.15 * view.outline.size, rel=1e-12)
+
+
+def test_stator_box_has_the_stators_inertia(gear):
+    """A uniform box of the stator's mass on the drawn corners: its inertia tensor is the stator's."""
+    model, _ = gear
+    box = machine_outline(model).bodies[0]
+    centre = box.vertices.mean(axis=0)
+    edges = [box.vertices[4] - box.vertices[0], box.vertices[2] - box.vertices[0], box.vertices[1] - box.vertices[0]]
+    lengths = np.array([np.linalg.norm(e) for e in edges])
+    axes = np.column_stack([e / np.linalg.norm(e) for e in edges])
+    m = model.stator.mass
+    principal = m / 12 * np.array([lengths[1] ** 2 + lengths[2] ** 2, lengths[0] ** 2 + lengths[2] ** 2,
+                                   lengths[0] ** 2 + lengths[1] ** 2])
+    np.testing.assert_allclose(axes @ np.diag(principal) @ axes.T, model.stator.inertia, atol=1e-12)
+    np.testing.assert_allclose(centre, model.stator.center_of_mass, atol=1e-15)
+
+
+def test_rotor_cylinders_have_the_rotors_inertia(gear):
+    """Solid cylinder: J_p = m r^2 / 2, I_d = m (3 r^2 + L^2) / 12, on the spin axis at the centre of mass."""
+    model, _ = gear
+    for body, rotor in zip(machine_outline(model).bodies[1:], model.rotors):
+        n = (len(body.vertices) - 2) // 2
+        back, front = body.vertices[-2], body.vertices[-1]
+        np.testing.assert_allclose(0.5 * (back + front), rotor.center_of_mass, atol=1e-15)
+        axis = (front - back) / np.linalg.norm(front - back)
+        np.testing.assert_allclose(np.abs(axis), np.abs(model.spin_axis), atol=1e-15)
+        r = np.linalg.norm(np.cross(body.vertices[:n] - back, axis), axis=1)
+        L = np.linalg.norm(front - back)
+        np.testing.assert_allclose(rotor.mass * r ** 2 / 2, rotor.polar_inertia, rtol=1e-12)
+        assert rotor.mass * (3 * r[0] ** 2 + L ** 2) / 12 == pytest.approx(rotor.diametral_inertia, rel=1e-12)
+
+
+@pytest.mark.parametrize("mode,sense", [(1, -1.0), (2, 1.0)])
+def test_orbit_arrow_turns_the_way_the_mode_whirls(mode, sense):
+    """Rotor in a block of springs at 3000 rpm: mode 1 whirls backward, mode 2 forward (docs/theory.md).
+    The arrow drawn on the disk centre's orbit in the side view (looking along the spin axis
+    +x) turns against / with the spin (+x, counter-clockwise in that view)."""
+    model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
+    result = rdm.modal(model, rdm.rpm(3000))
+    assert result.whirl[np.nonzero(result.oscillatory)[0][mode - 1]] == ("backward" if sense < 0 else "forward")
+    view = mode_shape_3d(result, model, mode)
+    fig = view.plot()
+    side = fig.axes[3]
+    assert side.get_title() == "side view (from +x)"
+    centre_index = 0  # the disk's back face centre is the first orbit point
+    arrow, = [a for a in side.texts if a.get_gid() == f"orbit-arrow:{centre_index}"]
+    start, tip = np.asarray(arrow.xyann), np.asarray(arrow.xy)
+    rest = view.outline.bodies[0].vertices[-2][1:]
+    radius = start - rest
+    turn = radius[0] * (tip - start)[1] - radius[1] * (tip - start)[0]
+    assert np.sign(turn) == sense
+
+
+def test_machine_without_stator_is_drawn_on_its_carrier():
+    model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
+    outline = machine_outline(model)
+    assert [b.kind for b in outline.bodies] == ["rotor"] and outline.bracket_body == "disk"
+    np.testing.assert_allclose(outline.brackets[0], [model.rotors[0].center_of_mass, [0.0, 0.0, 0.0]])
+
+
+def test_user_outline_replaces_the_box(gear):
+    model, result = gear
+    square = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [np.nan] * 3, [0, 0, 1], [0, 1, 1]]
+    view = mode_shape_3d(result, model, 1, outline=square)
+    body = view.outline.bodies[0]
+    assert body.kind == "outline" and body.faces == ((0, 1, 2), (4, 5))
+    assert view.plot() is not None
+    with pytest.raises(InputError, match="outline: expected points of shape"):
+        machine_outline(model, [[0, 1]])
+
+
+def test_side_by_side_and_python_methods(gear, tmp_path):
+    model, result = gear
+    fig = plot_mode_shapes([mode_shape_3d(result, model, 1), mode_shape_3d(result, model, 1, label="measured")],
+                           titles=["model", "measured"])
+    assert [ax.get_title() for ax in fig.axes] == ["model", "measured"]
+    assert result.plot_shape(4, model).axes[0].name == "3d"
+    result.animate(4, model, tmp_path / "m.gif", frames=3)
+    assert (tmp_path / "m.gif").read_bytes()[:6] in (b"GIF89a", b"GIF87a")
+    with pytest.raises(InputError, match="mode 0: expected a mode number from 1 to 6"):
+        result.plot_shape(0, model)
+
+
+def test_animation_files(gear, tmp_path):
+    model, result = gear
+    view = mode_shape_3d(result, model, 6)
+    animate_mode_shape(view, tmp_path / "m.html", frames=3)
+    assert "<script" in (tmp_path / "m.html").read_text()
+    with pytest.raises(InputError, match="expected an animation file ending in .gif, .html, .mp4"):
+        animate_mode_shape(view, tmp_path / "m.avi", frames=3)
+    keep = tmp_path / "model.toml"
+    keep.write_text("x")
+    with pytest.raises(InputError, match="refusing to write over the input file"):
+        animate_mode_shape(view, keep.with_suffix(".gif"), frames=3, inputs=[keep.with_suffix(".gif")])
+
+
+@pytest.mark.skipif(shutil.which("ffmpeg") is not None, reason="ffmpeg is installed")
+def test_mp4_without_ffmpeg_is_refused(gear, tmp_path):
+    model, result = gear
+    with pytest.raises(InputError, match="writing MP4 needs ffmpeg"):
+        animate_mode_shape(mode_shape_3d(result, model, 6), tmp_path / "m.mp4", frames=3)
+    assert not (tmp_path / "m.mp4").exists()
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "rotordyn_modal.cli.main", *map(str, args)],
+                          capture_output=True, text=True)
+
+
+def test_command_line_shape_and_animation(tmp_path):
+    gear = EXAMPLES / "gear_machine.toml"
+    done = _cli("modes", gear, "--speed", 3000, "--shape", 5, "--plot", tmp_path / "m5.png", "--quiet")
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "m5.png").read_bytes()[:4] == b"\x89PNG"
+    outline = tmp_path / "outline.csv"
+    outline.write_text("x,y,z\n0,0,0\n0.5,0,0\n\n0,0,0.3\n0.5,0,0.3\n")
+    done = _cli("modes", gear, "--speed", 3000, "--animate", 2, "--frames", 3, "--outline", outline,
+                "--plot", tmp_path / "m2.gif", "--quiet")
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "m2.gif").stat().st_size > 0
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--animate", "2"], "--animate MODE needs --plot FILE.gif, FILE.html or FILE.mp4"),
+    (["--animate", "2", "--plot", "{tmp}/x.png"], "expected a file ending in .gif, .html or .mp4"),
+    (["--shape", "2"], "--shape MODE needs --plot FILE.png"),
+    (["--shape", "7", "--plot", "{tmp}/x.png"], "mode 7: expected a mode number from 1 to 6"),
+    (["--outline", "{tmp}/o.csv"], "--outline is drawn with --shape MODE or --animate MODE only"),
+    (["--shape", "1", "--outline", "{tmp}/o.csv", "--plot", "{tmp}/x.png"], "the outline needs the columns x,y,z"),
+    (["--animate", "1", "--frames", "1", "--plot", "{tmp}/x.gif"], "--frames 1: expected a whole number"),
+])
+def test_command_line_refusals(tmp_path, args, message):
+    (tmp_path / "o.csv").write_text("a,b\n1,2\n")
+    done = _cli("modes", EXAMPLES / "gear_machine.toml", *[a.format(tmp=tmp_path) for a in args])
+    assert done.returncode == 2 and message in done.stderr, done.stderr
+    assert not (tmp_path / "x.png").exists() and not (tmp_path / "x.gif").exists()

@@ -1,0 +1,51 @@
+"""TDMS records written by another project (tests/data/tdms, see its README), read through npTDMS."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rotordyn_modal.errors import InputError
+from rotordyn_modal.io.tdms import read_tdms_records
+
+nptdms = pytest.importorskip("nptdms")
+
+DATA = Path(__file__).resolve().parent / "data" / "tdms"
+GOOD = DATA / "good_tdms_2.tdms"
+
+
+def test_group_read_as_nptdms_reads_it_with_a_declared_unit():
+    records = read_tdms_records(GOOD, group="acceleration", units={"g": ("acceleration", 9.80665)})
+    raw = nptdms.TdmsFile.read(str(GOOD))["acceleration"]
+    assert records.channels == tuple(c.name for c in raw.channels())
+    assert records.quantities == ("acceleration",) * 8 and records.signals.shape == (1, 8, 15000)
+    assert records.sampling_rate_hz == pytest.approx(250.0, rel=1e-12)
+    for k, channel in enumerate(raw.channels()):
+        np.testing.assert_array_equal(records.signals[0, k], np.asarray(channel[:], dtype=float) * 9.80665)
+
+
+@pytest.mark.parametrize("kwargs,message", [
+    ({"group": "acceleration"}, "channel 'SCB_ALM_RS_ACC_HOR004_X_nr1' has unit 'g': expected one of N, m"),
+    ({}, "several groups: give group= one of acceleration, ambient"),
+    ({"group": "strain"}, "no group 'strain'"),
+    ({"group": "acceleration", "channels": ["x"], "units": {"g": ("acceleration", 9.80665)}}, "has no channel x"),
+    ({"group": "ambient", "channels": ["wind speed avg", "pressure"], "units": {"hPa": ("force", 1.0)}},
+     "sampling intervals [1.0, 60.0] s and lengths [1, 60]"),
+])
+def test_misfits_refused(kwargs, message):
+    with pytest.raises(InputError) as info:
+        read_tdms_records(GOOD, **kwargs)
+    assert message in str(info.value)
+
+
+def test_damaged_file_refused():
+    with pytest.raises(InputError, match="faulty_tdms_01.tdms: not a readable TDMS file"):
+        read_tdms_records(DATA / "faulty_tdms_01.tdms")
+
+
+def test_missing_nptdms_named_in_the_message(without_module):
+    without_module("nptdms")
+    with pytest.raises(InputError, match=r"pip install 'rotordyn_modal\[tdms\]'"):
+        read_tdms_records(GOOD)

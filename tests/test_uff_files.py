@@ -1,0 +1,148 @@
+"""Universal Files written by other tools (tests/data/uff, see its README): read to the values
+pyuff reads; nodes placed through their coordinate systems and units; misfits refused."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import pyuff
+
+import rotordyn_modal as rdm
+from rotordyn_modal.errors import InputError
+from rotordyn_modal.io.channels import ChannelMap
+from rotordyn_modal.io.measured import read_measured
+from rotordyn_modal.io.uff import (place_channels, read_uff_info, read_uff_nodes, read_uff_time_records,
+                                   write_uff58)
+
+DATA = Path(__file__).resolve().parent / "data" / "uff"
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "gear_machine.toml"
+TESTLAB = DATA / "testlab_151_164_18_15_82.uff"
+HOUSING = DATA / "heat_engine_housing.uff"
+
+
+def _pyuff_sets(path, kind):
+    uff = pyuff.UFF(str(path))
+    types = list(uff.get_set_types())
+    return [uff.read_sets(k) for k, t in enumerate(types) if t == kind]
+
+
+def test_header_and_units():
+    info = read_uff_info(TESTLAB)
+    assert info["program"] == "LMS Test.Lab Rev project-15A" and info["model_name"] == "AME_Test"
+    assert info["units"].is_si and info["datasets"] == [151, 164, 18, 15, 82, 82, 82]
+    housing = read_uff_info(HOUSING)["units"]
+    assert (housing.length, housing.force) == (1000.0, 1000.0) and not housing.is_si
+
+
+def test_testlab_nodes_and_their_displacement_systems():
+    nodes = read_uff_nodes(TESTLAB)
+    raw, = _pyuff_sets(TESTLAB, 15)
+    np.testing.assert_array_equal(nodes.numbers, np.asarray(raw["node_nums"]).astype(int))
+    # defined in the global system (def_cs 0) and SI: the coordinates are pyuff's
+    np.testing.assert_array_equal(nodes.coordinates, np.column_stack([raw["x"], raw["y"], raw["z"]]))
+    systems, = _pyuff_sets(TESTLAB, 18)
+    for k, number in enumerate(nodes.numbers):
+        axes = nodes.axes[k]
+        np.testing.assert_allclose(axes @ axes.T, np.eye(3), atol=1e-12)
+        assert np.linalg.det(axes) == pytest.approx(1.0, abs=1e-12)
+        cs = list(np.asarray(systems["cs_num"]).astype(int)).index(int(raw["disp_cs"][k]))
+        origin = systems["ref_o"][cs]
+        x_dir = systems["x_point"][cs] - origin
+        np.testing.assert_allclose(nodes.direction(number, 1), x_dir / np.linalg.norm(x_dir), atol=1e-12)
+        # the system's x-z point lies in its x-z plane, on the +z side
+        in_xz = systems["xz_point"][cs] - origin
+        assert abs(np.dot(in_xz, axes[1])) < 1e-12 and np.dot(in_xz, axes[2]) > 0
+    # node 1's system turns x to -X: its +Z points down
+    np.testing.assert_allclose(nodes.direction(1, 3), [0.0, 0.0, -1.0], atol=1e-7)
+
+
+def test_millimetre_nodes_are_converted_to_metres():
+    nodes = read_uff_nodes(HOUSING)
+    raw, = _pyuff_sets(HOUSING, 2411)
+    np.testing.assert_allclose(nodes.coordinates, np.column_stack([raw["x"], raw["y"], raw["z"]]) / 1000.0,
+                               rtol=1e-15)
+    assert list(nodes.to_dataframe().columns) == ["node", "x", "y", "z"]
+
+
+def test_nodes_place_the_sensors():
+    model = rdm.load_model(EXAMPLE)
+    nodes = read_uff_nodes(TESTLAB)
+    mapping = ChannelMap({(7, 3): ("acc-top-z", 1.0), (12, 1): ("acc-side-y", -1.0)},
+                         {(20, 2): ("hammer-z", 1.0)})
+    placed = place_channels(model, nodes, mapping)
+    top, side = placed.sensors
+    np.testing.assert_allclose(top.position, nodes.position(7))
+    np.testing.assert_allclose(top.direction, nodes.direction(7, 3), atol=1e-12)
+    np.testing.assert_allclose(side.direction, -nodes.direction(12, 1), atol=1e-12)
+    np.testing.assert_allclose(placed.excitations[0].position, nodes.position(20))
+    np.testing.assert_allclose(placed.excitations[1].position, model.excitations[1].position)
+    with pytest.raises(InputError, match="node 99 is not in the file's node table"):
+        nodes.position(99)
+
+
+def test_time_record_from_catman_reads_as_pyuff_does():
+    path = DATA / "time-history-not-all-columns-filled.uff"
+    records = read_uff_time_records(path)
+    raw, = _pyuff_sets(path, 58)
+    assert records.channels == ("0:+0",) and records.quantities == ("acceleration",)
+    assert records.sampling_rate_hz == pytest.approx(1 / raw["abscissa_inc"], rel=1e-12)
+    np.testing.assert_array_equal(records.signals[0, 0], raw["data"])
+
+
+@pytest.mark.parametrize("name,reader,message", [
+    ("binary8byte.uff", "time", "ordinate unit 'g': expected SI m/s^2 for acceleration"),
+    ("non_ascii_header.uff", "frf", "ordinate data type(s) [1]: expected one of 8 (displacement)"),
+    ("non_ascii_header.uff", "time", "no time record (dataset 58, function type 1) in the file; "
+                                     "dataset 58 function types found: [4]"),
+    ("testlab_151_164_18_15_82.uff", "frf", "no dataset 58/58b (FRF) in the file; datasets found: [15, 18, 82, 151, 164]"),
+    ("time-history-not-all-columns-filled.uff", "nodes", "no node coordinates (dataset 15 or 2411)"),
+])
+def test_files_that_do_not_fit_are_refused(name, reader, message):
+    model = rdm.load_model(EXAMPLE)
+    read = {"time": read_uff_time_records, "nodes": read_uff_nodes,
+            "frf": lambda p: read_measured(p, model)}[reader]
+    with pytest.raises(InputError) as info:
+        read(DATA / name)
+    assert name in str(info.value) and message in str(info.value)
+
+
+def _write(path, sets):
+    open(path, "w").close()
+    pyuff.UFF(str(path)).write_sets(sets, mode="add")
+
+
+def test_frfs_in_other_units_are_refused(tmp_path):
+    model = rdm.load_model(EXAMPLE)
+    res = rdm.frf(model, 0.0, np.linspace(1, 40, 40), quantity="accelerance")
+    path = tmp_path / "mm.uff"
+    write_uff58([res], path, rdm.io.measured.default_mapping(model))
+    sets = pyuff.UFF(str(path)).read_sets()
+    _write(path, [pyuff.prepare_164(units_code=5, units_description="mm (milli-newton)", temp_mode=2,
+                                    length=1000.0, force=1000.0, temp=1.0, temp_offset=273.15)] + sets)
+    with pytest.raises(InputError, match="dataset 164 gives units 'mm \\(milli-newton\\)'.*SI units only"):
+        read_measured(path, model)
+
+
+def test_hits_of_a_mapped_hammer_test(tmp_path):
+    """Three hits, each a force and two accelerations (repeated channels are successive records)."""
+    rng = np.random.default_rng(0)
+    data = rng.normal(size=(3, 3, 64))
+    channels = [(101, 3, 13, "N"), (1, 3, 12, "m/s^2"), (2, 2, 12, "m/s^2")]
+    sets = [pyuff.prepare_58(binary=0, func_type=1, rsp_node=node, rsp_dir=code, ref_node=0, ref_dir=0,
+                             ordinate_spec_data_type=kind, ordinate_axis_units_lab=label, orddenom_spec_data_type=0,
+                             abscissa_spec_data_type=17, data=data[h, c], x=np.arange(64) / 512.0,
+                             abscissa_spacing=1, abscissa_inc=1 / 512.0, abscissa_min=0.0)
+            for h in range(3) for c, (node, code, kind, label) in enumerate(channels)]
+    _write(tmp_path / "hits.uff", sets)
+    mapping = ChannelMap({(1, 3): ("acc-top-z", 1.0), (2, 2): ("acc-side-y", -1.0)}, {(101, 3): ("hammer-z", 1.0)})
+    records = read_uff_time_records(tmp_path / "hits.uff", mapping, speed=rdm.rpm(1200))
+    assert records.channels == ("hammer-z", "acc-top-z", "acc-side-y")
+    assert records.quantities == ("force", "acceleration", "acceleration")
+    # the ASCII header holds the increment to 6 digits (E13.5)
+    assert records.sampling_rate_hz == pytest.approx(512.0, rel=1e-5) and records.speed == pytest.approx(rdm.rpm(1200))
+    expected = data * np.array([1.0, 1.0, -1.0])[None, :, None]
+    np.testing.assert_allclose(records.signals, expected, rtol=1e-10)     # ASCII: 12+ digits
+    with pytest.raises(InputError, match="force node 101 direction 3 is not in the mapping table"):
+        read_uff_time_records(tmp_path / "hits.uff", ChannelMap(mapping.outputs, {}))

@@ -306,12 +306,13 @@ def test_numpy_and_numba_backends_agree_on_a_bearing_model():
     np.testing.assert_allclose(runs[0].bearing_forces, runs[1].bearing_forces, rtol=1e-9, atol=1e-9)
 
 
-def test_journal_bearing_is_refused_with_the_way_out():
+def test_a_given_journal_load_is_refused_with_the_way_out():
     data = _casing_machine().to_dict()
     data["bearings"][1] = {"name": "fan-NDE", "rotor": "fan", "position": [-0.45, 0.0, 0.25], "type": "journal",
                            "diameter": 0.05, "length": 0.02, "clearance": 5e-5, "viscosity": 0.02, "load": 40.0,
                            "load_direction": [0.0, 0.0, -1.0]}
-    with pytest.raises(InputError, match=r"\[bearings.fan-NDE\] type = 'journal'.*type = 'linear'"):
+    with pytest.raises(InputError, match=r"\[bearings.fan-NDE\] load = 40: .*weight it carries under the model's "
+                       r"gravity.*leave load out"):
         rdm.simulate(rdm.Model.from_dict(data), 0.1, 300.0)
 
 
@@ -319,3 +320,102 @@ def test_speed_outside_a_bearing_table_is_refused():
     model = _casing_machine(table=True)
     with pytest.raises(InputError, match=r"fan-NDE.*outside the coefficient table.*run-up|fan-NDE.*outside"):
         rdm.simulate(model, 0.1, 0.0, drive="ramp", final_speed=rdm.rpm(20000.0))
+
+
+# ----------------------------------------------------------------------------------------
+# plain journal bearings: the oil film's nonlinear force
+JOURNAL_ROTOR = EXAMPLES / "journal_rotor.toml"
+
+
+def _journal_rotor():
+    data = rdm.load_model(JOURNAL_ROTOR).to_dict()
+    data["unbalances"] = []
+    return rdm.Model.from_dict(data)
+
+
+def test_film_force_equals_the_pressure_integrated_by_quadrature():
+    """The closed-form film force (Sommerfeld's substitution over the positive-pressure arc)
+    against ``journal_reference.film_force`` (quadrature of the short-bearing pressure), at
+    random journal positions up to eccentricity 0.97, velocities and speeds of both signs."""
+    from journal_reference import Bearing, film_force as by_quadrature
+
+    from rotordyn_modal.simulation._kernels import film_force
+
+    bearing = Bearing(diameter=0.05, length=0.025, clearance=5e-5, viscosity=0.02)
+    film = np.array([bearing.radius, bearing.length, bearing.clearance, bearing.viscosity])
+    axes = np.array([[0.0, 0.6, -0.8], [0.0, 0.8, 0.6]])       # x, y normal to e = x, x × y = e
+    rng = np.random.default_rng(11)
+    for _ in range(60):
+        position = rng.normal(size=2)
+        position *= rng.uniform(0.0, 0.97) * bearing.clearance / np.linalg.norm(position)
+        velocity = rng.normal(size=2) * bearing.clearance * 10.0 ** rng.uniform(0, 3.5)
+        speed = rng.choice([-1.0, 1.0]) * rng.uniform(10.0, 3000.0)
+        force = film_force(position @ axes, velocity @ axes, speed, axes, film)
+        expected = by_quadrature(bearing, position, velocity, speed)
+        np.testing.assert_allclose(axes @ force, expected, rtol=0, atol=1e-10 * np.abs(expected).max())
+        assert abs(force @ [1.0, 0.0, 0.0]) < 1e-12 * np.abs(expected).max()
+
+
+def test_compiled_and_plain_kernels_agree_with_journal_bearings():
+    from rotordyn_modal.simulation._fast import pack, rhs_flat
+    from rotordyn_modal.simulation._kernels import plain_namespace
+    from rotordyn_modal.simulation._system import system_arrays
+    from rotordyn_modal.simulation.simulate import kernels
+
+    system = system_arrays(rdm.load_model(JOURNAL_ROTOR))
+    rng = np.random.default_rng(2)
+    states = rng.normal(size=(5, 2 * system.n_dof)) * 1e-5
+    states[:, system.n_dof:] *= 1e3
+    states[:, -1] = rng.uniform(200.0, 2000.0, 5)
+    for mode in (0, 1):
+        extra = (mode, 7.0, 0.0, 1.0)
+        for y in states:
+            plain = plain_namespace().rhs(0.5, y, *system.kernel_arguments(), *extra)
+            assert np.all(np.isfinite(plain))
+            np.testing.assert_allclose(rhs_flat(0.5, y, *pack(system, *extra)), plain, rtol=1e-11,
+                                       atol=1e-11 * np.abs(plain).max())
+        arguments = system.kernel_arguments() + extra
+        times = np.linspace(0.1, 0.5, len(states))
+        for a, b in zip(plain_namespace().sample_outputs(times, states, *arguments),
+                        kernels("numba").sample_outputs(times, states, *arguments)):
+            np.testing.assert_allclose(b, a, rtol=1e-11, atol=1e-11 * np.abs(a).max(initial=1.0))
+
+
+@pytest.mark.parametrize("speed", [300.0, 800.0])
+def test_linearised_oil_film_equals_the_short_bearing_coefficients(speed):
+    """About the static equilibrium under gravity the nonlinear film's Jacobian is the linear
+    model's (the eight closed-form coefficients of ``rotordyn_modal.journal``)."""
+    model = rdm.load_model(JOURNAL_ROTOR)
+    A = rdm.simulation.linearize(model, speed, step=1e-9)
+    reference = speed_linear_form(model).at(speed)
+    assert np.abs(A - reference).max() < 1e-8 * np.abs(reference).max()
+
+
+@pytest.mark.parametrize("fraction, size, duration", [(0.8, 0.002, 0.3), (1.2, 0.0005, 0.2)])
+def test_journal_rotor_below_and_above_the_oil_whirl_threshold_follows_the_linear_model(fraction, size, duration):
+    """From static equilibrium, a tap on the shaft: below the threshold (Lund's, from
+    ``rdm.stability``) the whirl dies out, above it grows at half speed, and while the orbit is
+    small against the clearance both equal python-control's impulse response of the linear
+    model (the difference of the size of the orbit over the clearance)."""
+    model = _journal_rotor()
+    threshold = rdm.stability(model, rdm.rpm(np.linspace(500, 20000, 40))).threshold_speed
+    speed = fraction * threshold
+    res = rdm.simulate(model, duration, speed, initial="equilibrium", impulse="shaft-tap-z", impulse_size=size,
+                       samples=1001, rtol=1e-11, atol=1e-15)
+    column = [x.name for x in model.excitations].index("shaft-tap-z")
+    linear = control.impulse_response(model.state_space(speed), T=res.time, input=column)
+    expected = size * np.atleast_2d(np.squeeze(linear.outputs)).T
+    moved = res.sensors - res.sensors[0]                      # about the equilibrium
+    peak = np.abs(expected).max(axis=0)
+    orbit = np.abs(moved).max() / 5e-5                          # against the radial clearance
+    assert np.all(np.abs(moved - expected).max(axis=0) < 3 * orbit * peak)
+    change = np.abs(moved[-100:]).max() / np.abs(moved[:200]).max()
+    assert (change < 1e-2) if fraction < 1 else (change > 1e2)
+
+
+def test_journal_that_cannot_carry_its_load_is_reported_not_integrated_forever():
+    """At rest the film has no wedge: the journal sinks into its bearing; the simulation stops
+    with one clear message, not a traceback."""
+    with pytest.raises(InputError, match=r"journal bearings \(eccentricity at the last output time: "
+                       r"\[bearings.DE\] 0\.\d+.*bearing wall.*initial='equilibrium'"):
+        rdm.simulate(_journal_rotor(), 0.4, 0.0, samples=41)

@@ -21,8 +21,10 @@ unbalances as rotating masses, gravity (top-level 'gravity' key) and suspension 
 follow their attachment points. Without a [stator] the bearings stand on the ground. At
 t = 0 the machine is at rest in its undeformed position (springs unstretched, --initial
 rest) or in static equilibrium under gravity (--initial equilibrium), and the rotors spin at
---speed. Tabulated bearing coefficients follow each rotor's own speed; journal bearings
-(type = 'journal') are refused (exit 2): give their film coefficients as a table.
+--speed. Tabulated bearing coefficients follow each rotor's own speed; a plain journal
+bearing (type = 'journal') pushes its journal with the oil film's nonlinear force
+(short-bearing theory, pi-film), loaded by gravity: start such a model from --initial
+equilibrium at a running speed; a journal that reaches its bearing wall ends the run (exit 2).
 
 Drive modes: an ideal drive holds --speed (default; the drive torque is an output);
 --ramp STOP runs the speed up (or down) linearly from --speed to STOP over --duration

@@ -197,6 +197,57 @@ def _bearing_stretch(y, n, j, kt, A3, Lj, Bj, point, u, gj, z, zd, Zb, BA, lb):
         zd[i] = v
 
 
+def _sommerfeld_angle(theta, eps):
+    """See :func:`rotordyn_modal.simulation._kernels.sommerfeld_angle`."""
+    turns = np.floor((theta + np.pi) / (2.0 * np.pi))
+    t = theta - 2.0 * np.pi * turns
+    return 2.0 * np.arctan2(np.sqrt(1.0 - eps) * np.sin(0.5 * t), np.sqrt(1.0 + eps) * np.cos(0.5 * t)) \
+        + 2.0 * np.pi * turns
+
+
+def _film_force(z, zd, own, axes, film, out):
+    """The oil film's force on the journal into ``out`` (3,), from ``z[:3]``, ``zd[:3]``; see
+    :func:`rotordyn_modal.simulation._kernels.film_force`."""
+    radius, length, clearance, viscosity = film[0], film[1], film[2], film[3]
+    X, Y, Xd, Yd = 0.0, 0.0, 0.0, 0.0
+    for i in range(3):
+        X += z[i] * axes[0, i]
+        Y += z[i] * axes[1, i]
+        Xd += zd[i] * axes[0, i]
+        Yd += zd[i] * axes[1, i]
+    X, Y, Xd, Yd = X / clearance, Y / clearance, Xd / clearance, Yd / clearance
+    eps = np.sqrt(X * X + Y * Y)
+    if eps >= 1.0:
+        for i in range(3):
+            out[i] = np.nan
+        return
+    ur_x, ur_y = 1.0, 0.0
+    if eps > 0.0:
+        ur_x, ur_y = X / eps, Y / eps
+    ut_x, ut_y = -ur_y, ur_x
+    a = eps * own - 2.0 * (Xd * ut_x + Yd * ut_y)
+    b = 2.0 * (Xd * ur_x + Yd * ur_y)
+    if a == 0.0 and b == 0.0:
+        for i in range(3):
+            out[i] = 0.0
+        return
+    theta0 = np.arctan2(b, a)
+    p0, p1 = _sommerfeld_angle(theta0, eps), _sommerfeld_angle(theta0 + np.pi, eps)
+    room = 1.0 - eps * eps
+    s0, s1, c0, c1 = np.sin(p0), np.sin(p1), np.cos(p0), np.cos(p1)
+    d2 = (np.sin(2.0 * p1) - np.sin(2.0 * p0)) / 4.0
+    i_ss = ((p1 - p0) / 2.0 - d2) / (room * np.sqrt(room))
+    i_sc = ((s1 * s1 - s0 * s0) / 2.0 + eps * (c1 - c0)) / (room * room)
+    i_cc = ((0.5 + eps * eps) * (p1 - p0) + d2 - 2.0 * eps * (s1 - s0)) / (room * room * np.sqrt(room))
+    k = viscosity * radius * length * length * length / (2.0 * clearance * clearance)
+    radial = k * (a * i_sc - b * i_cc)
+    tangential = k * (a * i_ss - b * i_sc)
+    fx = radial * ur_x + tangential * ut_x
+    fy = radial * ur_y + tangential * ut_y
+    for i in range(3):
+        out[i] = fx * axes[0, i] + fy * axes[1, i]
+
+
 def _tilt(gj, Lj, Bj):
     """``L(gamma_j)``, ``B(gamma_j)`` into ``Lj``, ``Bj``; returns the coefficients of
     :func:`_coefficients` (for ``D B``)."""
@@ -208,7 +259,7 @@ def _tilt(gj, Lj, Bj):
 
 
 def assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, M, f):
+                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f):
     """Add the generalized mass matrix to ``M`` (n, n) and the force to ``f`` (n,), both
     zero on entry; see :func:`rotordyn_modal.simulation._kernels.assemble`."""
     n = y.shape[0] // 2
@@ -404,6 +455,10 @@ def assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio
             for k in range(6):
                 v += Kb[i, k] * z[k] + Cb[i, k] * zd[k]
             gz[i] = v
+        if bfilm[br, 2] > 0.0:
+            _film_force(z, zd, ratio[bdy] * phi_dot, baxes[br], bfilm[br], v1)
+            for i in range(3):
+                gz[i] -= v1[i]
         for k in range(kt + 2):
             v = 0.0
             for i in range(6):
@@ -412,13 +467,13 @@ def assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio
 
 
 def assemble(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-             spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC):
+             spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes):
     """``(M, f)``: :func:`rotordyn_modal.simulation._kernels.assemble`, allocation-light."""
     n = y.shape[0] // 2
     M = np.zeros((n, n))
     f = np.zeros(n)
     assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, M, f)
+                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f)
     return M, f
 
 
@@ -442,14 +497,14 @@ def _solve_motion(M, f, t, mode, accel, t_start, t_stop, qdd):
 
 
 def rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-        spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, mode, accel, t_start, t_stop):
+        spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop):
     """``dy/dt`` (2n,); see :func:`rotordyn_modal.simulation._kernels.rhs`."""
     n = y.shape[0] // 2
     work = np.zeros(n * n + n)
     M = work[:n * n].reshape((n, n))
     f = work[n * n:]
     assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, M, f)
+                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f)
     out = np.empty(2 * n)
     for i in range(n):
         out[i] = y[n + i]
@@ -523,7 +578,7 @@ def _quadratic(K, z):
     return total
 
 
-def bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC):
+def bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes):
     """``K z + C dz/dt`` of every bearing, shape (nbr, 6); see
     :func:`rotordyn_modal.simulation._kernels.bearing_wrenches`."""
     n = y.shape[0] // 2
@@ -532,8 +587,8 @@ def bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcoun
     Lj, Bj = mats[0], mats[1]
     blocks = np.empty((3, 6, 6))
     Kb, Cb, Zb = blocks[0], blocks[1], blocks[2]
-    vec = np.empty((5, 3))
-    u, ud, gj, gjd, lb = vec[0], vec[1], vec[2], vec[3], vec[4]
+    vec = np.empty((6, 3))
+    u, ud, gj, gjd, lb, oil = vec[0], vec[1], vec[2], vec[3], vec[4], vec[5]
     z, zd = np.empty(6), np.empty(6)
     BA = np.empty((3, 2))
     for br in range(bbody.shape[0]):
@@ -548,11 +603,15 @@ def bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcoun
             for k in range(6):
                 v += Kb[i, k] * z[k] + Cb[i, k] * zd[k]
             out[br, i] = v
+        if bfilm[br, 2] > 0.0:
+            _film_force(z, zd, ratio[bdy] * y[2 * n - 1], baxes[br], bfilm[br], oil)
+            for i in range(3):
+                out[br, i] -= oil[i]
     return out
 
 
 def sample_outputs(times, states, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans,
-                   A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, mode, accel, t_start, t_stop):
+                   A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop):
     """Per-sample derived outputs; see :func:`rotordyn_modal.simulation._kernels.sample_outputs`."""
     count = times.shape[0]
     n = states.shape[1] // 2
@@ -570,7 +629,7 @@ def sample_outputs(times, states, e, E2, nf, gravity, mass, center, offset, iner
         for i in range(n * n + n):
             work[i] = 0.0
         assemble_into(times[s], y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-                      spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, M, f)
+                      spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f)
         total = 0.0
         for i in range(n):
             for k in range(n):
@@ -580,7 +639,8 @@ def sample_outputs(times, states, e, E2, nf, gravity, mass, center, offset, iner
         elastic[s], weight[s] = potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, A3,
                                           spos, sK, bbody, bpos, bspeeds, bcount, bK, bC)
         _frame(y, n, e, E2, nf, mats[0], mats[1], vec[0], omega[s], vec[1], vec[2], mats[2:5], vec[3:7])
-        wrenches[s] = bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC)
+        wrenches[s] = bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC,
+                                       bfilm, baxes)
     return kinetic, elastic, weight, torque, omega, wrenches
 
 
@@ -628,15 +688,19 @@ def rhs_flat(t, y, floats, ints):
     o += 36 * nbr * length
     bC = floats[o:o + 36 * nbr * length].reshape((nbr, length, 6, 6))
     o += 36 * nbr * length
-    return rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-               spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, mode, floats[o], floats[o + 1], floats[o + 2])
+    bfilm = floats[o:o + 4 * nbr].reshape((nbr, 4))
+    o += 4 * nbr
+    baxes = floats[o:o + 6 * nbr].reshape((nbr, 2, 3))
+    o += 6 * nbr
+    return rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3, spos, sK, sC,
+               bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, floats[o], floats[o + 1], floats[o + 2])
 
 
 def pack(system, mode, accel, t_start, t_stop):
     """``(floats, ints)`` for :func:`rhs_flat` from a ``SystemArrays`` and the drive."""
     parts = [system.e, system.E2, system.gravity, system.mass, system.center, system.offset,
              system.inertia, system.ratio, system.A3, system.spos, system.sK, system.sC, system.bpos,
-             system.bspeeds, system.bK, system.bC, [accel, t_start, t_stop]]
+             system.bspeeds, system.bK, system.bC, system.bfilm, system.baxes, [accel, t_start, t_stop]]
     floats = np.concatenate([np.ascontiguousarray(p, dtype=float).ravel() for p in parts])
     sizes = [system.nf, len(system.mass), len(system.spos), len(system.bbody), system.bspeeds.shape[1], mode]
     ints = np.concatenate([np.array(sizes, dtype=np.int64), system.slot, system.ntrans, system.bbody,
@@ -645,5 +709,5 @@ def pack(system, mode, accel, t_start, t_stop):
 
 
 FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_spd", "_interpolate", "_frame",
-             "_relative", "_bearing_stretch", "_tilt", "assemble_into", "assemble", "_solve_motion", "rhs",
+             "_relative", "_bearing_stretch", "_sommerfeld_angle", "_film_force", "_tilt", "assemble_into", "assemble", "_solve_motion", "rhs",
              "potential", "_quadratic", "bearing_wrenches", "sample_outputs", "rhs_flat")

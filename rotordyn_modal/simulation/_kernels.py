@@ -177,6 +177,72 @@ def bearing_coefficients(speeds, count, K, C, own):
     return (1.0 - t) * K[k - 1] + t * K[k], (1.0 - t) * C[k - 1] + t * C[k]
 
 
+def sommerfeld_angle(theta, eps):
+    """Sommerfeld's substitution ``psi(theta)``, ``tan(psi/2) = sqrt((1-eps)/(1+eps)) tan(theta/2)``,
+    continued continuously over every turn (``psi = theta`` at multiples of pi)."""
+    turns = np.floor((theta + np.pi) / (2.0 * np.pi))
+    t = theta - 2.0 * np.pi * turns
+    return 2.0 * np.arctan2(np.sqrt(1.0 - eps) * np.sin(0.5 * t), np.sqrt(1.0 + eps) * np.cos(0.5 * t)) \
+        + 2.0 * np.pi * turns
+
+
+def film_force(d, d_dot, own, axes, film):
+    """Force of a plain short journal bearing's oil film on the journal (``docs/theory.md``
+    §12, pi-film over the arc where the pressure is positive), frame axes [N].
+
+    Parameters
+    ----------
+    d, d_dot : ndarray, shape (3,)
+        Journal centre from the bearing centre and its velocity, frame axes [m, m/s].
+    own : float
+        Journal speed relative to the bearing, signed about the spin axis [rad/s].
+    axes : ndarray, shape (2, 3)
+        Rows ``x``, ``y`` of the bearing's radial frame (``x × y = e``).
+    film : ndarray, shape (4,)
+        Radius, length, radial clearance [m], viscosity [Pa s].
+
+    Returns
+    -------
+    ndarray, shape (3,); NaN once the journal reaches the wall (eccentricity >= 1).
+
+    Notes
+    -----
+    In the line of centres (``u_r`` from the bearing centre to the journal's, ``u_t = e × u_r``,
+    ``theta`` from the widest gap) the integrated pressure is
+    ``mu L³ (a sin(theta) - b cos(theta)) / (2 c² (1 + eps cos(theta))³)`` with
+    ``a = eps (omega - 2 beta')``, ``b = 2 eps'``; it is positive on ``(theta0, theta0 + pi)``,
+    ``theta0 = atan2(b, a)``. Sommerfeld's substitution turns the force integrals over that arc
+    into trigonometric polynomials: ``(1 - eps²)^(3/2) I_ss = [psi/2 - sin(2 psi)/4]``,
+    ``(1 - eps²)² I_sc = [sin²(psi)/2 + eps cos(psi)]``,
+    ``(1 - eps²)^(5/2) I_cc = [(1/2 + eps²) psi + sin(2 psi)/4 - 2 eps sin(psi)]``, and
+    ``F_r = k (a I_sc - b I_cc)``, ``F_t = k (a I_ss - b I_sc)``, ``k = mu R L³ / (2 c²)``.
+    """
+    radius, length, clearance, viscosity = film[0], film[1], film[2], film[3]
+    x, y = axes[0], axes[1]
+    X, Y = (d @ x) / clearance, (d @ y) / clearance
+    Xd, Yd = (d_dot @ x) / clearance, (d_dot @ y) / clearance
+    eps = np.sqrt(X * X + Y * Y)
+    if eps >= 1.0:
+        return np.full(3, np.nan)
+    ur_x, ur_y = (X / eps, Y / eps) if eps > 0.0 else (1.0, 0.0)
+    ut_x, ut_y = -ur_y, ur_x
+    a = eps * own - 2.0 * (Xd * ut_x + Yd * ut_y)
+    b = 2.0 * (Xd * ur_x + Yd * ur_y)
+    if a == 0.0 and b == 0.0:
+        return np.zeros(3)
+    theta0 = np.arctan2(b, a)
+    p0, p1 = sommerfeld_angle(theta0, eps), sommerfeld_angle(theta0 + np.pi, eps)
+    room = 1.0 - eps * eps
+    i_ss = ((p1 - p0) / 2.0 - (np.sin(2.0 * p1) - np.sin(2.0 * p0)) / 4.0) / room**1.5
+    i_sc = ((np.sin(p1) ** 2 - np.sin(p0) ** 2) / 2.0 + eps * (np.cos(p1) - np.cos(p0))) / room**2
+    i_cc = ((0.5 + eps * eps) * (p1 - p0) + (np.sin(2.0 * p1) - np.sin(2.0 * p0)) / 4.0
+            - 2.0 * eps * (np.sin(p1) - np.sin(p0))) / room**2.5
+    k = viscosity * radius * length**3 / (2.0 * clearance**2)
+    radial = k * (a * i_sc - b * i_cc)
+    tangential = k * (a * i_ss - b * i_sc)
+    return (radial * ur_x + tangential * ut_x) * x + (radial * ur_y + tangential * ut_y) * y
+
+
 def bearing_stretch(q, dq, j, kt, A3, point):
     """Relative motion ``z = [d, gamma_j]`` of rotor and frame at a bearing point and its
     Jacobian ``Z`` (``dz/dt = Z dq/dt``), frame axes.
@@ -224,7 +290,7 @@ def suspension_stretch(q, e, E2, nf, Rs, H, point):
 
 
 def assemble(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-             spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC):
+             spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes):
     """Generalized mass matrix ``M`` (n, n) and force ``f`` (n,) at state ``y`` (2n,).
 
     Parameters
@@ -249,17 +315,30 @@ def assemble(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slo
             f -= Z.T @ (sK[i] @ z + sC[i] @ (Z @ dq))
     for i in range(bbody.shape[0]):
         b = bbody[i]
-        z, Z = bearing_stretch(q, dq, slot[b], ntrans[b], A3, bpos[i])
-        K, C = bearing_coefficients(bspeeds[i], bcount[i], bK[i], bC[i], ratio[b] * dq[n - 1])
-        f -= Z.T @ (K @ z + C @ (Z @ dq))
+        f -= bearing_stretch(q, dq, slot[b], ntrans[b], A3, bpos[i])[1].T @ bearing_wrench(
+            q, dq, ratio[b], slot[b], ntrans[b], A3, bpos[i], bspeeds[i], bcount[i], bK[i], bC[i], bfilm[i], baxes[i])
     return M, f
 
 
+def bearing_wrench(q, dq, r, j, kt, A3, point, speeds, count, K, C, film, axes):
+    """What a bearing passes to the frame at its point, frame axes, shape (6,) [N, N m]: its
+    springs and dampers ``K z + C dz/dt`` at the rotor's own speed ``r dphi/dt``, minus the
+    oil film's force on the journal (journal bearings, ``film[2] > 0``)."""
+    n = q.shape[0]
+    z, Z = bearing_stretch(q, dq, j, kt, A3, point)
+    z_dot = Z @ dq
+    K_now, C_now = bearing_coefficients(speeds, count, K, C, r * dq[n - 1])
+    out = K_now @ z + C_now @ z_dot
+    if film[2] > 0.0:
+        out[:3] -= film_force(z[:3], z_dot[:3], r * dq[n - 1], axes, film)
+    return out
+
+
 def accelerations(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, mode, accel, t_start, t_stop):
+                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop):
     """Second derivatives ``d2q/dt2`` (n,) and the drive torque [N m] at ``(t, y)``."""
     M, f = assemble(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-                    spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC)
+                    spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes)
     return solve_motion(M, f, t, mode, accel, t_start, t_stop)
 
 
@@ -279,11 +358,11 @@ def solve_motion(M, f, t, mode, accel, t_start, t_stop):
 
 
 def rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
-        spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, mode, accel, t_start, t_stop):
+        spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop):
     """``dy/dt`` (2n,) of the first-order system ``y = [q, dq/dt]``."""
     n = y.shape[0] // 2
     qdd, _ = accelerations(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans,
-                           A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, mode, accel, t_start, t_stop)
+                           A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop)
     out = np.empty(2 * n)
     out[:n] = y[n:]
     out[n:] = qdd
@@ -294,7 +373,7 @@ def potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, 
               bbody, bpos, bspeeds, bcount, bK, bC):
     """Elastic (symmetric part of the stiffness) and gravitational potential energy [J].
 
-    A bearing's stiffness is taken at the rotor's current own speed.
+    A bearing's stiffness is taken at the rotor's current own speed; an oil film stores none.
     """
     n = y.shape[0] // 2
     q, dq = y[:n], y[n:]
@@ -319,22 +398,21 @@ def potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, 
     return elastic, weight
 
 
-def bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC):
-    """``K z + C dz/dt`` of every bearing: the force and moment it passes to the frame at the
-    bearing point (frame axes), shape (nbr, 6) [N, N m]."""
+def bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes):
+    """What every bearing passes to the frame at its point (frame axes), shape (nbr, 6)
+    [N, N m]; see :func:`bearing_wrench`."""
     n = y.shape[0] // 2
     q, dq = y[:n], y[n:]
     out = np.empty((bbody.shape[0], 6))
     for i in range(bbody.shape[0]):
         b = bbody[i]
-        z, Z = bearing_stretch(q, dq, slot[b], ntrans[b], A3, bpos[i])
-        K, C = bearing_coefficients(bspeeds[i], bcount[i], bK[i], bC[i], ratio[b] * dq[n - 1])
-        out[i] = K @ z + C @ (Z @ dq)
+        out[i] = bearing_wrench(q, dq, ratio[b], slot[b], ntrans[b], A3, bpos[i], bspeeds[i], bcount[i], bK[i],
+                                bC[i], bfilm[i], baxes[i])
     return out
 
 
 def sample_outputs(times, states, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans,
-                   A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, mode, accel, t_start, t_stop):
+                   A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop):
     """Per-sample derived outputs, in one loop (compiled, it runs without Python overhead).
 
     Returns
@@ -352,13 +430,14 @@ def sample_outputs(times, states, e, E2, nf, gravity, mass, center, offset, iner
         y = states[i]
         q, dq = y[:n], y[n:]
         M, f = assemble(times[i], y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans,
-                        A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC)
+                        A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes)
         kinetic[i] = 0.5 * dq @ (M @ dq)
         elastic[i], weight[i] = potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, A3,
                                           spos, sK, bbody, bpos, bspeeds, bcount, bK, bC)
         torque[i] = solve_motion(M, f, times[i], mode, accel, t_start, t_stop)[1]
         omega[i] = frame_kinematics(q, dq, e, E2, nf)[3]
-        wrenches[i] = bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC)
+        wrenches[i] = bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC,
+                                       bfilm, baxes)
     return kinetic, elastic, weight, torque, omega, wrenches
 
 
@@ -387,8 +466,9 @@ _FAST = ("assemble", "rhs", "potential", "bearing_wrenches", "sample_outputs")
 _KINEMATICS = ("skew", "_coefficients", "_inverse_coefficient", "rotation_tensor", "zhilin_tensor",
                "zhilin_inverse", "zhilin_derivative", "axial_rotation")
 _KERNELS = ("cross", "drive_acceleration", "frame_kinematics", "relative_motion", "body_kinematics",
-            "bearing_coefficients", "bearing_stretch", "suspension_stretch", "assemble", "solve_motion",
-            "accelerations", "rhs", "potential", "bearing_wrenches", "sample_outputs")
+            "bearing_coefficients", "sommerfeld_angle", "film_force", "bearing_stretch", "bearing_wrench",
+            "suspension_stretch", "assemble", "solve_motion", "accelerations", "rhs", "potential",
+            "bearing_wrenches", "sample_outputs")
 
 
 def compiled_namespace():

@@ -38,7 +38,9 @@ class SystemArrays:
     bbody : (nbr,) body each bearing carries; bpos : (nbr, 3) bearing point from the
     body's axis point [m]; bspeeds : (nbr, L) own speeds of the coefficient tables [rad/s]
     (first ``bcount`` used); bcount : (nbr,); bK, bC : (nbr, L, 6, 6) on the relative
-    ``[u, theta]`` at the bearing point, frame axes
+    ``[u, theta]`` at the bearing point, frame axes (a journal bearing's axial and moment parts)
+    bfilm : (nbr, 4) a journal bearing's radius, length, radial clearance [m] and viscosity
+    [Pa s] (zeros: no oil film); baxes : (nbr, 2, 3) rows ``x``, ``y`` of its radial frame
     reference_point : (3,) [m]; rotor_index : (n_rotors,) body index of each rotor
     """
 
@@ -63,6 +65,8 @@ class SystemArrays:
     bcount: np.ndarray
     bK: np.ndarray
     bC: np.ndarray
+    bfilm: np.ndarray
+    baxes: np.ndarray
     reference_point: np.ndarray
     rotor_index: np.ndarray
 
@@ -80,7 +84,8 @@ class SystemArrays:
         """Arguments of ``assemble``/``rhs`` after ``(t, y)``."""
         return (self.e, self.E2, self.nf, self.gravity, self.mass, self.center, self.offset,
                 self.inertia, self.ratio, self.slot, self.ntrans, self.A3, self.spos, self.sK,
-                self.sC, self.bbody, self.bpos, self.bspeeds, self.bcount, self.bK, self.bC)
+                self.sC, self.bbody, self.bpos, self.bspeeds, self.bcount, self.bK, self.bC, self.bfilm,
+                self.baxes)
 
 
 def refuse_hysteretic(model) -> None:
@@ -100,16 +105,16 @@ def refuse_hysteretic(model) -> None:
             "with the static stiffness and viscous damping")
 
 
-def refuse_journal(model) -> None:
-    """The time simulation takes linear bearing coefficients only."""
-    journals = [b.name for b in model.bearings if b.coefficients.kind == "journal"]
-    if journals:
-        names = ", ".join(f"[bearings.{name}]" for name in journals)
+def refuse_journal_loads(model) -> None:
+    """A journal bearing's static load comes from gravity in the time simulation."""
+    given = [b for b in model.bearings if b.coefficients.kind == "journal" and b.load is not None]
+    if given:
+        names = ", ".join(f"[bearings.{b.name}] load = {b.load:g}" for b in given)
         raise InputError(
-            f"{model.source}: {names} type = 'journal': the time simulation does not model the oil "
-            "film's nonlinear force; give the bearing as type = 'linear' with its film coefficients "
-            "(stiffness and damping as 2x2 matrices, per speed with speeds_rpm over the simulated "
-            "speeds: rotordyn_modal.journal.short_journal_bearing computes them)")
+            f"{model.source}: {names}: the time simulation loads a journal bearing with the weight it "
+            "carries under the model's gravity, not with a given load; leave load out (and set "
+            "gravity), or give the bearing as type = 'linear' with its film coefficients (a speeds_rpm "
+            "table computed by rotordyn_modal.journal.short_journal_bearing)")
 
 
 def unbalance_directions(model, phases_deg=None) -> np.ndarray:
@@ -142,7 +147,7 @@ def system_arrays(model, unbalance_phases_deg=None) -> SystemArrays:
         Phases overriding the model's ``phase_deg`` [deg].
     """
     refuse_hysteretic(model)
-    refuse_journal(model)
+    refuse_journal_loads(model)
     e = np.asarray(model.spin_axis, dtype=float)
     reference = np.asarray(model.reference_point, dtype=float)
     nf = frame_size(model)
@@ -215,8 +220,14 @@ def _bearing_arrays(model, start):
     body = [start + names.index(b.rotor) for b in bearings]
     position = [np.asarray(b.position, dtype=float) - np.asarray(model.rotor(b.rotor).center_of_mass, dtype=float)
                 for b in bearings]
+    film, axes = np.zeros((len(bearings), 4)), np.zeros((len(bearings), 2, 3))
+    for i, bearing in enumerate(bearings):
+        journal = bearing.coefficients.journal
+        if journal is not None:
+            film[i] = 0.5 * journal.diameter, journal.length, journal.clearance, journal.viscosity
+            axes[i] = journal.axes[:2]
     return dict(bbody=np.array(body, dtype=np.int64), bpos=np.array(position, dtype=float).reshape(-1, 3),
-                bspeeds=speeds, bcount=count, bK=stiffness, bC=damping)
+                bspeeds=speeds, bcount=count, bK=stiffness, bC=damping, bfilm=film, baxes=axes)
 
 
 def check_table_speeds(model, reference_speeds, what: str) -> None:

@@ -33,10 +33,13 @@ def linearize(model, speed, step=1e-7, backend="auto") -> np.ndarray:
     """State matrix of the simulator's equations linearised about steady spin at ``speed``.
 
     Central finite differences of the right-hand side (ideal drive holding the rotors'
-    speed relative to the stator, no gravity, no unbalance) about the undeformed position,
-    mapped to the core's states ``[q, dq/dt]`` (``model.dofs``: the stator's ``[u, theta]``
-    at the reference point, then each rotor on bearings' motion relative to the stator).
-    It should equal ``rotordyn_modal.linear_system.speed_linear_form(model).at(speed)``.
+    speed relative to the stator, no unbalance) about the undeformed position without
+    gravity, or, with journal bearings, about the static equilibrium under gravity (which
+    loads their oil films), mapped to the core's states ``[q, dq/dt]`` (``model.dofs``: the
+    stator's ``[u, theta]`` at the reference point, then each rotor on bearings' motion
+    relative to the stator). It should equal
+    ``rotordyn_modal.linear_system.speed_linear_form(model).at(speed)`` (with journal
+    bearings, to the size of the static sag's geometric effect).
 
     Parameters
     ----------
@@ -54,8 +57,11 @@ def linearize(model, speed, step=1e-7, backend="auto") -> np.ndarray:
     """
     from ..errors import InputError
 
+    journals = any(b.coefficients.kind == "journal" for b in model.bearings)
     data = model.to_dict()
-    data["unbalances"], data["gravity"] = [], [0.0, 0.0, 0.0]
+    data["unbalances"] = []
+    if not journals:
+        data["gravity"] = [0.0, 0.0, 0.0]
     system = system_arrays(type(model).from_dict(data, model.source))
     if system.nf == CARRIER:
         raise InputError("linearize: the model has no [stator]; its roll about the spin axis is not a "
@@ -65,10 +71,15 @@ def linearize(model, speed, step=1e-7, backend="auto") -> np.ndarray:
     n = system.n_dof
     m = n - 1
     arguments = system.kernel_arguments() + (_kernels.PRESCRIBED, 0.0, 0.0, 1.0)
+    rest = np.zeros(m)
+    if journals:
+        from .simulate import _static_equilibrium
+
+        rest = _static_equilibrium(model, kn, n, speed)
 
     def derivative(z):
         y = np.zeros(2 * n)
-        y[:m], y[n:n + m] = z[:m], z[m:]
+        y[:m], y[n:n + m] = rest + z[:m], z[m:]
         y[2 * n - 1] = speed
         out = kn.rhs(0.0, y, *arguments)
         return np.concatenate([out[:m], out[n:n + m]])

@@ -117,14 +117,14 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         y0[n:] += _impulse_velocity(model, system, kn, y0, impulse, impulse_size, mode)
     times = np.linspace(0.0, duration, samples or _default_samples(model, speed, final_speed, duration))
     extra = (mode, accel, 0.0, duration)
-    states = _integrate(kn, system, extra, y0, times, rtol, atol, progress)
+    states = _integrate(kn, system, extra, y0, times, rtol, atol, progress, model)
     if drive == "free":
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
                            "with an ideal drive, or extend the table")
     return SimulationResult.from_states(model, system, kn, extra, times, states, drive=drive)
 
 
-def _integrate(kn, system, extra, y0, times, rtol, atol, progress):
+def _integrate(kn, system, extra, y0, times, rtol, atol, progress, model=None):
     """States at ``times``: scipy's Fortran DOP853 driving the compiled right-hand side, or
     ``solve_ivp`` (DOP853) driving the plain one (same method, same tolerances)."""
     bar = _progress_bar(times[-1], progress)
@@ -132,9 +132,43 @@ def _integrate(kn, system, extra, y0, times, rtol, atol, progress):
         if getattr(kn, "rhs_flat", None) is not None:
             return _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar)
         return _integrate_plain(kn, system, extra, y0, times, rtol, atol, bar)
+    except _Failed as failure:
+        raise _explained(failure, model, system) from None
     finally:
         if bar is not None:
             bar.close()
+
+
+class _Failed(RuntimeError):
+    """The integration stopped; ``time`` [s] and the last ``state`` reached."""
+
+    def __init__(self, message, time, state):
+        super().__init__(message)
+        self.time, self.state = time, state
+
+
+def _explained(failure, model, system):
+    """An oil film that lost its journal (eccentricity 1) is the model's limit, not a bug."""
+    from ._kernels import bearing_stretch
+
+    films = [i for i in range(len(system.bbody)) if system.bfilm[i, 2] > 0.0]
+    if model is None or not films:
+        return RuntimeError(str(failure))
+    n = system.n_dof
+    q, dq = failure.state[:n], failure.state[n:]
+    reached = []
+    for i in films:
+        b = system.bbody[i]
+        z, _ = bearing_stretch(q, dq, system.slot[b], system.ntrans[b], system.A3, system.bpos[i])
+        eccentricity = np.linalg.norm(system.baxes[i] @ z[:3]) / system.bfilm[i, 2]
+        reached.append(f"[bearings.{model.bearings[i].name}] {eccentricity:.4f}")
+    return InputError(
+        f"{model.source}: {failure} with journal bearings (eccentricity at the last output time: "
+        f"{', '.join(reached)}): a journal ran into its bearing wall (eccentricity 1), where the oil "
+        "film's force grows without limit (the equations stiffen beyond the integrator, and contact "
+        "is not modelled): a speed too low to carry the load, or whirl grown to the clearance. Start "
+        "from initial='equilibrium' at a running speed, or stay below the oil-whirl threshold "
+        "(rotordyn-modal stability)")
 
 
 def _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar):
@@ -142,14 +176,21 @@ def _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar):
 
     from ._fast import pack
 
+    import warnings
+
     solver = ode(kn.rhs_flat).set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
     solver.set_initial_value(y0, times[0]).set_f_params(*pack(system, *extra))
     states = np.empty((len(times), len(y0)))
     states[0] = y0
     for i in range(1, len(times)):
-        states[i] = solver.integrate(times[i])
-        if not solver.successful():
-            raise RuntimeError(f"integration failed at t = {solver.t:.6g} s (DOP853 code {solver.get_return_code()})")
+        last = solver.y.copy()
+        with warnings.catch_warnings():   # a failure is raised below with its return code
+            warnings.simplefilter("ignore", UserWarning)
+            states[i] = solver.integrate(times[i])
+        if not solver.successful() or not np.all(np.isfinite(states[i])):
+            code = solver.get_return_code()
+            reason = {-3: ", step size too small", -4: ", the problem became stiff"}.get(code, "")
+            raise _Failed(f"integration failed at t = {solver.t:.6g} s (DOP853 code {code}{reason})", solver.t, last)
         if bar is not None:
             bar.update(times[i] - times[i - 1])
     return states
@@ -166,8 +207,10 @@ def _integrate_plain(kn, system, extra, y0, times, rtol, atol, bar):
         return kn.rhs(t, y, *arguments)
 
     solution = solve_ivp(rhs, (times[0], times[-1]), y0, method="DOP853", t_eval=times, rtol=rtol, atol=atol)
-    if not solution.success:
-        raise RuntimeError(f"integration failed at t = {solution.t[-1]:.6g} s: {solution.message}")
+    if not solution.success or not np.all(np.isfinite(solution.y)):
+        last = solution.y[:, -1] if solution.y.shape[1] else y0
+        raise _Failed(f"integration failed at t = {solution.t[-1] if len(solution.t) else 0.0:.6g} s: "
+                      f"{solution.message}", solution.t[-1] if len(solution.t) else 0.0, last)
     return solution.y.T
 
 

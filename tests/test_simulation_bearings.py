@@ -16,6 +16,7 @@ from scipy.spatial.transform import Rotation
 import rotordyn_modal as rdm
 from rotordyn_modal.errors import InputError
 from rotordyn_modal.linear_system import speed_linear_form
+from steady_harmonics import assert_steady_harmonics_equal_the_linear_response
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 OMEGA0 = 50.0
@@ -283,17 +284,7 @@ def test_steady_unbalance_orbits_at_the_probes_equal_the_linear_unbalance_respon
     model = _casing_machine(damping=10.0, table=True, probes=True)
     speed = rdm.rpm(3000.0)
     res = rdm.simulate(model, 1.2, speed, samples=12001, rtol=1e-10, atol=1e-14)
-    linear = rdm.unbalance_response(model, [speed])
-    last = res.time > 0.7
-    t = res.time[last]
-    frequencies = [abs(model.speed_ratios[s] * speed) for s in linear.sources]
-    basis = np.column_stack([f(w * t) for w in frequencies for f in (np.cos, np.sin)] + [np.ones_like(t)])
-    for i, name in enumerate(linear.outputs):
-        coefficients, *_ = np.linalg.lstsq(basis, res.sensor(name)[last], rcond=None)
-        for j in range(len(linear.sources)):
-            simulated = coefficients[2 * j] - 1j * coefficients[2 * j + 1]   # A cos(wt + p) -> A e^{ip}
-            expected = linear.amplitude[i, j, 0] * np.exp(1j * np.radians(linear.phase_deg[i, j, 0]))
-            assert abs(simulated - expected) < 1e-4 * abs(expected), (name, linear.sources[j])
+    assert_steady_harmonics_equal_the_linear_response(res, model, speed, after=0.7, rtol=1e-4)
 
 
 # ----------------------------------------------------------------------------------------

@@ -512,6 +512,21 @@ def rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, nt
     return out
 
 
+def _bearing_now(y, n, br, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, Kb, Cb, Lj, Bj, vec,
+                 z, zd, Zb, BA):
+    """Bearing ``br``'s coefficients at its rotor's own speed (``Kb``, ``Cb``), stretch ``z``,
+    its rate ``zd`` and Jacobian ``Zb``, from the state alone (``vec`` (5, 3) scratch); returns
+    the carried body."""
+    bdy = bbody[br]
+    j, kt = slot[bdy], ntrans[bdy]
+    u, ud, gj, gjd, lb = vec[0], vec[1], vec[2], vec[3], vec[4]
+    _interpolate(bspeeds[br], bcount[br], bK[br], bC[br], ratio[bdy] * y[2 * n - 1], Kb, Cb)
+    _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+    _tilt(gj, Lj, Bj)
+    _bearing_stretch(y, n, j, kt, A3, Lj, Bj, bpos[br], u, gj, z, zd, Zb, BA, lb)
+    return bdy
+
+
 def potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, A3, spos, sK,
               bbody, bpos, bspeeds, bcount, bK, bC):
     """Elastic and gravitational potential energy [J]; see
@@ -536,12 +551,8 @@ def potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, 
                 z[3 + i] = gamma[i] + psi * e[i]
             elastic += 0.5 * _quadratic(sK[sp], z)
     for br in range(bbody.shape[0]):
-        bdy = bbody[br]
-        j, kt = slot[bdy], ntrans[bdy]
-        _interpolate(bspeeds[br], bcount[br], bK[br], bC[br], ratio[bdy] * y[2 * n - 1], Kb, Cb)
-        _relative(y, n, j, kt, A3, u, ud, gj, gjd)
-        _tilt(gj, Lj, Bj)
-        _bearing_stretch(y, n, j, kt, A3, Lj, Bj, bpos[br], u, gj, z, zd, Zb, BA, lb)
+        _bearing_now(y, n, br, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, Kb, Cb, Lj, Bj,
+                     vec[4:9], z, zd, Zb, BA)
         elastic += 0.5 * _quadratic(Kb, z)
     weight = 0.0
     for bdy in range(mass.shape[0]):
@@ -588,16 +599,12 @@ def bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcoun
     blocks = np.empty((3, 6, 6))
     Kb, Cb, Zb = blocks[0], blocks[1], blocks[2]
     vec = np.empty((6, 3))
-    u, ud, gj, gjd, lb, oil = vec[0], vec[1], vec[2], vec[3], vec[4], vec[5]
+    oil = vec[5]
     z, zd = np.empty(6), np.empty(6)
     BA = np.empty((3, 2))
     for br in range(bbody.shape[0]):
-        bdy = bbody[br]
-        j, kt = slot[bdy], ntrans[bdy]
-        _interpolate(bspeeds[br], bcount[br], bK[br], bC[br], ratio[bdy] * y[2 * n - 1], Kb, Cb)
-        _relative(y, n, j, kt, A3, u, ud, gj, gjd)
-        _tilt(gj, Lj, Bj)
-        _bearing_stretch(y, n, j, kt, A3, Lj, Bj, bpos[br], u, gj, z, zd, Zb, BA, lb)
+        bdy = _bearing_now(y, n, br, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, Kb, Cb, Lj, Bj,
+                           vec[:5], z, zd, Zb, BA)
         for i in range(6):
             v = 0.0
             for k in range(6):
@@ -709,5 +716,5 @@ def pack(system, mode, accel, t_start, t_stop):
 
 
 FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_spd", "_interpolate", "_frame",
-             "_relative", "_bearing_stretch", "_sommerfeld_angle", "_film_force", "_tilt", "assemble_into", "assemble", "_solve_motion", "rhs",
+             "_relative", "_bearing_stretch", "_sommerfeld_angle", "_film_force", "_tilt", "_bearing_now", "assemble_into", "assemble", "_solve_motion", "rhs",
              "potential", "_quadratic", "bearing_wrenches", "sample_outputs", "rhs_flat")

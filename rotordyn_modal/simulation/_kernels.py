@@ -315,22 +315,20 @@ def assemble(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slo
             f -= Z.T @ (sK[i] @ z + sC[i] @ (Z @ dq))
     for i in range(bbody.shape[0]):
         b = bbody[i]
-        f -= bearing_stretch(q, dq, slot[b], ntrans[b], A3, bpos[i])[1].T @ bearing_wrench(
-            q, dq, ratio[b], slot[b], ntrans[b], A3, bpos[i], bspeeds[i], bcount[i], bK[i], bC[i], bfilm[i], baxes[i])
+        z, Z = bearing_stretch(q, dq, slot[b], ntrans[b], A3, bpos[i])
+        f -= Z.T @ bearing_wrench(z, Z @ dq, ratio[b] * dq[n - 1], bspeeds[i], bcount[i], bK[i], bC[i], bfilm[i],
+                                  baxes[i])
     return M, f
 
 
-def bearing_wrench(q, dq, r, j, kt, A3, point, speeds, count, K, C, film, axes):
+def bearing_wrench(z, z_dot, own, speeds, count, K, C, film, axes):
     """What a bearing passes to the frame at its point, frame axes, shape (6,) [N, N m]: its
-    springs and dampers ``K z + C dz/dt`` at the rotor's own speed ``r dphi/dt``, minus the
+    springs and dampers ``K z + C dz/dt`` at the rotor's own speed ``own`` [rad/s], minus the
     oil film's force on the journal (journal bearings, ``film[2] > 0``)."""
-    n = q.shape[0]
-    z, Z = bearing_stretch(q, dq, j, kt, A3, point)
-    z_dot = Z @ dq
-    K_now, C_now = bearing_coefficients(speeds, count, K, C, r * dq[n - 1])
+    K_now, C_now = bearing_coefficients(speeds, count, K, C, own)
     out = K_now @ z + C_now @ z_dot
     if film[2] > 0.0:
-        out[:3] -= film_force(z[:3], z_dot[:3], r * dq[n - 1], axes, film)
+        out[:3] -= film_force(z[:3], z_dot[:3], own, axes, film)
     return out
 
 
@@ -406,8 +404,9 @@ def bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcoun
     out = np.empty((bbody.shape[0], 6))
     for i in range(bbody.shape[0]):
         b = bbody[i]
-        out[i] = bearing_wrench(q, dq, ratio[b], slot[b], ntrans[b], A3, bpos[i], bspeeds[i], bcount[i], bK[i],
-                                bC[i], bfilm[i], baxes[i])
+        z, Z = bearing_stretch(q, dq, slot[b], ntrans[b], A3, bpos[i])
+        out[i] = bearing_wrench(z, Z @ dq, ratio[b] * dq[n - 1], bspeeds[i], bcount[i], bK[i], bC[i], bfilm[i],
+                                baxes[i])
     return out
 
 

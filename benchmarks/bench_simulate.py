@@ -1,20 +1,26 @@
-"""Time-simulation speed: the seed 001 example and a batch of run-ups.
+"""Time-simulation speed: the seed 001 example, a rotor-bearing-casing machine, a batch of run-ups.
 
-1. ``examples/spring_block_rotor.toml`` over 10 s (free spin, 50 rad/s) at rtol 1e-10,
-   atol 1e-12, 2001 output times, with:
+1. ``examples/spring_block_rotor.toml`` (the disk on a bearing to the ground) over 10 s (free
+   spin, 50 rad/s) at rtol 1e-10, atol 1e-12, 2001 output times, with:
 
    * baseline: ``scipy.integrate.solve_ivp`` (DOP853) driving the plain numpy right-hand side,
-   * ``solve_ivp`` (DOP853) driving the readable kernels compiled by numba, and the
-     allocation-free compiled right-hand side (``_fast``),
+   * ``solve_ivp`` (DOP853) driving the allocation-light compiled right-hand side (``_fast``),
    * scipy's Fortran DOP853 (``scipy.integrate.ode``, what ``rdm.simulate`` uses with numba)
      and LSODA (``odeint``) with the compiled right-hand side,
 
-   each with its relative energy drift and its largest difference from the baseline.
-   * JAX + diffrax (Dopri8) when installed (not a dependency of the package).
-2. A batch of run-ups of ``examples/gear_machine.toml`` (0 -> 3000 rpm in 2 s) with random
+   each with its relative energy drift and its largest difference from the baseline; then
+   ``rdm.simulate`` end to end for the bearing writing and the suspension writing
+   (``spring_block_rotor_suspension.toml``) of the same machine.
+2. The rotor-bearing-casing machine ``examples/fan_on_bearings.toml`` (a housing on mounts, two
+   rotors each on two bearings, 17 coordinates) at 3000 rpm for 0.5 s: ``rdm.simulate`` with the
+   plain numpy backend (baseline) and with numba, their agreement.
+3. A batch of run-ups of ``examples/gear_machine.toml`` (0 -> 3000 rpm in 2 s) with random
    unbalance phases (default 64), serial and on a ``ProcessPoolExecutor`` with 2 workers.
+4. JAX + diffrax (Dopri8) on the suspension writing of the seed example, when installed (not a
+   dependency of the package).
 
-Run::
+Times are min / median / max over ``--repeat`` runs (the baselines once); ratios use the
+minima. Run::
 
     python benchmarks/bench_simulate.py [--batch 64] [--repeat 3]
 """
@@ -39,14 +45,10 @@ RTOL, ATOL, DURATION, SPEED = 1e-10, 1e-12, 10.0, 50.0
 
 
 def _energy(kn, system, states):
-    n = system.n_dof
-    out = []
-    for y in states:
-        M, _ = kn.assemble(0.0, y, *system.kernel_arguments())
-        elastic, weight = kn.potential(y, system.e, system.E2, system.s, system.gravity, system.mass,
-                                       system.center, system.offset, system.ratio, system.spos, system.sK)
-        out.append(0.5 * y[n:] @ M @ y[n:] + elastic + weight)
-    return np.array(out)
+    """Total energy per sample [J] (the compiled derived outputs)."""
+    kinetic, elastic, weight, *_ = kn.sample_outputs(np.zeros(len(states)), np.ascontiguousarray(states),
+                                                     *system.kernel_arguments(), _kernels.FREE, 0.0, 0.0, 1.0)
+    return kinetic + elastic + weight
 
 
 def _methods(system, y0, times):
@@ -68,30 +70,24 @@ def _methods(system, y0, times):
 
     return {
         "baseline: solve_ivp DOP853 + numpy RHS": lambda: ivp(lambda t, y: plain.rhs(t, y, *arguments)),
-        "solve_ivp DOP853 + numba RHS (readable)": lambda: ivp(lambda t, y: fast.assemble and _readable(
-            fast, t, y, arguments)),
         "solve_ivp DOP853 + numba RHS (fast)": lambda: ivp(lambda t, y: fast.rhs_flat(t, y, *packed)),
         "Fortran DOP853 (scipy ode) + numba RHS (fast)": fortran_dop853,
         "LSODA (scipy odeint) + numba RHS (fast)": lsoda,
     }
 
 
-def _readable(fast, t, y, arguments):
-    """The readable kernels compiled (``accelerations``), as first measured."""
-    n = len(y) // 2
-    out = np.empty_like(y)
-    out[:n] = y[n:]
-    out[n:] = fast.accelerations(t, y, *arguments)[0]
-    return out
-
-
-def example_start():
+def example_start(name="spring_block_rotor.toml"):
     """The seed 001 example's arrays and initial state (at rest, spinning at SPEED)."""
-    model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
+    model = rdm.load_model(EXAMPLES / name)
     system = system_arrays(model)
     y0 = np.zeros(2 * system.n_dof)
     y0[-1] = SPEED
     return model, system, y0
+
+
+def _spread(elapsed):
+    """``min / median / max`` of run times [s], as text."""
+    return f"{min(elapsed):7.3f} / {np.median(elapsed):7.3f} / {max(elapsed):7.3f} s"
 
 
 def bench_example(repeat):
@@ -99,8 +95,8 @@ def bench_example(repeat):
     times = np.linspace(0, DURATION, 2001)
     fast = kernels("numba")
     fast.rhs_flat(0.0, y0, *pack(system, 0, 0.0, 0.0, 1.0))  # compile (or load the cache)
-    fast.accelerations(0.0, y0, *system.kernel_arguments(), 0, 0.0, 0.0, 1.0)
-    print(f"seed 001 example, {DURATION:g} s, rtol {RTOL:g}, atol {ATOL:g}, best of {repeat}")
+    print(f"seed 001 example (bearing to the ground), {DURATION:g} s, rtol {RTOL:g}, atol {ATOL:g}; "
+          f"min / median / max of {repeat}")
     baseline_time, baseline = None, None
     for label, method in _methods(system, y0, times).items():
         elapsed = []
@@ -113,16 +109,42 @@ def bench_example(repeat):
         if baseline is None:
             baseline_time, baseline = min(elapsed), states
         difference = np.abs(states[:, :3] - baseline[:, :3]).max()
-        print(f"{label:46s}: {min(elapsed):7.3f} s  speed-up {baseline_time / min(elapsed):5.1f}x  "
+        print(f"{label:46s}: {_spread(elapsed)}  speed-up {baseline_time / min(elapsed):5.1f}x  "
               f"energy drift {drift:.1e}  |x - baseline| {difference:.1e} m")
-    end_to_end = min(_timed(lambda: rdm.simulate(model, DURATION, SPEED, drive="free", samples=2001,
-                                                 rtol=RTOL, atol=ATOL)) for _ in range(repeat))
-    print(f"{'rdm.simulate end to end (with derived outputs)':46s}: {end_to_end:7.3f} s  "
-          f"speed-up {baseline_time / end_to_end:5.1f}x")
+    runs = {}
+    for name in ("spring_block_rotor.toml", "spring_block_rotor_suspension.toml"):
+        writing = rdm.load_model(EXAMPLES / name)
+        elapsed = [_timed(lambda: runs.__setitem__(name, rdm.simulate(
+            writing, DURATION, SPEED, drive="free", samples=2001, rtol=RTOL, atol=ATOL))) for _ in range(repeat)]
+        print(f"{'rdm.simulate end to end, ' + name.split('.')[0]:46s}: {_spread(elapsed)}  "
+              f"speed-up {baseline_time / min(elapsed):5.1f}x")
+    apart = np.abs(runs["spring_block_rotor.toml"].rotor_centers
+                   - runs["spring_block_rotor_suspension.toml"].rotor_centers).max()
+    print(f"the two writings' disk centres differ by {apart:.1e} m at most")
+
+
+def bench_bearings(repeat):
+    """The rotor-bearing-casing machine: plain numpy backend against numba, end to end."""
+    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+    speed, duration, samples = rdm.rpm(3000.0), 0.5, 501
+    rdm.simulate(model, 0.001, speed, samples=2)   # compile (or load the cache)
+    options = dict(samples=samples, rtol=1e-10, atol=1e-13)
+    start = time.perf_counter()
+    plain = rdm.simulate(model, duration, speed, backend="numpy", **options)
+    baseline = time.perf_counter() - start
+    runs = []
+    elapsed = [_timed(lambda: runs.append(rdm.simulate(model, duration, speed, backend="numba", **options)))
+               for _ in range(repeat)]
+    label = f"fan_on_bearings (17 coordinates), 3000 rpm, {duration:g} s, rtol 1e-10, atol 1e-13"
+    print(f"{label}\n{'baseline: rdm.simulate backend numpy':46s}: {baseline:7.3f} s"
+          f"\n{'rdm.simulate backend numba':46s}: {_spread(elapsed)}  speed-up {baseline / min(elapsed):5.1f}x  "
+          f"|states - baseline| {np.abs(runs[0].states - plain.states).max():.1e}  "
+          f"|bearing forces - baseline| {np.abs(runs[0].bearing_forces - plain.bearing_forces).max():.1e} N")
 
 
 def _jax_rhs(system, mode, accel, t_start, t_stop):
-    """The right-hand side in jax.numpy (same equations as ``_kernels``), for diffrax."""
+    """The right-hand side in jax.numpy (same equations as ``_kernels``, rotors fixed in the
+    frame only), for diffrax."""
     import jax
     import jax.numpy as jnp
     jax.config.update("jax_enable_x64", True)
@@ -219,7 +241,7 @@ def bench_jax(repeat):
         print("JAX + diffrax: not installed (pip install 'jax[cpu]' diffrax), skipped")
         return
     jax.config.update("jax_enable_x64", True)
-    model, system, y0 = example_start()
+    model, system, y0 = example_start("spring_block_rotor_suspension.toml")   # no bearings in this rhs
     times = jnp.linspace(0, DURATION, 2001)
     term = diffrax.ODETerm(_jax_rhs(system, 0, 0.0, 0.0, DURATION))
 
@@ -280,6 +302,7 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     args = parser.parse_args()
     bench_example(args.repeat)
+    bench_bearings(args.repeat)
     bench_batch(args.batch)
     bench_jax(args.repeat)  # last: JAX's threads do not mix with the batch's forked workers
 

@@ -129,7 +129,7 @@ def test_orbit_arrow_turns_the_way_the_mode_whirls(mode, sense):
 
 
 def test_machine_without_stator_is_drawn_on_its_carrier():
-    model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
+    model = rdm.load_model(EXAMPLES / "spring_block_rotor_suspension.toml")
     outline = machine_outline(model)
     assert [b.kind for b in outline.bodies] == ["rotor"] and outline.bracket_body == "disk"
     np.testing.assert_allclose(outline.brackets[0], [model.rotors[0].center_of_mass, [0.0, 0.0, 0.0]])

@@ -37,7 +37,7 @@ def test_campbell_numbers_the_modes_as_modes_does(examples_dir, capsys):
 
 def test_a_free_direction_is_numbered_after_the_modes(examples_dir):
     """The spring-block rotor (no stator) rolls freely about its axis: a zero root."""
-    model = rdm.load_model(examples_dir / "spring_block_rotor.toml")
+    model = rdm.load_model(examples_dir / "spring_block_rotor_suspension.toml")
     result = rdm.campbell(model, np.linspace(0, 50, 11))
     assert np.all(result.oscillatory[:, :5]) and not np.any(result.oscillatory[:, 5:])
 

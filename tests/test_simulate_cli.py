@@ -50,3 +50,26 @@ def test_negative_ramp_is_read_as_a_value(examples_dir, tmp_path):
     assert main(["simulate", str(examples_dir / "gear_machine.toml"), "--speed", "300", "--ramp", "-300",
                  "--duration", "0.2", "--samples", "101", "--out", str(out), "--quiet"]) == 0
     assert pd.read_csv(out)["drive_speed_rad_s"].iloc[-1] < 0
+
+
+def test_run_up_of_rotors_on_bearings_through_their_critical_speeds(examples_dir, tmp_path):
+    """The fan in its bearings, from static equilibrium, 0 -> 9000 rpm in 1 s: the probe's largest swing
+    comes near a critical speed of the fan (Campbell); bearing forces in the table; figure."""
+    import numpy as np
+
+    import rotordyn_modal as rdm
+
+    out, plot = tmp_path / "fan.csv", tmp_path / "fan.png"
+    code = main(["simulate", str(examples_dir / "fan_on_bearings.toml"), "--speed", "0", "--ramp", "9000",
+                 "--duration", "1", "--samples", "10001", "--initial", "equilibrium", "--sensor", "probe-DE-x",
+                 "--out", str(out), "--plot", str(plot), "--quiet"])
+    assert code == 0 and plot.stat().st_size > 10_000
+    table = pd.read_csv(out)
+    assert {"fan-DE_Fx", "fan-DE_Mz", "motor-NDE_Fy"} <= set(table.columns)
+    swing = (table["probe-DE-x"] - table["probe-DE-x"][0]).abs()     # about the static sag
+    peak = table["drive_speed_rad_s"][swing.idxmax()]
+    model = rdm.load_model(examples_dir / "fan_on_bearings.toml")
+    critical = rdm.campbell(model, rdm.rpm(np.linspace(1, 9000, 181)), orders=(1,)).critical
+    fan = critical.speeds[critical.source == "fan"]
+    assert np.min(np.abs(fan - peak)) < 0.15 * peak
+    assert swing.max() > 10 * swing[table["drive_speed_rad_s"] < 0.3 * peak].max()   # the bearing mode stands out

@@ -11,28 +11,35 @@ from ._common import (add_model_argument, add_outputs, add_speed_unit, open_mode
                       save_figure, show_progress, to_rad_s, use_agg, write_table)
 
 NAME = "simulate"
-HELP = "nonlinear large-rotation time simulation (constant speed, run-up ramp or free spin)"
+HELP = "nonlinear large-rotation time simulation (constant speed, run-up ramp or free spin), rotors on bearings"
 DESCRIPTION = """Integrate the machine's nonlinear equations of motion in time: the stator as a rigid
-body with large rotation (axial angle + transverse Euler vector, seed 001), the rotors
-turning in bearings fixed in the stator (coupled by the transmissions), exact gyroscopic
-coupling, unbalances as rotating masses, gravity (top-level 'gravity' key) and suspension
-forces that follow their attachment points. At t = 0 the machine is at rest in its
-undeformed position (springs unstretched, --initial rest) or in static equilibrium under
-gravity (--initial equilibrium), and the rotors spin at --speed.
+body with large rotation (axial angle + transverse Euler vector, seed 001), every rotor on
+[[bearings]] a rigid body of its own moving in its bearings' springs and dampers (its tilt
+relative to the stator again an axial angle + transverse Euler vector), the other rotors
+turning in the stator, spins coupled by the transmissions, exact gyroscopic coupling,
+unbalances as rotating masses, gravity (top-level 'gravity' key) and suspension forces that
+follow their attachment points. Without a [stator] the bearings stand on the ground. At
+t = 0 the machine is at rest in its undeformed position (springs unstretched, --initial
+rest) or in static equilibrium under gravity (--initial equilibrium), and the rotors spin at
+--speed. Tabulated bearing coefficients follow each rotor's own speed; a plain journal
+bearing (type = 'journal') pushes its journal with the oil film's nonlinear force
+(short-bearing theory, pi-film), loaded by gravity: start such a model from --initial
+equilibrium at a running speed; a journal that reaches its bearing wall ends the run (exit 2).
 
 Drive modes: an ideal drive holds --speed (default; the drive torque is an output);
 --ramp STOP runs the speed up (or down) linearly from --speed to STOP over --duration
 (the rotors' angular acceleration terms included); --free-spin leaves the spin free.
-Damping is the suspensions' viscous damping; a hysteretic loss_factor is refused
-(exit 2), since it has no time-domain meaning.
+Damping is the suspensions' and bearings' viscous damping; a hysteretic loss_factor is
+refused (exit 2), since it has no time-domain meaning.
 
---plot draws the time histories (path of the rotors' centres, transverse rotation,
-axial angular velocity, energy terms) or, with --ramp, the run-up figures: the sensor's
-signal, its order-tracked (1X) amplitude and phase for every rotor, and a waterfall,
-with the Campbell diagram's critical speeds overlaid.
+--plot draws the time histories (path of the rotors' centres, transverse rotation of the
+stator and of each rotor in its bearings, axial angular velocity, energy terms) or, with
+--ramp, the run-up figures: the sensor's signal, its order-tracked (1X) amplitude and phase
+for every rotor, and a waterfall, with the Campbell diagram's critical speeds overlaid.
 
 CSV columns: time_s,u_x,u_y,u_z,theta_x,theta_y,theta_z,spin_speed_rad_s,drive_torque_nm,
-drive_speed_rad_s, then one column per sensor [m], rotor centres [m] and the energies [J].
+drive_speed_rad_s, then one column per sensor [m], rotor centres [m], each bearing's force
+and moment on the stator (NAME_Fx..NAME_Mz [N, N m], stator axes) and the energies [J].
 u is the displacement of the reference point [m], theta = gamma + psi e the stator's
 transverse Euler vector plus roll angle [rad], model axes.
 
@@ -42,7 +49,9 @@ examples:
   rotordyn-modal simulate examples/gear_machine.toml --speed 0 --ramp 4000 --duration 3 \\
       --sensor acc-top-z --plot runup.png --out runup.csv
   rotordyn-modal simulate examples/gear_machine.toml --speed 3000 --duration 0.5 \\
-      --impulse hammer-z --impulse-size 0.5"""
+      --impulse hammer-z --impulse-size 0.5
+  rotordyn-modal simulate examples/fan_on_bearings.toml --speed 0 --ramp 9000 --duration 3 \\
+      --samples 30001 --sensor probe-DE-x --plot fan_runup.png"""
 
 
 def add_arguments(parser):
@@ -102,7 +111,9 @@ def run(args) -> int:
 def _summary(result):
     energy = result.total_energy
     drift = np.abs(energy - energy[0]).max() / max(abs(energy[0]), np.abs(result.kinetic_energy).max(), 1e-300)
+    tilt = max(np.linalg.norm(result.gamma, axis=1).max(initial=0.0),
+               np.linalg.norm(result.rotor_tilts, axis=2).max(initial=0.0))
     print(f"simulated {result.time[-1]:.6g} s ({len(result.time)} samples, drive {result.drive}); "
-          f"largest transverse rotation {np.degrees(np.abs(result.gamma).max()):.4g} deg; "
+          f"largest transverse rotation {np.degrees(tilt):.4g} deg; "
           f"spin speed {result.spin_speed.min():.6g}..{result.spin_speed.max():.6g} rad/s; "
           f"relative change of total energy {drift:.3g}", file=sys.stderr)

@@ -8,7 +8,8 @@ __all__ = ["plot_simulation", "plot_runup"]
 
 
 def plot_simulation(result, title: str | None = None):
-    """Four panels: stator (or carrier) motion, rotor centres' path, spin speed, energy terms.
+    """Four panels: rotor centres' path, stator (or carrier) motion and the rotors' tilt in
+    their bearings, spin speed, energy terms.
 
     Parameters
     ----------
@@ -32,9 +33,14 @@ def plot_simulation(result, title: str | None = None):
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(fontsize="small")
     ax = axes[0, 1]
-    ax.plot(t, np.degrees(np.linalg.norm(result.gamma, axis=1)), label="|γ| transverse rotation")
-    for k, axis in enumerate("xyz"):
-        ax.plot(t, result.displacement[:, k] * 1e3, lw=0.8, label=f"u_{axis} [mm]")
+    if result.displacement.any() or not result.rotor_tilts.any():
+        ax.plot(t, np.degrees(np.linalg.norm(result.gamma, axis=1)), label="|γ| transverse rotation")
+        for k, axis in enumerate("xyz"):
+            ax.plot(t, result.displacement[:, k] * 1e3, lw=0.8, label=f"u_{axis} [mm]")
+    for j, name in enumerate(result.rotor_names):   # rotors on bearings: their tilt in them
+        if result.rotor_tilts[:, j].any():
+            ax.plot(t, np.degrees(np.linalg.norm(result.rotor_tilts[:, j], axis=1)), lw=0.8,
+                    label=f"|γ| {name} in its bearings")
     ax.set(xlabel="Time [s]", ylabel="[deg] / [mm]", title="Transverse rotation and translation")
     ax.legend(fontsize="small")
     ax = axes[1, 0]

@@ -85,35 +85,63 @@ def _solve_spd(M, f, k, out):
         out[i] = v / M[i, i]
 
 
-def rhs(t, y, e, E2, s, gravity, mass, center, offset, inertia, ratio, spos, sK, sC,
-        mode, accel, t_start, t_stop):
-    """``dy/dt`` (2n,); see :func:`rotordyn_modal.simulation._kernels.rhs`."""
-    n = 6 + s
-    m_rot = 2 + s
-    gamma, gdot = np.empty(3), np.empty(3)
+def _interpolate(speeds, count, K, C, own, Kout, Cout):
+    """A bearing's coefficients at own speed ``own`` into ``Kout``, ``Cout`` (see
+    :func:`rotordyn_modal.simulation._kernels.bearing_coefficients`)."""
+    lo, hi, t = 0, 0, 0.0
+    last = count - 1
+    if count > 1 and own > speeds[0]:
+        if own >= speeds[last]:
+            lo, hi = last, last
+        else:
+            hi = 1
+            while speeds[hi] < own:
+                hi += 1
+            lo = hi - 1
+            t = (own - speeds[lo]) / (speeds[hi] - speeds[lo])
+    for i in range(6):
+        for k in range(6):
+            Kout[i, k] = (1.0 - t) * K[lo, i, k] + t * K[hi, i, k]
+            Cout[i, k] = (1.0 - t) * C[lo, i, k] + t * C[hi, i, k]
+
+
+def _frame(y, n, e, E2, nf, Rs, H, eg, omega, wdot0, gamma, mats, vec):
+    """The frame's rotation ``Rs``, ``H`` (columns of ``omega = H eta``), spin axis ``eg``,
+    angular velocity, its rate at zero second derivatives, and Euler vector (all filled in;
+    identity and zeros on the ground). ``mats`` (3, 3, 3) and ``vec`` (4, 3) are scratch.
+
+    Returns
+    -------
+    psi : float
+        The roll angle [rad] (0 without a stator).
+    """
+    m_rot = nf - 3 if nf > 0 else 0
+    psi = 0.0
+    for i in range(3):
+        eg[i], omega[i], wdot0[i], gamma[i] = e[i], 0.0, 0.0, 0.0
+        for k in range(3):
+            Rs[i, k] = 1.0 if i == k else 0.0
+    if nf == 0:
+        return psi
+    Lg, Bg, R1 = mats[0], mats[1], mats[2]
+    gdot, og, v1, v2 = vec[0], vec[1], vec[2], vec[3]
     for i in range(3):
         gamma[i] = E2[i, 0] * y[3] + E2[i, 1] * y[4]
         gdot[i] = E2[i, 0] * y[n + 3] + E2[i, 1] * y[n + 4]
-    psi = y[5] if s == 1 else 0.0
-    psi_dot = y[n + 5] if s == 1 else 0.0
-    phi, phi_dot = y[n - 1], y[2 * n - 1]
+    psi_dot = 0.0
+    if m_rot == 3:
+        psi, psi_dot = y[5], y[n + 5]
     t2 = gamma[0] * gamma[0] + gamma[1] * gamma[1] + gamma[2] * gamma[2]
     a, c, b, da, dc, db = _coefficients(t2)
-    Lg, Bg, R1, Rs = np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3))
-    Rb, Ib, T3 = np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3))
     _rodrigues(1.0 - c * t2, c, a, gamma, Lg)
     _rodrigues(a, b, c, gamma, Bg)
     _rodrigues(np.cos(psi), 1.0 - np.cos(psi), np.sin(psi), e, R1)
     _mat3(Lg, R1, Rs)
-    eg, og, omega, wdot0 = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    v1, v2, v3 = np.empty(3), np.empty(3), np.empty(3)
     _mv3(Lg, e, eg)
-    H = np.empty((3, m_rot))
     for i in range(3):
         for k in range(2):
             H[i, k] = Bg[i, 0] * E2[0, k] + Bg[i, 1] * E2[1, k] + Bg[i, 2] * E2[2, k]
-        if s == 1:
-            H[i, 2] = eg[i]
+        H[i, 2] = eg[i]
     _mv3(Bg, gdot, og)
     for i in range(3):
         omega[i] = og[i] + psi_dot * eg[i]
@@ -125,126 +153,515 @@ def rhs(t, y, e, E2, s, gravity, mass, center, offset, inertia, ratio, spos, sK,
     for i in range(3):
         wdot0[i] = (da * vw * gdot[i] + db * vw * vw * gamma[i] + b * (vw * gdot[i] + ww * gamma[i])
                     + dc * vw * v1[i] + psi_dot * v2[i])
-    M = np.zeros((n, n))
-    f = np.zeros(n)
-    P = np.zeros((3, n))
-    W = np.zeros((3, n))
-    IW = np.empty((3, n))
-    w, arm, d, bo = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    al, a0, mom, rhs3 = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    for bdy in range(mass.shape[0]):
+    return psi
+
+
+def _relative(y, n, j, kt, A3, u, ud, gj, gjd):
+    """A rotor's translation, transverse Euler vector and their rates relative to the frame
+    (frame axes), filled in from the coordinates starting at ``j``."""
+    for i in range(3):
+        u[i] = A3[i, 0] * y[j] + A3[i, 1] * y[j + 1]
+        ud[i] = A3[i, 0] * y[n + j] + A3[i, 1] * y[n + j + 1]
+        if kt == 3:
+            u[i] += A3[i, 2] * y[j + 2]
+            ud[i] += A3[i, 2] * y[n + j + 2]
+        gj[i] = A3[i, 0] * y[j + kt] + A3[i, 1] * y[j + kt + 1]
+        gjd[i] = A3[i, 0] * y[n + j + kt] + A3[i, 1] * y[n + j + kt + 1]
+
+
+def _bearing_stretch(y, n, j, kt, A3, Lj, Bj, point, u, gj, z, zd, Zb, BA, lb):
+    """A bearing's ``z = [u + Lj b - b, gamma_j]``, ``dz/dt`` and its Jacobian ``Zb`` (6, kt + 2)
+    on the rotor's own coordinates (``u``, ``gj`` its relative motion, ``BA``, ``lb`` scratch)."""
+    nk = kt + 2
+    _mv3(Lj, point, lb)
+    for i in range(3):
+        z[i] = u[i] + lb[i] - point[i]
+        z[3 + i] = gj[i]
+        for k in range(nk):
+            Zb[i, k] = 0.0
+            Zb[3 + i, k] = 0.0
+        for k in range(kt):
+            Zb[i, k] = A3[i, k]
+    for k in range(2):
+        for i in range(3):
+            BA[i, k] = Bj[i, 0] * A3[0, k] + Bj[i, 1] * A3[1, k] + Bj[i, 2] * A3[2, k]
+            Zb[3 + i, kt + k] = A3[i, k]
+        # -lb x (B A)_k
+        Zb[0, kt + k] = -(lb[1] * BA[2, k] - lb[2] * BA[1, k])
+        Zb[1, kt + k] = -(lb[2] * BA[0, k] - lb[0] * BA[2, k])
+        Zb[2, kt + k] = -(lb[0] * BA[1, k] - lb[1] * BA[0, k])
+    for i in range(6):
+        v = 0.0
+        for k in range(nk):
+            v += Zb[i, k] * y[n + j + k]
+        zd[i] = v
+
+
+def _sommerfeld_angle(theta, eps):
+    """See :func:`rotordyn_modal.simulation._kernels.sommerfeld_angle`."""
+    turns = np.floor((theta + np.pi) / (2.0 * np.pi))
+    t = theta - 2.0 * np.pi * turns
+    return 2.0 * np.arctan2(np.sqrt(1.0 - eps) * np.sin(0.5 * t), np.sqrt(1.0 + eps) * np.cos(0.5 * t)) \
+        + 2.0 * np.pi * turns
+
+
+def _film_force(z, zd, own, axes, film, out):
+    """The oil film's force on the journal into ``out`` (3,), from ``z[:3]``, ``zd[:3]``; see
+    :func:`rotordyn_modal.simulation._kernels.film_force`."""
+    radius, length, clearance, viscosity = film[0], film[1], film[2], film[3]
+    X, Y, Xd, Yd = 0.0, 0.0, 0.0, 0.0
+    for i in range(3):
+        X += z[i] * axes[0, i]
+        Y += z[i] * axes[1, i]
+        Xd += zd[i] * axes[0, i]
+        Yd += zd[i] * axes[1, i]
+    X, Y, Xd, Yd = X / clearance, Y / clearance, Xd / clearance, Yd / clearance
+    eps = np.sqrt(X * X + Y * Y)
+    if eps >= 1.0:
+        for i in range(3):
+            out[i] = np.nan
+        return
+    ur_x, ur_y = 1.0, 0.0
+    if eps > 0.0:
+        ur_x, ur_y = X / eps, Y / eps
+    ut_x, ut_y = -ur_y, ur_x
+    a = eps * own - 2.0 * (Xd * ut_x + Yd * ut_y)
+    b = 2.0 * (Xd * ur_x + Yd * ur_y)
+    if a == 0.0 and b == 0.0:
+        for i in range(3):
+            out[i] = 0.0
+        return
+    theta0 = np.arctan2(b, a)
+    p0, p1 = _sommerfeld_angle(theta0, eps), _sommerfeld_angle(theta0 + np.pi, eps)
+    room = 1.0 - eps * eps
+    s0, s1, c0, c1 = np.sin(p0), np.sin(p1), np.cos(p0), np.cos(p1)
+    d2 = (np.sin(2.0 * p1) - np.sin(2.0 * p0)) / 4.0
+    i_ss = ((p1 - p0) / 2.0 - d2) / (room * np.sqrt(room))
+    i_sc = ((s1 * s1 - s0 * s0) / 2.0 + eps * (c1 - c0)) / (room * room)
+    i_cc = ((0.5 + eps * eps) * (p1 - p0) + d2 - 2.0 * eps * (s1 - s0)) / (room * room * np.sqrt(room))
+    k = viscosity * radius * length * length * length / (2.0 * clearance * clearance)
+    radial = k * (a * i_sc - b * i_cc)
+    tangential = k * (a * i_ss - b * i_sc)
+    fx = radial * ur_x + tangential * ut_x
+    fy = radial * ur_y + tangential * ut_y
+    for i in range(3):
+        out[i] = fx * axes[0, i] + fy * axes[1, i]
+
+
+def _tilt(gj, Lj, Bj):
+    """``L(gamma_j)``, ``B(gamma_j)`` into ``Lj``, ``Bj``; returns the coefficients of
+    :func:`_coefficients` (for ``D B``)."""
+    t2 = gj[0] * gj[0] + gj[1] * gj[1] + gj[2] * gj[2]
+    a, c, b, da, dc, db = _coefficients(t2)
+    _rodrigues(1.0 - c * t2, c, a, gj, Lj)
+    _rodrigues(a, b, c, gj, Bj)
+    return b, c, da, dc, db
+
+
+def assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f):
+    """Add the generalized mass matrix to ``M`` (n, n) and the force to ``f`` (n,), both
+    zero on entry; see :func:`rotordyn_modal.simulation._kernels.assemble`."""
+    n = y.shape[0] // 2
+    m_rot = nf - 3 if nf > 0 else 0
+    nb = mass.shape[0]
+    phi, phi_dot = y[n - 1], y[2 * n - 1]
+    mats = np.empty((13, 3, 3))    # scratch: one allocation for the small arrays
+    R1, Rs, Rb, Ib, T3, Rl = mats[0], mats[1], mats[2], mats[3], mats[4], mats[5]
+    Lj, Bj, H = mats[6], mats[7], mats[8]
+    vec = np.zeros((32, 3))
+    eg, omega, wdot0, gamma = vec[0], vec[1], vec[2], vec[3]
+    v1, v2, v3 = vec[4], vec[5], vec[6]
+    u, ud, gj, gjd, orel, drel = vec[7], vec[8], vec[9], vec[10], vec[11], vec[12]
+    ej, vrel, cu, fat, w, arm = vec[13], vec[14], vec[15], vec[16], vec[17], vec[18]
+    d, bo, al, a0, mom, rhs3, lb = vec[19], vec[20], vec[21], vec[22], vec[23], vec[24], vec[25]
+    psi = _frame(y, n, e, E2, nf, Rs, H, eg, omega, wdot0, gamma, mats[9:12], vec[26:30])
+    PW = np.zeros((3, 3, n))
+    P, W, IW = PW[0], PW[1], PW[2]
+    cols = np.empty(n, dtype=np.int64)
+    rel = np.empty((2, nb, 3, 3))
+    Lrel, Brel = rel[0], rel[1]
+    HB = np.empty((2, 3, 2))
+    Hj, BA = HB[0], HB[1]
+    for bdy in range(nb):
         r = ratio[bdy]
+        j = slot[bdy]
+        kt = ntrans[bdy]
+        ncol = 0
+        for k in range(nf):
+            cols[ncol] = k
+            ncol += 1
+        if j >= 0:
+            for k in range(kt + 2):
+                cols[ncol] = j + k
+                ncol += 1
+            _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+            b, c, da, dc, db = _tilt(gj, Lj, Bj)
+            for i in range(3):
+                for k in range(3):
+                    Lrel[bdy, i, k] = Lj[i, k]
+                    Brel[bdy, i, k] = Bj[i, k]
+            for i in range(3):
+                for k in range(2):
+                    BA[i, k] = Bj[i, 0] * A3[0, k] + Bj[i, 1] * A3[1, k] + Bj[i, 2] * A3[2, k]
+            for i in range(3):
+                for k in range(2):
+                    Hj[i, k] = Rs[i, 0] * BA[0, k] + Rs[i, 1] * BA[1, k] + Rs[i, 2] * BA[2, k]
+            _mv3(Bj, gjd, v1)
+            _mv3(Rs, v1, orel)
+            # D B(gamma_j)[gjd] gjd
+            vw = gj[0] * gjd[0] + gj[1] * gjd[1] + gj[2] * gjd[2]
+            ww = gjd[0] * gjd[0] + gjd[1] * gjd[1] + gjd[2] * gjd[2]
+            _cross(gj, gjd, v1)
+            for i in range(3):
+                v2[i] = (da * vw * gjd[i] + db * vw * vw * gj[i] + b * (vw * gjd[i] + ww * gj[i])
+                         + dc * vw * v1[i])
+            _mv3(Rs, v2, drel)
+            _mv3(Lj, e, v1)
+            _mv3(Rs, v1, ej)
+            _mv3(Rs, ud, vrel)
+            _mat3(Rs, Lj, Rl)
+            for i in range(3):
+                cu[i] = center[bdy, i] + u[i]
+        else:
+            for i in range(3):
+                orel[i], drel[i], vrel[i], ej[i], cu[i] = 0.0, 0.0, 0.0, eg[i], center[bdy, i]
+                for k in range(3):
+                    Rl[i, k] = Rs[i, k]
+        cols[ncol] = n - 1
+        ncol += 1
         ang = r * phi
         _rodrigues(np.cos(ang), 1.0 - np.cos(ang), np.sin(ang), e, R1)
-        _mat3(Rs, R1, Rb)
+        _mat3(Rl, R1, Rb)
         _mv3(Rb, offset[bdy], w)
-        _mv3(Rs, center[bdy], arm)
+        _mv3(Rs, cu, arm)
         for i in range(3):
             d[i] = arm[i] + w[i]
-            bo[i] = omega[i] + r * phi_dot * eg[i]
-        _cross(omega, eg, v1)
+            fat[i] = omega[i] + orel[i]
+            bo[i] = fat[i] + r * phi_dot * ej[i]
+        _cross(omega, orel, v1)
+        _cross(fat, ej, v2)
         for i in range(3):
-            al[i] = wdot0[i] + r * phi_dot * v1[i]
-        # a0 = wdot0 x arm + omega x (omega x arm) + al x w + bo x (bo x w)
+            al[i] = wdot0[i] + v1[i] + drel[i] + r * phi_dot * v2[i]
+        # a0 = wdot0 x arm + omega x (omega x arm) + 2 omega x vrel + al x w + bo x (bo x w)
         _cross(wdot0, arm, a0)
         _cross(omega, arm, v1)
         _cross(omega, v1, v2)
         _cross(al, w, v3)
         for i in range(3):
             a0[i] += v2[i] + v3[i]
-        _cross(bo, w, v1)
-        _cross(bo, v1, v2)
+        _cross(omega, vrel, v1)
+        _cross(bo, w, v2)
+        _cross(bo, v2, v3)
         for i in range(3):
-            a0[i] += v2[i]
-        for i in range(3):
-            P[i, i] = 1.0
-        for k in range(m_rot):
-            # -d x H_k
-            P[0, 3 + k] = -(d[1] * H[2, k] - d[2] * H[1, k])
-            P[1, 3 + k] = -(d[2] * H[0, k] - d[0] * H[2, k])
-            P[2, 3 + k] = -(d[0] * H[1, k] - d[1] * H[0, k])
+            a0[i] += 2.0 * v1[i] + v3[i]
+        if nf > 0:
             for i in range(3):
-                W[i, 3 + k] = H[i, k]
-        _cross(eg, w, v1)
+                P[i, i] = 1.0
+            for k in range(m_rot):
+                # -d x H_k
+                P[0, 3 + k] = -(d[1] * H[2, k] - d[2] * H[1, k])
+                P[1, 3 + k] = -(d[2] * H[0, k] - d[0] * H[2, k])
+                P[2, 3 + k] = -(d[0] * H[1, k] - d[1] * H[0, k])
+                for i in range(3):
+                    W[i, 3 + k] = H[i, k]
+        if j >= 0:
+            for k in range(kt):
+                for i in range(3):
+                    P[i, j + k] = Rs[i, 0] * A3[0, k] + Rs[i, 1] * A3[1, k] + Rs[i, 2] * A3[2, k]
+                    W[i, j + k] = 0.0
+            for k in range(2):
+                # -w x Hj_k
+                P[0, j + kt + k] = -(w[1] * Hj[2, k] - w[2] * Hj[1, k])
+                P[1, j + kt + k] = -(w[2] * Hj[0, k] - w[0] * Hj[2, k])
+                P[2, j + kt + k] = -(w[0] * Hj[1, k] - w[1] * Hj[0, k])
+                for i in range(3):
+                    W[i, j + kt + k] = Hj[i, k]
+        _cross(ej, w, v1)
         for i in range(3):
             P[i, n - 1] = r * v1[i]
-            W[i, n - 1] = r * eg[i]
+            W[i, n - 1] = r * ej[i]
         # Ib = Rb I0 Rb^T
         _mat3(Rb, inertia[bdy], T3)
         for i in range(3):
-            for j in range(3):
-                Ib[i, j] = T3[i, 0] * Rb[j, 0] + T3[i, 1] * Rb[j, 1] + T3[i, 2] * Rb[j, 2]
+            for k in range(3):
+                Ib[i, k] = T3[i, 0] * Rb[k, 0] + T3[i, 1] * Rb[k, 1] + T3[i, 2] * Rb[k, 2]
         for i in range(3):
-            for j in range(n):
-                IW[i, j] = Ib[i, 0] * W[0, j] + Ib[i, 1] * W[1, j] + Ib[i, 2] * W[2, j]
+            for cj in range(ncol):
+                k = cols[cj]
+                IW[i, k] = Ib[i, 0] * W[0, k] + Ib[i, 1] * W[1, k] + Ib[i, 2] * W[2, k]
         mb = mass[bdy]
-        for i in range(n):
-            for j in range(n):
-                M[i, j] += (mb * (P[0, i] * P[0, j] + P[1, i] * P[1, j] + P[2, i] * P[2, j])
-                            + W[0, i] * IW[0, j] + W[1, i] * IW[1, j] + W[2, i] * IW[2, j])
+        for ci in range(ncol):
+            i = cols[ci]
+            for cj in range(ncol):
+                k = cols[cj]
+                M[i, k] += (mb * (P[0, i] * P[0, k] + P[1, i] * P[1, k] + P[2, i] * P[2, k])
+                            + W[0, i] * IW[0, k] + W[1, i] * IW[1, k] + W[2, i] * IW[2, k])
         _mv3(Ib, bo, mom)
         _cross(bo, mom, v1)
         _mv3(Ib, al, v2)
         for i in range(3):
             rhs3[i] = v2[i] + v1[i]
             v3[i] = mb * (gravity[i] - a0[i])
-        for j in range(n):
-            f[j] += (P[0, j] * v3[0] + P[1, j] * v3[1] + P[2, j] * v3[2]
-                     - W[0, j] * rhs3[0] - W[1, j] * rhs3[1] - W[2, j] * rhs3[2])
-    Z = np.zeros((6, n))
-    z, zd, gz = np.empty(6), np.empty(6), np.empty(6)
-    for i in range(3):
-        Z[i, i] = 1.0
-        for k in range(2):
-            Z[3 + i, 3 + k] = E2[i, k]
-        if s == 1:
-            Z[3 + i, 5] = e[i]
-    for sp in range(spos.shape[0]):
-        _mv3(Rs, spos[sp], v1)
-        for k in range(m_rot):
-            Z[0, 3 + k] = -(v1[1] * H[2, k] - v1[2] * H[1, k])
-            Z[1, 3 + k] = -(v1[2] * H[0, k] - v1[0] * H[2, k])
-            Z[2, 3 + k] = -(v1[0] * H[1, k] - v1[1] * H[0, k])
+        for ci in range(ncol):
+            k = cols[ci]
+            f[k] += (P[0, k] * v3[0] + P[1, k] * v3[1] + P[2, k] * v3[2]
+                     - W[0, k] * rhs3[0] - W[1, k] * rhs3[1] - W[2, k] * rhs3[2])
+    sixes = np.empty((3, 6))
+    z, zd, gz = sixes[0], sixes[1], sixes[2]
+    blocks = np.zeros((4, 6, 6))
+    Kb, Cb, Zb, Z = blocks[0], blocks[1], blocks[2], blocks[3]
+    if nf > 0:
         for i in range(3):
-            z[i] = y[i] + v1[i] - spos[sp, i]
-            z[3 + i] = gamma[i] + psi * e[i]
+            Z[i, i] = 1.0
+            for k in range(2):
+                Z[3 + i, 3 + k] = E2[i, k]
+            if m_rot == 3:
+                Z[3 + i, 5] = e[i]
+        for sp in range(spos.shape[0]):
+            _mv3(Rs, spos[sp], v1)
+            for k in range(m_rot):
+                Z[0, 3 + k] = -(v1[1] * H[2, k] - v1[2] * H[1, k])
+                Z[1, 3 + k] = -(v1[2] * H[0, k] - v1[0] * H[2, k])
+                Z[2, 3 + k] = -(v1[0] * H[1, k] - v1[1] * H[0, k])
+            for i in range(3):
+                z[i] = y[i] + v1[i] - spos[sp, i]
+                z[3 + i] = gamma[i] + psi * e[i]
+            for i in range(6):
+                v = 0.0
+                for k in range(nf):
+                    v += Z[i, k] * y[n + k]
+                zd[i] = v
+            K, C = sK[sp], sC[sp]
+            for i in range(6):
+                v = 0.0
+                for k in range(6):
+                    v += K[i, k] * z[k] + C[i, k] * zd[k]
+                gz[i] = v
+            for k in range(nf):
+                v = 0.0
+                for i in range(6):
+                    v += Z[i, k] * gz[i]
+                f[k] -= v
+    for br in range(bbody.shape[0]):
+        bdy = bbody[br]
+        j = slot[bdy]
+        kt = ntrans[bdy]
+        _interpolate(bspeeds[br], bcount[br], bK[br], bC[br], ratio[bdy] * phi_dot, Kb, Cb)
+        _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+        _bearing_stretch(y, n, j, kt, A3, Lrel[bdy], Brel[bdy], bpos[br], u, gj, z, zd, Zb, BA, lb)
         for i in range(6):
             v = 0.0
-            for j in range(n):
-                v += Z[i, j] * y[n + j]
-            zd[i] = v
-        K, C = sK[sp], sC[sp]
-        for i in range(6):
-            v = 0.0
-            for j in range(6):
-                v += K[i, j] * z[j] + C[i, j] * zd[j]
+            for k in range(6):
+                v += Kb[i, k] * z[k] + Cb[i, k] * zd[k]
             gz[i] = v
-        for j in range(n):
+        if bfilm[br, 2] > 0.0:
+            _film_force(z, zd, ratio[bdy] * phi_dot, baxes[br], bfilm[br], v1)
+            for i in range(3):
+                gz[i] -= v1[i]
+        for k in range(kt + 2):
             v = 0.0
             for i in range(6):
-                v += Z[i, j] * gz[i]
-            f[j] -= v
+                v += Zb[i, k] * gz[i]
+            f[j + k] -= v
+
+
+def assemble(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+             spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes):
+    """``(M, f)``: :func:`rotordyn_modal.simulation._kernels.assemble`, allocation-light."""
+    n = y.shape[0] // 2
+    M = np.zeros((n, n))
+    f = np.zeros(n)
+    assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f)
+    return M, f
+
+
+def _solve_motion(M, f, t, mode, accel, t_start, t_stop, qdd):
+    """``d2q/dt2`` into ``qdd`` (``M[:k, :k]`` and ``f[:k]`` overwritten); returns the drive
+    torque [N m]; see :func:`rotordyn_modal.simulation._kernels.solve_motion`."""
+    n = f.shape[0]
+    if mode == 0:
+        _solve_spd(M, f, n, qdd)
+        return 0.0
+    alpha = accel if t_start <= t <= t_stop else 0.0
+    k = n - 1
+    for i in range(k):
+        f[i] -= M[i, k] * alpha
+    _solve_spd(M, f, k, qdd)     # leaves row k of M and f[k] alone
+    qdd[k] = alpha
+    torque = M[k, k] * alpha - f[k]
+    for i in range(k):
+        torque += M[k, i] * qdd[i]
+    return torque
+
+
+def rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+        spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop):
+    """``dy/dt`` (2n,); see :func:`rotordyn_modal.simulation._kernels.rhs`."""
+    n = y.shape[0] // 2
+    work = np.zeros(n * n + n)
+    M = work[:n * n].reshape((n, n))
+    f = work[n * n:]
+    assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+                  spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f)
     out = np.empty(2 * n)
     for i in range(n):
         out[i] = y[n + i]
-    qdd = np.empty(n)
-    if mode == 0:
-        _solve_spd(M, f, n, qdd)
-    else:
-        alpha = accel if t_start <= t <= t_stop else 0.0
-        k = n - 1
-        for i in range(k):
-            f[i] -= M[i, k] * alpha
-        _solve_spd(M, f, k, qdd)
-        qdd[k] = alpha
-    for i in range(n):
-        out[n + i] = qdd[i]
+    _solve_motion(M, f, t, mode, accel, t_start, t_stop, out[n:])
     return out
+
+
+def _bearing_now(y, n, br, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, Kb, Cb, Lj, Bj, vec,
+                 z, zd, Zb, BA):
+    """Bearing ``br``'s coefficients at its rotor's own speed (``Kb``, ``Cb``), stretch ``z``,
+    its rate ``zd`` and Jacobian ``Zb``, from the state alone (``vec`` (5, 3) scratch); returns
+    the carried body."""
+    bdy = bbody[br]
+    j, kt = slot[bdy], ntrans[bdy]
+    u, ud, gj, gjd, lb = vec[0], vec[1], vec[2], vec[3], vec[4]
+    _interpolate(bspeeds[br], bcount[br], bK[br], bC[br], ratio[bdy] * y[2 * n - 1], Kb, Cb)
+    _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+    _tilt(gj, Lj, Bj)
+    _bearing_stretch(y, n, j, kt, A3, Lj, Bj, bpos[br], u, gj, z, zd, Zb, BA, lb)
+    return bdy
+
+
+def potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, A3, spos, sK,
+              bbody, bpos, bspeeds, bcount, bK, bC):
+    """Elastic and gravitational potential energy [J]; see
+    :func:`rotordyn_modal.simulation._kernels.potential`."""
+    n = y.shape[0] // 2
+    mats = np.empty((9, 3, 3))
+    Rs, H, R1, Lj, Bj, Rl = mats[0], mats[1], mats[2], mats[3], mats[4], mats[5]
+    blocks = np.empty((3, 6, 6))
+    Kb, Cb, Zb = blocks[0], blocks[1], blocks[2]
+    vec = np.zeros((16, 3))
+    eg, omega, wdot0, gamma, u, ud, gj, gjd, lb, v1, v2 = (vec[0], vec[1], vec[2], vec[3], vec[4], vec[5],
+                                                           vec[6], vec[7], vec[8], vec[9], vec[10])
+    psi = _frame(y, n, e, E2, nf, Rs, H, eg, omega, wdot0, gamma, mats[6:9], vec[11:15])
+    z, zd = np.empty(6), np.empty(6)
+    BA = np.empty((3, 2))
+    elastic = 0.0
+    if nf > 0:
+        for sp in range(spos.shape[0]):
+            _mv3(Rs, spos[sp], v1)
+            for i in range(3):
+                z[i] = y[i] + v1[i] - spos[sp, i]
+                z[3 + i] = gamma[i] + psi * e[i]
+            elastic += 0.5 * _quadratic(sK[sp], z)
+    for br in range(bbody.shape[0]):
+        _bearing_now(y, n, br, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, Kb, Cb, Lj, Bj,
+                     vec[4:9], z, zd, Zb, BA)
+        elastic += 0.5 * _quadratic(Kb, z)
+    weight = 0.0
+    for bdy in range(mass.shape[0]):
+        j, kt = slot[bdy], ntrans[bdy]
+        for i in range(3):
+            v1[i] = center[bdy, i]
+        if j >= 0:
+            _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+            _tilt(gj, Lj, Bj)
+            for i in range(3):
+                v1[i] += u[i]
+        else:
+            for i in range(3):
+                for k in range(3):
+                    Lj[i, k] = 1.0 if i == k else 0.0
+        ang = ratio[bdy] * y[n - 1]
+        _rodrigues(np.cos(ang), 1.0 - np.cos(ang), np.sin(ang), e, R1)
+        _mat3(Lj, R1, Rl)
+        _mv3(Rl, offset[bdy], v2)
+        for i in range(3):
+            v1[i] += v2[i]
+        _mv3(Rs, v1, v2)
+        for i in range(3):
+            weight -= mass[bdy] * gravity[i] * ((y[i] if nf > 0 else 0.0) + v2[i])
+    return elastic, weight
+
+
+def _quadratic(K, z):
+    """``z . K z`` for a 6x6 ``K``."""
+    total = 0.0
+    for i in range(6):
+        for k in range(6):
+            total += z[i] * K[i, k] * z[k]
+    return total
+
+
+def bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes):
+    """``K z + C dz/dt`` of every bearing, shape (nbr, 6); see
+    :func:`rotordyn_modal.simulation._kernels.bearing_wrenches`."""
+    n = y.shape[0] // 2
+    out = np.empty((bbody.shape[0], 6))
+    mats = np.empty((2, 3, 3))
+    Lj, Bj = mats[0], mats[1]
+    blocks = np.empty((3, 6, 6))
+    Kb, Cb, Zb = blocks[0], blocks[1], blocks[2]
+    vec = np.empty((6, 3))
+    oil = vec[5]
+    z, zd = np.empty(6), np.empty(6)
+    BA = np.empty((3, 2))
+    for br in range(bbody.shape[0]):
+        bdy = _bearing_now(y, n, br, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, Kb, Cb, Lj, Bj,
+                           vec[:5], z, zd, Zb, BA)
+        for i in range(6):
+            v = 0.0
+            for k in range(6):
+                v += Kb[i, k] * z[k] + Cb[i, k] * zd[k]
+            out[br, i] = v
+        if bfilm[br, 2] > 0.0:
+            _film_force(z, zd, ratio[bdy] * y[2 * n - 1], baxes[br], bfilm[br], oil)
+            for i in range(3):
+                out[br, i] -= oil[i]
+    return out
+
+
+def sample_outputs(times, states, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans,
+                   A3, spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, accel, t_start, t_stop):
+    """Per-sample derived outputs; see :func:`rotordyn_modal.simulation._kernels.sample_outputs`."""
+    count = times.shape[0]
+    n = states.shape[1] // 2
+    kinetic, elastic, weight = np.empty(count), np.empty(count), np.empty(count)
+    torque, omega = np.empty(count), np.empty((count, 3))
+    wrenches = np.empty((count, bbody.shape[0], 6))
+    work = np.empty(n * n + 2 * n)
+    M = work[:n * n].reshape((n, n))
+    f = work[n * n:n * n + n]
+    qdd = work[n * n + n:]
+    mats = np.empty((5, 3, 3))
+    vec = np.empty((7, 3))
+    for s in range(count):
+        y = states[s]
+        for i in range(n * n + n):
+            work[i] = 0.0
+        assemble_into(times[s], y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
+                      spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f)
+        total = 0.0
+        for i in range(n):
+            for k in range(n):
+                total += y[n + i] * M[i, k] * y[n + k]
+        kinetic[s] = 0.5 * total
+        torque[s] = _solve_motion(M, f, times[s], mode, accel, t_start, t_stop, qdd)
+        elastic[s], weight[s] = potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, A3,
+                                          spos, sK, bbody, bpos, bspeeds, bcount, bK, bC)
+        _frame(y, n, e, E2, nf, mats[0], mats[1], vec[0], omega[s], vec[1], vec[2], mats[2:5], vec[3:7])
+        wrenches[s] = bearing_wrenches(y, nf, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC,
+                                       bfilm, baxes)
+    return kinetic, elastic, weight, torque, omega, wrenches
 
 
 def rhs_flat(t, y, floats, ints):
     """:func:`rhs` with its arguments packed by :func:`pack` (cheaper to call from Python)."""
-    s, nb, ns, mode = ints[0], ints[1], ints[2], ints[3]
+    nf, nb, ns, nbr, length, mode = ints[0], ints[1], ints[2], ints[3], ints[4], ints[5]
+    o = 6
+    slot = ints[o:o + nb]
+    o += nb
+    ntrans = ints[o:o + nb]
+    o += nb
+    bbody = ints[o:o + nbr]
+    o += nbr
+    bcount = ints[o:o + nbr]
     o = 0
     e = floats[o:o + 3]
     o += 3
@@ -262,23 +679,42 @@ def rhs_flat(t, y, floats, ints):
     o += 9 * nb
     ratio = floats[o:o + nb]
     o += nb
+    A3 = floats[o:o + 9].reshape((3, 3))
+    o += 9
     spos = floats[o:o + 3 * ns].reshape((ns, 3))
     o += 3 * ns
     sK = floats[o:o + 36 * ns].reshape((ns, 6, 6))
     o += 36 * ns
     sC = floats[o:o + 36 * ns].reshape((ns, 6, 6))
     o += 36 * ns
-    return rhs(t, y, e, E2, s, gravity, mass, center, offset, inertia, ratio, spos, sK, sC,
-               mode, floats[o], floats[o + 1], floats[o + 2])
+    bpos = floats[o:o + 3 * nbr].reshape((nbr, 3))
+    o += 3 * nbr
+    bspeeds = floats[o:o + nbr * length].reshape((nbr, length))
+    o += nbr * length
+    bK = floats[o:o + 36 * nbr * length].reshape((nbr, length, 6, 6))
+    o += 36 * nbr * length
+    bC = floats[o:o + 36 * nbr * length].reshape((nbr, length, 6, 6))
+    o += 36 * nbr * length
+    bfilm = floats[o:o + 4 * nbr].reshape((nbr, 4))
+    o += 4 * nbr
+    baxes = floats[o:o + 6 * nbr].reshape((nbr, 2, 3))
+    o += 6 * nbr
+    return rhs(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3, spos, sK, sC,
+               bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, mode, floats[o], floats[o + 1], floats[o + 2])
 
 
 def pack(system, mode, accel, t_start, t_stop):
     """``(floats, ints)`` for :func:`rhs_flat` from a ``SystemArrays`` and the drive."""
     parts = [system.e, system.E2, system.gravity, system.mass, system.center, system.offset,
-             system.inertia, system.ratio, system.spos, system.sK, system.sC, [accel, t_start, t_stop]]
+             system.inertia, system.ratio, system.A3, system.spos, system.sK, system.sC, system.bpos,
+             system.bspeeds, system.bK, system.bC, system.bfilm, system.baxes, [accel, t_start, t_stop]]
     floats = np.concatenate([np.ascontiguousarray(p, dtype=float).ravel() for p in parts])
-    ints = np.array([system.s, len(system.mass), len(system.spos), mode], dtype=np.int64)
+    sizes = [system.nf, len(system.mass), len(system.spos), len(system.bbody), system.bspeeds.shape[1], mode]
+    ints = np.concatenate([np.array(sizes, dtype=np.int64), system.slot, system.ntrans, system.bbody,
+                           system.bcount]).astype(np.int64)
     return floats, ints
 
 
-FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_spd", "rhs", "rhs_flat")
+FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_spd", "_interpolate", "_frame",
+             "_relative", "_bearing_stretch", "_sommerfeld_angle", "_film_force", "_tilt", "_bearing_now", "assemble_into", "assemble", "_solve_motion", "rhs",
+             "potential", "_quadratic", "bearing_wrenches", "sample_outputs", "rhs_flat")

@@ -7,47 +7,85 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..geometry import transverse_axes
 from ..kinematics import transverse_basis
+
+#: frames the rotors sit on, by their number of coordinates
+GROUND, CARRIER, STATOR = 0, 5, 6
 
 
 @dataclass(frozen=True)
 class SystemArrays:
     """A model reduced to arrays (bodies: stator first when there is one, then the rotors).
 
+    Generalized coordinates ``q = [frame (nf), each rotor on bearings (k_j), phi]``: the frame
+    is the stator (``nf = 6``: ``x, g, psi``), a massless carrier without a stator or bearings
+    (``nf = 5``: ``x, g``) or the ground (``nf = 0``); a rotor on bearings has
+    ``[u_a, u_b, (u_e), g_a, g_b]`` (``ntrans = 2`` or 3 translations); ``phi`` last.
+
     Attributes
     ----------
-    e : (3,) spin axis; E2 : (3, 2) transverse basis; s : 1 with a stator, 0 without
+    e : (3,) spin axis; E2 : (3, 2) transverse basis of the frame's Euler vector
+    nf : number of frame coordinates (0, 5 or 6)
     gravity : (3,) [m/s^2]
     mass : (nb,) [kg]; center : (nb, 3) axis points from the reference point [m];
     offset : (nb, 3) centre of mass from the axis point at angle 0 [m];
     inertia : (nb, 3, 3) about the centre of mass at angle 0 [kg m^2]; ratio : (nb,)
+    slot : (nb,) first coordinate of a body on bearings, -1 for a body fixed to the frame
+    ntrans : (nb,) its translational coordinates (2, or 3 with an axial bearing stiffness)
+    A3 : (3, 3) columns ``a, b, e``: the axes of the rotors' coordinates
     spos : (ns, 3) [m]; sK, sC : (ns, 6, 6) on ``[u_P, theta]``
+    bbody : (nbr,) body each bearing carries; bpos : (nbr, 3) bearing point from the
+    body's axis point [m]; bspeeds : (nbr, L) own speeds of the coefficient tables [rad/s]
+    (first ``bcount`` used); bcount : (nbr,); bK, bC : (nbr, L, 6, 6) on the relative
+    ``[u, theta]`` at the bearing point, frame axes (a journal bearing's axial and moment parts)
+    bfilm : (nbr, 4) a journal bearing's radius, length, radial clearance [m] and viscosity
+    [Pa s] (zeros: no oil film); baxes : (nbr, 2, 3) rows ``x``, ``y`` of its radial frame
     reference_point : (3,) [m]; rotor_index : (n_rotors,) body index of each rotor
     """
 
     e: np.ndarray
     E2: np.ndarray
-    s: int
+    nf: int
     gravity: np.ndarray
     mass: np.ndarray
     center: np.ndarray
     offset: np.ndarray
     inertia: np.ndarray
     ratio: np.ndarray
+    slot: np.ndarray
+    ntrans: np.ndarray
+    A3: np.ndarray
     spos: np.ndarray
     sK: np.ndarray
     sC: np.ndarray
+    bbody: np.ndarray
+    bpos: np.ndarray
+    bspeeds: np.ndarray
+    bcount: np.ndarray
+    bK: np.ndarray
+    bC: np.ndarray
+    bfilm: np.ndarray
+    baxes: np.ndarray
     reference_point: np.ndarray
     rotor_index: np.ndarray
 
     @property
+    def s(self) -> int:
+        """1 when the frame has a roll coordinate (a stator), else 0."""
+        return 1 if self.nf == STATOR else 0
+
+    @property
     def n_dof(self) -> int:
-        return 6 + self.s
+        own = sum(2 + int(k) for k, j in zip(self.ntrans, self.slot) if j >= 0)
+        return self.nf + own + 1
 
     def kernel_arguments(self):
         """Arguments of ``assemble``/``rhs`` after ``(t, y)``."""
-        return (self.e, self.E2, self.s, self.gravity, self.mass, self.center, self.offset,
-                self.inertia, self.ratio, self.spos, self.sK, self.sC)
+        return (self.e, self.E2, self.nf, self.gravity, self.mass, self.center, self.offset,
+                self.inertia, self.ratio, self.slot, self.ntrans, self.A3, self.spos, self.sK,
+                self.sC, self.bbody, self.bpos, self.bspeeds, self.bcount, self.bK, self.bC, self.bfilm,
+                self.baxes)
 
 
 def refuse_hysteretic(model) -> None:
@@ -67,6 +105,18 @@ def refuse_hysteretic(model) -> None:
             "with the static stiffness and viscous damping")
 
 
+def refuse_journal_loads(model) -> None:
+    """A journal bearing's static load comes from gravity in the time simulation."""
+    given = [b for b in model.bearings if b.coefficients.kind == "journal" and b.load is not None]
+    if given:
+        names = ", ".join(f"[bearings.{b.name}] load = {b.load:g}" for b in given)
+        raise InputError(
+            f"{model.source}: {names}: the time simulation loads a journal bearing with the weight it "
+            "carries under the model's gravity, not with a given load; leave load out (and set "
+            "gravity), or give the bearing as type = 'linear' with its film coefficients (a speeds_rpm "
+            "table computed by rotordyn_modal.journal.short_journal_bearing)")
+
+
 def unbalance_directions(model, phases_deg=None) -> np.ndarray:
     """Unit vectors of the unbalances at angle 0 (phase from ``e1`` towards ``e2``).
 
@@ -79,6 +129,14 @@ def unbalance_directions(model, phases_deg=None) -> np.ndarray:
     return np.cos(phases)[:, None] * basis[:, 0] + np.sin(phases)[:, None] * basis[:, 1]
 
 
+def frame_size(model) -> int:
+    """Number of frame coordinates: 6 with a stator, 0 on the ground (bearings without a
+    stator), 5 for the massless carrier of a model with neither."""
+    if model.stator is not None:
+        return STATOR
+    return GROUND if model.bearings else CARRIER
+
+
 def system_arrays(model, unbalance_phases_deg=None) -> SystemArrays:
     """Reduce ``model`` to :class:`SystemArrays`.
 
@@ -89,16 +147,21 @@ def system_arrays(model, unbalance_phases_deg=None) -> SystemArrays:
         Phases overriding the model's ``phase_deg`` [deg].
     """
     refuse_hysteretic(model)
+    refuse_journal_loads(model)
     e = np.asarray(model.spin_axis, dtype=float)
     reference = np.asarray(model.reference_point, dtype=float)
-    masses, centers, offsets, inertias, ratios = [], [], [], [], []
+    nf = frame_size(model)
+    masses, centers, offsets, inertias, ratios, slots, ntrans = [], [], [], [], [], [], []
     if model.stator is not None:
         masses.append(model.stator.mass)
         centers.append(np.asarray(model.stator.center_of_mass) - reference)
         offsets.append(np.zeros(3))
         inertias.append(np.asarray(model.stator.inertia, dtype=float))
         ratios.append(0.0)
+        slots.append(-1)
+        ntrans.append(2)
     directions = unbalance_directions(model, unbalance_phases_deg)
+    following = nf
     for rotor in model.rotors:
         first_moment, products = np.zeros(3), np.zeros((3, 3))
         for unbalance, d in zip(model.unbalances, directions):
@@ -113,18 +176,79 @@ def system_arrays(model, unbalance_phases_deg=None) -> SystemArrays:
         offsets.append(rho)
         inertias.append(about_axis - rotor.mass * (rho @ rho * np.eye(3) - np.outer(rho, rho)))
         ratios.append(rotor.speed_ratio)
+        mine = [b for b in model.bearings if b.rotor == rotor.name]
+        axial = any(b.coefficients.axial for b in mine)
+        slots.append(following if mine else -1)
+        ntrans.append(3 if axial else 2)
+        following += (4 + axial) if mine else 0
     suspensions = model.suspensions
     start = 1 if model.stator is not None else 0
     return SystemArrays(
-        e=e, E2=transverse_basis(e), s=1 if model.stator is not None else 0,
+        e=e, E2=transverse_basis(e), nf=nf,
         gravity=np.asarray(model.gravity, dtype=float),
         mass=np.array(masses, dtype=float), center=np.array(centers, dtype=float).reshape(-1, 3),
         offset=np.array(offsets, dtype=float).reshape(-1, 3),
         inertia=np.array(inertias, dtype=float).reshape(-1, 3, 3),
         ratio=np.array(ratios, dtype=float),
+        slot=np.array(slots, dtype=np.int64), ntrans=np.array(ntrans, dtype=np.int64),
+        A3=np.column_stack([*transverse_axes(e), e]),
         spos=np.array([np.asarray(s.position) - reference for s in suspensions], dtype=float).reshape(-1, 3),
         sK=np.array([s.stiffness_matrix for s in suspensions], dtype=float).reshape(-1, 6, 6),
         sC=np.array([s.damping_matrix for s in suspensions], dtype=float).reshape(-1, 6, 6),
         reference_point=reference,
         rotor_index=np.arange(start, start + len(model.rotors)),
+        **_bearing_arrays(model, start),
     )
+
+
+def _bearing_arrays(model, start):
+    """The bearings' arrays of :class:`SystemArrays` (coefficient tables padded to one length)."""
+    bearings = model.bearings
+    names = [r.name for r in model.rotors]
+    length = max([1] + [len(b.coefficients.stiffness) for b in bearings])
+    speeds = np.zeros((len(bearings), length))
+    stiffness = np.zeros((len(bearings), length, 6, 6))
+    damping = np.zeros((len(bearings), length, 6, 6))
+    count = np.ones(len(bearings), dtype=np.int64)
+    for i, bearing in enumerate(bearings):
+        c = bearing.coefficients
+        rows = len(c.stiffness)
+        count[i] = rows
+        stiffness[i, :rows], damping[i, :rows] = c.stiffness, c.damping
+        if c.speeds is not None:
+            speeds[i, :rows] = c.speeds
+    body = [start + names.index(b.rotor) for b in bearings]
+    position = [np.asarray(b.position, dtype=float) - np.asarray(model.rotor(b.rotor).center_of_mass, dtype=float)
+                for b in bearings]
+    film, axes = np.zeros((len(bearings), 4)), np.zeros((len(bearings), 2, 3))
+    for i, bearing in enumerate(bearings):
+        journal = bearing.coefficients.journal
+        if journal is not None:
+            film[i] = 0.5 * journal.diameter, journal.length, journal.clearance, journal.viscosity
+            axes[i] = journal.axes[:2]
+    return dict(bbody=np.array(body, dtype=np.int64), bpos=np.array(position, dtype=float).reshape(-1, 3),
+                bspeeds=speeds, bcount=count, bK=stiffness, bC=damping, bfilm=film, baxes=axes)
+
+
+def check_table_speeds(model, reference_speeds, what: str) -> None:
+    """Refuse a rotor's own speed outside its bearing's coefficient table.
+
+    Parameters
+    ----------
+    model : Model
+    reference_speeds : array_like, shape (N,)
+        Reference rotor speeds [rad/s]; each rotor's own speed is its speed ratio times them.
+    what : str
+        Where the speeds come from, for the message (``"the run-up from 0 to 300 rad/s"``).
+    """
+    from ..bearings import evaluate
+
+    speeds = np.atleast_1d(np.asarray(reference_speeds, dtype=float))
+    for bearing in model.bearings:
+        if bearing.coefficients.kind != "table":
+            continue
+        try:
+            evaluate(bearing.coefficients, model.rotor(bearing.rotor).speed_ratio * speeds,
+                     f"{model.source}: [bearings.{bearing.name}]")
+        except InputError as error:
+            raise InputError(f"{error}; in {what}") from None

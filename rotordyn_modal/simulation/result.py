@@ -18,7 +18,8 @@ class SimulationResult:
     time : ndarray, shape (N,) [s]
     displacement : ndarray, shape (N, 6)
         ``[u, theta]`` of the stator at the model's reference point, model axes [m, rad];
-        ``theta = gamma + psi e`` (transverse Euler vector plus roll angle).
+        ``theta = gamma + psi e`` (transverse Euler vector plus roll angle). Zeros when the
+        bearings stand on the ground (no ``[stator]``).
     velocity : ndarray, shape (N, 6)
         Velocity of the reference point [m/s] and angular velocity of the stator [rad/s].
     gamma : ndarray, shape (N, 3)
@@ -29,20 +30,31 @@ class SimulationResult:
         Reference rotor's axial angular velocity ``omega_phi`` (seed 001, eq. 8) [rad/s]:
         the stator's roll rate plus the relative speed.
     rotor_angles : ndarray, shape (N, n_rotors)
-        Axial angle of every rotor (roll of the stator plus its own turn) [rad].
+        Axial angle of every rotor (roll of the stator plus its own turn relative to the
+        stator, ``r_j phi``) [rad].
     drive_torque : ndarray, shape (N,)
         Torque of the ideal drive on the reference rotor (reacted by the stator) [N m]; 0 in
         free spin.
     rotor_centers : ndarray, shape (N, n_rotors, 3)
         Position of every rotor's centre of mass, model axes [m].
+    rotor_displacements, rotor_tilts : ndarray, shape (N, n_rotors, 3)
+        Each rotor's motion relative to the stator (or the ground) in its bearings, stator
+        axes: translation of its axis point (at ``center_of_mass``) [m] and transverse Euler
+        vector ``gamma_j`` [rad]; zeros for a rotor without bearings.
+    bearing_forces : ndarray, shape (N, n_bearings, 6)
+        ``[F, C]`` each bearing passes to the stator (or the ground) at its point, stator
+        axes [N, N m]: its springs and dampers on the relative motion there.
     sensors : ndarray, shape (N, n_sensors)
-        Displacement of each sensor's point along its direction (fixed in the ground) [m].
+        Displacement of each sensor's point along its direction [m]: a point of the stator or
+        a rotor along a direction fixed in the ground; a ``relative`` sensor (proximity probe)
+        reads the rotor point's motion relative to the stator point at the same place along
+        a direction fixed in the stator.
     kinetic_energy, elastic_energy, gravity_energy : ndarray, shape (N,) [J]
         Gravity energy is ``-sum m g . r`` (zero at the model-axes origin).
     states : ndarray, shape (N, 2 n_dof)
         Raw states ``[q, dq/dt]``, ``q = [x, g1, g2, (psi), phi]`` (see
         ``rotordyn_modal.simulation._kernels``).
-    sensor_names, rotor_names : list of str
+    sensor_names, rotor_names, bearing_names : list of str
     speed_ratios : ndarray, shape (n_rotors,)
     drive : str
         ``'constant'``, ``'ramp'`` or ``'free'``.
@@ -59,6 +71,9 @@ class SimulationResult:
     rotor_angles: np.ndarray
     drive_torque: np.ndarray
     rotor_centers: np.ndarray
+    rotor_displacements: np.ndarray
+    rotor_tilts: np.ndarray
+    bearing_forces: np.ndarray
     sensors: np.ndarray
     kinetic_energy: np.ndarray
     elastic_energy: np.ndarray
@@ -66,6 +81,7 @@ class SimulationResult:
     states: np.ndarray
     sensor_names: list
     rotor_names: list
+    bearing_names: list
     speed_ratios: np.ndarray
     drive: str
     model_name: str = ""
@@ -86,7 +102,9 @@ class SimulationResult:
 
     def to_dataframe(self):
         """One row per output time (``pandas.DataFrame``); columns start with
-        ``time_s,u_x,u_y,u_z,theta_x,theta_y,theta_z,spin_speed_rad_s,drive_torque_nm``."""
+        ``time_s,u_x,u_y,u_z,theta_x,theta_y,theta_z,spin_speed_rad_s,drive_torque_nm``, then
+        the drive speed, the sensors [m], the rotor centres [m], each bearing's force and
+        moment on the stator (``NAME_Fx`` ... [N], ``NAME_Mx`` ... [N m]) and the energies [J]."""
         import pandas as pd
 
         columns = {"time_s": self.time}
@@ -100,6 +118,9 @@ class SimulationResult:
         for j, name in enumerate(self.rotor_names):
             for k, axis in enumerate("xyz"):
                 columns[f"{name}_center_{axis}"] = self.rotor_centers[:, j, k]
+        for j, name in enumerate(self.bearing_names):
+            for k, component in enumerate(("Fx", "Fy", "Fz", "Mx", "My", "Mz")):
+                columns[f"{name}_{component}"] = self.bearing_forces[:, j, k]
         columns["kinetic_energy_j"] = self.kinetic_energy
         columns["potential_energy_j"] = self.elastic_energy + self.gravity_energy
         columns["total_energy_j"] = self.total_energy
@@ -143,34 +164,70 @@ class SimulationResult:
         from scipy.spatial.transform import Rotation
 
         n = system.n_dof
-        s = system.s
         count = len(times)
         q, dq = states[:, :n], states[:, n:]
-        gamma = q[:, 3:5] @ system.E2.T
-        psi = q[:, 5] if s else np.zeros(count)
-        psi_dot = dq[:, 5] if s else np.zeros(count)
+        frame = system.nf > 0
+        gamma = q[:, 3:5] @ system.E2.T if frame else np.zeros((count, 3))
+        psi = q[:, 5] if system.s else np.zeros(count)
+        psi_dot = dq[:, 5] if system.s else np.zeros(count)
+        x = q[:, :3] if frame else np.zeros((count, 3))
         theta = gamma + psi[:, None] * system.e
-        stator = (Rotation.from_rotvec(gamma) * Rotation.from_rotvec(psi[:, None] * system.e)).as_matrix()
-        kinetic, elastic, weight, torque, omega = kn.sample_outputs(
+        stator = Rotation.from_rotvec(gamma) * Rotation.from_rotvec(psi[:, None] * system.e)
+        kinetic, elastic, weight, torque, omega, wrenches = kn.sample_outputs(
             np.ascontiguousarray(times, dtype=float), np.ascontiguousarray(states, dtype=float),
             *system.kernel_arguments(), *extra)
+        moves, tilts = _relative_motions(system, q)
         centers = np.empty((count, len(model.rotors), 3))
         for j, b in enumerate(system.rotor_index):
             spin = Rotation.from_rotvec((system.ratio[b] * q[:, n - 1])[:, None] * system.e).apply(system.offset[b])
-            local = system.center[b] + spin
-            centers[:, j] = system.reference_point + q[:, :3] + np.einsum("tij,tj->ti", stator, local)
-        points = np.array([np.asarray(x.position) - system.reference_point for x in model.sensors]).reshape(-1, 3)
-        directions = np.array([x.direction for x in model.sensors]).reshape(-1, 3)
-        moved = q[:, None, :3] + np.einsum("tij,kj->tki", stator, points) - points
-        sensors = np.einsum("tki,ki->tk", moved, directions)
+            local = system.center[b] + moves[:, j] + Rotation.from_rotvec(tilts[:, j]).apply(spin)
+            centers[:, j] = system.reference_point + x + stator.apply(local)
         ratios = np.array([r.speed_ratio for r in model.rotors])
         weight = weight - system.gravity @ system.reference_point * system.mass.sum()
         return cls(
-            time=np.asarray(times), displacement=np.hstack([q[:, :3], theta]),
-            velocity=np.hstack([dq[:, :3], omega]), gamma=gamma,
+            time=np.asarray(times), displacement=np.hstack([x, theta]),
+            velocity=np.hstack([dq[:, :3] if frame else np.zeros((count, 3)), omega]), gamma=gamma,
             drive_angle=q[:, n - 1], drive_speed=dq[:, n - 1], spin_speed=psi_dot + dq[:, n - 1],
             rotor_angles=psi[:, None] + q[:, n - 1][:, None] * ratios, drive_torque=torque,
-            rotor_centers=centers, sensors=sensors, kinetic_energy=kinetic, elastic_energy=elastic,
-            gravity_energy=weight, states=np.asarray(states), sensor_names=[x.name for x in model.sensors],
-            rotor_names=[r.name for r in model.rotors], speed_ratios=ratios, drive=drive,
+            rotor_centers=centers, rotor_displacements=moves, rotor_tilts=tilts, bearing_forces=wrenches,
+            sensors=_sensor_signals(model, system, x, stator, moves, tilts), kinetic_energy=kinetic,
+            elastic_energy=elastic, gravity_energy=weight, states=np.asarray(states),
+            sensor_names=[s.name for s in model.sensors], rotor_names=[r.name for r in model.rotors],
+            bearing_names=[b.name for b in model.bearings], speed_ratios=ratios, drive=drive,
             model_name=model.name)
+
+
+def _relative_motions(system, q):
+    """Each rotor's translation and transverse Euler vector relative to the frame, frame
+    axes, shape (N, n_rotors, 3) each [m, rad] (zeros for a rotor fixed to the frame)."""
+    count = q.shape[0]
+    moves = np.zeros((count, len(system.rotor_index), 3))
+    tilts = np.zeros_like(moves)
+    for j, b in enumerate(system.rotor_index):
+        first, kt = system.slot[b], system.ntrans[b]
+        if first >= 0:
+            moves[:, j] = q[:, first:first + kt] @ system.A3[:, :kt].T
+            tilts[:, j] = q[:, first + kt:first + kt + 2] @ system.A3[:, :2].T
+    return moves, tilts
+
+
+def _sensor_signals(model, system, x, stator, moves, tilts):
+    """Every sensor's reading, shape (N, n_sensors) [m] (see :class:`SimulationResult`)."""
+    from scipy.spatial.transform import Rotation
+
+    rotors = [r.name for r in model.rotors]
+    out = np.empty((x.shape[0], len(model.sensors)))
+    for k, sensor in enumerate(model.sensors):
+        point = np.asarray(sensor.position, dtype=float) - system.reference_point
+        direction = np.asarray(sensor.direction, dtype=float)
+        if sensor.rotor is None:
+            out[:, k] = (x + stator.apply(point) - point) @ direction
+            continue
+        j = rotors.index(sensor.rotor)
+        arm = point - system.center[system.rotor_index[j]]
+        relative = moves[:, j] + Rotation.from_rotvec(tilts[:, j]).apply(arm) - arm   # frame axes
+        if sensor.measure == "relative":
+            out[:, k] = relative @ direction
+        else:
+            out[:, k] = (x + stator.apply(point + relative) - point) @ direction
+    return out

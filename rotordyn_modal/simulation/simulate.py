@@ -6,7 +6,7 @@ import numpy as np
 
 from ..errors import InputError
 from . import _kernels
-from ._system import system_arrays
+from ._system import check_table_speeds, system_arrays
 from .result import SimulationResult
 
 __all__ = ["simulate", "DRIVES", "BACKENDS", "kernels"]
@@ -39,16 +39,22 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     """Integrate the machine's nonlinear equations of motion with large rotations.
 
     The stator is a rigid body whose rotation is an axial (roll) angle plus a transverse Euler
-    vector (seed 001); every rotor turns in bearings fixed in the stator by its speed ratio
-    times the drive angle; gyroscopic coupling, unbalances (rotating masses), gravity and
-    suspension forces that follow their attachment points are exact. At t = 0 the stator is
-    at rest (in its undeformed position, or in static equilibrium under gravity) and the
-    rotors spin at ``speed``.
+    vector (seed 001); a rotor on ``[[bearings]]`` is a rigid body of its own that translates
+    and tilts in its bearings' springs and dampers (its orientation relative to the stator
+    again an axial angle plus a transverse Euler vector; the bearings stand on the ground
+    without a ``[stator]``); the other rotors turn in bearings fixed in the stator. Every
+    rotor's axial angle relative to the stator is its speed ratio times the drive angle;
+    gyroscopic coupling, unbalances (rotating masses), gravity and suspension and bearing
+    forces that follow their attachment points are exact. At t = 0 the machine is at rest
+    (in its undeformed position, or in static equilibrium under gravity) and the rotors spin
+    at ``speed``.
 
     Parameters
     ----------
     model : Model
-        A model without hysteretic damping (``loss_factor`` must be 0).
+        A model without hysteretic damping (``loss_factor`` must be 0), Maxwell branches or
+        journal bearings; tabulated bearing coefficients are followed at each rotor's own
+        speed (the simulated speeds must stay inside the tables).
     duration : float
         Simulated time [s], > 0.
     speed : float
@@ -62,8 +68,9 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         End speed of a ramp [rad/s] (required with ``drive='ramp'``).
     initial : {'rest', 'equilibrium'}
         ``'rest'``: undeformed position, springs unstretched; ``'equilibrium'``: the static
-        equilibrium under gravity (found by Newton's method on the machine at rest without
-        its unbalances).
+        equilibrium under gravity (found by Newton's method on the machine without its
+        unbalances, the rotors spinning at ``speed``, which only matters to speed-dependent
+        bearings).
     impulse : str, optional
         Name of an ``[[excitations]]`` entry hit at t = 0 by an impulse of ``impulse_size``
         [N s, or N m s for a moment].
@@ -96,11 +103,13 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     duration, speed = _positive(duration, "duration"), _finite(speed, "speed")
     system = system_arrays(model, unbalance_phases_deg)
     mode, accel = _drive(drive, speed, final_speed, duration)
+    span = [speed] if final_speed is None else [speed, final_speed]
+    check_table_speeds(model, span, "the simulation's speeds " + " .. ".join(f"{v:.6g}" for v in span) + " rad/s")
     kn = kernels(backend)
     n = system.n_dof
     y0 = np.zeros(2 * n)
     if initial == "equilibrium":
-        y0[:n - 1] = _static_equilibrium(model, kn, system.n_dof)
+        y0[:n - 1] = _static_equilibrium(model, kn, system.n_dof, speed)
     elif initial != "rest":
         raise InputError(f"initial {initial!r}: expected 'rest' or 'equilibrium'")
     y0[2 * n - 1] = speed
@@ -108,11 +117,14 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         y0[n:] += _impulse_velocity(model, system, kn, y0, impulse, impulse_size, mode)
     times = np.linspace(0.0, duration, samples or _default_samples(model, speed, final_speed, duration))
     extra = (mode, accel, 0.0, duration)
-    states = _integrate(kn, system, extra, y0, times, rtol, atol, progress)
+    states = _integrate(kn, system, extra, y0, times, rtol, atol, progress, model)
+    if drive == "free":
+        check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
+                           "with an ideal drive, or extend the table")
     return SimulationResult.from_states(model, system, kn, extra, times, states, drive=drive)
 
 
-def _integrate(kn, system, extra, y0, times, rtol, atol, progress):
+def _integrate(kn, system, extra, y0, times, rtol, atol, progress, model=None):
     """States at ``times``: scipy's Fortran DOP853 driving the compiled right-hand side, or
     ``solve_ivp`` (DOP853) driving the plain one (same method, same tolerances)."""
     bar = _progress_bar(times[-1], progress)
@@ -120,9 +132,43 @@ def _integrate(kn, system, extra, y0, times, rtol, atol, progress):
         if getattr(kn, "rhs_flat", None) is not None:
             return _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar)
         return _integrate_plain(kn, system, extra, y0, times, rtol, atol, bar)
+    except _Failed as failure:
+        raise _explained(failure, model, system) from None
     finally:
         if bar is not None:
             bar.close()
+
+
+class _Failed(RuntimeError):
+    """The integration stopped; ``time`` [s] and the last ``state`` reached."""
+
+    def __init__(self, message, time, state):
+        super().__init__(message)
+        self.time, self.state = time, state
+
+
+def _explained(failure, model, system):
+    """An oil film that lost its journal (eccentricity 1) is the model's limit, not a bug."""
+    from ._kernels import bearing_stretch
+
+    films = [i for i in range(len(system.bbody)) if system.bfilm[i, 2] > 0.0]
+    if model is None or not films:
+        return RuntimeError(str(failure))
+    n = system.n_dof
+    q, dq = failure.state[:n], failure.state[n:]
+    reached = []
+    for i in films:
+        b = system.bbody[i]
+        z, _ = bearing_stretch(q, dq, system.slot[b], system.ntrans[b], system.A3, system.bpos[i])
+        eccentricity = np.linalg.norm(system.baxes[i] @ z[:3]) / system.bfilm[i, 2]
+        reached.append(f"[bearings.{model.bearings[i].name}] {eccentricity:.4f}")
+    return InputError(
+        f"{model.source}: {failure} with journal bearings (eccentricity at the last output time: "
+        f"{', '.join(reached)}): a journal ran into its bearing wall (eccentricity 1), where the oil "
+        "film's force grows without limit (the equations stiffen beyond the integrator, and contact "
+        "is not modelled): a speed too low to carry the load, or whirl grown to the clearance. Start "
+        "from initial='equilibrium' at a running speed, or stay below the oil-whirl threshold "
+        "(rotordyn-modal stability)")
 
 
 def _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar):
@@ -130,14 +176,21 @@ def _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar):
 
     from ._fast import pack
 
+    import warnings
+
     solver = ode(kn.rhs_flat).set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
     solver.set_initial_value(y0, times[0]).set_f_params(*pack(system, *extra))
     states = np.empty((len(times), len(y0)))
     states[0] = y0
     for i in range(1, len(times)):
-        states[i] = solver.integrate(times[i])
-        if not solver.successful():
-            raise RuntimeError(f"integration failed at t = {solver.t:.6g} s (DOP853 code {solver.get_return_code()})")
+        last = solver.y.copy()
+        with warnings.catch_warnings():   # a failure is raised below with its return code
+            warnings.simplefilter("ignore", UserWarning)
+            states[i] = solver.integrate(times[i])
+        if not solver.successful() or not np.all(np.isfinite(states[i])):
+            code = solver.get_return_code()
+            reason = {-3: ", step size too small", -4: ", the problem became stiff"}.get(code, "")
+            raise _Failed(f"integration failed at t = {solver.t:.6g} s (DOP853 code {code}{reason})", solver.t, last)
         if bar is not None:
             bar.update(times[i] - times[i - 1])
     return states
@@ -154,8 +207,10 @@ def _integrate_plain(kn, system, extra, y0, times, rtol, atol, bar):
         return kn.rhs(t, y, *arguments)
 
     solution = solve_ivp(rhs, (times[0], times[-1]), y0, method="DOP853", t_eval=times, rtol=rtol, atol=atol)
-    if not solution.success:
-        raise RuntimeError(f"integration failed at t = {solution.t[-1]:.6g} s: {solution.message}")
+    if not solution.success or not np.all(np.isfinite(solution.y)):
+        last = solution.y[:, -1] if solution.y.shape[1] else y0
+        raise _Failed(f"integration failed at t = {solution.t[-1] if len(solution.t) else 0.0:.6g} s: "
+                      f"{solution.message}", solution.t[-1] if len(solution.t) else 0.0, last)
     return solution.y.T
 
 
@@ -179,8 +234,9 @@ def _drive(drive, speed, final_speed, duration):
     return (_kernels.FREE if drive == "free" else _kernels.PRESCRIBED), 0.0
 
 
-def _static_equilibrium(model, kn, n):
-    """Coordinates ``[x, g, (psi)]`` where gravity and the suspensions balance, at rest."""
+def _static_equilibrium(model, kn, n, speed):
+    """Coordinates (all but ``phi``) where gravity, the suspensions and the bearings balance,
+    at rest (the rotors spinning at ``speed``, which only sets speed-dependent bearings)."""
     from scipy.optimize import root
 
     data = model.to_dict()
@@ -191,29 +247,33 @@ def _static_equilibrium(model, kn, n):
     def residual(coordinates):
         y = np.zeros(2 * n)
         y[:n - 1] = coordinates
-        return kn.accelerations(0.0, y, *arguments)[0][:n - 1]
+        y[2 * n - 1] = speed
+        return kn.rhs(0.0, y, *arguments)[n:2 * n - 1]
 
     solution = root(residual, np.zeros(n - 1), method="hybr", tol=1e-12)
     if np.abs(residual(solution.x)).max() > 1e-8:  # judged by the residual acceleration [m/s^2, rad/s^2]
         raise InputError(f"{model.source}: no static equilibrium under gravity found ({solution.message}); "
-                         "do the suspensions restrain every direction? Use initial 'rest'")
+                         "do the suspensions and bearings restrain every direction? Use initial 'rest'")
     return solution.x
 
 
 def _impulse_velocity(model, system, kn, y0, name, size, mode):
     """Velocity jump ``M^-1 Q`` of an impulse ``size`` through excitation ``name``."""
-    from ..assembly import excitation_columns
+    from ..assembly import _select
+    from ._kernels import point_partials
 
-    column = excitation_columns(model, [name])[:, 0] * _finite(size, "impulse size")
+    excitation = _select(model.excitations, [name], "excitation")[0]
+    size = _finite(size, "impulse size")
     n = system.n_dof
     M, _ = kn.assemble(0.0, y0, *system.kernel_arguments())
-    # generalized force on [x, g, psi, phi] of a force/moment given on [u, theta] at rest
-    basis = np.zeros((6, n))
-    basis[:3, :3] = np.eye(3)
-    basis[3:, 3:5] = system.E2
-    if system.s:
-        basis[3:, 5] = system.e
-    force = basis.T @ column
+    point = np.asarray(excitation.position, dtype=float) - system.reference_point
+    if excitation.rotor is None:
+        body = (0.0, -1, 2, point, np.zeros(3))
+    else:
+        b = system.rotor_index[[r.name for r in model.rotors].index(excitation.rotor)]
+        body = (system.ratio[b], system.slot[b], system.ntrans[b], system.center[b], point - system.center[b])
+    P, W = point_partials(y0, system.e, system.E2, system.nf, system.A3, *body)
+    force = (W if excitation.kind == "moment" else P).T @ (size * np.asarray(excitation.direction, dtype=float))
     jump = np.zeros(n)
     k = n if mode == _kernels.FREE else n - 1
     jump[:k] = np.linalg.solve(M[:k, :k], force[:k])
@@ -224,10 +284,13 @@ def _default_samples(model, speed, final_speed, duration):
     from ..analysis.modal import modal
 
     fastest_spin = max(abs(speed), abs(final_speed or 0.0)) * max(abs(r) for r in model.speed_ratios.values())
-    try:
-        natural = np.max(np.abs(modal(model, 0.0).eigenvalues.imag), initial=0.0)
-    except Exception:  # noqa: BLE001 - a model without restoring force still simulates
-        natural = 0.0
+    natural = 0.0
+    for at in [v for v in (0.0, speed, final_speed) if v is not None]:  # tables may not reach 0
+        try:
+            natural = max(natural, np.max(np.abs(modal(model, at).eigenvalues.imag), initial=0.0))
+            break
+        except Exception:  # noqa: BLE001 - a model without restoring force still simulates
+            continue
     rate = 20.0 * max(fastest_spin, natural) / (2 * np.pi)
     return int(min(max(201, rate * duration + 1), 2_000_001))
 

@@ -34,7 +34,17 @@ def plain_copy(data: Mapping[str, Any], source: str) -> dict[str, Any]:
     return _plain(data)
 
 
+_SCALARS = (str, int, float, bool, type(None))
+
+
 def _plain(value):
+    kind = type(value)
+    if kind in _SCALARS:                       # the common case first: the ABC checks are slow
+        return value
+    if kind is dict:
+        return {str(k): _plain(v) for k, v in value.items()}
+    if kind is list:
+        return [_plain(v) for v in value]
     if isinstance(value, Mapping):
         return {str(k): _plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):

@@ -1,10 +1,11 @@
 """Batched eigen-solutions of the speed-dependent state matrix, whirl and MAC.
 
-Speed: eigenvalues of all speeds come from one batched LAPACK call split over
-threads (numpy releases the GIL); each mode shape then comes from one step
-of inverse iteration on the 6x6 quadratic pencil
-``Q(lam) = lam^2 M + lam (C + Omega G) + K``, batched over speeds and modes.
-That costs less than asking LAPACK for the 12x12 eigenvectors.
+Speed: eigenvalues and eigenvectors of all speeds come from one batched LAPACK
+call split over threads (numpy releases the GIL); a mode shape is the
+displacement part of its state eigenvector. (One step of inverse iteration on the
+quadratic pencil ``Q(lam) = lam^2 M + lam (C + Omega G) + K`` per mode, which an
+earlier version used, costs as much for 6 coordinates and grows as n^4 per speed;
+it still gives the shape at a single known eigenvalue, e.g. at a critical speed.)
 """
 
 from __future__ import annotations
@@ -30,12 +31,22 @@ OSCILLATORY_TOLERANCE = 1e-6
 WHIRL_TOLERANCE = 1e-3
 
 _THREADS = max(1, min(4, os.cpu_count() or 1))
-_CHUNK = 256
+_CHUNK = 64
 _rng_vectors = np.random.default_rng(20261122).standard_normal((2, 64, 64))
 _START_VECTORS = _rng_vectors[0] + 1j * _rng_vectors[1]
 
 
 _POOL: ThreadPoolExecutor | None = None
+
+
+def _eig(matrices: np.ndarray):
+    """``numpy.linalg.eig`` over the first axis, in threads for large batches (see :func:`_threaded`)."""
+    threads = int(os.environ.get("ROTORDYN_MODAL_THREADS", _THREADS))
+    if len(matrices) < 2 * _CHUNK or threads <= 1:
+        return np.linalg.eig(matrices)
+    parts = _threaded(lambda a: np.concatenate([(r := np.linalg.eig(a))[0][:, None, :], r[1]], axis=1),
+                      matrices)
+    return parts[:, 0, :], parts[:, 1:, :]
 
 
 def _threaded(function, *batches: np.ndarray) -> np.ndarray:
@@ -75,6 +86,20 @@ def upper_eigenvalues(state_matrices: np.ndarray) -> np.ndarray:
 
 def select_upper(values: np.ndarray) -> np.ndarray:
     """Pick the upper half of each row of eigenvalues; see :func:`upper_eigenvalues`."""
+    return upper_indices(values)[1]
+
+
+def upper_indices(values: np.ndarray):
+    """Where the upper half of each row of eigenvalues sits, and those eigenvalues.
+
+    Returns
+    -------
+    index : ndarray of int, shape (..., n)
+        Positions in ``values`` (and in the columns of the eigenvector matrices).
+    upper : ndarray, shape (..., n), complex
+        Sorted by imaginary part, then real part (see :func:`upper_eigenvalues`); roots
+        whose imaginary part is round-off are made real.
+    """
     n = values.shape[-1] // 2
     scale = np.abs(values).max(axis=-1, keepdims=True)
     tol = OSCILLATORY_TOLERANCE * np.where(scale > 0, scale, 1.0)
@@ -83,11 +108,12 @@ def select_upper(values: np.ndarray) -> np.ndarray:
     pre = np.argsort(-np.abs(values), axis=-1, kind="stable")
     imag_pre = np.take_along_axis(imag, pre, axis=-1)
     order = np.take_along_axis(pre, np.argsort(imag_pre, axis=-1, kind="stable"), axis=-1)
-    upper = np.take_along_axis(values, order[..., n:], axis=-1)
-    upper_imag = np.take_along_axis(imag, order[..., n:], axis=-1)
+    chosen = order[..., n:]
+    upper = np.take_along_axis(values, chosen, axis=-1)
+    upper_imag = np.take_along_axis(imag, chosen, axis=-1)
     upper = np.where(upper_imag == 0.0, upper.real + 0j, upper)
     final = np.lexsort((upper.real, upper.imag), axis=-1)
-    return np.take_along_axis(upper, final, axis=-1)
+    return np.take_along_axis(chosen, final, axis=-1), np.take_along_axis(upper, final, axis=-1)
 
 
 def mode_shapes(M, damping, K, eigenvalues, branches=None) -> np.ndarray:
@@ -131,11 +157,19 @@ def _mode_shapes_part(M, damping, K, eigenvalues, branches=None):
         factor = shifted[..., 0, 0, None] * times / (1 + shifted[..., 0, 0, None] * times)
         pencil += np.einsum("nmb,bij->nmij", factor, stiffness)
     m, n = eigenvalues.shape[-1], M.shape[0]
-    start = np.broadcast_to(_START_VECTORS[:m, :n, None], pencil.shape[:-2] + (n, 1))
+    start = np.broadcast_to(_start_vectors(m, n)[..., None], pencil.shape[:-2] + (n, 1))
     # one step suffices: the shift is at round-off level, so the other modes' share of the
     # result is |lam - shifted| / |lam_other - shifted|, about 1e-13 of the gap
     vectors = _solve(pencil, start)[..., 0]
     return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
+
+
+def _start_vectors(m: int, n: int) -> np.ndarray:
+    """Fixed pseudo-random start vectors (m, n) of inverse iteration, reproducible run to run."""
+    if m <= _START_VECTORS.shape[0] and n <= _START_VECTORS.shape[1]:
+        return _START_VECTORS[:m, :n]
+    rng = np.random.default_rng([20261122, m, n])
+    return rng.standard_normal((m, n)) + 1j * rng.standard_normal((m, n))
 
 
 def _solve(matrices, rhs):
@@ -161,15 +195,19 @@ def solve_batch(form, speeds, forms=None):
 
     Returns
     -------
-    eigenvalues : ndarray, shape (N, n), complex [1/s]
-    shapes : ndarray, shape (N, n, n), complex
+    eigenvalues : ndarray, shape (N, m), complex [1/s]
+        ``m = n_states / 2`` roots per speed.
+    shapes : ndarray, shape (N, m, n), complex
+        Unit-norm displacement parts of the state eigenvectors.
     """
     speeds = np.asarray(speeds, dtype=float)
-    eigenvalues = upper_eigenvalues(form.at(speeds))
-    M, _, G, _ = form.matrices
-    damping = form.damping_at(speeds) + speeds[:, None, None] * G
-    shapes = mode_shapes(M, damping, form.stiffness_at(speeds), eigenvalues,
-                         (form.branch_stiffness, form.branch_times))
+    values, vectors = _eig(form.at(speeds))
+    index, eigenvalues = upper_indices(values)
+    n = form.n_dof
+    shapes = np.swapaxes(np.take_along_axis(vectors[:, :n, :], index[:, None, :], axis=-1), -1, -2)
+    norms = np.linalg.norm(shapes, axis=-1, keepdims=True)
+    # a Maxwell junction relaxing with the machine at rest has no displacement: keep it zero
+    shapes = shapes / np.where(norms > 0, norms, 1.0)
     if forms is not None:
         shapes = resolve_repeated(eigenvalues, shapes, forms)
     return eigenvalues, shapes
@@ -230,19 +268,28 @@ def resolve_repeated(eigenvalues, shapes, forms):
 
 
 # ----------------------------------------------------------------------------------------
-def _body_quadratic(mass, center, second_moment, X) -> np.ndarray:
-    """``sum_p m_p Z_p^T X Z_p`` over the particles of a rigid body, Z_p = [I, -skew(r_p)].
+def _bodies_quadratic(masses, centers, second_moments, X) -> np.ndarray:
+    """``sum_p m_p Z_p^T X Z_p`` over the particles of each rigid body, Z_p = [I, -skew(r_p)].
 
-    Needs only the body's mass, first moment and second-moment tensor about the
-    reference point.
+    Needs only each body's mass, first moment and second-moment tensor about the reference
+    point: ``sum_p m_p skew(r_p) X skew(r_p) = sum_kl Q_kl E_k X E_l`` with ``E_k = skew(unit_k)``.
+
+    Parameters
+    ----------
+    masses : ndarray (B,); centers : ndarray (B, 3); second_moments : ndarray (B, 3, 3); X : (3, 3)
+
+    Returns
+    -------
+    ndarray, shape (B, 6, 6)
     """
-    basis = skew(np.eye(3))  # E_k = skew(unit_k), shape (3, 3, 3)
-    first = skew(mass * np.asarray(center))
-    out = np.zeros((6, 6))
-    out[:3, :3] = mass * X
-    out[:3, 3:] = -X @ first
-    out[3:, :3] = first @ X
-    out[3:, 3:] = -np.einsum("kl,kab,bc,lcd->ad", second_moment, basis, X, basis)
+    basis = skew(np.eye(3))                                   # E_k, shape (3, 3, 3)
+    products = np.einsum("kab,bc,lcd->klad", basis, X, basis)   # E_k X E_l
+    first = skew(masses[:, None] * centers)                   # (B, 3, 3)
+    out = np.zeros((len(masses), 6, 6))
+    out[:, :3, :3] = masses[:, None, None] * X
+    out[:, :3, 3:] = -X @ first
+    out[:, 3:, :3] = first @ X
+    out[:, 3:, 3:] = -np.einsum("zkl,klad->zad", second_moments, products)
     return out
 
 
@@ -257,13 +304,19 @@ class WhirlForms(NamedTuple):
 _DIRECTIONS = ("W", "N", "total")
 
 
-def _body_forms(model, mass, center, inertia) -> dict:
-    """The 6x6 forms W, N, total of one rigid body's motion at the reference point."""
+def _bodies_forms(model) -> dict:
+    """The 6x6 forms W, N, total of each body's rigid motion at the reference point (stator
+    first, then the rotors): name -> ndarray (B, 6, 6)."""
     e = model.spin_axis
     directions = {"W": skew(e), "N": np.eye(3) - np.outer(e, e), "total": np.eye(3)}
-    arm = np.asarray(center) - model.reference_point
-    second = 0.5 * np.trace(inertia) * np.eye(3) - inertia + mass * np.outer(arm, arm)
-    return {name: _body_quadratic(mass, arm, second, X) for name, X in directions.items()}
+    bodies = body_inertias(model)
+    masses = np.array([m for m, _, _ in bodies], dtype=float)
+    arms = np.array([np.asarray(c, dtype=float) for _, c, _ in bodies]) - model.reference_point
+    inertias = np.array([np.asarray(j, dtype=float) for _, _, j in bodies])
+    traces = np.trace(inertias, axis1=1, axis2=2)
+    second = (0.5 * traces[:, None, None] * np.eye(3) - inertias
+              + masses[:, None, None] * arms[:, :, None] * arms[:, None, :])
+    return {name: _bodies_quadratic(masses, arms, second, X) for name, X in directions.items()}
 
 
 def whirl_forms(model) -> WhirlForms:
@@ -276,21 +329,22 @@ def whirl_forms(model) -> WhirlForms:
     matrix). Each body contributes ``T_b^T X_b T_b`` (its motion ``T_b`` over the
     generalized coordinates). See ``docs/theory.md``.
     """
-    bodies = body_inertias(model)
-    forms = [_body_forms(model, *body) for body in bodies]
-    parts = {name: frame_block(model, sum(f[name] for f in forms)) for name in _DIRECTIONS}
-    first_rotor = len(bodies) - len(model.rotors)
-    for rotor, body in zip(model.rotors, forms[first_rotor:]):
-        for name in _DIRECTIONS:
-            add_rotor_body(parts[name], model, rotor.name, body[name])
+    forms = _bodies_forms(model)
+    parts = {name: frame_block(model, forms[name].sum(axis=0)) for name in _DIRECTIONS}
+    first_rotor = len(forms["W"]) - len(model.rotors)
+    for j, rotor in enumerate(model.rotors):
+        if model.dofs.on_bearings(rotor.name):
+            for name in _DIRECTIONS:
+                add_rotor_body(parts[name], model, rotor.name, forms[name][first_rotor + j])
     return WhirlForms(**parts)
 
 
 def rotor_whirl_forms(model, rotor: str) -> WhirlForms:
     """The whirl forms of one rotor's own motion (absolute), each (n, n)."""
     index = [r.name for r in model.rotors].index(rotor)
-    mass, center, inertia = body_inertias(model)[len(body_inertias(model)) - len(model.rotors) + index]
-    body = _body_forms(model, mass, center, inertia)
+    forms = _bodies_forms(model)
+    first_rotor = len(forms["W"]) - len(model.rotors)
+    body = {name: forms[name][first_rotor + index] for name in _DIRECTIONS}
     motion = model.dofs.body_motion(rotor)
     return WhirlForms(**{name: motion.T @ body[name] @ motion for name in _DIRECTIONS})
 
@@ -337,7 +391,9 @@ def mass_normalized(shapes, M) -> np.ndarray:
     inner product is the mass-weighted one (unit-consistent MAC)."""
     factor = np.linalg.cholesky(M)
     weighted = shapes @ factor.conj()
-    return weighted / np.linalg.norm(weighted, axis=-1, keepdims=True)
+    norms = np.linalg.norm(weighted, axis=-1, keepdims=True)
+    # relaxation roots of Maxwell junctions move no mass: their shape stays zero (MAC 0)
+    return weighted / np.where(norms > 0, norms, 1.0)
 
 
 def mac_matrix(a, b) -> np.ndarray:

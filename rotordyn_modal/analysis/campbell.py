@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..linear_system import speed_linear_form
 from . import _eigen
@@ -281,72 +281,236 @@ def _check_speeds(speeds) -> np.ndarray:
 
 
 def _find_critical_speeds(form, whirl_forms, speeds, values, weighted, sources, orders) -> CriticalSpeeds:
-    rows = []
-    for name, multiplier in zip(sources.names, sources.multipliers):
+    """Every crossing of every mode with every source's order lines, refined together."""
+    brackets = _crossing_brackets(speeds, values, sources, orders)
+    if not len(brackets.k):
+        return _critical_table([], [], [], [], [], [], [], [])
+    roots, lam, sure = _refine_together(form, whirl_forms, speeds, values, weighted, brackets)
+    phi = _shapes_at(form, whirl_forms, speeds, values, weighted, brackets, roots, lam, sure)
+    ratios = _eigen.whirl_ratios(phi[:, None], whirl_forms, roots)[:, 0]
+    _, zeta, _ = modal_quantities(lam)
+    names = np.asarray(sources.names, dtype=object)[brackets.source]
+    order = np.lexsort((brackets.mode, brackets.order, names.astype(str), roots))
+    return _critical_table(names[order], brackets.order[order], brackets.mode[order] + 1, roots[order],
+                           lam.imag[order] / (2 * np.pi), _eigen.whirl_labels(ratios[order]).astype(object),
+                           ratios[order], zeta[order])
+
+
+def _critical_table(source, order, mode, speeds, freq, whirl, ratios, zeta) -> CriticalSpeeds:
+    return CriticalSpeeds(
+        source=np.asarray(source, dtype=object), order=np.asarray(order, dtype=float),
+        mode=np.asarray(mode, dtype=int), speeds=np.asarray(speeds, dtype=float),
+        frequencies_hz=np.asarray(freq, dtype=float), whirl=np.asarray(whirl, dtype=object),
+        whirl_ratios=np.asarray(ratios, dtype=float), damping_ratios=np.asarray(zeta, dtype=float),
+    )
+
+
+class _Brackets(NamedTuple):
+    """One row per crossing: grid interval ``[speeds[k], speeds[k+1]]``, tracked mode (0-based),
+    excitation slope [rad/s per rad/s], source index and order."""
+
+    k: np.ndarray
+    mode: np.ndarray
+    slope: np.ndarray
+    source: np.ndarray
+    order: np.ndarray
+
+
+def _crossing_brackets(speeds, values, sources, orders) -> _Brackets:
+    """Grid intervals where ``Im lam - slope |Omega|`` changes sign for an oscillating mode."""
+    mode_ok = is_oscillating(values)
+    both = mode_ok[:-1] & mode_ok[1:]
+    parts = []
+    for s, multiplier in enumerate(sources.multipliers):
         for order in orders:
             slope = order * multiplier  # excitation [rad/s] per |speed| [rad/s]
             if slope == 0:
                 continue
             gap = values.imag - slope * np.abs(speeds)[:, None]
-            for mode in range(values.shape[1]):
-                for k in _sign_changes(gap[:, mode], values[:, mode]):
-                    rows.append(_refine_crossing(form, whirl_forms, speeds, values, weighted,
-                                                 mode, k, slope, name, order))
-    rows.sort(key=lambda r: (r[3], r[0], r[1], r[2]))
-    columns = list(zip(*rows)) if rows else [[]] * 8
-    return CriticalSpeeds(
-        source=np.array(columns[0], dtype=object), order=np.array(columns[1], dtype=float),
-        mode=np.array(columns[2], dtype=int), speeds=np.array(columns[3], dtype=float),
-        frequencies_hz=np.array(columns[4], dtype=float), whirl=np.array(columns[5], dtype=object),
-        whirl_ratios=np.array(columns[6], dtype=float), damping_ratios=np.array(columns[7], dtype=float),
-    )
+            change = (np.sign(gap[:-1]) != np.sign(gap[1:])) & (gap[:-1] != 0) & both
+            k, mode = np.nonzero(change)
+            parts.append((k, mode, np.full(len(k), slope), np.full(len(k), s), np.full(len(k), float(order))))
+    if not parts:
+        return _Brackets(*(np.zeros(0, dtype=int) for _ in range(5)))
+    k, mode, slope, source, order = (np.concatenate(column) for column in zip(*parts))
+    return _Brackets(k, mode, slope, source.astype(int), order)
 
 
-def _sign_changes(gap, lam):
-    """Indices k with a crossing in [speeds[k], speeds[k+1]] of an oscillating mode."""
-    mode = is_oscillating(lam)
-    oscillating = mode[:-1] & mode[1:]
-    change = (np.sign(gap[:-1]) != np.sign(gap[1:])) & (gap[:-1] != 0)
-    return np.nonzero(change & oscillating)[0]
+#: evaluations allowed per crossing (it needs two or three; bisection steps guarantee the rest)
+_MAX_ITERATIONS = 200
+#: a step below this fraction of max(|Omega|, 1 rad/s) ends the iteration (Brent's xtol before)
+_STEP_TOLERANCE = 1e-13
 
 
-def _refine_crossing(form, whirl_forms, speeds, values, weighted, mode, k, slope, name, order):
-    M = form.matrices.M
-    a, b = speeds[k], speeds[k + 1]
+def _refine_together(form, whirl_forms, speeds, values, weighted, brackets):
+    """Roots of ``g(Omega) = Im lam(Omega) - slope |Omega|`` in every bracket, iterated together.
 
-    spread = abs(values[k + 1, mode] - values[k, mode]) + 1e-9 * abs(values[k, mode]) + 1e-300
+    The first point is the root of the cubic through the sweep's four nearest points of g
+    (error of order h^4); then secant steps between the two latest points, kept strictly inside
+    the bracket (regula falsi with the Illinois modification where they would leave it, and
+    bisection where the bracket stops shrinking). Each step solves the eigenvalues of all
+    unfinished crossings in one batch. A crossing is done when its next step is below
+    ``1e-13 max(|Omega|, 1)``: the last point evaluated is the root, with its eigenvalue.
 
-    def eigenvalue_at(speed):
-        """The tracked mode's eigenvalue: the nearest to the bracket's interpolation,
-        confirmed by its shape when another eigenvalue is about as near."""
-        lam = _eigen.select_upper(np.linalg.eigvals(form.at(speed)))
-        t = (speed - a) / (b - a)
-        distance = np.abs(lam - ((1 - t) * values[k, mode] + t * values[k + 1, mode]))
-        nearest, second = np.argsort(distance)[:2]
-        if distance[second] > 4 * distance[nearest] + 2 * spread:
-            return lam[nearest]
-        return mode_at(speed)[0]
+    Returns
+    -------
+    roots : ndarray (P,) [rad/s]
+    lam : ndarray (P,), complex
+        The tracked mode's eigenvalue at each root.
+    sure : ndarray (P,) bool
+        The eigenvalue was told apart by distance alone and is not repeated.
+    """
+    k, mode, slope = brackets.k, brackets.mode, brackets.slope
+    a, b = speeds[k].copy(), speeds[k + 1].copy()
+    ga = values[k, mode].imag - slope * np.abs(a)
+    gb = values[k + 1, mode].imag - slope * np.abs(b)
+    roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
+    lam = np.where(ga == 0, values[k, mode], values[k + 1, mode])
+    sure = np.zeros(len(k), dtype=bool)
+    done = ~np.isnan(roots)
+    x = _cubic_start(speeds, values, brackets, a, b, ga, gb)
+    previous = np.full((2, len(k)), np.nan)          # the last point evaluated and its g
+    state = _Bracket(a, b, ga, gb, np.zeros(len(k), dtype=int), np.full((2, len(k)), np.inf))
+    for _ in range(_MAX_ITERATIONS):
+        i = np.nonzero(~done)[0]
+        if not len(i):
+            break
+        lam_x, sure_x = _tracked(form, whirl_forms, speeds, values, weighted, brackets, i, x[i])
+        gx = lam_x.imag - slope[i] * np.abs(x[i])
+        roots[i], lam[i], sure[i] = x[i], lam_x, sure_x
+        step = _next_step(state, i, x[i], gx, previous[:, i])
+        previous[:, i] = x[i], gx
+        finished = (gx == 0) | (np.abs(step - x[i]) <= _STEP_TOLERANCE * np.maximum(np.abs(x[i]), 1.0))
+        done[i[finished]] = True
+        x[i] = step
+    return roots, lam, sure
 
-    def mode_at(speed):
-        lam, phi = _eigen.solve_batch(form, np.array([speed]), whirl_forms)
-        psi = _eigen.mass_normalized(phi, M)
-        t = (speed - a) / (b - a)
-        expected = (1 - t) * values[k, mode] + t * values[k + 1, mode]
-        correlation = _eigen.mac_matrix(weighted[k, mode][None], psi[0])[0]
-        j = int(np.argmin((1 - correlation) + np.abs(lam[0] - expected) / spread))
-        return lam[0, j], phi[0, j]
 
-    def gap(speed):
-        return eigenvalue_at(speed).imag - slope * abs(speed)
+class _Bracket(NamedTuple):
+    """Brackets being shrunk (arrays updated in place): ends, their g (Illinois-scaled), the end
+    moved last (+1 a, -1 b) and the bracket's width one and two steps ago."""
 
-    if gap(a) == 0:
-        root = a
-    elif gap(b) == 0:
-        root = b
-    else:
-        root = brentq(gap, a, b, xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
-    lam, phi = mode_at(root)
-    ratio = _eigen.whirl_ratios(phi[None, None], whirl_forms, np.array([root]))[0, 0]
-    _, zeta, _ = modal_quantities(lam)
-    return (name, float(order), mode + 1, float(root), lam.imag / (2 * np.pi),
-            str(_eigen.whirl_labels(ratio)), float(ratio), float(zeta))
+    a: np.ndarray
+    b: np.ndarray
+    ga: np.ndarray
+    gb: np.ndarray
+    last: np.ndarray
+    widths: np.ndarray
+
+
+def _next_step(state, rows, x, gx, previous):
+    """Update the brackets ``rows`` with the point (x, gx) and return the next point."""
+    left = (np.sign(gx) == np.sign(state.ga[rows])) & (gx != 0)
+    right = ~left & (gx != 0)
+    _illinois(state.a, state.ga, state.gb, state.last, rows[left], x[left], gx[left], +1)
+    _illinois(state.b, state.gb, state.ga, state.last, rows[right], x[right], gx[right], -1)
+    a, b = state.a[rows], state.b[rows]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        secant = x - gx * (x - previous[0]) / (gx - previous[1])
+        falsi = b - state.gb[rows] * (b - a) / (state.gb[rows] - state.ga[rows])
+    slow = (b - a) > 0.5 * state.widths[1, rows]
+    state.widths[1, rows], state.widths[0, rows] = state.widths[0, rows], b - a
+    inside = np.isfinite(secant) & (secant > a) & (secant < b)
+    fallback = np.where(np.isfinite(falsi) & (falsi > a) & (falsi < b) & ~slow, falsi, 0.5 * (a + b))
+    return np.where(gx == 0, x, np.where(inside, secant, fallback))
+
+
+def _cubic_start(speeds, values, brackets, a, b, ga, gb):
+    """Root in (a, b) of the cubic through g at the sweep's four points around each bracket
+    (the chord's root where fewer than four oscillating points are at hand)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        chord = b - gb * (b - a) / (gb - ga)
+    chord = np.where(np.isfinite(chord) & (chord > a) & (chord < b), chord, 0.5 * (a + b))
+    count = len(speeds)
+    if count < 4:
+        return chord
+    nodes = np.clip(brackets.k - 1, 0, count - 4)[:, None] + np.arange(4)
+    xs = speeds[nodes]
+    lam = values[nodes, brackets.mode[:, None]]
+    gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
+    usable = np.all(is_oscillating(lam), axis=1) & (np.all(xs >= 0, axis=1) | np.all(xs <= 0, axis=1))
+    # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
+    h = (b - a)[:, None]
+    t_nodes = (xs - a[:, None]) / h
+    vandermonde = t_nodes[..., None] ** np.arange(4)
+    with np.errstate(all="ignore"):
+        coefficients = np.linalg.solve(vandermonde, gs[..., None])[..., 0]
+        t = (chord - a) / (b - a)
+        for _ in range(4):                              # Newton on the cubic, from the chord's root
+            c0, c1, c2, c3 = coefficients.T
+            t = t - (((c3 * t + c2) * t + c1) * t + c0) / ((3 * c3 * t + 2 * c2) * t + c1)
+    x = a + t * (b - a)
+    good = usable & np.isfinite(x) & (x > a) & (x < b)
+    return np.where(good, x, chord)
+
+
+def _illinois(end, g_end, g_other, last_side, rows, x, gx, side):
+    """Move one end of the brackets ``rows`` to ``x``; halve the other end's value when this
+    end moved last time too (Illinois), so the other end moves next."""
+    repeat = last_side[rows] == side
+    g_other[rows[repeat]] *= 0.5
+    end[rows] = x
+    g_end[rows] = gx
+    last_side[rows] = side
+
+
+def _interpolated(speeds, values, brackets, rows, x):
+    """The tracked modes' eigenvalues interpolated linearly across their brackets at ``x``."""
+    k, mode = brackets.k[rows], brackets.mode[rows]
+    t = (x - speeds[k]) / (speeds[k + 1] - speeds[k])
+    return (1 - t) * values[k, mode] + t * values[k + 1, mode]
+
+
+def _spread(values, brackets, rows):
+    k, mode = brackets.k[rows], brackets.mode[rows]
+    return np.abs(values[k + 1, mode] - values[k, mode]) + 1e-9 * np.abs(values[k, mode]) + 1e-300
+
+
+def _tracked(form, whirl_forms, speeds, values, weighted, brackets, rows, x):
+    """The tracked modes' eigenvalues at speeds ``x``: the nearest to the bracket's
+    interpolation, confirmed by the mode shape where another eigenvalue is about as near.
+
+    Returns the eigenvalues and whether each was told apart by distance alone and is single
+    (its shape then follows from one inverse-iteration step)."""
+    lam = _eigen.select_upper(_eigen._threaded(np.linalg.eigvals, form.at(x)))
+    expected = _interpolated(speeds, values, brackets, rows, x)
+    distance = np.abs(lam - expected[:, None])
+    nearest, second = np.argsort(distance, axis=1)[:, :2].T
+    picked = lam[np.arange(len(x)), nearest]
+    spread = _spread(values, brackets, rows)
+    unsure = distance[np.arange(len(x)), second] <= 4 * distance[np.arange(len(x)), nearest] + 2 * spread
+    if unsure.any():
+        picked[unsure] = _modes_at(form, whirl_forms, speeds, values, weighted,
+                                   _Brackets(*(c[rows[unsure]] for c in brackets)), x[unsure])[0]
+    scale = np.abs(lam).max(axis=1)
+    repeated = np.sort(np.abs(lam - picked[:, None]), axis=1)[:, 1] <= _eigen.REPEATED_TOLERANCE * scale
+    return picked, ~unsure & ~repeated
+
+
+def _shapes_at(form, whirl_forms, speeds, values, weighted, brackets, roots, lam, sure):
+    """Mode shapes at the roots: one inverse-iteration step on the eigenvalue found; a full
+    identification (:func:`_modes_at`) where it was unsure or the eigenvalue is repeated."""
+    M, _, G, _ = form.matrices
+    damping = form.damping_at(roots) + roots[:, None, None] * G
+    stiffness = form.stiffness_at(roots)
+    phi = _eigen.mode_shapes(M, np.broadcast_to(damping, (len(roots),) + M.shape), stiffness, lam[:, None],
+                             (form.branch_stiffness, form.branch_times))[:, 0]
+    if not sure.all():
+        rows = np.nonzero(~sure)[0]
+        lam[rows], phi[rows] = _modes_at(form, whirl_forms, speeds, values, weighted,
+                                         _Brackets(*(c[rows] for c in brackets)), roots[rows])
+    return phi
+
+
+def _modes_at(form, whirl_forms, speeds, values, weighted, brackets, x):
+    """Eigenvalue and shape of each bracket's tracked mode at ``x``, identified by the
+    mass-weighted MAC against its shape at the bracket's start and the eigenvalue distance."""
+    rows = np.arange(len(x))
+    lam, phi = _eigen.solve_batch(form, x, whirl_forms)
+    psi = _eigen.mass_normalized(phi, form.matrices.M)
+    reference = weighted[brackets.k, brackets.mode]                        # (P, n)
+    correlation = np.abs(np.einsum("pn,pjn->pj", reference.conj(), psi)) ** 2
+    expected = _interpolated(speeds, values, brackets, rows, x)
+    cost = (1 - correlation) + np.abs(lam - expected[:, None]) / _spread(values, brackets, rows)[:, None]
+    j = np.argmin(cost, axis=1)
+    return lam[rows, j], phi[rows, j]

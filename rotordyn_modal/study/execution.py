@@ -81,12 +81,11 @@ def variant_model(model_data, source, keys, applies, values):
     -------
     Model
     """
-    import copy
-
+    from .._validation import plain_copy
     from ..model import Model
     from ..parameters import scale_value, set_value
 
-    data = copy.deepcopy(model_data)
+    data = plain_copy(model_data, source)
     for group, apply, value in zip(keys, applies, values):
         for key in group:
             (set_value if apply == "value" else scale_value)(data, key, float(value), source)

@@ -71,15 +71,18 @@ class Table:
                 self.require(key)
             return None if default is None else np.array(default, dtype=float)
         value = self.data[key]
-        expected = " or ".join(shape_text(s) for s in shapes)
+
+        def expected():
+            return " or ".join(shape_text(s) for s in shapes)
+
         try:
             arr = np.array(value, dtype=float)
         except (TypeError, ValueError):
-            raise self.error(key, value, expected + " of numbers") from None
+            raise self.error(key, value, expected() + " of numbers") from None
         if isinstance(value, (str, bytes)) or arr.shape not in shapes:
-            raise self.error(key, value, expected + f" (got shape {arr.shape})")
-        if not np.all(np.isfinite(arr)):
-            raise self.error(key, value, expected + " of finite numbers")
+            raise self.error(key, value, expected() + f" (got shape {arr.shape})")
+        if not np.isfinite(arr).all():
+            raise self.error(key, value, expected() + " of finite numbers")
         return arr
 
     def vector3(self, key: str, default=None, *, required=False, nonzero=False) -> np.ndarray:

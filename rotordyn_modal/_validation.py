@@ -44,6 +44,8 @@ def _plain(value):
     if kind is dict:
         return {str(k): _plain(v) for k, v in value.items()}
     if kind is list:
+        if all(type(v) in _SCALARS for v in value):   # a vector: a flat copy will do
+            return value.copy()
         return [_plain(v) for v in value]
     if isinstance(value, Mapping):
         return {str(k): _plain(v) for k, v in value.items()}
@@ -136,7 +138,7 @@ def _inertia_tensor(table: _Table, key: str) -> np.ndarray:
     value = table.array(key, [(3,), (3, 3)], required=True)
     tensor = np.diag(value) if value.shape == (3,) else value
     scale = max(np.abs(tensor).max(), 1e-300)
-    if not np.allclose(tensor, tensor.T, rtol=0, atol=1e-9 * scale):
+    if np.abs(tensor - tensor.T).max() > 1e-9 * scale:
         raise table.error(key, table.data[key], "a symmetric tensor")
     tensor = 0.5 * (tensor + tensor.T)
     principal = np.linalg.eigvalsh(tensor)
@@ -250,7 +252,7 @@ def _orthonormal_axes(table: _Table, key: str) -> np.ndarray:
     if np.any(norms == 0):
         raise table.error(key, table.data[key], "three non-zero rows (the suspension's axes)")
     axes = axes / norms[:, None]
-    if not np.allclose(axes @ axes.T, np.eye(3), rtol=0, atol=_AXES_TOLERANCE):
+    if np.abs(axes @ axes.T - np.eye(3)).max() > _AXES_TOLERANCE:
         raise table.error(key, table.data[key], "mutually orthogonal rows (the suspension's axes)")
     # nearest orthogonal matrix, so that rounding in the file does not leak into the model
     u, _, vt = np.linalg.svd(axes)

@@ -164,6 +164,33 @@ def _mode_shapes_part(M, damping, K, eigenvalues, branches=None):
     return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
 
 
+def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarray:
+    """One inverse-iteration step per row for a single known eigenvalue: ``Q(lam) phi = 0``.
+
+    Parameters
+    ----------
+    M, damping, stiffness : ndarray, shape (P, n, n)
+        Each row's mass, ``C + Omega G`` and stiffness.
+    eigenvalues : ndarray, shape (P,), complex
+    branches : (ndarray (P, n_b, n, n), ndarray (P, n_b)), optional
+        Each row's Maxwell branches (stiffness, relaxation times).
+
+    Returns
+    -------
+    ndarray, shape (P, n), complex, unit norm
+    """
+    lam = np.asarray(eigenvalues)[:, None, None]
+    shifted = lam + 1e-13 * (np.abs(lam) + 1e-300) * (1 + 1j)   # as in _mode_shapes_part
+    pencil = shifted * damping + stiffness + shifted**2 * M
+    if branches is not None and branches[1].shape[-1]:
+        stiffness_b, times = branches
+        factor = shifted[:, 0] * times / (1 + shifted[:, 0] * times)        # (P, n_b)
+        pencil = pencil + np.einsum("pb,pbij->pij", factor, stiffness_b)
+    start = np.broadcast_to(_start_vectors(1, M.shape[-1])[0][:, None], pencil.shape[:-1] + (1,))
+    vectors = _solve(pencil, start)[..., 0]
+    return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
+
+
 def _start_vectors(m: int, n: int) -> np.ndarray:
     """Fixed pseudo-random start vectors (m, n) of inverse iteration, reproducible run to run."""
     if m <= _START_VECTORS.shape[0] and n <= _START_VECTORS.shape[1]:
@@ -217,7 +244,7 @@ def solve_batch(form, speeds, forms=None):
 REPEATED_TOLERANCE = 1e-9
 
 
-def resolve_repeated(eigenvalues, shapes, forms):
+def resolve_repeated(eigenvalues, shapes, forms, variants=None):
     """Make the shapes of a repeated eigenvalue its forward and backward whirl combinations.
 
     Any combination of the shapes of a double eigenvalue is a mode shape, so the
@@ -232,6 +259,9 @@ def resolve_repeated(eigenvalues, shapes, forms):
     eigenvalues : ndarray, shape (N, m), sorted so that equal values are adjacent
     shapes : ndarray, shape (N, m, n)
     forms : WhirlForms
+        Each (n, n), or (V, n, n) for rows of several variants.
+    variants : ndarray of int, shape (N,), optional
+        The variant of each row, with forms stacked over variants.
 
     Returns
     -------
@@ -244,14 +274,21 @@ def resolve_repeated(eigenvalues, shapes, forms):
     pair = close & ~padded[:, :-2] & ~padded[:, 2:]  # exactly two equal, not three
     pair &= np.abs(lam[:, :-1]) > OSCILLATORY_TOLERANCE * scale  # not rigid-body zeros
     rows, first = np.nonzero(pair)
+    if not len(rows):
+        return shapes
+    if variants is not None:
+        forms = WhirlForms(*(f[variants[rows]] for f in forms))
     basis = np.stack([shapes[rows, first], shapes[rows, first + 1]], axis=-1)  # (P, n, 2)
-    total = np.einsum("pia,ij,pjb->pab", basis.conj(), forms.total, basis)
+    rule = "pia,pij,pjb->pab" if forms.total.ndim == 3 else "pia,ij,pjb->pab"
+    total = np.einsum(rule, basis.conj(), forms.total, basis)
     # the two shapes must span a plane (two inverse iterations could give one direction)
     spans = np.abs(np.linalg.det(total)) > 1e-6 * np.abs(total[:, 0, 0] * total[:, 1, 1])
     rows, first, basis, total = rows[spans], first[spans], basis[spans], total[spans]
+    if forms.total.ndim == 3:
+        forms = WhirlForms(*(f[spans] for f in forms))
     if not rows.size:
         return shapes
-    momentum = -1j * np.einsum("pia,ij,pjb->pab", basis.conj(), forms.W, basis)
+    momentum = -1j * np.einsum(rule, basis.conj(), forms.W, basis)
     momentum = 0.5 * (momentum + np.conj(np.swapaxes(momentum, -1, -2)))
     factor = np.linalg.cholesky(0.5 * (total + np.conj(np.swapaxes(total, -1, -2))))
     inverse = np.linalg.inv(factor)
@@ -361,6 +398,7 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     ----------
     shapes : ndarray, shape (..., m, n)
     forms : WhirlForms
+        Each (n, n), or stacked like the shapes' leading axes, (..., n, n).
     speeds : ndarray, shape (...) [rad/s]; the sign of the spin (0 counts as +)
 
     Returns
@@ -368,7 +406,7 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     ndarray, shape (..., m)
     """
     def form(matrix):  # phi^H X phi for every shape, as one batched product
-        return (shapes.conj() * (shapes @ matrix.T)).sum(axis=-1)
+        return (shapes.conj() * (shapes @ np.swapaxes(matrix, -1, -2))).sum(axis=-1)
 
     momentum = (-1j * form(forms.W)).real
     across = form(forms.N).real

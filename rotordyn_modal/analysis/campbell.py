@@ -7,13 +7,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..linear_system import speed_linear_form
 from . import _eigen
+from ._stack import Stack
 from .modal import is_oscillating, modal_quantities
-from .tracking import track_modes
+from .tracking import track_modes_many
 
-__all__ = ["CampbellResult", "CriticalSpeeds", "ExcitationSources", "campbell", "critical_speeds",
-           "excitation_sources", "solve_sweep"]
+__all__ = ["CampbellResult", "CriticalSpeeds", "ExcitationSources", "campbell", "campbell_many",
+           "critical_speeds", "excitation_sources", "solve_sweep", "solve_sweeps"]
 
 _CHUNK = 4096
 
@@ -171,6 +171,8 @@ def solve_sweep(model, speeds, progress=False, form=None, forms=None):
     speeds : ndarray, shape (N,) [rad/s]
     progress : bool
         Show a progress bar.
+    form, forms : unused
+        Kept for callers that built them; the sweep builds its own stack of one model.
 
     Returns
     -------
@@ -178,31 +180,44 @@ def solve_sweep(model, speeds, progress=False, form=None, forms=None):
     shapes : ndarray, shape (N, m, n), complex, unit norm
     weighted : ndarray, shape (N, m, n), complex, unit mass-weighted
     """
-    form = form or speed_linear_form(model)
-    forms = forms if forms is not None else _eigen.whirl_forms(model)
+    values, shapes, weighted = solve_sweeps(Stack([model]), speeds, progress)
+    return values[0], shapes[0], weighted[0]
+
+
+def solve_sweeps(stack, speeds, progress=False):
+    """:func:`solve_sweep` for every model of a :class:`~._stack.Stack` at once.
+
+    Returns
+    -------
+    eigenvalues : ndarray, shape (V, N, m); shapes, weighted : ndarray, shape (V, N, m, n)
+    """
     speeds = np.asarray(speeds, dtype=float)
+    count = len(stack)
     chunks = [speeds[i:i + _CHUNK] for i in range(0, len(speeds), _CHUNK)]
     values, shapes = [], []
     for chunk in _progress(chunks, progress, "eigen-solve"):
-        lam, phi = _eigen.solve_batch(form, chunk, forms)
-        values.append(lam)
-        shapes.append(phi)
-    values = np.concatenate(values)
-    shapes = np.concatenate(shapes)
-    weighted = _eigen.mass_normalized(shapes, form.matrices.M)
-    order = track_modes(values, weighted)
-    order = _relabel_by_frequency(order, values, speeds)
-    rows = np.arange(len(speeds))[:, None]
-    return values[rows, order], shapes[rows, order], weighted[rows, order]
+        matrices = stack.sweep(chunk)
+        lam, phi = stack.solve(matrices.reshape((-1,) + matrices.shape[-2:]), np.repeat(np.arange(count), len(chunk)))
+        values.append(lam.reshape(count, len(chunk), -1))
+        shapes.append(phi.reshape((count, len(chunk)) + phi.shape[-2:]))
+    values = np.concatenate(values, axis=1)
+    shapes = np.concatenate(shapes, axis=1)
+    flat = shapes.reshape((-1,) + shapes.shape[-2:])
+    weighted = stack.weighted(flat, np.repeat(np.arange(count), len(speeds))).reshape(shapes.shape)
+    order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
+    variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
+    return values[variants, rows, order], shapes[variants, rows, order], weighted[variants, rows, order]
 
 
 def _relabel_by_frequency(order, values, speeds):
     """Number tracked roots at the speed nearest zero: modes first, by ascending frequency,
-    then the roots that are not modes there (so mode labels match :func:`modal`'s)."""
+    then the roots that are not modes there (so mode labels match :func:`modal`'s).
+
+    ``order`` and ``values`` have a leading variant axis: (V, N, m)."""
     k0 = int(np.argmin(np.abs(speeds)))
-    at_k0 = values[k0, order[k0]]
-    labels = np.lexsort((at_k0.real, at_k0.imag, ~is_oscillating(at_k0)))
-    return order[:, labels]
+    at_k0 = np.take_along_axis(values[:, k0], order[:, k0], axis=-1)
+    labels = np.lexsort((at_k0.real, at_k0.imag, ~is_oscillating(at_k0)), axis=-1)
+    return np.take_along_axis(order, labels[:, None, :], axis=-1)
 
 
 def _progress(items, enabled, description):
@@ -230,21 +245,40 @@ def campbell(model, speeds, orders=(1,), progress=False) -> CampbellResult:
     -------
     CampbellResult
     """
+    return campbell_many([model], speeds, orders, progress)[0]
+
+
+def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
+    """Campbell diagrams of several models of the same structure (a study's variants) in one
+    batch: one LAPACK call for every model and speed, tracking and critical speeds of all
+    together. Each result equals :func:`campbell` of its model bit for bit.
+
+    Parameters
+    ----------
+    models : sequence of Model
+        Same coordinates and states (variants of one model).
+    speeds, orders, progress : see :func:`campbell`
+
+    Returns
+    -------
+    list of CampbellResult
+    """
     speeds = _check_speeds(speeds)
-    form = speed_linear_form(model)
-    forms = _eigen.whirl_forms(model)
-    values, shapes, weighted = solve_sweep(model, speeds, progress, form, forms)
-    ratios = np.where(is_oscillating(values), _eigen.whirl_ratios(shapes, forms, speeds), 0.0)
+    stack = Stack(models)
+    values, shapes, weighted = solve_sweeps(stack, speeds, progress)
+    count, n_speeds, m = values.shape
+    every = np.repeat(np.arange(count), n_speeds)
+    ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, np.tile(speeds, count))
+    ratios = np.where(is_oscillating(values), ratios.reshape(values.shape), 0.0)
     freq, zeta, log_dec = modal_quantities(values)
-    sources = excitation_sources(model)
-    n = values.shape[1]
-    critical = _find_critical_speeds(form, forms, speeds, values, weighted, sources, tuple(orders))
-    return CampbellResult(
-        speeds=speeds, eigenvalues=values, frequencies_hz=freq, damping_ratios=zeta,
-        log_decrements=log_dec, whirl_ratios=ratios, whirl=_eigen.whirl_labels(ratios),
-        shapes=shapes, modes=np.arange(1, n + 1), sources=sources, critical=critical,
-        orders=tuple(float(o) for o in orders),
-    )
+    sources = [excitation_sources(model) for model in stack.models]
+    critical = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders))
+    labels = _eigen.whirl_labels(ratios)
+    return [CampbellResult(
+        speeds=speeds, eigenvalues=values[v], frequencies_hz=freq[v], damping_ratios=zeta[v],
+        log_decrements=log_dec[v], whirl_ratios=ratios[v], whirl=labels[v], shapes=shapes[v],
+        modes=np.arange(1, m + 1), sources=sources[v], critical=critical[v],
+        orders=tuple(float(o) for o in orders)) for v in range(count)]
 
 
 def critical_speeds(model, speeds, orders=(1,), progress=False) -> CriticalSpeeds:
@@ -280,20 +314,26 @@ def _check_speeds(speeds) -> np.ndarray:
     return speeds
 
 
-def _find_critical_speeds(form, whirl_forms, speeds, values, weighted, sources, orders) -> CriticalSpeeds:
-    """Every crossing of every mode with every source's order lines, refined together."""
+def _find_critical_speeds(stack, speeds, values, weighted, sources, orders) -> list:
+    """Every crossing of every mode with every source's order lines, for every variant,
+    refined together. Returns one :class:`CriticalSpeeds` per variant."""
     brackets = _crossing_brackets(speeds, values, sources, orders)
+    count = len(stack)
     if not len(brackets.k):
-        return _critical_table([], [], [], [], [], [], [], [])
-    roots, lam, sure = _refine_together(form, whirl_forms, speeds, values, weighted, brackets)
-    phi = _shapes_at(form, whirl_forms, speeds, values, weighted, brackets, roots, lam, sure)
-    ratios = _eigen.whirl_ratios(phi[:, None], whirl_forms, roots)[:, 0]
+        return [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
+    roots, lam, sure = _refine_together(stack, speeds, values, weighted, brackets)
+    lam, phi = _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure)
+    ratios = stack.whirl_ratios(phi[:, None], brackets.variant, roots)[:, 0]
     _, zeta, _ = modal_quantities(lam)
-    names = np.asarray(sources.names, dtype=object)[brackets.source]
-    order = np.lexsort((brackets.mode, brackets.order, names.astype(str), roots))
-    return _critical_table(names[order], brackets.order[order], brackets.mode[order] + 1, roots[order],
-                           lam.imag[order] / (2 * np.pi), _eigen.whirl_labels(ratios[order]).astype(object),
-                           ratios[order], zeta[order])
+    names = np.asarray(sources[0].names, dtype=object)[brackets.source]
+    labels = _eigen.whirl_labels(ratios).astype(object)
+    tables = []
+    for v in range(count):
+        mine = np.nonzero(brackets.variant == v)[0]
+        order = mine[np.lexsort((brackets.mode[mine], brackets.order[mine], names[mine].astype(str), roots[mine]))]
+        tables.append(_critical_table(names[order], brackets.order[order], brackets.mode[order] + 1, roots[order],
+                                      lam.imag[order] / (2 * np.pi), labels[order], ratios[order], zeta[order]))
+    return tables
 
 
 def _critical_table(source, order, mode, speeds, freq, whirl, ratios, zeta) -> CriticalSpeeds:
@@ -306,34 +346,41 @@ def _critical_table(source, order, mode, speeds, freq, whirl, ratios, zeta) -> C
 
 
 class _Brackets(NamedTuple):
-    """One row per crossing: grid interval ``[speeds[k], speeds[k+1]]``, tracked mode (0-based),
-    excitation slope [rad/s per rad/s], source index and order."""
+    """One row per crossing: the variant, grid interval ``[speeds[k], speeds[k+1]]``, tracked
+    mode (0-based), excitation slope [rad/s per rad/s], source index and order."""
 
+    variant: np.ndarray
     k: np.ndarray
     mode: np.ndarray
     slope: np.ndarray
     source: np.ndarray
     order: np.ndarray
 
+    def subset(self, rows) -> "_Brackets":
+        return _Brackets(*(column[rows] for column in self))
+
 
 def _crossing_brackets(speeds, values, sources, orders) -> _Brackets:
-    """Grid intervals where ``Im lam - slope |Omega|`` changes sign for an oscillating mode."""
+    """Grid intervals where ``Im lam - slope |Omega|`` changes sign for an oscillating mode.
+
+    ``values`` (V, N, m) and one ExcitationSources per variant (same names, the multipliers
+    may differ)."""
     mode_ok = is_oscillating(values)
-    both = mode_ok[:-1] & mode_ok[1:]
+    both = mode_ok[:, :-1] & mode_ok[:, 1:]
+    multipliers = np.array([s.multipliers for s in sources])            # (V, n_sources)
     parts = []
-    for s, multiplier in enumerate(sources.multipliers):
+    for s in range(multipliers.shape[1]):
         for order in orders:
-            slope = order * multiplier  # excitation [rad/s] per |speed| [rad/s]
-            if slope == 0:
-                continue
-            gap = values.imag - slope * np.abs(speeds)[:, None]
-            change = (np.sign(gap[:-1]) != np.sign(gap[1:])) & (gap[:-1] != 0) & both
-            k, mode = np.nonzero(change)
-            parts.append((k, mode, np.full(len(k), slope), np.full(len(k), s), np.full(len(k), float(order))))
+            slope = order * multipliers[:, s]  # excitation [rad/s] per |speed| [rad/s], per variant
+            gap = values.imag - slope[:, None, None] * np.abs(speeds)[None, :, None]
+            change = (np.sign(gap[:, :-1]) != np.sign(gap[:, 1:])) & (gap[:, :-1] != 0) & both
+            change &= (slope != 0)[:, None, None]
+            v, k, mode = np.nonzero(change)
+            parts.append((v, k, mode, slope[v], np.full(len(k), s), np.full(len(k), float(order))))
     if not parts:
-        return _Brackets(*(np.zeros(0, dtype=int) for _ in range(5)))
-    k, mode, slope, source, order = (np.concatenate(column) for column in zip(*parts))
-    return _Brackets(k, mode, slope, source.astype(int), order)
+        return _Brackets(*(np.zeros(0, dtype=int) for _ in range(6)))
+    v, k, mode, slope, source, order = (np.concatenate(column) for column in zip(*parts))
+    return _Brackets(v, k, mode, slope, source.astype(int), order)
 
 
 #: evaluations allowed per crossing (it needs two or three; bisection steps guarantee the rest)
@@ -342,7 +389,7 @@ _MAX_ITERATIONS = 200
 _STEP_TOLERANCE = 1e-13
 
 
-def _refine_together(form, whirl_forms, speeds, values, weighted, brackets):
+def _refine_together(stack, speeds, values, weighted, brackets):
     """Roots of ``g(Omega) = Im lam(Omega) - slope |Omega|`` in every bracket, iterated together.
 
     The first point is the root of the cubic through the sweep's four nearest points of g
@@ -360,12 +407,12 @@ def _refine_together(form, whirl_forms, speeds, values, weighted, brackets):
     sure : ndarray (P,) bool
         The eigenvalue was told apart by distance alone and is not repeated.
     """
-    k, mode, slope = brackets.k, brackets.mode, brackets.slope
+    v, k, mode, slope = brackets.variant, brackets.k, brackets.mode, brackets.slope
     a, b = speeds[k].copy(), speeds[k + 1].copy()
-    ga = values[k, mode].imag - slope * np.abs(a)
-    gb = values[k + 1, mode].imag - slope * np.abs(b)
+    ga = values[v, k, mode].imag - slope * np.abs(a)
+    gb = values[v, k + 1, mode].imag - slope * np.abs(b)
     roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
-    lam = np.where(ga == 0, values[k, mode], values[k + 1, mode])
+    lam = np.where(ga == 0, values[v, k, mode], values[v, k + 1, mode])
     sure = np.zeros(len(k), dtype=bool)
     done = ~np.isnan(roots)
     x = _cubic_start(speeds, values, brackets, a, b, ga, gb)
@@ -375,7 +422,7 @@ def _refine_together(form, whirl_forms, speeds, values, weighted, brackets):
         i = np.nonzero(~done)[0]
         if not len(i):
             break
-        lam_x, sure_x = _tracked(form, whirl_forms, speeds, values, weighted, brackets, i, x[i])
+        lam_x, sure_x = _tracked(stack, speeds, values, weighted, brackets, i, x[i])
         gx = lam_x.imag - slope[i] * np.abs(x[i])
         roots[i], lam[i], sure[i] = x[i], lam_x, sure_x
         step = _next_step(state, i, x[i], gx, previous[:, i])
@@ -426,7 +473,7 @@ def _cubic_start(speeds, values, brackets, a, b, ga, gb):
         return chord
     nodes = np.clip(brackets.k - 1, 0, count - 4)[:, None] + np.arange(4)
     xs = speeds[nodes]
-    lam = values[nodes, brackets.mode[:, None]]
+    lam = values[brackets.variant[:, None], nodes, brackets.mode[:, None]]
     gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
     usable = np.all(is_oscillating(lam), axis=1) & (np.all(xs >= 0, axis=1) | np.all(xs <= 0, axis=1))
     # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
@@ -456,59 +503,54 @@ def _illinois(end, g_end, g_other, last_side, rows, x, gx, side):
 
 def _interpolated(speeds, values, brackets, rows, x):
     """The tracked modes' eigenvalues interpolated linearly across their brackets at ``x``."""
-    k, mode = brackets.k[rows], brackets.mode[rows]
+    v, k, mode = brackets.variant[rows], brackets.k[rows], brackets.mode[rows]
     t = (x - speeds[k]) / (speeds[k + 1] - speeds[k])
-    return (1 - t) * values[k, mode] + t * values[k + 1, mode]
+    return (1 - t) * values[v, k, mode] + t * values[v, k + 1, mode]
 
 
 def _spread(values, brackets, rows):
-    k, mode = brackets.k[rows], brackets.mode[rows]
-    return np.abs(values[k + 1, mode] - values[k, mode]) + 1e-9 * np.abs(values[k, mode]) + 1e-300
+    v, k, mode = brackets.variant[rows], brackets.k[rows], brackets.mode[rows]
+    return np.abs(values[v, k + 1, mode] - values[v, k, mode]) + 1e-9 * np.abs(values[v, k, mode]) + 1e-300
 
 
-def _tracked(form, whirl_forms, speeds, values, weighted, brackets, rows, x):
+def _tracked(stack, speeds, values, weighted, brackets, rows, x):
     """The tracked modes' eigenvalues at speeds ``x``: the nearest to the bracket's
     interpolation, confirmed by the mode shape where another eigenvalue is about as near.
 
     Returns the eigenvalues and whether each was told apart by distance alone and is single
     (its shape then follows from one inverse-iteration step)."""
-    lam = _eigen.select_upper(_eigen._threaded(np.linalg.eigvals, form.at(x)))
+    lam = _eigen.select_upper(_eigen._threaded(np.linalg.eigvals, stack.at(brackets.variant[rows], x)))
     expected = _interpolated(speeds, values, brackets, rows, x)
     distance = np.abs(lam - expected[:, None])
     nearest, second = np.argsort(distance, axis=1)[:, :2].T
-    picked = lam[np.arange(len(x)), nearest]
-    spread = _spread(values, brackets, rows)
-    unsure = distance[np.arange(len(x)), second] <= 4 * distance[np.arange(len(x)), nearest] + 2 * spread
+    every = np.arange(len(x))
+    picked = lam[every, nearest]
+    unsure = distance[every, second] <= 4 * distance[every, nearest] + 2 * _spread(values, brackets, rows)
     if unsure.any():
-        picked[unsure] = _modes_at(form, whirl_forms, speeds, values, weighted,
-                                   _Brackets(*(c[rows[unsure]] for c in brackets)), x[unsure])[0]
+        picked[unsure] = _modes_at(stack, speeds, values, weighted, brackets.subset(rows[unsure]), x[unsure])[0]
     scale = np.abs(lam).max(axis=1)
     repeated = np.sort(np.abs(lam - picked[:, None]), axis=1)[:, 1] <= _eigen.REPEATED_TOLERANCE * scale
     return picked, ~unsure & ~repeated
 
 
-def _shapes_at(form, whirl_forms, speeds, values, weighted, brackets, roots, lam, sure):
-    """Mode shapes at the roots: one inverse-iteration step on the eigenvalue found; a full
-    identification (:func:`_modes_at`) where it was unsure or the eigenvalue is repeated."""
-    M, _, G, _ = form.matrices
-    damping = form.damping_at(roots) + roots[:, None, None] * G
-    stiffness = form.stiffness_at(roots)
-    phi = _eigen.mode_shapes(M, np.broadcast_to(damping, (len(roots),) + M.shape), stiffness, lam[:, None],
-                             (form.branch_stiffness, form.branch_times))[:, 0]
+def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure):
+    """Eigenvalues and shapes at the roots: one inverse-iteration step on the eigenvalue found;
+    a full identification (:func:`_modes_at`) where it was unsure or the eigenvalue is repeated."""
+    lam = lam.copy()
+    phi = stack.shapes_at(brackets.variant, roots, lam)
     if not sure.all():
         rows = np.nonzero(~sure)[0]
-        lam[rows], phi[rows] = _modes_at(form, whirl_forms, speeds, values, weighted,
-                                         _Brackets(*(c[rows] for c in brackets)), roots[rows])
-    return phi
+        lam[rows], phi[rows] = _modes_at(stack, speeds, values, weighted, brackets.subset(rows), roots[rows])
+    return lam, phi
 
 
-def _modes_at(form, whirl_forms, speeds, values, weighted, brackets, x):
+def _modes_at(stack, speeds, values, weighted, brackets, x):
     """Eigenvalue and shape of each bracket's tracked mode at ``x``, identified by the
     mass-weighted MAC against its shape at the bracket's start and the eigenvalue distance."""
     rows = np.arange(len(x))
-    lam, phi = _eigen.solve_batch(form, x, whirl_forms)
-    psi = _eigen.mass_normalized(phi, form.matrices.M)
-    reference = weighted[brackets.k, brackets.mode]                        # (P, n)
+    lam, phi = stack.solve(stack.at(brackets.variant, x), brackets.variant)
+    psi = stack.weighted(phi, brackets.variant)
+    reference = weighted[brackets.variant, brackets.k, brackets.mode]                   # (P, n)
     correlation = np.abs(np.einsum("pn,pjn->pj", reference.conj(), psi)) ** 2
     expected = _interpolated(speeds, values, brackets, rows, x)
     cost = (1 - correlation) + np.abs(lam - expected[:, None]) / _spread(values, brackets, rows)[:, None]

@@ -18,7 +18,7 @@ from scipy.optimize import linear_sum_assignment
 
 from ._eigen import mac_matrix
 
-__all__ = ["track_modes"]
+__all__ = ["track_modes", "track_modes_many"]
 
 _CONFIDENT_MAC = 0.8
 _EIGEN_WEIGHT_RELATIVE = 0.02
@@ -39,24 +39,40 @@ def track_modes(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
         ``order[k, label]`` is the index, at speed k, of the mode called ``label``;
         labels are numbered by ascending frequency at the first speed.
     """
-    count, n = eigenvalues.shape
-    order = np.empty((count, n), dtype=int)
-    order[0] = np.arange(n)
+    return track_modes_many(eigenvalues[None], shapes[None])[0]
+
+
+def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
+    """:func:`track_modes` for the sweeps of several variants at once.
+
+    Parameters
+    ----------
+    eigenvalues : ndarray, shape (V, N, n), complex
+    shapes : ndarray, shape (V, N, n, d), complex
+
+    Returns
+    -------
+    ndarray of int, shape (V, N, n)
+    """
+    variants, count, n = eigenvalues.shape
+    order = np.empty((variants, count, n), dtype=int)
+    order[:, 0] = np.arange(n)
     if count == 1:
         return order
-    correlation = mac_matrix(shapes[:-1], shapes[1:])  # (N-1, n, n)
+    correlation = mac_matrix(shapes[:, :-1], shapes[:, 1:])  # (V, N-1, n, n)
     best = np.argmax(correlation, axis=-1)
     best_mac = np.take_along_axis(correlation, best[..., None], axis=-1)[..., 0]
     distinct = np.all(np.sort(best, axis=-1) == np.arange(n), axis=-1)
-    confident = distinct & np.all(best_mac > _CONFIDENT_MAC, axis=-1)
-    last_good = np.zeros(n, dtype=int)  # last speed at which each label's shape was sure
+    confident = distinct & np.all(best_mac > _CONFIDENT_MAC, axis=-1)      # (V, N-1)
+    last_good = np.zeros((variants, n), dtype=int)  # last speed at which each label's shape was sure
+    rows = np.arange(variants)[:, None]
     for k in range(1, count):
-        if confident[k - 1]:
-            order[k] = best[k - 1][order[k - 1]]
-            last_good[:] = k
-            continue
-        order[k], sure = _ambiguous_step(k, order, eigenvalues, shapes, last_good)
-        last_good[sure] = k
+        order[:, k] = best[:, k - 1][rows, order[:, k - 1]]
+        sure_step = confident[:, k - 1]
+        last_good[sure_step] = k
+        for v in np.nonzero(~sure_step)[0]:
+            order[v, k], sure = _ambiguous_step(k, order[v], eigenvalues[v], shapes[v], last_good[v])
+            last_good[v, sure] = k
     return order
 
 

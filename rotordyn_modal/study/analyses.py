@@ -108,13 +108,39 @@ def _parse_unbalance(table, where, source):
 
 
 # ---------------------------------------------------------------------------- campbell
+def _campbell_key(options):
+    return ("campbell", options["speeds"].tobytes(), options["orders"])
+
+
 def _campbell_of(model, options, cache):
     from ..analysis.campbell import campbell
 
-    key = ("campbell", options["speeds"].tobytes(), options["orders"])
+    key = _campbell_key(options)
     if key not in cache:
         cache[key] = campbell(model, options["speeds"], orders=options["orders"])
     return cache[key]
+
+
+def batch_caches(models, analyses) -> list:
+    """Per variant, the results that can be computed for all of a chunk's variants at once
+    (the Campbell sweep the campbell and critical-speed analyses share: one batched solve,
+    see :func:`rotordyn_modal.analysis.campbell.campbell_many`), as caches for
+    :func:`run_analyses`. Each result equals the variant's own analysis bit for bit. Where the
+    batch cannot be solved (a variant that fails), the caches stay empty and every variant
+    is analysed on its own, so that the failure is recorded against the right variant."""
+    from ..analysis.campbell import campbell_many
+
+    caches = [{} for _ in models]
+    options = analyses.get("campbell") or analyses.get("critical_speeds")
+    if options is None or len(models) < 2:
+        return caches
+    try:
+        results = campbell_many(models, options["speeds"], orders=options["orders"])
+    except Exception:  # noqa: BLE001 - each variant then runs alone and records its own error
+        return caches
+    for cache, result in zip(caches, results):
+        cache[_campbell_key(options)] = result
+    return caches
 
 
 def _describe_campbell(model, options):
@@ -315,9 +341,12 @@ def describe(model, analyses) -> tuple:
     return variables, coords, layouts
 
 
-def run_analyses(model, analyses, layouts) -> dict:
-    """Every analysis of one variant: ``{variable: ndarray}``."""
-    cache: dict = {}
+def run_analyses(model, analyses, layouts, cache=None) -> dict:
+    """Every analysis of one variant: ``{variable: ndarray}``.
+
+    ``cache`` may hold results computed beforehand for a batch of variants
+    (:func:`batch_caches`)."""
+    cache = {} if cache is None else cache
     out = {}
     for name, options in analyses.items():
         out.update(ANALYSES[name].run(model, options, layouts[name], cache))

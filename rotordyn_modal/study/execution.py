@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .analyses import run_analyses
+from .analyses import batch_caches, run_analyses
 
 __all__ = ["ChunkTask", "run_chunk", "make_tasks", "execute", "Checkpoint", "limit_threads",
            "worker_initializer", "default_chunk_size", "remove_checkpoint"]
@@ -106,16 +106,24 @@ def run_chunk(task: ChunkTask) -> dict:
     out = {name: np.full((n,) + shape, np.nan) for name, shape in task.shapes.items()}
     errors = [""] * n
     with context:
-        for row, values in enumerate(task.values):
-            try:
-                model = variant_model(task.model_data, task.model_source, task.keys, task.applies, values)
-                for name, array in run_analyses(model, task.analyses, task.layouts).items():
-                    out[name][row] = array
-            except Exception as error:  # noqa: BLE001 - recorded, the study goes on
-                errors[row] = f"{type(error).__name__}: {error}"
-                for name in out:
-                    out[name][row] = np.nan
+        models = [_try(variant_model, errors, row, task.model_data, task.model_source, task.keys, task.applies,
+                       values) for row, values in enumerate(task.values)]
+        built = [row for row, model in enumerate(models) if model is not None]
+        caches = dict(zip(built, batch_caches([models[row] for row in built], task.analyses)))
+        for row in built:
+            analysed = _try(run_analyses, errors, row, models[row], task.analyses, task.layouts, caches[row])
+            for name, array in (analysed or {}).items():
+                out[name][row] = array
     return {"index": task.index, "start": task.start, "error": np.array(errors, dtype=str), **out}
+
+
+def _try(function, errors, row, *args):
+    """``function(*args)``, or None with the reason recorded in ``errors[row]``."""
+    try:
+        return function(*args)
+    except Exception as error:  # noqa: BLE001 - recorded, the study goes on
+        errors[row] = f"{type(error).__name__}: {error}"
+        return None
 
 
 # ---------------------------------------------------------------------------- threads

@@ -1,0 +1,127 @@
+"""Several models of the same structure solved as one batch: the variants of a study.
+
+A parameter study changes values, never the structure, so its variants share their
+coordinates and states. :class:`Stack` holds their state-matrix forms and whirl forms
+stacked on a leading variant axis, so that a sweep of every variant of a chunk is one
+batched LAPACK call and its post-processing (selection, normalisation, tracking, whirl) one
+set of array operations instead of one per variant. A single model is a stack of one: the
+single analyses and the studies run the same code, so a study's variant equals the single
+analysis of its model bit for bit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..linear_system import speed_linear_form
+from . import _eigen
+
+__all__ = ["Stack"]
+
+
+class Stack:
+    """The forms of ``V`` models with the same coordinates and states.
+
+    Parameters
+    ----------
+    models : sequence of Model
+
+    Attributes
+    ----------
+    forms : list of SpeedLinearForm
+    whirl : WhirlForms
+        Each form stacked, shape (V, n, n).
+    M, C, G, K : ndarray, shape (V, n, n)
+        The constant parts (speed-dependent bearings come from each form).
+    factor : ndarray, shape (V, n, n)
+        Cholesky factor of each M (for mass-weighted shapes).
+    """
+
+    def __init__(self, models):
+        self.models = list(models)
+        self.forms = [speed_linear_form(m) for m in self.models]
+        shapes = {(f.n_dof, f.n_states) for f in self.forms}
+        if len(shapes) != 1:
+            raise ValueError(f"models of different structure cannot be stacked: {sorted(shapes)}")
+        whirl = [_eigen.whirl_forms(m) for m in self.models]
+        self.whirl = _eigen.WhirlForms(*(np.stack(parts) for parts in zip(*whirl)))
+        self.M, self.C, self.G, self.K = (np.stack(parts) for parts in zip(*(f.matrices for f in self.forms)))
+        self.factor = np.linalg.cholesky(self.M)
+        self.A0 = np.stack([f.A0 for f in self.forms])
+        self.A1 = np.stack([f.A1 for f in self.forms])
+        self.dependent = any(f.speed_dependent for f in self.forms)
+        self.branch_stiffness = np.stack([f.branch_stiffness for f in self.forms])   # (V, n_b, n, n)
+        self.branch_times = np.stack([f.branch_times for f in self.forms])           # (V, n_b)
+
+    def __len__(self) -> int:
+        return len(self.forms)
+
+    @property
+    def n_dof(self) -> int:
+        return self.forms[0].n_dof
+
+    # -- state matrices ------------------------------------------------------------------
+    def sweep(self, speeds) -> np.ndarray:
+        """State matrices of every variant at every speed, shape (V, N, n_states, n_states)."""
+        speeds = np.asarray(speeds, dtype=float)
+        if self.dependent:
+            return np.stack([f.at(speeds) for f in self.forms])
+        return self.A0[:, None] + speeds[None, :, None, None] * self.A1[:, None]
+
+    def at(self, variants, x) -> np.ndarray:
+        """State matrices of variant ``variants[p]`` at speed ``x[p]``, shape (P, n_s, n_s)."""
+        out = self.A0[variants] + x[:, None, None] * self.A1[variants]
+        if self.dependent:
+            for v in np.unique(variants):
+                rows = variants == v
+                out[rows] = self.forms[v].at(x[rows])
+        return out
+
+    def damping_stiffness(self, variants, x):
+        """``C + Omega G`` and ``K`` of variant ``variants[p]`` at ``x[p]``, each (P, n, n)."""
+        damping = self.C[variants] + x[:, None, None] * self.G[variants]
+        stiffness = self.K[variants].copy()
+        if self.dependent:
+            for v in np.unique(variants):
+                rows = variants == v
+                damping[rows] = self.forms[v].damping_at(x[rows]) + x[rows, None, None] * self.G[v]
+                stiffness[rows] = self.forms[v].stiffness_at(x[rows])
+        return damping, stiffness
+
+    # -- eigen-solutions -----------------------------------------------------------------
+    def solve(self, matrices, variants):
+        """Upper eigenvalues and unit-norm shapes of state matrices of the given variants.
+
+        Parameters
+        ----------
+        matrices : ndarray, shape (R, n_s, n_s)
+        variants : ndarray of int, shape (R,)
+
+        Returns
+        -------
+        eigenvalues : ndarray (R, m), complex; shapes : ndarray (R, m, n), complex
+        """
+        values, vectors = _eigen._eig(matrices)
+        index, eigenvalues = _eigen.upper_indices(values)
+        n = self.n_dof
+        shapes = np.swapaxes(np.take_along_axis(vectors[:, :n, :], index[:, None, :], axis=-1), -1, -2)
+        norms = np.linalg.norm(shapes, axis=-1, keepdims=True)
+        # a Maxwell junction relaxing with the machine at rest has no displacement: keep it zero
+        shapes = shapes / np.where(norms > 0, norms, 1.0)
+        return eigenvalues, _eigen.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
+
+    def weighted(self, shapes, variants):
+        """Mass-weighted unit shapes (see :func:`_eigen.mass_normalized`) of rows of variants."""
+        weighted = np.einsum("rmi,rij->rmj", shapes, self.factor[variants].conj())
+        norms = np.linalg.norm(weighted, axis=-1, keepdims=True)
+        return weighted / np.where(norms > 0, norms, 1.0)
+
+    def whirl_ratios(self, shapes, variants, speeds):
+        """Whirl ratios (see :func:`_eigen.whirl_ratios`) of shapes (R, m, n) of rows of variants."""
+        return _eigen.whirl_ratios(shapes, _eigen.WhirlForms(*(f[variants] for f in self.whirl)), speeds)
+
+    def shapes_at(self, variants, x, lam):
+        """One inverse-iteration step on the pencil for each (variant, speed, eigenvalue)."""
+        damping, stiffness = self.damping_stiffness(variants, x)
+        return _eigen.pencil_shapes(self.M[variants], damping, stiffness, lam,
+                                    (self.branch_stiffness[variants], self.branch_times[variants]))

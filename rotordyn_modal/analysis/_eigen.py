@@ -1,14 +1,19 @@
 """Batched eigen-solutions of the speed-dependent state matrix, whirl and MAC.
 
-Speed: eigenvalues of all speeds come from one batched LAPACK call split over
-threads (numpy releases the GIL); each mode shape then comes from one step
-of inverse iteration on the 6x6 quadratic pencil
-``Q(lam) = lam^2 M + lam (C + Omega G) + K``, batched over speeds and modes.
-That costs less than asking LAPACK for the 12x12 eigenvectors.
+Speed: all speeds are solved by batched LAPACK calls split over threads (numpy
+releases the GIL), in parts of bounded memory. Without Maxwell states the mode
+shapes are the displacement parts of LAPACK's eigenvectors of the 2n x 2n state
+matrix. With Maxwell states (state matrix larger than 2n, and roots whose
+eigenvector has no displacement part) each shape comes from one step of inverse
+iteration on the n x n pencil
+``Q(lam) = lam^2 M + lam (C + Omega G) + K + sum_b lam tau_b / (1 + lam tau_b) K_b``,
+batched over speeds and modes, which is also the cheaper of the two there
+(n small against the number of states).
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 from concurrent.futures import ThreadPoolExecutor
 
@@ -19,7 +24,7 @@ import numpy as np
 from ..assembly import add_rotor_body, body_inertias, frame_block
 from ..geometry import skew
 
-__all__ = ["upper_eigenvalues", "mode_shapes", "solve_batch", "whirl_forms", "rotor_whirl_forms",
+__all__ = ["select_upper", "inverse_iteration", "solve_batch", "whirl_forms", "rotor_whirl_forms",
            "whirl_ratios",
            "mass_normalized", "mac_matrix", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
 
@@ -30,51 +35,93 @@ OSCILLATORY_TOLERANCE = 1e-6
 WHIRL_TOLERANCE = 1e-3
 
 _THREADS = max(1, min(4, os.cpu_count() or 1))
-_CHUNK = 256
-_rng_vectors = np.random.default_rng(20261122).standard_normal((2, 64, 64))
-_START_VECTORS = _rng_vectors[0] + 1j * _rng_vectors[1]
+#: batches whose work arrays exceed this are shared between threads [bytes]
+_THREAD_BYTES = 4 * 2**20
+#: upper bound of the work arrays of one part of a batch [bytes]
+_PART_BYTES = 64 * 2**20
+_START_SEED = 20261122
+
+
+def _start_vectors(m: int, n: int) -> np.ndarray:
+    """Fixed pseudo-random complex start vectors of inverse iteration, shape (m, n)."""
+    size = max(64, m, n)
+    draws = np.random.default_rng(_START_SEED).standard_normal((2, size, size))
+    return (draws[0] + 1j * draws[1])[:m, :n]
 
 
 _POOL: ThreadPoolExecutor | None = None
 
 
-def _threaded(function, *batches: np.ndarray) -> np.ndarray:
+def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
     """Apply a batched numpy routine over the first axis of its arrays using a few threads.
 
     LAPACK-backed numpy routines and large array arithmetic release the GIL, so
     the parts run in parallel. Set ``ROTORDYN_MODAL_THREADS=1`` (as parameter
-    studies do in their worker processes) to stay on one core.
+    studies do in their worker processes) to stay on one core. ``item_bytes``
+    (the work memory per item, a measure of its cost) splits large batches into
+    parts of at most about ``_PART_BYTES``, and shares batches beyond
+    ``_THREAD_BYTES`` between threads. ``function`` returns an array or a tuple
+    of arrays; the parts' results are concatenated.
     """
     global _POOL
+    count = len(batches[0])
     threads = int(os.environ.get("ROTORDYN_MODAL_THREADS", _THREADS))
-    if len(batches[0]) < 2 * _CHUNK or threads <= 1:
+    pieces = max(1, min(count, -(-count * item_bytes // _PART_BYTES)))
+    if threads > 1 and count * item_bytes >= _THREAD_BYTES:
+        pieces = max(pieces, min(count, threads))
+    if pieces == 1:
         return function(*batches)
-    if _POOL is None or _POOL._max_workers != threads:
-        _POOL = ThreadPoolExecutor(threads, thread_name_prefix="rotordyn-eig")
-    parts = [np.array_split(batch, threads) for batch in batches]
-    return np.concatenate(list(_POOL.map(function, *parts)))
+    parts = [np.array_split(batch, pieces) for batch in batches]
+    if threads > 1:
+        if _POOL is None or _POOL._max_workers != threads:
+            _POOL = ThreadPoolExecutor(threads, thread_name_prefix="rotordyn-eig")
+        with _one_blas_thread():
+            results = list(_POOL.map(function, *parts))
+    else:
+        results = [function(*part) for part in zip(*parts)]
+    if isinstance(results[0], tuple):
+        return tuple(np.concatenate(column) for column in zip(*results))
+    return np.concatenate(results)
 
 
-def upper_eigenvalues(state_matrices: np.ndarray) -> np.ndarray:
-    """The n eigenvalues with the largest imaginary parts of each state matrix.
+def _one_blas_thread():
+    """One BLAS/LAPACK thread each while our own threads share the cores (through
+    threadpoolctl when installed): BLAS's own threads on top of ours would oversubscribe
+    the cores, which slows large eigenproblems several times over."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover
+        return contextlib.nullcontext()
+    return threadpool_limits(1, user_api="blas")
+
+
+def select_upper(values: np.ndarray) -> np.ndarray:
+    """The n eigenvalues with the largest imaginary parts of each row of 2n eigenvalues.
 
     One of each complex-conjugate pair, and half of the real eigenvalues (the
     ones of smaller magnitude), sorted by imaginary part, then real part.
 
     Parameters
     ----------
-    state_matrices : ndarray, shape (N, 2n, 2n)
+    values : ndarray, shape (..., 2n), complex [1/s]
 
     Returns
     -------
-    ndarray, shape (N, n), complex [1/s]
+    ndarray, shape (..., n), complex [1/s]
     """
-    values = _threaded(np.linalg.eigvals, state_matrices)
-    return select_upper(values)
+    return _upper(values)[0]
 
 
-def select_upper(values: np.ndarray) -> np.ndarray:
-    """Pick the upper half of each row of eigenvalues; see :func:`upper_eigenvalues`."""
+def _upper(values: np.ndarray):
+    """The upper eigenvalues of each row and where they sit in it.
+
+    Returns
+    -------
+    upper : ndarray, shape (..., n), complex
+        As :func:`select_upper` (imaginary parts within ``OSCILLATORY_TOLERANCE`` set to zero).
+    index : ndarray of int, shape (..., n)
+        ``values[..., index]`` are those eigenvalues as given.
+    """
     n = values.shape[-1] // 2
     scale = np.abs(values).max(axis=-1, keepdims=True)
     tol = OSCILLATORY_TOLERANCE * np.where(scale > 0, scale, 1.0)
@@ -87,10 +134,10 @@ def select_upper(values: np.ndarray) -> np.ndarray:
     upper_imag = np.take_along_axis(imag, order[..., n:], axis=-1)
     upper = np.where(upper_imag == 0.0, upper.real + 0j, upper)
     final = np.lexsort((upper.real, upper.imag), axis=-1)
-    return np.take_along_axis(upper, final, axis=-1)
+    return np.take_along_axis(upper, final, axis=-1), np.take_along_axis(order[..., n:], final, axis=-1)
 
 
-def mode_shapes(M, damping, K, eigenvalues, branches=None) -> np.ndarray:
+def inverse_iteration(M, damping, K, eigenvalues, branches=None) -> np.ndarray:
     """Right eigenvectors ``phi`` of ``Q(lam) phi = 0`` by one inverse-iteration step.
 
     Parameters
@@ -98,7 +145,7 @@ def mode_shapes(M, damping, K, eigenvalues, branches=None) -> np.ndarray:
     M : ndarray, shape (n, n)
     damping : ndarray, shape (N, n, n)
         ``C + Omega G`` at each speed.
-    K : ndarray, shape (n, n) or (N, n, n)
+    K : ndarray, shape (n, n) or (N, 1, n, n)
         Stiffness (per speed when bearing coefficients depend on speed).
     eigenvalues : ndarray, shape (N, m), complex
     branches : (ndarray (n_b, n, n), ndarray (n_b,)), optional
@@ -108,15 +155,8 @@ def mode_shapes(M, damping, K, eigenvalues, branches=None) -> np.ndarray:
     Returns
     -------
     ndarray, shape (N, m, n), complex
-        Unit-norm shapes (displacement part of the state eigenvectors).
+        Unit-norm shapes.
     """
-    if np.ndim(K) == 3:
-        return _threaded(lambda d, lam, k: _mode_shapes_part(M, d, k[:, None], lam, branches),
-                         damping, eigenvalues, K)
-    return _threaded(lambda d, lam: _mode_shapes_part(M, d, K, lam, branches), damping, eigenvalues)
-
-
-def _mode_shapes_part(M, damping, K, eigenvalues, branches=None):
     lam = eigenvalues[..., None, None]
     scale = np.abs(eigenvalues).max(axis=-1, keepdims=True)[..., None, None] + 1e-300
     # a shift at round-off level keeps an exactly singular pencil (lam = 0 with an
@@ -131,7 +171,7 @@ def _mode_shapes_part(M, damping, K, eigenvalues, branches=None):
         factor = shifted[..., 0, 0, None] * times / (1 + shifted[..., 0, 0, None] * times)
         pencil += np.einsum("nmb,bij->nmij", factor, stiffness)
     m, n = eigenvalues.shape[-1], M.shape[0]
-    start = np.broadcast_to(_START_VECTORS[:m, :n, None], pencil.shape[:-2] + (n, 1))
+    start = np.broadcast_to(_start_vectors(m, n)[..., None], pencil.shape[:-2] + (n, 1))
     # one step suffices: the shift is at round-off level, so the other modes' share of the
     # result is |lam - shifted| / |lam_other - shifted|, about 1e-13 of the gap
     vectors = _solve(pencil, start)[..., 0]
@@ -165,14 +205,40 @@ def solve_batch(form, speeds, forms=None):
     shapes : ndarray, shape (N, n, n), complex
     """
     speeds = np.asarray(speeds, dtype=float)
-    eigenvalues = upper_eigenvalues(form.at(speeds))
-    M, _, G, _ = form.matrices
-    damping = form.damping_at(speeds) + speeds[:, None, None] * G
-    shapes = mode_shapes(M, damping, form.stiffness_at(speeds), eigenvalues,
-                         (form.branch_stiffness, form.branch_times))
+    size, n = form.n_states, form.n_dof
+    if size == 2 * n:
+        # state matrices, eigenvectors and LAPACK's work arrays of one speed
+        eigenvalues, shapes = _threaded(lambda part: _lapack_shapes(form, part), speeds,
+                                        item_bytes=72 * size * size)
+    else:
+        # state matrices, then the pencils of every root and their LU factors
+        eigenvalues, shapes = _threaded(lambda part: _pencil_shapes(form, part), speeds,
+                                        item_bytes=24 * size * size + 32 * size * n * n)
     if forms is not None:
         shapes = resolve_repeated(eigenvalues, shapes, forms)
     return eigenvalues, shapes
+
+
+def _lapack_shapes(form, speeds):
+    """Upper eigenvalues (N, n) and unit-norm displacement parts (N, n, n) of LAPACK's
+    eigenvectors of the state matrices at ``speeds`` (state ``[q, q']``, no extra states)."""
+    values, vectors = np.linalg.eig(form.at(speeds))
+    upper, index = _upper(values)
+    shapes = np.take_along_axis(vectors[:, :form.n_dof, :], index[:, None, :], axis=-1)
+    shapes = np.swapaxes(shapes, -1, -2)
+    return upper, shapes / np.linalg.norm(shapes, axis=-1, keepdims=True)
+
+
+def _pencil_shapes(form, speeds):
+    """Upper eigenvalues (N, m) of the state matrices at ``speeds`` and their shapes
+    (N, m, n) by inverse iteration on the rational pencil (see :func:`inverse_iteration`)."""
+    eigenvalues = select_upper(np.linalg.eigvals(form.at(speeds)))
+    M, _, G, _ = form.matrices
+    damping = form.damping_at(speeds) + speeds[:, None, None] * G
+    K = form.stiffness_at(speeds)
+    K = K[:, None] if np.ndim(K) == 3 else K
+    branches = (form.branch_stiffness, form.branch_times)
+    return eigenvalues, inverse_iteration(M, damping, K, eigenvalues, branches)
 
 
 #: eigenvalues closer than this (relative) are one repeated eigenvalue
@@ -347,4 +413,4 @@ def mac_matrix(a, b) -> np.ndarray:
     -------
     ndarray, shape (..., m, p), values in [0, 1]
     """
-    return np.abs(np.einsum("...in,...jn->...ij", a.conj(), b)) ** 2
+    return np.abs(a.conj() @ np.swapaxes(b, -1, -2)) ** 2  # batched BLAS, not einsum's loops

@@ -23,12 +23,14 @@ and prints each repetition's ratios and their min / median / max (the machine is
 ratios measured side by side are what counts). Run::
 
     python benchmarks/bench_bearings.py [--machines abc] [--speeds 10001] [--speeds-c 1001]
-        [--repeat 5] [--blas-threads 1] [--save DIR]
+        [--repeat 5] [--repeat-c 3] [--blas-threads 1] [--chunk 0] [--skip sweep,loop] [--save DIR]
 
 ``--blas-threads 1`` (the default) gives every contender one BLAS thread (threadpoolctl);
 ``--blas-threads default`` leaves BLAS as it is (on a loaded 2-core machine OpenBLAS's own
 threads make 212 x 212 eigenproblems several times slower). ``ROTORDYN_MODAL_THREADS=1``
-keeps rdm.campbell on one thread too. ``--save DIR`` writes the three models as TOML files.
+keeps rdm.campbell on one thread too. ``--chunk N`` solves the floor and the loop N speeds at
+a time (10,001 speeds of machine (c) would need 11 GB at once). ``--save DIR`` writes the
+three models as TOML files.
 """
 
 from __future__ import annotations
@@ -170,15 +172,35 @@ def largest_difference(result, eigenvalues) -> float:
     return float(np.max(np.abs(package - floor) / scale))
 
 
-def measure(model, speeds, repeat):
-    """Per repetition: seconds of campbell, campbell without critical speeds, floor, loop."""
+def parts(speeds, chunk):
+    """The speeds in consecutive parts of ``chunk`` (all at once for 0)."""
+    chunk = chunk or len(speeds)
+    return [speeds[i:i + chunk] for i in range(0, len(speeds), chunk)]
+
+
+def floor(model, speeds, chunk):
+    """The floor: bare batched ``numpy.linalg.eig`` of the state matrices (eigenvalues)."""
+    form = speed_linear_form(model)
+    return np.concatenate([np.linalg.eig(form.at(part))[0] for part in parts(speeds, chunk)])
+
+
+def loop(model, speeds, chunk):
+    """The obvious loop: ``scipy.linalg.eig`` per speed on the same state matrices."""
+    form = speed_linear_form(model)
+    for part in parts(speeds, chunk):
+        for matrix in form.at(part):
+            scipy.linalg.eig(matrix)
+
+
+def measure(model, speeds, repeat, chunk, skip):
+    """Per repetition: seconds of campbell, campbell without critical speeds, floor, loop
+    (NaN when skipped)."""
     rows = []
     for _ in range(repeat):
         t_campbell, result = timed(lambda: rdm.campbell(model, speeds))
-        t_sweep, _ = timed(lambda: rdm.campbell(model, speeds, orders=()))
-        t_floor, (eigenvalues, _) = timed(lambda: np.linalg.eig(speed_linear_form(model).at(speeds)))
-        matrices = speed_linear_form(model).at(speeds)
-        t_loop, _ = timed(lambda: [scipy.linalg.eig(a) for a in matrices])
+        t_sweep = np.nan if "sweep" in skip else timed(lambda: rdm.campbell(model, speeds, orders=()))[0]
+        t_floor, eigenvalues = timed(lambda: floor(model, speeds, chunk))
+        t_loop = np.nan if "loop" in skip else timed(lambda: loop(model, speeds, chunk))[0]
         rows.append((t_campbell, t_sweep, t_floor, t_loop))
         print(f"  campbell {t_campbell:8.3f} s | without critical speeds {t_sweep:8.3f} s | floor "
               f"{t_floor:8.3f} s | loop {t_loop:8.3f} s || campbell/floor {t_campbell / t_floor:5.2f}  "
@@ -191,7 +213,7 @@ def spread(values) -> str:
     return f"{min(values):5.2f} / {statistics.median(values):5.2f} / {max(values):5.2f}"
 
 
-def run(key, count, repeat):
+def run(key, count, repeat, chunk=0, skip=()):
     title, build, top_rpm = MACHINES[key]
     model = build()
     speeds = rdm.rpm(np.linspace(0.0, top_rpm, count))
@@ -199,7 +221,7 @@ def run(key, count, repeat):
     print(f"({key}) {title}: {form.n_dof} coordinates, {form.n_states} states, {len(model.rotors)} rotors, "
           f"{len(model.bearings)} bearings; {count} speeds 0..{top_rpm:.0f} rpm; {repeat} repetitions")
     rdm.campbell(model, speeds[:3])  # warm-up (imports, thread pool)
-    rows, result, eigenvalues = measure(model, speeds, repeat)
+    rows, result, eigenvalues = measure(model, speeds, repeat, chunk, skip)
     campbell, sweep, floor, loop = rows.T
     print(f"  {len(result.critical)} 1X critical speeds of {len(result.sources.names)} sources; "
           f"largest |lam_rdm - lam_floor| / max|lam| = {largest_difference(result, eigenvalues):.1e}")
@@ -218,6 +240,9 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--repeat-c", type=int, default=3)
     parser.add_argument("--blas-threads", default="1", help="a number, or 'default'")
+    parser.add_argument("--chunk", type=int, default=0,
+                        help="floor and loop on parts of this many speeds (bounded memory; default all at once)")
+    parser.add_argument("--skip", default="", help="comma-separated: sweep, loop (not timed)")
     parser.add_argument("--save", type=Path, help="write the machines as TOML files into this folder")
     args = parser.parse_args()
     if args.save:
@@ -228,7 +253,7 @@ def main() -> None:
     with blas_limit(args.blas_threads):
         for key in args.machines:
             count = args.speeds_c if key == "c" else args.speeds
-            run(key, count, args.repeat_c if key == "c" else args.repeat)
+            run(key, count, args.repeat_c if key == "c" else args.repeat, args.chunk, args.skip.split(","))
 
 
 if __name__ == "__main__":

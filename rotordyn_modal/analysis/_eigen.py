@@ -379,12 +379,14 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     -------
     ndarray, shape (..., m)
     """
-    def form(matrix):  # phi^H X phi for every shape, as one batched product
-        return (shapes.conj() * (shapes @ matrix.T)).sum(axis=-1)
-
-    momentum = (-1j * form(forms.W)).real
-    across = form(forms.N).real
-    whole = form(forms.total).real
+    n = shapes.shape[-1]
+    # phi^H X phi of the three forms for every shape: one batched product with [W^T N^T total^T]
+    stacked = np.concatenate([forms.W.T, forms.N.T, forms.total.T], axis=1)
+    products = (shapes @ stacked).reshape(shapes.shape[:-1] + (3, n))
+    values = np.einsum("...i,...ki->...k", shapes.conj(), products)
+    momentum = values[..., 0].imag  # Re(-i phi^H W phi)
+    across = values[..., 1].real
+    whole = values[..., 2].real
     whirling = across > 1e-9 * whole
     ratio = np.where(whirling, momentum / np.where(whirling, across, 1.0), 0.0)
     sign = np.where(np.asarray(speeds) < 0, -1.0, 1.0)

@@ -3,9 +3,9 @@
 ROSS (https://ross.readthedocs.io/, ``pip install ross-rotordynamics``) is *not* a
 dependency of rotordyn_modal; this script runs in a separate venv where both import::
 
-    ~/.pyenv/versions/3.13.0/bin/python -m venv /tmp/ross-venv   # ROSS 3.x needs Python 3.13
-    /tmp/ross-venv/bin/pip install ross-rotordynamics
-    /tmp/ross-venv/bin/python benchmarks/bench_ross.py [--repeat 3] [--repeat-long 1] [--figure]
+    ~/.pyenv/versions/3.13.0/bin/python -m venv /work/venvs/ross   # ROSS 3.x needs Python 3.13
+    /work/venvs/ross/bin/pip install ross-rotordynamics
+    /work/venvs/ross/bin/python benchmarks/bench_ross.py [--repeat 3] [--repeat-long 1] [--figure]
 
 rotordyn_modal is imported from this checkout (the repository root is put on ``sys.path``)
 unless it is already installed in that venv. Without ROSS the script says so and exits 0.
@@ -76,9 +76,9 @@ try:
 except ImportError:
     print(
         "ross is not installed in this interpreter; nothing to compare. To run the comparison:\n"
-        "  ~/.pyenv/versions/3.13.0/bin/python -m venv /tmp/ross-venv\n"
-        "  /tmp/ross-venv/bin/pip install ross-rotordynamics\n"
-        f"  /tmp/ross-venv/bin/python {Path(__file__).resolve()}"
+        "  ~/.pyenv/versions/3.13.0/bin/python -m venv /work/venvs/ross\n"
+        "  /work/venvs/ross/bin/pip install ross-rotordynamics\n"
+        f"  /work/venvs/ross/bin/python {Path(__file__).resolve()}"
     )
     sys.exit(0)
 

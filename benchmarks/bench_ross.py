@@ -3,9 +3,9 @@
 ROSS (https://ross.readthedocs.io/, ``pip install ross-rotordynamics``) is *not* a
 dependency of rotordyn_modal; this script runs in a separate venv where both import::
 
-    ~/.pyenv/versions/3.13.0/bin/python -m venv /tmp/ross-venv   # ROSS 3.x needs Python 3.13
-    /tmp/ross-venv/bin/pip install ross-rotordynamics
-    /tmp/ross-venv/bin/python benchmarks/bench_ross.py [--repeat 3] [--repeat-long 1] [--figure]
+    ~/.pyenv/versions/3.13.0/bin/python -m venv /work/venvs/ross   # ROSS 3.x needs Python 3.13
+    /work/venvs/ross/bin/pip install ross-rotordynamics
+    /work/venvs/ross/bin/python benchmarks/bench_ross.py [--repeat 3] [--repeat-long 1] [--figure]
 
 rotordyn_modal is imported from this checkout (the repository root is put on ``sys.path``)
 unless it is already installed in that venv. Without ROSS the script says so and exits 0.
@@ -13,9 +13,15 @@ unless it is already installed in that venv. Without ROSS the script says so and
 The machine: a steel shaft (L = 0.5 m, d = 0.1 m, 2 Timoshenko elements in ROSS) carrying a
 disk at mid-span, on two isotropic bearings k = 1e6 N/m at its ends (axial positions +-a,
 a = L/2), spinning about its axis, no damping. rotordyn_modal models it as one rigid rotor
-(no ``[stator]``: a massless frame) whose mass, polar and diametral inertia are the totals
-of ROSS's disk + shaft, on two suspensions at +-a. The 4 lateral rigid-body modes have
-closed forms:
+whose mass, polar and diametral inertia are the totals of ROSS's disk + shaft, in two ways
+that must give the same frequencies:
+
+* ``[[bearings]]``: the rotor on two bearings at +-a to the ground (no ``[stator]``); its
+  coordinates are its two lateral translations and two tilts (4 DOF, 8 states);
+* suspensions: the rotor rigidly on a massless frame (no ``[stator]``, no bearings) held by
+  two suspensions at +-a (6 DOF; small axial and roll stiffness, which ROSS leaves free).
+
+The 4 lateral rigid-body modes have closed forms:
 
 * cylindrical (twice): w = sqrt(2 k / m)
 * conical: w = (Omega Jp +- sqrt((Omega Jp)^2 + 4 Jt kt)) / (2 Jt), kt = 2 a^2 k
@@ -70,9 +76,9 @@ try:
 except ImportError:
     print(
         "ross is not installed in this interpreter; nothing to compare. To run the comparison:\n"
-        "  ~/.pyenv/versions/3.13.0/bin/python -m venv /tmp/ross-venv\n"
-        "  /tmp/ross-venv/bin/pip install ross-rotordynamics\n"
-        f"  /tmp/ross-venv/bin/python {Path(__file__).resolve()}"
+        "  ~/.pyenv/versions/3.13.0/bin/python -m venv /work/venvs/ross\n"
+        "  /work/venvs/ross/bin/pip install ross-rotordynamics\n"
+        f"  /work/venvs/ross/bin/python {Path(__file__).resolve()}"
     )
     sys.exit(0)
 
@@ -129,12 +135,24 @@ def ross_rigid_projection(rotor):
     return Mr[0, 0], Mr[2, 2], abs(Gr[2, 3])
 
 
-def rdm_model(mass, jp, jd):
+def rdm_model_bearings(mass, jp, jd):
+    """The rigid rotor on two ``[[bearings]]`` to the ground: 4 lateral coordinates."""
+    return rdm.Model.from_dict({
+        "name": "rigid rotor on two bearings (ROSS comparison)",
+        "rotors": [{"name": "rotor", "mass": mass, "center_of_mass": [0.0, 0.0, 0.0],
+                    "polar_inertia": jp, "diametral_inertia": jd, "speed_ratio": 1.0}],
+        "bearings": [{"name": "brg-A", "rotor": "rotor", "position": [-A, 0.0, 0.0], "stiffness": K},
+                     {"name": "brg-B", "rotor": "rotor", "position": [A, 0.0, 0.0], "stiffness": K}],
+    })
+
+
+def rdm_model_suspensions(mass, jp, jd):
+    """The rigid rotor on a massless frame held by two suspensions: 6 coordinates."""
     # axial and torsional directions: small stiffness (ROSS leaves them free); only the 4
     # lateral modes are compared
     stiff = [1e2, K, K, 1e-2, 0.0, 0.0]
     return rdm.Model(
-        name="rigid rotor on two bearings (ROSS comparison)",
+        name="rigid rotor on two suspensions (ROSS comparison)",
         rotors=[rdm.Rotor("rotor", mass, [0.0, 0.0, 0.0], jp, jd, speed_ratio=1.0)],
         suspensions=[
             rdm.Suspension("brg-A", [-A, 0.0, 0.0], stiff),
@@ -155,12 +173,25 @@ def closed_form(speed, mass, jp, jd):
 # --------------------------------------------------------------------------- classification
 
 
-def rdm_lateral(result, mass, jd):
+def rotor_energies(model, shapes, mass, jd):
+    """Mass-weighted square motion of the rotor in lateral translation, tilt and the rest
+    (axial, roll), per shape: three arrays shaped like ``shapes[..., 0]``.
+
+    The shapes are over ``model.dofs.names`` (the frame's six motions, or the rotor's own
+    ``rotor.uy, rotor.uz, rotor.ry, rotor.rz`` on bearings); the rotor's motion
+    ``[u, theta]`` at its centre (the origin, the models' reference point) is
+    ``model.dofs.body_motion("rotor") @ shape``.
+    """
+    assert np.allclose(model.dofs.reference_point, 0.0)
+    s = np.abs(np.asarray(shapes) @ model.dofs.body_motion("rotor").T) ** 2  # ux uy uz thx thy thz
+    trans, rot = mass * (s[..., 1] + s[..., 2]), jd * (s[..., 4] + s[..., 5])
+    return trans, rot, mass * s[..., 0] + jd * s[..., 3]
+
+
+def rdm_lateral(model, result, mass, jd):
     """Frequencies [rad/s] of rotordyn_modal's lateral modes: dict cyl (2), con-bw, con-fw."""
     w = 2 * np.pi * np.asarray(result.frequencies_hz)
-    s = np.abs(np.asarray(result.shapes)) ** 2  # (modes, 6): ux uy uz thx thy thz
-    trans, rot = mass * (s[:, 1] + s[:, 2]), jd * (s[:, 4] + s[:, 5])
-    other = mass * s[:, 0] + jd * s[:, 3]
+    trans, rot, other = rotor_energies(model, result.shapes, mass, jd)
     cyl = np.sort(w[(trans > rot) & (trans > other)])
     con = np.sort(w[(rot > trans) & (rot > other)])
     assert cyl.size == 2 and con.size == 2, (cyl, con)
@@ -188,23 +219,16 @@ def rel_errors(found, exact):
     )
 
 
-# --------------------------------------------------------------------------- main
-
-
-
-
-def lateral_campbell_rdm(camp, mass, jd):
+def lateral_campbell_rdm(model, camp, mass, jd):
     """(N, 4) sorted lateral frequencies [rad/s] of an rdm Campbell result."""
-    out = []
-    for i in range(len(camp.speeds)):
-        w = 2 * np.pi * camp.frequencies_hz[i]
-        s = np.abs(camp.shapes[i]) ** 2
-        lateral = mass * (s[:, 1] + s[:, 2]) + jd * (s[:, 4] + s[:, 5])
-        other = mass * s[:, 0] + jd * s[:, 3]
-        out.append(np.sort(w[lateral > other]))
-    return np.array(out)
+    trans, rot, other = rotor_energies(model, camp.shapes, mass, jd)
+    lateral = trans + rot > other
+    assert np.all(lateral.sum(axis=1) == 4)
+    w = 2 * np.pi * camp.frequencies_hz
+    return np.sort(w[lateral].reshape(len(camp.speeds), 4), axis=1)
 
 
+# --------------------------------------------------------------------------- main
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3, help="best of N (ROSS 1001 speeds: --repeat-long)")
@@ -230,21 +254,48 @@ def main() -> None:
         f"(ROSS M, G projected on rigid motions: rel. diff {abs(pm - mass) / mass:.1e}, "
         f"{abs(pjp - jp) / jp:.1e}, {abs(pjd - jd) / jd:.1e})"
     )
-    model = rdm_model(mass, jp, jd)
+    models = {"bearings": rdm_model_bearings(mass, jp, jd), "suspensions": rdm_model_suspensions(mass, jp, jd)}
+    for name, model in models.items():
+        print(f"rotordyn_modal, {name:11s}: coordinates {', '.join(model.dofs.names)}")
 
-    # ---- accuracy
+    rdm_worst = rdm_accuracy(models, mass, jp, jd)
+    ross_table = ross_accuracy(mass, jp, jd)
+    whirl_labels(models["bearings"], rotor1)
+    print(f"\n(ROSS's first run_modal call, excluded below: {warm:.1f} s; ROSS model: {N_EL} elements, "
+          f"{rotor1.ndof} DOF; rotordyn_modal: 4 DOF on [[bearings]], 6 on suspensions)")
+    figure_data = campbell_speed(models, mass, jp, jd, args.repeat, args.repeat_long)
+    if args.figure:
+        write_figure(figure_data, ross_table, rdm_worst)
+
+
+def rdm_accuracy(models, mass, jp, jd) -> float:
+    """Print rdm.modal's lateral frequencies against the closed forms, for both models;
+    return the worst relative difference."""
     speeds = np.array(SPEEDS_RPM) * np.pi / 30
-    print("\nclosed form [Hz] and rotordyn_modal's relative difference to it (rdm.modal)")
-    print(f"{'rpm':>7} | {'cyl':>9} {'con-bw':>9} {'con-fw':>9} | {'cyl':>8} {'con-bw':>8} {'con-fw':>8}")
-    rdm_worst = 0.0
+    print("\nclosed form [Hz] and rotordyn_modal's relative difference to it (rdm.modal), "
+          "rotor on [[bearings]] | on suspensions")
+    print(f"{'rpm':>7} | {'cyl':>9} {'con-bw':>9} {'con-fw':>9} | {'cyl':>8} {'con-bw':>8} {'con-fw':>8} |"
+          f" {'cyl':>8} {'con-bw':>8} {'con-fw':>8} | bearings vs suspensions")
+    worst = between = 0.0
     for rpm, speed in zip(SPEEDS_RPM, speeds):
         exact = closed_form(speed, mass, jp, jd)
-        err = rel_errors(rdm_lateral(rdm.modal(model, speed), mass, jd), exact)
-        rdm_worst = max(rdm_worst, *err)
+        found = {name: rdm_lateral(model, rdm.modal(model, speed), mass, jd) for name, model in models.items()}
+        errors = {name: rel_errors(f, exact) for name, f in found.items()}
+        worst = max(worst, *errors["bearings"], *errors["suspensions"])
+        both = rel_errors(found["bearings"], tuple(found["suspensions"][k] for k in ("cyl", "con-bw", "con-fw")))
+        between = max(between, *both)
         hz = [float(x) / (2 * np.pi) for x in exact]
         print(f"{rpm:7.0f} | {hz[0]:9.4f} {hz[1]:9.4f} {hz[2]:9.4f} | "
-              + " ".join(f"{e:8.1e}" for e in err))
+              + " ".join(f"{e:8.1e}" for e in errors["bearings"]) + " | "
+              + " ".join(f"{e:8.1e}" for e in errors["suspensions"]) + f" | {max(both):8.1e}")
+    print(f"largest relative difference, [[bearings]] vs suspensions: {between:.1e}")
+    return worst
 
+
+def ross_accuracy(mass, jp, jd) -> dict:
+    """Print ROSS's lateral frequencies against the closed forms as the shaft stiffens;
+    return {E scale: (speeds, 3) relative differences}."""
+    speeds = np.array(SPEEDS_RPM) * np.pi / 30
     print("\nROSS run_modal(speed, sparse=False): relative difference to the closed form")
     print(f"{'E x':>6} {'1st bending Hz':>15} | " + " | ".join(f"{r:>5.0f} rpm: cyl  bw  fw".rjust(30) for r in SPEEDS_RPM[::2]))
     ross_table = {}
@@ -264,32 +315,38 @@ def main() -> None:
     for scale in E_SCALES:
         worst = ross_table[scale].max(axis=0)
         print(f"  ROSS E x {scale:<6g}: cyl {worst[0]:.2e}  con-bw {worst[1]:.2e}  con-fw {worst[2]:.2e}")
-    print(f"  rotordyn_modal : all modes {rdm_worst:.1e}")
     ratios = [ross_table[a].max() / ross_table[b].max() for a, b in zip(E_SCALES, E_SCALES[1:])]
     print("  ROSS worst-error ratio per x10 of E: " + ", ".join(f"{r:.1f}" for r in ratios))
+    return ross_table
 
-    # ---- whirl labels of the 4 lateral modes at 3000 rpm (cylindrical pair is degenerate)
+
+def whirl_labels(model, ross_rotor_1):
+    """Whirl of the 4 lateral modes at 3000 rpm (the cylindrical pair is degenerate)."""
     speed = 3000 * np.pi / 30
     res = rdm.modal(model, speed)
     camp = rdm.campbell(model, np.array([0.0, speed]))
     with _quiet():
-        ross_modal = rotor1.run_modal(speed, num_modes=12, sparse=False)
+        ross_modal = ross_rotor_1.run_modal(speed, num_modes=12, sparse=False)
     lateral = np.argsort(res.frequencies_hz)[-4:]
     order_c = np.argsort(camp.frequencies_hz[1])[-4:]
-    print("\nwhirl of the 4 lateral modes at 3000 rpm (ascending frequency: cyl, cyl, con-bw, con-fw)")
+    print("\nwhirl of the 4 lateral modes at 3000 rpm (ascending frequency: cyl, cyl, con-bw, con-fw), "
+          "rotor on [[bearings]]")
     print("  rdm.modal   : " + " ".join(f"{w}({r:+.2f})" for w, r in zip(res.whirl[lateral], res.whirl_ratios[lateral])))
     print("  rdm.campbell: " + " ".join(f"{w}({r:+.2f})" for w, r in zip(camp.whirl[1, order_c], camp.whirl_ratios[1, order_c])))
     print("  ROSS        : " + " ".join(str(w) for w in np.asarray(ross_modal.whirl_direction())[:4]))
 
-    # ---- speed: Campbell diagrams
-    print(f"\nCampbell diagram 0..10000 rpm, best of {args.repeat} (ROSS at 1001 speeds: best of {args.repeat_long})")
-    rdm.campbell(model, np.linspace(0, 100, 3))
-    print(f"(ROSS's first run_modal call, excluded: {warm:.1f} s; ROSS model: {N_EL} elements, "
-          f"{rotor1.ndof} DOF; rotordyn_modal: 6 DOF)")
+
+def campbell_speed(models, mass, jp, jd, repeat, repeat_long):
+    """Time ROSS's and rotordyn_modal's Campbell diagrams side by side; return the figure's
+    data of the finest grid (speeds, closed form, rdm on bearings, ROSS)."""
+    print(f"\nCampbell diagram 0..10000 rpm, best of {repeat} (ROSS at 1001 speeds: best of {repeat_long}); "
+          "rdm: rotor on [[bearings]] | on suspensions")
+    for model in models.values():
+        rdm.campbell(model, np.linspace(0, 100, 3))
     figure_data = None
     for n_speeds in (101, 1001):
         grid = np.linspace(0.0, 10000.0, n_speeds) * np.pi / 30
-        rep = args.repeat if n_speeds <= 101 else args.repeat_long
+        rep = repeat if n_speeds <= 101 else repeat_long
         # ROSS memoises run_modal per Rotor instance (methodtools lru_cache, 128 entries):
         # each repetition gets a fresh, identical Rotor, built outside the timed part
         t_ross = np.inf
@@ -299,22 +356,19 @@ def main() -> None:
             with _quiet():
                 ross_campbell = rotor.run_campbell(grid)
             t_ross = min(t_ross, time.perf_counter() - start)
-        t_rdm = best_time(lambda: rdm.campbell(model, grid), max(args.repeat, 5))
-        camp = rdm.campbell(model, grid)
         exact = np.sort(np.column_stack([closed_form(grid, mass, jp, jd)[i] for i in (0, 0, 1, 2)]), axis=1)
-        w_rdm = lateral_campbell_rdm(camp, mass, jd)
         w_ross = np.sort(np.asarray(ross_campbell.wd), axis=1)[:, :4]
-        e_rdm = np.max(np.abs(w_rdm - exact) / exact)
-        e_ross = np.max(np.abs(w_ross - exact) / exact)
-        print(
-            f"{n_speeds:5d} speeds: ROSS run_campbell {t_ross * 1e3:9.1f} ms ({t_ross / n_speeds * 1e3:.1f} ms/speed)"
-            f" | rdm.campbell {t_rdm * 1e3:7.2f} ms | ROSS / rdm = {t_ross / t_rdm:7.0f}x"
-            f" | max rel. diff to closed form: ROSS {e_ross:.1e}, rdm {e_rdm:.1e}"
-        )
-        figure_data = (grid, exact, w_rdm, w_ross)
-
-    if args.figure:
-        write_figure(figure_data, ross_table, rdm_worst)
+        cells, w_rdm = [], {}
+        for name, model in models.items():
+            t_rdm = best_time(lambda: rdm.campbell(model, grid), max(repeat, 5))
+            w_rdm[name] = lateral_campbell_rdm(model, rdm.campbell(model, grid), mass, jd)
+            cells.append(f"rdm.campbell {t_rdm * 1e3:6.2f} ms, ROSS / rdm = {t_ross / t_rdm:5.0f}x, "
+                         f"max rel. diff {np.max(np.abs(w_rdm[name] - exact) / exact):.1e}")
+        print(f"{n_speeds:5d} speeds: ROSS run_campbell {t_ross * 1e3:8.1f} ms ({t_ross / n_speeds * 1e3:.1f} ms/speed, "
+              f"max rel. diff to closed form {np.max(np.abs(w_ross - exact) / exact):.1e})\n"
+              f"             [[bearings]]: {cells[0]}\n             suspensions: {cells[1]}")
+        figure_data = (grid, exact, w_rdm["bearings"], w_ross)
+    return figure_data
 
 
 def write_figure(data, ross_table, rdm_worst):
@@ -330,7 +384,7 @@ def write_figure(data, ross_table, rdm_worst):
     for j in range(4):
         ax1.plot(rpm, exact[:, j] / (2 * np.pi), "k-", lw=1, label="closed form" if j == 0 else None)
         ax1.plot(rpm[::step], w_rdm[::step, j] / (2 * np.pi), "o", ms=3, mfc="none", color="C0",
-                 label="rotordyn_modal" if j == 0 else None)
+                 label="rotordyn_modal ([[bearings]])" if j == 0 else None)
         ax1.plot(rpm[step // 2::step], w_ross[step // 2::step, j] / (2 * np.pi), "x", ms=3, color="C3",
                  label="ROSS (E x 1)" if j == 0 else None)
     ax1.plot(rpm, grid / (2 * np.pi), "k:", lw=0.8, label="1X")

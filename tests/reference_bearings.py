@@ -175,14 +175,59 @@ class BearingMachine:
         return scipy.linalg.null_space(np.array(rows))
 
     # -- solutions -----------------------------------------------------------------------
-    def eigenvalues(self, speed):
-        """All eigenvalues at ``speed`` [rad/s] (QZ on the balanced companion pencil)."""
+    def _companion(self, speed):
+        """Balanced companion pencil (A, B) in the time unit 1 / gamma, and gamma."""
         n = self.M.shape[0]
         D = self.C + speed * self.G
         gamma = np.sqrt(np.linalg.norm(self.K, 2) / np.linalg.norm(self.M, 2)) or 1.0
         A = np.block([[np.zeros((n, n)), np.eye(n)], [-self.K / gamma**2, -D / gamma]])
         B = np.block([[np.eye(n), np.zeros((n, n))], [np.zeros((n, n)), self.M]])
+        return A, B, gamma
+
+    def eigenvalues(self, speed):
+        """All eigenvalues at ``speed`` [rad/s] (QZ on the balanced companion pencil)."""
+        A, B, gamma = self._companion(speed)
         return gamma * scipy.linalg.eigvals(A, B)
+
+    def modes(self, speed):
+        """Oscillating roots (Im > 0) by frequency: eigenvalues and shapes (free coordinates)."""
+        A, B, gamma = self._companion(speed)
+        values, vectors = scipy.linalg.eig(A, B)
+        values = gamma * values
+        keep = values.imag > 1e-7 * np.abs(values).max()
+        order = np.argsort(values.imag[keep])
+        return values[keep][order], vectors[:self.M.shape[0], keep][:, order].T
+
+    def whirl_ratio(self, shape, speed):
+        """Signed whirl ratio of a shape (free coordinates) against the first rotor's spin:
+        the particles' mass-weighted angular momentum about the spin axis over their
+        mass-weighted square motion normal to it, every body's particles together."""
+        full = self.Z @ shape
+        momentum = across = 0.0
+        for j, (masses, jacobians) in enumerate(self._clouds()):
+            if masses is None:
+                continue  # the ground
+            D = jacobians @ full[self._block(j)]  # particle displacements (n_p, 3)
+            momentum += np.einsum("p,pa,a->", masses, np.real(1j * np.cross(D.conj(), D)), self.e)
+            perp = D - np.outer(D @ self.e, self.e)
+            across += np.einsum("p,pa->", masses, np.abs(perp) ** 2)
+        first = self.ratios[self.rotor_names[0]]
+        return (1.0 if speed * first >= 0 else -1.0) * momentum / across
+
+    def _clouds(self):
+        """(masses, jacobians (n_p, 3, 6)) of each body's particle cloud; (None, None) for a
+        ground stator."""
+        if getattr(self, "_cloud_cache", None) is None:
+            stator = self.data.get("stator")
+            clouds = [(None, None) if stator is None else
+                      particle_cloud(stator["mass"], stator.get("center_of_mass", [0, 0, 0]), stator["inertia"])]
+            for rotor in self.data.get("rotors", []):
+                jp, jd = rotor["polar_inertia"], rotor["diametral_inertia"]
+                tensor = jd * np.eye(3) + (jp - jd) * np.outer(self.e, self.e)
+                clouds.append(particle_cloud(rotor["mass"], rotor["center_of_mass"], tensor))
+            self._cloud_cache = [(None, None) if masses is None else
+                                 (masses, np.array([_jacobian(p) for p in points])) for masses, points in clouds]
+        return self._cloud_cache
 
     def receptance(self, speed, omega, force_at, force_dir, force_body, sensor_at, sensor_dir, sensor_body):
         """Displacement of a body point along a direction per unit force at a body point."""

@@ -127,7 +127,7 @@ def test_bad_speed_grids_are_refused(speeds):
 
 @pytest.mark.parametrize("seed", range(3))
 def test_campbell_whirl_and_damping_equal_the_reference(seed, examples_dir):
-    """The sweep's shapes come from inverse iteration (not LAPACK vectors as in modal):
+    """The sweep's shapes come from its own batched solver (not modal's scipy.linalg.eig):
     their whirl ratios must still equal the reference's particle-orbit definition."""
     from reference_model import random_description
 

@@ -10,6 +10,7 @@ it still gives the shape at a single known eigenvalue, e.g. at a critical speed.
 
 from __future__ import annotations
 
+import contextlib
 import os
 from concurrent.futures import ThreadPoolExecutor
 
@@ -20,7 +21,7 @@ import numpy as np
 from ..assembly import add_rotor_body, body_inertias, frame_block
 from ..geometry import skew
 
-__all__ = ["upper_eigenvalues", "mode_shapes", "solve_batch", "whirl_forms", "rotor_whirl_forms",
+__all__ = ["select_upper", "upper_indices", "pencil_shapes", "eigenvalues_of", "solve_batch", "whirl_forms", "rotor_whirl_forms",
            "whirl_ratios",
            "mass_normalized", "mac_matrix", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
 
@@ -31,61 +32,80 @@ OSCILLATORY_TOLERANCE = 1e-6
 WHIRL_TOLERANCE = 1e-3
 
 _THREADS = max(1, min(4, os.cpu_count() or 1))
-_CHUNK = 64
-_rng_vectors = np.random.default_rng(20261122).standard_normal((2, 64, 64))
-_START_VECTORS = _rng_vectors[0] + 1j * _rng_vectors[1]
+#: batches whose work arrays exceed this are shared between threads [bytes]
+_THREAD_BYTES = 2**20
+#: upper bound of the work arrays of one part of a batch [bytes]
+_PART_BYTES = 64 * 2**20
+_START_SEED = 20261122
+
+
+def _start_vectors(m: int, n: int) -> np.ndarray:
+    """Fixed pseudo-random complex start vectors of inverse iteration, shape (m, n)."""
+    size = max(64, m, n)
+    draws = np.random.default_rng(_START_SEED).standard_normal((2, size, size))
+    return (draws[0] + 1j * draws[1])[:m, :n]
 
 
 _POOL: ThreadPoolExecutor | None = None
 
 
-def _eig(matrices: np.ndarray):
-    """``numpy.linalg.eig`` over the first axis, in threads for large batches (see :func:`_threaded`)."""
-    threads = int(os.environ.get("ROTORDYN_MODAL_THREADS", _THREADS))
-    if len(matrices) < 2 * _CHUNK or threads <= 1:
-        return np.linalg.eig(matrices)
-    parts = _threaded(lambda a: np.concatenate([(r := np.linalg.eig(a))[0][:, None, :], r[1]], axis=1),
-                      matrices)
-    return parts[:, 0, :], parts[:, 1:, :]
-
-
-def _threaded(function, *batches: np.ndarray) -> np.ndarray:
+def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
     """Apply a batched numpy routine over the first axis of its arrays using a few threads.
 
     LAPACK-backed numpy routines and large array arithmetic release the GIL, so
     the parts run in parallel. Set ``ROTORDYN_MODAL_THREADS=1`` (as parameter
-    studies do in their worker processes) to stay on one core.
+    studies do in their worker processes) to stay on one core. ``item_bytes``
+    (the work memory per item, a measure of its cost) splits large batches into
+    parts of at most about ``_PART_BYTES``, and shares batches beyond
+    ``_THREAD_BYTES`` between threads. ``function`` returns an array or a tuple
+    of arrays; the parts' results are concatenated.
     """
     global _POOL
+    count = len(batches[0])
     threads = int(os.environ.get("ROTORDYN_MODAL_THREADS", _THREADS))
-    if len(batches[0]) < 2 * _CHUNK or threads <= 1:
+    pieces = max(1, min(count, -(-count * item_bytes // _PART_BYTES)))
+    if threads > 1 and count * item_bytes >= _THREAD_BYTES:
+        pieces = max(pieces, min(count, threads))
+    if pieces == 1:
         return function(*batches)
-    if _POOL is None or _POOL._max_workers != threads:
-        _POOL = ThreadPoolExecutor(threads, thread_name_prefix="rotordyn-eig")
-    parts = [np.array_split(batch, threads) for batch in batches]
-    return np.concatenate(list(_POOL.map(function, *parts)))
+    parts = [np.array_split(batch, pieces) for batch in batches]
+    if threads > 1:
+        if _POOL is None or _POOL._max_workers != threads:
+            _POOL = ThreadPoolExecutor(threads, thread_name_prefix="rotordyn-eig")
+        with _one_blas_thread():
+            results = list(_POOL.map(function, *parts))
+    else:
+        results = [function(*part) for part in zip(*parts)]
+    if isinstance(results[0], tuple):
+        return tuple(np.concatenate(column) for column in zip(*results))
+    return np.concatenate(results)
 
 
-def upper_eigenvalues(state_matrices: np.ndarray) -> np.ndarray:
-    """The n eigenvalues with the largest imaginary parts of each state matrix.
+def _one_blas_thread():
+    """One BLAS/LAPACK thread each while our own threads share the cores (through
+    threadpoolctl when installed): BLAS's own threads on top of ours would oversubscribe
+    the cores, which slows large eigenproblems several times over."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover
+        return contextlib.nullcontext()
+    return threadpool_limits(1, user_api="blas")
 
-    One of each complex-conjugate pair, and half of the real eigenvalues (the
-    ones of smaller magnitude), sorted by imaginary part, then real part.
 
-    Parameters
-    ----------
-    state_matrices : ndarray, shape (N, 2n, 2n)
+def _eig(matrices: np.ndarray):
+    """``numpy.linalg.eig`` of a stack of matrices, in threads and parts of bounded memory."""
+    size = matrices.shape[-1]
+    return _threaded(np.linalg.eig, matrices, item_bytes=72 * size * size)
 
-    Returns
-    -------
-    ndarray, shape (N, n), complex [1/s]
-    """
-    values = _threaded(np.linalg.eigvals, state_matrices)
-    return select_upper(values)
+
+def eigenvalues_of(matrices: np.ndarray) -> np.ndarray:
+    """``numpy.linalg.eigvals`` of a stack of matrices, in threads and parts of bounded memory."""
+    size = matrices.shape[-1]
+    return _threaded(np.linalg.eigvals, matrices, item_bytes=24 * size * size)
 
 
 def select_upper(values: np.ndarray) -> np.ndarray:
-    """Pick the upper half of each row of eigenvalues; see :func:`upper_eigenvalues`."""
+    """Pick the upper half of each row of eigenvalues; one of each conjugate pair and the smaller half of the real roots."""
     return upper_indices(values)[1]
 
 
@@ -97,7 +117,7 @@ def upper_indices(values: np.ndarray):
     index : ndarray of int, shape (..., n)
         Positions in ``values`` (and in the columns of the eigenvector matrices).
     upper : ndarray, shape (..., n), complex
-        Sorted by imaginary part, then real part (see :func:`upper_eigenvalues`); roots
+        Sorted by imaginary part, then real part (one of each conjugate pair and the smaller half of the real roots); roots
         whose imaginary part is round-off are made real.
     """
     n = values.shape[-1] // 2
@@ -116,54 +136,6 @@ def upper_indices(values: np.ndarray):
     return np.take_along_axis(chosen, final, axis=-1), np.take_along_axis(upper, final, axis=-1)
 
 
-def mode_shapes(M, damping, K, eigenvalues, branches=None) -> np.ndarray:
-    """Right eigenvectors ``phi`` of ``Q(lam) phi = 0`` by one inverse-iteration step.
-
-    Parameters
-    ----------
-    M : ndarray, shape (n, n)
-    damping : ndarray, shape (N, n, n)
-        ``C + Omega G`` at each speed.
-    K : ndarray, shape (n, n) or (N, n, n)
-        Stiffness (per speed when bearing coefficients depend on speed).
-    eigenvalues : ndarray, shape (N, m), complex
-    branches : (ndarray (n_b, n, n), ndarray (n_b,)), optional
-        Maxwell branches' stiffness [N/m, ...] and relaxation times [s]: the pencil
-        gains ``sum_b lam tau_b / (1 + lam tau_b) K_b``.
-
-    Returns
-    -------
-    ndarray, shape (N, m, n), complex
-        Unit-norm shapes (displacement part of the state eigenvectors).
-    """
-    if np.ndim(K) == 3:
-        return _threaded(lambda d, lam, k: _mode_shapes_part(M, d, k[:, None], lam, branches),
-                         damping, eigenvalues, K)
-    return _threaded(lambda d, lam: _mode_shapes_part(M, d, K, lam, branches), damping, eigenvalues)
-
-
-def _mode_shapes_part(M, damping, K, eigenvalues, branches=None):
-    lam = eigenvalues[..., None, None]
-    scale = np.abs(eigenvalues).max(axis=-1, keepdims=True)[..., None, None] + 1e-300
-    # a shift at round-off level keeps an exactly singular pencil (lam = 0 with an
-    # unsupported direction) solvable without changing the converged direction
-    shifted = lam + 1e-13 * scale * (1 + 1j)
-    pencil = shifted * damping[:, None]
-    pencil += K
-    pencil += shifted**2 * M
-    if branches is not None and len(branches[1]):
-        stiffness, times = branches
-        # a relaxation root sits near the pole lam = -1/tau; the round-off shift keeps it finite
-        factor = shifted[..., 0, 0, None] * times / (1 + shifted[..., 0, 0, None] * times)
-        pencil += np.einsum("nmb,bij->nmij", factor, stiffness)
-    m, n = eigenvalues.shape[-1], M.shape[0]
-    start = np.broadcast_to(_start_vectors(m, n)[..., None], pencil.shape[:-2] + (n, 1))
-    # one step suffices: the shift is at round-off level, so the other modes' share of the
-    # result is |lam - shifted| / |lam_other - shifted|, about 1e-13 of the gap
-    vectors = _solve(pencil, start)[..., 0]
-    return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
-
-
 def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarray:
     """One inverse-iteration step per row for a single known eigenvalue: ``Q(lam) phi = 0``.
 
@@ -180,7 +152,7 @@ def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarr
     ndarray, shape (P, n), complex, unit norm
     """
     lam = np.asarray(eigenvalues)[:, None, None]
-    shifted = lam + 1e-13 * (np.abs(lam) + 1e-300) * (1 + 1j)   # as in _mode_shapes_part
+    shifted = lam + 1e-13 * (np.abs(lam) + 1e-300) * (1 + 1j)   # round-off shift keeps an exactly singular pencil solvable
     pencil = shifted * damping + stiffness + shifted**2 * M
     if branches is not None and branches[1].shape[-1]:
         stiffness_b, times = branches
@@ -189,14 +161,6 @@ def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarr
     start = np.broadcast_to(_start_vectors(1, M.shape[-1])[0][:, None], pencil.shape[:-1] + (1,))
     vectors = _solve(pencil, start)[..., 0]
     return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
-
-
-def _start_vectors(m: int, n: int) -> np.ndarray:
-    """Fixed pseudo-random start vectors (m, n) of inverse iteration, reproducible run to run."""
-    if m <= _START_VECTORS.shape[0] and n <= _START_VECTORS.shape[1]:
-        return _START_VECTORS[:m, :n]
-    rng = np.random.default_rng([20261122, m, n])
-    return rng.standard_normal((m, n)) + 1j * rng.standard_normal((m, n))
 
 
 def _solve(matrices, rhs):
@@ -405,12 +369,14 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     -------
     ndarray, shape (..., m)
     """
-    def form(matrix):  # phi^H X phi for every shape, as one batched product
-        return (shapes.conj() * (shapes @ np.swapaxes(matrix, -1, -2))).sum(axis=-1)
-
-    momentum = (-1j * form(forms.W)).real
-    across = form(forms.N).real
-    whole = form(forms.total).real
+    n = shapes.shape[-1]
+    # phi^H X phi of the three forms for every shape: one batched product with [W^T N^T total^T]
+    stacked = np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1)
+    products = (shapes @ stacked).reshape(shapes.shape[:-1] + (3, n))
+    values = np.einsum("...i,...ki->...k", shapes.conj(), products)
+    momentum = values[..., 0].imag  # Re(-i phi^H W phi)
+    across = values[..., 1].real
+    whole = values[..., 2].real
     whirling = across > 1e-9 * whole
     ratio = np.where(whirling, momentum / np.where(whirling, across, 1.0), 0.0)
     sign = np.where(np.asarray(speeds) < 0, -1.0, 1.0)
@@ -441,4 +407,4 @@ def mac_matrix(a, b) -> np.ndarray:
     -------
     ndarray, shape (..., m, p), values in [0, 1]
     """
-    return np.abs(np.einsum("...in,...jn->...ij", a.conj(), b)) ** 2
+    return np.abs(a.conj() @ np.swapaxes(b, -1, -2)) ** 2  # batched BLAS, not einsum's loops

@@ -16,6 +16,8 @@ __all__ = ["CampbellResult", "CriticalSpeeds", "ExcitationSources", "campbell", 
            "critical_speeds", "excitation_sources", "solve_sweep", "solve_sweeps"]
 
 _CHUNK = 4096
+#: memory of one chunk of a sweep (state matrices, eigenvectors, LAPACK's work) [bytes]
+_CHUNK_BYTES = 512 * 2**20
 
 
 @dataclass(frozen=True)
@@ -193,7 +195,10 @@ def solve_sweeps(stack, speeds, progress=False):
     """
     speeds = np.asarray(speeds, dtype=float)
     count = len(stack)
-    chunks = [speeds[i:i + _CHUNK] for i in range(0, len(speeds), _CHUNK)]
+    size = stack.forms[0].n_states
+    # speeds per chunk: the chunk's state matrices and eigenvectors within about _CHUNK_BYTES
+    step = int(np.clip(_CHUNK_BYTES // (count * 72 * size * size), 1, _CHUNK))
+    chunks = [speeds[i:i + step] for i in range(0, len(speeds), step)]
     values, shapes = [], []
     for chunk in _progress(chunks, progress, "eigen-solve"):
         matrices = stack.sweep(chunk)
@@ -519,7 +524,7 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
 
     Returns the eigenvalues and whether each was told apart by distance alone and is single
     (its shape then follows from one inverse-iteration step)."""
-    lam = _eigen.select_upper(_eigen._threaded(np.linalg.eigvals, stack.at(brackets.variant[rows], x)))
+    lam = _eigen.select_upper(_eigen.eigenvalues_of(stack.at(brackets.variant[rows], x)))
     expected = _interpolated(speeds, values, brackets, rows, x)
     distance = np.abs(lam - expected[:, None])
     nearest, second = np.argsort(distance, axis=1)[:, :2].T

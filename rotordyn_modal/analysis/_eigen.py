@@ -11,6 +11,7 @@ it still gives the shape at a single known eigenvalue, e.g. at a critical speed.
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 from concurrent.futures import ThreadPoolExecutor
 
@@ -41,9 +42,13 @@ _START_SEED = 20261122
 
 def _start_vectors(m: int, n: int) -> np.ndarray:
     """Fixed pseudo-random complex start vectors of inverse iteration, shape (m, n)."""
-    size = max(64, m, n)
+    return _start_block(max(64, m, n))[:m, :n]
+
+
+@functools.lru_cache(maxsize=4)
+def _start_block(size: int) -> np.ndarray:
     draws = np.random.default_rng(_START_SEED).standard_normal((2, size, size))
-    return (draws[0] + 1j * draws[1])[:m, :n]
+    return draws[0] + 1j * draws[1]
 
 
 _POOL: ThreadPoolExecutor | None = None
@@ -72,7 +77,7 @@ def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
     if threads > 1:
         if _POOL is None or _POOL._max_workers != threads:
             _POOL = ThreadPoolExecutor(threads, thread_name_prefix="rotordyn-eig")
-        with _one_blas_thread():
+        with _one_blas_thread(item_bytes):
             results = list(_POOL.map(function, *parts))
     else:
         results = [function(*part) for part in zip(*parts)]
@@ -81,15 +86,28 @@ def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
     return np.concatenate(results)
 
 
-def _one_blas_thread():
+#: items (matrices) whose work exceeds this may make BLAS start threads of its own [bytes]
+_BLAS_THREADED_BYTES = 72 * 48 * 48
+
+
+def _one_blas_thread(item_bytes: int):
     """One BLAS/LAPACK thread each while our own threads share the cores (through
     threadpoolctl when installed): BLAS's own threads on top of ours would oversubscribe
-    the cores, which slows large eigenproblems several times over."""
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # pragma: no cover
+    the cores, which slows large eigenproblems several times over. Small matrices never
+    start BLAS threads, and asking threadpoolctl costs about a millisecond: skipped there."""
+    if item_bytes < _BLAS_THREADED_BYTES:
         return contextlib.nullcontext()
-    return threadpool_limits(1, user_api="blas")
+    controller = _blas_controller()
+    return contextlib.nullcontext() if controller is None else controller.limit(limits=1, user_api="blas")
+
+
+@functools.lru_cache(maxsize=1)
+def _blas_controller():
+    try:
+        from threadpoolctl import ThreadpoolController
+    except ImportError:  # pragma: no cover
+        return None
+    return ThreadpoolController()
 
 
 def _eig(matrices: np.ndarray):

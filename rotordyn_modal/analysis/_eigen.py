@@ -401,11 +401,20 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     return np.clip(ratio * np.asarray(sign)[..., None], -1.0, 1.0)
 
 
+_WHIRL_NAMES = np.array(["backward", "none", "forward"])
+
+
 def whirl_labels(ratios) -> np.ndarray:
     """'forward', 'backward' or 'none' from whirl ratios (array of str)."""
     ratios = np.asarray(ratios)
-    return np.where(ratios > WHIRL_TOLERANCE, "forward",
-                    np.where(ratios < -WHIRL_TOLERANCE, "backward", "none"))
+    return _WHIRL_NAMES[(ratios > WHIRL_TOLERANCE).astype(np.intp) - (ratios < -WHIRL_TOLERANCE) + 1]
+
+
+def row_norms(x) -> np.ndarray:
+    """Euclidean norms of the last axis of a complex array, shape (..., 1) (``numpy.linalg.norm``
+    with ``keepdims``, without its temporaries)."""
+    pairs = np.ascontiguousarray(x).view(float)
+    return np.sqrt(np.einsum("...i,...i->...", pairs, pairs))[..., None]
 
 
 def mass_normalized(shapes, M) -> np.ndarray:

@@ -359,20 +359,10 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         raise InputError(f"{model.source}: the model has no [[unbalances]]: nothing excites an unbalance response")
     speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
     sources, w, rotor_forces = unbalance_forces(model, speeds)
-    rows = sensor_rows(model, outputs)
     n_src, n = len(sources), len(speeds)
-    omega = w.ravel()                                         # (n_src * N,)
-    speed_all = np.tile(speeds, n_src)
-    generalized = np.stack([generalized_force(model, src, model.rotor(src).center_of_mass, rotor_forces[j])
-                            for j, src in enumerate(sources)])                 # (n_src, N, n_dof)
-    q = dof_response(model, speed_all, omega, generalized.reshape(n_src * n, -1)[:, :, None])
-    response = (rows @ q[..., 0].T).reshape(len(rows), n_src, n) * (1j * w) ** _ORDER[quantity]
-    ground = suspension_forces(model, omega, q)[..., 0]       # (n_susp, n_src N, 6)
-    ext = np.zeros((len(model.rotors), n_src * n, 6, 1), dtype=complex)
-    for j, src in enumerate(sources):
-        ext[[r.name for r in model.rotors].index(src), j * n:(j + 1) * n, :, 0] = rotor_forces[j]
-    bearing = bearing_forces(model, speed_all, omega, q, ext)[..., 0]
-    at_bearings = bearing_point_forces(model, speed_all, omega, q)[..., 0]
+    speed_all, omega = np.tile(speeds, n_src), w.ravel()     # (n_src * N,): sources one after another
+    q = _coordinate_response(model, sources, rotor_forces, speed_all, omega)
+    response = (sensor_rows(model, outputs) @ q[..., 0].T).reshape(-1, n_src, n) * (1j * w) ** _ORDER[quantity]
     names = tuple(s.name for s in model.sensors) if outputs is None else \
         ((outputs,) if isinstance(outputs, str) else tuple(outputs))
     pairs = probe_pairs(model, [next(s for s in model.sensors if s.name == name) for name in names])
@@ -384,10 +374,34 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         response=response, quantity=quantity,
         suspension_names=tuple(s.name for s in model.suspensions),
         rotor_names=tuple(r.name for r in model.rotors),
-        ground_forces=np.moveaxis(ground.reshape(len(model.suspensions), n_src, n, 6), 3, 1),
-        bearing_forces=np.moveaxis(bearing.reshape(len(model.rotors), n_src, n, 6), 3, 1),
         bearing_names=tuple(b.name for b in model.bearings),
-        bearing_point_forces=np.moveaxis(at_bearings.reshape(len(model.bearings), n_src, n, 6), 3, 1),
+        **_force_fields(model, sources, rotor_forces, speed_all, omega, q),
         orbit_pairs=pairs.names, orbit_planes=planes, spin_signs=spin_signs.reshape(n_src, n),
         rigid_rotor_names=tuple(r.name for r in model.rotors if not model.bearings_of(r.name)),
     )
+
+
+def _coordinate_response(model, sources, rotor_forces, speed_all, omega):
+    """Complex amplitudes of the generalized coordinates, shape (n_src N, n_dof, 1), every
+    source's unbalance force applied at its rotor's centre of mass."""
+    generalized = np.stack([generalized_force(model, src, model.rotor(src).center_of_mass, rotor_forces[j])
+                            for j, src in enumerate(sources)])                 # (n_src, N, n_dof)
+    return dof_response(model, speed_all, omega, generalized.reshape(len(omega), -1)[:, :, None])
+
+
+def _force_fields(model, sources, rotor_forces, speed_all, omega, q):
+    """``ground_forces``, ``bearing_forces`` and ``bearing_point_forces`` of
+    :class:`UnbalanceResult`, each shape (n_items, 6, n_src, N)."""
+    n_src = len(sources)
+    n = len(omega) // max(n_src, 1)
+    rotor_names = [r.name for r in model.rotors]
+    external = np.zeros((len(model.rotors), len(omega), 6, 1), dtype=complex)
+    for j, src in enumerate(sources):
+        external[rotor_names.index(src), j * n:(j + 1) * n, :, 0] = rotor_forces[j]
+
+    def per_source(forces):                                   # (items, n_src N, 6, 1) -> (items, 6, n_src, N)
+        return np.moveaxis(forces[..., 0].reshape(len(forces), n_src, n, 6), 3, 1)
+
+    return {"ground_forces": per_source(suspension_forces(model, omega, q)),
+            "bearing_forces": per_source(bearing_forces(model, speed_all, omega, q, external)),
+            "bearing_point_forces": per_source(bearing_point_forces(model, speed_all, omega, q))}

@@ -283,14 +283,9 @@ ANALYSES = {
                                 _describe_critical, _run_critical),
     "stability": Analysis("stability", ("speeds_rpm",), _parse_stability, _describe_stability,
                           _run_stability),
+    "unbalance": Analysis("unbalance", ("speeds_rpm", "outputs", "operating_speed_rpm", "quantity"),
+                          _parse_unbalance, _describe_unbalance, _run_unbalance),
 }
-try:  # the response issue provides it; plug in only if it is there
-    from ..analysis.unbalance import unbalance_response as _unbalance_response  # noqa: F401
-except ImportError:  # pragma: no cover
-    pass
-else:
-    ANALYSES["unbalance"] = Analysis("unbalance", ("speeds_rpm", "outputs", "operating_speed_rpm", "quantity"),
-                                     _parse_unbalance, _describe_unbalance, _run_unbalance)
 
 
 def parse_analyses(table, source, model=None) -> dict:

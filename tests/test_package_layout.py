@@ -1,4 +1,8 @@
-"""The package's import graph: no circles, and data flows down the floors.
+"""The package's layout: no import circles, data flowing down the floors, every file in the
+layout table of ``docs/DEVELOPING.md``; and the list of the longest functions
+(``python tests/test_package_layout.py --longest 10``).
+
+Import graph.
 
 Every module under ``rotordyn_modal`` is parsed with :mod:`ast` (nothing is imported);
 ``import`` and ``from ... import`` statements become edges, relative ones resolved against
@@ -20,10 +24,13 @@ its public names are not statements and are not counted.
 
 from __future__ import annotations
 
+import argparse
 import ast
+import re
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parent.parent / "rotordyn_modal"
+DEVELOPING = PACKAGE.parent / "docs" / "DEVELOPING.md"
 ROOT = PACKAGE.name
 
 #: second component of a module name -> floor (anything not listed is on the model floor, 0)
@@ -170,3 +177,61 @@ def test_upward_imports_in_functions_are_only_the_listed_conveniences():
     unexpected = [(m, t) for m, t in upward
                   if not any(m.startswith(a) and t.startswith(b) for a, b in UPWARD_IN_FUNCTIONS)]
     assert unexpected == []
+
+
+# ------------------------------------------------------------------------- layout table
+def layout_rows() -> list[str]:
+    """The rows of the layout table in ``docs/DEVELOPING.md``."""
+    text = DEVELOPING.read_text(encoding="utf-8")
+    section = text.split("## Layout", 1)[1].split("\n## ", 1)[0]
+    return [line for line in section.splitlines() if line.startswith("|") and "rotordyn_modal" in line]
+
+
+def _folder(row: str) -> str | None:
+    found = re.search(r"`rotordyn_modal/(\w+)/`", row)
+    return found.group(1) if found else None
+
+
+def _files_named(row: str) -> set[str]:
+    return set(re.findall(r"`(?:rotordyn_modal/)?(\w+\.py)`", row))
+
+
+def test_every_file_of_the_package_is_in_the_layout_table():
+    rows = layout_rows()
+    named = {(_folder(row), name) for row in rows for name in _files_named(row)}
+    files = {(None if path.parent == PACKAGE else path.parent.name, path.name)
+             for path in PACKAGE.rglob("*.py") if path.name != "__init__.py" or path.parent == PACKAGE}
+    assert sorted(files - named, key=str) == []
+
+
+def test_every_file_in_the_layout_table_exists():
+    for row in layout_rows():
+        folder = _folder(row)
+        for name in _files_named(row):
+            assert (PACKAGE / (folder or "") / name).is_file(), (folder, name)
+
+
+# ---------------------------------------------------------------------- longest functions
+def longest_functions(count: int = 10) -> list[tuple[int, int, str, str]]:
+    """The ``count`` longest functions: (lines, lines without the docstring, file:line, name)."""
+    rows = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                body = node.body[1:] if ast.get_docstring(node) is not None and len(node.body) > 1 else node.body
+                where = f"{path.relative_to(PACKAGE.parent)}:{node.lineno}"
+                rows.append((node.end_lineno - node.lineno + 1, node.end_lineno - body[0].lineno + 1, where,
+                             node.name))
+    return sorted(rows, key=lambda row: (-row[0], row[2]))[:count]
+
+
+def test_longest_functions_are_listed():
+    rows = longest_functions(10)
+    assert len(rows) == 10 and rows[0][0] >= rows[-1][0] >= rows[-1][1] > 0
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description="List the package's longest functions.")
+    parser.add_argument("--longest", type=int, default=10, metavar="N")
+    for lines, code, where, name in longest_functions(parser.parse_args().longest):
+        print(f"{lines:5d} lines {code:5d} code  {where}  {name}")

@@ -790,3 +790,7 @@ FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_s
              "_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_body_motion", "_body_jacobians",
              "_add_body", "_add_suspension_forces", "_add_bearing_forces", "assemble", "_solve_motion", "rhs",
              "potential", "_quadratic", "bearing_wrenches", "sample_outputs", "rhs_flat")
+#: steps of ``assemble_into``, inlined into it by numba: called once per body with many
+#: array arguments, they would otherwise cost about a quarter of the right-hand side's time
+INLINED = ("_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_body_motion", "_body_jacobians",
+           "_add_body", "_add_suspension_forces", "_add_bearing_forces")

@@ -612,6 +612,22 @@ def potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, 
     psi = _frame(y, n, e, E2, nf, Rs, H, eg, omega, wdot0, gamma, mats[6:9], vec[11:15])
     z, zd = np.empty(6), np.empty(6)
     BA = np.empty((3, 2))
+    elastic = _suspension_energy(y, nf, e, Rs, gamma, psi, spos, sK, z, v1)
+    for br in range(bbody.shape[0]):
+        _bearing_now(y, n, br, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, Kb, Cb, Lj, Bj,
+                     vec[4:9], z, zd, Zb, BA)
+        elastic += 0.5 * _quadratic(Kb, z)
+    weight = 0.0
+    for bdy in range(mass.shape[0]):
+        _center_of_mass(y, n, slot[bdy], ntrans[bdy], A3, e, ratio[bdy] * y[n - 1], Rs, center[bdy],
+                        offset[bdy], u, ud, gj, gjd, Lj, Bj, R1, Rl, v1, v2)
+        for i in range(3):
+            weight -= mass[bdy] * gravity[i] * ((y[i] if nf > 0 else 0.0) + v2[i])
+    return elastic, weight
+
+
+def _suspension_energy(y, nf, e, Rs, gamma, psi, spos, sK, z, v1):
+    """The suspensions' elastic energy ``sum z^T K z / 2`` [J] (0 on the ground)."""
     elastic = 0.0
     if nf > 0:
         for sp in range(spos.shape[0]):
@@ -620,34 +636,29 @@ def potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, 
                 z[i] = y[i] + v1[i] - spos[sp, i]
                 z[3 + i] = gamma[i] + psi * e[i]
             elastic += 0.5 * _quadratic(sK[sp], z)
-    for br in range(bbody.shape[0]):
-        _bearing_now(y, n, br, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, Kb, Cb, Lj, Bj,
-                     vec[4:9], z, zd, Zb, BA)
-        elastic += 0.5 * _quadratic(Kb, z)
-    weight = 0.0
-    for bdy in range(mass.shape[0]):
-        j, kt = slot[bdy], ntrans[bdy]
+    return elastic
+
+
+def _center_of_mass(y, n, j, kt, A3, e, angle, Rs, center, offset, u, ud, gj, gjd, Lj, Bj, R1, Rl, v1, out):
+    """A body's centre of mass from the frame's origin, model axes, into ``out`` (3,) (the
+    frame's translation not included); ``angle`` its turn about its axis."""
+    for i in range(3):
+        v1[i] = center[i]
+    if j >= 0:
+        _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+        _tilt(gj, Lj, Bj)
         for i in range(3):
-            v1[i] = center[bdy, i]
-        if j >= 0:
-            _relative(y, n, j, kt, A3, u, ud, gj, gjd)
-            _tilt(gj, Lj, Bj)
-            for i in range(3):
-                v1[i] += u[i]
-        else:
-            for i in range(3):
-                for k in range(3):
-                    Lj[i, k] = 1.0 if i == k else 0.0
-        ang = ratio[bdy] * y[n - 1]
-        _rodrigues(np.cos(ang), 1.0 - np.cos(ang), np.sin(ang), e, R1)
-        _mat3(Lj, R1, Rl)
-        _mv3(Rl, offset[bdy], v2)
+            v1[i] += u[i]
+    else:
         for i in range(3):
-            v1[i] += v2[i]
-        _mv3(Rs, v1, v2)
-        for i in range(3):
-            weight -= mass[bdy] * gravity[i] * ((y[i] if nf > 0 else 0.0) + v2[i])
-    return elastic, weight
+            for k in range(3):
+                Lj[i, k] = 1.0 if i == k else 0.0
+    _rodrigues(np.cos(angle), 1.0 - np.cos(angle), np.sin(angle), e, R1)
+    _mat3(Lj, R1, Rl)
+    _mv3(Rl, offset, out)
+    for i in range(3):
+        v1[i] += out[i]
+    _mv3(Rs, v1, out)
 
 
 def _quadratic(K, z):
@@ -786,11 +797,12 @@ def pack(system, mode, accel, t_start, t_stop):
 
 
 FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_spd", "_interpolate", "_frame",
-             "_relative", "_bearing_stretch", "_sommerfeld_angle", "_film_force", "_tilt", "_bearing_now", "assemble_into",
-             "_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_body_motion", "_body_jacobians",
-             "_add_body", "_add_suspension_forces", "_add_bearing_forces", "assemble", "_solve_motion", "rhs",
-             "potential", "_quadratic", "bearing_wrenches", "sample_outputs", "rhs_flat")
-#: steps of ``assemble_into``, inlined into it by numba: called once per body with many
+             "_relative", "_bearing_stretch", "_sommerfeld_angle", "_film_force", "_tilt", "_bearing_now",
+             "assemble_into", "_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_body_motion",
+             "_body_jacobians", "_add_body", "_add_suspension_forces", "_add_bearing_forces", "_suspension_energy",
+             "_center_of_mass", "assemble", "_solve_motion", "rhs", "potential", "_quadratic", "bearing_wrenches",
+             "sample_outputs", "rhs_flat")
+#: steps of ``assemble_into`` and ``potential``, inlined into them by numba: called once per body with many
 #: array arguments, they would otherwise cost about a quarter of the right-hand side's time
 INLINED = ("_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_body_motion", "_body_jacobians",
-           "_add_body", "_add_suspension_forces", "_add_bearing_forces")
+           "_add_body", "_add_suspension_forces", "_add_bearing_forces", "_suspension_energy", "_center_of_mass")

@@ -264,12 +264,14 @@ def assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio
     zero on entry; see :func:`rotordyn_modal.simulation._kernels.assemble`.
 
     Body by body: its motion relative to the frame (:func:`_rotor_on_bearings` or
-    :func:`_rotor_on_frame`), its rotation, arm and accelerations (:func:`_body_motion`),
-    the Jacobians of its velocity and angular velocity (:func:`_body_jacobians`) and its
-    share of ``M`` and ``f`` (:func:`_add_body`); then the suspensions' and the bearings'
-    forces (:func:`_add_suspension_forces`, :func:`_add_bearing_forces`).
+    :func:`_rotor_on_frame`); its rotation, arm and accelerations at zero second
+    derivatives; the Jacobians ``P`` (velocity of its centre of mass) and ``W`` (angular
+    velocity) on its coordinates; its share of ``M`` and ``f``. Those three steps stay
+    inline: split into functions (even inlined by numba) they cost 4-7 % of the right-hand
+    side's time (``benchmarks/bench_rhs.py``). Then the suspensions' and the bearings' forces.
     """
     n = y.shape[0] // 2
+    m_rot = nf - 3 if nf > 0 else 0
     nb = mass.shape[0]
     phi, phi_dot = y[n - 1], y[2 * n - 1]
     mats = np.empty((13, 3, 3))    # scratch: one allocation for the small arrays
@@ -297,11 +299,85 @@ def assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio
                                Brel[bdy], BA, Hj, orel, drel, ej, vrel, Rl, cu, v1, v2)
         else:
             _rotor_on_frame(eg, Rs, center[bdy], orel, drel, vrel, ej, Rl, cu)
-        _body_motion(r * phi, r * phi_dot, e, Rl, Rs, offset[bdy], cu, omega, wdot0, orel, drel, vrel, ej,
-                     R1, Rb, w, arm, d, fat, bo, al, a0, v1, v2, v3)
-        _body_jacobians(n, nf, j, kt, r, A3, Rs, H, Hj, d, w, ej, P, W)
-        _add_body(mass[bdy], inertia[bdy], Rb, P, W, cols, ncol, bo, al, a0, gravity, T3, Ib, IW, mom,
-                  rhs3, v1, v2, v3, M, f)
+        # rotation Rb, centre of mass d, angular velocity bo, accelerations al, a0
+        ang = r * phi
+        _rodrigues(np.cos(ang), 1.0 - np.cos(ang), np.sin(ang), e, R1)
+        _mat3(Rl, R1, Rb)
+        _mv3(Rb, offset[bdy], w)
+        _mv3(Rs, cu, arm)
+        for i in range(3):
+            d[i] = arm[i] + w[i]
+            fat[i] = omega[i] + orel[i]
+            bo[i] = fat[i] + r * phi_dot * ej[i]
+        _cross(omega, orel, v1)
+        _cross(fat, ej, v2)
+        for i in range(3):
+            al[i] = wdot0[i] + v1[i] + drel[i] + r * phi_dot * v2[i]
+        # a0 = wdot0 x arm + omega x (omega x arm) + 2 omega x vrel + al x w + bo x (bo x w)
+        _cross(wdot0, arm, a0)
+        _cross(omega, arm, v1)
+        _cross(omega, v1, v2)
+        _cross(al, w, v3)
+        for i in range(3):
+            a0[i] += v2[i] + v3[i]
+        _cross(omega, vrel, v1)
+        _cross(bo, w, v2)
+        _cross(bo, v2, v3)
+        for i in range(3):
+            a0[i] += 2.0 * v1[i] + v3[i]
+        # Jacobians P, W on the frame's coordinates, the rotor's own, the reference angle
+        if nf > 0:
+            for i in range(3):
+                P[i, i] = 1.0
+            for k in range(m_rot):
+                # -d x H_k
+                P[0, 3 + k] = -(d[1] * H[2, k] - d[2] * H[1, k])
+                P[1, 3 + k] = -(d[2] * H[0, k] - d[0] * H[2, k])
+                P[2, 3 + k] = -(d[0] * H[1, k] - d[1] * H[0, k])
+                for i in range(3):
+                    W[i, 3 + k] = H[i, k]
+        if j >= 0:
+            for k in range(kt):
+                for i in range(3):
+                    P[i, j + k] = Rs[i, 0] * A3[0, k] + Rs[i, 1] * A3[1, k] + Rs[i, 2] * A3[2, k]
+                    W[i, j + k] = 0.0
+            for k in range(2):
+                # -w x Hj_k
+                P[0, j + kt + k] = -(w[1] * Hj[2, k] - w[2] * Hj[1, k])
+                P[1, j + kt + k] = -(w[2] * Hj[0, k] - w[0] * Hj[2, k])
+                P[2, j + kt + k] = -(w[0] * Hj[1, k] - w[1] * Hj[0, k])
+                for i in range(3):
+                    W[i, j + kt + k] = Hj[i, k]
+        _cross(ej, w, v1)
+        for i in range(3):
+            P[i, n - 1] = r * v1[i]
+            W[i, n - 1] = r * ej[i]
+        # its share of M (m P^T P + W^T Ib W) and f (gravity, centrifugal, gyroscopic); Ib = Rb I0 Rb^T
+        _mat3(Rb, inertia[bdy], T3)
+        for i in range(3):
+            for k in range(3):
+                Ib[i, k] = T3[i, 0] * Rb[k, 0] + T3[i, 1] * Rb[k, 1] + T3[i, 2] * Rb[k, 2]
+        for i in range(3):
+            for cj in range(ncol):
+                k = cols[cj]
+                IW[i, k] = Ib[i, 0] * W[0, k] + Ib[i, 1] * W[1, k] + Ib[i, 2] * W[2, k]
+        mb = mass[bdy]
+        for ci in range(ncol):
+            i = cols[ci]
+            for cj in range(ncol):
+                k = cols[cj]
+                M[i, k] += (mb * (P[0, i] * P[0, k] + P[1, i] * P[1, k] + P[2, i] * P[2, k])
+                            + W[0, i] * IW[0, k] + W[1, i] * IW[1, k] + W[2, i] * IW[2, k])
+        _mv3(Ib, bo, mom)
+        _cross(bo, mom, v1)
+        _mv3(Ib, al, v2)
+        for i in range(3):
+            rhs3[i] = v2[i] + v1[i]
+            v3[i] = mb * (gravity[i] - a0[i])
+        for ci in range(ncol):
+            k = cols[ci]
+            f[k] += (P[0, k] * v3[0] + P[1, k] * v3[1] + P[2, k] * v3[2]
+                     - W[0, k] * rhs3[0] - W[1, k] * rhs3[1] - W[2, k] * rhs3[2])
     sixes = np.empty((3, 6))
     blocks = np.zeros((4, 6, 6))
     _add_suspension_forces(y, n, nf, e, E2, Rs, H, gamma, psi, spos, sK, sC, sixes, blocks[3], v1, f)
@@ -366,104 +442,6 @@ def _rotor_on_frame(eg, Rs, center, orel, drel, vrel, ej, Rl, cu):
         orel[i], drel[i], vrel[i], ej[i], cu[i] = 0.0, 0.0, 0.0, eg[i], center[i]
         for k in range(3):
             Rl[i, k] = Rs[i, k]
-
-
-def _body_motion(angle, spin, e, Rl, Rs, offset, cu, omega, wdot0, orel, drel, vrel, ej,
-                 R1, Rb, w, arm, d, fat, bo, al, a0, v1, v2, v3):
-    """A body turned by ``angle`` about its axis at rate ``spin``: rotation ``Rb``, its
-    centre of mass from its axis ``w`` and from the frame's origin ``d``, angular velocity
-    ``bo``, and the angular ``al`` and translational ``a0`` accelerations at zero second
-    derivatives (``fat``, ``arm`` and ``v1..v3`` are scratch)."""
-    _rodrigues(np.cos(angle), 1.0 - np.cos(angle), np.sin(angle), e, R1)
-    _mat3(Rl, R1, Rb)
-    _mv3(Rb, offset, w)
-    _mv3(Rs, cu, arm)
-    for i in range(3):
-        d[i] = arm[i] + w[i]
-        fat[i] = omega[i] + orel[i]
-        bo[i] = fat[i] + spin * ej[i]
-    _cross(omega, orel, v1)
-    _cross(fat, ej, v2)
-    for i in range(3):
-        al[i] = wdot0[i] + v1[i] + drel[i] + spin * v2[i]
-    # a0 = wdot0 x arm + omega x (omega x arm) + 2 omega x vrel + al x w + bo x (bo x w)
-    _cross(wdot0, arm, a0)
-    _cross(omega, arm, v1)
-    _cross(omega, v1, v2)
-    _cross(al, w, v3)
-    for i in range(3):
-        a0[i] += v2[i] + v3[i]
-    _cross(omega, vrel, v1)
-    _cross(bo, w, v2)
-    _cross(bo, v2, v3)
-    for i in range(3):
-        a0[i] += 2.0 * v1[i] + v3[i]
-
-
-def _body_jacobians(n, nf, j, kt, r, A3, Rs, H, Hj, d, w, ej, P, W):
-    """Columns of ``P`` (velocity of the centre of mass) and ``W`` (angular velocity) on the
-    body's coordinates: the frame's, its own when on bearings, the reference angle."""
-    m_rot = nf - 3 if nf > 0 else 0
-    if nf > 0:
-        for i in range(3):
-            P[i, i] = 1.0
-        for k in range(m_rot):
-            # -d x H_k
-            P[0, 3 + k] = -(d[1] * H[2, k] - d[2] * H[1, k])
-            P[1, 3 + k] = -(d[2] * H[0, k] - d[0] * H[2, k])
-            P[2, 3 + k] = -(d[0] * H[1, k] - d[1] * H[0, k])
-            for i in range(3):
-                W[i, 3 + k] = H[i, k]
-    if j >= 0:
-        for k in range(kt):
-            for i in range(3):
-                P[i, j + k] = Rs[i, 0] * A3[0, k] + Rs[i, 1] * A3[1, k] + Rs[i, 2] * A3[2, k]
-                W[i, j + k] = 0.0
-        for k in range(2):
-            # -w x Hj_k
-            P[0, j + kt + k] = -(w[1] * Hj[2, k] - w[2] * Hj[1, k])
-            P[1, j + kt + k] = -(w[2] * Hj[0, k] - w[0] * Hj[2, k])
-            P[2, j + kt + k] = -(w[0] * Hj[1, k] - w[1] * Hj[0, k])
-            for i in range(3):
-                W[i, j + kt + k] = Hj[i, k]
-    # the reference angle turns the body about ej at r times its rate: r (ej x w), r ej
-    cx = ej[1] * w[2] - ej[2] * w[1]
-    cy = ej[2] * w[0] - ej[0] * w[2]
-    cz = ej[0] * w[1] - ej[1] * w[0]
-    P[0, n - 1], P[1, n - 1], P[2, n - 1] = r * cx, r * cy, r * cz
-    for i in range(3):
-        W[i, n - 1] = r * ej[i]
-
-
-def _add_body(mb, inertia, Rb, P, W, cols, ncol, bo, al, a0, gravity, T3, Ib, IW, mom, rhs3, v1, v2, v3,
-              M, f):
-    """Add a body's ``m P^T P + W^T Ib W`` to ``M`` and its gravity, centrifugal and
-    gyroscopic terms to ``f``, on its ``ncol`` coordinates ``cols``."""
-    # Ib = Rb I0 Rb^T
-    _mat3(Rb, inertia, T3)
-    for i in range(3):
-        for k in range(3):
-            Ib[i, k] = T3[i, 0] * Rb[k, 0] + T3[i, 1] * Rb[k, 1] + T3[i, 2] * Rb[k, 2]
-    for i in range(3):
-        for cj in range(ncol):
-            k = cols[cj]
-            IW[i, k] = Ib[i, 0] * W[0, k] + Ib[i, 1] * W[1, k] + Ib[i, 2] * W[2, k]
-    for ci in range(ncol):
-        i = cols[ci]
-        for cj in range(ncol):
-            k = cols[cj]
-            M[i, k] += (mb * (P[0, i] * P[0, k] + P[1, i] * P[1, k] + P[2, i] * P[2, k])
-                        + W[0, i] * IW[0, k] + W[1, i] * IW[1, k] + W[2, i] * IW[2, k])
-    _mv3(Ib, bo, mom)
-    _cross(bo, mom, v1)
-    _mv3(Ib, al, v2)
-    for i in range(3):
-        rhs3[i] = v2[i] + v1[i]
-        v3[i] = mb * (gravity[i] - a0[i])
-    for ci in range(ncol):
-        k = cols[ci]
-        f[k] += (P[0, k] * v3[0] + P[1, k] * v3[1] + P[2, k] * v3[2]
-                 - W[0, k] * rhs3[0] - W[1, k] * rhs3[1] - W[2, k] * rhs3[2])
 
 
 def _add_suspension_forces(y, n, nf, e, E2, Rs, H, gamma, psi, spos, sK, sC, sixes, Z, v1, f):
@@ -798,11 +776,10 @@ def pack(system, mode, accel, t_start, t_stop):
 
 FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_spd", "_interpolate", "_frame",
              "_relative", "_bearing_stretch", "_sommerfeld_angle", "_film_force", "_tilt", "_bearing_now",
-             "assemble_into", "_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_body_motion",
-             "_body_jacobians", "_add_body", "_add_suspension_forces", "_add_bearing_forces", "_suspension_energy",
-             "_center_of_mass", "assemble", "_solve_motion", "rhs", "potential", "_quadratic", "bearing_wrenches",
-             "sample_outputs", "rhs_flat")
-#: steps of ``assemble_into`` and ``potential``, inlined into them by numba: called once per body with many
-#: array arguments, they would otherwise cost about a quarter of the right-hand side's time
-INLINED = ("_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_body_motion", "_body_jacobians",
-           "_add_body", "_add_suspension_forces", "_add_bearing_forces", "_suspension_energy", "_center_of_mass")
+             "assemble_into", "_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_add_suspension_forces",
+             "_add_bearing_forces", "_suspension_energy", "_center_of_mass", "assemble", "_solve_motion", "rhs",
+             "potential", "_quadratic", "bearing_wrenches", "sample_outputs", "rhs_flat")
+#: steps of ``assemble_into`` and ``potential``, inlined into them by numba (``inline="always"``):
+#: called as functions with many array arguments they would cost time in the right-hand side
+INLINED = ("_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_add_suspension_forces",
+           "_add_bearing_forces", "_suspension_energy", "_center_of_mass")

@@ -249,13 +249,7 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
     -------
     ndarray, shape (N, m, n): shapes, with repeated pairs replaced (backward first)
     """
-    lam = eigenvalues
-    scale = np.abs(lam).max(axis=-1, keepdims=True) + 1e-300
-    close = np.abs(np.diff(lam, axis=-1)) <= REPEATED_TOLERANCE * scale  # (N, m-1)
-    padded = np.pad(close, ((0, 0), (1, 1)))
-    pair = close & ~padded[:, :-2] & ~padded[:, 2:]  # exactly two equal, not three
-    pair &= np.abs(lam[:, :-1]) > OSCILLATORY_TOLERANCE * scale  # not rigid-body zeros
-    rows, first = np.nonzero(pair)
+    rows, first = _repeated_pairs(eigenvalues)
     if not len(rows):
         return shapes
     if variants is not None:
@@ -271,6 +265,38 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
     if not rows.size:
         return shapes
     momentum = -1j * np.einsum(rule, basis.conj(), forms.W, basis)
+    mu, resolved = _extreme_whirl(basis, total, momentum)
+    whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
+    out = shapes.copy()
+    out[rows[whirling], first[whirling]] = resolved[whirling, :, 0]
+    out[rows[whirling], first[whirling] + 1] = resolved[whirling, :, 1]
+    return out
+
+
+def _repeated_pairs(lam):
+    """Rows and first columns of the eigenvalues equal to the next one, exactly two equal (not
+    three) and not rigid-body zeros; ``lam`` shape (N, m), equal values adjacent."""
+    scale = np.abs(lam).max(axis=-1, keepdims=True) + 1e-300
+    close = np.abs(np.diff(lam, axis=-1)) <= REPEATED_TOLERANCE * scale  # (N, m-1)
+    padded = np.pad(close, ((0, 0), (1, 1)))
+    pair = close & ~padded[:, :-2] & ~padded[:, 2:]
+    pair &= np.abs(lam[:, :-1]) > OSCILLATORY_TOLERANCE * scale
+    return np.nonzero(pair)
+
+
+def _extreme_whirl(basis, total, momentum):
+    """The combinations of each pair's two shapes with extreme whirl ratio.
+
+    Solves ``momentum v = mu total v`` (both Hermitian, ``total`` positive definite) by a
+    Cholesky reduction.
+
+    Returns
+    -------
+    mu : ndarray, shape (P, 2)
+        Whirl ratios, increasing (backward first).
+    resolved : ndarray, shape (P, n, 2)
+        The combined shapes, unit norm.
+    """
     momentum = 0.5 * (momentum + np.conj(np.swapaxes(momentum, -1, -2)))
     factor = np.linalg.cholesky(0.5 * (total + np.conj(np.swapaxes(total, -1, -2))))
     inverse = np.linalg.inv(factor)
@@ -278,12 +304,8 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
     mu, vectors = np.linalg.eigh(reduced)
     combinations = np.conj(np.swapaxes(inverse, -1, -2)) @ vectors  # (P, 2, 2)
     resolved = basis @ combinations  # (P, n, 2)
-    whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
     resolved /= np.linalg.norm(resolved, axis=1, keepdims=True)
-    out = shapes.copy()
-    out[rows[whirling], first[whirling]] = resolved[whirling, :, 0]
-    out[rows[whirling], first[whirling] + 1] = resolved[whirling, :, 1]
-    return out
+    return mu, resolved
 
 
 # ----------------------------------------------------------------------------------------

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ._rules import StudyError, grid_values, is_number
 
 __all__ = ["StudyError", "Parameter", "StudyDefinition", "read_study", "parse_study",
            "DESIGNS", "DISTRIBUTIONS"]
@@ -31,16 +32,6 @@ _TOP_KEYS = ("seed", "samples", "design", "chunk_size", "parameters", "correlati
              "operating_band_rpm", "name")
 _PARAMETER_KEYS = ("name", "key", "keys", "values", "scale", "distribution", "apply", "mean", "std",
                    "median", "log_std", "low", "high", "truncate")
-
-
-class StudyError(InputError):
-    """A study file that fails validation: ``file: where = value: expected ...``."""
-
-    def __init__(self, source: str, where: str, value, expected: str):
-        self.source, self.where, self.value, self.expected = source, where, value, expected
-        text = repr(value)
-        text = text if len(text) <= 80 else text[:77] + "..."
-        super().__init__(f"{source}: {where} = {text}: expected {expected}")
 
 
 @dataclass(frozen=True)
@@ -219,10 +210,6 @@ def _is_int(value) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)
 
 
-def _is_number(value) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-
-
 def _unknown(table, allowed, source, where):
     for key in table:
         if key not in allowed:
@@ -250,7 +237,7 @@ def _parameter(item, i, source, model) -> Parameter:
     if len(grid_keys) > 1 or (grid_keys and "distribution" in item):
         raise StudyError(source, where, sorted(item), "exactly one of values, scale or distribution")
     if grid_keys:
-        grid = _grid(item[grid_keys[0]], f"{where} {grid_keys[0]}", source)
+        grid = grid_values(item[grid_keys[0]], f"{where} {grid_keys[0]}", source)
         apply = "value" if grid_keys[0] == "values" else "scale"
         parameter = Parameter(name=name, keys=keys, apply=apply, grid=grid)
         _check_keys(parameter, grid[0], model, where, source)
@@ -271,31 +258,16 @@ def _keys(item, where, source) -> tuple:
     return tuple(keys)
 
 
-def _grid(value, where, source) -> np.ndarray:
-    if isinstance(value, str):
-        parts = value.split(":")
-        try:
-            start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
-        except (ValueError, IndexError):
-            raise StudyError(source, where, value, "a list of numbers or 'START:STOP:N'") from None
-        if len(parts) != 3 or count < 1 or not (math.isfinite(start) and math.isfinite(stop)):
-            raise StudyError(source, where, value, "'START:STOP:N' with N >= 1 and finite ends")
-        return np.linspace(start, stop, count)
-    if not isinstance(value, list) or not value or not all(_is_number(v) for v in value):
-        raise StudyError(source, where, value, "a non-empty list of finite numbers or 'START:STOP:N'")
-    return np.array(value, dtype=float)
-
-
 def _positive(item, key, where, source) -> float:
     value = item.get(key)
-    if not _is_number(value) or value <= 0:
+    if not is_number(value) or value <= 0:
         raise StudyError(source, f"{where} {key}", value, "a finite number > 0")
     return float(value)
 
 
 def _number(item, key, where, source) -> float:
     value = item.get(key)
-    if not _is_number(value):
+    if not is_number(value):
         raise StudyError(source, f"{where} {key}", value, "a finite number")
     return float(value)
 
@@ -413,7 +385,7 @@ def _correlation(table, random, source) -> np.ndarray:
 def _band(value, source):
     if value is None:
         return None
-    if not isinstance(value, list) or len(value) != 2 or not all(_is_number(v) for v in value) \
+    if not isinstance(value, list) or len(value) != 2 or not all(is_number(v) for v in value) \
             or not value[1] > value[0]:
         raise StudyError(source, "operating_band_rpm", value, "[low, high] in rpm with low < high")
     return float(value[0]), float(value[1])

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 import numpy as np
 
+from .._limits import count_problem
 from ..errors import InputError
 
 __all__ = ["StudyError", "Parameter", "StudyDefinition", "read_study", "parse_study",
@@ -201,6 +202,7 @@ def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinit
     if not random and samples not in (0, None):
         raise StudyError(source, "samples", samples, "no samples: every parameter is a grid "
                          "(give a distribution to sample)")
+    _check_variant_count(parameters, samples, design, source)
     correlation = _correlation(data.get("correlation"), random, source)
     if design == "saltelli" and not np.allclose(correlation, np.eye(len(random))):
         raise StudyError(source, "design", design, "independent parameters (Sobol indices assume "
@@ -213,6 +215,16 @@ def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinit
     return StudyDefinition(parameters=parameters, design=design, samples=int(samples or 0),
                            seed=seed, correlation=correlation, analyses=analyses,
                            chunk_size=chunk, operating_band_rpm=band, source=source, raw=data)
+
+
+def _check_variant_count(parameters, samples, design, source):
+    """Refuse, before sampling, a study of more variants than the limit (:mod:`rotordyn_modal._limits`)."""
+    count = math.prod(len(p.grid) for p in parameters if p.is_grid)
+    random = sum(1 for p in parameters if not p.is_grid)
+    if random:
+        count *= samples * (random + 2 if design == "saltelli" else 1)
+    if count_problem(count, "variants"):
+        raise StudyError(source, "samples", samples, "a study of " + count_problem(count, "variants"))
 
 
 def _is_int(value) -> bool:
@@ -280,6 +292,8 @@ def _grid(value, where, source) -> np.ndarray:
             raise StudyError(source, where, value, "a list of numbers or 'START:STOP:N'") from None
         if len(parts) != 3 or count < 1 or not (math.isfinite(start) and math.isfinite(stop)):
             raise StudyError(source, where, value, "'START:STOP:N' with N >= 1 and finite ends")
+        if count_problem(count):
+            raise StudyError(source, where, value, "'START:STOP:N' with N " + count_problem(count))
         return np.linspace(start, stop, count)
     if not isinstance(value, list) or not value or not all(_is_number(v) for v in value):
         raise StudyError(source, where, value, "a non-empty list of finite numbers or 'START:STOP:N'")

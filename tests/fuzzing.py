@@ -212,8 +212,9 @@ def mutate_toml(text: str, rng) -> bytes:
 # ----------------------------------------------------------------------------------------------
 # the judge
 # ----------------------------------------------------------------------------------------------
-class Timeout(Exception):
-    pass
+class Timeout(BaseException):
+    """A run longer than the limit (not an Exception: the command line's last line of defence
+    must not catch it)."""
 
 
 @contextlib.contextmanager
@@ -254,12 +255,17 @@ class Outcome:
                 f"  stderr: {self.stderr[-2000:]!r}")
 
 
-def run_cli(argv, seconds: float = 60.0):
+#: seconds before a run counts as a hang
+TIME_LIMIT = 60.0
+
+
+def run_cli(argv, seconds: float | None = None):
     """Run the command line in this process; returns (exit code, stdout, stderr, error or None)."""
     from rotordyn_modal.cli.main import main
 
     out, err = io.StringIO(), io.StringIO()
     code, problem = None, None
+    seconds = TIME_LIMIT if seconds is None else seconds
     env = os.environ.pop("ROTORDYN_MODAL_DEBUG", None)
     try:
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), time_limit(seconds):
@@ -278,7 +284,8 @@ def run_cli(argv, seconds: float = 60.0):
     return code, out.getvalue(), err.getvalue(), problem
 
 
-def judge(argv, named: str, outputs=(), folder=None, seconds: float = 60.0, usage_ok=False) -> Outcome:
+def judge(argv, named: str, outputs=(), folder=None, seconds: float | None = None, usage_ok=False,
+          failure_ok: str = "") -> Outcome:
     """Run ``argv`` and sort the outcome (see the module docstring).
 
     Parameters
@@ -292,6 +299,9 @@ def judge(argv, named: str, outputs=(), folder=None, seconds: float = 60.0, usag
         Folder whose new files after a refusal are leftovers (temporary files of atomic writes).
     usage_ok : bool
         Accept argparse's refusal (usage lines, then one 'error:' line) as well.
+    failure_ok : str
+        Exit 1 with one line containing this text is a documented outcome ('valid'), e.g. the
+        'not converged' of ``fit``.
     """
     before = set(os.listdir(folder)) if folder is not None else set()
     code, stdout, stderr, problem = run_cli(argv, seconds)
@@ -302,7 +312,7 @@ def judge(argv, named: str, outputs=(), folder=None, seconds: float = 60.0, usag
         left += sorted(set(os.listdir(folder)) - before - {Path(p).name for p in outputs})
     if problem is not None:
         outcome.verdict, outcome.reason = "crash", problem.splitlines()[0] if problem.startswith("hang") else problem
-    elif code == 0:
+    elif code == 0 or (failure_ok and code == 1 and len(lines) == 1 and failure_ok in lines[0]):
         outcome.verdict, outcome.reason = "valid", ""
     elif code != 2:
         outcome.verdict, outcome.reason = "crash", f"exit code {code}"
@@ -334,3 +344,338 @@ def clean(folder):
             shutil.rmtree(entry, ignore_errors=True)
         else:
             entry.unlink()
+
+
+# ----------------------------------------------------------------------------------------------
+# cases: one generated input and the commands run on it
+# ----------------------------------------------------------------------------------------------
+#: a small speed grid keeps every accepted model's run short
+SPEEDS = "0:3000:5"
+
+
+def model_case(rng, folder) -> list:
+    """Mutate one example model; run ``check`` and ``campbell`` on it."""
+    folder = Path(folder)
+    base = rng.choice(MODEL_FILES)
+    model = folder / "model.toml"
+    model.write_bytes(mutate_toml(base.read_text(encoding="utf-8"), rng))
+    out = folder / "out"
+    out.mkdir(exist_ok=True)
+    outcomes = []
+    for argv, outputs in ((["check", model], ()),
+                          (["campbell", model, "--speeds", SPEEDS, "--out", out / "campbell.csv", "--quiet"],
+                           (out / "campbell.csv",))):
+        outcomes.append(judge(argv, str(model), outputs, out))
+        clean(out)
+    return outcomes
+
+
+def _tiny_study(doc):
+    """The example study made small: few samples, short grids and sweeps."""
+    if "samples" in doc:
+        doc["samples"] = 4
+    for p in doc.get("parameters", []):
+        if isinstance(p.get("scale"), str):
+            p["scale"] = ":".join(p["scale"].split(":")[:2] + ["2"])
+    for options in doc.get("analyses", {}).values():
+        if "speeds_rpm" in options:
+            options["speeds_rpm"] = ":".join(options["speeds_rpm"].split(":")[:2] + ["5"])
+    return doc
+
+
+#: the largest count (speeds, variants) a fuzzed study may ask for before it is refused
+STUDY_LIMIT = 48
+
+
+def study_case(rng, folder) -> list:
+    """Mutate one example study file (made tiny first); run ``study`` on it with a small count limit."""
+    folder = Path(folder)
+    name = rng.choice(sorted(STUDY_FILES))
+    doc = _tiny_study(tomllib.loads((EXAMPLES / name).read_text(encoding="utf-8")))
+    spec = folder / "study.toml"
+    spec.write_bytes(mutate_toml(tomli_w.dumps(doc), rng))
+    out = folder / "out"
+    out.mkdir(exist_ok=True)
+    argv = ["study", EXAMPLES / STUDY_FILES[name], "--spec", spec, "--out", out / "results.nc", "--quiet"]
+    with _environment("ROTORDYN_MODAL_MAX_POINTS", str(STUDY_LIMIT)):
+        outcome = judge(argv, str(spec), (out / "results.nc",), out)
+    clean(out)
+    return [outcome]
+
+
+@contextlib.contextmanager
+def _environment(name, value):
+    old = os.environ.get(name)
+    os.environ[name] = value
+    try:
+        yield
+    finally:
+        if old is None:
+            os.environ.pop(name, None)
+        else:
+            os.environ[name] = old
+
+
+# ----------------------------------------------------------------------------------------------
+# measured data: UFF 58/58b and CSV files of the gear machine's FRFs, mutated
+# ----------------------------------------------------------------------------------------------
+MEASURED_MODEL = EXAMPLES / "gear_machine.toml"
+MEASURED_RPM = 3000.0
+MEASURED_FREQS = "1:40:12"
+
+
+def _measured_sets():
+    """The gear machine's receptances at 3000 rpm, as the frf sub-command computes them."""
+    import numpy as np
+
+    import rotordyn_modal as rdm
+    from rotordyn_modal.analysis.frf import FRFResult
+
+    model = rdm.load_model(MEASURED_MODEL)
+    res = rdm.frf(model, rdm.rpm(MEASURED_RPM), np.linspace(1.0, 40.0, 12))
+    coherence = np.linspace(0.5, 1.0, res.H.size).reshape(res.H.shape)
+    return model, FRFResult(**{**res.__dict__, "coherence": coherence})
+
+
+def _uff_sets(binary: bool):
+    from rotordyn_modal.io.measured import default_mapping
+    from rotordyn_modal.io.uff import _datasets
+
+    model, res = _measured_sets()
+    return list(_datasets(res, default_mapping(model), binary))
+
+
+_UFF_FIELDS = {
+    "func_type": (1, 0, 6, 99, 4),
+    "ordinate_spec_data_type": (0, 8, 12, 13, 99),
+    "ordinate_axis_units_lab": ("g", "mm/s", "NONE", "", "m/s^2", "inch", "é"),
+    "orddenom_spec_data_type": (0, 8, 99),
+    "orddenom_axis_units_lab": ("lbf", "", "kN", "NONE"),
+    "abscissa_spec_data_type": (17, 0, 99),
+    "rsp_node": (0, 3, 99999, -1),
+    "rsp_dir": (0, 4, -3, 7),
+    "ref_node": (0, 1, 101, 99999),
+    "ref_dir": (0, 3, -3, 9),
+    "z_axis_value": (math.nan, math.inf, -3000.0, 0.0, 1e300),
+}
+
+
+def _mutate_uff_sets(sets, rng):
+    import copy
+
+    import numpy as np
+
+    sets = copy.deepcopy(sets)
+    for _ in range(1 + rng.randrange(3)):
+        choice = rng.randrange(6)
+        target = rng.choice(sets)
+        if choice == 0:
+            key = rng.choice(sorted(_UFF_FIELDS))
+            target[key] = rng.choice(_UFF_FIELDS[key])
+        elif choice == 1:  # NaN, inf or huge data
+            data = np.array(target["data"])
+            data[rng.randrange(len(data))] = rng.choice((np.nan, np.inf, 1e300, -np.inf))
+            target["data"] = data
+        elif choice == 2 and len(sets) > 1:  # a missing channel
+            sets.remove(target)
+        elif choice == 3:  # a duplicated channel
+            sets.insert(rng.randrange(len(sets) + 1), copy.deepcopy(target))
+        elif choice == 4:  # odd frequencies
+            x = np.array(target["x"], dtype=float)
+            which = rng.randrange(4)
+            if which == 0:
+                x[rng.randrange(len(x))] = rng.choice((np.nan, np.inf, -1.0, 0.0))
+            elif which == 1:
+                x = x[::-1].copy()
+            elif which == 2:
+                x[:] = x[0]
+            else:
+                x = x * rng.choice((-1.0, 1e300, 1e-300))
+            target["x"] = x
+        else:  # fewer values than frequencies
+            target["data"] = np.array(target["data"])[: rng.randrange(len(target["data"]))]
+    return sets
+
+
+def _write_uff(sets, path, fallback):
+    import pyuff
+
+    try:
+        pyuff.UFF(str(path)).write_sets(sets, mode="add")
+    except Exception:  # noqa: BLE001 - pyuff cannot write this mutation: keep the valid sets
+        if Path(path).exists():
+            Path(path).unlink()
+        pyuff.UFF(str(path)).write_sets(fallback, mode="add")
+
+
+def _mutate_csv(text: str, rng) -> bytes:
+    import pandas as pd
+    import numpy as np
+
+    table = pd.read_csv(io.StringIO(text)).astype(object)
+    for _ in range(1 + rng.randrange(3)):
+        choice = rng.randrange(7)
+        column = rng.choice(list(table.columns))
+        if choice == 0:
+            table = table.drop(columns=[column])
+        elif choice == 1:
+            table = table.rename(columns={column: rng.choice(("real", "imag", "Output", "x", "", "speed_rpm"))})
+        elif choice == 2 and len(table):
+            table.loc[rng.randrange(len(table)), column] = rng.choice((np.nan, np.inf, "x", "", -1.0, 1e300))
+        elif choice == 3 and len(table):
+            rows = rng.sample(range(len(table)), max(1, len(table) // 4))
+            table = table.drop(index=rows).reset_index(drop=True)
+        elif choice == 4 and len(table):  # duplicated channel lines
+            table = pd.concat([table, table.iloc[: rng.randrange(1, len(table) + 1)]], ignore_index=True)
+        elif choice == 5 and len(table):
+            table[column] = rng.choice(("nosuch", "acc-top-z", "hammer-z", "receptance", "ünïcode", 0, np.nan))
+        else:
+            table = table.iloc[:0]
+    return table.to_csv(index=False).encode()
+
+
+_VALID_MEASURED = {}
+
+
+def _valid_measured(folder) -> dict:
+    """Valid files (ASCII UFF, binary UFF, CSV) written once per folder."""
+    folder = Path(folder)
+    if folder in _VALID_MEASURED:
+        return _VALID_MEASURED[folder]
+    from rotordyn_modal.io.measured import write_csv
+
+    _, res = _measured_sets()
+    files = {}
+    for name, binary in (("ascii.uff", False), ("binary.uff", True)):
+        files[name] = folder / f"valid-{name}"
+        _write_uff(_uff_sets(binary), files[name], _uff_sets(binary))
+    files["valid.csv"] = folder / "valid.csv"
+    write_csv([res], files["valid.csv"])
+    _VALID_MEASURED[folder] = files
+    return files
+
+
+def measured_case(rng, folder, fit: bool = False) -> list:
+    """Mutate one measured-data file (bytes, UFF fields, CSV columns); run ``frf --measured``
+    (and ``fit`` when asked) on it."""
+    folder = Path(folder)
+    valid = _valid_measured(folder)
+    kind = rng.choice(("ascii.uff", "binary.uff", "valid.csv"))
+    path = folder / ("measured.csv" if kind.endswith(".csv") else "measured.uff")
+    if rng.random() < 0.4:
+        path.write_bytes(rng.choice(BYTE_MUTATIONS)(valid[kind].read_bytes(), rng))
+    elif kind.endswith(".csv"):
+        path.write_bytes(_mutate_csv(valid[kind].read_text(), rng))
+    else:
+        if path.exists():
+            path.unlink()
+        sets = _uff_sets(kind == "binary.uff")
+        _write_uff(_mutate_uff_sets(sets, rng), path, sets)
+    out = folder / "out"
+    out.mkdir(exist_ok=True)
+    runs = [(["frf", MEASURED_MODEL, "--speed", MEASURED_RPM, "--freqs", MEASURED_FREQS, "--measured", path,
+              "--out", out / "frf.csv", "--quiet"], (out / "frf.csv",))]
+    if fit:
+        runs.append((["fit", MEASURED_MODEL, "--measured", path, "--params", "suspensions.mount-FL.stiffness",
+                      "--starts", "1", "--out", out / "fitted.toml", "--quiet"], (out / "fitted.toml",)))
+    outcomes = []
+    for argv, outputs in runs:
+        outcomes.append(judge(argv, str(path), outputs, out, failure_ok="not converged"))
+        clean(out)
+    return outcomes
+
+
+# ----------------------------------------------------------------------------------------------
+# options of every sub-command
+# ----------------------------------------------------------------------------------------------
+def _number_text(rng) -> str:
+    return rng.choice(("0", "-0", "1", "-1", "3000", "-3000", "1e300", "-1e300", "1e-300", "nan", "inf", "-inf",
+                       "NaN", "x", "", " ", "1,2", "1:2", "0x10", "1_000", "٣", "1e", "+5", ".5", "5."))
+
+
+def _count_text(rng) -> str:
+    return rng.choice(("0", "1", "2", "5", "-1", "-5", "100000000", "1000000000000000000000", "1.5", "x", "", "nan",
+                       "1e3", "3"))
+
+
+def _range_text(rng) -> str:
+    kind = rng.randrange(5)
+    if kind == 0:
+        return f"{_number_text(rng)}:{_number_text(rng)}:{_count_text(rng)}"
+    if kind == 1:
+        return rng.choice(("0:3000", "0:3000:5:1", ":", "::", "", "0:0:1", "3000:0:5", "0:3000:0",
+                           "0:3000:100000000", "-3000:3000:5", "1e308:1.7e308:3", "0:1e-300:3"))
+    if kind == 2:
+        return f"0:3000:{_count_text(rng)}"
+    return f"{rng.choice(('0', '-3000', '1', '1e-9'))}:{rng.choice(('3000', '1', '1e300', '2'))}:{rng.choice(('2', '5', '3'))}"
+
+
+def _list_text(rng) -> str:
+    return rng.choice(("", ",", "1,,2", "1,nan", "1,inf", "0", "-1", "1,2,3", "x", "1e300", "0.5,1e-300",
+                       ",".join(["1"] * 50), "2", "1:3"))
+
+
+def _name_text(rng, known=()) -> str:
+    return rng.choice(tuple(known) + ("nosuch", "", ",", "ünï", "acc-top-z,acc-top-z", "a,b", " ", "-x"))
+
+
+_UNITS = ("rpm", "RPM", "rad/s", "hz", "Hz", "nosuch", "")
+
+#: sub-command -> (model, fixed arguments, option -> generator of a value)
+OPTION_SPACE = {
+    "check": ("gear_machine.toml", [], {}),
+    "modes": ("gear_machine.toml", ["--quiet"],
+              {"--speed": _number_text, "--speed-unit": lambda r: r.choice(_UNITS),
+               "--shape": _count_text, "--frames": _count_text}),
+    "campbell": ("gear_machine.toml", ["--speeds", SPEEDS, "--quiet"],
+                 {"--speeds": _range_text, "--orders": _list_text, "--speed-unit": lambda r: r.choice(_UNITS),
+                  "--color-by": lambda r: r.choice(("log_decrement", "damping_ratio", "x", ""))}),
+    "critical-speeds": ("gear_machine.toml", ["--speeds", SPEEDS, "--quiet"],
+                        {"--speeds": _range_text, "--orders": _list_text}),
+    "stability": ("unstable_cross_coupled.toml", ["--speeds", SPEEDS, "--quiet"],
+                  {"--speeds": _range_text, "--vary": lambda r: r.choice(
+                      ("suspensions.bearing-A.damping", "suspensions.bearing-A.stiffness[1][2]", "nosuch",
+                       "suspensions.bearing-A.damping[9]", "", "rotors")),
+                   "--scale": lambda r: r.choice((_list_text(r), _range_text(r))),
+                   "--values": lambda r: r.choice((_list_text(r), _range_text(r)))}),
+    "simulate": ("spring_block_rotor.toml", ["--duration", "0.05", "--quiet", "--backend", "numpy"],
+                 {"--duration": lambda r: r.choice(("0", "-1", "nan", "inf", "x", "", "1e-300", "0.01", "1e-9")),
+                  "--speed": _number_text, "--ramp": _number_text,
+                  "--samples": lambda r: r.choice(("0", "1", "-5", "2", "100000000000", "x", "3")),
+                  "--rtol": lambda r: r.choice(("0", "-1", "nan", "1", "1e-300", "x", "1e-6")),
+                  "--atol": lambda r: r.choice(("0", "-1", "nan", "1e300", "x", "1e-9")),
+                  "--impulse": lambda r: _name_text(r), "--impulse-size": _number_text,
+                  "--sensor": lambda r: _name_text(r, ("disk-centre-z",))}),
+    "frf": ("gear_machine.toml", ["--freqs", "1:40:5", "--quiet"],
+            {"--speed": _number_text, "--freqs": _range_text,
+             "--input": lambda r: _name_text(r, ("hammer-z",)),
+             "--output": lambda r: _name_text(r, ("acc-top-z", "acc-side-y")),
+             "--quantity": lambda r: r.choice(("receptance", "mobility", "x")),
+             "--forces": lambda r: r.choice(("suspensions", "bearings", "rotors", "x"))}),
+    "unbalance": ("fan_on_bearings.toml", ["--speeds", SPEEDS, "--quiet"],
+                  {"--speeds": _range_text, "--operating-speed": _number_text,
+                   "--output": lambda r: _name_text(r),
+                   "--quantity": lambda r: r.choice(("displacement", "velocity", "x"))}),
+}
+
+
+def option_case(rng, folder) -> list:
+    """One sub-command with 1-3 of its options given generated values."""
+    folder = Path(folder)
+    command = rng.choice(sorted(OPTION_SPACE))
+    model, fixed, space = OPTION_SPACE[command]
+    argv = [command, EXAMPLES / model, *fixed]
+    for option in rng.sample(sorted(space), min(len(space), 1 + rng.randrange(3))) if space else ():
+        if option in argv:
+            at = argv.index(option)
+            del argv[at:at + 2]
+        argv += [option, space[option](rng)]
+    out = folder / "out"
+    out.mkdir(exist_ok=True)
+    argv += ["--out", out / "table.csv"] if command != "check" else []
+    outcome = judge(argv, "", (out / "table.csv",), out, usage_ok=True)
+    clean(out)
+    return [outcome]
+
+
+CASES = {"model": model_case, "study": study_case, "measured": measured_case, "option": option_case}

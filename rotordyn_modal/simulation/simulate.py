@@ -80,6 +80,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     rtol, atol : float
         Tolerances of the integrator: DOP853 (Hairer's Fortran code in ``scipy.integrate.ode``
         with the numba backend, ``scipy.integrate.solve_ivp`` with the numpy one).
+        ``rtol`` within 1e-13 .. 0.1, ``atol`` within 1e-20 .. 1 (a zero ``atol`` stalls the
+        steps of a state that starts at zero).
     unbalance_phases_deg : array_like, shape (n_unbalances,), optional
         Phases overriding the model's ``phase_deg`` [deg].
     backend : {'auto', 'numba', 'numpy'}
@@ -101,6 +103,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     True
     """
     duration, speed = _positive(duration, "duration"), _finite(speed, "speed")
+    rtol, atol = _tolerance(rtol, "rtol", *_RTOL_RANGE), _tolerance(atol, "atol", *_ATOL_RANGE)
     system = system_arrays(model, unbalance_phases_deg)
     mode, accel = _drive(drive, speed, final_speed, duration)
     span = [speed] if final_speed is None else [speed, final_speed]
@@ -299,6 +302,17 @@ def _positive(value, name):
     value = _finite(value, name)
     if value <= 0:
         raise InputError(f"{name} = {value!r}: expected a number > 0")
+    return value
+
+
+_RTOL_RANGE = (1e-13, 0.1)
+_ATOL_RANGE = (1e-20, 1.0)
+
+
+def _tolerance(value, name, low, high):
+    value = _finite(value, name)
+    if not low <= value <= high:
+        raise InputError(f"{name} = {value!r}: expected a tolerance from {low:g} to {high:g}")
     return value
 
 

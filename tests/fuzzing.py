@@ -468,7 +468,8 @@ def _mutate_uff_sets(sets, rng):
     sets = copy.deepcopy(sets)
     for _ in range(1 + rng.randrange(3)):
         choice = rng.randrange(6)
-        target = rng.choice(sets)
+        at = rng.randrange(len(sets))
+        target = sets[at]
         if choice == 0:
             key = rng.choice(sorted(_UFF_FIELDS))
             target[key] = rng.choice(_UFF_FIELDS[key])
@@ -477,7 +478,7 @@ def _mutate_uff_sets(sets, rng):
             data[rng.randrange(len(data))] = rng.choice((np.nan, np.inf, 1e300, -np.inf))
             target["data"] = data
         elif choice == 2 and len(sets) > 1:  # a missing channel
-            sets.remove(target)
+            del sets[at]
         elif choice == 3:  # a duplicated channel
             sets.insert(rng.randrange(len(sets) + 1), copy.deepcopy(target))
         elif choice == 4:  # odd frequencies

@@ -53,6 +53,6 @@ def pytest_terminal_summary(terminalreporter):
         return
     terminalreporter.section("generated inputs")
     for kind, counts in fuzz.TRIED.items():
-        tried = sum(counts.values())
-        terminalreporter.write_line(f"fuzz: {tried} {kind} tried, {counts['valid']} valid, "
-                                    f"{counts['refused']} refused, {counts['crash']} crashed")
+        runs = counts["valid"] + counts["refused"] + counts["crash"]
+        terminalreporter.write_line(f"fuzz: {counts['inputs']} {kind} tried ({runs} runs: {counts['valid']} valid, "
+                                    f"{counts['refused']} refused, {counts['crash']} crashed)")

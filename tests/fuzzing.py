@@ -166,7 +166,15 @@ def rename_name(doc, rng):
         container[key] = rng.choice(SPECIAL_TEXT) + (rng.choice(SPECIAL_TEXT) if rng.random() < 0.3 else "")
 
 
-DOC_MUTATIONS = (delete_key, rename_key, retype_value, special_number, special_number, wrong_shape,
+def scale_number(doc, rng):
+    """Multiply a number by a factor from 1e-3 to 1e3: mostly still a valid, if odd, machine."""
+    numbers = _numbers(doc)
+    if numbers:
+        container, key = rng.choice(numbers)
+        container[key] = container[key] * 10 ** (6 * rng.random() - 3)
+
+
+DOC_MUTATIONS = (scale_number, scale_number, delete_key, rename_key, retype_value, special_number, special_number, wrong_shape,
                  duplicate_table, rename_name)
 
 
@@ -556,10 +564,11 @@ def _valid_measured(folder) -> dict:
     return files
 
 
-def measured_case(rng, folder, fit: bool = False) -> list:
+def measured_case(rng, folder, fit: bool | None = None) -> list:
     """Mutate one measured-data file (bytes, UFF fields, CSV columns); run ``frf --measured``
-    (and ``fit`` when asked) on it."""
+    (and ``fit`` when asked; None: on one file in ten) on it."""
     folder = Path(folder)
+    fit = rng.random() < 0.1 if fit is None else fit
     valid = _valid_measured(folder)
     kind = rng.choice(("ascii.uff", "binary.uff", "valid.csv"))
     path = folder / ("measured.csv" if kind.endswith(".csv") else "measured.uff")

@@ -44,7 +44,8 @@ def folder():
 
 
 def _check(kind, outcomes):
-    counts = TRIED.setdefault(kind, {"valid": 0, "refused": 0, "crash": 0})
+    counts = TRIED.setdefault(kind, {"inputs": 0, "valid": 0, "refused": 0, "crash": 0})
+    counts["inputs"] += 1
     for outcome in outcomes:
         counts[outcome.verdict] += 1
     crashes = [o for o in outcomes if o.verdict == "crash"]
@@ -73,7 +74,7 @@ def test_mutated_study_files(folder, rng):
 @FUZZ
 @given(rng=st.randoms(use_true_random=False))
 def test_mutated_measured_files(folder, rng):
-    _check("measured-data files", fuzzing.measured_case(rng, folder, fit=rng.random() < 0.1))
+    _check("measured-data files", fuzzing.measured_case(rng, folder))
 
 
 @FUZZ

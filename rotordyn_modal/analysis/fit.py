@@ -196,8 +196,10 @@ def fit(model, measured, params, bounds=None, band_hz=None, weighting: str = "co
     keys = _check_params(model, params)
     if weighting not in ("coherence", "none"):
         raise InputError(f"weighting {weighting!r}: expected 'coherence' or 'none'")
-    if not 1 <= starts <= _MOST_STARTS:
-        raise InputError(f"starts = {starts}: expected from 1 to {_MOST_STARTS} starting points")
+    if starts < 1:
+        raise InputError(f"starts = {starts}: expected at least 1")
+    if starts > _MOST_STARTS:
+        raise InputError(f"starts = {starts}: expected at most {_MOST_STARTS} starting points")
     lower, upper = _log_bounds(keys, bounds)
     problem = _Problem(model, measured, keys, band_hz, weighting)
     rng = np.random.default_rng(seed)

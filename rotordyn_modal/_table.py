@@ -34,7 +34,8 @@ class Table:
     def check_keys(self, allowed) -> None:
         for key in self.data:
             if key not in allowed:
-                raise self.error(key, self.data[key], "one of the keys " + ", ".join(allowed)
+                shown = key if key and key.strip() == key and key.isprintable() else repr(key)
+                raise self.error(shown, self.data[key], "one of the keys " + ", ".join(allowed)
                                  + " (unknown key)")
 
     def require(self, key: str):

@@ -20,6 +20,7 @@ import contextlib
 import io
 import math
 import os
+import re
 import signal
 import tomllib
 from dataclasses import dataclass, field
@@ -292,8 +293,12 @@ def run_cli(argv, seconds: float | None = None):
     return code, out.getvalue(), err.getvalue(), problem
 
 
+#: a refusal of a model or study file: ``FILE: WHERE KEY = VALUE: expected ...``
+HOUSE_STYLE = re.compile(r": \S.* = .*: expected \S")
+
+
 def judge(argv, named: str, outputs=(), folder=None, seconds: float | None = None, usage_ok=False,
-          failure_ok: str = "") -> Outcome:
+          failure_ok: str = "", style: re.Pattern | None = None) -> Outcome:
     """Run ``argv`` and sort the outcome (see the module docstring).
 
     Parameters
@@ -310,6 +315,8 @@ def judge(argv, named: str, outputs=(), folder=None, seconds: float | None = Non
     failure_ok : str
         Exit 1 with one line containing this text is a documented outcome ('valid'), e.g. the
         'not converged' of ``fit``.
+    style : re.Pattern, optional
+        The message of a refusal must match it (:data:`HOUSE_STYLE` for model and study files).
     """
     before = set(os.listdir(folder)) if folder is not None else set()
     code, stdout, stderr, problem = run_cli(argv, seconds)
@@ -335,6 +342,8 @@ def judge(argv, named: str, outputs=(), folder=None, seconds: float | None = Non
         outcome.verdict, outcome.reason = "crash", f"{len(lines)} lines on stderr"
     elif named not in lines[0]:
         outcome.verdict, outcome.reason = "crash", f"the message does not name {named!r}"
+    elif style is not None and not style.search(lines[0].split(named, 1)[1]):
+        outcome.verdict, outcome.reason = "crash", "the message does not say where, the value and what was expected"
     elif left:
         outcome.verdict, outcome.reason = "crash", f"refused but left {left}"
     else:
@@ -358,7 +367,7 @@ def clean(folder):
 # cases: one generated input and the commands run on it
 # ----------------------------------------------------------------------------------------------
 #: a small speed grid keeps every accepted model's run short
-SPEEDS = "0:3000:5"
+SPEEDS = "60:3000:5"  # from 60 rpm: a journal bearing has no oil film at standstill
 
 
 def model_case(rng, folder) -> list:
@@ -373,7 +382,7 @@ def model_case(rng, folder) -> list:
     for argv, outputs in ((["check", model], ()),
                           (["campbell", model, "--speeds", SPEEDS, "--out", out / "campbell.csv", "--quiet"],
                            (out / "campbell.csv",))):
-        outcomes.append(judge(argv, str(model), outputs, out))
+        outcomes.append(judge(argv, str(model), outputs, out, style=HOUSE_STYLE if argv[0] == "check" else None))
         clean(out)
     return outcomes
 
@@ -406,7 +415,7 @@ def study_case(rng, folder) -> list:
     out.mkdir(exist_ok=True)
     argv = ["study", EXAMPLES / STUDY_FILES[name], "--spec", spec, "--out", out / "results.nc", "--quiet"]
     with _environment("ROTORDYN_MODAL_MAX_POINTS", str(STUDY_LIMIT)):
-        outcome = judge(argv, str(spec), (out / "results.nc",), out)
+        outcome = judge(argv, str(spec), (out / "results.nc",), out, style=HOUSE_STYLE)
     clean(out)
     return [outcome]
 

@@ -253,7 +253,7 @@ class UnbalanceResult:
         Parameters
         ----------
         operating_speed : float, optional
-            [rad/s]; gives the actual separation margin.
+            [rad/s], not zero; gives the actual separation margin (a percentage of it).
 
         Returns
         -------
@@ -262,6 +262,10 @@ class UnbalanceResult:
             separation_margin_pct, required_margin_pct``.
         """
         import pandas as pd
+
+        if operating_speed is not None and not (np.isfinite(operating_speed) and operating_speed != 0):
+            raise InputError(f"operating speed {operating_speed!r} rad/s: expected a finite speed other than 0 "
+                             "(the separation margin is a percentage of it)")
 
         rows = []
         for i, out in enumerate(self.outputs):

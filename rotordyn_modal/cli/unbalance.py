@@ -58,13 +58,16 @@ def run(args) -> int:
     check_extra_output(args, args.orbits, "--orbits")
     check_extra_output(args, args.orbit_plot, "--orbit-plot", figure=True)
     model = open_model(args)
+    operating = None if args.operating_speed is None else \
+        float(to_rad_s(parse_number(args.operating_speed, "--operating-speed"), args.speed_unit))
+    if operating == 0:
+        raise InputError(f"--operating-speed {args.operating_speed}: expected a speed other than 0 (the "
+                         "separation margin is a percentage of it)")
     result = unbalance_response(model, speeds_option(args), outputs=names(args.output), quantity=args.quantity)
     if (args.orbits or args.orbit_plot) and not result.orbit_pairs:
         raise InputError(f"{model.source}: --orbits/--orbit-plot need a probe pair among the outputs: two "
                          "sensors at one point of the same body, directions normal to spin_axis")
     write_table(result.to_dataframe(forces=args.forces), args)
-    operating = None if args.operating_speed is None else \
-        float(to_rad_s(parse_number(args.operating_speed, "--operating-speed"), args.speed_unit))
     peaks = result.peaks(operating)
     if not args.quiet:
         print("\npeaks (API 684):", file=sys.stderr)

@@ -126,6 +126,7 @@ def _one_speed(speed, freq, outs, ins, values, coherence, sensors, excitations, 
     o_index = np.argsort(outputs)[o_index]
     i_index = np.argsort(inputs)[np.searchsorted(np.array(inputs), ins, sorter=np.argsort(inputs))]
     shape = (len(outputs), len(inputs), len(freqs))
+    _check_repeats(o_index, i_index, f_index, outputs, inputs, freqs, speed, source)
     counts = np.zeros(shape[:2], dtype=int)
     np.add.at(counts, (o_index, i_index), 1)
     partial = (counts > 0) & (counts != len(freqs))
@@ -142,3 +143,14 @@ def _one_speed(speed, freq, outs, ins, values, coherence, sensors, excitations, 
         coh[o_index, i_index, f_index] = coherence
     return FRFResult(H=H, frequencies_hz=freqs, speed=float(speed) * np.pi / 30, inputs=tuple(inputs),
                      outputs=tuple(outputs), quantity=quantity, engine="measured", coherence=coh)
+
+
+def _check_repeats(o_index, i_index, f_index, outputs, inputs, freqs, speed, source):
+    """Refuse a channel pair given twice at one frequency (a duplicated channel)."""
+    lines = np.stack([o_index, i_index, f_index], axis=1)
+    unique, counts = np.unique(lines, axis=0, return_counts=True)
+    if np.any(counts > 1):
+        a, b, f = unique[np.argmax(counts > 1)]
+        raise InputError(f"{source}: at {speed:g} rpm the FRF {outputs[a]} / {inputs[b]} is given "
+                         f"{counts.max()} times at {freqs[f]:g} Hz: expected each channel pair once per "
+                         "frequency (a duplicated channel?)")

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 import numpy as np
 
+from .._limits import count_problem
 from ..errors import InputError
 from ._rules import StudyError, grid_values, is_number
 
@@ -30,6 +31,8 @@ DISTRIBUTIONS = {
 }
 _TOP_KEYS = ("seed", "samples", "design", "chunk_size", "parameters", "correlation", "analyses",
              "operating_band_rpm", "name")
+#: largest seed or chunk size: the results file (netCDF 3) stores them as 32-bit integers
+_LARGEST_INT = 2**31 - 1
 _PARAMETER_KEYS = ("name", "key", "keys", "values", "scale", "distribution", "apply", "mean", "std",
                    "median", "log_std", "low", "high", "truncate")
 
@@ -172,14 +175,14 @@ def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinit
         raise StudyError(source, "<study>", data, "a table")
     _unknown(data, _TOP_KEYS, source, "<top level>")
     seed = data.get("seed")
-    if seed is not None and (not isinstance(seed, int) or isinstance(seed, bool) or seed < 0):
-        raise StudyError(source, "seed", seed, "a whole number >= 0")
+    if seed is not None and (not _is_int(seed) or not 0 <= seed <= _LARGEST_INT):
+        raise StudyError(source, "seed", seed, f"a whole number from 0 to {_LARGEST_INT}")
     design = data.get("design", "monte-carlo")
     if design not in DESIGNS:
         raise StudyError(source, "design", design, "one of " + ", ".join(DESIGNS))
     chunk = data.get("chunk_size")
-    if chunk is not None and (not _is_int(chunk) or chunk < 1):
-        raise StudyError(source, "chunk_size", chunk, "a whole number >= 1")
+    if chunk is not None and (not _is_int(chunk) or not 1 <= chunk <= _LARGEST_INT):
+        raise StudyError(source, "chunk_size", chunk, f"a whole number from 1 to {_LARGEST_INT}")
     items = data.get("parameters")
     if not isinstance(items, list) or not items:
         raise StudyError(source, "[[parameters]]", items, "at least one [[parameters]] table")
@@ -192,6 +195,7 @@ def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinit
     if not random and samples not in (0, None):
         raise StudyError(source, "samples", samples, "no samples: every parameter is a grid "
                          "(give a distribution to sample)")
+    _check_variant_count(parameters, samples, design, source)
     correlation = _correlation(data.get("correlation"), random, source)
     if design == "saltelli" and not np.allclose(correlation, np.eye(len(random))):
         raise StudyError(source, "design", design, "independent parameters (Sobol indices assume "
@@ -204,6 +208,16 @@ def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinit
     return StudyDefinition(parameters=parameters, design=design, samples=int(samples or 0),
                            seed=seed, correlation=correlation, analyses=analyses,
                            chunk_size=chunk, operating_band_rpm=band, source=source, raw=data)
+
+
+def _check_variant_count(parameters, samples, design, source):
+    """Refuse, before sampling, a study of more variants than the limit (:mod:`rotordyn_modal._limits`)."""
+    count = math.prod(len(p.grid) for p in parameters if p.is_grid)
+    random = sum(1 for p in parameters if not p.is_grid)
+    if random:
+        count *= samples * (random + 2 if design == "saltelli" else 1)
+    if count_problem(count, "variants"):
+        raise StudyError(source, "samples", samples, "a study of " + count_problem(count, "variants"))
 
 
 def _is_int(value) -> bool:
@@ -274,7 +288,7 @@ def _number(item, key, where, source) -> float:
 
 def _distribution(item, name, keys, where, source) -> Parameter:
     kind = item["distribution"]
-    if kind not in DISTRIBUTIONS:
+    if not isinstance(kind, str) or kind not in DISTRIBUTIONS:
         raise StudyError(source, f"{where} distribution", kind, "one of " + ", ".join(DISTRIBUTIONS))
     apply = item.get("apply", "value")
     if apply not in ("value", "scale"):
@@ -361,7 +375,7 @@ def _correlation(table, random, source) -> np.ndarray:
     _unknown(table, ("parameters", "matrix"), source, where)
     names = table.get("parameters")
     known = [p.name for p in random]
-    if not isinstance(names, list) or not names or any(n not in known for n in names) \
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) and n in known for n in names) \
             or len(set(names)) != len(names):
         raise StudyError(source, f"{where} parameters", names,
                          "distinct names of distribution parameters: " + ", ".join(known))

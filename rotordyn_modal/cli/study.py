@@ -75,7 +75,7 @@ def run(args) -> int:
     definition = read_study(args.spec, model)
     band = _band(args.band) if args.band else definition.operating_band_rpm
     folder = checkpoint_folder(args.out)
-    with ResultsLock(args.out), verbose_log(args):
+    with verbose_log(args), ResultsLock(args.out):
         remove_stale_temporaries(args.out)
         if args.restart and folder.exists():
             remove_checkpoint(folder)

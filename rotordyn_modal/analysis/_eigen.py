@@ -54,6 +54,16 @@ def _start_block(size: int) -> np.ndarray:
 _POOL: ThreadPoolExecutor | None = None
 
 
+def _forget_pool():
+    """A forked child inherits the pool object but not its threads: start afresh."""
+    global _POOL
+    _POOL = None
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_pool)
+
+
 def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
     """Apply a batched numpy routine over the first axis of its arrays using a few threads.
 

@@ -86,7 +86,7 @@ def campbell_pair(model, count):
     """rdm.campbell and its floor: bare batched eig of the same state matrices, in the
     sweep's parts."""
     import rotordyn_modal as rdm
-    from rotordyn_modal.analysis import campbell as campbell_module
+    from rotordyn_modal.analysis import _eigen
     from rotordyn_modal.linear_system import speed_linear_form
 
     speeds = speeds_of(count)
@@ -97,7 +97,7 @@ def campbell_pair(model, count):
     def floor():
         form = speed_linear_form(model)
         size = form.n_states
-        step = int(np.clip(campbell_module._CHUNK_BYTES // (72 * size * size), 1, campbell_module._CHUNK))
+        step = int(np.clip(_eigen.CHUNK_BYTES // (72 * size * size), 1, 4096))
         return [np.linalg.eig(form.at(speeds[i:i + step]))[0] for i in range(0, len(speeds), step)]
 
     return package, floor
@@ -133,7 +133,7 @@ def frf_pair(model, count):
 def unbalance_pair(model, count):
     """rdm.unbalance_response and its floor: batched solve of the same harmonic systems."""
     import rotordyn_modal as rdm
-    from rotordyn_modal.analysis import campbell as campbell_module
+    from rotordyn_modal.analysis import _eigen
     from rotordyn_modal.analysis.unbalance import unbalance_forces
     from rotordyn_modal.assembly import constant_matrices, generalized_force
 
@@ -149,7 +149,7 @@ def unbalance_pair(model, count):
                         for j, s in enumerate(sources)]).reshape(-1, M.shape[0], 1)
         omega, speed = w.ravel(), np.tile(speeds, len(sources))
         n = M.shape[0]
-        step = max(1, int(campbell_module._CHUNK_BYTES // (48 * n * n)))
+        step = max(1, int(_eigen.CHUNK_BYTES // (80 * n * n)))
         out = []
         for i in range(0, len(omega), step):
             o, s = omega[i:i + step, None, None], speed[i:i + step, None, None]

@@ -32,6 +32,7 @@ from ..assembly import constant_matrices, dependent_bearing_matrices, excitation
     loss_stiffness, sensor_rows
 from ..errors import InputError
 from ..mounts import has_frequency_dependence, maxwell_stiffness
+from . import _eigen
 
 __all__ = ["FRFResult", "frf", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]
 
@@ -158,7 +159,7 @@ def choose_engine(model) -> str:
     return "modal"
 
 
-def dynamic_stiffness(model, speed: float, omega) -> np.ndarray:
+def dynamic_stiffness(model, speed: float, omega, matrices=None) -> np.ndarray:
     """``Z(w) = K(1 + i eta) + K_f(w) + i w (C + Omega G) - w^2 M`` for many frequencies.
 
     Parameters
@@ -168,12 +169,14 @@ def dynamic_stiffness(model, speed: float, omega) -> np.ndarray:
         Reference rotor speed [rad/s] (one per frequency for unbalance sweeps).
     omega : array_like, shape (n_freq,)
         Circular frequencies [rad/s].
+    matrices : Matrices, optional
+        ``constant_matrices(model)``, when the caller has them.
 
     Returns
     -------
     ndarray, shape (n_freq, n, n), complex [N/m, ...]
     """
-    M, C, G, K = constant_matrices(model)
+    M, C, G, K = constant_matrices(model) if matrices is None else matrices
     w = np.atleast_1d(np.asarray(omega, dtype=float))
     speeds = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
     if model.speed_dependent:
@@ -188,6 +191,10 @@ def dynamic_stiffness(model, speed: float, omega) -> np.ndarray:
 def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     """Complex amplitude of ``q`` under harmonic generalized forces (direct solve).
 
+    The systems are built and solved in parts of bounded memory (about
+    ``_eigen.CHUNK_BYTES`` each); each system is solved on its own, so the parts do not
+    change the result.
+
     Parameters
     ----------
     model : Model
@@ -200,9 +207,17 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     -------
     ndarray, shape (n_freq, n_dof, k), complex [m, rad]
     """
-    Z = dynamic_stiffness(model, speed, omega)
-    rhs = np.broadcast_to(np.asarray(forces, dtype=complex), (Z.shape[0],) + np.shape(forces)[-2:])
-    return np.linalg.solve(Z, rhs)
+    matrices = constant_matrices(model)
+    w = np.atleast_1d(np.asarray(omega, dtype=float))
+    speeds = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
+    n = matrices.M.shape[0]
+    rhs = np.broadcast_to(np.asarray(forces, dtype=complex), (len(w),) + np.shape(forces)[-2:])
+    out = np.empty(rhs.shape, dtype=complex)
+    # per system: Z and its temporaries (about four complex n x n), LAPACK's LU copy
+    for part in _eigen.chunk_slices(len(w), 80 * n * n):
+        Z = dynamic_stiffness(model, speeds[part], w[part], matrices)
+        out[part] = np.linalg.solve(Z, rhs[part])
+    return out
 
 
 def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str = "receptance",

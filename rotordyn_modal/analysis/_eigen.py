@@ -211,8 +211,9 @@ def pencil_eigenvalues(M, damping, stiffness, eigenvalues, vectors, iterations: 
     Each step solves ``Q(s) z = Q'(s) phi`` (one LU factorisation of an n x n complex
     matrix, about 30 times cheaper than the eigenvalues of the 2n x 2n state matrix) and
     moves ``s <- s - phi^H phi / phi^H z``, ``phi <- z / |z|``: quadratic convergence to the
-    simple eigenvalue whose shape and value the guess is near. A row ends when its step falls
-    below ``4 eps |s|``, or below ``1e-12 |s|`` without halving (round-off).
+    simple eigenvalue whose shape and value the guess is near. A row ends with the step that
+    is below ``1e-10 |s|`` (quadratic convergence leaves an error of order ``|step|^2 /
+    gap``: round-off for an isolated eigenvalue), or below ``1e-8 |s|`` without halving.
 
     Parameters
     ----------
@@ -250,7 +251,7 @@ def pencil_eigenvalues(M, damping, stiffness, eigenvalues, vectors, iterations: 
         s[i] = np.where(finite, s[i] - step, s[i])
         phi[i] = np.where(finite[:, None], z / np.linalg.norm(z, axis=-1, keepdims=True), phi[i])
         scale = np.abs(s[i])
-        done = (size <= 4 * np.finfo(float).eps * scale) | ((size <= 1e-12 * scale) & (size > 0.5 * last[i]))
+        done = (size <= 1e-10 * scale) | ((size <= 1e-8 * scale) & (size > 0.5 * last[i]))
         converged[i[done]] = True
         active[i[done | ~finite]] = False
         last[i] = size

@@ -21,7 +21,8 @@ Cases, each timed side by side with its floor, alternating, in every repetition:
   2,000 frequencies it is 10-100 x dearer at every size here, so it would be no floor.
 * **unbalance**: ``rdm.unbalance_response(model, speeds)`` (every rotor's unbalance, each
   at its own speed; all sensors, suspension, rotor and bearing forces) over
-  ``--unbalance-speeds`` speeds. Floor: a batched ``numpy.linalg.solve`` of the same harmonic
+  ``--unbalance-speeds`` speeds (``--unbalance-speeds-large`` for the 100-rotor machine:
+  100 systems of 506 coordinates per speed). Floor: a batched ``numpy.linalg.solve`` of the same harmonic
   systems ``Z(w_j) q = F_j``, one per source and speed (building ``Z`` included), in parts of
   the size the package uses.
 * **speeds**: the campbell case at a fixed size (``--sweep-size``) for several speed counts
@@ -33,14 +34,16 @@ by side are what counts). Peak memory: ``tracemalloc`` around one more, untimed 
 contender (numpy reports its array buffers to tracemalloc, so this is the peak of the arrays
 a call holds at once, temporaries included; LAPACK's own work space, O(n^2) per call, is not
 seen; the process's ``ru_maxrss`` at the end is printed too, for the whole run). The growth
-exponent is the least-squares slope of log(median time) against log(n_states) over the sizes.
+exponent is the least-squares slope of log(median time per speed, or per frequency) against
+log(n_states) over the sizes. Models above 600 states run ``--repeat-large`` times (one by
+default: then that timed call is also the traced one, without a warm-up).
 
 One core for everything by default (``ROTORDYN_MODAL_THREADS=1`` and one BLAS thread through
 threadpoolctl), so the ratios compare work, not the scheduling of a shared machine. Run::
 
     python benchmarks/bench_scaling.py [--quick] [--sizes 1,2,5,20,100] [--cases campbell,frf,unbalance,speeds]
-        [--repeat 3] [--repeat-large 1] [--campbell-speeds 51] [--unbalance-speeds 51]
-        [--frequencies 2000] [--sweep-size 5] [--sweep-speeds 51,201,1001,5001] [--threads 1]
+        [--repeat 3] [--repeat-large 1] [--campbell-speeds 51] [--unbalance-speeds 201]
+        [--unbalance-speeds-large 21] [--frequencies 2000] [--sweep-size 5] [--sweep-speeds 51,201,1001,5001] [--threads 1]
         [--no-memory]
 
 ``--quick``: sizes 1, 2, 5, 20; 21 speeds; 500 frequencies; speed counts 51, 201, 1001;
@@ -186,9 +189,17 @@ def spread(values, scale=1.0, fmt="{:8.3f}") -> str:
     return " / ".join(fmt.format(v) for v in (min(values), statistics.median(values), max(values)))
 
 
-def measure(case, model, count, repeat, memory):
-    """Times of the package and the floor per repetition (alternating) and their peak memory."""
+def measure(case, model, count, repeat, memory, warm=True):
+    """Times of the package and the floor per repetition (alternating) and their peak memory.
+
+    With ``warm=False`` (the largest models, one repetition) there is no warm-up call and the
+    one repetition is also the traced call (tracemalloc's cost per numpy allocation is
+    negligible beside LAPACK work of seconds)."""
     package, floor = PAIRS[case](model, count)
+    if not warm:
+        mine, peak_mine = traced(package, memory)
+        base, peak_base = traced(floor, memory)
+        return np.array([mine]), np.array([base]), (peak_mine, peak_base)
     package(), floor()                             # warm-up: imports, caches, thread pool
     times = []
     for _ in range(repeat):
@@ -196,6 +207,18 @@ def measure(case, model, count, repeat, memory):
     mine, base = (np.array(column) for column in zip(*times))
     peaks = (peak_bytes(package), peak_bytes(floor)) if memory else (np.nan, np.nan)
     return mine, base, peaks
+
+
+def traced(function, memory):
+    """Seconds and peak traced bytes of one call (NaN bytes without ``memory``)."""
+    if not memory:
+        return timed(function), np.nan
+    tracemalloc.start()
+    try:
+        seconds = timed(function)
+        return seconds, tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
 
 
 def report(label, states, mine, base, peaks):
@@ -210,29 +233,33 @@ def exponent(states, times) -> float:
     return float(np.polyfit(np.log(states), np.log(times), 1)[0])
 
 
-def run_sizes(case, sizes, count, args):
+def run_sizes(case, sizes, count, count_large, args):
+    """One case over the model sizes; the growth exponent is fitted to the time per speed
+    (per frequency) where the largest models use fewer speeds."""
     from rotordyn_modal.linear_system import speed_linear_form
 
-    what = {"campbell": f"{count} speeds", "frf": f"{count} frequencies",
-            "unbalance": f"{count} speeds"}[case]
-    print(f"\n{case}, {what}: min / median / max of the repetitions")
+    unit = "frequencies" if case == "frf" else "speeds"
+    print(f"\n{case}, {count} {unit} ({count_large} above {_LARGE_STATES} states): "
+          "min / median / max of the repetitions")
     print(f"{'rotors':>22} {'states':>6} |")
     rows = []
     for rotors in sizes:
         model = machine(rotors)
         states = speed_linear_form(model).n_states
-        repeat = args.repeat_large if states > _LARGE_STATES else args.repeat
-        mine, base, peaks = measure(case, model, count, repeat, not args.no_memory)
-        report(f"{rotors} rotors", states, mine, base, peaks)
-        rows.append((states, statistics.median(mine), statistics.median(base)))
+        large = states > _LARGE_STATES
+        points = count_large if large else count
+        mine, base, peaks = measure(case, model, points, args.repeat_large if large else args.repeat,
+                                    not args.no_memory, warm=not large or args.repeat_large > 1)
+        report(f"{rotors} rotors" + (f", {points} {unit}" if large else ""), states, mine, base, peaks)
+        rows.append((states, statistics.median(mine) / points, statistics.median(base) / points))
     if len(rows) > 1:
         states, mine, base = (np.array(c) for c in zip(*rows))
-        print(f"{'growth exponent':>22}        | package {exponent(states, mine):5.2f} (time ~ n_states^p)   "
-              f"floor {exponent(states, base):5.2f}")
-        large = states >= 60
-        if large.sum() > 1:
-            print(f"{'(sizes >= 60 states)':>22}        | package {exponent(states[large], mine[large]):5.2f}"
-                  f"                          floor {exponent(states[large], base[large]):5.2f}")
+        print(f"{'growth exponent':>22}        | package {exponent(states, mine):5.2f} "
+              f"(time per {unit[:-1]} ~ n_states^p)   floor {exponent(states, base):5.2f}")
+        big = states >= 60
+        if big.sum() > 1:
+            print(f"{'(sizes >= 60 states)':>22}        | package {exponent(states[big], mine[big]):5.2f}"
+                  f"                                   floor {exponent(states[big], base[big]):5.2f}")
 
 
 def run_speeds(size, counts, args):
@@ -261,7 +288,9 @@ def parse(argv=None):
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--repeat-large", type=int, default=1, help=f"repetitions above {_LARGE_STATES} states")
     parser.add_argument("--campbell-speeds", type=int, default=51)
-    parser.add_argument("--unbalance-speeds", type=int, default=51)
+    parser.add_argument("--unbalance-speeds", type=int, default=201)
+    parser.add_argument("--unbalance-speeds-large", type=int, default=21,
+                        help=f"unbalance speeds above {_LARGE_STATES} states (100 rotors: 100 systems per speed)")
     parser.add_argument("--frequencies", type=int, default=2000)
     parser.add_argument("--sweep-size", type=int, default=5, help="rotors of the speed-count sweep")
     parser.add_argument("--sweep-speeds", default="51,201,1001,5001")
@@ -270,7 +299,7 @@ def parse(argv=None):
     args = parser.parse_args(argv)
     if args.quick:
         args.sizes, args.repeat = "1,2,5,20", 2
-        args.campbell_speeds = args.unbalance_speeds = 21
+        args.campbell_speeds = args.unbalance_speeds = args.unbalance_speeds_large = 21
         args.frequencies, args.sweep_speeds = 500, "51,201,1001"
     return args
 
@@ -286,10 +315,12 @@ def main(argv=None) -> None:
     cases = args.cases.split(",")
     print(f"threads: {args.threads}; sizes {sizes} rotors; repetitions {args.repeat} "
           f"({args.repeat_large} above {_LARGE_STATES} states)")
-    counts = {"campbell": args.campbell_speeds, "frf": args.frequencies, "unbalance": args.unbalance_speeds}
+    counts = {"campbell": (args.campbell_speeds, args.campbell_speeds),
+              "frf": (args.frequencies, args.frequencies),
+              "unbalance": (args.unbalance_speeds, args.unbalance_speeds_large)}
     for case in ("campbell", "frf", "unbalance"):
         if case in cases:
-            run_sizes(case, sizes, counts[case], args)
+            run_sizes(case, sizes, *counts[case], args)
     if "speeds" in cases:
         run_speeds(args.sweep_size, [int(c) for c in args.sweep_speeds.split(",")], args)
     print(f"\npeak resident memory of the whole run (ru_maxrss): "

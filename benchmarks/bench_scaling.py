@@ -255,7 +255,7 @@ def run_sizes(case, sizes, count, count_large, args):
     if len(rows) > 1:
         states, mine, base = (np.array(c) for c in zip(*rows))
         print(f"{'growth exponent':>22}        | package {exponent(states, mine):5.2f} "
-              f"(time per {unit[:-1]} ~ n_states^p)   floor {exponent(states, base):5.2f}")
+              f"(time per {'frequency' if case == 'frf' else 'speed'} ~ n_states^p)   floor {exponent(states, base):5.2f}")
         big = states >= 60
         if big.sum() > 1:
             print(f"{'(sizes >= 60 states)':>22}        | package {exponent(states[big], mine[big]):5.2f}"
@@ -308,6 +308,7 @@ def main(argv=None) -> None:
     args = parse(argv)
     if args.threads != "default":
         os.environ["ROTORDYN_MODAL_THREADS"] = args.threads
+        import scipy.linalg  # noqa: F401  (scipy's own BLAS must be loaded to be limited)
         from threadpoolctl import threadpool_limits
 
         threadpool_limits(int(args.threads), user_api="blas")

@@ -24,7 +24,7 @@ from ..geometry import skew
 
 __all__ = ["select_upper", "upper_indices", "pencil_shapes", "pencil_eigenvalues", "chunk_slices", "CHUNK_BYTES", "eigenvalues_of", "solve_batch", "whirl_forms", "rotor_whirl_forms",
            "whirl_ratios",
-           "mass_normalized", "mac_matrix", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
+           "mass_normalized", "mac_matrix", "real_product", "quadratic_forms", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
 
 #: |Im lam| below this fraction of the largest |lam| of a speed counts as non-oscillatory
 OSCILLATORY_TOLERANCE = 1e-6
@@ -217,8 +217,10 @@ def pencil_eigenvalues(M, damping, stiffness, eigenvalues, vectors, iterations: 
 
     Parameters
     ----------
-    M, damping, stiffness : ndarray, shape (P, n, n)
-        Each row's mass, ``C + Omega G`` and stiffness.
+    M : ndarray, shape (P, n, n) or (n, n)
+        Each row's mass, or one for all.
+    damping, stiffness : ndarray, shape (P, n, n)
+        Each row's ``C + Omega G`` and stiffness.
     eigenvalues : ndarray, shape (P,), complex
         Guesses.
     vectors : ndarray, shape (P, n), complex
@@ -242,8 +244,9 @@ def pencil_eigenvalues(M, damping, stiffness, eigenvalues, vectors, iterations: 
         i = np.nonzero(active)[0]
         if not len(i):
             break
-        z = _solve(_quadratic(M[i], damping[i], stiffness[i], s[i]),
-                   _slope_times(M[i], damping[i], s[i], phi[i]))[..., 0]
+        mass = M if M.ndim == 2 else M[i]
+        z = _solve(_quadratic(mass, damping[i], stiffness[i], s[i]),
+                   _slope_times(mass, damping[i], s[i], phi[i]))[..., 0]
         with np.errstate(divide="ignore", invalid="ignore"):
             step = 1.0 / np.einsum("pi,pi->p", phi[i].conj(), z)
         finite = np.isfinite(step) & np.all(np.isfinite(z), axis=-1)
@@ -481,12 +484,10 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     ndarray, shape (..., m)
     """
     n = shapes.shape[-1]
-    # phi^H X phi of the three forms for every shape: one batched product with [W^T N^T total^T]
-    stacked = np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1)
-    # complex and contiguous: BLAS's zgemm (a real, strided operand takes numpy's own loops)
-    stacked = np.ascontiguousarray(stacked, dtype=complex)
-    products = (shapes @ stacked).reshape(shapes.shape[:-1] + (3, n))
-    values = np.einsum("...i,...ki->...k", shapes.conj(), products)
+    # phi^H X phi of the three forms for every shape from one product with [W^T N^T total^T]
+    stacked = np.ascontiguousarray(
+        np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1))
+    values = quadratic_forms(shapes, stacked).reshape(shapes.shape[:-1] + (3,))
     momentum = values[..., 0].imag  # Re(-i phi^H W phi)
     across = values[..., 1].real
     whole = values[..., 2].real
@@ -494,6 +495,33 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     ratio = np.where(whirling, momentum / np.where(whirling, across, 1.0), 0.0)
     sign = np.where(np.asarray(speeds) < 0, -1.0, 1.0)
     return np.clip(ratio * np.asarray(sign)[..., None], -1.0, 1.0)
+
+
+def real_product(shapes, matrix) -> np.ndarray:
+    """``shapes @ matrix`` for complex shapes (..., m, n) and a real matrix (n, p) or (..., n, p),
+    as real products of the real and imaginary parts (half the work of a complex product;
+    one matrix product over all shapes when the matrix is shared)."""
+    if np.iscomplexobj(matrix):
+        return shapes @ matrix
+    parts = np.stack([shapes.real, shapes.imag])                     # contiguous, (2, ..., m, n)
+    if matrix.ndim == 2:
+        out = (parts.reshape(-1, parts.shape[-1]) @ matrix).reshape(parts.shape[:-1] + matrix.shape[-1:])
+    else:
+        out = parts @ matrix
+    return out[0] + 1j * out[1]
+
+
+def quadratic_forms(shapes, stacked) -> np.ndarray:
+    """``phi^H X_k phi`` of every shape (..., m, n) for real forms whose transposes are
+    side by side in ``stacked`` (n, K n) or (..., n, K n).
+
+    Returns
+    -------
+    ndarray, shape (..., m, K), complex
+    """
+    n = shapes.shape[-1]
+    products = real_product(shapes, stacked).reshape(shapes.shape[:-1] + (-1, n))   # (..., m, K, n)
+    return np.einsum("...i,...ki->...k", shapes.conj(), products)
 
 
 def whirl_labels(ratios) -> np.ndarray:
@@ -507,7 +535,7 @@ def mass_normalized(shapes, M) -> np.ndarray:
     """``L^T phi`` normalised to unit length, with ``M = L L^T``: shapes whose plain
     inner product is the mass-weighted one (unit-consistent MAC)."""
     factor = np.linalg.cholesky(M)
-    weighted = shapes @ factor.conj()
+    weighted = real_product(shapes, factor)
     norms = np.linalg.norm(weighted, axis=-1, keepdims=True)
     # relaxation roots of Maxwell junctions move no mass: their shape stays zero (MAC 0)
     return weighted / np.where(norms > 0, norms, 1.0)

@@ -591,8 +591,9 @@ def _newton_at(stack, speeds, values, brackets, rows, x, iterates):
     for part in _eigen.chunk_slices(len(rows), 80 * stack.n_dof ** 2):
         variants = brackets.variant[rows[part]]
         damping, stiffness = stack.damping_stiffness(variants, x[part])
+        mass = stack.M[0] if len(stack) == 1 else stack.M[variants]
         lam[part], shapes[part], converged[part] = _eigen.pencil_eigenvalues(
-            stack.M[variants], damping, stiffness, start[part], iterates.shape[rows[part]])
+            mass, damping, stiffness, start[part], iterates.shape[rows[part]])
     expected = _interpolated(speeds, values, brackets, rows, x)
     ok = converged & (np.abs(lam - expected) <= 2 * _spread(values, brackets, rows))
     iterates.x[rows[ok]], iterates.lam[rows[ok]], iterates.shape[rows[ok]] = x[ok], lam[ok], shapes[ok]

@@ -112,14 +112,15 @@ class Stack:
 
     def weighted(self, shapes, variants):
         """Mass-weighted unit shapes (see :func:`_eigen.mass_normalized`) of rows of variants."""
-        factor = self.factor[0] if len(self) == 1 else self.factor[variants]
-        weighted = shapes @ factor.conj()
+        factor = self.factor[0] if len(self) == 1 else self.factor[variants]   # real: L^H = L^T
+        weighted = _eigen.real_product(shapes, factor)
         norms = _eigen.row_norms(weighted)
         return weighted / np.where(norms > 0, norms, 1.0)
 
     def whirl_ratios(self, shapes, variants, speeds):
         """Whirl ratios (see :func:`_eigen.whirl_ratios`) of shapes (R, m, n) of rows of variants."""
-        return _eigen.whirl_ratios(shapes, _eigen.WhirlForms(*(f[variants] for f in self.whirl)), speeds)
+        forms = _eigen.WhirlForms(*(f[0] if len(self) == 1 else f[variants] for f in self.whirl))
+        return _eigen.whirl_ratios(shapes, forms, speeds)
 
     def shapes_at(self, variants, x, lam):
         """One inverse-iteration step on the pencil for each (variant, speed, eigenvalue)."""

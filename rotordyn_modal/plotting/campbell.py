@@ -16,7 +16,9 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
 
     Tracked modes are drawn solid blue where they whirl forward, dashed red
     backward and dotted grey without whirl; each rotor's (and gear mesh's)
-    excitation orders are straight labelled lines; critical speeds are marked.
+    excitation orders are straight lines, labelled inside the axes where they leave
+    them, apart from each other (close orders of one source share a label, a label with
+    no room is left out: its line keeps its source's colour); critical speeds are marked.
 
     Parameters
     ----------

@@ -152,7 +152,8 @@ def _relative(name: str) -> str:
 def test_the_graph_sees_every_module_and_known_edges():
     graph = import_graph()
     assert len(graph) == len(list(PACKAGE.rglob("*.py")))
-    assert f"{ROOT}.study.analyses" in graph[f"{ROOT}.study.definition"]       # inside a function
+    assert f"{ROOT}.study.analyses" in graph[f"{ROOT}.study.definition"]
+    assert f"{ROOT}.plotting" in graph[f"{ROOT}.analysis.campbell"]              # inside a function
     assert f"{ROOT}.errors" in import_graph(module_level_only=True)[f"{ROOT}.assembly"]
 
 

@@ -69,8 +69,17 @@ def line_exit(slope: float, x_limits, top: float):
     return ("right" if direction > 0 else "left"), (far - lo) / width, slope * abs(far) / top, direction
 
 
-def place_edge_labels(ax, labels, fontsize="x-small"):
+def laid_out_renderer(fig):
+    """Lay the figure out (constrained layout runs) and return its renderer."""
+    fig.draw_without_rendering()
+    return fig.canvas.get_renderer()
+
+
+def place_edge_labels(ax, labels, fontsize="x-small", renderer=None):
     """Draw ``labels`` (list of :class:`EdgeLabel`) inside ``ax`` without overlaps.
+
+    ``renderer`` from :func:`laid_out_renderer` once the figure is complete (labels inside
+    the axes do not move it); laid out here when not given.
 
     Returns
     -------
@@ -78,8 +87,7 @@ def place_edge_labels(ax, labels, fontsize="x-small"):
         The labels drawn (merged or left out ones are not drawn).
     """
     fig = ax.figure
-    fig.draw_without_rendering()
-    renderer = fig.canvas.get_renderer()
+    renderer = renderer or laid_out_renderer(fig)
     box = ax.get_window_extent(renderer)
     to_u, to_v = 1.0 / box.width, 1.0 / box.height
     points = fig.dpi / 72.0
@@ -174,17 +182,16 @@ def exits_of_orders(orders, lines, x_limits, top, per_x):
     return labels
 
 
-def spread_apart(annotations, gap_points: float = 1.0):
+def spread_apart(annotations, gap_points: float = 1.0, renderer=None):
     """Move annotations (offset in points) up just enough that no two of them overlap.
 
     Lowest first, each annotation rises above every earlier one its box meets; its anchor
-    stays, only the offset changes.
+    stays, only the offset changes. ``renderer`` as for :func:`place_edge_labels`.
     """
     if not annotations:
         return
     fig = annotations[0].figure
-    fig.draw_without_rendering()
-    renderer = fig.canvas.get_renderer()
+    renderer = renderer or laid_out_renderer(fig)
     points = fig.dpi / 72.0
     boxes = sorted(((a.get_window_extent(renderer), a) for a in annotations), key=lambda item: item[0].y0)
     placed = []

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._labels import exits_of_orders, place_edge_labels, spread_apart
+from ._labels import exits_of_orders, laid_out_renderer, place_edge_labels, spread_apart
 from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell"]
@@ -16,7 +16,9 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
 
     Tracked modes are drawn solid blue where they whirl forward, dashed red
     backward and dotted grey without whirl; each rotor's (and gear mesh's)
-    excitation orders are straight labelled lines; critical speeds are marked.
+    excitation orders are straight lines, labelled inside the axes where they leave
+    them, apart from each other (close orders of one source share a label, a label with
+    no room is left out: its line keeps its source's colour); critical speeds are marked.
 
     Parameters
     ----------
@@ -54,8 +56,10 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     ax.set_title(title or "Campbell diagram")
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), fontsize="small", ncols=4, frameon=False)
-    spread_apart([t for t in ax.texts if t.get_gid() == "mode-label"])
-    place_edge_labels(ax, exits_of_orders(result.orders, lines, ax.get_xlim(), top, 1 / (2 * np.pi * scale)))
+    renderer = laid_out_renderer(fig)
+    spread_apart([t for t in ax.texts if t.get_gid() == "mode-label"], renderer=renderer)
+    place_edge_labels(ax, exits_of_orders(result.orders, lines, ax.get_xlim(), top, 1 / (2 * np.pi * scale)),
+                      renderer=renderer)
     return fig
 
 

@@ -17,6 +17,7 @@ import numpy as np
 from .._limits import count_problem
 from ..errors import InputError
 from ._rules import StudyError, grid_values, is_number
+from .analyses import parse_analyses
 
 __all__ = ["StudyError", "Parameter", "StudyDefinition", "read_study", "parse_study",
            "DESIGNS", "DISTRIBUTIONS"]
@@ -169,11 +170,29 @@ def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinit
     -------
     StudyDefinition
     """
-    from .analyses import parse_analyses
-
     if not isinstance(data, dict):
         raise StudyError(source, "<study>", data, "a table")
     _unknown(data, _TOP_KEYS, source, "<top level>")
+    seed, design, chunk = _run_options(data, source)
+    items = data.get("parameters")
+    if not isinstance(items, list) or not items:
+        raise StudyError(source, "[[parameters]]", items, "at least one [[parameters]] table")
+    parameters = tuple(_parameter(item, i, source, model) for i, item in enumerate(items))
+    _unique_names(parameters, source)
+    random = [p for p in parameters if not p.is_grid]
+    samples = _samples(data, random, source)
+    _check_variant_count(parameters, samples, design, source)
+    correlation = _correlation(data.get("correlation"), random, source)
+    _check_design(design, correlation, random, parameters, source)
+    analyses = parse_analyses(data.get("analyses"), source, model)
+    band = _band(data.get("operating_band_rpm"), source)
+    return StudyDefinition(parameters=parameters, design=design, samples=int(samples or 0),
+                           seed=seed, correlation=correlation, analyses=analyses,
+                           chunk_size=chunk, operating_band_rpm=band, source=source, raw=data)
+
+
+def _run_options(data, source):
+    """``seed`` (None or a whole number >= 0), ``design`` and ``chunk_size`` (None or >= 1)."""
     seed = data.get("seed")
     if seed is not None and (not _is_int(seed) or not 0 <= seed <= _LARGEST_INT):
         raise StudyError(source, "seed", seed, f"a whole number from 0 to {_LARGEST_INT}")
@@ -183,31 +202,28 @@ def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinit
     chunk = data.get("chunk_size")
     if chunk is not None and (not _is_int(chunk) or not 1 <= chunk <= _LARGEST_INT):
         raise StudyError(source, "chunk_size", chunk, f"a whole number from 1 to {_LARGEST_INT}")
-    items = data.get("parameters")
-    if not isinstance(items, list) or not items:
-        raise StudyError(source, "[[parameters]]", items, "at least one [[parameters]] table")
-    parameters = tuple(_parameter(item, i, source, model) for i, item in enumerate(items))
-    _unique_names(parameters, source)
-    random = [p for p in parameters if not p.is_grid]
+    return seed, design, chunk
+
+
+def _samples(data, random, source):
+    """``samples``: >= 2 when some parameter is a distribution, none when all are grids."""
     samples = data.get("samples", 0 if not random else None)
     if random and (not _is_int(samples) or samples < 2):
         raise StudyError(source, "samples", samples, "a whole number >= 2 (samples of the distributions)")
     if not random and samples not in (0, None):
         raise StudyError(source, "samples", samples, "no samples: every parameter is a grid "
                          "(give a distribution to sample)")
-    _check_variant_count(parameters, samples, design, source)
-    correlation = _correlation(data.get("correlation"), random, source)
+    return samples
+
+
+def _check_design(design, correlation, random, parameters, source):
+    """A Saltelli design (Sobol indices) takes independent distributions only."""
     if design == "saltelli" and not np.allclose(correlation, np.eye(len(random))):
         raise StudyError(source, "design", design, "independent parameters (Sobol indices assume "
                          "no correlation); remove [correlation] or use another design")
     if design == "saltelli" and len(random) != len(parameters):
         raise StudyError(source, "design", design, "distributions only (a Saltelli design takes no grid "
                          "parameters)")
-    analyses = parse_analyses(data.get("analyses"), source, model)
-    band = _band(data.get("operating_band_rpm"), source)
-    return StudyDefinition(parameters=parameters, design=design, samples=int(samples or 0),
-                           seed=seed, correlation=correlation, analyses=analyses,
-                           chunk_size=chunk, operating_band_rpm=band, source=source, raw=data)
 
 
 def _check_variant_count(parameters, samples, design, source):

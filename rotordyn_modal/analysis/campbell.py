@@ -327,7 +327,8 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders) -> l
     if not len(brackets.k):
         return [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
     roots, lam, sure = _refine_together(stack, speeds, values, weighted, brackets)
-    lam, phi = _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure)
+    lam, phi = _in_parts(lambda r: _shapes_at(stack, speeds, values, weighted, brackets.subset(r), roots[r],
+                                              lam[r], sure[r]), np.arange(len(roots)), _row_bytes(stack))
     ratios = stack.whirl_ratios(phi[:, None], brackets.variant, roots)[:, 0]
     _, zeta, _ = modal_quantities(lam)
     names = np.asarray(sources[0].names, dtype=object)[brackets.source]
@@ -427,7 +428,8 @@ def _refine_together(stack, speeds, values, weighted, brackets):
         i = np.nonzero(~done)[0]
         if not len(i):
             break
-        lam_x, sure_x = _tracked(stack, speeds, values, weighted, brackets, i, x[i])
+        lam_x, sure_x = _in_parts(lambda r: _tracked(stack, speeds, values, weighted, brackets, r, x[r]), i,
+                                  _row_bytes(stack))
         gx = lam_x.imag - slope[i] * np.abs(x[i])
         roots[i], lam[i], sure[i] = x[i], lam_x, sure_x
         step = _next_step(state, i, x[i], gx, previous[:, i])
@@ -436,6 +438,25 @@ def _refine_together(stack, speeds, values, weighted, brackets):
         done[i[finished]] = True
         x[i] = step
     return roots, lam, sure
+
+
+def _row_bytes(stack) -> int:
+    """Work memory of one crossing's eigen-solution [bytes]: its state matrix, LAPACK's
+    copy and the eigenvectors (complex)."""
+    n_states = stack.A0.shape[-1]
+    return 3 * 16 * n_states * n_states
+
+
+def _in_parts(function, rows, row_bytes: int):
+    """``function(rows)`` over consecutive parts of ``rows`` holding at most about
+    ``_eigen._PART_BYTES`` of work each (a machine with many coordinates has tens of
+    thousands of crossings), the parts' results concatenated. Each row's result does not
+    depend on the others, so the split changes no number."""
+    size = max(1, _eigen._PART_BYTES // max(int(row_bytes), 1))
+    if len(rows) <= size:
+        return function(rows)
+    pieces = [function(rows[j:j + size]) for j in range(0, len(rows), size)]
+    return tuple(np.concatenate(column) for column in zip(*pieces))
 
 
 class _Bracket(NamedTuple):

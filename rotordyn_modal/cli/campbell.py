@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       save_figure, show_progress, speeds_option, use_agg, write_table)
+from ._resources import add_verbose, report_peak_memory
 
 NAME = "campbell"
 HELP = "Campbell diagram: modes tracked across speeds"
@@ -26,6 +27,7 @@ def add_arguments(parser):
     parser.add_argument("--color-by", choices=["log_decrement", "damping_ratio"],
                         help="colour the curves by this quantity instead of by whirl")
     add_outputs(parser)
+    add_verbose(parser)
 
 
 def run(args) -> int:
@@ -37,4 +39,5 @@ def run(args) -> int:
     if args.plot:
         use_agg()
         save_figure(result.plot(color_by=args.color_by, title=model.name or None), args)
+    report_peak_memory(args)
     return 0

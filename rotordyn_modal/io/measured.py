@@ -71,6 +71,9 @@ def read_csv(path, model) -> list[FRFResult]:
     """Read the plain CSV layout (see the module docstring)."""
     import pandas as pd
 
+    from .limits import check_size
+
+    check_size(path, "measured", "measured-data file")
     try:
         table = pd.read_csv(path)
     except (OSError, ValueError) as error:

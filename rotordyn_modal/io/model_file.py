@@ -8,6 +8,7 @@ from pathlib import Path
 from ..errors import ModelError
 from ..model import Model
 from .atomic import atomic_write, check_not_input
+from .limits import check_size
 
 __all__ = ["load_model", "save_model"]
 
@@ -32,6 +33,7 @@ def load_model(path) -> Model:
     """
     path = Path(path)
     source = str(path)
+    check_size(path, "model", "model file")
     try:
         text = path.read_bytes().decode("utf-8")
     except FileNotFoundError:

@@ -25,6 +25,9 @@ def _tdms_file(path):
         from nptdms import TdmsFile
     except ImportError:
         raise InputError(f"{path}: reading TDMS needs npTDMS: pip install 'rotordyn_modal[tdms]'") from None
+    from .limits import check_size
+
+    check_size(path, "measured", "measured-data file")
     try:
         return TdmsFile.read(str(path))
     except FileNotFoundError:

@@ -153,6 +153,9 @@ def read_uff58(path, model, mapping):
 
 def _check_complete(path):
     """Refuse a truncated or padded ASCII file: datasets sit between pairs of ``-1`` lines."""
+    from .limits import check_size
+
+    check_size(path, "measured", "measured-data file")
     with open(path, "rb") as handle:
         head = handle.read(4096)
     if b"\0" in head or b"58b" in head.lower():

@@ -144,6 +144,9 @@ def read_study(path, model=None) -> StudyDefinition:
     """
     path = Path(path)
     source = str(path)
+    from ..io.limits import check_size
+
+    check_size(path, "model", "study file")
     try:
         data = tomllib.loads(path.read_bytes().decode("utf-8"))
     except FileNotFoundError:

@@ -1,0 +1,65 @@
+"""Size limits of the files read whole, checked before a byte is parsed.
+
+A model or study file is a short text (the 200-rotor machine of the tests is 49 kB); a
+file of many megabytes is a mistake (a wrong path, a data file given as a model) whose
+parsing would take the memory of the machine. Measured-data files read whole (UFF,
+CSV, TDMS) are allowed much more. Each limit can be raised by an environment variable
+(a number of megabytes), as ``docs/model-file.md`` says.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from ..errors import InputError
+
+__all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "check_size", "limit_bytes"]
+
+#: default limit of model and study files [MB]; environment: ROTORDYN_MODAL_MAX_MODEL_MB
+MODEL_FILE_MB = 10
+#: default limit of measured-data files read whole [MB]; environment: ROTORDYN_MODAL_MAX_MEASURED_MB
+MEASURED_FILE_MB = 512
+
+_LIMITS = {"model": ("ROTORDYN_MODAL_MAX_MODEL_MB", MODEL_FILE_MB),
+           "measured": ("ROTORDYN_MODAL_MAX_MEASURED_MB", MEASURED_FILE_MB)}
+
+
+def limit_bytes(kind: str) -> tuple[int, str]:
+    """The limit of a kind of file ('model': model and study files; 'measured') [bytes],
+    and the environment variable that sets it."""
+    variable, default = _LIMITS[kind]
+    text = os.environ.get(variable, "")
+    try:
+        megabytes = float(text) if text.strip() else float(default)
+    except ValueError:
+        raise InputError(f"{variable}={text!r}: expected a number of megabytes") from None
+    if not megabytes > 0:
+        raise InputError(f"{variable}={text!r}: expected a number of megabytes > 0")
+    return int(megabytes * 2**20), variable
+
+
+def check_size(path, kind: str, what: str) -> None:
+    """Refuse a file larger than its kind's limit, before reading it.
+
+    Parameters
+    ----------
+    path : path-like
+    kind : {'model', 'measured'}
+    what : str
+        Named in the message ('model file', 'study file', 'measured-data file').
+
+    Raises
+    ------
+    InputError
+        With the file, its size, the limit and how to raise it. A missing or
+        unreadable file passes (the reader reports it).
+    """
+    try:
+        size = Path(path).stat().st_size
+    except OSError:
+        return
+    limit, variable = limit_bytes(kind)
+    if size > limit:
+        raise InputError(f"{path}: a {what} of {size / 2**20:.1f} MB is larger than the limit of "
+                         f"{limit / 2**20:g} MB and is not read (set {variable} to a number of MB to allow it)")

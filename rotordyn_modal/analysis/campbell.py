@@ -638,7 +638,10 @@ def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure):
     """Eigenvalues and shapes at the roots: one inverse-iteration step on the eigenvalue found;
     a full identification (:func:`_modes_at`) where it was unsure or the eigenvalue is repeated."""
     lam = lam.copy()
-    phi = stack.shapes_at(brackets.variant, roots, lam)
+    phi = np.empty((len(roots), stack.n_dof), dtype=complex)
+    # in parts: each row holds its own pencil and matrices (n x n, several copies)
+    for part in _eigen.chunk_slices(len(roots), 80 * stack.n_dof ** 2):
+        phi[part] = stack.shapes_at(brackets.variant[part], roots[part], lam[part])
     if not sure.all():
         rows = np.nonzero(~sure)[0]
         lam[rows], phi[rows] = _modes_at(stack, speeds, values, weighted, brackets.subset(rows), roots[rows])

@@ -190,11 +190,12 @@ class _StiffnessTerms:
         self.matrices = constant_matrices(model)
         self.loss = loss_stiffness(model)
         self.frequency_dependent = has_frequency_dependence(model)
+        self.speed_dependent = model.speed_dependent
 
     def at(self, speeds, w) -> np.ndarray:
         """``Z`` at frequencies ``w`` (F,) and reference speeds ``speeds`` (F,), shape (F, n, n)."""
         M, C, G, K = self.matrices
-        if self.model.speed_dependent:
+        if self.speed_dependent:
             k_b, c_b = dependent_bearing_matrices(self.model, speeds)
             K, C = K + k_b, C + c_b
         speed = speeds[:, None, None]

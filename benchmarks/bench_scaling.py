@@ -136,7 +136,7 @@ def frf_pair(model, count):
 def unbalance_pair(model, count):
     """rdm.unbalance_response and its floor: batched solve of the same harmonic systems."""
     import rotordyn_modal as rdm
-    from rotordyn_modal.analysis import _eigen
+    from rotordyn_modal.analysis import frf as frf_module
     from rotordyn_modal.analysis.unbalance import unbalance_forces
     from rotordyn_modal.assembly import constant_matrices, generalized_force
 
@@ -152,7 +152,7 @@ def unbalance_pair(model, count):
                         for j, s in enumerate(sources)]).reshape(-1, M.shape[0], 1)
         omega, speed = w.ravel(), np.tile(speeds, len(sources))
         n = M.shape[0]
-        step = max(1, int(_eigen.CHUNK_BYTES // (80 * n * n)))
+        step = max(1, int(frf_module._SOLVE_PART_BYTES // (48 * n * n)))   # the package's parts
         out = []
         for i in range(0, len(omega), step):
             o, s = omega[i:i + step, None, None], speed[i:i + step, None, None]

@@ -515,7 +515,6 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     -------
     ndarray, shape (..., m)
     """
-    n = shapes.shape[-1]
     # phi^H X phi of the three forms for every shape from one product with [W^T N^T total^T]
     stacked = np.ascontiguousarray(
         np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1))

@@ -443,25 +443,6 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     return roots, lam, sure
 
 
-def _row_bytes(stack) -> int:
-    """Work memory of one crossing's eigen-solution [bytes]: its state matrix, LAPACK's
-    copy and the eigenvectors (complex)."""
-    n_states = stack.A0.shape[-1]
-    return 3 * 16 * n_states * n_states
-
-
-def _in_parts(function, rows, row_bytes: int):
-    """``function(rows)`` over consecutive parts of ``rows`` holding at most about
-    ``_eigen._PART_BYTES`` of work each (a machine with many coordinates has tens of
-    thousands of crossings), the parts' results concatenated. Each row's result does not
-    depend on the others, so the split changes no number."""
-    size = max(1, _eigen._PART_BYTES // max(int(row_bytes), 1))
-    if len(rows) <= size:
-        return function(rows)
-    pieces = [function(rows[j:j + size]) for j in range(0, len(rows), size)]
-    return tuple(np.concatenate(column) for column in zip(*pieces))
-
-
 class _Bracket(NamedTuple):
     """Brackets being shrunk (arrays updated in place): ends, their g (Illinois-scaled), the end
     moved last (+1 a, -1 b) and the bracket's width one and two steps ago."""
@@ -657,7 +638,10 @@ def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure):
     """Eigenvalues and shapes at the roots: one inverse-iteration step on the eigenvalue found;
     a full identification (:func:`_modes_at`) where it was unsure or the eigenvalue is repeated."""
     lam = lam.copy()
-    phi = stack.shapes_at(brackets.variant, roots, lam)
+    phi = np.empty((len(roots), stack.n_dof), dtype=complex)
+    # in parts: each row holds its own pencil and matrices (n x n, several copies)
+    for part in _eigen.chunk_slices(len(roots), 80 * stack.n_dof ** 2):
+        phi[part] = stack.shapes_at(brackets.variant[part], roots[part], lam[part])
     if not sure.all():
         rows = np.nonzero(~sure)[0]
         lam[rows], phi[rows] = _modes_at(stack, speeds, values, weighted, brackets.subset(rows), roots[rows])

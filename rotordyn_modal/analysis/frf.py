@@ -42,6 +42,9 @@ QUANTITIES = {"receptance": 0, "mobility": 1, "accelerance": 2}
 _OUTPUT_UNITS = {0: "m", 1: "m/s", 2: "m/s^2"}
 #: condition number (1-norm estimate) of the eigenvector matrix above which the modal engine is not trusted
 _MAX_CONDITION = 1e8
+#: work memory of one part of a batched direct solve (Z, LAPACK's copy): a few parts fit in
+#: the cache, and the Python cost of a part stays small beside its LU factorisations [bytes]
+_SOLVE_PART_BYTES = 16 * 2**20
 
 
 @dataclass(frozen=True)
@@ -160,7 +163,7 @@ def choose_engine(model) -> str:
     return "modal"
 
 
-def dynamic_stiffness(model, speed: float, omega, matrices=None) -> np.ndarray:
+def dynamic_stiffness(model, speed: float, omega) -> np.ndarray:
     """``Z(w) = K(1 + i eta) + K_f(w) + i w (C + Omega G) - w^2 M`` for many frequencies.
 
     Parameters
@@ -170,31 +173,53 @@ def dynamic_stiffness(model, speed: float, omega, matrices=None) -> np.ndarray:
         Reference rotor speed [rad/s] (one per frequency for unbalance sweeps).
     omega : array_like, shape (n_freq,)
         Circular frequencies [rad/s].
-    matrices : Matrices, optional
-        ``constant_matrices(model)``, when the caller has them.
 
     Returns
     -------
     ndarray, shape (n_freq, n, n), complex [N/m, ...]
     """
-    M, C, G, K = constant_matrices(model) if matrices is None else matrices
     w = np.atleast_1d(np.asarray(omega, dtype=float))
-    speeds = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
-    if model.speed_dependent:
-        k_b, c_b = dependent_bearing_matrices(model, speeds)
-        K, C = K + k_b, C + c_b
-    speed = speeds[:, None, None]
-    w3 = w[:, None, None]
-    Z = K + 1j * loss_stiffness(model) + 1j * w3 * (C + speed * G) - w3 ** 2 * M
-    return Z + maxwell_stiffness(model, w)
+    return _StiffnessTerms(model).at(np.broadcast_to(np.asarray(speed, dtype=float), w.shape), w)
+
+
+class _StiffnessTerms:
+    """The parts of ``Z(w)`` that do not depend on frequency, assembled once."""
+
+    def __init__(self, model):
+        self.model = model
+        self.matrices = constant_matrices(model)
+        self.loss = loss_stiffness(model)
+        self.frequency_dependent = has_frequency_dependence(model)
+        self.speed_dependent = model.speed_dependent
+
+    def at(self, speeds, w) -> np.ndarray:
+        """``Z`` at frequencies ``w`` (F,) and reference speeds ``speeds`` (F,), shape (F, n, n)."""
+        M, C, G, K = self.matrices
+        if self.speed_dependent:
+            k_b, c_b = dependent_bearing_matrices(self.model, speeds)
+            K, C = K + k_b, C + c_b
+        speed = speeds[:, None, None]
+        w3 = w[:, None, None]
+        # built in place, real and imaginary parts apart (the same sums as the formula, without
+        # its complex temporaries): re = K - w^2 M, im = eta K + w (C + Omega G)
+        Z = np.empty(np.broadcast_shapes(w3.shape, M.shape, np.shape(K), np.shape(C)), dtype=complex)
+        np.multiply(-(w3 ** 2), M, out=Z.real)
+        Z.real += K
+        np.multiply(speed, G, out=Z.imag)
+        Z.imag += C
+        Z.imag *= w3
+        Z.imag += self.loss
+        if self.frequency_dependent:
+            Z += maxwell_stiffness(self.model, w)
+        return Z
 
 
 def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     """Complex amplitude of ``q`` under harmonic generalized forces (direct solve).
 
-    The systems are built and solved in parts of bounded memory (about
-    ``_eigen.CHUNK_BYTES`` each); each system is solved on its own, so the parts do not
-    change the result.
+    The systems are built and solved in parts of a few MB (``_SOLVE_PART_BYTES``: bounded
+    memory, and each part still in the cache while it is solved); each system is solved on
+    its own, so the parts do not change the result.
 
     Parameters
     ----------
@@ -208,16 +233,15 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     -------
     ndarray, shape (n_freq, n_dof, k), complex [m, rad]
     """
-    matrices = constant_matrices(model)
+    terms = _StiffnessTerms(model)
     w = np.atleast_1d(np.asarray(omega, dtype=float))
     speeds = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
-    n = matrices.M.shape[0]
+    n = terms.matrices.M.shape[0]
     rhs = np.broadcast_to(np.asarray(forces, dtype=complex), (len(w),) + np.shape(forces)[-2:])
     out = np.empty(rhs.shape, dtype=complex)
-    # per system: Z and its temporaries (about four complex n x n), LAPACK's LU copy
-    for part in _eigen.chunk_slices(len(w), 80 * n * n):
-        Z = dynamic_stiffness(model, speeds[part], w[part], matrices)
-        out[part] = np.linalg.solve(Z, rhs[part])
+    # per system: Z, LAPACK's copy and the temporaries of its right-hand side
+    for part in _eigen.chunk_slices(len(w), 48 * n * n * _eigen.CHUNK_BYTES // _SOLVE_PART_BYTES):
+        out[part] = np.linalg.solve(terms.at(speeds[part], w[part]), rhs[part])
     return out
 
 

@@ -304,8 +304,9 @@ def judge(argv, named: str, outputs=(), folder=None, seconds: float | None = Non
     Parameters
     ----------
     argv : list
-    named : str
-        Text the one-line message of a refusal must contain (the file name, or the option).
+    named : str or tuple of str
+        Text the one-line message of a refusal must contain (the file name, or the option; one of
+        several).
     outputs : sequence of path-like
         Files that a refused run must not leave behind.
     folder : path-like, optional
@@ -318,6 +319,7 @@ def judge(argv, named: str, outputs=(), folder=None, seconds: float | None = Non
     style : re.Pattern, optional
         The message of a refusal must match it (:data:`HOUSE_STYLE` for model and study files).
     """
+    names = (named,) if isinstance(named, str) else tuple(named)
     before = set(os.listdir(folder)) if folder is not None else set()
     code, stdout, stderr, problem = run_cli(argv, seconds)
     outcome = Outcome(list(map(str, argv)), code, stdout, stderr)
@@ -340,9 +342,9 @@ def judge(argv, named: str, outputs=(), folder=None, seconds: float | None = Non
         outcome.verdict, outcome.reason = "refused", "usage"
     elif len(lines) != 1:
         outcome.verdict, outcome.reason = "crash", f"{len(lines)} lines on stderr"
-    elif named not in lines[0]:
-        outcome.verdict, outcome.reason = "crash", f"the message does not name {named!r}"
-    elif style is not None and not style.search(lines[0].split(named, 1)[1]):
+    elif not any(name in lines[0] for name in names):
+        outcome.verdict, outcome.reason = "crash", f"the message does not name {' or '.join(names)!r}"
+    elif style is not None and not style.search(lines[0].split(names[0], 1)[-1]):
         outcome.verdict, outcome.reason = "crash", "the message does not say where, the value and what was expected"
     elif left:
         outcome.verdict, outcome.reason = "crash", f"refused but left {left}"
@@ -552,6 +554,9 @@ def _mutate_csv(text: str, rng) -> bytes:
     return table.to_csv(index=False).encode()
 
 
+#: the default mapping of the gear machine, written out (sensor k is node k, excitation k node 100 + k)
+_MAPPING = "name,node,direction,sign\nacc-top-z,1,3,1\nacc-side-y,2,2,1\nhammer-z,101,-3,1\nshaker-y,102,2,1\n"
+
 _VALID_MEASURED = {}
 
 
@@ -569,6 +574,8 @@ def _valid_measured(folder) -> dict:
         _write_uff(_uff_sets(binary), files[name], _uff_sets(binary))
     files["valid.csv"] = folder / "valid.csv"
     write_csv([res], files["valid.csv"])
+    files["mapping.csv"] = folder / "valid-mapping.csv"
+    files["mapping.csv"].write_text(_MAPPING)
     _VALID_MEASURED[folder] = files
     return files
 
@@ -592,14 +599,21 @@ def measured_case(rng, folder, fit: bool | None = None) -> list:
         _write_uff(_mutate_uff_sets(sets, rng), path, sets)
     out = folder / "out"
     out.mkdir(exist_ok=True)
+    mapping = []
+    if not kind.endswith(".csv") and rng.random() < 0.3:  # a mapping table, mutated most of the time
+        table = folder / "mapping.csv"
+        text = valid["mapping.csv"].read_text()
+        table.write_bytes(_mutate_csv(text, rng) if rng.random() < 0.8 else text.encode())
+        mapping = ["--mapping", table]
     runs = [(["frf", MEASURED_MODEL, "--speed", MEASURED_RPM, "--freqs", MEASURED_FREQS, "--measured", path,
-              "--out", out / "frf.csv", "--quiet"], (out / "frf.csv",))]
+              *mapping, "--out", out / "frf.csv", "--quiet"], (out / "frf.csv",))]
     if fit:
         runs.append((["fit", MEASURED_MODEL, "--measured", path, "--params", "suspensions.mount-FL.stiffness",
                       "--starts", "1", "--out", out / "fitted.toml", "--quiet"], (out / "fitted.toml",)))
     outcomes = []
     for argv, outputs in runs:
-        outcomes.append(judge(argv, str(path), outputs, out, failure_ok="not converged"))
+        named = (str(path), str(mapping[1])) if mapping else str(path)
+        outcomes.append(judge(argv, named, outputs, out, failure_ok="not converged"))
         clean(out)
     return outcomes
 

@@ -492,7 +492,7 @@ def _mutate_uff_sets(sets, rng):
         if choice == 0:
             key = rng.choice(sorted(_UFF_FIELDS))
             target[key] = rng.choice(_UFF_FIELDS[key])
-        elif choice == 1:  # NaN, inf or huge data
+        elif choice == 1 and len(target["data"]):  # NaN, inf or huge data
             data = np.array(target["data"])
             data[rng.randrange(len(data))] = rng.choice((np.nan, np.inf, 1e300, -np.inf))
             target["data"] = data
@@ -500,7 +500,7 @@ def _mutate_uff_sets(sets, rng):
             del sets[at]
         elif choice == 3:  # a duplicated channel
             sets.insert(rng.randrange(len(sets) + 1), copy.deepcopy(target))
-        elif choice == 4:  # odd frequencies
+        elif choice == 4 and len(target["x"]):  # odd frequencies
             x = np.array(target["x"], dtype=float)
             which = rng.randrange(4)
             if which == 0:
@@ -512,7 +512,7 @@ def _mutate_uff_sets(sets, rng):
             else:
                 x = x * rng.choice((-1.0, 1e300, 1e-300))
             target["x"] = x
-        else:  # fewer values than frequencies
+        elif choice == 5 and len(target["data"]):  # fewer values than frequencies
             target["data"] = np.array(target["data"])[: rng.randrange(len(target["data"]))]
     return sets
 

@@ -654,15 +654,22 @@ def _name_text(rng, known=()) -> str:
 
 _UNITS = ("rpm", "RPM", "rad/s", "hz", "Hz", "nosuch", "")
 
+
+def _plot_text(rng) -> str:
+    """A figure file in the output folder ({out}), or a bad one."""
+    return rng.choice(("{out}/figure.png", "{out}/figure.svg", "{out}/figure.txt", "{out}/no-folder/figure.png",
+                       "{out}/table.csv", "", "{out}"))
+
 #: sub-command -> (model, fixed arguments, option -> generator of a value)
 OPTION_SPACE = {
     "check": ("gear_machine.toml", [], {}),
     "modes": ("gear_machine.toml", ["--quiet"],
               {"--speed": _number_text, "--speed-unit": lambda r: r.choice(_UNITS),
-               "--shape": _count_text, "--frames": _count_text}),
+               "--shape": _count_text, "--frames": _count_text, "--plot": _plot_text}),
     "campbell": ("gear_machine.toml", ["--speeds", SPEEDS, "--quiet"],
                  {"--speeds": _range_text, "--orders": _list_text, "--speed-unit": lambda r: r.choice(_UNITS),
-                  "--color-by": lambda r: r.choice(("log_decrement", "damping_ratio", "x", ""))}),
+                  "--color-by": lambda r: r.choice(("log_decrement", "damping_ratio", "x", "")),
+                  "--plot": _plot_text}),
     "critical-speeds": ("gear_machine.toml", ["--speeds", SPEEDS, "--quiet"],
                         {"--speeds": _range_text, "--orders": _list_text}),
     "stability": ("unstable_cross_coupled.toml", ["--speeds", SPEEDS, "--quiet"],
@@ -688,7 +695,9 @@ OPTION_SPACE = {
     "unbalance": ("fan_on_bearings.toml", ["--speeds", SPEEDS, "--quiet"],
                   {"--speeds": _range_text, "--operating-speed": _number_text,
                    "--output": lambda r: _name_text(r),
-                   "--quantity": lambda r: r.choice(("displacement", "velocity", "x"))}),
+                   "--quantity": lambda r: r.choice(("displacement", "velocity", "x")),
+                   "--orbits": lambda r: r.choice(("{out}/orbits.csv", "{out}/table.csv", "{out}/no-folder/o.csv", "")),
+                   "--orbit-plot": _plot_text}),
     "study": ("gear_machine.toml", ["--spec", "{spec}", "--quiet"],
               {"--workers": lambda r: r.choice(("0", "-1", "1", "2", "1000000", "x", "")),
                "--chunk-size": _count_text,
@@ -738,6 +747,7 @@ def option_case(rng, folder) -> list:
         argv += [option, space[option](rng)]
     out = folder / "out"
     out.mkdir(exist_ok=True)
+    argv = [a.replace("{out}", str(out)) if isinstance(a, str) else a for a in argv]
     target = out / {"study": "results.nc", "fit": "fitted.toml"}.get(command, "table.csv")
     argv += ["--out", target] if command != "check" else []
     outcome = judge(argv, "", (target,), out, usage_ok=True, failure_ok="not converged")

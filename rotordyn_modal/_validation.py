@@ -63,20 +63,8 @@ def _plain(value):
 def validate(data: dict[str, Any], source: str) -> dict[str, Any]:
     """Validate a whole description; returns the validated parts by table name."""
     top = _Table(source, "", data)
-    top.check_keys(TOP_LEVEL_KEYS)
-    for key in ARRAY_TABLES:
-        value = data.get(key, [])
-        if not isinstance(value, list) or not all(isinstance(v, Mapping) for v in value):
-            raise top.error(key, value, f"an array of tables ([[{key}]])")
-    if "stator" in data and not isinstance(data["stator"], Mapping):
-        raise top.error("stator", data["stator"], "a table ([stator])")
-
-    spin_axis = top.vector3("spin_axis", default=[1.0, 0.0, 0.0], nonzero=True)
-    spin_axis = spin_axis / np.linalg.norm(spin_axis)
-    name = data.get("name", "")
-    if not isinstance(name, str):
-        raise top.error("name", name, "a string")
-
+    _check_layout(top, data)
+    spin_axis, name = _spin_axis_and_name(top, data)
     stator = _stator(source, data["stator"]) if "stator" in data else None
     rotor_tables = _named_tables(source, data, "rotors")
     if not rotor_tables and stator is None:
@@ -101,6 +89,26 @@ def validate(data: dict[str, Any], source: str) -> dict[str, Any]:
         "unbalances": tuple(unbalances),
         "sensors": tuple(sensors), "excitations": tuple(excitations),
     }
+
+
+def _check_layout(top: _Table, data) -> None:
+    """Known top-level keys, arrays of tables where arrays are expected, ``[stator]`` a table."""
+    top.check_keys(TOP_LEVEL_KEYS)
+    for key in ARRAY_TABLES:
+        value = data.get(key, [])
+        if not isinstance(value, list) or not all(isinstance(v, Mapping) for v in value):
+            raise top.error(key, value, f"an array of tables ([[{key}]])")
+    if "stator" in data and not isinstance(data["stator"], Mapping):
+        raise top.error("stator", data["stator"], "a table ([stator])")
+
+
+def _spin_axis_and_name(top: _Table, data) -> tuple[np.ndarray, str]:
+    """The unit spin axis (default x) and the model's name (default empty)."""
+    spin_axis = top.vector3("spin_axis", default=[1.0, 0.0, 0.0], nonzero=True)
+    name = data.get("name", "")
+    if not isinstance(name, str):
+        raise top.error("name", name, "a string")
+    return spin_axis / np.linalg.norm(spin_axis), name
 
 
 def _named_tables(source: str, data, key: str) -> dict[str, _Table]:

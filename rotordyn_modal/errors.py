@@ -28,6 +28,33 @@ class ModelError(InputError):
         super().__init__(f"{source}: {where} = {_short_repr(value)}: expected {expected}")
 
 
+class OutputError(InputError):
+    """An output path that cannot be used: its folder is missing or read-only, a folder
+    is in the way, another study is writing it. Like bad input (the remedy is another
+    path), the command line reports it on one line with exit code 2."""
+
+
+class OutputWriteError(OSError):
+    """Writing an output failed for a reason of the machine, not of the path: the disk
+    is full, a quota or file-size limit is reached, an I/O error. Nothing is left behind
+    (no partial or temporary file); the command line reports it on one line with exit
+    code 1.
+
+    Parameters
+    ----------
+    message : str
+        Names the file and the reason.
+    code : int, optional
+        The ``errno`` of the failure.
+    """
+
+    def __init__(self, message: str, code: int | None = None):
+        super().__init__(code, message)
+
+    def __str__(self) -> str:
+        return str(self.strerror)
+
+
 def _short_repr(value, limit: int = 80) -> str:
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 3] + "..."

@@ -105,20 +105,22 @@ class Stack:
         index, eigenvalues = _eigen.upper_indices(values)
         n = self.n_dof
         shapes = np.swapaxes(np.take_along_axis(vectors[:, :n, :], index[:, None, :], axis=-1), -1, -2)
-        norms = np.linalg.norm(shapes, axis=-1, keepdims=True)
+        norms = _eigen.row_norms(shapes)
         # a Maxwell junction relaxing with the machine at rest has no displacement: keep it zero
         shapes = shapes / np.where(norms > 0, norms, 1.0)
         return eigenvalues, _eigen.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
 
     def weighted(self, shapes, variants):
         """Mass-weighted unit shapes (see :func:`_eigen.mass_normalized`) of rows of variants."""
-        weighted = np.einsum("rmi,rij->rmj", shapes, self.factor[variants].conj())
-        norms = np.linalg.norm(weighted, axis=-1, keepdims=True)
+        factor = self.factor[0] if len(self) == 1 else self.factor[variants]   # real: L^H = L^T
+        weighted = _eigen.real_product(shapes, factor)
+        norms = _eigen.row_norms(weighted)
         return weighted / np.where(norms > 0, norms, 1.0)
 
     def whirl_ratios(self, shapes, variants, speeds):
         """Whirl ratios (see :func:`_eigen.whirl_ratios`) of shapes (R, m, n) of rows of variants."""
-        return _eigen.whirl_ratios(shapes, _eigen.WhirlForms(*(f[variants] for f in self.whirl)), speeds)
+        forms = _eigen.WhirlForms(*(f[0] if len(self) == 1 else f[variants] for f in self.whirl))
+        return _eigen.whirl_ratios(shapes, forms, speeds)
 
     def shapes_at(self, variants, x, lam):
         """One inverse-iteration step on the pencil for each (variant, speed, eigenvalue)."""

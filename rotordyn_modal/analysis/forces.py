@@ -53,15 +53,15 @@ def suspension_forces(model, omega, q) -> np.ndarray:
         ``[F, C]`` at each suspension's point, model axes [N, N m].
     """
     w = np.asarray(omega, dtype=float)[:, None, None]
-    stator = np.einsum("dj,fjn->fdn", model.dofs.frame_motion(), q)  # the stator's motion at S
+    stator = model.dofs.frame_motion() @ q                            # the stator's motion at S
     out = []
     for s in model.suspensions:
         shift = shift_matrix(model.reference_point, s.position)
-        point_motion = np.einsum("dk,fdn->fkn", shift, stator)     # B_SP^T q_S
+        point_motion = shift.T @ stator                            # B_SP^T q_S
         stiffness = s.stiffness_matrix * (1 + 1j * s.loss_factor) + 1j * w * s.damping_matrix
         if getattr(s, "maxwell_stiffness_matrix", None) is not None:
             stiffness = stiffness + _branch_stiffness(s, np.ravel(w))
-        out.append(np.einsum("fij,fjn->fin", np.broadcast_to(stiffness, (len(w), 6, 6)), point_motion))
+        out.append(stiffness @ point_motion)
     return np.array(out).reshape(len(model.suspensions), len(w), 6, q.shape[-1])
 
 
@@ -96,15 +96,14 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     out = []
     for j, rotor in enumerate(model.rotors):
         shift = shift_matrix(model.reference_point, rotor.center_of_mass)
-        own = np.einsum("dj,fjn->fdn", layout.body_motion(rotor.name), q)   # T_j q, at S
-        motion = np.einsum("dk,fdn->fkn", shift, own)                      # B_SR^T T_j q at R_j
+        motion = (shift.T @ layout.body_motion(rotor.name)) @ q           # B_SR^T T_j q at R_j
         local = np.zeros((6, 6))
         local[:3, :3] = rotor.mass * np.eye(3)
         local[3:, 3:] = rotor.diametral_inertia * np.eye(3) + \
             (rotor.polar_inertia - rotor.diametral_inertia) * np.outer(e, e)
         gyro = rotor_gyroscopic(model, rotor)
         inertia = (-w[:, None, None] ** 2 * local + 1j * (w * speed)[:, None, None] * gyro)
-        force = -np.einsum("fij,fjn->fin", inertia, motion)
+        force = -(inertia @ motion)
         if rotor_forces is not None:
             force = force + rotor_forces[j]
         out.append(force)
@@ -134,8 +133,8 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
         rows, moves = bearing_motion(model, bearing)
         own = model.rotor(bearing.rotor).speed_ratio * speed
         k6, c6 = evaluate(bearing.coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
-        relative = np.einsum("dk,fkn->fdn", moves, q[:, rows])
-        out.append(np.einsum("fij,fjn->fin", k6 + 1j * w[:, None, None] * c6, relative))
+        relative = moves @ q[:, rows]
+        out.append((k6 + 1j * w[:, None, None] * c6) @ relative)
     return np.array(out).reshape(len(model.bearings), len(w), 6, q.shape[-1])
 
 

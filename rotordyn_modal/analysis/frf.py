@@ -17,7 +17,8 @@ Two engines behind :func:`frf`, chosen automatically:
 * ``"modal"``: when every mount is viscous (no loss factor, no Maxwell
   branch), one eigen-decomposition ``A = V diag(lam) V^-1`` of the 12-state
   matrix gives ``H(w) = sum_k (C V)_k (V^-1 B)_k / (i w - lam_k)`` for all
-  frequencies at once. Used only when ``V`` is well conditioned.
+  frequencies at once. Used only when ``V`` is well conditioned (LAPACK's 1-norm
+  estimate below 1e8).
 * ``"direct"``: a batched complex solve of ``Z(w) X = B_f`` at every
   frequency (one LAPACK call over the stack of 6x6 systems).
 """
@@ -32,13 +33,14 @@ from ..assembly import constant_matrices, dependent_bearing_matrices, excitation
     loss_stiffness, sensor_rows
 from ..errors import InputError
 from ..mounts import has_frequency_dependence, maxwell_stiffness
+from . import _eigen
 
 __all__ = ["FRFResult", "frf", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]
 
 #: quantity -> power of (i w) applied to the receptance
 QUANTITIES = {"receptance": 0, "mobility": 1, "accelerance": 2}
 _OUTPUT_UNITS = {0: "m", 1: "m/s", 2: "m/s^2"}
-#: condition number of the eigenvector matrix above which the modal engine is not trusted
+#: condition number (1-norm estimate) of the eigenvector matrix above which the modal engine is not trusted
 _MAX_CONDITION = 1e8
 
 
@@ -158,7 +160,7 @@ def choose_engine(model) -> str:
     return "modal"
 
 
-def dynamic_stiffness(model, speed: float, omega) -> np.ndarray:
+def dynamic_stiffness(model, speed: float, omega, matrices=None) -> np.ndarray:
     """``Z(w) = K(1 + i eta) + K_f(w) + i w (C + Omega G) - w^2 M`` for many frequencies.
 
     Parameters
@@ -168,12 +170,14 @@ def dynamic_stiffness(model, speed: float, omega) -> np.ndarray:
         Reference rotor speed [rad/s] (one per frequency for unbalance sweeps).
     omega : array_like, shape (n_freq,)
         Circular frequencies [rad/s].
+    matrices : Matrices, optional
+        ``constant_matrices(model)``, when the caller has them.
 
     Returns
     -------
     ndarray, shape (n_freq, n, n), complex [N/m, ...]
     """
-    M, C, G, K = constant_matrices(model)
+    M, C, G, K = constant_matrices(model) if matrices is None else matrices
     w = np.atleast_1d(np.asarray(omega, dtype=float))
     speeds = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
     if model.speed_dependent:
@@ -188,6 +192,10 @@ def dynamic_stiffness(model, speed: float, omega) -> np.ndarray:
 def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     """Complex amplitude of ``q`` under harmonic generalized forces (direct solve).
 
+    The systems are built and solved in parts of bounded memory (about
+    ``_eigen.CHUNK_BYTES`` each); each system is solved on its own, so the parts do not
+    change the result.
+
     Parameters
     ----------
     model : Model
@@ -200,9 +208,17 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     -------
     ndarray, shape (n_freq, n_dof, k), complex [m, rad]
     """
-    Z = dynamic_stiffness(model, speed, omega)
-    rhs = np.broadcast_to(np.asarray(forces, dtype=complex), (Z.shape[0],) + np.shape(forces)[-2:])
-    return np.linalg.solve(Z, rhs)
+    matrices = constant_matrices(model)
+    w = np.atleast_1d(np.asarray(omega, dtype=float))
+    speeds = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
+    n = matrices.M.shape[0]
+    rhs = np.broadcast_to(np.asarray(forces, dtype=complex), (len(w),) + np.shape(forces)[-2:])
+    out = np.empty(rhs.shape, dtype=complex)
+    # per system: Z and its temporaries (about four complex n x n), LAPACK's LU copy
+    for part in _eigen.chunk_slices(len(w), 80 * n * n):
+        Z = dynamic_stiffness(model, speeds[part], w[part], matrices)
+        out[part] = np.linalg.solve(Z, rhs[part])
+    return out
 
 
 def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str = "receptance",
@@ -278,11 +294,16 @@ def _modal_receptance(model, speed, omega, rows, columns):
     form = speed_linear_form(model)
     n = form.n_dof
     values, vectors = scipy.linalg.eig(form.at(float(speed)))
-    if np.linalg.cond(vectors) > _MAX_CONDITION:
+    # the LU that solves for V^-1 B also estimates V's condition (LAPACK gecon, 1-norm):
+    # O(n^2) where the 2-norm's SVD would cost about half the eigen-decomposition again
+    factors = scipy.linalg.lu_factor(vectors, check_finite=False)
+    gecon = scipy.linalg.get_lapack_funcs("gecon", (factors[0],))
+    rcond, _ = gecon(factors[0], np.linalg.norm(vectors, 1), norm="1")
+    if not rcond * _MAX_CONDITION >= 1.0:
         return None
     b = np.zeros((form.n_states, columns.shape[1]))
     b[n:2 * n] = form.mass_inverse @ columns
     left = rows @ vectors[:n]                      # (n_s, 2n)
-    right = np.linalg.solve(vectors, b)            # (2n, n_e)
+    right = scipy.linalg.lu_solve(factors, b, check_finite=False)   # V^-1 B, (2n, n_e)
     poles = 1.0 / (1j * omega[None, :] - values[:, None])   # (2n, n_f)
     return np.einsum("sk,ki,kf->sif", left, right, poles)

@@ -10,6 +10,7 @@ import numpy as np
 from .._limits import count_problem
 from ..errors import InputError
 from ..io import atomic_write, check_not_input, load_model
+from ..io.atomic import check_writable
 from ..units import SPEED_UNITS
 
 #: options that take a value which may start with '-' (a negative speed or range)
@@ -179,8 +180,13 @@ _FIGURE_FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
 
 
 def check_outputs(args, path):
+    """Refuse an output over an input file, or one that cannot be written (read-only folder)."""
+    from pathlib import Path
+
     check_not_input(path, [getattr(args, "model", None), getattr(args, "measured", None),
                            getattr(args, "spec", None)])
+    if Path(path).parent.exists():  # a missing folder: the callers name the option
+        check_writable(path)
 
 
 def save_figure(fig, args, path=None, option: str = "--plot"):

@@ -6,7 +6,7 @@ import argparse
 import os
 import sys
 
-from ..errors import InputError
+from ..errors import InputError, OutputWriteError
 from ._common import VALUE_OPTIONS, join_negative_values
 
 PROGRAM = "rotordyn-modal"
@@ -19,8 +19,8 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import SUBCOMMANDS
-    from .. import __version__
+    from .._version import __version__
+    from .commands import SUBCOMMANDS
 
     parser = _Parser(prog=PROGRAM, description="Linear dynamics and modal analysis of multi-rotor "
                      "machines: modes, Campbell diagrams, critical speeds, stability, FRFs.",
@@ -36,7 +36,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """Run the command line; returns the exit code (0 done, 2 bad input, 1 other failure)."""
+    """Run the command line; returns the exit code: 0 done; 2 bad input, an output path
+    that cannot be used (missing or read-only folder) or is locked by another study;
+    1 any other failure, a full disk included."""
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     args = parser.parse_args(join_negative_values(argv, VALUE_OPTIONS))
@@ -45,6 +47,9 @@ def main(argv=None) -> int:
     except InputError as error:
         print(f"{PROGRAM} {args.command}: error: {error}", file=sys.stderr)
         return 2
+    except OutputWriteError as error:  # full disk, size limit: the machine's failure, not the input's
+        print(f"{PROGRAM} {args.command}: error: {error}", file=sys.stderr)
+        return 1
     except BrokenPipeError:  # the reader (e.g. `| head`) closed the pipe: stop quietly
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())

@@ -8,8 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, OutputError, OutputWriteError
 from ._common import add_model_argument, check_outputs, parse_number, print_table, show_progress, use_agg
+from ._resources import add_verbose, report_peak_memory, verbose_log
 
 NAME = "study"
 HELP = "parameter study (tolerance Monte Carlo, designs of experiments, grids) over model variants"
@@ -20,8 +21,10 @@ Saltelli design. Serial by default; --workers N uses a local process pool, --sch
 ADDRESS a dask.distributed cluster. Results go to one netCDF file over (variant, speed,
 mode, ...) that xarray, netCDF4 or ncdump open without this package.
 
-Finished chunks are saved in RESULTS.nc.partial/ as they complete: after Ctrl-C (or a
-crash) run the same command again and only the missing chunks are computed.
+Finished chunks are saved in RESULTS.nc.partial/ as they complete (each with a manifest
+of its size and checksum): after Ctrl-C, a crash or kill -9, run the same command again
+and only the missing chunks are computed; a damaged chunk file is computed again. A
+second study writing the same RESULTS.nc while the first runs is refused (exit 2).
 Failed variants (a model that validation refuses, a solver error) are recorded with
 their reason and do not stop the study.
 
@@ -51,6 +54,7 @@ def add_arguments(parser):
     parser.add_argument("--plot-map", metavar="FILE.png", help="stability map over a two-parameter grid")
     parser.add_argument("--plot-sensitivity", metavar="FILE.png", help="sensitivity bar chart")
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no summary on the terminal")
+    add_verbose(parser, "also: each chunk as it is computed or resumed, checkpoint files discarded, peak memory")
 
 
 #: most local worker processes per core (each is a full Python process)
@@ -64,31 +68,45 @@ _PLOTS = (("plot", "plot_campbell"), ("plot_histogram", "plot_critical_histogram
 
 def run(args) -> int:
     from ..io import load_model
+    from ..io.atomic import remove_stale_temporaries
     from ..study import checkpoint_folder, read_study, study
+    from ..study.execution import ResultsLock, remove_checkpoint
 
     _check_options(args)
     model = load_model(args.model)
     definition = read_study(args.spec, model)
     band = _band(args.band) if args.band else definition.operating_band_rpm
     folder = checkpoint_folder(args.out)
-    if args.restart and folder.exists():
-        from ..study.execution import remove_checkpoint
-
-        remove_checkpoint(folder)
-    with _executor(args) as executor:
+    with verbose_log(args), ResultsLock(args.out):
+        remove_stale_temporaries(args.out)
+        if args.restart and folder.exists():
+            remove_checkpoint(folder)
         try:
-            result = study(model, definition, executor=executor, checkpoint=folder,
-                           chunk_size=args.chunk_size, progress=show_progress(args))
+            with _executor(args) as executor:
+                result = study(model, definition, executor=executor, checkpoint=folder,
+                               chunk_size=args.chunk_size, progress=show_progress(args))
+            _write(result, args, folder)
         except KeyboardInterrupt:
-            done = len(list(folder.glob("chunk-*.npz")))
-            print(f"interrupted: {done} finished chunks kept in {folder}; run the same command "
+            print(f"interrupted: {_kept(folder)} finished chunks kept in {folder}; run the same command "
                   "again to resume", file=sys.stderr)
             raise
-    _write(result, args, folder)
+        except (OutputError, OutputWriteError) as error:
+            kept = _kept(folder)
+            if not kept:
+                remove_checkpoint(folder)
+                raise
+            message = f"{error}; {kept} finished chunks kept in {folder} for the next run"
+            raise (OutputError(message) if isinstance(error, OutputError)
+                   else OutputWriteError(message, error.errno)) from None
     if not args.quiet:
         _report(result, band)
     _plots(result, args, band)
+    report_peak_memory(args)
     return 0
+
+
+def _kept(folder) -> int:
+    return len(list(Path(folder).glob("chunk-*.json")))
 
 
 def _check_options(args):
@@ -134,7 +152,8 @@ class _executor:
 
             from ..study.execution import worker_initializer
 
-            self.pool = ProcessPoolExecutor(self.args.workers, initializer=worker_initializer)
+            self.pool = ProcessPoolExecutor(self.args.workers, initializer=worker_initializer,
+                                            initargs=(os.getpid(),))
             return self.pool
         if self.args.scheduler:
             try:

@@ -12,17 +12,19 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import json
+import logging
 import os
+import socket
 import threading
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, OutputError
 from .analyses import batch_caches, run_analyses
 
-__all__ = ["ChunkTask", "run_chunk", "make_tasks", "execute", "Checkpoint", "limit_threads",
+__all__ = ["ChunkTask", "run_chunk", "make_tasks", "execute", "Checkpoint", "ResultsLock", "limit_threads",
            "worker_initializer", "default_chunk_size", "remove_checkpoint"]
 
 
@@ -163,9 +165,10 @@ def limit_threads():
                     os.environ["ROTORDYN_MODAL_THREADS"] = _THREAD_USERS[1]
 
 
-def worker_initializer():
+def worker_initializer(parent=None):
     """Initializer of the study's process pool: one thread per library, Ctrl-C left
-    to the parent (which saves finished chunks and stops the pool)."""
+    to the parent (which saves finished chunks and stops the pool); on Linux the
+    worker ends with its parent (``parent``: the parent's process id)."""
     import signal
 
     for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "ROTORDYN_MODAL_THREADS"):
@@ -177,6 +180,23 @@ def worker_initializer():
     else:
         threadpool_limits(1)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _die_with_parent(parent)
+
+
+def _die_with_parent(parent=None):
+    """Linux: end this worker when the study's process ends, even by ``kill -9`` (which
+    leaves it no chance to stop its pool), rather than finish a chunk nobody will save."""
+    import signal
+
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):  # pragma: no cover - not Linux
+        return
+    if parent is not None and os.getppid() != parent:  # the parent died before prctl
+        os._exit(1)
 
 
 # ---------------------------------------------------------------------------- chunks
@@ -204,8 +224,19 @@ def make_tasks(values, chunk_size, base) -> list:
 
 
 # ---------------------------------------------------------------------------- checkpoint
+_LOG = logging.getLogger("rotordyn_modal.study")
+
+
 class Checkpoint:
-    """A folder of finished chunks (``chunk-NNNNNN.npz``) and the study's fingerprint.
+    """A folder of finished chunks and the study's fingerprint.
+
+    Each finished chunk is two files, each written atomically (temporary file in the
+    folder, then renamed): ``chunk-NNNNNN.npz`` (the arrays) and then
+    ``chunk-NNNNNN.json``, its manifest (study fingerprint, index, first variant,
+    number of variants, size and SHA-256 of the ``.npz``). A chunk counts as finished
+    only when its manifest is there and every item of it matches; anything else (no
+    manifest: the process died between the two renames; a truncated, altered or
+    foreign file) is deleted and computed again, never trusted.
 
     Parameters
     ----------
@@ -220,60 +251,242 @@ class Checkpoint:
 
     @staticmethod
     def saved_seed(folder):
-        """The seed recorded in a checkpoint folder (None if there is none)."""
-        manifest = Path(folder) / "study.json"
-        return json.loads(manifest.read_text()).get("seed") if manifest.exists() else None
+        """The seed recorded in a checkpoint folder (None if there is none or it is unreadable)."""
+        recorded = _read_json(Path(folder) / "study.json")
+        return recorded.get("seed") if recorded else None
 
     def __init__(self, folder, fingerprint: str, seed=None):
         self.folder = Path(folder)
         self.fingerprint = fingerprint
         manifest = self.folder / "study.json"
-        if manifest.exists():
-            found = json.loads(manifest.read_text()).get("fingerprint")
-            if found != fingerprint:
-                raise InputError(f"{self.folder}: holds the chunks of a different study (other model, "
-                                 "study file or chunk size); delete the folder to start afresh")
-        else:
+        recorded = _read_json(manifest)
+        if recorded is None and manifest.exists():
+            _LOG.warning("%s is unreadable: the chunks of %s are discarded and computed again",
+                         manifest, self.folder)
+            remove_checkpoint(self.folder, keep_folder=True)
+        if recorded is not None and recorded.get("fingerprint") != fingerprint:
+            raise InputError(f"{self.folder}: holds the chunks of a different study (other model, "
+                             "study file or chunk size); delete the folder to start afresh")
+        if recorded is None:
             self.folder.mkdir(parents=True, exist_ok=True)
             _atomic_bytes(manifest, json.dumps({"fingerprint": fingerprint, "seed": seed}).encode())
 
-    def done(self) -> dict:
-        """Finished chunks: index -> chunk result."""
+    def done(self, tasks=None) -> dict:
+        """Finished chunks whose files check out: index -> chunk result.
+
+        Parameters
+        ----------
+        tasks : list of ChunkTask, optional
+            When given, a chunk must also match its task (first variant, count).
+        """
+        expected = {task.index: task for task in tasks} if tasks is not None else None
         out = {}
         for path in sorted(self.folder.glob("chunk-*.npz")):
-            with np.load(path, allow_pickle=False) as data:
-                chunk = {name: data[name] for name in data.files}
-            chunk["index"], chunk["start"] = int(chunk["index"]), int(chunk["start"])
-            out[chunk["index"]] = chunk
+            index = _chunk_index(path)
+            task = None if expected is None or index is None else expected.get(index)
+            try:
+                out[index] = self._verified(path, index, task, expected is not None)
+            except _Untrusted as reason:
+                _LOG.warning("chunk %s in %s discarded (%s); it is computed again", index, self.folder, reason)
+                for stale in (path, path.with_suffix(".json")):
+                    with contextlib.suppress(OSError):
+                        stale.unlink()
         return out
 
+    def _verified(self, path, index, task, need_task) -> dict:
+        if index is None:
+            raise _Untrusted(f"unexpected file name {path.name}")
+        if need_task and task is None:
+            raise _Untrusted("no such chunk in this study")
+        manifest = _read_json(path.with_suffix(".json"))
+        if manifest is None:
+            raise _Untrusted("no readable manifest: the chunk was not finished")
+        payload = path.read_bytes()
+        found = {"fingerprint": self.fingerprint, "index": index, "bytes": len(payload),
+                 "sha256": hashlib.sha256(payload).hexdigest()}
+        for key, value in found.items():
+            if manifest.get(key) != value:
+                raise _Untrusted(f"{key} {value!r} differs from its manifest's {manifest.get(key)!r}")
+        chunk = _unpack(payload)
+        if int(chunk["index"]) != index or int(chunk["start"]) != manifest.get("start") \
+                or len(chunk["error"]) != manifest.get("n"):
+            raise _Untrusted("its contents differ from its manifest")
+        if task is not None and (task.start != manifest["start"] or len(task.values) != manifest["n"]):
+            raise _Untrusted("it covers other variants than this study's chunk")
+        chunk["index"], chunk["start"] = index, int(chunk["start"])
+        return chunk
+
     def save(self, chunk: dict) -> None:
-        """Write one finished chunk (atomically: a chunk is there whole or not at all)."""
+        """Write one finished chunk: its arrays, then its manifest (each atomically)."""
         import io
 
         buffer = io.BytesIO()
         np.savez(buffer, **chunk)
-        _atomic_bytes(self.folder / f"chunk-{chunk['index']:06d}.npz", buffer.getvalue())
+        payload = buffer.getvalue()
+        path = self.folder / f"chunk-{chunk['index']:06d}.npz"
+        _atomic_bytes(path, payload)
+        manifest = {"fingerprint": self.fingerprint, "index": int(chunk["index"]), "start": int(chunk["start"]),
+                    "n": int(len(chunk["error"])), "bytes": len(payload),
+                    "sha256": hashlib.sha256(payload).hexdigest()}
+        _atomic_bytes(path.with_suffix(".json"), json.dumps(manifest).encode())
+
+    def finished(self) -> int:
+        """Number of chunks with a manifest (for messages; :meth:`done` checks them)."""
+        return len(list(self.folder.glob("chunk-*.json")))
 
     def remove(self) -> None:
         remove_checkpoint(self.folder)
 
 
-def remove_checkpoint(folder) -> None:
-    """Delete a checkpoint folder's chunks and manifest (and the folder when empty)."""
+class _Untrusted(Exception):
+    """A checkpoint file that is not a finished chunk of this study."""
+
+
+def _chunk_index(path: Path):
+    digits = path.stem[len("chunk-"):]
+    return int(digits) if digits.isdigit() else None
+
+
+def _unpack(payload: bytes) -> dict:
+    import io
+    import zipfile
+
+    try:
+        with np.load(io.BytesIO(payload), allow_pickle=False) as data:
+            return {name: data[name] for name in data.files}
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as error:
+        raise _Untrusted(f"unreadable ({type(error).__name__})") from None
+
+
+def _read_json(path: Path):
+    """The object in a JSON file, or None when it is missing or unreadable."""
+    try:
+        value = json.loads(path.read_bytes())
+    except (OSError, ValueError):
+        return None
+    return value if isinstance(value, dict) else None
+
+
+def remove_checkpoint(folder, keep_folder: bool = False) -> None:
+    """Delete a checkpoint folder's chunks, manifests and leftover temporary files
+    (and the folder when empty)."""
     folder = Path(folder)
-    for path in folder.glob("chunk-*.npz"):
-        path.unlink()
-    with contextlib.suppress(OSError):
-        (folder / "study.json").unlink()
-    with contextlib.suppress(OSError):
-        folder.rmdir()
+    for pattern in ("chunk-*.npz", "chunk-*.json", ".chunk-*", ".study.json.*", "study.json"):
+        for path in folder.glob(pattern):
+            with contextlib.suppress(OSError):
+                path.unlink()
+    if not keep_folder:
+        with contextlib.suppress(OSError):
+            folder.rmdir()
 
 
 def _atomic_bytes(path: Path, payload: bytes) -> None:
-    temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    temporary.write_bytes(payload)
-    os.replace(temporary, path)
+    from ..io import atomic_write
+
+    with atomic_write(path, "wb") as handle:
+        handle.write(payload)
+
+
+# ---------------------------------------------------------------------------- one writer
+class ResultsLock:
+    """Only one study at a time writes a results file (and its checkpoint folder).
+
+    The lock is ``RESULTS.nc.lock`` holding the owner's process id and host, locked with
+    an operating-system record lock (``fcntl.lockf``), which the system releases when
+    its process ends in any way, ``kill -9`` included: a lock file left by a killed
+    study is stale and taken over; one held by a running study makes the second study
+    stop at once with an error naming the owner (studies are refused, not queued).
+    Without ``fcntl`` (Windows) the file is created exclusively and a stale one is
+    recognised by its process id no longer running.
+
+    Parameters
+    ----------
+    results : path-like
+        The results file.
+    """
+
+    def __init__(self, results):
+        self.results = Path(results)
+        self.path = self.results.with_name(self.results.name + ".lock")
+        self._fd = None
+        self.previous_owner = None
+
+    def __enter__(self):
+        try:
+            import fcntl
+        except ImportError:  # pragma: no cover - Windows
+            self._fd = self._acquire_exclusive()
+        else:
+            self._fd = self._acquire_record_lock(fcntl)
+        with contextlib.suppress(OSError):  # the owner's name is for messages only
+            os.ftruncate(self._fd, 0)
+            os.write(self._fd, f"{os.getpid()} {socket.gethostname()}\n".encode())
+        if self.previous_owner:
+            _LOG.info("lock %s of process %s (no longer running) taken over", self.path, self.previous_owner)
+        return self
+
+    def _acquire_record_lock(self, fcntl):
+        while True:
+            try:
+                fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+            except OSError as error:
+                raise OutputError(f"cannot write {self.path}: {error.strerror}") from None
+            try:
+                fcntl.lockf(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                owner = _owner(fd)
+                os.close(fd)
+                raise self._busy(owner) from None
+            try:  # the owner before us may have removed the file after we opened it
+                same = os.path.samestat(os.fstat(fd), os.stat(self.path))
+            except FileNotFoundError:
+                same = False
+            if same:
+                self.previous_owner = _owner(fd)
+                return fd
+            os.close(fd)
+
+    def _acquire_exclusive(self):  # pragma: no cover - Windows
+        from ..io.atomic import pid_alive
+
+        while True:
+            try:
+                return os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o644)
+            except FileExistsError:
+                owner = _owner_of(self.path)
+                pid = owner.split()[0] if owner else ""
+                if pid.isdigit() and pid_alive(int(pid)):
+                    raise self._busy(owner) from None
+                self.previous_owner = owner
+                with contextlib.suppress(OSError):
+                    os.unlink(self.path)
+
+    def _busy(self, owner):
+        who = f"process {owner}" if owner else "another process"
+        return OutputError(f"{self.results}: another study ({who}) is writing it (lock {self.path}); "
+                           "wait for it to finish or give another --out")
+
+    def __exit__(self, *exc):
+        with contextlib.suppress(OSError):
+            os.unlink(self.path)
+        os.close(self._fd)
+        self._fd = None
+        return False
+
+
+def _owner(fd) -> str:
+    try:
+        os.lseek(fd, 0, os.SEEK_SET)
+        return os.read(fd, 200).decode(errors="replace").strip()
+    except OSError:
+        return ""
+
+
+def _owner_of(path) -> str:  # pragma: no cover - Windows
+    try:
+        return Path(path).read_text(errors="replace").strip()
+    except OSError:
+        return ""
 
 
 def fingerprint(*parts) -> str:
@@ -312,8 +525,11 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
     resumed : int
         Chunks taken from the checkpoint rather than computed.
     """
-    done = checkpoint.done() if checkpoint is not None else {}
+    done = checkpoint.done(tasks) if checkpoint is not None else {}
     todo = [task for task in tasks if task.index not in done]
+    for task in tasks:
+        if task.index in done:
+            _LOG.info("chunk %d resumed (variants %d-%d)", task.index, task.start, task.start + len(task.values) - 1)
     bar = _bar(progress, total, sum(len(t.values) for t in tasks if t.index in done))
     mapper = map if executor is None else executor.map
     try:
@@ -321,6 +537,8 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
             if checkpoint is not None:
                 checkpoint.save(chunk)
             done[chunk["index"]] = chunk
+            _LOG.info("chunk %d computed (variants %d-%d)", chunk["index"], chunk["start"],
+                      chunk["start"] + len(chunk["error"]) - 1)
             if bar is not None:
                 bar.update(len(chunk["error"]))
     finally:

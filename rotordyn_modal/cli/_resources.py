@@ -1,0 +1,51 @@
+"""``--verbose``: progress of long runs on the log and the peak memory of the command."""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import sys
+
+__all__ = ["add_verbose", "verbose_log", "peak_memory_bytes", "report_peak_memory"]
+
+
+def add_verbose(parser, what: str = "") -> None:
+    parser.add_argument("--verbose", action="store_true",
+                        help="print the peak memory of the command when done" + (f"; {what}" if what else ""))
+
+
+@contextlib.contextmanager
+def verbose_log(args, logger: str = "rotordyn_modal"):
+    """With ``--verbose``: the package's log messages (INFO and up) on stderr, one line each."""
+    if not getattr(args, "verbose", False):
+        yield
+        return
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter(f"rotordyn-modal {args.command}: %(message)s"))
+    log = logging.getLogger(logger)
+    level = log.level
+    log.addHandler(handler)
+    log.setLevel(logging.INFO)
+    try:
+        yield
+    finally:
+        log.removeHandler(handler)
+        log.setLevel(level)
+
+
+def peak_memory_bytes() -> int:
+    """Peak resident memory of this process so far [bytes] (``getrusage`` ru_maxrss;
+    kilobytes on Linux, bytes on macOS); 0 where it is not available."""
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - Windows
+        return 0
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return int(peak if sys.platform == "darwin" else peak * 1024)
+
+
+def report_peak_memory(args) -> None:
+    """With ``--verbose``: ``peak memory: N MB`` on stderr (the whole process, Python included)."""
+    if getattr(args, "verbose", False):
+        print(f"rotordyn-modal {args.command}: peak memory {peak_memory_bytes() / 2**20:.1f} MB "
+              "(resident, whole process)", file=sys.stderr)

@@ -1,0 +1,316 @@
+"""Studies that survive ``kill -9``, damaged checkpoints, and a second study on the same file.
+
+The situations are made, not listed: the study command is killed with SIGKILL after a
+delay drawn from a seeded random generator (``ROTORDYN_MODAL_KILL_TRIALS`` kills,
+default 3), then the same command is run again; its chunk log (``--verbose``) shows which
+chunks it computed and which it took from the checkpoint, and the checkpoint's state at
+the moment of the kill is read here independently of the package (each chunk's manifest
+against the SHA-256 and size of its file). Checkpoints are damaged at random
+(``ROTORDYN_MODAL_CORRUPTION_TRIALS`` rounds, default 4): truncated, byte-flipped,
+swapped or foreign files, missing or damaged manifests.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import os
+import random
+import re
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.study import load_study
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLE = str(ROOT / "examples" / "gear_machine.toml")
+KILLS = int(os.environ.get("ROTORDYN_MODAL_KILL_TRIALS", "3"))
+CORRUPTIONS = int(os.environ.get("ROTORDYN_MODAL_CORRUPTION_TRIALS", "4"))
+
+pytest.importorskip("xarray")
+pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="kill -9 and fork: POSIX")
+
+SPEC = """seed = 11
+samples = 96
+chunk_size = 6
+[[parameters]]
+key = "suspensions.mount-FL.stiffness"
+apply = "scale"
+distribution = "uniform"
+low = 0.85
+high = 1.15
+[[parameters]]
+key = "stator.mass"
+distribution = "normal"
+mean = 150.0
+std = 5.0
+[analyses.campbell]
+speeds_rpm = "0:6000:241"
+orders = [1]
+[analyses.critical_speeds]
+"""
+N_CHUNKS = 16
+_CHUNK_LINE = re.compile(r"chunk (\d+) (computed|resumed)")
+
+
+@pytest.fixture(scope="module")
+def spec(tmp_path_factory):
+    path = tmp_path_factory.mktemp("spec") / "small.study.toml"
+    path.write_text(SPEC)
+    return path
+
+
+def study_command(spec, out, *extra):
+    return [sys.executable, "-c", "import sys; from rotordyn_modal.cli import main; sys.exit(main())",
+            "study", EXAMPLE, "--spec", str(spec), "--out", str(out), "--workers", "2", "--quiet", "--verbose",
+            *extra]
+
+
+def chunk_log(text):
+    """{'computed': set of chunk indices, 'resumed': set}, from the --verbose lines."""
+    found = {"computed": set(), "resumed": set()}
+    for index, what in _CHUNK_LINE.findall(text):
+        assert int(index) not in found[what], f"chunk {index} {what} twice"
+        found[what].add(int(index))
+    return found
+
+
+def finished_chunks(folder):
+    """Chunks of a checkpoint folder whose manifest matches their file, checked here."""
+    finished = set()
+    for manifest in Path(folder).glob("chunk-*.json"):
+        try:
+            record = json.loads(manifest.read_text())
+            payload = manifest.with_suffix(".npz").read_bytes()
+        except (OSError, ValueError):
+            continue
+        if record["bytes"] == len(payload) and record["sha256"] == hashlib.sha256(payload).hexdigest():
+            finished.add(record["index"])
+    return finished
+
+
+def assert_same_results(path, reference):
+    """Every variable and coordinate equal bit for bit (NaN where NaN)."""
+    got, want = load_study(path).dataset, load_study(reference).dataset
+    assert set(got.variables) == set(want.variables)
+    for name in want.variables:
+        a, b = got[name].values, want[name].values
+        if a.dtype.kind == "f":
+            assert np.array_equal(a.view(np.uint64 if a.itemsize == 8 else np.uint32),
+                                  b.view(np.uint64 if b.itemsize == 8 else np.uint32)), name
+        else:
+            assert np.array_equal(a, b), name
+
+
+def children_of(pid):
+    """Process ids whose parent is ``pid`` (Linux /proc)."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid:
+            found.append(int(stat.parent.name))
+    return found
+
+
+def alive(pid):
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return False
+    return fields[0] != "Z"
+
+
+@pytest.fixture(scope="module")
+def reference(spec, tmp_path_factory):
+    """An uninterrupted run: its results, its chunks and when they were logged [s]."""
+    out = tmp_path_factory.mktemp("reference") / "r.nc"
+    start = time.monotonic()
+    process = subprocess.Popen(study_command(spec, out), stderr=subprocess.PIPE, text=True)
+    times, text = [], ""
+    for line in process.stderr:
+        text += line
+        if _CHUNK_LINE.search(line):
+            times.append(time.monotonic() - start)
+    assert process.wait() == 0, text
+    end = time.monotonic() - start
+    log = chunk_log(text)
+    assert log == {"computed": set(range(N_CHUNKS)), "resumed": set()}
+    return {"out": out, "first": times[0], "last": times[-1], "end": end}
+
+
+def test_kill_9_at_random_moments_then_the_same_command_gives_identical_results(spec, reference, tmp_path):
+    rng = random.Random(20261123)
+    on_linux = Path("/proc/self/stat").exists()
+    mid_run = 0
+    for trial in range(KILLS):
+        folder = tmp_path / f"trial{trial}"
+        folder.mkdir()
+        out = folder / "r.nc"
+        # from just before the first chunk to the writing of the results
+        delay = rng.uniform(max(0.0, reference["first"] - 0.3),
+                            reference["last"] + 0.5 * (reference["end"] - reference["last"]))
+        process = subprocess.Popen(study_command(spec, out), stderr=subprocess.DEVNULL)
+        time.sleep(delay)
+        workers = children_of(process.pid) if on_linux else []
+        process.send_signal(signal.SIGKILL)
+        process.wait()
+        if on_linux:  # the pool's workers end with the study, not later
+            deadline = time.monotonic() + 10
+            while any(alive(w) for w in workers) and time.monotonic() < deadline:
+                time.sleep(0.05)
+            assert not any(alive(w) for w in workers)
+        before = finished_chunks(out.with_name("r.nc.partial"))
+        mid_run += 0 < len(before) < N_CHUNKS
+        print(f"kill {trial}: after {delay:.2f} s, {len(before)} of {N_CHUNKS} chunks finished, "
+              f"lock left: {(folder / 'r.nc.lock').exists()}")
+        rerun = subprocess.run(study_command(spec, out), capture_output=True, text=True)
+        assert rerun.returncode == 0, rerun.stderr
+        log = chunk_log(rerun.stderr)
+        if out.exists() and not before and not log["computed"]:
+            continue  # pragma: no cover - the first run had finished before the kill
+        assert log["resumed"] == before, (delay, rerun.stderr)
+        assert log["computed"] == set(range(N_CHUNKS)) - before, (delay, rerun.stderr)
+        assert_same_results(out, reference["out"])
+        assert sorted(p.name for p in folder.iterdir()) == ["r.nc"]  # no lock, checkpoint or temporary left
+    assert mid_run >= min(1, KILLS), "no kill landed while chunks were being computed"
+
+
+# ------------------------------------------------------------------------- damaged checkpoints
+def _flip(path, rng):
+    data = bytearray(path.read_bytes())
+    i = rng.randrange(len(data))
+    data[i] ^= 1 << rng.randrange(8)
+    path.write_bytes(bytes(data))
+
+
+def _truncate(path, rng):
+    data = path.read_bytes()
+    path.write_bytes(data[:rng.randrange(len(data))])
+
+
+def _truncate_with_matching_manifest(npz, rng):
+    """A half-written chunk whose manifest (forged) matches it: unreadable, so redone."""
+    data = npz.read_bytes()[:rng.randrange(1, len(npz.read_bytes()))]
+    npz.write_bytes(data)
+    manifest = npz.with_suffix(".json")
+    record = json.loads(manifest.read_text())
+    record.update(bytes=len(data), sha256=hashlib.sha256(data).hexdigest())
+    manifest.write_text(json.dumps(record))
+
+
+def _other_chunk(npz, rng):
+    """The file of another chunk under this chunk's name (manifest and all)."""
+    others = sorted(p for p in npz.parent.glob("chunk-*.npz") if p != npz and p.with_suffix(".json").exists())
+    donor = rng.choice(others)
+    npz.write_bytes(donor.read_bytes())
+    npz.with_suffix(".json").write_bytes(donor.with_suffix(".json").read_bytes())
+
+
+def _foreign_fingerprint(npz, rng):
+    manifest = npz.with_suffix(".json")
+    record = json.loads(manifest.read_text())
+    record["fingerprint"] = hashlib.sha256(str(rng.random()).encode()).hexdigest()
+    manifest.write_text(json.dumps(record))
+
+
+DAMAGES = {
+    "npz byte flipped": lambda npz, rng: _flip(npz, rng),
+    "npz truncated": lambda npz, rng: _truncate(npz, rng),
+    "npz empty": lambda npz, rng: npz.write_bytes(b""),
+    "manifest missing": lambda npz, rng: npz.with_suffix(".json").unlink(),
+    "manifest truncated": lambda npz, rng: _truncate(npz.with_suffix(".json"), rng),
+    "manifest byte flipped": lambda npz, rng: _flip(npz.with_suffix(".json"), rng),
+    "half-written chunk with a matching manifest": _truncate_with_matching_manifest,
+    "another chunk's files": _other_chunk,
+    "manifest of another study": _foreign_fingerprint,
+}
+
+
+def _small_spec():
+    return {"seed": 5, "samples": 12, "parameters": [
+        {"key": "stator.mass", "distribution": "uniform", "low": 140.0, "high": 160.0},
+        {"key": "suspensions.mount-RR.stiffness", "apply": "scale", "distribution": "uniform",
+         "low": 0.9, "high": 1.1}],
+        "analyses": {"modes": {"speed_rpm": 1000.0}, "campbell": {"speeds_rpm": "0:3000:7"}}}
+
+
+def test_damaged_checkpoints_are_detected_and_redone_never_trusted(tmp_path, caplog):
+    """Round 0 damages nine chunks, one of each kind; later rounds a random set at random."""
+    model = rdm.load_model(EXAMPLE)
+    fresh = rdm.study(model, _small_spec(), chunk_size=1)
+    rng = random.Random(4)
+    names = list(DAMAGES)
+    for trial in range(max(CORRUPTIONS, 1)):
+        folder = tmp_path / f"c{trial}"
+        rdm.study(model, _small_spec(), checkpoint=folder, chunk_size=1)  # twelve chunks, all kept
+        if trial == 0:
+            plan = dict(zip(rng.sample(range(12), len(names)), names))
+        else:
+            plan = {index: rng.choice(names) for index in rng.sample(range(12), rng.randint(1, 6))}
+        for index, name in sorted(plan.items()):
+            DAMAGES[name](folder / f"chunk-{index:06d}.npz", rng)
+        caplog.clear()
+        with caplog.at_level(logging.INFO, logger="rotordyn_modal.study"):
+            resumed = rdm.study(model, _small_spec(), checkpoint=folder, chunk_size=1)
+        log = chunk_log(caplog.text)
+        assert log["computed"] == set(plan), (plan, caplog.text)
+        assert log["resumed"] == set(range(12)) - set(plan)
+        assert resumed.resumed_chunks == 12 - len(plan)
+        for name in fresh.dataset.data_vars:
+            np.testing.assert_array_equal(resumed.dataset[name].values, fresh.dataset[name].values)
+        assert finished_chunks(folder) == set(range(12))  # the redone chunks are saved whole
+
+
+def test_an_unreadable_study_manifest_discards_the_checkpoint(tmp_path, caplog):
+    model = rdm.load_model(EXAMPLE)
+    folder = tmp_path / "c"
+    fresh = rdm.study(model, _small_spec(), checkpoint=folder, chunk_size=3)
+    (folder / "study.json").write_bytes(b'{"fingerprint": "ab')
+    with caplog.at_level(logging.INFO, logger="rotordyn_modal.study"):
+        again = rdm.study(model, _small_spec(), checkpoint=folder, chunk_size=3)
+    assert chunk_log(caplog.text) == {"computed": set(range(4)), "resumed": set()}
+    np.testing.assert_array_equal(again.dataset["modal_frequency_hz"].values,
+                                  fresh.dataset["modal_frequency_hz"].values)
+
+
+# ------------------------------------------------------------------------- one writer at a time
+def test_a_second_study_on_the_same_results_is_refused_while_the_first_runs(spec, reference, tmp_path):
+    out = tmp_path / "r.nc"
+    first = subprocess.Popen(study_command(spec, out), stderr=subprocess.PIPE, text=True)
+    lock = tmp_path / "r.nc.lock"
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline and not (lock.exists() and lock.read_text().strip()):
+        time.sleep(0.02)
+    assert lock.read_text().split()[0] == str(first.pid)
+    second = subprocess.run(study_command(spec, out), capture_output=True, text=True)
+    err = [line for line in second.stderr.splitlines() if line.strip()]
+    assert second.returncode == 2 and len(err) == 1, second.stderr
+    assert "another study" in err[0] and str(first.pid) in err[0] and str(out) in err[0]
+    _, text = first.communicate()
+    assert first.returncode == 0, text
+    assert chunk_log(text)["computed"] == set(range(N_CHUNKS))  # the first was not disturbed
+    assert_same_results(out, reference["out"])
+    assert not lock.exists()
+
+
+def test_a_stale_lock_of_a_dead_process_is_taken_over(spec, reference, tmp_path):
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    out = tmp_path / "r.nc"
+    (tmp_path / "r.nc.lock").write_text(f"{dead.pid} somehost\n")
+    run = subprocess.run(study_command(spec, out), capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert f"of process {dead.pid} somehost (no longer running) taken over" in run.stderr
+    assert_same_results(out, reference["out"])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.nc"]

@@ -304,8 +304,9 @@ def judge(argv, named: str, outputs=(), folder=None, seconds: float | None = Non
     Parameters
     ----------
     argv : list
-    named : str
-        Text the one-line message of a refusal must contain (the file name, or the option).
+    named : str or tuple of str
+        Text the one-line message of a refusal must contain (the file name, or the option; one of
+        several).
     outputs : sequence of path-like
         Files that a refused run must not leave behind.
     folder : path-like, optional
@@ -318,6 +319,7 @@ def judge(argv, named: str, outputs=(), folder=None, seconds: float | None = Non
     style : re.Pattern, optional
         The message of a refusal must match it (:data:`HOUSE_STYLE` for model and study files).
     """
+    names = (named,) if isinstance(named, str) else tuple(named)
     before = set(os.listdir(folder)) if folder is not None else set()
     code, stdout, stderr, problem = run_cli(argv, seconds)
     outcome = Outcome(list(map(str, argv)), code, stdout, stderr)
@@ -340,9 +342,9 @@ def judge(argv, named: str, outputs=(), folder=None, seconds: float | None = Non
         outcome.verdict, outcome.reason = "refused", "usage"
     elif len(lines) != 1:
         outcome.verdict, outcome.reason = "crash", f"{len(lines)} lines on stderr"
-    elif named not in lines[0]:
-        outcome.verdict, outcome.reason = "crash", f"the message does not name {named!r}"
-    elif style is not None and not style.search(lines[0].split(named, 1)[1]):
+    elif not any(name in lines[0] for name in names):
+        outcome.verdict, outcome.reason = "crash", f"the message does not name {' or '.join(names)!r}"
+    elif style is not None and not style.search(lines[0].split(names[0], 1)[-1]):
         outcome.verdict, outcome.reason = "crash", "the message does not say where, the value and what was expected"
     elif left:
         outcome.verdict, outcome.reason = "crash", f"refused but left {left}"
@@ -490,7 +492,7 @@ def _mutate_uff_sets(sets, rng):
         if choice == 0:
             key = rng.choice(sorted(_UFF_FIELDS))
             target[key] = rng.choice(_UFF_FIELDS[key])
-        elif choice == 1:  # NaN, inf or huge data
+        elif choice == 1 and len(target["data"]):  # NaN, inf or huge data
             data = np.array(target["data"])
             data[rng.randrange(len(data))] = rng.choice((np.nan, np.inf, 1e300, -np.inf))
             target["data"] = data
@@ -498,7 +500,7 @@ def _mutate_uff_sets(sets, rng):
             del sets[at]
         elif choice == 3:  # a duplicated channel
             sets.insert(rng.randrange(len(sets) + 1), copy.deepcopy(target))
-        elif choice == 4:  # odd frequencies
+        elif choice == 4 and len(target["x"]):  # odd frequencies
             x = np.array(target["x"], dtype=float)
             which = rng.randrange(4)
             if which == 0:
@@ -510,7 +512,7 @@ def _mutate_uff_sets(sets, rng):
             else:
                 x = x * rng.choice((-1.0, 1e300, 1e-300))
             target["x"] = x
-        else:  # fewer values than frequencies
+        elif choice == 5 and len(target["data"]):  # fewer values than frequencies
             target["data"] = np.array(target["data"])[: rng.randrange(len(target["data"]))]
     return sets
 
@@ -532,6 +534,9 @@ def _mutate_csv(text: str, rng) -> bytes:
 
     table = pd.read_csv(io.StringIO(text)).astype(object)
     for _ in range(1 + rng.randrange(3)):
+        if not len(table.columns):
+            break
+        table = table.astype(object)  # any value in any cell
         choice = rng.randrange(7)
         column = rng.choice(list(table.columns))
         if choice == 0:
@@ -552,6 +557,9 @@ def _mutate_csv(text: str, rng) -> bytes:
     return table.to_csv(index=False).encode()
 
 
+#: the default mapping of the gear machine, written out (sensor k is node k, excitation k node 100 + k)
+_MAPPING = "name,node,direction,sign\nacc-top-z,1,3,1\nacc-side-y,2,2,1\nhammer-z,101,-3,1\nshaker-y,102,2,1\n"
+
 _VALID_MEASURED = {}
 
 
@@ -569,6 +577,8 @@ def _valid_measured(folder) -> dict:
         _write_uff(_uff_sets(binary), files[name], _uff_sets(binary))
     files["valid.csv"] = folder / "valid.csv"
     write_csv([res], files["valid.csv"])
+    files["mapping.csv"] = folder / "valid-mapping.csv"
+    files["mapping.csv"].write_text(_MAPPING)
     _VALID_MEASURED[folder] = files
     return files
 
@@ -592,14 +602,21 @@ def measured_case(rng, folder, fit: bool | None = None) -> list:
         _write_uff(_mutate_uff_sets(sets, rng), path, sets)
     out = folder / "out"
     out.mkdir(exist_ok=True)
+    mapping = []
+    if not kind.endswith(".csv") and rng.random() < 0.3:  # a mapping table, mutated most of the time
+        table = folder / "mapping.csv"
+        text = valid["mapping.csv"].read_text()
+        table.write_bytes(_mutate_csv(text, rng) if rng.random() < 0.8 else text.encode())
+        mapping = ["--mapping", table]
     runs = [(["frf", MEASURED_MODEL, "--speed", MEASURED_RPM, "--freqs", MEASURED_FREQS, "--measured", path,
-              "--out", out / "frf.csv", "--quiet"], (out / "frf.csv",))]
+              *mapping, "--out", out / "frf.csv", "--quiet"], (out / "frf.csv",))]
     if fit:
         runs.append((["fit", MEASURED_MODEL, "--measured", path, "--params", "suspensions.mount-FL.stiffness",
                       "--starts", "1", "--out", out / "fitted.toml", "--quiet"], (out / "fitted.toml",)))
     outcomes = []
     for argv, outputs in runs:
-        outcomes.append(judge(argv, str(path), outputs, out, failure_ok="not converged"))
+        named = (str(path), str(mapping[1])) if mapping else str(path)
+        outcomes.append(judge(argv, named, outputs, out, failure_ok="not converged"))
         clean(out)
     return outcomes
 
@@ -640,15 +657,22 @@ def _name_text(rng, known=()) -> str:
 
 _UNITS = ("rpm", "RPM", "rad/s", "hz", "Hz", "nosuch", "")
 
+
+def _plot_text(rng) -> str:
+    """A figure file in the output folder ({out}), or a bad one."""
+    return rng.choice(("{out}/figure.png", "{out}/figure.svg", "{out}/figure.txt", "{out}/no-folder/figure.png",
+                       "{out}/table.csv", "", "{out}"))
+
 #: sub-command -> (model, fixed arguments, option -> generator of a value)
 OPTION_SPACE = {
     "check": ("gear_machine.toml", [], {}),
     "modes": ("gear_machine.toml", ["--quiet"],
               {"--speed": _number_text, "--speed-unit": lambda r: r.choice(_UNITS),
-               "--shape": _count_text, "--frames": _count_text}),
+               "--shape": _count_text, "--frames": _count_text, "--plot": _plot_text}),
     "campbell": ("gear_machine.toml", ["--speeds", SPEEDS, "--quiet"],
                  {"--speeds": _range_text, "--orders": _list_text, "--speed-unit": lambda r: r.choice(_UNITS),
-                  "--color-by": lambda r: r.choice(("log_decrement", "damping_ratio", "x", ""))}),
+                  "--color-by": lambda r: r.choice(("log_decrement", "damping_ratio", "x", "")),
+                  "--plot": _plot_text}),
     "critical-speeds": ("gear_machine.toml", ["--speeds", SPEEDS, "--quiet"],
                         {"--speeds": _range_text, "--orders": _list_text}),
     "stability": ("unstable_cross_coupled.toml", ["--speeds", SPEEDS, "--quiet"],
@@ -674,7 +698,9 @@ OPTION_SPACE = {
     "unbalance": ("fan_on_bearings.toml", ["--speeds", SPEEDS, "--quiet"],
                   {"--speeds": _range_text, "--operating-speed": _number_text,
                    "--output": lambda r: _name_text(r),
-                   "--quantity": lambda r: r.choice(("displacement", "velocity", "x"))}),
+                   "--quantity": lambda r: r.choice(("displacement", "velocity", "x")),
+                   "--orbits": lambda r: r.choice(("{out}/orbits.csv", "{out}/table.csv", "{out}/no-folder/o.csv", "")),
+                   "--orbit-plot": _plot_text}),
     "study": ("gear_machine.toml", ["--spec", "{spec}", "--quiet"],
               {"--workers": lambda r: r.choice(("0", "-1", "1", "2", "1000000", "x", "")),
                "--chunk-size": _count_text,
@@ -724,6 +750,7 @@ def option_case(rng, folder) -> list:
         argv += [option, space[option](rng)]
     out = folder / "out"
     out.mkdir(exist_ok=True)
+    argv = [a.replace("{out}", str(out)) if isinstance(a, str) else a for a in argv]
     target = out / {"study": "results.nc", "fit": "fitted.toml"}.get(command, "table.csv")
     argv += ["--out", target] if command != "check" else []
     outcome = judge(argv, "", (target,), out, usage_ok=True, failure_ok="not converged")

@@ -200,8 +200,15 @@ def test_found_option_crashes_are_refusals(tmp_path, argv, message):
     assert outcome.verdict == "refused", outcome.describe()
 
 
+def _first_cell(text):
+    """The CSV with its first data line's first cell (speed_rpm) replaced."""
+    lines = text.splitlines()
+    return lambda cell: "\n".join([lines[0], cell + lines[1][lines[1].index(","):], *lines[2:]]) + "\n"
+
+
 MEASURED_CASES = {
-    "a cell that is not a number": ("valid.csv", lambda t: t.replace(",", ",x", 1).replace("\n", "\nx", 0), None),
+    "a cell that is not a number": ("valid.csv", "x", None),
+    "an empty speed cell": ("valid.csv", "", None),
     "a mapping node that is not a number": ("ascii.uff", None, "name,node,direction\nacc-top-z,x,3\n"),
     "a mapping sign of 0.5": ("ascii.uff", None, "name,node,direction,sign\nacc-top-z,1,3,0.5\n"),
     "a node and direction given twice": ("ascii.uff", None, "name,node,direction\nacc-top-z,1,3\nacc-side-y,1,3\n"),
@@ -213,11 +220,7 @@ def test_found_measured_crashes_are_refusals(tmp_path, kind, edit, mapping):
     valid = fuzzing._valid_measured(tmp_path)[kind]
     path = tmp_path / f"measured{valid.suffix}"
     text = valid.read_text(encoding="latin-1")
-    if edit is not None:
-        lines = text.splitlines()
-        lines[1] = "x" + lines[1][lines[1].index(","):]
-        text = "\n".join(lines) + "\n"
-    path.write_text(text, encoding="latin-1")
+    path.write_text(text if edit is None else _first_cell(text)(edit), encoding="latin-1")
     argv = ["frf", fuzzing.MEASURED_MODEL, "--speed", fuzzing.MEASURED_RPM, "--freqs", fuzzing.MEASURED_FREQS,
             "--measured", path, "--quiet", "--out", tmp_path / "out.csv"]
     named = str(path)

@@ -137,6 +137,10 @@ def assemble(records, model, quantity, source) -> list[FRFResult]:
     if len(outs) == 0:
         raise InputError(f"{source}: no FRF found in the file")
     speeds = np.asarray(records["speed_rpm"], dtype=float)
+    if not np.all(np.isfinite(speeds)):
+        bad = speeds[~np.isfinite(speeds)][0]
+        raise InputError(f"{source}: a spin speed of {bad} rpm (an empty speed_rpm cell, or a UFF z-axis value): "
+                         "expected a finite speed for every line")
     coherence = records.get("coherence")
     results = []
     for speed in np.unique(speeds):

@@ -73,3 +73,26 @@ def test_run_up_of_rotors_on_bearings_through_their_critical_speeds(examples_dir
     fan = critical.speeds[critical.source == "fan"]
     assert np.min(np.abs(fan - peak)) < 0.15 * peak
     assert swing.max() > 10 * swing[table["drive_speed_rad_s"] < 0.3 * peak].max()   # the bearing mode stands out
+
+
+def test_a_duration_of_more_periods_than_the_count_limit_is_refused_at_once(examples_dir, tmp_path, capsys):
+    """1e9 s of the gear machine would be about 1e10 periods of its fastest mode: refused before
+    integrating, naming the duration, the limit and the frequency that sets it."""
+    import time
+
+    out = tmp_path / "run.csv"
+    start = time.perf_counter()
+    code = main(["simulate", str(examples_dir / "gear_machine.toml"), "--speed", "3000", "--duration", "1e9",
+                 "--out", str(out)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and not out.exists()
+    assert err.count("\n") == 0 and "duration = 1000000000.0 s" in err and "periods of the fastest motion" in err
+    assert "ROTORDYN_MODAL_MAX_POINTS" in err and " Hz)" in err
+    assert time.perf_counter() - start < 30
+
+
+def test_a_long_duration_within_the_limit_is_accepted_by_the_check(examples_dir):
+    """The check refuses nothing a run could finish: 10 s of the fastest motion at 1 kHz is 1e4 periods."""
+    from rotordyn_modal.simulation.simulate import _check_duration
+
+    _check_duration(10.0, 2 * 3.141592653589793 * 1000.0)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._limits import count_problem
 from ..errors import InputError
 from . import _kernels
 from ._system import check_table_speeds, system_arrays
@@ -119,7 +120,9 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     y0[2 * n - 1] = speed
     if impulse is not None:
         y0[n:] += _impulse_velocity(model, system, kn, y0, impulse, impulse_size, mode)
-    times = np.linspace(0.0, duration, samples or _default_samples(model, speed, final_speed, duration))
+    rate = _fastest_rate(model, speed, final_speed)
+    _check_duration(duration, rate)
+    times = np.linspace(0.0, duration, samples or _default_samples(rate, duration))
     extra = (mode, accel, 0.0, duration)
     states = _integrate(kn, system, extra, y0, times, rtol, atol, progress, model)
     if drive == "free":
@@ -288,7 +291,8 @@ def _impulse_velocity(model, system, kn, y0, name, size, mode):
     return jump
 
 
-def _default_samples(model, speed, final_speed, duration):
+def _fastest_rate(model, speed, final_speed):
+    """The fastest of the rotors' spins and the natural frequencies at rest [rad/s]."""
     from ..analysis.modal import modal
 
     fastest_spin = max(abs(speed), abs(final_speed or 0.0)) * max(abs(r) for r in model.speed_ratios.values())
@@ -299,8 +303,21 @@ def _default_samples(model, speed, final_speed, duration):
             break
         except Exception:  # noqa: BLE001 - a model without restoring force still simulates
             continue
-    rate = 20.0 * max(fastest_spin, natural) / (2 * np.pi)
-    return int(min(max(201, rate * duration + 1), 2_000_001))
+    return max(fastest_spin, natural)
+
+
+def _check_duration(duration, rate):
+    """Refuse a duration of more periods of the fastest motion than the count limit: the
+    integrator's steps grow with them, so such a run would not end in any useful time."""
+    periods = duration * rate / (2 * np.pi)
+    problem = count_problem(int(min(periods, 1e18)), "periods of the fastest motion")
+    if problem:
+        raise InputError(f"duration = {duration!r} s: expected {problem} "
+                         f"(the fastest motion is {rate / (2 * np.pi):.4g} Hz)")
+
+
+def _default_samples(rate, duration):
+    return int(min(max(201, 20.0 * rate / (2 * np.pi) * duration + 1), 2_000_001))
 
 
 def _positive(value, name):

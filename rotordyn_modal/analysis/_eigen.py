@@ -384,6 +384,8 @@ def _repeated_pairs(lam):
     three) and not rigid-body zeros; ``lam`` shape (N, m), equal values adjacent."""
     scale = np.abs(lam).max(axis=-1, keepdims=True) + 1e-300
     close = np.abs(np.diff(lam, axis=-1)) <= REPEATED_TOLERANCE * scale  # (N, m-1)
+    if not close.any():                    # the usual case: no repeated eigenvalue at all
+        return np.nonzero(close)
     padded = np.pad(close, ((0, 0), (1, 1)))
     pair = close & ~padded[:, :-2] & ~padded[:, 2:]
     pair &= np.abs(lam[:, :-1]) > OSCILLATORY_TOLERANCE * scale

@@ -273,7 +273,10 @@ def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
     values, shapes, weighted = solve_sweeps(stack, speeds, progress)
     count, n_speeds, m = values.shape
     every = np.repeat(np.arange(count), n_speeds)
-    ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, np.tile(speeds, count))
+    flat, at = shapes.reshape((-1,) + shapes.shape[-2:]), np.tile(speeds, count)
+    n = flat.shape[-1]
+    ratios, = _in_parts(lambda r: (stack.whirl_ratios(flat[r], every[r], at[r]),), np.arange(len(flat)),
+                        2 * 16 * 3 * n * (m + n))
     ratios = np.where(is_oscillating(values), ratios.reshape(values.shape), 0.0)
     freq, zeta, log_dec = modal_quantities(values)
     sources = [excitation_sources(model) for model in stack.models]
@@ -329,7 +332,8 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders) -> l
     roots, lam, sure = _refine_together(stack, speeds, values, weighted, brackets)
     lam, phi = _in_parts(lambda r: _shapes_at(stack, speeds, values, weighted, brackets.subset(r), roots[r],
                                               lam[r], sure[r]), np.arange(len(roots)), _row_bytes(stack))
-    ratios = stack.whirl_ratios(phi[:, None], brackets.variant, roots)[:, 0]
+    ratios, = _in_parts(lambda r: (stack.whirl_ratios(phi[r, None], brackets.variant[r], roots[r])[:, 0],),
+                        np.arange(len(roots)), _row_bytes(stack))
     _, zeta, _ = modal_quantities(lam)
     names = np.asarray(sources[0].names, dtype=object)[brackets.source]
     labels = _eigen.whirl_labels(ratios).astype(object)

@@ -193,3 +193,40 @@ def test_measured_data_under_the_limit_is_read(tmp_path, monkeypatch):
 
     with pytest.raises(InputError, match="larger than the limit"):
         read_measured(path, model)
+
+
+# ------------------------------------------------------------------------- bounded memory
+def _campbell_traced(model, speeds):
+    import tracemalloc
+
+    tracemalloc.start()
+    try:
+        result = rdm.campbell(model, speeds)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    return result, peak
+
+
+def test_crossings_are_refined_in_parts_of_bounded_memory_with_unchanged_results(tmp_path, monkeypatch):
+    """Over a thousand crossings (79 sources x 22 modes): the work memory follows the part
+    size, not the number of crossings, and the split changes no number."""
+    from rotordyn_modal.analysis import _eigen
+
+    path = tmp_path / "chain.toml"
+    path.write_text(chained_gear_toml(40, 4))
+    model = rdm.load_model(path)
+    speeds = rdm.rpm(np.linspace(0, 6000, 61))
+    whole, _ = _campbell_traced(model, speeds)
+    part = 2**20
+    monkeypatch.setattr(_eigen, "_PART_BYTES", part)
+    split, peak = _campbell_traced(model, speeds)
+    n, m = model.dofs.n, 2 * model.dofs.n
+    crossings = len(split.critical.speeds)
+    sweep = len(speeds) * m // 2 * n * 16 * 3     # eigenvalues' shapes, weighted shapes, one copy
+    print(f"{crossings} crossings, traced peak {peak / 2**20:.1f} MB, sweep arrays {sweep / 2**20:.1f} MB")
+    assert crossings > 1000
+    assert peak < 2 * sweep + 12 * part
+    np.testing.assert_array_equal(split.critical.speeds, whole.critical.speeds)
+    np.testing.assert_array_equal(split.critical.whirl_ratios, whole.critical.whirl_ratios)
+    np.testing.assert_array_equal(split.whirl_ratios, whole.whirl_ratios)

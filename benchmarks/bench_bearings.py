@@ -48,25 +48,12 @@ import rotordyn_modal as rdm
 from rotordyn_modal.analysis._eigen import select_upper
 from rotordyn_modal.linear_system import speed_linear_form
 
+from _machines import bearing_pair, gear_chain
+
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 
 # --------------------------------------------------------------------------- machines
-def bearing_pair(rotor, spin_axis, offsets, stiffness, damping, axial):
-    """Two bearings of ``rotor`` at its centre of mass + ``offsets`` [m] along the spin axis;
-    the first (drive end) also locates the rotor axially."""
-    centre = np.asarray(rotor["center_of_mass"], dtype=float)
-    pair = []
-    for side, offset in zip(("DE", "NDE"), offsets):
-        bearing = {"name": f"{rotor['name']}-{side}", "rotor": rotor["name"],
-                   "position": (centre + offset * np.asarray(spin_axis)).tolist(),
-                   "stiffness": stiffness, "damping": damping}
-        if side == "DE":
-            bearing["axial_stiffness"] = axial
-        pair.append(bearing)
-    return pair
-
-
 def gear_machine_on_bearings() -> rdm.Model:
     """(a) The gear machine with motor and fan each on two bearings (2e7 N/m, 500 N s/m)."""
     data = rdm.load_model(EXAMPLES / "gear_machine.toml").to_dict()
@@ -98,46 +85,6 @@ def gear_machine_on_table_bearings() -> rdm.Model:
     table = np.linspace(-13000.0, 13000.0, 27)
     data["bearings"] = [tabulated(b, table) for b in data["bearings"]]
     return rdm.Model.from_dict(data)
-
-
-def gear_chain(count: int = 20, seed: int = 1) -> rdm.Model:
-    """(c) ``count`` rotors in a row (0.3 m apart along y, spinning about x), each driving
-    the next through a gear (ratios 0.8-1.25, so every rotor turns at 0.6-1.6 x the first),
-    each on two bearings (1e7-5e7 N/m, 1e-4 s x k damping), in a casing twice their mass on
-    six mounts. Masses, inertias and bearing spans drawn from ``seed``."""
-    rng = np.random.default_rng(seed)
-    pitch, spin_axis = 0.3, [1.0, 0.0, 0.0]
-    rotors, bearings, gears = [], [], []
-    log_speed = 0.0
-    for j in range(count):
-        mass = rng.uniform(5.0, 30.0)
-        polar = mass * rng.uniform(0.002, 0.01)
-        rotor = {"name": f"r{j:02d}", "mass": mass,
-                 "center_of_mass": [rng.uniform(-0.1, 0.1), (j - (count - 1) / 2) * pitch, 0.2],
-                 "polar_inertia": polar, "diametral_inertia": polar * rng.uniform(0.6, 2.0)}
-        if j == 0:
-            rotor["speed_ratio"] = 1.0
-        else:  # ratio = |w_driver| / |w_driven|, kept so that |w_j| stays within 0.6..1.6
-            step = float(np.clip(rng.uniform(-0.22, 0.22), -0.5 - log_speed, 0.5 - log_speed))
-            log_speed += step
-            gears.append({"type": "gear", "driver": f"r{j - 1:02d}", "driven": rotor["name"],
-                          "ratio": float(np.exp(-step))})
-        rotors.append(rotor)
-        k = rng.uniform(1e7, 5e7)
-        offsets = (rng.uniform(0.08, 0.15), -rng.uniform(0.08, 0.15))
-        bearings += bearing_pair(rotor, spin_axis, offsets, k, 1e-4 * k, 0.5 * k)
-    casing = 2 * sum(r["mass"] for r in rotors)
-    length, width, height = count * pitch, 0.6, 0.4
-    inertia = casing / 12 * np.diag([length**2 + height**2, width**2 + height**2, length**2 + width**2])
-    mounts = [{"name": f"mount-{i}", "position": [x, y, -0.1], "stiffness": [3e6, 3e6, 6e6],
-               "damping": [1e3, 1e3, 2e3]}
-              for i, (x, y) in enumerate((x, y) for y in (length / 2, 0.0, -length / 2) for x in (0.3, -0.3))]
-    return rdm.Model.from_dict({
-        "name": f"{count} rotors chained by gears on flexible bearings in a casing on mounts",
-        "spin_axis": spin_axis, "reference_rotor": "r00",
-        "stator": {"mass": casing, "center_of_mass": [0.0, 0.0, 0.1], "inertia": inertia.tolist()},
-        "rotors": rotors, "transmissions": gears, "bearings": bearings, "suspensions": mounts,
-    })
 
 
 MACHINES = {

@@ -18,10 +18,9 @@ from __future__ import annotations
 
 import importlib
 
+from ._version import __version__
 from .errors import InputError, ModelError
 from .units import hz, rpm, to_hz, to_rpm
-
-__version__ = "0.1.0"
 
 #: public name -> module that defines it, by concept
 _API = {

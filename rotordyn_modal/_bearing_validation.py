@@ -14,7 +14,7 @@ import dataclasses
 
 import numpy as np
 
-from ._table import Table
+from ._table import LARGEST, Table, magnitude_problem
 from .bearings import BearingCoefficients, JournalData, local_to_model
 from .components import Bearing, input_keys, is_finite_number
 from .errors import ModelError
@@ -24,6 +24,7 @@ __all__ = ["bearings", "check_frame"]
 
 _ON_AXIS_TOLERANCE = 1e-6  # m, plus the same fraction of the distance along the axis
 _AXES_TOLERANCE = 1e-6
+_LEAST_SHARE = 1e-9  # of the rotor's weight: below it a journal's load is zero for all purposes
 _RADIAL_KEYS = ("stiffness", "damping", "moment_stiffness", "moment_damping")
 _AXIAL_KEYS = ("axial_stiffness", "axial_damping")
 _JOURNAL_KEYS = ("diameter", "length", "clearance", "viscosity", "load", "load_direction")
@@ -127,8 +128,10 @@ def _speed_table(table: Table) -> np.ndarray | None:
         return None
     raw = table.data["speeds_rpm"]
     values = np.array(raw, dtype=float) if _is_number_list(raw) else None
-    if values is None or values.ndim != 1 or len(values) < 2 or not np.all(np.isfinite(values)):
-        raise table.error("speeds_rpm", raw, "a list of at least two finite speeds [rpm]")
+    if values is None or values.ndim != 1 or len(values) < 2 or not np.all(np.isfinite(values)) \
+            or magnitude_problem(values):
+        raise table.error("speeds_rpm", raw, "a list of at least two finite speeds [rpm] of magnitude "
+                          f"at most {LARGEST:g}")
     if not np.all(np.diff(values) > 0):
         raise table.error("speeds_rpm", raw, "strictly increasing speeds [rpm]")
     return values * np.pi / 30.0
@@ -246,7 +249,7 @@ def _weight_share(bearing, table: Table, mates, rotor, e) -> float:
     s_self, s_other = ((np.asarray(b.position) - centre) @ e for b in
                        sorted(mates, key=lambda b: b is not bearing))
     share = s_other / (s_other - s_self) if s_other != s_self else 0.0
-    if share == 0.0:
+    if not abs(share) > _LEAST_SHARE:
         raise table.error("load", "<missing>", f"a static load [N]: this bearing carries none of rotor "
                           f"{rotor.name!r}'s weight (its centre of mass is at the other bearing)")
     return float(share)

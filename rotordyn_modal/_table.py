@@ -9,7 +9,14 @@ import numpy as np
 from .components import is_finite_number
 from .errors import ModelError
 
-__all__ = ["Table", "shape_text"]
+__all__ = ["Table", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem"]
+
+#: largest magnitude of a number in a model description (SI units): no machine needs more, and
+#: products of two such numbers (stiffness over mass, squared frequencies) stay far from overflow
+LARGEST = 1e30
+#: smallest value of a quantity that must be > 0 (masses, inertias, lengths, times): its inverse
+#: stays finite in the mass matrix's inverse and the relaxation rates
+SMALLEST_POSITIVE = 1e-30
 
 
 class Table:
@@ -27,7 +34,8 @@ class Table:
     def check_keys(self, allowed) -> None:
         for key in self.data:
             if key not in allowed:
-                raise self.error(key, self.data[key], "one of the keys " + ", ".join(allowed)
+                shown = key if key and key.strip() == key and key.isprintable() else repr(key)
+                raise self.error(shown, self.data[key], "one of the keys " + ", ".join(allowed)
                                  + " (unknown key)")
 
     def require(self, key: str):
@@ -50,6 +58,9 @@ class Table:
             raise self.error(key, value, "a finite number > 0")
         if nonnegative and not value >= 0:
             raise self.error(key, value, "a finite number >= 0")
+        problem = magnitude_problem(value, positive=positive)
+        if problem:
+            raise self.error(key, value, problem)
         return value
 
     def text(self, key: str, default=None, *, choices=None, required=False) -> str:
@@ -83,6 +94,9 @@ class Table:
             raise self.error(key, value, expected() + f" (got shape {arr.shape})")
         if not np.isfinite(arr).all():
             raise self.error(key, value, expected() + " of finite numbers")
+        problem = magnitude_problem(arr)
+        if problem:
+            raise self.error(key, value, expected() + " of " + problem.removeprefix("a ").replace("number", "numbers"))
         return arr
 
     def vector3(self, key: str, default=None, *, required=False, nonzero=False) -> np.ndarray:
@@ -90,6 +104,23 @@ class Table:
         if nonzero and vec is not None and not np.linalg.norm(vec) > 0:
             raise self.error(key, self.data.get(key), "a 3-vector of non-zero length")
         return vec
+
+
+def magnitude_problem(value, positive: bool = False) -> str:
+    """What is wrong with the size of a finite number (or array), or '' when nothing is.
+
+    Parameters
+    ----------
+    value : float or ndarray
+    positive : bool
+        The quantity must be > 0 (then it must also be at least :data:`SMALLEST_POSITIVE`).
+    """
+    largest = float(np.max(np.abs(value), initial=0.0))
+    if largest > LARGEST:
+        return f"a number of magnitude at most {LARGEST:g} (SI units)"
+    if positive and not float(np.min(value)) >= SMALLEST_POSITIVE:
+        return f"a number >= {SMALLEST_POSITIVE:g} (SI units)"
+    return ""
 
 
 def shape_text(shape) -> str:

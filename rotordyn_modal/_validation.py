@@ -16,7 +16,7 @@ import numpy as np
 
 from .errors import ModelError
 from . import _bearing_validation
-from ._table import Table as _Table
+from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem
 from .components import (
     ARRAY_TABLES, TOP_LEVEL_KEYS, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
     Unbalance, input_keys, is_finite_number,
@@ -24,6 +24,8 @@ from .components import (
 
 _RATIO_TOLERANCE = 1e-9
 _AXES_TOLERANCE = 1e-6
+#: largest ratio of a rigid body's principal moments of inertia (a thin rod has about 1e5)
+_PRINCIPAL_RATIO = 1e12
 
 
 # ----------------------------------------------------------------------------------------
@@ -61,20 +63,8 @@ def _plain(value):
 def validate(data: dict[str, Any], source: str) -> dict[str, Any]:
     """Validate a whole description; returns the validated parts by table name."""
     top = _Table(source, "", data)
-    top.check_keys(TOP_LEVEL_KEYS)
-    for key in ARRAY_TABLES:
-        value = data.get(key, [])
-        if not isinstance(value, list) or not all(isinstance(v, Mapping) for v in value):
-            raise top.error(key, value, f"an array of tables ([[{key}]])")
-    if "stator" in data and not isinstance(data["stator"], Mapping):
-        raise top.error("stator", data["stator"], "a table ([stator])")
-
-    spin_axis = top.vector3("spin_axis", default=[1.0, 0.0, 0.0], nonzero=True)
-    spin_axis = spin_axis / np.linalg.norm(spin_axis)
-    name = data.get("name", "")
-    if not isinstance(name, str):
-        raise top.error("name", name, "a string")
-
+    _check_layout(top, data)
+    spin_axis, name = _spin_axis_and_name(top, data)
     stator = _stator(source, data["stator"]) if "stator" in data else None
     rotor_tables = _named_tables(source, data, "rotors")
     if not rotor_tables and stator is None:
@@ -99,6 +89,26 @@ def validate(data: dict[str, Any], source: str) -> dict[str, Any]:
         "unbalances": tuple(unbalances),
         "sensors": tuple(sensors), "excitations": tuple(excitations),
     }
+
+
+def _check_layout(top: _Table, data) -> None:
+    """Known top-level keys, arrays of tables where arrays are expected, ``[stator]`` a table."""
+    top.check_keys(TOP_LEVEL_KEYS)
+    for key in ARRAY_TABLES:
+        value = data.get(key, [])
+        if not isinstance(value, list) or not all(isinstance(v, Mapping) for v in value):
+            raise top.error(key, value, f"an array of tables ([[{key}]])")
+    if "stator" in data and not isinstance(data["stator"], Mapping):
+        raise top.error("stator", data["stator"], "a table ([stator])")
+
+
+def _spin_axis_and_name(top: _Table, data) -> tuple[np.ndarray, str]:
+    """The unit spin axis (default x) and the model's name (default empty)."""
+    spin_axis = top.vector3("spin_axis", default=[1.0, 0.0, 0.0], nonzero=True)
+    name = data.get("name", "")
+    if not isinstance(name, str):
+        raise top.error("name", name, "a string")
+    return spin_axis / np.linalg.norm(spin_axis), name
 
 
 def _named_tables(source: str, data, key: str) -> dict[str, _Table]:
@@ -142,9 +152,12 @@ def _inertia_tensor(table: _Table, key: str) -> np.ndarray:
         raise table.error(key, table.data[key], "a symmetric tensor")
     tensor = 0.5 * (tensor + tensor.T)
     principal = np.linalg.eigvalsh(tensor)
-    if not principal[0] > 0:
+    if not principal[0] >= SMALLEST_POSITIVE:
         raise table.error(key, table.data[key], "a positive definite tensor (principal moments "
-                          f"{_fmt(principal)} must all be > 0)")
+                          f"{_fmt(principal)} must all be >= {SMALLEST_POSITIVE:g})")
+    if principal[-1] > _PRINCIPAL_RATIO * principal[0]:
+        raise table.error(key, table.data[key], f"principal moments within a ratio of {_PRINCIPAL_RATIO:g} "
+                          f"(got {_fmt(principal)}; rounding would leave the mass matrix singular)")
     total = principal.sum()
     if np.any(principal > total - principal + 1e-9 * total):
         raise table.error(key, table.data[key], "principal moments that satisfy the triangle "
@@ -173,6 +186,9 @@ def _rotor(table: _Table, ratio: float) -> Rotor:
     if polar > 2.0 * diametral * (1 + 1e-12):
         raise table.error("polar_inertia", polar, f"at most twice diametral_inertia = {diametral:g} "
                           "(triangle inequality of a rigid body's principal moments)")
+    if diametral > _PRINCIPAL_RATIO * polar:
+        raise table.error("diametral_inertia", diametral, f"at most {_PRINCIPAL_RATIO:g} times polar_inertia "
+                          f"= {polar:g} (rounding would leave the mass matrix singular)")
     return Rotor(
         name=table.data["name"],
         mass=table.number("mass", required=True, positive=True),
@@ -308,6 +324,9 @@ def _maxwell_branches(table: _Table, axes: np.ndarray):
     for i, tau in enumerate(times):
         if not is_finite_number(tau) or not tau > 0:
             raise table.error(f"maxwell_time[{i}]", tau, "a finite relaxation time > 0 [s]")
+        if magnitude_problem(tau, positive=True):
+            raise table.error(f"maxwell_time[{i}]", tau, "a relaxation time [s] that is "
+                              + magnitude_problem(tau, positive=True))
     branches = []
     for i, branch in enumerate(stiffness):
         sub = _Table(table.source, table.label, {f"maxwell_stiffness[{i}]": branch})

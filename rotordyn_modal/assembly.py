@@ -27,6 +27,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .dofs import frame_block
 from .errors import InputError
 from .geometry import point_force_column, shift_matrix, skew
 
@@ -103,25 +104,6 @@ def _suspension_sum(model, attribute: str) -> np.ndarray:
         shift = shift_matrix(reference, suspension.position)
         total += shift @ getattr(suspension, attribute) @ shift.T
     return total
-
-
-def frame_block(model, block6: np.ndarray) -> np.ndarray:
-    """A 6x6 matrix on the stator's motion placed in the ``n x n`` generalized space.
-
-    Parameters
-    ----------
-    model : Model
-    block6 : ndarray, shape (..., 6, 6)
-
-    Returns
-    -------
-    ndarray, shape (..., n, n) (zeros when the frame is the ground)
-    """
-    layout = model.dofs
-    out = np.zeros(block6.shape[:-2] + (layout.n, layout.n), dtype=block6.dtype)
-    k = layout.n_frame
-    out[..., :k, :k] = block6[..., :k, :k]
-    return out
 
 
 def add_rotor_body(out: np.ndarray, model, rotor: str, body6: np.ndarray) -> None:

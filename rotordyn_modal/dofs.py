@@ -28,7 +28,7 @@ import numpy as np
 
 from .geometry import point_motion_row, shift_matrix, transverse_axes
 
-__all__ = ["Dofs", "dofs"]
+__all__ = ["Dofs", "dofs", "frame_block"]
 
 
 @dataclass(frozen=True)
@@ -166,3 +166,22 @@ def _axis_letters(spin_axis) -> tuple[str, str, str]:
     if np.all(np.isclose(np.abs(axes).max(axis=1), 1.0, rtol=0, atol=1e-12)):
         return tuple("xyz"[int(np.argmax(np.abs(row)))] for row in axes)
     return ("a", "b", "e")
+
+
+def frame_block(model, block6: np.ndarray) -> np.ndarray:
+    """A 6x6 matrix on the stator's motion placed in the ``n x n`` generalized space.
+
+    Parameters
+    ----------
+    model : Model
+    block6 : ndarray, shape (..., 6, 6)
+
+    Returns
+    -------
+    ndarray, shape (..., n, n) (zeros when the frame is the ground)
+    """
+    layout = model.dofs
+    out = np.zeros(block6.shape[:-2] + (layout.n, layout.n), dtype=block6.dtype)
+    k = layout.n_frame
+    out[..., :k, :k] = block6[..., :k, :k]
+    return out

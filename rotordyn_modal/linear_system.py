@@ -18,13 +18,28 @@ import numpy as np
 from .assembly import bearing_motion, constant_matrices, dependent_bearing_matrices, excitation_columns, \
     sensor_rows
 from .bearings import evaluate
-from .errors import InputError
+from .errors import InputError, ModelError
 from .mounts import maxwell_branches, with_branch_states
 
 __all__ = ["SpeedLinearForm", "speed_linear_form", "state_matrices", "state_space"]
 
 _QUANTITY_ORDER = {"displacement": 0, "receptance": 0, "velocity": 1, "mobility": 1,
                    "acceleration": 2, "accelerance": 2}
+
+
+def _mass_inverse(M: np.ndarray, model) -> np.ndarray:
+    """The inverse of the mass matrix, or a :class:`ModelError` when rounding leaves it singular
+    (masses and inertias, with their arms, many orders of magnitude apart)."""
+    try:
+        inverse = np.linalg.inv(M)
+        residual = np.abs(inverse @ M - np.eye(M.shape[0])).max()
+    except np.linalg.LinAlgError:
+        inverse, residual = None, np.inf
+    if not residual < 1e-3:
+        raise ModelError(model.source, "[stator], [[rotors]] mass and inertia", "<mass matrix>",
+                         "masses and inertias (with their arms to the reference point) that leave the "
+                         "mass matrix invertible in double precision; they span too many orders of magnitude")
+    return inverse
 
 
 class SpeedLinearForm:
@@ -52,7 +67,7 @@ class SpeedLinearForm:
         M, C, G, K = self.matrices
         n = M.shape[0]
         self.n_dof = n
-        m_inv = np.linalg.inv(M)
+        m_inv = _mass_inverse(M, model)
         self.A0 = np.zeros((2 * n, 2 * n))
         self.A0[:n, n:] = np.eye(n)
         self.A0[n:, :n] = -m_inv @ K

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .dofs import frame_block
 from .geometry import shift_matrix
 
 __all__ = ["has_frequency_dependence", "maxwell_stiffness", "maxwell_branches"]
@@ -32,8 +33,6 @@ def maxwell_branches(model):
         ``B_SP K_b B_SP^T`` on the stator's coordinates of the generalized space.
     times : ndarray, shape (n_branches,) [s]
     """
-    from .assembly import frame_block
-
     stiffness, times = [], []
     for _, _, shift, k_b, tau in _each_branch(model):
         stiffness.append(shift @ k_b @ shift.T)

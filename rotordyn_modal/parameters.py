@@ -108,7 +108,8 @@ def scale_value(data: dict, key: str, factor: float, source: str = "<model>") ->
     """Multiply the value (a number, or every number of an array) a dotted key names."""
     current = get_value(data, key, source)
     try:
-        scaled = (np.asarray(current, dtype=float) * float(factor)).tolist()
+        with np.errstate(over="ignore", invalid="ignore"):  # an infinite result is refused by validation
+            scaled = (np.asarray(current, dtype=float) * float(factor)).tolist()
     except (TypeError, ValueError):
         raise InputError(f"{source}: parameter key {key!r}: holds {current!r}, which is not numeric "
                          "and cannot be scaled") from None

@@ -42,3 +42,17 @@ def without_module(monkeypatch):
         monkeypatch.setattr(builtins, "__import__", guarded)
 
     return block
+
+
+def pytest_terminal_summary(terminalreporter):
+    """How many generated inputs the fuzz tests tried (tests/test_fuzz_inputs.py)."""
+    import sys
+
+    fuzz = sys.modules.get("test_fuzz_inputs")
+    if fuzz is None or not fuzz.TRIED:
+        return
+    terminalreporter.section("generated inputs")
+    for kind, counts in fuzz.TRIED.items():
+        runs = counts["valid"] + counts["refused"] + counts["crash"]
+        terminalreporter.write_line(f"fuzz: {counts['inputs']} {kind} tried ({runs} runs: {counts['valid']} valid, "
+                                    f"{counts['refused']} refused, {counts['crash']} crashed)")

@@ -81,3 +81,32 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, examples_dir
     np.testing.assert_allclose(found.speeds, root, rtol=1e-10)
     np.testing.assert_allclose(found.frequencies_hz, freq, rtol=1e-10)
     np.testing.assert_allclose(found.damping_ratios, zeta, rtol=1e-8, atol=1e-12)
+
+
+@pytest.mark.parametrize("seed", [3, 4])
+def test_newton_steps_on_the_pencil_equal_all_eigenvalues_of_the_state_matrix(seed, monkeypatch):
+    """Isolated modes' eigenvalues along the refinement come from Newton steps on the
+    quadratic pencil; sending every crossing through all eigenvalues of the state matrix (the
+    path checked against Brent's method above) gives the same critical speeds."""
+    from reference_bearings import random_bearing_description
+
+    from rotordyn_modal.analysis import campbell as campbell_module
+
+    rng = np.random.default_rng(seed)
+    data = random_bearing_description(rng, n_rotors=6)
+    data["transmissions"] = []
+    for j, rotor in enumerate(data["rotors"]):
+        rotor["speed_ratio"] = 1.0 if j == 0 else float(rng.choice([-1, 1]) * rng.uniform(0.3, 2.0))
+    model = rdm.Model.from_dict(data)
+    speeds = np.linspace(0.0, 3000.0, 41)
+    newton = rdm.campbell(model, speeds, orders=(1, 2)).critical
+    isolated = campbell_module._isolated
+    used = []
+    monkeypatch.setattr(campbell_module, "_isolated", lambda *a: used.append(isolated(*a)) or np.zeros_like(used[-1]))
+    full = rdm.campbell(model, speeds, orders=(1, 2)).critical
+    assert len(full) == len(newton) > 0 and used[0].sum() > 0.25 * len(used[0])
+    assert list(newton.source) == list(full.source) and list(newton.mode) == list(full.mode)
+    assert list(newton.whirl) == list(full.whirl)
+    np.testing.assert_allclose(newton.speeds, full.speeds, rtol=1e-10)
+    np.testing.assert_allclose(newton.frequencies_hz, full.frequencies_hz, rtol=1e-10)
+    np.testing.assert_allclose(newton.damping_ratios, full.damping_ratios, rtol=1e-8, atol=1e-12)

@@ -91,6 +91,53 @@ def test_unbalance_csv(tmp_path):
     np.testing.assert_allclose(fan.frequency_hz, 0.4 * np.linspace(0, 6000, 61) / 60, rtol=1e-9)
 
 
+FANS = str(Path(__file__).resolve().parent.parent / "examples" / "fan_on_bearings.toml")
+_COMPONENTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+
+
+def _unbalance_table(tmp_path, model, *options):
+    out = tmp_path / "u.csv"
+    assert main(["unbalance", model, "--speeds", "0:6000:7", "--out", str(out), "--quiet", *options]) == 0
+    return pd.read_csv(out)
+
+
+def test_unbalance_named_output_gives_that_output_only(tmp_path):
+    table = _unbalance_table(tmp_path, EXAMPLE, "--output", "acc-top-z")
+    assert set(table.output) == {"acc-top-z"}
+
+
+def test_unbalance_without_output_gives_every_sensor_and_no_force(tmp_path):
+    sensors = {s.name for s in rdm.load_model(EXAMPLE).sensors}
+    assert set(_unbalance_table(tmp_path, EXAMPLE).output) == sensors
+
+
+@pytest.mark.parametrize("model,forces,items", [
+    (EXAMPLE, "suspensions", ["mount-FL", "mount-FR", "mount-RL", "mount-RR"]),
+    (EXAMPLE, "bearings", ["motor", "fan"]),            # no [[bearings]]: the rigidly attached rotors
+    (EXAMPLE, "rotors", ["motor", "fan"]),
+    (FANS, "bearings", ["motor-DE", "motor-NDE", "fan-DE", "fan-NDE"]),
+    (FANS, "all", ["mount-FL", "mount-FR", "mount-RL", "mount-RR", "motor-DE", "motor-NDE", "fan-DE",
+                   "fan-NDE", "motor", "fan"]),
+])
+def test_unbalance_forces_are_added_on_request(tmp_path, model, forces, items):
+    sensor = rdm.load_model(model).sensors[0].name
+    table = _unbalance_table(tmp_path, model, "--output", sensor, "--forces", forces)
+    expected = [sensor] + [f"{item}:{c}" for item in items for c in _COMPONENTS]
+    assert list(dict.fromkeys(table.output)) == expected
+
+
+def test_unbalance_rotor_force_is_the_sum_of_its_bearings(tmp_path):
+    """A rotor on bearings passes to the stator what its bearings carry: the forces (not the
+    moments, which depend on the point) of 'rotors' equal the sum over its [[bearings]]."""
+    table = _unbalance_table(tmp_path, FANS, "--output", "acc-fan-z", "--forces", "all")
+    value = table.amplitude * np.exp(1j * np.radians(table.phase_deg))
+    for rotor in ("motor", "fan"):
+        for c in ("Fx", "Fy", "Fz"):
+            total = value[table.output == f"{rotor}:{c}"].to_numpy()
+            parts = sum(value[table.output == f"{rotor}-{end}:{c}"].to_numpy() for end in ("DE", "NDE"))
+            np.testing.assert_allclose(parts, total, rtol=0, atol=1e-8 * np.abs(total).max())
+
+
 def test_fit_writes_the_model_and_never_over_the_input(tmp_path, capsys):
     true = rdm.load_model(EXAMPLE)
     start = true.scaled({"suspensions.mount-FL.stiffness": 1.5})

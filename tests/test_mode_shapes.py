@@ -3,7 +3,6 @@ has the bodies' inertia, orbits turn the way the mode whirls; figures, animation
 
 from __future__ import annotations
 
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -171,12 +170,27 @@ def test_animation_files(gear, tmp_path):
         animate_mode_shape(view, keep.with_suffix(".gif"), frames=3, inputs=[keep.with_suffix(".gif")])
 
 
-@pytest.mark.skipif(shutil.which("ffmpeg") is not None, reason="ffmpeg is installed")
-def test_mp4_without_ffmpeg_is_refused(gear, tmp_path):
+def test_mp4_holds_one_period_of_frames(gear, tmp_path):
+    imageio_ffmpeg = pytest.importorskip("imageio_ffmpeg")
     model, result = gear
-    with pytest.raises(InputError, match="writing MP4 needs ffmpeg"):
+    animate_mode_shape(mode_shape_3d(result, model, 6), tmp_path / "m.mp4", frames=5, fps=10)
+    data = (tmp_path / "m.mp4").read_bytes()
+    assert data[4:8] == b"ftyp"  # an ISO base media (MP4) file
+    n_frames, seconds = imageio_ffmpeg.count_frames_and_secs(str(tmp_path / "m.mp4"))
+    assert n_frames == 5
+    assert seconds == pytest.approx(0.5)
+    assert [p.name for p in tmp_path.iterdir()] == ["m.mp4"]
+
+
+def test_mp4_without_any_ffmpeg_is_refused(gear, tmp_path, monkeypatch):
+    import matplotlib
+
+    monkeypatch.setitem(matplotlib.rcParams, "animation.ffmpeg_path", str(tmp_path / "no-ffmpeg"))
+    monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)
+    model, result = gear
+    with pytest.raises(InputError, match="writing MP4 needs ffmpeg on the PATH or the video extra"):
         animate_mode_shape(mode_shape_3d(result, model, 6), tmp_path / "m.mp4", frames=3)
-    assert not (tmp_path / "m.mp4").exists()
+    assert list(tmp_path.iterdir()) == []
 
 
 def _cli(*args):

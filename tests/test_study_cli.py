@@ -94,13 +94,14 @@ def test_ctrl_c_then_the_same_command_resumes(tmp_path, examples_dir):
                "--spec", str(spec), "--out", str(out), "--quiet"]
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 60
-    while len(list(folder.glob("chunk-*.npz"))) < 2 and time.time() < deadline and process.poll() is None:
+    # a chunk is finished when its manifest is written (after its arrays)
+    while len(list(folder.glob("chunk-*.json"))) < 2 and time.time() < deadline and process.poll() is None:
         time.sleep(0.05)
     process.send_signal(signal.SIGINT)
     _, err = process.communicate(timeout=60)
     assert process.returncode == 130, err
     assert "run the same command again to resume" in err and "Traceback" not in err
-    kept = len(list(folder.glob("chunk-*.npz")))
+    kept = len(list(folder.glob("chunk-*.json")))
     assert 2 <= kept < 30 and not out.exists()
     rerun = subprocess.run(command[:-1], capture_output=True, text=True, timeout=120)
     assert rerun.returncode == 0, rerun.stderr

@@ -129,7 +129,13 @@ def test_dataframe_columns():
     res = unbalance_response(_model(), SPEEDS[:3], outputs="acc-top-z")
     table = res.to_dataframe()
     assert list(table.columns) == ["speed_rpm", "output", "source", "frequency_hz", "amplitude", "phase_deg"]
-    assert set(table.output) >= {"acc-top-z", "mount-FL:Fz"}
+    assert set(table.output) == {"acc-top-z"}
+    assert set(res.to_dataframe(forces="suspensions").output) >= {"acc-top-z", "mount-FL:Fz"}
+
+
+def test_dataframe_refuses_unknown_forces():
+    with pytest.raises(InputError, match="forces 'ground'"):
+        unbalance_response(_model(), SPEEDS[:3], outputs="acc-top-z").to_dataframe(forces="ground")
 
 
 def test_amplification_factor_of_a_single_oscillator():

@@ -22,9 +22,9 @@ import numpy as np
 from ..assembly import add_rotor_body, body_inertias, frame_block
 from ..geometry import skew
 
-__all__ = ["select_upper", "upper_indices", "pencil_shapes", "eigenvalues_of", "solve_batch", "whirl_forms", "rotor_whirl_forms",
+__all__ = ["select_upper", "upper_indices", "pencil_shapes", "pencil_eigenvalues", "chunk_slices", "CHUNK_BYTES", "eigenvalues_of", "solve_batch", "whirl_forms", "rotor_whirl_forms",
            "whirl_ratios",
-           "mass_normalized", "mac_matrix", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
+           "mass_normalized", "mac_matrix", "real_product", "quadratic_forms", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
 
 #: |Im lam| below this fraction of the largest |lam| of a speed counts as non-oscillatory
 OSCILLATORY_TOLERANCE = 1e-6
@@ -38,6 +38,30 @@ _THREAD_BYTES = 2**20
 #: upper bound of the work arrays of one part of a batch [bytes]
 _PART_BYTES = 64 * 2**20
 _START_SEED = 20261122
+#: memory of one chunk of a sweep or of a stack of systems (matrices, factors, LAPACK's work) [bytes]
+CHUNK_BYTES = 512 * 2**20
+
+
+def chunk_slices(count: int, item_bytes: int, largest: int | None = None) -> list:
+    """Consecutive slices of ``count`` items, each holding about ``CHUNK_BYTES`` of work.
+
+    Parameters
+    ----------
+    count : int
+        Items (matrices, speeds) of the batch.
+    item_bytes : int
+        Work memory of one item [bytes].
+    largest : int, optional
+        Most items of one slice.
+
+    Returns
+    -------
+    list of slice
+    """
+    step = max(1, CHUNK_BYTES // max(int(item_bytes), 1))
+    if largest is not None:
+        step = min(step, largest)
+    return [slice(i, min(i + step, count)) for i in range(0, count, step)]
 
 
 def _start_vectors(m: int, n: int) -> np.ndarray:
@@ -191,6 +215,78 @@ def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarr
     return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
 
 
+def pencil_eigenvalues(M, damping, stiffness, eigenvalues, vectors, iterations: int = 30):
+    """Newton's method on ``Q(lam) phi = 0`` (nonlinear inverse iteration) from nearby guesses.
+
+    Each step solves ``Q(s) z = Q'(s) phi`` (one LU factorisation of an n x n complex
+    matrix, about 30 times cheaper than the eigenvalues of the 2n x 2n state matrix) and
+    moves ``s <- s - phi^H phi / phi^H z``, ``phi <- z / |z|``: quadratic convergence to the
+    simple eigenvalue whose shape and value the guess is near. A row ends with the step that
+    is below ``1e-10 |s|`` (quadratic convergence leaves an error of order ``|step|^2 /
+    gap``: round-off for an isolated eigenvalue), or below ``1e-8 |s|`` without halving.
+
+    Parameters
+    ----------
+    M : ndarray, shape (P, n, n) or (n, n)
+        Each row's mass, or one for all.
+    damping, stiffness : ndarray, shape (P, n, n)
+        Each row's ``C + Omega G`` and stiffness.
+    eigenvalues : ndarray, shape (P,), complex
+        Guesses.
+    vectors : ndarray, shape (P, n), complex
+        Guessed shapes (any scale).
+    iterations : int
+        Most steps.
+
+    Returns
+    -------
+    eigenvalues : ndarray (P,), complex
+    vectors : ndarray (P, n), complex, unit norm
+    converged : ndarray (P,) bool
+    """
+    s = np.array(eigenvalues, dtype=complex)
+    phi = np.array(vectors, dtype=complex)
+    phi /= np.linalg.norm(phi, axis=-1, keepdims=True)
+    last = np.full(len(s), np.inf)
+    active = np.ones(len(s), dtype=bool)
+    converged = np.zeros(len(s), dtype=bool)
+    for _ in range(iterations):
+        i = np.nonzero(active)[0]
+        if not len(i):
+            break
+        mass = M if M.ndim == 2 else M[i]
+        z = _solve(_quadratic(mass, damping[i], stiffness[i], s[i]),
+                   _slope_times(mass, damping[i], s[i], phi[i]))[..., 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = 1.0 / np.einsum("pi,pi->p", phi[i].conj(), z)
+        finite = np.isfinite(step) & np.all(np.isfinite(z), axis=-1)
+        size = np.where(finite, np.abs(step), np.inf)
+        s[i] = np.where(finite, s[i] - step, s[i])
+        phi[i] = np.where(finite[:, None], z / np.linalg.norm(z, axis=-1, keepdims=True), phi[i])
+        scale = np.abs(s[i])
+        done = (size <= 1e-10 * scale) | ((size <= 1e-8 * scale) & (size > 0.5 * last[i]))
+        converged[i[done]] = True
+        active[i[done | ~finite]] = False
+        last[i] = size
+    return s, phi, converged
+
+
+def _quadratic(M, damping, stiffness, lam):
+    """``lam^2 M + lam D + K`` for rows (P, n, n), built in place (one complex array)."""
+    shift = lam[:, None, None]
+    pencil = M * shift**2
+    pencil += damping * shift
+    pencil += stiffness
+    return pencil
+
+
+def _slope_times(M, damping, lam, phi):
+    """``Q'(lam) phi = (2 lam M + D) phi`` as matrix-vector products, shape (P, n, 1)."""
+    v = phi[..., None]
+    mass = M @ v.real + 1j * (M @ v.imag)   # real matrices: no complex copy of M
+    return 2 * lam[:, None, None] * mass + damping @ v
+
+
 def _solve(matrices, rhs):
     try:
         return np.linalg.solve(matrices, rhs)
@@ -259,13 +355,7 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
     -------
     ndarray, shape (N, m, n): shapes, with repeated pairs replaced (backward first)
     """
-    lam = eigenvalues
-    scale = np.abs(lam).max(axis=-1, keepdims=True) + 1e-300
-    close = np.abs(np.diff(lam, axis=-1)) <= REPEATED_TOLERANCE * scale  # (N, m-1)
-    padded = np.pad(close, ((0, 0), (1, 1)))
-    pair = close & ~padded[:, :-2] & ~padded[:, 2:]  # exactly two equal, not three
-    pair &= np.abs(lam[:, :-1]) > OSCILLATORY_TOLERANCE * scale  # not rigid-body zeros
-    rows, first = np.nonzero(pair)
+    rows, first = _repeated_pairs(eigenvalues)
     if not len(rows):
         return shapes
     if variants is not None:
@@ -281,6 +371,38 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
     if not rows.size:
         return shapes
     momentum = -1j * np.einsum(rule, basis.conj(), forms.W, basis)
+    mu, resolved = _extreme_whirl(basis, total, momentum)
+    whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
+    out = shapes.copy()
+    out[rows[whirling], first[whirling]] = resolved[whirling, :, 0]
+    out[rows[whirling], first[whirling] + 1] = resolved[whirling, :, 1]
+    return out
+
+
+def _repeated_pairs(lam):
+    """Rows and first columns of the eigenvalues equal to the next one, exactly two equal (not
+    three) and not rigid-body zeros; ``lam`` shape (N, m), equal values adjacent."""
+    scale = np.abs(lam).max(axis=-1, keepdims=True) + 1e-300
+    close = np.abs(np.diff(lam, axis=-1)) <= REPEATED_TOLERANCE * scale  # (N, m-1)
+    padded = np.pad(close, ((0, 0), (1, 1)))
+    pair = close & ~padded[:, :-2] & ~padded[:, 2:]
+    pair &= np.abs(lam[:, :-1]) > OSCILLATORY_TOLERANCE * scale
+    return np.nonzero(pair)
+
+
+def _extreme_whirl(basis, total, momentum):
+    """The combinations of each pair's two shapes with extreme whirl ratio.
+
+    Solves ``momentum v = mu total v`` (both Hermitian, ``total`` positive definite) by a
+    Cholesky reduction.
+
+    Returns
+    -------
+    mu : ndarray, shape (P, 2)
+        Whirl ratios, increasing (backward first).
+    resolved : ndarray, shape (P, n, 2)
+        The combined shapes, unit norm.
+    """
     momentum = 0.5 * (momentum + np.conj(np.swapaxes(momentum, -1, -2)))
     factor = np.linalg.cholesky(0.5 * (total + np.conj(np.swapaxes(total, -1, -2))))
     inverse = np.linalg.inv(factor)
@@ -288,12 +410,8 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
     mu, vectors = np.linalg.eigh(reduced)
     combinations = np.conj(np.swapaxes(inverse, -1, -2)) @ vectors  # (P, 2, 2)
     resolved = basis @ combinations  # (P, n, 2)
-    whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
     resolved /= np.linalg.norm(resolved, axis=1, keepdims=True)
-    out = shapes.copy()
-    out[rows[whirling], first[whirling]] = resolved[whirling, :, 0]
-    out[rows[whirling], first[whirling] + 1] = resolved[whirling, :, 1]
-    return out
+    return mu, resolved
 
 
 # ----------------------------------------------------------------------------------------
@@ -397,11 +515,10 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     -------
     ndarray, shape (..., m)
     """
-    n = shapes.shape[-1]
-    # phi^H X phi of the three forms for every shape: one batched product with [W^T N^T total^T]
-    stacked = np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1)
-    products = (shapes @ stacked).reshape(shapes.shape[:-1] + (3, n))
-    values = np.einsum("...i,...ki->...k", shapes.conj(), products)
+    # phi^H X phi of the three forms for every shape from one product with [W^T N^T total^T]
+    stacked = np.ascontiguousarray(
+        np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1))
+    values = quadratic_forms(shapes, stacked).reshape(shapes.shape[:-1] + (3,))
     momentum = values[..., 0].imag  # Re(-i phi^H W phi)
     across = values[..., 1].real
     whole = values[..., 2].real
@@ -411,18 +528,54 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     return np.clip(ratio * np.asarray(sign)[..., None], -1.0, 1.0)
 
 
+def real_product(shapes, matrix) -> np.ndarray:
+    """``shapes @ matrix`` for complex shapes (..., m, n) and a real matrix (n, p) or (..., n, p),
+    as real products of the real and imaginary parts (half the work of a complex product;
+    one matrix product over all shapes when the matrix is shared)."""
+    if np.iscomplexobj(matrix):
+        return shapes @ matrix
+    parts = np.stack([shapes.real, shapes.imag])                     # contiguous, (2, ..., m, n)
+    if matrix.ndim == 2:
+        out = (parts.reshape(-1, parts.shape[-1]) @ matrix).reshape(parts.shape[:-1] + matrix.shape[-1:])
+    else:
+        out = parts @ matrix
+    return out[0] + 1j * out[1]
+
+
+def quadratic_forms(shapes, stacked) -> np.ndarray:
+    """``phi^H X_k phi`` of every shape (..., m, n) for real forms whose transposes are
+    side by side in ``stacked`` (n, K n) or (..., n, K n).
+
+    Returns
+    -------
+    ndarray, shape (..., m, K), complex
+    """
+    n = shapes.shape[-1]
+    products = real_product(shapes, stacked).reshape(shapes.shape[:-1] + (-1, n))   # (..., m, K, n)
+    return np.einsum("...i,...ki->...k", shapes.conj(), products)
+
+
+_WHIRL_NAMES = np.array(["backward", "none", "forward"])
+
+
 def whirl_labels(ratios) -> np.ndarray:
     """'forward', 'backward' or 'none' from whirl ratios (array of str)."""
     ratios = np.asarray(ratios)
-    return np.where(ratios > WHIRL_TOLERANCE, "forward",
-                    np.where(ratios < -WHIRL_TOLERANCE, "backward", "none"))
+    return _WHIRL_NAMES[(ratios > WHIRL_TOLERANCE).astype(np.intp) - (ratios < -WHIRL_TOLERANCE) + 1]
+
+
+def row_norms(x) -> np.ndarray:
+    """Euclidean norms of the last axis of a complex array, shape (..., 1) (``numpy.linalg.norm``
+    with ``keepdims``, without its temporaries)."""
+    pairs = np.ascontiguousarray(x).view(float)
+    return np.sqrt(np.einsum("...i,...i->...", pairs, pairs))[..., None]
 
 
 def mass_normalized(shapes, M) -> np.ndarray:
     """``L^T phi`` normalised to unit length, with ``M = L L^T``: shapes whose plain
     inner product is the mass-weighted one (unit-consistent MAC)."""
     factor = np.linalg.cholesky(M)
-    weighted = shapes @ factor.conj()
+    weighted = real_product(shapes, factor)
     norms = np.linalg.norm(weighted, axis=-1, keepdims=True)
     # relaxation roots of Maxwell junctions move no mass: their shape stays zero (MAC 0)
     return weighted / np.where(norms > 0, norms, 1.0)

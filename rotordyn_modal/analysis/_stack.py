@@ -105,20 +105,31 @@ class Stack:
         index, eigenvalues = _eigen.upper_indices(values)
         n = self.n_dof
         shapes = np.swapaxes(np.take_along_axis(vectors[:, :n, :], index[:, None, :], axis=-1), -1, -2)
-        norms = np.linalg.norm(shapes, axis=-1, keepdims=True)
+        norms = _eigen.row_norms(shapes)
         # a Maxwell junction relaxing with the machine at rest has no displacement: keep it zero
         shapes = shapes / np.where(norms > 0, norms, 1.0)
         return eigenvalues, _eigen.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
 
     def weighted(self, shapes, variants):
         """Mass-weighted unit shapes (see :func:`_eigen.mass_normalized`) of rows of variants."""
-        weighted = np.einsum("rmi,rij->rmj", shapes, self.factor[variants].conj())
-        norms = np.linalg.norm(weighted, axis=-1, keepdims=True)
-        return weighted / np.where(norms > 0, norms, 1.0)
+        out = np.empty(shapes.shape, dtype=complex)
+        # in parts: the real and imaginary parts and their products are copies of the shapes
+        for part in _eigen.chunk_slices(len(shapes), 64 * shapes[0].size):
+            factor = self.factor[0] if len(self) == 1 else self.factor[variants[part]]   # real: L^H = L^T
+            weighted = _eigen.real_product(shapes[part], factor)
+            norms = _eigen.row_norms(weighted)
+            out[part] = weighted / np.where(norms > 0, norms, 1.0)
+        return out
 
     def whirl_ratios(self, shapes, variants, speeds):
         """Whirl ratios (see :func:`_eigen.whirl_ratios`) of shapes (R, m, n) of rows of variants."""
-        return _eigen.whirl_ratios(shapes, _eigen.WhirlForms(*(f[variants] for f in self.whirl)), speeds)
+        out = np.empty(shapes.shape[:-1])
+        speeds = np.broadcast_to(speeds, shapes.shape[:-2])
+        # in parts: the products with the three forms are three times the shapes, twice over
+        for part in _eigen.chunk_slices(len(shapes), 160 * shapes[0].size):
+            forms = _eigen.WhirlForms(*(f[0] if len(self) == 1 else f[variants[part]] for f in self.whirl))
+            out[part] = _eigen.whirl_ratios(shapes[part], forms, speeds[part])
+        return out
 
     def shapes_at(self, variants, x, lam):
         """One inverse-iteration step on the pencil for each (variant, speed, eigenvalue)."""

@@ -16,8 +16,6 @@ __all__ = ["CampbellResult", "CriticalSpeeds", "ExcitationSources", "campbell", 
            "critical_speeds", "excitation_sources", "solve_sweep", "solve_sweeps"]
 
 _CHUNK = 4096
-#: memory of one chunk of a sweep (state matrices, eigenvectors, LAPACK's work) [bytes]
-_CHUNK_BYTES = 512 * 2**20
 
 
 @dataclass(frozen=True)
@@ -196,8 +194,8 @@ def solve_sweeps(stack, speeds, progress=False):
     speeds = np.asarray(speeds, dtype=float)
     count = len(stack)
     size = stack.forms[0].n_states
-    # speeds per chunk: the chunk's state matrices and eigenvectors within about _CHUNK_BYTES
-    step = int(np.clip(_CHUNK_BYTES // (count * 72 * size * size), 1, _CHUNK))
+    # speeds per chunk: the chunk's state matrices and eigenvectors within about CHUNK_BYTES
+    step = int(np.clip(_eigen.CHUNK_BYTES // (count * 72 * size * size), 1, _CHUNK))
     chunks = [speeds[i:i + step] for i in range(0, len(speeds), step)]
     values, shapes = [], []
     for chunk in _progress(chunks, progress, "eigen-solve"):
@@ -273,14 +271,11 @@ def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
     values, shapes, weighted = solve_sweeps(stack, speeds, progress)
     count, n_speeds, m = values.shape
     every = np.repeat(np.arange(count), n_speeds)
-    flat, at = shapes.reshape((-1,) + shapes.shape[-2:]), np.tile(speeds, count)
-    n = flat.shape[-1]
-    ratios, = _in_parts(lambda r: (stack.whirl_ratios(flat[r], every[r], at[r]),), np.arange(len(flat)),
-                        2 * 16 * 3 * n * (m + n))
+    ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, np.tile(speeds, count))
     ratios = np.where(is_oscillating(values), ratios.reshape(values.shape), 0.0)
     freq, zeta, log_dec = modal_quantities(values)
     sources = [excitation_sources(model) for model in stack.models]
-    critical = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders))
+    critical = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes)
     labels = _eigen.whirl_labels(ratios)
     return [CampbellResult(
         speeds=speeds, eigenvalues=values[v], frequencies_hz=freq[v], damping_ratios=zeta[v],
@@ -322,18 +317,18 @@ def _check_speeds(speeds) -> np.ndarray:
     return speeds
 
 
-def _find_critical_speeds(stack, speeds, values, weighted, sources, orders) -> list:
+def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shapes=None) -> list:
     """Every crossing of every mode with every source's order lines, for every variant,
-    refined together. Returns one :class:`CriticalSpeeds` per variant."""
+    refined together. ``shapes`` (V, N, m, n), the sweep's unit shapes, start the cheap
+    evaluation of isolated modes (:func:`_Iterates`). Returns one :class:`CriticalSpeeds`
+    per variant."""
     brackets = _crossing_brackets(speeds, values, sources, orders)
     count = len(stack)
     if not len(brackets.k):
         return [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
-    roots, lam, sure = _refine_together(stack, speeds, values, weighted, brackets)
-    lam, phi = _in_parts(lambda r: _shapes_at(stack, speeds, values, weighted, brackets.subset(r), roots[r],
-                                              lam[r], sure[r]), np.arange(len(roots)), _row_bytes(stack))
-    ratios, = _in_parts(lambda r: (stack.whirl_ratios(phi[r, None], brackets.variant[r], roots[r])[:, 0],),
-                        np.arange(len(roots)), _row_bytes(stack))
+    roots, lam, sure = _refine_together(stack, speeds, values, weighted, brackets, shapes)
+    lam, phi = _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure)
+    ratios = stack.whirl_ratios(phi[:, None], brackets.variant, roots)[:, 0]
     _, zeta, _ = modal_quantities(lam)
     names = np.asarray(sources[0].names, dtype=object)[brackets.source]
     labels = _eigen.whirl_labels(ratios).astype(object)
@@ -399,7 +394,7 @@ _MAX_ITERATIONS = 200
 _STEP_TOLERANCE = 1e-13
 
 
-def _refine_together(stack, speeds, values, weighted, brackets):
+def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     """Roots of ``g(Omega) = Im lam(Omega) - slope |Omega|`` in every bracket, iterated together.
 
     The first point is the root of the cubic through the sweep's four nearest points of g
@@ -408,6 +403,10 @@ def _refine_together(stack, speeds, values, weighted, brackets):
     bisection where the bracket stops shrinking). Each step solves the eigenvalues of all
     unfinished crossings in one batch. A crossing is done when its next step is below
     ``1e-13 max(|Omega|, 1)``: the last point evaluated is the root, with its eigenvalue.
+    The eigenvalue of a mode isolated from every other root across its bracket comes from
+    Newton steps on the quadratic pencil (:func:`_eigen.pencil_eigenvalues`) started from the
+    previous point; the others (and any that does not converge there) from all eigenvalues of
+    the state matrix, identified as described in :func:`_tracked`.
 
     Returns
     -------
@@ -428,12 +427,12 @@ def _refine_together(stack, speeds, values, weighted, brackets):
     x = _cubic_start(speeds, values, brackets, a, b, ga, gb)
     previous = np.full((2, len(k)), np.nan)          # the last point evaluated and its g
     state = _Bracket(a, b, ga, gb, np.zeros(len(k), dtype=int), np.full((2, len(k)), np.inf))
+    iterates = _Iterates.start(stack, speeds, values, brackets, shapes)
     for _ in range(_MAX_ITERATIONS):
         i = np.nonzero(~done)[0]
         if not len(i):
             break
-        lam_x, sure_x = _in_parts(lambda r: _tracked(stack, speeds, values, weighted, brackets, r, x[r]), i,
-                                  _row_bytes(stack))
+        lam_x, sure_x = _evaluate(stack, speeds, values, weighted, brackets, i, x[i], iterates)
         gx = lam_x.imag - slope[i] * np.abs(x[i])
         roots[i], lam[i], sure[i] = x[i], lam_x, sure_x
         step = _next_step(state, i, x[i], gx, previous[:, i])
@@ -442,25 +441,6 @@ def _refine_together(stack, speeds, values, weighted, brackets):
         done[i[finished]] = True
         x[i] = step
     return roots, lam, sure
-
-
-def _row_bytes(stack) -> int:
-    """Work memory of one crossing's eigen-solution [bytes]: its state matrix, LAPACK's
-    copy and the eigenvectors (complex)."""
-    n_states = stack.A0.shape[-1]
-    return 3 * 16 * n_states * n_states
-
-
-def _in_parts(function, rows, row_bytes: int):
-    """``function(rows)`` over consecutive parts of ``rows`` holding at most about
-    ``_eigen._PART_BYTES`` of work each (a machine with many coordinates has tens of
-    thousands of crossings), the parts' results concatenated. Each row's result does not
-    depend on the others, so the split changes no number."""
-    size = max(1, _eigen._PART_BYTES // max(int(row_bytes), 1))
-    if len(rows) <= size:
-        return function(rows)
-    pieces = [function(rows[j:j + size]) for j in range(0, len(rows), size)]
-    return tuple(np.concatenate(column) for column in zip(*pieces))
 
 
 class _Bracket(NamedTuple):
@@ -531,6 +511,95 @@ def _illinois(end, g_end, g_other, last_side, rows, x, gx, side):
     last_side[rows] = side
 
 
+class _Iterates(NamedTuple):
+    """Per crossing: whether its mode is isolated (see :func:`_isolated`) and may be evaluated
+    by Newton steps on the pencil, and the last point, eigenvalue and shape found that way
+    (arrays updated in place)."""
+
+    usable: np.ndarray
+    x: np.ndarray
+    lam: np.ndarray
+    shape: np.ndarray
+
+    @classmethod
+    def start(cls, stack, speeds, values, brackets, shapes):
+        count = len(brackets.k)
+        if shapes is None or stack.branch_times.shape[-1]:
+            # Maxwell branches make the pencil rational: every evaluation takes all eigenvalues
+            return cls(np.zeros(count, dtype=bool), np.full(count, np.nan), np.zeros(count, complex),
+                       np.zeros((count, 0), complex))
+        v, k, mode = brackets.variant, brackets.k, brackets.mode
+        return cls(_isolated(values, brackets), speeds[k].astype(float), values[v, k, mode].copy(),
+                   shapes[v, k, mode].copy())
+
+
+def _isolated(values, brackets):
+    """Crossings whose mode stays far from every other root over its bracket.
+
+    At both ends of the bracket, every other root (and every root's conjugate, its own
+    included) is farther from the mode than twice the distance both can travel across the
+    bracket (their spreads between the ends) plus seven of the mode's spreads. Then at any
+    point of the bracket the mode's eigenvalue is the nearest to the linear interpolation
+    by a wide margin (over 4x the distance plus twice the spread) and single: what
+    :func:`_tracked` takes as told apart by distance alone.
+
+    Returns
+    -------
+    ndarray of bool, shape (P,)
+    """
+    v, k, mode = brackets.variant, brackets.k, brackets.mode
+    rows = np.arange(len(k))
+    ends = np.stack([values[v, k], values[v, k + 1]])                       # (2, P, m)
+    own = ends[:, rows, mode]                                               # (2, P)
+    travel = np.abs(ends[1] - ends[0])                                      # (P, m)
+    own_travel = travel[rows, mode] + 1e-9 * np.abs(own).max(axis=0)
+    margin = 2 * (travel + 7 * own_travel[:, None])                         # (P, m)
+    apart = np.minimum(np.abs(ends - own[..., None]), np.abs(ends.conj() - own[..., None])).min(axis=0)
+    apart[rows, mode] = np.inf
+    own_conjugate = 2 * np.abs(own.imag).min(axis=0)
+    return np.all(apart > margin, axis=1) & (own_conjugate > 2 * 8 * own_travel)
+
+
+def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
+    """The tracked modes' eigenvalues at speeds ``x`` and whether each is sure (see
+    :func:`_tracked`): Newton steps on the pencil for isolated modes, all eigenvalues for
+    the rest and for any that did not converge to within the mode's spread of its
+    bracket's interpolation."""
+    lam = np.empty(len(rows), dtype=complex)
+    sure = np.zeros(len(rows), dtype=bool)
+    fast = iterates.usable[rows]
+    if fast.any():
+        f = np.nonzero(fast)[0]
+        found, ok = _newton_at(stack, speeds, values, brackets, rows[f], x[f], iterates)
+        lam[f[ok]], sure[f[ok]] = found[ok], True
+        fast[f[~ok]] = False
+    slow = np.nonzero(~fast)[0]
+    if len(slow):
+        lam[slow], sure[slow] = _tracked(stack, speeds, values, weighted, brackets, rows[slow], x[slow])
+    return lam, sure
+
+
+def _newton_at(stack, speeds, values, brackets, rows, x, iterates):
+    """Eigenvalues of isolated modes at ``x`` by Newton steps on the pencil, started from the
+    last point's eigenvalue (moved by the interpolation's change) and shape; in parts of
+    bounded memory. Returns the eigenvalues and which converged to the tracked mode."""
+    start = iterates.lam[rows] + _interpolated(speeds, values, brackets, rows, x) \
+        - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
+    lam = np.empty(len(rows), dtype=complex)
+    shapes = np.empty((len(rows), stack.n_dof), dtype=complex)
+    converged = np.zeros(len(rows), dtype=bool)
+    for part in _eigen.chunk_slices(len(rows), 80 * stack.n_dof ** 2):
+        variants = brackets.variant[rows[part]]
+        damping, stiffness = stack.damping_stiffness(variants, x[part])
+        mass = stack.M[0] if len(stack) == 1 else stack.M[variants]
+        lam[part], shapes[part], converged[part] = _eigen.pencil_eigenvalues(
+            mass, damping, stiffness, start[part], iterates.shape[rows[part]])
+    expected = _interpolated(speeds, values, brackets, rows, x)
+    ok = converged & (np.abs(lam - expected) <= 2 * _spread(values, brackets, rows))
+    iterates.x[rows[ok]], iterates.lam[rows[ok]], iterates.shape[rows[ok]] = x[ok], lam[ok], shapes[ok]
+    return lam, ok
+
+
 def _interpolated(speeds, values, brackets, rows, x):
     """The tracked modes' eigenvalues interpolated linearly across their brackets at ``x``."""
     v, k, mode = brackets.variant[rows], brackets.k[rows], brackets.mode[rows]
@@ -549,7 +618,9 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
 
     Returns the eigenvalues and whether each was told apart by distance alone and is single
     (its shape then follows from one inverse-iteration step)."""
-    lam = _eigen.select_upper(_eigen.eigenvalues_of(stack.at(brackets.variant[rows], x)))
+    size = stack.forms[0].n_states
+    lam = np.concatenate([_eigen.select_upper(_eigen.eigenvalues_of(stack.at(brackets.variant[rows[part]], x[part])))
+                          for part in _eigen.chunk_slices(len(rows), 32 * size * size)])
     expected = _interpolated(speeds, values, brackets, rows, x)
     distance = np.abs(lam - expected[:, None])
     nearest, second = np.argsort(distance, axis=1)[:, :2].T
@@ -567,7 +638,10 @@ def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure):
     """Eigenvalues and shapes at the roots: one inverse-iteration step on the eigenvalue found;
     a full identification (:func:`_modes_at`) where it was unsure or the eigenvalue is repeated."""
     lam = lam.copy()
-    phi = stack.shapes_at(brackets.variant, roots, lam)
+    phi = np.empty((len(roots), stack.n_dof), dtype=complex)
+    # in parts: each row holds its own pencil and matrices (n x n, several copies)
+    for part in _eigen.chunk_slices(len(roots), 80 * stack.n_dof ** 2):
+        phi[part] = stack.shapes_at(brackets.variant[part], roots[part], lam[part])
     if not sure.all():
         rows = np.nonzero(~sure)[0]
         lam[rows], phi[rows] = _modes_at(stack, speeds, values, weighted, brackets.subset(rows), roots[rows])
@@ -578,7 +652,10 @@ def _modes_at(stack, speeds, values, weighted, brackets, x):
     """Eigenvalue and shape of each bracket's tracked mode at ``x``, identified by the
     mass-weighted MAC against its shape at the bracket's start and the eigenvalue distance."""
     rows = np.arange(len(x))
-    lam, phi = stack.solve(stack.at(brackets.variant, x), brackets.variant)
+    size = stack.forms[0].n_states
+    parts = [stack.solve(stack.at(brackets.variant[part], x[part]), brackets.variant[part])
+             for part in _eigen.chunk_slices(len(x), 80 * size * size)]
+    lam, phi = (np.concatenate(column) for column in zip(*parts))
     psi = stack.weighted(phi, brackets.variant)
     reference = weighted[brackets.variant, brackets.k, brackets.mode]                   # (P, n)
     correlation = np.abs(np.einsum("pn,pjn->pj", reference.conj(), psi)) ** 2

@@ -35,6 +35,8 @@ from .frf import frf
 
 __all__ = ["FitResult", "fit"]
 
+#: most starting points of one fit (each is a full least-squares search)
+_MOST_STARTS = 100
 _BOUND_FACTOR = 100.0
 #: a parameter known only within a factor e (std of its log > 1) is not determined by the data
 _MAX_LOG_STD = 1.0
@@ -196,6 +198,8 @@ def fit(model, measured, params, bounds=None, band_hz=None, weighting: str = "co
         raise InputError(f"weighting {weighting!r}: expected 'coherence' or 'none'")
     if starts < 1:
         raise InputError(f"starts = {starts}: expected at least 1")
+    if starts > _MOST_STARTS:
+        raise InputError(f"starts = {starts}: expected at most {_MOST_STARTS} starting points")
     lower, upper = _log_bounds(keys, bounds)
     problem = _Problem(model, measured, keys, band_hz, weighting)
     rng = np.random.default_rng(seed)
@@ -229,7 +233,11 @@ def _check_params(model, params):
     for key in keys:
         if key == "gain":
             continue
-        value = np.asarray(model.get(key), dtype=float)
+        try:
+            value = np.asarray(model.get(key), dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"fit: {key} = {model.get(key)!r}: expected a key holding a number or an "
+                             "array of numbers (a fitted value is scaled)") from None
         if not np.all(value >= 0) or not np.any(value > 0):
             raise InputError(f"fit: {key} = {model.get(key)!r}: a fitted value must be > 0 at the start "
                              "(the fit scales it by a positive factor)")

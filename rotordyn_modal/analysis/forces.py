@@ -53,16 +53,28 @@ def suspension_forces(model, omega, q) -> np.ndarray:
         ``[F, C]`` at each suspension's point, model axes [N, N m].
     """
     w = np.asarray(omega, dtype=float)[:, None, None]
-    stator = np.einsum("dj,fjn->fdn", model.dofs.frame_motion(), q)  # the stator's motion at S
+    stator = _times(model.dofs.frame_motion(), q)                    # the stator's motion at S
     out = []
     for s in model.suspensions:
-        shift = shift_matrix(model.reference_point, s.position)
-        point_motion = np.einsum("dk,fdn->fkn", shift, stator)     # B_SP^T q_S
-        stiffness = s.stiffness_matrix * (1 + 1j * s.loss_factor) + 1j * w * s.damping_matrix
+        point_motion = _times(shift_matrix(model.reference_point, s.position).T, stator)   # B_SP^T q_S
+        force = _times(s.stiffness_matrix * (1 + 1j * s.loss_factor), point_motion) \
+            + 1j * w * _times(s.damping_matrix, point_motion)
         if getattr(s, "maxwell_stiffness_matrix", None) is not None:
-            stiffness = stiffness + _branch_stiffness(s, np.ravel(w))
-        out.append(np.einsum("fij,fjn->fin", np.broadcast_to(stiffness, (len(w), 6, 6)), point_motion))
+            force = force + _branch_stiffness(s, np.ravel(w)) @ point_motion
+        out.append(force)
     return np.array(out).reshape(len(model.suspensions), len(w), 6, q.shape[-1])
+
+
+def _times(matrix, motion):
+    """``matrix @ motion[f]`` for every f as one matrix product: matrix (k, d), motion (F, d, n).
+
+    Returns
+    -------
+    ndarray, shape (F, k, n)
+    """
+    count, d, n = motion.shape
+    flat = np.swapaxes(motion, 1, 2).reshape(count * n, d) @ np.asarray(matrix).T
+    return np.swapaxes(flat.reshape(count, n, -1), 1, 2)
 
 
 def _branch_stiffness(suspension, omega):
@@ -96,15 +108,15 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     out = []
     for j, rotor in enumerate(model.rotors):
         shift = shift_matrix(model.reference_point, rotor.center_of_mass)
-        own = np.einsum("dj,fjn->fdn", layout.body_motion(rotor.name), q)   # T_j q, at S
-        motion = np.einsum("dk,fdn->fkn", shift, own)                      # B_SR^T T_j q at R_j
+        motion = _times(shift.T @ layout.body_motion(rotor.name), q)      # B_SR^T T_j q at R_j
         local = np.zeros((6, 6))
         local[:3, :3] = rotor.mass * np.eye(3)
         local[3:, 3:] = rotor.diametral_inertia * np.eye(3) + \
             (rotor.polar_inertia - rotor.diametral_inertia) * np.outer(e, e)
         gyro = rotor_gyroscopic(model, rotor)
-        inertia = (-w[:, None, None] ** 2 * local + 1j * (w * speed)[:, None, None] * gyro)
-        force = -np.einsum("fij,fjn->fin", inertia, motion)
+        # -(-w^2 M_j + i w Omega G_j) motion, the two constant matrices applied once each
+        force = w[:, None, None] ** 2 * _times(local, motion) \
+            - 1j * (w * speed)[:, None, None] * _times(gyro, motion)
         if rotor_forces is not None:
             force = force + rotor_forces[j]
         out.append(force)
@@ -134,8 +146,11 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
         rows, moves = bearing_motion(model, bearing)
         own = model.rotor(bearing.rotor).speed_ratio * speed
         k6, c6 = evaluate(bearing.coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
-        relative = np.einsum("dk,fkn->fdn", moves, q[:, rows])
-        out.append(np.einsum("fij,fjn->fin", k6 + 1j * w[:, None, None] * c6, relative))
+        relative = _times(moves, q[:, rows])
+        if bearing.coefficients.kind == "constant":
+            out.append(_times(k6[0], relative) + 1j * w[:, None, None] * _times(c6[0], relative))
+        else:
+            out.append((k6 + 1j * w[:, None, None] * c6) @ relative)
     return np.array(out).reshape(len(model.bearings), len(w), 6, q.shape[-1])
 
 

@@ -17,7 +17,8 @@ Two engines behind :func:`frf`, chosen automatically:
 * ``"modal"``: when every mount is viscous (no loss factor, no Maxwell
   branch), one eigen-decomposition ``A = V diag(lam) V^-1`` of the 12-state
   matrix gives ``H(w) = sum_k (C V)_k (V^-1 B)_k / (i w - lam_k)`` for all
-  frequencies at once. Used only when ``V`` is well conditioned.
+  frequencies at once. Used only when ``V`` is well conditioned (LAPACK's 1-norm
+  estimate below 1e8).
 * ``"direct"``: a batched complex solve of ``Z(w) X = B_f`` at every
   frequency (one LAPACK call over the stack of 6x6 systems).
 """
@@ -32,14 +33,18 @@ from ..assembly import constant_matrices, dependent_bearing_matrices, excitation
     loss_stiffness, sensor_rows
 from ..errors import InputError
 from ..mounts import has_frequency_dependence, maxwell_stiffness
+from . import _eigen
 
 __all__ = ["FRFResult", "frf", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]
 
 #: quantity -> power of (i w) applied to the receptance
 QUANTITIES = {"receptance": 0, "mobility": 1, "accelerance": 2}
 _OUTPUT_UNITS = {0: "m", 1: "m/s", 2: "m/s^2"}
-#: condition number of the eigenvector matrix above which the modal engine is not trusted
+#: condition number (1-norm estimate) of the eigenvector matrix above which the modal engine is not trusted
 _MAX_CONDITION = 1e8
+#: work memory of one part of a batched direct solve (Z, LAPACK's copy): a few parts fit in
+#: the cache, and the Python cost of a part stays small beside its LU factorisations [bytes]
+_SOLVE_PART_BYTES = 16 * 2**20
 
 
 @dataclass(frozen=True)
@@ -173,20 +178,48 @@ def dynamic_stiffness(model, speed: float, omega) -> np.ndarray:
     -------
     ndarray, shape (n_freq, n, n), complex [N/m, ...]
     """
-    M, C, G, K = constant_matrices(model)
     w = np.atleast_1d(np.asarray(omega, dtype=float))
-    speeds = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
-    if model.speed_dependent:
-        k_b, c_b = dependent_bearing_matrices(model, speeds)
-        K, C = K + k_b, C + c_b
-    speed = speeds[:, None, None]
-    w3 = w[:, None, None]
-    Z = K + 1j * loss_stiffness(model) + 1j * w3 * (C + speed * G) - w3 ** 2 * M
-    return Z + maxwell_stiffness(model, w)
+    return _StiffnessTerms(model).at(np.broadcast_to(np.asarray(speed, dtype=float), w.shape), w)
+
+
+class _StiffnessTerms:
+    """The parts of ``Z(w)`` that do not depend on frequency, assembled once."""
+
+    def __init__(self, model):
+        self.model = model
+        self.matrices = constant_matrices(model)
+        self.loss = loss_stiffness(model)
+        self.frequency_dependent = has_frequency_dependence(model)
+        self.speed_dependent = model.speed_dependent
+
+    def at(self, speeds, w) -> np.ndarray:
+        """``Z`` at frequencies ``w`` (F,) and reference speeds ``speeds`` (F,), shape (F, n, n)."""
+        M, C, G, K = self.matrices
+        if self.speed_dependent:
+            k_b, c_b = dependent_bearing_matrices(self.model, speeds)
+            K, C = K + k_b, C + c_b
+        speed = speeds[:, None, None]
+        w3 = w[:, None, None]
+        # built in place, real and imaginary parts apart (the same sums as the formula, without
+        # its complex temporaries): re = K - w^2 M, im = eta K + w (C + Omega G)
+        Z = np.empty(np.broadcast_shapes(w3.shape, M.shape, np.shape(K), np.shape(C)), dtype=complex)
+        np.multiply(-(w3 ** 2), M, out=Z.real)
+        Z.real += K
+        np.multiply(speed, G, out=Z.imag)
+        Z.imag += C
+        Z.imag *= w3
+        Z.imag += self.loss
+        if self.frequency_dependent:
+            Z += maxwell_stiffness(self.model, w)
+        return Z
 
 
 def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     """Complex amplitude of ``q`` under harmonic generalized forces (direct solve).
+
+    The systems are built and solved in parts of a few MB (``_SOLVE_PART_BYTES``: bounded
+    memory, and each part still in the cache while it is solved); each system is solved on
+    its own, so the parts do not change the result.
 
     Parameters
     ----------
@@ -200,9 +233,16 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     -------
     ndarray, shape (n_freq, n_dof, k), complex [m, rad]
     """
-    Z = dynamic_stiffness(model, speed, omega)
-    rhs = np.broadcast_to(np.asarray(forces, dtype=complex), (Z.shape[0],) + np.shape(forces)[-2:])
-    return np.linalg.solve(Z, rhs)
+    terms = _StiffnessTerms(model)
+    w = np.atleast_1d(np.asarray(omega, dtype=float))
+    speeds = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
+    n = terms.matrices.M.shape[0]
+    rhs = np.broadcast_to(np.asarray(forces, dtype=complex), (len(w),) + np.shape(forces)[-2:])
+    out = np.empty(rhs.shape, dtype=complex)
+    # per system: Z, LAPACK's copy and the temporaries of its right-hand side
+    for part in _eigen.chunk_slices(len(w), 48 * n * n * _eigen.CHUNK_BYTES // _SOLVE_PART_BYTES):
+        out[part] = np.linalg.solve(terms.at(speeds[part], w[part]), rhs[part])
+    return out
 
 
 def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str = "receptance",
@@ -278,11 +318,16 @@ def _modal_receptance(model, speed, omega, rows, columns):
     form = speed_linear_form(model)
     n = form.n_dof
     values, vectors = scipy.linalg.eig(form.at(float(speed)))
-    if np.linalg.cond(vectors) > _MAX_CONDITION:
+    # the LU that solves for V^-1 B also estimates V's condition (LAPACK gecon, 1-norm):
+    # O(n^2) where the 2-norm's SVD would cost about half the eigen-decomposition again
+    factors = scipy.linalg.lu_factor(vectors, check_finite=False)
+    gecon = scipy.linalg.get_lapack_funcs("gecon", (factors[0],))
+    rcond, _ = gecon(factors[0], np.linalg.norm(vectors, 1), norm="1")
+    if not rcond * _MAX_CONDITION >= 1.0:
         return None
     b = np.zeros((form.n_states, columns.shape[1]))
     b[n:2 * n] = form.mass_inverse @ columns
     left = rows @ vectors[:n]                      # (n_s, 2n)
-    right = np.linalg.solve(vectors, b)            # (2n, n_e)
+    right = scipy.linalg.lu_solve(factors, b, check_finite=False)   # V^-1 B, (2n, n_e)
     poles = 1.0 / (1j * omega[None, :] - values[:, None])   # (2n, n_f)
     return np.einsum("sk,ki,kf->sif", left, right, poles)

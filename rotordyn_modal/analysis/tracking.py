@@ -64,15 +64,25 @@ def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
     best_mac = np.take_along_axis(correlation, best[..., None], axis=-1)[..., 0]
     distinct = np.all(np.sort(best, axis=-1) == np.arange(n), axis=-1)
     confident = distinct & np.all(best_mac > _CONFIDENT_MAC, axis=-1)      # (V, N-1)
+    # steps where every variant keeps its modes in place need no work: only the others
+    # (crossings in frequency order, ambiguous shapes) are visited, in order
+    kept = confident & np.all(best == np.arange(n), axis=-1)                # (V, N-1)
+    events = np.flatnonzero(~np.all(kept, axis=0)) + 1
     last_good = np.zeros((variants, n), dtype=int)  # last speed at which each label's shape was sure
     rows = np.arange(variants)[:, None]
-    for k in range(1, count):
+    previous = 0
+    for k in events:
+        order[:, previous + 1:k] = order[:, previous, None]
+        if k - 1 > previous:
+            last_good[:] = k - 1
         order[:, k] = best[:, k - 1][rows, order[:, k - 1]]
         sure_step = confident[:, k - 1]
         last_good[sure_step] = k
         for v in np.nonzero(~sure_step)[0]:
             order[v, k], sure = _ambiguous_step(k, order[v], eigenvalues[v], shapes[v], last_good[v])
             last_good[v, sure] = k
+        previous = k
+    order[:, previous + 1:] = order[:, previous, None]
     return order
 
 

@@ -35,6 +35,9 @@ __all__ = ["UnbalanceResult", "unbalance_response", "phase_reference", "unbalanc
 
 _ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
+#: what ``UnbalanceResult.to_dataframe(forces=...)`` (CLI ``--forces``) adds to the sensors
+FORCE_CHOICES = (None, "suspensions", "bearings", "rotors", "all")
+
 
 def phase_reference(spin_axis) -> tuple[np.ndarray, np.ndarray]:
     """Axes ``a`` (phase 0) and ``b = e x a`` (phase 90 deg) in the rotors' plane.
@@ -132,6 +135,9 @@ class UnbalanceResult:
         direction, ``w = e x u``).
     spin_signs : ndarray, shape (n_sources, N)
         +1 where the source rotor spins about +spin_axis, -1 about -spin_axis.
+    rigid_rotor_names : tuple of str
+        Rotors rigidly attached to the stator (no ``[[bearings]]``): their force on the
+        stator is their bearings' force.
     """
 
     speeds: np.ndarray
@@ -149,6 +155,7 @@ class UnbalanceResult:
     orbit_pairs: tuple = ()
     orbit_planes: np.ndarray | None = None
     spin_signs: np.ndarray | None = None
+    rigid_rotor_names: tuple = ()
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -160,13 +167,22 @@ class UnbalanceResult:
         """Phase of ``A cos(w t + phase)`` [deg], shape (n_outputs, n_sources, N)."""
         return np.degrees(np.angle(self.response))
 
-    def to_dataframe(self):
-        """Table ``speed_rpm,output,source,frequency_hz,amplitude,phase_deg`` (sensors,
-        then the suspensions' ground forces ``NAME:Fx`` ... as more outputs)."""
+    def to_dataframe(self, forces: str | None = None):
+        """Table ``speed_rpm,output,source,frequency_hz,amplitude,phase_deg``.
+
+        Parameters
+        ----------
+        forces : {None, 'suspensions', 'bearings', 'rotors', 'all'}
+            Force rows ``NAME:Fx ... NAME:Mz`` [N, N m] after the sensors' rows: none
+            (default), each suspension's force on the ground, each ``[[bearings]]`` entry's
+            force at its point and each rigidly attached rotor's at its centre of mass, each
+            rotor's total force on the stator, or the suspensions, bearings and rotors together.
+        """
         import pandas as pd
 
-        names = list(self.outputs) + [f"{n}:{c}" for n in self.suspension_names for c in COMPONENTS]
-        values = np.concatenate([self.response, self.ground_forces.reshape(-1, *self.response.shape[1:])])
+        force_names, force_values = self._force_rows(forces)
+        names = list(self.outputs) + force_names
+        values = np.concatenate([self.response, *force_values]) if force_values else self.response
         o, s, k = (x.ravel() for x in np.meshgrid(np.arange(len(names)), np.arange(len(self.sources)),
                                                   np.arange(len(self.speeds)), indexing="ij"))
         v = values[o, s, k]
@@ -177,6 +193,28 @@ class UnbalanceResult:
             "frequency_hz": self.frequencies_hz[s, k],
             "amplitude": np.abs(v), "phase_deg": np.degrees(np.angle(v)),
         })
+
+    def _force_rows(self, forces):
+        """Names and complex amplitudes, shape (6 n_items, n_sources, N), of the asked forces."""
+        if forces not in FORCE_CHOICES:
+            raise InputError(f"forces {forces!r}: expected one of {', '.join(map(str, FORCE_CHOICES))}")
+        parts = []
+        if forces in ("suspensions", "all"):
+            parts.append((self.suspension_names, self.ground_forces))
+        if forces in ("bearings", "all"):
+            parts.append((self.bearing_names, self._point_forces()))
+        if forces == "bearings":
+            rigid = [j for j, name in enumerate(self.rotor_names) if name in self.rigid_rotor_names]
+            parts.append(([self.rotor_names[j] for j in rigid], self.bearing_forces[rigid]))
+        if forces in ("rotors", "all"):
+            parts.append((self.rotor_names, self.bearing_forces))
+        names = [f"{item}:{c}" for items, _ in parts for item in items for c in COMPONENTS]
+        return names, [values.reshape(-1, *self.response.shape[1:]) for items, values in parts if len(items)]
+
+    def _point_forces(self):
+        if self.bearing_point_forces is None:
+            return np.zeros((0, 6, *self.response.shape[1:]), dtype=complex)
+        return self.bearing_point_forces
 
     def orbits(self):
         """Orbit of every probe pair, source and speed (``pandas.DataFrame``).
@@ -215,7 +253,7 @@ class UnbalanceResult:
         Parameters
         ----------
         operating_speed : float, optional
-            [rad/s]; gives the actual separation margin.
+            [rad/s], not zero; gives the actual separation margin (a percentage of it).
 
         Returns
         -------
@@ -224,6 +262,10 @@ class UnbalanceResult:
             separation_margin_pct, required_margin_pct``.
         """
         import pandas as pd
+
+        if operating_speed is not None and not (np.isfinite(operating_speed) and operating_speed != 0):
+            raise InputError(f"operating speed {operating_speed!r} rad/s: expected a finite speed other than 0 "
+                             "(the separation margin is a percentage of it)")
 
         rows = []
         for i, out in enumerate(self.outputs):
@@ -321,20 +363,10 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         raise InputError(f"{model.source}: the model has no [[unbalances]]: nothing excites an unbalance response")
     speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
     sources, w, rotor_forces = unbalance_forces(model, speeds)
-    rows = sensor_rows(model, outputs)
     n_src, n = len(sources), len(speeds)
-    omega = w.ravel()                                         # (n_src * N,)
-    speed_all = np.tile(speeds, n_src)
-    generalized = np.stack([generalized_force(model, src, model.rotor(src).center_of_mass, rotor_forces[j])
-                            for j, src in enumerate(sources)])                 # (n_src, N, n_dof)
-    q = dof_response(model, speed_all, omega, generalized.reshape(n_src * n, -1)[:, :, None])
-    response = (rows @ q[..., 0].T).reshape(len(rows), n_src, n) * (1j * w) ** _ORDER[quantity]
-    ground = suspension_forces(model, omega, q)[..., 0]       # (n_susp, n_src N, 6)
-    ext = np.zeros((len(model.rotors), n_src * n, 6, 1), dtype=complex)
-    for j, src in enumerate(sources):
-        ext[[r.name for r in model.rotors].index(src), j * n:(j + 1) * n, :, 0] = rotor_forces[j]
-    bearing = bearing_forces(model, speed_all, omega, q, ext)[..., 0]
-    at_bearings = bearing_point_forces(model, speed_all, omega, q)[..., 0]
+    speed_all, omega = np.tile(speeds, n_src), w.ravel()     # (n_src * N,): sources one after another
+    q = _coordinate_response(model, sources, rotor_forces, speed_all, omega)
+    response = (sensor_rows(model, outputs) @ q[..., 0].T).reshape(-1, n_src, n) * (1j * w) ** _ORDER[quantity]
     names = tuple(s.name for s in model.sensors) if outputs is None else \
         ((outputs,) if isinstance(outputs, str) else tuple(outputs))
     pairs = probe_pairs(model, [next(s for s in model.sensors if s.name == name) for name in names])
@@ -346,9 +378,34 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         response=response, quantity=quantity,
         suspension_names=tuple(s.name for s in model.suspensions),
         rotor_names=tuple(r.name for r in model.rotors),
-        ground_forces=np.moveaxis(ground.reshape(len(model.suspensions), n_src, n, 6), 3, 1),
-        bearing_forces=np.moveaxis(bearing.reshape(len(model.rotors), n_src, n, 6), 3, 1),
         bearing_names=tuple(b.name for b in model.bearings),
-        bearing_point_forces=np.moveaxis(at_bearings.reshape(len(model.bearings), n_src, n, 6), 3, 1),
+        **_force_fields(model, sources, rotor_forces, speed_all, omega, q),
         orbit_pairs=pairs.names, orbit_planes=planes, spin_signs=spin_signs.reshape(n_src, n),
+        rigid_rotor_names=tuple(r.name for r in model.rotors if not model.bearings_of(r.name)),
     )
+
+
+def _coordinate_response(model, sources, rotor_forces, speed_all, omega):
+    """Complex amplitudes of the generalized coordinates, shape (n_src N, n_dof, 1), every
+    source's unbalance force applied at its rotor's centre of mass."""
+    generalized = np.stack([generalized_force(model, src, model.rotor(src).center_of_mass, rotor_forces[j])
+                            for j, src in enumerate(sources)])                 # (n_src, N, n_dof)
+    return dof_response(model, speed_all, omega, generalized.reshape(len(omega), -1)[:, :, None])
+
+
+def _force_fields(model, sources, rotor_forces, speed_all, omega, q):
+    """``ground_forces``, ``bearing_forces`` and ``bearing_point_forces`` of
+    :class:`UnbalanceResult`, each shape (n_items, 6, n_src, N)."""
+    n_src = len(sources)
+    n = len(omega) // max(n_src, 1)
+    rotor_names = [r.name for r in model.rotors]
+    external = np.zeros((len(model.rotors), len(omega), 6, 1), dtype=complex)
+    for j, src in enumerate(sources):
+        external[rotor_names.index(src), j * n:(j + 1) * n, :, 0] = rotor_forces[j]
+
+    def per_source(forces):                                   # (items, n_src N, 6, 1) -> (items, 6, n_src, N)
+        return np.moveaxis(forces[..., 0].reshape(len(forces), n_src, n, 6), 3, 1)
+
+    return {"ground_forces": per_source(suspension_forces(model, omega, q)),
+            "bearing_forces": per_source(bearing_forces(model, speed_all, omega, q, external)),
+            "bearing_point_forces": per_source(bearing_point_forces(model, speed_all, omega, q))}

@@ -7,6 +7,7 @@ import sys
 
 import numpy as np
 
+from .._limits import count_problem
 from ..errors import InputError
 from ..io import atomic_write, check_not_input, load_model
 from ..io.atomic import check_writable
@@ -57,6 +58,8 @@ def parse_range(text: str, option: str) -> np.ndarray:
         raise InputError(f"{option} {text!r}: N must be >= 2 for a range (or START = STOP with N = 1)")
     if count > 1 and not stop > start:
         raise InputError(f"{option} {text!r}: STOP must be greater than START")
+    if count_problem(count):
+        raise InputError(f"{option} {text!r}: N must be {count_problem(count)}")
     return np.linspace(start, stop, count)
 
 

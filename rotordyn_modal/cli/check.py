@@ -18,7 +18,10 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
+    from ..linear_system import speed_linear_form
+
     model = open_model(args)
+    speed_linear_form(model)  # refuses a mass matrix that rounding leaves singular, as every analysis would
     print(summary(model))
     return 0
 

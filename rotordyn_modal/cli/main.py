@@ -19,8 +19,8 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import SUBCOMMANDS
-    from .. import __version__
+    from .._version import __version__
+    from .commands import SUBCOMMANDS
 
     parser = _Parser(prog=PROGRAM, description="Linear dynamics and modal analysis of multi-rotor "
                      "machines: modes, Campbell diagrams, critical speeds, stability, FRFs.",

@@ -59,7 +59,8 @@ def run(args) -> int:
     if args.shape is not None or args.animate is not None:
         from ..analysis.mode_shapes import mode_shape_3d
 
-        view = mode_shape_3d(result, model, args.shape or args.animate, outline=outline)
+        mode = args.shape if args.shape is not None else args.animate
+        view = mode_shape_3d(result, model, mode, outline=outline)
     write_table(result.to_dataframe(), args)
     overdamped = int(result.overdamped.sum())
     if overdamped and not args.quiet:

@@ -6,6 +6,7 @@ import sys
 
 import numpy as np
 
+from .._limits import count_problem
 from ..errors import InputError
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
                       save_figure, show_progress, to_rad_s, use_agg, write_table)
@@ -87,6 +88,8 @@ def run(args) -> int:
     final = float(to_rad_s(parse_number(args.ramp, "--ramp"), args.speed_unit)) if args.ramp is not None else None
     if args.samples is not None and args.samples < 2:
         raise InputError(f"--samples {args.samples}: expected a whole number >= 2")
+    if args.samples is not None and count_problem(args.samples, "samples"):
+        raise InputError(f"--samples {args.samples}: expected {count_problem(args.samples, 'samples')}")
     if args.sensor is not None and args.sensor not in [s.name for s in model.sensors]:
         known = ", ".join(s.name for s in model.sensors) or "none defined"
         raise InputError(f"--sensor {args.sensor!r}: unknown sensor; the model's sensors are {known}")

@@ -57,6 +57,8 @@ def add_arguments(parser):
     add_verbose(parser, "also: each chunk as it is computed or resumed, checkpoint files discarded, peak memory")
 
 
+#: most local worker processes per core (each is a full Python process)
+_WORKERS_PER_CORE = 8
 #: seconds to wait for a --scheduler to answer
 SCHEDULER_TIMEOUT = 10
 
@@ -108,10 +110,12 @@ def _kept(folder) -> int:
 
 
 def _check_options(args):
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"--workers {args.workers}: expected a whole number >= 1")
-    if args.chunk_size is not None and args.chunk_size < 1:
-        raise InputError(f"--chunk-size {args.chunk_size}: expected a whole number >= 1")
+    most = _WORKERS_PER_CORE * (os.cpu_count() or 1)
+    if args.workers is not None and not 1 <= args.workers <= most:
+        raise InputError(f"--workers {args.workers}: expected a whole number from 1 to {most} "
+                         f"({_WORKERS_PER_CORE} per core of this machine)")
+    if args.chunk_size is not None and not 1 <= args.chunk_size < 2**31:
+        raise InputError(f"--chunk-size {args.chunk_size}: expected a whole number from 1 to {2**31 - 1}")
     for option in ("out", "table", "plot", "plot_histogram", "plot_map", "plot_sensitivity"):
         path = getattr(args, option, None)
         if not path:

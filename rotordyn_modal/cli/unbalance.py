@@ -1,4 +1,4 @@
-"""``unbalance MODEL --speeds R [--output NAME]``: steady unbalance response vs speed."""
+"""``unbalance MODEL --speeds R [--output NAME] [--forces WHERE]``: steady unbalance response vs speed."""
 
 from __future__ import annotations
 
@@ -15,9 +15,13 @@ HELP = "steady unbalance response vs speed, each rotor's harmonic at its own spi
 DESCRIPTION = """Response of the sensors to the model's [[unbalances]] over a speed sweep. Every
 rotor's unbalances excite at that rotor's own spin frequency (|speed ratio| x speed,
 turning its own way); each rotor (source) is reported separately: amplitude (0-peak) and
-phase (x(t) = amplitude cos(2 pi frequency t + phase)). Rows for the force each suspension
-passes to the ground (output NAME:Fx ... NAME:Mz, N and N m) follow the sensors'. Peaks get
-the API 684 amplification factor and, with --operating-speed, the separation margin.
+phase (x(t) = amplitude cos(2 pi frequency t + phase)). The table holds the sensors named by
+--output (default every sensor) and nothing else; --forces adds rows of forces (output
+NAME:Fx ... NAME:Mz, N and N m) after them: suspensions (each suspension's force on the
+ground), bearings (each [[bearings]] entry's force on the stator or the ground at its point,
+and each rigidly attached rotor's at its centre of mass), rotors (each rotor's total force
+on the stator) or all (suspensions, bearings and rotors). Peaks get the API 684
+amplification factor and, with --operating-speed, the separation margin.
 
 Two sensors at one point of the same body with directions normal to the spin axis (a
 pair of proximity probes, measure = "relative") see an orbit: --orbits FILE.csv writes
@@ -28,9 +32,11 @@ the last speed.
 CSV columns: speed_rpm,output,source,frequency_hz,amplitude,phase_deg
 orbit CSV columns: speed_rpm,pair,source,frequency_hz,major,minor,inclination_deg,precession,precession_ratio
 
-example:
+examples:
   rotordyn-modal unbalance examples/gear_machine.toml --speeds 0:6000:601 --output acc-top-z \\
-      --operating-speed 3000 --plot unbalance.png"""
+      --operating-speed 3000 --plot unbalance.png
+  rotordyn-modal unbalance examples/gear_machine.toml --speeds 0:6000:61 --output acc-top-z \\
+      --forces suspensions --out unbalance.csv"""
 
 
 def add_arguments(parser):
@@ -39,6 +45,8 @@ def add_arguments(parser):
     add_speed_unit(parser)
     parser.add_argument("--output", help="sensor name(s), comma-separated (default all)")
     parser.add_argument("--quantity", choices=["displacement", "velocity", "acceleration"], default="displacement")
+    parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
+                        help="add force rows after the sensors' (default none)")
     parser.add_argument("--operating-speed", help="operating speed (same unit as --speeds) for the separation margin")
     parser.add_argument("--orbits", metavar="FILE.csv", help="write the orbits of the probe pairs")
     parser.add_argument("--orbit-plot", metavar="FILE", help="draw the orbits of the probe pairs (.png, .svg, .pdf)")
@@ -50,13 +58,16 @@ def run(args) -> int:
     check_extra_output(args, args.orbits, "--orbits")
     check_extra_output(args, args.orbit_plot, "--orbit-plot", figure=True)
     model = open_model(args)
+    operating = None if args.operating_speed is None else \
+        float(to_rad_s(parse_number(args.operating_speed, "--operating-speed"), args.speed_unit))
+    if operating == 0:
+        raise InputError(f"--operating-speed {args.operating_speed}: expected a speed other than 0 (the "
+                         "separation margin is a percentage of it)")
     result = unbalance_response(model, speeds_option(args), outputs=names(args.output), quantity=args.quantity)
     if (args.orbits or args.orbit_plot) and not result.orbit_pairs:
         raise InputError(f"{model.source}: --orbits/--orbit-plot need a probe pair among the outputs: two "
                          "sensors at one point of the same body, directions normal to spin_axis")
-    write_table(result.to_dataframe(), args)
-    operating = None if args.operating_speed is None else \
-        float(to_rad_s(parse_number(args.operating_speed, "--operating-speed"), args.speed_unit))
+    write_table(result.to_dataframe(forces=args.forces), args)
     peaks = result.peaks(operating)
     if not args.quiet:
         print("\npeaks (API 684):", file=sys.stderr)

@@ -60,16 +60,19 @@ def read_mapping(path, model) -> ChannelMap:
     try:
         table = pd.read_csv(path)
     except (OSError, ValueError) as error:
-        raise InputError(f"{path}: cannot read the mapping table ({error})") from None
+        raise InputError(f"{path}: cannot read the mapping table ({' '.join(str(error).split())})") from None
     missing = {"name", "node", "direction"} - set(table.columns)
     if missing:
         raise InputError(f"{path}: mapping table lacks the column(s) {', '.join(sorted(missing))}: "
                          "expected name,node,direction[,sign]")
     sensors, excitations = {s.name for s in model.sensors}, {x.name for x in model.excitations}
     outputs, inputs = {}, {}
-    for row in table.itertuples(index=False):
-        sign = float(getattr(row, "sign", 1.0)) if "sign" in table.columns else 1.0
-        key = (int(row.node), int(row.direction))
+    for line, row in enumerate(table.itertuples(index=False), start=2):
+        key, sign = _mapping_row(row, "sign" in table.columns, path, line)
+        if key in outputs or key in inputs:
+            taken = (outputs.get(key) or inputs.get(key))[0]
+            raise InputError(f"{path}: line {line}: node {key[0]} direction {key[1]} is given to {taken!r} "
+                             f"already: expected each node and direction once")
         if row.name in sensors:
             outputs[key] = (row.name, sign)
         elif row.name in excitations:
@@ -78,6 +81,33 @@ def read_mapping(path, model) -> ChannelMap:
             raise InputError(f"{path}: name {row.name!r} is neither a sensor ({', '.join(sorted(sensors))}) "
                              f"nor an excitation ({', '.join(sorted(excitations))}) of the model")
     return ChannelMap(outputs, inputs)
+
+
+def _mapping_row(row, has_sign, path, line):
+    """``((node, direction), sign)`` of one row of a mapping table, or a refusal naming the line."""
+    def whole(name):
+        value = getattr(row, name)
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            number = float("nan")
+        if not np.isfinite(number) or number != int(number):
+            raise InputError(f"{path}: line {line}: {name} = {value!r}: expected a whole number")
+        return int(number)
+
+    node, direction = whole("node"), whole("direction")
+    if not 1 <= abs(direction) <= 6:
+        raise InputError(f"{path}: line {line}: direction = {direction}: expected a UFF direction code "
+                         "+-1 .. +-6 (X, Y, Z, then rotations)")
+    if not has_sign:
+        return (node, direction), 1.0
+    try:
+        sign = float(row.sign)
+    except (TypeError, ValueError):
+        sign = float("nan")
+    if sign not in (1.0, -1.0):
+        raise InputError(f"{path}: line {line}: sign = {row.sign!r}: expected 1 or -1")
+    return (node, direction), sign
 
 
 def assemble(records, model, quantity, source) -> list[FRFResult]:
@@ -126,6 +156,7 @@ def _one_speed(speed, freq, outs, ins, values, coherence, sensors, excitations, 
     o_index = np.argsort(outputs)[o_index]
     i_index = np.argsort(inputs)[np.searchsorted(np.array(inputs), ins, sorter=np.argsort(inputs))]
     shape = (len(outputs), len(inputs), len(freqs))
+    _check_repeats(o_index, i_index, f_index, outputs, inputs, freqs, speed, source)
     counts = np.zeros(shape[:2], dtype=int)
     np.add.at(counts, (o_index, i_index), 1)
     partial = (counts > 0) & (counts != len(freqs))
@@ -142,3 +173,14 @@ def _one_speed(speed, freq, outs, ins, values, coherence, sensors, excitations, 
         coh[o_index, i_index, f_index] = coherence
     return FRFResult(H=H, frequencies_hz=freqs, speed=float(speed) * np.pi / 30, inputs=tuple(inputs),
                      outputs=tuple(outputs), quantity=quantity, engine="measured", coherence=coh)
+
+
+def _check_repeats(o_index, i_index, f_index, outputs, inputs, freqs, speed, source):
+    """Refuse a channel pair given twice at one frequency (a duplicated channel)."""
+    lines = np.stack([o_index, i_index, f_index], axis=1)
+    unique, counts = np.unique(lines, axis=0, return_counts=True)
+    if np.any(counts > 1):
+        a, b, f = unique[np.argmax(counts > 1)]
+        raise InputError(f"{source}: at {speed:g} rpm the FRF {outputs[a]} / {inputs[b]} is given "
+                         f"{counts.max()} times at {freqs[f]:g} Hz: expected each channel pair once per "
+                         "frequency (a duplicated channel?)")

@@ -77,31 +77,48 @@ def read_csv(path, model) -> list[FRFResult]:
     try:
         table = pd.read_csv(path)
     except (OSError, ValueError) as error:
-        raise InputError(f"{path}: cannot read as CSV ({error})") from None
+        raise InputError(f"{path}: cannot read as CSV ({' '.join(str(error).split())})") from None
     needed = {"frequency_hz", "output", "input"}
     if not needed <= set(table.columns) or not ({"real", "imag"} <= set(table.columns)
                                                 or {"magnitude", "phase_deg"} <= set(table.columns)):
         raise InputError(f"{path}: expected the columns speed_rpm,frequency_hz,output,input,real,imag"
                          f"[,coherence] (or magnitude,phase_deg); found {','.join(map(str, table.columns))}")
-    if "real" in table.columns:
-        values = table["real"].to_numpy(float) + 1j * table["imag"].to_numpy(float)
+    column = {name: _numbers(table, name, path) for name in
+              ("speed_rpm", "frequency_hz", "real", "imag", "magnitude", "phase_deg", "coherence")
+              if name in table.columns}
+    if {"real", "imag"} <= set(table.columns):
+        values = column["real"] + 1j * column["imag"]
     else:
-        values = table["magnitude"].to_numpy(float) * np.exp(1j * np.radians(table["phase_deg"].to_numpy(float)))
-    if not np.all(np.isfinite(values)) or not np.all(np.isfinite(table["frequency_hz"].to_numpy(float))):
+        values = column["magnitude"] * np.exp(1j * np.radians(column["phase_deg"]))
+    if not np.all(np.isfinite(values)) or not np.all(np.isfinite(column["frequency_hz"])):
         raise InputError(f"{path}: non-finite numbers in the data")
     quantity = _csv_quantity(table, path)
-    speeds = table["speed_rpm"].to_numpy(float) if "speed_rpm" in table.columns else np.zeros(len(table))
-    coherence = table["coherence"].to_numpy(float) if "coherence" in table.columns else None
-    records = {"speed_rpm": speeds, "frequency_hz": table["frequency_hz"].to_numpy(float),
-               "output": table["output"].astype(str).to_numpy(), "input": table["input"].astype(str).to_numpy(),
-               "value": values, "coherence": coherence}
+    records = {"speed_rpm": column.get("speed_rpm", np.zeros(len(table))), "frequency_hz": column["frequency_hz"],
+               "output": _names(table, "output"), "input": _names(table, "input"),
+               "value": values, "coherence": column.get("coherence")}
     return assemble(records, model, quantity, str(path))
+
+
+def _numbers(table, name, path) -> np.ndarray:
+    """A numeric column as floats; a cell that is not a number is refused (an empty one is NaN)."""
+    import pandas as pd
+
+    values = pd.to_numeric(table[name], errors="coerce").to_numpy(float)
+    bad = np.isnan(values) & table[name].notna().to_numpy()
+    if bad.any():
+        row = int(np.argmax(bad))
+        raise InputError(f"{path}: column {name} line {row + 2} = {str(table[name].iloc[row])[:40]!r}: expected a number")
+    return values
+
+
+def _names(table, name) -> np.ndarray:
+    return np.array([str(v) for v in table[name]], dtype=str)
 
 
 def _csv_quantity(table, path):
     if "quantity" not in table.columns:
         return "receptance"
-    found = set(table["quantity"].astype(str))
+    found = {str(v) for v in table["quantity"]}
     if len(found) != 1 or not found <= set(_QUANTITIES):
         raise InputError(f"{path}: quantity column holds {sorted(found)}: expected one of "
                          f"{', '.join(_QUANTITIES)}, the same in every row")

@@ -138,6 +138,9 @@ def read_uff58(path, model, mapping):
         inp, in_sign = _lookup(mapping.inputs, s["ref_node"], s["ref_dir"], "reference", path)
         x = np.asarray(s["x"], float)
         coh = coherence.get(_key(s))
+        if coh is not None and len(coh) != len(x):
+            raise InputError(f"{path}: coherence of the FRF {s['rsp_node']}:{s['rsp_dir']} / {s['ref_node']}:"
+                             f"{s['ref_dir']} has {len(coh)} values for {len(x)} frequencies: expected one per frequency")
         parts.append({"speed_rpm": np.full(len(x), round(float(s.get("z_axis_value", 0.0)), 9)),
                       "frequency_hz": x, "output": np.full(len(x), out), "input": np.full(len(x), inp),
                       "value": np.asarray(s["data"], complex) * out_sign * in_sign,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._labels import exits_of_orders, laid_out_renderer, place_edge_labels, spread_apart
 from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell"]
@@ -15,7 +16,9 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
 
     Tracked modes are drawn solid blue where they whirl forward, dashed red
     backward and dotted grey without whirl; each rotor's (and gear mesh's)
-    excitation orders are straight labelled lines; critical speeds are marked.
+    excitation orders are straight lines, labelled inside the axes where they leave
+    them, apart from each other (close orders of one source share a label, a label with
+    no room is left out: its line keeps its source's colour); critical speeds are marked.
 
     Parameters
     ----------
@@ -43,7 +46,8 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
         _draw_by_whirl(ax, x, result)
     top = 1.15 * (np.nanmax(np.where(result.oscillatory, result.frequencies_hz, np.nan))
                   if result.oscillatory.any() else 1.0)
-    _draw_orders(ax, result, x, sources, top)
+    lines = _order_lines(result, sources)
+    _draw_orders(ax, result, x, lines)
     _draw_critical(ax, result, scale, annotate_critical and len(result.critical) <= 24, sources)
     ax.set_ylim(0, top)
     ax.set_xlim(x.min(), x.max() if x.max() > x.min() else x.min() + 1)
@@ -52,6 +56,10 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     ax.set_title(title or "Campbell diagram")
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), fontsize="small", ncols=4, frameon=False)
+    renderer = laid_out_renderer(fig)
+    spread_apart([t for t in ax.texts if t.get_gid() == "mode-label"], renderer=renderer)
+    place_edge_labels(ax, exits_of_orders(result.orders, lines, ax.get_xlim(), top, 1 / (2 * np.pi * scale)),
+                      renderer=renderer)
     return fig
 
 
@@ -104,26 +112,25 @@ def _label_curve_end(ax, x, f, text):
     if valid.size:
         k = valid[-1]
         ax.annotate(text, (x[k], f[k]), xytext=(3, 0), textcoords="offset points",
-                    fontsize="x-small", va="center")
+                    fontsize="x-small", va="center", gid="mode-label")
 
 
-def _draw_orders(ax, result, x, sources, top):
-    """Straight order lines, each labelled where it leaves the plotted frequency range."""
+_ORDER_COLORS = ["0.2", "tab:green", "tab:purple", "tab:brown", "tab:olive", "tab:cyan"]
+
+
+def _order_lines(result, sources):
+    """(name, multiplier, colour) of each excitation source drawn."""
+    return [(name, multiplier, _ORDER_COLORS[i % len(_ORDER_COLORS)])
+            for i, (name, multiplier) in enumerate(zip(result.sources.names, result.sources.multipliers))
+            if sources is None or name in sources]
+
+
+def _draw_orders(ax, result, x, lines):
+    """Straight order lines (labelled by :func:`place_edge_labels` once the axes are laid out)."""
     speeds_abs = np.abs(result.speeds)
-    colors = ["0.2", "tab:green", "tab:purple", "tab:brown", "tab:olive", "tab:cyan"]
-    for i, (name, multiplier) in enumerate(zip(result.sources.names, result.sources.multipliers)):
-        if sources is not None and name not in sources:
-            continue
-        color = colors[i % len(colors)]
+    for _, multiplier, color in lines:
         for order in result.orders:
-            f = order * multiplier * speeds_abs / (2 * np.pi)
-            ax.plot(x, f, color=color, linewidth=0.9, alpha=0.8)
-            inside = np.nonzero(f <= top)[0]
-            if not inside.size:
-                continue
-            k = inside[-1] if x[-1] >= abs(x[0]) else inside[0]
-            ax.annotate(f"{order:g}X {name}", (x[k], f[k]), xytext=(-3, -3), textcoords="offset points",
-                        fontsize="x-small", ha="right", va="top", color=color, rotation=0)
+            ax.plot(x, order * multiplier * speeds_abs / (2 * np.pi), color=color, linewidth=0.9, alpha=0.8)
 
 
 def _draw_critical(ax, result, scale, annotate, sources):

@@ -136,6 +136,7 @@ def animate_mode_shape(view, path=None, frames: int = 36, fps: int = 18, inputs=
 
 
 def _write_animation(animation, fig, path, suffix, fps, inputs):
+    import matplotlib
     from matplotlib import animation as mpl_animation
 
     from ..io.atomic import atomic_write, check_not_input
@@ -147,11 +148,28 @@ def _write_animation(animation, fig, path, suffix, fps, inputs):
         with atomic_write(path, "w") as handle:
             handle.write(text)
         return
-    if suffix == ".mp4" and not mpl_animation.FFMpegWriter.isAvailable():
-        raise InputError(f"{path}: writing MP4 needs ffmpeg on the PATH; write .gif or .html instead")
+    ffmpeg = _ffmpeg_path(path) if suffix == ".mp4" else None
     writer = mpl_animation.PillowWriter(fps=fps) if suffix == ".gif" else mpl_animation.FFMpegWriter(fps=fps)
-    with atomic_write(path, None) as temporary:
-        animation.save(str(temporary), writer=writer, dpi=_ANIMATION_DPI)
+    with matplotlib.rc_context({"animation.ffmpeg_path": ffmpeg} if ffmpeg else {}):
+        with atomic_write(path, None) as temporary:
+            animation.save(str(temporary), writer=writer, dpi=_ANIMATION_DPI)
+
+
+def _ffmpeg_path(path):
+    """The ffmpeg to write MP4 with: matplotlib's (the PATH) or the static one of ``imageio-ffmpeg``."""
+    import shutil
+
+    import matplotlib
+
+    configured = matplotlib.rcParams["animation.ffmpeg_path"]
+    if shutil.which(configured):
+        return configured
+    try:
+        import imageio_ffmpeg
+    except ImportError:
+        raise InputError(f"{path}: writing MP4 needs ffmpeg on the PATH or the video extra "
+                         "(pip install 'rotordyn_modal[video]'); write .gif or .html instead") from None
+    return imageio_ffmpeg.get_ffmpeg_exe()
 
 
 # ---------------------------------------------------------------------------------------------

@@ -23,8 +23,16 @@ def plot_simulation(result, title: str | None = None):
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), layout="constrained")
-    t = result.time
-    ax = axes[0, 0]
+    _draw_paths(axes[0, 0], result)
+    _draw_frame_motion(axes[0, 1], result)
+    _draw_spin(axes[1, 0], result)
+    _draw_energy(axes[1, 1], result)
+    fig.suptitle(title or result.model_name or "Simulation")
+    return fig
+
+
+def _draw_paths(ax, result):
+    """The rotors' centres in the y-z plane, from where each started."""
     for j, name in enumerate(result.rotor_names):
         path = result.rotor_centers[:, j] - result.rotor_centers[0, j]
         ax.plot(path[:, 1], path[:, 2], lw=0.8, label=name)
@@ -32,32 +40,39 @@ def plot_simulation(result, title: str | None = None):
            title="Path of the rotors' centres (y-z)")
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(fontsize="small")
-    ax = axes[0, 1]
+
+
+def _draw_frame_motion(ax, result):
+    """The stator's (or carrier's) transverse rotation and translation, and each rotor on
+    bearings' tilt in them."""
+    t = result.time
     if result.displacement.any() or not result.rotor_tilts.any():
         ax.plot(t, np.degrees(np.linalg.norm(result.gamma, axis=1)), label="|γ| transverse rotation")
         for k, axis in enumerate("xyz"):
             ax.plot(t, result.displacement[:, k] * 1e3, lw=0.8, label=f"u_{axis} [mm]")
-    for j, name in enumerate(result.rotor_names):   # rotors on bearings: their tilt in them
+    for j, name in enumerate(result.rotor_names):
         if result.rotor_tilts[:, j].any():
             ax.plot(t, np.degrees(np.linalg.norm(result.rotor_tilts[:, j], axis=1)), lw=0.8,
                     label=f"|γ| {name} in its bearings")
     ax.set(xlabel="Time [s]", ylabel="[deg] / [mm]", title="Transverse rotation and translation")
     ax.legend(fontsize="small")
-    ax = axes[1, 0]
-    ax.plot(t, result.spin_speed - result.spin_speed[0])
+
+
+def _draw_spin(ax, result):
+    ax.plot(result.time, result.spin_speed - result.spin_speed[0])
     ax.set(xlabel="Time [s]", ylabel="ω_φ − ω_φ(0) [rad/s]",
            title=f"Axial angular velocity deviation (ω_φ(0) = {result.spin_speed[0]:.4g} rad/s)")
-    ax = axes[1, 1]
-    kinetic = result.kinetic_energy - result.kinetic_energy[0]
+
+
+def _draw_energy(ax, result):
+    """Changes of the kinetic, total and potential energy from the start."""
+    t = result.time
     potential = result.elastic_energy + result.gravity_energy
-    potential = potential - potential[0]
-    ax.plot(t, kinetic, label="1: change of kinetic energy")
+    ax.plot(t, result.kinetic_energy - result.kinetic_energy[0], label="1: change of kinetic energy")
     ax.plot(t, result.total_energy - result.total_energy[0], label="2: change of total energy")
-    ax.plot(t, potential, label="3: change of potential energy")
+    ax.plot(t, potential - potential[0], label="3: change of potential energy")
     ax.set(xlabel="Time [s]", ylabel="[J]", title="Energy")
     ax.legend(fontsize="small")
-    fig.suptitle(title or result.model_name or "Simulation")
-    return fig
 
 
 def plot_runup(result, sensor: str, critical=None, title: str | None = None, segments: int = 60):

@@ -261,7 +261,15 @@ def _tilt(gj, Lj, Bj):
 def assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio, slot, ntrans, A3,
                   spos, sK, sC, bbody, bpos, bspeeds, bcount, bK, bC, bfilm, baxes, M, f):
     """Add the generalized mass matrix to ``M`` (n, n) and the force to ``f`` (n,), both
-    zero on entry; see :func:`rotordyn_modal.simulation._kernels.assemble`."""
+    zero on entry; see :func:`rotordyn_modal.simulation._kernels.assemble`.
+
+    Body by body: its motion relative to the frame (:func:`_rotor_on_bearings` or
+    :func:`_rotor_on_frame`); its rotation, arm and accelerations at zero second
+    derivatives; the Jacobians ``P`` (velocity of its centre of mass) and ``W`` (angular
+    velocity) on its coordinates; its share of ``M`` and ``f``. Those three steps stay
+    inline: split into functions (even inlined by numba) they cost 4-7 % of the right-hand
+    side's time (``benchmarks/bench_rhs.py``). Then the suspensions' and the bearings' forces.
+    """
     n = y.shape[0] // 2
     m_rot = nf - 3 if nf > 0 else 0
     nb = mass.shape[0]
@@ -284,52 +292,14 @@ def assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio
     HB = np.empty((2, 3, 2))
     Hj, BA = HB[0], HB[1]
     for bdy in range(nb):
-        r = ratio[bdy]
-        j = slot[bdy]
-        kt = ntrans[bdy]
-        ncol = 0
-        for k in range(nf):
-            cols[ncol] = k
-            ncol += 1
+        r, j, kt = ratio[bdy], slot[bdy], ntrans[bdy]
+        ncol = _body_columns(n, nf, j, kt, cols)
         if j >= 0:
-            for k in range(kt + 2):
-                cols[ncol] = j + k
-                ncol += 1
-            _relative(y, n, j, kt, A3, u, ud, gj, gjd)
-            b, c, da, dc, db = _tilt(gj, Lj, Bj)
-            for i in range(3):
-                for k in range(3):
-                    Lrel[bdy, i, k] = Lj[i, k]
-                    Brel[bdy, i, k] = Bj[i, k]
-            for i in range(3):
-                for k in range(2):
-                    BA[i, k] = Bj[i, 0] * A3[0, k] + Bj[i, 1] * A3[1, k] + Bj[i, 2] * A3[2, k]
-            for i in range(3):
-                for k in range(2):
-                    Hj[i, k] = Rs[i, 0] * BA[0, k] + Rs[i, 1] * BA[1, k] + Rs[i, 2] * BA[2, k]
-            _mv3(Bj, gjd, v1)
-            _mv3(Rs, v1, orel)
-            # D B(gamma_j)[gjd] gjd
-            vw = gj[0] * gjd[0] + gj[1] * gjd[1] + gj[2] * gjd[2]
-            ww = gjd[0] * gjd[0] + gjd[1] * gjd[1] + gjd[2] * gjd[2]
-            _cross(gj, gjd, v1)
-            for i in range(3):
-                v2[i] = (da * vw * gjd[i] + db * vw * vw * gj[i] + b * (vw * gjd[i] + ww * gj[i])
-                         + dc * vw * v1[i])
-            _mv3(Rs, v2, drel)
-            _mv3(Lj, e, v1)
-            _mv3(Rs, v1, ej)
-            _mv3(Rs, ud, vrel)
-            _mat3(Rs, Lj, Rl)
-            for i in range(3):
-                cu[i] = center[bdy, i] + u[i]
+            _rotor_on_bearings(y, n, j, kt, A3, e, Rs, center[bdy], u, ud, gj, gjd, Lj, Bj, Lrel[bdy],
+                               Brel[bdy], BA, Hj, orel, drel, ej, vrel, Rl, cu, v1, v2)
         else:
-            for i in range(3):
-                orel[i], drel[i], vrel[i], ej[i], cu[i] = 0.0, 0.0, 0.0, eg[i], center[bdy, i]
-                for k in range(3):
-                    Rl[i, k] = Rs[i, k]
-        cols[ncol] = n - 1
-        ncol += 1
+            _rotor_on_frame(eg, Rs, center[bdy], orel, drel, vrel, ej, Rl, cu)
+        # rotation Rb, centre of mass d, angular velocity bo, accelerations al, a0
         ang = r * phi
         _rodrigues(np.cos(ang), 1.0 - np.cos(ang), np.sin(ang), e, R1)
         _mat3(Rl, R1, Rb)
@@ -355,6 +325,7 @@ def assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio
         _cross(bo, v2, v3)
         for i in range(3):
             a0[i] += 2.0 * v1[i] + v3[i]
+        # Jacobians P, W on the frame's coordinates, the rotor's own, the reference angle
         if nf > 0:
             for i in range(3):
                 P[i, i] = 1.0
@@ -381,7 +352,7 @@ def assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio
         for i in range(3):
             P[i, n - 1] = r * v1[i]
             W[i, n - 1] = r * ej[i]
-        # Ib = Rb I0 Rb^T
+        # its share of M (m P^T P + W^T Ib W) and f (gravity, centrifugal, gyroscopic); Ib = Rb I0 Rb^T
         _mat3(Rb, inertia[bdy], T3)
         for i in range(3):
             for k in range(3):
@@ -408,41 +379,118 @@ def assemble_into(t, y, e, E2, nf, gravity, mass, center, offset, inertia, ratio
             f[k] += (P[0, k] * v3[0] + P[1, k] * v3[1] + P[2, k] * v3[2]
                      - W[0, k] * rhs3[0] - W[1, k] * rhs3[1] - W[2, k] * rhs3[2])
     sixes = np.empty((3, 6))
-    z, zd, gz = sixes[0], sixes[1], sixes[2]
     blocks = np.zeros((4, 6, 6))
-    Kb, Cb, Zb, Z = blocks[0], blocks[1], blocks[2], blocks[3]
-    if nf > 0:
+    _add_suspension_forces(y, n, nf, e, E2, Rs, H, gamma, psi, spos, sK, sC, sixes, blocks[3], v1, f)
+    _add_bearing_forces(y, n, phi_dot, ratio, slot, ntrans, A3, Lrel, Brel, bbody, bpos, bspeeds, bcount,
+                        bK, bC, bfilm, baxes, u, ud, gj, gjd, sixes, blocks, BA, lb, v1, f)
+
+
+def _body_columns(n, nf, j, kt, cols):
+    """The coordinates a body moves with into ``cols``: the frame's, its own (from ``j``,
+    when on bearings) and the reference rotor's angle (last); returns how many."""
+    ncol = 0
+    for k in range(nf):
+        cols[ncol] = k
+        ncol += 1
+    if j >= 0:
+        for k in range(kt + 2):
+            cols[ncol] = j + k
+            ncol += 1
+    cols[ncol] = n - 1
+    return ncol + 1
+
+
+def _rotor_on_bearings(y, n, j, kt, A3, e, Rs, center, u, ud, gj, gjd, Lj, Bj, Lrel, Brel, BA, Hj,
+                       orel, drel, ej, vrel, Rl, cu, v1, v2):
+    """A rotor on bearings relative to the frame, in model axes: angular velocity ``orel``
+    and its rate at zero second derivatives ``drel``, spin axis ``ej``, translational
+    velocity ``vrel``, rotation ``Rl = Rs L(gamma_j)``, centre ``cu``; ``Hj`` the columns of
+    its angular velocity on its two tilts, ``Lrel``, ``Brel`` kept for its bearings."""
+    _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+    b, c, da, dc, db = _tilt(gj, Lj, Bj)
+    for i in range(3):
+        for k in range(3):
+            Lrel[i, k] = Lj[i, k]
+            Brel[i, k] = Bj[i, k]
+    for i in range(3):
+        for k in range(2):
+            BA[i, k] = Bj[i, 0] * A3[0, k] + Bj[i, 1] * A3[1, k] + Bj[i, 2] * A3[2, k]
+    for i in range(3):
+        for k in range(2):
+            Hj[i, k] = Rs[i, 0] * BA[0, k] + Rs[i, 1] * BA[1, k] + Rs[i, 2] * BA[2, k]
+    _mv3(Bj, gjd, v1)
+    _mv3(Rs, v1, orel)
+    # D B(gamma_j)[gjd] gjd
+    vw = gj[0] * gjd[0] + gj[1] * gjd[1] + gj[2] * gjd[2]
+    ww = gjd[0] * gjd[0] + gjd[1] * gjd[1] + gjd[2] * gjd[2]
+    _cross(gj, gjd, v1)
+    for i in range(3):
+        v2[i] = (da * vw * gjd[i] + db * vw * vw * gj[i] + b * (vw * gjd[i] + ww * gj[i])
+                 + dc * vw * v1[i])
+    _mv3(Rs, v2, drel)
+    _mv3(Lj, e, v1)
+    _mv3(Rs, v1, ej)
+    _mv3(Rs, ud, vrel)
+    _mat3(Rs, Lj, Rl)
+    for i in range(3):
+        cu[i] = center[i] + u[i]
+
+
+def _rotor_on_frame(eg, Rs, center, orel, drel, vrel, ej, Rl, cu):
+    """A rotor fixed in the frame: no relative motion, the frame's spin axis and rotation."""
+    for i in range(3):
+        orel[i], drel[i], vrel[i], ej[i], cu[i] = 0.0, 0.0, 0.0, eg[i], center[i]
+        for k in range(3):
+            Rl[i, k] = Rs[i, k]
+
+
+def _add_suspension_forces(y, n, nf, e, E2, Rs, H, gamma, psi, spos, sK, sC, sixes, Z, v1, f):
+    """Subtract the suspensions' spring and damper forces, ``Z^T (K z + C dz/dt)``, from the
+    frame's entries of ``f`` (nothing on the ground); ``sixes`` (3, 6), ``Z`` (6, 6) scratch."""
+    if nf == 0:
+        return
+    m_rot = nf - 3
+    z, zd, gz = sixes[0], sixes[1], sixes[2]
+    for i in range(3):
+        Z[i, i] = 1.0
+        for k in range(2):
+            Z[3 + i, 3 + k] = E2[i, k]
+        if m_rot == 3:
+            Z[3 + i, 5] = e[i]
+    for sp in range(spos.shape[0]):
+        _mv3(Rs, spos[sp], v1)
+        for k in range(m_rot):
+            Z[0, 3 + k] = -(v1[1] * H[2, k] - v1[2] * H[1, k])
+            Z[1, 3 + k] = -(v1[2] * H[0, k] - v1[0] * H[2, k])
+            Z[2, 3 + k] = -(v1[0] * H[1, k] - v1[1] * H[0, k])
         for i in range(3):
-            Z[i, i] = 1.0
-            for k in range(2):
-                Z[3 + i, 3 + k] = E2[i, k]
-            if m_rot == 3:
-                Z[3 + i, 5] = e[i]
-        for sp in range(spos.shape[0]):
-            _mv3(Rs, spos[sp], v1)
-            for k in range(m_rot):
-                Z[0, 3 + k] = -(v1[1] * H[2, k] - v1[2] * H[1, k])
-                Z[1, 3 + k] = -(v1[2] * H[0, k] - v1[0] * H[2, k])
-                Z[2, 3 + k] = -(v1[0] * H[1, k] - v1[1] * H[0, k])
-            for i in range(3):
-                z[i] = y[i] + v1[i] - spos[sp, i]
-                z[3 + i] = gamma[i] + psi * e[i]
-            for i in range(6):
-                v = 0.0
-                for k in range(nf):
-                    v += Z[i, k] * y[n + k]
-                zd[i] = v
-            K, C = sK[sp], sC[sp]
-            for i in range(6):
-                v = 0.0
-                for k in range(6):
-                    v += K[i, k] * z[k] + C[i, k] * zd[k]
-                gz[i] = v
+            z[i] = y[i] + v1[i] - spos[sp, i]
+            z[3 + i] = gamma[i] + psi * e[i]
+        for i in range(6):
+            v = 0.0
             for k in range(nf):
-                v = 0.0
-                for i in range(6):
-                    v += Z[i, k] * gz[i]
-                f[k] -= v
+                v += Z[i, k] * y[n + k]
+            zd[i] = v
+        K, C = sK[sp], sC[sp]
+        for i in range(6):
+            v = 0.0
+            for k in range(6):
+                v += K[i, k] * z[k] + C[i, k] * zd[k]
+            gz[i] = v
+        for k in range(nf):
+            v = 0.0
+            for i in range(6):
+                v += Z[i, k] * gz[i]
+            f[k] -= v
+
+
+def _add_bearing_forces(y, n, phi_dot, ratio, slot, ntrans, A3, Lrel, Brel, bbody, bpos, bspeeds, bcount,
+                        bK, bC, bfilm, baxes, u, ud, gj, gjd, sixes, blocks, BA, lb, v1, f):
+    """Subtract each bearing's force (coefficients at its rotor's own speed, plus the oil
+    film of a journal bearing) from its rotor's entries of ``f``; ``sixes`` (3, 6),
+    ``blocks`` (4, 6, 6), ``BA``, ``lb``, ``v1`` scratch."""
+    z, zd, gz = sixes[0], sixes[1], sixes[2]
+    Kb, Cb, Zb = blocks[0], blocks[1], blocks[2]
     for br in range(bbody.shape[0]):
         bdy = bbody[br]
         j = slot[bdy]
@@ -542,6 +590,22 @@ def potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, 
     psi = _frame(y, n, e, E2, nf, Rs, H, eg, omega, wdot0, gamma, mats[6:9], vec[11:15])
     z, zd = np.empty(6), np.empty(6)
     BA = np.empty((3, 2))
+    elastic = _suspension_energy(y, nf, e, Rs, gamma, psi, spos, sK, z, v1)
+    for br in range(bbody.shape[0]):
+        _bearing_now(y, n, br, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, Kb, Cb, Lj, Bj,
+                     vec[4:9], z, zd, Zb, BA)
+        elastic += 0.5 * _quadratic(Kb, z)
+    weight = 0.0
+    for bdy in range(mass.shape[0]):
+        _center_of_mass(y, n, slot[bdy], ntrans[bdy], A3, e, ratio[bdy] * y[n - 1], Rs, center[bdy],
+                        offset[bdy], u, ud, gj, gjd, Lj, Bj, R1, Rl, v1, v2)
+        for i in range(3):
+            weight -= mass[bdy] * gravity[i] * ((y[i] if nf > 0 else 0.0) + v2[i])
+    return elastic, weight
+
+
+def _suspension_energy(y, nf, e, Rs, gamma, psi, spos, sK, z, v1):
+    """The suspensions' elastic energy ``sum z^T K z / 2`` [J] (0 on the ground)."""
     elastic = 0.0
     if nf > 0:
         for sp in range(spos.shape[0]):
@@ -550,34 +614,29 @@ def potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, 
                 z[i] = y[i] + v1[i] - spos[sp, i]
                 z[3 + i] = gamma[i] + psi * e[i]
             elastic += 0.5 * _quadratic(sK[sp], z)
-    for br in range(bbody.shape[0]):
-        _bearing_now(y, n, br, ratio, slot, ntrans, A3, bbody, bpos, bspeeds, bcount, bK, bC, Kb, Cb, Lj, Bj,
-                     vec[4:9], z, zd, Zb, BA)
-        elastic += 0.5 * _quadratic(Kb, z)
-    weight = 0.0
-    for bdy in range(mass.shape[0]):
-        j, kt = slot[bdy], ntrans[bdy]
+    return elastic
+
+
+def _center_of_mass(y, n, j, kt, A3, e, angle, Rs, center, offset, u, ud, gj, gjd, Lj, Bj, R1, Rl, v1, out):
+    """A body's centre of mass from the frame's origin, model axes, into ``out`` (3,) (the
+    frame's translation not included); ``angle`` its turn about its axis."""
+    for i in range(3):
+        v1[i] = center[i]
+    if j >= 0:
+        _relative(y, n, j, kt, A3, u, ud, gj, gjd)
+        _tilt(gj, Lj, Bj)
         for i in range(3):
-            v1[i] = center[bdy, i]
-        if j >= 0:
-            _relative(y, n, j, kt, A3, u, ud, gj, gjd)
-            _tilt(gj, Lj, Bj)
-            for i in range(3):
-                v1[i] += u[i]
-        else:
-            for i in range(3):
-                for k in range(3):
-                    Lj[i, k] = 1.0 if i == k else 0.0
-        ang = ratio[bdy] * y[n - 1]
-        _rodrigues(np.cos(ang), 1.0 - np.cos(ang), np.sin(ang), e, R1)
-        _mat3(Lj, R1, Rl)
-        _mv3(Rl, offset[bdy], v2)
+            v1[i] += u[i]
+    else:
         for i in range(3):
-            v1[i] += v2[i]
-        _mv3(Rs, v1, v2)
-        for i in range(3):
-            weight -= mass[bdy] * gravity[i] * ((y[i] if nf > 0 else 0.0) + v2[i])
-    return elastic, weight
+            for k in range(3):
+                Lj[i, k] = 1.0 if i == k else 0.0
+    _rodrigues(np.cos(angle), 1.0 - np.cos(angle), np.sin(angle), e, R1)
+    _mat3(Lj, R1, Rl)
+    _mv3(Rl, offset, out)
+    for i in range(3):
+        v1[i] += out[i]
+    _mv3(Rs, v1, out)
 
 
 def _quadratic(K, z):
@@ -716,5 +775,11 @@ def pack(system, mode, accel, t_start, t_stop):
 
 
 FUNCTIONS = ("_mat3", "_mv3", "_cross", "_rodrigues", "_coefficients", "_solve_spd", "_interpolate", "_frame",
-             "_relative", "_bearing_stretch", "_sommerfeld_angle", "_film_force", "_tilt", "_bearing_now", "assemble_into", "assemble", "_solve_motion", "rhs",
+             "_relative", "_bearing_stretch", "_sommerfeld_angle", "_film_force", "_tilt", "_bearing_now",
+             "assemble_into", "_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_add_suspension_forces",
+             "_add_bearing_forces", "_suspension_energy", "_center_of_mass", "assemble", "_solve_motion", "rhs",
              "potential", "_quadratic", "bearing_wrenches", "sample_outputs", "rhs_flat")
+#: steps of ``assemble_into`` and ``potential``, inlined into them by numba (``inline="always"``):
+#: called as functions with many array arguments they would cost time in the right-hand side
+INLINED = ("_body_columns", "_rotor_on_bearings", "_rotor_on_frame", "_add_suspension_forces",
+           "_add_bearing_forces", "_suspension_energy", "_center_of_mass")

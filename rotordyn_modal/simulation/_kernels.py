@@ -506,7 +506,8 @@ def _compiled_fast(numba):
     for name in _fast.FUNCTIONS:
         function = getattr(_fast, name)
         rebound = types.FunctionType(function.__code__, namespace, name, function.__defaults__)
-        namespace[name] = numba.njit(cache=True)(rebound)
+        inline = "always" if name in _fast.INLINED else "never"
+        namespace[name] = numba.njit(cache=True, inline=inline)(rebound)
     return namespace
 
 

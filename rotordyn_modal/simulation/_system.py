@@ -150,47 +150,12 @@ def system_arrays(model, unbalance_phases_deg=None) -> SystemArrays:
     refuse_journal_loads(model)
     e = np.asarray(model.spin_axis, dtype=float)
     reference = np.asarray(model.reference_point, dtype=float)
-    nf = frame_size(model)
-    masses, centers, offsets, inertias, ratios, slots, ntrans = [], [], [], [], [], [], []
-    if model.stator is not None:
-        masses.append(model.stator.mass)
-        centers.append(np.asarray(model.stator.center_of_mass) - reference)
-        offsets.append(np.zeros(3))
-        inertias.append(np.asarray(model.stator.inertia, dtype=float))
-        ratios.append(0.0)
-        slots.append(-1)
-        ntrans.append(2)
-    directions = unbalance_directions(model, unbalance_phases_deg)
-    following = nf
-    for rotor in model.rotors:
-        first_moment, products = np.zeros(3), np.zeros((3, 3))
-        for unbalance, d in zip(model.unbalances, directions):
-            if unbalance.rotor == rotor.name:
-                first_moment += unbalance.amount * d
-                products -= unbalance.amount * unbalance.axial_offset * (np.outer(e, d) + np.outer(d, e))
-        rho = first_moment / rotor.mass
-        about_axis = rotor.diametral_inertia * np.eye(3) \
-            + (rotor.polar_inertia - rotor.diametral_inertia) * np.outer(e, e) + products
-        masses.append(rotor.mass)
-        centers.append(np.asarray(rotor.center_of_mass) - reference)
-        offsets.append(rho)
-        inertias.append(about_axis - rotor.mass * (rho @ rho * np.eye(3) - np.outer(rho, rho)))
-        ratios.append(rotor.speed_ratio)
-        mine = [b for b in model.bearings if b.rotor == rotor.name]
-        axial = any(b.coefficients.axial for b in mine)
-        slots.append(following if mine else -1)
-        ntrans.append(3 if axial else 2)
-        following += (4 + axial) if mine else 0
     suspensions = model.suspensions
     start = 1 if model.stator is not None else 0
     return SystemArrays(
-        e=e, E2=transverse_basis(e), nf=nf,
+        e=e, E2=transverse_basis(e), nf=frame_size(model),
         gravity=np.asarray(model.gravity, dtype=float),
-        mass=np.array(masses, dtype=float), center=np.array(centers, dtype=float).reshape(-1, 3),
-        offset=np.array(offsets, dtype=float).reshape(-1, 3),
-        inertia=np.array(inertias, dtype=float).reshape(-1, 3, 3),
-        ratio=np.array(ratios, dtype=float),
-        slot=np.array(slots, dtype=np.int64), ntrans=np.array(ntrans, dtype=np.int64),
+        **_body_arrays(model, reference, unbalance_directions(model, unbalance_phases_deg)),
         A3=np.column_stack([*transverse_axes(e), e]),
         spos=np.array([np.asarray(s.position) - reference for s in suspensions], dtype=float).reshape(-1, 3),
         sK=np.array([s.stiffness_matrix for s in suspensions], dtype=float).reshape(-1, 6, 6),
@@ -199,6 +164,55 @@ def system_arrays(model, unbalance_phases_deg=None) -> SystemArrays:
         rotor_index=np.arange(start, start + len(model.rotors)),
         **_bearing_arrays(model, start),
     )
+
+
+def _body_arrays(model, reference, directions):
+    """The bodies' arrays of :class:`SystemArrays`: the stator (if any), then every rotor.
+
+    ``slot`` is where a rotor on bearings' own coordinates start (-1 for the others),
+    ``ntrans`` how many translations it has (3 with an axial bearing stiffness, else 2).
+    """
+    e = np.asarray(model.spin_axis, dtype=float)
+    bodies = []                       # (mass, centre, offset, inertia, ratio, slot, ntrans)
+    if model.stator is not None:
+        bodies.append((model.stator.mass, np.asarray(model.stator.center_of_mass) - reference, np.zeros(3),
+                       np.asarray(model.stator.inertia, dtype=float), 0.0, -1, 2))
+    following = frame_size(model)
+    for rotor in model.rotors:
+        rho, inertia = _unbalanced_rotor(model, rotor, directions, e)
+        mine = [b for b in model.bearings if b.rotor == rotor.name]
+        axial = any(b.coefficients.axial for b in mine)
+        bodies.append((rotor.mass, np.asarray(rotor.center_of_mass) - reference, rho, inertia, rotor.speed_ratio,
+                       following if mine else -1, 3 if axial else 2))
+        following += (4 + axial) if mine else 0
+    masses, centers, offsets, inertias, ratios, slots, ntrans = zip(*bodies) if bodies else [()] * 7
+    return dict(mass=np.array(masses, dtype=float), center=np.array(centers, dtype=float).reshape(-1, 3),
+                offset=np.array(offsets, dtype=float).reshape(-1, 3),
+                inertia=np.array(inertias, dtype=float).reshape(-1, 3, 3),
+                ratio=np.array(ratios, dtype=float),
+                slot=np.array(slots, dtype=np.int64), ntrans=np.array(ntrans, dtype=np.int64))
+
+
+def _unbalanced_rotor(model, rotor, directions, e):
+    """A rotor with its unbalances as masses turning with it.
+
+    Returns
+    -------
+    rho : ndarray, shape (3,)
+        Its centre of mass from its axis at angle 0, ``sum U_k d_k / m`` [m].
+    inertia : ndarray, shape (3, 3)
+        Its inertia about that centre of mass at angle 0 (couple unbalances add products
+        ``-U_k a_k (e d_k^T + d_k e^T)``) [kg m^2].
+    """
+    first_moment, products = np.zeros(3), np.zeros((3, 3))
+    for unbalance, d in zip(model.unbalances, directions):
+        if unbalance.rotor == rotor.name:
+            first_moment += unbalance.amount * d
+            products -= unbalance.amount * unbalance.axial_offset * (np.outer(e, d) + np.outer(d, e))
+    rho = first_moment / rotor.mass
+    about_axis = rotor.diametral_inertia * np.eye(3) \
+        + (rotor.polar_inertia - rotor.diametral_inertia) * np.outer(e, e) + products
+    return rho, about_axis - rotor.mass * (rho @ rho * np.eye(3) - np.outer(rho, rho))
 
 
 def _bearing_arrays(model, start):

@@ -58,14 +58,14 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     duration : float
         Simulated time [s], > 0.
     speed : float
-        Reference rotor's speed relative to the stator at t = 0 [rad/s].
+        Reference rotor's speed relative to the stator at t = 0 [rad/s], magnitude at most 1e6.
     drive : {'constant', 'ramp', 'free'}
         ``'constant'``: an ideal drive holds the relative speed (the drive torque is an output);
         ``'ramp'``: the ideal drive changes it linearly from ``speed`` to ``final_speed`` over
         ``duration`` (the rotors' angular acceleration terms included); ``'free'``: no drive
         torque, the spin is a degree of freedom.
     final_speed : float, optional
-        End speed of a ramp [rad/s] (required with ``drive='ramp'``).
+        End speed of a ramp [rad/s] (required with ``drive='ramp'``), magnitude at most 1e6.
     initial : {'rest', 'equilibrium'}
         ``'rest'``: undeformed position, springs unstretched; ``'equilibrium'``: the static
         equilibrium under gravity (found by Newton's method on the machine without its
@@ -80,6 +80,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     rtol, atol : float
         Tolerances of the integrator: DOP853 (Hairer's Fortran code in ``scipy.integrate.ode``
         with the numba backend, ``scipy.integrate.solve_ivp`` with the numpy one).
+        ``rtol`` within 1e-13 .. 0.1, ``atol`` within 1e-20 .. 1 (a zero ``atol`` stalls the
+        steps of a state that starts at zero).
     unbalance_phases_deg : array_like, shape (n_unbalances,), optional
         Phases overriding the model's ``phase_deg`` [deg].
     backend : {'auto', 'numba', 'numpy'}
@@ -100,7 +102,9 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     >>> bool(abs(res.spin_speed[-1] / 50.0 - 1) < 1e-3)
     True
     """
-    duration, speed = _positive(duration, "duration"), _finite(speed, "speed")
+    duration, speed = _positive(duration, "duration"), _speed(speed, "speed")
+    final_speed = None if final_speed is None else _speed(final_speed, "final_speed")
+    rtol, atol = _tolerance(rtol, "rtol", *_RTOL_RANGE), _tolerance(atol, "atol", *_ATOL_RANGE)
     system = system_arrays(model, unbalance_phases_deg)
     mode, accel = _drive(drive, speed, final_speed, duration)
     span = [speed] if final_speed is None else [speed, final_speed]
@@ -206,12 +210,16 @@ def _integrate_plain(kn, system, extra, y0, times, rtol, atol, bar):
             bar.update(t - bar.n)
         return kn.rhs(t, y, *arguments)
 
-    solution = solve_ivp(rhs, (times[0], times[-1]), y0, method="DOP853", t_eval=times, rtol=rtol, atol=atol)
-    if not solution.success or not np.all(np.isfinite(solution.y)):
-        last = solution.y[:, -1] if solution.y.shape[1] else y0
+    try:
+        solution = solve_ivp(rhs, (times[0], times[-1]), y0, method="DOP853", t_eval=times, rtol=rtol, atol=atol)
+    except np.linalg.LinAlgError as error:  # a mass matrix that the motion made singular
+        raise _Failed(f"integration failed: {error}", 0.0, y0) from None
+    states = np.asarray(solution.y, dtype=float).reshape(len(y0), -1)
+    if not solution.success or not np.all(np.isfinite(states)):
+        last = states[:, -1] if states.shape[1] else y0
         raise _Failed(f"integration failed at t = {solution.t[-1] if len(solution.t) else 0.0:.6g} s: "
                       f"{solution.message}", solution.t[-1] if len(solution.t) else 0.0, last)
-    return solution.y.T
+    return states.T
 
 
 def _progress_bar(total, progress):
@@ -299,6 +307,26 @@ def _positive(value, name):
     value = _finite(value, name)
     if value <= 0:
         raise InputError(f"{name} = {value!r}: expected a number > 0")
+    return value
+
+
+#: largest spin speed of a simulation [rad/s] (about 9.5 million rpm)
+_LARGEST_SPEED = 1e6
+_RTOL_RANGE = (1e-13, 0.1)
+_ATOL_RANGE = (1e-20, 1.0)
+
+
+def _speed(value, name):
+    value = _finite(value, name)
+    if abs(value) > _LARGEST_SPEED:
+        raise InputError(f"{name} = {value!r} rad/s: expected a speed of magnitude at most {_LARGEST_SPEED:g} rad/s")
+    return value
+
+
+def _tolerance(value, name, low, high):
+    value = _finite(value, name)
+    if not low <= value <= high:
+        raise InputError(f"{name} = {value!r}: expected a tolerance from {low:g} to {high:g}")
     return value
 
 

@@ -23,6 +23,8 @@ from typing import Callable
 
 import numpy as np
 
+from ._rules import StudyError, grid_values
+
 __all__ = ["Analysis", "ANALYSES", "parse_analyses", "describe", "run_analyses"]
 
 _RPM = math.pi / 30.0
@@ -47,20 +49,16 @@ class Analysis:
 
 # ---------------------------------------------------------------------------- options
 def _error(source, where, value, expected):
-    from .definition import StudyError
-
     return StudyError(source, where, value, expected)
 
 
 def _speeds(value, where, source, default=None) -> np.ndarray:
     """``'START:STOP:N'`` or a list [rpm] -> increasing speeds [rad/s]."""
-    from .definition import _grid
-
     if value is None:
         if default is None:
             raise _error(source, where, value, "speeds in rpm: 'START:STOP:N' or a list")
         return default
-    speeds = _grid(value, where, source) * _RPM
+    speeds = grid_values(value, where, source) * _RPM
     if len(speeds) > 1 and not np.all(np.diff(speeds) > 0):
         raise _error(source, where, value, "strictly increasing speeds")
     return speeds
@@ -285,14 +283,9 @@ ANALYSES = {
                                 _describe_critical, _run_critical),
     "stability": Analysis("stability", ("speeds_rpm",), _parse_stability, _describe_stability,
                           _run_stability),
+    "unbalance": Analysis("unbalance", ("speeds_rpm", "outputs", "operating_speed_rpm", "quantity"),
+                          _parse_unbalance, _describe_unbalance, _run_unbalance),
 }
-try:  # the response issue provides it; plug in only if it is there
-    from ..analysis.unbalance import unbalance_response as _unbalance_response  # noqa: F401
-except ImportError:  # pragma: no cover
-    pass
-else:
-    ANALYSES["unbalance"] = Analysis("unbalance", ("speeds_rpm", "outputs", "operating_speed_rpm", "quantity"),
-                                     _parse_unbalance, _describe_unbalance, _run_unbalance)
 
 
 def parse_analyses(table, source, model=None) -> dict:

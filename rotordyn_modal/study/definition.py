@@ -14,7 +14,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 import numpy as np
 
+from .._limits import count_problem
 from ..errors import InputError
+from ._rules import StudyError, grid_values, is_number
+from .analyses import parse_analyses
 
 __all__ = ["StudyError", "Parameter", "StudyDefinition", "read_study", "parse_study",
            "DESIGNS", "DISTRIBUTIONS"]
@@ -29,18 +32,10 @@ DISTRIBUTIONS = {
 }
 _TOP_KEYS = ("seed", "samples", "design", "chunk_size", "parameters", "correlation", "analyses",
              "operating_band_rpm", "name")
+#: largest seed or chunk size: the results file (netCDF 3) stores them as 32-bit integers
+_LARGEST_INT = 2**31 - 1
 _PARAMETER_KEYS = ("name", "key", "keys", "values", "scale", "distribution", "apply", "mean", "std",
                    "median", "log_std", "low", "high", "truncate")
-
-
-class StudyError(InputError):
-    """A study file that fails validation: ``file: where = value: expected ...``."""
-
-    def __init__(self, source: str, where: str, value, expected: str):
-        self.source, self.where, self.value, self.expected = source, where, value, expected
-        text = repr(value)
-        text = text if len(text) <= 80 else text[:77] + "..."
-        super().__init__(f"{source}: {where} = {text}: expected {expected}")
 
 
 @dataclass(frozen=True)
@@ -178,39 +173,20 @@ def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinit
     -------
     StudyDefinition
     """
-    from .analyses import parse_analyses
-
     if not isinstance(data, dict):
         raise StudyError(source, "<study>", data, "a table")
     _unknown(data, _TOP_KEYS, source, "<top level>")
-    seed = data.get("seed")
-    if seed is not None and (not isinstance(seed, int) or isinstance(seed, bool) or seed < 0):
-        raise StudyError(source, "seed", seed, "a whole number >= 0")
-    design = data.get("design", "monte-carlo")
-    if design not in DESIGNS:
-        raise StudyError(source, "design", design, "one of " + ", ".join(DESIGNS))
-    chunk = data.get("chunk_size")
-    if chunk is not None and (not _is_int(chunk) or chunk < 1):
-        raise StudyError(source, "chunk_size", chunk, "a whole number >= 1")
+    seed, design, chunk = _run_options(data, source)
     items = data.get("parameters")
     if not isinstance(items, list) or not items:
         raise StudyError(source, "[[parameters]]", items, "at least one [[parameters]] table")
     parameters = tuple(_parameter(item, i, source, model) for i, item in enumerate(items))
     _unique_names(parameters, source)
     random = [p for p in parameters if not p.is_grid]
-    samples = data.get("samples", 0 if not random else None)
-    if random and (not _is_int(samples) or samples < 2):
-        raise StudyError(source, "samples", samples, "a whole number >= 2 (samples of the distributions)")
-    if not random and samples not in (0, None):
-        raise StudyError(source, "samples", samples, "no samples: every parameter is a grid "
-                         "(give a distribution to sample)")
+    samples = _samples(data, random, source)
+    _check_variant_count(parameters, samples, design, source)
     correlation = _correlation(data.get("correlation"), random, source)
-    if design == "saltelli" and not np.allclose(correlation, np.eye(len(random))):
-        raise StudyError(source, "design", design, "independent parameters (Sobol indices assume "
-                         "no correlation); remove [correlation] or use another design")
-    if design == "saltelli" and len(random) != len(parameters):
-        raise StudyError(source, "design", design, "distributions only (a Saltelli design takes no grid "
-                         "parameters)")
+    _check_design(design, correlation, random, parameters, source)
     analyses = parse_analyses(data.get("analyses"), source, model)
     band = _band(data.get("operating_band_rpm"), source)
     return StudyDefinition(parameters=parameters, design=design, samples=int(samples or 0),
@@ -218,12 +194,53 @@ def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinit
                            chunk_size=chunk, operating_band_rpm=band, source=source, raw=data)
 
 
+def _run_options(data, source):
+    """``seed`` (None or a whole number >= 0), ``design`` and ``chunk_size`` (None or >= 1)."""
+    seed = data.get("seed")
+    if seed is not None and (not _is_int(seed) or not 0 <= seed <= _LARGEST_INT):
+        raise StudyError(source, "seed", seed, f"a whole number from 0 to {_LARGEST_INT}")
+    design = data.get("design", "monte-carlo")
+    if design not in DESIGNS:
+        raise StudyError(source, "design", design, "one of " + ", ".join(DESIGNS))
+    chunk = data.get("chunk_size")
+    if chunk is not None and (not _is_int(chunk) or not 1 <= chunk <= _LARGEST_INT):
+        raise StudyError(source, "chunk_size", chunk, f"a whole number from 1 to {_LARGEST_INT}")
+    return seed, design, chunk
+
+
+def _samples(data, random, source):
+    """``samples``: >= 2 when some parameter is a distribution, none when all are grids."""
+    samples = data.get("samples", 0 if not random else None)
+    if random and (not _is_int(samples) or samples < 2):
+        raise StudyError(source, "samples", samples, "a whole number >= 2 (samples of the distributions)")
+    if not random and samples not in (0, None):
+        raise StudyError(source, "samples", samples, "no samples: every parameter is a grid "
+                         "(give a distribution to sample)")
+    return samples
+
+
+def _check_design(design, correlation, random, parameters, source):
+    """A Saltelli design (Sobol indices) takes independent distributions only."""
+    if design == "saltelli" and not np.allclose(correlation, np.eye(len(random))):
+        raise StudyError(source, "design", design, "independent parameters (Sobol indices assume "
+                         "no correlation); remove [correlation] or use another design")
+    if design == "saltelli" and len(random) != len(parameters):
+        raise StudyError(source, "design", design, "distributions only (a Saltelli design takes no grid "
+                         "parameters)")
+
+
+def _check_variant_count(parameters, samples, design, source):
+    """Refuse, before sampling, a study of more variants than the limit (:mod:`rotordyn_modal._limits`)."""
+    count = math.prod(len(p.grid) for p in parameters if p.is_grid)
+    random = sum(1 for p in parameters if not p.is_grid)
+    if random:
+        count *= samples * (random + 2 if design == "saltelli" else 1)
+    if count_problem(count, "variants"):
+        raise StudyError(source, "samples", samples, "a study of " + count_problem(count, "variants"))
+
+
 def _is_int(value) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)
-
-
-def _is_number(value) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
 def _unknown(table, allowed, source, where):
@@ -253,7 +270,7 @@ def _parameter(item, i, source, model) -> Parameter:
     if len(grid_keys) > 1 or (grid_keys and "distribution" in item):
         raise StudyError(source, where, sorted(item), "exactly one of values, scale or distribution")
     if grid_keys:
-        grid = _grid(item[grid_keys[0]], f"{where} {grid_keys[0]}", source)
+        grid = grid_values(item[grid_keys[0]], f"{where} {grid_keys[0]}", source)
         apply = "value" if grid_keys[0] == "values" else "scale"
         parameter = Parameter(name=name, keys=keys, apply=apply, grid=grid)
         _check_keys(parameter, grid[0], model, where, source)
@@ -274,38 +291,23 @@ def _keys(item, where, source) -> tuple:
     return tuple(keys)
 
 
-def _grid(value, where, source) -> np.ndarray:
-    if isinstance(value, str):
-        parts = value.split(":")
-        try:
-            start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
-        except (ValueError, IndexError):
-            raise StudyError(source, where, value, "a list of numbers or 'START:STOP:N'") from None
-        if len(parts) != 3 or count < 1 or not (math.isfinite(start) and math.isfinite(stop)):
-            raise StudyError(source, where, value, "'START:STOP:N' with N >= 1 and finite ends")
-        return np.linspace(start, stop, count)
-    if not isinstance(value, list) or not value or not all(_is_number(v) for v in value):
-        raise StudyError(source, where, value, "a non-empty list of finite numbers or 'START:STOP:N'")
-    return np.array(value, dtype=float)
-
-
 def _positive(item, key, where, source) -> float:
     value = item.get(key)
-    if not _is_number(value) or value <= 0:
+    if not is_number(value) or value <= 0:
         raise StudyError(source, f"{where} {key}", value, "a finite number > 0")
     return float(value)
 
 
 def _number(item, key, where, source) -> float:
     value = item.get(key)
-    if not _is_number(value):
+    if not is_number(value):
         raise StudyError(source, f"{where} {key}", value, "a finite number")
     return float(value)
 
 
 def _distribution(item, name, keys, where, source) -> Parameter:
     kind = item["distribution"]
-    if kind not in DISTRIBUTIONS:
+    if not isinstance(kind, str) or kind not in DISTRIBUTIONS:
         raise StudyError(source, f"{where} distribution", kind, "one of " + ", ".join(DISTRIBUTIONS))
     apply = item.get("apply", "value")
     if apply not in ("value", "scale"):
@@ -392,7 +394,7 @@ def _correlation(table, random, source) -> np.ndarray:
     _unknown(table, ("parameters", "matrix"), source, where)
     names = table.get("parameters")
     known = [p.name for p in random]
-    if not isinstance(names, list) or not names or any(n not in known for n in names) \
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) and n in known for n in names) \
             or len(set(names)) != len(names):
         raise StudyError(source, f"{where} parameters", names,
                          "distinct names of distribution parameters: " + ", ".join(known))
@@ -416,7 +418,7 @@ def _correlation(table, random, source) -> np.ndarray:
 def _band(value, source):
     if value is None:
         return None
-    if not isinstance(value, list) or len(value) != 2 or not all(_is_number(v) for v in value) \
+    if not isinstance(value, list) or len(value) != 2 or not all(is_number(v) for v in value) \
             or not value[1] > value[0]:
         raise StudyError(source, "operating_band_rpm", value, "[low, high] in rpm with low < high")
     return float(value[0]), float(value[1])

@@ -39,7 +39,7 @@ def build_dataset(chunks, values, definition, variables, coords, model, attrs=No
     """
     import xarray as xr
 
-    from .. import __version__
+    from .._version import __version__
 
     data = {name: (("variant",) + dims, np.concatenate([c[name] for c in chunks]))
             for name, dims in variables.items()}

@@ -220,6 +220,7 @@ def test_crossings_are_refined_in_parts_of_bounded_memory_with_unchanged_results
     whole, _ = _campbell_traced(model, speeds)
     part = 2**20
     monkeypatch.setattr(_eigen, "_PART_BYTES", part)
+    monkeypatch.setattr(_eigen, "CHUNK_BYTES", part)
     split, peak = _campbell_traced(model, speeds)
     n, m = model.dofs.n, 2 * model.dofs.n
     crossings = len(split.critical.speeds)

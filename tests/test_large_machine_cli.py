@@ -6,8 +6,9 @@ driving the next through a gear pair (199 meshes), some rotors on bearings of th
 ``campbell`` sweeps 1,001 speeds with ``--verbose`` and reports its peak memory; the
 operating system's own account of the process (``wait4``) must agree and stay within
 ``MEMORY_BUDGET``. CI runs the machine with two rotors on bearings (14 coordinates);
-``ROTORDYN_MODAL_LARGE_MODELS=full`` adds the one with twenty (86 coordinates, about
-69,000 crossings of 399 excitation sources to refine: minutes, see ``benchmarks/README.md``).
+``ROTORDYN_MODAL_LARGE_MODELS=full`` adds the one with twenty (86 coordinates, tens of
+thousands of crossings of 399 excitation sources to refine: about 8 minutes and 0.7 GB on two
+shared cores; it took 15 GB before the crossings were refined in parts).
 
 Files over the documented size limits (model and study files 10 MB, measured data 512 MB,
 each settable by an environment variable) are refused before they are parsed: a file

@@ -1,8 +1,8 @@
 """Studies that survive ``kill -9``, damaged checkpoints, and a second study on the same file.
 
-The situations are made, not listed: the study command is killed with SIGKILL after a
-delay drawn from a seeded random generator (``ROTORDYN_MODAL_KILL_TRIALS`` kills,
-default 3), then the same command is run again; its chunk log (``--verbose``) shows which
+The situations are made, not listed: the study command is killed with SIGKILL at a
+moment drawn from a seeded random generator: after a drawn number of its chunks are
+logged, plus a drawn delay (``ROTORDYN_MODAL_KILL_TRIALS`` kills, default 3); then the same command is run again; its chunk log (``--verbose``) shows which
 chunks it computed and which it took from the checkpoint, and the checkpoint's state at
 the moment of the kill is read here independently of the package (each chunk's manifest
 against the SHA-256 and size of its file). Checkpoints are damaged at random
@@ -157,14 +157,24 @@ def test_kill_9_at_random_moments_then_the_same_command_gives_identical_results(
         folder = tmp_path / f"trial{trial}"
         folder.mkdir()
         out = folder / "r.nc"
-        # from just before the first chunk to the writing of the results
-        delay = rng.uniform(max(0.0, reference["first"] - 0.3),
-                            reference["last"] + 0.5 * (reference["end"] - reference["last"]))
-        process = subprocess.Popen(study_command(spec, out), stderr=subprocess.DEVNULL)
-        time.sleep(delay)
+        # a moment drawn from the run's own progress (so that a slow or busy machine does not
+        # move every kill past the end): after `after` chunks are logged, then `extra` seconds;
+        # after none: during the start; after all: while the results are written
+        after = rng.randint(0, N_CHUNKS)
+        extra = rng.uniform(0.0, reference["first"] if after == 0 else 0.2)
+        process = subprocess.Popen(study_command(spec, out), stderr=subprocess.PIPE, text=True)
+        seen = 0
+        while seen < after:
+            line = process.stderr.readline()
+            if not line:
+                break
+            seen += bool(_CHUNK_LINE.search(line))
+        time.sleep(extra)
+        delay = extra
         workers = children_of(process.pid) if on_linux else []
         process.send_signal(signal.SIGKILL)
         process.wait()
+        process.stderr.close()
         if on_linux:  # the pool's workers end with the study, not later
             deadline = time.monotonic() + 10
             while any(alive(w) for w in workers) and time.monotonic() < deadline:
@@ -172,7 +182,7 @@ def test_kill_9_at_random_moments_then_the_same_command_gives_identical_results(
             assert not any(alive(w) for w in workers)
         before = finished_chunks(out.with_name("r.nc.partial"))
         mid_run += 0 < len(before) < N_CHUNKS
-        print(f"kill {trial}: after {delay:.2f} s, {len(before)} of {N_CHUNKS} chunks finished, "
+        print(f"kill {trial}: {delay:.2f} s after chunk line {after}, {len(before)} of {N_CHUNKS} chunks finished, "
               f"lock left: {(folder / 'r.nc.lock').exists()}")
         rerun = subprocess.run(study_command(spec, out), capture_output=True, text=True)
         assert rerun.returncode == 0, rerun.stderr

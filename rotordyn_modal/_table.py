@@ -92,6 +92,8 @@ class Table:
             raise self.error(key, value, expected() + " of numbers") from None
         if isinstance(value, (str, bytes)) or arr.shape not in shapes:
             raise self.error(key, value, expected() + f" (got shape {arr.shape})")
+        if abs(arr).max(initial=0.0) <= LARGEST:   # finite and not too large: the usual case
+            return arr
         if not np.isfinite(arr).all():
             raise self.error(key, value, expected() + " of finite numbers")
         problem = magnitude_problem(arr)
@@ -115,6 +117,13 @@ def magnitude_problem(value, positive: bool = False) -> str:
     positive : bool
         The quantity must be > 0 (then it must also be at least :data:`SMALLEST_POSITIVE`).
     """
+    if isinstance(value, float):
+        largest = abs(value)
+        if largest > LARGEST:
+            return f"a number of magnitude at most {LARGEST:g} (SI units)"
+        if positive and not value >= SMALLEST_POSITIVE:
+            return f"a number >= {SMALLEST_POSITIVE:g} (SI units)"
+        return ""
     largest = float(np.max(np.abs(value), initial=0.0))
     if largest > LARGEST:
         return f"a number of magnitude at most {LARGEST:g} (SI units)"

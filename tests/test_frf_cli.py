@@ -203,3 +203,14 @@ def test_frf_out_uff_reads_back(tmp_path):
     H = rdm.frf(rdm.load_model(EXAMPLE), rdm.rpm(1500), np.linspace(1, 40, 30), quantity="accelerance").H
     np.testing.assert_allclose(back.H, H, rtol=1e-10)
     assert back.speed == pytest.approx(rdm.rpm(1500))
+
+
+def test_fit_band_without_measured_lines_names_the_file_and_its_lines(tmp_path, capsys):
+    meas = _measured(tmp_path)
+    out = tmp_path / "fitted.toml"
+    code = main(["fit", str(EXAMPLE), "--measured", str(meas), "--params", "suspensions.mount-FL.stiffness",
+                 "--band", "5000:6000", "--out", str(out), "--quiet"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and not out.exists() and err.count("\n") == 0
+    assert f"{meas}: --band 5000:6000" in err
+    assert "measured frequency lines" in err and " Hz)" in err

@@ -56,6 +56,11 @@ def run(args) -> int:
     if not factor > 1:
         raise InputError(f"--bound-factor {args.bound_factor}: expected a number > 1")
     measured = read_measured(args.measured, model, args.mapping)
+    if band is not None and not any(((m.frequencies_hz >= band[0]) & (m.frequencies_hz <= band[1])).any()
+                                    for m in measured):
+        lines = np.concatenate([m.frequencies_hz for m in measured])
+        raise InputError(f"{args.measured}: --band {args.band}: expected a band that holds measured frequency "
+                         f"lines (the file's lines run from {lines.min():.6g} to {lines.max():.6g} Hz)")
     result = fit(model, measured, params, bounds={p: (1 / factor, factor) for p in params}, band_hz=band,
                  weighting="none" if args.no_coherence else "coherence", starts=args.starts,
                  progress=show_progress(args))

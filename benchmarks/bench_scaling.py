@@ -100,8 +100,8 @@ def campbell_pair(model, count):
     def floor():
         form = speed_linear_form(model)
         size = form.n_states
-        step = int(np.clip(_eigen.CHUNK_BYTES // (72 * size * size), 1, 4096))
-        return [np.linalg.eig(form.at(speeds[i:i + step]))[0] for i in range(0, len(speeds), step)]
+        parts = _eigen.chunk_slices(len(speeds), 72 * size * size, largest=4096)   # the package's parts
+        return [np.linalg.eig(form.at(speeds[part]))[0] for part in parts]
 
     return package, floor
 
@@ -136,7 +136,7 @@ def frf_pair(model, count):
 def unbalance_pair(model, count):
     """rdm.unbalance_response and its floor: batched solve of the same harmonic systems."""
     import rotordyn_modal as rdm
-    from rotordyn_modal.analysis import frf as frf_module
+    from rotordyn_modal.analysis import _eigen, frf as frf_module
     from rotordyn_modal.analysis.unbalance import unbalance_forces
     from rotordyn_modal.assembly import constant_matrices, generalized_force
 
@@ -152,12 +152,11 @@ def unbalance_pair(model, count):
                         for j, s in enumerate(sources)]).reshape(-1, M.shape[0], 1)
         omega, speed = w.ravel(), np.tile(speeds, len(sources))
         n = M.shape[0]
-        step = max(1, int(frf_module._SOLVE_PART_BYTES // (48 * n * n)))   # the package's parts
         out = []
-        for i in range(0, len(omega), step):
-            o, s = omega[i:i + step, None, None], speed[i:i + step, None, None]
+        for part in _eigen.chunk_slices(len(omega), 48 * n * n, budget=frf_module._SOLVE_PART_BYTES):
+            o, s = omega[part, None, None], speed[part, None, None]
             Z = K + 1j * o * (C + s * G) - o**2 * M
-            out.append(np.linalg.solve(Z, rhs[i:i + step]))
+            out.append(np.linalg.solve(Z, rhs[part]))
         return np.concatenate(out)
 
     return package, floor

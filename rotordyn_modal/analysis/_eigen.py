@@ -42,8 +42,8 @@ _START_SEED = 20261122
 CHUNK_BYTES = 512 * 2**20
 
 
-def chunk_slices(count: int, item_bytes: int, largest: int | None = None) -> list:
-    """Consecutive slices of ``count`` items, each holding about ``CHUNK_BYTES`` of work.
+def chunk_slices(count: int, item_bytes: int, largest: int | None = None, budget: int | None = None) -> list:
+    """Consecutive slices of ``count`` items, each holding about ``budget`` of work.
 
     Parameters
     ----------
@@ -53,12 +53,14 @@ def chunk_slices(count: int, item_bytes: int, largest: int | None = None) -> lis
         Work memory of one item [bytes].
     largest : int, optional
         Most items of one slice.
+    budget : int, optional
+        Work memory of one slice [bytes]; default ``CHUNK_BYTES``.
 
     Returns
     -------
     list of slice
     """
-    step = max(1, CHUNK_BYTES // max(int(item_bytes), 1))
+    step = max(1, (CHUNK_BYTES if budget is None else budget) // max(int(item_bytes), 1))
     if largest is not None:
         step = min(step, largest)
     return [slice(i, min(i + step, count)) for i in range(0, count, step)]

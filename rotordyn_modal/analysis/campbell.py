@@ -195,8 +195,7 @@ def solve_sweeps(stack, speeds, progress=False):
     count = len(stack)
     size = stack.forms[0].n_states
     # speeds per chunk: the chunk's state matrices and eigenvectors within about CHUNK_BYTES
-    step = int(np.clip(_eigen.CHUNK_BYTES // (count * 72 * size * size), 1, _CHUNK))
-    chunks = [speeds[i:i + step] for i in range(0, len(speeds), step)]
+    chunks = [speeds[part] for part in _eigen.chunk_slices(len(speeds), count * 72 * size * size, largest=_CHUNK)]
     values, shapes = [], []
     for chunk in _progress(chunks, progress, "eigen-solve"):
         matrices = stack.sweep(chunk)

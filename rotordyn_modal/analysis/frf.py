@@ -240,7 +240,7 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     rhs = np.broadcast_to(np.asarray(forces, dtype=complex), (len(w),) + np.shape(forces)[-2:])
     out = np.empty(rhs.shape, dtype=complex)
     # per system: Z, LAPACK's copy and the temporaries of its right-hand side
-    for part in _eigen.chunk_slices(len(w), 48 * n * n * _eigen.CHUNK_BYTES // _SOLVE_PART_BYTES):
+    for part in _eigen.chunk_slices(len(w), 48 * n * n, budget=_SOLVE_PART_BYTES):
         out[part] = np.linalg.solve(terms.at(speeds[part], w[part]), rhs[part])
     return out
 

@@ -259,12 +259,13 @@ def pencil_eigenvalues(M, damping, stiffness, eigenvalues, vectors, iterations: 
         mass = M if M.ndim == 2 else M[i]
         z = _solve(_quadratic(mass, damping[i], stiffness[i], s[i]),
                    _slope_times(mass, damping[i], s[i], phi[i]))[..., 0]
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore"):   # a singular step is dropped below
             step = 1.0 / np.einsum("pi,pi->p", phi[i].conj(), z)
+            unit = z / np.linalg.norm(z, axis=-1, keepdims=True)
         finite = np.isfinite(step) & np.all(np.isfinite(z), axis=-1)
         size = np.where(finite, np.abs(step), np.inf)
         s[i] = np.where(finite, s[i] - step, s[i])
-        phi[i] = np.where(finite[:, None], z / np.linalg.norm(z, axis=-1, keepdims=True), phi[i])
+        phi[i] = np.where(finite[:, None], unit, phi[i])
         scale = np.abs(s[i])
         done = (size <= 1e-10 * scale) | ((size <= 1e-8 * scale) & (size > 0.5 * last[i]))
         converged[i[done]] = True
@@ -322,9 +323,7 @@ def solve_batch(form, speeds, forms=None):
     index, eigenvalues = upper_indices(values)
     n = form.n_dof
     shapes = np.swapaxes(np.take_along_axis(vectors[:, :n, :], index[:, None, :], axis=-1), -1, -2)
-    norms = np.linalg.norm(shapes, axis=-1, keepdims=True)
-    # a Maxwell junction relaxing with the machine at rest has no displacement: keep it zero
-    shapes = shapes / np.where(norms > 0, norms, 1.0)
+    shapes = unit_rows(shapes)
     if forms is not None:
         shapes = resolve_repeated(eigenvalues, shapes, forms)
     return eigenvalues, shapes
@@ -575,14 +574,18 @@ def row_norms(x) -> np.ndarray:
     return np.sqrt(np.einsum("...i,...i->...", pairs, pairs))[..., None]
 
 
+def unit_rows(x) -> np.ndarray:
+    """Rows of the last axis scaled to unit length; zero rows stay zero (a Maxwell junction's
+    relaxation root moves no mass and has no displacement: its shape stays zero, MAC 0)."""
+    norms = row_norms(x)
+    return x / np.where(norms > 0, norms, 1.0)
+
+
 def mass_normalized(shapes, M) -> np.ndarray:
     """``L^T phi`` normalised to unit length, with ``M = L L^T``: shapes whose plain
     inner product is the mass-weighted one (unit-consistent MAC)."""
     factor = np.linalg.cholesky(M)
-    weighted = real_product(shapes, factor)
-    norms = np.linalg.norm(weighted, axis=-1, keepdims=True)
-    # relaxation roots of Maxwell junctions move no mass: their shape stays zero (MAC 0)
-    return weighted / np.where(norms > 0, norms, 1.0)
+    return unit_rows(real_product(shapes, factor))
 
 
 def mac_matrix(a, b) -> np.ndarray:

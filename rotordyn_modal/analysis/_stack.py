@@ -105,9 +105,7 @@ class Stack:
         index, eigenvalues = _eigen.upper_indices(values)
         n = self.n_dof
         shapes = np.swapaxes(np.take_along_axis(vectors[:, :n, :], index[:, None, :], axis=-1), -1, -2)
-        norms = _eigen.row_norms(shapes)
-        # a Maxwell junction relaxing with the machine at rest has no displacement: keep it zero
-        shapes = shapes / np.where(norms > 0, norms, 1.0)
+        shapes = _eigen.unit_rows(shapes)
         return eigenvalues, _eigen.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
 
     def weighted(self, shapes, variants):
@@ -116,9 +114,7 @@ class Stack:
         # in parts: the real and imaginary parts and their products are copies of the shapes
         for part in _eigen.chunk_slices(len(shapes), 64 * shapes[0].size):
             factor = self.factor[0] if len(self) == 1 else self.factor[variants[part]]   # real: L^H = L^T
-            weighted = _eigen.real_product(shapes[part], factor)
-            norms = _eigen.row_norms(weighted)
-            out[part] = weighted / np.where(norms > 0, norms, 1.0)
+            out[part] = _eigen.unit_rows(_eigen.real_product(shapes[part], factor))
         return out
 
     def whirl_ratios(self, shapes, variants, speeds):

@@ -171,17 +171,11 @@ def atomic_write(path, mode: str = "w", **kwargs):
                 os.fsync(handle.fileno())  # a full disk may only say so here
         os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual mode
         os.replace(temporary, path)
-    except OutputWriteError:
+    except BaseException as error:
         with contextlib.suppress(OSError):
             os.unlink(temporary)
-        raise
-    except OSError as error:
-        with contextlib.suppress(OSError):
-            os.unlink(temporary)
-        raise _cannot(path, error) from None
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(temporary)
+        if isinstance(error, OSError) and not isinstance(error, OutputWriteError):
+            raise _cannot(path, error) from None
         raise
 
 

@@ -302,8 +302,7 @@ class Checkpoint:
         if manifest is None:
             raise _Untrusted("no readable manifest: the chunk was not finished")
         payload = path.read_bytes()
-        found = {"fingerprint": self.fingerprint, "index": index, "bytes": len(payload),
-                 "sha256": hashlib.sha256(payload).hexdigest()}
+        found = {"fingerprint": self.fingerprint, "index": index, **_digest(payload)}
         for key, value in found.items():
             if manifest.get(key) != value:
                 raise _Untrusted(f"{key} {value!r} differs from its manifest's {manifest.get(key)!r}")
@@ -326,8 +325,7 @@ class Checkpoint:
         path = self.folder / f"chunk-{chunk['index']:06d}.npz"
         _atomic_bytes(path, payload)
         manifest = {"fingerprint": self.fingerprint, "index": int(chunk["index"]), "start": int(chunk["start"]),
-                    "n": int(len(chunk["error"])), "bytes": len(payload),
-                    "sha256": hashlib.sha256(payload).hexdigest()}
+                    "n": int(len(chunk["error"])), **_digest(payload)}
         _atomic_bytes(path.with_suffix(".json"), json.dumps(manifest).encode())
 
     def finished(self) -> int:
@@ -336,6 +334,11 @@ class Checkpoint:
 
     def remove(self) -> None:
         remove_checkpoint(self.folder)
+
+
+def _digest(payload: bytes) -> dict:
+    """What a chunk's manifest records of its ``.npz`` bytes: size and SHA-256."""
+    return {"bytes": len(payload), "sha256": hashlib.sha256(payload).hexdigest()}
 
 
 class _Untrusted(Exception):

@@ -117,17 +117,10 @@ def magnitude_problem(value, positive: bool = False) -> str:
     positive : bool
         The quantity must be > 0 (then it must also be at least :data:`SMALLEST_POSITIVE`).
     """
-    if isinstance(value, float):
-        largest = abs(value)
-        if largest > LARGEST:
-            return f"a number of magnitude at most {LARGEST:g} (SI units)"
-        if positive and not value >= SMALLEST_POSITIVE:
-            return f"a number >= {SMALLEST_POSITIVE:g} (SI units)"
-        return ""
-    largest = float(np.max(np.abs(value), initial=0.0))
-    if largest > LARGEST:
+    scalar = isinstance(value, float)             # a plain float needs no numpy reduction
+    if (abs(value) if scalar else float(np.max(np.abs(value), initial=0.0))) > LARGEST:
         return f"a number of magnitude at most {LARGEST:g} (SI units)"
-    if positive and not float(np.min(value)) >= SMALLEST_POSITIVE:
+    if positive and not (value if scalar else float(np.min(value))) >= SMALLEST_POSITIVE:
         return f"a number >= {SMALLEST_POSITIVE:g} (SI units)"
     return ""
 

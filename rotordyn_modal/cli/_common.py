@@ -58,8 +58,8 @@ def parse_range(text: str, option: str) -> np.ndarray:
         raise InputError(f"{option} {text!r}: N must be >= 2 for a range (or START = STOP with N = 1)")
     if count > 1 and not stop > start:
         raise InputError(f"{option} {text!r}: STOP must be greater than START")
-    if count_problem(count):
-        raise InputError(f"{option} {text!r}: N must be {count_problem(count)}")
+    if problem := count_problem(count):
+        raise InputError(f"{option} {text!r}: N must be {problem}")
     return np.linspace(start, stop, count)
 
 

@@ -88,8 +88,8 @@ def run(args) -> int:
     final = float(to_rad_s(parse_number(args.ramp, "--ramp"), args.speed_unit)) if args.ramp is not None else None
     if args.samples is not None and args.samples < 2:
         raise InputError(f"--samples {args.samples}: expected a whole number >= 2")
-    if args.samples is not None and count_problem(args.samples, "samples"):
-        raise InputError(f"--samples {args.samples}: expected {count_problem(args.samples, 'samples')}")
+    if args.samples is not None and (problem := count_problem(args.samples, "samples")):
+        raise InputError(f"--samples {args.samples}: expected {problem}")
     if args.sensor is not None and args.sensor not in [s.name for s in model.sensors]:
         known = ", ".join(s.name for s in model.sensors) or "none defined"
         raise InputError(f"--sensor {args.sensor!r}: unknown sensor; the model's sensors are {known}")

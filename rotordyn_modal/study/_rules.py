@@ -40,8 +40,8 @@ def grid_values(value, where, source) -> np.ndarray:
             raise StudyError(source, where, value, "a list of numbers or 'START:STOP:N'") from None
         if len(parts) != 3 or count < 1 or not (math.isfinite(start) and math.isfinite(stop)):
             raise StudyError(source, where, value, "'START:STOP:N' with N >= 1 and finite ends")
-        if count_problem(count):
-            raise StudyError(source, where, value, "'START:STOP:N' with N " + count_problem(count))
+        if problem := count_problem(count):
+            raise StudyError(source, where, value, "'START:STOP:N' with N " + problem)
         return np.linspace(start, stop, count)
     if not isinstance(value, list) or not value or not all(is_number(v) for v in value):
         raise StudyError(source, where, value, "a non-empty list of finite numbers or 'START:STOP:N'")

@@ -235,8 +235,8 @@ def _check_variant_count(parameters, samples, design, source):
     random = sum(1 for p in parameters if not p.is_grid)
     if random:
         count *= samples * (random + 2 if design == "saltelli" else 1)
-    if count_problem(count, "variants"):
-        raise StudyError(source, "samples", samples, "a study of " + count_problem(count, "variants"))
+    if problem := count_problem(count, "variants"):
+        raise StudyError(source, "samples", samples, "a study of " + problem)
 
 
 def _is_int(value) -> bool:

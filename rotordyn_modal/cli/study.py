@@ -70,7 +70,7 @@ def run(args) -> int:
     from ..io import load_model
     from ..io.atomic import remove_stale_temporaries
     from ..study import checkpoint_folder, read_study, study
-    from ..study.execution import ResultsLock, remove_checkpoint
+    from ..study.execution import ResultsLock, finished_chunks, remove_checkpoint
 
     _check_options(args)
     model = load_model(args.model)
@@ -87,11 +87,11 @@ def run(args) -> int:
                                chunk_size=args.chunk_size, progress=show_progress(args))
             _write(result, args, folder)
         except KeyboardInterrupt:
-            print(f"interrupted: {_kept(folder)} finished chunks kept in {folder}; run the same command "
-                  "again to resume", file=sys.stderr)
+            print(f"interrupted: {finished_chunks(folder)} finished chunks kept in {folder}; "
+                  "run the same command again to resume", file=sys.stderr)
             raise
         except (OutputError, OutputWriteError) as error:
-            kept = _kept(folder)
+            kept = finished_chunks(folder)
             if not kept:
                 remove_checkpoint(folder)
                 raise
@@ -103,10 +103,6 @@ def run(args) -> int:
     _plots(result, args, band)
     report_peak_memory(args)
     return 0
-
-
-def _kept(folder) -> int:
-    return len(list(Path(folder).glob("chunk-*.json")))
 
 
 def _check_options(args):

@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import InputError, OutputError
 from .analyses import batch_caches, run_analyses
 
-__all__ = ["ChunkTask", "run_chunk", "make_tasks", "execute", "Checkpoint", "ResultsLock", "limit_threads",
+__all__ = ["ChunkTask", "run_chunk", "make_tasks", "execute", "Checkpoint", "finished_chunks", "ResultsLock", "limit_threads",
            "worker_initializer", "default_chunk_size", "remove_checkpoint"]
 
 
@@ -328,10 +328,6 @@ class Checkpoint:
                     "n": int(len(chunk["error"])), **_digest(payload)}
         _atomic_bytes(path.with_suffix(".json"), json.dumps(manifest).encode())
 
-    def finished(self) -> int:
-        """Number of chunks with a manifest (for messages; :meth:`done` checks them)."""
-        return len(list(self.folder.glob("chunk-*.json")))
-
     def remove(self) -> None:
         remove_checkpoint(self.folder)
 
@@ -339,6 +335,12 @@ class Checkpoint:
 def _digest(payload: bytes) -> dict:
     """What a chunk's manifest records of its ``.npz`` bytes: size and SHA-256."""
     return {"bytes": len(payload), "sha256": hashlib.sha256(payload).hexdigest()}
+
+
+def finished_chunks(folder) -> int:
+    """Number of chunks of a checkpoint folder with a manifest (for messages;
+    :meth:`Checkpoint.done` checks them)."""
+    return len(list(Path(folder).glob("chunk-*.json")))
 
 
 class _Untrusted(Exception):

@@ -106,6 +106,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     duration, speed = _positive(duration, "duration"), _speed(speed, "speed")
     final_speed = None if final_speed is None else _speed(final_speed, "final_speed")
     rtol, atol = _tolerance(rtol, "rtol", *_RTOL_RANGE), _tolerance(atol, "atol", *_ATOL_RANGE)
+    rate = _fastest_rate(model, speed, final_speed)
+    _check_duration(duration, rate)                # before any work on a run that would not end
     system = system_arrays(model, unbalance_phases_deg)
     mode, accel = _drive(drive, speed, final_speed, duration)
     span = [speed] if final_speed is None else [speed, final_speed]
@@ -120,8 +122,6 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     y0[2 * n - 1] = speed
     if impulse is not None:
         y0[n:] += _impulse_velocity(model, system, kn, y0, impulse, impulse_size, mode)
-    rate = _fastest_rate(model, speed, final_speed)
-    _check_duration(duration, rate)
     times = np.linspace(0.0, duration, samples or _default_samples(rate, duration))
     extra = (mode, accel, 0.0, duration)
     states = _integrate(kn, system, extra, y0, times, rtol, atol, progress, model)

@@ -324,9 +324,8 @@ def _maxwell_branches(table: _Table, axes: np.ndarray):
     for i, tau in enumerate(times):
         if not is_finite_number(tau) or not tau > 0:
             raise table.error(f"maxwell_time[{i}]", tau, "a finite relaxation time > 0 [s]")
-        if magnitude_problem(tau, positive=True):
-            raise table.error(f"maxwell_time[{i}]", tau, "a relaxation time [s] that is "
-                              + magnitude_problem(tau, positive=True))
+        if problem := magnitude_problem(tau, positive=True):
+            raise table.error(f"maxwell_time[{i}]", tau, "a relaxation time [s] that is " + problem)
     branches = []
     for i, branch in enumerate(stiffness):
         sub = _Table(table.source, table.label, {f"maxwell_stiffness[{i}]": branch})

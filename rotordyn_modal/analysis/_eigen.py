@@ -22,9 +22,10 @@ import numpy as np
 from ..assembly import add_rotor_body, body_inertias, frame_block
 from ..geometry import skew
 
-__all__ = ["select_upper", "upper_indices", "pencil_shapes", "pencil_eigenvalues", "chunk_slices", "CHUNK_BYTES", "eigenvalues_of", "solve_batch", "whirl_forms", "rotor_whirl_forms",
-           "whirl_ratios",
-           "mass_normalized", "mac_matrix", "real_product", "quadratic_forms", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
+__all__ = ["select_upper", "upper_indices", "eigenvalues_of", "solve_batch", "pencil_shapes", "pencil_eigenvalues",
+           "chunk_slices", "concatenated", "CHUNK_BYTES", "whirl_forms", "rotor_whirl_forms", "whirl_ratios",
+           "whirl_labels", "row_norms", "unit_rows", "mass_normalized", "mac_matrix", "real_product",
+           "quadratic_forms", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
 
 #: |Im lam| below this fraction of the largest |lam| of a speed counts as non-oscillatory
 OSCILLATORY_TOLERANCE = 1e-6
@@ -117,6 +118,12 @@ def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
             results = list(_POOL.map(function, *parts))
     else:
         results = [function(*part) for part in zip(*parts)]
+    return concatenated(results)
+
+
+def concatenated(results):
+    """The parts' results joined along the first axis: arrays, or tuples of arrays joined
+    column by column."""
     if isinstance(results[0], tuple):
         return tuple(np.concatenate(column) for column in zip(*results))
     return np.concatenate(results)

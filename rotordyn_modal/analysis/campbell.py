@@ -618,8 +618,8 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
     Returns the eigenvalues and whether each was told apart by distance alone and is single
     (its shape then follows from one inverse-iteration step)."""
     size = stack.forms[0].n_states
-    lam = np.concatenate([_eigen.select_upper(_eigen.eigenvalues_of(stack.at(brackets.variant[rows[part]], x[part])))
-                          for part in _eigen.chunk_slices(len(rows), 32 * size * size)])
+    lam = _eigen.concatenated([_eigen.select_upper(_eigen.eigenvalues_of(stack.at(brackets.variant[rows[part]], x[part])))
+                               for part in _eigen.chunk_slices(len(rows), 32 * size * size)])
     expected = _interpolated(speeds, values, brackets, rows, x)
     distance = np.abs(lam - expected[:, None])
     nearest, second = np.argsort(distance, axis=1)[:, :2].T
@@ -652,9 +652,8 @@ def _modes_at(stack, speeds, values, weighted, brackets, x):
     mass-weighted MAC against its shape at the bracket's start and the eigenvalue distance."""
     rows = np.arange(len(x))
     size = stack.forms[0].n_states
-    parts = [stack.solve(stack.at(brackets.variant[part], x[part]), brackets.variant[part])
-             for part in _eigen.chunk_slices(len(x), 80 * size * size)]
-    lam, phi = (np.concatenate(column) for column in zip(*parts))
+    lam, phi = _eigen.concatenated([stack.solve(stack.at(brackets.variant[part], x[part]), brackets.variant[part])
+                                    for part in _eigen.chunk_slices(len(x), 80 * size * size)])
     psi = stack.weighted(phi, brackets.variant)
     reference = weighted[brackets.variant, brackets.k, brackets.mode]                   # (P, n)
     correlation = np.abs(np.einsum("pn,pjn->pj", reference.conj(), psi)) ** 2

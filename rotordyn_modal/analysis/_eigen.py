@@ -19,7 +19,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..assembly import add_rotor_body, body_inertias, frame_block
+from ..assembly import add_rotor_body, body_inertias
+from ..dofs import frame_block
 from ..geometry import skew
 
 __all__ = ["select_upper", "upper_indices", "eigenvalues_of", "solve_batch", "pencil_shapes", "pencil_eigenvalues",

@@ -67,8 +67,21 @@ def _refine(form, forms, speeds, values, weighted, mode, k, slope):
     return root, lam.imag / (2 * np.pi), str(_eigen.whirl_labels(ratio)), float(modal_quantities(lam)[1])
 
 
+@pytest.mark.parametrize("path", ["whole-pencils", "lu-factors", "nearest-roots"])
 @pytest.mark.parametrize("name", EXAMPLES)
-def test_batched_refinement_equals_brents_method_per_crossing(name, examples_dir):
+def test_batched_refinement_equals_brents_method_per_crossing(name, path, examples_dir, monkeypatch):
+    """Every way of evaluating a crossing gives Brent's roots: isolated modes by the pencil
+    iteration with small pencils solved whole in one batched call, or factored once per
+    crossing as large ones are; the others (here all crossings) from the roots nearest the
+    interpolation by shift-invert Arnoldi, as large models do (both forced here for the
+    examples' few coordinates)."""
+    from rotordyn_modal.analysis import campbell as campbell_module
+
+    if path == "lu-factors":
+        monkeypatch.setattr(_eigen, "BATCHED_DOF", 0)
+    if path == "nearest-roots":
+        monkeypatch.setattr(_eigen, "NEAREST_ROOTS_DOF", 0)
+        monkeypatch.setattr(campbell_module, "_isolated", lambda values, brackets: np.zeros(len(brackets.k), bool))
     model = rdm.load_model(examples_dir / f"{name}.toml")
     top = 50.0 if name.startswith("spring_block") else rdm.rpm(12000.0)
     speeds = np.linspace(0.0, top, 121)
@@ -83,10 +96,11 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, examples_dir
     np.testing.assert_allclose(found.damping_ratios, zeta, rtol=1e-8, atol=1e-12)
 
 
+@pytest.mark.parametrize("factored", [False, True], ids=["whole-pencils", "lu-factors"])
 @pytest.mark.parametrize("seed", [3, 4])
-def test_newton_steps_on_the_pencil_equal_all_eigenvalues_of_the_state_matrix(seed, monkeypatch):
-    """Isolated modes' eigenvalues along the refinement come from Newton steps on the
-    quadratic pencil; sending every crossing through all eigenvalues of the state matrix (the
+def test_pencil_iteration_equals_all_eigenvalues_of_the_state_matrix(seed, factored, monkeypatch):
+    """Isolated modes' eigenvalues along the refinement come from residual inverse iteration on
+    the quadratic pencil; sending every crossing through all eigenvalues of the state matrix (the
     path checked against Brent's method above) gives the same critical speeds."""
     from reference_bearings import random_bearing_description
 
@@ -98,6 +112,8 @@ def test_newton_steps_on_the_pencil_equal_all_eigenvalues_of_the_state_matrix(se
     for j, rotor in enumerate(data["rotors"]):
         rotor["speed_ratio"] = 1.0 if j == 0 else float(rng.choice([-1, 1]) * rng.uniform(0.3, 2.0))
     model = rdm.Model.from_dict(data)
+    if factored:
+        monkeypatch.setattr(_eigen, "BATCHED_DOF", 0)
     speeds = np.linspace(0.0, 3000.0, 41)
     newton = rdm.campbell(model, speeds, orders=(1, 2)).critical
     isolated = campbell_module._isolated

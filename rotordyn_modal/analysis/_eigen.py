@@ -23,7 +23,9 @@ from ..assembly import add_rotor_body, body_inertias
 from ..dofs import frame_block
 from ..geometry import skew
 
-__all__ = ["select_upper", "upper_indices", "eigenvalues_of", "solve_batch", "pencil_shapes", "pencil_eigenvalues",
+__all__ = ["select_upper", "upper_indices", "upper_modes", "one_blas_thread", "eigenvalues_of", "solve_batch", "pencil_shapes", "PencilFactors", "BATCHED_DOF", "nearest_roots",
+           "NEAREST_ROOTS_DOF",
+           "residual_inverse_iteration",
            "chunk_slices", "concatenated", "CHUNK_BYTES", "whirl_forms", "rotor_whirl_forms", "whirl_ratios",
            "whirl_labels", "row_norms", "unit_rows", "mass_normalized", "mac_matrix", "real_product",
            "quadratic_forms", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
@@ -115,7 +117,7 @@ def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
     if threads > 1:
         if _POOL is None or _POOL._max_workers != threads:
             _POOL = ThreadPoolExecutor(threads, thread_name_prefix="rotordyn-eig")
-        with _one_blas_thread(item_bytes):
+        with one_blas_thread(item_bytes):
             results = list(_POOL.map(function, *parts))
     else:
         results = [function(*part) for part in zip(*parts)]
@@ -134,7 +136,7 @@ def concatenated(results):
 _BLAS_THREADED_BYTES = 72 * 48 * 48
 
 
-def _one_blas_thread(item_bytes: int):
+def one_blas_thread(item_bytes: int):
     """One BLAS/LAPACK thread each while our own threads share the cores (through
     threadpoolctl when installed): BLAS's own threads on top of ours would oversubscribe
     the cores, which slows large eigenproblems several times over. Small matrices never
@@ -154,10 +156,31 @@ def _blas_controller():
     return ThreadpoolController()
 
 
-def _eig(matrices: np.ndarray):
-    """``numpy.linalg.eig`` of a stack of matrices, in threads and parts of bounded memory."""
+def upper_modes(matrices: np.ndarray, n: int):
+    """Upper eigenvalues and unit-norm mode shapes of a stack of state matrices.
+
+    ``numpy.linalg.eig`` in threads and parts of bounded memory; each part keeps only its
+    upper roots and their eigenvectors' displacement parts before the parts are joined.
+
+    Parameters
+    ----------
+    matrices : ndarray, shape (R, 2n, 2n)
+    n : int
+        Coordinates (displacement part of the states).
+
+    Returns
+    -------
+    eigenvalues : ndarray (R, m), complex; shapes : ndarray (R, m, n), complex
+    """
     size = matrices.shape[-1]
-    return _threaded(np.linalg.eig, matrices, item_bytes=72 * size * size)
+    return _threaded(functools.partial(_upper_modes, n=n), matrices, item_bytes=72 * size * size)
+
+
+def _upper_modes(matrices, n):
+    values, vectors = np.linalg.eig(matrices)
+    index, eigenvalues = upper_indices(values)
+    shapes = np.swapaxes(np.take_along_axis(vectors[:, :n, :], index[:, None, :], axis=-1), -1, -2)
+    return eigenvalues, unit_rows(shapes)
 
 
 def eigenvalues_of(matrices: np.ndarray) -> np.ndarray:
@@ -225,22 +248,96 @@ def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarr
     return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
 
 
-def pencil_eigenvalues(M, damping, stiffness, eigenvalues, vectors, iterations: int = 30):
-    """Newton's method on ``Q(lam) phi = 0`` (nonlinear inverse iteration) from nearby guesses.
+#: rows of pencils built together: their real and imaginary planes stay in the cache [bytes]
+_CACHE_BYTES = 2**20
 
-    Each step solves ``Q(s) z = Q'(s) phi`` (one LU factorisation of an n x n complex
-    matrix, about 30 times cheaper than the eigenvalues of the 2n x 2n state matrix) and
-    moves ``s <- s - phi^H phi / phi^H z``, ``phi <- z / |z|``: quadratic convergence to the
-    simple eigenvalue whose shape and value the guess is near. A row ends with the step that
-    is below ``1e-10 |s|`` (quadratic convergence leaves an error of order ``|step|^2 /
-    gap``: round-off for an isolated eigenvalue), or below ``1e-8 |s|`` without halving.
+
+#: pencils of at most this many coordinates are kept whole and solved in one batched call;
+#: larger ones are factored once (LU per row) and solved by triangular substitution
+BATCHED_DOF = 48
+
+
+class PencilFactors:
+    """Factorisations of the quadratic pencils ``Q(s) = s^2 M + s D + K`` of many rows, kept for
+    repeated solves with ``Q(s)`` and ``Q(s)^H`` (see :func:`residual_inverse_iteration`).
+
+    Small pencils are kept as they are and solved together in one batched LAPACK call each time
+    (a factorisation of a few coordinates costs less than the Python calls around it); larger
+    ones are factored once per row (``getrf``) and solved by substitution (``getrs``, O(n^2)).
 
     Parameters
     ----------
-    M : ndarray, shape (P, n, n) or (n, n)
-        Each row's mass, or one for all.
-    damping, stiffness : ndarray, shape (P, n, n)
-        Each row's ``C + Omega G`` and stiffness.
+    count : int
+        Rows.
+    n : int
+        Coordinates.
+    """
+
+    def __init__(self, count: int, n: int):
+        self.whole = n <= BATCHED_DOF
+        self.matrices = np.empty((count, n, n), dtype=complex)     # the pencils, or their LU factors
+        self.pivots = np.empty((count, n), dtype=np.int32)
+        self.ready = np.zeros(count, dtype=bool)
+
+    def factor(self, rows, pencils, shifts):
+        """Factor ``Q(shifts[i])`` of row ``i`` of ``pencils`` (a :class:`~._stack.Pencils`, one row
+        per storage row in ``rows``) into storage ``rows[i]``, a few rows at a time (each part's
+        pencils stay in the cache)."""
+        from scipy.linalg import lapack
+
+        rows = np.asarray(rows)
+        n = self.matrices.shape[-1]
+        step = max(1, len(rows) if self.whole else _CACHE_BYTES // (16 * n * n))
+        for start in range(0, len(rows), step):
+            part = rows[start:start + step]
+            mass, damping, stiffness = pencils.matrices(np.arange(start, start + len(part)))
+            quadratic = _quadratic(mass, damping, stiffness, np.asarray(shifts[start:start + step], dtype=complex))
+            if self.whole:
+                self.matrices[part] = quadratic
+                continue
+            for row, matrix in zip(part, quadratic):
+                lu, pivots, _ = lapack.zgetrf(matrix, overwrite_a=True)    # info > 0: singular, solves give inf
+                self.matrices[row], self.pivots[row] = lu, pivots
+        self.ready[rows] = True
+
+    def solve(self, rows, rhs, adjoint: bool = False):
+        """``Q^-1 rhs`` (or ``Q^-H rhs``) for storage ``rows``; ``rhs`` (R, n) complex."""
+        from scipy.linalg import lapack
+
+        if self.whole:
+            matrices = self.matrices[rows]
+            if adjoint:
+                matrices = np.conj(np.swapaxes(matrices, -1, -2))
+            return _solve(matrices, rhs[..., None])[..., 0]
+        out = np.empty(rhs.shape, dtype=complex)
+        for i, row in enumerate(rows):
+            out[i] = lapack.zgetrs(self.matrices[row], self.pivots[row], rhs[i], trans=2 if adjoint else 0)[0]
+        return out
+
+
+def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, iterations: int = 12):
+    """Eigenpairs of ``Q(lam) phi = 0`` near guesses, with one fixed factorisation per row.
+
+    Neumaier's residual inverse iteration: with ``F`` a factorisation of ``Q(sigma)`` at a shift
+    ``sigma`` near the eigenvalue (of this pencil or of a nearby one: another speed) and ``c``
+    the first guess's shape, scaled so that ``c^H phi = 1``, each step takes the ``lam`` nearest
+    the last that makes ``w^H Q(lam) phi`` vanish, ``w = F^-H c`` (a quadratic in ``lam``), and
+    moves ``phi <- phi - F^-1 Q(lam) phi``. The residual is formed before the solve, so the
+    near-singular ``F`` amplifies only its component along the mode, which the scaling
+    ``c^H phi = 1`` removes. It converges linearly, the faster the nearer ``sigma``, at three
+    matrix-vector products and one pair of triangular solves per step: O(n^2) instead of the
+    O(n^3) of a new factorisation. A row ends when its step (the larger of the eigenvalue's
+    and the shape's, each relative) is below 1e-14, or below 1e-9 with the contraction of the
+    last two steps promising an error below 1e-14.
+
+    Parameters
+    ----------
+    factors : PencilFactors
+    rows : ndarray of int, shape (P,)
+        Each row's factorisation in ``factors``.
+    pencils : Pencils
+        The pencils whose eigenpairs are wanted, P rows (their speeds may differ from the
+        factorisations').
     eigenvalues : ndarray, shape (P,), complex
         Guesses.
     vectors : ndarray, shape (P, n), complex
@@ -255,47 +352,131 @@ def pencil_eigenvalues(M, damping, stiffness, eigenvalues, vectors, iterations: 
     converged : ndarray (P,) bool
     """
     s = np.array(eigenvalues, dtype=complex)
-    phi = np.array(vectors, dtype=complex)
-    phi /= np.linalg.norm(phi, axis=-1, keepdims=True)
+    phi = unit_rows(np.array(vectors, dtype=complex))
+    normal = phi.copy()                                                 # c, with c^H phi = 1
+    with np.errstate(all="ignore"):
+        left = factors.solve(rows, normal, adjoint=True).conj()
     last = np.full(len(s), np.inf)
-    active = np.ones(len(s), dtype=bool)
+    active = np.all(np.isfinite(left), axis=-1)
     converged = np.zeros(len(s), dtype=bool)
     for _ in range(iterations):
         i = np.nonzero(active)[0]
         if not len(i):
             break
-        mass = M if M.ndim == 2 else M[i]
-        z = _solve(_quadratic(mass, damping[i], stiffness[i], s[i]),
-                   _slope_times(mass, damping[i], s[i], phi[i]))[..., 0]
-        with np.errstate(divide="ignore", invalid="ignore"):   # a singular step is dropped below
-            step = 1.0 / np.einsum("pi,pi->p", phi[i].conj(), z)
-            unit = z / np.linalg.norm(z, axis=-1, keepdims=True)
-        finite = np.isfinite(step) & np.all(np.isfinite(z), axis=-1)
-        size = np.where(finite, np.abs(step), np.inf)
-        s[i] = np.where(finite, s[i] - step, s[i])
-        phi[i] = np.where(finite[:, None], unit, phi[i])
-        scale = np.abs(s[i])
-        done = (size <= 1e-10 * scale) | ((size <= 1e-8 * scale) & (size > 0.5 * last[i]))
+        m_phi, d_phi, k_phi = pencils.products(i, phi[i])
+        with np.errstate(all="ignore"):                                  # a singular factor is dropped below
+            new = _nearest_root(np.einsum("pi,pi->p", left[i], m_phi), np.einsum("pi,pi->p", left[i], d_phi),
+                                np.einsum("pi,pi->p", left[i], k_phi), s[i])
+            residual = new[:, None] ** 2 * m_phi + new[:, None] * d_phi + k_phi
+            phi_new = phi[i] - factors.solve(rows[i], residual)
+            phi_new /= np.einsum("pi,pi->p", normal[i].conj(), phi_new)[:, None]
+            # relative steps of the eigenvalue and of the shape: the eigenvalue alone can settle
+            # while the shape still holds a neighbouring mode
+            size = np.maximum(np.abs(new - s[i]) / np.abs(new), (row_norms(phi_new - phi[i]) / row_norms(phi_new))[:, 0])
+            finite = np.isfinite(size)
+            size = np.where(finite, size, np.inf)
+            rate = size / last[i]
+        s[i] = np.where(finite, new, s[i])
+        phi[i] = np.where(finite[:, None], phi_new, phi[i])
+        done = (size <= 1e-14) | ((size <= 1e-9) & (rate < 0.5) & (size * rate <= 1e-14))
         converged[i[done]] = True
         active[i[done | ~finite]] = False
         last[i] = size
-    return s, phi, converged
+    return s, unit_rows(phi), converged
+
+
+#: pencils of more coordinates than this find the roots near a point by shift-invert Arnoldi
+#: (:func:`nearest_roots`) instead of taking all eigenvalues of the state matrix
+NEAREST_ROOTS_DOF = 96
+
+
+#: ARPACK's tolerance on the shifted-inverse's Ritz values ``nu = 1 / (lam - sigma)``: a root's
+#: error is about this times its distance from the shift, far below round-off of ``lam`` itself
+_ARNOLDI_TOLERANCE = 1e-12
+
+
+def nearest_roots(pencils, centers, count: int = 8):
+    """The ``count`` roots of each row's pencil nearest a point, with their shapes.
+
+    Shift-invert Arnoldi (ARPACK, :func:`scipy.sparse.linalg.eigs`) on the first-order form
+    ``[[0, I], [-M^-1 K, -M^-1 D]]`` shifted to the point: ``(A - sigma I)^-1 [u; v] = [x; u +
+    sigma x]`` with ``Q(sigma) x = -(M v + (D + sigma M) u)``, one LU of the n x n pencil per row
+    and O(n^2) per Arnoldi step, instead of all 2n eigenvalues (O(n^3) with a larger constant).
+
+    Parameters
+    ----------
+    pencils : Pencils
+        P rows.
+    centers : ndarray, shape (P,), complex
+        The points [1/s].
+    count : int
+        Roots per row (at most 2n - 2).
+
+    Returns
+    -------
+    eigenvalues : ndarray (P, count), complex
+        By distance from the point.
+    shapes : ndarray (P, count, n), complex
+        Unit-norm displacement parts of the eigenvectors.
+    """
+    from scipy.linalg import lapack
+    from scipy.sparse.linalg import LinearOperator, eigs
+
+    n = pencils.matrices(np.array([0]))[1].shape[-1]
+    count = min(count, 2 * n - 2)
+    values = np.empty((len(centers), count), dtype=complex)
+    shapes = np.empty((len(centers), count, n), dtype=complex)
+    # off the point by a little: the point may be a root itself (a mode the speed leaves alone)
+    shifts = np.asarray(centers, dtype=complex) * (1 + 1e-9 * (1 + 1j)) + 1e-300
+    for row, sigma in enumerate(shifts):
+        matrices = pencils.matrices(np.array([row]))
+        mass, damping = (np.reshape(matrix, (n, n)) for matrix in matrices[:2])
+        lu, pivots, _ = lapack.zgetrf(_quadratic(*matrices, np.array([sigma]))[0], overwrite_a=True)
+        both = np.concatenate([damping + sigma * mass, mass.astype(complex)], axis=1)   # [D + sigma M, M]
+
+        def inverse(w, lu=lu, pivots=pivots, both=both, sigma=sigma):
+            x = -lapack.zgetrs(lu, pivots, both @ w)[0]
+            return np.concatenate([x, w[:n] + sigma * x])
+
+        def unused(w):
+            raise RuntimeError("shift-invert mode applies only the inverse")
+
+        lam, vectors = eigs(LinearOperator((2 * n, 2 * n), matvec=unused, dtype=complex), k=count, sigma=sigma,
+                            OPinv=LinearOperator((2 * n, 2 * n), matvec=inverse, dtype=complex), which="LM",
+                            tol=_ARNOLDI_TOLERANCE)
+        order = np.argsort(np.abs(lam - centers[row]))
+        values[row] = lam[order]
+        shapes[row] = unit_rows(vectors[:n, order].T)
+    return values, shapes
+
+
+def _nearest_root(a, b, c, near):
+    """The root of ``a x^2 + b x + c`` nearest ``near`` (each an array (P,), complex)."""
+    root = np.sqrt(b * b - 4 * a * c)
+    q = -0.5 * (b + np.where((b.conj() * root).real >= 0, root, -root))   # no cancellation in b + root
+    first, second = q / a, c / q
+    return np.where(np.abs(first - near) <= np.abs(second - near), first, second)
 
 
 def _quadratic(M, damping, stiffness, lam):
-    """``lam^2 M + lam D + K`` for rows (P, n, n), built in place (one complex array)."""
-    shift = lam[:, None, None]
-    pencil = M * shift**2
-    pencil += damping * shift
-    pencil += stiffness
-    return pencil
+    """``lam^2 M + lam D + K`` for rows (P, n, n), one complex array.
 
-
-def _slope_times(M, damping, lam, phi):
-    """``Q'(lam) phi = (2 lam M + D) phi`` as matrix-vector products, shape (P, n, 1)."""
-    v = phi[..., None]
-    mass = M @ v.real + 1j * (M @ v.imag)   # real matrices: no complex copy of M
-    return 2 * lam[:, None, None] * mass + damping @ v
+    Built as real and imaginary planes, a few rows at a time, so that every pass runs in the
+    cache (whole-array complex products of these sizes ran at memory speed, 10x slower)."""
+    lam = np.asarray(lam, dtype=complex)
+    out = np.empty(damping.shape, dtype=complex)
+    squares = lam**2
+    step = max(1, _CACHE_BYTES // (8 * damping[0].size))
+    for part in (slice(p, p + step) for p in range(0, len(lam), step)):
+        mass = M if M.ndim == 2 else M[part]
+        for plane, quadratic, linear, constant in ((out.real, squares.real, lam.real, stiffness),
+                                                   (out.imag, squares.imag, lam.imag, None)):
+            rows = plane[part]
+            np.multiply(mass, quadratic[part, None, None], out=rows)
+            rows += damping[part] * linear[part, None, None]
+            if constant is not None:
+                rows += constant[part]
+    return out
 
 
 def _solve(matrices, rhs):
@@ -327,11 +508,7 @@ def solve_batch(form, speeds, forms=None):
         Unit-norm displacement parts of the state eigenvectors.
     """
     speeds = np.asarray(speeds, dtype=float)
-    values, vectors = _eig(form.at(speeds))
-    index, eigenvalues = upper_indices(values)
-    n = form.n_dof
-    shapes = np.swapaxes(np.take_along_axis(vectors[:, :n, :], index[:, None, :], axis=-1), -1, -2)
-    shapes = unit_rows(shapes)
+    eigenvalues, shapes = upper_modes(form.at(speeds), form.n_dof)
     if forms is not None:
         shapes = resolve_repeated(eigenvalues, shapes, forms)
     return eigenvalues, shapes

@@ -16,7 +16,7 @@ import numpy as np
 from ..linear_system import speed_linear_form
 from . import _eigen
 
-__all__ = ["Stack"]
+__all__ = ["Stack", "Pencils"]
 
 
 class Stack:
@@ -101,11 +101,7 @@ class Stack:
         -------
         eigenvalues : ndarray (R, m), complex; shapes : ndarray (R, m, n), complex
         """
-        values, vectors = _eigen._eig(matrices)
-        index, eigenvalues = _eigen.upper_indices(values)
-        n = self.n_dof
-        shapes = np.swapaxes(np.take_along_axis(vectors[:, :n, :], index[:, None, :], axis=-1), -1, -2)
-        shapes = _eigen.unit_rows(shapes)
+        eigenvalues, shapes = _eigen.upper_modes(matrices, self.n_dof)
         return eigenvalues, _eigen.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
 
     def weighted(self, shapes, variants):
@@ -132,3 +128,62 @@ class Stack:
         damping, stiffness = self.damping_stiffness(variants, x)
         return _eigen.pencil_shapes(self.M[variants], damping, stiffness, lam,
                                     (self.branch_stiffness[variants], self.branch_times[variants]))
+
+
+class Pencils:
+    """The quadratic pencils ``Q(s) = s^2 M + s (C + Omega G) + K`` of rows (variant, speed) of a
+    :class:`Stack`, applied to vectors without forming each row's matrices where the rows share
+    them (one model with constant coefficients: ``C + Omega G`` is applied as ``C phi + Omega G
+    phi``, one matrix product for all rows).
+
+    Parameters
+    ----------
+    stack : Stack
+    variants : ndarray of int, shape (P,)
+    speeds : ndarray, shape (P,) [rad/s]
+    """
+
+    def __init__(self, stack, variants, speeds):
+        self.stack, self.variants, self.speeds = stack, np.asarray(variants), np.asarray(speeds, dtype=float)
+        self.shared = len(stack) == 1 and not stack.dependent
+
+    def __len__(self) -> int:
+        return len(self.speeds)
+
+    def matrices(self, rows):
+        """Mass (n, n) or (R, n, n), ``C + Omega G`` and stiffness (R, n, n) of ``rows``."""
+        stack = self.stack
+        if self.shared:
+            damping = stack.C[0] + self.speeds[rows, None, None] * stack.G[0]
+            return stack.M[0], damping, np.broadcast_to(stack.K[0], damping.shape)
+        damping, stiffness = stack.damping_stiffness(self.variants[rows], self.speeds[rows])
+        return (stack.M[0] if len(stack) == 1 else stack.M[self.variants[rows]]), damping, stiffness
+
+    def products(self, rows, vectors):
+        """``M phi``, ``(C + Omega G) phi`` and ``K phi`` of ``rows`` for complex vectors (R, n):
+        each (R, n).
+
+        Row by row (each result independent of the others, so that a study's variant and the
+        single analysis of its model agree bit for bit), except for one large model with constant
+        coefficients: there one matrix product serves all rows."""
+        stack = self.stack
+        speeds = self.speeds[rows, None]
+        if self.shared and vectors.shape[-1] > _eigen.BATCHED_DOF:
+            m_phi, c_phi, g_phi, k_phi = (_eigen.real_product(vectors, matrix[0].T)
+                                          for matrix in (stack.M, stack.C, stack.G, stack.K))
+            return m_phi, c_phi + speeds * g_phi, k_phi
+        variants = self.variants[rows]
+        pick = (lambda matrix: matrix[0]) if len(stack) == 1 else (lambda matrix: matrix[variants])
+        if stack.dependent:
+            damping, stiffness = stack.damping_stiffness(variants, self.speeds[rows])
+            return _row_products(pick(stack.M), vectors), _row_products(damping, vectors), \
+                _row_products(stiffness, vectors)
+        return (_row_products(pick(stack.M), vectors),
+                _row_products(pick(stack.C), vectors) + speeds * _row_products(pick(stack.G), vectors),
+                _row_products(pick(stack.K), vectors))
+
+
+def _row_products(matrices, vectors):
+    """Real matrices (n, n) or (R, n, n) times complex vectors (R, n), one row at a time: (R, n)."""
+    column = vectors[..., None]
+    return (matrices @ column.real)[..., 0] + 1j * (matrices @ column.imag)[..., 0]

@@ -8,7 +8,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import _eigen
-from ._stack import Stack
+from ._stack import Pencils, Stack
 from .modal import is_oscillating, modal_quantities
 from .tracking import track_modes_many
 
@@ -325,8 +325,9 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shap
     count = len(stack)
     if not len(brackets.k):
         return [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
-    roots, lam, sure = _refine_together(stack, speeds, values, weighted, brackets, shapes)
-    lam, phi = _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure)
+    # one BLAS thread: the pencils' factorisations and solves are too small to share well
+    with _eigen.one_blas_thread(72 * stack.forms[0].n_states ** 2):
+        roots, lam, phi, sure = _refine_parts(stack, speeds, values, weighted, brackets, shapes)
     ratios = stack.whirl_ratios(phi[:, None], brackets.variant, roots)[:, 0]
     _, zeta, _ = modal_quantities(lam)
     names = np.asarray(sources[0].names, dtype=object)[brackets.source]
@@ -393,6 +394,23 @@ _MAX_ITERATIONS = 200
 _STEP_TOLERANCE = 1e-13
 
 
+def _refine_parts(stack, speeds, values, weighted, brackets, shapes=None):
+    """:func:`_refine_together` and the shapes at the roots (:func:`_shapes_at`), in parts of
+    the crossings whose factorisations fit in ``_eigen.CHUNK_BYTES``.
+
+    Returns
+    -------
+    roots : ndarray (P,) [rad/s]; lam : ndarray (P,), complex; phi : ndarray (P, n), complex;
+    sure : ndarray (P,) bool
+    """
+    parts = []
+    for part in _eigen.chunk_slices(len(brackets.k), 64 * stack.n_dof ** 2):
+        mine = brackets.subset(part)
+        roots, lam, sure, iterates = _refine_together(stack, speeds, values, weighted, mine, shapes)
+        parts.append((roots, *_shapes_at(stack, speeds, values, weighted, mine, roots, lam, sure, iterates), sure))
+    return _eigen.concatenated(parts)
+
+
 def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     """Roots of ``g(Omega) = Im lam(Omega) - slope |Omega|`` in every bracket, iterated together.
 
@@ -403,8 +421,8 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     unfinished crossings in one batch. A crossing is done when its next step is below
     ``1e-13 max(|Omega|, 1)``: the last point evaluated is the root, with its eigenvalue.
     The eigenvalue of a mode isolated from every other root across its bracket comes from
-    Newton steps on the quadratic pencil (:func:`_eigen.pencil_eigenvalues`) started from the
-    previous point; the others (and any that does not converge there) from all eigenvalues of
+    residual inverse iteration on the quadratic pencil (:func:`_pencil_at`): one factorisation
+    per crossing, at its first point, serves every later point; the others (and any that does not converge there) from all eigenvalues of
     the state matrix, identified as described in :func:`_tracked`.
 
     Returns
@@ -414,6 +432,8 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
         The tracked mode's eigenvalue at each root.
     sure : ndarray (P,) bool
         The eigenvalue was told apart by distance alone and is not repeated.
+    iterates : _Iterates
+        The pencil iteration's last points, eigenvalues and shapes.
     """
     v, k, mode, slope = brackets.variant, brackets.k, brackets.mode, brackets.slope
     a, b = speeds[k].copy(), speeds[k + 1].copy()
@@ -439,7 +459,7 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
         finished = (gx == 0) | (np.abs(step - x[i]) <= _STEP_TOLERANCE * np.maximum(np.abs(x[i]), 1.0))
         done[i[finished]] = True
         x[i] = step
-    return roots, lam, sure
+    return roots, lam, sure, iterates
 
 
 class _Bracket(NamedTuple):
@@ -512,13 +532,14 @@ def _illinois(end, g_end, g_other, last_side, rows, x, gx, side):
 
 class _Iterates(NamedTuple):
     """Per crossing: whether its mode is isolated (see :func:`_isolated`) and may be evaluated
-    by Newton steps on the pencil, and the last point, eigenvalue and shape found that way
-    (arrays updated in place)."""
+    on the pencil, the last point, eigenvalue and shape found that way, and the factorisation of
+    the pencil (at a point near the root) that the iteration reuses (updated in place)."""
 
     usable: np.ndarray
     x: np.ndarray
     lam: np.ndarray
     shape: np.ndarray
+    factors: _eigen.PencilFactors
 
     @classmethod
     def start(cls, stack, speeds, values, brackets, shapes):
@@ -526,10 +547,11 @@ class _Iterates(NamedTuple):
         if shapes is None or stack.branch_times.shape[-1]:
             # Maxwell branches make the pencil rational: every evaluation takes all eigenvalues
             return cls(np.zeros(count, dtype=bool), np.full(count, np.nan), np.zeros(count, complex),
-                       np.zeros((count, 0), complex))
+                       np.zeros((count, 0), complex), _eigen.PencilFactors(0, 0))
         v, k, mode = brackets.variant, brackets.k, brackets.mode
-        return cls(_isolated(values, brackets), speeds[k].astype(float), values[v, k, mode].copy(),
-                   shapes[v, k, mode].copy())
+        usable = _isolated(values, brackets)
+        return cls(usable, speeds[k].astype(float), values[v, k, mode].copy(), shapes[v, k, mode].copy(),
+                   _eigen.PencilFactors(count if usable.any() else 0, stack.n_dof))
 
 
 def _isolated(values, brackets):
@@ -561,7 +583,7 @@ def _isolated(values, brackets):
 
 def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
     """The tracked modes' eigenvalues at speeds ``x`` and whether each is sure (see
-    :func:`_tracked`): Newton steps on the pencil for isolated modes, all eigenvalues for
+    :func:`_tracked`): the pencil's iteration for isolated modes, all eigenvalues for
     the rest and for any that did not converge to within the mode's spread of its
     bracket's interpolation."""
     lam = np.empty(len(rows), dtype=complex)
@@ -569,34 +591,79 @@ def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
     fast = iterates.usable[rows]
     if fast.any():
         f = np.nonzero(fast)[0]
-        found, ok = _newton_at(stack, speeds, values, brackets, rows[f], x[f], iterates)
+        found, ok = _pencil_at(stack, speeds, values, brackets, rows[f], x[f], iterates)
         lam[f[ok]], sure[f[ok]] = found[ok], True
         fast[f[~ok]] = False
     slow = np.nonzero(~fast)[0]
     if len(slow):
-        lam[slow], sure[slow] = _tracked(stack, speeds, values, weighted, brackets, rows[slow], x[slow])
+        lam[slow], sure[slow], shapes, known = _tracked(stack, speeds, values, weighted, brackets, rows[slow], x[slow])
+        if known.any() and iterates.shape.shape[-1]:
+            # kept for the shape at the root, should this point be it
+            mine = rows[slow[known]]
+            iterates.x[mine], iterates.lam[mine], iterates.shape[mine] = x[slow[known]], lam[slow[known]], shapes[known]
     return lam, sure
 
 
-def _newton_at(stack, speeds, values, brackets, rows, x, iterates):
-    """Eigenvalues of isolated modes at ``x`` by Newton steps on the pencil, started from the
-    last point's eigenvalue (moved by the interpolation's change) and shape; in parts of
-    bounded memory. Returns the eigenvalues and which converged to the tracked mode."""
+def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
+    """Eigenvalues of isolated modes at ``x`` by residual inverse iteration on the pencil
+    (:func:`_eigen.residual_inverse_iteration`), started from the last point's eigenvalue
+    (moved by the interpolation's change) and shape. A crossing's first evaluation factors
+    its pencil at the cubic interpolation of the sweep's eigenvalues there; later ones reuse
+    that factorisation, and factor anew only where the iteration did not converge. Returns the
+    eigenvalues and which converged to the tracked mode."""
     start = iterates.lam[rows] + _interpolated(speeds, values, brackets, rows, x) \
         - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
-    lam = np.empty(len(rows), dtype=complex)
-    shapes = np.empty((len(rows), stack.n_dof), dtype=complex)
-    converged = np.zeros(len(rows), dtype=bool)
-    for part in _eigen.chunk_slices(len(rows), 80 * stack.n_dof ** 2):
-        variants = brackets.variant[rows[part]]
-        damping, stiffness = stack.damping_stiffness(variants, x[part])
-        mass = stack.M[0] if len(stack) == 1 else stack.M[variants]
-        lam[part], shapes[part], converged[part] = _eigen.pencil_eigenvalues(
-            mass, damping, stiffness, start[part], iterates.shape[rows[part]])
+    fresh = np.nonzero(~iterates.factors.ready[rows])[0]
+    start[fresh] = _cubic_value(speeds, values, brackets, rows[fresh], x[fresh])
+    pencils = Pencils(stack, brackets.variant[rows], x)
+    iterates.factors.factor(rows[fresh], _Subset(pencils, fresh), start[fresh])
+    lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
+                                                               iterates.shape[rows])
+    again = np.nonzero(~converged & np.isfinite(lam))[0]
+    again = again[~np.isin(again, fresh)]
+    if len(again):
+        # far from the factored point (or a poor start there): factor here and iterate again
+        part = _Subset(pencils, again)
+        iterates.factors.factor(rows[again], part, lam[again])
+        lam[again], shapes[again], converged[again] = _eigen.residual_inverse_iteration(
+            iterates.factors, rows[again], part, lam[again], shapes[again])
     expected = _interpolated(speeds, values, brackets, rows, x)
     ok = converged & (np.abs(lam - expected) <= 2 * _spread(values, brackets, rows))
     iterates.x[rows[ok]], iterates.lam[rows[ok]], iterates.shape[rows[ok]] = x[ok], lam[ok], shapes[ok]
     return lam, ok
+
+
+class _Subset:
+    """Rows of a :class:`Pencils`, numbered from 0."""
+
+    def __init__(self, pencils, rows):
+        self.pencils, self.rows = pencils, rows
+
+    def matrices(self, rows):
+        return self.pencils.matrices(self.rows[rows])
+
+    def products(self, rows, vectors):
+        return self.pencils.products(self.rows[rows], vectors)
+
+
+def _cubic_value(speeds, values, brackets, rows, x):
+    """The tracked modes' eigenvalues at ``x`` by the cubic through the sweep's four nearest
+    points (linear across the bracket where fewer than four oscillating points are at hand)."""
+    linear = _interpolated(speeds, values, brackets, rows, x)
+    count = len(speeds)
+    if count < 4 or not len(rows):
+        return linear
+    v, k, mode = brackets.variant[rows], brackets.k[rows], brackets.mode[rows]
+    nodes = np.clip(k - 1, 0, count - 4)[:, None] + np.arange(4)
+    xs = speeds[nodes]
+    lam = values[v[:, None], nodes, mode[:, None]]
+    weights = np.ones((len(rows), 4))
+    for j in range(4):
+        for m in range(4):
+            if m != j:
+                weights[:, j] *= (x - xs[:, m]) / (xs[:, j] - xs[:, m])
+    cubic = np.einsum("pj,pj->p", weights, lam)
+    return np.where(np.all(is_oscillating(lam), axis=1), cubic, linear)
 
 
 def _interpolated(speeds, values, brackets, rows, x):
@@ -615,49 +682,97 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
     """The tracked modes' eigenvalues at speeds ``x``: the nearest to the bracket's
     interpolation, confirmed by the mode shape where another eigenvalue is about as near.
 
-    Returns the eigenvalues and whether each was told apart by distance alone and is single
-    (its shape then follows from one inverse-iteration step)."""
-    size = stack.forms[0].n_states
-    lam = _eigen.concatenated([_eigen.select_upper(_eigen.eigenvalues_of(stack.at(brackets.variant[rows[part]], x[part])))
-                               for part in _eigen.chunk_slices(len(rows), 32 * size * size)])
+    Returns
+    -------
+    lam : ndarray (P,), complex
+    sure : ndarray (P,) bool
+        Told apart by distance alone and single (its shape then follows from one
+        inverse-iteration step).
+    shapes : ndarray (P, n), complex
+        The shape of each eigenvalue where ``known`` (the roots came with their shapes, or the
+        mode was identified by its shape).
+    known : ndarray (P,) bool
+    """
     expected = _interpolated(speeds, values, brackets, rows, x)
+    lam, phi = _roots_near(stack, brackets.variant[rows], x, expected)
     distance = np.abs(lam - expected[:, None])
     nearest, second = np.argsort(distance, axis=1)[:, :2].T
     every = np.arange(len(x))
     picked = lam[every, nearest]
+    shapes = np.zeros((len(x), stack.n_dof), dtype=complex)
+    known = np.zeros(len(x), dtype=bool)
+    if phi is not None:
+        shapes, known = phi[every, nearest], np.ones(len(x), dtype=bool)
     unsure = distance[every, second] <= 4 * distance[every, nearest] + 2 * _spread(values, brackets, rows)
     if unsure.any():
-        picked[unsure] = _modes_at(stack, speeds, values, weighted, brackets.subset(rows[unsure]), x[unsure])[0]
-    scale = np.abs(lam).max(axis=1)
+        mine = brackets.subset(rows[unsure])
+        if phi is None:
+            picked[unsure], shapes[unsure] = _modes_at(stack, speeds, values, weighted, mine, x[unsure])
+        else:
+            picked[unsure], shapes[unsure] = _identified(stack, speeds, values, weighted, mine, x[unsure],
+                                                         lam[unsure], phi[unsure])
+        known |= unsure
+    scale = np.nanmax(np.abs(lam), axis=1)
+    if lam.shape[1] < values.shape[-1]:       # a few roots only: the largest is the sweep's
+        scale = np.maximum(scale, np.abs(values[brackets.variant[rows], brackets.k[rows]]).max(axis=1))
     repeated = np.sort(np.abs(lam - picked[:, None]), axis=1)[:, 1] <= _eigen.REPEATED_TOLERANCE * scale
-    return picked, ~unsure & ~repeated
+    known &= unsure | ~repeated            # a repeated root's shape is told by the MAC (_modes_at)
+    return picked, ~unsure & ~repeated, shapes, known
 
 
-def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure):
-    """Eigenvalues and shapes at the roots: one inverse-iteration step on the eigenvalue found;
-    a full identification (:func:`_modes_at`) where it was unsure or the eigenvalue is repeated."""
+def _roots_near(stack, variants, x, centers, shapes=False):
+    """The upper roots at speeds ``x`` to pick the tracked mode from, and their unit shapes:
+    for large models (see :func:`_eigen.nearest_roots`) the eight nearest ``centers``, (R, 8)
+    and (R, 8, n); else all of them, (R, m), with shapes (R, m, n) only when ``shapes`` (None
+    otherwise)."""
+    if stack.n_dof <= _eigen.NEAREST_ROOTS_DOF or stack.branch_times.shape[-1]:
+        size = stack.forms[0].n_states
+        if shapes:
+            return _eigen.concatenated([stack.solve(stack.at(variants[part], x[part]), variants[part])
+                                        for part in _eigen.chunk_slices(len(x), 80 * size * size)])
+        return _eigen.concatenated([_eigen.select_upper(_eigen.eigenvalues_of(stack.at(variants[part], x[part])))
+                                    for part in _eigen.chunk_slices(len(x), 32 * size * size)]), None
+    lam, phi = _eigen.nearest_roots(Pencils(stack, variants, x), centers)
+    lam = np.where(lam.imag < 0, np.nan, lam)          # the lower roots are not candidates
+    return lam, _eigen.resolve_repeated(lam, phi, stack.whirl, variants)
+
+
+def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iterates):
+    """Eigenvalues and shapes at the roots: the last evaluation's where it was at the root and
+    gave one (the pencil iteration's, the nearest roots', an identification's), else one
+    inverse-iteration step on the eigenvalue found, or a full identification
+    (:func:`_modes_at`) where it was unsure or the eigenvalue is repeated."""
     lam = lam.copy()
     phi = np.empty((len(roots), stack.n_dof), dtype=complex)
+    known = (iterates.x == roots) & (iterates.lam == lam)
+    if known.any():
+        phi[known] = iterates.shape[known]
+    rest = np.nonzero(~known & sure)[0]
     # in parts: each row holds its own pencil and matrices (n x n, several copies)
-    for part in _eigen.chunk_slices(len(roots), 80 * stack.n_dof ** 2):
-        phi[part] = stack.shapes_at(brackets.variant[part], roots[part], lam[part])
-    if not sure.all():
-        rows = np.nonzero(~sure)[0]
+    for part in _eigen.chunk_slices(len(rest), 80 * stack.n_dof ** 2):
+        phi[rest[part]] = stack.shapes_at(brackets.variant[rest[part]], roots[rest[part]], lam[rest[part]])
+    rows = np.nonzero(~sure & ~known)[0]
+    if len(rows):
         lam[rows], phi[rows] = _modes_at(stack, speeds, values, weighted, brackets.subset(rows), roots[rows])
     return lam, phi
 
 
 def _modes_at(stack, speeds, values, weighted, brackets, x):
-    """Eigenvalue and shape of each bracket's tracked mode at ``x``, identified by the
-    mass-weighted MAC against its shape at the bracket's start and the eigenvalue distance."""
+    """Eigenvalue and shape of each bracket's tracked mode at ``x`` (see :func:`_identified`)."""
+    expected = _interpolated(speeds, values, brackets, np.arange(len(x)), x)
+    lam, phi = _roots_near(stack, brackets.variant, x, expected, shapes=True)
+    return _identified(stack, speeds, values, weighted, brackets, x, lam, phi)
+
+
+def _identified(stack, speeds, values, weighted, brackets, x, lam, phi):
+    """The tracked mode among roots ``lam`` (P, j) with shapes ``phi`` (P, j, n) at ``x``:
+    by the mass-weighted MAC against its shape at the bracket's start and the eigenvalue
+    distance. Returns its eigenvalue (P,) and shape (P, n)."""
     rows = np.arange(len(x))
-    size = stack.forms[0].n_states
-    lam, phi = _eigen.concatenated([stack.solve(stack.at(brackets.variant[part], x[part]), brackets.variant[part])
-                                    for part in _eigen.chunk_slices(len(x), 80 * size * size)])
+    expected = _interpolated(speeds, values, brackets, rows, x)
     psi = stack.weighted(phi, brackets.variant)
     reference = weighted[brackets.variant, brackets.k, brackets.mode]                   # (P, n)
     correlation = np.abs(np.einsum("pn,pjn->pj", reference.conj(), psi)) ** 2
-    expected = _interpolated(speeds, values, brackets, rows, x)
     cost = (1 - correlation) + np.abs(lam - expected[:, None]) / _spread(values, brackets, rows)[:, None]
-    j = np.argmin(cost, axis=1)
+    j = np.argmin(np.where(np.isnan(cost), np.inf, cost), axis=1)
     return lam[rows, j], phi[rows, j]

@@ -23,7 +23,7 @@ from ..assembly import add_rotor_body, body_inertias
 from ..dofs import frame_block
 from ..geometry import skew
 
-__all__ = ["select_upper", "upper_indices", "upper_modes", "one_blas_thread", "eigenvalues_of", "solve_batch", "pencil_shapes", "PencilFactors", "BATCHED_DOF", "nearest_roots",
+__all__ = ["select_upper", "upper_indices", "upper_modes", "one_blas_thread", "eigenvalues_of", "solve_batch", "pencil_shapes", "PencilFactors", "PencilRows", "BATCHED_DOF", "nearest_roots",
            "NEAREST_ROOTS_DOF",
            "residual_inverse_iteration",
            "chunk_slices", "concatenated", "CHUNK_BYTES", "whirl_forms", "rotor_whirl_forms", "whirl_ratios",
@@ -326,7 +326,8 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
     near-singular ``F`` amplifies only its component along the mode, which the scaling
     ``c^H phi = 1`` removes. It converges linearly, the faster the nearer ``sigma``, at three
     matrix-vector products and one pair of triangular solves per step: O(n^2) instead of the
-    O(n^3) of a new factorisation. A row ends when its step (the larger of the eigenvalue's
+    O(n^3) of a new factorisation (small pencils, solved whole, are shifted to the new
+    eigenvalue at every step instead: Newton's convergence). A row ends when its step (the larger of the eigenvalue's
     and the shape's, each relative) is below 1e-14, or below 1e-9 with the contraction of the
     last two steps promising an error below 1e-14.
 
@@ -382,7 +383,28 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
         converged[i[done]] = True
         active[i[done | ~finite]] = False
         last[i] = size
+        if factors.whole:
+            # small pencils are refactored at every step anyway: shift them to the new eigenvalue
+            # (Newton's convergence instead of linear), with the left vector to match
+            more = np.nonzero(active)[0]
+            if len(more):
+                factors.factor(rows[more], PencilRows(pencils, more), s[more])
+                with np.errstate(all="ignore"):
+                    left[more] = factors.solve(rows[more], normal[more], adjoint=True).conj()
     return s, unit_rows(phi), converged
+
+
+class PencilRows:
+    """Rows ``rows`` of a :class:`~._stack.Pencils`, numbered from 0."""
+
+    def __init__(self, pencils, rows):
+        self.pencils, self.rows = pencils, rows
+
+    def matrices(self, rows):
+        return self.pencils.matrices(self.rows[rows])
+
+    def products(self, rows, vectors):
+        return self.pencils.products(self.rows[rows], vectors)
 
 
 #: pencils of more coordinates than this find the roots near a point by shift-invert Arnoldi

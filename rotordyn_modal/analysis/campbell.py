@@ -616,14 +616,14 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     fresh = np.nonzero(~iterates.factors.ready[rows])[0]
     start[fresh] = _cubic_value(speeds, values, brackets, rows[fresh], x[fresh])
     pencils = Pencils(stack, brackets.variant[rows], x)
-    iterates.factors.factor(rows[fresh], _Subset(pencils, fresh), start[fresh])
+    iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
     lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
                                                                iterates.shape[rows])
     again = np.nonzero(~converged & np.isfinite(lam))[0]
     again = again[~np.isin(again, fresh)]
     if len(again):
         # far from the factored point (or a poor start there): factor here and iterate again
-        part = _Subset(pencils, again)
+        part = _eigen.PencilRows(pencils, again)
         iterates.factors.factor(rows[again], part, lam[again])
         lam[again], shapes[again], converged[again] = _eigen.residual_inverse_iteration(
             iterates.factors, rows[again], part, lam[again], shapes[again])
@@ -631,19 +631,6 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     ok = converged & (np.abs(lam - expected) <= 2 * _spread(values, brackets, rows))
     iterates.x[rows[ok]], iterates.lam[rows[ok]], iterates.shape[rows[ok]] = x[ok], lam[ok], shapes[ok]
     return lam, ok
-
-
-class _Subset:
-    """Rows of a :class:`Pencils`, numbered from 0."""
-
-    def __init__(self, pencils, rows):
-        self.pencils, self.rows = pencils, rows
-
-    def matrices(self, rows):
-        return self.pencils.matrices(self.rows[rows])
-
-    def products(self, rows, vectors):
-        return self.pencils.products(self.rows[rows], vectors)
 
 
 def _cubic_value(speeds, values, brackets, rows, x):

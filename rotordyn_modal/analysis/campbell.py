@@ -532,26 +532,29 @@ def _illinois(end, g_end, g_other, last_side, rows, x, gx, side):
 
 class _Iterates(NamedTuple):
     """Per crossing: whether its mode is isolated (see :func:`_isolated`) and may be evaluated
-    on the pencil, the last point, eigenvalue and shape found that way, and the factorisation of
-    the pencil (at a point near the root) that the iteration reuses (updated in place)."""
+    on the pencil, the last point, eigenvalue and shape found (by the pencil, or by picking
+    from the roots), the distance from that eigenvalue to the nearest other root where it was
+    picked, and the factorisation of the pencil (at a point near the root) that the iteration
+    reuses (updated in place)."""
 
     usable: np.ndarray
     x: np.ndarray
     lam: np.ndarray
     shape: np.ndarray
+    gap: np.ndarray
     factors: _eigen.PencilFactors
 
     @classmethod
     def start(cls, stack, speeds, values, brackets, shapes):
         count = len(brackets.k)
+        gap = np.full(count, np.nan)
         if shapes is None or stack.branch_times.shape[-1]:
             # Maxwell branches make the pencil rational: every evaluation takes all eigenvalues
             return cls(np.zeros(count, dtype=bool), np.full(count, np.nan), np.zeros(count, complex),
-                       np.zeros((count, 0), complex), _eigen.PencilFactors(0, 0))
+                       np.zeros((count, 0), complex), gap, _eigen.PencilFactors(0, 0))
         v, k, mode = brackets.variant, brackets.k, brackets.mode
-        usable = _isolated(values, brackets)
-        return cls(usable, speeds[k].astype(float), values[v, k, mode].copy(), shapes[v, k, mode].copy(),
-                   _eigen.PencilFactors(count if usable.any() else 0, stack.n_dof))
+        return cls(_isolated(values, brackets), speeds[k].astype(float), values[v, k, mode].copy(),
+                   shapes[v, k, mode].copy(), gap, _eigen.PencilFactors(count, stack.n_dof))
 
 
 def _isolated(values, brackets):
@@ -583,12 +586,13 @@ def _isolated(values, brackets):
 
 def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
     """The tracked modes' eigenvalues at speeds ``x`` and whether each is sure (see
-    :func:`_tracked`): the pencil's iteration for isolated modes, all eigenvalues for
-    the rest and for any that did not converge to within the mode's spread of its
-    bracket's interpolation."""
+    :func:`_tracked`): the pencil's iteration for isolated modes and for modes picked from the
+    roots at a point so near that no other root can have come close (:func:`_followed`), the
+    roots near the bracket's interpolation for the rest and for any that did not converge
+    to the tracked mode."""
     lam = np.empty(len(rows), dtype=complex)
     sure = np.zeros(len(rows), dtype=bool)
-    fast = iterates.usable[rows]
+    fast = iterates.usable[rows] | _followed(speeds, values, brackets, rows, x, iterates)
     if fast.any():
         f = np.nonzero(fast)[0]
         found, ok = _pencil_at(stack, speeds, values, brackets, rows[f], x[f], iterates)
@@ -596,12 +600,26 @@ def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
         fast[f[~ok]] = False
     slow = np.nonzero(~fast)[0]
     if len(slow):
-        lam[slow], sure[slow], shapes, known = _tracked(stack, speeds, values, weighted, brackets, rows[slow], x[slow])
+        lam[slow], sure[slow], shapes, known, gap = _tracked(stack, speeds, values, weighted, brackets, rows[slow],
+                                                             x[slow])
         if known.any() and iterates.shape.shape[-1]:
-            # kept for the shape at the root, should this point be it
-            mine = rows[slow[known]]
-            iterates.x[mine], iterates.lam[mine], iterates.shape[mine] = x[slow[known]], lam[slow[known]], shapes[known]
+            # kept for the shape at the root, should this point be it, and to follow the mode
+            mine, at = rows[slow[known]], slow[known]
+            iterates.x[mine], iterates.lam[mine], iterates.shape[mine] = x[at], lam[at], shapes[known]
+            iterates.gap[mine] = np.where(sure[at], gap[known], np.nan)
     return lam, sure
+
+
+def _followed(speeds, values, brackets, rows, x, iterates):
+    """Crossings whose mode was picked from the roots at a point so near ``x`` that no root
+    can have moved a tenth of the distance to its nearest neighbour there (at four times the
+    fastest travel across the bracket of any root of the sweep): the pencil's iteration from
+    that eigenpair then finds the same mode."""
+    v, k = brackets.variant[rows], brackets.k[rows]
+    travel = np.abs(values[v, k + 1] - values[v, k]).max(axis=1)             # fastest root's travel
+    moved = 4 * travel * np.abs(x - iterates.x[rows]) / (speeds[k + 1] - speeds[k])
+    with np.errstate(invalid="ignore"):
+        return ~iterates.usable[rows] & (moved < 0.1 * iterates.gap[rows])
 
 
 def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
@@ -614,7 +632,8 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     start = iterates.lam[rows] + _interpolated(speeds, values, brackets, rows, x) \
         - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
     fresh = np.nonzero(~iterates.factors.ready[rows])[0]
-    start[fresh] = _cubic_value(speeds, values, brackets, rows[fresh], x[fresh])
+    first = fresh[iterates.x[rows[fresh]] == speeds[brackets.k[rows[fresh]]]]    # nothing evaluated yet
+    start[first] = _cubic_value(speeds, values, brackets, rows[first], x[first])
     pencils = Pencils(stack, brackets.variant[rows], x)
     iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
     lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
@@ -629,6 +648,9 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
             iterates.factors, rows[again], part, lam[again], shapes[again])
     expected = _interpolated(speeds, values, brackets, rows, x)
     ok = converged & (np.abs(lam - expected) <= 2 * _spread(values, brackets, rows))
+    followed = ~iterates.usable[rows]
+    with np.errstate(invalid="ignore"):
+        ok[followed] &= np.abs(lam - start)[followed] < 0.25 * iterates.gap[rows[followed]]
     iterates.x[rows[ok]], iterates.lam[rows[ok]], iterates.shape[rows[ok]] = x[ok], lam[ok], shapes[ok]
     return lam, ok
 
@@ -679,6 +701,8 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
         The shape of each eigenvalue where ``known`` (the roots came with their shapes, or the
         mode was identified by its shape).
     known : ndarray (P,) bool
+    gap : ndarray (P,)
+        Distance from each eigenvalue to the nearest other root (of those at hand) [1/s].
     """
     expected = _interpolated(speeds, values, brackets, rows, x)
     lam, phi = _roots_near(stack, brackets.variant[rows], x, expected)
@@ -704,7 +728,8 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
         scale = np.maximum(scale, np.abs(values[brackets.variant[rows], brackets.k[rows]]).max(axis=1))
     repeated = np.sort(np.abs(lam - picked[:, None]), axis=1)[:, 1] <= _eigen.REPEATED_TOLERANCE * scale
     known &= unsure | ~repeated            # a repeated root's shape is told by the MAC (_modes_at)
-    return picked, ~unsure & ~repeated, shapes, known
+    gap = np.sort(np.abs(lam - picked[:, None]), axis=1)[:, 1]
+    return picked, ~unsure & ~repeated, shapes, known, gap
 
 
 def _roots_near(stack, variants, x, centers, shapes=False):

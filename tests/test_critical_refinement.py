@@ -67,19 +67,26 @@ def _refine(form, forms, speeds, values, weighted, mode, k, slope):
     return root, lam.imag / (2 * np.pi), str(_eigen.whirl_labels(ratio)), float(modal_quantities(lam)[1])
 
 
-@pytest.mark.parametrize("path", ["whole-pencils", "lu-factors", "nearest-roots"])
+@pytest.mark.parametrize("path", ["whole-pencils", "lu-factors", "nearest-roots", "arnoldi-fails"])
 @pytest.mark.parametrize("name", EXAMPLES)
 def test_batched_refinement_equals_brents_method_per_crossing(name, path, examples_dir, monkeypatch):
     """Every way of evaluating a crossing gives Brent's roots: isolated modes by the pencil
     iteration with small pencils solved whole in one batched call, or factored once per
     crossing as large ones are; the others (here all crossings) from the roots nearest the
-    interpolation by shift-invert Arnoldi, as large models do (both forced here for the
-    examples' few coordinates)."""
+    interpolation by shift-invert Arnoldi, as large models do, or all roots where Arnoldi
+    fails (each forced here for the examples' few coordinates)."""
     from rotordyn_modal.analysis import campbell as campbell_module
 
     if path == "lu-factors":
         monkeypatch.setattr(_eigen, "BATCHED_DOF", 0)
-    if path == "nearest-roots":
+    if path == "arnoldi-fails":      # every shift-invert Arnoldi call fails: all roots instead
+        import scipy.sparse.linalg
+
+        def no_convergence(*args, **kwargs):
+            raise scipy.sparse.linalg.ArpackNoConvergence("no convergence (test)", np.zeros(0), np.zeros((0, 0)))
+
+        monkeypatch.setattr(scipy.sparse.linalg, "eigs", no_convergence)
+    if path in ("nearest-roots", "arnoldi-fails"):
         monkeypatch.setattr(_eigen, "NEAREST_ROOTS_DOF", 0)
         monkeypatch.setattr(campbell_module, "_isolated", lambda values, brackets: np.zeros(len(brackets.k), bool))
     model = rdm.load_model(examples_dir / f"{name}.toml")

@@ -437,15 +437,16 @@ def nearest_roots(pencils, centers, count: int = 8):
     Returns
     -------
     eigenvalues : ndarray (P, count), complex
-        By distance from the point.
+        By distance from the point; NaN in a row where ARPACK did not converge.
     shapes : ndarray (P, count, n), complex
         Unit-norm displacement parts of the eigenvectors.
     """
     from scipy.linalg import lapack
-    from scipy.sparse.linalg import LinearOperator, eigs
+    from scipy.sparse.linalg import ArpackError, LinearOperator, eigs
 
     n = pencils.matrices(np.array([0]))[1].shape[-1]
     count = min(count, 2 * n - 2)
+    start = _start_vectors(1, 2 * n)[0]          # a fixed start: the same roots on every run
     values = np.empty((len(centers), count), dtype=complex)
     shapes = np.empty((len(centers), count, n), dtype=complex)
     # off the point by a little: the point may be a root itself (a mode the speed leaves alone)
@@ -463,9 +464,13 @@ def nearest_roots(pencils, centers, count: int = 8):
         def unused(w):
             raise RuntimeError("shift-invert mode applies only the inverse")
 
-        lam, vectors = eigs(LinearOperator((2 * n, 2 * n), matvec=unused, dtype=complex), k=count, sigma=sigma,
-                            OPinv=LinearOperator((2 * n, 2 * n), matvec=inverse, dtype=complex), which="LM",
-                            tol=_ARNOLDI_TOLERANCE)
+        try:
+            lam, vectors = eigs(LinearOperator((2 * n, 2 * n), matvec=unused, dtype=complex), k=count, sigma=sigma,
+                                OPinv=LinearOperator((2 * n, 2 * n), matvec=inverse, dtype=complex), which="LM",
+                                tol=_ARNOLDI_TOLERANCE, v0=start)
+        except ArpackError:
+            values[row], shapes[row] = np.nan, 0.0          # the caller takes all roots instead
+            continue
         order = np.argsort(np.abs(lam - centers[row]))
         values[row] = lam[order]
         shapes[row] = unit_rows(vectors[:n, order].T)

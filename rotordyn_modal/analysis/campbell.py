@@ -738,15 +738,28 @@ def _roots_near(stack, variants, x, centers, shapes=False):
     and (R, 8, n); else all of them, (R, m), with shapes (R, m, n) only when ``shapes`` (None
     otherwise)."""
     if stack.n_dof <= _eigen.NEAREST_ROOTS_DOF or stack.branch_times.shape[-1]:
-        size = stack.forms[0].n_states
-        if shapes:
-            return _eigen.concatenated([stack.solve(stack.at(variants[part], x[part]), variants[part])
-                                        for part in _eigen.chunk_slices(len(x), 80 * size * size)])
-        return _eigen.concatenated([_eigen.select_upper(_eigen.eigenvalues_of(stack.at(variants[part], x[part])))
-                                    for part in _eigen.chunk_slices(len(x), 32 * size * size)]), None
+        return _all_roots(stack, variants, x, shapes)
     lam, phi = _eigen.nearest_roots(Pencils(stack, variants, x), centers)
+    failed = np.nonzero(np.all(np.isnan(lam), axis=1))[0]
+    if len(failed):                                    # ARPACK did not converge: all roots, the nearest kept
+        every, every_phi = _all_roots(stack, variants[failed], x[failed], True)
+        nearest = np.argsort(np.abs(every - centers[failed, None]), axis=1)[:, :lam.shape[1]]
+        kept = nearest.shape[1]                        # a small model may have fewer roots than asked
+        lam[failed, :kept] = np.take_along_axis(every, nearest, axis=1)
+        phi[failed, :kept] = np.take_along_axis(every_phi, nearest[..., None], axis=1)
     lam = np.where(lam.imag < 0, np.nan, lam)          # the lower roots are not candidates
     return lam, _eigen.resolve_repeated(lam, phi, stack.whirl, variants)
+
+
+def _all_roots(stack, variants, x, shapes):
+    """All upper roots of the state matrices at ``x`` (R, m), with their unit shapes (R, m, n)
+    when ``shapes`` (None otherwise)."""
+    size = stack.forms[0].n_states
+    if shapes:
+        return _eigen.concatenated([stack.solve(stack.at(variants[part], x[part]), variants[part])
+                                    for part in _eigen.chunk_slices(len(x), 80 * size * size)])
+    return _eigen.concatenated([_eigen.select_upper(_eigen.eigenvalues_of(stack.at(variants[part], x[part])))
+                                for part in _eigen.chunk_slices(len(x), 32 * size * size)]), None
 
 
 def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iterates):

@@ -4,6 +4,8 @@ closed forms where they exist (tests/test_bearings.py, tests/test_campbell.py)."
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 from scipy.optimize import brentq
@@ -133,3 +135,34 @@ def test_pencil_iteration_equals_all_eigenvalues_of_the_state_matrix(seed, facto
     np.testing.assert_allclose(newton.speeds, full.speeds, rtol=1e-10)
     np.testing.assert_allclose(newton.frequencies_hz, full.frequencies_hz, rtol=1e-10)
     np.testing.assert_allclose(newton.damping_ratios, full.damping_ratios, rtol=1e-8, atol=1e-12)
+
+
+@pytest.mark.skipif(os.environ.get("ROTORDYN_MODAL_LARGE_MODELS", "") != "full",
+                    reason="about 2 minutes: set ROTORDYN_MODAL_LARGE_MODELS=full")
+def test_large_model_paths_equal_all_eigenvalues_of_the_state_matrix(monkeypatch):
+    """A model of 101 coordinates takes the large models' paths unforced (each crossing's pencil
+    factored once, the roots near non-isolated modes by shift-invert Arnoldi, then followed on
+    the pencil): its 1,718 critical speeds equal those from all eigenvalues of the state matrix
+    at every trial speed (the path checked against Brent's method above)."""
+    from reference_bearings import random_bearing_description
+
+    from rotordyn_modal.analysis import campbell as campbell_module
+
+    rng = np.random.default_rng(5)
+    data = random_bearing_description(rng, n_rotors=20)
+    data["transmissions"] = []
+    for j, rotor in enumerate(data["rotors"]):
+        rotor["speed_ratio"] = 1.0 if j == 0 else float(rng.choice([-1, 1]) * rng.uniform(0.3, 2.0))
+    model = rdm.Model.from_dict(data)
+    assert speed_linear_form(model).n_dof > max(_eigen.NEAREST_ROOTS_DOF, _eigen.BATCHED_DOF)
+    speeds = np.linspace(0.0, 3000.0, 21)
+    large = rdm.campbell(model, speeds).critical
+    monkeypatch.setattr(_eigen, "NEAREST_ROOTS_DOF", 10**9)
+    monkeypatch.setattr(campbell_module, "_isolated", lambda values, brackets: np.zeros(len(brackets.k), bool))
+    full = rdm.campbell(model, speeds).critical
+    assert len(full) == len(large) > 1000
+    assert list(large.source) == list(full.source) and list(large.mode) == list(full.mode)
+    assert list(large.whirl) == list(full.whirl)
+    np.testing.assert_allclose(large.speeds, full.speeds, rtol=1e-10)
+    np.testing.assert_allclose(large.frequencies_hz, full.frequencies_hz, rtol=1e-10)
+    np.testing.assert_allclose(large.damping_ratios, full.damping_ratios, rtol=1e-8, atol=1e-12)

@@ -422,8 +422,11 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     ``1e-13 max(|Omega|, 1)``: the last point evaluated is the root, with its eigenvalue.
     The eigenvalue of a mode isolated from every other root across its bracket comes from
     residual inverse iteration on the quadratic pencil (:func:`_pencil_at`): one factorisation
-    per crossing, at its first point, serves every later point; the others (and any that does not converge there) from all eigenvalues of
-    the state matrix, identified as described in :func:`_tracked`.
+    per crossing, at its first point, serves every later point. The others (and any that does
+    not converge there) are picked from the roots near the bracket's interpolation (all
+    eigenvalues of the state matrix, or for large models the nearest by shift-invert Arnoldi)
+    as described in :func:`_tracked`, and then followed on the pencil where the next point is
+    near enough (:func:`_followed`).
 
     Returns
     -------

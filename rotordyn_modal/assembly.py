@@ -32,7 +32,7 @@ from .errors import InputError
 from .geometry import point_force_column, shift_matrix, skew
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
-           "mass_matrix", "gyroscopic_matrix", "constant_matrices", "bearing_matrices", "bearing_motion", "frame_block",
+           "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
            "add_rotor_body", "rotor_gyroscopic", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force"]
 
 
@@ -291,12 +291,23 @@ def constant_matrices(model) -> Matrices:
     -------
     Matrices, each (n, n)
     """
+    K, C = constant_stiffness_damping(model)
+    return Matrices(M=mass_matrix(model), C=C, G=gyroscopic_matrix(model), K=K)
+
+
+def constant_stiffness_damping(model):
+    """``K`` and ``C`` of :func:`constant_matrices` (suspensions and constant bearings).
+
+    Returns
+    -------
+    K, C : ndarray, shape (n, n)
+    """
     K = frame_block(model, _suspension_sum(model, "stiffness_matrix"))
     C = frame_block(model, _suspension_sum(model, "damping_matrix"))
     if model.bearings:
         k_b, c_b = bearing_matrices(model, constant_only=True)
         K, C = K + k_b, C + c_b
-    return Matrices(M=mass_matrix(model), C=C, G=gyroscopic_matrix(model), K=K)
+    return K, C
 
 
 def sensor_rows(model, names=None) -> np.ndarray:

@@ -121,7 +121,7 @@ class Model:
         self.excitations = validated["excitations"]
         self.speed_ratios = {rotor.name: rotor.speed_ratio for rotor in self.rotors}
         if earlier is not None and self.same_bodies(earlier) and _same(self.bearings, earlier.bearings):
-            self._dofs = getattr(earlier, "_dofs", None)   # the coordinates follow from these alone
+            self._dofs = earlier.dofs   # the coordinates follow from these alone
 
     def _parts(self) -> dict[str, Any]:
         """The validated parts by table name (as :func:`_validation.validate` returns them)."""

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..linear_system import speed_linear_form
+from ..linear_system import same_inertia, speed_linear_form
 from . import _eigen
 
 __all__ = ["Stack"]
@@ -39,14 +39,20 @@ class Stack:
 
     def __init__(self, models):
         self.models = list(models)
-        self.forms = [speed_linear_form(m) for m in self.models]
+        first = speed_linear_form(self.models[0])
+        # variants with the first model's very bodies share its M, G, M^-1 and whirl forms
+        self.forms = [first] + [speed_linear_form(m, like=first) for m in self.models[1:]]
         shapes = {(f.n_dof, f.n_states) for f in self.forms}
         if len(shapes) != 1:
             raise ValueError(f"models of different structure cannot be stacked: {sorted(shapes)}")
-        whirl = [_eigen.whirl_forms(m) for m in self.models]
+        whirl = [_eigen.whirl_forms(self.models[0])]
+        whirl += [whirl[0] if same_inertia(self.models[0], m) else _eigen.whirl_forms(m) for m in self.models[1:]]
+        #: every variant has the first one's mass matrix (and whirl forms): the single model's products apply
+        self.shared_mass = all(f.matrices.M is first.matrices.M for f in self.forms)
+        self.shared_whirl = all(w is whirl[0] for w in whirl)
         self.whirl = _eigen.WhirlForms(*(np.stack(parts) for parts in zip(*whirl)))
         self.M, self.C, self.G, self.K = (np.stack(parts) for parts in zip(*(f.matrices for f in self.forms)))
-        self.factor = np.linalg.cholesky(self.M)
+        self.factor = np.linalg.cholesky(self.M[:1] if self.shared_mass else self.M)
         self.A0 = np.stack([f.A0 for f in self.forms])
         self.A1 = np.stack([f.A1 for f in self.forms])
         self.dependent = any(f.speed_dependent for f in self.forms)
@@ -113,7 +119,7 @@ class Stack:
         out = np.empty(shapes.shape, dtype=complex)
         # in parts: the real and imaginary parts and their products are copies of the shapes
         for part in _eigen.chunk_slices(len(shapes), 64 * shapes[0].size):
-            factor = self.factor[0] if len(self) == 1 else self.factor[variants[part]]   # real: L^H = L^T
+            factor = self.factor[0] if self.shared_mass else self.factor[variants[part]]   # real: L^H = L^T
             out[part] = _eigen.unit_rows(_eigen.real_product(shapes[part], factor))
         return out
 
@@ -123,7 +129,7 @@ class Stack:
         speeds = np.broadcast_to(speeds, shapes.shape[:-2])
         # in parts: the products with the three forms are three times the shapes, twice over
         for part in _eigen.chunk_slices(len(shapes), 160 * shapes[0].size):
-            forms = _eigen.WhirlForms(*(f[0] if len(self) == 1 else f[variants[part]] for f in self.whirl))
+            forms = _eigen.WhirlForms(*(f[0] if self.shared_whirl else f[variants[part]] for f in self.whirl))
             out[part] = _eigen.whirl_ratios(shapes[part], forms, speeds[part])
         return out
 

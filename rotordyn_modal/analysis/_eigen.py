@@ -23,7 +23,7 @@ from ..assembly import add_rotor_body, body_inertias
 from ..dofs import frame_block
 from ..geometry import skew
 
-__all__ = ["select_upper", "upper_indices", "eigenvalues_of", "solve_batch", "pencil_shapes", "pencil_eigenvalues",
+__all__ = ["select_upper", "upper_indices", "upper_shapes", "eigenvalues_of", "solve_batch", "pencil_shapes", "pencil_eigenvalues",
            "chunk_slices", "concatenated", "CHUNK_BYTES", "whirl_forms", "rotor_whirl_forms", "whirl_ratios",
            "whirl_labels", "row_norms", "unit_rows", "mass_normalized", "mac_matrix", "real_product",
            "quadratic_forms", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
@@ -158,6 +158,34 @@ def _eig(matrices: np.ndarray):
     """``numpy.linalg.eig`` of a stack of matrices, in threads and parts of bounded memory."""
     size = matrices.shape[-1]
     return _threaded(np.linalg.eig, matrices, item_bytes=72 * size * size)
+
+
+def upper_shapes(matrices: np.ndarray, n: int):
+    """Upper eigenvalues (see :func:`upper_indices`) and unit-norm displacement shapes of a
+    stack of state matrices: ``numpy.linalg.eig`` in threads and parts of bounded memory, each
+    part's eigenvectors reduced to its shapes at once (the parts' results are a quarter of
+    the eigenvectors, so joining them copies little).
+
+    Parameters
+    ----------
+    matrices : ndarray, shape (R, n_states, n_states)
+    n : int
+        Number of generalized coordinates (the displacement rows of the eigenvectors).
+
+    Returns
+    -------
+    eigenvalues : ndarray, shape (R, m), complex; shapes : ndarray, shape (R, m, n), complex
+    """
+    size = matrices.shape[-1]
+    return _threaded(functools.partial(_upper_part, n=n), matrices, item_bytes=72 * size * size)
+
+
+def _upper_part(matrices: np.ndarray, n: int):
+    values, vectors = np.linalg.eig(matrices)
+    index, eigenvalues = upper_indices(values)
+    # advanced indices apart put their axes first: shapes[r, k, j] = vectors[r, j, index[r, k]]
+    shapes = vectors[np.arange(len(vectors))[:, None], :n, index]
+    return eigenvalues, unit_rows(shapes)
 
 
 def eigenvalues_of(matrices: np.ndarray) -> np.ndarray:
@@ -327,11 +355,7 @@ def solve_batch(form, speeds, forms=None):
         Unit-norm displacement parts of the state eigenvectors.
     """
     speeds = np.asarray(speeds, dtype=float)
-    values, vectors = _eig(form.at(speeds))
-    index, eigenvalues = upper_indices(values)
-    n = form.n_dof
-    shapes = np.swapaxes(np.take_along_axis(vectors[:, :n, :], index[:, None, :], axis=-1), -1, -2)
-    shapes = unit_rows(shapes)
+    eigenvalues, shapes = upper_shapes(form.at(speeds), form.n_dof)
     if forms is not None:
         shapes = resolve_repeated(eigenvalues, shapes, forms)
     return eigenvalues, shapes
@@ -550,7 +574,9 @@ def real_product(shapes, matrix) -> np.ndarray:
         out = (parts.reshape(-1, parts.shape[-1]) @ matrix).reshape(parts.shape[:-1] + matrix.shape[-1:])
     else:
         out = parts @ matrix
-    return out[0] + 1j * out[1]
+    combined = np.empty(out.shape[1:], dtype=complex)
+    combined.real, combined.imag = out[0], out[1]
+    return combined
 
 
 def quadratic_forms(shapes, stacked) -> np.ndarray:

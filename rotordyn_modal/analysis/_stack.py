@@ -72,7 +72,9 @@ class Stack:
         speeds = np.asarray(speeds, dtype=float)
         if self.dependent:
             return np.stack([f.at(speeds) for f in self.forms])
-        return self.A0[:, None] + speeds[None, :, None, None] * self.A1[:, None]
+        out = np.multiply(speeds[None, :, None, None], self.A1[:, None])
+        out += self.A0[:, None]   # A0 + Omega A1 without a second temporary of the sweep's size
+        return out
 
     def at(self, variants, x) -> np.ndarray:
         """State matrices of variant ``variants[p]`` at speed ``x[p]``, shape (P, n_s, n_s)."""
@@ -107,11 +109,7 @@ class Stack:
         -------
         eigenvalues : ndarray (R, m), complex; shapes : ndarray (R, m, n), complex
         """
-        values, vectors = _eigen._eig(matrices)
-        index, eigenvalues = _eigen.upper_indices(values)
-        n = self.n_dof
-        shapes = np.swapaxes(np.take_along_axis(vectors[:, :n, :], index[:, None, :], axis=-1), -1, -2)
-        shapes = _eigen.unit_rows(shapes)
+        eigenvalues, shapes = _eigen.upper_shapes(matrices, self.n_dof)
         return eigenvalues, _eigen.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
 
     def weighted(self, shapes, variants):

@@ -32,6 +32,9 @@ def skew(vector) -> np.ndarray:
     ndarray, shape (..., 3, 3)
     """
     v = np.asarray(vector, dtype=float)
+    if v.shape == (3,):   # the common case, without the broadcast assignments' overhead
+        x, y, z = v.tolist()
+        return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
     out = np.zeros(v.shape[:-1] + (3, 3))
     out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
     out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
@@ -74,9 +77,16 @@ def shift_matrix(p, o) -> np.ndarray:
     >>> B @ [0, 1.0, 0, 0, 0, 0]    # a force along y at O seen from P = (1, 0, 0)
     array([ 0.,  1.,  0.,  0.,  0., -1.])
     """
-    out = np.eye(6)
-    out[3:, :3] = -shift_cross(p, o)
-    return out
+    arm = np.asarray(p, dtype=float) - np.asarray(o, dtype=float)
+    if arm.shape != (3,):
+        out = np.eye(6)
+        out[3:, :3] = -shift_cross(p, o)
+        return out
+    x, y, z = arm.tolist()
+    # -skew(arm) written out (its diagonal is -0.0, as the negated zeros of skew were)
+    return np.array([[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+                     [0.0, 0.0, 1.0, 0.0, 0.0, 0.0], [-0.0, z, -y, 1.0, 0.0, 0.0],
+                     [-z, -0.0, x, 0.0, 1.0, 0.0], [y, -x, -0.0, 0.0, 0.0, 1.0]])
 
 
 def point_motion_row(point, reference, direction) -> np.ndarray:
@@ -92,6 +102,9 @@ def point_motion_row(point, reference, direction) -> np.ndarray:
     """
     d = np.asarray(direction, dtype=float)
     arm = np.asarray(point, dtype=float) - np.asarray(reference, dtype=float)
+    if d.shape == arm.shape == (3,):   # numpy.cross's own products and differences, without its overhead
+        (a0, a1, a2), (d0, d1, d2) = arm.tolist(), d.tolist()
+        return np.array([d0, d1, d2, a1 * d2 - a2 * d1, a2 * d0 - a0 * d2, a0 * d1 - a1 * d0])
     return np.concatenate([d, np.cross(arm, d)])
 
 

@@ -73,8 +73,8 @@ def _times(matrix, motion):
     ndarray, shape (F, k, n)
     """
     count, d, n = motion.shape
-    flat = np.swapaxes(motion, 1, 2).reshape(count * n, d) @ np.asarray(matrix).T
-    return np.swapaxes(flat.reshape(count, n, -1), 1, 2)
+    flat = motion.transpose(0, 2, 1).reshape(count * n, d) @ np.asarray(matrix).T
+    return flat.reshape(count, n, -1).transpose(0, 2, 1)
 
 
 def _branch_stiffness(suspension, omega):

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["skew", "shift_cross", "shift_matrix", "point_motion_row", "point_force_column",
+__all__ = ["skew", "shift_cross", "shift_matrix", "cross", "point_motion_row", "point_force_column",
            "transverse_axes"]
 
 
@@ -102,10 +102,26 @@ def point_motion_row(point, reference, direction) -> np.ndarray:
     """
     d = np.asarray(direction, dtype=float)
     arm = np.asarray(point, dtype=float) - np.asarray(reference, dtype=float)
-    if d.shape == arm.shape == (3,):   # numpy.cross's own products and differences, without its overhead
-        (a0, a1, a2), (d0, d1, d2) = arm.tolist(), d.tolist()
-        return np.array([d0, d1, d2, a1 * d2 - a2 * d1, a2 * d0 - a0 * d2, a0 * d1 - a1 * d0])
-    return np.concatenate([d, np.cross(arm, d)])
+    return np.concatenate([d, cross(arm, d)])
+
+
+def cross(a, b) -> np.ndarray:
+    """``numpy.cross(a, b)``; for two 3-vectors written out (the same products and differences,
+    so the same numbers, without numpy's overhead for small arrays).
+
+    Parameters
+    ----------
+    a, b : array_like, shape (..., 3)
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+    """
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape == b.shape == (3,) and a.dtype == b.dtype == np.float64:
+        (a0, a1, a2), (b0, b1, b2) = a.tolist(), b.tolist()
+        return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+    return np.cross(a, b)
 
 
 def point_force_column(point, reference, direction) -> np.ndarray:
@@ -145,4 +161,4 @@ def transverse_axes(spin_axis) -> np.ndarray:
     following = np.eye(3)[(int(np.argmax(np.abs(e))) + 1) % 3]
     a = following - (following @ e) * e
     a = a / np.linalg.norm(a)
-    return np.array([a, np.cross(e, a)]) + 0.0
+    return np.array([a, cross(e, a)]) + 0.0

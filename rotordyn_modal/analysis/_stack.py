@@ -50,14 +50,14 @@ class Stack:
         #: every variant has the first one's mass matrix (and whirl forms): the single model's products apply
         self.shared_mass = all(f.matrices.M is first.matrices.M for f in self.forms)
         self.shared_whirl = all(w is whirl[0] for w in whirl)
-        self.whirl = _eigen.WhirlForms(*(np.stack(parts) for parts in zip(*whirl)))
-        self.M, self.C, self.G, self.K = (np.stack(parts) for parts in zip(*(f.matrices for f in self.forms)))
+        self.whirl = _eigen.WhirlForms(*(_stacked(parts) for parts in zip(*whirl)))
+        self.M, self.C, self.G, self.K = (_stacked(parts) for parts in zip(*(f.matrices for f in self.forms)))
         self.factor = np.linalg.cholesky(self.M[:1] if self.shared_mass else self.M)
-        self.A0 = np.stack([f.A0 for f in self.forms])
-        self.A1 = np.stack([f.A1 for f in self.forms])
+        self.A0 = _stacked([f.A0 for f in self.forms])
+        self.A1 = _stacked([f.A1 for f in self.forms])
         self.dependent = any(f.speed_dependent for f in self.forms)
-        self.branch_stiffness = np.stack([f.branch_stiffness for f in self.forms])   # (V, n_b, n, n)
-        self.branch_times = np.stack([f.branch_times for f in self.forms])           # (V, n_b)
+        self.branch_stiffness = _stacked([f.branch_stiffness for f in self.forms])   # (V, n_b, n, n)
+        self.branch_times = _stacked([f.branch_times for f in self.forms])           # (V, n_b)
 
     def __len__(self) -> int:
         return len(self.forms)
@@ -136,3 +136,8 @@ class Stack:
         damping, stiffness = self.damping_stiffness(variants, x)
         return _eigen.pencil_shapes(self.M[variants], damping, stiffness, lam,
                                     (self.branch_stiffness[variants], self.branch_times[variants]))
+
+
+def _stacked(arrays) -> np.ndarray:
+    """``numpy.stack`` of the arrays; of a single array a view with a leading axis of one."""
+    return arrays[0][None] if len(arrays) == 1 else np.stack(arrays)

@@ -21,7 +21,7 @@ import numpy as np
 from . import _validation
 from .components import (Bearing, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
                          Unbalance, input_keys)
-from .parameters import get_value, parse_key, scale_value, set_value
+from .parameters import change_at, get_value, parse_key, scale_value, set_value
 
 __all__ = [
     "Model", "Stator", "Rotor", "Transmission", "Suspension", "Bearing", "Unbalance", "Sensor",
@@ -159,8 +159,7 @@ class Model:
         data = dict(self._data)
         owned: set = set()
         for key, apply, value in changes:
-            _own_value(data, key, self.source, owned)
-            (set_value if apply == "value" else scale_value)(data, key, value, self.source)
+            change_at(_own_value(data, key, self.source, owned), apply, value, key, self.source)
         model = Model.__new__(Model)
         model._build(data, self.source, earlier=self)
         return model
@@ -264,12 +263,13 @@ def _same(a, b) -> bool:
     return len(a) == len(b) and all(x is y for x, y in zip(a, b))
 
 
-def _own_value(data: dict, key: str, source: str, owned: set) -> None:
+def _own_value(data: dict, key: str, source: str, owned: set):
     """Give ``data``, a shallow copy of a description, copies of its own of the table that
     ``key`` names and of the value there, so that setting the value leaves the original
     description as it was. ``owned`` records the copies already made (ids, and
-    ``(id, field)`` pairs)."""
-    container, field, _ = parse_key(key, data, source)
+    ``(id, field)`` pairs). Returns where the value sits (see
+    :func:`~rotordyn_modal.parameters.parse_key`), in ``data``'s own copies."""
+    container, field, indices = parse_key(key, data, source)
     if container is not data and id(container) not in owned:
         table = key.partition(".")[0]
         copy = dict(container)
@@ -286,6 +286,7 @@ def _own_value(data: dict, key: str, source: str, owned: set) -> None:
     if (id(container), field) not in owned:
         container[field] = _validation.plain_copy({field: container[field]}, source)[field]
         owned.add((id(container), field))
+    return container, field, indices
 
 
 _TABLE_OF = {Stator: "stator", Rotor: "rotors", Transmission: "transmissions",

@@ -179,7 +179,7 @@ def _check_layout(top: _Table, data) -> None:
     top.check_keys(TOP_LEVEL_KEYS)
     for key in ARRAY_TABLES:
         value = data.get(key, [])
-        if not isinstance(value, list) or not all(isinstance(v, Mapping) for v in value):
+        if not isinstance(value, list) or not all(type(v) is dict or isinstance(v, Mapping) for v in value):
             raise top.error(key, value, f"an array of tables ([[{key}]])")
     if "stator" in data and not isinstance(data["stator"], Mapping):
         raise top.error("stator", data["stator"], "a table ([stator])")

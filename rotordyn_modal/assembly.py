@@ -33,7 +33,7 @@ from .geometry import point_force_column, shift_matrix, skew
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
-           "add_rotor_body", "rotor_gyroscopic", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force"]
+           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force"]
 
 
 class Matrices(NamedTuple):
@@ -114,6 +114,12 @@ def add_rotor_body(out: np.ndarray, model, rotor: str, body6: np.ndarray) -> Non
     the stator block is summed the way seed 000 sums it), so only the coupling and
     the rotor's own blocks are added. Nothing for a rotor without bearings.
     """
+    add_rotor_bodies([out], model, rotor, [body6])
+
+
+def add_rotor_bodies(outs, model, rotor: str, bodies6) -> None:
+    """:func:`add_rotor_body` of several forms ``bodies6[i]`` into ``outs[i]``, the rotor's
+    motion found once."""
     layout = model.dofs
     if not layout.on_bearings(rotor):
         return
@@ -121,10 +127,11 @@ def add_rotor_body(out: np.ndarray, model, rotor: str, body6: np.ndarray) -> Non
     own = layout.slices[j]
     moves = layout.local_relative_motion(rotor, layout.reference_point)     # (6, k)
     k = layout.n_frame
-    if k:
-        out[:k, own] += body6[:k] @ moves
-        out[own, :k] += moves.T @ body6[:, :k]
-    out[own, own] += moves.T @ body6 @ moves
+    for out, body6 in zip(outs, bodies6):
+        if k:
+            out[:k, own] += body6[:k] @ moves
+            out[own, :k] += moves.T @ body6[:, :k]
+        out[own, own] += moves.T @ body6 @ moves
 
 
 def loss_stiffness(model) -> np.ndarray:

@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..assembly import add_rotor_body, body_inertias
+from ..assembly import add_rotor_bodies, body_inertias
 from ..dofs import frame_block
 from ..geometry import skew
 
@@ -450,6 +450,9 @@ def _extreme_whirl(basis, total, momentum):
 
 
 # ----------------------------------------------------------------------------------------
+_SKEW_BASIS = skew(np.eye(3))   # E_k = skew(unit_k), shape (3, 3, 3)
+
+
 def _bodies_quadratic(masses, centers, second_moments, X) -> np.ndarray:
     """``sum_p m_p Z_p^T X Z_p`` over the particles of each rigid body, Z_p = [I, -skew(r_p)].
 
@@ -464,7 +467,7 @@ def _bodies_quadratic(masses, centers, second_moments, X) -> np.ndarray:
     -------
     ndarray, shape (B, 6, 6)
     """
-    basis = skew(np.eye(3))                                   # E_k, shape (3, 3, 3)
+    basis = _SKEW_BASIS                                       # E_k, shape (3, 3, 3)
     products = np.einsum("kab,bc,lcd->klad", basis, X, basis)   # E_k X E_l
     first = skew(masses[:, None] * centers)                   # (B, 3, 3)
     out = np.zeros((len(masses), 6, 6))
@@ -516,8 +519,8 @@ def whirl_forms(model) -> WhirlForms:
     first_rotor = len(forms["W"]) - len(model.rotors)
     for j, rotor in enumerate(model.rotors):
         if model.dofs.on_bearings(rotor.name):
-            for name in _DIRECTIONS:
-                add_rotor_body(parts[name], model, rotor.name, forms[name][first_rotor + j])
+            add_rotor_bodies([parts[name] for name in _DIRECTIONS], model, rotor.name,
+                             [forms[name][first_rotor + j] for name in _DIRECTIONS])
     return WhirlForms(**parts)
 
 

@@ -162,12 +162,14 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
     out = []
     for bearing in model.bearings:
         rows, moves = bearing_motion(model, bearing)
-        own = model.rotor(bearing.rotor).speed_ratio * speed
-        k6, c6 = evaluate(bearing.coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
         relative = _times(moves, q[:, rows])
-        if bearing.coefficients.kind == "constant":
-            out.append(_times(k6[0], relative) + 1j * w[:, None, None] * _times(c6[0], relative))
+        coefficients = bearing.coefficients
+        if coefficients.kind == "constant":   # the same 6 x 6 matrices at every speed
+            out.append(_times(coefficients.stiffness[0], relative)
+                       + 1j * w[:, None, None] * _times(coefficients.damping[0], relative))
         else:
+            own = model.rotor(bearing.rotor).speed_ratio * speed
+            k6, c6 = evaluate(coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
             out.append((k6 + 1j * w[:, None, None] * c6) @ relative)
     return np.array(out).reshape(len(model.bearings), len(w), 6, q.shape[-1])
 

@@ -95,3 +95,22 @@ def test_variants_equal_the_models_built_from_their_descriptions(name, examples_
         assert variant.dofs.names == expected.dofs.names
     assert _equal(model.to_dict(), original)   # the base model's description is untouched
     assert built and refused
+
+
+def test_variants_sharing_the_base_bodies_solve_as_their_own_models(examples_dir):
+    """A stack of variants that share the base model's bodies (its M, G, M^-1 and whirl forms
+    are then shared) gives each variant's own Campbell diagram bit for bit."""
+    from rotordyn_modal.analysis.campbell import campbell_many
+
+    model = rdm.load_model(examples_dir / "gear_machine.toml")
+    rng = np.random.default_rng(7)
+    keys = [f"suspensions.{s.name}.stiffness" for s in model.suspensions] + ["suspensions.mount-FL.damping"]
+    variants = [model.variant([(key, "scale", float(rng.uniform(0.8, 1.2))) for key in keys]) for _ in range(5)]
+    assert all(v.same_bodies(model) for v in variants)
+    speeds = rdm.rpm(np.linspace(0.0, 6000.0, 41))
+    for together, variant in zip(campbell_many(variants, speeds), variants):
+        alone = rdm.campbell(rdm.Model.from_dict(variant.to_dict(), variant.source), speeds)
+        for name in ("eigenvalues", "whirl_ratios", "shapes"):
+            assert getattr(together, name).tobytes() == getattr(alone, name).tobytes(), name
+        for name in ("speeds", "frequencies_hz", "whirl_ratios", "damping_ratios"):
+            assert getattr(together.critical, name).tobytes() == getattr(alone.critical, name).tobytes(), name

@@ -211,11 +211,12 @@ def upper_indices(values: np.ndarray):
         whose imaginary part is round-off are made real.
     """
     n = values.shape[-1] // 2
-    scale = np.abs(values).max(axis=-1, keepdims=True)
+    magnitude = np.abs(values)
+    scale = magnitude.max(axis=-1, keepdims=True)
     tol = OSCILLATORY_TOLERANCE * np.where(scale > 0, scale, 1.0)
     imag = np.where(np.abs(values.imag) <= tol, 0.0, values.imag)
     # within the real block, prefer the smaller |lam|: a second stable sort by -|lam| first
-    pre = np.argsort(-np.abs(values), axis=-1, kind="stable")
+    pre = np.argsort(-magnitude, axis=-1, kind="stable")
     imag_pre = np.take_along_axis(imag, pre, axis=-1)
     order = np.take_along_axis(pre, np.argsort(imag_pre, axis=-1, kind="stable"), axis=-1)
     chosen = order[..., n:]

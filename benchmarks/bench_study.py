@@ -12,10 +12,12 @@ stiffness factors, Latin hypercube; Campbell 0-6,000 rpm and its 1X critical spe
 and compares the serial cost per variant (one core: ``ROTORDYN_MODAL_THREADS=1`` and one
 BLAS thread, as in the workers) with its floor, the bare batched ``numpy.linalg.eig`` of
 that variant's 201 state matrices (built beforehand), and with one ``rdm.campbell`` call.
-The variants of a chunk are solved as one batch (``campbell_many``). Checks that the three
-runs give the same results.
+The serial study and the floor alternate ``--repeat`` times (the machine is shared: the
+ratios of each repetition, min / median / max, are what counts). The variants of a chunk
+are solved as one batch (``campbell_many``). Checks that the three runs give the same
+results.
 
-    python benchmarks/bench_study.py [--variants 2000] [--speeds 201]
+    python benchmarks/bench_study.py [--variants 2000] [--speeds 201] [--repeat 3]
 """
 
 from __future__ import annotations
@@ -87,6 +89,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--variants", type=int, default=2000)
     parser.add_argument("--speeds", type=int, default=201)
+    parser.add_argument("--repeat", type=int, default=3, help="alternations of the floor and the serial study")
     args = parser.parse_args()
     model = rdm.load_model(EXAMPLES / "gear_machine.toml")
     definition = parse_study(spec(args.variants, args.speeds), "mount_tolerance", model)
@@ -99,9 +102,16 @@ def main():
     os.environ["ROTORDYN_MODAL_THREADS"] = "1"
     with threadpool_limits(1):
         base, variants = single_campbell(model, definition)
-        floor = bare_eig(model, definition)
-        serial_time, serial = timed_study(model, definition)
+        runs = []
+        for _ in range(max(1, args.repeat)):   # the floor and the serial study alternate
+            floor = bare_eig(model, definition)
+            serial_time, serial = timed_study(model, definition)
+            runs.append((floor, serial_time))
     del os.environ["ROTORDYN_MODAL_THREADS"]
+    floors, serial_times = (np.array(column) for column in zip(*runs))
+    ratios = serial_times / n / floors
+    middle = int(np.argsort(ratios)[len(ratios) // 2])          # the repetition of the median ratio
+    floor, serial_time = floors[middle], serial_times[middle]
     per_variant = serial_time / n
     print(f"floor: bare numpy.linalg.eig of one variant's sweep     : {floor * 1e3:8.2f} ms  (one core)")
     print(f"one rdm.campbell call, base model (best of 5)           : {base * 1e3:8.2f} ms")
@@ -109,6 +119,10 @@ def main():
     print(f"study serial, one core                                  : {serial_time:8.2f} s  "
           f"({per_variant * 1e3:.2f} ms/variant = {per_variant / floor:.2f}x the floor (target <= 1.5), "
           f"{per_variant / variants:.2f}x one campbell call)")
+    print(f"per variant / floor over {len(runs)} repetitions (min median max)  : "
+          + " ".join(f"{r:.2f}" for r in (ratios.min(), np.median(ratios), ratios.max()))
+          + "   (ms/variant " + " ".join(f"{t / n * 1e3:.2f}" for t in serial_times)
+          + "; floor ms " + " ".join(f"{f * 1e3:.2f}" for f in floors) + ")")
 
     start = time.perf_counter()
     with ProcessPoolExecutor(2, initializer=worker_initializer) as pool:

@@ -60,27 +60,54 @@ def _plain(value):
     return value
 
 
-def validate(data: dict[str, Any], source: str) -> dict[str, Any]:
-    """Validate a whole description; returns the validated parts by table name."""
+def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]:
+    """Validate a whole description; returns the validated parts by table name.
+
+    Parameters
+    ----------
+    data : dict
+        The description (plain Python values).
+    source : str
+        Where it came from, for messages.
+    previous : tuple (dict, dict), optional
+        The description and validated parts of an earlier model that ``data`` was made from
+        by replacing some of its tables with changed copies (a study's variant of its base
+        model). A table that *is* (the same object) the earlier one, in the same context,
+        takes its earlier validated part: it passed every rule then and would give the same
+        part again. Changed tables and the rules across tables are checked as usual.
+    """
+    reuse = _Reuse(previous)
     top = _Table(source, "", data)
     _check_layout(top, data)
     spin_axis, name = _spin_axis_and_name(top, data)
-    stator = _stator(source, data["stator"]) if "stator" in data else None
+    stator = None
+    if "stator" in data:
+        stator = reuse.part("stator", None, data["stator"]) or _stator(source, data["stator"])
     rotor_tables = _named_tables(source, data, "rotors")
     if not rotor_tables and stator is None:
         raise top.error("rotors", [], "at least one [[rotors]] table or a [stator] table")
+    names_kept = reuse.same_names(rotor_tables)   # what references to rotors are checked against
     reference = _reference_rotor(top, rotor_tables)
-    transmissions = [_transmission(t, rotor_tables) for t in _indexed_tables(source, data, "transmissions")]
+    transmissions = [reuse.part("transmissions", i, t.data, names_kept) or _transmission(t, rotor_tables)
+                     for i, t in enumerate(_indexed_tables(source, data, "transmissions"))]
     ratios = _speed_ratios(source, rotor_tables, transmissions, reference)
-    rotors = [_rotor(t, ratios[name]) for name, t in rotor_tables.items()]
-    suspensions = [_suspension(t) for t in _named_tables(source, data, "suspensions").values()]
-    unbalances = [_unbalance(t, rotor_tables) for t in _indexed_tables(source, data, "unbalances")]
+    rotors = [reuse.rotor(i, t.data, ratios[name]) or _rotor(t, ratios[name])
+              for i, (name, t) in enumerate(rotor_tables.items())]
+    suspensions = [_suspension(t, reuse.earlier("suspensions", i))
+                   for i, t in enumerate(_named_tables(source, data, "suspensions").values())]
+    unbalances = [reuse.part("unbalances", i, t.data, names_kept) or _unbalance(t, rotor_tables)
+                  for i, t in enumerate(_indexed_tables(source, data, "unbalances"))]
     gravity = top.vector3("gravity", default=[0.0, 0.0, 0.0])
-    bearings = _bearing_validation.bearings(_named_tables(source, data, "bearings"), rotors,
-                                            spin_axis, gravity)
+    bearing_tables = _named_tables(source, data, "bearings")
+    bearings = reuse.bearings(data, rotors, spin_axis, gravity)
+    if bearings is None:
+        bearings = _bearing_validation.bearings(bearing_tables, rotors, spin_axis, gravity)
     on_bearings = {b.rotor for b in bearings}
-    sensors = [_sensor(t, rotor_tables, on_bearings) for t in _named_tables(source, data, "sensors").values()]
-    excitations = [_excitation(t, rotor_tables) for t in _named_tables(source, data, "excitations").values()]
+    sensors = [reuse.part("sensors", i, t.data, names_kept and reuse.same_carriers(bearings))
+               or _sensor(t, rotor_tables, on_bearings)
+               for i, t in enumerate(_named_tables(source, data, "sensors").values())]
+    excitations = [reuse.part("excitations", i, t.data, names_kept) or _excitation(t, rotor_tables)
+                   for i, t in enumerate(_named_tables(source, data, "excitations").values())]
     _bearing_validation.check_frame(top, stator, suspensions, bearings, sensors, excitations)
     return {
         "name": name, "spin_axis": spin_axis, "reference_rotor": reference, "gravity": gravity,
@@ -91,12 +118,68 @@ def validate(data: dict[str, Any], source: str) -> dict[str, Any]:
     }
 
 
+def _identical(a: np.ndarray, b: np.ndarray) -> bool:
+    """The same numbers bit for bit (``-0.0`` is not ``0.0`` here: a sign can reach a result)."""
+    return a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+class _Reuse:
+    """The validated parts of an earlier description, for the tables ``data`` shares with it
+    (see :func:`validate`'s ``previous``). Every question answers None or False without one."""
+
+    def __init__(self, previous):
+        self.raw, self.parts = previous if previous is not None else ({}, {})
+
+    def earlier(self, key: str, index):
+        """``(raw table, validated part)`` of the earlier table at ``index`` of array ``key``
+        (``index`` None: the table ``key``), or None."""
+        raw = self.raw.get(key)
+        if index is not None:
+            if not isinstance(raw, list) or index >= len(raw):
+                return None
+            return raw[index], self.parts[key][index]
+        return None if raw is None else (raw, self.parts[key])
+
+    def part(self, key: str, index, raw, context: bool = True):
+        """The earlier validated part when ``raw`` is the earlier table and ``context`` holds."""
+        earlier = self.earlier(key, index) if context else None
+        return earlier[1] if earlier is not None and earlier[0] is raw else None
+
+    def rotor(self, index: int, raw, ratio: float):
+        """The earlier rotor when its table is shared and its speed ratio unchanged."""
+        part = self.part("rotors", index, raw)
+        return part if part is not None and part.speed_ratio == ratio else None
+
+    def same_names(self, rotor_tables) -> bool:
+        """The rotors have the earlier names, in the earlier order."""
+        return bool(self.raw) and list(rotor_tables) == [r.name for r in self.parts["rotors"]]
+
+    def same_list(self, data, key: str) -> bool:
+        """Every table of array ``key`` is the earlier one (same count, same objects)."""
+        mine, earlier = data.get(key, []), self.raw.get(key, [])
+        return bool(self.raw) and len(mine) == len(earlier) and all(a is b for a, b in zip(mine, earlier))
+
+    def bearings(self, data, rotors, spin_axis, gravity):
+        """The earlier bearings when their tables, the rotors, spin axis and gravity are unchanged."""
+        if not self.same_list(data, "bearings") or not self.same_list(data, "rotors"):
+            return None
+        if any(a is not b for a, b in zip(rotors, self.parts["rotors"])):
+            return None
+        if not (_identical(spin_axis, self.parts["spin_axis"]) and _identical(gravity, self.parts["gravity"])):
+            return None
+        return list(self.parts["bearings"])
+
+    def same_carriers(self, bearings) -> bool:
+        """The same rotors sit on bearings as before (what a relative sensor needs)."""
+        return {b.rotor for b in bearings} == {b.rotor for b in self.parts.get("bearings", ())}
+
+
 def _check_layout(top: _Table, data) -> None:
     """Known top-level keys, arrays of tables where arrays are expected, ``[stator]`` a table."""
     top.check_keys(TOP_LEVEL_KEYS)
     for key in ARRAY_TABLES:
         value = data.get(key, [])
-        if not isinstance(value, list) or not all(isinstance(v, Mapping) for v in value):
+        if not isinstance(value, list) or not all(type(v) is dict or isinstance(v, Mapping) for v in value):
             raise top.error(key, value, f"an array of tables ([[{key}]])")
     if "stator" in data and not isinstance(data["stator"], Mapping):
         raise top.error("stator", data["stator"], "a table ([stator])")
@@ -294,10 +377,17 @@ def _suspension_matrix(table: _Table, key: str, axes: np.ndarray, required: bool
     return rotation.T @ local @ rotation
 
 
-def _suspension(table: _Table) -> Suspension:
+def _suspension(table: _Table, earlier=None) -> Suspension:
+    """The validated suspension; ``earlier`` (raw table, Suspension) of the description this one
+    was made from lends the parts whose keys hold the same objects (see :func:`validate`)."""
+    if earlier is not None and earlier[0] is table.data:
+        return earlier[1]
     table.check_keys(input_keys("suspensions"))
-    axes = _orthonormal_axes(table, "axes")
-    return Suspension(
+    lent = _lent_axes(table, earlier)
+    axes = _orthonormal_axes(table, "axes") if lent is None else lent.axes
+    same_damping = lent is not None and _same_keys(table, earlier[0], ("damping",))
+    same_branches = lent is not None and _same_keys(table, earlier[0], ("maxwell_stiffness", "maxwell_time"))
+    return Suspension(   # the keyword arguments run in the order of the checks' messages
         name=table.data["name"],
         position=table.vector3("position", required=True),
         stiffness=table.data["stiffness"] if "stiffness" in table.data else table.require("stiffness"),
@@ -305,11 +395,25 @@ def _suspension(table: _Table) -> Suspension:
         loss_factor=table.number("loss_factor", default=0.0, nonnegative=True),
         axes=axes,
         stiffness_matrix=_suspension_matrix(table, "stiffness", axes, required=True),
-        damping_matrix=_suspension_matrix(table, "damping", axes, required=False),
+        damping_matrix=lent.damping_matrix if same_damping else _suspension_matrix(table, "damping", axes,
+                                                                                   required=False),
         maxwell_stiffness=table.data.get("maxwell_stiffness"),
         maxwell_time=table.data.get("maxwell_time"),
-        maxwell_stiffness_matrix=_maxwell_branches(table, axes),
+        maxwell_stiffness_matrix=lent.maxwell_stiffness_matrix if same_branches else _maxwell_branches(table, axes),
     )
+
+
+def _same_keys(table: _Table, raw, keys) -> bool:
+    """Each key is absent from both tables or holds the same object in both."""
+    return all((key in table.data) == (key in raw) and table.data.get(key) is raw.get(key) for key in keys)
+
+
+def _lent_axes(table: _Table, earlier):
+    """The earlier suspension when its ``axes`` are this table's (the same object, or absent
+    from both), else None."""
+    if earlier is None or not _same_keys(table, earlier[0], ("axes",)):
+        return None
+    return earlier[1]
 
 
 def _maxwell_branches(table: _Table, axes: np.ndarray):

@@ -32,8 +32,8 @@ from .errors import InputError
 from .geometry import point_force_column, shift_matrix, skew
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
-           "mass_matrix", "gyroscopic_matrix", "constant_matrices", "bearing_matrices", "bearing_motion", "frame_block",
-           "add_rotor_body", "rotor_gyroscopic", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force"]
+           "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
+           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force"]
 
 
 class Matrices(NamedTuple):
@@ -114,6 +114,12 @@ def add_rotor_body(out: np.ndarray, model, rotor: str, body6: np.ndarray) -> Non
     the stator block is summed the way seed 000 sums it), so only the coupling and
     the rotor's own blocks are added. Nothing for a rotor without bearings.
     """
+    add_rotor_bodies([out], model, rotor, [body6])
+
+
+def add_rotor_bodies(outs, model, rotor: str, bodies6) -> None:
+    """:func:`add_rotor_body` of several forms ``bodies6[i]`` into ``outs[i]``, the rotor's
+    motion found once."""
     layout = model.dofs
     if not layout.on_bearings(rotor):
         return
@@ -121,10 +127,11 @@ def add_rotor_body(out: np.ndarray, model, rotor: str, body6: np.ndarray) -> Non
     own = layout.slices[j]
     moves = layout.local_relative_motion(rotor, layout.reference_point)     # (6, k)
     k = layout.n_frame
-    if k:
-        out[:k, own] += body6[:k] @ moves
-        out[own, :k] += moves.T @ body6[:, :k]
-    out[own, own] += moves.T @ body6 @ moves
+    for out, body6 in zip(outs, bodies6):
+        if k:
+            out[:k, own] += body6[:k] @ moves
+            out[own, :k] += moves.T @ body6[:, :k]
+        out[own, own] += moves.T @ body6 @ moves
 
 
 def loss_stiffness(model) -> np.ndarray:
@@ -291,12 +298,23 @@ def constant_matrices(model) -> Matrices:
     -------
     Matrices, each (n, n)
     """
+    K, C = constant_stiffness_damping(model)
+    return Matrices(M=mass_matrix(model), C=C, G=gyroscopic_matrix(model), K=K)
+
+
+def constant_stiffness_damping(model):
+    """``K`` and ``C`` of :func:`constant_matrices` (suspensions and constant bearings).
+
+    Returns
+    -------
+    K, C : ndarray, shape (n, n)
+    """
     K = frame_block(model, _suspension_sum(model, "stiffness_matrix"))
     C = frame_block(model, _suspension_sum(model, "damping_matrix"))
     if model.bearings:
         k_b, c_b = bearing_matrices(model, constant_only=True)
         K, C = K + k_b, C + c_b
-    return Matrices(M=mass_matrix(model), C=C, G=gyroscopic_matrix(model), K=K)
+    return K, C
 
 
 def sensor_rows(model, names=None) -> np.ndarray:

@@ -8,6 +8,7 @@ tensors are in *model axes* (the stator-fixed frame), SI units.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -239,6 +240,7 @@ def component_class(table: str):
     return _COMPONENTS[table]
 
 
+@functools.lru_cache(maxsize=None)
 def input_keys(table: str) -> tuple[str, ...]:
     """The keys a table of the model description may hold."""
     return _input_keys(_COMPONENTS[table])

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["skew", "shift_cross", "shift_matrix", "point_motion_row", "point_force_column",
+__all__ = ["skew", "shift_cross", "shift_matrix", "cross", "point_motion_row", "point_force_column",
            "transverse_axes"]
 
 
@@ -32,6 +32,9 @@ def skew(vector) -> np.ndarray:
     ndarray, shape (..., 3, 3)
     """
     v = np.asarray(vector, dtype=float)
+    if v.shape == (3,):   # the common case, without the broadcast assignments' overhead
+        x, y, z = v.tolist()
+        return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
     out = np.zeros(v.shape[:-1] + (3, 3))
     out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
     out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
@@ -74,9 +77,16 @@ def shift_matrix(p, o) -> np.ndarray:
     >>> B @ [0, 1.0, 0, 0, 0, 0]    # a force along y at O seen from P = (1, 0, 0)
     array([ 0.,  1.,  0.,  0.,  0., -1.])
     """
-    out = np.eye(6)
-    out[3:, :3] = -shift_cross(p, o)
-    return out
+    arm = np.asarray(p, dtype=float) - np.asarray(o, dtype=float)
+    if arm.shape != (3,):
+        out = np.eye(6)
+        out[3:, :3] = -shift_cross(p, o)
+        return out
+    x, y, z = arm.tolist()
+    # -skew(arm) written out (its diagonal is -0.0, as the negated zeros of skew were)
+    return np.array([[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+                     [0.0, 0.0, 1.0, 0.0, 0.0, 0.0], [-0.0, z, -y, 1.0, 0.0, 0.0],
+                     [-z, -0.0, x, 0.0, 1.0, 0.0], [y, -x, -0.0, 0.0, 0.0, 1.0]])
 
 
 def point_motion_row(point, reference, direction) -> np.ndarray:
@@ -92,7 +102,26 @@ def point_motion_row(point, reference, direction) -> np.ndarray:
     """
     d = np.asarray(direction, dtype=float)
     arm = np.asarray(point, dtype=float) - np.asarray(reference, dtype=float)
-    return np.concatenate([d, np.cross(arm, d)])
+    return np.concatenate([d, cross(arm, d)])
+
+
+def cross(a, b) -> np.ndarray:
+    """``numpy.cross(a, b)``; for two 3-vectors written out (the same products and differences,
+    so the same numbers, without numpy's overhead for small arrays).
+
+    Parameters
+    ----------
+    a, b : array_like, shape (..., 3)
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+    """
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape == b.shape == (3,) and a.dtype == b.dtype == np.float64:
+        (a0, a1, a2), (b0, b1, b2) = a.tolist(), b.tolist()
+        return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+    return np.cross(a, b)
 
 
 def point_force_column(point, reference, direction) -> np.ndarray:
@@ -132,4 +161,4 @@ def transverse_axes(spin_axis) -> np.ndarray:
     following = np.eye(3)[(int(np.argmax(np.abs(e))) + 1) % 3]
     a = following - (following @ e) * e
     a = a / np.linalg.norm(a)
-    return np.array([a, np.cross(e, a)]) + 0.0
+    return np.array([a, cross(e, a)]) + 0.0

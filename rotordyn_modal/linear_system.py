@@ -15,13 +15,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .assembly import bearing_motion, constant_matrices, dependent_bearing_matrices, excitation_columns, \
-    sensor_rows
+from .assembly import Matrices, bearing_motion, constant_matrices, constant_stiffness_damping, \
+    dependent_bearing_matrices, excitation_columns, sensor_rows
 from .bearings import evaluate
 from .errors import InputError, ModelError
 from .mounts import maxwell_branches, with_branch_states
 
-__all__ = ["SpeedLinearForm", "speed_linear_form", "state_matrices", "state_space"]
+__all__ = ["SpeedLinearForm", "speed_linear_form", "same_inertia", "state_matrices", "state_space"]
 
 _QUANTITY_ORDER = {"displacement": 0, "receptance": 0, "velocity": 1, "mobility": 1,
                    "acceleration": 2, "accelerance": 2}
@@ -48,6 +48,10 @@ class SpeedLinearForm:
     Parameters
     ----------
     model : Model
+    like : SpeedLinearForm, optional
+        The form of a model with the very same bodies and coordinates (a study's variant
+        and its base, see :meth:`~rotordyn_modal.model.Model.same_bodies`): its ``M``, ``G``
+        and ``M^-1`` are taken, not computed again (they are the same numbers).
 
     Attributes
     ----------
@@ -61,13 +65,18 @@ class SpeedLinearForm:
         True when bearing coefficients depend on speed (then A is not linear in speed).
     """
 
-    def __init__(self, model):
+    def __init__(self, model, like: "SpeedLinearForm | None" = None):
         self.model = model
-        self.matrices = constant_matrices(model)
+        if like is not None and same_inertia(like.model, model):
+            K, C = constant_stiffness_damping(model)
+            self.matrices = Matrices(M=like.matrices.M, C=C, G=like.matrices.G, K=K)
+            m_inv = like.mass_inverse
+        else:
+            self.matrices = constant_matrices(model)
+            m_inv = _mass_inverse(self.matrices.M, model)
         M, C, G, K = self.matrices
         n = M.shape[0]
         self.n_dof = n
-        m_inv = _mass_inverse(M, model)
         self.A0 = np.zeros((2 * n, 2 * n))
         self.A0[:n, n:] = np.eye(n)
         self.A0[n:, :n] = -m_inv @ K
@@ -85,7 +94,8 @@ class SpeedLinearForm:
         self.A0, _, self.branch_state_names = with_branch_states(
             model, self.A0, np.zeros((2 * self.n_dof, 0)), self.mass_inverse)
         extra = self.A0.shape[0] - self.A1.shape[0]
-        self.A1 = np.pad(self.A1, ((0, extra), (0, extra)))
+        if extra:
+            self.A1 = np.pad(self.A1, ((0, extra), (0, extra)))
 
     @property
     def n_states(self) -> int:
@@ -146,9 +156,15 @@ def _dependent_bearings(model, mass_inverse):
     return terms
 
 
-def speed_linear_form(model) -> SpeedLinearForm:
+def speed_linear_form(model, like: SpeedLinearForm | None = None) -> SpeedLinearForm:
     """The speed-dependent state matrix of ``model``; see :class:`SpeedLinearForm`."""
-    return SpeedLinearForm(model)
+    return SpeedLinearForm(model, like)
+
+
+def same_inertia(a, b) -> bool:
+    """Models whose mass and gyroscopic matrices are the same numbers without computing them:
+    the very same bodies (:meth:`~rotordyn_modal.model.Model.same_bodies`) and coordinates."""
+    return a is b or (a.dofs is b.dofs and a.same_bodies(b))
 
 
 def state_matrices(model, speeds) -> np.ndarray:

@@ -21,7 +21,7 @@ import numpy as np
 from . import _validation
 from .components import (Bearing, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
                          Unbalance, input_keys)
-from .parameters import get_value, scale_value, set_value
+from .parameters import change_at, get_value, parse_key, scale_value, set_value
 
 __all__ = [
     "Model", "Stator", "Rotor", "Transmission", "Suspension", "Bearing", "Unbalance", "Sensor",
@@ -100,10 +100,13 @@ class Model:
         self._build(data, source)
         return self
 
-    def _build(self, data: Mapping[str, Any], source: str) -> None:
+    def _build(self, data: Mapping[str, Any], source: str, earlier: "Model | None" = None) -> None:
+        """Validate ``data``; with ``earlier`` (see :meth:`variant`) ``data`` is already a plain
+        description of its own whose unchanged tables are ``earlier``'s."""
         self.source = source
-        self._data = _validation.plain_copy(data, source)
-        validated = _validation.validate(self._data, source)
+        self._data = _validation.plain_copy(data, source) if earlier is None else data
+        previous = None if earlier is None else (earlier._data, earlier._parts())
+        validated = _validation.validate(self._data, source, previous)
         self.name = validated["name"]
         self.spin_axis = validated["spin_axis"]
         self.reference_rotor = validated["reference_rotor"]
@@ -117,6 +120,49 @@ class Model:
         self.sensors = validated["sensors"]
         self.excitations = validated["excitations"]
         self.speed_ratios = {rotor.name: rotor.speed_ratio for rotor in self.rotors}
+        if earlier is not None and self.same_bodies(earlier) and _same(self.bearings, earlier.bearings):
+            self._dofs = earlier.dofs   # the coordinates follow from these alone
+
+    def _parts(self) -> dict[str, Any]:
+        """The validated parts by table name (as :func:`_validation.validate` returns them)."""
+        return {"name": self.name, "spin_axis": self.spin_axis, "reference_rotor": self.reference_rotor,
+                "gravity": self.gravity, "stator": self.stator, "rotors": self.rotors,
+                "transmissions": self.transmissions, "suspensions": self.suspensions,
+                "bearings": self.bearings, "unbalances": self.unbalances, "sensors": self.sensors,
+                "excitations": self.excitations}
+
+    def same_bodies(self, other: "Model") -> bool:
+        """True when both models hold the very same stator and rotor components (as a study's
+        variants share them with their base model where no parameter touches them) about the
+        same spin axis: then their masses, inertias, reference point and speed ratios are equal."""
+        return (self.stator is other.stator and _same(self.rotors, other.rotors)
+                and self.spin_axis.tobytes() == other.spin_axis.tobytes())
+
+    def variant(self, changes) -> "Model":
+        """A new, validated model with some values set or multiplied: a study's variant.
+
+        The result equals ``Model.from_dict`` of the changed description, but the tables that
+        no change touches are shared with this model's description and are not validated
+        again (their validated parts, this model's, are shared too); the changed tables and
+        every rule across tables are checked as usual.
+
+        Parameters
+        ----------
+        changes : sequence of (str, str, float)
+            ``(dotted key, "value" or "scale", number)``, applied in order (see
+            :meth:`with_values` and :meth:`scaled`).
+
+        Returns
+        -------
+        Model
+        """
+        data = dict(self._data)
+        owned: set = set()
+        for key, apply, value in changes:
+            change_at(_own_value(data, key, self.source, owned), apply, value, key, self.source)
+        model = Model.__new__(Model)
+        model._build(data, self.source, earlier=self)
+        return model
 
     # -- description ---------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
@@ -210,6 +256,37 @@ class Model:
     def __repr__(self) -> str:
         return (f"Model({self.name!r}, rotors={[r.name for r in self.rotors]}, "
                 f"suspensions={len(self.suspensions)}, source={self.source!r})")
+
+
+def _same(a, b) -> bool:
+    """The same component objects, in the same order."""
+    return len(a) == len(b) and all(x is y for x, y in zip(a, b))
+
+
+def _own_value(data: dict, key: str, source: str, owned: set):
+    """Give ``data``, a shallow copy of a description, copies of its own of the table that
+    ``key`` names and of the value there, so that setting the value leaves the original
+    description as it was. ``owned`` records the copies already made (ids, and
+    ``(id, field)`` pairs). Returns where the value sits (see
+    :func:`~rotordyn_modal.parameters.parse_key`), in ``data``'s own copies."""
+    container, field, indices = parse_key(key, data, source)
+    if container is not data and id(container) not in owned:
+        table = key.partition(".")[0]
+        copy = dict(container)
+        if table == "stator":
+            data["stator"] = copy
+        else:
+            if id(data[table]) not in owned:
+                data[table] = list(data[table])
+                owned.add(id(data[table]))
+            items = data[table]
+            items[next(i for i, item in enumerate(items) if item is container)] = copy
+        owned.add(id(copy))
+        container = copy
+    if (id(container), field) not in owned:
+        container[field] = _validation.plain_copy({field: container[field]}, source)[field]
+        owned.add((id(container), field))
+    return container, field, indices
 
 
 _TABLE_OF = {Stator: "stator", Rotor: "rotors", Transmission: "transmissions",

@@ -18,7 +18,7 @@ import numpy as np
 from .errors import InputError
 from .components import ARRAY_TABLES
 
-__all__ = ["parse_key", "get_value", "set_value", "scale_value"]
+__all__ = ["parse_key", "get_value", "set_value", "scale_value", "change_at"]
 
 _INDEX = re.compile(r"\[(-?\d+)\]")
 
@@ -90,7 +90,28 @@ def _index(value, index, key, depth, source):
 
 def set_value(data: dict, key: str, value: Any, source: str = "<model>") -> None:
     """Set the value a dotted key names (in place)."""
-    container, field, indices = parse_key(key, data, source)
+    change_at(parse_key(key, data, source), "value", value, key, source)
+
+
+def scale_value(data: dict, key: str, factor: float, source: str = "<model>") -> None:
+    """Multiply the value (a number, or every number of an array) a dotted key names."""
+    change_at(parse_key(key, data, source), "scale", factor, key, source)
+
+
+def change_at(located, apply: str, value, key: str, source: str = "<model>") -> None:
+    """Set (``apply="value"``) or multiply (``"scale"``) the value at a place :func:`parse_key`
+    found: ``located`` is its ``(container, field, indices)``, ``key`` names it in messages."""
+    container, field, indices = located
+    if apply != "value":
+        current = container[field]
+        for depth, index in enumerate(indices):
+            current = _index(current, index, key, depth, source)
+        try:
+            with np.errstate(over="ignore", invalid="ignore"):  # an infinite result is refused by validation
+                value = (np.asarray(current, dtype=float) * float(value)).tolist()
+        except (TypeError, ValueError):
+            raise InputError(f"{source}: parameter key {key!r}: holds {current!r}, which is not numeric "
+                             "and cannot be scaled") from None
     if not indices:
         container[field] = _plain(value)
         return
@@ -102,18 +123,6 @@ def set_value(data: dict, key: str, value: Any, source: str = "<model>") -> None
     if field == "inertia" and len(indices) == 2 and indices[0] != indices[1]:
         # a product of inertia is one parameter: keep the tensor symmetric
         container[field][indices[1]][indices[0]] = _plain(value)
-
-
-def scale_value(data: dict, key: str, factor: float, source: str = "<model>") -> None:
-    """Multiply the value (a number, or every number of an array) a dotted key names."""
-    current = get_value(data, key, source)
-    try:
-        with np.errstate(over="ignore", invalid="ignore"):  # an infinite result is refused by validation
-            scaled = (np.asarray(current, dtype=float) * float(factor)).tolist()
-    except (TypeError, ValueError):
-        raise InputError(f"{source}: parameter key {key!r}: holds {current!r}, which is not numeric "
-                         "and cannot be scaled") from None
-    set_value(data, key, scaled, source)
 
 
 def _plain(value):

@@ -19,12 +19,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..assembly import add_rotor_body, body_inertias
+from ..assembly import add_rotor_bodies, body_inertias
 from ..dofs import frame_block
 from ..geometry import skew
 
-__all__ = ["select_upper", "upper_indices", "upper_modes", "one_blas_thread", "eigenvalues_of", "solve_batch", "pencil_shapes", "PencilFactors", "PencilRows", "BATCHED_DOF", "nearest_roots",
-           "NEAREST_ROOTS_DOF",
+__all__ = ["select_upper", "upper_indices", "upper_shapes", "one_blas_thread", "eigenvalues_of", "solve_batch",
+           "pencil_shapes", "PencilFactors", "PencilRows", "BATCHED_DOF", "nearest_roots", "NEAREST_ROOTS_DOF",
            "residual_inverse_iteration",
            "chunk_slices", "concatenated", "CHUNK_BYTES", "whirl_forms", "rotor_whirl_forms", "whirl_ratios",
            "whirl_labels", "row_norms", "unit_rows", "mass_normalized", "mac_matrix", "real_product",
@@ -156,30 +156,31 @@ def _blas_controller():
     return ThreadpoolController()
 
 
-def upper_modes(matrices: np.ndarray, n: int):
-    """Upper eigenvalues and unit-norm mode shapes of a stack of state matrices.
-
-    ``numpy.linalg.eig`` in threads and parts of bounded memory; each part keeps only its
-    upper roots and their eigenvectors' displacement parts before the parts are joined.
+def upper_shapes(matrices: np.ndarray, n: int):
+    """Upper eigenvalues (see :func:`upper_indices`) and unit-norm displacement shapes of a
+    stack of state matrices: ``numpy.linalg.eig`` in threads and parts of bounded memory, each
+    part's eigenvectors reduced to its shapes at once (the parts' results are a quarter of
+    the eigenvectors, so joining them copies little).
 
     Parameters
     ----------
-    matrices : ndarray, shape (R, 2n, 2n)
+    matrices : ndarray, shape (R, n_states, n_states)
     n : int
-        Coordinates (displacement part of the states).
+        Number of generalized coordinates (the displacement rows of the eigenvectors).
 
     Returns
     -------
-    eigenvalues : ndarray (R, m), complex; shapes : ndarray (R, m, n), complex
+    eigenvalues : ndarray, shape (R, m), complex; shapes : ndarray, shape (R, m, n), complex
     """
     size = matrices.shape[-1]
-    return _threaded(functools.partial(_upper_modes, n=n), matrices, item_bytes=72 * size * size)
+    return _threaded(functools.partial(_upper_part, n=n), matrices, item_bytes=72 * size * size)
 
 
-def _upper_modes(matrices, n):
+def _upper_part(matrices: np.ndarray, n: int):
     values, vectors = np.linalg.eig(matrices)
     index, eigenvalues = upper_indices(values)
-    shapes = np.swapaxes(np.take_along_axis(vectors[:, :n, :], index[:, None, :], axis=-1), -1, -2)
+    # advanced indices apart put their axes first: shapes[r, k, j] = vectors[r, j, index[r, k]]
+    shapes = vectors[np.arange(len(vectors))[:, None], :n, index]
     return eigenvalues, unit_rows(shapes)
 
 
@@ -206,11 +207,12 @@ def upper_indices(values: np.ndarray):
         whose imaginary part is round-off are made real.
     """
     n = values.shape[-1] // 2
-    scale = np.abs(values).max(axis=-1, keepdims=True)
+    magnitude = np.abs(values)
+    scale = magnitude.max(axis=-1, keepdims=True)
     tol = OSCILLATORY_TOLERANCE * np.where(scale > 0, scale, 1.0)
     imag = np.where(np.abs(values.imag) <= tol, 0.0, values.imag)
     # within the real block, prefer the smaller |lam|: a second stable sort by -|lam| first
-    pre = np.argsort(-np.abs(values), axis=-1, kind="stable")
+    pre = np.argsort(-magnitude, axis=-1, kind="stable")
     imag_pre = np.take_along_axis(imag, pre, axis=-1)
     order = np.take_along_axis(pre, np.argsort(imag_pre, axis=-1, kind="stable"), axis=-1)
     chosen = order[..., n:]
@@ -535,7 +537,7 @@ def solve_batch(form, speeds, forms=None):
         Unit-norm displacement parts of the state eigenvectors.
     """
     speeds = np.asarray(speeds, dtype=float)
-    eigenvalues, shapes = upper_modes(form.at(speeds), form.n_dof)
+    eigenvalues, shapes = upper_shapes(form.at(speeds), form.n_dof)
     if forms is not None:
         shapes = resolve_repeated(eigenvalues, shapes, forms)
     return eigenvalues, shapes
@@ -630,6 +632,9 @@ def _extreme_whirl(basis, total, momentum):
 
 
 # ----------------------------------------------------------------------------------------
+_SKEW_BASIS = skew(np.eye(3))   # E_k = skew(unit_k), shape (3, 3, 3)
+
+
 def _bodies_quadratic(masses, centers, second_moments, X) -> np.ndarray:
     """``sum_p m_p Z_p^T X Z_p`` over the particles of each rigid body, Z_p = [I, -skew(r_p)].
 
@@ -644,7 +649,7 @@ def _bodies_quadratic(masses, centers, second_moments, X) -> np.ndarray:
     -------
     ndarray, shape (B, 6, 6)
     """
-    basis = skew(np.eye(3))                                   # E_k, shape (3, 3, 3)
+    basis = _SKEW_BASIS                                       # E_k, shape (3, 3, 3)
     products = np.einsum("kab,bc,lcd->klad", basis, X, basis)   # E_k X E_l
     first = skew(masses[:, None] * centers)                   # (B, 3, 3)
     out = np.zeros((len(masses), 6, 6))
@@ -696,8 +701,8 @@ def whirl_forms(model) -> WhirlForms:
     first_rotor = len(forms["W"]) - len(model.rotors)
     for j, rotor in enumerate(model.rotors):
         if model.dofs.on_bearings(rotor.name):
-            for name in _DIRECTIONS:
-                add_rotor_body(parts[name], model, rotor.name, forms[name][first_rotor + j])
+            add_rotor_bodies([parts[name] for name in _DIRECTIONS], model, rotor.name,
+                             [forms[name][first_rotor + j] for name in _DIRECTIONS])
     return WhirlForms(**parts)
 
 
@@ -754,7 +759,9 @@ def real_product(shapes, matrix) -> np.ndarray:
         out = (parts.reshape(-1, parts.shape[-1]) @ matrix).reshape(parts.shape[:-1] + matrix.shape[-1:])
     else:
         out = parts @ matrix
-    return out[0] + 1j * out[1]
+    combined = np.empty(out.shape[1:], dtype=complex)
+    combined.real, combined.imag = out[0], out[1]
+    return combined
 
 
 def quadratic_forms(shapes, stacked) -> np.ndarray:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..linear_system import speed_linear_form
+from ..linear_system import same_inertia, speed_linear_form
 from . import _eigen
 
 __all__ = ["Stack", "Pencils"]
@@ -39,19 +39,25 @@ class Stack:
 
     def __init__(self, models):
         self.models = list(models)
-        self.forms = [speed_linear_form(m) for m in self.models]
+        first = speed_linear_form(self.models[0])
+        # variants with the first model's very bodies share its M, G, M^-1 and whirl forms
+        self.forms = [first] + [speed_linear_form(m, like=first) for m in self.models[1:]]
         shapes = {(f.n_dof, f.n_states) for f in self.forms}
         if len(shapes) != 1:
             raise ValueError(f"models of different structure cannot be stacked: {sorted(shapes)}")
-        whirl = [_eigen.whirl_forms(m) for m in self.models]
-        self.whirl = _eigen.WhirlForms(*(np.stack(parts) for parts in zip(*whirl)))
-        self.M, self.C, self.G, self.K = (np.stack(parts) for parts in zip(*(f.matrices for f in self.forms)))
-        self.factor = np.linalg.cholesky(self.M)
-        self.A0 = np.stack([f.A0 for f in self.forms])
-        self.A1 = np.stack([f.A1 for f in self.forms])
+        whirl = [_eigen.whirl_forms(self.models[0])]
+        whirl += [whirl[0] if same_inertia(self.models[0], m) else _eigen.whirl_forms(m) for m in self.models[1:]]
+        #: every variant has the first one's mass matrix (and whirl forms): the single model's products apply
+        self.shared_mass = all(f.matrices.M is first.matrices.M for f in self.forms)
+        self.shared_whirl = all(w is whirl[0] for w in whirl)
+        self.whirl = _eigen.WhirlForms(*(_stacked(parts) for parts in zip(*whirl)))
+        self.M, self.C, self.G, self.K = (_stacked(parts) for parts in zip(*(f.matrices for f in self.forms)))
+        self.factor = np.linalg.cholesky(self.M[:1] if self.shared_mass else self.M)
+        self.A0 = _stacked([f.A0 for f in self.forms])
+        self.A1 = _stacked([f.A1 for f in self.forms])
         self.dependent = any(f.speed_dependent for f in self.forms)
-        self.branch_stiffness = np.stack([f.branch_stiffness for f in self.forms])   # (V, n_b, n, n)
-        self.branch_times = np.stack([f.branch_times for f in self.forms])           # (V, n_b)
+        self.branch_stiffness = _stacked([f.branch_stiffness for f in self.forms])   # (V, n_b, n, n)
+        self.branch_times = _stacked([f.branch_times for f in self.forms])           # (V, n_b)
 
     def __len__(self) -> int:
         return len(self.forms)
@@ -66,7 +72,9 @@ class Stack:
         speeds = np.asarray(speeds, dtype=float)
         if self.dependent:
             return np.stack([f.at(speeds) for f in self.forms])
-        return self.A0[:, None] + speeds[None, :, None, None] * self.A1[:, None]
+        out = np.multiply(speeds[None, :, None, None], self.A1[:, None])
+        out += self.A0[:, None]   # A0 + Omega A1 without a second temporary of the sweep's size
+        return out
 
     def at(self, variants, x) -> np.ndarray:
         """State matrices of variant ``variants[p]`` at speed ``x[p]``, shape (P, n_s, n_s)."""
@@ -101,7 +109,7 @@ class Stack:
         -------
         eigenvalues : ndarray (R, m), complex; shapes : ndarray (R, m, n), complex
         """
-        eigenvalues, shapes = _eigen.upper_modes(matrices, self.n_dof)
+        eigenvalues, shapes = _eigen.upper_shapes(matrices, self.n_dof)
         return eigenvalues, _eigen.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
 
     def weighted(self, shapes, variants):
@@ -109,7 +117,7 @@ class Stack:
         out = np.empty(shapes.shape, dtype=complex)
         # in parts: the real and imaginary parts and their products are copies of the shapes
         for part in _eigen.chunk_slices(len(shapes), 64 * shapes[0].size):
-            factor = self.factor[0] if len(self) == 1 else self.factor[variants[part]]   # real: L^H = L^T
+            factor = self.factor[0] if self.shared_mass else self.factor[variants[part]]   # real: L^H = L^T
             out[part] = _eigen.unit_rows(_eigen.real_product(shapes[part], factor))
         return out
 
@@ -119,7 +127,7 @@ class Stack:
         speeds = np.broadcast_to(speeds, shapes.shape[:-2])
         # in parts: the products with the three forms are three times the shapes, twice over
         for part in _eigen.chunk_slices(len(shapes), 160 * shapes[0].size):
-            forms = _eigen.WhirlForms(*(f[0] if len(self) == 1 else f[variants[part]] for f in self.whirl))
+            forms = _eigen.WhirlForms(*(f[0] if self.shared_whirl else f[variants[part]] for f in self.whirl))
             out[part] = _eigen.whirl_ratios(shapes[part], forms, speeds[part])
         return out
 
@@ -187,3 +195,8 @@ def _row_products(matrices, vectors):
     """Real matrices (n, n) or (R, n, n) times complex vectors (R, n), one row at a time: (R, n)."""
     column = vectors[..., None]
     return (matrices @ column.real)[..., 0] + 1j * (matrices @ column.imag)[..., 0]
+
+
+def _stacked(arrays) -> np.ndarray:
+    """``numpy.stack`` of the arrays; of a single array a view with a leading axis of one."""
+    return arrays[0][None] if len(arrays) == 1 else np.stack(arrays)

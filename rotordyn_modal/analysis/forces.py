@@ -53,16 +53,34 @@ def suspension_forces(model, omega, q) -> np.ndarray:
         ``[F, C]`` at each suspension's point, model axes [N, N m].
     """
     w = np.asarray(omega, dtype=float)[:, None, None]
+    suspensions = model.suspensions
+    count, n = len(w), q.shape[-1]
+    if not suspensions:
+        return np.zeros((0, count, 6, n), dtype=complex)
     stator = _times(model.dofs.frame_motion(), q)                    # the stator's motion at S
-    out = []
-    for s in model.suspensions:
-        point_motion = _times(shift_matrix(model.reference_point, s.position).T, stator)   # B_SP^T q_S
-        force = _times(s.stiffness_matrix * (1 + 1j * s.loss_factor), point_motion) \
-            + 1j * w * _times(s.damping_matrix, point_motion)
+    # every suspension at once: B_SP^T q_S, then its stiffness and damping on its own point's motion
+    shifts = np.concatenate([shift_matrix(model.reference_point, s.position).T for s in suspensions])
+    points = _stacked(_times(shifts, stator), len(suspensions))      # (S, F n, 6)
+    stiffness = np.array([s.stiffness_matrix * (1 + 1j * s.loss_factor) for s in suspensions])
+    damping = np.array([s.damping_matrix for s in suspensions])
+    out = _unstacked(points @ np.swapaxes(stiffness, 1, 2), count) \
+        + 1j * w * _unstacked(points @ np.swapaxes(damping, 1, 2), count)
+    for i, s in enumerate(suspensions):
         if getattr(s, "maxwell_stiffness_matrix", None) is not None:
-            force = force + _branch_stiffness(s, np.ravel(w)) @ point_motion
-        out.append(force)
-    return np.array(out).reshape(len(model.suspensions), len(w), 6, q.shape[-1])
+            out[i] = out[i] + _branch_stiffness(s, np.ravel(w)) @ _unstacked(points[i:i + 1], count)[0]
+    return out
+
+
+def _stacked(motion, items):
+    """(F, 6 items, n) -> (items, F n, 6): each item's motion as the rows of one matrix product."""
+    count, _, n = motion.shape
+    return motion.reshape(count, items, 6, n).transpose(1, 0, 3, 2).reshape(items, count * n, 6)
+
+
+def _unstacked(rows, count):
+    """(items, F n, 6) -> (items, F, 6, n), the inverse of :func:`_stacked`."""
+    items = rows.shape[0]
+    return rows.reshape(items, count, -1, 6).transpose(0, 1, 3, 2)
 
 
 def _times(matrix, motion):
@@ -73,8 +91,8 @@ def _times(matrix, motion):
     ndarray, shape (F, k, n)
     """
     count, d, n = motion.shape
-    flat = np.swapaxes(motion, 1, 2).reshape(count * n, d) @ np.asarray(matrix).T
-    return np.swapaxes(flat.reshape(count, n, -1), 1, 2)
+    flat = motion.transpose(0, 2, 1).reshape(count * n, d) @ np.asarray(matrix).T
+    return flat.reshape(count, n, -1).transpose(0, 2, 1)
 
 
 def _branch_stiffness(suspension, omega):
@@ -144,12 +162,14 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
     out = []
     for bearing in model.bearings:
         rows, moves = bearing_motion(model, bearing)
-        own = model.rotor(bearing.rotor).speed_ratio * speed
-        k6, c6 = evaluate(bearing.coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
         relative = _times(moves, q[:, rows])
-        if bearing.coefficients.kind == "constant":
-            out.append(_times(k6[0], relative) + 1j * w[:, None, None] * _times(c6[0], relative))
+        coefficients = bearing.coefficients
+        if coefficients.kind == "constant":   # the same 6 x 6 matrices at every speed
+            out.append(_times(coefficients.stiffness[0], relative)
+                       + 1j * w[:, None, None] * _times(coefficients.damping[0], relative))
         else:
+            own = model.rotor(bearing.rotor).speed_ratio * speed
+            k6, c6 = evaluate(coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
             out.append((k6 + 1j * w[:, None, None] * c6) @ relative)
     return np.array(out).reshape(len(model.bearings), len(w), 6, q.shape[-1])
 

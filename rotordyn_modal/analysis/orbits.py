@@ -21,6 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..geometry import cross
+
 __all__ = ["ProbePairs", "probe_pairs", "orbit_ellipses", "PRECESSION_TOLERANCE"]
 
 #: |(|A_f|^2 - |A_b|^2) / (|A_f|^2 + |A_b|^2)| (= 2ab / (a^2 + b^2)) below this is a straight line
@@ -76,7 +78,7 @@ def probe_pairs(model, sensors) -> ProbePairs:
         while len(members) >= 2:
             first = members.pop(0)
             u = np.asarray(sensors[first].direction, dtype=float)
-            w = np.cross(e, u)
+            w = cross(e, u)
             partner = next((k for k in members if abs(np.asarray(sensors[k].direction) @ w) > 0.1), None)
             if partner is None:
                 continue

@@ -26,6 +26,7 @@ import numpy as np
 
 from ..assembly import generalized_force, sensor_rows
 from ..errors import InputError
+from ..geometry import cross
 from .forces import COMPONENTS, bearing_forces, bearing_point_forces, suspension_forces
 from .frf import dof_response
 from .orbits import orbit_ellipses, precession_labels, probe_pairs
@@ -61,7 +62,7 @@ def phase_reference(spin_axis) -> tuple[np.ndarray, np.ndarray]:
         a = axis - (axis @ e) * e
         if np.linalg.norm(a) > 1e-6:
             a = a / np.linalg.norm(a)
-            return a, np.cross(e, a)
+            return a, cross(e, a)
     raise AssertionError("unreachable")  # pragma: no cover
 
 

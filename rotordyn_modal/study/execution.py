@@ -69,7 +69,7 @@ class ChunkTask:
     single_thread: bool = False
 
 
-def variant_model(model_data, source, keys, applies, values):
+def variant_model(model_data, source, keys, applies, values, base=None):
     """The validated model of one variant.
 
     Parameters
@@ -78,11 +78,18 @@ def variant_model(model_data, source, keys, applies, values):
         Base model description.
     keys, applies : see :class:`ChunkTask`
     values : array_like, shape (n_parameters,)
+    base : Model, optional
+        The base model (built from ``model_data``): the variant is made from it with
+        :meth:`~rotordyn_modal.model.Model.variant`, which validates only the tables the
+        parameters change. The model is the same either way.
 
     Returns
     -------
     Model
     """
+    if base is not None:
+        return base.variant([(key, apply, float(value))
+                             for group, apply, value in zip(keys, applies, values) for key in group])
     from .._validation import plain_copy
     from ..model import Model
     from ..parameters import scale_value, set_value
@@ -108,8 +115,9 @@ def run_chunk(task: ChunkTask) -> dict:
     out = {name: np.full((n,) + shape, np.nan) for name, shape in task.shapes.items()}
     errors = [""] * n
     with context:
+        base = _base_model(task)
         models = [_try(variant_model, errors, row, task.model_data, task.model_source, task.keys, task.applies,
-                       values) for row, values in enumerate(task.values)]
+                       values, base) for row, values in enumerate(task.values)]
         built = [row for row, model in enumerate(models) if model is not None]
         caches = dict(zip(built, batch_caches([models[row] for row in built], task.analyses)))
         for row in built:
@@ -117,6 +125,17 @@ def run_chunk(task: ChunkTask) -> dict:
             for name, array in (analysed or {}).items():
                 out[name][row] = array
     return {"index": task.index, "start": task.start, "error": np.array(errors, dtype=str), **out}
+
+
+def _base_model(task: ChunkTask):
+    """The base model the chunk's variants are made from, or None when it cannot be built
+    (then each variant is built from the description alone and records its own error)."""
+    from ..model import Model
+
+    try:
+        return Model.from_dict(task.model_data, task.model_source)
+    except Exception:  # noqa: BLE001 - the variants report it
+        return None
 
 
 def _try(function, errors, row, *args):

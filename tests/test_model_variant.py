@@ -1,0 +1,116 @@
+"""``Model.variant`` (a study's variant, validating only the changed tables) equals the model
+that ``Model.from_dict`` builds from the changed description: the same parts, matrices and
+messages, on every example model and on generated changes."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.parameters import scale_value, set_value
+
+EXAMPLES = sorted(p.name for p in (__import__("pathlib").Path(__file__).parent.parent / "examples").glob("*.toml")
+                  if not p.name.endswith(".study.toml"))
+COUNT = int(os.environ.get("ROTORDYN_VARIANT_EXAMPLES", "40"))
+
+
+def _equal(a, b) -> bool:
+    """Equal values of the same types, arrays bit for bit (signs of zeros included)."""
+    if dataclasses.is_dataclass(a):
+        return type(a) is type(b) and all(_equal(getattr(a, f.name), getattr(b, f.name))
+                                          for f in dataclasses.fields(a))
+    if isinstance(a, (tuple, list)):
+        return type(a) is type(b) and len(a) == len(b) and all(map(_equal, a, b))
+    if isinstance(a, dict):
+        return type(b) is dict and a.keys() == b.keys() and all(_equal(a[k], b[k]) for k in a)
+    if isinstance(a, np.ndarray):
+        return (isinstance(b, np.ndarray) and a.dtype == b.dtype and a.shape == b.shape
+                and a.tobytes() == b.tobytes())
+    return type(a) is type(b) and (a == b or (a != a and b != b))
+
+
+def _numeric_keys(data, prefix=""):
+    """Dotted keys of every number and numeric list in a description (named tables by name)."""
+    keys = []
+    for key, value in data.items():
+        path = f"{prefix}{key}"
+        if isinstance(value, dict):
+            keys += _numeric_keys(value, path + ".")
+        elif isinstance(value, list) and value and isinstance(value[0], dict):
+            for i, item in enumerate(value):
+                keys += _numeric_keys(item, f"{path}.{item.get('name', i)}.")
+        elif isinstance(value, (int, float)) and not isinstance(value, bool):
+            keys.append(path)
+        elif isinstance(value, list) and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
+            keys += [path] + [f"{path}[{i}]" for i in range(len(value))]
+    return keys
+
+
+def _outcome(build):
+    try:
+        return build(), ""
+    except Exception as error:  # noqa: BLE001 - the message is compared
+        return None, f"{type(error).__name__}: {error}"
+
+
+def _reference(model, changes):
+    data = model.to_dict()
+    for key, apply, value in changes:
+        (set_value if apply == "value" else scale_value)(data, key, value, model.source)
+    return rdm.Model.from_dict(data, model.source)
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_variants_equal_the_models_built_from_their_descriptions(name, examples_dir):
+    model = rdm.load_model(examples_dir / name)
+    original = model.to_dict()
+    keys = _numeric_keys(original)
+    rng = np.random.default_rng(len(name))
+    built = refused = 0
+    for _ in range(COUNT):
+        picked = rng.choice(len(keys), size=rng.integers(1, 4), replace=False)
+        changes = []
+        for k in picked:
+            kind = rng.integers(4)   # near 1 (valid mostly), negative, zero (signed), large
+            factor = [rng.uniform(0.8, 1.2), -rng.uniform(0.5, 2.0), [0.0, -0.0][rng.integers(2)], 1e40][kind]
+            apply = "scale" if rng.integers(2) else "value"
+            value = factor if apply == "scale" else factor * 1.0
+            changes.append((keys[k], apply, float(value)))
+        expected, message = _outcome(lambda: _reference(model, changes))
+        variant, variant_message = _outcome(lambda: model.variant(changes))
+        assert variant_message == message, changes
+        if expected is None:
+            refused += 1
+            continue
+        built += 1
+        assert _equal(variant._parts(), expected._parts()), changes
+        assert _equal(variant.to_dict(), expected.to_dict()), changes
+        speed = 100.0 if model.speed_dependent else None   # [rad/s]: a journal bearing needs a turning shaft
+        for mine, theirs in zip(variant.matrices(speed), expected.matrices(speed)):
+            assert mine.tobytes() == theirs.tobytes(), changes
+        assert variant.dofs.names == expected.dofs.names
+    assert _equal(model.to_dict(), original)   # the base model's description is untouched
+    assert built and refused
+
+
+def test_variants_sharing_the_base_bodies_solve_as_their_own_models(examples_dir):
+    """A stack of variants that share the base model's bodies (its M, G, M^-1 and whirl forms
+    are then shared) gives each variant's own Campbell diagram bit for bit."""
+    from rotordyn_modal.analysis.campbell import campbell_many
+
+    model = rdm.load_model(examples_dir / "gear_machine.toml")
+    rng = np.random.default_rng(7)
+    keys = [f"suspensions.{s.name}.stiffness" for s in model.suspensions] + ["suspensions.mount-FL.damping"]
+    variants = [model.variant([(key, "scale", float(rng.uniform(0.8, 1.2))) for key in keys]) for _ in range(5)]
+    assert all(v.same_bodies(model) for v in variants)
+    speeds = rdm.rpm(np.linspace(0.0, 6000.0, 41))
+    for together, variant in zip(campbell_many(variants, speeds), variants):
+        alone = rdm.campbell(rdm.Model.from_dict(variant.to_dict(), variant.source), speeds)
+        for name in ("eigenvalues", "whirl_ratios", "shapes"):
+            assert getattr(together, name).tobytes() == getattr(alone, name).tobytes(), name
+        for name in ("speeds", "frequencies_hz", "whirl_ratios", "damping_ratios"):
+            assert getattr(together.critical, name).tobytes() == getattr(alone.critical, name).tobytes(), name

@@ -7,7 +7,6 @@ import subprocess
 import sys
 
 import numpy as np
-import pytest
 
 import rotordyn_modal as rdm
 from rotordyn_modal.cli import main

@@ -3,7 +3,6 @@ Ctrl-C and run again), outputs, exit codes."""
 
 from __future__ import annotations
 
-import os
 import signal
 import subprocess
 import sys

@@ -228,8 +228,10 @@ def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarr
 
     Parameters
     ----------
-    M, damping, stiffness : ndarray, shape (P, n, n)
-        Each row's mass, ``C + Omega G`` and stiffness.
+    M : ndarray, shape (P, n, n) or (n, n)
+        Each row's mass, or one for all.
+    damping, stiffness : ndarray, shape (P, n, n)
+        Each row's ``C + Omega G`` and stiffness.
     eigenvalues : ndarray, shape (P,), complex
     branches : (ndarray (P, n_b, n, n), ndarray (P, n_b)), optional
         Each row's Maxwell branches (stiffness, relaxation times).
@@ -238,16 +240,15 @@ def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarr
     -------
     ndarray, shape (P, n), complex, unit norm
     """
-    lam = np.asarray(eigenvalues)[:, None, None]
+    lam = np.asarray(eigenvalues, dtype=complex)
     shifted = lam + 1e-13 * (np.abs(lam) + 1e-300) * (1 + 1j)   # round-off shift keeps an exactly singular pencil solvable
-    pencil = shifted * damping + stiffness + shifted**2 * M
+    pencil = _quadratic(M, damping, stiffness, shifted)
     if branches is not None and branches[1].shape[-1]:
         stiffness_b, times = branches
-        factor = shifted[:, 0] * times / (1 + shifted[:, 0] * times)        # (P, n_b)
-        pencil = pencil + np.einsum("pb,pbij->pij", factor, stiffness_b)
+        factor = shifted[:, None] * times / (1 + shifted[:, None] * times)        # (P, n_b)
+        pencil += np.einsum("pb,pbij->pij", factor, stiffness_b)
     start = np.broadcast_to(_start_vectors(1, M.shape[-1])[0][:, None], pencil.shape[:-1] + (1,))
-    vectors = _solve(pencil, start)[..., 0]
-    return vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
+    return unit_rows(_solve(pencil, start)[..., 0])
 
 
 #: rows of pencils built together: their real and imaginary planes stay in the cache [bytes]

@@ -86,14 +86,18 @@ class Stack:
         return out
 
     def damping_stiffness(self, variants, x):
-        """``C + Omega G`` and ``K`` of variant ``variants[p]`` at ``x[p]``, each (P, n, n)."""
-        damping = self.C[variants] + x[:, None, None] * self.G[variants]
-        stiffness = self.K[variants].copy()
-        if self.dependent:
-            for v in np.unique(variants):
-                rows = variants == v
-                damping[rows] = self.forms[v].damping_at(x[rows]) + x[rows, None, None] * self.G[v]
-                stiffness[rows] = self.forms[v].stiffness_at(x[rows])
+        """``C + Omega G`` and ``K`` of variant ``variants[p]`` at ``x[p]``, each (P, n, n); with
+        constant coefficients the stiffness is a read-only view (one model's K, or the rows')."""
+        one = len(self) == 1
+        C, G, K = (matrix[0] if one else matrix[variants] for matrix in (self.C, self.G, self.K))
+        damping = C + x[:, None, None] * G
+        if not self.dependent:
+            return damping, np.broadcast_to(K, damping.shape)
+        stiffness = np.array(np.broadcast_to(K, damping.shape))
+        for v in np.unique(variants):
+            rows = variants == v
+            damping[rows] = self.forms[v].damping_at(x[rows]) + x[rows, None, None] * self.G[v]
+            stiffness[rows] = self.forms[v].stiffness_at(x[rows])
         return damping, stiffness
 
     # -- eigen-solutions -----------------------------------------------------------------
@@ -134,7 +138,7 @@ class Stack:
     def shapes_at(self, variants, x, lam):
         """One inverse-iteration step on the pencil for each (variant, speed, eigenvalue)."""
         damping, stiffness = self.damping_stiffness(variants, x)
-        return _eigen.pencil_shapes(self.M[variants], damping, stiffness, lam,
+        return _eigen.pencil_shapes(self.M[0] if len(self) == 1 else self.M[variants], damping, stiffness, lam,
                                     (self.branch_stiffness[variants], self.branch_times[variants]))
 
 
@@ -161,11 +165,8 @@ class Pencils:
     def matrices(self, rows):
         """Mass (n, n) or (R, n, n), ``C + Omega G`` and stiffness (R, n, n) of ``rows``."""
         stack = self.stack
-        if self.shared:
-            damping = stack.C[0] + self.speeds[rows, None, None] * stack.G[0]
-            return stack.M[0], damping, np.broadcast_to(stack.K[0], damping.shape)
-        damping, stiffness = stack.damping_stiffness(self.variants[rows], self.speeds[rows])
-        return (stack.M[0] if len(stack) == 1 else stack.M[self.variants[rows]]), damping, stiffness
+        mass = stack.M[0] if len(stack) == 1 else stack.M[self.variants[rows]]
+        return (mass, *stack.damping_stiffness(self.variants[rows], self.speeds[rows]))
 
     def products(self, rows, vectors):
         """``M phi``, ``(C + Omega G) phi`` and ``K phi`` of ``rows`` for complex vectors (R, n):

@@ -500,12 +500,9 @@ def _cubic_start(speeds, values, brackets, a, b, ga, gb):
     with np.errstate(divide="ignore", invalid="ignore"):
         chord = b - gb * (b - a) / (gb - ga)
     chord = np.where(np.isfinite(chord) & (chord > a) & (chord < b), chord, 0.5 * (a + b))
-    count = len(speeds)
-    if count < 4:
+    if len(speeds) < 4:
         return chord
-    nodes = np.clip(brackets.k - 1, 0, count - 4)[:, None] + np.arange(4)
-    xs = speeds[nodes]
-    lam = values[brackets.variant[:, None], nodes, brackets.mode[:, None]]
+    xs, lam = _four_points(speeds, values, brackets, slice(None))
     gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
     usable = np.all(is_oscillating(lam), axis=1) & (np.all(xs >= 0, axis=1) | np.all(xs <= 0, axis=1))
     # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
@@ -626,14 +623,14 @@ def _followed(speeds, values, brackets, rows, x, iterates):
 
 
 def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
-    """Eigenvalues of isolated modes at ``x`` by residual inverse iteration on the pencil
-    (:func:`_eigen.residual_inverse_iteration`), started from the last point's eigenvalue
-    (moved by the interpolation's change) and shape. A crossing's first evaluation factors
-    its pencil at the cubic interpolation of the sweep's eigenvalues there; later ones reuse
-    that factorisation, and factor anew only where the iteration did not converge. Returns the
-    eigenvalues and which converged to the tracked mode."""
-    start = iterates.lam[rows] + _interpolated(speeds, values, brackets, rows, x) \
-        - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
+    """Eigenvalues of isolated or followed modes (:func:`_followed`) at ``x`` by residual inverse
+    iteration on the pencil (:func:`_eigen.residual_inverse_iteration`), started from the last
+    point's eigenvalue (moved by the interpolation's change) and shape. A crossing's first
+    evaluation factors its pencil at the cubic interpolation of the sweep's eigenvalues there;
+    later ones reuse that factorisation, and factor anew only where the iteration did not
+    converge. Returns the eigenvalues and which converged to the tracked mode."""
+    expected = _interpolated(speeds, values, brackets, rows, x)
+    start = iterates.lam[rows] + expected - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
     fresh = np.nonzero(~iterates.factors.ready[rows])[0]
     first = fresh[iterates.x[rows[fresh]] == speeds[brackets.k[rows[fresh]]]]    # nothing evaluated yet
     start[first] = _cubic_value(speeds, values, brackets, rows[first], x[first])
@@ -649,7 +646,6 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
         iterates.factors.factor(rows[again], part, lam[again])
         lam[again], shapes[again], converged[again] = _eigen.residual_inverse_iteration(
             iterates.factors, rows[again], part, lam[again], shapes[again])
-    expected = _interpolated(speeds, values, brackets, rows, x)
     ok = converged & (np.abs(lam - expected) <= 2 * _spread(values, brackets, rows))
     followed = ~iterates.usable[rows]
     with np.errstate(invalid="ignore"):
@@ -662,13 +658,9 @@ def _cubic_value(speeds, values, brackets, rows, x):
     """The tracked modes' eigenvalues at ``x`` by the cubic through the sweep's four nearest
     points (linear across the bracket where fewer than four oscillating points are at hand)."""
     linear = _interpolated(speeds, values, brackets, rows, x)
-    count = len(speeds)
-    if count < 4 or not len(rows):
+    if len(speeds) < 4 or not len(rows):
         return linear
-    v, k, mode = brackets.variant[rows], brackets.k[rows], brackets.mode[rows]
-    nodes = np.clip(k - 1, 0, count - 4)[:, None] + np.arange(4)
-    xs = speeds[nodes]
-    lam = values[v[:, None], nodes, mode[:, None]]
+    xs, lam = _four_points(speeds, values, brackets, rows)
     weights = np.ones((len(rows), 4))
     for j in range(4):
         for m in range(4):
@@ -676,6 +668,13 @@ def _cubic_value(speeds, values, brackets, rows, x):
                 weights[:, j] *= (x - xs[:, m]) / (xs[:, j] - xs[:, m])
     cubic = np.einsum("pj,pj->p", weights, lam)
     return np.where(np.all(is_oscillating(lam), axis=1), cubic, linear)
+
+
+def _four_points(speeds, values, brackets, rows):
+    """The sweep's four speeds around each bracket of ``rows`` (two each side, or the four at
+    the grid's end) and the tracked mode's eigenvalues there: (R, 4) each."""
+    nodes = np.clip(brackets.k[rows] - 1, 0, len(speeds) - 4)[:, None] + np.arange(4)
+    return speeds[nodes], values[brackets.variant[rows][:, None], nodes, brackets.mode[rows][:, None]]
 
 
 def _interpolated(speeds, values, brackets, rows, x):

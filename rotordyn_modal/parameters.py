@@ -73,7 +73,12 @@ def _array_element(data, table, rest, key, source):
 
 def get_value(data: dict, key: str, source: str = "<model>"):
     """The value a dotted key names."""
-    container, field, indices = parse_key(key, data, source)
+    return _value_at(parse_key(key, data, source), key, source)
+
+
+def _value_at(located, key, source):
+    """The value at a place :func:`parse_key` found (``(container, field, indices)``)."""
+    container, field, indices = located
     value = container[field]
     for depth, index in enumerate(indices):
         value = _index(value, index, key, depth, source)
@@ -103,9 +108,7 @@ def change_at(located, apply: str, value, key: str, source: str = "<model>") -> 
     found: ``located`` is its ``(container, field, indices)``, ``key`` names it in messages."""
     container, field, indices = located
     if apply != "value":
-        current = container[field]
-        for depth, index in enumerate(indices):
-            current = _index(current, index, key, depth, source)
+        current = _value_at(located, key, source)
         try:
             with np.errstate(over="ignore", invalid="ignore"):  # an infinite result is refused by validation
                 value = (np.asarray(current, dtype=float) * float(value)).tolist()

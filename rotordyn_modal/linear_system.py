@@ -135,6 +135,20 @@ class SpeedLinearForm:
             return self.matrices.C
         return self.matrices.C + dependent_bearing_matrices(self.model, speeds)[1]
 
+    def pattern(self) -> np.ndarray:
+        """Where ``M``, ``C(Omega)``, ``G`` and ``K(Omega)`` may be nonzero at any speed: the
+        constant parts' nonzero entries and each speed-dependent bearing's rotor block.
+
+        Returns
+        -------
+        ndarray of bool, shape (n, n)
+        """
+        M, C, G, K = self.matrices
+        nonzero = (M != 0) | (C != 0) | (G != 0) | (K != 0)
+        for rows, *_ in self._dependent:
+            nonzero[rows, rows] = True
+        return nonzero
+
     def _bearing_terms(self, speeds):
         """Per speed-dependent bearing: rotor rows, ``M^-1 E^T``, E, K_b(N), C_b(N)."""
         for rows, left, moves, coefficients, ratio, where in self._dependent:

@@ -69,18 +69,23 @@ def _refine(form, forms, speeds, values, weighted, mode, k, slope):
     return root, lam.imag / (2 * np.pi), str(_eigen.whirl_labels(ratio)), float(modal_quantities(lam)[1])
 
 
-@pytest.mark.parametrize("path", ["whole-pencils", "lu-factors", "nearest-roots", "arnoldi-fails"])
+@pytest.mark.parametrize("path", ["whole-pencils", "lu-factors", "sparse-factors", "nearest-roots",
+                                  "sparse-nearest-roots", "arnoldi-fails"])
 @pytest.mark.parametrize("name", EXAMPLES)
 def test_batched_refinement_equals_brents_method_per_crossing(name, path, examples_dir, monkeypatch):
     """Every way of evaluating a crossing gives Brent's roots: isolated modes by the pencil
     iteration with small pencils solved whole in one batched call, or factored once per
-    crossing as large ones are; the others (here all crossings) from the roots nearest the
-    interpolation by shift-invert Arnoldi, as large models do, or all roots where Arnoldi
-    fails (each forced here for the examples' few coordinates)."""
+    crossing as large ones are (dense, or sparse as large machines' sparse pencils are); the
+    others (here all crossings) from the roots nearest the interpolation by shift-invert
+    Arnoldi, as large models do (dense or sparse), or all roots where Arnoldi fails (each forced
+    here for the examples' few coordinates)."""
     from rotordyn_modal.analysis import campbell as campbell_module
 
-    if path == "lu-factors":
+    if path == "lu-factors" or path.startswith("sparse"):
         monkeypatch.setattr(_eigen, "BATCHED_DOF", 0)
+    if path.startswith("sparse"):
+        monkeypatch.setattr(_eigen, "SPARSE_DOF", 0)
+        monkeypatch.setattr(_eigen, "SPARSE_DENSITY", 1.0)
     if path == "arnoldi-fails":      # every shift-invert Arnoldi call fails: all roots instead
         import scipy.sparse.linalg
 
@@ -88,7 +93,7 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, path, exampl
             raise scipy.sparse.linalg.ArpackNoConvergence("no convergence (test)", np.zeros(0), np.zeros((0, 0)))
 
         monkeypatch.setattr(scipy.sparse.linalg, "eigs", no_convergence)
-    if path in ("nearest-roots", "arnoldi-fails"):
+    if path in ("nearest-roots", "sparse-nearest-roots", "arnoldi-fails"):
         monkeypatch.setattr(_eigen, "NEAREST_ROOTS_DOF", 0)
         monkeypatch.setattr(campbell_module, "_isolated", lambda values, brackets: np.zeros(len(brackets.k), bool))
     model = rdm.load_model(examples_dir / f"{name}.toml")
@@ -170,3 +175,40 @@ def test_large_model_paths_equal_all_eigenvalues_of_the_state_matrix(monkeypatch
     np.testing.assert_allclose(large.speeds, full.speeds, rtol=1e-10)
     np.testing.assert_allclose(large.frequencies_hz, full.frequencies_hz, rtol=1e-10)
     np.testing.assert_allclose(large.damping_ratios, full.damping_ratios, rtol=1e-8, atol=1e-12)
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_sparse_pattern_holds_every_nonzero_of_the_pencil_at_every_speed(name, examples_dir):
+    """The layout a sparse factorisation uses has room for every nonzero entry of M, C(Omega),
+    G and K(Omega) at any speed (the journal rotor's film coefficients change with speed)."""
+    model = rdm.load_model(examples_dir / f"{name}.toml")
+    form = speed_linear_form(model)
+    pattern = form.pattern()
+    speeds = np.linspace(rdm.rpm(100.0), rdm.rpm(30000.0), 7)
+    M, _, G, _ = form.matrices
+    damping = np.broadcast_to(form.damping_at(speeds), (len(speeds),) + M.shape)
+    stiffness = np.broadcast_to(form.stiffness_at(speeds), (len(speeds),) + M.shape)
+    for matrix in (M[None], G[None], damping, stiffness):
+        assert not np.any((matrix != 0) & ~pattern)
+    assert pattern.sum() < pattern.size or model.dofs.n <= 6
+
+
+@pytest.mark.parametrize("name", ["gear_machine", "journal_rotor"])
+def test_sparse_pencils_equal_the_dense_ones(name, examples_dir, monkeypatch):
+    """A row's pencil built from its sparse layout equals the dense one at any shift."""
+    from rotordyn_modal.analysis._stack import Pencils, Stack
+
+    monkeypatch.setattr(_eigen, "SPARSE_DOF", 0)
+    monkeypatch.setattr(_eigen, "SPARSE_DENSITY", 1.0)
+    model = rdm.load_model(examples_dir / f"{name}.toml")
+    stack = Stack([model])
+    speeds = np.array([rdm.rpm(500.0), rdm.rpm(9000.0)])
+    pencils = Pencils(stack, np.zeros(2, dtype=int), speeds)
+    assert pencils.sparse(np.arange(2)).all()
+    shift = -3.0 + 250.0j
+    for row in range(2):
+        layout, mass, damping, stiffness = pencils.sparse_parts(row)
+        sparse = layout.matrix(shift**2 * mass + shift * damping + stiffness).toarray()
+        M, D, K = (np.reshape(m, (-1,) + m.shape[-2:])[-1] for m in pencils.matrices(np.array([row])))
+        dense = shift**2 * M + shift * D + K
+        np.testing.assert_allclose(sparse, dense, rtol=0, atol=1e-15 * np.abs(dense).max())

@@ -24,7 +24,8 @@ from ..dofs import frame_block
 from ..geometry import skew
 
 __all__ = ["select_upper", "upper_indices", "upper_shapes", "one_blas_thread", "eigenvalues_of", "solve_batch",
-           "pencil_shapes", "PencilFactors", "PencilRows", "BATCHED_DOF", "nearest_roots", "NEAREST_ROOTS_DOF",
+           "pencil_shapes", "PencilFactors", "PencilRows", "SparseLayout", "sparse_layout", "SPARSE_DOF",
+           "SPARSE_DENSITY", "BATCHED_DOF", "nearest_roots", "NEAREST_ROOTS_DOF",
            "residual_inverse_iteration",
            "chunk_slices", "concatenated", "CHUNK_BYTES", "whirl_forms", "rotor_whirl_forms", "whirl_ratios",
            "whirl_labels", "row_norms", "unit_rows", "mass_normalized", "mac_matrix", "real_product",
@@ -260,13 +261,61 @@ _CACHE_BYTES = 2**20
 BATCHED_DOF = 48
 
 
+#: pencils of at least this many coordinates, of which at most ``SPARSE_DENSITY`` of the entries
+#: can be nonzero, are factored as sparse matrices (SuperLU): a large machine's rotors couple only
+#: to their neighbours and the casing, so its pencils' factors fill in little (at 206 coordinates
+#: and 4 % nonzero a sparse LU already costs a third of a dense one; at 106 and 7 % it is dearer)
+SPARSE_DOF = 150
+SPARSE_DENSITY = 0.05
+
+
+class SparseLayout(NamedTuple):
+    """Compressed-column layout of the entries that may be nonzero in a model's pencils: the
+    row and column of each stored entry, in the layout's order, and the columns' starts."""
+
+    rows: np.ndarray
+    cols: np.ndarray
+    starts: np.ndarray
+
+    def matrix(self, data):
+        """The ``scipy.sparse.csc_matrix`` with values ``data`` (nnz,) at the layout's entries."""
+        from scipy.sparse import csc_matrix
+
+        n = len(self.starts) - 1
+        return csc_matrix((data, self.rows, self.starts), shape=(n, n))
+
+
+def sparse_layout(pattern) -> SparseLayout | None:
+    """The layout of the pencils whose possible nonzeros are ``pattern`` (n, n) bool, or None
+    where they are better factored dense (see ``SPARSE_DOF``)."""
+    n = len(pattern)
+    if n < SPARSE_DOF or np.count_nonzero(pattern) > SPARSE_DENSITY * n * n:
+        return None
+    cols, rows = np.nonzero(pattern.T)                        # column by column, rows ascending
+    return SparseLayout(rows.astype(np.int32), cols, np.searchsorted(cols, np.arange(n + 1)).astype(np.int32))
+
+
+def _sparse_lu(layout, data):
+    """SuperLU factors of the matrix ``data`` in ``layout``, or None where it is singular.
+
+    The minimum-degree ordering of ``A^T + A`` suits these structurally symmetric pencils (a
+    tenth of COLAMD's fill at 506 coordinates)."""
+    from scipy.sparse.linalg import splu
+
+    try:
+        return splu(layout.matrix(data), permc_spec="MMD_AT_PLUS_A")
+    except RuntimeError:            # exactly singular: its solves give NaN, as a dense LU's give inf
+        return None
+
+
 class PencilFactors:
     """Factorisations of the quadratic pencils ``Q(s) = s^2 M + s D + K`` of many rows, kept for
     repeated solves with ``Q(s)`` and ``Q(s)^H`` (see :func:`residual_inverse_iteration`).
 
     Small pencils are kept as they are and solved together in one batched LAPACK call each time
     (a factorisation of a few coordinates costs less than the Python calls around it); larger
-    ones are factored once per row (``getrf``) and solved by substitution (``getrs``, O(n^2)).
+    ones are factored once per row, sparse (SuperLU) where the model's layout is sparse
+    (:func:`sparse_layout`), else dense (``getrf``), and solved by substitution (O(nnz) or O(n^2)).
 
     Parameters
     ----------
@@ -278,30 +327,39 @@ class PencilFactors:
 
     def __init__(self, count: int, n: int):
         self.whole = n <= BATCHED_DOF
-        self.matrices = np.empty((count, n, n), dtype=complex)     # the pencils, or their LU factors
-        self.pivots = np.empty((count, n), dtype=np.int32)
+        self.matrices = np.empty((count if self.whole else 0, n, n), dtype=complex)   # small pencils, whole
+        self.factors = [None] * count            # larger: each row's SuperLU object or (LU, pivots)
         self.ready = np.zeros(count, dtype=bool)
 
     def factor(self, rows, pencils, shifts):
         """Factor ``Q(shifts[i])`` of row ``i`` of ``pencils`` (a :class:`~._stack.Pencils`, one row
-        per storage row in ``rows``) into storage ``rows[i]``, a few rows at a time (each part's
-        pencils stay in the cache)."""
+        per storage row in ``rows``) into storage ``rows[i]``; dense ones a few rows at a time
+        (each part's pencils stay in the cache)."""
+        rows = np.asarray(rows)
+        shifts = np.asarray(shifts, dtype=complex)
+        if not len(rows):
+            return
+        if self.whole:
+            self.matrices[rows] = _quadratic(*pencils.matrices(np.arange(len(rows))), shifts)
+            self.ready[rows] = True
+            return
+        sparse = pencils.sparse(np.arange(len(rows)))
+        for i in np.nonzero(sparse)[0]:
+            layout, mass, damping, stiffness = pencils.sparse_parts(i)
+            self.factors[rows[i]] = _sparse_lu(layout, (shifts[i] * shifts[i]) * mass + shifts[i] * damping + stiffness)
+        dense = np.nonzero(~sparse)[0]
+        n = pencils.n_dof
+        step = max(1, _CACHE_BYTES // (16 * n * n))
+        for part in (dense[start:start + step] for start in range(0, len(dense), step)):
+            self._factor_dense(rows[part], _quadratic(*pencils.matrices(part), shifts[part]))
+        self.ready[rows] = True
+
+    def _factor_dense(self, rows, quadratic):
         from scipy.linalg import lapack
 
-        rows = np.asarray(rows)
-        n = self.matrices.shape[-1]
-        step = max(1, len(rows) if self.whole else _CACHE_BYTES // (16 * n * n))
-        for start in range(0, len(rows), step):
-            part = rows[start:start + step]
-            mass, damping, stiffness = pencils.matrices(np.arange(start, start + len(part)))
-            quadratic = _quadratic(mass, damping, stiffness, np.asarray(shifts[start:start + step], dtype=complex))
-            if self.whole:
-                self.matrices[part] = quadratic
-                continue
-            for row, matrix in zip(part, quadratic):
-                lu, pivots, _ = lapack.zgetrf(matrix, overwrite_a=True)    # info > 0: singular, solves give inf
-                self.matrices[row], self.pivots[row] = lu, pivots
-        self.ready[rows] = True
+        for row, matrix in zip(rows, quadratic):
+            lu, pivots, _ = lapack.zgetrf(matrix, overwrite_a=True)    # info > 0: singular, solves give inf
+            self.factors[row] = (lu, pivots)
 
     def solve(self, rows, rhs, adjoint: bool = False):
         """``Q^-1 rhs`` (or ``Q^-H rhs``) for storage ``rows``; ``rhs`` (R, n) complex."""
@@ -314,7 +372,13 @@ class PencilFactors:
             return _solve(matrices, rhs[..., None])[..., 0]
         out = np.empty(rhs.shape, dtype=complex)
         for i, row in enumerate(rows):
-            out[i] = lapack.zgetrs(self.matrices[row], self.pivots[row], rhs[i], trans=2 if adjoint else 0)[0]
+            factor = self.factors[row]
+            if factor is None:
+                out[i] = np.nan
+            elif isinstance(factor, tuple):
+                out[i] = lapack.zgetrs(*factor, rhs[i], trans=2 if adjoint else 0)[0]
+            else:
+                out[i] = factor.solve(rhs[i], trans="H" if adjoint else "N")
         return out
 
 
@@ -403,8 +467,18 @@ class PencilRows:
     def __init__(self, pencils, rows):
         self.pencils, self.rows = pencils, rows
 
+    @property
+    def n_dof(self) -> int:
+        return self.pencils.n_dof
+
     def matrices(self, rows):
         return self.pencils.matrices(self.rows[rows])
+
+    def sparse(self, rows):
+        return self.pencils.sparse(self.rows[rows])
+
+    def sparse_parts(self, row):
+        return self.pencils.sparse_parts(self.rows[row])
 
     def products(self, rows, vectors):
         return self.pencils.products(self.rows[rows], vectors)
@@ -444,24 +518,24 @@ def nearest_roots(pencils, centers, count: int = 8):
     shapes : ndarray (P, count, n), complex
         Unit-norm displacement parts of the eigenvectors.
     """
-    from scipy.linalg import lapack
     from scipy.sparse.linalg import ArpackError, LinearOperator, eigs
 
-    n = pencils.matrices(np.array([0]))[1].shape[-1]
+    n = pencils.n_dof
     count = min(count, 2 * n - 2)
     start = _start_vectors(1, 2 * n)[0]          # a fixed start: the same roots on every run
     values = np.empty((len(centers), count), dtype=complex)
     shapes = np.empty((len(centers), count, n), dtype=complex)
     # off the point by a little: the point may be a root itself (a mode the speed leaves alone)
     shifts = np.asarray(centers, dtype=complex) * (1 + 1e-9 * (1 + 1j)) + 1e-300
+    sparse = pencils.sparse(np.arange(len(shifts)))
     for row, sigma in enumerate(shifts):
-        matrices = pencils.matrices(np.array([row]))
-        mass, damping = (np.reshape(matrix, (n, n)) for matrix in matrices[:2])
-        lu, pivots, _ = lapack.zgetrf(_quadratic(*matrices, np.array([sigma]))[0], overwrite_a=True)
-        both = np.concatenate([damping + sigma * mass, mass.astype(complex)], axis=1)   # [D + sigma M, M]
+        solve, both = (_sparse_shifted if sparse[row] else _dense_shifted)(pencils, row, sigma)
+        if solve is None:                                   # singular at the shift: all roots instead
+            values[row], shapes[row] = np.nan, 0.0
+            continue
 
-        def inverse(w, lu=lu, pivots=pivots, both=both, sigma=sigma):
-            x = -lapack.zgetrs(lu, pivots, both @ w)[0]
+        def inverse(w, solve=solve, both=both, sigma=sigma):
+            x = -solve(both @ w)
             return np.concatenate([x, w[:n] + sigma * x])
 
         def unused(w):
@@ -478,6 +552,35 @@ def nearest_roots(pencils, centers, count: int = 8):
         values[row] = lam[order]
         shapes[row] = unit_rows(vectors[:n, order].T)
     return values, shapes
+
+
+def _dense_shifted(pencils, row, sigma):
+    """``Q(sigma)^-1`` of a row as a function, by a dense LU, and ``[D + sigma M, M]`` (n, 2n)."""
+    from scipy.linalg import lapack
+
+    matrices = pencils.matrices(np.array([row]))
+    n = pencils.n_dof
+    mass, damping = (np.reshape(matrix, (n, n)) for matrix in matrices[:2])
+    lu, pivots, _ = lapack.zgetrf(_quadratic(*matrices, np.array([sigma]))[0], overwrite_a=True)
+    both = np.concatenate([damping + sigma * mass, mass.astype(complex)], axis=1)
+
+    def solve(rhs):
+        return lapack.zgetrs(lu, pivots, rhs)[0]
+
+    return solve, both
+
+
+def _sparse_shifted(pencils, row, sigma):
+    """As :func:`_dense_shifted`, with SuperLU and sparse ``[D + sigma M, M]``; (None, None)
+    where ``Q(sigma)`` is singular."""
+    from scipy.sparse import hstack
+
+    layout, mass, damping, stiffness = pencils.sparse_parts(row)
+    factor = _sparse_lu(layout, (sigma * sigma) * mass + sigma * damping + stiffness)
+    if factor is None:
+        return None, None
+    both = hstack([layout.matrix(damping + sigma * mass), layout.matrix(mass.astype(complex))], format="csr")
+    return factor.solve, both
 
 
 def _nearest_root(a, b, c, near):

@@ -58,6 +58,7 @@ class Stack:
         self.dependent = any(f.speed_dependent for f in self.forms)
         self.branch_stiffness = _stacked([f.branch_stiffness for f in self.forms])   # (V, n_b, n, n)
         self.branch_times = _stacked([f.branch_times for f in self.forms])           # (V, n_b)
+        self._layouts = {}       # variant -> (SparseLayout or None, its constant entries)
 
     def __len__(self) -> int:
         return len(self.forms)
@@ -99,6 +100,24 @@ class Stack:
             damping[rows] = self.forms[v].damping_at(x[rows]) + x[rows, None, None] * self.G[v]
             stiffness[rows] = self.forms[v].stiffness_at(x[rows])
         return damping, stiffness
+
+    def sparse_layout(self, variant: int):
+        """The compressed-column layout of a variant's pencils (see :func:`_eigen.sparse_layout`),
+        or None where they are factored dense."""
+        return self.sparse_entries(variant)[0]
+
+    def sparse_entries(self, variant: int):
+        """The variant's layout and its constant matrices' entries there, (M, C, G, K) each
+        (nnz,), computed once (the layout comes from the variant's own matrices, so that a study's
+        variant and the single analysis of its model factor the very same matrices)."""
+        if variant not in self._layouts:
+            layout = _eigen.sparse_layout(self.forms[variant].pattern())
+            entries = None
+            if layout is not None:
+                entries = tuple(matrix[variant if len(matrix) > 1 else 0][layout.rows, layout.cols]
+                                for matrix in (self.M, self.C, self.G, self.K))
+            self._layouts[variant] = layout, entries
+        return self._layouts[variant]
 
     # -- eigen-solutions -----------------------------------------------------------------
     def solve(self, matrices, variants):
@@ -161,6 +180,26 @@ class Pencils:
 
     def __len__(self) -> int:
         return len(self.speeds)
+
+    @property
+    def n_dof(self) -> int:
+        return self.stack.n_dof
+
+    def sparse(self, rows) -> np.ndarray:
+        """Which of ``rows`` have a sparse layout (bool array)."""
+        return np.array([self.stack.sparse_layout(v) is not None for v in self.variants[rows]], dtype=bool)
+
+    def sparse_parts(self, row: int):
+        """Row ``row``'s layout and the entries of its mass, ``C + Omega G`` and stiffness there
+        (each (nnz,), real)."""
+        stack = self.stack
+        variant, speed = self.variants[row], self.speeds[row]
+        layout, (mass, damping, gyroscopic, stiffness) = stack.sparse_entries(variant)
+        if stack.dependent:
+            damping, stiffness = (matrix[0][layout.rows, layout.cols]
+                                  for matrix in stack.damping_stiffness(np.array([variant]), np.array([speed])))
+            return layout, mass, damping, stiffness
+        return layout, mass, damping + speed * gyroscopic, stiffness
 
     def matrices(self, rows):
         """Mass (n, n) or (R, n, n), ``C + Omega G`` and stiffness (R, n, n) of ``rows``."""

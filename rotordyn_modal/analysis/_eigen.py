@@ -263,10 +263,11 @@ BATCHED_DOF = 48
 
 #: pencils of at least this many coordinates, of which at most ``SPARSE_DENSITY`` of the entries
 #: can be nonzero, are factored as sparse matrices (SuperLU): a large machine's rotors couple only
-#: to their neighbours and the casing, so its pencils' factors fill in little (at 206 coordinates
-#: and 4 % nonzero a sparse LU already costs a third of a dense one; at 106 and 7 % it is dearer)
+#: to their neighbours and the casing, so its pencils' factors fill in little (at 151 coordinates
+#: and 11 % nonzero a sparse LU costs 0.6 of a dense one, at 301 and 5 % a sixth; at 101 and 16 %
+#: it costs twice as much)
 SPARSE_DOF = 150
-SPARSE_DENSITY = 0.05
+SPARSE_DENSITY = 0.15
 
 
 class SparseLayout(NamedTuple):
@@ -517,6 +518,9 @@ def nearest_roots(pencils, centers, count: int = 8):
         By distance from the point; NaN in a row where ARPACK did not converge.
     shapes : ndarray (P, count, n), complex
         Unit-norm displacement parts of the eigenvectors.
+    radius : ndarray (P,)
+        Every root nearer the point than this is among the row's eigenvalues [1/s] (NaN where
+        ARPACK did not converge).
     """
     from scipy.sparse.linalg import ArpackError, LinearOperator, eigs
 
@@ -525,6 +529,7 @@ def nearest_roots(pencils, centers, count: int = 8):
     start = _start_vectors(1, 2 * n)[0]          # a fixed start: the same roots on every run
     values = np.empty((len(centers), count), dtype=complex)
     shapes = np.empty((len(centers), count, n), dtype=complex)
+    radius = np.full(len(centers), np.nan)
     # off the point by a little: the point may be a root itself (a mode the speed leaves alone)
     shifts = np.asarray(centers, dtype=complex) * (1 + 1e-9 * (1 + 1j)) + 1e-300
     sparse = pencils.sparse(np.arange(len(shifts)))
@@ -551,7 +556,9 @@ def nearest_roots(pencils, centers, count: int = 8):
         order = np.argsort(np.abs(lam - centers[row]))
         values[row] = lam[order]
         shapes[row] = unit_rows(vectors[:n, order].T)
-    return values, shapes
+        # ARPACK's roots are those nearest the shift: any other is at least as far from it
+        radius[row] = np.abs(lam - sigma).max() - np.abs(sigma - centers[row])
+    return values, shapes, radius
 
 
 def _dense_shifted(pencils, row, sigma):

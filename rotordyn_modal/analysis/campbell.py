@@ -707,7 +707,7 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
         Distance from each eigenvalue to the nearest other root (of those at hand) [1/s].
     """
     expected = _interpolated(speeds, values, brackets, rows, x)
-    lam, phi = _roots_near(stack, brackets.variant[rows], x, expected)
+    lam, phi, radius = _roots_near(stack, brackets.variant[rows], x, expected)
     distance = np.abs(lam - expected[:, None])
     nearest, second = np.argsort(distance, axis=1)[:, :2].T
     every = np.arange(len(x))
@@ -723,7 +723,7 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
             picked[unsure], shapes[unsure] = _modes_at(stack, speeds, values, weighted, mine, x[unsure])
         else:
             picked[unsure], shapes[unsure] = _identified(stack, speeds, values, weighted, mine, x[unsure],
-                                                         lam[unsure], phi[unsure])
+                                                         lam[unsure], phi[unsure], radius[unsure])
         known |= unsure
     scale = np.nanmax(np.abs(lam), axis=1)
     if lam.shape[1] < values.shape[-1]:       # a few roots only: the largest is the sweep's
@@ -734,23 +734,34 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
     return picked, ~unsure & ~repeated, shapes, known, gap
 
 
-def _roots_near(stack, variants, x, centers, shapes=False):
-    """The upper roots at speeds ``x`` to pick the tracked mode from, and their unit shapes:
-    for large models (see :func:`_eigen.nearest_roots`) the eight nearest ``centers``, (R, 8)
-    and (R, 8, n); else all of them, (R, m), with shapes (R, m, n) only when ``shapes`` (None
-    otherwise)."""
-    if stack.n_dof <= _eigen.NEAREST_ROOTS_DOF or stack.branch_times.shape[-1]:
-        return _all_roots(stack, variants, x, shapes)
-    lam, phi = _eigen.nearest_roots(Pencils(stack, variants, x), centers)
+#: roots nearest the interpolation that a large model's crossing first picks its mode from
+#: (more where a root beyond them could be the mode: see :func:`_identified`)
+_NEAREST_ROOTS = 8
+
+
+def _roots_near(stack, variants, x, centers, shapes=False, count=None):
+    """The upper roots at speeds ``x`` to pick the tracked mode from, their unit shapes, and the
+    distance from ``centers`` within which every root is among them: for large models (see
+    :func:`_eigen.nearest_roots`) the ``count`` nearest ``centers``, (R, count) and (R, count,
+    n); else (or where ``count`` reaches the coordinates) all of them, (R, m), with shapes (R, m,
+    n) only when ``shapes`` (None otherwise), and an infinite radius. ``count`` defaults to
+    ``_NEAREST_ROOTS``."""
+    count = _NEAREST_ROOTS if count is None else count
+    if stack.n_dof <= max(_eigen.NEAREST_ROOTS_DOF, count) or stack.branch_times.shape[-1]:
+        return (*_all_roots(stack, variants, x, shapes), np.full(len(x), np.inf))
+    lam, phi, radius = _eigen.nearest_roots(Pencils(stack, variants, x), centers, count)
     failed = np.nonzero(np.all(np.isnan(lam), axis=1))[0]
     if len(failed):                                    # ARPACK did not converge: all roots, the nearest kept
         every, every_phi = _all_roots(stack, variants[failed], x[failed], True)
-        nearest = np.argsort(np.abs(every - centers[failed, None]), axis=1)[:, :lam.shape[1]]
-        kept = nearest.shape[1]                        # a small model may have fewer roots than asked
-        lam[failed, :kept] = np.take_along_axis(every, nearest, axis=1)
-        phi[failed, :kept] = np.take_along_axis(every_phi, nearest[..., None], axis=1)
+        distance = np.abs(every - centers[failed, None])
+        nearest = np.argsort(distance, axis=1)
+        kept = min(lam.shape[1], nearest.shape[1])     # a small model may have fewer roots than asked
+        lam[failed, :kept] = np.take_along_axis(every, nearest[:, :kept], axis=1)
+        phi[failed, :kept] = np.take_along_axis(every_phi, nearest[:, :kept, None], axis=1)
+        radius[failed] = np.inf if kept == nearest.shape[1] else \
+            np.take_along_axis(distance, nearest[:, kept:kept + 1], axis=1)[:, 0]
     lam = np.where(lam.imag < 0, np.nan, lam)          # the lower roots are not candidates
-    return lam, _eigen.resolve_repeated(lam, phi, stack.whirl, variants)
+    return lam, _eigen.resolve_repeated(lam, phi, stack.whirl, variants), radius
 
 
 def _all_roots(stack, variants, x, shapes):
@@ -787,19 +798,31 @@ def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iter
 def _modes_at(stack, speeds, values, weighted, brackets, x):
     """Eigenvalue and shape of each bracket's tracked mode at ``x`` (see :func:`_identified`)."""
     expected = _interpolated(speeds, values, brackets, np.arange(len(x)), x)
-    lam, phi = _roots_near(stack, brackets.variant, x, expected, shapes=True)
-    return _identified(stack, speeds, values, weighted, brackets, x, lam, phi)
+    lam, phi, radius = _roots_near(stack, brackets.variant, x, expected, shapes=True)
+    return _identified(stack, speeds, values, weighted, brackets, x, lam, phi, radius)
 
 
-def _identified(stack, speeds, values, weighted, brackets, x, lam, phi):
+def _identified(stack, speeds, values, weighted, brackets, x, lam, phi, radius):
     """The tracked mode among roots ``lam`` (P, j) with shapes ``phi`` (P, j, n) at ``x``:
     by the mass-weighted MAC against its shape at the bracket's start and the eigenvalue
-    distance. Returns its eigenvalue (P,) and shape (P, n)."""
+    distance. Returns its eigenvalue (P,) and shape (P, n).
+
+    The roots at hand are every root within ``radius`` (P,) of the bracket's interpolation. A
+    root beyond costs at least ``radius / spread``; where the best at hand costs more (a
+    cluster of many close roots, such as the like rotors of a large machine), that row takes
+    four times as many roots nearest the interpolation, until this holds or it has them all."""
     rows = np.arange(len(x))
     expected = _interpolated(speeds, values, brackets, rows, x)
     psi = stack.weighted(phi, brackets.variant)
     reference = weighted[brackets.variant, brackets.k, brackets.mode]                   # (P, n)
     correlation = np.abs(np.einsum("pn,pjn->pj", reference.conj(), psi)) ** 2
-    cost = (1 - correlation) + np.abs(lam - expected[:, None]) / _spread(values, brackets, rows)[:, None]
+    spread = _spread(values, brackets, rows)
+    cost = (1 - correlation) + np.abs(lam - expected[:, None]) / spread[:, None]
     j = np.argmin(np.where(np.isnan(cost), np.inf, cost), axis=1)
-    return lam[rows, j], phi[rows, j]
+    picked, shape = lam[rows, j], phi[rows, j]
+    short = np.nonzero(~(cost[rows, j] <= radius / spread) & np.isfinite(radius))[0]
+    if len(short):
+        more = _roots_near(stack, brackets.variant[short], x[short], expected[short], True, 4 * lam.shape[1])
+        picked[short], shape[short] = _identified(stack, speeds, values, weighted, brackets.subset(short), x[short],
+                                                  *more)
+    return picked, shape

@@ -358,43 +358,51 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
     s = np.array(eigenvalues, dtype=complex)
     phi = unit_rows(np.array(vectors, dtype=complex))
     normal = phi.copy()                                                 # c, with c^H phi = 1
-    with np.errstate(all="ignore"):
-        left = factors.solve(rows, normal, adjoint=True).conj()
     last = np.full(len(s), np.inf)
-    active = np.all(np.isfinite(left), axis=-1)
     converged = np.zeros(len(s), dtype=bool)
-    for _ in range(iterations):
-        i = np.nonzero(active)[0]
-        if not len(i):
-            break
-        m_phi, d_phi, k_phi = pencils.products(i, phi[i])
-        with np.errstate(all="ignore"):                                  # a singular factor is dropped below
-            new = _nearest_root(np.einsum("pi,pi->p", left[i], m_phi), np.einsum("pi,pi->p", left[i], d_phi),
-                                np.einsum("pi,pi->p", left[i], k_phi), s[i])
+    with np.errstate(all="ignore"):                                     # a singular factor is dropped below
+        left = factors.solve(rows, normal, adjoint=True).conj()
+        active = np.all(np.isfinite(left), axis=-1)
+        for _ in range(iterations):
+            # every row at once while all iterate (the usual case): no gathers and scatters
+            i = slice(None) if active.all() else np.nonzero(active)[0]
+            if not len(s[i]):
+                break
+            phi_i, s_i, left_i = phi[i], s[i], left[i]
+            m_phi, d_phi, k_phi = pencils.products(_indices(i, len(s)), phi_i)
+            new = _nearest_root(np.einsum("pi,pi->p", left_i, m_phi), np.einsum("pi,pi->p", left_i, d_phi),
+                                np.einsum("pi,pi->p", left_i, k_phi), s_i)
             residual = new[:, None] ** 2 * m_phi + new[:, None] * d_phi + k_phi
-            phi_new = phi[i] - factors.solve(rows[i], residual)
+            phi_new = phi_i - factors.solve(rows[i], residual)
             phi_new /= np.einsum("pi,pi->p", normal[i].conj(), phi_new)[:, None]
             # relative steps of the eigenvalue and of the shape: the eigenvalue alone can settle
             # while the shape still holds a neighbouring mode
-            size = np.maximum(np.abs(new - s[i]) / np.abs(new), (row_norms(phi_new - phi[i]) / row_norms(phi_new))[:, 0])
+            size = np.maximum(np.abs(new - s_i) / np.abs(new), (row_norms(phi_new - phi_i) / row_norms(phi_new))[:, 0])
             finite = np.isfinite(size)
-            size = np.where(finite, size, np.inf)
+            if finite.all():
+                s[i], phi[i] = new, phi_new
+            else:
+                size = np.where(finite, size, np.inf)
+                s[i] = np.where(finite, new, s_i)
+                phi[i] = np.where(finite[:, None], phi_new, phi_i)
             rate = size / last[i]
-        s[i] = np.where(finite, new, s[i])
-        phi[i] = np.where(finite[:, None], phi_new, phi[i])
-        done = (size <= 1e-14) | ((size <= 1e-9) & (rate < 0.5) & (size * rate <= 1e-14))
-        converged[i[done]] = True
-        active[i[done | ~finite]] = False
-        last[i] = size
-        if factors.whole:
-            # small pencils are refactored at every step anyway: shift them to the new eigenvalue
-            # (Newton's convergence instead of linear), with the left vector to match
-            more = np.nonzero(active)[0]
-            if len(more):
-                factors.factor(rows[more], PencilRows(pencils, more), s[more])
-                with np.errstate(all="ignore"):
-                    left[more] = factors.solve(rows[more], normal[more], adjoint=True).conj()
+            done = (size <= 1e-14) | ((size <= 1e-9) & (rate < 0.5) & (size * rate <= 1e-14))
+            finished = _indices(i, len(s))[done | ~finite]
+            converged[_indices(i, len(s))[done]] = True
+            active[finished] = False
+            last[i] = size
+            if factors.whole and len(finished) < len(s[i]):
+                # small pencils are refactored at every step anyway: shift them to the new eigenvalue
+                # (Newton's convergence instead of linear), with the left vector to match
+                more = slice(None) if active.all() else np.nonzero(active)[0]
+                factors.factor(rows[more], PencilRows(pencils, _indices(more, len(s))), s[more])
+                left[more] = factors.solve(rows[more], normal[more], adjoint=True).conj()
     return s, unit_rows(phi), converged
+
+
+def _indices(rows, count):
+    """``rows`` (an index array, or ``slice(None)``: all ``count`` rows) as an index array."""
+    return np.arange(count) if isinstance(rows, slice) else rows
 
 
 class PencilRows:

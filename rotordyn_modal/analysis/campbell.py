@@ -631,15 +631,17 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     converge. Returns the eigenvalues and which converged to the tracked mode."""
     expected = _interpolated(speeds, values, brackets, rows, x)
     start = iterates.lam[rows] + expected - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
-    fresh = np.nonzero(~iterates.factors.ready[rows])[0]
-    first = fresh[iterates.x[rows[fresh]] == speeds[brackets.k[rows[fresh]]]]    # nothing evaluated yet
-    start[first] = _cubic_value(speeds, values, brackets, rows[first], x[first])
+    unready = ~iterates.factors.ready[rows]
+    fresh = np.nonzero(unready)[0]
     pencils = Pencils(stack, brackets.variant[rows], x)
-    iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
+    if len(fresh):
+        first = fresh[iterates.x[rows[fresh]] == speeds[brackets.k[rows[fresh]]]]    # nothing evaluated yet
+        if len(first):
+            start[first] = _cubic_value(speeds, values, brackets, rows[first], x[first])
+        iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
     lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
                                                                iterates.shape[rows])
-    again = np.nonzero(~converged & np.isfinite(lam))[0]
-    again = again[~np.isin(again, fresh)]
+    again = np.nonzero(~converged & np.isfinite(lam) & ~unready)[0]
     if len(again):
         # far from the factored point (or a poor start there): factor here and iterate again
         part = _eigen.PencilRows(pencils, again)

@@ -26,7 +26,7 @@ from ..geometry import skew
 __all__ = ["select_upper", "upper_indices", "upper_shapes", "one_blas_thread", "eigenvalues_of", "solve_batch",
            "pencil_shapes", "PencilFactors", "PencilRows", "BATCHED_DOF", "nearest_roots", "NEAREST_ROOTS_DOF",
            "residual_inverse_iteration",
-           "chunk_slices", "concatenated", "CHUNK_BYTES", "whirl_forms", "rotor_whirl_forms", "whirl_ratios",
+           "chunk_slices", "concatenated", "CHUNK_BYTES", "whirl_forms", "rotor_whirl_forms", "stacked_forms", "whirl_ratios",
            "whirl_labels", "row_norms", "unit_rows", "mass_normalized", "mac_matrix", "real_product",
            "quadratic_forms", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
 
@@ -212,15 +212,25 @@ def upper_indices(values: np.ndarray):
     tol = OSCILLATORY_TOLERANCE * np.where(scale > 0, scale, 1.0)
     imag = np.where(np.abs(values.imag) <= tol, 0.0, values.imag)
     # within the real block, prefer the smaller |lam|: a second stable sort by -|lam| first
+    along = _gather(values.shape)
     pre = np.argsort(-magnitude, axis=-1, kind="stable")
-    imag_pre = np.take_along_axis(imag, pre, axis=-1)
-    order = np.take_along_axis(pre, np.argsort(imag_pre, axis=-1, kind="stable"), axis=-1)
+    imag_pre = along(imag, pre)
+    order = along(pre, np.argsort(imag_pre, axis=-1, kind="stable"))
     chosen = order[..., n:]
-    upper = np.take_along_axis(values, chosen, axis=-1)
-    upper_imag = np.take_along_axis(imag, chosen, axis=-1)
-    upper = np.where(upper_imag == 0.0, upper.real + 0j, upper)
+    upper = along(values, chosen)
+    upper = np.where(along(imag, chosen) == 0.0, upper.real + 0j, upper)
     final = np.lexsort((upper.real, upper.imag), axis=-1)
-    return np.take_along_axis(chosen, final, axis=-1), np.take_along_axis(upper, final, axis=-1)
+    return along(chosen, final), along(upper, final)
+
+
+def _gather(shape):
+    """``numpy.take_along_axis(array, index, axis=-1)`` for arrays of leading shape ``shape[:-1]``;
+    for rows (2-D) one advanced index with the row numbers made once (the same elements, without
+    take_along_axis's per-call index building)."""
+    if len(shape) != 2:
+        return lambda array, index: np.take_along_axis(array, index, axis=-1)
+    rows = np.arange(shape[0])[:, None]
+    return lambda array, index: array[rows, index]
 
 
 def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarray:
@@ -725,7 +735,14 @@ def rotor_whirl_forms(model, rotor: str) -> WhirlForms:
     return WhirlForms(**{name: motion.T @ body[name] @ motion for name in _DIRECTIONS})
 
 
-def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
+def stacked_forms(forms: WhirlForms) -> np.ndarray:
+    """The transposes of the three whirl forms side by side, (..., n, 3 n), contiguous (see
+    :func:`quadratic_forms`)."""
+    return np.ascontiguousarray(
+        np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1))
+
+
+def whirl_ratios(shapes, forms: WhirlForms, speeds, stacked=None) -> np.ndarray:
     """Signed whirl ratio in [-1, 1] relative to the reference rotor's spin.
 
     +1 for a circular orbit normal to the spin axis turning with the spin, -1
@@ -739,15 +756,16 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     forms : WhirlForms
         Each (n, n), or stacked like the shapes' leading axes, (..., n, n).
     speeds : ndarray, shape (...) [rad/s]; the sign of the spin (0 counts as +)
+    stacked : ndarray, optional
+        :func:`stacked_forms` of ``forms``, when the caller keeps it.
 
     Returns
     -------
     ndarray, shape (..., m)
     """
     # phi^H X phi of the three forms for every shape from one product with [W^T N^T total^T]
-    stacked = np.ascontiguousarray(
-        np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1))
-    values = quadratic_forms(shapes, stacked).reshape(shapes.shape[:-1] + (3,))
+    values = quadratic_forms(shapes, stacked_forms(forms) if stacked is None else stacked).reshape(
+        shapes.shape[:-1] + (3,))
     momentum = values[..., 0].imag  # Re(-i phi^H W phi)
     across = values[..., 1].real
     whole = values[..., 2].real

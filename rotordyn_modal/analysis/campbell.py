@@ -202,8 +202,10 @@ def solve_sweeps(stack, speeds, progress=False):
         lam, phi = stack.solve(matrices.reshape((-1,) + matrices.shape[-2:]), np.repeat(np.arange(count), len(chunk)))
         values.append(lam.reshape(count, len(chunk), -1))
         shapes.append(phi.reshape((count, len(chunk)) + phi.shape[-2:]))
-    values = np.concatenate(values, axis=1)
-    shapes = np.concatenate(shapes, axis=1)
+    if len(chunks) > 1:
+        values, shapes = np.concatenate(values, axis=1), np.concatenate(shapes, axis=1)
+    else:
+        values, shapes = values[0], shapes[0]
     flat = shapes.reshape((-1,) + shapes.shape[-2:])
     weighted = stack.weighted(flat, np.repeat(np.arange(count), len(speeds))).reshape(shapes.shape)
     order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
@@ -217,9 +219,10 @@ def _relabel_by_frequency(order, values, speeds):
 
     ``order`` and ``values`` have a leading variant axis: (V, N, m)."""
     k0 = int(np.argmin(np.abs(speeds)))
-    at_k0 = np.take_along_axis(values[:, k0], order[:, k0], axis=-1)
+    variants = np.arange(len(order))[:, None]
+    at_k0 = values[variants, k0, order[:, k0]]
     labels = np.lexsort((at_k0.real, at_k0.imag, ~is_oscillating(at_k0)), axis=-1)
-    return np.take_along_axis(order, labels[:, None, :], axis=-1)
+    return order[variants[..., None], np.arange(order.shape[1])[:, None], labels[:, None, :]]
 
 
 def _progress(items, enabled, description):
@@ -663,11 +666,12 @@ def _cubic_value(speeds, values, brackets, rows, x):
     if len(speeds) < 4 or not len(rows):
         return linear
     xs, lam = _four_points(speeds, values, brackets, rows)
-    weights = np.ones((len(rows), 4))
-    for j in range(4):
-        for m in range(4):
-            if m != j:
-                weights[:, j] *= (x - xs[:, m]) / (xs[:, j] - xs[:, m])
+    # Lagrange weights: factor[p, j, m] = (x - xs_m) / (xs_j - xs_m), 1 where m = j (exact, so the
+    # products below equal the ones over m != j in the same order)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        factor = (x[:, None, None] - xs[:, None, :]) / (xs[:, :, None] - xs[:, None, :])
+    factor[:, np.arange(4), np.arange(4)] = 1.0
+    weights = factor[..., 0] * factor[..., 1] * factor[..., 2] * factor[..., 3]
     cubic = np.einsum("pj,pj->p", weights, lam)
     return np.where(np.all(is_oscillating(lam), axis=1), cubic, linear)
 

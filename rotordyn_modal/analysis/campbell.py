@@ -355,7 +355,8 @@ def _critical_table(source, order, mode, speeds, freq, whirl, ratios, zeta) -> C
 
 class _Brackets(NamedTuple):
     """One row per crossing: the variant, grid interval ``[speeds[k], speeds[k+1]]``, tracked
-    mode (0-based), excitation slope [rad/s per rad/s], source index and order."""
+    mode (0-based), excitation slope [rad/s per rad/s], source index and order; and what the
+    refinement reads of the sweep at every step, gathered once (:func:`_bracket_ends`)."""
 
     variant: np.ndarray
     k: np.ndarray
@@ -363,6 +364,22 @@ class _Brackets(NamedTuple):
     slope: np.ndarray
     source: np.ndarray
     order: np.ndarray
+    start: np.ndarray
+    """``speeds[k]`` [rad/s]"""
+    width: np.ndarray
+    """``speeds[k + 1] - speeds[k]`` [rad/s]"""
+    low: np.ndarray
+    """The tracked mode's eigenvalue at ``speeds[k]``"""
+    high: np.ndarray
+    """and at ``speeds[k + 1]``"""
+    spread: np.ndarray
+    """Its travel across the bracket (with a floor: ``+ 1e-9 |low| + 1e-300``)"""
+    travel: np.ndarray
+    """The fastest travel of any root of the sweep across the bracket"""
+    near_speeds: np.ndarray
+    """The sweep's four speeds around the bracket, (P, 4) (see :func:`_four_points`)"""
+    near_values: np.ndarray
+    """and the tracked mode's eigenvalues there, (P, 4)"""
 
     def subset(self, rows) -> "_Brackets":
         return _Brackets(*(column[rows] for column in self))
@@ -386,9 +403,23 @@ def _crossing_brackets(speeds, values, sources, orders) -> _Brackets:
             v, k, mode = np.nonzero(change)
             parts.append((v, k, mode, slope[v], np.full(len(k), s), np.full(len(k), float(order))))
     if not parts:
-        return _Brackets(*(np.zeros(0, dtype=int) for _ in range(6)))
+        parts = [tuple(np.zeros(0, dtype=int) for _ in range(6))]
     v, k, mode, slope, source, order = (np.concatenate(column) for column in zip(*parts))
-    return _Brackets(v, k, mode, slope, source.astype(int), order)
+    return _Brackets(v, k, mode, slope, source.astype(int), order, *_bracket_ends(speeds, values, v, k, mode))
+
+
+def _bracket_ends(speeds, values, v, k, mode):
+    """The sweep's data of each crossing that the refinement reads (see :class:`_Brackets`)."""
+    low, high = values[v, k, mode], values[v, k + 1, mode]
+    start = speeds[k]
+    spread = np.abs(high - low) + 1e-9 * np.abs(low) + 1e-300
+    travel = np.abs(values[v, k + 1] - values[v, k]).max(axis=1)
+    if len(speeds) < 4:
+        near = np.full((len(k), 4), np.nan), np.full((len(k), 4), np.nan, dtype=complex)
+    else:
+        nodes = np.clip(k - 1, 0, len(speeds) - 4)[:, None] + np.arange(4)
+        near = speeds[nodes], values[v[:, None], nodes, mode[:, None]]
+    return (start, speeds[k + 1] - start, low, high, spread, travel) + near
 
 
 #: evaluations allowed per crossing (it needs two or three; bisection steps guarantee the rest)
@@ -441,12 +472,12 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     iterates : _Iterates
         The pencil iteration's last points, eigenvalues and shapes.
     """
-    v, k, mode, slope = brackets.variant, brackets.k, brackets.mode, brackets.slope
-    a, b = speeds[k].copy(), speeds[k + 1].copy()
-    ga = values[v, k, mode].imag - slope * np.abs(a)
-    gb = values[v, k + 1, mode].imag - slope * np.abs(b)
+    k, slope = brackets.k, brackets.slope
+    a, b = speeds[k], speeds[k + 1]
+    ga = brackets.low.imag - slope * np.abs(a)
+    gb = brackets.high.imag - slope * np.abs(b)
     roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
-    lam = np.where(ga == 0, values[v, k, mode], values[v, k + 1, mode])
+    lam = np.where(ga == 0, brackets.low, brackets.high)
     sure = np.zeros(len(k), dtype=bool)
     done = ~np.isnan(roots)
     x = _cubic_start(speeds, values, brackets, a, b, ga, gb)
@@ -556,8 +587,8 @@ class _Iterates(NamedTuple):
             return cls(np.zeros(count, dtype=bool), np.full(count, np.nan), np.zeros(count, complex),
                        np.zeros((count, 0), complex), gap, _eigen.PencilFactors(0, 0))
         v, k, mode = brackets.variant, brackets.k, brackets.mode
-        return cls(_isolated(values, brackets), speeds[k].astype(float), values[v, k, mode].copy(),
-                   shapes[v, k, mode].copy(), gap, _eigen.PencilFactors(count, stack.n_dof))
+        return cls(_isolated(values, brackets), brackets.start.astype(float), brackets.low.copy(),
+                   shapes[v, k, mode], gap, _eigen.PencilFactors(count, stack.n_dof))
 
 
 def _isolated(values, brackets):
@@ -618,9 +649,7 @@ def _followed(speeds, values, brackets, rows, x, iterates):
     can have moved a tenth of the distance to its nearest neighbour there (at four times the
     fastest travel across the bracket of any root of the sweep): the pencil's iteration from
     that eigenpair then finds the same mode."""
-    v, k = brackets.variant[rows], brackets.k[rows]
-    travel = np.abs(values[v, k + 1] - values[v, k]).max(axis=1)             # fastest root's travel
-    moved = 4 * travel * np.abs(x - iterates.x[rows]) / (speeds[k + 1] - speeds[k])
+    moved = 4 * brackets.travel[rows] * np.abs(x - iterates.x[rows]) / brackets.width[rows]
     with np.errstate(invalid="ignore"):
         return ~iterates.usable[rows] & (moved < 0.1 * iterates.gap[rows])
 
@@ -679,20 +708,17 @@ def _cubic_value(speeds, values, brackets, rows, x):
 def _four_points(speeds, values, brackets, rows):
     """The sweep's four speeds around each bracket of ``rows`` (two each side, or the four at
     the grid's end) and the tracked mode's eigenvalues there: (R, 4) each."""
-    nodes = np.clip(brackets.k[rows] - 1, 0, len(speeds) - 4)[:, None] + np.arange(4)
-    return speeds[nodes], values[brackets.variant[rows][:, None], nodes, brackets.mode[rows][:, None]]
+    return brackets.near_speeds[rows], brackets.near_values[rows]
 
 
 def _interpolated(speeds, values, brackets, rows, x):
     """The tracked modes' eigenvalues interpolated linearly across their brackets at ``x``."""
-    v, k, mode = brackets.variant[rows], brackets.k[rows], brackets.mode[rows]
-    t = (x - speeds[k]) / (speeds[k + 1] - speeds[k])
-    return (1 - t) * values[v, k, mode] + t * values[v, k + 1, mode]
+    t = (x - brackets.start[rows]) / brackets.width[rows]
+    return (1 - t) * brackets.low[rows] + t * brackets.high[rows]
 
 
 def _spread(values, brackets, rows):
-    v, k, mode = brackets.variant[rows], brackets.k[rows], brackets.mode[rows]
-    return np.abs(values[v, k + 1, mode] - values[v, k, mode]) + 1e-9 * np.abs(values[v, k, mode]) + 1e-300
+    return brackets.spread[rows]
 
 
 def _tracked(stack, speeds, values, weighted, brackets, rows, x):

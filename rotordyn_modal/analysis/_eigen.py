@@ -213,9 +213,9 @@ def upper_indices(values: np.ndarray):
     imag = np.where(np.abs(values.imag) <= tol, 0.0, values.imag)
     # within the real block, prefer the smaller |lam|: a second stable sort by -|lam| first
     along = _gather(values.shape)
-    pre = np.argsort(-magnitude, axis=-1, kind="stable")
+    pre = (-magnitude).argsort(axis=-1, kind="stable")
     imag_pre = along(imag, pre)
-    order = along(pre, np.argsort(imag_pre, axis=-1, kind="stable"))
+    order = along(pre, imag_pre.argsort(axis=-1, kind="stable"))
     chosen = order[..., n:]
     upper = along(values, chosen)
     upper = np.where(along(imag, chosen) == 0.0, upper.real + 0j, upper)
@@ -372,10 +372,10 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
     converged = np.zeros(len(s), dtype=bool)
     with np.errstate(all="ignore"):                                     # a singular factor is dropped below
         left = factors.solve(rows, normal, adjoint=True).conj()
-        active = np.all(np.isfinite(left), axis=-1)
+        active = np.isfinite(left).all(axis=-1)
         for _ in range(iterations):
             # every row at once while all iterate (the usual case): no gathers and scatters
-            i = slice(None) if active.all() else np.nonzero(active)[0]
+            i = slice(None) if active.all() else active.nonzero()[0]
             if not len(s[i]):
                 break
             phi_i, s_i, left_i = phi[i], s[i], left[i]
@@ -404,7 +404,7 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
             if factors.whole and len(finished) < len(s[i]):
                 # small pencils are refactored at every step anyway: shift them to the new eigenvalue
                 # (Newton's convergence instead of linear), with the left vector to match
-                more = slice(None) if active.all() else np.nonzero(active)[0]
+                more = slice(None) if active.all() else active.nonzero()[0]
                 factors.factor(rows[more], PencilRows(pencils, _indices(more, len(s))), s[more])
                 left[more] = factors.solve(rows[more], normal[more], adjoint=True).conj()
     return s, unit_rows(phi), converged
@@ -617,13 +617,13 @@ def _repeated_pairs(lam):
     """Rows and first columns of the eigenvalues equal to the next one, exactly two equal (not
     three) and not rigid-body zeros; ``lam`` shape (N, m), equal values adjacent."""
     scale = np.abs(lam).max(axis=-1, keepdims=True) + 1e-300
-    close = np.abs(np.diff(lam, axis=-1)) <= REPEATED_TOLERANCE * scale  # (N, m-1)
+    close = np.abs(lam[..., 1:] - lam[..., :-1]) <= REPEATED_TOLERANCE * scale  # (N, m-1), numpy.diff
     if not close.any():                    # the usual case: no repeated eigenvalue at all
-        return np.nonzero(close)
+        return close.nonzero()
     padded = np.pad(close, ((0, 0), (1, 1)))
     pair = close & ~padded[:, :-2] & ~padded[:, 2:]
     pair &= np.abs(lam[:, :-1]) > OSCILLATORY_TOLERANCE * scale
-    return np.nonzero(pair)
+    return pair.nonzero()
 
 
 def _extreme_whirl(basis, total, momentum):
@@ -772,7 +772,7 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds, stacked=None) -> np.ndarray:
     whirling = across > 1e-9 * whole
     ratio = np.where(whirling, momentum / np.where(whirling, across, 1.0), 0.0)
     sign = np.where(np.asarray(speeds) < 0, -1.0, 1.0)
-    return np.clip(ratio * np.asarray(sign)[..., None], -1.0, 1.0)
+    return np.minimum(np.maximum(ratio * sign[..., None], -1.0), 1.0)     # numpy.clip
 
 
 def real_product(shapes, matrix) -> np.ndarray:
@@ -781,7 +781,8 @@ def real_product(shapes, matrix) -> np.ndarray:
     one matrix product over all shapes when the matrix is shared)."""
     if np.iscomplexobj(matrix):
         return shapes @ matrix
-    parts = np.stack([shapes.real, shapes.imag])                     # contiguous, (2, ..., m, n)
+    parts = np.empty((2,) + shapes.shape)                            # contiguous, (2, ..., m, n)
+    parts[0], parts[1] = shapes.real, shapes.imag
     if matrix.ndim == 2:
         out = (parts.reshape(-1, parts.shape[-1]) @ matrix).reshape(parts.shape[:-1] + matrix.shape[-1:])
     else:

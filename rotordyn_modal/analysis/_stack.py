@@ -129,7 +129,9 @@ class Stack:
     def whirl_ratios(self, shapes, variants, speeds):
         """Whirl ratios (see :func:`_eigen.whirl_ratios`) of shapes (R, m, n) of rows of variants."""
         out = np.empty(shapes.shape[:-1])
-        speeds = np.broadcast_to(speeds, shapes.shape[:-2])
+        speeds = np.asarray(speeds)
+        if speeds.shape != shapes.shape[:-2]:
+            speeds = np.broadcast_to(speeds, shapes.shape[:-2])
         # in parts: the products with the three forms are three times the shapes, twice over
         if self._whirl_stacked is None:
             self._whirl_stacked = _eigen.stacked_forms(self.whirl)

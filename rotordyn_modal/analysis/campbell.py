@@ -312,9 +312,9 @@ def _check_speeds(speeds) -> np.ndarray:
     from ..errors import InputError
 
     speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
-    if speeds.ndim != 1 or len(speeds) == 0 or not np.all(np.isfinite(speeds)):
+    if speeds.ndim != 1 or len(speeds) == 0 or not np.isfinite(speeds).all():
         raise InputError(f"speeds: expected a non-empty 1-D array of finite numbers, got shape {speeds.shape}")
-    if len(speeds) > 1 and not np.all(np.diff(speeds) > 0):
+    if len(speeds) > 1 and not (speeds[1:] - speeds[:-1] > 0).all():
         raise InputError("speeds: expected strictly increasing values")
     return speeds
 
@@ -417,7 +417,7 @@ def _bracket_ends(speeds, values, v, k, mode):
     if len(speeds) < 4:
         near = np.full((len(k), 4), np.nan), np.full((len(k), 4), np.nan, dtype=complex)
     else:
-        nodes = np.clip(k - 1, 0, len(speeds) - 4)[:, None] + np.arange(4)
+        nodes = np.minimum(np.maximum(k - 1, 0), len(speeds) - 4)[:, None] + np.arange(4)
         near = speeds[nodes], values[v[:, None], nodes, mode[:, None]]
     return (start, speeds[k + 1] - start, low, high, spread, travel) + near
 
@@ -485,7 +485,7 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     state = _Bracket(a, b, ga, gb, np.zeros(len(k), dtype=int), np.full((2, len(k)), np.inf))
     iterates = _Iterates.start(stack, speeds, values, brackets, shapes)
     for _ in range(_MAX_ITERATIONS):
-        i = np.nonzero(~done)[0]
+        i = (~done).nonzero()[0]
         if not len(i):
             break
         lam_x, sure_x = _evaluate(stack, speeds, values, weighted, brackets, i, x[i], iterates)
@@ -538,7 +538,7 @@ def _cubic_start(speeds, values, brackets, a, b, ga, gb):
         return chord
     xs, lam = _four_points(speeds, values, brackets, slice(None))
     gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
-    usable = np.all(is_oscillating(lam), axis=1) & (np.all(xs >= 0, axis=1) | np.all(xs <= 0, axis=1))
+    usable = is_oscillating(lam).all(axis=1) & ((xs >= 0).all(axis=1) | (xs <= 0).all(axis=1))
     # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
     h = (b - a)[:, None]
     t_nodes = (xs - a[:, None]) / h
@@ -607,7 +607,7 @@ def _isolated(values, brackets):
     """
     v, k, mode = brackets.variant, brackets.k, brackets.mode
     rows = np.arange(len(k))
-    ends = np.stack([values[v, k], values[v, k + 1]])                       # (2, P, m)
+    ends = values[v, np.array([k, k + 1])]                                  # (2, P, m)
     own = ends[:, rows, mode]                                               # (2, P)
     travel = np.abs(ends[1] - ends[0])                                      # (P, m)
     own_travel = travel[rows, mode] + 1e-9 * np.abs(own).max(axis=0)
@@ -615,7 +615,7 @@ def _isolated(values, brackets):
     apart = np.minimum(np.abs(ends - own[..., None]), np.abs(ends.conj() - own[..., None])).min(axis=0)
     apart[rows, mode] = np.inf
     own_conjugate = 2 * np.abs(own.imag).min(axis=0)
-    return np.all(apart > margin, axis=1) & (own_conjugate > 2 * 8 * own_travel)
+    return (apart > margin).all(axis=1) & (own_conjugate > 2 * 8 * own_travel)
 
 
 def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
@@ -628,11 +628,11 @@ def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
     sure = np.zeros(len(rows), dtype=bool)
     fast = iterates.usable[rows] | _followed(speeds, values, brackets, rows, x, iterates)
     if fast.any():
-        f = np.nonzero(fast)[0]
+        f = fast.nonzero()[0]
         found, ok = _pencil_at(stack, speeds, values, brackets, rows[f], x[f], iterates)
         lam[f[ok]], sure[f[ok]] = found[ok], True
         fast[f[~ok]] = False
-    slow = np.nonzero(~fast)[0]
+    slow = (~fast).nonzero()[0]
     if len(slow):
         lam[slow], sure[slow], shapes, known, gap = _tracked(stack, speeds, values, weighted, brackets, rows[slow],
                                                              x[slow])
@@ -664,7 +664,7 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     expected = _interpolated(speeds, values, brackets, rows, x)
     start = iterates.lam[rows] + expected - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
     unready = ~iterates.factors.ready[rows]
-    fresh = np.nonzero(unready)[0]
+    fresh = unready.nonzero()[0]
     pencils = Pencils(stack, brackets.variant[rows], x)
     if len(fresh):
         first = fresh[iterates.x[rows[fresh]] == speeds[brackets.k[rows[fresh]]]]    # nothing evaluated yet
@@ -673,7 +673,7 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
         iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
     lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
                                                                iterates.shape[rows])
-    again = np.nonzero(~converged & np.isfinite(lam) & ~unready)[0]
+    again = (~converged & np.isfinite(lam) & ~unready).nonzero()[0]
     if len(again):
         # far from the factored point (or a poor start there): factor here and iterate again
         part = _eigen.PencilRows(pencils, again)
@@ -702,7 +702,7 @@ def _cubic_value(speeds, values, brackets, rows, x):
     factor[:, np.arange(4), np.arange(4)] = 1.0
     weights = factor[..., 0] * factor[..., 1] * factor[..., 2] * factor[..., 3]
     cubic = np.einsum("pj,pj->p", weights, lam)
-    return np.where(np.all(is_oscillating(lam), axis=1), cubic, linear)
+    return np.where(is_oscillating(lam).all(axis=1), cubic, linear)
 
 
 def _four_points(speeds, values, brackets, rows):

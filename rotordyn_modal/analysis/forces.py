@@ -95,6 +95,13 @@ def _times(matrix, motion):
     return flat.reshape(count, n, -1).transpose(0, 2, 1)
 
 
+def _broadcast(values, shape):
+    """``values`` as floats of ``shape``: the array itself when it has that shape already (no
+    ``numpy.broadcast_to``), else a broadcast view."""
+    values = np.asarray(values, dtype=float)
+    return values if values.shape == shape else np.broadcast_to(values, shape)
+
+
 def _branch_stiffness(suspension, omega):
     factor = 1j * omega[:, None] * np.asarray(suspension.maxwell_time, dtype=float)
     factor = factor / (1 + factor)
@@ -120,7 +127,7 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
         ``[F, C]`` at each rotor's centre of mass, model axes [N, N m].
     """
     w = np.asarray(omega, dtype=float)
-    speed = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
+    speed = _broadcast(speed, w.shape)
     e = model.spin_axis
     layout = model.dofs
     out = []
@@ -158,7 +165,7 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
         ``[F, C]`` at each bearing's point, model axes [N, N m].
     """
     w = np.asarray(omega, dtype=float)
-    speed = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
+    speed = _broadcast(speed, w.shape)
     out = []
     for bearing in model.bearings:
         rows, moves = bearing_motion(model, bearing)

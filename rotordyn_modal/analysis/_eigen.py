@@ -320,7 +320,7 @@ class PencilFactors:
         if self.whole:
             matrices = self.matrices[rows]
             if adjoint:
-                matrices = np.conj(np.swapaxes(matrices, -1, -2))
+                matrices = matrices.swapaxes(-1, -2).conj()
             return _solve(matrices, rhs[..., None])[..., 0]
         out = np.empty(rhs.shape, dtype=complex)
         for i, row in enumerate(rows):
@@ -366,8 +366,9 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
     converged : ndarray (P,) bool
     """
     s = np.array(eigenvalues, dtype=complex)
-    phi = unit_rows(np.array(vectors, dtype=complex))
+    phi = unit_rows(np.asarray(vectors, dtype=complex))                # a new array
     normal = phi.copy()                                                 # c, with c^H phi = 1
+    every = np.arange(len(s))
     last = np.full(len(s), np.inf)
     converged = np.zeros(len(s), dtype=bool)
     with np.errstate(all="ignore"):                                     # a singular factor is dropped below
@@ -379,7 +380,7 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
             if not len(s[i]):
                 break
             phi_i, s_i, left_i = phi[i], s[i], left[i]
-            m_phi, d_phi, k_phi = pencils.products(_indices(i, len(s)), phi_i)
+            m_phi, d_phi, k_phi = pencils.products(every[i], phi_i)
             new = _nearest_root(np.einsum("pi,pi->p", left_i, m_phi), np.einsum("pi,pi->p", left_i, d_phi),
                                 np.einsum("pi,pi->p", left_i, k_phi), s_i)
             residual = new[:, None] ** 2 * m_phi + new[:, None] * d_phi + k_phi
@@ -397,22 +398,17 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                 phi[i] = np.where(finite[:, None], phi_new, phi_i)
             rate = size / last[i]
             done = (size <= 1e-14) | ((size <= 1e-9) & (rate < 0.5) & (size * rate <= 1e-14))
-            finished = _indices(i, len(s))[done | ~finite]
-            converged[_indices(i, len(s))[done]] = True
+            finished = every[i][done | ~finite]
+            converged[every[i][done]] = True
             active[finished] = False
             last[i] = size
             if factors.whole and len(finished) < len(s[i]):
                 # small pencils are refactored at every step anyway: shift them to the new eigenvalue
                 # (Newton's convergence instead of linear), with the left vector to match
                 more = slice(None) if active.all() else active.nonzero()[0]
-                factors.factor(rows[more], PencilRows(pencils, _indices(more, len(s))), s[more])
+                factors.factor(rows[more], PencilRows(pencils, every[more]), s[more])
                 left[more] = factors.solve(rows[more], normal[more], adjoint=True).conj()
     return s, unit_rows(phi), converged
-
-
-def _indices(rows, count):
-    """``rows`` (an index array, or ``slice(None)``: all ``count`` rows) as an index array."""
-    return np.arange(count) if isinstance(rows, slice) else rows
 
 
 class PencilRows:

@@ -624,10 +624,20 @@ def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
     roots at a point so near that no other root can have come close (:func:`_followed`), the
     roots near the bracket's interpolation for the rest and for any that did not converge
     to the tracked mode."""
+    fast = iterates.usable[rows]
+    isolated = fast.all()
+    if isolated:                         # every mode isolated (the usual case): all on the pencil
+        found, ok = _pencil_at(stack, speeds, values, brackets, rows, x, iterates)
+        if ok.all():
+            return found, ok
+    else:
+        fast |= _followed(speeds, values, brackets, rows, x, iterates)
     lam = np.empty(len(rows), dtype=complex)
     sure = np.zeros(len(rows), dtype=bool)
-    fast = iterates.usable[rows] | _followed(speeds, values, brackets, rows, x, iterates)
-    if fast.any():
+    if isolated:
+        lam[ok], sure[ok] = found[ok], True
+        fast[~ok] = False
+    elif fast.any():
         f = fast.nonzero()[0]
         found, ok = _pencil_at(stack, speeds, values, brackets, rows[f], x[f], iterates)
         lam[f[ok]], sure[f[ok]] = found[ok], True
@@ -667,7 +677,7 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     fresh = unready.nonzero()[0]
     pencils = Pencils(stack, brackets.variant[rows], x)
     if len(fresh):
-        first = fresh[iterates.x[rows[fresh]] == speeds[brackets.k[rows[fresh]]]]    # nothing evaluated yet
+        first = fresh[iterates.x[rows[fresh]] == brackets.start[rows[fresh]]]    # nothing evaluated yet
         if len(first):
             start[first] = _cubic_value(speeds, values, brackets, rows[first], x[first])
         iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
@@ -682,9 +692,13 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
             iterates.factors, rows[again], part, lam[again], shapes[again])
     ok = converged & (np.abs(lam - expected) <= 2 * _spread(values, brackets, rows))
     followed = ~iterates.usable[rows]
-    with np.errstate(invalid="ignore"):
-        ok[followed] &= np.abs(lam - start)[followed] < 0.25 * iterates.gap[rows[followed]]
-    iterates.x[rows[ok]], iterates.lam[rows[ok]], iterates.shape[rows[ok]] = x[ok], lam[ok], shapes[ok]
+    if followed.any():
+        with np.errstate(invalid="ignore"):
+            ok[followed] &= np.abs(lam - start)[followed] < 0.25 * iterates.gap[rows[followed]]
+    if ok.all():
+        iterates.x[rows], iterates.lam[rows], iterates.shape[rows] = x, lam, shapes
+    else:
+        iterates.x[rows[ok]], iterates.lam[rows[ok]], iterates.shape[rows[ok]] = x[ok], lam[ok], shapes[ok]
     return lam, ok
 
 

@@ -650,7 +650,7 @@ def _extreme_whirl(basis, total, momentum):
 _SKEW_BASIS = skew(np.eye(3))   # E_k = skew(unit_k), shape (3, 3, 3)
 
 
-def _bodies_quadratic(masses, centers, second_moments, X) -> np.ndarray:
+def _bodies_quadratic(masses, centers, second_moments, X, first=None) -> np.ndarray:
     """``sum_p m_p Z_p^T X Z_p`` over the particles of each rigid body, Z_p = [I, -skew(r_p)].
 
     Needs only each body's mass, first moment and second-moment tensor about the reference
@@ -659,6 +659,8 @@ def _bodies_quadratic(masses, centers, second_moments, X) -> np.ndarray:
     Parameters
     ----------
     masses : ndarray (B,); centers : ndarray (B, 3); second_moments : ndarray (B, 3, 3); X : (3, 3)
+    first : ndarray (B, 3, 3), optional
+        ``skew(masses * centers)``, when the caller has it.
 
     Returns
     -------
@@ -666,7 +668,8 @@ def _bodies_quadratic(masses, centers, second_moments, X) -> np.ndarray:
     """
     basis = _SKEW_BASIS                                       # E_k, shape (3, 3, 3)
     products = np.einsum("kab,bc,lcd->klad", basis, X, basis)   # E_k X E_l
-    first = skew(masses[:, None] * centers)                   # (B, 3, 3)
+    if first is None:
+        first = skew(masses[:, None] * centers)               # (B, 3, 3)
     out = np.zeros((len(masses), 6, 6))
     out[:, :3, :3] = masses[:, None, None] * X
     out[:, :3, 3:] = -X @ first
@@ -695,10 +698,11 @@ def _bodies_forms(model) -> dict:
     masses = np.array([m for m, _, _ in bodies], dtype=float)
     arms = np.array([np.asarray(c, dtype=float) for _, c, _ in bodies]) - model.reference_point
     inertias = np.array([np.asarray(j, dtype=float) for _, _, j in bodies])
-    traces = np.trace(inertias, axis1=1, axis2=2)
+    traces = inertias.trace(axis1=1, axis2=2)
     second = (0.5 * traces[:, None, None] * np.eye(3) - inertias
               + masses[:, None, None] * arms[:, :, None] * arms[:, None, :])
-    return {name: _bodies_quadratic(masses, arms, second, X) for name, X in directions.items()}
+    first = skew(masses[:, None] * arms)
+    return {name: _bodies_quadratic(masses, arms, second, X, first) for name, X in directions.items()}
 
 
 def whirl_forms(model) -> WhirlForms:

@@ -274,10 +274,11 @@ def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
     count, n_speeds, m = values.shape
     every = np.repeat(np.arange(count), n_speeds)
     ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, np.tile(speeds, count))
-    ratios = np.where(is_oscillating(values), ratios.reshape(values.shape), 0.0)
+    oscillating = is_oscillating(values)
+    ratios = np.where(oscillating, ratios.reshape(values.shape), 0.0)
     freq, zeta, log_dec = modal_quantities(values)
     sources = [excitation_sources(model) for model in stack.models]
-    critical = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes)
+    critical = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes, oscillating)
     labels = _eigen.whirl_labels(ratios)
     return [CampbellResult(
         speeds=speeds, eigenvalues=values[v], frequencies_hz=freq[v], damping_ratios=zeta[v],
@@ -319,12 +320,12 @@ def _check_speeds(speeds) -> np.ndarray:
     return speeds
 
 
-def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shapes=None) -> list:
+def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shapes=None, oscillating=None) -> list:
     """Every crossing of every mode with every source's order lines, for every variant,
     refined together. ``shapes`` (V, N, m, n), the sweep's unit shapes, start the cheap
     evaluation of isolated modes (:func:`_Iterates`). Returns one :class:`CriticalSpeeds`
     per variant."""
-    brackets = _crossing_brackets(speeds, values, sources, orders)
+    brackets = _crossing_brackets(speeds, values, sources, orders, oscillating)
     count = len(stack)
     if not len(brackets.k):
         return [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
@@ -380,17 +381,19 @@ class _Brackets(NamedTuple):
     """The sweep's four speeds around the bracket, (P, 4) (see :func:`_four_points`)"""
     near_values: np.ndarray
     """and the tracked mode's eigenvalues there, (P, 4)"""
+    near_oscillating: np.ndarray
+    """whether the mode oscillates at all four (:func:`~.modal.is_oscillating`)"""
 
     def subset(self, rows) -> "_Brackets":
         return _Brackets(*(column[rows] for column in self))
 
 
-def _crossing_brackets(speeds, values, sources, orders) -> _Brackets:
+def _crossing_brackets(speeds, values, sources, orders, oscillating=None) -> _Brackets:
     """Grid intervals where ``Im lam - slope |Omega|`` changes sign for an oscillating mode.
 
     ``values`` (V, N, m) and one ExcitationSources per variant (same names, the multipliers
     may differ)."""
-    mode_ok = is_oscillating(values)
+    mode_ok = is_oscillating(values) if oscillating is None else oscillating
     both = mode_ok[:, :-1] & mode_ok[:, 1:]
     multipliers = np.array([s.multipliers for s in sources])            # (V, n_sources)
     parts = []
@@ -405,20 +408,21 @@ def _crossing_brackets(speeds, values, sources, orders) -> _Brackets:
     if not parts:
         parts = [tuple(np.zeros(0, dtype=int) for _ in range(6))]
     v, k, mode, slope, source, order = (np.concatenate(column) for column in zip(*parts))
-    return _Brackets(v, k, mode, slope, source.astype(int), order, *_bracket_ends(speeds, values, v, k, mode))
+    return _Brackets(v, k, mode, slope, source.astype(int), order, *_bracket_ends(speeds, values, mode_ok, v, k, mode))
 
 
-def _bracket_ends(speeds, values, v, k, mode):
+def _bracket_ends(speeds, values, oscillating, v, k, mode):
     """The sweep's data of each crossing that the refinement reads (see :class:`_Brackets`)."""
     low, high = values[v, k, mode], values[v, k + 1, mode]
     start = speeds[k]
     spread = np.abs(high - low) + 1e-9 * np.abs(low) + 1e-300
     travel = np.abs(values[v, k + 1] - values[v, k]).max(axis=1)
     if len(speeds) < 4:
-        near = np.full((len(k), 4), np.nan), np.full((len(k), 4), np.nan, dtype=complex)
+        near = np.full((len(k), 4), np.nan), np.full((len(k), 4), np.nan, dtype=complex), np.zeros(len(k), bool)
     else:
         nodes = np.minimum(np.maximum(k - 1, 0), len(speeds) - 4)[:, None] + np.arange(4)
-        near = speeds[nodes], values[v[:, None], nodes, mode[:, None]]
+        near = (speeds[nodes], values[v[:, None], nodes, mode[:, None]],
+                oscillating[v[:, None], nodes, mode[:, None]].all(axis=1))
     return (start, speeds[k + 1] - start, low, high, spread, travel) + near
 
 
@@ -538,7 +542,7 @@ def _cubic_start(speeds, values, brackets, a, b, ga, gb):
         return chord
     xs, lam = _four_points(speeds, values, brackets, slice(None))
     gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
-    usable = is_oscillating(lam).all(axis=1) & ((xs >= 0).all(axis=1) | (xs <= 0).all(axis=1))
+    usable = brackets.near_oscillating & ((xs >= 0).all(axis=1) | (xs <= 0).all(axis=1))
     # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
     h = (b - a)[:, None]
     t_nodes = (xs - a[:, None]) / h
@@ -716,7 +720,7 @@ def _cubic_value(speeds, values, brackets, rows, x):
     factor[:, np.arange(4), np.arange(4)] = 1.0
     weights = factor[..., 0] * factor[..., 1] * factor[..., 2] * factor[..., 3]
     cubic = np.einsum("pj,pj->p", weights, lam)
-    return np.where(is_oscillating(lam).all(axis=1), cubic, linear)
+    return np.where(brackets.near_oscillating[rows], cubic, linear)
 
 
 def _four_points(speeds, values, brackets, rows):

@@ -209,6 +209,8 @@ def solve_sweeps(stack, speeds, progress=False):
     flat = shapes.reshape((-1,) + shapes.shape[-2:])
     weighted = stack.weighted(flat, np.repeat(np.arange(count), len(speeds))).reshape(shapes.shape)
     order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
+    if (order == np.arange(order.shape[-1])).all():     # every root keeps its place: nothing to reorder
+        return values, shapes, weighted
     variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
     return values[variants, rows, order], shapes[variants, rows, order], weighted[variants, rows, order]
 
@@ -517,10 +519,13 @@ class _Bracket(NamedTuple):
 
 def _next_step(state, rows, x, gx, previous):
     """Update the brackets ``rows`` with the point (x, gx) and return the next point."""
-    left = (np.sign(gx) == np.sign(state.ga[rows])) & (gx != 0)
-    right = ~left & (gx != 0)
-    _illinois(state.a, state.ga, state.gb, state.last, rows[left], x[left], gx[left], +1)
-    _illinois(state.b, state.gb, state.ga, state.last, rows[right], x[right], gx[right], -1)
+    moved = gx != 0
+    left = (np.sign(gx) == np.sign(state.ga[rows])) & moved
+    right = ~left & moved
+    if left.any():
+        _illinois(state.a, state.ga, state.gb, state.last, rows[left], x[left], gx[left], +1)
+    if right.any():
+        _illinois(state.b, state.gb, state.ga, state.last, rows[right], x[right], gx[right], -1)
     a, b = state.a[rows], state.b[rows]
     with np.errstate(divide="ignore", invalid="ignore"):
         secant = x - gx * (x - previous[0]) / (gx - previous[1])

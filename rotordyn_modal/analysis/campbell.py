@@ -409,7 +409,7 @@ def _crossing_brackets(speeds, values, sources, orders, oscillating=None) -> _Br
             parts.append((v, k, mode, slope[v], np.full(len(k), s), np.full(len(k), float(order))))
     if not parts:
         parts = [tuple(np.zeros(0, dtype=int) for _ in range(6))]
-    v, k, mode, slope, source, order = (np.concatenate(column) for column in zip(*parts))
+    v, k, mode, slope, source, order = parts[0] if len(parts) == 1 else (np.concatenate(c) for c in zip(*parts))
     return _Brackets(v, k, mode, slope, source.astype(int), order, *_bracket_ends(speeds, values, mode_ok, v, k, mode))
 
 
@@ -555,9 +555,10 @@ def _cubic_start(speeds, values, brackets, a, b, ga, gb):
     with np.errstate(all="ignore"):
         coefficients = np.linalg.solve(vandermonde, gs[..., None])[..., 0]
         t = (chord - a) / (b - a)
+        c0, c1, c2, c3 = coefficients.T
+        slope3, slope2 = 3 * c3, 2 * c2                 # the derivative's coefficients
         for _ in range(4):                              # Newton on the cubic, from the chord's root
-            c0, c1, c2, c3 = coefficients.T
-            t = t - (((c3 * t + c2) * t + c1) * t + c0) / ((3 * c3 * t + 2 * c2) * t + c1)
+            t = t - (((c3 * t + c2) * t + c1) * t + c0) / ((slope3 * t + slope2) * t + c1)
     x = a + t * (b - a)
     good = usable & np.isfinite(x) & (x > a) & (x < b)
     return np.where(good, x, chord)

@@ -60,7 +60,7 @@ def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
     if count == 1:
         return order
     correlation = mac_matrix(shapes[:, :-1], shapes[:, 1:])  # (V, N-1, n, n)
-    best = np.argmax(correlation, axis=-1)
+    best = correlation.argmax(axis=-1)
     best_mac = correlation.max(axis=-1)                                      # the MAC at best
     distinct = (np.sort(best, axis=-1) == np.arange(n)).all(axis=-1)
     confident = distinct & (best_mac > _CONFIDENT_MAC).all(axis=-1)       # (V, N-1)

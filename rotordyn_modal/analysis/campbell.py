@@ -199,7 +199,7 @@ def solve_sweeps(stack, speeds, progress=False):
     values, shapes = [], []
     for chunk in _progress(chunks, progress, "eigen-solve"):
         matrices = stack.sweep(chunk)
-        lam, phi = stack.solve(matrices.reshape((-1,) + matrices.shape[-2:]), np.repeat(np.arange(count), len(chunk)))
+        lam, phi = stack.solve(matrices.reshape((-1,) + matrices.shape[-2:]), _variant_rows(count, len(chunk)))
         values.append(lam.reshape(count, len(chunk), -1))
         shapes.append(phi.reshape((count, len(chunk)) + phi.shape[-2:]))
     if len(chunks) > 1:
@@ -207,12 +207,18 @@ def solve_sweeps(stack, speeds, progress=False):
     else:
         values, shapes = values[0], shapes[0]
     flat = shapes.reshape((-1,) + shapes.shape[-2:])
-    weighted = stack.weighted(flat, np.repeat(np.arange(count), len(speeds))).reshape(shapes.shape)
+    weighted = stack.weighted(flat, _variant_rows(count, len(speeds))).reshape(shapes.shape)
     order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
     if (order == np.arange(order.shape[-1])).all():     # every root keeps its place: nothing to reorder
         return values, shapes, weighted
     variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
     return values[variants, rows, order], shapes[variants, rows, order], weighted[variants, rows, order]
+
+
+def _variant_rows(count, per):
+    """The variant of each row of ``count`` variants' ``per`` rows each, variant after variant
+    (``numpy.repeat(numpy.arange(count), per)``)."""
+    return np.zeros(per, dtype=int) if count == 1 else np.repeat(np.arange(count), per)
 
 
 def _relabel_by_frequency(order, values, speeds):
@@ -274,8 +280,9 @@ def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
     stack = Stack(models)
     values, shapes, weighted = solve_sweeps(stack, speeds, progress)
     count, n_speeds, m = values.shape
-    every = np.repeat(np.arange(count), n_speeds)
-    ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, np.tile(speeds, count))
+    every = _variant_rows(count, n_speeds)
+    ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every,
+                                speeds if count == 1 else np.tile(speeds, count))
     oscillating = is_oscillating(values)
     ratios = np.where(oscillating, ratios.reshape(values.shape), 0.0)
     freq, zeta, log_dec = modal_quantities(values)
@@ -398,14 +405,17 @@ def _crossing_brackets(speeds, values, sources, orders, oscillating=None) -> _Br
     mode_ok = is_oscillating(values) if oscillating is None else oscillating
     both = mode_ok[:, :-1] & mode_ok[:, 1:]
     multipliers = np.array([s.multipliers for s in sources])            # (V, n_sources)
+    frequencies, magnitudes = values.imag, np.abs(speeds)[None, :, None]
     parts = []
     for s in range(multipliers.shape[1]):
         for order in orders:
             slope = order * multipliers[:, s]  # excitation [rad/s] per |speed| [rad/s], per variant
-            gap = values.imag - slope[:, None, None] * np.abs(speeds)[None, :, None]
-            change = (np.sign(gap[:, :-1]) != np.sign(gap[:, 1:])) & (gap[:, :-1] != 0) & both
-            change &= (slope != 0)[:, None, None]
-            v, k, mode = np.nonzero(change)
+            gap = frequencies - slope[:, None, None] * magnitudes
+            sign = np.sign(gap)
+            change = (sign[:, :-1] != sign[:, 1:]) & (gap[:, :-1] != 0) & both
+            if not (slope != 0).all():
+                change &= (slope != 0)[:, None, None]
+            v, k, mode = change.nonzero()
             parts.append((v, k, mode, slope[v], np.full(len(k), s), np.full(len(k), float(order))))
     if not parts:
         parts = [tuple(np.zeros(0, dtype=int) for _ in range(6))]

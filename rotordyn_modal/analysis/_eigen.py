@@ -650,7 +650,7 @@ def _extreme_whirl(basis, total, momentum):
 _SKEW_BASIS = skew(np.eye(3))   # E_k = skew(unit_k), shape (3, 3, 3)
 
 
-def _bodies_quadratic(masses, centers, second_moments, X, first=None) -> np.ndarray:
+def _bodies_quadratic(masses, centers, second_moments, X, first=None, products=None) -> np.ndarray:
     """``sum_p m_p Z_p^T X Z_p`` over the particles of each rigid body, Z_p = [I, -skew(r_p)].
 
     Needs only each body's mass, first moment and second-moment tensor about the reference
@@ -661,13 +661,15 @@ def _bodies_quadratic(masses, centers, second_moments, X, first=None) -> np.ndar
     masses : ndarray (B,); centers : ndarray (B, 3); second_moments : ndarray (B, 3, 3); X : (3, 3)
     first : ndarray (B, 3, 3), optional
         ``skew(masses * centers)``, when the caller has it.
+    products : ndarray (3, 3, 3, 3), optional
+        ``E_k X E_l``, when the caller has it (see :func:`_directions`).
 
     Returns
     -------
     ndarray, shape (B, 6, 6)
     """
-    basis = _SKEW_BASIS                                       # E_k, shape (3, 3, 3)
-    products = np.einsum("kab,bc,lcd->klad", basis, X, basis)   # E_k X E_l
+    if products is None:
+        products = _direction_products(X)
     if first is None:
         first = skew(masses[:, None] * centers)               # (B, 3, 3)
     out = np.zeros((len(masses), 6, 6))
@@ -675,6 +677,25 @@ def _bodies_quadratic(masses, centers, second_moments, X, first=None) -> np.ndar
     out[:, :3, 3:] = -X @ first
     out[:, 3:, :3] = first @ X
     out[:, 3:, 3:] = -np.einsum("zkl,klad->zad", second_moments, products)
+    return out
+
+
+def _direction_products(X) -> np.ndarray:
+    """``E_k X E_l`` for a (3, 3) matrix X, shape (3, 3, 3, 3), with ``E_k = skew(unit_k)``."""
+    return np.einsum("kab,bc,lcd->klad", _SKEW_BASIS, X, _SKEW_BASIS)
+
+
+@functools.lru_cache(maxsize=16)
+def _directions(axis: tuple) -> dict:
+    """The whirl forms' 3 x 3 directions about the spin axis ``axis`` (a tuple of 3 floats) and
+    their :func:`_direction_products`: name -> (X, products), read-only. A function of the axis
+    alone, kept for the next model with the same axis."""
+    e = np.array(axis, dtype=float)
+    out = {}
+    for name, X in (("W", skew(e)), ("N", np.eye(3) - np.outer(e, e)), ("total", np.eye(3))):
+        products = _direction_products(X)
+        X.flags.writeable = products.flags.writeable = False
+        out[name] = (X, products)
     return out
 
 
@@ -692,8 +713,7 @@ _DIRECTIONS = ("W", "N", "total")
 def _bodies_forms(model) -> dict:
     """The 6x6 forms W, N, total of each body's rigid motion at the reference point (stator
     first, then the rotors): name -> ndarray (B, 6, 6)."""
-    e = model.spin_axis
-    directions = {"W": skew(e), "N": np.eye(3) - np.outer(e, e), "total": np.eye(3)}
+    directions = _directions(tuple(float(x) for x in model.spin_axis))
     bodies = body_inertias(model)
     masses = np.array([m for m, _, _ in bodies], dtype=float)
     arms = np.array([np.asarray(c, dtype=float) for _, c, _ in bodies]) - model.reference_point
@@ -702,7 +722,8 @@ def _bodies_forms(model) -> dict:
     second = (0.5 * traces[:, None, None] * np.eye(3) - inertias
               + masses[:, None, None] * arms[:, :, None] * arms[:, None, :])
     first = skew(masses[:, None] * arms)
-    return {name: _bodies_quadratic(masses, arms, second, X, first) for name, X in directions.items()}
+    return {name: _bodies_quadratic(masses, arms, second, X, first, products)
+            for name, (X, products) in directions.items()}
 
 
 def whirl_forms(model) -> WhirlForms:

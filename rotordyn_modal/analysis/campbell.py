@@ -537,11 +537,12 @@ def _next_step(state, rows, x, gx, previous):
     if right.any():
         _illinois(state.b, state.gb, state.ga, state.last, rows[right], x[right], gx[right], -1)
     a, b = state.a[rows], state.b[rows]
+    width, gb = b - a, state.gb[rows]
     with np.errstate(divide="ignore", invalid="ignore"):
         secant = x - gx * (x - previous[0]) / (gx - previous[1])
-        falsi = b - state.gb[rows] * (b - a) / (state.gb[rows] - state.ga[rows])
-    slow = (b - a) > 0.5 * state.widths[1, rows]
-    state.widths[1, rows], state.widths[0, rows] = state.widths[0, rows], b - a
+        falsi = b - gb * width / (gb - state.ga[rows])
+    slow = width > 0.5 * state.widths[1, rows]
+    state.widths[1, rows], state.widths[0, rows] = state.widths[0, rows], width
     inside = np.isfinite(secant) & (secant > a) & (secant < b)
     fallback = np.where(np.isfinite(falsi) & (falsi > a) & (falsi < b) & ~slow, falsi, 0.5 * (a + b))
     return np.where(gx == 0, x, np.where(inside, secant, fallback))
@@ -550,8 +551,9 @@ def _next_step(state, rows, x, gx, previous):
 def _cubic_start(speeds, values, brackets, a, b, ga, gb):
     """Root in (a, b) of the cubic through g at the sweep's four points around each bracket
     (the chord's root where fewer than four oscillating points are at hand)."""
+    width = b - a
     with np.errstate(divide="ignore", invalid="ignore"):
-        chord = b - gb * (b - a) / (gb - ga)
+        chord = b - gb * width / (gb - ga)
     chord = np.where(np.isfinite(chord) & (chord > a) & (chord < b), chord, 0.5 * (a + b))
     if len(speeds) < 4:
         return chord
@@ -559,17 +561,16 @@ def _cubic_start(speeds, values, brackets, a, b, ga, gb):
     gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
     usable = brackets.near_oscillating & ((xs >= 0).all(axis=1) | (xs <= 0).all(axis=1))
     # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
-    h = (b - a)[:, None]
-    t_nodes = (xs - a[:, None]) / h
+    t_nodes = (xs - a[:, None]) / width[:, None]
     vandermonde = t_nodes[..., None] ** np.arange(4)
     with np.errstate(all="ignore"):
         coefficients = np.linalg.solve(vandermonde, gs[..., None])[..., 0]
-        t = (chord - a) / (b - a)
+        t = (chord - a) / width
         c0, c1, c2, c3 = coefficients.T
         slope3, slope2 = 3 * c3, 2 * c2                 # the derivative's coefficients
         for _ in range(4):                              # Newton on the cubic, from the chord's root
             t = t - (((c3 * t + c2) * t + c1) * t + c0) / ((slope3 * t + slope2) * t + c1)
-    x = a + t * (b - a)
+    x = a + t * width
     good = usable & np.isfinite(x) & (x > a) & (x < b)
     return np.where(good, x, chord)
 

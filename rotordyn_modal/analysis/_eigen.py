@@ -802,7 +802,7 @@ def real_product(shapes, matrix) -> np.ndarray:
     one matrix product over all shapes when the matrix is shared)."""
     if np.iscomplexobj(matrix):
         return shapes @ matrix
-    parts = np.empty((2,) + shapes.shape)                            # contiguous, (2, ..., m, n)
+    parts = np.empty((2,) + shapes.shape, dtype=shapes.real.dtype)   # contiguous, (2, ..., m, n)
     parts[0], parts[1] = shapes.real, shapes.imag
     if matrix.ndim == 2:
         out = (parts.reshape(-1, parts.shape[-1]) @ matrix).reshape(parts.shape[:-1] + matrix.shape[-1:])

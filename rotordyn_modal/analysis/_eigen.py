@@ -775,7 +775,8 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds, stacked=None) -> np.ndarray:
     ----------
     shapes : ndarray, shape (..., m, n)
     forms : WhirlForms
-        Each (n, n), or stacked like the shapes' leading axes, (..., n, n).
+        Each (n, n), or stacked like the shapes' leading axes, (..., n, n); unused (may be None)
+        when ``stacked`` is given.
     speeds : ndarray, shape (...) [rad/s]; the sign of the spin (0 counts as +)
     stacked : ndarray, optional
         :func:`stacked_forms` of ``forms``, when the caller keeps it.

@@ -136,9 +136,8 @@ class Stack:
         if self._whirl_stacked is None:
             self._whirl_stacked = _eigen.stacked_forms(self.whirl)
         for part in _eigen.chunk_slices(len(shapes), 160 * shapes[0].size):
-            forms = _eigen.WhirlForms(*(f[0] if self.shared_whirl else f[variants[part]] for f in self.whirl))
             stacked = self._whirl_stacked[0] if self.shared_whirl else self._whirl_stacked[variants[part]]
-            out[part] = _eigen.whirl_ratios(shapes[part], forms, speeds[part], stacked)
+            out[part] = _eigen.whirl_ratios(shapes[part], None, speeds[part], stacked)
         return out
 
     def shapes_at(self, variants, x, lam):

@@ -330,7 +330,13 @@ def sensor_rows(model, names=None) -> np.ndarray:
     """
     sensors = _select(model.sensors, names, "sensor")
     layout = model.dofs
-    rows = [layout.point_rows(s.position, s.direction, s.rotor, s.measure == "relative") for s in sensors]
+    motions = {}           # each body's motion (absolute or relative) found once for all its sensors
+    for s in sensors:
+        key = (s.rotor, s.measure == "relative")
+        if key not in motions:
+            motions[key] = layout.motion(*key)
+    rows = [layout.point_rows(s.position, s.direction, motion=motions[s.rotor, s.measure == "relative"])
+            for s in sensors]
     return np.array(rows).reshape(-1, layout.n)
 
 

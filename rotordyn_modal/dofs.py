@@ -97,13 +97,18 @@ class Dofs:
         j = self.rotors.index(rotor)
         return shift_matrix(self.centres[j], point).T @ self.bases[j]
 
+    def motion(self, body: str | None = None, relative: bool = False) -> np.ndarray:
+        """:meth:`relative_motion` of ``body`` when ``relative``, else its :meth:`body_motion`."""
+        return self.relative_motion(body) if relative else self.body_motion(body)
+
     def body_motion(self, body: str | None = None) -> np.ndarray:
         """Motion ``[u, theta]`` at S of the stator (``None``/'stator') or of a rotor, shape (6, n)."""
         if body is None or body == "stator":
             return self.frame_motion()
         return self.frame_motion() + self.relative_motion(body)
 
-    def point_rows(self, point, direction, body: str | None = None, relative: bool = False) -> np.ndarray:
+    def point_rows(self, point, direction, body: str | None = None, relative: bool = False,
+                   motion: np.ndarray | None = None) -> np.ndarray:
         """Row ``r`` with ``r @ q`` = displacement of a point of a body along ``direction``.
 
         Parameters
@@ -114,12 +119,15 @@ class Dofs:
             A rotor name; None for the stator.
         relative : bool
             The rotor's motion relative to the stator's point at the same place.
+        motion : ndarray, shape (6, n), optional
+            :meth:`motion` of ``body`` and ``relative``, when the caller has it.
 
         Returns
         -------
         ndarray, shape (n,) [m/m, m/rad]
         """
-        motion = self.relative_motion(body) if relative else self.body_motion(body)
+        if motion is None:
+            motion = self.motion(body, relative)
         return point_motion_row(point, self.reference_point, direction) @ motion
 
 

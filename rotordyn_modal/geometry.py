@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["skew", "shift_cross", "shift_matrix", "cross", "point_motion_row", "point_force_column",
+__all__ = ["skew", "shift_cross", "shift_matrix", "shift_matrices", "cross", "point_motion_row", "point_force_column",
            "transverse_axes"]
 
 
@@ -87,6 +87,21 @@ def shift_matrix(p, o) -> np.ndarray:
     return np.array([[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
                      [0.0, 0.0, 1.0, 0.0, 0.0, 0.0], [-0.0, z, -y, 1.0, 0.0, 0.0],
                      [-z, -0.0, x, 0.0, 1.0, 0.0], [y, -x, -0.0, 0.0, 0.0, 1.0]])
+
+
+def shift_matrices(p, points) -> np.ndarray:
+    """``shift_matrix(p, o)`` for each ``o`` of ``points`` (S, 3): shape (S, 6, 6), the same
+    numbers (signed zeros included), made together."""
+    arms = np.asarray(p, dtype=float) - np.asarray(points, dtype=float).reshape(-1, 3)
+    out = np.zeros((len(arms), 6, 6))
+    out[:, range(6), range(6)] = 1.0
+    x, y, z = arms.T
+    block = out[:, 3:, :3]
+    block[:, range(3), range(3)] = -0.0
+    block[:, 0, 1], block[:, 0, 2] = z, -y
+    block[:, 1, 0], block[:, 1, 2] = -z, x
+    block[:, 2, 0], block[:, 2, 1] = y, -x
+    return out
 
 
 def point_motion_row(point, reference, direction) -> np.ndarray:

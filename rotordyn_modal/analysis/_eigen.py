@@ -27,7 +27,7 @@ __all__ = ["select_upper", "upper_indices", "upper_shapes", "one_blas_thread", "
            "pencil_shapes", "PencilFactors", "PencilRows", "SparseLayout", "sparse_layout", "SPARSE_DOF",
            "SPARSE_DENSITY", "BATCHED_DOF", "nearest_roots", "NEAREST_ROOTS_DOF",
            "residual_inverse_iteration",
-           "chunk_slices", "concatenated", "CHUNK_BYTES", "whirl_forms", "rotor_whirl_forms", "whirl_ratios",
+           "chunk_slices", "concatenated", "CHUNK_BYTES", "whirl_forms", "rotor_whirl_forms", "stacked_forms", "whirl_ratios",
            "whirl_labels", "row_norms", "unit_rows", "mass_normalized", "mac_matrix", "real_product",
            "quadratic_forms", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
 
@@ -213,15 +213,25 @@ def upper_indices(values: np.ndarray):
     tol = OSCILLATORY_TOLERANCE * np.where(scale > 0, scale, 1.0)
     imag = np.where(np.abs(values.imag) <= tol, 0.0, values.imag)
     # within the real block, prefer the smaller |lam|: a second stable sort by -|lam| first
-    pre = np.argsort(-magnitude, axis=-1, kind="stable")
-    imag_pre = np.take_along_axis(imag, pre, axis=-1)
-    order = np.take_along_axis(pre, np.argsort(imag_pre, axis=-1, kind="stable"), axis=-1)
+    along = _gather(values.shape)
+    pre = (-magnitude).argsort(axis=-1, kind="stable")
+    imag_pre = along(imag, pre)
+    order = along(pre, imag_pre.argsort(axis=-1, kind="stable"))
     chosen = order[..., n:]
-    upper = np.take_along_axis(values, chosen, axis=-1)
-    upper_imag = np.take_along_axis(imag, chosen, axis=-1)
-    upper = np.where(upper_imag == 0.0, upper.real + 0j, upper)
+    upper = along(values, chosen)
+    upper = np.where(along(imag, chosen) == 0.0, upper.real + 0j, upper)
     final = np.lexsort((upper.real, upper.imag), axis=-1)
-    return np.take_along_axis(chosen, final, axis=-1), np.take_along_axis(upper, final, axis=-1)
+    return along(chosen, final), along(upper, final)
+
+
+def _gather(shape):
+    """``numpy.take_along_axis(array, index, axis=-1)`` for arrays of leading shape ``shape[:-1]``;
+    for rows (2-D) one advanced index with the row numbers made once (the same elements, without
+    take_along_axis's per-call index building)."""
+    if len(shape) != 2:
+        return lambda array, index: np.take_along_axis(array, index, axis=-1)
+    rows = np.arange(shape[0])[:, None]
+    return lambda array, index: array[rows, index]
 
 
 def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarray:
@@ -369,7 +379,7 @@ class PencilFactors:
         if self.whole:
             matrices = self.matrices[rows]
             if adjoint:
-                matrices = np.conj(np.swapaxes(matrices, -1, -2))
+                matrices = matrices.swapaxes(-1, -2).conj()
             return _solve(matrices, rhs[..., None])[..., 0]
         out = np.empty(rhs.shape, dtype=complex)
         for i, row in enumerate(rows):
@@ -421,44 +431,48 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
     converged : ndarray (P,) bool
     """
     s = np.array(eigenvalues, dtype=complex)
-    phi = unit_rows(np.array(vectors, dtype=complex))
+    phi = unit_rows(np.asarray(vectors, dtype=complex))                # a new array
     normal = phi.copy()                                                 # c, with c^H phi = 1
-    with np.errstate(all="ignore"):
-        left = factors.solve(rows, normal, adjoint=True).conj()
+    every = np.arange(len(s))
     last = np.full(len(s), np.inf)
-    active = np.all(np.isfinite(left), axis=-1)
     converged = np.zeros(len(s), dtype=bool)
-    for _ in range(iterations):
-        i = np.nonzero(active)[0]
-        if not len(i):
-            break
-        m_phi, d_phi, k_phi = pencils.products(i, phi[i])
-        with np.errstate(all="ignore"):                                  # a singular factor is dropped below
-            new = _nearest_root(np.einsum("pi,pi->p", left[i], m_phi), np.einsum("pi,pi->p", left[i], d_phi),
-                                np.einsum("pi,pi->p", left[i], k_phi), s[i])
+    with np.errstate(all="ignore"):                                     # a singular factor is dropped below
+        left = factors.solve(rows, normal, adjoint=True).conj()
+        active = np.isfinite(left).all(axis=-1)
+        for _ in range(iterations):
+            # every row at once while all iterate (the usual case): no gathers and scatters
+            i = slice(None) if active.all() else active.nonzero()[0]
+            if not len(s[i]):
+                break
+            phi_i, s_i, left_i = phi[i], s[i], left[i]
+            m_phi, d_phi, k_phi = pencils.products(every[i], phi_i)
+            new = _nearest_root(np.einsum("pi,pi->p", left_i, m_phi), np.einsum("pi,pi->p", left_i, d_phi),
+                                np.einsum("pi,pi->p", left_i, k_phi), s_i)
             residual = new[:, None] ** 2 * m_phi + new[:, None] * d_phi + k_phi
-            phi_new = phi[i] - factors.solve(rows[i], residual)
+            phi_new = phi_i - factors.solve(rows[i], residual)
             phi_new /= np.einsum("pi,pi->p", normal[i].conj(), phi_new)[:, None]
             # relative steps of the eigenvalue and of the shape: the eigenvalue alone can settle
             # while the shape still holds a neighbouring mode
-            size = np.maximum(np.abs(new - s[i]) / np.abs(new), (row_norms(phi_new - phi[i]) / row_norms(phi_new))[:, 0])
+            size = np.maximum(np.abs(new - s_i) / np.abs(new), (row_norms(phi_new - phi_i) / row_norms(phi_new))[:, 0])
             finite = np.isfinite(size)
-            size = np.where(finite, size, np.inf)
+            if finite.all():
+                s[i], phi[i] = new, phi_new
+            else:
+                size = np.where(finite, size, np.inf)
+                s[i] = np.where(finite, new, s_i)
+                phi[i] = np.where(finite[:, None], phi_new, phi_i)
             rate = size / last[i]
-        s[i] = np.where(finite, new, s[i])
-        phi[i] = np.where(finite[:, None], phi_new, phi[i])
-        done = (size <= 1e-14) | ((size <= 1e-9) & (rate < 0.5) & (size * rate <= 1e-14))
-        converged[i[done]] = True
-        active[i[done | ~finite]] = False
-        last[i] = size
-        if factors.whole:
-            # small pencils are refactored at every step anyway: shift them to the new eigenvalue
-            # (Newton's convergence instead of linear), with the left vector to match
-            more = np.nonzero(active)[0]
-            if len(more):
-                factors.factor(rows[more], PencilRows(pencils, more), s[more])
-                with np.errstate(all="ignore"):
-                    left[more] = factors.solve(rows[more], normal[more], adjoint=True).conj()
+            done = (size <= 1e-14) | ((size <= 1e-9) & (rate < 0.5) & (size * rate <= 1e-14))
+            finished = every[i][done | ~finite]
+            converged[every[i][done]] = True
+            active[finished] = False
+            last[i] = size
+            if factors.whole and len(finished) < len(s[i]):
+                # small pencils are refactored at every step anyway: shift them to the new eigenvalue
+                # (Newton's convergence instead of linear), with the left vector to match
+                more = slice(None) if active.all() else active.nonzero()[0]
+                factors.factor(rows[more], PencilRows(pencils, every[more]), s[more])
+                left[more] = factors.solve(rows[more], normal[more], adjoint=True).conj()
     return s, unit_rows(phi), converged
 
 
@@ -709,13 +723,13 @@ def _repeated_pairs(lam):
     """Rows and first columns of the eigenvalues equal to the next one, exactly two equal (not
     three) and not rigid-body zeros; ``lam`` shape (N, m), equal values adjacent."""
     scale = np.abs(lam).max(axis=-1, keepdims=True) + 1e-300
-    close = np.abs(np.diff(lam, axis=-1)) <= REPEATED_TOLERANCE * scale  # (N, m-1)
+    close = np.abs(lam[..., 1:] - lam[..., :-1]) <= REPEATED_TOLERANCE * scale  # (N, m-1), numpy.diff
     if not close.any():                    # the usual case: no repeated eigenvalue at all
-        return np.nonzero(close)
+        return close.nonzero()
     padded = np.pad(close, ((0, 0), (1, 1)))
     pair = close & ~padded[:, :-2] & ~padded[:, 2:]
     pair &= np.abs(lam[:, :-1]) > OSCILLATORY_TOLERANCE * scale
-    return np.nonzero(pair)
+    return pair.nonzero()
 
 
 def _extreme_whirl(basis, total, momentum):
@@ -746,7 +760,7 @@ def _extreme_whirl(basis, total, momentum):
 _SKEW_BASIS = skew(np.eye(3))   # E_k = skew(unit_k), shape (3, 3, 3)
 
 
-def _bodies_quadratic(masses, centers, second_moments, X) -> np.ndarray:
+def _bodies_quadratic(masses, centers, second_moments, X, first=None, products=None) -> np.ndarray:
     """``sum_p m_p Z_p^T X Z_p`` over the particles of each rigid body, Z_p = [I, -skew(r_p)].
 
     Needs only each body's mass, first moment and second-moment tensor about the reference
@@ -755,19 +769,43 @@ def _bodies_quadratic(masses, centers, second_moments, X) -> np.ndarray:
     Parameters
     ----------
     masses : ndarray (B,); centers : ndarray (B, 3); second_moments : ndarray (B, 3, 3); X : (3, 3)
+    first : ndarray (B, 3, 3), optional
+        ``skew(masses * centers)``, when the caller has it.
+    products : ndarray (3, 3, 3, 3), optional
+        ``E_k X E_l``, when the caller has it (see :func:`_directions`).
 
     Returns
     -------
     ndarray, shape (B, 6, 6)
     """
-    basis = _SKEW_BASIS                                       # E_k, shape (3, 3, 3)
-    products = np.einsum("kab,bc,lcd->klad", basis, X, basis)   # E_k X E_l
-    first = skew(masses[:, None] * centers)                   # (B, 3, 3)
+    if products is None:
+        products = _direction_products(X)
+    if first is None:
+        first = skew(masses[:, None] * centers)               # (B, 3, 3)
     out = np.zeros((len(masses), 6, 6))
     out[:, :3, :3] = masses[:, None, None] * X
     out[:, :3, 3:] = -X @ first
     out[:, 3:, :3] = first @ X
     out[:, 3:, 3:] = -np.einsum("zkl,klad->zad", second_moments, products)
+    return out
+
+
+def _direction_products(X) -> np.ndarray:
+    """``E_k X E_l`` for a (3, 3) matrix X, shape (3, 3, 3, 3), with ``E_k = skew(unit_k)``."""
+    return np.einsum("kab,bc,lcd->klad", _SKEW_BASIS, X, _SKEW_BASIS)
+
+
+@functools.lru_cache(maxsize=16)
+def _directions(axis: tuple) -> dict:
+    """The whirl forms' 3 x 3 directions about the spin axis ``axis`` (a tuple of 3 floats) and
+    their :func:`_direction_products`: name -> (X, products), read-only. A function of the axis
+    alone, kept for the next model with the same axis."""
+    e = np.array(axis, dtype=float)
+    out = {}
+    for name, X in (("W", skew(e)), ("N", np.eye(3) - np.outer(e, e)), ("total", np.eye(3))):
+        products = _direction_products(X)
+        X.flags.writeable = products.flags.writeable = False
+        out[name] = (X, products)
     return out
 
 
@@ -785,16 +823,17 @@ _DIRECTIONS = ("W", "N", "total")
 def _bodies_forms(model) -> dict:
     """The 6x6 forms W, N, total of each body's rigid motion at the reference point (stator
     first, then the rotors): name -> ndarray (B, 6, 6)."""
-    e = model.spin_axis
-    directions = {"W": skew(e), "N": np.eye(3) - np.outer(e, e), "total": np.eye(3)}
+    directions = _directions(tuple(float(x) for x in model.spin_axis))
     bodies = body_inertias(model)
     masses = np.array([m for m, _, _ in bodies], dtype=float)
     arms = np.array([np.asarray(c, dtype=float) for _, c, _ in bodies]) - model.reference_point
     inertias = np.array([np.asarray(j, dtype=float) for _, _, j in bodies])
-    traces = np.trace(inertias, axis1=1, axis2=2)
+    traces = inertias.trace(axis1=1, axis2=2)
     second = (0.5 * traces[:, None, None] * np.eye(3) - inertias
               + masses[:, None, None] * arms[:, :, None] * arms[:, None, :])
-    return {name: _bodies_quadratic(masses, arms, second, X) for name, X in directions.items()}
+    first = skew(masses[:, None] * arms)
+    return {name: _bodies_quadratic(masses, arms, second, X, first, products)
+            for name, (X, products) in directions.items()}
 
 
 def whirl_forms(model) -> WhirlForms:
@@ -827,7 +866,14 @@ def rotor_whirl_forms(model, rotor: str) -> WhirlForms:
     return WhirlForms(**{name: motion.T @ body[name] @ motion for name in _DIRECTIONS})
 
 
-def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
+def stacked_forms(forms: WhirlForms) -> np.ndarray:
+    """The transposes of the three whirl forms side by side, (..., n, 3 n), contiguous (see
+    :func:`quadratic_forms`)."""
+    return np.ascontiguousarray(
+        np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1))
+
+
+def whirl_ratios(shapes, forms: WhirlForms, speeds, stacked=None) -> np.ndarray:
     """Signed whirl ratio in [-1, 1] relative to the reference rotor's spin.
 
     +1 for a circular orbit normal to the spin axis turning with the spin, -1
@@ -839,24 +885,26 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds) -> np.ndarray:
     ----------
     shapes : ndarray, shape (..., m, n)
     forms : WhirlForms
-        Each (n, n), or stacked like the shapes' leading axes, (..., n, n).
+        Each (n, n), or stacked like the shapes' leading axes, (..., n, n); unused (may be None)
+        when ``stacked`` is given.
     speeds : ndarray, shape (...) [rad/s]; the sign of the spin (0 counts as +)
+    stacked : ndarray, optional
+        :func:`stacked_forms` of ``forms``, when the caller keeps it.
 
     Returns
     -------
     ndarray, shape (..., m)
     """
     # phi^H X phi of the three forms for every shape from one product with [W^T N^T total^T]
-    stacked = np.ascontiguousarray(
-        np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1))
-    values = quadratic_forms(shapes, stacked).reshape(shapes.shape[:-1] + (3,))
+    values = quadratic_forms(shapes, stacked_forms(forms) if stacked is None else stacked).reshape(
+        shapes.shape[:-1] + (3,))
     momentum = values[..., 0].imag  # Re(-i phi^H W phi)
     across = values[..., 1].real
     whole = values[..., 2].real
     whirling = across > 1e-9 * whole
     ratio = np.where(whirling, momentum / np.where(whirling, across, 1.0), 0.0)
     sign = np.where(np.asarray(speeds) < 0, -1.0, 1.0)
-    return np.clip(ratio * np.asarray(sign)[..., None], -1.0, 1.0)
+    return np.minimum(np.maximum(ratio * sign[..., None], -1.0), 1.0)     # numpy.clip
 
 
 def real_product(shapes, matrix) -> np.ndarray:
@@ -865,7 +913,8 @@ def real_product(shapes, matrix) -> np.ndarray:
     one matrix product over all shapes when the matrix is shared)."""
     if np.iscomplexobj(matrix):
         return shapes @ matrix
-    parts = np.stack([shapes.real, shapes.imag])                     # contiguous, (2, ..., m, n)
+    parts = np.empty((2,) + shapes.shape, dtype=shapes.real.dtype)   # contiguous, (2, ..., m, n)
+    parts[0], parts[1] = shapes.real, shapes.imag
     if matrix.ndim == 2:
         out = (parts.reshape(-1, parts.shape[-1]) @ matrix).reshape(parts.shape[:-1] + matrix.shape[-1:])
     else:

@@ -51,6 +51,7 @@ class Stack:
         self.shared_mass = all(f.matrices.M is first.matrices.M for f in self.forms)
         self.shared_whirl = all(w is whirl[0] for w in whirl)
         self.whirl = _eigen.WhirlForms(*(_stacked(parts) for parts in zip(*whirl)))
+        self._whirl_stacked = None     # the forms side by side for whirl ratios, made on first use
         self.M, self.C, self.G, self.K = (_stacked(parts) for parts in zip(*(f.matrices for f in self.forms)))
         self.factor = np.linalg.cholesky(self.M[:1] if self.shared_mass else self.M)
         self.A0 = _stacked([f.A0 for f in self.forms])
@@ -147,11 +148,15 @@ class Stack:
     def whirl_ratios(self, shapes, variants, speeds):
         """Whirl ratios (see :func:`_eigen.whirl_ratios`) of shapes (R, m, n) of rows of variants."""
         out = np.empty(shapes.shape[:-1])
-        speeds = np.broadcast_to(speeds, shapes.shape[:-2])
+        speeds = np.asarray(speeds)
+        if speeds.shape != shapes.shape[:-2]:
+            speeds = np.broadcast_to(speeds, shapes.shape[:-2])
         # in parts: the products with the three forms are three times the shapes, twice over
+        if self._whirl_stacked is None:
+            self._whirl_stacked = _eigen.stacked_forms(self.whirl)
         for part in _eigen.chunk_slices(len(shapes), 160 * shapes[0].size):
-            forms = _eigen.WhirlForms(*(f[0] if self.shared_whirl else f[variants[part]] for f in self.whirl))
-            out[part] = _eigen.whirl_ratios(shapes[part], forms, speeds[part])
+            stacked = self._whirl_stacked[0] if self.shared_whirl else self._whirl_stacked[variants[part]]
+            out[part] = _eigen.whirl_ratios(shapes[part], None, speeds[part], stacked)
         return out
 
     def shapes_at(self, variants, x, lam):

@@ -199,16 +199,26 @@ def solve_sweeps(stack, speeds, progress=False):
     values, shapes = [], []
     for chunk in _progress(chunks, progress, "eigen-solve"):
         matrices = stack.sweep(chunk)
-        lam, phi = stack.solve(matrices.reshape((-1,) + matrices.shape[-2:]), np.repeat(np.arange(count), len(chunk)))
+        lam, phi = stack.solve(matrices.reshape((-1,) + matrices.shape[-2:]), _variant_rows(count, len(chunk)))
         values.append(lam.reshape(count, len(chunk), -1))
         shapes.append(phi.reshape((count, len(chunk)) + phi.shape[-2:]))
-    values = np.concatenate(values, axis=1)
-    shapes = np.concatenate(shapes, axis=1)
+    if len(chunks) > 1:
+        values, shapes = np.concatenate(values, axis=1), np.concatenate(shapes, axis=1)
+    else:
+        values, shapes = values[0], shapes[0]
     flat = shapes.reshape((-1,) + shapes.shape[-2:])
-    weighted = stack.weighted(flat, np.repeat(np.arange(count), len(speeds))).reshape(shapes.shape)
+    weighted = stack.weighted(flat, _variant_rows(count, len(speeds))).reshape(shapes.shape)
     order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
+    if (order == np.arange(order.shape[-1])).all():     # every root keeps its place: nothing to reorder
+        return values, shapes, weighted
     variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
     return values[variants, rows, order], shapes[variants, rows, order], weighted[variants, rows, order]
+
+
+def _variant_rows(count, per):
+    """The variant of each row of ``count`` variants' ``per`` rows each, variant after variant
+    (``numpy.repeat(numpy.arange(count), per)``)."""
+    return np.zeros(per, dtype=int) if count == 1 else np.repeat(np.arange(count), per)
 
 
 def _relabel_by_frequency(order, values, speeds):
@@ -217,9 +227,10 @@ def _relabel_by_frequency(order, values, speeds):
 
     ``order`` and ``values`` have a leading variant axis: (V, N, m)."""
     k0 = int(np.argmin(np.abs(speeds)))
-    at_k0 = np.take_along_axis(values[:, k0], order[:, k0], axis=-1)
+    variants = np.arange(len(order))[:, None]
+    at_k0 = values[variants, k0, order[:, k0]]
     labels = np.lexsort((at_k0.real, at_k0.imag, ~is_oscillating(at_k0)), axis=-1)
-    return np.take_along_axis(order, labels[:, None, :], axis=-1)
+    return order[variants[..., None], np.arange(order.shape[1])[:, None], labels[:, None, :]]
 
 
 def _progress(items, enabled, description):
@@ -269,12 +280,14 @@ def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
     stack = Stack(models)
     values, shapes, weighted = solve_sweeps(stack, speeds, progress)
     count, n_speeds, m = values.shape
-    every = np.repeat(np.arange(count), n_speeds)
-    ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, np.tile(speeds, count))
-    ratios = np.where(is_oscillating(values), ratios.reshape(values.shape), 0.0)
+    every = _variant_rows(count, n_speeds)
+    ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every,
+                                speeds if count == 1 else np.tile(speeds, count))
+    oscillating = is_oscillating(values)
+    ratios = np.where(oscillating, ratios.reshape(values.shape), 0.0)
     freq, zeta, log_dec = modal_quantities(values)
     sources = [excitation_sources(model) for model in stack.models]
-    critical = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes)
+    critical = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes, oscillating)
     labels = _eigen.whirl_labels(ratios)
     return [CampbellResult(
         speeds=speeds, eigenvalues=values[v], frequencies_hz=freq[v], damping_ratios=zeta[v],
@@ -309,19 +322,19 @@ def _check_speeds(speeds) -> np.ndarray:
     from ..errors import InputError
 
     speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
-    if speeds.ndim != 1 or len(speeds) == 0 or not np.all(np.isfinite(speeds)):
+    if speeds.ndim != 1 or len(speeds) == 0 or not np.isfinite(speeds).all():
         raise InputError(f"speeds: expected a non-empty 1-D array of finite numbers, got shape {speeds.shape}")
-    if len(speeds) > 1 and not np.all(np.diff(speeds) > 0):
+    if len(speeds) > 1 and not (speeds[1:] - speeds[:-1] > 0).all():
         raise InputError("speeds: expected strictly increasing values")
     return speeds
 
 
-def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shapes=None) -> list:
+def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shapes=None, oscillating=None) -> list:
     """Every crossing of every mode with every source's order lines, for every variant,
     refined together. ``shapes`` (V, N, m, n), the sweep's unit shapes, start the cheap
     evaluation of isolated modes (:func:`_Iterates`). Returns one :class:`CriticalSpeeds`
     per variant."""
-    brackets = _crossing_brackets(speeds, values, sources, orders)
+    brackets = _crossing_brackets(speeds, values, sources, orders, oscillating)
     count = len(stack)
     if not len(brackets.k):
         return [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
@@ -352,7 +365,8 @@ def _critical_table(source, order, mode, speeds, freq, whirl, ratios, zeta) -> C
 
 class _Brackets(NamedTuple):
     """One row per crossing: the variant, grid interval ``[speeds[k], speeds[k+1]]``, tracked
-    mode (0-based), excitation slope [rad/s per rad/s], source index and order."""
+    mode (0-based), excitation slope [rad/s per rad/s], source index and order; and what the
+    refinement reads of the sweep at every step, gathered once (:func:`_bracket_ends`)."""
 
     variant: np.ndarray
     k: np.ndarray
@@ -360,32 +374,68 @@ class _Brackets(NamedTuple):
     slope: np.ndarray
     source: np.ndarray
     order: np.ndarray
+    start: np.ndarray
+    """``speeds[k]`` [rad/s]"""
+    width: np.ndarray
+    """``speeds[k + 1] - speeds[k]`` [rad/s]"""
+    low: np.ndarray
+    """The tracked mode's eigenvalue at ``speeds[k]``"""
+    high: np.ndarray
+    """and at ``speeds[k + 1]``"""
+    spread: np.ndarray
+    """Its travel across the bracket (with a floor: ``+ 1e-9 |low| + 1e-300``)"""
+    travel: np.ndarray
+    """The fastest travel of any root of the sweep across the bracket"""
+    near_speeds: np.ndarray
+    """The sweep's four speeds around the bracket, (P, 4) (see :func:`_four_points`)"""
+    near_values: np.ndarray
+    """and the tracked mode's eigenvalues there, (P, 4)"""
+    near_oscillating: np.ndarray
+    """whether the mode oscillates at all four (:func:`~.modal.is_oscillating`)"""
 
     def subset(self, rows) -> "_Brackets":
         return _Brackets(*(column[rows] for column in self))
 
 
-def _crossing_brackets(speeds, values, sources, orders) -> _Brackets:
+def _crossing_brackets(speeds, values, sources, orders, oscillating=None) -> _Brackets:
     """Grid intervals where ``Im lam - slope |Omega|`` changes sign for an oscillating mode.
 
     ``values`` (V, N, m) and one ExcitationSources per variant (same names, the multipliers
     may differ)."""
-    mode_ok = is_oscillating(values)
+    mode_ok = is_oscillating(values) if oscillating is None else oscillating
     both = mode_ok[:, :-1] & mode_ok[:, 1:]
     multipliers = np.array([s.multipliers for s in sources])            # (V, n_sources)
+    frequencies, magnitudes = values.imag, np.abs(speeds)[None, :, None]
     parts = []
     for s in range(multipliers.shape[1]):
         for order in orders:
             slope = order * multipliers[:, s]  # excitation [rad/s] per |speed| [rad/s], per variant
-            gap = values.imag - slope[:, None, None] * np.abs(speeds)[None, :, None]
-            change = (np.sign(gap[:, :-1]) != np.sign(gap[:, 1:])) & (gap[:, :-1] != 0) & both
-            change &= (slope != 0)[:, None, None]
-            v, k, mode = np.nonzero(change)
+            gap = frequencies - slope[:, None, None] * magnitudes
+            sign = np.sign(gap)
+            change = (sign[:, :-1] != sign[:, 1:]) & (gap[:, :-1] != 0) & both
+            if not (slope != 0).all():
+                change &= (slope != 0)[:, None, None]
+            v, k, mode = change.nonzero()
             parts.append((v, k, mode, slope[v], np.full(len(k), s), np.full(len(k), float(order))))
     if not parts:
-        return _Brackets(*(np.zeros(0, dtype=int) for _ in range(6)))
-    v, k, mode, slope, source, order = (np.concatenate(column) for column in zip(*parts))
-    return _Brackets(v, k, mode, slope, source.astype(int), order)
+        parts = [tuple(np.zeros(0, dtype=int) for _ in range(6))]
+    v, k, mode, slope, source, order = parts[0] if len(parts) == 1 else (np.concatenate(c) for c in zip(*parts))
+    return _Brackets(v, k, mode, slope, source.astype(int), order, *_bracket_ends(speeds, values, mode_ok, v, k, mode))
+
+
+def _bracket_ends(speeds, values, oscillating, v, k, mode):
+    """The sweep's data of each crossing that the refinement reads (see :class:`_Brackets`)."""
+    low, high = values[v, k, mode], values[v, k + 1, mode]
+    start = speeds[k]
+    spread = np.abs(high - low) + 1e-9 * np.abs(low) + 1e-300
+    travel = np.abs(values[v, k + 1] - values[v, k]).max(axis=1)
+    if len(speeds) < 4:
+        near = np.full((len(k), 4), np.nan), np.full((len(k), 4), np.nan, dtype=complex), np.zeros(len(k), bool)
+    else:
+        nodes = np.minimum(np.maximum(k - 1, 0), len(speeds) - 4)[:, None] + np.arange(4)
+        near = (speeds[nodes], values[v[:, None], nodes, mode[:, None]],
+                oscillating[v[:, None], nodes, mode[:, None]].all(axis=1))
+    return (start, speeds[k + 1] - start, low, high, spread, travel) + near
 
 
 #: evaluations allowed per crossing (it needs two or three; bisection steps guarantee the rest)
@@ -438,12 +488,12 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     iterates : _Iterates
         The pencil iteration's last points, eigenvalues and shapes.
     """
-    v, k, mode, slope = brackets.variant, brackets.k, brackets.mode, brackets.slope
-    a, b = speeds[k].copy(), speeds[k + 1].copy()
-    ga = values[v, k, mode].imag - slope * np.abs(a)
-    gb = values[v, k + 1, mode].imag - slope * np.abs(b)
+    k, slope = brackets.k, brackets.slope
+    a, b = speeds[k], speeds[k + 1]
+    ga = brackets.low.imag - slope * np.abs(a)
+    gb = brackets.high.imag - slope * np.abs(b)
     roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
-    lam = np.where(ga == 0, values[v, k, mode], values[v, k + 1, mode])
+    lam = np.where(ga == 0, brackets.low, brackets.high)
     sure = np.zeros(len(k), dtype=bool)
     done = ~np.isnan(roots)
     x = _cubic_start(speeds, values, brackets, a, b, ga, gb)
@@ -451,7 +501,7 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     state = _Bracket(a, b, ga, gb, np.zeros(len(k), dtype=int), np.full((2, len(k)), np.inf))
     iterates = _Iterates.start(stack, speeds, values, brackets, shapes)
     for _ in range(_MAX_ITERATIONS):
-        i = np.nonzero(~done)[0]
+        i = (~done).nonzero()[0]
         if not len(i):
             break
         lam_x, sure_x = _evaluate(stack, speeds, values, weighted, brackets, i, x[i], iterates)
@@ -479,16 +529,20 @@ class _Bracket(NamedTuple):
 
 def _next_step(state, rows, x, gx, previous):
     """Update the brackets ``rows`` with the point (x, gx) and return the next point."""
-    left = (np.sign(gx) == np.sign(state.ga[rows])) & (gx != 0)
-    right = ~left & (gx != 0)
-    _illinois(state.a, state.ga, state.gb, state.last, rows[left], x[left], gx[left], +1)
-    _illinois(state.b, state.gb, state.ga, state.last, rows[right], x[right], gx[right], -1)
+    moved = gx != 0
+    left = (np.sign(gx) == np.sign(state.ga[rows])) & moved
+    right = ~left & moved
+    if left.any():
+        _illinois(state.a, state.ga, state.gb, state.last, rows[left], x[left], gx[left], +1)
+    if right.any():
+        _illinois(state.b, state.gb, state.ga, state.last, rows[right], x[right], gx[right], -1)
     a, b = state.a[rows], state.b[rows]
+    width, gb = b - a, state.gb[rows]
     with np.errstate(divide="ignore", invalid="ignore"):
         secant = x - gx * (x - previous[0]) / (gx - previous[1])
-        falsi = b - state.gb[rows] * (b - a) / (state.gb[rows] - state.ga[rows])
-    slow = (b - a) > 0.5 * state.widths[1, rows]
-    state.widths[1, rows], state.widths[0, rows] = state.widths[0, rows], b - a
+        falsi = b - gb * width / (gb - state.ga[rows])
+    slow = width > 0.5 * state.widths[1, rows]
+    state.widths[1, rows], state.widths[0, rows] = state.widths[0, rows], width
     inside = np.isfinite(secant) & (secant > a) & (secant < b)
     fallback = np.where(np.isfinite(falsi) & (falsi > a) & (falsi < b) & ~slow, falsi, 0.5 * (a + b))
     return np.where(gx == 0, x, np.where(inside, secant, fallback))
@@ -497,25 +551,26 @@ def _next_step(state, rows, x, gx, previous):
 def _cubic_start(speeds, values, brackets, a, b, ga, gb):
     """Root in (a, b) of the cubic through g at the sweep's four points around each bracket
     (the chord's root where fewer than four oscillating points are at hand)."""
+    width = b - a
     with np.errstate(divide="ignore", invalid="ignore"):
-        chord = b - gb * (b - a) / (gb - ga)
+        chord = b - gb * width / (gb - ga)
     chord = np.where(np.isfinite(chord) & (chord > a) & (chord < b), chord, 0.5 * (a + b))
     if len(speeds) < 4:
         return chord
     xs, lam = _four_points(speeds, values, brackets, slice(None))
     gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
-    usable = np.all(is_oscillating(lam), axis=1) & (np.all(xs >= 0, axis=1) | np.all(xs <= 0, axis=1))
+    usable = brackets.near_oscillating & ((xs >= 0).all(axis=1) | (xs <= 0).all(axis=1))
     # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
-    h = (b - a)[:, None]
-    t_nodes = (xs - a[:, None]) / h
+    t_nodes = (xs - a[:, None]) / width[:, None]
     vandermonde = t_nodes[..., None] ** np.arange(4)
     with np.errstate(all="ignore"):
         coefficients = np.linalg.solve(vandermonde, gs[..., None])[..., 0]
-        t = (chord - a) / (b - a)
+        t = (chord - a) / width
+        c0, c1, c2, c3 = coefficients.T
+        slope3, slope2 = 3 * c3, 2 * c2                 # the derivative's coefficients
         for _ in range(4):                              # Newton on the cubic, from the chord's root
-            c0, c1, c2, c3 = coefficients.T
-            t = t - (((c3 * t + c2) * t + c1) * t + c0) / ((3 * c3 * t + 2 * c2) * t + c1)
-    x = a + t * (b - a)
+            t = t - (((c3 * t + c2) * t + c1) * t + c0) / ((slope3 * t + slope2) * t + c1)
+    x = a + t * width
     good = usable & np.isfinite(x) & (x > a) & (x < b)
     return np.where(good, x, chord)
 
@@ -553,8 +608,8 @@ class _Iterates(NamedTuple):
             return cls(np.zeros(count, dtype=bool), np.full(count, np.nan), np.zeros(count, complex),
                        np.zeros((count, 0), complex), gap, _eigen.PencilFactors(0, 0))
         v, k, mode = brackets.variant, brackets.k, brackets.mode
-        return cls(_isolated(values, brackets), speeds[k].astype(float), values[v, k, mode].copy(),
-                   shapes[v, k, mode].copy(), gap, _eigen.PencilFactors(count, stack.n_dof))
+        return cls(_isolated(values, brackets), brackets.start.astype(float), brackets.low.copy(),
+                   shapes[v, k, mode], gap, _eigen.PencilFactors(count, stack.n_dof))
 
 
 def _isolated(values, brackets):
@@ -573,7 +628,7 @@ def _isolated(values, brackets):
     """
     v, k, mode = brackets.variant, brackets.k, brackets.mode
     rows = np.arange(len(k))
-    ends = np.stack([values[v, k], values[v, k + 1]])                       # (2, P, m)
+    ends = values[v, np.array([k, k + 1])]                                  # (2, P, m)
     own = ends[:, rows, mode]                                               # (2, P)
     travel = np.abs(ends[1] - ends[0])                                      # (P, m)
     own_travel = travel[rows, mode] + 1e-9 * np.abs(own).max(axis=0)
@@ -581,7 +636,7 @@ def _isolated(values, brackets):
     apart = np.minimum(np.abs(ends - own[..., None]), np.abs(ends.conj() - own[..., None])).min(axis=0)
     apart[rows, mode] = np.inf
     own_conjugate = 2 * np.abs(own.imag).min(axis=0)
-    return np.all(apart > margin, axis=1) & (own_conjugate > 2 * 8 * own_travel)
+    return (apart > margin).all(axis=1) & (own_conjugate > 2 * 8 * own_travel)
 
 
 def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
@@ -590,15 +645,25 @@ def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
     roots at a point so near that no other root can have come close (:func:`_followed`), the
     roots near the bracket's interpolation for the rest and for any that did not converge
     to the tracked mode."""
+    fast = iterates.usable[rows]
+    isolated = fast.all()
+    if isolated:                         # every mode isolated (the usual case): all on the pencil
+        found, ok = _pencil_at(stack, speeds, values, brackets, rows, x, iterates)
+        if ok.all():
+            return found, ok
+    else:
+        fast |= _followed(speeds, values, brackets, rows, x, iterates)
     lam = np.empty(len(rows), dtype=complex)
     sure = np.zeros(len(rows), dtype=bool)
-    fast = iterates.usable[rows] | _followed(speeds, values, brackets, rows, x, iterates)
-    if fast.any():
-        f = np.nonzero(fast)[0]
+    if isolated:
+        lam[ok], sure[ok] = found[ok], True
+        fast[~ok] = False
+    elif fast.any():
+        f = fast.nonzero()[0]
         found, ok = _pencil_at(stack, speeds, values, brackets, rows[f], x[f], iterates)
         lam[f[ok]], sure[f[ok]] = found[ok], True
         fast[f[~ok]] = False
-    slow = np.nonzero(~fast)[0]
+    slow = (~fast).nonzero()[0]
     if len(slow):
         lam[slow], sure[slow], shapes, known, gap = _tracked(stack, speeds, values, weighted, brackets, rows[slow],
                                                              x[slow])
@@ -615,9 +680,7 @@ def _followed(speeds, values, brackets, rows, x, iterates):
     can have moved a tenth of the distance to its nearest neighbour there (at four times the
     fastest travel across the bracket of any root of the sweep): the pencil's iteration from
     that eigenpair then finds the same mode."""
-    v, k = brackets.variant[rows], brackets.k[rows]
-    travel = np.abs(values[v, k + 1] - values[v, k]).max(axis=1)             # fastest root's travel
-    moved = 4 * travel * np.abs(x - iterates.x[rows]) / (speeds[k + 1] - speeds[k])
+    moved = 4 * brackets.travel[rows] * np.abs(x - iterates.x[rows]) / brackets.width[rows]
     with np.errstate(invalid="ignore"):
         return ~iterates.usable[rows] & (moved < 0.1 * iterates.gap[rows])
 
@@ -631,15 +694,17 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     converge. Returns the eigenvalues and which converged to the tracked mode."""
     expected = _interpolated(speeds, values, brackets, rows, x)
     start = iterates.lam[rows] + expected - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
-    fresh = np.nonzero(~iterates.factors.ready[rows])[0]
-    first = fresh[iterates.x[rows[fresh]] == speeds[brackets.k[rows[fresh]]]]    # nothing evaluated yet
-    start[first] = _cubic_value(speeds, values, brackets, rows[first], x[first])
+    unready = ~iterates.factors.ready[rows]
+    fresh = unready.nonzero()[0]
     pencils = Pencils(stack, brackets.variant[rows], x)
-    iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
+    if len(fresh):
+        first = fresh[iterates.x[rows[fresh]] == brackets.start[rows[fresh]]]    # nothing evaluated yet
+        if len(first):
+            start[first] = _cubic_value(speeds, values, brackets, rows[first], x[first])
+        iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
     lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
                                                                iterates.shape[rows])
-    again = np.nonzero(~converged & np.isfinite(lam))[0]
-    again = again[~np.isin(again, fresh)]
+    again = (~converged & np.isfinite(lam) & ~unready).nonzero()[0]
     if len(again):
         # far from the factored point (or a poor start there): factor here and iterate again
         part = _eigen.PencilRows(pencils, again)
@@ -648,9 +713,13 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
             iterates.factors, rows[again], part, lam[again], shapes[again])
     ok = converged & (np.abs(lam - expected) <= 2 * _spread(values, brackets, rows))
     followed = ~iterates.usable[rows]
-    with np.errstate(invalid="ignore"):
-        ok[followed] &= np.abs(lam - start)[followed] < 0.25 * iterates.gap[rows[followed]]
-    iterates.x[rows[ok]], iterates.lam[rows[ok]], iterates.shape[rows[ok]] = x[ok], lam[ok], shapes[ok]
+    if followed.any():
+        with np.errstate(invalid="ignore"):
+            ok[followed] &= np.abs(lam - start)[followed] < 0.25 * iterates.gap[rows[followed]]
+    if ok.all():
+        iterates.x[rows], iterates.lam[rows], iterates.shape[rows] = x, lam, shapes
+    else:
+        iterates.x[rows[ok]], iterates.lam[rows[ok]], iterates.shape[rows[ok]] = x[ok], lam[ok], shapes[ok]
     return lam, ok
 
 
@@ -661,32 +730,30 @@ def _cubic_value(speeds, values, brackets, rows, x):
     if len(speeds) < 4 or not len(rows):
         return linear
     xs, lam = _four_points(speeds, values, brackets, rows)
-    weights = np.ones((len(rows), 4))
-    for j in range(4):
-        for m in range(4):
-            if m != j:
-                weights[:, j] *= (x - xs[:, m]) / (xs[:, j] - xs[:, m])
+    # Lagrange weights: factor[p, j, m] = (x - xs_m) / (xs_j - xs_m), 1 where m = j (exact, so the
+    # products below equal the ones over m != j in the same order)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        factor = (x[:, None, None] - xs[:, None, :]) / (xs[:, :, None] - xs[:, None, :])
+    factor[:, np.arange(4), np.arange(4)] = 1.0
+    weights = factor[..., 0] * factor[..., 1] * factor[..., 2] * factor[..., 3]
     cubic = np.einsum("pj,pj->p", weights, lam)
-    return np.where(np.all(is_oscillating(lam), axis=1), cubic, linear)
+    return np.where(brackets.near_oscillating[rows], cubic, linear)
 
 
 def _four_points(speeds, values, brackets, rows):
     """The sweep's four speeds around each bracket of ``rows`` (two each side, or the four at
     the grid's end) and the tracked mode's eigenvalues there: (R, 4) each."""
-    nodes = np.clip(brackets.k[rows] - 1, 0, len(speeds) - 4)[:, None] + np.arange(4)
-    return speeds[nodes], values[brackets.variant[rows][:, None], nodes, brackets.mode[rows][:, None]]
+    return brackets.near_speeds[rows], brackets.near_values[rows]
 
 
 def _interpolated(speeds, values, brackets, rows, x):
     """The tracked modes' eigenvalues interpolated linearly across their brackets at ``x``."""
-    v, k, mode = brackets.variant[rows], brackets.k[rows], brackets.mode[rows]
-    t = (x - speeds[k]) / (speeds[k + 1] - speeds[k])
-    return (1 - t) * values[v, k, mode] + t * values[v, k + 1, mode]
+    t = (x - brackets.start[rows]) / brackets.width[rows]
+    return (1 - t) * brackets.low[rows] + t * brackets.high[rows]
 
 
 def _spread(values, brackets, rows):
-    v, k, mode = brackets.variant[rows], brackets.k[rows], brackets.mode[rows]
-    return np.abs(values[v, k + 1, mode] - values[v, k, mode]) + 1e-9 * np.abs(values[v, k, mode]) + 1e-300
+    return brackets.spread[rows]
 
 
 def _tracked(stack, speeds, values, weighted, brackets, rows, x):

@@ -28,7 +28,7 @@ import numpy as np
 
 from ..assembly import bearing_motion, excitation_columns, rotor_gyroscopic
 from ..bearings import evaluate
-from ..geometry import shift_matrix
+from ..geometry import shift_matrices, shift_matrix
 from .frf import FRFResult, _check_frequencies, _names, dof_response
 
 __all__ = ["suspension_forces", "bearing_forces", "bearing_point_forces", "force_frf", "COMPONENTS"]
@@ -59,9 +59,10 @@ def suspension_forces(model, omega, q) -> np.ndarray:
         return np.zeros((0, count, 6, n), dtype=complex)
     stator = _times(model.dofs.frame_motion(), q)                    # the stator's motion at S
     # every suspension at once: B_SP^T q_S, then its stiffness and damping on its own point's motion
-    shifts = np.concatenate([shift_matrix(model.reference_point, s.position).T for s in suspensions])
-    points = _stacked(_times(shifts, stator), len(suspensions))      # (S, F n, 6)
-    stiffness = np.array([s.stiffness_matrix * (1 + 1j * s.loss_factor) for s in suspensions])
+    shifts = shift_matrices(model.reference_point, [s.position for s in suspensions])
+    points = _stacked(_times(shifts.transpose(0, 2, 1).reshape(-1, 6), stator), len(suspensions))   # (S, F n, 6)
+    losses = np.array([s.loss_factor for s in suspensions], dtype=float)
+    stiffness = np.array([s.stiffness_matrix for s in suspensions]) * (1 + 1j * losses)[:, None, None]
     damping = np.array([s.damping_matrix for s in suspensions])
     out = _unstacked(points @ np.swapaxes(stiffness, 1, 2), count) \
         + 1j * w * _unstacked(points @ np.swapaxes(damping, 1, 2), count)
@@ -95,6 +96,13 @@ def _times(matrix, motion):
     return flat.reshape(count, n, -1).transpose(0, 2, 1)
 
 
+def _broadcast(values, shape):
+    """``values`` as floats of ``shape``: the array itself when it has that shape already (no
+    ``numpy.broadcast_to``), else a broadcast view."""
+    values = np.asarray(values, dtype=float)
+    return values if values.shape == shape else np.broadcast_to(values, shape)
+
+
 def _branch_stiffness(suspension, omega):
     factor = 1j * omega[:, None] * np.asarray(suspension.maxwell_time, dtype=float)
     factor = factor / (1 + factor)
@@ -120,7 +128,7 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
         ``[F, C]`` at each rotor's centre of mass, model axes [N, N m].
     """
     w = np.asarray(omega, dtype=float)
-    speed = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
+    speed = _broadcast(speed, w.shape)
     e = model.spin_axis
     layout = model.dofs
     out = []
@@ -158,7 +166,7 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
         ``[F, C]`` at each bearing's point, model axes [N, N m].
     """
     w = np.asarray(omega, dtype=float)
-    speed = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
+    speed = _broadcast(speed, w.shape)
     out = []
     for bearing in model.bearings:
         rows, moves = bearing_motion(model, bearing)

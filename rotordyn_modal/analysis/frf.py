@@ -235,9 +235,13 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     """
     terms = _StiffnessTerms(model)
     w = np.atleast_1d(np.asarray(omega, dtype=float))
-    speeds = np.broadcast_to(np.asarray(speed, dtype=float), w.shape)
+    speeds = np.asarray(speed, dtype=float)
+    if speeds.shape != w.shape:
+        speeds = np.broadcast_to(speeds, w.shape)
     n = terms.matrices.M.shape[0]
-    rhs = np.broadcast_to(np.asarray(forces, dtype=complex), (len(w),) + np.shape(forces)[-2:])
+    rhs = np.asarray(forces, dtype=complex)
+    if rhs.shape != (len(w),) + rhs.shape[-2:]:
+        rhs = np.broadcast_to(rhs, (len(w),) + rhs.shape[-2:])
     out = np.empty(rhs.shape, dtype=complex)
     # per system: Z, LAPACK's copy and the temporaries of its right-hand side
     for part in _eigen.chunk_slices(len(w), 48 * n * n, budget=_SOLVE_PART_BYTES):

@@ -71,7 +71,7 @@ def probe_pairs(model, sensors) -> ProbePairs:
     for index, sensor in enumerate(sensors):
         if abs(np.asarray(sensor.direction) @ e) > _NORMAL_TOLERANCE:
             continue
-        key = (sensor.rotor, sensor.measure, tuple(np.round(np.asarray(sensor.position) / _SAME_POINT)))
+        key = (sensor.rotor, sensor.measure, tuple((np.asarray(sensor.position) / _SAME_POINT).round()))
         groups.setdefault(key, []).append(index)
     names, indices, transforms = [], [], []
     for members in groups.values():

@@ -60,14 +60,14 @@ def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
     if count == 1:
         return order
     correlation = mac_matrix(shapes[:, :-1], shapes[:, 1:])  # (V, N-1, n, n)
-    best = np.argmax(correlation, axis=-1)
-    best_mac = np.take_along_axis(correlation, best[..., None], axis=-1)[..., 0]
-    distinct = np.all(np.sort(best, axis=-1) == np.arange(n), axis=-1)
-    confident = distinct & np.all(best_mac > _CONFIDENT_MAC, axis=-1)      # (V, N-1)
+    best = correlation.argmax(axis=-1)
+    best_mac = correlation.max(axis=-1)                                      # the MAC at best
+    distinct = (np.sort(best, axis=-1) == np.arange(n)).all(axis=-1)
+    confident = distinct & (best_mac > _CONFIDENT_MAC).all(axis=-1)       # (V, N-1)
     # steps where every variant keeps its modes in place need no work: only the others
     # (crossings in frequency order, ambiguous shapes) are visited, in order
-    kept = confident & np.all(best == np.arange(n), axis=-1)                # (V, N-1)
-    events = np.flatnonzero(~np.all(kept, axis=0)) + 1
+    kept = confident & (best == np.arange(n)).all(axis=-1)                 # (V, N-1)
+    events = (~kept.all(axis=0)).nonzero()[0] + 1
     last_good = np.zeros((variants, n), dtype=int)  # last speed at which each label's shape was sure
     rows = np.arange(variants)[:, None]
     previous = 0

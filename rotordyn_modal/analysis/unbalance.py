@@ -405,7 +405,7 @@ def _force_fields(model, sources, rotor_forces, speed_all, omega, q):
         external[rotor_names.index(src), j * n:(j + 1) * n, :, 0] = rotor_forces[j]
 
     def per_source(forces):                                   # (items, n_src N, 6, 1) -> (items, 6, n_src, N)
-        return np.moveaxis(forces[..., 0].reshape(len(forces), n_src, n, 6), 3, 1)
+        return forces[..., 0].reshape(len(forces), n_src, n, 6).transpose(0, 3, 1, 2)
 
     return {"ground_forces": per_source(suspension_forces(model, omega, q)),
             "bearing_forces": per_source(bearing_forces(model, speed_all, omega, q, external)),

@@ -212,7 +212,21 @@ def solve_sweeps(stack, speeds, progress=False):
     if (order == np.arange(order.shape[-1])).all():     # every root keeps its place: nothing to reorder
         return values, shapes, weighted
     variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
-    return values[variants, rows, order], shapes[variants, rows, order], weighted[variants, rows, order]
+    return values[variants, rows, order], _reordered(shapes, order), _reordered(weighted, order)
+
+
+#: the largest reordered copy of a part of a sweep's shapes [bytes]
+_REORDER_BYTES = 16 * 2**20
+
+
+def _reordered(shapes, order):
+    """``shapes[v, k, order[v, k]]`` for shapes (V, N, m, n), written over ``shapes`` itself a
+    part of the speeds at a time: a reordered copy of the whole would double the sweep's
+    largest arrays (two of them at once for a 100-rotor machine: 420 MB at 51 speeds)."""
+    variants = np.arange(len(order))[:, None, None]
+    for part in _eigen.chunk_slices(order.shape[1], shapes[:, 0].nbytes, budget=_REORDER_BYTES):
+        shapes[:, part] = shapes[variants, np.arange(part.start, part.stop)[None, :, None], order[:, part]]
+    return shapes
 
 
 def _variant_rows(count, per):

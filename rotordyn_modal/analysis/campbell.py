@@ -13,7 +13,7 @@ from .modal import is_oscillating, modal_quantities
 from .tracking import track_modes_many
 
 __all__ = ["CampbellResult", "CriticalSpeeds", "ExcitationSources", "campbell", "campbell_many",
-           "critical_speeds", "excitation_sources", "solve_sweep", "solve_sweeps"]
+           "critical_speeds", "excitation_sources", "off_order_line", "JUMP_TOLERANCE", "solve_sweep", "solve_sweeps"]
 
 _CHUNK = 4096
 
@@ -271,6 +271,14 @@ def campbell(model, speeds, orders=(1,), progress=False) -> CampbellResult:
     Returns
     -------
     CampbellResult
+
+    Warns
+    -----
+    UserWarning
+        Where a critical speed is not a crossing but a jump of the tracked mode between two close
+        roots inside its bracket (clusters of like modes, such as many like rotors', on a coarse
+        grid: the refinement closes in on the jump, and the frequency there is off the order
+        line; see :func:`off_order_line`). A finer speed grid resolves them.
     """
     return campbell_many([model], speeds, orders, progress)[0]
 
@@ -302,12 +310,48 @@ def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
     freq, zeta, log_dec = modal_quantities(values)
     sources = [excitation_sources(model) for model in stack.models]
     critical = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes, oscillating)
+    for table, source, model in zip(critical, sources, stack.models):
+        _warn_of_jumps(table, source, model)
     labels = _eigen.whirl_labels(ratios)
     return [CampbellResult(
         speeds=speeds, eigenvalues=values[v], frequencies_hz=freq[v], damping_ratios=zeta[v],
         log_decrements=log_dec[v], whirl_ratios=ratios[v], whirl=labels[v], shapes=shapes[v],
         modes=np.arange(1, m + 1), sources=sources[v], critical=critical[v],
         orders=tuple(float(o) for o in orders)) for v in range(count)]
+
+
+#: a critical speed's natural frequency off its order line by more than this (relative) is a jump
+JUMP_TOLERANCE = 1e-6
+
+
+def off_order_line(table: CriticalSpeeds, sources: ExcitationSources) -> np.ndarray:
+    """Relative distance of each critical speed's natural frequency from the excitation
+    frequency of its order and source at that speed: round-off at a crossing; more where the
+    tracked mode jumps between two close roots inside the bracket (see :func:`campbell`).
+
+    Returns
+    -------
+    ndarray, shape (len(table),)
+    """
+    multiplier = dict(zip(sources.names, sources.multipliers))
+    line = np.array([order * multiplier[name] for name, order in zip(table.source, table.order)], dtype=float)
+    line = line * np.abs(table.speeds) / (2 * np.pi)
+    return np.abs(table.frequencies_hz - line) / np.where(line > 0, line, 1.0)
+
+
+def _warn_of_jumps(table, sources, model):
+    """Warn of critical speeds that are jumps of a tracked mode, not crossings."""
+    if not len(table):
+        return
+    off = off_order_line(table, sources)
+    jumps = off > JUMP_TOLERANCE
+    if jumps.any():
+        import warnings
+
+        warnings.warn(f"{model.source}: {jumps.sum()} of {len(table)} critical speeds are not crossings but "
+                      f"jumps of a tracked mode between close roots inside a bracket (its frequency there up "
+                      f"to {100 * off.max():.2g} % off the order line; modes {sorted(set(table.mode[jumps].tolist()))}): "
+                      f"a finer speed grid resolves them", stacklevel=4)
 
 
 def critical_speeds(model, speeds, orders=(1,), progress=False) -> CriticalSpeeds:

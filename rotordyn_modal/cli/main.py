@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
+import warnings
 
 from ..errors import InputError, OutputWriteError
 from ._common import VALUE_OPTIONS, join_negative_values
@@ -43,7 +45,8 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(join_negative_values(argv, VALUE_OPTIONS))
     try:
-        return int(args.handler(args) or 0)
+        with _warnings_as_lines(args.command):
+            return int(args.handler(args) or 0)
     except InputError as error:
         print(f"{PROGRAM} {args.command}: error: {error}", file=sys.stderr)
         return 2
@@ -63,6 +66,18 @@ def main(argv=None) -> int:
         print(f"{PROGRAM} {args.command}: failed: {type(error).__name__}: {error} "
               "(set ROTORDYN_MODAL_DEBUG=1 for the traceback)", file=sys.stderr)
         return 1
+
+
+@contextlib.contextmanager
+def _warnings_as_lines(command):
+    """Warnings printed as one line each, ``rotordyn-modal COMMAND: warning: ...`` (not Python's
+    file, line and source line)."""
+    def one_line(message, category, filename, lineno, file=None, line=None):
+        print(f"{PROGRAM} {command}: warning: {message}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.showwarning = one_line
+        yield
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -306,17 +306,20 @@ def sparse_layout(pattern) -> SparseLayout | None:
     return SparseLayout(rows.astype(np.int32), cols, np.searchsorted(cols, np.arange(n + 1)).astype(np.int32))
 
 
-def _sparse_lu(layout, data):
-    """SuperLU factors of the matrix ``data`` in ``layout``, or None where it is singular.
+def _sparse_lu(pencils, row, shift):
+    """SuperLU factors of row ``row``'s pencil ``Q(shift)`` (or None where it is singular), with
+    the row's sparse parts (:meth:`~._stack.Pencils.sparse_parts`: layout, mass, damping,
+    stiffness).
 
     The minimum-degree ordering of ``A^T + A`` suits these structurally symmetric pencils (a
     tenth of COLAMD's fill at 506 coordinates)."""
     from scipy.sparse.linalg import splu
 
+    parts = layout, mass, damping, stiffness = pencils.sparse_parts(row)
     try:
-        return splu(layout.matrix(data), permc_spec="MMD_AT_PLUS_A")
+        return splu(layout.matrix((shift * shift) * mass + shift * damping + stiffness), permc_spec="MMD_AT_PLUS_A"), parts
     except RuntimeError:            # exactly singular: its solves give NaN, as a dense LU's give inf
-        return None
+        return None, parts
 
 
 class PencilFactors:
@@ -356,8 +359,7 @@ class PencilFactors:
             return
         sparse = pencils.sparse(np.arange(len(rows)))
         for i in np.nonzero(sparse)[0]:
-            layout, mass, damping, stiffness = pencils.sparse_parts(i)
-            self.factors[rows[i]] = _sparse_lu(layout, (shifts[i] * shifts[i]) * mass + shifts[i] * damping + stiffness)
+            self.factors[rows[i]] = _sparse_lu(pencils, i, shifts[i])[0]
         dense = np.nonzero(~sparse)[0]
         n = pencils.n_dof
         step = max(1, _CACHE_BYTES // (16 * n * n))
@@ -596,8 +598,7 @@ def _sparse_shifted(pencils, row, sigma):
     where ``Q(sigma)`` is singular."""
     from scipy.sparse import hstack
 
-    layout, mass, damping, stiffness = pencils.sparse_parts(row)
-    factor = _sparse_lu(layout, (sigma * sigma) * mass + sigma * damping + stiffness)
+    factor, (layout, mass, damping, _) = _sparse_lu(pencils, row, sigma)
     if factor is None:
         return None, None
     both = hstack([layout.matrix(damping + sigma * mass), layout.matrix(mass.astype(complex))], format="csr")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
@@ -341,13 +342,9 @@ def off_order_line(table: CriticalSpeeds, sources: ExcitationSources) -> np.ndar
 
 def _warn_of_jumps(table, sources, model):
     """Warn of critical speeds that are jumps of a tracked mode, not crossings."""
-    if not len(table):
-        return
     off = off_order_line(table, sources)
     jumps = off > JUMP_TOLERANCE
     if jumps.any():
-        import warnings
-
         warnings.warn(f"{model.source}: {jumps.sum()} of {len(table)} critical speeds are not crossings but "
                       f"jumps of a tracked mode between close roots inside a bracket (its frequency there up "
                       f"to {100 * off.max():.2g} % off the order line; modes {sorted(set(table.mode[jumps].tolist()))}): "

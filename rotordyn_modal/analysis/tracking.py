@@ -61,22 +61,22 @@ def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
         return order
     correlation = mac_matrix(shapes[:, :-1], shapes[:, 1:])  # (V, N-1, n, n)
     best = correlation.argmax(axis=-1)
-    best_mac = correlation.max(axis=-1)                                      # the MAC at best
-    distinct = (np.sort(best, axis=-1) == np.arange(n)).all(axis=-1)
-    confident = distinct & (best_mac > _CONFIDENT_MAC).all(axis=-1)       # (V, N-1)
-    # steps where every variant keeps its modes in place need no work: only the others
-    # (crossings in frequency order, ambiguous shapes) are visited, in order
-    kept = confident & (best == np.arange(n)).all(axis=-1)                 # (V, N-1)
+    # steps where every variant keeps its modes in place (each mode's best match is itself, a
+    # confident one: the MAC on the diagonal) need no work: only the others (crossings in
+    # frequency order, ambiguous shapes) are visited, in order
+    kept = (best == np.arange(n)).all(axis=-1) & \
+        (np.diagonal(correlation, axis1=-2, axis2=-1) > _CONFIDENT_MAC).all(axis=-1)     # (V, N-1)
     events = (~kept.all(axis=0)).nonzero()[0] + 1
+    confident = _confident_steps(correlation, best, events - 1)                        # (V, n_events)
     last_good = np.zeros((variants, n), dtype=int)  # last speed at which each label's shape was sure
     rows = np.arange(variants)[:, None]
     previous = 0
-    for k in events:
+    for event, k in enumerate(events):
         order[:, previous + 1:k] = order[:, previous, None]
         if k - 1 > previous:
             last_good[:] = k - 1
         order[:, k] = best[:, k - 1][rows, order[:, k - 1]]
-        sure_step = confident[:, k - 1]
+        sure_step = confident[:, event]
         last_good[sure_step] = k
         for v in np.nonzero(~sure_step)[0]:
             order[v, k], sure = _ambiguous_step(k, order[v], eigenvalues[v], shapes[v], last_good[v])
@@ -84,6 +84,24 @@ def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
         previous = k
     order[:, previous + 1:] = order[:, previous, None]
     return order
+
+
+def _confident_steps(correlation, best, steps):
+    """Whether each variant's step ``steps[e]`` (from speed ``steps[e]`` to the next) is sure:
+    every mode's best match is distinct and above the confident MAC.
+
+    Parameters
+    ----------
+    correlation : ndarray, shape (V, N-1, n, n); best : ndarray of int, shape (V, N-1, n)
+    steps : ndarray of int, shape (E,)
+
+    Returns
+    -------
+    ndarray of bool, shape (V, E)
+    """
+    n = best.shape[-1]
+    distinct = (np.sort(best[:, steps], axis=-1) == np.arange(n)).all(axis=-1)
+    return distinct & (correlation[:, steps].max(axis=-1) > _CONFIDENT_MAC).all(axis=-1)
 
 
 def _ambiguous_step(k, order, eigenvalues, shapes, last_good):

@@ -925,6 +925,10 @@ def real_product(shapes, matrix) -> np.ndarray:
     return combined
 
 
+#: shapes of at most this many coordinates take their quadratic forms by one complex product
+_COMPLEX_PRODUCT_DOF = 24
+
+
 def quadratic_forms(shapes, stacked) -> np.ndarray:
     """``phi^H X_k phi`` of every shape (..., m, n) for real forms whose transposes are
     side by side in ``stacked`` (n, K n) or (..., n, K n).
@@ -934,7 +938,17 @@ def quadratic_forms(shapes, stacked) -> np.ndarray:
     ndarray, shape (..., m, K), complex
     """
     n = shapes.shape[-1]
-    products = real_product(shapes, stacked).reshape(shapes.shape[:-1] + (-1, n))   # (..., m, K, n)
+    # small shapes: complex products, one per speed (numpy makes the forms complex, a few
+    # hundred numbers), cost less than the real parts' copies and their product's large
+    # temporaries, and each is too small to start BLAS threads (which a loaded machine makes
+    # wait); single shapes (critical speeds) are rows of one product
+    if n > _COMPLEX_PRODUCT_DOF:
+        product = real_product(shapes, stacked)
+    elif stacked.ndim == 2 and shapes.shape[-2] == 1:
+        product = shapes.reshape(-1, n) @ stacked
+    else:
+        product = shapes @ stacked
+    products = product.reshape(shapes.shape[:-1] + (-1, n))   # (..., m, K, n)
     return np.einsum("...i,...ki->...k", shapes.conj(), products)
 
 

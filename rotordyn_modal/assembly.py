@@ -119,7 +119,8 @@ def add_rotor_body(out: np.ndarray, model, rotor: str, body6: np.ndarray) -> Non
 
 def add_rotor_bodies(outs, model, rotor: str, bodies6) -> None:
     """:func:`add_rotor_body` of several forms ``bodies6[i]`` into ``outs[i]``, the rotor's
-    motion found once."""
+    motion found once (each may also be a stack: ``bodies6[i]`` (..., 6, 6) into ``outs[i]``
+    (..., n, n))."""
     layout = model.dofs
     if not layout.on_bearings(rotor):
         return
@@ -129,9 +130,9 @@ def add_rotor_bodies(outs, model, rotor: str, bodies6) -> None:
     k = layout.n_frame
     for out, body6 in zip(outs, bodies6):
         if k:
-            out[:k, own] += body6[:k] @ moves
-            out[own, :k] += moves.T @ body6[:, :k]
-        out[own, own] += moves.T @ body6 @ moves
+            out[..., :k, own] += body6[..., :k, :] @ moves
+            out[..., own, :k] += moves.T @ body6[..., :k]
+        out[..., own, own] += moves.T @ body6 @ moves
 
 
 def loss_stiffness(model) -> np.ndarray:

@@ -762,32 +762,38 @@ _SKEW_BASIS = skew(np.eye(3))   # E_k = skew(unit_k), shape (3, 3, 3)
 
 
 def _bodies_quadratic(masses, centers, second_moments, X, first=None, products=None) -> np.ndarray:
-    """``sum_p m_p Z_p^T X Z_p`` over the particles of each rigid body, Z_p = [I, -skew(r_p)].
+    """``sum_p m_p Z_p^T X Z_p`` over the particles of each rigid body, Z_p = [I, -skew(r_p)],
+    for one direction X or several stacked, (D, 3, 3).
 
     Needs only each body's mass, first moment and second-moment tensor about the reference
     point: ``sum_p m_p skew(r_p) X skew(r_p) = sum_kl Q_kl E_k X E_l`` with ``E_k = skew(unit_k)``.
 
     Parameters
     ----------
-    masses : ndarray (B,); centers : ndarray (B, 3); second_moments : ndarray (B, 3, 3); X : (3, 3)
+    masses : ndarray (B,); centers : ndarray (B, 3); second_moments : ndarray (B, 3, 3)
+    X : ndarray, shape (3, 3) or (D, 3, 3)
     first : ndarray (B, 3, 3), optional
         ``skew(masses * centers)``, when the caller has it.
-    products : ndarray (3, 3, 3, 3), optional
+    products : ndarray (3, 3, 3, 3) or (D, 3, 3, 3, 3), optional
         ``E_k X E_l``, when the caller has it (see :func:`_directions`).
 
     Returns
     -------
-    ndarray, shape (B, 6, 6)
+    ndarray, shape (B, 6, 6) or (D, B, 6, 6)
     """
+    if X.ndim == 2:
+        return _bodies_quadratic(masses, centers, second_moments, X[None], first,
+                                 None if products is None else products[None])[0]
     if products is None:
-        products = _direction_products(X)
+        products = np.stack([_direction_products(x) for x in X])
     if first is None:
         first = skew(masses[:, None] * centers)               # (B, 3, 3)
-    out = np.zeros((len(masses), 6, 6))
-    out[:, :3, :3] = masses[:, None, None] * X
-    out[:, :3, 3:] = -X @ first
-    out[:, 3:, :3] = first @ X
-    out[:, 3:, 3:] = -np.einsum("zkl,klad->zad", second_moments, products)
+    X = X[:, None]                                            # (D, 1, 3, 3)
+    out = np.zeros((len(X), len(masses), 6, 6))
+    out[..., :3, :3] = masses[:, None, None] * X
+    out[..., :3, 3:] = -X @ first
+    out[..., 3:, :3] = first @ X
+    out[..., 3:, 3:] = -np.einsum("zkl,xklad->xzad", second_moments, products)
     return out
 
 
@@ -797,17 +803,15 @@ def _direction_products(X) -> np.ndarray:
 
 
 @functools.lru_cache(maxsize=16)
-def _directions(axis: tuple) -> dict:
-    """The whirl forms' 3 x 3 directions about the spin axis ``axis`` (a tuple of 3 floats) and
-    their :func:`_direction_products`: name -> (X, products), read-only. A function of the axis
-    alone, kept for the next model with the same axis."""
+def _directions(axis: tuple):
+    """The whirl forms' 3 x 3 directions W, N, total about the spin axis ``axis`` (a tuple of 3
+    floats) and their :func:`_direction_products`, stacked: (3, 3, 3) and (3, 3, 3, 3, 3),
+    read-only. A function of the axis alone, kept for the next model with the same axis."""
     e = np.array(axis, dtype=float)
-    out = {}
-    for name, X in (("W", skew(e)), ("N", np.eye(3) - np.outer(e, e)), ("total", np.eye(3))):
-        products = _direction_products(X)
-        X.flags.writeable = products.flags.writeable = False
-        out[name] = (X, products)
-    return out
+    X = np.stack([skew(e), np.eye(3) - np.outer(e, e), np.eye(3)])
+    products = np.stack([_direction_products(x) for x in X])
+    X.flags.writeable = products.flags.writeable = False
+    return X, products
 
 
 class WhirlForms(NamedTuple):
@@ -821,10 +825,10 @@ class WhirlForms(NamedTuple):
 _DIRECTIONS = ("W", "N", "total")
 
 
-def _bodies_forms(model) -> dict:
-    """The 6x6 forms W, N, total of each body's rigid motion at the reference point (stator
-    first, then the rotors): name -> ndarray (B, 6, 6)."""
-    directions = _directions(tuple(float(x) for x in model.spin_axis))
+def _bodies_forms(model) -> np.ndarray:
+    """The 6x6 forms W, N, total (stacked in this order) of each body's rigid motion at the
+    reference point (stator first, then the rotors): shape (3, B, 6, 6)."""
+    X, products = _directions(tuple(float(x) for x in model.spin_axis))
     bodies = body_inertias(model)
     masses = np.array([m for m, _, _ in bodies], dtype=float)
     arms = np.array([np.asarray(c, dtype=float) for _, c, _ in bodies]) - model.reference_point
@@ -833,8 +837,7 @@ def _bodies_forms(model) -> dict:
     second = (0.5 * traces[:, None, None] * np.eye(3) - inertias
               + masses[:, None, None] * arms[:, :, None] * arms[:, None, :])
     first = skew(masses[:, None] * arms)
-    return {name: _bodies_quadratic(masses, arms, second, X, first, products)
-            for name, (X, products) in directions.items()}
+    return _bodies_quadratic(masses, arms, second, X, first, products)
 
 
 def whirl_forms(model) -> WhirlForms:
@@ -847,24 +850,22 @@ def whirl_forms(model) -> WhirlForms:
     matrix). Each body contributes ``T_b^T X_b T_b`` (its motion ``T_b`` over the
     generalized coordinates). See ``docs/theory.md``.
     """
-    forms = _bodies_forms(model)
-    parts = {name: frame_block(model, forms[name].sum(axis=0)) for name in _DIRECTIONS}
-    first_rotor = len(forms["W"]) - len(model.rotors)
+    forms = _bodies_forms(model)                                          # (3, B, 6, 6)
+    parts = frame_block(model, forms.sum(axis=1))                         # (3, n, n)
+    first_rotor = forms.shape[1] - len(model.rotors)
     for j, rotor in enumerate(model.rotors):
         if model.dofs.on_bearings(rotor.name):
-            add_rotor_bodies([parts[name] for name in _DIRECTIONS], model, rotor.name,
-                             [forms[name][first_rotor + j] for name in _DIRECTIONS])
-    return WhirlForms(**parts)
+            add_rotor_bodies([parts], model, rotor.name, [forms[:, first_rotor + j]])
+    return WhirlForms(*parts)
 
 
 def rotor_whirl_forms(model, rotor: str) -> WhirlForms:
     """The whirl forms of one rotor's own motion (absolute), each (n, n)."""
     index = [r.name for r in model.rotors].index(rotor)
     forms = _bodies_forms(model)
-    first_rotor = len(forms["W"]) - len(model.rotors)
-    body = {name: forms[name][first_rotor + index] for name in _DIRECTIONS}
+    body = forms[:, forms.shape[1] - len(model.rotors) + index]            # (3, 6, 6)
     motion = model.dofs.body_motion(rotor)
-    return WhirlForms(**{name: motion.T @ body[name] @ motion for name in _DIRECTIONS})
+    return WhirlForms(*(motion.T @ body[d] @ motion for d in range(len(_DIRECTIONS))))
 
 
 def stacked_forms(forms: WhirlForms) -> np.ndarray:

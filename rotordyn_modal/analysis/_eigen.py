@@ -212,12 +212,11 @@ def upper_indices(values: np.ndarray):
     scale = magnitude.max(axis=-1, keepdims=True)
     tol = OSCILLATORY_TOLERANCE * np.where(scale > 0, scale, 1.0)
     imag = np.where(np.abs(values.imag) <= tol, 0.0, values.imag)
-    # within the real block, prefer the smaller |lam|: a second stable sort by -|lam| first
-    along = _gather(values.shape)
-    pre = (-magnitude).argsort(axis=-1, kind="stable")
-    imag_pre = along(imag, pre)
-    order = along(pre, imag_pre.argsort(axis=-1, kind="stable"))
+    # by imaginary part; within the real block the smaller |lam| last, so that the upper half
+    # takes it
+    order = np.lexsort((-magnitude, imag), axis=-1)
     chosen = order[..., n:]
+    along = _gather(values.shape)
     upper = along(values, chosen)
     upper = np.where(along(imag, chosen) == 0.0, upper.real + 0j, upper)
     final = np.lexsort((upper.real, upper.imag), axis=-1)

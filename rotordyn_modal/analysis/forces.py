@@ -52,48 +52,61 @@ def suspension_forces(model, omega, q) -> np.ndarray:
     ndarray, shape (n_suspensions, n_freq, 6, n), complex
         ``[F, C]`` at each suspension's point, model axes [N, N m].
     """
-    w = np.asarray(omega, dtype=float)[:, None, None]
+    w = np.asarray(omega, dtype=float)
     suspensions = model.suspensions
     count, n = len(w), q.shape[-1]
     if not suspensions:
         return np.zeros((0, count, 6, n), dtype=complex)
-    stator = _times(model.dofs.frame_motion(), q)                    # the stator's motion at S
-    # every suspension at once: B_SP^T q_S, then its stiffness and damping on its own point's motion
+    # every suspension at once: its point's motion B_SP^T q_S in one product, then its stiffness
+    # and damping on it
     shifts = shift_matrices(model.reference_point, [s.position for s in suspensions])
-    points = _stacked(_times(shifts.transpose(0, 2, 1).reshape(-1, 6), stator), len(suspensions))   # (S, F n, 6)
+    to_points = model.dofs.frame_motion().T @ shifts.transpose(0, 2, 1).reshape(-1, 6).T     # (n_dof, 6 S)
+    points = _items(_rows(q) @ to_points, len(suspensions))                                  # (S, F n, 6)
     losses = np.array([s.loss_factor for s in suspensions], dtype=float)
     stiffness = np.array([s.stiffness_matrix for s in suspensions]) * (1 + 1j * losses)[:, None, None]
     damping = np.array([s.damping_matrix for s in suspensions])
-    out = _unstacked(points @ np.swapaxes(stiffness, 1, 2), count) \
-        + 1j * w * _unstacked(points @ np.swapaxes(damping, 1, 2), count)
+    out = _stiffness_damping(points, stiffness, damping, w, n)
     for i, s in enumerate(suspensions):
         if getattr(s, "maxwell_stiffness_matrix", None) is not None:
-            out[i] = out[i] + _branch_stiffness(s, np.ravel(w)) @ _unstacked(points[i:i + 1], count)[0]
+            out[i] = out[i] + _branch_stiffness(s, w) @ _columns(points[i], count)
     return out
 
 
-def _stacked(motion, items):
-    """(F, 6 items, n) -> (items, F n, 6): each item's motion as the rows of one matrix product."""
-    count, _, n = motion.shape
-    return motion.reshape(count, items, 6, n).transpose(1, 0, 3, 2).reshape(items, count * n, 6)
+def _rows(q):
+    """(F, d, n) -> (F n, d): every column of every frequency as a row (a view when n = 1)."""
+    count, d, n = q.shape
+    return q.transpose(0, 2, 1).reshape(count * n, d)
 
 
-def _unstacked(rows, count):
-    """(items, F n, 6) -> (items, F, 6, n), the inverse of :func:`_stacked`."""
-    items = rows.shape[0]
-    return rows.reshape(items, count, -1, 6).transpose(0, 1, 3, 2)
+def _items(rows, items):
+    """(F n, 6 items) -> (items, F n, 6): each item's six components as the rows of one matrix
+    (a view)."""
+    return rows.reshape(len(rows), items, 6).transpose(1, 0, 2)
 
 
-def _times(matrix, motion):
-    """``matrix @ motion[f]`` for every f as one matrix product: matrix (k, d), motion (F, d, n).
+def _columns(rows, count):
+    """(..., F n, k) -> (..., F, k, n): the inverse of :func:`_rows` (a view)."""
+    return rows.reshape(*rows.shape[:-2], count, -1, rows.shape[-1]).swapaxes(-1, -2)
+
+
+def _stiffness_damping(motion, stiffness, damping, w, n):
+    """``K_i x + i w C_i x`` for each item's motion ``x`` (one product per matrix kind for all
+    items; side by side in one product, the signs of structural zeros would change).
+
+    Parameters
+    ----------
+    motion : ndarray, shape (items, F n, 6), complex
+    stiffness, damping : ndarray, shape (items, 6, 6)
+    w : ndarray, shape (F,) [rad/s]
+    n : int
 
     Returns
     -------
-    ndarray, shape (F, k, n)
+    ndarray, shape (items, F, 6, n), complex
     """
-    count, d, n = motion.shape
-    flat = motion.transpose(0, 2, 1).reshape(count * n, d) @ np.asarray(matrix).T
-    return flat.reshape(count, n, -1).transpose(0, 2, 1)
+    a = _columns(motion @ stiffness.transpose(0, 2, 1), len(w))
+    b = _columns(motion @ damping.transpose(0, 2, 1), len(w))
+    return a + 1j * w[:, None, None] * b
 
 
 def _broadcast(values, shape):
@@ -129,24 +142,32 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     """
     w = np.asarray(omega, dtype=float)
     speed = _broadcast(speed, w.shape)
+    rotors = model.rotors
+    count, n = len(w), q.shape[-1]
+    if not rotors:
+        return np.zeros((0, count, 6, n))
     e = model.spin_axis
     layout = model.dofs
-    out = []
-    for j, rotor in enumerate(model.rotors):
-        shift = shift_matrix(model.reference_point, rotor.center_of_mass)
-        motion = _times(shift.T @ layout.body_motion(rotor.name), q)      # B_SR^T T_j q at R_j
-        local = np.zeros((6, 6))
-        local[:3, :3] = rotor.mass * np.eye(3)
-        local[3:, 3:] = rotor.diametral_inertia * np.eye(3) + \
-            (rotor.polar_inertia - rotor.diametral_inertia) * np.outer(e, e)
-        gyro = rotor_gyroscopic(model, rotor)
-        # -(-w^2 M_j + i w Omega G_j) motion, the two constant matrices applied once each
-        force = w[:, None, None] ** 2 * _times(local, motion) \
-            - 1j * (w * speed)[:, None, None] * _times(gyro, motion)
-        if rotor_forces is not None:
-            force = force + rotor_forces[j]
-        out.append(force)
-    return np.array(out).reshape(len(model.rotors), len(w), 6, q.shape[-1])
+    reference = model.reference_point
+    # every rotor's motion at its centre of mass B_SR^T T_j q in one product, then its mass and
+    # gyroscopic matrices on it: -(-w^2 M_j + i w Omega G_j) motion
+    to_centres = np.concatenate([shift_matrix(reference, r.center_of_mass).T @ layout.body_motion(r.name)
+                                 for r in rotors])                                  # (6 R, n_dof)
+    motion = _items(_rows(q) @ to_centres.T, len(rotors))                            # (R, F n, 6)
+    masses = np.zeros((len(rotors), 6, 6))
+    gyroscopic = np.zeros((len(rotors), 6, 6))
+    axial = np.outer(e, e)
+    for j, rotor in enumerate(rotors):
+        masses[j, :3, :3] = rotor.mass * np.eye(3)
+        masses[j, 3:, 3:] = rotor.diametral_inertia * np.eye(3) + \
+            (rotor.polar_inertia - rotor.diametral_inertia) * axial
+        gyroscopic[j] = rotor_gyroscopic(model, rotor)
+    inertial = _columns(motion @ masses.transpose(0, 2, 1), count)
+    spinning = _columns(motion @ gyroscopic.transpose(0, 2, 1), count)
+    force = w[:, None, None] ** 2 * inertial - 1j * (w * speed)[:, None, None] * spinning
+    if rotor_forces is not None:
+        force = force + rotor_forces
+    return force
 
 
 def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
@@ -167,19 +188,32 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
     """
     w = np.asarray(omega, dtype=float)
     speed = _broadcast(speed, w.shape)
-    out = []
-    for bearing in model.bearings:
+    bearings = model.bearings
+    count, n = len(w), q.shape[-1]
+    if not bearings:
+        return np.zeros((0, count, 6, n))
+    # every bearing's relative motion at its point in one product (each bearing's rows read
+    # only its rotor's coordinates)
+    to_points = np.zeros((6 * len(bearings), q.shape[1]))
+    for b, bearing in enumerate(bearings):
         rows, moves = bearing_motion(model, bearing)
-        relative = _times(moves, q[:, rows])
+        to_points[6 * b:6 * b + 6, rows] = moves
+    relative = _items(_rows(q) @ to_points.T, len(bearings))                        # (B, F n, 6)
+    constant = [b for b, bearing in enumerate(bearings) if bearing.coefficients.kind == "constant"]
+    if len(constant) == len(bearings):   # the same 6 x 6 matrices at every speed
+        return _stiffness_damping(relative, np.array([b.coefficients.stiffness[0] for b in bearings]),
+                                  np.array([b.coefficients.damping[0] for b in bearings]), w, n)
+    out = np.empty((len(bearings), count, 6, n), dtype=complex)
+    for b, bearing in enumerate(bearings):
         coefficients = bearing.coefficients
-        if coefficients.kind == "constant":   # the same 6 x 6 matrices at every speed
-            out.append(_times(coefficients.stiffness[0], relative)
-                       + 1j * w[:, None, None] * _times(coefficients.damping[0], relative))
+        if coefficients.kind == "constant":
+            out[b] = _stiffness_damping(relative[b:b + 1], coefficients.stiffness[:1],
+                                        coefficients.damping[:1], w, n)[0]
         else:
             own = model.rotor(bearing.rotor).speed_ratio * speed
             k6, c6 = evaluate(coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
-            out.append((k6 + 1j * w[:, None, None] * c6) @ relative)
-    return np.array(out).reshape(len(model.bearings), len(w), 6, q.shape[-1])
+            out[b] = (k6 + 1j * w[:, None, None] * c6) @ _columns(relative[b], count)
+    return out
 
 
 def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensions") -> FRFResult:

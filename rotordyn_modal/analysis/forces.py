@@ -26,9 +26,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..assembly import bearing_motion, excitation_columns, rotor_gyroscopic
+from ..assembly import bearing_motion, excitation_columns
 from ..bearings import evaluate
-from ..geometry import shift_matrices, shift_matrix
+from ..geometry import shift_matrices, shift_matrix, skew
 from .frf import FRFResult, _check_frequencies, _names, dof_response
 
 __all__ = ["suspension_forces", "bearing_forces", "bearing_point_forces", "force_frf", "COMPONENTS"]
@@ -57,11 +57,11 @@ def suspension_forces(model, omega, q) -> np.ndarray:
     count, n = len(w), q.shape[-1]
     if not suspensions:
         return np.zeros((0, count, 6, n), dtype=complex)
-    # every suspension at once: its point's motion B_SP^T q_S in one product, then its stiffness
-    # and damping on it
+    # every suspension at once: the stator's motion at S, B_SP^T of it in one product, then each
+    # suspension's stiffness and damping on its own point's motion
     shifts = shift_matrices(model.reference_point, [s.position for s in suspensions])
-    to_points = model.dofs.frame_motion().T @ shifts.transpose(0, 2, 1).reshape(-1, 6).T     # (n_dof, 6 S)
-    points = _items(_rows(q) @ to_points, len(suspensions))                                  # (S, F n, 6)
+    stator = _rows(q) @ model.dofs.frame_motion().T                                          # (F n, 6)
+    points = _items(stator @ shifts.transpose(0, 2, 1).reshape(-1, 6).T, len(suspensions))   # (S, F n, 6)
     losses = np.array([s.loss_factor for s in suspensions], dtype=float)
     stiffness = np.array([s.stiffness_matrix for s in suspensions]) * (1 + 1j * losses)[:, None, None]
     damping = np.array([s.damping_matrix for s in suspensions])
@@ -154,14 +154,14 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     to_centres = np.concatenate([shift_matrix(reference, r.center_of_mass).T @ layout.body_motion(r.name)
                                  for r in rotors])                                  # (6 R, n_dof)
     motion = _items(_rows(q) @ to_centres.T, len(rotors))                            # (R, F n, 6)
+    mass, polar, diametral, ratio = np.array([(r.mass, r.polar_inertia, r.diametral_inertia, r.speed_ratio)
+                                              for r in rotors], dtype=float).T[:, :, None, None]
+    eye = np.eye(3)
     masses = np.zeros((len(rotors), 6, 6))
+    masses[:, :3, :3] = mass * eye
+    masses[:, 3:, 3:] = diametral * eye + (polar - diametral) * np.outer(e, e)
     gyroscopic = np.zeros((len(rotors), 6, 6))
-    axial = np.outer(e, e)
-    for j, rotor in enumerate(rotors):
-        masses[j, :3, :3] = rotor.mass * np.eye(3)
-        masses[j, 3:, 3:] = rotor.diametral_inertia * np.eye(3) + \
-            (rotor.polar_inertia - rotor.diametral_inertia) * axial
-        gyroscopic[j] = rotor_gyroscopic(model, rotor)
+    gyroscopic[:, 3:, 3:] = -polar * ratio * skew(e)      # rotor_gyroscopic of each rotor
     inertial = _columns(motion @ masses.transpose(0, 2, 1), count)
     spinning = _columns(motion @ gyroscopic.transpose(0, 2, 1), count)
     force = w[:, None, None] ** 2 * inertial - 1j * (w * speed)[:, None, None] * spinning
@@ -192,13 +192,17 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
     count, n = len(w), q.shape[-1]
     if not bearings:
         return np.zeros((0, count, 6, n))
-    # every bearing's relative motion at its point in one product (each bearing's rows read
-    # only its rotor's coordinates)
-    to_points = np.zeros((6 * len(bearings), q.shape[1]))
+    # the relative motion at every bearing of a rotor in one product of that rotor's coordinates
+    by_rotor: dict = {}
     for b, bearing in enumerate(bearings):
         rows, moves = bearing_motion(model, bearing)
-        to_points[6 * b:6 * b + 6, rows] = moves
-    relative = _items(_rows(q) @ to_points.T, len(bearings))                        # (B, F n, 6)
+        by_rotor.setdefault(bearing.rotor, (rows, [], []))
+        by_rotor[bearing.rotor][1].append(b)
+        by_rotor[bearing.rotor][2].append(moves)
+    coordinates = _rows(q)
+    relative = np.empty((len(bearings), len(coordinates), 6), dtype=complex)           # (B, F n, 6)
+    for rows, which, moves in by_rotor.values():
+        relative[which] = _items(coordinates[:, rows] @ np.concatenate(moves).T, len(which))
     constant = [b for b, bearing in enumerate(bearings) if bearing.coefficients.kind == "constant"]
     if len(constant) == len(bearings):   # the same 6 x 6 matrices at every speed
         return _stiffness_damping(relative, np.array([b.coefficients.stiffness[0] for b in bearings]),

@@ -106,7 +106,9 @@ def _stiffness_damping(motion, stiffness, damping, w, n):
     """
     a = _columns(motion @ stiffness.transpose(0, 2, 1), len(w))
     b = _columns(motion @ damping.transpose(0, 2, 1), len(w))
-    return a + 1j * w[:, None, None] * b
+    # a + (i w) b in place: the same operations, without two fresh arrays of the size of the result
+    np.multiply(1j * w[:, None, None], b, out=b)
+    return np.add(a, b, out=a)
 
 
 def _broadcast(values, shape):
@@ -164,9 +166,12 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     gyroscopic[:, 3:, 3:] = -polar * ratio * skew(e)      # rotor_gyroscopic of each rotor
     inertial = _columns(motion @ masses.transpose(0, 2, 1), count)
     spinning = _columns(motion @ gyroscopic.transpose(0, 2, 1), count)
-    force = w[:, None, None] ** 2 * inertial - 1j * (w * speed)[:, None, None] * spinning
+    # w^2 inertial - (i w Omega) spinning (+ the external forces) in place
+    np.multiply(w[:, None, None] ** 2, inertial, out=inertial)
+    np.multiply(1j * (w * speed)[:, None, None], spinning, out=spinning)
+    force = np.subtract(inertial, spinning, out=inertial)
     if rotor_forces is not None:
-        force = force + rotor_forces
+        np.add(force, rotor_forces, out=force)
     return force
 
 

@@ -29,12 +29,16 @@ import numpy as np
 from ..assembly import bearing_motion, excitation_columns
 from ..bearings import evaluate
 from ..geometry import shift_matrices, shift_matrix, skew
+from . import _eigen
 from .frf import FRFResult, _check_frequencies, _names, dof_response
 
 __all__ = ["suspension_forces", "bearing_forces", "bearing_point_forces", "force_frf", "COMPONENTS"]
 
 #: names of the six components of a generalized force
 COMPONENTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+#: memory of the items' motions taken in one part by :func:`bearing_forces` (its temporaries
+#: are about three times this) [bytes]
+_FORCE_PART_BYTES = 2**20
 
 
 def suspension_forces(model, omega, q) -> np.ndarray:
@@ -155,7 +159,6 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     # gyroscopic matrices on it: -(-w^2 M_j + i w Omega G_j) motion
     to_centres = np.concatenate([shift_matrix(reference, r.center_of_mass).T @ layout.body_motion(r.name)
                                  for r in rotors])                                  # (6 R, n_dof)
-    motion = _items(_rows(q) @ to_centres.T, len(rotors))                            # (R, F n, 6)
     mass, polar, diametral, ratio = np.array([(r.mass, r.polar_inertia, r.diametral_inertia, r.speed_ratio)
                                               for r in rotors], dtype=float).T[:, :, None, None]
     eye = np.eye(3)
@@ -164,15 +167,27 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     masses[:, 3:, 3:] = diametral * eye + (polar - diametral) * np.outer(e, e)
     gyroscopic = np.zeros((len(rotors), 6, 6))
     gyroscopic[:, 3:, 3:] = -polar * ratio * skew(e)      # rotor_gyroscopic of each rotor
-    inertial = _columns(motion @ masses.transpose(0, 2, 1), count)
-    spinning = _columns(motion @ gyroscopic.transpose(0, 2, 1), count)
-    # w^2 inertial - (i w Omega) spinning (+ the external forces) in place
-    np.multiply(w[:, None, None] ** 2, inertial, out=inertial)
-    np.multiply(1j * (w * speed)[:, None, None], spinning, out=spinning)
-    force = np.subtract(inertial, spinning, out=inertial)
-    if rotor_forces is not None:
-        np.add(force, rotor_forces, out=force)
-    return force
+    rows = _rows(q)
+    squares, spins = w[:, None, None] ** 2, 1j * (w * speed)[:, None, None]
+    out = np.empty((len(rotors), count, 6, n), dtype=complex)
+    for part in _parts(len(rotors), len(rows)):
+        motion = _items(rows @ to_centres[6 * part.start:6 * part.stop].T, len(out[part]))   # (R', F n, 6)
+        inertial = _columns(motion @ masses[part].transpose(0, 2, 1), count)
+        spinning = _columns(motion @ gyroscopic[part].transpose(0, 2, 1), count)
+        # w^2 inertial - (i w Omega) spinning (+ the external forces), in place
+        np.multiply(squares, inertial, out=inertial)
+        np.multiply(spins, spinning, out=spinning)
+        np.subtract(inertial, spinning, out=out[part])
+        if rotor_forces is not None:
+            np.add(out[part], rotor_forces[part], out=out[part])
+    return out
+
+
+def _parts(items, rows):
+    """Slices of ``items`` whose motions, ``rows`` x 6 complex numbers each, hold about
+    ``_FORCE_PART_BYTES`` together (all of a small model's at once; large models' forces in
+    parts, so that their temporaries stay a fraction of the result)."""
+    return _eigen.chunk_slices(items, 96 * rows, budget=_FORCE_PART_BYTES)
 
 
 def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
@@ -205,23 +220,22 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
         by_rotor[bearing.rotor][1].append(b)
         by_rotor[bearing.rotor][2].append(moves)
     coordinates = _rows(q)
-    relative = np.empty((len(bearings), len(coordinates), 6), dtype=complex)           # (B, F n, 6)
-    for rows, which, moves in by_rotor.values():
-        relative[which] = _items(coordinates[:, rows] @ np.concatenate(moves).T, len(which))
-    constant = [b for b, bearing in enumerate(bearings) if bearing.coefficients.kind == "constant"]
-    if len(constant) == len(bearings):   # the same 6 x 6 matrices at every speed
-        return _stiffness_damping(relative, np.array([b.coefficients.stiffness[0] for b in bearings]),
-                                  np.array([b.coefficients.damping[0] for b in bearings]), w, n)
     out = np.empty((len(bearings), count, 6, n), dtype=complex)
-    for b, bearing in enumerate(bearings):
-        coefficients = bearing.coefficients
-        if coefficients.kind == "constant":
-            out[b] = _stiffness_damping(relative[b:b + 1], coefficients.stiffness[:1],
-                                        coefficients.damping[:1], w, n)[0]
-        else:
-            own = model.rotor(bearing.rotor).speed_ratio * speed
-            k6, c6 = evaluate(coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
-            out[b] = (k6 + 1j * w[:, None, None] * c6) @ _columns(relative[b], count)
+    for rows, which, moves in by_rotor.values():
+        relative = _items(coordinates[:, rows] @ np.concatenate(moves).T, len(which))   # (B_j, F n, 6)
+        constant = [i for i, b in enumerate(which) if bearings[b].coefficients.kind == "constant"]
+        if constant:     # the same 6 x 6 matrices at every speed
+            chosen = [which[i] for i in constant]
+            out[chosen] = _stiffness_damping(
+                relative if len(constant) == len(which) else relative[constant],
+                np.array([bearings[b].coefficients.stiffness[0] for b in chosen]),
+                np.array([bearings[b].coefficients.damping[0] for b in chosen]), w, n)
+        for i, b in enumerate(which):
+            coefficients = bearings[b].coefficients
+            if coefficients.kind != "constant":
+                own = model.rotor(bearings[b].rotor).speed_ratio * speed
+                k6, c6 = evaluate(coefficients, own, f"{model.source}: [bearings.{bearings[b].name}]")
+                out[b] = (k6 + 1j * w[:, None, None] * c6) @ _columns(relative[i], count)
     return out
 
 

@@ -93,15 +93,23 @@ def shift_matrices(p, points) -> np.ndarray:
     """``shift_matrix(p, o)`` for each ``o`` of ``points`` (S, 3): shape (S, 6, 6), the same
     numbers (signed zeros included), made together."""
     arms = np.asarray(p, dtype=float) - np.asarray(points, dtype=float).reshape(-1, 3)
-    out = np.zeros((len(arms), 6, 6))
-    out[:, range(6), range(6)] = 1.0
+    out = np.repeat(_SHIFT_START, len(arms), axis=0)
     x, y, z = arms.T
-    block = out[:, 3:, :3]
-    block[:, range(3), range(3)] = -0.0
-    block[:, 0, 1], block[:, 0, 2] = z, -y
-    block[:, 1, 0], block[:, 1, 2] = -z, x
-    block[:, 2, 0], block[:, 2, 1] = y, -x
+    out[:, 3, 1], out[:, 3, 2] = z, -y
+    out[:, 4, 0], out[:, 4, 2] = -z, x
+    out[:, 5, 0], out[:, 5, 1] = y, -x
     return out
+
+
+def _shift_start() -> np.ndarray:
+    """What :func:`shift_matrices` fills in: ones on the diagonal, -0.0 on the arm block's."""
+    start = np.eye(6)[None]
+    start[0, range(3, 6), range(3)] = -0.0
+    start.flags.writeable = False
+    return start
+
+
+_SHIFT_START = _shift_start()
 
 
 def point_motion_row(point, reference, direction) -> np.ndarray:

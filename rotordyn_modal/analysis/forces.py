@@ -26,15 +26,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..assembly import bearing_motion, excitation_columns, rotor_gyroscopic
+from ..assembly import bearing_motion, excitation_columns
 from ..bearings import evaluate
-from ..geometry import shift_matrices, shift_matrix
+from ..geometry import shift_matrices, shift_matrix, skew
+from . import _eigen
 from .frf import FRFResult, _check_frequencies, _names, dof_response
 
 __all__ = ["suspension_forces", "bearing_forces", "bearing_point_forces", "force_frf", "COMPONENTS"]
 
 #: names of the six components of a generalized force
 COMPONENTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+#: memory of the items' motions taken in one part by :func:`bearing_forces` (its temporaries
+#: are about three times this) [bytes]
+_FORCE_PART_BYTES = 2**20
 
 
 def suspension_forces(model, omega, q) -> np.ndarray:
@@ -52,48 +56,63 @@ def suspension_forces(model, omega, q) -> np.ndarray:
     ndarray, shape (n_suspensions, n_freq, 6, n), complex
         ``[F, C]`` at each suspension's point, model axes [N, N m].
     """
-    w = np.asarray(omega, dtype=float)[:, None, None]
+    w = np.asarray(omega, dtype=float)
     suspensions = model.suspensions
     count, n = len(w), q.shape[-1]
     if not suspensions:
         return np.zeros((0, count, 6, n), dtype=complex)
-    stator = _times(model.dofs.frame_motion(), q)                    # the stator's motion at S
-    # every suspension at once: B_SP^T q_S, then its stiffness and damping on its own point's motion
+    # every suspension at once: the stator's motion at S, B_SP^T of it in one product, then each
+    # suspension's stiffness and damping on its own point's motion
     shifts = shift_matrices(model.reference_point, [s.position for s in suspensions])
-    points = _stacked(_times(shifts.transpose(0, 2, 1).reshape(-1, 6), stator), len(suspensions))   # (S, F n, 6)
+    stator = _rows(q) @ model.dofs.frame_motion().T                                          # (F n, 6)
+    points = _items(stator @ shifts.transpose(0, 2, 1).reshape(-1, 6).T, len(suspensions))   # (S, F n, 6)
     losses = np.array([s.loss_factor for s in suspensions], dtype=float)
     stiffness = np.array([s.stiffness_matrix for s in suspensions]) * (1 + 1j * losses)[:, None, None]
     damping = np.array([s.damping_matrix for s in suspensions])
-    out = _unstacked(points @ np.swapaxes(stiffness, 1, 2), count) \
-        + 1j * w * _unstacked(points @ np.swapaxes(damping, 1, 2), count)
+    out = _stiffness_damping(points, stiffness, damping, w, n)
     for i, s in enumerate(suspensions):
         if getattr(s, "maxwell_stiffness_matrix", None) is not None:
-            out[i] = out[i] + _branch_stiffness(s, np.ravel(w)) @ _unstacked(points[i:i + 1], count)[0]
+            out[i] = out[i] + _branch_stiffness(s, w) @ _columns(points[i], count)
     return out
 
 
-def _stacked(motion, items):
-    """(F, 6 items, n) -> (items, F n, 6): each item's motion as the rows of one matrix product."""
-    count, _, n = motion.shape
-    return motion.reshape(count, items, 6, n).transpose(1, 0, 3, 2).reshape(items, count * n, 6)
+def _rows(q):
+    """(F, d, n) -> (F n, d): every column of every frequency as a row (a view when n = 1)."""
+    count, d, n = q.shape
+    return q.transpose(0, 2, 1).reshape(count * n, d)
 
 
-def _unstacked(rows, count):
-    """(items, F n, 6) -> (items, F, 6, n), the inverse of :func:`_stacked`."""
-    items = rows.shape[0]
-    return rows.reshape(items, count, -1, 6).transpose(0, 1, 3, 2)
+def _items(rows, items):
+    """(F n, 6 items) -> (items, F n, 6): each item's six components as the rows of one matrix
+    (a view)."""
+    return rows.reshape(len(rows), items, 6).transpose(1, 0, 2)
 
 
-def _times(matrix, motion):
-    """``matrix @ motion[f]`` for every f as one matrix product: matrix (k, d), motion (F, d, n).
+def _columns(rows, count):
+    """(..., F n, k) -> (..., F, k, n): the inverse of :func:`_rows` (a view)."""
+    return rows.reshape(*rows.shape[:-2], count, -1, rows.shape[-1]).swapaxes(-1, -2)
+
+
+def _stiffness_damping(motion, stiffness, damping, w, n):
+    """``K_i x + i w C_i x`` for each item's motion ``x`` (one product per matrix kind for all
+    items; side by side in one product, the signs of structural zeros would change).
+
+    Parameters
+    ----------
+    motion : ndarray, shape (items, F n, 6), complex
+    stiffness, damping : ndarray, shape (items, 6, 6)
+    w : ndarray, shape (F,) [rad/s]
+    n : int
 
     Returns
     -------
-    ndarray, shape (F, k, n)
+    ndarray, shape (items, F, 6, n), complex
     """
-    count, d, n = motion.shape
-    flat = motion.transpose(0, 2, 1).reshape(count * n, d) @ np.asarray(matrix).T
-    return flat.reshape(count, n, -1).transpose(0, 2, 1)
+    a = _columns(motion @ stiffness.transpose(0, 2, 1), len(w))
+    b = _columns(motion @ damping.transpose(0, 2, 1), len(w))
+    # a + (i w) b in place: the same operations, without two fresh arrays of the size of the result
+    np.multiply(1j * w[:, None, None], b, out=b)
+    return np.add(a, b, out=a)
 
 
 def _broadcast(values, shape):
@@ -129,24 +148,46 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     """
     w = np.asarray(omega, dtype=float)
     speed = _broadcast(speed, w.shape)
+    rotors = model.rotors
+    count, n = len(w), q.shape[-1]
+    if not rotors:
+        return np.zeros((0, count, 6, n))
     e = model.spin_axis
     layout = model.dofs
-    out = []
-    for j, rotor in enumerate(model.rotors):
-        shift = shift_matrix(model.reference_point, rotor.center_of_mass)
-        motion = _times(shift.T @ layout.body_motion(rotor.name), q)      # B_SR^T T_j q at R_j
-        local = np.zeros((6, 6))
-        local[:3, :3] = rotor.mass * np.eye(3)
-        local[3:, 3:] = rotor.diametral_inertia * np.eye(3) + \
-            (rotor.polar_inertia - rotor.diametral_inertia) * np.outer(e, e)
-        gyro = rotor_gyroscopic(model, rotor)
-        # -(-w^2 M_j + i w Omega G_j) motion, the two constant matrices applied once each
-        force = w[:, None, None] ** 2 * _times(local, motion) \
-            - 1j * (w * speed)[:, None, None] * _times(gyro, motion)
+    reference = model.reference_point
+    # every rotor's motion at its centre of mass B_SR^T T_j q in one product, then its mass and
+    # gyroscopic matrices on it: -(-w^2 M_j + i w Omega G_j) motion
+    to_centres = np.concatenate([shift_matrix(reference, r.center_of_mass).T @ layout.body_motion(r.name)
+                                 for r in rotors])                                  # (6 R, n_dof)
+    mass, polar, diametral, ratio = np.array([(r.mass, r.polar_inertia, r.diametral_inertia, r.speed_ratio)
+                                              for r in rotors], dtype=float).T[:, :, None, None]
+    eye = np.eye(3)
+    masses = np.zeros((len(rotors), 6, 6))
+    masses[:, :3, :3] = mass * eye
+    masses[:, 3:, 3:] = diametral * eye + (polar - diametral) * np.outer(e, e)
+    gyroscopic = np.zeros((len(rotors), 6, 6))
+    gyroscopic[:, 3:, 3:] = -polar * ratio * skew(e)      # rotor_gyroscopic of each rotor
+    rows = _rows(q)
+    squares, spins = w[:, None, None] ** 2, 1j * (w * speed)[:, None, None]
+    out = np.empty((len(rotors), count, 6, n), dtype=complex)
+    for part in _parts(len(rotors), len(rows)):
+        motion = _items(rows @ to_centres[6 * part.start:6 * part.stop].T, len(out[part]))   # (R', F n, 6)
+        inertial = _columns(motion @ masses[part].transpose(0, 2, 1), count)
+        spinning = _columns(motion @ gyroscopic[part].transpose(0, 2, 1), count)
+        # w^2 inertial - (i w Omega) spinning (+ the external forces), in place
+        np.multiply(squares, inertial, out=inertial)
+        np.multiply(spins, spinning, out=spinning)
+        np.subtract(inertial, spinning, out=out[part])
         if rotor_forces is not None:
-            force = force + rotor_forces[j]
-        out.append(force)
-    return np.array(out).reshape(len(model.rotors), len(w), 6, q.shape[-1])
+            np.add(out[part], rotor_forces[part], out=out[part])
+    return out
+
+
+def _parts(items, rows):
+    """Slices of ``items`` whose motions, ``rows`` x 6 complex numbers each, hold about
+    ``_FORCE_PART_BYTES`` together (all of a small model's at once; large models' forces in
+    parts, so that their temporaries stay a fraction of the result)."""
+    return _eigen.chunk_slices(items, 96 * rows, budget=_FORCE_PART_BYTES)
 
 
 def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
@@ -167,19 +208,35 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
     """
     w = np.asarray(omega, dtype=float)
     speed = _broadcast(speed, w.shape)
-    out = []
-    for bearing in model.bearings:
+    bearings = model.bearings
+    count, n = len(w), q.shape[-1]
+    if not bearings:
+        return np.zeros((0, count, 6, n))
+    # the relative motion at every bearing of a rotor in one product of that rotor's coordinates
+    by_rotor: dict = {}
+    for b, bearing in enumerate(bearings):
         rows, moves = bearing_motion(model, bearing)
-        relative = _times(moves, q[:, rows])
-        coefficients = bearing.coefficients
-        if coefficients.kind == "constant":   # the same 6 x 6 matrices at every speed
-            out.append(_times(coefficients.stiffness[0], relative)
-                       + 1j * w[:, None, None] * _times(coefficients.damping[0], relative))
-        else:
-            own = model.rotor(bearing.rotor).speed_ratio * speed
-            k6, c6 = evaluate(coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
-            out.append((k6 + 1j * w[:, None, None] * c6) @ relative)
-    return np.array(out).reshape(len(model.bearings), len(w), 6, q.shape[-1])
+        by_rotor.setdefault(bearing.rotor, (rows, [], []))
+        by_rotor[bearing.rotor][1].append(b)
+        by_rotor[bearing.rotor][2].append(moves)
+    coordinates = _rows(q)
+    out = np.empty((len(bearings), count, 6, n), dtype=complex)
+    for rows, which, moves in by_rotor.values():
+        relative = _items(coordinates[:, rows] @ np.concatenate(moves).T, len(which))   # (B_j, F n, 6)
+        constant = [i for i, b in enumerate(which) if bearings[b].coefficients.kind == "constant"]
+        if constant:     # the same 6 x 6 matrices at every speed
+            chosen = [which[i] for i in constant]
+            out[chosen] = _stiffness_damping(
+                relative if len(constant) == len(which) else relative[constant],
+                np.array([bearings[b].coefficients.stiffness[0] for b in chosen]),
+                np.array([bearings[b].coefficients.damping[0] for b in chosen]), w, n)
+        for i, b in enumerate(which):
+            coefficients = bearings[b].coefficients
+            if coefficients.kind != "constant":
+                own = model.rotor(bearings[b].rotor).speed_ratio * speed
+                k6, c6 = evaluate(coefficients, own, f"{model.source}: [bearings.{bearings[b].name}]")
+                out[b] = (k6 + 1j * w[:, None, None] * c6) @ _columns(relative[i], count)
+    return out
 
 
 def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensions") -> FRFResult:

@@ -188,7 +188,9 @@ class _StiffnessTerms:
     def __init__(self, model):
         self.model = model
         self.matrices = constant_matrices(model)
-        self.loss = loss_stiffness(model)
+        # without loss factors a zero: adding it keeps Z's numbers (signed zeros included) as the
+        # zero matrix would, without assembling that matrix
+        self.loss = loss_stiffness(model) if any(s.loss_factor for s in model.suspensions) else 0.0
         self.frequency_dependent = has_frequency_dependence(model)
         self.speed_dependent = model.speed_dependent
 
@@ -242,9 +244,14 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     rhs = np.asarray(forces, dtype=complex)
     if rhs.shape != (len(w),) + rhs.shape[-2:]:
         rhs = np.broadcast_to(rhs, (len(w),) + rhs.shape[-2:])
-    out = np.empty(rhs.shape, dtype=complex)
     # per system: Z, LAPACK's copy and the temporaries of its right-hand side
-    for part in _eigen.chunk_slices(len(w), 48 * n * n, budget=_SOLVE_PART_BYTES):
+    parts = _eigen.chunk_slices(len(w), 48 * n * n, budget=_SOLVE_PART_BYTES)
+    if len(parts) == 1:
+        # the solution made after Z: Z's memory, freed below it, serves the caller's next arrays
+        # (as the top of the heap it would be handed back to the system and faulted in again)
+        return np.linalg.solve(terms.at(speeds, w), rhs)
+    out = np.empty(rhs.shape, dtype=complex)
+    for part in parts:
         out[part] = np.linalg.solve(terms.at(speeds[part], w[part]), rhs[part])
     return out
 

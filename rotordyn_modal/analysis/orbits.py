@@ -71,7 +71,8 @@ def probe_pairs(model, sensors) -> ProbePairs:
     for index, sensor in enumerate(sensors):
         if abs(np.asarray(sensor.direction) @ e) > _NORMAL_TOLERANCE:
             continue
-        key = (sensor.rotor, sensor.measure, tuple((np.asarray(sensor.position) / _SAME_POINT).round()))
+        key = (sensor.rotor, sensor.measure,
+               tuple(round(x / _SAME_POINT) for x in np.asarray(sensor.position, dtype=float).tolist()))
         groups.setdefault(key, []).append(index)
     names, indices, transforms = [], [], []
     for members in groups.values():
@@ -84,11 +85,21 @@ def probe_pairs(model, sensors) -> ProbePairs:
                 continue
             members.remove(partner)
             d = np.asarray(sensors[partner].direction, dtype=float)
-            transforms.append(np.linalg.inv(np.array([[1.0, 0.0], [d @ u, d @ w]])))
+            transforms.append(_unit_lower_inverse(float(d @ u), float(d @ w)))
             names.append((sensors[first].name, sensors[partner].name))
             indices.append((first, partner))
     return ProbePairs(names=tuple(names), indices=np.array(indices, dtype=int).reshape(-1, 2),
                       to_plane=np.array(transforms).reshape(-1, 2, 2))
+
+
+def _unit_lower_inverse(a, b):
+    """``numpy.linalg.inv([[1, 0], [a, b]])`` for ``b != 0``; written out where LAPACK's LU does
+    not pivot (|a| <= 1, unit directions): the same numbers (``0 - a`` times the reciprocal of
+    ``b``), signed zeros included."""
+    if not abs(a) <= 1.0:
+        return np.linalg.inv(np.array([[1.0, 0.0], [a, b]]))
+    r = 1.0 / b
+    return [[1.0, 0.0], [(0.0 - a) * r, r]]
 
 
 def orbit_ellipses(plane, spin_sign):

@@ -373,7 +373,8 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     pairs = probe_pairs(model, [next(s for s in model.sensors if s.name == name) for name in names])
     planes = np.einsum("pij,pjsn->psni", pairs.to_plane, response[pairs.indices]) if len(pairs) else \
         np.zeros((0, n_src, n, 2), dtype=complex)
-    spin_signs = np.array([np.where(model.rotor(src).speed_ratio * speeds < 0, -1.0, 1.0) for src in sources])
+    ratios = np.array([model.rotor(src).speed_ratio for src in sources], dtype=float)
+    spin_signs = np.where(ratios[:, None] * speeds < 0, -1.0, 1.0)
     return UnbalanceResult(
         speeds=speeds, sources=tuple(sources), frequencies_hz=w / (2 * np.pi), outputs=names,
         response=response, quantity=quantity,

@@ -375,14 +375,15 @@ class PencilFactors:
             self.factors[row] = (lu, pivots)
 
     def solve(self, rows, rhs, adjoint: bool = False):
-        """``Q^-1 rhs`` (or ``Q^-H rhs``) for storage ``rows``; ``rhs`` (R, n) complex."""
-        from scipy.linalg import lapack
-
+        """``Q^-1 rhs`` (or ``Q^-H rhs``) for storage ``rows`` (an index array, or a slice); ``rhs``
+        (R, n) complex."""
         if self.whole:
             matrices = self.matrices[rows]
             if adjoint:
                 matrices = matrices.swapaxes(-1, -2).conj()
             return _solve(matrices, rhs[..., None])[..., 0]
+        from scipy.linalg import lapack
+
         out = np.empty(rhs.shape, dtype=complex)
         for i, row in enumerate(rows):
             factor = self.factors[row]
@@ -441,13 +442,15 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
     with np.errstate(all="ignore"):                                     # a singular factor is dropped below
         left = factors.solve(rows, normal, adjoint=True).conj()
         active = np.isfinite(left).all(axis=-1)
+        # every row at once while all iterate (the usual case): no gathers and scatters
+        everyone = bool(active.all())
         for _ in range(iterations):
-            # every row at once while all iterate (the usual case): no gathers and scatters
-            i = slice(None) if active.all() else active.nonzero()[0]
-            if not len(s[i]):
+            i = slice(None) if everyone else active.nonzero()[0]
+            mine = every[i]
+            if not len(mine):
                 break
             phi_i, s_i, left_i = phi[i], s[i], left[i]
-            m_phi, d_phi, k_phi = pencils.products(every[i], phi_i)
+            m_phi, d_phi, k_phi = pencils.products(mine, phi_i)
             new = _nearest_root(np.einsum("pi,pi->p", left_i, m_phi), np.einsum("pi,pi->p", left_i, d_phi),
                                 np.einsum("pi,pi->p", left_i, k_phi), s_i)
             residual = new[:, None] ** 2 * m_phi + new[:, None] * d_phi + k_phi
@@ -465,15 +468,19 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                 phi[i] = np.where(finite[:, None], phi_new, phi_i)
             rate = size / last[i]
             done = (size <= 1e-14) | ((size <= 1e-9) & (rate < 0.5) & (size * rate <= 1e-14))
-            finished = every[i][done | ~finite]
-            converged[every[i][done]] = True
-            active[finished] = False
             last[i] = size
-            if factors.whole and len(finished) < len(s[i]):
+            stop = done | ~finite
+            if stop.any():
+                converged[mine[done]] = True
+                active[mine[stop]] = False
+                everyone = False
+                if stop.all():
+                    break
+            if factors.whole:
                 # small pencils are refactored at every step anyway: shift them to the new eigenvalue
                 # (Newton's convergence instead of linear), with the left vector to match
-                more = slice(None) if active.all() else active.nonzero()[0]
-                factors.factor(rows[more], PencilRows(pencils, every[more]), s[more])
+                more = slice(None) if everyone else active.nonzero()[0]
+                factors.factor(rows[more], pencils if everyone else PencilRows(pencils, every[more]), s[more])
                 left[more] = factors.solve(rows[more], normal[more], adjoint=True).conj()
     return s, unit_rows(phi), converged
 

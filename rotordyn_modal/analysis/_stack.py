@@ -182,6 +182,7 @@ class Pencils:
     def __init__(self, stack, variants, speeds):
         self.stack, self.variants, self.speeds = stack, np.asarray(variants), np.asarray(speeds, dtype=float)
         self.shared = len(stack) == 1 and not stack.dependent
+        self._constant = None       # M, C, G, K of every variant side by side, made on first use
 
     def __len__(self) -> int:
         return len(self.speeds)
@@ -226,18 +227,21 @@ class Pencils:
                                           for matrix in (stack.M, stack.C, stack.G, stack.K))
             return m_phi, c_phi + speeds * g_phi, k_phi
         variants = self.variants[rows]
-        pick = (lambda matrix: matrix[0]) if len(stack) == 1 else (lambda matrix: matrix[variants])
         if stack.dependent:
             damping, stiffness = stack.damping_stiffness(variants, self.speeds[rows])
-            return _row_products(pick(stack.M), vectors), _row_products(damping, vectors), \
-                _row_products(stiffness, vectors)
-        return (_row_products(pick(stack.M), vectors),
-                _row_products(pick(stack.C), vectors) + speeds * _row_products(pick(stack.G), vectors),
-                _row_products(pick(stack.K), vectors))
+            mass = stack.M[0] if len(stack) == 1 else stack.M[variants]
+            return _row_products(mass, vectors), _row_products(damping, vectors), _row_products(stiffness, vectors)
+        # M, C, G and K times each row in one product (each matrix-vector product as by itself)
+        if self._constant is None:
+            self._constant = np.stack((stack.M, stack.C, stack.G, stack.K), axis=1)      # (V, 4, n, n)
+        matrices = self._constant[0, :, None] if len(stack) == 1 else self._constant[variants].swapaxes(0, 1)
+        m_phi, c_phi, g_phi, k_phi = _row_products(matrices, vectors)
+        return m_phi, c_phi + speeds * g_phi, k_phi
 
 
 def _row_products(matrices, vectors):
-    """Real matrices (n, n) or (R, n, n) times complex vectors (R, n), one row at a time: (R, n)."""
+    """Real matrices (..., n, n) (broadcast against the rows: (n, n), (R, n, n), (K, 1, n, n) or (K,
+    R, n, n)) times complex vectors (R, n), one row at a time: (..., R, n)."""
     column = vectors[..., None]
     return (matrices @ column.real)[..., 0] + 1j * (matrices @ column.imag)[..., 0]
 

@@ -398,14 +398,17 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shap
         roots, lam, phi, sure = _refine_parts(stack, speeds, values, weighted, brackets, shapes)
     ratios = stack.whirl_ratios(phi[:, None], brackets.variant, roots)[:, 0]
     _, zeta, _ = modal_quantities(lam)
-    names = np.asarray(sources[0].names, dtype=object)[brackets.source]
-    labels = _eigen.whirl_labels(ratios).astype(object)
+    names = np.asarray(sources[0].names, dtype=str)[brackets.source]
+    labels = _eigen.whirl_labels(ratios)
     tables = []
     for v in range(count):
-        mine = np.nonzero(brackets.variant == v)[0]
-        order = mine[np.lexsort((brackets.mode[mine], brackets.order[mine], names[mine].astype(str), roots[mine]))]
-        tables.append(_critical_table(names[order], brackets.order[order], brackets.mode[order] + 1, roots[order],
-                                      lam.imag[order] / (2 * np.pi), labels[order], ratios[order], zeta[order]))
+        mine = slice(None) if count == 1 else np.nonzero(brackets.variant == v)[0]
+        order = np.lexsort((brackets.mode[mine], brackets.order[mine], names[mine], roots[mine]))
+        if count > 1:
+            order = mine[order]
+        tables.append(_critical_table(names[order].astype(object), brackets.order[order], brackets.mode[order] + 1,
+                                      roots[order], lam.imag[order] / (2 * np.pi), labels[order].astype(object),
+                                      ratios[order], zeta[order]))
     return tables
 
 
@@ -459,23 +462,31 @@ def _crossing_brackets(speeds, values, sources, orders, oscillating=None) -> _Br
     may differ)."""
     mode_ok = is_oscillating(values) if oscillating is None else oscillating
     both = mode_ok[:, :-1] & mode_ok[:, 1:]
-    multipliers = np.array([s.multipliers for s in sources])            # (V, n_sources)
-    frequencies, magnitudes = values.imag, np.abs(speeds)[None, :, None]
+    multipliers = np.array([s.multipliers for s in sources], dtype=float)            # (V, n_sources)
+    factors = np.asarray(orders, dtype=float)
+    # excitation [rad/s] per |speed| [rad/s] of every (source, order), source after source, per variant
+    slopes = (factors[None, :, None] * multipliers.T[:, None, :]).reshape(-1, len(sources))
+    frequencies, magnitudes = values.imag, np.abs(speeds)[:, None]
     parts = []
-    for s in range(multipliers.shape[1]):
-        for order in orders:
-            slope = order * multipliers[:, s]  # excitation [rad/s] per |speed| [rad/s], per variant
-            gap = frequencies - slope[:, None, None] * magnitudes
-            sign = np.sign(gap)
-            change = (sign[:, :-1] != sign[:, 1:]) & (gap[:, :-1] != 0) & both
-            if not (slope != 0).all():
-                change &= (slope != 0)[:, None, None]
-            v, k, mode = change.nonzero()
-            parts.append((v, k, mode, slope[v], np.full(len(k), s), np.full(len(k), float(order))))
-    if not parts:
-        parts = [tuple(np.zeros(0, dtype=int) for _ in range(6))]
-    v, k, mode, slope, source, order = parts[0] if len(parts) == 1 else (np.concatenate(c) for c in zip(*parts))
-    return _Brackets(v, k, mode, slope, source.astype(int), order, *_bracket_ends(speeds, values, mode_ok, v, k, mode))
+    # the lines a few at a time: their gaps are each the size of the sweep's eigenvalues
+    for lines in _eigen.chunk_slices(len(slopes), 8 * values.size, budget=_LINES_BYTES):
+        slope = slopes[lines]
+        gap = frequencies - slope[:, :, None, None] * magnitudes                    # (L, V, N, m)
+        sign = np.sign(gap)
+        change = (sign[:, :, :-1] != sign[:, :, 1:]) & (gap[:, :, :-1] != 0) & both
+        if not (slope != 0).all():
+            change &= (slope != 0)[:, :, None, None]
+        line, v, k, mode = change.nonzero()
+        parts.append((v, k, mode, slope[line, v], line + lines.start))
+    if not parts:                                        # no sources or no orders
+        parts = [(*(np.zeros(0, dtype=int) for _ in range(3)), np.zeros(0), np.zeros(0, dtype=int))]
+    v, k, mode, slope, line = parts[0] if len(parts) == 1 else (np.concatenate(c) for c in zip(*parts))
+    source, order = np.divmod(line, max(len(factors), 1))
+    return _Brackets(v, k, mode, slope, source, factors[order], *_bracket_ends(speeds, values, mode_ok, v, k, mode))
+
+
+#: the largest part of the gaps to the excitation lines computed at once [bytes]
+_LINES_BYTES = 4 * 2**20
 
 
 def _bracket_ends(speeds, values, oscillating, v, k, mode):
@@ -508,8 +519,12 @@ def _refine_parts(stack, speeds, values, weighted, brackets, shapes=None):
     roots : ndarray (P,) [rad/s]; lam : ndarray (P,), complex; phi : ndarray (P, n), complex;
     sure : ndarray (P,) bool
     """
+    chunks = _eigen.chunk_slices(len(brackets.k), 64 * stack.n_dof ** 2)
+    if len(chunks) == 1:                             # all in one part (small models): no copies
+        roots, lam, sure, iterates = _refine_together(stack, speeds, values, weighted, brackets, shapes)
+        return (roots, *_shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iterates), sure)
     parts = []
-    for part in _eigen.chunk_slices(len(brackets.k), 64 * stack.n_dof ** 2):
+    for part in chunks:
         mine = brackets.subset(part)
         roots, lam, sure, iterates = _refine_together(stack, speeds, values, weighted, mine, shapes)
         parts.append((roots, *_shapes_at(stack, speeds, values, weighted, mine, roots, lam, sure, iterates), sure))
@@ -544,30 +559,70 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
         The pencil iteration's last points, eigenvalues and shapes.
     """
     k, slope = brackets.k, brackets.slope
+    count = len(k)
     a, b = speeds[k], speeds[k + 1]
     ga = brackets.low.imag - slope * np.abs(a)
     gb = brackets.high.imag - slope * np.abs(b)
-    roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
-    lam = np.where(ga == 0, brackets.low, brackets.high)
-    sure = np.zeros(len(k), dtype=bool)
-    done = ~np.isnan(roots)
     x = _cubic_start(speeds, values, brackets, a, b, ga, gb)
-    previous = np.full((2, len(k)), np.nan)          # the last point evaluated and its g
-    state = _Bracket(a, b, ga, gb, np.zeros(len(k), dtype=int), np.full((2, len(k)), np.inf))
+    previous = np.full((2, count), np.nan)          # the last point evaluated and its g
+    state = _Bracket(a, b, ga, gb, np.zeros(count, dtype=int), np.full((2, count), np.inf))
     iterates = _Iterates.start(stack, speeds, values, brackets, shapes)
-    for _ in range(_MAX_ITERATIONS):
+    on_grid = (ga == 0) | (gb == 0)
+    evaluations = 0
+    if on_grid.any():
+        roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
+        lam = np.where(ga == 0, brackets.low, brackets.high)
+        sure = np.zeros(count, dtype=bool)
+        done = on_grid
+    else:
+        # every crossing between grid points (the usual case): the first evaluation of all of them,
+        # which usually ends them all (the cubic start lands at round-off of the root)
+        every = np.arange(count)
+        lam, sure = _evaluate(stack, speeds, values, weighted, brackets, every, x.copy(), iterates)
+        gx = lam.imag - slope * np.abs(x)
+        if _finished(x, gx, _first_step(state, x, gx)).all():
+            return x, lam, sure, iterates
+        roots, done, evaluations = x.copy(), np.zeros(count, dtype=bool), 1
+        x = _advance(state, previous, done, every, x, gx)
+    for _ in range(_MAX_ITERATIONS - evaluations):
         i = (~done).nonzero()[0]
         if not len(i):
             break
         lam_x, sure_x = _evaluate(stack, speeds, values, weighted, brackets, i, x[i], iterates)
         gx = lam_x.imag - slope[i] * np.abs(x[i])
         roots[i], lam[i], sure[i] = x[i], lam_x, sure_x
-        step = _next_step(state, i, x[i], gx, previous[:, i])
-        previous[:, i] = x[i], gx
-        finished = (gx == 0) | (np.abs(step - x[i]) <= _STEP_TOLERANCE * np.maximum(np.abs(x[i]), 1.0))
-        done[i[finished]] = True
-        x[i] = step
+        x[i] = _advance(state, previous, done, i, x[i], gx)
     return roots, lam, sure, iterates
+
+
+def _advance(state, previous, done, rows, x, gx):
+    """Update the brackets ``rows`` with the points (x, gx) (see :func:`_next_step`), mark those
+    that end there done, and return the next points."""
+    step = _next_step(state, rows, x, gx, previous[:, rows])
+    previous[:, rows] = x, gx
+    done[rows[_finished(x, gx, step)]] = True
+    return step
+
+
+def _finished(x, gx, step):
+    """A crossing ends where ``g`` vanishes or its next step is below ``_STEP_TOLERANCE``."""
+    return (gx == 0) | (np.abs(step - x) <= _STEP_TOLERANCE * np.maximum(np.abs(x), 1.0))
+
+
+def _first_step(state, x, gx):
+    """The step :func:`_next_step` takes after every bracket's first point (x, gx), without
+    updating the brackets: with no earlier point there is no secant, and no end has moved
+    yet, so it is the false position (or the midpoint) of the bracket shrunk to x."""
+    moved = gx != 0
+    left = (np.sign(gx) == np.sign(state.ga)) & moved
+    right = ~left & moved
+    a, b = np.where(left, x, state.a), np.where(right, x, state.b)
+    ga, gb = np.where(left, gx, state.ga), np.where(right, gx, state.gb)
+    width = b - a
+    with np.errstate(divide="ignore", invalid="ignore"):
+        falsi = b - gb * width / (gb - ga)
+    fallback = np.where(np.isfinite(falsi) & (falsi > a) & (falsi < b), falsi, 0.5 * (a + b))
+    return np.where(gx == 0, x, fallback)
 
 
 class _Bracket(NamedTuple):
@@ -748,18 +803,26 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     later ones reuse that factorisation, and factor anew only where the iteration did not
     converge. Returns the eigenvalues and which converged to the tracked mode."""
     expected = _interpolated(speeds, values, brackets, rows, x)
-    start = iterates.lam[rows] + expected - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
     unready = ~iterates.factors.ready[rows]
-    fresh = unready.nonzero()[0]
     pencils = Pencils(stack, brackets.variant[rows], x)
-    if len(fresh):
-        first = fresh[iterates.x[rows[fresh]] == brackets.start[rows[fresh]]]    # nothing evaluated yet
-        if len(first):
-            start[first] = _cubic_value(speeds, values, brackets, rows[first], x[first])
-        iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
+    if unready.all() and (iterates.x[rows] == brackets.start[rows]).all():
+        # every crossing's first evaluation (the usual case): all start from the cubic, factored there
+        start = _cubic_value(speeds, values, brackets, rows, x)
+        iterates.factors.factor(rows, pencils, start)
+        again = ()
+    else:
+        start = iterates.lam[rows] + expected - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
+        fresh = unready.nonzero()[0]
+        if len(fresh):
+            first = fresh[iterates.x[rows[fresh]] == brackets.start[rows[fresh]]]    # nothing evaluated yet
+            if len(first):
+                start[first] = _cubic_value(speeds, values, brackets, rows[first], x[first])
+            iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
+        again = None
     lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
                                                                iterates.shape[rows])
-    again = (~converged & np.isfinite(lam) & ~unready).nonzero()[0]
+    if again is None:
+        again = (~converged & np.isfinite(lam) & ~unready).nonzero()[0]
     if len(again):
         # far from the factored point (or a poor start there): factor here and iterate again
         part = _eigen.PencilRows(pencils, again)
@@ -902,9 +965,11 @@ def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iter
     gave one (the pencil iteration's, the nearest roots', an identification's), else one
     inverse-iteration step on the eigenvalue found, or a full identification
     (:func:`_modes_at`) where it was unsure or the eigenvalue is repeated."""
+    known = (iterates.x == roots) & (iterates.lam == lam)
+    if known.all() and iterates.shape.shape[-1]:
+        return lam.copy(), iterates.shape.copy()        # every root the pencil iteration's last point
     lam = lam.copy()
     phi = np.empty((len(roots), stack.n_dof), dtype=complex)
-    known = (iterates.x == roots) & (iterates.lam == lam)
     if known.any():
         phi[known] = iterates.shape[known]
     rest = np.nonzero(~known & sure)[0]

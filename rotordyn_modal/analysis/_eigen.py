@@ -354,7 +354,7 @@ class PencilFactors:
         if not len(rows):
             return
         if self.whole:
-            self.matrices[rows] = _quadratic(*pencils.matrices(np.arange(len(rows))), shifts)
+            self.matrices[rows] = _quadratic(*pencils.matrices(slice(None)), shifts)
             self.ready[rows] = True
             return
         sparse = pencils.sparse(np.arange(len(rows)))
@@ -436,6 +436,7 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
     s = np.array(eigenvalues, dtype=complex)
     phi = unit_rows(np.asarray(vectors, dtype=complex))                # a new array
     normal = phi.copy()                                                 # c, with c^H phi = 1
+    normal_conj = normal.conj()
     every = np.arange(len(s))
     last = np.full(len(s), np.inf)
     converged = np.zeros(len(s), dtype=bool)
@@ -455,7 +456,7 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                                 np.einsum("pi,pi->p", left_i, k_phi), s_i)
             residual = new[:, None] ** 2 * m_phi + new[:, None] * d_phi + k_phi
             phi_new = phi_i - factors.solve(rows[i], residual)
-            phi_new /= np.einsum("pi,pi->p", normal[i].conj(), phi_new)[:, None]
+            phi_new /= np.einsum("pi,pi->p", normal_conj[i], phi_new)[:, None]
             # relative steps of the eigenvalue and of the shape: the eigenvalue alone can settle
             # while the shape still holds a neighbouring mode
             size = np.maximum(np.abs(new - s_i) / np.abs(new), (row_norms(phi_new - phi_i) / row_norms(phi_new))[:, 0])
@@ -467,7 +468,9 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                 s[i] = np.where(finite, new, s_i)
                 phi[i] = np.where(finite[:, None], phi_new, phi_i)
             rate = size / last[i]
-            done = (size <= 1e-14) | ((size <= 1e-9) & (rate < 0.5) & (size * rate <= 1e-14))
+            done = size <= 1e-9
+            if done.any():
+                done = (size <= 1e-14) | (done & (rate < 0.5) & (size * rate <= 1e-14))
             last[i] = size
             stop = done | ~finite
             if stop.any():
@@ -621,7 +624,8 @@ def _nearest_root(a, b, c, near):
 
 
 def _quadratic(M, damping, stiffness, lam):
-    """``lam^2 M + lam D + K`` for rows (P, n, n), one complex array.
+    """``lam^2 M + lam D + K`` for rows (P, n, n), one complex array (``M`` and ``K`` (n, n) where
+    the rows share them, else (P, n, n)).
 
     Built as real and imaginary planes, a few rows at a time, so that every pass runs in the
     cache (whole-array complex products of these sizes ran at memory speed, 10x slower)."""
@@ -637,7 +641,7 @@ def _quadratic(M, damping, stiffness, lam):
             np.multiply(mass, quadratic[part, None, None], out=rows)
             rows += damping[part] * linear[part, None, None]
             if constant is not None:
-                rows += constant[part]
+                rows += constant if constant.ndim == 2 else constant[part]
     return out
 
 

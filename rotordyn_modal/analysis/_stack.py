@@ -208,10 +208,19 @@ class Pencils:
         return layout, mass, damping + speed * gyroscopic, stiffness
 
     def matrices(self, rows):
-        """Mass (n, n) or (R, n, n), ``C + Omega G`` and stiffness (R, n, n) of ``rows``."""
+        """Mass (n, n) or (R, n, n), ``C + Omega G`` (R, n, n) and stiffness (n, n) or (R, n, n)
+        of ``rows`` (an index array or a slice): the mass and stiffness (n, n) where all rows share
+        them (one model; the stiffness only with constant coefficients)."""
         stack = self.stack
-        mass = stack.M[0] if len(stack) == 1 else stack.M[self.variants[rows]]
-        return (mass, *stack.damping_stiffness(self.variants[rows], self.speeds[rows]))
+        one = len(stack) == 1
+        if stack.dependent:
+            mass = stack.M[0] if one else stack.M[self.variants[rows]]
+            return (mass, *stack.damping_stiffness(self.variants[rows], self.speeds[rows]))
+        speeds = self.speeds[rows][:, None, None]
+        if one:
+            return stack.M[0], stack.C[0] + speeds * stack.G[0], stack.K[0]
+        variants = self.variants[rows]
+        return stack.M[variants], stack.C[variants] + speeds * stack.G[variants], stack.K[variants]
 
     def products(self, rows, vectors):
         """``M phi``, ``(C + Omega G) phi`` and ``K phi`` of ``rows`` for complex vectors (R, n):
@@ -233,8 +242,8 @@ class Pencils:
             return _row_products(mass, vectors), _row_products(damping, vectors), _row_products(stiffness, vectors)
         # M, C, G and K times each row in one product (each matrix-vector product as by itself)
         if self._constant is None:
-            self._constant = np.stack((stack.M, stack.C, stack.G, stack.K), axis=1)      # (V, 4, n, n)
-        matrices = self._constant[0, :, None] if len(stack) == 1 else self._constant[variants].swapaxes(0, 1)
+            self._constant = np.array((stack.M, stack.C, stack.G, stack.K))              # (4, V, n, n)
+        matrices = self._constant[:, :1] if len(stack) == 1 else self._constant[:, variants]
         m_phi, c_phi, g_phi, k_phi = _row_products(matrices, vectors)
         return m_phi, c_phi + speeds * g_phi, k_phi
 

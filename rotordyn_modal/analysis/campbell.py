@@ -807,7 +807,7 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     pencils = Pencils(stack, brackets.variant[rows], x)
     if unready.all() and (iterates.x[rows] == brackets.start[rows]).all():
         # every crossing's first evaluation (the usual case): all start from the cubic, factored there
-        start = _cubic_value(speeds, values, brackets, rows, x)
+        start = _cubic_value(speeds, values, brackets, rows, x, expected)
         iterates.factors.factor(rows, pencils, start)
         again = ()
     else:
@@ -841,21 +841,25 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     return lam, ok
 
 
-def _cubic_value(speeds, values, brackets, rows, x):
+def _cubic_value(speeds, values, brackets, rows, x, linear=None):
     """The tracked modes' eigenvalues at ``x`` by the cubic through the sweep's four nearest
-    points (linear across the bracket where fewer than four oscillating points are at hand)."""
-    linear = _interpolated(speeds, values, brackets, rows, x)
+    points (linear across the bracket where fewer than four oscillating points are at hand;
+    ``linear``, :func:`_interpolated` at ``x``, when the caller has it)."""
     if len(speeds) < 4 or not len(rows):
-        return linear
+        return _interpolated(speeds, values, brackets, rows, x) if linear is None else linear
     xs, lam = _four_points(speeds, values, brackets, rows)
     # Lagrange weights: factor[p, j, m] = (x - xs_m) / (xs_j - xs_m), 1 where m = j (exact, so the
     # products below equal the ones over m != j in the same order)
     with np.errstate(divide="ignore", invalid="ignore"):
         factor = (x[:, None, None] - xs[:, None, :]) / (xs[:, :, None] - xs[:, None, :])
-    factor[:, np.arange(4), np.arange(4)] = 1.0
+    factor.reshape(len(x), 16)[:, ::5] = 1.0                        # the diagonals
     weights = factor[..., 0] * factor[..., 1] * factor[..., 2] * factor[..., 3]
     cubic = np.einsum("pj,pj->p", weights, lam)
-    return np.where(brackets.near_oscillating[rows], cubic, linear)
+    cubic_here = brackets.near_oscillating[rows]
+    if cubic_here.all():
+        return cubic
+    linear = _interpolated(speeds, values, brackets, rows, x) if linear is None else linear
+    return np.where(cubic_here, cubic, linear)
 
 
 def _four_points(speeds, values, brackets, rows):

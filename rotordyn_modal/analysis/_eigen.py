@@ -451,9 +451,9 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
             if not len(mine):
                 break
             phi_i, s_i, left_i = phi[i], s[i], left[i]
-            m_phi, d_phi, k_phi = pencils.products(mine, phi_i)
-            new = _nearest_root(np.einsum("pi,pi->p", left_i, m_phi), np.einsum("pi,pi->p", left_i, d_phi),
-                                np.einsum("pi,pi->p", left_i, k_phi), s_i)
+            products = pencils.products(mine, phi_i)                        # M phi, D phi, K phi
+            new = _nearest_root(*np.einsum("pi,kpi->kp", left_i, products), s_i)
+            m_phi, d_phi, k_phi = products
             residual = new[:, None] ** 2 * m_phi + new[:, None] * d_phi + k_phi
             phi_new = phi_i - factors.solve(rows[i], residual)
             phi_new /= np.einsum("pi,pi->p", normal_conj[i], phi_new)[:, None]

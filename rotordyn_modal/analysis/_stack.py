@@ -223,8 +223,8 @@ class Pencils:
         return stack.M[variants], stack.C[variants] + speeds * stack.G[variants], stack.K[variants]
 
     def products(self, rows, vectors):
-        """``M phi``, ``(C + Omega G) phi`` and ``K phi`` of ``rows`` for complex vectors (R, n):
-        each (R, n).
+        """``M phi``, ``(C + Omega G) phi`` and ``K phi`` of ``rows`` for complex vectors (R, n),
+        stacked: (3, R, n).
 
         Row by row (each result independent of the others, so that a study's variant and the
         single analysis of its model agree bit for bit), except for one large model with constant
@@ -234,18 +234,20 @@ class Pencils:
         if self.shared and vectors.shape[-1] > _eigen.BATCHED_DOF:
             m_phi, c_phi, g_phi, k_phi = (_eigen.real_product(vectors, matrix[0].T)
                                           for matrix in (stack.M, stack.C, stack.G, stack.K))
-            return m_phi, c_phi + speeds * g_phi, k_phi
+            return np.array((m_phi, c_phi + speeds * g_phi, k_phi))
         variants = self.variants[rows]
         if stack.dependent:
             damping, stiffness = stack.damping_stiffness(variants, self.speeds[rows])
             mass = stack.M[0] if len(stack) == 1 else stack.M[variants]
-            return _row_products(mass, vectors), _row_products(damping, vectors), _row_products(stiffness, vectors)
-        # M, C, G and K times each row in one product (each matrix-vector product as by itself)
+            return np.array((_row_products(mass, vectors), _row_products(damping, vectors),
+                             _row_products(stiffness, vectors)))
+        # M, C, K and G times each row in one product (each matrix-vector product as by itself)
         if self._constant is None:
-            self._constant = np.array((stack.M, stack.C, stack.G, stack.K))              # (4, V, n, n)
+            self._constant = np.array((stack.M, stack.C, stack.K, stack.G))              # (4, V, n, n)
         matrices = self._constant[:, :1] if len(stack) == 1 else self._constant[:, variants]
-        m_phi, c_phi, g_phi, k_phi = _row_products(matrices, vectors)
-        return m_phi, c_phi + speeds * g_phi, k_phi
+        out = _row_products(matrices, vectors)
+        out[1] += speeds * out[3]                                                        # C phi + Omega G phi
+        return out[:3]
 
 
 def _row_products(matrices, vectors):

@@ -450,6 +450,10 @@ class _Brackets(NamedTuple):
     """and the tracked mode's eigenvalues there, (P, 4)"""
     near_oscillating: np.ndarray
     """whether the mode oscillates at all four (:func:`~.modal.is_oscillating`)"""
+    ends: np.ndarray
+    """Every root at both ends of the bracket, (P, 2, m)"""
+    travels: np.ndarray
+    """Every root's travel across the bracket, ``|ends[:, 1] - ends[:, 0]|``, (P, m)"""
 
     def subset(self, rows) -> "_Brackets":
         return _Brackets(*(column[rows] for column in self))
@@ -491,17 +495,19 @@ _LINES_BYTES = 4 * 2**20
 
 def _bracket_ends(speeds, values, oscillating, v, k, mode):
     """The sweep's data of each crossing that the refinement reads (see :class:`_Brackets`)."""
-    low, high = values[v, k, mode], values[v, k + 1, mode]
+    rows = np.arange(len(k))
+    ends = values[v[:, None], np.stack((k, k + 1), axis=1)]                     # (P, 2, m)
+    travels = np.abs(ends[:, 1] - ends[:, 0])
+    low, high = ends[rows, 0, mode], ends[rows, 1, mode]
     start = speeds[k]
-    spread = np.abs(high - low) + 1e-9 * np.abs(low) + 1e-300
-    travel = np.abs(values[v, k + 1] - values[v, k]).max(axis=1)
+    spread = travels[rows, mode] + 1e-9 * np.abs(low) + 1e-300
     if len(speeds) < 4:
         near = np.full((len(k), 4), np.nan), np.full((len(k), 4), np.nan, dtype=complex), np.zeros(len(k), bool)
     else:
         nodes = np.minimum(np.maximum(k - 1, 0), len(speeds) - 4)[:, None] + np.arange(4)
         near = (speeds[nodes], values[v[:, None], nodes, mode[:, None]],
                 oscillating[v[:, None], nodes, mode[:, None]].all(axis=1))
-    return (start, speeds[k + 1] - start, low, high, spread, travel) + near
+    return (start, speeds[k + 1] - start, low, high, spread, travels.max(axis=1)) + near + (ends, travels)
 
 
 #: evaluations allowed per crossing (it needs two or three; bisection steps guarantee the rest)
@@ -662,26 +668,26 @@ def _cubic_start(speeds, values, brackets, a, b, ga, gb):
     """Root in (a, b) of the cubic through g at the sweep's four points around each bracket
     (the chord's root where fewer than four oscillating points are at hand)."""
     width = b - a
-    with np.errstate(divide="ignore", invalid="ignore"):
-        chord = b - gb * width / (gb - ga)
-    chord = np.where(np.isfinite(chord) & (chord > a) & (chord < b), chord, 0.5 * (a + b))
-    if len(speeds) < 4:
-        return chord
-    xs, lam = _four_points(speeds, values, brackets, slice(None))
-    gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
-    usable = brackets.near_oscillating & ((xs >= 0).all(axis=1) | (xs <= 0).all(axis=1))
-    # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
-    t_nodes = (xs - a[:, None]) / width[:, None]
-    vandermonde = t_nodes[..., None] ** np.arange(4)
     with np.errstate(all="ignore"):
+        chord = b - gb * width / (gb - ga)
+        chord = np.where(np.isfinite(chord) & (chord > a) & (chord < b), chord, 0.5 * (a + b))
+        if len(speeds) < 4:
+            return chord
+        xs, lam = _four_points(speeds, values, brackets, slice(None))
+        gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
+        # the four speeds ascend: all on one side of zero where the first or the last is
+        usable = brackets.near_oscillating & ((xs[:, 0] >= 0) | (xs[:, 3] <= 0))
+        # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
+        t_nodes = (xs - a[:, None]) / width[:, None]
+        vandermonde = t_nodes[..., None] ** np.arange(4)
         coefficients = np.linalg.solve(vandermonde, gs[..., None])[..., 0]
         t = (chord - a) / width
         c0, c1, c2, c3 = coefficients.T
         slope3, slope2 = 3 * c3, 2 * c2                 # the derivative's coefficients
         for _ in range(4):                              # Newton on the cubic, from the chord's root
             t = t - (((c3 * t + c2) * t + c1) * t + c0) / ((slope3 * t + slope2) * t + c1)
-    x = a + t * width
-    good = usable & np.isfinite(x) & (x > a) & (x < b)
+        x = a + t * width
+        good = usable & np.isfinite(x) & (x > a) & (x < b)
     return np.where(good, x, chord)
 
 
@@ -736,16 +742,14 @@ def _isolated(values, brackets):
     -------
     ndarray of bool, shape (P,)
     """
-    v, k, mode = brackets.variant, brackets.k, brackets.mode
-    rows = np.arange(len(k))
-    ends = values[v, np.array([k, k + 1])]                                  # (2, P, m)
-    own = ends[:, rows, mode]                                               # (2, P)
-    travel = np.abs(ends[1] - ends[0])                                      # (P, m)
-    own_travel = travel[rows, mode] + 1e-9 * np.abs(own).max(axis=0)
-    margin = 2 * (travel + 7 * own_travel[:, None])                         # (P, m)
-    apart = np.minimum(np.abs(ends - own[..., None]), np.abs(ends.conj() - own[..., None])).min(axis=0)
+    rows = np.arange(len(brackets.k))
+    mode, ends, travels = brackets.mode, brackets.ends, brackets.travels                 # (P, 2, m), (P, m)
+    own = np.stack((brackets.low, brackets.high), axis=1)                                # (P, 2)
+    own_travel = travels[rows, mode] + 1e-9 * np.abs(own).max(axis=1)
+    margin = 2 * (travels + 7 * own_travel[:, None])                                    # (P, m)
+    apart = np.minimum(np.abs(ends - own[..., None]), np.abs(ends.conj() - own[..., None])).min(axis=1)
     apart[rows, mode] = np.inf
-    own_conjugate = 2 * np.abs(own.imag).min(axis=0)
+    own_conjugate = 2 * np.abs(own.imag).min(axis=1)
     return (apart > margin).all(axis=1) & (own_conjugate > 2 * 8 * own_travel)
 
 

@@ -459,7 +459,11 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
             phi_new /= np.einsum("pi,pi->p", normal_conj[i], phi_new)[:, None]
             # relative steps of the eigenvalue and of the shape: the eigenvalue alone can settle
             # while the shape still holds a neighbouring mode
-            size = np.maximum(np.abs(new - s_i) / np.abs(new), (row_norms(phi_new - phi_i) / row_norms(phi_new))[:, 0])
+            pair = np.empty((2,) + phi_new.shape, dtype=complex)         # the shape's step and the shape
+            np.subtract(phi_new, phi_i, out=pair[0])
+            pair[1] = phi_new
+            norms = row_norms(pair)[..., 0]
+            size = np.maximum(np.abs(new - s_i) / np.abs(new), norms[0] / norms[1])
             finite = np.isfinite(size)
             if finite.all():
                 s[i], phi[i] = new, phi_new
@@ -634,15 +638,19 @@ def _quadratic(M, damping, stiffness, lam):
     squares = lam**2
     step = max(1, _CACHE_BYTES // (8 * damping[0].size))
     for part in (slice(p, p + step) for p in range(0, len(lam), step)):
-        mass = M if M.ndim == 2 else M[part]
-        for plane, quadratic, linear, constant in ((out.real, squares.real, lam.real, stiffness),
-                                                   (out.imag, squares.imag, lam.imag, None)):
-            rows = plane[part]
-            np.multiply(mass, quadratic[part, None, None], out=rows)
-            rows += damping[part] * linear[part, None, None]
-            if constant is not None:
-                rows += constant if constant.ndim == 2 else constant[part]
+        _quadratic_part(out[part], M if M.ndim == 2 else M[part], damping[part],
+                        stiffness if stiffness.ndim == 2 else stiffness[part], squares[part], lam[part])
     return out
+
+
+def _quadratic_part(out, mass, damping, stiffness, squares, lam):
+    """``out = squares M + lam D + K``, the real plane and then the imaginary one."""
+    real, imaginary = out.real, out.imag
+    np.multiply(mass, squares.real[:, None, None], out=real)
+    real += damping * lam.real[:, None, None]
+    real += stiffness
+    np.multiply(mass, squares.imag[:, None, None], out=imaginary)
+    imaginary += damping * lam.imag[:, None, None]
 
 
 def _solve(matrices, rhs):

@@ -470,17 +470,19 @@ def _crossing_brackets(speeds, values, sources, orders, oscillating=None) -> _Br
     factors = np.asarray(orders, dtype=float)
     # excitation [rad/s] per |speed| [rad/s] of every (source, order), source after source, per variant
     slopes = (factors[None, :, None] * multipliers.T[:, None, :]).reshape(-1, len(sources))
-    frequencies, magnitudes = values.imag, np.abs(speeds)[:, None]
+    # speeds along the last axis: the passes below run along them
+    frequencies, magnitudes, both = values.imag.swapaxes(1, 2), np.abs(speeds), both.swapaxes(1, 2)
     parts = []
     # the lines a few at a time: their gaps are each the size of the sweep's eigenvalues
-    for lines in _eigen.chunk_slices(len(slopes), 8 * values.size, budget=_LINES_BYTES):
+    lines_at_once = max(1, _LINES_BYTES // (8 * values.size))
+    for lines in (slice(i, i + lines_at_once) for i in range(0, len(slopes), lines_at_once)):
         slope = slopes[lines]
-        gap = frequencies - slope[:, :, None, None] * magnitudes                    # (L, V, N, m)
+        gap = frequencies - slope[:, :, None, None] * magnitudes                    # (L, V, m, N)
         sign = np.sign(gap)
-        change = (sign[:, :, :-1] != sign[:, :, 1:]) & (gap[:, :, :-1] != 0) & both
+        change = (sign[..., :-1] != sign[..., 1:]) & (gap[..., :-1] != 0) & both
         if not (slope != 0).all():
             change &= (slope != 0)[:, :, None, None]
-        line, v, k, mode = change.nonzero()
+        line, v, k, mode = change.swapaxes(2, 3).nonzero()                          # by line, variant, speed, mode
         parts.append((v, k, mode, slope[line, v], line + lines.start))
     if not parts:                                        # no sources or no orders
         parts = [(*(np.zeros(0, dtype=int) for _ in range(3)), np.zeros(0), np.zeros(0, dtype=int))]
@@ -496,7 +498,7 @@ _LINES_BYTES = 4 * 2**20
 def _bracket_ends(speeds, values, oscillating, v, k, mode):
     """The sweep's data of each crossing that the refinement reads (see :class:`_Brackets`)."""
     rows = np.arange(len(k))
-    ends = values[v[:, None], np.stack((k, k + 1), axis=1)]                     # (P, 2, m)
+    ends = values[v[:, None], k[:, None] + np.arange(2)]                        # (P, 2, m)
     travels = np.abs(ends[:, 1] - ends[:, 0])
     low, high = ends[rows, 0, mode], ends[rows, 1, mode]
     start = speeds[k]
@@ -744,7 +746,7 @@ def _isolated(values, brackets):
     """
     rows = np.arange(len(brackets.k))
     mode, ends, travels = brackets.mode, brackets.ends, brackets.travels                 # (P, 2, m), (P, m)
-    own = np.stack((brackets.low, brackets.high), axis=1)                                # (P, 2)
+    own = ends[rows, :, mode]                                                            # (P, 2)
     own_travel = travels[rows, mode] + 1e-9 * np.abs(own).max(axis=1)
     margin = 2 * (travels + 7 * own_travel[:, None])                                    # (P, m)
     apart = np.minimum(np.abs(ends - own[..., None]), np.abs(ends.conj() - own[..., None])).min(axis=1)

@@ -572,24 +572,24 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     ga = brackets.low.imag - slope * np.abs(a)
     gb = brackets.high.imag - slope * np.abs(b)
     x = _cubic_start(speeds, values, brackets, a, b, ga, gb)
-    previous = np.full((2, count), np.nan)          # the last point evaluated and its g
-    state = _Bracket(a, b, ga, gb, np.zeros(count, dtype=int), np.full((2, count), np.inf))
     iterates = _Iterates.start(stack, speeds, values, brackets, shapes)
     on_grid = (ga == 0) | (gb == 0)
-    evaluations = 0
-    if on_grid.any():
-        roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
-        lam = np.where(ga == 0, brackets.low, brackets.high)
-        sure = np.zeros(count, dtype=bool)
-        done = on_grid
-    else:
+    if not on_grid.any():
         # every crossing between grid points (the usual case): the first evaluation of all of them,
         # which usually ends them all (the cubic start lands at round-off of the root)
         every = np.arange(count)
         lam, sure = _evaluate(stack, speeds, values, weighted, brackets, every, x.copy(), iterates)
         gx = lam.imag - slope * np.abs(x)
-        if _finished(x, gx, _first_step(state, x, gx)).all():
+        if _finished(x, gx, _first_step(a, b, ga, gb, x, gx)).all():
             return x, lam, sure, iterates
+    previous = np.full((2, count), np.nan)          # the last point evaluated and its g
+    state = _Bracket(a, b, ga, gb, np.zeros(count, dtype=int), np.full((2, count), np.inf))
+    if on_grid.any():
+        roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
+        lam = np.where(ga == 0, brackets.low, brackets.high)
+        sure = np.zeros(count, dtype=bool)
+        done, evaluations = on_grid, 0
+    else:                                           # go on from the first evaluation
         roots, done, evaluations = x.copy(), np.zeros(count, dtype=bool), 1
         x = _advance(state, previous, done, every, x, gx)
     for _ in range(_MAX_ITERATIONS - evaluations):
@@ -617,15 +617,16 @@ def _finished(x, gx, step):
     return (gx == 0) | (np.abs(step - x) <= _STEP_TOLERANCE * np.maximum(np.abs(x), 1.0))
 
 
-def _first_step(state, x, gx):
-    """The step :func:`_next_step` takes after every bracket's first point (x, gx), without
-    updating the brackets: with no earlier point there is no secant, and no end has moved
-    yet, so it is the false position (or the midpoint) of the bracket shrunk to x."""
+def _first_step(a, b, ga, gb, x, gx):
+    """The step :func:`_next_step` takes after the first point (x, gx) of every bracket [a, b]
+    (g there ga, gb), without updating the brackets: with no earlier point there is no secant,
+    and no end has moved yet, so it is the false position (or the midpoint) of the bracket
+    shrunk to x."""
     moved = gx != 0
-    left = (np.sign(gx) == np.sign(state.ga)) & moved
+    left = (np.sign(gx) == np.sign(ga)) & moved
     right = ~left & moved
-    a, b = np.where(left, x, state.a), np.where(right, x, state.b)
-    ga, gb = np.where(left, gx, state.ga), np.where(right, gx, state.gb)
+    a, b = np.where(left, x, a), np.where(right, x, b)
+    ga, gb = np.where(left, gx, ga), np.where(right, gx, gb)
     width = b - a
     with np.errstate(divide="ignore", invalid="ignore"):
         falsi = b - gb * width / (gb - ga)

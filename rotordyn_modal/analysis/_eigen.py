@@ -375,8 +375,7 @@ class PencilFactors:
             self.factors[row] = (lu, pivots)
 
     def solve(self, rows, rhs, adjoint: bool = False):
-        """``Q^-1 rhs`` (or ``Q^-H rhs``) for storage ``rows`` (an index array, or a slice); ``rhs``
-        (R, n) complex."""
+        """``Q^-1 rhs`` (or ``Q^-H rhs``) for storage ``rows``; ``rhs`` (R, n) complex."""
         if self.whole:
             matrices = self.matrices[rows]
             if adjoint:
@@ -457,13 +456,7 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
             residual = new[:, None] ** 2 * m_phi + new[:, None] * d_phi + k_phi
             phi_new = phi_i - factors.solve(rows[i], residual)
             phi_new /= np.einsum("pi,pi->p", normal_conj[i], phi_new)[:, None]
-            # relative steps of the eigenvalue and of the shape: the eigenvalue alone can settle
-            # while the shape still holds a neighbouring mode
-            pair = np.empty((2,) + phi_new.shape, dtype=complex)         # the shape's step and the shape
-            np.subtract(phi_new, phi_i, out=pair[0])
-            pair[1] = phi_new
-            norms = row_norms(pair)[..., 0]
-            size = np.maximum(np.abs(new - s_i) / np.abs(new), norms[0] / norms[1])
+            size = _step_size(new, s_i, phi_new, phi_i)
             finite = np.isfinite(size)
             if finite.all():
                 s[i], phi[i] = new, phi_new
@@ -490,6 +483,16 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                 factors.factor(rows[more], pencils if everyone else PencilRows(pencils, every[more]), s[more])
                 left[more] = factors.solve(rows[more], normal[more], adjoint=True).conj()
     return s, unit_rows(phi), converged
+
+
+def _step_size(new, old, phi_new, phi_old):
+    """The larger of the relative steps of each row's eigenvalue and shape (P,): the eigenvalue
+    alone can settle while the shape still holds a neighbouring mode."""
+    pair = np.empty((2,) + phi_new.shape, dtype=complex)         # the shape's step and the shape, normed together
+    np.subtract(phi_new, phi_old, out=pair[0])
+    pair[1] = phi_new
+    norms = row_norms(pair)[..., 0]
+    return np.maximum(np.abs(new - old) / np.abs(new), norms[0] / norms[1])
 
 
 class PencilRows:

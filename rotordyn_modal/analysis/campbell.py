@@ -470,8 +470,11 @@ def _crossing_brackets(speeds, values, sources, orders, oscillating=None) -> _Br
     factors = np.asarray(orders, dtype=float)
     # excitation [rad/s] per |speed| [rad/s] of every (source, order), source after source, per variant
     slopes = (factors[None, :, None] * multipliers.T[:, None, :]).reshape(-1, len(sources))
-    # speeds along the last axis: the passes below run along them
+    # speeds along the last axis: the passes below run along them (contiguous where that copy is
+    # no larger than the gaps of the lines taken at once)
     frequencies, magnitudes, both = values.imag.swapaxes(1, 2), np.abs(speeds), both.swapaxes(1, 2)
+    if 8 * values.size <= _LINES_BYTES:
+        frequencies = np.ascontiguousarray(frequencies)
     parts = []
     # the lines a few at a time: their gaps are each the size of the sweep's eigenvalues
     lines_at_once = max(1, _LINES_BYTES // (8 * values.size))

@@ -235,8 +235,8 @@ class Pencils:
             m_phi, c_phi, g_phi, k_phi = (_eigen.real_product(vectors, matrix[0].T)
                                           for matrix in (stack.M, stack.C, stack.G, stack.K))
             return np.array((m_phi, c_phi + speeds * g_phi, k_phi))
-        variants = self.variants[rows]
         if stack.dependent:
+            variants = self.variants[rows]
             damping, stiffness = stack.damping_stiffness(variants, self.speeds[rows])
             mass = stack.M[0] if len(stack) == 1 else stack.M[variants]
             return np.array((_row_products(mass, vectors), _row_products(damping, vectors),
@@ -244,7 +244,7 @@ class Pencils:
         # M, C, K and G times each row in one product (each matrix-vector product as by itself)
         if self._constant is None:
             self._constant = np.array((stack.M, stack.C, stack.K, stack.G))              # (4, V, n, n)
-        matrices = self._constant[:, :1] if len(stack) == 1 else self._constant[:, variants]
+        matrices = self._constant[:, :1] if len(stack) == 1 else self._constant[:, self.variants[rows]]
         out = _row_products(matrices, vectors)
         out[1] += speeds * out[3]                                                        # C phi + Omega G phi
         return out[:3]

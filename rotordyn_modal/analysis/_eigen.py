@@ -353,7 +353,7 @@ class PencilFactors:
         if not len(rows):
             return
         if self.whole:
-            self.matrices[rows] = _quadratic(*pencils.matrices(np.arange(len(rows))), shifts)
+            self.matrices[rows] = _quadratic(*pencils.matrices(slice(None)), shifts)
             self.ready[rows] = True
             return
         sparse = pencils.sparse(np.arange(len(rows)))
@@ -375,13 +375,13 @@ class PencilFactors:
 
     def solve(self, rows, rhs, adjoint: bool = False):
         """``Q^-1 rhs`` (or ``Q^-H rhs``) for storage ``rows``; ``rhs`` (R, n) complex."""
-        from scipy.linalg import lapack
-
         if self.whole:
             matrices = self.matrices[rows]
             if adjoint:
                 matrices = matrices.swapaxes(-1, -2).conj()
             return _solve(matrices, rhs[..., None])[..., 0]
+        from scipy.linalg import lapack
+
         out = np.empty(rhs.shape, dtype=complex)
         for i, row in enumerate(rows):
             factor = self.factors[row]
@@ -434,27 +434,28 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
     s = np.array(eigenvalues, dtype=complex)
     phi = unit_rows(np.asarray(vectors, dtype=complex))                # a new array
     normal = phi.copy()                                                 # c, with c^H phi = 1
+    normal_conj = normal.conj()
     every = np.arange(len(s))
     last = np.full(len(s), np.inf)
     converged = np.zeros(len(s), dtype=bool)
     with np.errstate(all="ignore"):                                     # a singular factor is dropped below
         left = factors.solve(rows, normal, adjoint=True).conj()
         active = np.isfinite(left).all(axis=-1)
+        # every row at once while all iterate (the usual case): no gathers and scatters
+        everyone = bool(active.all())
         for _ in range(iterations):
-            # every row at once while all iterate (the usual case): no gathers and scatters
-            i = slice(None) if active.all() else active.nonzero()[0]
-            if not len(s[i]):
+            i = slice(None) if everyone else active.nonzero()[0]
+            mine = every[i]
+            if not len(mine):
                 break
             phi_i, s_i, left_i = phi[i], s[i], left[i]
-            m_phi, d_phi, k_phi = pencils.products(every[i], phi_i)
-            new = _nearest_root(np.einsum("pi,pi->p", left_i, m_phi), np.einsum("pi,pi->p", left_i, d_phi),
-                                np.einsum("pi,pi->p", left_i, k_phi), s_i)
+            products = pencils.products(mine, phi_i)                        # M phi, D phi, K phi
+            new = _nearest_root(*np.einsum("pi,kpi->kp", left_i, products), s_i)
+            m_phi, d_phi, k_phi = products
             residual = new[:, None] ** 2 * m_phi + new[:, None] * d_phi + k_phi
             phi_new = phi_i - factors.solve(rows[i], residual)
-            phi_new /= np.einsum("pi,pi->p", normal[i].conj(), phi_new)[:, None]
-            # relative steps of the eigenvalue and of the shape: the eigenvalue alone can settle
-            # while the shape still holds a neighbouring mode
-            size = np.maximum(np.abs(new - s_i) / np.abs(new), (row_norms(phi_new - phi_i) / row_norms(phi_new))[:, 0])
+            phi_new /= np.einsum("pi,pi->p", normal_conj[i], phi_new)[:, None]
+            size = _step_size(new, s_i, phi_new, phi_i)
             finite = np.isfinite(size)
             if finite.all():
                 s[i], phi[i] = new, phi_new
@@ -463,18 +464,34 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                 s[i] = np.where(finite, new, s_i)
                 phi[i] = np.where(finite[:, None], phi_new, phi_i)
             rate = size / last[i]
-            done = (size <= 1e-14) | ((size <= 1e-9) & (rate < 0.5) & (size * rate <= 1e-14))
-            finished = every[i][done | ~finite]
-            converged[every[i][done]] = True
-            active[finished] = False
+            done = size <= 1e-9
+            if done.any():
+                done = (size <= 1e-14) | (done & (rate < 0.5) & (size * rate <= 1e-14))
             last[i] = size
-            if factors.whole and len(finished) < len(s[i]):
+            stop = done | ~finite
+            if stop.any():
+                converged[mine[done]] = True
+                active[mine[stop]] = False
+                everyone = False
+                if stop.all():
+                    break
+            if factors.whole:
                 # small pencils are refactored at every step anyway: shift them to the new eigenvalue
                 # (Newton's convergence instead of linear), with the left vector to match
-                more = slice(None) if active.all() else active.nonzero()[0]
-                factors.factor(rows[more], PencilRows(pencils, every[more]), s[more])
+                more = slice(None) if everyone else active.nonzero()[0]
+                factors.factor(rows[more], pencils if everyone else PencilRows(pencils, every[more]), s[more])
                 left[more] = factors.solve(rows[more], normal[more], adjoint=True).conj()
     return s, unit_rows(phi), converged
+
+
+def _step_size(new, old, phi_new, phi_old):
+    """The larger of the relative steps of each row's eigenvalue and shape (P,): the eigenvalue
+    alone can settle while the shape still holds a neighbouring mode."""
+    pair = np.empty((2,) + phi_new.shape, dtype=complex)         # the shape's step and the shape, normed together
+    np.subtract(phi_new, phi_old, out=pair[0])
+    pair[1] = phi_new
+    norms = row_norms(pair)[..., 0]
+    return np.maximum(np.abs(new - old) / np.abs(new), norms[0] / norms[1])
 
 
 class PencilRows:
@@ -613,7 +630,8 @@ def _nearest_root(a, b, c, near):
 
 
 def _quadratic(M, damping, stiffness, lam):
-    """``lam^2 M + lam D + K`` for rows (P, n, n), one complex array.
+    """``lam^2 M + lam D + K`` for rows (P, n, n), one complex array (``M`` and ``K`` (n, n) where
+    the rows share them, else (P, n, n)).
 
     Built as real and imaginary planes, a few rows at a time, so that every pass runs in the
     cache (whole-array complex products of these sizes ran at memory speed, 10x slower)."""
@@ -622,15 +640,19 @@ def _quadratic(M, damping, stiffness, lam):
     squares = lam**2
     step = max(1, _CACHE_BYTES // (8 * damping[0].size))
     for part in (slice(p, p + step) for p in range(0, len(lam), step)):
-        mass = M if M.ndim == 2 else M[part]
-        for plane, quadratic, linear, constant in ((out.real, squares.real, lam.real, stiffness),
-                                                   (out.imag, squares.imag, lam.imag, None)):
-            rows = plane[part]
-            np.multiply(mass, quadratic[part, None, None], out=rows)
-            rows += damping[part] * linear[part, None, None]
-            if constant is not None:
-                rows += constant[part]
+        _quadratic_part(out[part], M if M.ndim == 2 else M[part], damping[part],
+                        stiffness if stiffness.ndim == 2 else stiffness[part], squares[part], lam[part])
     return out
+
+
+def _quadratic_part(out, mass, damping, stiffness, squares, lam):
+    """``out = squares M + lam D + K``, the real plane and then the imaginary one."""
+    real, imaginary = out.real, out.imag
+    np.multiply(mass, squares.real[:, None, None], out=real)
+    real += damping * lam.real[:, None, None]
+    real += stiffness
+    np.multiply(mass, squares.imag[:, None, None], out=imaginary)
+    imaginary += damping * lam.imag[:, None, None]
 
 
 def _solve(matrices, rhs):

@@ -182,6 +182,7 @@ class Pencils:
     def __init__(self, stack, variants, speeds):
         self.stack, self.variants, self.speeds = stack, np.asarray(variants), np.asarray(speeds, dtype=float)
         self.shared = len(stack) == 1 and not stack.dependent
+        self._constant = None       # M, C, G, K of every variant side by side, made on first use
 
     def __len__(self) -> int:
         return len(self.speeds)
@@ -207,14 +208,23 @@ class Pencils:
         return layout, mass, damping + speed * gyroscopic, stiffness
 
     def matrices(self, rows):
-        """Mass (n, n) or (R, n, n), ``C + Omega G`` and stiffness (R, n, n) of ``rows``."""
+        """Mass (n, n) or (R, n, n), ``C + Omega G`` (R, n, n) and stiffness (n, n) or (R, n, n)
+        of ``rows`` (an index array or a slice): the mass and stiffness (n, n) where all rows share
+        them (one model; the stiffness only with constant coefficients)."""
         stack = self.stack
-        mass = stack.M[0] if len(stack) == 1 else stack.M[self.variants[rows]]
-        return (mass, *stack.damping_stiffness(self.variants[rows], self.speeds[rows]))
+        one = len(stack) == 1
+        if stack.dependent:
+            mass = stack.M[0] if one else stack.M[self.variants[rows]]
+            return (mass, *stack.damping_stiffness(self.variants[rows], self.speeds[rows]))
+        speeds = self.speeds[rows][:, None, None]
+        if one:
+            return stack.M[0], stack.C[0] + speeds * stack.G[0], stack.K[0]
+        variants = self.variants[rows]
+        return stack.M[variants], stack.C[variants] + speeds * stack.G[variants], stack.K[variants]
 
     def products(self, rows, vectors):
-        """``M phi``, ``(C + Omega G) phi`` and ``K phi`` of ``rows`` for complex vectors (R, n):
-        each (R, n).
+        """``M phi``, ``(C + Omega G) phi`` and ``K phi`` of ``rows`` for complex vectors (R, n),
+        stacked: (3, R, n).
 
         Row by row (each result independent of the others, so that a study's variant and the
         single analysis of its model agree bit for bit), except for one large model with constant
@@ -224,20 +234,25 @@ class Pencils:
         if self.shared and vectors.shape[-1] > _eigen.BATCHED_DOF:
             m_phi, c_phi, g_phi, k_phi = (_eigen.real_product(vectors, matrix[0].T)
                                           for matrix in (stack.M, stack.C, stack.G, stack.K))
-            return m_phi, c_phi + speeds * g_phi, k_phi
-        variants = self.variants[rows]
-        pick = (lambda matrix: matrix[0]) if len(stack) == 1 else (lambda matrix: matrix[variants])
+            return np.array((m_phi, c_phi + speeds * g_phi, k_phi))
         if stack.dependent:
+            variants = self.variants[rows]
             damping, stiffness = stack.damping_stiffness(variants, self.speeds[rows])
-            return _row_products(pick(stack.M), vectors), _row_products(damping, vectors), \
-                _row_products(stiffness, vectors)
-        return (_row_products(pick(stack.M), vectors),
-                _row_products(pick(stack.C), vectors) + speeds * _row_products(pick(stack.G), vectors),
-                _row_products(pick(stack.K), vectors))
+            mass = stack.M[0] if len(stack) == 1 else stack.M[variants]
+            return np.array((_row_products(mass, vectors), _row_products(damping, vectors),
+                             _row_products(stiffness, vectors)))
+        # M, C, K and G times each row in one product (each matrix-vector product as by itself)
+        if self._constant is None:
+            self._constant = np.array((stack.M, stack.C, stack.K, stack.G))              # (4, V, n, n)
+        matrices = self._constant[:, :1] if len(stack) == 1 else self._constant[:, self.variants[rows]]
+        out = _row_products(matrices, vectors)
+        out[1] += speeds * out[3]                                                        # C phi + Omega G phi
+        return out[:3]
 
 
 def _row_products(matrices, vectors):
-    """Real matrices (n, n) or (R, n, n) times complex vectors (R, n), one row at a time: (R, n)."""
+    """Real matrices (..., n, n) (broadcast against the rows: (n, n), (R, n, n), (K, 1, n, n) or (K,
+    R, n, n)) times complex vectors (R, n), one row at a time: (..., R, n)."""
     column = vectors[..., None]
     return (matrices @ column.real)[..., 0] + 1j * (matrices @ column.imag)[..., 0]
 

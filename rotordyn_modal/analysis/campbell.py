@@ -398,14 +398,17 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shap
         roots, lam, phi, sure = _refine_parts(stack, speeds, values, weighted, brackets, shapes)
     ratios = stack.whirl_ratios(phi[:, None], brackets.variant, roots)[:, 0]
     _, zeta, _ = modal_quantities(lam)
-    names = np.asarray(sources[0].names, dtype=object)[brackets.source]
-    labels = _eigen.whirl_labels(ratios).astype(object)
+    names = np.asarray(sources[0].names, dtype=str)[brackets.source]
+    labels = _eigen.whirl_labels(ratios)
     tables = []
     for v in range(count):
-        mine = np.nonzero(brackets.variant == v)[0]
-        order = mine[np.lexsort((brackets.mode[mine], brackets.order[mine], names[mine].astype(str), roots[mine]))]
-        tables.append(_critical_table(names[order], brackets.order[order], brackets.mode[order] + 1, roots[order],
-                                      lam.imag[order] / (2 * np.pi), labels[order], ratios[order], zeta[order]))
+        mine = slice(None) if count == 1 else np.nonzero(brackets.variant == v)[0]
+        order = np.lexsort((brackets.mode[mine], brackets.order[mine], names[mine], roots[mine]))
+        if count > 1:
+            order = mine[order]
+        tables.append(_critical_table(names[order].astype(object), brackets.order[order], brackets.mode[order] + 1,
+                                      roots[order], lam.imag[order] / (2 * np.pi), labels[order].astype(object),
+                                      ratios[order], zeta[order]))
     return tables
 
 
@@ -447,6 +450,10 @@ class _Brackets(NamedTuple):
     """and the tracked mode's eigenvalues there, (P, 4)"""
     near_oscillating: np.ndarray
     """whether the mode oscillates at all four (:func:`~.modal.is_oscillating`)"""
+    ends: np.ndarray
+    """Every root at both ends of the bracket, (P, 2, m)"""
+    travels: np.ndarray
+    """Every root's travel across the bracket, ``|ends[:, 1] - ends[:, 0]|``, (P, m)"""
 
     def subset(self, rows) -> "_Brackets":
         return _Brackets(*(column[rows] for column in self))
@@ -459,38 +466,53 @@ def _crossing_brackets(speeds, values, sources, orders, oscillating=None) -> _Br
     may differ)."""
     mode_ok = is_oscillating(values) if oscillating is None else oscillating
     both = mode_ok[:, :-1] & mode_ok[:, 1:]
-    multipliers = np.array([s.multipliers for s in sources])            # (V, n_sources)
-    frequencies, magnitudes = values.imag, np.abs(speeds)[None, :, None]
+    multipliers = np.array([s.multipliers for s in sources], dtype=float)            # (V, n_sources)
+    factors = np.asarray(orders, dtype=float)
+    # excitation [rad/s] per |speed| [rad/s] of every (source, order), source after source, per variant
+    slopes = (factors[None, :, None] * multipliers.T[:, None, :]).reshape(-1, len(sources))
+    # speeds along the last axis: the passes below run along them (contiguous where that copy is
+    # no larger than the gaps of the lines taken at once)
+    frequencies, magnitudes, both = values.imag.swapaxes(1, 2), np.abs(speeds), both.swapaxes(1, 2)
+    if 8 * values.size <= _LINES_BYTES:
+        frequencies = np.ascontiguousarray(frequencies)
     parts = []
-    for s in range(multipliers.shape[1]):
-        for order in orders:
-            slope = order * multipliers[:, s]  # excitation [rad/s] per |speed| [rad/s], per variant
-            gap = frequencies - slope[:, None, None] * magnitudes
-            sign = np.sign(gap)
-            change = (sign[:, :-1] != sign[:, 1:]) & (gap[:, :-1] != 0) & both
-            if not (slope != 0).all():
-                change &= (slope != 0)[:, None, None]
-            v, k, mode = change.nonzero()
-            parts.append((v, k, mode, slope[v], np.full(len(k), s), np.full(len(k), float(order))))
-    if not parts:
-        parts = [tuple(np.zeros(0, dtype=int) for _ in range(6))]
-    v, k, mode, slope, source, order = parts[0] if len(parts) == 1 else (np.concatenate(c) for c in zip(*parts))
-    return _Brackets(v, k, mode, slope, source.astype(int), order, *_bracket_ends(speeds, values, mode_ok, v, k, mode))
+    # the lines a few at a time: their gaps are each the size of the sweep's eigenvalues
+    lines_at_once = max(1, _LINES_BYTES // (8 * values.size))
+    for lines in (slice(i, i + lines_at_once) for i in range(0, len(slopes), lines_at_once)):
+        slope = slopes[lines]
+        gap = frequencies - slope[:, :, None, None] * magnitudes                    # (L, V, m, N)
+        sign = np.sign(gap)
+        change = (sign[..., :-1] != sign[..., 1:]) & (gap[..., :-1] != 0) & both
+        if not (slope != 0).all():
+            change &= (slope != 0)[:, :, None, None]
+        line, v, k, mode = change.swapaxes(2, 3).nonzero()                          # by line, variant, speed, mode
+        parts.append((v, k, mode, slope[line, v], line + lines.start))
+    if not parts:                                        # no sources or no orders
+        parts = [(*(np.zeros(0, dtype=int) for _ in range(3)), np.zeros(0), np.zeros(0, dtype=int))]
+    v, k, mode, slope, line = parts[0] if len(parts) == 1 else (np.concatenate(c) for c in zip(*parts))
+    source, order = np.divmod(line, max(len(factors), 1))
+    return _Brackets(v, k, mode, slope, source, factors[order], *_bracket_ends(speeds, values, mode_ok, v, k, mode))
+
+
+#: the largest part of the gaps to the excitation lines computed at once [bytes]
+_LINES_BYTES = 4 * 2**20
 
 
 def _bracket_ends(speeds, values, oscillating, v, k, mode):
     """The sweep's data of each crossing that the refinement reads (see :class:`_Brackets`)."""
-    low, high = values[v, k, mode], values[v, k + 1, mode]
+    rows = np.arange(len(k))
+    ends = values[v[:, None], k[:, None] + np.arange(2)]                        # (P, 2, m)
+    travels = np.abs(ends[:, 1] - ends[:, 0])
+    low, high = ends[rows, 0, mode], ends[rows, 1, mode]
     start = speeds[k]
-    spread = np.abs(high - low) + 1e-9 * np.abs(low) + 1e-300
-    travel = np.abs(values[v, k + 1] - values[v, k]).max(axis=1)
+    spread = travels[rows, mode] + 1e-9 * np.abs(low) + 1e-300
     if len(speeds) < 4:
         near = np.full((len(k), 4), np.nan), np.full((len(k), 4), np.nan, dtype=complex), np.zeros(len(k), bool)
     else:
         nodes = np.minimum(np.maximum(k - 1, 0), len(speeds) - 4)[:, None] + np.arange(4)
         near = (speeds[nodes], values[v[:, None], nodes, mode[:, None]],
                 oscillating[v[:, None], nodes, mode[:, None]].all(axis=1))
-    return (start, speeds[k + 1] - start, low, high, spread, travel) + near
+    return (start, speeds[k + 1] - start, low, high, spread, travels.max(axis=1)) + near + (ends, travels)
 
 
 #: evaluations allowed per crossing (it needs two or three; bisection steps guarantee the rest)
@@ -508,8 +530,12 @@ def _refine_parts(stack, speeds, values, weighted, brackets, shapes=None):
     roots : ndarray (P,) [rad/s]; lam : ndarray (P,), complex; phi : ndarray (P, n), complex;
     sure : ndarray (P,) bool
     """
+    chunks = _eigen.chunk_slices(len(brackets.k), 64 * stack.n_dof ** 2)
+    if len(chunks) == 1:                             # all in one part (small models): no copies
+        roots, lam, sure, iterates = _refine_together(stack, speeds, values, weighted, brackets, shapes)
+        return (roots, *_shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iterates), sure)
     parts = []
-    for part in _eigen.chunk_slices(len(brackets.k), 64 * stack.n_dof ** 2):
+    for part in chunks:
         mine = brackets.subset(part)
         roots, lam, sure, iterates = _refine_together(stack, speeds, values, weighted, mine, shapes)
         parts.append((roots, *_shapes_at(stack, speeds, values, weighted, mine, roots, lam, sure, iterates), sure))
@@ -544,30 +570,71 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
         The pencil iteration's last points, eigenvalues and shapes.
     """
     k, slope = brackets.k, brackets.slope
+    count = len(k)
     a, b = speeds[k], speeds[k + 1]
     ga = brackets.low.imag - slope * np.abs(a)
     gb = brackets.high.imag - slope * np.abs(b)
-    roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
-    lam = np.where(ga == 0, brackets.low, brackets.high)
-    sure = np.zeros(len(k), dtype=bool)
-    done = ~np.isnan(roots)
     x = _cubic_start(speeds, values, brackets, a, b, ga, gb)
-    previous = np.full((2, len(k)), np.nan)          # the last point evaluated and its g
-    state = _Bracket(a, b, ga, gb, np.zeros(len(k), dtype=int), np.full((2, len(k)), np.inf))
     iterates = _Iterates.start(stack, speeds, values, brackets, shapes)
-    for _ in range(_MAX_ITERATIONS):
+    on_grid = (ga == 0) | (gb == 0)
+    if not on_grid.any():
+        # every crossing between grid points (the usual case): the first evaluation of all of them,
+        # which usually ends them all (the cubic start lands at round-off of the root)
+        every = np.arange(count)
+        lam, sure = _evaluate(stack, speeds, values, weighted, brackets, every, x.copy(), iterates)
+        gx = lam.imag - slope * np.abs(x)
+        if _finished(x, gx, _first_step(a, b, ga, gb, x, gx)).all():
+            return x, lam, sure, iterates
+    previous = np.full((2, count), np.nan)          # the last point evaluated and its g
+    state = _Bracket(a, b, ga, gb, np.zeros(count, dtype=int), np.full((2, count), np.inf))
+    if on_grid.any():
+        roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
+        lam = np.where(ga == 0, brackets.low, brackets.high)
+        sure = np.zeros(count, dtype=bool)
+        done, evaluations = on_grid, 0
+    else:                                           # go on from the first evaluation
+        roots, done, evaluations = x.copy(), np.zeros(count, dtype=bool), 1
+        x = _advance(state, previous, done, every, x, gx)
+    for _ in range(_MAX_ITERATIONS - evaluations):
         i = (~done).nonzero()[0]
         if not len(i):
             break
         lam_x, sure_x = _evaluate(stack, speeds, values, weighted, brackets, i, x[i], iterates)
         gx = lam_x.imag - slope[i] * np.abs(x[i])
         roots[i], lam[i], sure[i] = x[i], lam_x, sure_x
-        step = _next_step(state, i, x[i], gx, previous[:, i])
-        previous[:, i] = x[i], gx
-        finished = (gx == 0) | (np.abs(step - x[i]) <= _STEP_TOLERANCE * np.maximum(np.abs(x[i]), 1.0))
-        done[i[finished]] = True
-        x[i] = step
+        x[i] = _advance(state, previous, done, i, x[i], gx)
     return roots, lam, sure, iterates
+
+
+def _advance(state, previous, done, rows, x, gx):
+    """Update the brackets ``rows`` with the points (x, gx) (see :func:`_next_step`), mark those
+    that end there done, and return the next points."""
+    step = _next_step(state, rows, x, gx, previous[:, rows])
+    previous[:, rows] = x, gx
+    done[rows[_finished(x, gx, step)]] = True
+    return step
+
+
+def _finished(x, gx, step):
+    """A crossing ends where ``g`` vanishes or its next step is below ``_STEP_TOLERANCE``."""
+    return (gx == 0) | (np.abs(step - x) <= _STEP_TOLERANCE * np.maximum(np.abs(x), 1.0))
+
+
+def _first_step(a, b, ga, gb, x, gx):
+    """The step :func:`_next_step` takes after the first point (x, gx) of every bracket [a, b]
+    (g there ga, gb), without updating the brackets: with no earlier point there is no secant,
+    and no end has moved yet, so it is the false position (or the midpoint) of the bracket
+    shrunk to x."""
+    moved = gx != 0
+    left = (np.sign(gx) == np.sign(ga)) & moved
+    right = ~left & moved
+    a, b = np.where(left, x, a), np.where(right, x, b)
+    ga, gb = np.where(left, gx, ga), np.where(right, gx, gb)
+    width = b - a
+    with np.errstate(divide="ignore", invalid="ignore"):
+        falsi = b - gb * width / (gb - ga)
+    fallback = np.where(np.isfinite(falsi) & (falsi > a) & (falsi < b), falsi, 0.5 * (a + b))
+    return np.where(gx == 0, x, fallback)
 
 
 class _Bracket(NamedTuple):
@@ -607,26 +674,26 @@ def _cubic_start(speeds, values, brackets, a, b, ga, gb):
     """Root in (a, b) of the cubic through g at the sweep's four points around each bracket
     (the chord's root where fewer than four oscillating points are at hand)."""
     width = b - a
-    with np.errstate(divide="ignore", invalid="ignore"):
-        chord = b - gb * width / (gb - ga)
-    chord = np.where(np.isfinite(chord) & (chord > a) & (chord < b), chord, 0.5 * (a + b))
-    if len(speeds) < 4:
-        return chord
-    xs, lam = _four_points(speeds, values, brackets, slice(None))
-    gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
-    usable = brackets.near_oscillating & ((xs >= 0).all(axis=1) | (xs <= 0).all(axis=1))
-    # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
-    t_nodes = (xs - a[:, None]) / width[:, None]
-    vandermonde = t_nodes[..., None] ** np.arange(4)
     with np.errstate(all="ignore"):
+        chord = b - gb * width / (gb - ga)
+        chord = np.where(np.isfinite(chord) & (chord > a) & (chord < b), chord, 0.5 * (a + b))
+        if len(speeds) < 4:
+            return chord
+        xs, lam = _four_points(speeds, values, brackets, slice(None))
+        gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
+        # the four speeds ascend: all on one side of zero where the first or the last is
+        usable = brackets.near_oscillating & ((xs[:, 0] >= 0) | (xs[:, 3] <= 0))
+        # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
+        t_nodes = (xs - a[:, None]) / width[:, None]
+        vandermonde = t_nodes[..., None] ** np.arange(4)
         coefficients = np.linalg.solve(vandermonde, gs[..., None])[..., 0]
         t = (chord - a) / width
         c0, c1, c2, c3 = coefficients.T
         slope3, slope2 = 3 * c3, 2 * c2                 # the derivative's coefficients
         for _ in range(4):                              # Newton on the cubic, from the chord's root
             t = t - (((c3 * t + c2) * t + c1) * t + c0) / ((slope3 * t + slope2) * t + c1)
-    x = a + t * width
-    good = usable & np.isfinite(x) & (x > a) & (x < b)
+        x = a + t * width
+        good = usable & np.isfinite(x) & (x > a) & (x < b)
     return np.where(good, x, chord)
 
 
@@ -681,16 +748,14 @@ def _isolated(values, brackets):
     -------
     ndarray of bool, shape (P,)
     """
-    v, k, mode = brackets.variant, brackets.k, brackets.mode
-    rows = np.arange(len(k))
-    ends = values[v, np.array([k, k + 1])]                                  # (2, P, m)
-    own = ends[:, rows, mode]                                               # (2, P)
-    travel = np.abs(ends[1] - ends[0])                                      # (P, m)
-    own_travel = travel[rows, mode] + 1e-9 * np.abs(own).max(axis=0)
-    margin = 2 * (travel + 7 * own_travel[:, None])                         # (P, m)
-    apart = np.minimum(np.abs(ends - own[..., None]), np.abs(ends.conj() - own[..., None])).min(axis=0)
+    rows = np.arange(len(brackets.k))
+    mode, ends, travels = brackets.mode, brackets.ends, brackets.travels                 # (P, 2, m), (P, m)
+    own = ends[rows, :, mode]                                                            # (P, 2)
+    own_travel = travels[rows, mode] + 1e-9 * np.abs(own).max(axis=1)
+    margin = 2 * (travels + 7 * own_travel[:, None])                                    # (P, m)
+    apart = np.minimum(np.abs(ends - own[..., None]), np.abs(ends.conj() - own[..., None])).min(axis=1)
     apart[rows, mode] = np.inf
-    own_conjugate = 2 * np.abs(own.imag).min(axis=0)
+    own_conjugate = 2 * np.abs(own.imag).min(axis=1)
     return (apart > margin).all(axis=1) & (own_conjugate > 2 * 8 * own_travel)
 
 
@@ -748,18 +813,26 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     later ones reuse that factorisation, and factor anew only where the iteration did not
     converge. Returns the eigenvalues and which converged to the tracked mode."""
     expected = _interpolated(speeds, values, brackets, rows, x)
-    start = iterates.lam[rows] + expected - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
     unready = ~iterates.factors.ready[rows]
-    fresh = unready.nonzero()[0]
     pencils = Pencils(stack, brackets.variant[rows], x)
-    if len(fresh):
-        first = fresh[iterates.x[rows[fresh]] == brackets.start[rows[fresh]]]    # nothing evaluated yet
-        if len(first):
-            start[first] = _cubic_value(speeds, values, brackets, rows[first], x[first])
-        iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
+    if unready.all() and (iterates.x[rows] == brackets.start[rows]).all():
+        # every crossing's first evaluation (the usual case): all start from the cubic, factored there
+        start = _cubic_value(speeds, values, brackets, rows, x, expected)
+        iterates.factors.factor(rows, pencils, start)
+        again = ()
+    else:
+        start = iterates.lam[rows] + expected - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
+        fresh = unready.nonzero()[0]
+        if len(fresh):
+            first = fresh[iterates.x[rows[fresh]] == brackets.start[rows[fresh]]]    # nothing evaluated yet
+            if len(first):
+                start[first] = _cubic_value(speeds, values, brackets, rows[first], x[first])
+            iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
+        again = None
     lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
                                                                iterates.shape[rows])
-    again = (~converged & np.isfinite(lam) & ~unready).nonzero()[0]
+    if again is None:
+        again = (~converged & np.isfinite(lam) & ~unready).nonzero()[0]
     if len(again):
         # far from the factored point (or a poor start there): factor here and iterate again
         part = _eigen.PencilRows(pencils, again)
@@ -778,21 +851,25 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     return lam, ok
 
 
-def _cubic_value(speeds, values, brackets, rows, x):
+def _cubic_value(speeds, values, brackets, rows, x, linear=None):
     """The tracked modes' eigenvalues at ``x`` by the cubic through the sweep's four nearest
-    points (linear across the bracket where fewer than four oscillating points are at hand)."""
-    linear = _interpolated(speeds, values, brackets, rows, x)
+    points (linear across the bracket where fewer than four oscillating points are at hand;
+    ``linear``, :func:`_interpolated` at ``x``, when the caller has it)."""
     if len(speeds) < 4 or not len(rows):
-        return linear
+        return _interpolated(speeds, values, brackets, rows, x) if linear is None else linear
     xs, lam = _four_points(speeds, values, brackets, rows)
     # Lagrange weights: factor[p, j, m] = (x - xs_m) / (xs_j - xs_m), 1 where m = j (exact, so the
     # products below equal the ones over m != j in the same order)
     with np.errstate(divide="ignore", invalid="ignore"):
         factor = (x[:, None, None] - xs[:, None, :]) / (xs[:, :, None] - xs[:, None, :])
-    factor[:, np.arange(4), np.arange(4)] = 1.0
+    factor.reshape(len(x), 16)[:, ::5] = 1.0                        # the diagonals
     weights = factor[..., 0] * factor[..., 1] * factor[..., 2] * factor[..., 3]
     cubic = np.einsum("pj,pj->p", weights, lam)
-    return np.where(brackets.near_oscillating[rows], cubic, linear)
+    cubic_here = brackets.near_oscillating[rows]
+    if cubic_here.all():
+        return cubic
+    linear = _interpolated(speeds, values, brackets, rows, x) if linear is None else linear
+    return np.where(cubic_here, cubic, linear)
 
 
 def _four_points(speeds, values, brackets, rows):
@@ -902,9 +979,11 @@ def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iter
     gave one (the pencil iteration's, the nearest roots', an identification's), else one
     inverse-iteration step on the eigenvalue found, or a full identification
     (:func:`_modes_at`) where it was unsure or the eigenvalue is repeated."""
+    known = (iterates.x == roots) & (iterates.lam == lam)
+    if known.all() and iterates.shape.shape[-1]:
+        return lam.copy(), iterates.shape.copy()        # every root the pencil iteration's last point
     lam = lam.copy()
     phi = np.empty((len(roots), stack.n_dof), dtype=complex)
-    known = (iterates.x == roots) & (iterates.lam == lam)
     if known.any():
         phi[known] = iterates.shape[known]
     rest = np.nonzero(~known & sure)[0]

@@ -8,9 +8,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..errors import InputError
 from . import _eigen
 from ._stack import Pencils, Stack
-from .modal import is_oscillating, modal_quantities
+from .modal import damping_ratios, is_oscillating, modal_quantities
 from .tracking import track_modes_many
 
 __all__ = ["CampbellResult", "CriticalSpeeds", "ExcitationSources", "campbell", "campbell_many",
@@ -374,8 +375,6 @@ def critical_speeds(model, speeds, orders=(1,), progress=False) -> CriticalSpeed
 
 
 def _check_speeds(speeds) -> np.ndarray:
-    from ..errors import InputError
-
     speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
     if speeds.ndim != 1 or len(speeds) == 0 or not np.isfinite(speeds).all():
         raise InputError(f"speeds: expected a non-empty 1-D array of finite numbers, got shape {speeds.shape}")
@@ -397,7 +396,7 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shap
     with _eigen.one_blas_thread(72 * stack.forms[0].n_states ** 2):
         roots, lam, phi, sure = _refine_parts(stack, speeds, values, weighted, brackets, shapes)
     ratios = stack.whirl_ratios(phi[:, None], brackets.variant, roots)[:, 0]
-    _, zeta, _ = modal_quantities(lam)
+    zeta = damping_ratios(lam)
     names = np.asarray(sources[0].names, dtype=str)[brackets.source]
     labels = _eigen.whirl_labels(ratios)
     tables = []

@@ -52,12 +52,20 @@ def modal_quantities(eigenvalues):
         (inf where the mode does not oscillate, nan where lam = 0).
     """
     lam = np.asarray(eigenvalues)
-    magnitude = np.abs(lam)
+    zeta = damping_ratios(lam)
     with np.errstate(divide="ignore", invalid="ignore"):
-        zeta = np.where(magnitude > 0, -lam.real / np.where(magnitude > 0, magnitude, 1), np.nan)
         log_dec = np.where(lam.imag > 0, -2 * np.pi * lam.real / np.where(lam.imag > 0, lam.imag, 1),
                            np.where(lam.real < 0, np.inf, np.where(lam.real > 0, -np.inf, np.nan)))
     return lam.imag / (2 * np.pi), zeta, log_dec
+
+
+def damping_ratios(eigenvalues) -> np.ndarray:
+    """Damping ratios ``-Re(lam) / |lam|`` (nan where lam = 0) of eigenvalues [1/s], same shape
+    (the damping ratios of :func:`modal_quantities`)."""
+    lam = np.asarray(eigenvalues)
+    magnitude = np.abs(lam)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(magnitude > 0, -lam.real / np.where(magnitude > 0, magnitude, 1), np.nan)
 
 
 @dataclass(frozen=True)

@@ -88,13 +88,14 @@ class Stack:
         return out
 
     def damping_stiffness(self, variants, x):
-        """``C + Omega G`` and ``K`` of variant ``variants[p]`` at ``x[p]``, each (P, n, n); with
-        constant coefficients the stiffness is a read-only view (one model's K, or the rows')."""
+        """``C + Omega G`` (P, n, n) and ``K`` of variant ``variants[p]`` at ``x[p]``; with constant
+        coefficients the stiffness is the model's own K (n, n) for one model, the rows' (P, n, n)
+        for several (read-only: not to be written)."""
         one = len(self) == 1
         C, G, K = (matrix[0] if one else matrix[variants] for matrix in (self.C, self.G, self.K))
         damping = C + x[:, None, None] * G
         if not self.dependent:
-            return damping, np.broadcast_to(K, damping.shape)
+            return damping, K
         stiffness = np.array(np.broadcast_to(K, damping.shape))
         for v in np.unique(variants):
             rows = variants == v
@@ -212,15 +213,9 @@ class Pencils:
         of ``rows`` (an index array or a slice): the mass and stiffness (n, n) where all rows share
         them (one model; the stiffness only with constant coefficients)."""
         stack = self.stack
-        one = len(stack) == 1
-        if stack.dependent:
-            mass = stack.M[0] if one else stack.M[self.variants[rows]]
-            return (mass, *stack.damping_stiffness(self.variants[rows], self.speeds[rows]))
-        speeds = self.speeds[rows][:, None, None]
-        if one:
-            return stack.M[0], stack.C[0] + speeds * stack.G[0], stack.K[0]
         variants = self.variants[rows]
-        return stack.M[variants], stack.C[variants] + speeds * stack.G[variants], stack.K[variants]
+        mass = stack.M[0] if len(stack) == 1 else stack.M[variants]
+        return (mass, *stack.damping_stiffness(variants, self.speeds[rows]))
 
     def products(self, rows, vectors):
         """``M phi``, ``(C + Omega G) phi`` and ``K phi`` of ``rows`` for complex vectors (R, n),

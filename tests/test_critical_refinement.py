@@ -101,7 +101,7 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, path, exampl
         monkeypatch.setattr(campbell_module, "_NEAREST_ROOTS", 2)
     if path in ("nearest-roots", "sparse-nearest-roots", "two-nearest-roots", "arnoldi-fails"):
         monkeypatch.setattr(_eigen, "NEAREST_ROOTS_DOF", 0)
-        monkeypatch.setattr(campbell_module, "_isolated", lambda values, brackets: np.zeros(len(brackets.k), bool))
+        monkeypatch.setattr(campbell_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
     model = rdm.load_model(examples_dir / f"{name}.toml")
     top = 50.0 if name.startswith("spring_block") else rdm.rpm(12000.0)
     orders = (1, 2)
@@ -171,7 +171,7 @@ def test_modes_in_clusters_of_roots_take_more_roots_than_the_nearest(monkeypatch
         rotor["speed_ratio"] = 1.0 if j == 0 else float(rng.choice([-1, 1]) * rng.uniform(0.3, 2.0))
     model = rdm.Model.from_dict(data)
     speeds = np.linspace(0.0, 3000.0, 41)
-    monkeypatch.setattr(campbell_module, "_isolated", lambda values, brackets: np.zeros(len(brackets.k), bool))
+    monkeypatch.setattr(campbell_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
     full = rdm.campbell(model, speeds, orders=(1, 2)).critical
     counts = []
     roots_near = campbell_module._roots_near
@@ -216,7 +216,7 @@ def test_large_model_paths_equal_all_eigenvalues_of_the_state_matrix(n_rotors, s
     speeds = np.linspace(0.0, 3000.0, 21)
     large = rdm.campbell(model, speeds).critical
     monkeypatch.setattr(_eigen, "NEAREST_ROOTS_DOF", 10**9)
-    monkeypatch.setattr(campbell_module, "_isolated", lambda values, brackets: np.zeros(len(brackets.k), bool))
+    monkeypatch.setattr(campbell_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
     full = rdm.campbell(model, speeds).critical
     assert len(full) == len(large) > 1000
     large, full = _by_crossing(large), _by_crossing(full)

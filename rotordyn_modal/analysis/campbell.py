@@ -444,7 +444,8 @@ class _Brackets(NamedTuple):
     travel: np.ndarray
     """The fastest travel of any root of the sweep across the bracket"""
     near_speeds: np.ndarray
-    """The sweep's four speeds around the bracket, (P, 4) (see :func:`_four_points`)"""
+    """The sweep's four speeds around the bracket (two each side, or the four at the grid's
+    end), (P, 4)"""
     near_values: np.ndarray
     """and the tracked mode's eigenvalues there, (P, 4)"""
     near_oscillating: np.ndarray
@@ -573,27 +574,23 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     a, b = speeds[k], speeds[k + 1]
     ga = brackets.low.imag - slope * np.abs(a)
     gb = brackets.high.imag - slope * np.abs(b)
-    x = _cubic_start(speeds, values, brackets, a, b, ga, gb)
-    iterates = _Iterates.start(stack, speeds, values, brackets, shapes)
-    on_grid = (ga == 0) | (gb == 0)
-    if not on_grid.any():
-        # every crossing between grid points (the usual case): the first evaluation of all of them,
-        # which usually ends them all (the cubic start lands at round-off of the root)
-        every = np.arange(count)
-        lam, sure = _evaluate(stack, speeds, values, weighted, brackets, every, x.copy(), iterates)
-        gx = lam.imag - slope * np.abs(x)
-        if _finished(x, gx, _first_step(a, b, ga, gb, x, gx)).all():
-            return x, lam, sure, iterates
+    x = _cubic_start(speeds, brackets, a, b, ga, gb)
+    iterates = _Iterates.start(stack, brackets, shapes)
     previous = np.full((2, count), np.nan)          # the last point evaluated and its g
     state = _Bracket(a, b, ga, gb, np.zeros(count, dtype=int), np.full((2, count), np.inf))
+    on_grid = (ga == 0) | (gb == 0)
     if on_grid.any():
         roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
         lam = np.where(ga == 0, brackets.low, brackets.high)
         sure = np.zeros(count, dtype=bool)
         done, evaluations = on_grid, 0
-    else:                                           # go on from the first evaluation
+    else:
+        # every crossing between grid points (the usual case): the first evaluation of all of them,
+        # which usually ends them all (the cubic start lands at round-off of the root)
+        every = np.arange(count)
+        lam, sure = _evaluate(stack, speeds, values, weighted, brackets, every, x.copy(), iterates)
         roots, done, evaluations = x.copy(), np.zeros(count, dtype=bool), 1
-        x = _advance(state, previous, done, every, x, gx)
+        x = _advance(state, previous, done, every, x, lam.imag - slope * np.abs(x))
     for _ in range(_MAX_ITERATIONS - evaluations):
         i = (~done).nonzero()[0]
         if not len(i):
@@ -617,23 +614,6 @@ def _advance(state, previous, done, rows, x, gx):
 def _finished(x, gx, step):
     """A crossing ends where ``g`` vanishes or its next step is below ``_STEP_TOLERANCE``."""
     return (gx == 0) | (np.abs(step - x) <= _STEP_TOLERANCE * np.maximum(np.abs(x), 1.0))
-
-
-def _first_step(a, b, ga, gb, x, gx):
-    """The step :func:`_next_step` takes after the first point (x, gx) of every bracket [a, b]
-    (g there ga, gb), without updating the brackets: with no earlier point there is no secant,
-    and no end has moved yet, so it is the false position (or the midpoint) of the bracket
-    shrunk to x."""
-    moved = gx != 0
-    left = (np.sign(gx) == np.sign(ga)) & moved
-    right = ~left & moved
-    a, b = np.where(left, x, a), np.where(right, x, b)
-    ga, gb = np.where(left, gx, ga), np.where(right, gx, gb)
-    width = b - a
-    with np.errstate(divide="ignore", invalid="ignore"):
-        falsi = b - gb * width / (gb - ga)
-    fallback = np.where(np.isfinite(falsi) & (falsi > a) & (falsi < b), falsi, 0.5 * (a + b))
-    return np.where(gx == 0, x, fallback)
 
 
 class _Bracket(NamedTuple):
@@ -669,7 +649,7 @@ def _next_step(state, rows, x, gx, previous):
     return np.where(gx == 0, x, np.where(inside, secant, fallback))
 
 
-def _cubic_start(speeds, values, brackets, a, b, ga, gb):
+def _cubic_start(speeds, brackets, a, b, ga, gb):
     """Root in (a, b) of the cubic through g at the sweep's four points around each bracket
     (the chord's root where fewer than four oscillating points are at hand)."""
     width = b - a
@@ -678,7 +658,7 @@ def _cubic_start(speeds, values, brackets, a, b, ga, gb):
         chord = np.where(np.isfinite(chord) & (chord > a) & (chord < b), chord, 0.5 * (a + b))
         if len(speeds) < 4:
             return chord
-        xs, lam = _four_points(speeds, values, brackets, slice(None))
+        xs, lam = brackets.near_speeds, brackets.near_values
         gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
         # the four speeds ascend: all on one side of zero where the first or the last is
         usable = brackets.near_oscillating & ((xs[:, 0] >= 0) | (xs[:, 3] <= 0))
@@ -721,7 +701,7 @@ class _Iterates(NamedTuple):
     factors: _eigen.PencilFactors
 
     @classmethod
-    def start(cls, stack, speeds, values, brackets, shapes):
+    def start(cls, stack, brackets, shapes):
         count = len(brackets.k)
         gap = np.full(count, np.nan)
         if shapes is None or stack.branch_times.shape[-1]:
@@ -729,11 +709,11 @@ class _Iterates(NamedTuple):
             return cls(np.zeros(count, dtype=bool), np.full(count, np.nan), np.zeros(count, complex),
                        np.zeros((count, 0), complex), gap, _eigen.PencilFactors(0, 0))
         v, k, mode = brackets.variant, brackets.k, brackets.mode
-        return cls(_isolated(values, brackets), brackets.start.astype(float), brackets.low.copy(),
+        return cls(_isolated(brackets), brackets.start.astype(float), brackets.low.copy(),
                    shapes[v, k, mode], gap, _eigen.PencilFactors(count, stack.n_dof))
 
 
-def _isolated(values, brackets):
+def _isolated(brackets):
     """Crossings whose mode stays far from every other root over its bracket.
 
     At both ends of the bracket, every other root (and every root's conjugate, its own
@@ -767,11 +747,11 @@ def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
     fast = iterates.usable[rows]
     isolated = fast.all()
     if isolated:                         # every mode isolated (the usual case): all on the pencil
-        found, ok = _pencil_at(stack, speeds, values, brackets, rows, x, iterates)
+        found, ok = _pencil_at(stack, speeds, brackets, rows, x, iterates)
         if ok.all():
             return found, ok
     else:
-        fast |= _followed(speeds, values, brackets, rows, x, iterates)
+        fast |= _followed(brackets, rows, x, iterates)
     lam = np.empty(len(rows), dtype=complex)
     sure = np.zeros(len(rows), dtype=bool)
     if isolated:
@@ -779,7 +759,7 @@ def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
         fast[~ok] = False
     elif fast.any():
         f = fast.nonzero()[0]
-        found, ok = _pencil_at(stack, speeds, values, brackets, rows[f], x[f], iterates)
+        found, ok = _pencil_at(stack, speeds, brackets, rows[f], x[f], iterates)
         lam[f[ok]], sure[f[ok]] = found[ok], True
         fast[f[~ok]] = False
     slow = (~fast).nonzero()[0]
@@ -794,7 +774,7 @@ def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
     return lam, sure
 
 
-def _followed(speeds, values, brackets, rows, x, iterates):
+def _followed(brackets, rows, x, iterates):
     """Crossings whose mode was picked from the roots at a point so near ``x`` that no root
     can have moved a tenth of the distance to its nearest neighbour there (at four times the
     fastest travel across the bracket of any root of the sweep): the pencil's iteration from
@@ -804,28 +784,28 @@ def _followed(speeds, values, brackets, rows, x, iterates):
         return ~iterates.usable[rows] & (moved < 0.1 * iterates.gap[rows])
 
 
-def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
+def _pencil_at(stack, speeds, brackets, rows, x, iterates):
     """Eigenvalues of isolated or followed modes (:func:`_followed`) at ``x`` by residual inverse
     iteration on the pencil (:func:`_eigen.residual_inverse_iteration`), started from the last
     point's eigenvalue (moved by the interpolation's change) and shape. A crossing's first
     evaluation factors its pencil at the cubic interpolation of the sweep's eigenvalues there;
     later ones reuse that factorisation, and factor anew only where the iteration did not
     converge. Returns the eigenvalues and which converged to the tracked mode."""
-    expected = _interpolated(speeds, values, brackets, rows, x)
+    expected = _interpolated(brackets, rows, x)
     unready = ~iterates.factors.ready[rows]
     pencils = Pencils(stack, brackets.variant[rows], x)
     if unready.all() and (iterates.x[rows] == brackets.start[rows]).all():
         # every crossing's first evaluation (the usual case): all start from the cubic, factored there
-        start = _cubic_value(speeds, values, brackets, rows, x, expected)
+        start = _cubic_value(speeds, brackets, rows, x, expected)
         iterates.factors.factor(rows, pencils, start)
         again = ()
     else:
-        start = iterates.lam[rows] + expected - _interpolated(speeds, values, brackets, rows, iterates.x[rows])
+        start = iterates.lam[rows] + expected - _interpolated(brackets, rows, iterates.x[rows])
         fresh = unready.nonzero()[0]
         if len(fresh):
             first = fresh[iterates.x[rows[fresh]] == brackets.start[rows[fresh]]]    # nothing evaluated yet
             if len(first):
-                start[first] = _cubic_value(speeds, values, brackets, rows[first], x[first])
+                start[first] = _cubic_value(speeds, brackets, rows[first], x[first])
             iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
         again = None
     lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
@@ -838,7 +818,7 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
         iterates.factors.factor(rows[again], part, lam[again])
         lam[again], shapes[again], converged[again] = _eigen.residual_inverse_iteration(
             iterates.factors, rows[again], part, lam[again], shapes[again])
-    ok = converged & (np.abs(lam - expected) <= 2 * _spread(values, brackets, rows))
+    ok = converged & (np.abs(lam - expected) <= 2 * brackets.spread[rows])
     followed = ~iterates.usable[rows]
     if followed.any():
         with np.errstate(invalid="ignore"):
@@ -850,13 +830,13 @@ def _pencil_at(stack, speeds, values, brackets, rows, x, iterates):
     return lam, ok
 
 
-def _cubic_value(speeds, values, brackets, rows, x, linear=None):
+def _cubic_value(speeds, brackets, rows, x, linear=None):
     """The tracked modes' eigenvalues at ``x`` by the cubic through the sweep's four nearest
     points (linear across the bracket where fewer than four oscillating points are at hand;
     ``linear``, :func:`_interpolated` at ``x``, when the caller has it)."""
     if len(speeds) < 4 or not len(rows):
-        return _interpolated(speeds, values, brackets, rows, x) if linear is None else linear
-    xs, lam = _four_points(speeds, values, brackets, rows)
+        return _interpolated(brackets, rows, x) if linear is None else linear
+    xs, lam = brackets.near_speeds[rows], brackets.near_values[rows]
     # Lagrange weights: factor[p, j, m] = (x - xs_m) / (xs_j - xs_m), 1 where m = j (exact, so the
     # products below equal the ones over m != j in the same order)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -867,24 +847,14 @@ def _cubic_value(speeds, values, brackets, rows, x, linear=None):
     cubic_here = brackets.near_oscillating[rows]
     if cubic_here.all():
         return cubic
-    linear = _interpolated(speeds, values, brackets, rows, x) if linear is None else linear
+    linear = _interpolated(brackets, rows, x) if linear is None else linear
     return np.where(cubic_here, cubic, linear)
 
 
-def _four_points(speeds, values, brackets, rows):
-    """The sweep's four speeds around each bracket of ``rows`` (two each side, or the four at
-    the grid's end) and the tracked mode's eigenvalues there: (R, 4) each."""
-    return brackets.near_speeds[rows], brackets.near_values[rows]
-
-
-def _interpolated(speeds, values, brackets, rows, x):
+def _interpolated(brackets, rows, x):
     """The tracked modes' eigenvalues interpolated linearly across their brackets at ``x``."""
     t = (x - brackets.start[rows]) / brackets.width[rows]
     return (1 - t) * brackets.low[rows] + t * brackets.high[rows]
-
-
-def _spread(values, brackets, rows):
-    return brackets.spread[rows]
 
 
 def _tracked(stack, speeds, values, weighted, brackets, rows, x):
@@ -904,7 +874,7 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
     gap : ndarray (P,)
         Distance from each eigenvalue to the nearest other root (of those at hand) [1/s].
     """
-    expected = _interpolated(speeds, values, brackets, rows, x)
+    expected = _interpolated(brackets, rows, x)
     lam, phi, radius = _roots_near(stack, brackets.variant[rows], x, expected)
     distance = np.abs(lam - expected[:, None])
     nearest, second = np.argsort(distance, axis=1)[:, :2].T
@@ -914,7 +884,7 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
     known = np.zeros(len(x), dtype=bool)
     if phi is not None:
         shapes, known = phi[every, nearest], np.ones(len(x), dtype=bool)
-    unsure = distance[every, second] <= 4 * distance[every, nearest] + 2 * _spread(values, brackets, rows)
+    unsure = distance[every, second] <= 4 * distance[every, nearest] + 2 * brackets.spread[rows]
     if unsure.any():
         mine = brackets.subset(rows[unsure])
         if phi is None:
@@ -997,7 +967,7 @@ def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iter
 
 def _modes_at(stack, speeds, values, weighted, brackets, x):
     """Eigenvalue and shape of each bracket's tracked mode at ``x`` (see :func:`_identified`)."""
-    expected = _interpolated(speeds, values, brackets, np.arange(len(x)), x)
+    expected = _interpolated(brackets, np.arange(len(x)), x)
     lam, phi, radius = _roots_near(stack, brackets.variant, x, expected, shapes=True)
     return _identified(stack, speeds, values, weighted, brackets, x, lam, phi, radius)
 
@@ -1012,11 +982,11 @@ def _identified(stack, speeds, values, weighted, brackets, x, lam, phi, radius):
     cluster of many close roots, such as the like rotors of a large machine), that row takes
     four times as many roots nearest the interpolation, until this holds or it has them all."""
     rows = np.arange(len(x))
-    expected = _interpolated(speeds, values, brackets, rows, x)
+    expected = _interpolated(brackets, rows, x)
     psi = stack.weighted(phi, brackets.variant)
     reference = weighted[brackets.variant, brackets.k, brackets.mode]                   # (P, n)
     correlation = np.abs(np.einsum("pn,pjn->pj", reference.conj(), psi)) ** 2
-    spread = _spread(values, brackets, rows)
+    spread = brackets.spread[rows]
     cost = (1 - correlation) + np.abs(lam - expected[:, None]) / spread[:, None]
     j = np.argmin(np.where(np.isnan(cost), np.inf, cost), axis=1)
     picked, shape = lam[rows, j], phi[rows, j]

@@ -782,33 +782,26 @@ def _extreme_whirl(basis, total, momentum):
 _SKEW_BASIS = skew(np.eye(3))   # E_k = skew(unit_k), shape (3, 3, 3)
 
 
-def _bodies_quadratic(masses, centers, second_moments, X, first=None, products=None) -> np.ndarray:
+def _bodies_quadratic(masses, second_moments, X, first, products) -> np.ndarray:
     """``sum_p m_p Z_p^T X Z_p`` over the particles of each rigid body, Z_p = [I, -skew(r_p)],
-    for one direction X or several stacked, (D, 3, 3).
+    for several directions X at once.
 
     Needs only each body's mass, first moment and second-moment tensor about the reference
     point: ``sum_p m_p skew(r_p) X skew(r_p) = sum_kl Q_kl E_k X E_l`` with ``E_k = skew(unit_k)``.
 
     Parameters
     ----------
-    masses : ndarray (B,); centers : ndarray (B, 3); second_moments : ndarray (B, 3, 3)
-    X : ndarray, shape (3, 3) or (D, 3, 3)
-    first : ndarray (B, 3, 3), optional
-        ``skew(masses * centers)``, when the caller has it.
-    products : ndarray (3, 3, 3, 3) or (D, 3, 3, 3, 3), optional
-        ``E_k X E_l``, when the caller has it (see :func:`_directions`).
+    masses : ndarray (B,); second_moments : ndarray (B, 3, 3)
+    X : ndarray, shape (D, 3, 3)
+    first : ndarray (B, 3, 3)
+        ``skew(masses * centers)``.
+    products : ndarray (D, 3, 3, 3, 3)
+        ``E_k X E_l`` of each direction (see :func:`_directions`).
 
     Returns
     -------
-    ndarray, shape (B, 6, 6) or (D, B, 6, 6)
+    ndarray, shape (D, B, 6, 6)
     """
-    if X.ndim == 2:
-        return _bodies_quadratic(masses, centers, second_moments, X[None], first,
-                                 None if products is None else products[None])[0]
-    if products is None:
-        products = np.stack([_direction_products(x) for x in X])
-    if first is None:
-        first = skew(masses[:, None] * centers)               # (B, 3, 3)
     X = X[:, None]                                            # (D, 1, 3, 3)
     out = np.zeros((len(X), len(masses), 6, 6))
     out[..., :3, :3] = masses[:, None, None] * X
@@ -858,7 +851,7 @@ def _bodies_forms(model) -> np.ndarray:
     second = (0.5 * traces[:, None, None] * np.eye(3) - inertias
               + masses[:, None, None] * arms[:, :, None] * arms[:, None, :])
     first = skew(masses[:, None] * arms)
-    return _bodies_quadratic(masses, arms, second, X, first, products)
+    return _bodies_quadratic(masses, second, X, first, products)
 
 
 def whirl_forms(model) -> WhirlForms:

@@ -26,11 +26,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..assembly import bearing_motion, excitation_columns
+from ..assembly import bearing_motion, body_inertias, excitation_columns, rotor_gyroscopic
 from ..bearings import evaluate
-from ..geometry import shift_matrices, shift_matrix, skew
+from ..geometry import shift_matrices, shift_matrix
 from . import _eigen
-from .frf import FRFResult, _check_frequencies, _names, dof_response
+from .frf import FRFResult, _broadcast, _check_frequencies, _names, dof_response
 
 __all__ = ["suspension_forces", "bearing_forces", "bearing_point_forces", "force_frf", "COMPONENTS"]
 
@@ -69,7 +69,7 @@ def suspension_forces(model, omega, q) -> np.ndarray:
     losses = np.array([s.loss_factor for s in suspensions], dtype=float)
     stiffness = np.array([s.stiffness_matrix for s in suspensions]) * (1 + 1j * losses)[:, None, None]
     damping = np.array([s.damping_matrix for s in suspensions])
-    out = _stiffness_damping(points, stiffness, damping, w, n)
+    out = _stiffness_damping(points, stiffness, damping, w)
     for i, s in enumerate(suspensions):
         if getattr(s, "maxwell_stiffness_matrix", None) is not None:
             out[i] = out[i] + _branch_stiffness(s, w) @ _columns(points[i], count)
@@ -93,7 +93,7 @@ def _columns(rows, count):
     return rows.reshape(*rows.shape[:-2], count, -1, rows.shape[-1]).swapaxes(-1, -2)
 
 
-def _stiffness_damping(motion, stiffness, damping, w, n):
+def _stiffness_damping(motion, stiffness, damping, w):
     """``K_i x + i w C_i x`` for each item's motion ``x`` (one product per matrix kind for all
     items; side by side in one product, the signs of structural zeros would change).
 
@@ -102,24 +102,16 @@ def _stiffness_damping(motion, stiffness, damping, w, n):
     motion : ndarray, shape (items, F n, 6), complex
     stiffness, damping : ndarray, shape (items, 6, 6)
     w : ndarray, shape (F,) [rad/s]
-    n : int
 
     Returns
     -------
-    ndarray, shape (items, F, 6, n), complex
+    ndarray, shape (items, F, 6, n), complex (n columns of each frequency's motion)
     """
     a = _columns(motion @ stiffness.transpose(0, 2, 1), len(w))
     b = _columns(motion @ damping.transpose(0, 2, 1), len(w))
     # a + (i w) b in place: the same operations, without two fresh arrays of the size of the result
     np.multiply(1j * w[:, None, None], b, out=b)
     return np.add(a, b, out=a)
-
-
-def _broadcast(values, shape):
-    """``values`` as floats of ``shape``: the array itself when it has that shape already (no
-    ``numpy.broadcast_to``), else a broadcast view."""
-    values = np.asarray(values, dtype=float)
-    return values if values.shape == shape else np.broadcast_to(values, shape)
 
 
 def _branch_stiffness(suspension, omega):
@@ -152,21 +144,16 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     count, n = len(w), q.shape[-1]
     if not rotors:
         return np.zeros((0, count, 6, n))
-    e = model.spin_axis
     layout = model.dofs
     reference = model.reference_point
     # every rotor's motion at its centre of mass B_SR^T T_j q in one product, then its mass and
     # gyroscopic matrices on it: -(-w^2 M_j + i w Omega G_j) motion
     to_centres = np.concatenate([shift_matrix(reference, r.center_of_mass).T @ layout.body_motion(r.name)
                                  for r in rotors])                                  # (6 R, n_dof)
-    mass, polar, diametral, ratio = np.array([(r.mass, r.polar_inertia, r.diametral_inertia, r.speed_ratio)
-                                              for r in rotors], dtype=float).T[:, :, None, None]
-    eye = np.eye(3)
-    masses = np.zeros((len(rotors), 6, 6))
-    masses[:, :3, :3] = mass * eye
-    masses[:, 3:, 3:] = diametral * eye + (polar - diametral) * np.outer(e, e)
-    gyroscopic = np.zeros((len(rotors), 6, 6))
-    gyroscopic[:, 3:, 3:] = -polar * ratio * skew(e)      # rotor_gyroscopic of each rotor
+    masses = np.zeros((len(rotors), 6, 6))                # diag(m_j I, J_j) of each rotor
+    masses[:, :3, :3] = np.array([r.mass for r in rotors], dtype=float)[:, None, None] * np.eye(3)
+    masses[:, 3:, 3:] = [inertia for _, _, inertia in body_inertias(model)[-len(rotors):]]
+    gyroscopic = np.array([rotor_gyroscopic(model, r) for r in rotors])
     rows = _rows(q)
     squares, spins = w[:, None, None] ** 2, 1j * (w * speed)[:, None, None]
     out = np.empty((len(rotors), count, 6, n), dtype=complex)
@@ -229,7 +216,7 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
             out[chosen] = _stiffness_damping(
                 relative if len(constant) == len(which) else relative[constant],
                 np.array([bearings[b].coefficients.stiffness[0] for b in chosen]),
-                np.array([bearings[b].coefficients.damping[0] for b in chosen]), w, n)
+                np.array([bearings[b].coefficients.damping[0] for b in chosen]), w)
         for i, b in enumerate(which):
             coefficients = bearings[b].coefficients
             if coefficients.kind != "constant":

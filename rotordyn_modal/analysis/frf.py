@@ -182,6 +182,13 @@ def dynamic_stiffness(model, speed: float, omega) -> np.ndarray:
     return _StiffnessTerms(model).at(np.broadcast_to(np.asarray(speed, dtype=float), w.shape), w)
 
 
+def _broadcast(values, shape):
+    """``values`` as floats of ``shape``: the array itself when it has that shape already (no
+    ``numpy.broadcast_to``), else a broadcast view."""
+    values = np.asarray(values, dtype=float)
+    return values if values.shape == shape else np.broadcast_to(values, shape)
+
+
 class _StiffnessTerms:
     """The parts of ``Z(w)`` that do not depend on frequency, assembled once."""
 
@@ -237,9 +244,7 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     """
     terms = _StiffnessTerms(model)
     w = np.atleast_1d(np.asarray(omega, dtype=float))
-    speeds = np.asarray(speed, dtype=float)
-    if speeds.shape != w.shape:
-        speeds = np.broadcast_to(speeds, w.shape)
+    speeds = _broadcast(speed, w.shape)
     n = terms.matrices.M.shape[0]
     rhs = np.asarray(forces, dtype=complex)
     if rhs.shape != (len(w),) + rhs.shape[-2:]:

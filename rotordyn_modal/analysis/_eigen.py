@@ -917,10 +917,13 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds, stacked=None) -> np.ndarray:
     momentum = values[..., 0].imag  # Re(-i phi^H W phi)
     across = values[..., 1].real
     whole = values[..., 2].real
-    whirling = across > 1e-9 * whole
-    ratio = np.where(whirling, momentum / np.where(whirling, across, 1.0), 0.0)
-    sign = np.where(np.asarray(speeds) < 0, -1.0, 1.0)
-    return np.minimum(np.maximum(ratio * sign[..., None], -1.0), 1.0)     # numpy.clip
+    ratio = np.zeros(across.shape)
+    np.divide(momentum, across, out=ratio, where=across > 1e-9 * whole)
+    against = np.asarray(speeds) < 0
+    if against.any():
+        np.negative(ratio, out=ratio, where=np.broadcast_to(against[..., None], ratio.shape))
+    np.maximum(ratio, -1.0, out=ratio)                                   # numpy.clip, in place
+    return np.minimum(ratio, 1.0, out=ratio)
 
 
 def real_product(shapes, matrix) -> np.ndarray:

@@ -53,10 +53,12 @@ def modal_quantities(eigenvalues):
     """
     lam = np.asarray(eigenvalues)
     zeta = damping_ratios(lam)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        log_dec = np.where(lam.imag > 0, -2 * np.pi * lam.real / np.where(lam.imag > 0, lam.imag, 1),
-                           np.where(lam.real < 0, np.inf, np.where(lam.real > 0, -np.inf, np.nan)))
-    return lam.imag / (2 * np.pi), zeta, log_dec
+    real, imag = lam.real, lam.imag
+    # inf, -inf or nan by the sign of the real part where the root does not oscillate
+    log_dec = np.where(real < 0, np.inf, np.where(real > 0, -np.inf, np.nan))
+    with np.errstate(invalid="ignore"):
+        np.divide(-2 * np.pi * real, imag, out=log_dec, where=imag > 0)
+    return imag / (2 * np.pi), zeta, log_dec
 
 
 def damping_ratios(eigenvalues) -> np.ndarray:

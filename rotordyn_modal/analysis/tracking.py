@@ -67,6 +67,9 @@ def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
     kept = (best == np.arange(n)).all(axis=-1) & \
         (np.diagonal(correlation, axis1=-2, axis2=-1) > _CONFIDENT_MAC).all(axis=-1)     # (V, N-1)
     events = (~kept.all(axis=0)).nonzero()[0] + 1
+    if not len(events):                       # every mode in place all along (the usual small model)
+        order[:, 1:] = order[:, :1]
+        return order
     confident = _confident_steps(correlation, best, events - 1)                        # (V, n_events)
     last_good = np.zeros((variants, n), dtype=int)  # last speed at which each label's shape was sure
     rows = np.arange(variants)[:, None]

@@ -29,7 +29,7 @@ import numpy as np
 
 from .dofs import frame_block
 from .errors import InputError
-from .geometry import point_force_column, shift_matrix, skew
+from .geometry import point_force_column, point_motion_rows, shift_matrix, skew
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
@@ -331,14 +331,21 @@ def sensor_rows(model, names=None) -> np.ndarray:
     """
     sensors = _select(model.sensors, names, "sensor")
     layout = model.dofs
-    motions = {}           # each body's motion (absolute or relative) found once for all its sensors
+    if not sensors:
+        return np.zeros((0, layout.n))
+    order: dict = {}       # each body's motion (absolute or relative) found once for all its sensors
+    motions, which = [], []
     for s in sensors:
         key = (s.rotor, s.measure == "relative")
-        if key not in motions:
-            motions[key] = layout.motion(*key)
-    rows = [layout.point_rows(s.position, s.direction, motion=motions[s.rotor, s.measure == "relative"])
-            for s in sensors]
-    return np.array(rows).reshape(-1, layout.n)
+        if key not in order:
+            order[key] = len(motions)
+            motions.append(layout.motion(*key))
+        which.append(order[key])
+    rows = point_motion_rows([s.position for s in sensors], layout.reference_point,
+                             [s.direction for s in sensors])
+    # each sensor's row times its body's motion: a stack of vector-matrix products, each the
+    # product Dofs.point_rows makes
+    return np.matmul(rows[:, None, :], np.array(motions)[which]).reshape(-1, layout.n)
 
 
 def excitation_columns(model, names=None) -> np.ndarray:

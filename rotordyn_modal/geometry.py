@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["skew", "shift_cross", "shift_matrix", "shift_matrices", "cross", "point_motion_row", "point_force_column",
+__all__ = ["skew", "shift_cross", "shift_matrix", "shift_matrices", "cross", "point_motion_row", "point_motion_rows",
+           "point_force_column",
            "transverse_axes"]
 
 
@@ -126,6 +127,28 @@ def point_motion_row(point, reference, direction) -> np.ndarray:
     d = np.asarray(direction, dtype=float)
     arm = np.asarray(point, dtype=float) - np.asarray(reference, dtype=float)
     return np.concatenate([d, cross(arm, d)])
+
+
+def point_motion_rows(points, reference, directions) -> np.ndarray:
+    """:func:`point_motion_row` of each point and direction, made together (the same numbers:
+    the same differences and products, in Python floats).
+
+    Parameters
+    ----------
+    points, directions : array_like, shape (k, 3)
+    reference : array_like, shape (3,)
+
+    Returns
+    -------
+    ndarray, shape (k, 6)
+    """
+    sx, sy, sz = np.asarray(reference, dtype=float).tolist()
+    rows = []
+    for (px, py, pz), (d0, d1, d2) in zip(np.asarray(points, dtype=float).reshape(-1, 3).tolist(),
+                                          np.asarray(directions, dtype=float).reshape(-1, 3).tolist()):
+        a0, a1, a2 = px - sx, py - sy, pz - sz
+        rows.append((d0, d1, d2, a1 * d2 - a2 * d1, a2 * d0 - a0 * d2, a0 * d1 - a1 * d0))
+    return np.array(rows, dtype=float).reshape(-1, 6)
 
 
 def cross(a, b) -> np.ndarray:

@@ -67,24 +67,26 @@ def probe_pairs(model, sensors) -> ProbePairs:
     ProbePairs
     """
     e = model.spin_axis
+    directions = np.array([s.direction for s in sensors], dtype=float).reshape(-1, 3)
+    positions = np.array([s.position for s in sensors], dtype=float).reshape(-1, 3).tolist()
+    normal = (np.abs(directions @ e) <= _NORMAL_TOLERANCE).tolist()
     groups: dict = {}
     for index, sensor in enumerate(sensors):
-        if abs(np.asarray(sensor.direction) @ e) > _NORMAL_TOLERANCE:
+        if not normal[index]:
             continue
-        key = (sensor.rotor, sensor.measure,
-               tuple(round(x / _SAME_POINT) for x in np.asarray(sensor.position, dtype=float).tolist()))
+        key = (sensor.rotor, sensor.measure, tuple(round(x / _SAME_POINT) for x in positions[index]))
         groups.setdefault(key, []).append(index)
     names, indices, transforms = [], [], []
     for members in groups.values():
         while len(members) >= 2:
             first = members.pop(0)
-            u = np.asarray(sensors[first].direction, dtype=float)
+            u = directions[first]
             w = cross(e, u)
-            partner = next((k for k in members if abs(np.asarray(sensors[k].direction) @ w) > 0.1), None)
+            partner = next((k for k in members if abs(directions[k] @ w) > 0.1), None)
             if partner is None:
                 continue
             members.remove(partner)
-            d = np.asarray(sensors[partner].direction, dtype=float)
+            d = directions[partner]
             transforms.append(_unit_lower_inverse(float(d @ u), float(d @ w)))
             names.append((sensors[first].name, sensors[partner].name))
             indices.append((first, partner))

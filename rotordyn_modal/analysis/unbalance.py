@@ -370,7 +370,8 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     response = (sensor_rows(model, outputs) @ q[..., 0].T).reshape(-1, n_src, n) * (1j * w) ** _ORDER[quantity]
     names = tuple(s.name for s in model.sensors) if outputs is None else \
         ((outputs,) if isinstance(outputs, str) else tuple(outputs))
-    pairs = probe_pairs(model, [next(s for s in model.sensors if s.name == name) for name in names])
+    by_name = {s.name: s for s in model.sensors}
+    pairs = probe_pairs(model, [by_name[name] for name in names])
     planes = np.einsum("pij,pjsn->psni", pairs.to_plane, response[pairs.indices]) if len(pairs) else \
         np.zeros((0, n_src, n, 2), dtype=complex)
     ratios = np.array([model.rotor(src).speed_ratio for src in sources], dtype=float)

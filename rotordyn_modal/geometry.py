@@ -92,25 +92,15 @@ def shift_matrix(p, o) -> np.ndarray:
 
 def shift_matrices(p, points) -> np.ndarray:
     """``shift_matrix(p, o)`` for each ``o`` of ``points`` (S, 3): shape (S, 6, 6), the same
-    numbers (signed zeros included), made together."""
-    arms = np.asarray(p, dtype=float) - np.asarray(points, dtype=float).reshape(-1, 3)
-    out = np.repeat(_SHIFT_START, len(arms), axis=0)
-    x, y, z = arms.T
-    out[:, 3, 1], out[:, 3, 2] = z, -y
-    out[:, 4, 0], out[:, 4, 2] = -z, x
-    out[:, 5, 0], out[:, 5, 1] = y, -x
-    return out
+    numbers (signed zeros included), made together.
 
-
-def _shift_start() -> np.ndarray:
-    """What :func:`shift_matrices` fills in: ones on the diagonal, -0.0 on the arm block's."""
-    start = np.eye(6)[None]
-    start[0, range(3, 6), range(3)] = -0.0
-    start.flags.writeable = False
-    return start
-
-
-_SHIFT_START = _shift_start()
+    ``p`` may be a stack of points too (S, 3), with ``points`` one point or as many."""
+    arms = (np.asarray(p, dtype=float) - np.asarray(points, dtype=float)).reshape(-1, 3).tolist()
+    # shift_matrix's rows, written out for every arm and made into one array
+    return np.array([((1.0, 0.0, 0.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0, 0.0, 0.0),
+                      (0.0, 0.0, 1.0, 0.0, 0.0, 0.0), (-0.0, z, -y, 1.0, 0.0, 0.0),
+                      (-z, -0.0, x, 0.0, 1.0, 0.0), (y, -x, -0.0, 0.0, 0.0, 1.0))
+                     for x, y, z in arms], dtype=float).reshape(-1, 6, 6)
 
 
 def point_motion_row(point, reference, direction) -> np.ndarray:

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..assembly import bearing_motion, body_inertias, excitation_columns, rotor_gyroscopic
+from ..assembly import excitation_columns
 from ..bearings import evaluate
 from ..geometry import shift_matrices, shift_matrix
 from . import _eigen
@@ -64,16 +64,25 @@ def suspension_forces(model, omega, q) -> np.ndarray:
     # every suspension at once: the stator's motion at S, B_SP^T of it in one product, then each
     # suspension's stiffness and damping on its own point's motion
     shifts = shift_matrices(model.reference_point, [s.position for s in suspensions])
-    stator = _rows(q) @ model.dofs.frame_motion().T                                          # (F n, 6)
+    stator = _rows(q) @ _frame_motion(model.dofs).T                                          # (F n, 6)
     points = _items(stator @ shifts.transpose(0, 2, 1).reshape(-1, 6).T, len(suspensions))   # (S, F n, 6)
-    losses = np.array([s.loss_factor for s in suspensions], dtype=float)
-    stiffness = np.array([s.stiffness_matrix for s in suspensions]) * (1 + 1j * losses)[:, None, None]
-    damping = np.array([s.damping_matrix for s in suspensions])
+    matrices = np.array([(s.stiffness_matrix, s.damping_matrix) for s in suspensions])      # (S, 2, 6, 6)
+    stiffness, damping = matrices[:, 0], matrices[:, 1]
+    if any(s.loss_factor for s in suspensions):
+        losses = np.array([s.loss_factor for s in suspensions], dtype=float)
+        stiffness = stiffness * (1 + 1j * losses)[:, None, None]
+    # (without loss factors K (1 + 0i) is K as the product casts it: the same numbers)
     out = _stiffness_damping(points, stiffness, damping, w)
     for i, s in enumerate(suspensions):
         if getattr(s, "maxwell_stiffness_matrix", None) is not None:
             out[i] = out[i] + _branch_stiffness(s, w) @ _columns(points[i], count)
     return out
+
+
+def _frame_motion(layout):
+    """``layout.frame_motion()`` (6, n) in one call: the identity's first six columns, or
+    zeros on the ground."""
+    return np.eye(6, layout.n) if layout.n_frame else np.zeros((6, layout.n))
 
 
 def _rows(q):
@@ -93,7 +102,7 @@ def _columns(rows, count):
     return rows.reshape(*rows.shape[:-2], count, -1, rows.shape[-1]).swapaxes(-1, -2)
 
 
-def _stiffness_damping(motion, stiffness, damping, w):
+def _stiffness_damping(motion, stiffness, damping, w, out=None):
     """``K_i x + i w C_i x`` for each item's motion ``x`` (one product per matrix kind for all
     items; side by side in one product, the signs of structural zeros would change).
 
@@ -102,6 +111,8 @@ def _stiffness_damping(motion, stiffness, damping, w):
     motion : ndarray, shape (items, F n, 6), complex
     stiffness, damping : ndarray, shape (items, 6, 6)
     w : ndarray, shape (F,) [rad/s]
+    out : ndarray, shape (items, F, 6, n), complex, optional
+        Where to write the result.
 
     Returns
     -------
@@ -111,7 +122,7 @@ def _stiffness_damping(motion, stiffness, damping, w):
     b = _columns(motion @ damping.transpose(0, 2, 1), len(w))
     # a + (i w) b in place: the same operations, without two fresh arrays of the size of the result
     np.multiply(1j * w[:, None, None], b, out=b)
-    return np.add(a, b, out=a)
+    return np.add(a, b, out=a if out is None else out)
 
 
 def _branch_stiffness(suspension, omega):
@@ -150,10 +161,8 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     # gyroscopic matrices on it: -(-w^2 M_j + i w Omega G_j) motion
     to_centres = np.concatenate([shift_matrix(reference, r.center_of_mass).T @ layout.body_motion(r.name)
                                  for r in rotors])                                  # (6 R, n_dof)
-    masses = np.zeros((len(rotors), 6, 6))                # diag(m_j I, J_j) of each rotor
-    masses[:, :3, :3] = np.array([r.mass for r in rotors], dtype=float)[:, None, None] * np.eye(3)
-    masses[:, 3:, 3:] = [inertia for _, _, inertia in body_inertias(model)[-len(rotors):]]
-    gyroscopic = np.array([rotor_gyroscopic(model, r) for r in rotors])
+    matrices = _rotor_matrices(model.spin_axis, rotors)
+    masses, gyroscopic = matrices[:, 0], matrices[:, 1]
     rows = _rows(q)
     squares, spins = w[:, None, None] ** 2, 1j * (w * speed)[:, None, None]
     out = np.empty((len(rotors), count, 6, n), dtype=complex)
@@ -168,6 +177,26 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
         if rotor_forces is not None:
             np.add(out[part], rotor_forces[part], out=out[part])
     return out
+
+
+def _rotor_matrices(spin_axis, rotors):
+    """Each rotor's mass matrix ``diag(m I, J)`` (``J`` as :func:`assembly.body_inertias` makes
+    it) and gyroscopic matrix per unit speed (:func:`assembly.rotor_gyroscopic`), shape
+    (R, 2, 6, 6): the same products, in Python floats, made into one array."""
+    e = [float(x) for x in np.asarray(spin_axis, dtype=float).tolist()]
+    x, y, z = e
+    skew = ((0.0, -z, y), (z, 0.0, -x), (-y, x, 0.0))
+    out = []
+    for r in rotors:
+        m, d = float(r.mass), float(r.diametral_inertia)
+        axial, spin = float(r.polar_inertia) - d, -float(r.polar_inertia) * float(r.speed_ratio)
+        zero = m * 0.0
+        mass = [[m * 1.0 if i == j else zero for j in range(3)] + [0.0, 0.0, 0.0] for i in range(3)]
+        mass += [[0.0, 0.0, 0.0] + [(d * 1.0 if i == j else d * 0.0) + axial * (e[i] * e[j]) for j in range(3)]
+                 for i in range(3)]
+        gyroscopic = [[0.0] * 6 for _ in range(3)] + [[0.0, 0.0, 0.0] + [spin * v for v in row] for row in skew]
+        out.append((mass, gyroscopic))
+    return np.array(out, dtype=float).reshape(-1, 2, 6, 6)
 
 
 def _parts(items, rows):
@@ -200,23 +229,29 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
     if not bearings:
         return np.zeros((0, count, 6, n))
     # the relative motion at every bearing of a rotor in one product of that rotor's coordinates
+    layout = model.dofs
     by_rotor: dict = {}
     for b, bearing in enumerate(bearings):
-        rows, moves = bearing_motion(model, bearing)
-        by_rotor.setdefault(bearing.rotor, (rows, [], []))
-        by_rotor[bearing.rotor][1].append(b)
-        by_rotor[bearing.rotor][2].append(moves)
+        by_rotor.setdefault(bearing.rotor, []).append(b)
     coordinates = _rows(q)
     out = np.empty((len(bearings), count, 6, n), dtype=complex)
-    for rows, which, moves in by_rotor.values():
-        relative = _items(coordinates[:, rows] @ np.concatenate(moves).T, len(which))   # (B_j, F n, 6)
+    for rotor, which in by_rotor.items():
+        j = layout.rotors.index(rotor)
+        # B_RP^T P_j at each of them (Dofs.local_relative_motion), made together
+        moves = shift_matrices(layout.centres[j], [bearings[b].position for b in which]).transpose(0, 2, 1) \
+            @ layout.bases[j]
+        relative = _items(coordinates[:, layout.slices[j]] @ moves.reshape(-1, moves.shape[-1]).T,
+                          len(which))                                                   # (B_j, F n, 6)
         constant = [i for i, b in enumerate(which) if bearings[b].coefficients.kind == "constant"]
         if constant:     # the same 6 x 6 matrices at every speed
             chosen = [which[i] for i in constant]
-            out[chosen] = _stiffness_damping(
-                relative if len(constant) == len(which) else relative[constant],
-                np.array([bearings[b].coefficients.stiffness[0] for b in chosen]),
-                np.array([bearings[b].coefficients.damping[0] for b in chosen]), w)
+            matrices = np.array([(bearings[b].coefficients.stiffness[0], bearings[b].coefficients.damping[0])
+                                 for b in chosen])                                      # (B', 2, 6, 6)
+            motion = relative if len(constant) == len(which) else relative[constant]
+            if chosen == list(range(chosen[0], chosen[-1] + 1)):     # in place
+                _stiffness_damping(motion, matrices[:, 0], matrices[:, 1], w, out=out[chosen[0]:chosen[-1] + 1])
+            else:
+                out[chosen] = _stiffness_damping(motion, matrices[:, 0], matrices[:, 1], w)
         for i, b in enumerate(which):
             coefficients = bearings[b].coefficients
             if coefficients.kind != "constant":

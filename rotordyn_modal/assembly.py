@@ -334,18 +334,35 @@ def sensor_rows(model, names=None) -> np.ndarray:
     if not sensors:
         return np.zeros((0, layout.n))
     order: dict = {}       # each body's motion (absolute or relative) found once for all its sensors
-    motions, which = [], []
-    for s in sensors:
-        key = (s.rotor, s.measure == "relative")
-        if key not in order:
-            order[key] = len(motions)
-            motions.append(layout.motion(*key))
-        which.append(order[key])
+    which = [order.setdefault((s.rotor, s.measure == "relative"), len(order)) for s in sensors]
     rows = point_motion_rows([s.position for s in sensors], layout.reference_point,
                              [s.direction for s in sensors])
     # each sensor's row times its body's motion: a stack of vector-matrix products, each the
     # product Dofs.point_rows makes
-    return np.matmul(rows[:, None, :], np.array(motions)[which]).reshape(-1, layout.n)
+    return np.matmul(rows[:, None, :], _motions(layout, list(order))[which]).reshape(-1, layout.n)
+
+
+def _motions(layout, keys) -> np.ndarray:
+    """``layout.motion(body, relative)`` of each ``(body, relative)`` key, shape (K, 6, n), made
+    together with the same numbers (a body's rotor columns are ``0.0 + B^T P``, as the frame's
+    zeros plus the relative motion; a relative motion's are ``B^T P`` itself)."""
+    out = np.zeros((len(keys), 6, layout.n))
+    k = layout.n_frame
+    for i, (body, relative) in enumerate(keys):
+        if not relative:
+            out[i, :, :k] = _EYE6[:, :k]
+        if body is not None and body != "stator" and layout.on_bearings(body):
+            own = layout.slices[layout.rotors.index(body)]
+            local = layout.local_relative_motion(body, layout.reference_point)
+            if relative:
+                out[i, :, own] = local
+            else:
+                out[i, :, own] += local
+    return out
+
+
+_EYE6 = np.eye(6)
+_EYE6.flags.writeable = False
 
 
 def excitation_columns(model, names=None) -> np.ndarray:

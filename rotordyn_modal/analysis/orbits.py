@@ -21,7 +21,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import cross
 
 __all__ = ["ProbePairs", "probe_pairs", "orbit_ellipses", "PRECESSION_TOLERANCE"]
 
@@ -66,13 +65,15 @@ def probe_pairs(model, sensors) -> ProbePairs:
     -------
     ProbePairs
     """
-    e = model.spin_axis
+    e = np.asarray(model.spin_axis, dtype=float)
+    e0, e1, e2 = e.tolist()
     directions = np.array([s.direction for s in sensors], dtype=float).reshape(-1, 3)
+    listed = directions.tolist()
     positions = np.array([s.position for s in sensors], dtype=float).reshape(-1, 3).tolist()
-    normal = (np.abs(directions @ e) <= _NORMAL_TOLERANCE).tolist()
     groups: dict = {}
     for index, sensor in enumerate(sensors):
-        if not normal[index]:
+        d0, d1, d2 = listed[index]
+        if abs(d0 * e0 + d1 * e1 + d2 * e2) > _NORMAL_TOLERANCE:
             continue
         key = (sensor.rotor, sensor.measure, tuple(round(x / _SAME_POINT) for x in positions[index]))
         groups.setdefault(key, []).append(index)
@@ -80,14 +81,15 @@ def probe_pairs(model, sensors) -> ProbePairs:
     for members in groups.values():
         while len(members) >= 2:
             first = members.pop(0)
-            u = directions[first]
-            w = cross(e, u)
-            partner = next((k for k in members if abs(directions[k] @ w) > 0.1), None)
+            u0, u1, u2 = listed[first]
+            w = (e1 * u2 - e2 * u1, e2 * u0 - e0 * u2, e0 * u1 - e1 * u0)      # e x u, as geometry.cross
+            partner = next((k for k in members
+                            if abs(listed[k][0] * w[0] + listed[k][1] * w[1] + listed[k][2] * w[2]) > 0.1), None)
             if partner is None:
                 continue
             members.remove(partner)
             d = directions[partner]
-            transforms.append(_unit_lower_inverse(float(d @ u), float(d @ w)))
+            transforms.append(_unit_lower_inverse(float(d @ directions[first]), float(d @ np.array(w))))
             names.append((sensors[first].name, sensors[partner].name))
             indices.append((first, partner))
     return ProbePairs(names=tuple(names), indices=np.array(indices, dtype=int).reshape(-1, 2),

@@ -33,7 +33,7 @@ from .geometry import point_force_column, point_motion_rows, shift_matrix, skew
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
-           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force"]
+           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "dependent_bearing_matrices", "sensor_rows", "body_motions", "excitation_columns", "generalized_force"]
 
 
 class Matrices(NamedTuple):
@@ -339,10 +339,10 @@ def sensor_rows(model, names=None) -> np.ndarray:
                              [s.direction for s in sensors])
     # each sensor's row times its body's motion: a stack of vector-matrix products, each the
     # product Dofs.point_rows makes
-    return np.matmul(rows[:, None, :], _motions(layout, list(order))[which]).reshape(-1, layout.n)
+    return np.matmul(rows[:, None, :], body_motions(layout, list(order))[which]).reshape(-1, layout.n)
 
 
-def _motions(layout, keys) -> np.ndarray:
+def body_motions(layout, keys) -> np.ndarray:
     """``layout.motion(body, relative)`` of each ``(body, relative)`` key, shape (K, 6, n), made
     together with the same numbers (a body's rotor columns are ``0.0 + B^T P``, as the frame's
     zeros plus the relative motion; a relative motion's are ``B^T P`` itself)."""

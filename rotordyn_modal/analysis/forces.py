@@ -26,9 +26,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..assembly import excitation_columns
+from ..assembly import body_motions, excitation_columns
 from ..bearings import evaluate
-from ..geometry import shift_matrices, shift_matrix
+from ..geometry import shift_matrices
 from . import _eigen
 from .frf import FRFResult, _broadcast, _check_frequencies, _names, dof_response
 
@@ -159,8 +159,9 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     reference = model.reference_point
     # every rotor's motion at its centre of mass B_SR^T T_j q in one product, then its mass and
     # gyroscopic matrices on it: -(-w^2 M_j + i w Omega G_j) motion
-    to_centres = np.concatenate([shift_matrix(reference, r.center_of_mass).T @ layout.body_motion(r.name)
-                                 for r in rotors])                                  # (6 R, n_dof)
+    # B_SR^T T_j of each rotor, the products made together (shift_matrix(...).T @ body_motion)
+    to_centres = (shift_matrices(reference, [r.center_of_mass for r in rotors]).transpose(0, 2, 1)
+                  @ body_motions(layout, [(r.name, False) for r in rotors])).reshape(-1, layout.n)  # (6 R, n_dof)
     matrices = _rotor_matrices(model.spin_axis, rotors)
     masses, gyroscopic = matrices[:, 0], matrices[:, 1]
     rows = _rows(q)

@@ -365,7 +365,8 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
     sources, w, rotor_forces = unbalance_forces(model, speeds)
     n_src, n = len(sources), len(speeds)
-    speed_all, omega = np.tile(speeds, n_src), w.ravel()     # (n_src * N,): sources one after another
+    # (n_src * N,): sources one after another (one source: the speeds themselves, read only)
+    speed_all, omega = (np.tile(speeds, n_src) if n_src > 1 else speeds), w.ravel()
     q = _coordinate_response(model, sources, rotor_forces, speed_all, omega)
     response = (sensor_rows(model, outputs) @ q[..., 0].T).reshape(-1, n_src, n) * (1j * w) ** _ORDER[quantity]
     names = tuple(s.name for s in model.sensors) if outputs is None else \

@@ -32,7 +32,7 @@ from ..geometry import shift_matrices
 from . import _eigen
 from .frf import FRFResult, _broadcast, _check_frequencies, _names, dof_response
 
-__all__ = ["suspension_forces", "bearing_forces", "bearing_point_forces", "force_frf", "COMPONENTS"]
+__all__ = ["suspension_forces", "bearing_forces", "bearing_point_forces", "all_forces", "force_frf", "COMPONENTS"]
 
 #: names of the six components of a generalized force
 COMPONENTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
@@ -159,10 +159,8 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     reference = model.reference_point
     # every rotor's motion at its centre of mass B_SR^T T_j q in one product, then its mass and
     # gyroscopic matrices on it: -(-w^2 M_j + i w Omega G_j) motion
-    # B_SR^T T_j of each rotor, the products made together (shift_matrix(...).T @ body_motion)
-    to_centres = (shift_matrices(reference, [r.center_of_mass for r in rotors]).transpose(0, 2, 1)
-                  @ body_motions(layout, [(r.name, False) for r in rotors])).reshape(-1, layout.n)  # (6 R, n_dof)
-    matrices = _rotor_matrices(model.spin_axis, rotors)
+    to_centres = _to_centres(model, rotors)                                              # (6 R, n_dof)
+    matrices = np.array(_rotor_matrices(model.spin_axis, rotors), dtype=float).reshape(-1, 2, 6, 6)
     masses, gyroscopic = matrices[:, 0], matrices[:, 1]
     rows = _rows(q)
     squares, spins = w[:, None, None] ** 2, 1j * (w * speed)[:, None, None]
@@ -180,10 +178,17 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     return out
 
 
+def _to_centres(model, rotors):
+    """``B_SR^T T_j`` of each rotor (its motion at its centre of mass per coordinate), shape
+    (6 R, n_dof): ``shift_matrix(S, R_j).T @ body_motion`` of every rotor in one product."""
+    return (shift_matrices(model.reference_point, [r.center_of_mass for r in rotors]).transpose(0, 2, 1)
+            @ body_motions(model.dofs, [(r.name, False) for r in rotors])).reshape(-1, model.dofs.n)
+
+
 def _rotor_matrices(spin_axis, rotors):
     """Each rotor's mass matrix ``diag(m I, J)`` (``J`` as :func:`assembly.body_inertias` makes
-    it) and gyroscopic matrix per unit speed (:func:`assembly.rotor_gyroscopic`), shape
-    (R, 2, 6, 6): the same products, in Python floats, made into one array."""
+    it) and gyroscopic matrix per unit speed (:func:`assembly.rotor_gyroscopic`) as nested
+    lists, (R, 2, 6, 6): the same products, in Python floats, to be made into one array."""
     e = [float(x) for x in np.asarray(spin_axis, dtype=float).tolist()]
     x, y, z = e
     skew = ((0.0, -z, y), (z, 0.0, -x), (-y, x, 0.0))
@@ -197,7 +202,7 @@ def _rotor_matrices(spin_axis, rotors):
                  for i in range(3)]
         gyroscopic = [[0.0] * 6 for _ in range(3)] + [[0.0, 0.0, 0.0] + [spin * v for v in row] for row in skew]
         out.append((mass, gyroscopic))
-    return np.array(out, dtype=float).reshape(-1, 2, 6, 6)
+    return out
 
 
 def _parts(items, rows):
@@ -260,6 +265,90 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
                 k6, c6 = evaluate(coefficients, own, f"{model.source}: [bearings.{bearings[b].name}]")
                 out[b] = (k6 + 1j * w[:, None, None] * c6) @ _columns(relative[i], count)
     return out
+
+
+def all_forces(model, speed, omega, q, rotor_forces=None):
+    """:func:`suspension_forces`, :func:`bearing_forces` and :func:`bearing_point_forces` together.
+
+    For a small model with constant bearings every item's motion goes into one array and the
+    items' two matrix products (stiffness and damping, or mass and gyroscopic) are one stacked
+    product each: per item the same products, so the same numbers as the three functions,
+    which are called instead for larger models (their memory taken in parts) or
+    speed-dependent bearings.
+
+    Parameters
+    ----------
+    model : Model
+    speed : float or array_like, shape (n_freq,) [rad/s]
+    omega : array_like, shape (n_freq,) [rad/s]
+    q : ndarray, shape (n_freq, n_dof, n), complex [m, rad]
+    rotor_forces : ndarray, shape (n_rotors, n_freq, 6, n), optional
+        External forces on each rotor, as for :func:`bearing_forces`.
+
+    Returns
+    -------
+    ground, rotors, bearings : ndarray, shapes (n_suspensions | n_rotors | n_bearings, n_freq, 6, n)
+    """
+    suspensions, rotors, bearings = model.suspensions, model.rotors, model.bearings
+    items = len(suspensions) + len(rotors) + len(bearings)
+    groups = _bearing_groups(bearings)
+    if (not items or model.speed_dependent or groups is None
+            or 96 * q.shape[0] * q.shape[-1] * items > _FORCE_PART_BYTES):
+        return (suspension_forces(model, omega, q), bearing_forces(model, speed, omega, q, rotor_forces),
+                bearing_point_forces(model, speed, omega, q))
+    w = np.asarray(omega, dtype=float)
+    speed = _broadcast(speed, w.shape)
+    count, layout = len(w), model.dofs
+    s, b = len(suspensions), len(suspensions) + len(bearings)         # items: suspensions, bearings, rotors
+    rows = _rows(q)
+    motion = np.empty((len(rows), 6 * items), dtype=complex)
+    if suspensions:     # the stator's motion at S, then B_SP^T of it at every suspension
+        shifts = shift_matrices(model.reference_point, [x.position for x in suspensions])
+        np.matmul(rows @ _frame_motion(layout).T, shifts.transpose(0, 2, 1).reshape(-1, 6).T, out=motion[:, :6 * s])
+    for rotor, which in groups:     # each rotor's bearings' relative motions from its coordinates
+        j = layout.rotors.index(rotor)
+        moves = shift_matrices(layout.centres[j], [bearings[i].position for i in which]).transpose(0, 2, 1) \
+            @ layout.bases[j]
+        np.matmul(rows[:, layout.slices[j]], moves.reshape(-1, moves.shape[-1]).T,
+                  out=motion[:, 6 * (s + which[0]):6 * (s + which[-1] + 1)])
+    if rotors:
+        np.matmul(rows, _to_centres(model, rotors).T, out=motion[:, 6 * b:])
+    motion = _items(motion, items)                                                      # (items, F n, 6)
+    matrices = np.array([(x.stiffness_matrix, x.damping_matrix) for x in suspensions]
+                        + [(x.coefficients.stiffness[0], x.coefficients.damping[0]) for x in bearings]
+                        + _rotor_matrices(model.spin_axis, rotors), dtype=float).reshape(-1, 2, 6, 6)
+    first = matrices[:, 0]
+    if any(x.loss_factor for x in suspensions):
+        first = first.astype(complex)
+        first[:s] *= (1 + 1j * np.array([x.loss_factor for x in suspensions], dtype=float))[:, None, None]
+    # stiffness (mass) and damping (gyroscopic) products of every item
+    a = _columns(motion @ first.transpose(0, 2, 1), count)
+    c = _columns(motion @ matrices[:, 1].transpose(0, 2, 1), count)
+    # suspensions and bearings: K x + (i w) C x; rotors: w^2 M x - (i w Omega) G x (+ external)
+    np.multiply(1j * w[:, None, None], c[:b], out=c[:b])
+    np.add(a[:b], c[:b], out=a[:b])
+    if rotors:
+        np.multiply(w[:, None, None] ** 2, a[b:], out=a[b:])
+        np.multiply(1j * (w * speed)[:, None, None], c[b:], out=c[b:])
+        np.subtract(a[b:], c[b:], out=a[b:])
+        if rotor_forces is not None:
+            np.add(a[b:], rotor_forces, out=a[b:])
+    for i, x in enumerate(suspensions):
+        if getattr(x, "maxwell_stiffness_matrix", None) is not None:
+            a[i] = a[i] + _branch_stiffness(x, w) @ _columns(motion[i], count)
+    empty = np.zeros((0, count, 6, q.shape[-1]))     # as the three functions give no items
+    return a[:s], a[b:] if rotors else empty, a[s:b] if bearings else empty
+
+
+def _bearing_groups(bearings):
+    """``(rotor, bearing indices)`` of each rotor's bearings, or None when some rotor's are not
+    consecutive in the model's order."""
+    groups: dict = {}
+    for i, bearing in enumerate(bearings):
+        groups.setdefault(bearing.rotor, []).append(i)
+    if any(which != list(range(which[0], which[-1] + 1)) for which in groups.values()):
+        return None
+    return list(groups.items())
 
 
 def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensions") -> FRFResult:

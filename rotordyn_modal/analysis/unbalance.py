@@ -27,7 +27,7 @@ import numpy as np
 from ..assembly import generalized_force, sensor_rows
 from ..errors import InputError
 from ..geometry import cross
-from .forces import COMPONENTS, bearing_forces, bearing_point_forces, suspension_forces
+from .forces import COMPONENTS, all_forces
 from .frf import dof_response
 from .orbits import orbit_ellipses, precession_labels, probe_pairs
 
@@ -410,6 +410,6 @@ def _force_fields(model, sources, rotor_forces, speed_all, omega, q):
     def per_source(forces):                                   # (items, n_src N, 6, 1) -> (items, 6, n_src, N)
         return forces[..., 0].reshape(len(forces), n_src, n, 6).transpose(0, 3, 1, 2)
 
-    return {"ground_forces": per_source(suspension_forces(model, omega, q)),
-            "bearing_forces": per_source(bearing_forces(model, speed_all, omega, q, external)),
-            "bearing_point_forces": per_source(bearing_point_forces(model, speed_all, omega, q))}
+    ground, rotors, bearings = all_forces(model, speed_all, omega, q, external)
+    return {"ground_forces": per_source(ground), "bearing_forces": per_source(rotors),
+            "bearing_point_forces": per_source(bearings)}

@@ -267,7 +267,7 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
     return out
 
 
-def all_forces(model, speed, omega, q, rotor_forces=None):
+def all_forces(model, speed, omega, q, rotor_forces=None, centres=None):
     """:func:`suspension_forces`, :func:`bearing_forces` and :func:`bearing_point_forces` together.
 
     For a small model with constant bearings every item's motion goes into one array and the
@@ -284,6 +284,9 @@ def all_forces(model, speed, omega, q, rotor_forces=None):
     q : ndarray, shape (n_freq, n_dof, n), complex [m, rad]
     rotor_forces : ndarray, shape (n_rotors, n_freq, 6, n), optional
         External forces on each rotor, as for :func:`bearing_forces`.
+    centres : ndarray, shape (6 n_rotors, n_dof), optional
+        ``B_SR^T T_j`` of every rotor (``shift_matrix(S, R_j).T @ Dofs.body_motion``), when
+        the caller has it.
 
     Returns
     -------
@@ -312,7 +315,7 @@ def all_forces(model, speed, omega, q, rotor_forces=None):
         np.matmul(rows[:, layout.slices[j]], moves.reshape(-1, moves.shape[-1]).T,
                   out=motion[:, 6 * (s + which[0]):6 * (s + which[-1] + 1)])
     if rotors:
-        np.matmul(rows, _to_centres(model, rotors).T, out=motion[:, 6 * b:])
+        np.matmul(rows, (_to_centres(model, rotors) if centres is None else centres).T, out=motion[:, 6 * b:])
     motion = _items(motion, items)                                                      # (items, F n, 6)
     matrices = np.array([(x.stiffness_matrix, x.damping_matrix) for x in suspensions]
                         + [(x.coefficients.stiffness[0], x.coefficients.damping[0]) for x in bearings]

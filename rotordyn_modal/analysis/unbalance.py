@@ -24,9 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..assembly import generalized_force, sensor_rows
+from ..assembly import body_motions, generalized_force, sensor_rows
 from ..errors import InputError
-from ..geometry import cross
+from ..geometry import cross, shift_matrices
 from .forces import COMPONENTS, all_forces
 from .frf import dof_response
 from .orbits import orbit_ellipses, precession_labels, probe_pairs
@@ -367,7 +367,10 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     n_src, n = len(sources), len(speeds)
     # (n_src * N,): sources one after another (one source: the speeds themselves, read only)
     speed_all, omega = (np.tile(speeds, n_src) if n_src > 1 else speeds), w.ravel()
-    q = _coordinate_response(model, sources, rotor_forces, speed_all, omega)
+    # every rotor's B_SR and motion T_j, found once for its unbalance force and its bearing force
+    shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
+    motions = body_motions(model.dofs, [(r.name, False) for r in model.rotors])
+    q = _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions)
     response = (sensor_rows(model, outputs) @ q[..., 0].T).reshape(-1, n_src, n) * (1j * w) ** _ORDER[quantity]
     names = tuple(s.name for s in model.sensors) if outputs is None else \
         ((outputs,) if isinstance(outputs, str) else tuple(outputs))
@@ -383,23 +386,34 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         suspension_names=tuple(s.name for s in model.suspensions),
         rotor_names=tuple(r.name for r in model.rotors),
         bearing_names=tuple(b.name for b in model.bearings),
-        **_force_fields(model, sources, rotor_forces, speed_all, omega, q),
+        **_force_fields(model, sources, rotor_forces, speed_all, omega, q,
+                        (shifts.transpose(0, 2, 1) @ motions).reshape(-1, model.dofs.n)),
         orbit_pairs=pairs.names, orbit_planes=planes, spin_signs=spin_signs.reshape(n_src, n),
         rigid_rotor_names=tuple(r.name for r in model.rotors if not model.bearings_of(r.name)),
     )
 
 
-def _coordinate_response(model, sources, rotor_forces, speed_all, omega):
+def _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts=None, motions=None):
     """Complex amplitudes of the generalized coordinates, shape (n_src N, n_dof, 1), every
-    source's unbalance force applied at its rotor's centre of mass."""
-    generalized = np.stack([generalized_force(model, src, model.rotor(src).center_of_mass, rotor_forces[j])
-                            for j, src in enumerate(sources)])                 # (n_src, N, n_dof)
+    source's unbalance force applied at its rotor's centre of mass.
+
+    ``shifts`` (R, 6, 6) and ``motions`` (R, 6, n_dof): each rotor's ``shift_matrix(S, R_j)``
+    and ``Dofs.body_motion``, when the caller has them (the products of
+    :func:`assembly.generalized_force` on them)."""
+    if shifts is None:
+        generalized = np.stack([generalized_force(model, src, model.rotor(src).center_of_mass, rotor_forces[j])
+                                for j, src in enumerate(sources)])             # (n_src, N, n_dof)
+    else:
+        index = {r.name: k for k, r in enumerate(model.rotors)}
+        generalized = np.stack([(rotor_forces[j] @ shifts[index[src]].T) @ motions[index[src]]
+                                for j, src in enumerate(sources)])
     return dof_response(model, speed_all, omega, generalized.reshape(len(omega), -1)[:, :, None])
 
 
-def _force_fields(model, sources, rotor_forces, speed_all, omega, q):
+def _force_fields(model, sources, rotor_forces, speed_all, omega, q, centres=None):
     """``ground_forces``, ``bearing_forces`` and ``bearing_point_forces`` of
-    :class:`UnbalanceResult`, each shape (n_items, 6, n_src, N)."""
+    :class:`UnbalanceResult`, each shape (n_items, 6, n_src, N) (``centres``: see
+    :func:`forces.all_forces`)."""
     n_src = len(sources)
     n = len(omega) // max(n_src, 1)
     rotor_names = [r.name for r in model.rotors]
@@ -410,6 +424,6 @@ def _force_fields(model, sources, rotor_forces, speed_all, omega, q):
     def per_source(forces):                                   # (items, n_src N, 6, 1) -> (items, 6, n_src, N)
         return forces[..., 0].reshape(len(forces), n_src, n, 6).transpose(0, 3, 1, 2)
 
-    ground, rotors, bearings = all_forces(model, speed_all, omega, q, external)
+    ground, rotors, bearings = all_forces(model, speed_all, omega, q, external, centres)
     return {"ground_forces": per_source(ground), "bearing_forces": per_source(rotors),
             "bearing_point_forces": per_source(bearings)}

@@ -211,7 +211,7 @@ class _StiffnessTerms:
         w3 = w[:, None, None]
         # built in place, real and imaginary parts apart (the same sums as the formula, without
         # its complex temporaries): re = K - w^2 M, im = eta K + w (C + Omega G)
-        Z = np.empty(np.broadcast_shapes(w3.shape, M.shape, np.shape(K), np.shape(C)), dtype=complex)
+        Z = np.empty((len(w),) + M.shape, dtype=complex)      # the shape of w3, M, K and C broadcast
         np.multiply(-(w3 ** 2), M, out=Z.real)
         Z.real += K
         np.multiply(speed, G, out=Z.imag)

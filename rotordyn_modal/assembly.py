@@ -318,12 +318,20 @@ def constant_stiffness_damping(model):
     return K, C
 
 
-def sensor_rows(model, names=None) -> np.ndarray:
+def sensor_rows(model, names=None, rotor_motions=None) -> np.ndarray:
     """Rows mapping ``q`` to the sensors' displacements along their directions.
 
     A sensor on the stator reads its point's motion; one on a rotor reads the
     rotor point's motion, or (``measure = "relative"``, a proximity probe) the
     rotor's motion relative to the stator at that point.
+
+    Parameters
+    ----------
+    model : Model
+    names : str or list of str, optional
+        Sensor names (default all).
+    rotor_motions : ndarray, shape (n_rotors, 6, n), optional
+        ``body_motions`` of the model's rotors (absolute), when the caller has them.
 
     Returns
     -------
@@ -339,16 +347,22 @@ def sensor_rows(model, names=None) -> np.ndarray:
                              [s.direction for s in sensors])
     # each sensor's row times its body's motion: a stack of vector-matrix products, each the
     # product Dofs.point_rows makes
-    return np.matmul(rows[:, None, :], body_motions(layout, list(order))[which]).reshape(-1, layout.n)
+    known = None if rotor_motions is None else \
+        {(r.name, False): motion for r, motion in zip(model.rotors, rotor_motions)}
+    return np.matmul(rows[:, None, :], body_motions(layout, list(order), known)[which]).reshape(-1, layout.n)
 
 
-def body_motions(layout, keys) -> np.ndarray:
+def body_motions(layout, keys, known=None) -> np.ndarray:
     """``layout.motion(body, relative)`` of each ``(body, relative)`` key, shape (K, 6, n), made
     together with the same numbers (a body's rotor columns are ``0.0 + B^T P``, as the frame's
-    zeros plus the relative motion; a relative motion's are ``B^T P`` itself)."""
+    zeros plus the relative motion; a relative motion's are ``B^T P`` itself); ``known``: a
+    dict of some keys' motions already made."""
     out = np.zeros((len(keys), 6, layout.n))
     k = layout.n_frame
     for i, (body, relative) in enumerate(keys):
+        if known is not None and (body, relative) in known:
+            out[i] = known[body, relative]
+            continue
         if not relative:
             out[i, :, :k] = _EYE6[:, :k]
         if body is not None and body != "stator" and layout.on_bearings(body):

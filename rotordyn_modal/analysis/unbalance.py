@@ -371,7 +371,7 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
     motions = body_motions(model.dofs, [(r.name, False) for r in model.rotors])
     q = _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions)
-    response = (sensor_rows(model, outputs) @ q[..., 0].T).reshape(-1, n_src, n) * (1j * w) ** _ORDER[quantity]
+    response = (sensor_rows(model, outputs, motions) @ q[..., 0].T).reshape(-1, n_src, n) * (1j * w) ** _ORDER[quantity]
     names = tuple(s.name for s in model.sensors) if outputs is None else \
         ((outputs,) if isinstance(outputs, str) else tuple(outputs))
     by_name = {s.name: s for s in model.sensors}
@@ -379,7 +379,8 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     planes = np.einsum("pij,pjsn->psni", pairs.to_plane, response[pairs.indices]) if len(pairs) else \
         np.zeros((0, n_src, n, 2), dtype=complex)
     ratios = np.array([model.rotor(src).speed_ratio for src in sources], dtype=float)
-    spin_signs = np.where(ratios[:, None] * speeds < 0, -1.0, 1.0)
+    spin_signs = np.where(ratios[:, None] * speeds < 0, -1.0, 1.0) if n_src > 1 else \
+        np.where(ratios[0] * speeds < 0, -1.0, 1.0)
     return UnbalanceResult(
         speeds=speeds, sources=tuple(sources), frequencies_hz=w / (2 * np.pi), outputs=names,
         response=response, quantity=quantity,

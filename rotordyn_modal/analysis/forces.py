@@ -189,18 +189,21 @@ def _rotor_matrices(spin_axis, rotors):
     """Each rotor's mass matrix ``diag(m I, J)`` (``J`` as :func:`assembly.body_inertias` makes
     it) and gyroscopic matrix per unit speed (:func:`assembly.rotor_gyroscopic`) as nested
     lists, (R, 2, 6, 6): the same products, in Python floats, to be made into one array."""
-    e = [float(x) for x in np.asarray(spin_axis, dtype=float).tolist()]
-    x, y, z = e
-    skew = ((0.0, -z, y), (z, 0.0, -x), (-y, x, 0.0))
+    x, y, z = (float(v) for v in np.asarray(spin_axis, dtype=float).tolist())
+    outer = ((x * x, x * y, x * z), (y * x, y * y, y * z), (z * x, z * y, z * z))    # e e^T
     out = []
     for r in rotors:
         m, d = float(r.mass), float(r.diametral_inertia)
-        axial, spin = float(r.polar_inertia) - d, -float(r.polar_inertia) * float(r.speed_ratio)
-        zero = m * 0.0
-        mass = [[m * 1.0 if i == j else zero for j in range(3)] + [0.0, 0.0, 0.0] for i in range(3)]
-        mass += [[0.0, 0.0, 0.0] + [(d * 1.0 if i == j else d * 0.0) + axial * (e[i] * e[j]) for j in range(3)]
-                 for i in range(3)]
-        gyroscopic = [[0.0] * 6 for _ in range(3)] + [[0.0, 0.0, 0.0] + [spin * v for v in row] for row in skew]
+        axial, c = float(r.polar_inertia) - d, -float(r.polar_inertia) * float(r.speed_ratio)
+        zm, zd = m * 0.0, d * 0.0
+        # d I + (J_p - J_d) e e^T entry by entry (d * 1.0 is d)
+        (j00, j01, j02), (j10, j11, j12), (j20, j21, j22) = (
+            tuple((d if i == k else zd) + axial * outer[i][k] for k in range(3)) for i in range(3))
+        mass = ((m, zm, zm, 0.0, 0.0, 0.0), (zm, m, zm, 0.0, 0.0, 0.0), (zm, zm, m, 0.0, 0.0, 0.0),
+                (0.0, 0.0, 0.0, j00, j01, j02), (0.0, 0.0, 0.0, j10, j11, j12), (0.0, 0.0, 0.0, j20, j21, j22))
+        # c skew(e), c = -J_p r: skew(e) = [[0, -z, y], [z, 0, -x], [-y, x, 0]] times c
+        gyroscopic = ((0.0,) * 6, (0.0,) * 6, (0.0,) * 6, (0.0, 0.0, 0.0, c * 0.0, c * -z, c * y),
+                      (0.0, 0.0, 0.0, c * z, c * 0.0, c * -x), (0.0, 0.0, 0.0, c * -y, c * x, c * 0.0))
         out.append((mass, gyroscopic))
     return out
 

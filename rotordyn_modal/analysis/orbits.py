@@ -67,9 +67,9 @@ def probe_pairs(model, sensors) -> ProbePairs:
     """
     e = np.asarray(model.spin_axis, dtype=float)
     e0, e1, e2 = e.tolist()
-    directions = np.array([s.direction for s in sensors], dtype=float).reshape(-1, 3)
-    listed = directions.tolist()
-    positions = np.array([s.position for s in sensors], dtype=float).reshape(-1, 3).tolist()
+    directions = [np.asarray(s.direction, dtype=float) for s in sensors]
+    listed = [d.tolist() for d in directions]
+    positions = [np.asarray(s.position, dtype=float).tolist() for s in sensors]
     groups: dict = {}
     for index, sensor in enumerate(sensors):
         d0, d1, d2 = listed[index]

@@ -155,8 +155,6 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     count, n = len(w), q.shape[-1]
     if not rotors:
         return np.zeros((0, count, 6, n))
-    layout = model.dofs
-    reference = model.reference_point
     # every rotor's motion at its centre of mass B_SR^T T_j q in one product, then its mass and
     # gyroscopic matrices on it: -(-w^2 M_j + i w Omega G_j) motion
     to_centres = _to_centres(model, rotors)                                              # (6 R, n_dof)
@@ -188,7 +186,7 @@ def _to_centres(model, rotors):
 def _rotor_matrices(spin_axis, rotors):
     """Each rotor's mass matrix ``diag(m I, J)`` (``J`` as :func:`assembly.body_inertias` makes
     it) and gyroscopic matrix per unit speed (:func:`assembly.rotor_gyroscopic`) as nested
-    lists, (R, 2, 6, 6): the same products, in Python floats, to be made into one array."""
+    tuples, (R, 2, 6, 6): the same products, in Python floats, to be made into one array."""
     x, y, z = (float(v) for v in np.asarray(spin_axis, dtype=float).tolist())
     outer = ((x * x, x * y, x * z), (y * x, y * y, y * z), (z * x, z * y, z * z))    # e e^T
     out = []
@@ -213,6 +211,15 @@ def _parts(items, rows):
     ``_FORCE_PART_BYTES`` together (all of a small model's at once; large models' forces in
     parts, so that their temporaries stay a fraction of the result)."""
     return _eigen.chunk_slices(items, 96 * rows, budget=_FORCE_PART_BYTES)
+
+
+def _bearing_moves(layout, rotor, positions):
+    """Where a rotor's coordinates sit in ``q`` (a slice), and the relative motion ``B_RP^T P_j``
+    at each of its bearing points per coordinate, stacked (6 B_j, k_j)
+    (:func:`assembly.bearing_motion`'s products, made together)."""
+    j = layout.rotors.index(rotor)
+    moves = shift_matrices(layout.centres[j], positions).transpose(0, 2, 1) @ layout.bases[j]
+    return layout.slices[j], moves.reshape(-1, moves.shape[-1])
 
 
 def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
@@ -245,12 +252,8 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
     coordinates = _rows(q)
     out = np.empty((len(bearings), count, 6, n), dtype=complex)
     for rotor, which in by_rotor.items():
-        j = layout.rotors.index(rotor)
-        # B_RP^T P_j at each of them (Dofs.local_relative_motion), made together
-        moves = shift_matrices(layout.centres[j], [bearings[b].position for b in which]).transpose(0, 2, 1) \
-            @ layout.bases[j]
-        relative = _items(coordinates[:, layout.slices[j]] @ moves.reshape(-1, moves.shape[-1]).T,
-                          len(which))                                                   # (B_j, F n, 6)
+        own, moves = _bearing_moves(layout, rotor, [bearings[b].position for b in which])
+        relative = _items(coordinates[:, own] @ moves.T, len(which))                     # (B_j, F n, 6)
         constant = [i for i, b in enumerate(which) if bearings[b].coefficients.kind == "constant"]
         if constant:     # the same 6 x 6 matrices at every speed
             chosen = [which[i] for i in constant]
@@ -312,11 +315,8 @@ def all_forces(model, speed, omega, q, rotor_forces=None, centres=None):
         shifts = shift_matrices(model.reference_point, [x.position for x in suspensions])
         np.matmul(rows @ _frame_motion(layout).T, shifts.transpose(0, 2, 1).reshape(-1, 6).T, out=motion[:, :6 * s])
     for rotor, which in groups:     # each rotor's bearings' relative motions from its coordinates
-        j = layout.rotors.index(rotor)
-        moves = shift_matrices(layout.centres[j], [bearings[i].position for i in which]).transpose(0, 2, 1) \
-            @ layout.bases[j]
-        np.matmul(rows[:, layout.slices[j]], moves.reshape(-1, moves.shape[-1]).T,
-                  out=motion[:, 6 * (s + which[0]):6 * (s + which[-1] + 1)])
+        own, moves = _bearing_moves(layout, rotor, [bearings[i].position for i in which])
+        np.matmul(rows[:, own], moves.T, out=motion[:, 6 * (s + which[0]):6 * (s + which[-1] + 1)])
     if rotors:
         np.matmul(rows, (_to_centres(model, rotors) if centres is None else centres).T, out=motion[:, 6 * b:])
     motion = _items(motion, items)                                                      # (items, F n, 6)

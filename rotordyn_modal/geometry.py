@@ -134,8 +134,9 @@ def point_motion_rows(points, reference, directions) -> np.ndarray:
     """
     sx, sy, sz = np.asarray(reference, dtype=float).tolist()
     rows = []
-    for (px, py, pz), (d0, d1, d2) in zip(np.asarray(points, dtype=float).reshape(-1, 3).tolist(),
-                                          np.asarray(directions, dtype=float).reshape(-1, 3).tolist()):
+    for point, direction in zip(points, directions):
+        px, py, pz = np.asarray(point, dtype=float).tolist()
+        d0, d1, d2 = np.asarray(direction, dtype=float).tolist()
         a0, a1, a2 = px - sx, py - sy, pz - sz
         rows.append((d0, d1, d2, a1 * d2 - a2 * d1, a2 * d0 - a0 * d2, a0 * d1 - a1 * d0))
     return np.array(rows, dtype=float).reshape(-1, 6)

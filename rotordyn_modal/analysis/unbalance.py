@@ -378,9 +378,9 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     pairs = probe_pairs(model, [by_name[name] for name in names])
     planes = np.einsum("pij,pjsn->psni", pairs.to_plane, response[pairs.indices]) if len(pairs) else \
         np.zeros((0, n_src, n, 2), dtype=complex)
-    ratios = np.array([model.rotor(src).speed_ratio for src in sources], dtype=float)
-    spin_signs = np.where(ratios[:, None] * speeds < 0, -1.0, 1.0) if n_src > 1 else \
-        np.where(ratios[0] * speeds < 0, -1.0, 1.0)
+    ratios = [model.rotor(src).speed_ratio for src in sources]
+    spin_signs = np.where(np.array(ratios, dtype=float)[:, None] * speeds < 0, -1.0, 1.0) if n_src > 1 else \
+        np.where(np.float64(ratios[0]) * speeds < 0, -1.0, 1.0)
     return UnbalanceResult(
         speeds=speeds, sources=tuple(sources), frequencies_hz=w / (2 * np.pi), outputs=names,
         response=response, quantity=quantity,

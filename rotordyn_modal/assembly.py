@@ -33,7 +33,8 @@ from .geometry import point_force_column, point_motion_rows, shift_matrix, skew
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
-           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "dependent_bearing_matrices", "sensor_rows", "body_motions", "excitation_columns", "generalized_force"]
+           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force",
+           "body_motions"]
 
 
 class Matrices(NamedTuple):

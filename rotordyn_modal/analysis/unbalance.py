@@ -406,8 +406,8 @@ def _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts=
                                 for j, src in enumerate(sources)])             # (n_src, N, n_dof)
     else:
         index = {r.name: k for k, r in enumerate(model.rotors)}
-        generalized = np.stack([(rotor_forces[j] @ shifts[index[src]].T) @ motions[index[src]]
-                                for j, src in enumerate(sources)])
+        each = [(rotor_forces[j] @ shifts[index[src]].T) @ motions[index[src]] for j, src in enumerate(sources)]
+        generalized = np.stack(each) if len(each) > 1 else each[0]
     return dof_response(model, speed_all, omega, generalized.reshape(len(omega), -1)[:, :, None])
 
 
@@ -418,9 +418,12 @@ def _force_fields(model, sources, rotor_forces, speed_all, omega, q, centres=Non
     n_src = len(sources)
     n = len(omega) // max(n_src, 1)
     rotor_names = [r.name for r in model.rotors]
-    external = np.zeros((len(model.rotors), len(omega), 6, 1), dtype=complex)
-    for j, src in enumerate(sources):
-        external[rotor_names.index(src), j * n:(j + 1) * n, :, 0] = rotor_forces[j]
+    if rotor_names == list(sources) and n_src == 1:      # one rotor: its own force is all there is
+        external = rotor_forces[:, :, :, None]
+    else:
+        external = np.zeros((len(model.rotors), len(omega), 6, 1), dtype=complex)
+        for j, src in enumerate(sources):
+            external[rotor_names.index(src), j * n:(j + 1) * n, :, 0] = rotor_forces[j]
 
     def per_source(forces):                                   # (items, n_src N, 6, 1) -> (items, 6, n_src, N)
         return forces[..., 0].reshape(len(forces), n_src, n, 6).transpose(0, 3, 1, 2)

@@ -371,7 +371,9 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
     motions = body_motions(model.dofs, [(r.name, False) for r in model.rotors])
     q = _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions)
-    response = (sensor_rows(model, outputs, motions) @ q[..., 0].T).reshape(-1, n_src, n) * (1j * w) ** _ORDER[quantity]
+    # (i w)^0 is 1 + 0i: that scalar, not an array of it
+    factor = (1j * w) ** _ORDER[quantity] if _ORDER[quantity] else 1.0 + 0.0j
+    response = (sensor_rows(model, outputs, motions) @ q[..., 0].T).reshape(-1, n_src, n) * factor
     names = tuple(s.name for s in model.sensors) if outputs is None else \
         ((outputs,) if isinstance(outputs, str) else tuple(outputs))
     by_name = {s.name: s for s in model.sensors}

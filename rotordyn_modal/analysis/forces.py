@@ -300,9 +300,8 @@ def all_forces(model, speed, omega, q, rotor_forces=None, centres=None):
     """
     suspensions, rotors, bearings = model.suspensions, model.rotors, model.bearings
     items = len(suspensions) + len(rotors) + len(bearings)
-    groups = _bearing_groups(bearings)
-    if (not items or model.speed_dependent or groups is None
-            or 96 * q.shape[0] * q.shape[-1] * items > _FORCE_PART_BYTES):
+    groups = _constant_bearing_groups(bearings)
+    if not items or groups is None or 96 * q.shape[0] * q.shape[-1] * items > _FORCE_PART_BYTES:
         return (suspension_forces(model, omega, q), bearing_forces(model, speed, omega, q, rotor_forces),
                 bearing_point_forces(model, speed, omega, q))
     w = np.asarray(omega, dtype=float)
@@ -334,11 +333,12 @@ def all_forces(model, speed, omega, q, rotor_forces=None, centres=None):
     np.multiply(1j * w[:, None, None], c[:b], out=c[:b])
     np.add(a[:b], c[:b], out=a[:b])
     if rotors:
-        np.multiply(w[:, None, None] ** 2, a[b:], out=a[b:])
-        np.multiply(1j * (w * speed)[:, None, None], c[b:], out=c[b:])
-        np.subtract(a[b:], c[b:], out=a[b:])
+        inertial, spinning = a[b:], c[b:]
+        np.multiply(w[:, None, None] ** 2, inertial, out=inertial)
+        np.multiply(1j * (w * speed)[:, None, None], spinning, out=spinning)
+        np.subtract(inertial, spinning, out=inertial)
         if rotor_forces is not None:
-            np.add(a[b:], rotor_forces, out=a[b:])
+            np.add(inertial, rotor_forces, out=inertial)
     for i, x in enumerate(suspensions):
         if getattr(x, "maxwell_stiffness_matrix", None) is not None:
             a[i] = a[i] + _branch_stiffness(x, w) @ _columns(motion[i], count)
@@ -346,14 +346,17 @@ def all_forces(model, speed, omega, q, rotor_forces=None, centres=None):
     return a[:s], a[b:] if rotors else empty, a[s:b] if bearings else empty
 
 
-def _bearing_groups(bearings):
-    """``(rotor, bearing indices)`` of each rotor's bearings, or None when some rotor's are not
-    consecutive in the model's order."""
+def _constant_bearing_groups(bearings):
+    """``(rotor, bearing indices)`` of each rotor's bearings, or None when a bearing's
+    coefficients depend on speed or some rotor's bearings are not consecutive in the model's
+    order."""
     groups: dict = {}
+    last = None
     for i, bearing in enumerate(bearings):
+        if bearing.coefficients.kind != "constant" or (bearing.rotor != last and bearing.rotor in groups):
+            return None
         groups.setdefault(bearing.rotor, []).append(i)
-    if any(which != list(range(which[0], which[-1] + 1)) for which in groups.values()):
-        return None
+        last = bearing.rotor
     return list(groups.items())
 
 

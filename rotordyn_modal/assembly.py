@@ -33,8 +33,7 @@ from .geometry import point_force_column, point_motion_rows, shift_matrix, skew
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
-           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force",
-           "body_motions"]
+           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force"]
 
 
 class Matrices(NamedTuple):
@@ -88,14 +87,47 @@ def body_inertias(model):
     -------
     list of (mass [kg], center (3,) [m], inertia (3, 3) [kg m^2])
     """
-    e = model.spin_axis
     bodies = []
     if model.stator is not None:
         bodies.append((model.stator.mass, model.stator.center_of_mass, model.stator.inertia))
-    for rotor in model.rotors:
-        inertia = rotor.diametral_inertia * np.eye(3) + (rotor.polar_inertia - rotor.diametral_inertia) * np.outer(e, e)
-        bodies.append((rotor.mass, rotor.center_of_mass, inertia))
+    for rotor, (mass, _) in zip(model.rotors, rotor_matrices(model.spin_axis, model.rotors)):
+        bodies.append((rotor.mass, rotor.center_of_mass, np.array([row[3:] for row in mass[3:]])))
     return bodies
+
+
+def rotor_matrices(spin_axis, rotors) -> list:
+    """Each rotor's mass matrix ``diag(m I, J)``, ``J = J_d I + (J_p - J_d) e e^T``, and its
+    gyroscopic matrix per unit reference speed ``diag(0, -J_p r skew(e))`` (seed eq. 52), on
+    its motion at its centre of mass.
+
+    Written out in Python floats (a few 6 x 6 matrices are made faster so than by numpy's
+    small-array calls), entry by entry the products and sums of the formulas: ``J_d * 1.0``
+    on the diagonal, ``J_d * 0.0`` off it, ``c * s`` for every entry ``s`` of ``skew(e)``.
+
+    Parameters
+    ----------
+    spin_axis : array_like, shape (3,)
+    rotors : sequence of Rotor
+
+    Returns
+    -------
+    list of (mass, gyroscopic), each nested tuples (6, 6) [kg, kg m, kg m^2]
+    """
+    x, y, z = (float(v) for v in np.asarray(spin_axis, dtype=float).tolist())
+    outer = ((x * x, x * y, x * z), (y * x, y * y, y * z), (z * x, z * y, z * z))    # e e^T
+    skew_e = ((0.0, -z, y), (z, 0.0, -x), (-y, x, 0.0))                                # geometry.skew(e)
+    out = []
+    for r in rotors:
+        m, d = float(r.mass), float(r.diametral_inertia)
+        axial, c = float(r.polar_inertia) - d, -float(r.polar_inertia) * float(r.speed_ratio)
+        zm, zd = m * 0.0, d * 0.0
+        inertia = [tuple((d if i == k else zd) + axial * outer[i][k] for k in range(3)) for i in range(3)]
+        spin = [tuple(c * s for s in row) for row in skew_e]
+        mass = ((m, zm, zm, 0.0, 0.0, 0.0), (zm, m, zm, 0.0, 0.0, 0.0), (zm, zm, m, 0.0, 0.0, 0.0),
+                *((0.0, 0.0, 0.0) + row for row in inertia))
+        gyroscopic = ((0.0,) * 6,) * 3 + tuple((0.0, 0.0, 0.0) + row for row in spin)
+        out.append((mass, gyroscopic))
+    return out
 
 
 def _suspension_sum(model, attribute: str) -> np.ndarray:
@@ -155,9 +187,7 @@ def loss_stiffness(model) -> np.ndarray:
 def rotor_gyroscopic(model, rotor) -> np.ndarray:
     """``diag(0, -J_p r skew(e))``: a rotor's gyroscopic matrix per unit reference speed
     (seed eq. 52), on its rotations, shape (6, 6) [kg m^2]."""
-    out = np.zeros((6, 6))
-    out[3:, 3:] = -rotor.polar_inertia * rotor.speed_ratio * skew(model.spin_axis)
-    return out
+    return np.array(rotor_matrices(model.spin_axis, [rotor])[0][1])
 
 
 def gyroscopic_matrix(model) -> np.ndarray:
@@ -332,7 +362,7 @@ def sensor_rows(model, names=None, rotor_motions=None) -> np.ndarray:
     names : str or list of str, optional
         Sensor names (default all).
     rotor_motions : ndarray, shape (n_rotors, 6, n), optional
-        ``body_motions`` of the model's rotors (absolute), when the caller has them.
+        ``Dofs.motions`` of the model's rotors (absolute), when the caller has them.
 
     Returns
     -------
@@ -350,34 +380,7 @@ def sensor_rows(model, names=None, rotor_motions=None) -> np.ndarray:
     # product Dofs.point_rows makes
     known = None if rotor_motions is None else \
         {(r.name, False): motion for r, motion in zip(model.rotors, rotor_motions)}
-    return np.matmul(rows[:, None, :], body_motions(layout, list(order), known)[which]).reshape(-1, layout.n)
-
-
-def body_motions(layout, keys, known=None) -> np.ndarray:
-    """``layout.motion(body, relative)`` of each ``(body, relative)`` key, shape (K, 6, n), made
-    together with the same numbers (a body's rotor columns are ``0.0 + B^T P``, as the frame's
-    zeros plus the relative motion; a relative motion's are ``B^T P`` itself); ``known``: a
-    dict of some keys' motions already made."""
-    out = np.zeros((len(keys), 6, layout.n))
-    k = layout.n_frame
-    for i, (body, relative) in enumerate(keys):
-        if known is not None and (body, relative) in known:
-            out[i] = known[body, relative]
-            continue
-        if not relative:
-            out[i, :, :k] = _EYE6[:, :k]
-        if body is not None and body != "stator" and layout.on_bearings(body):
-            own = layout.slices[layout.rotors.index(body)]
-            local = layout.local_relative_motion(body, layout.reference_point)
-            if relative:
-                out[i, :, own] = local
-            else:
-                out[i, :, own] += local
-    return out
-
-
-_EYE6 = np.eye(6)
-_EYE6.flags.writeable = False
+    return np.matmul(rows[:, None, :], layout.motions(list(order), known)[which]).reshape(-1, layout.n)
 
 
 def excitation_columns(model, names=None) -> np.ndarray:

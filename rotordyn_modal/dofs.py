@@ -77,20 +77,14 @@ class Dofs:
 
     def frame_motion(self) -> np.ndarray:
         """``T_stator``: the stator's motion ``[u, theta]`` at S per coordinate, shape (6, n)."""
-        out = np.zeros((6, self.n))
-        out[:, : self.n_frame] = np.eye(6)[:, : self.n_frame]
-        return out
+        return np.eye(6, self.n) if self.n_frame else np.zeros((6, self.n))
 
     def relative_motion(self, rotor: str) -> np.ndarray:
         """Motion of ``rotor`` relative to the stator, as a rigid motion at S, shape (6, n).
 
         Zero for a rotor without bearings.
         """
-        out = np.zeros((6, self.n))
-        if rotor in self.rotors:
-            j = self.rotors.index(rotor)
-            out[:, self.slices[j]] = self.local_relative_motion(rotor, self.reference_point)
-        return out
+        return self.motions([(rotor, True)])[0]
 
     def local_relative_motion(self, rotor: str, point) -> np.ndarray:
         """``B_RP^T P_j``: relative motion at ``point`` per coordinate of ``rotor``, shape (6, k_j)."""
@@ -99,13 +93,36 @@ class Dofs:
 
     def motion(self, body: str | None = None, relative: bool = False) -> np.ndarray:
         """:meth:`relative_motion` of ``body`` when ``relative``, else its :meth:`body_motion`."""
-        return self.relative_motion(body) if relative else self.body_motion(body)
+        return self.motions([(body, relative)])[0]
 
     def body_motion(self, body: str | None = None) -> np.ndarray:
         """Motion ``[u, theta]`` at S of the stator (``None``/'stator') or of a rotor, shape (6, n)."""
-        if body is None or body == "stator":
-            return self.frame_motion()
-        return self.frame_motion() + self.relative_motion(body)
+        return self.motions([(body, False)])[0]
+
+    def motions(self, keys, known=None) -> np.ndarray:
+        """:meth:`motion` of each ``(body, relative)`` key, shape (K, 6, n), made together.
+
+        A body's motion is the frame's (the identity on the frame's coordinates), plus on its
+        own coordinates its relative motion ``B_RP^T P_j`` at S (added to the frame's zeros:
+        ``0.0 + x``); a relative motion is ``B_RP^T P_j`` alone, zero for the stator and for a
+        rotor without bearings. ``known``: a dict of some keys' motions the caller has.
+        """
+        out = np.zeros((len(keys), 6, self.n))
+        k = self.n_frame
+        for i, (body, relative) in enumerate(keys):
+            if known is not None and (body, relative) in known:
+                out[i] = known[body, relative]
+                continue
+            if not relative:
+                out[i, :, :k] = _EYE6[:, :k]
+            if body is not None and body != "stator" and self.on_bearings(body):
+                own = self.slices[self.rotors.index(body)]
+                local = self.local_relative_motion(body, self.reference_point)
+                if relative:
+                    out[i, :, own] = local
+                else:
+                    out[i, :, own] += local
+        return out
 
     def point_rows(self, point, direction, body: str | None = None, relative: bool = False,
                    motion: np.ndarray | None = None) -> np.ndarray:
@@ -193,3 +210,7 @@ def frame_block(model, block6: np.ndarray) -> np.ndarray:
     k = layout.n_frame
     out[..., :k, :k] = block6[..., :k, :k]
     return out
+
+
+_EYE6 = np.eye(6)
+_EYE6.flags.writeable = False

@@ -106,24 +106,18 @@ def shift_matrices(p, points) -> np.ndarray:
 
 
 def point_motion_row(point, reference, direction) -> np.ndarray:
-    """Row ``r`` with ``r @ q`` = displacement of ``point`` along ``direction``.
-
-    ``q = [u, theta]`` is the small motion of the rigid stator at ``reference``;
-    the displacement of P is ``u + theta x (P - S)``, so the row is
-    ``[d, (P - S) x d]``.
-
-    Returns
-    -------
-    ndarray, shape (6,)
-    """
-    d = np.asarray(direction, dtype=float)
-    arm = np.asarray(point, dtype=float) - np.asarray(reference, dtype=float)
-    return np.concatenate([d, cross(arm, d)])
+    """Row ``r`` with ``r @ q`` = displacement of ``point`` along ``direction``: the one row of
+    :func:`point_motion_rows`, shape (6,)."""
+    return point_motion_rows([point], reference, [direction])[0]
 
 
 def point_motion_rows(points, reference, directions) -> np.ndarray:
-    """:func:`point_motion_row` of each point and direction, made together (the same numbers:
-    the same differences and products, in Python floats).
+    """Rows ``r`` with ``r @ q`` = displacement of each point along its direction.
+
+    ``q = [u, theta]`` is the small motion of the rigid stator at ``reference``;
+    the displacement of P is ``u + theta x (P - S)``, so the row is
+    ``[d, (P - S) x d]`` (written out in Python floats: a few points are made faster
+    so than by numpy's small-array calls; :func:`cross`'s products and differences).
 
     Parameters
     ----------

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..assembly import body_motions, excitation_columns
+from ..assembly import excitation_columns, rotor_matrices
 from ..bearings import evaluate
 from ..geometry import shift_matrices
 from . import _eigen
@@ -63,26 +63,35 @@ def suspension_forces(model, omega, q) -> np.ndarray:
         return np.zeros((0, count, 6, n), dtype=complex)
     # every suspension at once: the stator's motion at S, B_SP^T of it in one product, then each
     # suspension's stiffness and damping on its own point's motion
-    shifts = shift_matrices(model.reference_point, [s.position for s in suspensions])
-    stator = _rows(q) @ _frame_motion(model.dofs).T                                          # (F n, 6)
-    points = _items(stator @ shifts.transpose(0, 2, 1).reshape(-1, 6).T, len(suspensions))   # (S, F n, 6)
+    points = _items(_suspension_motions(model, _rows(q)), len(suspensions))                  # (S, F n, 6)
     matrices = np.array([(s.stiffness_matrix, s.damping_matrix) for s in suspensions])      # (S, 2, 6, 6)
-    stiffness, damping = matrices[:, 0], matrices[:, 1]
-    if any(s.loss_factor for s in suspensions):
-        losses = np.array([s.loss_factor for s in suspensions], dtype=float)
-        stiffness = stiffness * (1 + 1j * losses)[:, None, None]
-    # (without loss factors K (1 + 0i) is K as the product casts it: the same numbers)
-    out = _stiffness_damping(points, stiffness, damping, w)
-    for i, s in enumerate(suspensions):
-        if getattr(s, "maxwell_stiffness_matrix", None) is not None:
-            out[i] = out[i] + _branch_stiffness(s, w) @ _columns(points[i], count)
+    out = _stiffness_damping(points, _with_losses(matrices[:, 0], suspensions), matrices[:, 1], w)
+    _add_branches(out, suspensions, points, w)
     return out
 
 
-def _frame_motion(layout):
-    """``layout.frame_motion()`` (6, n) in one call: the identity's first six columns, or
-    zeros on the ground."""
-    return np.eye(6, layout.n) if layout.n_frame else np.zeros((6, layout.n))
+def _suspension_motions(model, rows, out=None):
+    """The motion at every suspension's point, ``B_SP^T T_stator q``, of coordinates ``rows``
+    (F n, n_dof): the stator's motion at S, then ``B_SP^T`` of it in one product, (F n, 6 S)."""
+    shifts = shift_matrices(model.reference_point, [s.position for s in model.suspensions])
+    stator = rows @ model.dofs.frame_motion().T                                              # (F n, 6)
+    return np.matmul(stator, shifts.transpose(0, 2, 1).reshape(-1, 6).T, out=out)
+
+
+def _with_losses(stiffness, suspensions):
+    """``K (1 + i eta)`` of each suspension's stiffness (S, 6, 6), complex; ``K`` itself without
+    loss factors (``K (1 + 0i)`` is what the products' cast to complex makes of it anyway)."""
+    if not any(s.loss_factor for s in suspensions):
+        return stiffness
+    losses = np.array([s.loss_factor for s in suspensions], dtype=float)
+    return stiffness * (1 + 1j * losses)[:, None, None]
+
+
+def _add_branches(out, suspensions, points, w):
+    """Add each Maxwell branch's force ``K_b(w) x`` to its suspension's ``out[i]`` (F, 6, n)."""
+    for i, s in enumerate(suspensions):
+        if getattr(s, "maxwell_stiffness_matrix", None) is not None:
+            out[i] = out[i] + _branch_stiffness(s, w) @ _columns(points[i], len(w))
 
 
 def _rows(q):
@@ -120,9 +129,25 @@ def _stiffness_damping(motion, stiffness, damping, w, out=None):
     """
     a = _columns(motion @ stiffness.transpose(0, 2, 1), len(w))
     b = _columns(motion @ damping.transpose(0, 2, 1), len(w))
-    # a + (i w) b in place: the same operations, without two fresh arrays of the size of the result
-    np.multiply(1j * w[:, None, None], b, out=b)
-    return np.add(a, b, out=a if out is None else out)
+    return _elastic(a, b, w, a if out is None else out)
+
+
+def _elastic(stiffness, damping, w, out):
+    """``K x + (i w) C x`` from the products ``K x`` and ``C x`` (items, F, 6, n), in place
+    (``damping`` is overwritten): the same operations, without fresh arrays of their size."""
+    np.multiply(1j * w[:, None, None], damping, out=damping)
+    return np.add(stiffness, damping, out=out)
+
+
+def _inertial(inertial, spinning, w, speed, external, out):
+    """``w^2 M x - (i w Omega) G x (+ external)``: a rotor's force on its bearings from the
+    products ``M x`` and ``G x`` (items, F, 6, n), in place (both are overwritten)."""
+    np.multiply(w[:, None, None] ** 2, inertial, out=inertial)
+    np.multiply(1j * (w * speed)[:, None, None], spinning, out=spinning)
+    np.subtract(inertial, spinning, out=out)
+    if external is not None:
+        np.add(out, external, out=out)
+    return out
 
 
 def _branch_stiffness(suspension, omega):
@@ -158,21 +183,15 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     # every rotor's motion at its centre of mass B_SR^T T_j q in one product, then its mass and
     # gyroscopic matrices on it: -(-w^2 M_j + i w Omega G_j) motion
     to_centres = _to_centres(model, rotors)                                              # (6 R, n_dof)
-    matrices = np.array(_rotor_matrices(model.spin_axis, rotors), dtype=float).reshape(-1, 2, 6, 6)
+    matrices = np.array(rotor_matrices(model.spin_axis, rotors), dtype=float).reshape(-1, 2, 6, 6)
     masses, gyroscopic = matrices[:, 0], matrices[:, 1]
     rows = _rows(q)
-    squares, spins = w[:, None, None] ** 2, 1j * (w * speed)[:, None, None]
     out = np.empty((len(rotors), count, 6, n), dtype=complex)
     for part in _parts(len(rotors), len(rows)):
         motion = _items(rows @ to_centres[6 * part.start:6 * part.stop].T, len(out[part]))   # (R', F n, 6)
-        inertial = _columns(motion @ masses[part].transpose(0, 2, 1), count)
-        spinning = _columns(motion @ gyroscopic[part].transpose(0, 2, 1), count)
-        # w^2 inertial - (i w Omega) spinning (+ the external forces), in place
-        np.multiply(squares, inertial, out=inertial)
-        np.multiply(spins, spinning, out=spinning)
-        np.subtract(inertial, spinning, out=out[part])
-        if rotor_forces is not None:
-            np.add(out[part], rotor_forces[part], out=out[part])
+        _inertial(_columns(motion @ masses[part].transpose(0, 2, 1), count),
+                  _columns(motion @ gyroscopic[part].transpose(0, 2, 1), count), w, speed,
+                  None if rotor_forces is None else rotor_forces[part], out[part])
     return out
 
 
@@ -180,30 +199,7 @@ def _to_centres(model, rotors):
     """``B_SR^T T_j`` of each rotor (its motion at its centre of mass per coordinate), shape
     (6 R, n_dof): ``shift_matrix(S, R_j).T @ body_motion`` of every rotor in one product."""
     return (shift_matrices(model.reference_point, [r.center_of_mass for r in rotors]).transpose(0, 2, 1)
-            @ body_motions(model.dofs, [(r.name, False) for r in rotors])).reshape(-1, model.dofs.n)
-
-
-def _rotor_matrices(spin_axis, rotors):
-    """Each rotor's mass matrix ``diag(m I, J)`` (``J`` as :func:`assembly.body_inertias` makes
-    it) and gyroscopic matrix per unit speed (:func:`assembly.rotor_gyroscopic`) as nested
-    tuples, (R, 2, 6, 6): the same products, in Python floats, to be made into one array."""
-    x, y, z = (float(v) for v in np.asarray(spin_axis, dtype=float).tolist())
-    outer = ((x * x, x * y, x * z), (y * x, y * y, y * z), (z * x, z * y, z * z))    # e e^T
-    out = []
-    for r in rotors:
-        m, d = float(r.mass), float(r.diametral_inertia)
-        axial, c = float(r.polar_inertia) - d, -float(r.polar_inertia) * float(r.speed_ratio)
-        zm, zd = m * 0.0, d * 0.0
-        # d I + (J_p - J_d) e e^T entry by entry (d * 1.0 is d)
-        (j00, j01, j02), (j10, j11, j12), (j20, j21, j22) = (
-            tuple((d if i == k else zd) + axial * outer[i][k] for k in range(3)) for i in range(3))
-        mass = ((m, zm, zm, 0.0, 0.0, 0.0), (zm, m, zm, 0.0, 0.0, 0.0), (zm, zm, m, 0.0, 0.0, 0.0),
-                (0.0, 0.0, 0.0, j00, j01, j02), (0.0, 0.0, 0.0, j10, j11, j12), (0.0, 0.0, 0.0, j20, j21, j22))
-        # c skew(e), c = -J_p r: skew(e) = [[0, -z, y], [z, 0, -x], [-y, x, 0]] times c
-        gyroscopic = ((0.0,) * 6, (0.0,) * 6, (0.0,) * 6, (0.0, 0.0, 0.0, c * 0.0, c * -z, c * y),
-                      (0.0, 0.0, 0.0, c * z, c * 0.0, c * -x), (0.0, 0.0, 0.0, c * -y, c * x, c * 0.0))
-        out.append((mass, gyroscopic))
-    return out
+            @ model.dofs.motions([(r.name, False) for r in rotors])).reshape(-1, model.dofs.n)
 
 
 def _parts(items, rows):
@@ -310,9 +306,8 @@ def all_forces(model, speed, omega, q, rotor_forces=None, centres=None):
     s, b = len(suspensions), len(suspensions) + len(bearings)         # items: suspensions, bearings, rotors
     rows = _rows(q)
     motion = np.empty((len(rows), 6 * items), dtype=complex)
-    if suspensions:     # the stator's motion at S, then B_SP^T of it at every suspension
-        shifts = shift_matrices(model.reference_point, [x.position for x in suspensions])
-        np.matmul(rows @ _frame_motion(layout).T, shifts.transpose(0, 2, 1).reshape(-1, 6).T, out=motion[:, :6 * s])
+    if suspensions:
+        _suspension_motions(model, rows, out=motion[:, :6 * s])
     for rotor, which in groups:     # each rotor's bearings' relative motions from its coordinates
         own, moves = _bearing_moves(layout, rotor, [bearings[i].position for i in which])
         np.matmul(rows[:, own], moves.T, out=motion[:, 6 * (s + which[0]):6 * (s + which[-1] + 1)])
@@ -321,27 +316,19 @@ def all_forces(model, speed, omega, q, rotor_forces=None, centres=None):
     motion = _items(motion, items)                                                      # (items, F n, 6)
     matrices = np.array([(x.stiffness_matrix, x.damping_matrix) for x in suspensions]
                         + [(x.coefficients.stiffness[0], x.coefficients.damping[0]) for x in bearings]
-                        + _rotor_matrices(model.spin_axis, rotors), dtype=float).reshape(-1, 2, 6, 6)
+                        + rotor_matrices(model.spin_axis, rotors), dtype=float).reshape(-1, 2, 6, 6)
     first = matrices[:, 0]
     if any(x.loss_factor for x in suspensions):
         first = first.astype(complex)
-        first[:s] *= (1 + 1j * np.array([x.loss_factor for x in suspensions], dtype=float))[:, None, None]
+        first[:s] = _with_losses(first[:s].real, suspensions)
     # stiffness (mass) and damping (gyroscopic) products of every item
     a = _columns(motion @ first.transpose(0, 2, 1), count)
     c = _columns(motion @ matrices[:, 1].transpose(0, 2, 1), count)
     # suspensions and bearings: K x + (i w) C x; rotors: w^2 M x - (i w Omega) G x (+ external)
-    np.multiply(1j * w[:, None, None], c[:b], out=c[:b])
-    np.add(a[:b], c[:b], out=a[:b])
+    _elastic(a[:b], c[:b], w, a[:b])
     if rotors:
-        inertial, spinning = a[b:], c[b:]
-        np.multiply(w[:, None, None] ** 2, inertial, out=inertial)
-        np.multiply(1j * (w * speed)[:, None, None], spinning, out=spinning)
-        np.subtract(inertial, spinning, out=inertial)
-        if rotor_forces is not None:
-            np.add(inertial, rotor_forces, out=inertial)
-    for i, x in enumerate(suspensions):
-        if getattr(x, "maxwell_stiffness_matrix", None) is not None:
-            a[i] = a[i] + _branch_stiffness(x, w) @ _columns(motion[i], count)
+        _inertial(a[b:], c[b:], w, speed, rotor_forces, a[b:])
+    _add_branches(a, suspensions, motion, w)
     empty = np.zeros((0, count, 6, q.shape[-1]))     # as the three functions give no items
     return a[:s], a[b:] if rotors else empty, a[s:b] if bearings else empty
 

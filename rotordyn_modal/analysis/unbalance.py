@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..assembly import body_motions, generalized_force, sensor_rows
+from ..assembly import generalized_force, sensor_rows
 from ..errors import InputError
 from ..geometry import cross, shift_matrices
 from .forces import COMPONENTS, all_forces
@@ -369,7 +369,7 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     speed_all, omega = (np.tile(speeds, n_src) if n_src > 1 else speeds), w.ravel()
     # every rotor's B_SR and motion T_j, found once for its unbalance force and its bearing force
     shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
-    motions = body_motions(model.dofs, [(r.name, False) for r in model.rotors])
+    motions = model.dofs.motions([(r.name, False) for r in model.rotors])
     q = _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions)
     # (i w)^0 is 1 + 0i: that scalar, not an array of it
     factor = (1j * w) ** _ORDER[quantity] if _ORDER[quantity] else 1.0 + 0.0j

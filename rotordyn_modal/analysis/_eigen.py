@@ -347,15 +347,16 @@ class PencilFactors:
     def factor(self, rows, pencils, shifts):
         """Factor ``Q(shifts[i])`` of row ``i`` of ``pencils`` (a :class:`~._stack.Pencils`, one row
         per storage row in ``rows``) into storage ``rows[i]``; dense ones a few rows at a time
-        (each part's pencils stay in the cache)."""
+        (each part's pencils stay in the cache). Returns the small pencils' matrices
+        ``Q(shifts)`` (P, n, n), as stored (None for the larger, factored ones)."""
+        if not len(rows):
+            return None
+        if self.whole:
+            matrices = self.matrices[rows] = _quadratic(*pencils.matrices(slice(None)), shifts)
+            self.ready[rows] = True
+            return matrices
         rows = np.asarray(rows)
         shifts = np.asarray(shifts, dtype=complex)
-        if not len(rows):
-            return
-        if self.whole:
-            self.matrices[rows] = _quadratic(*pencils.matrices(slice(None)), shifts)
-            self.ready[rows] = True
-            return
         sparse = pencils.sparse(np.arange(len(rows)))
         for i in np.nonzero(sparse)[0]:
             self.factors[rows[i]] = _sparse_lu(pencils, i, shifts[i])[0]
@@ -365,6 +366,7 @@ class PencilFactors:
         for part in (dense[start:start + step] for start in range(0, len(dense), step)):
             self._factor_dense(rows[part], _quadratic(*pencils.matrices(part), shifts[part]))
         self.ready[rows] = True
+        return None
 
     def _factor_dense(self, rows, quadratic):
         from scipy.linalg import lapack
@@ -394,7 +396,8 @@ class PencilFactors:
         return out
 
 
-def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, iterations: int = 12):
+def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, iterations: int = 12,
+                               matrices=None):
     """Eigenpairs of ``Q(lam) phi = 0`` near guesses, with one fixed factorisation per row.
 
     Neumaier's residual inverse iteration: with ``F`` a factorisation of ``Q(sigma)`` at a shift
@@ -424,6 +427,9 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
         Guessed shapes (any scale).
     iterations : int
         Most steps.
+    matrices : ndarray, shape (P, n, n), complex, optional
+        The small pencils' matrices of ``rows`` as :meth:`PencilFactors.factor` returned them
+        (else read from ``factors``).
 
     Returns
     -------
@@ -432,33 +438,49 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
     converged : ndarray (P,) bool
     """
     s = np.array(eigenvalues, dtype=complex)
-    phi = unit_rows(np.asarray(vectors, dtype=complex))                # a new array
-    normal = phi.copy()                                                 # c, with c^H phi = 1
-    normal_conj = normal.conj()
+    phi = unit_rows(np.asarray(vectors, dtype=complex))                # a new array: c, with c^H phi = 1
+    normal_conj = phi.conj()
     every = np.arange(len(s))
     last = np.full(len(s), np.inf)
     converged = np.zeros(len(s), dtype=bool)
+    whole = factors.whole
     with np.errstate(all="ignore"):                                     # a singular factor is dropped below
-        left = factors.solve(rows, normal, adjoint=True).conj()
+        if whole:
+            if matrices is None:
+                matrices = factors.matrices[rows]
+            left = _adjoint_solve(matrices, normal_conj)
+        else:
+            left = factors.solve(rows, phi, adjoint=True).conj()
         active = np.isfinite(left).all(axis=-1)
-        # every row at once while all iterate (the usual case): no gathers and scatters
+        # every row at once while all iterate (the usual case): no gathers and scatters, the small
+        # pencils' matrices at hand
         everyone = bool(active.all())
         for _ in range(iterations):
             i = slice(None) if everyone else active.nonzero()[0]
             mine = every[i]
             if not len(mine):
                 break
-            phi_i, s_i, left_i = phi[i], s[i], left[i]
-            products = pencils.products(mine, phi_i)                        # M phi, D phi, K phi
+            if everyone:
+                phi_i, s_i, left_i, normal_i = phi, s, left, normal_conj
+            else:
+                phi_i, s_i, left_i, normal_i = phi[i], s[i], left[i], normal_conj[i]
+            products = pencils.products(i, phi_i)                           # M phi, D phi, K phi
             new = _nearest_root(*np.einsum("pi,kpi->kp", left_i, products), s_i)
             m_phi, d_phi, k_phi = products
-            residual = new[:, None] ** 2 * m_phi + new[:, None] * d_phi + k_phi
-            phi_new = phi_i - factors.solve(rows[i], residual)
-            phi_new /= np.einsum("pi,pi->p", normal_conj[i], phi_new)[:, None]
+            column = new[:, None]
+            residual = column ** 2 * m_phi + column * d_phi + k_phi
+            if whole and everyone:
+                phi_new = phi_i - _solve(matrices, residual[..., None])[..., 0]
+            else:
+                phi_new = phi_i - factors.solve(rows[i], residual)
+            phi_new /= np.einsum("pi,pi->p", normal_i, phi_new)[:, None]
             size = _step_size(new, s_i, phi_new, phi_i)
             finite = np.isfinite(size)
             if finite.all():
-                s[i], phi[i] = new, phi_new
+                if everyone:
+                    s, phi = new, phi_new
+                else:
+                    s[i], phi[i] = new, phi_new
             else:
                 size = np.where(finite, size, np.inf)
                 s[i] = np.where(finite, new, s_i)
@@ -475,13 +497,24 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                 everyone = False
                 if stop.all():
                     break
-            if factors.whole:
+            if whole:
                 # small pencils are refactored at every step anyway: shift them to the new eigenvalue
                 # (Newton's convergence instead of linear), with the left vector to match
-                more = slice(None) if everyone else active.nonzero()[0]
-                factors.factor(rows[more], pencils if everyone else PencilRows(pencils, every[more]), s[more])
-                left[more] = factors.solve(rows[more], normal[more], adjoint=True).conj()
+                if everyone:
+                    matrices = factors.factor(rows, pencils, s)
+                    left = _adjoint_solve(matrices, normal_conj)
+                else:
+                    more = active.nonzero()[0]
+                    left[more] = _adjoint_solve(factors.factor(rows[more], PencilRows(pencils, every[more]), s[more]),
+                                                normal_conj[more])
     return s, unit_rows(phi), converged
+
+
+def _adjoint_solve(matrices, normal_conj):
+    """``conj(Q^-H c)`` for whole pencils ``Q`` (P, n, n), from ``conj(c)`` (P, n): the solve of
+    ``Q^T`` with ``conj(c)`` (the same numbers as conjugating ``Q^T``, solving and conjugating
+    back, without the two copies)."""
+    return _solve(matrices.swapaxes(-1, -2), normal_conj[..., None])[..., 0]
 
 
 def _step_size(new, old, phi_new, phi_old):

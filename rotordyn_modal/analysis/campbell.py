@@ -797,9 +797,10 @@ def _pencil_at(stack, speeds, brackets, rows, x, iterates):
     if unready.all() and (iterates.x[rows] == brackets.start[rows]).all():
         # every crossing's first evaluation (the usual case): all start from the cubic, factored there
         start = _cubic_value(speeds, brackets, rows, x, expected)
-        iterates.factors.factor(rows, pencils, start)
+        matrices = iterates.factors.factor(rows, pencils, start)
         again = ()
     else:
+        matrices = None
         start = iterates.lam[rows] + expected - _interpolated(brackets, rows, iterates.x[rows])
         fresh = unready.nonzero()[0]
         if len(fresh):
@@ -809,7 +810,7 @@ def _pencil_at(stack, speeds, brackets, rows, x, iterates):
             iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
         again = None
     lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
-                                                               iterates.shape[rows])
+                                                               iterates.shape[rows], matrices=matrices)
     if again is None:
         again = (~converged & np.isfinite(lam) & ~unready).nonzero()[0]
     if len(again):

@@ -328,3 +328,60 @@ def test_the_command_line_prints_a_warning_on_one_line(examples_dir, monkeypatch
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("rotordyn-modal critical-speeds: warning: ")
     assert "critical speeds are not crossings" in err[0]
+
+
+def _random_brackets(rng, count):
+    """Brackets mid-iteration as the refinement leaves them: ends, their g of either sign (some
+    zero, Illinois-halved or not finite), the end moved last, widths one and two steps ago."""
+    from rotordyn_modal.analysis.campbell import _Bracket
+
+    a = rng.uniform(-500.0, 500.0, count)
+    b = a + rng.choice([1e-9, 1e-3, 1.0, 50.0], count) * rng.uniform(0.5, 1.0, count)
+    ga = rng.choice([-1.0, 1.0], count) * 10.0 ** rng.uniform(-12, 2, count)
+    gb = -np.sign(ga) * 10.0 ** rng.uniform(-12, 2, count)
+    special = rng.random(count)
+    ga[special < 0.05] = 0.0
+    gb[(special > 0.05) & (special < 0.08)] = np.nan
+    last = rng.choice([-1, 0, 1], count)
+    widths = np.where(rng.random((2, count)) < 0.2, np.inf, (b - a) * rng.uniform(0.5, 4.0, (2, count)))
+    return _Bracket(a, b, ga, gb, last, widths)
+
+
+def _random_points(rng, state, rows):
+    """Points inside the brackets ``rows`` with g of either sign (some zero, equal to the last
+    point's, or NaN), and the last point evaluated (NaN on a first step)."""
+    count = len(rows)
+    t = rng.choice([0.0, 1e-15, 0.5, 1 - 1e-15, rng.uniform()], count)
+    x = state.a[rows] + t * (state.b[rows] - state.a[rows])
+    gx = rng.choice([-1.0, 1.0], count) * 10.0 ** rng.uniform(-14, 2, count)
+    special = rng.random(count)
+    gx[special < 0.1] = 0.0
+    gx[(special > 0.1) & (special < 0.12)] = np.nan
+    previous = np.array([x + rng.normal(0.0, 1e-3, count), gx * rng.uniform(0.0, 2.0, count)])
+    previous[1, (special > 0.12) & (special < 0.2)] = gx[(special > 0.12) & (special < 0.2)]   # zero secant slope
+    previous[:, special > 0.9] = np.nan
+    return x, gx, previous
+
+
+def test_few_brackets_step_in_python_floats_as_the_arrays_do():
+    """The refinement's step of a few brackets in Python floats (:func:`_next_steps_few`)
+    updates the brackets and returns the same points and ends, bit for bit, as the array
+    code (:func:`_next_step`, :func:`_finished`), on generated brackets with zero, equal and
+    non-finite values. ``ROTORDYN_MODAL_STEP_EXAMPLES`` sets the number of cases (300)."""
+    from rotordyn_modal.analysis import campbell as C
+
+    rng = np.random.default_rng(20261123)
+    for _ in range(int(os.environ.get("ROTORDYN_MODAL_STEP_EXAMPLES", 300))):
+        count = int(rng.integers(1, 12))
+        state = _random_brackets(rng, count)
+        rows = np.sort(rng.choice(count, int(rng.integers(1, count + 1)), replace=False))
+        x, gx, previous = _random_points(rng, state, rows)
+        twin = C._Bracket(*(column.copy() for column in state))
+        with np.errstate(all="ignore"):
+            expected = C._next_step(twin, rows, x, gx, previous)
+            ends = C._finished(x, gx, expected)
+        steps, finished = C._next_steps_few(state, rows, x.tolist(), gx.tolist(), previous.tolist())
+        assert steps.tobytes() == expected.tobytes()
+        assert np.array_equal(finished, ends)
+        for mine, theirs in zip(state, twin):
+            assert mine.tobytes() == theirs.tobytes()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass, field
 from typing import NamedTuple
@@ -605,10 +606,19 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
 def _advance(state, previous, done, rows, x, gx):
     """Update the brackets ``rows`` with the points (x, gx) (see :func:`_next_step`), mark those
     that end there done, and return the next points."""
-    step = _next_step(state, rows, x, gx, previous[:, rows])
+    if len(rows) <= _FEW_ROWS:
+        step, finished = _next_steps_few(state, rows, x.tolist(), gx.tolist(), previous[:, rows].tolist())
+    else:
+        step = _next_step(state, rows, x, gx, previous[:, rows])
+        finished = _finished(x, gx, step)
     previous[:, rows] = x, gx
-    done[rows[_finished(x, gx, step)]] = True
+    done[rows[finished]] = True
     return step
+
+
+#: brackets of at most this many rows are stepped in Python floats (:func:`_next_steps_few`): the
+#: same IEEE operations as the arrays', without the numpy calls around each
+_FEW_ROWS = 16
 
 
 def _finished(x, gx, step):
@@ -647,6 +657,61 @@ def _next_step(state, rows, x, gx, previous):
     inside = np.isfinite(secant) & (secant > a) & (secant < b)
     fallback = np.where(np.isfinite(falsi) & (falsi > a) & (falsi < b) & ~slow, falsi, 0.5 * (a + b))
     return np.where(gx == 0, x, np.where(inside, secant, fallback))
+
+
+def _next_steps_few(state, rows, x, gx, previous):
+    """:func:`_next_step` and :func:`_finished` of a few rows, one at a time in Python floats
+    (the same operations in the same order: bit for bit the same). ``x``, ``gx`` are lists and
+    ``previous`` the pair of lists of the last points and their g. Returns the next points
+    (array) and which rows end (list of bool)."""
+    a, b, ga, gb, last = (column[rows].tolist() for column in state[:5])
+    old, older = state.widths[:, rows].tolist()
+    steps, finished = [], []
+    for r in range(len(x)):
+        xr, gr = x[r], gx[r]
+        if gr != 0:
+            if _sign(gr) == _sign(ga[r]):                  # the a end moves (Illinois: see _illinois)
+                if last[r] == 1:
+                    gb[r] *= 0.5
+                a[r], ga[r], last[r] = xr, gr, 1
+            else:
+                if last[r] == -1:
+                    ga[r] *= 0.5
+                b[r], gb[r], last[r] = xr, gr, -1
+        ar, br = a[r], b[r]
+        width = br - ar
+        secant = xr - _divided(gr * (xr - previous[0][r]), gr - previous[1][r])
+        falsi = br - _divided(gb[r] * width, gb[r] - ga[r])
+        slow = width > 0.5 * older[r]
+        older[r], old[r] = old[r], width
+        if gr == 0:
+            step = xr
+        elif math.isfinite(secant) and ar < secant < br:
+            step = secant
+        elif math.isfinite(falsi) and ar < falsi < br and not slow:
+            step = falsi
+        else:
+            step = 0.5 * (ar + br)
+        steps.append(step)
+        finished.append(gr == 0 or abs(step - xr) <= _STEP_TOLERANCE * max(abs(xr), 1.0))
+    state.a[rows], state.b[rows], state.ga[rows], state.gb[rows], state.last[rows] = a, b, ga, gb, last
+    state.widths[:, rows] = old, older
+    return np.array(steps), finished
+
+
+def _sign(value):
+    """``numpy.sign`` of a Python float (NaN for NaN)."""
+    return 1.0 if value > 0 else -1.0 if value < 0 else value if value != value else 0.0
+
+
+def _divided(numerator, denominator):
+    """``numerator / denominator`` of Python floats as IEEE division (numpy's, with its
+    warnings off) gives it: infinite or NaN where the denominator is zero."""
+    if denominator:
+        return numerator / denominator
+    if numerator != numerator or numerator == 0 or denominator != denominator:
+        return math.nan
+    return math.copysign(math.inf, numerator) * math.copysign(1.0, denominator)
 
 
 def _cubic_start(speeds, brackets, a, b, ga, gb):

@@ -717,6 +717,8 @@ def _divided(numerator, denominator):
 def _cubic_start(speeds, brackets, a, b, ga, gb):
     """Root in (a, b) of the cubic through g at the sweep's four points around each bracket
     (the chord's root where fewer than four oscillating points are at hand)."""
+    if len(a) <= _FEW_ROWS:
+        return _cubic_start_few(speeds, brackets, a, b, ga, gb)
     width = b - a
     with np.errstate(all="ignore"):
         chord = b - gb * width / (gb - ga)
@@ -739,6 +741,36 @@ def _cubic_start(speeds, brackets, a, b, ga, gb):
         x = a + t * width
         good = usable & np.isfinite(x) & (x > a) & (x < b)
     return np.where(good, x, chord)
+
+
+def _cubic_start_few(speeds, brackets, a, b, ga, gb):
+    """:func:`_cubic_start` of a few brackets: the chord and Newton's steps in Python floats (the
+    same operations in the same order: bit for bit the same)."""
+    a, b, ga, gb = a.tolist(), b.tolist(), ga.tolist(), gb.tolist()
+    chords = []
+    for ar, br, gar, gbr in zip(a, b, ga, gb):
+        chord = br - _divided(gbr * (br - ar), gbr - gar)
+        chords.append(chord if math.isfinite(chord) and ar < chord < br else 0.5 * (ar + br))
+    if len(speeds) < 4:
+        return np.array(chords)
+    xs, lam = brackets.near_speeds, brackets.near_values
+    # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
+    with np.errstate(all="ignore"):
+        gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
+        vandermonde = ((xs - brackets.start[:, None]) / brackets.width[:, None])[..., None] ** np.arange(4)
+    coefficients = np.linalg.solve(vandermonde, gs[..., None])[..., 0].tolist()
+    # the four speeds ascend: all on one side of zero where the first or the last is
+    usable = (brackets.near_oscillating & ((xs[:, 0] >= 0) | (xs[:, 3] <= 0))).tolist()
+    out = []
+    for ar, br, chord, (c0, c1, c2, c3), ok in zip(a, b, chords, coefficients, usable):
+        width = br - ar
+        t = _divided(chord - ar, width)
+        slope3, slope2 = 3 * c3, 2 * c2                 # the derivative's coefficients
+        for _ in range(4):                              # Newton on the cubic, from the chord's root
+            t = t - _divided(((c3 * t + c2) * t + c1) * t + c0, (slope3 * t + slope2) * t + c1)
+        x = ar + t * width
+        out.append(x if ok and math.isfinite(x) and ar < x < br else chord)
+    return np.array(out)
 
 
 def _illinois(end, g_end, g_other, last_side, rows, x, gx, side):

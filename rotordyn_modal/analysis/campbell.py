@@ -589,7 +589,7 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
         # every crossing between grid points (the usual case): the first evaluation of all of them,
         # which usually ends them all (the cubic start lands at round-off of the root)
         every = np.arange(count)
-        lam, sure = _evaluate(stack, speeds, values, weighted, brackets, every, x.copy(), iterates)
+        lam, sure = _evaluate(stack, speeds, values, weighted, brackets, every, x.copy(), iterates, first=True)
         roots, done, evaluations = x.copy(), np.zeros(count, dtype=bool), 1
         x = _advance(state, previous, done, every, x, lam.imag - slope * np.abs(x))
     for _ in range(_MAX_ITERATIONS - evaluations):
@@ -835,16 +835,16 @@ def _isolated(brackets):
     return (apart > margin).all(axis=1) & (own_conjugate > 2 * 8 * own_travel)
 
 
-def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
+def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates, first=False):
     """The tracked modes' eigenvalues at speeds ``x`` and whether each is sure (see
     :func:`_tracked`): the pencil's iteration for isolated modes and for modes picked from the
     roots at a point so near that no other root can have come close (:func:`_followed`), the
     roots near the bracket's interpolation for the rest and for any that did not converge
-    to the tracked mode."""
+    to the tracked mode. ``first``: the first evaluation of every crossing (see :func:`_pencil_at`)."""
     fast = iterates.usable[rows]
     isolated = fast.all()
     if isolated:                         # every mode isolated (the usual case): all on the pencil
-        found, ok = _pencil_at(stack, speeds, brackets, rows, x, iterates)
+        found, ok = _pencil_at(stack, speeds, brackets, rows, x, iterates, first, isolated=True)
         if ok.all():
             return found, ok
     else:
@@ -881,17 +881,19 @@ def _followed(brackets, rows, x, iterates):
         return ~iterates.usable[rows] & (moved < 0.1 * iterates.gap[rows])
 
 
-def _pencil_at(stack, speeds, brackets, rows, x, iterates):
+def _pencil_at(stack, speeds, brackets, rows, x, iterates, first=False, isolated=False):
     """Eigenvalues of isolated or followed modes (:func:`_followed`) at ``x`` by residual inverse
     iteration on the pencil (:func:`_eigen.residual_inverse_iteration`), started from the last
     point's eigenvalue (moved by the interpolation's change) and shape. A crossing's first
     evaluation factors its pencil at the cubic interpolation of the sweep's eigenvalues there;
     later ones reuse that factorisation, and factor anew only where the iteration did not
-    converge. Returns the eigenvalues and which converged to the tracked mode."""
+    converge. ``first``: the first evaluation of every crossing (none factored or evaluated
+    yet); ``isolated``: every mode isolated (none followed). Returns the eigenvalues and which
+    converged to the tracked mode."""
     expected = _interpolated(brackets, rows, x)
-    unready = ~iterates.factors.ready[rows]
     pencils = Pencils(stack, brackets.variant[rows], x)
-    if unready.all() and (iterates.x[rows] == brackets.start[rows]).all():
+    unready = None if first else ~iterates.factors.ready[rows]
+    if first or (unready.all() and (iterates.x[rows] == brackets.start[rows]).all()):
         # every crossing's first evaluation (the usual case): all start from the cubic, factored there
         start = _cubic_value(speeds, brackets, rows, x, expected)
         matrices = iterates.factors.factor(rows, pencils, start)
@@ -901,9 +903,9 @@ def _pencil_at(stack, speeds, brackets, rows, x, iterates):
         start = iterates.lam[rows] + expected - _interpolated(brackets, rows, iterates.x[rows])
         fresh = unready.nonzero()[0]
         if len(fresh):
-            first = fresh[iterates.x[rows[fresh]] == brackets.start[rows[fresh]]]    # nothing evaluated yet
-            if len(first):
-                start[first] = _cubic_value(speeds, brackets, rows[first], x[first])
+            untouched = fresh[iterates.x[rows[fresh]] == brackets.start[rows[fresh]]]    # nothing evaluated yet
+            if len(untouched):
+                start[untouched] = _cubic_value(speeds, brackets, rows[untouched], x[untouched])
             iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
         again = None
     lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
@@ -917,8 +919,8 @@ def _pencil_at(stack, speeds, brackets, rows, x, iterates):
         lam[again], shapes[again], converged[again] = _eigen.residual_inverse_iteration(
             iterates.factors, rows[again], part, lam[again], shapes[again])
     ok = converged & (np.abs(lam - expected) <= 2 * brackets.spread[rows])
-    followed = ~iterates.usable[rows]
-    if followed.any():
+    followed = None if isolated else ~iterates.usable[rows]
+    if followed is not None and followed.any():
         with np.errstate(invalid="ignore"):
             ok[followed] &= np.abs(lam - start)[followed] < 0.25 * iterates.gap[rows[followed]]
     if ok.all():
@@ -935,18 +937,38 @@ def _cubic_value(speeds, brackets, rows, x, linear=None):
     if len(speeds) < 4 or not len(rows):
         return _interpolated(brackets, rows, x) if linear is None else linear
     xs, lam = brackets.near_speeds[rows], brackets.near_values[rows]
-    # Lagrange weights: factor[p, j, m] = (x - xs_m) / (xs_j - xs_m), 1 where m = j (exact, so the
-    # products below equal the ones over m != j in the same order)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        factor = (x[:, None, None] - xs[:, None, :]) / (xs[:, :, None] - xs[:, None, :])
-    factor.reshape(len(x), 16)[:, ::5] = 1.0                        # the diagonals
-    weights = factor[..., 0] * factor[..., 1] * factor[..., 2] * factor[..., 3]
+    if len(x) <= _FEW_ROWS:
+        weights = _lagrange_weights_few(x.tolist(), xs.tolist())
+    else:
+        # Lagrange weights: factor[p, j, m] = (x - xs_m) / (xs_j - xs_m), 1 where m = j (exact, so
+        # the products below equal the ones over m != j in the same order)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            factor = (x[:, None, None] - xs[:, None, :]) / (xs[:, :, None] - xs[:, None, :])
+        factor.reshape(len(x), 16)[:, ::5] = 1.0                        # the diagonals
+        weights = factor[..., 0] * factor[..., 1] * factor[..., 2] * factor[..., 3]
     cubic = np.einsum("pj,pj->p", weights, lam)
     cubic_here = brackets.near_oscillating[rows]
     if cubic_here.all():
         return cubic
     linear = _interpolated(brackets, rows, x) if linear is None else linear
     return np.where(cubic_here, cubic, linear)
+
+
+def _lagrange_weights_few(x, xs):
+    """:func:`_cubic_value`'s Lagrange weights (P, 4) of a few points ``x`` (list) on their four
+    nodes ``xs`` (lists) in Python floats: the products of the same factors in the same order
+    (bit for bit the array code's)."""
+    weights = []
+    for xr, nodes in zip(x, xs):
+        row = []
+        for j, node in enumerate(nodes):
+            weight = 1.0
+            for m, other in enumerate(nodes):
+                factor = 1.0 if m == j else _divided(xr - other, node - other)
+                weight = factor if m == 0 else weight * factor
+            row.append(weight)
+        weights.append(row)
+    return np.array(weights)
 
 
 def _interpolated(brackets, rows, x):

@@ -890,17 +890,19 @@ def _pencil_at(stack, speeds, brackets, rows, x, iterates, first=False, isolated
     converge. ``first``: the first evaluation of every crossing (none factored or evaluated
     yet); ``isolated``: every mode isolated (none followed). Returns the eigenvalues and which
     converged to the tracked mode."""
-    expected = _interpolated(brackets, rows, x)
     pencils = Pencils(stack, brackets.variant[rows], x)
     unready = None if first else ~iterates.factors.ready[rows]
     if first or (unready.all() and (iterates.x[rows] == brackets.start[rows]).all()):
         # every crossing's first evaluation (the usual case): all start from the cubic, factored there
+        expected = _interpolated(brackets, rows, x)
         start = _cubic_value(speeds, brackets, rows, x, expected)
         matrices = iterates.factors.factor(rows, pencils, start)
         again = ()
     else:
         matrices = None
-        start = iterates.lam[rows] + expected - _interpolated(brackets, rows, iterates.x[rows])
+        # the interpolation here and at the last point, together
+        expected, before = _interpolated(brackets, rows, np.array((x, iterates.x[rows])))
+        start = iterates.lam[rows] + expected - before
         fresh = unready.nonzero()[0]
         if len(fresh):
             untouched = fresh[iterates.x[rows[fresh]] == brackets.start[rows[fresh]]]    # nothing evaluated yet

@@ -440,7 +440,6 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
     s = np.array(eigenvalues, dtype=complex)
     phi = unit_rows(np.asarray(vectors, dtype=complex))                # a new array: c, with c^H phi = 1
     normal_conj = phi.conj()
-    every = np.arange(len(s))
     last = np.full(len(s), np.inf)
     converged = np.zeros(len(s), dtype=bool)
     whole = factors.whole
@@ -454,46 +453,53 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
         active = np.isfinite(left).all(axis=-1)
         # every row at once while all iterate (the usual case): no gathers and scatters, the small
         # pencils' matrices at hand
-        everyone = bool(active.all())
+        everyone = bool(active.all()) and len(s) > 0
         for _ in range(iterations):
-            i = slice(None) if everyone else active.nonzero()[0]
-            mine = every[i]
-            if not len(mine):
-                break
             if everyone:
-                phi_i, s_i, left_i, normal_i = phi, s, left, normal_conj
+                i, phi_i, s_i, left_i, normal_i = slice(None), phi, s, left, normal_conj
             else:
+                i = active.nonzero()[0]
+                if not len(i):
+                    break
                 phi_i, s_i, left_i, normal_i = phi[i], s[i], left[i], normal_conj[i]
             products = pencils.products(i, phi_i)                           # M phi, D phi, K phi
             new = _nearest_root(*np.einsum("pi,kpi->kp", left_i, products), s_i)
             m_phi, d_phi, k_phi = products
             column = new[:, None]
             residual = column ** 2 * m_phi + column * d_phi + k_phi
+            # the new shape and its step, side by side (normed together: see _step_size)
+            pair = np.empty((2,) + phi_i.shape, dtype=complex)
+            phi_new = pair[1]
             if whole and everyone:
-                phi_new = phi_i - _solve(matrices, residual[..., None])[..., 0]
+                np.subtract(phi_i, _solve(matrices, residual[..., None])[..., 0], out=phi_new)
             else:
-                phi_new = phi_i - factors.solve(rows[i], residual)
+                np.subtract(phi_i, factors.solve(rows[i], residual), out=phi_new)
             phi_new /= np.einsum("pi,pi->p", normal_i, phi_new)[:, None]
-            size = _step_size(new, s_i, phi_new, phi_i)
+            size = _step_size(new, s_i, pair, phi_i)
             finite = np.isfinite(size)
-            if finite.all():
-                if everyone:
-                    s, phi = new, phi_new
-                else:
-                    s[i], phi[i] = new, phi_new
+            regular = finite.all()
+            if regular and everyone:
+                s, phi = new, phi_new
+            elif regular:
+                s[i], phi[i] = new, phi_new
             else:
                 size = np.where(finite, size, np.inf)
                 s[i] = np.where(finite, new, s_i)
                 phi[i] = np.where(finite[:, None], phi_new, phi_i)
-            rate = size / last[i]
+            rate = size / (last if everyone else last[i])
             done = size <= 1e-9
             if done.any():
                 done = (size <= 1e-14) | (done & (rate < 0.5) & (size * rate <= 1e-14))
-            last[i] = size
-            stop = done | ~finite
+            if everyone:
+                last = size
+            else:
+                last[i] = size
+            stop = done if regular else done | ~finite
             if stop.any():
-                converged[mine[done]] = True
-                active[mine[stop]] = False
+                if everyone:
+                    converged[done], active[stop] = True, False
+                else:
+                    converged[i[done]], active[i[stop]] = True, False
                 everyone = False
                 if stop.all():
                     break
@@ -505,7 +511,7 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                     left = _adjoint_solve(matrices, normal_conj)
                 else:
                     more = active.nonzero()[0]
-                    left[more] = _adjoint_solve(factors.factor(rows[more], PencilRows(pencils, every[more]), s[more]),
+                    left[more] = _adjoint_solve(factors.factor(rows[more], PencilRows(pencils, more), s[more]),
                                                 normal_conj[more])
     return s, unit_rows(phi), converged
 
@@ -517,12 +523,11 @@ def _adjoint_solve(matrices, normal_conj):
     return _solve(matrices.swapaxes(-1, -2), normal_conj[..., None])[..., 0]
 
 
-def _step_size(new, old, phi_new, phi_old):
+def _step_size(new, old, pair, phi_old):
     """The larger of the relative steps of each row's eigenvalue and shape (P,): the eigenvalue
-    alone can settle while the shape still holds a neighbouring mode."""
-    pair = np.empty((2,) + phi_new.shape, dtype=complex)         # the shape's step and the shape, normed together
-    np.subtract(phi_new, phi_old, out=pair[0])
-    pair[1] = phi_new
+    alone can settle while the shape still holds a neighbouring mode. ``pair`` (2, P, n) holds
+    the new shapes in ``pair[1]``; the shapes' steps are written to ``pair[0]`` (normed together)."""
+    np.subtract(pair[1], phi_old, out=pair[0])
     norms = row_norms(pair)[..., 0]
     return np.maximum(np.abs(new - old) / np.abs(new), norms[0] / norms[1])
 

@@ -390,8 +390,9 @@ def test_few_brackets_step_in_python_floats_as_the_arrays_do():
 @pytest.mark.parametrize("name", ["gear_machine", "rubber_mounts", "fan_on_bearings"])
 def test_few_brackets_start_in_python_floats_as_the_arrays_do(name, examples_dir, monkeypatch):
     """The cubic start of a few brackets in Python floats (:func:`_cubic_start_few`) equals
-    the array code's bit for bit, on every crossing of an example (all orders 0.5-3, 4 and
-    201 speeds) and with their end values made zero, equal or NaN."""
+    the array code's bit for bit, on every crossing of an example (all orders 0.5-3, 3, 4 and
+    201 speeds) and with their end values made zero, equal or NaN; so does the cubic's value
+    at points in the brackets (:func:`_cubic_value`)."""
     from rotordyn_modal.analysis import campbell as C
     from rotordyn_modal.analysis._stack import Stack
 
@@ -417,3 +418,11 @@ def test_few_brackets_start_in_python_floats_as_the_arrays_do(name, examples_dir
                 expected = C._cubic_start(speeds, mine, a[part], b[part], ga[part], gb[part])
                 monkeypatch.undo()
                 assert few.tobytes() == expected.tobytes()
+        # the cubic's value at points in the brackets (its Lagrange weights in Python floats)
+        for part in (np.arange(p, min(p + 7, len(a))) for p in range(0, len(a), 7)):
+            x = a[part] + rng.choice([0.0, 0.25, rng.uniform()], len(part)) * (b[part] - a[part])
+            few = C._cubic_value(speeds, brackets, part, x)
+            monkeypatch.setattr(C, "_FEW_ROWS", 0)
+            expected = C._cubic_value(speeds, brackets, part, x)
+            monkeypatch.undo()
+            assert few.tobytes() == expected.tobytes()

@@ -462,20 +462,8 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                 if not len(i):
                     break
                 phi_i, s_i, left_i, normal_i = phi[i], s[i], left[i], normal_conj[i]
-            products = pencils.products(i, phi_i)                           # M phi, D phi, K phi
-            new = _nearest_root(*np.einsum("pi,kpi->kp", left_i, products), s_i)
-            m_phi, d_phi, k_phi = products
-            column = new[:, None]
-            residual = column ** 2 * m_phi + column * d_phi + k_phi
-            # the new shape and its step, side by side (normed together: see _step_size)
-            pair = np.empty((2,) + phi_i.shape, dtype=complex)
-            phi_new = pair[1]
-            if whole and everyone:
-                np.subtract(phi_i, _solve(matrices, residual[..., None])[..., 0], out=phi_new)
-            else:
-                np.subtract(phi_i, factors.solve(rows[i], residual), out=phi_new)
-            phi_new /= np.einsum("pi,pi->p", normal_i, phi_new)[:, None]
-            size = _step_size(new, s_i, pair, phi_i)
+            new, phi_new, size = _step(factors, rows, pencils, i, phi_i, s_i, left_i, normal_i,
+                                       matrices if whole and everyone else None)
             finite = np.isfinite(size)
             regular = finite.all()
             if regular and everyone:
@@ -486,10 +474,7 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                 size = np.where(finite, size, np.inf)
                 s[i] = np.where(finite, new, s_i)
                 phi[i] = np.where(finite[:, None], phi_new, phi_i)
-            rate = size / (last if everyone else last[i])
-            done = size <= 1e-9
-            if done.any():
-                done = (size <= 1e-14) | (done & (rate < 0.5) & (size * rate <= 1e-14))
+            done = _settled(size, last if everyone else last[i])
             if everyone:
                 last = size
             else:
@@ -514,6 +499,37 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                     left[more] = _adjoint_solve(factors.factor(rows[more], PencilRows(pencils, more), s[more]),
                                                 normal_conj[more])
     return s, unit_rows(phi), converged
+
+
+def _step(factors, rows, pencils, i, phi, s, left, normal_conj, matrices=None):
+    """One step of :func:`residual_inverse_iteration` for its rows ``i`` (shapes ``phi``,
+    eigenvalues ``s``, left vectors ``left``, ``conj(c)``): the new eigenvalue, the new shape
+    (scaled to ``c^H phi = 1``) and the step's size (:func:`_step_size`). ``matrices``: the small
+    pencils of all rows at hand (else solved through ``factors``)."""
+    products = pencils.products(i, phi)                                 # M phi, D phi, K phi
+    new = _nearest_root(*np.einsum("pi,kpi->kp", left, products), s)
+    m_phi, d_phi, k_phi = products
+    column = new[:, None]
+    residual = column ** 2 * m_phi + column * d_phi + k_phi
+    # the new shape and its step, side by side (normed together: see _step_size)
+    pair = np.empty((2,) + phi.shape, dtype=complex)
+    phi_new = pair[1]
+    if matrices is not None:
+        np.subtract(phi, _solve(matrices, residual[..., None])[..., 0], out=phi_new)
+    else:
+        np.subtract(phi, factors.solve(rows[i], residual), out=phi_new)
+    phi_new /= np.einsum("pi,pi->p", normal_conj, phi_new)[:, None]
+    return new, phi_new, _step_size(new, s, pair, phi)
+
+
+def _settled(size, last):
+    """Rows whose step ``size`` is below 1e-14, or below 1e-9 with the contraction from the last
+    step's ``last`` promising an error below 1e-14."""
+    rate = size / last
+    done = size <= 1e-9
+    if done.any():
+        done = (size <= 1e-14) | (done & (rate < 0.5) & (size * rate <= 1e-14))
+    return done
 
 
 def _adjoint_solve(matrices, normal_conj):

@@ -426,3 +426,23 @@ def test_few_brackets_start_in_python_floats_as_the_arrays_do(name, examples_dir
             expected = C._cubic_value(speeds, brackets, part, x)
             monkeypatch.undo()
             assert few.tobytes() == expected.tobytes()
+
+
+def test_few_pencil_steps_end_in_python_floats_as_the_arrays_do():
+    """The pencil iteration's end test of a few rows in Python floats (:func:`_settled_few`)
+    equals the array code's (:func:`_settled`) on generated steps around its thresholds (zero,
+    infinite and NaN ones left to the array code)."""
+    rng = np.random.default_rng(11)
+    values = np.array([0.0, 1e-16, 1e-14, 1.0000000000000002e-14, 3e-12, 1e-9, 1.0000000000000002e-9, 2e-9,
+                       1e-5, 1.0, np.inf, np.nan, 5e-324])
+    for _ in range(int(os.environ.get("ROTORDYN_MODAL_STEP_EXAMPLES", 300))):
+        count = int(rng.integers(1, 10))
+        size = np.where(rng.random(count) < 0.5, rng.choice(values, count), 10.0 ** rng.uniform(-16, 0, count))
+        last = np.where(rng.random(count) < 0.3, rng.choice(values[:-3], count), 10.0 ** rng.uniform(-14, 0, count))
+        with np.errstate(all="ignore"):
+            expected = _eigen._settled(size, last)
+        few = _eigen._settled_few(size, last)
+        if not np.isfinite(size).all():
+            assert few is None
+        else:
+            assert np.array_equal(few, expected)

@@ -376,15 +376,20 @@ def test_few_brackets_step_in_python_floats_as_the_arrays_do():
         state = _random_brackets(rng, count)
         rows = np.sort(rng.choice(count, int(rng.integers(1, count + 1)), replace=False))
         x, gx, previous = _random_points(rng, state, rows)
-        twin = C._Bracket(*(column.copy() for column in state))
+        every_previous = np.full((2, count), np.nan)
+        every_previous[:, rows] = previous
+        lists = C._Bracket(*(column.tolist() for column in state))
+        lists_previous = every_previous.tolist()
         with np.errstate(all="ignore"):
-            expected = C._next_step(twin, rows, x, gx, previous)
+            expected = C._next_step(state, rows, x, gx, previous)
             ends = C._finished(x, gx, expected)
-        steps, finished = C._next_steps_few(state, rows, x.tolist(), gx.tolist(), previous.tolist())
+        every_previous[:, rows] = x, gx
+        steps, finished = C._next_steps_few(lists, rows.tolist(), x.tolist(), gx.tolist(), lists_previous)
         assert steps.tobytes() == expected.tobytes()
         assert np.array_equal(finished, ends)
-        for mine, theirs in zip(state, twin):
-            assert mine.tobytes() == theirs.tobytes()
+        for mine, theirs in zip(lists, state):
+            assert np.array(mine, dtype=theirs.dtype).tobytes() == theirs.tobytes()
+        assert np.array(lists_previous).tobytes() == every_previous.tobytes()
 
 
 @pytest.mark.parametrize("name", ["gear_machine", "rubber_mounts", "fan_on_bearings"])

@@ -577,8 +577,7 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     gb = brackets.high.imag - slope * np.abs(b)
     x = _cubic_start(speeds, brackets, a, b, ga, gb)
     iterates = _Iterates.start(stack, brackets, shapes)
-    previous = np.full((2, count), np.nan)          # the last point evaluated and its g
-    state = _Bracket(a, b, ga, gb, np.zeros(count, dtype=int), np.full((2, count), np.inf))
+    previous, state = _brackets_state(a, b, ga, gb)
     on_grid = (ga == 0) | (gb == 0)
     if on_grid.any():
         roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
@@ -603,21 +602,32 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     return roots, lam, sure, iterates
 
 
+def _brackets_state(a, b, ga, gb):
+    """The last point evaluated and its g (none yet: NaN), and the brackets' :class:`_Bracket`;
+    as lists of Python floats for a few brackets (see :func:`_next_steps_few`), else arrays."""
+    count = len(a)
+    if count <= _FEW_ROWS:
+        return ([[math.nan] * count, [math.nan] * count],
+                _Bracket(a.tolist(), b.tolist(), ga.tolist(), gb.tolist(), [0] * count,
+                                 [[math.inf] * count, [math.inf] * count]))
+    return np.full((2, count), np.nan), _Bracket(a, b, ga, gb, np.zeros(count, dtype=int), np.full((2, count), np.inf))
+
+
 def _advance(state, previous, done, rows, x, gx):
     """Update the brackets ``rows`` with the points (x, gx) (see :func:`_next_step`), mark those
     that end there done, and return the next points."""
-    if len(rows) <= _FEW_ROWS:
-        step, finished = _next_steps_few(state, rows, x.tolist(), gx.tolist(), previous[:, rows].tolist())
+    if isinstance(previous, list):
+        step, finished = _next_steps_few(state, rows.tolist(), x.tolist(), gx.tolist(), previous)
     else:
         step = _next_step(state, rows, x, gx, previous[:, rows])
         finished = _finished(x, gx, step)
-    previous[:, rows] = x, gx
+        previous[:, rows] = x, gx
     done[rows[finished]] = True
     return step
 
 
-#: brackets of at most this many rows are stepped in Python floats (:func:`_next_steps_few`): the
-#: same IEEE operations as the arrays', without the numpy calls around each
+#: at most this many brackets are stepped in Python floats (:func:`_next_steps_few`): the same
+#: IEEE operations as the arrays', without the numpy calls around each
 _FEW_ROWS = 16
 
 
@@ -627,8 +637,9 @@ def _finished(x, gx, step):
 
 
 class _Bracket(NamedTuple):
-    """Brackets being shrunk (arrays updated in place): ends, their g (Illinois-scaled), the end
-    moved last (+1 a, -1 b) and the bracket's width one and two steps ago."""
+    """Brackets being shrunk (arrays, or lists of Python floats for a few brackets, updated in
+    place): ends, their g (Illinois-scaled), the end moved last (+1 a, -1 b) and the bracket's
+    width one and two steps ago."""
 
     a: np.ndarray
     b: np.ndarray
@@ -660,15 +671,14 @@ def _next_step(state, rows, x, gx, previous):
 
 
 def _next_steps_few(state, rows, x, gx, previous):
-    """:func:`_next_step` and :func:`_finished` of a few rows, one at a time in Python floats
-    (the same operations in the same order: bit for bit the same). ``x``, ``gx`` are lists and
-    ``previous`` the pair of lists of the last points and their g. Returns the next points
-    (array) and which rows end (list of bool)."""
-    a, b, ga, gb, last = (column[rows].tolist() for column in state[:5])
-    old, older = state.widths[:, rows].tolist()
+    """:func:`_next_step` and :func:`_finished` of a few brackets, one at a time in Python floats
+    (the same operations in the same order: bit for bit the same). ``state`` and ``previous``
+    (the last points evaluated and their g) hold lists (see :func:`_brackets_state`), updated in
+    place; ``rows``, ``x``, ``gx`` are lists. Returns the next points (array) and which rows end
+    (list of bool)."""
+    a, b, ga, gb, last, (old, older) = state
     steps, finished = [], []
-    for r in range(len(x)):
-        xr, gr = x[r], gx[r]
+    for r, xr, gr in zip(rows, x, gx):
         if gr != 0:
             if _sign(gr) == _sign(ga[r]):                  # the a end moves (Illinois: see _illinois)
                 if last[r] == 1:
@@ -684,6 +694,7 @@ def _next_steps_few(state, rows, x, gx, previous):
         falsi = br - _divided(gb[r] * width, gb[r] - ga[r])
         slow = width > 0.5 * older[r]
         older[r], old[r] = old[r], width
+        previous[0][r], previous[1][r] = xr, gr
         if gr == 0:
             step = xr
         elif math.isfinite(secant) and ar < secant < br:
@@ -694,8 +705,6 @@ def _next_steps_few(state, rows, x, gx, previous):
             step = 0.5 * (ar + br)
         steps.append(step)
         finished.append(gr == 0 or abs(step - xr) <= _STEP_TOLERANCE * max(abs(xr), 1.0))
-    state.a[rows], state.b[rows], state.ga[rows], state.gb[rows], state.last[rows] = a, b, ga, gb, last
-    state.widths[:, rows] = old, older
     return np.array(steps), finished
 
 

@@ -578,8 +578,12 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     x = _cubic_start(speeds, brackets, a, b, ga, gb)
     iterates = _Iterates.start(stack, brackets, shapes)
     previous, state = _brackets_state(a, b, ga, gb)
-    on_grid = (ga == 0) | (gb == 0)
-    if on_grid.any():
+    if isinstance(previous, list):                  # a few brackets: their g at hand as lists
+        any_on_grid = 0.0 in state.ga or 0.0 in state.gb
+    else:
+        any_on_grid = ((ga == 0) | (gb == 0)).any()
+    if any_on_grid:
+        on_grid = (ga == 0) | (gb == 0)
         roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
         lam = np.where(ga == 0, brackets.low, brackets.high)
         sure = np.zeros(count, dtype=bool)
@@ -595,10 +599,11 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
         i = (~done).nonzero()[0]
         if not len(i):
             break
-        lam_x, sure_x = _evaluate(stack, speeds, values, weighted, brackets, i, x[i], iterates)
-        gx = lam_x.imag - slope[i] * np.abs(x[i])
-        roots[i], lam[i], sure[i] = x[i], lam_x, sure_x
-        x[i] = _advance(state, previous, done, i, x[i], gx)
+        x_i = x[i]
+        lam_x, sure_x = _evaluate(stack, speeds, values, weighted, brackets, i, x_i, iterates)
+        gx = lam_x.imag - slope[i] * np.abs(x_i)
+        roots[i], lam[i], sure[i] = x_i, lam_x, sure_x
+        x[i] = _advance(state, previous, done, i, x_i, gx)
     return roots, lam, sure, iterates
 
 

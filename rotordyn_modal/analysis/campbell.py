@@ -614,7 +614,7 @@ def _brackets_state(a, b, ga, gb):
     if count <= _FEW_ROWS:
         return ([[math.nan] * count, [math.nan] * count],
                 _Bracket(a.tolist(), b.tolist(), ga.tolist(), gb.tolist(), [0] * count,
-                                 [[math.inf] * count, [math.inf] * count]))
+                         [[math.inf] * count, [math.inf] * count]))
     return np.full((2, count), np.nan), _Bracket(a, b, ga, gb, np.zeros(count, dtype=int), np.full((2, count), np.inf))
 
 

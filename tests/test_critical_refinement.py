@@ -328,3 +328,126 @@ def test_the_command_line_prints_a_warning_on_one_line(examples_dir, monkeypatch
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("rotordyn-modal critical-speeds: warning: ")
     assert "critical speeds are not crossings" in err[0]
+
+
+def _random_brackets(rng, count):
+    """Brackets mid-iteration as the refinement leaves them: ends, their g of either sign (some
+    zero, Illinois-halved or not finite), the end moved last, widths one and two steps ago."""
+    from rotordyn_modal.analysis.campbell import _Bracket
+
+    a = rng.uniform(-500.0, 500.0, count)
+    b = a + rng.choice([1e-9, 1e-3, 1.0, 50.0], count) * rng.uniform(0.5, 1.0, count)
+    ga = rng.choice([-1.0, 1.0], count) * 10.0 ** rng.uniform(-12, 2, count)
+    gb = -np.sign(ga) * 10.0 ** rng.uniform(-12, 2, count)
+    special = rng.random(count)
+    ga[special < 0.05] = 0.0
+    gb[(special > 0.05) & (special < 0.08)] = np.nan
+    last = rng.choice([-1, 0, 1], count)
+    widths = np.where(rng.random((2, count)) < 0.2, np.inf, (b - a) * rng.uniform(0.5, 4.0, (2, count)))
+    return _Bracket(a, b, ga, gb, last, widths)
+
+
+def _random_points(rng, state, rows):
+    """Points inside the brackets ``rows`` with g of either sign (some zero, equal to the last
+    point's, or NaN), and the last point evaluated (NaN on a first step)."""
+    count = len(rows)
+    t = rng.choice([0.0, 1e-15, 0.5, 1 - 1e-15, rng.uniform()], count)
+    x = state.a[rows] + t * (state.b[rows] - state.a[rows])
+    gx = rng.choice([-1.0, 1.0], count) * 10.0 ** rng.uniform(-14, 2, count)
+    special = rng.random(count)
+    gx[special < 0.1] = 0.0
+    gx[(special > 0.1) & (special < 0.12)] = np.nan
+    previous = np.array([x + rng.normal(0.0, 1e-3, count), gx * rng.uniform(0.0, 2.0, count)])
+    previous[1, (special > 0.12) & (special < 0.2)] = gx[(special > 0.12) & (special < 0.2)]   # zero secant slope
+    previous[:, special > 0.9] = np.nan
+    return x, gx, previous
+
+
+def test_few_brackets_step_in_python_floats_as_the_arrays_do():
+    """The refinement's step of a few brackets in Python floats (:func:`_next_steps_few`)
+    updates the brackets and returns the same points and ends, bit for bit, as the array
+    code (:func:`_next_step`, :func:`_finished`), on generated brackets with zero, equal and
+    non-finite values. ``ROTORDYN_MODAL_STEP_EXAMPLES`` sets the number of cases (300)."""
+    from rotordyn_modal.analysis import campbell as C
+
+    rng = np.random.default_rng(20261123)
+    for _ in range(int(os.environ.get("ROTORDYN_MODAL_STEP_EXAMPLES", 300))):
+        count = int(rng.integers(1, 12))
+        state = _random_brackets(rng, count)
+        rows = np.sort(rng.choice(count, int(rng.integers(1, count + 1)), replace=False))
+        x, gx, previous = _random_points(rng, state, rows)
+        every_previous = np.full((2, count), np.nan)
+        every_previous[:, rows] = previous
+        lists = C._Bracket(*(column.tolist() for column in state))
+        lists_previous = every_previous.tolist()
+        with np.errstate(all="ignore"):
+            expected = C._next_step(state, rows, x, gx, previous)
+            ends = C._finished(x, gx, expected)
+        every_previous[:, rows] = x, gx
+        steps, finished = C._next_steps_few(lists, rows.tolist(), x.tolist(), gx.tolist(), lists_previous)
+        assert steps.tobytes() == expected.tobytes()
+        assert np.array_equal(finished, ends)
+        for mine, theirs in zip(lists, state):
+            assert np.array(mine, dtype=theirs.dtype).tobytes() == theirs.tobytes()
+        assert np.array(lists_previous).tobytes() == every_previous.tobytes()
+
+
+@pytest.mark.parametrize("name", ["gear_machine", "rubber_mounts", "fan_on_bearings"])
+def test_few_brackets_start_in_python_floats_as_the_arrays_do(name, examples_dir, monkeypatch):
+    """The cubic start of a few brackets in Python floats (:func:`_cubic_start_few`) equals
+    the array code's bit for bit, on every crossing of an example (all orders 0.5-3, 3, 4 and
+    201 speeds) and with their end values made zero, equal or NaN; so does the cubic's value
+    at points in the brackets (:func:`_cubic_value`)."""
+    from rotordyn_modal.analysis import campbell as C
+    from rotordyn_modal.analysis._stack import Stack
+
+    model = rdm.load_model(examples_dir / f"{name}.toml")
+    rng = np.random.default_rng(5)
+    for count in (3, 4, 201):
+        speeds = rdm.rpm(np.linspace(-3000.0 if count == 201 else 0.0, 6000.0, count))
+        values = C.solve_sweeps(Stack([model]), speeds)[0]
+        brackets = C._crossing_brackets(speeds, values, [excitation_sources(model)], (0.5, 1, 2, 3))
+        a, b = speeds[brackets.k], speeds[brackets.k + 1]
+        ga = brackets.low.imag - brackets.slope * np.abs(a)
+        gb = brackets.high.imag - brackets.slope * np.abs(b)
+        for trial in range(4):
+            if trial:
+                pick = rng.random(len(a))
+                ga, gb = ga.copy(), gb.copy()
+                ga[pick < 0.2], gb[(pick > 0.2) & (pick < 0.3)] = 0.0, np.nan
+                gb[pick > 0.9] = ga[pick > 0.9]
+            for part in (slice(p, p + 7) for p in range(0, len(a), 7)):
+                mine = brackets.subset(part)
+                few = C._cubic_start_few(speeds, mine, a[part], b[part], ga[part], gb[part])
+                monkeypatch.setattr(C, "_FEW_ROWS", 0)
+                expected = C._cubic_start(speeds, mine, a[part], b[part], ga[part], gb[part])
+                monkeypatch.undo()
+                assert few.tobytes() == expected.tobytes()
+        # the cubic's value at points in the brackets (its Lagrange weights in Python floats)
+        for part in (np.arange(p, min(p + 7, len(a))) for p in range(0, len(a), 7)):
+            x = a[part] + rng.choice([0.0, 0.25, rng.uniform()], len(part)) * (b[part] - a[part])
+            few = C._cubic_value(speeds, brackets, part, x)
+            monkeypatch.setattr(C, "_FEW_ROWS", 0)
+            expected = C._cubic_value(speeds, brackets, part, x)
+            monkeypatch.undo()
+            assert few.tobytes() == expected.tobytes()
+
+
+def test_few_pencil_steps_end_in_python_floats_as_the_arrays_do():
+    """The pencil iteration's end test of a few rows in Python floats (:func:`_settled_few`)
+    equals the array code's (:func:`_settled`) on generated steps around its thresholds (zero,
+    infinite and NaN ones left to the array code)."""
+    rng = np.random.default_rng(11)
+    values = np.array([0.0, 1e-16, 1e-14, 1.0000000000000002e-14, 3e-12, 1e-9, 1.0000000000000002e-9, 2e-9,
+                       1e-5, 1.0, np.inf, np.nan, 5e-324])
+    for _ in range(int(os.environ.get("ROTORDYN_MODAL_STEP_EXAMPLES", 300))):
+        count = int(rng.integers(1, 10))
+        size = np.where(rng.random(count) < 0.5, rng.choice(values, count), 10.0 ** rng.uniform(-16, 0, count))
+        last = np.where(rng.random(count) < 0.3, rng.choice(values[:-3], count), 10.0 ** rng.uniform(-14, 0, count))
+        with np.errstate(all="ignore"):
+            expected = _eigen._settled(size, last)
+        few = _eigen._settled_few(size, last)
+        if not np.isfinite(size).all():
+            assert few is None
+        else:
+            assert np.array_equal(few, expected)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import math
 import os
 from concurrent.futures import ThreadPoolExecutor
 
@@ -347,15 +348,16 @@ class PencilFactors:
     def factor(self, rows, pencils, shifts):
         """Factor ``Q(shifts[i])`` of row ``i`` of ``pencils`` (a :class:`~._stack.Pencils`, one row
         per storage row in ``rows``) into storage ``rows[i]``; dense ones a few rows at a time
-        (each part's pencils stay in the cache)."""
+        (each part's pencils stay in the cache). Returns the small pencils' matrices
+        ``Q(shifts)`` (P, n, n), as stored (None for the larger, factored ones)."""
+        if not len(rows):
+            return None
+        if self.whole:
+            matrices = self.matrices[rows] = _quadratic(*pencils.matrices(slice(None)), shifts)
+            self.ready[rows] = True
+            return matrices
         rows = np.asarray(rows)
         shifts = np.asarray(shifts, dtype=complex)
-        if not len(rows):
-            return
-        if self.whole:
-            self.matrices[rows] = _quadratic(*pencils.matrices(slice(None)), shifts)
-            self.ready[rows] = True
-            return
         sparse = pencils.sparse(np.arange(len(rows)))
         for i in np.nonzero(sparse)[0]:
             self.factors[rows[i]] = _sparse_lu(pencils, i, shifts[i])[0]
@@ -365,6 +367,7 @@ class PencilFactors:
         for part in (dense[start:start + step] for start in range(0, len(dense), step)):
             self._factor_dense(rows[part], _quadratic(*pencils.matrices(part), shifts[part]))
         self.ready[rows] = True
+        return None
 
     def _factor_dense(self, rows, quadratic):
         from scipy.linalg import lapack
@@ -394,7 +397,8 @@ class PencilFactors:
         return out
 
 
-def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, iterations: int = 12):
+def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, iterations: int = 12,
+                               matrices=None):
     """Eigenpairs of ``Q(lam) phi = 0`` near guesses, with one fixed factorisation per row.
 
     Neumaier's residual inverse iteration: with ``F`` a factorisation of ``Q(sigma)`` at a shift
@@ -424,6 +428,9 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
         Guessed shapes (any scale).
     iterations : int
         Most steps.
+    matrices : ndarray, shape (P, n, n), complex, optional
+        The small pencils' matrices of ``rows`` as :meth:`PencilFactors.factor` returned them
+        (else read from ``factors``).
 
     Returns
     -------
@@ -432,64 +439,145 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
     converged : ndarray (P,) bool
     """
     s = np.array(eigenvalues, dtype=complex)
-    phi = unit_rows(np.asarray(vectors, dtype=complex))                # a new array
-    normal = phi.copy()                                                 # c, with c^H phi = 1
-    normal_conj = normal.conj()
-    every = np.arange(len(s))
+    phi = unit_rows(np.asarray(vectors, dtype=complex))                # a new array: c, with c^H phi = 1
+    normal_conj = phi.conj()
     last = np.full(len(s), np.inf)
     converged = np.zeros(len(s), dtype=bool)
+    whole = factors.whole
     with np.errstate(all="ignore"):                                     # a singular factor is dropped below
-        left = factors.solve(rows, normal, adjoint=True).conj()
+        if whole:
+            if matrices is None:
+                matrices = factors.matrices[rows]
+            left = _adjoint_solve(matrices, normal_conj)
+        else:
+            left = factors.solve(rows, phi, adjoint=True).conj()
         active = np.isfinite(left).all(axis=-1)
-        # every row at once while all iterate (the usual case): no gathers and scatters
-        everyone = bool(active.all())
+        # every row at once while all iterate (the usual case): no gathers and scatters, the small
+        # pencils' matrices at hand
+        everyone = bool(active.all()) and len(s) > 0
         for _ in range(iterations):
-            i = slice(None) if everyone else active.nonzero()[0]
-            mine = every[i]
-            if not len(mine):
-                break
-            phi_i, s_i, left_i = phi[i], s[i], left[i]
-            products = pencils.products(mine, phi_i)                        # M phi, D phi, K phi
-            new = _nearest_root(*np.einsum("pi,kpi->kp", left_i, products), s_i)
-            m_phi, d_phi, k_phi = products
-            residual = new[:, None] ** 2 * m_phi + new[:, None] * d_phi + k_phi
-            phi_new = phi_i - factors.solve(rows[i], residual)
-            phi_new /= np.einsum("pi,pi->p", normal_conj[i], phi_new)[:, None]
-            size = _step_size(new, s_i, phi_new, phi_i)
-            finite = np.isfinite(size)
-            if finite.all():
+            if everyone:
+                i, phi_i, s_i, left_i, normal_i = slice(None), phi, s, left, normal_conj
+            else:
+                i = active.nonzero()[0]
+                if not len(i):
+                    break
+                phi_i, s_i, left_i, normal_i = phi[i], s[i], left[i], normal_conj[i]
+            new, phi_new, size = _step(factors, rows, pencils, i, phi_i, s_i, left_i, normal_i,
+                                       matrices if whole and everyone else None)
+            last_i = last if everyone else last[i]
+            done = _settled_few(size, last_i) if len(size) <= _FEW_ROWS else None
+            if done is None:                    # many rows, or a step that is not finite
+                finite = np.isfinite(size)
+                regular = finite.all()
+            else:
+                regular = True
+            if regular and everyone:
+                s, phi = new, phi_new
+            elif regular:
                 s[i], phi[i] = new, phi_new
             else:
                 size = np.where(finite, size, np.inf)
                 s[i] = np.where(finite, new, s_i)
                 phi[i] = np.where(finite[:, None], phi_new, phi_i)
-            rate = size / last[i]
-            done = size <= 1e-9
-            if done.any():
-                done = (size <= 1e-14) | (done & (rate < 0.5) & (size * rate <= 1e-14))
-            last[i] = size
-            stop = done | ~finite
-            if stop.any():
-                converged[mine[done]] = True
-                active[mine[stop]] = False
+            if done is None:
+                done = _settled(size, last_i)
+                stop = done if regular else done | ~finite
+                stopping = stop.any()
+            else:
+                stopping = any(done)
+                if stopping:
+                    stop = done = np.array(done)
+            if everyone:
+                last = size
+            else:
+                last[i] = size
+            if stopping:
+                if everyone:
+                    converged[done], active[stop] = True, False
+                else:
+                    converged[i[done]], active[i[stop]] = True, False
                 everyone = False
                 if stop.all():
                     break
-            if factors.whole:
+            if whole:
                 # small pencils are refactored at every step anyway: shift them to the new eigenvalue
                 # (Newton's convergence instead of linear), with the left vector to match
-                more = slice(None) if everyone else active.nonzero()[0]
-                factors.factor(rows[more], pencils if everyone else PencilRows(pencils, every[more]), s[more])
-                left[more] = factors.solve(rows[more], normal[more], adjoint=True).conj()
+                if everyone:
+                    matrices = factors.factor(rows, pencils, s)
+                    left = _adjoint_solve(matrices, normal_conj)
+                else:
+                    more = active.nonzero()[0]
+                    left[more] = _adjoint_solve(factors.factor(rows[more], PencilRows(pencils, more), s[more]),
+                                                normal_conj[more])
     return s, unit_rows(phi), converged
 
 
-def _step_size(new, old, phi_new, phi_old):
+def _step(factors, rows, pencils, i, phi, s, left, normal_conj, matrices=None):
+    """One step of :func:`residual_inverse_iteration` for its rows ``i`` (shapes ``phi``,
+    eigenvalues ``s``, left vectors ``left``, ``conj(c)``): the new eigenvalue, the new shape
+    (scaled to ``c^H phi = 1``) and the step's size (:func:`_step_size`). ``matrices``: the small
+    pencils of all rows at hand (else solved through ``factors``)."""
+    products = pencils.products(i, phi)                                 # M phi, D phi, K phi
+    new = _nearest_root(*np.einsum("pi,kpi->kp", left, products), s)
+    m_phi, d_phi, k_phi = products
+    column = new[:, None]
+    residual = column ** 2 * m_phi + column * d_phi + k_phi
+    # the new shape and its step, side by side (normed together: see _step_size)
+    pair = np.empty((2,) + phi.shape, dtype=complex)
+    phi_new = pair[1]
+    if matrices is not None:
+        np.subtract(phi, _solve(matrices, residual[..., None])[..., 0], out=phi_new)
+    else:
+        np.subtract(phi, factors.solve(rows[i], residual), out=phi_new)
+    phi_new /= np.einsum("pi,pi->p", normal_conj, phi_new)[:, None]
+    return new, phi_new, _step_size(new, s, pair, phi)
+
+
+def _settled(size, last):
+    """Rows whose step ``size`` is below 1e-14, or below 1e-9 with the contraction from the last
+    step's ``last`` promising an error below 1e-14."""
+    rate = size / last
+    done = size <= 1e-9
+    if done.any():
+        done = (size <= 1e-14) | (done & (rate < 0.5) & (size * rate <= 1e-14))
+    return done
+
+
+#: iterations of at most this many rows test their steps in Python floats (:func:`_settled_few`)
+_FEW_ROWS = 16
+
+
+def _settled_few(size, last):
+    """:func:`_settled` of a few rows in Python floats (the same IEEE operations: bit for bit),
+    as a list of bool; None where a step is not finite (left to the array code)."""
+    sizes = size.tolist()
+    if not all(map(math.isfinite, sizes)):
+        return None
+    done = []
+    for step, before in zip(sizes, last.tolist()):
+        if step <= 1e-14:
+            done.append(True)
+        elif step <= 1e-9:
+            rate = step / before if before else math.inf      # a last step of zero has ended its row
+            done.append(rate < 0.5 and step * rate <= 1e-14)
+        else:
+            done.append(False)
+    return done
+
+
+def _adjoint_solve(matrices, normal_conj):
+    """``conj(Q^-H c)`` for whole pencils ``Q`` (P, n, n), from ``conj(c)`` (P, n): the solve of
+    ``Q^T`` with ``conj(c)`` (the same numbers as conjugating ``Q^T``, solving and conjugating
+    back, without the two copies)."""
+    return _solve(matrices.swapaxes(-1, -2), normal_conj[..., None])[..., 0]
+
+
+def _step_size(new, old, pair, phi_old):
     """The larger of the relative steps of each row's eigenvalue and shape (P,): the eigenvalue
-    alone can settle while the shape still holds a neighbouring mode."""
-    pair = np.empty((2,) + phi_new.shape, dtype=complex)         # the shape's step and the shape, normed together
-    np.subtract(phi_new, phi_old, out=pair[0])
-    pair[1] = phi_new
+    alone can settle while the shape still holds a neighbouring mode. ``pair`` (2, P, n) holds
+    the new shapes in ``pair[1]``; the shapes' steps are written to ``pair[0]`` (normed together)."""
+    np.subtract(pair[1], phi_old, out=pair[0])
     norms = row_norms(pair)[..., 0]
     return np.maximum(np.abs(new - old) / np.abs(new), norms[0] / norms[1])
 

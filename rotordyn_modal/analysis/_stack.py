@@ -184,6 +184,7 @@ class Pencils:
         self.stack, self.variants, self.speeds = stack, np.asarray(variants), np.asarray(speeds, dtype=float)
         self.shared = len(stack) == 1 and not stack.dependent
         self._constant = None       # M, C, G, K of every variant side by side, made on first use
+        self._all = None            # the matrices of all rows, made on first use
 
     def __len__(self) -> int:
         return len(self.speeds)
@@ -211,7 +212,15 @@ class Pencils:
     def matrices(self, rows):
         """Mass (n, n) or (R, n, n), ``C + Omega G`` (R, n, n) and stiffness (n, n) or (R, n, n)
         of ``rows`` (an index array or a slice): the mass and stiffness (n, n) where all rows share
-        them (one model; the stiffness only with constant coefficients)."""
+        them (one model; the stiffness only with constant coefficients). Those of all rows
+        (``slice(None)``) are made once: the small pencils' iteration refactors them at every step."""
+        if isinstance(rows, slice) and rows == slice(None):
+            if self._all is None:
+                self._all = self._matrices(rows)
+            return self._all
+        return self._matrices(rows)
+
+    def _matrices(self, rows):
         stack = self.stack
         variants = self.variants[rows]
         mass = stack.M[0] if len(stack) == 1 else stack.M[variants]

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import contextlib
 import functools
-import math
 import os
 from concurrent.futures import ThreadPoolExecutor
 
@@ -465,13 +464,8 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                 phi_i, s_i, left_i, normal_i = phi[i], s[i], left[i], normal_conj[i]
             new, phi_new, size = _step(factors, rows, pencils, i, phi_i, s_i, left_i, normal_i,
                                        matrices if whole and everyone else None)
-            last_i = last if everyone else last[i]
-            done = _settled_few(size, last_i) if len(size) <= _FEW_ROWS else None
-            if done is None:                    # many rows, or a step that is not finite
-                finite = np.isfinite(size)
-                regular = finite.all()
-            else:
-                regular = True
+            finite = np.isfinite(size)
+            regular = finite.all()
             if regular and everyone:
                 s, phi = new, phi_new
             elif regular:
@@ -480,19 +474,13 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                 size = np.where(finite, size, np.inf)
                 s[i] = np.where(finite, new, s_i)
                 phi[i] = np.where(finite[:, None], phi_new, phi_i)
-            if done is None:
-                done = _settled(size, last_i)
-                stop = done if regular else done | ~finite
-                stopping = stop.any()
-            else:
-                stopping = any(done)
-                if stopping:
-                    stop = done = np.array(done)
+            done = _settled(size, last if everyone else last[i])
+            stop = done if regular else done | ~finite
             if everyone:
                 last = size
             else:
                 last[i] = size
-            if stopping:
+            if stop.any():
                 if everyone:
                     converged[done], active[stop] = True, False
                 else:
@@ -541,28 +529,6 @@ def _settled(size, last):
     done = size <= 1e-9
     if done.any():
         done = (size <= 1e-14) | (done & (rate < 0.5) & (size * rate <= 1e-14))
-    return done
-
-
-#: iterations of at most this many rows test their steps in Python floats (:func:`_settled_few`)
-_FEW_ROWS = 16
-
-
-def _settled_few(size, last):
-    """:func:`_settled` of a few rows in Python floats (the same IEEE operations: bit for bit),
-    as a list of bool; None where a step is not finite (left to the array code)."""
-    sizes = size.tolist()
-    if not all(map(math.isfinite, sizes)):
-        return None
-    done = []
-    for step, before in zip(sizes, last.tolist()):
-        if step <= 1e-14:
-            done.append(True)
-        elif step <= 1e-9:
-            rate = step / before if before else math.inf      # a last step of zero has ended its row
-            done.append(rate < 0.5 and step * rate <= 1e-14)
-        else:
-            done.append(False)
     return done
 
 

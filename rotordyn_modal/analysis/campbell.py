@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass, field
 from typing import NamedTuple
@@ -577,13 +576,10 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     gb = brackets.high.imag - slope * np.abs(b)
     x = _cubic_start(speeds, brackets, a, b, ga, gb)
     iterates = _Iterates.start(stack, brackets, shapes)
-    previous, state = _brackets_state(a, b, ga, gb)
-    if isinstance(previous, list):                  # a few brackets: their g at hand as lists
-        any_on_grid = 0.0 in state.ga or 0.0 in state.gb
-    else:
-        any_on_grid = ((ga == 0) | (gb == 0)).any()
-    if any_on_grid:
-        on_grid = (ga == 0) | (gb == 0)
+    previous = np.full((2, count), np.nan)          # the last point evaluated and its g
+    state = _Bracket(a, b, ga, gb, np.zeros(count, dtype=int), np.full((2, count), np.inf))
+    on_grid = (ga == 0) | (gb == 0)
+    if on_grid.any():
         roots = np.where(ga == 0, a, np.where(gb == 0, b, np.nan))
         lam = np.where(ga == 0, brackets.low, brackets.high)
         sure = np.zeros(count, dtype=bool)
@@ -607,33 +603,13 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     return roots, lam, sure, iterates
 
 
-def _brackets_state(a, b, ga, gb):
-    """The last point evaluated and its g (none yet: NaN), and the brackets' :class:`_Bracket`;
-    as lists of Python floats for a few brackets (see :func:`_next_steps_few`), else arrays."""
-    count = len(a)
-    if count <= _FEW_ROWS:
-        return ([[math.nan] * count, [math.nan] * count],
-                _Bracket(a.tolist(), b.tolist(), ga.tolist(), gb.tolist(), [0] * count,
-                         [[math.inf] * count, [math.inf] * count]))
-    return np.full((2, count), np.nan), _Bracket(a, b, ga, gb, np.zeros(count, dtype=int), np.full((2, count), np.inf))
-
-
 def _advance(state, previous, done, rows, x, gx):
     """Update the brackets ``rows`` with the points (x, gx) (see :func:`_next_step`), mark those
     that end there done, and return the next points."""
-    if isinstance(previous, list):
-        step, finished = _next_steps_few(state, rows.tolist(), x.tolist(), gx.tolist(), previous)
-    else:
-        step = _next_step(state, rows, x, gx, previous[:, rows])
-        finished = _finished(x, gx, step)
-        previous[:, rows] = x, gx
-    done[rows[finished]] = True
+    step = _next_step(state, rows, x, gx, previous[:, rows])
+    previous[:, rows] = x, gx
+    done[rows[_finished(x, gx, step)]] = True
     return step
-
-
-#: at most this many brackets are stepped in Python floats (:func:`_next_steps_few`): the same
-#: IEEE operations as the arrays', without the numpy calls around each
-_FEW_ROWS = 16
 
 
 def _finished(x, gx, step):
@@ -642,9 +618,8 @@ def _finished(x, gx, step):
 
 
 class _Bracket(NamedTuple):
-    """Brackets being shrunk (arrays, or lists of Python floats for a few brackets, updated in
-    place): ends, their g (Illinois-scaled), the end moved last (+1 a, -1 b) and the bracket's
-    width one and two steps ago."""
+    """Brackets being shrunk (arrays updated in place): ends, their g (Illinois-scaled), the end
+    moved last (+1 a, -1 b) and the bracket's width one and two steps ago."""
 
     a: np.ndarray
     b: np.ndarray
@@ -675,64 +650,9 @@ def _next_step(state, rows, x, gx, previous):
     return np.where(gx == 0, x, np.where(inside, secant, fallback))
 
 
-def _next_steps_few(state, rows, x, gx, previous):
-    """:func:`_next_step` and :func:`_finished` of a few brackets, one at a time in Python floats
-    (the same operations in the same order: bit for bit the same). ``state`` and ``previous``
-    (the last points evaluated and their g) hold lists (see :func:`_brackets_state`), updated in
-    place; ``rows``, ``x``, ``gx`` are lists. Returns the next points (array) and which rows end
-    (list of bool)."""
-    a, b, ga, gb, last, (old, older) = state
-    steps, finished = [], []
-    for r, xr, gr in zip(rows, x, gx):
-        if gr != 0:
-            if _sign(gr) == _sign(ga[r]):                  # the a end moves (Illinois: see _illinois)
-                if last[r] == 1:
-                    gb[r] *= 0.5
-                a[r], ga[r], last[r] = xr, gr, 1
-            else:
-                if last[r] == -1:
-                    ga[r] *= 0.5
-                b[r], gb[r], last[r] = xr, gr, -1
-        ar, br = a[r], b[r]
-        width = br - ar
-        secant = xr - _divided(gr * (xr - previous[0][r]), gr - previous[1][r])
-        falsi = br - _divided(gb[r] * width, gb[r] - ga[r])
-        slow = width > 0.5 * older[r]
-        older[r], old[r] = old[r], width
-        previous[0][r], previous[1][r] = xr, gr
-        if gr == 0:
-            step = xr
-        elif math.isfinite(secant) and ar < secant < br:
-            step = secant
-        elif math.isfinite(falsi) and ar < falsi < br and not slow:
-            step = falsi
-        else:
-            step = 0.5 * (ar + br)
-        steps.append(step)
-        finished.append(gr == 0 or abs(step - xr) <= _STEP_TOLERANCE * max(abs(xr), 1.0))
-    return np.array(steps), finished
-
-
-def _sign(value):
-    """``numpy.sign`` of a Python float (NaN for NaN)."""
-    return 1.0 if value > 0 else -1.0 if value < 0 else value if value != value else 0.0
-
-
-def _divided(numerator, denominator):
-    """``numerator / denominator`` of Python floats as IEEE division (numpy's, with its
-    warnings off) gives it: infinite or NaN where the denominator is zero."""
-    if denominator:
-        return numerator / denominator
-    if numerator != numerator or numerator == 0 or denominator != denominator:
-        return math.nan
-    return math.copysign(math.inf, numerator) * math.copysign(1.0, denominator)
-
-
 def _cubic_start(speeds, brackets, a, b, ga, gb):
     """Root in (a, b) of the cubic through g at the sweep's four points around each bracket
     (the chord's root where fewer than four oscillating points are at hand)."""
-    if len(a) <= _FEW_ROWS:
-        return _cubic_start_few(speeds, brackets, a, b, ga, gb)
     width = b - a
     with np.errstate(all="ignore"):
         chord = b - gb * width / (gb - ga)
@@ -755,36 +675,6 @@ def _cubic_start(speeds, brackets, a, b, ga, gb):
         x = a + t * width
         good = usable & np.isfinite(x) & (x > a) & (x < b)
     return np.where(good, x, chord)
-
-
-def _cubic_start_few(speeds, brackets, a, b, ga, gb):
-    """:func:`_cubic_start` of a few brackets: the chord and Newton's steps in Python floats (the
-    same operations in the same order: bit for bit the same)."""
-    a, b, ga, gb = a.tolist(), b.tolist(), ga.tolist(), gb.tolist()
-    chords = []
-    for ar, br, gar, gbr in zip(a, b, ga, gb):
-        chord = br - _divided(gbr * (br - ar), gbr - gar)
-        chords.append(chord if math.isfinite(chord) and ar < chord < br else 0.5 * (ar + br))
-    if len(speeds) < 4:
-        return np.array(chords)
-    xs, lam = brackets.near_speeds, brackets.near_values
-    # the cubic in t = (x - a) / (b - a): coefficients from the 4x4 Vandermonde systems
-    with np.errstate(all="ignore"):
-        gs = lam.imag - brackets.slope[:, None] * np.abs(xs)
-        vandermonde = ((xs - brackets.start[:, None]) / brackets.width[:, None])[..., None] ** np.arange(4)
-    coefficients = np.linalg.solve(vandermonde, gs[..., None])[..., 0].tolist()
-    # the four speeds ascend: all on one side of zero where the first or the last is
-    usable = (brackets.near_oscillating & ((xs[:, 0] >= 0) | (xs[:, 3] <= 0))).tolist()
-    out = []
-    for ar, br, chord, (c0, c1, c2, c3), ok in zip(a, b, chords, coefficients, usable):
-        width = br - ar
-        t = _divided(chord - ar, width)
-        slope3, slope2 = 3 * c3, 2 * c2                 # the derivative's coefficients
-        for _ in range(4):                              # Newton on the cubic, from the chord's root
-            t = t - _divided(((c3 * t + c2) * t + c1) * t + c0, (slope3 * t + slope2) * t + c1)
-        x = ar + t * width
-        out.append(x if ok and math.isfinite(x) and ar < x < br else chord)
-    return np.array(out)
 
 
 def _illinois(end, g_end, g_other, last_side, rows, x, gx, side):
@@ -953,38 +843,18 @@ def _cubic_value(speeds, brackets, rows, x, linear=None):
     if len(speeds) < 4 or not len(rows):
         return _interpolated(brackets, rows, x) if linear is None else linear
     xs, lam = brackets.near_speeds[rows], brackets.near_values[rows]
-    if len(x) <= _FEW_ROWS:
-        weights = _lagrange_weights_few(x.tolist(), xs.tolist())
-    else:
-        # Lagrange weights: factor[p, j, m] = (x - xs_m) / (xs_j - xs_m), 1 where m = j (exact, so
-        # the products below equal the ones over m != j in the same order)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            factor = (x[:, None, None] - xs[:, None, :]) / (xs[:, :, None] - xs[:, None, :])
-        factor.reshape(len(x), 16)[:, ::5] = 1.0                        # the diagonals
-        weights = factor[..., 0] * factor[..., 1] * factor[..., 2] * factor[..., 3]
+    # Lagrange weights: factor[p, j, m] = (x - xs_m) / (xs_j - xs_m), 1 where m = j (exact, so the
+    # products below equal the ones over m != j in the same order)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        factor = (x[:, None, None] - xs[:, None, :]) / (xs[:, :, None] - xs[:, None, :])
+    factor.reshape(len(x), 16)[:, ::5] = 1.0                        # the diagonals
+    weights = factor[..., 0] * factor[..., 1] * factor[..., 2] * factor[..., 3]
     cubic = np.einsum("pj,pj->p", weights, lam)
     cubic_here = brackets.near_oscillating[rows]
     if cubic_here.all():
         return cubic
     linear = _interpolated(brackets, rows, x) if linear is None else linear
     return np.where(cubic_here, cubic, linear)
-
-
-def _lagrange_weights_few(x, xs):
-    """:func:`_cubic_value`'s Lagrange weights (P, 4) of a few points ``x`` (list) on their four
-    nodes ``xs`` (lists) in Python floats: the products of the same factors in the same order
-    (bit for bit the array code's)."""
-    weights = []
-    for xr, nodes in zip(x, xs):
-        row = []
-        for j, node in enumerate(nodes):
-            weight = 1.0
-            for m, other in enumerate(nodes):
-                factor = 1.0 if m == j else _divided(xr - other, node - other)
-                weight = factor if m == 0 else weight * factor
-            row.append(weight)
-        weights.append(row)
-    return np.array(weights)
 
 
 def _interpolated(brackets, rows, x):

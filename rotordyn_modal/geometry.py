@@ -83,11 +83,7 @@ def shift_matrix(p, o) -> np.ndarray:
         out = np.eye(6)
         out[3:, :3] = -shift_cross(p, o)
         return out
-    x, y, z = arm.tolist()
-    # -skew(arm) written out (its diagonal is -0.0, as the negated zeros of skew were)
-    return np.array([[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
-                     [0.0, 0.0, 1.0, 0.0, 0.0, 0.0], [-0.0, z, -y, 1.0, 0.0, 0.0],
-                     [-z, -0.0, x, 0.0, 1.0, 0.0], [y, -x, -0.0, 0.0, 0.0, 1.0]])
+    return shift_matrices(p, o)[0]
 
 
 def shift_matrices(p, points) -> np.ndarray:
@@ -96,7 +92,8 @@ def shift_matrices(p, points) -> np.ndarray:
 
     ``p`` may be a stack of points too (S, 3), with ``points`` one point or as many."""
     arms = (np.asarray(p, dtype=float) - np.asarray(points, dtype=float)).reshape(-1, 3).tolist()
-    # shift_matrix's entries, written out for every arm (a flat list makes the array fastest)
+    # [[I, 0], [-skew(arm), I]] written out for every arm (-skew's diagonal is -0.0, as the
+    # negated zeros of skew are; a flat list makes the array fastest)
     values: list = []
     for x, y, z in arms:
         values += (1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0,

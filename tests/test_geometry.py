@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rotordyn_modal.geometry import point_force_column, point_motion_row, shift_cross, shift_matrix, skew
+from rotordyn_modal.geometry import (point_force_column, point_motion_row, point_motion_rows, shift_cross,
+                                     shift_matrices, shift_matrix, skew)
 
 RNG = np.random.default_rng(11)
 POINTS = RNG.uniform(-2, 2, (5, 3))
@@ -78,3 +79,25 @@ def test_point_rows_and_columns():
     np.testing.assert_allclose(column[3:], np.cross(point - reference, d), atol=1e-15)
     np.testing.assert_allclose(column, shift_matrix(reference, point) @ np.concatenate([d, np.zeros(3)]),
                                atol=1e-15)
+
+
+def test_rows_of_many_points_give_each_displacement():
+    """Each row of ``point_motion_rows`` gives its point's displacement ``u + theta x (P - S)``
+    along its direction, for any rigid motion ``q = [u, theta]``."""
+    reference = POINTS[0]
+    directions = RNG.standard_normal((len(POINTS), 3))
+    rows = point_motion_rows(POINTS, reference, directions)
+    assert rows.shape == (len(POINTS), 6)
+    for _ in range(3):
+        q = RNG.standard_normal(6)
+        displacements = q[:3] + np.cross(q[3:], POINTS - reference)
+        np.testing.assert_allclose(rows @ q, np.einsum("pi,pi->p", directions, displacements), rtol=1e-13, atol=1e-14)
+    assert point_motion_rows([], reference, []).shape == (0, 6)
+
+
+def test_shift_matrices_are_eq2_of_each_point():
+    """The stacked shift matrices are ``[[I, 0], [-skew(P - O), I]]`` of each point (eq. 2)."""
+    stacked = shift_matrices(POINTS[0], POINTS)
+    for matrix, point in zip(stacked, POINTS):
+        expected = np.block([[np.eye(3), np.zeros((3, 3))], [-skew(POINTS[0] - point), np.eye(3)]])
+        np.testing.assert_array_equal(matrix, expected)

@@ -376,8 +376,7 @@ def sensor_rows(model, names=None, rotor_motions=None) -> np.ndarray:
     which = [order.setdefault((s.rotor, s.measure == "relative"), len(order)) for s in sensors]
     rows = point_motion_rows([s.position for s in sensors], layout.reference_point,
                              [s.direction for s in sensors])
-    # each sensor's row times its body's motion: a stack of vector-matrix products, each the
-    # product Dofs.point_rows makes
+    # each sensor's row times its body's motion: a stack of vector-matrix products
     known = None if rotor_motions is None else \
         {(r.name, False): motion for r, motion in zip(model.rotors, rotor_motions)}
     return np.matmul(rows[:, None, :], layout.motions(list(order), known)[which]).reshape(-1, layout.n)
@@ -406,7 +405,7 @@ def excitation_columns(model, names=None) -> np.ndarray:
     return np.array(columns).reshape(-1, layout.n).T
 
 
-def generalized_force(model, body: str | None, point, wrench) -> np.ndarray:
+def generalized_force(model, body: str | None, point, wrench, shift=None, motion=None) -> np.ndarray:
     """Generalized forces of wrenches ``[F, C]`` acting at ``point`` of a body.
 
     Parameters
@@ -417,13 +416,18 @@ def generalized_force(model, body: str | None, point, wrench) -> np.ndarray:
     point : array_like, shape (3,) [m]
     wrench : array_like, shape (..., 6)
         ``[F, C]`` at ``point`` [N, N m], complex allowed.
+    shift, motion : ndarray, shape (6, 6) and (6, n), optional
+        ``shift_matrix(S, point)`` and the body's ``Dofs.body_motion``, when the caller has them.
 
     Returns
     -------
     ndarray, shape (..., n)
     """
-    at_reference = np.asarray(wrench) @ shift_matrix(model.reference_point, point).T
-    return at_reference @ model.dofs.body_motion(body)
+    if shift is None:
+        shift = shift_matrix(model.reference_point, point)
+    if motion is None:
+        motion = model.dofs.body_motion(body)
+    return (np.asarray(wrench) @ shift.T) @ motion
 
 
 def _select(items, names, what: str):

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import point_motion_row, shift_matrix, transverse_axes
+from .geometry import shift_matrices, transverse_axes
 
 __all__ = ["Dofs", "dofs", "frame_block"]
 
@@ -88,8 +88,12 @@ class Dofs:
 
     def local_relative_motion(self, rotor: str, point) -> np.ndarray:
         """``B_RP^T P_j``: relative motion at ``point`` per coordinate of ``rotor``, shape (6, k_j)."""
+        return self.local_relative_motions(rotor, [point])[0]
+
+    def local_relative_motions(self, rotor: str, points) -> np.ndarray:
+        """:meth:`local_relative_motion` at each of ``points`` (P, 3), made together, (P, 6, k_j)."""
         j = self.rotors.index(rotor)
-        return shift_matrix(self.centres[j], point).T @ self.bases[j]
+        return shift_matrices(self.centres[j], points).transpose(0, 2, 1) @ self.bases[j]
 
     def motion(self, body: str | None = None, relative: bool = False) -> np.ndarray:
         """:meth:`relative_motion` of ``body`` when ``relative``, else its :meth:`body_motion`."""
@@ -123,29 +127,6 @@ class Dofs:
                 else:
                     out[i, :, own] += local
         return out
-
-    def point_rows(self, point, direction, body: str | None = None, relative: bool = False,
-                   motion: np.ndarray | None = None) -> np.ndarray:
-        """Row ``r`` with ``r @ q`` = displacement of a point of a body along ``direction``.
-
-        Parameters
-        ----------
-        point, direction : array_like, shape (3,)
-            [m], model axes; the direction is used as given (unit for a displacement).
-        body : str, optional
-            A rotor name; None for the stator.
-        relative : bool
-            The rotor's motion relative to the stator's point at the same place.
-        motion : ndarray, shape (6, n), optional
-            :meth:`motion` of ``body`` and ``relative``, when the caller has it.
-
-        Returns
-        -------
-        ndarray, shape (n,) [m/m, m/rad]
-        """
-        if motion is None:
-            motion = self.motion(body, relative)
-        return point_motion_row(point, self.reference_point, direction) @ motion
 
 
 def dofs(model) -> Dofs:

@@ -197,9 +197,15 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
 
 def _to_centres(model, rotors):
     """``B_SR^T T_j`` of each rotor (its motion at its centre of mass per coordinate), shape
-    (6 R, n_dof): ``shift_matrix(S, R_j).T @ body_motion`` of every rotor in one product."""
-    return (shift_matrices(model.reference_point, [r.center_of_mass for r in rotors]).transpose(0, 2, 1)
-            @ model.dofs.motions([(r.name, False) for r in rotors])).reshape(-1, model.dofs.n)
+    (6 R, n_dof): :func:`_centres` of every rotor's shift matrix and body motion."""
+    return _centres(shift_matrices(model.reference_point, [r.center_of_mass for r in rotors]),
+                    model.dofs.motions([(r.name, False) for r in rotors]))
+
+
+def _centres(shifts, motions):
+    """``shift_matrix(S, R_j).T @ body_motion`` of each rotor in one product, from the rotors'
+    shift matrices (R, 6, 6) and body motions (R, 6, n_dof): shape (6 R, n_dof)."""
+    return (shifts.transpose(0, 2, 1) @ motions).reshape(-1, motions.shape[-1])
 
 
 def _parts(items, rows):
@@ -211,11 +217,10 @@ def _parts(items, rows):
 
 def _bearing_moves(layout, rotor, positions):
     """Where a rotor's coordinates sit in ``q`` (a slice), and the relative motion ``B_RP^T P_j``
-    at each of its bearing points per coordinate, stacked (6 B_j, k_j)
-    (:func:`assembly.bearing_motion`'s products, made together)."""
-    j = layout.rotors.index(rotor)
-    moves = shift_matrices(layout.centres[j], positions).transpose(0, 2, 1) @ layout.bases[j]
-    return layout.slices[j], moves.reshape(-1, moves.shape[-1])
+    at each of its bearing points per coordinate (:meth:`Dofs.local_relative_motions`), stacked
+    (6 B_j, k_j)."""
+    moves = layout.local_relative_motions(rotor, positions)
+    return layout.slices[layout.rotors.index(rotor)], moves.reshape(-1, moves.shape[-1])
 
 
 def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
@@ -287,8 +292,7 @@ def all_forces(model, speed, omega, q, rotor_forces=None, centres=None):
     rotor_forces : ndarray, shape (n_rotors, n_freq, 6, n), optional
         External forces on each rotor, as for :func:`bearing_forces`.
     centres : ndarray, shape (6 n_rotors, n_dof), optional
-        ``B_SR^T T_j`` of every rotor (``shift_matrix(S, R_j).T @ Dofs.body_motion``), when
-        the caller has it.
+        ``B_SR^T T_j`` of every rotor (:func:`_centres`), when the caller has it.
 
     Returns
     -------

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..geometry import cross
 
 __all__ = ["ProbePairs", "probe_pairs", "orbit_ellipses", "PRECESSION_TOLERANCE"]
 
@@ -81,15 +82,15 @@ def probe_pairs(model, sensors) -> ProbePairs:
     for members in groups.values():
         while len(members) >= 2:
             first = members.pop(0)
-            u0, u1, u2 = listed[first]
-            w = (e1 * u2 - e2 * u1, e2 * u0 - e0 * u2, e0 * u1 - e1 * u0)      # e x u, as geometry.cross
+            normal = cross(e, directions[first])                              # e x u
+            w = normal.tolist()
             partner = next((k for k in members
                             if abs(listed[k][0] * w[0] + listed[k][1] * w[1] + listed[k][2] * w[2]) > 0.1), None)
             if partner is None:
                 continue
             members.remove(partner)
             d = directions[partner]
-            transforms.append(_unit_lower_inverse(float(d @ directions[first]), float(d @ np.array(w))))
+            transforms.append(_unit_lower_inverse(float(d @ directions[first]), float(d @ normal)))
             names.append((sensors[first].name, sensors[partner].name))
             indices.append((first, partner))
     return ProbePairs(names=tuple(names), indices=np.array(indices, dtype=int).reshape(-1, 2),

@@ -27,7 +27,7 @@ import numpy as np
 from ..assembly import generalized_force, sensor_rows
 from ..errors import InputError
 from ..geometry import cross, shift_matrices
-from .forces import COMPONENTS, all_forces
+from .forces import COMPONENTS, _centres, all_forces
 from .frf import dof_response
 from .orbits import orbit_ellipses, precession_labels, probe_pairs
 
@@ -381,35 +381,27 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     planes = np.einsum("pij,pjsn->psni", pairs.to_plane, response[pairs.indices]) if len(pairs) else \
         np.zeros((0, n_src, n, 2), dtype=complex)
     ratios = [model.rotor(src).speed_ratio for src in sources]
-    spin_signs = np.where(np.array(ratios, dtype=float)[:, None] * speeds < 0, -1.0, 1.0) if n_src > 1 else \
-        np.where(np.float64(ratios[0]) * speeds < 0, -1.0, 1.0)
+    spin_signs = np.where(np.array(ratios, dtype=float)[:, None] * speeds < 0, -1.0, 1.0)
     return UnbalanceResult(
         speeds=speeds, sources=tuple(sources), frequencies_hz=w / (2 * np.pi), outputs=names,
         response=response, quantity=quantity,
         suspension_names=tuple(s.name for s in model.suspensions),
         rotor_names=tuple(r.name for r in model.rotors),
         bearing_names=tuple(b.name for b in model.bearings),
-        **_force_fields(model, sources, rotor_forces, speed_all, omega, q,
-                        (shifts.transpose(0, 2, 1) @ motions).reshape(-1, model.dofs.n)),
+        **_force_fields(model, sources, rotor_forces, speed_all, omega, q, _centres(shifts, motions)),
         orbit_pairs=pairs.names, orbit_planes=planes, spin_signs=spin_signs.reshape(n_src, n),
         rigid_rotor_names=tuple(r.name for r in model.rotors if not model.bearings_of(r.name)),
     )
 
 
-def _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts=None, motions=None):
+def _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions):
     """Complex amplitudes of the generalized coordinates, shape (n_src N, n_dof, 1), every
-    source's unbalance force applied at its rotor's centre of mass.
-
-    ``shifts`` (R, 6, 6) and ``motions`` (R, 6, n_dof): each rotor's ``shift_matrix(S, R_j)``
-    and ``Dofs.body_motion``, when the caller has them (the products of
-    :func:`assembly.generalized_force` on them)."""
-    if shifts is None:
-        generalized = np.stack([generalized_force(model, src, model.rotor(src).center_of_mass, rotor_forces[j])
-                                for j, src in enumerate(sources)])             # (n_src, N, n_dof)
-    else:
-        index = {r.name: k for k, r in enumerate(model.rotors)}
-        each = [(rotor_forces[j] @ shifts[index[src]].T) @ motions[index[src]] for j, src in enumerate(sources)]
-        generalized = np.stack(each) if len(each) > 1 else each[0]
+    source's unbalance force applied at its rotor's centre of mass (``shifts`` (R, 6, 6) and
+    ``motions`` (R, 6, n_dof): each rotor's ``shift_matrix(S, R_j)`` and body motion)."""
+    index = {r.name: k for k, r in enumerate(model.rotors)}
+    each = [generalized_force(model, src, None, rotor_forces[j], shifts[index[src]], motions[index[src]])
+            for j, src in enumerate(sources)]                                  # (n_src, N, n_dof)
+    generalized = np.stack(each) if len(each) > 1 else each[0]
     return dof_response(model, speed_all, omega, generalized.reshape(len(omega), -1)[:, :, None])
 
 

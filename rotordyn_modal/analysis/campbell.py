@@ -588,7 +588,7 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
         # every crossing between grid points (the usual case): the first evaluation of all of them,
         # which usually ends them all (the cubic start lands at round-off of the root)
         every = np.arange(count)
-        lam, sure = _evaluate(stack, speeds, values, weighted, brackets, every, x.copy(), iterates, first=True)
+        lam, sure = _evaluate(stack, speeds, values, weighted, brackets, every, x.copy(), iterates)
         roots, done, evaluations = x.copy(), np.zeros(count, dtype=bool), 1
         x = _advance(state, previous, done, every, x, lam.imag - slope * np.abs(x))
     for _ in range(_MAX_ITERATIONS - evaluations):
@@ -739,16 +739,16 @@ def _isolated(brackets):
     return (apart > margin).all(axis=1) & (own_conjugate > 2 * 8 * own_travel)
 
 
-def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates, first=False):
+def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
     """The tracked modes' eigenvalues at speeds ``x`` and whether each is sure (see
     :func:`_tracked`): the pencil's iteration for isolated modes and for modes picked from the
     roots at a point so near that no other root can have come close (:func:`_followed`), the
     roots near the bracket's interpolation for the rest and for any that did not converge
-    to the tracked mode. ``first``: the first evaluation of every crossing (see :func:`_pencil_at`)."""
+    to the tracked mode."""
     fast = iterates.usable[rows]
     isolated = fast.all()
     if isolated:                         # every mode isolated (the usual case): all on the pencil
-        found, ok = _pencil_at(stack, speeds, brackets, rows, x, iterates, first, isolated=True)
+        found, ok = _pencil_at(stack, speeds, brackets, rows, x, iterates)
         if ok.all():
             return found, ok
     else:
@@ -785,18 +785,16 @@ def _followed(brackets, rows, x, iterates):
         return ~iterates.usable[rows] & (moved < 0.1 * iterates.gap[rows])
 
 
-def _pencil_at(stack, speeds, brackets, rows, x, iterates, first=False, isolated=False):
+def _pencil_at(stack, speeds, brackets, rows, x, iterates):
     """Eigenvalues of isolated or followed modes (:func:`_followed`) at ``x`` by residual inverse
     iteration on the pencil (:func:`_eigen.residual_inverse_iteration`), started from the last
     point's eigenvalue (moved by the interpolation's change) and shape. A crossing's first
     evaluation factors its pencil at the cubic interpolation of the sweep's eigenvalues there;
     later ones reuse that factorisation, and factor anew only where the iteration did not
-    converge. ``first``: the first evaluation of every crossing (none factored or evaluated
-    yet); ``isolated``: every mode isolated (none followed). Returns the eigenvalues and which
-    converged to the tracked mode."""
+    converge. Returns the eigenvalues and which converged to the tracked mode."""
     pencils = Pencils(stack, brackets.variant[rows], x)
-    unready = None if first else ~iterates.factors.ready[rows]
-    if first or (unready.all() and (iterates.x[rows] == brackets.start[rows]).all()):
+    unready = ~iterates.factors.ready[rows]
+    if unready.all() and (iterates.x[rows] == brackets.start[rows]).all():
         # every crossing's first evaluation (the usual case): all start from the cubic, factored there
         expected = _interpolated(brackets, rows, x)
         start = _cubic_value(speeds, brackets, rows, x, expected)
@@ -825,8 +823,8 @@ def _pencil_at(stack, speeds, brackets, rows, x, iterates, first=False, isolated
         lam[again], shapes[again], converged[again] = _eigen.residual_inverse_iteration(
             iterates.factors, rows[again], part, lam[again], shapes[again])
     ok = converged & (np.abs(lam - expected) <= 2 * brackets.spread[rows])
-    followed = None if isolated else ~iterates.usable[rows]
-    if followed is not None and followed.any():
+    followed = ~iterates.usable[rows]
+    if followed.any():
         with np.errstate(invalid="ignore"):
             ok[followed] &= np.abs(lam - start)[followed] < 0.25 * iterates.gap[rows[followed]]
     if ok.all():

@@ -164,7 +164,7 @@ class CampbellResult:
 
 
 # ----------------------------------------------------------------------------------------
-def solve_sweep(model, speeds, progress=False, form=None, forms=None):
+def solve_sweep(model, speeds, progress=False):
     """Eigenvalues and unit mass-weighted shapes at every speed, tracked.
 
     Parameters
@@ -173,8 +173,6 @@ def solve_sweep(model, speeds, progress=False, form=None, forms=None):
     speeds : ndarray, shape (N,) [rad/s]
     progress : bool
         Show a progress bar.
-    form, forms : unused
-        Kept for callers that built them; the sweep builds its own stack of one model.
 
     Returns
     -------

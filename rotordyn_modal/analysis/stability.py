@@ -161,7 +161,7 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
         raise InputError("values/scale given without a parameter to vary (vary=KEY)")
     speeds = _check_speeds(speeds)
     form = speed_linear_form(model)
-    eigenvalues, shapes, _ = solve_sweep(model, speeds, progress, form)
+    eigenvalues, shapes, _ = solve_sweep(model, speeds, progress)
     ratios = np.where(is_oscillating(eigenvalues),
                       _eigen.whirl_ratios(shapes, _eigen.whirl_forms(model), speeds), 0.0)
     freq, zeta, log_dec = modal_quantities(eigenvalues)

@@ -585,8 +585,8 @@ def potential(y, e, E2, nf, gravity, mass, center, offset, ratio, slot, ntrans, 
     blocks = np.empty((3, 6, 6))
     Kb, Cb, Zb = blocks[0], blocks[1], blocks[2]
     vec = np.zeros((16, 3))
-    eg, omega, wdot0, gamma, u, ud, gj, gjd, lb, v1, v2 = (vec[0], vec[1], vec[2], vec[3], vec[4], vec[5],
-                                                           vec[6], vec[7], vec[8], vec[9], vec[10])
+    eg, omega, wdot0, gamma, u, ud, gj, gjd = vec[0], vec[1], vec[2], vec[3], vec[4], vec[5], vec[6], vec[7]
+    v1, v2 = vec[9], vec[10]      # vec[8] serves only in the bearings' scratch vec[4:9]
     psi = _frame(y, n, e, E2, nf, Rs, H, eg, omega, wdot0, gamma, mats[6:9], vec[11:15])
     z, zd = np.empty(6), np.empty(6)
     BA = np.empty((3, 2))

@@ -30,7 +30,9 @@ Cases, each timed side by side with its floor, alternating, in every repetition:
 
 Every repetition runs the package then the floor; min / median / max of the times and of the
 per-repetition ratios are printed (the machine is shared and noisy: the ratios measured side
-by side are what counts). Peak memory: ``tracemalloc`` around one more, untimed call of each
+by side are what counts), and the median of the package's time above the floor in
+milliseconds (a fixed cost per call, which dominates the ratio of the smallest models, shows
+as about the same milliseconds at every size). Peak memory: ``tracemalloc`` around one more, untimed call of each
 contender (numpy reports its array buffers to tracemalloc, so this is the peak of the arrays
 a call holds at once, temporaries included; LAPACK's own work space, O(n^2) per call, is not
 seen; the process's ``ru_maxrss`` at the end is printed too, for the whole run). The growth
@@ -221,10 +223,14 @@ def traced(function, memory):
 
 
 def report(label, states, mine, base, peaks):
+    """One row: times, their ratio, the package's time above the floor (the median of the
+    repetitions' differences: a fixed cost shows as the same milliseconds at every size) and
+    the peak memory."""
     ratio = mine / base
+    extra = statistics.median(mine - base) * 1e3
     print(f"{label:>22} {states:6d} | package {spread(mine)} s | floor {spread(base)} s | "
-          f"ratio {spread(ratio, fmt='{:5.2f}')} | peak MB {peaks[0] / 2**20:8.1f} {peaks[1] / 2**20:8.1f}",
-          flush=True)
+          f"ratio {spread(ratio, fmt='{:5.2f}')} | above floor {extra:9.2f} ms | "
+          f"peak MB {peaks[0] / 2**20:8.1f} {peaks[1] / 2**20:8.1f}", flush=True)
 
 
 def exponent(states, times) -> float:

@@ -37,19 +37,22 @@ contender (numpy reports its array buffers to tracemalloc, so this is the peak o
 a call holds at once, temporaries included; LAPACK's own work space, O(n^2) per call, is not
 seen; the process's ``ru_maxrss`` at the end is printed too, for the whole run). The growth
 exponent is the least-squares slope of log(median time per speed, or per frequency) against
-log(n_states) over the sizes. Models above 600 states run ``--repeat-large`` times (one by
-default: then that timed call is also the traced one, without a warm-up).
+log(n_states) over the sizes. Each case runs at least ``--repeat`` pairs, and fast ones as
+many more as fill about ``--min-seconds`` (1 s, at most 101 pairs: a 1-rotor Campbell call of
+7 ms is sampled about 80 times, so that its median is not that of three noisy samples).
+Models above 600 states run ``--repeat-large`` times (one by default: then that timed call is
+also the traced one, without a warm-up).
 
 One core for everything by default (``ROTORDYN_MODAL_THREADS=1`` and one BLAS thread through
 threadpoolctl), so the ratios compare work, not the scheduling of a shared machine. Run::
 
     python benchmarks/bench_scaling.py [--quick] [--sizes 1,2,5,20,100] [--cases campbell,frf,unbalance,speeds]
-        [--repeat 3] [--repeat-large 1] [--campbell-speeds 51] [--unbalance-speeds 201]
+        [--repeat 3] [--min-seconds 1] [--repeat-large 1] [--campbell-speeds 51] [--unbalance-speeds 201]
         [--unbalance-speeds-large 21] [--frequencies 2000] [--sweep-size 5] [--sweep-speeds 51,201,1001,5001] [--threads 1]
         [--no-memory]
 
 ``--quick``: sizes 1, 2, 5, 20; 21 speeds; 500 frequencies; speed counts 51, 201, 1001;
-2 repetitions.
+2 repetitions (``--min-seconds 0``).
 """
 
 from __future__ import annotations
@@ -190,20 +193,32 @@ def spread(values, scale=1.0, fmt="{:8.3f}") -> str:
     return " / ".join(fmt.format(v) for v in (min(values), statistics.median(values), max(values)))
 
 
-def measure(case, model, count, repeat, memory, warm=True):
+#: most repetitions of a fast case (see ``--min-seconds``)
+_MOST_REPEATS = 101
+
+
+def repetitions(pair_seconds, repeat, min_seconds) -> int:
+    """At least ``repeat``, and enough pairs of calls taking ``pair_seconds`` to fill
+    ``min_seconds`` (at most ``_MOST_REPEATS``): a 7 ms case is sampled 70 times, not 3."""
+    wanted = int(np.ceil(min_seconds / max(pair_seconds, 1e-9)))
+    return max(repeat, min(wanted, _MOST_REPEATS))
+
+
+def measure(case, model, count, repeat, memory, warm=True, min_seconds=0.0):
     """Times of the package and the floor per repetition (alternating) and their peak memory.
 
     With ``warm=False`` (the largest models, one repetition) there is no warm-up call and the
     one repetition is also the traced call (tracemalloc's cost per numpy allocation is
-    negligible beside LAPACK work of seconds)."""
+    negligible beside LAPACK work of seconds). Fast cases repeat until about ``min_seconds``
+    (:func:`repetitions`)."""
     package, floor = PAIRS[case](model, count)
     if not warm:
         mine, peak_mine = traced(package, memory)
         base, peak_base = traced(floor, memory)
         return np.array([mine]), np.array([base]), (peak_mine, peak_base)
     package(), floor()                             # warm-up: imports, caches, thread pool
-    times = []
-    for _ in range(repeat):
+    times = [(timed(package), timed(floor))]
+    for _ in range(repetitions(sum(times[0]), repeat, min_seconds) - 1):
         times.append((timed(package), timed(floor)))
     mine, base = (np.array(column) for column in zip(*times))
     peaks = (peak_bytes(package), peak_bytes(floor)) if memory else (np.nan, np.nan)
@@ -230,7 +245,7 @@ def report(label, states, mine, base, peaks):
     extra = statistics.median(mine - base) * 1e3
     print(f"{label:>22} {states:6d} | package {spread(mine)} s | floor {spread(base)} s | "
           f"ratio {spread(ratio, fmt='{:5.2f}')} | above floor {extra:9.2f} ms | "
-          f"peak MB {peaks[0] / 2**20:8.1f} {peaks[1] / 2**20:8.1f}", flush=True)
+          f"peak MB {peaks[0] / 2**20:8.1f} {peaks[1] / 2**20:8.1f} | pairs {len(mine)}", flush=True)
 
 
 def exponent(states, times) -> float:
@@ -254,7 +269,8 @@ def run_sizes(case, sizes, count, count_large, args):
         large = states > _LARGE_STATES
         points = count_large if large else count
         mine, base, peaks = measure(case, model, points, args.repeat_large if large else args.repeat,
-                                    not args.no_memory, warm=not large or args.repeat_large > 1)
+                                    not args.no_memory, warm=not large or args.repeat_large > 1,
+                                    min_seconds=0.0 if large else args.min_seconds)
         report(f"{rotors} rotors" + (f", {points} {unit}" if large else ""), states, mine, base, peaks)
         rows.append((states, statistics.median(mine) / points, statistics.median(base) / points))
     if len(rows) > 1:
@@ -276,7 +292,8 @@ def run_speeds(size, counts, args):
     print(f"{'speeds':>22} {'states':>6} |")
     rows = []
     for count in counts:
-        mine, base, peaks = measure("campbell", model, count, args.repeat, not args.no_memory)
+        mine, base, peaks = measure("campbell", model, count, args.repeat, not args.no_memory,
+                                    min_seconds=args.min_seconds)
         report(f"{count} speeds", states, mine, base, peaks)
         rows.append((count, statistics.median(mine), statistics.median(base)))
     if len(rows) > 1:
@@ -291,6 +308,8 @@ def parse(argv=None):
     parser.add_argument("--sizes", default="1,2,5,20,100", help="rotor counts")
     parser.add_argument("--cases", default="campbell,frf,unbalance,speeds")
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--min-seconds", type=float, default=1.0,
+                        help=f"repeat fast cases until about this many seconds (at most {_MOST_REPEATS} times)")
     parser.add_argument("--repeat-large", type=int, default=1, help=f"repetitions above {_LARGE_STATES} states")
     parser.add_argument("--campbell-speeds", type=int, default=51)
     parser.add_argument("--unbalance-speeds", type=int, default=201)
@@ -303,7 +322,7 @@ def parse(argv=None):
     parser.add_argument("--no-memory", action="store_true", help="skip the tracemalloc calls")
     args = parser.parse_args(argv)
     if args.quick:
-        args.sizes, args.repeat = "1,2,5,20", 2
+        args.sizes, args.repeat, args.min_seconds = "1,2,5,20", 2, 0.0
         args.campbell_speeds = args.unbalance_speeds = args.unbalance_speeds_large = 21
         args.frequencies, args.sweep_speeds = 500, "51,201,1001"
     return args
@@ -319,8 +338,8 @@ def main(argv=None) -> None:
         threadpool_limits(int(args.threads), user_api="blas")
     sizes = [int(s) for s in args.sizes.split(",")]
     cases = args.cases.split(",")
-    print(f"threads: {args.threads}; sizes {sizes} rotors; repetitions {args.repeat} "
-          f"({args.repeat_large} above {_LARGE_STATES} states)")
+    print(f"threads: {args.threads}; sizes {sizes} rotors; repetitions at least {args.repeat}, fast cases until "
+          f"about {args.min_seconds:g} s (at most {_MOST_REPEATS}); {args.repeat_large} above {_LARGE_STATES} states")
     counts = {"campbell": (args.campbell_speeds, args.campbell_speeds),
               "frf": (args.frequencies, args.frequencies),
               "unbalance": (args.unbalance_speeds, args.unbalance_speeds_large)}

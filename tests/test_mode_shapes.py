@@ -193,6 +193,26 @@ def test_mp4_without_any_ffmpeg_is_refused(gear, tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_refused_mp4_leaves_no_unrendered_animation(gear, tmp_path, monkeypatch):
+    """Refused before any animation exists: matplotlib warns of one dropped unrendered (a
+    stray warning after the command line's clean error)."""
+    import gc
+    import warnings
+
+    import matplotlib
+
+    monkeypatch.setitem(matplotlib.rcParams, "animation.ffmpeg_path", str(tmp_path / "no-ffmpeg"))
+    monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)
+    model, result = gear
+    view = mode_shape_3d(result, model, 6)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with pytest.raises(InputError):
+            animate_mode_shape(view, tmp_path / "m.mp4", frames=3)
+        gc.collect()
+    assert [str(w.message) for w in caught if "Animation" in str(w.message)] == []
+
+
 def _cli(*args):
     return subprocess.run([sys.executable, "-m", "rotordyn_modal.cli.main", *map(str, args)],
                           capture_output=True, text=True)

@@ -118,6 +118,12 @@ def animate_mode_shape(view, path=None, frames: int = 36, fps: int = 18, inputs=
     suffix = None if path is None else Path(path).suffix.lower()
     if suffix is not None and suffix not in ANIMATION_FORMATS:
         raise InputError(f"{path}: expected an animation file ending in {', '.join(ANIMATION_FORMATS)}")
+    # refused before the animation exists: one dropped unrendered makes matplotlib warn
+    ffmpeg = _ffmpeg_path(path) if suffix == ".mp4" else None
+    if path is not None:
+        from ..io.atomic import check_not_input
+
+        check_not_input(Path(path), inputs)
     fig = plot_mode_shape(view)
     ax, flat = fig.axes[0], list(zip(fig.axes[1:4], [pair for _, pair in _PROJECTIONS]))
     phases = 2 * np.pi * np.arange(int(frames)) / int(frames)
@@ -131,24 +137,22 @@ def animate_mode_shape(view, path=None, frames: int = 36, fps: int = 18, inputs=
 
     animation = FuncAnimation(fig, update, frames=len(phases), interval=1000.0 / fps, blit=False)
     if path is not None:
-        _write_animation(animation, fig, Path(path), suffix, fps, inputs)
+        _write_animation(animation, fig, Path(path), suffix, fps, ffmpeg)
     return animation
 
 
-def _write_animation(animation, fig, path, suffix, fps, inputs):
+def _write_animation(animation, fig, path, suffix, fps, ffmpeg):
     import matplotlib
     from matplotlib import animation as mpl_animation
 
-    from ..io.atomic import atomic_write, check_not_input
+    from ..io.atomic import atomic_write
 
-    check_not_input(path, inputs)
     fig.set_dpi(_ANIMATION_DPI)
     if suffix == ".html":
         text = animation.to_jshtml(fps=fps)
         with atomic_write(path, "w") as handle:
             handle.write(text)
         return
-    ffmpeg = _ffmpeg_path(path) if suffix == ".mp4" else None
     writer = mpl_animation.PillowWriter(fps=fps) if suffix == ".gif" else mpl_animation.FFMpegWriter(fps=fps)
     with matplotlib.rc_context({"animation.ffmpeg_path": ffmpeg} if ffmpeg else {}):
         with atomic_write(path, None) as temporary:

@@ -183,19 +183,8 @@ def test_mp4_holds_one_period_of_frames(gear, tmp_path):
 
 
 def test_mp4_without_any_ffmpeg_is_refused(gear, tmp_path, monkeypatch):
-    import matplotlib
-
-    monkeypatch.setitem(matplotlib.rcParams, "animation.ffmpeg_path", str(tmp_path / "no-ffmpeg"))
-    monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)
-    model, result = gear
-    with pytest.raises(InputError, match="writing MP4 needs ffmpeg on the PATH or the video extra"):
-        animate_mode_shape(mode_shape_3d(result, model, 6), tmp_path / "m.mp4", frames=3)
-    assert list(tmp_path.iterdir()) == []
-
-
-def test_refused_mp4_leaves_no_unrendered_animation(gear, tmp_path, monkeypatch):
-    """Refused before any animation exists: matplotlib warns of one dropped unrendered (a
-    stray warning after the command line's clean error)."""
+    """Refused before any animation exists: matplotlib warns of one dropped unrendered, a
+    stray warning after the command line's clean error."""
     import gc
     import warnings
 
@@ -207,10 +196,11 @@ def test_refused_mp4_leaves_no_unrendered_animation(gear, tmp_path, monkeypatch)
     view = mode_shape_3d(result, model, 6)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        with pytest.raises(InputError):
+        with pytest.raises(InputError, match="writing MP4 needs ffmpeg on the PATH or the video extra"):
             animate_mode_shape(view, tmp_path / "m.mp4", frames=3)
         gc.collect()
     assert [str(w.message) for w in caught if "Animation" in str(w.message)] == []
+    assert list(tmp_path.iterdir()) == []
 
 
 def _cli(*args):

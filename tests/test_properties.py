@@ -5,10 +5,12 @@ from __future__ import annotations
 import copy
 
 import numpy as np
+import scipy.linalg
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import rotordyn_modal as rdm
+from rotordyn_modal.linear_system import state_matrices
 from reference_model import ReferenceMachine, translated
 
 SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -113,6 +115,32 @@ def test_state_space_equals_modal(data, speed):
     lam = rdm.modal(model, speed).eigenvalues
     expected = np.sort_complex(np.concatenate([lam, lam.conj()]))
     np.testing.assert_allclose(poles, expected, rtol=1e-8, atol=1e-10 * np.abs(expected).max())
+
+
+@SETTINGS
+@given(descriptions())
+def test_critical_speeds_are_crossings_of_the_state_matrix_eigenvalues(data):
+    """Every refined critical speed (source multiplier r, order k) is a speed where the state
+    matrix, solved afresh by LAPACK, has an eigenvalue of frequency ``k r |Omega|`` with the
+    reported damping ratio. Bound: the refinement's 1e-10 relative (issue 11) plus LAPACK's
+    own error, the eigenvalue's condition number times ``eps ||A||``."""
+    model = rdm.Model.from_dict(data)
+    result = rdm.campbell(model, np.linspace(0.0, 2000.0, 161), orders=(1, 2))
+    table = result.critical
+    multipliers = dict(zip(result.sources.names, result.sources.multipliers))
+    for speed, order, freq, zeta, source in zip(table.speeds, table.order, table.frequencies_hz,
+                                                 table.damping_ratios, table.source):
+        target = order * multipliers[source] * abs(speed)                        # [rad/s]
+        A = state_matrices(model, [speed])[0]
+        values, left, right = scipy.linalg.eig(A, left=True, right=True)
+        reported = 2 * np.pi * freq * (-zeta / np.sqrt(1 - zeta**2) + 1j)
+        k = np.argmin(np.abs(values - reported))
+        lam, x, y = values[k], right[:, k], left[:, k]
+        condition = np.linalg.norm(x) * np.linalg.norm(y) / abs(np.vdot(y, x))
+        lapack = 10 * condition * np.finfo(float).eps * np.linalg.norm(A, 2)
+        assert abs(2 * np.pi * freq - target) <= 1e-10 * target
+        assert abs(lam.imag - target) <= 1e-10 * target + lapack
+        assert abs(-lam.real / abs(lam) - zeta) <= 1e-10 + lapack / abs(lam)
 
 
 @settings(max_examples=15, deadline=None)

@@ -143,6 +143,29 @@ def test_critical_speeds_are_crossings_of_the_state_matrix_eigenvalues(data):
         assert abs(-lam.real / abs(lam) - zeta) <= 1e-10 + lapack / abs(lam)
 
 
+@SETTINGS
+@given(descriptions())
+def test_every_crossing_of_an_order_line_is_reported(data):
+    """Each crossing of an oscillating root with an order line moves one root across it, so
+    for every source and order the crossings reported from 0 to the top speed are at least
+    the drop in the number of roots above the line (``numpy.linalg.eigvals`` of the state
+    matrices, no tracking), and differ from it by an even number (a mode that crosses back)."""
+    model = rdm.Model.from_dict(data)
+    speeds = np.linspace(0.0, 2000.0, 161)
+    result = rdm.campbell(model, speeds, orders=(1, 2))
+    ends = np.linalg.eigvals(state_matrices(model, speeds[[0, -1]]))           # (2, n_states)
+    oscillating = np.abs(ends.imag) > 1e-6 * np.abs(ends).max(axis=1, keepdims=True)
+    assume(oscillating[0].sum() == oscillating[1].sum())    # no root turns real on the way
+    table = result.critical
+    for source, multiplier in zip(result.sources.names, result.sources.multipliers):
+        for order in (1.0, 2.0):
+            line = order * multiplier * speeds[[0, -1]]
+            above = ((ends.imag > line[:, None]) & oscillating).sum(axis=1)
+            drop = int(above[0] - above[1])
+            reported = int(((table.source == source) & (table.order == order)).sum())
+            assert reported >= drop and (reported - drop) % 2 == 0, (source, order, reported, drop)
+
+
 @settings(max_examples=15, deadline=None)
 @given(data=descriptions())
 def test_save_load_round_trip(tmp_path_factory, data):

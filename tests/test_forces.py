@@ -11,8 +11,11 @@ import copy
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import rotordyn_modal as rdm
+from reference_bearings import random_bearing_description
 from rotordyn_modal.analysis.forces import all_forces, bearing_forces, bearing_point_forces, suspension_forces
 
 
@@ -37,18 +40,32 @@ def _case(model, seed):
     return speed, omega, q, external
 
 
-def test_forces_together_equal_each_kind_bit_for_bit(examples_dir):
+def _compared_bit_for_bit(name, model, seed) -> int:
+    """Assert both paths give the same bits; the number of values compared."""
+    speed, omega, q, external = _case(model, seed)
+    together = all_forces(model, speed, omega, q, external)
+    apart = (suspension_forces(model, omega, q), bearing_forces(model, speed, omega, q, external),
+             bearing_point_forces(model, speed, omega, q))
     compared = 0
-    for name, model in _models(examples_dir).items():
-        speed, omega, q, external = _case(model, len(name))
-        together = all_forces(model, speed, omega, q, external)
-        apart = (suspension_forces(model, omega, q), bearing_forces(model, speed, omega, q, external),
-                 bearing_point_forces(model, speed, omega, q))
-        for kind, a, b in zip(("suspensions", "rotors", "bearings"), together, apart):
-            assert a.shape == b.shape, (name, kind)
-            assert a.tobytes() == b.tobytes(), (name, kind)
-            compared += a.size
+    for kind, a, b in zip(("suspensions", "rotors", "bearings"), together, apart):
+        assert a.shape == b.shape, (name, kind)
+        assert a.tobytes() == b.tobytes(), (name, kind)
+        compared += a.size
+    return compared
+
+
+def test_forces_together_equal_each_kind_bit_for_bit(examples_dir):
+    compared = sum(_compared_bit_for_bit(name, model, len(name)) for name, model in _models(examples_dir).items())
     assert compared > 0
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), rotors=st.integers(1, 3), stator=st.booleans())
+def test_forces_together_equal_each_kind_on_random_machines(seed, rotors, stator):
+    """Random machines on bearings with cross-coupled coefficients, inclined axes, moment
+    stiffness, rigidly attached rotors, with or without a stator."""
+    data = random_bearing_description(np.random.default_rng(seed), n_rotors=rotors, stator=stator)
+    assert _compared_bit_for_bit(f"seed {seed}", rdm.Model.from_dict(data), seed) > 0
 
 
 @pytest.mark.parametrize("rotors_given", [False, True])

@@ -197,6 +197,20 @@ def test_every_crossing_on_bearings_is_reported(model):
     assert_every_crossing_reported(model)
 
 
+@SETTINGS
+@given(descriptions(), vectors(-10, 10))
+def test_critical_speeds_do_not_move_with_the_origin(data, shift):
+    """The same machine described about another reference point: the same crossings, each
+    within the refinement's 1e-10 relative of the exact one, so within 2e-10 of each other."""
+    tables = [rdm.campbell(rdm.Model.from_dict(d), CRITICAL_GRID, orders=CRITICAL_ORDERS).critical
+              for d in (data, translated(data, shift))]
+    a, b = tables
+    ka, kb = (np.lexsort((t.speeds, t.order, t.source)) for t in tables)
+    assert list(a.source[ka]) == list(b.source[kb]) and np.array_equal(a.order[ka], b.order[kb])
+    np.testing.assert_allclose(b.speeds[kb], a.speeds[ka], rtol=2e-10, atol=0)
+    np.testing.assert_allclose(b.frequencies_hz[kb], a.frequencies_hz[ka], rtol=2e-10, atol=0)
+
+
 @settings(max_examples=15, deadline=None)
 @given(data=descriptions())
 def test_save_load_round_trip(tmp_path_factory, data):

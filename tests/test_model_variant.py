@@ -9,8 +9,11 @@ import os
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import rotordyn_modal as rdm
+from reference_bearings import random_bearing_description
 from rotordyn_modal.parameters import scale_value, set_value
 
 EXAMPLES = sorted(p.name for p in (__import__("pathlib").Path(__file__).parent.parent / "examples").glob("*.toml")
@@ -110,6 +113,34 @@ def test_variants_sharing_the_base_bodies_solve_as_their_own_models(examples_dir
     speeds = rdm.rpm(np.linspace(0.0, 6000.0, 41))
     for together, variant in zip(campbell_many(variants, speeds), variants):
         alone = rdm.campbell(rdm.Model.from_dict(variant.to_dict(), variant.source), speeds)
+        for name in ("eigenvalues", "whirl_ratios", "shapes"):
+            assert getattr(together, name).tobytes() == getattr(alone, name).tobytes(), name
+        for name in ("speeds", "frequencies_hz", "whirl_ratios", "damping_ratios"):
+            assert getattr(together.critical, name).tobytes() == getattr(alone.critical, name).tobytes(), name
+
+
+@pytest.mark.filterwarnings("ignore:.*jumps of a tracked mode")    # 41 speeds: coarse for 8 rotors
+@settings(max_examples=10, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), rotors=st.integers(1, 8), stator=st.booleans(),
+       count=st.integers(1, 3), bodies=st.booleans())
+def test_random_variants_solved_together_equal_each_alone(seed, rotors, stator, count, bodies):
+    """A study's chunk, solved as one batch (``campbell_many``), gives each variant of a random
+    machine on bearings (up to 46 coordinates: pencils solved whole) its own Campbell diagram
+    and critical speeds bit for bit: variants of the bearings' and mounts' stiffness, and
+    (``bodies``) of a rotor's mass, when the variants no longer share the base model's mass
+    matrix."""
+    from rotordyn_modal.analysis.campbell import campbell_many
+
+    rng = np.random.default_rng(seed)
+    model = rdm.Model.from_dict(random_bearing_description(rng, n_rotors=rotors, stator=stator))
+    keys = [f"bearings.{b.name}.stiffness" for b in model.bearings]
+    keys += [f"suspensions.{s.name}.stiffness" for s in model.suspensions]
+    keys += [f"rotors.{model.rotors[0].name}.mass"] if bodies else []
+    variants = [model.variant([(key, "scale", float(rng.uniform(0.8, 1.2))) for key in keys])
+                for _ in range(count)]
+    speeds = np.linspace(0.0, 2000.0, 41)
+    for together, variant in zip(campbell_many(variants, speeds, orders=(1, 2)), variants):
+        alone = rdm.campbell(rdm.Model.from_dict(variant.to_dict(), variant.source), speeds, orders=(1, 2))
         for name in ("eigenvalues", "whirl_ratios", "shapes"):
             assert getattr(together, name).tobytes() == getattr(alone, name).tobytes(), name
         for name in ("speeds", "frequencies_hz", "whirl_ratios", "damping_ratios"):

@@ -710,12 +710,19 @@ def _quadratic_part(out, mass, damping, stiffness, squares, lam):
 
 
 def _solve(matrices, rhs):
+    """``numpy.linalg.solve`` of a stack; where a matrix is singular, that row's least-squares
+    solution. Row by row once one is singular (numpy refuses the whole stack), so that each
+    row's result is its own whatever the other rows are: a study's variant and its model's
+    own analysis then agree bit for bit."""
     try:
         return np.linalg.solve(matrices, rhs)
     except np.linalg.LinAlgError:
         out = np.empty(rhs.shape, dtype=complex)
         for index in np.ndindex(matrices.shape[:-2]):
-            out[index] = np.linalg.lstsq(matrices[index], rhs[index], rcond=None)[0]
+            try:
+                out[index] = np.linalg.solve(matrices[index], rhs[index])
+            except np.linalg.LinAlgError:
+                out[index] = np.linalg.lstsq(matrices[index], rhs[index], rcond=None)[0]
         return out
 
 
@@ -1013,11 +1020,12 @@ def quadratic_forms(shapes, stacked) -> np.ndarray:
     # small shapes: complex products, one per speed (numpy makes the forms complex, a few
     # hundred numbers), cost less than the real parts' copies and their product's large
     # temporaries, and each is too small to start BLAS threads (which a loaded machine makes
-    # wait); single shapes (critical speeds) are rows of one product
-    if n > _COMPLEX_PRODUCT_DOF:
+    # wait). Single shapes (critical speeds) of pencils solved whole also take one product per
+    # row: in one product of all rows a row's bits depend on its place among the others, and a
+    # study's variant would then differ from its model's own analysis in the last bit.
+    single = shapes.shape[-2] == 1 and n <= BATCHED_DOF
+    if n > _COMPLEX_PRODUCT_DOF and not single:
         product = real_product(shapes, stacked)
-    elif stacked.ndim == 2 and shapes.shape[-2] == 1:
-        product = shapes.reshape(-1, n) @ stacked
     else:
         product = shapes @ stacked
     products = product.reshape(shapes.shape[:-1] + (-1, n))   # (..., m, K, n)

@@ -6,7 +6,8 @@ stacked on a leading variant axis, so that a sweep of every variant of a chunk i
 batched LAPACK call and its post-processing (selection, normalisation, tracking, whirl) one
 set of array operations instead of one per variant. A single model is a stack of one: the
 single analyses and the studies run the same code, so a study's variant equals the single
-analysis of its model bit for bit.
+analysis of its model bit for bit (critical speeds: up to 48 coordinates, see
+:meth:`Pencils.products`; beyond, to round-off).
 """
 
 from __future__ import annotations

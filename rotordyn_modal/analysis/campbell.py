@@ -286,7 +286,11 @@ def campbell(model, speeds, orders=(1,), progress=False) -> CampbellResult:
 def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
     """Campbell diagrams of several models of the same structure (a study's variants) in one
     batch: one LAPACK call for every model and speed, tracking and critical speeds of all
-    together. Each result equals :func:`campbell` of its model bit for bit.
+    together. Each result equals :func:`campbell` of its model bit for bit for models of up to
+    48 coordinates (pencils solved whole, every step row by row); above that one model's pencil
+    products serve all its crossings in one matrix product (BLAS-3, see
+    :meth:`~._stack.Pencils.products`) and the critical speeds agree to round-off (within
+    1e-13 relative measured at 50 coordinates).
 
     Parameters
     ----------

@@ -123,7 +123,8 @@ def batch_caches(models, analyses) -> list:
     """Per variant, the results that can be computed for all of a chunk's variants at once
     (the Campbell sweep the campbell and critical-speed analyses share: one batched solve,
     see :func:`rotordyn_modal.analysis.campbell.campbell_many`), as caches for
-    :func:`run_analyses`. Each result equals the variant's own analysis bit for bit. Where the
+    :func:`run_analyses`. Each result equals the variant's own analysis bit for bit (the
+    critical speeds of models above 48 coordinates to round-off, see ``campbell_many``). Where the
     batch cannot be solved (a variant that fails), the caches stay empty and every variant
     is analysed on its own, so that the failure is recorded against the right variant."""
     from ..analysis.campbell import campbell_many

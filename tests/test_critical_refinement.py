@@ -328,3 +328,22 @@ def test_the_command_line_prints_a_warning_on_one_line(examples_dir, monkeypatch
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("rotordyn-modal critical-speeds: warning: ")
     assert "critical speeds are not crossings" in err[0]
+
+
+def test_a_singular_pencil_leaves_the_other_rows_their_own_solve():
+    """numpy refuses a whole stack for one singular matrix; the other rows must still get the
+    bits of their own solve (a study's variant then equals its model's own analysis) and the
+    singular one its least-squares solution."""
+    rng = np.random.default_rng(5)
+    matrices = rng.normal(size=(37, 6, 6)) + 1j * rng.normal(size=(37, 6, 6))
+    matrices[23, :, 0] = 0.0                                    # exactly singular
+    rhs = rng.normal(size=(37, 6, 1)) + 1j * rng.normal(size=(37, 6, 1))
+    with pytest.raises(np.linalg.LinAlgError):
+        np.linalg.solve(matrices, rhs)
+    found = _eigen._solve(matrices, rhs)
+    for row in range(37):
+        if row == 23:
+            expected = np.linalg.lstsq(matrices[row], rhs[row], rcond=None)[0]
+        else:
+            expected = np.linalg.solve(matrices[row], rhs[row])
+        assert found[row].tobytes() == expected.tobytes(), row

@@ -710,20 +710,32 @@ def _quadratic_part(out, mass, damping, stiffness, squares, lam):
 
 
 def _solve(matrices, rhs):
-    """``numpy.linalg.solve`` of a stack; where a matrix is singular, that row's least-squares
-    solution. Row by row once one is singular (numpy refuses the whole stack), so that each
-    row's result is its own whatever the other rows are: a study's variant and its model's
-    own analysis then agree bit for bit."""
+    """``numpy.linalg.solve`` of a stack (..., n, n) with right-hand sides (..., n, k); where a
+    matrix is singular, that row's least-squares solution.
+
+    numpy refuses a whole stack for one singular matrix. The stack is then halved until the
+    singular rows stand alone (a few batched solves, not one per row), so that each row's result
+    is its own whatever the other rows are: a study's variant and its model's own analysis agree
+    bit for bit."""
     try:
         return np.linalg.solve(matrices, rhs)
     except np.linalg.LinAlgError:
-        out = np.empty(rhs.shape, dtype=complex)
-        for index in np.ndindex(matrices.shape[:-2]):
-            try:
-                out[index] = np.linalg.solve(matrices[index], rhs[index])
-            except np.linalg.LinAlgError:
-                out[index] = np.linalg.lstsq(matrices[index], rhs[index], rcond=None)[0]
-        return out
+        rhs = np.broadcast_to(rhs, matrices.shape[:-2] + rhs.shape[-2:])
+        flat = _solve_halves(matrices.reshape((-1,) + matrices.shape[-2:]), rhs.reshape((-1,) + rhs.shape[-2:]))
+        return flat.reshape(rhs.shape)
+
+
+def _solve_halves(matrices, rhs):
+    """:func:`_solve` of a stack (P, n, n) known to hold a singular matrix."""
+    if len(matrices) == 1:
+        return np.linalg.lstsq(matrices[0], rhs[0], rcond=None)[0][None].astype(complex)
+    parts = []
+    for part in (slice(0, len(matrices) // 2), slice(len(matrices) // 2, None)):
+        try:
+            parts.append(np.linalg.solve(matrices[part], rhs[part]))
+        except np.linalg.LinAlgError:
+            parts.append(_solve_halves(matrices[part], rhs[part]))
+    return np.concatenate(parts)
 
 
 def solve_batch(form, speeds, forms=None):

@@ -11,6 +11,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import rotordyn_modal as rdm
+from reference_bearings import random_bearing_description
 from rotordyn_modal.analysis.forces import force_frf
 from rotordyn_modal.analysis.frf import dof_response, dynamic_stiffness, frf
 from rotordyn_modal.errors import InputError
@@ -118,6 +119,34 @@ def test_spin_reversal_transposes(speed, eta):
     np.testing.assert_allclose(forward, np.swapaxes(backward, 0, 1), rtol=1e-9, atol=1e-16)
     # and spin really matters here (the test is not vacuous)
     assert np.abs(forward[0, 1] - forward[1, 0]).max() > 1e-6 * np.abs(forward[0, 1]).max()
+
+
+def _symmetric_bearing_machine(seed, rotors):
+    """A random machine on bearings (:func:`reference_bearings.random_bearing_description`) with
+    symmetric bearing coefficients (K, C symmetric: reciprocity holds at zero speed) and three
+    sensors colocated with three excitations at mount positions, along x, y, z."""
+    data = random_bearing_description(np.random.default_rng(seed), n_rotors=rotors, stator=True)
+    for bearing in data["bearings"]:
+        for key in ("stiffness", "damping"):
+            if key in bearing:
+                k = np.asarray(bearing[key])
+                bearing[key] = (0.5 * (k + k.T) + (np.abs(k).max() * np.eye(2) if key == "stiffness" else 0)).tolist()
+    points = [(s["position"], axis) for s, axis in zip(data["suspensions"], np.eye(3).tolist())]
+    data["sensors"] = [{"name": f"s{i}", "position": p, "direction": d} for i, (p, d) in enumerate(points)]
+    data["excitations"] = [{"name": f"e{i}", "position": p, "direction": d} for i, (p, d) in enumerate(points)]
+    return rdm.Model.from_dict(data)
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), rotors=st.integers(1, 3),
+       speed=st.one_of(st.just(0.0), st.floats(min_value=10.0, max_value=2000.0)))
+def test_spin_reversal_transposes_on_random_machines_on_bearings(seed, rotors, speed):
+    """``H(Omega) = H(-Omega)^T`` (reciprocity at zero speed) for random machines on symmetric
+    bearings, colocated: the gyroscopic matrix is the only non-symmetric part of the system."""
+    model = _symmetric_bearing_machine(seed, rotors)
+    freqs = np.linspace(0.5, 300.0, 120)
+    forward, backward = frf(model, speed, freqs).H, frf(model, -speed, freqs).H
+    assert np.abs(forward - np.swapaxes(backward, 0, 1)).max() <= 1e-9 * np.abs(forward).max()
 
 
 def test_to_control_round_trip():

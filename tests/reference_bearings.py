@@ -277,3 +277,13 @@ def random_bearing_description(rng, n_rotors=2, stator=True, damping=True, axial
                                    (-np.sin(angle) * a + np.cos(angle) * b).tolist()]
             data["bearings"].append(bearing)
     return data
+
+
+def with_mount_channels(data):
+    """``data`` with three sensors and three excitations colocated at its first three mounts,
+    along x, y and z (stator points: every machine of :func:`random_bearing_description` with a
+    stator has them)."""
+    points = [(s["position"], axis) for s, axis in zip(data["suspensions"], np.eye(3).tolist())]
+    data["sensors"] = [{"name": f"s{i}", "position": p, "direction": d} for i, (p, d) in enumerate(points)]
+    data["excitations"] = [{"name": f"e{i}", "position": p, "direction": d} for i, (p, d) in enumerate(points)]
+    return data

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import rotordyn_modal as rdm
-from reference_bearings import random_bearing_description
+from reference_bearings import random_bearing_description, with_mount_channels
 from rotordyn_modal.analysis.forces import force_frf
 from rotordyn_modal.analysis.frf import dof_response, dynamic_stiffness, frf
 from rotordyn_modal.errors import InputError
@@ -121,19 +121,17 @@ def test_spin_reversal_transposes(speed, eta):
     assert np.abs(forward[0, 1] - forward[1, 0]).max() > 1e-6 * np.abs(forward[0, 1]).max()
 
 
-def _symmetric_bearing_machine(seed, rotors):
+def _bearing_machine(seed, rotors, symmetric):
     """A random machine on bearings (:func:`reference_bearings.random_bearing_description`) with
-    symmetric bearing coefficients (K, C symmetric: reciprocity holds at zero speed) and three
-    sensors colocated with three excitations at mount positions, along x, y, z."""
-    data = random_bearing_description(np.random.default_rng(seed), n_rotors=rotors, stator=True)
-    for bearing in data["bearings"]:
+    three sensors colocated with three excitations at mount positions, along x, y, z; with
+    ``symmetric``, its bearing coefficients made symmetric (K, C symmetric: reciprocity holds at
+    zero speed)."""
+    data = with_mount_channels(random_bearing_description(np.random.default_rng(seed), n_rotors=rotors, stator=True))
+    for bearing in data["bearings"] if symmetric else ():
         for key in ("stiffness", "damping"):
             if key in bearing:
                 k = np.asarray(bearing[key])
                 bearing[key] = (0.5 * (k + k.T) + (np.abs(k).max() * np.eye(2) if key == "stiffness" else 0)).tolist()
-    points = [(s["position"], axis) for s, axis in zip(data["suspensions"], np.eye(3).tolist())]
-    data["sensors"] = [{"name": f"s{i}", "position": p, "direction": d} for i, (p, d) in enumerate(points)]
-    data["excitations"] = [{"name": f"e{i}", "position": p, "direction": d} for i, (p, d) in enumerate(points)]
     return rdm.Model.from_dict(data)
 
 
@@ -143,7 +141,7 @@ def _symmetric_bearing_machine(seed, rotors):
 def test_spin_reversal_transposes_on_random_machines_on_bearings(seed, rotors, speed):
     """``H(Omega) = H(-Omega)^T`` (reciprocity at zero speed) for random machines on symmetric
     bearings, colocated: the gyroscopic matrix is the only non-symmetric part of the system."""
-    model = _symmetric_bearing_machine(seed, rotors)
+    model = _bearing_machine(seed, rotors, symmetric=True)
     freqs = np.linspace(0.5, 300.0, 120)
     forward, backward = frf(model, speed, freqs).H, frf(model, -speed, freqs).H
     assert np.abs(forward - np.swapaxes(backward, 0, 1)).max() <= 1e-9 * np.abs(forward).max()
@@ -155,10 +153,7 @@ def test_modal_engine_equals_the_direct_solve_on_random_machines_on_bearings(see
     """The modal sum (one eigendecomposition) against the dynamic stiffness solved at every
     frequency, for random machines on cross-coupled, non-symmetric bearings (160 cases
     explored: within 2.3e-13 of max|H|)."""
-    colocated = _symmetric_bearing_machine(seed, rotors).to_dict()
-    colocated["bearings"] = random_bearing_description(np.random.default_rng(seed), n_rotors=rotors,
-                                                       stator=True)["bearings"]
-    model = rdm.Model.from_dict(colocated)
+    model = _bearing_machine(seed, rotors, symmetric=False)
     freqs = np.linspace(0.5, 300.0, 120)
     modal = frf(model, speed, freqs, engine="modal").H
     direct = frf(model, speed, freqs, engine="direct").H

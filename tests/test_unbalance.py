@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import rotordyn_modal as rdm
-from reference_bearings import BearingMachine, random_bearing_description
+from reference_bearings import BearingMachine, random_bearing_description, with_mount_channels
 from rotordyn_modal.analysis.unbalance import (amplification_factors, phase_reference,
                                                required_separation_margin, unbalance_response)
 from rotordyn_modal.errors import InputError
@@ -215,12 +215,10 @@ def test_on_bearings_equals_the_reference_receptances(seed, rotors, speed):
     unbalance force written from its definition (as in :func:`_real_steady_state`; 720
     comparisons explored: within 5.2e-13)."""
     rng = np.random.default_rng(seed)
-    data = random_bearing_description(rng, n_rotors=rotors, stator=True)
+    data = with_mount_channels(random_bearing_description(rng, n_rotors=rotors, stator=True))
     data["unbalances"] = [{"rotor": r["name"], "amount": float(rng.uniform(1e-5, 1e-3)),
                            "phase_deg": float(rng.uniform(-180, 180)), "axial_offset": float(rng.uniform(-0.1, 0.1))}
                           for r in data["rotors"]]
-    data["sensors"] = [{"name": f"s{i}", "position": s["position"], "direction": d}
-                       for i, (s, d) in enumerate(zip(data["suspensions"], np.eye(3).tolist()))]
     model, reference = rdm.Model.from_dict(data), BearingMachine(data)
     e = model.spin_axis
     a, b = phase_reference(e)

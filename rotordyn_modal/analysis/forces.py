@@ -197,14 +197,26 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
 
 def _to_centres(model, rotors):
     """``B_SR^T T_j`` of each rotor (its motion at its centre of mass per coordinate), shape
-    (6 R, n_dof): :func:`_centres` of every rotor's shift matrix and body motion."""
-    return _centres(shift_matrices(model.reference_point, [r.center_of_mass for r in rotors]),
+    (6 R, n_dof): :func:`centre_motions` of every rotor's shift matrix and body motion."""
+    return centre_motions(shift_matrices(model.reference_point, [r.center_of_mass for r in rotors]),
                     model.dofs.motions([(r.name, False) for r in rotors]))
 
 
-def _centres(shifts, motions):
-    """``shift_matrix(S, R_j).T @ body_motion`` of each rotor in one product, from the rotors'
-    shift matrices (R, 6, 6) and body motions (R, 6, n_dof): shape (6 R, n_dof)."""
+def centre_motions(shifts, motions):
+    """Each rotor's motion at its centre of mass per generalized coordinate: the rotors'
+    ``shift_matrix(S, R_j).T @ body_motion`` in one product.
+
+    Parameters
+    ----------
+    shifts : ndarray, shape (R, 6, 6)
+        Shift matrices from the model's reference point S to each rotor's centre R_j.
+    motions : ndarray, shape (R, 6, n_dof)
+        Each rotor's body motion (translations [m], rotations [rad] per coordinate).
+
+    Returns
+    -------
+    ndarray, shape (6 R, n_dof)
+    """
     return (shifts.transpose(0, 2, 1) @ motions).reshape(-1, motions.shape[-1])
 
 
@@ -292,7 +304,7 @@ def all_forces(model, speed, omega, q, rotor_forces=None, centres=None):
     rotor_forces : ndarray, shape (n_rotors, n_freq, 6, n), optional
         External forces on each rotor, as for :func:`bearing_forces`.
     centres : ndarray, shape (6 n_rotors, n_dof), optional
-        ``B_SR^T T_j`` of every rotor (:func:`_centres`), when the caller has it.
+        ``B_SR^T T_j`` of every rotor (:func:`centre_motions`), when the caller has it.
 
     Returns
     -------

@@ -27,7 +27,7 @@ import numpy as np
 from ..assembly import generalized_force, sensor_rows
 from ..errors import InputError
 from ..geometry import cross, shift_matrices
-from .forces import COMPONENTS, _centres, all_forces
+from .forces import COMPONENTS, centre_motions, all_forces
 from .frf import dof_response
 from .orbits import orbit_ellipses, precession_labels, probe_pairs
 
@@ -388,7 +388,7 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         suspension_names=tuple(s.name for s in model.suspensions),
         rotor_names=tuple(r.name for r in model.rotors),
         bearing_names=tuple(b.name for b in model.bearings),
-        **_force_fields(model, sources, rotor_forces, speed_all, omega, q, _centres(shifts, motions)),
+        **_force_fields(model, sources, rotor_forces, speed_all, omega, q, centre_motions(shifts, motions)),
         orbit_pairs=pairs.names, orbit_planes=planes, spin_signs=spin_signs.reshape(n_src, n),
         rigid_rotor_names=tuple(r.name for r in model.rotors if not model.bearings_of(r.name)),
     )

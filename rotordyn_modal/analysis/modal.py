@@ -32,10 +32,8 @@ def is_oscillating(eigenvalues) -> np.ndarray:
     ndarray of bool, same shape
     """
     lam = np.asarray(eigenvalues)
-    magnitude = np.abs(lam)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        zeta = np.where(magnitude > 0, -lam.real / np.where(magnitude > 0, magnitude, 1.0), 0.0)
-    return (lam.imag > 0) & (zeta <= OVERDAMPED_LIMIT)
+    # where Im lam > 0, |lam| > 0 and the damping ratio is a number
+    return (lam.imag > 0) & (damping_ratios(lam) <= OVERDAMPED_LIMIT)
 
 
 def modal_quantities(eigenvalues):

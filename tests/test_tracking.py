@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
+from rotordyn_modal.analysis.tracking import track_modes
 from reference_model import random_description
 
 MS, JX, JT_S = 60.0, 1.2, 0.6
@@ -174,3 +175,19 @@ def test_damped_machine_tracked_through_crossings_and_zero_speed():
         np.testing.assert_allclose(lam[:, mode], expected[:, branch], rtol=1e-10)
     up = columns.index(4)
     assert set(result.whirl[speeds < 0, up]) == {"backward"} and set(result.whirl[speeds > 0, up]) == {"forward"}
+
+
+def test_through_a_point_of_undefined_shapes_modes_are_matched_to_their_last_sure_shape():
+    """Two modes of shapes a = (1, 0) and b = (0, 1) meet at speed 2, where their eigenvalue
+    is double and LAPACK may return any basis of the plane (here the two 45-degree mixtures),
+    and part again at speed 3 a hair apart (1.099 and 1.101), where the linear extrapolation
+    of the frequencies cannot tell them apart (its cost favours each wrong root by 0.09, the
+    MAC's weighs up to 1). Matched against the mixtures at speed 2, both roots look alike (MAC 0.5 each);
+    matched against each mode's last sure shape (speed 1), mode 1 is the root of shape a."""
+    lam = 1j * np.array([[1.0, 1.2], [1.05, 1.15], [1.1, 1.1], [1.101, 1.099]])
+    a, b = np.array([1.0, 0.0], complex), np.array([0.0, 1.0], complex)
+    mixed = np.array([a + b, a - b]) / np.sqrt(2.0)
+    shapes = np.array([[a, b], [a, b], mixed, [b, a]])            # speed 3: the root of shape a second
+    order = track_modes(lam, shapes)
+    assert order[3].tolist() == [1, 0]
+    assert order[:2].tolist() == [[0, 1], [0, 1]]

@@ -256,6 +256,20 @@ def test_a_sweep_outside_the_table_is_refused_with_the_range():
         rdm.campbell(table, rdm.rpm(np.linspace(0, 3000, 4)))
 
 
+@pytest.mark.parametrize("low, high, refused", [
+    (1000.0, 6000.0, False),                                       # the table's own ends: inside
+    (1000.0, 6000.0 * (1 + 1e-9), True), (1000.0 * (1 - 1e-9), 6000.0, True)])
+def test_the_table_range_ends_exactly_at_its_first_and_last_speeds(low, high, refused):
+    """Coefficients are never extrapolated, not even a hair beyond the table."""
+    table = _table_model([1e6, 2e6], [1000.0, 6000.0])
+    speeds = rdm.rpm(np.linspace(low, high, 4))
+    if refused:
+        with pytest.raises(rdm.InputError, match="outside the coefficient table's speeds_rpm range"):
+            rdm.campbell(table, speeds)
+    else:
+        assert np.isfinite(rdm.campbell(table, speeds).frequencies_hz).any()
+
+
 # -- bad input --------------------------------------------------------------------------------
 @pytest.mark.parametrize("change, where, expected", [
     (lambda d: d["bearings"][0].update(rotor="shaft"), r"\[bearings.A\] rotor", "one of the rotors r"),

@@ -182,7 +182,7 @@ def test_through_a_point_of_undefined_shapes_modes_are_matched_to_their_last_sur
     is double and LAPACK may return any basis of the plane (here the two 45-degree mixtures),
     and part again at speed 3 a hair apart (1.099 and 1.101), where the linear extrapolation
     of the frequencies cannot tell them apart (its cost favours each wrong root by 0.09, the
-    MAC's weighs up to 1). Matched against the mixtures at speed 2, both roots look alike (MAC 0.5 each);
+    MAC's term weighs up to 1). Matched against the mixtures at speed 2, both roots look alike (MAC 0.5 each);
     matched against each mode's last sure shape (speed 1), mode 1 is the root of shape a."""
     lam = 1j * np.array([[1.0, 1.2], [1.05, 1.15], [1.1, 1.1], [1.101, 1.099]])
     a, b = np.array([1.0, 0.0], complex), np.array([0.0, 1.0], complex)

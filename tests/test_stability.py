@@ -118,3 +118,53 @@ def test_refusals(skewed_unstable):
         rdm.stability(model, [0.0, 1.0], values=[1.0])
     with pytest.raises(rdm.InputError, match="no value"):
         rdm.stability(model, [0.0, 1.0], vary="suspensions.bearing-A.nope", scale=[1.0])
+
+
+def _cross_coupled_rotor(cross):
+    """A rigid rotor, undamped, on two like bearings at +-0.2 m, each with radial stiffness
+    [[k, q], [-q, k]]: ``cross`` gives q [N/m], a number or a table over ``speeds_rpm``."""
+    k = 1.0e6
+
+    def stiffness(q):
+        return [[k, q], [-q, k]]
+
+    bearings = []
+    for name, s in (("A", 0.2), ("B", -0.2)):
+        bearing = {"name": name, "rotor": "r", "position": [s, 0.0, 0.0]}
+        if isinstance(cross, dict):
+            bearing.update(speeds_rpm=cross["speeds_rpm"], stiffness=[stiffness(q) for q in cross["q"]])
+        else:
+            bearing.update(stiffness=stiffness(cross))
+        bearings.append(bearing)
+    return {"spin_axis": [1.0, 0.0, 0.0], "bearings": bearings,
+            "rotors": [{"name": "r", "mass": 20.0, "center_of_mass": [0.0, 0.0, 0.0],
+                        "polar_inertia": 0.3, "diametral_inertia": 0.5, "speed_ratio": 1.0}]}
+
+
+def test_an_onset_from_marginal_stability_is_where_the_cross_coupling_starts():
+    """Undamped, the machine is conservative (marginally stable) while its bearings' cross-coupled
+    stiffness q is zero: up to s1 = 2950 rpm, where the table starts q growing linearly to q2 at
+    s2 = 6000 rpm. Beyond s1 it is unstable: the bounce obeys m z'' + 2 (k - i q) z = 0 (z = u_y + i u_z),
+    whose root i w sqrt(1 - i q / k), w = sqrt(2 k / m), has the real part w q / 2k (1 + O(q^2/k^2)).
+    Real parts count once above 1e-10 of the largest |lam|, Lam, so the threshold lies in
+    [s1, s1 + 2e-10 (k / q2) (Lam / w) (s2 - s1)] (doubled for the O(q^2) terms, plus the
+    bisection's 1e-13 relative). The mode reported is the one unstable just above: its real part
+    there is the largest of the independent reference's."""
+    from reference_bearings import BearingMachine
+
+    k, q2, m, jp, jd, a = 1.0e6, 2.0e5, 20.0, 0.3, 0.5, 0.2
+    s1, s2 = rdm.rpm(2950.0), rdm.rpm(6000.0)
+    model = rdm.Model.from_dict(_cross_coupled_rotor({"speeds_rpm": [0.0, 2950.0, 6000.0], "q": [0.0, 0.0, q2]}))
+    speeds = rdm.rpm(np.linspace(0.0, 6000.0, 41))
+    result = rdm.stability(model, speeds)
+    assert len(result.thresholds) == 1 and result.threshold_onsets.tolist() == [True]
+    w_bounce = np.sqrt(2 * k / m)
+    w_forward = (jp * s1 + np.sqrt((jp * s1) ** 2 + 4 * jd * 2 * k * a * a)) / (2 * jd)   # conical, forward
+    largest = max(w_bounce, w_forward)
+    reach = 2 * 2e-10 * (k / q2) * (largest / w_bounce) * (s2 - s1)
+    assert s1 * (1 - 1e-13) <= result.thresholds[0] <= s1 + reach + 1e-13 * s2
+    above = int(np.searchsorted(speeds, s1))                      # the first grid speed past s1
+    q = q2 * (speeds[above] - s1) / (s2 - s1)
+    expected = BearingMachine(_cross_coupled_rotor(q)).eigenvalues(speeds[above]).real.max()
+    mode = result.threshold_modes[0]
+    assert result.eigenvalues[above, mode - 1].real == pytest.approx(expected, rel=1e-9)

@@ -152,6 +152,17 @@ def test_two_routes_that_disagree():
     assert rdm.Model.from_dict(edit(("rotors", 1, "speed_ratio"), -0.4)).speed_ratios["fan"] == -0.4
 
 
+@pytest.mark.parametrize("relative, accepted", [(1e-12, True), (1e-7, False)])
+def test_two_routes_agree_only_to_round_off(relative, accepted):
+    """A stated speed ratio may differ from the gear chain's (-1/2.5) by round-off, not by more."""
+    data = edit(("rotors", 1, "speed_ratio"), -0.4 * (1 + relative))
+    if accepted:
+        assert rdm.Model.from_dict(data).speed_ratios["fan"] == pytest.approx(-0.4, rel=2e-12)
+    else:
+        with pytest.raises(ModelError, match="fixes the speed ratio of 'fan'"):
+            rdm.Model.from_dict(data)
+
+
 def test_a_cycle_of_transmissions_that_disagrees():
     data = copy.deepcopy(BASE)
     data["rotors"].append({"name": "pump", "mass": 3.0, "center_of_mass": [0, 0, 0], "polar_inertia": 0.01,
@@ -171,6 +182,21 @@ def test_spin_axis_is_normalised_and_axes_orthonormalised():
     model = rdm.Model.from_dict(data)
     np.testing.assert_allclose(model.spin_axis, [0.6, 0.0, 0.8], rtol=1e-15)
     np.testing.assert_allclose(model.suspensions[0].axes, np.eye(3), atol=1e-15)
+
+
+def test_axes_rounded_in_the_file_become_exactly_orthonormal():
+    """Axes turned 0.7 rad about (1, 2, 3), written to 7 digits: the model's are the nearest
+    orthonormal axes (exactly orthonormal to round-off, within the file's rounding of the
+    true ones), so that the rounding does not leak into the stiffness as a spurious coupling."""
+    from scipy.spatial.transform import Rotation
+
+    exact = Rotation.from_rotvec(0.7 * np.array([1.0, 2.0, 3.0]) / np.sqrt(14.0)).as_matrix()
+    data = copy.deepcopy(BASE)
+    data["suspensions"][0]["axes"] = np.round(exact, 7).tolist()
+    axes = rdm.Model.from_dict(data).suspensions[0].axes
+    # SVD factors and two 3 x 3 products: round-off of a few n eps; the rounding was 1e-8
+    np.testing.assert_allclose(axes @ axes.T, np.eye(3), rtol=0, atol=4e-15)
+    np.testing.assert_allclose(axes, exact, rtol=0, atol=1e-7)
 
 
 def test_no_rotors_and_no_stator():

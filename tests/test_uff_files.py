@@ -146,3 +146,29 @@ def test_hits_of_a_mapped_hammer_test(tmp_path):
     np.testing.assert_allclose(records.signals, expected, rtol=1e-10)     # ASCII: 12+ digits
     with pytest.raises(InputError, match="force node 101 direction 3 is not in the mapping table"):
         read_uff_time_records(tmp_path / "hits.uff", ChannelMap(mapping.outputs, {}))
+
+
+def test_nodes_defined_in_local_and_nested_coordinate_systems(tmp_path):
+    """Dataset 18 defines a system by its origin, a point on its +x axis and a point in its x-z
+    plane (+z side), all in its parent system. System 2 sits at (1, 2, 3) m, turned so that its
+    x, y, z are the global y, z, x; system 3 is defined inside system 2, 0.5 m along its x and
+    turned 90 degrees about its z. A node's global position is the origin plus its local
+    coordinates along the system's axes, worked out here by hand."""
+    sets = [pyuff.prepare_18(cs_num=[2, 3], cs_type=[0, 0], ref_cs_num=[0, 2], color=[1, 1], method=[1, 1],
+                             cs_name=["turned", "nested"],
+                             ref_o=[[1.0, 2.0, 3.0], [0.5, 0.0, 0.0]],
+                             x_point=[[1.0, 3.0, 3.0], [0.5, 1.0, 0.0]],            # +x: global +Y; nested: local +y
+                             xz_point=[[2.0, 2.0, 3.0], [0.5, 0.0, 1.0]]),           # +z: global +X; nested: local +z
+            pyuff.prepare_15(node_nums=[1, 2, 3], def_cs=[0, 2, 3], disp_cs=[0, 2, 3], color=[1, 1, 1],
+                             x=[0.1, 0.1, 0.1], y=[0.2, 0.2, 0.2], z=[0.3, 0.3, 0.3])]
+    _write(tmp_path / "systems.uff", sets)
+    nodes = read_uff_nodes(tmp_path / "systems.uff")
+    turned = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])        # rows: its x, y, z in global
+    # nested: x along system 2's y (global Z), y along system 2's -x (global -Y), z along system 2's z (global X)
+    nested = np.array([[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]])
+    origin3 = np.array([1.0, 2.0, 3.0]) + 0.5 * turned[0]
+    local = np.array([0.1, 0.2, 0.3])
+    expected = [local, np.array([1.0, 2.0, 3.0]) + local @ turned, origin3 + local @ nested]
+    np.testing.assert_allclose(nodes.coordinates, expected, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(nodes.axes[1], turned, atol=1e-12)
+    np.testing.assert_allclose(nodes.axes[2], nested, atol=1e-12)

@@ -60,6 +60,24 @@ def test_gain_factor_and_band(measured_file):
     assert result.n_points == sum(((m.frequencies_hz >= 5) & (m.frequencies_hz <= 30)).sum() * 4 for m in measured)
 
 
+def test_coherence_weights_lines_by_the_inverse_of_their_scatter():
+    """Half the lines are exact with coherence 0.999, the other half 1.5 times too large with
+    coherence 0.5. Weighted by sqrt(g2 / (1 - g2)), the inverse of an FRF estimate's relative
+    scatter (Bendat & Piersol), an exact line counts 999 times a bad one in the squares, and the
+    least-squares gain on relative residuals is (999 + 2/3) / (999 + 4/9) = 1.00022 (it would
+    be 1.09 with weights sqrt(g2), and 1.16 unweighted)."""
+    model = rdm.load_model(EXAMPLE)
+    res = rdm.frf(model, 0.0, np.linspace(3.0, 40.0, 120), quantity="accelerance")
+    bad = np.arange(res.H.shape[-1]) % 2 == 1
+    H = np.where(bad, 1.5 * res.H, res.H)
+    coherence = np.where(bad, 0.5, 0.999) * np.ones(res.H.shape)
+    measured = [FRFResult(**{**res.__dict__, "H": H, "coherence": coherence})]
+    weighted = fit(model, measured, ["gain"], starts=1).values[0]
+    assert weighted == pytest.approx((999 + 2 / 3) / (999 + 4 / 9), rel=1e-8)    # found to 5e-12 and 4e-10
+    uniform = fit(model, measured, ["gain"], weighting="none", starts=1).values[0]
+    assert uniform == pytest.approx((1 + 2 / 3) / (1 + 4 / 9), rel=1e-8)
+
+
 def test_parameter_without_effect_is_reported_not_converged(measured_file):
     """A mount of 1e-6 N/m changes nothing the sensors see: the fit must say so, and why."""
     data = rdm.load_model(EXAMPLE).to_dict()

@@ -65,7 +65,7 @@ def test_coherence_weights_lines_by_the_inverse_of_their_scatter():
     coherence 0.5. Weighted by sqrt(g2 / (1 - g2)), the inverse of an FRF estimate's relative
     scatter (Bendat & Piersol), an exact line counts 999 times a bad one in the squares, and the
     least-squares gain on relative residuals is (999 + 2/3) / (999 + 4/9) = 1.00022 (it would
-    be 1.09 with weights sqrt(g2), and 1.16 unweighted)."""
+    be 1.09 with weights sqrt(g2), and 1.15 unweighted)."""
     model = rdm.load_model(EXAMPLE)
     res = rdm.frf(model, 0.0, np.linspace(3.0, 40.0, 120), quantity="accelerance")
     bad = np.arange(res.H.shape[-1]) % 2 == 1

@@ -73,6 +73,21 @@ def test_random_mimo_h1_matches_numpy_spectra():
     assert np.all((result.coherence > 0) & (result.coherence < 1))
 
 
+def test_h1_is_the_coherence_times_h2_with_one_noisy_input():
+    """One random force, a response with noise: the estimators obey H1 = g2 H2 with g2 the
+    ordinary coherence |S_fx|^2 / (S_ff S_xx), which both report (Bendat & Piersol)."""
+    rng = np.random.default_rng(3)
+    f = rng.normal(size=(2, 1, 2048))
+    x = np.stack([[sig.lfilter(FIR, [1.0], f[r, 0])] for r in range(2)]) + 0.3 * rng.normal(size=(2, 1, 2048))
+    records = TimeRecords(np.concatenate([f, x], axis=1), FS, ("f", "x"), ("force", "acceleration"))
+    kwargs = dict(segment_s=256 / FS, window="hann")
+    h1 = estimate_frf(records, ["f"], ["x"], **kwargs)
+    h2 = estimate_frf(records, ["f"], ["x"], estimator="H2", **kwargs)
+    np.testing.assert_allclose(h2.coherence, h1.coherence, rtol=1e-12)
+    np.testing.assert_allclose(h1.H, h1.coherence * h2.H, rtol=1e-12)
+    assert 0.2 < h1.coherence.min() and h1.coherence.max() < 1.0       # the noise shows
+
+
 def test_double_hit_refused_with_its_record_and_time():
     records = _hammer()
     signals = records.signals.copy()

@@ -60,6 +60,7 @@ def test_check_valid_model(gear, capsys):
     (["modes", "{gear}", "--speed", "fast"], "--speed 'fast': expected a number"),
     (["campbell", "{gear}", "--speeds", "0:100"], "expected START:STOP:N"),
     (["campbell", "{gear}", "--speeds", "100:0:5"], "STOP must be greater than START"),
+    (["campbell", "{gear}", "--speeds", "100:100:5"], "STOP must be greater than START"),
     (["stability", "{gear}", "--speeds", "0:100:3", "--vary", "rotors.fan.nope", "--scale", "1,2"],
      "no value 'nope'"),
     (["stability", "{gear}", "--speeds", "0:100:3", "--vary", "rotors.fan.mass"], "--vary needs"),

@@ -51,6 +51,13 @@ def test_out_and_plot_naming_the_same_file_are_refused(examples_dir, tmp_path, c
     assert code == 2
     assert "same file" in capsys.readouterr().err
     assert not target.exists()
+    # the same file under two spellings
+    (tmp_path / "sub").mkdir()
+    code = main(["modes", str(examples_dir / "gear_machine.toml"), "--out", str(tmp_path / "sub" / ".." / "same.png"),
+                 "--plot", str(target)])
+    assert code == 2
+    assert "same file" in capsys.readouterr().err
+    assert not target.exists()
 
 
 def test_a_closed_pipe_ends_quietly(examples_dir):

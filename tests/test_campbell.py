@@ -62,6 +62,28 @@ def test_batch_equals_single_speed_solves(examples_dir):
         np.testing.assert_allclose(result.eigenvalues[k][i], single[j], rtol=1e-10)
 
 
+def test_a_mesh_driven_by_a_reverse_spinning_gear_excites_at_its_teeth_times_its_speed(examples_dir):
+    """The gear machine's mesh described from the fan's side: the fan (spinning backwards at
+    0.4 of the motor's speed) drives the motor with 10 teeth. The mesh frequency is the teeth
+    times the fan's rotation frequency, 4 |Omega|, whatever the direction of spin; its 1X
+    critical speeds are eigenfrequencies of the independent reference there."""
+    with open(examples_dir / "gear_machine.toml", "rb") as handle:
+        data = tomllib.load(handle)
+    data["transmissions"] = [{"type": "gear", "driver": "fan", "driven": "motor", "ratio": 0.4, "driver_teeth": 10}]
+    model = rdm.Model.from_dict(data)
+    sources = rdm.excitation_sources(model)
+    assert sources.names == ("motor", "fan", "mesh:fan-motor")
+    np.testing.assert_allclose(sources.multipliers, [1.0, 0.4, 4.0], rtol=1e-15)
+    crit = rdm.campbell(model, np.linspace(0.0, rdm.rpm(6000), 121)).critical
+    mesh = np.asarray(crit.source) == "mesh:fan-motor"
+    assert mesh.sum() >= 2
+    ref = ReferenceMachine(data)
+    for speed, f_hz in zip(crit.speeds[mesh], crit.frequencies_hz[mesh]):
+        w = 2 * np.pi * f_hz
+        assert w == pytest.approx(4.0 * abs(speed), rel=1e-10)
+        assert np.abs(ref.modes(speed)[0].imag - w).min() <= 1e-9 * w
+
+
 def test_gear_machine_sources_orders_and_crossings(examples_dir):
     path = examples_dir / "gear_machine.toml"
     model = rdm.load_model(path)

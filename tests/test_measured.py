@@ -51,6 +51,24 @@ def test_round_trip(tmp_path, model, suffix, binary):
         np.testing.assert_allclose(b.frequencies_hz, FREQS, rtol=1e-12)
 
 
+@pytest.mark.parametrize("suffix", [".uff", ".csv"])
+def test_round_trip_keeps_the_models_channel_order_when_it_is_not_alphabetical(tmp_path, model, suffix):
+    data = model.to_dict()
+    data["sensors"].reverse()
+    data["excitations"].reverse()
+    reversed_model = rdm.Model.from_dict(data)
+    assert [x.name for x in reversed_model.excitations] == ["shaker-y", "hammer-z"]
+    sets = _sets(reversed_model)
+    path = tmp_path / f"m{suffix}"
+    if suffix == ".csv":
+        write_csv(sets, path)
+    else:
+        write_uff58(sets, path, default_mapping(reversed_model), binary=True)
+    for b, s in zip(read_measured(path, reversed_model), sets):
+        assert b.outputs == s.outputs == ("acc-side-y", "acc-top-z") and b.inputs == s.inputs
+        np.testing.assert_allclose(b.H, s.H, rtol=1e-15)
+
+
 def test_uff_records_speed_units_and_types(tmp_path, model):
     path = tmp_path / "m.uff"
     write_uff58(_sets(model, "mobility"), path, default_mapping(model))

@@ -146,6 +146,8 @@ def test_monte_carlo_of_sqrt_k_over_m_reproduces_the_lognormal_moments_within_re
     assert table["n"] == 400
     assert abs(table["mean"] - exact_mean) < 3 * table["mean_se"]
     assert table["mean_se"] == pytest.approx(exact_std / math.sqrt(400), rel=0.15)  # the error reported is right
+    # and it is the standard error by its definition, from the sample's own standard deviation
+    assert table["mean_se"] == pytest.approx(np.std(f, ddof=1) / math.sqrt(400), rel=1e-12)
     for q in (5, 50, 95):
         exact = f0 * math.exp(s * stats.norm.ppf(q / 100))
         assert table[f"p{q}_low"] <= exact <= table[f"p{q}_high"]
@@ -167,6 +169,27 @@ def test_probability_of_a_critical_speed_in_a_band_matches_the_lognormal_within_
     assert 0.1 < exact < 0.9 and p["n"] == 300
     assert abs(p["probability"] - exact) < 3 * p["standard_error"]
     assert p["low"] <= exact <= p["high"]
+    # the Wilson interval inverts the score test: its ends solve (p - t)^2 = z^2 t (1 - t) / n
+    z, share = stats.norm.ppf(0.975), p["hits"] / p["n"]
+    for end in (p["low"], p["high"]):
+        assert (share - end) ** 2 == pytest.approx(z * z * end * (1 - end) / p["n"], rel=1e-9)
+
+
+@pytest.mark.parametrize("n, q", [(20, 50.0), (100, 5.0), (400, 95.0), (37, 90.0), (1000, 50.0)])
+def test_percentile_intervals_cover_with_the_promised_confidence(n, q):
+    """[x_(j), x_(k)] holds the q-th percentile unless fewer than j or at least k of the n samples
+    fall below it: its coverage is P(j <= B < k), B ~ binomial(n, q/100), at least the
+    confidence, and each tail is at most half the rest (equal tails)."""
+    from rotordyn_modal.study.results import percentile_interval
+
+    low, high = percentile_interval(np.arange(1.0, n + 1.0), q, confidence=0.95)    # x_(i) = i
+    j, k = int(low), int(high)
+    below = stats.binom(n, q / 100)
+    assert below.cdf(k - 1) - below.cdf(j - 1) >= 0.95
+    if 1 < j:
+        assert below.cdf(j - 1) <= 0.025
+    if k < n:
+        assert below.sf(k - 1) <= 0.025
 
 
 # ---------------------------------------------------------------------------- failures and bad input

@@ -320,6 +320,10 @@ def test_sobol_indices_of_a_linear_function_equal_the_variance_shares():
     exact = a**2 / np.sum(a**2)  # equal variances (uniform on [0, 1])
     assert np.all(np.abs(result["S1"] - exact) < 4 * result["S1_se"] + 1e-3)
     assert np.all(np.abs(result["ST"] - exact) < 4 * result["ST_se"] + 1e-3)
+    # variance shares do not see a constant added to the output (here 1000 times its spread)
+    shifted = sobol_indices(rows @ a + 1000.0, 3, bootstrap=100)
+    for name in ("S1", "ST"):
+        np.testing.assert_allclose(shifted[name], result[name], rtol=0, atol=1e-9)
 
 
 def test_standardized_regression_of_an_exactly_linear_output():

@@ -51,6 +51,9 @@ def test_an_almost_critically_damped_pair_is_not_a_mode(examples_dir, capsys):
     pair = (at.eigenvalues.imag > 0) & (at.damping_ratios > OVERDAMPED_LIMIT)
     assert pair.sum() == 1                                   # the pair exists ...
     assert not at.oscillatory[pair].any() and at.whirl[pair][0] == "none"
+    # no whirl for any root that is not a mode, of the machine or of any of its rotors
+    assert np.all(at.whirl_ratios[~at.oscillatory] == 0) and np.all(at.rotor_whirl_ratios[~at.oscillatory] == 0)
+    assert (~at.oscillatory).sum() > 1 and at.rotor_whirl_ratios.shape == (len(at.eigenvalues), len(model.rotors))
     assert len(at.to_dataframe()) == 6                       # ... and is not listed as a mode
     modes = _csv(["modes", path, "--speed", "9200", "--out", "-"], capsys)
     assert len(modes) == 6

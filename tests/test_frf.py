@@ -160,6 +160,17 @@ def test_modal_engine_equals_the_direct_solve_on_random_machines_on_bearings(see
     assert np.abs(modal - direct).max() <= 1e-9 * np.abs(direct).max()
 
 
+@pytest.mark.parametrize("rpm", [1500.0, -4000.0])
+def test_modal_engine_equals_the_direct_solve_on_speed_dependent_journal_bearings(examples_dir, rpm):
+    """The journal rotor's film stiffness and damping depend on speed: both engines take them
+    at the rotor's own speed (the state matrix there, the dynamic stiffness there)."""
+    model = rdm.load_model(examples_dir / "journal_rotor.toml")
+    freqs = np.linspace(1.0, 400.0, 200)
+    modal = frf(model, rdm.rpm(rpm), freqs, engine="modal").H
+    direct = frf(model, rdm.rpm(rpm), freqs, engine="direct").H
+    assert np.abs(modal - direct).max() <= 1e-9 * np.abs(direct).max()
+
+
 def test_to_control_round_trip():
     res = frf(rdm.load_model(EXAMPLE), 100.0, FREQS[1:])
     data = res.to_control()

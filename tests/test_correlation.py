@@ -10,7 +10,7 @@ from hypothesis import given, settings, strategies as st
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis.correlation import correlate, csac, csf, fit_measured_modes, frac
-from rotordyn_modal.analysis.experimental import stator_motion, transformation_matrix
+from rotordyn_modal.analysis.experimental import shift_motion, stator_motion, transformation_matrix
 from rotordyn_modal.analysis.frf import FRFResult
 from rotordyn_modal.errors import InputError
 
@@ -96,6 +96,11 @@ def test_rigid_motion_recovered_from_channels():
     P = np.array([1.0, 2.0, 3.0])
     at_p = stator_motion(model, readings, point=P)
     np.testing.assert_allclose(at_p.q[:3], q[:3] + np.cross(q[3:].T, P - S).T, atol=1e-12)
+    # the rigid-body motion moved between points by shift_motion follows the same kinematics
+    np.testing.assert_allclose(shift_motion(result.q, S, P), at_p.q, atol=1e-12)
+    # the condition reported is the transformation matrix's (largest / smallest singular value)
+    T = transformation_matrix(*zip(*CHANNELS), S)
+    assert result.condition == pytest.approx(np.linalg.cond(T), rel=1e-12)
 
 
 def test_too_few_and_degenerate_channels_refused():

@@ -345,3 +345,21 @@ def test_twenty_writers_of_a_model_and_of_study_results_leave_one_complete_file(
     np.testing.assert_array_equal(loaded.dataset["modal_frequency_hz"].values,
                                   result.dataset["modal_frequency_hz"].values)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m.toml", "r.nc"]
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o077], ids=["umask-022", "umask-077"])
+def test_an_output_gets_the_permissions_any_new_file_gets(tmp_path, umask):
+    """Written through a temporary file (created private), the output still ends up with the
+    mode the user's umask gives every new file: readable by others where it lets them."""
+    from rotordyn_modal.io.atomic import atomic_write
+
+    previous = os.umask(umask)
+    try:
+        with atomic_write(tmp_path / "out.csv") as handle:
+            handle.write("a,b\n")
+        with open(tmp_path / "plain.csv", "w") as handle:
+            handle.write("a,b\n")
+    finally:
+        os.umask(previous)
+    mode = stat.S_IMODE((tmp_path / "out.csv").stat().st_mode)
+    assert mode == stat.S_IMODE((tmp_path / "plain.csv").stat().st_mode) == 0o666 & ~umask

@@ -176,6 +176,21 @@ def test_mapping_table_refusals(tmp_path, model):
     table.write_text("name,node,direction\nacc-top-q,7,3\n")
     with pytest.raises(InputError, match="name 'acc-top-q' is neither a sensor"):
         read_measured(tmp_path / "lab.uff", model, table)
+    # UFF direction codes are +-1 .. +-6 (X, Y, Z, then rotations); 0 and 7 name no direction
+    for code in (0, 7, -7):
+        table.write_text(f"name,node,direction\nacc-top-z,7,{code}\n")
+        with pytest.raises(InputError, match=f"line 2: direction = {code}: expected a UFF direction code"):
+            read_measured(tmp_path / "lab.uff", model, table)
+
+
+def test_the_default_mapping_uses_the_uff_direction_codes(model):
+    """UFF direction codes: +-1, +-2, +-3 along +-X, +-Y, +-Z; +-4, +-5, +-6 about them (moments)."""
+    data = model.to_dict()
+    data["sensors"][0]["direction"] = [0.0, 0.0, -1.0]
+    data["excitations"][1].update(kind="moment", direction=[0.0, -1.0, 0.0])
+    mapping = default_mapping(rdm.Model.from_dict(data))
+    codes = {name: direction for (node, direction), (name, sign) in {**mapping.outputs, **mapping.inputs}.items()}
+    assert codes == {"acc-top-z": -3, "acc-side-y": 2, "hammer-z": 3, "shaker-y": -5}
 
 
 def test_writes_never_over_an_input(tmp_path, model):

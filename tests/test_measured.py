@@ -102,6 +102,24 @@ def test_file_from_another_tool_with_mapping_table(tmp_path, model):
     np.testing.assert_allclose(res.H[0, 0], h, rtol=1e-10)
 
 
+def test_a_mapping_sign_flips_what_is_written_and_is_undone_on_reading(tmp_path, model):
+    """A channel mounted against its node's direction (sign -1): the file holds the FRF as that
+    node and direction see it, -H; read with the same table it is H again."""
+    from rotordyn_modal.io.channels import read_mapping
+
+    table = tmp_path / "map.csv"
+    table.write_text("name,node,direction,sign\nacc-top-z,7,3,-1\nacc-side-y,8,2,1\n"
+                     "hammer-z,12,3,1\nshaker-y,13,2,1\n")
+    sets = _sets(model)[:1]
+    write_uff58(sets, tmp_path / "m.uff", read_mapping(table, model), binary=True)
+    raw = {(int(d["rsp_node"]), int(d["ref_node"])): np.asarray(d["data"])
+           for d in pyuff.UFF(str(tmp_path / "m.uff")).read_sets() if d["func_type"] == 4}
+    np.testing.assert_array_equal(raw[(7, 12)], -sets[0].H[0, 0])
+    np.testing.assert_array_equal(raw[(8, 12)], sets[0].H[1, 0])
+    back, = read_measured(tmp_path / "m.uff", model, table)
+    np.testing.assert_array_equal(back.H, sets[0].H)
+
+
 def test_unmapped_channel_is_refused_with_the_table(tmp_path, model):
     _foreign_file(tmp_path / "lab.unv")
     with pytest.raises(InputError) as info:

@@ -82,6 +82,10 @@ def test_a_run_writes_results_table_and_figures_and_reports_the_band(tmp_path, e
     serial = rdm.study(rdm.load_model(examples_dir / "gear_machine.toml"), spec)
     np.testing.assert_array_equal(load_study(out).dataset["critical_speed"].values,
                                   serial.dataset["critical_speed"].values)
+    # the summary prints speeds in rpm (the mean of the first crossing's over the variants)
+    row = next(line for line in captured.out.splitlines() if "critical_speed[motor,1,1] (rpm)" in line)
+    mean_rpm = serial.dataset["critical_speed"].values[:, 0].mean() * 30 / np.pi
+    assert float(row.split("(rpm)")[1].split()[1]) == pytest.approx(mean_rpm, rel=1e-5)   # printed to 6 digits
 
 
 def test_ctrl_c_then_the_same_command_resumes(tmp_path, examples_dir):

@@ -69,3 +69,18 @@ def test_whirl_frequency_at_threshold_is_q_over_c(model):
     critical = np.argmin(np.abs(modes.eigenvalues.real))
     assert modes.eigenvalues[critical].imag == pytest.approx(abs(Q / C), rel=1e-9)
     assert modes.whirl[critical] == "backward"
+
+
+def test_the_command_line_reports_the_threshold_in_rpm_to_eight_digits(examples_dir, capsys):
+    """``rotordyn-modal stability`` prints where the mode loses stability, in rpm to 8
+    significant digits: the closed form's."""
+    import re
+
+    from rotordyn_modal.cli.main import main
+
+    assert main(["stability", str(examples_dir / "unstable_cross_coupled.toml"), "--speeds", "0:20000:101",
+                 "--out", "-"]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if "stability at" in line]
+    assert len(lines) == 1 and " loses stability at " in lines[0]
+    printed = float(re.search(r"stability at ([0-9.e+]+) rpm", lines[0]).group(1))
+    assert printed == float(f"{rdm.to_rpm(closed_form_threshold()):.8g}")

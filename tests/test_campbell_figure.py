@@ -1,4 +1,5 @@
-"""The Campbell figure: order-line labels lie inside the axes and apart from each other.
+"""The Campbell figure: the result's numbers in rpm and Hz, order-line labels inside the axes
+and apart from each other.
 
 Measured on the drawn figure (``fig.canvas.draw()``, ``Text.get_window_extent``), for the
 README's quick start and for sweeps with negative speeds, many orders and steep gear-mesh
@@ -85,4 +86,32 @@ def test_every_order_of_the_quick_start_is_labelled_once():
         prefixes, source = re.match(r"^(.*X) (.*)$", text).groups()
         named += [(source, float(p.rstrip("X"))) for p in prefixes.split(", ")]
     assert sorted(named) == sorted((s, o) for s in result.sources.names for o in (1.0, 2.0))
+    plt.close(fig)
+
+
+def test_the_figure_draws_the_results_numbers_in_rpm_and_hz():
+    """README quick start: the order lines rise by order x multiplier / 60 Hz per rpm (Omega in
+    rad/s is rpm pi / 30), the critical-speed markers sit at the table's rpm and Hz, and every
+    mode's curve joins each pair of neighbouring speeds where it is a mode, whirl changes
+    included (the curve is drawn in pieces, one style per whirl direction)."""
+    import matplotlib.pyplot as plt
+
+    result, fig, ax = _figure(*CASES[0])
+    rpm = result.speeds_rpm
+    lines = [(np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float), line.get_label())
+             for line in ax.get_lines()]
+    markers = [(x, y) for x, y, label in lines if label == "critical speed"]
+    assert len(markers) == 1
+    np.testing.assert_allclose(markers[0][0], result.critical.speeds_rpm, rtol=1e-12)
+    np.testing.assert_allclose(markers[0][1], result.critical.frequencies_hz, rtol=1e-12)
+    curves = [(x, y) for x, y, label in lines if label != "critical speed" and len(x) == len(rpm)]
+    positive = rpm > 0
+    slopes = sorted(float(np.mean(y[positive] / rpm[positive])) for x, y in curves
+                    if np.all(np.isfinite(y)) and np.allclose(y[positive] / rpm[positive], y[-1] / rpm[-1], rtol=1e-12))
+    expected = sorted(order * m / 60.0 for m in result.sources.multipliers for order in result.orders)
+    np.testing.assert_allclose(slopes, expected, rtol=1e-12)
+    for mode in range(result.frequencies_hz.shape[1]):
+        f = np.where(result.oscillatory[:, mode], result.frequencies_hz[:, mode], np.nan)
+        for k in np.nonzero(np.isfinite(f[:-1]) & np.isfinite(f[1:]))[0]:
+            assert any(y[k] == f[k] and y[k + 1] == f[k + 1] for _, y in curves), (mode + 1, k)
     plt.close(fig)

@@ -302,3 +302,35 @@ def test_model_without_sensors_is_refused():
     data["excitations"] = []
     with pytest.raises(InputError, match="the model has no \\[\\[excitations\\]\\]: a force FRF needs one"):
         force_frf(rdm.Model.from_dict(data, "bare.toml"), 0.0, FREQS)
+
+
+def test_bode_figures_draw_each_pair_by_name_in_degrees():
+    """Model lines and measured dots of each output/input pair (matched by name, the
+    measurement's channels listed in another order and 10 % larger), magnitude |H| and phase
+    in degrees; the overlay of several speeds likewise."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.analysis.frf import FRFResult
+    from rotordyn_modal.plotting.frf import plot_frf, plot_overlay
+
+    model = rdm.load_model(EXAMPLE)
+    res = frf(model, 100.0, FREQS[1:])
+    H = 1.1 * res.H[::-1, ::-1] * np.exp(0.3j)
+    measured = FRFResult(**{**res.__dict__, "H": H, "outputs": res.outputs[::-1], "inputs": res.inputs[::-1]})
+    pairs = [(o, i) for o in res.outputs for i in res.inputs]
+    for fig in (plot_frf(res, measured), plot_overlay([res], [measured])):
+        mag, phase = fig.axes[:2]
+        for axis, value in ((mag, np.abs), (phase, lambda h: np.degrees(np.angle(h)))):
+            drawn = [(line.get_marker(), line.get_color(), np.asarray(line.get_ydata()))
+                     for line in axis.get_lines() if len(line.get_xdata())]
+            for o, i in pairs:
+                h = res.H[res.outputs.index(o), res.inputs.index(i)]
+                hm = H[measured.outputs.index(o), measured.inputs.index(i)]
+                at, = [k for k, (marker, c, y) in enumerate(drawn) if marker != "." and np.array_equal(y, value(h))]
+                # the pair's measurement: the dots drawn just before its model line, in its colour
+                marker, c, y = drawn[at - 1]
+                assert marker == "." and c == drawn[at][1] and np.array_equal(y, value(hm)), (o, i)
+        plt.close(fig)

@@ -84,3 +84,23 @@ def test_the_command_line_reports_the_threshold_in_rpm_to_eight_digits(examples_
     assert len(lines) == 1 and " loses stability at " in lines[0]
     printed = float(re.search(r"stability at ([0-9.e+]+) rpm", lines[0]).group(1))
     assert printed == float(f"{rdm.to_rpm(closed_form_threshold()):.8g}")
+
+
+def test_the_stability_figure_marks_the_threshold_where_the_closed_form_puts_it(model):
+    """Both panels (real parts, log decrements) draw a vertical line at the threshold speed in
+    the figure's unit, and the real parts are drawn against speed in that unit."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    result = rdm.stability(model, rdm.rpm(np.linspace(0, 20000, 101)))
+    fig = result.plot()
+    threshold_rpm = rdm.to_rpm(closed_form_threshold())
+    for axis in fig.axes[:2]:
+        verticals = [line.get_xdata()[0] for line in axis.get_lines()
+                     if len(line.get_xdata()) == 2 and line.get_xdata()[0] == line.get_xdata()[1]]
+        assert verticals == pytest.approx([threshold_rpm], rel=1e-9)
+    curves = [line for line in fig.axes[0].get_lines() if len(line.get_xdata()) == 101]
+    np.testing.assert_allclose(curves[0].get_xdata(), np.linspace(0, 20000, 101), rtol=1e-12)
+    plt.close(fig)

@@ -82,6 +82,20 @@ def test_latin_hypercube_puts_one_sample_in_each_stratum(gear):
     assert sorted(strata) == list(range(50))
 
 
+def test_a_grid_after_a_distribution_keeps_each_parameters_column(gear):
+    """Variants: the full factorial of the grid values times the same samples of the
+    distributions, each parameter in its own column in the order the study lists them."""
+    spec = {"seed": 2, "samples": 5, "parameters": [
+        {"name": "m", "key": "rotors.fan.mass", "distribution": "uniform", "low": 7.0, "high": 9.0},
+        {"name": "k", "key": "suspensions.mount-FL.stiffness[0]", "values": [1e5, 2e5, 3e5]}],
+        "analyses": {"modes": {}}}
+    x = sample_variants(parse_study(spec, model=gear))
+    assert x.shape == (15, 2)
+    assert np.array_equal(x[:, 1], np.repeat([1e5, 2e5, 3e5], 5))                  # the grid, in order
+    assert np.all((7.0 < x[:, 0]) & (x[:, 0] < 9.0))
+    assert np.array_equal(x[:, 0], np.tile(x[:5, 0], 3))                          # the same samples at each
+
+
 def test_truncation_and_correlation_follow_their_definitions(gear):
     spec = {"seed": 1, "samples": 4000, "parameters": [
         {"name": "a", "key": "stator.mass", "distribution": "normal", "mean": 150.0, "std": 10.0,

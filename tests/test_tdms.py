@@ -49,3 +49,16 @@ def test_missing_nptdms_named_in_the_message(without_module):
     without_module("nptdms")
     with pytest.raises(InputError, match=r"pip install 'rotordyn_modal\[tdms\]'"):
         read_tdms_records(GOOD)
+
+
+def test_channels_of_one_interval_but_different_lengths_are_refused(tmp_path):
+    """One record needs one length: written here with npTDMS, 100 and 90 samples at 1 ms."""
+    from nptdms import ChannelObject, GroupObject, TdmsWriter
+
+    path = tmp_path / "lengths.tdms"
+    with TdmsWriter(str(path)) as writer:
+        writer.write_segment([GroupObject("g")] + [
+            ChannelObject("g", name, np.zeros(count), properties={"unit_string": "m/s^2", "wf_increment": 1e-3})
+            for name, count in (("a", 100), ("b", 90))])
+    with pytest.raises(InputError, match=r"sampling intervals \[0.001\] s and lengths \[90, 100\]"):
+        read_tdms_records(path, group="g")

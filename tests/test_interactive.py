@@ -36,6 +36,17 @@ def test_campbell_hover_holds_mode_whirl_damping_and_critical_sources(gear):
     assert list(np.asarray(critical.customdata)[:, 0]) == list(res.critical.source)
     np.testing.assert_allclose(np.asarray(critical.customdata)[:, 1].astype(float), res.critical.order)
     assert "source %{customdata[0]}, order %{customdata[1]:g}X" in critical.hovertemplate
+    # the order lines: order x multiplier x |Omega| / 2 pi Hz, cut at the top of the axis
+    rpm = res.speeds * 30 / np.pi
+    for name, multiplier in zip(res.sources.names, res.sources.multipliers):
+        for order in (1, 2):
+            line, = [t for t in fig.data if t.name == f"{order}X {name}"]
+            np.testing.assert_allclose(np.asarray(line.x, float), rpm, rtol=1e-12)
+            y, exact = np.asarray(line.y, float), order * multiplier * rpm / 60.0
+            shown = ~np.isnan(y)
+            np.testing.assert_allclose(y[shown], exact[shown], rtol=1e-12)
+            assert np.all(exact[~shown] > fig.layout.yaxis.range[1])
+    assert (~np.isnan(np.asarray(next(t for t in fig.data if t.name == "1X motor").y, float))).sum() > 10
 
 
 def test_stability_and_overlay_figures(gear):

@@ -145,3 +145,15 @@ def test_random_variants_solved_together_equal_each_alone(seed, rotors, stator, 
             assert getattr(together, name).tobytes() == getattr(alone, name).tobytes(), name
         for name in ("speeds", "frequencies_hz", "whirl_ratios", "damping_ratios"):
             assert getattr(together.critical, name).tobytes() == getattr(alone.critical, name).tobytes(), name
+
+
+def test_a_variant_of_a_gear_ratio_turns_the_driven_rotor_at_its_new_speed(examples_dir):
+    """The fan's table is unchanged but its speed ratio is not (it follows the gear): the variant
+    must not reuse the earlier fan. Gear ratio 3: the fan turns at -1/3 of the motor's speed."""
+    model = rdm.load_model(examples_dir / "gear_machine.toml")
+    changes = [("transmissions.0.ratio", "value", 3.0)]
+    variant = model.variant(changes)
+    assert variant.rotor("fan").speed_ratio == pytest.approx(-1 / 3, rel=1e-15)
+    expected = _reference(model, changes)
+    for mine, theirs in zip(variant.matrices(), expected.matrices()):
+        np.testing.assert_array_equal(mine, theirs)

@@ -134,3 +134,18 @@ def test_measured_modes_as_rigid_body_shapes():
     np.testing.assert_allclose(np.diag(rdm.mac(result.shapes, truth.shapes[truth.oscillatory], M)), 1.0, atol=1e-9)
     np.testing.assert_allclose(result.frequencies_hz, truth.frequencies_hz[truth.oscillatory], rtol=1e-9)
     assert list(result.whirl) == list(truth.whirl[truth.oscillatory])
+
+
+def test_modes_are_listed_by_frequency_each_with_its_own_constants():
+    """However the identification returns its poles, the modes come out by frequency and each
+    keeps its own modal constants (one output, two inputs here)."""
+    from rotordyn_modal.analysis.identification import _from_poles
+
+    measured = FRFResult(H=np.zeros((1, 2, 3), complex), frequencies_hz=np.array([1.0, 2.0, 3.0]), speed=0.0,
+                         inputs=("a", "b"), outputs=("x",), quantity="receptance", engine="H1")
+    poles = np.array([-1 + 30j, -1 + 10j, -1 + 20j])
+    constants = np.array([[3.0, 30.0], [1.0, 10.0], [2.0, 20.0]], dtype=complex)
+    modes = _from_poles(poles, constants, measured, "lscf")
+    np.testing.assert_array_equal(modes.poles, poles[[1, 2, 0]])
+    np.testing.assert_array_equal(modes.shapes[:, 0, :], constants[[1, 2, 0]])
+    np.testing.assert_allclose(modes.frequencies_hz, [10 / (2 * np.pi), 20 / (2 * np.pi), 30 / (2 * np.pi)])

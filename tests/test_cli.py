@@ -52,6 +52,15 @@ def test_check_valid_model(gear, capsys):
     code, out, err = run(["check", gear], capsys)
     assert code == 0
     assert "valid model" in out and "fan" in out and "-0.4" in out
+    assert "total mass 178 kg" in out                     # 150 + 20 + 8 kg in the file
+    assert "note:" not in out                             # mounts restrain all six directions
+
+
+def test_check_notes_a_direction_nothing_restrains(examples_dir, capsys):
+    """The spring-block rotor (no stator) rolls freely about its axis: one zero eigenvalue."""
+    code, out, err = run(["check", examples_dir / "spring_block_rotor_suspension.toml"], capsys)
+    assert code == 0
+    assert "note: the suspensions and bearings restrain 5 of 6 directions" in out
 
 
 @pytest.mark.parametrize("argv, fragment", [

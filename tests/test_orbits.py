@@ -68,3 +68,28 @@ def test_orbit_figure_draws_every_pair(tmp_path):
     figure = result.plot_orbits()
     assert len([ax for ax in figure.axes if ax.get_visible()]) == 1
     figure.savefig(tmp_path / "orbits.png")
+
+
+def test_the_orbit_figure_draws_the_circle_turning_forward():
+    """Isotropic bearings, 150 rad/s: the drawn orbit is the circle of the closed-form radius
+    (in the figure's unit), and its arrow turns from the first probe's direction towards
+    e x u, the way the rotor whirls (forward, about +x)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.plotting.orbits import _SCALE
+
+    k, speed = 2e6, 150.0
+    result = rdm.unbalance_response(_model(k, k), np.array([speed]))
+    fig = result.plot_orbits(speeds=[speed])
+    ax = fig.axes[0]
+    path = np.column_stack([ax.get_lines()[0].get_xdata(), ax.get_lines()[0].get_ydata()])
+    radius = UNBALANCE * speed**2 / (2 * k - MASS * speed**2) * _SCALE[result.quantity][0]
+    np.testing.assert_allclose(np.hypot(*path.T), radius, rtol=1e-9)
+    arrow, = [a for a in ax.texts if getattr(a, "arrow_patch", None) is not None]
+    tail, head = np.asarray(arrow.xyann, float), np.asarray(arrow.xy, float)
+    step = head - tail
+    assert tail[0] * step[1] - tail[1] * step[0] > 0             # counter-clockwise in (u, e x u)
+    plt.close(fig)

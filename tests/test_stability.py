@@ -63,11 +63,18 @@ def test_map_thresholds_equal_the_reference(skewed_unstable):
     speeds = np.linspace(0.0, 3000.0, 61)
     factors = np.array([0.7, 1.0, 1.5])
     result = rdm.stability_map(model, speeds, "suspensions.bearing-A.damping", scale=factors)
-    for factor, found in zip(factors, result.threshold_speeds):
+    for v, (factor, found) in enumerate(zip(factors, result.threshold_speeds)):
         data = copy.deepcopy(skewed_unstable)
         data["suspensions"][0]["damping"] = (np.array(data["suspensions"][0]["damping"]) * factor).tolist()
         roots = reference_thresholds(data, speeds)
         assert found == pytest.approx(roots.min(), rel=1e-9)
+        # the map's surfaces: the largest real part and the smallest damping ratio over the roots
+        ref = ReferenceMachine(data)
+        for k in (0, 30, 60):
+            lam = ref.eig(speeds[k])[0]
+            upper = lam[lam.imag >= 0]
+            assert result.max_real_parts[v, k] == pytest.approx(lam.real.max(), rel=1e-10)
+            assert result.min_damping_ratios[v, k] == pytest.approx(np.min(-upper.real / np.abs(upper)), rel=1e-9)
     table = result.to_dataframe()
     assert list(table.columns[:6]) == ["speed_rpm", "value", "mode", "real_part", "damping_ratio",
                                        "log_decrement"]

@@ -132,6 +132,16 @@ def test_dataframe_columns():
     assert list(table.columns) == ["speed_rpm", "output", "source", "frequency_hz", "amplitude", "phase_deg"]
     assert set(table.output) == {"acc-top-z"}
     assert set(res.to_dataframe(forces="suspensions").output) >= {"acc-top-z", "mount-FL:Fz"}
+    # every row is the response of its output, source and speed: rpm, Hz, amplitude, degrees
+    full = unbalance_response(_model(), SPEEDS[:3])
+    for row in full.to_dataframe().itertuples():
+        o, s = full.outputs.index(row.output), full.sources.index(row.source)
+        k = int(np.argmin(np.abs(SPEEDS[:3] * 30 / np.pi - row.speed_rpm)))
+        assert row.speed_rpm == pytest.approx(SPEEDS[k] * 30 / np.pi, rel=1e-15)
+        assert row.frequency_hz == full.frequencies_hz[s, k]
+        value = full.response[o, s, k]
+        assert row.amplitude == pytest.approx(abs(value), rel=1e-15)
+        assert row.phase_deg == pytest.approx(np.degrees(np.angle(value)), abs=1e-12)
 
 
 def test_dataframe_refuses_unknown_forces():

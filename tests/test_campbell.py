@@ -232,3 +232,23 @@ def test_critical_speeds_do_not_depend_on_origin_or_axes(examples_dir):
     np.testing.assert_allclose(moved.speeds, base.speeds, rtol=1e-9)
     assert list(moved.source) == list(base.source) and list(moved.whirl) == list(base.whirl)
     np.testing.assert_array_equal(moved.mode, base.mode)
+
+
+def test_tables_hold_the_results_numbers(examples_dir):
+    """The Campbell table has a row per speed and oscillating mode with that mode's numbers (speed
+    in rpm, real part in 1/s); the critical-speed table has the critical speeds' columns."""
+    model = rdm.load_model(examples_dir / "gear_machine.toml")
+    result = rdm.campbell(model, rdm.rpm(np.linspace(0, 6000, 25)), orders=(1,))
+    table = result.to_dataframe(oscillatory_only=False)
+    k = np.repeat(np.arange(25), result.eigenvalues.shape[1])
+    m = table["mode"].to_numpy() - 1
+    np.testing.assert_array_equal(table["speed_rpm"], result.speeds[k] * 30 / np.pi)
+    for column, values in (("frequency_hz", result.frequencies_hz), ("damping_ratio", result.damping_ratios),
+                           ("whirl_ratio", result.whirl_ratios), ("real_part", result.eigenvalues.real)):
+        np.testing.assert_array_equal(table[column], values[k, m])
+    crit = result.critical
+    critical_table = crit.to_dataframe()
+    assert len(critical_table) == len(crit) > 0
+    for column, values in (("speed_rpm", crit.speeds * 30 / np.pi), ("frequency_hz", crit.frequencies_hz),
+                           ("whirl_ratio", crit.whirl_ratios), ("damping_ratio", crit.damping_ratios)):
+        np.testing.assert_array_equal(critical_table[column], values)

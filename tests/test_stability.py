@@ -175,3 +175,22 @@ def test_an_onset_from_marginal_stability_is_where_the_cross_coupling_starts():
     expected = BearingMachine(_cross_coupled_rotor(q)).eigenvalues(speeds[above]).real.max()
     mode = result.threshold_modes[0]
     assert result.eigenvalues[above, mode - 1].real == pytest.approx(expected, rel=1e-9)
+
+
+def test_tables_hold_the_results_numbers(skewed_unstable):
+    """The stability table (a row per speed and mode) and the modes table at one speed hold the
+    results' own numbers: real part [1/s], damping ratio, log decrement, frequency."""
+    model = rdm.Model.from_dict(skewed_unstable)
+    result = rdm.stability(model, np.linspace(0.0, 2500.0, 11))
+    table = result.to_dataframe()
+    k = np.repeat(np.arange(11), result.eigenvalues.shape[1])
+    m = table["mode"].to_numpy() - 1
+    for column, values in (("real_part", result.real_parts), ("damping_ratio", result.damping_ratios),
+                           ("log_decrement", result.log_decrements), ("frequency_hz", result.frequencies_hz)):
+        np.testing.assert_array_equal(table[column], values[k, m])
+    modes = rdm.modal(model, 1200.0)
+    rows = modes.to_dataframe()
+    for column, values in (("real_part", modes.eigenvalues.real), ("damping_ratio", modes.damping_ratios),
+                           ("log_decrement", modes.log_decrements), ("frequency_hz", modes.frequencies_hz)):
+        np.testing.assert_array_equal(rows[column], values[modes.oscillatory])
+    assert np.any(rows["real_part"] != 0) and np.all(np.isfinite(rows["log_decrement"]))

@@ -109,6 +109,23 @@ def test_result_pickles_and_tabulates(example_run):
     assert list(table.columns[:9]) == ["time_s", "u_x", "u_y", "u_z", "theta_x", "theta_y", "theta_z",
                                        "spin_speed_rad_s", "drive_torque_nm"]
     assert len(table) == len(example_run.time)
+    # each column is the result's own array
+    np.testing.assert_array_equal(table["potential_energy_j"], example_run.elastic_energy + example_run.gravity_energy)
+    np.testing.assert_array_equal(table["total_energy_j"], example_run.total_energy)
+    for j, name in enumerate(example_run.rotor_names):
+        for k, axis in enumerate("xyz"):
+            np.testing.assert_array_equal(table[f"{name}_center_{axis}"], example_run.rotor_centers[:, j, k])
+
+
+def test_the_table_holds_each_bearings_forces(examples_dir):
+    model = rdm.load_model(examples_dir / "fan_on_bearings.toml")
+    run = rdm.simulate(model, 0.02, 100.0, samples=21, initial="equilibrium")
+    table = run.to_dataframe()
+    assert len(run.bearing_names) == 4
+    for j, name in enumerate(run.bearing_names):
+        for k, component in enumerate(("Fx", "Fy", "Fz", "Mx", "My", "Mz")):
+            np.testing.assert_array_equal(table[f"{name}_{component}"], run.bearing_forces[:, j, k])
+    assert len({tuple(run.bearing_forces[-1, j]) for j in range(4)}) == 4        # four different bearings
 
 
 @pytest.mark.parametrize("name", ["spring_block_rotor.toml", "spring_block_rotor_suspension.toml", "gear_machine.toml",

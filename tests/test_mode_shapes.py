@@ -3,6 +3,7 @@ has the bodies' inertia, orbits turn the way the mode whirls; figures, animation
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -151,17 +152,43 @@ def test_side_by_side_and_python_methods(gear, tmp_path):
                            titles=["model", "measured"])
     assert [ax.get_title() for ax in fig.axes] == ["model", "measured"]
     assert result.plot_shape(4, model).axes[0].name == "3d"
-    result.animate(4, model, tmp_path / "m.gif", frames=3)
+    result.animate(4, model, tmp_path / "m.gif", frames=3, fps=10)
     assert (tmp_path / "m.gif").read_bytes()[:6] in (b"GIF89a", b"GIF87a")
+    assert _gif_frame_durations(tmp_path / "m.gif") == [100] * 3     # 3 frames of 1000 / 10 ms
+    assert _gif_size(tmp_path / "m.gif") == (864, 576)                # 12 x 8 inches at 72 dpi
     with pytest.raises(InputError, match="mode 0: expected a mode number from 1 to 6"):
         result.plot_shape(0, model)
+
+
+def _gif_frame_durations(path):
+    """How long each frame of a GIF is shown [ms]."""
+    from PIL import Image
+
+    with Image.open(path) as gif:
+        durations = []
+        for k in range(gif.n_frames):
+            gif.seek(k)
+            durations.append(gif.info["duration"])
+    return durations
+
+
+def _gif_size(path):
+    """A GIF's width and height [pixels]."""
+    from PIL import Image
+
+    with Image.open(path) as gif:
+        return gif.size
 
 
 def test_animation_files(gear, tmp_path):
     model, result = gear
     view = mode_shape_3d(result, model, 6)
-    animate_mode_shape(view, tmp_path / "m.html", frames=3)
-    assert "<script" in (tmp_path / "m.html").read_text()
+    animate_mode_shape(view, tmp_path / "m.html", frames=3, fps=8)
+    text = (tmp_path / "m.html").read_text()
+    assert "<script" in text and text.count("data:image/png;base64,") == 3
+    # the player steps every 1000 / 8 ms
+    interval = re.search(r"new Animation\(frames, img_id, slider_id, ([0-9.]+)", text)
+    assert interval is not None and float(interval.group(1)) == 125.0
     with pytest.raises(InputError, match="expected an animation file ending in .gif, .html, .mp4"):
         animate_mode_shape(view, tmp_path / "m.avi", frames=3)
     keep = tmp_path / "model.toml"
@@ -218,7 +245,7 @@ def test_command_line_shape_and_animation(tmp_path):
     done = _cli("modes", gear, "--speed", 3000, "--animate", 2, "--frames", 3, "--outline", outline,
                 "--plot", tmp_path / "m2.gif", "--quiet")
     assert done.returncode == 0, done.stderr
-    assert (tmp_path / "m2.gif").stat().st_size > 0
+    assert len(_gif_frame_durations(tmp_path / "m2.gif")) == 3
 
 
 @pytest.mark.parametrize("args,message", [
@@ -235,3 +262,64 @@ def test_command_line_refusals(tmp_path, args, message):
     done = _cli("modes", EXAMPLES / "gear_machine.toml", *[a.format(tmp=tmp_path) for a in args])
     assert done.returncode == 2 and message in done.stderr, done.stderr
     assert not (tmp_path / "x.png").exists() and not (tmp_path / "x.gif").exists()
+
+
+def _displaced_drawing(fig):
+    """Per axes, the displaced artists: gid, kind and the drawn coordinates of each line."""
+    drawing = []
+    for axes in fig.axes:
+        for artist in axes.get_children():
+            gid = str(artist.get_gid())
+            if not gid.startswith("displaced"):
+                continue
+            data = (np.asarray(artist.get_data_3d(), dtype=float) if hasattr(artist, "get_data_3d")
+                    else np.asarray(artist.get_xydata(), dtype=float) if hasattr(artist, "get_xydata") else None)
+            drawing.append((gid, type(artist).__name__, data))
+    return drawing
+
+
+def _same_drawing(a, b):
+    return len(a) == len(b) and all(
+        ga == gb and ka == kb and ((da is None and db is None) or np.array_equal(da, db, equal_nan=True))
+        for (ga, ka, da), (gb, kb, db) in zip(a, b))
+
+
+def test_animation_frames_are_one_period_of_the_mode(gear, tmp_path):
+    """Frame k of F draws the mode at phase 2 pi k / F, exactly as the still figure at that phase
+    (and nothing of the frames before it): one period, without its end repeating its start."""
+    import matplotlib.pyplot as plt
+    from matplotlib.animation import AbstractMovieWriter
+
+    from rotordyn_modal.plotting.shapes3d import plot_mode_shape
+
+    class Recorder(AbstractMovieWriter):
+        def __init__(self):
+            super().__init__(fps=5)
+            self.frames = []
+
+        def setup(self, fig, outfile, dpi=None):
+            super().setup(fig, outfile, dpi)
+
+        def grab_frame(self, **savefig_kwargs):
+            self.frames.append(_displaced_drawing(self.fig))
+
+        def finish(self):
+            pass
+
+    model, result = gear
+    view = mode_shape_3d(result, model, 5)
+    frames = 4
+    recorder = Recorder()
+    animation = animate_mode_shape(view, frames=frames)
+    animation.save(str(tmp_path / "unused.gif"), writer=recorder)
+    assert len(recorder.frames) == frames
+    stills = []
+    for k in range(frames):
+        fig = plot_mode_shape(view, phase=2 * np.pi * k / frames)
+        stills.append(_displaced_drawing(fig))
+        plt.close(fig)
+    assert all(_same_drawing(frame, still) for frame, still in zip(recorder.frames, stills))
+    # the frames differ from each other: the mode moves (a half period turns every displacement)
+    assert not _same_drawing(stills[0], stills[2])
+    plt.close(animation._fig)
+

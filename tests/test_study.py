@@ -189,6 +189,25 @@ def test_probability_of_a_critical_speed_in_a_band_matches_the_lognormal_within_
         assert (share - end) ** 2 == pytest.approx(z * z * end * (1 - end) / p["n"], rel=1e-9)
 
 
+def test_probability_in_band_counts_reversed_spin_by_its_magnitude():
+    """The band is on |speed|: the machine spun backwards (speeds -4000..0 rpm) has the same
+    critical speeds turned negative (its x translation has no gyroscopic coupling), and the same
+    variants hit the band."""
+    model = translating_machine()
+    results = {}
+    for grid in ("0:4000:81", "-4000:0:81"):
+        spec = lognormal_study(samples=40, seed=5)
+        spec["analyses"] = {"critical_speeds": {"speeds_rpm": grid}}
+        results[grid] = rdm.study(model, spec)
+    forward, backward = results["0:4000:81"], results["-4000:0:81"]
+    chosen = forward.dataset["crossing_mode"].values == 1
+    np.testing.assert_allclose(backward.dataset["critical_speed"].values[:, chosen],
+                               -forward.dataset["critical_speed"].values[:, chosen], rtol=1e-12)
+    band = forward.probability_in_band(55.0, 65.0, modes=[1])
+    assert 0 < band["hits"] < band["n"] == 40
+    assert backward.probability_in_band(55.0, 65.0, modes=[1]) == band
+
+
 @pytest.mark.parametrize("n, q", [(20, 50.0), (100, 5.0), (400, 95.0), (37, 90.0), (1000, 50.0)])
 def test_percentile_intervals_cover_with_the_promised_confidence(n, q):
     """[x_(j), x_(k)] holds the q-th percentile unless fewer than j or at least k of the n samples

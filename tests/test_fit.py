@@ -78,6 +78,32 @@ def test_coherence_weights_lines_by_the_inverse_of_their_scatter():
     assert uniform == pytest.approx((1 + 2 / 3) / (1 + 4 / 9), rel=1e-8)
 
 
+def test_gain_uncertainty_is_whites_sandwich_with_the_small_sample_factor():
+    """One fitted gain g on relative residuals r = (g H - H_meas) / s (real and imaginary parts, m
+    of them; s = |H_meas| floored at 1e-3 of the largest FRF's RMS): d r / d log g = g H / s =: J,
+    and the heteroscedasticity-consistent
+    variance of log g is sum(J^2 r^2) / sum(J^2)^2 m / (m - 1) (HC1). Half the lines 1.5 times
+    too large make the residuals uneven, so the sandwich is not the textbook s^2 / sum(J^2)."""
+    model = rdm.load_model(EXAMPLE)
+    res = rdm.frf(model, 0.0, np.linspace(3.0, 40.0, 120), quantity="accelerance")
+    bad = np.arange(res.H.shape[-1]) % 2 == 1
+    H_meas = np.where(bad, 1.5 * res.H, res.H)
+    measured = [FRFResult(**{**res.__dict__, "H": H_meas, "coherence": None})]
+    result = fit(model, measured, ["gain"], weighting="none", starts=1)
+    g = result.values[0]
+    magnitude = np.abs(H_meas)
+    scale = np.maximum(magnitude, 1e-3 * np.sqrt(np.mean(magnitude ** 2, axis=-1)).max())
+    r, J = (g * res.H - H_meas) / scale, g * res.H / scale
+    r, J = np.concatenate([r.real.ravel(), r.imag.ravel()]), np.concatenate([J.real.ravel(), J.imag.ravel()])
+    m = len(r)
+    assert m == 2 * result.n_points
+    hc1 = np.sqrt(np.sum(J ** 2 * r ** 2) / np.sum(J ** 2) ** 2 * m / (m - 1))
+    # the Jacobian is a forward difference (step 1e-6 in log g): the variance to about 1e-6
+    assert result.std_relative[0] == pytest.approx(hc1, rel=1e-5)
+    textbook = np.sqrt(np.sum(r ** 2) / (m - 1) / np.sum(J ** 2))
+    assert abs(hc1 / textbook - 1) > 0.01
+
+
 def test_parameter_without_effect_is_reported_not_converged(measured_file):
     """A mount of 1e-6 N/m changes nothing the sensors see: the fit must say so, and why."""
     data = rdm.load_model(EXAMPLE).to_dict()

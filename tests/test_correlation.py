@@ -57,7 +57,15 @@ def test_model_against_itself():
     assert np.all(result.modes.mac > 0.95)
     assert np.all(np.abs(result.modes.difference_pct) < 1.0)
     assert list(result.to_dataframe().columns) == ["output", "input", "frac"]
-    assert result.plot() is not None
+    ax = result.plot().axes[0]
+    csac, csf = ax.get_lines()[:2]
+    np.testing.assert_array_equal(csac.get_xdata(), result.frequencies_hz)
+    np.testing.assert_array_equal(csac.get_ydata(), result.csac)
+    np.testing.assert_array_equal(csf.get_ydata(), result.csf)
+    legend = [text.get_text() for text in ax.get_legend().get_texts()]
+    assert legend[:2] == ["CSAC (shape)", "CSF (shape and amplitude)"]
+    assert legend[2:] == [f"FRAC {o} / {i}: {v:.3f}" for (o, i), v in zip(result.pairs, result.frac)]
+    assert ax.get_title() == "Model versus measurement at 3000 rpm"
 
 
 def test_correlation_needs_the_measured_lines():

@@ -126,7 +126,13 @@ def test_result_table_and_figure(measured_file):
     model = rdm.load_model(EXAMPLE)
     result = fit(model, read_measured(measured_file, model), ["gain"], starts=1)
     assert list(result.to_dataframe().columns) == ["key", "start", "fitted", "factor", "std_relative"]
-    assert result.plot() is not None
+    # the figure: the correlation matrix as the image, each value written in its cell
+    two = fit(model, read_measured(measured_file, model), ["gain", KEYS[1]], starts=1)   # correlated -0.07
+    ax = two.plot().axes[0]
+    np.testing.assert_array_equal(ax.get_images()[0].get_array(), two.correlation)
+    assert [t.get_text() for t in ax.get_xticklabels()] == ["gain", KEYS[1].split(".", 1)[1]]
+    assert [t.get_text() for t in ax.texts] == [f"{v:+.2f}" for v in two.correlation.ravel()]
+    assert [t.get_position() for t in ax.texts] == [(j, i) for i in range(2) for j in range(2)]
 
 
 @pytest.mark.parametrize("kwargs,message", [

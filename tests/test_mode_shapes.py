@@ -141,7 +141,10 @@ def test_user_outline_replaces_the_box(gear):
     view = mode_shape_3d(result, model, 1, outline=square)
     body = view.outline.bodies[0]
     assert body.kind == "outline" and body.faces == ((0, 1, 2), (4, 5))
-    assert view.plot() is not None
+    # drawn at rest as the user's open polylines, 0-1-2 and 4-5, not closed like the box's faces
+    drawn, = _lines(view.plot().axes[0], f"undeformed:{body.name}")
+    x, y, z = drawn.get_data_3d()
+    np.testing.assert_array_equal(np.column_stack([x, y, z]), np.array(square)[[0, 1, 2, 3, 4, 5, 3]])
     with pytest.raises(InputError, match="outline: expected points of shape"):
         machine_outline(model, [[0, 1]])
 

@@ -109,6 +109,14 @@ def test_rigid_motion_recovered_from_channels():
     # the condition reported is the transformation matrix's (largest / smallest singular value)
     T = transformation_matrix(*zip(*CHANNELS), S)
     assert result.condition == pytest.approx(np.linalg.cond(T), rel=1e-12)
+    # the figure: translations on top, rotations below, each against the abscissa given
+    times = np.arange(40) * 0.01
+    top, bottom = result.plot(times).axes
+    for axes, rows, names in ((top, q[:3], ("u_x", "u_y", "u_z")), (bottom, q[3:], ("θ_x", "θ_y", "θ_z"))):
+        assert [line.get_label() for line in axes.get_lines()] == list(names)
+        for line, row in zip(axes.get_lines(), rows):
+            np.testing.assert_array_equal(line.get_xdata(), times)
+            np.testing.assert_allclose(line.get_ydata(), row, atol=1e-12)
 
 
 def test_too_few_and_degenerate_channels_refused():

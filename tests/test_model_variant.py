@@ -9,7 +9,7 @@ import os
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import rotordyn_modal as rdm
@@ -123,6 +123,10 @@ def test_variants_sharing_the_base_bodies_solve_as_their_own_models(examples_dir
 @settings(max_examples=10, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), rotors=st.integers(1, 8), stator=st.booleans(),
        count=st.integers(1, 3), bodies=st.booleans())
+# machines of 25 and 41 coordinates whose sweep's whirl ratios differed in the last bit on an AVX2
+# machine while the variants' shapes went through one matrix product (BLAS blocks the rows)
+@example(seed=0, rotors=5, stator=False, count=2, bodies=False)
+@example(seed=1, rotors=8, stator=True, count=2, bodies=True)
 def test_random_variants_solved_together_equal_each_alone(seed, rotors, stator, count, bodies):
     """A study's chunk, solved as one batch (``campbell_many``), gives each variant of a random
     machine on bearings (up to 46 coordinates: pencils solved whole) its own Campbell diagram

@@ -142,8 +142,8 @@ class Stack:
         """Mass-weighted unit shapes (see :func:`_eigen.mass_normalized`) of rows of variants."""
         out = np.empty(shapes.shape, dtype=complex)
         # in parts: the real and imaginary parts and their products are copies of the shapes
-        for part in _eigen.chunk_slices(len(shapes), 64 * shapes[0].size):
-            factor = self.factor[0] if self.shared_mass else self.factor[variants[part]]   # real: L^H = L^T
+        for variant, part in _variant_parts(variants, 64 * shapes[0].size):
+            factor = self.factor[0 if self.shared_mass else variant]                   # real: L^H = L^T
             out[part] = _eigen.unit_rows(_eigen.real_product(shapes[part], factor))
         return out
 
@@ -156,8 +156,8 @@ class Stack:
         # in parts: the products with the three forms are three times the shapes, twice over
         if self._whirl_stacked is None:
             self._whirl_stacked = _eigen.stacked_forms(self.whirl)
-        for part in _eigen.chunk_slices(len(shapes), 160 * shapes[0].size):
-            stacked = self._whirl_stacked[0] if self.shared_whirl else self._whirl_stacked[variants[part]]
+        for variant, part in _variant_parts(variants, 160 * shapes[0].size):
+            stacked = self._whirl_stacked[0 if self.shared_whirl else variant]
             out[part] = _eigen.whirl_ratios(shapes[part], None, speeds[part], stacked)
         return out
 
@@ -260,6 +260,30 @@ def _row_products(matrices, vectors):
     R, n, n)) times complex vectors (R, n), one row at a time: (..., R, n)."""
     column = vectors[..., None]
     return (matrices @ column.real)[..., 0] + 1j * (matrices @ column.imag)[..., 0]
+
+
+def _variant_parts(variants, item_bytes: int):
+    """Parts of rows for products with one variant's matrix: ``(variant, slice)`` for each run of
+    consecutive rows of one variant, cut as that variant's rows alone would be (in parts of
+    bounded memory, :func:`_eigen.chunk_slices`).
+
+    A matrix product over many rows may give a row bits that depend on its place among them
+    (the BLAS kernels block the rows, and the last block of a product can be summed another
+    way), so a study's variant is multiplied exactly as the single analysis of its model is:
+    its own rows, in the same parts, with its own matrix.
+
+    Parameters
+    ----------
+    variants : ndarray of int, shape (R,)
+        The variant of each row.
+    item_bytes : int
+        Work memory of one row [bytes].
+    """
+    variants = np.asarray(variants)
+    ends = [0, *(np.flatnonzero(variants[1:] != variants[:-1]) + 1).tolist(), len(variants)]
+    return [(int(variants[start]), slice(start + part.start, start + part.stop))
+            for start, stop in zip(ends[:-1], ends[1:]) if stop > start
+            for part in _eigen.chunk_slices(stop - start, item_bytes)]
 
 
 def _stacked(arrays) -> np.ndarray:

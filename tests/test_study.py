@@ -255,6 +255,24 @@ def test_a_failing_variant_is_recorded_with_its_reason_and_the_others_run(gear):
     (lambda s: s["parameters"][0].update(lows=0.8), r"\[\[parameters\]\] 1 lows = 0.8: expected one of the keys"),
     (lambda s: s["parameters"][0].update(apply="value"),
      r"1 key = 'suspensions.mount-FL.stiffness': expected a key holding one number to set"),
+    (lambda s: s.pop("samples"), r"study.toml: samples is missing: expected a whole number >= 2"),
+    (lambda s: s["analyses"]["stability"].pop("speeds_rpm"),
+     r"study.toml: \[analyses.stability\] speeds_rpm is missing: expected speeds in rpm: 'START:STOP:N' or a list"),
+    (lambda s: s["analyses"]["campbell"].update(speeds_rpm=[3000, 1000, 2000]),
+     r"\[analyses.campbell\] speeds_rpm = \[3000, 1000, 2000\]: expected strictly increasing speeds"),
+    (lambda s: s["analyses"]["campbell"].update(orders=[1, 0]),
+     r"\[analyses.campbell\] orders = \[1, 0\]: expected a list of excitation orders > 0"),
+    (lambda s: s["analyses"]["modes"].update(speed_rpm="fast"),
+     r"\[analyses.modes\] speed_rpm = 'fast': expected a finite speed in rpm"),
+    (lambda s: s["analyses"]["unbalance"].update(outputs="acc-top-z"),
+     r"\[analyses.unbalance\] outputs = 'acc-top-z': expected a list of sensor names"),
+    (lambda s: s["analyses"]["unbalance"].update(outputs=["acc-top-z", "acc-nope"]),
+     r"\[analyses.unbalance\] outputs = \['acc-top-z', 'acc-nope'\]: expected names of the model's sensors: "
+     r"acc-top-z, acc-side-y"),
+    (lambda s: s["analyses"]["unbalance"].update(operating_speed_rpm=0),
+     r"\[analyses.unbalance\] operating_speed_rpm = 0: expected a finite non-zero speed in rpm"),
+    (lambda s: s["analyses"]["unbalance"].update(quantity="jerk"),
+     r"\[analyses.unbalance\] quantity = 'jerk': expected displacement, velocity or acceleration"),
 ])
 def test_bad_study_files_are_refused_naming_file_key_value_and_expectation(gear, tmp_path, change, message):
     import tomli_w

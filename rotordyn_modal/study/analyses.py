@@ -317,11 +317,21 @@ def parse_analyses(table, source, model=None) -> dict:
             continue
         out[name] = ANALYSES[name].parse(options, where, source)
     if model is not None:
+        _check_sensors(out, table, source, model)
         try:
             describe(model, out)
         except Exception as error:  # an option the base model cannot serve (unknown sensor...)
             raise _error(source, "[analyses]", sorted(out), f"analyses the model supports ({error})") from None
     return out
+
+
+def _check_sensors(analyses, table, source, model):
+    """The unbalance response's outputs must be sensors of the model (else every variant fails)."""
+    outputs = analyses.get("unbalance", {}).get("outputs") or []
+    known = [sensor.name for sensor in model.sensors]
+    if any(name not in known for name in outputs):
+        raise _error(source, "[analyses.unbalance] outputs", table["unbalance"]["outputs"],
+                     "names of the model's sensors: " + (", ".join(known) or "(the model has none)"))
 
 
 def describe(model, analyses) -> tuple:

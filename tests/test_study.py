@@ -285,6 +285,62 @@ def test_bad_study_files_are_refused_naming_file_key_value_and_expectation(gear,
         read_study(path, gear)
 
 
+def _grid_only(spec):
+    spec["parameters"] = [{"key": "suspensions.mount-FL.stiffness", "scale": "0.8:1.2:3"}]
+
+
+def _saltelli_correlated(spec):
+    spec["design"] = "saltelli"
+    spec["correlation"] = {"parameters": ["rear", "rotors.fan.polar_inertia"], "matrix": [[1.0, 0.5], [0.5, 1.0]]}
+
+
+def _saltelli_with_grid(spec):
+    spec["design"] = "saltelli"
+    spec["parameters"].append({"key": "suspensions.mount-FR.stiffness", "scale": [0.9, 1.1]})
+
+
+def _correlation(names, matrix):
+    return lambda spec: spec.update(correlation={"parameters": names, "matrix": matrix})
+
+
+@pytest.mark.parametrize("change, message", [
+    (_grid_only, "samples = 6: expected no samples: every parameter is a grid (give a distribution to sample)"),
+    (_saltelli_correlated, "design = 'saltelli': expected independent parameters (Sobol indices assume no "
+                           "correlation); remove [correlation] or use another design"),
+    (_saltelli_with_grid, "design = 'saltelli': expected distributions only (a Saltelli design takes no grid "
+                          "parameters)"),
+    (lambda s: s.update(samples=2_000_000),
+     "samples = 2000000: expected a study of at most 1,000,000 variants (asked for 2,000,000)"),
+    (lambda s: s["parameters"][1].update(name=""), "[[parameters]] 2 name = '': expected a non-empty string"),
+    (lambda s: s["parameters"][0].update(values=[1.0, 2.0]),
+     "[[parameters]] 1 = ['apply', 'distribution', 'high', 'key', 'low', 'values']: expected exactly one of "
+     "values, scale or distribution"),
+    (lambda s: s["parameters"][0].update(apply="add"),
+     "[[parameters]] 1 apply = 'add': expected 'value' (set the key) or 'scale' (multiply it)"),
+    (lambda s: s.update(correlation=[1, 2]), "[correlation] = [1, 2]: expected a table with parameters and matrix"),
+    (_correlation(["rear", "nope"], [[1.0, 0.5], [0.5, 1.0]]),
+     "[correlation] parameters = ['rear', 'nope']: expected distinct names of distribution parameters: "
+     "suspensions.mount-FL.stiffness, rear, rotors.fan.polar_inertia"),
+    (_correlation(["rear", "rotors.fan.polar_inertia"], [["a", 1], [1, 1]]),
+     "[correlation] matrix = [['a', 1], [1, 1]]: expected a symmetric 2x2 matrix with ones on the diagonal"),
+    (_correlation(["rear", "rotors.fan.polar_inertia"], [[1.0, 1.0], [1.0, 1.0]]),
+     "[correlation] matrix = [[1.0, 1.0], [1.0, 1.0]]: expected a positive definite matrix"),
+])
+def test_inconsistent_study_designs_are_refused(gear, tmp_path, change, message):
+    """Samples of a grid, a Saltelli design with correlation or grids, too many variants, parameter
+    and correlation tables that do not fit: each refused naming the key, its value and why."""
+    import re
+
+    import tomli_w
+
+    spec = small_gear_study()
+    change(spec)
+    path = tmp_path / "study.toml"
+    path.write_text(tomli_w.dumps(spec))
+    with pytest.raises(StudyError, match=re.escape(f"study.toml: {message}")):
+        read_study(path, gear)
+
+
 def test_missing_and_broken_study_files(tmp_path, gear):
     with pytest.raises(StudyError, match="no such file"):
         read_study(tmp_path / "none.toml", gear)

@@ -34,10 +34,19 @@ def to_hz(value):
 
 
 def speed_to_rad_s(value, unit: str):
-    """Convert speeds given in ``unit`` ('rpm', 'rad/s' or 'hz') to rad/s."""
-    return np.asarray(value, dtype=float) * SPEED_UNITS[unit.lower()]
+    """Convert speeds given in ``unit`` ('rpm', 'rad/s' or 'hz', any case) to rad/s."""
+    return np.asarray(value, dtype=float) * _factor(unit)
 
 
 def speed_from_rad_s(value, unit: str):
     """Convert speeds in rad/s to ``unit``."""
-    return np.asarray(value, dtype=float) / SPEED_UNITS[unit.lower()]
+    return np.asarray(value, dtype=float) / _factor(unit)
+
+
+def _factor(unit: str) -> float:
+    factor = SPEED_UNITS.get(str(unit).lower())
+    if factor is None:
+        from .errors import InputError
+
+        raise InputError(f"speed unit {unit!r}: expected one of {', '.join(SPEED_UNITS)}")
+    return factor

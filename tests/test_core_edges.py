@@ -7,6 +7,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 import rotordyn_modal as rdm
 from rotordyn_modal.cli import main
@@ -65,3 +66,23 @@ def test_a_closed_pipe_ends_quietly(examples_dir):
                f"{examples_dir / 'gear_machine.toml'} --speeds 0:3000:3001 | head -1")
     completed = subprocess.run(["bash", "-c", command], capture_output=True, text=True, timeout=120)
     assert "Traceback" not in completed.stderr and "BrokenPipe" not in completed.stderr
+
+
+def test_unit_conversions_are_exact_and_refuse_unknown_units():
+    """One revolution per second is 2 pi rad/s, 60 rpm and 1 Hz; the conversions invert each
+    other, keep scalars scalar, and a unit that is none of rpm, rad/s, hz is refused by name."""
+    from rotordyn_modal import units
+    from rotordyn_modal.errors import InputError
+
+    assert units.rpm(60.0) == units.hz(1.0) == 2 * np.pi
+    assert units.to_rpm(2 * np.pi) == 60.0 and units.to_hz(2 * np.pi) == 1.0
+    assert isinstance(units.hz(1), float) and isinstance(units.to_hz(1), float)
+    np.testing.assert_array_equal(units.to_hz(units.hz([0.5, 2.0])), [0.5, 2.0])
+    for unit, factor in (("rpm", np.pi / 30), ("RPM", np.pi / 30), ("rad/s", 1.0), ("Hz", 2 * np.pi)):
+        np.testing.assert_array_equal(units.speed_to_rad_s([1.0, 3.0], unit), [factor, 3 * factor])
+        np.testing.assert_allclose(units.speed_from_rad_s(units.speed_to_rad_s([1.0, 3.0], unit), unit),
+                                   [1.0, 3.0], rtol=1e-15)
+    with pytest.raises(InputError, match=r"speed unit 'rev/min': expected one of rpm, rad/s, hz"):
+        units.speed_to_rad_s(1.0, "rev/min")
+    with pytest.raises(InputError, match=r"speed unit 'deg/s'"):
+        units.speed_from_rad_s(1.0, "deg/s")

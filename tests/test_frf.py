@@ -104,6 +104,20 @@ def test_direct_engine_equals_independent_loop_solve_with_loss_factor():
         np.testing.assert_allclose(res.H[:, :, k], rows @ np.linalg.solve(Z, cols), rtol=1e-10)
 
 
+def test_direct_solve_in_parts_gives_the_solve_of_all_at_once(monkeypatch):
+    """The harmonic systems are solved in parts of bounded memory (a part of 2 frequencies here):
+    each system on its own, so the parts change no bit of the response."""
+    from rotordyn_modal.analysis import frf as frf_module
+
+    model = _colocated(loss_factor=0.05)
+    forces = np.eye(model.dofs.n)[:, :3]
+    whole = dof_response(model, rdm.rpm(2000), 2 * np.pi * FREQS, forces)
+    n = model.dofs.n
+    monkeypatch.setattr(frf_module, "_SOLVE_PART_BYTES", 2 * 48 * n * n)
+    assert len(frf_module._eigen.chunk_slices(len(FREQS), 48 * n * n, budget=2 * 48 * n * n)) > 1
+    np.testing.assert_array_equal(dof_response(model, rdm.rpm(2000), 2 * np.pi * FREQS, forces), whole)
+
+
 @pytest.mark.parametrize("eta", [0.0, 0.05])
 def test_reciprocal_at_zero_speed(eta):
     H = frf(_colocated(eta), 0.0, FREQS).H

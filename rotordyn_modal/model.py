@@ -243,15 +243,16 @@ class Model:
 
         return matrices(self, speed)
 
-    def state_space(self, speed: float, quantity: str = "displacement"):
+    def state_space(self, speed: float, quantity: str = "displacement", inputs=None, outputs=None):
         """python-control ``StateSpace`` at ``speed`` [rad/s of the reference rotor].
 
-        Inputs are the ``[[excitations]]``, outputs the ``[[sensors]]`` (named).
+        Inputs are the ``[[excitations]]``, outputs the ``[[sensors]]`` (named; ``inputs`` and
+        ``outputs`` pick some of them by name, in the order given).
         See :func:`rotordyn_modal.linear_system.state_space`.
         """
         from .linear_system import state_space
 
-        return state_space(self, speed, quantity=quantity)
+        return state_space(self, speed, quantity=quantity, inputs=inputs, outputs=outputs)
 
     def __repr__(self) -> str:
         return (f"Model({self.name!r}, rotors={[r.name for r in self.rotors]}, "

@@ -185,6 +185,23 @@ def test_modal_engine_equals_the_direct_solve_on_speed_dependent_journal_bearing
     assert np.abs(modal - direct).max() <= 1e-9 * np.abs(direct).max()
 
 
+def test_state_space_picks_inputs_and_outputs_by_name_in_the_order_given():
+    """``model.state_space(..., inputs, outputs)`` is the full system's columns and rows picked
+    by name, in the order asked (not the model's)."""
+    model = rdm.load_model(EXAMPLE)
+    full = model.state_space(rdm.rpm(1200), "velocity")
+    part = model.state_space(rdm.rpm(1200), "velocity", inputs=["shaker-y", "hammer-z"], outputs="acc-side-y")
+    assert part.input_labels == ["shaker-y", "hammer-z"] and part.output_labels == ["acc-side-y"]
+    columns = [full.input_labels.index(name) for name in ("shaker-y", "hammer-z")]
+    row = full.output_labels.index("acc-side-y")
+    np.testing.assert_array_equal(part.A, full.A)
+    np.testing.assert_array_equal(part.B, full.B[:, columns])
+    np.testing.assert_array_equal(part.C, full.C[[row]])
+    np.testing.assert_array_equal(part.D, full.D[[row]][:, columns])
+    with pytest.raises(InputError, match="unknown sensor 'acc-nope'"):
+        model.state_space(0.0, outputs=["acc-nope"])
+
+
 def test_to_control_round_trip():
     res = frf(rdm.load_model(EXAMPLE), 100.0, FREQS[1:])
     data = res.to_control()

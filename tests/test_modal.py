@@ -323,3 +323,25 @@ def test_reversed_spin_axis_at_reversed_speed_is_the_same_machine():
     np.testing.assert_allclose(b.eigenvalues, a.eigenvalues, rtol=1e-12)
     np.testing.assert_allclose(b.whirl_ratios, a.whirl_ratios, atol=1e-9)
     assert list(b.whirl) == list(a.whirl)
+
+
+@pytest.mark.parametrize("spin", [1.0, -1.0])
+def test_rotor_whirl_is_forward_where_gyroscopic_stiffening_raises_the_frequency(examples_dir, spin):
+    """The seed 001 disk on its isotropic bearing: each tilting mode is a circle (its rotor's whirl
+    ratio exactly +-1), forward where the frequency rises with the spin and backward where it
+    falls (gyroscopic stiffening and softening), the axial mode 'none' and unchanged; reversing
+    the spin keeps the labels, which are relative to the spin."""
+    model = rdm.load_model(examples_dir / "spring_block_rotor.toml")
+    at, faster = rdm.modal(model, spin * rdm.rpm(3000)), rdm.modal(model, spin * rdm.rpm(3300))
+    rising = np.sign(np.round(faster.frequencies_hz - at.frequencies_hz, 9))
+    assert at.rotor_whirl.shape == (len(at.eigenvalues), 1)
+    np.testing.assert_allclose(at.rotor_whirl_ratios[:, 0], rising, atol=1e-12)
+    assert at.rotor_whirl[:, 0].tolist() == [{1.0: "forward", -1.0: "backward", 0.0: "none"}[r] for r in rising]
+    assert sorted(set(at.rotor_whirl[:, 0])) == ["backward", "forward", "none"]
+
+
+def test_shape_at_refuses_a_body_that_is_not_a_rotor(examples_dir):
+    result = rdm.modal(rdm.load_model(examples_dir / "gear_machine.toml"), 0.0)
+    np.testing.assert_array_equal(result.shape_at([0.1, 0.0, 0.0], body="stator"), result.shape_at([0.1, 0.0, 0.0]))
+    with pytest.raises(rdm.InputError, match="body 'rotor': expected None .the stator. or one of the rotors motor, fan"):
+        result.shape_at([0.0, 0.0, 0.0], body="rotor")

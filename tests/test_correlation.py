@@ -109,6 +109,9 @@ def test_rigid_motion_recovered_from_channels():
     # the condition reported is the transformation matrix's (largest / smallest singular value)
     T = transformation_matrix(*zip(*CHANNELS), S)
     assert result.condition == pytest.approx(np.linalg.cond(T), rel=1e-12)
+    table = result.to_dataframe()
+    assert list(table.columns) == ["u_x", "u_y", "u_z", "theta_x", "theta_y", "theta_z"]
+    np.testing.assert_allclose(table.to_numpy().T, q, atol=1e-12)
     # the figure: translations on top, rotations below, each against the abscissa given
     times = np.arange(40) * 0.01
     top, bottom = result.plot(times).axes

@@ -41,6 +41,17 @@ def test_impact_h1_equals_the_transfer_functions():
     h2_estimate = estimate_frf(records, ["hammer"], ["a1", "a2"], estimator="H2", band_hz=(0.1, 100.0))
     np.testing.assert_allclose(h2_estimate.H, result.H, rtol=1e-9)
     assert plot_time_records(records).axes[-1].get_xlabel() == "Time [s]"
+    # one record as a table and a figure: the record asked for, forces on top, responses below
+    table = records.to_dataframe(record=2)
+    assert list(table.columns) == ["time_s", "hammer", "a1", "a2"]
+    np.testing.assert_array_equal(table["time_s"], np.arange(records.signals.shape[-1]) / FS)
+    np.testing.assert_array_equal(table[["hammer", "a1", "a2"]].to_numpy().T, records.signals[2])
+    top, bottom = records.plot(record=2).axes
+    assert [line.get_label() for line in top.get_lines()] == ["hammer"]
+    assert [line.get_label() for line in bottom.get_lines()] == ["a1", "a2"]
+    np.testing.assert_array_equal(top.get_lines()[0].get_ydata(), records.signals[2, 0])
+    np.testing.assert_array_equal(bottom.get_lines()[1].get_ydata(), records.signals[2, 2])
+    assert top.get_title() == f"Record 3 of 3 ({FS:g} Hz sampling)" and top.get_ylabel().startswith("force [")
     assert plot_coherence(result).axes[0].get_ylabel() == "Coherence [-]"
 
 

@@ -174,3 +174,15 @@ def test_reported_uncertainty_matches_monte_carlo_scatter():
         reported.append(result.std_relative)
     ratio = np.std(fitted, axis=0, ddof=1) / np.mean(reported, axis=0)
     assert np.all((ratio > 0.52) & (ratio < 1.48)), ratio
+
+
+def test_progress_bar_counts_model_evaluations_and_changes_nothing(measured_file, capsys):
+    model = rdm.load_model(EXAMPLE)
+    measured = read_measured(measured_file, model)
+    quiet = fit(model, measured, ["gain", KEYS[0]], starts=2)
+    capsys.readouterr()
+    shown = fit(model, measured, ["gain", KEYS[0]], starts=2, progress=True)
+    bar = capsys.readouterr().err
+    assert "fit (model evaluations)" in bar and "start 2/2" in bar
+    np.testing.assert_array_equal(shown.factors, quiet.factors)
+    np.testing.assert_array_equal(shown.start_costs, quiet.start_costs)

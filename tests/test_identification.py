@@ -107,6 +107,25 @@ def test_uneven_lines_refused_by_lscf_and_auto_falls_back():
         identify_modes(measured, method="polymax")
     with pytest.raises(InputError, match="band 5..25 Hz: expected inside the measured lines"):
         identify_modes(measured, method="lscf", band_hz=(5, 25))
+    with pytest.raises(InputError, match="cannot identify modes of 'force' FRFs: expected receptance, mobility"):
+        identify_modes(FRFResult(**{**measured.__dict__, "quantity": "force"}), method="lscf")
+    holes = measured.H.copy()
+    holes[..., 7] = np.nan                                         # every FRF misses a line
+    with pytest.raises(InputError, match="no complete measured FRF to identify modes from"):
+        identify_modes(FRFResult(**{**measured.__dict__, "H": holes}), method="lscf")
+    with pytest.raises(InputError, match="modes identified by 'single-pole' have no stabilization chart"):
+        identify_modes(measured, method="single-pole").plot()
+
+
+def test_identified_modes_table_lists_them_by_frequency():
+    measured, lam, _ = _close_modes()
+    modes = identify_modes(measured, method="lscf")
+    table = modes.to_dataframe()
+    assert list(table.columns) == ["mode", "frequency_hz", "damping_ratio", "real_part", "method"]
+    assert table["mode"].tolist() == [1, 2] and set(table["method"]) == {"lscf"}
+    np.testing.assert_allclose(table["frequency_hz"], FREQS_HZ, rtol=1e-6)
+    np.testing.assert_allclose(table["damping_ratio"], ZETAS, rtol=1e-4)
+    np.testing.assert_allclose(table["real_part"], lam.real, rtol=1e-4)
 
 
 def test_missing_sdypy_named_in_the_message(without_module):

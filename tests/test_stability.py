@@ -80,6 +80,11 @@ def test_map_thresholds_equal_the_reference(skewed_unstable):
                                        "log_decrement"]
     assert sorted(set(table.value)) == list(factors)
     assert result.max_real_parts.shape == (3, 61)
+    for bad in ([], [1.0, np.nan], [[1.0, 2.0]]):
+        with pytest.raises(rdm.InputError, match="'suspensions.bearing-A.damping': expected a non-empty list of finite"):
+            rdm.stability_map(model, speeds, "suspensions.bearing-A.damping", scale=bad)
+    with pytest.raises(rdm.InputError, match="give exactly one of values or scale"):
+        rdm.stability_map(model, speeds, "suspensions.bearing-A.damping", values=[1.0], scale=[1.0])
 
 
 def test_damped_gyroscopic_machine_with_symmetric_supports_is_stable(examples_dir):

@@ -172,6 +172,9 @@ def test_peaks_table():
                                    "separation_margin_pct", "required_margin_pct"]
     fan_peak = peaks[(peaks.source == "fan")].sort_values("amplitude").iloc[-1]
     assert fan_peak.separation_margin_pct == pytest.approx(100 * abs(2400 - fan_peak.speed_rpm) / 2400)
+    for bad in (0.0, np.nan, np.inf):
+        with pytest.raises(rdm.InputError, match="rad/s: expected a finite speed other than 0"):
+            res.peaks(operating_speed=bad)
 
 
 def test_figure():

@@ -16,15 +16,12 @@ __all__ = ["StudyError", "is_number", "grid_values"]
 
 
 class StudyError(InputError):
-    """A study file that fails validation: ``file: where = value: expected ...``, or ``file: where
-    is missing: expected ...`` where the value is None (TOML has no null: a key not given)."""
+    """A study file that fails validation: ``file: where = value: expected ...``; a value of None
+    (TOML has no null: a key not given) reads ``'<missing>'``, as in model files."""
 
     def __init__(self, source: str, where: str, value, expected: str):
         self.source, self.where, self.value, self.expected = source, where, value, expected
-        if value is None:
-            super().__init__(f"{source}: {where} is missing: expected {expected}")
-            return
-        text = repr(value)
+        text = repr("<missing>" if value is None else value)
         text = text if len(text) <= 80 else text[:77] + "..."
         super().__init__(f"{source}: {where} = {text}: expected {expected}")
 

@@ -224,11 +224,11 @@ class Model:
         return [b for b in self.bearings if b.rotor == rotor]
 
     def rotor(self, name: str) -> Rotor:
-        """The rotor called ``name``."""
+        """The rotor called ``name`` (``KeyError`` naming the model's rotors if none is)."""
         for rotor in self.rotors:
             if rotor.name == name:
                 return rotor
-        raise KeyError(name)
+        raise KeyError(f"no rotor {name!r}: the model's rotors are {', '.join(r.name for r in self.rotors)}")
 
     def matrices(self, speed: float | None = None):
         """``M, C, G, K`` over the generalized coordinates :attr:`dofs`, model axes.

@@ -86,3 +86,10 @@ def test_unit_conversions_are_exact_and_refuse_unknown_units():
         units.speed_to_rad_s(1.0, "rev/min")
     with pytest.raises(InputError, match=r"speed unit 'deg/s'"):
         units.speed_from_rad_s(1.0, "deg/s")
+
+
+def test_unknown_rotor_is_named_with_the_models_rotors(examples_dir):
+    model = rdm.load_model(examples_dir / "gear_machine.toml")
+    assert model.rotor("fan") is model.rotors[1]
+    with pytest.raises(KeyError, match="no rotor 'fann': the model's rotors are motor, fan"):
+        model.rotor("fann")

@@ -63,6 +63,23 @@ def test_check_notes_a_direction_nothing_restrains(examples_dir, capsys):
     assert "note: the suspensions and bearings restrain 5 of 6 directions" in out
 
 
+def test_check_lists_each_bearings_radial_stiffness_whatever_its_axial_one(examples_dir, tmp_path, capsys):
+    """Radial means normal to the spin axis: a bearing twice as stiff axially as radially still
+    reads its two radial stiffnesses (before, the larger two principal stiffnesses of its 3x3
+    translational block were printed: the axial one among them)."""
+    text = (examples_dir / "fan_on_bearings.toml").read_text()
+    stiff = text.replace("axial_stiffness = 2.0e6", "axial_stiffness = 8.0e6")
+    assert stiff != text
+    path = tmp_path / "stiff_axially.toml"
+    path.write_text(stiff)
+    code, out, err = run(["check", path], capsys)
+    assert code == 0, err
+    line, = [line for line in out.splitlines() if line.strip().startswith("motor-DE")]
+    assert line.endswith("radial stiffness [4000000. 4000000.] N/m")     # stiffness = 4.0e6
+    fan, = [line for line in out.splitlines() if line.strip().startswith("fan-DE")]
+    assert fan.endswith("radial stiffness [3000000. 4500000.] N/m")
+
+
 @pytest.mark.parametrize("argv, fragment", [
     (["check", "{bad}"], "[rotors.fan] mass = -8.0: expected a finite number > 0"),
     (["check", "{missing}"], "no such file"),

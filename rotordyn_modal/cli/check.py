@@ -67,17 +67,20 @@ def _bearing_lines(model) -> list[str]:
     lines = [f"  bearings ({len(model.bearings)}, to {where}):"]
     for b in model.bearings:
         lines.append(f"    {b.name:<16} rotor {b.rotor!r} at {np.round(b.position, 4).tolist()} m, "
-                     + _coefficient_text(b.coefficients))
+                     + _coefficient_text(b.coefficients, model.spin_axis))
     return lines
 
 
-def _coefficient_text(coefficients) -> str:
+def _coefficient_text(coefficients, spin_axis) -> str:
     if coefficients.kind == "journal":
         j = coefficients.journal
         return (f"plain journal D {j.diameter:g} m x L {j.length:g} m, clearance {j.clearance:g} m, "
                 f"viscosity {j.viscosity:g} Pa s, static load {j.load:.4g} N")
-    radial = np.linalg.eigvals(coefficients.stiffness[0][:3, :3])
-    text = f"radial stiffness {np.array2string(np.sort(np.abs(radial))[1:], precision=4)} N/m"
+    # the translational stiffness in the plane normal to the spin axis (whatever the axial one)
+    axis = np.asarray(spin_axis, dtype=float)
+    plane = np.linalg.svd((axis / np.linalg.norm(axis))[None])[2][1:]          # (2, 3), orthonormal
+    radial = np.linalg.eigvals(plane @ coefficients.stiffness[0][:3, :3] @ plane.T)
+    text = f"radial stiffness {np.array2string(np.sort(np.abs(radial)), precision=4)} N/m"
     if coefficients.kind == "table":
         rpm = coefficients.speeds * 30 / np.pi
         text += f" at {rpm[0]:g} rpm, tabulated over {len(rpm)} speeds {rpm[0]:g} .. {rpm[-1]:g} rpm"

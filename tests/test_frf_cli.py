@@ -214,3 +214,32 @@ def test_fit_band_without_measured_lines_names_the_file_and_its_lines(tmp_path, 
     assert code == 2 and not out.exists() and err.count("\n") == 0
     assert f"{meas}: --band 5000:6000" in err
     assert "measured frequency lines" in err and " Hz)" in err
+
+
+def test_unbalance_orbits_written_and_drawn_as_the_python_result_gives_them(tmp_path, capsys):
+    """--orbits writes every probe pair's orbit (the table of ``result.orbits()``, 10 digits),
+    --orbit-plot draws them, and the largest orbit of each pair and source is reported; a
+    model whose outputs hold no probe pair is refused."""
+    orbits, figure = tmp_path / "o.csv", tmp_path / "o.png"
+    argv = ["unbalance", FANS, "--speeds", "0:6000:13", "--output", "probe-DE-x,probe-DE-y",
+            "--out", str(tmp_path / "u.csv"), "--orbits", str(orbits), "--orbit-plot", str(figure)]
+    assert main(argv) == 0
+    captured = capsys.readouterr()
+    err, printed = captured.err, captured.out + captured.err
+    model = rdm.load_model(FANS)
+    expected = rdm.unbalance_response(model, rdm.rpm(np.linspace(0, 6000, 13)),
+                                      outputs=["probe-DE-x", "probe-DE-y"]).orbits()
+    table = pd.read_csv(orbits)
+    assert list(table.columns) == list(expected.columns) and len(table) == len(expected)
+    for column in ("speed_rpm", "frequency_hz", "major", "minor", "precession_ratio"):
+        np.testing.assert_allclose(table[column], expected[column], rtol=1e-9, atol=1e-300)
+    assert table.pair.tolist() == expected.pair.tolist() and table.precession.tolist() == expected.precession.tolist()
+    assert figure.read_bytes()[:4] == b"\x89PNG"
+    assert "largest orbit of each probe pair:" in err
+    largest = expected.loc[expected.groupby(["pair", "source"])["major"].idxmax()]
+    for major in largest.major:
+        assert f"{major:.6g}" in printed
+    assert main(["unbalance", FANS, "--speeds", "0:6000:13", "--output", "acc-fan-z",
+                 "--orbits", str(tmp_path / "none.csv"), "--quiet"]) == 2
+    assert "--orbits/--orbit-plot need a probe pair among the outputs" in capsys.readouterr().err
+    assert not (tmp_path / "none.csv").exists()

@@ -275,3 +275,21 @@ def test_save_model_never_overwrites_its_source(gear, tmp_path):
     rdm.save_model(model, tmp_path / "copy.toml")
     assert rdm.load_model(tmp_path / "copy.toml").to_dict() == {
         k: v for k, v in model.to_dict().items() if v not in ([], None, "")}
+
+
+def test_stability_map_prints_each_values_threshold_in_rpm(examples_dir, tmp_path, capsys):
+    """``stability --vary KEY --scale ...`` prints, per factor, the speed the Python map finds
+    unstable from (in rpm), or that the machine is stable over the range."""
+    model_path = examples_dir / "unstable_cross_coupled.toml"
+    code, out, err = run(["stability", model_path, "--speeds", "0:20000:41", "--vary",
+                          "suspensions.bearing-A.damping", "--scale", "0.5,1,4", "--out", tmp_path / "s.csv"],
+                         capsys)
+    assert code == 0, err
+    expected = rdm.stability_map(rdm.load_model(model_path), rdm.rpm(np.linspace(0, 20000, 41)),
+                                 "suspensions.bearing-A.damping", scale=[0.5, 1.0, 4.0])
+    lines = [line for line in err.splitlines() if line.startswith("suspensions.bearing-A.damping x ")]
+    assert len(lines) == 3
+    for line, factor, speed in zip(lines, (0.5, 1, 4), expected.threshold_speeds):
+        text = "stable over the range" if np.isnan(speed) else f"unstable from {speed * 30 / np.pi:.6g} rpm"
+        assert line == f"suspensions.bearing-A.damping x {factor:g}: {text}"
+    assert "unstable from" in lines[0] and lines[2].endswith("stable over the range")     # both kinds

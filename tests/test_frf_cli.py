@@ -243,3 +243,21 @@ def test_unbalance_orbits_written_and_drawn_as_the_python_result_gives_them(tmp_
                  "--orbits", str(tmp_path / "none.csv"), "--quiet"]) == 2
     assert "--orbits/--orbit-plot need a probe pair among the outputs" in capsys.readouterr().err
     assert not (tmp_path / "none.csv").exists()
+
+
+@pytest.mark.parametrize("options, message", [
+    (["--orbit-plot", "{tmp}/o.txt"], "--orbit-plot {tmp}/o.txt: expected a file ending in .png, .svg or .pdf"),
+    (["--plot", "{tmp}/u.png", "--orbit-plot", "{tmp}/u.png"],
+     "--orbit-plot and --plot name the same file {tmp}/u.png: give two different files"),
+    (["--out", "{tmp}/u.csv", "--orbits", "{tmp}/./u.csv"],
+     "--orbits and --out name the same file {tmp}/./u.csv: give two different files"),
+    (["--orbits", "{tmp}/no-folder/o.csv"], "--orbits {tmp}/no-folder/o.csv: the folder {tmp}/no-folder does not exist"),
+    (["--orbits", FANS], "refusing to write over the input file"),
+])
+def test_unbalance_extra_outputs_are_refused_before_any_work(tmp_path, capsys, options, message):
+    before = sorted(tmp_path.iterdir())
+    argv = ["unbalance", FANS, "--speeds", "0:6000:13", "--output", "probe-DE-x,probe-DE-y", "--quiet",
+            *[o.format(tmp=tmp_path) for o in options]]
+    assert main(argv) == 2
+    assert message.format(tmp=tmp_path) in capsys.readouterr().err
+    assert sorted(tmp_path.iterdir()) == before

@@ -326,3 +326,26 @@ def test_animation_frames_are_one_period_of_the_mode(gear, tmp_path):
     assert not _same_drawing(stills[0], stills[2])
     plt.close(animation._fig)
 
+
+
+@pytest.mark.parametrize("kind, message", [
+    ("text", "the outline's x,y,z must be numbers (an empty row starts a new line)"),
+    ("folder", "cannot read the outline ([Errno 21]"),
+    ("binary", "cannot read the outline ('utf-8' codec can't decode"),
+    ("missing", "cannot read the outline ([Errno 2]"),
+])
+def test_unreadable_outlines_are_refused_by_name(tmp_path, capsys, kind, message):
+    from rotordyn_modal.cli import main
+
+    outline = tmp_path / "outline.csv"
+    if kind == "text":
+        outline.write_text("x,y,z\n0,0,0\nfoo,1,2\n")
+    elif kind == "folder":
+        outline.mkdir()
+    elif kind == "binary":
+        outline.write_bytes(b"\xff\xfe\x00bad")
+    argv = ["modes", str(EXAMPLES / "gear_machine.toml"), "--speed", "3000", "--shape", "2",
+            "--outline", str(outline), "--plot", str(tmp_path / "x.png"), "--quiet"]
+    assert main(argv) == 2
+    assert f"{outline}: {message}" in capsys.readouterr().err
+    assert not (tmp_path / "x.png").exists()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry import transverse_axes
 from ._common import add_model_argument, open_model
 
 NAME = "check"
@@ -77,8 +78,7 @@ def _coefficient_text(coefficients, spin_axis) -> str:
         return (f"plain journal D {j.diameter:g} m x L {j.length:g} m, clearance {j.clearance:g} m, "
                 f"viscosity {j.viscosity:g} Pa s, static load {j.load:.4g} N")
     # the translational stiffness in the plane normal to the spin axis (whatever the axial one)
-    axis = np.asarray(spin_axis, dtype=float)
-    plane = np.linalg.svd((axis / np.linalg.norm(axis))[None])[2][1:]          # (2, 3), orthonormal
+    plane = transverse_axes(spin_axis)                                          # (2, 3), orthonormal
     radial = np.linalg.eigvals(plane @ coefficients.stiffness[0][:3, :3] @ plane.T)
     text = f"radial stiffness {np.array2string(np.sort(np.abs(radial)), precision=4)} N/m"
     if coefficients.kind == "table":

@@ -12,6 +12,7 @@ from ..errors import InputError
 from ..io import atomic_write, check_not_input, load_model
 from ..io.atomic import check_writable
 from ..units import SPEED_UNITS
+from ..units import speed_to_rad_s as to_rad_s
 
 #: options that take a value which may start with '-' (a negative speed or range)
 VALUE_OPTIONS = ("--speed", "--speeds", "--values", "--scale", "--freqs", "--orders", "--impulse",
@@ -87,10 +88,6 @@ def add_outputs(parser, table: bool = True, plot: bool = True):
     if plot:
         parser.add_argument("--plot", metavar="FILE.png|FILE.svg|FILE.pdf", help="draw the figure to this file")
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no table on the terminal")
-
-
-def to_rad_s(values, unit: str):
-    return np.asarray(values, dtype=float) * SPEED_UNITS[unit]
 
 
 def speeds_option(args) -> np.ndarray:

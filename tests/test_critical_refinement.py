@@ -152,7 +152,6 @@ def test_pencil_iteration_equals_all_eigenvalues_of_the_state_matrix(seed, facto
     np.testing.assert_allclose(newton.damping_ratios, full.damping_ratios, rtol=1e-8, atol=1e-12)
 
 
-@pytest.mark.filterwarnings("ignore:.*critical speeds are not crossings")    # 2 jumps, the same in both
 def test_modes_in_clusters_of_roots_take_more_roots_than_the_nearest(monkeypatch):
     """Where a crossing's mode is told by its shape among the roots nearest the interpolation, a
     root beyond them could be the mode (a cluster of close roots: the like rotors of a large
@@ -302,10 +301,33 @@ def _clustered_machine():
     return rdm.Model.from_dict(data)
 
 
-def test_jumps_of_the_tracked_mode_between_close_roots_are_warned_of():
-    """On a coarse grid (21 speeds) a tracked mode among close roots can jump from one root to
-    another inside a bracket; the refinement then closes in on the jump, whose frequency is off
-    the order line. Those rows, and only those, are warned of; a finer grid has none."""
+def test_jumps_of_the_tracked_mode_between_close_roots_are_resolved_by_a_sub_sweep():
+    """On a coarse grid (21 speeds) a tracked mode among close roots can pass from one root to
+    another inside a bracket (4 of this machine's 454 rows), or two modes close in on one root
+    (5 pairs). Those brackets are swept again, finer: the coarse grid then gives the 454
+    crossings of a grid ten times finer, each on its order line, without a warning."""
+    model = _clustered_machine()
+    sources = excitation_sources(model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        coarse = rdm.campbell(model, np.linspace(0.0, 3000.0, 21)).critical
+        fine = rdm.campbell(model, np.linspace(0.0, 3000.0, 201)).critical
+    assert len(coarse) == len(fine) == 454
+    assert _on_order_line(coarse, sources).all() and _on_order_line(fine, sources).all()
+    # the same crossings; the labels of modes that veer inside a coarse bracket may differ
+    a, b = (np.lexsort((t.speeds, t.order, np.asarray(t.source))) for t in (coarse, fine))
+    assert list(coarse.source[a]) == list(fine.source[b]) and np.array_equal(coarse.order[a], fine.order[b])
+    np.testing.assert_allclose(coarse.speeds[a], fine.speeds[b], rtol=1e-10)
+    np.testing.assert_allclose(coarse.frequencies_hz[a], fine.frequencies_hz[b], rtol=1e-10)
+
+
+def test_jumps_left_unresolved_are_warned_of(monkeypatch):
+    """Without sub-sweeps (models of more than ``_SUB_SWEEP_DOF`` coordinates) a bracket's jump
+    stays: the refinement closes in on it, its frequency is off the order line, and those rows,
+    and only those, are warned of."""
+    from rotordyn_modal.analysis import campbell as campbell_module
+
+    monkeypatch.setattr(campbell_module, "_SUB_SWEEP_DOF", 0)
     model = _clustered_machine()
     sources = excitation_sources(model)
     with pytest.warns(UserWarning, match=r"4 of 454 critical speeds are not crossings") as caught:
@@ -313,10 +335,6 @@ def test_jumps_of_the_tracked_mode_between_close_roots_are_warned_of():
     off = ~_on_order_line(coarse, sources)
     assert off.sum() == 4
     assert str(sorted(set(coarse.mode[off].tolist()))) in str(caught[0].message)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        fine = rdm.campbell(model, np.linspace(0.0, 3000.0, 201)).critical
-    assert len(fine) == 454 and _on_order_line(fine, sources).all()
 
 
 def test_the_command_line_prints_a_warning_on_one_line(examples_dir, monkeypatch, capsys):

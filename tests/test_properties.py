@@ -6,7 +6,7 @@ import copy
 
 import numpy as np
 import scipy.linalg
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
 import rotordyn_modal as rdm
@@ -181,6 +181,9 @@ def test_critical_speeds_are_crossings_of_the_state_matrix_eigenvalues(data):
 
 @SETTINGS
 @given(bearing_machines())
+# two roots veer between two speeds of the grid (near 755 rad/s, order 2): the tracked mode passed
+# from one to the other, and the refinement closed in on that jump, 0.13 % off the order line
+@example(rdm.Model.from_dict(random_bearing_description(np.random.default_rng(326), n_rotors=3, stator=True)))
 def test_critical_speeds_on_bearings_are_crossings_of_the_state_matrix_eigenvalues(model):
     assert_crossings_are_eigenvalues(model)
 

@@ -272,13 +272,21 @@ def campbell(model, speeds, orders=(1,), progress=False) -> CampbellResult:
     -------
     CampbellResult
 
+    Notes
+    -----
+    Where the tracked mode passes from one root to another inside a bracket (two modes that
+    veer, or clusters of like modes, such as many like rotors', on a coarse grid), that bracket
+    is swept again, finer, and the crossings of its roots with the order line are found there
+    (see ``docs/theory.md``, section 10).
+
     Warns
     -----
     UserWarning
-        Where a critical speed is not a crossing but a jump of the tracked mode between two close
-        roots inside its bracket (clusters of like modes, such as many like rotors', on a coarse
-        grid: the refinement closes in on the jump, and the frequency there is off the order
-        line; see :func:`off_order_line`). A finer speed grid resolves them.
+        Where a critical speed is still not a crossing but a jump of the tracked mode between two
+        close roots inside its bracket (models of more than 96 coordinates, whose brackets are not
+        swept again; or a jump left after three finer sweeps): the refinement closes in on the
+        jump, and the frequency there is off the order line (see :func:`off_order_line`). A finer
+        speed grid resolves them.
     """
     return campbell_many([model], speeds, orders, progress)[0]
 
@@ -396,21 +404,159 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shap
         return [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
     # one BLAS thread: the pencils' factorisations and solves are too small to share well
     with _eigen.one_blas_thread(72 * stack.forms[0].n_states ** 2):
-        roots, lam, phi, sure = _refine_parts(stack, speeds, values, weighted, brackets, shapes)
-    ratios = stack.whirl_ratios(phi[:, None], brackets.variant, roots)[:, 0]
-    zeta = damping_ratios(lam)
-    names = np.asarray(sources[0].names, dtype=str)[brackets.source]
+        found = _Found(brackets.variant, brackets.mode, brackets.source, brackets.order,
+                       *_refine_parts(stack, speeds, values, weighted, brackets, shapes))
+        if _unresolved(found, brackets).any():
+            found = _resolve_jumps(stack, speeds, values, weighted, shapes, brackets, found, sources, orders)
+    ratios = stack.whirl_ratios(found.phi[:, None], found.variant, found.roots)[:, 0]
+    zeta = damping_ratios(found.lam)
+    names = np.asarray(sources[0].names, dtype=str)[found.source]
     labels = _eigen.whirl_labels(ratios)
+    roots, lam = found.roots, found.lam
     tables = []
     for v in range(count):
-        mine = slice(None) if count == 1 else np.nonzero(brackets.variant == v)[0]
-        order = np.lexsort((brackets.mode[mine], brackets.order[mine], names[mine], roots[mine]))
+        mine = slice(None) if count == 1 else np.nonzero(found.variant == v)[0]
+        order = np.lexsort((found.mode[mine], found.order[mine], names[mine], roots[mine]))
         if count > 1:
             order = mine[order]
-        tables.append(_critical_table(names[order].astype(object), brackets.order[order], brackets.mode[order] + 1,
+        tables.append(_critical_table(names[order].astype(object), found.order[order], found.mode[order] + 1,
                                       roots[order], lam.imag[order] / (2 * np.pi), labels[order].astype(object),
                                       ratios[order], zeta[order]))
     return tables
+
+
+class _Found(NamedTuple):
+    """Refined crossings, one row each: variant, tracked mode (0-based), source index and order;
+    the speed [rad/s], the eigenvalue and the shape there, and whether the eigenvalue was told
+    apart by distance alone (see :func:`_refine_together`)."""
+
+    variant: np.ndarray
+    mode: np.ndarray
+    source: np.ndarray
+    order: np.ndarray
+    roots: np.ndarray
+    lam: np.ndarray
+    phi: np.ndarray
+    sure: np.ndarray
+
+    def subset(self, rows) -> "_Found":
+        return _Found(*(column[rows] for column in self))
+
+
+def _off_line(found, slope):
+    """Relative distance of each row's frequency from its order line (:func:`off_order_line`)."""
+    line = slope * np.abs(found.roots)
+    return np.abs(found.lam.imag - line) / np.where(line > 0, line, 1.0)
+
+
+def _unresolved(found, brackets):
+    """Rows that are not a crossing of their own: a jump (off the order line by more than
+    ``JUMP_TOLERANCE``), or the same root as another mode's row of the same line and bracket
+    (two tracked modes that close in on one root of a cluster)."""
+    out = _off_line(found, brackets.slope) > JUMP_TOLERANCE
+    if len(found.roots) < 2:
+        return out
+    key = (found.roots, brackets.k, brackets.order, brackets.source, brackets.variant)
+    order = np.lexsort(key)
+    same = np.ones(len(order) - 1, dtype=bool)
+    for column in key[1:]:
+        same &= column[order[1:]] == column[order[:-1]]
+    roots, lam = found.roots[order], found.lam[order]
+    same &= np.abs(np.diff(roots)) <= _SAME_ROOT * np.maximum(np.abs(roots[1:]), 1.0)
+    same &= np.abs(np.diff(lam)) <= _SAME_ROOT * np.abs(lam[1:])
+    if same.any():
+        # a double root's two modes have shapes of their own; one root found twice has one shape
+        first, second = order[:-1][same], order[1:][same]
+        a, b = found.phi[first], found.phi[second]
+        mac = np.abs(np.einsum("pi,pi->p", a.conj(), b)) ** 2 / (_eigen.row_norms(a)[:, 0] * _eigen.row_norms(b)[:, 0]) ** 2
+        twice = mac > 1 - _SAME_ROOT
+        out[first[twice]] = out[second[twice]] = True
+    return out
+
+
+#: two rows whose speeds and eigenvalues agree to this (relative), with shapes whose MAC is
+#: within this of 1, are one root
+_SAME_ROOT = 1e-9
+
+
+#: speeds of the sub-sweep across a bracket whose tracked mode jumped (see :func:`_resolve_jumps`)
+_SUB_SPEEDS = 9
+#: sub-sweeps within sub-sweeps at most (each a further 8 times finer)
+_SUB_DEPTH = 3
+#: models of more coordinates keep the jumps of their tracked modes (a sub-sweep's eigenvectors
+#: of 2n x 2n state matrices would cost more than the whole refinement)
+_SUB_SWEEP_DOF = 96
+
+
+def _resolve_jumps(stack, speeds, values, weighted, shapes, brackets, found, sources, orders, depth=0):
+    """Crossings in place of the rows where the tracked mode jumped between close roots.
+
+    Where two roots veer (come close and part with their shapes exchanged) between two speeds
+    of the sweep, the mode tracked by its shape passes from one root to the other, and ``g``
+    changes sign across the bracket without a root: the refinement closes in on the jump. Such
+    a bracket is swept again at ``_SUB_SPEEDS`` speeds, every root tracked across that finer
+    grid from the sweep's modes at the bracket's start, and every crossing of those paths with
+    the line that jumped is refined as in the sweep, in place of all the sweep's rows of that
+    line in that bracket: each is a root on the line, labelled with the mode it is at the
+    bracket's start. Jumps left within a sub-sweep are resolved the same way, ``_SUB_DEPTH``
+    levels deep; any still left stay as they are (and are warned of). Models of more than
+    ``_SUB_SWEEP_DOF`` coordinates keep their jumps.
+
+    Parameters
+    ----------
+    stack, speeds, values, weighted, shapes, brackets : as :func:`_refine_together`'s
+    found : _Found
+        The refined rows of ``brackets``.
+    sources : list of ExcitationSources, one per variant; orders : tuple of float
+
+    Returns
+    -------
+    _Found
+    """
+    if depth >= _SUB_DEPTH or stack.n_dof > _SUB_SWEEP_DOF or shapes is None:
+        return found
+    jumped = _unresolved(found, brackets)
+    # one group per (variant, bracket, line) with a jump: all its rows are found again
+    group = np.stack([brackets.variant, brackets.k, brackets.source, brackets.order])
+    redone = np.unique(group[:, jumped], axis=1)
+    again = (group[:, :, None] == redone[:, None, :]).all(axis=0).any(axis=1)
+    kept = [found.subset(~again)]
+    for v, k in np.unique(redone[:2], axis=1).T.astype(int):
+        mine = again & (brackets.variant == v) & (brackets.k == k)
+        lines = set(zip(brackets.source[mine].tolist(), brackets.order[mine].tolist()))
+        kept.append(_crossings_in(stack, v, speeds[k:k + 2], values[v, k:k + 2], shapes[v, k:k + 2],
+                                  weighted[v, k:k + 2], sources[v], orders, lines, depth))
+    return _Found(*(np.concatenate(column) for column in zip(*kept)))
+
+
+def _crossings_in(stack, v, ends, end_values, end_shapes, end_weighted, sources, orders, lines, depth):
+    """Every crossing of the lines ``lines`` ({(source, order)}) inside the bracket ``ends`` of
+    variant ``v``, found on a sub-sweep (see :func:`_resolve_jumps`). Returns a _Found of
+    variant ``v``."""
+    single = Stack([stack.models[v]])
+    speeds = np.linspace(ends[0], ends[1], _SUB_SPEEDS)
+    inner = speeds[1:-1]
+    first = np.zeros(len(inner), dtype=int)
+    lam, phi = single.solve(single.sweep(inner)[0], first)
+    values = np.concatenate([end_values[:1], lam, end_values[1:]])[None]                  # (1, S, m)
+    shapes = np.concatenate([end_shapes[:1], phi, end_shapes[1:]])[None]
+    weighted = np.concatenate([end_weighted[:1], single.weighted(phi, first), end_weighted[1:]])[None]
+    order = track_modes_many(values, weighted)                    # from the sweep's modes at the start
+    rows = np.arange(len(speeds))[None, :, None]
+    values, shapes, weighted = values[0, rows, order], shapes[0, rows, order], weighted[0, rows, order]
+    brackets = _crossing_brackets(speeds, values, [sources], orders)
+    wanted = [(s, o) in lines for s, o in zip(brackets.source.tolist(), brackets.order.tolist())]
+    brackets = brackets.subset(np.nonzero(wanted)[0])
+    if not len(brackets.k):                       # the jump had no crossing under it
+        return _Found(*(np.zeros((0,) + column.shape[1:], column.dtype) for column in _Found(
+            brackets.variant, brackets.mode, brackets.source, brackets.order, np.zeros(0), np.zeros(0, complex),
+            np.zeros((0, single.n_dof), complex), np.zeros(0, bool))))
+    found = _Found(brackets.variant, brackets.mode, brackets.source, brackets.order,
+                   *_refine_parts(single, speeds, values, weighted, brackets, shapes))
+    if _unresolved(found, brackets).any():
+        found = _resolve_jumps(single, speeds, values, weighted, shapes, brackets, found, [sources], orders,
+                               depth + 1)
+    return found._replace(variant=np.full(len(found.roots), v))
 
 
 def _critical_table(source, order, mode, speeds, freq, whirl, ratios, zeta) -> CriticalSpeeds:

@@ -321,6 +321,28 @@ def test_jumps_of_the_tracked_mode_between_close_roots_are_resolved_by_a_sub_swe
     np.testing.assert_allclose(coarse.frequencies_hz[a], fine.frequencies_hz[b], rtol=1e-10)
 
 
+def test_jumps_left_in_a_sub_sweep_are_resolved_by_a_sub_sweep_of_their_own(monkeypatch):
+    """Sub-sweeps of one inner speed (instead of 7) leave jumps of their own: they are swept
+    again in turn, and the 21 speeds still give the crossings of 201 speeds."""
+    from rotordyn_modal.analysis import campbell as campbell_module
+
+    model = _clustered_machine()
+    depths = []
+    crossings_in = campbell_module._crossings_in
+    monkeypatch.setattr(campbell_module, "_crossings_in", lambda *args: depths.append(args[-1]) or crossings_in(*args))
+    monkeypatch.setattr(campbell_module, "_SUB_SPEEDS", 3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        coarse = rdm.campbell(model, np.linspace(0.0, 3000.0, 21)).critical
+    assert max(depths) >= 1
+    monkeypatch.undo()
+    fine = rdm.campbell(model, np.linspace(0.0, 3000.0, 201)).critical
+    assert _on_order_line(coarse, excitation_sources(model)).all()
+    a, b = (np.lexsort((t.speeds, t.order, np.asarray(t.source))) for t in (coarse, fine))
+    assert list(coarse.source[a]) == list(fine.source[b])
+    np.testing.assert_allclose(coarse.speeds[a], fine.speeds[b], rtol=1e-10)
+
+
 def test_jumps_left_unresolved_are_warned_of(monkeypatch):
     """Without sub-sweeps (models of more than ``_SUB_SWEEP_DOF`` coordinates) a bracket's jump
     stays: the refinement closes in on it, its frequency is off the order line, and those rows,

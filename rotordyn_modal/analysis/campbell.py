@@ -548,9 +548,8 @@ def _crossings_in(stack, v, ends, end_values, end_shapes, end_weighted, sources,
     wanted = [(s, o) in lines for s, o in zip(brackets.source.tolist(), brackets.order.tolist())]
     brackets = brackets.subset(np.nonzero(wanted)[0])
     if not len(brackets.k):                       # the jump had no crossing under it
-        return _Found(*(np.zeros((0,) + column.shape[1:], column.dtype) for column in _Found(
-            brackets.variant, brackets.mode, brackets.source, brackets.order, np.zeros(0), np.zeros(0, complex),
-            np.zeros((0, single.n_dof), complex), np.zeros(0, bool))))
+        return _Found(brackets.variant, brackets.mode, brackets.source, brackets.order, np.zeros(0),
+                      np.zeros(0, complex), np.zeros((0, single.n_dof), complex), np.zeros(0, bool))
     found = _Found(brackets.variant, brackets.mode, brackets.source, brackets.order,
                    *_refine_parts(single, speeds, values, weighted, brackets, shapes))
     if _unresolved(found, brackets).any():

@@ -348,7 +348,7 @@ def off_order_line(table: CriticalSpeeds, sources: ExcitationSources) -> np.ndar
     multiplier = dict(zip(sources.names, sources.multipliers))
     line = np.array([order * multiplier[name] for name, order in zip(table.source, table.order)], dtype=float)
     line = line * np.abs(table.speeds) / (2 * np.pi)
-    return np.abs(table.frequencies_hz - line) / np.where(line > 0, line, 1.0)
+    return _relative_to_line(table.frequencies_hz, line)
 
 
 def _warn_of_jumps(table, sources, model):
@@ -404,10 +404,7 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shap
         return [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
     # one BLAS thread: the pencils' factorisations and solves are too small to share well
     with _eigen.one_blas_thread(72 * stack.forms[0].n_states ** 2):
-        found = _Found(brackets.variant, brackets.mode, brackets.source, brackets.order,
-                       *_refine_parts(stack, speeds, values, weighted, brackets, shapes))
-        if _unresolved(found, brackets).any():
-            found = _resolve_jumps(stack, speeds, values, weighted, shapes, brackets, found, sources, orders)
+        found = _refined(stack, speeds, values, weighted, shapes, brackets, sources, orders)
     ratios = stack.whirl_ratios(found.phi[:, None], found.variant, found.roots)[:, 0]
     zeta = damping_ratios(found.lam)
     names = np.asarray(sources[0].names, dtype=str)[found.source]
@@ -443,10 +440,26 @@ class _Found(NamedTuple):
         return _Found(*(column[rows] for column in self))
 
 
+def _refined(stack, speeds, values, weighted, shapes, brackets, sources, orders, depth=0):
+    """The crossings of ``brackets`` refined (:func:`_refine_parts`), with the brackets whose
+    rows are not crossings of their own swept again (:func:`_resolve_jumps`)."""
+    found = _Found(brackets.variant, brackets.mode, brackets.source, brackets.order,
+                   *_refine_parts(stack, speeds, values, weighted, brackets, shapes))
+    unresolved = _unresolved(found, brackets)
+    if unresolved.any():
+        found = _resolve_jumps(stack, speeds, values, weighted, shapes, brackets, found, unresolved, sources, orders,
+                               depth)
+    return found
+
+
 def _off_line(found, slope):
     """Relative distance of each row's frequency from its order line (:func:`off_order_line`)."""
-    line = slope * np.abs(found.roots)
-    return np.abs(found.lam.imag - line) / np.where(line > 0, line, 1.0)
+    return _relative_to_line(found.lam.imag, slope * np.abs(found.roots))
+
+
+def _relative_to_line(frequency, line):
+    """``|frequency - line| / line`` (``/ 1`` where the line is at zero)."""
+    return np.abs(frequency - line) / np.where(line > 0, line, 1.0)
 
 
 def _unresolved(found, brackets):
@@ -488,7 +501,7 @@ _SUB_DEPTH = 3
 _SUB_SWEEP_DOF = 96
 
 
-def _resolve_jumps(stack, speeds, values, weighted, shapes, brackets, found, sources, orders, depth=0):
+def _resolve_jumps(stack, speeds, values, weighted, shapes, brackets, found, unresolved, sources, orders, depth=0):
     """Crossings in place of the rows where the tracked mode jumped between close roots.
 
     Where two roots veer (come close and part with their shapes exchanged) between two speeds
@@ -507,6 +520,8 @@ def _resolve_jumps(stack, speeds, values, weighted, shapes, brackets, found, sou
     stack, speeds, values, weighted, shapes, brackets : as :func:`_refine_together`'s
     found : _Found
         The refined rows of ``brackets``.
+    unresolved : ndarray of bool
+        Its rows that are not crossings of their own (:func:`_unresolved`).
     sources : list of ExcitationSources, one per variant; orders : tuple of float
 
     Returns
@@ -515,25 +530,26 @@ def _resolve_jumps(stack, speeds, values, weighted, shapes, brackets, found, sou
     """
     if depth >= _SUB_DEPTH or stack.n_dof > _SUB_SWEEP_DOF or shapes is None:
         return found
-    jumped = _unresolved(found, brackets)
     # one group per (variant, bracket, line) with a jump: all its rows are found again
     group = np.stack([brackets.variant, brackets.k, brackets.source, brackets.order])
-    redone = np.unique(group[:, jumped], axis=1)
+    redone = np.unique(group[:, unresolved], axis=1)
     again = (group[:, :, None] == redone[:, None, :]).all(axis=0).any(axis=1)
     kept = [found.subset(~again)]
+    singles = {}           # each variant's model alone, as its own analysis has it (bit for bit)
     for v, k in np.unique(redone[:2], axis=1).T.astype(int):
+        if v not in singles:
+            singles[v] = stack if len(stack) == 1 else Stack([stack.models[v]])
         mine = again & (brackets.variant == v) & (brackets.k == k)
         lines = set(zip(brackets.source[mine].tolist(), brackets.order[mine].tolist()))
-        kept.append(_crossings_in(stack, v, speeds[k:k + 2], values[v, k:k + 2], shapes[v, k:k + 2],
+        kept.append(_crossings_in(singles[v], v, speeds[k:k + 2], values[v, k:k + 2], shapes[v, k:k + 2],
                                   weighted[v, k:k + 2], sources[v], orders, lines, depth))
     return _Found(*(np.concatenate(column) for column in zip(*kept)))
 
 
-def _crossings_in(stack, v, ends, end_values, end_shapes, end_weighted, sources, orders, lines, depth):
+def _crossings_in(single, v, ends, end_values, end_shapes, end_weighted, sources, orders, lines, depth):
     """Every crossing of the lines ``lines`` ({(source, order)}) inside the bracket ``ends`` of
-    variant ``v``, found on a sub-sweep (see :func:`_resolve_jumps`). Returns a _Found of
-    variant ``v``."""
-    single = Stack([stack.models[v]])
+    variant ``v``, found on a sub-sweep (see :func:`_resolve_jumps`) of ``single``, the stack of
+    that variant's model alone. Returns a _Found of variant ``v``."""
     speeds = np.linspace(ends[0], ends[1], _SUB_SPEEDS)
     inner = speeds[1:-1]
     first = np.zeros(len(inner), dtype=int)
@@ -550,11 +566,7 @@ def _crossings_in(stack, v, ends, end_values, end_shapes, end_weighted, sources,
     if not len(brackets.k):                       # the jump had no crossing under it
         return _Found(brackets.variant, brackets.mode, brackets.source, brackets.order, np.zeros(0),
                       np.zeros(0, complex), np.zeros((0, single.n_dof), complex), np.zeros(0, bool))
-    found = _Found(brackets.variant, brackets.mode, brackets.source, brackets.order,
-                   *_refine_parts(single, speeds, values, weighted, brackets, shapes))
-    if _unresolved(found, brackets).any():
-        found = _resolve_jumps(single, speeds, values, weighted, shapes, brackets, found, [sources], orders,
-                               depth + 1)
+    found = _refined(single, speeds, values, weighted, shapes, brackets, [sources], orders, depth + 1)
     return found._replace(variant=np.full(len(found.roots), v))
 
 

@@ -969,8 +969,16 @@ def _pencil_at(stack, speeds, brackets, rows, x, iterates):
             untouched = fresh[iterates.x[rows[fresh]] == brackets.start[rows[fresh]]]    # nothing evaluated yet
             if len(untouched):
                 start[untouched] = _cubic_value(speeds, brackets, rows[untouched], x[untouched])
-            iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
-        again = None
+        if iterates.factors.whole:
+            # small pencils anew at this speed's start: the last point's are at its converged
+            # eigenvalue, singular to round-off, and a residual step through them barely contracts
+            # (a step of 4e-10 left an error of 1e-8 in the shape)
+            matrices = iterates.factors.factor(rows, pencils, start)
+            again = ()
+        else:
+            if len(fresh):
+                iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
+            again = None
     lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
                                                                iterates.shape[rows], matrices=matrices)
     if again is None:

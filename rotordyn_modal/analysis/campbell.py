@@ -926,11 +926,20 @@ def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
     if len(slow):
         lam[slow], sure[slow], shapes, known, gap = _tracked(stack, speeds, values, weighted, brackets, rows[slow],
                                                              x[slow])
+        if iterates.shape.shape[-1]:
+            # a mode told apart by distance among roots that came without shapes: its shape by one
+            # inverse-iteration step, so that later points follow it on the pencil (_followed)
+            # instead of taking every root again
+            bare = (~known & sure[slow]).nonzero()[0]
+            if len(bare):
+                at = slow[bare]
+                shapes[bare] = stack.shapes_at(brackets.variant[rows[at]], x[at], lam[at])
+                known[bare] = True
         if known.any() and iterates.shape.shape[-1]:
             # kept for the shape at the root, should this point be it, and to follow the mode
             mine, at = rows[slow[known]], slow[known]
             iterates.x[mine], iterates.lam[mine], iterates.shape[mine] = x[at], lam[at], shapes[known]
-            iterates.gap[mine] = np.where(sure[at], gap[known], np.nan)
+            iterates.gap[mine] = gap[known]
     return lam, sure
 
 

@@ -322,6 +322,27 @@ def test_jumps_of_the_tracked_mode_between_close_roots_are_resolved_by_a_sub_swe
     np.testing.assert_allclose(coarse.frequencies_hz[a], fine.frequencies_hz[b], rtol=1e-10)
 
 
+def test_jumps_of_a_large_model_are_resolved_by_a_sub_sweep():
+    """A machine of 20 rotors on bearings (101 coordinates) at 150 rad/s steps has two jumps
+    between veering roots, near 1018 and 1296 rad/s: they are swept again as a small model's
+    are, and the 5 speeds give the 208 crossings of a grid ten times finer, each on its order
+    line, without a warning."""
+    from reference_bearings import random_bearing_description
+
+    model = rdm.Model.from_dict(random_bearing_description(np.random.default_rng(1), n_rotors=20))
+    sources = excitation_sources(model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        coarse = rdm.campbell(model, np.linspace(750.0, 1350.0, 5)).critical
+        fine = rdm.campbell(model, np.linspace(750.0, 1350.0, 41)).critical
+    assert len(coarse) == len(fine) == 208
+    assert _on_order_line(coarse, sources).all() and _on_order_line(fine, sources).all()
+    a, b = (np.lexsort((t.speeds, t.order, np.asarray(t.source))) for t in (coarse, fine))
+    assert list(coarse.source[a]) == list(fine.source[b])
+    np.testing.assert_allclose(coarse.speeds[a], fine.speeds[b], rtol=1e-10)
+    np.testing.assert_allclose(coarse.frequencies_hz[a], fine.frequencies_hz[b], rtol=1e-10)
+
+
 def test_whirl_and_damping_at_critical_speeds_are_those_of_the_eigenpair_there():
     """At each critical speed the reported damping ratio and whirl ratio are those of the
     state matrix's eigenpair there, solved afresh by LAPACK, to the refinement's 1e-10 wherever
@@ -374,12 +395,12 @@ def test_jumps_left_in_a_sub_sweep_are_resolved_by_a_sub_sweep_of_their_own(monk
 
 
 def test_jumps_left_unresolved_are_warned_of(monkeypatch):
-    """Without sub-sweeps (models of more than ``_SUB_SWEEP_DOF`` coordinates) a bracket's jump
-    stays: the refinement closes in on it, its frequency is off the order line, and those rows,
-    and only those, are warned of."""
+    """Without sub-sweeps (none left at the deepest level) a bracket's jump stays: the
+    refinement closes in on it, its frequency is off the order line, and those rows, and only
+    those, are warned of."""
     from rotordyn_modal.analysis import campbell as campbell_module
 
-    monkeypatch.setattr(campbell_module, "_SUB_SWEEP_DOF", 0)
+    monkeypatch.setattr(campbell_module, "_SUB_DEPTH", 0)
     model = _clustered_machine()
     sources = excitation_sources(model)
     with pytest.warns(UserWarning, match=r"4 of 454 critical speeds are not crossings") as caught:

@@ -372,6 +372,30 @@ def test_whirl_and_damping_at_critical_speeds_are_those_of_the_eigenpair_there()
     assert checked >= 0.9 * len(table) > 100
 
 
+def test_brackets_crowded_with_close_roots_are_swept_again_with_the_same_crossings(monkeypatch):
+    """A bracket holding many crossings among close roots is swept again at once (seven
+    eigen-solves instead of all the roots for each crossing): the same crossings as refining
+    each by itself, to 1e-10; only the labels of modes that veer inside the bracket may differ
+    (each is the mode at the bracket's start that the finer grid follows)."""
+    from rotordyn_modal.analysis import campbell as campbell_module
+
+    model = _clustered_machine()
+    speeds = np.linspace(0.0, 3000.0, 21)
+    swept = []
+    crossings_in = campbell_module._crossings_in
+    monkeypatch.setattr(campbell_module, "_crossings_in", lambda *args: swept.append(args[-1]) or crossings_in(*args))
+    crowded = rdm.campbell(model, speeds).critical
+    assert swept.count(0) >= 5                      # brackets of the sweep itself, swept again
+    monkeypatch.setattr(campbell_module, "_CROWDED", 10**9)
+    alone = rdm.campbell(model, speeds).critical
+    assert len(crowded) == len(alone) == 454
+    a, b = (np.lexsort((t.speeds, t.order, np.asarray(t.source))) for t in (crowded, alone))
+    assert list(crowded.source[a]) == list(alone.source[b]) and np.array_equal(crowded.order[a], alone.order[b])
+    np.testing.assert_allclose(crowded.speeds[a], alone.speeds[b], rtol=1e-10)
+    np.testing.assert_allclose(crowded.frequencies_hz[a], alone.frequencies_hz[b], rtol=1e-10)
+    np.testing.assert_allclose(crowded.damping_ratios[a], alone.damping_ratios[b], rtol=0, atol=1e-10)
+
+
 def test_jumps_left_in_a_sub_sweep_are_resolved_by_a_sub_sweep_of_their_own(monkeypatch):
     """Sub-sweeps of one inner speed (instead of 7) leave jumps of their own: they are swept
     again in turn, and the 21 speeds still give the crossings of 201 speeds."""

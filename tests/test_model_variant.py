@@ -152,10 +152,12 @@ def test_random_variants_solved_together_equal_each_alone(seed, rotors, stator, 
             assert getattr(together.critical, name).tobytes() == getattr(alone.critical, name).tobytes(), name
 
 
-def test_variants_whose_brackets_are_swept_again_equal_each_alone(monkeypatch):
+@pytest.mark.parametrize("crowded, expected", [(10**9, {0, 1, 3}), (4, {0, 1, 2, 3})])
+def test_variants_whose_brackets_are_swept_again_equal_each_alone(monkeypatch, crowded, expected):
     """A study's variants whose tracked modes jump inside brackets (two modes that veer in this
-    3-rotor machine) have those brackets swept again; each variant's critical speeds still equal
-    its own analysis bit for bit, and are crossings."""
+    3-rotor machine), or whose brackets are crowded with crossings among close roots (here from
+    4 such crossings up), have those brackets swept again; each variant's critical speeds still
+    equal its own analysis bit for bit, and are crossings."""
     from rotordyn_modal.analysis import campbell as campbell_module
     from rotordyn_modal.analysis.campbell import campbell_many, off_order_line
 
@@ -165,10 +167,11 @@ def test_variants_whose_brackets_are_swept_again_equal_each_alone(monkeypatch):
     speeds = np.linspace(0.0, 2000.0, 41)
     swept = []
     crossings_in = campbell_module._crossings_in
+    monkeypatch.setattr(campbell_module, "_CROWDED", crowded)
     monkeypatch.setattr(campbell_module, "_crossings_in", lambda *args: swept.append(args[1]) or crossings_in(*args))
     together = campbell_many(variants, speeds, orders=(1, 2))
-    monkeypatch.undo()
-    assert set(swept) == {0, 1, 3}                  # the third variant has no jump
+    monkeypatch.setattr(campbell_module, "_crossings_in", crossings_in)
+    assert set(swept) == expected                  # without crowded brackets the third variant has no jump
     for result, variant in zip(together, variants):
         alone = rdm.campbell(rdm.Model.from_dict(variant.to_dict(), variant.source), speeds, orders=(1, 2))
         for name in ("speeds", "frequencies_hz", "whirl_ratios", "damping_ratios", "mode"):

@@ -276,8 +276,9 @@ def campbell(model, speeds, orders=(1,), progress=False) -> CampbellResult:
     -----
     Where the tracked mode passes from one root to another inside a bracket (two modes that
     veer, or clusters of like modes, such as many like rotors', on a coarse grid), that bracket
-    is swept again, finer, and the crossings of its roots with the order line are found there
-    (see ``docs/theory.md``, section 10).
+    is swept again, finer, and the crossings of its roots with the order line are found there;
+    so is a bracket crowded with crossings among close roots (see ``docs/theory.md``,
+    section 10).
 
     Warns
     -----
@@ -441,7 +442,21 @@ class _Found(NamedTuple):
 
 def _refined(stack, speeds, values, weighted, shapes, brackets, sources, orders, depth=0):
     """The crossings of ``brackets`` refined (:func:`_refine_parts`), with the brackets whose
-    rows are not crossings of their own swept again (:func:`_resolve_jumps`)."""
+    rows are not crossings of their own swept again (:func:`_resolve_jumps`); the brackets
+    crowded with crossings among close roots (:func:`_crowded`) are swept again at once."""
+    crowded = _crowded(brackets, shapes, depth)
+    if not crowded.any():
+        return _refined_alone(stack, speeds, values, weighted, shapes, brackets, sources, orders, depth)
+    found = _refined_alone(stack, speeds, values, weighted, shapes, brackets.subset(~crowded), sources, orders, depth)
+    swept = _swept_again(stack, speeds, values, weighted, shapes, brackets.subset(crowded), None, sources, orders,
+                         depth)
+    return _Found(*(np.concatenate(column) for column in zip(found, *swept)))
+
+
+def _refined_alone(stack, speeds, values, weighted, shapes, brackets, sources, orders, depth):
+    """:func:`_refined` of brackets each refined by itself (none crowded)."""
+    if not len(brackets.k):
+        return _no_crossings(brackets, stack.n_dof)
     found = _Found(brackets.variant, brackets.mode, brackets.source, brackets.order,
                    *_refine_parts(stack, speeds, values, weighted, brackets, shapes))
     unresolved = _unresolved(found, brackets)
@@ -449,6 +464,28 @@ def _refined(stack, speeds, values, weighted, shapes, brackets, sources, orders,
         found = _resolve_jumps(stack, speeds, values, weighted, shapes, brackets, found, unresolved, sources, orders,
                                depth)
     return found
+
+
+#: a bracket with at least this many crossings among close roots is swept again at once: each
+#: of them would take every root at its first trial speed, the sub-sweep takes them at seven
+_CROWDED = 14
+
+
+def _crowded(brackets, shapes, depth):
+    """Rows of the sweep's brackets (not a sub-sweep's) each of which holds, for its variant, at
+    least ``_CROWDED`` crossings not isolated (:func:`_isolated`)."""
+    if depth > 0 or depth >= _SUB_DEPTH or shapes is None or len(brackets.k) < _CROWDED:
+        return np.zeros(len(brackets.k), dtype=bool)
+    close = ~_isolated(brackets)
+    key = brackets.variant * (int(brackets.k.max()) + 1) + brackets.k
+    return np.bincount(key[close], minlength=int(key.max()) + 1)[key] >= _CROWDED
+
+
+def _no_crossings(brackets, n_dof):
+    """The _Found of no brackets (a jump with no crossing under it, a sweep whose brackets were
+    all swept again)."""
+    return _Found(brackets.variant, brackets.mode, brackets.source, brackets.order, np.zeros(0),
+                  np.zeros(0, complex), np.zeros((0, n_dof), complex), np.zeros(0, bool))
 
 
 def _off_line(found, slope):
@@ -531,16 +568,24 @@ def _resolve_jumps(stack, speeds, values, weighted, shapes, brackets, found, unr
     group = np.stack([brackets.variant, brackets.k, brackets.source, brackets.order])
     redone = np.unique(group[:, unresolved], axis=1)
     again = (group[:, :, None] == redone[:, None, :]).all(axis=0).any(axis=1)
-    kept = [found.subset(~again)]
+    swept = _swept_again(stack, speeds, values, weighted, shapes, brackets, again, sources, orders, depth)
+    return _Found(*(np.concatenate(column) for column in zip(found.subset(~again), *swept)))
+
+
+def _swept_again(stack, speeds, values, weighted, shapes, brackets, rows, sources, orders, depth):
+    """The crossings of the lines of ``rows`` (bool, all where None) of ``brackets``, each
+    bracket swept again (:func:`_crossings_in`): one _Found per (variant, bracket)."""
+    rows = np.ones(len(brackets.k), dtype=bool) if rows is None else rows
     singles = {}           # each variant's model alone, as its own analysis has it (bit for bit)
-    for v, k in np.unique(redone[:2], axis=1).T.astype(int):
+    out = []
+    for v, k in np.unique(np.stack([brackets.variant[rows], brackets.k[rows]]), axis=1).T.astype(int):
         if v not in singles:
             singles[v] = stack if len(stack) == 1 else Stack([stack.models[v]])
-        mine = again & (brackets.variant == v) & (brackets.k == k)
+        mine = rows & (brackets.variant == v) & (brackets.k == k)
         lines = set(zip(brackets.source[mine].tolist(), brackets.order[mine].tolist()))
-        kept.append(_crossings_in(singles[v], v, speeds[k:k + 2], values[v, k:k + 2], shapes[v, k:k + 2],
-                                  weighted[v, k:k + 2], sources[v], orders, lines, depth))
-    return _Found(*(np.concatenate(column) for column in zip(*kept)))
+        out.append(_crossings_in(singles[v], v, speeds[k:k + 2], values[v, k:k + 2], shapes[v, k:k + 2],
+                                 weighted[v, k:k + 2], sources[v], orders, lines, depth))
+    return out
 
 
 def _crossings_in(single, v, ends, end_values, end_shapes, end_weighted, sources, orders, lines, depth):
@@ -560,9 +605,6 @@ def _crossings_in(single, v, ends, end_values, end_shapes, end_weighted, sources
     brackets = _crossing_brackets(speeds, values, [sources], orders)
     wanted = [(s, o) in lines for s, o in zip(brackets.source.tolist(), brackets.order.tolist())]
     brackets = brackets.subset(np.nonzero(wanted)[0])
-    if not len(brackets.k):                       # the jump had no crossing under it
-        return _Found(brackets.variant, brackets.mode, brackets.source, brackets.order, np.zeros(0),
-                      np.zeros(0, complex), np.zeros((0, single.n_dof), complex), np.zeros(0, bool))
     found = _refined(single, speeds, values, weighted, shapes, brackets, [sources], orders, depth + 1)
     return found._replace(variant=np.full(len(found.roots), v))
 

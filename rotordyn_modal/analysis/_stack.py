@@ -162,10 +162,16 @@ class Stack:
         return out
 
     def shapes_at(self, variants, x, lam):
-        """One inverse-iteration step on the pencil for each (variant, speed, eigenvalue)."""
-        damping, stiffness = self.damping_stiffness(variants, x)
-        return _eigen.pencil_shapes(self.M[0] if len(self) == 1 else self.M[variants], damping, stiffness, lam,
-                                    (self.branch_stiffness[variants], self.branch_times[variants]))
+        """One inverse-iteration step on the pencil for each (variant, speed, eigenvalue), shape
+        (P, n): in parts of bounded memory (each row holds its own pencil and matrices, n x n,
+        several copies)."""
+        out = np.empty((len(x), self.n_dof), dtype=complex)
+        for part in _eigen.chunk_slices(len(x), 80 * self.n_dof ** 2):
+            mine = variants[part]
+            damping, stiffness = self.damping_stiffness(mine, x[part])
+            out[part] = _eigen.pencil_shapes(self.M[0] if len(self) == 1 else self.M[mine], damping, stiffness,
+                                             lam[part], (self.branch_stiffness[mine], self.branch_times[mine]))
+        return out
 
 
 class Pencils:

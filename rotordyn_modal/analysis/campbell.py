@@ -1175,9 +1175,8 @@ def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iter
     if known.any():
         phi[known] = iterates.shape[known]
     rest = np.nonzero(~known & sure)[0]
-    # in parts: each row holds its own pencil and matrices (n x n, several copies)
-    for part in _eigen.chunk_slices(len(rest), 80 * stack.n_dof ** 2):
-        phi[rest[part]] = stack.shapes_at(brackets.variant[rest[part]], roots[rest[part]], lam[rest[part]])
+    if len(rest):
+        phi[rest] = stack.shapes_at(brackets.variant[rest], roots[rest], lam[rest])
     rows = np.nonzero(~sure & ~known)[0]
     if len(rows):
         lam[rows], phi[rows] = _modes_at(stack, speeds, values, weighted, brackets.subset(rows), roots[rows])

@@ -302,24 +302,36 @@ def _clustered_machine():
     return rdm.Model.from_dict(data)
 
 
+def _assert_same_crossings(table, reference):
+    """The same crossings (source, order) at the same speeds and frequencies to 1e-10, in any
+    order and whatever their mode labels (those of modes that veer inside a coarse bracket may
+    differ)."""
+    a, b = (np.lexsort((t.speeds, t.order, np.asarray(t.source))) for t in (table, reference))
+    assert list(table.source[a]) == list(reference.source[b]) and np.array_equal(table.order[a], reference.order[b])
+    np.testing.assert_allclose(table.speeds[a], reference.speeds[b], rtol=1e-10)
+    np.testing.assert_allclose(table.frequencies_hz[a], reference.frequencies_hz[b], rtol=1e-10)
+
+
+def _assert_coarse_grid_gives_the_fine_crossings(model, coarse_speeds, fine_speeds, count):
+    """Both grids give ``count`` crossings, each on its order line, the same ones (see
+    :func:`_assert_same_crossings`), without a warning."""
+    sources = excitation_sources(model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        coarse = rdm.campbell(model, coarse_speeds).critical
+        fine = rdm.campbell(model, fine_speeds).critical
+    assert len(coarse) == len(fine) == count
+    assert _on_order_line(coarse, sources).all() and _on_order_line(fine, sources).all()
+    _assert_same_crossings(coarse, fine)
+
+
 def test_jumps_of_the_tracked_mode_between_close_roots_are_resolved_by_a_sub_sweep():
     """On a coarse grid (21 speeds) a tracked mode among close roots can pass from one root to
     another inside a bracket (4 of this machine's 454 rows), or two modes close in on one root
     (5 pairs). Those brackets are swept again, finer: the coarse grid then gives the 454
     crossings of a grid ten times finer, each on its order line, without a warning."""
-    model = _clustered_machine()
-    sources = excitation_sources(model)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        coarse = rdm.campbell(model, np.linspace(0.0, 3000.0, 21)).critical
-        fine = rdm.campbell(model, np.linspace(0.0, 3000.0, 201)).critical
-    assert len(coarse) == len(fine) == 454
-    assert _on_order_line(coarse, sources).all() and _on_order_line(fine, sources).all()
-    # the same crossings; the labels of modes that veer inside a coarse bracket may differ
-    a, b = (np.lexsort((t.speeds, t.order, np.asarray(t.source))) for t in (coarse, fine))
-    assert list(coarse.source[a]) == list(fine.source[b]) and np.array_equal(coarse.order[a], fine.order[b])
-    np.testing.assert_allclose(coarse.speeds[a], fine.speeds[b], rtol=1e-10)
-    np.testing.assert_allclose(coarse.frequencies_hz[a], fine.frequencies_hz[b], rtol=1e-10)
+    _assert_coarse_grid_gives_the_fine_crossings(_clustered_machine(), np.linspace(0.0, 3000.0, 21),
+                                                 np.linspace(0.0, 3000.0, 201), 454)
 
 
 def test_jumps_of_a_large_model_are_resolved_by_a_sub_sweep():
@@ -330,17 +342,8 @@ def test_jumps_of_a_large_model_are_resolved_by_a_sub_sweep():
     from reference_bearings import random_bearing_description
 
     model = rdm.Model.from_dict(random_bearing_description(np.random.default_rng(1), n_rotors=20))
-    sources = excitation_sources(model)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        coarse = rdm.campbell(model, np.linspace(750.0, 1350.0, 5)).critical
-        fine = rdm.campbell(model, np.linspace(750.0, 1350.0, 41)).critical
-    assert len(coarse) == len(fine) == 208
-    assert _on_order_line(coarse, sources).all() and _on_order_line(fine, sources).all()
-    a, b = (np.lexsort((t.speeds, t.order, np.asarray(t.source))) for t in (coarse, fine))
-    assert list(coarse.source[a]) == list(fine.source[b])
-    np.testing.assert_allclose(coarse.speeds[a], fine.speeds[b], rtol=1e-10)
-    np.testing.assert_allclose(coarse.frequencies_hz[a], fine.frequencies_hz[b], rtol=1e-10)
+    _assert_coarse_grid_gives_the_fine_crossings(model, np.linspace(750.0, 1350.0, 5), np.linspace(750.0, 1350.0, 41),
+                                                 208)
 
 
 def test_whirl_and_damping_at_critical_speeds_are_those_of_the_eigenpair_there():
@@ -389,10 +392,8 @@ def test_brackets_crowded_with_close_roots_are_swept_again_with_the_same_crossin
     monkeypatch.setattr(campbell_module, "_CROWDED", 10**9)
     alone = rdm.campbell(model, speeds).critical
     assert len(crowded) == len(alone) == 454
+    _assert_same_crossings(crowded, alone)
     a, b = (np.lexsort((t.speeds, t.order, np.asarray(t.source))) for t in (crowded, alone))
-    assert list(crowded.source[a]) == list(alone.source[b]) and np.array_equal(crowded.order[a], alone.order[b])
-    np.testing.assert_allclose(crowded.speeds[a], alone.speeds[b], rtol=1e-10)
-    np.testing.assert_allclose(crowded.frequencies_hz[a], alone.frequencies_hz[b], rtol=1e-10)
     np.testing.assert_allclose(crowded.damping_ratios[a], alone.damping_ratios[b], rtol=0, atol=1e-10)
 
 
@@ -413,9 +414,7 @@ def test_jumps_left_in_a_sub_sweep_are_resolved_by_a_sub_sweep_of_their_own(monk
     monkeypatch.undo()
     fine = rdm.campbell(model, np.linspace(0.0, 3000.0, 201)).critical
     assert _on_order_line(coarse, excitation_sources(model)).all()
-    a, b = (np.lexsort((t.speeds, t.order, np.asarray(t.source))) for t in (coarse, fine))
-    assert list(coarse.source[a]) == list(fine.source[b])
-    np.testing.assert_allclose(coarse.speeds[a], fine.speeds[b], rtol=1e-10)
+    _assert_same_crossings(coarse, fine)
 
 
 def test_jumps_left_unresolved_are_warned_of(monkeypatch):

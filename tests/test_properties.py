@@ -125,14 +125,21 @@ CRITICAL_ORDERS = (1.0, 2.0)
 def assert_crossings_are_eigenvalues(model):
     """Every refined critical speed (source multiplier r, order k) is a speed where the state
     matrix, solved afresh by LAPACK, has an eigenvalue of frequency ``k r |Omega|`` with the
-    reported damping ratio. Bound: the refinement's 1e-10 relative (issue 11) plus what no
-    double-precision method can resolve, the eigenvalue's condition number times
-    ``eps ||A||`` (up to 1e-7 relative for close modes of geared machines)."""
+    reported damping ratio, and whose eigenvector has the reported whirl ratio. Bound: the
+    refinement's 1e-10 relative (issue 11) plus what no double-precision method can resolve,
+    the eigenvalue's condition number times ``eps ||A||`` (up to 1e-7 relative for close modes
+    of geared machines), and for the whirl ratio ``eps ||A||`` over the distance to the
+    nearest other eigenvalue (the eigenvector's own sensitivity; roots closer than 1e-6 of
+    their size have no eigenvector of their own to compare)."""
+    from rotordyn_modal.analysis import _eigen
+
     result = rdm.campbell(model, CRITICAL_GRID, orders=CRITICAL_ORDERS)
     table = result.critical
     multipliers = dict(zip(result.sources.names, result.sources.multipliers))
-    for speed, order, freq, zeta, source in zip(table.speeds, table.order, table.frequencies_hz,
-                                                 table.damping_ratios, table.source):
+    forms = _eigen.whirl_forms(model)
+    n = forms.total.shape[-1]
+    for speed, order, freq, zeta, source, whirl in zip(table.speeds, table.order, table.frequencies_hz,
+                                                        table.damping_ratios, table.source, table.whirl_ratios):
         target = order * multipliers[source] * abs(speed)                        # [rad/s]
         A = state_matrices(model, [speed])[0]
         values, left, right = scipy.linalg.eig(A, left=True, right=True)
@@ -144,6 +151,10 @@ def assert_crossings_are_eigenvalues(model):
         assert abs(2 * np.pi * freq - target) <= 1e-10 * target + lapack
         assert abs(lam.imag - target) <= 1e-10 * target + lapack
         assert abs(-lam.real / abs(lam) - zeta) <= 1e-10 + lapack / abs(lam)
+        gap = np.partition(np.abs(values - lam), 1)[1]
+        if gap > 1e-6 * abs(lam) and np.linalg.norm(x[:n]) > 1e-6 * np.linalg.norm(x):
+            ratio = _eigen.whirl_ratios((x[:n] / np.linalg.norm(x[:n]))[None, None], forms, np.array([speed]))[0, 0]
+            assert abs(ratio - whirl) <= 1e-10 + 10 * np.finfo(float).eps * np.linalg.norm(A, 2) / gap
 
 
 def assert_every_crossing_reported(model):

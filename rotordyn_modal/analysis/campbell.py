@@ -422,6 +422,11 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shap
     return tables
 
 
+def _rows_of(table, rows):
+    """The rows ``rows`` of every column of a table of arrays (a NamedTuple), as the same type."""
+    return type(table)(*(column[rows] for column in table))
+
+
 class _Found(NamedTuple):
     """Refined crossings, one row each: variant, tracked mode (0-based), source index and order;
     the speed [rad/s], the eigenvalue and the shape there, and whether the eigenvalue was told
@@ -436,8 +441,7 @@ class _Found(NamedTuple):
     phi: np.ndarray
     sure: np.ndarray
 
-    def subset(self, rows) -> "_Found":
-        return _Found(*(column[rows] for column in self))
+    subset = _rows_of
 
 
 def _refined(stack, speeds, values, weighted, shapes, brackets, sources, orders, depth=0):
@@ -653,8 +657,7 @@ class _Brackets(NamedTuple):
     travels: np.ndarray
     """Every root's travel across the bracket, ``|ends[:, 1] - ends[:, 0]|``, (P, m)"""
 
-    def subset(self, rows) -> "_Brackets":
-        return _Brackets(*(column[rows] for column in self))
+    subset = _rows_of
 
 
 def _crossing_brackets(speeds, values, sources, orders, oscillating=None) -> _Brackets:
@@ -974,7 +977,6 @@ def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
                 at = slow[bare]
                 shapes[bare] = stack.shapes_at(brackets.variant[rows[at]], x[at], lam[at])
                 known[bare] = True
-        if known.any() and iterates.shape.shape[-1]:
             # kept for the shape at the root, should this point be it, and to follow the mode
             mine, at = rows[slow[known]], slow[known]
             iterates.x[mine], iterates.lam[mine], iterates.shape[mine] = x[at], lam[at], shapes[known]

@@ -73,11 +73,12 @@ def _refine(form, forms, speeds, values, weighted, mode, k, slope):
     return root, lam.imag / (2 * np.pi), str(_eigen.whirl_labels(ratio)), float(modal_quantities(lam)[1])
 
 
-@pytest.mark.parametrize("path", ["whole-pencils", "lu-factors", "sparse-factors", "nearest-roots",
+@pytest.mark.parametrize("path", ["joint-newton", "whole-pencils", "lu-factors", "sparse-factors", "nearest-roots",
                                   "sparse-nearest-roots", "two-nearest-roots", "arnoldi-fails"])
 @pytest.mark.parametrize("name", EXAMPLES)
 def test_batched_refinement_equals_brents_method_per_crossing(name, path, examples_dir, monkeypatch):
-    """Every way of evaluating a crossing gives Brent's roots: isolated modes by the pencil
+    """Every way of evaluating a crossing gives Brent's roots: isolated modes of small pencils
+    by Newton's method on the eigenpair and the speed together, or by the secant's pencil
     iteration with small pencils solved whole in one batched call, or factored once per
     crossing as large ones are (dense, or sparse as large machines' sparse pencils are); the
     others (here all crossings) from the roots nearest the interpolation by shift-invert
@@ -86,6 +87,8 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, path, exampl
     fails (each forced here for the examples' few coordinates)."""
     from rotordyn_modal.analysis import campbell as campbell_module
 
+    if path != "joint-newton":
+        monkeypatch.setattr(campbell_module, "_NEWTON_DOF", 0)
     if path == "lu-factors" or path.startswith("sparse"):
         monkeypatch.setattr(_eigen, "BATCHED_DOF", 0)
     if path.startswith("sparse"):
@@ -121,11 +124,12 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, path, exampl
     np.testing.assert_allclose(found.damping_ratios, zeta, rtol=1e-8, atol=1e-12)
 
 
-@pytest.mark.parametrize("factored", [False, True], ids=["whole-pencils", "lu-factors"])
+@pytest.mark.parametrize("path", ["joint-newton", "whole-pencils", "lu-factors"])
 @pytest.mark.parametrize("seed", [3, 4])
-def test_pencil_iteration_equals_all_eigenvalues_of_the_state_matrix(seed, factored, monkeypatch):
-    """Isolated modes' eigenvalues along the refinement come from residual inverse iteration on
-    the quadratic pencil; sending every crossing through all eigenvalues of the state matrix (the
+def test_pencil_iteration_equals_all_eigenvalues_of_the_state_matrix(seed, path, monkeypatch):
+    """Isolated modes' critical speeds come from Newton's method on the eigenpair and the speed
+    together (small pencils) or from the secant with residual inverse iteration on the
+    quadratic pencil; sending every crossing through all eigenvalues of the state matrix (the
     path checked against Brent's method above) gives the same critical speeds."""
     from reference_bearings import random_bearing_description
 
@@ -137,7 +141,9 @@ def test_pencil_iteration_equals_all_eigenvalues_of_the_state_matrix(seed, facto
     for j, rotor in enumerate(data["rotors"]):
         rotor["speed_ratio"] = 1.0 if j == 0 else float(rng.choice([-1, 1]) * rng.uniform(0.3, 2.0))
     model = rdm.Model.from_dict(data)
-    if factored:
+    if path != "joint-newton":
+        monkeypatch.setattr(campbell_module, "_NEWTON_DOF", 0)
+    if path == "lu-factors":
         monkeypatch.setattr(_eigen, "BATCHED_DOF", 0)
     speeds = np.linspace(0.0, 3000.0, 41)
     newton = rdm.campbell(model, speeds, orders=(1, 2)).critical
@@ -373,6 +379,44 @@ def test_whirl_and_damping_at_critical_speeds_are_those_of_the_eigenpair_there()
         assert abs(_eigen.whirl_ratios(shape[None, None], forms, np.array([speed]))[0, 0] - whirl) <= 1e-10
         checked += 1
     assert checked >= 0.9 * len(table) > 100
+
+
+@pytest.mark.parametrize("failure", ["not-finite", "leaves-bracket"])
+def test_crossings_that_newton_fails_are_refined_by_the_secant(failure, monkeypatch):
+    """Where Newton's method on the eigenpair and the speed fails for a crossing (a step that
+    is not finite, or a point outside the bracket), the secant's iteration, which keeps every
+    point inside the bracket, refines it as it does without Newton, and the other crossings keep
+    Newton's roots: every row equals, bit for bit, the row of the path that refined it."""
+    from reference_bearings import random_bearing_description
+
+    from rotordyn_modal.analysis import campbell as campbell_module
+
+    model = rdm.Model.from_dict(random_bearing_description(np.random.default_rng(1), n_rotors=3, stator=True))
+    speeds = np.linspace(0.0, 3000.0, 21)
+    newton = _by_crossing(rdm.campbell(model, speeds, orders=(1, 2)).critical)
+    with monkeypatch.context() as patch:
+        patch.setattr(campbell_module, "_NEWTON_DOF", 0)
+        secant = _by_crossing(rdm.campbell(model, speeds, orders=(1, 2)).critical)
+    assert not np.array_equal(newton.speeds, secant.speeds)           # the paths' round-off differs
+    threshold = speeds[4]              # a grid speed: every bracket lies on one side of it
+    newton_step = _eigen.speed_newton_step
+    failed = []
+
+    def failing(matrices, x, *args):
+        steps = newton_step(matrices, x, *args)
+        above = x > threshold
+        failed.append(int(above.sum()))
+        steps[0][above] = np.nan if failure == "not-finite" else steps[0][above] + 2 * (speeds[1] - speeds[0])
+        return steps
+
+    monkeypatch.setattr(_eigen, "speed_newton_step", failing)
+    mixed = _by_crossing(rdm.campbell(model, speeds, orders=(1, 2)).critical)
+    above = mixed.speeds > threshold
+    assert failed[0] > 10 and 10 < above.sum() < len(mixed) - 10
+    assert list(mixed.source) == list(newton.source) and list(mixed.mode) == list(newton.mode)
+    for column in ("speeds", "frequencies_hz", "whirl_ratios", "damping_ratios"):
+        assert np.array_equal(getattr(mixed, column)[above], getattr(secant, column)[above]), column
+        assert np.array_equal(getattr(mixed, column)[~above], getattr(newton, column)[~above]), column
 
 
 def test_brackets_crowded_with_close_roots_are_swept_again_with_the_same_crossings(monkeypatch):

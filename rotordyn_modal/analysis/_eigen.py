@@ -548,6 +548,63 @@ def _step_size(new, old, pair, phi_old):
     return np.maximum(np.abs(new - old) / np.abs(new), norms[0] / norms[1])
 
 
+def speed_newton_step(matrices, speeds, eigenvalues, vectors, normal_conj, line):
+    """One Newton step on eigenpairs of ``Q(lam, Omega) phi = 0`` and on their speeds together,
+    towards the speed where ``Im lam = line Omega``.
+
+    The unknowns of a row are its shape ``phi`` (n, complex), eigenvalue ``lam`` and speed
+    ``Omega`` (real); the equations ``Q(lam, Omega) phi = 0``, ``c^H phi = 1`` and
+    ``Im lam - line Omega = 0``, with ``Q = lam^2 M + lam (C + Omega G) + K``. One solve of the
+    bordered matrix ``[[Q, Q_lam phi], [c^H, 0]]`` with two right-hand sides gives the eigenpair's
+    Newton step at this speed, from ``-(Q phi, c^H phi - 1)``, and its derivative along the speed,
+    from ``-(Q_Omega phi, 0) = -(lam G phi, 0)`` (that derivative's last entry is
+    ``dlam/dOmega = -y^H Q_Omega phi / y^H Q_lam phi``, without the left vector ``y``); the speed
+    step is the one that zeroes the last equation linearised, and the eigenpair moves with it.
+    The bordered matrix is regular at a simple eigenvalue, so the step stays well conditioned
+    while ``Q`` itself becomes singular: the iteration converges quadratically. Every row's
+    numbers are its own (batched products and solves, one matrix at a time).
+
+    Parameters
+    ----------
+    matrices : tuple of ndarray
+        ``M, C, G, K`` of the rows, each (n, n) where the rows share it, else (P, n, n).
+    speeds : ndarray, shape (P,) [rad/s]
+    eigenvalues : ndarray, shape (P,), complex
+    vectors : ndarray, shape (P, n), complex
+    normal_conj : ndarray, shape (P, n), complex
+        ``conj(c)``.
+    line : ndarray, shape (P,)
+        The excitation's frequency per speed [rad/s per rad/s] (signed: ``slope sign(Omega)``).
+
+    Returns
+    -------
+    speed_steps : ndarray (P,) [rad/s]; eigenvalue_steps : ndarray (P,), complex;
+    shape_steps : ndarray (P, n), complex
+    """
+    mass, damping, gyroscopic, stiffness = matrices
+    count, n = vectors.shape
+    lam = eigenvalues[:, None, None]
+    column = vectors[..., None]
+    speed_damping = damping + speeds[:, None, None] * gyroscopic
+    bordered = np.empty((count, n + 1, n + 1), dtype=complex)
+    quadratic = bordered[:, :n, :n]
+    _quadratic_part(quadratic, mass, speed_damping, stiffness, eigenvalues ** 2, eigenvalues)
+    np.matmul(2 * lam * mass + speed_damping, column, out=bordered[:, :n, n:])      # Q_lam phi
+    bordered[:, n, :n] = normal_conj
+    bordered[:, n, n] = 0.0
+    rhs = np.empty((count, n + 1, 2), dtype=complex)
+    np.negative(quadratic @ column, out=rhs[:, :n, :1])
+    np.multiply(-lam, gyroscopic @ column, out=rhs[:, :n, 1:])                       # -Q_Omega phi
+    rhs[:, n, 0] = 1.0 - np.einsum("pi,pi->p", normal_conj, vectors)
+    rhs[:, n, 1] = 0.0
+    with np.errstate(all="ignore"):                  # a singular row gives NaN steps: it fails
+        solution = _solve(bordered, rhs)
+        fixed, along = solution[:, n, 0], solution[:, n, 1]
+        speed_steps = -((eigenvalues + fixed).imag - line * speeds) / (along.imag - line)
+        shape_steps = solution[:, :n, 0] + solution[:, :n, 1] * speed_steps[:, None]
+    return speed_steps, fixed + along * speed_steps, shape_steps
+
+
 class PencilRows:
     """Rows ``rows`` of a :class:`~._stack.Pencils`, numbered from 0."""
 

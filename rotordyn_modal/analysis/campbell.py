@@ -723,8 +723,9 @@ _STEP_TOLERANCE = 1e-13
 
 
 def _refine_parts(stack, speeds, values, weighted, brackets, shapes=None):
-    """:func:`_refine_together` and the shapes at the roots (:func:`_shapes_at`), in parts of
-    the crossings whose factorisations fit in ``_eigen.CHUNK_BYTES``.
+    """The crossings refined (:func:`_refined_part`: Newton's method where it applies, else the
+    secant of :func:`_refine_together`) with the eigenvalues and shapes at the roots, in parts
+    of the crossings whose factorisations fit in ``_eigen.CHUNK_BYTES``.
 
     Returns
     -------
@@ -733,14 +734,120 @@ def _refine_parts(stack, speeds, values, weighted, brackets, shapes=None):
     """
     chunks = _eigen.chunk_slices(len(brackets.k), 64 * stack.n_dof ** 2)
     if len(chunks) == 1:                             # all in one part (small models): no copies
-        roots, lam, sure, iterates = _refine_together(stack, speeds, values, weighted, brackets, shapes)
-        return (roots, *_shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iterates), sure)
-    parts = []
-    for part in chunks:
-        mine = brackets.subset(part)
-        roots, lam, sure, iterates = _refine_together(stack, speeds, values, weighted, mine, shapes)
-        parts.append((roots, *_shapes_at(stack, speeds, values, weighted, mine, roots, lam, sure, iterates), sure))
-    return _eigen.concatenated(parts)
+        return _refined_part(stack, speeds, values, weighted, brackets, shapes)
+    return _eigen.concatenated([_refined_part(stack, speeds, values, weighted, brackets.subset(part), shapes)
+                                for part in chunks])
+
+
+def _refined_part(stack, speeds, values, weighted, brackets, shapes):
+    """:func:`_refine_parts` of one part: the crossings of isolated modes of small pencils by
+    :func:`_joint_newton`, the others (and any it leaves) by :func:`_refine_together` and
+    :func:`_shapes_at`."""
+    newton = _by_newton(stack, speeds, brackets, shapes)
+    rows = newton.nonzero()[0]
+    if len(rows):
+        found = _joint_newton(stack, speeds, brackets if newton.all() else brackets.subset(rows), shapes)
+        if found[-1].all() and newton.all():         # the usual case for small models: all done
+            return found
+        newton[rows] = found[-1]
+    rest = (~newton).nonzero()[0]
+    mine = brackets.subset(rest)
+    roots, lam, sure, iterates = _refine_together(stack, speeds, values, weighted, mine, shapes)
+    lam, phi = _shapes_at(stack, speeds, values, weighted, mine, roots, lam, sure, iterates)
+    count = len(brackets.k)
+    out = (np.empty(count), np.empty(count, dtype=complex), np.empty((count, stack.n_dof), dtype=complex),
+           np.ones(count, dtype=bool))
+    for column, value in zip(out, (roots, lam, phi, sure)):
+        column[rest] = value
+    if len(rows):
+        ended = found[-1].nonzero()[0]
+        for column, value in zip(out[:3], found[:3]):
+            column[rows[ended]] = value[ended]
+    return out
+
+
+#: pencils of up to this many coordinates refine their isolated modes by :func:`_joint_newton`
+#: (a dense bordered solve per step costs less than the Python calls of the secant's nested
+#: iteration; above, one factorisation per crossing reused by every step costs less)
+_NEWTON_DOF = 48
+#: most joint Newton steps of a crossing (from the cubic start it takes two to four)
+_NEWTON_STEPS = 12
+
+
+def _by_newton(stack, speeds, brackets, shapes):
+    """Crossings that :func:`_joint_newton` refines: isolated modes (:func:`_isolated`) of
+    pencils of at most ``_NEWTON_DOF`` coordinates with constant coefficients, strictly between
+    two speeds of the sweep on one side of zero."""
+    count = len(brackets.k)
+    if shapes is None or stack.dependent or stack.branch_times.shape[-1] or stack.n_dof > _NEWTON_DOF:
+        return np.zeros(count, dtype=bool)
+    k, slope = brackets.k, brackets.slope
+    a, b = speeds[k], speeds[k + 1]
+    between = (brackets.low.imag - slope * np.abs(a) != 0) & (brackets.high.imag - slope * np.abs(b) != 0)
+    return _isolated(brackets) & between & ((a >= 0) | (b <= 0))
+
+
+def _joint_newton(stack, speeds, brackets, shapes):
+    """Roots of ``g(Omega) = Im lam(Omega) - slope |Omega|`` in every bracket by Newton's method
+    on the tracked mode's eigenpair and the speed together (:func:`_eigen.speed_newton_step`),
+    all crossings in one batch.
+
+    The start is the cubic's (:func:`_cubic_start`, error of order h^4), with the eigenvalue the
+    cubic through the sweep's points gives there and the sweep's shape at the nearer end of the
+    bracket (which also fixes the scaling ``c^H phi = 1``). Each step's size is the largest of
+    the speed's (relative to ``max(|Omega|, 1 rad/s)``), the eigenvalue's and the shape's (both
+    relative). A crossing ends after a step below ``_STEP_TOLERANCE``: its point is then the
+    root, with the eigenpair there, and the error left is of the order of that step squared.
+    (Ending a step earlier, where the last two steps' sizes promise quadratic convergence, left
+    errors of 2e-13: the first step's size is the start shape's error, which says little of the
+    speed's.) It
+    fails where the speed leaves the bracket, a step is not finite, it has not ended after
+    ``_NEWTON_STEPS`` steps, or its eigenvalue is not the tracked mode's (farther than twice
+    the mode's travel across the bracket from its interpolation, as in :func:`_pencil_at`):
+    the caller refines those by :func:`_refine_together`, whose iteration keeps every point
+    inside its bracket. Rows stop stepping as they end, so each row's numbers are its own
+    whatever the others are (a study's variant equals its model's own analysis bit for bit).
+
+    Returns
+    -------
+    roots : ndarray (P,) [rad/s]
+    lam : ndarray (P,), complex
+    phi : ndarray (P, n), complex, unit norm
+    done : ndarray (P,) bool
+        Ended at a root (the other rows' values are meaningless).
+    """
+    k, slope = brackets.k, brackets.slope
+    count = len(k)
+    a, b = speeds[k], speeds[k + 1]
+    x = _cubic_start(speeds, brackets, a, b, brackets.low.imag - slope * np.abs(a),
+                     brackets.high.imag - slope * np.abs(b))
+    every = np.arange(count)
+    lam = _cubic_value(speeds, brackets, every, x)
+    phi = shapes[brackets.variant, np.where(x - a <= b - x, k, k + 1), brackets.mode]    # unit: c = phi
+    normal_conj = phi.conj()
+    line = np.where(b <= 0, -slope, slope)            # |Omega| = sign Omega across the bracket
+    done = np.zeros(count, dtype=bool)
+    active = every
+    constant = (stack.M, stack.C, stack.G, stack.K)
+    for _ in range(_NEWTON_STEPS):
+        i = slice(None) if len(active) == count else active
+        matrices = tuple(m[0] for m in constant) if len(stack) == 1 else \
+            tuple(m[brackets.variant[i]] for m in constant)
+        steps = _eigen.speed_newton_step(matrices, x[i], lam[i], phi[i], normal_conj[i], line[i])
+        x[i] += steps[0]
+        lam[i] += steps[1]
+        phi[i] += steps[2]
+        with np.errstate(all="ignore"):
+            size = np.maximum(np.abs(steps[0]) / np.maximum(np.abs(x[i]), 1.0),
+                              np.maximum(np.abs(steps[1]) / np.abs(lam[i]), _eigen.row_norms(steps[2])[:, 0]))
+            ended = size <= _STEP_TOLERANCE
+            inside = (x[i] >= a[i]) & (x[i] <= b[i])
+        done[active[ended & inside]] = True
+        active = active[~ended & inside & np.isfinite(size)]
+        if not len(active):
+            break
+    done &= np.abs(lam - _interpolated(brackets, every, x)) <= 2 * brackets.spread
+    return x, lam, _eigen.unit_rows(phi), done
 
 
 def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):

@@ -562,7 +562,9 @@ def speed_newton_step(matrices, speeds, eigenvalues, vectors, normal_conj, line)
     step is the one that zeroes the last equation linearised, and the eigenpair moves with it.
     The bordered matrix is regular at a simple eigenvalue, so the step stays well conditioned
     while ``Q`` itself becomes singular: the iteration converges quadratically. Every row's
-    numbers are its own (batched products and solves, one matrix at a time).
+    numbers are its own (batched products and solves, one matrix at a time). A singular row
+    (its least-squares solution) or a vanishing derivative gives steps that are not finite: the
+    caller ignores floating-point errors and drops such rows.
 
     Parameters
     ----------
@@ -597,11 +599,10 @@ def speed_newton_step(matrices, speeds, eigenvalues, vectors, normal_conj, line)
     np.multiply(-lam, gyroscopic @ column, out=rhs[:, :n, 1:])                       # -Q_Omega phi
     rhs[:, n, 0] = 1.0 - np.einsum("pi,pi->p", normal_conj, vectors)
     rhs[:, n, 1] = 0.0
-    with np.errstate(all="ignore"):                  # a singular row gives NaN steps: it fails
-        solution = _solve(bordered, rhs)
-        fixed, along = solution[:, n, 0], solution[:, n, 1]
-        speed_steps = -((eigenvalues + fixed).imag - line * speeds) / (along.imag - line)
-        shape_steps = solution[:, :n, 0] + solution[:, :n, 1] * speed_steps[:, None]
+    solution = _solve(bordered, rhs)                 # (the caller ignores floating-point errors)
+    fixed, along = solution[:, n, 0], solution[:, n, 1]
+    speed_steps = -((eigenvalues + fixed).imag - line * speeds) / (along.imag - line)
+    shape_steps = solution[:, :n, 0] + solution[:, :n, 1] * speed_steps[:, None]
     return speed_steps, fixed + along * speed_steps, shape_steps
 
 

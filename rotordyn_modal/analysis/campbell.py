@@ -794,12 +794,13 @@ def _joint_newton(stack, speeds, brackets, shapes):
 
     The start is the cubic's (:func:`_cubic_start`, error of order h^4), with the eigenvalue the
     cubic through the sweep's points gives there and the sweep's shape at the nearer end of the
-    bracket (which also fixes the scaling ``c^H phi = 1``). Each step's size is the largest of
-    the speed's (relative to ``max(|Omega|, 1 rad/s)``), the eigenvalue's and the shape's (both
-    relative). A crossing ends after a step below ``_STEP_TOLERANCE``: its point is then the
-    root, with the eigenpair there, and the error left is of the order of that step squared.
-    (Ending a step earlier, where the last two steps' sizes promise quadratic convergence, left
-    errors of 2e-13: the first step's size is the start shape's error, which says little of the
+    bracket (which also fixes the scaling ``c^H phi = 1``, so that the shape's entries are at
+    most about 1). Each step's size is the largest of the speed's (relative to
+    ``max(|Omega|, 1 rad/s)``), the eigenvalue's (relative) and the shape's largest entry. A
+    crossing ends after a step below ``_STEP_TOLERANCE``: its point is then the root, with the
+    eigenpair there, and the error left is of the order of that step squared. (Ending a step
+    earlier, where the last two steps' sizes promised quadratic convergence, left errors of
+    2e-13: the first step's size is the start shape's error, which says little of the
     speed's.) It
     fails where the speed leaves the bracket, a step is not finite, it has not ended after
     ``_NEWTON_STEPS`` steps, or its eigenvalue is not the tracked mode's (farther than twice
@@ -829,23 +830,23 @@ def _joint_newton(stack, speeds, brackets, shapes):
     done = np.zeros(count, dtype=bool)
     active = every
     constant = (stack.M, stack.C, stack.G, stack.K)
-    for _ in range(_NEWTON_STEPS):
-        i = slice(None) if len(active) == count else active
-        matrices = tuple(m[0] for m in constant) if len(stack) == 1 else \
-            tuple(m[brackets.variant[i]] for m in constant)
-        steps = _eigen.speed_newton_step(matrices, x[i], lam[i], phi[i], normal_conj[i], line[i])
-        x[i] += steps[0]
-        lam[i] += steps[1]
-        phi[i] += steps[2]
-        with np.errstate(all="ignore"):
+    with np.errstate(all="ignore"):                  # a row whose step is not finite fails below
+        for _ in range(_NEWTON_STEPS):
+            i = slice(None) if len(active) == count else active
+            matrices = tuple(m[0] for m in constant) if len(stack) == 1 else \
+                tuple(m[brackets.variant[i]] for m in constant)
+            steps = _eigen.speed_newton_step(matrices, x[i], lam[i], phi[i], normal_conj[i], line[i])
+            x[i] += steps[0]
+            lam[i] += steps[1]
+            phi[i] += steps[2]
             size = np.maximum(np.abs(steps[0]) / np.maximum(np.abs(x[i]), 1.0),
-                              np.maximum(np.abs(steps[1]) / np.abs(lam[i]), _eigen.row_norms(steps[2])[:, 0]))
+                              np.maximum(np.abs(steps[1]) / np.abs(lam[i]), np.abs(steps[2]).max(axis=1)))
             ended = size <= _STEP_TOLERANCE
             inside = (x[i] >= a[i]) & (x[i] <= b[i])
-        done[active[ended & inside]] = True
-        active = active[~ended & inside & np.isfinite(size)]
-        if not len(active):
-            break
+            done[active[ended & inside]] = True
+            active = active[~ended & inside & np.isfinite(size)]
+            if not len(active):
+                break
     done &= np.abs(lam - _interpolated(brackets, every, x)) <= 2 * brackets.spread
     return x, lam, _eigen.unit_rows(phi), done
 

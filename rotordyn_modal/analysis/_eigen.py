@@ -583,14 +583,31 @@ def speed_newton_step(matrices, speeds, eigenvalues, vectors, normal_conj, line)
     speed_steps : ndarray (P,) [rad/s]; eigenvalue_steps : ndarray (P,), complex;
     shape_steps : ndarray (P, n), complex
     """
+    count, n = vectors.shape
+    # a few rows at a time, so that each part's matrices stay in the cache (as in _quadratic)
+    rows = max(1, _CACHE_BYTES // (48 * (n + 1) ** 2))
+    if count <= rows:
+        return _speed_newton_part(matrices, speeds, eigenvalues, vectors, normal_conj, line)
+    parts = []
+    for start in range(0, count, rows):
+        part = slice(start, start + rows)
+        mine = tuple(matrix if matrix.ndim == 2 else matrix[part] for matrix in matrices)
+        parts.append(_speed_newton_part(mine, speeds[part], eigenvalues[part], vectors[part], normal_conj[part],
+                                        line[part]))
+    return tuple(np.concatenate(column) for column in zip(*parts))
+
+
+def _speed_newton_part(matrices, speeds, eigenvalues, vectors, normal_conj, line):
+    """:func:`speed_newton_step` of a part of the rows."""
     mass, damping, gyroscopic, stiffness = matrices
     count, n = vectors.shape
     lam = eigenvalues[:, None, None]
     column = vectors[..., None]
     speed_damping = damping + speeds[:, None, None] * gyroscopic
-    bordered = np.empty((count, n + 1, n + 1), dtype=complex)
-    quadratic = bordered[:, :n, :n]
+    quadratic = np.empty((count, n, n), dtype=complex)
     _quadratic_part(quadratic, mass, speed_damping, stiffness, eigenvalues ** 2, eigenvalues)
+    bordered = np.empty((count, n + 1, n + 1), dtype=complex)
+    bordered[:, :n, :n] = quadratic
     np.matmul(2 * lam * mass + speed_damping, column, out=bordered[:, :n, n:])      # Q_lam phi
     bordered[:, n, :n] = normal_conj
     bordered[:, n, n] = 0.0

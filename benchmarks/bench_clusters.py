@@ -34,6 +34,7 @@ import numpy as np
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import campbell as campbell_module
+from rotordyn_modal.analysis import critical_speeds as critical_module
 from rotordyn_modal.linear_system import speed_linear_form
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
@@ -51,10 +52,10 @@ def _among_close_roots(model) -> tuple[int, int]:
     """Crossings and those not isolated, from the sweep's brackets."""
     stack = campbell_module.Stack([model])
     values, _, _ = campbell_module.solve_sweeps(stack, SPEEDS)
-    sources = [campbell_module.excitation_sources(model)]
-    brackets = campbell_module._crossing_brackets(SPEEDS, values, sources, ORDERS,
-                                                  campbell_module.is_oscillating(values))
-    return len(brackets.k), int((~campbell_module._isolated(brackets)).sum())
+    sources = [critical_module.excitation_sources(model)]
+    brackets = critical_module._crossing_brackets(SPEEDS, values, sources, ORDERS,
+                                                  critical_module.is_oscillating(values))
+    return len(brackets.k), int((~critical_module._isolated(brackets)).sum())
 
 
 def _timed(function) -> float:

@@ -36,8 +36,8 @@ _API = {
     # modal analyses
     "modal": "analysis.modal", "ModalResult": "analysis.modal", "mac": "analysis.modal",
     "campbell": "analysis.campbell", "CampbellResult": "analysis.campbell",
-    "critical_speeds": "analysis.campbell", "CriticalSpeeds": "analysis.campbell",
-    "excitation_sources": "analysis.campbell",
+    "critical_speeds": "analysis.campbell", "CriticalSpeeds": "analysis.critical_speeds",
+    "excitation_sources": "analysis.critical_speeds",
     "stability": "analysis.stability", "stability_map": "analysis.stability",
     "StabilityResult": "analysis.stability", "StabilityMap": "analysis.stability",
     "mode_shape_3d": "analysis.mode_shapes", "ModeShape3D": "analysis.mode_shapes",

@@ -15,7 +15,7 @@ from scipy.optimize import brentq
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _eigen
-from rotordyn_modal.analysis.campbell import excitation_sources
+from rotordyn_modal.analysis.critical_speeds import excitation_sources
 from rotordyn_modal.analysis.modal import is_oscillating, modal_quantities
 from rotordyn_modal.linear_system import speed_linear_form
 
@@ -85,10 +85,10 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, path, exampl
     Arnoldi, as large models do (dense or sparse; with only the two nearest at first, many a
     crossing must take more, since a root beyond could be its mode), or all roots where Arnoldi
     fails (each forced here for the examples' few coordinates)."""
-    from rotordyn_modal.analysis import campbell as campbell_module
+    from rotordyn_modal.analysis import critical_speeds as critical_module
 
     if path != "joint-newton":
-        monkeypatch.setattr(campbell_module, "_NEWTON_DOF", 0)
+        monkeypatch.setattr(critical_module, "_NEWTON_DOF", 0)
     if path == "lu-factors" or path.startswith("sparse"):
         monkeypatch.setattr(_eigen, "BATCHED_DOF", 0)
     if path.startswith("sparse"):
@@ -102,10 +102,10 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, path, exampl
 
         monkeypatch.setattr(scipy.sparse.linalg, "eigs", no_convergence)
     if path == "two-nearest-roots":
-        monkeypatch.setattr(campbell_module, "_NEAREST_ROOTS", 2)
+        monkeypatch.setattr(critical_module, "_NEAREST_ROOTS", 2)
     if path in ("nearest-roots", "sparse-nearest-roots", "two-nearest-roots", "arnoldi-fails"):
         monkeypatch.setattr(_eigen, "NEAREST_ROOTS_DOF", 0)
-        monkeypatch.setattr(campbell_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
+        monkeypatch.setattr(critical_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
     model = rdm.load_model(examples_dir / f"{name}.toml")
     top = 50.0 if name.startswith("spring_block") else rdm.rpm(12000.0)
     orders = (1, 2)
@@ -133,7 +133,7 @@ def test_pencil_iteration_equals_all_eigenvalues_of_the_state_matrix(seed, path,
     path checked against Brent's method above) gives the same critical speeds."""
     from reference_bearings import random_bearing_description
 
-    from rotordyn_modal.analysis import campbell as campbell_module
+    from rotordyn_modal.analysis import critical_speeds as critical_module
 
     rng = np.random.default_rng(seed)
     data = random_bearing_description(rng, n_rotors=6)
@@ -142,14 +142,14 @@ def test_pencil_iteration_equals_all_eigenvalues_of_the_state_matrix(seed, path,
         rotor["speed_ratio"] = 1.0 if j == 0 else float(rng.choice([-1, 1]) * rng.uniform(0.3, 2.0))
     model = rdm.Model.from_dict(data)
     if path != "joint-newton":
-        monkeypatch.setattr(campbell_module, "_NEWTON_DOF", 0)
+        monkeypatch.setattr(critical_module, "_NEWTON_DOF", 0)
     if path == "lu-factors":
         monkeypatch.setattr(_eigen, "BATCHED_DOF", 0)
     speeds = np.linspace(0.0, 3000.0, 41)
     newton = rdm.campbell(model, speeds, orders=(1, 2)).critical
-    isolated = campbell_module._isolated
+    isolated = critical_module._isolated
     used = []
-    monkeypatch.setattr(campbell_module, "_isolated", lambda *a: used.append(isolated(*a)) or np.zeros_like(used[-1]))
+    monkeypatch.setattr(critical_module, "_isolated", lambda *a: used.append(isolated(*a)) or np.zeros_like(used[-1]))
     full = rdm.campbell(model, speeds, orders=(1, 2)).critical
     assert len(full) == len(newton) > 0 and used[0].sum() > 0.25 * len(used[0])
     assert list(newton.source) == list(full.source) and list(newton.mode) == list(full.mode)
@@ -168,7 +168,7 @@ def test_modes_in_clusters_of_roots_take_more_roots_than_the_nearest(monkeypatch
     nearest roots miss the mode: 13 of its 4,000 critical speeds were another mode's.)"""
     from reference_bearings import random_bearing_description
 
-    from rotordyn_modal.analysis import campbell as campbell_module
+    from rotordyn_modal.analysis import critical_speeds as critical_module
 
     rng = np.random.default_rng(5)
     data = random_bearing_description(rng, n_rotors=6)
@@ -177,13 +177,13 @@ def test_modes_in_clusters_of_roots_take_more_roots_than_the_nearest(monkeypatch
         rotor["speed_ratio"] = 1.0 if j == 0 else float(rng.choice([-1, 1]) * rng.uniform(0.3, 2.0))
     model = rdm.Model.from_dict(data)
     speeds = np.linspace(0.0, 3000.0, 41)
-    monkeypatch.setattr(campbell_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
+    monkeypatch.setattr(critical_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
     full = rdm.campbell(model, speeds, orders=(1, 2)).critical
     counts = []
-    roots_near = campbell_module._roots_near
-    monkeypatch.setattr(campbell_module, "_roots_near",
+    roots_near = critical_module._roots_near
+    monkeypatch.setattr(critical_module, "_roots_near",
                         lambda *args: counts.append(args[5] if len(args) > 5 else None) or roots_near(*args))
-    monkeypatch.setattr(campbell_module, "_NEAREST_ROOTS", 2)
+    monkeypatch.setattr(critical_module, "_NEAREST_ROOTS", 2)
     monkeypatch.setattr(_eigen, "NEAREST_ROOTS_DOF", 0)
     few = rdm.campbell(model, speeds, orders=(1, 2)).critical
     assert 8 in counts
@@ -208,7 +208,7 @@ def test_large_model_paths_equal_all_eigenvalues_of_the_state_matrix(n_rotors, s
     checked against Brent's method above)."""
     from reference_bearings import random_bearing_description
 
-    from rotordyn_modal.analysis import campbell as campbell_module
+    from rotordyn_modal.analysis import critical_speeds as critical_module
     from rotordyn_modal.analysis._stack import Stack
 
     rng = np.random.default_rng(5)
@@ -222,7 +222,7 @@ def test_large_model_paths_equal_all_eigenvalues_of_the_state_matrix(n_rotors, s
     speeds = np.linspace(0.0, 3000.0, 21)
     large = rdm.campbell(model, speeds).critical
     monkeypatch.setattr(_eigen, "NEAREST_ROOTS_DOF", 10**9)
-    monkeypatch.setattr(campbell_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
+    monkeypatch.setattr(critical_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
     full = rdm.campbell(model, speeds).critical
     assert len(full) == len(large) > 1000
     large, full = _by_crossing(large), _by_crossing(full)
@@ -389,13 +389,13 @@ def test_crossings_that_newton_fails_are_refined_by_the_secant(failure, monkeypa
     Newton's roots: every row equals, bit for bit, the row of the path that refined it."""
     from reference_bearings import random_bearing_description
 
-    from rotordyn_modal.analysis import campbell as campbell_module
+    from rotordyn_modal.analysis import critical_speeds as critical_module
 
     model = rdm.Model.from_dict(random_bearing_description(np.random.default_rng(1), n_rotors=3, stator=True))
     speeds = np.linspace(0.0, 3000.0, 21)
     newton = _by_crossing(rdm.campbell(model, speeds, orders=(1, 2)).critical)
     with monkeypatch.context() as patch:
-        patch.setattr(campbell_module, "_NEWTON_DOF", 0)
+        patch.setattr(critical_module, "_NEWTON_DOF", 0)
         secant = _by_crossing(rdm.campbell(model, speeds, orders=(1, 2)).critical)
     assert not np.array_equal(newton.speeds, secant.speeds)           # the paths' round-off differs
     threshold = speeds[4]              # a grid speed: every bracket lies on one side of it
@@ -424,16 +424,16 @@ def test_brackets_crowded_with_close_roots_are_swept_again_with_the_same_crossin
     eigen-solves instead of all the roots for each crossing): the same crossings as refining
     each by itself, to 1e-10; only the labels of modes that veer inside the bracket may differ
     (each is the mode at the bracket's start that the finer grid follows)."""
-    from rotordyn_modal.analysis import campbell as campbell_module
+    from rotordyn_modal.analysis import critical_speeds as critical_module
 
     model = _clustered_machine()
     speeds = np.linspace(0.0, 3000.0, 21)
     swept = []
-    crossings_in = campbell_module._crossings_in
-    monkeypatch.setattr(campbell_module, "_crossings_in", lambda *args: swept.append(args[-1]) or crossings_in(*args))
+    crossings_in = critical_module._crossings_in
+    monkeypatch.setattr(critical_module, "_crossings_in", lambda *args: swept.append(args[-1]) or crossings_in(*args))
     crowded = rdm.campbell(model, speeds).critical
     assert swept.count(0) >= 5                      # brackets of the sweep itself, swept again
-    monkeypatch.setattr(campbell_module, "_CROWDED", 10**9)
+    monkeypatch.setattr(critical_module, "_CROWDED", 10**9)
     alone = rdm.campbell(model, speeds).critical
     assert len(crowded) == len(alone) == 454
     _assert_same_crossings(crowded, alone)
@@ -444,13 +444,13 @@ def test_brackets_crowded_with_close_roots_are_swept_again_with_the_same_crossin
 def test_jumps_left_in_a_sub_sweep_are_resolved_by_a_sub_sweep_of_their_own(monkeypatch):
     """Sub-sweeps of one inner speed (instead of 7) leave jumps of their own: they are swept
     again in turn, and the 21 speeds still give the crossings of 201 speeds."""
-    from rotordyn_modal.analysis import campbell as campbell_module
+    from rotordyn_modal.analysis import critical_speeds as critical_module
 
     model = _clustered_machine()
     depths = []
-    crossings_in = campbell_module._crossings_in
-    monkeypatch.setattr(campbell_module, "_crossings_in", lambda *args: depths.append(args[-1]) or crossings_in(*args))
-    monkeypatch.setattr(campbell_module, "_SUB_SPEEDS", 3)
+    crossings_in = critical_module._crossings_in
+    monkeypatch.setattr(critical_module, "_crossings_in", lambda *args: depths.append(args[-1]) or crossings_in(*args))
+    monkeypatch.setattr(critical_module, "_SUB_SPEEDS", 3)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         coarse = rdm.campbell(model, np.linspace(0.0, 3000.0, 21)).critical
@@ -465,9 +465,9 @@ def test_jumps_left_unresolved_are_warned_of(monkeypatch):
     """Without sub-sweeps (none left at the deepest level) a bracket's jump stays: the
     refinement closes in on it, its frequency is off the order line, and those rows, and only
     those, are warned of."""
-    from rotordyn_modal.analysis import campbell as campbell_module
+    from rotordyn_modal.analysis import critical_speeds as critical_module
 
-    monkeypatch.setattr(campbell_module, "_SUB_DEPTH", 0)
+    monkeypatch.setattr(critical_module, "_SUB_DEPTH", 0)
     model = _clustered_machine()
     sources = excitation_sources(model)
     with pytest.warns(UserWarning, match=r"4 of 454 critical speeds are not crossings") as caught:
@@ -478,10 +478,10 @@ def test_jumps_left_unresolved_are_warned_of(monkeypatch):
 
 
 def test_the_command_line_prints_a_warning_on_one_line(examples_dir, monkeypatch, capsys):
-    from rotordyn_modal.analysis import campbell as campbell_module
+    from rotordyn_modal.analysis import critical_speeds as critical_module
     from rotordyn_modal.cli.main import main
 
-    monkeypatch.setattr(campbell_module, "off_order_line", lambda table, sources: np.full(len(table), 0.01))
+    monkeypatch.setattr(critical_module, "off_order_line", lambda table, sources: np.full(len(table), 0.01))
     assert main(["critical-speeds", str(examples_dir / "gear_machine.toml"), "--speeds", "0:3000:201"]) == 0
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("rotordyn-modal critical-speeds: warning: ")

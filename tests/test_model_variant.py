@@ -158,7 +158,7 @@ def test_variants_whose_brackets_are_swept_again_equal_each_alone(monkeypatch, c
     3-rotor machine), or whose brackets are crowded with crossings among close roots (here from
     4 such crossings up), have those brackets swept again; each variant's critical speeds still
     equal its own analysis bit for bit, and are crossings."""
-    from rotordyn_modal.analysis import campbell as campbell_module
+    from rotordyn_modal.analysis import critical_speeds as critical_module
     from rotordyn_modal.analysis.campbell import campbell_many, off_order_line
 
     model = rdm.Model.from_dict(random_bearing_description(np.random.default_rng(326), n_rotors=3, stator=True))
@@ -166,11 +166,11 @@ def test_variants_whose_brackets_are_swept_again_equal_each_alone(monkeypatch, c
     variants = [model] + [model.variant([(key, "scale", scale) for key in keys]) for scale in (1.15, 0.9, 1.28)]
     speeds = np.linspace(0.0, 2000.0, 41)
     swept = []
-    crossings_in = campbell_module._crossings_in
-    monkeypatch.setattr(campbell_module, "_CROWDED", crowded)
-    monkeypatch.setattr(campbell_module, "_crossings_in", lambda *args: swept.append(args[1]) or crossings_in(*args))
+    crossings_in = critical_module._crossings_in
+    monkeypatch.setattr(critical_module, "_CROWDED", crowded)
+    monkeypatch.setattr(critical_module, "_crossings_in", lambda *args: swept.append(args[1]) or crossings_in(*args))
     together = campbell_many(variants, speeds, orders=(1, 2))
-    monkeypatch.setattr(campbell_module, "_crossings_in", crossings_in)
+    monkeypatch.setattr(critical_module, "_crossings_in", crossings_in)
     assert set(swept) == expected                  # without crowded brackets the third variant has no jump
     for result, variant in zip(together, variants):
         alone = rdm.campbell(rdm.Model.from_dict(variant.to_dict(), variant.source), speeds, orders=(1, 2))

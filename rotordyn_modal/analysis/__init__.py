@@ -1,9 +1,9 @@
 """Analyses: each a plain function taking a model and returning a result object.
 
-One module per analysis (``modal``, ``campbell``, ``stability``, ``frf``, ``unbalance``, ...).
-The functions are public from the package root (``rdm.campbell``) or their module
-(``rotordyn_modal.analysis.campbell.campbell``); here a name that is also a module's name
-(``modal``, ``campbell``, ``stability``, ``frf``, ``fit``) is that module. The other names are
+One module per analysis (``modal``, ``campbell``, ``critical_speeds``, ``stability``, ``frf``,
+``unbalance``, ...). The functions are public from the package root (``rdm.campbell``) or their
+module (``rotordyn_modal.analysis.campbell.campbell``); here a name that is also a module's name
+(``modal``, ``campbell``, ``critical_speeds``, ``stability``, ``frf``, ``fit``) is that module. The other names are
 imported from their module when first used, so that one analysis does not load the others.
 """
 
@@ -13,8 +13,8 @@ import importlib
 
 _API = {
     "ModalResult": "modal", "mac": "modal",
-    "CampbellResult": "campbell", "critical_speeds": "campbell",
-    "CriticalSpeeds": "campbell", "excitation_sources": "campbell",
+    "CampbellResult": "campbell",
+    "CriticalSpeeds": "critical_speeds", "excitation_sources": "critical_speeds",
     "stability_map": "stability", "StabilityResult": "stability", "StabilityMap": "stability",
     "FRFResult": "frf", "force_frf": "forces",
     "unbalance_response": "unbalance", "UnbalanceResult": "unbalance",

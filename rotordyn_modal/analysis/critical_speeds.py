@@ -536,13 +536,15 @@ def _joint_newton(stack, speeds, brackets, shapes):
     eigenpair there, and the error left is of the order of that step squared. (Ending a step
     earlier, where the last two steps' sizes promised quadratic convergence, left errors of
     2e-13: the first step's size is the start shape's error, which says little of the
-    speed's.) It
-    fails where the speed leaves the bracket, a step is not finite, it has not ended after
-    ``_NEWTON_STEPS`` steps, or its eigenvalue is not the tracked mode's (farther than twice
-    the mode's travel across the bracket from its interpolation, as in :func:`_pencil_at`):
-    the caller refines those by :func:`_refine_together`, whose iteration keeps every point
-    inside its bracket. Rows stop stepping as they end, so each row's numbers are its own
-    whatever the others are (a study's variant equals its model's own analysis bit for bit).
+    speed's.)
+
+    A crossing fails where its speed leaves the bracket, a step is not finite, it has not
+    ended after ``_NEWTON_STEPS`` steps, or its eigenvalue is not the tracked mode's (farther
+    than twice the mode's travel across the bracket from its interpolation, as in
+    :func:`_pencil_at`): the caller refines those by :func:`_refine_together`, whose iteration
+    keeps every point inside its bracket. Rows stop stepping as they end, so each row's numbers
+    are its own whatever the others are (a study's variant equals its model's own analysis bit
+    for bit).
 
     Returns
     -------

@@ -3,8 +3,9 @@
 One module per analysis (``modal``, ``campbell``, ``critical_speeds``, ``stability``, ``frf``,
 ``unbalance``, ...). The functions are public from the package root (``rdm.campbell``) or their
 module (``rotordyn_modal.analysis.campbell.campbell``); here a name that is also a module's name
-(``modal``, ``campbell``, ``critical_speeds``, ``stability``, ``frf``, ``fit``) is that module. The other names are
-imported from their module when first used, so that one analysis does not load the others.
+(``modal``, ``campbell``, ``critical_speeds``, ``stability``, ``frf``, ``fit``) is that module.
+The other names are imported from their module when first used, so that one analysis does not
+load the others.
 """
 
 from __future__ import annotations

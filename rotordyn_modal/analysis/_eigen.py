@@ -585,16 +585,15 @@ def speed_newton_step(matrices, speeds, eigenvalues, vectors, normal_conj, line)
     """
     count, n = vectors.shape
     # a few rows at a time, so that each part's matrices stay in the cache (as in _quadratic)
-    rows = max(1, _CACHE_BYTES // (48 * (n + 1) ** 2))
-    if count <= rows:
+    parts = chunk_slices(count, 48 * (n + 1) ** 2, budget=_CACHE_BYTES)
+    if len(parts) == 1:
         return _speed_newton_part(matrices, speeds, eigenvalues, vectors, normal_conj, line)
-    parts = []
-    for start in range(0, count, rows):
-        part = slice(start, start + rows)
+    steps = []
+    for part in parts:
         mine = tuple(matrix if matrix.ndim == 2 else matrix[part] for matrix in matrices)
-        parts.append(_speed_newton_part(mine, speeds[part], eigenvalues[part], vectors[part], normal_conj[part],
+        steps.append(_speed_newton_part(mine, speeds[part], eigenvalues[part], vectors[part], normal_conj[part],
                                         line[part]))
-    return tuple(np.concatenate(column) for column in zip(*parts))
+    return tuple(np.concatenate(column) for column in zip(*steps))
 
 
 def _speed_newton_part(matrices, speeds, eigenvalues, vectors, normal_conj, line):

@@ -215,7 +215,7 @@ def _crowded(brackets, shapes, depth):
     least ``_CROWDED`` crossings not isolated (:func:`_isolated`)."""
     if depth > 0 or depth >= _SUB_DEPTH or shapes is None or len(brackets.k) < _CROWDED:
         return np.zeros(len(brackets.k), dtype=bool)
-    close = ~_isolated(brackets)
+    close = ~brackets.isolated
     key = brackets.variant * (int(brackets.k.max()) + 1) + brackets.k
     return np.bincount(key[close], minlength=int(key.max()) + 1)[key] >= _CROWDED
 
@@ -391,6 +391,8 @@ class _Brackets(NamedTuple):
     """Every root at both ends of the bracket, (P, 2, m)"""
     travels: np.ndarray
     """Every root's travel across the bracket, ``|ends[:, 1] - ends[:, 0]|``, (P, m)"""
+    isolated: np.ndarray
+    """Whether the mode stays far from every other root across the bracket (:func:`_isolated`)"""
 
     subset = _rows_of
 
@@ -427,7 +429,9 @@ def _crossing_brackets(speeds, values, sources, orders, oscillating=None) -> _Br
         parts = [(*(np.zeros(0, dtype=int) for _ in range(3)), np.zeros(0), np.zeros(0, dtype=int))]
     v, k, mode, slope, line = parts[0] if len(parts) == 1 else (np.concatenate(c) for c in zip(*parts))
     source, order = np.divmod(line, max(len(factors), 1))
-    return _Brackets(v, k, mode, slope, source, factors[order], *_bracket_ends(speeds, values, mode_ok, v, k, mode))
+    brackets = _Brackets(v, k, mode, slope, source, factors[order],
+                         *_bracket_ends(speeds, values, mode_ok, v, k, mode), isolated=None)
+    return brackets._replace(isolated=_isolated(brackets))
 
 
 #: the largest part of the gaps to the excitation lines computed at once [bytes]
@@ -516,10 +520,8 @@ def _by_newton(stack, speeds, brackets, shapes):
     count = len(brackets.k)
     if shapes is None or stack.dependent or stack.branch_times.shape[-1] or stack.n_dof > _NEWTON_DOF:
         return np.zeros(count, dtype=bool)
-    k, slope = brackets.k, brackets.slope
-    a, b = speeds[k], speeds[k + 1]
-    between = (brackets.low.imag - slope * np.abs(a) != 0) & (brackets.high.imag - slope * np.abs(b) != 0)
-    return _isolated(brackets) & between & ((a >= 0) | (b <= 0))
+    a, b, ga, gb = _ends_and_gaps(speeds, brackets)
+    return brackets.isolated & (ga != 0) & (gb != 0) & ((a >= 0) | (b <= 0))
 
 
 def _joint_newton(stack, speeds, brackets, shapes):
@@ -556,9 +558,8 @@ def _joint_newton(stack, speeds, brackets, shapes):
     """
     k, slope = brackets.k, brackets.slope
     count = len(k)
-    a, b = speeds[k], speeds[k + 1]
-    x = _cubic_start(speeds, brackets, a, b, brackets.low.imag - slope * np.abs(a),
-                     brackets.high.imag - slope * np.abs(b))
+    a, b, ga, gb = _ends_and_gaps(speeds, brackets)
+    x = _cubic_start(speeds, brackets, a, b, ga, gb)
     every = np.arange(count)
     lam = _cubic_value(speeds, brackets, every, x)
     phi = shapes[brackets.variant, np.where(x - a <= b - x, k, k + 1), brackets.mode]    # unit: c = phi
@@ -615,11 +616,9 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     iterates : _Iterates
         The pencil iteration's last points, eigenvalues and shapes.
     """
-    k, slope = brackets.k, brackets.slope
-    count = len(k)
-    a, b = speeds[k], speeds[k + 1]
-    ga = brackets.low.imag - slope * np.abs(a)
-    gb = brackets.high.imag - slope * np.abs(b)
+    slope = brackets.slope
+    count = len(brackets.k)
+    a, b, ga, gb = _ends_and_gaps(speeds, brackets)
     x = _cubic_start(speeds, brackets, a, b, ga, gb)
     iterates = _Iterates.start(stack, brackets, shapes)
     previous = np.full((2, count), np.nan)          # the last point evaluated and its g
@@ -647,6 +646,13 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
         roots[i], lam[i], sure[i] = x_i, lam_x, sure_x
         x[i] = _advance(state, previous, done, i, x_i, gx)
     return roots, lam, sure, iterates
+
+
+def _ends_and_gaps(speeds, brackets):
+    """Each bracket's ends ``a = speeds[k]``, ``b = speeds[k + 1]`` [rad/s] and ``g`` there
+    (see :func:`_refine_together`), each (P,)."""
+    a, b = speeds[brackets.k], speeds[brackets.k + 1]
+    return a, b, brackets.low.imag - brackets.slope * np.abs(a), brackets.high.imag - brackets.slope * np.abs(b)
 
 
 def _advance(state, previous, done, rows, x, gx):
@@ -756,7 +762,7 @@ class _Iterates(NamedTuple):
             return cls(np.zeros(count, dtype=bool), np.full(count, np.nan), np.zeros(count, complex),
                        np.zeros((count, 0), complex), gap, _eigen.PencilFactors(0, 0))
         v, k, mode = brackets.variant, brackets.k, brackets.mode
-        return cls(_isolated(brackets), brackets.start.astype(float), brackets.low.copy(),
+        return cls(brackets.isolated, brackets.start.astype(float), brackets.low.copy(),
                    shapes[v, k, mode], gap, _eigen.PencilFactors(count, stack.n_dof))
 
 

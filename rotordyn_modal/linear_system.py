@@ -16,12 +16,12 @@ from __future__ import annotations
 import numpy as np
 
 from .assembly import Matrices, bearing_motion, constant_matrices, constant_stiffness_damping, \
-    dependent_bearing_matrices, excitation_columns, sensor_rows
+    dependent_bearing_matrices, excitation_columns, mass_matrix, sensor_rows
 from .bearings import evaluate
 from .errors import InputError, ModelError
 from .mounts import maxwell_branches, with_branch_states
 
-__all__ = ["SpeedLinearForm", "speed_linear_form", "same_inertia", "state_matrices", "state_space"]
+__all__ = ["SpeedLinearForm", "speed_linear_form", "checked_mass_inverse", "same_inertia", "state_matrices", "state_space"]
 
 _QUANTITY_ORDER = {"displacement": 0, "receptance": 0, "velocity": 1, "mobility": 1,
                    "acceleration": 2, "accelerance": 2}
@@ -40,6 +40,19 @@ def _mass_inverse(M: np.ndarray, model) -> np.ndarray:
                          "masses and inertias (with their arms to the reference point) that leave the "
                          "mass matrix invertible in double precision; they span too many orders of magnitude")
     return inverse
+
+
+def checked_mass_inverse(model) -> np.ndarray:
+    """The inverse of ``model``'s mass matrix, shape (n, n) [1/kg, 1/(kg m), 1/(kg m^2)]: the
+    check every analysis and the time simulation make before any work.
+
+    Raises
+    ------
+    ModelError
+        Masses and inertias so many orders of magnitude apart that rounding leaves the mass
+        matrix singular.
+    """
+    return _mass_inverse(mass_matrix(model), model)
 
 
 class SpeedLinearForm:

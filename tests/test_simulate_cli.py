@@ -96,3 +96,44 @@ def test_a_long_duration_within_the_limit_is_accepted_by_the_check(examples_dir)
     from rotordyn_modal.simulation.simulate import _check_duration
 
     _check_duration(10.0, 2 * 3.141592653589793 * 1000.0)
+
+
+def test_model_every_analysis_refuses_is_refused_by_simulate_too(tmp_path, capsys):
+    """A stator of 1e-30 kg under a rotor of 1e30 kg on bearings: its mass matrix is singular in
+    double precision (the masses are 60 orders apart), so `modes` refuses it; `simulate` refuses it
+    with the same line and exit 2 (it once swallowed the refusal and died in the integrator with a
+    ZeroDivisionError, exit 1)."""
+    model = tmp_path / "extreme.toml"
+    model.write_text("""gravity = [0.0, 0.0, -9.81]
+[stator]
+mass = 1e-30
+inertia = [1.0, 1.0, 1.0]
+[[rotors]]
+name = "r"
+mass = 1e30
+center_of_mass = [0.0, 0.0, 0.0]
+polar_inertia = 0.05
+diametral_inertia = 0.05
+[[bearings]]
+name = "a"
+rotor = "r"
+position = [0.2, 0.0, 0.0]
+stiffness = 1e6
+[[bearings]]
+name = "b"
+rotor = "r"
+position = [-0.2, 0.0, 0.0]
+stiffness = 1e6
+[[suspensions]]
+name = "s"
+position = [0.0, 0.0, 0.0]
+stiffness = [1e5, 1e5, 1e5, 1e3, 1e3, 1e3]
+""")
+    assert main(["modes", str(model), "--speed", "1000", "--quiet"]) == 2
+    refusal = capsys.readouterr().err.split("error: ", 1)[1]
+    assert "mass matrix invertible" in refusal
+    for backend in ("numpy", "auto"):
+        assert main(["simulate", str(model), "--duration", "0.01", "--speed", "1000", "--quiet",
+                     "--backend", backend]) == 2
+        err = capsys.readouterr().err
+        assert err.split("error: ", 1)[1] == refusal and err.count("\n") == 1

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from .._limits import count_problem
-from ..errors import InputError
+from ..errors import InputError, ModelError
+from ..linear_system import checked_mass_inverse
 from . import _kernels
 from ._system import check_table_speeds, system_arrays
 from .result import SimulationResult
@@ -106,6 +107,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     duration, speed = _positive(duration, "duration"), _speed(speed, "speed")
     final_speed = None if final_speed is None else _speed(final_speed, "final_speed")
     rtol, atol = _tolerance(rtol, "rtol", *_RTOL_RANGE), _tolerance(atol, "atol", *_ATOL_RANGE)
+    checked_mass_inverse(model)    # the model every analysis refuses is refused here too
     rate = _fastest_rate(model, speed, final_speed)
     _check_duration(duration, rate)                # before any work on a run that would not end
     system = system_arrays(model, unbalance_phases_deg)
@@ -301,6 +303,8 @@ def _fastest_rate(model, speed, final_speed):
         try:
             natural = max(natural, np.max(np.abs(modal(model, at).eigenvalues.imag), initial=0.0))
             break
+        except ModelError:   # a fault of the model (not of one speed) refuses the simulation too
+            raise
         except Exception:  # noqa: BLE001 - a model without restoring force still simulates
             continue
     return max(fastest_spin, natural)

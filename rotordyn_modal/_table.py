@@ -9,7 +9,7 @@ import numpy as np
 from .components import is_finite_number
 from .errors import ModelError
 
-__all__ = ["Table", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem"]
+__all__ = ["Table", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number"]
 
 #: largest magnitude of a number in a model description (SI units): no machine needs more, and
 #: products of two such numbers (stiffness over mass, squared frequencies) stay far from overflow
@@ -86,6 +86,8 @@ class Table:
         def expected():
             return " or ".join(shape_text(s) for s in shapes)
 
+        if (found := non_number(value)) is not None:
+            raise self.error(key, value, expected() + " of numbers (" + found + ")")
         try:
             arr = np.array(value, dtype=float)
         except (TypeError, ValueError):
@@ -106,6 +108,40 @@ class Table:
         if nonzero and vec is not None and not np.linalg.norm(vec) > 0:
             raise self.error(key, self.data.get(key), "a 3-vector of non-zero length")
         return vec
+
+
+def non_number(value, deepest: int = 3) -> str | None:
+    """What in a number or (nested) list of numbers is not a number, or None.
+
+    A string (``"1e0"``), a boolean, a table or a missing value is never read as a number,
+    wherever it sits: ``mass = "150"`` and ``spin_axis = ["1e0", "0", "0"]`` are refused
+    alike. Lists nested deeper than ``deepest`` are left to the shape check.
+
+    Returns
+    -------
+    str or None
+        E.g. ``"[1] is the string '0', not a number"``.
+    """
+    if type(value) is list and all(type(v) is float or type(v) is int for v in value):
+        return None                                  # the usual vector, at the cost of one pass
+    stack = [("", value, 0)]
+    while stack:
+        where, item, depth = stack.pop()
+        if isinstance(item, np.ndarray):
+            if item.dtype.kind in "iuf":
+                continue
+            item = item.tolist()
+        if isinstance(item, (list, tuple)):
+            if depth < deepest:
+                stack.extend((f"{where}[{i}]", v, depth + 1) for i, v in reversed(list(enumerate(item))))
+            continue
+        if isinstance(item, (int, float, np.integer, np.floating)) and not isinstance(item, (bool, np.bool_)):
+            continue
+        kind = {str: "the string", bool: "the boolean", np.bool_: "the boolean"}.get(type(item), "")
+        shown = f"{kind} {item!r}" if kind else f"{item!r}"
+        shown = f"{shown[:60]}..." if len(shown) > 63 else shown
+        return f"{where + ' is ' if where else ''}{shown}, not a number"
+    return None
 
 
 def magnitude_problem(value, positive: bool = False) -> str:

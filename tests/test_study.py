@@ -252,6 +252,8 @@ def test_a_failing_variant_is_recorded_with_its_reason_and_the_others_run(gear):
     (lambda s: s["parameters"][1].update(truncate=[2.0, 1.0]), r"truncate = \[2.0, 1.0\]"),
     (lambda s: s.update(correlation={"parameters": ["rear", "rotors.fan.polar_inertia"],
                                      "matrix": [[1.0, 1.2], [1.2, 1.0]]}), r"\[correlation\] matrix"),
+    (lambda s: s.update(correlation={"parameters": ["rear", "rotors.fan.polar_inertia"],
+                                     "matrix": [[1.0, "0.5"], ["0.5", 1.0]]}), r"\[correlation\] matrix"),
     (lambda s: s["parameters"][0].update(lows=0.8), r"\[\[parameters\]\] 1 lows = 0.8: expected one of the keys"),
     (lambda s: s["parameters"][0].update(apply="value"),
      r"1 key = 'suspensions.mount-FL.stiffness': expected a key holding one number to set"),
@@ -339,6 +341,21 @@ def test_inconsistent_study_designs_are_refused(gear, tmp_path, change, message)
     path.write_text(tomli_w.dumps(spec))
     with pytest.raises(StudyError, match=re.escape(f"study.toml: {message}")):
         read_study(path, gear)
+
+
+def test_study_file_with_a_byte_order_mark_is_read_and_deep_nesting_refused(tmp_path, gear):
+    """A UTF-8 BOM (Windows editors) is skipped; arrays nested thousands deep (Python's TOML parser
+    recurses: RecursionError) or more than 32 deep are refused in one line naming the file."""
+    import tomli_w
+
+    text = tomli_w.dumps(small_gear_study())
+    (tmp_path / "bom.toml").write_bytes(b"\xef\xbb\xbf" + text.encode())
+    assert read_study(tmp_path / "bom.toml", gear).samples == 6
+    for depth in (33, 5000):
+        (tmp_path / "deep.toml").write_text(text + "chunk_size = " + "[" * depth + "]" * depth + "\n")
+        with pytest.raises(StudyError, match=r"deep.toml: .*expected TOML with arrays and tables nested "
+                                             r"at most 32 deep"):
+            read_study(tmp_path / "deep.toml", gear)
 
 
 def test_missing_and_broken_study_files(tmp_path, gear):

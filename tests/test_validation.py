@@ -114,6 +114,17 @@ CASES = [
     (("rotors", 1, "name"), "motor", "[rotors[1]] name", "unique"),
     (("rotors",), {"name": "x"}, "rotors", "array of tables"),
     (("stator",), [1, 2], "stator", "a table"),
+    # strings and booleans are never numbers, in lists too (as `mass = "150"` above)
+    (("spin_axis",), ["1e0", "0", "0"], "spin_axis", "[0] is the string '1e0', not a number"),
+    (("spin_axis",), [True, False, False], "spin_axis", "[0] is the boolean True, not a number"),
+    (("spin_axis",), [1.0, 0, "0"], "spin_axis", "[2] is the string '0', not a number"),
+    (("suspensions", 0, "stiffness"), [2e5, "1.5e5", 4e5], "[suspensions.mount-FL] stiffness",
+     "[1] is the string '1.5e5', not a number"),
+    (("stator", "inertia"), [[12.0, 0.0, 0.3], [0.0, "10", 0.0], [0.3, 0.0, 8.0]], "[stator] inertia",
+     "[1][1] is the string '10', not a number"),
+    (("rotors", 0, "center_of_mass"), [0.2, False, 0.15], "[rotors.motor] center_of_mass",
+     "[1] is the boolean False, not a number"),
+    (("sensors", 0, "direction"), [0.0, 0.0, {"z": 1}], "[sensors.acc] direction", "not a number"),
 ]
 
 
@@ -216,6 +227,35 @@ def test_file_that_is_not_toml(tmp_path):
     with pytest.raises(ModelError) as info:
         rdm.load_model(path)
     assert str(path) in str(info.value) and "valid TOML" in str(info.value)
+
+
+def test_byte_order_mark_is_skipped(tmp_path, examples_dir):
+    """Windows editors begin UTF-8 files with a byte-order mark: the model reads as without it."""
+    text = (examples_dir / "fan_on_bearings.toml").read_bytes()
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + text)
+    assert rdm.load_model(path).to_dict() == rdm.load_model(examples_dir / "fan_on_bearings.toml").to_dict()
+
+
+@pytest.mark.parametrize("depth", [33, 400, 5000])
+def test_deeply_nested_arrays_are_refused_in_one_line(tmp_path, depth, capsys):
+    """A 10 kB file of nested brackets made Python's TOML parser exhaust its recursion (exit 1)."""
+    from rotordyn_modal.cli import main
+
+    path = tmp_path / "deep.toml"
+    path.write_text("spin_axis = " + "[" * depth + "]" * depth + "\n")
+    with pytest.raises(ModelError, match=r"expected TOML with arrays and tables nested at most 32 deep"):
+        rdm.load_model(path)
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(path) in err and "nested at most 32 deep" in err
+
+
+def test_nesting_up_to_the_limit_reaches_the_rules(tmp_path):
+    path = tmp_path / "deep.toml"
+    path.write_text("spin_axis = " + "[" * 32 + "]" * 32 + "\n")
+    with pytest.raises(ModelError, match=r"spin_axis = .*expected a 3-list"):
+        rdm.load_model(path)
 
 
 def test_missing_file(tmp_path):

@@ -10,7 +10,13 @@ from ..model import Model
 from .atomic import atomic_write, check_not_input
 from .limits import check_size
 
-__all__ = ["load_model", "save_model"]
+__all__ = ["load_model", "save_model", "read_toml", "MAX_NESTING"]
+
+#: deepest nesting of arrays and tables in a model or study file: a model needs 5 (a table in
+#: an array of tables, a list of 2x2 matrices); more is a mistake, and Python's parser would
+#: exhaust its recursion limit on a few hundred
+MAX_NESTING = 32
+_BOM = "\ufeff"
 
 
 def load_model(path) -> Model:
@@ -31,24 +37,69 @@ def load_model(path) -> Model:
         The file does not exist, is not TOML, or fails validation (the message
         names the file, table, key, value and what was expected).
     """
+    data = read_toml(path, "model file")
+    return Model.from_dict(data, source=str(path))
+
+
+def read_toml(path, what: str, error=ModelError) -> dict:
+    """The tables of a TOML file (a model or study file), or one line saying why not.
+
+    A UTF-8 byte-order mark (what some Windows editors write) is skipped.
+
+    Parameters
+    ----------
+    path : str or path-like
+    what : str
+        Named in messages: ``'model file'``, ``'study file'``.
+    error : type
+        The exception raised, called as ``error(source, '<file>', value, expected)``
+        (:class:`~rotordyn_modal.errors.ModelError` or the study's ``StudyError``).
+
+    Raises
+    ------
+    error
+        The file does not exist, is a folder, is not readable UTF-8 text, is not TOML,
+        or nests arrays and tables more than :data:`MAX_NESTING` deep.
+    """
     path = Path(path)
     source = str(path)
-    check_size(path, "model", "model file")
+    check_size(path, "model", what)
     try:
         text = path.read_bytes().decode("utf-8")
     except FileNotFoundError:
-        raise ModelError(source, "<file>", source, "an existing model file (no such file)") from None
+        raise error(source, "<file>", source, f"an existing {what} (no such file)") from None
     except IsADirectoryError:
-        raise ModelError(source, "<file>", source, "a model file, not a folder") from None
-    except UnicodeDecodeError as error:
-        raise ModelError(source, "<file>", f"byte {error.start}", "UTF-8 text (TOML)") from None
-    except OSError as error:
-        raise ModelError(source, "<file>", source, f"a readable file ({error.strerror})") from None
+        raise error(source, "<file>", source, f"a {what}, not a folder") from None
+    except UnicodeDecodeError as problem:
+        raise error(source, "<file>", f"byte {problem.start}", "UTF-8 text (TOML)") from None
+    except OSError as problem:
+        raise error(source, "<file>", source, f"a readable file ({problem.strerror})") from None
+    nested = f"TOML with arrays and tables nested at most {MAX_NESTING} deep"
     try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        raise ModelError(source, "<file>", str(error), "valid TOML") from None
-    return Model.from_dict(data, source=source)
+        data = tomllib.loads(text.removeprefix(_BOM))
+    except tomllib.TOMLDecodeError as problem:
+        raise error(source, "<file>", str(problem), "valid TOML") from None
+    except RecursionError:
+        raise error(source, "<file>", "arrays or tables nested too deep to parse", nested) from None
+    if (deep := _too_deep(data)) is not None:
+        where = deep if len(deep) <= 60 else deep[:57] + "..."
+        raise error(source, where, f"<nested more than {MAX_NESTING} deep>", nested)
+    return data
+
+
+def _too_deep(data) -> str | None:
+    """The dotted key of the first value nested deeper than :data:`MAX_NESTING`, or None
+    (an iterative walk: the data may be as deep as the parser allowed)."""
+    stack = [("", data, 0)]
+    while stack:
+        where, value, depth = stack.pop()
+        if depth > MAX_NESTING:
+            return where
+        if isinstance(value, dict):
+            stack.extend((f"{where}.{k}" if where else str(k), v, depth + 1) for k, v in value.items())
+        elif isinstance(value, list):
+            stack.extend((f"{where}[{i}]", v, depth + 1) for i, v in enumerate(value))
+    return None
 
 
 def save_model(model: Model, path, inputs=()) -> None:

@@ -9,12 +9,12 @@ file, the table and key, the value found and what was expected, like a bad model
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field
-from pathlib import Path
+
 import numpy as np
 
 from .._limits import count_problem
+from .._table import non_number
 from ..errors import InputError
 from ._rules import StudyError, grid_values, is_number
 from .analyses import parse_analyses
@@ -142,20 +142,10 @@ def read_study(path, model=None) -> StudyDefinition:
     -------
     StudyDefinition
     """
-    path = Path(path)
-    source = str(path)
-    from ..io.limits import check_size
+    from ..io.model_file import read_toml
 
-    check_size(path, "model", "study file")
-    try:
-        data = tomllib.loads(path.read_bytes().decode("utf-8"))
-    except FileNotFoundError:
-        raise StudyError(source, "<file>", source, "an existing study file (no such file)") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise StudyError(source, "<file>", source, f"a readable UTF-8 file ({error})") from None
-    except tomllib.TOMLDecodeError as error:
-        raise StudyError(source, "<file>", str(error), "valid TOML") from None
-    return parse_study(data, source, model)
+    data = read_toml(path, "study file", StudyError)
+    return parse_study(data, str(path), model)
 
 
 def parse_study(data: dict, source: str = "<study>", model=None) -> StudyDefinition:
@@ -398,8 +388,8 @@ def _correlation(table, random, source) -> np.ndarray:
             or len(set(names)) != len(names):
         raise StudyError(source, f"{where} parameters", names,
                          "distinct names of distribution parameters: " + ", ".join(known))
-    try:
-        matrix = np.array(table.get("matrix"), dtype=float)
+    try:   # strings and booleans are not numbers ("0.5", true), as everywhere in the file
+        matrix = np.empty(0) if non_number(table.get("matrix")) else np.array(table.get("matrix"), dtype=float)
     except (TypeError, ValueError):
         matrix = np.empty(0)
     k = len(names)

@@ -14,7 +14,7 @@ import dataclasses
 
 import numpy as np
 
-from ._table import LARGEST, Table, magnitude_problem
+from ._table import LARGEST, Table, magnitude_problem, visible, visible_names
 from .bearings import BearingCoefficients, JournalData, local_to_model
 from .components import Bearing, input_keys, is_finite_number
 from .errors import ModelError
@@ -59,7 +59,7 @@ def _bearing(table: Table, rotors, e: np.ndarray) -> Bearing:
     table.check_keys(input_keys("bearings"))
     rotor = table.text("rotor", required=True)
     if rotor not in rotors:
-        raise table.error("rotor", rotor, "the name of one of the rotors " + ", ".join(rotors))
+        raise table.error("rotor", rotor, "the name of one of the rotors " + visible_names(rotors))
     position = _on_spin_axis(table, rotors[rotor], e)
     kind = table.text("type", default="linear", choices=("linear", "journal"))
     _check_keys_of_type(table, kind)
@@ -279,7 +279,7 @@ def check_frame(top: Table, stator, suspensions, bearings, sensors, excitations)
     for kind, items in (("sensors", sensors), ("excitations", excitations)):
         for item in items:
             if item.rotor is None:
-                raise ModelError(top.source, f"[{kind}.{item.name}] rotor", "<missing>",
+                raise ModelError(top.source, f"[{kind}.{visible(item.name)}] rotor", "<missing>",
                                  "the name of a rotor: without a [stator] the [[bearings]] are fixed to "
                                  "the ground, so a point of the stator does not move")
 

@@ -9,7 +9,8 @@ import numpy as np
 from .components import is_finite_number
 from .errors import ModelError
 
-__all__ = ["Table", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number"]
+__all__ = ["Table", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number",
+           "visible", "visible_names"]
 
 #: largest magnitude of a number in a model description (SI units): no machine needs more, and
 #: products of two such numbers (stiffness over mass, squared frequencies) stay far from overflow
@@ -34,8 +35,7 @@ class Table:
     def check_keys(self, allowed) -> None:
         for key in self.data:
             if key not in allowed:
-                shown = key if key and key.strip() == key and key.isprintable() else repr(key)
-                raise self.error(shown, self.data[key], "one of the keys " + ", ".join(allowed)
+                raise self.error(visible(key), self.data[key], "one of the keys " + ", ".join(allowed)
                                  + " (unknown key)")
 
     def require(self, key: str):
@@ -159,6 +159,19 @@ def magnitude_problem(value, positive: bool = False) -> str:
     if positive and not (value if scalar else float(np.min(value))) >= SMALLEST_POSITIVE:
         return f"a number >= {SMALLEST_POSITIVE:g} (SI units)"
     return ""
+
+
+def visible(name) -> str:
+    """A name or key as a message shows it: as it is when every character is visible, else
+    quoted with the invisible ones escaped (``'mount\\u200b-FL'``, ``'fan\\xa0'``, ``' fan'``):
+    a zero-width or non-breaking space, a control character, a space at either end."""
+    text = str(name)
+    return text if text and text.isprintable() and text.strip() == text else repr(text)
+
+
+def visible_names(names) -> str:
+    """``'motor, fan'``: names joined for a message, each :func:`visible`."""
+    return ", ".join(visible(n) for n in names)
 
 
 def shape_text(shape) -> str:

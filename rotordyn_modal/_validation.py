@@ -16,7 +16,7 @@ import numpy as np
 
 from .errors import ModelError
 from . import _bearing_validation
-from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem
+from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, visible, visible_names
 from .components import (
     ARRAY_TABLES, TOP_LEVEL_KEYS, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
     Unbalance, input_keys, is_finite_number,
@@ -202,7 +202,7 @@ def _named_tables(source: str, data, key: str) -> dict[str, _Table]:
         name = _Table(source, label, raw).text("name", required=True)
         if name in tables:
             raise _Table(source, label, raw).error("name", name, f"a name unique among the [[{key}]]")
-        tables[name] = _Table(source, f"{key}.{name}", raw)
+        tables[name] = _Table(source, f"{key}.{visible(name)}", raw)
     return tables
 
 
@@ -219,10 +219,10 @@ def _reference_rotor(top: _Table, rotor_tables: Mapping[str, _Table]) -> str | N
         if len(rotor_tables) == 1:
             return next(iter(rotor_tables))
         raise top.error("reference_rotor", "<missing>", "the name of one of the rotors "
-                        + ", ".join(rotor_tables) + " (required with several rotors)")
+                        + visible_names(rotor_tables) + " (required with several rotors)")
     name = top.text("reference_rotor")
     if name not in rotor_tables:
-        raise top.error("reference_rotor", name, "the name of one of the rotors " + ", ".join(rotor_tables))
+        raise top.error("reference_rotor", name, "the name of one of the rotors " + visible_names(rotor_tables))
     return name
 
 
@@ -289,7 +289,7 @@ def _transmission(table: _Table, rotor_tables) -> Transmission:
     for key in ("driver", "driven"):
         name = table.text(key, required=True)
         if name not in rotor_tables:
-            raise table.error(key, name, "the name of one of the rotors " + ", ".join(rotor_tables))
+            raise table.error(key, name, "the name of one of the rotors " + visible_names(rotor_tables))
         names.append(name)
     if names[0] == names[1]:
         raise table.error("driven", names[1], "a rotor other than the driver")
@@ -323,7 +323,7 @@ def _speed_ratios(source: str, rotor_tables: Mapping[str, _Table], transmissions
         fix(reference, 1.0, "the reference rotor (ratio 1)", rotor_tables[reference], "speed_ratio")
     for name, table in rotor_tables.items():
         if "speed_ratio" in table.data:
-            fix(name, table.number("speed_ratio"), f"[rotors.{name}] speed_ratio", table, "speed_ratio")
+            fix(name, table.number("speed_ratio"), f"[rotors.{visible(name)}] speed_ratio", table, "speed_ratio")
     edges: dict[str, list[tuple[str, float, Transmission]]] = {name: [] for name in rotor_tables}
     for t in transmissions:
         factor = t.direction_sign / t.ratio  # omega_driven = factor * omega_driver
@@ -333,8 +333,8 @@ def _speed_ratios(source: str, rotor_tables: Mapping[str, _Table], transmissions
         name = queue.popleft()
         ratio = fixed[name][0]
         for other, factor, t in edges[name]:
-            route = f"the {t.type} {t.driver}->{t.driven}"
-            fix(other, ratio * factor, route, _Table(source, f"transmissions {t.driver}->{t.driven}",
+            route = f"the {t.type} {visible(t.driver)}->{visible(t.driven)}"
+            fix(other, ratio * factor, route, _Table(source, f"transmissions {visible(t.driver)}->{visible(t.driven)}",
                                                      {"ratio": t.ratio}), "ratio")
     for name, table in rotor_tables.items():
         if name not in fixed:
@@ -441,7 +441,7 @@ def _unbalance(table: _Table, rotor_tables) -> Unbalance:
     table.check_keys(input_keys("unbalances"))
     rotor = table.text("rotor", required=True)
     if rotor not in rotor_tables:
-        raise table.error("rotor", rotor, "the name of one of the rotors " + ", ".join(rotor_tables))
+        raise table.error("rotor", rotor, "the name of one of the rotors " + visible_names(rotor_tables))
     return Unbalance(
         rotor=rotor,
         amount=table.number("amount", required=True, positive=True),
@@ -480,7 +480,7 @@ def _carrying_rotor(table: _Table, rotor_names) -> str | None:
     """The optional ``rotor`` key of a sensor or excitation (None: the stator)."""
     rotor = table.text("rotor", default=None)
     if rotor is not None and rotor not in rotor_names:
-        raise table.error("rotor", rotor, "the name of one of the rotors " + ", ".join(rotor_names)
+        raise table.error("rotor", rotor, "the name of one of the rotors " + visible_names(rotor_names)
                           + " (or no rotor key for a point of the stator)")
     return rotor
 

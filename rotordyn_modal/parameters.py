@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from .errors import InputError
+from ._table import visible_names
 from .components import ARRAY_TABLES
 
 __all__ = ["parse_key", "get_value", "set_value", "scale_value", "change_at"]
@@ -52,7 +53,7 @@ def parse_key(key: str, data: dict, source: str = "<model>"):
         raise InputError(f"{source}: parameter key {key!r}: expected it to start with one of "
                          + ", ".join(("stator",) + ARRAY_TABLES) + " or to be a top-level key")
     if field not in container:
-        known = ", ".join(k for k in container if not isinstance(container[k], (dict, list)) or
+        known = visible_names(k for k in container if not isinstance(container[k], (dict, list)) or
                           (isinstance(container[k], list) and container[k] and not isinstance(container[k][0], dict)))
         raise InputError(f"{source}: parameter key {key!r}: no value {field!r} there (it has {known})")
     return container, field, indices
@@ -68,7 +69,7 @@ def _array_element(data, table, rest, key, source):
         if rest.startswith(f"{i}."):
             return item, rest[len(str(i)) + 1:]
     raise InputError(f"{source}: parameter key {key!r}: expected {table}.NAME.KEY with NAME one of "
-                     + (", ".join(names) or f"(no [[{table}]] defined)"))
+                     + (visible_names(names) or f"(no [[{table}]] defined)"))
 
 
 def get_value(data: dict, key: str, source: str = "<model>"):

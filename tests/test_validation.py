@@ -300,3 +300,26 @@ def test_reference_rotor_with_a_ratio_other_than_one():
     with pytest.raises(ModelError) as info:
         rdm.Model.from_dict(data, source="m.toml")
     assert "[rotors.motor] speed_ratio = 2.0" in str(info.value) and "ratio 1" in str(info.value)
+
+
+@pytest.mark.parametrize("name, shown", [("mount\u200b-FL", r"'mount\u200b-FL'"), ("mount-FL\xa0", r"'mount-FL\xa0'"),
+                                         (" mount-FL", "' mount-FL'"), ("mount\tFL", r"'mount\tFL'")])
+def test_names_with_invisible_characters_are_shown_escaped(name, shown):
+    """A zero-width space, a non-breaking space, a leading space or a tab in a name would make a
+    message name something the reader cannot tell from a plain name: it is shown escaped, in the
+    table's label and in the lists of names the message offers."""
+    data = edit(("suspensions", 0, "name"), name)
+    data["suspensions"][0]["stiffness"] = [1e5, -1e5, 1e5]
+    with pytest.raises(ModelError) as info:
+        rdm.Model.from_dict(data, source="machine.toml")
+    assert str(info.value).startswith(f"machine.toml: [suspensions.{shown}] stiffness = ")
+    data = edit(("rotors", 1, "name"), name.replace("mount", "fan"))
+    with pytest.raises(ModelError) as info:
+        rdm.Model.from_dict(data, source="machine.toml")   # the gear's driven rotor is now unknown
+    assert str(info.value).endswith(f"expected the name of one of the rotors motor, {shown.replace('mount', 'fan')}")
+
+
+def test_plain_names_are_shown_as_they_are():
+    with pytest.raises(ModelError) as info:
+        rdm.Model.from_dict(edit(("suspensions", 0, "stiffness"), [1e5, -1e5, 1e5]), source="m.toml")
+    assert str(info.value).startswith("m.toml: [suspensions.mount-FL] stiffness = ")

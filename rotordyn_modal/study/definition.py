@@ -236,7 +236,7 @@ def _is_int(value) -> bool:
 def _unknown(table, allowed, source, where):
     for key in table:
         if key not in allowed:
-            raise StudyError(source, f"{where} {key}", table[key], "one of the keys " + ", ".join(allowed))
+            raise StudyError(source, f"{where} {visible(key)}", table[key], "one of the keys " + ", ".join(allowed))
 
 
 def _unique_names(parameters, source):

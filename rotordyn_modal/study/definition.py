@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._limits import count_problem
-from .._table import non_number
+from .._table import non_number, visible
 from ..errors import InputError
 from ._rules import StudyError, grid_values, is_number
 from .analyses import parse_analyses

@@ -88,8 +88,10 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
         raise top.error("rotors", [], "at least one [[rotors]] table or a [stator] table")
     names_kept = reuse.same_names(rotor_tables)   # what references to rotors are checked against
     reference = _reference_rotor(top, rotor_tables)
+    transmission_tables = _indexed_tables(source, data, "transmissions")
     transmissions = [reuse.part("transmissions", i, t.data, names_kept) or _transmission(t, rotor_tables)
-                     for i, t in enumerate(_indexed_tables(source, data, "transmissions"))]
+                     for i, t in enumerate(transmission_tables)]
+    _check_mesh_names(transmission_tables, transmissions, rotor_tables)
     ratios = _speed_ratios(source, rotor_tables, transmissions, reference)
     rotors = [reuse.rotor(i, t.data, ratios[name]) or _rotor(t, ratios[name])
               for i, (name, t) in enumerate(rotor_tables.items())]
@@ -300,6 +302,34 @@ def _transmission(table: _Table, rotor_tables) -> Transmission:
                         ratio=table.number("ratio", required=True, positive=True), driver_teeth=teeth)
 
 
+def mesh_name(driver: str, driver_teeth, driven: str) -> str | None:
+    """The excitation source of a gear mesh, ``mesh:DRIVER-DRIVEN`` (None without
+    ``driver_teeth``): how Campbell diagrams, critical speeds and studies name it."""
+    return f"mesh:{driver}-{driven}" if driver_teeth else None
+
+
+def _check_mesh_names(tables, transmissions, rotor_tables) -> None:
+    """Each gear mesh's source name must name it alone: rotors ``a-b`` and ``c`` and rotors
+    ``a`` and ``b-c`` would give two meshes ``mesh:a-b-c``; a rotor called ``mesh:a-b`` would
+    be taken for the mesh a->b."""
+    seen: dict[str, Transmission] = {}
+    for table, t in zip(tables, transmissions):
+        name = mesh_name(t.driver, t.driver_teeth, t.driven)
+        if name is None:
+            continue
+        if name in rotor_tables:
+            raise table.error("driver_teeth", t.driver_teeth, f"a mesh whose source name {name!r} is not "
+                              "also a rotor's name (rename the rotor: excitation sources are named by "
+                              "rotor and mesh:DRIVER-DRIVEN)")
+        if name in seen:
+            other = seen[name]
+            raise table.error("driven", t.driven, f"rotor names that tell the gear meshes apart: the mesh "
+                              f"{visible(t.driver)} -> {visible(t.driven)} and the mesh {visible(other.driver)} "
+                              f"-> {visible(other.driven)} would both be the excitation source {name!r} "
+                              "(rename a rotor, e.g. without '-')")
+        seen[name] = t
+
+
 def _speed_ratios(source: str, rotor_tables: Mapping[str, _Table], transmissions, reference) -> dict[str, float]:
     """Resolve every rotor's speed ratio from ``speed_ratio`` keys and the transmission graph.
 
@@ -485,4 +515,4 @@ def _carrying_rotor(table: _Table, rotor_names) -> str | None:
     return rotor
 
 
-__all__ = ["validate", "plain_copy"]
+__all__ = ["validate", "plain_copy", "mesh_name"]

@@ -323,3 +323,46 @@ def test_plain_names_are_shown_as_they_are():
     with pytest.raises(ModelError) as info:
         rdm.Model.from_dict(edit(("suspensions", 0, "stiffness"), [1e5, -1e5, 1e5]), source="m.toml")
     assert str(info.value).startswith("m.toml: [suspensions.mount-FL] stiffness = ")
+
+
+def _geared(names, meshes):
+    """Rotors on the stator of BASE, geared in a chain: meshes (driver, driven, teeth)."""
+    data = copy.deepcopy(BASE)
+    rotor = data["rotors"][1]
+    data["rotors"] = [dict(rotor, name=n, **({"speed_ratio": 1.0} if n == names[0] else {})) for n in names]
+    data["reference_rotor"] = names[0]
+    data["transmissions"] = [{"type": "gear", "driver": a, "driven": b, "ratio": 2.0, "driver_teeth": z}
+                             for a, b, z in meshes]
+    data["unbalances"] = []
+    return data
+
+
+def test_gear_meshes_whose_source_names_coincide_are_refused():
+    """Rotors 'a-b' and 'c', 'a' and 'b-c': the meshes a-b->c and a->b-c would both be the excitation
+    source 'mesh:a-b-c' (Campbell diagrams, critical speeds); the second one is refused, naming both."""
+    data = _geared(["a-b", "c", "a", "b-c"], [("a-b", "c", 20), ("c", "a", 30), ("a", "b-c", 25)])
+    with pytest.raises(ModelError) as info:
+        rdm.Model.from_dict(data, source="m.toml")
+    message = str(info.value)
+    assert message.startswith("m.toml: [transmissions[2]] driven = 'b-c': expected rotor names that tell")
+    assert "a -> b-c and the mesh a-b -> c would both be the excitation source 'mesh:a-b-c'" in message
+    from rotordyn_modal.analysis.critical_speeds import excitation_sources
+
+    del data["transmissions"][2]["driver_teeth"]      # without teeth the third gear is no source
+    names = excitation_sources(rdm.Model.from_dict(data)).names
+    assert len(set(names)) == len(names) and "mesh:a-b-c" in names
+
+
+def test_a_rotor_named_like_a_mesh_is_refused():
+    data = _geared(["a", "b", "mesh:a-b"], [("a", "b", 20), ("b", "mesh:a-b", 1)])
+    data["transmissions"][1].pop("driver_teeth")
+    with pytest.raises(ModelError, match=r"\[transmissions\[0\]\] driver_teeth = 20: expected a mesh whose "
+                                         r"source name 'mesh:a-b' is not also a rotor's name"):
+        rdm.Model.from_dict(data)
+
+
+def test_names_with_dashes_are_fine_while_the_meshes_stay_apart():
+    from rotordyn_modal.analysis.critical_speeds import excitation_sources
+
+    model = rdm.Model.from_dict(_geared(["motor-1", "fan-2"], [("motor-1", "fan-2", 23)]))
+    assert excitation_sources(model).names == ("motor-1", "fan-2", "mesh:motor-1-fan-2")

@@ -17,6 +17,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .._validation import mesh_name
 from . import _eigen
 from ._stack import Pencils, Stack
 from .modal import damping_ratios, is_oscillating
@@ -48,7 +49,7 @@ def excitation_sources(model) -> ExcitationSources:
     multipliers = [abs(r.speed_ratio) for r in model.rotors]
     for t in model.transmissions:
         if t.driver_teeth:
-            names.append(f"mesh:{t.driver}-{t.driven}")
+            names.append(mesh_name(t.driver, t.driver_teeth, t.driven))   # unique: validation
             multipliers.append(t.driver_teeth * abs(model.speed_ratios[t.driver]))
     return ExcitationSources(tuple(names), np.array(multipliers, dtype=float))
 

@@ -14,11 +14,11 @@ import dataclasses
 
 import numpy as np
 
-from ._table import LARGEST, Table, magnitude_problem, visible, visible_names
+from ._table import LARGEST, Table, magnitude_problem, semidefinite_problem, visible, visible_names
 from .bearings import BearingCoefficients, JournalData, local_to_model
 from .components import Bearing, input_keys, is_finite_number
 from .errors import ModelError
-from .geometry import transverse_axes
+from .geometry import shift_matrix, transverse_axes
 
 __all__ = ["bearings", "check_frame"]
 
@@ -49,8 +49,10 @@ def bearings(tables: dict, rotors, spin_axis: np.ndarray, gravity: np.ndarray) -
     by_name = {r.name: r for r in rotors}
     parsed = [_bearing(table, by_name, spin_axis) for table in tables.values()]
     parsed = [_with_journal_load(b, tables[b.name], parsed, by_name, spin_axis, gravity) for b in parsed]
-    for rotor in {b.rotor for b in parsed}:
-        _check_tilt_support(rotor, [b for b in parsed if b.rotor == rotor], tables, spin_axis)
+    for rotor in dict.fromkeys(b.rotor for b in parsed):
+        mates = [b for b in parsed if b.rotor == rotor]
+        _check_tilt_support(rotor, mates, tables, spin_axis)
+        _check_held(by_name[rotor], mates, tables, spin_axis)
     return parsed
 
 
@@ -176,6 +178,8 @@ def _radial_matrix(table: Table, key: str, raw) -> np.ndarray:
             raise table.error(key, raw, "non-negative values (a scalar or 2-list is a diagonal "
                               "matrix; give a 2x2 matrix for coupled values)")
         return np.diag(np.broadcast_to(value, (2,))).astype(float)
+    if problem := semidefinite_problem(value):
+        raise table.error(key, raw, problem)
     return value
 
 
@@ -265,6 +269,80 @@ def _check_tilt_support(rotor: str, mates, tables, e) -> None:
         raise table.error("moment_stiffness", "<missing>", f"a tilt stiffness [N m/rad]: rotor {rotor!r} "
                           "sits on bearings at a single point of its axis, so nothing holds it in tilt "
                           "(add a second bearing elsewhere on the axis, or moment_stiffness)")
+
+
+def _check_held(rotor, mates, tables, e) -> None:
+    """The bearings of a rotor together must hold it in each of its own coordinates (two lateral
+    translations, two tilts, and the axial translation when a bearing gives axial_stiffness):
+    their stiffness, moved to the rotor's centre of mass and taken on those motions, must be
+    regular (at every row of a speed table). ``moment_stiffness = 0`` on a single bearing, or
+    ``stiffness = 0`` on every bearing, leaves a motion that nothing holds.
+
+    A journal bearing's film stiffness exists at speed only: such rotors are left to
+    :func:`_check_tilt_support` (two bearing points) and the film's own checks.
+    """
+    if any(b.coefficients.kind == "journal" for b in mates):
+        return
+    motions = _relative_motions(e, axial=any(b.coefficients.axial for b in mates))
+    moved = [shift_matrix(rotor.center_of_mass, b.position) for b in mates]
+    rows = max(len(b.coefficients.stiffness) for b in mates)
+    for row in range(rows):
+        total = sum(s @ b.coefficients.stiffness[min(row, len(b.coefficients.stiffness) - 1)] @ s.T
+                    for s, b in zip(moved, mates))
+        free = _free_motion(motions.T @ total @ motions)
+        if free is not None:
+            raise _not_held(rotor, mates, tables, motions, free, row if rows > 1 else None)
+
+
+def _relative_motions(e: np.ndarray, axial: bool) -> np.ndarray:
+    """Columns: a rotor's own motions ``[u, theta]`` at its centre of mass, shape (6, 4 or 5)."""
+    a, b = transverse_axes(e)
+    zero = np.zeros(3)
+    columns = [np.r_[a, zero], np.r_[b, zero]] + ([np.r_[e, zero]] if axial else []) \
+        + [np.r_[zero, a], np.r_[zero, b]]
+    return np.array(columns).T
+
+
+def _free_motion(stiffness: np.ndarray):
+    """The motion a (k, k) stiffness leaves free, shape (k,), in coordinates scaled by the
+    stiffness's rows and columns (N/m beside N m/rad, short arms: only a stiffness singular to
+    round-off counts, whatever the units), or None when it is regular."""
+    size = np.sqrt(np.linalg.norm(stiffness, axis=0) * np.linalg.norm(stiffness, axis=1))
+    if not (size > 0).all():
+        return np.eye(len(size))[np.flatnonzero(~(size > 0))[0]]
+    _, values, vt = np.linalg.svd(stiffness / np.outer(size, size))
+    return None if values[-1] > 1e-12 * values[0] else vt[-1]
+
+
+def _not_held(rotor, mates, tables, motions: np.ndarray, free: np.ndarray, row) -> ModelError:
+    """The refusal of a rotor that its bearings leave free in ``motions @ free`` (a tilt
+    when the free motion turns the rotor at all, about some point of its axis)."""
+    tilt = np.abs(free[-2:]).max() > 1e-8
+    axis = motions[3:, -2:] @ free[-2:] if tilt else motions[:3, :-2] @ free[:-2]
+    axis = axis / np.linalg.norm(axis)
+    key = "moment_stiffness" if tilt else ("axial_stiffness" if _along_spin(axis, mates) else "stiffness")
+    bearing = next((b for b in mates if key in tables[b.name].data), mates[0])
+    table = tables[bearing.name]
+    where = f" at speeds_rpm[{row}]" if row is not None else ""
+    what = f"its {'tilt about' if tilt else 'translation along'} {_axis_text(axis)}"
+    return table.error(key, table.data.get(key, "<missing>"),
+                       f"bearings that together hold rotor {rotor.name!r} in each of its motions: nothing "
+                       f"holds {what}{where} (their stiffness, moved to its centre of mass, is singular; "
+                       "give a non-zero value, a second bearing elsewhere on its axis, or moment_stiffness)")
+
+
+def _along_spin(axis, mates) -> bool:
+    e = np.cross(mates[0].axes[0], mates[0].axes[1])
+    return abs(float(np.asarray(axis) @ e)) > 0.5
+
+
+def _axis_text(axis) -> str:
+    """``'the y axis'`` for a model axis, else the direction's components."""
+    axis = np.asarray(axis, dtype=float)
+    k = int(np.argmax(np.abs(axis)))
+    if abs(abs(axis[k]) - 1.0) < 1e-12:
+        return f"the {'xyz'[k]} axis"
+    return "the direction " + _fmt(axis)
 
 
 # ----------------------------------------------------------------------------------------

@@ -10,7 +10,7 @@ from .components import is_finite_number
 from .errors import ModelError
 
 __all__ = ["Table", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number",
-           "visible", "visible_names"]
+           "visible", "visible_names", "semidefinite_problem"]
 
 #: largest magnitude of a number in a model description (SI units): no machine needs more, and
 #: products of two such numbers (stiffness over mass, squared frequencies) stay far from overflow
@@ -159,6 +159,27 @@ def magnitude_problem(value, positive: bool = False) -> str:
     if positive and not (value if scalar else float(np.min(value))) >= SMALLEST_POSITIVE:
         return f"a number >= {SMALLEST_POSITIVE:g} (SI units)"
     return ""
+
+
+def semidefinite_problem(matrix: np.ndarray) -> str:
+    """What is wrong with a stiffness or damping matrix whose symmetric part has a negative
+    eigenvalue, or '' when it is positive semidefinite (to round-off).
+
+    The symmetric part is what stores (stiffness) or dissipates (damping) energy: negative, it
+    is the negative value a scalar or a diagonal list is refused for. The antisymmetric part
+    (cross-coupled stiffness of oil films and seals, gyroscopic-like terms) is free.
+
+    Parameters
+    ----------
+    matrix : ndarray, shape (k, k)
+    """
+    symmetric = 0.5 * (matrix + matrix.T)
+    lowest = float(np.linalg.eigvalsh(symmetric)[0])
+    if lowest >= -1e-12 * float(np.abs(matrix).max(initial=0.0)):
+        return ""
+    return (f"a matrix whose symmetric part is positive semidefinite (its lowest eigenvalue is {lowest:.4g}: "
+            "a negative stiffness or damping, refused as a negative scalar is; antisymmetric, "
+            "cross-coupled terms are allowed)")
 
 
 def visible(name) -> str:

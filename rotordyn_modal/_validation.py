@@ -16,7 +16,8 @@ import numpy as np
 
 from .errors import ModelError
 from . import _bearing_validation
-from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, visible, visible_names
+from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, semidefinite_problem, visible, \
+    visible_names
 from .components import (
     ARRAY_TABLES, TOP_LEVEL_KEYS, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
     Unbalance, input_keys, is_finite_number,
@@ -397,6 +398,8 @@ def _suspension_matrix(table: _Table, key: str, axes: np.ndarray, required: bool
         if np.any(value < 0):
             raise table.error(key, table.data[key], "non-negative diagonal values")
         value = np.diag(value)
+    elif problem := semidefinite_problem(value):
+        raise table.error(key, table.data[key], problem)
     local = np.zeros((6, 6))
     local[: value.shape[0], : value.shape[1]] = value
     rotation = np.zeros((6, 6))

@@ -327,3 +327,71 @@ def test_a_rotors_bearing_forces_add_up_to_what_its_inertia_and_unbalance_leave(
         scale = np.abs(result.bearing_forces[j]).max()
         assert np.max(np.abs(total - result.bearing_forces[j])[carried]) <= 1e-9 * scale
         assert np.max(np.abs(total[3])) <= 1e-12 * scale
+
+
+# -- stiffness that cannot hold a rotor, in any spelling ----------------------------------------
+NEGATIVE_DEFINITE = [[-1e6, 0.0], [0.0, -2e6]]
+
+
+@pytest.mark.parametrize("key, value", [
+    ("stiffness", NEGATIVE_DEFINITE),                       # -1e6 as a scalar is refused too
+    ("stiffness", [[1e6, 3e6], [3e6, 1e6]]),                # symmetric part's eigenvalues 4e6, -2e6
+    ("damping", [[-10.0, 0.0], [0.0, 5.0]]),
+    ("moment_stiffness", [[-1e3, 0.0], [0.0, -1e3]])])
+def test_a_bearing_matrix_whose_symmetric_part_is_not_semidefinite_is_refused(key, value):
+    """A 2x2 matrix stores energy through its symmetric part: a negative eigenvalue there is the
+    negative stiffness (or damping) a scalar or 2-list is refused for."""
+    data = _rotor_on_bearings(1e6, 1e6, 0.1, 0.1)
+    data["bearings"][0][key] = value
+    with pytest.raises(ModelError, match=rf"\[bearings.A\] {key} = .*: expected a matrix whose symmetric "
+                                         r"part is positive semidefinite \(its lowest eigenvalue is -"):
+        rdm.Model.from_dict(data)
+
+
+def test_cross_coupled_bearing_and_suspension_matrices_stay_legal(examples_dir):
+    """An antisymmetric (cross-coupled) part is what makes oil films and seals destabilising: legal."""
+    data = _rotor_on_bearings([[1e6, 4e6], [-4e6, 1e6]], 1e6, 0.1, 0.1)
+    data["bearings"][1]["stiffness"] = [[0.0, 1e6], [-1e6, 0.0]]          # purely circulatory
+    assert rdm.Model.from_dict(data).bearings[0].coefficients.stiffness[0][1, 2] != 0
+    assert rdm.load_model(examples_dir / "unstable_cross_coupled.toml").suspensions
+
+
+def test_a_suspension_matrix_whose_symmetric_part_is_not_semidefinite_is_refused(examples_dir):
+    import tomllib
+
+    data = tomllib.loads((examples_dir / "unstable_cross_coupled.toml").read_text())
+    data["suspensions"][0]["stiffness"][3][3] = -500.0
+    with pytest.raises(ModelError, match=r"\[suspensions.bearing-A\] stiffness = .*symmetric part is "
+                                         r"positive semidefinite \(its lowest eigenvalue is -500"):
+        rdm.Model.from_dict(data)
+
+
+@pytest.mark.parametrize("change, key, motion", [
+    (lambda d: (d["bearings"].pop(), d["bearings"][0].update(moment_stiffness=0.0)),
+     "moment_stiffness", "its tilt about the [yz] axis"),
+    (lambda d: (d["bearings"].pop(), d["bearings"][0].update(moment_stiffness=[0.0, 50.0])),
+     "moment_stiffness", "its tilt about the y axis"),
+    (lambda d: [b.update(stiffness=0.0) for b in d["bearings"]], "stiffness", "its translation along the [yz] axis"),
+    (lambda d: [b.update(stiffness=[1e6, 0.0]) for b in d["bearings"]], "stiffness",
+     "its translation along the z axis"),
+    (lambda d: d["bearings"][0].update(axial_stiffness=0.0), "axial_stiffness", "its translation along the x axis"),
+    (lambda d: [b.update(speeds_rpm=[0.0, 3000.0], stiffness=[1e6, 0.0]) for b in d["bearings"]],
+     "stiffness", r"its translation along the [yz] axis at speeds_rpm\[1\]")])
+def test_a_rotor_its_bearings_leave_free_in_one_motion_is_refused(change, key, motion):
+    """A rotor on bearings has coordinates of its own (two translations, two tilts, axial with
+    axial_stiffness): its bearings together must hold each of them. One bearing with
+    moment_stiffness = 0 leaves it free to tilt (the model once loaded, with zero eigenvalues)."""
+    data = _rotor_on_bearings(1e6, 1e6, 0.1, 0.1)
+    change(data)
+    with pytest.raises(ModelError, match=rf"\[bearings.A\] {key} = .*: expected bearings that together hold "
+                                         rf"rotor 'r' in each of its motions: nothing holds {motion}"):
+        rdm.Model.from_dict(data)
+
+
+def test_a_rotor_held_by_a_single_bearing_with_a_tilt_stiffness_or_by_two_points_is_legal():
+    data = _rotor_on_bearings(1e6, 1e6, 0.1, 0.1)
+    assert rdm.Model.from_dict(data).dofs.n == 4
+    data["bearings"].pop()
+    data["bearings"][0]["moment_stiffness"] = [20.0, 50.0]
+    data["bearings"][0]["axial_stiffness"] = 1e5
+    assert rdm.Model.from_dict(data).dofs.n == 5

@@ -20,7 +20,7 @@ from .components import Bearing, input_keys, is_finite_number
 from .errors import ModelError
 from .geometry import shift_matrix, transverse_axes
 
-__all__ = ["bearings", "check_frame"]
+__all__ = ["bearings", "check_frame", "LONGEST_JOURNAL", "LONG_JOURNAL"]
 
 _ON_AXIS_TOLERANCE = 1e-6  # m, plus the same fraction of the distance along the axis
 _AXES_TOLERANCE = 1e-6
@@ -29,6 +29,12 @@ _RADIAL_KEYS = ("stiffness", "damping", "moment_stiffness", "moment_damping")
 _AXIAL_KEYS = ("axial_stiffness", "axial_damping")
 _JOURNAL_KEYS = ("diameter", "length", "clearance", "viscosity", "load", "load_direction")
 _JOURNAL_COMPUTES = ("stiffness", "damping", "speeds_rpm")
+#: longest journal bearing (length / diameter) that short-bearing theory is used for: DuBois and
+#: Ocvirk (NACA Report 1157, 1953) found it close to measurements up to L/D = 1; a longer one
+#: (up to this) draws a warning (:data:`LONG_JOURNAL`), beyond it the theory means nothing
+LONGEST_JOURNAL = 2.0
+#: length / diameter above which a journal bearing draws a warning
+LONG_JOURNAL = 1.0
 
 
 def bearings(tables: dict, rotors, spin_axis: np.ndarray, gravity: np.ndarray) -> list[Bearing]:
@@ -198,10 +204,16 @@ def _with_journal_load(bearing: Bearing, table: Table, every, rotors, e, gravity
     if not clearance < 0.5 * diameter:
         raise table.error("clearance", clearance, f"a radial clearance smaller than the journal's "
                           f"radius {0.5 * diameter:g} m")
+    length = table.number("length", required=True, positive=True)
+    if length > LONGEST_JOURNAL * diameter:
+        raise table.error("length", length, f"a bearing length at most {LONGEST_JOURNAL:g} x its diameter "
+                          f"{diameter:g} m (L/D = {length / diameter:.3g}): the film's coefficients come from "
+                          f"short-bearing (Ocvirk) theory, which holds for L/D up to about {LONG_JOURNAL:g} "
+                          "(docs/model-file.md)")
     load_vector = _static_load(bearing, table, every, rotors[bearing.rotor], e, gravity)
     x = load_vector / np.linalg.norm(load_vector)
     journal = JournalData(
-        diameter=diameter, length=table.number("length", required=True, positive=True),
+        diameter=diameter, length=length,
         clearance=clearance, viscosity=table.number("viscosity", required=True, positive=True),
         load=float(np.linalg.norm(load_vector)), axes=np.array([x, np.cross(e, x), e]),
     )

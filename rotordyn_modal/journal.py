@@ -14,10 +14,13 @@ import numpy as np
 from .errors import InputError
 from .units import to_rpm
 
-__all__ = ["JournalBearing", "short_journal_bearing"]
+__all__ = ["JournalBearing", "short_journal_bearing", "THINNEST_FILM"]
 
 _PI2 = np.pi**2
 _A = 16.0 - _PI2  # recurring constant of the load capacity
+#: thinnest film [m] the coefficients are given for: at clearance * (1 - eccentricity) below a
+#: nanometre (a few oil molecules) the continuum film of Reynolds' equation means nothing
+THINNEST_FILM = 1e-9
 
 
 class JournalBearing(NamedTuple):
@@ -101,7 +104,7 @@ def short_journal_bearing(speed, *, diameter, length, clearance, viscosity, load
     sigma = (data["viscosity"] * np.abs(speed) * data["diameter"] * data["length"]**3
              / (8.0 * data["load"] * data["clearance"]**2))
     eps, film = _eccentricity(sigma)
-    _check_film(speed, eps, sigma, data["load"])
+    _check_film(speed, eps, film, sigma, data["load"], data["clearance"])
     # y -> -y for the journal turning the other way flips the off-diagonal terms
     mirror = np.where(speed[..., None, None] < 0, np.array([[1.0, -1.0], [-1.0, 1.0]]), 1.0)
     scale = data["load"] / data["clearance"]
@@ -143,15 +146,21 @@ def _speeds(speed) -> np.ndarray:
     return speed
 
 
-def _check_film(speed, eps, sigma, load) -> None:
-    """InputError at the first speed whose eccentricity is 1 to round-off."""
-    touching = ~(eps < 1.0)
+def _check_film(speed, eps, film, sigma, load, clearance) -> None:
+    """InputError at the first speed whose eccentricity is 1 to round-off, or whose thinnest
+    film ``clearance * (1 - eps)`` (from ``film = 1 - eps**2`` to full precision) is below
+    :data:`THINNEST_FILM`."""
+    gap = clearance * film / (1.0 + eps)
+    touching = ~(eps < 1.0) | ~(gap >= THINNEST_FILM)
     if touching.any():
         first = np.flatnonzero(touching.ravel())[0]
         rpm = to_rpm(float(speed.flat[first]))
+        limit = "expected < 1" if not eps.flat[first] < 1.0 else (
+            f"thinnest film {gap.flat[first]:.3g} m, expected at least {THINNEST_FILM:g} m, a few oil "
+            "molecules, for the film theory to mean anything")
         raise InputError(
             f"short journal bearing: at speed {rpm:.6g} rpm the oil film cannot carry the load of "
-            f"{load:g} N: eccentricity {eps.flat[first]:.17g} (expected < 1; Ocvirk load number "
+            f"{load:g} N: eccentricity {eps.flat[first]:.17g} ({limit}; Ocvirk load number "
             f"{sigma.flat[first]:.3g}); raise the speed (start the sweep higher), the viscosity or "
             "the bearing length, or reduce the clearance or the load")
 

@@ -395,3 +395,18 @@ def test_a_rotor_held_by_a_single_bearing_with_a_tilt_stiffness_or_by_two_points
     data["bearings"][0]["moment_stiffness"] = [20.0, 50.0]
     data["bearings"][0]["axial_stiffness"] = 1e5
     assert rdm.Model.from_dict(data).dofs.n == 5
+
+
+@pytest.mark.parametrize("length", [0.1 * (1 + 1e-9), 0.25, 2.5])
+def test_a_journal_bearing_far_longer_than_short_bearing_theory_allows_is_refused(examples_dir, length):
+    """L/D = 5 or 50: the film's coefficients come from short-bearing (Ocvirk) theory, close to
+    measurements up to L/D = 1 (DuBois and Ocvirk 1953): refused beyond L/D = 2."""
+    import tomllib
+
+    data = tomllib.loads((examples_dir / "journal_rotor.toml").read_text())
+    data["bearings"][1]["length"] = length                  # diameter 0.05 m
+    with pytest.raises(ModelError, match=rf"\[bearings.NDE\] length = {length!r}: expected a bearing length at "
+                                         r"most 2 x its diameter 0.05 m \(L/D = .*short-bearing \(Ocvirk\)"):
+        rdm.Model.from_dict(data)
+    data["bearings"][1]["length"] = 0.1                     # L/D = 2: legal
+    assert rdm.Model.from_dict(data).bearings[1].coefficients.journal.length == 0.1

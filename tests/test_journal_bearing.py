@@ -263,3 +263,29 @@ def test_short_bearing_stable_for_every_mass_above_eccentricity_0756():
 
     assert whirl_squared(0.755) > 0 > whirl_squared(0.758)
 
+
+
+def _speed_at_eccentricity(gap_ratio, load=100.0):
+    """Speed [rad/s] putting the journal at eccentricity 1 - gap_ratio, from the Ocvirk load
+    capacity sigma = (1 - eps²)² / (eps sqrt(16 eps² + pi² (1 - eps²))) written in gap_ratio."""
+    eps, v = 1.0 - gap_ratio, gap_ratio * (2.0 - gap_ratio)          # v = 1 - eps², exactly
+    sigma = v**2 / (eps * np.sqrt(16 * eps**2 + np.pi**2 * v))
+    mu, D, L, c = (GEOMETRY[k] for k in ("viscosity", "diameter", "length", "clearance"))
+    return sigma * 8 * load * c**2 / (mu * D * L**3)
+
+
+@pytest.mark.parametrize("gap_ratio", [2e-14, 1e-8, 1.9e-5])
+def test_a_film_thinner_than_a_nanometre_is_refused(gap_ratio):
+    """At eccentricity 1 - 2e-14 the film is 1e-18 m thin (clearance 50 um): the continuum film
+    means nothing there, so the coefficients are refused as at eccentricity 1 (they were given,
+    ~1e18 N/m)."""
+    speed = _speed_at_eccentricity(gap_ratio)
+    with pytest.raises(InputError, match=r"oil film cannot carry the load of 100 N: eccentricity 0\.99.*"
+                                         r"\(thinnest film .* m, expected at least 1e-09 m"):
+        short_journal_bearing([300.0, speed], load=100.0, **GEOMETRY)
+
+
+def test_a_film_of_a_few_nanometres_is_still_given():
+    speed = _speed_at_eccentricity(2.1e-5)                # thinnest film 1.05 nm
+    result = short_journal_bearing([speed], load=100.0, **GEOMETRY)
+    assert 1 - result.eccentricity[0] == pytest.approx(2.1e-5, rel=1e-6)

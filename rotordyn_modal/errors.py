@@ -28,6 +28,12 @@ class ModelError(InputError):
         super().__init__(f"{source}: {where} = {_short_repr(value)}: expected {expected}")
 
 
+class ModelWarning(UserWarning):
+    """A model that is legal but probably not what was meant (a mount stiffness that would let
+    the machine sag metres under its weight, a journal bearing longer than short-bearing theory
+    is made for). The command line prints it as one line on stderr and goes on."""
+
+
 class OutputError(InputError):
     """An output path that cannot be used: its folder is missing or read-only, a folder
     is in the way, another study is writing it. Like bad input (the remedy is another

@@ -15,13 +15,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from .assembly import Matrices, bearing_motion, constant_matrices, constant_stiffness_damping, \
-    dependent_bearing_matrices, excitation_columns, mass_matrix, sensor_rows
+from .assembly import Matrices, bearing_motion, body_inertias, constant_matrices, constant_stiffness_damping, \
+    dependent_bearing_matrices, excitation_columns, mass_matrix, rigid_mass_matrix, sensor_rows
 from .bearings import evaluate
+from ._bearing_validation import LONG_JOURNAL
+from ._table import visible
 from .errors import InputError, ModelError
+from .geometry import shift_matrix
 from .mounts import maxwell_branches, with_branch_states
 
-__all__ = ["SpeedLinearForm", "speed_linear_form", "checked_mass_inverse", "same_inertia", "state_matrices", "state_space"]
+__all__ = ["SpeedLinearForm", "speed_linear_form", "checked_mass_inverse", "implausible", "SAG_LIMIT",
+           "LOWEST_MOUNT_FREQUENCY", "same_inertia", "state_matrices", "state_space"]
 
 _QUANTITY_ORDER = {"displacement": 0, "receptance": 0, "velocity": 1, "mobility": 1,
                    "acceleration": 2, "accelerance": 2}
@@ -53,6 +57,95 @@ def checked_mass_inverse(model) -> np.ndarray:
         matrix singular.
     """
     return _mass_inverse(mass_matrix(model), model)
+
+
+#: static sag [m] of a suspension point under the machine's weight above which a model draws a
+#: warning: rubber mounts and steel springs deflect millimetres to a few centimetres (a 1.6 Hz
+#: mount mode already sags 0.1 m, since f = sqrt(g / sag) / (2 pi)); metres mean a stiffness in
+#: N/mm given as N/m
+SAG_LIMIT = 0.1
+#: lowest natural frequency [Hz] of the machine on its suspensions below which a model without
+#: gravity draws a warning (a stiffness 1000 times too small puts a 10 Hz mount mode at 0.3 Hz)
+LOWEST_MOUNT_FREQUENCY = 0.5
+
+
+def implausible(model) -> list[str]:
+    """What is legal in ``model`` but probably not meant, one sentence each (empty: nothing).
+
+    * The machine on its suspensions, rigid (its rotors held in place), under ``gravity``: the
+      static sag ``K x = weight`` of a suspension point above :data:`SAG_LIMIT`, or
+      suspensions that do not hold the weight at all; without gravity, or when the sag is
+      plausible, a mode of the machine on its suspensions below :data:`LOWEST_MOUNT_FREQUENCY`
+      (unrestrained directions, frequency zero, are not counted: ``check`` notes them).
+    * A journal bearing longer than :data:`~rotordyn_modal._bearing_validation.LONG_JOURNAL`
+      diameters (short-bearing theory loses accuracy there).
+
+    Parameters
+    ----------
+    model : Model
+
+    Returns
+    -------
+    list of str, each naming the model's source
+    """
+    lines = []
+    if model.suspensions:
+        sag = _sag_line(model)
+        lines += [sag] if sag else _low_mode_lines(model)
+    for b in model.bearings:
+        journal = b.coefficients.journal
+        if journal is not None and journal.length > LONG_JOURNAL * journal.diameter:
+            lines.append(f"{model.source}: [bearings.{visible(b.name)}] length = {journal.length:g}: "
+                         f"L/D = {journal.length / journal.diameter:.3g} is beyond {LONG_JOURNAL:g}, where "
+                         "short-bearing (Ocvirk) theory stops matching measurements: its coefficients are rough")
+    return lines
+
+
+def _on_suspensions(model):
+    """The rigid machine's mass and its suspensions' stiffness about the reference point, (6, 6)."""
+    reference = model.reference_point
+    mass = sum(rigid_mass_matrix(m, J, c, reference) for m, c, J in body_inertias(model))
+    shifts = [shift_matrix(reference, s.position) for s in model.suspensions]
+    stiffness = sum(shift @ s.stiffness_matrix @ shift.T for shift, s in zip(shifts, model.suspensions))
+    return mass, stiffness, shifts
+
+
+def _sag_line(model) -> str:
+    """The warning about the machine's static sag under gravity, or ''."""
+    if not np.any(model.gravity):
+        return ""
+    mass, stiffness, shifts = _on_suspensions(model)
+    total = sum(m for m, _, _ in body_inertias(model))
+    centre = sum(m * np.asarray(c) for m, c, _ in body_inertias(model)) / total
+    weight = total * model.gravity
+    load = np.r_[weight, np.cross(centre - model.reference_point, weight)]
+    sag, *_ = np.linalg.lstsq(stiffness, load, rcond=None)
+    if np.linalg.norm(stiffness @ sag - load) > 1e-6 * np.linalg.norm(load):
+        return (f"{model.source}: the [[suspensions]] do not hold the machine's weight ({total:.4g} kg under "
+                "gravity): they have no stiffness in a direction the weight pushes, so it would fall")
+    drops = [np.linalg.norm((shift.T @ sag)[:3]) for shift in shifts]
+    worst = int(np.argmax(drops))
+    if not drops[worst] > SAG_LIMIT:
+        return ""
+    return (f"{model.source}: under gravity the machine would sag {drops[worst]:.3g} m at [suspensions."
+            f"{visible(model.suspensions[worst].name)}] (static deflection on its suspensions; mounts deflect "
+            f"millimetres, over {SAG_LIMIT:g} m is unlikely): is a stiffness in N/mm given as N/m?")
+
+
+def _low_mode_lines(model) -> list[str]:
+    """The warning about a mode of the rigid machine on its suspensions below
+    :data:`LOWEST_MOUNT_FREQUENCY`, or none."""
+    mass, stiffness, _ = _on_suspensions(model)
+    roots = np.linalg.eigvals(np.linalg.solve(mass, stiffness))
+    scale = np.abs(roots).max(initial=0.0)
+    held = roots[roots.real > 1e-9 * scale]                 # unrestrained directions are not modes
+    if not held.size:
+        return []
+    lowest = float(np.sqrt(np.abs(held)).min() / (2 * np.pi))
+    if not lowest < LOWEST_MOUNT_FREQUENCY:
+        return []
+    return [f"{model.source}: the machine's lowest mode on its suspensions is at {lowest:.3g} Hz, below "
+            f"{LOWEST_MOUNT_FREQUENCY:g} Hz (a stiffness in N/mm given as N/m puts modes 32 times too low)"]
 
 
 class SpeedLinearForm:

@@ -323,7 +323,8 @@ def judge(argv, named: str, outputs=(), folder=None, seconds: float | None = Non
     before = set(os.listdir(folder)) if folder is not None else set()
     code, stdout, stderr, problem = run_cli(argv, seconds)
     outcome = Outcome(list(map(str, argv)), code, stdout, stderr)
-    lines = [line for line in stderr.splitlines() if line.strip()]
+    # a model that is legal but implausible draws warning lines before any refusal: not part of it
+    lines = [line for line in stderr.splitlines() if line.strip() and ": warning: " not in line]
     left = [str(p) for p in outputs if Path(p).exists()]
     if folder is not None:
         left += sorted(set(os.listdir(folder)) - before - {Path(p).name for p in outputs})

@@ -366,3 +366,78 @@ def test_names_with_dashes_are_fine_while_the_meshes_stay_apart():
 
     model = rdm.Model.from_dict(_geared(["motor-1", "fan-2"], [("motor-1", "fan-2", 23)]))
     assert excitation_sources(model).names == ("motor-1", "fan-2", "mesh:motor-1-fan-2")
+
+
+# -- legal but implausible: one warning line ------------------------------------------------------
+def _block_on_a_spring(k, gravity=-9.81, mass=100.0):
+    """A 100 kg block on one suspension at its centre of mass, stiffness k [N/m] in translation
+    (stiff in rotation): its static sag under gravity is m g / k, its translation modes
+    sqrt(k / m) / (2 pi)."""
+    return {"stator": {"mass": mass, "inertia": [2.0, 2.0, 2.0]},
+            "suspensions": [{"name": "mount\u200b", "position": [0.0, 0.0, 0.0],
+                             "stiffness": [k, k, k, 1e6, 1e6, 1e6]}],
+            "gravity": [0.0, 0.0, gravity]}
+
+
+def _load_warnings(tmp_path, data):
+    import warnings
+
+    path = tmp_path / "m.toml"
+    path.write_text(tomli_w.dumps(data))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        rdm.load_model(path)
+    return [str(w.message) for w in caught if issubclass(w.category, rdm.errors.ModelWarning)]
+
+
+def test_a_mount_stiffness_that_would_let_the_machine_sag_metres_draws_one_warning(tmp_path):
+    """1e3 N/m under 100 kg: a sag of m g / k = 0.981 m (a 1e6 N/m mount typed in N/mm)."""
+    lines = _load_warnings(tmp_path, _block_on_a_spring(1e3))
+    assert len(lines) == 1
+    assert f"under gravity the machine would sag {100 * 9.81 / 1e3:.3g} m at [suspensions.'mount\\u200b']" in lines[0]
+    assert _load_warnings(tmp_path, _block_on_a_spring(100 * 9.81 / 0.099)) == []       # 99 mm: plausible
+
+
+def test_a_mount_mode_below_half_a_hertz_draws_one_warning_without_gravity(tmp_path):
+    k = (2 * np.pi * 0.3)**2 * 100.0                            # translation modes at 0.3 Hz
+    lines = _load_warnings(tmp_path, _block_on_a_spring(k, gravity=0.0))
+    assert len(lines) == 1 and "lowest mode on its suspensions is at 0.3 Hz, below 0.5 Hz" in lines[0]
+    assert _load_warnings(tmp_path, _block_on_a_spring(k * (0.51 / 0.3)**2, gravity=0.0)) == []
+
+
+def test_suspensions_that_do_not_hold_the_weight_draw_a_warning(tmp_path):
+    data = _block_on_a_spring(1e6)
+    data["suspensions"][0]["stiffness"] = [1e6, 1e6, 0.0, 1e6, 1e6, 1e6]
+    (line,) = _load_warnings(tmp_path, data)
+    assert "do not hold the machine's weight (100 kg under gravity)" in line
+
+
+def test_a_journal_bearing_longer_than_its_diameter_draws_a_warning(tmp_path, examples_dir):
+    import tomllib
+
+    data = tomllib.loads((examples_dir / "journal_rotor.toml").read_text())
+    data["bearings"][0]["length"] = 0.05                                 # L/D = 1: no word
+    assert _load_warnings(tmp_path, data) == []
+    data["bearings"][0]["length"] = 0.075
+    (line,) = _load_warnings(tmp_path, data)
+    assert "[bearings.DE] length = 0.075: L/D = 1.5 is beyond 1" in line
+
+
+def test_the_examples_draw_no_warning(examples_dir, tmp_path):
+    import tomllib
+
+    for path in sorted(examples_dir.glob("*.toml")):
+        if not path.name.endswith(".study.toml"):
+            assert _load_warnings(tmp_path, tomllib.loads(path.read_text())) == [], path.name
+
+
+def test_the_command_line_prints_the_warning_once_and_goes_on(tmp_path, capsys):
+    from rotordyn_modal.cli import main
+
+    path = tmp_path / "soft.toml"
+    path.write_text(tomli_w.dumps(_block_on_a_spring(1e3)))
+    for command in (["check"], ["modes", "--speed", "0", "--quiet"]):
+        assert main([*command, str(path)]) == 0
+        lines = capsys.readouterr().err.splitlines()
+        assert len(lines) == 1 and lines[0].startswith(f"rotordyn-modal {command[0]}: warning: {path}: under "
+                                                       "gravity the machine would sag 0.981 m")

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import tomllib
+import warnings
 from pathlib import Path
 
-from ..errors import ModelError
+from ..errors import ModelError, ModelWarning
 from ..model import Model
 from .atomic import atomic_write, check_not_input
 from .limits import check_size
@@ -36,9 +37,21 @@ def load_model(path) -> Model:
     ModelError
         The file does not exist, is not TOML, or fails validation (the message
         names the file, table, key, value and what was expected).
+
+    Warns
+    -----
+    ModelWarning
+        One per thing that is legal but probably not meant
+        (:func:`rotordyn_modal.linear_system.implausible`: a static sag of metres under
+        gravity, a mount mode below 0.5 Hz, a long journal bearing).
     """
+    from ..linear_system import implausible
+
     data = read_toml(path, "model file")
-    return Model.from_dict(data, source=str(path))
+    model = Model.from_dict(data, source=str(path))
+    for line in implausible(model):
+        warnings.warn(line, ModelWarning, stacklevel=2)
+    return model
 
 
 def read_toml(path, what: str, error=ModelError) -> dict:

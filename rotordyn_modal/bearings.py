@@ -16,11 +16,19 @@ speed. :func:`evaluate` gives them for many speeds at once.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, ModelWarning
+
+#: eccentricity of a journal bearing above which an analysis warns (once per bearing): the
+#: thinnest film is under a tenth of the clearance, where short-bearing coefficients are rough
+#: and a real bearing nears mixed lubrication (above 1 nm of film they are still given, see
+#: :data:`rotordyn_modal.journal.THINNEST_FILM`)
+HIGH_ECCENTRICITY = 0.9
+_WARNED: set = set()   # the bearings already warned about in this process
 
 __all__ = ["BearingCoefficients", "JournalData", "evaluate", "local_to_model", "is_speed_dependent"]
 
@@ -165,7 +173,21 @@ def _journal_film(journal: JournalData, speeds: np.ndarray, where: str):
                                      load=journal.load)
     except InputError as error:
         raise InputError(f"{where}: {error}") from None
+    _warn_high_eccentricity(film, speeds, journal, where)
     return _embed_radial(film.stiffness, journal.axes), _embed_radial(film.damping, journal.axes)
+
+
+def _warn_high_eccentricity(film, speeds: np.ndarray, journal: JournalData, where: str) -> None:
+    """One warning per bearing (and process) whose eccentricity exceeds :data:`HIGH_ECCENTRICITY`."""
+    high = film.eccentricity > HIGH_ECCENTRICITY
+    if not high.any() or where in _WARNED:
+        return
+    _WARNED.add(where)
+    worst = int(np.argmax(film.eccentricity))
+    warnings.warn(f"{where}: eccentricity {film.eccentricity[worst]:.4g} at {_rpm(speeds[worst])} rpm, above "
+                  f"{HIGH_ECCENTRICITY:g} (thinnest film {journal.clearance * (1 - film.eccentricity[worst]):.3g} m, "
+                  "under a tenth of the clearance): short-bearing coefficients are rough there and a real "
+                  "bearing nears mixed lubrication; analyse from a higher speed", ModelWarning, stacklevel=3)
 
 
 def _embed_radial(radial: np.ndarray, axes: np.ndarray) -> np.ndarray:

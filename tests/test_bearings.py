@@ -410,3 +410,22 @@ def test_a_journal_bearing_far_longer_than_short_bearing_theory_allows_is_refuse
         rdm.Model.from_dict(data)
     data["bearings"][1]["length"] = 0.1                     # L/D = 2: legal
     assert rdm.Model.from_dict(data).bearings[1].coefficients.journal.length == 0.1
+
+
+def test_an_analysis_where_a_journal_runs_above_eccentricity_09_warns_once_per_bearing(examples_dir):
+    """journal_rotor at 20 rpm: eccentricity 0.92 (thinnest film 4 um of a 50 um clearance), legal
+    but rough: one warning per bearing, not one per call; at 500 rpm (eccentricity 0.63) none."""
+    import tomllib
+    import warnings
+
+    data = tomllib.loads((examples_dir / "journal_rotor.toml").read_text())
+    model = rdm.Model.from_dict(data, source="eccentric-journal.toml")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        rdm.modal(model, rdm.rpm(500.0))
+        assert caught == []
+        rdm.modal(model, rdm.rpm(20.0))
+        rdm.modal(model, rdm.rpm(15.0))
+    lines = [str(w.message) for w in caught if issubclass(w.category, rdm.errors.ModelWarning)]
+    assert len(lines) == 2 and all("eccentricity 0.9" in line and "above 0.9" in line for line in lines)
+    assert "[bearings.DE]" in lines[0] and "[bearings.NDE]" in lines[1]

@@ -90,8 +90,12 @@ def implausible(model) -> list[str]:
     """
     lines = []
     if model.suspensions:
-        sag = _sag_line(model)
-        lines += [sag] if sag else _low_mode_lines(model)
+        try:   # a model whose numbers overflow here is refused by its analyses, not by a warning
+            with np.errstate(all="ignore"):
+                sag = _sag_line(model)
+                lines += [sag] if sag else _low_mode_lines(model)
+        except (np.linalg.LinAlgError, ValueError):
+            pass
     for b in model.bearings:
         journal = b.coefficients.journal
         if journal is not None and journal.length > LONG_JOURNAL * journal.diameter:
@@ -119,8 +123,8 @@ def _sag_line(model) -> str:
     centre = sum(m * np.asarray(c) for m, c, _ in body_inertias(model)) / total
     weight = total * model.gravity
     load = np.r_[weight, np.cross(centre - model.reference_point, weight)]
-    sag, *_ = np.linalg.lstsq(stiffness, load, rcond=None)
-    if np.linalg.norm(stiffness @ sag - load) > 1e-6 * np.linalg.norm(load):
+    sag = _static_solution(stiffness, load)
+    if sag is None:
         return (f"{model.source}: the [[suspensions]] do not hold the machine's weight ({total:.4g} kg under "
                 "gravity): they have no stiffness in a direction the weight pushes, so it would fall")
     drops = [np.linalg.norm((shift.T @ sag)[:3]) for shift in shifts]
@@ -130,6 +134,26 @@ def _sag_line(model) -> str:
     return (f"{model.source}: under gravity the machine would sag {drops[worst]:.3g} m at [suspensions."
             f"{visible(model.suspensions[worst].name)}] (static deflection on its suspensions; mounts deflect "
             f"millimetres, over {SAG_LIMIT:g} m is unlikely): is a stiffness in N/mm given as N/m?")
+
+
+def _static_solution(stiffness: np.ndarray, load: np.ndarray):
+    """``x`` with ``stiffness @ x = load`` (least norm where directions are free), or None when
+    the load pushes a direction that nothing holds. Rows and columns are scaled to one size
+    first (N/m beside N m/rad, long arms), so that only a stiffness singular to round-off, not
+    one of mixed units, counts as free."""
+    size = np.sqrt(np.linalg.norm(stiffness, axis=0) * np.linalg.norm(stiffness, axis=1))
+    held = size > 0
+    if np.any(np.abs(load[~held]) > 1e-9 * np.abs(load).max()):
+        return None
+    scaled = stiffness[np.ix_(held, held)] / np.outer(size[held], size[held])
+    u, values, vt = np.linalg.svd(scaled)
+    right = load[held] / size[held]
+    kept = values > 1e-12 * values[0]
+    if np.linalg.norm(u[:, ~kept].T @ right) > 1e-6 * np.linalg.norm(right):
+        return None
+    x = np.zeros(len(load))
+    x[held] = (vt[kept].T @ ((u[:, kept].T @ right) / values[kept])) / size[held]
+    return x
 
 
 def _low_mode_lines(model) -> list[str]:

@@ -11,7 +11,10 @@ NAME = "check"
 HELP = "validate a model file and print a summary"
 DESCRIPTION = """Validate MODEL and print its masses, rotors with their speed ratios,
 suspensions, bearings and generalized coordinates. Exit code 0 when the model is valid, 2 (with one message naming the
-file, table, key, value and what was expected) when it is not."""
+file, table, key, value and what was expected) when it is not. What is legal but probably not
+meant (a static sag of over 0.1 m under gravity: a stiffness in N/mm given as N/m; a mount mode
+below 0.5 Hz; a journal bearing longer than its diameter) is printed on stderr, one warning line
+each, as every command does (docs/model-file.md, "Warnings")."""
 
 
 def add_arguments(parser):

@@ -129,11 +129,13 @@ name = "s"
 position = [0.0, 0.0, 0.0]
 stiffness = [1e5, 1e5, 1e5, 1e3, 1e3, 1e3]
 """)
+    def errors():   # the line of the refusal (a 1e30 kg rotor on 1e5 N/m mounts also draws a sag warning)
+        return [line for line in capsys.readouterr().err.splitlines() if ": warning: " not in line]
+
     assert main(["modes", str(model), "--speed", "1000", "--quiet"]) == 2
-    refusal = capsys.readouterr().err.split("error: ", 1)[1]
+    (refusal,) = errors()
     assert "mass matrix invertible" in refusal
     for backend in ("numpy", "auto"):
         assert main(["simulate", str(model), "--duration", "0.01", "--speed", "1000", "--quiet",
                      "--backend", backend]) == 2
-        err = capsys.readouterr().err
-        assert err.split("error: ", 1)[1] == refusal and err.count("\n") == 1
+        assert errors() == [refusal.replace("modes", "simulate", 1)]

@@ -49,7 +49,6 @@ def modal(model, speed):
 
 
 def run(args) -> int:
-    from ..analysis.modal import OVERDAMPED_LIMIT
     _check_shape_options(args)
     model = open_model(args)
     speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
@@ -61,11 +60,9 @@ def run(args) -> int:
 
         mode = args.shape if args.shape is not None else args.animate
         view = mode_shape_3d(result, model, mode, outline=outline)
-    write_table(result.to_dataframe(), args)
-    overdamped = int(result.overdamped.sum())
-    if overdamped and not args.quiet:
-        print(f"{overdamped} overdamped root pair(s) (damping ratio > {OVERDAMPED_LIMIT}) not listed as modes "
-              "(docs/model-file.md, roots that are not modes)", file=sys.stderr)
+    write_table(result.to_dataframe(), args, empty=_no_modes(result))
+    if not args.quiet and (note := _not_listed(result)):
+        print(note, file=sys.stderr)
     if args.plot:
         use_agg()
         if args.animate is not None:
@@ -75,6 +72,27 @@ def run(args) -> int:
         else:
             save_figure(result.plot() if view is None else view.plot(), args)
     return 0
+
+
+def _not_listed(result) -> str:
+    """The roots that are not modes, counted: ``24 real roots (relaxation, rigid-body) and 1
+    overdamped root pair (damping ratio > 0.99) not listed as modes``; empty when every root is one."""
+    from ..analysis.modal import OVERDAMPED_LIMIT
+
+    parts = []
+    if real := int(result.real_roots.sum()):
+        parts.append(f"{real} real root{'s' if real > 1 else ''} (relaxation, rigid-body)")
+    if overdamped := int(result.overdamped.sum()):
+        parts.append(f"{overdamped} overdamped root pair{'s' if overdamped > 1 else ''} "
+                     f"(damping ratio > {OVERDAMPED_LIMIT})")
+    if not parts:
+        return ""
+    return (" and ".join(parts) + " not listed as modes (docs/model-file.md, roots that are not modes)")
+
+
+def _no_modes(result) -> str:
+    """The sentence printed instead of an empty table."""
+    return f"no oscillating modes at this speed: {len(result.eigenvalues)} roots, none of them a mode"
 
 
 def _check_shape_options(args):

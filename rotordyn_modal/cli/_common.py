@@ -94,6 +94,13 @@ def speeds_option(args) -> np.ndarray:
     return to_rad_s(parse_range(args.speeds, "--speeds"), args.speed_unit)
 
 
+def speeds_text(args) -> str:
+    """The --speeds range in words, ``between 500 and 15000 rpm`` (``at 3000 rpm`` for one point)."""
+    points = parse_range(args.speeds, "--speeds")
+    unit = args.speed_unit
+    return f"at {points[0]:g} {unit}" if len(points) == 1 else f"between {points[0]:g} and {points[-1]:g} {unit}"
+
+
 def open_model(args):
     """Check the output options (before any work), then load and validate the model."""
     check_output_options(args)

@@ -60,9 +60,11 @@ def run(args) -> int:
 
         mode = args.shape if args.shape is not None else args.animate
         view = mode_shape_3d(result, model, mode, outline=outline)
-    write_table(result.to_dataframe(), args, empty=_no_modes(result))
-    if not args.quiet and (note := _not_listed(result)):
-        print(note, file=sys.stderr)
+    table = result.to_dataframe()
+    counts = _not_listed(result)
+    write_table(table, args, empty=f"no oscillating modes at {args.speed} {args.speed_unit}: {counts}")
+    if counts and len(table) and not args.quiet:
+        print(f"{counts} not listed as modes (docs/model-file.md, roots that are not modes)", file=sys.stderr)
     if args.plot:
         use_agg()
         if args.animate is not None:
@@ -76,7 +78,7 @@ def run(args) -> int:
 
 def _not_listed(result) -> str:
     """The roots that are not modes, counted: ``24 real roots (relaxation, rigid-body) and 1
-    overdamped root pair (damping ratio > 0.99) not listed as modes``; empty when every root is one."""
+    overdamped root pair (damping ratio > 0.99)``; empty when every root is a mode."""
     from ..analysis.modal import OVERDAMPED_LIMIT
 
     parts = []
@@ -85,14 +87,7 @@ def _not_listed(result) -> str:
     if overdamped := int(result.overdamped.sum()):
         parts.append(f"{overdamped} overdamped root pair{'s' if overdamped > 1 else ''} "
                      f"(damping ratio > {OVERDAMPED_LIMIT})")
-    if not parts:
-        return ""
-    return (" and ".join(parts) + " not listed as modes (docs/model-file.md, roots that are not modes)")
-
-
-def _no_modes(result) -> str:
-    """The sentence printed instead of an empty table."""
-    return f"no oscillating modes at this speed: {len(result.eigenvalues)} roots, none of them a mode"
+    return " and ".join(parts)
 
 
 def _check_shape_options(args):

@@ -9,7 +9,7 @@ import scipy.linalg
 
 from ..geometry import point_motion_row
 from ..linear_system import speed_linear_form
-from . import _eigen, _roots
+from . import _arguments, _eigen, _roots
 
 __all__ = ["ModalResult", "modal", "mac", "modal_quantities", "is_oscillating", "OVERDAMPED_LIMIT"]
 
@@ -243,8 +243,9 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     -------
     ModalResult
     """
+    speed = _arguments.speed(speed)
     form = speed_linear_form(model)
-    matrix = form.at(float(speed))
+    matrix = form.at(speed)
     values, vectors = scipy.linalg.eig(matrix)
     n = form.n_dof
     noise = float(_roots.round_off(matrix))

@@ -11,7 +11,10 @@ from ._common import (add_model_argument, add_outputs, add_speed_unit, open_mode
 NAME = "modes"
 HELP = "modal analysis at one speed"
 DESCRIPTION = """Eigenvalues of the machine at one speed of the reference rotor: damped natural
-frequency, damping ratio, log decrement and whirl direction of every oscillating mode.
+frequency, damping ratio, log decrement and whirl direction of every oscillating mode. Roots
+that are not modes (real roots: relaxations of rubber mounts, directions without suspension;
+overdamped pairs) are counted on a line of their own. Numbers within the eigen-solve's round-off
+print as 0 (docs/theory.md section 8).
 --plot draws the modes' participation bars; with --shape MODE the 3D mode shape of that mode
 (the machine at rest and displaced, whirl orbits, top/front/side views) and with --animate MODE
 an animation of it (--plot FILE.gif, FILE.html or FILE.mp4; MP4 needs ffmpeg). MODE is the

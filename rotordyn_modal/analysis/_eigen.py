@@ -196,35 +196,25 @@ def _snapped_eigenvalues(matrices: np.ndarray) -> np.ndarray:
     return _roots.snapped(np.linalg.eigvals(matrices), _roots.round_off(matrices))
 
 
-def select_upper(values: np.ndarray, noise=None) -> np.ndarray:
-    """Pick the upper half of each row of eigenvalues; one of each conjugate pair and the smaller
-    half of the real roots (``noise``: see :func:`upper_indices`)."""
-    return upper_indices(values, noise)[1]
+def select_upper(values: np.ndarray) -> np.ndarray:
+    """Pick the upper half of each row of eigenvalues; one of each conjugate pair and the smaller half of the real roots."""
+    return upper_indices(values)[1]
 
 
-def upper_indices(values: np.ndarray, noise=None):
+def upper_indices(values: np.ndarray):
     """Where the upper half of each row of eigenvalues sits, and those eigenvalues.
 
-    Parameters
-    ----------
-    values : ndarray, shape (..., 2 n), complex
-        All roots of each state matrix.
-    noise : ndarray, shape (...), optional
-        The round-off of each solve (:func:`._roots.round_off` of its matrix) [1/s]: zero roots
-        and imaginary parts within it are made exactly 0 first (:func:`._roots.snapped`).
-        Without it, ``values`` are taken as already rid of their round-off.
+    ``values`` (..., 2 n) are all roots of each state matrix, rid of their round-off (zero roots
+    and imaginary parts within it exactly 0: :func:`._roots.snapped`).
 
     Returns
     -------
     index : ndarray of int, shape (..., n)
         Positions in ``values`` (and in the columns of the eigenvector matrices).
     upper : ndarray, shape (..., n), complex
-        Sorted by imaginary part, then real part (one of each conjugate pair and the smaller half
-        of the real roots).
+        Sorted by imaginary part, then real part (one of each conjugate pair and the smaller half of the real roots).
     """
     n = values.shape[-1] // 2
-    if noise is not None:
-        values = _roots.snapped(values, noise)
     # by imaginary part; within the real block the smaller |lam| last, so that the upper half
     # takes it
     order = np.lexsort((-np.abs(values), values.imag), axis=-1)

@@ -163,3 +163,22 @@ def test_a_free_direction_split_by_round_off_is_no_mode(examples_dir, tmp_path):
         assert len(pairs) == (1 if rpm == 0 else 2)
         assert result.oscillatory.sum() == len(pairs) and result.real_roots.sum() == 6 - len(pairs)
         np.testing.assert_allclose(np.sort_complex(result.eigenvalues[result.oscillatory]), pairs, rtol=1e-9)
+
+
+def test_stability_reads_the_mount_modes_of_the_fast_branch(fast_branch):
+    """The least damped root is a mount mode (real part -5.27 1/s, from scipy's roots of the
+    state matrix), not hidden as a rigid-body zero because another root is -1e8 1/s."""
+    model = rdm.load_model(fast_branch)
+    speeds = rdm.rpm(np.array([0.0, 1000.0, 3000.0]))
+    result = rdm.stability(model, speeds)
+    assert result.stable.all()
+    form = speed_linear_form(model)
+    for speed, largest in zip(speeds, _largest_real_parts(result)):
+        roots = scipy.linalg.eigvals(form.at(speed))
+        np.testing.assert_allclose(largest, roots.real.max(), rtol=1e-9)
+
+
+def _largest_real_parts(result):
+    from rotordyn_modal.analysis.stability import _significant_real_parts
+
+    return _significant_real_parts(result.eigenvalues).max(axis=1)

@@ -22,6 +22,7 @@ import numpy as np
 from ..assembly import add_rotor_bodies, body_inertias
 from ..dofs import frame_block
 from ..geometry import skew
+from . import _roots
 
 __all__ = ["select_upper", "upper_indices", "upper_shapes", "one_blas_thread", "eigenvalues_of", "solve_batch",
            "pencil_shapes", "PencilFactors", "PencilRows", "SparseLayout", "sparse_layout", "SPARSE_DOF",
@@ -29,10 +30,8 @@ __all__ = ["select_upper", "upper_indices", "upper_shapes", "one_blas_thread", "
            "residual_inverse_iteration",
            "chunk_slices", "concatenated", "CHUNK_BYTES", "whirl_forms", "rotor_whirl_forms", "stacked_forms", "whirl_ratios",
            "whirl_labels", "row_norms", "unit_rows", "mass_normalized", "mac_matrix", "real_product",
-           "quadratic_forms", "WhirlForms", "OSCILLATORY_TOLERANCE", "WHIRL_TOLERANCE"]
+           "quadratic_forms", "WhirlForms", "WHIRL_TOLERANCE"]
 
-#: |Im lam| below this fraction of the largest |lam| of a speed counts as non-oscillatory
-OSCILLATORY_TOLERANCE = 1e-6
 #: |whirl ratio| below this counts as no whirl (a straight-line orbit): for an elliptic
 #: orbit the ratio is 2ab/(a^2+b^2), so this is a minor/major axis ratio of 5e-4
 WHIRL_TOLERANCE = 1e-3
@@ -179,6 +178,7 @@ def upper_shapes(matrices: np.ndarray, n: int):
 
 def _upper_part(matrices: np.ndarray, n: int):
     values, vectors = np.linalg.eig(matrices)
+    values = _roots.snapped(values, _roots.round_off(matrices), matrices, vectors, n)
     index, eigenvalues = upper_indices(values)
     # advanced indices apart put their axes first: shapes[r, k, j] = vectors[r, j, index[r, k]]
     shapes = vectors[np.arange(len(vectors))[:, None], :n, index]
@@ -186,9 +186,14 @@ def _upper_part(matrices: np.ndarray, n: int):
 
 
 def eigenvalues_of(matrices: np.ndarray) -> np.ndarray:
-    """``numpy.linalg.eigvals`` of a stack of matrices, in threads and parts of bounded memory."""
+    """``numpy.linalg.eigvals`` of a stack of matrices, in threads and parts of bounded memory,
+    their round-off removed (:func:`._roots.snapped`)."""
     size = matrices.shape[-1]
-    return _threaded(np.linalg.eigvals, matrices, item_bytes=24 * size * size)
+    return _threaded(_snapped_eigenvalues, matrices, item_bytes=24 * size * size)
+
+
+def _snapped_eigenvalues(matrices: np.ndarray) -> np.ndarray:
+    return _roots.snapped(np.linalg.eigvals(matrices), _roots.round_off(matrices))
 
 
 def select_upper(values: np.ndarray) -> np.ndarray:
@@ -199,26 +204,23 @@ def select_upper(values: np.ndarray) -> np.ndarray:
 def upper_indices(values: np.ndarray):
     """Where the upper half of each row of eigenvalues sits, and those eigenvalues.
 
+    ``values`` (..., 2 n) are all roots of each state matrix, rid of their round-off (zero roots
+    and imaginary parts within it exactly 0: :func:`._roots.snapped`).
+
     Returns
     -------
     index : ndarray of int, shape (..., n)
         Positions in ``values`` (and in the columns of the eigenvector matrices).
     upper : ndarray, shape (..., n), complex
-        Sorted by imaginary part, then real part (one of each conjugate pair and the smaller half of the real roots); roots
-        whose imaginary part is round-off are made real.
+        Sorted by imaginary part, then real part (one of each conjugate pair and the smaller half of the real roots).
     """
     n = values.shape[-1] // 2
-    magnitude = np.abs(values)
-    scale = magnitude.max(axis=-1, keepdims=True)
-    tol = OSCILLATORY_TOLERANCE * np.where(scale > 0, scale, 1.0)
-    imag = np.where(np.abs(values.imag) <= tol, 0.0, values.imag)
     # by imaginary part; within the real block the smaller |lam| last, so that the upper half
     # takes it
-    order = np.lexsort((-magnitude, imag), axis=-1)
+    order = np.lexsort((-np.abs(values), values.imag), axis=-1)
     chosen = order[..., n:]
     along = _gather(values.shape)
     upper = along(values, chosen)
-    upper = np.where(along(imag, chosen) == 0.0, upper.real + 0j, upper)
     final = np.lexsort((upper.real, upper.imag), axis=-1)
     return along(chosen, final), along(upper, final)
 
@@ -897,7 +899,7 @@ def _repeated_pairs(lam):
         return close.nonzero()
     padded = np.pad(close, ((0, 0), (1, 1)))
     pair = close & ~padded[:, :-2] & ~padded[:, 2:]
-    pair &= np.abs(lam[:, :-1]) > OSCILLATORY_TOLERANCE * scale
+    pair &= lam[:, :-1] != 0                        # not zero roots (made exact, _roots.snapped)
     return pair.nonzero()
 
 

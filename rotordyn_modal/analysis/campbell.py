@@ -11,8 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
-from . import _eigen
+from . import _arguments, _eigen
 from ._stack import Stack
 from .critical_speeds import (JUMP_TOLERANCE, CriticalSpeeds, ExcitationSources, _find_critical_speeds,
                               _warn_of_jumps, excitation_sources, off_order_line)
@@ -244,6 +243,7 @@ def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
     list of CampbellResult
     """
     speeds = _check_speeds(speeds)
+    orders = _arguments.orders(orders)
     stack = Stack(models)
     values, shapes, weighted = solve_sweeps(stack, speeds, progress)
     count, n_speeds, m = values.shape
@@ -288,9 +288,4 @@ def critical_speeds(model, speeds, orders=(1,), progress=False) -> CriticalSpeed
 
 
 def _check_speeds(speeds) -> np.ndarray:
-    speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
-    if speeds.ndim != 1 or len(speeds) == 0 or not np.isfinite(speeds).all():
-        raise InputError(f"speeds: expected a non-empty 1-D array of finite numbers, got shape {speeds.shape}")
-    if len(speeds) > 1 and not (speeds[1:] - speeds[:-1] > 0).all():
-        raise InputError("speeds: expected strictly increasing values")
-    return speeds
+    return _arguments.speeds(speeds)

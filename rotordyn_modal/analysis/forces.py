@@ -29,7 +29,7 @@ import numpy as np
 from ..assembly import excitation_columns, rotor_matrices
 from ..bearings import evaluate
 from ..geometry import shift_matrices
-from . import _eigen
+from . import _arguments, _eigen
 from .frf import FRFResult, _broadcast, _check_frequencies, _names, dof_response
 
 __all__ = ["suspension_forces", "bearing_forces", "bearing_point_forces", "all_forces", "force_frf", "COMPONENTS"]
@@ -389,6 +389,7 @@ def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensi
 
     if where not in ("suspensions", "bearings", "rotors"):
         raise InputError(f"where {where!r}: expected 'suspensions', 'bearings' or 'rotors'")
+    speed = _arguments.speed(speed)
     f = _check_frequencies(freqs_hz)
     omega = 2 * np.pi * f
     columns = excitation_columns(model, inputs)

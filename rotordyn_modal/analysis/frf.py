@@ -33,7 +33,7 @@ from ..assembly import constant_matrices, dependent_bearing_matrices, excitation
     loss_stiffness, sensor_rows
 from ..errors import InputError
 from ..mounts import has_frequency_dependence, maxwell_stiffness
-from . import _eigen
+from . import _arguments, _eigen
 
 __all__ = ["FRFResult", "frf", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]
 
@@ -150,10 +150,7 @@ def _names(items, wanted):
 
 
 def _check_frequencies(freqs_hz) -> np.ndarray:
-    f = np.atleast_1d(np.asarray(freqs_hz, dtype=float))
-    if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f < 0):
-        raise InputError(f"frequencies: expected a 1-D array of finite values >= 0 Hz, got {freqs_hz!r}"[:200])
-    return f
+    return _arguments.frequencies(freqs_hz)
 
 
 def choose_engine(model) -> str:
@@ -300,6 +297,7 @@ def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str 
         raise InputError(f"quantity {quantity!r}: expected one of {', '.join(QUANTITIES)}")
     if engine not in ("auto", "modal", "direct"):
         raise InputError(f"engine {engine!r}: expected 'auto', 'modal' or 'direct'")
+    speed = _arguments.speed(speed)
     f = _check_frequencies(freqs_hz)
     columns = excitation_columns(model, inputs)
     rows = sensor_rows(model, outputs)

@@ -9,7 +9,7 @@ import scipy.linalg
 
 from ..geometry import point_motion_row
 from ..linear_system import speed_linear_form
-from . import _eigen
+from . import _arguments, _eigen, _roots
 
 __all__ = ["ModalResult", "modal", "mac", "modal_quantities", "is_oscillating", "OVERDAMPED_LIMIT"]
 
@@ -22,6 +22,10 @@ def is_oscillating(eigenvalues) -> np.ndarray:
     """True for roots that are modes: ``Im lam > 0`` and damping ratio at most
     :data:`OVERDAMPED_LIMIT`. Real roots (rigid-body zeros, relaxations of rubber
     mounts) and near-critically damped pairs are not.
+
+    The one test of every analysis. It reads each root alone: the eigen-solves have already made
+    zero roots and imaginary parts within their own round-off exactly 0
+    (:func:`._roots.snapped`, ``docs/theory.md`` section 8), so no other root decides.
 
     Parameters
     ----------
@@ -99,6 +103,11 @@ class ModalResult:
     body_motions : ndarray, shape (1 + n_rotors, 6, n)
         Rigid motion at the reference point of the stator, then of each rotor,
         per generalized coordinate (used by :meth:`shape_at`).
+    round_off : float
+        Round-off of the eigen-solve's eigenvalues [1/s] (:func:`._roots.round_off`).
+    whirl_round_off : ndarray, shape (n_roots,)
+        How far round-off can move each whirl ratio; within it the ratio is 0 on the terminal and
+        the whirl 'none' (:func:`._roots.whirl_round_off`).
     """
 
     speed: float
@@ -115,6 +124,8 @@ class ModalResult:
     rotor_names: tuple = ()
     rotor_whirl_ratios: np.ndarray | None = None
     body_motions: np.ndarray | None = None
+    round_off: float = 0.0
+    whirl_round_off: np.ndarray | None = None
 
     @property
     def rotor_whirl(self) -> np.ndarray:
@@ -162,15 +173,35 @@ class ModalResult:
         import pandas as pd
 
         keep = self.oscillatory if oscillatory_only else np.ones_like(self.oscillatory)
-        return pd.DataFrame({
+        table = pd.DataFrame({
             "mode": np.arange(1, keep.sum() + 1),
             "frequency_hz": self.frequencies_hz[keep],
-            "damping_ratio": self.damping_ratios[keep],
-            "log_decrement": self.log_decrements[keep],
+            "damping_ratio": self.damping_ratios[keep] + 0.0,        # + 0.0: never -0
+            "log_decrement": self.log_decrements[keep] + 0.0,
             "whirl": self.whirl[keep],
-            "whirl_ratio": self.whirl_ratios[keep],
-            "real_part": self.eigenvalues.real[keep],
+            "whirl_ratio": self.whirl_ratios[keep] + 0.0,
+            "real_part": self.eigenvalues.real[keep] + 0.0,
         })
+        table.attrs["round_off"] = self._round_off_columns(keep)
+        return table
+
+    def _round_off_columns(self, keep) -> dict:
+        """What round-off can move each column's values by, row by row (the terminal prints those
+        within it as 0; see ``cli._common.print_table``)."""
+        lam = self.eigenvalues[keep]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            noise = {"real_part": np.full(len(lam), self.round_off),
+                     "damping_ratio": self.round_off / np.abs(lam),
+                     "log_decrement": 2 * np.pi * self.round_off / lam.imag}
+        if self.whirl_round_off is not None:
+            noise["whirl_ratio"] = self.whirl_round_off[keep]
+        return noise
+
+    @property
+    def real_roots(self) -> np.ndarray:
+        """(n_roots,) bool: real roots (relaxation roots of rubber mounts, zero roots of directions
+        without suspension): not modes."""
+        return self.eigenvalues.imag == 0
 
     @property
     def overdamped(self) -> np.ndarray:
@@ -212,10 +243,13 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     -------
     ModalResult
     """
+    speed = _arguments.speed(speed)
     form = speed_linear_form(model)
-    values, vectors = scipy.linalg.eig(form.at(float(speed)))
+    matrix = form.at(speed)
+    values, vectors = scipy.linalg.eig(matrix)
     n = form.n_dof
-    upper = _eigen.select_upper(values)
+    noise = float(_roots.round_off(matrix))
+    upper = _eigen.select_upper(_roots.snapped(values, noise, matrix, vectors, n))
     # the LAPACK vectors of the chosen eigenvalues (nearest match; values are identical)
     index = [int(np.argmin(np.abs(values - lam))) for lam in upper]
     index = _unique_indices(index, values, upper)
@@ -223,6 +257,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     shapes = _eigen.resolve_repeated(upper[None], vectors[:n, index].T[None], forms)[0]
     shapes = _normalise(shapes, form.matrices.M)
     oscillatory = is_oscillating(upper)
+    ratio_noise = _roots.whirl_round_off(upper, values, noise, _eigen.REPEATED_TOLERANCE * np.abs(upper).max())
     ratios = np.where(oscillatory, _eigen.whirl_ratios(shapes[None], forms, np.array([speed]))[0], 0.0)
     rotor_ratios = np.array([_eigen.whirl_ratios(shapes[None], _eigen.rotor_whirl_forms(model, r.name),
                                                  np.array([speed]))[0] for r in model.rotors]).reshape(
@@ -231,11 +266,13 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     layout = model.dofs
     return ModalResult(
         speed=float(speed), eigenvalues=upper, frequencies_hz=freq, damping_ratios=zeta,
-        log_decrements=log_dec, whirl_ratios=ratios, whirl=_eigen.whirl_labels(ratios),
+        log_decrements=log_dec, whirl_ratios=ratios,
+        whirl=_eigen.whirl_labels(np.where(np.abs(ratios) <= ratio_noise, 0.0, ratios)),
         shapes=shapes, reference_point=np.asarray(model.reference_point), oscillatory=oscillatory,
         dof_names=layout.names, rotor_names=tuple(r.name for r in model.rotors),
         rotor_whirl_ratios=rotor_ratios,
         body_motions=np.array([layout.frame_motion()] + [layout.body_motion(r.name) for r in model.rotors]),
+        round_off=noise, whirl_round_off=ratio_noise,
     )
 
 

@@ -9,7 +9,7 @@ from scipy.optimize import brentq
 
 from ..errors import InputError
 from ..linear_system import speed_linear_form
-from . import _eigen
+from . import _eigen, _roots
 from .campbell import _check_speeds, _progress, solve_sweep
 from .modal import is_oscillating, modal_quantities
 
@@ -255,15 +255,17 @@ def _bisect_change(predicate, a, b):
 
 
 def _largest_real_part(form, speed, clip: bool = True) -> float:
-    return float(_significant_real_parts(np.linalg.eigvals(form.at(speed)), clip).max())
+    matrix = form.at(speed)
+    eigenvalues = _roots.snapped(np.linalg.eigvals(matrix), _roots.round_off(matrix))
+    return float(_significant_real_parts(eigenvalues, clip).max())
 
 
 def _significant_real_parts(eigenvalues, clip: bool = True) -> np.ndarray:
-    """Real parts, with rigid-body roots (lam = 0 to round-off: a direction without
-    suspension) set to -inf so that their round-off sign is not read as instability,
-    and real parts within round-off of zero (undamped modes) set to exactly 0."""
+    """Real parts, with rigid-body roots (lam = 0, made exact by :func:`._roots.snapped`: a
+    direction without suspension) set to -inf so that their round-off sign is not read as
+    instability, and real parts within round-off of zero (undamped modes) set to exactly 0."""
     scale = np.abs(eigenvalues).max(axis=-1, keepdims=True)
-    rigid = np.abs(eigenvalues) <= _eigen.OSCILLATORY_TOLERANCE * scale
+    rigid = eigenvalues == 0
     real = eigenvalues.real
     if clip:
         real = np.where(np.abs(real) <= _MARGINAL_TOLERANCE * scale, 0.0, real)

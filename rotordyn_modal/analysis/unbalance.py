@@ -27,6 +27,7 @@ import numpy as np
 from ..assembly import generalized_force, sensor_rows
 from ..errors import InputError
 from ..geometry import cross, shift_matrices
+from . import _arguments
 from .forces import COMPONENTS, centre_motions, all_forces
 from .frf import dof_response
 from .orbits import orbit_ellipses, precession_labels, probe_pairs
@@ -362,7 +363,7 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         raise InputError(f"quantity {quantity!r}: expected one of {', '.join(_ORDER)}")
     if not model.unbalances:
         raise InputError(f"{model.source}: the model has no [[unbalances]]: nothing excites an unbalance response")
-    speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+    speeds = _arguments.speeds(speeds, increasing=False)
     sources, w, rotor_forces = unbalance_forces(model, speeds)
     n_src, n = len(sources), len(speeds)
     # (n_src * N,): sources one after another (one source: the speeds themselves, read only)

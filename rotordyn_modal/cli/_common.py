@@ -94,6 +94,13 @@ def speeds_option(args) -> np.ndarray:
     return to_rad_s(parse_range(args.speeds, "--speeds"), args.speed_unit)
 
 
+def speeds_text(args) -> str:
+    """The --speeds range in words, ``between 500 and 15000 rpm`` (``at 3000 rpm`` for one point)."""
+    points = parse_range(args.speeds, "--speeds")
+    unit = args.speed_unit
+    return f"at {points[0]:g} {unit}" if len(points) == 1 else f"between {points[0]:g} and {points[-1]:g} {unit}"
+
+
 def open_model(args):
     """Check the output options (before any work), then load and validate the model."""
     check_output_options(args)
@@ -149,28 +156,58 @@ def write_csv(table, path, float_format="%.10g"):
         table.to_csv(handle, index=False, float_format=float_format)
 
 
-def write_table(table, args, float_format="%.10g"):
-    """Write a DataFrame to --out (atomic), or print it on the terminal."""
+def write_table(table, args, float_format="%.10g", empty: str | None = None):
+    """Write a DataFrame to --out (atomic), or print it on the terminal (``empty``: the sentence
+    printed instead of a table without rows, see :func:`print_table`). A CSV has its header even
+    without rows, never a ``-0``."""
     out = getattr(args, "out", None)
     if out == "-":
-        table.to_csv(sys.stdout, index=False, float_format=float_format)
+        _without_negative_zeros(table).to_csv(sys.stdout, index=False, float_format=float_format)
     elif out:
         check_outputs(args, out)
         with atomic_write(out, "w", newline="") as handle:
-            table.to_csv(handle, index=False, float_format=float_format)
+            _without_negative_zeros(table).to_csv(handle, index=False, float_format=float_format)
     if out != "-" and not args.quiet:
-        print_table(table)
+        print_table(table, empty)
 
 
 _TERMINAL_ROWS = 40
 
 
-def print_table(table):
-    """Print a table on the terminal, shortened to its first rows when long."""
-    shown = table.head(_TERMINAL_ROWS)
+def print_table(table, empty: str | None = None):
+    """Print a table on the terminal, shortened to its first rows when long.
+
+    A table without rows prints ``empty`` (a sentence such as "no critical speed between 500 and
+    15000 rpm"; default "nothing to list"), not pandas' ``Empty DataFrame``. Numbers within their
+    round-off print as 0: ``table.attrs["round_off"]`` maps a column to what round-off can move
+    its values by, row by row (see ``ModalResult.to_dataframe``); no number prints as -0.
+    """
+    if table.empty:
+        print(empty or "nothing to list")
+        return
+    shown = _at_round_off(table.head(_TERMINAL_ROWS), table.attrs.get("round_off", {}))
     print(shown.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
     if len(table) > len(shown):
         print(f"... {len(table) - len(shown)} more rows ({len(table)} in all; --out FILE.csv writes them all)")
+
+
+def _at_round_off(table, round_off: dict):
+    """``table`` with the values within their round-off made 0 and every -0 made 0."""
+    table = _without_negative_zeros(table)
+    for column, noise in round_off.items():
+        if column in table:
+            values = table[column].to_numpy(dtype=float)
+            table[column] = np.where(np.abs(values) <= np.asarray(noise)[:len(values)], 0.0, values)
+    return table
+
+
+def _without_negative_zeros(table):
+    """A copy of ``table`` whose float columns have no -0 (``-0.0 + 0.0`` is ``0.0``)."""
+    table = table.copy()
+    for column in table.columns:
+        if table[column].dtype.kind == "f":
+            table[column] = table[column] + 0.0
+    return table
 
 
 _FIGURE_FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
-                      save_figure, show_progress, speeds_option, use_agg, write_table)
+                      save_figure, show_progress, speeds_option, speeds_text, use_agg, write_table)
 from ._resources import add_verbose, report_peak_memory
 
 NAME = "campbell"
@@ -35,7 +35,8 @@ def run(args) -> int:
     model = open_model(args)
     result = campbell(model, speeds_option(args), orders=tuple(parse_list(args.orders, "--orders")),
                       progress=show_progress(args))
-    write_table(result.to_dataframe(), args)
+    write_table(result.to_dataframe(), args, empty=f"no oscillating modes {speeds_text(args)}: "
+                f"{result.eigenvalues.shape[1]} roots at each speed, all real or overdamped")
     if args.plot:
         use_agg()
         save_figure(result.plot(color_by=args.color_by, title=model.name or None), args)

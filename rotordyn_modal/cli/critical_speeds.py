@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
-                      save_figure, show_progress, speeds_option, use_agg, write_table)
+                      save_figure, show_progress, speeds_option, speeds_text, use_agg, write_table)
 
 NAME = "critical-speeds"
 HELP = "crossings of natural frequencies with every rotor's and gear mesh's excitation orders"
@@ -31,7 +31,8 @@ def run(args) -> int:
     model = open_model(args)
     result = campbell(model, speeds_option(args), orders=tuple(parse_list(args.orders, "--orders")),
                       progress=show_progress(args))
-    write_table(result.critical.to_dataframe(), args)
+    write_table(result.critical.to_dataframe(), args,
+                empty=f"no critical speed {speeds_text(args)} (orders {args.orders})")
     if args.plot:
         use_agg()
         save_figure(result.plot(title=model.name or None), args)

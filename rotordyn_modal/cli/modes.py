@@ -11,7 +11,10 @@ from ._common import (add_model_argument, add_outputs, add_speed_unit, open_mode
 NAME = "modes"
 HELP = "modal analysis at one speed"
 DESCRIPTION = """Eigenvalues of the machine at one speed of the reference rotor: damped natural
-frequency, damping ratio, log decrement and whirl direction of every oscillating mode.
+frequency, damping ratio, log decrement and whirl direction of every oscillating mode. Roots
+that are not modes (real roots: relaxations of rubber mounts, directions without suspension;
+overdamped pairs) are counted on a line of their own. Numbers within the eigen-solve's round-off
+print as 0 (docs/theory.md section 8).
 --plot draws the modes' participation bars; with --shape MODE the 3D mode shape of that mode
 (the machine at rest and displaced, whirl orbits, top/front/side views) and with --animate MODE
 an animation of it (--plot FILE.gif, FILE.html or FILE.mp4; MP4 needs ffmpeg). MODE is the
@@ -49,7 +52,6 @@ def modal(model, speed):
 
 
 def run(args) -> int:
-    from ..analysis.modal import OVERDAMPED_LIMIT
     _check_shape_options(args)
     model = open_model(args)
     speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
@@ -61,11 +63,11 @@ def run(args) -> int:
 
         mode = args.shape if args.shape is not None else args.animate
         view = mode_shape_3d(result, model, mode, outline=outline)
-    write_table(result.to_dataframe(), args)
-    overdamped = int(result.overdamped.sum())
-    if overdamped and not args.quiet:
-        print(f"{overdamped} overdamped root pair(s) (damping ratio > {OVERDAMPED_LIMIT}) not listed as modes "
-              "(docs/model-file.md, roots that are not modes)", file=sys.stderr)
+    table = result.to_dataframe()
+    counts = _not_listed(result)
+    write_table(table, args, empty=f"no oscillating modes at {args.speed} {args.speed_unit}: {counts}")
+    if counts and len(table) and not args.quiet:
+        print(f"{counts} not listed as modes (docs/model-file.md, roots that are not modes)", file=sys.stderr)
     if args.plot:
         use_agg()
         if args.animate is not None:
@@ -75,6 +77,20 @@ def run(args) -> int:
         else:
             save_figure(result.plot() if view is None else view.plot(), args)
     return 0
+
+
+def _not_listed(result) -> str:
+    """The roots that are not modes, counted: ``24 real roots (relaxation, rigid-body) and 1
+    overdamped root pair (damping ratio > 0.99)``; empty when every root is a mode."""
+    from ..analysis.modal import OVERDAMPED_LIMIT
+
+    parts = []
+    if real := int(result.real_roots.sum()):
+        parts.append(f"{real} real root{'s' if real > 1 else ''} (relaxation, rigid-body)")
+    if overdamped := int(result.overdamped.sum()):
+        parts.append(f"{overdamped} overdamped root pair{'s' if overdamped > 1 else ''} "
+                     f"(damping ratio > {OVERDAMPED_LIMIT})")
+    return " and ".join(parts)
 
 
 def _check_shape_options(args):

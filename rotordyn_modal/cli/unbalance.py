@@ -6,8 +6,8 @@ import sys
 
 from ..errors import InputError
 from ._common import (add_model_argument, add_outputs, add_speed_unit, check_extra_output, open_model,
-                      parse_number, print_table, save_figure, speeds_option, to_rad_s, use_agg, write_csv,
-                      write_table)
+                      parse_number, print_table, save_figure, speeds_option, speeds_text, to_rad_s, use_agg,
+                      write_csv, write_table)
 from .frf import names
 
 NAME = "unbalance"
@@ -71,7 +71,7 @@ def run(args) -> int:
     peaks = result.peaks(operating)
     if not args.quiet:
         print("\npeaks (API 684):", file=sys.stderr)
-        print_table(peaks)
+        print_table(peaks, empty=f"no resonance peak {speeds_text(args)}")
     if args.plot:
         use_agg()
         save_figure(result.plot(peaks=peaks, speed_unit=args.speed_unit), args)

@@ -1,0 +1,100 @@
+"""The numeric arguments of the analyses' Python entry points, checked before any work.
+
+``rdm.modal(model, "3000")``, a NaN among the speeds or a 2-D array of frequencies would
+otherwise convert silently, give NaN results or fail inside numpy with a message that names no
+argument. Each check raises :class:`~rotordyn_modal.errors.InputError` naming the argument, its
+value and what was expected.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["speed", "values", "speeds", "frequencies", "orders"]
+
+
+def _shown(value, limit: int = 80) -> str:
+    """``repr(value)`` on one line, at most ``limit`` characters."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def _numbers(value, name: str, expected: str) -> np.ndarray:
+    """``value`` as an array of floats; strings, booleans, complex numbers and other objects
+    are refused (``numpy.asarray(["1", "2"], float)`` would read the strings)."""
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError):           # ragged nested lists
+        raise InputError(f"{name} = {_shown(value)}: expected {expected}") from None
+    if array.dtype.kind not in "iuf":
+        raise InputError(f"{name} = {_shown(value)}: expected {expected}")
+    return array.astype(float)
+
+
+def speed(value, name: str = "speed") -> float:
+    """One finite speed [rad/s]."""
+    expected = "one finite number [rad/s]"
+    array = _numbers(value, name, expected)
+    if array.ndim != 0:
+        raise InputError(f"{name} = {_shown(value)}: expected {expected}, got an array of shape {array.shape}")
+    if not np.isfinite(array):
+        raise InputError(f"{name} = {_shown(value)}: expected {expected}")
+    return float(array)
+
+
+def values(value, name: str, unit: str, positive: bool = False, non_negative: bool = False,
+           increasing: bool = False) -> np.ndarray:
+    """A non-empty 1-D array of finite numbers (a scalar is one value).
+
+    Parameters
+    ----------
+    value : array_like
+    name : str
+        The argument's name, as the message shows it.
+    unit : str
+        Its unit, as the message shows it.
+    positive, non_negative, increasing : bool
+        Also require values > 0, values >= 0, strictly increasing values.
+
+    Returns
+    -------
+    ndarray of float, shape (N,)
+    """
+    expected = f"a non-empty 1-D array of finite numbers [{unit}]"
+    array = np.atleast_1d(_numbers(value, name, expected))
+    if array.ndim != 1 or array.size == 0:
+        raise InputError(f"{name} = {_shown(value)}: expected {expected}, got shape {array.shape}")
+    for test, what in ((~np.isfinite(array), "finite numbers"),
+                       (array <= 0 if positive else None, "numbers > 0"),
+                       (array < 0 if non_negative else None, "numbers >= 0")):
+        if test is not None and test.any():
+            i = int(np.argmax(test))
+            raise InputError(f"{name} = {_shown(value)}: expected {what} [{unit}]; "
+                             f"element {i} is {float(array[i])!r}")
+    if increasing and len(array) > 1 and not (np.diff(array) > 0).all():
+        i = int(np.argmax(~(np.diff(array) > 0)))
+        raise InputError(f"{name} = {_shown(value)}: expected strictly increasing values [{unit}]; element {i + 1} "
+                         f"({float(array[i + 1])!r}) does not exceed element {i} ({float(array[i])!r})")
+    return array
+
+
+def speeds(value, name: str = "speeds", increasing: bool = True) -> np.ndarray:
+    """Speeds of a sweep [rad/s]: finite, strictly increasing unless ``increasing`` is False."""
+    return values(value, name, "rad/s", increasing=increasing)
+
+
+def frequencies(value, name: str = "freqs_hz") -> np.ndarray:
+    """Frequencies [Hz]: finite, >= 0."""
+    try:
+        return values(value, name, "Hz", non_negative=True)
+    except InputError as error:
+        raise InputError(f"frequencies: expected a 1-D array of finite values >= 0 Hz; {error}") from None
+
+
+def orders(value, name: str = "orders") -> tuple:
+    """Excitation orders (1X, 2X, ...): finite, > 0; an empty sequence is no order."""
+    if isinstance(value, (list, tuple, np.ndarray)) and len(value) == 0:
+        return ()
+    return tuple(float(v) for v in values(value, name, "multiples of the speed", positive=True))

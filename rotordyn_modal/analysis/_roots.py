@@ -1,0 +1,151 @@
+"""Which roots of a dense eigen-solve are modes, and which numbers are its round-off.
+
+LAPACK's QR algorithm is backward stable: the eigenvalues it returns are exact for ``A + E``
+with ``||E|| <= c eps ||A||_F``. So every test of a root compares that root with this round-off
+of its own solve (``docs/theory.md`` section 8), never with the other roots:
+
+- a root whose ``|lam|`` is below ``noise`` is a zero root (a direction without suspension);
+  so is one below ``sqrt(noise)`` whose shape the stiffness does not load: a free direction
+  without damping is a double zero root with one eigenvector, the Jordan block
+  ``[[0, 1], [0, 0]]`` of the rows ``q' = v`` of ``A``, which the perturbation splits into
+  ``+-sqrt(||E||)``, a pair that would read as an undamped mode;
+- a root whose ``|Im lam|`` is below ``noise`` is real (a relaxation root, or a repeated real
+  root split into a pair by round-off);
+- a modal number (damping ratio, whirl ratio) within what that round-off can move it is
+  printed as 0.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["BACKWARD_FACTOR", "round_off", "snapped", "zero_roots", "zero_floor", "whirl_round_off", "at_round_off"]
+
+#: the backward error of a dense eigen-solve taken as this many ``eps ||A||_F`` (LAPACK's bound
+#: grows slowly with the size; measured errors are a few eps ||A||)
+BACKWARD_FACTOR = 100.0
+
+
+def round_off(matrices) -> np.ndarray:
+    """Absolute round-off of the eigenvalues of state matrices [1/s].
+
+    Parameters
+    ----------
+    matrices : ndarray, shape (..., n_s, n_s)
+
+    Returns
+    -------
+    ndarray, shape (...): ``BACKWARD_FACTOR * eps * ||A||_F``
+    """
+    a = np.asarray(matrices)
+    return BACKWARD_FACTOR * np.finfo(float).eps * np.sqrt(np.einsum("...ij,...ij->...", a, a))
+
+
+def zero_floor(noise) -> np.ndarray:
+    """``|lam|`` at or below which a root is a zero root: ``max(noise, sqrt(noise))`` (the
+    square root is the split of a double zero root by a perturbation ``noise``), same shape."""
+    noise = np.asarray(noise, dtype=float)
+    return np.maximum(noise, np.sqrt(noise))
+
+
+def snapped(values, noise, matrices=None, vectors=None, n: int | None = None) -> np.ndarray:
+    """Eigenvalues with their round-off removed: zero roots (:func:`zero_roots`) made exactly 0
+    and imaginary parts within ``noise`` made exactly 0.
+
+    Parameters
+    ----------
+    values : ndarray, shape (..., m), complex [1/s]
+        All roots of each solve.
+    noise : ndarray, shape (...) [1/s]
+        :func:`round_off` of each solve.
+    matrices, vectors, n : optional
+        See :func:`zero_roots`.
+
+    Returns
+    -------
+    ndarray, shape (..., m), complex
+    """
+    values = np.asarray(values, dtype=complex)
+    out = np.where(np.abs(values.imag) <= np.asarray(noise, dtype=float)[..., None], values.real + 0j, values)
+    return np.where(zero_roots(values, noise, matrices, vectors, n), 0j, out)
+
+
+def zero_roots(values, noise, matrices=None, vectors=None, n: int | None = None) -> np.ndarray:
+    """Which roots are zero roots (directions without suspension) to round-off.
+
+    ``|lam| <= noise``; or ``|lam| <= sqrt(noise)`` (the split of a double zero root) where the
+    shape is in the null space of the stiffness: ``||A_vq phi|| <= noise ||phi||``, with
+    ``A_vq = -M^-1 K`` the rows ``v'`` and columns ``q`` of the state matrix. Without the
+    eigenvectors every root below ``sqrt(noise)`` is one. (A slow mode of a rotor, such as the
+    backward conical whirl of a fast rotor on soft bearings, has ``K phi != 0`` and stays a mode.)
+
+    Parameters
+    ----------
+    values : ndarray, shape (..., m), complex [1/s]
+    noise : ndarray, shape (...) [1/s]
+    matrices : ndarray, shape (..., n_s, n_s), optional
+        The state matrices solved.
+    vectors : ndarray, shape (..., n_s, m), optional
+        Their eigenvectors (columns).
+    n : int, optional
+        Number of generalized coordinates (``q`` is the first ``n`` states, ``v`` the next ``n``).
+
+    Returns
+    -------
+    ndarray of bool, shape (..., m)
+    """
+    values = np.asarray(values)
+    noise = np.asarray(noise, dtype=float)[..., None]
+    magnitude = np.abs(values)
+    zero = magnitude <= noise
+    split = (magnitude <= zero_floor(noise)) & ~zero
+    if vectors is None or not split.any():
+        return zero | split
+    # the few candidates only: usually none
+    rows = np.broadcast_to(np.arange(values.size // values.shape[-1]).reshape(values.shape[:-1] + (1,)), values.shape)
+    flat_matrices = np.asarray(matrices).reshape((-1,) + np.shape(matrices)[-2:])
+    flat_vectors = np.asarray(vectors).reshape((-1,) + np.shape(vectors)[-2:])
+    r, k = rows[split], np.nonzero(split.reshape(-1, values.shape[-1]))[1]
+    phi = flat_vectors[r, :n, k]                                                     # (P, n)
+    residual = np.linalg.norm(np.einsum("pij,pj->pi", flat_matrices[r, n:2 * n, :n], phi), axis=-1)
+    free = residual <= np.broadcast_to(noise, values.shape)[split] * np.linalg.norm(phi, axis=-1)
+    out = zero.copy()
+    out[split] = free
+    return out
+
+
+def whirl_round_off(eigenvalues, every, noise, repeated: float) -> np.ndarray:
+    """How far round-off can move the whirl ratio of each root's shape (dimensionless).
+
+    An eigenvector is known to about ``noise / gap``, ``gap`` the distance to the nearest other
+    root; a repeated root's partner (within ``repeated``) does not count: the pair's shapes are
+    chosen by their whirl (``_eigen.resolve_repeated``).
+
+    Parameters
+    ----------
+    eigenvalues : ndarray, shape (m,), complex
+        The roots whose shapes are used.
+    every : ndarray, shape (M,), complex
+        All roots of the solve (both halves).
+    noise : float
+        :func:`round_off` of the solve [1/s].
+    repeated : float
+        Distance below which two roots are one repeated root [1/s] (as
+        ``_eigen.resolve_repeated`` decides).
+
+    Returns
+    -------
+    ndarray, shape (m,)
+    """
+    lam = np.asarray(eigenvalues, dtype=complex)
+    distance = np.abs(lam[:, None] - np.asarray(every, dtype=complex)[None, :])
+    distance[distance <= repeated] = np.inf
+    gap = distance.min(axis=1, initial=np.inf)
+    with np.errstate(divide="ignore"):
+        return np.where(gap > 0, noise / gap, np.inf)
+
+
+def at_round_off(values, noise) -> np.ndarray:
+    """``values`` with those within ``noise`` of zero (and -0) made 0, same shape."""
+    values = np.asarray(values, dtype=float)
+    return np.where(np.abs(values) <= noise, 0.0, values) + 0.0

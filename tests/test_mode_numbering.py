@@ -126,3 +126,28 @@ def test_campbells_mode_at_speed_is_the_modes_number(examples_dir, capsys):
         modes = _modes_table(path, f"{speed:.10g}", capsys)
         np.testing.assert_allclose(modes.loc[rows.mode_at_speed.astype(int), "frequency_hz"].to_numpy(),
                                    rows.frequency_hz.to_numpy(), rtol=1e-9)
+
+
+def test_where_a_root_crosses_the_modes_frequency_inside_the_bracket_the_number_is_solved_for(examples_dir):
+    """When the sweep's numbers of a mode at the grid speeds around a crossing differ (another
+    root crossed its frequency in between), the number comes from the roots solved at the
+    critical speed: that of ``modal`` there. Forced here by swapping two columns of the sweep
+    at the grid speed above each crossing."""
+    from rotordyn_modal.analysis.mode_numbers import numbers_at_crossings
+
+    model = rdm.load_model(examples_dir / "fan_on_bearings.toml")
+    result = rdm.campbell(model, rdm.rpm(np.linspace(0.0, 12000.0, 61)), orders=(1,))
+    critical = result.critical
+    imag = 2 * np.pi * critical.frequencies_hz
+    zeta = critical.damping_ratios
+    eigenvalues = -zeta * imag / np.sqrt(1 - zeta**2) + 1j * imag
+    for p in range(0, len(critical.speeds), 3):
+        sweep = result.eigenvalues.copy()
+        k = int(np.searchsorted(result.speeds, critical.speeds[p]))
+        column = critical.mode[p] - 1
+        other = (column + 1) % sweep.shape[1]
+        sweep[k, [column, other]] = sweep[k, [other, column]] + [0.0, 1e3j]   # its number changes at k
+        found = numbers_at_crossings(model, result.speeds, sweep, critical.speeds[p:p + 1],
+                                     critical.mode[p:p + 1], eigenvalues[p:p + 1])[0]
+        modes = rdm.modal(model, critical.speeds[p]).to_dataframe()
+        assert modes.frequency_hz[found - 1] == pytest.approx(critical.frequencies_hz[p], rel=1e-6)

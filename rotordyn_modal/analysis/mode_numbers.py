@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..linear_system import speed_linear_form
+from . import _eigen
 from .modal import is_oscillating
 
 __all__ = ["numbers_at_speed", "number_of_root", "numbers_at_crossings"]
@@ -47,15 +49,16 @@ def number_of_root(roots, eigenvalue) -> int:
     return int(numbers_at_speed(roots)[int(np.argmin(np.abs(roots - eigenvalue)))])
 
 
-def numbers_at_crossings(form, sweep_speeds, sweep_eigenvalues, speeds, modes, eigenvalues) -> np.ndarray:
+def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, eigenvalues) -> np.ndarray:
     """The number ``modes --speed`` gives tracked modes at speeds between a sweep's speeds.
 
     Where the mode has the same number at both grid speeds around the speed, that number (no
-    root crosses its frequency in between); otherwise the roots at the speed are solved.
+    root crosses its frequency in between); otherwise the roots at the speed are solved (the
+    state matrix is built only then).
 
     Parameters
     ----------
-    form : SpeedLinearForm
+    model : Model
     sweep_speeds : ndarray, shape (N,) [rad/s], increasing
     sweep_eigenvalues : ndarray, shape (N, m), complex, tracked columns
     speeds : ndarray, shape (P,) [rad/s]
@@ -68,14 +71,15 @@ def numbers_at_crossings(form, sweep_speeds, sweep_eigenvalues, speeds, modes, e
     -------
     ndarray of int, shape (P,); 0 where the root is not a mode at that speed
     """
-    from . import _eigen
-
     grid = numbers_at_speed(sweep_eigenvalues)
     k = np.clip(np.searchsorted(sweep_speeds, speeds) - 1, 0, max(len(sweep_speeds) - 2, 0))
     column = np.asarray(modes, dtype=int) - 1
     below, above = grid[k, column], grid[np.minimum(k + 1, len(sweep_speeds) - 1), column]
     out = np.where(below == above, below, 0)
+    form = None
     for p in np.nonzero((below != above) | (below == 0))[0]:
+        if form is None:
+            form = speed_linear_form(model)
         roots = _eigen.select_upper(np.linalg.eigvals(form.at(float(speeds[p])))[None])[0]
         out[p] = number_of_root(roots, eigenvalues[p])
     return out

@@ -46,13 +46,12 @@ def _with_modes_at_speed(table, model, result):
     import numpy as np
 
     from ..analysis.mode_numbers import numbers_at_crossings
-    from ..linear_system import speed_linear_form
 
     critical = result.critical
     zeta = np.asarray(critical.damping_ratios, dtype=float)
     imag = 2 * np.pi * np.asarray(critical.frequencies_hz, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):
         eigenvalues = -zeta * imag / np.sqrt(1 - zeta**2) + 1j * imag
-    table["mode_at_speed"] = numbers_at_crossings(speed_linear_form(model), result.speeds, result.eigenvalues,
+    table["mode_at_speed"] = numbers_at_crossings(model, result.speeds, result.eigenvalues,
                                                   critical.speeds, critical.mode, eigenvalues)
     return table

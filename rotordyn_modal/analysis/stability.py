@@ -68,10 +68,16 @@ class StabilityResult:
         return self.speeds * 30.0 / np.pi
 
     @property
+    def significant_real_parts(self) -> np.ndarray:
+        """(N, n_modes) [1/s]: the real parts, 0 where within round-off of zero and -inf for
+        rigid-body roots (lam = 0 to round-off): what stability is judged on."""
+        return _significant_real_parts(self.eigenvalues, roundoff=self.roundoff)
+
+    @property
     def largest_real_parts(self) -> np.ndarray:
         """(N,) [1/s]: the largest real part at each speed, 0 where it is within round-off
         of zero (rigid-body roots left out)."""
-        return _significant_real_parts(self.eigenvalues, roundoff=self.roundoff).max(axis=1)
+        return self.significant_real_parts.max(axis=1)
 
     @property
     def stable(self) -> np.ndarray:
@@ -120,14 +126,15 @@ class StabilityResult:
 
     def least_damped(self):
         """The least damped mode over the sweep: the tracked mode and speed of the smallest log
-        decrement among the roots that are modes.
+        decrement among the roots that are modes (0 where the real part is zero to round-off).
 
         Returns
         -------
         (mode, k) : (int, int)
             Tracked label and index of the speed; None when no root is a mode at any speed.
         """
-        log_dec = np.where(is_oscillating(self.eigenvalues), self.log_decrements, np.inf)
+        log_dec = np.where(self.significant_real_parts == 0, 0.0, self.log_decrements)
+        log_dec = np.where(is_oscillating(self.eigenvalues), log_dec, np.inf)
         if not np.isfinite(log_dec).any():
             return None
         k, column = np.unravel_index(int(np.argmin(log_dec)), log_dec.shape)

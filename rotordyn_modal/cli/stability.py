@@ -107,9 +107,10 @@ def _summary(result):
         return "unstable " + " and ".join(_interval(result, start, stop) for start, stop in intervals)
     if result.stable.all():
         return "stable over the range; least damped: " + _least_damped(result)
-    return ("stable or marginal over the range: at some speeds the largest real part is zero to round-off "
-            "(an undamped mode, or roots too small beside the model's largest to tell their sign); "
-            "least damped: " + _least_damped(result))
+    marginal = int((result.largest_real_parts == 0).sum())
+    return (f"stable or marginal over the range: at {marginal} of {len(result.speeds)} speeds the largest real "
+            "part is zero to round-off (an undamped mode, or a root too small beside the model's largest to "
+            "tell its sign; docs/theory.md, section 11); least damped: " + _least_damped(result))
 
 
 def _interval(result, start, stop):
@@ -128,7 +129,9 @@ def _least_damped(result):
     mode, k = found
     column = mode - 1
     speed = _rpm(result.speeds[k])
-    return (f"mode {mode} at {speed} rpm: log decrement {result.log_decrements[k, column]:.4g}, "
+    undamped = result.significant_real_parts[k, column] == 0
+    log_dec = "0 (zero to round-off)" if undamped else f"{result.log_decrements[k, column]:.4g}"
+    return (f"mode {mode} at {speed} rpm: log decrement {log_dec}, "
             f"{result.frequencies_hz[k, column]:.5g} Hz, {_whirl(result.whirl[k, column])} "
             f"(mode {result.modes_at_speed[k, column]} of modes --speed {speed})")
 

@@ -178,3 +178,21 @@ def test_the_single_sweep_prints_each_threshold_and_the_intervals(tmp_path, caps
         assert float(speed) == pytest.approx(x, rel=1e-7)
     (x0, x1), (x2, _) = _intervals_rpm(M)
     assert f"unstable from {x0:.6g} rpm to {x1:.6g} rpm and from {x2:.6g} rpm" in err
+
+
+def test_an_undamped_machine_is_marginal_and_its_least_damped_mode_has_log_decrement_zero(tmp_path, capsys):
+    """Undamped and conservative (a gyroscopic rotor on symmetric springs): every real part is 0
+    (Re lam = 0 exactly; computed ones are round-off of either sign). Marginal at every speed,
+    never a threshold, and the least damped mode's log decrement is 0, not a round-off negative
+    that reads as unstable."""
+    data = _island_rotor()
+    for bearing in data["bearings"]:
+        bearing.update(stiffness=[[K, 0.0], [0.0, K]], damping=0.0)
+        del bearing["speeds_rpm"]
+    path = tmp_path / "undamped.toml"
+    rdm.save_model(rdm.Model.from_dict(data), path)
+    code, out, err = _cli(["stability", path, "--speeds", "0:8000:17", "--out", tmp_path / "s.csv"], capsys)
+    assert code == 0, err
+    assert "stability at" not in err
+    assert "stable or marginal over the range: at 17 of 17 speeds" in err
+    assert "log decrement 0 (zero to round-off)" in err

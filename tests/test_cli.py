@@ -278,8 +278,8 @@ def test_save_model_never_overwrites_its_source(gear, tmp_path):
 
 
 def test_stability_map_prints_each_values_threshold_in_rpm(examples_dir, tmp_path, capsys):
-    """``stability --vary KEY --scale ...`` prints, per factor, the speed the Python map finds
-    unstable from (in rpm), or that the machine is stable over the range."""
+    """``stability --vary KEY --scale ...`` prints, per factor, every interval of speeds the Python
+    map finds unstable (in rpm), or that the machine is stable over the range."""
     model_path = examples_dir / "unstable_cross_coupled.toml"
     code, out, err = run(["stability", model_path, "--speeds", "0:20000:41", "--vary",
                           "suspensions.bearing-A.damping", "--scale", "0.5,1,4", "--out", tmp_path / "s.csv"],
@@ -291,5 +291,9 @@ def test_stability_map_prints_each_values_threshold_in_rpm(examples_dir, tmp_pat
     assert len(lines) == 3
     for line, factor, speed in zip(lines, (0.5, 1, 4), expected.threshold_speeds):
         text = "stable over the range" if np.isnan(speed) else f"unstable from {speed * 30 / np.pi:.6g} rpm"
-        assert line == f"suspensions.bearing-A.damping x {factor:g}: {text}"
-    assert "unstable from" in lines[0] and lines[2].endswith("stable over the range")     # both kinds
+        assert line.startswith(f"suspensions.bearing-A.damping x {factor:g}: {text}")
+    assert "unstable from" in lines[0] and "stable over the range; least damped: mode" in lines[2]  # both kinds
+    # at half the damping the machine is stable again between two intervals (an island): both shown
+    (start, stop), (again, _) = expected.results[0].unstable_intervals
+    assert lines[0].endswith(f"from {start * 30 / np.pi:.6g} rpm to {stop * 30 / np.pi:.6g} rpm "
+                             f"and from {again * 30 / np.pi:.6g} rpm")

@@ -16,6 +16,7 @@ from ._stack import Stack
 from .critical_speeds import (JUMP_TOLERANCE, CriticalSpeeds, ExcitationSources, _find_critical_speeds,
                               _warn_of_jumps, excitation_sources, off_order_line)
 from .modal import is_oscillating, modal_quantities
+from .mode_numbers import numbers_at_speed
 from .tracking import track_modes_many
 
 __all__ = ["CampbellResult", "CriticalSpeeds", "ExcitationSources", "campbell", "campbell_many",
@@ -71,7 +72,9 @@ class CampbellResult:
         return is_oscillating(self.eigenvalues)
 
     def to_dataframe(self, oscillatory_only: bool = True):
-        """Long table ``speed_rpm, mode, frequency_hz, damping_ratio, log_decrement, whirl, ...``."""
+        """Long table ``speed_rpm, mode, frequency_hz, damping_ratio, log_decrement, whirl, whirl_ratio,
+        real_part, mode_at_speed`` (``mode`` the tracked label, ``mode_at_speed`` the number
+        ``modes --speed SPEED`` gives that root)."""
         import pandas as pd
 
         count, n = self.eigenvalues.shape
@@ -85,7 +88,10 @@ class CampbellResult:
             "whirl": self.whirl.ravel(),
             "whirl_ratio": self.whirl_ratios.ravel(),
             "real_part": self.eigenvalues.real.ravel(),
+            # the number `modes --speed SPEED` gives the root (docs/model-file.md, mode numbers)
+            "mode_at_speed": pd.array(numbers_at_speed(self.eigenvalues).ravel(), dtype="Int64"),
         })
+        table.loc[table["mode_at_speed"] == 0, "mode_at_speed"] = pd.NA
         return table[keep].reset_index(drop=True)
 
     def plot(self, **kwargs):
@@ -169,7 +175,8 @@ def _variant_rows(count, per):
 
 def _relabel_by_frequency(order, values, speeds):
     """Number tracked roots at the speed nearest zero: modes first, by ascending frequency,
-    then the roots that are not modes there (so mode labels match :func:`modal`'s).
+    then the roots that are not modes there (so the labels are :func:`modal`'s numbers at that
+    speed; :mod:`.mode_numbers` gives them at the others).
 
     ``order`` and ``values`` have a leading variant axis: (V, N, m)."""
     k0 = int(np.argmin(np.abs(speeds)))

@@ -5,13 +5,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg.lapack
 from scipy.optimize import brentq
 
 from ..errors import InputError
 from ..linear_system import speed_linear_form
 from . import _eigen, _roots
 from .campbell import _check_speeds, _progress, solve_sweep
-from .modal import is_oscillating, modal_quantities
+from .modal import is_oscillating, modal, modal_quantities
+from .mode_numbers import numbers_at_speed
 
 __all__ = ["StabilityResult", "StabilityMap", "stability", "stability_map", "threshold_speeds"]
 
@@ -33,6 +35,16 @@ class StabilityResult:
         Mode whose real part crosses there.
     threshold_onsets : ndarray of bool
         True where stability is lost with increasing speed.
+    roundoff : ndarray, shape (N,) [1/s], optional
+        Round-off of the real parts at each speed (see :func:`roundoff_levels`): real parts
+        within it of zero count as zero (marginal).
+    threshold_frequencies_hz : ndarray, shape (n_thresholds,) [Hz], optional
+        Frequency of the root that crosses, at the threshold.
+    threshold_whirl : ndarray of str, shape (n_thresholds,), optional
+        Its whirl there.
+    threshold_modes_at_speed : ndarray of int, shape (n_thresholds,), optional
+        The number ``modes --speed THRESHOLD`` gives it (0: not a mode there, a real or
+        overdamped root); the tracked label is ``threshold_modes``.
     """
 
     speeds: np.ndarray
@@ -46,15 +58,42 @@ class StabilityResult:
     thresholds: np.ndarray
     threshold_modes: np.ndarray
     threshold_onsets: np.ndarray
+    roundoff: np.ndarray | None = None
+    threshold_frequencies_hz: np.ndarray | None = None
+    threshold_whirl: np.ndarray | None = None
+    threshold_modes_at_speed: np.ndarray | None = None
 
     @property
     def speeds_rpm(self) -> np.ndarray:
         return self.speeds * 30.0 / np.pi
 
     @property
+    def significant_real_parts(self) -> np.ndarray:
+        """(N, n_modes) [1/s]: the real parts, 0 where within round-off of zero and -inf for
+        rigid-body roots (lam = 0 to round-off): what stability is judged on."""
+        return _significant_real_parts(self.eigenvalues, roundoff=self.roundoff)
+
+    @property
+    def largest_real_parts(self) -> np.ndarray:
+        """(N,) [1/s]: the largest real part at each speed, 0 where it is within round-off
+        of zero (rigid-body roots left out)."""
+        return self.significant_real_parts.max(axis=1)
+
+    @property
     def stable(self) -> np.ndarray:
-        """(N,) bool: every real part < 0 at that speed."""
-        return np.all(_significant_real_parts(self.eigenvalues) < 0, axis=1)
+        """(N,) bool: every real part < 0 at that speed (beyond round-off)."""
+        return self.largest_real_parts < 0
+
+    @property
+    def unstable(self) -> np.ndarray:
+        """(N,) bool: some real part > 0 at that speed (beyond round-off)."""
+        return self.largest_real_parts > 0
+
+    @property
+    def modes_at_speed(self) -> np.ndarray:
+        """(N, n_modes) int: the number ``modes --speed`` gives each tracked mode at each speed
+        (0 where it is not a mode there); see :mod:`.mode_numbers`."""
+        return numbers_at_speed(self.eigenvalues)
 
     @property
     def threshold_speed(self) -> float:
@@ -62,16 +101,59 @@ class StabilityResult:
         onsets = self.thresholds[self.threshold_onsets & (self.thresholds >= 0)]
         return float(onsets.min()) if len(onsets) else float("nan")
 
+    @property
+    def unstable_intervals(self) -> list:
+        """Every interval of speeds where the machine is unstable, in increasing speed.
+
+        Returns
+        -------
+        list of (start, stop) [rad/s]
+            ``start`` is the threshold where stability is lost, or nan when the sweep starts
+            unstable; ``stop`` where it is regained, or nan when it stays unstable to the
+            sweep's end.
+        """
+        intervals, start = [], float("nan")
+        open_ = bool(self.unstable[0])
+        for speed, onset in sorted(zip(self.thresholds.tolist(), self.threshold_onsets.tolist())):
+            if onset and not open_:
+                start, open_ = speed, True
+            elif not onset and open_:
+                intervals.append((start, speed))
+                open_ = False
+        if open_:
+            intervals.append((start, float("nan")))
+        return intervals
+
+    def least_damped(self):
+        """The least damped mode over the sweep: the tracked mode and speed of the smallest log
+        decrement among the roots that are modes (0 where the real part is zero to round-off).
+
+        Returns
+        -------
+        (mode, k) : (int, int)
+            Tracked label and index of the speed; None when no root is a mode at any speed.
+        """
+        log_dec = np.where(self.significant_real_parts == 0, 0.0, self.log_decrements)
+        log_dec = np.where(is_oscillating(self.eigenvalues), log_dec, np.inf)
+        if not np.isfinite(log_dec).any():
+            return None
+        k, column = np.unravel_index(int(np.argmin(log_dec)), log_dec.shape)
+        return int(self.modes[column]), int(k)
+
     def to_dataframe(self):
-        """Long table ``speed_rpm, value, mode, real_part, damping_ratio, log_decrement, ...``."""
+        """Long table ``speed_rpm, value, mode, real_part, damping_ratio, log_decrement,
+        frequency_hz, whirl, mode_at_speed`` (``mode`` the tracked label, ``mode_at_speed`` the
+        number ``modes --speed`` gives that root, empty where it is not a mode)."""
         import pandas as pd
 
         count, n = self.eigenvalues.shape
+        at_speed = self.modes_at_speed.ravel()
         return pd.DataFrame({
             "speed_rpm": np.repeat(self.speeds_rpm, n), "value": "",
             "mode": np.tile(self.modes, count), "real_part": self.real_parts.ravel(),
             "damping_ratio": self.damping_ratios.ravel(), "log_decrement": self.log_decrements.ravel(),
             "frequency_hz": self.frequencies_hz.ravel(), "whirl": self.whirl.ravel(),
+            "mode_at_speed": pd.array(np.where(at_speed > 0, at_speed, None), dtype="Int64"),
         })
 
     def plot(self, **kwargs):
@@ -109,7 +191,7 @@ class StabilityMap:
     @property
     def max_real_parts(self) -> np.ndarray:
         """(V, N): largest real part over the modes [1/s]."""
-        return np.array([_significant_real_parts(r.eigenvalues).max(axis=1) for r in self.results])
+        return np.array([r.largest_real_parts for r in self.results])
 
     @property
     def min_damping_ratios(self) -> np.ndarray:
@@ -165,13 +247,34 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
     ratios = np.where(is_oscillating(eigenvalues),
                       _eigen.whirl_ratios(shapes, _eigen.whirl_forms(model), speeds), 0.0)
     freq, zeta, log_dec = modal_quantities(eigenvalues)
-    thresholds, threshold_modes, onsets = threshold_speeds(form, speeds, eigenvalues)
+    roundoff = roundoff_levels(form, speeds)
+    thresholds, threshold_modes, onsets = threshold_speeds(form, speeds, eigenvalues, roundoff)
+    crossing = _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes)
     return StabilityResult(
         speeds=speeds, eigenvalues=eigenvalues, real_parts=eigenvalues.real, damping_ratios=zeta,
         log_decrements=log_dec, frequencies_hz=freq, whirl=_eigen.whirl_labels(ratios),
         modes=np.arange(1, eigenvalues.shape[1] + 1), thresholds=thresholds,
-        threshold_modes=threshold_modes, threshold_onsets=onsets,
+        threshold_modes=threshold_modes, threshold_onsets=onsets, roundoff=roundoff, **crossing,
     )
+
+
+def _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes) -> dict:
+    """Frequency, whirl and ``modes`` number of the root that crosses at each threshold:
+    :func:`.modal.modal` at the threshold, its root nearest the tracked mode's eigenvalue
+    (interpolated linearly between the grid speeds around the threshold)."""
+    frequencies, whirl, numbers = [], [], []
+    for speed, mode in zip(thresholds, threshold_modes):
+        k = int(np.clip(np.searchsorted(speeds, speed) - 1, 0, len(speeds) - 2))
+        t = (speed - speeds[k]) / (speeds[k + 1] - speeds[k])
+        guess = (1 - t) * eigenvalues[k, mode - 1] + t * eigenvalues[k + 1, mode - 1]
+        roots = modal(model, speed)
+        nearest = int(np.argmin(np.abs(roots.eigenvalues - guess)))
+        frequencies.append(roots.frequencies_hz[nearest])
+        whirl.append(roots.whirl[nearest])
+        # modes' own numbering: its modes in its order
+        numbers.append(int(roots.oscillatory[:nearest + 1].sum()) if roots.oscillatory[nearest] else 0)
+    return {"threshold_frequencies_hz": np.array(frequencies, dtype=float),
+            "threshold_whirl": np.array(whirl, dtype=str), "threshold_modes_at_speed": np.array(numbers, dtype=int)}
 
 
 def stability_map(model, speeds, key: str, values=None, scale=None, progress=False) -> StabilityMap:
@@ -206,39 +309,68 @@ def stability_map(model, speeds, key: str, values=None, scale=None, progress=Fal
                         values=grid, speeds=np.asarray(results[0].speeds), results=tuple(results))
 
 
-def threshold_speeds(form, speeds, eigenvalues):
+def threshold_speeds(form, speeds, eigenvalues, roundoff=None):
     """Speeds where the largest real part of the eigenvalues crosses zero.
 
-    Real parts within round-off of zero (``1e-10`` of the largest ``|lam|``, as in an
-    undamped machine) count as zero: marginal stability is not read as crossings.
-    A clean sign change is refined with Brent's method on the eigenproblem; a change
-    from (or to) marginal is located by bisection of the predicate "unstable".
+    Real parts within round-off of zero count as zero (marginal, as in an undamped machine):
+    within ``1e-10`` of the root's own ``|lam|`` or within :func:`roundoff_levels`, the error
+    bound of a computed eigenvalue. Only a change between stable or marginal and unstable is a
+    threshold. A sign change beyond round-off on both sides (from the last speed below round-off
+    through marginal speeds, if any, to the first above) is refined with Brent's method on the
+    eigenproblem; a change from (or to) marginal throughout is located by bisection of the
+    predicate "unstable beyond round-off". No root crossing beyond round-off: no threshold.
 
     Parameters
     ----------
     form : SpeedLinearForm
     speeds : ndarray, shape (N,) [rad/s]
     eigenvalues : ndarray, shape (N, n), tracked
+    roundoff : ndarray, shape (N,) [1/s], optional
+        :func:`roundoff_levels` (computed when not given).
 
     Returns
     -------
     speeds : ndarray [rad/s]; modes : ndarray of int (1-based); onsets : ndarray of bool
     """
-    largest = _significant_real_parts(eigenvalues).max(axis=1)
+    if roundoff is None:
+        roundoff = roundoff_levels(form, speeds)
+    largest = _significant_real_parts(eigenvalues, roundoff=roundoff).max(axis=1)
     unstable = largest > 0
     found, modes, onsets = [], [], []
     for k in np.nonzero(unstable[:-1] != unstable[1:])[0]:
-        a, b = speeds[k], speeds[k + 1]
-        if largest[k] < 0 < largest[k + 1] or largest[k + 1] < 0 < largest[k]:
-            root = brentq(lambda s: _largest_real_part(form, s, clip=False), a, b,
-                          xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
-        else:
-            root = _bisect_change(lambda s: _largest_real_part(form, s) > 0, a, b)
         side = k + 1 if unstable[k + 1] else k  # the speed where it is unstable
+        other = _last_stable(largest, k if side == k + 1 else k + 1, -1 if side == k + 1 else 1)
+        root = None
+        if other is not None:
+            a, b = sorted((speeds[other], speeds[side]))
+            root = _brent(form, a, b)
+        if root is None:
+            root = _bisect_change(lambda s: _largest_real_part(form, s) > 0, speeds[k], speeds[k + 1])
         found.append(root)
         modes.append(int(np.argmax(eigenvalues[side].real)) + 1)
         onsets.append(bool(unstable[k + 1]))
     return np.array(found), np.array(modes, dtype=int), np.array(onsets, dtype=bool)
+
+
+def _last_stable(largest, start, step):
+    """From ``start`` on in direction ``step``, across marginal speeds (largest real part 0),
+    the first speed where it is stable (< 0); None when the marginal run ends otherwise."""
+    k = start
+    while 0 <= k < len(largest) and largest[k] == 0:
+        k += step
+    return k if 0 <= k < len(largest) and largest[k] < 0 else None
+
+
+def _brent(form, a, b):
+    """The zero of the largest real part (unclipped) in [a, b] by Brent's method, or None
+    when the real parts solved again at a and b do not change sign (round-off)."""
+    def f(s):
+        return _largest_real_part(form, s, clip=False)
+
+    fa, fb = f(a), f(b)
+    if not fa * fb < 0:
+        return None
+    return brentq(f, a, b, xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
 
 
 def _bisect_change(predicate, a, b):
@@ -254,21 +386,48 @@ def _bisect_change(predicate, a, b):
     return 0.5 * (a + b)
 
 
+def roundoff_levels(form, speeds) -> np.ndarray:
+    """Round-off of the computed real parts at each speed [1/s], shape (N,).
+
+    ``eps * ||B||_1``, ``B`` the state matrix balanced as LAPACK's ``geev`` balances it before
+    solving: LAPACK's error bound of an eigenvalue of condition number 1 (the smallest). A real
+    part within it of zero has no sign: it counts as zero (marginal).
+
+    Parameters
+    ----------
+    form : SpeedLinearForm
+    speeds : ndarray, shape (N,) [rad/s]
+    """
+    out = np.empty(len(speeds))
+    for k, speed in enumerate(np.asarray(speeds, dtype=float)):  # one state matrix at a time
+        # LAPACK's own balancing (scipy.linalg.matrix_balance calls it, at 8 times the cost)
+        balanced = scipy.linalg.lapack.dgebal(form.at(float(speed)), scale=1, permute=0)[0]
+        out[k] = np.abs(balanced).sum(axis=0).max()
+    return np.finfo(float).eps * out
+
+
 def _largest_real_part(form, speed, clip: bool = True) -> float:
+    """The largest real part at one speed [1/s], of the roots a sweep keeps (one of each
+    conjugate pair, their round-off removed as the sweep's: :func:`._roots.snapped`)."""
     matrix = form.at(speed)
-    eigenvalues = _roots.snapped(np.linalg.eigvals(matrix), _roots.round_off(matrix))
-    return float(_significant_real_parts(eigenvalues, clip).max())
+    roundoff = roundoff_levels(form, [speed]) if clip else None
+    roots = _eigen.select_upper(_roots.snapped(np.linalg.eigvals(matrix), _roots.round_off(matrix))[None])
+    return float(_significant_real_parts(roots, clip, roundoff).max())
 
 
-def _significant_real_parts(eigenvalues, clip: bool = True) -> np.ndarray:
+def _significant_real_parts(eigenvalues, clip: bool = True, roundoff=None) -> np.ndarray:
     """Real parts, with rigid-body roots (lam = 0, made exact by :func:`._roots.snapped`: a
     direction without suspension) set to -inf so that their round-off sign is not read as
-    instability, and real parts within round-off of zero (undamped modes) set to exactly 0."""
-    scale = np.abs(eigenvalues).max(axis=-1, keepdims=True)
+    instability, and real parts within round-off of zero (undamped modes: within ``1e-10 |lam|``
+    of the root's own size, or within ``roundoff``, shape (...,) [1/s], of each speed when
+    given) set to exactly 0."""
     rigid = eigenvalues == 0
     real = eigenvalues.real
     if clip:
-        real = np.where(np.abs(real) <= _MARGINAL_TOLERANCE * scale, 0.0, real)
+        tolerance = _MARGINAL_TOLERANCE * np.abs(eigenvalues)
+        if roundoff is not None:
+            tolerance = np.maximum(tolerance, np.asarray(roundoff)[..., None])
+        real = np.where(np.abs(real) <= tolerance, 0.0, real)
     return np.where(rigid, -np.inf, real)
 
 

@@ -13,7 +13,9 @@ tracked by its shape so that it keeps its label where frequencies cross. The fig
 shows forward (solid blue) and backward (dashed red) whirl, every rotor's and gear
 mesh's excitation orders, and the critical speeds.
 
-CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part
+CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part,mode_at_speed
+('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
+'modes --speed SPEED_RPM', whose --shape draws it)
 
 example:
   rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png"""

@@ -12,7 +12,9 @@ rotor's own spin (which differs from rotor to rotor through the transmissions) o
 a gear mesh. Each crossing is refined by root-finding on the eigenproblem, so the
 result does not depend on the grid beyond bracketing the crossing.
 
-CSV columns: source,order,mode,speed_rpm,frequency_hz,whirl,whirl_ratio,damping_ratio
+CSV columns: source,order,mode,speed_rpm,frequency_hz,whirl,whirl_ratio,damping_ratio,mode_at_speed
+('mode' is the mode's label tracked over the sweep, as in campbell; 'mode_at_speed' its number
+in 'modes --speed SPEED_RPM', whose --shape draws it)
 
 example:
   rotordyn-modal critical-speeds examples/gear_machine.toml --speeds 0:12000:241 --orders 1,2"""
@@ -31,9 +33,26 @@ def run(args) -> int:
     model = open_model(args)
     result = campbell(model, speeds_option(args), orders=tuple(parse_list(args.orders, "--orders")),
                       progress=show_progress(args))
-    write_table(result.critical.to_dataframe(), args,
+    write_table(_with_modes_at_speed(result.critical.to_dataframe(), model, result), args,
                 empty=f"no critical speed {speeds_text(args)} (orders {args.orders})")
     if args.plot:
         use_agg()
         save_figure(result.plot(title=model.name or None), args)
     return 0
+
+
+def _with_modes_at_speed(table, model, result):
+    """The table with ``mode_at_speed``: the number ``modes --speed`` gives each crossing's mode
+    at its critical speed (docs/model-file.md, mode numbers)."""
+    import numpy as np
+
+    from ..analysis.mode_numbers import numbers_at_crossings
+
+    critical = result.critical
+    zeta = np.asarray(critical.damping_ratios, dtype=float)
+    imag = 2 * np.pi * np.asarray(critical.frequencies_hz, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        eigenvalues = -zeta * imag / np.sqrt(1 - zeta**2) + 1j * imag
+    table["mode_at_speed"] = numbers_at_crossings(model, result.speeds, result.eigenvalues,
+                                                  critical.speeds, critical.mode, eigenvalues)
+    return table

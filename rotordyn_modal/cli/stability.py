@@ -13,11 +13,18 @@ HELP = "stability over speed, or a map over speed and one model parameter"
 DESCRIPTION = """Real parts, damping ratios and log decrements of every mode over speed; threshold
 speeds where a real part crosses zero, refined by root-finding. With --vary KEY and
 --values or --scale, a map over speed and that parameter with the boundary drawn.
+Real parts within round-off of zero (docs/theory.md) count as zero: no threshold where the
+sign is round-off. The terminal names each threshold's mode (its tracked label, frequency,
+whirl, and its number N in 'modes --speed THRESHOLD', whose --shape N draws it), then every
+interval of speeds where the machine is unstable (per value of a map), or, when it is stable
+throughout, the least damped mode and its log decrement.
 KEY is a dotted key: suspensions.mount-FL.damping, rotors.fan.polar_inertia,
 suspensions.mount-FL.stiffness[3][4]. --values and --scale take START:STOP:N or a
 comma-separated list.
 
-CSV columns: speed_rpm,value,mode,real_part,damping_ratio,log_decrement,frequency_hz,whirl
+CSV columns: speed_rpm,value,mode,real_part,damping_ratio,log_decrement,frequency_hz,whirl,mode_at_speed
+('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
+'modes --speed SPEED_RPM', empty for roots that are not modes there)
 
 examples:
   rotordyn-modal stability examples/unstable_cross_coupled.toml --speeds 0:20000:401
@@ -61,17 +68,73 @@ def run(args) -> int:
 
 
 def _print_thresholds(result):
+    """Per map value, or for the one sweep: every threshold (with the root that crosses and its
+    number in ``modes --speed``), then every interval of instability, or, stable throughout, the
+    least damped mode."""
+    if hasattr(result, "results"):
+        sign = "=" if result.mode_of_variation == "values" else "x"
+        for value, each in zip(result.values, result.results):
+            print(f"{result.key} {sign} {value:g}: {_summary(each)}", file=sys.stderr)
+        return
+    for k in range(len(result.thresholds)):
+        print(_threshold_line(result, k), file=sys.stderr)
+    print(_summary(result), file=sys.stderr)
+
+
+def _rpm(speed):
+    """A speed [rad/s] as rpm to 8 significant digits (what ``modes --speed`` takes back)."""
     import numpy as np
 
-    if hasattr(result, "results"):
-        for value, speed in zip(result.values, result.threshold_speeds):
-            text = "stable over the range" if np.isnan(speed) else f"unstable from {speed * 30 / np.pi:.6g} rpm"
-            print(f"{result.key} {'=' if result.mode_of_variation == 'values' else 'x'} {value:g}: {text}",
-                  file=sys.stderr)
-        return
-    for speed, mode, onset in zip(result.thresholds, result.threshold_modes, result.threshold_onsets):
-        print(f"mode {mode} {'loses' if onset else 'regains'} stability at {speed * 30 / np.pi:.8g} rpm",
-              file=sys.stderr)
-    if not len(result.thresholds):
-        print("no change of stability over the range "
-              f"({'stable' if result.stable.all() else 'unstable'} throughout)", file=sys.stderr)
+    return f"{speed * 30 / np.pi:.8g}"
+
+
+def _threshold_line(result, k):
+    """``mode 5 loses stability at 10886.198 rpm (6.3662 Hz, backward whirl; mode 2 of modes --speed 10886.198)``."""
+    speed = _rpm(result.thresholds[k])
+    change = "loses" if result.threshold_onsets[k] else "regains"
+    number = int(result.threshold_modes_at_speed[k])
+    where = (f"mode {number} of modes --speed {speed}" if number else
+             f"a root that is not a mode at that speed: modes --speed {speed} does not list it")
+    return (f"mode {result.threshold_modes[k]} {change} stability at {speed} rpm "
+            f"({result.threshold_frequencies_hz[k]:.5g} Hz, {_whirl(result.threshold_whirl[k])}; {where})")
+
+
+def _summary(result):
+    """One line: every interval of speeds where the machine is unstable, or else that it is
+    stable (naming the least damped mode) or marginal over the range."""
+    intervals = result.unstable_intervals
+    if intervals:
+        return "unstable " + " and ".join(_interval(result, start, stop) for start, stop in intervals)
+    if result.stable.all():
+        return "stable over the range; least damped: " + _least_damped(result)
+    marginal = int((result.largest_real_parts == 0).sum())
+    return (f"stable or marginal over the range: at {marginal} of {len(result.speeds)} speeds the largest real "
+            "part is zero to round-off (an undamped mode, or a root too small beside the model's largest to "
+            "tell its sign; docs/theory.md, section 11); least damped: " + _least_damped(result))
+
+
+def _interval(result, start, stop):
+    import numpy as np
+
+    begin = (f"from {start * 30 / np.pi:.6g} rpm" if np.isfinite(start)
+             else f"from the start of the range ({result.speeds_rpm[0]:.6g} rpm)")
+    return begin + (f" to {stop * 30 / np.pi:.6g} rpm" if np.isfinite(stop) else "")
+
+
+def _least_damped(result):
+    """``mode 4 at 2500 rpm: log decrement 0.123, 6.21 Hz, backward whirl (mode 2 of modes --speed 2500)``."""
+    found = result.least_damped()
+    if found is None:
+        return "none of the roots is a mode (no oscillating root at any speed)"
+    mode, k = found
+    column = mode - 1
+    speed = _rpm(result.speeds[k])
+    undamped = result.significant_real_parts[k, column] == 0
+    log_dec = "0 (zero to round-off)" if undamped else f"{result.log_decrements[k, column]:.4g}"
+    return (f"mode {mode} at {speed} rpm: log decrement {log_dec}, "
+            f"{result.frequencies_hz[k, column]:.5g} Hz, {_whirl(result.whirl[k, column])} "
+            f"(mode {result.modes_at_speed[k, column]} of modes --speed {speed})")
+
+
+def _whirl(label):
+    return "no whirl" if label == "none" else f"{label} whirl"

@@ -215,10 +215,9 @@ def _describe_stability(model, options):
 
 def _run_stability(model, options, layout, cache):
     from ..analysis.stability import stability
-    from ..analysis.stability import _significant_real_parts
 
     result = stability(model, options["speeds"])
-    largest = _significant_real_parts(result.eigenvalues).max(axis=1)
+    largest = result.largest_real_parts        # zero within round-off, as the thresholds count it
     # lowest speed of the sweep where the machine is unstable: the threshold, or the
     # sweep's start when it is unstable there already (NaN: stable over the sweep)
     start = result.speeds[0] if largest[0] > 0 else result.threshold_speed

@@ -1,0 +1,153 @@
+"""One mode numbering (docs/model-file.md, "Mode numbers"): a sweep's line or row names a mode by
+its tracked label and by its number in ``modes --speed S`` (``mode_at_speed``); that number is the
+mode ``modes`` lists and ``modes --shape`` draws. Round trips through the command line:
+stability -> modes at the threshold (the named mode has a zero real part there, the closed form's
+frequency, and is the one that is unstable just above), critical-speeds -> modes at each critical
+speed (the named mode's frequency is on the excitation order line), campbell -> modes.
+"""
+
+from __future__ import annotations
+
+import io
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.analysis.mode_shapes import mode_shape_3d
+from rotordyn_modal.cli import main
+
+LINE = re.compile(r"mode (\d+) loses stability at ([0-9.e+]+) rpm \(([0-9.e+]+) Hz, (\w+) whirl; "
+                  r"mode (\d+) of modes --speed ([0-9.e+]+)\)")
+
+
+def _cli(argv, capsys):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    return out, err
+
+
+def _modes_table(model_path, speed_rpm, capsys):
+    out, _ = _cli(["modes", model_path, "--speed", speed_rpm, "--out", "-"], capsys)
+    return pd.read_csv(io.StringIO(out)).set_index("mode")
+
+
+# the cross-coupled example's threshold in closed form: tests/test_unstable_example.py
+def _cross_coupled_whirl_hz():
+    return 8.0e3 / 200.0 / (2 * np.pi)          # |q / c| [rad/s] -> Hz
+
+
+@pytest.mark.parametrize("example, speeds, tracked_differs", [
+    ("unstable_cross_coupled.toml", "0:20000:101", True),
+    ("journal_rotor.toml", "500:20000:40", True),
+])
+def test_the_mode_stability_names_is_the_one_modes_lists_and_draws(examples_dir, capsys, example, speeds,
+                                                                     tracked_differs):
+    path = examples_dir / example
+    _, err = _cli(["stability", path, "--speeds", speeds, "--out", "-"], capsys)
+    found = [LINE.search(line) for line in err.splitlines() if " loses stability at " in line]
+    assert len(found) == 1 and found[0], err
+    tracked, threshold, frequency, whirl, number, again = found[0].groups()
+    assert again == threshold                                    # the speed to give modes is the threshold
+    table = _modes_table(path, threshold, capsys)
+    row = table.loc[int(number)]
+    omega = 2 * np.pi * row.frequency_hz
+    # the named mode is the one on the boundary: real part zero (to the printed speed's 8 digits)
+    assert abs(row.real_part) < 1e-6 * omega
+    assert row.frequency_hz == pytest.approx(float(frequency), rel=1e-4) and row.whirl == whirl
+    if example.startswith("unstable"):
+        assert row.frequency_hz == pytest.approx(_cross_coupled_whirl_hz(), rel=1e-6)
+        assert whirl == "backward"
+    # ... and the one that is unstable just above: the root nearest its frequency has Re > 0 there
+    above = _modes_table(path, f"{float(threshold) * 1.01:.8g}", capsys)
+    nearest = (above.frequency_hz - row.frequency_hz).abs().idxmin()
+    assert above.loc[nearest].real_part > 0 and (above.real_part > 0).sum() == 1
+    # modes --shape N draws that mode (mode_shape_3d is what the command draws)
+    model = rdm.load_model(path)
+    shape = mode_shape_3d(rdm.modal(model, rdm.rpm(float(threshold))), model, int(number))
+    assert shape.frequency_hz == pytest.approx(row.frequency_hz, rel=1e-9)
+    # the tracked label alone would name another mode at that speed (the bug this numbering fixes)
+    assert (int(tracked) != int(number)) == tracked_differs
+    if tracked_differs and int(tracked) in table.index:
+        assert abs(table.loc[int(tracked)].real_part) > 1e-3 * omega
+
+
+def test_the_stability_tables_mode_at_speed_is_the_modes_number(examples_dir, capsys):
+    """Every row of the stability CSV: the mode ``modes --speed SPEED`` numbers mode_at_speed has
+    the row's frequency and real part."""
+    path = examples_dir / "unstable_cross_coupled.toml"
+    out, _ = _cli(["stability", path, "--speeds", "0:20000:5", "--out", "-"], capsys)
+    table = pd.read_csv(io.StringIO(out))
+    assert list(table.columns)[:6] == ["speed_rpm", "value", "mode", "real_part", "damping_ratio", "log_decrement"]
+    assert table.columns[-1] == "mode_at_speed"
+    checked = 0
+    for speed, rows in table.groupby("speed_rpm"):
+        modes = _modes_table(path, f"{speed:.10g}", capsys)
+        for _, row in rows[rows.mode_at_speed.notna()].iterrows():
+            listed = modes.loc[int(row.mode_at_speed)]
+            assert listed.frequency_hz == pytest.approx(row.frequency_hz, rel=1e-9)
+            assert listed.real_part == pytest.approx(row.real_part, rel=1e-7, abs=1e-9)
+            checked += 1
+        assert sorted(rows.mode_at_speed.dropna().astype(int)) == list(modes.index)   # each mode once
+    assert checked == 5 * 6
+
+
+def test_critical_speeds_name_the_mode_modes_lists(examples_dir, capsys):
+    """At each critical speed, the mode ``modes --speed`` numbers mode_at_speed has its frequency
+    on the order line (order x the source rotor's speed ratio x speed); on this fan, tracked
+    labels and those numbers differ for some rows."""
+    path = examples_dir / "fan_on_bearings.toml"
+    model = rdm.load_model(path)
+    ratios = {rotor.name: abs(rotor.speed_ratio) for rotor in model.rotors}
+    out, _ = _cli(["critical-speeds", path, "--speeds", "0:12000:121", "--orders", "1,2", "--out", "-"], capsys)
+    table = pd.read_csv(io.StringIO(out))
+    assert list(table.columns)[:6] == ["source", "order", "mode", "speed_rpm", "frequency_hz", "whirl"]
+    assert table.columns[-1] == "mode_at_speed"
+    rows = table[table.source.isin(list(ratios))]
+    differs = rows["mode"] != rows.mode_at_speed
+    assert len(rows) >= 5 and differs.any()
+    for _, row in rows[differs | (np.arange(len(rows)) % 4 == 0)].iterrows():   # a quarter of the others
+        modes = _modes_table(path, f"{row.speed_rpm:.10g}", capsys)
+        listed = modes.loc[int(row.mode_at_speed)]
+        line = row.order * ratios[row.source] * row.speed_rpm / 60.0
+        assert listed.frequency_hz == pytest.approx(line, rel=1e-6)
+        assert listed.whirl == row.whirl
+
+
+def test_campbells_mode_at_speed_is_the_modes_number(examples_dir, capsys):
+    path = examples_dir / "fan_on_bearings.toml"
+    out, _ = _cli(["campbell", path, "--speeds", "0:9000:4", "--out", "-"], capsys)
+    table = pd.read_csv(io.StringIO(out))
+    assert table.columns[-1] == "mode_at_speed"
+    for speed, rows in table.groupby("speed_rpm"):
+        modes = _modes_table(path, f"{speed:.10g}", capsys)
+        np.testing.assert_allclose(modes.loc[rows.mode_at_speed.astype(int), "frequency_hz"].to_numpy(),
+                                   rows.frequency_hz.to_numpy(), rtol=1e-9)
+
+
+def test_where_a_root_crosses_the_modes_frequency_inside_the_bracket_the_number_is_solved_for(examples_dir):
+    """When the sweep's numbers of a mode at the grid speeds around a crossing differ (another
+    root crossed its frequency in between), the number comes from the roots solved at the
+    critical speed: that of ``modal`` there. Forced here by swapping two columns of the sweep
+    at the grid speed above each crossing."""
+    from rotordyn_modal.analysis.mode_numbers import numbers_at_crossings
+
+    model = rdm.load_model(examples_dir / "fan_on_bearings.toml")
+    result = rdm.campbell(model, rdm.rpm(np.linspace(0.0, 12000.0, 61)), orders=(1,))
+    critical = result.critical
+    imag = 2 * np.pi * critical.frequencies_hz
+    zeta = critical.damping_ratios
+    eigenvalues = -zeta * imag / np.sqrt(1 - zeta**2) + 1j * imag
+    for p in range(0, len(critical.speeds), 3):
+        sweep = result.eigenvalues.copy()
+        k = int(np.searchsorted(result.speeds, critical.speeds[p]))
+        column = critical.mode[p] - 1
+        other = (column + 1) % sweep.shape[1]
+        sweep[k, [column, other]] = sweep[k, [other, column]] + [0.0, 1e3j]   # its number changes at k
+        found = numbers_at_crossings(model, result.speeds, sweep, critical.speeds[p:p + 1],
+                                     critical.mode[p:p + 1], eigenvalues[p:p + 1])[0]
+        modes = rdm.modal(model, critical.speeds[p]).to_dataframe()
+        assert modes.frequency_hz[found - 1] == pytest.approx(critical.frequencies_hz[p], rel=1e-6)

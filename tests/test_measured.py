@@ -129,8 +129,10 @@ def test_unmapped_channel_is_refused_with_the_table(tmp_path, model):
 
 
 @pytest.mark.parametrize("overrides,message", [
-    ({"ordinate_axis_units_lab": "g"}, "ordinate unit 'g': expected SI m/s^2 for accelerance"),
-    ({"orddenom_axis_units_lab": "lbf"}, "denominator unit 'lbf': expected N"),
+    ({"ordinate_axis_units_lab": "V"}, "ordinate unit 'V' is not understood: expected units such as"),
+    ({"ordinate_axis_units_lab": "N"}, "expected a displacement, velocity or acceleration over an excitation force"),
+    ({"orddenom_axis_units_lab": "m"}, "(data type 13, excitation force; unit 'm'): expected a displacement"),
+    ({"ordinate_axis_units_lab": "m/s"}, "ordinate data type 12 (acceleration) but unit 'm/s' gives mobility"),
     ({"orddenom_spec_data_type": 8}, "denominator data type 8: expected 13"),
     ({"ordinate_spec_data_type": 2}, "ordinate data type(s) [2]: expected one of 8"),
     ({"func_type": 1}, "no FRF (dataset 58, function type 4) in the file; function types found: [1]"),
@@ -194,8 +196,8 @@ def test_mapping_table_refusals(tmp_path, model):
     table.write_text("name,node,direction\nacc-top-q,7,3\n")
     with pytest.raises(InputError, match="name 'acc-top-q' is neither a sensor"):
         read_measured(tmp_path / "lab.uff", model, table)
-    # UFF direction codes are +-1 .. +-6 (X, Y, Z, then rotations); 0 and 7 name no direction
-    for code in (0, 7, -7):
+    # UFF direction codes are +-1 .. +-6 (X, Y, Z, then rotations), 0 a scalar; 7 names nothing
+    for code in (7, -7):
         table.write_text(f"name,node,direction\nacc-top-z,7,{code}\n")
         with pytest.raises(InputError, match=f"line 2: direction = {code}: expected a UFF direction code"):
             read_measured(tmp_path / "lab.uff", model, table)

@@ -25,11 +25,15 @@ class ChannelMap:
     Attributes
     ----------
     outputs, inputs : dict[tuple[int, int], tuple[str, float]]
+    oblique : dict[str, tuple of float]
+        Channels the default mapping gave the nearest axis code although they measure along no
+        model axis: name -> direction. A UFF 58 file cannot say such a direction (it is not written).
     """
 
-    def __init__(self, outputs, inputs):
+    def __init__(self, outputs, inputs, oblique=None):
         self.outputs = dict(outputs)
         self.inputs = dict(inputs)
+        self.oblique = dict(oblique or {})
 
     def node_of(self, name):
         """``(node, direction, sign)`` of a sensor or excitation name."""
@@ -47,11 +51,20 @@ def _axis_code(direction, rotation: bool = False) -> int:
 
 
 def default_mapping(model) -> ChannelMap:
-    """Sensor k -> node k, excitation k -> node 100 + k; direction = nearest signed model axis."""
+    """Sensor k -> node k, excitation k -> node 100 + k; direction = nearest signed model axis
+    (a channel along no axis is listed in ``oblique``)."""
     outputs = {(k + 1, _axis_code(s.direction)): (s.name, 1.0) for k, s in enumerate(model.sensors)}
     inputs = {(101 + k, _axis_code(x.direction, x.kind == "moment")): (x.name, 1.0)
               for k, x in enumerate(model.excitations)}
-    return ChannelMap(outputs, inputs)
+    oblique = {c.name: tuple(float(v) for v in c.direction) for c in (*model.sensors, *model.excitations)
+               if not _along_an_axis(c.direction)}
+    return ChannelMap(outputs, inputs, oblique)
+
+
+def _along_an_axis(direction) -> bool:
+    """True when a direction is a model axis (to 1e-12 of its length)."""
+    d = np.abs(np.asarray(direction, dtype=float))
+    return bool(d.max() >= (1.0 - 1e-12) * np.linalg.norm(d))
 
 
 def read_mapping(path, model) -> ChannelMap:

@@ -2,13 +2,19 @@
 time records (58, function type 1), header (151), units (164), coordinate systems (18, 2420)
 and node coordinates (15, 2411) read.
 
-Written: function type 4 (FRF), abscissa frequency [Hz] (type 18), ordinate
-displacement (8), velocity (11) or acceleration (12) over excitation force
-(13), SI unit labels, spin speed in the z-axis value [rpm]; coherence as
-function type 6 next to each FRF. Read: the same, and files from other tools
-whose unit labels are SI (``m``, ``m/s``, ``m/s^2`` over ``N``) or ``NONE``; a file whose
-dataset 164 declares other units is refused for FRFs and time records (node coordinates are
-converted with its length factor).
+Written: function type 4 (FRF), abscissa frequency (type 18, label ``Hz``), ordinate
+displacement (8), velocity (11) or acceleration (12) over excitation force (13), SI unit
+labels, spin speed in the z-axis value [rpm]; coherence as function type 6 next to each FRF.
+Channel names: ID line 1 (``output / input``, or the output there and the input in ID line 2
+when both do not fit 80 characters); record 6's entity names (10 characters) hold a name that
+fits, else ``NONE``. Directions are UFF codes +-1..+-6 (X, Y, Z, RX, RY, RZ) of the node's
+coordinate system: a channel along no model axis is refused unless a mapping table names its
+node and direction.
+
+Read: FRFs and time records as other tools write them, converted to SI with their unit labels
+(:mod:`.unit_labels`: ``g``, ``mm/s``, ``um``, ``lbf``, ``(1/N)*(m/s²)``, ...) or, without a
+label, with the dataset 164 factors (a label contradicting a 164 of other than SI units is
+refused); node coordinates with the 164 length factor.
 
 ``pyuff`` pitfalls handled here: ``write_sets(mode='overwrite')`` corrupts a
 file that starts with a binary 58b set, so every file is written new (a
@@ -86,9 +92,30 @@ def write_uff58(results, path, mapping, binary: bool | None = None, inputs=()) -
 
         warnings.warn(f"{path}: ASCII UFF 58 keeps frequencies and speeds to 6 significant digits only; "
                       "binary=True (58b) keeps them exactly", stacklevel=2)
+    _check_writable_channels(results, mapping, path)
     sets = [d for res in results for d in _datasets(res, mapping, binary)]
     with atomic_write(path, None) as temporary:
         pyuff.UFF(temporary).write_sets(sets, mode="add")
+
+
+def _check_writable_channels(results, mapping, path):
+    """Refuse what UFF 58 cannot say: a channel along no model axis (without a mapping naming its
+    node and direction), or a name longer than an ID line (80 characters)."""
+    for name in sorted({n for res in results for n in (*res.outputs, *res.inputs)}):
+        if name in mapping.oblique:
+            direction = ", ".join(f"{v:.4g}" for v in mapping.oblique[name])
+            raise InputError(f"{path}: channel {name!r} measures along ({direction}), along no model axis: UFF 58 "
+                             "gives a direction only as a code +-1..+-6 (X, Y, Z, RX, RY, RZ) of its node's "
+                             "coordinate system; give a mapping table (--mapping FILE.csv: name,node,direction) "
+                             "naming a node whose coordinate system has that axis, or write CSV")
+        if len(name) > 80:
+            raise InputError(f"{path}: channel name {name[:40]!r}... has {len(name)} characters: a UFF 58 ID line "
+                             "holds 80")
+
+
+def _entity(name):
+    """Record 6 holds 10 characters of an entity name: longer names are 'NONE' there (ID lines 1-2 hold them)."""
+    return name if len(name) <= 10 else "NONE"
 
 
 def _datasets(res, mapping, binary):
@@ -99,10 +126,13 @@ def _datasets(res, mapping, binary):
         for b, inp in enumerate(res.inputs):
             rsp_node, rsp_dir, rsp_sign = mapping.node_of(out)
             ref_node, ref_dir, ref_sign = mapping.node_of(inp)
+            both = f"{out} / {inp}"
+            names = dict(id1=both, id2="NONE") if len(both) <= 80 else dict(id1=out, id2=inp)
             common = dict(binary=int(binary), rsp_node=rsp_node, rsp_dir=rsp_dir, ref_node=ref_node,
-                          ref_dir=ref_dir, rsp_ent_name=out[:10], ref_ent_name=inp[:10],
-                          abscissa_spec_data_type=_FREQUENCY, x=np.asarray(res.frequencies_hz, float),
-                          z_axis_value=float(rpm), id1=f"{out} / {inp}"[:80], id4=f"{rpm:.6g} rpm"[:80])
+                          ref_dir=ref_dir, rsp_ent_name=_entity(out), ref_ent_name=_entity(inp),
+                          abscissa_spec_data_type=_FREQUENCY, abscissa_axis_units_lab="Hz",
+                          x=np.asarray(res.frequencies_hz, float), z_axis_value=float(rpm),
+                          id4=f"{rpm:.6g} rpm"[:80], **names)
             frf = res.H[a, b] * rsp_sign * ref_sign
             yield pyuff.prepare_58(func_type=_FRF, ordinate_spec_data_type=_TYPE_OF[res.quantity],
                                    ordinate_len_unit_exp=1, ordinate_axis_units_lab=_label(res.quantity),

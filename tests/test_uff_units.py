@@ -153,5 +153,5 @@ def test_a_force_and_a_response_at_one_node_and_direction_are_two_channels(tmp_p
 def test_unit_expressions(label, factor, dimension):
     parsed = parse_unit(label)
     assert parsed[1] == dimension and parsed[0] == pytest.approx(factor, rel=1e-15)
-    for bad in ("(m/s", "m/", "V", "m/s-2", ""):
+    for bad in ("(m/s", "m/", "V", "m/s-2", "", "m^5", "mm^400/mm^400", "(" * 5000 + "m" + ")" * 5000):
         assert parse_unit(bad) is None

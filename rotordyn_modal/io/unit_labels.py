@@ -55,6 +55,8 @@ _OF_DIMENSIONS = {v: k for k, v in QUANTITY_DIMENSIONS.items()}
 
 _TOKEN = re.compile(r"\s*(\*\*|\^|[*/()·]|[²³]|[+-]?\d+|[A-Za-zµμ]+)")
 _SUPERSCRIPT = {"²": 2, "³": 3}
+_LARGEST_POWER = 4
+_LONGEST = 80           # characters of a label (UFF: 20; deeper nesting is no unit)
 
 
 def is_none(label) -> bool:
@@ -76,6 +78,8 @@ def parse_unit(label):
         is not understood (an unknown unit or a malformed expression).
     """
     tokens, text, at = [], str(label).strip(), 0
+    if len(text) > _LONGEST:
+        return None
     while at < len(text):
         found = _TOKEN.match(text, at)
         if not found:
@@ -88,9 +92,9 @@ def parse_unit(label):
         return None
     try:
         value, rest = _product(tokens)
-    except (ValueError, IndexError, KeyError):
+    except (ValueError, IndexError, KeyError, ArithmeticError):
         return None
-    return None if rest else value
+    return None if rest or not 0.0 < value[0] < float("inf") else value
 
 
 def quantity_of(label):
@@ -139,4 +143,6 @@ def _power(tokens):
         exponent, tokens = int(tokens[0]), tokens[1:]
     else:
         exponent = 1
+    if abs(exponent) > _LARGEST_POWER:
+        raise ValueError(f"power {exponent}")
     return (value[0] ** exponent, tuple(exponent * x for x in value[1])), tokens

@@ -18,7 +18,9 @@ rigidly attached rotor at its centre of mass (seed 000 eq. 73/74), --forces roto
 force each rotor passes to the stator. --measured FILE (UFF 58/58b
 .uff/.unv, or CSV) draws the measurement of the same speed under the model in --plot.
 --out FILE.uff (or .unv) writes UFF 58 (58b when ASCII would round the frequencies) instead of CSV (nodes from --mapping, or the default
-mapping: sensor k is node k, excitation k is node 100 + k).
+mapping: sensor k is node k, excitation k is node 100 + k, direction the model axis; a sensor or
+excitation along no model axis needs --mapping, as UFF 58 directions are axis codes only). Measured
+UFF files are read in their own units (g, mm/s, lbf, dataset 164 factors) and converted to SI.
 
 CSV columns: frequency_hz,output,input,real,imag,magnitude,phase_deg
 

@@ -75,6 +75,15 @@ def test_unlabelled_time_records_take_the_dataset_164_factors(tmp_path, length, 
     np.testing.assert_allclose(read_uff_time_records(path).signals[0, 0], DATA * factor, rtol=1e-11)
 
 
+def test_rotations_take_the_rotational_exponents_of_dataset_164(tmp_path):
+    """About an axis (direction 5) an angular acceleration [rad/s^2] does not scale with the length
+    unit (Addendum A: exponent 0) while a moment (type 13) scales with length x force."""
+    path = _write(tmp_path / "t.uff", [_units(1000.0, 1000.0), _time_set(12, "NONE", direction=5),
+                                       _time_set(13, "NONE", node=2, direction=5)])
+    records = read_uff_time_records(path)
+    np.testing.assert_allclose(records.signals[0], [DATA, DATA * 1e-6], rtol=1e-11)
+
+
 def _frf_set(h, top_kind=12, top="NONE", bottom_kind=13, bottom="NONE"):
     return pyuff.prepare_58(binary=1, func_type=4, rsp_node=1, rsp_dir=3, ref_node=101, ref_dir=3,
                             ordinate_spec_data_type=top_kind, ordinate_axis_units_lab=top,
@@ -100,6 +109,7 @@ def _h(model):
     (None, dict(top="um", top_kind=1), "receptance", 1e-6),                       # over the force of type 13
     ((1000.0, 1.0), dict(), "accelerance", 1e-3),                                  # (mm/s^2)/N
     ((1.0, 1000.0), dict(), "accelerance", 1e3),                                   # (m/s^2)/mN
+    ((1.0, 1000.0), dict(bottom_kind=0), "accelerance", 1e3),                      # untyped denominator: mN
     ((1000.0, 1.0), dict(top="mm/s^2", bottom="N"), "accelerance", 1e-3),          # labels agreeing with 164
 ])
 def test_frfs_are_converted_with_labels_or_dataset_164(tmp_path, model, units, labels, quantity, factor):

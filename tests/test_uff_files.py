@@ -238,3 +238,17 @@ def test_nodes_defined_in_local_and_nested_coordinate_systems(tmp_path):
     np.testing.assert_allclose(nodes.coordinates, expected, rtol=0, atol=1e-12)
     np.testing.assert_allclose(nodes.axes[1], turned, atol=1e-12)
     np.testing.assert_allclose(nodes.axes[2], nested, atol=1e-12)
+
+
+def test_a_file_pyuff_prints_while_reading_is_read_without_a_word(capsys):
+    """pyuff's groups_test.uff: pyuff prints every dataset 2467 (groups) to standard output as it
+    reads; the terminal must show only what rotordyn_modal says."""
+    path = DATA / "groups_test.uff"
+    nodes = read_uff_nodes(path)
+    raw, = _pyuff_sets(path, 2411)
+    capsys.readouterr()
+    np.testing.assert_array_equal(nodes.numbers, np.asarray(raw["node_nums"]).astype(int))
+    assert read_uff_info(path)["datasets"] == [164, 2420, 2411, 2412, 2467]
+    with pytest.raises(InputError, match="no time record"):
+        read_uff_time_records(path)
+    assert capsys.readouterr().out == ""

@@ -24,6 +24,8 @@ default, so it is always given.
 
 from __future__ import annotations
 
+import contextlib
+import io
 from dataclasses import dataclass
 
 import numpy as np
@@ -421,7 +423,8 @@ def _all_sets(path):
     try:
         uff = pyuff.UFF(str(path))
         types = [int(t) for t in uff.get_set_types()]
-        sets = uff.read_sets() if types else []
+        with contextlib.redirect_stdout(io.StringIO()):    # pyuff prints some datasets (2467) as it reads
+            sets = uff.read_sets() if types else []
     except Exception as error:  # pyuff raises many kinds on a broken file
         raise InputError(f"{path}: not a readable Universal File ({type(error).__name__}: {error})") from None
     sets = [sets] if isinstance(sets, dict) else list(sets)

@@ -182,7 +182,8 @@ def test_pressure_records_are_read_in_pascal(tmp_path, code):
     file as data type 21 (sound pressure, as pyuff's Sample_UFF58 files)."""
     path = tmp_path / "mic.uff"
     text = (DATA / "dataset_milestone_in_header.uff").read_text()
-    path.write_text(text.replace("        15    0    0    0 Sound Pressure", f"        {code}    0    0    0 Sound Pressure"))
+    record_9 = "    0    0    0 Sound Pressure"
+    path.write_text(text.replace(f"        15{record_9}", f"        {code}{record_9}"))
     raw, = _pyuff_sets(DATA / "dataset_milestone_in_header.uff", 58)
     records = read_uff_time_records(path)
     assert records.quantities == ("pressure",) and records.channels == ("1:+1",)

@@ -4,9 +4,10 @@ and the grouping of measured FRF lines into model-named FRF sets.
 Mapping table (CSV ``name,node,direction[,sign]``): which UFF node and direction code
 (1/2/3 = +X/+Y/+Z, negative for minus, 4-6 rotations, 0 a scalar channel without direction,
 as some tools write) is which sensor or excitation of the model; ``sign`` -1 flips a channel.
-A sensor and an excitation may share a node and direction (a driving-point FRF). Without a table the default mapping is used: sensor k (from
-1) is node k, excitation k is node 100 + k, and the direction code is the model axis nearest
-to the channel's direction (signed).
+A sensor and an excitation may share a node and direction (a driving-point FRF). Without a
+table the default mapping is used: sensor k (from 1) is node k, excitation k is node 100 + k,
+and the direction code is the model axis nearest to the channel's direction (signed; a channel
+along no axis is listed in ``ChannelMap.oblique`` and not written to UFF).
 """
 
 from __future__ import annotations

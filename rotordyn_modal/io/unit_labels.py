@@ -6,7 +6,7 @@ multiplies, ``/`` divides (left to right: ``m/s/s`` is m s^-2), ``^n``, ``**n``,
 digits right after a unit (``m/s2``) raise to a power, ``1`` and parentheses group. Known units
 (any case where that is unambiguous): length ``m``, ``cm``, ``mm``, ``um``/``µm``, ``in``,
 ``mil``, ``ft``; time ``s``, ``ms``; frequency ``Hz``; acceleration of gravity ``g`` (standard,
-9.80665 m/s^2); force ``N``, ``mN``, ``kN``, ``lbf``; mass ``kg``; pressure ``Pa``, ``kPa``,
+9.80665 m/s^2); force ``N``, ``mN``, ``kN``, ``lbf``; mass ``kg``; pressure ``Pa``, ``hPa``, ``kPa``,
 ``MPa``, ``bar``, ``mbar``, ``psi``. A label of other units (``V``, ``mV/g``, ``dB``) is not
 understood, never guessed.
 
@@ -39,8 +39,8 @@ _UNITS = {
     "g": (STANDARD_GRAVITY, _ACCELERATION), "gn": (STANDARD_GRAVITY, _ACCELERATION),
     "N": (1.0, _FORCE), "mN": (1e-3, _FORCE), "kN": (1e3, _FORCE), "lbf": (_POUND_FORCE, _FORCE),
     "kg": (1.0, _MASS),
-    "Pa": (1.0, _PRESSURE), "kPa": (1e3, _PRESSURE), "MPa": (1e6, _PRESSURE), "bar": (1e5, _PRESSURE),
-    "mbar": (1e2, _PRESSURE), "psi": (_POUND_FORCE / _INCH ** 2, _PRESSURE),
+    "Pa": (1.0, _PRESSURE), "hPa": (1e2, _PRESSURE), "kPa": (1e3, _PRESSURE), "MPa": (1e6, _PRESSURE),
+    "bar": (1e5, _PRESSURE), "mbar": (1e2, _PRESSURE), "psi": (_POUND_FORCE / _INCH ** 2, _PRESSURE),
 }
 # case-insensitive spellings (M/S^2, HZ, LBF); 'mN' and 'MPa' keep their case only
 _FOLDED = {k.lower(): v for k, v in _UNITS.items() if k not in ("mN", "MPa")}

@@ -25,7 +25,9 @@ default, so it is always given.
 from __future__ import annotations
 
 import contextlib
+import functools
 import io
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -331,9 +333,16 @@ def _label_text(s, key, path):
     if "\ufffd" not in label:
         return label
     pattern = ".".join(re.escape(piece) for piece in label.split("\ufffd"))
-    with open(path, encoding="latin-1") as handle:
-        found = set(re.findall(pattern, handle.read()))
+    stat = os.stat(path)
+    found = set(re.findall(pattern, _latin1(str(path), stat.st_mtime_ns, stat.st_size)))
     return found.pop() if len(found) == 1 else label
+
+
+@functools.lru_cache(maxsize=1)
+def _latin1(path, mtime_ns, size):
+    """The file as Latin-1 text (one file kept: the labels of its sets are looked up one by one)."""
+    with open(path, encoding="latin-1") as handle:
+        return handle.read()
 
 
 def _abscissa_factor(s, expected, path):

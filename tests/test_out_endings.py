@@ -42,3 +42,10 @@ def test_an_out_in_a_format_not_written_is_refused(command, name, tmp_path, caps
 def test_frf_writes_every_ending_it_names(name, tmp_path):
     assert main([*COMMANDS["frf"], "--out", str(tmp_path / name), "--quiet"]) == 0
     assert (tmp_path / name).stat().st_size > 0
+
+
+def test_unbalance_orbits_table_must_be_csv(tmp_path, capsys):
+    target = tmp_path / "o.png"
+    code = main([*COMMANDS["unbalance"], "--orbits", str(target), "--quiet"])
+    assert code == 2 and not target.exists()
+    assert f"--orbits {target}: expected a file ending in .csv" in capsys.readouterr().err

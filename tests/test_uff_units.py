@@ -106,6 +106,8 @@ def _h(model):
     (None, dict(top="mm/s", top_kind=11, bottom="N"), "mobility", 1e-3),
     (None, dict(top="(1/N)*(m/s²)", top_kind=1, bottom_kind=0), "accelerance", 1.0),
     (None, dict(top="g/N", top_kind=0, bottom_kind=0), "accelerance", G),
+    (None, dict(top="m/s^2/N"), "accelerance", 1.0),                               # over type 13, no label
+    (None, dict(top="g/lbf", bottom="lbf"), "accelerance", G / LBF),               # the force said twice
     (None, dict(top="um", top_kind=1), "receptance", 1e-6),                       # over the force of type 13
     ((1000.0, 1.0), dict(), "accelerance", 1e-3),                                  # (mm/s^2)/N
     ((1.0, 1000.0), dict(), "accelerance", 1e3),                                   # (m/s^2)/mN

@@ -273,8 +273,9 @@ def _frf_units(s, units, path):
         quantity = _FRF_OF[top]
         if bottom is None:       # no denominator type or unit: the excitation force in the file's force unit
             bottom_factor = 1.0 / units.force
-    elif top in ORDINATE_TYPES.values() and is_none(bottom_label) and bottom_kind in (0, 1):
-        quantity, bottom_factor = top, 1.0          # the label holds the whole unit, e.g. (1/N)*(m/s²)
+    elif top in ORDINATE_TYPES.values() and bottom in ("force", None):
+        # the label holds the whole unit, e.g. (1/N)*(m/s²); a denominator label only repeats its force
+        quantity, bottom_factor = top, 1.0
     else:
         raise InputError(f"{where}: ordinate {_describe(s, 'ordinate', top_label)} over "
                          f"{_describe(s, 'orddenom', bottom_label)}: expected a displacement, velocity or "

@@ -165,8 +165,8 @@ def test_a_channel_repeated_in_a_four_channel_recording():
     path = DATA / "mps_4_channels_excerpt.uff"
     raw = _pyuff_sets(path, 58)
     assert [(s["rsp_node"], s["rsp_dir"]) for s in raw] == [(1, 3), (2, 3), (3, 3), (1, 3)]
-    with pytest.warns(UserWarning, match=r"node 1 direction \+3 is given by the time records 1 \('MPS set1 Dof1'\) "
-                                         r"and 4 \('MPS set1 Dof4'\) of one recording of 4 channels"):
+    with pytest.warns(UserWarning, match=r"node 1 direction \+3 is given by the time records 1 \('1\+Z', 'MPS set1 "
+                                         r"Dof1'\) and 4 \('1\+Z', 'MPS set1 Dof4'\) of one recording of 4 channels"):
         records = read_uff_time_records(path)
     assert records.channels == ("1:+3", "2:+3", "3:+3", "1:+3#2") and records.signals.shape == (1, 4, 64)
     np.testing.assert_array_equal(records.signals[0], np.stack([s["data"] for s in raw]))

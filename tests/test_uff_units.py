@@ -167,3 +167,16 @@ def test_unit_expressions(label, factor, dimension):
     assert parsed[1] == dimension and parsed[0] == pytest.approx(factor, rel=1e-15)
     for bad in ("(m/s", "m/", "V", "m/s-2", "", "m^5", "mm^400/mm^400", "(" * 5000 + "m" + ")" * 5000):
         assert parse_unit(bad) is None
+
+
+def test_channels_told_apart_by_their_entity_names_only(tmp_path):
+    """A recorder that numbers no nodes (node 0, direction 0) but names its channels: four sets, one
+    record of four channels (not four records of one), the later ones named 0:+0#2.. with a warning;
+    the same names twice (two hits) are two records."""
+    sets = [_time_set(12, "g", node=0, direction=0, rsp_ent_name=f"Ch{k}") for k in range(1, 5)]
+    path = _write(tmp_path / "t.uff", sets)
+    with pytest.warns(UserWarning, match=r"node 0 direction \+0 is given by the time records 1 \('Ch1', 'NONE'\)"):
+        records = read_uff_time_records(path)
+    assert records.channels == ("0:+0", "0:+0#2", "0:+0#3", "0:+0#4") and records.signals.shape == (1, 4, 64)
+    hits = _write(tmp_path / "hits.uff", [_time_set(12, "g", rsp_ent_name="acc") for _ in range(2)])
+    assert read_uff_time_records(hits).signals.shape == (2, 1, 64)

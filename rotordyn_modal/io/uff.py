@@ -574,12 +574,14 @@ def _system(systems, number, node, path):
 def read_uff_time_records(path, mapping=None, speed: float = 0.0):
     """Time records (dataset 58/58b, function type 1) of a Universal File.
 
-    Each set is a channel: its response node and direction. When every channel appears equally
+    Each set is a channel: its response node and direction, force or response, and entity name
+    (record 6: a recorder that numbers no nodes names its channels). When every channel appears equally
     often, its k-th set belongs to record k (e.g. one record per hit). When some channel appears
     more often than others, the sets are one recording of that many channels: a node and
     direction given twice (an export that numbered two sensors alike) is a channel of its own,
     named ``NODE:DIRECTION#2``, with a warning; with a mapping it is refused (the mapping cannot
-    tell which set is the model's channel).
+    tell which set is the model's channel). So are channels at one node and direction that only
+    their entity names tell apart.
 
     Quantities: displacement, velocity, acceleration, force (ordinate data types 8, 11, 12, 9/13),
     pressure (15, sound pressure 21), or what the unit label says for types 0 (unknown) and 1
@@ -614,12 +616,16 @@ def read_uff_time_records(path, mapping=None, speed: float = 0.0):
         quantity, factor = _time_quantity(s, units, path)
         dt = _time_step(s, path) * _abscissa_factor(s, _TIME, path)
         rate = 1.0 / dt if rate is None else rate
-        # a force and a response may share a node and direction (a driving point): two channels
-        key = (int(s.get("rsp_node", 0)), int(s.get("rsp_dir", 0)), quantity == "force")
+        # a channel: node, direction, force or response (a driving point has both) and entity name
+        # (a recorder that numbers no nodes names its channels)
+        entity = str(s.get("rsp_ent_name", "NONE")).strip()
+        key = (int(s.get("rsp_node", 0)), int(s.get("rsp_dir", 0)), quantity == "force",
+               "" if is_none(entity) else entity)
         if abs(1.0 / dt - rate) > 1e-6 * rate:
             raise InputError(f"{path}: channel {key[0]}:{key[1]:+d} is sampled at {1 / dt:g} Hz, another at "
                              f"{rate:g} Hz: every record must share one sampling rate")
-        channels.append((key, quantity, np.asarray(s["data"], dtype=float) * factor, str(s.get("id1", "")).strip()))
+        label = f"{len(channels) + 1} ({entity!r}, {str(s.get('id1', '')).strip()!r})"     # for messages
+        channels.append((key, quantity, np.asarray(s["data"], dtype=float) * factor, label))
     names, quantities, signals = _arrange(channels, mapping, path)
     return TimeRecords(signals=signals, sampling_rate_hz=float(rate), channels=tuple(names),
                        quantities=tuple(quantities), speed=float(speed))
@@ -635,8 +641,8 @@ def _arrange(channels, mapping, path):
         columns = {key: [c for c in channels if c[0] == key] for key in keys}
         records = [[columns[key][r] for key in keys] for r in range(counts[keys[0]])]
     else:                                            # one recording; a repeated channel is one more channel
-        _warn_repeats(channels, counts, mapping, path)
         records = [channels]
+    _check_alike(records[0], mapping, path)
     seen = Counter()
     names = []
     for key, quantity, _, _ in records[0]:
@@ -658,19 +664,26 @@ def _arrange(channels, mapping, path):
     return names, quantities, signals
 
 
-def _warn_repeats(channels, counts, mapping, path):
-    """A channel given twice in a recording of unequal counts: warn (or refuse with a mapping)."""
+def _check_alike(record, mapping, path):
+    """Channels of one record at one node and direction (both forces or both responses): a repeat in
+    a recording, or channels told apart by their entity names only. Warn (the later ones are
+    ``NODE:DIRECTION#2``, ...), or refuse with a mapping, which cannot tell which is its channel."""
     import warnings
+    from collections import defaultdict
 
-    key = next(k for k, n in counts.items() if n > 1)
-    where = [k for k, c in enumerate(channels) if c[0] == key]
-    sets = " and ".join(f"{k + 1} ({channels[k][3]!r})" for k in where)
-    text = (f"{path}: node {key[0]} direction {key[1]:+d} is given by the time records {sets} of one recording "
-            f"of {len(channels)} channels")
-    if mapping is not None:
-        raise InputError(f"{text}: the mapping cannot tell which is its channel; read the file without a "
-                         "mapping (channels NODE:DIRECTION, the repeats NODE:DIRECTION#2) or correct its nodes")
-    warnings.warn(f"{text}: read as channels {key[0]}:{key[1]:+d}, {key[0]}:{key[1]:+d}#2", stacklevel=4)
+    alike = defaultdict(list)
+    for key, _, _, label in record:
+        alike[key[:3]].append(label)
+    for (node, direction, _), labels in alike.items():
+        if len(labels) < 2:
+            continue
+        text = (f"{path}: node {node} direction {direction:+d} is given by the time records {' and '.join(labels)} "
+                f"of one recording of {len(record)} channels")
+        if mapping is not None:
+            raise InputError(f"{text}: the mapping cannot tell which is its channel; read the file without a "
+                             "mapping (channels NODE:DIRECTION, the repeats NODE:DIRECTION#2) or correct its nodes")
+        repeats = ", ".join(f"{node}:{direction:+d}" + (f"#{k + 1}" if k else "") for k in range(len(labels)))
+        warnings.warn(f"{text}: read as channels {repeats}", stacklevel=4)
 
 
 def _time_quantity(s, units, path):

@@ -186,3 +186,15 @@ def test_progress_bar_counts_model_evaluations_and_changes_nothing(measured_file
     assert "fit (model evaluations)" in bar and "start 2/2" in bar
     np.testing.assert_array_equal(shown.factors, quiet.factors)
     np.testing.assert_array_equal(shown.start_costs, quiet.start_costs)
+
+
+def test_measured_lines_all_of_coherence_zero_are_refused_not_a_crash():
+    """A measured file whose coherence is 0 on every line gives every line weight 0 (found by
+    tests/fuzz_many.py: exit 1, "Residuals are not finite"): refused naming the cause; without the
+    coherence weighting the same data fit."""
+    model = rdm.load_model(EXAMPLE)
+    res = rdm.frf(model, 0.0, np.linspace(3.0, 40.0, 40), quantity="accelerance")
+    silent = FRFResult(**{**res.__dict__, "coherence": np.zeros(res.H.shape)})
+    with pytest.raises(InputError, match="the coherence is 0 at every measured line in the band"):
+        fit(model, [silent], ["gain"], starts=1)
+    assert fit(model, [silent], ["gain"], weighting="none", starts=1).factors[0] == pytest.approx(1.0, rel=1e-6)

@@ -129,8 +129,10 @@ def test_unmapped_channel_is_refused_with_the_table(tmp_path, model):
 
 
 @pytest.mark.parametrize("overrides,message", [
-    ({"ordinate_axis_units_lab": "g"}, "ordinate unit 'g': expected SI m/s^2 for accelerance"),
-    ({"orddenom_axis_units_lab": "lbf"}, "denominator unit 'lbf': expected N"),
+    ({"ordinate_axis_units_lab": "V"}, "ordinate unit 'V' is not understood: expected units such as"),
+    ({"ordinate_axis_units_lab": "N"}, "expected a displacement, velocity or acceleration over an excitation force"),
+    ({"orddenom_axis_units_lab": "m"}, "(data type 13, excitation force; unit 'm'): expected a displacement"),
+    ({"ordinate_axis_units_lab": "m/s"}, "ordinate data type 12 (acceleration) but unit 'm/s' gives mobility"),
     ({"orddenom_spec_data_type": 8}, "denominator data type 8: expected 13"),
     ({"ordinate_spec_data_type": 2}, "ordinate data type(s) [2]: expected one of 8"),
     ({"func_type": 1}, "no FRF (dataset 58, function type 4) in the file; function types found: [1]"),
@@ -194,8 +196,8 @@ def test_mapping_table_refusals(tmp_path, model):
     table.write_text("name,node,direction\nacc-top-q,7,3\n")
     with pytest.raises(InputError, match="name 'acc-top-q' is neither a sensor"):
         read_measured(tmp_path / "lab.uff", model, table)
-    # UFF direction codes are +-1 .. +-6 (X, Y, Z, then rotations); 0 and 7 name no direction
-    for code in (0, 7, -7):
+    # UFF direction codes are +-1 .. +-6 (X, Y, Z, then rotations), 0 a scalar; 7 names nothing
+    for code in (7, -7):
         table.write_text(f"name,node,direction\nacc-top-z,7,{code}\n")
         with pytest.raises(InputError, match=f"line 2: direction = {code}: expected a UFF direction code"):
             read_measured(tmp_path / "lab.uff", model, table)
@@ -230,3 +232,45 @@ def test_frequencies_that_ascii_would_round_go_binary(tmp_path, model):
         write_uff58([res], ascii_, default_mapping(model), binary=False)
     rounded, = read_measured(ascii_, model)
     assert 0 < np.abs(rounded.frequencies_hz - res.frequencies_hz).max() <= 5e-6 * 40
+
+
+def test_written_uff_says_hz_and_keeps_long_channel_names(tmp_path, model):
+    """Record 8 names the abscissa unit (Hz, not NONE); a name longer than record 6's 10-character
+    entity field is never cut: the field says NONE and ID line 1 holds the whole name."""
+    data = model.to_dict()
+    data["sensors"][0]["name"] = "accelerometer-top-z"
+    long = rdm.Model.from_dict(data)
+    path = tmp_path / "long.uff"
+    write_uff58([rdm.frf(long, 0.0, FREQS, quantity="accelerance")], path, default_mapping(long))
+    sets = [s for s in pyuff.UFF(str(path)).read_sets() if s["func_type"] == 4]
+    assert {s["abscissa_axis_units_lab"] for s in sets} == {"Hz"}
+    first = [s for s in sets if s["rsp_node"] == 1]
+    assert first and all(s["rsp_ent_name"] == "NONE" and s["id1"].startswith("accelerometer-top-z / ") for s in first)
+    assert {s["rsp_ent_name"] for s in sets if s["rsp_node"] == 2} == {"acc-side-y"}
+    assert read_measured(path, long)[0].outputs == ("accelerometer-top-z", "acc-side-y")
+
+
+def test_an_oblique_channel_is_not_written_as_the_nearest_axis(tmp_path, model):
+    """A sensor along (0, 0.6, 0.8): UFF 58 direction codes are the node's axes only, so without a
+    mapping naming its node and direction the file is refused (exit 2, nothing written); the
+    default mapping lists it as oblique."""
+    from rotordyn_modal.cli.main import main
+    from rotordyn_modal.io.channels import read_mapping
+
+    data = model.to_dict()
+    data["sensors"][1]["direction"] = [0.0, 0.6, 0.8]
+    oblique = rdm.Model.from_dict(data)
+    mapping = default_mapping(oblique)
+    assert list(mapping.oblique) == ["acc-side-y"]
+    res = rdm.frf(oblique, 0.0, FREQS, quantity="accelerance")
+    with pytest.raises(InputError, match="channel 'acc-side-y' measures along \\(0, 0.6, 0.8\\), along no model axis"):
+        write_uff58([res], tmp_path / "o.uff", mapping)
+    assert not (tmp_path / "o.uff").exists()
+    table = tmp_path / "map.csv"
+    table.write_text("name,node,direction\nacc-top-z,1,3\nacc-side-y,40,1\nhammer-z,101,3\nshaker-y,102,2\n")
+    write_uff58([res], tmp_path / "o.uff", read_mapping(table, oblique))
+    assert (40, 1) in {(s["rsp_node"], s["rsp_dir"]) for s in pyuff.UFF(str(tmp_path / "o.uff")).read_sets()}
+    model_file = tmp_path / "oblique.toml"
+    rdm.io.model_file.save_model(oblique, model_file)
+    assert main(["frf", str(model_file), "--freqs", "1:40:5", "--out", str(tmp_path / "c.uff"), "--quiet"]) == 2
+    assert not (tmp_path / "c.uff").exists()

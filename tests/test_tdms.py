@@ -26,8 +26,17 @@ def test_group_read_as_nptdms_reads_it_with_a_declared_unit():
         np.testing.assert_array_equal(records.signals[0, k], np.asarray(channel[:], dtype=float) * 9.80665)
 
 
+def test_a_group_in_g_is_read_in_m_per_s2_without_a_declaration():
+    """The unit string 'g' is the standard acceleration of gravity, 9.80665 m/s^2."""
+    records = read_tdms_records(GOOD, group="acceleration")
+    raw = nptdms.TdmsFile.read(str(GOOD))["acceleration"]
+    assert records.quantities == ("acceleration",) * 8
+    for k, channel in enumerate(raw.channels()):
+        np.testing.assert_array_equal(records.signals[0, k], np.asarray(channel[:], dtype=float) * 9.80665)
+
+
 @pytest.mark.parametrize("kwargs,message", [
-    ({"group": "acceleration"}, "channel 'SCB_ALM_RS_ACC_HOR004_X_nr1' has unit 'g': expected one of N, m"),
+    ({"group": "ambient"}, "channel 'temperature air' has unit 'C': expected a unit of force, displacement"),
     ({}, "several groups: give group= one of acceleration, ambient"),
     ({"group": "strain"}, "no group 'strain'"),
     ({"group": "acceleration", "channels": ["x"], "units": {"g": ("acceleration", 9.80665)}}, "has no channel x"),

@@ -92,8 +92,6 @@ def test_time_record_from_catman_reads_as_pyuff_does():
 
 
 @pytest.mark.parametrize("name,reader,message", [
-    ("binary8byte.uff", "time", "ordinate unit 'g': expected SI m/s^2 for acceleration"),
-    ("non_ascii_header.uff", "frf", "ordinate data type(s) [1]: expected one of 8 (displacement)"),
     ("non_ascii_header.uff", "time", "no time record (dataset 58, function type 1) in the file; "
                                      "dataset 58 function types found: [4]"),
     ("testlab_151_164_18_15_82.uff", "frf", "no dataset 58/58b (FRF) in the file; datasets found: [15, 18, 82, 151, 164]"),
@@ -113,7 +111,9 @@ def _write(path, sets):
     pyuff.UFF(str(path)).write_sets(sets, mode="add")
 
 
-def test_frfs_in_other_units_are_refused(tmp_path):
+def test_frfs_whose_unit_labels_contradict_dataset_164_are_refused(tmp_path):
+    """Labels m/s^2 and N (factors 1) in a file whose 164 says mm and mN (m/s^2 would be 1/1000):
+    which one holds cannot be told."""
     model = rdm.load_model(EXAMPLE)
     res = rdm.frf(model, 0.0, np.linspace(1, 40, 40), quantity="accelerance")
     path = tmp_path / "mm.uff"
@@ -121,8 +121,75 @@ def test_frfs_in_other_units_are_refused(tmp_path):
     sets = pyuff.UFF(str(path)).read_sets()
     _write(path, [pyuff.prepare_164(units_code=5, units_description="mm (milli-newton)", temp_mode=2,
                                     length=1000.0, force=1000.0, temp=1.0, temp_offset=273.15)] + sets)
-    with pytest.raises(InputError, match="dataset 164 gives units 'mm \\(milli-newton\\)'.*SI units only"):
+    with pytest.raises(InputError, match="ordinate unit 'm/s\\^2' \\(factor 1 to SI\\) contradicts the dataset 164 "
+                                         "units 'mm \\(milli-newton\\)'.*cannot tell which is right"):
         read_measured(path, model)
+
+
+def test_accelerations_in_g_are_converted_with_standard_gravity():
+    """pyuff's binary8byte.uff: a 5 Hz sine in g (ordinate type 12, label 'g'), in m/s^2 x 9.80665."""
+    path = DATA / "binary8byte.uff"
+    records = read_uff_time_records(path)
+    raw, = _pyuff_sets(path, 58)
+    assert raw["ordinate_axis_units_lab"] == "g" and records.quantities == ("acceleration",)
+    np.testing.assert_array_equal(records.signals[0, 0], raw["data"] * 9.80665)
+    assert records.sampling_rate_hz == pytest.approx(1 / raw["abscissa_inc"], rel=1e-12)
+
+
+def test_the_real_frf_file_is_read_by_its_unit_label(tmp_path):
+    """pyuff's non_ascii_header.uff: an H1 of ordinate type 1 (general), unit '(1/N)*(m/s²)' written in
+    Latin-1 (pyuff decodes the ² as U+FFFD), node and direction 0: an accelerance in SI units, read
+    through a mapping of node 0 direction 0 (response and reference alike), also by `frf --measured`."""
+    from rotordyn_modal.cli.main import main
+
+    path = DATA / "non_ascii_header.uff"
+    raw, = _pyuff_sets(path, 58)
+    assert raw["ordinate_spec_data_type"] == 1 and raw["ordinate_axis_units_lab"] == "(1/N)*(m/s\ufffd)"
+    table = tmp_path / "map.csv"
+    table.write_text("name,node,direction\nacc-top-z,0,0\nhammer-z,0,0\n")
+    model = rdm.load_model(EXAMPLE)
+    res, = read_measured(path, model, table)
+    assert res.quantity == "accelerance" and res.outputs == ("acc-top-z",) and res.inputs == ("hammer-z",)
+    np.testing.assert_array_equal(res.H[0, 0], raw["data"])
+    np.testing.assert_array_equal(res.frequencies_hz, raw["x"])
+    code = main(["frf", str(EXAMPLE), "--speed", "0", "--freqs", "0.2:1:5", "--measured", str(path), "--mapping",
+                 str(table), "--quantity", "accelerance", "--input", "hammer-z", "--output", "acc-top-z",
+                 "--quiet", "--out", str(tmp_path / "frf.csv")])
+    assert code == 0 and (tmp_path / "frf.csv").exists()
+
+
+def test_a_channel_repeated_in_a_four_channel_recording():
+    """An excerpt of pyuff's MPSTD file: four accelerations Dof1..Dof4, the fourth labelled node 1 +Z
+    like the first. Read as one record of four channels (the repeat named 1:+3#2, with a warning);
+    with a mapping the repeat cannot be named: refused."""
+    path = DATA / "mps_4_channels_excerpt.uff"
+    raw = _pyuff_sets(path, 58)
+    assert [(s["rsp_node"], s["rsp_dir"]) for s in raw] == [(1, 3), (2, 3), (3, 3), (1, 3)]
+    with pytest.warns(UserWarning, match=r"node 1 direction \+3 is given by the time records 1 \('1\+Z', 'MPS set1 "
+                                         r"Dof1'\) and 4 \('1\+Z', 'MPS set1 Dof4'\) of one recording of 4 channels"):
+        records = read_uff_time_records(path)
+    assert records.channels == ("1:+3", "2:+3", "3:+3", "1:+3#2") and records.signals.shape == (1, 4, 64)
+    np.testing.assert_array_equal(records.signals[0], np.stack([s["data"] for s in raw]))
+    assert records.sampling_rate_hz == pytest.approx(3200.0, rel=1e-12)
+    mapping = ChannelMap({(1, 3): ("acc-top-z", 1.0), (2, 3): ("acc-side-y", 1.0)}, {})
+    with pytest.raises(InputError, match="the mapping cannot tell which is its channel"):
+        read_uff_time_records(path, mapping)
+
+
+@pytest.mark.parametrize("code", [15, 21])
+def test_pressure_records_are_read_in_pascal(tmp_path, code):
+    """pyuff's dataset_milestone_in_header.uff: a microphone, data type 15 (pressure) in Pa; the same
+    file as data type 21 (sound pressure, as pyuff's Sample_UFF58 files)."""
+    path = tmp_path / "mic.uff"
+    text = (DATA / "dataset_milestone_in_header.uff").read_text()
+    record_9 = "    0    0    0 Sound Pressure"
+    path.write_text(text.replace(f"        15{record_9}", f"        {code}{record_9}"))
+    raw, = _pyuff_sets(DATA / "dataset_milestone_in_header.uff", 58)
+    records = read_uff_time_records(path)
+    assert records.quantities == ("pressure",) and records.channels == ("1:+1",)
+    np.testing.assert_array_equal(records.signals[0, 0], raw["data"])
+    figure = records.plot()
+    assert [ax.get_ylabel() for ax in figure.axes] == ["pressure [Pa]"]
 
 
 def test_hits_of_a_mapped_hammer_test(tmp_path):
@@ -172,3 +239,17 @@ def test_nodes_defined_in_local_and_nested_coordinate_systems(tmp_path):
     np.testing.assert_allclose(nodes.coordinates, expected, rtol=0, atol=1e-12)
     np.testing.assert_allclose(nodes.axes[1], turned, atol=1e-12)
     np.testing.assert_allclose(nodes.axes[2], nested, atol=1e-12)
+
+
+def test_a_file_pyuff_prints_while_reading_is_read_without_a_word(capsys):
+    """pyuff's groups_test.uff: pyuff prints every dataset 2467 (groups) to standard output as it
+    reads; the terminal must show only what rotordyn_modal says."""
+    path = DATA / "groups_test.uff"
+    nodes = read_uff_nodes(path)
+    raw, = _pyuff_sets(path, 2411)
+    capsys.readouterr()
+    np.testing.assert_array_equal(nodes.numbers, np.asarray(raw["node_nums"]).astype(int))
+    assert read_uff_info(path)["datasets"] == [164, 2420, 2411, 2412, 2467]
+    with pytest.raises(InputError, match="no time record"):
+        read_uff_time_records(path)
+    assert capsys.readouterr().out == ""

@@ -135,6 +135,9 @@ class _Problem:
             raise InputError("fit: no measured frequency line in the band "
                              f"{band_hz if band_hz is not None else ''}: nothing to fit")
         mean_w = np.mean(np.concatenate([w[v] for *_, v, w in self.sets]))
+        if not mean_w > 0:
+            raise InputError("fit: the coherence is 0 at every measured line in the band, so no line carries "
+                             "weight: nothing to fit (weighting='none', --no-coherence, fits without it)")
         self.weights = [w / mean_w / _scale(H, v) for (_, _, H, v, w) in self.sets]
         self.n_points = n
         self.bar = None

@@ -38,11 +38,12 @@ class TimeRecords:
     Attributes
     ----------
     signals : ndarray, shape (n_records, n_channels, n_samples)
-        SI units: N for forces, m, m/s, m/s^2 for responses.
+        SI units: N for forces, m, m/s, m/s^2 for responses, Pa for pressures.
     sampling_rate_hz : float
     channels : tuple of str
     quantities : tuple of str
-        Per channel: 'force', 'displacement', 'velocity' or 'acceleration'.
+        Per channel: 'force', 'displacement', 'velocity', 'acceleration' or 'pressure' (a microphone,
+        read but not used as an FRF's input or output).
     speed : float
         Reference rotor speed during the records [rad/s].
     """

@@ -81,10 +81,13 @@ def add_speed_unit(parser):
                         help="unit of --speed/--speeds (default rpm)")
 
 
-def add_outputs(parser, table: bool = True, plot: bool = True):
+def add_outputs(parser, table: bool = True, plot: bool = True, out_endings=(".csv",)):
+    """--out (a table; ``out_endings``: the file endings the sub-command writes), --plot, --quiet."""
     if table:
-        parser.add_argument("--out", metavar="FILE.csv",
-                            help="write the table as CSV ('-' for standard output)")
+        parser.add_argument("--out", metavar="FILE" + "|FILE".join(out_endings),
+                            help="write the table to this file, in the format of its ending "
+                                 f"({', '.join(out_endings)}; '-': CSV on standard output)")
+        parser.set_defaults(out_endings=tuple(out_endings))
     if plot:
         parser.add_argument("--plot", metavar="FILE.png|FILE.svg|FILE.pdf", help="draw the figure to this file")
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no table on the terminal")
@@ -126,6 +129,16 @@ def check_output_options(args):
             check_outputs(args, path)
             if not Path(path).parent.exists():
                 raise InputError(f"--{option} {path}: the folder {Path(path).parent} does not exist")
+    check_ending(out, getattr(args, "out_endings", None), "--out")
+
+
+def check_ending(path, endings, option: str):
+    """Refuse an output whose file ending is not one of the formats written (``-``: standard output)."""
+    from pathlib import Path
+
+    if path and path != "-" and endings and Path(path).suffix.lower() not in endings:
+        raise InputError(f"{option} {path}: expected a file ending in {' or '.join(endings)} (the format "
+                         "follows the ending)")
 
 
 def show_progress(args) -> bool:

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..io import save_model
-from ._common import (add_model_argument, check_output_options, check_outputs, load_model, parse_list,
+from ._common import (add_model_argument, check_ending, check_output_options, check_outputs, load_model, parse_list,
                       save_figure, show_progress, use_agg)
 
 NAME = "fit"
@@ -46,6 +46,7 @@ def run(args) -> int:
     from ..analysis.fit import fit
     from ..io.measured import read_measured
     check_outputs(args, args.out)
+    check_ending(args.out, (".toml",), "--out")
     check_output_options(args)
     model = load_model(args.model)
     params = [p.strip() for p in args.params.split(",") if p.strip()]

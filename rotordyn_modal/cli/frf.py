@@ -18,7 +18,9 @@ rigidly attached rotor at its centre of mass (seed 000 eq. 73/74), --forces roto
 force each rotor passes to the stator. --measured FILE (UFF 58/58b
 .uff/.unv, or CSV) draws the measurement of the same speed under the model in --plot.
 --out FILE.uff (or .unv) writes UFF 58 (58b when ASCII would round the frequencies) instead of CSV (nodes from --mapping, or the default
-mapping: sensor k is node k, excitation k is node 100 + k).
+mapping: sensor k is node k, excitation k is node 100 + k, direction the model axis; a sensor or
+excitation along no model axis needs --mapping, as UFF 58 directions are axis codes only). Measured
+UFF files are read in their own units (g, mm/s, lbf, dataset 164 factors) and converted to SI.
 
 CSV columns: frequency_hz,output,input,real,imag,magnitude,phase_deg
 
@@ -40,7 +42,7 @@ def add_arguments(parser):
                         help="forces per unit input instead of sensor motion")
     parser.add_argument("--measured", metavar="FILE", help="measured FRFs (.uff/.unv or .csv) to draw under the model")
     parser.add_argument("--mapping", metavar="FILE.csv", help="UFF node/direction to channel table: name,node,direction[,sign]")
-    add_outputs(parser)
+    add_outputs(parser, out_endings=(".csv", ".uff", ".unv"))
 
 
 def names(text):
@@ -51,6 +53,8 @@ def run(args) -> int:
     from ..analysis.forces import force_frf
     from ..analysis.frf import frf
     model = open_model(args)
+    if args.forces and args.out and args.out.lower().endswith((".uff", ".unv")):
+        raise InputError(f"--out {args.out}: force FRFs are written as CSV only")
     speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
     freqs = parse_range(args.freqs, "--freqs")
     if freqs.min() < 0:
@@ -77,8 +81,6 @@ def _write_uff(result, model, args):
     from ..io.measured import default_mapping, read_mapping
     from ..io.uff import write_uff58
 
-    if args.forces:
-        raise InputError(f"--out {args.out}: force FRFs are written as CSV only")
     mapping = read_mapping(args.mapping, model) if args.mapping else default_mapping(model)
     write_uff58([result], args.out, mapping, inputs=[args.model, args.measured])
     if not args.quiet:

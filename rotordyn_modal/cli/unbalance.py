@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
-from ._common import (add_model_argument, add_outputs, add_speed_unit, check_extra_output, open_model,
+from ._common import (add_model_argument, add_outputs, add_speed_unit, check_ending, check_extra_output, open_model,
                       parse_number, print_table, save_figure, speeds_option, speeds_text, to_rad_s, use_agg,
                       write_csv, write_table)
 from .frf import names
@@ -56,6 +56,7 @@ def add_arguments(parser):
 def run(args) -> int:
     from ..analysis.unbalance import unbalance_response
     check_extra_output(args, args.orbits, "--orbits")
+    check_ending(args.orbits, (".csv",), "--orbits")
     check_extra_output(args, args.orbit_plot, "--orbit-plot", figure=True)
     model = open_model(args)
     operating = None if args.operating_speed is None else \

@@ -2,10 +2,12 @@
 and the grouping of measured FRF lines into model-named FRF sets.
 
 Mapping table (CSV ``name,node,direction[,sign]``): which UFF node and direction code
-(1/2/3 = +X/+Y/+Z, negative for minus, 4-6 rotations) is which sensor or excitation of the
-model; ``sign`` -1 flips a channel. Without a table the default mapping is used: sensor k (from
-1) is node k, excitation k is node 100 + k, and the direction code is the model axis nearest
-to the channel's direction (signed).
+(1/2/3 = +X/+Y/+Z, negative for minus, 4-6 rotations, 0 a scalar channel without direction,
+as some tools write) is which sensor or excitation of the model; ``sign`` -1 flips a channel.
+A sensor and an excitation may share a node and direction (a driving-point FRF). Without a
+table the default mapping is used: sensor k (from 1) is node k, excitation k is node 100 + k,
+and the direction code is the model axis nearest to the channel's direction (signed; a channel
+along no axis is listed in ``ChannelMap.oblique`` and not written to UFF).
 """
 
 from __future__ import annotations
@@ -24,11 +26,15 @@ class ChannelMap:
     Attributes
     ----------
     outputs, inputs : dict[tuple[int, int], tuple[str, float]]
+    oblique : dict[str, tuple of float]
+        Channels the default mapping gave the nearest axis code although they measure along no
+        model axis: name -> direction. A UFF 58 file cannot say such a direction (it is not written).
     """
 
-    def __init__(self, outputs, inputs):
+    def __init__(self, outputs, inputs, oblique=None):
         self.outputs = dict(outputs)
         self.inputs = dict(inputs)
+        self.oblique = dict(oblique or {})
 
     def node_of(self, name):
         """``(node, direction, sign)`` of a sensor or excitation name."""
@@ -46,11 +52,20 @@ def _axis_code(direction, rotation: bool = False) -> int:
 
 
 def default_mapping(model) -> ChannelMap:
-    """Sensor k -> node k, excitation k -> node 100 + k; direction = nearest signed model axis."""
+    """Sensor k -> node k, excitation k -> node 100 + k; direction = nearest signed model axis
+    (a channel along no axis is listed in ``oblique``)."""
     outputs = {(k + 1, _axis_code(s.direction)): (s.name, 1.0) for k, s in enumerate(model.sensors)}
     inputs = {(101 + k, _axis_code(x.direction, x.kind == "moment")): (x.name, 1.0)
               for k, x in enumerate(model.excitations)}
-    return ChannelMap(outputs, inputs)
+    oblique = {c.name: tuple(float(v) for v in c.direction) for c in (*model.sensors, *model.excitations)
+               if not _along_an_axis(c.direction)}
+    return ChannelMap(outputs, inputs, oblique)
+
+
+def _along_an_axis(direction) -> bool:
+    """True when a direction is a model axis (to 1e-12 of its length)."""
+    d = np.abs(np.asarray(direction, dtype=float))
+    return bool(d.max() >= (1.0 - 1e-12) * np.linalg.norm(d))
 
 
 def read_mapping(path, model) -> ChannelMap:
@@ -69,17 +84,18 @@ def read_mapping(path, model) -> ChannelMap:
     outputs, inputs = {}, {}
     for line, row in enumerate(table.itertuples(index=False), start=2):
         key, sign = _mapping_row(row, "sign" in table.columns, path, line)
-        if key in outputs or key in inputs:
-            taken = (outputs.get(key) or inputs.get(key))[0]
-            raise InputError(f"{path}: line {line}: node {key[0]} direction {key[1]} is given to {taken!r} "
-                             f"already: expected each node and direction once")
         if row.name in sensors:
-            outputs[key] = (row.name, sign)
+            role = outputs
         elif row.name in excitations:
-            inputs[key] = (row.name, sign)
+            role = inputs
         else:
             raise InputError(f"{path}: name {row.name!r} is neither a sensor ({', '.join(sorted(sensors))}) "
                              f"nor an excitation ({', '.join(sorted(excitations))}) of the model")
+        if key in role:   # a response and a reference may share a node and direction (a driving point)
+            raise InputError(f"{path}: line {line}: node {key[0]} direction {key[1]} is given to {role[key][0]!r} "
+                             f"already: expected each node and direction once among the "
+                             f"{'sensors' if role is outputs else 'excitations'}")
+        role[key] = (row.name, sign)
     return ChannelMap(outputs, inputs)
 
 
@@ -96,9 +112,9 @@ def _mapping_row(row, has_sign, path, line):
         return int(number)
 
     node, direction = whole("node"), whole("direction")
-    if not 1 <= abs(direction) <= 6:
+    if not abs(direction) <= 6:
         raise InputError(f"{path}: line {line}: direction = {direction}: expected a UFF direction code "
-                         "+-1 .. +-6 (X, Y, Z, then rotations)")
+                         "+-1 .. +-6 (X, Y, Z, then rotations), or 0 (a scalar channel, no direction)")
     if not has_sign:
         return (node, direction), 1.0
     try:

@@ -1,10 +1,12 @@
 """LabVIEW TDMS time records through ``npTDMS`` (the ``tdms`` extra).
 
 One group of a TDMS file is one record: every channel of the group must share its sampling
-interval (``wf_increment``) and length. The channel's ``unit_string`` gives its quantity:
-``N`` (force), ``m`` (displacement), ``m/s`` (velocity), ``m/s^2`` / ``m/s²`` (acceleration);
-any other unit (``g``, ``mm/s``, ``lbf``) is refused unless ``units`` declares it, e.g.
-``units={"g": ("acceleration", 9.80665)}`` (quantity and factor to SI).
+interval (``wf_increment``) and length. The channel's ``unit_string`` gives its quantity and
+the factor to SI: ``N``, ``kN``, ``lbf`` (force), ``m``, ``mm``, ``um`` (displacement), ``m/s``,
+``mm/s``, ``in/s`` (velocity), ``m/s^2``, ``g`` (9.80665 m/s^2; acceleration), ``Pa``, ``hPa``,
+``bar`` (pressure), read by :mod:`.unit_labels`; ``units`` declares others or overrides,
+e.g. ``units={"V": ("acceleration", 9.80665 / 0.1)}`` (quantity and factor to SI). A unit that
+is neither (``V``, ``C``, ``°``) is refused.
 """
 
 from __future__ import annotations
@@ -12,12 +14,14 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from .unit_labels import quantity_of
 
 __all__ = ["read_tdms_records", "SI_UNITS"]
 
 #: unit string -> (quantity, factor to SI)
 SI_UNITS = {"N": ("force", 1.0), "m": ("displacement", 1.0), "m/s": ("velocity", 1.0),
             "m/s^2": ("acceleration", 1.0), "m/s²": ("acceleration", 1.0), "m/s2": ("acceleration", 1.0)}
+_QUANTITIES = ("force", "displacement", "velocity", "acceleration", "pressure")
 
 
 def _tdms_file(path):
@@ -71,10 +75,12 @@ def read_tdms_records(path, group: str | None = None, channels=None, units=None,
     for name in names:
         channel = available[name]
         unit = str(channel.properties.get("unit_string", "")).strip()
-        if unit not in known:
-            raise InputError(f"{path}: channel {name!r} has unit {unit!r}: expected one of {', '.join(SI_UNITS)}, "
-                             f"or declare it, e.g. units={{{unit!r}: ('acceleration', factor to SI)}}")
-        quantity, factor = known[unit]
+        read = known.get(unit) or quantity_of(unit)
+        if read is None or read[0] not in _QUANTITIES:
+            raise InputError(f"{path}: channel {name!r} has unit {unit!r}: expected a unit of force, displacement, "
+                             f"velocity, acceleration or pressure (e.g. {', '.join(SI_UNITS)}, g, mm/s), or declare "
+                             f"it, e.g. units={{{unit!r}: ('acceleration', factor to SI)}}")
+        quantity, factor = read
         signals.append(np.asarray(channel[:], dtype=float) * float(factor))
         quantities.append(quantity)
         steps.add(float(channel.properties.get("wf_increment", 0.0)))

@@ -2,13 +2,19 @@
 time records (58, function type 1), header (151), units (164), coordinate systems (18, 2420)
 and node coordinates (15, 2411) read.
 
-Written: function type 4 (FRF), abscissa frequency [Hz] (type 18), ordinate
-displacement (8), velocity (11) or acceleration (12) over excitation force
-(13), SI unit labels, spin speed in the z-axis value [rpm]; coherence as
-function type 6 next to each FRF. Read: the same, and files from other tools
-whose unit labels are SI (``m``, ``m/s``, ``m/s^2`` over ``N``) or ``NONE``; a file whose
-dataset 164 declares other units is refused for FRFs and time records (node coordinates are
-converted with its length factor).
+Written: function type 4 (FRF), abscissa frequency (type 18, label ``Hz``), ordinate
+displacement (8), velocity (11) or acceleration (12) over excitation force (13), SI unit
+labels, spin speed in the z-axis value [rpm]; coherence as function type 6 next to each FRF.
+Channel names: ID line 1 (``output / input``, or the output there and the input in ID line 2
+when both do not fit 80 characters); record 6's entity names (10 characters) hold a name that
+fits, else ``NONE``. Directions are UFF codes +-1..+-6 (X, Y, Z, RX, RY, RZ) of the node's
+coordinate system: a channel along no model axis is refused unless a mapping table names its
+node and direction.
+
+Read: FRFs and time records as other tools write them, converted to SI with their unit labels
+(:mod:`.unit_labels`: ``g``, ``mm/s``, ``um``, ``lbf``, ``(1/N)*(m/s²)``, ...) or, without a
+label, with the dataset 164 factors (a label contradicting a 164 of other than SI units is
+refused); node coordinates with the 164 length factor.
 
 ``pyuff`` pitfalls handled here: ``write_sets(mode='overwrite')`` corrupts a
 file that starts with a binary 58b set, so every file is written new (a
@@ -18,12 +24,17 @@ default, so it is always given.
 
 from __future__ import annotations
 
+import contextlib
+import functools
+import io
+import os
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
 from .channels import assemble
+from .unit_labels import is_none, parse_unit, quantity_of
 
 __all__ = ["read_uff58", "write_uff58", "ORDINATE_TYPES", "read_uff_info", "read_uff_nodes", "NodeTable",
            "UffUnits", "read_uff_time_records", "place_channels"]
@@ -31,11 +42,26 @@ __all__ = ["read_uff58", "write_uff58", "ORDINATE_TYPES", "read_uff_info", "read
 #: UFF specific data type of the ordinate -> FRF quantity
 ORDINATE_TYPES = {8: "receptance", 11: "mobility", 12: "accelerance"}
 _TYPE_OF = {v: k for k, v in ORDINATE_TYPES.items()}
-_UNIT_LABELS = {"receptance": {"m"}, "mobility": {"m/s"},
-                "accelerance": {"m/s^2", "m/s2", "m/s**2", "m/s²", "m/s/s"}}
 _FORCE = 13
 _FREQUENCY = 18
 _FRF, _COHERENCE = 4, 6
+_TIME = 17
+#: dataset 58 specific data types (records 8 to 10)
+_TYPE_NAMES = {0: "unknown", 1: "general", 2: "stress", 3: "strain", 5: "temperature", 6: "heat flux",
+               8: "displacement", 9: "reaction force", 11: "velocity", 12: "acceleration", 13: "excitation force",
+               15: "pressure", 16: "mass", 17: "time", 18: "frequency", 19: "rpm", 20: "order",
+               21: "sound pressure", 22: "sound intensity", 23: "sound power"}
+#: specific data type -> quantity read (unknown 0 and general 1: the unit label tells)
+_SPECIFIC = {8: "displacement", 11: "velocity", 12: "acceleration", 9: "force", 13: "force", 15: "pressure",
+             21: "pressure"}
+#: dataset 58 Addendum A: (length, force) exponents of the dataset 164 factors, translational and
+#: rotational direction (sound pressure 21, not in the table, as pressure 15)
+_EXPONENTS = {0: ((0, 0), (0, 0)), 8: ((1, 0), (0, 0)), 9: ((0, 1), (1, 1)), 11: ((1, 0), (0, 0)),
+              12: ((1, 0), (0, 0)), 13: ((0, 1), (1, 1)), 15: ((-2, 1), (-1, 1)), 21: ((-2, 1), (-1, 1))}
+_PART_NAMES = {"ordinate": "ordinate", "orddenom": "denominator"}
+_FRF_ORDINATES = (0, 1, 8, 11, 12)
+_FORCE_DENOMINATORS = (0, 1, 9, 13)
+_FRF_OF = {"displacement": "receptance", "velocity": "mobility", "acceleration": "accelerance"}
 
 
 def write_uff58(results, path, mapping, binary: bool | None = None, inputs=()) -> None:
@@ -70,9 +96,30 @@ def write_uff58(results, path, mapping, binary: bool | None = None, inputs=()) -
 
         warnings.warn(f"{path}: ASCII UFF 58 keeps frequencies and speeds to 6 significant digits only; "
                       "binary=True (58b) keeps them exactly", stacklevel=2)
+    _check_writable_channels(results, mapping, path)
     sets = [d for res in results for d in _datasets(res, mapping, binary)]
     with atomic_write(path, None) as temporary:
         pyuff.UFF(temporary).write_sets(sets, mode="add")
+
+
+def _check_writable_channels(results, mapping, path):
+    """Refuse what UFF 58 cannot say: a channel along no model axis (without a mapping naming its
+    node and direction), or a name longer than an ID line (80 characters)."""
+    for name in sorted({n for res in results for n in (*res.outputs, *res.inputs)}):
+        if name in mapping.oblique:
+            direction = ", ".join(f"{v:.4g}" for v in mapping.oblique[name])
+            raise InputError(f"{path}: channel {name!r} measures along ({direction}), along no model axis: UFF 58 "
+                             "gives a direction only as a code +-1..+-6 (X, Y, Z, RX, RY, RZ) of its node's "
+                             "coordinate system; give a mapping table (--mapping FILE.csv: name,node,direction) "
+                             "naming a node whose coordinate system has that axis, or write CSV")
+        if len(name) > 80:
+            raise InputError(f"{path}: channel name {name[:40]!r}... has {len(name)} characters: a UFF 58 ID line "
+                             "holds 80")
+
+
+def _entity(name):
+    """Record 6 holds 10 characters of an entity name: longer names are 'NONE' there (ID lines 1-2 hold them)."""
+    return name if len(name) <= 10 else "NONE"
 
 
 def _datasets(res, mapping, binary):
@@ -83,10 +130,13 @@ def _datasets(res, mapping, binary):
         for b, inp in enumerate(res.inputs):
             rsp_node, rsp_dir, rsp_sign = mapping.node_of(out)
             ref_node, ref_dir, ref_sign = mapping.node_of(inp)
+            both = f"{out} / {inp}"
+            names = dict(id1=both, id2="NONE") if len(both) <= 80 else dict(id1=out, id2=inp)
             common = dict(binary=int(binary), rsp_node=rsp_node, rsp_dir=rsp_dir, ref_node=ref_node,
-                          ref_dir=ref_dir, rsp_ent_name=out[:10], ref_ent_name=inp[:10],
-                          abscissa_spec_data_type=_FREQUENCY, x=np.asarray(res.frequencies_hz, float),
-                          z_axis_value=float(rpm), id1=f"{out} / {inp}"[:80], id4=f"{rpm:.6g} rpm"[:80])
+                          ref_dir=ref_dir, rsp_ent_name=_entity(out), ref_ent_name=_entity(inp),
+                          abscissa_spec_data_type=_FREQUENCY, abscissa_axis_units_lab="Hz",
+                          x=np.asarray(res.frequencies_hz, float), z_axis_value=float(rpm),
+                          id4=f"{rpm:.6g} rpm"[:80], **names)
             frf = res.H[a, b] * rsp_sign * ref_sign
             yield pyuff.prepare_58(func_type=_FRF, ordinate_spec_data_type=_TYPE_OF[res.quantity],
                                    ordinate_len_unit_exp=1, ordinate_axis_units_lab=_label(res.quantity),
@@ -110,6 +160,10 @@ def _label(quantity):
 def read_uff58(path, model, mapping):
     """Read every dataset 58/58b of a UFF file into model-named FRF sets (one per speed).
 
+    The FRF quantity and the factor to SI come from each set's unit labels (records 9 and 10,
+    e.g. ``m/s^2`` over ``N``, ``g/lbf``, ``(1/N)*(m/s²)``; see :mod:`.unit_labels`), or, where
+    the labels are ``NONE``, from its specific data types with the dataset 164 unit factors.
+
     Parameters
     ----------
     path : path-like
@@ -122,28 +176,29 @@ def read_uff58(path, model, mapping):
     """
     sets = _read_sets(path)
     units = _file_units(path)
-    if not units.is_si:
-        raise InputError(f"{path}: dataset 164 gives units {units.description!r} (length factor {units.length:g}, "
-                         f"force factor {units.force:g}): FRFs are read in SI units only")
     frfs = [s for s in sets if s.get("func_type") == _FRF]
     if not frfs:
         kinds = sorted({int(s.get("func_type", -1)) for s in sets})
         raise InputError(f"{path}: no FRF (dataset 58, function type 4) in the file; function types found: {kinds}")
-    quantity = _quantity(frfs, path)
+    read = [_frf_units(s, units, path) for s in frfs]
+    quantities = sorted({q for q, _ in read})
+    if len(quantities) != 1:
+        raise InputError(f"{path}: the FRFs hold {', '.join(quantities)}: expected one quantity in a file")
+    quantity = quantities[0]
     coherence = {_key(s): np.real(np.asarray(s["data"])) for s in sets if s.get("func_type") == _COHERENCE}
     parts = []
-    for s in frfs:
+    for s, (_, factor) in zip(frfs, read):
         _check_set(s, path)
         out, out_sign = _lookup(mapping.outputs, s["rsp_node"], s["rsp_dir"], "response", path)
         inp, in_sign = _lookup(mapping.inputs, s["ref_node"], s["ref_dir"], "reference", path)
-        x = np.asarray(s["x"], float)
+        x = np.asarray(s["x"], float) * _abscissa_factor(s, _FREQUENCY, path)
         coh = coherence.get(_key(s))
         if coh is not None and len(coh) != len(x):
             raise InputError(f"{path}: coherence of the FRF {s['rsp_node']}:{s['rsp_dir']} / {s['ref_node']}:"
                              f"{s['ref_dir']} has {len(coh)} values for {len(x)} frequencies: expected one per frequency")
         parts.append({"speed_rpm": np.full(len(x), round(float(s.get("z_axis_value", 0.0)), 9)),
                       "frequency_hz": x, "output": np.full(len(x), out), "input": np.full(len(x), inp),
-                      "value": np.asarray(s["data"], complex) * out_sign * in_sign,
+                      "value": np.asarray(s["data"], complex) * (factor * out_sign * in_sign),
                       "coherence": np.full(len(x), np.nan) if coh is None else coh})
     records = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
     if not coherence:
@@ -200,30 +255,115 @@ def _key(s):
             round(float(s.get("z_axis_value", 0.0)), 9))
 
 
-def _quantity(frfs, path):
-    kinds = {int(s.get("ordinate_spec_data_type", -1)) for s in frfs}
-    names = {ORDINATE_TYPES.get(k) for k in kinds}
-    if None in names or len(names) != 1:
-        raise InputError(f"{path}: ordinate data type(s) {sorted(kinds)}: expected one of 8 (displacement), "
-                         "11 (velocity), 12 (acceleration), the same for every FRF")
-    return names.pop()
+def _frf_units(s, units, path):
+    """``(quantity, factor to SI)`` of an FRF set: a response over a force, from its labels or data types."""
+    where = f"{path}: FRF {s['rsp_node']}:{s['rsp_dir']} / {s['ref_node']}:{s['ref_dir']}"
+    kind = int(s.get("ordinate_spec_data_type", -1))
+    if kind not in _FRF_ORDINATES:
+        raise InputError(f"{where}: ordinate data type(s) [{kind}]: expected one of 8 (displacement), 11 (velocity), "
+                         f"12 (acceleration), or 0/1 (unknown/general) with a unit label; {kind} is {_type_name(kind)}")
+    bottom_kind = int(s.get("orddenom_spec_data_type", 0))
+    if bottom_kind not in _FORCE_DENOMINATORS:
+        raise InputError(f"{where}: denominator data type {bottom_kind}: expected 13 (excitation force) or 9 "
+                         f"(reaction force), or 0/1 (unknown/general) with a unit label; {bottom_kind} is "
+                         f"{_type_name(bottom_kind)}")
+    top, top_factor, top_label = _measure(s, "ordinate", units, abs(int(s["rsp_dir"])) > 3, path, where)
+    bottom, bottom_factor, bottom_label = _measure(s, "orddenom", units, abs(int(s["ref_dir"])) > 3, path, where)
+    if top in _FRF_OF and bottom in ("force", None):
+        quantity = _FRF_OF[top]
+        if bottom is None:       # no denominator type or unit: the excitation force in the file's force unit
+            bottom_factor = 1.0 / units.force
+    elif top in ORDINATE_TYPES.values() and bottom in ("force", None):
+        # the label holds the whole unit, e.g. (1/N)*(m/s²); a denominator label only repeats its force
+        quantity, bottom_factor = top, 1.0
+    else:
+        raise InputError(f"{where}: ordinate {_describe(s, 'ordinate', top_label)} over "
+                         f"{_describe(s, 'orddenom', bottom_label)}: expected a displacement, velocity or "
+                         "acceleration over an excitation force (e.g. m/s^2 over N, g/lbf, (1/N)*(m/s²))")
+    if kind in ORDINATE_TYPES and ORDINATE_TYPES[kind] != quantity:
+        raise InputError(f"{where}: ordinate data type {kind} ({_type_name(kind)}) but unit {top_label!r} "
+                         f"gives {quantity}: the file contradicts itself")
+    return quantity, top_factor / bottom_factor
+
+
+def _type_name(kind):
+    return _TYPE_NAMES.get(int(kind), "not a UFF specific data type")
+
+
+def _describe(s, part, label):
+    kind = int(s.get(f"{part}_spec_data_type", 0))
+    return f"(data type {kind}, {_type_name(kind)}; unit {label!r})"
+
+
+def _measure(s, part, units, rotational, path, where):
+    """``(quantity or None, factor to SI, label)`` of a set's ordinate numerator (``part='ordinate'``)
+    or denominator (``'orddenom'``).
+
+    A unit label, when given, says the unit (dataset 58: labels take precedence); a dataset 164
+    of other than SI units must then agree with it. Without a label the specific data type gives
+    the quantity and Addendum A of dataset 58 the length and force exponents of the 164 factors
+    (the record's own exponents for type 1, general)."""
+    kind = int(s.get(f"{part}_spec_data_type", 0))
+    label = _label_text(s, f"{part}_axis_units_lab", path)
+    if is_none(label):
+        if kind in _EXPONENTS:
+            length, force = _EXPONENTS[kind][int(rotational)]
+        else:          # general (1) and types without a row in the table: the record gives the exponents
+            length, force = int(s.get(f"{part}_len_unit_exp", 0)), int(s.get(f"{part}_force_unit_exp", 0))
+        return _SPECIFIC.get(kind), 1.0 / (units.length ** length * units.force ** force), label
+    parsed = parse_unit(label)
+    if parsed is None:
+        raise InputError(f"{where}: {_PART_NAMES[part]} unit {label!r} is not understood: expected units such as "
+                         "m, mm, um, m/s, mm/s, in/s, m/s^2, g, N, lbf, Pa (see docs/frf-and-measurement.md)")
+    factor, (metre, kilogram, _) = parsed
+    # the 164 factors a value of this dimension would need: force = kg m s^-2, so F^kg L^(m - kg)
+    implied = 1.0 / (units.length ** (metre - kilogram) * units.force ** kilogram)
+    if not units.is_si and abs(implied - factor) > 1e-6 * factor:
+        raise InputError(f"{where}: {_PART_NAMES[part]} unit {label!r} (factor {factor:g} to SI) contradicts "
+                         f"the dataset 164 units {units.description!r} (length factor {units.length:g}, force "
+                         f"factor {units.force:g}: {implied:g} to SI): cannot tell which is right")
+    return quantity_of(label)[0] if quantity_of(label) else None, factor, label
+
+
+def _label_text(s, key, path):
+    """A label as the file wrote it: pyuff decodes UTF-8 and puts U+FFFD for another encoding's bytes
+    (``m/s²`` written in Latin-1); those labels are read again from the file as Latin-1."""
+    import re
+
+    label = str(s.get(key, "NONE")).strip()
+    if "\ufffd" not in label:
+        return label
+    pattern = ".".join(re.escape(piece) for piece in label.split("\ufffd"))
+    stat = os.stat(path)
+    found = set(re.findall(pattern, _latin1(str(path), stat.st_mtime_ns, stat.st_size)))
+    return found.pop() if len(found) == 1 else label
+
+
+@functools.lru_cache(maxsize=1)
+def _latin1(path, mtime_ns, size):
+    """The file as Latin-1 text (one file kept: the labels of its sets are looked up one by one)."""
+    with open(path, encoding="latin-1") as handle:
+        return handle.read()
+
+
+def _abscissa_factor(s, expected, path):
+    """Factor of the abscissa to s (time) or Hz (frequency), from its data type and unit label."""
+    kind = int(s.get("abscissa_spec_data_type", expected))
+    name, unit = {_TIME: ("17 (time)", "s"), _FREQUENCY: ("18 (frequency)", "Hz")}[expected]
+    where = f"{path}: set {s.get('rsp_node')}:{s.get('rsp_dir')}"
+    if kind not in (expected, 0, 1):
+        raise InputError(f"{where}: abscissa data type {kind} ({_type_name(kind)}): expected {name}")
+    label = _label_text(s, "abscissa_axis_units_lab", path)
+    if is_none(label):
+        return 1.0
+    parsed = parse_unit(label)
+    if parsed is None or parsed[1] != ((0, 0, 1) if expected == _TIME else (0, 0, -1)):
+        raise InputError(f"{where}: abscissa unit {label!r}: expected {unit} (data type {name})")
+    return parsed[0]
 
 
 def _check_set(s, path):
     where = f"{path}: FRF {s['rsp_node']}:{s['rsp_dir']} / {s['ref_node']}:{s['ref_dir']}"
-    if int(s.get("abscissa_spec_data_type", _FREQUENCY)) not in (_FREQUENCY, 0):
-        raise InputError(f"{where}: abscissa data type {s['abscissa_spec_data_type']}: expected 18 (frequency, Hz)")
-    if int(s.get("orddenom_spec_data_type", _FORCE)) != _FORCE:
-        raise InputError(f"{where}: denominator data type {s['orddenom_spec_data_type']}: expected 13 "
-                         "(excitation force, N)")
-    quantity = ORDINATE_TYPES[int(s["ordinate_spec_data_type"])]
-    label = str(s.get("ordinate_axis_units_lab", "NONE")).strip()
-    if label.upper() not in ("NONE", "") and label.removesuffix("/N") not in _UNIT_LABELS[quantity]:
-        raise InputError(f"{where}: ordinate unit {label!r}: expected SI {_label(quantity)} for "
-                         f"{quantity} (convert the file, e.g. g or mm/s, to SI first)")
-    denominator = str(s.get("orddenom_axis_units_lab", "NONE")).strip()
-    if denominator.upper() not in ("NONE", "", "N"):
-        raise InputError(f"{where}: denominator unit {denominator!r}: expected N")
     data = np.asarray(s["data"])
     if len(data) != len(np.asarray(s["x"])) or not np.all(np.isfinite(data)):
         raise InputError(f"{where}: {len(data)} values for {len(np.asarray(s['x']))} frequencies, or non-finite values")
@@ -241,12 +381,8 @@ def _lookup(table, node, direction, what, path):
 # ---------------------------------------------------------------------------------------------
 # header (151), units (164), coordinate systems (18, 2420), nodes (15, 2411), time records (58)
 # ---------------------------------------------------------------------------------------------
-_TIME = 17
-_TIME_QUANTITIES = {8: "displacement", 11: "velocity", 12: "acceleration", 13: "force"}
-_TIME_UNITS = {"displacement": {"m"}, "velocity": {"m/s"}, "acceleration": _UNIT_LABELS["accelerance"],
-               "force": {"N"}}
-_SI_LABEL = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s^2", "force": "N"}
-_GENERAL = 1
+#: quantities of time records
+_TIME_QUANTITIES = ("displacement", "velocity", "acceleration", "force", "pressure")
 
 
 class UffUnits:
@@ -297,7 +433,8 @@ def _all_sets(path):
     try:
         uff = pyuff.UFF(str(path))
         types = [int(t) for t in uff.get_set_types()]
-        sets = uff.read_sets() if types else []
+        with contextlib.redirect_stdout(io.StringIO()):    # pyuff prints some datasets (2467) as it reads
+            sets = uff.read_sets() if types else []
     except Exception as error:  # pyuff raises many kinds on a broken file
         raise InputError(f"{path}: not a readable Universal File ({type(error).__name__}: {error})") from None
     sets = [sets] if isinstance(sets, dict) else list(sets)
@@ -437,11 +574,19 @@ def _system(systems, number, node, path):
 def read_uff_time_records(path, mapping=None, speed: float = 0.0):
     """Time records (dataset 58/58b, function type 1) of a Universal File.
 
-    Each channel is a response node and direction; a channel that appears several times gives
-    several records (e.g. one per hit), in file order. Forces (ordinate data type 13) and
-    responses (8, 11, 12; or 1 'general' with an SI unit label of one of them) must carry SI
-    units (labels ``N``, ``m``, ``m/s``, ``m/s^2`` or ``NONE``; a dataset 164 of other units is
-    refused).
+    Each set is a channel: its response node and direction, force or response, and entity name
+    (record 6: a recorder that numbers no nodes names its channels). When every channel appears equally
+    often, its k-th set belongs to record k (e.g. one record per hit). When some channel appears
+    more often than others, the sets are one recording of that many channels: a node and
+    direction given twice (an export that numbered two sensors alike) is a channel of its own,
+    named ``NODE:DIRECTION#2``, with a warning; with a mapping it is refused (the mapping cannot
+    tell which set is the model's channel). So are channels at one node and direction that only
+    their entity names tell apart.
+
+    Quantities: displacement, velocity, acceleration, force (ordinate data types 8, 11, 12, 9/13),
+    pressure (15, sound pressure 21), or what the unit label says for types 0 (unknown) and 1
+    (general). Values are converted to SI with the unit label (``g``, ``mm/s``, ``um``, ``lbf``,
+    ...; see :mod:`.unit_labels`), or without a label with the dataset 164 factors.
 
     Parameters
     ----------
@@ -455,66 +600,114 @@ def read_uff_time_records(path, mapping=None, speed: float = 0.0):
     Returns
     -------
     TimeRecords
+        Signals in SI units: N, m, m/s, m/s^2, Pa.
     """
     from ..analysis.spectra import TimeRecords
 
     sets, types = _all_sets(path)
-    records = [s for s in sets if s["type"] == 58 and int(s.get("func_type", -1)) == 1]
-    if not records:
+    found = [s for s in sets if s["type"] == 58 and int(s.get("func_type", -1)) == 1]
+    if not found:
         kinds = sorted({int(s.get("func_type", -1)) for s in sets if s["type"] == 58})
         raise InputError(f"{path}: no time record (dataset 58, function type 1) in the file; "
                          f"dataset 58 function types found: {kinds or 'none'}")
     units = _units(sets, path)
-    if not units.is_si:
-        raise InputError(f"{path}: dataset 164 gives units {units.description!r} (length factor {units.length:g}, "
-                         f"force factor {units.force:g}): time records are read in SI units only")
-    channels, quantities, columns, rate = {}, {}, {}, None
-    for s in records:
-        quantity = _time_quantity(s, path)
-        name = _channel_name(s, quantity, mapping, path)
-        dt = _time_step(s, path)
+    rate, channels = None, []
+    for s in found:
+        quantity, factor = _time_quantity(s, units, path)
+        dt = _time_step(s, path) * _abscissa_factor(s, _TIME, path)
         rate = 1.0 / dt if rate is None else rate
+        # a channel: node, direction, force or response (a driving point has both) and entity name
+        # (a recorder that numbers no nodes names its channels)
+        entity = str(s.get("rsp_ent_name", "NONE")).strip()
+        key = (int(s.get("rsp_node", 0)), int(s.get("rsp_dir", 0)), quantity == "force",
+               "" if is_none(entity) else entity)
         if abs(1.0 / dt - rate) > 1e-6 * rate:
-            raise InputError(f"{path}: channel {name} is sampled at {1 / dt:g} Hz, another at {rate:g} Hz: "
-                             "every record must share one sampling rate")
-        channels.setdefault(name, quantity)
-        columns.setdefault(name, []).append(np.asarray(s["data"], dtype=float) * _sign(s, mapping, quantity))
-        quantities[name] = quantity
-    counts = {len(v) for v in columns.values()}
-    lengths = {len(x) for v in columns.values() for x in v}
-    if len(counts) != 1 or len(lengths) != 1:
-        raise InputError(f"{path}: channels have different numbers of records ({sorted(counts)}) or lengths "
-                         f"({sorted(lengths)}): every record must hold every channel with as many samples")
-    names = list(columns)
-    signals = np.stack([np.stack([columns[n][r] for n in names]) for r in range(counts.pop())])
+            raise InputError(f"{path}: channel {key[0]}:{key[1]:+d} is sampled at {1 / dt:g} Hz, another at "
+                             f"{rate:g} Hz: every record must share one sampling rate")
+        label = f"{len(channels) + 1} ({entity!r}, {str(s.get('id1', '')).strip()!r})"     # for messages
+        channels.append((key, quantity, np.asarray(s["data"], dtype=float) * factor, label))
+    names, quantities, signals = _arrange(channels, mapping, path)
     return TimeRecords(signals=signals, sampling_rate_hz=float(rate), channels=tuple(names),
-                       quantities=tuple(quantities[n] for n in names), speed=float(speed))
+                       quantities=tuple(quantities), speed=float(speed))
 
 
-def _time_quantity(s, path):
+def _arrange(channels, mapping, path):
+    """Names, quantities and signals (n_records, n_channels, n_samples) of the sets, in file order."""
+    from collections import Counter
+
+    counts = Counter(key for key, *_ in channels)
+    if len(set(counts.values())) == 1:               # every channel as often: record k holds the k-th of each
+        keys = list(counts)
+        columns = {key: [c for c in channels if c[0] == key] for key in keys}
+        records = [[columns[key][r] for key in keys] for r in range(counts[keys[0]])]
+    else:                                            # one recording; a repeated channel is one more channel
+        records = [channels]
+    _check_alike(records[0], mapping, path)
+    seen = Counter()
+    names = []
+    for key, quantity, _, _ in records[0]:
+        name = _channel_name(key[:2], quantity, mapping, path)
+        seen[name] += 1
+        names.append(name if seen[name] == 1 else f"{name}#{seen[name]}")
+    lengths = {len(c[2]) for c in channels}
+    if len(lengths) != 1:
+        raise InputError(f"{path}: time records of {sorted(lengths)} samples: every record must hold every "
+                         "channel with as many samples")
+    quantities = [c[1] for c in records[0]]
+    for record in records[1:]:
+        for (key, quantity, _, _), expected in zip(record, quantities):
+            if quantity != expected:
+                raise InputError(f"{path}: channel {key[0]}:{key[1]:+d} holds {expected} in one record and "
+                                 f"{quantity} in another: expected one quantity per channel")
+    signs = [_sign(key[:2], mapping, quantity) for key, quantity, _, _ in records[0]]
+    signals = np.array([[sign * c[2] for sign, c in zip(signs, record)] for record in records])
+    return names, quantities, signals
+
+
+def _check_alike(record, mapping, path):
+    """Channels of one record at one node and direction (both forces or both responses): a repeat in
+    a recording, or channels told apart by their entity names only. Warn (the later ones are
+    ``NODE:DIRECTION#2``, ...), or refuse with a mapping, which cannot tell which is its channel."""
+    import warnings
+    from collections import defaultdict
+
+    alike = defaultdict(list)
+    for key, _, _, label in record:
+        alike[key[:3]].append(label)
+    for (node, direction, _), labels in alike.items():
+        if len(labels) < 2:
+            continue
+        text = (f"{path}: node {node} direction {direction:+d} is given by the time records {' and '.join(labels)} "
+                f"of one recording of {len(record)} channels")
+        if mapping is not None:
+            raise InputError(f"{text}: the mapping cannot tell which is its channel; read the file without a "
+                             "mapping (channels NODE:DIRECTION, the repeats NODE:DIRECTION#2) or correct its nodes")
+        repeats = ", ".join(f"{node}:{direction:+d}" + (f"#{k + 1}" if k else "") for k in range(len(labels)))
+        warnings.warn(f"{text}: read as channels {repeats}", stacklevel=4)
+
+
+def _time_quantity(s, units, path):
+    """``(quantity, factor to SI)`` of a time record."""
     kind = int(s.get("ordinate_spec_data_type", -1))
-    label = str(s.get("ordinate_axis_units_lab", "NONE")).strip()
-    where = f"{path}: time record {s.get('rsp_node')}:{s.get('rsp_dir')}"
-    if int(s.get("abscissa_spec_data_type", _TIME)) not in (_TIME, 0):
-        raise InputError(f"{where}: abscissa data type {s['abscissa_spec_data_type']}: expected 17 (time, s)")
-    if kind == _GENERAL:
-        found = [q for q, labels in _TIME_UNITS.items() if label in labels]
-        if not found:
-            raise InputError(f"{where}: ordinate data type 1 (general) with unit {label!r}: expected a force (N) "
-                             "or a response in SI units (m, m/s, m/s^2)")
-        return found[0]
-    if kind not in _TIME_QUANTITIES:
-        raise InputError(f"{where}: ordinate data type {kind}: expected 8 (displacement), 11 (velocity), "
-                         "12 (acceleration) or 13 (force)")
-    quantity = _TIME_QUANTITIES[kind]
-    if label.upper() not in ("NONE", "") and label not in _TIME_UNITS[quantity]:
-        raise InputError(f"{where}: ordinate unit {label!r}: expected SI {_SI_LABEL[quantity]} for {quantity} "
-                         "(convert the file, e.g. g or mm/s, to SI first)")
-    return quantity
+    direction = int(s.get("rsp_dir", 0))
+    where = f"{path}: time record {s.get('rsp_node')}:{direction}"
+    if kind not in _SPECIFIC and kind not in (0, 1):
+        raise InputError(f"{where}: ordinate data type {kind} ({_type_name(kind)}): expected 8 (displacement), "
+                         "11 (velocity), 12 (acceleration), 9/13 (force), 15/21 (pressure), or 0/1 "
+                         "(unknown/general) with a unit label")
+    quantity, factor, label = _measure(s, "ordinate", units, abs(direction) > 3, path, where)
+    if kind in _SPECIFIC and quantity != _SPECIFIC[kind]:
+        raise InputError(f"{where}: ordinate data type {kind} ({_type_name(kind)}) but unit {label!r} is "
+                         f"{'a ' + quantity if quantity else 'no such quantity'}: the file contradicts itself")
+    if quantity not in _TIME_QUANTITIES:
+        raise InputError(f"{where}: ordinate data type {kind} ({_type_name(kind)}) with unit {label!r}: "
+                         "cannot tell what was measured; expected a unit of displacement, velocity, "
+                         "acceleration, force or pressure (m, m/s, m/s^2, g, N, Pa, ...)")
+    return quantity, factor
 
 
 def _time_step(s, path):
-    """Sampling interval [s]: the header's increment, or the abscissa's (written to 6 digits in ASCII)."""
+    """Sampling interval (abscissa units): the header's increment, or the abscissa's (6 digits in ASCII)."""
     dt = float(s.get("abscissa_inc", 0.0))
     if int(s.get("abscissa_spacing", 1)) == 1 and dt > 0:
         return dt
@@ -526,8 +719,8 @@ def _time_step(s, path):
     return float(dt)
 
 
-def _channel_name(s, quantity, mapping, path):
-    node, direction = int(s.get("rsp_node", 0)), int(s.get("rsp_dir", 0))
+def _channel_name(key, quantity, mapping, path):
+    node, direction = key
     if mapping is None:
         return f"{node}:{direction:+d}"
     table = mapping.inputs if quantity == "force" else mapping.outputs
@@ -535,11 +728,11 @@ def _channel_name(s, quantity, mapping, path):
     return _lookup(table, node, direction, what, path)[0]
 
 
-def _sign(s, mapping, quantity):
+def _sign(key, mapping, quantity):
     if mapping is None:
         return 1.0
     table = mapping.inputs if quantity == "force" else mapping.outputs
-    return table[(int(s.get("rsp_node", 0)), int(s.get("rsp_dir", 0)))][1]
+    return table[key][1]
 
 
 def place_channels(model, nodes, mapping):

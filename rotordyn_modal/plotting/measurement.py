@@ -5,11 +5,11 @@ from __future__ import annotations
 
 __all__ = ["plot_time_records", "plot_coherence"]
 
-_UNITS = {"force": "N", "displacement": "m", "velocity": "m/s", "acceleration": "m/s²"}
+_UNITS = {"force": "N", "displacement": "m", "velocity": "m/s", "acceleration": "m/s²", "pressure": "Pa"}
 
 
 def plot_time_records(records, record: int = 0, title: str | None = None):
-    """Forces (top) and responses (bottom) of one record against time.
+    """Forces (top), responses and pressures (below) of one record against time.
 
     Parameters
     ----------
@@ -26,8 +26,9 @@ def plot_time_records(records, record: int = 0, title: str | None = None):
 
     t = records.times
     forces = [k for k, q in enumerate(records.quantities) if q == "force"]
-    responses = [k for k, q in enumerate(records.quantities) if q != "force"]
-    rows = [group for group in (forces, responses) if group]
+    responses = [k for k, q in enumerate(records.quantities) if q not in ("force", "pressure")]
+    pressures = [k for k, q in enumerate(records.quantities) if q == "pressure"]
+    rows = [group for group in (forces, responses, pressures) if group]
     fig, axes = plt.subplots(len(rows), 1, sharex=True, figsize=(8.0, 2.6 * len(rows) + 0.6), layout="constrained",
                              squeeze=False)
     for ax, group in zip(axes[:, 0], rows):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       save_figure, show_progress, speeds_option, use_agg, write_table)
+from ._plot_options import add_frequency_axis, frequency_axis_options
 from ._resources import add_verbose, report_peak_memory
 
 NAME = "campbell"
@@ -11,12 +12,18 @@ HELP = "Campbell diagram: modes tracked across speeds"
 DESCRIPTION = """Natural frequencies, damping and whirl of every mode over a speed range, each mode
 tracked by its shape so that it keeps its label where frequencies cross. The figure
 shows forward (solid blue) and backward (dashed red) whirl, every rotor's and gear
-mesh's excitation orders, and the critical speeds.
+mesh's excitation orders, and the critical speeds; unstable stretches lie on a red band,
+a red triangle where a mode becomes unstable. Its speed axis is in --speed-unit; its
+frequency axis is logarithmic when the modes at one speed span more than 30x (e.g. mount
+modes at 5 Hz and bearing modes at 1 kHz), else linear (--freq-scale); --freq-range or
+--freq-max limit it.
 
 CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part
 
-example:
-  rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png"""
+examples:
+  rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png
+  rotordyn-modal campbell examples/motor_pump_on_mounts.toml --speeds 0:3600:181 --orders 1,2 \
+      --freq-range 0:40 --plot mounts.png"""
 
 
 def add_arguments(parser):
@@ -26,6 +33,7 @@ def add_arguments(parser):
     parser.add_argument("--orders", default="1", help="excitation orders drawn and marked (default 1), e.g. 1,2")
     parser.add_argument("--color-by", choices=["log_decrement", "damping_ratio"],
                         help="colour the curves by this quantity instead of by whirl")
+    add_frequency_axis(parser)
     add_outputs(parser)
     add_verbose(parser)
 
@@ -38,6 +46,7 @@ def run(args) -> int:
     write_table(result.to_dataframe(), args)
     if args.plot:
         use_agg()
-        save_figure(result.plot(color_by=args.color_by, title=model.name or None), args)
+        save_figure(result.plot(color_by=args.color_by, title=model.name or None, speed_unit=args.speed_unit,
+                                **frequency_axis_options(args)), args)
     report_peak_memory(args)
     return 0

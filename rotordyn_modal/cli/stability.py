@@ -56,7 +56,7 @@ def run(args) -> int:
         _print_thresholds(result)
     if args.plot:
         use_agg()
-        save_figure(result.plot(), args)
+        save_figure(result.plot(speed_unit=args.speed_unit), args)
     return 0
 
 

@@ -58,7 +58,7 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     top.set_ylim(*zero_centred_limits(np.where(oscillating, real, np.nan)[:, chosen] if relevant else real, floor))
     bottom.set_ylim(*zero_centred_limits(log_dec[:, chosen], 1e-3))
     for axis, values, unit in ((top, real, "1/s"), (bottom, log_dec, "")):
-        axis.axhline(0.0, color="k", linewidth=0.8)
+        axis.axhline(0.0, color="k", linewidth=0.8, zorder=1.2)   # under the curves (undamped modes lie on it)
         axis.grid(True, alpha=0.3)
         _note_cut_off(axis, result.modes, values, unit)
     top.set_xlim(x.min(), x.max() if x.max() > x.min() else x.min() + 1)
@@ -141,7 +141,7 @@ def _note_cut_off(ax, labels, values, unit):
     notes = []
     for mask, word, reach in ((under, "below", np.nanmin), (over, "above", np.nanmax)):
         if mask.any():
-            names = ", ".join(str(label) for label in labels[mask])
+            names = _label_list(labels[mask])
             value = reach(values[:, mask])
             number = f"{value:,.0f}" if abs(value) >= 100 else f"{value:.3g}"
             notes.append(f"mode{'s' if mask.sum() > 1 else ''} {names} reach{'' if mask.sum() > 1 else 'es'} "
@@ -149,6 +149,18 @@ def _note_cut_off(ax, labels, values, unit):
     if notes:
         ax.text(1.02, 0.0, "\n".join(textwrap.fill(note, 30) for note in notes), transform=ax.transAxes,
                 fontsize="x-small", ha="left", va="bottom", color="0.3", gid="cut-off-note", clip_on=False)
+
+
+def _label_list(labels) -> str:
+    """``[3, 4, 7, 8, 9, 10]`` -> ``'3, 4, 7-10'``: runs of three or more as ranges."""
+    parts, run = [], []
+    for label in [int(v) for v in labels] + [None]:
+        if run and (label is None or label != run[-1] + 1):
+            parts += [f"{run[0]}-{run[-1]}"] if len(run) > 2 else [str(v) for v in run]
+            run = []
+        if label is not None:
+            run.append(label)
+    return ", ".join(parts)
 
 
 def _draw_thresholds(top, bottom, result, scale, speed_unit):

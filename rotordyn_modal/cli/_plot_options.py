@@ -19,7 +19,17 @@ def add_frequency_axis(parser):
 
 def frequency_axis_options(args) -> dict:
     """``freq_range`` and ``freq_scale`` for ``plot()`` from the options (checked: one line, exit 2)."""
-    return {"freq_range": _frequency_range(args), "freq_scale": args.freq_scale}
+    from ..plotting.campbell import MAX_FREQUENCY_HZ, MAX_LOG_DECADES
+
+    freq_range = _frequency_range(args)
+    option = "--freq-max" if args.freq_max is not None else "--freq-range"
+    text = args.freq_max if args.freq_max is not None else args.freq_range
+    if freq_range is not None and freq_range[1] > MAX_FREQUENCY_HZ:
+        raise InputError(f"{option} {text!r}: expected at most {MAX_FREQUENCY_HZ:g} Hz")
+    if freq_range is not None and args.freq_scale == "log" and freq_range[0] \
+            and freq_range[1] > freq_range[0] * 10.0 ** MAX_LOG_DECADES:
+        raise InputError(f"{option} {text!r}: a logarithmic axis spans at most {MAX_LOG_DECADES} decades")
+    return {"freq_range": freq_range, "freq_scale": args.freq_scale}
 
 
 def _frequency_range(args):

@@ -15,8 +15,10 @@ __all__ = ["plot_campbell", "LOG_SPAN"]
 LOG_SPAN = 30.0
 #: the axis reaches this factor beyond the highest (and, logarithmic, below the lowest) mode shown
 _HEADROOM = {"linear": 1.15, "log": 1.4}
-#: a logarithmic axis spans at most this many decades below its top
+#: a logarithmic axis chosen from the modes spans at most this many decades below its top
 _LOG_DECADES = 5
+#: limits a user may give: the highest frequency [Hz], the decades of a logarithmic axis
+MAX_FREQUENCY_HZ, MAX_LOG_DECADES = 1e12, 12
 _FONT = "x-small"
 #: leader lines of the mode labels beside the axes: horizontal stub, then slanted to the label [points]
 _STUB_POINTS, _LEADER_POINTS, _PAD_POINTS = 2.0, 10.0, 2.0
@@ -125,6 +127,9 @@ def frequency_axis(freqs, freq_range=None, freq_scale: str = "auto"):
     if freq_scale == "linear":
         return (low or 0.0), top, "linear"
     if low:
+        if top > low * 10.0 ** MAX_LOG_DECADES:
+            raise InputError(f"freq_range {freq_range!r}: a logarithmic axis spans at most {MAX_LOG_DECADES} "
+                             "decades: expected high <= low x 1e12")
         return low, top, "log"
     bottom = shown.min() / headroom if shown.size else top / 100.0
     return max(bottom, top * 10.0 ** -_LOG_DECADES), top, "log"
@@ -149,8 +154,9 @@ def _checked_range(freq_range):
     except (TypeError, ValueError):
         raise InputError(f"freq_range {freq_range!r}: expected (low, high) in Hz") from None
     if any(v is not None and not np.isfinite(v) for v in (low, high)) or (low is not None and low < 0) \
-            or (high is not None and high <= 0) or (low is not None and high is not None and not low < high):
-        raise InputError(f"freq_range {freq_range!r}: expected (low, high) in Hz with 0 <= low < high")
+            or (high is not None and high <= 0) or (low is not None and high is not None and not low < high) \
+            or any(v is not None and v > MAX_FREQUENCY_HZ for v in (low, high)):
+        raise InputError(f"freq_range {freq_range!r}: expected (low, high) in Hz with 0 <= low < high <= 1e12")
     return low, high
 
 

@@ -22,7 +22,10 @@ CSV columns: speed_rpm,value,mode,real_part,damping_ratio,log_decrement,frequenc
 examples:
   rotordyn-modal stability examples/unstable_cross_coupled.toml --speeds 0:20000:401
   rotordyn-modal stability examples/unstable_cross_coupled.toml --speeds 0:20000:201 \\
-      --vary suspensions.bearing-A.damping --scale 0.5:2:31 --plot map.png"""
+      --vary suspensions.bearing-A.damping --scale 0.5:2:31 --plot map.png
+  rotordyn-modal stability examples/journal_rotor.toml --speeds 100:20000:201 --plot s.png
+      (the figure is scaled to the modes that decide stability, threshold speeds are
+      labelled lines, the speed axis in --speed-unit; docs/figures.md)"""
 
 
 def add_arguments(parser):

@@ -20,6 +20,8 @@ _LOG_DECADES = 5
 #: limits a user may give: the highest frequency [Hz], the decades of a logarithmic axis
 MAX_FREQUENCY_HZ, MAX_LOG_DECADES = 1e12, 12
 _FONT = "x-small"
+#: more critical speeds than this are marked but not labelled (the table lists them)
+_MAX_CRITICAL_LABELS = 200
 #: leader lines of the mode labels beside the axes: horizontal stub, then slanted to the label [points]
 _STUB_POINTS, _LEADER_POINTS, _PAD_POINTS = 2.0, 10.0, 2.0
 #: a real part above this fraction of its root's size is instability (damping ratio < -1e-10)
@@ -56,7 +58,7 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     sources : list of str, optional
         Excitation sources to draw (default: all).
     annotate_critical : bool
-        Write the critical speeds beside their markers.
+        Write the critical speeds beside their markers (up to 200 of them).
     title : str, optional
     freq_range : (float or None, float or None), optional
         Lower and upper end of the frequency axis [Hz]; None (or a missing end) chooses
@@ -280,7 +282,7 @@ class _CampbellLabels:
         self.leaders = [ax.plot([], [], linewidth=0.6, transform=ax.transAxes, clip_on=False,
                                 gid=f"mode-leader {result.modes[m]}")[0] for m in self.modes]
         self.critical_texts = [self._text(_speed_text(s), gid="critical-label", fontsize="xx-small")
-                               for s in critical[0]] if annotate else []
+                               for s in critical[0]] if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
 
     def _text(self, text, gid=None, va="bottom", fontsize=_FONT, visible=False, x=0.5, clip_on=True):
         return self.ax.text(x, 0.5, text, transform=self.ax.transAxes, fontsize=fontsize, ha="left", va=va,
@@ -357,8 +359,18 @@ class _CampbellLabels:
             return
         heights = [text_size(self.ax.figure, self.mode_texts[i].get_text(), _FONT, renderer)[1] * self.to_v
                    for i in indices]
+        gap = self.points * self.to_v
+        room = int(1.0 / (max(heights) + gap))
+        if len(indices) > room:        # more labels than the axes are tall: every k-th, in curve order
+            by_height = sorted(indices, key=lambda i: ends[i][1])
+            kept = set(by_height[::-(-len(indices) // max(room, 1))])
+            for i in set(indices) - kept:
+                set_if_changed(self.mode_texts[i], visible=False)
+                set_if_changed(self.leaders[i], visible=False)
+            heights = [h for i, h in zip(indices, heights) if i in kept]
+            indices = [i for i in indices if i in kept]
         targets = [ends[i][1] for i in indices]
-        centres = column_positions(targets, heights, 0.0, 1.0, gap=self.points * self.to_v)
+        centres = column_positions(targets, heights, 0.0, 1.0, gap=gap)
         stub, leader = _STUB_POINTS * self.points * self.to_u, _LEADER_POINTS * self.points * self.to_u
         pad = _PAD_POINTS * self.points * self.to_u
         for i, target, centre in zip(indices, targets, centres):
@@ -371,7 +383,7 @@ class _CampbellLabels:
     def _inside(self, renderer, indices, ends, placed, markers):
         """Labels of curves that end inside the axes: next to the curve's last point."""
         pad_u, pad_v = _PAD_POINTS * self.points * self.to_u, _PAD_POINTS * self.points * self.to_v
-        margin_u, margin_v = 2 * self.points * self.to_u, 2 * self.points * self.to_v
+        margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
         for i in indices:
             text = self.mode_texts[i]
             w, h = text_size(self.ax.figure, text.get_text(), _FONT, renderer)
@@ -406,7 +418,7 @@ class _CampbellLabels:
             return
         radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
         gap = (0.5 * self.points * self.to_u, 0.5 * self.points * self.to_v)
-        margin_u, margin_v = 2 * self.points * self.to_u, 2 * self.points * self.to_v
+        margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
         order = np.argsort(self.critical[0], kind="stable")
         for j in order:
             text = self.critical_texts[j]

@@ -9,10 +9,15 @@ from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
 __all__ = ["plot_stability", "plot_stability_map"]
 
 
+#: the axes reach this many times the least damped mode's range (its lowest real part, its
+#: highest log decrement over the speeds) where the modes that matter reach further
+_REACH = 3.0
 #: at most this many modes are drawn in colour beside those least damped at some speed ...
 _SHOWN = 6
 #: ... and only those whose log decrement comes below this somewhere (damping ratio ~0.16)
 _LIGHTLY_DAMPED = 1.0
+#: modes the axes show get their own colour and legend entry, this many at most
+_LEGEND = 7
 #: zero keeps at least this fraction of each panel's height from its bottom and top
 _ZERO_ROOM = 0.12
 #: real parts within this fraction of the largest root are round-off of undamped modes
@@ -25,11 +30,14 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
 
     The figure is scaled to the modes that decide stability (:func:`modes_that_matter`):
     those that are the least damped at some speed, and up to :data:`_SHOWN` more of the
-    lightly damped ones. Each gets its own colour (and line style) and a legend entry, the
-    least damped first; every other root is a thin grey line, and where those lie beyond the
-    axes (overdamped roots of journal bearings reach real parts of -10,000 1/s and log
-    decrements of 1,000) a note in the panel names them and how far they reach. Both axes
-    keep zero well inside. Each threshold speed is a labelled vertical line: red where a mode
+    lightly damped ones. Those of them that the axes show, then any other mode the axes show,
+    get their own colour (and line style) and a legend entry, the least damped first, seven
+    at most; every other root is a thin grey line. The axes reach 10 % beyond the
+    modes that matter, but no further than :data:`_REACH` times the least damped mode's
+    range (its lowest real part, its highest log decrement over the speeds), and keep zero
+    well inside; a note beside each panel names the roots that reach beyond it and how far
+    (overdamped roots of journal bearings reach real parts of -10,000 1/s and log
+    decrements of 1,000). Each threshold speed is a labelled vertical line: red where a mode
     becomes unstable with rising speed, green where it becomes stable again.
 
     Parameters
@@ -50,13 +58,13 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     real = np.where(np.isfinite(result.real_parts), result.real_parts, np.nan)
     log_dec = np.where(np.isfinite(result.log_decrements), result.log_decrements, np.nan)
     relevant = modes_that_matter(log_dec)
-    _draw_modes(top, bottom, x, result, real, log_dec, relevant)
-    oscillating = np.isfinite(log_dec)
-    chosen = relevant if relevant else list(range(real.shape[1]))
     size = np.abs(result.eigenvalues[np.isfinite(result.eigenvalues)])
     floor = _NOISE * (size.max() if size.size and size.max() > 0 else 1.0)
-    top.set_ylim(*zero_centred_limits(np.where(oscillating, real, np.nan)[:, chosen] if relevant else real, floor))
-    bottom.set_ylim(*zero_centred_limits(log_dec[:, chosen], 1e-3))
+    top.set_ylim(*zero_centred_limits(*_real_part_span(real, log_dec, relevant), floor))
+    bottom.set_ylim(*zero_centred_limits(*_log_decrement_span(log_dec, relevant), 1e-3))
+    shown = [m for m in relevant + [m for m in _by_damping(log_dec) if m not in relevant]
+             if _within(real[:, m], top.get_ylim()) or _within(log_dec[:, m], bottom.get_ylim())][:_LEGEND]
+    _draw_modes(top, bottom, x, result, real, log_dec, shown)
     for axis, values, unit in ((top, real, "1/s"), (bottom, log_dec, "")):
         axis.axhline(0.0, color="k", linewidth=0.8, zorder=1.2)   # under the curves (undamped modes lie on it)
         axis.grid(True, alpha=0.3)
@@ -99,15 +107,53 @@ def modes_that_matter(log_decrements):
     return [m for m in ranked if m in chosen]
 
 
-def zero_centred_limits(values, floor):
-    """(bottom, top) around the finite ``values``, 10 % beyond them, with zero inside.
+def _by_damping(log_dec):
+    """Columns of the modes (finite log decrement somewhere) by their smallest log decrement."""
+    lowest = np.where(np.isfinite(log_dec), log_dec, np.inf).min(axis=0)
+    return [int(m) for m in np.argsort(lowest, kind="stable") if np.isfinite(lowest[m])]
+
+
+def _within(values, limits):
+    """Some of ``values`` lie within ``limits``."""
+    with np.errstate(invalid="ignore"):
+        return bool(np.any((values >= limits[0]) & (values <= limits[1])))
+
+
+def _nan(function, values):
+    finite = np.asarray(values, float)[np.isfinite(values)]
+    return float(function(finite)) if finite.size else np.nan
+
+
+def _real_part_span(real, log_dec, relevant):
+    """(lowest, highest) real part to show [1/s]: the modes that matter, but no lower than
+    :data:`_REACH` times the least-damped mode's lowest real part over the speeds; any
+    positive real part (a root that diverges) always."""
+    modes = np.where(np.isfinite(log_dec), real, np.nan)
+    chosen = modes[:, relevant] if relevant else real
+    least = np.array([_nan(np.max, row) for row in modes])
+    lowest = np.nanmax([_nan(np.min, chosen), _REACH * _nan(np.min, least)])
+    highest = np.nanmax([_nan(np.max, chosen), max(_nan(np.max, real), 0.0)])
+    return lowest, highest
+
+
+def _log_decrement_span(log_dec, relevant):
+    """(lowest, highest) log decrement to show: the modes that matter, but no higher than
+    :data:`_REACH` times the largest of the speeds' least log decrements (when it is > 0)."""
+    chosen = log_dec[:, relevant] if relevant else log_dec
+    least = np.array([_nan(np.min, row) for row in log_dec])
+    reach = _REACH * _nan(np.max, least)
+    highest = _nan(np.max, chosen)
+    return _nan(np.min, chosen), min(highest, reach) if reach > 0 else highest
+
+
+def zero_centred_limits(lowest, highest, floor):
+    """(bottom, top) 10 % beyond ``lowest`` and ``highest`` (NaN: none), with zero inside.
 
     Zero keeps :data:`_ZERO_ROOM` of the height from either end; the panel is at least
     ``floor`` tall on each side of zero (an undamped machine's real parts are round-off).
     """
-    finite = np.asarray(values, float)[np.isfinite(values)]
-    below = max(-1.1 * finite.min(), 0.0) if finite.size else 0.0
-    above = max(1.1 * finite.max(), 0.0) if finite.size else 0.0
+    below = max(-1.1 * lowest, 0.0) if np.isfinite(lowest) else 0.0
+    above = max(1.1 * highest, 0.0) if np.isfinite(highest) else 0.0
     room = _ZERO_ROOM / (1 - _ZERO_ROOM)
     below, above = max(below, room * above, room * floor), max(above, room * below, floor)
     return -below, above

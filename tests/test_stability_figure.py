@@ -124,3 +124,24 @@ def test_texts_are_inside_the_figure_and_apart(model, rpm):
         zero, low, high = _zero_fraction(ax)
         assert np.isfinite([low, high]).all() and 0.02 < zero < 0.98
     plt.close(fig)
+
+
+@pytest.mark.parametrize("model,rpm", [("motor_pump_on_mounts.toml", (0, 3600, 37)),
+                                       ("fan_on_bearings.toml", (0, 9000, 46)),
+                                       ("journal_rotor.toml", (100, 20000, 101))])
+def test_the_least_damped_margin_is_readable(model, rpm):
+    """The mode with the smallest log decrement at each speed lies inside both panels, and its
+    distance from zero reaches a tenth of each panel's height (the motor and pump's axial modes,
+    log decrement 0.0009, real part -0.46 1/s, beside bearing modes at -164 1/s)."""
+    import matplotlib.pyplot as plt
+
+    result = rdm.stability(rdm.load_model(EXAMPLES / model), rdm.rpm(np.linspace(*rpm)))
+    log_dec = np.where(np.isfinite(result.log_decrements), result.log_decrements, np.inf)
+    least = np.argmin(log_dec, axis=1)
+    rows = np.arange(len(least))
+    fig = result.plot()
+    for ax, values in zip(fig.axes[:2], (result.real_parts[rows, least], result.log_decrements[rows, least])):
+        low, high = ax.get_ylim()
+        assert low <= values.min() and values.max() <= high
+        assert np.abs(values).max() >= (high - low) / 10, (model, np.abs(values).max(), low, high)
+    plt.close(fig)

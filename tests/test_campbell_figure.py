@@ -185,10 +185,13 @@ def _check_labels(result, fig, ax, renderer):
     for kind, t in labels:
         if kind == "critical":
             box = t.get_window_extent(renderer)
+            speeds = np.asarray(markers[0].get_xdata(), float)
             xy = ax.transData.transform(np.column_stack(markers[0].get_data()))
+            reach = 6 * points
             near = [k for k, (u, v) in enumerate(xy)
-                    if box.x0 - 6 * points <= u <= box.x1 + 6 * points and box.y0 - 6 * points <= v <= box.y1 + 6 * points]
-            assert near, t.get_text()
+                    if box.x0 - reach <= u <= box.x1 + reach and box.y0 - reach <= v <= box.y1 + reach]
+            reads = [f"{s:.0f}" if abs(s) >= 100 else f"{s:.3g}" for s in speeds[near]]
+            assert t.get_text() in reads, (t.get_text(), reads)
 
 
 def _curve_ends(result, ax):

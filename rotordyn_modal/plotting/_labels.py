@@ -9,7 +9,7 @@ label's width are merged first (``1X, 2X fan``).
 Curves' labels beside the axes (:func:`column_positions`) keep their curves' order and move
 apart only as far as they must; a leader line joins each to its curve. Labels of points
 (:func:`first_free_box`) take the first free box of a few around their point.
-:class:`DrawTimeLayout` re-places a figure's labels each time it is drawn, so that they follow
+:func:`draw_time_layout` re-places a figure's labels each time it is drawn, so that they follow
 zooming, panning and resizing.
 """
 
@@ -231,26 +231,24 @@ def column_positions(targets, heights, lo, hi, gap=0.0):
     return centres
 
 
-class DrawTimeLayout:
-    """Makes an artist that calls ``place(renderer)`` each time its axes are drawn.
+def draw_time_layout(place):
+    """An artist that calls ``place(renderer)`` each time its axes are drawn (add it to them).
 
-    The artist is drawn first of the axes' children (lowest z-order), so the labels that
-    ``place`` moves are drawn where it put them, with the figure's final layout, limits and
+    It is drawn first of the axes' children (lowest z-order), so the labels that ``place``
+    moves are drawn where it put them, with the figure's final layout, limits and
     resolution: after zooming, panning or resizing, the labels are placed again.
     """
+    from matplotlib.artist import Artist
 
-    def __new__(cls, place):
-        from matplotlib.artist import Artist
+    class _Layout(Artist):
+        def draw(self, renderer):
+            if self.get_visible():
+                place(renderer)
 
-        class _Layout(Artist):
-            def draw(self, renderer):
-                if self.get_visible():
-                    place(renderer)
-
-        artist = _Layout()
-        artist.set_zorder(-1.0e9)
-        artist.set_in_layout(False)
-        return artist
+    artist = _Layout()
+    artist.set_zorder(-1.0e9)
+    artist.set_in_layout(False)
+    return artist
 
 
 def set_if_changed(artist, **properties):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ._labels import (DrawTimeLayout, column_positions, edge_label_boxes, exits_of_orders, first_free_box,
+from ._labels import (column_positions, draw_time_layout, edge_label_boxes, exits_of_orders, first_free_box,
                       set_if_changed, text_size)
 from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
 
@@ -97,7 +97,7 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), fontsize="small", ncols=4, frameon=False)
     labels = _CampbellLabels(ax, x, freqs, result, lines, 1 / (2 * np.pi * scale), critical,
                              annotate_critical, speed_unit, color_by is None)
-    ax.add_artist(DrawTimeLayout(labels.place))
+    ax.add_artist(draw_time_layout(labels.place))
     return fig
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
+from ._style import new_figure, speed_label, speed_scale
 
 __all__ = ["plot_stability", "plot_stability_map"]
 

@@ -59,7 +59,7 @@ def run(args) -> int:
         _print_thresholds(result)
     if args.plot:
         use_agg()
-        save_figure(result.plot(speed_unit=args.speed_unit), args)
+        save_figure(result.plot(speed_unit=args.speed_unit, title=model.name or None), args)
     return 0
 
 

@@ -365,3 +365,22 @@ def test_instability_is_marked_where_the_closed_form_puts_it(sweeps):
         x = np.asarray(band.get_xdata(), float)[np.isfinite(np.asarray(band.get_ydata(), float))]
         assert x.min() == 10800.0 and x.max() == 20000.0
         plt.close(fig)
+
+
+def test_critical_speeds_figure_follows_the_unit(tmp_path, monkeypatch):
+    """critical-speeds --plot with --speed-unit hz: the axis in Hz, markers at rpm / 60."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.cli import critical_speeds as cli_critical
+    from rotordyn_modal.cli.main import main
+
+    figures = []
+    monkeypatch.setattr(cli_critical, "save_figure", lambda fig, args: figures.append(fig))
+    assert main(["critical-speeds", str(EXAMPLES / "gear_machine.toml"), "--speeds", "0:50:51", "--speed-unit", "hz",
+                 "--plot", str(tmp_path / "c.png"), "--quiet"]) == 0
+    ax = figures[0].axes[0]
+    assert "[Hz]" in ax.get_xlabel() and ax.get_xlim() == (0.0, 50.0)
+    result = rdm.campbell(rdm.load_model(EXAMPLES / "gear_machine.toml"), rdm.hz(np.linspace(0, 50, 51)))
+    markers = next(line for line in ax.get_lines() if line.get_label() == "critical speed")
+    np.testing.assert_allclose(markers.get_xdata(), result.critical.speeds_rpm / 60, rtol=1e-12)
+    plt.close(figures[0])

@@ -34,5 +34,5 @@ def run(args) -> int:
     write_table(result.critical.to_dataframe(), args)
     if args.plot:
         use_agg()
-        save_figure(result.plot(title=model.name or None), args)
+        save_figure(result.plot(title=model.name or None, speed_unit=args.speed_unit), args)
     return 0

@@ -96,7 +96,7 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
         ax.grid(True, which="minor", alpha=0.1)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), fontsize="small", ncols=4, frameon=False)
     labels = _CampbellLabels(ax, x, freqs, result, lines, 1 / (2 * np.pi * scale), critical,
-                             annotate_critical, speed_unit, color_by is None)
+                             annotate_critical, color_by is None)
     ax.add_artist(draw_time_layout(labels.place))
     return fig
 
@@ -270,7 +270,7 @@ class _CampbellLabels:
     and shows or hides them for the axes' current limits and size.
     """
 
-    def __init__(self, ax, x, freqs, result, lines, per_x, critical, annotate, speed_unit, by_whirl):
+    def __init__(self, ax, x, freqs, result, lines, per_x, critical, annotate, by_whirl):
         self.ax, self.x, self.freqs, self.result = ax, x, freqs, result
         self.lines, self.per_x, self.by_whirl = lines, per_x, by_whirl
         self.critical = critical

@@ -115,3 +115,272 @@ def test_the_figure_draws_the_results_numbers_in_rpm_and_hz():
         for k in np.nonzero(np.isfinite(f[:-1]) & np.isfinite(f[1:]))[0]:
             assert any(y[k] == f[k] and y[k + 1] == f[k + 1] for _, y in curves), (mode + 1, k)
     plt.close(fig)
+
+
+# -- every label of the figure: inside, apart, on (or pointing to) its own curve ---------------
+# Three decades (motor_pump_on_mounts: mounts at 5-16 Hz, bearings at 530-1,170 Hz), the issue's
+# fan sweep, limits on the frequency axis, rad/s, and the axes zoomed after drawing.
+
+MODE_LABEL = re.compile(r"^mode (\d+)$")
+
+
+def _drawn(fig):
+    fig.canvas.draw()
+    return fig.canvas.get_renderer()
+
+
+def _labels(ax):
+    """Visible texts of the diagram: (kind, text artist), kind 'mode', 'critical' or 'order'."""
+    out = []
+    for t in ax.texts:
+        if not t.get_visible() or not t.get_text():
+            continue
+        kind = "mode" if MODE_LABEL.match(t.get_text()) else "critical" if t.get_gid() == "critical-label" else "order"
+        out.append((kind, t))
+    return out
+
+
+def _leader(ax, label):
+    leaders = [line for line in ax.get_lines() if line.get_gid() == f"mode-leader {label}" and line.get_visible()]
+    return leaders[0] if leaders else None
+
+
+def _pointed_height(ax, text, renderer):
+    """Display height a mode label points at: its leader's start on the curve, or its own centre."""
+    label = int(MODE_LABEL.match(text.get_text()).group(1))
+    leader = _leader(ax, label)
+    if leader is not None:
+        return ax.transAxes.transform((leader.get_xdata()[0], leader.get_ydata()[0]))[1]
+    box = text.get_window_extent(renderer)
+    return 0.5 * (box.y0 + box.y1)
+
+
+def _check_labels(result, fig, ax, renderer):
+    """Label boxes inside (order and critical-speed labels inside the axes; mode labels beside
+    them, within their height), no two overlapping; each mode label points at its own curve's
+    end, nearer to it than to any other curve's; each critical-speed label touches a marker
+    of the speed it reads."""
+    frame = ax.get_window_extent(renderer)
+    figure = fig.bbox
+    labels = _labels(ax)
+    boxes = [(kind, t, t.get_window_extent(renderer)) for kind, t in labels]
+    for kind, t, box in boxes:
+        assert figure.x0 <= box.x0 and box.x1 <= figure.x1 and figure.y0 <= box.y0 and box.y1 <= figure.y1, t
+        assert frame.y0 - 1 <= box.y0 and box.y1 <= frame.y1 + 1, (t.get_text(), box, frame)
+        if kind != "mode":
+            assert frame.x0 <= box.x0 and box.x1 <= frame.x1, (t.get_text(), box, frame)
+    for i, (_, a, box_a) in enumerate(boxes):
+        for _, b, box_b in boxes[i + 1:]:
+            assert not box_a.overlaps(box_b), (a.get_text(), b.get_text())
+    ends = _curve_ends(result, ax)
+    for kind, t in labels:
+        label = int(MODE_LABEL.match(t.get_text()).group(1)) if kind == "mode" else None
+        if label not in ends:   # not a mode label, or its curve ends inside the axes: labelled there
+            continue
+        height = _pointed_height(ax, t, renderer)
+        nearest = min(abs(end - height) for end in ends.values())
+        assert abs(ends[label] - height) < 0.5 and abs(ends[label] - height) == nearest, (t.get_text(), height, ends)
+    points = fig.dpi / 72
+    markers = [line for line in ax.get_lines() if line.get_label() == "critical speed"]
+    for kind, t in labels:
+        if kind == "critical":
+            box = t.get_window_extent(renderer)
+            speeds = np.asarray(markers[0].get_xdata(), float)
+            xy = ax.transData.transform(np.column_stack(markers[0].get_data()))
+            reach = 6 * points
+            near = [k for k, (u, v) in enumerate(xy)
+                    if box.x0 - reach <= u <= box.x1 + reach and box.y0 - reach <= v <= box.y1 + reach]
+            reads = [f"{s:.0f}" if abs(s) >= 100 else f"{s:.3g}" for s in speeds[near]]
+            assert t.get_text() in reads, (t.get_text(), reads)
+
+
+def _curve_ends(result, ax):
+    """{mode label: display height where its curve meets the right edge of the axes} (modes
+    inside the frequency limits there), from the result's own numbers."""
+    unit_x = ax.lines[0].get_xdata()
+    x_right = ax.get_xlim()[1]
+    speeds = np.asarray(unit_x, float)
+    ends = {}
+    (bottom, top) = ax.get_ylim()
+    for m, label in enumerate(result.modes):
+        f = np.where(result.oscillatory[:, m], result.frequencies_hz[:, m], np.nan)
+        value = np.interp(x_right, speeds, f)
+        if np.isfinite(value) and bottom <= value <= top:
+            ends[int(label)] = ax.transData.transform((x_right, value))[1]
+    return ends
+
+
+FIGURES = [
+    ("fan_on_bearings.toml", np.linspace(0, 9000, 181), (1, 2), {}),                 # the issue's sweep
+    ("motor_pump_on_mounts.toml", np.linspace(0, 3600, 181), (1, 2), {}),            # three decades, log
+    ("motor_pump_on_mounts.toml", np.linspace(0, 3600, 181), (1, 2), {"freq_range": (0, 40)}),
+    ("motor_pump_on_mounts.toml", np.linspace(0, 3600, 181), (1, 2), {"freq_scale": "linear"}),
+    ("motor_pump_on_mounts.toml", np.linspace(0, 3600, 181), (1, 2), {"freq_range": (4, 2000), "speed_unit": "rad/s"}),
+    ("gear_machine.toml", np.linspace(0, 3000, 301), (1, 2), {"speed_unit": "hz"}),
+    ("counter_rotating.toml", np.linspace(0, 12000, 121), (0.5, 1, 2, 3), {}),
+    ("unstable_cross_coupled.toml", np.linspace(0, 20000, 201), (1,), {"color_by": "log_decrement"}),
+]
+
+
+@pytest.fixture(scope="module")
+def sweeps():
+    cache = {}
+
+    def get(model, rpm, orders):
+        key = (model, rpm[0], rpm[-1], len(rpm), orders)
+        if key not in cache:
+            cache[key] = rdm.campbell(rdm.load_model(EXAMPLES / model), rdm.rpm(rpm), orders=orders)
+        return cache[key]
+    return get
+
+
+@pytest.mark.parametrize("model,rpm,orders,options", FIGURES)
+def test_every_label_is_inside_apart_and_on_its_own_curve(sweeps, model, rpm, orders, options):
+    import matplotlib.pyplot as plt
+
+    result = sweeps(model, rpm, orders)
+    fig = result.plot(**options)
+    renderer = _drawn(fig)
+    ax = fig.axes[0]
+    _check_labels(result, fig, ax, renderer)
+    assert sum(kind == "mode" for kind, _ in _labels(ax)) >= 4
+    plt.close(fig)
+
+
+def test_the_issue_fan_curve_at_36_hz_is_labelled_mode_7(sweeps):
+    """fan_on_bearings 0-9000 rpm: the curve ending at 36 Hz is mode 7; its label points there."""
+    import matplotlib.pyplot as plt
+
+    result = sweeps("fan_on_bearings.toml", np.linspace(0, 9000, 181), (1, 2))
+    m = int(np.argmin(np.abs(np.where(result.oscillatory[-1], result.frequencies_hz[-1], np.inf) - 36.0)))
+    assert result.modes[m] == 7 and abs(result.frequencies_hz[-1, m] - 36.3) < 0.5
+    fig = result.plot()
+    renderer = _drawn(fig)
+    ax = fig.axes[0]
+    label = next(t for kind, t in _labels(ax) if t.get_text() == "mode 7")
+    target = ax.transData.transform((ax.get_xlim()[1], result.frequencies_hz[-1, m]))[1]
+    assert abs(_pointed_height(ax, label, renderer) - target) < 0.5
+    plt.close(fig)
+
+
+def test_three_decades_draw_on_a_log_axis_and_the_limits_hold(sweeps):
+    """Mounts at 5-16 Hz and bearings up to 1,174 Hz (a span of 200 at one speed): log axis by
+    default, reaching below the lowest and above the highest mode; linear where asked or where
+    the range starts at 0; given limits are the axis' limits."""
+    import matplotlib.pyplot as plt
+
+    result = sweeps("motor_pump_on_mounts.toml", np.linspace(0, 3600, 181), (1, 2))
+    f = np.where(result.oscillatory, result.frequencies_hz, np.nan)
+    for options, scale, limits in [({}, "log", None), ({"freq_scale": "linear"}, "linear", None),
+                                   ({"freq_range": (0, 40)}, "linear", (0, 40)),
+                                   ({"freq_range": (2, 3000)}, "log", (2, 3000)),
+                                   ({"freq_range": (None, 40)}, "linear", None)]:
+        fig = result.plot(**options)
+        ax = fig.axes[0]
+        assert ax.get_yscale() == scale, options
+        bottom, top = ax.get_ylim()
+        if limits is not None:
+            assert (bottom, top) == limits
+        elif "freq_range" in options:
+            assert top == 40 and bottom == 0
+        else:
+            assert bottom < np.nanmin(f) and top > np.nanmax(f)
+        plt.close(fig)
+    with pytest.raises(rdm.InputError, match="freq_range"):
+        result.plot(freq_range=(40, 10))
+    with pytest.raises(rdm.InputError, match="freq_scale"):
+        result.plot(freq_scale="semilog")
+
+
+def test_labels_follow_a_zoom(sweeps):
+    """Zoomed to the mounts' 0-25 Hz and 0-1,500 rpm after the first drawing: the labels are
+    placed again, inside, apart and on their curves."""
+    import matplotlib.pyplot as plt
+
+    result = sweeps("motor_pump_on_mounts.toml", np.linspace(0, 3600, 181), (1, 2))
+    fig = result.plot()
+    _drawn(fig)
+    ax = fig.axes[0]
+    ax.set_yscale("linear")
+    ax.set_ylim(0, 25)
+    ax.set_xlim(0, 1500)
+    renderer = _drawn(fig)
+    _check_labels(result, fig, ax, renderer)
+    shown = [t.get_text() for kind, t in _labels(ax) if kind == "mode"]
+    assert sorted(shown) == [f"mode {k}" for k in range(1, 7)]
+    assert any(kind == "order" for kind, _ in _labels(ax)) and any(kind == "critical" for kind, _ in _labels(ax))
+    plt.close(fig)
+
+
+def test_speed_axis_follows_the_unit(sweeps, tmp_path, monkeypatch):
+    """--speed-unit rad/s: the axis is labelled rad/s and the critical-speed markers sit at the
+    table's speeds in rad/s (rpm pi / 30), through the command line."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.cli import campbell as cli_campbell
+    from rotordyn_modal.cli.main import main
+
+    figures = []
+    monkeypatch.setattr(cli_campbell, "save_figure", lambda fig, args: figures.append(fig))
+    assert main(["campbell", str(EXAMPLES / "gear_machine.toml"), "--speeds", "0:300:61", "--speed-unit", "rad/s",
+                 "--plot", str(tmp_path / "c.png"), "--quiet", "--freq-max", "30"]) == 0
+    ax = figures[0].axes[0]
+    assert "[rad/s]" in ax.get_xlabel() and ax.get_xlim() == (0.0, 300.0) and ax.get_ylim() == (0.0, 30.0)
+    result = rdm.campbell(rdm.load_model(EXAMPLES / "gear_machine.toml"), np.linspace(0, 300, 61))
+    markers = next(line for line in ax.get_lines() if line.get_label() == "critical speed")
+    np.testing.assert_allclose(markers.get_xdata(), result.critical.speeds_rpm * np.pi / 30, rtol=1e-12)
+    plt.close(figures[0])
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["--freq-range", "40:10"], "--freq-range '40:10': expected 0 <= LO < HI"),
+    (["--freq-range", "40"], "--freq-range '40': expected LO:HI"),
+    (["--freq-max", "-3"], "--freq-max '-3': expected a frequency > 0"),
+    (["--freq-max", "nan"], "--freq-max 'nan': expected a finite number"),
+])
+def test_bad_frequency_limits_are_one_line_and_exit_2(tmp_path, capsys, argv, message):
+    from rotordyn_modal.cli.main import main
+
+    code = main(["campbell", str(EXAMPLES / "gear_machine.toml"), "--speeds", "0:3000:11", "--plot",
+                 str(tmp_path / "c.png"), "--quiet"] + argv)
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and len(err.strip().splitlines()) == 1, err
+    assert not (tmp_path / "c.png").exists()
+
+
+def test_instability_is_marked_where_the_closed_form_puts_it(sweeps):
+    """unstable_cross_coupled: the backward mode loses stability at 10,886.198 rpm (closed form,
+    docs/theory.md); with --color-by log_decrement the onset triangle sits there (within the
+    linear interpolation of a 100 rpm grid) and the red band covers only faster speeds."""
+    import matplotlib.pyplot as plt
+
+    result = sweeps("unstable_cross_coupled.toml", np.linspace(0, 20000, 201), (1,))
+    for options in ({"color_by": "log_decrement"}, {}):
+        fig = result.plot(**options)
+        ax = fig.axes[0]
+        onset = [line for line in ax.get_lines() if line.get_marker() == "^"]
+        assert len(onset) == 1 and len(onset[0].get_xdata()) == 1
+        assert abs(onset[0].get_xdata()[0] - 10886.198) < 2.0
+        band = next(line for line in ax.get_lines() if line.get_label() == "unstable (real part > 0)")
+        x = np.asarray(band.get_xdata(), float)[np.isfinite(np.asarray(band.get_ydata(), float))]
+        assert x.min() == 10800.0 and x.max() == 20000.0
+        plt.close(fig)
+
+
+def test_critical_speeds_figure_follows_the_unit(tmp_path, monkeypatch):
+    """critical-speeds --plot with --speed-unit hz: the axis in Hz, markers at rpm / 60."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.cli import critical_speeds as cli_critical
+    from rotordyn_modal.cli.main import main
+
+    figures = []
+    monkeypatch.setattr(cli_critical, "save_figure", lambda fig, args: figures.append(fig))
+    assert main(["critical-speeds", str(EXAMPLES / "gear_machine.toml"), "--speeds", "0:50:51", "--speed-unit", "hz",
+                 "--plot", str(tmp_path / "c.png"), "--quiet"]) == 0
+    ax = figures[0].axes[0]
+    assert "[Hz]" in ax.get_xlabel() and ax.get_xlim() == (0.0, 50.0)
+    result = rdm.campbell(rdm.load_model(EXAMPLES / "gear_machine.toml"), rdm.hz(np.linspace(0, 50, 51)))
+    markers = next(line for line in ax.get_lines() if line.get_label() == "critical speed")
+    np.testing.assert_allclose(markers.get_xdata(), result.critical.speeds_rpm / 60, rtol=1e-12)
+    plt.close(figures[0])

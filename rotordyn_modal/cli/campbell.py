@@ -11,14 +11,20 @@ HELP = "Campbell diagram: modes tracked across speeds"
 DESCRIPTION = """Natural frequencies, damping and whirl of every mode over a speed range, each mode
 tracked by its shape so that it keeps its label where frequencies cross. The figure
 shows forward (solid blue) and backward (dashed red) whirl, every rotor's and gear
-mesh's excitation orders, and the critical speeds.
+mesh's excitation orders, and the critical speeds; unstable stretches lie on a red band,
+a red triangle where a mode becomes unstable. Its speed axis is in --speed-unit; its
+frequency axis is logarithmic when the modes at one speed span more than 30x (e.g. mount
+modes at 5 Hz and bearing modes at 1 kHz), else linear (--freq-scale); --freq-range or
+--freq-max limit it.
 
 CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part,mode_at_speed
 ('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
 'modes --speed SPEED_RPM', whose --shape draws it)
 
 example:
-  rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png"""
+  rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png
+  rotordyn-modal campbell examples/motor_pump_on_mounts.toml --speeds 0:3600:181 --orders 1,2 \
+      --freq-range 0:40 --plot mounts.png"""
 
 
 def add_arguments(parser):
@@ -28,6 +34,7 @@ def add_arguments(parser):
     parser.add_argument("--orders", default="1", help="excitation orders drawn and marked (default 1), e.g. 1,2")
     parser.add_argument("--color-by", choices=["log_decrement", "damping_ratio"],
                         help="colour the curves by this quantity instead of by whirl")
+    _add_frequency_axis(parser)
     add_outputs(parser)
     add_verbose(parser)
 
@@ -35,12 +42,62 @@ def add_arguments(parser):
 def run(args) -> int:
     from ..analysis.campbell import campbell
     model = open_model(args)
+    axis = _frequency_axis(args)    # bad limits refused before the work
     result = campbell(model, speeds_option(args), orders=tuple(parse_list(args.orders, "--orders")),
                       progress=show_progress(args))
     write_table(result.to_dataframe(), args, empty=f"no oscillating modes {speeds_text(args)}: "
                 f"{result.eigenvalues.shape[1]} roots at each speed, all real or overdamped")
     if args.plot:
         use_agg()
-        save_figure(result.plot(color_by=args.color_by, title=model.name or None), args)
+        save_figure(result.plot(color_by=args.color_by, title=model.name or None, speed_unit=args.speed_unit,
+                                **axis), args)
     report_peak_memory(args)
     return 0
+
+
+def _add_frequency_axis(parser):
+    """``--freq-range LO:HI`` or ``--freq-max HZ``, and ``--freq-scale`` of the figure's frequency axis."""
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--freq-range", metavar="LO:HI",
+                       help="frequency axis of the figure from LO to HI [Hz] (default: from the modes)")
+    group.add_argument("--freq-max", metavar="HZ", help="frequency axis of the figure up to HZ [Hz]")
+    parser.add_argument("--freq-scale", choices=["auto", "linear", "log"], default="auto", type=str.lower,
+                        help="frequency axis of the figure: 'auto' (default) is logarithmic when the modes "
+                             "at one speed span more than 30x, else linear")
+
+
+def _frequency_axis(args) -> dict:
+    """``freq_range`` and ``freq_scale`` for ``plot()`` from the options (checked: one line, exit 2)."""
+    from ..errors import InputError
+    from ..plotting.campbell import MAX_FREQUENCY_HZ, MAX_LOG_DECADES
+
+    option = "--freq-max" if args.freq_max is not None else "--freq-range"
+    text = args.freq_max if args.freq_max is not None else args.freq_range
+    freq_range = _frequency_range(args.freq_max, args.freq_range)
+    if freq_range is not None and freq_range[1] > MAX_FREQUENCY_HZ:
+        raise InputError(f"{option} {text!r}: expected at most {MAX_FREQUENCY_HZ:g} Hz")
+    if freq_range is not None and args.freq_scale == "log" and freq_range[0] \
+            and freq_range[1] > freq_range[0] * 10.0 ** MAX_LOG_DECADES:
+        raise InputError(f"{option} {text!r}: a logarithmic axis spans at most {MAX_LOG_DECADES} decades")
+    return {"freq_range": freq_range, "freq_scale": args.freq_scale}
+
+
+def _frequency_range(freq_max, freq_range):
+    """(low or None, high) [Hz] from --freq-max or --freq-range, or None."""
+    from ..errors import InputError
+    from ._common import parse_number
+
+    if freq_max is not None:
+        high = parse_number(freq_max, "--freq-max")
+        if not high > 0:
+            raise InputError(f"--freq-max {freq_max!r}: expected a frequency > 0 [Hz]")
+        return None, high
+    if freq_range is None:
+        return None
+    parts = freq_range.split(":")
+    if len(parts) != 2:
+        raise InputError(f"--freq-range {freq_range!r}: expected LO:HI [Hz], e.g. 0:40")
+    low, high = (parse_number(part, "--freq-range") for part in parts)
+    if not 0 <= low < high:
+        raise InputError(f"--freq-range {freq_range!r}: expected 0 <= LO < HI [Hz]")
+    return low, high

@@ -37,7 +37,7 @@ def run(args) -> int:
                 empty=f"no critical speed {speeds_text(args)} (orders {args.orders})")
     if args.plot:
         use_agg()
-        save_figure(result.plot(title=model.name or None), args)
+        save_figure(result.plot(title=model.name or None, speed_unit=args.speed_unit), args)
     return 0
 
 

@@ -29,7 +29,10 @@ CSV columns: speed_rpm,value,mode,real_part,damping_ratio,log_decrement,frequenc
 examples:
   rotordyn-modal stability examples/unstable_cross_coupled.toml --speeds 0:20000:401
   rotordyn-modal stability examples/unstable_cross_coupled.toml --speeds 0:20000:201 \\
-      --vary suspensions.bearing-A.damping --scale 0.5:2:31 --plot map.png"""
+      --vary suspensions.bearing-A.damping --scale 0.5:2:31 --plot map.png
+  rotordyn-modal stability examples/journal_rotor.toml --speeds 100:20000:201 --plot s.png
+      (the figure is scaled to the modes that decide stability, threshold speeds are
+      labelled lines, the speed axis in --speed-unit; docs/figures.md)"""
 
 
 def add_arguments(parser):
@@ -63,7 +66,7 @@ def run(args) -> int:
         _print_thresholds(result)
     if args.plot:
         use_agg()
-        save_figure(result.plot(), args)
+        save_figure(result.plot(speed_unit=args.speed_unit, title=model.name or None), args)
     return 0
 
 

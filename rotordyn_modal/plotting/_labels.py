@@ -1,9 +1,16 @@
-"""Labels of straight lines placed where the lines leave the axes, inside and apart.
+"""Labels placed inside (or beside) the axes, apart from each other and from markers.
 
-Each label offers a few candidate boxes next to its line's exit point (in axes fraction);
-the first candidate that lies inside the axes and clear of every label already placed is
-taken; a label with no such candidate is left out (its line keeps its colour). Labels of
-one source whose exits are closer than a label's width are merged first (``1X, 2X fan``).
+Straight lines' labels sit where the lines leave the axes: each label offers a few candidate
+boxes next to its line's exit point (in axes fraction); the first candidate that lies inside
+the axes and clear of every label already placed is taken; a label with no such candidate is
+left out (its line keeps its colour). Labels of one source whose exits are closer than a
+label's width are merged first (``1X, 2X fan``).
+
+Curves' labels beside the axes (:func:`column_positions`) keep their curves' order and move
+apart only as far as they must; a leader line joins each to its curve. Labels of points
+(:func:`first_free_box`) take the first free box of a few around their point.
+:func:`draw_time_layout` re-places a figure's labels each time it is drawn, so that they follow
+zooming, panning and resizing.
 """
 
 from __future__ import annotations
@@ -45,8 +52,19 @@ class EdgeLabel:
         return f"{self.prefix} {self.suffix}"
 
 
-def line_exit(slope: float, x_limits, top: float):
-    """Where ``f = slope |x|`` leaves the box ``x_limits x [0, top]``, toward the larger ``|x|``.
+def line_exit(slope: float, x_limits, top: float, bottom: float = 0.0, to_axes=None):
+    """Where ``f = slope |x|`` leaves the box ``x_limits x [bottom, top]``, toward the larger ``|x|``.
+
+    Parameters
+    ----------
+    slope : float
+        [frequency per unit of x], > 0.
+    x_limits : (float, float)
+    top, bottom : float
+        The box's upper and lower frequency.
+    to_axes : callable, optional
+        ``(x, f) -> (u, v)`` in axes fraction (the axes' own transform: a logarithmic axis);
+        linear in both when not given.
 
     Returns
     -------
@@ -57,16 +75,20 @@ def line_exit(slope: float, x_limits, top: float):
     direction = 1 if hi >= abs(lo) else -1
     far = hi if direction > 0 else lo
     width = hi - lo
-    if slope <= 0 or width <= 0:
+    if slope <= 0 or width <= 0 or top <= bottom:
         return None
+    if to_axes is None:
+        def to_axes(x, f):
+            return (x - lo) / width, (f - bottom) / (top - bottom)
     if slope * abs(far) > top:
         x = direction * top / slope
         if not lo <= x <= hi:
             return None
-        return "top", (x - lo) / width, 1.0, direction
-    if far * direction < 0:
+        return "top", to_axes(x, top)[0], 1.0, direction
+    if far * direction < 0 or slope * abs(far) < bottom:
         return None
-    return ("right" if direction > 0 else "left"), (far - lo) / width, slope * abs(far) / top, direction
+    u, v = to_axes(far, slope * abs(far))
+    return ("right" if direction > 0 else "left"), u, v, direction
 
 
 def laid_out_renderer(fig):
@@ -88,19 +110,44 @@ def place_edge_labels(ax, labels, fontsize="x-small", renderer=None):
     """
     fig = ax.figure
     renderer = renderer or laid_out_renderer(fig)
+    drawn = []
+    for label, (left, bottom, _, _) in edge_label_boxes(ax, labels, fontsize, renderer, []):
+        drawn.append(ax.text(left, bottom, label.text, transform=ax.transAxes, fontsize=fontsize,
+                             color=label.color, ha="left", va="bottom", clip_on=True))
+    return drawn
+
+
+def text_size(fig, text, fontsize, renderer):
+    """(width, height) [pixels] of ``text`` at ``fontsize`` drawn by ``renderer``."""
+    from matplotlib.text import Text
+
+    artist = Text(0, 0, text, fontsize=fontsize)
+    artist.set_figure(fig)
+    extent = artist.get_window_extent(renderer)
+    return extent.width, extent.height
+
+
+def edge_label_boxes(ax, labels, fontsize, renderer, placed):
+    """Boxes (axes fraction) of the :class:`EdgeLabel` s that find room, merged where close.
+
+    ``placed`` holds the boxes (left, bottom, right, top in axes fraction) taken already;
+    the new ones are appended to it.
+
+    Returns
+    -------
+    list of (EdgeLabel, (left, bottom, right, top))
+    """
     box = ax.get_window_extent(renderer)
-    to_u, to_v = 1.0 / box.width, 1.0 / box.height
-    points = fig.dpi / 72.0
+    to_u, to_v = 1.0 / max(box.width, 1.0), 1.0 / max(box.height, 1.0)
+    points = renderer.points_to_pixels(1.0)
 
     def size(text):
-        artist = ax.text(0, 0, text, fontsize=fontsize)
-        extent = artist.get_window_extent(renderer)
-        artist.remove()
-        return extent.width * to_u, extent.height * to_v
+        width, height = text_size(ax.figure, text, fontsize, renderer)
+        return width * to_u, height * to_v
 
     pad_u, pad_v = _PAD_POINTS * points * to_u, _PAD_POINTS * points * to_v
     margin = (_MARGIN_POINTS * points * to_u, _MARGIN_POINTS * points * to_v)
-    placed, drawn = [], []
+    taken = []
     for label in _merge_close(labels, size):
         w, h = size(label.text)
         for left, bottom in _candidates(label, w, h, pad_u, pad_v):
@@ -108,10 +155,110 @@ def place_edge_labels(ax, labels, fontsize="x-small", renderer=None):
             if _inside(candidate, margin) and not any(_overlap(candidate, other, pad_u, pad_v)
                                                         for other in placed):
                 placed.append(candidate)
-                drawn.append(ax.text(left, bottom, label.text, transform=ax.transAxes, fontsize=fontsize,
-                                     color=label.color, ha="left", va="bottom", clip_on=True))
+                taken.append((label, candidate))
                 break
-    return drawn
+    return taken
+
+
+def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0), obstacles=()):
+    """The first of ``candidates`` inside ``frame`` and clear of every box in ``placed``.
+
+    Boxes are (left, bottom, right, top) in one coordinate system; ``gap`` (along x, y) is
+    kept from the boxes placed; ``obstacles`` (markers) are only not overlapped. The box
+    taken is appended to ``placed``.
+
+    Returns
+    -------
+    tuple or None
+    """
+    for candidate in candidates:
+        inside = (candidate[0] >= frame[0] and candidate[1] >= frame[1] and candidate[2] <= frame[2]
+                  and candidate[3] <= frame[3])
+        if inside and not any(_overlap(candidate, other, *gap) for other in placed) \
+                and not any(_overlap(candidate, other, 0.0, 0.0) for other in obstacles):
+            placed.append(candidate)
+            return candidate
+    return None
+
+
+def column_positions(targets, heights, lo, hi, gap=0.0):
+    """Centres of labels stacked in one column: as near their targets as they can be, apart.
+
+    Labels keep the order of their targets; a group of labels that would overlap moves as a
+    block centred on its targets' mean (the positions nearest the targets in least squares),
+    then the column is pushed inside ``[lo, hi]`` where it fits.
+
+    Parameters
+    ----------
+    targets, heights : array_like, shape (n,)
+        Wanted centres and the labels' heights (one unit, e.g. pixels).
+    lo, hi : float
+        The column's ends.
+    gap : float
+        Space kept between neighbours.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Centres, in the order of ``targets``.
+    """
+    targets = np.asarray(targets, float)
+    heights = np.asarray(heights, float) + gap
+    order = np.argsort(targets, kind="stable")
+    blocks = []  # [first, last, bottom]
+    for i, k in enumerate(order):
+        blocks.append([i, i, targets[k] - heights[k] / 2])
+        while len(blocks) > 1:
+            first, last, bottom = blocks[-1]
+            previous = blocks[-2]
+            top_of_previous = previous[2] + heights[order[previous[0]:previous[1] + 1]].sum()
+            if bottom >= top_of_previous:
+                break
+            members = order[previous[0]:last + 1]
+            stack = np.concatenate(([0.0], np.cumsum(heights[members])[:-1])) + heights[members] / 2
+            blocks[-2:] = [[previous[0], last, float(np.mean(targets[members] - stack))]]
+    centres = np.empty(len(targets))
+    for first, last, bottom in blocks:
+        members = order[first:last + 1]
+        centres[members] = bottom + np.concatenate(([0.0], np.cumsum(heights[members])[:-1])) + heights[members] / 2
+    below = np.concatenate(([0.0], np.cumsum(heights[order])[:-1]))
+    if heights.sum() <= hi - lo:
+        # inside [lo, hi]: the elementwise max (min) of two sequences spaced at least their
+        # half heights apart is spaced so too
+        low = lo + below + heights[order] / 2
+        high = hi - heights.sum() + low - lo
+        centres[order] = np.minimum(np.maximum(centres[order], low), high)
+    return centres
+
+
+def draw_time_layout(place):
+    """An artist that calls ``place(renderer)`` each time its axes are drawn (add it to them).
+
+    It is drawn first of the axes' children (lowest z-order), so the labels that ``place``
+    moves are drawn where it put them, with the figure's final layout, limits and
+    resolution: after zooming, panning or resizing, the labels are placed again.
+    """
+    from matplotlib.artist import Artist
+
+    class _Layout(Artist):
+        def draw(self, renderer):
+            if self.get_visible():
+                place(renderer)
+
+    artist = _Layout()
+    artist.set_zorder(-1.0e9)
+    artist.set_in_layout(False)
+    return artist
+
+
+def set_if_changed(artist, **properties):
+    """Set ``properties`` of ``artist`` only where they change (a redraw marks nothing stale)."""
+    for name, value in properties.items():
+        current = getattr(artist, f"get_{name}")()
+        same = np.array_equal(np.asarray(current, dtype=object), np.asarray(value, dtype=object)) \
+            if not isinstance(value, str) else current == value
+        if not same:
+            getattr(artist, f"set_{name}")(value)
 
 
 def _merge_close(labels, size):
@@ -167,16 +314,17 @@ def _overlap(a, b, gap_u, gap_v):
     return a[0] < b[2] + gap_u and b[0] < a[2] + gap_u and a[1] < b[3] + gap_v and b[1] < a[3] + gap_v
 
 
-def exits_of_orders(orders, lines, x_limits, top, per_x):
+def exits_of_orders(orders, lines, x_limits, top, per_x, bottom=0.0, to_axes=None):
     """:class:`EdgeLabel` of every order line ``f = order multiplier |x| per_x``.
 
     ``lines`` is a list of (name, multiplier, colour), one per source; ``per_x`` turns a
-    plotted speed into Hz per unit of order and multiplier.
+    plotted speed into Hz per unit of order and multiplier; ``bottom`` and ``to_axes`` as
+    for :func:`line_exit`.
     """
     labels = []
     for name, multiplier, color in lines:
         for order in orders:
-            exit_ = line_exit(float(np.abs(order * multiplier * per_x)), x_limits, top)
+            exit_ = line_exit(float(np.abs(order * multiplier * per_x)), x_limits, top, bottom, to_axes)
             if exit_ is not None:
                 labels.append(EdgeLabel(f"{order:g}X", name, color, *exit_))
     return labels

@@ -4,69 +4,168 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._labels import exits_of_orders, laid_out_renderer, place_edge_labels, spread_apart
+from ..errors import InputError
+from ._labels import (column_positions, draw_time_layout, edge_label_boxes, exits_of_orders, first_free_box,
+                      set_if_changed, text_size)
 from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
 
-__all__ = ["plot_campbell"]
+__all__ = ["plot_campbell", "LOG_SPAN"]
+
+#: ``freq_scale='auto'`` draws a logarithmic frequency axis when the modes shown span more than this ratio
+LOG_SPAN = 30.0
+#: the axis reaches this factor beyond the highest (and, logarithmic, below the lowest) mode shown
+_HEADROOM = {"linear": 1.15, "log": 1.4}
+#: a logarithmic axis chosen from the modes spans at most this many decades below its top
+_LOG_DECADES = 5
+#: limits a user may give: the highest frequency [Hz], the decades of a logarithmic axis
+MAX_FREQUENCY_HZ, MAX_LOG_DECADES = 1e12, 12
+_FONT = "x-small"
+#: more critical speeds than this are marked but not labelled (the table lists them)
+_MAX_CRITICAL_LABELS = 200
+#: leader lines of the mode labels beside the axes: horizontal stub, then slanted to the label [points]
+_STUB_POINTS, _LEADER_POINTS, _PAD_POINTS = 2.0, 10.0, 2.0
+#: a real part above this fraction of its root's size is instability (damping ratio < -1e-10)
+_MARGINAL = 1e-10
+_UNSTABLE = {"color": "red", "alpha": 0.35, "linewidth": 7.0, "solid_capstyle": "butt"}
 
 
 def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None = None,
-                  sources=None, annotate_critical: bool = True, title: str | None = None):
+                  sources=None, annotate_critical: bool = True, title: str | None = None,
+                  freq_range=None, freq_scale: str = "auto"):
     """Draw a Campbell diagram.
 
     Tracked modes are drawn solid blue where they whirl forward, dashed red
-    backward and dotted grey without whirl; each rotor's (and gear mesh's)
-    excitation orders are straight lines, labelled inside the axes where they leave
-    them, apart from each other (close orders of one source share a label, a label with
-    no room is left out: its line keeps its source's colour); critical speeds are marked.
+    backward and dotted grey without whirl; where a mode is unstable (real part > 0) a
+    broad red band lies under its curve, with a red triangle where it becomes unstable.
+    Each mode is labelled where its curve leaves the axes: beside the right edge, in the
+    curves' order, joined to its curve by a leader line; inside the axes next to the curve's
+    last point when the curve leaves through the top or bottom or ends before the right edge.
+    Each rotor's (and gear mesh's) excitation orders are straight lines, labelled inside the
+    axes where they leave them, apart from each other (close orders of one source share a
+    label, a label with no room is left out: its line keeps its source's colour); critical
+    speeds are marked and labelled with their speed where a label finds room clear of the
+    other labels and markers (every critical speed is in the result's table). The labels
+    are placed again whenever the figure is drawn, so they follow zooming and resizing.
 
     Parameters
     ----------
     result : CampbellResult
     ax : matplotlib Axes, optional
     speed_unit : {'rpm', 'rad/s', 'hz'}
+        Unit of the speed axis and of the critical speeds' labels.
     color_by : {None, 'log_decrement', 'damping_ratio'}
         Colour the mode curves by this quantity instead of by whirl.
     sources : list of str, optional
         Excitation sources to draw (default: all).
     annotate_critical : bool
-        Write the critical speeds beside their markers.
+        Write the critical speeds beside their markers (up to 200 of them).
     title : str, optional
+    freq_range : (float or None, float or None), optional
+        Lower and upper end of the frequency axis [Hz]; None (or a missing end) chooses
+        from the modes drawn. On a logarithmic axis a lower end of 0 is chosen too.
+    freq_scale : {'auto', 'linear', 'log'}
+        'auto': logarithmic when, at some speed, the highest mode within ``freq_range``
+        is more than :data:`LOG_SPAN` times the lowest (and the range does not start at
+        0), else linear.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
+    freqs = np.where(result.oscillatory, result.frequencies_hz, np.nan)
+    bottom, top, axis_scale = frequency_axis(freqs, freq_range, freq_scale)
     fig, ax = new_figure(ax)
     scale = speed_scale(speed_unit)
     x = result.speeds * scale
     if color_by:
-        _draw_coloured(ax, fig, x, result, color_by)
+        _draw_coloured(ax, fig, x, freqs, result, color_by)
     else:
-        _draw_by_whirl(ax, x, result)
-    top = 1.15 * (np.nanmax(np.where(result.oscillatory, result.frequencies_hz, np.nan))
-                  if result.oscillatory.any() else 1.0)
+        _draw_by_whirl(ax, x, freqs, result)
+    _mark_unstable(ax, x, freqs, result.eigenvalues)
     lines = _order_lines(result, sources)
     _draw_orders(ax, result, x, lines)
-    _draw_critical(ax, result, scale, annotate_critical and len(result.critical) <= 24, sources)
-    ax.set_ylim(0, top)
+    critical = _draw_critical(ax, result, scale, sources)
+    ax.set_yscale(axis_scale)
+    ax.set_ylim(bottom, top)
     ax.set_xlim(x.min(), x.max() if x.max() > x.min() else x.min() + 1)
     ax.set_xlabel(speed_label(speed_unit))
-    ax.set_ylabel("Damped natural frequency [Hz]")
+    ax.set_ylabel("Damped natural frequency [Hz]" + (" (log scale)" if axis_scale == "log" else ""))
     ax.set_title(title or "Campbell diagram")
-    ax.grid(True, alpha=0.3)
+    ax.grid(True, which="major", alpha=0.3)
+    if axis_scale == "log":
+        ax.grid(True, which="minor", alpha=0.1)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), fontsize="small", ncols=4, frameon=False)
-    renderer = laid_out_renderer(fig)
-    spread_apart([t for t in ax.texts if t.get_gid() == "mode-label"], renderer=renderer)
-    place_edge_labels(ax, exits_of_orders(result.orders, lines, ax.get_xlim(), top, 1 / (2 * np.pi * scale)),
-                      renderer=renderer)
+    labels = _CampbellLabels(ax, x, freqs, result, lines, 1 / (2 * np.pi * scale), critical,
+                             annotate_critical, color_by is None)
+    ax.add_artist(draw_time_layout(labels.place))
     return fig
 
 
-def _draw_by_whirl(ax, x, result):
+def frequency_axis(freqs, freq_range=None, freq_scale: str = "auto"):
+    """Limits and scale of the frequency axis.
+
+    Parameters
+    ----------
+    freqs : ndarray [Hz]
+        The modes' frequencies (NaN where a root is not a mode).
+    freq_range, freq_scale
+        As for :func:`plot_campbell`.
+
+    Returns
+    -------
+    (bottom, top, scale) : (float, float, {'linear', 'log'})
+    """
+    low, high = _checked_range(freq_range)
+    if freq_scale not in ("auto", "linear", "log"):
+        raise InputError(f"freq_scale {freq_scale!r}: expected 'auto', 'linear' or 'log'")
+    inside = np.isfinite(freqs) & (freqs > max(low or 0.0, 0.0))
+    if high is not None:
+        inside &= freqs <= high
+    shown = freqs[inside]
+    if freq_scale == "auto":
+        freq_scale = "log" if not low == 0.0 and _span(np.where(inside, freqs, np.nan)) > LOG_SPAN else "linear"
+    headroom = _HEADROOM[freq_scale]
+    top = high if high is not None else (headroom * shown.max() if shown.size else 1.0)
+    if freq_scale == "linear":
+        return (low or 0.0), top, "linear"
+    if low:
+        if top > low * 10.0 ** MAX_LOG_DECADES:
+            raise InputError(f"freq_range {freq_range!r}: a logarithmic axis spans at most {MAX_LOG_DECADES} "
+                             "decades: expected high <= low x 1e12")
+        return low, top, "log"
+    bottom = shown.min() / headroom if shown.size else top / 100.0
+    return max(bottom, top * 10.0 ** -_LOG_DECADES), top, "log"
+
+
+def _span(freqs):
+    """Largest ratio of the highest to the lowest mode at one speed (1 without modes)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratios = np.nanmax(freqs, axis=1, initial=-np.inf, where=np.isfinite(freqs)) \
+            / np.nanmin(freqs, axis=1, initial=np.inf, where=np.isfinite(freqs))
+    ratios = ratios[np.isfinite(ratios)]
+    return float(ratios.max()) if ratios.size else 1.0
+
+
+def _checked_range(freq_range):
+    if freq_range is None:
+        return None, None
+    try:
+        low, high = freq_range
+        low = None if low is None else float(low)
+        high = None if high is None else float(high)
+    except (TypeError, ValueError):
+        raise InputError(f"freq_range {freq_range!r}: expected (low, high) in Hz") from None
+    if any(v is not None and not np.isfinite(v) for v in (low, high)) or (low is not None and low < 0) \
+            or (high is not None and high <= 0) or (low is not None and high is not None and not low < high) \
+            or any(v is not None and v > MAX_FREQUENCY_HZ for v in (low, high)):
+        raise InputError(f"freq_range {freq_range!r}: expected (low, high) in Hz with 0 <= low < high <= 1e12")
+    return low, high
+
+
+def _draw_by_whirl(ax, x, freqs, result):
     drawn = set()
-    for m, label in enumerate(result.modes):
-        f = np.where(result.oscillatory[:, m], result.frequencies_hz[:, m], np.nan)
+    for m in range(len(result.modes)):
+        f = freqs[:, m]
         for whirl, style in WHIRL_STYLE.items():
             mask = _with_neighbours(result.whirl[:, m] == whirl)
             if not mask.any():
@@ -76,7 +175,6 @@ def _draw_by_whirl(ax, x, result):
                 kwargs.pop("label")
             drawn.add(whirl)
             ax.plot(x, np.where(mask, f, np.nan), linewidth=1.6, **kwargs)
-        _label_curve_end(ax, x, f, f"mode {label}")
 
 
 def _with_neighbours(mask):
@@ -87,7 +185,7 @@ def _with_neighbours(mask):
     return out
 
 
-def _draw_coloured(ax, fig, x, result, quantity):
+def _draw_coloured(ax, fig, x, freqs, result, quantity):
     from matplotlib.collections import LineCollection
 
     values = {"log_decrement": result.log_decrements, "damping_ratio": result.damping_ratios}[quantity]
@@ -96,23 +194,38 @@ def _draw_coloured(ax, fig, x, result, quantity):
     import matplotlib.colors as mcolors
 
     norm = mcolors.Normalize(*norm_range)
-    for m, label in enumerate(result.modes):
-        f = np.where(result.oscillatory[:, m], result.frequencies_hz[:, m], np.nan)
-        points = np.stack([x, f], axis=1)
+    for m in range(len(result.modes)):
+        points = np.stack([x, freqs[:, m]], axis=1)
         segments = np.stack([points[:-1], points[1:]], axis=1)
         lines = LineCollection(segments, cmap="viridis", norm=norm, linewidth=2.0)
         lines.set_array(0.5 * (values[:-1, m] + values[1:, m]))
         ax.add_collection(lines)
-        _label_curve_end(ax, x, f, f"mode {label}")
-    fig.colorbar(lines, ax=ax, label=quantity.replace("_", " "))
+    fig.colorbar(lines, ax=ax, label=quantity.replace("_", " ") + " (red band: unstable)")
 
 
-def _label_curve_end(ax, x, f, text):
-    valid = np.nonzero(np.isfinite(f))[0]
-    if valid.size:
-        k = valid[-1]
-        ax.annotate(text, (x[k], f[k]), xytext=(3, 0), textcoords="offset points",
-                    fontsize="x-small", va="center", gid="mode-label")
+def _mark_unstable(ax, x, freqs, eigenvalues):
+    """A broad red band under each mode where its real part is > 0; a triangle at each onset.
+
+    A real part within :data:`_MARGINAL` of the root's size is round-off of an undamped mode,
+    not instability. The onset's speed and frequency are interpolated linearly between the
+    two speeds where the real part changes sign from <= 0 to > 0.
+    """
+    real_parts = eigenvalues.real
+    unstable = (real_parts > _MARGINAL * np.abs(eigenvalues)) & np.isfinite(freqs)
+    if not unstable.any():
+        return
+    band_label, onset_label = "unstable (real part > 0)", "becomes unstable"
+    for m in np.nonzero(unstable.any(axis=0))[0]:
+        f, r = freqs[:, m], real_parts[:, m]
+        ax.plot(x, np.where(_with_neighbours(unstable[:, m]), f, np.nan), label=band_label, zorder=1.5,
+                **_UNSTABLE)
+        band_label = None
+        k = np.nonzero(~unstable[:-1, m] & unstable[1:, m] & np.isfinite(f[:-1]))[0]
+        if k.size:
+            t = -r[k] / (r[k + 1] - r[k])
+            ax.plot(x[k] + t * (x[k + 1] - x[k]), f[k] + t * (f[k + 1] - f[k]), "^", color="red",
+                    markersize=8, markeredgecolor="k", label=onset_label, zorder=3.5)
+            onset_label = None
 
 
 _ORDER_COLORS = ["0.2", "tab:green", "tab:purple", "tab:brown", "tab:olive", "tab:cyan"]
@@ -126,21 +239,201 @@ def _order_lines(result, sources):
 
 
 def _draw_orders(ax, result, x, lines):
-    """Straight order lines (labelled by :func:`place_edge_labels` once the axes are laid out)."""
+    """Straight order lines (labelled by :class:`_CampbellLabels` when the figure is drawn)."""
     speeds_abs = np.abs(result.speeds)
     for _, multiplier, color in lines:
         for order in result.orders:
             ax.plot(x, order * multiplier * speeds_abs / (2 * np.pi), color=color, linewidth=0.9, alpha=0.8)
 
 
-def _draw_critical(ax, result, scale, annotate, sources):
+def _draw_critical(ax, result, scale, sources):
+    """Markers of the critical speeds drawn; returns their (speeds in the axis' unit, Hz)."""
     critical = result.critical
     if not len(critical):
-        return
+        return np.empty(0), np.empty(0)
     keep = np.array([sources is None or s in sources for s in critical.source], dtype=bool)
-    ax.plot(critical.speeds[keep] * scale, critical.frequencies_hz[keep], "o", markersize=6,
-            markerfacecolor="none", markeredgecolor="k", label="critical speed")
-    if annotate:
-        for speed, freq in zip(critical.speeds[keep] * scale, critical.frequencies_hz[keep]):
-            ax.annotate(f"{speed:.0f}", (speed, freq), xytext=(4, -9), textcoords="offset points",
-                        fontsize="xx-small")
+    speeds, freqs = critical.speeds[keep] * scale, critical.frequencies_hz[keep]
+    ax.plot(speeds, freqs, "o", markersize=6, markerfacecolor="none", markeredgecolor="k",
+            label="critical speed", zorder=3)
+    return speeds, freqs
+
+
+def _speed_text(value: float) -> str:
+    """A critical speed's label: whole units from 100 on, three digits below."""
+    return f"{value:.0f}" if abs(value) >= 100 else f"{value:.3g}"
+
+
+class _CampbellLabels:
+    """The Campbell diagram's labels (order lines, modes, critical speeds), placed at draw time.
+
+    Every label is made once (so that ``ax.texts`` holds them); :meth:`place` moves, fills
+    and shows or hides them for the axes' current limits and size.
+    """
+
+    def __init__(self, ax, x, freqs, result, lines, per_x, critical, annotate, by_whirl):
+        self.ax, self.x, self.freqs, self.result = ax, x, freqs, result
+        self.lines, self.per_x, self.by_whirl = lines, per_x, by_whirl
+        self.critical = critical
+        self.order_texts = [self._text("") for _ in range(len(lines) * len(result.orders))]
+        self.modes = [m for m in range(freqs.shape[1]) if np.isfinite(freqs[:, m]).any()]
+        # beside the right edge from the start, so that the layout leaves them room
+        self.mode_texts = [self._text(f"mode {result.modes[m]}", gid="mode-label", va="center", visible=True,
+                                      x=1.02, clip_on=False) for m in self.modes]
+        self.leaders = [ax.plot([], [], linewidth=0.6, transform=ax.transAxes, clip_on=False,
+                                gid=f"mode-leader {result.modes[m]}")[0] for m in self.modes]
+        self.critical_texts = [self._text(_speed_text(s), gid="critical-label", fontsize="xx-small")
+                               for s in critical[0]] if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
+
+    def _text(self, text, gid=None, va="bottom", fontsize=_FONT, visible=False, x=0.5, clip_on=True):
+        return self.ax.text(x, 0.5, text, transform=self.ax.transAxes, fontsize=fontsize, ha="left", va=va,
+                            gid=gid, visible=visible, clip_on=clip_on)
+
+    def place(self, renderer):
+        """Place every label for the axes as they are now (called when the axes are drawn)."""
+        ax = self.ax
+        box = ax.get_window_extent(renderer)
+        self.to_u, self.to_v = 1.0 / max(box.width, 1.0), 1.0 / max(box.height, 1.0)
+        self.points = renderer.points_to_pixels(1.0)
+        self.to_axes = (ax.transData + ax.transAxes.inverted()).transform
+        placed = []
+        self._place_orders(renderer, placed)
+        markers = self._marker_boxes()
+        self._place_modes(renderer, placed, markers)
+        self._place_critical(renderer, placed, markers)
+
+    # -- order lines ---------------------------------------------------------------------
+    def _place_orders(self, renderer, placed):
+        ax = self.ax
+        bottom, top = ax.get_ylim()
+        exits = exits_of_orders(self.result.orders, self.lines, ax.get_xlim(), top, self.per_x, bottom,
+                                lambda x, f: tuple(self.to_axes((x, f))))
+        taken = edge_label_boxes(ax, exits, _FONT, renderer, placed)
+        for text, item in zip(self.order_texts, taken + [None] * (len(self.order_texts) - len(taken))):
+            if item is None:
+                set_if_changed(text, visible=False)
+                continue
+            label, (left, low, _, _) = item
+            set_if_changed(text, text=label.text, color=label.color, position=(left, low), visible=True)
+
+    # -- modes ---------------------------------------------------------------------------
+    def _place_modes(self, renderer, placed, markers):
+        ends = [self._visible_end(m) for m in self.modes]
+        beside = [i for i, end in enumerate(ends) if end is not None and end[0] == "right"]
+        inside = [i for i, end in enumerate(ends) if end is not None and end[0] == "inside"]
+        for i, end in enumerate(ends):
+            if end is None:
+                set_if_changed(self.mode_texts[i], visible=False)
+                set_if_changed(self.leaders[i], visible=False)
+        self._beside(renderer, beside, ends)
+        self._inside(renderer, inside, ends, placed, markers)
+
+    def _visible_end(self, m):
+        """('right', v, k) where mode ``m``'s curve meets the right edge at height ``v`` (axes
+        fraction), ('inside', (u, v), k) at its last point inside the axes, or None; ``k`` is
+        the sample index nearest that end."""
+        x, f = self.x, self.freqs[:, m]
+        (lo, hi), (bottom, top) = sorted(self.ax.get_xlim()), sorted(self.ax.get_ylim())
+        finite = np.isfinite(f)
+        k = int(np.searchsorted(x, hi, side="right")) - 1
+        if 0 <= k < len(x) and finite[k]:
+            if k + 1 < len(x) and finite[k + 1] and x[k] < hi:
+                edge = f[k] + (hi - x[k]) / (x[k + 1] - x[k]) * (f[k + 1] - f[k])
+            else:
+                edge = f[k] if np.isclose(x[k], hi, rtol=0, atol=1e-9 * max(hi - lo, 1e-300)) else None
+            if edge is not None and bottom <= edge <= top:
+                return "right", float(self.to_axes((hi, edge))[1]), k
+        view = finite & (x >= lo) & (x <= hi) & (f >= bottom) & (f <= top)
+        if not view.any():
+            return None
+        k = int(np.nonzero(view)[0][-1])
+        return "inside", tuple(float(c) for c in self.to_axes((x[k], f[k]))), k
+
+    def _colour(self, m, k):
+        if not self.by_whirl:
+            return "k"
+        return WHIRL_STYLE.get(str(self.result.whirl[k, m]), WHIRL_STYLE["none"])["color"]
+
+    def _beside(self, renderer, indices, ends):
+        """Labels beside the right edge, in their curves' order, each joined by a leader line."""
+        if not indices:
+            return
+        heights = [text_size(self.ax.figure, self.mode_texts[i].get_text(), _FONT, renderer)[1] * self.to_v
+                   for i in indices]
+        gap = self.points * self.to_v
+        room = int(1.0 / (max(heights) + gap))
+        if len(indices) > room:        # more labels than the axes are tall: every k-th, in curve order
+            by_height = sorted(indices, key=lambda i: ends[i][1])
+            kept = set(by_height[::-(-len(indices) // max(room, 1))])
+            for i in set(indices) - kept:
+                set_if_changed(self.mode_texts[i], visible=False)
+                set_if_changed(self.leaders[i], visible=False)
+            heights = [h for i, h in zip(indices, heights) if i in kept]
+            indices = [i for i in indices if i in kept]
+        targets = [ends[i][1] for i in indices]
+        centres = column_positions(targets, heights, 0.0, 1.0, gap=gap)
+        stub, leader = _STUB_POINTS * self.points * self.to_u, _LEADER_POINTS * self.points * self.to_u
+        pad = _PAD_POINTS * self.points * self.to_u
+        for i, target, centre in zip(indices, targets, centres):
+            colour = self._colour(self.modes[i], ends[i][2])
+            set_if_changed(self.leaders[i], xdata=[1.0, 1.0 + stub, 1.0 + leader],
+                           ydata=[target, target, centre], color=colour, visible=True)
+            set_if_changed(self.mode_texts[i], position=(1.0 + leader + pad, centre), va="center", ha="left",
+                           color=colour, visible=True, clip_on=False)
+
+    def _inside(self, renderer, indices, ends, placed, markers):
+        """Labels of curves that end inside the axes: next to the curve's last point."""
+        pad_u, pad_v = _PAD_POINTS * self.points * self.to_u, _PAD_POINTS * self.points * self.to_v
+        margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
+        for i in indices:
+            text = self.mode_texts[i]
+            w, h = text_size(self.ax.figure, text.get_text(), _FONT, renderer)
+            w, h = w * self.to_u, h * self.to_v
+            u, v = ends[i][1]
+            corners = [(u + pad_u, v - h / 2), (u - w - pad_u, v + pad_v), (u - w - pad_u, v - h - pad_v),
+                       (u + pad_u, v + pad_v), (u + pad_u, v - h - pad_v), (u - w / 2, v + pad_v),
+                       (u - w / 2, v - h - pad_v)]
+            box = first_free_box([(a, b, a + w, b + h) for a, b in corners], placed, (pad_u, pad_v),
+                                 (margin_u, margin_v, 1 - margin_u, 1 - margin_v), obstacles=markers)
+            set_if_changed(self.leaders[i], visible=False)
+            if box is None:
+                set_if_changed(text, visible=False)
+                continue
+            set_if_changed(text, position=(box[0], box[1] + h / 2), va="center", ha="left", clip_on=True,
+                           color=self._colour(self.modes[i], ends[i][2]), visible=True)
+
+    # -- critical speeds -----------------------------------------------------------------
+    def _marker_boxes(self):
+        """Boxes (axes fraction) of the critical-speed markers inside the axes."""
+        radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
+        boxes = []
+        for speed, freq in zip(*self.critical):
+            u, v = self.to_axes((speed, freq))
+            if 0 <= u <= 1 and 0 <= v <= 1:
+                boxes.append((u - radius_u, v - radius_v, u + radius_u, v + radius_v))
+        return boxes
+
+    def _place_critical(self, renderer, placed, markers):
+        """Each critical speed's label in the first free box around its marker, or none."""
+        if not self.critical_texts:
+            return
+        radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
+        gap = (0.5 * self.points * self.to_u, 0.5 * self.points * self.to_v)
+        margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
+        order = np.argsort(self.critical[0], kind="stable")
+        for j in order:
+            text = self.critical_texts[j]
+            u, v = self.to_axes((self.critical[0][j], self.critical[1][j]))
+            w, h = text_size(self.ax.figure, text.get_text(), "xx-small", renderer)
+            w, h = w * self.to_u, h * self.to_v
+            corners = [(u + radius_u, v - radius_v - h * 0.5), (u + radius_u, v + radius_v - h * 0.5),
+                       (u - radius_u - w, v - radius_v - h * 0.5), (u - radius_u - w, v + radius_v - h * 0.5),
+                       (u - w / 2, v + radius_v), (u - w / 2, v - radius_v - h),
+                       (u + radius_u, v - h / 2), (u - radius_u - w, v - h / 2)]
+            box = None
+            if 0 <= u <= 1 and 0 <= v <= 1:
+                box = first_free_box([(a, b, a + w, b + h) for a, b in corners], placed, gap,
+                                     (margin_u, margin_v, 1 - margin_u, 1 - margin_v), obstacles=markers)
+            if box is None:
+                set_if_changed(text, visible=False)
+                continue
+            set_if_changed(text, position=(box[0], box[1]), va="bottom", ha="left", clip_on=True, visible=True)

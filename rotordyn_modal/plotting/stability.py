@@ -4,13 +4,41 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
+from ._style import new_figure, speed_label, speed_scale
 
 __all__ = ["plot_stability", "plot_stability_map"]
 
 
+#: the axes reach this many times the least damped mode's range (its lowest real part, its
+#: highest log decrement over the speeds) where the modes that matter reach further
+_REACH = 3.0
+#: at most this many modes are drawn in colour beside those least damped at some speed ...
+_SHOWN = 6
+#: ... and only those whose log decrement comes below this somewhere (damping ratio ~0.16)
+_LIGHTLY_DAMPED = 1.0
+#: modes the axes show get their own colour and legend entry, this many at most
+_LEGEND = 7
+#: zero keeps at least this fraction of each panel's height from its bottom and top
+_ZERO_ROOM = 0.12
+#: real parts within this fraction of the largest root are round-off of undamped modes
+_NOISE = 1e-4
+_STYLES = ("-", "--", ":", "-.")
+
+
 def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     """Real parts and log decrements of the tracked modes over speed.
+
+    The figure is scaled to the modes that decide stability (:func:`modes_that_matter`):
+    those that are the least damped at some speed, and up to :data:`_SHOWN` more of the
+    lightly damped ones. Those of them that the axes show, then any other mode the axes show,
+    get their own colour (and line style) and a legend entry, the least damped first, seven
+    at most; every other root is a thin grey line. The axes reach 10 % beyond the
+    modes that matter, but no further than :data:`_REACH` times the least damped mode's
+    range (its lowest real part, its highest log decrement over the speeds), and keep zero
+    well inside; a note beside each panel names the roots that reach beyond it and how far
+    (overdamped roots of journal bearings reach real parts of -10,000 1/s and log
+    decrements of 1,000). Each threshold speed is a labelled vertical line: red where a mode
+    becomes unstable with rising speed, green where it becomes stable again.
 
     Parameters
     ----------
@@ -25,28 +53,193 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     import matplotlib.pyplot as plt
 
     fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(8.0, 7.0), layout="constrained")
-    x = result.speeds * speed_scale(speed_unit)
-    for m, label in enumerate(result.modes):
-        last_whirl = result.whirl[-1, m]
-        style = WHIRL_STYLE.get(str(last_whirl), WHIRL_STYLE["none"])
-        top.plot(x, result.real_parts[:, m], color=style["color"], linestyle=style["linestyle"],
-                 label=f"mode {label} ({last_whirl} at the end)")
-        bottom.plot(x, result.log_decrements[:, m], color=style["color"], linestyle=style["linestyle"])
-    for axis in (top, bottom):
-        axis.axhline(0.0, color="k", linewidth=0.8)
-        for speed in result.thresholds:
-            axis.axvline(speed * speed_scale(speed_unit), color="tab:red", linewidth=1.0, alpha=0.7)
+    scale = speed_scale(speed_unit)
+    x = result.speeds * scale
+    real = np.where(np.isfinite(result.real_parts), result.real_parts, np.nan)
+    log_dec = np.where(np.isfinite(result.log_decrements), result.log_decrements, np.nan)
+    relevant = modes_that_matter(log_dec)
+    size = np.abs(result.eigenvalues[np.isfinite(result.eigenvalues)])
+    floor = _NOISE * (size.max() if size.size and size.max() > 0 else 1.0)
+    top.set_ylim(*zero_centred_limits(*_real_part_span(real, log_dec, relevant), floor))
+    bottom.set_ylim(*zero_centred_limits(*_log_decrement_span(log_dec, relevant), 1e-3))
+    shown = [m for m in relevant + [m for m in _by_damping(log_dec) if m not in relevant]
+             if _within(real[:, m], top.get_ylim()) or _within(log_dec[:, m], bottom.get_ylim())][:_LEGEND]
+    _draw_modes(top, bottom, x, result, real, log_dec, shown)
+    for axis, values, unit in ((top, real, "1/s"), (bottom, log_dec, "")):
+        axis.axhline(0.0, color="k", linewidth=0.8, zorder=1.2)   # under the curves (undamped modes lie on it)
         axis.grid(True, alpha=0.3)
-    if np.isfinite(result.threshold_speed):
-        top.annotate(f"threshold {result.threshold_speed * speed_scale(speed_unit):.0f}",
-                     (result.threshold_speed * speed_scale(speed_unit), 0), xytext=(4, 6),
-                     textcoords="offset points", color="tab:red", fontsize="small")
+        _note_cut_off(axis, result.modes, values, unit)
+    top.set_xlim(x.min(), x.max() if x.max() > x.min() else x.min() + 1)
     top.set_ylabel("Real part of eigenvalue [1/s]\n(> 0: unstable)")
     bottom.set_ylabel("Log decrement [-]\n(< 0: unstable)")
     bottom.set_xlabel(speed_label(speed_unit))
     top.set_title(title or "Stability over speed")
-    top.legend(fontsize="x-small", ncols=2)
+    top.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    _draw_thresholds(top, bottom, result, scale, speed_unit)
     return fig
+
+
+def modes_that_matter(log_decrements):
+    """Columns of the modes that decide stability, the least damped first.
+
+    Those that have the smallest log decrement at some speed, then, up to :data:`_SHOWN`
+    modes in all, those whose log decrement comes below :data:`_LIGHTLY_DAMPED` somewhere,
+    by their smallest log decrement.
+
+    Parameters
+    ----------
+    log_decrements : ndarray, shape (N, n_modes)
+        NaN where a root is not a mode.
+
+    Returns
+    -------
+    list of int
+    """
+    finite = np.isfinite(log_decrements)
+    if not finite.any():
+        return []
+    lowest = np.where(finite, log_decrements, np.inf).min(axis=0)
+    rows = finite.any(axis=1)
+    least = set(np.argmin(np.where(finite, log_decrements, np.inf)[rows], axis=1).tolist())
+    ranked = [int(m) for m in np.argsort(lowest, kind="stable") if np.isfinite(lowest[m])]
+    light = [m for m in ranked if lowest[m] < _LIGHTLY_DAMPED and m not in least]
+    chosen = set(least) | set(light[:max(_SHOWN - len(least), 0)])
+    return [m for m in ranked if m in chosen]
+
+
+def _by_damping(log_dec):
+    """Columns of the modes (finite log decrement somewhere) by their smallest log decrement."""
+    lowest = np.where(np.isfinite(log_dec), log_dec, np.inf).min(axis=0)
+    return [int(m) for m in np.argsort(lowest, kind="stable") if np.isfinite(lowest[m])]
+
+
+def _within(values, limits):
+    """Some of ``values`` lie within ``limits``."""
+    with np.errstate(invalid="ignore"):
+        return bool(np.any((values >= limits[0]) & (values <= limits[1])))
+
+
+def _nan(function, values):
+    finite = np.asarray(values, float)[np.isfinite(values)]
+    return float(function(finite)) if finite.size else np.nan
+
+
+def _real_part_span(real, log_dec, relevant):
+    """(lowest, highest) real part to show [1/s]: the modes that matter, but no lower than
+    :data:`_REACH` times the least-damped mode's lowest real part over the speeds; any
+    positive real part (a root that diverges) always."""
+    modes = np.where(np.isfinite(log_dec), real, np.nan)
+    chosen = modes[:, relevant] if relevant else real
+    least = np.array([_nan(np.max, row) for row in modes])
+    lowest = np.nanmax([_nan(np.min, chosen), _REACH * _nan(np.min, least)])
+    highest = np.nanmax([_nan(np.max, chosen), max(_nan(np.max, real), 0.0)])
+    return lowest, highest
+
+
+def _log_decrement_span(log_dec, relevant):
+    """(lowest, highest) log decrement to show: the modes that matter, but no higher than
+    :data:`_REACH` times the largest of the speeds' least log decrements (when it is > 0)."""
+    chosen = log_dec[:, relevant] if relevant else log_dec
+    least = np.array([_nan(np.min, row) for row in log_dec])
+    reach = _REACH * _nan(np.max, least)
+    highest = _nan(np.max, chosen)
+    return _nan(np.min, chosen), min(highest, reach) if reach > 0 else highest
+
+
+def zero_centred_limits(lowest, highest, floor):
+    """(bottom, top) 10 % beyond ``lowest`` and ``highest`` (NaN: none), with zero inside.
+
+    Zero keeps :data:`_ZERO_ROOM` of the height from either end; the panel is at least
+    ``floor`` tall on each side of zero (an undamped machine's real parts are round-off).
+    """
+    below = max(-1.1 * lowest, 0.0) if np.isfinite(lowest) else 0.0
+    above = max(1.1 * highest, 0.0) if np.isfinite(highest) else 0.0
+    room = _ZERO_ROOM / (1 - _ZERO_ROOM)
+    below, above = max(below, room * above, room * floor), max(above, room * below, floor)
+    return -below, above
+
+
+def _draw_modes(top, bottom, x, result, real, log_dec, relevant):
+    import matplotlib.pyplot as plt
+
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for rank, m in enumerate(relevant):
+        style = {"color": colours[rank % len(colours)], "linestyle": _STYLES[(rank // len(colours)) % len(_STYLES)],
+                 "linewidth": 1.7}
+        top.plot(x, real[:, m], label=f"mode {result.modes[m]}", gid=f"mode {result.modes[m]}", **style)
+        bottom.plot(x, log_dec[:, m], gid=f"mode {result.modes[m]}", **style)
+    others = [m for m in range(real.shape[1]) if m not in relevant]
+    for i, m in enumerate(others):
+        kwargs = {"color": "0.72", "linewidth": 0.8, "zorder": 1.5}
+        top.plot(x, real[:, m], label="other roots (more damped)" if i == 0 else None, **kwargs)
+        bottom.plot(x, log_dec[:, m], **kwargs)
+
+
+def _note_cut_off(ax, labels, values, unit):
+    """Name the roots that leave the panel at its bottom or top, and how far they reach
+    (beside the panel, under the legend: the note covers no curve)."""
+    import textwrap
+
+    low, high = ax.get_ylim()
+    with np.errstate(invalid="ignore"):
+        under = np.any(values < low, axis=0)
+        over = np.any(values > high, axis=0)
+    notes = []
+    for mask, word, reach in ((under, "below", np.nanmin), (over, "above", np.nanmax)):
+        if mask.any():
+            names = _label_list(labels[mask])
+            value = reach(values[:, mask])
+            number = f"{value:,.0f}" if abs(value) >= 100 else f"{value:.3g}"
+            notes.append(f"mode{'s' if mask.sum() > 1 else ''} {names} reach{'' if mask.sum() > 1 else 'es'} "
+                         f"{word} the axis, to {number}{' ' + unit if unit else ''}")
+    if notes:
+        ax.text(1.02, 0.0, "\n".join(textwrap.fill(note, 30) for note in notes), transform=ax.transAxes,
+                fontsize="x-small", ha="left", va="bottom", color="0.3", gid="cut-off-note", clip_on=False)
+
+
+def _label_list(labels) -> str:
+    """``[3, 4, 7, 8, 9, 10]`` -> ``'3, 4, 7-10'``: runs of three or more as ranges."""
+    parts, run = [], []
+    for label in [int(v) for v in labels] + [None]:
+        if run and (label is None or label != run[-1] + 1):
+            parts += [f"{run[0]}-{run[-1]}"] if len(run) > 2 else [str(v) for v in run]
+            run = []
+        if label is not None:
+            run.append(label)
+    return ", ".join(parts)
+
+
+def _draw_thresholds(top, bottom, result, scale, speed_unit):
+    """A vertical line at each threshold speed, labelled in the real-part panel where there is room."""
+    from ._labels import first_free_box, laid_out_renderer, text_size
+
+    unit = {"rpm": "rpm", "rad/s": "rad/s", "hz": "Hz"}[speed_unit]
+    items = []
+    for speed, mode, onset in zip(result.thresholds, result.threshold_modes, result.threshold_onsets):
+        colour = "tab:red" if onset else "tab:green"
+        for axis in (top, bottom):
+            axis.axvline(speed * scale, color=colour, linewidth=1.2, alpha=0.9, gid="threshold")
+        items.append((speed * scale, f"{speed * scale:,.0f} {unit}: mode {mode} "
+                      f"{'becomes unstable' if onset else 'stable again'}", colour))
+    if not items:
+        return
+    renderer = laid_out_renderer(top.figure)
+    frame = top.get_window_extent(renderer)
+    (lo, hi), placed = top.get_xlim(), []
+    pad = renderer.points_to_pixels(2.0) / frame.width
+    for at, text, colour in items:
+        w, h = text_size(top.figure, text, "x-small", renderer)
+        w, h = h / frame.width, w / frame.height      # turned upright
+        u = (at - lo) / (hi - lo)
+        right, left = (u + pad, 0.98 - h, u + pad + w, 0.98), (u - pad - w, 0.98 - h, u - pad, 0.98)
+        # above zero, the side that is still stable is free of the crossing mode's curve
+        box = first_free_box([left, right] if colour == "tab:red" else [right, left], placed,
+                             frame=(0.0, 0.0, 1.0, 1.0))
+        if box is None:
+            continue
+        top.text(box[0] + w / 2, 0.98, text, transform=top.transAxes, rotation=90, ha="center", va="top",
+                 fontsize="x-small", color=colour, gid="threshold-label",
+                 bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5})
 
 
 def plot_stability_map(result, speed_unit: str = "rpm", quantity: str = "min_damping_ratio",

@@ -1,0 +1,147 @@
+"""The stability figure: scaled to the modes that decide stability, threshold speeds marked
+where the closed forms put them, a legend of distinct styles, labels inside the figure and apart.
+
+Journal bearings' overdamped roots reach real parts of -24,000 1/s and log decrements of 300;
+the crossing at 11,628 rpm (Lund's analysis, README) must still be seen.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+
+matplotlib.use("Agg")
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+@pytest.fixture(scope="module")
+def journal():
+    return rdm.stability(rdm.load_model(EXAMPLES / "journal_rotor.toml"), rdm.rpm(np.linspace(100, 20000, 201)))
+
+
+def _zero_fraction(ax):
+    bottom, top = ax.get_ylim()
+    return (ax.transAxes.inverted().transform(ax.transData.transform((0.0, 0.0))))[1], bottom, top
+
+
+def test_the_crossing_mode_fills_each_panel_and_zero_is_well_inside(journal):
+    """The mode that crosses zero spans at least a third of each panel's height (the old figure:
+    1 % of it, under roots at -24,000 1/s), and zero lies inside, not in the bottom or top 2 %."""
+    import matplotlib.pyplot as plt
+
+    assert len(journal.thresholds) == 1
+    m = list(journal.modes).index(journal.threshold_modes[0])
+    fig = journal.plot()
+    top, bottom = fig.axes[:2]
+    for ax, values in ((top, journal.real_parts[:, m]), (bottom, journal.log_decrements[:, m])):
+        zero, low, high = _zero_fraction(ax)
+        assert 0.02 < zero < 0.98, (zero, low, high)
+        assert np.ptp(values) >= (high - low) / 3, (np.ptp(values), low, high)
+        assert low <= values.min() and values.max() <= high        # the crossing mode is drawn whole
+    plt.close(fig)
+
+
+def test_threshold_lines_sit_at_the_closed_forms_speeds(tmp_path, monkeypatch):
+    """unstable_cross_coupled loses stability at 10,886.198 rpm (closed form, docs/theory.md),
+    journal_rotor at 11,628 rpm (Lund): a vertical line in each panel there, labelled with the
+    speed in the unit of the axis (rpm, then rad/s through the command line)."""
+    import matplotlib.pyplot as plt
+
+    result = rdm.stability(rdm.load_model(EXAMPLES / "unstable_cross_coupled.toml"),
+                           rdm.rpm(np.linspace(0, 20000, 201)))
+    fig = result.plot()
+    for ax in fig.axes[:2]:
+        lines = [line for line in ax.get_lines() if line.get_gid() == "threshold"]
+        assert len(lines) == 1 and abs(lines[0].get_xdata()[0] - 10886.198) < 1e-3
+    labels = [t.get_text() for t in fig.axes[0].texts if t.get_gid() == "threshold-label"]
+    assert labels and labels[0].startswith("10,886 rpm: mode") and "unstable" in labels[0]
+    plt.close(fig)
+
+    from rotordyn_modal.cli import stability as cli_stability
+    from rotordyn_modal.cli.main import main
+
+    figures = []
+    monkeypatch.setattr(cli_stability, "save_figure", lambda fig, args: figures.append(fig))
+    assert main(["stability", str(EXAMPLES / "journal_rotor.toml"), "--speeds", "10:2100:106", "--speed-unit",
+                 "rad/s", "--plot", str(tmp_path / "s.png"), "--quiet"]) == 0
+    top = figures[0].axes[0]
+    assert "[rad/s]" in figures[0].axes[1].get_xlabel() and top.get_xlim() == (10.0, 2100.0)
+    line = next(line for line in top.get_lines() if line.get_gid() == "threshold")
+    assert abs(line.get_xdata()[0] - 11628 * np.pi / 30) < 0.1
+    assert any(t.get_text().startswith("1,218 rad/s") for t in top.texts)
+    plt.close(figures[0])
+
+
+@pytest.mark.parametrize("model,rpm", [("fan_on_bearings.toml", (0, 9000, 91)),
+                                       ("motor_pump_on_mounts.toml", (0, 3600, 73)),
+                                       ("journal_rotor.toml", (100, 20000, 201))])
+def test_legend_styles_are_distinct_and_few(model, rpm):
+    """At most eight legend entries, no two of the same colour and line style, each naming a
+    mode once; the least damped mode of every speed among them."""
+    import matplotlib.pyplot as plt
+
+    result = rdm.stability(rdm.load_model(EXAMPLES / model), rdm.rpm(np.linspace(*rpm)))
+    fig = result.plot()
+    handles, labels = fig.axes[0].get_legend_handles_labels()
+    assert len(labels) <= 8 and len(set(labels)) == len(labels)
+    styles = [(matplotlib.colors.to_hex(h.get_color()), h.get_linestyle()) for h in handles]
+    assert len(set(styles)) == len(styles)
+    named = {label for label in labels if label.startswith("mode ")}
+    log_dec = np.where(np.isfinite(result.log_decrements), result.log_decrements, np.inf)
+    for k in range(len(result.speeds)):
+        if np.isfinite(log_dec[k]).any():
+            assert f"mode {result.modes[np.argmin(log_dec[k])]}" in named, k
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("model,rpm", [("journal_rotor.toml", (100, 20000, 201)),
+                                       ("fan_on_bearings.toml", (0, 9000, 91)),
+                                       ("unstable_cross_coupled.toml", (0, 20000, 201)),
+                                       ("spring_block_rotor.toml", (0, 3000, 31))])
+def test_texts_are_inside_the_figure_and_apart(model, rpm):
+    """Threshold labels, notes of roots beyond the axes and the legend: inside the figure, no
+    two overlapping; an undamped machine (spring_block_rotor) gets a readable, finite axis."""
+    import matplotlib.pyplot as plt
+
+    result = rdm.stability(rdm.load_model(EXAMPLES / model), rdm.rpm(np.linspace(*rpm)))
+    fig = result.plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    boxes = [t.get_window_extent(renderer) for ax in fig.axes for t in ax.texts if t.get_text()]
+    boxes += [ax.get_legend().get_window_extent(renderer) for ax in fig.axes if ax.get_legend()]
+    for box in boxes:
+        assert fig.bbox.x0 <= box.x0 and box.x1 <= fig.bbox.x1 and fig.bbox.y0 <= box.y0 and box.y1 <= fig.bbox.y1
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1:]:
+            assert not a.overlaps(b), (a, b)
+    for ax in fig.axes[:2]:
+        zero, low, high = _zero_fraction(ax)
+        assert np.isfinite([low, high]).all() and 0.02 < zero < 0.98
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("model,rpm", [("motor_pump_on_mounts.toml", (0, 3600, 37)),
+                                       ("fan_on_bearings.toml", (0, 9000, 46)),
+                                       ("journal_rotor.toml", (100, 20000, 101))])
+def test_the_least_damped_margin_is_readable(model, rpm):
+    """The mode with the smallest log decrement at each speed lies inside both panels, and its
+    distance from zero reaches a tenth of each panel's height (the motor and pump's axial modes,
+    log decrement 0.0009, real part -0.46 1/s, beside bearing modes at -164 1/s)."""
+    import matplotlib.pyplot as plt
+
+    result = rdm.stability(rdm.load_model(EXAMPLES / model), rdm.rpm(np.linspace(*rpm)))
+    log_dec = np.where(np.isfinite(result.log_decrements), result.log_decrements, np.inf)
+    least = np.argmin(log_dec, axis=1)
+    rows = np.arange(len(least))
+    fig = result.plot()
+    for ax, values in zip(fig.axes[:2], (result.real_parts[rows, least], result.log_decrements[rows, least])):
+        low, high = ax.get_ylim()
+        assert low <= values.min() and values.max() <= high
+        assert np.abs(values).max() >= (high - low) / 10, (model, np.abs(values).max(), low, high)
+    plt.close(fig)

@@ -74,9 +74,20 @@ def run(args) -> int:
         print_table(peaks)
     if args.plot:
         use_agg()
-        save_figure(result.plot(peaks=peaks, speed_unit=args.speed_unit), args)
+        save_figure(result.plot(peaks=peaks, speed_unit=args.speed_unit, groups=sensor_groups(model),
+                                forces=args.forces), args)
     _write_orbits(result, args)
     return 0
+
+
+def sensor_groups(model) -> dict:
+    """Panel title of each sensor: shaft probes (relative), rotor points, stator points."""
+    def title(sensor):
+        if sensor.rotor is None:
+            return "stator (casing) sensors, absolute"
+        return "shaft relative to the stator (probes)" if sensor.measure == "relative" else \
+            "rotor points, absolute"
+    return {s.name: title(s) for s in model.sensors}
 
 
 def _write_orbits(result, args):

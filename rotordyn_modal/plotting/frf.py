@@ -90,8 +90,10 @@ def plot_overlay(models, measured, title: str | None = None):
     return fig
 
 
-def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, title: str | None = None):
-    """Amplitude (0-peak) and phase of each source's harmonic against speed.
+def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, title: str | None = None,
+                   groups=None, forces: str | None = None):
+    """Amplitude (0-peak, log) and phase of each source's harmonic against speed, one pair of
+    panels per group of sensors, and one amplitude panel per kind of force asked.
 
     Parameters
     ----------
@@ -100,47 +102,167 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
         Sensors to draw (default all).
     speed_unit : {'rpm', 'rad/s', 'hz'}
     peaks : pandas.DataFrame, optional
-        ``result.peaks(...)``: each peak is marked with its amplification factor (and
-        separation margin when known).
+        ``result.peaks(...)``: the peaks that matter (amplification factor at least
+        :data:`_AF_MARKED`, amplitude at least :data:`_PEAK_SHARE` of their curve's largest)
+        are marked, the largest of them labelled with their amplification factor (and
+        separation margin when known), labels apart from each other inside the axes.
+    groups : dict, optional
+        Panel title of each sensor (``{'probe-DE-x': 'shaft relative to housing'}``): sensors
+        with one title share a panel. Default: the probe pairs' sensors in one panel, the
+        other sensors in another.
+    forces : {None, 'suspensions', 'bearings', 'rotors', 'all'}
+        Adds one panel per kind of force: the amplitude of each item's force vector
+        ``sqrt(|Fx|^2 + |Fy|^2 + |Fz|^2)`` [N] (the moments are in ``to_dataframe``).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
+    import matplotlib.pyplot as plt
+
+    from ._labels import laid_out_renderer
     from ._style import speed_label, speed_scale
 
-    fig, mag, phase = _bode_axes()
+    panels = _sensor_panels(result, outputs, groups)
+    force_panels = _force_panels(result, forces)
+    ratios = [r for _ in panels for r in (2, 1)] + [2] * len(force_panels)
+    fig, axes = plt.subplots(len(ratios), 1, sharex=True, figsize=(9.5, 1.9 * sum(ratios) / 1.5 + 0.6),
+                             layout="constrained", gridspec_kw={"height_ratios": ratios}, squeeze=False)
+    axes = list(axes[:, 0])
     x = result.speeds * speed_scale(speed_unit)
     unit = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s²"}[result.quantity]
-    n = 0
-    for i, o in enumerate(result.outputs):
-        if outputs is not None and o not in outputs:
-            continue
-        for j, s in enumerate(result.sources):
-            colour = f"C{n % 10}"
-            mag.plot(x, result.amplitude[i, j], color=colour, label=f"{o}: {s} (1x {s})")
-            phase.plot(x, result.phase_deg[i, j], color=colour)
-            n += 1
-    if peaks is not None:
-        _mark_peaks(mag, peaks, outputs, speed_scale(speed_unit) * np.pi / 30)
-        mag.margins(y=0.15)
-    mag.set_ylabel(f"Amplitude, 0-peak [{unit}]")
-    phase.set_xlabel(speed_label(speed_unit))
-    mag.legend(fontsize="small")
-    mag.set_title(title or "Unbalance response")
+    marked = []
+    for n, (name, rows) in enumerate(panels):
+        mag, phase = axes[2 * n], axes[2 * n + 1]
+        colours = _draw_sensor_panel(mag, phase, result, rows, x)
+        mag.set_ylabel(f"Amplitude, 0-peak [{unit}]")
+        mag.set_title(name, fontsize="medium")
+        if peaks is not None:
+            marked.append((mag, _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30)))
+            low, high = mag.get_ylim()
+            mag.set_ylim(low, high * _HEADROOM)
+    for ax, (kind, names, values) in zip(axes[2 * len(panels):], force_panels):
+        _draw_force_panel(ax, result, names, values, x)
+        ax.set_title(f"Force of the {kind} (vector amplitude, |F|)", fontsize="medium")
+    axes[-1].set_xlabel(speed_label(speed_unit))
+    fig.suptitle(title or "Unbalance response")
+    if marked:
+        renderer = laid_out_renderer(fig)
+        for ax, chosen in marked:
+            _label_peaks(ax, chosen, renderer)
     return fig
 
 
-def _mark_peaks(ax, peaks, outputs, rpm_to_unit):
-    for row in peaks.itertuples(index=False):
-        if (outputs is not None and row.output not in outputs) or not np.isfinite(row.amplification_factor):
+#: API 684: a peak with an amplification factor below 2.5 is critically damped (no margin required)
+_AF_MARKED = 2.5
+#: peaks below this share of their own curve's largest amplitude are not marked
+_PEAK_SHARE = 0.05
+#: room above the curves for the peaks' labels (factor on the log axis's top)
+_HEADROOM = 10.0
+#: at most this many peaks are labelled per panel, the largest
+_LABELLED = 6
+#: peaks of one source closer than this share of the sweep are one peak (seen by several sensors)
+_SAME_PEAK = 0.01
+
+
+def _sensor_panels(result, outputs, groups):
+    """``[(title, [sensor index, ...]), ...]`` in the order of the result's outputs."""
+    in_pairs = {name for pair in result.orbit_pairs for name in pair}
+    panels = {}
+    for i, o in enumerate(result.outputs):
+        if outputs is not None and o not in outputs:
             continue
-        x = row.speed_rpm * rpm_to_unit
-        text = f"AF {row.amplification_factor:.1f}"
+        if groups is not None:
+            name = groups.get(o, "sensors")
+        else:
+            name = "probe pairs" if o in in_pairs else ("other sensors" if in_pairs else "sensors")
+        panels.setdefault(name, []).append(i)
+    return list(panels.items())
+
+
+def _draw_sensor_panel(mag, phase, result, rows, x):
+    """Each sensor and source: amplitude on a log axis, phase; returns the colour of each (i, j)."""
+    colours = {}
+    styles = ["-", "--", ":", "-."]
+    for m, i in enumerate(rows):
+        for j, s in enumerate(result.sources):
+            colour, style = f"C{m % 10}", styles[j % len(styles)]
+            amplitude = np.where(result.amplitude[i, j] > 0, result.amplitude[i, j], np.nan)
+            mag.semilogy(x, amplitude, color=colour, ls=style, label=f"{result.outputs[i]}: 1X {s}")
+            phase.plot(x, result.phase_deg[i, j], color=colour, ls=style, lw=0.9)
+            colours[i, j] = colour
+    _limit_range(mag)
+    mag.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    phase.set_yticks([-180, -90, 0, 90, 180])
+    phase.set_ylabel("Phase [deg]")
+    return colours
+
+
+def _force_panels(result, forces):
+    """``[(kind, item names, complex values (items, 6, n_sources, N)), ...]`` of the asked forces."""
+    if forces is None:
+        return []
+    from ..analysis.unbalance import COMPONENTS
+
+    names, values = result._force_rows(forces)
+    values = np.concatenate(values) if values else np.zeros((0, len(result.sources), len(result.speeds)))
+    items = [n.rsplit(":", 1)[0] for n in names[::len(COMPONENTS)]]
+    values = values.reshape(len(items), len(COMPONENTS), *values.shape[1:])
+    rigid = len(result.rigid_rotor_names) if forces == "bearings" else 0
+    bearings = (len(result.bearing_names) if result.bearing_point_forces is not None else 0) + rigid
+    counts = {"suspensions": [("suspensions", len(result.suspension_names))],
+              "bearings": [("bearings", bearings)], "rotors": [("rotors on the stator", len(result.rotor_names))],
+              "all": [("suspensions", len(result.suspension_names)), ("bearings", bearings),
+                      ("rotors on the stator", len(result.rotor_names))]}[forces]
+    panels, start = [], 0
+    for kind, count in counts:
+        if count:
+            panels.append((kind, items[start:start + count], values[start:start + count]))
+        start += count
+    return panels
+
+
+def _draw_force_panel(ax, result, names, values, x):
+    styles = ["-", "--", ":", "-."]
+    for m, name in enumerate(names):
+        for j, s in enumerate(result.sources):
+            size = np.sqrt(np.sum(np.abs(values[m, :3, j]) ** 2, axis=0))
+            ax.semilogy(x, np.where(size > 0, size, np.nan), color=f"C{m % 10}", ls=styles[j % len(styles)],
+                        label=f"{name}: 1X {s}")
+    _limit_range(ax)
+    ax.set_ylabel("Force amplitude [N]")
+    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+
+
+def _marked_peaks(peaks, result, rows, colours, rpm_to_unit):
+    """Peaks that matter of the panel's sensors, largest (relative to the panel's) first:
+    ``[(x, amplitude, text, colour), ...]``."""
+    index = {result.outputs[i]: i for i in rows}
+    sources = {s: j for j, s in enumerate(result.sources)}
+    chosen = []
+    for row in peaks.itertuples(index=False):
+        i, j = index.get(row.output), sources.get(row.source)
+        if i is None or j is None or not np.isfinite(row.amplification_factor)                 or row.amplification_factor < _AF_MARKED                 or row.amplitude < _PEAK_SHARE * np.nanmax(result.amplitude[i, j]):
+            continue
+        text = f"AF {row.amplification_factor:.1f} at {row.speed_rpm:.0f} rpm (1X {row.source})"
         if np.isfinite(row.separation_margin_pct):
             text += f"\nSM {row.separation_margin_pct:.0f} % (API {row.required_margin_pct:.0f} %)"
-        ax.plot(x, row.amplitude, "v", color="k", ms=4)
-        ax.annotate(text, (x, row.amplitude), textcoords="offset points", xytext=(4, 4), fontsize="x-small")
+        chosen.append((row.speed_rpm * rpm_to_unit, row.amplitude, text, colours[i, j], row.source))
+    kept, width = [], np.ptp(result.speeds) * rpm_to_unit * 30 / np.pi
+    for peak in sorted(chosen, key=lambda c: -c[1]):    # one label per source's peak seen by several sensors
+        if not any(peak[4] == k[4] and abs(peak[0] - k[0]) <= _SAME_PEAK * width for k in kept):
+            kept.append(peak)
+    return kept[:_LABELLED]
+
+
+def _label_peaks(ax, chosen, renderer):
+    """Label the chosen peaks where there is room; mark those labelled."""
+    from ._labels import place_point_labels
+
+    drawn = place_point_labels(ax, [(c[0], c[1]) for c in chosen], [c[2] for c in chosen],
+                               [c[3] for c in chosen], renderer=renderer)
+    for label in drawn:
+        ax.plot(*label.xy, "v", color=label.get_color(), mec="k", mew=0.5, ms=5, label="_peak")
 
 
 #: magnitudes below this fraction of the largest are round-off (an FRF zero by symmetry): not shown

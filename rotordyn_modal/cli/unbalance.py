@@ -26,8 +26,12 @@ amplification factor and, with --operating-speed, the separation margin.
 Two sensors at one point of the same body with directions normal to the spin axis (a
 pair of proximity probes, measure = "relative") see an orbit: --orbits FILE.csv writes
 each pair's ellipse per source and speed (semi-axes, inclination, forward/backward
-precession) and --orbit-plot FILE.png draws the orbits at the largest response and at
-the last speed.
+precession) and --orbit-plot FILE.png draws them, one panel per pair and source (as in
+the CSV), at that source's largest orbit and at the last speed.
+
+--plot draws one amplitude (log axis) and phase panel per kind of sensor (shaft probes,
+rotor points, stator), with --forces one panel per kind of force (the amplitude of each
+item's force vector, N); the largest peaks (amplification factor >= 2.5) are labelled.
 
 CSV columns: speed_rpm,output,source,frequency_hz,amplitude,phase_deg
 orbit CSV columns: speed_rpm,pair,source,frequency_hz,major,minor,inclination_deg,precession,precession_ratio

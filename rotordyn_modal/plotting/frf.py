@@ -6,7 +6,7 @@ import numpy as np
 
 __all__ = ["plot_frf", "plot_unbalance", "plot_overlay"]
 
-#: more FRFs than this are drawn without a legend
+#: more FRFs than this are drawn in groups, each with its legend
 _MAX_LEGEND = 12
 _UNITS = {"receptance": "m/N", "mobility": "m/s/N", "accelerance": "m/s²/N", "force": "N/N"}
 
@@ -24,6 +24,11 @@ def _bode_axes(figsize=(8.0, 6.0)):
 def plot_frf(result, measured=None, pairs=None, title: str | None = None):
     """Magnitude (log) and phase of FRFs against frequency, measured data dotted beneath.
 
+    Up to :data:`_MAX_LEGEND` FRFs of one unit share one magnitude and one phase panel;
+    more, or forces beside moments, are drawn in groups (:func:`_frf_groups`: each force
+    item, else each input), each group's forces, moments and phases in panels of their own,
+    every curve named in its group's legend.
+
     Parameters
     ----------
     result : FRFResult
@@ -37,25 +42,91 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None):
     -------
     matplotlib.figure.Figure
     """
-    fig, mag, phase = _bode_axes()
     pairs = pairs or [(o, i) for o in result.outputs for i in result.inputs]
+    nonzero = [(o, i) for o, i in pairs if np.any(result.H[result.outputs.index(o), result.inputs.index(i)])]
+    zero, pairs = len(pairs) - len(nonzero), nonzero or pairs
+    default = (f"{result.quantity.capitalize()} at {result.speed * 30 / np.pi:.0f} rpm"
+               + (f" ({len(pairs)} FRFs)" if len(pairs) > _MAX_LEGEND else "")
+               + (f"; {zero} FRFs zero at every frequency, not drawn" if zero and nonzero else ""))
+    groups = _frf_groups(pairs)
+    if len(groups) > 1 or _is_moment(pairs[0][0]) != _is_moment(pairs[-1][0]):
+        return _plot_frf_groups(result, measured, groups, title or default)
+    fig, mag, phase = _bode_axes()
+    _draw_frfs(mag, phase, result, measured, pairs, lambda o, i: f"{o} / {i}")
+    mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '')}]")
+    phase.set_xlabel("Frequency [Hz]")
+    mag.legend(fontsize="small", title="model (line), measured (dots)" if measured is not None else None)
+    mag.set_title(title or default)
+    return fig
+
+
+def _is_moment(output: str) -> bool:
+    """A force FRF's moment component (``NAME:Mx``)."""
+    return ":M" in output and output.rsplit(":", 1)[1] in ("Mx", "My", "Mz")
+
+
+def _frf_groups(pairs):
+    """``[(title, pairs), ...]``: one group when the pairs fit one legend; else one per force item
+    (``NAME`` of ``NAME:Fx``) or, for sensors, per input; groups above the legend size in parts."""
+    if len(pairs) <= _MAX_LEGEND:
+        return [("", pairs)]
+    by_item = all(":" in o for o, _ in pairs)
+    groups = {}
+    for o, i in pairs:
+        groups.setdefault(o.rsplit(":", 1)[0] if by_item else f"input {i}", []).append((o, i))
+    parts = []
+    for name, members in groups.items():
+        chunks = [members[k:k + _MAX_LEGEND] for k in range(0, len(members), _MAX_LEGEND)]
+        parts += [(name if len(chunks) == 1 else f"{name} ({n + 1}/{len(chunks)})", chunk)
+                  for n, chunk in enumerate(chunks)]
+    return parts
+
+
+def _plot_frf_groups(result, measured, groups, title):
+    """One block of panels per group (forces, moments when any, phase), in up to two columns."""
+    import matplotlib.pyplot as plt
+
+    columns = 1 if len(groups) == 1 else 2
+    rows = int(np.ceil(len(groups) / columns))
+    fig = plt.figure(figsize=(7.5 * columns, 4.6 * rows), layout="constrained")
+    blocks = np.atleast_1d(fig.subfigures(rows, columns, squeeze=False).ravel())
+    for block in blocks[len(groups):]:
+        block.set_visible(False)
+    by_item = all(":" in o for _, members in groups for o, _ in members)
+    for block, (name, members) in zip(blocks, groups):
+        kinds = [[p for p in members if not _is_moment(p[0])], [p for p in members if _is_moment(p[0])]]
+        kinds = [k for k in kinds if k]
+        axes = block.subplots(len(kinds) + 1, 1, sharex=True, gridspec_kw={"height_ratios": [2] * len(kinds) + [1]})
+        phase = axes[-1]
+        for ax, kind in zip(axes, kinds):
+            _draw_frfs(ax, phase, result, measured, kind,
+                       (lambda o, i: f"{o.rsplit(':', 1)[1]} / {i}") if by_item else (lambda o, i: o))
+            unit = "N m/N" if _is_moment(kind[0][0]) else _UNITS.get(result.quantity, "")
+            ax.set_ylabel(f"|H| [{unit}]")
+            ax.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0),
+                      title="line: model, dots: measured" if measured is not None else None,
+                      title_fontsize="x-small")
+        phase.set_yticks([-180, -90, 0, 90, 180])
+        phase.set_ylabel("Phase [deg]")
+        phase.set_xlabel("Frequency [Hz]")
+        axes[0].set_title(name, fontsize="medium")
+    fig.suptitle(title)
+    return fig
+
+
+def _draw_frfs(mag, phase, result, measured, pairs, label):
+    """Each pair's model line (and measured dots, same colour) on ``mag`` (log) and ``phase``."""
     for n, (o, i) in enumerate(pairs):
         colour = f"C{n % 10}"
+        style = "-" if n < 10 else "--"
         h = result.H[result.outputs.index(o), result.inputs.index(i)]
         if measured is not None and o in measured.outputs and i in measured.inputs:
             hm = measured.H[measured.outputs.index(o), measured.inputs.index(i)]
             mag.semilogy(measured.frequencies_hz, np.abs(hm), ".", ms=2.5, color=colour, alpha=0.5)
             phase.plot(measured.frequencies_hz, np.degrees(np.angle(hm)), ".", ms=2.5, color=colour, alpha=0.5)
-        mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, label=f"{o} / {i}")
-        phase.plot(result.frequencies_hz, np.degrees(np.angle(h)), color=colour)
+        mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=label(o, i))
+        phase.plot(result.frequencies_hz, np.degrees(np.angle(h)), color=colour, ls=style, lw=0.9)
     _limit_range(mag)
-    mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '')}]")
-    phase.set_xlabel("Frequency [Hz]")
-    if len(pairs) <= _MAX_LEGEND:
-        mag.legend(fontsize="small", title="model (line), measured (dots)" if measured is not None else None)
-    mag.set_title(title or f"{result.quantity.capitalize()} at {result.speed * 30 / np.pi:.0f} rpm"
-                  + (f" ({len(pairs)} FRFs)" if len(pairs) > _MAX_LEGEND else ""))
-    return fig
 
 
 def plot_overlay(models, measured, title: str | None = None):

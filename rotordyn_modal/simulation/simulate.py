@@ -87,7 +87,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         Phases overriding the model's ``phase_deg`` [deg].
     backend : {'auto', 'numba', 'numpy'}
         Right-hand side implementation; both give the same answers to the tolerances,
-        numba (``pip install 'rotordyn_modal[fast]'``) is ~20x faster.
+        numba (``pip install 'rotordyn_modal[fast]'``) is ~20x faster. Its first run
+        compiles the kernels (~20 s) and prints :data:`COMPILE_NOTICE` on stderr first.
     progress : bool
         Show a progress bar (simulated time).
 

@@ -273,12 +273,11 @@ def _force_panels(result, forces):
     """``[(kind, item names, complex values (items, 6, n_sources, N)), ...]`` of the asked forces."""
     if forces is None:
         return []
-    from ..analysis.unbalance import COMPONENTS
-
     names, values = result._force_rows(forces)
     values = np.concatenate(values) if values else np.zeros((0, len(result.sources), len(result.speeds)))
-    items = [n.rsplit(":", 1)[0] for n in names[::len(COMPONENTS)]]
-    values = values.reshape(len(items), len(COMPONENTS), *values.shape[1:])
+    components = len({n.rsplit(":", 1)[1] for n in names}) or 1          # Fx ... Mz
+    items = [n.rsplit(":", 1)[0] for n in names[::components]]
+    values = values.reshape(len(items), components, *values.shape[1:])
     rigid = len(result.rigid_rotor_names) if forces == "bearings" else 0
     bearings = (len(result.bearing_names) if result.bearing_point_forces is not None else 0) + rigid
     counts = {"suspensions": [("suspensions", len(result.suspension_names))],

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 __all__ = ["plot_simulation", "plot_runup"]
@@ -122,6 +124,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     phase_ax.yaxis.set_major_locator(plt.MultipleLocator(90) if _span(phase_ax) <= 1080 else plt.MaxNLocator())
     for axis in (amplitude_ax, phase_ax):
         axis.legend(fontsize="small", loc="upper left")
+        axis.set_xlim(axes[0, 0].get_xlim())            # the run's speeds, as the signal's panel
     _draw_waterfall(fig, axes[1, 1], waterfall(result, sensor, segments=segments), result, critical, sensor)
     fig.suptitle(title or f"Run-up of {result.model_name or 'the machine'}")
     if critical is not None and len(critical):
@@ -192,13 +195,15 @@ def _label_critical_lines(axes, critical, renderer):
 
 
 def _vertical_label(ax, x, text, placed, renderer):
-    """A vertical label just right (else left) of the line at ``x``, inside the axes and clear of
-    the boxes in ``placed`` (display units, updated); None where there is no room."""
+    """A vertical label just right (else left) of the line at ``x``, at the top of the axes (else
+    at the bottom), inside the axes and clear of the boxes in ``placed`` (display units,
+    updated); None where there is no room."""
     frame = ax.get_window_extent(renderer)
     pad = 2.0 * ax.figure.dpi / 72.0
-    for ha, shift in (("left", 1), ("right", -1)):
-        label = ax.annotate(text, (x, 1.0), xycoords=("data", "axes fraction"), xytext=(shift * 2, -3),
-                            textcoords="offset points", rotation=90, ha=ha, va="top", fontsize="x-small",
+    for (ha, shift), (y, va, rise) in itertools.product((("left", 1), ("right", -1)),
+                                                       ((1.0, "top", -3), (0.0, "bottom", 3))):
+        label = ax.annotate(text, (x, y), xycoords=("data", "axes fraction"), xytext=(shift * 2, rise),
+                            textcoords="offset points", rotation=90, ha=ha, va=va, fontsize="x-small",
                             color="tab:red", bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none",
                                                    "alpha": 0.7})
         box = label.get_window_extent(renderer)

@@ -51,11 +51,12 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None):
     groups = _frf_groups(pairs)
     if len(groups) > 1 or _is_moment(pairs[0][0]) != _is_moment(pairs[-1][0]):
         return _plot_frf_groups(result, measured, groups, title or default)
-    fig, mag, phase = _bode_axes()
+    fig, mag, phase = _bode_axes(figsize=(9.5, 6.0))
     _draw_frfs(mag, phase, result, measured, pairs, lambda o, i: f"{o} / {i}")
     mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '')}]")
     phase.set_xlabel("Frequency [Hz]")
-    mag.legend(fontsize="small", title="model (line), measured (dots)" if measured is not None else None)
+    mag.legend(fontsize="small", title="model (line), measured (dots)" if measured is not None else None,
+               title_fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))   # beside, off the curves
     mag.set_title(title or default)
     return fig
 

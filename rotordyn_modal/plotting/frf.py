@@ -210,7 +210,8 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
         mag.set_ylabel(f"Amplitude, 0-peak [{unit}]")
         mag.set_title(name, fontsize="medium")
         if peaks is not None:
-            marked.append((mag, _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30)))
+            marked.append((mag, _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30,
+                                              speed_unit)))
             low, high = mag.get_ylim()
             mag.set_ylim(low, high * _HEADROOM)
     for ax, (kind, names, values) in zip(axes[2 * len(panels):], force_panels):
@@ -305,7 +306,7 @@ def _draw_force_panel(ax, result, names, values, x):
     ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
 
 
-def _marked_peaks(peaks, result, rows, colours, rpm_to_unit):
+def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm"):
     """Peaks that matter of the panel's sensors, largest (relative to the panel's) first:
     ``[(x, amplitude, text, colour), ...]``."""
     index = {result.outputs[i]: i for i in rows}
@@ -315,7 +316,9 @@ def _marked_peaks(peaks, result, rows, colours, rpm_to_unit):
         i, j = index.get(row.output), sources.get(row.source)
         if i is None or j is None or not np.isfinite(row.amplification_factor)                 or row.amplification_factor < _AF_MARKED                 or row.amplitude < _PEAK_SHARE * np.nanmax(result.amplitude[i, j]):
             continue
-        text = f"AF {row.amplification_factor:.1f} at {row.speed_rpm:.0f} rpm (1X {row.source})"
+        speed = f"{row.speed_rpm:.0f} rpm" if unit == "rpm" else \
+            f"{row.speed_rpm * rpm_to_unit:.4g} {'Hz' if unit == 'hz' else unit}"
+        text = f"AF {row.amplification_factor:.1f} at {speed} (1X {row.source})"
         if np.isfinite(row.separation_margin_pct):
             text += f"\nSM {row.separation_margin_pct:.0f} % (API {row.required_margin_pct:.0f} %)"
         chosen.append((row.speed_rpm * rpm_to_unit, row.amplitude, text, colours[i, j], row.source))

@@ -17,6 +17,8 @@ force each [[bearings]] entry passes to the stator (or the ground) at its point 
 rigidly attached rotor at its centre of mass (seed 000 eq. 73/74), --forces rotors the total
 force each rotor passes to the stator. --measured FILE (UFF 58/58b
 .uff/.unv, or CSV) draws the measurement of the same speed under the model in --plot.
+--plot draws up to 12 FRFs in one magnitude and phase panel; more (or forces beside
+moments) in groups, one per force item (else per input), each with its legend.
 --out FILE.uff (or .unv) writes UFF 58 (58b when ASCII would round the frequencies) instead of CSV (nodes from --mapping, or the default
 mapping: sensor k is node k, excitation k is node 100 + k, direction the model axis; a sensor or
 excitation along no model axis needs --mapping, as UFF 58 directions are axis codes only). Measured

@@ -36,7 +36,9 @@ refused (exit 2), since it has no time-domain meaning.
 --plot draws the time histories (path of the rotors' centres, transverse rotation of the
 stator and of each rotor in its bearings, axial angular velocity, energy terms) or, with
 --ramp, the run-up figures: the sensor's signal, its order-tracked (1X) amplitude and phase
-for every rotor, and a waterfall, with the Campbell diagram's critical speeds overlaid.
+(unwrapped) for every rotor, and a waterfall (log colour scale, frequencies up to its
+content), with the Campbell diagram's critical speeds overlaid and labelled (mode, order,
+rpm). With numba the first run compiles the kernels (~20 s, said on stderr).
 
 CSV columns: time_s,u_x,u_y,u_z,theta_x,theta_y,theta_z,spin_speed_rad_s,drive_torque_nm,
 drive_speed_rad_s, then one column per sensor [m], rotor centres [m], each bearing's force

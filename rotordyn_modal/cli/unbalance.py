@@ -26,8 +26,12 @@ amplification factor and, with --operating-speed, the separation margin.
 Two sensors at one point of the same body with directions normal to the spin axis (a
 pair of proximity probes, measure = "relative") see an orbit: --orbits FILE.csv writes
 each pair's ellipse per source and speed (semi-axes, inclination, forward/backward
-precession) and --orbit-plot FILE.png draws the orbits at the largest response and at
-the last speed.
+precession) and --orbit-plot FILE.png draws them, one panel per pair and source (as in
+the CSV), at that source's largest orbit and at the last speed.
+
+--plot draws one amplitude (log axis) and phase panel per kind of sensor (shaft probes,
+rotor points, stator), with --forces one panel per kind of force (the amplitude of each
+item's force vector, N); the largest peaks (amplification factor >= 2.5) are labelled.
 
 CSV columns: speed_rpm,output,source,frequency_hz,amplitude,phase_deg
 orbit CSV columns: speed_rpm,pair,source,frequency_hz,major,minor,inclination_deg,precession,precession_ratio
@@ -75,9 +79,20 @@ def run(args) -> int:
         print_table(peaks, empty=f"no resonance peak {speeds_text(args)}")
     if args.plot:
         use_agg()
-        save_figure(result.plot(peaks=peaks, speed_unit=args.speed_unit), args)
+        save_figure(result.plot(peaks=peaks, speed_unit=args.speed_unit, groups=sensor_groups(model),
+                                forces=args.forces), args)
     _write_orbits(result, args)
     return 0
+
+
+def sensor_groups(model) -> dict:
+    """Panel title of each sensor: shaft probes (relative), rotor points, stator points."""
+    def title(sensor):
+        if sensor.rotor is None:
+            return "stator (casing) sensors, absolute"
+        return "shaft relative to the stator (probes)" if sensor.measure == "relative" else \
+            "rotor points, absolute"
+    return {s.name: title(s) for s in model.sensors}
 
 
 def _write_orbits(result, args):

@@ -353,3 +353,69 @@ def spread_apart(annotations, gap_points: float = 1.0, renderer=None):
         if rise:
             dx, dy = annotation.xyann
             annotation.xyann = (dx, dy + rise / points)
+
+
+#: offsets (in label widths and heights) of a point label's lower-left corner from its anchor,
+#: tried in this order: above right, above left, right, left, further above, below
+_POINT_OFFSETS = [(0.1, 0.6), (-1.1, 0.6), (0.15, -0.5), (-1.15, -0.5), (0.1, 1.8), (-1.1, 1.8),
+                  (0.1, -1.8), (-1.1, -1.8), (-0.5, 3.0), (0.1, 3.0), (-1.1, 3.0), (-0.5, -1.8),
+                  (0.1, -3.0), (-1.1, -3.0)]
+
+
+#: half size of the marker at a point label's anchor, kept free of labels [points]
+_MARKER_POINTS = 3.0
+
+
+def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=None):
+    """Annotate points of ``ax`` in the order given, each label inside the axes and apart.
+
+    Each label tries a few boxes around its anchor (:data:`_POINT_OFFSETS`); the first
+    inside the axes and clear of every label placed before and of every anchor is taken; a label with no free
+    box is left out. Give the anchors most important first.
+
+    Parameters
+    ----------
+    anchors : list of (x, y)
+        Points in data coordinates.
+    texts, colors : list of str
+        One per anchor.
+    renderer : optional
+        From :func:`laid_out_renderer` once the figure is complete.
+
+    Returns
+    -------
+    list of matplotlib.text.Annotation
+        The labels drawn, in the order of ``anchors`` (left-out ones missing).
+    """
+    fig = ax.figure
+    renderer = renderer or laid_out_renderer(fig)
+    frame = ax.get_window_extent(renderer)
+    points = fig.dpi / 72.0
+    margin, pad = _MARGIN_POINTS * points, _PAD_POINTS * points
+    pixels = [ax.transData.transform((x, y)) for x, y in anchors]
+    marker = _MARKER_POINTS * points
+    placed = [(px - marker, py - marker, px + marker, py + marker) for px, py in pixels]   # keep the points free
+    drawn = []
+    for (x, y), (px, py), text, color in zip(anchors, pixels, texts, colors):
+        if not (frame.x0 <= px <= frame.x1 and frame.y0 <= py <= frame.y1):
+            continue
+        probe = ax.text(0, 0, text, fontsize=fontsize)
+        extent = probe.get_window_extent(renderer)
+        probe.remove()
+        w, h = extent.width, extent.height
+        for du, dv in _POINT_OFFSETS:
+            left, bottom = px + du * w, py + dv * h
+            box = (left, bottom, left + w, bottom + h)
+            inside = (box[0] >= frame.x0 + margin and box[1] >= frame.y0 + margin
+                      and box[2] <= frame.x1 - margin and box[3] <= frame.y1 - margin)
+            if inside and not any(_overlap(box, other, pad, pad) for other in placed):
+                placed.append(box)
+                drawn.append(ax.annotate(text, (x, y), xytext=((left - px) / points, (bottom - py) / points),
+                                         textcoords="offset points", ha="left", va="bottom", fontsize=fontsize,
+                                         color=color, annotation_clip=True,
+                                         bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none",
+                                               "alpha": 0.75},
+                                         arrowprops={"arrowstyle": "-", "color": color, "lw": 0.5,
+                                                     "shrinkA": 0, "shrinkB": 2}))
+                break
+    return drawn

@@ -6,7 +6,7 @@ import numpy as np
 
 __all__ = ["plot_frf", "plot_unbalance", "plot_overlay"]
 
-#: more FRFs than this are drawn without a legend
+#: more FRFs than this are drawn in groups, each with its legend
 _MAX_LEGEND = 12
 _UNITS = {"receptance": "m/N", "mobility": "m/s/N", "accelerance": "m/s²/N", "force": "N/N"}
 
@@ -24,6 +24,11 @@ def _bode_axes(figsize=(8.0, 6.0)):
 def plot_frf(result, measured=None, pairs=None, title: str | None = None):
     """Magnitude (log) and phase of FRFs against frequency, measured data dotted beneath.
 
+    Up to :data:`_MAX_LEGEND` FRFs of one unit share one magnitude and one phase panel;
+    more, or forces beside moments, are drawn in groups (:func:`_frf_groups`: each force
+    item, else each input), each group's forces, moments and phases in panels of their own,
+    every curve named in its group's legend.
+
     Parameters
     ----------
     result : FRFResult
@@ -37,25 +42,92 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None):
     -------
     matplotlib.figure.Figure
     """
-    fig, mag, phase = _bode_axes()
     pairs = pairs or [(o, i) for o in result.outputs for i in result.inputs]
+    nonzero = [(o, i) for o, i in pairs if np.any(result.H[result.outputs.index(o), result.inputs.index(i)])]
+    zero, pairs = len(pairs) - len(nonzero), nonzero or pairs
+    default = (f"{result.quantity.capitalize()} at {result.speed * 30 / np.pi:.0f} rpm"
+               + (f" ({len(pairs)} FRFs)" if len(pairs) > _MAX_LEGEND else "")
+               + (f"; {zero} FRFs zero at every frequency, not drawn" if zero and nonzero else ""))
+    groups = _frf_groups(pairs)
+    if len(groups) > 1 or _is_moment(pairs[0][0]) != _is_moment(pairs[-1][0]):
+        return _plot_frf_groups(result, measured, groups, title or default)
+    fig, mag, phase = _bode_axes(figsize=(9.5, 6.0))
+    _draw_frfs(mag, phase, result, measured, pairs, lambda o, i: f"{o} / {i}")
+    mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '')}]")
+    phase.set_xlabel("Frequency [Hz]")
+    mag.legend(fontsize="small", title="model (line), measured (dots)" if measured is not None else None,
+               title_fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))   # beside, off the curves
+    mag.set_title(title or default)
+    return fig
+
+
+def _is_moment(output: str) -> bool:
+    """A force FRF's moment component (``NAME:Mx``)."""
+    return ":M" in output and output.rsplit(":", 1)[1] in ("Mx", "My", "Mz")
+
+
+def _frf_groups(pairs):
+    """``[(title, pairs), ...]``: one group when the pairs fit one legend; else one per force item
+    (``NAME`` of ``NAME:Fx``) or, for sensors, per input; groups above the legend size in parts."""
+    if len(pairs) <= _MAX_LEGEND:
+        return [("", pairs)]
+    by_item = all(":" in o for o, _ in pairs)
+    groups = {}
+    for o, i in pairs:
+        groups.setdefault(o.rsplit(":", 1)[0] if by_item else f"input {i}", []).append((o, i))
+    parts = []
+    for name, members in groups.items():
+        chunks = [members[k:k + _MAX_LEGEND] for k in range(0, len(members), _MAX_LEGEND)]
+        parts += [(name if len(chunks) == 1 else f"{name} ({n + 1}/{len(chunks)})", chunk)
+                  for n, chunk in enumerate(chunks)]
+    return parts
+
+
+def _plot_frf_groups(result, measured, groups, title):
+    """One block of panels per group (forces, moments when any, phase), in up to two columns."""
+    import matplotlib.pyplot as plt
+
+    columns = 1 if len(groups) == 1 else 2
+    rows = int(np.ceil(len(groups) / columns))
+    fig = plt.figure(figsize=(7.5 * columns, 4.6 * rows), layout="constrained")
+    blocks = np.atleast_1d(fig.subfigures(rows, columns, squeeze=False).ravel())
+    for block in blocks[len(groups):]:
+        block.set_visible(False)
+    by_item = all(":" in o for _, members in groups for o, _ in members)
+    for block, (name, members) in zip(blocks, groups):
+        kinds = [[p for p in members if not _is_moment(p[0])], [p for p in members if _is_moment(p[0])]]
+        kinds = [k for k in kinds if k]
+        axes = block.subplots(len(kinds) + 1, 1, sharex=True, gridspec_kw={"height_ratios": [2] * len(kinds) + [1]})
+        phase = axes[-1]
+        for ax, kind in zip(axes, kinds):
+            _draw_frfs(ax, phase, result, measured, kind,
+                       (lambda o, i: f"{o.rsplit(':', 1)[1]} / {i}") if by_item else (lambda o, i: o))
+            unit = "N m/N" if _is_moment(kind[0][0]) else _UNITS.get(result.quantity, "")
+            ax.set_ylabel(f"|H| [{unit}]")
+            ax.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0),
+                      title="line: model, dots: measured" if measured is not None else None,
+                      title_fontsize="x-small")
+        phase.set_yticks([-180, -90, 0, 90, 180])
+        phase.set_ylabel("Phase [deg]")
+        phase.set_xlabel("Frequency [Hz]")
+        axes[0].set_title(name, fontsize="medium")
+    fig.suptitle(title)
+    return fig
+
+
+def _draw_frfs(mag, phase, result, measured, pairs, label):
+    """Each pair's model line (and measured dots, same colour) on ``mag`` (log) and ``phase``."""
     for n, (o, i) in enumerate(pairs):
         colour = f"C{n % 10}"
+        style = "-" if n < 10 else "--"
         h = result.H[result.outputs.index(o), result.inputs.index(i)]
         if measured is not None and o in measured.outputs and i in measured.inputs:
             hm = measured.H[measured.outputs.index(o), measured.inputs.index(i)]
             mag.semilogy(measured.frequencies_hz, np.abs(hm), ".", ms=2.5, color=colour, alpha=0.5)
             phase.plot(measured.frequencies_hz, np.degrees(np.angle(hm)), ".", ms=2.5, color=colour, alpha=0.5)
-        mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, label=f"{o} / {i}")
-        phase.plot(result.frequencies_hz, np.degrees(np.angle(h)), color=colour)
+        mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=label(o, i))
+        phase.plot(result.frequencies_hz, np.degrees(np.angle(h)), color=colour, ls=style, lw=0.9)
     _limit_range(mag)
-    mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '')}]")
-    phase.set_xlabel("Frequency [Hz]")
-    if len(pairs) <= _MAX_LEGEND:
-        mag.legend(fontsize="small", title="model (line), measured (dots)" if measured is not None else None)
-    mag.set_title(title or f"{result.quantity.capitalize()} at {result.speed * 30 / np.pi:.0f} rpm"
-                  + (f" ({len(pairs)} FRFs)" if len(pairs) > _MAX_LEGEND else ""))
-    return fig
 
 
 def plot_overlay(models, measured, title: str | None = None):
@@ -90,8 +162,10 @@ def plot_overlay(models, measured, title: str | None = None):
     return fig
 
 
-def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, title: str | None = None):
-    """Amplitude (0-peak) and phase of each source's harmonic against speed.
+def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, title: str | None = None,
+                   groups=None, forces: str | None = None):
+    """Amplitude (0-peak, log) and phase of each source's harmonic against speed, one pair of
+    panels per group of sensors, and one amplitude panel per kind of force asked.
 
     Parameters
     ----------
@@ -100,47 +174,169 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
         Sensors to draw (default all).
     speed_unit : {'rpm', 'rad/s', 'hz'}
     peaks : pandas.DataFrame, optional
-        ``result.peaks(...)``: each peak is marked with its amplification factor (and
-        separation margin when known).
+        ``result.peaks(...)``: the peaks that matter (amplification factor at least
+        :data:`_AF_MARKED`, amplitude at least :data:`_PEAK_SHARE` of their curve's largest)
+        are marked, the largest of them labelled with their amplification factor (and
+        separation margin when known), labels apart from each other inside the axes.
+    groups : dict, optional
+        Panel title of each sensor (``{'probe-DE-x': 'shaft relative to housing'}``): sensors
+        with one title share a panel. Default: the probe pairs' sensors in one panel, the
+        other sensors in another.
+    forces : {None, 'suspensions', 'bearings', 'rotors', 'all'}
+        Adds one panel per kind of force: the amplitude of each item's force vector
+        ``sqrt(|Fx|^2 + |Fy|^2 + |Fz|^2)`` [N] (the moments are in ``to_dataframe``).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
+    import matplotlib.pyplot as plt
+
+    from ._labels import laid_out_renderer
     from ._style import speed_label, speed_scale
 
-    fig, mag, phase = _bode_axes()
+    panels = _sensor_panels(result, outputs, groups)
+    force_panels = _force_panels(result, forces)
+    ratios = [r for _ in panels for r in (2, 1)] + [2] * len(force_panels)
+    fig, axes = plt.subplots(len(ratios), 1, sharex=True, figsize=(9.5, 1.9 * sum(ratios) / 1.5 + 0.6),
+                             layout="constrained", gridspec_kw={"height_ratios": ratios}, squeeze=False)
+    axes = list(axes[:, 0])
     x = result.speeds * speed_scale(speed_unit)
     unit = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s²"}[result.quantity]
-    n = 0
-    for i, o in enumerate(result.outputs):
-        if outputs is not None and o not in outputs:
-            continue
-        for j, s in enumerate(result.sources):
-            colour = f"C{n % 10}"
-            mag.plot(x, result.amplitude[i, j], color=colour, label=f"{o}: {s} (1x {s})")
-            phase.plot(x, result.phase_deg[i, j], color=colour)
-            n += 1
-    if peaks is not None:
-        _mark_peaks(mag, peaks, outputs, speed_scale(speed_unit) * np.pi / 30)
-        mag.margins(y=0.15)
-    mag.set_ylabel(f"Amplitude, 0-peak [{unit}]")
-    phase.set_xlabel(speed_label(speed_unit))
-    mag.legend(fontsize="small")
-    mag.set_title(title or "Unbalance response")
+    marked = []
+    for n, (name, rows) in enumerate(panels):
+        mag, phase = axes[2 * n], axes[2 * n + 1]
+        colours = _draw_sensor_panel(mag, phase, result, rows, x)
+        mag.set_ylabel(f"Amplitude, 0-peak [{unit}]")
+        mag.set_title(name, fontsize="medium")
+        if peaks is not None:
+            marked.append((mag, _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30,
+                                              speed_unit)))
+            low, high = mag.get_ylim()
+            mag.set_ylim(low, high * _HEADROOM)
+    for ax, (kind, names, values) in zip(axes[2 * len(panels):], force_panels):
+        _draw_force_panel(ax, result, names, values, x)
+        ax.set_title(f"Force of the {kind} (vector amplitude, |F|)", fontsize="medium")
+    axes[-1].set_xlabel(speed_label(speed_unit))
+    fig.suptitle(title or "Unbalance response")
+    if marked:
+        renderer = laid_out_renderer(fig)
+        for ax, chosen in marked:
+            _label_peaks(ax, chosen, renderer)
     return fig
 
 
-def _mark_peaks(ax, peaks, outputs, rpm_to_unit):
-    for row in peaks.itertuples(index=False):
-        if (outputs is not None and row.output not in outputs) or not np.isfinite(row.amplification_factor):
+#: API 684: a peak with an amplification factor below 2.5 is critically damped (no margin required)
+_AF_MARKED = 2.5
+#: peaks below this share of their own curve's largest amplitude are not marked
+_PEAK_SHARE = 0.05
+#: room above the curves for the peaks' labels (factor on the log axis's top)
+_HEADROOM = 10.0
+#: at most this many peaks are labelled per panel, the largest
+_LABELLED = 6
+#: peaks of one source closer than this share of the sweep are one peak (seen by several sensors)
+_SAME_PEAK = 0.01
+
+
+def _sensor_panels(result, outputs, groups):
+    """``[(title, [sensor index, ...]), ...]`` in the order of the result's outputs."""
+    in_pairs = {name for pair in result.orbit_pairs for name in pair}
+    panels = {}
+    for i, o in enumerate(result.outputs):
+        if outputs is not None and o not in outputs:
             continue
-        x = row.speed_rpm * rpm_to_unit
-        text = f"AF {row.amplification_factor:.1f}"
+        if groups is not None:
+            name = groups.get(o, "sensors")
+        else:
+            name = "probe pairs" if o in in_pairs else ("other sensors" if in_pairs else "sensors")
+        panels.setdefault(name, []).append(i)
+    return list(panels.items())
+
+
+def _draw_sensor_panel(mag, phase, result, rows, x):
+    """Each sensor and source: amplitude on a log axis, phase; returns the colour of each (i, j)."""
+    colours = {}
+    styles = ["-", "--", ":", "-."]
+    for m, i in enumerate(rows):
+        for j, s in enumerate(result.sources):
+            colour, style = f"C{m % 10}", styles[j % len(styles)]
+            amplitude = np.where(result.amplitude[i, j] > 0, result.amplitude[i, j], np.nan)
+            mag.semilogy(x, amplitude, color=colour, ls=style, label=f"{result.outputs[i]}: 1X {s}")
+            phase.plot(x, result.phase_deg[i, j], color=colour, ls=style, lw=0.9)
+            colours[i, j] = colour
+    _limit_range(mag)
+    mag.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    phase.set_yticks([-180, -90, 0, 90, 180])
+    phase.set_ylabel("Phase [deg]")
+    return colours
+
+
+def _force_panels(result, forces):
+    """``[(kind, item names, complex values (items, 6, n_sources, N)), ...]`` of the asked forces."""
+    if forces is None:
+        return []
+    names, values = result._force_rows(forces)
+    values = np.concatenate(values) if values else np.zeros((0, len(result.sources), len(result.speeds)))
+    components = len({n.rsplit(":", 1)[1] for n in names}) or 1          # Fx ... Mz
+    items = [n.rsplit(":", 1)[0] for n in names[::components]]
+    values = values.reshape(len(items), components, *values.shape[1:])
+    rigid = len(result.rigid_rotor_names) if forces == "bearings" else 0
+    bearings = (len(result.bearing_names) if result.bearing_point_forces is not None else 0) + rigid
+    counts = {"suspensions": [("suspensions", len(result.suspension_names))],
+              "bearings": [("bearings", bearings)], "rotors": [("rotors on the stator", len(result.rotor_names))],
+              "all": [("suspensions", len(result.suspension_names)), ("bearings", bearings),
+                      ("rotors on the stator", len(result.rotor_names))]}[forces]
+    panels, start = [], 0
+    for kind, count in counts:
+        if count:
+            panels.append((kind, items[start:start + count], values[start:start + count]))
+        start += count
+    return panels
+
+
+def _draw_force_panel(ax, result, names, values, x):
+    styles = ["-", "--", ":", "-."]
+    for m, name in enumerate(names):
+        for j, s in enumerate(result.sources):
+            size = np.sqrt(np.sum(np.abs(values[m, :3, j]) ** 2, axis=0))
+            ax.semilogy(x, np.where(size > 0, size, np.nan), color=f"C{m % 10}", ls=styles[j % len(styles)],
+                        label=f"{name}: 1X {s}")
+    _limit_range(ax)
+    ax.set_ylabel("Force amplitude [N]")
+    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+
+
+def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm"):
+    """Peaks that matter of the panel's sensors, largest (relative to the panel's) first:
+    ``[(x, amplitude, text, colour), ...]``."""
+    index = {result.outputs[i]: i for i in rows}
+    sources = {s: j for j, s in enumerate(result.sources)}
+    chosen = []
+    for row in peaks.itertuples(index=False):
+        i, j = index.get(row.output), sources.get(row.source)
+        if i is None or j is None or not np.isfinite(row.amplification_factor)                 or row.amplification_factor < _AF_MARKED                 or row.amplitude < _PEAK_SHARE * np.nanmax(result.amplitude[i, j]):
+            continue
+        speed = f"{row.speed_rpm:.0f} rpm" if unit == "rpm" else \
+            f"{row.speed_rpm * rpm_to_unit:.4g} {'Hz' if unit == 'hz' else unit}"
+        text = f"AF {row.amplification_factor:.1f} at {speed} (1X {row.source})"
         if np.isfinite(row.separation_margin_pct):
             text += f"\nSM {row.separation_margin_pct:.0f} % (API {row.required_margin_pct:.0f} %)"
-        ax.plot(x, row.amplitude, "v", color="k", ms=4)
-        ax.annotate(text, (x, row.amplitude), textcoords="offset points", xytext=(4, 4), fontsize="x-small")
+        chosen.append((row.speed_rpm * rpm_to_unit, row.amplitude, text, colours[i, j], row.source))
+    kept, width = [], np.ptp(result.speeds) * rpm_to_unit * 30 / np.pi
+    for peak in sorted(chosen, key=lambda c: -c[1]):    # one label per source's peak seen by several sensors
+        if not any(peak[4] == k[4] and abs(peak[0] - k[0]) <= _SAME_PEAK * width for k in kept):
+            kept.append(peak)
+    return kept[:_LABELLED]
+
+
+def _label_peaks(ax, chosen, renderer):
+    """Label the chosen peaks where there is room; mark those labelled."""
+    from ._labels import place_point_labels
+
+    drawn = place_point_labels(ax, [(c[0], c[1]) for c in chosen], [c[2] for c in chosen],
+                               [c[3] for c in chosen], renderer=renderer)
+    for label in drawn:
+        ax.plot(*label.xy, "v", color=label.get_color(), mec="k", mew=0.5, ms=5, label="_peak")
 
 
 #: magnitudes below this fraction of the largest are round-off (an FRF zero by symmetry): not shown

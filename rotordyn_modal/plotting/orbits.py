@@ -10,16 +10,17 @@ _SCALE = {"displacement": (1e6, "µm"), "velocity": (1e3, "mm/s"), "acceleration
 
 
 def plot_orbits(result, speeds=None, source=None, title: str | None = None):
-    """Orbits of every probe pair at a few speeds, with the keyphasor dot at t = 0.
+    """Orbits of every probe pair and source at a few speeds, with the keyphasor dot at t = 0:
+    one panel per (pair, source), as in ``result.orbits()`` (rows pairs, columns sources).
 
     Parameters
     ----------
     result : UnbalanceResult
     speeds : array_like, optional
-        Speeds to draw [rad/s] (nearest sweep points); default the speed of the
-        largest orbit and the sweep's last speed.
+        Speeds to draw [rad/s] (nearest sweep points); default, per panel, the speed of
+        that source's largest orbit and the sweep's last speed.
     source : str, optional
-        The exciting rotor (default the first source).
+        Draw only this exciting rotor (default every source).
     title : str, optional
 
     Returns
@@ -31,34 +32,38 @@ def plot_orbits(result, speeds=None, source=None, title: str | None = None):
     pairs = result.orbit_pairs
     if not pairs:
         raise ValueError("no probe pairs: give two sensors at one point with directions normal to the spin axis")
-    s = 0 if source is None else result.sources.index(source)
+    sources = range(len(result.sources)) if source is None else [result.sources.index(source)]
     scale, unit = _SCALE.get(result.quantity, (1.0, ""))
-    columns = min(len(pairs), 3)
-    rows = int(np.ceil(len(pairs) / columns))
-    fig, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 4.2 * rows), squeeze=False,
+    rows, columns = len(pairs), len(sources)
+    fig, axes = plt.subplots(rows, columns, figsize=(4.4 * columns, 4.4 * rows), squeeze=False,
                              layout="constrained")
-    for ax in axes.ravel()[len(pairs):]:
-        ax.set_visible(False)
-    chosen = _chosen_speeds(result, s, speeds)
-    phase = np.linspace(0, 2 * np.pi, 181)
-    for p, ax in zip(range(len(pairs)), axes.ravel()):
-        for n, k in enumerate(chosen):
-            plane = result.orbit_planes[p, s, k] * scale
-            path = np.real(plane[:, None] * np.exp(1j * phase))
-            colour = f"C{n % 10}"
-            ax.plot(path[0], path[1], color=colour, label=f"{result.speeds[k] * 30 / np.pi:.0f} rpm")
-            ax.plot(path[0, 0], path[1, 0], "o", color=colour, ms=5)      # keyphasor: t = 0
-            ax.annotate("", xy=(path[0, 12], path[1, 12]), xytext=(path[0, 6], path[1, 6]),
-                        arrowprops={"arrowstyle": "->", "color": colour})
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.axhline(0, color="0.8", lw=0.6)
-        ax.axvline(0, color="0.8", lw=0.6)
-        ax.set_xlabel(f"{pairs[p][0]} [{unit}]")
-        ax.set_ylabel(f"e × {pairs[p][0]} [{unit}]")
-        ax.set_title(f"{pairs[p][0]} / {pairs[p][1]}", fontsize="medium")
-        ax.legend(fontsize="small", title="dot: t = 0, arrow: direction")
-    fig.suptitle(title or f"Unbalance orbits, excited by {result.sources[s]}")
+    for p in range(rows):
+        for c, s in enumerate(sources):
+            _draw_orbit(axes[p, c], result, p, s, _chosen_speeds(result, s, speeds), scale, unit)
+    fig.suptitle(title or "Unbalance orbits (each source rotor's 1X)")
     return fig
+
+
+def _draw_orbit(ax, result, p, s, chosen, scale, unit):
+    """The orbit of pair ``p`` excited by source ``s`` at the sweep points ``chosen``."""
+    pair = result.orbit_pairs[p]
+    phase = np.linspace(0, 2 * np.pi, 181)
+    for n, k in enumerate(chosen):
+        plane = result.orbit_planes[p, s, k] * scale
+        path = np.real(plane[:, None] * np.exp(1j * phase))
+        colour = f"C{n % 10}"
+        ax.plot(path[0], path[1], color=colour, label=f"{result.speeds[k] * 30 / np.pi:.0f} rpm")
+        ax.plot(path[0, 0], path[1, 0], "o", color=colour, ms=5)      # keyphasor: t = 0
+        ax.annotate("", xy=(path[0, 12], path[1, 12]), xytext=(path[0, 6], path[1, 6]),
+                    arrowprops={"arrowstyle": "->", "color": colour})
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.axhline(0, color="0.8", lw=0.6)
+    ax.axvline(0, color="0.8", lw=0.6)
+    ax.set_xlabel(f"{pair[0]} [{unit}]")
+    ax.set_ylabel(f"e × {pair[0]} [{unit}]")
+    ax.set_title(f"{pair[0]} / {pair[1]}, 1X {result.sources[s]}", fontsize="medium")
+    ax.legend(fontsize="small", title="dot: t = 0, arrow: direction", title_fontsize="small",
+              loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=min(len(chosen), 3))
 
 
 def _chosen_speeds(result, source, speeds):

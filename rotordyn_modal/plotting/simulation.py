@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 __all__ = ["plot_simulation", "plot_runup"]
@@ -46,16 +48,21 @@ def _draw_frame_motion(ax, result):
     """The stator's (or carrier's) transverse rotation and translation, and each rotor on
     bearings' tilt in them."""
     t = result.time
+    lines = []
     if result.displacement.any() or not result.rotor_tilts.any():
-        ax.plot(t, np.degrees(np.linalg.norm(result.gamma, axis=1)), label="|γ| transverse rotation")
-        for k, axis in enumerate("xyz"):
-            ax.plot(t, result.displacement[:, k] * 1e3, lw=0.8, label=f"u_{axis} [mm]")
+        lines += ax.plot(t, np.degrees(np.linalg.norm(result.gamma, axis=1)), label="|γ| transverse rotation [deg]")
     for j, name in enumerate(result.rotor_names):
         if result.rotor_tilts[:, j].any():
-            ax.plot(t, np.degrees(np.linalg.norm(result.rotor_tilts[:, j], axis=1)), lw=0.8,
-                    label=f"|γ| {name} in its bearings")
-    ax.set(xlabel="Time [s]", ylabel="[deg] / [mm]", title="Transverse rotation and translation")
-    ax.legend(fontsize="small")
+            lines += ax.plot(t, np.degrees(np.linalg.norm(result.rotor_tilts[:, j], axis=1)), lw=0.8,
+                             label=f"|γ| {name} in its bearings [deg]")
+    ax.set(xlabel="Time [s]", ylabel="Rotation [deg]", title="Transverse rotation and translation")
+    if result.displacement.any() or not result.rotor_tilts.any():
+        right = ax.twinx()       # millimetres on an axis of their own
+        for k, axis in enumerate("xyz"):
+            lines += right.plot(t, result.displacement[:, k] * 1e3, lw=0.8, ls="--", color=f"C{k + 1 + len(lines)}",
+                                label=f"u_{axis} [mm]")
+        right.set_ylabel("Translation [mm]")
+    ax.legend(lines, [line.get_label() for line in lines], fontsize="small")
 
 
 def _draw_spin(ax, result):
@@ -76,7 +83,8 @@ def _draw_energy(ax, result):
 
 
 def plot_runup(result, sensor: str, critical=None, title: str | None = None, segments: int = 60):
-    """Run-up: sensor signal, order-tracked amplitude and phase, waterfall, all against speed.
+    """Run-up: sensor signal, order-tracked amplitude and phase (unwrapped, joined), waterfall
+    (frequencies up to its content), all against speed.
 
     Parameters
     ----------
@@ -84,7 +92,8 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
         A ramp (run-up) simulation.
     sensor : str
     critical : CriticalSpeeds, optional
-        Drawn as vertical lines (and, on the waterfall, as points at their frequencies).
+        The rotors' own orders' crossings: vertical lines, each labelled with its mode, order
+        and speed where there is room (on the waterfall: points at their frequencies).
 
     Returns
     -------
@@ -93,38 +102,118 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     import matplotlib.pyplot as plt
 
     from ..simulation.runup import order_track, waterfall
+    from ._labels import laid_out_renderer
 
     if critical is not None:  # the rotors' own orders (gear-mesh crossings sit at very low speeds)
         critical = _rotor_orders(critical, result.rotor_names)
     rpm = 30.0 / np.pi
-    fig, axes = plt.subplots(2, 2, figsize=(12, 8), layout="constrained")
+    fig, axes = plt.subplots(2, 2, figsize=(13, 8.5), layout="constrained")
     ax = axes[0, 0]
     ax.plot(result.drive_speed * rpm, result.sensor(sensor) * 1e6, lw=0.5)
     ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor} [µm]", title="Sensor during the run-up")
     amplitude_ax, phase_ax = axes[0, 1], axes[1, 0]
     for rotor in result.rotor_names:
         track = order_track(result, sensor, rotor=rotor)
-        amplitude_ax.plot(track.speeds * rpm, track.amplitude * 1e6, label=f"1X {rotor}")
-        phase_ax.plot(track.speeds * rpm, track.phase_deg, ".", ms=3, label=f"1X {rotor}")
-    amplitude_ax.set(xlabel="Speed [rpm]", ylabel="Amplitude [µm]", title="Order-tracked amplitude")
-    phase_ax.set(xlabel="Speed [rpm]", ylabel="Phase [deg]", title="Order-tracked phase", ylim=(-180, 180))
-    amplitude_ax.legend(fontsize="small")
-    ax = axes[1, 1]
-    fall = waterfall(result, sensor, segments=segments)
-    image = ax.pcolormesh(fall.frequencies_hz, fall.speeds * rpm, fall.amplitude * 1e6, shading="nearest",
-                          cmap="viridis")
-    fig.colorbar(image, ax=ax, label="Amplitude [µm]")
-    ax.set(xlabel="Frequency [Hz]", ylabel="Speed [rpm]", title="Waterfall",
-           xlim=(0, min(fall.frequencies_hz[-1], 3 * _highest(result, critical))))
+        amplitude_ax.plot(track.speeds * rpm, track.amplitude * 1e6, ".-", ms=3, label=f"1X {rotor}")
+        phase_ax.plot(track.speeds * rpm, np.degrees(np.unwrap(np.radians(track.phase_deg))), ".-", ms=3,
+                      label=f"1X {rotor}")
+    amplitude_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X amplitude [µm]",
+                     title="Order-tracked amplitude")
+    phase_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X phase, unwrapped [deg]",
+                 title="Order-tracked phase")
+    phase_ax.yaxis.set_major_locator(plt.MultipleLocator(90) if _span(phase_ax) <= 1080 else plt.MaxNLocator())
+    for axis in (amplitude_ax, phase_ax):
+        axis.legend(fontsize="small", loc="upper left")
+        axis.set_xlim(axes[0, 0].get_xlim())            # the run's speeds, as the signal's panel
+    _draw_waterfall(fig, axes[1, 1], waterfall(result, sensor, segments=segments), result, critical, sensor)
+    fig.suptitle(title or f"Run-up of {result.model_name or 'the machine'}")
     if critical is not None and len(critical):
         for axis in (axes[0, 0], amplitude_ax, phase_ax):
             for speed in critical.speeds:
-                axis.axvline(speed * rpm, color="tab:red", lw=0.7, ls="--")
+                axis.axvline(speed * rpm, color="tab:red", lw=0.7, ls="--", label="_critical")
+        _label_critical_lines([amplitude_ax, phase_ax, axes[0, 0]], critical, laid_out_renderer(fig))
+    return fig
+
+
+def _span(ax) -> float:
+    low, high = ax.get_ylim()
+    return high - low
+
+
+#: the waterfall shows frequencies up to where its amplitude falls below this share of its largest
+_WATERFALL_FLOOR = 1e-3
+#: ... times this margin (and at least the highest critical speed's frequency times it)
+_WATERFALL_MARGIN = 1.25
+
+
+def _draw_waterfall(fig, ax, fall, result, critical, sensor):
+    """Amplitude over frequency and speed on a log colour scale of three decades, frequencies up
+    to the content (:data:`_WATERFALL_FLOOR`) or the highest critical speed's frequency."""
+    from matplotlib.colors import LogNorm
+
+    rpm = 30.0 / np.pi
+    values = fall.amplitude * 1e6
+    top = np.nanmax(values) if values.size and np.nanmax(values) > 0 else 1.0
+    image = ax.pcolormesh(fall.frequencies_hz, fall.speeds * rpm, np.maximum(values, top * _WATERFALL_FLOOR),
+                          shading="nearest", cmap="viridis", norm=LogNorm(top * _WATERFALL_FLOOR, top))
+    fig.colorbar(image, ax=ax, label=f"{sensor}, amplitude [µm]")
+    ax.set(xlabel="Frequency [Hz]", ylabel="Speed of the reference rotor [rpm]", title="Waterfall",
+           xlim=(0, _waterfall_limit(fall, critical)))
+    if critical is not None and len(critical):
         ax.plot(critical.frequencies_hz, critical.speeds * rpm, "o", mfc="none", color="tab:red",
                 label="critical speeds (Campbell)")
-        ax.legend(fontsize="small", loc="upper left")
-    fig.suptitle(title or f"Run-up of {result.model_name or 'the machine'}")
-    return fig
+        ax.legend(fontsize="small", loc="upper right")
+
+
+def _waterfall_limit(fall, critical) -> float:
+    """Highest frequency worth showing [Hz]: where the content ends, with a margin."""
+    f = fall.frequencies_hz
+    if not f.size:
+        return 1.0
+    above = np.nonzero(np.nanmax(fall.amplitude, axis=0) >= _WATERFALL_FLOOR * np.nanmax(fall.amplitude))[0] \
+        if np.nanmax(fall.amplitude, initial=0.0) > 0 else np.array([len(f) - 1])
+    highest = f[above[-1]] if above.size else f[-1]
+    if critical is not None and len(critical):
+        highest = max(highest, float(np.max(critical.frequencies_hz)))
+    return float(min(f[-1], max(_WATERFALL_MARGIN * highest, f[1] if len(f) > 1 else 1.0)))
+
+
+def _label_critical_lines(axes, critical, renderer):
+    """Label each critical-speed line ('mode 4, 1X fan, 1412 rpm', vertical, at the top of the
+    line) in the first of ``axes`` where it overlaps no other label; returns the labels."""
+    rpm = 30.0 / np.pi
+    placed = {id(ax): [ax.get_legend().get_window_extent(renderer)] if ax.get_legend() else [] for ax in axes}
+    labels = []
+    for k in np.argsort(critical.speeds):
+        text = f"mode {critical.mode[k]}, {critical.order[k]:g}X {critical.source[k]}, {critical.speeds[k] * rpm:.0f} rpm"
+        for ax in axes:
+            label = _vertical_label(ax, critical.speeds[k] * rpm, text, placed[id(ax)], renderer)
+            if label is not None:
+                labels.append(label)
+                break
+    return labels
+
+
+def _vertical_label(ax, x, text, placed, renderer):
+    """A vertical label just right (else left) of the line at ``x``, at the top of the axes (else
+    at the bottom), inside the axes and clear of the boxes in ``placed`` (display units,
+    updated); None where there is no room."""
+    frame = ax.get_window_extent(renderer)
+    pad = 2.0 * ax.figure.dpi / 72.0
+    for (ha, shift), (y, va, rise) in itertools.product((("left", 1), ("right", -1)),
+                                                       ((1.0, "top", -3), (0.0, "bottom", 3))):
+        label = ax.annotate(text, (x, y), xycoords=("data", "axes fraction"), xytext=(shift * 2, rise),
+                            textcoords="offset points", rotation=90, ha=ha, va=va, fontsize="x-small",
+                            color="tab:red", bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none",
+                                                   "alpha": 0.7})
+        box = label.get_window_extent(renderer)
+        inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
+        if inside and not any(box.x0 < b.x1 + pad and b.x0 < box.x1 + pad and box.y0 < b.y1 + pad
+                              and b.y0 < box.y1 + pad for b in placed):
+            placed.append(box)
+            return label
+        label.remove()
+    return None
 
 
 def _rotor_orders(critical, rotor_names):

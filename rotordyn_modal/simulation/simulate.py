@@ -88,7 +88,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         Phases overriding the model's ``phase_deg`` [deg].
     backend : {'auto', 'numba', 'numpy'}
         Right-hand side implementation; both give the same answers to the tolerances,
-        numba (``pip install 'rotordyn_modal[fast]'``) is ~20x faster.
+        numba (``pip install 'rotordyn_modal[fast]'``) is ~20x faster. Its first run
+        compiles the kernels (~20 s) and prints :data:`COMPILE_NOTICE` on stderr first.
     progress : bool
         Show a progress bar (simulated time).
 
@@ -115,6 +116,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     span = [speed] if final_speed is None else [speed, final_speed]
     check_table_speeds(model, span, "the simulation's speeds " + " .. ".join(f"{v:.6g}" for v in span) + " rad/s")
     kn = kernels(backend)
+    announce_compilation(kn)
     n = system.n_dof
     y0 = np.zeros(2 * n)
     if initial == "equilibrium":
@@ -131,6 +133,39 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
                            "with an ideal drive, or extend the table")
     return SimulationResult.from_states(model, system, kn, extra, times, states, drive=drive)
+
+
+#: the line printed on stderr before numba compiles the kernels (first run only)
+COMPILE_NOTICE = "compiling the simulation kernel (first run only, ~20 s)..."
+
+
+def announce_compilation(kn) -> bool:
+    """Print :data:`COMPILE_NOTICE` on stderr when the compiled right-hand side is about to be
+    compiled: not yet compiled in this process and not in numba's on-disk cache.
+
+    Returns
+    -------
+    bool
+        Whether the notice was printed.
+    """
+    import sys
+
+    dispatcher = getattr(kn, "rhs_flat", None)
+    if dispatcher is None or getattr(dispatcher, "signatures", None) != []:
+        return False                                  # plain numpy, or compiled already
+    if _cached(dispatcher):
+        return False
+    print(COMPILE_NOTICE, file=sys.stderr, flush=True)
+    return True
+
+
+def _cached(dispatcher) -> bool:
+    """Whether numba's cache holds a compiled version of ``dispatcher`` for its current source
+    (numba's own index, stale stamps dropped; any failure to read it counts as not cached)."""
+    try:
+        return bool(dispatcher._cache._cache_file._load_index())
+    except Exception:       # a private numba interface: a change of it only costs the notice
+        return False
 
 
 def _integrate(kn, system, extra, y0, times, rtol, atol, progress, model=None):

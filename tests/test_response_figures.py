@@ -1,0 +1,298 @@
+"""The unbalance, orbit, FRF and run-up figures are readable: measured on the drawn figure
+(``fig.canvas.draw()``, ``Text.get_window_extent``) as ``test_campbell_figure.py`` does.
+
+Labels lie inside their axes and apart, every curve is named (legend or label) by the
+quantity it draws, one axis carries one unit, the orbit figure has one panel per (pair,
+source) of the orbit table, the run-up's phase is a line, unwrapped.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.plotting.frf import _MAX_LEGEND
+
+matplotlib.use("Agg")
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+UNIT = re.compile(r"\[([^\]]*)\]")
+
+
+@pytest.fixture(scope="module")
+def fan_unbalance():
+    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+    return model, rdm.unbalance_response(model, rdm.rpm(np.linspace(0, 9000, 181)))
+
+
+def _text_box(text, renderer):
+    """The box of a text's glyphs only (an annotation's own extent includes its leader line)."""
+    return matplotlib.text.Text.get_window_extent(text, renderer)
+
+
+def _assert_inside_and_apart(ax, texts, renderer):
+    frame = ax.get_window_extent(renderer)
+    boxes = [_text_box(t, renderer) for t in texts]
+    for t, box in zip(texts, boxes):
+        assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1, \
+            (t.get_text(), box, frame)
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1:]:
+            assert not a.overlaps(b), (texts[i].get_text(), a, b)
+
+
+def _curves(ax):
+    return [line for line in ax.get_lines() if not line.get_label().startswith("_") and line.get_linestyle() != "None"]
+
+
+def _every_curve_in_its_legend(ax):
+    legend = ax.get_legend()
+    named = {t.get_text() for t in legend.get_texts()} if legend else set()
+    for line in _curves(ax):
+        assert line.get_label() in named, line.get_label()
+
+
+# -- unbalance --------------------------------------------------------------------------------
+
+def test_unbalance_amplitudes_on_log_axes_probes_apart_from_casing(fan_unbalance):
+    """The probes' 0.1 µm and the casing's 100 µm curves are both readable: every amplitude axis
+    is logarithmic, probe pairs' sensors never share an axis with the other sensors, and each
+    curve drawn is the result's amplitude of the sensor and source its legend names."""
+    import matplotlib.pyplot as plt
+
+    model, result = fan_unbalance
+    fig = result.plot()
+    probes = {name for pair in result.orbit_pairs for name in pair}
+    amplitude_axes = [ax for ax in fig.axes if "Amplitude" in ax.get_ylabel()]
+    assert len(amplitude_axes) == 2
+    for ax in amplitude_axes:
+        assert ax.get_yscale() == "log"
+        _every_curve_in_its_legend(ax)
+        names = [line.get_label().split(": 1X ") for line in _curves(ax)]
+        kinds = {name in probes for name, _ in names}
+        assert len(kinds) == 1, names
+        for line, (name, source) in zip(_curves(ax), names):
+            expected = result.amplitude[result.outputs.index(name), result.sources.index(source)]
+            np.testing.assert_array_equal(np.nan_to_num(line.get_ydata()), expected)
+    plt.close(fig)
+
+
+def test_unbalance_peak_labels_inside_and_apart(fan_unbalance):
+    """fan_on_bearings over 0-9000 rpm has ~55 peaks: the labels drawn (at most a few per
+    panel) lie inside their axes, apart from each other, each at a peak of the result."""
+    import matplotlib.pyplot as plt
+
+    model, result = fan_unbalance
+    peaks = result.peaks(rdm.rpm(3000))
+    fig = result.plot(peaks=peaks, forces="all")
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    total = 0
+    for ax in fig.axes:
+        labels = [t for t in ax.texts if t.get_text().startswith("AF ")]
+        total += len(labels)
+        assert len(labels) <= 6
+        _assert_inside_and_apart(ax, labels, renderer)
+        for label in labels:
+            speed = float(re.search(r"at (\d+) rpm", label.get_text()).group(1))
+            assert np.any(np.abs(peaks.speed_rpm - speed) < 0.5) and "SM " in label.get_text()
+    assert total >= 4
+    plt.close(fig)
+
+
+def test_unbalance_force_panels_one_unit_each(fan_unbalance):
+    """--forces all: one panel per kind of force, in newtons, every item of the kind named; no
+    axis carries two units."""
+    import matplotlib.pyplot as plt
+
+    model, result = fan_unbalance
+    fig = result.plot(forces="all")
+    force_axes = [ax for ax in fig.axes if ax.get_ylabel() == "Force amplitude [N]"]
+    assert len(force_axes) == 3
+    named = {line.get_label().split(": 1X ")[0] for ax in force_axes for line in _curves(ax)}
+    assert named == set(result.suspension_names) | set(result.bearing_names) | set(result.rotor_names)
+    for ax in fig.axes:
+        assert len(UNIT.findall(ax.get_ylabel())) == 1, ax.get_ylabel()
+        if ax.get_legend():
+            _every_curve_in_its_legend(ax)
+    plt.close(fig)
+
+
+# -- orbits -------------------------------------------------------------------------------------
+
+def test_orbit_figure_has_a_panel_per_pair_and_source_as_the_table(fan_unbalance):
+    """One panel per (pair, source) of ``orbits()``; each panel's largest drawn orbit is the
+    table's largest major semi-axis of that pair and source (in µm): the fan's own 0.73 mm
+    orbit is in the figure as in the CSV."""
+    import matplotlib.pyplot as plt
+
+    model, result = fan_unbalance
+    table = result.orbits()
+    fig = result.plot_orbits()
+    axes = [ax for ax in fig.axes if ax.get_visible()]
+    groups = table.groupby(["pair", "source"])["major"].max()
+    assert len(axes) == len(groups)
+    for ax in axes:
+        first, second, source = re.match(r"^(.*) / (.*), 1X (.*)$", ax.get_title()).groups()
+        radius = max(np.hypot(line.get_xdata(), line.get_ydata()).max() for line in ax.get_lines()
+                     if len(line.get_xdata()) > 2)
+        np.testing.assert_allclose(radius, groups[(f"{first}/{second}", source)] * 1e6, rtol=1e-3)
+    plt.close(fig)
+
+
+# -- FRF ----------------------------------------------------------------------------------------
+
+def test_frf_of_suspension_forces_names_every_curve():
+    """The help's ``--forces suspensions`` example (gear_machine, 0 rpm, 48 FRFs): every curve is
+    in a legend of at most 12 entries, under its suspension's title, and is |H| of the output
+    and input its legend names; forces and moments never share an axis."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLES / "gear_machine.toml")
+    result = rdm.force_frf(model, 0.0, np.linspace(1, 60, 120), where="suspensions")
+    assert len(result.outputs) * len(result.inputs) > _MAX_LEGEND
+    fig = result.plot()
+    drawn = 0
+    magnitude_axes = [ax for ax in fig.axes if ax.get_ylabel().startswith("|H|")]
+    for ax in magnitude_axes:
+        _every_curve_in_its_legend(ax)
+        assert len(_curves(ax)) <= _MAX_LEGEND
+        item = next(a.get_title() for a in ax.figure.axes if a.get_title())   # the block's title
+        units = set()
+        for line in _curves(ax):
+            component, excitation = line.get_label().split(" / ")
+            units.add(component[0])
+            h = result.H[result.outputs.index(f"{item}:{component}"), result.inputs.index(excitation)]
+            np.testing.assert_array_equal(line.get_ydata(), np.abs(h))
+            drawn += 1
+        assert len(units) == 1 and (("N m/N" in ax.get_ylabel()) == (units == {"M"}))
+    nonzero = sum(bool(np.any(result.H[o, i])) for o in range(len(result.outputs)) for i in range(len(result.inputs)))
+    assert drawn == nonzero
+    plt.close(fig)
+
+
+def test_frf_over_measurement_keeps_one_legend_entry_per_curve():
+    """With a measurement (the model itself, 10 % larger) each model curve is named once and its
+    dots follow it in its colour."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.analysis.frf import FRFResult
+
+    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+    result = rdm.frf(model, rdm.rpm(3000), np.linspace(1, 100, 200))
+    measured = FRFResult(**{**result.__dict__, "H": 1.1 * result.H})
+    fig = result.plot(measured=measured)
+    mag = fig.axes[0]
+    _every_curve_in_its_legend(mag)
+    assert len(_curves(mag)) == len(result.outputs) * len(result.inputs)
+    plt.close(fig)
+
+
+# -- run-up ---------------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def gear_runup():
+    model = rdm.load_model(EXAMPLES / "gear_machine.toml")
+    result = rdm.simulate(model, 1.5, 0.0, drive="ramp", final_speed=rdm.rpm(3000), samples=6001)
+    critical = rdm.campbell(model, rdm.rpm(np.linspace(0, 3000, 61))).critical
+    return result, critical
+
+
+def test_runup_phase_is_a_joined_unwrapped_line_and_critical_lines_are_labelled(gear_runup):
+    import matplotlib.pyplot as plt
+
+    result, critical = gear_runup
+    fig = result.plot(sensor="acc-top-z", critical=critical)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    phase_ax, = [ax for ax in fig.axes if "phase" in ax.get_ylabel().lower()]
+    lines = _curves(phase_ax)
+    assert len(lines) == len(result.rotor_names)
+    for line in lines:
+        assert line.get_linestyle() not in ("None", "")
+        track = result.order_track("acc-top-z", rotor=line.get_label().split("1X ")[1])
+        y = np.asarray(line.get_ydata())
+        assert np.all(np.abs(np.diff(y)) <= 180.0)                    # unwrapped
+        np.testing.assert_allclose(np.cos(np.radians(y)), np.cos(np.radians(track.phase_deg)), atol=1e-9)
+    shown = [c for c in range(len(critical)) if critical.source[c] in result.rotor_names]
+    labels = {ax: [t for t in ax.texts if t.get_text().startswith("mode ")] for ax in fig.axes}
+    texts = [t.get_text() for group in labels.values() for t in group]
+    assert len(texts) >= len(shown) - 2 and texts
+    for c in shown:
+        wanted = f"mode {critical.mode[c]}, {critical.order[c]:g}X {critical.source[c]}, {critical.speeds_rpm[c]:.0f} rpm"
+        assert texts.count(wanted) <= 1
+    for ax, group in labels.items():
+        _assert_inside_and_apart(ax, group, renderer)
+    plt.close(fig)
+
+
+def test_runup_waterfall_shows_its_content_only(gear_runup):
+    """The waterfall's frequency axis ends within 1.5 times the highest frequency where the
+    spectrum (or a critical speed) is above 1e-3 of the largest, and nothing above that floor
+    lies beyond it."""
+    import matplotlib.pyplot as plt
+
+    result, critical = gear_runup
+    fig = result.plot(sensor="acc-top-z", critical=critical)
+    ax, = [a for a in fig.axes if a.get_title() == "Waterfall"]
+    fall = result.waterfall("acc-top-z")
+    spectrum = fall.amplitude.max(axis=0)
+    content = fall.frequencies_hz[spectrum >= 1e-3 * spectrum.max()].max()
+    highest = max(content, critical.frequencies_hz.max())
+    top = ax.get_xlim()[1]
+    assert top <= 1.5 * highest and top >= highest
+    assert np.all(spectrum[fall.frequencies_hz > top] < 1e-3 * spectrum.max())
+    plt.close(fig)
+
+
+def test_every_simulation_axis_has_one_unit(gear_runup):
+    """Degrees and millimetres (and any other pair of units) never share an axis."""
+    import matplotlib.pyplot as plt
+
+    result, critical = gear_runup
+    model = rdm.load_model(EXAMPLES / "gear_machine.toml")
+    constant = rdm.simulate(model, 0.3, rdm.rpm(1500), samples=301)
+    for fig in (result.plot(sensor="acc-top-z", critical=critical), constant.plot()):
+        for ax in fig.axes:
+            if ax.get_ylabel():
+                assert len(UNIT.findall(ax.get_ylabel())) == 1, ax.get_ylabel()
+            for line in _curves(ax):
+                units = UNIT.findall(line.get_label())
+                assert all(f"[{u}]" in ax.get_ylabel() or u == "deg" and "deg" in ax.get_ylabel()
+                           for u in units), (line.get_label(), ax.get_ylabel())
+        plt.close(fig)
+
+
+# -- the compile notice -------------------------------------------------------------------------
+
+class _Dispatcher:
+    def __init__(self, signatures, index):
+        self.signatures = signatures
+        self._index = index
+
+    @property
+    def _cache(self):
+        if self._index is None:
+            raise AttributeError("no cache")
+        return type("C", (), {"_cache_file": type("F", (), {"_load_index": lambda s: self._index})()})()
+
+
+@pytest.mark.parametrize("signatures,index,printed", [
+    ([], None, True),                 # never compiled, no cache: compiles now
+    ([], {}, True),                   # cache empty or stale
+    ([], {"sig": "entry"}, False),    # loaded from numba's cache
+    (["float64(float64)"], None, False),   # compiled already in this process
+])
+def test_compile_notice_only_when_numba_compiles(signatures, index, printed, capsys):
+    from types import SimpleNamespace
+
+    from rotordyn_modal.simulation.simulate import COMPILE_NOTICE, announce_compilation
+
+    assert announce_compilation(SimpleNamespace(rhs_flat=_Dispatcher(signatures, index))) is printed
+    assert capsys.readouterr().err == (COMPILE_NOTICE + "\n" if printed else "")
+    assert announce_compilation(SimpleNamespace(rhs=None)) is False           # the numpy backend

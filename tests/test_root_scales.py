@@ -182,3 +182,40 @@ def _largest_real_parts(result):
     from rotordyn_modal.analysis.stability import _significant_real_parts
 
     return _significant_real_parts(result.eigenvalues).max(axis=1)
+
+
+# ------------------------------------------------------------------- round-off of a graded matrix
+def test_balanced_norm_is_lapacks_balanced_norm():
+    """``_roots.balanced_norm`` against LAPACK's own balancing (``dgebal``, scaling only) on
+    graded random matrices whose rows and columns span 1e-18 to 1e18: within 10 %."""
+    from rotordyn_modal.analysis._roots import balanced_norm
+
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        n = int(rng.integers(2, 30))
+        a = rng.standard_normal((n, n)) * np.exp2(rng.integers(-60, 60, n))[:, None] \
+            * np.exp2(rng.integers(-60, 60, n))[None, :]
+        reference = np.linalg.norm(scipy.linalg.lapack.dgebal(a, scale=1, permute=0)[0])
+        assert balanced_norm(a) == pytest.approx(reference, rel=0.1)
+        assert balanced_norm(a) < 1e-3 * np.linalg.norm(a) or reference > 1e-3 * np.linalg.norm(a)
+
+
+def test_a_whirl_root_beside_a_film_of_glass_stays_a_mode(examples_dir, tmp_path):
+    """A journal rotor with a film of 1e9 Pa s: the film's roots reach 4e14 1/s and ||A|| is
+    1.8e17, so eps ||A|| (4e3 1/s) would swallow the rotor's whirl root at half the running
+    speed (261.8 rad/s at 5000 rpm, its frequency exact to 1e-9 in the eigen-solve). LAPACK
+    balances first; the round-off read from the balanced matrix (15 1/s) keeps it a mode."""
+    text = (examples_dir / "journal_rotor.toml").read_text()
+    path = tmp_path / "glass.toml"
+    path.write_text(text.replace("viscosity = 0.02", "viscosity = 1e9"))
+    model = rdm.load_model(path)
+    speed = rdm.rpm(5000.0)
+    every = np.linalg.eigvals(speed_linear_form(model).at(speed))
+    slow = every[(np.abs(every) < 1e6) & (every.imag > 0)]
+    assert len(slow) == 2 and np.allclose(slow.imag, speed / 2, rtol=1e-7)     # the half-speed whirl
+    from rotordyn_modal.analysis.modal import is_oscillating
+
+    result = rdm.modal(model, speed)
+    modes = is_oscillating(result.eigenvalues)
+    assert modes.sum() == 2
+    np.testing.assert_allclose(result.frequencies_hz[modes], speed / 2 / (2 * np.pi), rtol=1e-7)

@@ -471,7 +471,7 @@ def available_memory():
 
 
 def _gib(count: int) -> str:
-    return f"{count / 2**30:.3g} GiB"
+    return f"{count / 1e9:.4g} GB"
 
 
 def _kib_field(path: str, field: str):
@@ -517,8 +517,8 @@ def check_memory(n_variants: int, per_variant: int, chunk_size: int, what: str) 
     available = available_memory()
     if available is not None and needed > available[0]:
         raise InputError(f"{what}: {n_variants:,} variants x {per_variant / 1e3:.4g} kB = {results / 1e9:.4g} GB "
-                         f"of results need about {needed / 1e9:.4g} GB of memory; {available[0] / 1e9:.4g} GB "
-                         f"can be had ({available[1]}): run fewer variants (or fewer speeds), or split the "
+                         f"of results need about {needed / 1e9:.4g} GB of memory; only {max(available[0], 0) / 1e9:.4g} "
+                         f"GB is left ({available[1]}): run fewer variants (or fewer speeds), or split the "
                          "study into several")
 
 

@@ -26,7 +26,9 @@ of its size and checksum): after Ctrl-C, a crash or kill -9, run the same comman
 and only the missing chunks are computed; a damaged chunk file is computed again. A
 second study writing the same RESULTS.nc while the first runs is refused (exit 2).
 Failed variants (a model that validation refuses, a solver error) are recorded with
-their reason and do not stop the study.
+their reason and do not stop the study. A worker process the system kills (out of
+memory) is replaced once by a fresh pool of half the workers. A study whose results
+cannot fit in memory is refused before any work, with the estimate (docs/study-file.md).
 
 examples:
   rotordyn-modal study examples/gear_machine.toml --spec examples/mount_tolerance.study.toml \\

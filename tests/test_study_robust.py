@@ -456,3 +456,32 @@ def test_a_manifest_of_deeply_nested_brackets_is_discarded_not_an_internal_error
     assert ("unreadable" if which == "study.json" else "chunk 1 ") in caplog.text
     assert_same_results(tmp_path / "r.nc", reference)
     assert not folder.exists()
+
+
+def test_sigterm_to_the_process_group_stops_the_study_keeping_its_chunks(spec, reference, tmp_path):
+    """What a batch scheduler or ``timeout`` does: SIGTERM to the study and its workers."""
+    out = tmp_path / "r.nc"
+    process = subprocess.Popen(study_command(spec, out), stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)
+    seen, text = 0, ""
+    while seen < 2:
+        line = process.stderr.readline()
+        assert line, text
+        text += line
+        seen += bool(_CHUNK_LINE.search(line))
+    workers = children_of(process.pid)
+    os.killpg(process.pid, signal.SIGTERM)
+    _, rest = process.communicate(timeout=60)
+    assert process.returncode == 128 + signal.SIGTERM, text + rest
+    assert "terminated by SIGTERM" in rest and "Traceback" not in rest
+    deadline = time.monotonic() + 10
+    while any(alive(w) for w in workers) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not any(alive(w) for w in workers)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.nc.partial"]  # no lock, no temporary
+    kept = finished_chunks(tmp_path / "r.nc.partial")
+    assert len(kept) >= 2 and all(not p.name.startswith(".") for p in (tmp_path / "r.nc.partial").iterdir())
+    rerun = subprocess.run(study_command(spec, out), capture_output=True, text=True)
+    assert rerun.returncode == 0, rerun.stderr
+    assert chunk_log(rerun.stderr)["resumed"] == kept
+    assert_same_results(out, reference["out"])

@@ -261,7 +261,7 @@ def _what_was_written(batch) -> str:
 
 
 @contextlib.contextmanager
-def atomic_write(path, mode: str = "w", together: bool = True, **kwargs):
+def atomic_write(path, mode: str = "w", together: bool = True, tidy: bool = True, **kwargs):
     """Open a temporary file beside ``path``; rename it to ``path`` only on success.
 
     A target that exists and is not a regular file (a device such as ``/dev/null``,
@@ -270,7 +270,9 @@ def atomic_write(path, mode: str = "w", together: bool = True, **kwargs):
     folder, full disk, file size limit) removes the temporary file and raises
     :class:`~rotordyn_modal.errors.OutputError` naming the file and the reason. Inside
     :func:`outputs_together` the rename waits for the end of that block (unless
-    ``together`` is False: checkpoints that must be in place at once).
+    ``together`` is False: checkpoints that must be in place at once). ``tidy``: first
+    remove the temporaries of ``path`` that killed processes left (a listing of the
+    folder; a study's checkpoint, thousands of files cleared as a whole, skips it).
 
     Yields
     ------
@@ -285,7 +287,8 @@ def atomic_write(path, mode: str = "w", together: bool = True, **kwargs):
             _BATCH[0].written.append(str(shown))
         return
     check_writable(shown)
-    remove_stale_temporaries(path)
+    if tidy:
+        remove_stale_temporaries(path)
     try:
         fd, temporary = tempfile.mkstemp(prefix=_temporary_prefix(path), suffix=path.suffix or ".tmp",
                                          dir=path.parent)

@@ -199,12 +199,15 @@ def worker_initializer(parent=None):
     else:
         threadpool_limits(1)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _die_with_parent(parent)
+    if _die_with_parent(parent):  # SIGTERM/SIGHUP sent to the process group: the parent stops
+        for name in ("SIGTERM", "SIGHUP"):  # the study, and the worker ends with it
+            signal.signal(getattr(signal, name), signal.SIG_IGN)
 
 
-def _die_with_parent(parent=None):
+def _die_with_parent(parent=None) -> bool:
     """Linux: end this worker when the study's process ends, even by ``kill -9`` (which
-    leaves it no chance to stop its pool), rather than finish a chunk nobody will save."""
+    leaves it no chance to stop its pool), rather than finish a chunk nobody will save.
+    Returns whether it is so."""
     import signal
 
     try:
@@ -213,9 +216,10 @@ def _die_with_parent(parent=None):
         libc = ctypes.CDLL(None, use_errno=True)
         libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
     except (OSError, AttributeError):  # pragma: no cover - not Linux
-        return
+        return False
     if parent is not None and os.getppid() != parent:  # the parent died before prctl
         os._exit(1)
+    return parent is not None
 
 
 # ---------------------------------------------------------------------------- chunks
@@ -434,7 +438,7 @@ def remove_checkpoint(folder, keep_folder: bool = False) -> None:
 def _atomic_bytes(path: Path, payload: bytes) -> None:
     from ..io import atomic_write
 
-    with atomic_write(path, "wb", together=False) as handle:  # in place at once, for a resume
+    with atomic_write(path, "wb", together=False, tidy=False) as handle:  # in place at once, for a resume
         handle.write(payload)
 
 

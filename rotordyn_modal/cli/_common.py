@@ -117,6 +117,9 @@ def check_files(args) -> None:
     from ..io.atomic import same_file
 
     inputs, outputs = _given(args, "input"), _given(args, "output")
+    for option, path in inputs + outputs:
+        if "\0" in str(path):
+            raise InputError(f"{option} {str(path)!r}: a file name cannot hold a NUL character")
     for i, (option, path) in enumerate(outputs):
         for source_option, source in inputs:
             if same_file(path, source):
@@ -124,7 +127,7 @@ def check_files(args) -> None:
                                  f"({source_option})")
         for other_option, other in outputs[:i]:
             if same_file(path, other):
-                raise InputError(f"{other_option} and {option} name the same file {path}: "
+                raise InputError(f"{other_option} and {option} name the same file {other}: "
                                  "give two different files")
 
 

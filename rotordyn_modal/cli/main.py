@@ -66,7 +66,8 @@ def main(argv=None) -> int:
         os.dup2(devnull, sys.stdout.fileno())
         return 1
     except Terminated as error:
-        print(f"{PROGRAM} {args.command}: terminated by {signal.Signals(error.signum).name}", file=sys.stderr)
+        with contextlib.suppress(OSError):  # after SIGHUP the terminal may be gone
+            print(f"{PROGRAM} {args.command}: terminated by {signal.Signals(error.signum).name}", file=sys.stderr)
         return 128 + error.signum
     except KeyboardInterrupt:
         print(f"{PROGRAM} {args.command}: interrupted", file=sys.stderr)

@@ -40,7 +40,13 @@ def same_file(a, b) -> bool:
     try:
         return os.path.samefile(a, b)
     except OSError:
+        pass
+    except ValueError:  # a name no file can have (a NUL character): the callers refuse it
+        return False
+    try:
         return os.path.realpath(a) == os.path.realpath(b)
+    except (OSError, ValueError):
+        return False
 
 
 def check_not_input(output, inputs) -> None:
@@ -91,7 +97,7 @@ def _is_special(path: Path) -> bool:
     ``/dev/null`` or ``/dev/full``, a FIFO): written in place, never renamed over."""
     try:
         mode = os.stat(path).st_mode
-    except OSError:
+    except (OSError, ValueError):
         return False
     return not stat.S_ISREG(mode) and not stat.S_ISDIR(mode)
 

@@ -82,15 +82,15 @@ def run(args) -> int:
     with verbose_log(args), ResultsLock(args.out):  # the file is named
         if args.restart and folder.exists():
             remove_checkpoint(folder)
-        with outputs_together():  # the results, the table and the figures appear together
-            try:
+        try:
+            with outputs_together():  # the results, the table and the figures appear together
                 result = _compute(model, definition, args, folder)
                 _write(result, args, folder)
                 if not args.quiet:
                     _report(result, band)
                 _plots(result, args, band)
-            except (OutputError, OutputWriteError) as error:
-                raise _kept_chunks(error, folder) from None
+        except (OutputError, OutputWriteError) as error:
+            raise _kept_chunks(error, folder) from None
     report_peak_memory(args)
     return 0
 

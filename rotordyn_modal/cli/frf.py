@@ -38,8 +38,10 @@ def add_arguments(parser):
     parser.add_argument("--quantity", choices=["receptance", "mobility", "accelerance"], default="receptance")
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors"],
                         help="forces per unit input instead of sensor motion")
-    add_input_file(parser, "--measured", metavar="FILE", help="measured FRFs (.uff/.unv or .csv) to draw under the model")
-    add_input_file(parser, "--mapping", metavar="FILE.csv", help="UFF node/direction to channel table: name,node,direction[,sign]")
+    add_input_file(parser, "--measured", metavar="FILE",
+                   help="measured FRFs (.uff/.unv or .csv) to draw under the model")
+    add_input_file(parser, "--mapping", metavar="FILE.csv",
+                   help="UFF node/direction to channel table: name,node,direction[,sign]")
     add_outputs(parser)
 
 

@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, OutputError, OutputWriteError
-from ._common import add_input_file, add_model_argument, add_output_file, check_outputs, parse_number, print_table, show_progress, use_agg
+from ._common import (add_input_file, add_model_argument, add_output_file, check_outputs, parse_number, print_table,
+                      show_progress, use_agg)
 from ._resources import add_verbose, report_peak_memory, verbose_log
 
 NAME = "study"

@@ -49,7 +49,8 @@ def add_arguments(parser):
                         help="add force rows after the sensors' (default none)")
     parser.add_argument("--operating-speed", help="operating speed (same unit as --speeds) for the separation margin")
     add_output_file(parser, "--orbits", metavar="FILE.csv", help="write the orbits of the probe pairs")
-    add_output_file(parser, "--orbit-plot", metavar="FILE", help="draw the orbits of the probe pairs (.png, .svg, .pdf)")
+    add_output_file(parser, "--orbit-plot", metavar="FILE",
+                    help="draw the orbits of the probe pairs (.png, .svg, .pdf)")
     add_outputs(parser)
 
 

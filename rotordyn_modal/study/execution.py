@@ -25,7 +25,7 @@ from ..errors import InputError, OutputError
 from .analyses import batch_caches, run_analyses
 
 __all__ = ["ChunkTask", "run_chunk", "make_tasks", "execute", "Checkpoint", "finished_chunks", "ResultsLock", "limit_threads",
-           "worker_initializer", "default_chunk_size", "remove_checkpoint"]
+           "worker_initializer", "default_chunk_size", "remove_checkpoint", "available_memory", "check_memory"]
 
 
 @dataclass(frozen=True)
@@ -521,8 +521,8 @@ def check_memory(n_variants: int, per_variant: int, chunk_size: int, what: str) 
     available = available_memory()
     if available is not None and needed > available[0]:
         raise InputError(f"{what}: {n_variants:,} variants x {per_variant / 1e3:.4g} kB = {results / 1e9:.4g} GB "
-                         f"of results need about {needed / 1e9:.4g} GB of memory; only {max(available[0], 0) / 1e9:.4g} "
-                         f"GB is left ({available[1]}): run fewer variants (or fewer speeds), or split the "
+                         f"of results need about {needed / 1e9:.4g} GB of memory; only "
+                         f"{max(available[0], 0) / 1e9:.4g} GB is left ({available[1]}): run fewer variants (or fewer speeds), or split the "
                          "study into several")
 
 

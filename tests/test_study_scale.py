@@ -171,3 +171,29 @@ def test_the_file_written_a_block_at_a_time_is_the_one_xarray_writes(tmp_path, m
     assert (tmp_path / "blocks.nc").read_bytes() == (tmp_path / "xarray.nc").read_bytes()
     back = load_study(tmp_path / "blocks.nc").dataset
     assert back.drop_encoding().identical(ds) if hasattr(back, "drop_encoding") else back.identical(ds)
+
+
+def test_a_study_whose_results_cannot_fit_on_the_disk_is_refused_before_any_work(tmp_path, monkeypatch, capsys):
+    """The checkpoint and the results file each hold the results: a disk with room for one of
+    them only (the free space reported by the system made small) refuses the study."""
+    import shutil
+
+    from rotordyn_modal.cli import main
+    from rotordyn_modal.study import execution
+
+    samples, speeds = 200, 201
+    spec = tmp_path / "s.toml"
+    spec.write_text(SPEC.format(samples=samples, speeds=speeds))
+    results = samples * speeds * MODES * 4 * 8
+    real = shutil.disk_usage
+    monkeypatch.setattr(shutil, "disk_usage", lambda path: real(path)._replace(free=int(1.5 * results)))
+
+    def never(task):
+        raise AssertionError("a chunk was computed")
+
+    monkeypatch.setattr(execution, "run_chunk", never)
+    code = main(["study", EXAMPLE, "--spec", str(spec), "--out", str(tmp_path / "r.nc"), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1, err
+    assert f"on the disk of {tmp_path / 'r.nc.partial'}" in err and "200 variants" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]

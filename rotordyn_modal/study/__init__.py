@@ -18,7 +18,6 @@ The study file is described in ``docs/study-file.md``. This module is callable:
 from __future__ import annotations
 
 import dataclasses
-import os
 import sys
 import types
 from pathlib import Path
@@ -36,7 +35,9 @@ __all__ = ["study", "StudyResult", "StudyDefinition", "StudyError", "Parameter",
 def checkpoint_folder(out) -> Path:
     """The folder where a study writing ``out`` keeps its finished chunks: ``OUT.partial``
     beside the file ``out`` names (links followed, so that two names of one file share it)."""
-    out = Path(os.path.realpath(out))
+    from .execution import results_file
+
+    out = results_file(out)
     return out.with_name(out.name + ".partial")
 
 
@@ -72,7 +73,7 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
         with their reason in ``error``.
     """
     from .analyses import describe
-    from .execution import Checkpoint, check_memory, default_chunk_size, execute, fingerprint, make_tasks
+    from .execution import Checkpoint, check_disk, check_memory, default_chunk_size, execute, fingerprint, make_tasks
     from .results import Assembly, build_dataset, variant_bytes
 
     _require_xarray()
@@ -85,7 +86,10 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     variables, coords, layouts = describe(model, definition.analyses)
     shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
     size = chunk_size or definition.chunk_size or default_chunk_size(len(values), executor)
-    check_memory(len(values), variant_bytes(shapes, values.shape[1]), size, _outputs_text(definition, shapes))
+    per_variant = variant_bytes(shapes, values.shape[1])
+    check_memory(len(values), per_variant, size, _outputs_text(definition, shapes))
+    if checkpoint is not None:
+        check_disk(checkpoint, len(values), per_variant, _outputs_text(definition, shapes))
     base = {"keys": tuple(p.keys for p in definition.parameters),
             "applies": tuple(p.apply for p in definition.parameters),
             "model_data": model.to_dict(), "model_source": model.source, "analyses": definition.analyses,

@@ -526,7 +526,47 @@ def check_memory(n_variants: int, per_variant: int, chunk_size: int, what: str) 
                          "study into several")
 
 
+def check_disk(folder, n_variants: int, per_variant: int, what: str) -> None:
+    """Refuse, before any work, a study whose checkpoint and results file cannot fit on the
+    disk of its checkpoint ``folder``: both hold the results (the checkpoint is removed only
+    once the results file is written); chunks already saved there count as room.
+
+    Raises
+    ------
+    InputError
+    """
+    import shutil
+
+    folder = Path(folder)
+    place = next((p for p in (folder, *folder.parents) if p.exists()), None)
+    try:
+        free = shutil.disk_usage(place).free if place is not None else None
+    except OSError:
+        free = None
+    if free is None:
+        return
+    saved = sum(p.stat().st_size for p in folder.glob("chunk-*.npz")) if folder.is_dir() else 0
+    needed = 2 * n_variants * per_variant - saved
+    if needed > free:
+        raise InputError(f"{what}: {n_variants:,} variants need about {needed / 1e9:.4g} GB on the disk of "
+                         f"{folder} (the checkpoint and the results file, each {n_variants * per_variant / 1e9:.4g} "
+                         f"GB); it has {free / 1e9:.4g} GB free: free space, or give an --out on a larger disk")
+
+
 # ---------------------------------------------------------------------------- one writer
+def results_file(path) -> Path:
+    """The file a study's results named ``path`` go to: symbolic links followed (a link, a
+    linked folder), unless they lead to a device (``/dev/null``), which keeps its name."""
+    import stat
+
+    real = Path(os.path.realpath(path))
+    try:
+        special = not stat.S_ISREG(os.stat(real).st_mode)
+    except (OSError, ValueError):
+        special = False
+    return Path(os.path.abspath(path)) if special else real
+
+
 class ResultsLock:
     """Only one study at a time writes a results file (and its checkpoint folder).
 
@@ -546,7 +586,7 @@ class ResultsLock:
 
     def __init__(self, results):
         self.results = Path(results)
-        real = Path(os.path.realpath(self.results))  # links followed: one lock per file, however named
+        real = results_file(self.results)  # links followed: one lock per file, however named
         self.path = real.with_name(real.name + ".lock")
         self._fd = None
         self.previous_owner = None

@@ -363,3 +363,48 @@ def test_an_output_gets_the_permissions_any_new_file_gets(tmp_path, umask):
         os.umask(previous)
     mode = stat.S_IMODE((tmp_path / "out.csv").stat().st_mode)
     assert mode == stat.S_IMODE((tmp_path / "plain.csv").stat().st_mode) == 0o666 & ~umask
+
+
+# ------------------------------------------------------------------------- two outputs of one command
+def test_when_the_second_output_fails_the_first_is_not_written_either(tmp_path):
+    """``--out`` is written before ``--plot``; a size limit between their sizes fails the
+    figure: the table must not be left behind, since the message says nothing was written."""
+    sizes = {}
+    for name in ("a.csv", "a.png"):
+        code, text = run_forked(["campbell", EXAMPLE, "--speeds", "0:3000:31", "--quiet",
+                                 "--out" if name.endswith(".csv") else "--plot", str(tmp_path / name)])
+        assert code == 0, text
+        sizes[name] = (tmp_path / name).stat().st_size
+        (tmp_path / name).unlink()
+    assert sizes["a.csv"] < sizes["a.png"]
+    out, plot = tmp_path / "c.csv", tmp_path / "c.png"
+    code, text = run_forked(["campbell", EXAMPLE, "--speeds", "0:3000:31", "--quiet", "--out", str(out),
+                             "--plot", str(plot)], limit_bytes=sizes["a.csv"] + 1)
+    assert_one_clear_line(code, text, plot, "File too large", 1)
+    assert "nothing was written" in text
+    assert listing(tmp_path) == {}
+
+
+def test_a_rename_failing_at_the_end_names_the_outputs_that_were_written(tmp_path, monkeypatch, capsys):
+    """The outputs are renamed into place together at the end; should the second rename
+    fail (the folder's permissions changed meanwhile), the message says which is in place."""
+    from rotordyn_modal.cli import main
+    from rotordyn_modal.io import atomic
+
+    renames = []
+
+    def replace(source, target):
+        if Path(target).parent != tmp_path:  # someone else's rename (a cache)
+            return os.rename(source, target)
+        renames.append(target)
+        if len(renames) == 2:
+            raise PermissionError(errno.EACCES, "Permission denied")
+        os.rename(source, target)
+
+    monkeypatch.setattr(atomic.os, "replace", replace)
+    out, plot = tmp_path / "c.csv", tmp_path / "c.png"
+    code = main(["campbell", EXAMPLE, "--speeds", "0:3000:7", "--quiet", "--out", str(out), "--plot", str(plot)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1, err
+    assert f"cannot write {plot}: Permission denied (only {out} was written)" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.csv"]

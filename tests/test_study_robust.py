@@ -324,3 +324,164 @@ def test_a_stale_lock_of_a_dead_process_is_taken_over(spec, reference, tmp_path)
     assert f"of process {dead.pid} somehost (no longer running) taken over" in run.stderr
     assert_same_results(out, reference["out"])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.nc"]
+
+
+@pytest.mark.parametrize("naming", ["link-to-file", "linked-folder"])
+def test_a_second_study_naming_the_results_through_a_link_is_refused(naming, spec, tmp_path):
+    out = tmp_path / "r.nc"
+    if naming == "link-to-file":
+        other = tmp_path / "alias.nc"
+        other.symlink_to(out)  # dangling until the first study writes r.nc
+    else:
+        (tmp_path / "linked").symlink_to(tmp_path)
+        other = tmp_path / "linked" / "r.nc"
+    first = subprocess.Popen(study_command(spec, out), stderr=subprocess.PIPE, text=True)
+    lock = tmp_path / "r.nc.lock"
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline and not (lock.exists() and lock.read_text().strip()):
+        time.sleep(0.02)
+    second = subprocess.run(study_command(spec, other), capture_output=True, text=True)
+    err = [line for line in second.stderr.splitlines() if line.strip()]
+    first.communicate()
+    assert second.returncode == 2 and len(err) == 1, second.stderr
+    assert "another study" in err[0] and str(first.pid) in err[0]
+    assert first.returncode == 0
+
+
+# ------------------------------------------------------------------------- a worker killed (out of memory)
+def _killing_run_chunk(task):
+    """``run_chunk``, but the worker computing chunk 2 is killed as the out-of-memory killer
+    would (once, or every time when ``KILL_ALWAYS`` exists; never the study's own process)."""
+    from rotordyn_modal.study import execution
+
+    marker = Path(os.environ["ROTORDYN_TEST_KILL_MARKER"])
+    if task.index == 2 and os.getpid() != int(os.environ["ROTORDYN_TEST_PARENT"]) \
+            and (marker.with_name("KILL_ALWAYS").exists() or not marker.exists()):
+        marker.touch()
+        os.kill(os.getpid(), signal.SIGKILL)
+    return execution._real_run_chunk(task)
+
+
+def _run_with_killer(argv, tmp_path, monkeypatch, capsys):
+    from rotordyn_modal.cli import main
+    from rotordyn_modal.study import execution
+
+    monkeypatch.setenv("ROTORDYN_TEST_KILL_MARKER", str(tmp_path / "killed"))
+    monkeypatch.setenv("ROTORDYN_TEST_PARENT", str(os.getpid()))
+    monkeypatch.setattr(execution, "_real_run_chunk", execution.run_chunk, raising=False)
+    monkeypatch.setattr(execution, "run_chunk", _killing_run_chunk)
+    code = main(argv)
+    return code, capsys.readouterr().err
+
+
+def _small_study_file(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text('seed = 5\nsamples = 24\nchunk_size = 3\n[[parameters]]\nkey = "stator.mass"\n'
+                    'distribution = "uniform"\nlow = 140.0\nhigh = 160.0\n[analyses.campbell]\n'
+                    'speeds_rpm = "0:3000:7"\n')
+    return path
+
+
+def test_a_killed_worker_is_replaced_and_its_chunk_computed(tmp_path, monkeypatch, capsys):
+    from rotordyn_modal.cli import main
+
+    spec = _small_study_file(tmp_path)
+    assert main(["study", EXAMPLE, "--spec", str(spec), "--out", str(tmp_path / "serial.nc"), "--quiet"]) == 0
+    out = tmp_path / "r.nc"
+    code, err = _run_with_killer(["study", EXAMPLE, "--spec", str(spec), "--out", str(out), "--workers", "2",
+                                  "--quiet"], tmp_path, monkeypatch, capsys)
+    assert (tmp_path / "killed").exists()  # a worker was killed
+    assert code == 0, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "warning: a worker process died" in lines[0], err
+    assert_same_results(out, tmp_path / "serial.nc")
+    assert not (tmp_path / "r.nc.partial").exists()
+
+
+def test_a_worker_killed_twice_stops_the_study_with_one_line_and_a_rerun_resumes(tmp_path, monkeypatch, capsys):
+    from rotordyn_modal.cli import main
+
+    spec = _small_study_file(tmp_path)
+    (tmp_path / "KILL_ALWAYS").touch()
+    out = tmp_path / "r.nc"
+    argv = ["study", EXAMPLE, "--spec", str(spec), "--out", str(out), "--workers", "4", "--quiet"]
+    code, err = _run_with_killer(argv, tmp_path, monkeypatch, capsys)
+    lines = err.strip().splitlines()
+    assert code == 1 and len(lines) == 2 and "Traceback" not in err, err  # the warning, then the error
+    saved = finished_chunks(tmp_path / "r.nc.partial")
+    assert 2 not in saved
+    assert "a worker process died twice" in lines[1]
+    assert f"{len(saved)} finished chunks kept in {tmp_path / 'r.nc.partial'} for the next run" in lines[1]
+    assert not out.exists()
+    monkeypatch.undo()
+    assert main(argv + ["--verbose"]) == 0
+    log = chunk_log(capsys.readouterr().err)
+    assert log["resumed"] == saved and log["computed"] == set(range(8)) - saved
+    assert main(["study", EXAMPLE, "--spec", str(spec), "--out", str(tmp_path / "serial.nc"), "--quiet"]) == 0
+    assert_same_results(out, tmp_path / "serial.nc")
+
+
+# ------------------------------------------------------------------------- checkpoints that cannot be one
+def test_a_file_where_the_checkpoint_folder_goes_is_refused_with_one_line(tmp_path, capsys):
+    from rotordyn_modal.cli import main
+
+    spec = _small_study_file(tmp_path)
+    (tmp_path / "r.nc.partial").write_text("my notes\n")
+    argv = ["study", EXAMPLE, "--spec", str(spec), "--out", str(tmp_path / "r.nc"), "--quiet"]
+    for _ in range(2):  # and the same again: never an internal error
+        code = main(argv)
+        err = capsys.readouterr().err
+        assert code == 2 and err.count("\n") == 1, err
+        assert "r.nc.partial: a file is where the study keeps its checkpoint folder" in err
+    assert (tmp_path / "r.nc.partial").read_text() == "my notes\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.nc.partial", "s.toml"]
+
+
+@pytest.mark.parametrize("which", ["study.json", "chunk-000001.json"])
+def test_a_manifest_of_deeply_nested_brackets_is_discarded_not_an_internal_error(which, tmp_path, capsys, caplog):
+    from rotordyn_modal.cli import main
+
+    spec = _small_study_file(tmp_path)
+    argv = ["study", EXAMPLE, "--spec", str(spec), "--out", str(tmp_path / "r.nc"), "--quiet"]
+    assert main(argv) == 0
+    reference = tmp_path / "reference.nc"
+    (tmp_path / "r.nc").rename(reference)
+    folder = tmp_path / "r.nc.partial"
+    rdm.study(rdm.load_model(EXAMPLE), spec, checkpoint=folder)  # a full checkpoint, as a killed run leaves
+    (folder / which).write_text("[" * 200_000 + "]" * 200_000)
+    with caplog.at_level(logging.WARNING, logger="rotordyn_modal.study"):
+        code = main(argv)
+    err = capsys.readouterr().err
+    assert code == 0 and "Traceback" not in err, err
+    assert ("unreadable" if which == "study.json" else "chunk 1 ") in caplog.text
+    assert_same_results(tmp_path / "r.nc", reference)
+    assert not folder.exists()
+
+
+def test_sigterm_to_the_process_group_stops_the_study_keeping_its_chunks(spec, reference, tmp_path):
+    """What a batch scheduler or ``timeout`` does: SIGTERM to the study and its workers."""
+    out = tmp_path / "r.nc"
+    process = subprocess.Popen(study_command(spec, out), stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)
+    seen, text = 0, ""
+    while seen < 2:
+        line = process.stderr.readline()
+        assert line, text
+        text += line
+        seen += bool(_CHUNK_LINE.search(line))
+    workers = children_of(process.pid)
+    os.killpg(process.pid, signal.SIGTERM)
+    _, rest = process.communicate(timeout=60)
+    assert process.returncode == 128 + signal.SIGTERM, text + rest
+    assert "terminated by SIGTERM" in rest and "Traceback" not in rest
+    deadline = time.monotonic() + 10
+    while any(alive(w) for w in workers) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not any(alive(w) for w in workers)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.nc.partial"]  # no lock, no temporary
+    kept = finished_chunks(tmp_path / "r.nc.partial")
+    assert len(kept) >= 2 and all(not p.name.startswith(".") for p in (tmp_path / "r.nc.partial").iterdir())
+    rerun = subprocess.run(study_command(spec, out), capture_output=True, text=True)
+    assert rerun.returncode == 0, rerun.stderr
+    assert chunk_log(rerun.stderr)["resumed"] == kept
+    assert_same_results(out, reference["out"])

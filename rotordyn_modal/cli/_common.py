@@ -10,7 +10,7 @@ import numpy as np
 from .._limits import count_problem
 from ..errors import InputError
 from ..io import atomic_write, check_not_input, load_model
-from ..io.atomic import check_writable
+from ..io.atomic import after_commit, check_writable
 from ..units import SPEED_UNITS
 from ..units import speed_to_rad_s as to_rad_s
 
@@ -72,8 +72,67 @@ def parse_list(text: str, option: str) -> np.ndarray:
     return np.array(values)
 
 
+def add_input_file(parser, *flags, **kwargs):
+    """``parser.add_argument`` for a file the command reads: no output may name it
+    (:func:`check_files`, run for every command before its work)."""
+    action = parser.add_argument(*flags, **kwargs)
+    action.file_role = "input"
+    return action
+
+
+def add_output_file(parser, *flags, **kwargs):
+    """``parser.add_argument`` for a file the command writes ('-' is standard output): it may
+    name no input file and no other output (:func:`check_files`)."""
+    action = parser.add_argument(*flags, **kwargs)
+    action.file_role = "output"
+    return action
+
+
+def file_options(parser) -> dict:
+    """``{"input": [(dest, option), ...], "output": [...]}`` of a sub-command's parser: the
+    options declared with :func:`add_input_file` and :func:`add_output_file`."""
+    found = {"input": [], "output": []}
+    for action in parser._actions:  # argparse keeps no public list of its actions
+        role = getattr(action, "file_role", None)
+        if role:
+            found[role].append((action.dest, action.option_strings[0] if action.option_strings
+                                else action.metavar or action.dest.upper()))
+    return found
+
+
+def _given(args, role):
+    """(option, path) of every file of ``role`` named on the command line."""
+    return [(option, getattr(args, dest)) for dest, option in getattr(args, "file_options", {}).get(role, ())
+            if getattr(args, dest, None) not in (None, "", "-")]
+
+
+def check_files(args) -> None:
+    """Refuse, before any work, an output that names an input file or another output,
+    whatever the spelling: a symbolic link, a hard link, a path through a linked folder.
+
+    Raises
+    ------
+    InputError
+    """
+    from ..io.atomic import same_file
+
+    inputs, outputs = _given(args, "input"), _given(args, "output")
+    for option, path in inputs + outputs:
+        if "\0" in str(path):
+            raise InputError(f"{option} {str(path)!r}: a file name cannot hold a NUL character")
+    for i, (option, path) in enumerate(outputs):
+        for source_option, source in inputs:
+            if same_file(path, source):
+                raise InputError(f"{option} {path}: refusing to write over the input file {source} "
+                                 f"({source_option})")
+        for other_option, other in outputs[:i]:
+            if same_file(path, other):
+                raise InputError(f"{other_option} and {option} name the same file {other}: "
+                                 "give two different files")
+
+
 def add_model_argument(parser):
-    parser.add_argument("model", metavar="MODEL", help="model file (TOML), see docs/model-file.md")
+    add_input_file(parser, "model", metavar="MODEL", help="model file (TOML), see docs/model-file.md")
 
 
 def add_speed_unit(parser):
@@ -84,12 +143,12 @@ def add_speed_unit(parser):
 def add_outputs(parser, table: bool = True, plot: bool = True, out_endings=(".csv",)):
     """--out (a table; ``out_endings``: the file endings the sub-command writes), --plot, --quiet."""
     if table:
-        parser.add_argument("--out", metavar="FILE" + "|FILE".join(out_endings),
-                            help="write the table to this file, in the format of its ending "
-                                 f"({', '.join(out_endings)}; '-': CSV on standard output)")
+        add_output_file(parser, "--out", metavar="FILE" + "|FILE".join(out_endings),
+                        help="write the table to this file, in the format of its ending "
+                             f"({', '.join(out_endings)}; '-': CSV on standard output)")
         parser.set_defaults(out_endings=tuple(out_endings))
     if plot:
-        parser.add_argument("--plot", metavar="FILE.png|FILE.svg|FILE.pdf", help="draw the figure to this file")
+        add_output_file(parser, "--plot", metavar="FILE.png|FILE.svg|FILE.pdf", help="draw the figure to this file")
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no table on the terminal")
 
 
@@ -230,8 +289,9 @@ def check_outputs(args, path):
     """Refuse an output over an input file, or one that cannot be written (read-only folder)."""
     from pathlib import Path
 
-    check_not_input(path, [getattr(args, "model", None), getattr(args, "measured", None),
-                           getattr(args, "spec", None)])
+    inputs = [source for _, source in _given(args, "input")] if hasattr(args, "file_options") else \
+        [getattr(args, "model", None), getattr(args, "measured", None), getattr(args, "spec", None)]
+    check_not_input(path, inputs)
     if Path(path).parent.exists():  # a missing folder: the callers name the option
         check_writable(path)
 
@@ -248,7 +308,7 @@ def save_figure(fig, args, path=None, option: str = "--plot"):
     with atomic_write(path, None) as temporary:
         fig.savefig(temporary, format=fmt, dpi=150)
     if not args.quiet:
-        print(f"figure written to {path}", file=sys.stderr)
+        after_commit(lambda: print(f"figure written to {path}", file=sys.stderr))
 
 
 def use_agg():

@@ -8,8 +8,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..io import save_model
-from ._common import (add_model_argument, check_ending, check_output_options, check_outputs, load_model, parse_list,
-                      save_figure, show_progress, use_agg)
+from ._common import (add_input_file, add_model_argument, add_output_file, check_ending, check_output_options,
+                      check_outputs, load_model, parse_list, save_figure, show_progress, use_agg)
 
 NAME = "fit"
 HELP = "identify model parameters (mount stiffness, damping, ...) from measured FRFs"
@@ -29,15 +29,15 @@ example:
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--measured", required=True, metavar="FILE", help="measured FRFs (.uff/.unv or .csv)")
-    parser.add_argument("--mapping", metavar="FILE.csv", help="UFF node/direction to channel table")
+    add_input_file(parser, "--measured", required=True, metavar="FILE", help="measured FRFs (.uff/.unv or .csv)")
+    add_input_file(parser, "--mapping", metavar="FILE.csv", help="UFF node/direction to channel table")
     parser.add_argument("--params", required=True, help="comma-separated dotted keys (or 'gain')")
-    parser.add_argument("--out", required=True, metavar="FITTED.toml", help="fitted model file to write")
+    add_output_file(parser, "--out", required=True, metavar="FITTED.toml", help="fitted model file to write")
     parser.add_argument("--band", metavar="LOW:HIGH", help="frequency band used [Hz]")
     parser.add_argument("--bound-factor", default="100", help="each parameter within start/F .. start*F (default 100)")
     parser.add_argument("--starts", type=int, default=3, help="starting points (default 3)")
     parser.add_argument("--no-coherence", action="store_true", help="do not weight by coherence")
-    parser.add_argument("--plot", metavar="FILE.png|FILE.svg|FILE.pdf",
+    add_output_file(parser, "--plot", metavar="FILE.png|FILE.svg|FILE.pdf",
                         help="overlay of the fitted model on the measurement at every speed")
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no table on the terminal")
 

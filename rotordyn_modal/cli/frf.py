@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..errors import InputError
-from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
+from ._common import (add_input_file, add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
                       parse_range, save_figure, to_rad_s, use_agg, write_table)
 
 NAME = "frf"
@@ -42,8 +42,10 @@ def add_arguments(parser):
     parser.add_argument("--quantity", choices=["receptance", "mobility", "accelerance"], default="receptance")
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors"],
                         help="forces per unit input instead of sensor motion")
-    parser.add_argument("--measured", metavar="FILE", help="measured FRFs (.uff/.unv or .csv) to draw under the model")
-    parser.add_argument("--mapping", metavar="FILE.csv", help="UFF node/direction to channel table: name,node,direction[,sign]")
+    add_input_file(parser, "--measured", metavar="FILE",
+                   help="measured FRFs (.uff/.unv or .csv) to draw under the model")
+    add_input_file(parser, "--mapping", metavar="FILE.csv",
+                   help="UFF node/direction to channel table: name,node,direction[,sign]")
     add_outputs(parser, out_endings=(".csv", ".uff", ".unv"))
 
 

@@ -5,11 +5,12 @@ from __future__ import annotations
 import argparse
 import contextlib
 import os
+import signal
 import sys
 import warnings
 
 from ..errors import InputError, OutputWriteError
-from ._common import VALUE_OPTIONS, join_negative_values
+from ._common import VALUE_OPTIONS, check_files, file_options, join_negative_values
 
 PROGRAM = "rotordyn-modal"
 
@@ -33,20 +34,27 @@ def build_parser() -> argparse.ArgumentParser:
         sub = subparsers.add_parser(module.NAME, help=module.HELP, description=module.DESCRIPTION,
                                     formatter_class=argparse.RawDescriptionHelpFormatter)
         module.add_arguments(sub)
-        sub.set_defaults(handler=module.run)
+        sub.set_defaults(handler=module.run, file_options=file_options(sub))
     return parser
 
 
 def main(argv=None) -> int:
     """Run the command line; returns the exit code: 0 done; 2 bad input, an output path
-    that cannot be used (missing or read-only folder) or is locked by another study;
-    1 any other failure, a full disk included."""
+    that cannot be used (missing or read-only folder, an input file) or is locked by another
+    study; 1 any other failure, a full disk included; 130 after Ctrl-C, 128 + N after
+    signal N (143 SIGTERM, 129 SIGHUP). A command's output files appear together at its end,
+    or none of them (:func:`rotordyn_modal.io.atomic.outputs_together`)."""
+    from ..io.atomic import outputs_together
+
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     args = parser.parse_args(join_negative_values(argv, VALUE_OPTIONS))
     try:
-        with _warnings_as_lines(args.command):
-            return int(args.handler(args) or 0)
+        with _signals_as_interrupts(), _warnings_as_lines(args.command):
+            check_files(args)
+            with outputs_together():
+                code = int(args.handler(args) or 0)
+            return code
     except InputError as error:
         print(f"{PROGRAM} {args.command}: error: {error}", file=sys.stderr)
         return 2
@@ -57,6 +65,10 @@ def main(argv=None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 1
+    except Terminated as error:
+        with contextlib.suppress(OSError):  # after SIGHUP the terminal may be gone
+            print(f"{PROGRAM} {args.command}: terminated by {signal.Signals(error.signum).name}", file=sys.stderr)
+        return 128 + error.signum
     except KeyboardInterrupt:
         print(f"{PROGRAM} {args.command}: interrupted", file=sys.stderr)
         return 130
@@ -66,6 +78,40 @@ def main(argv=None) -> int:
         print(f"{PROGRAM} {args.command}: failed: {type(error).__name__}: {error} "
               "(set ROTORDYN_MODAL_DEBUG=1 for the traceback)", file=sys.stderr)
         return 1
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM or SIGHUP (``timeout``, a batch scheduler, a closed terminal) received by the
+    command line: raised in the main thread like Ctrl-C's KeyboardInterrupt, so that every
+    ``finally`` runs (temporary files are removed, a study keeps its finished chunks)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+#: signals that end a command the way Ctrl-C does (SIGINT is Python's KeyboardInterrupt already)
+_TERMINATING = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+
+@contextlib.contextmanager
+def _signals_as_interrupts():
+    """SIGTERM and SIGHUP raise :class:`Terminated` while inside; a second one ends the
+    process at once (the default action). Nothing changes outside the main thread."""
+    def interrupt(signum, frame):
+        for number in _TERMINATING:
+            signal.signal(number, signal.SIG_DFL)
+        raise Terminated(signum)
+
+    try:
+        previous = {number: signal.signal(number, interrupt) for number in _TERMINATING}
+    except ValueError:  # not the main thread: signals are not ours to handle
+        previous = {}
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, signal.SIG_DFL if handler is None else handler)
 
 
 @contextlib.contextmanager

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
-from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
+from ._common import (add_input_file, add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
                       save_figure, to_rad_s, use_agg, write_table)
 
 NAME = "modes"
@@ -39,7 +39,7 @@ def add_arguments(parser):
     shape.add_argument("--shape", type=int, metavar="MODE", help="draw the 3D shape of this mode to --plot")
     shape.add_argument("--animate", type=int, metavar="MODE",
                        help="animate this mode to --plot FILE.gif|FILE.html|FILE.mp4")
-    parser.add_argument("--outline", metavar="FILE.csv", help="stator outline as polylines x,y,z [m]")
+    add_input_file(parser, "--outline", metavar="FILE.csv", help="stator outline as polylines x,y,z [m]")
     parser.add_argument("--frames", type=int, default=36, help="frames per period of --animate (default 36)")
     add_outputs(parser)
 

@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, OutputError, OutputWriteError
-from ._common import add_model_argument, check_outputs, parse_number, print_table, show_progress, use_agg
+from ._common import (add_input_file, add_model_argument, add_output_file, check_outputs, parse_number, print_table,
+                      show_progress, use_agg)
 from ._resources import add_verbose, report_peak_memory, verbose_log
 
 NAME = "study"
@@ -26,7 +27,9 @@ of its size and checksum): after Ctrl-C, a crash or kill -9, run the same comman
 and only the missing chunks are computed; a damaged chunk file is computed again. A
 second study writing the same RESULTS.nc while the first runs is refused (exit 2).
 Failed variants (a model that validation refuses, a solver error) are recorded with
-their reason and do not stop the study.
+their reason and do not stop the study. A worker process the system kills (out of
+memory) is replaced once by a fresh pool of half the workers. A study whose results
+cannot fit in memory is refused before any work, with the estimate (docs/study-file.md).
 
 examples:
   rotordyn-modal study examples/gear_machine.toml --spec examples/mount_tolerance.study.toml \\
@@ -37,8 +40,8 @@ examples:
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--spec", required=True, metavar="STUDY.toml", help="study file (docs/study-file.md)")
-    parser.add_argument("--out", required=True, metavar="RESULTS.nc", help="netCDF file of the results")
+    add_input_file(parser, "--spec", required=True, metavar="STUDY.toml", help="study file (docs/study-file.md)")
+    add_output_file(parser, "--out", required=True, metavar="RESULTS.nc", help="netCDF file of the results")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N", help="run on a local pool of N processes")
     where.add_argument("--scheduler", metavar="ADDRESS",
@@ -48,11 +51,11 @@ def add_arguments(parser):
                         help="discard the finished chunks of an earlier run instead of resuming")
     parser.add_argument("--band", metavar="LOW:HIGH",
                         help="operating band [rpm]: report P(critical speed inside) (default: the study file's)")
-    parser.add_argument("--table", metavar="FILE.csv", help="write the per-variant table as CSV")
-    parser.add_argument("--plot", metavar="FILE.png", help="Campbell diagram with tolerance bands")
-    parser.add_argument("--plot-histogram", metavar="FILE.png", help="histograms of the critical speeds")
-    parser.add_argument("--plot-map", metavar="FILE.png", help="stability map over a two-parameter grid")
-    parser.add_argument("--plot-sensitivity", metavar="FILE.png", help="sensitivity bar chart")
+    add_output_file(parser, "--table", metavar="FILE.csv", help="write the per-variant table as CSV")
+    add_output_file(parser, "--plot", metavar="FILE.png", help="Campbell diagram with tolerance bands")
+    add_output_file(parser, "--plot-histogram", metavar="FILE.png", help="histograms of the critical speeds")
+    add_output_file(parser, "--plot-map", metavar="FILE.png", help="stability map over a two-parameter grid")
+    add_output_file(parser, "--plot-sensitivity", metavar="FILE.png", help="sensitivity bar chart")
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no summary on the terminal")
     add_verbose(parser, "also: each chunk as it is computed or resumed, checkpoint files discarded, peak memory")
 
@@ -68,41 +71,69 @@ _PLOTS = (("plot", "plot_campbell"), ("plot_histogram", "plot_critical_histogram
 
 def run(args) -> int:
     from ..io import load_model
-    from ..io.atomic import remove_stale_temporaries
-    from ..study import checkpoint_folder, read_study, study
-    from ..study.execution import ResultsLock, finished_chunks, remove_checkpoint
+    from ..io.atomic import outputs_together
+    from ..study import checkpoint_folder, read_study
+    from ..study.execution import ResultsLock, remove_checkpoint
 
     _check_options(args)
     model = load_model(args.model)
     definition = read_study(args.spec, model)
     band = _band(args.band) if args.band else definition.operating_band_rpm
-    folder = checkpoint_folder(args.out)
-    with verbose_log(args), ResultsLock(args.out):
-        remove_stale_temporaries(args.out)
+    folder = checkpoint_folder(args.out)  # both follow links: one lock and checkpoint however
+    with verbose_log(args), ResultsLock(args.out):  # the file is named
         if args.restart and folder.exists():
             remove_checkpoint(folder)
         try:
-            with _executor(args) as executor:
-                result = study(model, definition, executor=executor, checkpoint=folder,
-                               chunk_size=args.chunk_size, progress=show_progress(args))
-            _write(result, args, folder)
+            with outputs_together():  # the results, the table and the figures appear together
+                result = _compute(model, definition, args, folder)
+                _write(result, args, folder)
+                if not args.quiet:
+                    _report(result, band)
+                _plots(result, args, band)
+        except (OutputError, OutputWriteError) as error:
+            raise _kept_chunks(error, folder) from None
+    report_peak_memory(args)
+    return 0
+
+
+def _compute(model, definition, args, folder):
+    """The study's results; a worker process that dies (the out-of-memory killer) is
+    replaced once by a fresh pool that computes the chunks still missing."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    from ..study import study
+    from ..study.execution import finished_chunks
+
+    for attempt in (1, 2):
+        try:
+            with _executor(args, attempt) as executor:
+                return study(model, definition, executor=executor, checkpoint=folder,
+                             chunk_size=args.chunk_size, progress=show_progress(args))
+        except BrokenProcessPool:
+            if attempt == 2:
+                raise OutputWriteError("a worker process died twice (killed by the system: out of memory? "
+                                       "try fewer --workers)") from None
+            print(f"rotordyn-modal {NAME}: warning: a worker process died (killed by the system: out of "
+                  f"memory?); {finished_chunks(folder)} finished chunks are saved; computing the others in a "
+                  f"fresh pool of {_workers(args, 2)} worker(s)", file=sys.stderr)
         except KeyboardInterrupt:
             print(f"interrupted: {finished_chunks(folder)} finished chunks kept in {folder}; "
                   "run the same command again to resume", file=sys.stderr)
             raise
-        except (OutputError, OutputWriteError) as error:
-            kept = finished_chunks(folder)
-            if not kept:
-                remove_checkpoint(folder)
-                raise
-            message = f"{error}; {kept} finished chunks kept in {folder} for the next run"
-            raise (OutputError(message) if isinstance(error, OutputError)
-                   else OutputWriteError(message, error.errno)) from None
-    if not args.quiet:
-        _report(result, band)
-    _plots(result, args, band)
-    report_peak_memory(args)
-    return 0
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _kept_chunks(error, folder):
+    """``error`` with the finished chunks kept for the next run named (or the empty
+    checkpoint removed)."""
+    from ..study.execution import finished_chunks, remove_checkpoint
+
+    kept = finished_chunks(folder)
+    if not kept:
+        remove_checkpoint(folder)
+        return error
+    message = f"{error}; {kept} finished chunks kept in {folder} for the next run"
+    return OutputError(message) if isinstance(error, OutputError) else OutputWriteError(message, error.errno)
 
 
 def _check_options(args):
@@ -123,6 +154,17 @@ def _check_options(args):
             raise InputError(f"--{option.replace('_', '-')} {path}: expected a file ending in .png, .svg or .pdf")
     if Path(args.out).suffix.lower() != ".nc":
         raise InputError(f"--out {args.out}: expected a netCDF file name ending in .nc")
+    _check_derived(args)
+
+
+def _check_derived(args):
+    """The lock file and the checkpoint folder beside --out are written too: never an input."""
+    from ..io.atomic import check_not_input
+    from ..study import checkpoint_folder
+    from ..study.execution import ResultsLock
+
+    for derived in (ResultsLock(args.out).path, checkpoint_folder(args.out)):
+        check_not_input(derived, [args.model, args.spec])
 
 
 def _band(text):
@@ -135,20 +177,27 @@ def _band(text):
     return low, high
 
 
+def _workers(args, attempt: int = 1) -> int:
+    """Local worker processes: --workers, halved (at least 1) for a second attempt."""
+    workers = args.workers or 1
+    return workers if attempt == 1 else max(1, workers // 2)
+
+
 class _executor:
     """Context manager: None, a process pool, or a dask.distributed executor."""
 
-    def __init__(self, args):
+    def __init__(self, args, attempt: int = 1):
         self.args = args
+        self.attempt = attempt
         self.pool = self.client = None
 
     def __enter__(self):
-        if self.args.workers and self.args.workers > 1:
+        if self.args.workers and self.args.workers > 1 and _workers(self.args, self.attempt) > 1:
             from concurrent.futures import ProcessPoolExecutor
 
             from ..study.execution import worker_initializer
 
-            self.pool = ProcessPoolExecutor(self.args.workers, initializer=worker_initializer,
+            self.pool = ProcessPoolExecutor(_workers(self.args, self.attempt), initializer=worker_initializer,
                                             initargs=(os.getpid(),))
             return self.pool
         if self.args.scheduler:
@@ -172,11 +221,13 @@ class _executor:
 
 
 def _write(result, args, folder):
+    """The results and the table; the checkpoint goes once they are in place."""
     from ..io import atomic_write
+    from ..io.atomic import after_commit
     from ..study.execution import remove_checkpoint
 
     result.save(args.out)
-    remove_checkpoint(folder)
+    after_commit(lambda: remove_checkpoint(folder))
     if args.table:
         with atomic_write(args.table, "w", newline="") as handle:
             result.to_dataframe().to_csv(handle, index=False, float_format="%.10g")
@@ -217,6 +268,7 @@ def _plots(result, args, band):
         return
     use_agg()
     from ..io import atomic_write
+    from ..io.atomic import after_commit
 
     for option, method in wanted:
         kwargs = {"band_rpm": band} if method in ("plot_campbell", "plot_critical_histograms") else {}
@@ -225,4 +277,4 @@ def _plots(result, args, band):
         with atomic_write(path, None) as temporary:
             fig.savefig(temporary, format=path.suffix.lower()[1:], dpi=150)
         if not args.quiet:
-            print(f"figure written to {path}", file=sys.stderr)
+            after_commit(lambda path=path: print(f"figure written to {path}", file=sys.stderr))

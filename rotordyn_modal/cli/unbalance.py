@@ -5,9 +5,9 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
-from ._common import (add_model_argument, add_outputs, add_speed_unit, check_ending, check_extra_output, open_model,
-                      parse_number, print_table, save_figure, speeds_option, speeds_text, to_rad_s, use_agg,
-                      write_csv, write_table)
+from ._common import (add_model_argument, add_output_file, add_outputs, add_speed_unit, check_ending, check_extra_output,
+                      open_model, parse_number, print_table, save_figure, speeds_option, speeds_text, to_rad_s,
+                      use_agg, write_csv, write_table)
 from .frf import names
 
 NAME = "unbalance"
@@ -52,8 +52,9 @@ def add_arguments(parser):
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="add force rows after the sensors' (default none)")
     parser.add_argument("--operating-speed", help="operating speed (same unit as --speeds) for the separation margin")
-    parser.add_argument("--orbits", metavar="FILE.csv", help="write the orbits of the probe pairs")
-    parser.add_argument("--orbit-plot", metavar="FILE", help="draw the orbits of the probe pairs (.png, .svg, .pdf)")
+    add_output_file(parser, "--orbits", metavar="FILE.csv", help="write the orbits of the probe pairs")
+    add_output_file(parser, "--orbit-plot", metavar="FILE",
+                    help="draw the orbits of the probe pairs (.png, .svg, .pdf)")
     add_outputs(parser)
 
 

@@ -1,17 +1,52 @@
-"""Output files that appear whole or not at all, and never over an input file."""
+"""Output files that appear whole or not at all, and never over an input file.
+
+Temporary files are named ``.NAME.rdm-tmp.PID-HOST.XXXXXXXX.SUFFIX`` beside the target
+``NAME``: a write that its process cannot finish (``kill -9``, power loss) leaves one
+behind, and the next write of ``NAME`` on the same host deletes those of processes that no
+longer run (:func:`remove_stale_temporaries`). Outputs written inside
+:func:`outputs_together` appear together when it ends, or none of them.
+"""
 
 from __future__ import annotations
 
 import contextlib
 import errno
+import hashlib
 import os
+import socket
 import stat
 import tempfile
 from pathlib import Path
 
 from ..errors import InputError, OutputError, OutputWriteError
 
-__all__ = ["atomic_write", "check_not_input", "check_writable", "remove_stale_temporaries"]
+__all__ = ["atomic_write", "check_not_input", "check_writable", "remove_stale_temporaries",
+           "outputs_together", "after_commit", "same_file", "real_target"]
+
+#: the part of a temporary file's name that marks it as this package's
+_MARK = "rdm-tmp"
+
+
+def real_target(path) -> Path:
+    """The file a write of ``path`` replaces: a symbolic link's target (followed to the end),
+    else ``path`` itself. Writing through a link keeps the link, as ``cp`` or an editor does."""
+    path = Path(path)
+    return Path(os.path.realpath(path)) if path.is_symlink() else path
+
+
+def same_file(a, b) -> bool:
+    """Whether two paths name one file: the same inode (hard links, symbolic links, other
+    spellings), or, when either does not exist yet, the same resolved path."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        pass
+    except ValueError:  # a name no file can have (a NUL character): the callers refuse it
+        return False
+    try:
+        return os.path.realpath(a) == os.path.realpath(b)
+    except (OSError, ValueError):
+        return False
 
 
 def check_not_input(output, inputs) -> None:
@@ -21,13 +56,17 @@ def check_not_input(output, inputs) -> None:
     ----------
     output : path-like
     inputs : iterable of path-like
+        None entries are skipped.
+
+    Raises
+    ------
+    InputError
+        ``output`` names an input (through a link, a hard link or another spelling).
     """
-    out = Path(output)
+    if _is_special(Path(output)):
+        return  # a device or FIFO is written in place, never replaced
     for source in inputs:
-        if source is None:
-            continue
-        src = Path(source)
-        if out.exists() and src.exists() and os.path.samefile(out, src) or out.resolve() == src.resolve():
+        if source is not None and same_file(output, source):
             raise InputError(f"{output}: refusing to write over the input file {source}")
 
 
@@ -42,11 +81,12 @@ _PATH_ERRORS = {errno.EACCES, errno.EPERM, errno.EROFS, errno.ENOENT, errno.ENOT
                 errno.ENAMETOOLONG, errno.ELOOP}
 
 
-def _cannot(path, error: OSError):
+def _cannot(path, error: OSError, batch=None):
     """:class:`OutputError` for a path that cannot be used, :class:`OutputWriteError`
-    for a write the machine could not complete (full disk, size limit, I/O error)."""
+    for a write the machine could not complete (full disk, size limit, I/O error);
+    the message ends with what of the outputs of ``batch`` (default: the open one) is in place."""
     reason = error.strerror or str(error) or type(error).__name__
-    message = f"cannot write {path}: {reason} (nothing was written)"
+    message = f"cannot write {path}: {reason} ({_what_was_written(batch or _BATCH[0])})"
     if error.errno in _PATH_ERRORS:
         return OutputError(message)
     return OutputWriteError(message, error.errno)
@@ -57,19 +97,25 @@ def _is_special(path: Path) -> bool:
     ``/dev/null`` or ``/dev/full``, a FIFO): written in place, never renamed over."""
     try:
         mode = os.stat(path).st_mode
-    except OSError:
+    except (OSError, ValueError):
         return False
     return not stat.S_ISREG(mode) and not stat.S_ISDIR(mode)
 
 
+def _host() -> str:
+    """8 hex digits naming this host (a process id means something on its own host only)."""
+    return hashlib.sha1(socket.gethostname().encode(errors="replace")).hexdigest()[:8]
+
+
 def _temporary_prefix(path: Path) -> str:
-    """Name of this process's temporary files beside ``path``: ``.NAME.PID.``."""
-    return f".{path.name}.{os.getpid()}."
+    """Name of this process's temporary files beside ``path``: ``.NAME.rdm-tmp.PID-HOST.``."""
+    return f".{path.name}.{_MARK}.{os.getpid()}-{_host()}."
 
 
 def check_writable(path) -> None:
     """Refuse, before any work, an output whose folder is missing, is not a folder or
     does not accept a new file (read-only, no permission); also a folder as target.
+    A symbolic link is checked at its target (the file a write replaces).
 
     Parameters
     ----------
@@ -79,19 +125,19 @@ def check_writable(path) -> None:
     ------
     OutputError
     """
-    path = Path(path)
+    shown, path = path, real_target(path)
     if path.is_dir():
-        raise OutputError(f"cannot write {path}: it is a folder")
+        raise OutputError(f"cannot write {shown}: it is a folder")
     if _is_special(path):
         return
     if not path.parent.exists():
-        raise OutputError(f"{path}: the folder {path.parent} does not exist")
+        raise OutputError(f"{shown}: the folder {path.parent} does not exist")
     if not path.parent.is_dir():
-        raise OutputError(f"cannot write {path}: {path.parent} is not a folder")
+        raise OutputError(f"cannot write {shown}: {path.parent} is not a folder")
     try:
         fd, probe = tempfile.mkstemp(prefix=_temporary_prefix(path), suffix=".probe", dir=path.parent)
     except OSError as error:
-        raise _cannot(path, error) from None
+        raise _cannot(shown, error) from None
     os.close(fd)
     with contextlib.suppress(OSError):
         os.unlink(probe)
@@ -99,25 +145,35 @@ def check_writable(path) -> None:
 
 def remove_stale_temporaries(path) -> list:
     """Delete temporary files that :func:`atomic_write` left beside ``path`` when its
-    process was killed (``.NAME.PID.*`` of a process that no longer runs).
-
-    Call it only while no other process of this host may be writing ``path``
-    (the study command does, under its lock).
+    process was killed (``.NAME.rdm-tmp.PID-HOST.*`` of this host whose process no longer
+    runs). Every :func:`atomic_write` calls it for its target.
 
     Returns
     -------
     list of Path
         The files removed.
     """
-    path = Path(path)
+    path = real_target(path)
     removed = []
-    for candidate in path.parent.glob(f".{path.name}.*"):
-        pid = candidate.name[len(path.name) + 2:].split(".", 1)[0]
-        if pid.isdigit() and int(pid) != os.getpid() and not pid_alive(int(pid)):
+    host = _host()
+    try:
+        candidates = list(path.parent.glob(f".{_glob_escape(path.name)}.{_MARK}.*"))
+    except OSError:
+        return removed
+    for candidate in candidates:
+        owner = candidate.name[len(path.name) + len(_MARK) + 3:].split(".", 1)[0]
+        pid, _, where = owner.partition("-")
+        if where == host and pid.isdigit() and int(pid) != os.getpid() and not pid_alive(int(pid)):
             with contextlib.suppress(OSError):
                 candidate.unlink()
                 removed.append(candidate)
     return removed
+
+
+def _glob_escape(name: str) -> str:
+    import glob
+
+    return glob.escape(name)
 
 
 def pid_alive(pid: int) -> bool:
@@ -135,31 +191,115 @@ def pid_alive(pid: int) -> bool:
     return True
 
 
+# ------------------------------------------------------------------ outputs written together
+class _Batch:
+    """Outputs of one :func:`outputs_together`: temporaries waiting for their rename."""
+
+    def __init__(self, outer):
+        self.outer = outer
+        self.pending = []      # (temporary, target, name as given)
+        self.written = []      # names of outputs already in place (in-place writes, inner batches)
+        self.callbacks = []
+
+    def commit(self):
+        for i, (temporary, target, shown) in enumerate(self.pending):
+            try:
+                os.replace(temporary, target)
+            except OSError as error:
+                self.pending = self.pending[i:]
+                self.discard()
+                raise _cannot(shown, error, self) from None
+            self.written.append(str(shown))
+        self.pending = []
+        if self.outer is not None:
+            self.outer.written.extend(self.written)
+        for callback in self.callbacks:
+            callback()
+
+    def discard(self):
+        for temporary, _, _ in self.pending:
+            with contextlib.suppress(OSError):
+                os.unlink(temporary)
+        self.pending = []
+
+
+_BATCH: list = [None]
+
+
 @contextlib.contextmanager
-def atomic_write(path, mode: str = "w", **kwargs):
+def outputs_together():
+    """Every :func:`atomic_write` inside is renamed into place when the block ends, all of
+    them, or none when the block raises (a later output that cannot be written, Ctrl-C, a
+    signal): a message can then say truthfully that nothing was written. Only a rename
+    failing at the end (the folder's permissions changed meanwhile) can leave some
+    written, and its message names them. A block inside another commits its own outputs
+    when it ends."""
+    batch = _Batch(_BATCH[0])
+    _BATCH[0] = batch
+    try:
+        yield batch
+    except BaseException:
+        batch.discard()
+        raise
+    finally:
+        _BATCH[0] = batch.outer
+    batch.commit()
+
+
+def after_commit(callback) -> None:
+    """Call ``callback()`` once the outputs written so far are in place: at the end of the
+    open :func:`outputs_together` block (not at all if it fails), or now when none is open."""
+    if _BATCH[0] is None:
+        callback()
+    else:
+        _BATCH[0].callbacks.append(callback)
+
+
+def _what_was_written(batch) -> str:
+    """The end of a failed write's message: what of the command's outputs is in place."""
+    written = []
+    while batch is not None:
+        written = batch.written + written
+        batch = batch.outer
+    if not written:
+        return "nothing was written"
+    return f"only {', '.join(written)} {'was' if len(written) == 1 else 'were'} written"
+
+
+@contextlib.contextmanager
+def atomic_write(path, mode: str = "w", together: bool = True, tidy: bool = True, **kwargs):
     """Open a temporary file beside ``path``; rename it to ``path`` only on success.
 
     A target that exists and is not a regular file (a device such as ``/dev/null``,
-    a FIFO) is written in place, never replaced. Any failure to write (missing or
-    read-only folder, full disk, file size limit) removes the temporary file and
-    raises :class:`~rotordyn_modal.errors.OutputError` naming the file and the reason.
+    a FIFO) is written in place, never replaced; a symbolic link is written through
+    (its target is replaced, the link kept). Any failure to write (missing or read-only
+    folder, full disk, file size limit) removes the temporary file and raises
+    :class:`~rotordyn_modal.errors.OutputError` naming the file and the reason. Inside
+    :func:`outputs_together` the rename waits for the end of that block (unless
+    ``together`` is False: checkpoints that must be in place at once). ``tidy``: first
+    remove the temporaries of ``path`` that killed processes left (a listing of the
+    folder; a study's checkpoint, thousands of files cleared as a whole, skips it).
 
     Yields
     ------
     file object (``mode`` 'w' or 'wb'); with ``mode=None`` the temporary path itself
     (for writers such as ``savefig`` that take a file name).
     """
-    path = Path(path)
+    shown, path = path, real_target(path)
     if _is_special(path):
-        with _in_place(path, mode, kwargs) as target:
+        with _in_place(path, mode, kwargs, shown) as target:
             yield target
+        if _BATCH[0] is not None:
+            _BATCH[0].written.append(str(shown))
         return
-    check_writable(path)
+    check_writable(shown)
+    if tidy:
+        remove_stale_temporaries(path)
     try:
         fd, temporary = tempfile.mkstemp(prefix=_temporary_prefix(path), suffix=path.suffix or ".tmp",
                                          dir=path.parent)
     except OSError as error:
-        raise _cannot(path, error) from None
+        raise _cannot(shown, error) from None
     try:
         if mode is None:
             os.close(fd)
@@ -170,17 +310,20 @@ def atomic_write(path, mode: str = "w", **kwargs):
                 handle.flush()
                 os.fsync(handle.fileno())  # a full disk may only say so here
         os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual mode
-        os.replace(temporary, path)
+        if together and _BATCH[0] is not None:
+            _BATCH[0].pending.append((temporary, path, shown))
+        else:
+            os.replace(temporary, path)
     except BaseException as error:
         with contextlib.suppress(OSError):
             os.unlink(temporary)
         if isinstance(error, OSError) and not isinstance(error, OutputWriteError):
-            raise _cannot(path, error) from None
+            raise _cannot(shown, error) from None
         raise
 
 
 @contextlib.contextmanager
-def _in_place(path: Path, mode, kwargs):
+def _in_place(path: Path, mode, kwargs, shown):
     try:
         if mode is None:
             yield str(path)
@@ -190,4 +333,4 @@ def _in_place(path: Path, mode, kwargs):
     except OutputWriteError:
         raise
     except OSError as error:
-        raise _cannot(path, error) from None
+        raise _cannot(shown, error) from None

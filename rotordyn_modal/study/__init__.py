@@ -33,8 +33,11 @@ __all__ = ["study", "StudyResult", "StudyDefinition", "StudyError", "Parameter",
 
 
 def checkpoint_folder(out) -> Path:
-    """The folder where a study writing ``out`` keeps its finished chunks: ``OUT.partial``."""
-    out = Path(out)
+    """The folder where a study writing ``out`` keeps its finished chunks: ``OUT.partial``
+    beside the file ``out`` names (links followed, so that two names of one file share it)."""
+    from .execution import results_file
+
+    out = results_file(out)
     return out.with_name(out.name + ".partial")
 
 
@@ -70,8 +73,8 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
         with their reason in ``error``.
     """
     from .analyses import describe
-    from .execution import Checkpoint, default_chunk_size, execute, fingerprint, make_tasks
-    from .results import build_dataset
+    from .execution import Checkpoint, check_disk, check_memory, default_chunk_size, execute, fingerprint, make_tasks
+    from .results import Assembly, build_dataset, variant_bytes
 
     _require_xarray()
     definition = _definition(spec, model)
@@ -83,6 +86,10 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     variables, coords, layouts = describe(model, definition.analyses)
     shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
     size = chunk_size or definition.chunk_size or default_chunk_size(len(values), executor)
+    per_variant = variant_bytes(shapes, values.shape[1])
+    check_memory(len(values), per_variant, size, _outputs_text(definition, shapes))
+    if checkpoint is not None:
+        check_disk(checkpoint, len(values), per_variant, _outputs_text(definition, shapes))
     base = {"keys": tuple(p.keys for p in definition.parameters),
             "applies": tuple(p.apply for p in definition.parameters),
             "model_data": model.to_dict(), "model_source": model.source, "analyses": definition.analyses,
@@ -91,10 +98,18 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     store = None
     if checkpoint is not None:
         store = Checkpoint(checkpoint, fingerprint(model.to_dict(), definition.raw, size, values), definition.seed)
-    chunks, resumed = execute(tasks, executor, store, progress, len(values))
-    dataset = build_dataset(chunks, values, definition, variables, coords, model,
+    assembly = Assembly(len(values), shapes)
+    _, resumed = execute(tasks, executor, store, progress, len(values), sink=assembly.add)
+    dataset = build_dataset(assembly, values, definition, variables, coords, model,
                             attrs={"chunk_size": size})
     return StudyResult(dataset, resumed_chunks=resumed)
+
+
+def _outputs_text(definition, shapes) -> str:
+    """The study file and its largest outputs per variant, for the memory estimate's message."""
+    largest = sorted(shapes.items(), key=lambda item: -int(np.prod(item[1])))[:2]
+    parts = ", ".join(f"{name} {' x '.join(map(str, shape)) or '1'}" for name, shape in largest)
+    return f"{definition.source} ({parts} per variant)"
 
 
 def _require_xarray():

@@ -25,7 +25,7 @@ from ..errors import InputError, OutputError
 from .analyses import batch_caches, run_analyses
 
 __all__ = ["ChunkTask", "run_chunk", "make_tasks", "execute", "Checkpoint", "finished_chunks", "ResultsLock", "limit_threads",
-           "worker_initializer", "default_chunk_size", "remove_checkpoint"]
+           "worker_initializer", "default_chunk_size", "remove_checkpoint", "available_memory", "check_memory"]
 
 
 @dataclass(frozen=True)
@@ -199,12 +199,15 @@ def worker_initializer(parent=None):
     else:
         threadpool_limits(1)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _die_with_parent(parent)
+    if _die_with_parent(parent):  # SIGTERM/SIGHUP sent to the process group: the parent stops
+        for name in ("SIGTERM", "SIGHUP"):  # the study, and the worker ends with it
+            signal.signal(getattr(signal, name), signal.SIG_IGN)
 
 
-def _die_with_parent(parent=None):
+def _die_with_parent(parent=None) -> bool:
     """Linux: end this worker when the study's process ends, even by ``kill -9`` (which
-    leaves it no chance to stop its pool), rather than finish a chunk nobody will save."""
+    leaves it no chance to stop its pool), rather than finish a chunk nobody will save.
+    Returns whether it is so."""
     import signal
 
     try:
@@ -213,9 +216,10 @@ def _die_with_parent(parent=None):
         libc = ctypes.CDLL(None, use_errno=True)
         libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
     except (OSError, AttributeError):  # pragma: no cover - not Linux
-        return
+        return False
     if parent is not None and os.getppid() != parent:  # the parent died before prctl
         os._exit(1)
+    return parent is not None
 
 
 # ---------------------------------------------------------------------------- chunks
@@ -277,6 +281,7 @@ class Checkpoint:
     def __init__(self, folder, fingerprint: str, seed=None):
         self.folder = Path(folder)
         self.fingerprint = fingerprint
+        _check_folder(self.folder)
         manifest = self.folder / "study.json"
         recorded = _read_json(manifest)
         if recorded is None and manifest.exists():
@@ -298,19 +303,26 @@ class Checkpoint:
         tasks : list of ChunkTask, optional
             When given, a chunk must also match its task (first variant, count).
         """
+        return dict(self.each_done(tasks))
+
+    def each_done(self, tasks=None, indices=None):
+        """Like :meth:`done`, one ``(index, chunk)`` at a time (memory holds one chunk);
+        ``indices``: only these chunks."""
         expected = {task.index: task for task in tasks} if tasks is not None else None
-        out = {}
         for path in sorted(self.folder.glob("chunk-*.npz")):
             index = _chunk_index(path)
+            if indices is not None and index not in indices:
+                continue
             task = None if expected is None or index is None else expected.get(index)
             try:
-                out[index] = self._verified(path, index, task, expected is not None)
+                chunk = self._verified(path, index, task, expected is not None)
             except _Untrusted as reason:
                 _LOG.warning("chunk %s in %s discarded (%s); it is computed again", index, self.folder, reason)
                 for stale in (path, path.with_suffix(".json")):
                     with contextlib.suppress(OSError):
                         stale.unlink()
-        return out
+                continue
+            yield index, chunk
 
     def _verified(self, path, index, task, need_task) -> dict:
         if index is None:
@@ -351,6 +363,16 @@ class Checkpoint:
         remove_checkpoint(self.folder)
 
 
+def _check_folder(folder: Path) -> None:
+    """Refuse a checkpoint folder that cannot be one: a file (or a link to one) in its place,
+    a parent that is not a folder."""
+    if folder.exists() and not folder.is_dir():
+        raise OutputError(f"{folder}: a file is where the study keeps its checkpoint folder; move or "
+                          "delete it (or give another --out)")
+    if folder.parent.exists() and not folder.parent.is_dir():
+        raise OutputError(f"{folder}: {folder.parent} is not a folder")
+
+
 def _digest(payload: bytes) -> dict:
     """What a chunk's manifest records of its ``.npz`` bytes: size and SHA-256."""
     return {"bytes": len(payload), "sha256": hashlib.sha256(payload).hexdigest()}
@@ -382,11 +404,20 @@ def _unpack(payload: bytes) -> dict:
         raise _Untrusted(f"unreadable ({type(error).__name__})") from None
 
 
+#: the largest manifest read [bytes]; the package writes a few hundred
+_MANIFEST_BYTES = 65536
+
+
 def _read_json(path: Path):
-    """The object in a JSON file, or None when it is missing or unreadable."""
+    """The object in a JSON file, or None when it is missing, unreadable, larger than any
+    manifest the package writes or nested too deeply to parse."""
     try:
-        value = json.loads(path.read_bytes())
-    except (OSError, ValueError):
+        with open(path, "rb") as handle:
+            payload = handle.read(_MANIFEST_BYTES + 1)
+        if len(payload) > _MANIFEST_BYTES:
+            return None
+        value = json.loads(payload)
+    except (OSError, ValueError, RecursionError):
         return None
     return value if isinstance(value, dict) else None
 
@@ -407,11 +438,135 @@ def remove_checkpoint(folder, keep_folder: bool = False) -> None:
 def _atomic_bytes(path: Path, payload: bytes) -> None:
     from ..io import atomic_write
 
-    with atomic_write(path, "wb") as handle:
+    with atomic_write(path, "wb", together=False, tidy=False) as handle:  # in place at once, for a resume
         handle.write(payload)
 
 
+# ---------------------------------------------------------------------------- memory
+def available_memory():
+    """What this process may still allocate [bytes], and why: the least of the address-space
+    limit left (``ulimit -v``: RLIMIT_AS less the process's size), the container's memory
+    limit left (cgroup v2 ``memory.max`` less ``memory.current``) and the system's available
+    memory (``MemAvailable``); None where none is known (not Linux).
+
+    Returns
+    -------
+    (int, str) or None
+    """
+    found = []
+    try:
+        import resource
+
+        soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+    except (ImportError, AttributeError, OSError, ValueError):  # pragma: no cover - not POSIX
+        soft = -1
+    size = _kib_field("/proc/self/status", "VmSize")
+    if soft not in (-1, getattr(resource, "RLIM_INFINITY", -1)) and size is not None:
+        found.append((soft - size, f"the address-space limit (ulimit -v) of {_gib(soft)} less the {_gib(size)} "
+                                   "this process takes"))
+    limit, current = _read_int("/sys/fs/cgroup/memory.max"), _read_int("/sys/fs/cgroup/memory.current")
+    if limit is not None and current is not None:
+        found.append((limit - current, f"the container's memory limit of {_gib(limit)} less the {_gib(current)} "
+                                       "in use"))
+    free = _kib_field("/proc/meminfo", "MemAvailable")
+    if free is not None:
+        found.append((free, "the memory this machine has available (MemAvailable)"))
+    return min(found) if found else None
+
+
+def _gib(count: int) -> str:
+    return f"{count / 1e9:.4g} GB"
+
+
+def _kib_field(path: str, field: str):
+    """A ``Field:   N kB`` line of a /proc file, in bytes (None if absent)."""
+    try:
+        with open(path) as handle:
+            for line in handle:
+                if line.startswith(field + ":"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def _read_int(path: str):
+    try:
+        with open(path) as handle:
+            return int(handle.read().strip())
+    except (OSError, ValueError):  # missing, or 'max' (no limit)
+        return None
+
+
+def check_memory(n_variants: int, per_variant: int, chunk_size: int, what: str) -> None:
+    """Refuse, before any work, a study whose results cannot fit in memory.
+
+    The results are held once (:class:`~rotordyn_modal.study.results.Assembly`) and written
+    a block at a time; a chunk is held a few times more while it is saved.
+
+    Parameters
+    ----------
+    n_variants, per_variant : int
+        Variants, and bytes of one variant's results.
+    chunk_size : int
+    what : str
+        What the results are, for the message (the study file, its outputs).
+
+    Raises
+    ------
+    InputError
+    """
+    results = n_variants * per_variant
+    needed = results + 4 * chunk_size * per_variant + 2**26
+    available = available_memory()
+    if available is not None and needed > available[0]:
+        raise InputError(f"{what}: {n_variants:,} variants x {per_variant / 1e3:.4g} kB = {results / 1e9:.4g} GB "
+                         f"of results need about {needed / 1e9:.4g} GB of memory; only "
+                         f"{max(available[0], 0) / 1e9:.4g} GB is left ({available[1]}): run fewer variants (or fewer speeds), or split the "
+                         "study into several")
+
+
+def check_disk(folder, n_variants: int, per_variant: int, what: str) -> None:
+    """Refuse, before any work, a study whose checkpoint and results file cannot fit on the
+    disk of its checkpoint ``folder``: both hold the results (the checkpoint is removed only
+    once the results file is written); chunks already saved there count as room.
+
+    Raises
+    ------
+    InputError
+    """
+    import shutil
+
+    folder = Path(folder)
+    place = next((p for p in (folder, *folder.parents) if p.exists()), None)
+    try:
+        free = shutil.disk_usage(place).free if place is not None else None
+    except OSError:
+        free = None
+    if free is None:
+        return
+    saved = sum(p.stat().st_size for p in folder.glob("chunk-*.npz")) if folder.is_dir() else 0
+    needed = 2 * n_variants * per_variant - saved
+    if needed > free:
+        raise InputError(f"{what}: {n_variants:,} variants need about {needed / 1e9:.4g} GB on the disk of "
+                         f"{folder} (the checkpoint and the results file, each {n_variants * per_variant / 1e9:.4g} "
+                         f"GB); it has {free / 1e9:.4g} GB free: free space, or give an --out on a larger disk")
+
+
 # ---------------------------------------------------------------------------- one writer
+def results_file(path) -> Path:
+    """The file a study's results named ``path`` go to: symbolic links followed (a link, a
+    linked folder), unless they lead to a device (``/dev/null``), which keeps its name."""
+    import stat
+
+    real = Path(os.path.realpath(path))
+    try:
+        special = not stat.S_ISREG(os.stat(real).st_mode)
+    except (OSError, ValueError):
+        special = False
+    return Path(os.path.abspath(path)) if special else real
+
+
 class ResultsLock:
     """Only one study at a time writes a results file (and its checkpoint folder).
 
@@ -431,7 +586,8 @@ class ResultsLock:
 
     def __init__(self, results):
         self.results = Path(results)
-        self.path = self.results.with_name(self.results.name + ".lock")
+        real = results_file(self.results)  # links followed: one lock per file, however named
+        self.path = real.with_name(real.name + ".lock")
         self._fd = None
         self.previous_owner = None
 
@@ -528,7 +684,7 @@ def fingerprint(*parts) -> str:
 
 # ---------------------------------------------------------------------------- running
 def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress: bool = False,
-            total: int | None = None):
+            total: int | None = None, sink=None):
     """Run the chunks not yet in ``checkpoint``; save each as it arrives.
 
     Parameters
@@ -541,26 +697,43 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
         tqdm progress bar over variants.
     total : int, optional
         Number of variants (for the bar).
+    sink : callable, optional
+        Given every chunk (resumed or computed) as it comes, which is then let go: memory
+        holds one chunk at a time (per worker), not all of them.
 
     Returns
     -------
     chunks : list of dict
-        Every chunk's result, in chunk order.
+        Every chunk's result, in chunk order (empty with ``sink``).
     resumed : int
         Chunks taken from the checkpoint rather than computed.
     """
-    done = checkpoint.done(tasks) if checkpoint is not None else {}
-    todo = [task for task in tasks if task.index not in done]
-    for task in tasks:
-        if task.index in done:
-            _LOG.info("chunk %d resumed (variants %d-%d)", task.index, task.start, task.start + len(task.values) - 1)
-    bar = _bar(progress, total, sum(len(t.values) for t in tasks if t.index in done))
+    kept = {} if sink is None else None
+    resumed = set()
+    if checkpoint is not None:
+        for index, chunk in checkpoint.each_done(tasks):  # checked (and let go) before the pool starts
+            resumed.add(index)
+            if kept is not None:
+                kept[index] = chunk
+    todo = [task for task in tasks if task.index not in resumed]
+    bar = _bar(progress, total, sum(len(t.values) for t in tasks if t.index in resumed))
     mapper = map if executor is None else executor.map
     try:
-        for chunk in mapper(run_chunk, todo):
+        computed = mapper(run_chunk, todo)  # a pool's workers start here, before memory fills
+        if sink is not None and resumed:
+            for index, chunk in checkpoint.each_done(tasks, resumed):
+                sink(chunk)
+        for task in tasks:
+            if task.index in resumed:
+                _LOG.info("chunk %d resumed (variants %d-%d)", task.index, task.start,
+                          task.start + len(task.values) - 1)
+        for chunk in computed:
             if checkpoint is not None:
                 checkpoint.save(chunk)
-            done[chunk["index"]] = chunk
+            if kept is not None:
+                kept[chunk["index"]] = chunk
+            else:
+                sink(chunk)
             _LOG.info("chunk %d computed (variants %d-%d)", chunk["index"], chunk["start"],
                       chunk["start"] + len(chunk["error"]) - 1)
             if bar is not None:
@@ -568,7 +741,7 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
     finally:
         if bar is not None:
             bar.close()
-    return [done[task.index] for task in tasks], len(tasks) - len(todo)
+    return ([kept[task.index] for task in tasks] if kept is not None else []), len(resumed)
 
 
 def _bar(enabled, total, initial):

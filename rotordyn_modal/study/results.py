@@ -13,10 +13,60 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["StudyResult", "build_dataset", "load_study", "percentile_interval"]
+__all__ = ["StudyResult", "Assembly", "build_dataset", "load_study", "percentile_interval", "variant_bytes"]
 
 #: dimensions too long to spread into columns of the per-variant table
 _SWEEP_DIMS = ("speed", "stability_speed")
+
+
+def variant_bytes(shapes, n_parameters: int) -> int:
+    """Bytes of one variant's results in memory: its outputs (float64), its parameter
+    values, its failure flag and an empty error text.
+
+    Parameters
+    ----------
+    shapes : dict
+        Output variable -> shape per variant.
+    n_parameters : int
+    """
+    return 8 * (sum(int(np.prod(shape)) for shape in shapes.values()) + n_parameters) + 1 + 4
+
+
+class Assembly:
+    """The study's results, assembled chunk by chunk into arrays of their final size
+    (allocated when the first chunk arrives), so that memory holds the results once,
+    never a list of chunks and their concatenation besides.
+
+    Parameters
+    ----------
+    n_variants : int
+    shapes : dict
+        Output variable -> shape per variant.
+    """
+
+    def __init__(self, n_variants: int, shapes: dict):
+        self.n = n_variants
+        self.shapes = shapes
+        self.arrays = None
+        self.errors = [""] * n_variants
+        self.filled = 0
+
+    def add(self, chunk: dict) -> None:
+        """Copy one chunk (``start``, ``error`` and the variables) into its rows."""
+        if self.arrays is None:
+            self.arrays = {name: np.empty((self.n,) + tuple(shape)) for name, shape in self.shapes.items()}
+        start, errors = int(chunk["start"]), chunk["error"]
+        rows = slice(start, start + len(errors))
+        for name, array in self.arrays.items():
+            array[rows] = chunk[name]
+        for i, text in enumerate(errors.tolist()):
+            if text:
+                self.errors[start + i] = text
+        self.filled += len(errors)
+
+    def error_array(self) -> np.ndarray:
+        """(n_variants,) str: each variant's failure ('' where it worked)."""
+        return np.array(self.errors, dtype=str)
 
 
 def build_dataset(chunks, values, definition, variables, coords, model, attrs=None):
@@ -24,8 +74,9 @@ def build_dataset(chunks, values, definition, variables, coords, model, attrs=No
 
     Parameters
     ----------
-    chunks : list of dict
-        From :func:`rotordyn_modal.study.execution.execute`, in variant order.
+    chunks : Assembly or list of dict
+        The results assembled (their arrays become the data set's, not copied), or the
+        chunks from :func:`rotordyn_modal.study.execution.execute` in variant order.
     values : ndarray, shape (n_variants, n_parameters)
     definition : StudyDefinition
     variables : dict
@@ -41,9 +92,14 @@ def build_dataset(chunks, values, definition, variables, coords, model, attrs=No
 
     from .._version import __version__
 
-    data = {name: (("variant",) + dims, np.concatenate([c[name] for c in chunks]))
-            for name, dims in variables.items()}
-    errors = np.concatenate([c["error"] for c in chunks]).astype(str)
+    if isinstance(chunks, Assembly):
+        assert chunks.filled == len(values), "every variant's chunk is assembled"
+        data = {name: (("variant",) + dims, chunks.arrays[name]) for name, dims in variables.items()}
+        errors = chunks.error_array()
+    else:
+        data = {name: (("variant",) + dims, np.concatenate([c[name] for c in chunks]))
+                for name, dims in variables.items()}
+        errors = np.concatenate([c["error"] for c in chunks]).astype(str)
     params = definition.parameters
     data["sample_value"] = (("variant", "parameter"), values)
     data["error"] = (("variant",), errors)
@@ -306,11 +362,12 @@ class StudyResult:
 
     # -- files and figures -----------------------------------------------------------------
     def save(self, path) -> None:
-        """Write the data set as netCDF (classic 64-bit offset, through scipy), atomically."""
+        """Write the data set as netCDF (classic 64-bit offset, ``variant`` the record
+        dimension), atomically, a block of variants at a time (:func:`write_netcdf`)."""
         from ..io import atomic_write
 
         with atomic_write(path, None) as temporary:
-            self.dataset.to_netcdf(temporary, engine="scipy", format="NETCDF3_64BIT")
+            write_netcdf(self.dataset, temporary)
 
     def plot_campbell(self, **kwargs):
         """Campbell diagram with tolerance bands; see :func:`rotordyn_modal.plotting.plot_study_campbell`."""
@@ -363,6 +420,87 @@ def _labels(ds, dim):
         return [f"{s},{o:g},{m}" for s, o, m in zip(ds["crossing_source"].values, ds["crossing_order"].values,
                                                      ds["crossing_mode"].values)]
     return [str(v) for v in ds[dim].values]
+
+
+#: variants written per block by :func:`write_netcdf` [bytes of records]
+_BLOCK_BYTES = 8 * 2**20
+
+
+def write_netcdf(dataset, path) -> None:
+    """Write a study's data set as netCDF 3 (64-bit offset) with ``variant`` the record
+    (unlimited) dimension, a block of variants at a time, so that writing takes no more
+    memory than a block (xarray's scipy writer holds a big-endian copy of every variable
+    and one more of each while writing: three times the results).
+
+    xarray writes the header and the first variant (every encoding its own: attributes,
+    the ``error`` texts as characters); the records are then appended here, each laid out as
+    that first one, which is checked to come out byte for byte as xarray wrote it (else
+    xarray writes the whole file).
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Dims ``variant`` first where present.
+    path : str
+    """
+    n = dataset.sizes["variant"]
+    template = _template(dataset)
+    template.to_netcdf(path, engine="scipy", format="NETCDF3_64BIT", unlimited_dims=["variant"])
+    layout = _record_layout(path)
+    with open(path, "r+b") as handle:
+        handle.seek(-layout["size"], 2)
+        start = handle.tell()
+        written = handle.read()
+        if _records(template, layout, written, 0, 1).tobytes() != written:  # pragma: no cover - a new encoding
+            handle.close()
+            dataset.to_netcdf(path, engine="scipy", format="NETCDF3_64BIT", unlimited_dims=["variant"])
+            return
+        handle.seek(start)
+        handle.truncate()
+        step = max(1, _BLOCK_BYTES // layout["size"])
+        for first in range(0, n, step):
+            handle.write(_records(dataset, layout, written, first, min(n, first + step)).tobytes())
+        handle.seek(4)
+        handle.write(np.array(n, ">i4").tobytes())  # numrecs
+
+
+def _template(dataset):
+    """The first variant, with the longest error text (so that the text's width is the file's)."""
+    template = dataset.isel(variant=slice(0, 1))
+    errors = dataset["error"].values
+    if errors.size:
+        longest = max(errors.tolist(), key=lambda text: len(text.encode("utf-8")))
+        template["error"] = template["error"].copy(data=np.array([longest], dtype=errors.dtype))
+    return template
+
+
+def _record_layout(path) -> dict:
+    """The record variables of a netCDF 3 file in the order of its records: name, byte
+    offset in a record, on-disk dtype and shape per record; ``size`` of a record [bytes]."""
+    from scipy.io import netcdf_file
+
+    with netcdf_file(path, "r", mmap=False) as nc:
+        records = [(name, var) for name, var in nc.variables.items() if var.isrec]
+        fields, offset = [], 0
+        for name, var in records:
+            count = int(np.prod(var.shape[1:], dtype=np.int64)) * var.data.dtype.itemsize
+            fields.append((name, offset, var.data.dtype, tuple(var.shape[1:]), count))
+            offset += count if len(records) == 1 else -(-count // 4) * 4
+    return {"fields": fields, "size": offset}
+
+
+def _records(dataset, layout, first_record: bytes, start: int, stop: int) -> np.ndarray:
+    """(stop - start, record size) bytes of variants start..stop-1, padding as in ``first_record``."""
+    block = np.empty((stop - start, layout["size"]), np.uint8)
+    block[:] = np.frombuffer(first_record, np.uint8)
+    for name, offset, dtype, shape, count in layout["fields"]:
+        values = dataset[name].values[start:stop]
+        if dtype.kind == "S":  # text as characters: UTF-8, padded with NUL to the width
+            values = np.char.encode(values, "utf-8").astype(f"S{shape[-1]}")
+        else:
+            values = values.astype(dtype.newbyteorder(">"))
+        block[:, offset:offset + count] = np.ascontiguousarray(values).view(np.uint8).reshape(stop - start, count)
+    return block
 
 
 def load_study(path) -> StudyResult:

@@ -15,6 +15,11 @@ mesh's excitation orders, and the critical speeds.
 
 CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part
 
+A sweep or a set of critical speeds that would not fit in the memory at hand is refused
+before its work, with its estimate (exit 2); ROTORDYN_MODAL_MEMORY_GB sets the memory to
+count on. On a terminal, bars show the progress of the eigen-solutions and of the critical
+speeds' refinement.
+
 example:
   rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png"""
 
@@ -24,6 +29,9 @@ def add_arguments(parser):
     parser.add_argument("--speeds", required=True, help="START:STOP:N speeds of the reference rotor")
     add_speed_unit(parser)
     parser.add_argument("--orders", default="1", help="excitation orders drawn and marked (default 1), e.g. 1,2")
+    parser.add_argument("--no-critical", action="store_true",
+                        help="do not find the critical speeds (the orders are still drawn): large machines "
+                             "cross the orders of every rotor and gear mesh many thousand times")
     parser.add_argument("--color-by", choices=["log_decrement", "damping_ratio"],
                         help="colour the curves by this quantity instead of by whirl")
     add_outputs(parser)
@@ -34,7 +42,7 @@ def run(args) -> int:
     from ..analysis.campbell import campbell
     model = open_model(args)
     result = campbell(model, speeds_option(args), orders=tuple(parse_list(args.orders, "--orders")),
-                      progress=show_progress(args))
+                      progress=show_progress(args), critical=not args.no_critical)
     write_table(result.to_dataframe(), args)
     if args.plot:
         use_agg()

@@ -14,6 +14,10 @@ result does not depend on the grid beyond bracketing the crossing.
 
 CSV columns: source,order,mode,speed_rpm,frequency_hz,whirl,whirl_ratio,damping_ratio
 
+A sweep or a set of crossings that would not fit in the memory at hand is refused before
+its work, with its estimate (exit 2); ROTORDYN_MODAL_MEMORY_GB sets the memory to count on.
+On a terminal, bars show the progress of the eigen-solutions and of the refinement.
+
 example:
   rotordyn-modal critical-speeds examples/gear_machine.toml --speeds 0:12000:241 --orders 1,2"""
 

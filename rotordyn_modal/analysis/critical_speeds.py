@@ -169,13 +169,14 @@ class _Progress:
     swept again) advances it by that part's share, scaled to the units of its own crossings."""
 
     def __init__(self, bar):
-        self.bar, self.scale, self.done = bar, 1.0, 0.0
+        self.bar, self.scale, self.done, self.shown = bar, 1.0, 0.0, 0
 
     def advance(self, count):
         self.done += count * self.scale
         shown = min(int(self.done + 1e-6), self.bar.total)
-        if shown > self.bar.n:
-            self.bar.update(shown - self.bar.n)
+        if shown > self.shown:
+            self.bar.update(shown - self.shown)
+            self.shown = shown
 
 
 _PROGRESS = contextvars.ContextVar("rotordyn_modal_critical_progress", default=None)

@@ -169,12 +169,18 @@ def test_the_refinement_shows_its_progress_over_every_crossing(tmp_path, monkeyp
     monkeypatch.setattr(critical_module, "_crowded", lambda *a: crowded.append(real_crowded(*a)) or crowded[-1])
     monkeypatch.setattr(critical_module, "_CROWDED", 4)          # some brackets swept again at once
     monkeypatch.setattr(_eigen_module(), "CHUNK_BYTES", 64 * 22**2 * 200)   # parts of 200 crossings
-    rdm.campbell(model, speeds, progress=False)
+    monkeypatch.setattr(campbell_module, "_PROGRESS_BYTES", 0)   # the sweep shown in parts too
+    quiet = rdm.campbell(model, speeds, progress=False)
     assert bars.made == []
     brackets = len(crowded[0])
     assert crowded[0].sum() > 0
     crowded.clear()
-    rdm.campbell(model, speeds, progress=True)
+    shown = rdm.campbell(model, speeds, progress=True)
+    sweep = [bar for desc, bar in bars.made if desc == "eigen-solve"]
+    assert len(sweep) == 1 and sweep[0].total == 16                 # 31 speeds, two at a time
+    for name in ("eigenvalues", "shapes", "whirl_ratios"):          # the bars change no number
+        np.testing.assert_array_equal(getattr(shown, name), getattr(quiet, name))
+    np.testing.assert_array_equal(shown.critical.speeds, quiet.critical.speeds)
     critical = [bar for desc, bar in bars.made if desc == "critical speeds"]
     assert len(critical) == 1
     bar = critical[0]

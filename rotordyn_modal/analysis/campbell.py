@@ -131,7 +131,10 @@ def solve_sweeps(stack, speeds, progress=False):
     count = len(stack)
     size = stack.forms[0].n_states
     # speeds per chunk: the chunk's state matrices and eigenvectors within about CHUNK_BYTES
-    chunks = _eigen.chunk_slices(len(speeds), count * 72 * size * size, largest=_CHUNK)
+    largest = _CHUNK
+    if progress and len(speeds) * count * 72 * size * size > _PROGRESS_BYTES:
+        largest = min(_CHUNK, -(-len(speeds) // _PROGRESS_STEPS))     # the bar moves (the same numbers)
+    chunks = _eigen.chunk_slices(len(speeds), count * 72 * size * size, largest=largest)
     values = shapes = None
     for part in _progress(chunks, progress, "eigen-solve"):
         chunk = speeds[part]
@@ -154,6 +157,12 @@ def solve_sweeps(stack, speeds, progress=False):
         return values, shapes, weighted
     variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
     return values[variants, rows, order], _reordered(shapes, order), _reordered(weighted, order)
+
+
+#: a sweep of more work than this [bytes] shown by a progress bar is solved in at least
+#: ``_PROGRESS_STEPS`` parts (each speed's eigen-solution is its own: the parts change no number)
+_PROGRESS_BYTES = 64 * 2**20
+_PROGRESS_STEPS = 20
 
 
 #: the largest reordered copy of a part of a sweep's shapes [bytes]

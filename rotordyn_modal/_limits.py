@@ -153,4 +153,4 @@ def memory_problem(needed: float, what: str, advice: str) -> str:
     if needed <= available:
         return ""
     return (f"{what} needs about {needed / 2**30:.1f} GiB of memory, {available / 2**30:.1f} GiB is available: "
-            f"{advice} (or set {MEMORY_ENVIRONMENT} to the memory to count on)")
+            f"{advice}; {MEMORY_ENVIRONMENT} sets the memory to count on")

@@ -315,7 +315,9 @@ def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossi
     part of the speeds of ``_eigen.CHUNK_BYTES``, at least one speed of about 72 bytes per
     entry of the state matrix); the critical speeds' refinement adds its parts' work and the
     brackets swept again (``_SUB_SPEEDS`` speeds' shapes, twice, at each of ``_SUB_DEPTH``
-    levels, with one speed's eigen-solution), and ``_CROSSING_BYTES`` per crossing.
+    levels, with one speed's eigen-solution), and ``_CROSSING_BYTES`` per crossing; the
+    model's own matrices (the state matrix's two parts, mass, damping, gyroscopic, stiffness,
+    whirl forms and their copies: about 24 real n x n matrices) are held throughout.
 
     Parameters
     ----------
@@ -344,7 +346,8 @@ def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossi
         refine = max(_eigen.CHUNK_BYTES, 64.0 * n_dof ** 2)
         sub = _SUB_DEPTH * 2 * _SUB_SPEEDS * roots * n_dof * 16.0 + one_speed / variants
         after += max(refine, sub) + _CROSSING_BYTES * crossings
-    return _BASE_BYTES + small + max(work, after)
+    matrices = 24 * 8.0 * variants * n_dof ** 2
+    return _BASE_BYTES + matrices + small + max(work, after)
 
 
 #: estimates below this are not checked (measuring the memory at hand costs more than a small

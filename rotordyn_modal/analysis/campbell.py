@@ -285,18 +285,18 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     freq, zeta, log_dec = modal_quantities(values)
     sources = [excitation_sources(model) for model in stack.models]
     if critical:
-        critical = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes, oscillating,
-                                         progress, lambda crossings: _refuse_crossings(stack, len(speeds), crossings))
+        tables = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes, oscillating,
+                                       progress, lambda crossings: _refuse_crossings(stack, len(speeds), crossings))
     else:
-        critical = [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
+        tables = [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
     del weighted
-    for table, source, model in zip(critical, sources, stack.models):
+    for table, source, model in zip(tables, sources, stack.models):
         _warn_of_jumps(table, source, model)
     labels = _eigen.whirl_labels(ratios)
     return [CampbellResult(
         speeds=speeds, eigenvalues=values[v], frequencies_hz=freq[v], damping_ratios=zeta[v],
         log_decrements=log_dec[v], whirl_ratios=ratios[v], whirl=labels[v], shapes=shapes[v],
-        modes=np.arange(1, m + 1), sources=sources[v], critical=critical[v],
+        modes=np.arange(1, m + 1), sources=sources[v], critical=tables[v],
         orders=tuple(float(o) for o in orders)) for v in range(count)]
 
 

@@ -227,3 +227,33 @@ def test_a_machine_of_hundreds_of_coordinates_under_an_address_space_limit(tmp_p
     assert len(lines) == 1 and "GiB of memory" in lines[0] and "fewer speeds" in lines[0], err
     assert _gib_in(lines[0])[0] >= 2 * 2000 * 246 * 246 * 16 / GIB
     assert not (tmp_path / "d.csv").exists()
+
+
+def test_double_roots_take_their_whirl_forms_a_part_at_a_time(monkeypatch):
+    """200 double roots of 200 coordinates with forms per variant (a sweep's path): each pair
+    once took its own copy of the three n x n forms at once (3 x 200 x 200^2 x 8 bytes, 183 MB,
+    and as much again for those that span a plane); in parts the peak follows the part, and
+    the parts change no number."""
+    from rotordyn_modal.analysis import _eigen
+
+    rng = np.random.default_rng(5)
+    n, pairs = 200, 200
+    k = np.arange(1, pairs + 1)
+    lam = np.repeat(-0.01 * k + 1j * k, 2)[None]                          # (1, 2 pairs)
+    shapes = _eigen.unit_rows(rng.standard_normal((1, 2 * pairs, n)) + 1j * rng.standard_normal((1, 2 * pairs, n)))
+    a = rng.standard_normal((n, n))
+    skew = rng.standard_normal((n, n))
+    forms = _eigen.WhirlForms((skew - skew.T)[None], np.eye(n)[None], (a @ a.T + n * np.eye(n))[None])
+    variants = np.zeros(1, dtype=int)
+    tracemalloc.start()
+    try:
+        parts = _eigen.resolve_repeated(lam, shapes, forms, variants)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    at_once = 3 * pairs * n * n * 8
+    print(f"peak {peak / 2**20:.0f} MB, the forms of all pairs at once {at_once / 2**20:.0f} MB")
+    assert peak < at_once / 2
+    assert not np.array_equal(parts, shapes)                                # pairs were combined
+    monkeypatch.setattr(_eigen, "_PART_BYTES", 2**40)
+    np.testing.assert_array_equal(parts, _eigen.resolve_repeated(lam, shapes, forms, variants))

@@ -4,6 +4,10 @@ A count (points of a ``START:STOP:N`` range, samples of a simulation, variants o
 above :data:`MAX_POINTS` is refused with a message that names the limit and the way around
 it: split the work into several runs, or raise the limit with the environment variable
 ``ROTORDYN_MODAL_MAX_POINTS`` when the memory is there.
+
+An analysis whose arrays would not fit in the memory at hand (:func:`available_memory`) is
+refused before its work with its estimate (:func:`memory_problem`); the environment variable
+``ROTORDYN_MODAL_MEMORY_GB`` sets the memory to count on instead (``inf``: no check).
 """
 
 from __future__ import annotations
@@ -12,7 +16,7 @@ import os
 
 from .errors import InputError
 
-__all__ = ["MAX_POINTS", "max_points", "count_problem"]
+__all__ = ["MAX_POINTS", "max_points", "count_problem", "available_memory", "memory_problem"]
 
 #: default largest count of points, samples or variants (a million speeds of a Campbell sweep
 #: of a 6-coordinate machine hold about 1 GB of eigenvectors)
@@ -50,3 +54,103 @@ def count_problem(count: int, what: str = "points") -> str:
         return ""
     return (f"at most {limit:,} {what} (asked for {count:,}): split the work into several runs, or "
             f"raise the limit with the environment variable {ENVIRONMENT}")
+
+
+#: environment variable: the memory [GiB] to count on instead of measuring it (``inf``: no check)
+MEMORY_ENVIRONMENT = "ROTORDYN_MODAL_MEMORY_GB"
+
+
+def available_memory() -> float:
+    """Bytes this process may still allocate: the least of the system's available memory
+    (``MemAvailable`` of ``/proc/meminfo``, else ``psutil`` where installed), the room under
+    the process's address-space limit (``RLIMIT_AS``) and under its control group's memory
+    limit (cgroup v2); ``ROTORDYN_MODAL_MEMORY_GB`` replaces the measurement. ``inf`` where
+    nothing can be measured."""
+    text = os.environ.get(MEMORY_ENVIRONMENT)
+    if text is not None and text.strip():
+        try:
+            value = float(text)
+        except ValueError:
+            value = float("nan")
+        if not value >= 0:
+            raise InputError(f"{MEMORY_ENVIRONMENT}={text!r}: expected a number of GiB >= 0 (or inf)")
+        return value * 2**30
+    return min(_system_available(), _address_space_room(), _cgroup_room())
+
+
+def _system_available() -> float:
+    available = _meminfo_available()
+    if available != float("inf"):
+        return available
+    try:
+        import psutil
+    except ImportError:
+        return available
+    return float(psutil.virtual_memory().available)
+
+
+def _meminfo_available() -> float:
+    """``MemAvailable`` of ``/proc/meminfo`` (Linux) [bytes], inf elsewhere."""
+    try:
+        with open("/proc/meminfo") as handle:
+            for line in handle:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return float("inf")
+
+
+def _address_space_room() -> float:
+    """``RLIMIT_AS`` minus the process's virtual size now (inf without a limit)."""
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - Windows
+        return float("inf")
+    soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+    if soft == resource.RLIM_INFINITY:
+        return float("inf")
+    return float(soft) - _virtual_size()
+
+
+def _virtual_size() -> float:
+    try:
+        with open("/proc/self/status") as handle:
+            for line in handle:
+                if line.startswith("VmSize:"):
+                    return float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 0.0
+
+
+def _cgroup_room() -> float:
+    """The control group's ``memory.max`` minus ``memory.current`` (inf where there is none)."""
+    try:
+        with open("/sys/fs/cgroup/memory.max") as handle:
+            limit = handle.read().strip()
+        with open("/sys/fs/cgroup/memory.current") as handle:
+            current = float(handle.read().strip())
+    except (OSError, ValueError):
+        return float("inf")
+    return float("inf") if limit == "max" else float(limit) - current
+
+
+def memory_problem(needed: float, what: str, advice: str) -> str:
+    """'' when ``needed`` bytes fit in :func:`available_memory`, else the message refusing the
+    work: ``WHAT needs about X GiB of memory, Y GiB is available: ADVICE``.
+
+    Parameters
+    ----------
+    needed : float
+        The estimate [bytes].
+    what : str
+        What needs it ('a Campbell sweep of 2,006 coordinates at 101 speeds').
+    advice : str
+        How to need less ('use at most 40 speeds').
+    """
+    available = available_memory()
+    if needed <= available:
+        return ""
+    return (f"{what} needs about {needed / 2**30:.1f} GiB of memory, {available / 2**30:.1f} GiB is available: "
+            f"{advice}; {MEMORY_ENVIRONMENT} sets the memory to count on")

@@ -70,15 +70,24 @@ def chunk_slices(count: int, item_bytes: int, largest: int | None = None, budget
     return [slice(i, min(i + step, count)) for i in range(0, count, step)]
 
 
+@functools.lru_cache(maxsize=8)
 def _start_vectors(m: int, n: int) -> np.ndarray:
-    """Fixed pseudo-random complex start vectors of inverse iteration, shape (m, n)."""
-    return _start_block(max(64, m, n))[:m, :n]
+    """Fixed pseudo-random complex start vectors of inverse iteration, shape (m, n): the first
+    ``m`` rows and ``n`` columns of the real and imaginary planes of a block of standard normal
+    draws (2, size, size), ``size = max(64, m, n)``. Only those rows are kept: the draws between
+    them are made and dropped a part at a time (the whole block of a machine of 2,006
+    coordinates, for Arnoldi's start of 4,012 states, would hold 512 MB for the whole run)."""
+    size = max(64, m, n)
+    rng = np.random.default_rng(_START_SEED)
+    real = rng.standard_normal((m, size))[:, :n]
+    skipped = size * size - m * size
+    for part in chunk_slices(skipped, 8, budget=_SKIP_BYTES):
+        rng.standard_normal(part.stop - part.start)
+    return real + 1j * rng.standard_normal((m, size))[:, :n]
 
 
-@functools.lru_cache(maxsize=4)
-def _start_block(size: int) -> np.ndarray:
-    draws = np.random.default_rng(_START_SEED).standard_normal((2, size, size))
-    return draws[0] + 1j * draws[1]
+#: the largest part of the start vectors' skipped draws made at once [bytes]
+_SKIP_BYTES = 8 * 2**20
 
 
 _POOL: ThreadPoolExecutor | None = None
@@ -869,6 +878,23 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
     rows, first = _repeated_pairs(eigenvalues)
     if not len(rows):
         return shapes
+    # with forms per variant, each pair takes its variant's three (n, n) forms: a part of the pairs
+    # at a time (81 double roots of a 2,006-coordinate machine at rest would take 7 GiB at once)
+    n = shapes.shape[-1]
+    parts = [slice(None)] if variants is None else chunk_slices(len(rows), 48 * n * n, budget=_PART_BYTES)
+    found = [_whirling_pairs(shapes, rows[part], first[part], forms, variants) for part in parts]
+    rows, first, resolved = found[0] if len(found) == 1 else concatenated(found)
+    if not rows.size:
+        return shapes
+    out = shapes.copy()
+    out[rows, first] = resolved[:, :, 0]
+    out[rows, first + 1] = resolved[:, :, 1]
+    return out
+
+
+def _whirling_pairs(shapes, rows, first, forms, variants):
+    """The pairs ``(rows, first)`` of :func:`resolve_repeated` whose shapes span a plane and
+    whirl, and their extreme-whirl combinations (P, n, 2)."""
     if variants is not None:
         forms = WhirlForms(*(f[variants[rows]] for f in forms))
     basis = np.stack([shapes[rows, first], shapes[rows, first + 1]], axis=-1)  # (P, n, 2)
@@ -880,14 +906,11 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
     if forms.total.ndim == 3:
         forms = WhirlForms(*(f[spans] for f in forms))
     if not rows.size:
-        return shapes
+        return rows, first, np.zeros((0, shapes.shape[-1], 2), dtype=complex)
     momentum = -1j * np.einsum(rule, basis.conj(), forms.W, basis)
     mu, resolved = _extreme_whirl(basis, total, momentum)
     whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
-    out = shapes.copy()
-    out[rows[whirling], first[whirling]] = resolved[whirling, :, 0]
-    out[rows[whirling], first[whirling] + 1] = resolved[whirling, :, 1]
-    return out
+    return rows[whirling], first[whirling], resolved[whirling]
 
 
 def _repeated_pairs(lam):

@@ -11,16 +11,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._limits import memory_problem
+from ..errors import InputError
 from . import _arguments, _eigen
 from ._stack import Stack
-from .critical_speeds import (JUMP_TOLERANCE, CriticalSpeeds, ExcitationSources, _find_critical_speeds,
-                              _warn_of_jumps, excitation_sources, off_order_line)
+from .critical_speeds import (_SUB_DEPTH, _SUB_SPEEDS, JUMP_TOLERANCE, CriticalSpeeds, ExcitationSources,
+                              _critical_table, _find_critical_speeds, _warn_of_jumps, excitation_sources,
+                              off_order_line)
 from .modal import is_oscillating, modal_quantities
 from .mode_numbers import numbers_at_speed
 from .tracking import track_modes_many
 
 __all__ = ["CampbellResult", "CriticalSpeeds", "ExcitationSources", "campbell", "campbell_many",
-           "critical_speeds", "excitation_sources", "off_order_line", "JUMP_TOLERANCE", "solve_sweep", "solve_sweeps"]
+           "critical_speeds", "excitation_sources", "off_order_line", "JUMP_TOLERANCE", "solve_sweep", "solve_sweeps",
+           "memory_estimate"]
 
 _CHUNK = 4096
 
@@ -133,17 +137,25 @@ def solve_sweeps(stack, speeds, progress=False):
     count = len(stack)
     size = stack.forms[0].n_states
     # speeds per chunk: the chunk's state matrices and eigenvectors within about CHUNK_BYTES
-    chunks = [speeds[part] for part in _eigen.chunk_slices(len(speeds), count * 72 * size * size, largest=_CHUNK)]
-    values, shapes = [], []
-    for chunk in _progress(chunks, progress, "eigen-solve"):
+    largest = _CHUNK
+    if progress and len(speeds) * count * 72 * size * size > _PROGRESS_BYTES:
+        largest = min(_CHUNK, -(-len(speeds) // _PROGRESS_STEPS))     # the bar moves (the same numbers)
+    chunks = _eigen.chunk_slices(len(speeds), count * 72 * size * size, largest=largest)
+    values = shapes = None
+    for part in _progress(chunks, progress, "eigen-solve"):
+        chunk = speeds[part]
         matrices = stack.sweep(chunk)
         lam, phi = stack.solve(matrices.reshape((-1,) + matrices.shape[-2:]), _variant_rows(count, len(chunk)))
-        values.append(lam.reshape(count, len(chunk), -1))
-        shapes.append(phi.reshape((count, len(chunk)) + phi.shape[-2:]))
-    if len(chunks) > 1:
-        values, shapes = np.concatenate(values, axis=1), np.concatenate(shapes, axis=1)
-    else:
-        values, shapes = values[0], shapes[0]
+        del matrices
+        lam, phi = lam.reshape(count, len(chunk), -1), phi.reshape((count, len(chunk)) + phi.shape[-2:])
+        if len(chunks) == 1:
+            values, shapes = lam, phi
+        else:                       # each part into its place: no list of parts joined at the end (twice the shapes)
+            if values is None:
+                values = np.empty((count, len(speeds)) + lam.shape[2:], dtype=lam.dtype)
+                shapes = np.empty((count, len(speeds)) + phi.shape[2:], dtype=phi.dtype)
+            values[:, part], shapes[:, part] = lam, phi
+        del lam, phi
     flat = shapes.reshape((-1,) + shapes.shape[-2:])
     weighted = stack.weighted(flat, _variant_rows(count, len(speeds))).reshape(shapes.shape)
     order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
@@ -151,6 +163,12 @@ def solve_sweeps(stack, speeds, progress=False):
         return values, shapes, weighted
     variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
     return values[variants, rows, order], _reordered(shapes, order), _reordered(weighted, order)
+
+
+#: a sweep of more work than this [bytes] shown by a progress bar is solved in at least
+#: ``_PROGRESS_STEPS`` parts (each speed's eigen-solution is its own: the parts change no number)
+_PROGRESS_BYTES = 64 * 2**20
+_PROGRESS_STEPS = 20
 
 
 #: the largest reordered copy of a part of a sweep's shapes [bytes]
@@ -194,7 +212,7 @@ def _progress(items, enabled, description):
     return tqdm(items, desc=description, unit="chunk", leave=False)
 
 
-def campbell(model, speeds, orders=(1,), progress=False) -> CampbellResult:
+def campbell(model, speeds, orders=(1,), progress=False, critical=True) -> CampbellResult:
     """Campbell diagram: all speeds solved in one batch, modes tracked.
 
     Parameters
@@ -205,11 +223,22 @@ def campbell(model, speeds, orders=(1,), progress=False) -> CampbellResult:
     orders : sequence of float
         Excitation orders (1X, 2X, ...) whose critical speeds are found and marked.
     progress : bool
-        Show a progress bar.
+        Show progress bars (the eigen-solutions, the critical speeds' refinement).
+    critical : bool
+        Find the critical speeds (else ``critical`` is an empty table; the orders are still
+        drawn).
 
     Returns
     -------
     CampbellResult
+
+    Raises
+    ------
+    InputError
+        Before the sweep, where its arrays would not fit in the memory at hand
+        (:func:`memory_estimate`, ``rotordyn_modal._limits.available_memory``); before the
+        refinement, where its crossings would not. The message gives the estimate in GiB and
+        how to need less.
 
     Notes
     -----
@@ -227,10 +256,10 @@ def campbell(model, speeds, orders=(1,), progress=False) -> CampbellResult:
         than the grid): the refinement closes in on the jump, and the frequency there is off the
         order line (see :func:`off_order_line`). A finer speed grid resolves them.
     """
-    return campbell_many([model], speeds, orders, progress)[0]
+    return campbell_many([model], speeds, orders, progress, critical)[0]
 
 
-def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
+def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) -> list:
     """Campbell diagrams of several models of the same structure (a study's variants) in one
     batch: one LAPACK call for every model and speed, tracking and critical speeds of all
     together. Each result equals :func:`campbell` of its model bit for bit for models of up to
@@ -243,7 +272,7 @@ def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
     ----------
     models : sequence of Model
         Same coordinates and states (variants of one model).
-    speeds, orders, progress : see :func:`campbell`
+    speeds, orders, progress, critical : see :func:`campbell`
 
     Returns
     -------
@@ -252,6 +281,8 @@ def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
     speeds = _check_speeds(speeds)
     orders = _arguments.orders(orders)
     stack = Stack(models)
+    critical = bool(critical) and len(orders) > 0
+    _refuse_what_cannot_fit(stack, len(speeds), critical)
     values, shapes, weighted = solve_sweeps(stack, speeds, progress)
     count, n_speeds, m = values.shape
     every = _variant_rows(count, n_speeds)
@@ -261,15 +292,115 @@ def campbell_many(models, speeds, orders=(1,), progress=False) -> list:
     ratios = np.where(oscillating, ratios.reshape(values.shape), 0.0)
     freq, zeta, log_dec = modal_quantities(values)
     sources = [excitation_sources(model) for model in stack.models]
-    critical = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes, oscillating)
-    for table, source, model in zip(critical, sources, stack.models):
+    if critical:
+        tables = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes, oscillating,
+                                       progress, lambda crossings: _refuse_crossings(stack, len(speeds), crossings))
+    else:
+        tables = [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
+    del weighted
+    for table, source, model in zip(tables, sources, stack.models):
         _warn_of_jumps(table, source, model)
     labels = _eigen.whirl_labels(ratios)
     return [CampbellResult(
         speeds=speeds, eigenvalues=values[v], frequencies_hz=freq[v], damping_ratios=zeta[v],
         log_decrements=log_dec[v], whirl_ratios=ratios[v], whirl=labels[v], shapes=shapes[v],
-        modes=np.arange(1, m + 1), sources=sources[v], critical=critical[v],
+        modes=np.arange(1, m + 1), sources=sources[v], critical=tables[v],
         orders=tuple(float(o) for o in orders)) for v in range(count)]
+
+
+#: memory of the interpreter and the package's imports [bytes]
+_BASE_BYTES = 256 * 2**20
+#: memory per crossing of the critical speeds (its bracket, its refined row, the table's row
+#: with its strings, the copies made while they are sorted) [bytes]
+_CROSSING_BYTES = 4096
+
+
+def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossings=0) -> float:
+    """Peak memory of :func:`campbell_many` [bytes], estimated from the sizes alone.
+
+    The sweep keeps two sets of unit shapes (plain and mass-weighted: ``2 V N m n`` complex
+    numbers, ``m = n_states - n_states // 2`` roots per speed) beside its eigen-solver's work (a
+    part of the speeds of ``_eigen.CHUNK_BYTES``, at least one speed of about 72 bytes per
+    entry of the state matrix); the critical speeds' refinement adds its parts' work and the
+    brackets swept again (``_SUB_SPEEDS`` speeds' shapes, twice, at each of ``_SUB_DEPTH``
+    levels, with one speed's eigen-solution), and ``_CROSSING_BYTES`` per crossing; the
+    model's own matrices (the state matrix's two parts, mass, damping, gyroscopic, stiffness,
+    whirl forms and their copies: about 24 real n x n matrices) are held throughout.
+
+    Parameters
+    ----------
+    n_dof, n_states : int
+        Coordinates and states of the model.
+    n_speeds : int
+    variants : int
+        Models solved together (a study's chunk).
+    critical : bool
+        Critical speeds are refined.
+    crossings : int
+        Crossings to refine, where known (after the sweep).
+
+    Returns
+    -------
+    float
+    """
+    roots = n_states - n_states // 2
+    per_speed = variants * roots * n_dof * 16.0                        # one set of shapes at one speed
+    one_speed = 72.0 * variants * n_states ** 2                        # the eigen-solver's work for one speed
+    solver = max(min(_eigen.CHUNK_BYTES, n_speeds * one_speed), one_speed)
+    small = 16.0 * 12 * variants * n_speeds * roots                    # eigenvalues and their quantities
+    work = solver + per_speed * n_speeds                                # while solving: the shapes so far
+    after = 2 * per_speed * n_speeds                                    # shapes and weighted shapes
+    if critical:
+        refine = max(_eigen.CHUNK_BYTES, 64.0 * n_dof ** 2)
+        sub = _SUB_DEPTH * 2 * _SUB_SPEEDS * roots * n_dof * 16.0 + one_speed / variants
+        after += max(refine, sub) + _CROSSING_BYTES * crossings
+    matrices = 24 * 8.0 * variants * n_dof ** 2
+    return _BASE_BYTES + matrices + small + max(work, after)
+
+
+#: estimates below this are not checked (measuring the memory at hand costs more than a small
+#: model's whole sweep; with less than this at hand the estimate's upper bounds mislead) [bytes]
+_CHECKED_BYTES = 2**30
+
+
+def _sizes(stack):
+    return stack.n_dof, stack.forms[0].n_states
+
+
+def _refuse_what_cannot_fit(stack, n_speeds, critical):
+    """Refuse a sweep whose arrays would not fit (see :func:`memory_estimate`), naming the
+    number of speeds that would."""
+    n_dof, n_states = _sizes(stack)
+    needed = memory_estimate(n_dof, n_states, n_speeds, len(stack), critical)
+    if needed < _CHECKED_BYTES:
+        return
+    fixed = memory_estimate(n_dof, n_states, 0, len(stack), critical)
+    per_speed = memory_estimate(n_dof, n_states, 1, len(stack), critical) - fixed
+    from .._limits import available_memory
+
+    fitting = int(max(0.0, available_memory() - fixed) // max(per_speed, 1.0))
+    advice = (f"use fewer speeds (about {fitting:,} fit)" if fitting >= 2 else
+              "the model is too large for this machine's memory at any number of speeds")
+    if critical:
+        advice += ", or leave out the critical speeds (campbell --no-critical, critical=False)"
+    problem = memory_problem(needed, f"a Campbell sweep of {n_dof:,} coordinates at {n_speeds:,} speeds"
+                             + (f" of {len(stack)} models" if len(stack) > 1 else ""), advice)
+    if problem:
+        raise InputError(problem)
+
+
+def _refuse_crossings(stack, n_speeds, crossings):
+    """Refuse, before refining them, crossings that would not fit beside the sweep's arrays."""
+    n_dof, n_states = _sizes(stack)
+    needed = memory_estimate(n_dof, n_states, n_speeds, len(stack), True, crossings)
+    if needed < _CHECKED_BYTES:
+        return
+    problem = memory_problem(needed, f"refining the {crossings:,} critical speeds found over {n_speeds:,} speeds "
+                             f"of {n_dof:,} coordinates", "ask for fewer excitation orders (--orders) or a "
+                             "narrower speed range, or leave out the critical speeds (campbell --no-critical, "
+                             "critical=False)")
+    if problem:
+        raise InputError(problem)
 
 
 def critical_speeds(model, speeds, orders=(1,), progress=False) -> CriticalSpeeds:

@@ -11,6 +11,8 @@ derives each step and gives the figures.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import warnings
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -129,19 +131,24 @@ def _warn_of_jumps(table, sources, model):
                       f"a finer speed grid resolves them", stacklevel=4)
 
 
-def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shapes=None, oscillating=None) -> list:
+def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shapes=None, oscillating=None,
+                          progress=False, check=None) -> list:
     """Every crossing of every mode with every source's order lines, for every variant,
     refined together. ``shapes`` (V, N, m, n), the sweep's unit shapes, start the cheap
-    evaluation of isolated modes (:func:`_Iterates`). Returns one :class:`CriticalSpeeds`
-    per variant."""
+    evaluation of isolated modes (:func:`_Iterates`); ``progress`` shows a bar over the
+    crossings; ``check``, when given, is called with the number of crossings before they are
+    refined (it may refuse them: see :func:`.campbell.campbell`). Returns one
+    :class:`CriticalSpeeds` per variant."""
     brackets = _crossing_brackets(speeds, values, sources, orders, oscillating)
     count = len(stack)
     if not len(brackets.k):
         return [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
+    if check is not None:
+        check(len(brackets.k))
     # one BLAS thread: the pencils' factorisations and solves are too small to share well
-    with _eigen.one_blas_thread(72 * stack.forms[0].n_states ** 2):
+    with _eigen.one_blas_thread(72 * stack.forms[0].n_states ** 2), _progress_bar(progress, len(brackets.k)):
         found = _refined(stack, speeds, values, weighted, shapes, brackets, sources, orders)
-    ratios = stack.whirl_ratios(found.phi[:, None], found.variant, found.roots)[:, 0]
+    ratios = found.ratio
     zeta = damping_ratios(found.lam)
     names = np.asarray(sources[0].names, dtype=str)[found.source]
     labels = _eigen.whirl_labels(ratios)
@@ -158,6 +165,72 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shap
     return tables
 
 
+class _Progress:
+    """A progress bar over the sweep's crossings (a ``tqdm`` bar); the work of a part (a bracket
+    swept again) advances it by that part's share, scaled to the units of its own crossings."""
+
+    def __init__(self, bar):
+        self.bar, self.scale, self.done, self.shown = bar, 1.0, 0.0, 0
+
+    def advance(self, count):
+        self.done += count * self.scale
+        shown = min(int(self.done + 1e-6), self.bar.total)
+        if shown > self.shown:
+            self.bar.update(shown - self.shown)
+            self.shown = shown
+
+
+_PROGRESS = contextvars.ContextVar("rotordyn_modal_critical_progress", default=None)
+
+
+@contextlib.contextmanager
+def _progress_bar(enabled, total):
+    """While refining ``total`` crossings: a bar (``tqdm.auto``) when ``enabled``."""
+    if not enabled:
+        yield
+        return
+    from tqdm.auto import tqdm
+
+    with tqdm(total=total, desc="critical speeds", unit="crossing", leave=False) as bar:
+        token = _PROGRESS.set(_Progress(bar))
+        try:
+            yield
+        finally:
+            _PROGRESS.reset(token)
+
+
+def _progress_advance(count):
+    """``count`` crossings (of the current part's units) done."""
+    progress = _PROGRESS.get()
+    if progress is not None:
+        progress.advance(count)
+
+
+@contextlib.contextmanager
+def _progress_share(weight):
+    """A part of the work worth ``weight`` of the current units (0: work already counted, such as
+    a jump's bracket swept again); :func:`_progress_units` sets how many units of its own it
+    has. On leaving, the bar stands exactly ``weight`` further."""
+    progress = _PROGRESS.get()
+    if progress is None:
+        yield
+        return
+    outer, goal = progress.scale, progress.done + weight * progress.scale
+    progress.scale = 0.0 if weight == 0 else outer * weight
+    try:
+        yield
+    finally:
+        progress.scale = outer
+        progress.advance((goal - progress.done) / outer if outer else 0.0)
+
+
+def _progress_units(count):
+    """The current part (:func:`_progress_share`) has ``count`` crossings of its own."""
+    progress = _PROGRESS.get()
+    if progress is not None and count:
+        progress.scale /= count
+
+
 def _rows_of(table, rows):
     """The rows ``rows`` of every column of a table of arrays (a NamedTuple), as the same type."""
     return type(table)(*(column[rows] for column in table))
@@ -165,8 +238,10 @@ def _rows_of(table, rows):
 
 class _Found(NamedTuple):
     """Refined crossings, one row each: variant, tracked mode (0-based), source index and order;
-    the speed [rad/s], the eigenvalue and the shape there, and whether the eigenvalue was told
-    apart by distance alone (see :func:`_refine_together`)."""
+    the speed [rad/s], the eigenvalue, the whirl ratio and the fingerprint of the shape there
+    (:func:`_fingerprints`), and whether the eigenvalue was told apart by distance alone (see
+    :func:`_refine_together`). The shapes themselves are not kept: a large machine's crossings
+    would hold one shape each (32 GB for the million crossings of 2,006 coordinates)."""
 
     variant: np.ndarray
     mode: np.ndarray
@@ -174,7 +249,8 @@ class _Found(NamedTuple):
     order: np.ndarray
     roots: np.ndarray
     lam: np.ndarray
-    phi: np.ndarray
+    ratio: np.ndarray
+    fingerprint: np.ndarray
     sure: np.ndarray
 
     subset = _rows_of
@@ -225,7 +301,8 @@ def _no_crossings(brackets, n_dof):
     """The _Found of no brackets (a jump with no crossing under it, a sweep whose brackets were
     all swept again)."""
     return _Found(brackets.variant, brackets.mode, brackets.source, brackets.order, np.zeros(0),
-                  np.zeros(0, complex), np.zeros((0, n_dof), complex), np.zeros(0, bool))
+                  np.zeros(0, complex), np.zeros(0), np.zeros((0, min(n_dof, _FINGERPRINT)), complex),
+                  np.zeros(0, bool))
 
 
 def _off_line(found, slope):
@@ -256,7 +333,7 @@ def _unresolved(found, brackets):
     if same.any():
         # a double root's two modes have shapes of their own; one root found twice has one shape
         first, second = order[:-1][same], order[1:][same]
-        a, b = found.phi[first], found.phi[second]
+        a, b = found.fingerprint[first], found.fingerprint[second]
         mac = np.abs(np.einsum("pi,pi->p", a.conj(), b)) ** 2 / (_eigen.row_norms(a)[:, 0] * _eigen.row_norms(b)[:, 0]) ** 2
         twice = mac > 1 - _SAME_ROOT
         out[first[twice]] = out[second[twice]] = True
@@ -306,9 +383,12 @@ def _resolve_jumps(stack, speeds, values, weighted, shapes, brackets, found, unr
         return found
     # one group per (variant, bracket, line) with a jump: all its rows are found again
     group = np.stack([brackets.variant, brackets.k, brackets.source, brackets.order])
-    redone = np.unique(group[:, unresolved], axis=1)
-    again = (group[:, :, None] == redone[:, None, :]).all(axis=0).any(axis=1)
-    swept = _swept_again(stack, speeds, values, weighted, shapes, brackets, again, sources, orders, depth)
+    # (by each row's group number: a table of every row against every redone group would
+    # grow as their product)
+    group = np.unique(group, axis=1, return_inverse=True)[1].reshape(-1)
+    again = np.isin(group, group[unresolved])
+    with _progress_share(0):                        # these crossings were counted once refined
+        swept = _swept_again(stack, speeds, values, weighted, shapes, brackets, again, sources, orders, depth)
     return _Found(*(np.concatenate(column) for column in zip(found.subset(~again), *swept)))
 
 
@@ -323,8 +403,9 @@ def _swept_again(stack, speeds, values, weighted, shapes, brackets, rows, source
             singles[v] = stack if len(stack) == 1 else Stack([stack.models[v]])
         mine = rows & (brackets.variant == v) & (brackets.k == k)
         lines = set(zip(brackets.source[mine].tolist(), brackets.order[mine].tolist()))
-        out.append(_crossings_in(singles[v], v, speeds[k:k + 2], values[v, k:k + 2], shapes[v, k:k + 2],
-                                 weighted[v, k:k + 2], sources[v], orders, lines, depth))
+        with _progress_share(int(mine.sum())):
+            out.append(_crossings_in(singles[v], v, speeds[k:k + 2], values[v, k:k + 2], shapes[v, k:k + 2],
+                                     weighted[v, k:k + 2], sources[v], orders, lines, depth))
     return out
 
 
@@ -345,6 +426,7 @@ def _crossings_in(single, v, ends, end_values, end_shapes, end_weighted, sources
     brackets = _crossing_brackets(speeds, values, [sources], orders)
     wanted = [(s, o) in lines for s, o in zip(brackets.source.tolist(), brackets.order.tolist())]
     brackets = brackets.subset(np.nonzero(wanted)[0])
+    _progress_units(len(brackets.k))
     found = _refined(single, speeds, values, weighted, shapes, brackets, [sources], orders, depth + 1)
     return found._replace(variant=np.full(len(found.roots), v))
 
@@ -388,10 +470,6 @@ class _Brackets(NamedTuple):
     """and the tracked mode's eigenvalues there, (P, 4)"""
     near_oscillating: np.ndarray
     """whether the mode oscillates at all four (:func:`~.modal.is_oscillating`)"""
-    ends: np.ndarray
-    """Every root at both ends of the bracket, (P, 2, m)"""
-    travels: np.ndarray
-    """Every root's travel across the bracket, ``|ends[:, 1] - ends[:, 0]|``, (P, m)"""
     isolated: np.ndarray
     """Whether the mode stays far from every other root across the bracket (:func:`_isolated`)"""
 
@@ -430,9 +508,7 @@ def _crossing_brackets(speeds, values, sources, orders, oscillating=None) -> _Br
         parts = [(*(np.zeros(0, dtype=int) for _ in range(3)), np.zeros(0), np.zeros(0, dtype=int))]
     v, k, mode, slope, line = parts[0] if len(parts) == 1 else (np.concatenate(c) for c in zip(*parts))
     source, order = np.divmod(line, max(len(factors), 1))
-    brackets = _Brackets(v, k, mode, slope, source, factors[order],
-                         *_bracket_ends(speeds, values, mode_ok, v, k, mode), isolated=None)
-    return brackets._replace(isolated=_isolated(brackets))
+    return _Brackets(v, k, mode, slope, source, factors[order], *_bracket_ends(speeds, values, mode_ok, v, k, mode))
 
 
 #: the largest part of the gaps to the excitation lines computed at once [bytes]
@@ -440,20 +516,44 @@ _LINES_BYTES = 4 * 2**20
 
 
 def _bracket_ends(speeds, values, oscillating, v, k, mode):
-    """The sweep's data of each crossing that the refinement reads (see :class:`_Brackets`)."""
-    rows = np.arange(len(k))
-    ends = values[v[:, None], k[:, None] + np.arange(2)]                        # (P, 2, m)
-    travels = np.abs(ends[:, 1] - ends[:, 0])
-    low, high = ends[rows, 0, mode], ends[rows, 1, mode]
+    """The sweep's data of each crossing that the refinement reads (see :class:`_Brackets`).
+
+    Every root at both ends of a bracket (what :func:`_isolated` and the travels read) is
+    gathered a part of the crossings at a time (``_ENDS_BYTES``) and not kept: for a large
+    machine it would be two full sets of roots per crossing (57 GiB for the crossings of a
+    machine of 2,006 coordinates at 11 speeds)."""
+    count = len(k)
     start = speeds[k]
-    spread = travels[rows, mode] + 1e-9 * np.abs(low) + 1e-300
+    low, high = values[v, k, mode], values[v, k + 1, mode]
+    spread, travel, isolated = np.empty(count), np.empty(count), np.empty(count, dtype=bool)
+    for part in _eigen.chunk_slices(count, 64 * values.shape[-1], budget=_ENDS_BYTES):
+        ends = values[v[part, None], k[part, None] + np.arange(2)]                  # (p, 2, m)
+        travels = np.abs(ends[:, 1] - ends[:, 0])
+        spread[part] = travels[np.arange(len(ends)), mode[part]] + 1e-9 * np.abs(low[part]) + 1e-300
+        travel[part] = travels.max(axis=1)
+        isolated[part] = _isolated(_Ends(k[part], mode[part], ends, travels))
     if len(speeds) < 4:
-        near = np.full((len(k), 4), np.nan), np.full((len(k), 4), np.nan, dtype=complex), np.zeros(len(k), bool)
+        near = np.full((count, 4), np.nan), np.full((count, 4), np.nan, dtype=complex), np.zeros(count, bool)
     else:
         nodes = np.minimum(np.maximum(k - 1, 0), len(speeds) - 4)[:, None] + np.arange(4)
         near = (speeds[nodes], values[v[:, None], nodes, mode[:, None]],
                 oscillating[v[:, None], nodes, mode[:, None]].all(axis=1))
-    return (start, speeds[k + 1] - start, low, high, spread, travels.max(axis=1)) + near + (ends, travels)
+    return (start, speeds[k + 1] - start, low, high, spread, travel) + near + (isolated,)
+
+
+#: the largest part of the roots at the brackets' ends gathered at once [bytes]
+_ENDS_BYTES = 16 * 2**20
+
+
+class _Ends(NamedTuple):
+    """A part of the crossings with every root at both ends of their brackets (what
+    :func:`_isolated` reads): grid interval and tracked mode (P,), the roots (P, 2, m) and
+    their travels across the bracket, ``|ends[:, 1] - ends[:, 0]|`` (P, m)."""
+
+    k: np.ndarray
+    mode: np.ndarray
+    ends: np.ndarray
+    travels: np.ndarray
 
 
 #: evaluations allowed per crossing (it needs two or three; bisection steps guarantee the rest)
@@ -469,14 +569,48 @@ def _refine_parts(stack, speeds, values, weighted, brackets, shapes=None):
 
     Returns
     -------
-    roots : ndarray (P,) [rad/s]; lam : ndarray (P,), complex; phi : ndarray (P, n), complex;
-    sure : ndarray (P,) bool
+    roots : ndarray (P,) [rad/s]; lam : ndarray (P,), complex; ratio : ndarray (P,), the whirl
+    ratios; fingerprint : ndarray (P, f), complex (:func:`_fingerprints`); sure : ndarray (P,) bool
     """
     chunks = _eigen.chunk_slices(len(brackets.k), 64 * stack.n_dof ** 2)
     if len(chunks) == 1:                             # all in one part (small models): no copies
-        return _refined_part(stack, speeds, values, weighted, brackets, shapes)
-    return _eigen.concatenated([_refined_part(stack, speeds, values, weighted, brackets.subset(part), shapes)
-                                for part in chunks])
+        found = _compact(stack, brackets, *_refined_part(stack, speeds, values, weighted, brackets, shapes))
+        _progress_advance(len(brackets.k))
+        return found
+    parts = []
+    for part in chunks:
+        mine = brackets.subset(part)
+        parts.append(_compact(stack, mine, *_refined_part(stack, speeds, values, weighted, mine, shapes)))
+        _progress_advance(len(mine.k))
+    return _eigen.concatenated(parts)
+
+
+def _compact(stack, brackets, roots, lam, phi, sure):
+    """A part's refined crossings with each shape replaced by what is kept of it: its whirl
+    ratio and its fingerprint (:func:`_fingerprints`)."""
+    ratio = stack.whirl_ratios(phi[:, None], brackets.variant, roots)[:, 0]
+    return roots, lam, ratio, _fingerprints(phi), sure
+
+
+#: shapes of more coordinates than this are kept as fingerprints of this many numbers
+_FINGERPRINT = 48
+
+
+def _fingerprints(phi):
+    """What :func:`_unresolved` compares of the shapes ``phi`` (P, n): the shapes themselves up to
+    ``_FINGERPRINT`` coordinates, else their products with a fixed random complex matrix (n,
+    ``_FINGERPRINT``). The MAC of two fingerprints is 1 to round-off where the shapes are
+    parallel (one root found twice); for shapes apart, a product that brings them within the
+    test's 1e-9 of parallel would have to fall within about 1e-9 of a subspace of codimension
+    ``_FINGERPRINT``: a chance far below 1e-100."""
+    n = phi.shape[-1]
+    if n <= _FINGERPRINT:
+        return phi
+    draws = np.random.default_rng(_FINGERPRINT_SEED).standard_normal((2, n, _FINGERPRINT))
+    return phi @ (draws[0] + 1j * draws[1])
+
+
+_FINGERPRINT_SEED = 20261128
 
 
 def _refined_part(stack, speeds, values, weighted, brackets, shapes):
@@ -768,7 +902,8 @@ class _Iterates(NamedTuple):
 
 
 def _isolated(brackets):
-    """Crossings whose mode stays far from every other root over its bracket.
+    """Crossings whose mode stays far from every other root over its bracket (``brackets``: an
+    :class:`_Ends`).
 
     At both ends of the bracket, every other root (and every root's conjugate, its own
     included) is farther from the mode than twice the distance both can travel across the

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from ._eigen import mac_matrix
+from ._eigen import chunk_slices, mac_matrix
 
 __all__ = ["track_modes", "track_modes_many"]
 
@@ -59,18 +59,12 @@ def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
     order[:, 0] = np.arange(n)
     if count == 1:
         return order
-    correlation = mac_matrix(shapes[:, :-1], shapes[:, 1:])  # (V, N-1, n, n)
-    best = correlation.argmax(axis=-1)
-    # steps where every variant keeps its modes in place (each mode's best match is itself, a
-    # confident one: the MAC on the diagonal) need no work: only the others (crossings in
-    # frequency order, ambiguous shapes) are visited, in order
-    kept = (best == np.arange(n)).all(axis=-1) & \
-        (np.diagonal(correlation, axis1=-2, axis2=-1) > _CONFIDENT_MAC).all(axis=-1)     # (V, N-1)
+    best, kept, confident = _steps(shapes)
     events = (~kept.all(axis=0)).nonzero()[0] + 1
     if not len(events):                       # every mode in place all along (the usual small model)
         order[:, 1:] = order[:, :1]
         return order
-    confident = _confident_steps(correlation, best, events - 1)                        # (V, n_events)
+    confident = confident[:, events - 1]                                                # (V, n_events)
     last_good = np.zeros((variants, n), dtype=int)  # last speed at which each label's shape was sure
     rows = np.arange(variants)[:, None]
     previous = 0
@@ -87,6 +81,41 @@ def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
         previous = k
     order[:, previous + 1:] = order[:, previous, None]
     return order
+
+
+#: the largest part of the MAC matrices between neighbouring speeds (and their complex
+#: products) computed at once [bytes]
+_MAC_BYTES = 64 * 2**20
+
+
+def _steps(shapes):
+    """Each step's matches between neighbouring speeds of shapes (V, N, n, d), the MAC
+    matrices a part of the steps at a time (``_MAC_BYTES``: all of them at once would be
+    (V, N - 1, n, n), 32 GB for a machine of 2,000 coordinates at 101 speeds).
+
+    Returns
+    -------
+    best : ndarray of int, shape (V, N-1, n)
+        Each mode's best match at the next speed.
+    kept : ndarray of bool, shape (V, N-1)
+        Every mode's best match is itself, a confident one (the MAC on the diagonal): steps that
+        need no work.
+    confident : ndarray of bool, shape (V, N-1)
+        The other steps' :func:`_confident_steps` (False where ``kept``).
+    """
+    variants, count, n, d = shapes.shape
+    best = np.empty((variants, count - 1, n), dtype=int)
+    kept = np.empty((variants, count - 1), dtype=bool)
+    confident = np.zeros((variants, count - 1), dtype=bool)
+    for part in chunk_slices(count - 1, variants * (40 * n * n + 16 * n * d), budget=_MAC_BYTES):
+        correlation = mac_matrix(shapes[:, part.start:part.stop], shapes[:, part.start + 1:part.stop + 1])
+        mine = best[:, part] = correlation.argmax(axis=-1)
+        kept[:, part] = (mine == np.arange(n)).all(axis=-1) & \
+            (np.diagonal(correlation, axis1=-2, axis2=-1) > _CONFIDENT_MAC).all(axis=-1)
+        events = (~kept[:, part].all(axis=0)).nonzero()[0]
+        if len(events):
+            confident[:, part.start + events] = _confident_steps(correlation, mine, events)
+    return best, kept, confident
 
 
 def _confident_steps(correlation, best, steps):

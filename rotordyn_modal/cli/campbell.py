@@ -21,6 +21,11 @@ CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl
 ('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
 'modes --speed SPEED_RPM', whose --shape draws it)
 
+A sweep or a set of critical speeds that would not fit in the memory at hand is refused
+before its work, with its estimate (exit 2); ROTORDYN_MODAL_MEMORY_GB sets the memory to
+count on. On a terminal, bars show the progress of the eigen-solutions and of the critical
+speeds' refinement.
+
 example:
   rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png
   rotordyn-modal campbell examples/motor_pump_on_mounts.toml --speeds 0:3600:181 --orders 1,2 \
@@ -32,6 +37,9 @@ def add_arguments(parser):
     parser.add_argument("--speeds", required=True, help="START:STOP:N speeds of the reference rotor")
     add_speed_unit(parser)
     parser.add_argument("--orders", default="1", help="excitation orders drawn and marked (default 1), e.g. 1,2")
+    parser.add_argument("--no-critical", action="store_true",
+                        help="do not find the critical speeds (the orders are still drawn): large machines "
+                             "cross the orders of every rotor and gear mesh many thousand times")
     parser.add_argument("--color-by", choices=["log_decrement", "damping_ratio"],
                         help="colour the curves by this quantity instead of by whirl")
     _add_frequency_axis(parser)
@@ -44,7 +52,7 @@ def run(args) -> int:
     model = open_model(args)
     axis = _frequency_axis(args)    # bad limits refused before the work
     result = campbell(model, speeds_option(args), orders=tuple(parse_list(args.orders, "--orders")),
-                      progress=show_progress(args))
+                      progress=show_progress(args), critical=not args.no_critical)
     write_table(result.to_dataframe(), args, empty=f"no oscillating modes {speeds_text(args)}: "
                 f"{result.eigenvalues.shape[1]} roots at each speed, all real or overdamped")
     if args.plot:

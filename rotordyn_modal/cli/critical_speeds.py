@@ -16,6 +16,10 @@ CSV columns: source,order,mode,speed_rpm,frequency_hz,whirl,whirl_ratio,damping_
 ('mode' is the mode's label tracked over the sweep, as in campbell; 'mode_at_speed' its number
 in 'modes --speed SPEED_RPM', whose --shape draws it)
 
+A sweep or a set of crossings that would not fit in the memory at hand is refused before
+its work, with its estimate (exit 2); ROTORDYN_MODAL_MEMORY_GB sets the memory to count on.
+On a terminal, bars show the progress of the eigen-solutions and of the refinement.
+
 example:
   rotordyn-modal critical-speeds examples/gear_machine.toml --speeds 0:12000:241 --orders 1,2"""
 

@@ -1,7 +1,7 @@
 """The linear system ``M q'' + (C + Omega G) q' + K q = B_f u``, ``y = C_s q``, in state space.
 
 State ``x = [q, q']`` (``2n`` states for ``n`` generalized coordinates, see
-:mod:`rotordyn_modal.dofs`), then six states per Maxwell branch of the mounts.
+:mod:`rotordyn_modal.model.dofs`), then six states per Maxwell branch of the mounts.
 With constant coefficients ``A(Omega) = A0 + Omega A1`` with::
 
     A0 = [[0, I], [-M^-1 K, -M^-1 C]],   A1 = [[0, 0], [0, -M^-1 G]]
@@ -17,12 +17,12 @@ import numpy as np
 
 from .assembly import Matrices, bearing_motion, body_inertias, constant_matrices, constant_stiffness_damping, \
     dependent_bearing_matrices, excitation_columns, mass_matrix, rigid_mass_matrix, sensor_rows
-from .bearings import evaluate
-from ._bearing_validation import LONG_JOURNAL
-from ._table import visible
+from .elements.bearings import evaluate
+from .elements._bearing_validation import LONG_JOURNAL
+from .model._table import visible
 from .errors import InputError, ModelError
-from .geometry import shift_matrix
-from .mounts import maxwell_branches, with_branch_states
+from .model.geometry import shift_matrix
+from .elements.mounts import maxwell_branches, with_branch_states
 
 __all__ = ["SpeedLinearForm", "speed_linear_form", "checked_mass_inverse", "implausible", "SAG_LIMIT",
            "LOWEST_MOUNT_FREQUENCY", "same_inertia", "state_matrices", "state_space"]
@@ -77,7 +77,7 @@ def implausible(model) -> list[str]:
       suspensions that do not hold the weight at all; without gravity, or when the sag is
       plausible, a mode of the machine on its suspensions below :data:`LOWEST_MOUNT_FREQUENCY`
       (unrestrained directions, frequency zero, are not counted: ``check`` notes them).
-    * A journal bearing longer than :data:`~rotordyn_modal._bearing_validation.LONG_JOURNAL`
+    * A journal bearing longer than :data:`~rotordyn_modal.elements._bearing_validation.LONG_JOURNAL`
       diameters (short-bearing theory loses accuracy there).
 
     Parameters
@@ -180,7 +180,7 @@ class SpeedLinearForm:
     model : Model
     like : SpeedLinearForm, optional
         The form of a model with the very same bodies and coordinates (a study's variant
-        and its base, see :meth:`~rotordyn_modal.model.Model.same_bodies`): its ``M``, ``G``
+        and its base, see :meth:`~rotordyn_modal.model.machine.Model.same_bodies`): its ``M``, ``G``
         and ``M^-1`` are taken, not computed again (they are the same numbers).
 
     Attributes
@@ -307,7 +307,7 @@ def speed_linear_form(model, like: SpeedLinearForm | None = None) -> SpeedLinear
 
 def same_inertia(a, b) -> bool:
     """Models whose mass and gyroscopic matrices are the same numbers without computing them:
-    the very same bodies (:meth:`~rotordyn_modal.model.Model.same_bodies`) and coordinates."""
+    the very same bodies (:meth:`~rotordyn_modal.model.machine.Model.same_bodies`) and coordinates."""
     return a is b or (a.dofs is b.dofs and a.same_bodies(b))
 
 
@@ -346,7 +346,7 @@ def state_space(model, speed: float, quantity: str = "displacement", inputs=None
         Inputs named after the ``[[excitations]]`` [N or N m], outputs after the
         ``[[sensors]]`` [m, m/s or m/s^2], states ``q0..q{n-1}, dq0..dq{n-1}`` (the
         generalized coordinates ``model.dofs.names``), then six states per Maxwell
-        branch of the mounts (see :func:`rotordyn_modal.mounts.with_branch_states`).
+        branch of the mounts (see :func:`rotordyn_modal.elements.mounts.with_branch_states`).
     """
     import control
 

@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._validation import mesh_name
+from ..model._validation import mesh_name
 from . import _eigen
 from ._stack import Pencils, Stack
 from .modal import damping_ratios, is_oscillating

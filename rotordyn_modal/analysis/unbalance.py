@@ -26,7 +26,7 @@ import numpy as np
 
 from ..assembly import generalized_force, sensor_rows
 from ..errors import InputError
-from ..geometry import cross, shift_matrices
+from ..model.geometry import cross, shift_matrices
 from . import _arguments
 from .forces import COMPONENTS, centre_motions, all_forces
 from .frf import dof_response

@@ -7,7 +7,7 @@ import warnings
 from pathlib import Path
 
 from ..errors import ModelError, ModelWarning
-from ..model import Model
+from ..model.machine import Model
 from .atomic import atomic_write, check_not_input
 from .limits import check_size
 

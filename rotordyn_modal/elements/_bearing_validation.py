@@ -14,11 +14,11 @@ import dataclasses
 
 import numpy as np
 
-from ._table import LARGEST, Table, magnitude_problem, semidefinite_problem, visible, visible_names
+from ..model._table import LARGEST, Table, magnitude_problem, semidefinite_problem, visible, visible_names
 from .bearings import BearingCoefficients, JournalData, local_to_model
-from .components import Bearing, input_keys, is_finite_number
-from .errors import ModelError
-from .geometry import shift_matrix, transverse_axes
+from ..model.components import Bearing, input_keys, is_finite_number
+from ..errors import ModelError
+from ..model.geometry import shift_matrix, transverse_axes
 
 __all__ = ["bearings", "check_frame", "LONGEST_JOURNAL", "LONG_JOURNAL"]
 

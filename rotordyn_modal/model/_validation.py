@@ -14,8 +14,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from .errors import ModelError
-from . import _bearing_validation
+from ..errors import ModelError
+from ..elements import _bearing_validation
 from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, semidefinite_problem, visible, \
     visible_names
 from .components import (

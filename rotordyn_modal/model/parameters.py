@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 from ._table import visible_names
 from .components import ARRAY_TABLES
 

@@ -21,12 +21,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError, ModelWarning
+from ..errors import InputError, ModelWarning
 
 #: eccentricity of a journal bearing above which an analysis warns (once per bearing): the
 #: thinnest film is under a tenth of the clearance, where short-bearing coefficients are rough
 #: and a real bearing nears mixed lubrication (above 1 nm of film they are still given, see
-#: :data:`rotordyn_modal.journal.THINNEST_FILM`)
+#: :data:`rotordyn_modal.elements.journal_bearing.THINNEST_FILM`)
 HIGH_ECCENTRICITY = 0.9
 _WARNED: set = set()   # the bearings already warned about in this process
 
@@ -165,7 +165,7 @@ def _interpolate(coefficients: BearingCoefficients, speeds: np.ndarray, where: s
 
 def _journal_film(journal: JournalData, speeds: np.ndarray, where: str):
     """Radial film coefficients of a journal bearing, (N, 6, 6) each in model axes."""
-    from .journal import short_journal_bearing
+    from .journal_bearing import short_journal_bearing
 
     try:
         film = short_journal_bearing(speeds, diameter=journal.diameter, length=journal.length,

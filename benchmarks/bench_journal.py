@@ -1,6 +1,6 @@
 """Cost of the short journal bearing coefficients next to the eigen-solve they feed.
 
-``rotordyn_modal.journal.short_journal_bearing`` for 10,001 speeds (1 to 100,000 rad/s, both
+``rotordyn_modal.elements.journal_bearing.short_journal_bearing`` for 10,001 speeds (1 to 100,000 rad/s, both
 spin directions) against one batched ``numpy.linalg.eigvals`` of 10,001 16x16 matrices (the
 size of a two-rotor machine on flexible bearings), and against a loop of
 ``scipy.optimize.brentq`` on the load capacity, one speed at a time (the obvious alternative
@@ -17,7 +17,7 @@ import numpy as np
 from scipy import optimize
 
 from _timing import best_time  # noqa: E402  (benchmarks/ is on sys.path when run as a script)
-from rotordyn_modal.journal import short_journal_bearing
+from rotordyn_modal.elements.journal_bearing import short_journal_bearing
 
 BEARING = dict(diameter=0.05, length=0.02, clearance=50e-6, viscosity=0.03, load=500.0)
 

@@ -3,7 +3,7 @@
 Coordinates ``q = [u_x, u_y, u_z, theta_x, theta_y, theta_z]``: small
 translation [m] and rotation [rad] of the stator at the reference point S
 (its centre of mass), model axes, followed by the coordinates of each rotor on
-bearings relative to the stator (:mod:`rotordyn_modal.dofs`). The linearized
+bearings relative to the stator (:mod:`rotordyn_modal.model.dofs`). The linearized
 equation is::
 
     M q'' + (C + Omega G) q' + K q = f
@@ -27,9 +27,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .dofs import frame_block
+from .model.dofs import frame_block
 from .errors import InputError
-from .geometry import point_force_column, point_motion_rows, shift_matrix, skew
+from .model.geometry import point_force_column, point_motion_rows, shift_matrix, skew
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
@@ -238,7 +238,7 @@ def bearing_matrices(model, speed: float | None = None, constant_only: bool = Fa
     -------
     K, C : ndarray, shape (n, n) each
     """
-    from .bearings import evaluate
+    from .elements.bearings import evaluate
 
     n = model.dofs.n
     K, C = np.zeros((n, n)), np.zeros((n, n))
@@ -270,7 +270,7 @@ def dependent_bearing_matrices(model, speeds):
     -------
     K, C : ndarray, shape (N, n, n) each (zeros without such bearings)
     """
-    from .bearings import evaluate
+    from .elements.bearings import evaluate
 
     speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
     n = model.dofs.n

@@ -1,7 +1,7 @@
 """The linear system ``M q'' + (C + Omega G) q' + K q = B_f u``, ``y = C_s q``, in state space.
 
 State ``x = [q, q']`` (``2n`` states for ``n`` generalized coordinates, see
-:mod:`rotordyn_modal.dofs`), then six states per Maxwell branch of the mounts.
+:mod:`rotordyn_modal.model.dofs`), then six states per Maxwell branch of the mounts.
 With constant coefficients ``A(Omega) = A0 + Omega A1`` with::
 
     A0 = [[0, I], [-M^-1 K, -M^-1 C]],   A1 = [[0, 0], [0, -M^-1 G]]
@@ -17,9 +17,9 @@ import numpy as np
 
 from .assembly import Matrices, bearing_motion, constant_matrices, constant_stiffness_damping, \
     dependent_bearing_matrices, excitation_columns, sensor_rows
-from .bearings import evaluate
+from .elements.bearings import evaluate
 from .errors import InputError, ModelError
-from .mounts import maxwell_branches, with_branch_states
+from .elements.mounts import maxwell_branches, with_branch_states
 
 __all__ = ["SpeedLinearForm", "speed_linear_form", "same_inertia", "state_matrices", "state_space"]
 
@@ -50,7 +50,7 @@ class SpeedLinearForm:
     model : Model
     like : SpeedLinearForm, optional
         The form of a model with the very same bodies and coordinates (a study's variant
-        and its base, see :meth:`~rotordyn_modal.model.Model.same_bodies`): its ``M``, ``G``
+        and its base, see :meth:`~rotordyn_modal.model.machine.Model.same_bodies`): its ``M``, ``G``
         and ``M^-1`` are taken, not computed again (they are the same numbers).
 
     Attributes
@@ -177,7 +177,7 @@ def speed_linear_form(model, like: SpeedLinearForm | None = None) -> SpeedLinear
 
 def same_inertia(a, b) -> bool:
     """Models whose mass and gyroscopic matrices are the same numbers without computing them:
-    the very same bodies (:meth:`~rotordyn_modal.model.Model.same_bodies`) and coordinates."""
+    the very same bodies (:meth:`~rotordyn_modal.model.machine.Model.same_bodies`) and coordinates."""
     return a is b or (a.dofs is b.dofs and a.same_bodies(b))
 
 
@@ -216,7 +216,7 @@ def state_space(model, speed: float, quantity: str = "displacement", inputs=None
         Inputs named after the ``[[excitations]]`` [N or N m], outputs after the
         ``[[sensors]]`` [m, m/s or m/s^2], states ``q0..q{n-1}, dq0..dq{n-1}`` (the
         generalized coordinates ``model.dofs.names``), then six states per Maxwell
-        branch of the mounts (see :func:`rotordyn_modal.mounts.with_branch_states`).
+        branch of the mounts (see :func:`rotordyn_modal.elements.mounts.with_branch_states`).
     """
     import control
 

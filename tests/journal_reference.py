@@ -1,6 +1,6 @@
 """Independent reference computations for the plain short journal bearing (test helper).
 
-Shares no code with ``rotordyn_modal.journal``: everything here starts from the short-bearing
+Shares no code with ``rotordyn_modal.elements.journal_bearing``: everything here starts from the short-bearing
 Reynolds equation written in a fixed frame and evaluates it by quadrature,
 
 * :func:`film_force`: the film force on the journal for any position and velocity, by

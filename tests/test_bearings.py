@@ -313,7 +313,7 @@ def test_a_rotors_bearing_forces_add_up_to_what_its_inertia_and_unbalance_leave(
     """Newton for rotor j: the forces its bearings pass to the stator, moved to its centre of mass,
     equal F_unbalance - M_j a - Omega G_j v (seed 000 eq. 73/74 with the rotor's own motion) in
     every component but the torque about the spin axis, which the drive carries."""
-    from rotordyn_modal.geometry import shift_matrix
+    from rotordyn_modal.model.geometry import shift_matrix
 
     model = rdm.load_model(examples_dir / "fan_on_bearings.toml")
     result = rdm.unbalance_response(model, rdm.rpm(np.linspace(500, 8000, 16)))

@@ -74,7 +74,7 @@ def test_forces_together_take_the_rotors_centres_when_given(examples_dir, rotors
     speed, omega, q, external = _case(model, 3)
     centres = None
     if rotors_given:
-        from rotordyn_modal.geometry import shift_matrix
+        from rotordyn_modal.model.geometry import shift_matrix
 
         centres = np.concatenate([shift_matrix(model.reference_point, r.center_of_mass).T
                                   @ model.dofs.body_motion(r.name) for r in model.rotors])

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rotordyn_modal.geometry import (point_force_column, point_motion_row, point_motion_rows, shift_cross,
+from rotordyn_modal.model.geometry import (point_force_column, point_motion_row, point_motion_rows, shift_cross,
                                      shift_matrices, shift_matrix, skew)
 
 RNG = np.random.default_rng(11)

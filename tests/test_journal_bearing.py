@@ -1,4 +1,4 @@
-"""Plain short journal bearing (rotordyn_modal.journal) against independent results.
+"""Plain short journal bearing (rotordyn_modal.elements.journal_bearing) against independent results.
 
 ``journal_reference.py`` shares no code with the package: it integrates the short-bearing
 pressure by quadrature over the positive-pressure arc, finds the static equilibrium by
@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 from scipy import optimize
 
 import journal_reference as reference
-from rotordyn_modal.journal import short_journal_bearing
+from rotordyn_modal.elements.journal_bearing import short_journal_bearing
 from rotordyn_modal.errors import InputError
 
 GEOMETRY = dict(diameter=0.05, length=0.02, clearance=50e-6, viscosity=0.03)

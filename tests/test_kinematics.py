@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from rotordyn_modal import kinematics as kin
+from rotordyn_modal.simulation import kinematics as kin
 
 RNG = np.random.default_rng(20180522)
 E = np.array([1.0, 0.0, 0.0])

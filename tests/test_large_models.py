@@ -17,7 +17,7 @@ from scipy.optimize import linear_sum_assignment
 import rotordyn_modal as rdm
 from reference_bearings import BearingMachine, random_bearing_description
 from rotordyn_modal.analysis import _eigen
-from rotordyn_modal.mounts import maxwell_branches
+from rotordyn_modal.elements.mounts import maxwell_branches
 
 
 def _many_rotors(seed, n_rotors=14):

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 import rotordyn_modal as rdm
 from reference_bearings import random_bearing_description
-from rotordyn_modal.parameters import scale_value, set_value
+from rotordyn_modal.model.parameters import scale_value, set_value
 
 EXAMPLES = sorted(p.name for p in (__import__("pathlib").Path(__file__).parent.parent / "examples").glob("*.toml")
                   if not p.name.endswith(".study.toml"))

@@ -1,4 +1,4 @@
-"""Dotted keys (rotordyn_modal.parameters) and model variants built from them."""
+"""Dotted keys (rotordyn_modal.model.parameters) and model variants built from them."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 
 import rotordyn_modal as rdm
 from rotordyn_modal.errors import InputError
-from rotordyn_modal.parameters import get_value, parse_key, scale_value, set_value
+from rotordyn_modal.model.parameters import get_value, parse_key, scale_value, set_value
 
 
 @pytest.fixture

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
-from rotordyn_modal.mounts import maxwell_branches
+from rotordyn_modal.elements.mounts import maxwell_branches
 
 
 @pytest.fixture

@@ -375,7 +375,7 @@ def test_compiled_and_plain_kernels_agree_with_journal_bearings():
 @pytest.mark.parametrize("speed", [300.0, 800.0])
 def test_linearised_oil_film_equals_the_short_bearing_coefficients(speed):
     """About the static equilibrium under gravity the nonlinear film's Jacobian is the linear
-    model's (the eight closed-form coefficients of ``rotordyn_modal.journal``)."""
+    model's (the eight closed-form coefficients of ``rotordyn_modal.elements.journal_bearing``)."""
     model = rdm.load_model(JOURNAL_ROTOR)
     A = rdm.simulation.linearize(model, speed, step=1e-9)
     reference = speed_linear_form(model).at(speed)

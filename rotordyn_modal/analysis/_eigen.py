@@ -20,8 +20,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ..assembly import add_rotor_bodies, body_inertias
-from ..dofs import frame_block
-from ..geometry import skew
+from ..model.dofs import frame_block
+from ..model.geometry import skew
 
 __all__ = ["select_upper", "upper_indices", "upper_shapes", "one_blas_thread", "eigenvalues_of", "solve_batch",
            "pencil_shapes", "PencilFactors", "PencilRows", "SparseLayout", "sparse_layout", "SPARSE_DOF",

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..geometry import point_motion_row, shift_matrix
+from ..model.geometry import point_motion_row, shift_matrix
 
 __all__ = ["transformation_matrix", "RigidBodyMotion", "stator_motion", "shift_motion", "measured_modal_result"]
 

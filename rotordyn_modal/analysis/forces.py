@@ -27,8 +27,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..assembly import excitation_columns, rotor_matrices
-from ..bearings import evaluate
-from ..geometry import shift_matrices
+from ..elements.bearings import evaluate
+from ..model.geometry import shift_matrices
 from . import _eigen
 from .frf import FRFResult, _broadcast, _check_frequencies, _names, dof_response
 

@@ -7,7 +7,7 @@ reference speed ``Omega`` [rad/s] is::
 
 with ``K (1 + i eta)`` the hysteretic mounts (``loss_factor``) and ``K_f(w)``
 the frequency-dependent mounts (Maxwell branches, see
-:mod:`rotordyn_modal.mounts`). The receptance from the excitations'
+:mod:`rotordyn_modal.elements.mounts`). The receptance from the excitations'
 generalized forces ``B_f`` to the sensors' rows ``C_s`` is
 ``H(w) = C_s Z(w)^-1 B_f``; mobility and accelerance multiply it by ``i w``
 and ``(i w)^2``.
@@ -32,7 +32,7 @@ import numpy as np
 from ..assembly import constant_matrices, dependent_bearing_matrices, excitation_columns, \
     loss_stiffness, sensor_rows
 from ..errors import InputError
-from ..mounts import has_frequency_dependence, maxwell_stiffness
+from ..elements.mounts import has_frequency_dependence, maxwell_stiffness
 from . import _eigen
 
 __all__ = ["FRFResult", "frf", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]

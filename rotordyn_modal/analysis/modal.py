@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from ..geometry import point_motion_row
+from ..model.geometry import point_motion_row
 from ..linear_system import speed_linear_form
 from . import _eigen
 

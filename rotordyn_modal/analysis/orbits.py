@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import cross
+from ..model.geometry import cross
 
 __all__ = ["ProbePairs", "probe_pairs", "orbit_ellipses", "PRECESSION_TOLERANCE"]
 

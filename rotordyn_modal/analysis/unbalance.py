@@ -26,7 +26,7 @@ import numpy as np
 
 from ..assembly import generalized_force, sensor_rows
 from ..errors import InputError
-from ..geometry import cross, shift_matrices
+from ..model.geometry import cross, shift_matrices
 from .forces import COMPONENTS, centre_motions, all_forces
 from .frf import dof_response
 from .orbits import orbit_ellipses, precession_labels, probe_pairs

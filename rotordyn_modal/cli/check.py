@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..geometry import transverse_axes
+from ..model.geometry import transverse_axes
 from ._common import add_model_argument, open_model
 
 NAME = "check"

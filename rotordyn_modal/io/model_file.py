@@ -6,7 +6,7 @@ import tomllib
 from pathlib import Path
 
 from ..errors import ModelError
-from ..model import Model
+from ..model.machine import Model
 from .atomic import atomic_write, check_not_input
 from .limits import check_size
 

@@ -556,7 +556,7 @@ def place_channels(model, nodes, mapping):
     -------
     Model
     """
-    from ..model import Model
+    from ..model.machine import Model
 
     data = model.to_dict()
     for table, entries in (("sensors", mapping.outputs), ("excitations", mapping.inputs)):

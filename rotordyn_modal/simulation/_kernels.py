@@ -28,8 +28,8 @@ import types
 
 import numpy as np
 
-from .. import kinematics
-from ..kinematics import axial_rotation, rotation_tensor, skew, zhilin_derivative, zhilin_tensor
+from . import kinematics
+from .kinematics import axial_rotation, rotation_tensor, skew, zhilin_derivative, zhilin_tensor
 
 FREE, PRESCRIBED = 0, 1
 

@@ -7,8 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..geometry import transverse_axes
-from ..kinematics import transverse_basis
+from ..model.geometry import transverse_axes
+from .kinematics import transverse_basis
 
 #: frames the rotors sit on, by their number of coordinates
 GROUND, CARRIER, STATOR = 0, 5, 6
@@ -114,7 +114,7 @@ def refuse_journal_loads(model) -> None:
             f"{model.source}: {names}: the time simulation loads a journal bearing with the weight it "
             "carries under the model's gravity, not with a given load; leave load out (and set "
             "gravity), or give the bearing as type = 'linear' with its film coefficients (a speeds_rpm "
-            "table computed by rotordyn_modal.journal.short_journal_bearing)")
+            "table computed by rotordyn_modal.elements.journal_bearing.short_journal_bearing)")
 
 
 def unbalance_directions(model, phases_deg=None) -> np.ndarray:
@@ -255,7 +255,7 @@ def check_table_speeds(model, reference_speeds, what: str) -> None:
     what : str
         Where the speeds come from, for the message (``"the run-up from 0 to 300 rad/s"``).
     """
-    from ..bearings import evaluate
+    from ..elements.bearings import evaluate
 
     speeds = np.atleast_1d(np.asarray(reference_speeds, dtype=float))
     for bearing in model.bearings:

@@ -362,7 +362,7 @@ def _check_keys(parameter, number, model, where, source):
     """Apply a representative number to the base model's keys (refuses unknown keys)."""
     if model is None:
         return
-    from ..parameters import scale_value, set_value
+    from ..model.parameters import scale_value, set_value
 
     data = model.to_dict()
     for key in parameter.keys:
@@ -376,7 +376,7 @@ def _check_keys(parameter, number, model, where, source):
 
 
 def _holds_array(data, key, model_source) -> bool:
-    from ..parameters import get_value
+    from ..model.parameters import get_value
 
     try:
         return isinstance(get_value(data, key, model_source), list)

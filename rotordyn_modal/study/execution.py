@@ -80,7 +80,7 @@ def variant_model(model_data, source, keys, applies, values, base=None):
     values : array_like, shape (n_parameters,)
     base : Model, optional
         The base model (built from ``model_data``): the variant is made from it with
-        :meth:`~rotordyn_modal.model.Model.variant`, which validates only the tables the
+        :meth:`~rotordyn_modal.model.machine.Model.variant`, which validates only the tables the
         parameters change. The model is the same either way.
 
     Returns
@@ -90,9 +90,9 @@ def variant_model(model_data, source, keys, applies, values, base=None):
     if base is not None:
         return base.variant([(key, apply, float(value))
                              for group, apply, value in zip(keys, applies, values) for key in group])
-    from .._validation import plain_copy
-    from ..model import Model
-    from ..parameters import scale_value, set_value
+    from ..model._validation import plain_copy
+    from ..model.machine import Model
+    from ..model.parameters import scale_value, set_value
 
     data = plain_copy(model_data, source)
     for group, apply, value in zip(keys, applies, values):
@@ -130,7 +130,7 @@ def run_chunk(task: ChunkTask) -> dict:
 def _base_model(task: ChunkTask):
     """The base model the chunk's variants are made from, or None when it cannot be built
     (then each variant is built from the description alone and records its own error)."""
-    from ..model import Model
+    from ..model.machine import Model
 
     try:
         return Model.from_dict(task.model_data, task.model_source)

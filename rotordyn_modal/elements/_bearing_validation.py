@@ -14,11 +14,11 @@ import dataclasses
 
 import numpy as np
 
-from ._table import LARGEST, Table, magnitude_problem
+from ..model._table import LARGEST, Table, magnitude_problem
 from .bearings import BearingCoefficients, JournalData, local_to_model
-from .components import Bearing, input_keys, is_finite_number
-from .errors import ModelError
-from .geometry import transverse_axes
+from ..model.components import Bearing, input_keys, is_finite_number
+from ..errors import ModelError
+from ..model.geometry import transverse_axes
 
 __all__ = ["bearings", "check_frame"]
 

@@ -6,15 +6,15 @@ axes) in series with a dashpot ``tau_b K_b``. In the frequency domain it adds
 ``w = 0`` (the static stiffness is ``stiffness``), ``K_b`` at high frequency
 (the rubber stiffens), with the largest loss near ``w = 1 / tau_b``. Shifted to
 the reference point like every suspension: ``B_SP K_b B_SP^T``, and act on the
-stator's six coordinates of the generalized space (:mod:`rotordyn_modal.dofs`).
+stator's six coordinates of the generalized space (:mod:`rotordyn_modal.model.dofs`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .dofs import frame_block
-from .geometry import shift_matrix
+from ..model.dofs import frame_block
+from ..model.geometry import shift_matrix
 
 __all__ = ["has_frequency_dependence", "maxwell_stiffness", "maxwell_branches"]
 

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 from .components import ARRAY_TABLES
 
 __all__ = ["parse_key", "get_value", "set_value", "scale_value", "change_at"]

@@ -11,8 +11,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .errors import InputError
-from .units import to_rpm
+from ..errors import InputError
+from ..units import to_rpm
 
 __all__ = ["JournalBearing", "short_journal_bearing"]
 

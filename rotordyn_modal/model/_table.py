@@ -7,7 +7,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from .components import is_finite_number
-from .errors import ModelError
+from ..errors import ModelError
 
 __all__ = ["Table", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem"]
 

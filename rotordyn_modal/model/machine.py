@@ -206,7 +206,7 @@ class Model:
 
     @property
     def dofs(self):
-        """The generalized coordinates (:class:`rotordyn_modal.dofs.Dofs`): the stator's six
+        """The generalized coordinates (:class:`rotordyn_modal.model.dofs.Dofs`): the stator's six
         motions, then those of each rotor on bearings."""
         if getattr(self, "_dofs", None) is None:
             from .dofs import dofs
@@ -239,7 +239,7 @@ class Model:
         ``C + Omega * G``. ``speed`` [rad/s] is needed when bearing coefficients
         depend on speed. See :func:`rotordyn_modal.assembly.matrices`.
         """
-        from .assembly import matrices
+        from ..assembly import matrices
 
         return matrices(self, speed)
 
@@ -250,7 +250,7 @@ class Model:
         ``outputs`` pick some of them by name, in the order given).
         See :func:`rotordyn_modal.linear_system.state_space`.
         """
-        from .linear_system import state_space
+        from ..linear_system import state_space
 
         return state_space(self, speed, quantity=quantity, inputs=inputs, outputs=outputs)
 
@@ -269,7 +269,7 @@ def _own_value(data: dict, key: str, source: str, owned: set):
     ``key`` names and of the value there, so that setting the value leaves the original
     description as it was. ``owned`` records the copies already made (ids, and
     ``(id, field)`` pairs). Returns where the value sits (see
-    :func:`~rotordyn_modal.parameters.parse_key`), in ``data``'s own copies."""
+    :func:`~rotordyn_modal.model.parameters.parse_key`), in ``data``'s own copies."""
     container, field, indices = parse_key(key, data, source)
     if container is not data and id(container) not in owned:
         table = key.partition(".")[0]

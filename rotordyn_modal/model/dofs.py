@@ -8,7 +8,7 @@
   bearings the frame is the ground and ``q_S`` is absent.
 * ``p_j`` for each rotor on bearings: its motion *relative to the stator* at
   its centre of mass R_j, ``[u_a, u_b, (u_e,) theta_a, theta_b]`` along the
-  transverse axes ``a, b`` of :func:`~rotordyn_modal.geometry.transverse_axes`
+  transverse axes ``a, b`` of :func:`~rotordyn_modal.model.geometry.transverse_axes`
   (and the spin axis ``e`` when a bearing gives an axial stiffness). The spin
   itself is fixed by the speed ratio.
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["BearingCoefficients", "JournalData", "evaluate", "local_to_model", "is_speed_dependent"]
 
@@ -157,7 +157,7 @@ def _interpolate(coefficients: BearingCoefficients, speeds: np.ndarray, where: s
 
 def _journal_film(journal: JournalData, speeds: np.ndarray, where: str):
     """Radial film coefficients of a journal bearing, (N, 6, 6) each in model axes."""
-    from .journal import short_journal_bearing
+    from .journal_bearing import short_journal_bearing
 
     try:
         film = short_journal_bearing(speeds, diameter=journal.diameter, length=journal.length,

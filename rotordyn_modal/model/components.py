@@ -1,7 +1,7 @@
 """The components of a machine model, one dataclass per table of the model file.
 
 Their fields are the model-file keys (``docs/model-file.md``); validation
-(:mod:`rotordyn_modal._validation`) fills the normalised values. All vectors and
+(:mod:`rotordyn_modal.model._validation`) fills the normalised values. All vectors and
 tensors are in *model axes* (the stator-fixed frame), SI units.
 """
 

@@ -14,8 +14,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from .errors import ModelError
-from . import _bearing_validation
+from ..errors import ModelError
+from ..elements import _bearing_validation
 from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem
 from .components import (
     ARRAY_TABLES, TOP_LEVEL_KEYS, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,

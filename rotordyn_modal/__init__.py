@@ -25,12 +25,13 @@ from .units import hz, rpm, to_hz, to_rpm
 #: public name -> module that defines it, by concept
 _API = {
     # the model: components, files
-    "Model": "model", "Stator": "components", "Rotor": "components", "Transmission": "components",
-    "Suspension": "components", "Bearing": "components", "Unbalance": "components",
-    "Sensor": "components", "Excitation": "components",
+    "Model": "model", "Stator": "model.components", "Rotor": "model.components",
+    "Transmission": "model.components", "Suspension": "model.components",
+    "Bearing": "model.components", "Unbalance": "model.components",
+    "Sensor": "model.components", "Excitation": "model.components",
     "load_model": "io", "save_model": "io",
     # geometry, matrices and the linear system
-    "shift_matrix": "geometry", "shift_cross": "geometry", "skew": "geometry",
+    "shift_matrix": "model.geometry", "shift_cross": "model.geometry", "skew": "model.geometry",
     "matrices": "assembly", "Matrices": "assembly",
     "state_space": "linear_system", "state_matrices": "linear_system",
     # modal analyses
@@ -55,12 +56,14 @@ _API = {
     "fit": "analysis.fit", "FitResult": "analysis.fit",
     "stator_motion": "analysis.experimental", "RigidBodyMotion": "analysis.experimental",
     # large rotations and time simulation
-    "kinematics": None, "simulation": None,
+    "kinematics": None, "simulation": None,  # modules (see _MODULES)
     "simulate": "simulation", "SimulationResult": "simulation",
     # parameter studies (the module is callable: rdm.study(model, spec))
     "study": None, "StudyResult": "study", "load_study": "study",
 }
 _RENAMED = {"write_measured_csv": "write_csv"}
+#: public module names -> where the module lives
+_MODULES = {"kinematics": "simulation.kinematics", "simulation": "simulation", "study": "study"}
 
 __all__ = sorted(_API) + ["InputError", "ModelError", "rpm", "to_rpm", "hz", "to_hz", "__version__"]
 
@@ -70,7 +73,7 @@ def __getattr__(name: str):
         raise AttributeError(f"module 'rotordyn_modal' has no attribute {name!r}")
     module = _API[name]
     if module is None:
-        value = importlib.import_module(f".{name}", __name__)
+        value = importlib.import_module(f".{_MODULES[name]}", __name__)
     else:
         value = getattr(importlib.import_module(f".{module}", __name__), _RENAMED.get(name, name))
     globals()[name] = value

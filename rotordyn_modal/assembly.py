@@ -1,4 +1,4 @@
-"""Assembly of the global matrices of seed 000, eq. (76)/(77).
+"""Assembly of the global matrices of the linearized machine (docs/theory.md §3-§7).
 
 Coordinates ``q = [u_x, u_y, u_z, theta_x, theta_y, theta_z]``: small
 translation [m] and rotation [rad] of the stator at the reference point S
@@ -144,7 +144,7 @@ def add_rotor_body(out: np.ndarray, model, rotor: str, body6: np.ndarray) -> Non
 
     ``X`` (6x6 about the reference point) is a quadratic form of the rotor's rigid
     motion; its stator block is assumed already in ``out`` (every body's share of
-    the stator block is summed the way seed 000 sums it), so only the coupling and
+    the stator block is summed the way docs/theory.md §3 sums it), so only the coupling and
     the rotor's own blocks are added. Nothing for a rotor without bearings.
     """
     add_rotor_bodies([out], model, rotor, [body6])
@@ -302,7 +302,7 @@ def bearing_motion(model, bearing):
 
 
 def matrices(model, speed: float | None = None) -> Matrices:
-    """``M, C, G, K`` of the linearized global equation (seed 000, eq. 77).
+    """``M, C, G, K`` of the linearized global equation (docs/theory.md §7).
 
     Parameters
     ----------

@@ -13,6 +13,7 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
 import rotordyn_modal as rdm
+from rotordyn_modal.model.geometry import point_force_column
 from rotordyn_modal.errors import InputError
 from rotordyn_modal.linear_system import speed_linear_form
 from steady_harmonics import assert_steady_harmonics_equal_the_linear_response
@@ -319,7 +320,7 @@ def test_static_equilibrium_under_gravity_stays_put(gear_machine):
     M, C, G, K = model.matrices()
     weight = np.zeros(6)
     for mass, center, _ in rdm.assembly.body_inertias(model):
-        weight += mass * 9.81 * rdm.geometry.point_force_column(center, model.reference_point, [0, 0, -1.0])
+        weight += mass * 9.81 * point_force_column(center, model.reference_point, [0, 0, -1.0])
     linear = np.linalg.solve(K, weight)
     assert np.abs(q0 - linear).max() < 1e-3 * np.abs(linear).max()
     with pytest.raises(InputError, match="initial 'sideways'"):

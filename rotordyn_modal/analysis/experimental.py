@@ -1,4 +1,4 @@
-"""The transformation matrix for the experimental analysis (seed 000): the stator's six
+"""The transformation matrix for the experimental analysis (docs/theory.md): the stator's six
 rigid-body motions from a set of accelerometer channels.
 
 A channel at point ``P_c`` along the unit direction ``d_c`` reads

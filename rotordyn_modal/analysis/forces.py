@@ -5,7 +5,7 @@ and what each bearing carries.
   force (``[F, C]`` at ``P_i``, model axes)
   ``T_i = (K_i (1 + i eta_i) + K_b,i(w) + i w C_i) B_SP^T q``:
   the transmitted force, whose ratio to an input force is the transmissibility.
-* Rotor ``j`` acts on the stator through its bearings with (seed 000 eq. 73/74,
+* Rotor ``j`` acts on the stator through its bearings with (docs/theory.md §13,
   written at the rotor's centre of mass ``R_j``, where ``B_Bj,j = I``)
   ``T_Bj = F_U,j - M_j B_SRj^T q'' - Omega G_j B_SRj^T q'``, with ``M_j =
   diag(m_j I, J_j)``, ``G_j = diag(0, -J_p,j r_j skew(e))`` and ``F_U,j`` the
@@ -157,7 +157,7 @@ def _branch_stiffness(suspension, omega):
 
 
 def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
-    """Force each rotor passes to the stator through its bearings (seed 000 eq. 73/74).
+    """Force each rotor passes to the stator through its bearings (docs/theory.md §13).
 
     Parameters
     ----------

@@ -14,7 +14,7 @@ DESCRIPTION = """Frequency response functions at one speed of the reference roto
 branches a direct solve at every frequency. --forces suspensions gives the force each
 suspension passes to the ground per unit input (transmissibility), --forces bearings the
 force each [[bearings]] entry passes to the stator (or the ground) at its point and each
-rigidly attached rotor at its centre of mass (seed 000 eq. 73/74), --forces rotors the total
+rigidly attached rotor at its centre of mass (docs/theory.md §13), --forces rotors the total
 force each rotor passes to the stator. --measured FILE (UFF 58/58b
 .uff/.unv, or CSV) draws the measurement of the same speed under the model in --plot.
 --plot draws up to 12 FRFs in one magnitude and phase panel; more (or forces beside

@@ -14,7 +14,7 @@ from ._common import (add_model_argument, add_outputs, add_speed_unit, open_mode
 NAME = "simulate"
 HELP = "nonlinear large-rotation time simulation (constant speed, run-up ramp or free spin), rotors on bearings"
 DESCRIPTION = """Integrate the machine's nonlinear equations of motion in time: the stator as a rigid
-body with large rotation (axial angle + transverse Euler vector, seed 001), every rotor on
+body with large rotation (axial angle + transverse Euler vector, docs/theory-large-rotations.md), every rotor on
 [[bearings]] a rigid body of its own moving in its bearings' springs and dampers (its tilt
 relative to the stator again an axial angle + transverse Euler vector), the other rotors
 turning in the stator, spins coupled by the transmissions, exact gyroscopic coupling,

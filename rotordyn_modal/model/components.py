@@ -85,7 +85,7 @@ class Rotor:
 class Transmission:
     """A gear (opposite directions) or belt (same direction) between two rotors.
 
-    ``ratio`` is tau = |omega_driver| / |omega_driven| (seed 000, eq. 14);
+    ``ratio`` is tau = |omega_driver| / |omega_driven| (docs/theory.md §5);
     ``driver_teeth`` gives the gear-mesh order per revolution of the driver.
     """
 

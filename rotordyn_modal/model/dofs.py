@@ -17,7 +17,7 @@ Every body's small rigid motion, written at S, is a linear map of ``q``:
 (``P_j`` the 6 x k_j basis of its relative motions at R_j, ``E_j`` picking
 ``p_j`` out of ``q``). The global matrices are ``sum_b T_b^T X_b T_b``; a
 rotor without bearings has ``T_j = T_stator``, so a model without bearings
-has exactly the six coordinates and the matrices of seed 000.
+has exactly the six coordinates and the matrices of docs/theory.md §3-§6.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Shift matrices of seed 000 (eqs. 1-11) and small vector helpers.
+"""Shift matrices (docs/theory.md §2) and small vector helpers.
 
 Conventions (see ``docs/theory.md``):
 
@@ -44,7 +44,7 @@ def skew(vector) -> np.ndarray:
 
 
 def shift_cross(p, o) -> np.ndarray:
-    """Seed 000 eq. (2): ``A_PO``, the matrix of ``(P - O) x``.
+    """docs/theory.md §2, eq. (2): ``A_PO``, the matrix of ``(P - O) x``.
 
     Parameters
     ----------
@@ -59,7 +59,7 @@ def shift_cross(p, o) -> np.ndarray:
 
 
 def shift_matrix(p, o) -> np.ndarray:
-    """Seed 000 eq. (8): ``B_PO``, moving a generalized force from O to P.
+    """docs/theory.md §2, eq. (8): ``B_PO``, moving a generalized force from O to P.
 
     Parameters
     ----------

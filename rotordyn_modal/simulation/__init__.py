@@ -1,7 +1,7 @@
-"""Nonlinear large-rotation time simulation (seed 001) and its run-up analyses.
+"""Nonlinear large-rotation time simulation (Sorokin & Zhang 2018, docs/theory-large-rotations.md) and its run-up analyses.
 
 :func:`simulate` integrates the machine's exact equations of motion; :func:`linearize`
-differentiates them about steady spin (to check the linear model of seed 000);
+differentiates them about steady spin (to check the linear model (docs/theory.md));
 :func:`order_track` and :func:`waterfall` analyse a run-up.
 """
 

@@ -1,4 +1,4 @@
-"""Large rotations: Euler vector, Zhilin tensor, and the axial + transverse split (seed 001).
+"""Large rotations: Euler vector, Zhilin tensor, and the axial + transverse split (Sorokin & Zhang 2018, docs/theory-large-rotations.md).
 
 Conventions (derivation in ``docs/theory-large-rotations.md``):
 
@@ -68,7 +68,7 @@ def _coefficients(t2):
 
 
 def rotation_tensor(v):
-    """Rotation tensor ``L(v)`` of an Euler vector (seed 001, section 2).
+    """Rotation tensor ``L(v)`` of an Euler vector (docs/theory-large-rotations.md §1).
 
     Parameters
     ----------
@@ -251,7 +251,7 @@ def compose_split(phi, gamma, e):
 
 
 def split_rates(gamma, omega, e):
-    """Kinematic equations of the split (seed 001, eqs. 6 and 8).
+    """Kinematic equations of the split (docs/theory-large-rotations.md §3, paper eqs. 6 and 8).
 
     ``omega_phi = e . B^-1(gamma) omega / (e . B^-1(gamma) L(gamma) e)`` and
     ``d gamma/dt = B^-1(gamma) (omega - omega_phi L(gamma) e)``.
@@ -279,7 +279,7 @@ def split_rates(gamma, omega, e):
 
 
 def angular_velocity_from_split(gamma, gamma_dot, omega_phi, e):
-    """Seed 001, eqs. (3)-(5): ``omega = B(gamma) d gamma/dt + omega_phi L(gamma) e``.
+    """docs/theory-large-rotations.md §3, paper eqs. (3)-(5): ``omega = B(gamma) d gamma/dt + omega_phi L(gamma) e``.
 
     Returns
     -------

@@ -27,7 +27,7 @@ class SimulationResult:
     drive_angle, drive_speed : ndarray, shape (N,)
         Reference rotor's angle [rad] and speed [rad/s] relative to the stator.
     spin_speed : ndarray, shape (N,)
-        Reference rotor's axial angular velocity ``omega_phi`` (seed 001, eq. 8) [rad/s]:
+        Reference rotor's axial angular velocity ``omega_phi`` (docs/theory-large-rotations.md, paper eq. 8) [rad/s]:
         the stator's roll rate plus the relative speed.
     rotor_angles : ndarray, shape (N, n_rotors)
         Axial angle of every rotor (roll of the stator plus its own turn relative to the

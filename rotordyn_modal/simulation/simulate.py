@@ -41,7 +41,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     """Integrate the machine's nonlinear equations of motion with large rotations.
 
     The stator is a rigid body whose rotation is an axial (roll) angle plus a transverse Euler
-    vector (seed 001); a rotor on ``[[bearings]]`` is a rigid body of its own that translates
+    vector (Sorokin & Zhang 2018, docs/theory-large-rotations.md); a rotor on ``[[bearings]]`` is a rigid body of its own that translates
     and tilts in its bearings' springs and dampers (its orientation relative to the stator
     again an axial angle plus a transverse Euler vector; the bearings stand on the ground
     without a ``[stator]``); the other rotors turn in bearings fixed in the stator. Every

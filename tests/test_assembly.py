@@ -117,7 +117,10 @@ def test_six_by_six_and_non_symmetric_mounts():
     virtual-work reference."""
     rng = np.random.default_rng(21)
     data = random_description(rng, n_rotors=1)
-    local = rng.uniform(-1, 1, (6, 6)) * 1e4 + np.diag([3e5, 3e5, 3e5, 1e3, 1e3, 1e3])
+    # a passive mount: the symmetric part positive definite (validation refuses any other), the
+    # antisymmetric (cross-coupled) part free
+    coupling = rng.uniform(-1, 1, (6, 6)) * 1e4
+    local = np.diag([3e5, 3e5, 3e5, 1e3, 1e3, 1e3]) + (coupling - coupling.T) / 2
     data["suspensions"][1]["stiffness"] = local.tolist()
     data["suspensions"][1]["damping"] = np.diag(rng.uniform(1, 5, 6)).tolist()
     model = rdm.Model.from_dict(data)

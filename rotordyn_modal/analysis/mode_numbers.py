@@ -80,6 +80,6 @@ def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, 
     for p in np.nonzero((below != above) | (below == 0))[0]:
         if form is None:
             form = speed_linear_form(model)
-        roots = _eigen.select_upper(np.linalg.eigvals(form.at(float(speeds[p])))[None])[0]
+        roots = _eigen.select_upper(_eigen.eigenvalues_of(form.at(float(speeds[p]))[None]))[0]
         out[p] = number_of_root(roots, eigenvalues[p])
     return out

@@ -174,7 +174,7 @@ def test_fit_that_cannot_converge_says_why(tmp_path, capsys):
 
 @pytest.mark.parametrize("args,message", [
     (["--params", "suspensions.nope.stiffness"], "nope"),
-    (["--params", "gain", "--band", "40:2"], "--band 40:2: expected LOW:HIGH"),
+    (["--params", "gain", "--band", "40:2"], "--freq-band 40:2: expected LOW:HIGH"),
     (["--params", "gain", "--bound-factor", "0.5"], "--bound-factor 0.5: expected a number > 1"),
 ])
 def test_fit_bad_options_exit_2(tmp_path, capsys, args, message):
@@ -212,7 +212,7 @@ def test_fit_band_without_measured_lines_names_the_file_and_its_lines(tmp_path, 
                  "--band", "5000:6000", "--out", str(out), "--quiet"])
     err = capsys.readouterr().err.strip()
     assert code == 2 and not out.exists() and err.count("\n") == 0
-    assert f"{meas}: --band 5000:6000" in err
+    assert f"{meas}: --freq-band 5000:6000" in err
     assert "measured frequency lines" in err and " Hz)" in err
 
 

@@ -374,10 +374,12 @@ def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensi
     freqs_hz : array_like, shape (n_freq,) [Hz]
     inputs : str or list of str, optional
         Excitation names (default all).
-    where : {'suspensions', 'bearings', 'rotors'}
+    where : {'suspensions', 'bearings', 'rotors', 'all'}
         Ground force of each suspension; force of each of the model's ``[[bearings]]``
         at its point and of each rigidly attached rotor at its centre of mass (without
-        ``[[bearings]]``: of each rotor); or the total force of each rotor on the stator.
+        ``[[bearings]]``: of each rotor); the total force of each rotor on the stator; or
+        all of them: the suspensions, the ``[[bearings]]`` and the rotors' totals (as
+        ``UnbalanceResult.to_dataframe(forces='all')``).
 
     Returns
     -------
@@ -387,8 +389,8 @@ def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensi
     """
     from ..errors import InputError
 
-    if where not in ("suspensions", "bearings", "rotors"):
-        raise InputError(f"where {where!r}: expected 'suspensions', 'bearings' or 'rotors'")
+    if where not in ("suspensions", "bearings", "rotors", "all"):
+        raise InputError(f"where {where!r}: expected 'suspensions', 'bearings', 'rotors' or 'all'")
     speed = _arguments.speed(speed)
     f = _check_frequencies(freqs_hz)
     omega = 2 * np.pi * f
@@ -400,8 +402,12 @@ def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensi
         forces, items = suspension_forces(model, omega, q), model.suspensions
     elif where == "rotors":
         forces, items = bearing_forces(model, speed, omega, q), model.rotors
-    else:
+    elif where == "bearings":
         forces, items = _bearing_items(model, speed, omega, q)
+    else:
+        forces = np.concatenate([suspension_forces(model, omega, q), bearing_point_forces(model, speed, omega, q),
+                                 bearing_forces(model, speed, omega, q)])
+        items = list(model.suspensions) + list(model.bearings) + list(model.rotors)
     H = np.moveaxis(forces, 1, -1).reshape(len(items) * 6, q.shape[-1], len(f))
     outputs = tuple(f"{item.name}:{c}" for item in items for c in COMPONENTS)
     return FRFResult(H=H, frequencies_hz=f, speed=float(speed), inputs=_names(model.excitations, inputs),

@@ -11,7 +11,8 @@ __all__ = ["add_verbose", "verbose_log", "peak_memory_bytes", "report_peak_memor
 
 def add_verbose(parser, what: str = "") -> None:
     parser.add_argument("--verbose", action="store_true",
-                        help="print the peak memory of the command when done" + (f"; {what}" if what else ""))
+                        help="the package's log lines on stderr, and the peak memory of the command when done"
+                             + (f"; {what}" if what else ""))
 
 
 @contextlib.contextmanager

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       save_figure, show_progress, speeds_option, speeds_text, use_agg, write_table)
-from ._resources import add_verbose, report_peak_memory
 
 NAME = "campbell"
 HELP = "Campbell diagram: modes tracked across speeds"
@@ -44,7 +43,6 @@ def add_arguments(parser):
                         help="colour the curves by this quantity instead of by whirl")
     _add_frequency_axis(parser)
     add_outputs(parser)
-    add_verbose(parser)
 
 
 def run(args) -> int:
@@ -59,7 +57,6 @@ def run(args) -> int:
         use_agg()
         save_figure(result.plot(color_by=args.color_by, title=model.name or None, speed_unit=args.speed_unit,
                                 **axis), args)
-    report_peak_memory(args)
     return 0
 
 

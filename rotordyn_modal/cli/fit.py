@@ -23,7 +23,7 @@ not determine, says why and exits with code 1 without writing the model.
 KEY is a dotted key (a whole array is scaled as one) or 'gain'.
 
 example:
-  rotordyn-modal fit start.toml --measured measured.uff --band 2:40 \\
+  rotordyn-modal fit start.toml --measured measured.uff --freq-band 2:40 \\
       --params suspensions.mount-FL.stiffness,suspensions.mount-FL.damping --out fitted.toml"""
 
 
@@ -33,7 +33,8 @@ def add_arguments(parser):
     add_input_file(parser, "--mapping", metavar="FILE.csv", help="UFF node/direction to channel table")
     parser.add_argument("--params", required=True, help="comma-separated dotted keys (or 'gain')")
     add_output_file(parser, "--out", required=True, metavar="FITTED.toml", help="fitted model file to write")
-    parser.add_argument("--band", metavar="LOW:HIGH", help="frequency band used [Hz]")
+    parser.add_argument("--freq-band", "--band", dest="band", metavar="LOW:HIGH",
+                        help="frequency band of the measured FRFs used [Hz] (--band is the same)")
     parser.add_argument("--bound-factor", default="100", help="each parameter within start/F .. start*F (default 100)")
     parser.add_argument("--starts", type=int, default=3, help="starting points (default 3)")
     parser.add_argument("--no-coherence", action="store_true", help="do not weight by coherence")
@@ -50,9 +51,9 @@ def run(args) -> int:
     check_output_options(args)
     model = load_model(args.model)
     params = [p.strip() for p in args.params.split(",") if p.strip()]
-    band = tuple(parse_list(args.band.replace(":", ","), "--band")) if args.band else None
+    band = tuple(parse_list(args.band.replace(":", ","), "--freq-band")) if args.band else None
     if band is not None and (len(band) != 2 or not band[1] > band[0] >= 0):
-        raise InputError(f"--band {args.band}: expected LOW:HIGH in Hz with 0 <= LOW < HIGH")
+        raise InputError(f"--freq-band {args.band}: expected LOW:HIGH in Hz with 0 <= LOW < HIGH")
     factor = float(parse_list(args.bound_factor, "--bound-factor")[0])
     if not factor > 1:
         raise InputError(f"--bound-factor {args.bound_factor}: expected a number > 1")
@@ -60,7 +61,7 @@ def run(args) -> int:
     if band is not None and not any(((m.frequencies_hz >= band[0]) & (m.frequencies_hz <= band[1])).any()
                                     for m in measured):
         lines = np.concatenate([m.frequencies_hz for m in measured])
-        raise InputError(f"{args.measured}: --band {args.band}: expected a band that holds measured frequency "
+        raise InputError(f"{args.measured}: --freq-band {args.band}: expected a band that holds measured frequency "
                          f"lines (the file's lines run from {lines.min():.6g} to {lines.max():.6g} Hz)")
     result = fit(model, measured, params, bounds={p: (1 / factor, factor) for p in params}, band_hz=band,
                  weighting="none" if args.no_coherence else "coherence", starts=args.starts,

@@ -1,4 +1,4 @@
-"""``frf MODEL --speed S --freqs R [--input NAME] [--output NAME] [--quantity Q] [--measured FILE]``."""
+"""``frf MODEL --speed S --freqs R [--excitation NAME] [--sensor NAME] [--quantity Q] [--measured FILE]``."""
 
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ CSV columns: frequency_hz,output,input,real,imag,magnitude,phase_deg
 
 examples:
   rotordyn-modal frf examples/gear_machine.toml --speed 3000 --freqs 1:60:600 \\
-      --input hammer-z --output acc-top-z --quantity accelerance --plot frf.png
+      --excitation hammer-z --sensor acc-top-z --quantity accelerance --plot frf.png
   rotordyn-modal frf examples/gear_machine.toml --speed 0 --freqs 1:60:300 --forces suspensions"""
 
 
@@ -37,15 +37,15 @@ def add_arguments(parser):
     parser.add_argument("--speed", default="0", help="reference rotor speed (default 0; negative reverses the spin)")
     add_speed_unit(parser)
     parser.add_argument("--freqs", required=True, help="START:STOP:N frequencies [Hz]")
-    parser.add_argument("--input", help="excitation name(s), comma-separated (default all)")
-    parser.add_argument("--output", help="sensor name(s), comma-separated (default all)")
+    parser.add_argument("--excitation", "--input", dest="input", metavar="NAME[,NAME]",
+                        help="excitation name(s), comma-separated (default all; --input is the same)")
+    parser.add_argument("--sensor", "--output", dest="output", metavar="NAME[,NAME]",
+                        help="sensor name(s), comma-separated (default all; --output is the same)")
     parser.add_argument("--quantity", choices=["receptance", "mobility", "accelerance"], default="receptance")
-    parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors"],
-                        help="forces per unit input instead of sensor motion")
-    add_input_file(parser, "--measured", metavar="FILE",
-                   help="measured FRFs (.uff/.unv or .csv) to draw under the model")
-    add_input_file(parser, "--mapping", metavar="FILE.csv",
-                   help="UFF node/direction to channel table: name,node,direction[,sign]")
+    parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
+                        help="forces per unit input instead of sensor motion (all: the three kinds)")
+    add_input_file(parser, "--measured", metavar="FILE", help="measured FRFs (.uff/.unv or .csv) to draw under the model")
+    add_input_file(parser, "--mapping", metavar="FILE.csv", help="UFF node/direction to channel table: name,node,direction[,sign]")
     add_outputs(parser, out_endings=(".csv", ".uff", ".unv"))
 
 
@@ -104,8 +104,8 @@ def _measured_at(args, model, speed):
     if best.quantity != args.quantity and not args.forces:
         raise InputError(f"--measured {args.measured}: the file holds {best.quantity}, the model is asked for "
                          f"{args.quantity}: give --quantity {best.quantity}")
-    for option, wanted, present in (("--output", names(args.output), best.outputs),
-                                    ("--input", names(args.input), best.inputs)):
+    for option, wanted, present in (("--sensor", names(args.output), best.outputs),
+                                    ("--excitation", names(args.input), best.inputs)):
         missing = [n for n in (wanted or []) if n not in present]
         if missing and not args.forces:
             raise InputError(f"--measured {args.measured}: no channel {', '.join(missing)} ({option}) in the "

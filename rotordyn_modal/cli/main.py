@@ -23,6 +23,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     from .._version import __version__
+    from ._resources import add_verbose
     from .commands import SUBCOMMANDS
 
     parser = _Parser(prog=PROGRAM, description="Linear dynamics and modal analysis of multi-rotor "
@@ -34,6 +35,8 @@ def build_parser() -> argparse.ArgumentParser:
         sub = subparsers.add_parser(module.NAME, help=module.HELP, description=module.DESCRIPTION,
                                     formatter_class=argparse.RawDescriptionHelpFormatter)
         module.add_arguments(sub)
+        if "--verbose" not in sub._option_string_actions:  # every sub-command has --verbose
+            add_verbose(sub)
         sub.set_defaults(handler=module.run, file_options=file_options(sub))
     return parser
 
@@ -45,6 +48,7 @@ def main(argv=None) -> int:
     signal N (143 SIGTERM, 129 SIGHUP). A command's output files appear together at its end,
     or none of them (:func:`rotordyn_modal.io.atomic.outputs_together`)."""
     from ..io.atomic import outputs_together
+    from ._resources import report_peak_memory, verbose_log
 
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
@@ -52,8 +56,9 @@ def main(argv=None) -> int:
     try:
         with _signals_as_interrupts(), _warnings_as_lines(args.command):
             check_files(args)
-            with outputs_together():
+            with verbose_log(args), outputs_together():
                 code = int(args.handler(args) or 0)
+            report_peak_memory(args)
             return code
     except InputError as error:
         print(f"{PROGRAM} {args.command}: error: {error}", file=sys.stderr)

@@ -11,7 +11,7 @@ import numpy as np
 from ..errors import InputError, OutputError, OutputWriteError
 from ._common import (add_input_file, add_model_argument, add_output_file, check_outputs, parse_number, print_table,
                       show_progress, use_agg)
-from ._resources import add_verbose, report_peak_memory, verbose_log
+from ._resources import add_verbose
 
 NAME = "study"
 HELP = "parameter study (tolerance Monte Carlo, designs of experiments, grids) over model variants"
@@ -33,7 +33,7 @@ cannot fit in memory is refused before any work, with the estimate (docs/study-f
 
 examples:
   rotordyn-modal study examples/gear_machine.toml --spec examples/mount_tolerance.study.toml \\
-      --out tolerance.nc --workers 2 --band 3400:3700 --plot campbell.png
+      --out tolerance.nc --workers 2 --speed-band 3400:3700 --plot campbell.png
   rotordyn-modal study examples/unstable_cross_coupled.toml \\
       --spec examples/stability_map.study.toml --out map.nc --plot-map map.png"""
 
@@ -49,8 +49,9 @@ def add_arguments(parser):
     parser.add_argument("--chunk-size", type=int, metavar="N", help="variants per chunk (default: chosen)")
     parser.add_argument("--restart", action="store_true",
                         help="discard the finished chunks of an earlier run instead of resuming")
-    parser.add_argument("--band", metavar="LOW:HIGH",
-                        help="operating band [rpm]: report P(critical speed inside) (default: the study file's)")
+    parser.add_argument("--speed-band", "--band", dest="band", metavar="LOW:HIGH",
+                        help="operating speed band [rpm]: report P(critical speed inside) (default: the study "
+                             "file's; --band is the same)")
     add_output_file(parser, "--table", metavar="FILE.csv", help="write the per-variant table as CSV")
     add_output_file(parser, "--plot", metavar="FILE.png", help="Campbell diagram with tolerance bands")
     add_output_file(parser, "--plot-histogram", metavar="FILE.png", help="histograms of the critical speeds")
@@ -80,7 +81,7 @@ def run(args) -> int:
     definition = read_study(args.spec, model)
     band = _band(args.band) if args.band else definition.operating_band_rpm
     folder = checkpoint_folder(args.out)  # both follow links: one lock and checkpoint however
-    with verbose_log(args), ResultsLock(args.out):  # the file is named
+    with ResultsLock(args.out):  # the file is named
         if args.restart and folder.exists():
             remove_checkpoint(folder)
         try:
@@ -92,7 +93,6 @@ def run(args) -> int:
                 _plots(result, args, band)
         except (OutputError, OutputWriteError) as error:
             raise _kept_chunks(error, folder) from None
-    report_peak_memory(args)
     return 0
 
 
@@ -170,10 +170,10 @@ def _check_derived(args):
 def _band(text):
     parts = text.split(":")
     if len(parts) != 2:
-        raise InputError(f"--band {text!r}: expected LOW:HIGH in rpm, e.g. 2700:3300")
-    low, high = parse_number(parts[0], "--band"), parse_number(parts[1], "--band")
+        raise InputError(f"--speed-band {text!r}: expected LOW:HIGH in rpm, e.g. 2700:3300")
+    low, high = parse_number(parts[0], "--speed-band"), parse_number(parts[1], "--speed-band")
     if not high > low:
-        raise InputError(f"--band {text!r}: expected LOW < HIGH")
+        raise InputError(f"--speed-band {text!r}: expected LOW < HIGH")
     return low, high
 
 

@@ -1,4 +1,4 @@
-"""``unbalance MODEL --speeds R [--output NAME] [--forces WHERE]``: steady unbalance response vs speed."""
+"""``unbalance MODEL --speeds R [--sensor NAME] [--forces WHERE]``: steady unbalance response vs speed."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ DESCRIPTION = """Response of the sensors to the model's [[unbalances]] over a sp
 rotor's unbalances excite at that rotor's own spin frequency (|speed ratio| x speed,
 turning its own way); each rotor (source) is reported separately: amplitude (0-peak) and
 phase (x(t) = amplitude cos(2 pi frequency t + phase)). The table holds the sensors named by
---output (default every sensor) and nothing else; --forces adds rows of forces (output
+--sensor (default every sensor) and nothing else; --forces adds rows of forces (output
 NAME:Fx ... NAME:Mz, N and N m) after them: suspensions (each suspension's force on the
 ground), bearings (each [[bearings]] entry's force on the stator or the ground at its point,
 and each rigidly attached rotor's at its centre of mass), rotors (each rotor's total force
@@ -37,9 +37,9 @@ CSV columns: speed_rpm,output,source,frequency_hz,amplitude,phase_deg
 orbit CSV columns: speed_rpm,pair,source,frequency_hz,major,minor,inclination_deg,precession,precession_ratio
 
 examples:
-  rotordyn-modal unbalance examples/gear_machine.toml --speeds 0:6000:601 --output acc-top-z \\
+  rotordyn-modal unbalance examples/gear_machine.toml --speeds 0:6000:601 --sensor acc-top-z \\
       --operating-speed 3000 --plot unbalance.png
-  rotordyn-modal unbalance examples/gear_machine.toml --speeds 0:6000:61 --output acc-top-z \\
+  rotordyn-modal unbalance examples/gear_machine.toml --speeds 0:6000:61 --sensor acc-top-z \\
       --forces suspensions --out unbalance.csv"""
 
 
@@ -47,7 +47,8 @@ def add_arguments(parser):
     add_model_argument(parser)
     parser.add_argument("--speeds", required=True, help="START:STOP:N speeds of the reference rotor")
     add_speed_unit(parser)
-    parser.add_argument("--output", help="sensor name(s), comma-separated (default all)")
+    parser.add_argument("--sensor", "--output", dest="output", metavar="NAME[,NAME]",
+                        help="sensor name(s), comma-separated (default all; --output is the same)")
     parser.add_argument("--quantity", choices=["displacement", "velocity", "acceleration"], default="displacement")
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="add force rows after the sensors' (default none)")

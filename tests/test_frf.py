@@ -280,7 +280,7 @@ def test_modal_engine_refused_for_hysteretic_model():
 
 
 def test_force_frf_refuses_unknown_place():
-    with pytest.raises(InputError, match="where 'shafts': expected 'suspensions', 'bearings' or 'rotors'"):
+    with pytest.raises(InputError, match="where 'shafts': expected 'suspensions', 'bearings', 'rotors' or 'all'"):
         force_frf(_block(), 0.0, FREQS, where="shafts")
 
 

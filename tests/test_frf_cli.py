@@ -192,7 +192,7 @@ def test_frf_measured_missing_channel_exit_2(tmp_path, capsys):
     code = main(["frf", EXAMPLE, "--freqs", "2:40:20", "--measured", str(path), "--output", "acc-side-y",
                  "--quiet"])
     assert code == 2
-    assert "no channel acc-side-y (--output) in the file at this speed; it has acc-top-z" in capsys.readouterr().err
+    assert "no channel acc-side-y (--sensor) in the file at this speed; it has acc-top-z" in capsys.readouterr().err
 
 
 def test_frf_out_uff_reads_back(tmp_path):

@@ -45,7 +45,7 @@ import numpy as np
 import scipy.linalg
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis._eigen import select_upper
+from rotordyn_modal.analysis._eigensolve import select_upper
 from rotordyn_modal.linear_system import speed_linear_form
 
 from _machines import bearing_pair, gear_chain

@@ -94,7 +94,7 @@ def campbell_pair(model, count):
     """rdm.campbell and its floor: bare batched eig of the same state matrices, in the
     sweep's parts."""
     import rotordyn_modal as rdm
-    from rotordyn_modal.analysis import _eigen
+    from rotordyn_modal.analysis import _batches
     from rotordyn_modal.linear_system import speed_linear_form
 
     speeds = speeds_of(count)
@@ -105,7 +105,7 @@ def campbell_pair(model, count):
     def floor():
         form = speed_linear_form(model)
         size = form.n_states
-        parts = _eigen.chunk_slices(len(speeds), 72 * size * size, largest=4096)   # the package's parts
+        parts = _batches.chunk_slices(len(speeds), 72 * size * size, largest=4096)   # the package's parts
         return [np.linalg.eig(form.at(speeds[part]))[0] for part in parts]
 
     return package, floor
@@ -141,7 +141,7 @@ def frf_pair(model, count):
 def unbalance_pair(model, count):
     """rdm.unbalance_response and its floor: batched solve of the same harmonic systems."""
     import rotordyn_modal as rdm
-    from rotordyn_modal.analysis import _eigen, frf as frf_module
+    from rotordyn_modal.analysis import _batches, frf as frf_module
     from rotordyn_modal.analysis.unbalance import unbalance_forces
     from rotordyn_modal.assembly import constant_matrices, generalized_force
 
@@ -158,7 +158,7 @@ def unbalance_pair(model, count):
         omega, speed = w.ravel(), np.tile(speeds, len(sources))
         n = M.shape[0]
         out = []
-        for part in _eigen.chunk_slices(len(omega), 48 * n * n, budget=frf_module._SOLVE_PART_BYTES):
+        for part in _batches.chunk_slices(len(omega), 48 * n * n, budget=frf_module._SOLVE_PART_BYTES):
             o, s = omega[part, None, None], speed[part, None, None]
             Z = K + 1j * o * (C + s * G) - o**2 * M
             out.append(np.linalg.solve(Z, rhs[part]))

@@ -168,7 +168,7 @@ def test_the_refinement_shows_its_progress_over_every_crossing(tmp_path, monkeyp
     real_crowded = critical_module._crowded
     monkeypatch.setattr(critical_module, "_crowded", lambda *a: crowded.append(real_crowded(*a)) or crowded[-1])
     monkeypatch.setattr(critical_module, "_CROWDED", 4)          # some brackets swept again at once
-    monkeypatch.setattr(_eigen_module(), "CHUNK_BYTES", 64 * 22**2 * 200)   # parts of 200 crossings
+    monkeypatch.setattr(_batches_module(), "CHUNK_BYTES", 64 * 22**2 * 200)   # parts of 200 crossings
     monkeypatch.setattr(campbell_module, "_PROGRESS_BYTES", 0)   # the sweep shown in parts too
     quiet = rdm.campbell(model, speeds, progress=False)
     assert bars.made == []
@@ -188,10 +188,10 @@ def test_the_refinement_shows_its_progress_over_every_crossing(tmp_path, monkeyp
     assert bar.counted == brackets and len(bar.steps) > 5 and min(bar.steps) > 0
 
 
-def _eigen_module():
-    from rotordyn_modal.analysis import _eigen
+def _batches_module():
+    from rotordyn_modal.analysis import _batches
 
-    return _eigen
+    return _batches
 
 
 @pytest.mark.skipif(not hasattr(os, "wait4"), reason="needs wait4 (POSIX)")
@@ -234,20 +234,20 @@ def test_double_roots_take_their_whirl_forms_a_part_at_a_time(monkeypatch):
     once took its own copy of the three n x n forms at once (3 x 200 x 200^2 x 8 bytes, 183 MB,
     and as much again for those that span a plane); in parts the peak follows the part, and
     the parts change no number."""
-    from rotordyn_modal.analysis import _eigen
+    from rotordyn_modal.analysis import _batches, _eigensolve, _vectors, _whirl
 
     rng = np.random.default_rng(5)
     n, pairs = 200, 200
     k = np.arange(1, pairs + 1)
     lam = np.repeat(-0.01 * k + 1j * k, 2)[None]                          # (1, 2 pairs)
-    shapes = _eigen.unit_rows(rng.standard_normal((1, 2 * pairs, n)) + 1j * rng.standard_normal((1, 2 * pairs, n)))
+    shapes = _vectors.unit_rows(rng.standard_normal((1, 2 * pairs, n)) + 1j * rng.standard_normal((1, 2 * pairs, n)))
     a = rng.standard_normal((n, n))
     skew = rng.standard_normal((n, n))
-    forms = _eigen.WhirlForms((skew - skew.T)[None], np.eye(n)[None], (a @ a.T + n * np.eye(n))[None])
+    forms = _whirl.WhirlForms((skew - skew.T)[None], np.eye(n)[None], (a @ a.T + n * np.eye(n))[None])
     variants = np.zeros(1, dtype=int)
     tracemalloc.start()
     try:
-        parts = _eigen.resolve_repeated(lam, shapes, forms, variants)
+        parts = _eigensolve.resolve_repeated(lam, shapes, forms, variants)
         peak = tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()
@@ -255,5 +255,5 @@ def test_double_roots_take_their_whirl_forms_a_part_at_a_time(monkeypatch):
     print(f"peak {peak / 2**20:.0f} MB, the forms of all pairs at once {at_once / 2**20:.0f} MB")
     assert peak < at_once / 2
     assert not np.array_equal(parts, shapes)                                # pairs were combined
-    monkeypatch.setattr(_eigen, "_PART_BYTES", 2**40)
-    np.testing.assert_array_equal(parts, _eigen.resolve_repeated(lam, shapes, forms, variants))
+    monkeypatch.setattr(_batches, "_PART_BYTES", 2**40)
+    np.testing.assert_array_equal(parts, _eigensolve.resolve_repeated(lam, shapes, forms, variants))

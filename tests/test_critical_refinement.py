@@ -14,7 +14,7 @@ import scipy.linalg
 from scipy.optimize import brentq
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _eigen
+from rotordyn_modal.analysis import _eigensolve, _pencils, _vectors, _whirl
 from rotordyn_modal.analysis.critical_speeds import excitation_sources
 from rotordyn_modal.analysis.modal import is_oscillating, modal_quantities
 from rotordyn_modal.linear_system import speed_linear_form
@@ -26,9 +26,9 @@ EXAMPLES = ["gear_machine", "rubber_mounts", "counter_rotating", "unstable_cross
 def brent_critical_speeds(model, speeds, orders):
     """The previous implementation: every crossing refined on its own with brentq."""
     form = speed_linear_form(model)
-    forms = _eigen.whirl_forms(model)
+    forms = _whirl.whirl_forms(model)
     result = rdm.campbell(model, speeds, orders=orders)
-    values, weighted = result.eigenvalues, _eigen.mass_normalized(result.shapes, form.matrices.M)
+    values, weighted = result.eigenvalues, _vectors.mass_normalized(result.shapes, form.matrices.M)
     sources = result.sources
     rows = []
     for name, multiplier in zip(sources.names, sources.multipliers):
@@ -50,16 +50,16 @@ def _refine(form, forms, speeds, values, weighted, mode, k, slope):
     spread = abs(values[k + 1, mode] - values[k, mode]) + 1e-9 * abs(values[k, mode]) + 1e-300
 
     def mode_at(speed):
-        lam, phi = _eigen.solve_batch(form, np.array([speed]), forms)
-        psi = _eigen.mass_normalized(phi, form.matrices.M)
+        lam, phi = _eigensolve.solve_batch(form, np.array([speed]), forms)
+        psi = _vectors.mass_normalized(phi, form.matrices.M)
         t = (speed - a) / (b - a)
         expected = (1 - t) * values[k, mode] + t * values[k + 1, mode]
-        correlation = _eigen.mac_matrix(weighted[k, mode][None], psi[0])[0]
+        correlation = _vectors.mac_matrix(weighted[k, mode][None], psi[0])[0]
         j = int(np.argmin((1 - correlation) + np.abs(lam[0] - expected) / spread))
         return lam[0, j], phi[0, j]
 
     def gap(speed):
-        lam = _eigen.select_upper(np.linalg.eigvals(form.at(speed)))
+        lam = _eigensolve.select_upper(np.linalg.eigvals(form.at(speed)))
         t = (speed - a) / (b - a)
         distance = np.abs(lam - ((1 - t) * values[k, mode] + t * values[k + 1, mode]))
         nearest, second = np.argsort(distance)[:2]
@@ -69,8 +69,8 @@ def _refine(form, forms, speeds, values, weighted, mode, k, slope):
     root = a if gap(a) == 0 else b if gap(b) == 0 else \
         brentq(gap, a, b, xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
     lam, phi = mode_at(root)
-    ratio = _eigen.whirl_ratios(phi[None, None], forms, np.array([root]))[0, 0]
-    return root, lam.imag / (2 * np.pi), str(_eigen.whirl_labels(ratio)), float(modal_quantities(lam)[1])
+    ratio = _whirl.whirl_ratios(phi[None, None], forms, np.array([root]))[0, 0]
+    return root, lam.imag / (2 * np.pi), str(_whirl.whirl_labels(ratio)), float(modal_quantities(lam)[1])
 
 
 @pytest.mark.parametrize("path", ["joint-newton", "whole-pencils", "lu-factors", "sparse-factors", "nearest-roots",
@@ -90,10 +90,10 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, path, exampl
     if path != "joint-newton":
         monkeypatch.setattr(critical_module, "_NEWTON_DOF", 0)
     if path == "lu-factors" or path.startswith("sparse"):
-        monkeypatch.setattr(_eigen, "BATCHED_DOF", 0)
+        monkeypatch.setattr(_pencils, "BATCHED_DOF", 0)
     if path.startswith("sparse"):
-        monkeypatch.setattr(_eigen, "SPARSE_DOF", 0)
-        monkeypatch.setattr(_eigen, "SPARSE_DENSITY", 1.0)
+        monkeypatch.setattr(_pencils, "SPARSE_DOF", 0)
+        monkeypatch.setattr(_pencils, "SPARSE_DENSITY", 1.0)
     if path == "arnoldi-fails":      # every shift-invert Arnoldi call fails: all roots instead
         import scipy.sparse.linalg
 
@@ -104,7 +104,7 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, path, exampl
     if path == "two-nearest-roots":
         monkeypatch.setattr(critical_module, "_NEAREST_ROOTS", 2)
     if path in ("nearest-roots", "sparse-nearest-roots", "two-nearest-roots", "arnoldi-fails"):
-        monkeypatch.setattr(_eigen, "NEAREST_ROOTS_DOF", 0)
+        monkeypatch.setattr(_pencils, "NEAREST_ROOTS_DOF", 0)
         monkeypatch.setattr(critical_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
     model = rdm.load_model(examples_dir / f"{name}.toml")
     top = 50.0 if name.startswith("spring_block") else rdm.rpm(12000.0)
@@ -144,7 +144,7 @@ def test_pencil_iteration_equals_all_eigenvalues_of_the_state_matrix(seed, path,
     if path != "joint-newton":
         monkeypatch.setattr(critical_module, "_NEWTON_DOF", 0)
     if path == "lu-factors":
-        monkeypatch.setattr(_eigen, "BATCHED_DOF", 0)
+        monkeypatch.setattr(_pencils, "BATCHED_DOF", 0)
     speeds = np.linspace(0.0, 3000.0, 41)
     newton = rdm.campbell(model, speeds, orders=(1, 2)).critical
     isolated = critical_module._isolated
@@ -184,7 +184,7 @@ def test_modes_in_clusters_of_roots_take_more_roots_than_the_nearest(monkeypatch
     monkeypatch.setattr(critical_module, "_roots_near",
                         lambda *args: counts.append(args[5] if len(args) > 5 else None) or roots_near(*args))
     monkeypatch.setattr(critical_module, "_NEAREST_ROOTS", 2)
-    monkeypatch.setattr(_eigen, "NEAREST_ROOTS_DOF", 0)
+    monkeypatch.setattr(_pencils, "NEAREST_ROOTS_DOF", 0)
     few = rdm.campbell(model, speeds, orders=(1, 2)).critical
     assert 8 in counts
     assert len(full) == len(few) > 100
@@ -217,11 +217,11 @@ def test_large_model_paths_equal_all_eigenvalues_of_the_state_matrix(n_rotors, s
     for j, rotor in enumerate(data["rotors"]):
         rotor["speed_ratio"] = 1.0 if j == 0 else float(rng.choice([-1, 1]) * rng.uniform(0.3, 2.0))
     model = rdm.Model.from_dict(data)
-    assert speed_linear_form(model).n_dof > max(_eigen.NEAREST_ROOTS_DOF, _eigen.BATCHED_DOF)
+    assert speed_linear_form(model).n_dof > max(_pencils.NEAREST_ROOTS_DOF, _pencils.BATCHED_DOF)
     assert (Stack([model]).sparse_layout(0) is not None) == sparse
     speeds = np.linspace(0.0, 3000.0, 21)
     large = rdm.campbell(model, speeds).critical
-    monkeypatch.setattr(_eigen, "NEAREST_ROOTS_DOF", 10**9)
+    monkeypatch.setattr(_pencils, "NEAREST_ROOTS_DOF", 10**9)
     monkeypatch.setattr(critical_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
     full = rdm.campbell(model, speeds).critical
     assert len(full) == len(large) > 1000
@@ -280,8 +280,8 @@ def test_sparse_pencils_equal_the_dense_ones(name, examples_dir, monkeypatch):
     """A row's pencil built from its sparse layout equals the dense one at any shift."""
     from rotordyn_modal.analysis._stack import Pencils, Stack
 
-    monkeypatch.setattr(_eigen, "SPARSE_DOF", 0)
-    monkeypatch.setattr(_eigen, "SPARSE_DENSITY", 1.0)
+    monkeypatch.setattr(_pencils, "SPARSE_DOF", 0)
+    monkeypatch.setattr(_pencils, "SPARSE_DENSITY", 1.0)
     model = rdm.load_model(examples_dir / f"{name}.toml")
     stack = Stack([model])
     speeds = np.array([rdm.rpm(500.0), rdm.rpm(9000.0)])
@@ -364,7 +364,7 @@ def test_whirl_and_damping_at_critical_speeds_are_those_of_the_eigenpair_there()
 
     model = rdm.Model.from_dict(random_bearing_description(np.random.default_rng(1), n_rotors=3, stator=True))
     table = rdm.campbell(model, np.linspace(0.0, 3000.0, 21), orders=(1, 2)).critical
-    forms = _eigen.whirl_forms(model)
+    forms = _whirl.whirl_forms(model)
     n = forms.total.shape[-1]
     checked = 0
     for speed, freq, zeta, whirl in zip(table.speeds, table.frequencies_hz, table.damping_ratios, table.whirl_ratios):
@@ -376,7 +376,7 @@ def test_whirl_and_damping_at_critical_speeds_are_those_of_the_eigenpair_there()
             continue
         shape = vectors[:n, k] / np.linalg.norm(vectors[:n, k])
         assert abs(-values[k].real / abs(values[k]) - zeta) <= 1e-10
-        assert abs(_eigen.whirl_ratios(shape[None, None], forms, np.array([speed]))[0, 0] - whirl) <= 1e-10
+        assert abs(_whirl.whirl_ratios(shape[None, None], forms, np.array([speed]))[0, 0] - whirl) <= 1e-10
         checked += 1
     assert checked >= 0.9 * len(table) > 100
 
@@ -399,7 +399,7 @@ def test_crossings_that_newton_fails_are_refined_by_the_secant(failure, monkeypa
         secant = _by_crossing(rdm.campbell(model, speeds, orders=(1, 2)).critical)
     assert not np.array_equal(newton.speeds, secant.speeds)           # the paths' round-off differs
     threshold = speeds[4]              # a grid speed: every bracket lies on one side of it
-    newton_step = _eigen.speed_newton_step
+    newton_step = _pencils.speed_newton_step
     failed = []
 
     def failing(matrices, x, *args):
@@ -409,7 +409,7 @@ def test_crossings_that_newton_fails_are_refined_by_the_secant(failure, monkeypa
         steps[0][above] = np.nan if failure == "not-finite" else steps[0][above] + 2 * (speeds[1] - speeds[0])
         return steps
 
-    monkeypatch.setattr(_eigen, "speed_newton_step", failing)
+    monkeypatch.setattr(_pencils, "speed_newton_step", failing)
     mixed = _by_crossing(rdm.campbell(model, speeds, orders=(1, 2)).critical)
     above = mixed.speeds > threshold
     assert failed[0] > 10 and 10 < above.sum() < len(mixed) - 10
@@ -498,7 +498,7 @@ def test_a_singular_pencil_leaves_the_other_rows_their_own_solve():
     rhs = rng.normal(size=(37, 6, 1)) + 1j * rng.normal(size=(37, 6, 1))
     with pytest.raises(np.linalg.LinAlgError):
         np.linalg.solve(matrices, rhs)
-    found = _eigen._solve(matrices, rhs)
+    found = _pencils._solve(matrices, rhs)
     for row in range(37):
         if row == 23:
             expected = np.linalg.lstsq(matrices[row], rhs[row], rcond=None)[0]

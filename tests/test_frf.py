@@ -114,7 +114,7 @@ def test_direct_solve_in_parts_gives_the_solve_of_all_at_once(monkeypatch):
     whole = dof_response(model, rdm.rpm(2000), 2 * np.pi * FREQS, forces)
     n = model.dofs.n
     monkeypatch.setattr(frf_module, "_SOLVE_PART_BYTES", 2 * 48 * n * n)
-    assert len(frf_module._eigen.chunk_slices(len(FREQS), 48 * n * n, budget=2 * 48 * n * n)) > 1
+    assert len(frf_module._batches.chunk_slices(len(FREQS), 48 * n * n, budget=2 * 48 * n * n)) > 1
     np.testing.assert_array_equal(dof_response(model, rdm.rpm(2000), 2 * np.pi * FREQS, forces), whole)
 
 

@@ -34,7 +34,7 @@ from rotordyn_modal.cli import main
 ROOT = Path(__file__).resolve().parent.parent
 FULL = os.environ.get("ROTORDYN_MODAL_LARGE_MODELS", "") == "full"
 #: peak resident memory allowed for the 1,001-speed sweep of the 200-rotor machine [bytes]:
-#: the eigen-solver's parts hold up to ``_eigen.CHUNK_BYTES`` (512 MB) of work, plus the
+#: the eigen-solver's parts hold up to ``_batches.CHUNK_BYTES`` (512 MB) of work, plus the
 #: sweep's arrays and the interpreter (the 86-coordinate machine peaks near 1 GB)
 MEMORY_BUDGET = 2 * 2**30
 
@@ -214,7 +214,7 @@ def _campbell_traced(model, speeds):
 def test_crossings_are_refined_in_parts_of_bounded_memory_with_unchanged_results(tmp_path, monkeypatch):
     """Over a thousand crossings (79 sources x 22 modes): the work memory follows the part
     size, not the number of crossings, and the split changes no number."""
-    from rotordyn_modal.analysis import _eigen
+    from rotordyn_modal.analysis import _batches
 
     path = tmp_path / "chain.toml"
     path.write_text(chained_gear_toml(40, 4))
@@ -222,8 +222,8 @@ def test_crossings_are_refined_in_parts_of_bounded_memory_with_unchanged_results
     speeds = rdm.rpm(np.linspace(0, 6000, 61))
     whole, _ = _campbell_traced(model, speeds)
     part = 2**20
-    monkeypatch.setattr(_eigen, "_PART_BYTES", part)
-    monkeypatch.setattr(_eigen, "CHUNK_BYTES", part)
+    monkeypatch.setattr(_batches, "_PART_BYTES", part)
+    monkeypatch.setattr(_batches, "CHUNK_BYTES", part)
     split, peak = _campbell_traced(model, speeds)
     n, m = model.dofs.n, 2 * model.dofs.n
     crossings = len(split.critical.speeds)

@@ -16,7 +16,7 @@ from scipy.optimize import linear_sum_assignment
 
 import rotordyn_modal as rdm
 from reference_bearings import BearingMachine, random_bearing_description
-from rotordyn_modal.analysis import _eigen
+from rotordyn_modal.analysis import _batches
 from rotordyn_modal.elements.mounts import maxwell_branches
 
 
@@ -77,7 +77,7 @@ def test_results_do_not_depend_on_how_the_sweep_is_split(monkeypatch):
     model = rdm.Model.from_dict(_many_rotors(8, n_rotors=4))
     speeds = np.linspace(0.0, 1200.0, 600)
     whole = rdm.campbell(model, speeds)
-    monkeypatch.setattr(_eigen, "_PART_BYTES", 1)  # one speed per part, over the threads
+    monkeypatch.setattr(_batches, "_PART_BYTES", 1)  # one speed per part, over the threads
     for threads in ("1", "2"):
         monkeypatch.setenv("ROTORDYN_MODAL_THREADS", threads)
         parts = rdm.campbell(model, speeds)

@@ -131,12 +131,12 @@ def assert_crossings_are_eigenvalues(model):
     of geared machines), and for the whirl ratio ``eps ||A||`` over the distance to the
     nearest other eigenvalue (the eigenvector's own sensitivity; roots closer than 1e-6 of
     their size have no eigenvector of their own to compare)."""
-    from rotordyn_modal.analysis import _eigen
+    from rotordyn_modal.analysis import _whirl
 
     result = rdm.campbell(model, CRITICAL_GRID, orders=CRITICAL_ORDERS)
     table = result.critical
     multipliers = dict(zip(result.sources.names, result.sources.multipliers))
-    forms = _eigen.whirl_forms(model)
+    forms = _whirl.whirl_forms(model)
     n = forms.total.shape[-1]
     for speed, order, freq, zeta, source, whirl in zip(table.speeds, table.order, table.frequencies_hz,
                                                         table.damping_ratios, table.source, table.whirl_ratios):
@@ -153,7 +153,7 @@ def assert_crossings_are_eigenvalues(model):
         assert abs(-lam.real / abs(lam) - zeta) <= 1e-10 + lapack / abs(lam)
         gap = np.partition(np.abs(values - lam), 1)[1]
         if gap > 1e-6 * abs(lam) and np.linalg.norm(x[:n]) > 1e-6 * np.linalg.norm(x):
-            ratio = _eigen.whirl_ratios((x[:n] / np.linalg.norm(x[:n]))[None, None], forms, np.array([speed]))[0, 0]
+            ratio = _whirl.whirl_ratios((x[:n] / np.linalg.norm(x[:n]))[None, None], forms, np.array([speed]))[0, 0]
             assert abs(ratio - whirl) <= 1e-10 + 10 * np.finfo(float).eps * np.linalg.norm(A, 2) / gap
 
 

@@ -167,7 +167,7 @@ def whirl_round_off(eigenvalues, every, noise, repeated: float) -> np.ndarray:
 
     An eigenvector is known to about ``noise / gap``, ``gap`` the distance to the nearest other
     root; a repeated root's partner (within ``repeated``) does not count: the pair's shapes are
-    chosen by their whirl (``_eigen.resolve_repeated``).
+    chosen by their whirl (``_eigensolve.resolve_repeated``).
 
     Parameters
     ----------
@@ -179,7 +179,7 @@ def whirl_round_off(eigenvalues, every, noise, repeated: float) -> np.ndarray:
         :func:`round_off` of the solve [1/s].
     repeated : float
         Distance below which two roots are one repeated root [1/s] (as
-        ``_eigen.resolve_repeated`` decides).
+        ``_eigensolve.resolve_repeated`` decides).
 
     Returns
     -------

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..linear_system import same_inertia, speed_linear_form
-from . import _eigen
+from . import _batches, _eigensolve, _pencils, _vectors, _whirl
 
 __all__ = ["Stack", "Pencils"]
 
@@ -46,12 +46,12 @@ class Stack:
         shapes = {(f.n_dof, f.n_states) for f in self.forms}
         if len(shapes) != 1:
             raise ValueError(f"models of different structure cannot be stacked: {sorted(shapes)}")
-        whirl = [_eigen.whirl_forms(self.models[0])]
-        whirl += [whirl[0] if same_inertia(self.models[0], m) else _eigen.whirl_forms(m) for m in self.models[1:]]
+        whirl = [_whirl.whirl_forms(self.models[0])]
+        whirl += [whirl[0] if same_inertia(self.models[0], m) else _whirl.whirl_forms(m) for m in self.models[1:]]
         #: every variant has the first one's mass matrix (and whirl forms): the single model's products apply
         self.shared_mass = all(f.matrices.M is first.matrices.M for f in self.forms)
         self.shared_whirl = all(w is whirl[0] for w in whirl)
-        self.whirl = _eigen.WhirlForms(*(_stacked(parts) for parts in zip(*whirl)))
+        self.whirl = _whirl.WhirlForms(*(_stacked(parts) for parts in zip(*whirl)))
         self._whirl_stacked = None     # the forms side by side for whirl ratios, made on first use
         self.M, self.C, self.G, self.K = (_stacked(parts) for parts in zip(*(f.matrices for f in self.forms)))
         self.factor = np.linalg.cholesky(self.M[:1] if self.shared_mass else self.M)
@@ -105,7 +105,7 @@ class Stack:
         return damping, stiffness
 
     def sparse_layout(self, variant: int):
-        """The compressed-column layout of a variant's pencils (see :func:`_eigen.sparse_layout`),
+        """The compressed-column layout of a variant's pencils (see :func:`_pencils.sparse_layout`),
         or None where they are factored dense."""
         return self.sparse_entries(variant)[0]
 
@@ -114,7 +114,7 @@ class Stack:
         (nnz,), computed once (the layout comes from the variant's own matrices, so that a study's
         variant and the single analysis of its model factor the very same matrices)."""
         if variant not in self._layouts:
-            layout = _eigen.sparse_layout(self.forms[variant].pattern())
+            layout = _pencils.sparse_layout(self.forms[variant].pattern())
             entries = None
             if layout is not None:
                 entries = tuple(matrix[variant if len(matrix) > 1 else 0][layout.rows, layout.cols]
@@ -135,30 +135,30 @@ class Stack:
         -------
         eigenvalues : ndarray (R, m), complex; shapes : ndarray (R, m, n), complex
         """
-        eigenvalues, shapes = _eigen.upper_shapes(matrices, self.n_dof)
-        return eigenvalues, _eigen.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
+        eigenvalues, shapes = _eigensolve.upper_shapes(matrices, self.n_dof)
+        return eigenvalues, _eigensolve.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
 
     def weighted(self, shapes, variants):
-        """Mass-weighted unit shapes (see :func:`_eigen.mass_normalized`) of rows of variants."""
+        """Mass-weighted unit shapes (see :func:`_vectors.mass_normalized`) of rows of variants."""
         out = np.empty(shapes.shape, dtype=complex)
         # in parts: the real and imaginary parts and their products are copies of the shapes
         for variant, part in _variant_parts(variants, 64 * shapes[0].size):
             factor = self.factor[0 if self.shared_mass else variant]                   # real: L^H = L^T
-            out[part] = _eigen.unit_rows(_eigen.real_product(shapes[part], factor))
+            out[part] = _vectors.unit_rows(_vectors.real_product(shapes[part], factor))
         return out
 
     def whirl_ratios(self, shapes, variants, speeds):
-        """Whirl ratios (see :func:`_eigen.whirl_ratios`) of shapes (R, m, n) of rows of variants."""
+        """Whirl ratios (see :func:`_whirl.whirl_ratios`) of shapes (R, m, n) of rows of variants."""
         out = np.empty(shapes.shape[:-1])
         speeds = np.asarray(speeds)
         if speeds.shape != shapes.shape[:-2]:
             speeds = np.broadcast_to(speeds, shapes.shape[:-2])
         # in parts: the products with the three forms are three times the shapes, twice over
         if self._whirl_stacked is None:
-            self._whirl_stacked = _eigen.stacked_forms(self.whirl)
+            self._whirl_stacked = _whirl.stacked_forms(self.whirl)
         for variant, part in _variant_parts(variants, 160 * shapes[0].size):
             stacked = self._whirl_stacked[0 if self.shared_whirl else variant]
-            out[part] = _eigen.whirl_ratios(shapes[part], None, speeds[part], stacked)
+            out[part] = _whirl.whirl_ratios(shapes[part], None, speeds[part], stacked)
         return out
 
     def shapes_at(self, variants, x, lam):
@@ -166,10 +166,10 @@ class Stack:
         (P, n): in parts of bounded memory (each row holds its own pencil and matrices, n x n,
         several copies)."""
         out = np.empty((len(x), self.n_dof), dtype=complex)
-        for part in _eigen.chunk_slices(len(x), 80 * self.n_dof ** 2):
+        for part in _batches.chunk_slices(len(x), 80 * self.n_dof ** 2):
             mine = variants[part]
             damping, stiffness = self.damping_stiffness(mine, x[part])
-            out[part] = _eigen.pencil_shapes(self.M[0] if len(self) == 1 else self.M[mine], damping, stiffness,
+            out[part] = _pencils.pencil_shapes(self.M[0] if len(self) == 1 else self.M[mine], damping, stiffness,
                                              lam[part], (self.branch_stiffness[mine], self.branch_times[mine]))
         return out
 
@@ -242,8 +242,8 @@ class Pencils:
         coefficients: there one matrix product serves all rows."""
         stack = self.stack
         speeds = self.speeds[rows, None]
-        if self.shared and vectors.shape[-1] > _eigen.BATCHED_DOF:
-            m_phi, c_phi, g_phi, k_phi = (_eigen.real_product(vectors, matrix[0].T)
+        if self.shared and vectors.shape[-1] > _pencils.BATCHED_DOF:
+            m_phi, c_phi, g_phi, k_phi = (_vectors.real_product(vectors, matrix[0].T)
                                           for matrix in (stack.M, stack.C, stack.G, stack.K))
             return np.array((m_phi, c_phi + speeds * g_phi, k_phi))
         if stack.dependent:
@@ -271,7 +271,7 @@ def _row_products(matrices, vectors):
 def _variant_parts(variants, item_bytes: int):
     """Parts of rows for products with one variant's matrix: ``(variant, slice)`` for each run of
     consecutive rows of one variant, cut as that variant's rows alone would be (in parts of
-    bounded memory, :func:`_eigen.chunk_slices`).
+    bounded memory, :func:`_batches.chunk_slices`).
 
     A matrix product over many rows may give a row bits that depend on its place among them
     (the BLAS kernels block the rows, and the last block of a product can be summed another
@@ -289,7 +289,7 @@ def _variant_parts(variants, item_bytes: int):
     ends = [0, *(np.flatnonzero(variants[1:] != variants[:-1]) + 1).tolist(), len(variants)]
     return [(int(variants[start]), slice(start + part.start, start + part.stop))
             for start, stop in zip(ends[:-1], ends[1:]) if stop > start
-            for part in _eigen.chunk_slices(stop - start, item_bytes)]
+            for part in _batches.chunk_slices(stop - start, item_bytes)]
 
 
 def _stacked(arrays) -> np.ndarray:

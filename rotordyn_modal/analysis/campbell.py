@@ -13,7 +13,7 @@ import numpy as np
 
 from .._limits import memory_problem
 from ..errors import InputError
-from . import _arguments, _eigen
+from . import _arguments, _batches, _whirl
 from ._stack import Stack
 from .critical_speeds import (_SUB_DEPTH, _SUB_SPEEDS, JUMP_TOLERANCE, CriticalSpeeds, ExcitationSources,
                               _critical_table, _find_critical_speeds, _warn_of_jumps, excitation_sources,
@@ -140,7 +140,7 @@ def solve_sweeps(stack, speeds, progress=False):
     largest = _CHUNK
     if progress and len(speeds) * count * 72 * size * size > _PROGRESS_BYTES:
         largest = min(_CHUNK, -(-len(speeds) // _PROGRESS_STEPS))     # the bar moves (the same numbers)
-    chunks = _eigen.chunk_slices(len(speeds), count * 72 * size * size, largest=largest)
+    chunks = _batches.chunk_slices(len(speeds), count * 72 * size * size, largest=largest)
     values = shapes = None
     for part in _progress(chunks, progress, "eigen-solve"):
         chunk = speeds[part]
@@ -180,7 +180,7 @@ def _reordered(shapes, order):
     part of the speeds at a time: a reordered copy of the whole would double the sweep's
     largest arrays (two of them at once for a 100-rotor machine: 420 MB at 51 speeds)."""
     variants = np.arange(len(order))[:, None, None]
-    for part in _eigen.chunk_slices(order.shape[1], shapes[:, 0].nbytes, budget=_REORDER_BYTES):
+    for part in _batches.chunk_slices(order.shape[1], shapes[:, 0].nbytes, budget=_REORDER_BYTES):
         shapes[:, part] = shapes[variants, np.arange(part.start, part.stop)[None, :, None], order[:, part]]
     return shapes
 
@@ -300,7 +300,7 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     del weighted
     for table, source, model in zip(tables, sources, stack.models):
         _warn_of_jumps(table, source, model)
-    labels = _eigen.whirl_labels(ratios)
+    labels = _whirl.whirl_labels(ratios)
     return [CampbellResult(
         speeds=speeds, eigenvalues=values[v], frequencies_hz=freq[v], damping_ratios=zeta[v],
         log_decrements=log_dec[v], whirl_ratios=ratios[v], whirl=labels[v], shapes=shapes[v],
@@ -320,7 +320,7 @@ def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossi
 
     The sweep keeps two sets of unit shapes (plain and mass-weighted: ``2 V N m n`` complex
     numbers, ``m = n_states - n_states // 2`` roots per speed) beside its eigen-solver's work (a
-    part of the speeds of ``_eigen.CHUNK_BYTES``, at least one speed of about 72 bytes per
+    part of the speeds of ``_batches.CHUNK_BYTES``, at least one speed of about 72 bytes per
     entry of the state matrix); the critical speeds' refinement adds its parts' work and the
     brackets swept again (``_SUB_SPEEDS`` speeds' shapes, twice, at each of ``_SUB_DEPTH``
     levels, with one speed's eigen-solution), and ``_CROSSING_BYTES`` per crossing; the
@@ -346,12 +346,12 @@ def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossi
     roots = n_states - n_states // 2
     per_speed = variants * roots * n_dof * 16.0                        # one set of shapes at one speed
     one_speed = 72.0 * variants * n_states ** 2                        # the eigen-solver's work for one speed
-    solver = max(min(_eigen.CHUNK_BYTES, n_speeds * one_speed), one_speed)
+    solver = max(min(_batches.CHUNK_BYTES, n_speeds * one_speed), one_speed)
     small = 16.0 * 12 * variants * n_speeds * roots                    # eigenvalues and their quantities
     work = solver + per_speed * n_speeds                                # while solving: the shapes so far
     after = 2 * per_speed * n_speeds                                    # shapes and weighted shapes
     if critical:
-        refine = max(_eigen.CHUNK_BYTES, 64.0 * n_dof ** 2)
+        refine = max(_batches.CHUNK_BYTES, 64.0 * n_dof ** 2)
         sub = _SUB_DEPTH * 2 * _SUB_SPEEDS * roots * n_dof * 16.0 + one_speed / variants
         after += max(refine, sub) + _CROSSING_BYTES * crossings
     matrices = 24 * 8.0 * variants * n_dof ** 2

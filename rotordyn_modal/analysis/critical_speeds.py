@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..model._validation import mesh_name
-from . import _eigen
+from . import _batches, _eigensolve, _pencils, _vectors, _whirl
 from ._stack import Pencils, Stack
 from .modal import damping_ratios, is_oscillating
 from .tracking import track_modes_many
@@ -146,12 +146,12 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shap
     if check is not None:
         check(len(brackets.k))
     # one BLAS thread: the pencils' factorisations and solves are too small to share well
-    with _eigen.one_blas_thread(72 * stack.forms[0].n_states ** 2), _progress_bar(progress, len(brackets.k)):
+    with _batches.one_blas_thread(72 * stack.forms[0].n_states ** 2), _progress_bar(progress, len(brackets.k)):
         found = _refined(stack, speeds, values, weighted, shapes, brackets, sources, orders)
     ratios = found.ratio
     zeta = damping_ratios(found.lam)
     names = np.asarray(sources[0].names, dtype=str)[found.source]
-    labels = _eigen.whirl_labels(ratios)
+    labels = _whirl.whirl_labels(ratios)
     roots, lam = found.roots, found.lam
     tables = []
     for v in range(count):
@@ -334,7 +334,7 @@ def _unresolved(found, brackets):
         # a double root's two modes have shapes of their own; one root found twice has one shape
         first, second = order[:-1][same], order[1:][same]
         a, b = found.fingerprint[first], found.fingerprint[second]
-        mac = np.abs(np.einsum("pi,pi->p", a.conj(), b)) ** 2 / (_eigen.row_norms(a)[:, 0] * _eigen.row_norms(b)[:, 0]) ** 2
+        mac = np.abs(np.einsum("pi,pi->p", a.conj(), b)) ** 2 / (_vectors.row_norms(a)[:, 0] * _vectors.row_norms(b)[:, 0]) ** 2
         twice = mac > 1 - _SAME_ROOT
         out[first[twice]] = out[second[twice]] = True
     return out
@@ -526,7 +526,7 @@ def _bracket_ends(speeds, values, oscillating, v, k, mode):
     start = speeds[k]
     low, high = values[v, k, mode], values[v, k + 1, mode]
     spread, travel, isolated = np.empty(count), np.empty(count), np.empty(count, dtype=bool)
-    for part in _eigen.chunk_slices(count, 64 * values.shape[-1], budget=_ENDS_BYTES):
+    for part in _batches.chunk_slices(count, 64 * values.shape[-1], budget=_ENDS_BYTES):
         ends = values[v[part, None], k[part, None] + np.arange(2)]                  # (p, 2, m)
         travels = np.abs(ends[:, 1] - ends[:, 0])
         spread[part] = travels[np.arange(len(ends)), mode[part]] + 1e-9 * np.abs(low[part]) + 1e-300
@@ -565,14 +565,14 @@ _STEP_TOLERANCE = 1e-13
 def _refine_parts(stack, speeds, values, weighted, brackets, shapes=None):
     """The crossings refined (:func:`_refined_part`: Newton's method where it applies, else the
     secant of :func:`_refine_together`) with the eigenvalues and shapes at the roots, in parts
-    of the crossings whose factorisations fit in ``_eigen.CHUNK_BYTES``.
+    of the crossings whose factorisations fit in ``_batches.CHUNK_BYTES``.
 
     Returns
     -------
     roots : ndarray (P,) [rad/s]; lam : ndarray (P,), complex; ratio : ndarray (P,), the whirl
     ratios; fingerprint : ndarray (P, f), complex (:func:`_fingerprints`); sure : ndarray (P,) bool
     """
-    chunks = _eigen.chunk_slices(len(brackets.k), 64 * stack.n_dof ** 2)
+    chunks = _batches.chunk_slices(len(brackets.k), 64 * stack.n_dof ** 2)
     if len(chunks) == 1:                             # all in one part (small models): no copies
         found = _compact(stack, brackets, *_refined_part(stack, speeds, values, weighted, brackets, shapes))
         _progress_advance(len(brackets.k))
@@ -582,7 +582,7 @@ def _refine_parts(stack, speeds, values, weighted, brackets, shapes=None):
         mine = brackets.subset(part)
         parts.append(_compact(stack, mine, *_refined_part(stack, speeds, values, weighted, mine, shapes)))
         _progress_advance(len(mine.k))
-    return _eigen.concatenated(parts)
+    return _batches.concatenated(parts)
 
 
 def _compact(stack, brackets, roots, lam, phi, sure):
@@ -661,7 +661,7 @@ def _by_newton(stack, speeds, brackets, shapes):
 
 def _joint_newton(stack, speeds, brackets, shapes):
     """Roots of ``g(Omega) = Im lam(Omega) - slope |Omega|`` in every bracket by Newton's method
-    on the tracked mode's eigenpair and the speed together (:func:`_eigen.speed_newton_step`),
+    on the tracked mode's eigenpair and the speed together (:func:`_pencils.speed_newton_step`),
     all crossings in one batch.
 
     The start is the cubic's (:func:`_cubic_start`, error of order h^4), with the eigenvalue the
@@ -708,7 +708,7 @@ def _joint_newton(stack, speeds, brackets, shapes):
             i = slice(None) if len(active) == count else active
             matrices = tuple(m[0] for m in constant) if len(stack) == 1 else \
                 tuple(m[brackets.variant[i]] for m in constant)
-            steps = _eigen.speed_newton_step(matrices, x[i], lam[i], phi[i], normal_conj[i], line[i])
+            steps = _pencils.speed_newton_step(matrices, x[i], lam[i], phi[i], normal_conj[i], line[i])
             x[i] += steps[0]
             lam[i] += steps[1]
             phi[i] += steps[2]
@@ -721,7 +721,7 @@ def _joint_newton(stack, speeds, brackets, shapes):
             if not len(active):
                 break
     done &= np.abs(lam - _interpolated(brackets, every, x)) <= 2 * brackets.spread
-    return x, lam, _eigen.unit_rows(phi), done
+    return x, lam, _vectors.unit_rows(phi), done
 
 
 def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
@@ -886,7 +886,7 @@ class _Iterates(NamedTuple):
     lam: np.ndarray
     shape: np.ndarray
     gap: np.ndarray
-    factors: _eigen.PencilFactors
+    factors: _pencils.PencilFactors
 
     @classmethod
     def start(cls, stack, brackets, shapes):
@@ -895,10 +895,10 @@ class _Iterates(NamedTuple):
         if shapes is None or stack.branch_times.shape[-1]:
             # Maxwell branches make the pencil rational: every evaluation takes all eigenvalues
             return cls(np.zeros(count, dtype=bool), np.full(count, np.nan), np.zeros(count, complex),
-                       np.zeros((count, 0), complex), gap, _eigen.PencilFactors(0, 0))
+                       np.zeros((count, 0), complex), gap, _pencils.PencilFactors(0, 0))
         v, k, mode = brackets.variant, brackets.k, brackets.mode
         return cls(brackets.isolated, brackets.start.astype(float), brackets.low.copy(),
-                   shapes[v, k, mode], gap, _eigen.PencilFactors(count, stack.n_dof))
+                   shapes[v, k, mode], gap, _pencils.PencilFactors(count, stack.n_dof))
 
 
 def _isolated(brackets):
@@ -983,7 +983,7 @@ def _followed(brackets, rows, x, iterates):
 
 def _pencil_at(stack, speeds, brackets, rows, x, iterates):
     """Eigenvalues of isolated or followed modes (:func:`_followed`) at ``x`` by residual inverse
-    iteration on the pencil (:func:`_eigen.residual_inverse_iteration`), started from the last
+    iteration on the pencil (:func:`_pencils.residual_inverse_iteration`), started from the last
     point's eigenvalue (moved by the interpolation's change) and shape. A crossing's first
     evaluation factors its pencil at the cubic interpolation of the sweep's eigenvalues there;
     later ones reuse that factorisation, and factor anew only where the iteration did not
@@ -1014,17 +1014,17 @@ def _pencil_at(stack, speeds, brackets, rows, x, iterates):
             again = ()
         else:
             if len(fresh):
-                iterates.factors.factor(rows[fresh], _eigen.PencilRows(pencils, fresh), start[fresh])
+                iterates.factors.factor(rows[fresh], _pencils.PencilRows(pencils, fresh), start[fresh])
             again = None
-    lam, shapes, converged = _eigen.residual_inverse_iteration(iterates.factors, rows, pencils, start,
+    lam, shapes, converged = _pencils.residual_inverse_iteration(iterates.factors, rows, pencils, start,
                                                                iterates.shape[rows], matrices=matrices)
     if again is None:
         again = (~converged & np.isfinite(lam) & ~unready).nonzero()[0]
     if len(again):
         # far from the factored point (or a poor start there): factor here and iterate again
-        part = _eigen.PencilRows(pencils, again)
+        part = _pencils.PencilRows(pencils, again)
         iterates.factors.factor(rows[again], part, lam[again])
-        lam[again], shapes[again], converged[again] = _eigen.residual_inverse_iteration(
+        lam[again], shapes[again], converged[again] = _pencils.residual_inverse_iteration(
             iterates.factors, rows[again], part, lam[again], shapes[again])
     ok = converged & (np.abs(lam - expected) <= 2 * brackets.spread[rows])
     followed = ~iterates.usable[rows]
@@ -1104,7 +1104,7 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
     scale = np.nanmax(np.abs(lam), axis=1)
     if lam.shape[1] < values.shape[-1]:       # a few roots only: the largest is the sweep's
         scale = np.maximum(scale, np.abs(values[brackets.variant[rows], brackets.k[rows]]).max(axis=1))
-    repeated = np.sort(np.abs(lam - picked[:, None]), axis=1)[:, 1] <= _eigen.REPEATED_TOLERANCE * scale
+    repeated = np.sort(np.abs(lam - picked[:, None]), axis=1)[:, 1] <= _eigensolve.REPEATED_TOLERANCE * scale
     known &= unsure | ~repeated            # a repeated root's shape is told by the MAC (_modes_at)
     gap = np.sort(np.abs(lam - picked[:, None]), axis=1)[:, 1]
     return picked, ~unsure & ~repeated, shapes, known, gap
@@ -1118,14 +1118,14 @@ _NEAREST_ROOTS = 8
 def _roots_near(stack, variants, x, centers, shapes=False, count=None):
     """The upper roots at speeds ``x`` to pick the tracked mode from, their unit shapes, and the
     distance from ``centers`` within which every root is among them: for large models (see
-    :func:`_eigen.nearest_roots`) the ``count`` nearest ``centers``, (R, count) and (R, count,
+    :func:`_pencils.nearest_roots`) the ``count`` nearest ``centers``, (R, count) and (R, count,
     n); else (or where ``count`` reaches the coordinates) all of them, (R, m), with shapes (R, m,
     n) only when ``shapes`` (None otherwise), and an infinite radius. ``count`` defaults to
     ``_NEAREST_ROOTS``."""
     count = _NEAREST_ROOTS if count is None else count
-    if stack.n_dof <= max(_eigen.NEAREST_ROOTS_DOF, count) or stack.branch_times.shape[-1]:
+    if stack.n_dof <= max(_pencils.NEAREST_ROOTS_DOF, count) or stack.branch_times.shape[-1]:
         return (*_all_roots(stack, variants, x, shapes), np.full(len(x), np.inf))
-    lam, phi, radius = _eigen.nearest_roots(Pencils(stack, variants, x), centers, count)
+    lam, phi, radius = _pencils.nearest_roots(Pencils(stack, variants, x), centers, count)
     failed = np.nonzero(np.all(np.isnan(lam), axis=1))[0]
     if len(failed):                                    # ARPACK did not converge: all roots, the nearest kept
         every, every_phi = _all_roots(stack, variants[failed], x[failed], True)
@@ -1137,7 +1137,7 @@ def _roots_near(stack, variants, x, centers, shapes=False, count=None):
         radius[failed] = np.inf if kept == nearest.shape[1] else \
             np.take_along_axis(distance, nearest[:, kept:kept + 1], axis=1)[:, 0]
     lam = np.where(lam.imag < 0, np.nan, lam)          # the lower roots are not candidates
-    return lam, _eigen.resolve_repeated(lam, phi, stack.whirl, variants), radius
+    return lam, _eigensolve.resolve_repeated(lam, phi, stack.whirl, variants), radius
 
 
 def _all_roots(stack, variants, x, shapes):
@@ -1145,10 +1145,10 @@ def _all_roots(stack, variants, x, shapes):
     when ``shapes`` (None otherwise)."""
     size = stack.forms[0].n_states
     if shapes:
-        return _eigen.concatenated([stack.solve(stack.at(variants[part], x[part]), variants[part])
-                                    for part in _eigen.chunk_slices(len(x), 80 * size * size)])
-    return _eigen.concatenated([_eigen.select_upper(_eigen.eigenvalues_of(stack.at(variants[part], x[part])))
-                                for part in _eigen.chunk_slices(len(x), 32 * size * size)]), None
+        return _batches.concatenated([stack.solve(stack.at(variants[part], x[part]), variants[part])
+                                    for part in _batches.chunk_slices(len(x), 80 * size * size)])
+    return _batches.concatenated([_eigensolve.select_upper(_eigensolve.eigenvalues_of(stack.at(variants[part], x[part])))
+                                for part in _batches.chunk_slices(len(x), 32 * size * size)]), None
 
 
 def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iterates):

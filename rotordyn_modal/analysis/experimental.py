@@ -161,7 +161,7 @@ def measured_modal_result(model, modes, excitation=None, speed=None):
         ``shapes`` of shape (n_modes, n) over the model's coordinates: the stator's six from the
         fit, the rotors on bearings' relative coordinates zero (stator sensors do not see them).
     """
-    from . import _eigen
+    from . import _whirl
     from .modal import ModalResult, modal_quantities
 
     if excitation is None:        # per mode, the input that excites it most
@@ -175,10 +175,10 @@ def measured_modal_result(model, modes, excitation=None, speed=None):
     speed = 0.0 if speed is None else float(speed)
     layout = model.dofs
     q = q @ layout.frame_motion()                                   # (n_modes, n): rotors' own motion unseen
-    ratios = _eigen.whirl_ratios(q[None], _eigen.whirl_forms(model), np.array([speed]))[0]
+    ratios = _whirl.whirl_ratios(q[None], _whirl.whirl_forms(model), np.array([speed]))[0]
     freq, zeta, log_dec = modal_quantities(modes.poles)
     return ModalResult(speed=speed, eigenvalues=np.asarray(modes.poles), frequencies_hz=freq, damping_ratios=zeta,
-                       log_decrements=log_dec, whirl_ratios=ratios, whirl=_eigen.whirl_labels(ratios), shapes=q,
+                       log_decrements=log_dec, whirl_ratios=ratios, whirl=_whirl.whirl_labels(ratios), shapes=q,
                        reference_point=np.asarray(model.reference_point, float),
                        oscillatory=np.ones(len(q), dtype=bool), dof_names=layout.names,
                        rotor_names=tuple(r.name for r in model.rotors),

@@ -29,7 +29,7 @@ import numpy as np
 from ..assembly import excitation_columns, rotor_matrices
 from ..elements.bearings import evaluate
 from ..model.geometry import shift_matrices
-from . import _arguments, _eigen
+from . import _arguments, _batches
 from .frf import FRFResult, _broadcast, _check_frequencies, _names, dof_response
 
 __all__ = ["suspension_forces", "bearing_forces", "bearing_point_forces", "all_forces", "force_frf", "COMPONENTS"]
@@ -224,7 +224,7 @@ def _parts(items, rows):
     """Slices of ``items`` whose motions, ``rows`` x 6 complex numbers each, hold about
     ``_FORCE_PART_BYTES`` together (all of a small model's at once; large models' forces in
     parts, so that their temporaries stay a fraction of the result)."""
-    return _eigen.chunk_slices(items, 96 * rows, budget=_FORCE_PART_BYTES)
+    return _batches.chunk_slices(items, 96 * rows, budget=_FORCE_PART_BYTES)
 
 
 def _bearing_moves(layout, rotor, positions):

@@ -33,7 +33,7 @@ from ..assembly import constant_matrices, dependent_bearing_matrices, excitation
     loss_stiffness, sensor_rows
 from ..errors import InputError
 from ..elements.mounts import has_frequency_dependence, maxwell_stiffness
-from . import _arguments, _eigen
+from . import _arguments, _batches
 
 __all__ = ["FRFResult", "frf", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]
 
@@ -247,7 +247,7 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     if rhs.shape != (len(w),) + rhs.shape[-2:]:
         rhs = np.broadcast_to(rhs, (len(w),) + rhs.shape[-2:])
     # per system: Z, LAPACK's copy and the temporaries of its right-hand side
-    parts = _eigen.chunk_slices(len(w), 48 * n * n, budget=_SOLVE_PART_BYTES)
+    parts = _batches.chunk_slices(len(w), 48 * n * n, budget=_SOLVE_PART_BYTES)
     if len(parts) == 1:
         # the solution made after Z: Z's memory, freed below it, serves the caller's next arrays
         # (as the top of the heap it would be handed back to the system and faulted in again)

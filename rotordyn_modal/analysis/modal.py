@@ -9,7 +9,7 @@ import scipy.linalg
 
 from ..model.geometry import point_motion_row
 from ..linear_system import speed_linear_form
-from . import _arguments, _eigen, _roots
+from . import _arguments, _eigensolve, _roots, _whirl
 
 __all__ = ["ModalResult", "modal", "mac", "modal_quantities", "is_oscillating", "OVERDAMPED_LIMIT"]
 
@@ -130,7 +130,7 @@ class ModalResult:
     @property
     def rotor_whirl(self) -> np.ndarray:
         """'forward', 'backward' or 'none' for each rotor, shape (n_roots, n_rotors)."""
-        return _eigen.whirl_labels(self.rotor_whirl_ratios)
+        return _whirl.whirl_labels(self.rotor_whirl_ratios)
 
     def shape_at(self, point, direction=None, body=None, relative: bool = False) -> np.ndarray:
         """Mode shapes at a point of the stator or of a rotor.
@@ -249,17 +249,17 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     values, vectors = scipy.linalg.eig(matrix)
     n = form.n_dof
     noise = float(_roots.round_off(matrix))
-    upper = _eigen.select_upper(_roots.snapped(values, noise, matrix, vectors, n))
+    upper = _eigensolve.select_upper(_roots.snapped(values, noise, matrix, vectors, n))
     # the LAPACK vectors of the chosen eigenvalues (nearest match; values are identical)
     index = [int(np.argmin(np.abs(values - lam))) for lam in upper]
     index = _unique_indices(index, values, upper)
-    forms = _eigen.whirl_forms(model)
-    shapes = _eigen.resolve_repeated(upper[None], vectors[:n, index].T[None], forms)[0]
+    forms = _whirl.whirl_forms(model)
+    shapes = _eigensolve.resolve_repeated(upper[None], vectors[:n, index].T[None], forms)[0]
     shapes = _normalise(shapes, form.matrices.M)
     oscillatory = is_oscillating(upper)
-    ratio_noise = _roots.whirl_round_off(upper, values, noise, _eigen.REPEATED_TOLERANCE * np.abs(upper).max())
-    ratios = np.where(oscillatory, _eigen.whirl_ratios(shapes[None], forms, np.array([speed]))[0], 0.0)
-    rotor_ratios = np.array([_eigen.whirl_ratios(shapes[None], _eigen.rotor_whirl_forms(model, r.name),
+    ratio_noise = _roots.whirl_round_off(upper, values, noise, _eigensolve.REPEATED_TOLERANCE * np.abs(upper).max())
+    ratios = np.where(oscillatory, _whirl.whirl_ratios(shapes[None], forms, np.array([speed]))[0], 0.0)
+    rotor_ratios = np.array([_whirl.whirl_ratios(shapes[None], _whirl.rotor_whirl_forms(model, r.name),
                                                  np.array([speed]))[0] for r in model.rotors]).reshape(
         len(model.rotors), len(upper)).T * oscillatory[:, None]
     freq, zeta, log_dec = modal_quantities(upper)
@@ -267,7 +267,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     return ModalResult(
         speed=float(speed), eigenvalues=upper, frequencies_hz=freq, damping_ratios=zeta,
         log_decrements=log_dec, whirl_ratios=ratios,
-        whirl=_eigen.whirl_labels(np.where(np.abs(ratios) <= ratio_noise, 0.0, ratios)),
+        whirl=_whirl.whirl_labels(np.where(np.abs(ratios) <= ratio_noise, 0.0, ratios)),
         shapes=shapes, reference_point=np.asarray(model.reference_point), oscillatory=oscillatory,
         dof_names=layout.names, rotor_names=tuple(r.name for r in model.rotors),
         rotor_whirl_ratios=rotor_ratios,

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..linear_system import speed_linear_form
-from . import _eigen
+from . import _eigensolve
 from .modal import is_oscillating
 
 __all__ = ["numbers_at_speed", "number_of_root", "numbers_at_crossings"]
@@ -80,6 +80,6 @@ def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, 
     for p in np.nonzero((below != above) | (below == 0))[0]:
         if form is None:
             form = speed_linear_form(model)
-        roots = _eigen.select_upper(_eigen.eigenvalues_of(form.at(float(speeds[p]))[None]))[0]
+        roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(form.at(float(speeds[p]))[None]))[0]
         out[p] = number_of_root(roots, eigenvalues[p])
     return out

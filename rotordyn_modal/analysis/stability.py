@@ -10,7 +10,7 @@ from scipy.optimize import brentq
 
 from ..errors import InputError
 from ..linear_system import speed_linear_form
-from . import _eigen, _roots
+from . import _eigensolve, _roots, _whirl
 from .campbell import _check_speeds, _progress, solve_sweep
 from .modal import is_oscillating, modal, modal_quantities
 from .mode_numbers import numbers_at_speed
@@ -245,14 +245,14 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
     form = speed_linear_form(model)
     eigenvalues, shapes, _ = solve_sweep(model, speeds, progress)
     ratios = np.where(is_oscillating(eigenvalues),
-                      _eigen.whirl_ratios(shapes, _eigen.whirl_forms(model), speeds), 0.0)
+                      _whirl.whirl_ratios(shapes, _whirl.whirl_forms(model), speeds), 0.0)
     freq, zeta, log_dec = modal_quantities(eigenvalues)
     roundoff = roundoff_levels(form, speeds)
     thresholds, threshold_modes, onsets = threshold_speeds(form, speeds, eigenvalues, roundoff)
     crossing = _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes)
     return StabilityResult(
         speeds=speeds, eigenvalues=eigenvalues, real_parts=eigenvalues.real, damping_ratios=zeta,
-        log_decrements=log_dec, frequencies_hz=freq, whirl=_eigen.whirl_labels(ratios),
+        log_decrements=log_dec, frequencies_hz=freq, whirl=_whirl.whirl_labels(ratios),
         modes=np.arange(1, eigenvalues.shape[1] + 1), thresholds=thresholds,
         threshold_modes=threshold_modes, threshold_onsets=onsets, roundoff=roundoff, **crossing,
     )
@@ -411,7 +411,7 @@ def _largest_real_part(form, speed, clip: bool = True) -> float:
     conjugate pair, their round-off removed as the sweep's: :func:`._roots.snapped`)."""
     matrix = form.at(speed)
     roundoff = roundoff_levels(form, [speed]) if clip else None
-    roots = _eigen.select_upper(_roots.snapped(np.linalg.eigvals(matrix), _roots.round_off(matrix))[None])
+    roots = _eigensolve.select_upper(_roots.snapped(np.linalg.eigvals(matrix), _roots.round_off(matrix))[None])
     return float(_significant_real_parts(roots, clip, roundoff).max())
 
 

@@ -16,7 +16,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from ._eigen import chunk_slices, mac_matrix
+from ._batches import chunk_slices
+
+from ._vectors import mac_matrix
 
 __all__ = ["track_modes", "track_modes_many"]
 

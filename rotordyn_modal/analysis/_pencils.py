@@ -1,73 +1,21 @@
-"""Batched eigen-solutions of the speed-dependent state matrix, whirl and MAC.
-
-Speed: eigenvalues and eigenvectors of all speeds come from one batched LAPACK
-call split over threads (numpy releases the GIL); a mode shape is the
-displacement part of its state eigenvector. (One step of inverse iteration on the
-quadratic pencil ``Q(lam) = lam^2 M + lam (C + Omega G) + K`` per mode, which an
-earlier version used, costs as much for 6 coordinates and grows as n^4 per speed;
-it still gives the shape at a single known eigenvalue, e.g. at a critical speed.)
-"""
+"""The quadratic pencil ``Q(lam) = lam^2 M + lam (C + Omega G) + K`` of each speed: shapes at
+known roots (inverse iteration), factorisations (batched, LU, sparse), residual inverse
+iteration, the joint Newton step on eigenpair and speed, the roots nearest a point by
+shift-invert Arnoldi."""
 
 from __future__ import annotations
 
-import contextlib
 import functools
-import os
-from concurrent.futures import ThreadPoolExecutor
-
 from typing import NamedTuple
 
 import numpy as np
 
-from ..assembly import add_rotor_bodies, body_inertias
-from ..model.dofs import frame_block
-from ..model.geometry import skew
-from . import _roots
+from . import _batches, _vectors
 
-__all__ = ["select_upper", "upper_indices", "upper_shapes", "one_blas_thread", "eigenvalues_of", "solve_batch",
-           "pencil_shapes", "PencilFactors", "PencilRows", "SparseLayout", "sparse_layout", "SPARSE_DOF",
-           "SPARSE_DENSITY", "BATCHED_DOF", "nearest_roots", "NEAREST_ROOTS_DOF",
-           "residual_inverse_iteration",
-           "chunk_slices", "concatenated", "CHUNK_BYTES", "whirl_forms", "rotor_whirl_forms", "stacked_forms", "whirl_ratios",
-           "whirl_labels", "row_norms", "unit_rows", "mass_normalized", "mac_matrix", "real_product",
-           "quadratic_forms", "WhirlForms", "WHIRL_TOLERANCE"]
+__all__ = ["BATCHED_DOF", "NEAREST_ROOTS_DOF", "PencilFactors", "PencilRows", "SPARSE_DENSITY", "SPARSE_DOF", "SparseLayout", "nearest_roots", "pencil_shapes", "residual_inverse_iteration", "sparse_layout", "speed_newton_step"]
 
-#: |whirl ratio| below this counts as no whirl (a straight-line orbit): for an elliptic
-#: orbit the ratio is 2ab/(a^2+b^2), so this is a minor/major axis ratio of 5e-4
-WHIRL_TOLERANCE = 1e-3
 
-_THREADS = max(1, min(4, os.cpu_count() or 1))
-#: batches whose work arrays exceed this are shared between threads [bytes]
-_THREAD_BYTES = 2**20
-#: upper bound of the work arrays of one part of a batch [bytes]
-_PART_BYTES = 64 * 2**20
 _START_SEED = 20261122
-#: memory of one chunk of a sweep or of a stack of systems (matrices, factors, LAPACK's work) [bytes]
-CHUNK_BYTES = 512 * 2**20
-
-
-def chunk_slices(count: int, item_bytes: int, largest: int | None = None, budget: int | None = None) -> list:
-    """Consecutive slices of ``count`` items, each holding about ``budget`` of work.
-
-    Parameters
-    ----------
-    count : int
-        Items (matrices, speeds) of the batch.
-    item_bytes : int
-        Work memory of one item [bytes].
-    largest : int, optional
-        Most items of one slice.
-    budget : int, optional
-        Work memory of one slice [bytes]; default ``CHUNK_BYTES``.
-
-    Returns
-    -------
-    list of slice
-    """
-    step = max(1, (CHUNK_BYTES if budget is None else budget) // max(int(item_bytes), 1))
-    if largest is not None:
-        step = min(step, largest)
-    return [slice(i, min(i + step, count)) for i in range(0, count, step)]
 
 
 @functools.lru_cache(maxsize=8)
@@ -81,167 +29,13 @@ def _start_vectors(m: int, n: int) -> np.ndarray:
     rng = np.random.default_rng(_START_SEED)
     real = rng.standard_normal((m, size))[:, :n]
     skipped = size * size - m * size
-    for part in chunk_slices(skipped, 8, budget=_SKIP_BYTES):
+    for part in _batches.chunk_slices(skipped, 8, budget=_SKIP_BYTES):
         rng.standard_normal(part.stop - part.start)
     return real + 1j * rng.standard_normal((m, size))[:, :n]
 
 
 #: the largest part of the start vectors' skipped draws made at once [bytes]
 _SKIP_BYTES = 8 * 2**20
-
-
-_POOL: ThreadPoolExecutor | None = None
-
-
-def _forget_pool():
-    """A forked child inherits the pool object but not its threads: start afresh."""
-    global _POOL
-    _POOL = None
-
-
-if hasattr(os, "register_at_fork"):
-    os.register_at_fork(after_in_child=_forget_pool)
-
-
-def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
-    """Apply a batched numpy routine over the first axis of its arrays using a few threads.
-
-    LAPACK-backed numpy routines and large array arithmetic release the GIL, so
-    the parts run in parallel. Set ``ROTORDYN_MODAL_THREADS=1`` (as parameter
-    studies do in their worker processes) to stay on one core. ``item_bytes``
-    (the work memory per item, a measure of its cost) splits large batches into
-    parts of at most about ``_PART_BYTES``, and shares batches beyond
-    ``_THREAD_BYTES`` between threads. ``function`` returns an array or a tuple
-    of arrays; the parts' results are concatenated.
-    """
-    global _POOL
-    count = len(batches[0])
-    threads = int(os.environ.get("ROTORDYN_MODAL_THREADS", _THREADS))
-    pieces = max(1, min(count, -(-count * item_bytes // _PART_BYTES)))
-    if threads > 1 and count * item_bytes >= _THREAD_BYTES:
-        pieces = max(pieces, min(count, threads))
-    if pieces == 1:
-        return function(*batches)
-    parts = [np.array_split(batch, pieces) for batch in batches]
-    if threads > 1:
-        if _POOL is None or _POOL._max_workers != threads:
-            _POOL = ThreadPoolExecutor(threads, thread_name_prefix="rotordyn-eig")
-        with one_blas_thread(item_bytes):
-            results = list(_POOL.map(function, *parts))
-    else:
-        results = [function(*part) for part in zip(*parts)]
-    return concatenated(results)
-
-
-def concatenated(results):
-    """The parts' results joined along the first axis: arrays, or tuples of arrays joined
-    column by column."""
-    if isinstance(results[0], tuple):
-        return tuple(np.concatenate(column) for column in zip(*results))
-    return np.concatenate(results)
-
-
-#: items (matrices) whose work exceeds this may make BLAS start threads of its own [bytes]
-_BLAS_THREADED_BYTES = 72 * 48 * 48
-
-
-def one_blas_thread(item_bytes: int):
-    """One BLAS/LAPACK thread each while our own threads share the cores (through
-    threadpoolctl when installed): BLAS's own threads on top of ours would oversubscribe
-    the cores, which slows large eigenproblems several times over. Small matrices never
-    start BLAS threads, and asking threadpoolctl costs about a millisecond: skipped there."""
-    if item_bytes < _BLAS_THREADED_BYTES:
-        return contextlib.nullcontext()
-    controller = _blas_controller()
-    return contextlib.nullcontext() if controller is None else controller.limit(limits=1, user_api="blas")
-
-
-@functools.lru_cache(maxsize=1)
-def _blas_controller():
-    try:
-        from threadpoolctl import ThreadpoolController
-    except ImportError:  # pragma: no cover
-        return None
-    return ThreadpoolController()
-
-
-def upper_shapes(matrices: np.ndarray, n: int):
-    """Upper eigenvalues (see :func:`upper_indices`) and unit-norm displacement shapes of a
-    stack of state matrices: ``numpy.linalg.eig`` in threads and parts of bounded memory, each
-    part's eigenvectors reduced to its shapes at once (the parts' results are a quarter of
-    the eigenvectors, so joining them copies little).
-
-    Parameters
-    ----------
-    matrices : ndarray, shape (R, n_states, n_states)
-    n : int
-        Number of generalized coordinates (the displacement rows of the eigenvectors).
-
-    Returns
-    -------
-    eigenvalues : ndarray, shape (R, m), complex; shapes : ndarray, shape (R, m, n), complex
-    """
-    size = matrices.shape[-1]
-    return _threaded(functools.partial(_upper_part, n=n), matrices, item_bytes=72 * size * size)
-
-
-def _upper_part(matrices: np.ndarray, n: int):
-    values, vectors = np.linalg.eig(matrices)
-    values = _roots.snapped(values, _roots.round_off(matrices), matrices, vectors, n)
-    index, eigenvalues = upper_indices(values)
-    # advanced indices apart put their axes first: shapes[r, k, j] = vectors[r, j, index[r, k]]
-    shapes = vectors[np.arange(len(vectors))[:, None], :n, index]
-    return eigenvalues, unit_rows(shapes)
-
-
-def eigenvalues_of(matrices: np.ndarray) -> np.ndarray:
-    """``numpy.linalg.eigvals`` of a stack of matrices, in threads and parts of bounded memory,
-    their round-off removed (:func:`._roots.snapped`)."""
-    size = matrices.shape[-1]
-    return _threaded(_snapped_eigenvalues, matrices, item_bytes=24 * size * size)
-
-
-def _snapped_eigenvalues(matrices: np.ndarray) -> np.ndarray:
-    return _roots.snapped(np.linalg.eigvals(matrices), _roots.round_off(matrices))
-
-
-def select_upper(values: np.ndarray) -> np.ndarray:
-    """Pick the upper half of each row of eigenvalues; one of each conjugate pair and the smaller half of the real roots."""
-    return upper_indices(values)[1]
-
-
-def upper_indices(values: np.ndarray):
-    """Where the upper half of each row of eigenvalues sits, and those eigenvalues.
-
-    ``values`` (..., 2 n) are all roots of each state matrix, rid of their round-off (zero roots
-    and imaginary parts within it exactly 0: :func:`._roots.snapped`).
-
-    Returns
-    -------
-    index : ndarray of int, shape (..., n)
-        Positions in ``values`` (and in the columns of the eigenvector matrices).
-    upper : ndarray, shape (..., n), complex
-        Sorted by imaginary part, then real part (one of each conjugate pair and the smaller half of the real roots).
-    """
-    n = values.shape[-1] // 2
-    # by imaginary part; within the real block the smaller |lam| last, so that the upper half
-    # takes it
-    order = np.lexsort((-np.abs(values), values.imag), axis=-1)
-    chosen = order[..., n:]
-    along = _gather(values.shape)
-    upper = along(values, chosen)
-    final = np.lexsort((upper.real, upper.imag), axis=-1)
-    return along(chosen, final), along(upper, final)
-
-
-def _gather(shape):
-    """``numpy.take_along_axis(array, index, axis=-1)`` for arrays of leading shape ``shape[:-1]``;
-    for rows (2-D) one advanced index with the row numbers made once (the same elements, without
-    take_along_axis's per-call index building)."""
-    if len(shape) != 2:
-        return lambda array, index: np.take_along_axis(array, index, axis=-1)
-    rows = np.arange(shape[0])[:, None]
-    return lambda array, index: array[rows, index]
 
 
 def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarray:
@@ -269,11 +63,7 @@ def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarr
         factor = shifted[:, None] * times / (1 + shifted[:, None] * times)        # (P, n_b)
         pencil += np.einsum("pb,pbij->pij", factor, stiffness_b)
     start = np.broadcast_to(_start_vectors(1, M.shape[-1])[0][:, None], pencil.shape[:-1] + (1,))
-    return unit_rows(_solve(pencil, start)[..., 0])
-
-
-#: rows of pencils built together: their real and imaginary planes stay in the cache [bytes]
-_CACHE_BYTES = 2**20
+    return _vectors.unit_rows(_solve(pencil, start)[..., 0])
 
 
 #: pencils of at most this many coordinates are kept whole and solved in one batched call;
@@ -287,6 +77,8 @@ BATCHED_DOF = 48
 #: and 11 % nonzero a sparse LU costs 0.6 of a dense one, at 301 and 5 % a sixth; at 101 and 16 %
 #: it costs twice as much)
 SPARSE_DOF = 150
+
+
 SPARSE_DENSITY = 0.15
 
 
@@ -373,7 +165,7 @@ class PencilFactors:
             self.factors[rows[i]] = _sparse_lu(pencils, i, shifts[i])[0]
         dense = np.nonzero(~sparse)[0]
         n = pencils.n_dof
-        step = max(1, _CACHE_BYTES // (16 * n * n))
+        step = max(1, _batches._CACHE_BYTES // (16 * n * n))
         for part in (dense[start:start + step] for start in range(0, len(dense), step)):
             self._factor_dense(rows[part], _quadratic(*pencils.matrices(part), shifts[part]))
         self.ready[rows] = True
@@ -449,7 +241,7 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
     converged : ndarray (P,) bool
     """
     s = np.array(eigenvalues, dtype=complex)
-    phi = unit_rows(np.asarray(vectors, dtype=complex))                # a new array: c, with c^H phi = 1
+    phi = _vectors.unit_rows(np.asarray(vectors, dtype=complex))                # a new array: c, with c^H phi = 1
     normal_conj = phi.conj()
     last = np.full(len(s), np.inf)
     converged = np.zeros(len(s), dtype=bool)
@@ -509,7 +301,7 @@ def residual_inverse_iteration(factors, rows, pencils, eigenvalues, vectors, ite
                     more = active.nonzero()[0]
                     left[more] = _adjoint_solve(factors.factor(rows[more], PencilRows(pencils, more), s[more]),
                                                 normal_conj[more])
-    return s, unit_rows(phi), converged
+    return s, _vectors.unit_rows(phi), converged
 
 
 def _step(factors, rows, pencils, i, phi, s, left, normal_conj, matrices=None):
@@ -555,7 +347,7 @@ def _step_size(new, old, pair, phi_old):
     alone can settle while the shape still holds a neighbouring mode. ``pair`` (2, P, n) holds
     the new shapes in ``pair[1]``; the shapes' steps are written to ``pair[0]`` (normed together)."""
     np.subtract(pair[1], phi_old, out=pair[0])
-    norms = row_norms(pair)[..., 0]
+    norms = _vectors.row_norms(pair)[..., 0]
     return np.maximum(np.abs(new - old) / np.abs(new), norms[0] / norms[1])
 
 
@@ -596,7 +388,7 @@ def speed_newton_step(matrices, speeds, eigenvalues, vectors, normal_conj, line)
     """
     count, n = vectors.shape
     # a few rows at a time, so that each part's matrices stay in the cache (as in _quadratic)
-    parts = chunk_slices(count, 48 * (n + 1) ** 2, budget=_CACHE_BYTES)
+    parts = _batches.chunk_slices(count, 48 * (n + 1) ** 2, budget=_batches._CACHE_BYTES)
     if len(parts) == 1:
         return _speed_newton_part(matrices, speeds, eigenvalues, vectors, normal_conj, line)
     steps = []
@@ -726,7 +518,7 @@ def nearest_roots(pencils, centers, count: int = 8):
             continue
         order = np.argsort(np.abs(lam - centers[row]))
         values[row] = lam[order]
-        shapes[row] = unit_rows(vectors[:n, order].T)
+        shapes[row] = _vectors.unit_rows(vectors[:n, order].T)
         # ARPACK's roots are those nearest the shift: any other is at least as far from it
         radius[row] = np.abs(lam - sigma).max() - np.abs(sigma - centers[row])
     return values, shapes, radius
@@ -777,7 +569,7 @@ def _quadratic(M, damping, stiffness, lam):
     lam = np.asarray(lam, dtype=complex)
     out = np.empty(damping.shape, dtype=complex)
     squares = lam**2
-    step = max(1, _CACHE_BYTES // (8 * damping[0].size))
+    step = max(1, _batches._CACHE_BYTES // (8 * damping[0].size))
     for part in (slice(p, p + step) for p in range(0, len(lam), step)):
         _quadratic_part(out[part], M if M.ndim == 2 else M[part], damping[part],
                         stiffness if stiffness.ndim == 2 else stiffness[part], squares[part], lam[part])
@@ -821,363 +613,3 @@ def _solve_halves(matrices, rhs):
         except np.linalg.LinAlgError:
             parts.append(_solve_halves(matrices[part], rhs[part]))
     return np.concatenate(parts)
-
-
-def solve_batch(form, speeds, forms=None):
-    """Upper eigenvalues and their mode shapes at many speeds.
-
-    Parameters
-    ----------
-    form : SpeedLinearForm
-    speeds : ndarray, shape (N,) [rad/s]
-    forms : WhirlForms, optional
-        When given, the shapes of repeated eigenvalues are made the circular
-        (extreme-whirl) combinations; see :func:`resolve_repeated`.
-
-    Returns
-    -------
-    eigenvalues : ndarray, shape (N, m), complex [1/s]
-        ``m = n_states / 2`` roots per speed.
-    shapes : ndarray, shape (N, m, n), complex
-        Unit-norm displacement parts of the state eigenvectors.
-    """
-    speeds = np.asarray(speeds, dtype=float)
-    eigenvalues, shapes = upper_shapes(form.at(speeds), form.n_dof)
-    if forms is not None:
-        shapes = resolve_repeated(eigenvalues, shapes, forms)
-    return eigenvalues, shapes
-
-
-#: eigenvalues closer than this (relative) are one repeated eigenvalue
-REPEATED_TOLERANCE = 1e-9
-
-
-def resolve_repeated(eigenvalues, shapes, forms, variants=None):
-    """Make the shapes of a repeated eigenvalue its forward and backward whirl combinations.
-
-    Any combination of the shapes of a double eigenvalue is a mode shape, so the
-    solver's choice (and with it the whirl label) would be arbitrary. Within each
-    pair this picks the two combinations with extreme whirl ratio: the
-    eigenvectors of ``-i Phi^H W Phi v = mu Phi^H M Phi v`` (circular orbits, one
-    turning each way, for an axisymmetric machine). Pairs whose motion has no
-    whirl keep their shapes. Groups of three or more are left as they are.
-
-    Parameters
-    ----------
-    eigenvalues : ndarray, shape (N, m), sorted so that equal values are adjacent
-    shapes : ndarray, shape (N, m, n)
-    forms : WhirlForms
-        Each (n, n), or (V, n, n) for rows of several variants.
-    variants : ndarray of int, shape (N,), optional
-        The variant of each row, with forms stacked over variants.
-
-    Returns
-    -------
-    ndarray, shape (N, m, n): shapes, with repeated pairs replaced (backward first)
-    """
-    rows, first = _repeated_pairs(eigenvalues)
-    if not len(rows):
-        return shapes
-    # with forms per variant, each pair takes its variant's three (n, n) forms: a part of the pairs
-    # at a time (81 double roots of a 2,006-coordinate machine at rest would take 7 GiB at once)
-    n = shapes.shape[-1]
-    parts = [slice(None)] if variants is None else chunk_slices(len(rows), 48 * n * n, budget=_PART_BYTES)
-    found = [_whirling_pairs(shapes, rows[part], first[part], forms, variants) for part in parts]
-    rows, first, resolved = found[0] if len(found) == 1 else concatenated(found)
-    if not rows.size:
-        return shapes
-    out = shapes.copy()
-    out[rows, first] = resolved[:, :, 0]
-    out[rows, first + 1] = resolved[:, :, 1]
-    return out
-
-
-def _whirling_pairs(shapes, rows, first, forms, variants):
-    """The pairs ``(rows, first)`` of :func:`resolve_repeated` whose shapes span a plane and
-    whirl, and their extreme-whirl combinations (P, n, 2)."""
-    if variants is not None:
-        forms = WhirlForms(*(f[variants[rows]] for f in forms))
-    basis = np.stack([shapes[rows, first], shapes[rows, first + 1]], axis=-1)  # (P, n, 2)
-    rule = "pia,pij,pjb->pab" if forms.total.ndim == 3 else "pia,ij,pjb->pab"
-    total = np.einsum(rule, basis.conj(), forms.total, basis)
-    # the two shapes must span a plane (two inverse iterations could give one direction)
-    spans = np.abs(np.linalg.det(total)) > 1e-6 * np.abs(total[:, 0, 0] * total[:, 1, 1])
-    rows, first, basis, total = rows[spans], first[spans], basis[spans], total[spans]
-    if forms.total.ndim == 3:
-        forms = WhirlForms(*(f[spans] for f in forms))
-    if not rows.size:
-        return rows, first, np.zeros((0, shapes.shape[-1], 2), dtype=complex)
-    momentum = -1j * np.einsum(rule, basis.conj(), forms.W, basis)
-    mu, resolved = _extreme_whirl(basis, total, momentum)
-    whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
-    return rows[whirling], first[whirling], resolved[whirling]
-
-
-def _repeated_pairs(lam):
-    """Rows and first columns of the eigenvalues equal to the next one, exactly two equal (not
-    three) and not rigid-body zeros; ``lam`` shape (N, m), equal values adjacent."""
-    scale = np.abs(lam).max(axis=-1, keepdims=True) + 1e-300
-    close = np.abs(lam[..., 1:] - lam[..., :-1]) <= REPEATED_TOLERANCE * scale  # (N, m-1), numpy.diff
-    if not close.any():                    # the usual case: no repeated eigenvalue at all
-        return close.nonzero()
-    padded = np.pad(close, ((0, 0), (1, 1)))
-    pair = close & ~padded[:, :-2] & ~padded[:, 2:]
-    pair &= lam[:, :-1] != 0                        # not zero roots (made exact, _roots.snapped)
-    return pair.nonzero()
-
-
-def _extreme_whirl(basis, total, momentum):
-    """The combinations of each pair's two shapes with extreme whirl ratio.
-
-    Solves ``momentum v = mu total v`` (both Hermitian, ``total`` positive definite) by a
-    Cholesky reduction.
-
-    Returns
-    -------
-    mu : ndarray, shape (P, 2)
-        Whirl ratios, increasing (backward first).
-    resolved : ndarray, shape (P, n, 2)
-        The combined shapes, unit norm.
-    """
-    momentum = 0.5 * (momentum + np.conj(np.swapaxes(momentum, -1, -2)))
-    factor = np.linalg.cholesky(0.5 * (total + np.conj(np.swapaxes(total, -1, -2))))
-    inverse = np.linalg.inv(factor)
-    reduced = inverse @ momentum @ np.conj(np.swapaxes(inverse, -1, -2))
-    mu, vectors = np.linalg.eigh(reduced)
-    combinations = np.conj(np.swapaxes(inverse, -1, -2)) @ vectors  # (P, 2, 2)
-    resolved = basis @ combinations  # (P, n, 2)
-    resolved /= np.linalg.norm(resolved, axis=1, keepdims=True)
-    return mu, resolved
-
-
-# ----------------------------------------------------------------------------------------
-_SKEW_BASIS = skew(np.eye(3))   # E_k = skew(unit_k), shape (3, 3, 3)
-
-
-def _bodies_quadratic(masses, second_moments, X, first, products) -> np.ndarray:
-    """``sum_p m_p Z_p^T X Z_p`` over the particles of each rigid body, Z_p = [I, -skew(r_p)],
-    for several directions X at once.
-
-    Needs only each body's mass, first moment and second-moment tensor about the reference
-    point: ``sum_p m_p skew(r_p) X skew(r_p) = sum_kl Q_kl E_k X E_l`` with ``E_k = skew(unit_k)``.
-
-    Parameters
-    ----------
-    masses : ndarray (B,); second_moments : ndarray (B, 3, 3)
-    X : ndarray, shape (D, 3, 3)
-    first : ndarray (B, 3, 3)
-        ``skew(masses * centers)``.
-    products : ndarray (D, 3, 3, 3, 3)
-        ``E_k X E_l`` of each direction (see :func:`_directions`).
-
-    Returns
-    -------
-    ndarray, shape (D, B, 6, 6)
-    """
-    X = X[:, None]                                            # (D, 1, 3, 3)
-    out = np.zeros((len(X), len(masses), 6, 6))
-    out[..., :3, :3] = masses[:, None, None] * X
-    out[..., :3, 3:] = -X @ first
-    out[..., 3:, :3] = first @ X
-    out[..., 3:, 3:] = -np.einsum("zkl,xklad->xzad", second_moments, products)
-    return out
-
-
-def _direction_products(X) -> np.ndarray:
-    """``E_k X E_l`` for a (3, 3) matrix X, shape (3, 3, 3, 3), with ``E_k = skew(unit_k)``."""
-    return np.einsum("kab,bc,lcd->klad", _SKEW_BASIS, X, _SKEW_BASIS)
-
-
-@functools.lru_cache(maxsize=16)
-def _directions(axis: tuple):
-    """The whirl forms' 3 x 3 directions W, N, total about the spin axis ``axis`` (a tuple of 3
-    floats) and their :func:`_direction_products`, stacked: (3, 3, 3) and (3, 3, 3, 3, 3),
-    read-only. A function of the axis alone, kept for the next model with the same axis."""
-    e = np.array(axis, dtype=float)
-    X = np.stack([skew(e), np.eye(3) - np.outer(e, e), np.eye(3)])
-    products = np.stack([_direction_products(x) for x in X])
-    X.flags.writeable = products.flags.writeable = False
-    return X, products
-
-
-class WhirlForms(NamedTuple):
-    """Quadratic forms of the whirl ratio (each (n, n)); see :func:`whirl_forms`."""
-
-    W: np.ndarray
-    N: np.ndarray
-    total: np.ndarray
-
-
-_DIRECTIONS = ("W", "N", "total")
-
-
-def _bodies_forms(model) -> np.ndarray:
-    """The 6x6 forms W, N, total (stacked in this order) of each body's rigid motion at the
-    reference point (stator first, then the rotors): shape (3, B, 6, 6)."""
-    X, products = _directions(tuple(float(x) for x in model.spin_axis))
-    bodies = body_inertias(model)
-    masses = np.array([m for m, _, _ in bodies], dtype=float)
-    arms = np.array([np.asarray(c, dtype=float) for _, c, _ in bodies]) - model.reference_point
-    inertias = np.array([np.asarray(j, dtype=float) for _, _, j in bodies])
-    traces = inertias.trace(axis1=1, axis2=2)
-    second = (0.5 * traces[:, None, None] * np.eye(3) - inertias
-              + masses[:, None, None] * arms[:, :, None] * arms[:, None, :])
-    first = skew(masses[:, None] * arms)
-    return _bodies_quadratic(masses, second, X, first, products)
-
-
-def whirl_forms(model) -> WhirlForms:
-    """Quadratic forms ``W``, ``N`` and ``total`` of the whirl ratio of a mode shape phi.
-
-    ``-i phi^H W phi`` is the mass-weighted orbital angular momentum of the
-    whole machine's vibration about the spin axis (per unit frequency),
-    ``phi^H N phi`` the mass-weighted mean square motion normal to it and
-    ``phi^H total phi`` that of the whole motion (``total`` equals the mass
-    matrix). Each body contributes ``T_b^T X_b T_b`` (its motion ``T_b`` over the
-    generalized coordinates). See ``docs/theory.md``.
-    """
-    forms = _bodies_forms(model)                                          # (3, B, 6, 6)
-    parts = frame_block(model, forms.sum(axis=1))                         # (3, n, n)
-    first_rotor = forms.shape[1] - len(model.rotors)
-    for j, rotor in enumerate(model.rotors):
-        if model.dofs.on_bearings(rotor.name):
-            add_rotor_bodies([parts], model, rotor.name, [forms[:, first_rotor + j]])
-    return WhirlForms(*parts)
-
-
-def rotor_whirl_forms(model, rotor: str) -> WhirlForms:
-    """The whirl forms of one rotor's own motion (absolute), each (n, n)."""
-    index = [r.name for r in model.rotors].index(rotor)
-    forms = _bodies_forms(model)
-    body = forms[:, forms.shape[1] - len(model.rotors) + index]            # (3, 6, 6)
-    motion = model.dofs.body_motion(rotor)
-    return WhirlForms(*(motion.T @ body[d] @ motion for d in range(len(_DIRECTIONS))))
-
-
-def stacked_forms(forms: WhirlForms) -> np.ndarray:
-    """The transposes of the three whirl forms side by side, (..., n, 3 n), contiguous (see
-    :func:`quadratic_forms`)."""
-    return np.ascontiguousarray(
-        np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1))
-
-
-def whirl_ratios(shapes, forms: WhirlForms, speeds, stacked=None) -> np.ndarray:
-    """Signed whirl ratio in [-1, 1] relative to the reference rotor's spin.
-
-    +1 for a circular orbit normal to the spin axis turning with the spin, -1
-    against it, 0 for straight-line orbits. Modes whose motion normal to the
-    axis is below ``1e-9`` of their whole motion (pure axial or roll motion)
-    get 0, not a ratio of round-off to round-off.
-
-    Parameters
-    ----------
-    shapes : ndarray, shape (..., m, n)
-    forms : WhirlForms
-        Each (n, n), or stacked like the shapes' leading axes, (..., n, n); unused (may be None)
-        when ``stacked`` is given.
-    speeds : ndarray, shape (...) [rad/s]; the sign of the spin (0 counts as +)
-    stacked : ndarray, optional
-        :func:`stacked_forms` of ``forms``, when the caller keeps it.
-
-    Returns
-    -------
-    ndarray, shape (..., m)
-    """
-    # phi^H X phi of the three forms for every shape from one product with [W^T N^T total^T]
-    values = quadratic_forms(shapes, stacked_forms(forms) if stacked is None else stacked).reshape(
-        shapes.shape[:-1] + (3,))
-    momentum = values[..., 0].imag  # Re(-i phi^H W phi)
-    across = values[..., 1].real
-    whole = values[..., 2].real
-    ratio = np.zeros(across.shape)
-    np.divide(momentum, across, out=ratio, where=across > 1e-9 * whole)
-    against = np.asarray(speeds) < 0
-    if against.any():
-        np.negative(ratio, out=ratio, where=np.broadcast_to(against[..., None], ratio.shape))
-    np.maximum(ratio, -1.0, out=ratio)                                   # numpy.clip, in place
-    return np.minimum(ratio, 1.0, out=ratio)
-
-
-def real_product(shapes, matrix) -> np.ndarray:
-    """``shapes @ matrix`` for complex shapes (..., m, n) and a real matrix (n, p) or (..., n, p),
-    as real products of the real and imaginary parts (half the work of a complex product;
-    one matrix product over all shapes when the matrix is shared)."""
-    if np.iscomplexobj(matrix):
-        return shapes @ matrix
-    parts = np.empty((2,) + shapes.shape, dtype=shapes.real.dtype)   # contiguous, (2, ..., m, n)
-    parts[0], parts[1] = shapes.real, shapes.imag
-    if matrix.ndim == 2:
-        out = (parts.reshape(-1, parts.shape[-1]) @ matrix).reshape(parts.shape[:-1] + matrix.shape[-1:])
-    else:
-        out = parts @ matrix
-    combined = np.empty(out.shape[1:], dtype=complex)
-    combined.real, combined.imag = out[0], out[1]
-    return combined
-
-
-#: shapes of at most this many coordinates take their quadratic forms by one complex product
-_COMPLEX_PRODUCT_DOF = 24
-
-
-def quadratic_forms(shapes, stacked) -> np.ndarray:
-    """``phi^H X_k phi`` of every shape (..., m, n) for real forms whose transposes are
-    side by side in ``stacked`` (n, K n) or (..., n, K n).
-
-    Returns
-    -------
-    ndarray, shape (..., m, K), complex
-    """
-    n = shapes.shape[-1]
-    # small shapes: complex products, one per speed (numpy makes the forms complex, a few
-    # hundred numbers), cost less than the real parts' copies and their product's large
-    # temporaries, and each is too small to start BLAS threads (which a loaded machine makes
-    # wait). Single shapes (critical speeds) of pencils solved whole also take one product per
-    # row: in one product of all rows a row's bits depend on its place among the others, and a
-    # study's variant would then differ from its model's own analysis in the last bit.
-    single = shapes.shape[-2] == 1 and n <= BATCHED_DOF
-    if n > _COMPLEX_PRODUCT_DOF and not single:
-        product = real_product(shapes, stacked)
-    else:
-        product = shapes @ stacked
-    products = product.reshape(shapes.shape[:-1] + (-1, n))   # (..., m, K, n)
-    return np.einsum("...i,...ki->...k", shapes.conj(), products)
-
-
-_WHIRL_NAMES = np.array(["backward", "none", "forward"])
-
-
-def whirl_labels(ratios) -> np.ndarray:
-    """'forward', 'backward' or 'none' from whirl ratios (array of str)."""
-    ratios = np.asarray(ratios)
-    return _WHIRL_NAMES[(ratios > WHIRL_TOLERANCE).astype(np.intp) - (ratios < -WHIRL_TOLERANCE) + 1]
-
-
-def row_norms(x) -> np.ndarray:
-    """Euclidean norms of the last axis of a complex array, shape (..., 1) (``numpy.linalg.norm``
-    with ``keepdims``, without its temporaries)."""
-    pairs = np.ascontiguousarray(x).view(float)
-    return np.sqrt(np.einsum("...i,...i->...", pairs, pairs))[..., None]
-
-
-def unit_rows(x) -> np.ndarray:
-    """Rows of the last axis scaled to unit length; zero rows stay zero (a Maxwell junction's
-    relaxation root moves no mass and has no displacement: its shape stays zero, MAC 0)."""
-    norms = row_norms(x)
-    return x / np.where(norms > 0, norms, 1.0)
-
-
-def mass_normalized(shapes, M) -> np.ndarray:
-    """``L^T phi`` normalised to unit length, with ``M = L L^T``: shapes whose plain
-    inner product is the mass-weighted one (unit-consistent MAC)."""
-    factor = np.linalg.cholesky(M)
-    return unit_rows(real_product(shapes, factor))
-
-
-def mac_matrix(a, b) -> np.ndarray:
-    """Modal assurance criterion between unit shape sets ``a`` (..., m, n) and ``b`` (..., p, n).
-
-    Returns
-    -------
-    ndarray, shape (..., m, p), values in [0, 1]
-    """
-    return np.abs(a.conj() @ np.swapaxes(b, -1, -2)) ** 2  # batched BLAS, not einsum's loops

@@ -1,0 +1,127 @@
+"""Batches of small dense problems: chunks of bounded memory, thread pools (numpy releases
+the GIL), and BLAS held to one thread where its own threads would wait for a core."""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import os
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+__all__ = ["CHUNK_BYTES", "chunk_slices", "concatenated", "one_blas_thread"]
+
+
+_THREADS = max(1, min(4, os.cpu_count() or 1))
+
+
+#: batches whose work arrays exceed this are shared between threads [bytes]
+_THREAD_BYTES = 2**20
+
+
+#: upper bound of the work arrays of one part of a batch [bytes]
+_PART_BYTES = 64 * 2**20
+
+
+#: memory of one chunk of a sweep or of a stack of systems (matrices, factors, LAPACK's work) [bytes]
+CHUNK_BYTES = 512 * 2**20
+
+
+def chunk_slices(count: int, item_bytes: int, largest: int | None = None, budget: int | None = None) -> list:
+    """Consecutive slices of ``count`` items, each holding about ``budget`` of work.
+
+    Parameters
+    ----------
+    count : int
+        Items (matrices, speeds) of the batch.
+    item_bytes : int
+        Work memory of one item [bytes].
+    largest : int, optional
+        Most items of one slice.
+    budget : int, optional
+        Work memory of one slice [bytes]; default ``CHUNK_BYTES``.
+
+    Returns
+    -------
+    list of slice
+    """
+    step = max(1, (CHUNK_BYTES if budget is None else budget) // max(int(item_bytes), 1))
+    if largest is not None:
+        step = min(step, largest)
+    return [slice(i, min(i + step, count)) for i in range(0, count, step)]
+
+
+_POOL: ThreadPoolExecutor | None = None
+
+
+def _forget_pool():
+    """A forked child inherits the pool object but not its threads: start afresh."""
+    global _POOL
+    _POOL = None
+
+
+def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
+    """Apply a batched numpy routine over the first axis of its arrays using a few threads.
+
+    LAPACK-backed numpy routines and large array arithmetic release the GIL, so
+    the parts run in parallel. Set ``ROTORDYN_MODAL_THREADS=1`` (as parameter
+    studies do in their worker processes) to stay on one core. ``item_bytes``
+    (the work memory per item, a measure of its cost) splits large batches into
+    parts of at most about ``_PART_BYTES``, and shares batches beyond
+    ``_THREAD_BYTES`` between threads. ``function`` returns an array or a tuple
+    of arrays; the parts' results are concatenated.
+    """
+    global _POOL
+    count = len(batches[0])
+    threads = int(os.environ.get("ROTORDYN_MODAL_THREADS", _THREADS))
+    pieces = max(1, min(count, -(-count * item_bytes // _PART_BYTES)))
+    if threads > 1 and count * item_bytes >= _THREAD_BYTES:
+        pieces = max(pieces, min(count, threads))
+    if pieces == 1:
+        return function(*batches)
+    parts = [np.array_split(batch, pieces) for batch in batches]
+    if threads > 1:
+        if _POOL is None or _POOL._max_workers != threads:
+            _POOL = ThreadPoolExecutor(threads, thread_name_prefix="rotordyn-eig")
+        with one_blas_thread(item_bytes):
+            results = list(_POOL.map(function, *parts))
+    else:
+        results = [function(*part) for part in zip(*parts)]
+    return concatenated(results)
+
+
+def concatenated(results):
+    """The parts' results joined along the first axis: arrays, or tuples of arrays joined
+    column by column."""
+    if isinstance(results[0], tuple):
+        return tuple(np.concatenate(column) for column in zip(*results))
+    return np.concatenate(results)
+
+
+#: items (matrices) whose work exceeds this may make BLAS start threads of its own [bytes]
+_BLAS_THREADED_BYTES = 72 * 48 * 48
+
+
+def one_blas_thread(item_bytes: int):
+    """One BLAS/LAPACK thread each while our own threads share the cores (through
+    threadpoolctl when installed): BLAS's own threads on top of ours would oversubscribe
+    the cores, which slows large eigenproblems several times over. Small matrices never
+    start BLAS threads, and asking threadpoolctl costs about a millisecond: skipped there."""
+    if item_bytes < _BLAS_THREADED_BYTES:
+        return contextlib.nullcontext()
+    controller = _blas_controller()
+    return contextlib.nullcontext() if controller is None else controller.limit(limits=1, user_api="blas")
+
+
+@functools.lru_cache(maxsize=1)
+def _blas_controller():
+    try:
+        from threadpoolctl import ThreadpoolController
+    except ImportError:  # pragma: no cover
+        return None
+    return ThreadpoolController()
+
+
+#: rows of pencils built together: their real and imaginary planes stay in the cache [bytes]
+_CACHE_BYTES = 2**20

@@ -1,0 +1,223 @@
+"""Roots of the speed-dependent state matrix: batched eigenvalues, one root of each conjugate
+pair (the oscillating ones), shapes from state eigenvectors, repeated roots resolved into
+their extreme-whirl basis.
+
+Speed: eigenvalues and eigenvectors of all speeds come from one batched LAPACK call split
+over threads (numpy releases the GIL); a mode shape is the displacement part of its state
+eigenvector."""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from . import _batches, _roots, _vectors, _whirl
+
+__all__ = ["REPEATED_TOLERANCE", "eigenvalues_of", "resolve_repeated", "select_upper", "solve_batch", "upper_indices", "upper_shapes"]
+
+
+def upper_shapes(matrices: np.ndarray, n: int):
+    """Upper eigenvalues (see :func:`upper_indices`) and unit-norm displacement shapes of a
+    stack of state matrices: ``numpy.linalg.eig`` in threads and parts of bounded memory, each
+    part's eigenvectors reduced to its shapes at once (the parts' results are a quarter of
+    the eigenvectors, so joining them copies little).
+
+    Parameters
+    ----------
+    matrices : ndarray, shape (R, n_states, n_states)
+    n : int
+        Number of generalized coordinates (the displacement rows of the eigenvectors).
+
+    Returns
+    -------
+    eigenvalues : ndarray, shape (R, m), complex; shapes : ndarray, shape (R, m, n), complex
+    """
+    size = matrices.shape[-1]
+    return _batches._threaded(functools.partial(_upper_part, n=n), matrices, item_bytes=72 * size * size)
+
+
+def _upper_part(matrices: np.ndarray, n: int):
+    values, vectors = np.linalg.eig(matrices)
+    values = _roots.snapped(values, _roots.round_off(matrices), matrices, vectors, n)
+    index, eigenvalues = upper_indices(values)
+    # advanced indices apart put their axes first: shapes[r, k, j] = vectors[r, j, index[r, k]]
+    shapes = vectors[np.arange(len(vectors))[:, None], :n, index]
+    return eigenvalues, _vectors.unit_rows(shapes)
+
+
+def eigenvalues_of(matrices: np.ndarray) -> np.ndarray:
+    """``numpy.linalg.eigvals`` of a stack of matrices, in threads and parts of bounded memory,
+    their round-off removed (:func:`._roots.snapped`)."""
+    size = matrices.shape[-1]
+    return _batches._threaded(_snapped_eigenvalues, matrices, item_bytes=24 * size * size)
+
+
+def _snapped_eigenvalues(matrices: np.ndarray) -> np.ndarray:
+    return _roots.snapped(np.linalg.eigvals(matrices), _roots.round_off(matrices))
+
+
+def select_upper(values: np.ndarray) -> np.ndarray:
+    """Pick the upper half of each row of eigenvalues; one of each conjugate pair and the smaller half of the real roots."""
+    return upper_indices(values)[1]
+
+
+def upper_indices(values: np.ndarray):
+    """Where the upper half of each row of eigenvalues sits, and those eigenvalues.
+
+    ``values`` (..., 2 n) are all roots of each state matrix, rid of their round-off (zero roots
+    and imaginary parts within it exactly 0: :func:`._roots.snapped`).
+
+    Returns
+    -------
+    index : ndarray of int, shape (..., n)
+        Positions in ``values`` (and in the columns of the eigenvector matrices).
+    upper : ndarray, shape (..., n), complex
+        Sorted by imaginary part, then real part (one of each conjugate pair and the smaller half of the real roots).
+    """
+    n = values.shape[-1] // 2
+    # by imaginary part; within the real block the smaller |lam| last, so that the upper half
+    # takes it
+    order = np.lexsort((-np.abs(values), values.imag), axis=-1)
+    chosen = order[..., n:]
+    along = _gather(values.shape)
+    upper = along(values, chosen)
+    final = np.lexsort((upper.real, upper.imag), axis=-1)
+    return along(chosen, final), along(upper, final)
+
+
+def _gather(shape):
+    """``numpy.take_along_axis(array, index, axis=-1)`` for arrays of leading shape ``shape[:-1]``;
+    for rows (2-D) one advanced index with the row numbers made once (the same elements, without
+    take_along_axis's per-call index building)."""
+    if len(shape) != 2:
+        return lambda array, index: np.take_along_axis(array, index, axis=-1)
+    rows = np.arange(shape[0])[:, None]
+    return lambda array, index: array[rows, index]
+
+
+def solve_batch(form, speeds, forms=None):
+    """Upper eigenvalues and their mode shapes at many speeds.
+
+    Parameters
+    ----------
+    form : SpeedLinearForm
+    speeds : ndarray, shape (N,) [rad/s]
+    forms : WhirlForms, optional
+        When given, the shapes of repeated eigenvalues are made the circular
+        (extreme-whirl) combinations; see :func:`resolve_repeated`.
+
+    Returns
+    -------
+    eigenvalues : ndarray, shape (N, m), complex [1/s]
+        ``m = n_states / 2`` roots per speed.
+    shapes : ndarray, shape (N, m, n), complex
+        Unit-norm displacement parts of the state eigenvectors.
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    eigenvalues, shapes = upper_shapes(form.at(speeds), form.n_dof)
+    if forms is not None:
+        shapes = resolve_repeated(eigenvalues, shapes, forms)
+    return eigenvalues, shapes
+
+
+#: eigenvalues closer than this (relative) are one repeated eigenvalue
+REPEATED_TOLERANCE = 1e-9
+
+
+def resolve_repeated(eigenvalues, shapes, forms, variants=None):
+    """Make the shapes of a repeated eigenvalue its forward and backward whirl combinations.
+
+    Any combination of the shapes of a double eigenvalue is a mode shape, so the
+    solver's choice (and with it the whirl label) would be arbitrary. Within each
+    pair this picks the two combinations with extreme whirl ratio: the
+    eigenvectors of ``-i Phi^H W Phi v = mu Phi^H M Phi v`` (circular orbits, one
+    turning each way, for an axisymmetric machine). Pairs whose motion has no
+    whirl keep their shapes. Groups of three or more are left as they are.
+
+    Parameters
+    ----------
+    eigenvalues : ndarray, shape (N, m), sorted so that equal values are adjacent
+    shapes : ndarray, shape (N, m, n)
+    forms : WhirlForms
+        Each (n, n), or (V, n, n) for rows of several variants.
+    variants : ndarray of int, shape (N,), optional
+        The variant of each row, with forms stacked over variants.
+
+    Returns
+    -------
+    ndarray, shape (N, m, n): shapes, with repeated pairs replaced (backward first)
+    """
+    rows, first = _repeated_pairs(eigenvalues)
+    if not len(rows):
+        return shapes
+    # with forms per variant, each pair takes its variant's three (n, n) forms: a part of the pairs
+    # at a time (81 double roots of a 2,006-coordinate machine at rest would take 7 GiB at once)
+    n = shapes.shape[-1]
+    parts = [slice(None)] if variants is None else _batches.chunk_slices(len(rows), 48 * n * n, budget=_batches._PART_BYTES)
+    found = [_whirling_pairs(shapes, rows[part], first[part], forms, variants) for part in parts]
+    rows, first, resolved = found[0] if len(found) == 1 else _batches.concatenated(found)
+    if not rows.size:
+        return shapes
+    out = shapes.copy()
+    out[rows, first] = resolved[:, :, 0]
+    out[rows, first + 1] = resolved[:, :, 1]
+    return out
+
+
+def _whirling_pairs(shapes, rows, first, forms, variants):
+    """The pairs ``(rows, first)`` of :func:`resolve_repeated` whose shapes span a plane and
+    whirl, and their extreme-whirl combinations (P, n, 2)."""
+    if variants is not None:
+        forms = _whirl.WhirlForms(*(f[variants[rows]] for f in forms))
+    basis = np.stack([shapes[rows, first], shapes[rows, first + 1]], axis=-1)  # (P, n, 2)
+    rule = "pia,pij,pjb->pab" if forms.total.ndim == 3 else "pia,ij,pjb->pab"
+    total = np.einsum(rule, basis.conj(), forms.total, basis)
+    # the two shapes must span a plane (two inverse iterations could give one direction)
+    spans = np.abs(np.linalg.det(total)) > 1e-6 * np.abs(total[:, 0, 0] * total[:, 1, 1])
+    rows, first, basis, total = rows[spans], first[spans], basis[spans], total[spans]
+    if forms.total.ndim == 3:
+        forms = _whirl.WhirlForms(*(f[spans] for f in forms))
+    if not rows.size:
+        return rows, first, np.zeros((0, shapes.shape[-1], 2), dtype=complex)
+    momentum = -1j * np.einsum(rule, basis.conj(), forms.W, basis)
+    mu, resolved = _extreme_whirl(basis, total, momentum)
+    whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
+    return rows[whirling], first[whirling], resolved[whirling]
+
+
+def _repeated_pairs(lam):
+    """Rows and first columns of the eigenvalues equal to the next one, exactly two equal (not
+    three) and not rigid-body zeros; ``lam`` shape (N, m), equal values adjacent."""
+    scale = np.abs(lam).max(axis=-1, keepdims=True) + 1e-300
+    close = np.abs(lam[..., 1:] - lam[..., :-1]) <= REPEATED_TOLERANCE * scale  # (N, m-1), numpy.diff
+    if not close.any():                    # the usual case: no repeated eigenvalue at all
+        return close.nonzero()
+    padded = np.pad(close, ((0, 0), (1, 1)))
+    pair = close & ~padded[:, :-2] & ~padded[:, 2:]
+    pair &= lam[:, :-1] != 0                        # not zero roots (made exact, _roots.snapped)
+    return pair.nonzero()
+
+
+def _extreme_whirl(basis, total, momentum):
+    """The combinations of each pair's two shapes with extreme whirl ratio.
+
+    Solves ``momentum v = mu total v`` (both Hermitian, ``total`` positive definite) by a
+    Cholesky reduction.
+
+    Returns
+    -------
+    mu : ndarray, shape (P, 2)
+        Whirl ratios, increasing (backward first).
+    resolved : ndarray, shape (P, n, 2)
+        The combined shapes, unit norm.
+    """
+    momentum = 0.5 * (momentum + np.conj(np.swapaxes(momentum, -1, -2)))
+    factor = np.linalg.cholesky(0.5 * (total + np.conj(np.swapaxes(total, -1, -2))))
+    inverse = np.linalg.inv(factor)
+    reduced = inverse @ momentum @ np.conj(np.swapaxes(inverse, -1, -2))
+    mu, vectors = np.linalg.eigh(reduced)
+    combinations = np.conj(np.swapaxes(inverse, -1, -2)) @ vectors  # (P, 2, 2)
+    resolved = basis @ combinations  # (P, n, 2)
+    resolved /= np.linalg.norm(resolved, axis=1, keepdims=True)
+    return mu, resolved

@@ -1,0 +1,206 @@
+"""Whirl: mass-weighted orbital angular momentum of the machine about the spin axis
+(``docs/theory.md`` section 9), its quadratic forms, ratios and labels."""
+
+from __future__ import annotations
+
+import functools
+from typing import NamedTuple
+
+import numpy as np
+
+from . import _pencils, _vectors
+from ..assembly import add_rotor_bodies, body_inertias
+from ..model.dofs import frame_block
+from ..model.geometry import skew
+
+__all__ = ["WHIRL_TOLERANCE", "WhirlForms", "quadratic_forms", "rotor_whirl_forms", "stacked_forms", "whirl_forms", "whirl_labels", "whirl_ratios"]
+
+
+#: |whirl ratio| below this counts as no whirl (a straight-line orbit): for an elliptic
+#: orbit the ratio is 2ab/(a^2+b^2), so this is a minor/major axis ratio of 5e-4
+WHIRL_TOLERANCE = 1e-3
+
+
+# ----------------------------------------------------------------------------------------
+_SKEW_BASIS = skew(np.eye(3))   # E_k = skew(unit_k), shape (3, 3, 3)
+
+
+def _bodies_quadratic(masses, second_moments, X, first, products) -> np.ndarray:
+    """``sum_p m_p Z_p^T X Z_p`` over the particles of each rigid body, Z_p = [I, -skew(r_p)],
+    for several directions X at once.
+
+    Needs only each body's mass, first moment and second-moment tensor about the reference
+    point: ``sum_p m_p skew(r_p) X skew(r_p) = sum_kl Q_kl E_k X E_l`` with ``E_k = skew(unit_k)``.
+
+    Parameters
+    ----------
+    masses : ndarray (B,); second_moments : ndarray (B, 3, 3)
+    X : ndarray, shape (D, 3, 3)
+    first : ndarray (B, 3, 3)
+        ``skew(masses * centers)``.
+    products : ndarray (D, 3, 3, 3, 3)
+        ``E_k X E_l`` of each direction (see :func:`_directions`).
+
+    Returns
+    -------
+    ndarray, shape (D, B, 6, 6)
+    """
+    X = X[:, None]                                            # (D, 1, 3, 3)
+    out = np.zeros((len(X), len(masses), 6, 6))
+    out[..., :3, :3] = masses[:, None, None] * X
+    out[..., :3, 3:] = -X @ first
+    out[..., 3:, :3] = first @ X
+    out[..., 3:, 3:] = -np.einsum("zkl,xklad->xzad", second_moments, products)
+    return out
+
+
+def _direction_products(X) -> np.ndarray:
+    """``E_k X E_l`` for a (3, 3) matrix X, shape (3, 3, 3, 3), with ``E_k = skew(unit_k)``."""
+    return np.einsum("kab,bc,lcd->klad", _SKEW_BASIS, X, _SKEW_BASIS)
+
+
+@functools.lru_cache(maxsize=16)
+def _directions(axis: tuple):
+    """The whirl forms' 3 x 3 directions W, N, total about the spin axis ``axis`` (a tuple of 3
+    floats) and their :func:`_direction_products`, stacked: (3, 3, 3) and (3, 3, 3, 3, 3),
+    read-only. A function of the axis alone, kept for the next model with the same axis."""
+    e = np.array(axis, dtype=float)
+    X = np.stack([skew(e), np.eye(3) - np.outer(e, e), np.eye(3)])
+    products = np.stack([_direction_products(x) for x in X])
+    X.flags.writeable = products.flags.writeable = False
+    return X, products
+
+
+class WhirlForms(NamedTuple):
+    """Quadratic forms of the whirl ratio (each (n, n)); see :func:`whirl_forms`."""
+
+    W: np.ndarray
+    N: np.ndarray
+    total: np.ndarray
+
+
+_DIRECTIONS = ("W", "N", "total")
+
+
+def _bodies_forms(model) -> np.ndarray:
+    """The 6x6 forms W, N, total (stacked in this order) of each body's rigid motion at the
+    reference point (stator first, then the rotors): shape (3, B, 6, 6)."""
+    X, products = _directions(tuple(float(x) for x in model.spin_axis))
+    bodies = body_inertias(model)
+    masses = np.array([m for m, _, _ in bodies], dtype=float)
+    arms = np.array([np.asarray(c, dtype=float) for _, c, _ in bodies]) - model.reference_point
+    inertias = np.array([np.asarray(j, dtype=float) for _, _, j in bodies])
+    traces = inertias.trace(axis1=1, axis2=2)
+    second = (0.5 * traces[:, None, None] * np.eye(3) - inertias
+              + masses[:, None, None] * arms[:, :, None] * arms[:, None, :])
+    first = skew(masses[:, None] * arms)
+    return _bodies_quadratic(masses, second, X, first, products)
+
+
+def whirl_forms(model) -> WhirlForms:
+    """Quadratic forms ``W``, ``N`` and ``total`` of the whirl ratio of a mode shape phi.
+
+    ``-i phi^H W phi`` is the mass-weighted orbital angular momentum of the
+    whole machine's vibration about the spin axis (per unit frequency),
+    ``phi^H N phi`` the mass-weighted mean square motion normal to it and
+    ``phi^H total phi`` that of the whole motion (``total`` equals the mass
+    matrix). Each body contributes ``T_b^T X_b T_b`` (its motion ``T_b`` over the
+    generalized coordinates). See ``docs/theory.md``.
+    """
+    forms = _bodies_forms(model)                                          # (3, B, 6, 6)
+    parts = frame_block(model, forms.sum(axis=1))                         # (3, n, n)
+    first_rotor = forms.shape[1] - len(model.rotors)
+    for j, rotor in enumerate(model.rotors):
+        if model.dofs.on_bearings(rotor.name):
+            add_rotor_bodies([parts], model, rotor.name, [forms[:, first_rotor + j]])
+    return WhirlForms(*parts)
+
+
+def rotor_whirl_forms(model, rotor: str) -> WhirlForms:
+    """The whirl forms of one rotor's own motion (absolute), each (n, n)."""
+    index = [r.name for r in model.rotors].index(rotor)
+    forms = _bodies_forms(model)
+    body = forms[:, forms.shape[1] - len(model.rotors) + index]            # (3, 6, 6)
+    motion = model.dofs.body_motion(rotor)
+    return WhirlForms(*(motion.T @ body[d] @ motion for d in range(len(_DIRECTIONS))))
+
+
+def stacked_forms(forms: WhirlForms) -> np.ndarray:
+    """The transposes of the three whirl forms side by side, (..., n, 3 n), contiguous (see
+    :func:`quadratic_forms`)."""
+    return np.ascontiguousarray(
+        np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1))
+
+
+def whirl_ratios(shapes, forms: WhirlForms, speeds, stacked=None) -> np.ndarray:
+    """Signed whirl ratio in [-1, 1] relative to the reference rotor's spin.
+
+    +1 for a circular orbit normal to the spin axis turning with the spin, -1
+    against it, 0 for straight-line orbits. Modes whose motion normal to the
+    axis is below ``1e-9`` of their whole motion (pure axial or roll motion)
+    get 0, not a ratio of round-off to round-off.
+
+    Parameters
+    ----------
+    shapes : ndarray, shape (..., m, n)
+    forms : WhirlForms
+        Each (n, n), or stacked like the shapes' leading axes, (..., n, n); unused (may be None)
+        when ``stacked`` is given.
+    speeds : ndarray, shape (...) [rad/s]; the sign of the spin (0 counts as +)
+    stacked : ndarray, optional
+        :func:`stacked_forms` of ``forms``, when the caller keeps it.
+
+    Returns
+    -------
+    ndarray, shape (..., m)
+    """
+    # phi^H X phi of the three forms for every shape from one product with [W^T N^T total^T]
+    values = quadratic_forms(shapes, stacked_forms(forms) if stacked is None else stacked).reshape(
+        shapes.shape[:-1] + (3,))
+    momentum = values[..., 0].imag  # Re(-i phi^H W phi)
+    across = values[..., 1].real
+    whole = values[..., 2].real
+    ratio = np.zeros(across.shape)
+    np.divide(momentum, across, out=ratio, where=across > 1e-9 * whole)
+    against = np.asarray(speeds) < 0
+    if against.any():
+        np.negative(ratio, out=ratio, where=np.broadcast_to(against[..., None], ratio.shape))
+    np.maximum(ratio, -1.0, out=ratio)                                   # numpy.clip, in place
+    return np.minimum(ratio, 1.0, out=ratio)
+
+
+#: shapes of at most this many coordinates take their quadratic forms by one complex product
+_COMPLEX_PRODUCT_DOF = 24
+
+
+def quadratic_forms(shapes, stacked) -> np.ndarray:
+    """``phi^H X_k phi`` of every shape (..., m, n) for real forms whose transposes are
+    side by side in ``stacked`` (n, K n) or (..., n, K n).
+
+    Returns
+    -------
+    ndarray, shape (..., m, K), complex
+    """
+    n = shapes.shape[-1]
+    # small shapes: complex products, one per speed (numpy makes the forms complex, a few
+    # hundred numbers), cost less than the real parts' copies and their product's large
+    # temporaries, and each is too small to start BLAS threads (which a loaded machine makes
+    # wait). Single shapes (critical speeds) of pencils solved whole also take one product per
+    # row: in one product of all rows a row's bits depend on its place among the others, and a
+    # study's variant would then differ from its model's own analysis in the last bit.
+    single = shapes.shape[-2] == 1 and n <= _pencils.BATCHED_DOF
+    if n > _COMPLEX_PRODUCT_DOF and not single:
+        product = _vectors.real_product(shapes, stacked)
+    else:
+        product = shapes @ stacked
+    products = product.reshape(shapes.shape[:-1] + (-1, n))   # (..., m, K, n)
+    return np.einsum("...i,...ki->...k", shapes.conj(), products)
+
+
+_WHIRL_NAMES = np.array(["backward", "none", "forward"])
+
+
+def whirl_labels(ratios) -> np.ndarray:
+    """'forward', 'backward' or 'none' from whirl ratios (array of str)."""
+    ratios = np.asarray(ratios)
+    return _WHIRL_NAMES[(ratios > WHIRL_TOLERANCE).astype(np.intp) - (ratios < -WHIRL_TOLERANCE) + 1]

@@ -13,7 +13,7 @@ import re
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 from scipy import optimize
 
@@ -131,16 +131,22 @@ positive = st.floats(0.1, 10.0)
 @given(diameter=st.floats(0.01, 0.5), ratio=st.floats(0.1, 0.6), clearance=st.floats(1e-3, 3e-3),
        viscosity=st.floats(1e-3, 0.2), load=st.floats(1.0, 1e5), speed=st.floats(1.0, 3000.0),
        factor=positive, factor2=positive)
+@example(diameter=0.01, ratio=0.1, clearance=0.001953125, viscosity=0.001953125, load=2442.0, speed=1.0,
+         factor=1.0, factor2=1.0)     # a film of 1 nm: refused, outside the domain
 def test_scaling_and_mirror(diameter, ratio, clearance, viscosity, load, speed, factor, factor2):
     """K = W/c k(sigma), C = W/(c |w|) c(sigma), sigma = mu |w| D L³ / (8 W c²):
     load and speed scaled together scale K and leave C; viscosity up and speed down by the same
     factor leave K and scale C; turning the other way mirrors y -> -y. C is positive definite."""
     data = dict(diameter=diameter, length=ratio * diameter, clearance=clearance * diameter,
                 viscosity=viscosity)
-    base = short_journal_bearing([speed, -speed], load=load, **data)
-    faster = short_journal_bearing([factor * speed], load=factor * load, **data)
-    thicker = short_journal_bearing([speed / factor2], load=load,
-                                    **{**data, "viscosity": viscosity * factor2})
+    try:
+        base = short_journal_bearing([speed, -speed], load=load, **data)
+        faster = short_journal_bearing([factor * speed], load=factor * load, **data)
+        thicker = short_journal_bearing([speed / factor2], load=load,
+                                        **{**data, "viscosity": viscosity * factor2})
+    except InputError as error:   # outside the film theory's domain: a film under 1 nm is refused
+        assume("thinnest film" not in str(error))
+        raise
     np.testing.assert_allclose(faster.stiffness[0], factor * base.stiffness[0], rtol=1e-10,
                                atol=1e-12 * factor * np.abs(base.stiffness[0]).max())
     np.testing.assert_allclose(faster.damping[0], base.damping[0], rtol=1e-10,

@@ -196,3 +196,24 @@ def test_an_undamped_machine_is_marginal_and_its_least_damped_mode_has_log_decre
     assert "stability at" not in err
     assert "stable or marginal over the range: at 17 of 17 speeds" in err
     assert "log decrement 0 (zero to round-off)" in err
+
+
+def test_the_map_figure_marks_every_onset_and_every_return_to_stability():
+    """The island rotor over its mass: each factor's onsets (filled) and returns to stability
+    (open) are drawn where the closed form puts them, not only the lowest onset."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from rotordyn_modal.plotting.stability import plot_stability_map
+
+    factors = np.array([0.5, 1.0, 2.0])
+    result = rdm.stability_map(rdm.Model.from_dict(_island_rotor()), rdm.rpm(np.linspace(0.0, 8000.0, 81)),
+                               "rotors.r.mass", scale=factors)
+    fig = plot_stability_map(result)
+    drawn = {gid: line for line in fig.axes[0].lines if (gid := line.get_gid()) and gid.startswith("threshold")}
+    for onset in (True, False):
+        expected = sorted((x, factor) for factor in factors for x, o in _crossings_rpm(M * factor) if o == onset)
+        line = drawn[f"threshold-{onset}"]
+        found = sorted(zip(line.get_xdata(), line.get_ydata()))
+        assert len(found) == len(expected) and len(expected) > 0
+        np.testing.assert_allclose(found, expected, rtol=1e-6)

@@ -267,11 +267,24 @@ def plot_stability_map(result, speed_unit: str = "rpm", quantity: str = "min_dam
     fig.colorbar(mesh, ax=ax, label=quantity.replace("_", " "))
     if len(y) > 1 and len(x) > 1:
         ax.contour(x, y, result.max_real_parts, levels=[0.0], colors="k", linewidths=2.0)
-    thresholds = result.threshold_speeds * speed_scale(speed_unit)
-    ax.plot(thresholds, y, "k.", markersize=4, label="threshold speed (root-found)")
+    _mark_every_threshold(ax, result, speed_scale(speed_unit))
     ax.set_xlabel(speed_label(speed_unit))
     ylabel = result.key if result.mode_of_variation == "values" else f"scale of {result.key}"
     ax.set_ylabel(ylabel)
     ax.set_title(title or "Stability map (black line: boundary, red: unstable)")
     ax.legend(loc="upper right", fontsize="small")
     return fig
+
+
+def _mark_every_threshold(ax, result, scale):
+    """Each value's root-found speeds where a mode becomes unstable (filled) and where the
+    machine becomes stable again (open): an island of stability shows as both."""
+    points = [(speed * scale, value, onset) for value, row in zip(result.values, result.results)
+              for speed, onset in zip(row.thresholds, row.threshold_onsets) if speed >= 0]
+    for onset, style, label in ((True, dict(color="k"), "becomes unstable (root-found)"),
+                                (False, dict(markerfacecolor="white", markeredgecolor="k"),
+                                 "stable again (root-found)")):
+        chosen = [(x, v) for x, v, o in points if bool(o) == onset]
+        if chosen:
+            xs, vs = zip(*chosen)
+            ax.plot(xs, vs, "o", linestyle="none", markersize=4, label=label, gid=f"threshold-{onset}", **style)

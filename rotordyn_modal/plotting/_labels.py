@@ -330,31 +330,6 @@ def exits_of_orders(orders, lines, x_limits, top, per_x, bottom=0.0, to_axes=Non
     return labels
 
 
-def spread_apart(annotations, gap_points: float = 1.0, renderer=None):
-    """Move annotations (offset in points) up just enough that no two of them overlap.
-
-    Lowest first, each annotation rises above every earlier one its box meets; its anchor
-    stays, only the offset changes. ``renderer`` as for :func:`place_edge_labels`.
-    """
-    if not annotations:
-        return
-    fig = annotations[0].figure
-    renderer = renderer or laid_out_renderer(fig)
-    points = fig.dpi / 72.0
-    boxes = sorted(((a.get_window_extent(renderer), a) for a in annotations), key=lambda item: item[0].y0)
-    placed = []
-    for box, annotation in boxes:
-        x0, y0, x1, y1 = box.x0, box.y0, box.x1, box.y1
-        rise = 0.0
-        for px0, py0, px1, py1 in placed:
-            if x0 < px1 and px0 < x1 and y0 + rise < py1 + gap_points * points and py0 < y1 + rise:
-                rise = py1 + gap_points * points - y0
-        placed.append((x0, y0 + rise, x1, y1 + rise))
-        if rise:
-            dx, dy = annotation.xyann
-            annotation.xyann = (dx, dy + rise / points)
-
-
 #: offsets (in label widths and heights) of a point label's lower-left corner from its anchor,
 #: tried in this order: above right, above left, right, left, further above, below
 _POINT_OFFSETS = [(0.1, 0.6), (-1.1, 0.6), (0.15, -0.5), (-1.15, -0.5), (0.1, 1.8), (-1.1, 1.8),

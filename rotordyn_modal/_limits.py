@@ -16,7 +16,7 @@ import os
 
 from .errors import InputError
 
-__all__ = ["MAX_POINTS", "max_points", "count_problem", "available_memory", "memory_problem"]
+__all__ = ["MAX_POINTS", "max_points", "count_problem", "available_memory", "memory_room", "memory_problem"]
 
 #: default largest count of points, samples or variants (a million speeds of a Campbell sweep
 #: of a 6-coordinate machine hold about 1 GB of eigenvectors)
@@ -66,6 +66,11 @@ def available_memory() -> float:
     the process's address-space limit (``RLIMIT_AS``) and under its control group's memory
     limit (cgroup v2); ``ROTORDYN_MODAL_MEMORY_GB`` replaces the measurement. ``inf`` where
     nothing can be measured."""
+    return memory_room()[0]
+
+
+def memory_room() -> tuple[float, str]:
+    """:func:`available_memory` [bytes] and which limit it is, in words for a message."""
     text = os.environ.get(MEMORY_ENVIRONMENT)
     if text is not None and text.strip():
         try:
@@ -74,8 +79,13 @@ def available_memory() -> float:
             value = float("nan")
         if not value >= 0:
             raise InputError(f"{MEMORY_ENVIRONMENT}={text!r}: expected a number of GiB >= 0 (or inf)")
-        return value * 2**30
-    return min(_system_available(), _address_space_room(), _cgroup_room())
+        return value * 2**30, f"{MEMORY_ENVIRONMENT}={text.strip()}"
+    return min((_system_available(), "the memory this machine has available (MemAvailable)"),
+               _address_space_room(), _cgroup_room())
+
+
+def _gb(count: float) -> str:
+    return f"{count / 1e9:.4g} GB"
 
 
 def _system_available() -> float:
@@ -101,16 +111,18 @@ def _meminfo_available() -> float:
     return float("inf")
 
 
-def _address_space_room() -> float:
-    """``RLIMIT_AS`` minus the process's virtual size now (inf without a limit)."""
+def _address_space_room() -> tuple[float, str]:
+    """``RLIMIT_AS`` minus the process's virtual size now (inf without a limit), and why."""
     try:
         import resource
     except ImportError:  # pragma: no cover - Windows
-        return float("inf")
+        return float("inf"), "no address-space limit"
     soft = resource.getrlimit(resource.RLIMIT_AS)[0]
     if soft == resource.RLIM_INFINITY:
-        return float("inf")
-    return float(soft) - _virtual_size()
+        return float("inf"), "no address-space limit"
+    size = _virtual_size()
+    return float(soft) - size, (f"the address-space limit (ulimit -v) of {_gb(soft)} less the {_gb(size)} "
+                                "this process takes")
 
 
 def _virtual_size() -> float:
@@ -124,16 +136,18 @@ def _virtual_size() -> float:
     return 0.0
 
 
-def _cgroup_room() -> float:
-    """The control group's ``memory.max`` minus ``memory.current`` (inf where there is none)."""
+def _cgroup_room() -> tuple[float, str]:
+    """The control group's ``memory.max`` minus ``memory.current`` (inf where there is none), and why."""
     try:
         with open("/sys/fs/cgroup/memory.max") as handle:
             limit = handle.read().strip()
         with open("/sys/fs/cgroup/memory.current") as handle:
             current = float(handle.read().strip())
     except (OSError, ValueError):
-        return float("inf")
-    return float("inf") if limit == "max" else float(limit) - current
+        return float("inf"), "no container memory limit"
+    if limit == "max":
+        return float("inf"), "no container memory limit"
+    return float(limit) - current, f"the container's memory limit of {_gb(float(limit))} less the {_gb(current)} in use"
 
 
 def memory_problem(needed: float, what: str, advice: str) -> str:

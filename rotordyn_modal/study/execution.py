@@ -21,11 +21,12 @@ from pathlib import Path
 
 import numpy as np
 
+from .._limits import memory_room
 from ..errors import InputError, OutputError
 from .analyses import batch_caches, run_analyses
 
 __all__ = ["ChunkTask", "run_chunk", "make_tasks", "execute", "Checkpoint", "finished_chunks", "ResultsLock", "limit_threads",
-           "worker_initializer", "default_chunk_size", "remove_checkpoint", "available_memory", "check_memory"]
+           "worker_initializer", "default_chunk_size", "remove_checkpoint", "check_memory"]
 
 
 @dataclass(frozen=True)
@@ -443,61 +444,6 @@ def _atomic_bytes(path: Path, payload: bytes) -> None:
 
 
 # ---------------------------------------------------------------------------- memory
-def available_memory():
-    """What this process may still allocate [bytes], and why: the least of the address-space
-    limit left (``ulimit -v``: RLIMIT_AS less the process's size), the container's memory
-    limit left (cgroup v2 ``memory.max`` less ``memory.current``) and the system's available
-    memory (``MemAvailable``); None where none is known (not Linux).
-
-    Returns
-    -------
-    (int, str) or None
-    """
-    found = []
-    try:
-        import resource
-
-        soft = resource.getrlimit(resource.RLIMIT_AS)[0]
-    except (ImportError, AttributeError, OSError, ValueError):  # pragma: no cover - not POSIX
-        soft = -1
-    size = _kib_field("/proc/self/status", "VmSize")
-    if soft not in (-1, getattr(resource, "RLIM_INFINITY", -1)) and size is not None:
-        found.append((soft - size, f"the address-space limit (ulimit -v) of {_gib(soft)} less the {_gib(size)} "
-                                   "this process takes"))
-    limit, current = _read_int("/sys/fs/cgroup/memory.max"), _read_int("/sys/fs/cgroup/memory.current")
-    if limit is not None and current is not None:
-        found.append((limit - current, f"the container's memory limit of {_gib(limit)} less the {_gib(current)} "
-                                       "in use"))
-    free = _kib_field("/proc/meminfo", "MemAvailable")
-    if free is not None:
-        found.append((free, "the memory this machine has available (MemAvailable)"))
-    return min(found) if found else None
-
-
-def _gib(count: int) -> str:
-    return f"{count / 1e9:.4g} GB"
-
-
-def _kib_field(path: str, field: str):
-    """A ``Field:   N kB`` line of a /proc file, in bytes (None if absent)."""
-    try:
-        with open(path) as handle:
-            for line in handle:
-                if line.startswith(field + ":"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    return None
-
-
-def _read_int(path: str):
-    try:
-        with open(path) as handle:
-            return int(handle.read().strip())
-    except (OSError, ValueError):  # missing, or 'max' (no limit)
-        return None
-
-
 def check_memory(n_variants: int, per_variant: int, chunk_size: int, what: str) -> None:
     """Refuse, before any work, a study whose results cannot fit in memory.
 
@@ -518,8 +464,8 @@ def check_memory(n_variants: int, per_variant: int, chunk_size: int, what: str) 
     """
     results = n_variants * per_variant
     needed = results + 4 * chunk_size * per_variant + 2**26
-    available = available_memory()
-    if available is not None and needed > available[0]:
+    available = memory_room()
+    if needed > available[0]:
         raise InputError(f"{what}: {n_variants:,} variants x {per_variant / 1e3:.4g} kB = {results / 1e9:.4g} GB "
                          f"of results need about {needed / 1e9:.4g} GB of memory; only "
                          f"{max(available[0], 0) / 1e9:.4g} GB is left ({available[1]}): run fewer variants (or fewer speeds), or split the "

@@ -7,15 +7,14 @@ package does with the results, not the analyses)."""
 
 from __future__ import annotations
 
-import contextlib
 import os
 import re
 import resource
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from forked import run_forked
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = str(ROOT / "examples" / "gear_machine.toml")
@@ -57,43 +56,23 @@ def _stand_in(task):
 def _run_limited(argv, headroom: int, stand_in=True):
     """``main(argv)`` in a forked child whose address space may grow by ``headroom`` bytes
     beyond what it takes once everything is imported; (exit code, stderr)."""
-    read_end, write_end = os.pipe()
-    pid = os.fork()
-    if pid == 0:  # pragma: no cover - the child
-        code = 99
-        try:
-            os.close(read_end)
-            sys.stderr = os.fdopen(write_end, "w", buffering=1)
-            sys.stdout = open(os.devnull, "w")
-            os.environ["ROTORDYN_MODAL_THREADS"] = "1"
-            import pandas  # noqa: F401 - everything the study imports, before the limit
-            import scipy.io  # noqa: F401
-            import scipy.stats  # noqa: F401
-            import xarray  # noqa: F401
+    def limited():
+        import pandas  # noqa: F401 - everything the study imports, before the limit
+        import scipy.io  # noqa: F401
+        import scipy.stats  # noqa: F401
+        import xarray  # noqa: F401
 
-            from rotordyn_modal.cli import main
-            from rotordyn_modal.study import execution
+        import rotordyn_modal.cli  # noqa: F401
+        from rotordyn_modal.study import execution
 
-            def never(task):
-                raise AssertionError("a chunk was computed")
+        def never(task):
+            raise AssertionError("a chunk was computed")
 
-            execution.run_chunk = _stand_in if stand_in else never
-            limit = _vm_size() + headroom
-            resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
-            code = main(argv)
-        except BaseException:  # noqa: BLE001 - reported to the parent
-            import traceback
+        execution.run_chunk = _stand_in if stand_in else never
+        limit = _vm_size() + headroom
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 
-            traceback.print_exc()
-        finally:
-            with contextlib.suppress(Exception):
-                sys.stderr.flush()
-            os._exit(code)
-    os.close(write_end)
-    with os.fdopen(read_end) as pipe:
-        text = pipe.read()
-    _, status = os.waitpid(pid, 0)
-    return os.waitstatus_to_exitcode(status), text
+    return run_forked(argv, before=limited)
 
 
 def test_results_three_times_larger_than_the_spare_memory_would_need_are_written(tmp_path):

@@ -33,7 +33,7 @@ from .model.geometry import point_force_column, point_motion_rows, shift_matrix,
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
-           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force"]
+           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force", "weights", "weight_force"]
 
 
 class Matrices(NamedTuple):
@@ -428,6 +428,24 @@ def generalized_force(model, body: str | None, point, wrench, shift=None, motion
     if motion is None:
         motion = model.dofs.body_motion(body)
     return (np.asarray(wrench) @ shift.T) @ motion
+
+
+def weights(model) -> list:
+    """The weight of every body under ``model.gravity``: ``(body, centre of mass, force)`` with
+    ``body`` None for the stator, else the rotor's name; force [N], shape (3,), model axes.
+    Empty without gravity."""
+    if not np.any(model.gravity):
+        return []
+    out = [(None, model.stator.center_of_mass, model.stator.mass * model.gravity)] if model.stator else []
+    return out + [(r.name, r.center_of_mass, r.mass * model.gravity) for r in model.rotors]
+
+
+def weight_force(model) -> np.ndarray:
+    """Generalized force of the weights of all bodies (:func:`weights`), shape (n,) [N, N m]."""
+    total = np.zeros(model.dofs.n)
+    for body, centre, force in weights(model):
+        total += generalized_force(model, body, centre, np.r_[force, 0.0, 0.0, 0.0])
+    return total
 
 
 def _select(items, names, what: str):

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from .assembly import Matrices, bearing_motion, body_inertias, constant_matrices, constant_stiffness_damping, \
-    dependent_bearing_matrices, excitation_columns, mass_matrix, rigid_mass_matrix, sensor_rows
+    dependent_bearing_matrices, excitation_columns, mass_matrix, rigid_mass_matrix, sensor_rows, weight_force
 from .elements.bearings import evaluate
 from .elements._bearing_validation import LONG_JOURNAL
 from .model._table import visible
@@ -25,7 +25,7 @@ from .model.geometry import shift_matrix
 from .elements.mounts import maxwell_branches, with_branch_states
 
 __all__ = ["SpeedLinearForm", "speed_linear_form", "checked_mass_inverse", "implausible", "SAG_LIMIT",
-           "LOWEST_MOUNT_FREQUENCY", "same_inertia", "state_matrices", "state_space"]
+           "LOWEST_MOUNT_FREQUENCY", "same_inertia", "state_matrices", "state_space", "static_solution"]
 
 _QUANTITY_ORDER = {"displacement": 0, "receptance": 0, "velocity": 1, "mobility": 1,
                    "acceleration": 2, "accelerance": 2}
@@ -115,15 +115,16 @@ def _on_suspensions(model):
 
 
 def _sag_line(model) -> str:
-    """The warning about the machine's static sag under gravity, or ''."""
+    """The warning about the machine's static sag under gravity, or ''.
+
+    The stator's rows of the static solution ``K q = f`` (docs/static.md): bearings act on the
+    rotors' relative motion only, so the stator's sag on its suspensions is the rigid machine's,
+    whatever the bearings (``rotordyn_modal.analysis.static`` solves the same rows)."""
     if not np.any(model.gravity):
         return ""
-    mass, stiffness, shifts = _on_suspensions(model)
+    _, stiffness, shifts = _on_suspensions(model)
     total = sum(m for m, _, _ in body_inertias(model))
-    centre = sum(m * np.asarray(c) for m, c, _ in body_inertias(model)) / total
-    weight = total * model.gravity
-    load = np.r_[weight, np.cross(centre - model.reference_point, weight)]
-    sag = _static_solution(stiffness, load)
+    sag = static_solution(stiffness, weight_force(model)[:6])
     if sag is None:
         return (f"{model.source}: the [[suspensions]] do not hold the machine's weight ({total:.4g} kg under "
                 "gravity): they have no stiffness in a direction the weight pushes, so it would fall")
@@ -136,11 +137,21 @@ def _sag_line(model) -> str:
             f"millimetres, over {SAG_LIMIT:g} m is unlikely): is a stiffness in N/mm given as N/m?")
 
 
-def _static_solution(stiffness: np.ndarray, load: np.ndarray):
+def static_solution(stiffness: np.ndarray, load: np.ndarray):
     """``x`` with ``stiffness @ x = load`` (least norm where directions are free), or None when
     the load pushes a direction that nothing holds. Rows and columns are scaled to one size
     first (N/m beside N m/rad, long arms), so that only a stiffness singular to round-off, not
-    one of mixed units, counts as free."""
+    one of mixed units, counts as free.
+
+    Parameters
+    ----------
+    stiffness : ndarray, shape (n, n) [N/m, N/rad, N m/m, N m/rad]
+    load : ndarray, shape (n,) [N, N m]
+
+    Returns
+    -------
+    ndarray, shape (n,) [m, rad], or None
+    """
     size = np.sqrt(np.linalg.norm(stiffness, axis=0) * np.linalg.norm(stiffness, axis=1))
     held = size > 0
     if np.any(np.abs(load[~held]) > 1e-9 * np.abs(load).max()):

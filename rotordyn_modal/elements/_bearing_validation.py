@@ -20,7 +20,7 @@ from ..model.components import Bearing, input_keys, is_finite_number
 from ..errors import ModelError
 from ..model.geometry import shift_matrix, transverse_axes
 
-__all__ = ["bearings", "check_frame", "LONGEST_JOURNAL", "LONG_JOURNAL"]
+__all__ = ["bearings", "check_frame", "journal_load_shares", "LONGEST_JOURNAL", "LONG_JOURNAL"]
 
 _ON_AXIS_TOLERANCE = 1e-6  # m, plus the same fraction of the distance along the axis
 _AXES_TOLERANCE = 1e-6
@@ -54,7 +54,7 @@ def bearings(tables: dict, rotors, spin_axis: np.ndarray, gravity: np.ndarray) -
     """
     by_name = {r.name: r for r in rotors}
     parsed = [_bearing(table, by_name, spin_axis) for table in tables.values()]
-    parsed = [_with_journal_load(b, tables[b.name], parsed, by_name, spin_axis, gravity) for b in parsed]
+    parsed = [_with_journal_load(b, tables, parsed, by_name, spin_axis, gravity) for b in parsed]
     for rotor in dict.fromkeys(b.rotor for b in parsed):
         mates = [b for b in parsed if b.rotor == rotor]
         _check_tilt_support(rotor, mates, tables, spin_axis)
@@ -195,10 +195,11 @@ def _axial_value(table: Table, key: str, raw) -> float:
 
 
 # ----------------------------------------------------------------------------------------
-def _with_journal_load(bearing: Bearing, table: Table, every, rotors, e, gravity) -> Bearing:
+def _with_journal_load(bearing: Bearing, tables, every, rotors, e, gravity) -> Bearing:
     """A journal bearing with its :class:`JournalData` (load given, or the weight share)."""
     if bearing.type != "journal":
         return bearing
+    table = tables[bearing.name]
     diameter = table.number("diameter", required=True, positive=True)
     clearance = table.number("clearance", required=True, positive=True)
     if not clearance < 0.5 * diameter:
@@ -210,7 +211,7 @@ def _with_journal_load(bearing: Bearing, table: Table, every, rotors, e, gravity
                           f"{diameter:g} m (L/D = {length / diameter:.3g}): the film's coefficients come from "
                           f"short-bearing (Ocvirk) theory, which holds for L/D up to about {LONG_JOURNAL:g} "
                           "(docs/model-file.md)")
-    load_vector = _static_load(bearing, table, every, rotors[bearing.rotor], e, gravity)
+    load_vector = _static_load(bearing, tables, every, rotors[bearing.rotor], e, gravity)
     x = load_vector / np.linalg.norm(load_vector)
     journal = JournalData(
         diameter=diameter, length=length,
@@ -221,8 +222,9 @@ def _with_journal_load(bearing: Bearing, table: Table, every, rotors, e, gravity
     return dataclasses.replace(bearing, coefficients=coefficients)
 
 
-def _static_load(bearing, table: Table, every, rotor, e, gravity) -> np.ndarray:
+def _static_load(bearing, tables, every, rotor, e, gravity) -> np.ndarray:
     """The static load vector on the journal [N], normal to the spin axis."""
+    table = tables[bearing.name]
     given = table.number("load", positive=True)
     direction = _load_direction(table, e)
     if given is not None:
@@ -236,7 +238,7 @@ def _static_load(bearing, table: Table, every, rotor, e, gravity) -> np.ndarray:
     if not np.linalg.norm(weight) > 0:
         raise table.error("load", "<missing>", "a static load [N] > 0 (without it the load is the "
                           "rotor's weight share, but gravity has no component normal to spin_axis)")
-    share = _weight_share(bearing, table, [b for b in every if b.rotor == bearing.rotor], rotor, e)
+    share = _weight_share(bearing, table, [b for b in every if b.rotor == bearing.rotor], rotor, e, tables)
     return share * weight
 
 
@@ -254,21 +256,79 @@ def _normal_part(vector, e) -> np.ndarray:
     return vector - (vector @ e) * e
 
 
-def _weight_share(bearing, table: Table, mates, rotor, e) -> float:
-    """Fraction of the rotor's weight this bearing carries (lever rule, one or two bearings)."""
+def _weight_share(bearing, table: Table, mates, rotor, e, tables) -> float:
+    """Fraction of the rotor's weight this bearing carries.
+
+    One or two bearings: the lever rule, exact whatever their stiffness (statics alone fixes
+    the split). More bearings (statically indeterminate): the rigid rotor on its bearings as
+    springs, :func:`journal_load_shares`, when every one is a plain journal bearing without
+    ``moment_stiffness``; otherwise the split depends on stiffnesses given at speed, and the
+    load must be given.
+    """
     if len(mates) == 1:
         return 1.0
     if len(mates) > 2:
-        raise table.error("load", "<missing>", f"a static load [N]: rotor {rotor.name!r} has "
-                          f"{len(mates)} bearings, so its weight split is statically indeterminate")
-    centre = np.asarray(rotor.center_of_mass)
-    s_self, s_other = ((np.asarray(b.position) - centre) @ e for b in
-                       sorted(mates, key=lambda b: b is not bearing))
-    share = s_other / (s_other - s_self) if s_other != s_self else 0.0
+        if not all(b.type == "journal" and b.moment_stiffness is None for b in mates):
+            raise table.error("load", "<missing>", f"a static load [N]: rotor {rotor.name!r} has "
+                              f"{len(mates)} bearings, so its weight split is statically indeterminate, "
+                              "and not all are plain journal bearings without moment_stiffness (whose "
+                              "split follows from their film, docs/static.md)")
+        shares = journal_load_shares([_film_weight(tables[b.name]) for b in mates],
+                                     [(np.asarray(b.position) - np.asarray(rotor.center_of_mass)) @ e
+                                      for b in mates])
+        share = shares[[b.name for b in mates].index(bearing.name)]
+    else:
+        centre = np.asarray(rotor.center_of_mass)
+        s_self, s_other = ((np.asarray(b.position) - centre) @ e for b in
+                           sorted(mates, key=lambda b: b is not bearing))
+        share = s_other / (s_other - s_self) if s_other != s_self else 0.0
     if not abs(share) > _LEAST_SHARE:
         raise table.error("load", "<missing>", f"a static load [N]: this bearing carries none of rotor "
-                          f"{rotor.name!r}'s weight (its centre of mass is at the other bearing)")
+                          f"{rotor.name!r}'s weight (statics on its bearings puts none of it here)")
     return float(share)
+
+
+def journal_load_shares(weights, stations) -> np.ndarray:
+    """Shares of a rigid rotor's weight carried by bearings that act as springs of stiffness
+    proportional to ``weights``, at ``stations`` along its axis from its centre of mass.
+
+    Plain journal bearings on one rotor at light load (small eccentricity) are such springs:
+    the film holds the journal with ``k = pi viscosity |speed| D L**3 / (8 c**3)`` at 90 degrees
+    to its offset, the same turn for every bearing of the rotor, so the split of the weight is
+    that of a rigid beam on springs ``k_i`` whatever the speed (docs/static.md). The rigid
+    rotor moves by ``u + theta s``; force and moment balance under a unit weight at ``s = 0``::
+
+        [sum k, sum k s; sum k s, sum k s**2] [u, theta] = [1, 0],   share_i = k_i (u + theta s_i)
+
+    Parameters
+    ----------
+    weights : sequence of float, shape (N,)
+        Relative stiffness of each bearing [any unit], > 0.
+    stations : sequence of float, shape (N,)
+        Axial position of each bearing from the centre of mass [m].
+
+    Returns
+    -------
+    ndarray, shape (N,)
+        Fractions of the weight (sum 1; negative: the bearing holds the rotor down). Bearings
+        all at one station share in proportion to ``weights`` (nothing then holds the tilt,
+        which the validation refuses separately).
+    """
+    k, s = np.asarray(weights, dtype=float), np.asarray(stations, dtype=float)
+    total, first, second = k.sum(), k @ s, k @ s**2
+    determinant = total * second - first**2
+    if not determinant > 1e-12 * total * second:
+        return k / total
+    u, theta = second / determinant, -first / determinant
+    return k * (u + theta * s)
+
+
+def _film_weight(table: Table) -> float:
+    """``viscosity D L**3 / c**3`` of a journal bearing's table: its light-load film stiffness
+    over ``pi |speed| / 8`` [Pa s m]."""
+    values = [table.number(key, required=True, positive=True)
+              for key in ("viscosity", "diameter", "length", "clearance")]
+    return values[0] * values[1] * values[2]**3 / values[3]**3
 
 
 def _check_tilt_support(rotor: str, mates, tables, e) -> None:

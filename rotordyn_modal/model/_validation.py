@@ -300,7 +300,26 @@ def _transmission(table: _Table, rotor_tables) -> Transmission:
     if teeth is not None and (isinstance(teeth, bool) or not isinstance(teeth, int) or teeth < 1):
         raise table.error("driver_teeth", teeth, "a whole number >= 1")
     return Transmission(type=kind, driver=names[0], driven=names[1],
-                        ratio=table.number("ratio", required=True, positive=True), driver_teeth=teeth)
+                        ratio=table.number("ratio", required=True, positive=True), driver_teeth=teeth,
+                        **_transmission_geometry(table, kind))
+
+
+#: largest gear pressure angle [deg] accepted (standard ones are 14.5, 20 and 25)
+_MAX_PRESSURE_ANGLE = 45.0
+
+
+def _transmission_geometry(table: _Table, kind: str) -> dict:
+    """The optional keys of a transmission's static loads (docs/model-file.md), checked."""
+    for key, owner in (("pressure_angle", "gear"), ("pretension", "belt")):
+        if key in table.data and kind != owner:
+            raise table.error(key, table.data[key], f"no value: this key is for type = '{owner}' transmissions")
+    angle = table.number("pressure_angle", nonnegative=True)
+    if angle is not None and not angle < _MAX_PRESSURE_ANGLE:
+        raise table.error("pressure_angle", angle, f"a pressure angle in degrees, at least 0 and below "
+                          f"{_MAX_PRESSURE_ANGLE:g} (20 is standard)")
+    return {"position": table.vector3("position"),
+            "driver_radius": table.number("driver_radius", positive=True),
+            "pressure_angle": angle, "pretension": table.number("pretension", nonnegative=True)}
 
 
 def mesh_name(driver: str, driver_teeth, driven: str) -> str | None:

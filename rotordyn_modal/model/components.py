@@ -87,6 +87,13 @@ class Transmission:
 
     ``ratio`` is tau = |omega_driver| / |omega_driven| (docs/theory.md §5);
     ``driver_teeth`` gives the gear-mesh order per revolution of the driver.
+
+    For the static loads of a transmitted torque (docs/static.md): ``position`` [m], a point
+    of the plane (normal to the spin axis) in which the wheels or pulleys sit (default: the
+    driver's centre of mass); ``driver_radius`` [m], the driver's pitch radius (gear; default
+    from the centre distance a: ``a / (1 + ratio)``) or pulley radius (belt); a gear's
+    ``pressure_angle`` [deg] (default 20); a belt's ``pretension`` [N] in each strand at rest
+    (default 0).
     """
 
     type: str
@@ -94,6 +101,15 @@ class Transmission:
     driven: str
     ratio: float
     driver_teeth: int | None = None
+    position: Any = None
+    driver_radius: float | None = None
+    pressure_angle: float | None = None
+    pretension: float | None = None
+
+    @property
+    def label(self) -> str:
+        """``DRIVER->DRIVEN``: how messages and static loads name the transmission."""
+        return f"{self.driver}->{self.driven}"
 
     @property
     def direction_sign(self) -> float:

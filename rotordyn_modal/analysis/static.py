@@ -1,0 +1,587 @@
+"""Static analysis: the machine's displacement and support reactions under static loads.
+
+The loads are the weights under ``model.gravity``, forces and moments given at points of the
+stator or of a rotor, and the tooth (gear) or strand (belt) forces of the torque each
+transmission carries at an operating point. The static stiffness ``K`` (suspensions at zero
+frequency, bearings at the operating speed) is solved for the generalized coordinates,
+``K q = f`` (docs/static.md):
+
+* a rubber mount's Maxwell branches add ``K_b i w tau_b / (1 + i w tau_b)``, nothing at
+  ``w = 0``: its static stiffness is ``stiffness`` alone (its loss factor too adds nothing
+  real);
+* a bearing's stiffness at the carried rotor's own speed (constant, or its table's row);
+  a plain journal bearing holds its journal with the light-load film (a spring of
+  ``k = pi viscosity |speed| D L**3 / (8 c**3)`` turned by 90 degrees, the short bearing's
+  limit at small eccentricity), which splits a rotor's loads among three or more journal
+  bearings as the validation splits their weight (``_bearing_validation.journal_load_shares``);
+  each journal's eccentricity at its load is reported from the full short-bearing solution;
+* each rotor's spin is held at its speed by a drive or a load outside the model (a coupling):
+  the moment about its spin axis of the loads on it is taken there (a ``coupling`` load), not
+  by its bearings.
+
+Flexible rotors (shear force and bending moment along a shaft) plug into
+:func:`_shaft_results`; rigid rotors have none.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from . import _arguments
+from ..assembly import bearing_motion, generalized_force, weights
+from ..elements.bearings import evaluate
+from ..errors import InputError
+from ..linear_system import static_solution
+from ..model._table import visible
+from ..model.dofs import frame_block
+from ..model.geometry import shift_matrix, skew
+
+__all__ = ["static", "StaticResult", "StaticLoad", "SupportReaction", "transmission_torques",
+           "DEFAULT_PRESSURE_ANGLE"]
+
+#: pressure angle of a gear [deg] when the model gives none (the standard involute's)
+DEFAULT_PRESSURE_ANGLE = 20.0
+
+
+@dataclass(frozen=True)
+class StaticLoad:
+    """A static load on one body.
+
+    Attributes
+    ----------
+    kind : {'weight', 'force', 'gear', 'belt', 'coupling'}
+    source : str
+        What applies it: the body (weight), ``force[i]``, the transmission ``DRIVER->DRIVEN``,
+        or the rotor whose coupling holds its spin.
+    body : str or None
+        The rotor it acts on, None for the stator (or the frame).
+    point : ndarray, shape (3,) [m]
+    force, moment : ndarray, shape (3,) [N], [N m]
+        Model axes; the moment is about ``point``.
+    """
+
+    kind: str
+    source: str
+    body: str | None
+    point: np.ndarray
+    force: np.ndarray
+    moment: np.ndarray
+
+
+@dataclass(frozen=True)
+class SupportReaction:
+    """What a suspension or a bearing exerts on the body it carries, and how far it deflects.
+
+    Attributes
+    ----------
+    kind : {'mount', 'bearing', 'axial'}
+        ``axial``: a rotor on bearings without ``axial_stiffness`` moves axially with the
+        stator (or stays on the ground), which holds it along its spin axis (a thrust face).
+    name : str
+    body : str or None
+        The carried body: None for the stator (a mount), else the rotor (a bearing).
+    ground : bool
+        True when the support stands on the ground (mounts; bearings without a stator).
+    point : ndarray, shape (3,) [m]
+    force, moment : ndarray, shape (3,) [N], [N m]
+        On the carried body at ``point``, model axes.
+    displacement : ndarray, shape (6,) [m, rad]
+        Motion ``[u, theta]`` of the carried body at ``point`` relative to what carries it
+        (the ground, or the stator).
+    eccentricity, attitude_deg : float
+        A journal bearing's eccentricity ratio [-] and attitude angle [deg] at its static load
+        and speed (short-bearing solution); NaN for other supports.
+    """
+
+    kind: str
+    name: str
+    body: str | None
+    ground: bool
+    point: np.ndarray
+    force: np.ndarray
+    moment: np.ndarray
+    displacement: np.ndarray
+    eccentricity: float = float("nan")
+    attitude_deg: float = float("nan")
+
+
+@dataclass(frozen=True)
+class StaticResult:
+    """The static solution ``K q = f`` of :func:`static`.
+
+    Attributes
+    ----------
+    model : Model
+    speed : float or None
+        Reference speed [rad/s] of the operating point (None: at rest).
+    coordinates : ndarray, shape (n,) [m, rad]
+        ``q`` over ``model.dofs``.
+    loads : tuple of StaticLoad
+    reactions : tuple of SupportReaction
+        Every suspension, then every bearing.
+    shafts : dict
+        Hook for flexible rotors: per rotor name, its shaft's stations with sag, shear force
+        and bending moment (:func:`_shaft_results`). Empty for rigid rotors.
+    """
+
+    model: Any
+    speed: float | None
+    coordinates: np.ndarray
+    loads: tuple
+    reactions: tuple
+    shafts: dict = field(default_factory=dict)
+
+    # -- motions -------------------------------------------------------------------------
+    def stator_motion(self, point=None) -> np.ndarray:
+        """Motion ``[u, theta]`` [m, rad] of the stator at ``point`` (default its centre of mass,
+        the reference point), shape (6,); zeros when the rotors' bearings stand on the ground."""
+        layout = self.model.dofs
+        motion = self.coordinates[:layout.n_frame]
+        if not layout.n_frame:
+            return np.zeros(6)
+        if point is None:
+            return motion.copy()
+        return shift_matrix(layout.reference_point, point).T @ motion
+
+    def rotor_motion(self, rotor: str, point=None) -> np.ndarray:
+        """Motion ``[u, theta]`` [m, rad] of ``rotor`` relative to the stator at ``point``
+        (default its centre of mass), shape (6,); zeros for a rotor without bearings."""
+        layout = self.model.dofs
+        if not layout.on_bearings(rotor):
+            return np.zeros(6)
+        j = layout.rotors.index(rotor)
+        point = layout.centres[j] if point is None else point
+        return layout.local_relative_motion(rotor, point) @ self.coordinates[layout.slices[j]]
+
+    # -- balance -------------------------------------------------------------------------
+    def imbalance(self, body: str | None = "machine"):
+        """Sum of the forces and of the moments about the reference point on ``body``: zero to
+        round-off when the reactions balance the loads.
+
+        Parameters
+        ----------
+        body : str or None
+            ``"machine"`` (default): the loads and the reactions of the ground; None or
+            ``"stator"``: the stator with the loads on it (and on rotors without bearings) and
+            the mounts and bearings on it; a rotor's name: it on its bearings.
+
+        Returns
+        -------
+        force, moment : ndarray, shape (3,) [N], [N m]
+        scale : float
+            The sum of the magnitudes of every force entering the sums [N], to judge round-off.
+        """
+        wrenches = list(self._wrenches_on(body))
+        reference = self.model.reference_point
+        force, moment, scale = np.zeros(3), np.zeros(3), 0.0
+        for point, f, m in wrenches:
+            force += f
+            moment += m + np.cross(np.asarray(point) - reference, f)
+            scale += np.linalg.norm(f)
+        return force, moment, scale
+
+    def _wrenches_on(self, body):
+        """``(point, force, moment)`` of every load and reaction on ``body``."""
+        layout = self.model.dofs
+        if body == "stator":
+            body = None
+        carried = (lambda b: b if b is not None and layout.on_bearings(b) else None)
+        for load in self.loads:
+            if body == "machine" or carried(load.body) == body:
+                yield load.point, load.force, load.moment
+        for r in self.reactions:
+            if body == "machine":
+                if r.ground:
+                    yield r.point, r.force, r.moment
+            elif r.body == body:
+                yield r.point, r.force, r.moment
+            elif body is None and r.kind != "mount" and not r.ground:
+                yield r.point, -r.force, -r.moment
+
+    # -- tables --------------------------------------------------------------------------
+    def displacements(self):
+        """The stator at its centre of mass and at each mount, each rotor on bearings at its
+        centre of mass and at each bearing (relative to the stator): a DataFrame with columns
+        ``body, point, x_m, y_m, z_m, ux_m, uy_m, uz_m, rx_rad, ry_rad, rz_rad``."""
+        import pandas as pd
+
+        model, layout = self.model, self.model.dofs
+        rows = []
+        if layout.n_frame:
+            name = "stator" if model.stator is not None else "frame"
+            rows.append((name, "centre of mass" if model.stator is not None else "reference point",
+                         layout.reference_point, self.stator_motion()))
+            rows += [(name, s.name, s.position, self.stator_motion(s.position)) for s in model.suspensions]
+        for rotor in layout.rotors:
+            rows.append((rotor, "centre of mass", model.rotor(rotor).center_of_mass, self.rotor_motion(rotor)))
+            rows += [(rotor, b.name, b.position, self.rotor_motion(rotor, b.position))
+                     for b in model.bearings_of(rotor)]
+        return pd.DataFrame([(body, where, *np.asarray(p, float), *motion) for body, where, p, motion in rows],
+                            columns=["body", "point", "x_m", "y_m", "z_m", "ux_m", "uy_m", "uz_m",
+                                     "rx_rad", "ry_rad", "rz_rad"])
+
+    def reactions_table(self):
+        """Every mount's and bearing's reaction on the body it carries: a DataFrame with
+        columns ``support, kind, body, on, x_m, y_m, z_m, Fx_N, Fy_N, Fz_N, Mx_Nm, My_Nm, Mz_Nm,
+        eccentricity, attitude_deg``."""
+        import pandas as pd
+
+        rows = [(r.name, r.kind, "stator" if r.body is None else r.body, "ground" if r.ground else "stator",
+                 *r.point, *r.force, *r.moment, r.eccentricity, r.attitude_deg) for r in self.reactions]
+        return pd.DataFrame(rows, columns=["support", "kind", "body", "on", "x_m", "y_m", "z_m", "Fx_N", "Fy_N",
+                                           "Fz_N", "Mx_Nm", "My_Nm", "Mz_Nm", "eccentricity", "attitude_deg"])
+
+    def loads_table(self):
+        """Every load: a DataFrame with columns ``kind, source, body, x_m, y_m, z_m, Fx_N, Fy_N,
+        Fz_N, Mx_Nm, My_Nm, Mz_Nm`` (moments about the load's point)."""
+        import pandas as pd
+
+        rows = [(x.kind, x.source, "stator" if x.body is None else x.body, *x.point, *x.force, *x.moment)
+                for x in self.loads]
+        return pd.DataFrame(rows, columns=["kind", "source", "body", "x_m", "y_m", "z_m", "Fx_N", "Fy_N",
+                                           "Fz_N", "Mx_Nm", "My_Nm", "Mz_Nm"])
+
+    def to_dataframe(self):
+        """The three tables in one, a ``table`` column first (``load``, ``displacement``,
+        ``reaction``): what ``rotordyn-modal static --out`` writes."""
+        import pandas as pd
+
+        parts = [self.loads_table().rename(columns={"source": "name"}).assign(table="load"),
+                 self.displacements().rename(columns={"point": "name"}).assign(table="displacement"),
+                 self.reactions_table().rename(columns={"support": "name"}).assign(table="reaction")]
+        table = pd.concat(parts, ignore_index=True)
+        return table[["table"] + [c for c in table.columns if c != "table"]]
+
+
+# ----------------------------------------------------------------------------------------
+def static(model, speed=None, forces=None, torques=None, power=None) -> StaticResult:
+    """Static displacement and support reactions of ``model`` under static loads.
+
+    Parameters
+    ----------
+    model : Model
+    speed : float, optional
+        Reference speed [rad/s] of the operating point: needed for bearings whose stiffness
+        depends on speed (tables, journal bearings) and for transmitted torques (the sense of
+        rotation sets the tooth force's direction). None: at rest.
+    forces : sequence, optional
+        Static loads, each ``(body, point, force)`` or ``(body, point, force, moment)`` or a
+        mapping with those keys: ``body`` ``"stator"`` or a rotor's name, ``point`` (3,) [m],
+        ``force`` (3,) [N], ``moment`` (3,) [N m], model axes.
+    torques : float or mapping, optional
+        Torque [N m] each transmission's driver passes on (positive: the driver drives the
+        driven rotor), by ``"DRIVER->DRIVEN"``; one number: every transmission.
+    power : float or mapping, optional
+        Power [W] through each transmission instead (``torque = power / |driver speed|``),
+        one number or by ``"DRIVER->DRIVEN"``; needs ``speed``.
+
+    Returns
+    -------
+    StaticResult
+
+    Raises
+    ------
+    InputError
+        A bad argument, a speed-dependent bearing without ``speed``, a transmission whose load
+        cannot be placed, or loads that push a motion nothing holds (the sentence names it).
+    """
+    speed = None if speed is None else _arguments.speed(speed)
+    loads = _loads(model, speed, forces, _torques(model, speed, torques, power))
+    loads += _couplings(model, loads)
+    stiffness, supports = _stiffness(model, speed)
+    load_vector = sum((generalized_force(model, x.body, x.point, np.r_[x.force, x.moment]) for x in loads),
+                      np.zeros(model.dofs.n))
+    q = _solve(model, stiffness, load_vector)
+    reactions = tuple(_reaction(model, speed, q, *support) for support in supports) + _axial_holds(model, loads)
+    return StaticResult(model=model, speed=speed, coordinates=q, loads=tuple(loads), reactions=reactions,
+                        shafts=_shaft_results(model, q, loads))
+
+
+def _shaft_results(model, q, loads) -> dict:
+    """Per flexible rotor: its shaft's stations with the sag, the shear force and the bending
+    moment of the static solution. The hook for flexible rotors: a rigid rotor has no shaft
+    line, so with today's rotors this is empty."""
+    return {}
+
+
+# -- loads -------------------------------------------------------------------------------
+def _loads(model, speed, forces, torques) -> list:
+    loads = [StaticLoad("weight", "stator" if body is None else body, body, np.asarray(c, float),
+                        np.asarray(f, float), np.zeros(3)) for body, c, f in weights(model)]
+    loads += [_given_load(model, i, item) for i, item in enumerate(forces or ())]
+    for t in model.transmissions:
+        loads += _transmission_loads(model, t, torques.get(t.label, 0.0), speed)
+    return loads
+
+
+def _given_load(model, index: int, item) -> StaticLoad:
+    """One item of ``forces`` checked: ``(body, point, force[, moment])`` or a mapping."""
+    name = f"forces[{index}]"
+    if isinstance(item, dict):
+        unknown = set(item) - {"body", "point", "force", "moment"}
+        if unknown:
+            raise InputError(f"{name}: unknown key {sorted(unknown)[0]!r}: expected body, point, force, moment")
+        body, point, force, moment = (item.get(k) for k in ("body", "point", "force", "moment"))
+    elif isinstance(item, (tuple, list)) and len(item) in (3, 4):
+        body, point, force, moment = (*item, None)[:4]
+    else:
+        raise InputError(f"{name} = {item!r}: expected (body, point, force) or (body, point, force, moment)")
+    body = _body(model, body, name)
+    vectors = [_vector3(value, f"{name} {key}") for key, value in
+               (("point", point), ("force", force), ("moment", moment))]
+    return StaticLoad("force", name, body, *vectors)
+
+
+def _body(model, body, name: str):
+    """None for the stator, else a rotor's name; InputError for anything else."""
+    rotors = [r.name for r in model.rotors]
+    if body in rotors:
+        return body
+    if body == "stator" and (model.stator is not None or not model.bearings):
+        return None
+    what = ("'stator' or " if model.stator is not None or not model.bearings else "") + \
+        "the name of a rotor (" + ", ".join(map(visible, rotors)) + ")"
+    raise InputError(f"{name} body = {body!r}: expected {what}")
+
+
+def _vector3(value, name: str) -> np.ndarray:
+    if value is None:
+        return np.zeros(3)
+    vector = _arguments.values(value, name, "SI")
+    if vector.shape != (3,):
+        raise InputError(f"{name} = {value!r}: expected 3 finite numbers (model axes, SI units)")
+    return vector
+
+
+def transmission_torques(model, speed, power) -> dict:
+    """Torque [N m] each transmission's driver passes on at ``power`` [W] (a number for every
+    transmission, or a mapping by ``"DRIVER->DRIVEN"``) and reference ``speed`` [rad/s]:
+    ``power / |driver's speed|``."""
+    powers = _per_transmission(model, power, "power", "W")
+    if not powers:
+        return {}
+    if speed is None or speed == 0:
+        raise InputError(f"power = {power!r}: expected a speed (not zero) as well: the torque a power "
+                         "gives is power / speed")
+    return {label: p / abs(model.speed_ratios[label.split("->")[0]] * speed)
+            for label, p in powers.items() if p}
+
+
+def _torques(model, speed, torques, power) -> dict:
+    if torques is not None and power is not None:
+        raise InputError("torques and power: expected one of them (a power gives the torques)")
+    if power is not None:
+        return transmission_torques(model, speed, power)
+    given = _per_transmission(model, torques, "torques", "N m")
+    if any(given.values()) and speed is None:
+        raise InputError("torques: expected a speed as well: the sense of rotation sets the direction "
+                         "of the tooth forces")
+    return given
+
+
+def _per_transmission(model, value, name: str, unit: str) -> dict:
+    """``{label: number}`` from one number (every transmission) or a mapping by label."""
+    if value is None:
+        return {}
+    labels = [t.label for t in model.transmissions]
+    if not labels:
+        raise InputError(f"{name} = {value!r}: the model has no [[transmissions]]")
+    if isinstance(value, dict):
+        unknown = [k for k in value if k not in labels]
+        if unknown:
+            raise InputError(f"{name}: unknown transmission {unknown[0]!r}: expected one of "
+                             + ", ".join(map(visible, labels)))
+        return {k: _arguments.speed(v, f"{name}[{k!r}]") for k, v in value.items()}
+    number = _arguments.values(value, name, unit)
+    if number.shape != (1,):
+        raise InputError(f"{name} = {value!r}: expected one number [{unit}] or a mapping by DRIVER->DRIVEN")
+    return dict.fromkeys(labels, float(number[0]))
+
+
+def _transmission_loads(model, t, torque: float, speed) -> list:
+    """The tooth force (gear) or strand pull (belt) of transmission ``t`` carrying ``torque``
+    [N m] on its driver, on the driver and the driven rotor (docs/static.md)."""
+    tension = t.pretension or 0.0
+    if not torque and not tension:
+        return []
+    e = model.spin_axis
+    driver, driven = model.rotor(t.driver), model.rotor(t.driven)
+    plane = driver.center_of_mass if t.position is None else t.position
+    on_driver, on_driven = (np.asarray(r.center_of_mass) + ((plane - r.center_of_mass) @ e) * e
+                            for r in (driver, driven))
+    between = on_driven - on_driver
+    distance = float(np.linalg.norm(between))
+    where = f"{model.source}: [transmissions.{visible(t.label)}]"
+    if not distance > 0:
+        raise InputError(f"{where}: the driver's and the driven rotor's spin axes coincide: a {t.type} "
+                         "between them has no line of centres to push along (give the rotors' centres of mass "
+                         "apart, normal to spin_axis)")
+    u = between / distance
+    sense = np.sign(model.speed_ratios[t.driver] * speed) if torque else 0.0
+    if t.type == "gear":
+        return _gear_loads(t, torque, sense, on_driver, u, np.cross(e, u), distance, where)
+    return _belt_loads(model, t, torque, sense, on_driver, on_driven, u, where)
+
+
+def _gear_loads(t, torque, sense, on_driver, u, tangent, distance, where) -> list:
+    """Tooth force at the pitch point, along the line of action: tangential ``torque / r``
+    against the driver's rotation, radial ``|torque| / r * tan(pressure angle)`` pushing the
+    wheels apart."""
+    radius = distance / (1.0 + t.ratio) if t.driver_radius is None else t.driver_radius
+    if not radius < distance:
+        raise InputError(f"{where} driver_radius = {radius:g}: expected a pitch radius below the centre "
+                         f"distance {distance:g} m of the two spin axes")
+    angle = np.radians(DEFAULT_PRESSURE_ANGLE if t.pressure_angle is None else t.pressure_angle)
+    pitch_point = on_driver + radius * u
+    force = -sense * torque / radius * tangent - abs(torque) / radius * np.tan(angle) * u
+    return [StaticLoad("gear", t.label, t.driver, pitch_point, force, np.zeros(3)),
+            StaticLoad("gear", t.label, t.driven, pitch_point.copy(), -force, np.zeros(3))]
+
+
+def _belt_loads(model, t, torque, sense, on_driver, on_driven, u, where) -> list:
+    """The strands' pull along the line of centres, ``max(2 pretension, |torque| / r)``, and
+    their torque on each pulley (strands taken parallel to the line of centres)."""
+    if torque and t.driver_radius is None:
+        raise InputError(f"{where} driver_radius = <missing>: expected the driver pulley's radius [m] "
+                         "to turn a transmitted torque into the belt's pull")
+    pull = max(2.0 * (t.pretension or 0.0), abs(torque) / t.driver_radius if torque else 0.0)
+    e = model.spin_axis
+    moment = -sense * torque * e
+    return [StaticLoad("belt", t.label, t.driver, on_driver, pull * u, moment),
+            StaticLoad("belt", t.label, t.driven, on_driven, -pull * u, -t.ratio * moment)]
+
+
+def _couplings(model, loads) -> list:
+    """Per rotor, the coupling's moment that holds its spin: minus the moment about its spin
+    axis of the loads on it."""
+    e = model.spin_axis
+    out = []
+    for rotor in model.rotors:
+        centre = np.asarray(rotor.center_of_mass, dtype=float)
+        mine = [x for x in loads if x.body == rotor.name]
+        spin = sum(float((x.moment + np.cross(x.point - centre, x.force)) @ e) for x in mine)
+        scale = sum(np.linalg.norm(x.moment) + np.linalg.norm(x.force) * np.linalg.norm(x.point - centre)
+                    for x in mine)
+        if abs(spin) > 1e-13 * scale:
+            out.append(StaticLoad("coupling", rotor.name, rotor.name, centre, np.zeros(3), -spin * e))
+    return out
+
+
+# -- stiffness and solution --------------------------------------------------------------
+def _stiffness(model, speed):
+    """The static stiffness ``K`` (n, n) and each support as ``(kind, item, k6)``: its 6x6
+    stiffness at its point (model axes)."""
+    reference = model.reference_point
+    supports, total = [], np.zeros((6, 6))
+    for s in model.suspensions:
+        shift = shift_matrix(reference, s.position)
+        total += shift @ s.stiffness_matrix @ shift.T
+        supports.append(("mount", s, s.stiffness_matrix))
+    stiffness = frame_block(model, total)
+    for b in model.bearings:
+        k6 = _bearing_stiffness(model, b, speed)
+        rows, moves = bearing_motion(model, b)
+        stiffness[rows, rows] += moves.T @ k6 @ moves
+        supports.append(("bearing", b, k6))
+    return stiffness, supports
+
+
+def _bearing_stiffness(model, bearing, speed) -> np.ndarray:
+    """A bearing's static 6x6 stiffness at the operating speed (journals: the light-load film)."""
+    coefficients = bearing.coefficients
+    where = f"{model.source}: [bearings.{visible(bearing.name)}]"
+    if coefficients.kind != "constant" and speed is None:
+        raise InputError(f"{where}: its stiffness depends on speed ({'a journal bearing' if coefficients.kind == 'journal' else 'a speed table'}): "
+                         "give the operating speed")
+    own = 0.0 if speed is None else model.speed_ratios[bearing.rotor] * speed
+    if coefficients.kind != "journal":
+        return evaluate(coefficients, [own], where)[0][0]
+    journal = coefficients.journal
+    if own == 0:
+        raise InputError(f"{where}: a journal bearing at speed 0 has no oil film to stand on: give a speed "
+                         "other than 0")
+    film = np.pi * journal.viscosity * abs(own) * journal.diameter * journal.length**3 / (8 * journal.clearance**3)
+    k6 = coefficients.stiffness[0].copy()
+    # the film holds the journal at 90 degrees to its offset: force -k R(-phi) e, phi = sign(own) pi / 2
+    k6[:3, :3] += -np.sign(own) * film * skew(model.spin_axis)
+    return k6
+
+
+def _solve(model, stiffness, load) -> np.ndarray:
+    """``q`` with ``K q = f``, or InputError naming the motion the loads push that nothing holds."""
+    if not np.any(load):
+        return np.zeros(len(load))
+    q = static_solution(stiffness, load)
+    if q is None:
+        raise InputError(f"{model.source}: the static loads push {_free_motion(model, stiffness, load)}, "
+                         "which no suspension or bearing holds (a rigid-body motion): the machine would "
+                         "not stand still")
+    return q
+
+
+def _free_motion(model, stiffness, load) -> str:
+    """The coordinates of the free motion that the load pushes most, in words."""
+    size = np.sqrt(np.linalg.norm(stiffness, axis=0) * np.linalg.norm(stiffness, axis=1))
+    scaled_size = np.where(size > 0, size, 1.0)
+    u, values, vt = np.linalg.svd(stiffness / np.outer(scaled_size, scaled_size))
+    free = ~(values > 1e-12 * values[0]) if values[0] > 0 else np.ones(len(values), bool)
+    pushes = np.abs(u[:, free].T @ (load / scaled_size))
+    motion = np.abs(vt[free][int(np.argmax(pushes))] / scaled_size)
+    names = [model.dofs.names[i] for i in np.argsort(-motion) if motion[i] > 0.1 * motion.max()]
+    return "the motion " + " with ".join(names[:3])
+
+
+def _reaction(model, speed, q, kind, item, k6) -> SupportReaction:
+    """A support's deflection and its force and moment on the body it carries."""
+    layout = model.dofs
+    if kind == "mount":
+        motion = shift_matrix(layout.reference_point, item.position).T @ q[:6]
+        body, ground = None, True
+    else:
+        rows, moves = bearing_motion(model, item)
+        motion = moves @ q[rows]
+        body, ground = item.rotor, layout.frame == "ground"
+    wrench = -k6 @ motion
+    extra = _journal_state(model, speed, item, wrench[:3]) if kind == "bearing" else {}
+    return SupportReaction(kind=kind, name=item.name, body=body, ground=ground,
+                           point=np.asarray(item.position, dtype=float), force=wrench[:3], moment=wrench[3:],
+                           displacement=motion, **extra)
+
+
+def _axial_holds(model, loads) -> tuple:
+    """The thrust that holds along its spin axis each rotor on bearings without axial coordinate
+    (its axial motion is the stator's): minus the axial part of the loads on it, at its centre."""
+    layout, e = model.dofs, model.spin_axis
+    out = []
+    for rotor in layout.rotors:
+        if any(b.coefficients.axial for b in model.bearings_of(rotor)):
+            continue
+        mine = [x.force for x in loads if x.body == rotor]
+        axial = float(sum(mine, np.zeros(3)) @ e)
+        if abs(axial) > 1e-13 * sum(np.linalg.norm(f) for f in mine):
+            out.append(SupportReaction(kind="axial", name=f"{rotor} axial", body=rotor,
+                                       ground=layout.frame == "ground",
+                                       point=np.asarray(model.rotor(rotor).center_of_mass, dtype=float),
+                                       force=-axial * e, moment=np.zeros(3), displacement=np.zeros(6)))
+    return tuple(out)
+
+
+def _journal_state(model, speed, bearing, force) -> dict:
+    """A journal bearing's eccentricity and attitude angle at its static load (short bearing)."""
+    from ..elements.journal_bearing import short_journal_bearing
+
+    journal = bearing.coefficients.journal
+    e = model.spin_axis
+    load = float(np.linalg.norm(force - (force @ e) * e))
+    if journal is None or not load > 0:
+        return {}
+    own = model.speed_ratios[bearing.rotor] * speed
+    try:
+        film = short_journal_bearing([own], diameter=journal.diameter, length=journal.length,
+                                     clearance=journal.clearance, viscosity=journal.viscosity, load=load)
+    except InputError as error:
+        raise InputError(f"{model.source}: [bearings.{visible(bearing.name)}] under its static load: {error}") from None
+    return {"eccentricity": float(film.eccentricity[0]), "attitude_deg": float(np.degrees(film.attitude_angle[0]))}

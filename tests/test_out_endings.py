@@ -14,6 +14,7 @@ GEAR = str(EXAMPLES / "gear_machine.toml")
 
 COMMANDS = {
     "modes": ["modes", GEAR],
+    "static": ["static", GEAR],
     "campbell": ["campbell", GEAR, "--speeds", "0:100:3"],
     "critical-speeds": ["critical-speeds", GEAR, "--speeds", "0:100:3"],
     "stability": ["stability", GEAR, "--speeds", "0:100:3"],

@@ -27,12 +27,13 @@ EXAMPLE = ROOT / "examples" / "gear_machine.toml"
 REQUIRED = {"campbell": ["--speeds", "0:100:3"], "critical-speeds": ["--speeds", "0:100:3"],
             "stability": ["--speeds", "0:100:3"], "unbalance": ["--speeds", "0:100:3"],
             "simulate": ["--duration", "0.1"], "frf": ["--freqs", "1:10:3"], "fit": ["--params", "gain"],
-            "modes": [], "study": [], "check": []}
+            "modes": [], "study": [], "check": [], "static": []}
 
 
 #: every file option of every sub-command: (inputs, outputs); a new one goes here
 FILE_OPTIONS = {
     "check": (["MODEL"], []),
+    "static": (["MODEL"], ["--out"]),
     "modes": (["MODEL", "--outline"], ["--out", "--plot"]),
     "campbell": (["MODEL"], ["--out", "--plot"]),
     "critical-speeds": (["MODEL"], ["--out", "--plot"]),

@@ -270,7 +270,8 @@ def static(model, speed=None, forces=None, torques=None, power=None) -> StaticRe
     forces : sequence, optional
         Static loads, each ``(body, point, force)`` or ``(body, point, force, moment)`` or a
         mapping with those keys: ``body`` ``"stator"`` or a rotor's name, ``point`` (3,) [m],
-        ``force`` (3,) [N], ``moment`` (3,) [N m], model axes.
+        ``force`` (3,) [N], ``moment`` (3,) [N m], model axes (a mapping may leave out
+        ``force``, ``moment``, and ``point`` when it gives a moment alone).
     torques : float or mapping, optional
         Torque [N m] each transmission's driver passes on (positive: the driver drives the
         driven rotor), by ``"DRIVER->DRIVEN"``; one number: every transmission.
@@ -330,6 +331,8 @@ def _given_load(model, index: int, item) -> StaticLoad:
     else:
         raise InputError(f"{name} = {item!r}: expected (body, point, force) or (body, point, force, moment)")
     body = _body(model, body, name)
+    if point is None:    # a moment alone: its point does not matter; shown at the body's centre
+        point = model.reference_point if body is None else model.rotor(body).center_of_mass
     vectors = [_vector3(value, f"{name} {key}") for key, value in
                (("point", point), ("force", force), ("moment", moment))]
     return StaticLoad("force", name, body, *vectors)

@@ -16,7 +16,7 @@ from ..units import speed_to_rad_s as to_rad_s
 
 #: options that take a value which may start with '-' (a negative speed or range)
 VALUE_OPTIONS = ("--speed", "--speeds", "--values", "--scale", "--freqs", "--orders", "--impulse",
-                 "--ramp", "--duration")
+                 "--ramp", "--duration", "--power")
 
 
 def join_negative_values(argv, options):

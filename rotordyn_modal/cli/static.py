@@ -1,0 +1,128 @@
+"""``static MODEL [--speed S] [--power W] [--force BODY:X,Y,Z:FX,FY,FZ] [--out FILE.csv]``."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number, print_table,
+                      to_rad_s, write_table)
+
+NAME = "static"
+HELP = "static displacement and support reactions under gravity, given forces and transmitted power"
+DESCRIPTION = """Static analysis: the machine under its weight (the model's gravity), the forces
+and moments given here, and the tooth (gear) or strand (belt) forces of the power each
+transmission carries at the operating speed. Prints the loads, the displacement of the stator at
+its centre of mass and at each mount and of each rotor relative to the stator (at its centre of
+mass and at each bearing), and the force and moment of every mount and bearing on the body it
+carries, with the balance of all of them (zero to round-off). Rubber mounts stand on their
+static stiffness (Maxwell branches add nothing at zero frequency); bearings on their stiffness at
+the operating speed, journal bearings on their light-load film, with each journal's eccentricity
+at its load (docs/static.md).
+
+BODY is 'stator' or a rotor's name; points and vectors are in model axes, SI units (m, N, N m).
+A moment acts on the body as a whole (--moment BODY:MX,MY,MZ). --power W is the power every
+transmission carries from its driver to its driven rotor (negative: the other way);
+--power DRIVER->DRIVEN=W names one transmission (repeat the option for others).
+
+CSV columns: table,kind,name,body,x_m,y_m,z_m,Fx_N,Fy_N,Fz_N,Mx_Nm,My_Nm,Mz_Nm,ux_m,uy_m,uz_m,rx_rad,ry_rad,rz_rad,on,eccentricity,attitude_deg
+('table' is load, displacement or reaction and each row fills the columns of its table; 'name'
+is the load's source, the displaced point, or the support; 'on' what a support stands on)
+
+examples:
+  rotordyn-modal static examples/motor_pump_on_mounts.toml
+  rotordyn-modal static examples/gear_machine.toml --speed 3000 --power 15000 --out static.csv
+  rotordyn-modal static examples/journal_rotor.toml --speed 6000 --force rotor:0,0,0:0,0,-200"""
+
+
+def add_arguments(parser):
+    add_model_argument(parser)
+    parser.add_argument("--speed", help="reference rotor speed of the operating point (default: at rest)")
+    add_speed_unit(parser)
+    parser.add_argument("--power", action="append", metavar="W|DRIVER->DRIVEN=W",
+                        help="power [W] each transmission carries (repeat with DRIVER->DRIVEN=W for each one)")
+    parser.add_argument("--force", action="append", metavar="BODY:X,Y,Z:FX,FY,FZ",
+                        help="a static force [N] at a point [m] of the stator or a rotor (repeat for more)")
+    parser.add_argument("--moment", action="append", metavar="BODY:MX,MY,MZ",
+                        help="a static moment [N m] on the stator or a rotor (repeat for more)")
+    add_outputs(parser, plot=False)
+
+
+def run(args) -> int:
+    from ..analysis.static import static
+
+    model = open_model(args)
+    speed = None if args.speed is None else float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
+    forces = [_force(text) for text in args.force or ()] + [_moment(text) for text in args.moment or ()]
+    result = static(model, speed=speed, forces=forces, power=_power(args.power))
+    table = result.to_dataframe()
+    if args.out:
+        write_table(table, args) if args.out == "-" else write_table(table, _quietly(args))
+    if args.out != "-" and not args.quiet:
+        _print(result)
+    return 0
+
+
+def _quietly(args):
+    """``args`` with ``quiet`` set: the tables are printed by :func:`_print`, not by write_table."""
+    import argparse
+
+    return argparse.Namespace(**{**vars(args), "quiet": True})
+
+
+def _print(result):
+    for title, table in (("loads", result.loads_table()), ("displacements", result.displacements()),
+                         ("reactions (on the body each support carries)", result.reactions_table())):
+        print(f"{title}:")
+        print_table(table, empty="none")
+    force, moment, scale = result.imbalance()
+    print(f"balance of loads and reactions: sum of forces {np.linalg.norm(force):.3g} N, sum of moments "
+          f"{np.linalg.norm(moment):.3g} N m (the forces total {scale:.6g} N)")
+
+
+def _vector(text: str, option: str, whole: str) -> list:
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise InputError(f"{option} {whole!r}: expected 3 comma-separated numbers in {text!r}")
+    return [parse_number(p.strip(), option) for p in parts]
+
+
+def _force(text: str) -> tuple:
+    """``BODY:X,Y,Z:FX,FY,FZ`` -> ``(body, point, force)``."""
+    body, _, rest = text.rpartition(":")
+    body, _, point = body.rpartition(":")
+    if not body:
+        raise InputError(f"--force {text!r}: expected BODY:X,Y,Z:FX,FY,FZ (body 'stator' or a rotor's name, "
+                         "a point [m] and a force [N] in model axes)")
+    return body, _vector(point, "--force", text), _vector(rest, "--force", text)
+
+
+def _moment(text: str) -> tuple:
+    """``BODY:MX,MY,MZ`` -> ``(body, point, zero force, moment)``; a moment's point does not matter."""
+    body, _, rest = text.rpartition(":")
+    if not body:
+        raise InputError(f"--moment {text!r}: expected BODY:MX,MY,MZ (body 'stator' or a rotor's name, a moment "
+                         "[N m] in model axes)")
+    return {"body": body, "moment": _vector(rest, "--moment", text)}
+
+
+def _power(values):
+    """``--power`` values: one number for every transmission, or ``DRIVER->DRIVEN=W`` each."""
+    if not values:
+        return None
+    named = [v for v in values if "=" in v]
+    if not named:
+        if len(values) > 1:
+            raise InputError(f"--power {values[1]!r}: one power for every transmission is given once; name each "
+                             "transmission (DRIVER->DRIVEN=W) to give several")
+        return parse_number(values[0], "--power")
+    if len(named) != len(values):
+        raise InputError(f"--power {next(v for v in values if '=' not in v)!r}: expected DRIVER->DRIVEN=W like the "
+                         "other --power options")
+    out = {}
+    for text in named:
+        label, _, number = text.rpartition("=")
+        if label in out:
+            raise InputError(f"--power {text!r}: the transmission {label!r} is given twice")
+        out[label] = parse_number(number, "--power")
+    return out

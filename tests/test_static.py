@@ -1,0 +1,301 @@
+"""Static analysis (``rdm.static``, ``rotordyn-modal static``) against closed forms written out here:
+a rigid casing on mounts, a rigid rotor on two and on three supports (the statically
+indeterminate beam on springs), gear tooth and belt forces, the journal bearings' weight split,
+and the balance of loads and reactions over random machines."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import rotordyn_modal as rdm
+from rotordyn_modal.cli import main
+from rotordyn_modal.errors import InputError, ModelError
+
+G = 9.81
+JOURNAL = {"diameter": 0.05, "clearance": 5e-5, "viscosity": 0.02}
+
+
+def _casing(mass=200.0, centre=(0.0, 0.0, 0.0), k=(2e5, 3e5, 4e5), a=0.5, b=0.3, **mount):
+    """A rigid casing on four equal mounts at (+-a, +-b, 0) under gravity along -z."""
+    return rdm.Model.from_dict({
+        "gravity": [0.0, 0.0, -G],
+        "stator": {"mass": mass, "inertia": [10.0, 20.0, 25.0], "center_of_mass": list(centre)},
+        "rotors": [{"name": "r", "mass": 1e-9, "center_of_mass": list(centre), "polar_inertia": 1e-12,
+                    "diametral_inertia": 1e-12, "speed_ratio": 1.0}],
+        "suspensions": [{"name": f"m{i}", "position": [sx * a, sy * b, 0.0], "stiffness": list(k), **mount}
+                        for i, (sx, sy) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1)))],
+    })
+
+
+def _rotor_on(stations, stiffness, mass=40.0, centre=0.0, stator=False, gravity=(0.0, 0.0, -G), **extra):
+    """A rigid rotor along x on bearings at x = ``stations`` of radial ``stiffness`` each."""
+    data = {
+        "gravity": list(gravity),
+        "rotors": [{"name": "r", "mass": mass, "center_of_mass": [centre, 0.0, 0.0], "polar_inertia": 0.2,
+                    "diametral_inertia": 1.0, "speed_ratio": 1.0}],
+        "bearings": [{"name": f"b{i}", "rotor": "r", "position": [s, 0.0, 0.0], "stiffness": k, **extra}
+                     for i, (s, k) in enumerate(zip(stations, stiffness))],
+    }
+    if stator:
+        data["stator"] = {"mass": 300.0, "inertia": [20.0, 30.0, 30.0], "center_of_mass": [0.1, 0.0, -0.2]}
+        data["suspensions"] = [{"name": f"m{i}", "position": [x, y, -0.3], "stiffness": [1e6, 1e6, 2e6]}
+                               for i, (x, y) in enumerate(((0.6, 0.4), (0.6, -0.4), (-0.6, 0.4), (-0.6, -0.4)))]
+    return rdm.Model.from_dict(data)
+
+
+def _forces(result, kind="bearing"):
+    return np.array([r.force for r in result.reactions if r.kind == kind])
+
+
+# -- the casing on its mounts -----------------------------------------------------------------
+@pytest.mark.parametrize("mount", [{}, {"loss_factor": 0.2},
+                                   {"maxwell_stiffness": [[1e5, 2e5, 3e5]], "maxwell_time": [0.01]}])
+def test_a_casing_on_mounts_sags_by_weight_over_stiffness(mount):
+    """Vertical sag W / (4 k_z), each mount W / 4; Maxwell branches and loss add nothing at rest."""
+    model = _casing(**mount)
+    result = rdm.static(model)
+    weight = (model.stator.mass + 1e-9) * G
+    motion = result.stator_motion()
+    assert motion[2] == pytest.approx(-weight / (4 * 4e5), rel=1e-12)
+    np.testing.assert_allclose(motion[[0, 1, 3, 4, 5]], 0.0, atol=1e-12 * abs(motion[2]))
+    np.testing.assert_allclose(_forces(result, "mount")[:, 2], weight / 4, rtol=1e-12)
+
+
+def test_an_offset_centre_of_mass_tilts_the_casing_by_the_moment_balance():
+    """Centre of mass at x = c over mounts at x = +-a: the sag at the pattern's centre is W / (4k),
+    the tilt theta_y = c W / (4 k a**2), the front mounts carry W / 4 (1 + c / a)."""
+    c, a, k = 0.12, 0.5, 4e5
+    model = _casing(centre=(c, 0.0, 0.0), a=a)
+    result = rdm.static(model)
+    weight = (model.stator.mass + 1e-9) * G
+    at_centre = result.stator_motion([0.0, 0.0, 0.0])
+    assert at_centre[2] == pytest.approx(-weight / (4 * k), rel=1e-12)
+    assert at_centre[4] == pytest.approx(c * weight / (4 * k * a**2), rel=1e-12)
+    front = [r.force[2] for r in result.reactions if r.point[0] > 0]
+    np.testing.assert_allclose(front, weight / 4 * (1 + c / a), rtol=1e-12)
+
+
+# -- rigid rotors on their bearings -------------------------------------------------------------
+@pytest.mark.parametrize("centre", [0.1, -0.25, 0.6])           # 0.6: overhung beyond the bearings
+@pytest.mark.parametrize("stator", [False, True])
+def test_a_rotor_on_two_bearings_follows_the_lever_rule(centre, stator):
+    s1, s2, mass = -0.3, 0.4, 40.0
+    result = rdm.static(_rotor_on([s1, s2], [2e7, 5e7], mass=mass, centre=centre, stator=stator))
+    weight = mass * G
+    expected = [weight * (s2 - centre) / (s2 - s1), weight * (centre - s1) / (s2 - s1)]
+    np.testing.assert_allclose(_forces(result)[:, 2], expected, rtol=1e-12)
+    np.testing.assert_allclose(_forces(result)[:, :2], 0.0, atol=1e-12 * weight)
+
+
+def _beam_on_springs(stations, stiffness, weight, centre):
+    """Reactions of a rigid beam on springs k_i at s_i under a weight at s_G, by hand: the beam
+    moves w + phi s; sum k (w + phi s) = W and sum k (w + phi s) s = W s_G (Cramer's rule)."""
+    k, s = np.asarray(stiffness, float), np.asarray(stations, float)
+    a11, a12, a22 = k.sum(), (k * s).sum(), (k * s * s).sum()
+    det = a11 * a22 - a12 * a12
+    w = (weight * a22 - a12 * weight * centre) / det
+    phi = (a11 * weight * centre - a12 * weight) / det
+    return k * (w + phi * s)
+
+
+@pytest.mark.parametrize("stator", [False, True])
+def test_a_rotor_on_three_bearings_is_the_beam_on_springs(stator):
+    stations, stiffness, centre, mass = [-0.4, 0.05, 0.5], [3e7, 8e7, 1e7], 0.12, 60.0
+    result = rdm.static(_rotor_on(stations, stiffness, mass=mass, centre=centre, stator=stator))
+    expected = _beam_on_springs(stations, stiffness, mass * G, centre)
+    np.testing.assert_allclose(_forces(result)[:, 2], expected, rtol=1e-10)
+    # and the rotor's sag at each bearing is its reaction over its stiffness
+    sag = [result.rotor_motion("r", [s, 0, 0])[2] for s in stations]
+    np.testing.assert_allclose(sag, -expected / np.asarray(stiffness), rtol=1e-10)
+
+
+def _journal_rotor(lengths, stations, centre=0.08, mass=50.0, loads=None):
+    return rdm.Model.from_dict({
+        "gravity": [0.0, 0.0, -G],
+        "rotors": [{"name": "r", "mass": mass, "center_of_mass": [centre, 0.0, 0.0], "polar_inertia": 0.5,
+                    "diametral_inertia": 2.0, "speed_ratio": 1.0}],
+        "bearings": [{"name": f"j{i}", "rotor": "r", "position": [s, 0.0, 0.0], "type": "journal",
+                      "length": length, **JOURNAL, **({} if loads is None else {"load": loads[i]})}
+                     for i, (s, length) in enumerate(zip(stations, lengths))],
+    })
+
+
+def test_three_journal_bearings_carry_the_statically_indeterminate_split():
+    """Journal films at light load are springs k = pi mu |w| D L**3 / (8 c**3): the weight splits as
+    on a rigid beam on springs proportional to L**3, whatever the speed, and rdm.static agrees."""
+    lengths, stations, mass, centre = [0.02, 0.03, 0.025], [-0.35, 0.0, 0.3], 50.0, 0.08
+    model = _journal_rotor(lengths, stations, centre, mass)
+    expected = _beam_on_springs(stations, np.asarray(lengths)**3, mass * G, centre)
+    loads = [b.coefficients.journal.load for b in model.bearings]
+    np.testing.assert_allclose(loads, np.abs(expected), rtol=1e-12)
+    for rpm in (3000.0, 12000.0):
+        result = rdm.static(model, speed=rdm.rpm(rpm))
+        np.testing.assert_allclose(_forces(result)[:, 2], expected, rtol=1e-10)
+
+
+def test_two_journal_bearings_keep_the_lever_rule():
+    model = _journal_rotor([0.02, 0.04], [-0.3, 0.3], centre=0.1, mass=50.0)
+    loads = [b.coefficients.journal.load for b in model.bearings]
+    np.testing.assert_allclose(loads, [50 * G * 0.2 / 0.6, 50 * G * 0.4 / 0.6], rtol=1e-15)
+    journal = rdm.static(model, speed=rdm.rpm(6000)).reactions[0]
+    from rotordyn_modal.elements.journal_bearing import short_journal_bearing
+    film = short_journal_bearing(rdm.rpm(6000), length=0.02, load=loads[0], **JOURNAL)
+    assert journal.eccentricity == pytest.approx(float(film.eccentricity), rel=1e-12)
+
+
+def test_journal_bearings_mixed_with_others_need_their_loads():
+    data = _journal_rotor([0.02, 0.03, 0.025], [-0.35, 0.0, 0.3]).to_dict()
+    data["bearings"][1] = {"name": "j1", "rotor": "r", "position": [0.0, 0.0, 0.0], "stiffness": 1e8}
+    with pytest.raises(ModelError, match=r"\[bearings.j0\] load = .<missing>.: expected a static load"):
+        rdm.Model.from_dict(data)
+
+
+# -- transmissions ------------------------------------------------------------------------------
+def _pair(kind="gear", **transmission):
+    """Two rotors along x, on two bearings each, 0.25 m apart along y, joined by ``kind``."""
+    rotors = [{"name": "a", "mass": 10.0, "center_of_mass": [0.0, 0.0, 0.0], "speed_ratio": 1.0},
+              {"name": "b", "mass": 20.0, "center_of_mass": [0.0, 0.25, 0.0]}]
+    return rdm.Model.from_dict({
+        "reference_rotor": "a",
+        "rotors": [{**r, "polar_inertia": 0.1, "diametral_inertia": 0.3} for r in rotors],
+        "transmissions": [{"type": kind, "driver": "a", "driven": "b", "ratio": 1.5, **transmission}],
+        "bearings": [{"name": f"{r['name']}{i}", "rotor": r["name"], "position": [x, r["center_of_mass"][1], 0.0],
+                      "stiffness": 1e8} for r in rotors for i, x in enumerate((-0.2, 0.2))],
+    })
+
+
+@pytest.mark.parametrize("sense", [1.0, -1.0])
+def test_gear_tooth_force_is_torque_over_pitch_radius_along_the_line_of_action(sense):
+    radius, angle, torque = 0.08, 25.0, 120.0
+    model = _pair(driver_radius=radius, pressure_angle=angle, position=[0.05, 0.0, 0.0])
+    result = rdm.static(model, speed=sense * 300.0, torques=torque)
+    on_driver = next(x for x in result.loads if x.kind == "gear" and x.body == "a")
+    np.testing.assert_allclose(on_driver.point, [0.05, radius, 0.0], atol=1e-15)
+    tangential, radial = on_driver.force[2], on_driver.force[1]       # tangent e x u = z, u = y
+    # the driver's tooth at r y moves along sense * z: the driven wheel pushes it back
+    assert tangential == pytest.approx(-sense * torque / radius, rel=1e-14)
+    assert radial == pytest.approx(-torque / radius * np.tan(np.radians(angle)), rel=1e-14)  # apart
+    assert np.linalg.norm(on_driver.force) == pytest.approx(torque / (radius * np.cos(np.radians(angle))), rel=1e-14)
+    # power P at the driver's speed is the torque P / w; the bearings balance the tooth forces
+    by_power = rdm.static(model, speed=sense * 300.0, power=torque * 300.0)
+    np.testing.assert_allclose(_forces(by_power), _forces(result), rtol=1e-12, atol=1e-9)
+    for body in ("a", "b", "machine"):
+        force, moment, scale = result.imbalance(body)
+        assert np.abs(np.r_[force, moment]).max() < 1e-12 * scale
+
+
+def test_a_gear_pitch_radius_defaults_to_the_centre_distance_split():
+    result = rdm.static(_pair(), speed=100.0, torques=50.0)
+    on_driver = next(x for x in result.loads if x.kind == "gear" and x.body == "a")
+    assert on_driver.point[1] == pytest.approx(0.25 / 2.5, rel=1e-14)       # a / (1 + ratio)
+    assert abs(on_driver.force[2]) == pytest.approx(50.0 / 0.1, rel=1e-14)
+
+
+@pytest.mark.parametrize("pretension, pull", [(0.0, 60.0 / 0.05), (1000.0, 2000.0)])
+def test_belt_pull_is_torque_over_radius_or_twice_the_pretension(pretension, pull):
+    model = _pair("belt", driver_radius=0.05, pretension=pretension)
+    result = rdm.static(model, speed=200.0, torques=60.0)
+    on_driver = next(x for x in result.loads if x.kind == "belt" and x.body == "a")
+    np.testing.assert_allclose(on_driver.force, [0.0, pull, 0.0], rtol=1e-14)
+    np.testing.assert_allclose(_forces(result)[:2].sum(axis=0), [0.0, -pull, 0.0], rtol=1e-12, atol=1e-9)
+
+
+@pytest.mark.parametrize("key, value, expected", [
+    ("pressure_angle", 50.0, "pressure_angle = 50.0: expected a pressure angle in degrees"),
+    ("pretension", 10.0, "pretension = 10.0: expected no value: this key is for type = 'belt'"),
+    ("driver_radius", -0.1, "driver_radius = -0.1: expected a finite number > 0"),
+    ("position", [0, 1], "position = [0, 1]: expected a 3-list"),
+])
+def test_bad_transmission_geometry_is_refused_by_name(key, value, expected):
+    with pytest.raises(ModelError, match="transmissions.*" + expected.replace("(", r"\(").replace(")", r"\)")
+                       .replace("[", r"\[").replace("]", r"\]").replace(".", r"\.")):
+        _pair(**{key: value})
+
+
+def test_belt_torque_without_pulley_radius_is_refused():
+    with pytest.raises(InputError, match=r"a->b\] driver_radius = <missing>"):
+        rdm.static(_pair("belt"), speed=100.0, torques=10.0)
+
+
+# -- refusals and the balance -------------------------------------------------------------------
+def test_a_load_on_a_free_motion_is_refused_naming_it():
+    model = _casing(k=(0.0, 3e5, 4e5))                 # nothing holds the casing along x
+    rdm.static(model)                                  # the weight does not push along x
+    with pytest.raises(InputError, match=r"push the motion stator\.ux.*no suspension or bearing holds"):
+        rdm.static(model, forces=[("stator", [0.0, 0.0, 0.0], [10.0, 0.0, 0.0])])
+
+
+def test_check_warns_of_the_sag_the_static_solution_gives():
+    model = _casing(k=(2e2, 3e2, 4e2))                 # N/mm given as N/m
+    from rotordyn_modal.linear_system import implausible
+    (line,) = implausible(model)
+    sag = max(abs(r.displacement[2]) for r in rdm.static(model).reactions)
+    assert f"would sag {sag:.3g} m" in line
+
+
+@st.composite
+def _machines(draw):
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    axis = rng.normal(size=3)
+    axis /= np.linalg.norm(axis)
+    rotors, bearings = [], []
+    for j in range(draw(st.integers(1, 2))):   # r0, the reference rotor, turns at speed ratio 1
+        centre = rng.uniform(-0.5, 0.5, 3)
+        rotors.append({"name": f"r{j}", "mass": float(rng.uniform(1, 50)), "center_of_mass": centre.tolist(),
+                       "polar_inertia": 0.1, "diametral_inertia": 0.2, "speed_ratio": 1.0 if j == 0 else -2.0})
+        for i in range(draw(st.integers(2, 3))):
+            bearings.append({"name": f"b{j}{i}", "rotor": f"r{j}",
+                             "position": (centre + rng.uniform(-0.4, 0.4) * axis).tolist(),
+                             "stiffness": float(rng.uniform(1e6, 1e8)),
+                             **({"axial_stiffness": 1e7} if rng.random() < 0.5 else {})})
+    return {
+        "spin_axis": axis.tolist(), "gravity": (rng.normal(size=3) * 5).tolist(), "reference_rotor": "r0",
+        "stator": {"mass": float(rng.uniform(50, 500)), "inertia": [10.0, 12.0, 15.0],
+                   "center_of_mass": rng.uniform(-0.2, 0.2, 3).tolist()},
+        "rotors": rotors, "bearings": bearings,
+        "suspensions": [{"name": f"m{i}", "position": rng.uniform(-1, 1, 3).tolist(),
+                         "stiffness": rng.uniform(1e5, 1e6, 3).tolist()} for i in range(4)],
+    }, [(str(rng.choice(["stator"] + [r["name"] for r in rotors])), rng.uniform(-1, 1, 3), rng.normal(size=3) * 100,
+         rng.normal(size=3) * 10) for _ in range(2)]
+
+
+@settings(max_examples=12, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(_machines())
+def test_reactions_balance_the_loads_on_every_body(machine):
+    data, forces = machine
+    model = rdm.Model.from_dict(data)
+    result = rdm.static(model, forces=forces)
+    for body in ["machine", "stator"] + [r.name for r in model.rotors]:
+        force, moment, scale = result.imbalance(body)
+        assert np.abs(force).max() < 1e-11 * scale and np.abs(moment).max() < 1e-11 * scale, body
+
+
+# -- the command line ---------------------------------------------------------------------------
+def test_static_command_writes_its_tables(tmp_path, examples_dir, capsys):
+    out = tmp_path / "static.csv"
+    argv = ["static", str(examples_dir / "gear_machine.toml"), "--speed", "3000", "--power", "15000",
+            "--force", "stator:0.1,0,0:0,0,-500", "--out", str(out)]
+    assert main(argv) == 0
+    printed = capsys.readouterr().out
+    assert "reactions" in printed and "balance of loads and reactions" in printed
+    import pandas as pd
+    table = pd.read_csv(out)
+    assert set(table["table"]) == {"load", "displacement", "reaction"}
+    reactions = table[table["table"] == "reaction"]
+    assert reactions["Fz_N"].sum() == pytest.approx(500.0, rel=1e-9)   # the mounts carry the given force
+
+
+@pytest.mark.parametrize("options, message", [
+    (["--force", "nobody:0,0,0:1,0,0"], "forces[0] body = 'nobody': expected 'stator' or the name of a rotor"),
+    (["--force", "stator:0,0:1,0,0"], "--force 'stator:0,0:1,0,0': expected 3 comma-separated numbers"),
+    (["--power", "1000"], "power = 1000.0: expected a speed"),
+    (["--speed", "3000", "--power", "motor->pump=10"], "power: unknown transmission 'motor->pump'"),
+    (["--moment", "fan"], "--moment 'fan': expected BODY:MX,MY,MZ"),
+])
+def test_static_command_refuses_bad_input_in_one_line(options, message, examples_dir, capsys):
+    assert main(["static", str(examples_dir / "gear_machine.toml"), *options]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and message in err, err

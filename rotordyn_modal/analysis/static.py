@@ -534,7 +534,15 @@ def _free_motion(model, stiffness, load) -> str:
     pushes = np.abs(u[:, free].T @ (load / scaled_size))
     motion = np.abs(vt[free][int(np.argmax(pushes))] / scaled_size)
     names = [model.dofs.names[i] for i in np.argsort(-motion) if motion[i] > 0.1 * motion.max()]
-    return "the motion " + " with ".join(names[:3])
+    return " with ".join(_in_words(name) for name in names[:3])
+
+
+def _in_words(coordinate: str) -> str:
+    """``stator.ux`` -> ``the stator's translation along x (stator.ux)``."""
+    body, _, motion = coordinate.rpartition(".")
+    who = f"the {body}'s" if body in ("stator", "frame") else f"rotor {visible(body)}'s"
+    what = "translation along" if motion.startswith("u") else "rotation about"
+    return f"{who} {what} {motion[1:]} ({coordinate})"
 
 
 def _reaction(model, speed, q, kind, item, k6) -> SupportReaction:

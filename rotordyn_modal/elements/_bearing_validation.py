@@ -284,7 +284,8 @@ def _weight_share(bearing, table: Table, mates, rotor, e, tables) -> float:
         share = s_other / (s_other - s_self) if s_other != s_self else 0.0
     if not abs(share) > _LEAST_SHARE:
         raise table.error("load", "<missing>", f"a static load [N]: this bearing carries none of rotor "
-                          f"{rotor.name!r}'s weight (statics on its bearings puts none of it here)")
+                          f"{rotor.name!r}'s weight (" + ("its centre of mass is at the other bearing)"
+                                                          if len(mates) == 2 else "its share on the films is 0)"))
     return float(share)
 
 

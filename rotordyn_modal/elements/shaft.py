@@ -202,9 +202,10 @@ def element_matrices(length: float, outer, inner, material: Material, shear: str
         Outer and inner (bore) diameters [m]; a pair makes a tapered element (a conical
         frustum, diameters linear along the element).
     material : Material
-    shear : {'cowper', 'hutchinson', 'none'}
-        Shear coefficient of :func:`shear_coefficient`; ``'none'`` drops shear deformation
-        (``Phi = 0``).
+    shear : {'cowper', 'hutchinson', 'none'} or float
+        Shear coefficient of :func:`shear_coefficient` (of the mean diameters); ``'none'``
+        drops shear deformation (``Phi = 0``); a number > 0 is the coefficient itself (e.g.
+        what another code computed for this element).
     rotary_inertia : bool
         Keep the sections' rotary inertia in M (False: the Euler-Bernoulli beam's mass).
 
@@ -264,7 +265,7 @@ def shaft_matrices(lengths, outers, inners, materials, shear: str = "cowper", *,
     outers, inners : sequence, length n
         Each a diameter [m] or a (left, right) pair (see :func:`element_matrices`).
     materials : Material or sequence of Material, length n
-    shear : {'cowper', 'hutchinson', 'none'}
+    shear : {'cowper', 'hutchinson', 'none'} or float
     rotary_inertia : bool
 
     Returns
@@ -398,13 +399,18 @@ class _Frustum:
 
 def _shear_parameter(geometry: _Frustum, material: Material, shear: str) -> float:
     """``Phi = 12 E I / (kappa G A L^2)`` of the mid-element section (0 for ``'none'``);
-    ``kappa`` from the mean diameters, as ROSS."""
-    if shear not in SHEAR_METHODS:
-        raise ValueError(f"shear method {shear!r}: expected one of {', '.join(SHEAR_METHODS)}")
-    if shear == "none":
-        return 0.0
-    outer, inner = geometry.diameters(0.5)
-    kappa = shear_coefficient(outer, inner, material.poisson_ratio, shear)
+    ``kappa`` of the mean diameters (those of the mid-element section), as ROSS."""
+    if isinstance(shear, str):
+        if shear not in SHEAR_METHODS:
+            raise ValueError(f"shear method {shear!r}: expected one of {', '.join(SHEAR_METHODS)}")
+        if shear == "none":
+            return 0.0
+        outer, inner = geometry.diameters(0.5)
+        kappa = shear_coefficient(outer, inner, material.poisson_ratio, shear)
+    elif not float(shear) > 0:
+        raise ValueError(f"shear coefficient {shear!r}: expected a number > 0 or one of {', '.join(SHEAR_METHODS)}")
+    else:
+        kappa = float(shear)
     return (12.0 * material.young_modulus * geometry.second_moment(0.5)
             / (kappa * material.shear_modulus * geometry.area(0.5) * geometry.length ** 2))
 

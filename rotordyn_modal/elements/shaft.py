@@ -13,8 +13,9 @@ The lateral interpolation is the Timoshenko element of Nelson (1980) and Friswel
 Timoshenko beam with nodal loads, with the shear parameter ``Phi = 12 E I / (kappa G A L^2)``
 of the section at mid-element. Tapered elements keep these shape functions and integrate
 the energies with the frustum's exact area and second moment along the element (Genta and
-Gugliotta 1988), as ROSS does: the matrices equal ROSS's ``ShaftElement`` (same per-node
-order and signs). Axial and torsional motions are linear rods.
+Gugliotta 1988), as ROSS does: the lateral matrices equal ROSS's ``ShaftElement`` (same
+per-node order and signs). Axial and torsional motions are linear rods, integrated exactly
+(ROSS takes the mean of the end sections: the same for uniform elements).
 
 Pure numpy: nothing here knows the model; :mod:`rotordyn_modal.io.model_file` and the
 assembly call it.
@@ -218,39 +219,56 @@ def element_matrices(length: float, outer, inner, material: Material, shear: str
         ``-J_p skew(e)`` on the rotations.
     """
     geometry = _Frustum(length, outer, inner)
-    phi = _shear_parameter(geometry, material, shear)
-    M, K, G = np.zeros((12, 12)), np.zeros((12, 12)), np.zeros((12, 12))
-    rho, E = material.density, material.young_modulus
+    plane_mass, plane_stiffness, G = _bending(geometry, material, _shear_parameter(geometry, material, shear),
+                                              rotary_inertia)
+    M, K = np.zeros((12, 12)), np.zeros((12, 12))
+    for index, sign in (_PLANE_A, _PLANE_B):
+        block, signs = np.ix_(index, index), np.outer(sign, sign)
+        M[block] += signs * plane_mass
+        K[block] += signs * plane_stiffness
+    for index, (mass, stiffness) in zip(([2, 8], [5, 11]), _rods(geometry, material)):
+        M[np.ix_(index, index)] += mass
+        K[np.ix_(index, index)] += stiffness
+    return M, K, G
+
+
+def _bending(geometry: "_Frustum", material: Material, phi: float, rotary_inertia: bool):
+    """One bending plane's mass and stiffness (4 x 4 on ``(w1, psi1, w2, psi2)``) and the
+    element's gyroscopic matrix (12 x 12), integrated exactly over the frustum."""
+    rho, E, length = material.density, material.young_modulus, geometry.length
     # kappa G = 12 E I_mid / (Phi A_mid L^2): the shear energy kappa G A gamma^2 written with
     # gamma / Phi (finite as Phi -> 0, when the shear term vanishes).
     shear_factor = 12.0 * E * geometry.second_moment(0.5) / (geometry.area(0.5) * length ** 2)
-    lateral_m, lateral_k, spin = np.zeros((4, 4)), np.zeros((4, 4)), np.zeros((12, 12))
-    rod_m, rod_k = np.zeros((2, 2)), np.zeros((2, 2))
-    twist_m, twist_k = np.zeros((2, 2)), np.zeros((2, 2))
+    mass, stiffness, spin = np.zeros((4, 4)), np.zeros((4, 4)), np.zeros((12, 12))
     for xi, weight in zip(_XI, _WEIGHTS):
         dz = weight * length
         area, moment = geometry.area(xi), geometry.second_moment(xi)
         w, psi, dpsi, gamma = _plane_functions(xi, length, phi)
-        lateral_m += dz * rho * (area * np.outer(w, w) + (moment * np.outer(psi, psi) if rotary_inertia else 0.0))
-        lateral_k += dz * (E * moment * np.outer(dpsi, dpsi) + shear_factor * phi * area * np.outer(gamma, gamma))
+        mass += dz * rho * (area * np.outer(w, w) + (moment * np.outer(psi, psi) if rotary_inertia else 0.0))
+        stiffness += dz * (E * moment * np.outer(dpsi, dpsi) + shear_factor * phi * area * np.outer(gamma, gamma))
         theta_a, theta_b = np.zeros(12), np.zeros(12)
         theta_b[_PLANE_A[0]] = _PLANE_A[1] * psi
         theta_a[_PLANE_B[0]] = -_PLANE_B[1] * psi
+        # -rho I_p N^T skew(e) N with skew(e) = [[0, -1], [1, 0]] on (theta_a, theta_b)
         spin += dz * rho * 2.0 * moment * (np.outer(theta_a, theta_b) - np.outer(theta_b, theta_a))
-        n, dn = np.array([1.0 - xi, xi]), np.array([-1.0, 1.0]) / length
+    return mass, stiffness, spin
+
+
+def _rods(geometry: "_Frustum", material: Material):
+    """(mass, stiffness) 2 x 2 of the axial rod and of torsion, linear shape functions,
+    integrated exactly over the frustum."""
+    rho, length = material.density, geometry.length
+    rod_m, rod_k, twist_m, twist_k = (np.zeros((2, 2)) for _ in range(4))
+    dn = np.array([-1.0, 1.0]) / length
+    for xi, weight in zip(_XI, _WEIGHTS):
+        dz = weight * length
+        area, polar = geometry.area(xi), 2.0 * geometry.second_moment(xi)
+        n = np.array([1.0 - xi, xi])
         rod_m += dz * rho * area * np.outer(n, n)
-        rod_k += dz * E * area * np.outer(dn, dn)
-        twist_m += dz * rho * 2.0 * moment * np.outer(n, n)
-        twist_k += dz * material.shear_modulus * 2.0 * moment * np.outer(dn, dn)
-    for index, sign in (_PLANE_A, _PLANE_B):
-        block = np.ix_(index, index)
-        M[block] += np.outer(sign, sign) * lateral_m
-        K[block] += np.outer(sign, sign) * lateral_k
-    for index, mass, stiffness in (([2, 8], rod_m, rod_k), ([5, 11], twist_m, twist_k)):
-        M[np.ix_(index, index)] += mass
-        K[np.ix_(index, index)] += stiffness
-    G += spin
-    return M, K, G
+        rod_k += dz * material.young_modulus * area * np.outer(dn, dn)
+        twist_m += dz * rho * polar * np.outer(n, n)
+        twist_k += dz * material.shear_modulus * polar * np.outer(dn, dn)
+    return (rod_m, rod_k), (twist_m, twist_k)
 
 
 def shaft_matrices(lengths, outers, inners, materials, shear: str = "cowper", *, rotary_inertia: bool = True):

@@ -588,3 +588,25 @@ def test_spinning_supported_against_rayleigh_ritz(shaft, speed):
     kh = 1.5 * 2 * math.pi / n
     error = fe / ritz - 1
     assert np.all(error > -1e-9) and np.all(error < kh ** 4 / 1000), error
+
+
+def test_rigid_limit_is_the_packages_rigid_rotor():
+    """On rigid motions about its centre of mass, a tapered shaft's M and G are the rigid
+    rotor's of assembly.rotor_matrices with the shaft's computed mass properties (spin axis
+    z, whose transverse axes are x, y: local and model axes coincide)."""
+    from types import SimpleNamespace
+
+    from rotordyn_modal.assembly import rotor_matrices
+    from rotordyn_modal.model.geometry import transverse_axes
+
+    np.testing.assert_array_equal(transverse_axes([0.0, 0.0, 1.0]), [[1, 0, 0], [0, 1, 0]])
+    lengths, outers, inners = TAPERED
+    M, _, G = shaft_matrices(lengths, outers, inners, STEEL)
+    props = shaft_mass_properties(lengths, outers, inners, STEEL)
+    positions = np.concatenate([[0.0], np.cumsum(lengths)]) - props.center_of_mass
+    R = rigid_motions(positions)
+    rotor = SimpleNamespace(mass=props.mass, polar_inertia=props.polar_inertia,
+                            diametral_inertia=props.diametral_inertia, speed_ratio=1.0)
+    mass, gyroscopic = rotor_matrices([0.0, 0.0, 1.0], [rotor])[0]
+    np.testing.assert_allclose(R.T @ M @ R, mass, rtol=1e-12, atol=1e-13 * props.mass)
+    np.testing.assert_allclose(R.T @ G @ R, gyroscopic, rtol=1e-12, atol=1e-13 * props.polar_inertia)

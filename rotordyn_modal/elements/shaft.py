@@ -236,39 +236,40 @@ def _bending(geometry: "_Frustum", material: Material, phi: float, rotary_inerti
     """One bending plane's mass and stiffness (4 x 4 on ``(w1, psi1, w2, psi2)``) and the
     element's gyroscopic matrix (12 x 12), integrated exactly over the frustum."""
     rho, E, length = material.density, material.young_modulus, geometry.length
+    dz = _WEIGHTS * length
+    area, moment = geometry.area(_XI), geometry.second_moment(_XI)
+    w, psi, dpsi, gamma = _plane_functions(_XI, length, phi)          # each (4, points)
     # kappa G = 12 E I_mid / (Phi A_mid L^2): the shear energy kappa G A gamma^2 written with
     # gamma / Phi (finite as Phi -> 0, when the shear term vanishes).
     shear_factor = 12.0 * E * geometry.second_moment(0.5) / (geometry.area(0.5) * length ** 2)
-    mass, stiffness, spin = np.zeros((4, 4)), np.zeros((4, 4)), np.zeros((12, 12))
-    for xi, weight in zip(_XI, _WEIGHTS):
-        dz = weight * length
-        area, moment = geometry.area(xi), geometry.second_moment(xi)
-        w, psi, dpsi, gamma = _plane_functions(xi, length, phi)
-        mass += dz * rho * (area * np.outer(w, w) + (moment * np.outer(psi, psi) if rotary_inertia else 0.0))
-        stiffness += dz * (E * moment * np.outer(dpsi, dpsi) + shear_factor * phi * area * np.outer(gamma, gamma))
-        theta_a, theta_b = np.zeros(12), np.zeros(12)
-        theta_b[_PLANE_A[0]] = _PLANE_A[1] * psi
-        theta_a[_PLANE_B[0]] = -_PLANE_B[1] * psi
-        # -rho I_p N^T skew(e) N with skew(e) = [[0, -1], [1, 0]] on (theta_a, theta_b)
-        spin += dz * rho * 2.0 * moment * (np.outer(theta_a, theta_b) - np.outer(theta_b, theta_a))
-    return mass, stiffness, spin
+    mass = (w * (dz * rho * area)) @ w.T
+    if rotary_inertia:
+        mass += (psi * (dz * rho * moment)) @ psi.T
+    stiffness = (dpsi * (dz * E * moment)) @ dpsi.T + (gamma * (dz * shear_factor * phi * area)) @ gamma.T
+    theta_a, theta_b = np.zeros((12, _XI.size)), np.zeros((12, _XI.size))
+    theta_b[_PLANE_A[0]] = _PLANE_A[1][:, None] * psi
+    theta_a[_PLANE_B[0]] = -_PLANE_B[1][:, None] * psi
+    # -rho I_p N^T skew(e) N with skew(e) = [[0, -1], [1, 0]] on (theta_a, theta_b)
+    cross = (theta_a * (dz * rho * 2.0 * moment)) @ theta_b.T
+    return _symmetric(mass), _symmetric(stiffness), cross - cross.T
 
 
 def _rods(geometry: "_Frustum", material: Material):
     """(mass, stiffness) 2 x 2 of the axial rod and of torsion, linear shape functions,
     integrated exactly over the frustum."""
-    rho, length = material.density, geometry.length
-    rod_m, rod_k, twist_m, twist_k = (np.zeros((2, 2)) for _ in range(4))
-    dn = np.array([-1.0, 1.0]) / length
-    for xi, weight in zip(_XI, _WEIGHTS):
-        dz = weight * length
-        area, polar = geometry.area(xi), 2.0 * geometry.second_moment(xi)
-        n = np.array([1.0 - xi, xi])
-        rod_m += dz * rho * area * np.outer(n, n)
-        rod_k += dz * material.young_modulus * area * np.outer(dn, dn)
-        twist_m += dz * rho * polar * np.outer(n, n)
-        twist_k += dz * material.shear_modulus * polar * np.outer(dn, dn)
-    return (rod_m, rod_k), (twist_m, twist_k)
+    dz = _WEIGHTS * geometry.length
+    n = np.array([1.0 - _XI, _XI])
+    spring = np.array([[1.0, -1.0], [-1.0, 1.0]]) / geometry.length ** 2
+    out = []
+    for section, modulus in ((geometry.area(_XI), material.young_modulus),
+                             (2.0 * geometry.second_moment(_XI), material.shear_modulus)):
+        out.append((_symmetric((n * (dz * material.density * section)) @ n.T), spring * modulus * float(dz @ section)))
+    return out
+
+
+def _symmetric(matrix: np.ndarray) -> np.ndarray:
+    """The symmetric part: a product ``(X f) @ X.T`` is symmetric only to round-off."""
+    return 0.5 * (matrix + matrix.T)
 
 
 def shaft_matrices(lengths, outers, inners, materials, shear: str = "cowper", *, rotary_inertia: bool = True):
@@ -433,28 +434,29 @@ def _shear_parameter(geometry: _Frustum, material: Material, shear: str) -> floa
             / (kappa * material.shear_modulus * geometry.area(0.5) * geometry.length ** 2))
 
 
-def _plane_functions(xi: float, length: float, phi: float):
+def _plane_functions(xi, length: float, phi: float):
     """Timoshenko shape functions of one bending plane on ``(w1, psi1, w2, psi2)``.
 
     Returns
     -------
-    w, psi, dpsi, gamma : ndarray, shape (4,)
+    w, psi, dpsi, gamma : ndarray, shape (4,) + shape of ``xi``
         Displacement [-, m], rotation [1/m, -], its derivative along z [1/m^2, 1/m], and the
         shear strain ``w' - psi`` divided by ``Phi`` (constant along the element).
     """
-    L, x, p = length, xi, phi
+    L, x, p = length, np.asarray(xi, dtype=float), phi
     c = 1.0 / (1.0 + p)
-    w = c * np.array([1.0 - 3.0 * x * x + 2.0 * x ** 3 + p * (1.0 - x),
-                      L * (x - 2.0 * x * x + x ** 3 + 0.5 * p * (x - x * x)),
-                      3.0 * x * x - 2.0 * x ** 3 + p * x,
-                      L * (-x * x + x ** 3 - 0.5 * p * (x - x * x))])
-    psi = c * np.array([6.0 * (x * x - x) / L,
-                        1.0 - 4.0 * x + 3.0 * x * x + p * (1.0 - x),
-                        -6.0 * (x * x - x) / L,
-                        -2.0 * x + 3.0 * x * x + p * x])
+    x2, x3 = x * x, x ** 3
+    w = c * np.array([1.0 - 3.0 * x2 + 2.0 * x3 + p * (1.0 - x),
+                      L * (x - 2.0 * x2 + x3 + 0.5 * p * (x - x2)),
+                      3.0 * x2 - 2.0 * x3 + p * x,
+                      L * (-x2 + x3 - 0.5 * p * (x - x2))])
+    psi = c * np.array([6.0 * (x2 - x) / L,
+                        1.0 - 4.0 * x + 3.0 * x2 + p * (1.0 - x),
+                        -6.0 * (x2 - x) / L,
+                        -2.0 * x + 3.0 * x2 + p * x])
     dpsi = c / L * np.array([6.0 * (2.0 * x - 1.0) / L, -4.0 + 6.0 * x - p, -6.0 * (2.0 * x - 1.0) / L,
                              -2.0 + 6.0 * x + p])
-    gamma = c * np.array([-1.0 / L, -0.5, 1.0 / L, -0.5])
+    gamma = np.multiply.outer(c * np.array([-1.0 / L, -0.5, 1.0 / L, -0.5]), np.ones_like(x))
     return w, psi, dpsi, gamma
 
 

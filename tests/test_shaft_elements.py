@@ -16,6 +16,7 @@ from threadpoolctl import threadpool_limits
 from rotordyn_modal.elements.shaft import (Material, element_matrices, free_free_frequencies, material_problem,
                                            section_problem, shaft_mass_properties, shaft_matrices,
                                            shear_coefficient)
+from rotordyn_modal.errors import ModelError
 
 STEEL = Material("steel", 7810.0, 2.11e11, 8.12e10)      # ROSS's steel
 
@@ -312,6 +313,9 @@ def test_material_and_section_problems():
     assert "exactly one" in material_problem(7800.0, 2e11)[2]
     assert material_problem(7800.0, 2e11, poisson_ratio=0.6)[:2] == ("poisson_ratio", 0.6)
     assert material_problem(7800.0, 2e11, shear_modulus=6e10)[0] == "shear_modulus"    # nu = 0.67
+    key, value, expected = material_problem(7800.0, 2e11, poisson_ratio=0.6)
+    assert str(ModelError("m.toml", f"materials.steel.{key}", value, expected)) == (
+        "m.toml: materials.steel.poisson_ratio = 0.6: expected a number in (-1, 0.5]")
     assert section_problem(0.1, 0.05) is None and section_problem(0.1, [0.05, 0.07], [0.0, 0.02]) is None
     assert section_problem(0.0, 0.05)[0] == "length"
     assert section_problem(0.1, 0.05, 0.05)[0] == "inner_diameter"

@@ -232,6 +232,7 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
         raise InputError(f"factor = {factor!r}, steps_per_qa = {steps_per_qa!r}: expected factor >= 1, steps >= 1")
     stations = tuple(s if isinstance(s, Station) else Station.parse(s) for s in stations)
     shares = _shares(shares, len(stations))
+    _check_stations(model, stations)
     grid = qa * np.linspace(0.0, factor, int(round(factor * steps_per_qa)) + 1)
     form = speed_linear_form(model)
     base = form.at(speed)
@@ -260,6 +261,17 @@ def _shares(shares, count):
     return values / values.sum()
 
 
+def _check_stations(model, stations):
+    """Each station's rotor exists and moves in bearings of its own."""
+    names = [r.name for r in model.rotors]
+    for station in stations:
+        if station.rotor not in names:
+            raise InputError(f"station {station}: no rotor {station.rotor!r}: the model's rotors are {', '.join(names)}")
+        if not model.dofs.on_bearings(station.rotor):
+            raise InputError(f"station {station}: rotor {station.rotor!r} has no bearings (it is rigidly attached to "
+                             "the stator): cross-coupling needs a rotor moving in its bearings")
+
+
 def _spin_sign(model, stations) -> float:
     """The stations' rotors' spin direction relative to the reference rotor (+1 or -1); the
     stations must share it."""
@@ -281,15 +293,8 @@ def _unit_state_matrix(model, form, stations, shares, speed):
     local[:3, :3] = direction * (np.outer(a, b) - np.outer(b, a))      # K_ab = +Q, K_ba = -Q
     K = np.zeros((n, n))
     for station, share in zip(stations, shares):
-        try:
-            rotor = model.rotor(station.rotor)
-        except KeyError as error:
-            raise InputError(f"station {station}: {error.args[0]}") from None
-        if not layout.on_bearings(rotor.name):
-            raise InputError(f"station {station}: rotor {rotor.name!r} has no bearings (it is rigidly attached to "
-                             "the stator): cross-coupling needs a rotor moving in its bearings")
-        rows = layout.slices[layout.rotors.index(rotor.name)]
-        moves = layout.local_relative_motion(rotor.name, station.point(model))
+        rows = layout.slices[layout.rotors.index(station.rotor)]
+        moves = layout.local_relative_motion(station.rotor, station.point(model))
         K[rows, rows] += share * (moves.T @ local @ moves)
     unit = np.zeros((form.n_states, form.n_states))
     unit[n:2 * n, :n] = -form.mass_inverse @ K

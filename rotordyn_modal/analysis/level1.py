@@ -161,6 +161,16 @@ class Level1Result:
         return float(self.q0 / self.qa) if np.isfinite(self.q0) else float("inf")
 
     @property
+    def log_decrement_criterion(self) -> float:
+        """:data:`LOG_DEC_CRITERION` (the least log decrement at Qa)."""
+        return LOG_DEC_CRITERION
+
+    @property
+    def ratio_criterion(self) -> float:
+        """:data:`RATIO_CRITERION` (the least Q0 / Qa)."""
+        return RATIO_CRITERION
+
+    @property
     def passes_log_decrement(self) -> bool:
         return bool(self.log_decrement_at_qa >= LOG_DEC_CRITERION)
 

@@ -287,11 +287,18 @@ def _chosen_bearings(model, names):
     return [by_name[n] for n in dict.fromkeys(names)]
 
 
+#: the stiffness a map may sweep [N/m]: bearings are 1e3-1e10 N/m; far beyond, the pencil's
+#: stiffness matrices lose the other elements' stiffness to round-off
+STIFFNESS_RANGE = (1e-3, 1e16)
+
+
 def _check_stiffness(stiffness) -> np.ndarray:
     values = np.atleast_1d(np.asarray(stiffness, dtype=float))
-    if values.ndim != 1 or not len(values) or not np.all(np.isfinite(values)) or not np.all(values > 0) \
+    low, high = STIFFNESS_RANGE
+    if values.ndim != 1 or not len(values) or not np.all((values >= low) & (values <= high)) \
             or not np.all(np.diff(values) > 0):
-        raise InputError(f"stiffness {stiffness!r}: expected increasing finite values > 0 [N/m]")
+        raise InputError(f"stiffness {np.array2string(values, threshold=6)}: expected increasing values from "
+                         f"{low:g} to {high:g} N/m")
     return values
 
 

@@ -68,11 +68,14 @@ def run(args) -> int:
 
 def _stiffness(text):
     """``START:STOP:N`` -> N log-spaced values, START > 0."""
+    from ..analysis.ucs_map import STIFFNESS_RANGE
+
     linear = parse_range(text, "--stiffness")
-    start, stop = linear[0], linear[-1]
-    if not start > 0:
-        raise InputError(f"--stiffness {text!r}: START must be > 0 (log-spaced stiffness [N/m])")
-    return np.geomspace(start, stop, len(linear))
+    low, high = STIFFNESS_RANGE
+    if not (low <= linear[0] and linear[-1] <= high):
+        raise InputError(f"--stiffness {text!r}: START and STOP must lie from {low:g} to {high:g} N/m "
+                         "(log-spaced stiffness)")
+    return np.geomspace(linear[0], linear[-1], len(linear))
 
 
 def _modes(text):

@@ -27,8 +27,7 @@ def plot_level1(result, title: str | None = None, ax=None):
     -------
     matplotlib.figure.Figure
     """
-    from ..analysis.level1 import LOG_DEC_CRITERION, RATIO_CRITERION
-
+    LOG_DEC_CRITERION, RATIO_CRITERION = result.log_decrement_criterion, result.ratio_criterion
     fig, ax = new_figure(ax, figsize=(8.0, 5.5))
     x = result.cross_coupling / result.qa
     ax.plot(x, result.log_decrements, color="tab:blue", linewidth=2.0,

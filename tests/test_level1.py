@@ -126,3 +126,17 @@ def test_command_line(tmp_path, capsys):
     assert main(["level1", "examples/journal_rotor.toml", "--speed", "4000", "--station", "rotor"]) == 2
     assert main(["level1", "examples/journal_rotor.toml", "--speed", "4000", "--station", "rotor",
                  "--qa", "1e4", "--power", "1e3"]) == 2
+
+
+def test_the_followed_mode_is_the_rotors_not_a_casing_mode_on_soft_mounts():
+    """With the bearings in a heavy casing on soft mounts the casing's modes (a few Hz) whirl
+    too, but barely move the rotor in its bearings: the followed mode is the rotor's cylindrical
+    mode, within 1 % of the rotor's on rigid pedestals (its damped frequency), not a mount mode."""
+    casing = dict(stator=rdm.Stator(mass=2000.0, inertia=[300.0, 400.0, 400.0]),
+                  suspensions=[rdm.Suspension(f"m{i}", [x, y, -0.5], [2e5, 2e5, 4e5])
+                               for i, (x, y) in enumerate([(0.6, 0.5), (0.6, -0.5), (-0.6, 0.5), (-0.6, -0.5)])])
+    rotor = _rotor()
+    model = rdm.Model(rotors=rotor.rotors, bearings=rotor.to_dict()["bearings"], **casing)
+    result = level1(model, rdm.rpm(3000), ["r"], qa=1e4)
+    wn, zeta = np.sqrt(2 * K / MASS), 2 * C / (2 * np.sqrt(2 * K * MASS))
+    assert result.frequencies_hz[0] == pytest.approx(wn * np.sqrt(1 - zeta**2) / (2 * np.pi), rel=1e-2)

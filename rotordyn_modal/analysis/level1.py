@@ -225,9 +225,11 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     steps_per_qa : int
         Points per ``qa`` of the sweep (``qa`` is a point of it).
     forward_mode : int
-        Which forward mode to follow: 1 the first (API), 2 the second, ... by frequency at Q = 0.
-        Forward means whirling with the stations' rotor's spin in its motion relative to the
-        stator at the (first) station, where the cross-coupling acts.
+        Which forward mode to follow: 1 the first (API), 2 the second, ... by frequency. Forward
+        means whirling with the stations' rotor's spin in its motion relative to the stator at
+        the (first) station, where the cross-coupling acts, in a mode of the rotor in its
+        bearings; judged at the sweep's first Q > 0 (0.1 Qa), where Q has split the rotor's
+        forward and backward modes of one frequency, and followed from there to Q = 0 and up.
 
     Returns
     -------
@@ -250,13 +252,16 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     lam, shapes = _eigensolve.upper_shapes(base + grid[:, None, None] * unit, form.n_dof)
     shapes = _eigensolve.resolve_repeated(lam, shapes, _whirl.whirl_forms(model))
     order = track_modes(lam, _vectors.mass_normalized(shapes, form.matrices.M))
-    column = _forward(model, lam[0], shapes[0], stations[0], np.sign(speed) * _spin_sign(model, stations),
-                      forward_mode)
-    followed = lam[np.arange(len(grid)), order[:, column]]
+    # chosen at the first Q > 0: there Q has split a forward and backward pair of one frequency
+    # (a rotor's cylindrical modes), which at Q = 0 the solver may return as any two mixtures
+    first = _forward(model, lam[1], shapes[1], form.matrices.M, stations[0],
+                     np.sign(speed) * _spin_sign(model, stations), forward_mode)
+    label = int(np.nonzero(order[1] == first)[0][0])
+    followed = lam[np.arange(len(grid)), order[:, label]]
     freq, _, log_dec = modal_quantities(followed)
     at_qa = int(round(steps_per_qa))
     q0 = _zero_crossing(base, unit, form.n_dof, grid, followed, log_dec)
-    mode = int(is_oscillating(lam[0])[:order[0, column] + 1].sum())
+    mode = int(is_oscillating(lam[0])[:order[0, label] + 1].sum())
     return Level1Result(speed=speed, stations=stations, shares=shares, cross_coupling=grid, log_decrements=log_dec,
                         frequencies_hz=freq, mode=mode, qa=float(qa), q0=q0,
                         log_decrement_at_qa=float(log_dec[at_qa]), title=model.name)
@@ -311,26 +316,38 @@ def _unit_state_matrix(model, form, stations, shares, speed):
     return unit
 
 
-def _forward(model, lam, shapes, station, spin, number) -> int:
-    """Index among ``lam`` (one Q, the first) of the ``number``-th lowest mode whose motion
-    relative to the stator at ``station`` whirls forward, with its rotor's spin ``spin`` (+-1):
-    ``-2 spin Im(conj(U_a) U_b) / (|U_a|^2 + |U_b|^2) > WHIRL_TOLERANCE`` for the radial
-    amplitudes ``U_a, U_b`` of the orbit ``Re(U e^{i w t})``."""
+def _forward(model, lam, shapes, M, station, spin, number) -> int:
+    """Index among ``lam`` (one Q) of the ``number``-th lowest mode of the stations'
+    rotor whirling forward: its motion relative to the stator at ``station`` turns with the
+    rotor's spin ``spin`` (+-1), ``-2 spin Im(conj(U_a) U_b) / (|U_a|^2 + |U_b|^2) > 1e-3`` for the
+    radial amplitudes ``U_a, U_b`` of the orbit ``Re(U e^{i w t})``, and is a mode of the rotor in
+    its bearings: ``|U|^2`` at least :data:`_ROTOR_SHARE` of the largest among the modes, the
+    shapes mass-normalised (a casing's mode on soft mounts barely moves the rotor in its
+    bearings, and cross-coupling there cannot reach it)."""
     layout = model.dofs
     rows = layout.slices[layout.rotors.index(station.rotor)]
     moves = layout.local_relative_motion(station.rotor, station.point(model))[:3]
     a, b = transverse_axes(np.asarray(model.spin_axis, dtype=float))
-    motion = shapes[:, rows] @ moves.T                                   # (m, 3)
+    modal_mass = np.einsum("mi,ij,mj->m", shapes.conj(), M, shapes).real
+    motion = (shapes[:, rows] @ moves.T) / np.sqrt(np.where(modal_mass > 0, modal_mass, 1.0))[:, None]
     u_a, u_b = motion @ a, motion @ b
     size = np.abs(u_a) ** 2 + np.abs(u_b) ** 2
+    oscillating = is_oscillating(lam)
+    largest = size[oscillating].max(initial=0.0)
     ratio = np.zeros(len(lam))
-    np.divide(-2 * spin * np.imag(np.conj(u_a) * u_b), size, out=ratio, where=size > 1e-18 * size.max(initial=0))
-    candidates = np.nonzero(is_oscillating(lam) & (ratio > _whirl.WHIRL_TOLERANCE))[0]
+    np.divide(-2 * spin * np.imag(np.conj(u_a) * u_b), size, out=ratio, where=size > 0)
+    candidates = np.nonzero(oscillating & (ratio > _whirl.WHIRL_TOLERANCE) & (size >= _ROTOR_SHARE * largest)
+                            & (largest > 0))[0]
     candidates = candidates[np.argsort(lam.imag[candidates], kind="stable")]
     if len(candidates) < number:
-        raise InputError(f"forward mode {number}: there are {len(candidates)} modes whirling forward at station "
-                         f"{station} at this speed")
+        raise InputError(f"forward mode {number}: there are {len(candidates)} modes of rotor {station.rotor!r} "
+                         f"whirling forward at station {station} at this speed")
     return int(candidates[number - 1])
+
+
+#: a mode is one of the station's rotor in its bearings when the station's motion relative to the
+#: stator is at least this part (squared amplitude, mass-normalised shapes) of the largest
+_ROTOR_SHARE = 1e-2
 
 
 def _zero_crossing(base, unit, n, grid, followed, log_dec) -> float:

@@ -250,10 +250,9 @@ def forward_critical_speeds(M, G, K, forms, count: int) -> np.ndarray:
     shapes = _eigensolve.resolve_repeated(lam, shapes, forms)
     ratios = _whirl.whirl_ratios(shapes, forms, np.ones(len(K)))
     forward = finite & (_whirl.whirl_labels(ratios) == "forward")
+    picked = np.sort(np.where(forward, omega, np.inf), axis=-1)[:, :count]     # the lowest forward ones
     out = np.full((len(K), count), np.nan)
-    for s in range(len(K)):          # picking the forward ones: a few indices per row, no solve
-        picked = omega[s, forward[s]][:count]
-        out[s, :len(picked)] = picked
+    out[:, :picked.shape[1]] = np.where(np.isfinite(picked), picked, np.nan)
     return out
 
 

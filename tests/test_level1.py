@@ -61,6 +61,8 @@ def test_verdict_follows_both_criteria():
     close = level1(_rotor(), rdm.rpm(3000), ["r"], qa=q0 / 1.5)   # Q0/Qa = 1.5 < 2
     assert close.level2_required and not close.passes_ratio and "Level II required" in close.verdict()
     assert delta > 0.1
+    odd = level1(_rotor(), rdm.rpm(3000), ["r"], qa=1e4, factor=2.55)   # Qa a point of any sweep
+    assert odd.cross_coupling[10] == 1e4 and odd.cross_coupling[-1] == pytest.approx(2.6e4, rel=1e-15)
 
 
 def test_offset_stations_equal_the_same_stiffness_given_as_a_bearing():

@@ -221,7 +221,7 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     shares : array_like, shape (P,), optional
         The part of Q at each station (default equal parts); normalised to sum 1.
     factor : float
-        The sweep reaches ``factor * qa`` (API: 10).
+        The sweep reaches ``factor * qa`` (API: 10), rounded up to a whole step; 1 to 1000.
     steps_per_qa : int
         Points per ``qa`` of the sweep (``qa`` is a point of it).
     forward_mode : int
@@ -240,12 +240,14 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
         raise InputError("speed = 0: a Level I analysis runs at the maximum continuous speed (not 0)")
     if not (np.isfinite(qa) and qa > 0):
         raise InputError(f"qa = {qa!r}: expected the anticipated cross-coupling > 0 [N/m]")
-    if not (np.isfinite(factor) and factor >= 1) or int(steps_per_qa) < 1:
-        raise InputError(f"factor = {factor!r}, steps_per_qa = {steps_per_qa!r}: expected factor >= 1, steps >= 1")
+    if not (np.isfinite(factor) and 1 <= factor <= 1000) or not 1 <= int(steps_per_qa) <= 1000:
+        raise InputError(f"factor = {factor!r}, steps_per_qa = {steps_per_qa!r}: expected a factor from 1 to 1000 "
+                         "and 1 to 1000 steps per Qa")
     stations = tuple(s if isinstance(s, Station) else Station.parse(s) for s in stations)
     shares = _shares(shares, len(stations))
     _check_stations(model, stations)
-    grid = qa * np.linspace(0.0, factor, int(round(factor * steps_per_qa)) + 1)
+    steps = int(steps_per_qa)
+    grid = qa * (np.arange(int(np.ceil(factor * steps - 1e-9)) + 1) / steps)    # grid[steps] is qa exactly
     form = speed_linear_form(model)
     base = form.at(speed)
     unit = _unit_state_matrix(model, form, stations, shares, speed)
@@ -259,7 +261,7 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     label = int(np.nonzero(order[1] == first)[0][0])
     followed = lam[np.arange(len(grid)), order[:, label]]
     freq, _, log_dec = modal_quantities(followed)
-    at_qa = int(round(steps_per_qa))
+    at_qa = steps
     q0 = _zero_crossing(base, unit, form.n_dof, grid, followed, log_dec)
     mode = int(is_oscillating(lam[0])[:order[0, label] + 1].sum())
     return Level1Result(speed=speed, stations=stations, shares=shares, cross_coupling=grid, log_decrements=log_dec,

@@ -235,14 +235,7 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     -------
     Level1Result
     """
-    speed = _arguments.speed(speed)
-    if speed == 0:
-        raise InputError("speed = 0: a Level I analysis runs at the maximum continuous speed (not 0)")
-    if not (np.isfinite(qa) and qa > 0):
-        raise InputError(f"qa = {qa!r}: expected the anticipated cross-coupling > 0 [N/m]")
-    if not (np.isfinite(factor) and 1 <= factor <= 1000) or not 1 <= int(steps_per_qa) <= 1000:
-        raise InputError(f"factor = {factor!r}, steps_per_qa = {steps_per_qa!r}: expected a factor from 1 to 1000 "
-                         "and 1 to 1000 steps per Qa")
+    speed = _checked(speed, qa, factor, steps_per_qa)
     stations = tuple(s if isinstance(s, Station) else Station.parse(s) for s in stations)
     shares = _shares(shares, len(stations))
     _check_stations(model, stations)
@@ -261,12 +254,24 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     label = int(np.nonzero(order[1] == first)[0][0])
     followed = lam[np.arange(len(grid)), order[:, label]]
     freq, _, log_dec = modal_quantities(followed)
-    at_qa = steps
     q0 = _zero_crossing(base, unit, form.n_dof, grid, followed, log_dec)
     mode = int(is_oscillating(lam[0])[:order[0, label] + 1].sum())
     return Level1Result(speed=speed, stations=stations, shares=shares, cross_coupling=grid, log_decrements=log_dec,
                         frequencies_hz=freq, mode=mode, qa=float(qa), q0=q0,
-                        log_decrement_at_qa=float(log_dec[at_qa]), title=model.name)
+                        log_decrement_at_qa=float(log_dec[steps]), title=model.name)
+
+
+def _checked(speed, qa, factor, steps_per_qa) -> float:
+    """The speed [rad/s] after checking the numeric arguments of :func:`level1`."""
+    speed = _arguments.speed(speed)
+    if speed == 0:
+        raise InputError("speed = 0: a Level I analysis runs at the maximum continuous speed (not 0)")
+    if not (np.isfinite(qa) and qa > 0):
+        raise InputError(f"qa = {qa!r}: expected the anticipated cross-coupling > 0 [N/m]")
+    if not (np.isfinite(factor) and 1 <= factor <= 1000) or not 1 <= int(steps_per_qa) <= 1000:
+        raise InputError(f"factor = {factor!r}, steps_per_qa = {steps_per_qa!r}: expected a factor from 1 to 1000 "
+                         "and 1 to 1000 steps per Qa")
+    return speed
 
 
 def _shares(shares, count):

@@ -18,6 +18,8 @@ COMMANDS = {
     "campbell": ["campbell", GEAR, "--speeds", "0:100:3"],
     "critical-speeds": ["critical-speeds", GEAR, "--speeds", "0:100:3"],
     "stability": ["stability", GEAR, "--speeds", "0:100:3"],
+    "ucs-map": ["ucs-map", str(EXAMPLES / "journal_rotor.toml"), "--stiffness", "1e5:1e6:3"],
+    "level1": ["level1", str(EXAMPLES / "journal_rotor.toml"), "--speed", "3000", "--station", "rotor", "--qa", "1e4"],
     "simulate": ["simulate", GEAR, "--duration", "0.01"],
     "unbalance": ["unbalance", GEAR, "--speeds", "0:100:3"],
     "frf": ["frf", GEAR, "--freqs", "1:10:3"],

@@ -27,7 +27,8 @@ EXAMPLE = ROOT / "examples" / "gear_machine.toml"
 REQUIRED = {"campbell": ["--speeds", "0:100:3"], "critical-speeds": ["--speeds", "0:100:3"],
             "stability": ["--speeds", "0:100:3"], "unbalance": ["--speeds", "0:100:3"],
             "simulate": ["--duration", "0.1"], "frf": ["--freqs", "1:10:3"], "fit": ["--params", "gain"],
-            "modes": [], "study": [], "check": [], "static": []}
+            "modes": [], "study": [], "check": [], "static": [], "ucs-map": ["--stiffness", "1e5:1e6:3"],
+            "level1": ["--speed", "100", "--station", "r", "--qa", "1e4"]}
 
 
 #: every file option of every sub-command: (inputs, outputs); a new one goes here
@@ -38,6 +39,8 @@ FILE_OPTIONS = {
     "campbell": (["MODEL"], ["--out", "--plot"]),
     "critical-speeds": (["MODEL"], ["--out", "--plot"]),
     "stability": (["MODEL"], ["--out", "--plot"]),
+    "ucs-map": (["MODEL"], ["--out", "--plot"]),
+    "level1": (["MODEL"], ["--out", "--plot"]),
     "simulate": (["MODEL"], ["--out", "--plot"]),
     "frf": (["MODEL", "--measured", "--mapping"], ["--out", "--plot"]),
     "unbalance": (["MODEL"], ["--out", "--plot", "--orbits", "--orbit-plot"]),

@@ -1,0 +1,378 @@
+"""API 617 Level I stability screening: log decrement against an applied cross-coupled stiffness.
+
+A cross-coupled stiffness ``Q`` (the aerodynamic excitation of impellers and stages) is applied
+between a rotor and the stator at named **stations** (a point on the rotor's axis: its centre of
+mass for a rigid rotor, an impeller's plane given by its axial offset), swept from 0 to
+``factor * Qa`` (API: 10 Qa), and the log decrement of the first forward mode at the maximum
+continuous speed followed. ``Qa``, the anticipated cross-coupling, comes from the API formula
+(:func:`anticipated_cross_coupling`) or is given. Criteria: the log decrement at ``Qa`` at
+least 0.1 and ``Q0 / Qa`` at least 2.0 (``Q0`` the ``Q`` at which it reaches 0); otherwise a
+Level II analysis is required.
+
+Sign: in the bearing's radial axes ``a, b`` with ``a x b = e`` (the spin axis), the force on the
+rotor is ``F = -K u`` with ``K_ab = +Q``, ``K_ba = -Q``: ``F = Q (-u_b, u_a)`` is tangential,
+along a forward (with the spin) whirl orbit, and feeds it. For a rotor spinning the other way
+(a negative speed, a gear's counter-rotating pinion) the sign follows its own spin.
+``docs/level1_and_ucs.md`` derives it and gives the formula's sources.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..errors import InputError
+from ..linear_system import speed_linear_form
+from ..model.geometry import transverse_axes
+from . import _arguments, _eigensolve, _vectors, _whirl
+from .modal import is_oscillating, modal_quantities
+from .tracking import track_modes
+
+__all__ = ["Station", "Level1Result", "level1", "anticipated_cross_coupling", "LOG_DEC_CRITERION",
+           "RATIO_CRITERION", "B_COMPRESSOR", "B_TURBINE"]
+
+#: API 617 Level I criteria: log decrement at Qa, and Q0 / Qa
+LOG_DEC_CRITERION = 0.1
+RATIO_CRITERION = 2.0
+#: the formula's factor B for centrifugal compressor impellers and for turbine (axial) stages
+B_COMPRESSOR = 3.0
+B_TURBINE = 1.5
+
+
+@dataclass(frozen=True)
+class Station:
+    """A point on a rotor's axis where cross-coupling acts.
+
+    Attributes
+    ----------
+    rotor : str
+    offset : float [m]
+        Along ``spin_axis`` from the rotor's centre of mass (0: the centre, the station of a
+        rigid rotor). A flexible rotor's stations will be its axial positions the same way.
+    """
+
+    rotor: str
+    offset: float = 0.0
+
+    @classmethod
+    def parse(cls, text: str) -> "Station":
+        """``ROTOR`` or ``ROTOR@OFFSET`` (offset in m along ``spin_axis`` from its centre of mass)."""
+        rotor, at, offset = str(text).rpartition("@") if "@" in str(text) else (str(text), "", "0")
+        try:
+            value = float(offset)
+        except ValueError:
+            value = float("nan")
+        if not rotor or not np.isfinite(value):
+            raise InputError(f"station {text!r}: expected ROTOR or ROTOR@OFFSET (OFFSET in m along spin_axis from "
+                             "the rotor's centre of mass)")
+        return cls(rotor, value)
+
+    def point(self, model) -> np.ndarray:
+        """The station in model axes [m], shape (3,)."""
+        centre = np.asarray(model.rotor(self.rotor).center_of_mass, dtype=float)
+        return centre + self.offset * np.asarray(model.spin_axis, dtype=float)
+
+    def __str__(self) -> str:
+        return self.rotor if self.offset == 0 else f"{self.rotor}@{self.offset:g}"
+
+
+def anticipated_cross_coupling(power, speed, diameter, height, density_ratio=1.0, machine: str = "compressor"):
+    """Anticipated cross-coupling ``q_A`` of each stage (API 617 Level I), SI units.
+
+    ``q_A = B T / (D H) (rho_d / rho_s)`` with ``T = P / Omega`` the stage's torque: in the
+    standard's form ``q_A = B C P / (D H N) (rho_d / rho_s)``, ``C = 9.55`` (``60 / 2 pi``: P in
+    W, N in rpm, D and H in m, q_A in N/m; US units: ``C = 63.0``, hp, in, rpm, klbf/in).
+    ``B = 3`` for compressor impellers (``D`` the impeller diameter, ``H`` the smaller of the
+    diffuser and impeller discharge width, the density ratio discharge over suction of the
+    stage); ``B = 1.5`` for turbine stages (``D`` the blade pitch diameter, ``H`` the effective
+    blade height; no density ratio).
+
+    Parameters
+    ----------
+    power : array_like, shape (S,) [W]
+        Rated power of each stage (impeller).
+    speed : float [rad/s]
+        Normal operating speed of the stages (> 0).
+    diameter, height : array_like, shape (S,) [m]
+    density_ratio : array_like, shape (S,) or float
+        ``rho_discharge / rho_suction`` of each stage (compressors; ignored for turbines).
+    machine : {'compressor', 'turbine'}
+
+    Returns
+    -------
+    ndarray, shape (S,) [N/m]; their sum is ``Qa``.
+    """
+    if machine not in ("compressor", "turbine"):
+        raise InputError(f"machine {machine!r}: expected 'compressor' or 'turbine'")
+    power, diameter, height = (np.atleast_1d(np.asarray(x, dtype=float)) for x in (power, diameter, height))
+    ratio = np.broadcast_to(np.asarray(density_ratio, dtype=float), power.shape) if machine == "compressor" \
+        else np.ones_like(power)
+    for name, values in (("power", power), ("diameter", diameter), ("height", height), ("density_ratio", ratio)):
+        if values.shape != power.shape or not np.all(np.isfinite(values)) or not np.all(values > 0):
+            raise InputError(f"{name} = {values.tolist()}: expected {len(power)} finite values > 0, one per stage")
+    if not (np.isfinite(speed) and speed > 0):
+        raise InputError(f"speed = {speed!r}: expected the operating speed > 0 [rad/s]")
+    factor = B_COMPRESSOR if machine == "compressor" else B_TURBINE
+    return factor * (power / speed) / (diameter * height) * ratio
+
+
+@dataclass(frozen=True)
+class Level1Result:
+    """Log decrement of the first forward mode against the applied cross-coupling.
+
+    Attributes
+    ----------
+    speed : float [rad/s]
+        The analysis speed (maximum continuous speed) of the reference rotor.
+    stations : tuple of Station
+    shares : ndarray, shape (P,)
+        The part of ``Q`` applied at each station (summing to 1).
+    cross_coupling : ndarray, shape (NQ,) [N/m]
+        The total applied ``Q``, from 0.
+    log_decrements, frequencies_hz : ndarray, shape (NQ,)
+        Of the followed mode (tracked from Q = 0 by its shape).
+    mode : int
+        That mode's number at Q = 0 among the modes (``modes --speed`` numbering).
+    qa : float [N/m]
+    q0 : float [N/m]
+        Where the log decrement reaches 0 (root-found); nan when it stays positive over the
+        sweep (then ``Q0 > cross_coupling[-1]``), 0 when it is not positive at Q = 0.
+    log_decrement_at_qa : float
+    title : str
+    """
+
+    speed: float
+    stations: tuple
+    shares: np.ndarray
+    cross_coupling: np.ndarray
+    log_decrements: np.ndarray
+    frequencies_hz: np.ndarray
+    mode: int
+    qa: float
+    q0: float
+    log_decrement_at_qa: float
+    title: str = ""
+
+    @property
+    def ratio(self) -> float:
+        """``Q0 / Qa`` (inf when Q0 lies beyond the sweep: at least ``cross_coupling[-1] / Qa``)."""
+        return float(self.q0 / self.qa) if np.isfinite(self.q0) else float("inf")
+
+    @property
+    def log_decrement_criterion(self) -> float:
+        """:data:`LOG_DEC_CRITERION` (the least log decrement at Qa)."""
+        return LOG_DEC_CRITERION
+
+    @property
+    def ratio_criterion(self) -> float:
+        """:data:`RATIO_CRITERION` (the least Q0 / Qa)."""
+        return RATIO_CRITERION
+
+    @property
+    def passes_log_decrement(self) -> bool:
+        return bool(self.log_decrement_at_qa >= LOG_DEC_CRITERION)
+
+    @property
+    def passes_ratio(self) -> bool:
+        return bool(self.ratio >= RATIO_CRITERION)
+
+    @property
+    def level2_required(self) -> bool:
+        """True unless both criteria pass."""
+        return not (self.passes_log_decrement and self.passes_ratio)
+
+    def verdict(self) -> str:
+        """One sentence: the criteria, their values and whether Level II is required."""
+        ratio = (f"Q0/Qa = {self.ratio:.3g}" if np.isfinite(self.q0)
+                 else f"Q0/Qa > {self.cross_coupling[-1] / self.qa:.3g}")
+        checks = (f"log dec at Qa = {self.log_decrement_at_qa:.3g} ({'>=' if self.passes_log_decrement else '<'} "
+                  f"{LOG_DEC_CRITERION:g}), {ratio} ({'>=' if self.passes_ratio else '<'} {RATIO_CRITERION:g})")
+        return f"{checks}: Level II {'required' if self.level2_required else 'not required'}"
+
+    def to_dataframe(self):
+        """Table ``q_n_per_m, q_over_qa, log_decrement, frequency_hz``."""
+        import pandas as pd
+
+        return pd.DataFrame({"q_n_per_m": self.cross_coupling, "q_over_qa": self.cross_coupling / self.qa,
+                             "log_decrement": self.log_decrements, "frequency_hz": self.frequencies_hz})
+
+    def plot(self, **kwargs):
+        """Log decrement against Q / Qa; see :func:`rotordyn_modal.plotting.plot_level1`."""
+        from ..plotting import plot_level1
+
+        return plot_level1(self, **kwargs)
+
+
+def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_per_qa: int = 10,
+           forward_mode: int = 1) -> Level1Result:
+    """API 617 Level I screening of ``model`` at ``speed`` (see the module docstring).
+
+    Parameters
+    ----------
+    model : Model
+    speed : float [rad/s]
+        Maximum continuous speed of the reference rotor (not 0).
+    stations : sequence of Station (or rotor names)
+        Where the cross-coupling acts; each station's rotor must be on bearings.
+    qa : float [N/m]
+        Anticipated cross-coupling (the sum over stages, :func:`anticipated_cross_coupling`), > 0.
+    shares : array_like, shape (P,), optional
+        The part of Q at each station (default equal parts); normalised to sum 1.
+    factor : float
+        The sweep reaches ``factor * qa`` (API: 10), rounded up to a whole step; 1 to 1000.
+    steps_per_qa : int
+        Points per ``qa`` of the sweep (``qa`` is a point of it).
+    forward_mode : int
+        Which forward mode to follow: 1 the first (API), 2 the second, ... by frequency. Forward
+        means whirling with the stations' rotor's spin in its motion relative to the stator at
+        the (first) station, where the cross-coupling acts, in a mode of the rotor in its
+        bearings; judged at the sweep's first Q > 0 (0.1 Qa), where Q has split the rotor's
+        forward and backward modes of one frequency, and followed from there to Q = 0 and up.
+
+    Returns
+    -------
+    Level1Result
+    """
+    speed = _checked(speed, qa, factor, steps_per_qa)
+    stations = tuple(s if isinstance(s, Station) else Station.parse(s) for s in stations)
+    shares = _shares(shares, len(stations))
+    _check_stations(model, stations)
+    steps = int(steps_per_qa)
+    grid = qa * (np.arange(int(np.ceil(factor * steps - 1e-9)) + 1) / steps)    # grid[steps] is qa exactly
+    form = speed_linear_form(model)
+    base = form.at(speed)
+    unit = _unit_state_matrix(model, form, stations, shares, speed)
+    lam, shapes = _eigensolve.upper_shapes(base + grid[:, None, None] * unit, form.n_dof)
+    shapes = _eigensolve.resolve_repeated(lam, shapes, _whirl.whirl_forms(model))
+    order = track_modes(lam, _vectors.mass_normalized(shapes, form.matrices.M))
+    # chosen at the first Q > 0: there Q has split a forward and backward pair of one frequency
+    # (a rotor's cylindrical modes), which at Q = 0 the solver may return as any two mixtures
+    first = _forward(model, lam[1], shapes[1], form.matrices.M, stations[0],
+                     np.sign(speed) * _spin_sign(model, stations), forward_mode)
+    label = int(np.nonzero(order[1] == first)[0][0])
+    followed = lam[np.arange(len(grid)), order[:, label]]
+    freq, _, log_dec = modal_quantities(followed)
+    q0 = _zero_crossing(base, unit, form.n_dof, grid, followed, log_dec)
+    mode = int(is_oscillating(lam[0])[:order[0, label] + 1].sum())
+    return Level1Result(speed=speed, stations=stations, shares=shares, cross_coupling=grid, log_decrements=log_dec,
+                        frequencies_hz=freq, mode=mode, qa=float(qa), q0=q0,
+                        log_decrement_at_qa=float(log_dec[steps]), title=model.name)
+
+
+def _checked(speed, qa, factor, steps_per_qa) -> float:
+    """The speed [rad/s] after checking the numeric arguments of :func:`level1`."""
+    speed = _arguments.speed(speed)
+    if speed == 0:
+        raise InputError("speed = 0: a Level I analysis runs at the maximum continuous speed (not 0)")
+    if not (np.isfinite(qa) and qa > 0):
+        raise InputError(f"qa = {qa!r}: expected the anticipated cross-coupling > 0 [N/m]")
+    if not (np.isfinite(factor) and 1 <= factor <= 1000) or not 1 <= int(steps_per_qa) <= 1000:
+        raise InputError(f"factor = {factor!r}, steps_per_qa = {steps_per_qa!r}: expected a factor from 1 to 1000 "
+                         "and 1 to 1000 steps per Qa")
+    return speed
+
+
+def _shares(shares, count):
+    if count == 0:
+        raise InputError("no station: give at least one (a rotor's name, or ROTOR@OFFSET)")
+    values = np.full(count, 1.0 / count) if shares is None else np.asarray(shares, dtype=float).ravel()
+    if values.shape != (count,) or not np.all(np.isfinite(values)) or not np.all(values >= 0) or not values.sum() > 0:
+        raise InputError(f"shares = {values.tolist()}: expected {count} values >= 0, one per station")
+    return values / values.sum()
+
+
+def _check_stations(model, stations):
+    """Each station's rotor exists and moves in bearings of its own."""
+    names = [r.name for r in model.rotors]
+    for station in stations:
+        if station.rotor not in names:
+            raise InputError(f"station {station}: no rotor {station.rotor!r}: the model's rotors are {', '.join(names)}")
+        if not model.dofs.on_bearings(station.rotor):
+            raise InputError(f"station {station}: rotor {station.rotor!r} has no bearings (it is rigidly attached to "
+                             "the stator): cross-coupling needs a rotor moving in its bearings")
+
+
+def _spin_sign(model, stations) -> float:
+    """The stations' rotors' spin direction relative to the reference rotor (+1 or -1); the
+    stations must share it."""
+    signs = {np.sign(model.rotor(s.rotor).speed_ratio) for s in stations}
+    if len(signs) != 1 or 0 in signs:
+        raise InputError("stations on rotors that spin different ways (or not at all): give stations of one "
+                         "spin direction")
+    return float(signs.pop())
+
+
+def _unit_state_matrix(model, form, stations, shares, speed):
+    """The state matrix per unit total Q: ``-M^-1 K_Q`` in the velocity rows, (n_states, n_states)."""
+    layout = model.dofs
+    n = form.n_dof
+    e = np.asarray(model.spin_axis, dtype=float)
+    a, b = transverse_axes(e)
+    direction = np.sign(speed) * _spin_sign(model, stations)    # forward: with the stations' rotor's own spin
+    local = np.zeros((6, 6))
+    local[:3, :3] = direction * (np.outer(a, b) - np.outer(b, a))      # K_ab = +Q, K_ba = -Q
+    K = np.zeros((n, n))
+    for station, share in zip(stations, shares):
+        rows = layout.slices[layout.rotors.index(station.rotor)]
+        moves = layout.local_relative_motion(station.rotor, station.point(model))
+        K[rows, rows] += share * (moves.T @ local @ moves)
+    unit = np.zeros((form.n_states, form.n_states))
+    unit[n:2 * n, :n] = -form.mass_inverse @ K
+    return unit
+
+
+def _forward(model, lam, shapes, M, station, spin, number) -> int:
+    """Index among ``lam`` (one Q) of the ``number``-th lowest mode of the stations'
+    rotor whirling forward: its motion relative to the stator at ``station`` turns with the
+    rotor's spin ``spin`` (+-1), ``-2 spin Im(conj(U_a) U_b) / (|U_a|^2 + |U_b|^2) > 1e-3`` for the
+    radial amplitudes ``U_a, U_b`` of the orbit ``Re(U e^{i w t})``, and is a mode of the rotor in
+    its bearings: ``|U|^2`` at least :data:`_ROTOR_SHARE` of the largest among the modes, the
+    shapes mass-normalised (a casing's mode on soft mounts barely moves the rotor in its
+    bearings, and cross-coupling there cannot reach it)."""
+    layout = model.dofs
+    rows = layout.slices[layout.rotors.index(station.rotor)]
+    moves = layout.local_relative_motion(station.rotor, station.point(model))[:3]
+    a, b = transverse_axes(np.asarray(model.spin_axis, dtype=float))
+    modal_mass = np.einsum("mi,ij,mj->m", shapes.conj(), M, shapes).real
+    motion = (shapes[:, rows] @ moves.T) / np.sqrt(np.where(modal_mass > 0, modal_mass, 1.0))[:, None]
+    u_a, u_b = motion @ a, motion @ b
+    size = np.abs(u_a) ** 2 + np.abs(u_b) ** 2
+    oscillating = is_oscillating(lam)
+    largest = size[oscillating].max(initial=0.0)
+    ratio = np.zeros(len(lam))
+    np.divide(-2 * spin * np.imag(np.conj(u_a) * u_b), size, out=ratio, where=size > 0)
+    candidates = np.nonzero(oscillating & (ratio > _whirl.WHIRL_TOLERANCE) & (size >= _ROTOR_SHARE * largest)
+                            & (largest > 0))[0]
+    candidates = candidates[np.argsort(lam.imag[candidates], kind="stable")]
+    if len(candidates) < number:
+        raise InputError(f"forward mode {number}: there are {len(candidates)} modes of rotor {station.rotor!r} "
+                         f"whirling forward at station {station} at this speed")
+    return int(candidates[number - 1])
+
+
+#: a mode is one of the station's rotor in its bearings when the station's motion relative to the
+#: stator is at least this part (squared amplitude, mass-normalised shapes) of the largest
+_ROTOR_SHARE = 1e-2
+
+
+def _zero_crossing(base, unit, n, grid, followed, log_dec) -> float:
+    """The Q where the followed mode's real part reaches 0: Brent's method between the grid
+    points around the first sign change, on the root nearest the followed one (interpolated)."""
+    if not log_dec[0] > 0:
+        return 0.0
+    below = np.nonzero(log_dec <= 0)[0]
+    if not len(below):
+        return float("nan")
+    k = int(below[0])
+
+    def real_part(q):
+        t = (q - grid[k - 1]) / (grid[k] - grid[k - 1])
+        guess = (1 - t) * followed[k - 1] + t * followed[k]
+        roots = np.linalg.eigvals(base + q * unit)
+        return float(roots[np.argmin(np.abs(roots - guess))].real)
+
+    if real_part(grid[k]) == 0:
+        return float(grid[k])
+    return float(brentq(real_part, grid[k - 1], grid[k], xtol=1e-12 * grid[k], rtol=8.9e-16))

@@ -1,0 +1,476 @@
+"""Undamped critical speed map: forward synchronous critical speeds against bearing stiffness.
+
+The first figure of an API 684 lateral analysis. The chosen bearings' radial stiffness is set
+isotropic to ``k`` (their cross-coupling and all damping of the machine removed; axial and tilt
+stiffness kept), ``k`` swept over decades, and at each ``k`` the **undamped critical speeds**
+found: the reference rotor's speeds ``Omega > 0`` at which a forward-whirling mode's natural
+frequency equals ``Omega`` (order 1 of the reference rotor). With ``lambda = i Omega`` and
+``C = 0`` the eigenproblem ``(-Omega^2 M + i Omega^2 G + K) phi = 0`` is linear in ``Omega^2``::
+
+    K phi = Omega^2 (M - i G) phi          (M - i G Hermitian, K real symmetric)
+
+so every critical speed of every ``k`` comes from one batched Hermitian eigen-solve, no search:
+``(M - i G) phi = nu K phi`` (``K`` positive definite once the machine's free motions are set
+apart) gives real ``nu`` and ``Omega = nu^-1/2`` for ``nu > 0``. A mode whose gyroscopic
+stiffening outruns the speed (a disc's forward conical mode, polar above diametral inertia) has
+``nu <= 0``: no critical speed. Forward or backward is the package's whirl ratio of ``phi``
+(``docs/theory.md``), repeated roots resolved into their circular combinations as everywhere.
+
+Each chosen bearing's own radial stiffness ``Kxx``, ``Kyy`` (in its radial axes: a journal
+bearing's load direction and the normal to it) over the reference speed is laid over the map;
+where such a curve meets a mode's curve the machine would run at that critical speed.
+``docs/level1_and_ucs.md`` gives the definitions and their checks.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+from scipy.optimize import brentq
+
+from ..assembly import bearing_motion, constant_stiffness_damping, gyroscopic_matrix, mass_matrix
+from ..elements.bearings import evaluate
+from ..errors import InputError
+from . import _eigensolve, _whirl
+
+__all__ = ["UcsMap", "BearingCurve", "Crossing", "ucs_map", "forward_critical_speeds"]
+
+
+@dataclass(frozen=True)
+class BearingCurve:
+    """A chosen bearing's own radial stiffness over the reference speed.
+
+    Attributes
+    ----------
+    name : str
+    speeds : ndarray, shape (S,) [rad/s] or None
+        Reference speeds of the points (None for a constant bearing: its stiffness is a vertical
+        line on the map).
+    kxx, kyy : ndarray, shape (S,) (or (1,) when constant) [N/m]
+        Direct stiffness along the bearing's two radial axes (a journal bearing's load direction
+        and the normal to it).
+    """
+
+    name: str
+    speeds: np.ndarray | None
+    kxx: np.ndarray
+    kyy: np.ndarray
+
+    @property
+    def constant(self) -> bool:
+        return self.speeds is None
+
+
+@dataclass(frozen=True)
+class Crossing:
+    """Where a bearing's stiffness curve meets a mode's curve on the map.
+
+    Attributes
+    ----------
+    bearing : str
+    axis : {'xx', 'yy'}
+    mode : int
+        1 = the lowest forward critical speed at that stiffness.
+    stiffness : float [N/m]
+    speed : float [rad/s]
+    """
+
+    bearing: str
+    axis: str
+    mode: int
+    stiffness: float
+    speed: float
+
+
+@dataclass(frozen=True)
+class UcsMap:
+    """Undamped critical speed map.
+
+    Attributes
+    ----------
+    stiffness : ndarray, shape (K,) [N/m]
+        Radial stiffness given to each chosen bearing, increasing.
+    speeds : ndarray, shape (K, m) [rad/s]
+        ``speeds[i, j]``: the (j+1)-th lowest forward critical speed at ``stiffness[i]`` (nan
+        where there are fewer).
+    bearings : tuple of str
+        The chosen bearings.
+    curves : tuple of BearingCurve
+    crossings : tuple of Crossing
+    rigid_speeds : ndarray, shape (m,) [rad/s]
+        The rigid-support asymptote, the limit of each curve as ``k`` grows without bound: the
+        forward critical speeds with each chosen bearing radially rigid (its rotor pinned to
+        the stator there; axial and tilt stiffness as given). A rotor on two chosen bearings
+        without axial stiffness is then rigidly attached to the stator, as in a model without
+        its bearings.
+    operating : (float, float) [rad/s] or None
+        Operating speed range, drawn as a band.
+    title : str
+    """
+
+    stiffness: np.ndarray
+    speeds: np.ndarray
+    bearings: tuple
+    curves: tuple = ()
+    crossings: tuple = ()
+    rigid_speeds: np.ndarray | None = None
+    operating: tuple | None = None
+    title: str = ""
+
+    @property
+    def speeds_rpm(self) -> np.ndarray:
+        return self.speeds * 30.0 / np.pi
+
+    def to_dataframe(self):
+        """Long table ``stiffness_n_per_m, mode, speed_rpm, frequency_hz`` (one row per stiffness
+        and mode; empty speed where the mode has no critical speed)."""
+        import pandas as pd
+
+        count, m = self.speeds.shape
+        return pd.DataFrame({"stiffness_n_per_m": np.repeat(self.stiffness, m),
+                             "mode": np.tile(np.arange(1, m + 1), count),
+                             "speed_rpm": self.speeds_rpm.ravel(),
+                             "frequency_hz": self.speeds.ravel() / (2 * np.pi)})
+
+    def crossings_dataframe(self):
+        """Table ``bearing, axis, mode, stiffness_n_per_m, speed_rpm`` of the crossings."""
+        import pandas as pd
+
+        return pd.DataFrame({"bearing": [c.bearing for c in self.crossings],
+                             "axis": [c.axis for c in self.crossings],
+                             "mode": np.array([c.mode for c in self.crossings], dtype=int),
+                             "stiffness_n_per_m": np.array([c.stiffness for c in self.crossings], dtype=float),
+                             "speed_rpm": np.array([c.speed for c in self.crossings], dtype=float) * 30 / np.pi})
+
+    def plot(self, **kwargs):
+        """The map; see :func:`rotordyn_modal.plotting.plot_ucs_map`."""
+        from ..plotting import plot_ucs_map
+
+        return plot_ucs_map(self, **kwargs)
+
+
+def ucs_map(model, stiffness, modes: int = 4, bearings=None, speeds=None, operating=None) -> UcsMap:
+    """Undamped critical speed map of ``model`` (see the module docstring).
+
+    Parameters
+    ----------
+    model : Model
+    stiffness : array_like, shape (K,) [N/m]
+        Radial stiffness values, > 0, increasing (e.g. ``numpy.geomspace(1e5, 1e9, 41)``).
+    modes : int
+        How many forward critical speeds per stiffness (the lowest).
+    bearings : sequence of str, optional
+        The bearings whose stiffness is swept (default all). The others keep their
+        coefficients, which must then be constant.
+    speeds : array_like, shape (S,) [rad/s], optional
+        Reference speeds at which the speed-dependent bearings' own stiffness is drawn (default:
+        over the map's critical speeds, a table's rows limiting it).
+    operating : (float, float) [rad/s], optional
+        Operating speed range (drawn as a band).
+
+    Returns
+    -------
+    UcsMap
+
+    Raises
+    ------
+    InputError
+        No bearing, an unknown name, a bad stiffness list or mode count, an unchosen bearing
+        whose coefficients depend on speed, or a chosen speed table whose axial or tilt
+        coefficients change over speed.
+    """
+    chosen = _chosen_bearings(model, bearings)
+    stiffness = _check_stiffness(stiffness)
+    modes = _check_modes(modes)
+    parts = _Pencil(model, chosen)
+    found = parts.critical_speeds(stiffness, modes)
+    curves = tuple(_bearing_curve(model, b, speeds, found) for b in chosen)
+    return UcsMap(stiffness=stiffness, speeds=found, bearings=tuple(b.name for b in chosen), curves=curves,
+                  crossings=tuple(_crossings(parts, curves, stiffness, found, modes)),
+                  rigid_speeds=_rigid_support(parts, model, chosen, modes),
+                  operating=None if operating is None else tuple(float(s) for s in operating),
+                  title=model.name)
+
+
+class _Pencil:
+    """``M``, ``G``, and ``K(k) = K_rest + k K_unit`` of a model with its chosen bearings' radial
+    stiffness ``k`` (isotropic), and the forward critical speeds of any ``k``."""
+
+    def __init__(self, model, chosen):
+        self.model = model
+        self.M = mass_matrix(model)
+        self.G = gyroscopic_matrix(model)
+        self.forms = _whirl.whirl_forms(model)
+        self.rest, self.unit = _split_stiffness(model, chosen)
+
+    def critical_speeds(self, stiffness, count: int) -> np.ndarray:
+        """(K, count) [rad/s] for the stiffness values (K,)."""
+        K = self.rest + np.asarray(stiffness, dtype=float)[:, None, None] * self.unit
+        return forward_critical_speeds(self.M, self.G, K, self.forms, count)
+
+
+def forward_critical_speeds(M, G, K, forms, count: int) -> np.ndarray:
+    """The lowest forward synchronous critical speeds of undamped models (one batched solve).
+
+    Parameters
+    ----------
+    M, G : ndarray, shape (n, n)
+        Mass and gyroscopic matrix per unit reference speed.
+    K : ndarray, shape (S, n, n)
+        Stiffness matrices, symmetric positive semidefinite, all with the same null space (the
+        machine's free motions, which carry no stiffness whatever the bearings).
+    forms : WhirlForms
+    count : int
+
+    Returns
+    -------
+    ndarray, shape (S, count) [rad/s], increasing along each row, nan where fewer exist
+    """
+    B = M - 1j * G
+    W = _constrained_basis(M, B, K[0])
+    if not W.shape[1]:                      # every motion free: no mode at all
+        return np.full((len(K), count), np.nan)
+    Kw = np.einsum("ji,sjk,kl->sil", W.conj(), K, W)
+    Bw = W.conj().T @ B @ W
+    R = np.linalg.cholesky(0.5 * (Kw + Kw.conj().swapaxes(-1, -2)))
+    X = np.linalg.solve(R, np.broadcast_to(Bw, Kw.shape))             # R^-1 Bw
+    H = np.linalg.solve(R, X.conj().swapaxes(-1, -2))                # R^-1 Bw R^-H (Bw Hermitian)
+    nu, y = np.linalg.eigh(0.5 * (H + H.conj().swapaxes(-1, -2)))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        omega = np.where(nu > 0, 1 / np.sqrt(np.where(nu > 0, nu, 1.0)), np.inf)
+    order = np.argsort(omega, axis=-1)
+    omega = np.take_along_axis(omega, order, axis=-1)
+    y = np.take_along_axis(y, order[:, None, :], axis=-1)
+    shapes = np.einsum("ij,sjm->smi", W, np.linalg.solve(R.conj().swapaxes(-1, -2), y))
+    finite = np.isfinite(omega)
+    lam = 1j * np.where(finite, omega, 0.0)
+    shapes = _eigensolve.resolve_repeated(lam, shapes, forms)
+    ratios = _whirl.whirl_ratios(shapes, forms, np.ones(len(K)))
+    forward = finite & (_whirl.whirl_labels(ratios) == "forward")
+    picked = np.sort(np.where(forward, omega, np.inf), axis=-1)[:, :count]     # the lowest forward ones
+    out = np.full((len(K), count), np.nan)
+    out[:, :picked.shape[1]] = np.where(np.isfinite(picked), picked, np.nan)
+    return out
+
+
+def _constrained_basis(M, B, K) -> np.ndarray:
+    """Orthonormal columns spanning ``{phi : N^H B phi = 0}``, ``N`` the null space of ``K``
+    (free motions of the machine: frequency zero, no critical speed). Restricted to it the
+    pencil keeps all its non-zero roots and ``K`` is positive definite. The identity when ``K``
+    has no null space."""
+    L = np.linalg.cholesky(M)
+    scaled = np.linalg.solve(L, np.linalg.solve(L, K).T)       # L^-1 K L^-T, symmetric
+    values, vectors = np.linalg.eigh(0.5 * (scaled + scaled.T))
+    free = values <= 1e-12 * max(values.max(), 0.0)
+    if not free.any():
+        return np.eye(len(M))
+    N = np.linalg.solve(L.T, vectors[:, free])                 # free motions in q
+    return scipy.linalg.null_space(N.T @ B)
+
+
+def _chosen_bearings(model, names):
+    if not model.bearings:
+        raise InputError(f"{model.source}: the model has no [[bearings]]: an undamped critical speed map "
+                         "sweeps bearing stiffness")
+    by_name = {b.name: b for b in model.bearings}
+    if names is None:
+        return list(model.bearings)
+    names = [names] if isinstance(names, str) else list(names)
+    unknown = [n for n in names if n not in by_name]
+    if unknown or not names:
+        raise InputError(f"bearings {', '.join(map(repr, unknown)) or '(none)'}: expected names of the "
+                         f"model's bearings: {', '.join(by_name)}")
+    return [by_name[n] for n in dict.fromkeys(names)]
+
+
+#: the stiffness a map may sweep [N/m]: bearings are 1e3-1e10 N/m; far beyond, the pencil's
+#: stiffness matrices lose the other elements' stiffness to round-off
+STIFFNESS_RANGE = (1e-3, 1e16)
+
+
+def _check_stiffness(stiffness) -> np.ndarray:
+    values = np.atleast_1d(np.asarray(stiffness, dtype=float))
+    low, high = STIFFNESS_RANGE
+    if values.ndim != 1 or not len(values) or not np.all((values >= low) & (values <= high)) \
+            or not np.all(np.diff(values) > 0):
+        raise InputError(f"stiffness {np.array2string(values, threshold=6)}: expected increasing values from "
+                         f"{low:g} to {high:g} N/m")
+    return values
+
+
+def _check_modes(modes) -> int:
+    if isinstance(modes, bool) or not isinstance(modes, (int, np.integer)) or not 1 <= modes <= 1000:
+        raise InputError(f"modes = {modes!r}: expected a whole number from 1 to 1000")
+    return int(modes)
+
+
+def _split_stiffness(model, chosen):
+    """``K_rest`` (everything but the chosen bearings' radial stiffness) and ``K_unit`` (their
+    radial stiffness for k = 1 N/m, isotropic), each (n, n)."""
+    rest = constant_stiffness_damping(model)[0].copy()
+    unit = np.zeros_like(rest)
+    names = {b.name for b in chosen}
+    radial = _RADIAL_OF(model)
+    for bearing in model.bearings:
+        coefficients = bearing.coefficients
+        if bearing.name not in names:
+            if coefficients.kind != "constant":
+                raise InputError(f"{model.source}: [bearings.{bearing.name}] has speed-dependent coefficients: "
+                                 "give it in the map's bearings (its stiffness is then swept) or make it constant")
+            continue
+        rows, moves = bearing_motion(model, bearing)
+        own = _other_than_radial(model, bearing, radial)
+        if coefficients.kind == "constant":      # its full coefficients are in K_rest: take the radial part out
+            rest[rows, rows] -= moves.T @ (coefficients.stiffness[0] - own) @ moves
+        else:                                     # not in K_rest at all: put its axial and tilt part in
+            rest[rows, rows] += moves.T @ own @ moves
+        unit[rows, rows] += moves.T @ radial @ moves
+    return rest, unit
+
+
+def _other_than_radial(model, bearing, radial):
+    """A bearing's axial and tilt stiffness (6, 6), model axes: its coefficients without the
+    radial translational block."""
+    stiffness = bearing.coefficients.stiffness
+    keep = np.eye(6) - radial
+    parts = keep @ stiffness @ keep + radial @ stiffness @ keep + keep @ stiffness @ radial
+    if not np.allclose(parts, parts[0], rtol=1e-12, atol=0.0):
+        raise InputError(f"{model.source}: [bearings.{bearing.name}] axial or moment stiffness changes over its "
+                         "speeds_rpm: an undamped critical speed map keeps them fixed; give them constant")
+    return parts[0]
+
+
+def _radial_axes(bearing):
+    """The bearing's radial axes (2, 3): a journal bearing's load direction and the normal."""
+    journal = bearing.coefficients.journal
+    return np.asarray(journal.axes[:2] if journal is not None else bearing.axes, dtype=float)
+
+
+def _direct(stiffness, axes):
+    """``Kxx, Kyy`` (S,) of (S, 6, 6) model-axes coefficients along the two radial axes."""
+    block = stiffness[:, :3, :3]
+    return (np.einsum("i,sij,j->s", axes[0], block, axes[0]), np.einsum("i,sij,j->s", axes[1], block, axes[1]))
+
+
+def _bearing_curve(model, bearing, speeds, found) -> BearingCurve:
+    coefficients = bearing.coefficients
+    axes = _radial_axes(bearing)
+    if coefficients.kind == "constant":
+        kxx, kyy = _direct(coefficients.stiffness[:1], axes)
+        return BearingCurve(bearing.name, None, kxx, kyy)
+    ratio = model.rotor(bearing.rotor).speed_ratio
+    grid = _curve_speeds(coefficients, ratio, speeds, found)
+    where = f"{model.source}: [bearings.{bearing.name}]"
+    grid, k = _evaluated(coefficients, ratio, grid, where)
+    kxx, kyy = _direct(k, axes)
+    return BearingCurve(bearing.name, grid, kxx, kyy)
+
+
+#: points of a speed-dependent bearing's curve
+_CURVE_POINTS = 200
+
+
+def _curve_speeds(coefficients, ratio, speeds, found):
+    """Reference speeds (increasing, > 0) at which a speed-dependent bearing's curve is drawn."""
+    if speeds is not None:
+        grid = np.asarray(speeds, dtype=float)
+    else:
+        finite = found[np.isfinite(found)]
+        low, high = (finite.min() / 3, finite.max() * 3) if finite.size else (1.0, 1e4)
+        grid = np.geomspace(low, high, _CURVE_POINTS)
+    if coefficients.kind == "table" and ratio != 0:
+        ends = np.sort(coefficients.speeds[[0, -1]] / ratio)
+        grid = np.clip(grid, *ends) if speeds is None else grid
+        grid = np.unique(np.r_[grid, ends[(ends > grid.min()) & (ends < grid.max())]]) if speeds is None else grid
+    return np.unique(grid[grid > 0])
+
+
+def _evaluated(coefficients, ratio, grid, where):
+    """(speeds kept, (S, 6, 6) stiffness): a journal bearing's speeds where it has no film
+    (eccentricity reaching 1 at low speed) are left out of the drawing."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            return grid, evaluate(coefficients, ratio * grid, where)[0]
+        except InputError:
+            if coefficients.kind != "journal":
+                raise
+        kept, values = [], []
+        for speed in grid:
+            try:
+                values.append(evaluate(coefficients, [ratio * speed], where)[0][0])
+                kept.append(speed)
+            except InputError:
+                continue
+    if not kept:
+        raise InputError(f"{where}: no film at any speed of the map's range: give the speeds (speeds=...)")
+    return np.array(kept), np.array(values)
+
+
+def _crossings(parts, curves, stiffness, found, modes):
+    """Where each bearing's Kxx and Kyy curves meet each mode's curve."""
+    out = []
+    for curve in curves:
+        for axis, values in (("xx", curve.kxx), ("yy", curve.kyy)):
+            if curve.constant:
+                speeds = parts.critical_speeds(values[:1], modes)[0]
+                out += [Crossing(curve.name, axis, j + 1, float(values[0]), float(s))
+                        for j, s in enumerate(speeds) if np.isfinite(s)]
+                continue
+            good = values > 0
+            if not good.any():
+                continue
+            at = parts.critical_speeds(values[good], modes)          # (S', m)
+            out += _curve_crossings(parts, curve, axis, curve.speeds[good], values[good], at, modes)
+    return out
+
+
+def _curve_crossings(parts, curve, axis, speeds, values, at, modes):
+    """Sign changes of ``critical(K(s)) - s`` along a bearing curve, refined by Brent's method
+    on the curve as drawn (its stiffness interpolated linearly between its points)."""
+    out = []
+    for j in range(modes):
+        gap = at[:, j] - speeds
+        for i in np.nonzero(np.isfinite(gap[:-1]) & np.isfinite(gap[1:]) & (np.sign(gap[:-1]) != np.sign(gap[1:])))[0]:
+            def along(s, i=i, j=j):
+                t = (s - speeds[i]) / (speeds[i + 1] - speeds[i])
+                k = (1 - t) * values[i] + t * values[i + 1]
+                return parts.critical_speeds([k], modes)[0, j] - s
+            try:
+                s = brentq(along, speeds[i], speeds[i + 1], xtol=1e-10 * speeds[i + 1])
+            except ValueError:       # the mode's curve has a gap in between (nan): the grid point
+                s = speeds[i]
+            t = (s - speeds[i]) / (speeds[i + 1] - speeds[i])
+            out.append(Crossing(curve.name, axis, j + 1, float((1 - t) * values[i] + t * values[i + 1]), float(s)))
+    return out
+
+
+def _rigid_support(parts, model, chosen, modes):
+    """Forward critical speeds with the chosen bearings radially rigid: each rotor pinned to the
+    stator at its chosen bearings' points (two pins fix its lateral motion and tilt; the axial
+    and tilt stiffness stay as given): the limit of the map as ``k`` grows without bound. The
+    coordinates are restricted to the null space of the pins' radial relative motions."""
+    n = parts.M.shape[0]
+    pins = []
+    for bearing in chosen:
+        rows, moves = bearing_motion(model, bearing)
+        block = np.zeros((6, n))
+        block[:, rows] = _RADIAL_OF(model) @ moves
+        pins.append(block[:3])
+    T = scipy.linalg.null_space(np.vstack(pins))
+    if not T.shape[1]:
+        return np.full(modes, np.nan)
+    forms = _whirl.WhirlForms(*(T.T @ X @ T for X in parts.forms))
+    return forward_critical_speeds(T.T @ parts.M @ T, T.T @ parts.G @ T, (T.T @ parts.rest @ T)[None],
+                                   forms, modes)[0]
+
+
+def _RADIAL_OF(model):
+    """(6, 6): the translations normal to the spin axis (radial), nothing else."""
+    e = np.asarray(model.spin_axis, dtype=float)
+    radial = np.zeros((6, 6))
+    radial[:3, :3] = np.eye(3) - np.outer(e, e)
+    return radial

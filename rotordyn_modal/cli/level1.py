@@ -1,0 +1,132 @@
+"""``level1 MODEL --speed MCS --station ROTOR[@OFFSET] (--qa N/m | --power W ...)``."""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from ..errors import InputError
+from ..units import speed_to_rad_s
+from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list, parse_number,
+                      save_figure, use_agg, write_table)
+
+NAME = "level1"
+HELP = "API 617 Level I stability screening: log decrement against applied cross-coupling"
+DESCRIPTION = """API 617 Level I stability screening. A cross-coupled stiffness Q (k_ab = +Q,
+k_ba = -Q in the radial axes a, b = spin axis x a: destabilising for forward whirl) acts between
+each --station's rotor and the stator, Q swept from 0 to --factor x Qa (API: 10); the log
+decrement of the first forward mode (whirling with the rotor's spin at the station, relative to
+the stator) at --speed (the maximum continuous speed) is followed by its shape. Qa is given
+(--qa, N/m) or is the API anticipated cross-coupling summed over the stages:
+  qa = B T / (D H) (rho_d / rho_s),  T = P / Omega_r  (= B 9.55 P / (D H N_r) with P in W,
+  D and H in m, N_r in rpm, q in N/m; B = 3 compressors, 1.5 turbines without density ratio)
+with one --power, --impeller-diameter, --restriction-height and --density-ratio per stage
+(comma lists) and N_r = --operating-speed (default --speed). Criteria: log decrement at Qa
+>= 0.1 and Q0/Qa >= 2.0 (Q0 where the log decrement reaches 0); otherwise Level II is required.
+With one station all of Q acts there; with one station per stage each takes its stage's share.
+A station is ROTOR (its centre of mass: a rigid rotor's) or ROTOR@OFFSET (m along spin_axis
+from the centre of mass: an impeller). docs/level1_and_ucs.md gives the formulas and sources.
+
+CSV columns: q_n_per_m,q_over_qa,log_decrement,frequency_hz
+
+examples:
+  rotordyn-modal level1 examples/journal_rotor.toml --speed 4000 --station rotor --qa 2e5 --plot l1.png
+  rotordyn-modal level1 examples/fan_on_bearings.toml --speed 3000 --station fan@-0.1 \\
+      --power 15e3 --impeller-diameter 0.5 --restriction-height 0.03 --density-ratio 1.05"""
+
+
+def add_arguments(parser):
+    add_model_argument(parser)
+    parser.add_argument("--speed", required=True, help="maximum continuous speed of the reference rotor")
+    add_speed_unit(parser)
+    parser.add_argument("--station", action="append", required=True, metavar="ROTOR[@OFFSET]",
+                        help="where Q acts (repeat for several stations)")
+    parser.add_argument("--qa", help="anticipated cross-coupling [N/m], or one per station (comma list)")
+    parser.add_argument("--power", help="rated power of each stage [W] (comma list)")
+    parser.add_argument("--impeller-diameter", help="impeller (or blade pitch) diameter of each stage [m]")
+    parser.add_argument("--restriction-height", help="smaller of diffuser and impeller discharge width "
+                                                     "(turbines: effective blade height) of each stage [m]")
+    parser.add_argument("--density-ratio", help="discharge over suction density of each stage (default 1)")
+    parser.add_argument("--machine", choices=["compressor", "turbine"], default="compressor",
+                        help="B = 3 (compressor) or 1.5 (turbine, no density ratio)")
+    parser.add_argument("--operating-speed", help="normal operating speed N_r of the formula (default --speed)")
+    parser.add_argument("--factor", default="10", help="the sweep reaches FACTOR x Qa (default 10)")
+    parser.add_argument("--forward-mode", default="1", help="follow the N-th forward mode (default 1, the first)")
+    add_outputs(parser)
+
+
+def run(args) -> int:
+    from ..analysis.level1 import Station, level1
+
+    stations = [Station.parse(text) for text in args.station]
+    speed = float(speed_to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
+    qa, shares = _anticipated(args, len(stations), speed)
+    factor = parse_number(args.factor, "--factor")
+    forward = _whole(args.forward_mode, "--forward-mode")
+    model = open_model(args)
+    result = level1(model, speed, stations, qa, shares=shares, factor=factor, forward_mode=forward)
+    write_table(result.to_dataframe(), args)
+    if not args.quiet:
+        print(f"Qa = {result.qa:.6g} N/m at {', '.join(map(str, result.stations))}; mode {result.mode} "
+              f"({result.frequencies_hz[0]:.5g} Hz at Q = 0) followed; "
+              + (f"Q0 = {result.q0:.6g} N/m; " if np.isfinite(result.q0) else
+                 f"Q0 beyond {result.cross_coupling[-1]:.6g} N/m; ") + result.verdict(), file=sys.stderr)
+    if args.plot:
+        use_agg()
+        save_figure(result.plot(), args)
+    return 0
+
+
+def _anticipated(args, count, speed):
+    """(Qa [N/m], shares per station) from --qa or the stage data."""
+    from ..analysis.level1 import anticipated_cross_coupling
+
+    stage_options = (args.power, args.impeller_diameter, args.restriction_height)
+    if args.qa is not None:
+        if any(o is not None for o in stage_options) or args.density_ratio is not None:
+            raise InputError("--qa and the stage data (--power, --impeller-diameter, ...) both given: give one")
+        values = parse_list(args.qa, "--qa")
+        if not np.all(values > 0):
+            raise InputError(f"--qa {args.qa!r}: expected values > 0 [N/m]")
+        return _spread(values, count, "--qa")
+    if any(o is None for o in stage_options):
+        raise InputError("give --qa N/m, or --power, --impeller-diameter and --restriction-height (one per stage)")
+    power, diameter, height = (parse_list(o, name) for o, name in zip(
+        stage_options, ("--power", "--impeller-diameter", "--restriction-height")))
+    ratio = parse_list(args.density_ratio, "--density-ratio") if args.density_ratio else np.ones(1)
+    stages = max(len(power), len(diameter), len(height), len(ratio))
+    power, diameter, height, ratio = (_per_stage(v, stages, name) for v, name in zip(
+        (power, diameter, height, ratio), ("--power", "--impeller-diameter", "--restriction-height",
+                                           "--density-ratio")))
+    operating = speed if args.operating_speed is None else \
+        float(speed_to_rad_s(parse_number(args.operating_speed, "--operating-speed"), args.speed_unit))
+    q = anticipated_cross_coupling(power, abs(operating), diameter, height, ratio, machine=args.machine)
+    return _spread(q, count, "the stages")
+
+
+def _per_stage(values, stages, option):
+    if len(values) == 1:
+        return np.full(stages, values[0])
+    if len(values) != stages:
+        raise InputError(f"{option}: {len(values)} values for {stages} stages: give one per stage (or one for all)")
+    return values
+
+
+def _spread(values, count, what):
+    """Qa = the sum; shares per station: all at the one station, or one value per station."""
+    if count == 1:
+        return float(values.sum()), None
+    if len(values) != count:
+        raise InputError(f"{what}: {len(values)} values for {count} stations: give one per station (or one station)")
+    return float(values.sum()), values / values.sum()
+
+
+def _whole(text, option):
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise InputError(f"{option} {text!r}: expected a whole number >= 1")
+    return value

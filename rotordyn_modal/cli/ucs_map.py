@@ -1,0 +1,108 @@
+"""``ucs-map MODEL --stiffness 1e5:1e9:41 [--modes 4] [--bearings NAME,...]``."""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from ..errors import InputError
+from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number, parse_range,
+                      save_figure, use_agg, write_table)
+from ..units import speed_to_rad_s
+
+NAME = "ucs-map"
+HELP = "undamped critical speed map: forward critical speeds against bearing stiffness"
+DESCRIPTION = """Undamped critical speed map (API 684): the chosen bearings' radial stiffness set
+isotropic to each value of --stiffness (log-spaced: START:STOP:N with N values from START to
+STOP, both included), their cross-coupling and all damping of the machine removed, their axial
+and tilt stiffness kept; at each value the lowest forward critical speeds (a forward-whirling
+mode's natural frequency equal to the reference rotor's speed: order 1). The figure draws them
+against the stiffness on log-log axes, each chosen bearing's own Kxx and Kyy over speed over
+them (tables and journal bearings; constant ones as vertical lines), their crossings marked,
+the rigid-support asymptotes (the chosen bearings radially rigid) at the right edge, and
+--operating as a band. Bearings not chosen keep their coefficients, which must be constant.
+docs/level1_and_ucs.md gives the definitions.
+
+CSV columns: stiffness_n_per_m,mode,speed_rpm,frequency_hz (mode 1 = the lowest forward
+critical speed at that stiffness; empty where there is none). The terminal lists the
+crossings of the bearings' curves with the modes.
+
+examples:
+  rotordyn-modal ucs-map examples/journal_rotor.toml --stiffness 1e5:1e10:51 --plot ucs.png
+  rotordyn-modal ucs-map examples/fan_on_bearings.toml --stiffness 1e5:1e9:41 \\
+      --bearings fan-DE,fan-NDE --operating 1000:3000 --out ucs.csv"""
+
+
+def add_arguments(parser):
+    add_model_argument(parser)
+    parser.add_argument("--stiffness", required=True,
+                        help="START:STOP:N radial stiffness values [N/m], log-spaced, e.g. 1e5:1e9:41")
+    parser.add_argument("--modes", default="4", help="number of forward critical speeds per stiffness (default 4)")
+    parser.add_argument("--bearings", metavar="NAME,...", help="the bearings whose stiffness is swept (default all)")
+    parser.add_argument("--speeds", help="START:STOP:N speeds at which the speed-dependent bearings' stiffness "
+                                         "is drawn (default: over the map's speeds)")
+    parser.add_argument("--operating", metavar="LO:HI", help="operating speed range, drawn as a band")
+    add_speed_unit(parser)
+    add_outputs(parser)
+
+
+def run(args) -> int:
+    from ..analysis.ucs_map import ucs_map
+
+    stiffness = _stiffness(args.stiffness)
+    modes = _modes(args.modes)
+    speeds = speed_to_rad_s(parse_range(args.speeds, "--speeds"), args.speed_unit) if args.speeds else None
+    operating = _operating(args) if args.operating else None
+    bearings = [n.strip() for n in args.bearings.split(",") if n.strip()] if args.bearings else None
+    model = open_model(args)
+    result = ucs_map(model, stiffness, modes=modes, bearings=bearings, speeds=speeds, operating=operating)
+    write_table(result.to_dataframe(), args)
+    if not args.quiet:
+        _print_crossings(result)
+    if args.plot:
+        use_agg()
+        save_figure(result.plot(), args)
+    return 0
+
+
+def _stiffness(text):
+    """``START:STOP:N`` -> N log-spaced values, START > 0."""
+    from ..analysis.ucs_map import STIFFNESS_RANGE
+
+    linear = parse_range(text, "--stiffness")
+    low, high = STIFFNESS_RANGE
+    if not (low <= linear[0] and linear[-1] <= high):
+        raise InputError(f"--stiffness {text!r}: START and STOP must lie from {low:g} to {high:g} N/m "
+                         "(log-spaced stiffness)")
+    return np.geomspace(linear[0], linear[-1], len(linear))
+
+
+def _modes(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise InputError(f"--modes {text!r}: expected a whole number from 1 to 1000") from None
+    if not 1 <= value <= 1000:
+        raise InputError(f"--modes {text!r}: expected a whole number from 1 to 1000")
+    return value
+
+
+def _operating(args):
+    parts = args.operating.split(":")
+    if len(parts) != 2:
+        raise InputError(f"--operating {args.operating!r}: expected LO:HI ({args.speed_unit})")
+    low, high = (parse_number(p, "--operating") for p in parts)
+    if not 0 <= low < high:
+        raise InputError(f"--operating {args.operating!r}: expected 0 <= LO < HI")
+    return tuple(speed_to_rad_s(np.array([low, high]), args.speed_unit))
+
+
+def _print_crossings(result):
+    table = result.crossings_dataframe()
+    if table.empty:
+        print("no bearing's stiffness curve meets a mode's curve on the map", file=sys.stderr)
+        return
+    for row in table.itertuples(index=False):
+        print(f"bearing {row.bearing} K{row.axis} = {row.stiffness_n_per_m:.4g} N/m meets mode {row.mode} at "
+              f"{row.speed_rpm:.6g} rpm", file=sys.stderr)

@@ -1,0 +1,73 @@
+"""API 617 Level I figure: log decrement of the first forward mode against Q / Qa."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._style import new_figure
+
+__all__ = ["plot_level1"]
+
+
+def plot_level1(result, title: str | None = None, ax=None):
+    """Log decrement against the applied cross-coupling ``Q / Qa``, with ``Qa`` and ``Q0`` marked.
+
+    The criterion 0.1 is a dashed line, the log decrement at ``Qa`` a marker on its vertical
+    line, ``Q0`` (where the log decrement reaches 0) a marker on the zero line; the title gives
+    the verdict: the criteria's values and whether Level II is required. A second axis along
+    the top reads ``Q`` in N/m.
+
+    Parameters
+    ----------
+    result : Level1Result
+    title : str, optional
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    LOG_DEC_CRITERION, RATIO_CRITERION = result.log_decrement_criterion, result.ratio_criterion
+    fig, ax = new_figure(ax, figsize=(8.0, 5.5))
+    x = result.cross_coupling / result.qa
+    ax.plot(x, result.log_decrements, color="tab:blue", linewidth=2.0,
+            label=f"mode {result.mode} (first forward), {result.frequencies_hz[0]:.4g} Hz at Q = 0")
+    ax.axhline(0.0, color="k", linewidth=0.8)
+    ax.axhline(LOG_DEC_CRITERION, color="tab:red", linestyle="--", linewidth=1.0,
+               label=f"log decrement {LOG_DEC_CRITERION:g} (criterion at Qa)")
+    ax.axvline(1.0, color="0.4", linestyle=":", linewidth=1.0)
+    ax.axvline(RATIO_CRITERION, color="tab:red", linestyle=":", linewidth=1.0,
+               label=f"Q0/Qa = {RATIO_CRITERION:g} (criterion)")
+    colour = "tab:red" if not result.passes_log_decrement else "tab:green"
+    ax.plot([1.0], [result.log_decrement_at_qa], "o", color=colour, markersize=8, zorder=5,
+            label=f"at Qa = {result.qa:.4g} N/m: log dec {result.log_decrement_at_qa:.3g}")
+    if np.isfinite(result.q0):
+        colour = "tab:red" if not result.passes_ratio else "tab:green"
+        ax.plot([result.q0 / result.qa], [0.0], "D", color=colour, markersize=8, zorder=5,
+                label=f"Q0 = {result.q0:.4g} N/m (Q0/Qa = {result.ratio:.3g})")
+    _limits(ax, result)
+    ax.set_xlabel("Applied cross-coupled stiffness Q / Qa [-]")
+    ax.set_ylabel("Log decrement of the followed mode [-]\n(< 0: unstable)")
+    top = ax.secondary_xaxis("top", functions=(lambda q: q * result.qa, lambda q: q / result.qa))
+    top.set_xlabel("Q [N/m]")
+    ax.grid(True, alpha=0.3)
+    stations = ", ".join(str(s) for s in result.stations)
+    heading = title or (f"API 617 Level I: {result.title}" if result.title else "API 617 Level I")
+    import textwrap
+
+    ax.set_title(f"{textwrap.shorten(heading, 80)}\nat {result.speed * 30 / np.pi:.6g} rpm, Q at {stations}\n"
+                 f"{result.verdict()}",
+                 fontsize="medium", color="tab:red" if result.level2_required else "darkgreen")
+    ax.legend(fontsize="x-small", loc="best", framealpha=0.85)
+    return fig
+
+
+def _limits(ax, result):
+    """x from 0 to the sweep's end; y over the curve, zero and the criterion, with a margin."""
+    x = result.cross_coupling / result.qa
+    ax.set_xlim(0.0, x[-1])
+    values = result.log_decrements[np.isfinite(result.log_decrements)]
+    low = min(values.min(initial=0.0), 0.0)
+    high = max(values.max(initial=0.0), 0.12)
+    span = high - low
+    ax.set_ylim(low - 0.08 * span, high + 0.08 * span)

@@ -1,0 +1,144 @@
+"""API 617 Level I screening (``level1``): the log decrement against applied cross-coupling of a
+rigid rotor against the closed form of its cylindrical whirl, Q0 in closed form, the applied
+cross-coupling against the same stiffness given as a bearing, and the anticipated
+cross-coupling Qa against a worked example and the standard's US-unit constant."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.analysis.level1 import Station, anticipated_cross_coupling, level1
+from rotordyn_modal.analysis.modal import modal
+from rotordyn_modal.cli import main
+
+MASS, IP, ID, SPAN, K, C = 20.0, 0.1, 0.5, 0.4, 1e6, 200.0     # kg, kg m^2, kg m^2, m, N/m, N s/m
+
+
+def _rotor(extra=()):
+    """A symmetric rigid rotor on two equal isotropic bearings (stiffness K, damping C) at
+    +-SPAN, no stator: its cylindrical modes (lowest) decouple from the conical ones."""
+    bearings = [dict(name=n, rotor="r", position=[x, 0.0, 0.0], stiffness=K, damping=C)
+                for n, x in (("A", SPAN), ("B", -SPAN))]
+    return rdm.Model(rotors=[rdm.Rotor("r", MASS, [0.0, 0.0, 0.0], IP, ID, speed_ratio=1.0)],
+                     bearings=bearings + list(extra))
+
+
+def _closed_form_log_dec(q):
+    """The cylindrical whirl z = u_a + i u_b (a x b = the spin axis) with Q at the centre of mass:
+    the force Q (-u_b, u_a) is i Q z, so m z'' + 2 C z' + 2 K z - i Q z = 0, whose root with
+    Im s > 0 whirls forward; log decrement -2 pi Re s / Im s."""
+    out = []
+    for value in np.atleast_1d(q):
+        roots = np.roots([MASS, 2 * C, 2 * K - 1j * value])
+        s = roots[roots.imag > 0][0]
+        out.append(-2 * np.pi * s.real / s.imag)
+    return np.array(out)
+
+
+@pytest.mark.parametrize("speed_rpm", [3000.0, -3000.0])
+def test_log_decrement_against_q_is_the_closed_form(speed_rpm):
+    """Every point of the sweep, and Q0 = 2 C sqrt(2K/m) (where s = i w: -m w^2 + 2 K = 0 and
+    2 C w = Q), to 1e-9; with the spin reversed the cross-coupling follows it (forward whirl is
+    then the other way) and the result is the same."""
+    q0 = 2 * C * np.sqrt(2 * K / MASS)
+    result = level1(_rotor(), rdm.rpm(speed_rpm), ["r"], qa=q0 / 3)
+    np.testing.assert_allclose(result.log_decrements, _closed_form_log_dec(result.cross_coupling), rtol=1e-9,
+                               atol=1e-12)
+    assert result.q0 == pytest.approx(q0, rel=1e-9)
+    assert result.ratio == pytest.approx(3.0, rel=1e-9)
+    assert result.log_decrement_at_qa == pytest.approx(_closed_form_log_dec(q0 / 3)[0], rel=1e-9)
+    assert result.mode in (1, 2) and result.passes_ratio     # forward and backward cylindrical: one frequency
+
+
+def test_verdict_follows_both_criteria():
+    q0 = 2 * C * np.sqrt(2 * K / MASS)
+    delta = _closed_form_log_dec(0.0)[0]                           # 0.226 at Q = 0
+    passing = level1(_rotor(), rdm.rpm(3000), ["r"], qa=q0 / 5)
+    assert passing.passes_log_decrement and passing.passes_ratio and not passing.level2_required
+    assert "Level II not required" in passing.verdict()
+    close = level1(_rotor(), rdm.rpm(3000), ["r"], qa=q0 / 1.5)   # Q0/Qa = 1.5 < 2
+    assert close.level2_required and not close.passes_ratio and "Level II required" in close.verdict()
+    assert delta > 0.1
+    odd = level1(_rotor(), rdm.rpm(3000), ["r"], qa=1e4, factor=2.55)   # Qa a point of any sweep
+    assert odd.cross_coupling[10] == 1e4 and odd.cross_coupling[-1] == pytest.approx(2.6e4, rel=1e-15)
+
+
+def test_offset_stations_equal_the_same_stiffness_given_as_a_bearing():
+    """Q at two stations off the centre (shares 0.3, 0.7) couples the conical modes: the log
+    decrement of the followed mode at 4 Qa equals that of ``modal`` for the model carrying the
+    same cross-coupling as two extra bearings of stiffness [[0, q], [-q, 0]] (k_ab = +q in the
+    bearings' radial axes a, b = spin axis x a)."""
+    qa = 2e4
+    stations = [Station("r", 0.25), Station.parse("r@-0.1")]
+    result = level1(_rotor(), rdm.rpm(4000), stations, qa=qa, shares=[0.3, 0.7])
+    q = 4 * qa
+    extra = [dict(name=f"Q{i}", rotor="r", position=[offset, 0.0, 0.0],
+                  stiffness=[[0.0, share * q], [-share * q, 0.0]])
+             for i, (offset, share) in enumerate(((0.25, 0.3), (-0.1, 0.7)))]
+    roots = modal(_rotor(extra), rdm.rpm(4000))
+    followed = result.frequencies_hz[40]
+    nearest = int(np.argmin(np.abs(roots.frequencies_hz - followed)))
+    assert roots.frequencies_hz[nearest] == pytest.approx(followed, rel=1e-9)
+    assert roots.log_decrements[nearest] == pytest.approx(result.log_decrements[40], rel=1e-8)
+    assert roots.whirl[nearest] == "forward"
+
+
+def test_anticipated_cross_coupling_reproduces_a_worked_example():
+    """ROSS (petrobras/ross, ``Report.stability_level_1``, API 684 SP6.8.5.6) documents two
+    compressor impellers of D = 0.35 m, H = 0.08 m, 10 kW each, density ratios 1.11 and 1.14 at
+    1000 rpm: Qa = 23022.32142857143 N/m with C = 9.55 (the rounded 60 / 2 pi of q = B C P /
+    (D H N) rho_d / rho_s). Here T = P / Omega exactly, so 9.5493 / 9.55 of it."""
+    q = anticipated_cross_coupling([10e3, 10e3], rdm.rpm(1000), [0.35, 0.35], [0.08, 0.08], [1.11, 1.14])
+    assert q.sum() * 9.55 / (30 / np.pi) == pytest.approx(23022.32142857143, rel=1e-12)
+
+
+def test_the_us_constant_63_is_the_same_formula():
+    """API's US form q = B 63 HP / (D H N) [klbf/in, HP, in, rpm]: 63 is the torque of 1 hp at
+    1 rpm in klbf in (63,025 lbf in); the SI formula gives it to 0.04 %."""
+    hp, inch, klbf_per_in = 745.6998715822702, 0.0254, 4448.2216152605 / 0.0254
+    q = anticipated_cross_coupling([hp], rdm.rpm(1.0), [inch], [inch], [1.0])[0] / klbf_per_in
+    assert q == pytest.approx(3 * 63.0, rel=5e-4)
+    assert anticipated_cross_coupling([hp], rdm.rpm(1.0), [inch], [inch], [2.0], machine="turbine")[0] \
+        == pytest.approx(q * klbf_per_in / 2, rel=1e-12)            # B = 1.5, no density ratio
+
+
+def test_refusals():
+    model = _rotor()
+    for kwargs, words in (({"stations": ["nope"], "qa": 1e4}, "no rotor"), ({"stations": ["r"], "qa": 0.0}, "qa"),
+                          ({"stations": ["r@x"], "qa": 1e4}, "ROTOR@OFFSET"), ({"stations": [], "qa": 1e4}, "no station")):
+        with pytest.raises(rdm.InputError, match=words):
+            level1(model, rdm.rpm(3000), **kwargs)
+    with pytest.raises(rdm.InputError, match="speed = 0"):
+        level1(model, 0.0, ["r"], qa=1e4)
+    with pytest.raises(rdm.InputError, match="power"):
+        anticipated_cross_coupling([-1.0], 100.0, [0.3], [0.02])
+
+
+def test_command_line(tmp_path, capsys):
+    out, plot = tmp_path / "l1.csv", tmp_path / "l1.png"
+    code = main(["level1", "examples/journal_rotor.toml", "--speed", "4000", "--station", "rotor",
+                 "--power", "50e3,40e3", "--impeller-diameter", "0.3", "--restriction-height", "0.02",
+                 "--density-ratio", "1.2,1.3", "--out", str(out), "--plot", str(plot)])
+    assert code == 0 and plot.stat().st_size > 0
+    assert out.read_text().splitlines()[0] == "q_n_per_m,q_over_qa,log_decrement,frequency_hz"
+    qa = anticipated_cross_coupling([50e3, 40e3], rdm.rpm(4000), [0.3, 0.3], [0.02, 0.02], [1.2, 1.3]).sum()
+    assert f"Qa = {qa:.6g} N/m" in capsys.readouterr().err
+    assert main(["level1", "examples/journal_rotor.toml", "--speed", "4000", "--station", "rotor"]) == 2
+    assert main(["level1", "examples/journal_rotor.toml", "--speed", "4000", "--station", "rotor",
+                 "--qa", "1e4", "--power", "1e3"]) == 2
+
+
+def test_the_followed_mode_is_the_rotors_not_a_casing_mode_on_soft_mounts():
+    """With the bearings in a heavy casing on soft mounts the casing's modes (a few Hz) whirl
+    too, but barely move the rotor in its bearings: the followed mode is the rotor's cylindrical
+    mode, within 1 % of the rotor's on rigid pedestals (its damped frequency), not a mount mode."""
+    casing = dict(stator=rdm.Stator(mass=2000.0, inertia=[300.0, 400.0, 400.0]),
+                  suspensions=[rdm.Suspension(f"m{i}", [x, y, -0.5], [2e5, 2e5, 4e5])
+                               for i, (x, y) in enumerate([(0.6, 0.5), (0.6, -0.5), (-0.6, 0.5), (-0.6, -0.5)])])
+    rotor = _rotor()
+    model = rdm.Model(rotors=rotor.rotors, bearings=rotor.to_dict()["bearings"], **casing)
+    result = level1(model, rdm.rpm(3000), ["r"], qa=1e4)
+    wn, zeta = np.sqrt(2 * K / MASS), 2 * C / (2 * np.sqrt(2 * K * MASS))
+    assert result.frequencies_hz[0] == pytest.approx(wn * np.sqrt(1 - zeta**2) / (2 * np.pi), rel=1e-2)

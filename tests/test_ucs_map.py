@@ -1,0 +1,121 @@
+"""Undamped critical speed map (``ucs-map``): against ``critical-speeds``, closed forms of a rigid
+rotor on two springs, the rigid-support asymptote and a bearing curve's crossings."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.analysis.ucs_map import ucs_map
+from rotordyn_modal.cli import main
+
+MASS, IP, ID, SPAN = 30.0, 0.2, 1.1, 0.35          # kg, kg m^2, kg m^2, m (bearings at +-SPAN)
+
+
+def _rotor_on_springs(stiffness=2e6, polar=IP, casing=False, damping=0.0, **bearing):
+    """A rigid rotor on two isotropic bearings at +-SPAN; with ``casing`` the bearings sit in a
+    casing on four undamped mounts (no axial stiffness: the rotor follows the casing axially)."""
+    bearings = [dict(name=name, rotor="r", position=[x, 0.0, 0.0], stiffness=stiffness, **bearing)
+                for name, x in (("A", SPAN), ("B", -SPAN))]
+    if damping:
+        for b in bearings:
+            b["damping"] = damping
+    extra = {}
+    if casing:
+        extra = dict(stator=rdm.Stator(mass=80.0, inertia=[4.0, 6.0, 7.0], center_of_mass=[0.05, 0.0, -0.1]),
+                     suspensions=[rdm.Suspension(f"m{i}", [x, y, -0.3], [3e5, 4e5, 6e5])
+                                  for i, (x, y) in enumerate([(0.4, 0.3), (0.4, -0.3), (-0.4, 0.3), (-0.4, -0.3)])])
+    return rdm.Model(rotors=[rdm.Rotor("r", MASS, [0.0, 0.0, 0.0], polar, ID, speed_ratio=1.0)],
+                     bearings=bearings, **extra)
+
+
+def test_map_at_the_bearing_stiffness_equals_critical_speeds():
+    """At the model's own (constant, isotropic, undamped) bearing stiffness the map's critical
+    speeds are the forward order-1 critical speeds of ``critical_speeds`` (its own grid and
+    refinement on the quadratic eigenproblem), to 1e-9."""
+    k0 = 2e6
+    model = _rotor_on_springs(k0, casing=True)
+    result = ucs_map(model, [k0 / 10, k0, k0 * 10], modes=6)
+    table = rdm.critical_speeds(model, rdm.rpm(np.linspace(0, 20000, 201)), orders=(1,))
+    forward = np.sort(table.speeds[(table.source == "r") & (table.order == 1) & (table.whirl == "forward")])
+    found = result.speeds[1][np.isfinite(result.speeds[1])]
+    assert len(found) == len(forward) == 4         # the casing's modes whirl every way: four forward
+    np.testing.assert_allclose(found, forward, rtol=1e-9)
+
+
+@pytest.mark.parametrize("polar", [IP, 2.0])
+def test_rigid_rotor_on_two_springs_equals_the_closed_form(polar):
+    """Cylindrical ``sqrt(2k/m)`` and forward conical ``sqrt(2 k L^2 / (Id - Ip))`` (gyroscopic
+    stiffening at Omega = omega: ``Id w^2 - Ip Omega w = 2 k L^2``) as k varies over decades; a
+    disc (Ip > Id) has no forward conical critical speed, and the backward conical crossing
+    ``sqrt(2 k L^2 / (Id + Ip))`` is never in the map."""
+    k = np.geomspace(1e4, 1e10, 13)
+    result = ucs_map(_rotor_on_springs(polar=polar), k, modes=3)
+    cylindrical = np.sqrt(2 * k / MASS)
+    if polar < ID:
+        conical = np.sqrt(2 * k * SPAN**2 / (ID - polar))
+        expected = np.sort(np.c_[cylindrical, conical], axis=1)
+        np.testing.assert_allclose(result.speeds[:, :2], expected, rtol=1e-10)
+        assert np.isnan(result.speeds[:, 2]).all()
+    else:
+        np.testing.assert_allclose(result.speeds[:, 0], cylindrical, rtol=1e-10)
+        assert np.isnan(result.speeds[:, 1:]).all()
+
+
+def test_rigid_support_asymptote_is_the_rotor_fixed_to_the_casing():
+    """The map's limit as k grows: each chosen bearing radially rigid. A rotor on two such
+    bearings without axial stiffness is rigidly attached to the casing: the asymptote equals the
+    forward critical speeds of the same machine without its bearings (``critical_speeds``), and
+    the map at 1e13 N/m has reached it (the mounts' 1e5 N/m beside it: 1e-6 relative)."""
+    model = _rotor_on_springs(casing=True)
+    result = ucs_map(model, np.geomspace(1e5, 1e13, 17), modes=2)
+    attached = rdm.Model(rotors=model.rotors, stator=model.stator, suspensions=model.suspensions)
+    table = rdm.critical_speeds(attached, rdm.rpm(np.linspace(0, 6000, 201)), orders=(1,))
+    forward = np.sort(table.speeds[(table.order == 1) & (table.whirl == "forward")])
+    np.testing.assert_allclose(result.rigid_speeds[:len(forward)], forward, rtol=1e-9)
+    assert np.isnan(result.rigid_speeds[len(forward):]).all()
+    np.testing.assert_allclose(result.speeds[-1, :len(forward)], forward, rtol=1e-5)
+    assert abs(result.speeds[0, 0] / forward[0] - 1) > 1e-2            # far from it at 1e5 N/m
+
+
+def test_a_speed_table_bearing_crosses_the_modes_where_the_closed_form_says():
+    """Two bearings tabulated linearly over speed, K(s) = a + b s: the cylindrical mode's curve
+    sqrt(2K/m) meets the bearings' curve where m s^2 - 2 b s - 2 a = 0; the curve drawn is the
+    table's own stiffness."""
+    a, b = 1e6, 2e3                                      # N/m, N/m per rad/s
+    speeds = np.array([0.0, 20000.0])                    # rpm
+    stiffness = a + b * rdm.rpm(speeds)
+    model = _rotor_on_springs(stiffness=[float(s) for s in stiffness], speeds_rpm=speeds.tolist())
+    result = ucs_map(model, np.geomspace(1e5, 1e9, 9), modes=2)
+    expected = (2 * b + np.sqrt(4 * b**2 + 8 * a * MASS)) / (2 * MASS)
+    crossings = [c for c in result.crossings if c.mode == 1]
+    assert {c.bearing for c in crossings} == {"A", "B"} and {c.axis for c in crossings} == {"xx", "yy"}
+    for crossing in crossings:
+        assert crossing.speed == pytest.approx(expected, rel=1e-9)
+        assert crossing.stiffness == pytest.approx(a + b * expected, rel=1e-9)
+    curve = result.curves[0]
+    np.testing.assert_allclose(curve.kxx, a + b * curve.speeds, rtol=1e-12)
+
+
+def test_refusals():
+    model = _rotor_on_springs()
+    for kwargs, words in (({"stiffness": [1e6, 1e5]}, "increasing"), ({"stiffness": [0.0, 1e5]}, "from 0.001"),
+                          ({"stiffness": [1e5, 1e6], "bearings": ["C"]}, "expected names"),
+                          ({"stiffness": [1e5, 1e6], "modes": 0}, "whole number")):
+        with pytest.raises(rdm.InputError, match=words):
+            ucs_map(model, **kwargs)
+    journal = rdm.load_model("examples/journal_rotor.toml")
+    with pytest.raises(rdm.InputError, match="speed-dependent"):
+        ucs_map(journal, [1e6, 1e7], bearings=["DE"])
+
+
+def test_command_line(tmp_path, capsys):
+    out, plot = tmp_path / "ucs.csv", tmp_path / "ucs.png"
+    code = main(["ucs-map", "examples/journal_rotor.toml", "--stiffness", "1e5:1e10:11", "--modes", "2",
+                 "--operating", "1000:3000", "--out", str(out), "--plot", str(plot)])
+    assert code == 0 and plot.stat().st_size > 0
+    assert out.read_text().splitlines()[0] == "stiffness_n_per_m,mode,speed_rpm,frequency_hz"
+    assert "meets mode 1" in capsys.readouterr().err
+    assert main(["ucs-map", "examples/journal_rotor.toml", "--stiffness", "0:1e10:11"]) == 2
+    assert main(["ucs-map", "examples/journal_rotor.toml", "--stiffness", "1e5:1e10:11", "--bearings", "X"]) == 2

@@ -27,6 +27,7 @@ import numpy as np
 from ..assembly import generalized_force, sensor_rows
 from ..errors import InputError
 from ..model.geometry import cross, shift_matrices
+from ..unbalance_standards import amplitude_column, amplitude_factor
 from . import _arguments
 from .forces import COMPONENTS, centre_motions, all_forces
 from .frf import dof_response
@@ -140,6 +141,14 @@ class UnbalanceResult:
     rigid_rotor_names : tuple of str
         Rotors rigidly attached to the stator (no ``[[bearings]]``): their force on the
         stator is their bearings' force.
+    amplitude_kind : {'peak', 'pk-pk', 'rms'}
+        The amplitude convention of the tables' added column and of the figure (the
+        ``amplitude`` column and attribute stay 0-peak).
+    case_rotors : tuple of str
+        Empty, or (a response to the API unbalance cases, see
+        :func:`~rotordyn_modal.analysis.unbalance_checks.api_unbalance_response`) the rotor
+        of each source, the sources then being the cases: the tables' ``source`` is the
+        rotor and a last column ``case`` names the case.
     """
 
     speeds: np.ndarray
@@ -158,6 +167,8 @@ class UnbalanceResult:
     orbit_planes: np.ndarray | None = None
     spin_signs: np.ndarray | None = None
     rigid_rotor_names: tuple = ()
+    amplitude_kind: str = "peak"
+    case_rotors: tuple = ()
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -169,8 +180,9 @@ class UnbalanceResult:
         """Phase of ``A cos(w t + phase)`` [deg], shape (n_outputs, n_sources, N)."""
         return np.degrees(np.angle(self.response))
 
-    def to_dataframe(self, forces: str | None = None):
-        """Table ``speed_rpm,output,source,frequency_hz,amplitude,phase_deg``.
+    def to_dataframe(self, forces: str | None = None, amplitude: str | None = None):
+        """Table ``speed_rpm,output,source,frequency_hz,amplitude,phase_deg`` (``amplitude``
+        0-peak), then ``amplitude_pkpk`` or ``amplitude_rms`` when that convention is asked.
 
         Parameters
         ----------
@@ -179,6 +191,8 @@ class UnbalanceResult:
             (default), each suspension's force on the ground, each ``[[bearings]]`` entry's
             force at its point and each rigidly attached rotor's at its centre of mass, each
             rotor's total force on the stator, or the suspensions, bearings and rotors together.
+        amplitude : {None, 'peak', 'pk-pk', 'rms'}
+            Adds the column of that convention (none for 'peak'); default ``amplitude_kind``.
         """
         import pandas as pd
 
@@ -188,13 +202,14 @@ class UnbalanceResult:
         o, s, k = (x.ravel() for x in np.meshgrid(np.arange(len(names)), np.arange(len(self.sources)),
                                                   np.arange(len(self.speeds)), indexing="ij"))
         v = values[o, s, k]
-        return pd.DataFrame({
+        table = pd.DataFrame({
             "speed_rpm": self.speeds[k] * 30 / np.pi,
             "output": np.asarray(names, dtype=object)[o],
             "source": np.asarray(self.sources, dtype=object)[s],
             "frequency_hz": self.frequencies_hz[s, k],
             "amplitude": np.abs(v), "phase_deg": np.degrees(np.angle(v)),
         })
+        return self._with_cases(_with_convention(table, amplitude or self.amplitude_kind))
 
     def _force_rows(self, forces):
         """Names and complex amplitudes, shape (6 n_items, n_sources, N), of the asked forces."""
@@ -249,19 +264,22 @@ class UnbalanceResult:
 
         return plot_orbits(self, speeds=speeds, **kwargs)
 
-    def peaks(self, operating_speed: float | None = None):
+    def peaks(self, operating_speed: float | None = None, amplitude: str | None = None):
         """Peaks of each sensor's amplitude vs speed with API 684 figures.
 
         Parameters
         ----------
         operating_speed : float, optional
             [rad/s], not zero; gives the actual separation margin (a percentage of it).
+        amplitude : {None, 'peak', 'pk-pk', 'rms'}
+            Adds the peak's amplitude in that convention as a last column (none for 'peak');
+            default ``amplitude_kind``.
 
         Returns
         -------
         pandas.DataFrame
-            ``output, source, speed_rpm, amplitude, amplification_factor,
-            separation_margin_pct, required_margin_pct``.
+            ``output, source, speed_rpm, amplitude (0-peak), amplification_factor,
+            separation_margin_pct, required_margin_pct`` [, ``amplitude_pkpk`` | ``amplitude_rms``].
         """
         import pandas as pd
 
@@ -280,16 +298,46 @@ class UnbalanceResult:
                                  "amplitude": amp, "amplification_factor": af,
                                  "separation_margin_pct": margin,
                                  "required_margin_pct": required_separation_margin(af)})
-        return pd.DataFrame(rows, columns=["output", "source", "speed_rpm", "amplitude",
-                                           "amplification_factor", "separation_margin_pct",
-                                           "required_margin_pct"])
+        table = pd.DataFrame(rows, columns=["output", "source", "speed_rpm", "amplitude",
+                                            "amplification_factor", "separation_margin_pct",
+                                            "required_margin_pct"])
+        return self._with_cases(_with_convention(table, amplitude or self.amplitude_kind, after=None))
+
+    def _with_cases(self, table):
+        """A table of the cases' response: ``source`` the case's rotor, the case in a last column."""
+        if self.case_rotors:
+            rotor_of = dict(zip(self.sources, self.case_rotors))
+            table["case"] = table["source"]
+            table["source"] = table["source"].map(rotor_of)
+        return table
+
+    def checks(self, model, mcs=None, min_speed: float = 0.0, iso_group=None, iso_support=None):
+        """API 617 probe limits and ISO 20816-3 zones; see
+        :func:`rotordyn_modal.analysis.unbalance_checks.unbalance_checks` (speeds in rad/s)."""
+        from .unbalance_checks import unbalance_checks
+
+        return unbalance_checks(self, model, mcs=mcs, min_speed=min_speed, iso_group=iso_group,
+                                iso_support=iso_support)
 
     def plot(self, outputs=None, **kwargs):
-        """Bode figure: amplitude and phase vs speed (``peaks=self.peaks(...)`` marks the API 684
-        figures); see :func:`rotordyn_modal.plotting.plot_unbalance`."""
+        """Bode figure: amplitude (in ``amplitude_kind``, or ``amplitude=``) and phase vs speed
+        (``peaks=self.peaks(...)`` marks the API 684 figures, ``checks=self.checks(...)`` draws the
+        probe limits and ISO zones); see :func:`rotordyn_modal.plotting.plot_unbalance`."""
+        kwargs.setdefault("amplitude", self.amplitude_kind)
         from ..plotting.frf import plot_unbalance
 
         return plot_unbalance(self, outputs=outputs, **kwargs)
+
+
+def _with_convention(table, amplitude: str, after: str | None = "phase_deg"):
+    """``table`` with the column of ``amplitude`` (0-peak ``amplitude`` times its factor) after
+    ``after`` (None: last); unchanged for 'peak'."""
+    factor, column = amplitude_factor(amplitude), amplitude_column(amplitude)
+    if amplitude == "peak":
+        return table
+    position = len(table.columns) if after is None else list(table.columns).index(after) + 1
+    table.insert(position, column, table["amplitude"].to_numpy() * factor)
+    return table
 
 
 def amplification_factors(speeds, amplitude):
@@ -341,7 +389,7 @@ def required_separation_margin(af: float) -> float:
 
 
 def unbalance_response(model, speeds, outputs=None, quantity: str = "displacement",
-                       progress: bool = False) -> UnbalanceResult:
+                       progress: bool = False, amplitude: str = "peak") -> UnbalanceResult:
     """Steady response to the model's ``[[unbalances]]`` over a speed sweep.
 
     Parameters
@@ -354,6 +402,9 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     quantity : {'displacement', 'velocity', 'acceleration'}
     progress : bool
         Unused (the sweep is one batched solve); kept for a uniform interface.
+    amplitude : {'peak', 'pk-pk', 'rms'}
+        Amplitude convention of the result's tables and figure (``amplitude_kind``); the
+        response itself is the same.
 
     Returns
     -------
@@ -361,6 +412,7 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     """
     if quantity not in _ORDER:
         raise InputError(f"quantity {quantity!r}: expected one of {', '.join(_ORDER)}")
+    amplitude_factor(amplitude)                      # refuses an unknown convention by name
     if not model.unbalances:
         raise InputError(f"{model.source}: the model has no [[unbalances]]: nothing excites an unbalance response")
     speeds = _arguments.speeds(speeds, increasing=False)
@@ -392,6 +444,7 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         **_force_fields(model, sources, rotor_forces, speed_all, omega, q, centre_motions(shifts, motions)),
         orbit_pairs=pairs.names, orbit_planes=planes, spin_signs=spin_signs.reshape(n_src, n),
         rigid_rotor_names=tuple(r.name for r in model.rotors if not model.bearings_of(r.name)),
+        amplitude_kind=amplitude,
     )
 
 

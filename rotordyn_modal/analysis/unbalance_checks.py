@@ -1,0 +1,266 @@
+"""Standard checks of an unbalance response: the API 617 probe limit and ISO 20816-3 zones,
+and the API 617 / 684 unbalance cases of a model (``docs/standards.md``).
+
+- **Probes** (sensors with ``measure = "relative"``: shaft relative to the stator): the
+  peak-to-peak displacement ``sum_j 2 |x_j|`` over the sources (exact for one source; the
+  largest the sum of harmonics of different frequencies reaches) against
+  ``A1 = 25.4 um sqrt(12000 / N)``, at most 25.4 um, ``N`` [rpm] the maximum continuous speed
+  of the probe's rotor (``|speed ratio|`` x the reference rotor's).
+- **Casing** (sensors on the stator): the RMS vibration velocity
+  ``sqrt(sum_j |v_j|^2 / 2)`` (exact for harmonics of different frequencies), ``|v_j|`` from
+  the displacement (x w_j), the velocity, or the acceleration (/ w_j), in the ISO 20816-3 zones
+  of a machine group and support class.
+
+Both over the speeds of the sweep in the checked range ``min_speed <= |speed| <= mcs``; for a
+response to the API unbalance cases (:func:`api_unbalance_response`) each case on its own.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..model import Model
+from ..unbalance_standards import api_probe_limit, api_unbalance, iso_zone_boundaries, iso_zones
+
+__all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "api_unbalance_response"]
+
+_ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
+
+
+@dataclass(frozen=True)
+class UnbalanceChecks:
+    """API 617 probe limits and ISO 20816-3 zones of an unbalance response.
+
+    Attributes
+    ----------
+    speeds : ndarray, shape (N,) [rad/s]
+    checked : ndarray of bool, shape (N,)
+        The speeds in the checked range.
+    mcs : float or None
+        [rad/s] maximum continuous speed of the reference rotor.
+    probes : tuple of str
+        Probe sensors (``measure = "relative"``).
+    probe_pkpk : ndarray, shape (n_probes, n_cases, N) [m]
+        Peak-to-peak shaft displacement at each probe.
+    probe_limits : ndarray, shape (n_probes,) [m]
+        API 617 limit A1 (peak-to-peak) of each probe (NaN without ``mcs``).
+    casing : tuple of str
+        Sensors on the stator.
+    casing_velocity_rms : ndarray, shape (n_casing, n_cases, N) [m/s]
+    zone_boundaries : tuple of 3 floats or None
+        ISO 20816-3 boundaries A/B, B/C, C/D [m/s RMS] (None without a group and support).
+    iso_class : str
+        e.g. ``'group 2, rigid'`` ('' without zones).
+    cases : tuple of str
+        The API unbalance cases (one source each), or ``('',)``: all sources together.
+    """
+
+    speeds: np.ndarray
+    checked: np.ndarray
+    mcs: float | None
+    probes: tuple
+    probe_pkpk: np.ndarray
+    probe_limits: np.ndarray
+    casing: tuple
+    casing_velocity_rms: np.ndarray
+    zone_boundaries: tuple | None = None
+    iso_class: str = ""
+    cases: tuple = ("",)
+
+    def to_dataframe(self):
+        """One row per check: ``output, check, speed_rpm, value, amplitude, limit, verdict, zone``
+        (then ``case`` for the API unbalance cases).
+
+        ``value`` is the largest over the checked speeds (at ``speed_rpm``): the probe's
+        peak-to-peak displacement [m] against the API 617 limit A1 [m] (``verdict`` pass when
+        ``value <= limit``), or the casing's RMS velocity [m/s] in its ISO 20816-3 zone
+        (``limit`` the B/C boundary; ``verdict`` pass in zones A and B).
+        """
+        import pandas as pd
+
+        rows = []
+        for c, case in enumerate(self.cases):
+            if self.mcs is not None:
+                for name, values, limit in zip(self.probes, self.probe_pkpk[:, c], self.probe_limits):
+                    k, value = self._largest(values)
+                    rows.append({"output": name, "check": "API 617 probe limit", "speed_rpm": k, "value": value,
+                                 "amplitude": "peak-to-peak", "limit": limit,
+                                 "verdict": "pass" if value <= limit else "fail", "zone": "", "case": case})
+            if self.zone_boundaries is not None:
+                for name, values in zip(self.casing, self.casing_velocity_rms[:, c]):
+                    k, value = self._largest(values)
+                    zone = str(iso_zones(value, *self._group_support())) if np.isfinite(value) else ""
+                    rows.append({"output": name, "check": f"ISO 20816-3 {self.iso_class}", "speed_rpm": k,
+                                 "value": value, "amplitude": "RMS", "limit": self.zone_boundaries[1],
+                                 "verdict": "pass" if zone in ("A", "B") else "fail", "zone": zone, "case": case})
+        columns = ["output", "check", "speed_rpm", "value", "amplitude", "limit", "verdict", "zone", "case"]
+        return pd.DataFrame(rows, columns=columns if self.cases != ("",) else columns[:-1])
+
+    def _largest(self, values):
+        """(speed [rpm], value) of the largest value over the checked speeds (NaN, NaN if none)."""
+        if not self.checked.any():
+            return np.nan, np.nan
+        masked = np.where(self.checked, values, -np.inf)
+        k = int(np.argmax(masked))
+        return float(self.speeds[k] * 30 / np.pi), float(values[k])
+
+    def _group_support(self):
+        group, support = self.iso_class.replace("group ", "").split(", ")
+        return int(group), support
+
+
+def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=None,
+                     iso_support=None) -> UnbalanceChecks:
+    """API 617 probe limits and ISO 20816-3 zones of ``result`` (see the module's text).
+
+    Parameters
+    ----------
+    result : UnbalanceResult
+    model : Model
+        The model of ``result`` (which sensors are probes, the rotors' speed ratios).
+    mcs : float, optional
+        [rad/s] the reference rotor's maximum continuous speed, > 0: the probe limits and the
+        top of the checked range (default: no probe limit, every speed of the sweep checked).
+    min_speed : float
+        [rad/s] bottom of the checked range (default 0).
+    iso_group : {1, 2}, optional
+    iso_support : {'rigid', 'flexible'}, optional
+        Both or neither: the ISO 20816-3 class of the machine.
+    """
+    if mcs is not None and not (np.isfinite(mcs) and mcs > 0):
+        raise InputError(f"maximum continuous speed {mcs!r} rad/s: expected a finite speed > 0")
+    if not (np.isfinite(min_speed) and min_speed >= 0):
+        raise InputError(f"minimum speed {min_speed!r} rad/s: expected a finite speed >= 0")
+    if (iso_group is None) != (iso_support is None):
+        raise InputError(f"ISO 20816-3 group {iso_group!r}, support {iso_support!r}: give both (machine group "
+                         "1 or 2, support 'rigid' or 'flexible') or neither")
+    bounds = None if iso_group is None else iso_zone_boundaries(iso_group, iso_support)
+    speed = np.abs(result.speeds)
+    checked = (speed >= min_speed) & (speed <= (np.inf if mcs is None else mcs))
+    sensors = {s.name: s for s in model.sensors}
+    probes = [i for i, name in enumerate(result.outputs) if sensors[name].measure == "relative"]
+    casing = [i for i, name in enumerate(result.outputs) if sensors[name].rotor is None]
+    w = 2 * np.pi * result.frequencies_hz                                   # (n_sources, N)
+    limits = np.array([np.nan if mcs is None else
+                       float(api_probe_limit(abs(model.rotor(sensors[result.outputs[i]].rotor).speed_ratio)
+                                             * mcs * 30 / np.pi)) for i in probes])
+    # the sources together (one signal), or each API case alone
+    together = not result.case_rotors
+    combine = (lambda a: a.sum(axis=1, keepdims=True)) if together else (lambda a: a)
+    return UnbalanceChecks(
+        speeds=result.speeds, checked=checked, mcs=mcs,
+        probes=tuple(result.outputs[i] for i in probes),
+        probe_pkpk=combine(2 * _derivative(result, probes, w, 0)),
+        probe_limits=limits,
+        casing=tuple(result.outputs[i] for i in casing),
+        casing_velocity_rms=np.sqrt(combine(_derivative(result, casing, w, 1) ** 2 / 2)),
+        zone_boundaries=bounds, iso_class="" if bounds is None else f"group {iso_group}, {iso_support}",
+        cases=("",) if together else tuple(result.sources))
+
+
+def _derivative(result, rows, w, order):
+    """0-peak amplitude of derivative ``order`` (0 displacement, 1 velocity) of the rows'
+    response, shape (n_rows, n_sources, N); NaN where the frequency is 0 and must divide."""
+    amplitude = result.amplitude[rows]
+    power = order - _ORDER[result.quantity]
+    if power == 0:
+        return amplitude
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scale = np.where(w > 0, w ** float(power), np.nan) if power < 0 else w ** float(power)
+    return amplitude * scale[None]
+
+
+def api_unbalance_cases(model, mcs: float):
+    """The API 617 / API 684 unbalance cases of a model, each a model of its own.
+
+    For every rotor ``j`` (maximum continuous speed ``N_j = |r_j| mcs`` [rpm]):
+
+    - ``api-static:ROTOR`` (the cylindrical, first mode): one unbalance ``6350 m_j / N_j`` [g mm]
+      at the rotor's centre of mass (its "midspan" for a rigid rotor), ``m_j`` its mass;
+    - ``api-couple:ROTOR`` (the conical, second mode), for a rotor on bearings at two or more
+      axial places: one unbalance at each of its outermost bearings' planes, 180 deg apart,
+      each ``6350 W_b / N_j`` with ``W_b`` that bearing's share of the rotor's mass by the
+      lever rule between the two (the journal static load of a rotor on two bearings).
+
+    Parameters
+    ----------
+    model : Model
+    mcs : float
+        [rad/s] the reference rotor's maximum continuous speed, > 0.
+
+    Returns
+    -------
+    list of (str, Model)
+        Case name and the model with that case's unbalances in place of its own.
+    """
+    if not (np.isfinite(mcs) and mcs > 0):
+        raise InputError(f"maximum continuous speed {mcs!r} rad/s: expected a finite speed > 0")
+    data = model.to_dict()
+    cases = []
+    for rotor in model.rotors:
+        n = abs(rotor.speed_ratio) * mcs * 30 / np.pi
+        if n == 0:
+            continue
+        static = [{"rotor": rotor.name, "amount": api_unbalance(rotor.mass, n)}]
+        cases.append((f"api-static:{rotor.name}", static))
+        couple = _couple_unbalances(model, rotor, n)
+        if couple:
+            cases.append((f"api-couple:{rotor.name}", couple))
+    return [(name, Model.from_dict({**data, "unbalances": tables}, model.source)) for name, tables in cases]
+
+
+def _couple_unbalances(model, rotor, n_rpm):
+    """The two ``[[unbalances]]`` tables of a rotor's couple case (none with fewer than two
+    bearing planes)."""
+    e = model.spin_axis
+    centre = np.asarray(rotor.center_of_mass, dtype=float)
+    offsets = sorted({float((np.asarray(b.position, dtype=float) - centre) @ e) for b in model.bearings_of(rotor.name)})
+    if len(offsets) < 2:
+        return []
+    a, b = offsets[0], offsets[-1]
+    loads = (rotor.mass * b / (b - a), rotor.mass * -a / (b - a))      # lever rule about the centre of mass
+    return [{"rotor": rotor.name, "amount": api_unbalance(abs(load), n_rpm), "phase_deg": phase,
+             "axial_offset": offset}
+            for load, phase, offset in zip(loads, (0.0, 180.0), (a, b)) if abs(load) > 0]
+
+
+def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: str = "displacement",
+                           amplitude: str = "peak"):
+    """Unbalance response to each API case of :func:`api_unbalance_cases`, as one result whose
+    sources are the cases (``case_rotors`` the rotor of each).
+
+    Parameters
+    ----------
+    model : Model
+    speeds : array_like, shape (N,) [rad/s]
+    mcs : float
+        [rad/s] the reference rotor's maximum continuous speed, > 0.
+    outputs, quantity, amplitude
+        As :func:`~rotordyn_modal.analysis.unbalance.unbalance_response`.
+
+    Returns
+    -------
+    UnbalanceResult
+    """
+    import dataclasses
+
+    from .unbalance import unbalance_response
+
+    cases = api_unbalance_cases(model, mcs)
+    results = [unbalance_response(case, speeds, outputs=outputs, quantity=quantity, amplitude=amplitude)
+               for _, case in cases]
+    first = results[0]
+
+    def joined(name, axis):
+        parts = [getattr(r, name) for r in results]
+        return None if parts[0] is None else np.concatenate(parts, axis=axis)
+
+    return dataclasses.replace(
+        first, sources=tuple(name for name, _ in cases), case_rotors=tuple(r.sources[0] for r in results),
+        frequencies_hz=joined("frequencies_hz", 0), response=joined("response", 1),
+        ground_forces=joined("ground_forces", 2), bearing_forces=joined("bearing_forces", 2),
+        bearing_point_forces=joined("bearing_point_forces", 2), orbit_planes=joined("orbit_planes", 1),
+        spin_signs=joined("spin_signs", 0))

@@ -182,8 +182,10 @@ def api_unbalance_cases(model, mcs: float):
       at the rotor's centre of mass (its "midspan" for a rigid rotor), ``m_j`` its mass;
     - ``api-couple:ROTOR`` (the conical, second mode), for a rotor on bearings at two or more
       axial places: one unbalance at each of its outermost bearings' planes, 180 deg apart,
-      each ``6350 W_b / N_j`` with ``W_b`` that bearing's share of the rotor's mass by the
-      lever rule between the two (the journal static load of a rotor on two bearings).
+      each ``6350 (m_j / 2) / N_j`` (the journal static load of a rotor centred between two
+      bearings): a pure couple, whatever the place of the centre of mass. (Amounts from each
+      bearing's own static load would cancel the couple about the centre of mass where the
+      rotor overhangs its bearings: the lever rule's moment balance.)
 
     Parameters
     ----------
@@ -214,17 +216,15 @@ def api_unbalance_cases(model, mcs: float):
 
 def _couple_unbalances(model, rotor, n_rpm):
     """The two ``[[unbalances]]`` tables of a rotor's couple case (none with fewer than two
-    bearing planes)."""
+    bearing planes): ``6350 (m / 2) / N`` at each outermost bearing plane, 180 deg apart."""
     e = model.spin_axis
     centre = np.asarray(rotor.center_of_mass, dtype=float)
     offsets = sorted({float((np.asarray(b.position, dtype=float) - centre) @ e) for b in model.bearings_of(rotor.name)})
     if len(offsets) < 2:
         return []
-    a, b = offsets[0], offsets[-1]
-    loads = (rotor.mass * b / (b - a), rotor.mass * -a / (b - a))      # lever rule about the centre of mass
-    return [{"rotor": rotor.name, "amount": api_unbalance(abs(load), n_rpm), "phase_deg": phase,
-             "axial_offset": offset}
-            for load, phase, offset in zip(loads, (0.0, 180.0), (a, b)) if abs(load) > 0]
+    amount = api_unbalance(rotor.mass / 2, n_rpm)
+    return [{"rotor": rotor.name, "amount": amount, "phase_deg": phase, "axial_offset": offset}
+            for phase, offset in ((0.0, offsets[0]), (180.0, offsets[-1]))]
 
 
 def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: str = "displacement",

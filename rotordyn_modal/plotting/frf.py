@@ -371,15 +371,16 @@ def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=
     sources = {s: j for j, s in enumerate(result.sources)}
     chosen = []
     for row in peaks.itertuples(index=False):
-        i, j = index.get(row.output), sources.get(row.source)
+        source = getattr(row, "case", row.source)          # a response to API cases: sources are cases
+        i, j = index.get(row.output), sources.get(source)
         if i is None or j is None or not np.isfinite(row.amplification_factor)                 or row.amplification_factor < _AF_MARKED                 or row.amplitude < _PEAK_SHARE * np.nanmax(result.amplitude[i, j]):
             continue
         speed = f"{row.speed_rpm:.0f} rpm" if unit == "rpm" else \
             f"{row.speed_rpm * rpm_to_unit:.4g} {'Hz' if unit == 'hz' else unit}"
-        text = f"AF {row.amplification_factor:.1f} at {speed} (1X {row.source})"
+        text = f"AF {row.amplification_factor:.1f} at {speed} (1X {source})"
         if np.isfinite(row.separation_margin_pct):
             text += f"\nSM {row.separation_margin_pct:.0f} % (API {row.required_margin_pct:.0f} %)"
-        chosen.append((row.speed_rpm * rpm_to_unit, row.amplitude * factor, text, colours[i, j], row.source))
+        chosen.append((row.speed_rpm * rpm_to_unit, row.amplitude * factor, text, colours[i, j], source))
     kept, width = [], np.ptp(result.speeds) * rpm_to_unit * 30 / np.pi
     for peak in sorted(chosen, key=lambda c: -c[1]):    # one label per source's peak seen by several sensors
         if not any(peak[4] == k[4] and abs(peak[0] - k[0]) <= _SAME_PEAK * width for k in kept):

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis.unbalance import unbalance_response
-from rotordyn_modal.analysis.unbalance_checks import api_unbalance_cases, api_unbalance_response
+from rotordyn_modal.analysis.unbalance import api_unbalance_response, unbalance_response
+from rotordyn_modal.analysis.unbalance_checks import api_unbalance_cases
 from rotordyn_modal.cli.main import main
 from rotordyn_modal.errors import InputError, ModelError
 from rotordyn_modal.unbalance_standards import (API_SI_CONSTANT, API_US_CONSTANT, api_probe_limit,

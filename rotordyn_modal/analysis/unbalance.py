@@ -20,6 +20,7 @@ Every output ``x(t) = sum_j A_j cos(w_j t + phi_j)``: one harmonic per rotor
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,9 +33,10 @@ from . import _arguments
 from .forces import COMPONENTS, centre_motions, all_forces
 from .frf import dof_response
 from .orbits import orbit_ellipses, precession_labels, probe_pairs
+from .unbalance_checks import api_unbalance_cases, unbalance_checks
 
 __all__ = ["UnbalanceResult", "unbalance_response", "phase_reference", "unbalance_forces",
-           "amplification_factors", "required_separation_margin"]
+           "amplification_factors", "required_separation_margin", "api_unbalance_response"]
 
 _ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
@@ -146,7 +148,7 @@ class UnbalanceResult:
         ``amplitude`` column and attribute stay 0-peak).
     case_rotors : tuple of str
         Empty, or (a response to the API unbalance cases, see
-        :func:`~rotordyn_modal.analysis.unbalance_checks.api_unbalance_response`) the rotor
+        :func:`api_unbalance_response`) the rotor
         of each source, the sources then being the cases: the tables' ``source`` is the
         rotor and a last column ``case`` names the case.
     """
@@ -314,8 +316,6 @@ class UnbalanceResult:
     def checks(self, model, mcs=None, min_speed: float = 0.0, iso_group=None, iso_support=None):
         """API 617 probe limits and ISO 20816-3 zones; see
         :func:`rotordyn_modal.analysis.unbalance_checks.unbalance_checks` (speeds in rad/s)."""
-        from .unbalance_checks import unbalance_checks
-
         return unbalance_checks(self, model, mcs=mcs, min_speed=min_speed, iso_group=iso_group,
                                 iso_support=iso_support)
 
@@ -479,3 +479,39 @@ def _force_fields(model, sources, rotor_forces, speed_all, omega, q, centres=Non
     ground, rotors, bearings = all_forces(model, speed_all, omega, q, external, centres)
     return {"ground_forces": per_source(ground), "bearing_forces": per_source(rotors),
             "bearing_point_forces": per_source(bearings)}
+
+
+def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: str = "displacement",
+                           amplitude: str = "peak"):
+    """Unbalance response to each API 617/684 case of the model, as one result whose sources
+    are the cases (``case_rotors`` the rotor of each); cases: see
+    :func:`~rotordyn_modal.analysis.unbalance_checks.api_unbalance_cases`.
+
+    Parameters
+    ----------
+    model : Model
+    speeds : array_like, shape (N,) [rad/s]
+    mcs : float
+        [rad/s] the reference rotor's maximum continuous speed, > 0.
+    outputs, quantity, amplitude
+        As :func:`~rotordyn_modal.analysis.unbalance.unbalance_response`.
+
+    Returns
+    -------
+    UnbalanceResult
+    """
+    cases = api_unbalance_cases(model, mcs)
+    results = [unbalance_response(case, speeds, outputs=outputs, quantity=quantity, amplitude=amplitude)
+               for _, case in cases]
+    first = results[0]
+
+    def joined(name, axis):
+        parts = [getattr(r, name) for r in results]
+        return None if parts[0] is None else np.concatenate(parts, axis=axis)
+
+    return dataclasses.replace(
+        first, sources=tuple(name for name, _ in cases), case_rotors=tuple(r.sources[0] for r in results),
+        frequencies_hz=joined("frequencies_hz", 0), response=joined("response", 1),
+        ground_forces=joined("ground_forces", 2), bearing_forces=joined("bearing_forces", 2),
+        bearing_point_forces=joined("bearing_point_forces", 2), orbit_planes=joined("orbit_planes", 1),
+        spin_signs=joined("spin_signs", 0))

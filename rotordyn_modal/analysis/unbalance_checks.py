@@ -12,7 +12,8 @@ and the API 617 / 684 unbalance cases of a model (``docs/standards.md``).
   of a machine group and support class.
 
 Both over the speeds of the sweep in the checked range ``min_speed <= |speed| <= mcs``; for a
-response to the API unbalance cases (:func:`api_unbalance_response`) each case on its own.
+response to the API unbalance cases
+(:func:`~rotordyn_modal.analysis.unbalance.api_unbalance_response`) each case on its own.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ from ..errors import InputError
 from ..model import Model
 from ..unbalance_standards import api_probe_limit, api_unbalance, iso_zone_boundaries, iso_zones
 
-__all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "api_unbalance_response"]
+__all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases"]
 
 _ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
@@ -225,42 +226,3 @@ def _couple_unbalances(model, rotor, n_rpm):
     amount = api_unbalance(rotor.mass / 2, n_rpm)
     return [{"rotor": rotor.name, "amount": amount, "phase_deg": phase, "axial_offset": offset}
             for phase, offset in ((0.0, offsets[0]), (180.0, offsets[-1]))]
-
-
-def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: str = "displacement",
-                           amplitude: str = "peak"):
-    """Unbalance response to each API case of :func:`api_unbalance_cases`, as one result whose
-    sources are the cases (``case_rotors`` the rotor of each).
-
-    Parameters
-    ----------
-    model : Model
-    speeds : array_like, shape (N,) [rad/s]
-    mcs : float
-        [rad/s] the reference rotor's maximum continuous speed, > 0.
-    outputs, quantity, amplitude
-        As :func:`~rotordyn_modal.analysis.unbalance.unbalance_response`.
-
-    Returns
-    -------
-    UnbalanceResult
-    """
-    import dataclasses
-
-    from .unbalance import unbalance_response
-
-    cases = api_unbalance_cases(model, mcs)
-    results = [unbalance_response(case, speeds, outputs=outputs, quantity=quantity, amplitude=amplitude)
-               for _, case in cases]
-    first = results[0]
-
-    def joined(name, axis):
-        parts = [getattr(r, name) for r in results]
-        return None if parts[0] is None else np.concatenate(parts, axis=axis)
-
-    return dataclasses.replace(
-        first, sources=tuple(name for name, _ in cases), case_rotors=tuple(r.sources[0] for r in results),
-        frequencies_hz=joined("frequencies_hz", 0), response=joined("response", 1),
-        ground_forces=joined("ground_forces", 2), bearing_forces=joined("bearing_forces", 2),
-        bearing_point_forces=joined("bearing_point_forces", 2), orbit_planes=joined("orbit_planes", 1),
-        spin_signs=joined("spin_signs", 0))

@@ -94,8 +94,7 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
-    from ..analysis.unbalance import unbalance_response
-    from ..analysis.unbalance_checks import api_unbalance_response
+    from ..analysis.unbalance import api_unbalance_response, unbalance_response
     check_extra_output(args, args.orbits, "--orbits")
     check_ending(args.orbits, (".csv",), "--orbits")
     check_ending(args.checks, (".csv",), "--checks")

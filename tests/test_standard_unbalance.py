@@ -228,6 +228,13 @@ def test_probe_verdicts_differ_across_the_resonance():
     assert verdicts == ["pass", "fail"]
 
 
+def test_no_speed_in_the_checked_range_is_said():
+    model = _rotor_on_springs()
+    res = unbalance_response(model, rdm.rpm(np.linspace(5000.0, 6000.0, 5)))
+    row = res.checks(model, mcs=rdm.rpm(3000.0)).to_dataframe().iloc[0]
+    assert row.verdict == "no speed checked" and np.isnan(row.value)
+
+
 def test_api_cases_amounts_and_responses():
     """The static case is 6350 m / N at the centre of mass and its response the closed form; the
     couple case is 6350 (m/2) / N at each bearing plane, opposite: no translation at the centre."""
@@ -321,6 +328,7 @@ def test_cli_checks_and_conventions(tmp_path, capsys):
     (["--mcs", "0"], "--mcs 0"),
     (["--mcs", "-3000"], "--mcs -3000"),
     (["--min-speed", "-1", "--mcs", "3000"], "--min-speed -1"),
+    (["--min-speed", "4000", "--mcs", "3000"], "--min-speed 4000"),
     (["--amplitude", "p2p"], "--amplitude"),
     (["--iso-group", "3", "--iso-support", "rigid"], "--iso-group"),
     (["--checks", "c.csv"], "--checks"),

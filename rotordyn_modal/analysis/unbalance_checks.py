@@ -89,14 +89,14 @@ class UnbalanceChecks:
                     k, value = self._largest(values)
                     rows.append({"output": name, "check": "API 617 probe limit", "speed_rpm": k, "value": value,
                                  "amplitude": "peak-to-peak", "limit": limit,
-                                 "verdict": "pass" if value <= limit else "fail", "zone": "", "case": case})
+                                 "verdict": _verdict(value, value <= limit), "zone": "", "case": case})
             if self.zone_boundaries is not None:
                 for name, values in zip(self.casing, self.casing_velocity_rms[:, c]):
                     k, value = self._largest(values)
                     zone = str(iso_zones(value, *self._group_support())) if np.isfinite(value) else ""
                     rows.append({"output": name, "check": f"ISO 20816-3 {self.iso_class}", "speed_rpm": k,
                                  "value": value, "amplitude": "RMS", "limit": self.zone_boundaries[1],
-                                 "verdict": "pass" if zone in ("A", "B") else "fail", "zone": zone, "case": case})
+                                 "verdict": _verdict(value, zone in ("A", "B")), "zone": zone, "case": case})
         columns = ["output", "check", "speed_rpm", "value", "amplitude", "limit", "verdict", "zone", "case"]
         return pd.DataFrame(rows, columns=columns if self.cases != ("",) else columns[:-1])
 
@@ -111,6 +111,11 @@ class UnbalanceChecks:
     def _group_support(self):
         group, support = self.iso_class.replace("group ", "").split(", ")
         return int(group), support
+
+
+def _verdict(value, passed) -> str:
+    """'pass', 'fail', or 'no speed checked' (no speed of the sweep in the checked range)."""
+    return "no speed checked" if not np.isfinite(value) else ("pass" if passed else "fail")
 
 
 def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=None,
@@ -135,6 +140,9 @@ def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=
         raise InputError(f"maximum continuous speed {mcs!r} rad/s: expected a finite speed > 0")
     if not (np.isfinite(min_speed) and min_speed >= 0):
         raise InputError(f"minimum speed {min_speed!r} rad/s: expected a finite speed >= 0")
+    if mcs is not None and min_speed > mcs:
+        raise InputError(f"minimum speed {min_speed!r} rad/s: expected at most the maximum continuous speed "
+                         f"{mcs!r} rad/s (the checked speeds run from one to the other)")
     if (iso_group is None) != (iso_support is None):
         raise InputError(f"ISO 20816-3 group {iso_group!r}, support {iso_support!r}: give both (machine group "
                          "1 or 2, support 'rigid' or 'flexible') or neither")
@@ -203,6 +211,8 @@ def api_unbalance_cases(model, mcs: float):
         raise InputError(f"maximum continuous speed {mcs!r} rad/s: expected a finite speed > 0")
     data = model.to_dict()
     cases = []
+    if not model.rotors:
+        raise InputError(f"{model.source}: the model has no [[rotors]]: no API unbalance case to make")
     for rotor in model.rotors:
         n = abs(rotor.speed_ratio) * mcs * 30 / np.pi
         if n == 0:

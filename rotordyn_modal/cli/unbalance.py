@@ -39,13 +39,13 @@ value, amplitude, limit, verdict, zone; values in m and m/s) is printed and writ
 --checks FILE.csv; --plot draws the probe limits and a velocity panel with the zones.
 --api-unbalance (with --mcs) replaces the model's [[unbalances]] by the API 617/684
 cases of every rotor, U = 6350 W/N g mm (= 4 W/N oz in): api-static:ROTOR at its centre
-of mass (W its mass) and api-couple:ROTOR at its outermost bearings, 180 deg apart (W
-each bearing's share of its mass); each case is its own response, named in a last column
+of mass (W its mass) and api-couple:ROTOR at its outermost bearing planes, 180 deg apart
+(W half its mass: a pure couple); each case is its own response, named in a last column
 case of the CSV, peaks and checks tables, and in the figure's legend.
 
 Two sensors at one point of the same body with directions normal to the spin axis (a
 pair of proximity probes, measure = "relative") see an orbit: --orbits FILE.csv writes
-each pair's ellipse per source and speed (semi-axes, inclination, forward/backward
+each pair's ellipse per source and speed (semi-axes: 0-peak, inclination, forward/backward
 precession) and --orbit-plot FILE.png draws them, one panel per pair and source (as in
 the CSV), at that source's largest orbit and at the last speed.
 
@@ -140,6 +140,9 @@ def _check_options(args):
         raise InputError(f"--mcs {args.mcs}: expected a maximum continuous speed > 0")
     if min_speed is not None and not min_speed >= 0:
         raise InputError(f"--min-speed {args.min_speed}: expected a speed >= 0")
+    if min_speed is not None and mcs is not None and min_speed > mcs:
+        raise InputError(f"--min-speed {args.min_speed}: expected at most --mcs {args.mcs} (the checked speeds "
+                         "run from one to the other)")
     if args.api_unbalance and mcs is None:
         raise InputError("--api-unbalance: expected --mcs too (the API amount 6350 W/N needs the maximum "
                          "continuous speed N)")

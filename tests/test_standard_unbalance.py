@@ -205,7 +205,7 @@ def _rotor_closed_form(w, amount):
     return amount * w ** 2 / np.abs(2 * K_B - M_R * w ** 2 + 2j * w * C_B)
 
 
-@pytest.mark.parametrize("mcs_rpm", [2000.0, 3000.0, 12000.0])
+@pytest.mark.parametrize("mcs_rpm", [2000.0, 3000.0, 12000.0, 27000.0])
 def test_probe_verdict_equals_the_closed_form(mcs_rpm):
     model = _rotor_on_springs()
     speeds = rdm.rpm(np.linspace(100.0, 12000.0, 239))
@@ -226,6 +226,17 @@ def test_probe_verdicts_differ_across_the_resonance():
     res = unbalance_response(model, speeds)
     verdicts = [res.checks(model, mcs=rdm.rpm(n)).to_dataframe().verdict[0] for n in (2000.0, 12000.0)]
     assert verdicts == ["pass", "fail"]
+
+
+def test_probe_limit_of_a_rotor_at_its_own_speed():
+    """The fan turns 1.6 times slower than the motor: at a motor MCS of 30000 rpm its probes'
+    limit is that of 18750 rpm, 25.4 sqrt(12000 / 18750) = 25.4 x 0.8 = 20.32 um."""
+    from pathlib import Path
+
+    model = rdm.load_model(Path(__file__).resolve().parent.parent / "examples" / "fan_on_bearings.toml")
+    res = unbalance_response(model, rdm.rpm(np.linspace(1000.0, 3000.0, 3)), outputs=["probe-DE-x"])
+    row = res.checks(model, mcs=rdm.rpm(30000.0)).to_dataframe().iloc[0]
+    assert row.limit == pytest.approx(20.32e-6, rel=1e-14)
 
 
 def test_no_speed_in_the_checked_range_is_said():
@@ -293,6 +304,22 @@ def test_figure_labels_say_the_convention(tmp_path):
         np.testing.assert_allclose(curve.get_ydata(), factor * _rotor_closed_form(speeds, 5e-5), rtol=1e-9)
         limit = next(line for line in mag.get_lines() if "API 617" in line.get_label())
         assert np.nanmax(limit.get_ydata()) == pytest.approx(factor * 25.4e-6 / 2, rel=1e-14)
+
+
+def test_figure_zone_panel_draws_the_closed_form_over_the_table_bands():
+    model = _casing_model()
+    speeds = rdm.rpm(np.linspace(200.0, 3000.0, 141))
+    res = unbalance_response(model, speeds)
+    fig = res.plot(checks=res.checks(model, iso_group=1, iso_support="flexible"))
+    ax = fig.axes[-1]
+    assert "ISO 20816-3" in ax.get_title() and "group 1, flexible" in ax.get_title()
+    assert ax.get_ylabel() == "Velocity, RMS [mm/s]"
+    curve = next(line for line in ax.get_lines() if line.get_label() == "casing-z")
+    np.testing.assert_allclose(curve.get_ydata(), 1e3 * speeds * _casing_closed_form(speeds) / math.sqrt(2),
+                               rtol=1e-9)
+    tops = sorted(patch.get_extents().y1 for patch in ax.patches)[:3]       # display units: compare in data
+    edges = sorted(ax.transData.inverted().transform((0.0, y))[1] for y in tops)
+    np.testing.assert_allclose(edges, [3.5, 7.1, 11.0], rtol=1e-6)
 
 
 # -- command line -----------------------------------------------------------------------------

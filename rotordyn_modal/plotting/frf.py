@@ -212,20 +212,8 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
                              layout="constrained", gridspec_kw={"height_ratios": ratios}, squeeze=False)
     axes = list(axes[:, 0])
     x = result.speeds * speed_scale(speed_unit)
-    unit = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s²"}[result.quantity]
-    marked = []
-    for n, (name, rows) in enumerate(panels):
-        mag, phase = axes[2 * n], axes[2 * n + 1]
-        colours = _draw_sensor_panel(mag, phase, result, rows, x, factor)
-        if checks is not None:
-            _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor)
-        mag.set_ylabel(f"Amplitude, {words} [{unit}]")
-        mag.set_title(name, fontsize="medium")
-        if peaks is not None:
-            marked.append((mag, _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30,
-                                              speed_unit, factor)))
-            low, high = mag.get_ylim()
-            mag.set_ylim(low, high * _HEADROOM)
+    marked = [_sensor_pair(axes[2 * n], axes[2 * n + 1], result, name, rows, x, (factor, words), peaks, checks,
+                           speed_unit) for n, (name, rows) in enumerate(panels)]
     for ax, (kind, names, values) in zip(axes[2 * len(panels):], force_panels):
         _draw_force_panel(ax, result, names, values, x, factor, words)
         ax.set_title(f"Force of the {kind} (vector amplitude, |F|)", fontsize="medium")
@@ -233,11 +221,31 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
         _draw_zone_panel(axes[-1], checks, x)
     axes[-1].set_xlabel(speed_label(speed_unit))
     fig.suptitle(title or "Unbalance response")
-    if marked:
+    if peaks is not None and marked:
         renderer = laid_out_renderer(fig)
         for ax, chosen in marked:
             _label_peaks(ax, chosen, renderer)
     return fig
+
+
+def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, speed_unit):
+    """One group of sensors' amplitude (``convention``: factor on 0-peak, its words) and phase
+    panels, with the probe limits of ``checks``; returns ``(mag, peaks to label)``."""
+    from ._style import speed_scale
+
+    factor, words = convention
+    unit = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s²"}[result.quantity]
+    colours = _draw_sensor_panel(mag, phase, result, rows, x, factor)
+    if checks is not None:
+        _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor)
+    mag.set_ylabel(f"Amplitude, {words} [{unit}]")
+    mag.set_title(name, fontsize="medium")
+    if peaks is None:
+        return mag, []
+    chosen = _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30, speed_unit, factor)
+    low, high = mag.get_ylim()
+    mag.set_ylim(low, high * _HEADROOM)
+    return mag, chosen
 
 
 #: API 684: a peak with an amplification factor below 2.5 is critically damped (no margin required)

@@ -372,6 +372,12 @@ def test_cli_bad_options_exit_2(tmp_path, capsys, options, words):
     assert words in err.splitlines()[-1] and "Traceback" not in err
 
 
+def test_cli_check_prints_the_grades_amount(tmp_path, capsys):
+    path = _write(tmp_path, rdm.Model.from_dict(_rotor_data()))
+    assert main(["check", str(path)]) == 0
+    assert "unbalances[0] on 'rotor': G2.5 at 3000 rpm of 25 kg -> 198.944 g mm" in capsys.readouterr().out
+
+
 def test_cli_bad_grade_exits_2(tmp_path, capsys):
     path = tmp_path / "bad.toml"
     data = _rotor_data(unbalance={"rotor": "rotor", "grade": "G7", "service_speed_rpm": 3000.0})

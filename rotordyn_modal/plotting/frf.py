@@ -345,7 +345,10 @@ def _draw_zone_panel(ax, checks, x):
                     label=f"{name} ({case})" if case else name)
     bounds = [b * 1e3 for b in checks.zone_boundaries]
     top = max(bounds[2] * 3, float(np.nanmax(checks.casing_velocity_rms, initial=0)) * 2e3)
-    edges = (bounds[0] / 30, *bounds, top)
+    largest = np.nanmax(np.where(checks.checked, checks.casing_velocity_rms, np.nan), axis=-1, initial=0) * 1e3
+    shown = largest[largest > 0]             # each curve's largest checked value stays above the bottom
+    bottom = max(min(bounds[0] / 30, 0.5 * float(shown.min()) if shown.size else np.inf), top * 1e-5)
+    edges = (bottom, *bounds, top)
     for zone, (low, high, colour) in enumerate(zip(edges[:-1], edges[1:], _ZONE_COLOURS)):
         ax.axhspan(low, high, color=colour, zorder=0, lw=0)
         ax.text(1.0, np.sqrt(low * high), " " + "ABCD"[zone], transform=ax.get_yaxis_transform(),

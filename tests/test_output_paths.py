@@ -43,7 +43,7 @@ FILE_OPTIONS = {
     "level1": (["MODEL"], ["--out", "--plot"]),
     "simulate": (["MODEL"], ["--out", "--plot"]),
     "frf": (["MODEL", "--measured", "--mapping"], ["--out", "--plot"]),
-    "unbalance": (["MODEL"], ["--out", "--plot", "--orbits", "--orbit-plot"]),
+    "unbalance": (["MODEL"], ["--out", "--plot", "--orbits", "--orbit-plot", "--checks"]),
     "fit": (["MODEL", "--measured", "--mapping"], ["--out", "--plot"]),
     "study": (["MODEL", "--spec"], ["--out", "--table", "--plot", "--plot-histogram", "--plot-map",
                                     "--plot-sensitivity"]),

@@ -112,7 +112,7 @@ def test_unbalance_force_panels_one_unit_each(fan_unbalance):
 
     model, result = fan_unbalance
     fig = result.plot(forces="all")
-    force_axes = [ax for ax in fig.axes if ax.get_ylabel() == "Force amplitude [N]"]
+    force_axes = [ax for ax in fig.axes if ax.get_ylabel() == "Force amplitude, 0-peak [N]"]
     assert len(force_axes) == 3
     named = {line.get_label().split(": 1X ")[0] for ax in force_axes for line in _curves(ax)}
     assert named == set(result.suspension_names) | set(result.bearing_names) | set(result.rotor_names)

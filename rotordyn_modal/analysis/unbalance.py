@@ -20,6 +20,7 @@ Every output ``x(t) = sum_j A_j cos(w_j t + phi_j)``: one harmonic per rotor
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,13 +28,15 @@ import numpy as np
 from ..assembly import generalized_force, sensor_rows
 from ..errors import InputError
 from ..model.geometry import cross, shift_matrices
+from ..unbalance_standards import amplitude_column, amplitude_factor
 from . import _arguments
 from .forces import COMPONENTS, centre_motions, all_forces
 from .frf import dof_response
 from .orbits import orbit_ellipses, precession_labels, probe_pairs
+from .unbalance_checks import api_unbalance_cases, unbalance_checks
 
 __all__ = ["UnbalanceResult", "unbalance_response", "phase_reference", "unbalance_forces",
-           "amplification_factors", "required_separation_margin"]
+           "amplification_factors", "required_separation_margin", "api_unbalance_response"]
 
 _ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
@@ -140,6 +143,14 @@ class UnbalanceResult:
     rigid_rotor_names : tuple of str
         Rotors rigidly attached to the stator (no ``[[bearings]]``): their force on the
         stator is their bearings' force.
+    amplitude_kind : {'peak', 'pk-pk', 'rms'}
+        The amplitude convention of the tables' added column and of the figure (the
+        ``amplitude`` column and attribute stay 0-peak).
+    case_rotors : tuple of str
+        Empty, or (a response to the API unbalance cases, see
+        :func:`api_unbalance_response`) the rotor
+        of each source, the sources then being the cases: the tables' ``source`` is the
+        rotor and a last column ``case`` names the case.
     """
 
     speeds: np.ndarray
@@ -158,6 +169,8 @@ class UnbalanceResult:
     orbit_planes: np.ndarray | None = None
     spin_signs: np.ndarray | None = None
     rigid_rotor_names: tuple = ()
+    amplitude_kind: str = "peak"
+    case_rotors: tuple = ()
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -169,8 +182,9 @@ class UnbalanceResult:
         """Phase of ``A cos(w t + phase)`` [deg], shape (n_outputs, n_sources, N)."""
         return np.degrees(np.angle(self.response))
 
-    def to_dataframe(self, forces: str | None = None):
-        """Table ``speed_rpm,output,source,frequency_hz,amplitude,phase_deg``.
+    def to_dataframe(self, forces: str | None = None, amplitude: str | None = None):
+        """Table ``speed_rpm,output,source,frequency_hz,amplitude,phase_deg`` (``amplitude``
+        0-peak), then ``amplitude_pkpk`` or ``amplitude_rms`` when that convention is asked.
 
         Parameters
         ----------
@@ -179,6 +193,8 @@ class UnbalanceResult:
             (default), each suspension's force on the ground, each ``[[bearings]]`` entry's
             force at its point and each rigidly attached rotor's at its centre of mass, each
             rotor's total force on the stator, or the suspensions, bearings and rotors together.
+        amplitude : {None, 'peak', 'pk-pk', 'rms'}
+            Adds the column of that convention (none for 'peak'); default ``amplitude_kind``.
         """
         import pandas as pd
 
@@ -188,13 +204,14 @@ class UnbalanceResult:
         o, s, k = (x.ravel() for x in np.meshgrid(np.arange(len(names)), np.arange(len(self.sources)),
                                                   np.arange(len(self.speeds)), indexing="ij"))
         v = values[o, s, k]
-        return pd.DataFrame({
+        table = pd.DataFrame({
             "speed_rpm": self.speeds[k] * 30 / np.pi,
             "output": np.asarray(names, dtype=object)[o],
             "source": np.asarray(self.sources, dtype=object)[s],
             "frequency_hz": self.frequencies_hz[s, k],
             "amplitude": np.abs(v), "phase_deg": np.degrees(np.angle(v)),
         })
+        return self._with_cases(_with_convention(table, amplitude or self.amplitude_kind))
 
     def _force_rows(self, forces):
         """Names and complex amplitudes, shape (6 n_items, n_sources, N), of the asked forces."""
@@ -249,19 +266,22 @@ class UnbalanceResult:
 
         return plot_orbits(self, speeds=speeds, **kwargs)
 
-    def peaks(self, operating_speed: float | None = None):
+    def peaks(self, operating_speed: float | None = None, amplitude: str | None = None):
         """Peaks of each sensor's amplitude vs speed with API 684 figures.
 
         Parameters
         ----------
         operating_speed : float, optional
             [rad/s], not zero; gives the actual separation margin (a percentage of it).
+        amplitude : {None, 'peak', 'pk-pk', 'rms'}
+            Adds the peak's amplitude in that convention as a last column (none for 'peak');
+            default ``amplitude_kind``.
 
         Returns
         -------
         pandas.DataFrame
-            ``output, source, speed_rpm, amplitude, amplification_factor,
-            separation_margin_pct, required_margin_pct``.
+            ``output, source, speed_rpm, amplitude (0-peak), amplification_factor,
+            separation_margin_pct, required_margin_pct`` [, ``amplitude_pkpk`` | ``amplitude_rms``].
         """
         import pandas as pd
 
@@ -280,16 +300,44 @@ class UnbalanceResult:
                                  "amplitude": amp, "amplification_factor": af,
                                  "separation_margin_pct": margin,
                                  "required_margin_pct": required_separation_margin(af)})
-        return pd.DataFrame(rows, columns=["output", "source", "speed_rpm", "amplitude",
-                                           "amplification_factor", "separation_margin_pct",
-                                           "required_margin_pct"])
+        table = pd.DataFrame(rows, columns=["output", "source", "speed_rpm", "amplitude",
+                                            "amplification_factor", "separation_margin_pct",
+                                            "required_margin_pct"])
+        return self._with_cases(_with_convention(table, amplitude or self.amplitude_kind, after=None))
+
+    def _with_cases(self, table):
+        """A table of the cases' response: ``source`` the case's rotor, the case in a last column."""
+        if self.case_rotors:
+            rotor_of = dict(zip(self.sources, self.case_rotors))
+            table["case"] = table["source"]
+            table["source"] = table["source"].map(rotor_of)
+        return table
+
+    def checks(self, model, mcs=None, min_speed: float = 0.0, iso_group=None, iso_support=None):
+        """API 617 probe limits and ISO 20816-3 zones; see
+        :func:`rotordyn_modal.analysis.unbalance_checks.unbalance_checks` (speeds in rad/s)."""
+        return unbalance_checks(self, model, mcs=mcs, min_speed=min_speed, iso_group=iso_group,
+                                iso_support=iso_support)
 
     def plot(self, outputs=None, **kwargs):
-        """Bode figure: amplitude and phase vs speed (``peaks=self.peaks(...)`` marks the API 684
-        figures); see :func:`rotordyn_modal.plotting.plot_unbalance`."""
+        """Bode figure: amplitude (in ``amplitude_kind``, or ``amplitude=``) and phase vs speed
+        (``peaks=self.peaks(...)`` marks the API 684 figures, ``checks=self.checks(...)`` draws the
+        probe limits and ISO zones); see :func:`rotordyn_modal.plotting.plot_unbalance`."""
+        kwargs.setdefault("amplitude", self.amplitude_kind)
         from ..plotting.frf import plot_unbalance
 
         return plot_unbalance(self, outputs=outputs, **kwargs)
+
+
+def _with_convention(table, amplitude: str, after: str | None = "phase_deg"):
+    """``table`` with the column of ``amplitude`` (0-peak ``amplitude`` times its factor) after
+    ``after`` (None: last); unchanged for 'peak'."""
+    factor, column = amplitude_factor(amplitude), amplitude_column(amplitude)
+    if amplitude == "peak":
+        return table
+    position = len(table.columns) if after is None else list(table.columns).index(after) + 1
+    table.insert(position, column, table["amplitude"].to_numpy() * factor)
+    return table
 
 
 def amplification_factors(speeds, amplitude):
@@ -341,7 +389,7 @@ def required_separation_margin(af: float) -> float:
 
 
 def unbalance_response(model, speeds, outputs=None, quantity: str = "displacement",
-                       progress: bool = False) -> UnbalanceResult:
+                       progress: bool = False, amplitude: str = "peak") -> UnbalanceResult:
     """Steady response to the model's ``[[unbalances]]`` over a speed sweep.
 
     Parameters
@@ -354,6 +402,9 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     quantity : {'displacement', 'velocity', 'acceleration'}
     progress : bool
         Unused (the sweep is one batched solve); kept for a uniform interface.
+    amplitude : {'peak', 'pk-pk', 'rms'}
+        Amplitude convention of the result's tables and figure (``amplitude_kind``); the
+        response itself is the same.
 
     Returns
     -------
@@ -361,6 +412,7 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     """
     if quantity not in _ORDER:
         raise InputError(f"quantity {quantity!r}: expected one of {', '.join(_ORDER)}")
+    amplitude_factor(amplitude)                      # refuses an unknown convention by name
     if not model.unbalances:
         raise InputError(f"{model.source}: the model has no [[unbalances]]: nothing excites an unbalance response")
     speeds = _arguments.speeds(speeds, increasing=False)
@@ -392,6 +444,7 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         **_force_fields(model, sources, rotor_forces, speed_all, omega, q, centre_motions(shifts, motions)),
         orbit_pairs=pairs.names, orbit_planes=planes, spin_signs=spin_signs.reshape(n_src, n),
         rigid_rotor_names=tuple(r.name for r in model.rotors if not model.bearings_of(r.name)),
+        amplitude_kind=amplitude,
     )
 
 
@@ -426,3 +479,39 @@ def _force_fields(model, sources, rotor_forces, speed_all, omega, q, centres=Non
     ground, rotors, bearings = all_forces(model, speed_all, omega, q, external, centres)
     return {"ground_forces": per_source(ground), "bearing_forces": per_source(rotors),
             "bearing_point_forces": per_source(bearings)}
+
+
+def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: str = "displacement",
+                           amplitude: str = "peak"):
+    """Unbalance response to each API 617/684 case of the model, as one result whose sources
+    are the cases (``case_rotors`` the rotor of each); cases: see
+    :func:`~rotordyn_modal.analysis.unbalance_checks.api_unbalance_cases`.
+
+    Parameters
+    ----------
+    model : Model
+    speeds : array_like, shape (N,) [rad/s]
+    mcs : float
+        [rad/s] the reference rotor's maximum continuous speed, > 0.
+    outputs, quantity, amplitude
+        As :func:`~rotordyn_modal.analysis.unbalance.unbalance_response`.
+
+    Returns
+    -------
+    UnbalanceResult
+    """
+    cases = api_unbalance_cases(model, mcs)
+    results = [unbalance_response(case, speeds, outputs=outputs, quantity=quantity, amplitude=amplitude)
+               for _, case in cases]
+    first = results[0]
+
+    def joined(name, axis):
+        parts = [getattr(r, name) for r in results]
+        return None if parts[0] is None else np.concatenate(parts, axis=axis)
+
+    return dataclasses.replace(
+        first, sources=tuple(name for name, _ in cases), case_rotors=tuple(r.sources[0] for r in results),
+        frequencies_hz=joined("frequencies_hz", 0), response=joined("response", 1),
+        ground_forces=joined("ground_forces", 2), bearing_forces=joined("bearing_forces", 2),
+        bearing_point_forces=joined("bearing_point_forces", 2), orbit_planes=joined("orbit_planes", 1),
+        spin_signs=joined("spin_signs", 0))

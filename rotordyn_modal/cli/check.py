@@ -55,6 +55,7 @@ def summary(model) -> str:
     lines.append(f"  sensors: {', '.join(s.name for s in model.sensors) or 'none'}; "
                  f"excitations: {', '.join(x.name for x in model.excitations) or 'none'}; "
                  f"unbalances: {len(model.unbalances)}")
+    lines += _grade_lines(model)
     layout = model.dofs
     lines.append(f"  coordinates ({layout.n}): {', '.join(layout.names)}")
     rank = np.linalg.matrix_rank(K)
@@ -62,6 +63,17 @@ def summary(model) -> str:
         lines.append(f"  note: the suspensions and bearings restrain {rank} of {layout.n} directions "
                      "(the others give zero eigenvalues)")
     return "\n".join(lines)
+
+
+def _grade_lines(model) -> list[str]:
+    """The amount of each unbalance given by an ISO 21940-11 balance grade."""
+    lines = []
+    for k, u in enumerate(model.unbalances):
+        if u.grade is not None:
+            mass = model.rotor(u.rotor).mass if u.mass is None else u.mass
+            lines.append(f"    unbalances[{k}] on {u.rotor!r}: G{u.grade:g} at {u.service_speed_rpm:g} rpm of "
+                         f"{mass:.6g} kg -> {u.amount * 1e6:.6g} g mm (ISO 21940-11, G m / Omega)")
+    return lines
 
 
 def _bearing_lines(model) -> list[str]:

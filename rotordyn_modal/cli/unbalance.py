@@ -23,9 +23,29 @@ and each rigidly attached rotor's at its centre of mass), rotors (each rotor's t
 on the stator) or all (suspensions, bearings and rotors). Peaks get the API 684
 amplification factor and, with --operating-speed, the separation margin.
 
+Amplitudes: the CSV's amplitude column is 0-peak (amplitude x cos(...)) whatever is asked;
+--amplitude pk-pk or rms adds the column amplitude_pkpk or amplitude_rms after phase_deg
+(and at the end of the peaks table) and draws the figure's amplitudes that way (the axis
+label says which: 0-peak, peak-to-peak or RMS).
+
+Standards (docs/standards.md): --mcs (maximum continuous speed of the reference rotor)
+gives each proximity probe (measure = "relative") the API 617 limit
+A1 = 25.4 um sqrt(12000/N), at most 25.4 um peak-to-peak (N the probe's rotor's MCS in
+rpm), checked on the probe's peak-to-peak displacement over the speeds from --min-speed
+(default 0) to --mcs; --iso-group 1|2 with --iso-support rigid|flexible evaluates the RMS
+vibration velocity of every stator (casing) sensor in the ISO 20816-3 zones A-D over the
+same speeds (the whole sweep without --mcs). The checks table (output, check, speed_rpm,
+value, amplitude, limit, verdict, zone; values in m and m/s) is printed and written by
+--checks FILE.csv; --plot draws the probe limits and a velocity panel with the zones.
+--api-unbalance (with --mcs) replaces the model's [[unbalances]] by the API 617/684
+cases of every rotor, U = 6350 W/N g mm (= 4 W/N oz in): api-static:ROTOR at its centre
+of mass (W its mass) and api-couple:ROTOR at its outermost bearing planes, 180 deg apart
+(W half its mass: a pure couple); each case is its own response, named in a last column
+case of the CSV, peaks and checks tables, and in the figure's legend.
+
 Two sensors at one point of the same body with directions normal to the spin axis (a
 pair of proximity probes, measure = "relative") see an orbit: --orbits FILE.csv writes
-each pair's ellipse per source and speed (semi-axes, inclination, forward/backward
+each pair's ellipse per source and speed (semi-axes: 0-peak, inclination, forward/backward
 precession) and --orbit-plot FILE.png draws them, one panel per pair and source (as in
 the CSV), at that source's largest orbit and at the last speed.
 
@@ -33,14 +53,16 @@ the CSV), at that source's largest orbit and at the last speed.
 rotor points, stator), with --forces one panel per kind of force (the amplitude of each
 item's force vector, N); the largest peaks (amplification factor >= 2.5) are labelled.
 
-CSV columns: speed_rpm,output,source,frequency_hz,amplitude,phase_deg
+CSV columns: speed_rpm,output,source,frequency_hz,amplitude,phase_deg[,amplitude_pkpk|amplitude_rms][,case]
 orbit CSV columns: speed_rpm,pair,source,frequency_hz,major,minor,inclination_deg,precession,precession_ratio
 
 examples:
   rotordyn-modal unbalance examples/gear_machine.toml --speeds 0:6000:601 --sensor acc-top-z \\
       --operating-speed 3000 --plot unbalance.png
   rotordyn-modal unbalance examples/gear_machine.toml --speeds 0:6000:61 --sensor acc-top-z \\
-      --forces suspensions --out unbalance.csv"""
+      --forces suspensions --out unbalance.csv
+  rotordyn-modal unbalance examples/fan_on_bearings.toml --speeds 100:9000:446 --mcs 3000 \\
+      --iso-group 2 --iso-support flexible --amplitude pk-pk --plot unbalance.png"""
 
 
 def add_arguments(parser):
@@ -53,6 +75,18 @@ def add_arguments(parser):
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="add force rows after the sensors' (default none)")
     parser.add_argument("--operating-speed", help="operating speed (same unit as --speeds) for the separation margin")
+    parser.add_argument("--amplitude", choices=["peak", "pk-pk", "rms"], default="peak",
+                        help="amplitude convention of the added column and the figure: 0-peak (default, "
+                             "the amplitude column), peak-to-peak or RMS")
+    parser.add_argument("--mcs", metavar="SPEED", help="maximum continuous speed of the reference rotor (same "
+                        "unit as --speeds): API 617 probe limits, top of the checked speeds")
+    parser.add_argument("--min-speed", metavar="SPEED", help="bottom of the checked speeds (default 0)")
+    parser.add_argument("--iso-group", type=int, choices=[1, 2],
+                        help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
+    parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
+    parser.add_argument("--api-unbalance", action="store_true",
+                        help="replace the model's unbalances by the API 617/684 cases (needs --mcs)")
+    add_output_file(parser, "--checks", metavar="FILE.csv", help="write the table of the standards' checks")
     add_output_file(parser, "--orbits", metavar="FILE.csv", help="write the orbits of the probe pairs")
     add_output_file(parser, "--orbit-plot", metavar="FILE",
                     help="draw the orbits of the probe pairs (.png, .svg, .pdf)")
@@ -60,17 +94,23 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
-    from ..analysis.unbalance import unbalance_response
+    from ..analysis.unbalance import api_unbalance_response, unbalance_response
     check_extra_output(args, args.orbits, "--orbits")
     check_ending(args.orbits, (".csv",), "--orbits")
+    check_ending(args.checks, (".csv",), "--checks")
     check_extra_output(args, args.orbit_plot, "--orbit-plot", figure=True)
     model = open_model(args)
-    operating = None if args.operating_speed is None else \
-        float(to_rad_s(parse_number(args.operating_speed, "--operating-speed"), args.speed_unit))
+    operating = _speed(args, args.operating_speed, "--operating-speed")
     if operating == 0:
         raise InputError(f"--operating-speed {args.operating_speed}: expected a speed other than 0 (the "
                          "separation margin is a percentage of it)")
-    result = unbalance_response(model, speeds_option(args), outputs=names(args.output), quantity=args.quantity)
+    mcs, min_speed = _check_options(args)
+    if args.api_unbalance:
+        result = api_unbalance_response(model, speeds_option(args), mcs, outputs=names(args.output),
+                                        quantity=args.quantity, amplitude=args.amplitude)
+    else:
+        result = unbalance_response(model, speeds_option(args), outputs=names(args.output), quantity=args.quantity,
+                                    amplitude=args.amplitude)
     if (args.orbits or args.orbit_plot) and not result.orbit_pairs:
         raise InputError(f"{model.source}: --orbits/--orbit-plot need a probe pair among the outputs: two "
                          "sensors at one point of the same body, directions normal to spin_axis")
@@ -79,12 +119,55 @@ def run(args) -> int:
     if not args.quiet:
         print("\npeaks (API 684):", file=sys.stderr)
         print_table(peaks, empty=f"no resonance peak {speeds_text(args)}")
+    checks = _write_checks(result, model, mcs, min_speed, args)
     if args.plot:
         use_agg()
         save_figure(result.plot(peaks=peaks, speed_unit=args.speed_unit, groups=sensor_groups(model),
-                                forces=args.forces), args)
+                                forces=args.forces, checks=checks), args)
     _write_orbits(result, args)
     return 0
+
+
+def _speed(args, text, option):
+    """A speed option in rad/s (None when not given)."""
+    return None if text is None else float(to_rad_s(parse_number(text, option), args.speed_unit))
+
+
+def _check_options(args):
+    """``(mcs, min_speed)`` [rad/s] of the standards' checks, the options checked together."""
+    mcs, min_speed = _speed(args, args.mcs, "--mcs"), _speed(args, args.min_speed, "--min-speed")
+    if mcs is not None and not mcs > 0:
+        raise InputError(f"--mcs {args.mcs}: expected a maximum continuous speed > 0")
+    if min_speed is not None and not min_speed >= 0:
+        raise InputError(f"--min-speed {args.min_speed}: expected a speed >= 0")
+    if min_speed is not None and mcs is not None and min_speed > mcs:
+        raise InputError(f"--min-speed {args.min_speed}: expected at most --mcs {args.mcs} (the checked speeds "
+                         "run from one to the other)")
+    if args.api_unbalance and mcs is None:
+        raise InputError("--api-unbalance: expected --mcs too (the API amount 6350 W/N needs the maximum "
+                         "continuous speed N)")
+    if (args.iso_group is None) != (args.iso_support is None):
+        raise InputError("--iso-group/--iso-support: expected both (ISO 20816-3 machine group 1 or 2 and "
+                         "support rigid or flexible) or neither")
+    if args.checks and mcs is None and args.iso_group is None:
+        raise InputError(f"--checks {args.checks}: expected --mcs (API 617 probe limits) or --iso-group and "
+                         "--iso-support (ISO 20816-3 zones): nothing to check")
+    return mcs, min_speed or 0.0
+
+
+def _write_checks(result, model, mcs, min_speed, args):
+    """The standards' checks (None when none is asked): printed, and written to --checks."""
+    if mcs is None and args.iso_group is None:
+        return None
+    checks = result.checks(model, mcs=mcs, min_speed=min_speed, iso_group=args.iso_group,
+                           iso_support=args.iso_support)
+    table = checks.to_dataframe()
+    if not args.quiet:
+        print("\nchecks (API 617 probe limits, ISO 20816-3 zones; m, m/s):", file=sys.stderr)
+        print_table(table, empty="no probe (measure = \"relative\") or casing sensor to check among the outputs")
+    if args.checks:
+        write_csv(table, args.checks)
+    return checks
 
 
 def sensor_groups(model) -> dict:

@@ -15,6 +15,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..errors import ModelError
+from ..unbalance_standards import BALANCE_GRADES, balance_grade, permissible_unbalance
 from ..elements import _bearing_validation
 from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, semidefinite_problem, visible, \
     visible_names
@@ -98,7 +99,10 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
               for i, (name, t) in enumerate(rotor_tables.items())]
     suspensions = [_suspension(t, reuse.earlier("suspensions", i))
                    for i, t in enumerate(_named_tables(source, data, "suspensions").values())]
-    unbalances = [reuse.part("unbalances", i, t.data, names_kept) or _unbalance(t, rotor_tables)
+    # an unbalance given by a balance grade follows its rotor's mass: earlier only with the same rotors
+    unbalances = [reuse.part("unbalances", i, t.data, names_kept and (
+                      "grade" not in t.data or reuse.same_list(data, "rotors")))
+                  or _unbalance(t, rotor_tables, rotors)
                   for i, t in enumerate(_indexed_tables(source, data, "unbalances"))]
     gravity = top.vector3("gravity", default=[0.0, 0.0, 0.0])
     bearing_tables = _named_tables(source, data, "bearings")
@@ -489,17 +493,39 @@ def _maxwell_branches(table: _Table, axes: np.ndarray):
     return np.array(branches)
 
 
-def _unbalance(table: _Table, rotor_tables) -> Unbalance:
+def _unbalance(table: _Table, rotor_tables, rotors) -> Unbalance:
     table.check_keys(input_keys("unbalances"))
     rotor = table.text("rotor", required=True)
     if rotor not in rotor_tables:
         raise table.error("rotor", rotor, "the name of one of the rotors " + visible_names(rotor_tables))
-    return Unbalance(
-        rotor=rotor,
-        amount=table.number("amount", required=True, positive=True),
-        phase_deg=table.number("phase_deg", default=0.0),
-        axial_offset=table.number("axial_offset", default=0.0),
-    )
+    common = {"rotor": rotor, "phase_deg": table.number("phase_deg", default=0.0),
+              "axial_offset": table.number("axial_offset", default=0.0)}
+    if "grade" not in table.data:
+        for key in ("service_speed_rpm", "mass"):
+            if key in table.data:
+                raise table.error(key, table.data[key], "no such key without grade (it sets the amount "
+                                  "of an ISO 21940-11 balance grade)")
+        return Unbalance(amount=table.number("amount", required=True, positive=True), **common)
+    return _graded_unbalance(table, next(r for r in rotors if r.name == rotor), common)
+
+
+def _graded_unbalance(table: _Table, rotor, common) -> Unbalance:
+    """An unbalance given as an ISO 21940-11 balance grade: the permissible residual unbalance
+    ``G m / Omega`` of the rotor's (or the given part's) mass at its service speed."""
+    if "amount" in table.data:
+        raise table.error("amount", table.data["amount"], "no amount together with grade (give one "
+                          "of them: the grade sets the amount)")
+    grade = balance_grade(table.data["grade"])
+    if grade is None:
+        raise table.error("grade", table.data["grade"], "an ISO 21940-11 balance grade: one of "
+                          + ", ".join(f"G{g:g}" for g in BALANCE_GRADES) + " (a string, or its number in mm/s)")
+    speed = table.number("service_speed_rpm", required=True, positive=True)
+    mass = table.number("mass", default=None, positive=True)
+    amount = permissible_unbalance(grade, rotor.mass if mass is None else mass, speed * math.pi / 30.0)
+    if problem := magnitude_problem(amount, positive=True):
+        raise table.error("grade", table.data["grade"], "a grade, mass and service_speed_rpm whose "
+                          "amount G m / Omega [kg m] is " + problem)
+    return Unbalance(amount=amount, grade=grade, service_speed_rpm=speed, mass=mass, **common)
 
 
 def _sensor(table: _Table, rotor_names, on_bearings) -> Sensor:

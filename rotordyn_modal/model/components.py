@@ -196,12 +196,21 @@ class Bearing:
 @dataclass(frozen=True)
 class Unbalance:
     """A mass unbalance on a rotor: ``amount`` [kg m] at ``phase_deg`` [deg] at t = 0,
-    ``axial_offset`` [m] along the spin axis from the rotor's centre of mass."""
+    ``axial_offset`` [m] along the spin axis from the rotor's centre of mass.
+
+    Or, instead of ``amount``, an ISO 21940-11 balance ``grade`` G [mm/s] (given as
+    ``"G2.5"`` or 2.5) at ``service_speed_rpm`` [rpm] of that rotor: after validation
+    ``amount`` holds the permissible residual unbalance ``G m / Omega``, ``m`` the rotor's
+    mass or ``mass`` [kg] when given (a part of it).
+    """
 
     rotor: str
-    amount: float
+    amount: float | None = None
     phase_deg: float = 0.0
     axial_offset: float = 0.0
+    grade: Any = None
+    service_speed_rpm: float | None = None
+    mass: float | None = None
 
 
 @dataclass(frozen=True)

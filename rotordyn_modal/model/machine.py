@@ -300,6 +300,8 @@ def _as_table(item) -> dict[str, Any]:
         return dict(item)
     if dataclasses.is_dataclass(item):
         keys = input_keys(_TABLE_OF[type(item)])
+        if isinstance(item, Unbalance) and item.grade is not None:
+            keys = [k for k in keys if k != "amount"]   # the grade's amount, found again from it
         return {k: getattr(item, k) for k in keys if getattr(item, k) is not None}
     raise TypeError(f"expected a component or a mapping, got {type(item).__name__}")
 

@@ -163,9 +163,9 @@ def plot_overlay(models, measured, title: str | None = None):
 
 
 def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, title: str | None = None,
-                   groups=None, forces: str | None = None):
-    """Amplitude (0-peak, log) and phase of each source's harmonic against speed, one pair of
-    panels per group of sensors, and one amplitude panel per kind of force asked.
+                   groups=None, forces: str | None = None, amplitude: str = "peak", checks=None):
+    """Amplitude (log, 0-peak, peak-to-peak or RMS) and phase of each source's harmonic against
+    speed, one pair of panels per group of sensors, and one amplitude panel per kind of force asked.
 
     Parameters
     ----------
@@ -185,6 +185,12 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
     forces : {None, 'suspensions', 'bearings', 'rotors', 'all'}
         Adds one panel per kind of force: the amplitude of each item's force vector
         ``sqrt(|Fx|^2 + |Fy|^2 + |Fz|^2)`` [N] (the moments are in ``to_dataframe``).
+    amplitude : {'peak', 'pk-pk', 'rms'}
+        Convention of the amplitudes drawn (the axis labels say which).
+    checks : UnbalanceChecks, optional
+        ``result.checks(...)``: the API 617 probe limit drawn (dashed, over the checked
+        speeds) on the panels of its probes, and a panel of the casing sensors' RMS vibration
+        velocity with the ISO 20816-3 zones A-D as bands.
 
     Returns
     -------
@@ -195,35 +201,51 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
     from ._labels import laid_out_renderer
     from ._style import speed_label, speed_scale
 
+    from ..unbalance_standards import amplitude_factor, amplitude_label
+
+    factor, words = amplitude_factor(amplitude), amplitude_label(amplitude)
     panels = _sensor_panels(result, outputs, groups)
     force_panels = _force_panels(result, forces)
-    ratios = [r for _ in panels for r in (2, 1)] + [2] * len(force_panels)
+    zones = checks is not None and checks.zone_boundaries is not None and len(checks.casing) > 0
+    ratios = [r for _ in panels for r in (2, 1)] + [2] * len(force_panels) + [2] * zones
     fig, axes = plt.subplots(len(ratios), 1, sharex=True, figsize=(9.5, 1.9 * sum(ratios) / 1.5 + 0.6),
                              layout="constrained", gridspec_kw={"height_ratios": ratios}, squeeze=False)
     axes = list(axes[:, 0])
     x = result.speeds * speed_scale(speed_unit)
-    unit = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s²"}[result.quantity]
-    marked = []
-    for n, (name, rows) in enumerate(panels):
-        mag, phase = axes[2 * n], axes[2 * n + 1]
-        colours = _draw_sensor_panel(mag, phase, result, rows, x)
-        mag.set_ylabel(f"Amplitude, 0-peak [{unit}]")
-        mag.set_title(name, fontsize="medium")
-        if peaks is not None:
-            marked.append((mag, _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30,
-                                              speed_unit)))
-            low, high = mag.get_ylim()
-            mag.set_ylim(low, high * _HEADROOM)
+    marked = [_sensor_pair(axes[2 * n], axes[2 * n + 1], result, name, rows, x, (factor, words), peaks, checks,
+                           speed_unit) for n, (name, rows) in enumerate(panels)]
     for ax, (kind, names, values) in zip(axes[2 * len(panels):], force_panels):
-        _draw_force_panel(ax, result, names, values, x)
+        _draw_force_panel(ax, result, names, values, x, factor, words)
         ax.set_title(f"Force of the {kind} (vector amplitude, |F|)", fontsize="medium")
+    if zones:
+        _draw_zone_panel(axes[-1], checks, x)
     axes[-1].set_xlabel(speed_label(speed_unit))
     fig.suptitle(title or "Unbalance response")
-    if marked:
+    if peaks is not None and marked:
         renderer = laid_out_renderer(fig)
         for ax, chosen in marked:
             _label_peaks(ax, chosen, renderer)
     return fig
+
+
+def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, speed_unit):
+    """One group of sensors' amplitude (``convention``: factor on 0-peak, its words) and phase
+    panels, with the probe limits of ``checks``; returns ``(mag, peaks to label)``."""
+    from ._style import speed_scale
+
+    factor, words = convention
+    unit = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s²"}[result.quantity]
+    colours = _draw_sensor_panel(mag, phase, result, rows, x, factor)
+    if checks is not None:
+        _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor)
+    mag.set_ylabel(f"Amplitude, {words} [{unit}]")
+    mag.set_title(name, fontsize="medium")
+    if peaks is None:
+        return mag, []
+    chosen = _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30, speed_unit, factor)
+    low, high = mag.get_ylim()
+    mag.set_ylim(low, high * _HEADROOM)
+    return mag, chosen
 
 
 #: API 684: a peak with an amplification factor below 2.5 is critically damped (no margin required)
@@ -253,14 +275,15 @@ def _sensor_panels(result, outputs, groups):
     return list(panels.items())
 
 
-def _draw_sensor_panel(mag, phase, result, rows, x):
-    """Each sensor and source: amplitude on a log axis, phase; returns the colour of each (i, j)."""
+def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0):
+    """Each sensor and source: amplitude (0-peak times ``factor``) on a log axis, phase; returns
+    the colour of each (i, j)."""
     colours = {}
     styles = ["-", "--", ":", "-."]
     for m, i in enumerate(rows):
         for j, s in enumerate(result.sources):
             colour, style = f"C{m % 10}", styles[j % len(styles)]
-            amplitude = np.where(result.amplitude[i, j] > 0, result.amplitude[i, j], np.nan)
+            amplitude = np.where(result.amplitude[i, j] > 0, result.amplitude[i, j] * factor, np.nan)
             mag.semilogy(x, amplitude, color=colour, ls=style, label=f"{result.outputs[i]}: 1X {s}")
             phase.plot(x, result.phase_deg[i, j], color=colour, ls=style, lw=0.9)
             colours[i, j] = colour
@@ -294,34 +317,81 @@ def _force_panels(result, forces):
     return panels
 
 
-def _draw_force_panel(ax, result, names, values, x):
+def _draw_probe_limits(ax, checks, names, x, factor):
+    """The API 617 limit of the panel's probes (peak-to-peak, drawn in the panel's convention)
+    over the checked speeds: one dashed line per distinct limit."""
+    limits = sorted({float(limit) for name, limit in zip(checks.probes, checks.probe_limits)
+                     if name in names and np.isfinite(limit)})
+    span = np.where(checks.checked, 1.0, np.nan)
+    for limit in limits:
+        ax.plot(x, limit * factor / 2 * span, color="k", ls="--", lw=1.2,
+                label=f"API 617 probe limit {limit * 1e6:.1f} µm pk-pk")
+    if limits:
+        low, high = ax.get_ylim()                 # the curves' range is fixed: make room for the limit
+        ax.set_ylim(low, max(high, 2 * max(limits) * factor / 2))
+        ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+
+
+#: colours of the ISO 20816-3 zones A, B, C, D
+_ZONE_COLOURS = ("#d9f0d3", "#fff7bc", "#fdd0a2", "#fcbba1")
+
+
+def _draw_zone_panel(ax, checks, x):
+    """The casing sensors' RMS vibration velocity [mm/s] over the ISO 20816-3 zone bands."""
+    styles = ["-", "--", ":", "-."]
+    for m, name in enumerate(checks.casing):
+        for c, case in enumerate(checks.cases):
+            ax.plot(x, checks.casing_velocity_rms[m, c] * 1e3, color=f"C{m % 10}", ls=styles[c % len(styles)],
+                    label=f"{name} ({case})" if case else name)
+    bounds = [b * 1e3 for b in checks.zone_boundaries]
+    top = max(bounds[2] * 3, float(np.nanmax(checks.casing_velocity_rms, initial=0)) * 2e3)
+    largest = np.nanmax(np.where(checks.checked, checks.casing_velocity_rms, np.nan), axis=-1, initial=0) * 1e3
+    shown = largest[largest > 0]             # each curve's largest checked value stays above the bottom
+    bottom = max(min(bounds[0] / 30, 0.5 * float(shown.min()) if shown.size else np.inf), top * 1e-5)
+    edges = (bottom, *bounds, top)
+    for zone, (low, high, colour) in enumerate(zip(edges[:-1], edges[1:], _ZONE_COLOURS)):
+        ax.axhspan(low, high, color=colour, zorder=0, lw=0)
+        ax.text(1.0, np.sqrt(low * high), " " + "ABCD"[zone], transform=ax.get_yaxis_transform(),
+                va="center", ha="left", fontsize="small", clip_on=False)
+    ax.set_yscale("log")
+    ax.set_ylim(edges[0], top)
+    if checks.mcs is not None or checks.checked.sum() < len(checks.checked):
+        ax.plot(x, np.where(checks.checked, edges[0], np.nan), color="k", lw=6, solid_capstyle="butt",
+                label="checked speeds")
+    ax.set_ylabel("Velocity, RMS [mm/s]")
+    ax.set_title(f"Casing vibration velocity, ISO 20816-3 zones ({checks.iso_class})", fontsize="medium")
+    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.04, 1.0))
+
+
+def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak"):
     styles = ["-", "--", ":", "-."]
     for m, name in enumerate(names):
         for j, s in enumerate(result.sources):
             size = np.sqrt(np.sum(np.abs(values[m, :3, j]) ** 2, axis=0))
-            ax.semilogy(x, np.where(size > 0, size, np.nan), color=f"C{m % 10}", ls=styles[j % len(styles)],
+            ax.semilogy(x, np.where(size > 0, size * factor, np.nan), color=f"C{m % 10}", ls=styles[j % len(styles)],
                         label=f"{name}: 1X {s}")
     _limit_range(ax)
-    ax.set_ylabel("Force amplitude [N]")
+    ax.set_ylabel(f"Force amplitude, {words} [N]")
     ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
 
 
-def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm"):
+def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=1.0):
     """Peaks that matter of the panel's sensors, largest (relative to the panel's) first:
     ``[(x, amplitude, text, colour), ...]``."""
     index = {result.outputs[i]: i for i in rows}
     sources = {s: j for j, s in enumerate(result.sources)}
     chosen = []
     for row in peaks.itertuples(index=False):
-        i, j = index.get(row.output), sources.get(row.source)
+        source = getattr(row, "case", row.source)          # a response to API cases: sources are cases
+        i, j = index.get(row.output), sources.get(source)
         if i is None or j is None or not np.isfinite(row.amplification_factor)                 or row.amplification_factor < _AF_MARKED                 or row.amplitude < _PEAK_SHARE * np.nanmax(result.amplitude[i, j]):
             continue
         speed = f"{row.speed_rpm:.0f} rpm" if unit == "rpm" else \
             f"{row.speed_rpm * rpm_to_unit:.4g} {'Hz' if unit == 'hz' else unit}"
-        text = f"AF {row.amplification_factor:.1f} at {speed} (1X {row.source})"
+        text = f"AF {row.amplification_factor:.1f} at {speed} (1X {source})"
         if np.isfinite(row.separation_margin_pct):
             text += f"\nSM {row.separation_margin_pct:.0f} % (API {row.required_margin_pct:.0f} %)"
-        chosen.append((row.speed_rpm * rpm_to_unit, row.amplitude, text, colours[i, j], row.source))
+        chosen.append((row.speed_rpm * rpm_to_unit, row.amplitude * factor, text, colours[i, j], source))
     kept, width = [], np.ptp(result.speeds) * rpm_to_unit * 30 / np.pi
     for peak in sorted(chosen, key=lambda c: -c[1]):    # one label per source's peak seen by several sensors
         if not any(peak[4] == k[4] and abs(peak[0] - k[0]) <= _SAME_PEAK * width for k in kept):

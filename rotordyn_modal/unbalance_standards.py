@@ -1,0 +1,149 @@
+"""Numbers of the balancing and vibration standards, in SI (``docs/standards.md``).
+
+Pure formulas and tables, no model: the ISO 21940-11 permissible residual unbalance of a
+balance grade, the API 617 / API 684 unbalance amount for a response analysis and the API 617
+probe vibration limit, the ISO 20816-3 zone boundaries of casing vibration velocity, and the
+amplitude conventions (0-peak, peak-to-peak, RMS) of a harmonic.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["BALANCE_GRADES", "balance_grade", "permissible_unbalance", "api_unbalance",
+           "API_SI_CONSTANT", "API_US_CONSTANT", "api_probe_limit", "ISO_20816_3_ZONES",
+           "iso_zone_boundaries", "iso_zones", "AMPLITUDES", "amplitude_factor", "amplitude_label",
+           "amplitude_column"]
+
+#: ISO 21940-11 balance quality grades G [mm/s] (G0.4 ... G4000)
+BALANCE_GRADES = (0.4, 1.0, 2.5, 6.3, 16.0, 40.0, 100.0, 250.0, 630.0, 1600.0, 4000.0)
+
+#: API 617 / 684: U [g mm] = 6350 W [kg] / N [rpm]
+API_SI_CONSTANT = 6350.0
+#: the same in US customary units: U [oz in] = 4 W [lb] / N [rpm]
+API_US_CONSTANT = 4.0
+
+#: ISO 20816-3 zone boundaries A/B, B/C, C/D [mm/s RMS] by (machine group, support class)
+ISO_20816_3_ZONES = {
+    (1, "rigid"): (2.3, 4.5, 7.1),
+    (1, "flexible"): (3.5, 7.1, 11.0),
+    (2, "rigid"): (1.4, 2.8, 4.5),
+    (2, "flexible"): (2.3, 4.5, 7.1),
+}
+
+#: amplitude conventions of a harmonic ``A cos(w t + phi)``: factor on the 0-peak amplitude A,
+#: words for labels, suffix for table columns
+AMPLITUDES = {
+    "peak": (1.0, "0-peak", "0pk"),
+    "pk-pk": (2.0, "peak-to-peak", "pkpk"),
+    "rms": (1.0 / math.sqrt(2.0), "RMS", "rms"),
+}
+
+
+def balance_grade(value) -> float | None:
+    """The grade G [mm/s] of ``"G2.5"`` (or ``"g2.5"``, ``"G 2.5"``) or of the number 2.5.
+
+    Returns None when ``value`` names no ISO 21940-11 grade (a caller refuses it by name).
+
+    Examples
+    --------
+    >>> balance_grade("G6.3"), balance_grade(2.5), balance_grade("G3")
+    (6.3, 2.5, None)
+    """
+    if isinstance(value, str):
+        text = value.strip()
+        if not text[:1] in ("G", "g"):
+            return None
+        try:
+            value = float(text[1:].strip())
+        except ValueError:
+            return None
+    elif isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        return None
+    matches = [g for g in BALANCE_GRADES if math.isclose(float(value), g, rel_tol=1e-9)]
+    return matches[0] if matches else None
+
+
+def permissible_unbalance(grade: float, mass: float, speed: float) -> float:
+    """ISO 21940-11 permissible residual unbalance ``U = G m / Omega`` [kg m].
+
+    In the standard's units ``U [g mm] = 1000 G [mm/s] m [kg] / Omega [rad/s]``.
+
+    Parameters
+    ----------
+    grade : float
+        G [mm/s] (2.5 for G2.5).
+    mass : float
+        [kg] the rotor's (or part's) mass.
+    speed : float
+        [rad/s] the maximum service speed, > 0.
+    """
+    return grade * 1e-3 * mass / speed
+
+
+def api_unbalance(load: float, mcs_rpm: float) -> float:
+    """API 617 / API 684 unbalance amount ``U = 6350 W / N`` [g mm], returned in [kg m].
+
+    Parameters
+    ----------
+    load : float
+        W [kg]: the journal static load (or the rotor's mass for a mode that moves it whole).
+    mcs_rpm : float
+        N [rpm]: the rotor's maximum continuous speed, > 0.
+    """
+    return API_SI_CONSTANT * load / mcs_rpm * 1e-6
+
+
+def api_probe_limit(mcs_rpm):
+    """API 617 vibration limit at the probes, peak-to-peak [m].
+
+    ``A1 = 25.4 um sqrt(12000 / N)``, at most 25.4 um (N [rpm] the maximum continuous speed).
+    """
+    n = np.asarray(mcs_rpm, dtype=float)
+    return 25.4e-6 * np.minimum(1.0, np.sqrt(12000.0 / n))
+
+
+def iso_zone_boundaries(group: int, support: str) -> tuple[float, float, float]:
+    """Boundaries A/B, B/C, C/D [m/s RMS] of ISO 20816-3 for a machine group (1, 2) and a
+    support class ('rigid', 'flexible')."""
+    from .errors import InputError
+
+    key = (group, support)
+    if key not in ISO_20816_3_ZONES:
+        raise InputError(f"ISO 20816-3 machine group {group!r}, support {support!r}: expected group 1 or 2 "
+                         "and support 'rigid' or 'flexible'")
+    return tuple(b * 1e-3 for b in ISO_20816_3_ZONES[key])
+
+
+def iso_zones(velocity_rms, group: int, support: str) -> np.ndarray:
+    """Zone 'A', 'B', 'C' or 'D' of each RMS velocity [m/s]; a value on a boundary is in the
+    upper zone."""
+    bounds = np.array(iso_zone_boundaries(group, support))
+    index = np.searchsorted(bounds, np.asarray(velocity_rms, dtype=float), side="right")
+    return np.array(list("ABCD"), dtype=object)[index]
+
+
+def _convention(amplitude: str):
+    from .errors import InputError
+
+    if amplitude not in AMPLITUDES:
+        raise InputError(f"amplitude {amplitude!r}: expected one of {', '.join(AMPLITUDES)}")
+    return AMPLITUDES[amplitude]
+
+
+def amplitude_factor(amplitude: str) -> float:
+    """Factor from the 0-peak amplitude of a harmonic to ``amplitude`` ('peak', 'pk-pk', 'rms')."""
+    return _convention(amplitude)[0]
+
+
+def amplitude_label(amplitude: str) -> str:
+    """'0-peak', 'peak-to-peak' or 'RMS'."""
+    return _convention(amplitude)[1]
+
+
+def amplitude_column(amplitude: str) -> str:
+    """Table column of an amplitude in that convention: ``amplitude_0pk``, ``amplitude_pkpk``,
+    ``amplitude_rms``."""
+    return "amplitude_" + _convention(amplitude)[2]

@@ -1,18 +1,20 @@
 """Labels placed inside (or beside) the axes, apart from each other and from markers.
 
-Straight lines' labels sit where the lines leave the axes: each label offers a few candidate
-boxes next to its line's exit point (in axes fraction); the first candidate that lies inside
-the axes and clear of every label already placed is taken; a label with no such candidate is
-left out (its line keeps its colour). Labels of one source whose exits are closer than a
-label's width are merged first (``1X, 2X fan``).
+One placer serves every label inside the axes: :func:`first_free_box` takes the first of a
+label's candidate boxes that lies inside the axes and clear of every label already placed (and
+of markers); a label with no such candidate is left out. The callers only choose the candidates:
+
+- straight lines' labels (:func:`edge_label_boxes`): a few boxes next to where the line leaves
+  the axes (a line whose label is left out keeps its colour); labels of one source whose exits
+  are closer than a label's width are merged first (``1X, 2X fan``);
+- labels of points without a leader line (Campbell mode ends and critical speeds, stability
+  thresholds): a few boxes touching the point's marker;
+- labels of points with a leader line (:func:`place_point_labels`, unbalance peaks): a grid
+  of boxes around the point, nearest first (:func:`boxes_around`), a box taken only where its
+  leader line crosses no label; a crowd of labels at one point fans out in columns beside it.
 
 Curves' labels beside the axes (:func:`column_positions`) keep their curves' order and move
-apart only as far as they must; a leader line joins each to its curve. Labels of points take
-the first free box of a list of candidates around their point (:func:`first_free_box`, the one
-placer of every point label: Campbell mode ends and critical speeds, stability thresholds,
-unbalance peaks); labels joined to their point by a leader line (:func:`place_point_labels`)
-may go further out, to the nearest free box of a grid around the point
-(:func:`boxes_around`), so that a crowd of labels at one point is spread around it.
+apart only as far as they must; a leader line joins each to its curve.
 :func:`draw_time_layout` re-places a figure's labels each time it is drawn, so that they follow
 zooming, panning and resizing.
 """
@@ -151,16 +153,15 @@ def edge_label_boxes(ax, labels, fontsize, renderer, placed):
 
     pad_u, pad_v = _PAD_POINTS * points * to_u, _PAD_POINTS * points * to_v
     margin = (_MARGIN_POINTS * points * to_u, _MARGIN_POINTS * points * to_v)
+    frame = (margin[0], margin[1], 1.0 - margin[0], 1.0 - margin[1])
     taken = []
     for label in _merge_close(labels, size):
         w, h = size(label.text)
-        for left, bottom in _candidates(label, w, h, pad_u, pad_v):
-            candidate = (left, bottom, left + w, bottom + h)
-            if _inside(candidate, margin) and not any(_overlap(candidate, other, pad_u, pad_v)
-                                                        for other in placed):
-                placed.append(candidate)
-                taken.append((label, candidate))
-                break
+        box = first_free_box([(left, bottom, left + w, bottom + h)
+                              for left, bottom in _candidates(label, w, h, pad_u, pad_v)],
+                             placed, (pad_u, pad_v), frame)
+        if box is not None:
+            taken.append((label, box))
     return taken
 
 
@@ -324,12 +325,6 @@ def _candidates(label, w, h, pad_u, pad_v):
     lo, hi = label.v, label.v + label.spread
     left = 1.0 - pad_u - w if label.edge == "right" else pad_u
     return [(left, hi + pad_v), (left, lo - pad_v - h), (left, hi + 2 * pad_v + h), (left, lo - 2 * (pad_v + h))]
-
-
-def _inside(box, margin):
-    left, bottom, right, top = box
-    mu, mv = margin
-    return left >= mu and bottom >= mv and right <= 1 - mu and top <= 1 - mv
 
 
 def _overlap(a, b, gap_u, gap_v):

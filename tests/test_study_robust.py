@@ -348,6 +348,49 @@ def test_a_second_study_naming_the_results_through_a_link_is_refused(naming, spe
     assert first.returncode == 0
 
 
+def test_two_names_of_one_file_share_its_lock(tmp_path):
+    """In one process too (the file's own lock is held by its open file, not by the process):
+    a hard link in another folder is the same results file; the second lock is refused with
+    the one-line message, leaves no lock file of its own, and is free once the first is let go."""
+    from rotordyn_modal.errors import OutputError
+    from rotordyn_modal.study.execution import ResultsLock
+
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    first, second = tmp_path / "a" / "r.nc", tmp_path / "b" / "alias.nc"
+    first.write_bytes(b"earlier results")
+    os.link(first, second)
+    with ResultsLock(first):
+        with pytest.raises(OutputError) as refused:
+            with ResultsLock(second):
+                pass
+        assert os.listdir(tmp_path / "b") == ["alias.nc"]
+    message = str(refused.value)
+    assert "\n" not in message and message.startswith(f"{second}: another study")
+    if Path("/proc/locks").exists():
+        assert f"(process {os.getpid()})" in message
+    with ResultsLock(second):
+        pass
+    assert sorted(os.listdir(tmp_path / "a")) == ["r.nc"] and os.listdir(tmp_path / "b") == ["alias.nc"]
+
+
+def test_a_study_writing_a_hard_link_of_results_being_written_is_refused_before_its_work(spec, tmp_path, capsys):
+    """The command line: exit 2, one line naming the file and the study writing it, nothing written."""
+    from rotordyn_modal.cli import main
+    from rotordyn_modal.study.execution import ResultsLock
+
+    out, other = tmp_path / "r.nc", tmp_path / "elsewhere" / "alias.nc"
+    out.write_bytes(b"earlier results")
+    other.parent.mkdir()
+    os.link(out, other)
+    with ResultsLock(out):       # the first study, writing r.nc
+        code = main(["study", EXAMPLE, "--spec", str(spec), "--out", str(other), "--quiet"])
+    err = [line for line in capsys.readouterr().err.splitlines() if line.strip()]
+    assert code == 2 and len(err) == 1, err
+    assert f"{other}: another study" in err[0] and "is writing it" in err[0]
+    assert os.listdir(other.parent) == ["alias.nc"] and other.read_bytes() == b"earlier results"
+
+
 # ------------------------------------------------------------------------- a worker killed (out of memory)
 def _killing_run_chunk(task):
     """``run_chunk``, but the worker computing chunk 2 is killed as the out-of-memory killer

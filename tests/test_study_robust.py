@@ -464,6 +464,57 @@ def test_a_worker_killed_twice_stops_the_study_with_one_line_and_a_rerun_resumes
     assert_same_results(out, tmp_path / "serial.nc")
 
 
+class _DaskClusterKillingChunk2:
+    """What ``--scheduler`` gets from a dask cluster whose workers all die running chunk 2
+    (the scheduler has computed a lost worker's chunk elsewhere up to its allowed failures,
+    then gives up with ``KilledWorker``): the chunks before it arrive, then the error."""
+
+    def __init__(self, args, attempt=1):
+        pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def map(self, function, tasks):
+        from types import SimpleNamespace
+
+        from distributed import KilledWorker
+
+        for task in tasks:
+            if task.index == 2:
+                raise KilledWorker(f"run_chunk-{task.index}", SimpleNamespace(address="tcp://10.0.0.7:40001"), 3)
+            yield function(task)
+
+
+def test_a_dask_chunk_whose_workers_all_died_stops_the_study_with_one_line_and_a_rerun_resumes(
+        tmp_path, monkeypatch, capsys):
+    pytest.importorskip("distributed")
+    from rotordyn_modal.cli import main
+    from rotordyn_modal.cli import study as study_command_module
+
+    spec = tmp_path / "s.toml"
+    spec.write_text(_small_study_file(tmp_path).read_text().replace("samples = 24", "samples = 12"))
+    out = tmp_path / "r.nc"
+    argv = ["study", EXAMPLE, "--spec", str(spec), "--out", str(out), "--quiet"]
+    monkeypatch.setattr(study_command_module, "_executor", _DaskClusterKillingChunk2)
+    code = main(argv + ["--scheduler", "tcp://10.0.0.5:8786"])
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert code == 1 and len(lines) == 1, lines
+    saved = finished_chunks(tmp_path / "r.nc.partial")
+    assert saved == {0, 1}
+    assert "every dask worker that ran one chunk died (4 workers" in lines[0]
+    assert f"2 finished chunks kept in {tmp_path / 'r.nc.partial'} for the next run" in lines[0]
+    assert not out.exists()
+    monkeypatch.undo()
+    assert main(argv + ["--verbose"]) == 0
+    log = chunk_log(capsys.readouterr().err)
+    assert log["resumed"] == {0, 1} and log["computed"] == {2, 3}
+    assert out.exists() and not (tmp_path / "r.nc.partial").exists()
+
+
 # ------------------------------------------------------------------------- checkpoints that cannot be one
 def test_a_file_where_the_checkpoint_folder_goes_is_refused_with_one_line(tmp_path, capsys):
     from rotordyn_modal.cli import main

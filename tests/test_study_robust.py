@@ -348,6 +348,49 @@ def test_a_second_study_naming_the_results_through_a_link_is_refused(naming, spe
     assert first.returncode == 0
 
 
+def test_two_names_of_one_file_share_its_lock(tmp_path):
+    """In one process too (the file's own lock is held by its open file, not by the process):
+    a hard link in another folder is the same results file; the second lock is refused with
+    the one-line message, leaves no lock file of its own, and is free once the first is let go."""
+    from rotordyn_modal.errors import OutputError
+    from rotordyn_modal.study.execution import ResultsLock
+
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    first, second = tmp_path / "a" / "r.nc", tmp_path / "b" / "alias.nc"
+    first.write_bytes(b"earlier results")
+    os.link(first, second)
+    with ResultsLock(first):
+        with pytest.raises(OutputError) as refused:
+            with ResultsLock(second):
+                pass
+        assert os.listdir(tmp_path / "b") == ["alias.nc"]
+    message = str(refused.value)
+    assert "\n" not in message and message.startswith(f"{second}: another study")
+    if Path("/proc/locks").exists():
+        assert f"(process {os.getpid()})" in message
+    with ResultsLock(second):
+        pass
+    assert sorted(os.listdir(tmp_path / "a")) == ["r.nc"] and os.listdir(tmp_path / "b") == ["alias.nc"]
+
+
+def test_a_study_writing_a_hard_link_of_results_being_written_is_refused_before_its_work(spec, tmp_path, capsys):
+    """The command line: exit 2, one line naming the file and the study writing it, nothing written."""
+    from rotordyn_modal.cli import main
+    from rotordyn_modal.study.execution import ResultsLock
+
+    out, other = tmp_path / "r.nc", tmp_path / "elsewhere" / "alias.nc"
+    out.write_bytes(b"earlier results")
+    other.parent.mkdir()
+    os.link(out, other)
+    with ResultsLock(out):       # the first study, writing r.nc
+        code = main(["study", EXAMPLE, "--spec", str(spec), "--out", str(other), "--quiet"])
+    err = [line for line in capsys.readouterr().err.splitlines() if line.strip()]
+    assert code == 2 and len(err) == 1, err
+    assert f"{other}: another study" in err[0] and "is writing it" in err[0]
+    assert os.listdir(other.parent) == ["alias.nc"] and other.read_bytes() == b"earlier results"
+
+
 # ------------------------------------------------------------------------- a worker killed (out of memory)
 def _killing_run_chunk(task):
     """``run_chunk``, but the worker computing chunk 2 is killed as the out-of-memory killer
@@ -419,6 +462,57 @@ def test_a_worker_killed_twice_stops_the_study_with_one_line_and_a_rerun_resumes
     assert log["resumed"] == saved and log["computed"] == set(range(8)) - saved
     assert main(["study", EXAMPLE, "--spec", str(spec), "--out", str(tmp_path / "serial.nc"), "--quiet"]) == 0
     assert_same_results(out, tmp_path / "serial.nc")
+
+
+class _DaskClusterKillingChunk2:
+    """What ``--scheduler`` gets from a dask cluster whose workers all die running chunk 2
+    (the scheduler has computed a lost worker's chunk elsewhere up to its allowed failures,
+    then gives up with ``KilledWorker``): the chunks before it arrive, then the error."""
+
+    def __init__(self, args, attempt=1):
+        pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def map(self, function, tasks):
+        from types import SimpleNamespace
+
+        from distributed import KilledWorker
+
+        for task in tasks:
+            if task.index == 2:
+                raise KilledWorker(f"run_chunk-{task.index}", SimpleNamespace(address="tcp://10.0.0.7:40001"), 3)
+            yield function(task)
+
+
+def test_a_dask_chunk_whose_workers_all_died_stops_the_study_with_one_line_and_a_rerun_resumes(
+        tmp_path, monkeypatch, capsys):
+    pytest.importorskip("distributed")
+    from rotordyn_modal.cli import main
+    from rotordyn_modal.cli import study as study_command_module
+
+    spec = tmp_path / "s.toml"
+    spec.write_text(_small_study_file(tmp_path).read_text().replace("samples = 24", "samples = 12"))
+    out = tmp_path / "r.nc"
+    argv = ["study", EXAMPLE, "--spec", str(spec), "--out", str(out), "--quiet"]
+    monkeypatch.setattr(study_command_module, "_executor", _DaskClusterKillingChunk2)
+    code = main(argv + ["--scheduler", "tcp://10.0.0.5:8786"])
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert code == 1 and len(lines) == 1, lines
+    saved = finished_chunks(tmp_path / "r.nc.partial")
+    assert saved == {0, 1}
+    assert "every dask worker that ran one chunk died (4 workers" in lines[0]
+    assert f"2 finished chunks kept in {tmp_path / 'r.nc.partial'} for the next run" in lines[0]
+    assert not out.exists()
+    monkeypatch.undo()
+    assert main(argv + ["--verbose"]) == 0
+    log = chunk_log(capsys.readouterr().err)
+    assert log["resumed"] == {0, 1} and log["computed"] == {2, 3}
+    assert out.exists() and not (tmp_path / "r.nc.partial").exists()
 
 
 # ------------------------------------------------------------------------- checkpoints that cannot be one

@@ -28,7 +28,9 @@ and only the missing chunks are computed; a damaged chunk file is computed again
 second study writing the same RESULTS.nc while the first runs is refused (exit 2).
 Failed variants (a model that validation refuses, a solver error) are recorded with
 their reason and do not stop the study. A worker process the system kills (out of
-memory) is replaced once by a fresh pool of half the workers. A study whose results
+memory) is replaced once by a fresh pool of half the workers; on dask the scheduler
+computes a lost worker's chunk again elsewhere, and a chunk whose workers all died stops
+the study with one line (its finished chunks kept: run again). A study whose results
 cannot fit in memory is refused before any work, with the estimate (docs/study-file.md).
 
 examples:
@@ -98,7 +100,9 @@ def run(args) -> int:
 
 def _compute(model, definition, args, folder):
     """The study's results; a worker process that dies (the out-of-memory killer) is
-    replaced once by a fresh pool that computes the chunks still missing."""
+    replaced once by a fresh pool that computes the chunks still missing. On dask, the
+    scheduler itself computes a lost worker's chunk again elsewhere; a chunk whose workers
+    all died (``KilledWorker``) stops the study with one line, its finished chunks kept."""
     from concurrent.futures.process import BrokenProcessPool
 
     from ..study import study
@@ -109,6 +113,11 @@ def _compute(model, definition, args, folder):
             with _executor(args, attempt) as executor:
                 return study(model, definition, executor=executor, checkpoint=folder,
                              chunk_size=args.chunk_size, progress=show_progress(args))
+        except _killed_worker(args) as error:
+            died = error.allowed_failures + 1
+            raise OutputWriteError(f"every dask worker that ran one chunk died ({died} worker{'s' * (died > 1)}: "
+                                   "killed by the system, out of memory? give the workers more memory or a "
+                                   "smaller --chunk-size)") from None
         except BrokenProcessPool:
             if attempt == 2:
                 raise OutputWriteError("a worker process died twice (killed by the system: out of memory? "
@@ -121,6 +130,15 @@ def _compute(model, definition, args, folder):
                   "run the same command again to resume", file=sys.stderr)
             raise
     raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _killed_worker(args):
+    """dask's ``KilledWorker`` with --scheduler (a tuple that catches nothing without it)."""
+    if not args.scheduler:
+        return ()
+    from distributed import KilledWorker
+
+    return KilledWorker
 
 
 def _kept_chunks(error, folder):

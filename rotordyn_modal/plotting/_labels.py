@@ -1,14 +1,20 @@
 """Labels placed inside (or beside) the axes, apart from each other and from markers.
 
-Straight lines' labels sit where the lines leave the axes: each label offers a few candidate
-boxes next to its line's exit point (in axes fraction); the first candidate that lies inside
-the axes and clear of every label already placed is taken; a label with no such candidate is
-left out (its line keeps its colour). Labels of one source whose exits are closer than a
-label's width are merged first (``1X, 2X fan``).
+One placer serves every label inside the axes: :func:`first_free_box` takes the first of a
+label's candidate boxes that lies inside the axes and clear of every label already placed (and
+of markers); a label with no such candidate is left out. The callers only choose the candidates:
+
+- straight lines' labels (:func:`edge_label_boxes`): a few boxes next to where the line leaves
+  the axes (a line whose label is left out keeps its colour); labels of one source whose exits
+  are closer than a label's width are merged first (``1X, 2X fan``);
+- labels of points without a leader line (Campbell mode ends and critical speeds, stability
+  thresholds): a few boxes touching the point's marker;
+- labels of points with a leader line (:func:`place_point_labels`, unbalance peaks): a grid
+  of boxes around the point, nearest first (:func:`boxes_around`), a box taken only where its
+  leader line crosses no label; a crowd of labels at one point fans out in columns beside it.
 
 Curves' labels beside the axes (:func:`column_positions`) keep their curves' order and move
-apart only as far as they must; a leader line joins each to its curve. Labels of points
-(:func:`first_free_box`) take the first free box of a few around their point.
+apart only as far as they must; a leader line joins each to its curve.
 :func:`draw_time_layout` re-places a figure's labels each time it is drawn, so that they follow
 zooming, panning and resizing.
 """
@@ -147,25 +153,25 @@ def edge_label_boxes(ax, labels, fontsize, renderer, placed):
 
     pad_u, pad_v = _PAD_POINTS * points * to_u, _PAD_POINTS * points * to_v
     margin = (_MARGIN_POINTS * points * to_u, _MARGIN_POINTS * points * to_v)
+    frame = (margin[0], margin[1], 1.0 - margin[0], 1.0 - margin[1])
     taken = []
     for label in _merge_close(labels, size):
         w, h = size(label.text)
-        for left, bottom in _candidates(label, w, h, pad_u, pad_v):
-            candidate = (left, bottom, left + w, bottom + h)
-            if _inside(candidate, margin) and not any(_overlap(candidate, other, pad_u, pad_v)
-                                                        for other in placed):
-                placed.append(candidate)
-                taken.append((label, candidate))
-                break
+        box = first_free_box([(left, bottom, left + w, bottom + h)
+                              for left, bottom in _candidates(label, w, h, pad_u, pad_v)],
+                             placed, (pad_u, pad_v), frame)
+        if box is not None:
+            taken.append((label, box))
     return taken
 
 
-def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0), obstacles=()):
+def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0), obstacles=(), allowed=None):
     """The first of ``candidates`` inside ``frame`` and clear of every box in ``placed``.
 
     Boxes are (left, bottom, right, top) in one coordinate system; ``gap`` (along x, y) is
-    kept from the boxes placed; ``obstacles`` (markers) are only not overlapped. The box
-    taken is appended to ``placed``.
+    kept from the boxes placed; ``obstacles`` (markers) are only not overlapped; ``allowed``
+    (a function of a box, optional) must also say True (e.g. a leader line crossing no label).
+    The box taken is appended to ``placed``.
 
     Returns
     -------
@@ -175,10 +181,27 @@ def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0
         inside = (candidate[0] >= frame[0] and candidate[1] >= frame[1] and candidate[2] <= frame[2]
                   and candidate[3] <= frame[3])
         if inside and not any(_overlap(candidate, other, *gap) for other in placed) \
-                and not any(_overlap(candidate, other, 0.0, 0.0) for other in obstacles):
+                and not any(_overlap(candidate, other, 0.0, 0.0) for other in obstacles) \
+                and (allowed is None or allowed(candidate)):
             placed.append(candidate)
             return candidate
     return None
+
+
+def segment_crosses_box(start, end, box) -> bool:
+    """Whether the segment ``start -> end`` (points (x, y)) passes through ``box`` (Liang-Barsky)."""
+    (x0, y0), (x1, y1) = start, end
+    low, high = 0.0, 1.0
+    for delta, near, far in ((x1 - x0, box[0] - x0, box[2] - x0), (y1 - y0, box[1] - y0, box[3] - y0)):
+        if delta == 0.0:
+            if near > 0.0 or far < 0.0:
+                return False
+            continue
+        a, b = sorted((near / delta, far / delta))
+        low, high = max(low, a), min(high, b)
+        if low > high:
+            return False
+    return True
 
 
 def column_positions(targets, heights, lo, hi, gap=0.0):
@@ -304,12 +327,6 @@ def _candidates(label, w, h, pad_u, pad_v):
     return [(left, hi + pad_v), (left, lo - pad_v - h), (left, hi + 2 * pad_v + h), (left, lo - 2 * (pad_v + h))]
 
 
-def _inside(box, margin):
-    left, bottom, right, top = box
-    mu, mv = margin
-    return left >= mu and bottom >= mv and right <= 1 - mu and top <= 1 - mv
-
-
 def _overlap(a, b, gap_u, gap_v):
     return a[0] < b[2] + gap_u and b[0] < a[2] + gap_u and a[1] < b[3] + gap_v and b[1] < a[3] + gap_v
 
@@ -330,23 +347,59 @@ def exits_of_orders(orders, lines, x_limits, top, per_x, bottom=0.0, to_axes=Non
     return labels
 
 
-#: offsets (in label widths and heights) of a point label's lower-left corner from its anchor,
-#: tried in this order: above right, above left, right, left, further above, below
-_POINT_OFFSETS = [(0.1, 0.6), (-1.1, 0.6), (0.15, -0.5), (-1.15, -0.5), (0.1, 1.8), (-1.1, 1.8),
-                  (0.1, -1.8), (-1.1, -1.8), (-0.5, 3.0), (0.1, 3.0), (-1.1, 3.0), (-0.5, -1.8),
-                  (0.1, -3.0), (-1.1, -3.0)]
-
-
 #: half size of the marker at a point label's anchor, kept free of labels [points]
 _MARKER_POINTS = 3.0
+
+#: a label with a leader line may sit this many rows (label heights) above and below its
+#: point, and this many columns (label widths) right and left of it
+_GRID_ROWS, _GRID_COLUMNS = 8, 2
+
+#: a box below the point counts this many times as far (a peak's curve falls away below it)
+_BELOW = 2.0
+
+
+def boxes_around(x, y, w, h, pad, clear):
+    """Boxes of size ``w x h`` on a grid around the point ``(x, y)``, nearest first.
+
+    Rows are centred on the point's height and a little more than ``pad`` apart (so that
+    round-off cannot bring neighbours within ``pad``), up to :data:`_GRID_ROWS` each way;
+    columns lie right and left of the point (none across it: its leader lines would block
+    the others'), up to :data:`_GRID_COLUMNS` each way, as far apart and clear of the point's
+    marker (half size ``clear``). Nearest is by the distance from the point to the box, those below the point
+    counted :data:`_BELOW` times; ties: above before below, right before left.
+
+    Parameters
+    ----------
+    x, y, w, h, pad, clear : float
+        One unit (e.g. pixels).
+
+    Returns
+    -------
+    list of (left, bottom, right, top)
+    """
+    pad = 1.25 * pad
+    lefts = [left for j in range(_GRID_COLUMNS)
+             for left in (x + clear + pad + j * (w + pad), x - clear - pad - w - j * (w + pad))]
+    rows = sorted(range(-_GRID_ROWS, _GRID_ROWS + 1), key=lambda k: (abs(k), k < 0))
+    boxes = [(left, y - h / 2 + k * (h + pad), left + w, y + h / 2 + k * (h + pad)) for k in rows for left in lefts]
+
+    def distance(box):
+        du = max(box[0] - x, 0.0, x - box[2])
+        dv = max(box[1] - y, 0.0, _BELOW * (y - box[3]))
+        return du * du + dv * dv
+
+    return sorted(boxes, key=distance)
 
 
 def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=None):
     """Annotate points of ``ax`` in the order given, each label inside the axes and apart.
 
-    Each label tries a few boxes around its anchor (:data:`_POINT_OFFSETS`); the first
-    inside the axes and clear of every label placed before and of every anchor is taken; a label with no free
-    box is left out. Give the anchors most important first.
+    Each label takes the nearest free box (:func:`first_free_box`: inside the axes, clear of
+    every label placed before and of every anchor, its leader line crossing no label and no
+    leader line crossing it) of a grid around its anchor (:func:`boxes_around`); a leader
+    line joins the box's point nearest the anchor to the anchor. Labels crowded at one point
+    so fan out in columns beside it. A label with no free box is left out: give the anchors
+    most important first.
 
     Parameters
     ----------
@@ -367,30 +420,38 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     frame = ax.get_window_extent(renderer)
     points = fig.dpi / 72.0
     margin, pad = _MARGIN_POINTS * points, _PAD_POINTS * points
+    inner = (frame.x0 + margin, frame.y0 + margin, frame.x1 - margin, frame.y1 - margin)
     pixels = [ax.transData.transform((x, y)) for x, y in anchors]
     marker = _MARKER_POINTS * points
     placed = [(px - marker, py - marker, px + marker, py + marker) for px, py in pixels]   # keep the points free
+    labels, leaders = [], []        # the boxes and leader lines drawn
     drawn = []
     for (x, y), (px, py), text, color in zip(anchors, pixels, texts, colors):
         if not (frame.x0 <= px <= frame.x1 and frame.y0 <= py <= frame.y1):
             continue
-        probe = ax.text(0, 0, text, fontsize=fontsize)
-        extent = probe.get_window_extent(renderer)
-        probe.remove()
-        w, h = extent.width, extent.height
-        for du, dv in _POINT_OFFSETS:
-            left, bottom = px + du * w, py + dv * h
-            box = (left, bottom, left + w, bottom + h)
-            inside = (box[0] >= frame.x0 + margin and box[1] >= frame.y0 + margin
-                      and box[2] <= frame.x1 - margin and box[3] <= frame.y1 - margin)
-            if inside and not any(_overlap(box, other, pad, pad) for other in placed):
-                placed.append(box)
-                drawn.append(ax.annotate(text, (x, y), xytext=((left - px) / points, (bottom - py) / points),
-                                         textcoords="offset points", ha="left", va="bottom", fontsize=fontsize,
-                                         color=color, annotation_clip=True,
-                                         bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none",
-                                               "alpha": 0.75},
-                                         arrowprops={"arrowstyle": "-", "color": color, "lw": 0.5,
-                                                     "shrinkA": 0, "shrinkB": 2}))
-                break
+
+        def leader_clear(box, point=(px, py)):
+            end = _nearest_in(box, point)
+            return not any(segment_crosses_box(end, point, other) for other in labels) \
+                and not any(segment_crosses_box(*leader, box) for leader in leaders)
+
+        w, h = text_size(fig, text, fontsize, renderer)
+        box = first_free_box(boxes_around(px, py, w, h, pad, marker), placed, (pad, pad), inner, allowed=leader_clear)
+        if box is None:
+            continue
+        end = _nearest_in(box, (px, py))
+        labels.append(box)
+        leaders.append((end, (px, py)))
+        drawn.append(ax.annotate(text, (x, y), xytext=((box[0] - px) / points, (box[1] - py) / points),
+                                 textcoords="offset points", ha="left", va="bottom", fontsize=fontsize,
+                                 color=color, annotation_clip=True,
+                                 bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none",
+                                       "alpha": 0.75},
+                                 arrowprops={"arrowstyle": "-", "color": color, "lw": 0.5, "shrinkA": 0, "shrinkB": 2,
+                                             "relpos": ((end[0] - box[0]) / w, (end[1] - box[1]) / h)}))
     return drawn
+
+
+def _nearest_in(box, point):
+    """The point of ``box`` nearest ``point``: where a leader line from ``point`` meets the box."""
+    return min(max(point[0], box[0]), box[2]), min(max(point[1], box[1]), box[3])

@@ -524,6 +524,12 @@ class ResultsLock:
     Without ``fcntl`` (Windows) the file is created exclusively and a stale one is
     recognised by its process id no longer running.
 
+    A results file that exists already is one file however it is named: symbolic links
+    lead to one lock file, but hard links (one file, by its device and inode, under
+    several names) do not, so the existing file itself is locked too (``fcntl.flock``,
+    held by the file's device and inode, released as the record lock is): a second study
+    writing it by any name is refused.
+
     Parameters
     ----------
     results : path-like
@@ -535,6 +541,7 @@ class ResultsLock:
         real = results_file(self.results)  # links followed: one lock per file, however named
         self.path = real.with_name(real.name + ".lock")
         self._fd = None
+        self._file_fd = None
         self.previous_owner = None
 
     def __enter__(self):
@@ -544,6 +551,11 @@ class ResultsLock:
             self._fd = self._acquire_exclusive()
         else:
             self._fd = self._acquire_record_lock(fcntl)
+            try:
+                self._file_fd = self._lock_existing_file(fcntl)
+            except BaseException:
+                self.__exit__()
+                raise
         with contextlib.suppress(OSError):  # the owner's name is for messages only
             os.ftruncate(self._fd, 0)
             os.write(self._fd, f"{os.getpid()} {socket.gethostname()}\n".encode())
@@ -572,6 +584,27 @@ class ResultsLock:
                 return fd
             os.close(fd)
 
+    def _lock_existing_file(self, fcntl):
+        """A lock on the existing results file itself (its device and inode: every name of
+        it, hard links included), or None when there is no such regular file yet."""
+        import stat
+
+        real = results_file(self.results)
+        try:
+            fd = os.open(real, os.O_RDONLY)
+        except OSError:
+            return None     # not there yet (or unreadable: then it cannot be written either)
+        try:
+            if not stat.S_ISREG(os.fstat(fd).st_mode):
+                os.close(fd)
+                return None
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            owner = _flock_owner(os.fstat(fd))
+            os.close(fd)
+            raise self._busy(owner, real) from None
+        return fd
+
     def _acquire_exclusive(self):  # pragma: no cover - Windows
         from ..io.atomic import pid_alive
 
@@ -587,16 +620,18 @@ class ResultsLock:
                 with contextlib.suppress(OSError):
                     os.unlink(self.path)
 
-    def _busy(self, owner):
+    def _busy(self, owner, lock=None):
         who = f"process {owner}" if owner else "another process"
-        return OutputError(f"{self.results}: another study ({who}) is writing it (lock {self.path}); "
+        return OutputError(f"{self.results}: another study ({who}) is writing it (lock {lock or self.path}); "
                            "wait for it to finish or give another --out")
 
     def __exit__(self, *exc):
         with contextlib.suppress(OSError):
             os.unlink(self.path)
-        os.close(self._fd)
-        self._fd = None
+        for fd in (self._file_fd, self._fd):
+            if fd is not None:
+                os.close(fd)
+        self._fd = self._file_fd = None
         return False
 
 
@@ -606,6 +641,19 @@ def _owner(fd) -> str:
         return os.read(fd, 200).decode(errors="replace").strip()
     except OSError:
         return ""
+
+
+def _flock_owner(status) -> str:
+    """The process id holding a ``flock`` on the file of ``status`` (os.stat_result), from
+    ``/proc/locks`` (Linux), or '' where that cannot be read."""
+    inode = f"{os.major(status.st_dev):02x}:{os.minor(status.st_dev):02x}:{status.st_ino}"
+    with contextlib.suppress(OSError):
+        with open("/proc/locks") as locks:
+            for line in locks:
+                fields = line.split()      # 1: FLOCK ADVISORY WRITE 1234 08:02:5678 0 EOF
+                if len(fields) > 5 and fields[1] == "FLOCK" and fields[3] == "WRITE" and fields[5] == inode:
+                    return fields[4]
+    return ""
 
 
 def _owner_of(path) -> str:  # pragma: no cover - Windows

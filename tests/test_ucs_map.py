@@ -63,6 +63,37 @@ def test_rigid_rotor_on_two_springs_equals_the_closed_form(polar):
         assert np.isnan(result.speeds[:, 1:]).all()
 
 
+def test_each_mode_is_followed_through_the_crossings_of_its_curve_with_others():
+    """Rotor r1 on the swept bearings, rotor r2 (heavier) on bearings of its own, fixed: r1's
+    cylindrical sqrt(2k/m) and forward conical sqrt(2 k L^2 / (Id - Ip)) rise through r2's
+    k-independent cylindrical and conical speeds. Each followed curve is one closed form on both
+    sides of every crossing (the j-th lowest speed passes from one to another), named by its
+    rotor and motion; the map's ranks stay the closed forms sorted."""
+    m2, ip2, id2, span2, k2 = 50.0, 0.5, 2.0, 0.3, 5e6
+    r2 = rdm.Rotor("r2", m2, [0.0, 0.6, 0.0], ip2, id2, speed_ratio=1.0)
+    bearings = [dict(name=name, rotor=rotor, position=[x, y, 0.0], stiffness=stiffness)
+                for name, rotor, x, y, stiffness in (("A", "r1", SPAN, 0.0, 2e6), ("B", "r1", -SPAN, 0.0, 2e6),
+                                                     ("C", "r2", span2, 0.6, k2), ("D", "r2", -span2, 0.6, k2))]
+    model = rdm.Model(rotors=[rdm.Rotor("r1", MASS, [0.0, 0.0, 0.0], IP, ID, speed_ratio=1.0), r2], bearings=bearings,
+                      reference_rotor="r1")
+    k = np.geomspace(1e5, 1e9, 17)
+    result = ucs_map(model, k, modes=4, bearings=["A", "B"])
+    closed = np.c_[np.sqrt(2 * k / MASS), np.sqrt(2 * k * SPAN**2 / (ID - IP)),
+                   np.full_like(k, np.sqrt(2 * k2 / m2)), np.full_like(k, np.sqrt(2 * k2 * span2**2 / (id2 - ip2)))]
+    names = np.array(["r1 cylindrical", "r1 conical", "r2 cylindrical", "r2 conical"])
+    first = np.argsort(closed[0])                       # numbered by their speed at the first stiffness
+    assert (np.diff(np.argsort(closed, axis=1), axis=0) != 0).any()          # the curves do cross
+    np.testing.assert_allclose(result.mode_speeds, closed[:, first], rtol=1e-10)
+    assert result.mode_names == tuple(names[first])
+    np.testing.assert_allclose(result.speeds, np.sort(closed, axis=1), rtol=1e-10)
+    # bearing A's own 2e6 N/m (not a point of the sweep) meets every mode, each by its number and name
+    at = {(c.axis, c.mode, c.name): c.speed for c in result.crossings if c.bearing == "A"}
+    own = np.c_[np.sqrt(2 * 2e6 / MASS), np.sqrt(2 * 2e6 * SPAN**2 / (ID - IP)), closed[:1, 2:]][0, first]
+    for axis in ("xx", "yy"):
+        found = np.array([at[axis, j + 1, name] for j, name in enumerate(names[first])])
+        np.testing.assert_allclose(found, own, rtol=1e-10)
+
+
 def test_rigid_support_asymptote_is_the_rotor_fixed_to_the_casing():
     """The map's limit as k grows: each chosen bearing radially rigid. A rotor on two such
     bearings without axial stiffness is rigidly attached to the casing: the asymptote equals the

@@ -11,7 +11,9 @@ frequency equals ``Omega`` (order 1 of the reference rotor). With ``lambda = i O
 
 so every critical speed of every ``k`` comes from one batched Hermitian eigen-solve, no search:
 ``(M - i G) phi = nu K phi`` (``K`` positive definite once the machine's free motions are set
-apart) gives real ``nu`` and ``Omega = nu^-1/2`` for ``nu > 0``. A mode whose gyroscopic
+apart) gives real ``nu`` and ``Omega = nu^-1/2`` for ``nu > 0``. Each mode is followed over
+the stiffness by its shape (``tracking.track_modes``), so that a curve of the map is one mode
+(curves may cross), named by the body and motion with most of its kinetic energy. A mode whose gyroscopic
 stiffening outruns the speed (a disc's forward conical mode, polar above diametral inertia) has
 ``nu <= 0``: no critical speed. Forward or backward is the package's whirl ratio of ``phi``
 (``docs/theory.md``), repeated roots resolved into their circular combinations as everywhere.

@@ -94,6 +94,45 @@ def test_each_mode_is_followed_through_the_crossings_of_its_curve_with_others():
         np.testing.assert_allclose(found, own, rtol=1e-10)
 
 
+def test_followed_modes_cover_the_lowest_forward_speeds_each_root_once():
+    """A rotor in a casing on mounts, whose modes change their whirl (and so start and stop
+    being forward critical speeds) as k varies: at every stiffness the ``modes`` lowest forward
+    critical speeds are all on followed curves, every point of a curve is a forward critical
+    speed there, and no root is on two curves."""
+    k = np.geomspace(1e4, 1e10, 25)
+    model = _rotor_on_springs(casing=True)
+    result = ucs_map(model, k, modes=4)
+    every = ucs_map(model, k, modes=40).speeds                  # all forward critical speeds
+    for row, lowest, forward in zip(result.mode_speeds, result.speeds, every):
+        on = np.sort(row[np.isfinite(row)])
+        assert len(np.unique(on)) == len(on)
+        assert all(np.isclose(on, s, rtol=1e-12).any() for s in lowest[np.isfinite(lowest)])
+        assert all(np.isclose(forward, s, rtol=1e-12).any() for s in on)
+    ended = np.isfinite(result.mode_speeds[:-1]) & ~np.isfinite(result.mode_speeds[1:])
+    assert ended.any()                                       # the case is one where modes stop
+
+
+def test_figure_draws_the_rigid_asymptotes_beyond_the_sweep():
+    """The rigid-support lines lie past the sweep's last stiffness (at it they hide under the
+    curves that have reached them), at the asymptote's speeds."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    k = np.geomspace(1e5, 1e10, 11)
+    result = ucs_map(_rotor_on_springs(casing=True), k, modes=2)
+    fig = result.plot()
+    ax = fig.axes[0]
+    lines = [c for c in ax.collections if str(c.get_label()).startswith("rigid supports")]
+    assert len(lines) == 1 and ax.get_xlim()[1] > 1.9 * k[-1]
+    segments = np.array(lines[0].get_segments())                    # (lines, 2 points, x y)
+    np.testing.assert_allclose(segments[:, :, 0], [[k[-1], ax.get_xlim()[1]]] * len(segments))
+    expected = result.rigid_speeds[np.isfinite(result.rigid_speeds)] * 30 / np.pi
+    np.testing.assert_allclose(np.sort(segments[:, 0, 1]), np.sort(expected), rtol=1e-12)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+
+
 def test_rigid_support_asymptote_is_the_rotor_fixed_to_the_casing():
     """The map's limit as k grows: each chosen bearing radially rigid. A rotor on two such
     bearings without axial stiffness is rigidly attached to the casing: the asymptote equals the

@@ -13,9 +13,9 @@ so every critical speed of every ``k`` comes from one batched Hermitian eigen-so
 ``(M - i G) phi = nu K phi`` (``K`` positive definite once the machine's free motions are set
 apart) gives real ``nu`` and ``Omega = nu^-1/2`` for ``nu > 0``. Each mode is followed over
 the stiffness by its shape (``tracking.track_modes``), so that a curve of the map is one mode
-(curves may cross), named by the body and motion with most of its kinetic energy. A mode whose gyroscopic
-stiffening outruns the speed (a disc's forward conical mode, polar above diametral inertia) has
-``nu <= 0``: no critical speed. Forward or backward is the package's whirl ratio of ``phi``
+(curves may cross), named by the body and motion with most of its kinetic energy. A mode whose
+gyroscopic stiffening outruns the speed (a disc's forward conical mode, polar above diametral
+inertia) has ``nu <= 0``: no critical speed. Forward or backward is the package's whirl ratio of ``phi``
 (``docs/theory.md``), repeated roots resolved into their circular combinations as everywhere.
 
 Each chosen bearing's own radial stiffness ``Kxx``, ``Kyy`` (in its radial axes: a journal
@@ -196,7 +196,8 @@ def ucs_map(model, stiffness, modes: int = 4, bearings=None, speeds=None, operat
     stiffness : array_like, shape (K,) [N/m]
         Radial stiffness values, > 0, increasing (e.g. ``numpy.geomspace(1e5, 1e9, 41)``).
     modes : int
-        How many forward critical speeds per stiffness (the lowest).
+        How many forward critical speeds per stiffness (the lowest: ``speeds``); the followed
+        modes (``mode_speeds``) are those among them at some stiffness.
     bearings : sequence of str, optional
         The bearings whose stiffness is swept (default all). The others keep their
         coefficients, which must then be constant.

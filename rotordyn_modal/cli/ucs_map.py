@@ -107,5 +107,5 @@ def _print_crossings(result):
         print("no bearing's stiffness curve meets a mode's curve on the map", file=sys.stderr)
         return
     for row in table.itertuples(index=False):
-        print(f"bearing {row.bearing} K{row.axis} = {row.stiffness_n_per_m:.4g} N/m meets mode {row.mode} ({row.name}) at "
-              f"{row.speed_rpm:.6g} rpm", file=sys.stderr)
+        print(f"bearing {row.bearing} K{row.axis} = {row.stiffness_n_per_m:.4g} N/m meets mode {row.mode} "
+              f"({row.name}) at {row.speed_rpm:.6g} rpm", file=sys.stderr)

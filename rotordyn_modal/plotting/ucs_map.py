@@ -51,7 +51,7 @@ def plot_ucs_map(result, title: str | None = None, ax=None):
         ax.plot(k, rpm[:, j], color=colour, linewidth=1.8, marker=".", markersize=3, label=f"{j + 1} {names[j]}")
         ends += _draw_ends(ax, k, rpm[:, j], colour)
     if ends:
-        ax.plot([], [], "s", color="0.3", markersize=4, label="mode ends (not a forward crossing beyond)")
+        ax.plot([], [], "s", color="0.3", markersize=4, label="a mode starts or stops being a forward crossing")
     _label_right_ends(ax, k, rpm, names, limits)
     _draw_asymptotes(ax, result, rigid)
     _draw_bearings(ax, result)

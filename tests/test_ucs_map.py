@@ -63,6 +63,76 @@ def test_rigid_rotor_on_two_springs_equals_the_closed_form(polar):
         assert np.isnan(result.speeds[:, 1:]).all()
 
 
+def test_each_mode_is_followed_through_the_crossings_of_its_curve_with_others():
+    """Rotor r1 on the swept bearings, rotor r2 (heavier) on bearings of its own, fixed: r1's
+    cylindrical sqrt(2k/m) and forward conical sqrt(2 k L^2 / (Id - Ip)) rise through r2's
+    k-independent cylindrical and conical speeds. Each followed curve is one closed form on both
+    sides of every crossing (the j-th lowest speed passes from one to another), named by its
+    rotor and motion; the map's ranks stay the closed forms sorted."""
+    m2, ip2, id2, span2, k2 = 50.0, 0.5, 2.0, 0.3, 5e6
+    r2 = rdm.Rotor("r2", m2, [0.0, 0.6, 0.0], ip2, id2, speed_ratio=1.0)
+    bearings = [dict(name=name, rotor=rotor, position=[x, y, 0.0], stiffness=stiffness)
+                for name, rotor, x, y, stiffness in (("A", "r1", SPAN, 0.0, 2e6), ("B", "r1", -SPAN, 0.0, 2e6),
+                                                     ("C", "r2", span2, 0.6, k2), ("D", "r2", -span2, 0.6, k2))]
+    model = rdm.Model(rotors=[rdm.Rotor("r1", MASS, [0.0, 0.0, 0.0], IP, ID, speed_ratio=1.0), r2], bearings=bearings,
+                      reference_rotor="r1")
+    k = np.geomspace(1e5, 1e9, 17)
+    result = ucs_map(model, k, modes=4, bearings=["A", "B"])
+    closed = np.c_[np.sqrt(2 * k / MASS), np.sqrt(2 * k * SPAN**2 / (ID - IP)),
+                   np.full_like(k, np.sqrt(2 * k2 / m2)), np.full_like(k, np.sqrt(2 * k2 * span2**2 / (id2 - ip2)))]
+    names = np.array(["r1 cylindrical", "r1 conical", "r2 cylindrical", "r2 conical"])
+    first = np.argsort(closed[0])                       # numbered by their speed at the first stiffness
+    assert (np.diff(np.argsort(closed, axis=1), axis=0) != 0).any()          # the curves do cross
+    np.testing.assert_allclose(result.mode_speeds, closed[:, first], rtol=1e-10)
+    assert result.mode_names == tuple(names[first])
+    np.testing.assert_allclose(result.speeds, np.sort(closed, axis=1), rtol=1e-10)
+    # bearing A's own 2e6 N/m (not a point of the sweep) meets every mode, each by its number and name
+    at = {(c.axis, c.mode, c.name): c.speed for c in result.crossings if c.bearing == "A"}
+    own = np.c_[np.sqrt(2 * 2e6 / MASS), np.sqrt(2 * 2e6 * SPAN**2 / (ID - IP)), closed[:1, 2:]][0, first]
+    for axis in ("xx", "yy"):
+        found = np.array([at[axis, j + 1, name] for j, name in enumerate(names[first])])
+        np.testing.assert_allclose(found, own, rtol=1e-10)
+
+
+def test_followed_modes_cover_the_lowest_forward_speeds_each_root_once():
+    """A rotor in a casing on mounts, whose modes change their whirl (and so start and stop
+    being forward critical speeds) as k varies: at every stiffness the ``modes`` lowest forward
+    critical speeds are all on followed curves, every point of a curve is a forward critical
+    speed there, and no root is on two curves."""
+    k = np.geomspace(1e4, 1e10, 25)
+    model = _rotor_on_springs(casing=True)
+    result = ucs_map(model, k, modes=4)
+    every = ucs_map(model, k, modes=40).speeds                  # all forward critical speeds
+    for row, lowest, forward in zip(result.mode_speeds, result.speeds, every):
+        on = np.sort(row[np.isfinite(row)])
+        assert len(np.unique(on)) == len(on)
+        assert all(np.isclose(on, s, rtol=1e-12).any() for s in lowest[np.isfinite(lowest)])
+        assert all(np.isclose(forward, s, rtol=1e-12).any() for s in on)
+    ended = np.isfinite(result.mode_speeds[:-1]) & ~np.isfinite(result.mode_speeds[1:])
+    assert ended.any()                                       # the case is one where modes stop
+
+
+def test_figure_draws_the_rigid_asymptotes_beyond_the_sweep():
+    """The rigid-support lines lie past the sweep's last stiffness (at it they hide under the
+    curves that have reached them), at the asymptote's speeds."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    k = np.geomspace(1e5, 1e10, 11)
+    result = ucs_map(_rotor_on_springs(casing=True), k, modes=2)
+    fig = result.plot()
+    ax = fig.axes[0]
+    lines = [c for c in ax.collections if str(c.get_label()).startswith("rigid supports")]
+    assert len(lines) == 1 and ax.get_xlim()[1] > 1.9 * k[-1]
+    segments = np.array(lines[0].get_segments())                    # (lines, 2 points, x y)
+    np.testing.assert_allclose(segments[:, :, 0], [[k[-1], ax.get_xlim()[1]]] * len(segments))
+    expected = result.rigid_speeds[np.isfinite(result.rigid_speeds)] * 30 / np.pi
+    np.testing.assert_allclose(np.sort(segments[:, 0, 1]), np.sort(expected), rtol=1e-12)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+
+
 def test_rigid_support_asymptote_is_the_rotor_fixed_to_the_casing():
     """The map's limit as k grows: each chosen bearing radially rigid. A rotor on two such
     bearings without axial stiffness is rigidly attached to the casing: the asymptote equals the

@@ -11,9 +11,11 @@ frequency equals ``Omega`` (order 1 of the reference rotor). With ``lambda = i O
 
 so every critical speed of every ``k`` comes from one batched Hermitian eigen-solve, no search:
 ``(M - i G) phi = nu K phi`` (``K`` positive definite once the machine's free motions are set
-apart) gives real ``nu`` and ``Omega = nu^-1/2`` for ``nu > 0``. A mode whose gyroscopic
-stiffening outruns the speed (a disc's forward conical mode, polar above diametral inertia) has
-``nu <= 0``: no critical speed. Forward or backward is the package's whirl ratio of ``phi``
+apart) gives real ``nu`` and ``Omega = nu^-1/2`` for ``nu > 0``. Each mode is followed over
+the stiffness by its shape (``tracking.track_modes``), so that a curve of the map is one mode
+(curves may cross), named by the body and motion with most of its kinetic energy. A mode whose
+gyroscopic stiffening outruns the speed (a disc's forward conical mode, polar above diametral
+inertia) has ``nu <= 0``: no critical speed. Forward or backward is the package's whirl ratio of ``phi``
 (``docs/theory.md``), repeated roots resolved into their circular combinations as everywhere.
 
 Each chosen bearing's own radial stiffness ``Kxx``, ``Kyy`` (in its radial axes: a journal
@@ -26,15 +28,18 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg
 from scipy.optimize import brentq
 
-from ..assembly import bearing_motion, constant_stiffness_damping, gyroscopic_matrix, mass_matrix
+from ..assembly import bearing_motion, body_inertias, constant_stiffness_damping, gyroscopic_matrix, mass_matrix
 from ..elements.bearings import evaluate
 from ..errors import InputError
-from . import _eigensolve, _whirl
+from ..model.geometry import skew
+from . import _eigensolve, _vectors, _whirl
+from .tracking import track_modes
 
 __all__ = ["UcsMap", "BearingCurve", "Crossing", "ucs_map", "forward_critical_speeds"]
 
@@ -73,9 +78,11 @@ class Crossing:
     bearing : str
     axis : {'xx', 'yy'}
     mode : int
-        1 = the lowest forward critical speed at that stiffness.
+        The followed mode met: its number on the map (``UcsMap.mode_speeds[:, mode - 1]``).
     stiffness : float [N/m]
     speed : float [rad/s]
+    name : str
+        That mode's name (``UcsMap.mode_names``).
     """
 
     bearing: str
@@ -83,6 +90,7 @@ class Crossing:
     mode: int
     stiffness: float
     speed: float
+    name: str = ""
 
 
 @dataclass(frozen=True)
@@ -95,7 +103,8 @@ class UcsMap:
         Radial stiffness given to each chosen bearing, increasing.
     speeds : ndarray, shape (K, m) [rad/s]
         ``speeds[i, j]``: the (j+1)-th lowest forward critical speed at ``stiffness[i]`` (nan
-        where there are fewer).
+        where there are fewer): a rank, not a mode (where two modes cross, column j passes from
+        one to the other; see ``mode_speeds``).
     bearings : tuple of str
         The chosen bearings.
     curves : tuple of BearingCurve
@@ -109,6 +118,15 @@ class UcsMap:
     operating : (float, float) [rad/s] or None
         Operating speed range, drawn as a band.
     title : str
+    mode_speeds : ndarray, shape (K, L) [rad/s]
+        The modes drawn on the map, each followed over the stiffness by its shape:
+        ``mode_speeds[i, j]`` is mode j+1's forward critical speed at ``stiffness[i]``, nan where
+        it is none (it whirls backward or not at all there, or outruns the speed). The modes
+        are those among the ``m`` lowest forward critical speeds at some stiffness, numbered by
+        the stiffness where they first appear and their speed there. Curves may cross.
+    mode_names : tuple of str, (L,)
+        Each followed mode's body with the most kinetic energy and its motion ('pump conical',
+        'stator rocking'; see ``docs/level1_and_ucs.md``).
     """
 
     stiffness: np.ndarray
@@ -119,6 +137,8 @@ class UcsMap:
     rigid_speeds: np.ndarray | None = None
     operating: tuple | None = None
     title: str = ""
+    mode_speeds: np.ndarray | None = None
+    mode_names: tuple = ()
 
     @property
     def speeds_rpm(self) -> np.ndarray:
@@ -135,13 +155,28 @@ class UcsMap:
                              "speed_rpm": self.speeds_rpm.ravel(),
                              "frequency_hz": self.speeds.ravel() / (2 * np.pi)})
 
+    def modes_dataframe(self):
+        """Long table ``stiffness_n_per_m, mode, name, speed_rpm, frequency_hz`` of the followed
+        modes (one row per stiffness and mode; empty speed where the mode is no forward critical
+        speed)."""
+        import pandas as pd
+
+        count, m = self.mode_speeds.shape
+        return pd.DataFrame({"stiffness_n_per_m": np.repeat(self.stiffness, m),
+                             "mode": np.tile(np.arange(1, m + 1), count),
+                             "name": np.tile(np.array(self.mode_names, dtype=object), count),
+                             "speed_rpm": self.mode_speeds.ravel() * 30 / np.pi,
+                             "frequency_hz": self.mode_speeds.ravel() / (2 * np.pi)})
+
     def crossings_dataframe(self):
-        """Table ``bearing, axis, mode, stiffness_n_per_m, speed_rpm`` of the crossings."""
+        """Table ``bearing, axis, mode, name, stiffness_n_per_m, speed_rpm`` of the crossings
+        (``mode``: the followed mode's number)."""
         import pandas as pd
 
         return pd.DataFrame({"bearing": [c.bearing for c in self.crossings],
                              "axis": [c.axis for c in self.crossings],
                              "mode": np.array([c.mode for c in self.crossings], dtype=int),
+                             "name": [c.name for c in self.crossings],
                              "stiffness_n_per_m": np.array([c.stiffness for c in self.crossings], dtype=float),
                              "speed_rpm": np.array([c.speed for c in self.crossings], dtype=float) * 30 / np.pi})
 
@@ -161,7 +196,8 @@ def ucs_map(model, stiffness, modes: int = 4, bearings=None, speeds=None, operat
     stiffness : array_like, shape (K,) [N/m]
         Radial stiffness values, > 0, increasing (e.g. ``numpy.geomspace(1e5, 1e9, 41)``).
     modes : int
-        How many forward critical speeds per stiffness (the lowest).
+        How many forward critical speeds per stiffness (the lowest: ``speeds``); the followed
+        modes (``mode_speeds``) are those among them at some stiffness.
     bearings : sequence of str, optional
         The bearings whose stiffness is swept (default all). The others keep their
         coefficients, which must then be constant.
@@ -186,13 +222,18 @@ def ucs_map(model, stiffness, modes: int = 4, bearings=None, speeds=None, operat
     stiffness = _check_stiffness(stiffness)
     modes = _check_modes(modes)
     parts = _Pencil(model, chosen)
-    found = parts.critical_speeds(stiffness, modes)
+    constants = _constant_values(chosen)
+    grid = np.union1d(stiffness, constants)           # the constant bearings' stiffness followed too
+    roots = parts.roots(grid)
+    mine = np.searchsorted(grid, stiffness)
+    found = _lowest_forward(_Roots(*(x[mine] for x in roots)), modes)
+    followed = _follow(parts, roots, mine, modes)
     curves = tuple(_bearing_curve(model, b, speeds, found) for b in chosen)
+    crossings = _constant_crossings(curves, grid, followed) + _curve_crossings_all(parts, curves, grid, followed)
     return UcsMap(stiffness=stiffness, speeds=found, bearings=tuple(b.name for b in chosen), curves=curves,
-                  crossings=tuple(_crossings(parts, curves, stiffness, found, modes)),
-                  rigid_speeds=_rigid_support(parts, model, chosen, modes),
+                  crossings=tuple(crossings), rigid_speeds=_rigid_support(parts, model, chosen, modes),
                   operating=None if operating is None else tuple(float(s) for s in operating),
-                  title=model.name)
+                  title=model.name, mode_speeds=followed.speeds[mine], mode_names=followed.names)
 
 
 class _Pencil:
@@ -206,10 +247,14 @@ class _Pencil:
         self.forms = _whirl.whirl_forms(model)
         self.rest, self.unit = _split_stiffness(model, chosen)
 
-    def critical_speeds(self, stiffness, count: int) -> np.ndarray:
-        """(K, count) [rad/s] for the stiffness values (K,)."""
+    def roots(self, stiffness) -> "_Roots":
+        """:class:`_Roots` for the stiffness values (K,) [N/m]."""
         K = self.rest + np.asarray(stiffness, dtype=float)[:, None, None] * self.unit
-        return forward_critical_speeds(self.M, self.G, K, self.forms, count)
+        return _synchronous_roots(self.M, self.G, K, self.forms)
+
+    def weighted(self, shapes) -> np.ndarray:
+        """Mass-weighted unit shapes (..., m, n) for the MAC."""
+        return _vectors.mass_normalized(shapes, self.M)
 
 
 def forward_critical_speeds(M, G, K, forms, count: int) -> np.ndarray:
@@ -229,10 +274,30 @@ def forward_critical_speeds(M, G, K, forms, count: int) -> np.ndarray:
     -------
     ndarray, shape (S, count) [rad/s], increasing along each row, nan where fewer exist
     """
+    return _lowest_forward(_synchronous_roots(M, G, K, forms), count)
+
+
+class _Roots(NamedTuple):
+    """Every root of the synchronous pencil at S stiffness matrices (m of them each).
+
+    ``omega`` (S, m) [rad/s], increasing, inf where the root has no critical speed (``nu <= 0``);
+    ``signed`` (S, m): ``sign(nu) |nu|^-1/2``, finite (what the tracking extrapolates);
+    ``shapes`` (S, m, n) in the model's coordinates; ``forward`` (S, m) bool: a forward critical
+    speed."""
+
+    omega: np.ndarray
+    signed: np.ndarray
+    shapes: np.ndarray
+    forward: np.ndarray
+
+
+def _synchronous_roots(M, G, K, forms) -> _Roots:
+    """:class:`_Roots` of ``K phi = Omega^2 (M - i G) phi`` for each of K (S, n, n), one batch."""
     B = M - 1j * G
     W = _constrained_basis(M, B, K[0])
     if not W.shape[1]:                      # every motion free: no mode at all
-        return np.full((len(K), count), np.nan)
+        empty = np.zeros((len(K), 0))
+        return _Roots(empty, empty, np.zeros((len(K), 0, len(M)), dtype=complex), empty.astype(bool))
     Kw = np.einsum("ji,sjk,kl->sil", W.conj(), K, W)
     Bw = W.conj().T @ B @ W
     R = np.linalg.cholesky(0.5 * (Kw + Kw.conj().swapaxes(-1, -2)))
@@ -241,17 +306,22 @@ def forward_critical_speeds(M, G, K, forms, count: int) -> np.ndarray:
     nu, y = np.linalg.eigh(0.5 * (H + H.conj().swapaxes(-1, -2)))
     with np.errstate(divide="ignore", invalid="ignore"):
         omega = np.where(nu > 0, 1 / np.sqrt(np.where(nu > 0, nu, 1.0)), np.inf)
+        signed = np.sign(nu) / np.sqrt(np.maximum(np.abs(nu), 1e-300))
     order = np.argsort(omega, axis=-1)
-    omega = np.take_along_axis(omega, order, axis=-1)
+    omega, signed, nu = (np.take_along_axis(x, order, axis=-1) for x in (omega, signed, nu))
     y = np.take_along_axis(y, order[:, None, :], axis=-1)
     shapes = np.einsum("ij,sjm->smi", W, np.linalg.solve(R.conj().swapaxes(-1, -2), y))
     finite = np.isfinite(omega)
     lam = 1j * np.where(finite, omega, 0.0)
     shapes = _eigensolve.resolve_repeated(lam, shapes, forms)
     ratios = _whirl.whirl_ratios(shapes, forms, np.ones(len(K)))
-    forward = finite & (_whirl.whirl_labels(ratios) == "forward")
-    picked = np.sort(np.where(forward, omega, np.inf), axis=-1)[:, :count]     # the lowest forward ones
-    out = np.full((len(K), count), np.nan)
+    return _Roots(omega, signed, shapes, finite & (_whirl.whirl_labels(ratios) == "forward"))
+
+
+def _lowest_forward(roots: _Roots, count: int) -> np.ndarray:
+    """(S, count) [rad/s]: the lowest forward critical speeds of each row, nan where fewer."""
+    picked = np.sort(np.where(roots.forward, roots.omega, np.inf), axis=-1)[:, :count]
+    out = np.full((len(roots.omega), count), np.nan)
     out[:, :picked.shape[1]] = np.where(np.isfinite(picked), picked, np.nan)
     return out
 
@@ -410,41 +480,183 @@ def _evaluated(coefficients, ratio, grid, where):
     return np.array(kept), np.array(values)
 
 
-def _crossings(parts, curves, stiffness, found, modes):
-    """Where each bearing's Kxx and Kyy curves meet each mode's curve."""
+class _Followed(NamedTuple):
+    """The modes shown on the map, each followed over the stiffness grid by its shape.
+
+    ``order`` (G, n_shown): the root index of each shown mode at each grid stiffness;
+    ``speeds`` (G, n_shown) [rad/s], nan where the mode is not a forward critical speed;
+    ``weighted`` (G, n_shown, n): its mass-weighted unit shapes; ``names`` (n_shown,) str."""
+
+    order: np.ndarray
+    speeds: np.ndarray
+    weighted: np.ndarray
+    names: tuple
+
+
+def _follow(parts, roots, mine, count) -> _Followed:
+    """Follow every root over the grid by its shape (``tracking.track_modes``: the MAC between
+    neighbouring stiffness values, an optimal assignment where it is ambiguous) and keep the
+    modes that are among the ``count`` lowest forward critical speeds at some of the user's
+    stiffness values (rows ``mine`` of the grid), numbered by where they first appear on the
+    map and their speed there."""
+    weighted = parts.weighted(roots.shapes)
+    order = track_modes(1j * roots.signed, weighted)                   # (G, m): label -> root
+    rows = np.arange(len(order))[:, None]
+    forward = roots.forward[rows, order]
+    speeds = np.where(forward, roots.omega[rows, order], np.nan)
+    rank = np.argsort(np.argsort(np.where(roots.forward, roots.omega, np.inf), axis=-1), axis=-1)
+    shown = (forward & (rank[rows, order] < count))[mine].any(axis=0)
+    present = forward[mine][:, shown]
+    first = present.argmax(axis=0)
+    chosen = np.nonzero(shown)[0][np.lexsort((speeds[mine][first, shown], first))]
+    names = _mode_names(parts.model, roots.shapes[rows, order[:, chosen]], forward[:, chosen])
+    return _Followed(order[:, chosen], speeds[:, chosen], weighted[rows, order[:, chosen]], names)
+
+
+#: a body's four motions, in the order of :func:`_body_energies`, as a rotor's and the stator's words
+_ROTOR_MOTIONS = ("axial", "cylindrical", "conical", "torsional")
+_STATOR_MOTIONS = ("axial", "lateral", "rocking", "roll")
+
+
+def _body_energies(model, shapes) -> tuple:
+    """Each body's kinetic energy in each shape (per unit frequency squared, times 2), split
+    into the translation of its centre of mass along the spin axis and normal to it, and the
+    rotation about the transverse axes (tilt) and about the spin axis.
+
+    Parameters
+    ----------
+    shapes : ndarray, shape (..., n), complex
+
+    Returns
+    -------
+    names : list of str
+        'stator' (when there is one), then the rotors.
+    energies : ndarray, shape (..., B, 4) [kg m^2]
+        Axial and lateral translation, tilt and spin-axis rotation.
+    """
+    bodies = body_inertias(model)
+    names = (["stator"] if model.stator is not None else []) + [r.name for r in model.rotors]
+    motions = model.dofs.motions([(None if name == "stator" else name, False) for name in names])  # (B, 6, n)
+    arms = np.array([np.asarray(c, dtype=float) for _, c, _ in bodies]) - model.reference_point
+    centres = motions[:, :3] - np.einsum("bij,bjn->bin", skew(arms), motions[:, 3:])  # u + theta x r
+    moves = np.einsum("bin,...n->...bi", centres, shapes)
+    turns = np.einsum("bin,...n->...bi", motions[:, 3:], shapes)
+    masses = np.array([m for m, _, _ in bodies], dtype=float)
+    inertias = np.array([np.asarray(j, dtype=float) for _, _, j in bodies])
+    e = np.asarray(model.spin_axis, dtype=float)
+    along = masses * np.abs(moves @ e) ** 2
+    rotation = np.einsum("...bi,bij,...bj->...b", turns.conj(), inertias, turns).real
+    roll = np.einsum("i,bij,j->b", e, inertias, e) * np.abs(turns @ e) ** 2
+    translation = masses * np.sum(np.abs(moves) ** 2, axis=-1)
+    return names, np.stack([along, translation - along, rotation - roll, roll], axis=-1)
+
+
+def _mode_names(model, shapes, present) -> tuple:
+    """A short name of each followed mode (G, L, n) from where it is on the map (``present``
+    (G, L)): the body with the most kinetic energy and its motion that carries the most of it
+    (a rotor's 'axial', 'cylindrical', 'conical' or 'torsional', the stator's 'axial',
+    'lateral', 'rocking' or 'roll'); the name it has at most of its points."""
+    names, energies = _body_energies(model, shapes)
+    body = np.argmax(energies.sum(axis=-1), axis=-1)                                      # (G, L)
+    motion = np.take_along_axis(energies, body[..., None, None], axis=-2)[..., 0, :].argmax(axis=-1)
+    kinds = np.array([[f"{name} {word}" for word in (_STATOR_MOTIONS if name == "stator" else _ROTOR_MOTIONS)]
+                      for name in names])
+    words = kinds[body, motion]
+    out = []
+    for j in range(words.shape[1]):
+        values, counts = np.unique(words[present[:, j], j], return_counts=True)
+        out.append(str(values[np.argmax(counts)]) if len(values) else "")
+    return tuple(out)
+
+
+def _constant_values(chosen) -> np.ndarray:
+    """The chosen constant bearings' direct radial stiffness values > 0 [N/m]."""
+    values = [_direct(b.coefficients.stiffness[:1], _radial_axes(b)) for b in chosen
+              if b.coefficients.kind == "constant"]
+    values = np.array(values, dtype=float).ravel()
+    return values[values > 0]
+
+
+def _constant_crossings(curves, grid, followed) -> list:
+    """A constant bearing's vertical line meets every shown mode that is a forward critical
+    speed at its stiffness (a point of the grid)."""
     out = []
     for curve in curves:
+        if not curve.constant:
+            continue
         for axis, values in (("xx", curve.kxx), ("yy", curve.kyy)):
-            if curve.constant:
-                speeds = parts.critical_speeds(values[:1], modes)[0]
-                out += [Crossing(curve.name, axis, j + 1, float(values[0]), float(s))
-                        for j, s in enumerate(speeds) if np.isfinite(s)]
+            if values[0] <= 0:
                 continue
-            good = values > 0
-            if not good.any():
-                continue
-            at = parts.critical_speeds(values[good], modes)          # (S', m)
-            out += _curve_crossings(parts, curve, axis, curve.speeds[good], values[good], at, modes)
+            row = followed.speeds[np.searchsorted(grid, values[0])]
+            out += [Crossing(curve.name, axis, j + 1, float(values[0]), float(s), followed.names[j])
+                    for j, s in enumerate(row) if np.isfinite(s)]
     return out
 
 
-def _curve_crossings(parts, curve, axis, speeds, values, at, modes):
-    """Sign changes of ``critical(K(s)) - s`` along a bearing curve, refined by Brent's method
-    on the curve as drawn (its stiffness interpolated linearly between its points)."""
+def _curve_crossings_all(parts, curves, grid, followed) -> list:
+    """Where each speed-dependent bearing's Kxx and Kyy curves meet each shown mode's curve."""
     out = []
-    for j in range(modes):
+    for curve in curves:
+        if curve.constant:
+            continue
+        for axis, values in (("xx", curve.kxx), ("yy", curve.kyy)):
+            good = values > 0
+            if good.any():
+                out += _curve_crossings(parts, curve, axis, curve.speeds[good], values[good], grid, followed)
+    return out
+
+
+#: a root at a point of a bearing curve is a shown mode when its MAC with the mode's shape at the
+#: nearest stiffness of the map's grid is above this
+_SAME_MODE_MAC = 0.5
+
+
+def _matched(parts, roots, reference):
+    """Each reference shape's root among ``roots`` (S points): the largest MAC, above
+    ``_SAME_MODE_MAC`` and forward, else none.
+
+    Parameters
+    ----------
+    roots : _Roots, S points
+    reference : ndarray, shape (S, L, n), mass-weighted unit shapes
+
+    Returns
+    -------
+    speeds : ndarray, shape (S, L) [rad/s], nan where none
+    index : ndarray of int, shape (S, L)
+    """
+    correlation = _vectors.mac_matrix(reference, parts.weighted(roots.shapes))         # (S, L, m)
+    index = correlation.argmax(axis=-1)
+    best = np.take_along_axis(correlation, index[..., None], axis=-1)[..., 0]
+    points = np.arange(len(index))[:, None]
+    good = (best > _SAME_MODE_MAC) & roots.forward[points, index]
+    return np.where(good, roots.omega[points, index], np.nan), index
+
+
+def _curve_crossings(parts, curve, axis, speeds, values, grid, followed):
+    """Sign changes of ``critical(K(s)) - s`` of each shown mode along a bearing curve (the mode
+    found at each point by its shape at the nearest grid stiffness), refined by Brent's method
+    on the curve as drawn (its stiffness interpolated linearly between its points), the mode
+    followed inside the bracket by its shape at the bracket's start."""
+    roots = parts.roots(values)
+    nearest = np.abs(np.log(values)[:, None] - np.log(grid)[None, :]).argmin(axis=-1)
+    at, index = _matched(parts, roots, followed.weighted[nearest])                    # (S, L)
+    out = []
+    for j in range(at.shape[1]):
         gap = at[:, j] - speeds
         for i in np.nonzero(np.isfinite(gap[:-1]) & np.isfinite(gap[1:]) & (np.sign(gap[:-1]) != np.sign(gap[1:])))[0]:
-            def along(s, i=i, j=j):
+            shape = parts.weighted(roots.shapes[i, index[i, j]])[None, None]
+
+            def along(s, i=i, shape=shape):
                 t = (s - speeds[i]) / (speeds[i + 1] - speeds[i])
-                k = (1 - t) * values[i] + t * values[i + 1]
-                return parts.critical_speeds([k], modes)[0, j] - s
+                return _matched(parts, parts.roots([(1 - t) * values[i] + t * values[i + 1]]), shape)[0][0, 0] - s
             try:
                 s = brentq(along, speeds[i], speeds[i + 1], xtol=1e-10 * speeds[i + 1])
-            except ValueError:       # the mode's curve has a gap in between (nan): the grid point
+            except ValueError:       # the mode is lost in between (nan): the grid point
                 s = speeds[i]
             t = (s - speeds[i]) / (speeds[i + 1] - speeds[i])
-            out.append(Crossing(curve.name, axis, j + 1, float((1 - t) * values[i] + t * values[i + 1]), float(s)))
+            out.append(Crossing(curve.name, axis, j + 1, float((1 - t) * values[i] + t * values[i + 1]), float(s),
+                                followed.names[j]))
     return out
 
 

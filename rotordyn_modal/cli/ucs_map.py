@@ -17,16 +17,19 @@ DESCRIPTION = """Undamped critical speed map (API 684): the chosen bearings' rad
 isotropic to each value of --stiffness (log-spaced: START:STOP:N with N values from START to
 STOP, both included), their cross-coupling and all damping of the machine removed, their axial
 and tilt stiffness kept; at each value the lowest forward critical speeds (a forward-whirling
-mode's natural frequency equal to the reference rotor's speed: order 1). The figure draws them
-against the stiffness on log-log axes, each chosen bearing's own Kxx and Kyy over speed over
-them (tables and journal bearings; constant ones as vertical lines), their crossings marked,
-the rigid-support asymptotes (the chosen bearings radially rigid) at the right edge, and
---operating as a band. Bearings not chosen keep their coefficients, which must be constant.
+mode's natural frequency equal to the reference rotor's speed: order 1). The figure draws each
+mode followed over the stiffness by its shape (curves may cross; a square where a mode stops
+being a forward crossing), named by the body and motion with most of its kinetic energy ("2
+pump conical"), against the stiffness on log-log axes, each chosen bearing's own Kxx and Kyy
+over speed over them (tables and journal bearings; constant ones as vertical lines), their
+crossings marked, the rigid-support asymptotes (the chosen bearings radially rigid) beyond the
+sweep's last stiffness, and --operating as a band. Bearings not chosen keep their coefficients, which must be constant.
 docs/level1_and_ucs.md gives the definitions.
 
 CSV columns: stiffness_n_per_m,mode,speed_rpm,frequency_hz (mode 1 = the lowest forward
-critical speed at that stiffness; empty where there is none). The terminal lists the
-crossings of the bearings' curves with the modes.
+critical speed at that stiffness, a rank, not the figure's followed mode; empty where there is
+none). The terminal lists the crossings of the bearings' curves with the followed modes (their
+numbers and names as on the figure).
 
 examples:
   rotordyn-modal ucs-map examples/journal_rotor.toml --stiffness 1e5:1e10:51 --plot ucs.png
@@ -104,5 +107,5 @@ def _print_crossings(result):
         print("no bearing's stiffness curve meets a mode's curve on the map", file=sys.stderr)
         return
     for row in table.itertuples(index=False):
-        print(f"bearing {row.bearing} K{row.axis} = {row.stiffness_n_per_m:.4g} N/m meets mode {row.mode} at "
-              f"{row.speed_rpm:.6g} rpm", file=sys.stderr)
+        print(f"bearing {row.bearing} K{row.axis} = {row.stiffness_n_per_m:.4g} N/m meets mode {row.mode} "
+              f"({row.name}) at {row.speed_rpm:.6g} rpm", file=sys.stderr)

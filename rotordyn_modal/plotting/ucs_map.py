@@ -9,19 +9,22 @@ from ._style import new_figure
 __all__ = ["plot_ucs_map"]
 
 _MODE_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive",
-                 "tab:cyan")
+                 "tab:cyan", "navy", "goldenrod")
 _BEARING_COLOURS = ("0.15", "tab:red", "0.45", "darkgoldenrod", "teal", "indigo")
 
 
 def plot_ucs_map(result, title: str | None = None, ax=None):
-    """Forward critical speeds of the first modes against the chosen bearings' stiffness.
+    """Forward critical speeds of the followed modes against the chosen bearings' stiffness.
 
-    Log-log axes: bearing stiffness [N/m] across, speed [rpm] up. Each mode is a coloured line
-    labelled at its right end, its rigid-support asymptote (the chosen bearings radially rigid)
-    a dotted line of its colour beyond the sweep's end. Each bearing's own stiffness over speed is
-    drawn over it (``Kxx`` solid, ``Kyy`` dashed; a constant bearing as vertical lines, bearings
-    of equal stiffness named together), with its crossings with the modes marked and their speeds
-    written beside them; the operating speed range is a grey band.
+    Log-log axes: bearing stiffness [N/m] across, speed [rpm] up. Each mode, followed over the
+    stiffness by its shape (curves may cross), is a coloured line named at its right end and in
+    the legend ("2 pump conical"); where it stops (or starts) being a forward critical speed
+    inside the sweep its curve ends at a square. The axis runs on past the sweep's last
+    stiffness, where the rigid-support asymptotes (the chosen bearings radially rigid) are
+    dotted grey lines. Each bearing's own stiffness over speed is drawn over it (``Kxx`` solid,
+    ``Kyy`` dashed; a constant bearing as vertical lines, bearings of equal stiffness named
+    together), with its crossings with the modes marked and their speeds written beside them;
+    the operating speed range is a grey band.
 
     Parameters
     ----------
@@ -34,22 +37,23 @@ def plot_ucs_map(result, title: str | None = None, ax=None):
     matplotlib.figure.Figure
     """
     fig, ax = new_figure(ax, figsize=(8.5, 6.0))
-    rpm = result.speeds_rpm
     k = result.stiffness
-    for j in range(rpm.shape[1]):
-        if not np.isfinite(rpm[:, j]).any():
-            continue
-        colour = _MODE_COLOURS[j % len(_MODE_COLOURS)]
-        # points too: where a mode's whirl turns (a stator's elliptic modes) the n-th forward
-        # critical speed passes from one mode to another between two stiffness values
-        ax.plot(k, rpm[:, j], color=colour, linewidth=1.8, marker=".", markersize=4)
-        _label_right_end(ax, k, rpm[:, j], f"{j + 1}", colour)
+    rpm, names = _modes(result)
     ax.set_xscale("log")
     ax.set_yscale("log")
     limits = _speed_limits(rpm, result)
     ax.set_ylim(*limits)
-    ax.set_xlim(k[0], k[-1])
-    _draw_asymptotes(ax, result, limits)
+    rigid = _rigid_speeds(result, limits)
+    ax.set_xlim(k[0], k[-1] * (_asymptote_margin(k) if rigid.size else 1.0))
+    ends = []
+    for j in range(rpm.shape[1]):
+        colour = _MODE_COLOURS[j % len(_MODE_COLOURS)]
+        ax.plot(k, rpm[:, j], color=colour, linewidth=1.8, marker=".", markersize=3, label=f"{j + 1} {names[j]}")
+        ends += _draw_ends(ax, k, rpm[:, j], colour)
+    if ends:
+        ax.plot([], [], "s", color="0.3", markersize=4, label="a mode starts or stops being a forward crossing")
+    _label_right_ends(ax, k, rpm, names, limits)
+    _draw_asymptotes(ax, result, rigid)
     _draw_bearings(ax, result)
     _draw_crossings(ax, result, limits)
     if result.operating is not None:
@@ -64,12 +68,32 @@ def plot_ucs_map(result, title: str | None = None, ax=None):
     return fig
 
 
+def _modes(result):
+    """(K, L) [rpm] and names of the curves: the followed modes (the ranks of a result made
+    without them)."""
+    if result.mode_speeds is None:
+        return result.speeds_rpm, tuple(f"(rank {j + 1})" for j in range(result.speeds.shape[1]))
+    return result.mode_speeds * 30 / np.pi, result.mode_names
+
+
+#: the axis runs on past the sweep's last stiffness by this part of its decades (at least 0.3
+#: decade), where the rigid-support asymptotes are drawn
+_MARGIN = 0.1
+
+
+def _asymptote_margin(k):
+    return 10 ** max(0.3, _MARGIN * np.log10(k[-1] / k[0]))
+
+
 def _speed_limits(rpm, result):
-    """Speed axis: the map's finite speeds (and the crossings, the operating band), a margin."""
+    """Speed axis: the map's finite speeds (and the crossings, the operating band, the
+    rigid-support asymptotes), a margin."""
     values = [rpm[np.isfinite(rpm) & (rpm > 0)]]
     values.append(np.array([c.speed for c in result.crossings]) * 30 / np.pi)
     if result.operating is not None:
         values.append(np.array(result.operating) * 30 / np.pi)
+    if result.rigid_speeds is not None:
+        values.append(result.rigid_speeds * 30 / np.pi)
     values = np.concatenate(values)
     values = values[np.isfinite(values) & (values > 0)]
     if not values.size:
@@ -77,22 +101,68 @@ def _speed_limits(rpm, result):
     return values.min() / 1.5, values.max() * 1.5
 
 
-def _label_right_end(ax, k, rpm, text, colour):
-    finite = np.nonzero(np.isfinite(rpm))[0]
-    if finite.size:
+def _draw_ends(ax, k, rpm, colour) -> list:
+    """Squares where a curve starts or stops inside the sweep (its mode becomes or stops being a
+    forward critical speed there)."""
+    finite = np.isfinite(rpm)
+    starts = np.nonzero(finite[1:] & ~finite[:-1])[0] + 1
+    stops = np.nonzero(finite[:-1] & ~finite[1:])[0]
+    ends = np.r_[starts, stops].astype(int)
+    if ends.size:
+        ax.plot(k[ends], rpm[ends], "s", color=colour, markersize=4, zorder=4)
+    return list(ends)
+
+
+#: the least distance between two names at the right edge [axes fraction]
+_NAME_APART = 0.035
+
+
+def _label_right_ends(ax, k, rpm, names, limits):
+    """Each curve reaching the sweep's end named beside the right edge (the names moved apart
+    where curves end close together); the others at their last point."""
+    ends = []
+    for j in range(rpm.shape[1]):
+        finite = np.nonzero(np.isfinite(rpm[:, j]))[0]
+        if not finite.size:
+            continue
         last = finite[-1]
-        ax.annotate(f"mode {text}", (k[last], rpm[last]), xytext=(4, 0), textcoords="offset points",
-                    color=colour, fontsize="small", va="center", ha="left", annotation_clip=False)
+        text = f"{j + 1} {names[j]}"
+        colour = _MODE_COLOURS[j % len(_MODE_COLOURS)]
+        if last < len(k) - 1:
+            ax.annotate(text, (k[last], rpm[last, j]), xytext=(3, 3), textcoords="offset points", color=colour,
+                        fontsize="x-small", va="bottom", ha="left")
+        elif limits[0] <= rpm[last, j] <= limits[1]:
+            ends.append([np.log(rpm[last, j] / limits[0]) / np.log(limits[1] / limits[0]), text, colour])
+    ends.sort(key=lambda e: e[0])
+    for i in range(1, len(ends)):                     # upwards apart, then back under the top
+        ends[i][0] = max(ends[i][0], ends[i - 1][0] + _NAME_APART)
+    shift = max(0.0, ends[-1][0] - 1.0) if ends else 0.0
+    for place, text, colour in ends:
+        ax.annotate(text, (1.0, place - shift), xycoords="axes fraction", xytext=(4, 0),
+                    textcoords="offset points", color=colour, fontsize="small", va="center", ha="left",
+                    annotation_clip=False)
 
 
-def _draw_asymptotes(ax, result, limits):
-    """The rigid-support speeds: short dotted lines at the right edge, in each mode's colour."""
+def _rigid_speeds(result, limits):
+    """The rigid-support speeds [rpm] within the speed axis."""
     if result.rigid_speeds is None:
+        return np.zeros(0)
+    speeds = result.rigid_speeds * 30 / np.pi
+    return speeds[np.isfinite(speeds) & (speeds >= limits[0]) & (speeds <= limits[1])]
+
+
+def _draw_asymptotes(ax, result, speeds):
+    """The rigid-support speeds: dotted grey lines beyond the sweep's last stiffness (where the
+    curves that tend to them have already reached them, drawn over them, they would not show);
+    without any, the legend says that the supports made rigid leave no critical speed."""
+    if not speeds.size:
+        if result.rigid_speeds is not None:
+            ax.plot([], [], ":", color="0.25", label="rigid supports: no critical speed")
         return
-    for j, speed in enumerate(result.rigid_speeds * 30 / np.pi):
-        if np.isfinite(speed) and limits[0] <= speed <= limits[1]:
-            ax.axhline(speed, xmin=0.82, xmax=1.0, color=_MODE_COLOURS[j % len(_MODE_COLOURS)], linestyle=":",
-                       linewidth=1.2, label="rigid supports" if j == 0 else None)
+    end = result.stiffness[-1]
+    ax.axvline(end, color="0.5", linewidth=0.8)
+    ax.hlines(speeds, end, ax.get_xlim()[1], colors="0.25", linestyles=":", linewidth=1.6,
+              label="rigid supports (k -> infinity)")
 
 
 def _draw_bearings(ax, result):

@@ -27,7 +27,7 @@ EXAMPLE = ROOT / "examples" / "gear_machine.toml"
 REQUIRED = {"campbell": ["--speeds", "0:100:3"], "critical-speeds": ["--speeds", "0:100:3"],
             "stability": ["--speeds", "0:100:3"], "unbalance": ["--speeds", "0:100:3"],
             "simulate": ["--duration", "0.1"], "frf": ["--freqs", "1:10:3"], "fit": ["--params", "gain"],
-            "modes": [], "study": [], "check": []}
+            "modes": [], "study": [], "check": [], "import-ross": []}
 
 
 #: every file option of every sub-command: (inputs, outputs); a new one goes here
@@ -43,6 +43,7 @@ FILE_OPTIONS = {
     "fit": (["MODEL", "--measured", "--mapping"], ["--out", "--plot"]),
     "study": (["MODEL", "--spec"], ["--out", "--table", "--plot", "--plot-histogram", "--plot-map",
                                     "--plot-sensitivity"]),
+    "import-ross": (["ROSS.toml"], ["--out"]),
 }
 
 
@@ -86,7 +87,7 @@ def _argv(command, files, output_option, output_path, folder):
     inputs, outputs = FILE_OPTIONS[command]
     argv = [command]
     for option in inputs:
-        argv += [str(files[option])] if option == "MODEL" else [option, str(files[option])]
+        argv += [str(files[option])] if not option.startswith("-") else [option, str(files[option])]
     argv += REQUIRED[command]
     if output_option != "--out" and "--out" in outputs:
         argv += ["--out", str(folder / ("other.nc" if command == "study" else "other.toml" if command == "fit"

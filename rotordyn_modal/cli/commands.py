@@ -3,8 +3,8 @@
 
 from __future__ import annotations
 
-from . import campbell, check, critical_speeds, fit, frf, modes, simulate, stability, study, unbalance
+from . import campbell, check, critical_speeds, fit, frf, import_ross, modes, simulate, stability, study, unbalance
 
-SUBCOMMANDS = [check, modes, campbell, critical_speeds, stability, simulate, frf, unbalance, fit, study]
+SUBCOMMANDS = [check, modes, campbell, critical_speeds, stability, simulate, frf, unbalance, fit, study, import_ross]
 
 __all__ = ["SUBCOMMANDS"]

@@ -16,8 +16,8 @@ diametral inertia, node positions), the lateral modes of ``run_modal(speed, spar
   2 bearings, Cowper's shear coefficient);
 * ``compressor_example``: ROSS's ``compressor_example()`` (91 elements over 55 spans: mass-only
   sleeves over the shaft, 7 disks, 2 bearings and 12 seals with coefficient tables over speed);
-* ``tapered_hollow``: hollow and tapered (conical, hollow) elements, Hutchinson's shear
-  coefficient, two disks, cross-coupled damped bearings at overhung positions;
+* ``tapered_hollow``: hollow and tapered (conical, hollow) elements (Cowper's shear coefficient:
+  ROSS's ``"hutchinson"`` is not Hutchinson's, ``docs/ross.md``), two disks, cross-coupled damped bearings at overhung positions;
 * ``speed_tables``: an Euler-Bernoulli shaft (``shear_effects=False``) with an overhung disk on
   bearings whose coefficients are tables over speed, linear in speed (so ROSS's PCHIP
   interpolation and this package's linear interpolation give the same coefficient at every
@@ -69,7 +69,7 @@ rs = quiet_import()
 
 
 def tapered_hollow():
-    """Hollow and tapered elements, Hutchinson's shear coefficient, overhung bearings."""
+    """Hollow and tapered elements, overhung cross-coupled bearings."""
     steel = rs.Material(name="steel_t", rho=7850.0, E=2.05e11, Poisson=0.29)
     # (L, idl, odl, idr, odr): a hollow shaft whose middle swells conically
     geometry = [
@@ -82,7 +82,7 @@ def tapered_hollow():
         (0.08, 0.015, 0.045, 0.015, 0.045),
         (0.06, 0.015, 0.045, 0.0, 0.045),
     ]
-    shaft = [rs.ShaftElement(L, idl, odl, idr, odr, material=steel, shear_method_calc="hutchinson")
+    shaft = [rs.ShaftElement(L, idl, odl, idr, odr, material=steel, shear_method_calc="cowper")
              for L, idl, odl, idr, odr in geometry]
     disks = [rs.DiskElement(n=3, m=6.5, Id=0.021, Ip=0.038),
              rs.DiskElement(n=5, m=4.0, Id=0.012, Ip=0.022)]

@@ -198,7 +198,9 @@ MUTATIONS = {
     "no rotary inertia": (lambda d: _edit(d, "ShaftElement_Shaft Element 2", rotary_inertia=False), "rotary_inertia"),
     "no gyroscopic": (lambda d: _edit(d, "ShaftElement_Shaft Element 2", gyroscopic=False), "gyroscopic"),
     "axial force": (lambda d: _edit(d, "ShaftElement_Shaft Element 2", axial_force=1e3), "axial_force"),
-    "mixed shear": (lambda d: _edit(d, "ShaftElement_Shaft Element 4", shear_method_calc="hutchinson"), "shear"),
+    "mixed shear": (lambda d: _edit(d, "ShaftElement_Shaft Element 4", shear_effects=False), "shear"),
+    "ross's hutchinson": (lambda d: {k: ({**v, "shear_method_calc": "hutchinson"} if k.startswith("Shaft") else v)
+                                     for k, v in d.items()}, "shear_method_calc = 'hutchinson': expected 'cowper'"),
     "unknown shear": (lambda d: _edit(d, "ShaftElement_Shaft Element 4", shear_method_calc="timoshenko"),
                       "shear_method_calc"),
     "missing span": (lambda d: {k: v for k, v in d.items() if k != "ShaftElement_Shaft Element 3"}, "ShaftElement n"),

@@ -197,9 +197,9 @@ def _shaft(source: str, shafts: list, materials: dict) -> tuple[list, str, list]
 
 
 def _element_options(source: str, key: str, table: dict) -> str:
-    """The element's shear option (``cowper``, ``hutchinson`` or ``none``); refuses what the
-    package does not model: no rotary inertia, no gyroscopic terms, axial force, torque,
-    proportional damping."""
+    """The element's shear option (``cowper`` or ``none``); refuses what the package does not
+    model: no rotary inertia, no gyroscopic terms, axial force, torque, proportional damping,
+    ROSS's ``hutchinson`` shear coefficient (not Hutchinson's, ``docs/ross.md``)."""
     for option in ("rotary_inertia", "gyroscopic"):
         if table.get(option, True) is not True:
             raise ModelError(source, f"[{key}] {option}", table[option],
@@ -212,9 +212,13 @@ def _element_options(source: str, key: str, table: dict) -> str:
     if not isinstance(effects, bool):
         raise ModelError(source, f"[{key}] shear_effects", effects, "true or false")
     method = table.get("shear_method_calc", "cowper")
-    if method not in ("cowper", "hutchinson"):
-        raise ModelError(source, f"[{key}] shear_method_calc", method, "'cowper' or 'hutchinson'")
-    return method if effects else "none"
+    if effects and method == "hutchinson":
+        raise ModelError(source, f"[{key}] shear_method_calc", method, "'cowper': ROSS 3's 'hutchinson' "
+                         "coefficient has (1 + nu) where Hutchinson's (2001), this package's, has (1 + nu)^2 "
+                         "(0.71 against 0.93 for solid steel), so it cannot be reproduced")
+    if effects and method != "cowper":
+        raise ModelError(source, f"[{key}] shear_method_calc", method, "'cowper'")
+    return "cowper" if effects else "none"
 
 
 def _tube(source: str, key: str, table: dict, materials: dict) -> dict:

@@ -476,7 +476,8 @@ def root_agreement(model, rotor, reference, lateral_modes):
 
 def campbell_times(model, path, grid, repeat):
     """(ROSS run_campbell, rdm.campbell) wall times [s] over ``grid``: ROSS once (a fresh
-    Rotor: it memoises run_modal), rotordyn_modal best of ``repeat``."""
+    Rotor: it memoises run_modal; after a first call on two speeds that compiles and caches),
+    rotordyn_modal best of ``repeat``."""
     import inspect
 
     keywords = {"critical": False}
@@ -484,6 +485,7 @@ def campbell_times(model, path, grid, repeat):
         if key in inspect.signature(rdm.campbell).parameters:
             keywords[key] = CAMPBELL_MODES
     with _quiet():
+        rs.Rotor.load(path).run_campbell(grid[:2], frequencies=CAMPBELL_MODES)  # first call: numba, caches
         rotor = rs.Rotor.load(path)
         start = time.perf_counter()
         rotor.run_campbell(grid, frequencies=CAMPBELL_MODES)

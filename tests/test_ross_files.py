@@ -254,8 +254,13 @@ def test_a_constant_table_is_a_constant_and_two_disks_on_one_node_add(tmp_path):
 def test_import_ross_writes_the_description(tmp_path, capsys):
     out = tmp_path / "model.toml"
     assert main(["import-ross", str(DATA / "tapered_hollow.toml"), "--out", str(out), "--name", "spindle"]) == 0
-    assert "6 disks" not in capsys.readouterr().err
+    assert "8 shaft sections, 2 disks, 2 bearings" in capsys.readouterr().err
     assert tomllib.loads(out.read_text()) == read_ross_rotor(DATA / "tapered_hollow.toml", name="spindle")
+
+
+def test_import_ross_to_standard_output(capsys):
+    assert main(["import-ross", str(DATA / "speed_tables.toml"), "--out", "-"]) == 0
+    assert tomllib.loads(capsys.readouterr().out) == read_ross_rotor(DATA / "speed_tables.toml")
 
 
 def test_import_ross_refuses_a_bad_file_with_one_line_and_writes_nothing(tmp_path, capsys):

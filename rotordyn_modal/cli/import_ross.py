@@ -24,16 +24,19 @@ example:
 
 def add_arguments(parser):
     add_input_file(parser, "ross_file", metavar="ROSS.toml", help="rotor file written by ROSS's Rotor.save")
-    add_output_file(parser, "--out", required=True, metavar="MODEL.toml", help="model file to write")
+    add_output_file(parser, "--out", required=True, metavar="MODEL.toml", help="model file to write ('-': standard output)")
     parser.add_argument("--name", help="the rotor's name (default: the ROSS file's stem)")
 
 
 def run(args) -> int:
-    from ..io.ross_file import read_ross_rotor, write_model_file
+    from ..io.ross_file import model_text, read_ross_rotor, write_model_file
 
     check_ending(args.out, (".toml",), "--out")
     description = read_ross_rotor(args.ross_file, name=args.name)
-    write_model_file(description, args.out, inputs=[args.ross_file])
+    if args.out == "-":
+        sys.stdout.write(model_text(description))
+    else:
+        write_model_file(description, args.out, inputs=[args.ross_file])
     rotor = description["rotors"][0]
     print(f"{args.out}: rotor {rotor['name']!r}, {len(rotor['shaft'])} shaft sections, "
           f"{len(rotor.get('disks', []))} disks, {len(description['bearings'])} bearings", file=sys.stderr)

@@ -22,7 +22,7 @@ from ..errors import ModelError
 from .atomic import atomic_write, check_not_input
 from .model_file import read_toml
 
-__all__ = ["read_ross_rotor", "write_model_file", "BEARING_CLASSES"]
+__all__ = ["read_ross_rotor", "write_model_file", "model_text", "BEARING_CLASSES"]
 
 #: ROSS element classes whose saved tables hold their coefficients (read as bearings)
 BEARING_CLASSES = ("BearingElement", "SealElement", "BallBearingElement", "RollerBearingElement")
@@ -94,13 +94,18 @@ def write_model_file(description: dict, path, inputs=()) -> None:
     inputs : iterable of path-like
         Files that must not be overwritten (the ROSS file).
     """
+    check_not_input(path, list(inputs))
+    with atomic_write(path, "w", encoding="utf-8") as handle:
+        handle.write(model_text(description))
+
+
+def model_text(description: dict) -> str:
+    """The model file's text: a two-line comment on its origin and axes, then the TOML."""
     import tomli_w
 
-    check_not_input(path, list(inputs))
-    header = ("# Read from a ROSS rotor file by rotordyn-modal import-ross (docs/ross.md).\n"
-              "# ROSS axes x, y, z are the model axes; the shaft starts at the origin, spin about +z.\n")
-    with atomic_write(path, "w", encoding="utf-8") as handle:
-        handle.write(header + tomli_w.dumps(description))
+    return ("# Read from a ROSS rotor file by rotordyn-modal import-ross (docs/ross.md).\n"
+            "# ROSS axes x, y, z are the model axes; the shaft starts at the origin, spin about +z.\n"
+            + tomli_w.dumps(description))
 
 
 # --------------------------------------------------------------------------- elements

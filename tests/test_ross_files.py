@@ -352,3 +352,31 @@ def test_unbalance_response_equals_rosss(name):
     ross = np.stack([x, y], axis=1).reshape(-1, len(ref["speeds"]))  # n0x, n0y, n1x, ...
     scale = np.abs(ross).max(axis=0)
     assert np.all(np.abs(response - ross) <= 1e-6 * scale), np.max(np.abs(response - ross) / scale)
+
+
+def test_random_damage_is_refused_by_name_or_read(tmp_path):
+    """A ROSS file damaged at random (a key removed, a value made text, a boolean, negative,
+    NaN, a list or a table): the reader returns a description or raises ModelError naming the
+    file, never another exception."""
+    rng = np.random.default_rng(28)
+    bad_values = ["x", True, -1.0, float("nan"), [1.0, "a"], {"a": 1}, [], 0, 1e308, [[1.0, 2.0]]]
+    base = _rotor_example()
+    tables = [k for k, v in base.items() if isinstance(v, dict)]
+    refused = 0
+    for case in range(60):
+        data = json.loads(json.dumps(base))
+        for _ in range(1 + case % 3):
+            table = data[tables[rng.integers(len(tables))]]
+            key = list(table)[rng.integers(len(table))]
+            if rng.random() < 0.2:
+                del table[key]
+            else:
+                table[key] = bad_values[rng.integers(len(bad_values))]
+        path = tmp_path / f"damaged{case}.toml"
+        path.write_text(tomli_w.dumps(data))
+        try:
+            read_ross_rotor(path)
+        except ModelError as error:
+            refused += 1
+            assert str(error).startswith(f"{path}: ") and "\n" not in str(error)
+    assert refused > 20

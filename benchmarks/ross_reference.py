@@ -17,7 +17,8 @@ diametral inertia, node positions), the lateral modes of ``run_modal(speed, spar
 * ``compressor_example``: ROSS's ``compressor_example()`` (91 elements over 55 spans: mass-only
   sleeves over the shaft, 7 disks, 2 bearings and 12 seals with coefficient tables over speed);
 * ``tapered_hollow``: hollow and tapered (conical, hollow) elements (Cowper's shear coefficient:
-  ROSS's ``"hutchinson"`` is not Hutchinson's, ``docs/ross.md``), two disks, cross-coupled damped bearings at overhung positions;
+  ROSS's ``"hutchinson"`` is not Hutchinson's, ``docs/ross.md``), two disks, cross-coupled
+  damped bearings at overhung positions;
 * ``speed_tables``: an Euler-Bernoulli shaft (``shear_effects=False``) with an overhung disk on
   bearings whose coefficients are tables over speed, linear in speed (so ROSS's PCHIP
   interpolation and this package's linear interpolation give the same coefficient at every

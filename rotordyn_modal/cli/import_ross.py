@@ -24,7 +24,8 @@ example:
 
 def add_arguments(parser):
     add_input_file(parser, "ross_file", metavar="ROSS.toml", help="rotor file written by ROSS's Rotor.save")
-    add_output_file(parser, "--out", required=True, metavar="MODEL.toml", help="model file to write ('-': standard output)")
+    add_output_file(parser, "--out", required=True, metavar="MODEL.toml",
+                    help="model file to write ('-': standard output)")
     parser.add_argument("--name", help="the rotor's name (default: the ROSS file's stem)")
 
 

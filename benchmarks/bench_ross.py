@@ -1,4 +1,5 @@
-"""Side-by-side with ROSS: a rigid rotor on two isotropic bearings, accuracy and Campbell speed.
+"""Side-by-side with ROSS: a rigid rotor on two isotropic bearings, and ROSS's flexible rotors
+read from their saved files; accuracy and Campbell speed.
 
 ROSS (https://ross.readthedocs.io/, ``pip install ross-rotordynamics``) is *not* a
 dependency of rotordyn_modal; this script runs in a separate venv where both import::
@@ -6,6 +7,7 @@ dependency of rotordyn_modal; this script runs in a separate venv where both imp
     ~/.pyenv/versions/3.13.0/bin/python -m venv /work/venvs/ross   # ROSS 3.x needs Python 3.13
     /work/venvs/ross/bin/pip install ross-rotordynamics
     /work/venvs/ross/bin/python benchmarks/bench_ross.py [--repeat 3] [--repeat-long 1] [--figure]
+        [--part rigid|flexible|both] [--flexible-speeds 21] [--rotors NAME ...]
 
 rotordyn_modal is imported from this checkout (the repository root is put on ``sys.path``)
 unless it is already installed in that venv. Without ROSS the script says so and exits 0.
@@ -28,6 +30,17 @@ The 4 lateral rigid-body modes have closed forms:
 
 rotordyn_modal should equal them to rounding; ROSS (a flexible shaft) should approach them
 as the shaft's E (and G) grows, which the script shows for E x 1, 10, 100, 1000.
+
+Flexible rotors (``--part flexible``): the four rotors of ``tests/data/ross`` (ROSS's
+``rotor_example`` and ``compressor_example``, a tapered hollow rotor, a rotor on bearings
+tabulated over speed; ``benchmarks/ross_reference.py``), loaded in ROSS with ``Rotor.load``
+and in rotordyn_modal with ``rotordyn_modal.io.ross_file.read_ross_rotor`` from the same
+file. Per rotor: the largest relative difference of ROSS's lateral roots (dense
+``run_modal`` at the reference speeds) to rotordyn_modal's, the largest difference of their
+log decrements, and the Campbell time per speed of both (ROSS ``run_campbell(speeds,
+frequencies=12)``; ``rdm.campbell(model, speeds, critical=False)``, the lowest 12 modes where
+it offers that) as a ratio from one run. Without flexible rotors in rotordyn_modal (a checkout
+before them) the script says so and keeps the rigid comparison.
 """
 
 from __future__ import annotations
@@ -234,6 +247,12 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3, help="best of N (ROSS 1001 speeds: --repeat-long)")
     parser.add_argument("--repeat-long", type=int, default=1, help="best of N for ROSS at 1001 speeds")
     parser.add_argument("--figure", action="store_true", help="write benchmarks/ross_comparison.png")
+    parser.add_argument("--part", choices=("rigid", "flexible", "both"), default="both",
+                        help="the rigid rotor, the flexible rotors of tests/data/ross, or both (default)")
+    parser.add_argument("--flexible-speeds", type=int, default=21,
+                        help="speeds of the flexible rotors' Campbell diagrams (default 21)")
+    parser.add_argument("--rotors", nargs="*", choices=FLEXIBLE, default=list(FLEXIBLE),
+                        help="flexible rotors compared (default: all)")
     args = parser.parse_args()
 
     import scipy
@@ -242,6 +261,15 @@ def main() -> None:
         f"ROSS {rs.__version__}, Python {sys.version.split()[0]}, numpy {np.__version__}, "
         f"scipy {scipy.__version__}; rotordyn_modal from {Path(rdm.__file__).parent}"
     )
+    if args.part in ("rigid", "both"):
+        rigid_comparison(args)
+    if args.part in ("flexible", "both"):
+        flexible_comparison(args.rotors, args.flexible_speeds, args.repeat)
+
+
+def rigid_comparison(args) -> None:
+    """The rigid rotor: rotordyn_modal against the closed forms, ROSS as its shaft stiffens,
+    Campbell time."""
     mass, jp, jd = rigid_properties()
     rotor1 = ross_rotor(1.0)
     with _quiet():
@@ -369,6 +397,101 @@ def campbell_speed(models, mass, jp, jd, repeat, repeat_long):
               f"             [[bearings]]: {cells[0]}\n             suspensions: {cells[1]}")
         figure_data = (grid, exact, w_rdm["bearings"], w_ross)
     return figure_data
+
+
+# --------------------------------------------------------------------------- flexible rotors
+
+#: the rotors of tests/data/ross (benchmarks/ross_reference.py): ROSS's file and its results
+FLEXIBLE = ("rotor_example", "compressor_example", "tapered_hollow", "speed_tables")
+DATA = REPO / "tests" / "data" / "ross"
+#: modes per speed in both Campbell diagrams (ROSS's run_campbell(frequencies=...))
+CAMPBELL_MODES = 12
+
+
+def flexible_missing() -> str | None:
+    """Why this checkout's model takes no flexible rotor (None when it does): a bare shaft on
+    two bearings as docs/model-file.md writes it."""
+    minimal = {
+        "name": "capability", "spin_axis": [0.0, 0.0, 1.0],
+        "materials": [{"name": "steel", "density": 7800.0, "young_modulus": 2e11, "shear_modulus": 8e10}],
+        "rotors": [{"name": "r", "start": [0.0, 0.0, 0.0],
+                    "shaft": [{"length": 0.5, "outer_diameter": 0.05, "material": "steel"}]}],
+        "bearings": [{"name": f"b{i}", "rotor": "r", "axial_position": z, "stiffness": 1e6}
+                     for i, z in enumerate((0.0, 0.5))],
+    }
+    try:
+        rdm.Model.from_dict(minimal)
+    except Exception as problem:  # noqa: BLE001 - any refusal means: no flexible rotors here
+        text = str(problem)
+        return f"{type(problem).__name__}: {text if len(text) <= 160 else '...' + text[-157:]}"
+    return None
+
+
+def flexible_comparison(names, n_speeds: int, repeat: int) -> None:
+    """ROSS's rotors read by rotordyn_modal.io.ross_file: lateral roots against ROSS's (dense
+    run_modal at the reference speeds) and Campbell time per speed, ROSS / rotordyn_modal, one run."""
+    import json
+
+    from ross_reference import lateral_modes
+
+    print(f"\nflexible rotors (tests/data/ross, ROSS files read by rotordyn_modal.io.ross_file); "
+          f"Campbell diagrams of {n_speeds} speeds, {CAMPBELL_MODES} modes in ROSS")
+    missing = flexible_missing()
+    if missing is not None:
+        print(f"  rotordyn_modal on this checkout has no flexible rotors ({missing}): nothing to compare; "
+              "the rigid comparison above stands")
+        return
+    from rotordyn_modal.io.ross_file import read_ross_rotor
+
+    print(f"{'rotor':>20} {'ROSS DOF':>8} {'rdm DOF':>7} | {'max rel. diff':>13} {'log dec diff':>12} | "
+          f"{'ROSS ms/speed':>13} {'rdm ms/speed':>12} {'ROSS / rdm':>10}")
+    for name in names:
+        path = DATA / f"{name}.toml"
+        reference = json.loads((DATA / f"{name}.json").read_text())
+        model = rdm.Model.from_dict(read_ross_rotor(path), source=str(path))
+        with _quiet():
+            rotor = rs.Rotor.load(path)
+        rel, log_dec = root_agreement(model, rotor, reference, lateral_modes)
+        speeds = [case["speed"] for case in reference["modal"]]
+        grid = np.linspace(min(speeds), max(speeds), n_speeds)
+        t_ross, t_rdm = campbell_times(model, path, grid, repeat)
+        print(f"{name:>20} {rotor.ndof:8d} {model.dofs.n:7d} | {rel:13.1e} {log_dec:12.1e} | "
+              f"{t_ross / n_speeds * 1e3:13.2f} {t_rdm / n_speeds * 1e3:12.3f} {t_ross / t_rdm:9.0f}x")
+
+
+def root_agreement(model, rotor, reference, lateral_modes):
+    """Largest relative difference of ROSS's lateral roots (now, dense, at the reference speeds)
+    to the nearest roots of rdm.modal, and the largest difference of their log decrements."""
+    rel = log_dec = 0.0
+    for case in reference["modal"]:
+        ross = lateral_modes(rotor, case["speed"])
+        lam = np.array(ross["eigenvalues_re"]) + 1j * np.array(ross["eigenvalues_im"])
+        ours = np.asarray(rdm.modal(model, case["speed"]).eigenvalues)
+        nearest = ours[[int(np.argmin(np.abs(ours - x))) for x in lam]]
+        rel = max(rel, float(np.max(np.abs(nearest - lam) / np.abs(lam))))
+        ld = -2 * np.pi * nearest.real / np.abs(nearest.imag)
+        log_dec = max(log_dec, float(np.max(np.abs(ld - np.array(ross["log_dec"])))))
+    return rel, log_dec
+
+
+def campbell_times(model, path, grid, repeat):
+    """(ROSS run_campbell, rdm.campbell) wall times [s] over ``grid``: ROSS once (a fresh
+    Rotor: it memoises run_modal; after a first call on two speeds that compiles and caches),
+    rotordyn_modal best of ``repeat``."""
+    import inspect
+
+    keywords = {"critical": False}
+    for key in ("modes", "n_modes", "num_modes"):  # the lowest N, where campbell offers it
+        if key in inspect.signature(rdm.campbell).parameters:
+            keywords[key] = CAMPBELL_MODES
+    with _quiet():
+        rs.Rotor.load(path).run_campbell(grid[:2], frequencies=CAMPBELL_MODES)  # first call: numba, caches
+        rotor = rs.Rotor.load(path)
+        start = time.perf_counter()
+        rotor.run_campbell(grid, frequencies=CAMPBELL_MODES)
+        t_ross = time.perf_counter() - start
+    rdm.campbell(model, grid[:3], **keywords)  # first call: imports, caches
+    return t_ross, best_time(lambda: rdm.campbell(model, grid, **keywords), repeat)
 
 
 def write_figure(data, ross_table, rdm_worst):

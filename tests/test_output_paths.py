@@ -27,7 +27,7 @@ EXAMPLE = ROOT / "examples" / "gear_machine.toml"
 REQUIRED = {"campbell": ["--speeds", "0:100:3"], "critical-speeds": ["--speeds", "0:100:3"],
             "stability": ["--speeds", "0:100:3"], "unbalance": ["--speeds", "0:100:3"],
             "simulate": ["--duration", "0.1"], "frf": ["--freqs", "1:10:3"], "fit": ["--params", "gain"],
-            "modes": [], "study": [], "check": [], "static": [], "ucs-map": ["--stiffness", "1e5:1e6:3"],
+            "modes": [], "study": [], "check": [], "static": [], "import-ross": [], "ucs-map": ["--stiffness", "1e5:1e6:3"],
             "level1": ["--speed", "100", "--station", "r", "--qa", "1e4"]}
 
 
@@ -47,6 +47,7 @@ FILE_OPTIONS = {
     "fit": (["MODEL", "--measured", "--mapping"], ["--out", "--plot"]),
     "study": (["MODEL", "--spec"], ["--out", "--table", "--plot", "--plot-histogram", "--plot-map",
                                     "--plot-sensitivity"]),
+    "import-ross": (["ROSS.toml"], ["--out"]),
 }
 
 
@@ -90,7 +91,7 @@ def _argv(command, files, output_option, output_path, folder):
     inputs, outputs = FILE_OPTIONS[command]
     argv = [command]
     for option in inputs:
-        argv += [str(files[option])] if option == "MODEL" else [option, str(files[option])]
+        argv += [str(files[option])] if not option.startswith("-") else [option, str(files[option])]
     argv += REQUIRED[command]
     if output_option != "--out" and "--out" in outputs:
         argv += ["--out", str(folder / ("other.nc" if command == "study" else "other.toml" if command == "fit"

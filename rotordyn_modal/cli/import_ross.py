@@ -1,0 +1,44 @@
+"""``import-ross ROSS.toml --out MODEL.toml``: a rotor saved by ROSS as a model file."""
+
+from __future__ import annotations
+
+import sys
+
+from ._common import add_input_file, add_output_file, check_ending
+
+NAME = "import-ross"
+HELP = "read a rotor saved by ROSS (Rotor.save, TOML) into a model file"
+DESCRIPTION = """Read a rotor that ROSS saved with Rotor.save (a TOML file; ROSS need not be
+installed) and write it as a model file with one flexible rotor: one shaft section per ROSS
+shaft element (parallel elements as layers), its disks and its bearings and seals (constant
+or tabulated over speed, ROSS's rad/s written as rpm). ROSS's x, y, z are the model's axes
+(spin about +z, the shaft from the origin); kxy and kyx keep their signs. What this package
+does not model is refused by name with exit code 2: point masses (support masses), magnetic
+bearings, bearing mass coefficients, proportional or modal damping, elements without rotary
+inertia or gyroscopic terms, axial force or torque, mixed shear options (docs/ross.md).
+
+example:
+  rotordyn-modal import-ross compressor.toml --out compressor_model.toml
+  rotordyn-modal check compressor_model.toml"""
+
+
+def add_arguments(parser):
+    add_input_file(parser, "ross_file", metavar="ROSS.toml", help="rotor file written by ROSS's Rotor.save")
+    add_output_file(parser, "--out", required=True, metavar="MODEL.toml",
+                    help="model file to write ('-': standard output)")
+    parser.add_argument("--name", help="the rotor's name (default: the ROSS file's stem)")
+
+
+def run(args) -> int:
+    from ..io.ross_file import model_text, read_ross_rotor, write_model_file
+
+    check_ending(args.out, (".toml",), "--out")
+    description = read_ross_rotor(args.ross_file, name=args.name)
+    if args.out == "-":
+        sys.stdout.write(model_text(description))
+    else:
+        write_model_file(description, args.out, inputs=[args.ross_file])
+    rotor = description["rotors"][0]
+    print(f"{args.out}: rotor {rotor['name']!r}, {len(rotor['shaft'])} shaft sections, "
+          f"{len(rotor.get('disks', []))} disks, {len(description['bearings'])} bearings", file=sys.stderr)
+    return 0

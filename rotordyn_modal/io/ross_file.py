@@ -1,0 +1,351 @@
+"""Rotors saved by ROSS (``Rotor.save``, a TOML file) read into this package's model-file
+description: a flexible rotor with its shaft, disks and bearings (``docs/ross.md``).
+
+ROSS is not imported: the file is read with :mod:`tomllib`. A ROSS file holds one table per
+element, named ``<ElementClass>_<tag>``, with the arguments that rebuild it (ROSS's
+``ross/rotor_assembly.py`` ``Rotor.save``); ``parameters`` holds the rotor's own.
+
+Axes: ROSS's ``x, y, z`` (``z`` along the shaft, spin about ``+z``) become the model's axes as
+they are, ``spin_axis = [0, 0, 1]``, so the rotor's transverse axes ``a, b`` are ``x, y``
+(``rotordyn_modal.model.geometry.transverse_axes``) and a ROSS bearing's
+``[[kxx, kxy], [kyx, kyy]]`` is this package's bearing ``stiffness`` matrix in its default
+axes, signs unchanged (both are the stiffness added to the equations of motion, force on the
+shaft ``-K u``). The shaft starts at the origin (ROSS's node 0).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from ..errors import ModelError
+from .atomic import atomic_write, check_not_input
+from .model_file import read_toml
+
+__all__ = ["read_ross_rotor", "write_model_file", "model_text", "BEARING_CLASSES"]
+
+#: ROSS element classes whose saved tables hold their coefficients (read as bearings)
+BEARING_CLASSES = ("BearingElement", "SealElement", "BallBearingElement", "RollerBearingElement")
+_COEFFICIENTS = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy", "kzz", "czz")
+_MASS_COEFFICIENTS = ("mxx", "mxy", "myx", "myy", "mzz")
+#: why an element class that ROSS saves cannot be read
+_REFUSED = {
+    "PointMass": "a ROSS point mass is a support mass linked to the shaft through bearings "
+                 "(n_link); bearings on pedestals are not read",
+    "MagneticBearingElement": "an active magnetic bearing (its controller) is not modelled; "
+                              "give its equivalent coefficients as a BearingElement",
+}
+_RAD_S_TO_RPM = 30.0 / math.pi
+
+
+def read_ross_rotor(path, name: str | None = None) -> dict:
+    """Read a rotor saved by ROSS's ``Rotor.save`` (TOML) into a model-file description.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The ROSS file.
+    name : str, optional
+        The rotor's name (default: the file's stem).
+
+    Returns
+    -------
+    dict
+        A model file's tables (``docs/model-file.md``): ``name``, ``spin_axis`` ``[0, 0, 1]``,
+        ``materials``, one flexible rotor (``shaft``: one section per ROSS shaft element, with
+        ``elements = 1``; ``disks``) starting at the origin, and its ``bearings`` placed by
+        ``axial_position`` [m].
+
+    Raises
+    ------
+    ModelError
+        The file is not a ROSS rotor, or holds what this package does not model (named:
+        the element, the key, the value and why), e.g. proportional damping, bearing mass
+        coefficients, a point mass, a magnetic bearing, mixed shear options.
+    """
+    source = str(path)
+    data = read_toml(path, "ROSS rotor file")
+    elements = _elements(source, data)
+    _check_parameters(source, data)
+    rotor_name = name or Path(source).stem
+    materials: dict[str, dict] = {}
+    sections, shear, node_z = _shaft(source, elements.get("ShaftElement", []), materials)
+    rotor = {"name": rotor_name, "start": [0.0, 0.0, 0.0], "speed_ratio": 1.0, "shear": shear,
+             "shaft": sections}
+    disks = _disks(source, elements.get("DiskElement", []), node_z)
+    if disks:
+        rotor["disks"] = disks
+    bearings = [_bearing(source, key, table, node_z, rotor_name)
+                for cls in BEARING_CLASSES for key, table in elements.get(cls, [])]
+    bearings.sort(key=lambda b: b["axial_position"])
+    version = data.get("ross_version", "unknown")
+    return {"name": f"{rotor_name} (ROSS {version} file {Path(source).name})", "spin_axis": [0.0, 0.0, 1.0],
+            "materials": list(materials.values()), "rotors": [rotor], "bearings": bearings}
+
+
+def write_model_file(description: dict, path, inputs=()) -> None:
+    """Write a model description as a TOML model file, atomically, never over ``inputs``.
+
+    Parameters
+    ----------
+    description : dict
+        From :func:`read_ross_rotor`.
+    path : str or path-like
+    inputs : iterable of path-like
+        Files that must not be overwritten (the ROSS file).
+    """
+    check_not_input(path, list(inputs))
+    with atomic_write(path, "w", encoding="utf-8") as handle:
+        handle.write(model_text(description))
+
+
+def model_text(description: dict) -> str:
+    """The model file's text: a two-line comment on its origin and axes, then the TOML."""
+    import tomli_w
+
+    return ("# Read from a ROSS rotor file by rotordyn-modal import-ross (docs/ross.md).\n"
+            "# ROSS axes x, y, z are the model axes; the shaft starts at the origin, spin about +z.\n"
+            + tomli_w.dumps(description))
+
+
+# --------------------------------------------------------------------------- elements
+
+
+def _elements(source: str, data: dict) -> dict[str, list]:
+    """The file's element tables grouped by ROSS class, in file order: ``{class: [(key, table)]}``."""
+    if "ShaftElement" not in {key.split("_")[0] for key in data}:
+        raise ModelError(source, "<file>", "no ShaftElement tables",
+                         "a rotor saved by ROSS's Rotor.save (tables named 'ShaftElement_<tag>', ...)")
+    grouped: dict[str, list] = {}
+    for key, table in data.items():
+        if key in ("parameters", "ross_version") or key.startswith("_"):
+            continue
+        cls = key.split("_")[0]
+        if not isinstance(table, dict):
+            raise ModelError(source, f"[{key}]", table, "a table of a ROSS element")
+        if cls in _REFUSED:
+            raise ModelError(source, f"[{key}]", cls, f"an element this package reads: {_REFUSED[cls]}")
+        if cls not in ("ShaftElement", "DiskElement", *BEARING_CLASSES):
+            raise ModelError(source, f"[{key}]", cls, "a ROSS element this package reads: ShaftElement, "
+                             "DiskElement, " + ", ".join(BEARING_CLASSES))
+        grouped.setdefault(cls, []).append((key, table))
+    return grouped
+
+
+def _check_parameters(source: str, data: dict) -> None:
+    """Refuse the rotor-level damping ROSS adds to the matrices (not modelled here)."""
+    parameters = data.get("parameters", {})
+    if not isinstance(parameters, dict):
+        raise ModelError(source, "parameters", parameters, "a table")
+    for key in ("alpha", "beta", "default_damping_ratio"):
+        value = parameters.get(key, 0.0)
+        if _number(source, f"[parameters] {key}", value) != 0.0:
+            raise ModelError(source, f"[parameters] {key}", value,
+                             "0: proportional and modal damping of the rotor are not modelled")
+    if parameters.get("modal_damping_ratio"):
+        raise ModelError(source, "[parameters] modal_damping_ratio", parameters["modal_damping_ratio"],
+                         "none: modal damping of the rotor is not modelled")
+
+
+def _number(source: str, where: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ModelError(source, where, value, "a finite number")
+    return float(value)
+
+
+def _get(source: str, key: str, table: dict, name: str, default=None) -> float:
+    if name not in table:
+        if default is None:
+            raise ModelError(source, f"[{key}] {name}", "<missing>", "a number")
+        return default
+    return _number(source, f"[{key}] {name}", table[name])
+
+
+# --------------------------------------------------------------------------- shaft
+
+
+def _shaft(source: str, shafts: list, materials: dict) -> tuple[list, str, list]:
+    """Sections (one per ROSS node pair, parallel elements as ``layers``), the rotor's shear
+    option, and the axial position of every ROSS node [m]."""
+    spans: dict[int, list] = {}
+    shears = {}
+    for key, table in shafts:
+        n = table.get("n")
+        if isinstance(n, bool) or not isinstance(n, int) or n < 0:
+            raise ModelError(source, f"[{key}] n", n, "the element's first node, an integer >= 0")
+        spans.setdefault(n, []).append((key, table))
+        shears[key] = _element_options(source, key, table)
+    missing = sorted(set(range(max(spans) + 1)) - set(spans))
+    if missing:
+        raise ModelError(source, "ShaftElement n", missing[0], f"consecutive nodes 0..{max(spans)} "
+                         "(no shaft element starts at this node)")
+    if len(set(shears.values())) > 1:
+        first = next(iter(shears))
+        other = next(k for k, v in shears.items() if v != shears[first])
+        raise ModelError(source, f"[{other}] shear", shears[other],
+                         f"the shear option of the other elements ({shears[first]!r} in [{first}]): "
+                         "one shear option per rotor")
+    sections, node_z = [], [0.0]
+    for n in range(len(spans)):
+        (key, table), *parallel = spans[n]
+        section = {"length": _get(source, key, table, "L"), **_tube(source, key, table, materials),
+                   "elements": 1}
+        for other_key, other in parallel:
+            length = _get(source, other_key, other, "L")
+            if abs(length - section["length"]) > 1e-9 * section["length"]:
+                raise ModelError(source, f"[{other_key}] L", length, f"the length {section['length']!r} of "
+                                 f"[{key}], which starts at the same node {n} (parallel elements)")
+            section.setdefault("layers", []).append(_tube(source, other_key, other, materials))
+        sections.append(section)
+        node_z.append(node_z[-1] + section["length"])
+    return sections, next(iter(shears.values())), node_z
+
+
+def _element_options(source: str, key: str, table: dict) -> str:
+    """The element's shear option (``cowper`` or ``none``); refuses what the package does not
+    model: no rotary inertia, no gyroscopic terms, axial force, torque, proportional damping,
+    ROSS's ``hutchinson`` shear coefficient (not Hutchinson's, ``docs/ross.md``)."""
+    for option in ("rotary_inertia", "gyroscopic"):
+        if table.get(option, True) is not True:
+            raise ModelError(source, f"[{key}] {option}", table[option],
+                             "true: shaft elements always carry rotary inertia and gyroscopic terms here")
+    for option, meaning in (("axial_force", "axial force"), ("torque", "torque"),
+                            ("alpha", "mass-proportional damping"), ("beta", "stiffness-proportional damping")):
+        if _get(source, key, table, option, 0.0) != 0.0:
+            raise ModelError(source, f"[{key}] {option}", table[option], f"0: {meaning} is not modelled")
+    effects = table.get("shear_effects", True)
+    if not isinstance(effects, bool):
+        raise ModelError(source, f"[{key}] shear_effects", effects, "true or false")
+    method = table.get("shear_method_calc", "cowper")
+    if effects and method == "hutchinson":
+        raise ModelError(source, f"[{key}] shear_method_calc", method, "'cowper': ROSS 3's 'hutchinson' "
+                         "coefficient has (1 + nu) where Hutchinson's (2001), this package's, has (1 + nu)^2 "
+                         "(0.71 against 0.93 for solid steel), so it cannot be reproduced")
+    if effects and method != "cowper":
+        raise ModelError(source, f"[{key}] shear_method_calc", method, "'cowper'")
+    return "cowper" if effects else "none"
+
+
+def _tube(source: str, key: str, table: dict, materials: dict) -> dict:
+    """Outer and inner diameters (a [left, right] pair when tapered) and the material's name."""
+    odl, idl = _get(source, key, table, "odl"), _get(source, key, table, "idl")
+    odr, idr = _get(source, key, table, "odr", odl), _get(source, key, table, "idr", idl)
+    for side, outer, inner in (("l", odl, idl), ("r", odr, idr)):
+        if not outer > inner >= 0.0:
+            raise ModelError(source, f"[{key}] id{side}, od{side}", [inner, outer],
+                             "0 <= inner diameter < outer diameter")
+    return {"outer_diameter": odl if odl == odr else [odl, odr],
+            "inner_diameter": idl if idl == idr else [idl, idr],
+            "material": _material(source, key, table.get("material"), materials)}
+
+
+def _material(source: str, key: str, table, materials: dict) -> str:
+    """Add the element's material to ``materials`` (once per distinct material); its name."""
+    if not isinstance(table, dict):
+        raise ModelError(source, f"[{key}] material", table, "a table with name, rho, E and G_s")
+    where = f"{key}.material"
+    found = {"density": _get(source, where, table, "rho"), "young_modulus": _get(source, where, table, "E"),
+             "shear_modulus": _get(source, where, table, "G_s")}
+    base = str(table.get("name", "material"))
+    name, count = base, 1
+    while name in materials and {k: v for k, v in materials[name].items() if k != "name"} != found:
+        count += 1
+        name = f"{base}-{count}"  # a name ROSS gave two different materials
+    materials.setdefault(name, {"name": name, **found})
+    return name
+
+
+# --------------------------------------------------------------------------- disks, bearings
+
+
+def _node(source: str, key: str, table: dict, node_z: list) -> float:
+    n = table.get("n")
+    if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n < len(node_z):
+        raise ModelError(source, f"[{key}] n", n, f"a node of the shaft, 0..{len(node_z) - 1}")
+    return node_z[n]
+
+
+def _disks(source: str, disks: list, node_z: list) -> list:
+    """Rigid disks at their nodes; two disks on one node become one (ROSS adds them)."""
+    found: dict[float, dict] = {}
+    for key, table in disks:
+        z = _node(source, key, table, node_z)
+        disk = {"name": str(table.get("tag", key.partition("_")[2])), "axial_position": z,
+                "mass": _get(source, key, table, "m"), "polar_inertia": _get(source, key, table, "Ip"),
+                "diametral_inertia": _get(source, key, table, "Id")}
+        if z in found:
+            same = found[z]
+            same["name"] += " + " + disk["name"]
+            for k in ("mass", "polar_inertia", "diametral_inertia"):
+                same[k] += disk[k]
+        else:
+            found[z] = disk
+    return sorted(found.values(), key=lambda d: d["axial_position"])
+
+
+def _bearing(source: str, key: str, table: dict, node_z: list, rotor: str) -> dict:
+    """A bearing (or seal) of ROSS: its coefficients, constant or tabulated over speed."""
+    if table.get("n_link") is not None:
+        raise ModelError(source, f"[{key}] n_link", table["n_link"],
+                         "none: a bearing linked to a support mass (pedestal) is not read")
+    speeds, values = _coefficient_tables(source, key, table)
+    bearing = {"name": str(table.get("tag", key.partition("_")[2])), "rotor": rotor,
+               "axial_position": _node(source, key, table, node_z)}
+    if len(speeds) > 1:
+        bearing["speeds_rpm"] = [s * _RAD_S_TO_RPM for s in speeds]
+    bearing["stiffness"] = _radial(values, "k")
+    if any(v != 0.0 for s in ("xx", "xy", "yx", "yy") for v in values["c" + s]):
+        bearing["damping"] = _radial(values, "c")
+    if any(v != 0.0 for v in values["kzz"]):
+        bearing["axial_stiffness"] = _table_or_constant(values["kzz"])
+        if any(v != 0.0 for v in values["czz"]):
+            bearing["axial_damping"] = _table_or_constant(values["czz"])
+    return bearing
+
+
+def _coefficient_tables(source: str, key: str, table: dict) -> tuple[list, dict]:
+    """The speed axis [rad/s] (empty for constant coefficients) and each coefficient's values
+    on it. A table over the whirl ``frequency`` is read as over speed: ROSS's run_modal,
+    run_campbell and unbalance responses evaluate it at the speed (synchronous)."""
+    axes = [name for name in ("speed", "frequency") if table.get(name) is not None]
+    if len(axes) == 2:
+        raise ModelError(source, f"[{key}] speed, frequency", "both",
+                         "coefficients tabulated over one axis (a table over speed and whirl frequency is not read)")
+    axis = table[axes[0]] if axes else []
+    if not isinstance(axis, list):
+        axis = [axis]
+    speeds = [_number(source, f"[{key}] {axes[0]}", s) for s in axis]
+    if any(b <= a for a, b in zip(speeds, speeds[1:])):
+        raise ModelError(source, f"[{key}] {axes[0]}", axis, "strictly increasing speeds [rad/s]")
+    count = len(speeds) or 1
+    for name in _MASS_COEFFICIENTS:
+        if any(v != 0.0 for v in _values(source, key, table, name, count)):
+            raise ModelError(source, f"[{key}] {name}", table[name], "0: bearing mass coefficients are not modelled")
+    values = {name: _values(source, key, table, name, count) for name in _COEFFICIENTS}
+    if count > 1 and all(len(set(v)) == 1 for v in values.values()):
+        return [], {name: v[:1] for name, v in values.items()}  # constant over the table
+    return (speeds if count > 1 else []), values
+
+
+def _values(source: str, key: str, table: dict, name: str, count: int) -> list:
+    """A coefficient as ``count`` numbers (ROSS defaults: kyy = kxx, cyy = cxx, others 0)."""
+    default = {"kyy": "kxx", "cyy": "cxx", "myy": "mxx"}.get(name)
+    value = table.get(name, table.get(default, 0.0) if default else 0.0)
+    if not isinstance(value, list):
+        value = [value] * count
+    if len(value) != count:
+        raise ModelError(source, f"[{key}] {name}", value, f"{count} values (one per speed of the table)")
+    return [_number(source, f"[{key}] {name}", v) for v in value]
+
+
+def _radial(values: dict, kind: str):
+    """``[[xx, xy], [yx, yy]]`` (or a 2-list ``[xx, yy]`` without cross terms), per speed when
+    tabulated."""
+    xx, xy, yx, yy = (values[kind + s] for s in ("xx", "xy", "yx", "yy"))
+    cross = any(v != 0.0 for v in xy + yx)
+    rows = [[[a, b], [c, d]] if cross else [a, d] for a, b, c, d in zip(xx, xy, yx, yy)]
+    return rows[0] if len(rows) == 1 else rows
+
+
+def _table_or_constant(values: list):
+    return values[0] if len(values) == 1 else values

@@ -1,0 +1,452 @@
+"""Flexible shafts: materials, shear coefficients and Timoshenko beam finite elements.
+
+A shaft is a chain of elements along the spin axis ``e``; each element is a hollow circular
+section, uniform or a conical frustum (outer and inner diameters varying linearly from the
+left end to the right end). Per node the six motions are ordered like every rigid body's in
+this package, ``[u_a, u_b, u_e, theta_a, theta_b, theta_e]`` (``a, b`` the transverse axes
+with ``a x b = e``, theta the small rotation vector): a rigid rotation ``theta_b`` moves
+``u_a = +theta_b z``, ``theta_a`` moves ``u_b = -theta_a z`` (``docs/theory.md``, "Flexible
+shafts: Timoshenko beam elements").
+
+The lateral interpolation is the Timoshenko element of Nelson (1980) and Friswell et al.
+(2010, section 5.4): cubic displacements and quadratic rotations that solve the static
+Timoshenko beam with nodal loads, with the shear parameter ``Phi = 12 E I / (kappa G A L^2)``
+of the section at mid-element. Tapered elements keep these shape functions and integrate
+the energies with the frustum's exact area and second moment along the element (Genta and
+Gugliotta 1988), as ROSS does: the matrices equal ROSS's ``ShaftElement`` (same per-node
+order and signs). Axial and torsional motions are linear rods.
+
+Pure numpy: nothing here knows the model; :mod:`rotordyn_modal.io.model_file` and the
+assembly call it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["Material", "SHEAR_METHODS", "MassProperties", "material_problem", "section_problem",
+           "shear_coefficient", "element_matrices", "shaft_matrices", "shaft_mass_properties",
+           "free_free_frequencies"]
+
+#: the shear coefficients a shaft may use (``shear_coefficient``'s ``method``)
+SHEAR_METHODS = ("cowper", "hutchinson", "none")
+
+#: Gauss-Legendre points and weights on [0, 1]: 5 points integrate every energy of a
+#: frustum element exactly (highest degree 8: a cubic squared times a quadratic area, a
+#: quadratic rotation squared times a quartic second moment).
+_XI, _WEIGHTS = (lambda x, w: ((x + 1.0) / 2.0, w / 2.0))(*np.polynomial.legendre.leggauss(5))
+
+# per-node offsets of the two bending planes: (a, e) carries (u_a, theta_b) with
+# theta_b = +du_a/dz; (b, e) carries (u_b, -theta_a) since theta_a = -du_b/dz.
+_PLANE_A = (np.array([0, 4, 6, 10]), np.array([1.0, 1.0, 1.0, 1.0]))
+_PLANE_B = (np.array([1, 3, 7, 9]), np.array([1.0, -1.0, 1.0, -1.0]))
+
+
+@dataclass(frozen=True)
+class Material:
+    """An isotropic, linear elastic shaft material.
+
+    Parameters
+    ----------
+    name : str
+    density : float
+        [kg/m^3]
+    young_modulus : float
+        E [Pa]
+    shear_modulus : float
+        G [Pa]
+    """
+
+    name: str
+    density: float
+    young_modulus: float
+    shear_modulus: float
+
+    @classmethod
+    def from_poisson(cls, name: str, density: float, young_modulus: float, poisson_ratio: float) -> "Material":
+        """The material with ``G = E / (2 (1 + nu))``.
+
+        Parameters
+        ----------
+        name : str
+        density : float
+            [kg/m^3]
+        young_modulus : float
+            [Pa]
+        poisson_ratio : float
+            [-], in (-1, 0.5]
+        """
+        return cls(name, float(density), float(young_modulus), float(young_modulus) / (2.0 * (1.0 + float(poisson_ratio))))
+
+    @property
+    def poisson_ratio(self) -> float:
+        """``nu = E / (2 G) - 1`` [-]."""
+        return self.young_modulus / (2.0 * self.shear_modulus) - 1.0
+
+
+def material_problem(density, young_modulus, shear_modulus=None, poisson_ratio=None):
+    """The first thing wrong with a material's numbers, or None.
+
+    The numbers are assumed finite and of a sane magnitude already (the model file's reader
+    checks that); this checks the physics.
+
+    Parameters
+    ----------
+    density, young_modulus : float or None
+        [kg/m^3], [Pa]; None when missing.
+    shear_modulus, poisson_ratio : float or None
+        Exactly one of the two must be given.
+
+    Returns
+    -------
+    tuple (key, value, expected) or None
+        ``expected`` is a fragment for ``ModelError(source, where + "." + key, value, expected)``.
+    """
+    for key, value, unit in (("density", density, "kg/m^3"), ("young_modulus", young_modulus, "Pa")):
+        if value is None:
+            return key, value, f"a number > 0 [{unit}] (a material needs density and young_modulus)"
+        if not value > 0:
+            return key, value, f"a number > 0 [{unit}]"
+    if (shear_modulus is None) == (poisson_ratio is None):
+        key = "shear_modulus" if shear_modulus is not None else "poisson_ratio"
+        return key, shear_modulus, "exactly one of shear_modulus [Pa] and poisson_ratio"
+    if poisson_ratio is not None:
+        if not -1.0 < poisson_ratio <= 0.5:
+            return "poisson_ratio", poisson_ratio, "a number in (-1, 0.5]"
+        return None
+    if not shear_modulus > 0:
+        return "shear_modulus", shear_modulus, "a number > 0 [Pa]"
+    nu = young_modulus / (2.0 * shear_modulus) - 1.0
+    if not nu <= 0.5:
+        return ("shear_modulus", shear_modulus,
+                f"a shear modulus >= young_modulus / 3 = {young_modulus / 3.0:.6g} Pa (Poisson's ratio "
+                f"young_modulus / (2 shear_modulus) - 1 = {nu:.4g} must not exceed 0.5)")
+    return None
+
+
+def section_problem(length, outer, inner=0.0):
+    """The first thing wrong with a shaft section's geometry, or None.
+
+    Parameters
+    ----------
+    length : float
+        [m]
+    outer, inner : float or (left, right)
+        Diameters [m].
+
+    Returns
+    -------
+    tuple (key, value, expected) or None
+        Keys ``length``, ``outer_diameter``, ``inner_diameter``.
+    """
+    if not length > 0:
+        return "length", length, "a length > 0 [m]"
+    outer_pair, inner_pair = _pair(outer), _pair(inner)
+    if not min(outer_pair) > 0:
+        return "outer_diameter", outer, "diameters > 0 [m]"
+    if not min(inner_pair) >= 0:
+        return "inner_diameter", inner, "diameters >= 0 [m]"
+    if not (inner_pair[0] < outer_pair[0] and inner_pair[1] < outer_pair[1]):
+        return "inner_diameter", inner, f"an inner diameter below the outer diameter {outer!r} at both ends"
+    return None
+
+
+def shear_coefficient(outer: float, inner: float, poisson: float, method: str = "cowper") -> float:
+    """Shear coefficient ``kappa`` of a hollow circular section.
+
+    Parameters
+    ----------
+    outer, inner : float
+        Diameters [m] (only their ratio ``m = inner / outer`` matters).
+    poisson : float
+        Poisson's ratio [-].
+    method : {'cowper', 'hutchinson', 'none'}
+        * ``'cowper'`` (Cowper 1966, as ROSS's default):
+          ``6 (1 + nu) (1 + m^2)^2 / ((7 + 6 nu) (1 + m^2)^2 + (20 + 12 nu) m^2)``;
+        * ``'hutchinson'`` (Hutchinson 2001, hollow circle):
+          ``6 (1 + nu)^2 (1 + m^2)^2 / ((7 + 12 nu + 4 nu^2) (1 + m^2)^2 + 4 m^2 (5 + 6 nu + 2 nu^2))``,
+          ``6 (1 + nu)^2 / (7 + 12 nu + 4 nu^2)`` for a solid circle;
+        * ``'none'``: no shear deformation (Euler-Bernoulli): ``inf``.
+
+    Returns
+    -------
+    float
+        [-]
+    """
+    m2 = (inner / outer) ** 2
+    r12 = (1.0 + m2) ** 2
+    nu = poisson
+    if method == "cowper":
+        return 6.0 * (1.0 + nu) * r12 / ((7.0 + 6.0 * nu) * r12 + (20.0 + 12.0 * nu) * m2)
+    if method == "hutchinson":
+        return (6.0 * (1.0 + nu) ** 2 * r12
+                / ((7.0 + 12.0 * nu + 4.0 * nu ** 2) * r12 + 4.0 * m2 * (5.0 + 6.0 * nu + 2.0 * nu ** 2)))
+    if method == "none":
+        return math.inf
+    raise ValueError(f"shear method {method!r}: expected one of {', '.join(SHEAR_METHODS)}")
+
+
+def element_matrices(length: float, outer, inner, material: Material, shear: str = "cowper", *,
+                     rotary_inertia: bool = True):
+    """Mass, stiffness and gyroscopic matrices of one Timoshenko shaft element.
+
+    Parameters
+    ----------
+    length : float
+        L [m] > 0.
+    outer, inner : float or (left, right)
+        Outer and inner (bore) diameters [m]; a pair makes a tapered element (a conical
+        frustum, diameters linear along the element).
+    material : Material
+    shear : {'cowper', 'hutchinson', 'none'}
+        Shear coefficient of :func:`shear_coefficient`; ``'none'`` drops shear deformation
+        (``Phi = 0``).
+    rotary_inertia : bool
+        Keep the sections' rotary inertia in M (False: the Euler-Bernoulli beam's mass).
+
+    Returns
+    -------
+    M, K, G : ndarray, shape (12, 12)
+        On ``[node1 (6), node2 (6)]``, each node ``[u_a, u_b, u_e, theta_a, theta_b, theta_e]``
+        [kg, kg m, kg m^2; N/m, N, N m; kg m^2]. G is per unit spin speed of the shaft
+        (``M q'' + Omega G q' + K q = f``); for a rigid rotation of the element it equals
+        ``-J_p skew(e)`` on the rotations.
+    """
+    geometry = _Frustum(length, outer, inner)
+    phi = _shear_parameter(geometry, material, shear)
+    M, K, G = np.zeros((12, 12)), np.zeros((12, 12)), np.zeros((12, 12))
+    rho, E = material.density, material.young_modulus
+    # kappa G = 12 E I_mid / (Phi A_mid L^2): the shear energy kappa G A gamma^2 written with
+    # gamma / Phi (finite as Phi -> 0, when the shear term vanishes).
+    shear_factor = 12.0 * E * geometry.second_moment(0.5) / (geometry.area(0.5) * length ** 2)
+    lateral_m, lateral_k, spin = np.zeros((4, 4)), np.zeros((4, 4)), np.zeros((12, 12))
+    rod_m, rod_k = np.zeros((2, 2)), np.zeros((2, 2))
+    twist_m, twist_k = np.zeros((2, 2)), np.zeros((2, 2))
+    for xi, weight in zip(_XI, _WEIGHTS):
+        dz = weight * length
+        area, moment = geometry.area(xi), geometry.second_moment(xi)
+        w, psi, dpsi, gamma = _plane_functions(xi, length, phi)
+        lateral_m += dz * rho * (area * np.outer(w, w) + (moment * np.outer(psi, psi) if rotary_inertia else 0.0))
+        lateral_k += dz * (E * moment * np.outer(dpsi, dpsi) + shear_factor * phi * area * np.outer(gamma, gamma))
+        theta_a, theta_b = np.zeros(12), np.zeros(12)
+        theta_b[_PLANE_A[0]] = _PLANE_A[1] * psi
+        theta_a[_PLANE_B[0]] = -_PLANE_B[1] * psi
+        spin += dz * rho * 2.0 * moment * (np.outer(theta_a, theta_b) - np.outer(theta_b, theta_a))
+        n, dn = np.array([1.0 - xi, xi]), np.array([-1.0, 1.0]) / length
+        rod_m += dz * rho * area * np.outer(n, n)
+        rod_k += dz * E * area * np.outer(dn, dn)
+        twist_m += dz * rho * 2.0 * moment * np.outer(n, n)
+        twist_k += dz * material.shear_modulus * 2.0 * moment * np.outer(dn, dn)
+    for index, sign in (_PLANE_A, _PLANE_B):
+        block = np.ix_(index, index)
+        M[block] += np.outer(sign, sign) * lateral_m
+        K[block] += np.outer(sign, sign) * lateral_k
+    for index, mass, stiffness in (([2, 8], rod_m, rod_k), ([5, 11], twist_m, twist_k)):
+        M[np.ix_(index, index)] += mass
+        K[np.ix_(index, index)] += stiffness
+    G += spin
+    return M, K, G
+
+
+def shaft_matrices(lengths, outers, inners, materials, shear: str = "cowper", *, rotary_inertia: bool = True):
+    """M, K, G of a chain of shaft elements on its nodes.
+
+    Element ``i`` joins node ``i`` (its left end) to node ``i + 1``.
+
+    Parameters
+    ----------
+    lengths : sequence of float, length n
+        Element lengths [m].
+    outers, inners : sequence, length n
+        Each a diameter [m] or a (left, right) pair (see :func:`element_matrices`).
+    materials : Material or sequence of Material, length n
+    shear : {'cowper', 'hutchinson', 'none'}
+    rotary_inertia : bool
+
+    Returns
+    -------
+    M, K, G : ndarray, shape (6 (n + 1), 6 (n + 1))
+        Node ``j``'s motions ``[u_a, u_b, u_e, theta_a, theta_b, theta_e]`` at rows
+        ``6 j ... 6 j + 5``.
+    """
+    lengths = [float(v) for v in lengths]
+    materials = _per_element(materials, len(lengths))
+    size = 6 * (len(lengths) + 1)
+    out = [np.zeros((size, size)) for _ in range(3)]
+    for i, (length, outer, inner, material) in enumerate(zip(lengths, outers, inners, materials, strict=True)):
+        block = slice(6 * i, 6 * i + 12)
+        for total, part in zip(out, element_matrices(length, outer, inner, material, shear,
+                                                     rotary_inertia=rotary_inertia)):
+            total[block, block] += part
+    return tuple(out)
+
+
+def free_free_frequencies(lengths, outers, inners, materials, shear: str = "cowper", count: int = 1, *,
+                          rotary_inertia: bool = True) -> np.ndarray:
+    """The lowest bending natural frequencies of a bare shaft, free at both ends, at rest.
+
+    One bending plane is solved (the section is round: the other plane repeats the same
+    frequencies); its two rigid-body modes (translation and tilt) are left out.
+
+    Parameters
+    ----------
+    lengths, outers, inners, materials, shear, rotary_inertia
+        As :func:`shaft_matrices`.
+    count : int
+        How many frequencies, at most ``2 n`` for ``n`` elements.
+
+    Returns
+    -------
+    ndarray, shape (count,)
+        [rad/s], ascending.
+    """
+    import scipy.linalg
+
+    M, K, _ = shaft_matrices(lengths, outers, inners, materials, shear, rotary_inertia=rotary_inertia)
+    plane = np.concatenate([6 * j + np.array([0, 4]) for j in range(M.shape[0] // 6)])
+    count = min(int(count), plane.size - 2)
+    values = scipy.linalg.eigh(K[np.ix_(plane, plane)], M[np.ix_(plane, plane)], eigvals_only=True,
+                               subset_by_index=[2, 1 + count])
+    return np.sqrt(np.maximum(values, 0.0))
+
+
+class MassProperties(NamedTuple):
+    """Rigid-body mass properties of a shaft.
+
+    Attributes
+    ----------
+    mass : float
+        [kg]
+    center_of_mass : float
+        [m] along the axis from the shaft's start (its first node).
+    polar_inertia : float
+        About the spin axis [kg m^2].
+    diametral_inertia : float
+        About a transverse axis through the centre of mass [kg m^2].
+    """
+
+    mass: float
+    center_of_mass: float
+    polar_inertia: float
+    diametral_inertia: float
+
+
+def shaft_mass_properties(lengths, outers, inners, materials) -> MassProperties:
+    """Mass, centre of mass and inertias of a chain of (hollow, possibly conical) sections.
+
+    Exact integrals over each frustum (Gauss-Legendre on polynomials of degree <= 4).
+
+    Parameters
+    ----------
+    lengths, outers, inners, materials
+        As :func:`shaft_matrices`.
+
+    Returns
+    -------
+    MassProperties
+    """
+    lengths = [float(v) for v in lengths]
+    materials = _per_element(materials, len(lengths))
+    mass = first = second = polar = own = 0.0
+    start = 0.0
+    for length, outer, inner, material in zip(lengths, outers, inners, materials, strict=True):
+        geometry = _Frustum(length, outer, inner)
+        rho = material.density
+        for xi, weight in zip(_XI, _WEIGHTS):
+            dm = rho * geometry.area(xi) * weight * length
+            z = start + xi * length
+            mass += dm
+            first += dm * z
+            second += dm * z * z
+            polar += rho * 2.0 * geometry.second_moment(xi) * weight * length
+            own += rho * geometry.second_moment(xi) * weight * length
+        start += length
+    center = first / mass
+    return MassProperties(mass, center, polar, own + second - mass * center * center)
+
+
+class _Frustum:
+    """A hollow conical frustum: diameters linear in ``xi = z / L`` in [0, 1]."""
+
+    def __init__(self, length, outer, inner):
+        problem = section_problem(length, outer, inner)
+        if problem:
+            key, value, expected = problem
+            raise ValueError(f"shaft element {key} = {value!r}: expected {expected}")
+        self.length = float(length)
+        self.outer, self.inner = _pair(outer), _pair(inner)
+
+    def diameters(self, xi):
+        """Outer and inner diameter at ``xi`` [m]."""
+        (ol, orr), (il, ir) = self.outer, self.inner
+        return ol + (orr - ol) * xi, il + (ir - il) * xi
+
+    def area(self, xi) -> float:
+        """Cross-section area at ``xi`` [m^2]."""
+        do, di = self.diameters(xi)
+        return math.pi / 4.0 * (do * do - di * di)
+
+    def second_moment(self, xi) -> float:
+        """Second moment of area about a diameter at ``xi`` [m^4] (polar: twice this)."""
+        do, di = self.diameters(xi)
+        return math.pi / 64.0 * (do ** 4 - di ** 4)
+
+
+def _shear_parameter(geometry: _Frustum, material: Material, shear: str) -> float:
+    """``Phi = 12 E I / (kappa G A L^2)`` of the mid-element section (0 for ``'none'``);
+    ``kappa`` from the mean diameters, as ROSS."""
+    if shear not in SHEAR_METHODS:
+        raise ValueError(f"shear method {shear!r}: expected one of {', '.join(SHEAR_METHODS)}")
+    if shear == "none":
+        return 0.0
+    outer, inner = geometry.diameters(0.5)
+    kappa = shear_coefficient(outer, inner, material.poisson_ratio, shear)
+    return (12.0 * material.young_modulus * geometry.second_moment(0.5)
+            / (kappa * material.shear_modulus * geometry.area(0.5) * geometry.length ** 2))
+
+
+def _plane_functions(xi: float, length: float, phi: float):
+    """Timoshenko shape functions of one bending plane on ``(w1, psi1, w2, psi2)``.
+
+    Returns
+    -------
+    w, psi, dpsi, gamma : ndarray, shape (4,)
+        Displacement [-, m], rotation [1/m, -], its derivative along z [1/m^2, 1/m], and the
+        shear strain ``w' - psi`` divided by ``Phi`` (constant along the element).
+    """
+    L, x, p = length, xi, phi
+    c = 1.0 / (1.0 + p)
+    w = c * np.array([1.0 - 3.0 * x * x + 2.0 * x ** 3 + p * (1.0 - x),
+                      L * (x - 2.0 * x * x + x ** 3 + 0.5 * p * (x - x * x)),
+                      3.0 * x * x - 2.0 * x ** 3 + p * x,
+                      L * (-x * x + x ** 3 - 0.5 * p * (x - x * x))])
+    psi = c * np.array([6.0 * (x * x - x) / L,
+                        1.0 - 4.0 * x + 3.0 * x * x + p * (1.0 - x),
+                        -6.0 * (x * x - x) / L,
+                        -2.0 * x + 3.0 * x * x + p * x])
+    dpsi = c / L * np.array([6.0 * (2.0 * x - 1.0) / L, -4.0 + 6.0 * x - p, -6.0 * (2.0 * x - 1.0) / L,
+                             -2.0 + 6.0 * x + p])
+    gamma = c * np.array([-1.0 / L, -0.5, 1.0 / L, -0.5])
+    return w, psi, dpsi, gamma
+
+
+def _pair(value) -> tuple[float, float]:
+    """A diameter or a (left, right) pair as (left, right)."""
+    if np.ndim(value) == 0:
+        return float(value), float(value)
+    left, right = value
+    return float(left), float(right)
+
+
+def _per_element(materials, count: int) -> list:
+    """One material per element (a single material serves them all)."""
+    if isinstance(materials, Material):
+        return [materials] * count
+    materials = list(materials)
+    if len(materials) != count:
+        raise ValueError(f"{len(materials)} materials for {count} elements: expected one per element")
+    return materials

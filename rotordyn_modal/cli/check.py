@@ -10,7 +10,12 @@ from ._common import add_model_argument, open_model
 NAME = "check"
 HELP = "validate a model file and print a summary"
 DESCRIPTION = """Validate MODEL and print its masses, rotors with their speed ratios,
-suspensions, bearings and generalized coordinates. Exit code 0 when the model is valid, 2 (with one message naming the
+suspensions, bearings and generalized coordinates; for each flexible rotor (one with a shaft) its
+mesh (nodes, elements), mass, centre of mass, polar and diametral inertia computed from its shaft,
+disks and point masses, and its first bending natural frequency at rest, free-free and on its
+bearings (the stator held still: the lowest mode with the share of its strain energy in the shaft,
+and the lowest mode with most of its strain energy in the shaft).
+Exit code 0 when the model is valid, 2 (with one message naming the
 file, table, key, value and what was expected) when it is not. What is legal but probably not
 meant (a static sag of over 0.1 m under gravity: a stiffness in N/mm given as N/m; a mount mode
 below 0.5 Hz; a journal bearing longer than its diameter) is printed on stderr, one warning line
@@ -43,6 +48,7 @@ def summary(model) -> str:
     for r in model.rotors:
         lines.append(f"    {r.name:<16} {r.mass:>9.4g} kg  Jp {r.polar_inertia:.4g}  Jd {r.diametral_inertia:.4g} "
                      f"kg m^2  speed ratio {r.speed_ratio:+.6g}")
+    lines += _flexible_lines(model)
     for t in model.transmissions:
         teeth = f", {t.driver_teeth} driver teeth" if t.driver_teeth else ""
         lines.append(f"  {t.type} {t.driver} -> {t.driven}: ratio {t.ratio:g}{teeth}")
@@ -56,12 +62,55 @@ def summary(model) -> str:
                  f"excitations: {', '.join(x.name for x in model.excitations) or 'none'}; "
                  f"unbalances: {len(model.unbalances)}")
     layout = model.dofs
-    lines.append(f"  coordinates ({layout.n}): {', '.join(layout.names)}")
+    lines.append(f"  coordinates ({layout.n}): {', '.join(_coordinate_names(model))}")
     rank = np.linalg.matrix_rank(K)
     if rank < layout.n and not model.speed_dependent:
         lines.append(f"  note: the suspensions and bearings restrain {rank} of {layout.n} directions "
                      "(the others give zero eigenvalues)")
     return "\n".join(lines)
+
+
+def _coordinate_names(model) -> list[str]:
+    """The coordinates' names, a flexible rotor's node coordinates as one range."""
+    names = list(model.dofs.names)
+    for rotor in model.rotors:
+        shaft = model.dofs.shaft(rotor.name)
+        if shaft is None:
+            continue
+        own = model.dofs.slices[model.dofs.rotors.index(rotor.name)]
+        nodes = 4 * shaft.mesh.n_nodes
+        names[own.start:own.start + nodes] = [f"{names[own.start]} ... {names[own.start + nodes - 1]} "
+                                              f"({shaft.mesh.n_nodes} nodes x 4)"]
+    return names
+
+
+def _flexible_lines(model) -> list[str]:
+    """Mesh, mass properties and first bending frequencies of each flexible rotor."""
+    from ..elements.bearings import evaluate
+    from ..model.flexible import bending_frequencies
+
+    lines = []
+    for rotor in model.rotors:
+        shaft = rotor.flexible
+        if shaft is None:
+            continue
+        supports = []
+        for b in model.bearings_of(rotor.name):
+            try:
+                k6, _ = evaluate(b.coefficients, [0.0], f"{model.source}: [bearings.{b.name}]")
+            except Exception:      # noqa: BLE001  (a bearing without coefficients at rest: left out)
+                continue
+            supports.append((shaft.z_of(b.position), k6[0]))
+        free, (lowest, share), bending = bending_frequencies(shaft, supports)
+        lines += [f"  flexible rotor {rotor.name}: shaft {shaft.length:.6g} m from {np.round(shaft.start, 6).tolist()} m, "
+                  f"{len(shaft.sections)} sections, {len(shaft.disks)} disks, {len(shaft.point_masses)} point masses; "
+                  f"mesh {shaft.mesh.n_nodes} nodes, {len(shaft.mesh.elements)} elements (shear {shaft.shear})",
+                  f"    mass {rotor.mass:.6g} kg, centre of mass {np.round(rotor.center_of_mass, 6).tolist()} m, "
+                  f"polar inertia {rotor.polar_inertia:.6g} kg m^2, diametral inertia {rotor.diametral_inertia:.6g} kg m^2",
+                  f"    at rest: first bending frequency free-free {free:.6g} Hz; on its bearings (stator held) lowest "
+                  f"mode {lowest:.6g} Hz ({share:.0%} of its strain energy in the shaft), first mostly bending "
+                  f"(over 50 % in the shaft) {bending:.6g} Hz"]
+    return lines
 
 
 def _bearing_lines(model) -> list[str]:

@@ -25,7 +25,7 @@ from .geometry import shift_matrices, transverse_axes
 
 __all__ = ["MaterialData", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
            "mass_properties", "mesh", "default_element_length", "station_z", "SHAFT_KEYS",
-           "STATION_TOLERANCE", "DEFAULT_ELEMENTS"]
+           "STATION_TOLERANCE", "DEFAULT_ELEMENTS", "node_matrices", "lateral_basis", "bending_frequencies"]
 
 #: [m]: a station closer than this to a node is at that node; a point this far off the shaft's
 #: axis or beyond its ends (plus the same fraction of the shaft's length) is off the shaft
@@ -333,7 +333,7 @@ def _check_apart(table: Table, disk: Disk, other: Disk) -> None:
 def station_z(table: Table, shaft: Shaft, rotor_name: str, key: str = "position", required: bool = True):
     """A station of a flexible rotor: its point on the axis and ``z`` [m], from ``key`` (a 3-D
     point on the axis) or ``axial_position`` (from the shaft's start); exactly one of them."""
-    given = [k for k in (key, "axial_position") if k in table.data]
+    given = [k for k in dict.fromkeys((key, "axial_position")) if k in table.data]
     if len(given) == 2:
         raise table.error("axial_position", table.data["axial_position"],
                           f"either {key} or axial_position, not both")
@@ -522,3 +522,63 @@ def check_consistent(table: Table, values: dict) -> None:
                               f"point masses, {shown} (or no {key} key: a flexible rotor's {key} follows "
                               "from its shaft)")
 
+
+
+def lateral_basis(shaft: Shaft) -> np.ndarray:
+    """Each node's motion ``[u, theta]`` (model axes) per lateral coordinate ``[u_a, u_b, theta_a,
+    theta_b]`` of every node (the flexible rotor's coordinates without the axial one), (6 N, 4 N)."""
+    a, b = transverse_axes(shaft.axis)
+    count = shaft.mesh.n_nodes
+    out = np.zeros((6 * count, 4 * count))
+    for k in range(count):
+        out[6 * k:6 * k + 3, 4 * k], out[6 * k:6 * k + 3, 4 * k + 1] = a, b
+        out[6 * k + 3:6 * k + 6, 4 * k + 2], out[6 * k + 3:6 * k + 6, 4 * k + 3] = a, b
+    return out
+
+
+def bending_frequencies(shaft: Shaft, supports=()):
+    """The first bending natural frequency [Hz] of a flexible rotor at rest, free-free, and its
+    lowest modes on its supports (the stator held still) with their share of strain energy in
+    the shaft.
+
+    Parameters
+    ----------
+    shaft : Shaft
+        With its mesh.
+    supports : sequence of (z [m], ndarray (6, 6))
+        Each bearing's stiffness on the node's motion ``[u, theta]`` (model axes) at rest; its
+        symmetric part is used.
+
+    Returns
+    -------
+    free : float
+        Free-free: the lowest frequency after the four rigid-body motions (two per plane) [Hz].
+    lowest : (float, float)
+        On the supports: the lowest mode's frequency [Hz] and the fraction of its strain energy
+        in the shaft (the rest in the bearings).
+    bending : float
+        On the supports: the lowest mode with over half its strain energy in the shaft [Hz]
+        (nan if none).
+    """
+    import scipy.linalg
+
+    M, K = node_matrices(shaft, shaft.mesh, kinds=("M", "K"))
+    L = lateral_basis(shaft)
+    mass, shaft_k = L.T @ M @ L, L.T @ K @ L
+    mass, shaft_k = 0.5 * (mass + mass.T), 0.5 * (shaft_k + shaft_k.T)
+    free = scipy.linalg.eigh(shaft_k, mass, eigvals_only=True)
+    supported_k = shaft_k.copy()
+    for z, k6 in supports:
+        i = 6 * shaft.mesh.node(z)
+        rows = L[i:i + 6]
+        supported_k += rows.T @ (0.5 * (k6 + k6.T)) @ rows
+    values, vectors = scipy.linalg.eigh(supported_k, mass)
+    share = np.einsum("im,ij,jm->m", vectors, shaft_k, vectors) / np.maximum(values, 1e-300)
+    bending = values[(share > 0.5) & (values > 0)]
+    return (_hz(free[4]), (_hz(values[0]), float(share[0])),
+            _hz(bending[0]) if bending.size else float("nan"))
+
+
+def _hz(value: float) -> float:
+    """The frequency [Hz] of an eigenvalue omega^2 [rad^2/s^2]."""
+    return float(np.sqrt(max(value, 0.0)) / (2 * np.pi))

@@ -131,6 +131,8 @@ class Shaft:
     shear: str
     element_length: float
     mesh: Mesh | None = field(default=None, compare=False)
+    #: node matrices already made, by kind (a new mesh, a new Shaft: a new cache)
+    _made: dict = field(default_factory=dict, init=False, compare=False, repr=False)
 
     @property
     def length(self) -> float:
@@ -436,6 +438,8 @@ def element_blocks(shaft: Shaft, mesh: Mesh):
 def node_matrices(shaft: Shaft, mesh: Mesh, kinds=("M", "K", "G")):
     """The shaft's, disks' and point masses' matrices on the nodes' 6 motions ``[u, theta]`` each
     (model axes), shape (6 N, 6 N) each: mass [kg, kg m^2], stiffness, gyroscopic per unit spin."""
+    if mesh is shaft.mesh and all(kind in shaft._made for kind in kinds):
+        return tuple(shaft._made[kind] for kind in kinds)
     size = 6 * mesh.n_nodes
     rot = rotation(shaft.axis)
     Q = np.kron(np.eye(4), rot)                      # local = Q @ model on [node1 (6), node2 (6)]
@@ -458,6 +462,10 @@ def node_matrices(shaft: Shaft, mesh: Mesh, kinds=("M", "K", "G")):
         i = 6 * mesh.node(point.z)
         if "M" in out:
             out["M"][i:i + 3, i:i + 3] += point.mass * np.eye(3)
+    if mesh is shaft.mesh:
+        for kind, matrix in out.items():
+            matrix.flags.writeable = False
+            shaft._made[kind] = matrix
     return tuple(out[k] for k in kinds)
 
 

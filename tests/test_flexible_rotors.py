@@ -369,3 +369,17 @@ def test_simulate_refuses_a_flexible_rotor(examples_dir, capsys):
     assert main(["simulate", str(examples_dir / "compressor_rotor.toml"), "--duration", "0.1"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "flexible" in err
+
+
+def test_the_documented_short_flexible_model_loads(tmp_path):
+    import re
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parent.parent / "docs" / "model-file.md").read_text(encoding="utf-8")
+    block = re.search(r"## Flexible rotors\n.*?```toml\n(.*?)```", page, re.S).group(1)
+    path = tmp_path / "short.toml"
+    path.write_text(block, encoding="utf-8")
+    model = rdm.load_model(path)
+    shaft = model.rotors[0].flexible
+    assert shaft.length == pytest.approx(0.4) and len(shaft.disks) == 1 and len(shaft.point_masses) == 1
+    assert model.dofs.names[:4] == ("pump.n0.uy", "pump.n0.uz", "pump.n0.ry", "pump.n0.rz")

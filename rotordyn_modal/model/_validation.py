@@ -97,7 +97,8 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
                      for i, t in enumerate(transmission_tables)]
     _check_mesh_names(transmission_tables, transmissions, rotor_tables)
     ratios = _speed_ratios(source, rotor_tables, transmissions, reference)
-    rotors = [reuse.rotor(i, t.data, ratios[name], reuse.same_list(data, "materials") or "shaft" not in t.data)
+    flexible_kept = reuse.same_list(data, "materials") and reuse.same_axis(spin_axis)
+    rotors = [reuse.rotor(i, t.data, ratios[name], flexible_kept or "shaft" not in t.data)
               or _rotor(t, ratios[name], materials, spin_axis)
               for i, (name, t) in enumerate(rotor_tables.items())]
     suspensions = [_suspension(t, reuse.earlier("suspensions", i))
@@ -181,6 +182,10 @@ class _Reuse:
         if not (_identical(spin_axis, self.parts["spin_axis"]) and _identical(gravity, self.parts["gravity"])):
             return None
         return list(self.parts["bearings"])
+
+    def same_axis(self, spin_axis) -> bool:
+        """The earlier spin axis, bit for bit (a flexible rotor's shaft runs along it)."""
+        return bool(self.raw) and _identical(spin_axis, self.parts["spin_axis"])
 
     def same_carriers(self, bearings) -> bool:
         """The same rotors sit on bearings as before (what a relative sensor needs)."""

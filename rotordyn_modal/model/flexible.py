@@ -131,8 +131,12 @@ class Shaft:
     shear: str
     element_length: float
     mesh: Mesh | None = field(default=None, compare=False)
-    #: node matrices already made, by kind (a new mesh, a new Shaft: a new cache)
-    _made: dict = field(default_factory=dict, init=False, compare=False, repr=False)
+
+    @property
+    def _made(self) -> dict:
+        """Node matrices already made for :attr:`mesh`, by kind (an attribute, not a field: a
+        new mesh is a new Shaft, with nothing made)."""
+        return self.__dict__.setdefault("_node_matrices", {})
 
     @property
     def length(self) -> float:

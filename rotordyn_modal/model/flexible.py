@@ -20,18 +20,26 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..elements.shaft import material_problem
 from ._table import Table, visible, visible_names
 from .geometry import shift_matrices, transverse_axes
 
 __all__ = ["MaterialData", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
            "mass_properties", "mesh", "default_element_length", "station_z", "SHAFT_KEYS",
-           "STATION_TOLERANCE", "DEFAULT_ELEMENTS", "node_matrices", "lateral_basis", "bending_frequencies"]
+           "STATION_TOLERANCE", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies"]
 
 #: [m]: a station closer than this to a node is at that node; a point this far off the shaft's
 #: axis or beyond its ends (plus the same fraction of the shaft's length) is off the shaft
 STATION_TOLERANCE = 1e-6
 #: default element length: the shaft's length over this (see :func:`default_element_length`)
 DEFAULT_ELEMENTS = 20
+#: [m] shortest section (stations closer than :data:`STATION_TOLERANCE` share a node)
+SHORTEST_SECTION = 1e-5
+#: [m] the range of a shaft's outer diameters (beyond it the section's area or second moment
+#: rounds badly: a shaft is neither a micron nor a kilometre thick)
+THINNEST, THICKEST = 1e-6, 1e3
+#: most nodes of one flexible rotor's mesh (its node matrices are dense: 6 N x 6 N each)
+MAX_NODES = 500
 #: keys of a rotor table that make it flexible or only mean something on a flexible rotor
 SHAFT_KEYS = ("shaft", "disks", "point_masses", "start", "shear", "element_length")
 _MATERIAL_KEYS = ("name", "density", "young_modulus", "shear_modulus", "poisson_ratio")
@@ -188,12 +196,11 @@ def materials(source: str, data) -> dict[str, MaterialData]:
         if ("shear_modulus" in raw) == ("poisson_ratio" in raw):
             raise table.error("shear_modulus", raw.get("shear_modulus", "<missing>"),
                               "exactly one of shear_modulus [Pa] and poisson_ratio")
-        if "shear_modulus" in raw:
-            shear = table.number("shear_modulus", positive=True)
-        else:
-            nu = table.number("poisson_ratio")
-            if not -1.0 < nu < 0.5:
-                raise table.error("poisson_ratio", nu, "a Poisson's ratio between -1 and 0.5 (exclusive)")
+        shear = table.number("shear_modulus", positive=True)
+        nu = table.number("poisson_ratio")
+        if problem := material_problem(density, young, shear, nu):
+            raise table.error(problem[0], raw.get(problem[0]), problem[2])
+        if shear is None:
             shear = young / (2.0 * (1.0 + nu))
         out[name] = MaterialData(name=name, density=density, young_modulus=young, shear_modulus=shear)
     return out
@@ -219,12 +226,13 @@ def _material(table: Table, key: str, known) -> MaterialData:
 def _section(table: Table, known) -> Section:
     table.check_keys(_SECTION_KEYS)
     length = table.number("length", required=True)
-    if not length > 0:
-        raise table.error("length", length, "a section length > 0 [m]")
+    if not length >= SHORTEST_SECTION:
+        raise table.error("length", length, f"a section length > 0, at least {SHORTEST_SECTION:g} m")
     outer = _pair(table, "outer_diameter")
     inner = _pair(table, "inner_diameter", default=0.0)
-    if min(outer) <= 0:
-        raise table.error("outer_diameter", table.data["outer_diameter"], "outer diameters > 0 [m]")
+    if not (THINNEST <= min(outer) and max(outer) <= THICKEST):
+        raise table.error("outer_diameter", table.data["outer_diameter"],
+                          f"outer diameters from {THINNEST:g} to {THICKEST:g} m")
     if inner[0] >= outer[0] or inner[1] >= outer[1]:
         raise table.error("inner_diameter", table.data["inner_diameter"],
                           f"an inner diameter below the outer diameter {table.data['outer_diameter']!r} "
@@ -292,9 +300,13 @@ def shaft(rotor: Table, known, spin_axis: np.ndarray) -> Shaft:
     shear = rotor.text("shear", default="cowper", choices=_SHEAR)
     length = sum(s.length for s in sections)
     element_length = rotor.number("element_length", positive=True)
-    if element_length is not None and element_length < length * 1e-4:
-        raise rotor.error("element_length", element_length, f"at least 1e-4 of the shaft's length "
-                          f"{length:g} m (at most 10000 elements)")
+    longest = element_length if element_length is not None else default_element_length(sections)
+    count = sum(s.elements if s.elements is not None else math.ceil(s.length / longest - 1e-9) for s in sections)
+    if count >= MAX_NODES:
+        key = "element_length" if element_length is not None else "shaft"
+        raise rotor.error(key, rotor.data[key] if key == "element_length" else f"<{len(sections)} sections>",
+                          f"a mesh of fewer than {MAX_NODES} nodes (these sections make {count} elements: "
+                          "give a longer element_length or fewer elements)")
     disks, names = [], set()
     for i, raw in enumerate(_items(rotor, "disks")):
         table = Table(source, f"{label}.disks.{visible(raw.get('name', i))}", raw)
@@ -416,7 +428,8 @@ def _diameters(section: Section, left: float, z0: float, z1: float, inner: bool 
     """A tapered section's diameters (linear along it) at an element's two ends."""
     d = section.inner if inner else section.outer
     t0, t1 = (z0 - left) / section.length, (z1 - left) / section.length
-    return (d[0] + (d[1] - d[0]) * t0, d[0] + (d[1] - d[0]) * t1)
+    # weights, not d0 + (d1 - d0) t: no cancellation, so a diameter stays between its ends
+    return (d[0] * (1 - t0) + d[1] * t0, d[0] * (1 - t1) + d[1] * t1)
 
 
 # ----------------------------------------------------------------------------------------
@@ -491,6 +504,8 @@ def mass_properties(shaft: Shaft):
     -------
     mass, centre, polar, diametral
     """
+    # one element per section: a rigid motion's kinetic energy is exact on any mesh
+    shaft = replace(shaft, sections=tuple(replace(s, elements=1) for s in shaft.sections))
     coarse = mesh(shaft, [])
     (M,) = node_matrices(shaft, coarse, kinds=("M",))
     R = rigid_motion(shaft.point(coarse.z), shaft.start)

@@ -21,18 +21,22 @@ STEEL = {"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "shear_mo
 
 def _machine(element_length=1.0, scale=1.0):
     """A flexible rotor (two sections, one tapered and hollow; an overhung disk) on two
-    anisotropic bearings in a casing on four mounts; undamped."""
+    anisotropic bearings in a casing on four mounts, turning at -1.5 times the reference rotor
+    (a rigid one fixed in the casing); undamped."""
     material = dict(STEEL, young_modulus=STEEL["young_modulus"] * scale,
                     shear_modulus=STEEL["shear_modulus"] * scale)
     return {
         "name": "t", "spin_axis": [1.0, 0.0, 0.0], "materials": [material],
         "stator": {"mass": 60.0, "inertia": [2.0, 3.0, 3.5], "center_of_mass": [0.3, 0.0, 0.1]},
-        "rotors": [{"name": "r", "speed_ratio": 1.0, "start": [0.0, 0.02, 0.15], "element_length": element_length,
+        "reference_rotor": "m",
+        "rotors": [{"name": "r", "speed_ratio": -1.5, "start": [0.0, 0.02, 0.15], "element_length": element_length,
                     "shaft": [{"length": 0.2, "outer_diameter": 0.04, "material": "steel"},
                               {"length": 0.4, "outer_diameter": [0.05, 0.04], "inner_diameter": 0.01,
                                "material": "steel"}],
                     "disks": [{"name": "imp", "axial_position": 0.05, "mass": 4.0, "polar_inertia": 0.02,
-                               "diametral_inertia": 0.012}]}],
+                               "diametral_inertia": 0.012}]},
+                   {"name": "m", "speed_ratio": 1.0, "mass": 2.0, "center_of_mass": [0.5, 0.1, 0.2],
+                    "polar_inertia": 0.004, "diametral_inertia": 0.003}],
         "bearings": [{"name": "A", "rotor": "r", "axial_position": 0.2, "stiffness": [2e6, 3e6],
                       "axial_stiffness": 1e6},
                      {"name": "B", "rotor": "r", "axial_position": 0.6, "stiffness": 2.5e6, "moment_stiffness": 1e3}],
@@ -46,9 +50,9 @@ def _rigid_twin(flexible_model, description):
     rotor = flexible_model.rotors[0]
     data = copy.deepcopy(description)
     del data["materials"]
-    data["rotors"] = [{"name": "r", "speed_ratio": 1.0, "mass": rotor.mass,
-                       "center_of_mass": rotor.center_of_mass.tolist(), "polar_inertia": rotor.polar_inertia,
-                       "diametral_inertia": rotor.diametral_inertia}]
+    data["rotors"][0] = {"name": "r", "speed_ratio": rotor.speed_ratio, "mass": rotor.mass,
+                         "center_of_mass": rotor.center_of_mass.tolist(), "polar_inertia": rotor.polar_inertia,
+                         "diametral_inertia": rotor.diametral_inertia}
     start = np.array(description["rotors"][0]["start"])
     for bearing in data["bearings"]:
         bearing["position"] = (start + [bearing.pop("axial_position"), 0.0, 0.0]).tolist()
@@ -138,6 +142,7 @@ def _moved(data, offset):
     data = copy.deepcopy(data)
     data["stator"]["center_of_mass"] = (np.add(data["stator"]["center_of_mass"], offset)).tolist()
     data["rotors"][0]["start"] = (np.add(data["rotors"][0]["start"], offset)).tolist()
+    data["rotors"][1]["center_of_mass"] = (np.add(data["rotors"][1]["center_of_mass"], offset)).tolist()
     for s in data["suspensions"] + data.get("sensors", []) + data.get("excitations", []):
         if "position" in s:
             s["position"] = (np.add(s["position"], offset)).tolist()
@@ -214,6 +219,7 @@ def test_unbalance_on_a_flexible_rotor_acts_at_its_node():
     data = _machine(element_length=0.1)
     data["unbalances"] = [{"rotor": "r", "amount": 2e-4, "phase_deg": 30.0, "axial_position": 0.05}]
     data["sensors"] = [{"name": "imp", "rotor": "r", "axial_position": 0.05, "direction": [0, 0, 1]}]
+    data["rotors"][0]["speed_ratio"] = 1.0
     model = rdm.Model.from_dict(data)
     speed = 700.0
     result = rdm.unbalance_response(model, [speed])
@@ -312,7 +318,7 @@ BAD = {
     "disks on a rigid rotor": (lambda d: d["rotors"].append({"name": "q", "mass": 1.0, "center_of_mass": [0, 0, 0],
                                                              "polar_inertia": 0.01, "diametral_inertia": 0.01,
                                                              "speed_ratio": 1.0, "disks": []})
-                               or d.update(reference_rotor="r"), "[rotors.q] disks"),
+                               , "[rotors.q] disks"),
 }
 
 

@@ -389,3 +389,33 @@ def test_the_documented_short_flexible_model_loads(tmp_path):
     shaft = model.rotors[0].flexible
     assert shaft.length == pytest.approx(0.4) and len(shaft.disks) == 1 and len(shaft.point_masses) == 1
     assert model.dofs.names[:4] == ("pump.n0.uy", "pump.n0.uz", "pump.n0.ry", "pump.n0.rz")
+
+
+def test_check_prints_the_mesh_mass_and_bending_frequencies(tmp_path, capsys):
+    import re
+
+    import tomli_w
+
+    length, diameter = 1.0, 0.05
+    data = {"materials": [STEEL],
+            "rotors": [{"name": "s", "speed_ratio": 1.0, "start": [0, 0, 0], "shear": "none",
+                        "shaft": [{"length": length, "outer_diameter": diameter, "material": "steel",
+                                   "elements": 40}]}],
+            "bearings": [{"name": n, "rotor": "s", "axial_position": z, "stiffness": 1e13} for n, z in
+                         (("a", 0.0), ("b", length))]}
+    path = tmp_path / "s.toml"
+    path.write_bytes(tomli_w.dumps(data).encode())
+    assert main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "mesh 41 nodes, 40 elements" in out
+    area, second, rho, young = np.pi / 4 * diameter ** 2, np.pi / 64 * diameter ** 4, STEEL["density"], \
+        STEEL["young_modulus"]
+    mass = float(re.search(r"mass ([0-9.e+]+) kg, centre", out).group(1))
+    assert mass == pytest.approx(rho * area * length, rel=1e-5)
+    free = float(re.search(r"free-free ([0-9.e+]+) Hz", out).group(1))
+    bending = float(re.search(r"first mostly bending \(over 50 % in the shaft\) ([0-9.e+]+) Hz", out).group(1))
+    # Euler-Bernoulli free-free (beta L = 4.7300407) and the simply supported Rayleigh beam
+    beam = np.sqrt(young * second / (rho * area)) / (2 * np.pi)
+    assert free == pytest.approx(4.7300407 ** 2 / length ** 2 * beam, rel=5e-3)   # rotary inertia: -0.2 %
+    beta = np.pi / length
+    assert bending == pytest.approx(beam * beta ** 2 / np.sqrt(1 + second / area * beta ** 2), rel=2e-5)

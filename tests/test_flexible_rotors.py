@@ -419,3 +419,17 @@ def test_check_prints_the_mesh_mass_and_bending_frequencies(tmp_path, capsys):
     assert free == pytest.approx(4.7300407 ** 2 / length ** 2 * beam, rel=5e-3)   # rotary inertia: -0.2 %
     beta = np.pi / length
     assert bending == pytest.approx(beam * beta ** 2 / np.sqrt(1 + second / area * beta ** 2), rel=2e-5)
+
+
+def test_mode_shape_at_a_station_of_a_flexible_rotor_is_its_node(examples_dir):
+    model = rdm.load_model(examples_dir / "compressor_rotor.toml")     # grounded: absolute = relative
+    modes = rdm.modal(model, 500.0)
+    shaft = model.rotors[0].flexible
+    names = list(model.dofs.names)
+    for k in (0, 5, shaft.mesh.n_nodes - 1):
+        point = shaft.point(shaft.mesh.z[k])
+        found = modes.shape_at(point, direction=[0, 0, 1], body="compressor")
+        expected = modes.shapes[:, names.index(f"compressor.n{k}.uz")]
+        assert np.abs(found - expected).max() <= 1e-12 * np.abs(modes.shapes).max()
+        relative = modes.shape_at(point, direction=[0, 0, 1], body="compressor", relative=True)
+        assert np.abs(relative - found).max() <= 1e-12 * np.abs(modes.shapes).max()

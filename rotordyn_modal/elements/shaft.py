@@ -13,8 +13,9 @@ The lateral interpolation is the Timoshenko element of Nelson (1980) and Friswel
 Timoshenko beam with nodal loads, with the shear parameter ``Phi = 12 E I / (kappa G A L^2)``
 of the section at mid-element. Tapered elements keep these shape functions and integrate
 the energies with the frustum's exact area and second moment along the element (Genta and
-Gugliotta 1988), as ROSS does: the matrices equal ROSS's ``ShaftElement`` (same per-node
-order and signs). Axial and torsional motions are linear rods.
+Gugliotta 1988), as ROSS does: the lateral matrices equal ROSS's ``ShaftElement`` (same
+per-node order and signs). Axial and torsional motions are linear rods, integrated exactly
+(ROSS takes the mean of the end sections: the same for uniform elements).
 
 Pure numpy: nothing here knows the model; :mod:`rotordyn_modal.io.model_file` and the
 assembly call it.
@@ -202,9 +203,10 @@ def element_matrices(length: float, outer, inner, material: Material, shear: str
         Outer and inner (bore) diameters [m]; a pair makes a tapered element (a conical
         frustum, diameters linear along the element).
     material : Material
-    shear : {'cowper', 'hutchinson', 'none'}
-        Shear coefficient of :func:`shear_coefficient`; ``'none'`` drops shear deformation
-        (``Phi = 0``).
+    shear : {'cowper', 'hutchinson', 'none'} or float
+        Shear coefficient of :func:`shear_coefficient` (of the mean diameters); ``'none'``
+        drops shear deformation (``Phi = 0``); a number > 0 is the coefficient itself (e.g.
+        what another code computed for this element).
     rotary_inertia : bool
         Keep the sections' rotary inertia in M (False: the Euler-Bernoulli beam's mass).
 
@@ -217,39 +219,57 @@ def element_matrices(length: float, outer, inner, material: Material, shear: str
         ``-J_p skew(e)`` on the rotations.
     """
     geometry = _Frustum(length, outer, inner)
-    phi = _shear_parameter(geometry, material, shear)
-    M, K, G = np.zeros((12, 12)), np.zeros((12, 12)), np.zeros((12, 12))
-    rho, E = material.density, material.young_modulus
+    plane_mass, plane_stiffness, G = _bending(geometry, material, _shear_parameter(geometry, material, shear),
+                                              rotary_inertia)
+    M, K = np.zeros((12, 12)), np.zeros((12, 12))
+    for index, sign in (_PLANE_A, _PLANE_B):
+        block, signs = np.ix_(index, index), np.outer(sign, sign)
+        M[block] += signs * plane_mass
+        K[block] += signs * plane_stiffness
+    for index, (mass, stiffness) in zip(([2, 8], [5, 11]), _rods(geometry, material)):
+        M[np.ix_(index, index)] += mass
+        K[np.ix_(index, index)] += stiffness
+    return M, K, G
+
+
+def _bending(geometry: "_Frustum", material: Material, phi: float, rotary_inertia: bool):
+    """One bending plane's mass and stiffness (4 x 4 on ``(w1, psi1, w2, psi2)``) and the
+    element's gyroscopic matrix (12 x 12), integrated exactly over the frustum."""
+    rho, E, length = material.density, material.young_modulus, geometry.length
+    dz = _WEIGHTS * length
+    area, moment = geometry.area(_XI), geometry.second_moment(_XI)
+    w, psi, dpsi, gamma = _plane_functions(_XI, length, phi)          # each (4, points)
     # kappa G = 12 E I_mid / (Phi A_mid L^2): the shear energy kappa G A gamma^2 written with
     # gamma / Phi (finite as Phi -> 0, when the shear term vanishes).
     shear_factor = 12.0 * E * geometry.second_moment(0.5) / (geometry.area(0.5) * length ** 2)
-    lateral_m, lateral_k, spin = np.zeros((4, 4)), np.zeros((4, 4)), np.zeros((12, 12))
-    rod_m, rod_k = np.zeros((2, 2)), np.zeros((2, 2))
-    twist_m, twist_k = np.zeros((2, 2)), np.zeros((2, 2))
-    for xi, weight in zip(_XI, _WEIGHTS):
-        dz = weight * length
-        area, moment = geometry.area(xi), geometry.second_moment(xi)
-        w, psi, dpsi, gamma = _plane_functions(xi, length, phi)
-        lateral_m += dz * rho * (area * np.outer(w, w) + (moment * np.outer(psi, psi) if rotary_inertia else 0.0))
-        lateral_k += dz * (E * moment * np.outer(dpsi, dpsi) + shear_factor * phi * area * np.outer(gamma, gamma))
-        theta_a, theta_b = np.zeros(12), np.zeros(12)
-        theta_b[_PLANE_A[0]] = _PLANE_A[1] * psi
-        theta_a[_PLANE_B[0]] = -_PLANE_B[1] * psi
-        spin += dz * rho * 2.0 * moment * (np.outer(theta_a, theta_b) - np.outer(theta_b, theta_a))
-        n, dn = np.array([1.0 - xi, xi]), np.array([-1.0, 1.0]) / length
-        rod_m += dz * rho * area * np.outer(n, n)
-        rod_k += dz * E * area * np.outer(dn, dn)
-        twist_m += dz * rho * 2.0 * moment * np.outer(n, n)
-        twist_k += dz * material.shear_modulus * 2.0 * moment * np.outer(dn, dn)
-    for index, sign in (_PLANE_A, _PLANE_B):
-        block = np.ix_(index, index)
-        M[block] += np.outer(sign, sign) * lateral_m
-        K[block] += np.outer(sign, sign) * lateral_k
-    for index, mass, stiffness in (([2, 8], rod_m, rod_k), ([5, 11], twist_m, twist_k)):
-        M[np.ix_(index, index)] += mass
-        K[np.ix_(index, index)] += stiffness
-    G += spin
-    return M, K, G
+    mass = (w * (dz * rho * area)) @ w.T
+    if rotary_inertia:
+        mass += (psi * (dz * rho * moment)) @ psi.T
+    stiffness = (dpsi * (dz * E * moment)) @ dpsi.T + (gamma * (dz * shear_factor * phi * area)) @ gamma.T
+    theta_a, theta_b = np.zeros((12, _XI.size)), np.zeros((12, _XI.size))
+    theta_b[_PLANE_A[0]] = _PLANE_A[1][:, None] * psi
+    theta_a[_PLANE_B[0]] = -_PLANE_B[1][:, None] * psi
+    # -rho I_p N^T skew(e) N with skew(e) = [[0, -1], [1, 0]] on (theta_a, theta_b)
+    cross = (theta_a * (dz * rho * 2.0 * moment)) @ theta_b.T
+    return _symmetric(mass), _symmetric(stiffness), cross - cross.T
+
+
+def _rods(geometry: "_Frustum", material: Material):
+    """(mass, stiffness) 2 x 2 of the axial rod and of torsion, linear shape functions,
+    integrated exactly over the frustum."""
+    dz = _WEIGHTS * geometry.length
+    n = np.array([1.0 - _XI, _XI])
+    spring = np.array([[1.0, -1.0], [-1.0, 1.0]]) / geometry.length ** 2
+    out = []
+    for section, modulus in ((geometry.area(_XI), material.young_modulus),
+                             (2.0 * geometry.second_moment(_XI), material.shear_modulus)):
+        out.append((_symmetric((n * (dz * material.density * section)) @ n.T), spring * modulus * float(dz @ section)))
+    return out
+
+
+def _symmetric(matrix: np.ndarray) -> np.ndarray:
+    """The symmetric part: a product ``(X f) @ X.T`` is symmetric only to round-off."""
+    return 0.5 * (matrix + matrix.T)
 
 
 def shaft_matrices(lengths, outers, inners, materials, shear: str = "cowper", *, rotary_inertia: bool = True):
@@ -264,7 +284,7 @@ def shaft_matrices(lengths, outers, inners, materials, shear: str = "cowper", *,
     outers, inners : sequence, length n
         Each a diameter [m] or a (left, right) pair (see :func:`element_matrices`).
     materials : Material or sequence of Material, length n
-    shear : {'cowper', 'hutchinson', 'none'}
+    shear : {'cowper', 'hutchinson', 'none'} or float
     rotary_inertia : bool
 
     Returns
@@ -398,39 +418,45 @@ class _Frustum:
 
 def _shear_parameter(geometry: _Frustum, material: Material, shear: str) -> float:
     """``Phi = 12 E I / (kappa G A L^2)`` of the mid-element section (0 for ``'none'``);
-    ``kappa`` from the mean diameters, as ROSS."""
-    if shear not in SHEAR_METHODS:
-        raise ValueError(f"shear method {shear!r}: expected one of {', '.join(SHEAR_METHODS)}")
-    if shear == "none":
-        return 0.0
-    outer, inner = geometry.diameters(0.5)
-    kappa = shear_coefficient(outer, inner, material.poisson_ratio, shear)
+    ``kappa`` of the mean diameters (those of the mid-element section), as ROSS."""
+    if isinstance(shear, str):
+        if shear not in SHEAR_METHODS:
+            raise ValueError(f"shear method {shear!r}: expected one of {', '.join(SHEAR_METHODS)}")
+        if shear == "none":
+            return 0.0
+        outer, inner = geometry.diameters(0.5)
+        kappa = shear_coefficient(outer, inner, material.poisson_ratio, shear)
+    elif not float(shear) > 0:
+        raise ValueError(f"shear coefficient {shear!r}: expected a number > 0 or one of {', '.join(SHEAR_METHODS)}")
+    else:
+        kappa = float(shear)
     return (12.0 * material.young_modulus * geometry.second_moment(0.5)
             / (kappa * material.shear_modulus * geometry.area(0.5) * geometry.length ** 2))
 
 
-def _plane_functions(xi: float, length: float, phi: float):
+def _plane_functions(xi, length: float, phi: float):
     """Timoshenko shape functions of one bending plane on ``(w1, psi1, w2, psi2)``.
 
     Returns
     -------
-    w, psi, dpsi, gamma : ndarray, shape (4,)
+    w, psi, dpsi, gamma : ndarray, shape (4,) + shape of ``xi``
         Displacement [-, m], rotation [1/m, -], its derivative along z [1/m^2, 1/m], and the
         shear strain ``w' - psi`` divided by ``Phi`` (constant along the element).
     """
-    L, x, p = length, xi, phi
+    L, x, p = length, np.asarray(xi, dtype=float), phi
     c = 1.0 / (1.0 + p)
-    w = c * np.array([1.0 - 3.0 * x * x + 2.0 * x ** 3 + p * (1.0 - x),
-                      L * (x - 2.0 * x * x + x ** 3 + 0.5 * p * (x - x * x)),
-                      3.0 * x * x - 2.0 * x ** 3 + p * x,
-                      L * (-x * x + x ** 3 - 0.5 * p * (x - x * x))])
-    psi = c * np.array([6.0 * (x * x - x) / L,
-                        1.0 - 4.0 * x + 3.0 * x * x + p * (1.0 - x),
-                        -6.0 * (x * x - x) / L,
-                        -2.0 * x + 3.0 * x * x + p * x])
+    x2, x3 = x * x, x ** 3
+    w = c * np.array([1.0 - 3.0 * x2 + 2.0 * x3 + p * (1.0 - x),
+                      L * (x - 2.0 * x2 + x3 + 0.5 * p * (x - x2)),
+                      3.0 * x2 - 2.0 * x3 + p * x,
+                      L * (-x2 + x3 - 0.5 * p * (x - x2))])
+    psi = c * np.array([6.0 * (x2 - x) / L,
+                        1.0 - 4.0 * x + 3.0 * x2 + p * (1.0 - x),
+                        -6.0 * (x2 - x) / L,
+                        -2.0 * x + 3.0 * x2 + p * x])
     dpsi = c / L * np.array([6.0 * (2.0 * x - 1.0) / L, -4.0 + 6.0 * x - p, -6.0 * (2.0 * x - 1.0) / L,
                              -2.0 + 6.0 * x + p])
-    gamma = c * np.array([-1.0 / L, -0.5, 1.0 / L, -0.5])
+    gamma = np.multiply.outer(c * np.array([-1.0 / L, -0.5, 1.0 / L, -0.5]), np.ones_like(x))
     return w, psi, dpsi, gamma
 
 

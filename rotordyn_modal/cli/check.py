@@ -13,8 +13,9 @@ DESCRIPTION = """Validate MODEL and print its masses, rotors with their speed ra
 suspensions, bearings and generalized coordinates; for each flexible rotor (one with a shaft) its
 mesh (nodes, elements), mass, centre of mass, polar and diametral inertia computed from its shaft,
 disks and point masses, and its first bending natural frequency at rest, free-free and on its
-bearings (the stator held still: the lowest mode with the share of its strain energy in the shaft,
-and the lowest mode with most of its strain energy in the shaft).
+bearings (the stator held still; tabulated bearings at their first row; not with journal bearings,
+which hold nothing at rest): the lowest mode with the share of its strain energy in the shaft, and
+the lowest mode with most of its strain energy in the shaft.
 Exit code 0 when the model is valid, 2 (with one message naming the
 file, table, key, value and what was expected) when it is not. What is legal but probably not
 meant (a static sag of over 0.1 m under gravity: a stiffness in N/mm given as N/m; a mount mode
@@ -86,7 +87,6 @@ def _coordinate_names(model) -> list[str]:
 
 def _flexible_lines(model) -> list[str]:
     """Mesh, mass properties and first bending frequencies of each flexible rotor."""
-    from ..elements.bearings import evaluate
     from ..model.flexible import bending_frequencies
 
     lines = []
@@ -94,22 +94,23 @@ def _flexible_lines(model) -> list[str]:
         shaft = rotor.flexible
         if shaft is None:
             continue
-        supports = []
-        for b in model.bearings_of(rotor.name):
-            try:
-                k6, _ = evaluate(b.coefficients, [0.0], f"{model.source}: [bearings.{b.name}]")
-            except Exception:      # noqa: BLE001  (a bearing without coefficients at rest: left out)
-                continue
-            supports.append((shaft.z_of(b.position), k6[0]))
+        bearings = model.bearings_of(rotor.name)
+        at_rest = all(b.coefficients.kind != "journal" for b in bearings)   # a film holds nothing at rest
+        supports = [(shaft.z_of(b.position), b.coefficients.stiffness[0]) for b in bearings] if at_rest else []
         free, (lowest, share), bending = bending_frequencies(shaft, supports)
+        if not at_rest:
+            held = "on its bearings: not computed (a journal bearing has no stiffness at rest)"
+        elif not lowest > 0:
+            held = "on its bearings: the bearings leave it free at rest"
+        else:
+            held = (f"on its bearings (stator held) lowest mode {lowest:.6g} Hz ({share:.0%} of its strain energy "
+                    f"in the shaft), first mostly bending (over 50 % in the shaft) {bending:.6g} Hz")
         lines += [f"  flexible rotor {rotor.name}: shaft {shaft.length:.6g} m from {np.round(shaft.start, 6).tolist()} m, "
                   f"{len(shaft.sections)} sections, {len(shaft.disks)} disks, {len(shaft.point_masses)} point masses; "
                   f"mesh {shaft.mesh.n_nodes} nodes, {len(shaft.mesh.elements)} elements (shear {shaft.shear})",
                   f"    mass {rotor.mass:.6g} kg, centre of mass {np.round(rotor.center_of_mass, 6).tolist()} m, "
                   f"polar inertia {rotor.polar_inertia:.6g} kg m^2, diametral inertia {rotor.diametral_inertia:.6g} kg m^2",
-                  f"    at rest: first bending frequency free-free {free:.6g} Hz; on its bearings (stator held) lowest "
-                  f"mode {lowest:.6g} Hz ({share:.0%} of its strain energy in the shaft), first mostly bending "
-                  f"(over 50 % in the shaft) {bending:.6g} Hz"]
+                  f"    at rest: first bending frequency free-free {free:.6g} Hz; {held}"]
     return lines
 
 

@@ -600,8 +600,10 @@ def bending_frequencies(shaft: Shaft, supports=()):
         rows = L[i:i + 6]
         supported_k += rows.T @ (0.5 * (k6 + k6.T)) @ rows
     values, vectors = scipy.linalg.eigh(supported_k, mass)
-    share = np.einsum("im,ij,jm->m", vectors, shaft_k, vectors) / np.maximum(values, 1e-300)
-    bending = values[(share > 0.5) & (values > 0)]
+    held = values > 1e-9 * values[-1]          # not a rigid-body motion the supports leave free
+    values = np.where(held, values, 0.0)
+    share = np.where(held, np.einsum("im,ij,jm->m", vectors, shaft_k, vectors) / np.where(held, values, 1.0), 0.0)
+    bending = values[(share > 0.5) & held]
     return (_hz(free[4]), (_hz(values[0]), float(share[0])),
             _hz(bending[0]) if bending.size else float("nan"))
 

@@ -433,3 +433,19 @@ def test_mode_shape_at_a_station_of_a_flexible_rotor_is_its_node(examples_dir):
         assert np.abs(found - expected).max() <= 1e-12 * np.abs(modes.shapes).max()
         relative = modes.shape_at(point, direction=[0, 0, 1], body="compressor", relative=True)
         assert np.abs(relative - found).max() <= 1e-12 * np.abs(modes.shapes).max()
+
+
+def test_check_does_not_invent_a_frequency_on_journal_bearings(tmp_path, capsys):
+    import tomli_w
+
+    journal = {"type": "journal", "diameter": 0.05, "length": 0.02, "clearance": 1e-4, "viscosity": 0.02}
+    data = {"gravity": [0.0, 0.0, -9.81], "materials": [STEEL],
+            "rotors": [{"name": "s", "speed_ratio": 1.0, "start": [0, 0, 0],
+                        "shaft": [{"length": 1.0, "outer_diameter": 0.05, "material": "steel"}]}],
+            "bearings": [{"name": n, "rotor": "s", "axial_position": z, **journal} for n, z in
+                         (("a", 0.05), ("b", 0.95))]}
+    path = tmp_path / "j.toml"
+    path.write_bytes(tomli_w.dumps(data).encode())
+    assert main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "on its bearings: not computed (a journal bearing has no stiffness at rest)" in out

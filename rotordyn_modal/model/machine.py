@@ -281,13 +281,34 @@ def _own_value(data: dict, key: str, source: str, owned: set):
                 data[table] = list(data[table])
                 owned.add(id(data[table]))
             items = data[table]
-            items[next(i for i, item in enumerate(items) if item is container)] = copy
+            place = next((i for i, item in enumerate(items) if item is container), None)
+            if place is None:       # a rotor's section, disk or point mass: copy the rotor's list too
+                _own_nested(items, container, copy, owned)
+            else:
+                items[place] = copy
         owned.add(id(copy))
         container = copy
     if (id(container), field) not in owned:
         container[field] = _validation.plain_copy({field: container[field]}, source)[field]
         owned.add((id(container), field))
     return container, field, indices
+
+
+def _own_nested(items: list, container: dict, copy: dict, owned: set) -> None:
+    """Put ``copy`` where ``container`` sits inside one of ``items`` (``rotors[i][key][k]``), the
+    table and its list copied on the way (once: ``owned``)."""
+    for i, item in enumerate(items):
+        for key, inner in item.items():
+            if isinstance(inner, list) and any(x is container for x in inner):
+                if id(item) not in owned:
+                    item = items[i] = dict(item)
+                    owned.add(id(item))
+                if id(item[key]) not in owned:
+                    item[key] = list(inner)
+                    owned.add(id(item[key]))
+                item[key][next(k for k, x in enumerate(item[key]) if x is container)] = copy
+                return
+    raise AssertionError("a nested table not found in its array")  # pragma: no cover
 
 
 _TABLE_OF = {Stator: "stator", Rotor: "rotors", Transmission: "transmissions",

@@ -24,7 +24,7 @@ from ..elements.shaft import material_problem
 from ._table import Table, visible, visible_names
 from .geometry import shift_matrices, transverse_axes
 
-__all__ = ["MaterialData", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
+__all__ = ["MaterialData", "Layer", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
            "mass_properties", "mesh", "default_element_length", "station_z", "SHAFT_KEYS",
            "STATION_TOLERANCE", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies"]
 
@@ -43,7 +43,8 @@ MAX_NODES = 500
 #: keys of a rotor table that make it flexible or only mean something on a flexible rotor
 SHAFT_KEYS = ("shaft", "disks", "point_masses", "start", "shear", "element_length")
 _MATERIAL_KEYS = ("name", "density", "young_modulus", "shear_modulus", "poisson_ratio")
-_SECTION_KEYS = ("length", "outer_diameter", "inner_diameter", "material", "elements")
+_SECTION_KEYS = ("length", "outer_diameter", "inner_diameter", "material", "elements", "layers")
+_LAYER_KEYS = ("outer_diameter", "inner_diameter", "material")
 _DISK_KEYS = ("name", "axial_position", "mass", "polar_inertia", "diametral_inertia", "outer_diameter",
               "inner_diameter", "width", "material")
 _POINT_MASS_KEYS = ("name", "axial_position", "mass")
@@ -63,15 +64,27 @@ class MaterialData:
 
 
 @dataclass(frozen=True)
+class Layer:
+    """One of a section's ``layers``: a concentric tube over the section's whole length, in
+    parallel with it; ``outer``/``inner`` diameters [m] at the section's left and right ends."""
+
+    outer: tuple
+    inner: tuple
+    material: MaterialData
+
+
+@dataclass(frozen=True)
 class Section:
     """One ``[[rotors.shaft]]`` section: ``outer``/``inner`` diameters [m] at its left and right
-    ends, shape (2,); ``elements`` the count the user asked for (None: by length)."""
+    ends, shape (2,); ``elements`` the count the user asked for (None: by length); ``layers``
+    further tubes (:class:`Layer`) whose element matrices are added to the section's."""
 
     length: float
     outer: tuple
     inner: tuple
     material: MaterialData
     elements: int | None = None
+    layers: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -223,11 +236,8 @@ def _material(table: Table, key: str, known) -> MaterialData:
     return known[name]
 
 
-def _section(table: Table, known) -> Section:
-    table.check_keys(_SECTION_KEYS)
-    length = table.number("length", required=True)
-    if not length >= SHORTEST_SECTION:
-        raise table.error("length", length, f"a section length > 0, at least {SHORTEST_SECTION:g} m")
+def _tube(table: Table) -> tuple:
+    """A section's or a layer's outer and inner diameters [m], (left, right) each."""
     outer = _pair(table, "outer_diameter")
     inner = _pair(table, "inner_diameter", default=0.0)
     if not (THINNEST <= min(outer) and max(outer) <= THICKEST):
@@ -237,12 +247,36 @@ def _section(table: Table, known) -> Section:
         raise table.error("inner_diameter", table.data["inner_diameter"],
                           f"an inner diameter below the outer diameter {table.data['outer_diameter']!r} "
                           "at both ends of the section")
+    return outer, inner
+
+
+def _layers(table: Table, known) -> tuple:
+    """A section's ``layers`` (an array of tables): validated :class:`Layer` s."""
+    raw = table.data.get("layers", [])
+    if not isinstance(raw, list) or not all(isinstance(item, dict) for item in raw):
+        raise table.error("layers", raw, "an array of tables with outer_diameter, inner_diameter, material "
+                          "(layers = [{outer_diameter = ..., material = ...}, ...])")
+    out = []
+    for j, item in enumerate(raw):
+        layer = Table(table.source, f"{table.label}.layers.{j}", item)
+        layer.check_keys(_LAYER_KEYS)
+        outer, inner = _tube(layer)
+        out.append(Layer(outer=outer, inner=inner, material=_material(layer, "material", known)))
+    return tuple(out)
+
+
+def _section(table: Table, known) -> Section:
+    table.check_keys(_SECTION_KEYS)
+    length = table.number("length", required=True)
+    if not length >= SHORTEST_SECTION:
+        raise table.error("length", length, f"a section length > 0, at least {SHORTEST_SECTION:g} m")
+    outer, inner = _tube(table)
     elements = table.data.get("elements")
     if elements is not None and (isinstance(elements, bool) or not isinstance(elements, int)
                                  or not 1 <= elements <= 10_000):
         raise table.error("elements", elements, "a whole number of elements from 1 to 10000")
     return Section(length=length, outer=outer, inner=inner, material=_material(table, "material", known),
-                   elements=elements)
+                   elements=elements, layers=_layers(table, known))
 
 
 def _disk(table: Table, index: int, known) -> Disk:
@@ -404,8 +438,8 @@ def mesh(shaft: Shaft, stations) -> Mesh:
                 z0, z1 = a + (b - a) * k / count, a + (b - a) * (k + 1) / count
                 if k == count - 1:
                     z1 = b
-                elements.append((len(nodes) - 1, index, z1 - z0, _diameters(section, left, z0, z1),
-                                 _diameters(section, left, z0, z1, inner=True)))
+                elements.append((len(nodes) - 1, index, z1 - z0, _diameters(section.outer, section.length, left, z0, z1),
+                                 _diameters(section.inner, section.length, left, z0, z1)))
                 nodes.append(z1)
     nodes[-1] = length
     return Mesh(z=np.array(nodes), elements=tuple(elements))
@@ -424,10 +458,10 @@ def _merged(values, tolerance):
     return out
 
 
-def _diameters(section: Section, left: float, z0: float, z1: float, inner: bool = False) -> tuple:
-    """A tapered section's diameters (linear along it) at an element's two ends."""
-    d = section.inner if inner else section.outer
-    t0, t1 = (z0 - left) / section.length, (z1 - left) / section.length
+def _diameters(d: tuple, length: float, left: float, z0: float, z1: float) -> tuple:
+    """Diameters ``d`` [m] (left, right) of a section of ``length`` [m] starting at ``left`` [m],
+    linear along it, at the ends ``z0``, ``z1`` [m] of an element."""
+    t0, t1 = (z0 - left) / length, (z1 - left) / length
     # weights, not d0 + (d1 - d0) t: no cancellation, so a diameter stays between its ends
     return (d[0] * (1 - t0) + d[1] * t0, d[0] * (1 - t1) + d[1] * t1)
 
@@ -441,14 +475,26 @@ def rotation(spin_axis) -> np.ndarray:
 
 
 def element_blocks(shaft: Shaft, mesh: Mesh):
-    """Each element's ``M, K, G`` (12 x 12, local axes ``a, b, e`` per node, G per unit spin)."""
+    """Each element's ``M, K, G`` (12 x 12, local axes ``a, b, e`` per node, G per unit spin): the
+    section's tube's plus, for a layered section, each layer's over the same element (its own
+    diameters there, material and shear coefficient), as ROSS adds parallel shaft elements."""
     from ..elements.shaft import element_matrices, Material
 
-    out = []
-    for _, index, length, outer, inner in mesh.elements:
-        m = shaft.sections[index].material
+    def matrices(length, outer, inner, m):
         material = Material(m.name, m.density, m.young_modulus, m.shear_modulus)
-        out.append(element_matrices(length, outer, inner, material, shear=shaft.shear))
+        return element_matrices(length, outer, inner, material, shear=shaft.shear)
+
+    ends = shaft.ends
+    out = []
+    for left_node, index, length, outer, inner in mesh.elements:
+        section = shaft.sections[index]
+        blocks = matrices(length, outer, inner, section.material)
+        z0, z1 = float(mesh.z[left_node]), float(mesh.z[left_node + 1])
+        for layer in section.layers:
+            extra = matrices(length, _diameters(layer.outer, section.length, ends[index], z0, z1),
+                             _diameters(layer.inner, section.length, ends[index], z0, z1), layer.material)
+            blocks = tuple(a + b for a, b in zip(blocks, extra))
+        out.append(blocks)
     return out
 
 

@@ -20,11 +20,11 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..elements.shaft import material_problem
+from ..elements.shaft import Material, material_problem
 from ._table import Table, visible, visible_names
 from .geometry import shift_matrices, transverse_axes
 
-__all__ = ["MaterialData", "Layer", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
+__all__ = ["Material", "Layer", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
            "mass_properties", "mesh", "default_element_length", "station_z", "SHAFT_KEYS",
            "STATION_TOLERANCE", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies"]
 
@@ -54,23 +54,13 @@ CONSISTENCY = 1e-6
 
 
 @dataclass(frozen=True)
-class MaterialData:
-    """A ``[[materials]]`` table: density [kg/m^3], moduli [Pa]."""
-
-    name: str
-    density: float
-    young_modulus: float
-    shear_modulus: float
-
-
-@dataclass(frozen=True)
 class Layer:
     """One of a section's ``layers``: a concentric tube over the section's whole length, in
     parallel with it; ``outer``/``inner`` diameters [m] at the section's left and right ends."""
 
     outer: tuple
     inner: tuple
-    material: MaterialData
+    material: Material
 
 
 @dataclass(frozen=True)
@@ -82,7 +72,7 @@ class Section:
     length: float
     outer: tuple
     inner: tuple
-    material: MaterialData
+    material: Material
     elements: int | None = None
     layers: tuple = ()
 
@@ -191,9 +181,9 @@ def default_element_length(sections) -> float:
     return sum(s.length for s in sections) / DEFAULT_ELEMENTS
 
 
-def materials(source: str, data) -> dict[str, MaterialData]:
+def materials(source: str, data) -> dict[str, Material]:
     """The ``[[materials]]`` tables by name."""
-    out: dict[str, MaterialData] = {}
+    out: dict[str, Material] = {}
     for index, raw in enumerate(data.get("materials", [])):
         table = Table(source, f"materials[{index}]", raw)
         name = table.text("name", required=True)
@@ -215,7 +205,7 @@ def materials(source: str, data) -> dict[str, MaterialData]:
             raise table.error(problem[0], raw.get(problem[0]), problem[2])
         if shear is None:
             shear = young / (2.0 * (1.0 + nu))
-        out[name] = MaterialData(name=name, density=density, young_modulus=young, shear_modulus=shear)
+        out[name] = Material(name=name, density=density, young_modulus=young, shear_modulus=shear)
     return out
 
 
@@ -228,7 +218,7 @@ def _pair(table: Table, key: str, default=None):
     return float(value[0]), float(value[1])
 
 
-def _material(table: Table, key: str, known) -> MaterialData:
+def _material(table: Table, key: str, known) -> Material:
     name = table.text(key, required=True)
     if name not in known:
         raise table.error(key, name, "the name of one of the [[materials]] "
@@ -478,10 +468,9 @@ def element_blocks(shaft: Shaft, mesh: Mesh):
     """Each element's ``M, K, G`` (12 x 12, local axes ``a, b, e`` per node, G per unit spin): the
     section's tube's plus, for a layered section, each layer's over the same element (its own
     diameters there, material and shear coefficient), as ROSS adds parallel shaft elements."""
-    from ..elements.shaft import element_matrices, Material
+    from ..elements.shaft import element_matrices
 
-    def matrices(length, outer, inner, m):
-        material = Material(m.name, m.density, m.young_modulus, m.shear_modulus)
+    def matrices(length, outer, inner, material):
         return element_matrices(length, outer, inner, material, shear=shaft.shear)
 
     ends = shaft.ends

@@ -74,8 +74,7 @@ def _refine(form, forms, speeds, values, weighted, mode, k, slope):
 
 
 @pytest.mark.parametrize("path", ["joint-newton", "whole-pencils", "lu-factors", "sparse-factors", "nearest-roots",
-                                  "sparse-nearest-roots", "two-nearest-roots", "arnoldi-fails", "ritz",
-                                  "sparse-ritz"])
+                                  "sparse-nearest-roots", "two-nearest-roots", "arnoldi-fails", "sparse-ritz"])
 @pytest.mark.parametrize("name", EXAMPLES)
 def test_batched_refinement_equals_brents_method_per_crossing(name, path, examples_dir, monkeypatch):
     """Every way of evaluating a crossing gives Brent's roots: isolated modes of small pencils
@@ -86,8 +85,8 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, path, exampl
     Arnoldi, as large models do (dense or sparse; with only the two nearest at first, many a
     crossing must take more, since a root beyond could be its mode), or all roots where Arnoldi
     fails, or (as large models first try) picked among the Ritz pairs of the sweep's shapes at
-    the bracket's ends and refined on the pencil (dense or sparse); each forced here for the
-    examples' few coordinates."""
+    the bracket's ends and refined on the (sparse) pencil; each forced here for the examples' few
+    coordinates. (Dense Ritz pairs: test_crossings_among_close_roots_are_refined_without_a_shift_invert_call_each.)"""
     from rotordyn_modal.analysis import critical_speeds as critical_module
 
     if path != "joint-newton":
@@ -106,10 +105,10 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, path, exampl
         monkeypatch.setattr(scipy.sparse.linalg, "eigs", no_convergence)
     if path == "two-nearest-roots":
         monkeypatch.setattr(critical_module, "_NEAREST_ROOTS", 2)
-    if path in ("nearest-roots", "sparse-nearest-roots", "two-nearest-roots", "arnoldi-fails", "ritz", "sparse-ritz"):
+    if path in ("nearest-roots", "sparse-nearest-roots", "two-nearest-roots", "arnoldi-fails", "sparse-ritz"):
         monkeypatch.setattr(_pencils, "NEAREST_ROOTS_DOF", 0)
         monkeypatch.setattr(critical_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
-    if not path.endswith("ritz"):
+    if path != "sparse-ritz":
         monkeypatch.setattr(critical_module, "_RITZ_ROOTS", 0)
     model = rdm.load_model(examples_dir / f"{name}.toml")
     top = 50.0 if name.startswith("spring_block") else rdm.rpm(12000.0)

@@ -572,7 +572,7 @@ def _refine_parts(stack, speeds, values, weighted, brackets, shapes=None):
     roots : ndarray (P,) [rad/s]; lam : ndarray (P,), complex; ratio : ndarray (P,), the whirl
     ratios; fingerprint : ndarray (P, f), complex (:func:`_fingerprints`); sure : ndarray (P,) bool
     """
-    chunks = _batches.chunk_slices(len(brackets.k), _crossing_bytes(stack))
+    chunks = _batches.chunk_slices(len(brackets.k), 64 * stack.n_dof ** 2)
     if len(chunks) == 1:                             # all in one part (small models): no copies
         found = _compact(stack, brackets, *_refined_part(stack, speeds, values, weighted, brackets, shapes))
         _progress_advance(len(brackets.k))
@@ -583,14 +583,6 @@ def _refine_parts(stack, speeds, values, weighted, brackets, shapes=None):
         parts.append(_compact(stack, mine, *_refined_part(stack, speeds, values, weighted, mine, shapes)))
         _progress_advance(len(mine.k))
     return _batches.concatenated(parts)
-
-
-def _crossing_bytes(stack) -> int:
-    """Work memory of one crossing's refinement [bytes]: its pencil's factors (dense n x n, or a
-    sparse model's LU, of the order of the layout's entries) and its shapes."""
-    n = stack.n_dof
-    layout = stack.sparse_layout(0) if len(stack) == 1 else None
-    return 64 * n * n if layout is None else 64 * (n + len(layout.rows))
 
 
 def _compact(stack, brackets, roots, lam, phi, sure):

@@ -121,8 +121,13 @@ def collect(model, inputs: ReportInputs) -> ReportData:
     data = ReportData(inputs, model, model_summary(model), STANDARDS[inputs.standard])
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        if "level1" in data.sections:   # first: a bad --station is refused before the long work
+            _level1(data)
         for section in data.sections:
-            _STEPS[section](data)
+            if section != "level1":
+                _STEPS[section](data)
+    order = {s: i for i, s in enumerate(data.sections)}
+    data.criteria.sort(key=lambda c: order[c.section])
     data.warnings = sorted({str(w.message) for w in caught})
     return data
 
@@ -154,24 +159,35 @@ def _campbell(data):
     from ..analysis.campbell import campbell
 
     data.results["campbell"] = campbell(data.model, data.inputs.speeds, orders=(1,))
+    name = _MARGIN + (" (informative)" if data.inputs.standard == "iso" else "")
     _unbalance(data)                      # the amplification factors come from the response
     response = data.results.get("unbalance")
     if response is None:
-        data.criteria.append(Criterion("API 684 separation margin", "", "", "not evaluated", "campbell",
+        data.criteria.append(Criterion(name, "", "", "not evaluated", "campbell",
                                        data.skipped.get("unbalance", "")))
         return
     table = separation_margins(response, data.inputs.range, _peak_outputs(data.model, response))
     data.results["margins"] = table
     if table.empty:
-        data.criteria.append(Criterion("API 684 separation margin", "no resonance peak", "", "pass", "campbell",
+        data.criteria.append(Criterion(name, "no resonance peak", "", "pass", "campbell",
                                        "no peak of the response over the sweep"))
         return
-    worst = table.iloc[int(np.argmin(table["separation_margin_pct"] - table["required_margin_pct"]))]
-    verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
+    judged = table[table["verdict"] != "not evaluated"]
+    unknown = len(table) - len(judged)
+    note = f"; {unknown} peak(s) not evaluated: half-power band beyond the sweep" if unknown else ""
+    if judged.empty:
+        data.criteria.append(Criterion(name, "", "", "not evaluated", "campbell", note[2:]))
+        return
+    worst = judged.iloc[int(np.argmin(judged["separation_margin_pct"] - judged["required_margin_pct"]))]
+    verdict = "fail" if (judged["verdict"] == "fail").any() else ("not evaluated" if unknown else "pass")
     data.criteria.append(Criterion(
-        "API 684 separation margin", f"{worst.separation_margin_pct:.1f} % (AF {worst.amplification_factor:.2f})",
+        name, f"{worst.separation_margin_pct:.1f} % (AF {worst.amplification_factor:.2f})",
         f">= {worst.required_margin_pct:.1f} %", verdict, "campbell",
-        f"governing peak: {worst.output} at {worst.speed_rpm:.0f} rpm" + _case(worst)))
+        f"governing peak: {worst.output} at {worst.speed_rpm:.0f} rpm" + _case(worst) + note))
+
+
+#: the separation margin's criterion (in an ISO report informative: ISO sets no margin)
+_MARGIN = "API 684 separation margin"
 
 
 def _case(row) -> str:
@@ -194,7 +210,8 @@ def separation_margins(response, operating, outputs=None):
     Returns
     -------
     pandas.DataFrame
-        ``peaks`` columns plus ``verdict`` ('pass' when margin >= required).
+        ``peaks`` columns plus ``verdict``: 'pass' when margin >= required, 'not evaluated' where
+        the amplification factor is unknown (its half-power band leaves the sweep).
     """
     import pandas as pd
 
@@ -206,8 +223,9 @@ def separation_margins(response, operating, outputs=None):
                                               np.where(speed > high, above["separation_margin_pct"], 0.0))
     if outputs is not None:
         table = table[table["output"].isin(list(outputs))].reset_index(drop=True)
-    table["verdict"] = np.where(table["separation_margin_pct"] >= table["required_margin_pct"].fillna(0),
-                                "pass", "fail")
+    required = table["required_margin_pct"].to_numpy(dtype=float)
+    table["verdict"] = np.where(np.isnan(required), "not evaluated",
+                                np.where(table["separation_margin_pct"] >= required, "pass", "fail"))
     return pd.DataFrame(table)
 
 
@@ -250,6 +268,8 @@ def _ucs(data):
 
 def _probe_limits(data):
     _unbalance(data)
+    if data.inputs.standard == "iso":    # ISO judges the casing (section iso), not the probes
+        return
     checks = data.results.get("checks")
     if checks is None:
         data.criteria.append(Criterion("API 617 probe vibration limit", "", "", "not evaluated", "unbalance",
@@ -275,11 +295,8 @@ def _level1(data):
     if not given:
         data.skipped["level1"] = "no --station with --qa or stage data given"
     else:
-        try:
-            data.results["level1"] = level1(data.model, data.inputs.mcs, given["stations"], given["qa"],
-                                            shares=given.get("shares"))
-        except InputError as error:
-            data.skipped["level1"] = str(error)
+        data.results["level1"] = level1(data.model, data.inputs.mcs, given["stations"], given["qa"],
+                                        shares=given.get("shares"))
     result = data.results.get("level1")
     if result is None:
         for name in ("API 617 Level I: log decrement at Qa", "API 617 Level I: Q0/Qa"):

@@ -174,7 +174,8 @@ def _campbell(data):
         return
     judged = table[table["verdict"] != "not evaluated"]
     unknown = len(table) - len(judged)
-    note = f"; {unknown} peak(s) not evaluated: half-power band beyond the sweep" if unknown else ""
+    note = (f"; {unknown} peak(s) not evaluated: AF unknown (the amplitude does not fall to peak/sqrt(2) on "
+            "both sides within the sweep)") if unknown else ""
     if judged.empty:
         data.criteria.append(Criterion(name, "", "", "not evaluated", "campbell", note[2:]))
         return
@@ -211,7 +212,8 @@ def separation_margins(response, operating, outputs=None):
     -------
     pandas.DataFrame
         ``peaks`` columns plus ``verdict``: 'pass' when margin >= required, 'not evaluated' where
-        the amplification factor is unknown (its half-power band leaves the sweep).
+        the amplification factor is unknown (the amplitude does not fall to peak / sqrt(2) on both
+        sides within the sweep).
     """
     import pandas as pd
 

@@ -147,10 +147,12 @@ def _static(data) -> str:
     if result is None:
         return _heading("static") + _skipped(data, "static")
     shown = result.displacements()
-    rows = [[r.body, r.point, *(_g(v * 1e6) for v in (r.ux_m, r.uy_m, r.uz_m))] for r in shown.itertuples()]
+    sag = _at_round_off(shown[["ux_m", "uy_m", "uz_m"]].to_numpy()) * 1e6
+    rows = [[r.body, r.point, *(_g(v) for v in values)] for r, values in zip(shown.itertuples(), sag)]
     reactions = result.reactions_table()
-    rrows = [[r.support, r.kind, r.body, r.on, *(_g(v) for v in (r.Fx_N, r.Fy_N, r.Fz_N))]
-             for r in reactions.itertuples()]
+    forces = _at_round_off(reactions[["Fx_N", "Fy_N", "Fz_N"]].to_numpy())
+    rrows = [[r.support, r.kind, r.body, r.on, *(_g(v) for v in values)]
+             for r, values in zip(reactions.itertuples(), forces)]
     return "\n".join([
         _heading("static"),
         f"<p>Under the model's gravity at the MCS ({data.inputs.mcs * 30 / np.pi:.6g} rpm), bearings at their "
@@ -161,6 +163,13 @@ def _static(data) -> str:
         "<h3>Reactions (force of each support on the body it carries)</h3>",
         _table(rrows, [("support", True), ("kind", True), ("body", True), ("on", True), ("F_x [N]", False),
                        ("F_y [N]", False), ("F_z [N]", False)])])
+
+
+def _at_round_off(values, relative: float = 1e-9):
+    """``values`` with the entries below ``relative`` x the largest made 0 (round-off of a solve)."""
+    values = np.asarray(values, dtype=float)
+    largest = np.nanmax(np.abs(values)) if values.size else 0.0
+    return np.where(np.abs(values) <= relative * largest, 0.0, values) + 0.0
 
 
 def _campbell(data) -> str:

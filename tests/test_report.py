@@ -255,3 +255,45 @@ def test_a_real_browser_renders_the_report_with_every_image(name, reports):
         pixels = imread(shot)
         assert pixels.shape[0] == 3000 and pixels.shape[1] == 1280
         assert pixels[..., :3].std() > 0.05          # not a blank page
+
+
+@pytest.mark.parametrize("name", ["spring_block_rotor", "motor_pump_on_mounts"])
+def test_separation_margin_verdict_equals_the_api_684_rule(name, reports):
+    model = load_model(ROOT / "examples" / f"{name}.toml")
+    mcs, speeds = _speeds()
+    standard = CASES[name][0]
+    response = unbalance_response(model, speeds) if standard == "iso" else api_unbalance_response(model, speeds, mcs)
+    probes = tuple(s.name for s in model.sensors if s.measure == "relative") or tuple(s.name for s in model.sensors)
+    rows = {row[0]: row for row in _page(reports[name]).summary}
+    key = "API 684 separation margin" + (" (informative)" if standard == "iso" else "")
+    assert len(response.peaks())                      # a margin to judge
+    assert rows[key][3] == _margin_verdict(response, (mcs, mcs), probes)
+
+
+def test_separation_margins_of_each_peak_follow_the_api_684_rule():
+    """Peaks below, inside and above the operating range, passing, failing and without an AF."""
+    from rotordyn_modal.report.collect import separation_margins
+
+    model = load_model(ROOT / "examples" / "fan_on_bearings.toml")
+    mcs = MCS_RPM * np.pi / 30
+    response = unbalance_response(model, np.linspace(0.02 * mcs, 1.5 * mcs, 61))
+    low, high = 0.5 * mcs, mcs
+    table = separation_margins(response, (low, high))
+    assert len(table) == len(response.peaks())
+    for row in table.itertuples():
+        expected = _margin_verdict(_One(response, row), (low, high), (row.output,))
+        assert row.verdict == expected, row
+    assert {"pass", "fail", "not evaluated"} <= set(table["verdict"])
+
+
+class _One:
+    """A response whose peaks() is one row of ``table``'s source (for :func:`_margin_verdict`)."""
+
+    def __init__(self, response, row):
+        peaks = response.peaks()
+        self._peak = peaks[(peaks["output"] == row.output) & (peaks["source"] == row.source)
+                           & np.isclose(peaks["speed_rpm"], row.speed_rpm)]
+        assert len(self._peak) == 1
+
+    def peaks(self):
+        return self._peak

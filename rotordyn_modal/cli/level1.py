@@ -46,9 +46,9 @@ def add_arguments(parser):
     add_outputs(parser)
 
 
-def add_stage_arguments(parser, required: bool = True):
+def add_stage_arguments(parser, required: bool = True, speed_option: str = "--speed"):
     """--station, --qa and the stage data of the API anticipated cross-coupling (also used by
-    ``report``, where they are optional)."""
+    ``report``, where they are optional and the analysis speed is ``--mcs``)."""
     parser.add_argument("--station", action="append", required=required, metavar="ROTOR[@OFFSET]",
                         help="where Q acts (repeat for several stations)")
     parser.add_argument("--qa", help="anticipated cross-coupling [N/m], or one per station (comma list)")
@@ -59,7 +59,7 @@ def add_stage_arguments(parser, required: bool = True):
     parser.add_argument("--density-ratio", help="discharge over suction density of each stage (default 1)")
     parser.add_argument("--machine", choices=["compressor", "turbine"], default="compressor",
                         help="B = 3 (compressor) or 1.5 (turbine, no density ratio)")
-    parser.add_argument("--operating-speed", help="normal operating speed N_r of the formula (default --speed)")
+    parser.add_argument("--operating-speed", help=f"normal operating speed N_r of the formula (default {speed_option})")
 
 
 def run(args) -> int:

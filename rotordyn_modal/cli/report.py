@@ -9,7 +9,6 @@ import sys
 import tempfile
 from pathlib import Path
 
-import numpy as np
 
 from ..errors import InputError
 from ..io import atomic_write
@@ -58,7 +57,7 @@ def add_arguments(parser):
     parser.add_argument("--iso-group", type=int, choices=[1, 2],
                         help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
     parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
-    add_stage_arguments(parser, required=False)
+    add_stage_arguments(parser, required=False, speed_option="--mcs")
     add_output_file(parser, "--out", required=True, metavar="FILE.html", help="the report")
     parser.set_defaults(out_endings=(".html", ".htm"))
     add_output_file(parser, "--pdf", metavar="FILE.pdf", help="also print the report to PDF (needs Chromium)")
@@ -66,7 +65,7 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
-    from ..report import ReportInputs, collect, render_html
+    from ..report import collect, render_html
 
     check_ending(args.pdf, (".pdf",), "--pdf")
     check_extra_output(args, args.pdf, "--pdf")

@@ -228,9 +228,11 @@ def _unbalance(data) -> str:
             "the API 617/684 unbalance cases U = 6350 W/N g mm (api-static at the centre of mass, api-couple at "
             "the outermost bearings), each case on its own")
     parts = [_heading("unbalance"), f"<p>Response to {escape(what)}.</p>",
-             _figure(response.plot(amplitude="pk-pk", checks=checks, peaks=response.peaks(data.inputs.mcs)),
-                     "Figure: unbalance response, amplitude peak-to-peak and phase against speed; API 617 probe "
-                     "limits and the ISO zones where checked.", "Unbalance response")]
+             _figure(response.plot(amplitude="pk-pk", checks=checks, peaks=data.results.get("margins")),
+                     "Figure: unbalance response, amplitude peak-to-peak and phase against speed; the largest peaks "
+                     "with their AF and separation margin from the operating range (the table of section "
+                     "Campbell diagram and critical speeds); API 617 probe limits (informative in an ISO report) "
+                     "and the ISO zones where checked.", "Unbalance response")]
     table = checks.to_dataframe()
     table = table[table["check"] == "API 617 probe limit"]
     if data.inputs.standard != "iso":

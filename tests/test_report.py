@@ -304,3 +304,19 @@ class _One:
 
     def peaks(self):
         return self._peak
+
+
+@pytest.mark.skipif(_BROWSER is None, reason="no chromium on the PATH: --pdf prints the report with headless Chromium")
+def test_pdf_is_printed_beside_the_html(tmp_path):
+    out, pdf = tmp_path / "r.html", tmp_path / "r.pdf"
+    assert main(_argv("counter_rotating", out, "api684", ["--pdf", str(pdf)])) == 0
+    data = pdf.read_bytes()
+    assert data[:5] == b"%PDF-" and data.count(b"/Type /Page") + data.count(b"/Type/Page") >= 3  # A4 pages
+    assert out.stat().st_size > 0
+
+
+def test_pdf_without_a_browser_is_refused_before_the_work(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(shutil, "which", lambda name: None)
+    out, pdf = tmp_path / "r.html", tmp_path / "r.pdf"
+    assert main(_argv("counter_rotating", out, "api684", ["--pdf", str(pdf)])) == 2
+    assert "Chromium" in capsys.readouterr().err and not out.exists() and not pdf.exists()

@@ -25,8 +25,9 @@ COMMANDS = {
     "frf": ["frf", GEAR, "--freqs", "1:10:3"],
     "fit": ["fit", GEAR, "--measured", GEAR, "--params", "suspensions.mount-FL.stiffness"],
     "study": ["study", GEAR, "--spec", str(EXAMPLES / "mount_tolerance.study.toml")],
+    "report": ["report", GEAR, "--standard", "api684", "--mcs", "3000"],
 }
-ENDINGS = {"fit": ".toml", "study": ".nc", "frf": ".csv or .uff or .unv"}
+ENDINGS = {"fit": ".toml", "study": ".nc", "frf": ".csv or .uff or .unv", "report": ".html or .htm"}
 
 
 @pytest.mark.parametrize("command", sorted(COMMANDS))

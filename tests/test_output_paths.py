@@ -28,7 +28,8 @@ REQUIRED = {"campbell": ["--speeds", "0:100:3"], "critical-speeds": ["--speeds",
             "stability": ["--speeds", "0:100:3"], "unbalance": ["--speeds", "0:100:3"],
             "simulate": ["--duration", "0.1"], "frf": ["--freqs", "1:10:3"], "fit": ["--params", "gain"],
             "modes": [], "study": [], "check": [], "static": [], "import-ross": [], "ucs-map": ["--stiffness", "1e5:1e6:3"],
-            "level1": ["--speed", "100", "--station", "r", "--qa", "1e4"]}
+            "level1": ["--speed", "100", "--station", "r", "--qa", "1e4"],
+            "report": ["--standard", "api684", "--mcs", "3000"]}
 
 
 #: every file option of every sub-command: (inputs, outputs); a new one goes here
@@ -48,6 +49,7 @@ FILE_OPTIONS = {
     "study": (["MODEL", "--spec"], ["--out", "--table", "--plot", "--plot-histogram", "--plot-map",
                                     "--plot-sensitivity"]),
     "import-ross": (["ROSS.toml"], ["--out"]),
+    "report": (["MODEL"], ["--out", "--pdf"]),
 }
 
 

@@ -3,8 +3,8 @@
 
 from __future__ import annotations
 
-from . import campbell, check, critical_speeds, fit, frf, import_ross, level1, modes, simulate, stability, static, study, ucs_map, unbalance
+from . import campbell, check, critical_speeds, fit, frf, import_ross, level1, modes, report, simulate, stability, static, study, ucs_map, unbalance
 
-SUBCOMMANDS = [check, static, modes, campbell, critical_speeds, stability, ucs_map, level1, simulate, frf, unbalance, fit, study, import_ross]
+SUBCOMMANDS = [check, static, modes, campbell, critical_speeds, stability, ucs_map, level1, simulate, frf, unbalance, fit, study, import_ross, report]
 
 __all__ = ["SUBCOMMANDS"]

@@ -40,7 +40,16 @@ def add_arguments(parser):
     add_model_argument(parser)
     parser.add_argument("--speed", required=True, help="maximum continuous speed of the reference rotor")
     add_speed_unit(parser)
-    parser.add_argument("--station", action="append", required=True, metavar="ROTOR[@OFFSET]",
+    add_stage_arguments(parser)
+    parser.add_argument("--factor", default="10", help="the sweep reaches FACTOR x Qa (default 10)")
+    parser.add_argument("--forward-mode", default="1", help="follow the N-th forward mode (default 1, the first)")
+    add_outputs(parser)
+
+
+def add_stage_arguments(parser, required: bool = True, speed_option: str = "--speed"):
+    """--station, --qa and the stage data of the API anticipated cross-coupling (also used by
+    ``report``, where they are optional and the analysis speed is ``--mcs``)."""
+    parser.add_argument("--station", action="append", required=required, metavar="ROTOR[@OFFSET]",
                         help="where Q acts (repeat for several stations)")
     parser.add_argument("--qa", help="anticipated cross-coupling [N/m], or one per station (comma list)")
     parser.add_argument("--power", help="rated power of each stage [W] (comma list)")
@@ -50,10 +59,7 @@ def add_arguments(parser):
     parser.add_argument("--density-ratio", help="discharge over suction density of each stage (default 1)")
     parser.add_argument("--machine", choices=["compressor", "turbine"], default="compressor",
                         help="B = 3 (compressor) or 1.5 (turbine, no density ratio)")
-    parser.add_argument("--operating-speed", help="normal operating speed N_r of the formula (default --speed)")
-    parser.add_argument("--factor", default="10", help="the sweep reaches FACTOR x Qa (default 10)")
-    parser.add_argument("--forward-mode", default="1", help="follow the N-th forward mode (default 1, the first)")
-    add_outputs(parser)
+    parser.add_argument("--operating-speed", help=f"normal operating speed N_r of the formula (default {speed_option})")
 
 
 def run(args) -> int:
@@ -61,7 +67,7 @@ def run(args) -> int:
 
     stations = [Station.parse(text) for text in args.station]
     speed = float(speed_to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
-    qa, shares = _anticipated(args, len(stations), speed)
+    qa, shares = anticipated(args, len(stations), speed)
     factor = parse_number(args.factor, "--factor")
     forward = _whole(args.forward_mode, "--forward-mode")
     model = open_model(args)
@@ -78,7 +84,7 @@ def run(args) -> int:
     return 0
 
 
-def _anticipated(args, count, speed):
+def anticipated(args, count, speed):
     """(Qa [N/m], shares per station) from --qa or the stage data."""
     from ..analysis.level1 import anticipated_cross_coupling
 

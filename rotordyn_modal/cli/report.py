@@ -1,0 +1,147 @@
+"""``report MODEL --standard api617|api684|iso --mcs RPM --out report.html``."""
+
+from __future__ import annotations
+
+import shlex
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+
+from ..errors import InputError
+from ..io import atomic_write
+from ._common import add_model_argument, add_output_file, add_speed_unit, check_ending, check_extra_output, \
+    open_model, parse_number, to_rad_s
+from .level1 import add_stage_arguments, anticipated
+from .ucs_map import _operating, _stiffness
+
+NAME = "report"
+HELP = "one self-contained HTML report against API 617, API 684 or ISO: figures, tables, verdicts"
+DESCRIPTION = """A rotordynamic report in one HTML file (figures embedded as PNG; print it to PDF
+from a browser, or --pdf with Chromium): a summary of the criteria (value, limit, verdict: pass,
+fail or not evaluated and why, each linking to its section), the model (bodies, bearings,
+mounts, sensors, the model file's name and SHA-256, the package version, the date, the command
+line), the static sag and reactions, the Campbell diagram with the critical speeds, the API 684
+amplification factors and separation margins (required margin and verdict per peak), then by
+--standard:
+  api684  the undamped critical speed map; the API unbalance cases' response with the API 617
+          probe limits
+  api617  the same plus API 617 Level I stability (with --station and --qa or the stage data
+          of 'level1'; otherwise 'not evaluated')
+  iso     the response to the model's [[unbalances]] (amounts or ISO 21940-11 grades) and the
+          ISO 20816-3 zones of the casing sensors (--iso-group and --iso-support)
+The sweeps run from 2 % of --mcs to 1.5 x --mcs (--points speeds); the operating range
+(--operating LO:HI, default the MCS alone) measures the separation margins. docs/report.md
+lists what each section holds and where its numbers come from.
+
+examples:
+  rotordyn-modal report examples/journal_rotor.toml --standard api617 --mcs 6000 \\
+      --operating 4000:6000 --station rotor --qa 2e5 --out report.html
+  rotordyn-modal report examples/motor_pump_on_mounts.toml --standard iso --mcs 3000 \\
+      --iso-group 2 --iso-support flexible --out report.html --pdf report.pdf"""
+
+
+def add_arguments(parser):
+    add_model_argument(parser)
+    parser.add_argument("--standard", required=True, choices=["api617", "api684", "iso"],
+                        help="which criteria and sections")
+    parser.add_argument("--mcs", required=True, metavar="SPEED",
+                        help="maximum continuous speed of the reference rotor")
+    parser.add_argument("--operating", metavar="LO:HI", help="operating speed range (default: the MCS alone)")
+    add_speed_unit(parser)
+    parser.add_argument("--points", default="151", help="speeds of the sweeps (default 151)")
+    parser.add_argument("--stiffness", default="1e5:1e10:41",
+                        help="START:STOP:N bearing stiffness of the UCS map [N/m], log-spaced (default 1e5:1e10:41)")
+    parser.add_argument("--iso-group", type=int, choices=[1, 2],
+                        help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
+    parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
+    add_stage_arguments(parser, required=False, speed_option="--mcs")
+    add_output_file(parser, "--out", required=True, metavar="FILE.html", help="the report")
+    parser.set_defaults(out_endings=(".html", ".htm"))
+    add_output_file(parser, "--pdf", metavar="FILE.pdf", help="also print the report to PDF (needs Chromium)")
+    parser.add_argument("--quiet", action="store_true", help="nothing on the terminal")
+
+
+def run(args) -> int:
+    from ..report import collect, render_html
+
+    check_ending(args.pdf, (".pdf",), "--pdf")
+    check_extra_output(args, args.pdf, "--pdf")
+    if args.pdf and _browser() is None:
+        raise InputError(f"--pdf {args.pdf}: no Chromium on the PATH to print the report (open the HTML "
+                         "in a browser and print it instead)")
+    inputs = _inputs(args)
+    model = open_model(args)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    data = collect(model, inputs)
+    html = render_html(data)
+    with atomic_write(args.out, "w", encoding="utf-8") as handle:
+        handle.write(html)
+    if args.pdf:
+        _print_pdf(html, args.pdf)
+    if not args.quiet:
+        for c in data.criteria:
+            print(f"{c.name}: {c.verdict}" + (f" ({c.value}; limit {c.limit})" if c.value else "")
+                  + (f": {c.why}" if c.verdict == "not evaluated" else ""), file=sys.stderr)
+    return 0
+
+
+def _inputs(args):
+    from ..analysis.level1 import Station
+    from ..report import ReportInputs
+
+    mcs = float(to_rad_s(parse_number(args.mcs, "--mcs"), args.speed_unit))
+    if not mcs > 0:
+        raise InputError(f"--mcs {args.mcs}: expected a maximum continuous speed > 0")
+    operating = _operating(args) if args.operating else None
+    if operating is not None and operating[0] <= 0:
+        raise InputError(f"--operating {args.operating!r}: expected 0 < LO < HI")
+    try:
+        points = int(args.points)
+    except ValueError:
+        points = 0
+    if not 5 <= points <= 5001:
+        raise InputError(f"--points {args.points!r}: expected a whole number from 5 to 5001")
+    if (args.iso_group is None) != (args.iso_support is None):
+        raise InputError("--iso-group/--iso-support: expected both (ISO 20816-3 machine group 1 or 2 and "
+                         "support rigid or flexible) or neither")
+    level1 = None
+    if args.station:
+        stations = [Station.parse(text) for text in args.station]
+        qa, shares = anticipated(args, len(stations), mcs)
+        level1 = {"stations": stations, "qa": qa, "shares": shares}
+    elif any(getattr(args, o) is not None for o in ("qa", "power", "impeller_diameter", "restriction_height")):
+        raise InputError("--qa or stage data given without --station: name where the cross-coupling acts")
+    return ReportInputs(standard=args.standard, mcs=mcs, operating=operating, points=points,
+                        iso_group=args.iso_group, iso_support=args.iso_support, level1=level1,
+                        stiffness=_stiffness(args.stiffness), command=_command_line())
+
+
+def _command_line() -> str:
+    return "rotordyn-modal " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:] else ""
+
+
+def _browser():
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        if path := shutil.which(name):
+            return path
+    return None
+
+
+def _print_pdf(html: str, pdf: str):
+    """Print the page to ``pdf`` with headless Chromium, through a temporary HTML file."""
+    with tempfile.TemporaryDirectory() as folder:
+        page = Path(folder) / "report.html"
+        page.write_text(html, encoding="utf-8")
+        with atomic_write(pdf, None) as temporary:
+            done = subprocess.run([_browser(), "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+                                   "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                                   f"--user-data-dir={folder}/profile", "--no-pdf-header-footer",
+                                   f"--print-to-pdf={temporary}", page.as_uri()],
+                                  capture_output=True, timeout=180)
+            if done.returncode != 0 or not Path(temporary).is_file() or Path(temporary).stat().st_size == 0:
+                raise InputError(f"--pdf {pdf}: Chromium could not print the report (exit {done.returncode})")

@@ -1,0 +1,344 @@
+"""The results of a report: the analyses a standard asks for, each criterion with its value,
+limit and verdict (no figure here: :mod:`.render` draws them).
+
+Sections (``ReportData.sections``, in order; a later one, such as the mode shapes of a
+flexible rotor, is one more entry of :data:`SECTIONS` and one more ``_collect_*`` step):
+``model``, ``static``, ``campbell`` (critical speeds, amplification factors and separation
+margins), ``ucs`` (undamped critical speed map), ``unbalance`` (probe limits), ``level1``
+(API 617 Level I stability), ``iso`` (ISO 20816-3 zones).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["STANDARDS", "SECTIONS", "Criterion", "ReportInputs", "ReportData", "collect", "separation_margins"]
+
+#: section id -> heading
+SECTIONS = {"model": "Model", "static": "Static loads and sag", "campbell": "Campbell diagram and critical speeds",
+            "ucs": "Undamped critical speed map", "unbalance": "Unbalance response and probe limits",
+            "level1": "API 617 Level I stability", "iso": "ISO 20816-3 vibration zones"}
+
+#: standard -> its sections, in order
+STANDARDS = {"api617": ("model", "static", "campbell", "ucs", "unbalance", "level1"),
+             "api684": ("model", "static", "campbell", "ucs", "unbalance"),
+             "iso": ("model", "static", "campbell", "unbalance", "iso")}
+
+
+@dataclass(frozen=True)
+class Criterion:
+    """One line of the summary: a criterion, its value, limit and verdict.
+
+    ``verdict`` is 'pass', 'fail' or 'not evaluated'; ``why`` says why not evaluated (or which
+    item governs); ``section`` the id of the section that holds its numbers.
+    """
+
+    name: str
+    value: str
+    limit: str
+    verdict: str
+    section: str
+    why: str = ""
+
+
+@dataclass(frozen=True)
+class ReportInputs:
+    """What a report is asked for (speeds in rad/s).
+
+    Parameters
+    ----------
+    standard : {'api617', 'api684', 'iso'}
+    mcs : float [rad/s]
+        Maximum continuous speed of the reference rotor, > 0.
+    operating : (float, float) [rad/s]
+        Operating speed range (low <= high); default (mcs, mcs).
+    points : int
+        Speeds of the sweeps, from 2 % of the MCS to 1.5 MCS (journal bearings have no film at rest).
+    iso_group, iso_support : ISO 20816-3 class (both or neither).
+    level1 : dict, optional
+        ``{"stations": [Station], "qa": float [N/m], "shares": array or None}``.
+    stiffness : ndarray [N/m]
+        Bearing stiffness values of the UCS map.
+    command : str
+        The command line that produced the report.
+    """
+
+    standard: str
+    mcs: float
+    operating: tuple | None = None
+    points: int = 151
+    iso_group: int | None = None
+    iso_support: str | None = None
+    level1: dict | None = None
+    stiffness: np.ndarray = field(default_factory=lambda: np.geomspace(1e5, 1e10, 41))
+    command: str = ""
+
+    @property
+    def speeds(self) -> np.ndarray:
+        return np.linspace(0.02 * self.mcs, 1.5 * self.mcs, self.points)
+
+    @property
+    def range(self) -> tuple:
+        return tuple(self.operating) if self.operating is not None else (self.mcs, self.mcs)
+
+
+@dataclass
+class ReportData:
+    """Everything a report shows: ``results`` (section id -> analysis result objects, or
+    ``None`` with ``skipped[id]`` saying why), ``criteria`` (the summary), ``model_info``."""
+
+    inputs: ReportInputs
+    model: object
+    model_info: dict
+    sections: tuple
+    results: dict = field(default_factory=dict)
+    skipped: dict = field(default_factory=dict)
+    criteria: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
+
+
+def collect(model, inputs: ReportInputs) -> ReportData:
+    """Run the analyses of ``inputs.standard`` on ``model``.
+
+    Returns
+    -------
+    ReportData
+    """
+    if inputs.standard not in STANDARDS:
+        raise InputError(f"standard {inputs.standard!r}: expected one of {', '.join(STANDARDS)}")
+    if not (np.isfinite(inputs.mcs) and inputs.mcs > 0):
+        raise InputError(f"maximum continuous speed {inputs.mcs!r} rad/s: expected a speed > 0")
+    low, high = inputs.range
+    if not 0 < low <= high:
+        raise InputError(f"operating range {low!r}:{high!r} rad/s: expected 0 < low <= high")
+    data = ReportData(inputs, model, model_summary(model), STANDARDS[inputs.standard])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        if "level1" in data.sections:   # first: a bad --station is refused before the long work
+            _level1(data)
+        for section in data.sections:
+            if section != "level1":
+                _STEPS[section](data)
+    order = {s: i for i, s in enumerate(data.sections)}
+    data.criteria.sort(key=lambda c: order[c.section])
+    data.warnings = sorted({str(w.message) for w in caught})
+    return data
+
+
+def model_summary(model) -> dict:
+    """Name, file, SHA-256 of its bytes, bodies, bearings, mounts, sensors, package version."""
+    from .._version import __version__
+
+    path = Path(model.source)
+    digest = hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else "(not a file)"
+    stator = None if model.stator is None else float(model.stator.mass)
+    return {"name": model.name or path.stem, "file": path.name, "sha256": digest, "version": __version__,
+            "stator_mass": stator, "rotors": [(r.name, float(r.mass), float(r.speed_ratio)) for r in model.rotors],
+            "bearings": [(b.name, b.rotor, b.type) for b in model.bearings],
+            "suspensions": [s.name for s in model.suspensions],
+            "sensors": [(s.name, s.rotor or "stator", s.measure) for s in model.sensors]}
+
+
+def _static(data):
+    from ..analysis.static import static
+
+    try:
+        data.results["static"] = static(data.model, speed=data.inputs.mcs)
+    except InputError as error:
+        data.skipped["static"] = str(error)
+
+
+def _campbell(data):
+    from ..analysis.campbell import campbell
+
+    data.results["campbell"] = campbell(data.model, data.inputs.speeds, orders=(1,))
+    name = _MARGIN + (" (informative)" if data.inputs.standard == "iso" else "")
+    _unbalance(data)                      # the amplification factors come from the response
+    response = data.results.get("unbalance")
+    if response is None:
+        data.criteria.append(Criterion(name, "", "", "not evaluated", "campbell",
+                                       data.skipped.get("unbalance", "")))
+        return
+    table = separation_margins(response, data.inputs.range, _peak_outputs(data.model, response))
+    data.results["margins"] = table
+    if table.empty:
+        data.criteria.append(Criterion(name, "no resonance peak", "", "pass", "campbell",
+                                       "no peak of the response over the sweep"))
+        return
+    judged = table[table["verdict"] != "not evaluated"]
+    unknown = len(table) - len(judged)
+    note = (f"; {unknown} peak(s) not evaluated: AF unknown (the amplitude does not fall to peak/sqrt(2) on "
+            "both sides within the sweep)") if unknown else ""
+    if judged.empty:
+        data.criteria.append(Criterion(name, "", "", "not evaluated", "campbell", note[2:]))
+        return
+    worst = judged.iloc[int(np.argmin(judged["separation_margin_pct"] - judged["required_margin_pct"]))]
+    verdict = "fail" if (judged["verdict"] == "fail").any() else ("not evaluated" if unknown else "pass")
+    data.criteria.append(Criterion(
+        name, f"{worst.separation_margin_pct:.1f} % (AF {worst.amplification_factor:.2f})",
+        f">= {worst.required_margin_pct:.1f} %", verdict, "campbell",
+        f"governing peak: {worst.output} at {worst.speed_rpm:.0f} rpm" + _case(worst) + note))
+
+
+#: the separation margin's criterion (in an ISO report informative: ISO sets no margin)
+_MARGIN = "API 684 separation margin"
+
+
+def _case(row) -> str:
+    return f", case {row.case}" if "case" in row.index and row.case else ""
+
+
+def separation_margins(response, operating, outputs=None):
+    """API 684 peaks of ``response`` with their separation margin from the operating range.
+
+    A peak below the range is measured from its low end, above from its high end
+    (``UnbalanceResult.peaks`` at that end); inside it the margin is 0.
+
+    Parameters
+    ----------
+    response : UnbalanceResult
+    operating : (float, float) [rad/s]
+    outputs : sequence of str, optional
+        The outputs whose peaks count (default all).
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``peaks`` columns plus ``verdict``: 'pass' when margin >= required, 'not evaluated' where
+        the amplification factor is unknown (the amplitude does not fall to peak / sqrt(2) on both
+        sides within the sweep).
+    """
+    import pandas as pd
+
+    low, high = operating
+    below, above = response.peaks(low, amplitude="peak"), response.peaks(high, amplitude="peak")
+    speed = below["speed_rpm"].to_numpy() * np.pi / 30
+    table = below.copy()
+    table["separation_margin_pct"] = np.where(speed < low, below["separation_margin_pct"],
+                                              np.where(speed > high, above["separation_margin_pct"], 0.0))
+    if outputs is not None:
+        table = table[table["output"].isin(list(outputs))].reset_index(drop=True)
+    required = table["required_margin_pct"].to_numpy(dtype=float)
+    table["verdict"] = np.where(np.isnan(required), "not evaluated",
+                                np.where(table["separation_margin_pct"] >= required, "pass", "fail"))
+    return pd.DataFrame(table)
+
+
+def _peak_outputs(model, response):
+    """The probes (measure = 'relative') when there are some, else every sensor."""
+    probes = [s.name for s in model.sensors if s.measure == "relative" and s.name in response.outputs]
+    return probes or list(response.outputs)
+
+
+def _unbalance(data):
+    from ..analysis.unbalance import api_unbalance_response, unbalance_response
+
+    if "unbalance" in data.results or "unbalance" in data.skipped:
+        return
+    if not data.model.sensors:
+        data.skipped["unbalance"] = "the model has no [[sensors]]: no response to judge"
+        return
+    inputs = data.inputs
+    if inputs.standard == "iso":
+        if not data.model.unbalances:
+            data.skipped["unbalance"] = "the model has no [[unbalances]] (an amount or an ISO 21940-11 grade)"
+            return
+        data.results["unbalance"] = unbalance_response(data.model, inputs.speeds)
+    else:
+        data.results["unbalance"] = api_unbalance_response(data.model, inputs.speeds, inputs.mcs)
+    group = inputs.iso_group if inputs.standard == "iso" else None
+    data.results["checks"] = data.results["unbalance"].checks(
+        data.model, mcs=inputs.mcs, min_speed=0.0, iso_group=group,
+        iso_support=inputs.iso_support if group else None)
+
+
+def _ucs(data):
+    from ..analysis.ucs_map import ucs_map
+
+    try:
+        data.results["ucs"] = ucs_map(data.model, data.inputs.stiffness, modes=4, operating=data.inputs.range)
+    except InputError as error:
+        data.skipped["ucs"] = str(error)
+
+
+def _probe_limits(data):
+    _unbalance(data)
+    if data.inputs.standard == "iso":    # ISO judges the casing (section iso), not the probes
+        return
+    checks = data.results.get("checks")
+    if checks is None:
+        data.criteria.append(Criterion("API 617 probe vibration limit", "", "", "not evaluated", "unbalance",
+                                       data.skipped.get("unbalance", "")))
+        return
+    table = checks.to_dataframe()
+    table = table[table["check"] == "API 617 probe limit"]
+    if table.empty:
+        data.criteria.append(Criterion("API 617 probe vibration limit", "", "", "not evaluated", "unbalance",
+                                       "no proximity probe (sensor with measure = \"relative\") in the model"))
+        return
+    worst = table.iloc[int(np.argmax(table["value"] / table["limit"]))]
+    verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
+    data.criteria.append(Criterion("API 617 probe vibration limit", f"{worst.value * 1e6:.3g} µm pk-pk",
+                                   f"<= {worst.limit * 1e6:.3g} µm pk-pk", verdict, "unbalance",
+                                   f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm" + _case(worst)))
+
+
+def _level1(data):
+    from ..analysis.level1 import level1
+
+    given = data.inputs.level1
+    if not given:
+        data.skipped["level1"] = "no --station with --qa or stage data given"
+    else:
+        data.results["level1"] = level1(data.model, data.inputs.mcs, given["stations"], given["qa"],
+                                        shares=given.get("shares"))
+    result = data.results.get("level1")
+    if result is None:
+        for name in ("API 617 Level I: log decrement at Qa", "API 617 Level I: Q0/Qa"):
+            data.criteria.append(Criterion(name, "", "", "not evaluated", "level1", data.skipped["level1"]))
+        return
+    ratio = f"{result.ratio:.3g}" if np.isfinite(result.q0) else f"> {result.cross_coupling[-1] / result.qa:.3g}"
+    data.criteria.append(Criterion("API 617 Level I: log decrement at Qa", f"{result.log_decrement_at_qa:.3g}",
+                                   f">= {result.log_decrement_criterion:g}",
+                                   "pass" if result.passes_log_decrement else "fail", "level1",
+                                   f"Qa = {result.qa:.4g} N/m"))
+    data.criteria.append(Criterion("API 617 Level I: Q0/Qa", ratio, f">= {result.ratio_criterion:g}",
+                                   "pass" if result.passes_ratio else "fail", "level1",
+                                   "Level II required" if result.level2_required else "Level II not required"))
+
+
+def _iso(data):
+    _unbalance(data)
+    checks = data.results.get("checks")
+    name = "ISO 20816-3 zone (casing velocity)"
+    if data.inputs.iso_group is None:
+        data.skipped["iso"] = "no --iso-group and --iso-support given"
+    elif checks is None:
+        data.skipped["iso"] = data.skipped.get("unbalance", "")
+    elif not checks.casing:
+        data.skipped["iso"] = "no sensor on the stator (casing) in the model"
+    if "iso" in data.skipped:
+        data.criteria.append(Criterion(name, "", "", "not evaluated", "iso", data.skipped["iso"]))
+        return
+    table = checks.to_dataframe()
+    table = table[table["check"].str.startswith("ISO")]
+    worst = table.iloc[int(np.argmax(table["value"]))]
+    verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
+    data.criteria.append(Criterion(name, f"{worst.value * 1e3:.3g} mm/s RMS (zone {worst.zone})",
+                                   f"<= {worst.limit * 1e3:.3g} mm/s RMS (zone B)", verdict, "iso",
+                                   f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm"))
+
+
+def _nothing(data):
+    return None
+
+
+_STEPS = {"model": _nothing, "static": _static, "campbell": _campbell, "ucs": _ucs, "unbalance": _probe_limits,
+          "level1": _level1, "iso": _iso}

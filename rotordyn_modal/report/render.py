@@ -1,0 +1,287 @@
+"""One self-contained HTML page of a :class:`~.collect.ReportData`: figures drawn by
+:mod:`rotordyn_modal.plotting` and embedded as base64 PNG, tables with a unit in every
+column header, a summary of the criteria linking to their sections, print CSS for A4."""
+
+from __future__ import annotations
+
+import base64
+import datetime
+import io
+from html import escape
+from string import Template
+
+import numpy as np
+
+from .collect import SECTIONS
+
+__all__ = ["render_html", "figure_png"]
+
+_CSS = """
+body { font-family: "DejaVu Sans", Arial, sans-serif; margin: 2em auto; max-width: 1100px; color: #222;
+       line-height: 1.4; font-size: 14px; }
+h1 { border-bottom: 2px solid #335; } h2 { border-bottom: 1px solid #99a; margin-top: 2em; }
+table { border-collapse: collapse; margin: 0.6em 0; font-size: 12px; }
+th, td { border: 1px solid #bbc; padding: 2px 6px; text-align: right; }
+th { background: #eef; } td.text, th.text { text-align: left; }
+.pass { background: #d8f3d8; } .fail { background: #f8d0d0; font-weight: bold; }
+.not-evaluated { background: #eee; color: #555; }
+figure { margin: 1em 0; } figure img { max-width: 100%; height: auto; border: 1px solid #ddd; }
+figcaption { font-size: 12px; color: #444; }
+code, .mono { font-family: "DejaVu Sans Mono", monospace; font-size: 12px; word-break: break-all; }
+nav ol { columns: 2; } .note { color: #555; font-size: 12px; }
+@page { size: A4; margin: 15mm; }
+@media print { body { margin: 0; max-width: none; font-size: 10pt; } h2 { page-break-before: always; }
+  figure, table { page-break-inside: avoid; } a { color: inherit; text-decoration: none; } }
+"""
+
+_PAGE = Template("""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>$title</title><style>$css</style></head>
+<body>
+<h1>$title</h1>
+<p>Rotordynamic report to <b>$standard</b> &mdash; rotordyn_modal $version, $date.</p>
+<nav><h2 id="contents">Contents</h2><ol>$toc</ol></nav>
+<h2 id="summary">Summary of the criteria</h2>
+$summary
+$sections
+</body></html>
+""")
+
+
+def figure_png(fig, dpi: int = 110) -> str:
+    """A ``data:image/png;base64,...`` URI of a matplotlib figure (the figure is closed)."""
+    import matplotlib.pyplot as plt
+
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=dpi)
+    plt.close(fig)
+    return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+
+
+def render_html(data, date: str | None = None) -> str:
+    """The report page of ``data`` (a :class:`~.collect.ReportData`) as a string."""
+    info = data.model_info
+    names = {"api617": "API 617", "api684": "API RP 684", "iso": "ISO 21940-11 / ISO 20816-3"}
+    toc = "".join(f'<li><a href="#{s}">{escape(SECTIONS[s])}</a></li>' for s in data.sections)
+    body = "\n".join(_SECTION_RENDERERS[s](data) for s in data.sections)
+    return _PAGE.substitute(
+        title=escape(f"Rotordynamic report: {info['name']}"), css=_CSS, standard=names[data.inputs.standard],
+        version=escape(info["version"]),
+        date=escape(date or datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")),
+        toc='<li><a href="#summary">Summary of the criteria</a></li>' + toc,
+        summary=_summary(data), sections=body)
+
+
+# -- pieces ---------------------------------------------------------------------------------
+def _table(rows, headers) -> str:
+    """An HTML table; ``headers`` (text, is_text) pairs; ``rows`` lists of cell strings (a
+    cell may be ``(html, css_class)``)."""
+    head = "".join(f'<th class="text">{escape(h)}</th>' if text else f"<th>{escape(h)}</th>"
+                   for h, text in headers)
+    out = []
+    for row in rows:
+        cells = []
+        for cell, (_, text) in zip(row, headers):
+            html, css = cell if isinstance(cell, tuple) else (escape(str(cell)), "text" if text else "")
+            cells.append(f'<td class="{css}">{html}</td>' if css else f"<td>{html}</td>")
+        out.append("<tr>" + "".join(cells) + "</tr>")
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(out)}</tbody></table>"
+
+
+def _verdict_cell(verdict: str):
+    return escape(verdict), {"pass": "pass", "fail": "fail"}.get(verdict, "not-evaluated")
+
+
+def _figure(fig, caption: str, alt: str) -> str:
+    return (f'<figure><img src="{figure_png(fig)}" alt="{escape(alt)}">'
+            f"<figcaption>{escape(caption)}</figcaption></figure>")
+
+
+def _heading(section: str) -> str:
+    return f'<h2 id="{section}">{escape(SECTIONS[section])}</h2>'
+
+
+def _skipped(data, key) -> str:
+    return f'<p class="note">Not evaluated: {escape(data.skipped[key])}</p>' if key in data.skipped else ""
+
+
+def _g(value, digits=4) -> str:
+    return "" if value is None or (isinstance(value, float) and not np.isfinite(value)) else f"{value:.{digits}g}"
+
+
+def _summary(data) -> str:
+    rows = [[(f'<a href="#{c.section}">{escape(c.name)}</a>', "text"), c.value, c.limit, _verdict_cell(c.verdict),
+             c.why] for c in data.criteria]
+    headers = [("criterion", True), ("value", False), ("limit", False), ("verdict", True), ("note", True)]
+    warn = "".join(f"<li>{escape(w)}</li>" for w in data.warnings)
+    return _table(rows, headers) + (f'<p class="note">Warnings of the analyses:</p><ul class="note">{warn}</ul>'
+                                    if warn else "")
+
+
+def _model(data) -> str:
+    info, inputs = data.model_info, data.inputs
+    low, high = (x * 30 / np.pi for x in inputs.range)
+    facts = [("model", info["name"]), ("model file", info["file"]), ("SHA-256 of the model file", info["sha256"]),
+             ("rotordyn_modal version", info["version"]), ("command", inputs.command or "(Python call)"),
+             ("maximum continuous speed [rpm]", f"{inputs.mcs * 30 / np.pi:.6g}"),
+             ("operating range [rpm]", f"{low:.6g} to {high:.6g}"),
+             ("speeds analysed [rpm]", f"{inputs.speeds[0] * 30 / np.pi:.6g} to {inputs.speeds[-1] * 30 / np.pi:.6g}"
+                                       f" ({inputs.points} points)"),
+             ("stator (casing) mass [kg]", "none" if info["stator_mass"] is None else f"{info['stator_mass']:.6g}")]
+    parts = [_heading("model"), _table([[k, (f'<span class="mono">{escape(v)}</span>', "text")] for k, v in facts],
+                                       [("item", True), ("value", True)])]
+    parts.append("<h3>Rotors</h3>" + _table([[n, f"{m:.6g}", f"{r:.6g}"] for n, m, r in info["rotors"]],
+                                            [("rotor", True), ("mass [kg]", False), ("speed ratio [-]", False)]))
+    parts.append("<h3>Bearings</h3>" + (_table([list(b) for b in info["bearings"]],
+                                               [("bearing", True), ("rotor", True), ("type", True)])
+                                        if info["bearings"] else "<p>none (rotors rigidly attached)</p>"))
+    parts.append("<h3>Mounts (suspensions)</h3>" + ("<p>" + escape(", ".join(info["suspensions"])) + "</p>"
+                                                    if info["suspensions"] else "<p>none</p>"))
+    parts.append("<h3>Sensors</h3>" + (_table([list(s) for s in info["sensors"]],
+                                              [("sensor", True), ("on", True), ("measure", True)])
+                                       if info["sensors"] else "<p>none</p>"))
+    return "\n".join(parts)
+
+
+def _static(data) -> str:
+    result = data.results.get("static")
+    if result is None:
+        return _heading("static") + _skipped(data, "static")
+    shown = result.displacements()
+    sag = _at_round_off(shown[["ux_m", "uy_m", "uz_m"]].to_numpy()) * 1e6
+    rows = [[r.body, r.point, *(_g(v) for v in values)] for r, values in zip(shown.itertuples(), sag)]
+    reactions = result.reactions_table()
+    forces = _at_round_off(reactions[["Fx_N", "Fy_N", "Fz_N"]].to_numpy())
+    rrows = [[r.support, r.kind, r.body, r.on, *(_g(v) for v in values)]
+             for r, values in zip(reactions.itertuples(), forces)]
+    return "\n".join([
+        _heading("static"),
+        f"<p>Under the model's gravity at the MCS ({data.inputs.mcs * 30 / np.pi:.6g} rpm), bearings at their "
+        "stiffness at that speed (docs/static.md).</p>",
+        "<h3>Static displacement (sag)</h3>",
+        _table(rows, [("body", True), ("point", True), ("u_x [µm]", False), ("u_y [µm]", False),
+                      ("u_z [µm]", False)]),
+        "<h3>Reactions (force of each support on the body it carries)</h3>",
+        _table(rrows, [("support", True), ("kind", True), ("body", True), ("on", True), ("F_x [N]", False),
+                       ("F_y [N]", False), ("F_z [N]", False)])])
+
+
+def _at_round_off(values, relative: float = 1e-9):
+    """``values`` with the entries below ``relative`` x the largest made 0 (round-off of a solve)."""
+    values = np.asarray(values, dtype=float)
+    largest = np.nanmax(np.abs(values)) if values.size else 0.0
+    return np.where(np.abs(values) <= relative * largest, 0.0, values) + 0.0
+
+
+def _campbell(data) -> str:
+    result = data.results["campbell"]
+    critical = result.critical.to_dataframe()
+    low, high = (x * 30 / np.pi for x in data.inputs.range)
+    rows = [[r.source, _g(r.order), r.mode, _g(r.speed_rpm, 6), _g(r.frequency_hz, 5), r.whirl,
+             _g(r.damping_ratio, 3)] for r in critical.itertuples()]
+    parts = [_heading("campbell"),
+             _figure(result.plot(title=data.model_info["name"]),
+                     f"Figure: Campbell diagram, natural frequencies against the reference rotor's speed "
+                     f"with the 1X lines; critical speeds marked. Operating range {low:.6g} to {high:.6g} rpm.",
+                     "Campbell diagram"),
+             "<h3>Critical speeds (1X crossings)</h3>",
+             _table(rows, [("source", True), ("order [-]", False), ("mode", True), ("speed [rpm]", False),
+                           ("frequency [Hz]", False), ("whirl", True), ("damping ratio [-]", False)])
+             if rows else "<p>No critical speed in the sweep.</p>",
+             "<h3 id=\"margins\">Amplification factors and separation margins (API 684)</h3>",
+             "<p>Peaks of the unbalance response at the probes (every sensor when there is none); "
+             "AF = N_c / (N_2 - N_1) at the half-power points; required separation margin from API 684: 0 for "
+             "AF &lt; 2.5, 15 % up to 3.55, 17 (1 - 1/(AF - 1.5)) % above; margin measured from the nearer end "
+             "of the operating range (docs/standards.md).</p>"]
+    margins = data.results.get("margins")
+    if margins is None:
+        parts.append(_skipped(data, "unbalance"))
+    elif margins.empty:
+        parts.append("<p>No resonance peak in the sweep.</p>")
+    else:
+        has_case = "case" in margins
+        mrows = [[r.output, *([r.case] if has_case else []), _g(r.speed_rpm, 6), _g(r.amplitude * 1e6),
+                  _g(r.amplification_factor, 3), _g(r.separation_margin_pct, 3), _g(r.required_margin_pct, 3),
+                  _verdict_cell(r.verdict)] for r in margins.itertuples()]
+        parts.append(_table(mrows, [("output", True), *([("case", True)] if has_case else []),
+                                    ("peak speed [rpm]", False), ("amplitude, 0-peak [µm]", False),
+                                    ("AF [-]", False), ("separation margin [%]", False),
+                                    ("required margin [%]", False), ("verdict", True)]))
+    return "\n".join(parts)
+
+
+def _ucs(data) -> str:
+    result = data.results.get("ucs")
+    if result is None:
+        return _heading("ucs") + _skipped(data, "ucs")
+    stiffness = data.inputs.stiffness
+    return _heading("ucs") + _figure(
+        result.plot(), f"Figure: undamped critical speed map, forward critical speeds against the bearings' "
+        f"radial stiffness ({stiffness[0]:.3g} to {stiffness[-1]:.3g} N/m), the bearings' own stiffness over speed "
+        "drawn on it, the operating range as a band (docs/level1_and_ucs.md).", "Undamped critical speed map")
+
+
+def _unbalance(data) -> str:
+    response, checks = data.results.get("unbalance"), data.results.get("checks")
+    if response is None:
+        return _heading("unbalance") + _skipped(data, "unbalance")
+    what = ("the model's [[unbalances]]" if data.inputs.standard == "iso" else
+            "the API 617/684 unbalance cases U = 6350 W/N g mm (api-static at the centre of mass, api-couple at "
+            "the outermost bearings), each case on its own")
+    parts = [_heading("unbalance"), f"<p>Response to {escape(what)}.</p>",
+             _figure(response.plot(amplitude="pk-pk", checks=checks, peaks=data.results.get("margins")),
+                     "Figure: unbalance response, amplitude peak-to-peak and phase against speed; the largest peaks "
+                     "with their AF and separation margin from the operating range (the table of section "
+                     "Campbell diagram and critical speeds); API 617 probe limits (informative in an ISO report) "
+                     "and the ISO zones where checked.", "Unbalance response")]
+    table = checks.to_dataframe()
+    table = table[table["check"] == "API 617 probe limit"]
+    if data.inputs.standard != "iso":
+        parts.append("<h3>API 617 probe vibration limit</h3><p>A1 = 25.4 µm sqrt(12000/N), at most 25.4 µm "
+                     "peak-to-peak, N the probe's rotor's MCS [rpm]; largest over 0 to MCS.</p>")
+        parts.append(_check_table(table, 1e6, "µm pk-pk") if not table.empty else
+                     "<p>No proximity probe (measure = \"relative\") in the model.</p>")
+    return "\n".join(parts)
+
+
+def _check_table(table, scale, unit) -> str:
+    has_case = "case" in table
+    rows = [[r.output, *([r.case] if has_case else []), _g(r.speed_rpm, 6), _g(r.value * scale),
+             _g(r.limit * scale), r.zone, _verdict_cell(r.verdict)] for r in table.itertuples()]
+    return _table(rows, [("output", True), *([("case", True)] if has_case else []), ("speed [rpm]", False),
+                         (f"value [{unit}]", False), (f"limit [{unit}]", False), ("zone", True), ("verdict", True)])
+
+
+def _level1(data) -> str:
+    result = data.results.get("level1")
+    if result is None:
+        return _heading("level1") + _skipped(data, "level1")
+    ratio = f"{result.ratio:.3g}" if np.isfinite(result.q0) else f"> {result.cross_coupling[-1] / result.qa:.3g}"
+    rows = [["anticipated cross-coupling Qa [N/m]", _g(result.qa), ""],
+            ["log decrement at Qa [-]", _g(result.log_decrement_at_qa, 3), f">= {result.log_decrement_criterion:g}"],
+            ["Q0 [N/m]", _g(result.q0) if np.isfinite(result.q0) else "beyond the sweep", ""],
+            ["Q0/Qa [-]", ratio, f">= {result.ratio_criterion:g}"]]
+    return "\n".join([
+        _heading("level1"),
+        f"<p>Stations: {escape(', '.join(map(str, result.stations)))}; mode {result.mode} followed at the MCS. "
+        f"{escape(result.verdict())}.</p>",
+        _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
+        _figure(result.plot(), "Figure: log decrement of the first forward mode against the applied cross-coupling "
+                "Q (API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")])
+
+
+def _iso(data) -> str:
+    checks = data.results.get("checks")
+    if "iso" in data.skipped:
+        return _heading("iso") + _skipped(data, "iso")
+    table = checks.to_dataframe()
+    table = table[table["check"].str.startswith("ISO")]
+    low, mid, high = (b * 1e3 for b in checks.zone_boundaries)
+    return "\n".join([_heading("iso"),
+                      f"<p>RMS vibration velocity of every casing sensor, largest over the speeds up to the MCS, "
+                      f"{escape(checks.iso_class)}: zone boundaries A/B {low:.3g}, B/C {mid:.3g}, C/D {high:.3g} mm/s "
+                      "RMS; pass in zones A and B (docs/standards.md).</p>",
+                      _check_table(table, 1e3, "mm/s RMS")])
+
+
+_SECTION_RENDERERS = {"model": _model, "static": _static, "campbell": _campbell, "ucs": _ucs,
+                      "unbalance": _unbalance, "level1": _level1, "iso": _iso}

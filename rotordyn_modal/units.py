@@ -63,6 +63,7 @@ POUND = 0.45359237                  # kg
 STANDARD_GRAVITY = 9.80665          # m/s^2
 POUND_FORCE = POUND * STANDARD_GRAVITY   # N
 OUNCE = POUND / 16.0                # kg
+HORSEPOWER = 550.0 * 12.0 * INCH * POUND_FORCE   # W: 550 ft lbf/s (mechanical horsepower)
 
 #: the unit systems, by the name given to ``--units``
 UNIT_SYSTEMS = ("si", "us")
@@ -85,6 +86,7 @@ QUANTITIES = {
     "unbalance": {"si": ("g mm", 1e-6), "us": ("oz in", OUNCE * INCH)},
     "pressure": {"si": ("Pa", 1.0), "us": ("psi", POUND_FORCE / INCH ** 2)},
     "viscosity": {"si": ("Pa s", 1.0), "us": ("reyn", POUND_FORCE / INCH ** 2)},
+    "power": {"si": ("W", 1.0), "us": ("hp", HORSEPOWER)},
     "frequency": {"si": ("Hz", 1.0), "us": ("Hz", 1.0)},
     "speed": {"si": ("rpm", 1.0), "us": ("rpm", 1.0)},
     "angle": {"si": ("rad", 1.0), "us": ("rad", 1.0)},

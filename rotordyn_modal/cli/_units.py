@@ -55,6 +55,21 @@ def us_column(name: str) -> str:
     return name
 
 
+#: quantity kind of the columns whose name ends in an SI unit
+_ENDING_KINDS = {"_m": "length", "_N": "force", "_Nm": "moment", "_N_per_m": "stiffness"}
+
+
+def kinds_by_ending(columns) -> dict:
+    """Column -> kind of every column whose name ends in an SI unit (``x_m``: length, ``Fx_N``:
+    force, ``Mx_Nm``: moment, ``k_N_per_m``: stiffness); for :func:`convert_table`."""
+    kinds = {}
+    for column in columns:
+        ending = next((e for e in sorted(_ENDING_KINDS, key=len, reverse=True) if str(column).endswith(e)), None)
+        if ending:
+            kinds[column] = _ENDING_KINDS[ending]
+    return kinds
+
+
 def convert_table(table, kinds: dict, system: str, row_kinds=None, unit_column: bool = False):
     """``table`` (SI) in ``system``: the table itself for 'si' (SI output stays as it was).
 

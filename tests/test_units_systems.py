@@ -144,3 +144,54 @@ def test_a_bad_unit_system_exits_2_in_one_line(capsys, monkeypatch, argv, source
     assert main(argv + ["static", "examples/motor_pump_on_mounts.toml"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and source in err and "si, us" in err, err
+
+
+def test_ucs_map_and_level1_in_us_units_say_the_same(capsys):
+    si = _csv(capsys, ["ucs-map", "examples/journal_rotor.toml", "--stiffness", "1e6:1e9:7", "--modes", "2",
+                       "--out", "-", "--quiet"])
+    k = 1 / (LBF / IN)                                           # N/m -> lbf/in
+    us = _csv(capsys, ["--units", "us", "ucs-map", "examples/journal_rotor.toml", "--stiffness",
+                       f"{1e6 * k!r}:{1e9 * k!r}:7", "--modes", "2", "--out", "-", "--quiet"])
+    assert list(us.columns) == ["stiffness_lbf_per_in"] + list(si.columns[1:])
+    _same_numbers(us["stiffness_lbf_per_in"].to_numpy(), si["stiffness_n_per_m"].to_numpy(), k, "stiffness")
+    np.testing.assert_allclose(us["speed_rpm"], si["speed_rpm"], rtol=1e-9)
+    si = _csv(capsys, ["level1", "examples/journal_rotor.toml", "--speed", "4000", "--station", "rotor@0.05",
+                       "--qa", "2e5", "--out", "-", "--quiet"])
+    us = _csv(capsys, ["level1", "examples/journal_rotor.toml", "--speed", "4000", "--station",
+                       f"rotor@{0.05 / IN!r}", "--qa", repr(2e5 * k), "--out", "-", "--quiet", "--units", "us"])
+    assert list(us.columns) == ["q_lbf_per_in"] + list(si.columns[1:])
+    _same_numbers(us["q_lbf_per_in"].to_numpy(), si["q_n_per_m"].to_numpy(), k, "q")
+    np.testing.assert_allclose(us["log_decrement"], si["log_decrement"], rtol=1e-8, atol=1e-12)
+
+
+def test_figures_say_the_us_unit():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    import rotordyn_modal as rdm
+
+    model = rdm.load_model("examples/fan_on_bearings.toml")
+    result = rdm.unbalance_response(model, np.linspace(100, 900, 9), amplitude="pk-pk")
+    checks = result.checks(model, mcs=314.0, iso_group=2, iso_support="flexible")
+    labels = lambda fig: " ".join(ax.get_ylabel() + " " + ax.get_xlabel() for ax in fig.axes)   # noqa: E731
+    texts = lambda fig: " ".join(t.get_text() for ax in fig.axes if ax.get_legend()        # noqa: E731
+                                 for t in ax.get_legend().get_texts())
+    us = result.plot(forces="bearings", checks=checks, units="us")
+    assert "peak-to-peak [mil]" in labels(us) and "[lbf]" in labels(us) and "RMS [in/s]" in labels(us)
+    assert "mil pk-pk" in texts(us) and "[m]" not in labels(us) and "[N]" not in labels(us)
+    si = result.plot(forces="bearings", checks=checks)
+    assert "peak-to-peak [m]" in labels(si) and "[N]" in labels(si) and "RMS [mm/s]" in labels(si)
+    # the same curves, drawn in mil: the SI ones times 1000/0.0254 (the probe panel, first axes)
+    for a, b in zip(us.axes[0].get_lines(), si.axes[0].get_lines()):
+        np.testing.assert_allclose(a.get_ydata(), b.get_ydata() * 1000 / IN, rtol=1e-12)
+    assert "[mil]" in labels(result.plot_orbits(units="us"))
+    ucs = rdm.ucs_map(rdm.load_model("examples/journal_rotor.toml"), np.geomspace(1e6, 1e9, 4), modes=1)
+    assert "[lbf/in]" in labels(ucs.plot(units="us"))
+    level1 = rdm.level1(rdm.load_model("examples/journal_rotor.toml"), 400.0, [rdm.Station("rotor")], 2e5,
+                        factor=2.0)
+    fig = level1.plot(units="us")
+    assert [child.get_xlabel() for ax in fig.axes for child in ax.child_axes] == ["Q [lbf/in]"]
+    assert "at Qa = 1142 lbf/in" in texts(fig)             # 2e5 N/m = 1142.0 lbf/in
+    plt.close("all")

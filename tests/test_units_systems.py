@@ -195,3 +195,14 @@ def test_figures_say_the_us_unit():
     assert [child.get_xlabel() for ax in fig.axes for child in ax.child_axes] == ["Q [lbf/in]"]
     assert "at Qa = 1142 lbf/in" in texts(fig)             # 2e5 N/m = 1142.0 lbf/in
     plt.close("all")
+
+
+def test_check_prints_masses_and_inertias_in_us_units(capsys):
+    import rotordyn_modal as rdm
+
+    rotor = rdm.load_model("examples/journal_rotor.toml").rotors[0]
+    assert main(["--units", "us", "check", "examples/journal_rotor.toml"]) == 0
+    out = capsys.readouterr().out
+    assert f"total mass {rotor.mass / LB:.6g} lb" in out
+    assert f"Jp {rotor.polar_inertia / (LB * IN ** 2):.4g}  Jd {rotor.diametral_inertia / (LB * IN ** 2):.4g} lb in²" in out
+    assert " kg" not in out and " m," not in out and "N/m" not in out

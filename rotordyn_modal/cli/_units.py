@@ -27,7 +27,7 @@ def add_units_option(parser, suppress: bool = False):
     """``--units`` on the main parser (default None) or a sub-command's (``suppress``: it sets
     nothing when not given, so the main parser's value stands)."""
     parser.add_argument("--units", metavar="si|us", default=argparse.SUPPRESS if suppress else None,
-                        help=UNITS_HELP if not suppress else f"same as {parser.prog.split()[0]} --units")
+                        help=UNITS_HELP)
 
 
 def resolve_units(given) -> str:

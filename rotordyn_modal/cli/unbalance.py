@@ -54,7 +54,10 @@ the CSV), at that source's largest orbit and at the last speed.
 rotor points, stator), with --forces one panel per kind of force (the amplitude of each
 item's force vector, N); the largest peaks (amplification factor >= 2.5) are labelled.
 
-CSV columns: speed_rpm,output,source,frequency_hz,amplitude,phase_deg[,amplitude_pkpk|amplitude_rms][,case]
+Units (--units us, docs/units.md): amplitudes in mil, in/s or g (--quantity), forces in lbf and
+moments in lbf in, in every table (a last column unit gives each row's) and on the figure's axes.
+
+CSV columns: speed_rpm,output,source,frequency_hz,amplitude,phase_deg[,amplitude_pkpk|amplitude_rms][,case][,unit]
 orbit CSV columns: speed_rpm,pair,source,frequency_hz,major,minor,inclination_deg,precession,precession_ratio
 
 examples:

@@ -7,7 +7,7 @@ import numpy as np
 
 __all__ = ["rpm", "to_rpm", "hz", "to_hz", "SPEED_UNITS", "speed_to_rad_s", "speed_from_rad_s",
            "UNIT_SYSTEMS", "QUANTITIES", "unit_size", "unit_label", "unit_scale", "to_system", "from_system",
-           "check_system"]
+           "check_system", "ratio_scale", "FRF_OUTPUT_KINDS"]
 
 _RPM = np.pi / 30.0
 _HZ = 2.0 * np.pi
@@ -144,3 +144,14 @@ def from_system(value, kind: str, system: str):
     """Numbers in the unit of ``system`` -> SI values of ``kind`` (the inverse of :func:`to_system`)."""
     size = unit_size(kind, system)
     return np.asarray(value, dtype=float) * size if np.ndim(value) else float(value) * size
+
+
+#: quantity kind of an FRF's output, by the FRF's quantity (a force FRF's moment rows: 'moment')
+FRF_OUTPUT_KINDS = {"receptance": "length", "mobility": "velocity", "accelerance": "acceleration", "force": "force"}
+
+
+def ratio_scale(numerator: str, denominator: str, system: str = "si") -> tuple:
+    """``(factor, label)`` of a ratio of two kinds (an FRF: ``('length', 'force')`` -> in/lbf in US
+    units): an SI ratio times ``factor`` is the number in ``label``."""
+    (top, top_label), (bottom, bottom_label) = unit_scale(numerator, system), unit_scale(denominator, system)
+    return top / bottom, f"{top_label}/{bottom_label}"

@@ -206,3 +206,33 @@ def test_check_prints_masses_and_inertias_in_us_units(capsys):
     assert f"total mass {rotor.mass / LB:.6g} lb" in out
     assert f"Jp {rotor.polar_inertia / (LB * IN ** 2):.4g}  Jd {rotor.diametral_inertia / (LB * IN ** 2):.4g} lb in²" in out
     assert " kg" not in out and " m," not in out and "N/m" not in out
+
+
+@pytest.mark.parametrize("quantity, factor, unit", [("receptance", LBF / IN, "in/lbf"),
+                                                    ("accelerance", LBF / GN, "g/lbf")])
+def test_frf_in_us_units_says_the_same(capsys, quantity, factor, unit):
+    argv = ["frf", "examples/gear_machine.toml", "--speed", "3000", "--freqs", "1:60:20", "--quantity", quantity,
+            "--out", "-", "--quiet"]
+    si = _csv(capsys, argv)
+    us = _csv(capsys, argv + ["--units", "us"])
+    assert list(us.columns) == list(si.columns) + ["unit"] and (us["unit"] == unit).all()
+    for column in ("real", "imag", "magnitude"):
+        _same_numbers(us[column].to_numpy(), si[column].to_numpy(), factor, column)
+    np.testing.assert_array_equal(us["frequency_hz"], si["frequency_hz"])
+
+
+def test_frf_figure_says_the_us_unit():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    import rotordyn_modal as rdm
+
+    model = rdm.load_model("examples/gear_machine.toml")
+    result = rdm.frf(model, 314.0, np.linspace(1, 60, 12), quantity="mobility")
+    us, si = result.plot(units="us"), result.plot()
+    assert us.axes[0].get_ylabel() == "|H| [in/s/lbf]" and si.axes[0].get_ylabel() == "|H| [m/s/N]"
+    for a, b in zip(us.axes[0].get_lines(), si.axes[0].get_lines()):
+        np.testing.assert_allclose(a.get_ydata(), b.get_ydata() * LBF / IN, rtol=1e-12)
+    plt.close("all")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..units import unit_scale
+from ..units import FRF_OUTPUT_KINDS, ratio_scale, unit_scale
 
 __all__ = ["plot_frf", "plot_unbalance", "plot_overlay"]
 
@@ -23,7 +23,7 @@ def _bode_axes(figsize=(8.0, 6.0)):
     return fig, mag, phase
 
 
-def plot_frf(result, measured=None, pairs=None, title: str | None = None):
+def plot_frf(result, measured=None, pairs=None, title: str | None = None, units: str = "si", input_kinds=None):
     """Magnitude (log) and phase of FRFs against frequency, measured data dotted beneath.
 
     Up to :data:`_MAX_LEGEND` FRFs of one unit share one magnitude and one phase panel;
@@ -39,6 +39,11 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None):
     pairs : list of (output, input), optional
         Which FRFs to draw (default all).
     title : str, optional
+    units : {'si', 'us'}
+        Unit system of the magnitudes: SI (m/N, m/s/N, m/s²/N, N/N) or US customary (in/lbf,
+        in/s/lbf, g/lbf, lbf/lbf; lbf in for moments), docs/units.md.
+    input_kinds : dict, optional
+        ``{input name: 'force' or 'moment'}`` (default force): the unit of each input in US units.
 
     Returns
     -------
@@ -51,16 +56,35 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None):
                + (f" ({len(pairs)} FRFs)" if len(pairs) > _MAX_LEGEND else "")
                + (f"; {zero} FRFs zero at every frequency, not drawn" if zero and nonzero else ""))
     groups = _frf_groups(pairs)
+    scale = _FrfScale(result.quantity, units, input_kinds)
     if len(groups) > 1 or _is_moment(pairs[0][0]) != _is_moment(pairs[-1][0]):
-        return _plot_frf_groups(result, measured, groups, title or default)
+        return _plot_frf_groups(result, measured, groups, title or default, scale)
     fig, mag, phase = _bode_axes(figsize=(9.5, 6.0))
-    _draw_frfs(mag, phase, result, measured, pairs, lambda o, i: f"{o} / {i}")
-    mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '')}]")
+    _draw_frfs(mag, phase, result, measured, pairs, lambda o, i: f"{o} / {i}", scale)
+    mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '') if units == 'si' else scale.label(pairs)}]")
     phase.set_xlabel("Frequency [Hz]")
     mag.legend(fontsize="small", title="model (line), measured (dots)" if measured is not None else None,
                title_fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))   # beside, off the curves
     mag.set_title(title or default)
     return fig
+
+
+class _FrfScale:
+    """The factor on an SI FRF ``(output, input)`` and the unit of a panel in ``units`` (the
+    output's quantity over the input's: force, or moment per ``input_kinds``)."""
+
+    def __init__(self, quantity, units="si", input_kinds=None):
+        self.quantity, self.units, self.input_kinds = quantity, units, input_kinds or {}
+
+    def _kinds(self, o, i):
+        out = "moment" if self.quantity == "force" and _is_moment(o) else FRF_OUTPUT_KINDS.get(self.quantity, "length")
+        return out, self.input_kinds.get(i, "force")
+
+    def __call__(self, o, i) -> float:
+        return ratio_scale(*self._kinds(o, i), self.units)[0]
+
+    def label(self, pairs) -> str:
+        return ", ".join(dict.fromkeys(ratio_scale(*self._kinds(o, i), self.units)[1] for o, i in pairs))
 
 
 def _is_moment(output: str) -> bool:
@@ -85,7 +109,7 @@ def _frf_groups(pairs):
     return parts
 
 
-def _plot_frf_groups(result, measured, groups, title):
+def _plot_frf_groups(result, measured, groups, title, scale=None):
     """One block of panels per group (forces, moments when any, phase), in up to two columns."""
     import matplotlib.pyplot as plt
 
@@ -103,8 +127,10 @@ def _plot_frf_groups(result, measured, groups, title):
         phase = axes[-1]
         for ax, kind in zip(axes, kinds):
             _draw_frfs(ax, phase, result, measured, kind,
-                       (lambda o, i: f"{o.rsplit(':', 1)[1]} / {i}") if by_item else (lambda o, i: o))
+                       (lambda o, i: f"{o.rsplit(':', 1)[1]} / {i}") if by_item else (lambda o, i: o), scale)
             unit = "N m/N" if _is_moment(kind[0][0]) else _UNITS.get(result.quantity, "")
+            if scale is not None and scale.units != "si":
+                unit = scale.label(kind)
             ax.set_ylabel(f"|H| [{unit}]")
             ax.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0),
                       title="line: model, dots: measured" if measured is not None else None,
@@ -117,14 +143,16 @@ def _plot_frf_groups(result, measured, groups, title):
     return fig
 
 
-def _draw_frfs(mag, phase, result, measured, pairs, label):
-    """Each pair's model line (and measured dots, same colour) on ``mag`` (log) and ``phase``."""
+def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None):
+    """Each pair's model line (and measured dots, same colour) on ``mag`` (log) and ``phase``
+    (``scale(o, i)``: the factor on the SI FRF, default 1)."""
     for n, (o, i) in enumerate(pairs):
         colour = f"C{n % 10}"
         style = "-" if n < 10 else "--"
-        h = result.H[result.outputs.index(o), result.inputs.index(i)]
+        factor = 1.0 if scale is None or scale.units == "si" else scale(o, i)
+        h = result.H[result.outputs.index(o), result.inputs.index(i)] * factor
         if measured is not None and o in measured.outputs and i in measured.inputs:
-            hm = measured.H[measured.outputs.index(o), measured.inputs.index(i)]
+            hm = measured.H[measured.outputs.index(o), measured.inputs.index(i)] * factor
             mag.semilogy(measured.frequencies_hz, np.abs(hm), ".", ms=2.5, color=colour, alpha=0.5)
             phase.plot(measured.frequencies_hz, np.degrees(np.angle(hm)), ".", ms=2.5, color=colour, alpha=0.5)
         mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=label(o, i))

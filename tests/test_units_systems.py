@@ -204,7 +204,8 @@ def test_check_prints_masses_and_inertias_in_us_units(capsys):
     assert main(["--units", "us", "check", "examples/journal_rotor.toml"]) == 0
     out = capsys.readouterr().out
     assert f"total mass {rotor.mass / LB:.6g} lb" in out
-    assert f"Jp {rotor.polar_inertia / (LB * IN ** 2):.4g}  Jd {rotor.diametral_inertia / (LB * IN ** 2):.4g} lb in²" in out
+    inertia = LB * IN ** 2
+    assert f"Jp {rotor.polar_inertia / inertia:.4g}  Jd {rotor.diametral_inertia / inertia:.4g} lb in²" in out
     assert " kg" not in out and " m," not in out and "N/m" not in out
 
 

@@ -46,7 +46,8 @@ def summary(model, system: str = "si") -> str:
         lines.append(f"  stator: {u(model.stator.mass, 'mass'):.6g} {u.label('mass')}")
     lines.append(f"  rotors ({len(model.rotors)}):")
     for r in model.rotors:
-        lines.append(f"    {r.name:<16} {u(r.mass, 'mass'):>9.4g} {u.label('mass')}  Jp {u(r.polar_inertia, 'inertia'):.4g}"
+        lines.append(f"    {r.name:<16} {u(r.mass, 'mass'):>9.4g} {u.label('mass')}  "
+                     f"Jp {u(r.polar_inertia, 'inertia'):.4g}"
                      f"  Jd {u(r.diametral_inertia, 'inertia'):.4g} {u.label('inertia')}  speed ratio "
                      f"{r.speed_ratio:+.6g}")
     for t in model.transmissions:

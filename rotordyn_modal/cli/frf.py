@@ -13,7 +13,8 @@ NAME = "frf"
 HELP = "frequency response from excitations to sensors (or forces), over measured data"
 DESCRIPTION = """Frequency response functions at one speed of the reference rotor, from the
 [[excitations]] to the [[sensors]]: receptance [m/N], mobility [m/s/N] or accelerance
-[m/s^2/N] (with --units us: in/lbf, in/s/lbf, g/lbf, and a last column unit; docs/units.md). Viscous models use modal superposition, models with loss factors or Maxwell
+[m/s^2/N] (with --units us: in/lbf, in/s/lbf, g/lbf, and a last column unit; docs/units.md).
+Viscous models use modal superposition, models with loss factors or Maxwell
 branches a direct solve at every frequency. --forces suspensions gives the force each
 suspension passes to the ground per unit input (transmissibility), --forces bearings the
 force each [[bearings]] entry passes to the stator (or the ground) at its point and each

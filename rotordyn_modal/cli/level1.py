@@ -48,7 +48,8 @@ def add_arguments(parser):
     add_speed_unit(parser)
     parser.add_argument("--station", action="append", required=True, metavar="ROTOR[@OFFSET]",
                         help="where Q acts (repeat for several stations)")
-    parser.add_argument("--qa", help="anticipated cross-coupling [N/m; lbf/in with --units us], or one per station (comma list)")
+    parser.add_argument("--qa", help="anticipated cross-coupling [N/m; lbf/in with --units us], or one per "
+                                     "station (comma list)")
     parser.add_argument("--power", help="rated power of each stage [W; hp] (comma list)")
     parser.add_argument("--impeller-diameter", help="impeller (or blade pitch) diameter of each stage [m; in]")
     parser.add_argument("--restriction-height", help="smaller of diffuser and impeller discharge width "

@@ -44,7 +44,8 @@ def add_arguments(parser):
     parser.add_argument("--speed", help="reference rotor speed of the operating point (default: at rest)")
     add_speed_unit(parser)
     parser.add_argument("--power", action="append", metavar="W|DRIVER->DRIVEN=W",
-                        help="power [W; hp with --units us] each transmission carries (repeat with DRIVER->DRIVEN=W for each one)")
+                        help="power [W; hp with --units us] each transmission carries (repeat with "
+                             "DRIVER->DRIVEN=W for each one)")
     parser.add_argument("--force", action="append", metavar="BODY:X,Y,Z:FX,FY,FZ",
                         help="a static force [N; lbf] at a point [m; in] of the stator or a rotor (repeat for more)")
     parser.add_argument("--moment", action="append", metavar="BODY:MX,MY,MZ",

@@ -27,9 +27,9 @@ crossings marked, the rigid-support asymptotes (the chosen bearings radially rig
 sweep's last stiffness, and --operating as a band. Bearings not chosen keep their coefficients, which must be constant.
 docs/level1_and_ucs.md gives the definitions.
 
-CSV columns: stiffness_n_per_m,mode,speed_rpm,frequency_hz (stiffness_lbf_per_in with --units us; mode 1 = the lowest forward
-critical speed at that stiffness, a rank, not the figure's followed mode; empty where there is
-none). The terminal lists the crossings of the bearings' curves with the followed modes (their
+CSV columns: stiffness_n_per_m,mode,speed_rpm,frequency_hz (stiffness_lbf_per_in with --units us;
+mode 1 = the lowest forward critical speed at that stiffness, a rank, not the figure's followed
+mode; empty where there is none). The terminal lists the crossings of the bearings' curves with the followed modes (their
 numbers and names as on the figure).
 
 examples:

@@ -39,7 +39,8 @@ def build_parser() -> argparse.ArgumentParser:
         module.add_arguments(sub)
         if "--verbose" not in sub._option_string_actions:  # every sub-command has --verbose
             add_verbose(sub)
-        add_units_option(sub, suppress=True)  # --units before or after the sub-command's name
+        if "--units" not in sub._option_string_actions:  # --units before or after the sub-command's name
+            add_units_option(sub, suppress=True)
         sub.set_defaults(handler=module.run, file_options=file_options(sub))
     return parser
 

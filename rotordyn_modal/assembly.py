@@ -18,6 +18,13 @@ equation is::
   gyroscopic matrices enter as ``T_j^T X_j T_j``; a bearing at point P adds
   ``E_j^T P_j^T B_RjP K_b B_RjP^T P_j E_j`` (it only sees the relative motion).
 
+* A flexible rotor (a shaft of beam elements with disks, :mod:`rotordyn_modal.model.flexible`)
+  enters with its node matrices (6 per node, model axes) ``M_f, G_f, K_f``: each node's absolute
+  motion is the stator's motion at the node plus its relative motion, ``T_f = T_S,nodes + N E_j``,
+  and it adds ``T_f^T M_f T_f``, ``r_j T_f^T G_f T_f`` and, on the relative motion alone (a rigid
+  motion strains nothing), ``E_j^T N^T K_f N E_j``. Its bearings, sensors, excitations and
+  unbalances act at their nodes.
+
 Derivations and sign conventions: ``docs/theory.md``.
 """
 
@@ -29,11 +36,11 @@ import numpy as np
 
 from .model.dofs import frame_block
 from .errors import InputError
-from .model.geometry import point_force_column, point_motion_rows, shift_matrix, skew
+from .model.geometry import point_force_column, point_motion_rows, shift_matrices, shift_matrix, skew
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
-           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force", "weights", "weight_force"]
+           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "flexible_rotor_matrices", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force", "weights", "weight_force"]
 
 
 class Matrices(NamedTuple):
@@ -197,11 +204,15 @@ def gyroscopic_matrix(model) -> np.ndarray:
     -------
     ndarray, shape (n, n) [kg m^2]
     """
-    polar_momentum = sum(r.polar_inertia * r.speed_ratio for r in model.rotors)
+    polar_momentum = sum(r.polar_inertia * r.speed_ratio for r in model.rotors if r.flexible is None)
     stator = np.zeros((6, 6))
     stator[3:, 3:] = -polar_momentum * skew(model.spin_axis)
     out = frame_block(model, stator)
     for rotor in model.rotors:
+        if rotor.flexible is not None:
+            parts = flexible_rotor_matrices(model, rotor, kinds=("G",))
+            out += rotor.speed_ratio * (parts.motion.T @ parts.G @ parts.motion)
+            continue
         add_rotor_body(out, model, rotor.name, rotor_gyroscopic(model, rotor))
     return out
 
@@ -215,11 +226,73 @@ def mass_matrix(model) -> np.ndarray:
     """
     reference = model.reference_point
     bodies = body_inertias(model)
-    mass = frame_block(model, sum(rigid_mass_matrix(m, J, c, reference) for m, c, J in bodies))
     first_rotor = len(bodies) - len(model.rotors)
+    rigid = bodies[:first_rotor] + [b for r, b in zip(model.rotors, bodies[first_rotor:]) if r.flexible is None]
+    mass = frame_block(model, sum((rigid_mass_matrix(m, J, c, reference) for m, c, J in rigid), np.zeros((6, 6)))
+                       if len(rigid) != len(bodies) else
+                       sum(rigid_mass_matrix(m, J, c, reference) for m, c, J in rigid))
     for rotor, (m, c, J) in zip(model.rotors, bodies[first_rotor:]):
+        if rotor.flexible is not None:
+            parts = flexible_rotor_matrices(model, rotor, kinds=("M",))
+            mass += parts.motion.T @ parts.M @ parts.motion
+            continue
         add_rotor_body(mass, model, rotor.name, rigid_mass_matrix(m, J, c, reference))
     return 0.5 * (mass + mass.T)
+
+
+class FlexibleParts(NamedTuple):
+    """A flexible rotor's node matrices (model axes, 6 per node, each (6 N, 6 N) or None when not
+    asked for) and its nodes' motions per generalized coordinate, absolute and relative (6 N, n)."""
+
+    M: np.ndarray | None
+    K: np.ndarray | None
+    G: np.ndarray | None
+    motion: np.ndarray
+    relative: np.ndarray
+
+
+def flexible_rotor_matrices(model, rotor, kinds=("M", "K", "G")) -> FlexibleParts:
+    """The node matrices of a flexible rotor (:func:`rotordyn_modal.model.flexible.node_matrices`:
+    G per unit spin of the rotor) and ``T_f``, its nodes' absolute motions, and ``N E_j``, their
+    motions relative to the stator, per generalized coordinate.
+
+    Parameters
+    ----------
+    model : Model
+    rotor : Rotor
+        A rotor with a shaft (on bearings).
+    kinds : tuple of {'M', 'K', 'G'}
+
+    Returns
+    -------
+    FlexibleParts
+    """
+    from .model.flexible import node_matrices
+
+    shaft = rotor.flexible
+    layout = model.dofs
+    points = shaft.node_positions
+    own = layout.slices[layout.rotors.index(rotor.name)]
+    relative = np.zeros((6 * len(points), layout.n))
+    relative[:, own] = layout.local_relative_motions(rotor.name, points).reshape(6 * len(points), -1)
+    motion = relative.copy()
+    k = layout.n_frame
+    if k:
+        motion[:, :k] += shift_matrices(layout.reference_point, points).transpose(0, 2, 1).reshape(-1, 6)[:, :k]
+    matrices = dict(zip(kinds, node_matrices(shaft, shaft.mesh, kinds)))
+    return FlexibleParts(M=matrices.get("M"), K=matrices.get("K"), G=matrices.get("G"), motion=motion,
+                         relative=relative)
+
+
+def shaft_stiffness(model) -> np.ndarray:
+    """The flexible rotors' bending stiffness on their relative motions, (n, n) [N/m, ...]."""
+    n = model.dofs.n
+    K = np.zeros((n, n))
+    for rotor in model.rotors:
+        if rotor.flexible is not None:
+            parts = flexible_rotor_matrices(model, rotor, kinds=("K",))
+            K += parts.relative.T @ parts.K @ parts.relative
+    return 0.5 * (K + K.T)
 
 
 def bearing_matrices(model, speed: float | None = None, constant_only: bool = False,
@@ -343,6 +416,8 @@ def constant_stiffness_damping(model):
     """
     K = frame_block(model, _suspension_sum(model, "stiffness_matrix"))
     C = frame_block(model, _suspension_sum(model, "damping_matrix"))
+    if any(r.flexible is not None for r in model.rotors):
+        K = K + shaft_stiffness(model)
     if model.bearings:
         k_b, c_b = bearing_matrices(model, constant_only=True)
         K, C = K + k_b, C + c_b
@@ -373,7 +448,8 @@ def sensor_rows(model, names=None, rotor_motions=None) -> np.ndarray:
     if not sensors:
         return np.zeros((0, layout.n))
     order: dict = {}       # each body's motion (absolute or relative) found once for all its sensors
-    which = [order.setdefault((s.rotor, s.measure == "relative"), len(order)) for s in sensors]
+    which = [order.setdefault(_motion_key(layout, s.rotor, s.measure == "relative", s.position), len(order))
+             for s in sensors]
     rows = point_motion_rows([s.position for s in sensors], layout.reference_point,
                              [s.direction for s in sensors])
     # each sensor's row times its body's motion: a stack of vector-matrix products
@@ -401,7 +477,7 @@ def excitation_columns(model, names=None) -> np.ndarray:
             at_reference = np.concatenate([np.zeros(3), x.direction])
         else:
             at_reference = point_force_column(x.position, reference, x.direction)
-        columns.append(layout.body_motion(x.rotor).T @ at_reference)
+        columns.append(layout.motions([_motion_key(layout, x.rotor, False, x.position)])[0].T @ at_reference)
     return np.array(columns).reshape(-1, layout.n).T
 
 
@@ -446,6 +522,14 @@ def weight_force(model) -> np.ndarray:
     for body, centre, force in weights(model):
         total += generalized_force(model, body, centre, np.r_[force, 0.0, 0.0, 0.0])
     return total
+
+
+def _motion_key(layout, rotor, relative: bool, position) -> tuple:
+    """The :meth:`Dofs.motions` key of a point of a body: with the point on a flexible rotor
+    (its node's motion), without it elsewhere (a rigid body's motion is one for all its points)."""
+    if rotor is not None and layout.shaft(rotor) is not None:
+        return (rotor, relative, tuple(np.asarray(position, dtype=float).tolist()))
+    return (rotor, relative)
 
 
 def _select(items, names, what: str):

@@ -88,6 +88,20 @@ def test_a_run_writes_results_table_and_figures_and_reports_the_band(tmp_path, e
     assert float(row.split("(rpm)")[1].split()[1]) == pytest.approx(mean_rpm, rel=1e-5)   # printed to 6 digits
 
 
+def test_a_study_of_campbell_curves_alone_ends_with_a_sentence_not_an_internal_error(tmp_path, examples_dir,
+                                                                                       capsys):
+    # only [analyses.campbell]: no scalar output to summarise (was "failed: KeyError: 'output'", exit 1)
+    spec = tmp_path / "s.toml"
+    spec.write_text(STUDY.format(samples=2, chunk=2, key="suspensions.mount-FL.stiffness", std=0.1, speeds=5)
+                    .replace("[analyses.critical_speeds]\n", ""))
+    out = tmp_path / "r.nc"
+    code = main(["study", str(examples_dir / "gear_machine.toml"), "--spec", str(spec), "--out", str(out)])
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    assert "no scalar output to summarise" in captured.out
+    assert load_study(out).dataset["frequency_hz"].shape[0] == 2      # the curves of both variants were kept
+
+
 def test_ctrl_c_then_the_same_command_resumes(tmp_path, examples_dir):
     """A real SIGINT to the command: exit 130, chunks kept; the rerun computes only the rest."""
     spec = write_study(tmp_path / "s.toml", samples=60, chunk=2, speeds=201)

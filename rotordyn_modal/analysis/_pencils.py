@@ -12,7 +12,7 @@ import numpy as np
 
 from . import _batches, _vectors
 
-__all__ = ["BATCHED_DOF", "NEAREST_ROOTS_DOF", "PencilFactors", "PencilRows", "SPARSE_DENSITY", "SPARSE_DOF", "SparseLayout", "nearest_roots", "pencil_shapes", "residual_inverse_iteration", "sparse_layout", "speed_newton_step"]
+__all__ = ["BATCHED_DOF", "NEAREST_ROOTS_DOF", "PencilFactors", "PencilRows", "SPARSE_DENSITY", "SPARSE_DOF", "SparseLayout", "nearest_roots", "pencil_shapes", "projected_roots", "residual_inverse_iteration", "sparse_layout", "speed_newton_step"]
 
 
 _START_SEED = 20261122
@@ -84,11 +84,18 @@ SPARSE_DENSITY = 0.15
 
 class SparseLayout(NamedTuple):
     """Compressed-column layout of the entries that may be nonzero in a model's pencils: the
-    row and column of each stored entry, in the layout's order, and the columns' starts."""
+    row and column of each stored entry, in the layout's order, and the columns' starts; and
+    the same entries with rows and columns in a fill-reducing order (:func:`sparse_layout`):
+    ``order`` (n,), the permuted matrix's row of each entry, its columns' starts, and the
+    layout's entries in the permuted matrix's order."""
 
     rows: np.ndarray
     cols: np.ndarray
     starts: np.ndarray
+    order: np.ndarray
+    ordered_rows: np.ndarray
+    ordered_starts: np.ndarray
+    ordered_entries: np.ndarray
 
     def matrix(self, data):
         """The ``scipy.sparse.csc_matrix`` with values ``data`` (nnz,) at the layout's entries."""
@@ -97,31 +104,67 @@ class SparseLayout(NamedTuple):
         n = len(self.starts) - 1
         return csc_matrix((data, self.rows, self.starts), shape=(n, n))
 
+    def ordered(self, data):
+        """``A[order][:, order]`` of the matrix ``A`` of :meth:`matrix`, as a ``csc_matrix``."""
+        from scipy.sparse import csc_matrix
+
+        n = len(self.starts) - 1
+        return csc_matrix((data[self.ordered_entries], self.ordered_rows, self.ordered_starts), shape=(n, n))
+
 
 def sparse_layout(pattern) -> SparseLayout | None:
     """The layout of the pencils whose possible nonzeros are ``pattern`` (n, n) bool, or None
-    where they are better factored dense (see ``SPARSE_DOF``)."""
+    where they are better factored dense (see ``SPARSE_DOF``).
+
+    The fill-reducing order is SuperLU's minimum-degree ordering of ``A^T + A`` (it suits these
+    structurally symmetric pencils: a tenth of COLAMD's fill at 506 coordinates), found once
+    from the pattern: every factorisation of the model's pencils then skips it (at 406
+    coordinates it was half of each factorisation's time, at 2,006 four fifths)."""
+    from scipy.sparse.linalg import splu
+
     n = len(pattern)
     if n < SPARSE_DOF or np.count_nonzero(pattern) > SPARSE_DENSITY * n * n:
         return None
     cols, rows = np.nonzero(pattern.T)                        # column by column, rows ascending
-    return SparseLayout(rows.astype(np.int32), cols, np.searchsorted(cols, np.arange(n + 1)).astype(np.int32))
+    layout = SparseLayout(rows.astype(np.int32), cols, np.searchsorted(cols, np.arange(n + 1)).astype(np.int32),
+                          *(np.zeros(0, dtype=np.int32) for _ in range(4)))
+    # the ordering depends on the pattern alone: any regular matrix of it gives it
+    order = splu(layout.matrix(np.where(rows == cols, 2.0 * n, 1.0)), permc_spec="MMD_AT_PLUS_A").perm_c
+    inverse = np.empty(n, dtype=np.int64)
+    inverse[order] = np.arange(n)
+    new_rows, new_cols = inverse[rows], inverse[cols]
+    entries = np.lexsort((new_rows, new_cols))
+    return layout._replace(order=order.astype(np.int64), ordered_rows=new_rows[entries].astype(np.int32),
+                           ordered_starts=np.searchsorted(new_cols[entries], np.arange(n + 1)).astype(np.int32),
+                           ordered_entries=entries)
+
+
+class _OrderedLU:
+    """SuperLU factors of ``A[order][:, order]``, solving with ``A`` (and ``A^H``)."""
+
+    __slots__ = ("lu", "order")
+
+    def __init__(self, lu, order):
+        self.lu, self.order = lu, order
+
+    def solve(self, rhs, trans="N"):
+        out = np.empty(rhs.shape, dtype=complex)
+        out[self.order] = self.lu.solve(rhs[self.order], trans=trans)
+        return out
 
 
 def _sparse_lu(pencils, row, shift):
     """SuperLU factors of row ``row``'s pencil ``Q(shift)`` (or None where it is singular), with
     the row's sparse parts (:meth:`~._stack.Pencils.sparse_parts`: layout, mass, damping,
-    stiffness).
-
-    The minimum-degree ordering of ``A^T + A`` suits these structurally symmetric pencils (a
-    tenth of COLAMD's fill at 506 coordinates)."""
+    stiffness), in the layout's fill-reducing order (see :func:`sparse_layout`)."""
     from scipy.sparse.linalg import splu
 
     parts = layout, mass, damping, stiffness = pencils.sparse_parts(row)
     try:
-        return splu(layout.matrix((shift * shift) * mass + shift * damping + stiffness), permc_spec="MMD_AT_PLUS_A"), parts
+        lu = splu(layout.ordered((shift * shift) * mass + shift * damping + stiffness), permc_spec="NATURAL")
     except RuntimeError:            # exactly singular: its solves give NaN, as a dense LU's give inf
         return None, parts
+    return _OrderedLU(lu, layout.order), parts
 
 
 class PencilFactors:
@@ -522,6 +565,45 @@ def nearest_roots(pencils, centers, count: int = 8):
         # ARPACK's roots are those nearest the shift: any other is at least as far from it
         radius[row] = np.abs(lam - sigma).max() - np.abs(sigma - centers[row])
     return values, shapes, radius
+
+
+def projected_roots(basis, products, speeds):
+    """Ritz pairs of the pencils ``Q(lam) = lam^2 M + lam (C + Omega G) + K`` of rows in
+    subspaces: the roots ``theta`` and coefficients ``y`` of ``W^H Q(theta) W y = 0``, with ``W`` a
+    row's orthonormal basis, all rows in one batched eigen-solve of the projected first-order
+    forms (size ``2 r``).
+
+    Where ``W`` holds the eigenvectors of a root (to a small angle), one Ritz value is that root
+    (to about the angle times the root's distance to the others); the caller refines it on the
+    full pencil. ``W^H M W`` is Hermitian positive definite (M is), so the projected pencil has
+    ``2 r`` finite roots.
+
+    Parameters
+    ----------
+    basis : ndarray, shape (P, n, r), complex
+        Orthonormal columns.
+    products : tuple of ndarray
+        ``M W, C W, G W, K W``, each (P, n, r).
+    speeds : ndarray, shape (P,) [rad/s]
+
+    Returns
+    -------
+    theta : ndarray (P, 2 r), complex
+    coefficients : ndarray (P, r, 2 r), complex
+        Column ``j`` gives the Ritz vector ``W y_j`` of ``theta_j``.
+    mass : ndarray (P, r, r), complex
+        ``W^H M W`` (``||L^T W y||^2 = y^H (W^H M W) y`` with ``M = L L^T``).
+    """
+    adjoint = basis.conj().swapaxes(-1, -2)
+    mass, damping, gyroscopic, stiffness = (adjoint @ product for product in products)
+    damping = damping + speeds[:, None, None] * gyroscopic
+    r = mass.shape[-1]
+    first_order = np.zeros((len(speeds), 2 * r, 2 * r), dtype=complex)
+    first_order[:, :r, r:] = np.eye(r)
+    first_order[:, r:, :r] = -np.linalg.solve(mass, stiffness)
+    first_order[:, r:, r:] = -np.linalg.solve(mass, damping)
+    theta, vectors = np.linalg.eig(first_order)
+    return theta, vectors[:, :r], mass
 
 
 def _dense_shifted(pencils, row, sigma):

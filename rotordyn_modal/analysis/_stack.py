@@ -61,6 +61,7 @@ class Stack:
         self.branch_stiffness = _stacked([f.branch_stiffness for f in self.forms])   # (V, n_b, n, n)
         self.branch_times = _stacked([f.branch_times for f in self.forms])           # (V, n_b)
         self._layouts = {}       # variant -> (SparseLayout or None, its constant entries)
+        self._sparse_matrices = {}   # 0 -> the first variant's sparse M, C, G, K (or None)
 
     def __len__(self) -> int:
         return len(self.forms)
@@ -121,6 +122,14 @@ class Stack:
                                 for matrix in (self.M, self.C, self.G, self.K))
             self._layouts[variant] = layout, entries
         return self._layouts[variant]
+
+    def sparse_matrices(self):
+        """``M, C, G, K`` of the first variant as ``scipy.sparse`` matrices where its pencils are
+        sparse (:meth:`sparse_layout`), else None; made once."""
+        if 0 not in self._sparse_matrices:
+            layout, entries = self.sparse_entries(0)
+            self._sparse_matrices[0] = None if layout is None else tuple(layout.matrix(e).tocsr() for e in entries)
+        return self._sparse_matrices[0]
 
     # -- eigen-solutions -----------------------------------------------------------------
     def solve(self, matrices, variants):
@@ -243,8 +252,12 @@ class Pencils:
         stack = self.stack
         speeds = self.speeds[rows, None]
         if self.shared and vectors.shape[-1] > _pencils.BATCHED_DOF:
-            m_phi, c_phi, g_phi, k_phi = (_vectors.real_product(vectors, matrix[0].T)
-                                          for matrix in (stack.M, stack.C, stack.G, stack.K))
+            sparse = stack.sparse_matrices()
+            if sparse is not None:         # a large machine's sparse matrices: O(nnz) per vector
+                m_phi, c_phi, g_phi, k_phi = ((matrix @ vectors.T).T for matrix in sparse)
+            else:
+                m_phi, c_phi, g_phi, k_phi = (_vectors.real_product(vectors, matrix[0].T)
+                                              for matrix in (stack.M, stack.C, stack.G, stack.K))
             return np.array((m_phi, c_phi + speeds * g_phi, k_phi))
         if stack.dependent:
             variants = self.variants[rows]

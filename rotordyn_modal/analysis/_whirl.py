@@ -108,17 +108,47 @@ def whirl_forms(model) -> WhirlForms:
     generalized coordinates). See ``docs/theory.md``.
     """
     forms = _bodies_forms(model)                                          # (3, B, 6, 6)
-    parts = frame_block(model, forms.sum(axis=1))                         # (3, n, n)
     first_rotor = forms.shape[1] - len(model.rotors)
-    for j, rotor in enumerate(model.rotors):
+    flexible = [j for j, rotor in enumerate(model.rotors) if rotor.flexible is not None]
+    if flexible:     # their nodes' forms replace their rigid ones
+        forms = np.delete(forms, [first_rotor + j for j in flexible], axis=1)
+    parts = frame_block(model, forms.sum(axis=1))                         # (3, n, n)
+    rigid = [rotor for rotor in model.rotors if rotor.flexible is None]
+    for j, rotor in enumerate(rigid):
         if model.dofs.on_bearings(rotor.name):
             add_rotor_bodies([parts], model, rotor.name, [forms[:, first_rotor + j]])
+    for j in flexible:
+        parts = parts + _node_forms(model, model.rotors[j])
     return WhirlForms(*parts)
+
+
+def _node_forms(model, rotor) -> np.ndarray:
+    """The whirl forms of a flexible rotor, each node a rigid body (its share of the mass matrix
+    lumped: the row sums of the translations, the rotations' own block) moving as the node:
+    ``sum_i T_i^T X_i T_i``, shape (3, n, n)."""
+    from ..assembly import flexible_rotor_matrices
+
+    shaft = rotor.flexible
+    points = shaft.node_positions
+    count = len(points)
+    M = flexible_rotor_matrices(model, rotor, kinds=("M",)).M.reshape(count, 6, count, 6)
+    masses = np.trace(M[:, :3, :, :3].sum(axis=2), axis1=1, axis2=2) / 3.0
+    inertias = M[np.arange(count), 3:, np.arange(count), 3:]
+    arms = points - model.reference_point
+    traces = inertias.trace(axis1=1, axis2=2)
+    second = (0.5 * traces[:, None, None] * np.eye(3) - inertias
+              + masses[:, None, None] * arms[:, :, None] * arms[:, None, :])
+    X, products = _directions(tuple(float(x) for x in model.spin_axis))
+    forms = _bodies_quadratic(masses, second, X, skew(masses[:, None] * arms), products)    # (3, N, 6, 6)
+    motions = model.dofs.motions([(rotor.name, False, tuple(p)) for p in points.tolist()])  # (N, 6, n)
+    return np.einsum("iam,diab,ibn->dmn", motions, forms, motions)
 
 
 def rotor_whirl_forms(model, rotor: str) -> WhirlForms:
     """The whirl forms of one rotor's own motion (absolute), each (n, n)."""
     index = [r.name for r in model.rotors].index(rotor)
+    if model.rotors[index].flexible is not None:
+        return WhirlForms(*_node_forms(model, model.rotors[index]))
     forms = _bodies_forms(model)
     body = forms[:, forms.shape[1] - len(model.rotors) + index]            # (3, 6, 6)
     motion = model.dofs.body_motion(rotor)

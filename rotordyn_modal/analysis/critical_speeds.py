@@ -768,7 +768,7 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
         # every crossing between grid points (the usual case): the first evaluation of all of them,
         # which usually ends them all (the cubic start lands at round-off of the root)
         every = np.arange(count)
-        lam, sure = _evaluate(stack, speeds, values, weighted, brackets, every, x.copy(), iterates)
+        lam, sure = _evaluate(stack, speeds, values, weighted, brackets, every, x.copy(), iterates, shapes)
         roots, done, evaluations = x.copy(), np.zeros(count, dtype=bool), 1
         x = _advance(state, previous, done, every, x, lam.imag - slope * np.abs(x))
     for _ in range(_MAX_ITERATIONS - evaluations):
@@ -776,7 +776,7 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
         if not len(i):
             break
         x_i = x[i]
-        lam_x, sure_x = _evaluate(stack, speeds, values, weighted, brackets, i, x_i, iterates)
+        lam_x, sure_x = _evaluate(stack, speeds, values, weighted, brackets, i, x_i, iterates, shapes)
         gx = lam_x.imag - slope[i] * np.abs(x_i)
         roots[i], lam[i], sure[i] = x_i, lam_x, sure_x
         x[i] = _advance(state, previous, done, i, x_i, gx)
@@ -927,12 +927,14 @@ def _isolated(brackets):
     return (apart > margin).all(axis=1) & (own_conjugate > 2 * 8 * own_travel)
 
 
-def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
+def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates, shapes=None):
     """The tracked modes' eigenvalues at speeds ``x`` and whether each is sure (see
     :func:`_tracked`): the pencil's iteration for isolated modes and for modes picked from the
-    roots at a point so near that no other root can have come close (:func:`_followed`), the
-    roots near the bracket's interpolation for the rest and for any that did not converge
-    to the tracked mode."""
+    roots at a point so near that no other root can have come close (:func:`_followed`); for
+    large models, the mode picked among the Ritz pairs of the sweep's shapes at the bracket's
+    ends (:func:`_ritz_evaluated`, from ``shapes``) and refined on the pencil; the roots near
+    the bracket's interpolation for the rest and for any that did not converge to the tracked
+    mode."""
     fast = iterates.usable[rows]
     isolated = fast.all()
     if isolated:                         # every mode isolated (the usual case): all on the pencil
@@ -952,6 +954,10 @@ def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
         lam[f[ok]], sure[f[ok]] = found[ok], True
         fast[f[~ok]] = False
     slow = (~fast).nonzero()[0]
+    if len(slow) and _by_ritz(stack, shapes, iterates):
+        found, ok = _ritz_evaluated(stack, speeds, values, shapes, weighted, brackets, rows[slow], x[slow], iterates)
+        lam[slow[ok]], sure[slow[ok]] = found[ok], True
+        slow = slow[~ok]
     if len(slow):
         lam[slow], sure[slow], shapes, known, gap = _tracked(stack, speeds, values, weighted, brackets, rows[slow],
                                                              x[slow])
@@ -969,6 +975,142 @@ def _evaluate(stack, speeds, values, weighted, brackets, rows, x, iterates):
             iterates.x[mine], iterates.lam[mine], iterates.shape[mine] = x[at], lam[at], shapes[known]
             iterates.gap[mine] = gap[known]
     return lam, sure
+
+
+#: roots at each end of a bracket whose shapes span the subspace that a crossing among close
+#: roots first picks its mode from (:func:`_ritz_picked`)
+_RITZ_ROOTS = 8
+
+
+def _by_ritz(stack, shapes, iterates) -> bool:
+    """Whether crossings among close roots are first picked from Ritz pairs (:func:`_ritz_picked`):
+    one model of constant coefficients, large enough that the roots near a point come from
+    shift-invert Arnoldi (see :func:`_roots_near`), with the sweep's shapes at hand (never where
+    ``_RITZ_ROOTS`` is 0)."""
+    return (_RITZ_ROOTS > 0 and shapes is not None and iterates.shape.shape[-1] > 0 and len(stack) == 1
+            and not stack.dependent
+            and not stack.branch_times.shape[-1] and stack.n_dof > max(_pencils.NEAREST_ROOTS_DOF, _NEAREST_ROOTS))
+
+
+def _ritz_evaluated(stack, speeds, values, shapes, weighted, brackets, rows, x, iterates):
+    """The tracked modes' eigenvalues at ``x`` for crossings among close roots, without the
+    roots near each point (one shift-invert Arnoldi call per crossing): the mode picked among
+    the Ritz pairs of the sweep's shapes at the bracket's ends (:func:`_ritz_picked`, all rows
+    in a few batched calls), then refined on the pencil from that pair (:func:`_pencil_at`: one
+    factorisation per crossing, reused by its later points, which follow it there).
+
+    A row counts only where the pencil's eigenpair converged within a quarter of the distance
+    from its Ritz value to the nearest other one (and to its own conjugate), with a shape
+    whose MAC with the Ritz vector is at least ``_RITZ_MAC``; the others are left to
+    :func:`_tracked` as before, with their iterates as they were.
+
+    Returns
+    -------
+    lam : ndarray (P,), complex
+    ok : ndarray (P,) bool
+    """
+    lam = np.full(len(rows), np.nan, dtype=complex)
+    ok = np.zeros(len(rows), dtype=bool)
+    size = 2 * min(_RITZ_ROOTS, values.shape[-1])
+    for part in _batches.chunk_slices(len(rows), 64 * size * stack.n_dof, budget=_RITZ_BYTES):
+        picked, vectors, gap, good = _ritz_picked(stack, values, shapes, weighted, brackets, rows[part], x[part])
+        at = np.arange(part.start, part.stop)[good]
+        if not len(at):
+            continue
+        mine = rows[at]
+        saved = (iterates.x[mine], iterates.lam[mine], iterates.shape[mine], iterates.gap[mine],
+                 iterates.factors.ready[mine])
+        iterates.x[mine], iterates.lam[mine], iterates.shape[mine], iterates.gap[mine] = \
+            x[at], picked[good], vectors[good], gap[good]
+        found, converged = _pencil_at(stack, speeds, brackets, mine, x[at], iterates)
+        mac = np.abs(np.einsum("pi,pi->p", vectors[good].conj(), iterates.shape[mine])) ** 2
+        converged &= mac >= _RITZ_MAC
+        lost = (~converged).nonzero()[0]
+        if len(lost):                                   # as they were, for _tracked
+            for column, value in zip((iterates.x, iterates.lam, iterates.shape, iterates.gap, iterates.factors.ready),
+                                     saved):
+                column[mine[lost]] = value[lost]
+        lam[at], ok[at] = found, converged
+    return lam, ok
+
+
+#: the least MAC of a Ritz vector with the pencil's eigenvector refined from it
+_RITZ_MAC = 0.9
+#: the largest part of the Ritz subspaces built at once [bytes]
+_RITZ_BYTES = 64 * 2**20
+
+
+def _ritz_picked(stack, values, shapes, weighted, brackets, rows, x):
+    """The tracked mode at ``x`` among the Ritz pairs (:func:`_pencils.projected_roots`) of the
+    pencil in the span of the sweep's shapes of the ``_RITZ_ROOTS`` roots nearest the bracket's
+    interpolation at each end of the bracket, picked as :func:`_identified` picks among roots:
+    by the mass-weighted MAC with its shape at the bracket's start and the distance from the
+    interpolation.
+
+    Every root at ``x`` nearer the interpolation than ``radius`` (the nearest root left out at
+    either end, less the fastest travel of any root across the bracket) was among those roots
+    at both ends; a pick is kept where its cost is within ``radius / spread`` (as
+    :func:`_identified` asks of the roots at hand), finite, and apart from every other Ritz
+    value (and its own conjugate) by more than a repeated root.
+
+    Returns
+    -------
+    picked : ndarray (P,), complex
+        The Ritz value.
+    vectors : ndarray (P, n), complex, unit norm
+        Its Ritz vector.
+    gap : ndarray (P,)
+        Its distance to the nearest other Ritz value of the upper half-plane or its conjugate.
+    kept : ndarray (P,) bool
+    """
+    count = min(_RITZ_ROOTS, values.shape[-1])
+    every = np.arange(len(rows))
+    v, k, mode = brackets.variant[rows], brackets.k[rows], brackets.mode[rows]
+    expected = _interpolated(brackets, rows, x)
+    spread = brackets.spread[rows]
+    ends = k[:, None] + np.arange(2)                                                   # (P, 2)
+    roots = values[v[:, None], ends]                                                   # (P, 2, m)
+    distance = np.abs(roots - expected[:, None, None])
+    distance[np.isnan(distance)] = np.inf
+    nearest = np.argsort(distance, axis=-1)
+    radius = np.full(len(rows), np.inf)
+    if count < values.shape[-1]:
+        beyond = np.take_along_axis(distance, nearest[..., count:count + 1], axis=-1)[..., 0]
+        radius = beyond.min(axis=1) - brackets.travel[rows]
+    vectors = shapes[v[:, None, None], ends[:, :, None], nearest[..., :count]]        # (P, 2, c, n)
+    basis = np.linalg.qr(vectors.reshape(len(rows), 2 * count, -1).swapaxes(1, 2))[0]  # (P, n, 2c)
+    theta, coefficients, mass = _pencils.projected_roots(basis, _basis_products(stack, basis), x)
+    theta = np.where(theta.imag > 0, theta, np.nan)                                     # upper roots only
+    # mass-weighted correlation with the reference: psi^H L^T W y, with M = L L^T
+    left = _vectors.real_product(weighted[v, k, mode].conj(), stack.factor[0].T)       # (P, n)
+    along = np.einsum("pr,prj->pj", np.einsum("pn,pnr->pr", left, basis), coefficients)
+    norms = np.einsum("prj,prs,psj->pj", coefficients.conj(), mass, coefficients).real
+    with np.errstate(all="ignore"):
+        cost = (1 - np.abs(along) ** 2 / norms) + np.abs(theta - expected[:, None]) / spread[:, None]
+    cost[~np.isfinite(cost)] = np.inf
+    j = np.argmin(cost, axis=1)
+    picked, best = theta[every, j], cost[every, j]
+    apart = np.abs(theta - picked[:, None])
+    apart[every, j] = np.inf
+    apart[np.isnan(apart)] = np.inf
+    gap = np.minimum(apart.min(axis=1), 2 * np.abs(picked.imag))
+    scale = np.nanmax(np.abs(roots[:, 0]), axis=1)
+    kept = np.isfinite(best) & (best <= radius / spread) & (gap > _eigensolve.REPEATED_TOLERANCE * scale)
+    vectors = _vectors.unit_rows(np.einsum("pnr,pr->pn", basis, coefficients[every, :, j]))
+    return picked, vectors, gap, kept
+
+
+def _basis_products(stack, basis):
+    """``M W, C W, G W, K W`` of one model's constant matrices and bases ``W`` (P, n, r): sparse
+    products where the model's pencils are sparse (:meth:`~._stack.Stack.sparse_entries`)."""
+    count, n, r = basis.shape
+    sparse = stack.sparse_matrices()
+    if sparse is None:
+        flat = basis.swapaxes(1, 2)                                                     # (P, r, n)
+        return tuple(_vectors.real_product(flat, matrix[0].T).swapaxes(1, 2) for matrix in
+                     (stack.M, stack.C, stack.G, stack.K))
+    columns = basis.transpose(1, 0, 2).reshape(n, count * r)
+    return tuple((matrix @ columns).reshape(n, count, r).transpose(1, 0, 2) for matrix in sparse)
 
 
 def _followed(brackets, rows, x, iterates):

@@ -28,7 +28,7 @@ import numpy as np
 
 from ..assembly import excitation_columns, rotor_matrices
 from ..elements.bearings import evaluate
-from ..model.geometry import shift_matrices
+from ..model.geometry import shift_matrices, shift_matrix
 from . import _arguments, _batches
 from .frf import FRFResult, _broadcast, _check_frequencies, _names, dof_response
 
@@ -180,6 +180,14 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
     count, n = len(w), q.shape[-1]
     if not rotors:
         return np.zeros((0, count, 6, n))
+    if any(r.flexible is not None for r in rotors):
+        return _flexible_bearing_forces(model, speed, w, q, rotor_forces)
+    return _inertial_forces(model, rotors, speed, w, q, rotor_forces)
+
+
+def _inertial_forces(model, rotors, speed, w, q, rotor_forces):
+    """:func:`bearing_forces` of some rigid ``rotors`` (their inertia and external forces)."""
+    count, n = len(w), q.shape[-1]
     # every rotor's motion at its centre of mass B_SR^T T_j q in one product, then its mass and
     # gyroscopic matrices on it: -(-w^2 M_j + i w Omega G_j) motion
     to_centres = _to_centres(model, rotors)                                              # (6 R, n_dof)
@@ -192,6 +200,22 @@ def bearing_forces(model, speed, omega, q, rotor_forces=None) -> np.ndarray:
         _inertial(_columns(motion @ masses[part].transpose(0, 2, 1), count),
                   _columns(motion @ gyroscopic[part].transpose(0, 2, 1), count), w, speed,
                   None if rotor_forces is None else rotor_forces[part], out[part])
+    return out
+
+
+def _flexible_bearing_forces(model, speed, w, q, rotor_forces):
+    """:func:`bearing_forces` of a model with flexible rotors: a flexible rotor passes the sum of
+    its bearings' forces (moved to its centre of mass); a rigid rotor's as usual."""
+    rigid = [j for j, r in enumerate(model.rotors) if r.flexible is None]
+    out = np.zeros((len(model.rotors), len(w), 6, q.shape[-1]), dtype=complex)
+    if rigid:
+        out[rigid] = _inertial_forces(model, [model.rotors[j] for j in rigid], speed, w, q,
+                                      None if rotor_forces is None else rotor_forces[rigid])
+    points = bearing_point_forces(model, speed, w, q)
+    for b, bearing in enumerate(model.bearings):
+        j = next(i for i, r in enumerate(model.rotors) if r.name == bearing.rotor)
+        if model.rotors[j].flexible is not None:
+            out[j] += shift_matrix(model.rotors[j].center_of_mass, bearing.position) @ points[b]
     return out
 
 
@@ -313,6 +337,8 @@ def all_forces(model, speed, omega, q, rotor_forces=None, centres=None):
     suspensions, rotors, bearings = model.suspensions, model.rotors, model.bearings
     items = len(suspensions) + len(rotors) + len(bearings)
     groups = _constant_bearing_groups(bearings)
+    if any(r.flexible is not None for r in rotors):
+        groups = None        # a flexible rotor's force is its bearings' (see bearing_forces)
     if not items or groups is None or 96 * q.shape[0] * q.shape[-1] * items > _FORCE_PART_BYTES:
         return (suspension_forces(model, omega, q), bearing_forces(model, speed, omega, q, rotor_forces),
                 bearing_point_forces(model, speed, omega, q))

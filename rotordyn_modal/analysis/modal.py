@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.linalg
@@ -108,6 +109,9 @@ class ModalResult:
     whirl_round_off : ndarray, shape (n_roots,)
         How far round-off can move each whirl ratio; within it the ratio is 0 on the terminal and
         the whirl 'none' (:func:`._roots.whirl_round_off`).
+    dofs : Dofs, optional
+        The model's coordinates, for a point of a flexible rotor in :meth:`shape_at` (its node's
+        motion there; ``body_motions`` holds its node nearest its centre of mass).
     """
 
     speed: float
@@ -126,6 +130,7 @@ class ModalResult:
     body_motions: np.ndarray | None = None
     round_off: float = 0.0
     whirl_round_off: np.ndarray | None = None
+    dofs: Any = None
 
     @property
     def rotor_whirl(self) -> np.ndarray:
@@ -149,7 +154,7 @@ class ModalResult:
         -------
         ndarray, shape (n_roots, 3) or (n_roots,), complex [m per unit modal amplitude]
         """
-        motion = self._motion(body, relative)
+        motion = self._motion(body, relative, point)
         rows = np.array([point_motion_row(point, self.reference_point, axis) for axis in np.eye(3)])
         motion = self.shapes @ (rows @ motion).T
         if direction is None:
@@ -157,7 +162,7 @@ class ModalResult:
         d = np.asarray(direction, dtype=float)
         return motion @ (d / np.linalg.norm(d))
 
-    def _motion(self, body, relative):
+    def _motion(self, body, relative, point=None):
         if body is None or body == "stator":
             return self.body_motions[0]
         if body not in self.rotor_names:
@@ -165,6 +170,9 @@ class ModalResult:
 
             raise InputError(f"body {body!r}: expected None (the stator) or one of the rotors "
                              + ", ".join(self.rotor_names))
+        if point is not None and self.dofs is not None and self.dofs.shaft(body) is not None:
+            motion = self.dofs.motions([(body, False, tuple(np.asarray(point, dtype=float).tolist()))])[0]
+            return motion - self.body_motions[0] if relative else motion
         motion = self.body_motions[1 + self.rotor_names.index(body)]
         return motion - self.body_motions[0] if relative else motion
 
@@ -272,7 +280,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
         dof_names=layout.names, rotor_names=tuple(r.name for r in model.rotors),
         rotor_whirl_ratios=rotor_ratios,
         body_motions=np.array([layout.frame_motion()] + [layout.body_motion(r.name) for r in model.rotors]),
-        round_off=noise, whirl_round_off=ratio_noise,
+        round_off=noise, whirl_round_off=ratio_noise, dofs=layout if layout.shafts else None,
     )
 
 

@@ -98,13 +98,32 @@ def unbalance_forces(model, speeds):
         s, w = np.sign(spin), np.abs(spin)
         total = np.zeros((len(speeds), 6), dtype=complex)
         for u in (u for u in model.unbalances if u.rotor == name):
-            direction = np.exp(1j * s * np.radians(u.phase_deg))[:, None] * (a - 1j * s[:, None] * b)
-            force = u.amount * w[:, None] ** 2 * direction
+            force = _force(u, a, b, s, w)
             arm = u.axial_offset * e
             total += np.concatenate([force, np.cross(arm, force)], axis=1)
         frequencies.append(w)
         forces.append(total)
     return sources, np.array(frequencies).reshape(-1, len(speeds)), np.array(forces).reshape(-1, len(speeds), 6)
+
+
+def _force(u, a, b, s, w) -> np.ndarray:
+    """The complex force of unbalance ``u`` (N, 3) [N] at spin signs ``s`` and frequencies ``w``."""
+    direction = np.exp(1j * s * np.radians(u.phase_deg))[:, None] * (a - 1j * s[:, None] * b)
+    return u.amount * w[:, None] ** 2 * direction
+
+
+def _flexible_generalized(model, name: str, speeds) -> np.ndarray:
+    """Generalized forces of a flexible rotor's unbalances, each at its node, (N, n_dof)."""
+    rotor = model.rotor(name)
+    a, b = phase_reference(model.spin_axis)
+    spin = rotor.speed_ratio * np.asarray(speeds, dtype=float)
+    total = 0.0
+    for u in (u for u in model.unbalances if u.rotor == name):
+        point = np.asarray(rotor.center_of_mass) + u.axial_offset * model.spin_axis
+        wrench = np.concatenate([_force(u, a, b, np.sign(spin), np.abs(spin)), np.zeros((len(spin), 3))], axis=1)
+        total = total + generalized_force(model, name, point, wrench,
+                                          motion=model.dofs.body_motion(name, point))
+    return total
 
 
 @dataclass(frozen=True)
@@ -454,6 +473,8 @@ def _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts,
     ``motions`` (R, 6, n_dof): each rotor's ``shift_matrix(S, R_j)`` and body motion)."""
     index = {r.name: k for k, r in enumerate(model.rotors)}
     each = [generalized_force(model, src, None, rotor_forces[j], shifts[index[src]], motions[index[src]])
+            if model.rotor(src).flexible is None else
+            _flexible_generalized(model, src, np.reshape(speed_all, (len(sources), -1))[j])
             for j, src in enumerate(sources)]                                  # (n_src, N, n_dof)
     generalized = np.stack(each) if len(each) > 1 else each[0]
     return dof_response(model, speed_all, omega, generalized.reshape(len(omega), -1)[:, :, None])

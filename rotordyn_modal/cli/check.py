@@ -12,7 +12,13 @@ NAME = "check"
 HELP = "validate a model file and print a summary"
 DESCRIPTION = """Validate MODEL and print (in the units of --units: kg, m, N/m or lb, in, lbf/in,
 lb in², oz in, reyn) its masses, rotors with their speed ratios,
-suspensions, bearings and generalized coordinates. Exit code 0 when the model is valid, 2 (with one message naming the
+suspensions, bearings and generalized coordinates; for each flexible rotor (one with a shaft) its
+mesh (nodes, elements), mass, centre of mass, polar and diametral inertia computed from its shaft,
+disks and point masses, and its first bending natural frequency at rest, free-free and on its
+bearings (the stator held still; tabulated bearings at their first row; not with journal bearings,
+which hold nothing at rest): the lowest mode with the share of its strain energy in the shaft, and
+the lowest mode with most of its strain energy in the shaft.
+Exit code 0 when the model is valid, 2 (with one message naming the
 file, table, key, value and what was expected) when it is not. What is legal but probably not
 meant (a static sag of over 0.1 m under gravity: a stiffness in N/mm given as N/m; a mount mode
 below 0.5 Hz; a journal bearing longer than its diameter) is printed on stderr, one warning line
@@ -50,6 +56,7 @@ def summary(model, system: str = "si") -> str:
                      f"Jp {u(r.polar_inertia, 'inertia'):.4g}"
                      f"  Jd {u(r.diametral_inertia, 'inertia'):.4g} {u.label('inertia')}  speed ratio "
                      f"{r.speed_ratio:+.6g}")
+    lines += _flexible_lines(model, u)
     for t in model.transmissions:
         teeth = f", {t.driver_teeth} driver teeth" if t.driver_teeth else ""
         lines.append(f"  {t.type} {t.driver} -> {t.driven}: ratio {t.ratio:g}{teeth}")
@@ -65,7 +72,7 @@ def summary(model, system: str = "si") -> str:
                  f"unbalances: {len(model.unbalances)}")
     lines += _grade_lines(model, u)
     layout = model.dofs
-    lines.append(f"  coordinates ({layout.n}): {', '.join(layout.names)}")
+    lines.append(f"  coordinates ({layout.n}): {', '.join(_coordinate_names(model))}")
     rank = np.linalg.matrix_rank(K)
     if rank < layout.n and not model.speed_dependent:
         lines.append(f"  note: the suspensions and bearings restrain {rank} of {layout.n} directions "
@@ -100,6 +107,53 @@ def _grade_lines(model, units=_Units()) -> list[str]:
                 f"{to_system(u.amount, 'unbalance', units.system):.6g} {units.label('unbalance')}"
             lines.append(f"    unbalances[{k}] on {u.rotor!r}: G{u.grade:g} at {u.service_speed_rpm:g} rpm of "
                          f"{units(mass, 'mass'):.6g} {units.label('mass')} -> {amount} (ISO 21940-11, G m / Omega)")
+    return lines
+
+
+def _coordinate_names(model) -> list[str]:
+    """The coordinates' names, a flexible rotor's node coordinates as one range."""
+    names = list(model.dofs.names)
+    for rotor in model.rotors:
+        shaft = model.dofs.shaft(rotor.name)
+        if shaft is None:
+            continue
+        own = model.dofs.slices[model.dofs.rotors.index(rotor.name)]
+        nodes = 4 * shaft.mesh.n_nodes
+        names[own.start:own.start + nodes] = [f"{names[own.start]} ... {names[own.start + nodes - 1]} "
+                                              f"({shaft.mesh.n_nodes} nodes x 4)"]
+    return names
+
+
+def _flexible_lines(model, u=_Units()) -> list[str]:
+    """Mesh, mass properties and first bending frequencies of each flexible rotor."""
+    from ..model.flexible import bending_frequencies
+
+    lines = []
+    for rotor in model.rotors:
+        shaft = rotor.flexible
+        if shaft is None:
+            continue
+        bearings = model.bearings_of(rotor.name)
+        at_rest = all(b.coefficients.kind != "journal" for b in bearings)   # a film holds nothing at rest
+        supports = [(shaft.z_of(b.position), b.coefficients.stiffness[0]) for b in bearings] if at_rest else []
+        free, (lowest, share), bending = bending_frequencies(shaft, supports)
+        if not at_rest:
+            held = "on its bearings: not computed (a journal bearing has no stiffness at rest)"
+        elif not lowest > 0:
+            held = "on its bearings: the bearings leave it free at rest"
+        else:
+            held = (f"on its bearings (stator held) lowest mode {lowest:.6g} Hz ({share:.0%} of its strain energy "
+                    f"in the shaft), first mostly bending (over 50 % in the shaft) {bending:.6g} Hz")
+        m, kg, inertia = u.label("length"), u.label("mass"), u.label("inertia")
+        lines += [f"  flexible rotor {rotor.name}: shaft {u(shaft.length, 'length'):.6g} {m} from "
+                  f"{np.round(u(shaft.start, 'length'), 6).tolist()} {m}, "
+                  f"{len(shaft.sections)} sections, {len(shaft.disks)} disks, {len(shaft.point_masses)} point masses; "
+                  f"mesh {shaft.mesh.n_nodes} nodes, {len(shaft.mesh.elements)} elements (shear {shaft.shear})",
+                  f"    mass {u(rotor.mass, 'mass'):.6g} {kg}, centre of mass "
+                  f"{np.round(u(rotor.center_of_mass, 'length'), 6).tolist()} {m}, polar inertia "
+                  f"{u(rotor.polar_inertia, 'inertia'):.6g} {inertia}, diametral inertia "
+                  f"{u(rotor.diametral_inertia, 'inertia'):.6g} {inertia}",
+                  f"    at rest: first bending frequency free-free {free:.6g} Hz; {held}"]
     return lines
 
 

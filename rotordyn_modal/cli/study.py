@@ -259,9 +259,12 @@ def _report(result, band):
     if failed:
         reasons = result.dataset["error"].values[result.failed]
         print(f"first failure: {reasons[0]}", file=sys.stderr)
-    table = _in_rpm(result.summary())
+    table = result.summary()
     if len(table):
+        table = _in_rpm(table)
         print_table(table[[c for c in table.columns if not c.endswith(("_low", "_high"))]])
+    else:
+        print("no scalar output to summarise: the curves (Campbell, responses) are in the results file")
     if band is not None and "critical_speed" in result.dataset:
         p = result.probability_in_band(band[0] * np.pi / 30, band[1] * np.pi / 30)
         print(f"P(critical speed in {band[0]:g}-{band[1]:g} rpm) = {p['probability']:.4g} "

@@ -18,6 +18,7 @@ from ..model._table import LARGEST, Table, magnitude_problem, semidefinite_probl
 from .bearings import BearingCoefficients, JournalData, local_to_model
 from ..model.components import Bearing, input_keys, is_finite_number
 from ..errors import ModelError
+from ..model.flexible import station_z
 from ..model.geometry import shift_matrix, transverse_axes
 
 __all__ = ["bearings", "check_frame", "journal_load_shares", "LONGEST_JOURNAL", "LONG_JOURNAL"]
@@ -86,7 +87,13 @@ def _bearing(table: Table, rotors, e: np.ndarray) -> Bearing:
 
 
 def _on_spin_axis(table: Table, rotor, e: np.ndarray) -> np.ndarray:
-    """The bearing point, which must lie on the rotor's spin axis (snapped onto it)."""
+    """The bearing point, which must lie on the rotor's spin axis (snapped onto it); on a
+    flexible rotor a station of its shaft (``position`` or ``axial_position``)."""
+    if rotor.flexible is not None:
+        return station_z(table, rotor.flexible, rotor.name)[0]
+    if "axial_position" in table.data:
+        raise table.error("axial_position", table.data["axial_position"], "no value: axial_position places a "
+                          "bearing on a flexible rotor (one with a [[rotors.shaft]]); give position")
     position = table.vector3("position", required=True)
     centre = np.asarray(rotor.center_of_mass)
     along = (position - centre) @ e

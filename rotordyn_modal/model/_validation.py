@@ -8,6 +8,7 @@ what was expected.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections import deque
 from typing import Any, Mapping
@@ -18,6 +19,7 @@ from ..errors import ModelError
 from ..unbalance_standards import BALANCE_GRADES, balance_grade, permissible_unbalance
 from ..elements import _bearing_validation
 from ..elements._mount_validation import suspension as _suspension
+from . import flexible as _flexible
 from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, semidefinite_problem, visible, \
     visible_names
 from .components import (
@@ -85,6 +87,7 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
     stator = None
     if "stator" in data:
         stator = reuse.part("stator", None, data["stator"]) or _stator(source, data["stator"])
+    materials = _flexible.materials(source, data)
     rotor_tables = _named_tables(source, data, "rotors")
     if not rotor_tables and stator is None:
         raise top.error("rotors", [], "at least one [[rotors]] table or a [stator] table")
@@ -95,27 +98,34 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
                      for i, t in enumerate(transmission_tables)]
     _check_mesh_names(transmission_tables, transmissions, rotor_tables)
     ratios = _speed_ratios(source, rotor_tables, transmissions, reference)
-    rotors = [reuse.rotor(i, t.data, ratios[name]) or _rotor(t, ratios[name])
+    flexible_kept = reuse.same_list(data, "materials") and reuse.same_axis(spin_axis)
+    rotors = [reuse.rotor(i, t.data, ratios[name], flexible_kept or "shaft" not in t.data)
+              or _rotor(t, ratios[name], materials, spin_axis)
               for i, (name, t) in enumerate(rotor_tables.items())]
     suspensions = [_suspension(t, reuse.earlier("suspensions", i))
                    for i, t in enumerate(_named_tables(source, data, "suspensions").values())]
+    shafts = {r.name: r.flexible for r in rotors if r.flexible is not None}
+    unbalance_tables = _indexed_tables(source, data, "unbalances")
     # an unbalance given by a balance grade follows its rotor's mass: earlier only with the same rotors
-    unbalances = [reuse.part("unbalances", i, t.data, names_kept and (
+    unbalances = [reuse.part("unbalances", i, t.data, names_kept and not shafts and (
                       "grade" not in t.data or reuse.same_list(data, "rotors")))
                   or _unbalance(t, rotor_tables, rotors)
-                  for i, t in enumerate(_indexed_tables(source, data, "unbalances"))]
+                  for i, t in enumerate(unbalance_tables)]
+    unbalances = [_flexible_unbalance(t, u, rotors) for t, u in zip(unbalance_tables, unbalances)]
     gravity = top.vector3("gravity", default=[0.0, 0.0, 0.0])
     bearing_tables = _named_tables(source, data, "bearings")
     bearings = reuse.bearings(data, rotors, spin_axis, gravity)
     if bearings is None:
         bearings = _bearing_validation.bearings(bearing_tables, rotors, spin_axis, gravity)
     on_bearings = {b.rotor for b in bearings}
-    sensors = [reuse.part("sensors", i, t.data, names_kept and reuse.same_carriers(bearings))
-               or _sensor(t, rotor_tables, on_bearings)
+    sensors = [reuse.part("sensors", i, t.data, names_kept and reuse.same_carriers(bearings) and not shafts)
+               or _sensor(t, rotor_tables, on_bearings, shafts)
                for i, t in enumerate(_named_tables(source, data, "sensors").values())]
-    excitations = [reuse.part("excitations", i, t.data, names_kept) or _excitation(t, rotor_tables)
+    excitations = [reuse.part("excitations", i, t.data, names_kept and not shafts)
+                   or _excitation(t, rotor_tables, shafts)
                    for i, t in enumerate(_named_tables(source, data, "excitations").values())]
     _bearing_validation.check_frame(top, stator, suspensions, bearings, sensors, excitations)
+    rotors = _meshed(top, rotors, bearings, unbalances, sensors, excitations)
     return {
         "name": name, "spin_axis": spin_axis, "reference_rotor": reference, "gravity": gravity,
         "stator": stator, "rotors": tuple(rotors), "transmissions": tuple(transmissions),
@@ -152,9 +162,10 @@ class _Reuse:
         earlier = self.earlier(key, index) if context else None
         return earlier[1] if earlier is not None and earlier[0] is raw else None
 
-    def rotor(self, index: int, raw, ratio: float):
-        """The earlier rotor when its table is shared and its speed ratio unchanged."""
-        part = self.part("rotors", index, raw)
+    def rotor(self, index: int, raw, ratio: float, context: bool = True):
+        """The earlier rotor when its table is shared and its speed ratio unchanged (and, for a
+        flexible rotor, the materials too: ``context``)."""
+        part = self.part("rotors", index, raw, context)
         return part if part is not None and part.speed_ratio == ratio else None
 
     def same_names(self, rotor_tables) -> bool:
@@ -175,6 +186,10 @@ class _Reuse:
         if not (_identical(spin_axis, self.parts["spin_axis"]) and _identical(gravity, self.parts["gravity"])):
             return None
         return list(self.parts["bearings"])
+
+    def same_axis(self, spin_axis) -> bool:
+        """The earlier spin axis, bit for bit (a flexible rotor's shaft runs along it)."""
+        return bool(self.raw) and _identical(spin_axis, self.parts["spin_axis"])
 
     def same_carriers(self, bearings) -> bool:
         """The same rotors sit on bearings as before (what a relative sensor needs)."""
@@ -269,8 +284,14 @@ def _stator(source: str, raw) -> Stator:
     )
 
 
-def _rotor(table: _Table, ratio: float) -> Rotor:
+def _rotor(table: _Table, ratio: float, materials=None, spin_axis=None) -> Rotor:
     table.check_keys(input_keys("rotors"))
+    if "shaft" in table.data:
+        return _flexible_rotor(table, ratio, materials or {}, spin_axis)
+    for key in _flexible.SHAFT_KEYS:
+        if key in table.data:
+            raise table.error(key, table.data[key], "no value on a rigid rotor (a rotor with a [[rotors.shaft]] "
+                              "is flexible; only then does it take disks, point_masses, start, shear, element_length)")
     polar = table.number("polar_inertia", required=True, positive=True)
     diametral = table.number("diametral_inertia", required=True, positive=True)
     if polar > 2.0 * diametral * (1 + 1e-12):
@@ -287,6 +308,71 @@ def _rotor(table: _Table, ratio: float) -> Rotor:
         diametral_inertia=diametral,
         speed_ratio=ratio,
     )
+
+
+def _flexible_rotor(table: _Table, ratio: float, materials, spin_axis) -> Rotor:
+    """A rotor with a shaft: its mass, centre and inertias computed (and any given checked)."""
+    shaft = _flexible.shaft(table, materials, spin_axis)
+    mass, centre, polar, diametral = _flexible.mass_properties(shaft)
+    _flexible.check_consistent(table, {"mass": mass, "center_of_mass": centre, "polar_inertia": polar,
+                                       "diametral_inertia": diametral, "_length": shaft.length})
+    keys = {k: table.data[k] for k in _flexible.SHAFT_KEYS if k in table.data}
+    return Rotor(name=table.data["name"], mass=mass, center_of_mass=centre, polar_inertia=polar,
+                 diametral_inertia=diametral, speed_ratio=ratio, **keys, flexible=shaft)
+
+
+def _flexible_unbalance(table: _Table, unbalance: Unbalance, rotors) -> Unbalance:
+    """An unbalance with its station: on a flexible rotor ``axial_position`` (from the shaft's
+    start) or ``axial_offset`` (from the centre of mass) places it on the shaft, and
+    ``axial_offset`` is made the one from the centre of mass; a rigid rotor takes no
+    ``axial_position``."""
+    rotor = next(r for r in rotors if r.name == unbalance.rotor)
+    shaft = rotor.flexible
+    if shaft is None:
+        if "axial_position" in table.data:
+            raise table.error("axial_position", table.data["axial_position"], "no value: axial_position places "
+                              "an unbalance on a flexible rotor (on a rigid rotor use axial_offset)")
+        return unbalance
+    centre = shaft.z_of(rotor.center_of_mass)
+    if "axial_position" in table.data:
+        if "axial_offset" in table.data:
+            raise table.error("axial_position", table.data["axial_position"], "either axial_offset or "
+                              "axial_position, not both")
+        _, z = _flexible.station_z(table, shaft, rotor.name, key="axial_position")
+    else:
+        z = centre + unbalance.axial_offset
+        _flexible._check_on_shaft(table, "axial_offset", z, shaft.length)
+    return dataclasses.replace(unbalance, axial_offset=z - centre)
+
+
+def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations):
+    """The rotors, each flexible one with its mesh: a node at every station of the model on it."""
+    out = []
+    for rotor in rotors:
+        shaft = rotor.flexible
+        if shaft is None:
+            out.append(rotor)
+            continue
+        mine = [b for b in bearings if b.rotor == rotor.name]
+        if not mine:
+            raise _Table(top.source, f"rotors.{visible(rotor.name)}", {}).error(
+                "shaft", "[[rotors.shaft]]", "[[bearings]] carrying this rotor: a flexible rotor needs bearings "
+                "(one welded to the stator would be a rigid part of it; give it no shaft, or bearings)")
+        centre = shaft.z_of(rotor.center_of_mass)
+        stations = [shaft.z_of(b.position) for b in mine]
+        stations += [centre + u.axial_offset for u in unbalances if u.rotor == rotor.name]
+        stations += [shaft.z_of(x.position) for x in (*sensors, *excitations)
+                     if x.rotor == rotor.name and x.position is not None]
+        meshed = _flexible.with_mesh(shaft, stations)
+        if meshed.mesh.n_nodes > _flexible.MAX_NODES:
+            raise _Table(top.source, f"rotors.{visible(rotor.name)}", {}).error(
+                "element_length", shaft.element_length, f"a mesh of at most {_flexible.MAX_NODES} nodes with the "
+                f"model's stations (it would have {meshed.mesh.n_nodes}: give a longer element_length)")
+        if shaft.mesh is not None and np.array_equal(shaft.mesh.z, meshed.mesh.z):
+            out.append(rotor)            # a study's variant: the same rotor, the same mesh
+        else:
+            out.append(dataclasses.replace(rotor, flexible=meshed))
+    return out
 
 
 def _transmission(table: _Table, rotor_tables) -> Transmission:
@@ -432,7 +518,7 @@ def _graded_unbalance(table: _Table, rotor, common) -> Unbalance:
     return Unbalance(amount=amount, grade=grade, service_speed_rpm=speed, mass=mass, **common)
 
 
-def _sensor(table: _Table, rotor_names, on_bearings) -> Sensor:
+def _sensor(table: _Table, rotor_names, on_bearings, shafts=None) -> Sensor:
     table.check_keys(input_keys("sensors"))
     direction = table.vector3("direction", required=True, nonzero=True)
     rotor = _carrying_rotor(table, rotor_names)
@@ -443,19 +529,35 @@ def _sensor(table: _Table, rotor_names, on_bearings) -> Sensor:
     if measure == "relative" and rotor not in on_bearings:
         raise table.error("measure", measure, f"'absolute': rotor {rotor!r} has no [[bearings]], so "
                           "its motion relative to the stator is zero")
-    return Sensor(name=table.data["name"], position=table.vector3("position", required=True),
+    position = _station(table, rotor, shafts, required=True)
+    return Sensor(name=table.data["name"], position=position,
                   direction=direction / np.linalg.norm(direction), rotor=rotor, measure=measure)
 
 
-def _excitation(table: _Table, rotor_names) -> Excitation:
+def _station(table: _Table, rotor, shafts, required: bool):
+    """The point of a sensor or excitation: on a flexible rotor a station of its shaft
+    (``position`` on its axis, or ``axial_position``), else ``position`` as given."""
+    shaft = (shafts or {}).get(rotor)
+    if shaft is not None:
+        return _flexible.station_z(table, shaft, rotor, required=required)[0]
+    if "axial_position" in table.data:
+        raise table.error("axial_position", table.data["axial_position"], "no value: axial_position places a "
+                          "point on a flexible rotor (rotor = NAME of a rotor with a shaft); give position")
+    return table.vector3("position", required=required)
+
+
+def _excitation(table: _Table, rotor_names, shafts=None) -> Excitation:
     table.check_keys(input_keys("excitations"))
     kind = table.text("kind", default="force", choices=("force", "moment"))
     direction = table.vector3("direction", required=True, nonzero=True)
-    position = table.vector3("position", default=None if kind == "force" else [0.0, 0.0, 0.0],
-                             required=kind == "force")
+    rotor = _carrying_rotor(table, rotor_names)
+    position = _station(table, rotor, shafts, required=kind == "force")
+    if position is None and kind == "moment":
+        position = np.zeros(3) if (shafts or {}).get(rotor) is None else None
+    if position is None:
+        position = table.vector3("position", required=True)
     return Excitation(name=table.data["name"], position=position,
-                      direction=direction / np.linalg.norm(direction), kind=kind,
-                      rotor=_carrying_rotor(table, rotor_names))
+                      direction=direction / np.linalg.norm(direction), kind=kind, rotor=rotor)
 
 
 def _carrying_rotor(table: _Table, rotor_names) -> str | None:

@@ -23,11 +23,11 @@ __all__ = [
 #: keys read at the top level of a model description
 TOP_LEVEL_KEYS = (
     "name", "spin_axis", "reference_rotor", "gravity", "stator", "rotors", "transmissions",
-    "suspensions", "bearings", "unbalances", "sensors", "excitations",
+    "suspensions", "bearings", "unbalances", "sensors", "excitations", "materials",
 )
 #: the tables that are arrays of tables
 ARRAY_TABLES = ("rotors", "transmissions", "suspensions", "bearings", "unbalances", "sensors",
-                "excitations")
+                "excitations", "materials")
 
 
 
@@ -71,6 +71,10 @@ class Rotor:
     speed_ratio : float or None
         Spin speed / reference speed, signed about ``spin_axis``; None when a
         transmission fixes it. After validation it holds the resolved ratio.
+    shaft, disks, point_masses, start, shear, element_length
+        The keys of a flexible rotor (docs/model-file.md, "Flexible rotors"). After validation
+        :attr:`flexible` holds its :class:`~rotordyn_modal.model.flexible.Shaft` with the mesh,
+        and ``mass`` ... ``diametral_inertia`` the values computed from it; None for a rigid rotor.
     """
 
     name: str
@@ -79,6 +83,13 @@ class Rotor:
     polar_inertia: float
     diametral_inertia: float
     speed_ratio: float | None = None
+    shaft: Any = None
+    disks: Any = None
+    point_masses: Any = None
+    start: Any = None
+    shear: str | None = None
+    element_length: float | None = None
+    flexible: Any = field(default=None, repr=False, compare=False)
 
 
 @dataclass(frozen=True)
@@ -190,6 +201,7 @@ class Bearing:
     viscosity: float | None = None
     load: float | None = None
     load_direction: Any = None
+    axial_position: float | None = None
     coefficients: Any = field(default=None, repr=False, compare=False)
 
 
@@ -211,6 +223,7 @@ class Unbalance:
     grade: Any = None
     service_speed_rpm: float | None = None
     mass: float | None = None
+    axial_position: float | None = None
 
 
 @dataclass(frozen=True)
@@ -229,6 +242,7 @@ class Sensor:
     direction: Any
     rotor: str | None = None
     measure: str = "absolute"
+    axial_position: float | None = None
 
 
 @dataclass(frozen=True)
@@ -241,6 +255,7 @@ class Excitation:
     direction: Any
     kind: str = "force"
     rotor: str | None = None
+    axial_position: float | None = None
 
 
 _COMPONENTS = {
@@ -257,7 +272,7 @@ _COMPONENTS = {
 
 def _input_keys(cls) -> tuple[str, ...]:
     return tuple(f.name for f in dataclasses.fields(cls)
-                 if f.init and not f.name.endswith("_matrix") and f.name != "coefficients")
+                 if f.init and not f.name.endswith("_matrix") and f.name not in ("coefficients", "flexible"))
 
 
 def component_class(table: str):

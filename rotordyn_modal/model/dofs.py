@@ -11,6 +11,16 @@
   transverse axes ``a, b`` of :func:`~rotordyn_modal.model.geometry.transverse_axes`
   (and the spin axis ``e`` when a bearing gives an axial stiffness). The spin
   itself is fixed by the speed ratio.
+* ``p_j`` for a *flexible* rotor (one with a shaft, :mod:`rotordyn_modal.model.flexible`): per
+  node ``k`` of its mesh (from the shaft's start, ``k = 0, 1, ...``) the node's motion relative
+  to the stator ``[u_a, u_b, theta_a, theta_b]`` (names ``ROTOR.nK.ua`` ... ``ROTOR.nK.rb``, with
+  model axis letters for ``a, b`` when they are model axes: ``pump.n3.uy``), then ``ROTOR.ue``
+  when a bearing gives an axial stiffness: one axial motion of the whole rotor (the shaft is
+  rigid axially). A station's motion on a flexible rotor is its node's motion: the relative
+  motion ``N_P`` (6 x k_j) at a point P of the axis is that of the node at P; written as a
+  rigid motion at S it is ``B_PS^T N_P`` (the motion of a rigid body that moves as the node).
+  Where no point is named (a "body motion", :meth:`Dofs.body_motion`) a flexible rotor's
+  motion is that of its node nearest its centre of mass.
 
 Every body's small rigid motion, written at S, is a linear map of ``q``:
 ``T_stator = [I, 0]`` and, for rotor j, ``T_j = T_stator + B_RjS^T P_j E_j``
@@ -60,6 +70,7 @@ class Dofs:
     slices: tuple = ()
     bases: tuple = ()
     centres: tuple = ()
+    shafts: tuple = ()
 
     @property
     def n(self) -> int:
@@ -93,18 +104,36 @@ class Dofs:
     def local_relative_motions(self, rotor: str, points) -> np.ndarray:
         """:meth:`local_relative_motion` at each of ``points`` (P, 3), made together, (P, 6, k_j)."""
         j = self.rotors.index(rotor)
+        if self.shafts and self.shafts[j] is not None:
+            return _node_motions(self.shafts[j], self.bases[j].shape[1], points)
         return shift_matrices(self.centres[j], points).transpose(0, 2, 1) @ self.bases[j]
+
+    def shaft(self, rotor: str):
+        """The flexible rotor's :class:`~rotordyn_modal.model.flexible.Shaft`, or None (rigid, or
+        not on bearings)."""
+        if not self.shafts or rotor not in self.rotors:
+            return None
+        return self.shafts[self.rotors.index(rotor)]
+
+    def station(self, rotor: str, point=None) -> np.ndarray:
+        """The node of a flexible rotor at ``point`` (default: nearest its centre of mass), (3,) [m]."""
+        shaft = self.shafts[self.rotors.index(rotor)]
+        target = self.centres[self.rotors.index(rotor)] if point is None else point
+        return shaft.point(shaft.mesh.z[shaft.mesh.node(shaft.z_of(target))])
 
     def motion(self, body: str | None = None, relative: bool = False) -> np.ndarray:
         """:meth:`relative_motion` of ``body`` when ``relative``, else its :meth:`body_motion`."""
         return self.motions([(body, relative)])[0]
 
-    def body_motion(self, body: str | None = None) -> np.ndarray:
-        """Motion ``[u, theta]`` at S of the stator (``None``/'stator') or of a rotor, shape (6, n)."""
-        return self.motions([(body, False)])[0]
+    def body_motion(self, body: str | None = None, point=None) -> np.ndarray:
+        """Motion ``[u, theta]`` at S of the stator (``None``/'stator') or of a rotor, shape (6, n)
+        (of a flexible rotor: as its node at ``point`` moves, see the module docstring)."""
+        return self.motions([(body, False) if point is None else (body, False, tuple(point))])[0]
 
     def motions(self, keys, known=None) -> np.ndarray:
-        """:meth:`motion` of each ``(body, relative)`` key, shape (K, 6, n), made together.
+        """:meth:`motion` of each ``(body, relative)`` or ``(body, relative, point)`` key, shape
+        (K, 6, n), made together (``point`` (3,) [m]: the station of a flexible rotor whose
+        motion is meant; ignored for the stator and rigid rotors).
 
         A body's motion is the frame's (the identity on the frame's coordinates), plus on its
         own coordinates its relative motion ``B_RP^T P_j`` at S (added to the frame's zeros:
@@ -113,15 +142,20 @@ class Dofs:
         """
         out = np.zeros((len(keys), 6, self.n))
         k = self.n_frame
-        for i, (body, relative) in enumerate(keys):
-            if known is not None and (body, relative) in known:
-                out[i] = known[body, relative]
+        for i, key in enumerate(keys):
+            body, relative, point = (*key, None)[:3]
+            if known is not None and key in known:
+                out[i] = known[key]
                 continue
             if not relative:
                 out[i, :, :k] = _EYE6[:, :k]
             if body is not None and body != "stator" and self.on_bearings(body):
                 own = self.slices[self.rotors.index(body)]
-                local = self.local_relative_motion(body, self.reference_point)
+                if self.shaft(body) is not None:   # the node's motion, as a rigid motion at S
+                    node = self.station(body, point)
+                    local = shift_matrices(node, self.reference_point)[0].T @ self.local_relative_motion(body, node)
+                else:
+                    local = self.local_relative_motion(body, self.reference_point)
                 if relative:
                     out[i, :, own] = local
                 else:
@@ -135,21 +169,51 @@ def dofs(model) -> Dofs:
     names = [f"{'frame' if frame == 'frame' else 'stator'}.{kind}{axis}"
              for kind in "ur" for axis in "xyz"] if frame != "ground" else []
     letters = _axis_letters(model.spin_axis)
-    rotors, slices, bases, centres = [], [], [], []
+    rotors, slices, bases, centres, shafts = [], [], [], [], []
     for rotor in model.rotors:
         mine = [b for b in model.bearings if b.rotor == rotor.name]
         if not mine:
             continue
         axial = any(b.coefficients.axial for b in mine)
-        basis, labels = _relative_basis(model.spin_axis, axial, letters)
+        if rotor.flexible is not None:
+            basis, labels = _flexible_basis(rotor.flexible, axial, letters)
+        else:
+            basis, labels = _relative_basis(model.spin_axis, axial, letters)
         slices.append(slice(len(names), len(names) + basis.shape[1]))
         names += [f"{rotor.name}.{label}" for label in labels]
         rotors.append(rotor.name)
         bases.append(basis)
         centres.append(np.asarray(rotor.center_of_mass, dtype=float))
+        shafts.append(rotor.flexible)
     return Dofs(names=tuple(names), reference_point=np.asarray(model.reference_point, dtype=float),
                 frame=frame, rotors=tuple(rotors), slices=tuple(slices), bases=tuple(bases),
-                centres=tuple(centres))
+                centres=tuple(centres), shafts=tuple(shafts) if any(s is not None for s in shafts) else ())
+
+
+def _flexible_basis(shaft, axial: bool, letters):
+    """A flexible rotor's ``P_j`` at its first node (6, k) (only its width is used: see
+    :func:`_node_motions`) and its coordinate labels: 4 per node, then the axial one."""
+    count = shaft.mesh.n_nodes
+    labels = [f"n{k}.{kind}{letters[axis]}" for k in range(count) for kind, axis in
+              (("u", 0), ("u", 1), ("r", 0), ("r", 1))]
+    if axial:
+        labels.append(f"u{letters[2]}")
+    return _node_motions(shaft, len(labels), [shaft.start])[0], labels
+
+
+def _node_motions(shaft, width: int, points) -> np.ndarray:
+    """``N_P``: the relative motion ``[u, theta]`` of the node at each point per coordinate of
+    the flexible rotor (node ``k``: ``u = a u_a + b u_b (+ e u_e)``, ``theta = a theta_a + b
+    theta_b``), shape (P, 6, width)."""
+    a, b = transverse_axes(shaft.axis)
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    out = np.zeros((len(points), 6, width))
+    for p, point in enumerate(points):
+        k = 4 * shaft.mesh.node(shaft.z_of(point))
+        out[p, :3, k], out[p, :3, k + 1], out[p, 3:, k + 2], out[p, 3:, k + 3] = a, b, a, b
+    if width % 4:
+        out[:, :3, -1] = shaft.axis
+    return out
 
 
 def _relative_basis(spin_axis, axial: bool, letters):

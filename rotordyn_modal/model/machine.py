@@ -281,13 +281,52 @@ def _own_value(data: dict, key: str, source: str, owned: set):
                 data[table] = list(data[table])
                 owned.add(id(data[table]))
             items = data[table]
-            items[next(i for i, item in enumerate(items) if item is container)] = copy
+            place = next((i for i, item in enumerate(items) if item is container), None)
+            if place is None:       # a rotor's section, disk or point mass: copy the rotor's list too
+                _own_nested(items, container, copy, owned)
+            else:
+                items[place] = copy
         owned.add(id(copy))
         container = copy
     if (id(container), field) not in owned:
         container[field] = _validation.plain_copy({field: container[field]}, source)[field]
         owned.add((id(container), field))
     return container, field, indices
+
+
+def _own_nested(items: list, container: dict, copy: dict, owned: set) -> None:
+    """Put ``copy`` where ``container`` sits inside one of ``items`` (``rotors[i][key][k]``, or deeper:
+    ``rotors[i].shaft[k].layers[j]``), the tables and lists copied on the way (once: ``owned``)."""
+    if not _replace_in(items, container, copy, owned):
+        raise AssertionError("a nested table not found in its array")  # pragma: no cover
+
+
+def _replace_in(items: list, container: dict, copy: dict, owned: set) -> bool:
+    for i, item in enumerate(items):
+        if item is container:
+            items[i] = copy
+            return True
+        if not isinstance(item, dict):
+            continue
+        for key, inner in item.items():
+            if isinstance(inner, list) and _holds(inner, container):
+                if id(item) not in owned:
+                    item = items[i] = dict(item)
+                    owned.add(id(item))
+                if id(item[key]) not in owned:
+                    item[key] = list(inner)
+                    owned.add(id(item[key]))
+                return _replace_in(item[key], container, copy, owned)
+    return False
+
+
+def _holds(value, container: dict) -> bool:
+    """``container`` is ``value`` or inside its arrays of tables."""
+    if value is container:
+        return True
+    if isinstance(value, list):
+        return any(_holds(x, container) for x in value)
+    return isinstance(value, dict) and any(isinstance(v, list) and _holds(v, container) for v in value.values())
 
 
 _TABLE_OF = {Stator: "stator", Rotor: "rotors", Transmission: "transmissions",

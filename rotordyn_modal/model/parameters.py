@@ -5,7 +5,10 @@ called ``mount-FL``; ``rotors.fan.polar_inertia`` likewise; ``stator.mass`` a
 key of the stator table; ``spin_axis`` a top-level key. Tables of arrays
 without names (transmissions, unbalances) are addressed by their index:
 ``transmissions.0.ratio``. One element of an array is selected with indices:
-``suspensions.mount-FL.stiffness[2]`` or ``...stiffness[3][4]``.
+``suspensions.mount-FL.stiffness[2]`` or ``...stiffness[3][4]``. A flexible rotor's sections,
+disks and point masses are reached through it: ``rotors.pump.shaft.3.outer_diameter`` (section 3,
+counted from 0), ``rotors.pump.disks.impeller.mass``; a material's by its name:
+``materials.steel.young_modulus``.
 """
 
 from __future__ import annotations
@@ -43,6 +46,7 @@ def parse_key(key: str, data: dict, source: str = "<model>"):
     table, _, rest = path.partition(".")
     if table in ARRAY_TABLES:
         container, field = _array_element(data, table, rest, key, source)
+        container, field = _nested_element(container, field, key, source)
     elif table == "stator" and rest:
         container, field = data.get("stator", {}), rest
         if "stator" not in data:
@@ -70,6 +74,19 @@ def _array_element(data, table, rest, key, source):
             return item, rest[len(str(i)) + 1:]
     raise InputError(f"{source}: parameter key {key!r}: expected {table}.NAME.KEY with NAME one of "
                      + (visible_names(names) or f"(no [[{table}]] defined)"))
+
+
+def _nested_element(container, field, key, source):
+    """Into the arrays of tables a table holds: ``shaft.3.outer_diameter`` of a rotor names the
+    key ``outer_diameter`` of its section 3, ``disks.impeller.mass`` that of its disk called
+    ``impeller`` (by name, or by index for tables without names)."""
+    while "." in field:
+        sub, _, rest = field.partition(".")
+        items = container.get(sub)
+        if not (isinstance(items, list) and items and all(isinstance(item, dict) for item in items)):
+            break
+        container, field = _array_element(container, sub, rest, key, source)
+    return container, field
 
 
 def get_value(data: dict, key: str, source: str = "<model>"):

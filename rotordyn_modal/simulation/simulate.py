@@ -105,6 +105,11 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     >>> bool(abs(res.spin_speed[-1] / 50.0 - 1) < 1e-3)
     True
     """
+    flexible = [r.name for r in model.rotors if r.flexible is not None]
+    if flexible:
+        raise InputError(f"{model.source}: rotor {flexible[0]!r} is flexible (it has a [[rotors.shaft]]): the time "
+                         "simulation models rigid rotors only; use the linear analyses (modes, campbell, frf, "
+                         "unbalance) for flexible rotors")
     duration, speed = _positive(duration, "duration"), _speed(speed, "speed")
     final_speed = None if final_speed is None else _speed(final_speed, "final_speed")
     rtol, atol = _tolerance(rtol, "rtol", *_RTOL_RANGE), _tolerance(atol, "atol", *_ATOL_RANGE)

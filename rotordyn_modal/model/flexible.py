@@ -1,0 +1,648 @@
+"""Flexible rotors: materials, shaft sections, disks and point masses, their mass
+properties and the mesh of stations (``docs/model-file.md``, "Flexible rotors").
+
+A rotor with a ``shaft`` is flexible. Its shaft runs from ``start`` along ``+spin_axis``
+(``z`` [m] is measured from ``start``), made of consecutive sections. The mesh has a node
+wherever a section ends and wherever a disk, point mass, bearing, unbalance, sensor or
+excitation sits; between them elements no longer than ``element_length``
+(:func:`default_element_length` when not given) or, for a section with ``elements = n``,
+that section cut into ``n`` equal elements (and at its stations).
+
+Its mass, centre of mass and inertias are those of the element mass matrices, the disks and the
+point masses for a rigid motion (the elements reproduce a rigid motion's kinetic energy
+exactly), so that with a very stiff shaft the rotor behaves as the rigid rotor with these values.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..elements.shaft import Material, material_problem
+from ._table import Table, visible, visible_names
+from .geometry import shift_matrices, transverse_axes
+
+__all__ = ["Material", "Layer", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
+           "mass_properties", "mesh", "default_element_length", "station_z", "SHAFT_KEYS",
+           "STATION_TOLERANCE", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies"]
+
+#: [m]: a station closer than this to a node is at that node; a point this far off the shaft's
+#: axis or beyond its ends (plus the same fraction of the shaft's length) is off the shaft
+STATION_TOLERANCE = 1e-6
+#: default element length: the shaft's length over this (see :func:`default_element_length`)
+DEFAULT_ELEMENTS = 20
+#: [m] shortest section (stations closer than :data:`STATION_TOLERANCE` share a node)
+SHORTEST_SECTION = 1e-5
+#: [m] the range of a shaft's outer diameters (beyond it the section's area or second moment
+#: rounds badly: a shaft is neither a micron nor a kilometre thick)
+THINNEST, THICKEST = 1e-6, 1e3
+#: most nodes of one flexible rotor's mesh (its node matrices are dense: 6 N x 6 N each)
+MAX_NODES = 500
+#: keys of a rotor table that make it flexible or only mean something on a flexible rotor
+SHAFT_KEYS = ("shaft", "disks", "point_masses", "start", "shear", "element_length")
+_MATERIAL_KEYS = ("name", "density", "young_modulus", "shear_modulus", "poisson_ratio")
+_SECTION_KEYS = ("length", "outer_diameter", "inner_diameter", "material", "elements", "layers")
+_LAYER_KEYS = ("outer_diameter", "inner_diameter", "material")
+_DISK_KEYS = ("name", "axial_position", "mass", "polar_inertia", "diametral_inertia", "outer_diameter",
+              "inner_diameter", "width", "material")
+_POINT_MASS_KEYS = ("name", "axial_position", "mass")
+_SHEAR = ("cowper", "hutchinson", "none")
+#: relative tolerance of a flexible rotor's mass, centre and inertias given beside its shaft
+CONSISTENCY = 1e-6
+
+
+@dataclass(frozen=True)
+class Layer:
+    """One of a section's ``layers``: a concentric tube over the section's whole length, in
+    parallel with it; ``outer``/``inner`` diameters [m] at the section's left and right ends."""
+
+    outer: tuple
+    inner: tuple
+    material: Material
+
+
+@dataclass(frozen=True)
+class Section:
+    """One ``[[rotors.shaft]]`` section: ``outer``/``inner`` diameters [m] at its left and right
+    ends, shape (2,); ``elements`` the count the user asked for (None: by length); ``layers``
+    further tubes (:class:`Layer`) whose element matrices are added to the section's."""
+
+    length: float
+    outer: tuple
+    inner: tuple
+    material: Material
+    elements: int | None = None
+    layers: tuple = ()
+
+
+@dataclass(frozen=True)
+class Disk:
+    """A rigid disk at ``z`` [m] from the shaft's start; ``width`` [m] or None."""
+
+    name: str
+    z: float
+    mass: float
+    polar_inertia: float
+    diametral_inertia: float
+    width: float | None = None
+
+
+@dataclass(frozen=True)
+class PointMass:
+    """A mass [kg] without rotational inertia at ``z`` [m]."""
+
+    name: str
+    z: float
+    mass: float
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """The stations of a flexible rotor.
+
+    Attributes
+    ----------
+    z : ndarray, shape (N,) [m]
+        Nodes along the axis from the shaft's start, increasing.
+    elements : tuple of (int, int, float, tuple, tuple)
+        ``(left node, section index, length [m], outer (2,), inner (2,))`` of each element.
+    """
+
+    z: np.ndarray
+    elements: tuple
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.z)
+
+    def node(self, z: float) -> int:
+        """The node at (or nearest to) ``z`` [m]."""
+        return int(np.argmin(np.abs(self.z - float(z))))
+
+
+@dataclass(frozen=True)
+class Shaft:
+    """A flexible rotor's shaft, disks and point masses (validated), and its mesh once the model's
+    stations are known.
+
+    Attributes
+    ----------
+    start : ndarray, shape (3,) [m]
+    axis : ndarray, shape (3,)
+        The unit spin axis ``e``; the shaft runs along ``+e``.
+    """
+
+    start: np.ndarray
+    axis: np.ndarray
+    sections: tuple
+    disks: tuple
+    point_masses: tuple
+    shear: str
+    element_length: float
+    mesh: Mesh | None = field(default=None, compare=False)
+
+    @property
+    def _made(self) -> dict:
+        """Node matrices already made for :attr:`mesh`, by kind (an attribute, not a field: a
+        new mesh is a new Shaft, with nothing made)."""
+        return self.__dict__.setdefault("_node_matrices", {})
+
+    @property
+    def length(self) -> float:
+        """[m]"""
+        return float(sum(s.length for s in self.sections))
+
+    @property
+    def ends(self) -> np.ndarray:
+        """Section ends along the axis from the start [m], shape (n_sections + 1,)."""
+        return np.concatenate([[0.0], np.cumsum([s.length for s in self.sections])])
+
+    def point(self, z) -> np.ndarray:
+        """Points at ``z`` [m] on the axis, model axes, shape (..., 3)."""
+        return self.start + np.asarray(z, dtype=float)[..., None] * self.axis
+
+    def z_of(self, point) -> float:
+        """Axial position [m] of a point (projected on the axis)."""
+        return float((np.asarray(point, dtype=float) - self.start) @ self.axis)
+
+    @property
+    def node_positions(self) -> np.ndarray:
+        """The mesh nodes, model axes [m], shape (N, 3)."""
+        return self.point(self.mesh.z)
+
+
+# ----------------------------------------------------------------------------------------
+def default_element_length(sections) -> float:
+    """The element length when ``element_length`` is not given: the shaft's length over
+    :data:`DEFAULT_ELEMENTS` (about 20 elements, enough for the first bending modes within
+    well under 0.1 %: cubic elements converge as h^4)."""
+    return sum(s.length for s in sections) / DEFAULT_ELEMENTS
+
+
+def materials(source: str, data) -> dict[str, Material]:
+    """The ``[[materials]]`` tables by name."""
+    out: dict[str, Material] = {}
+    for index, raw in enumerate(data.get("materials", [])):
+        table = Table(source, f"materials[{index}]", raw)
+        name = table.text("name", required=True)
+        if name in out:
+            raise table.error("name", name, "a name unique among the [[materials]]")
+        table = Table(source, f"materials.{visible(name)}", raw)
+        table.check_keys(_MATERIAL_KEYS)
+        density = table.number("density", required=True, positive=True)
+        if "young_modulus" not in raw:
+            raise table.error("young_modulus", "<missing>", "Young's modulus [Pa] (a material needs it for "
+                              "the shaft's bending stiffness)")
+        young = table.number("young_modulus", required=True, positive=True)
+        if ("shear_modulus" in raw) == ("poisson_ratio" in raw):
+            raise table.error("shear_modulus", raw.get("shear_modulus", "<missing>"),
+                              "exactly one of shear_modulus [Pa] and poisson_ratio")
+        shear = table.number("shear_modulus", positive=True)
+        nu = table.number("poisson_ratio")
+        if problem := material_problem(density, young, shear, nu):
+            raise table.error(problem[0], raw.get(problem[0]), problem[2])
+        if shear is None:
+            shear = young / (2.0 * (1.0 + nu))
+        out[name] = Material(name=name, density=density, young_modulus=young, shear_modulus=shear)
+    return out
+
+
+def _pair(table: Table, key: str, default=None):
+    """A diameter given as a number or ``[left, right]``: a 2-tuple [m], >= 0."""
+    value = table.array(key, [(), (2,)], default=default, required=default is None)
+    value = np.broadcast_to(value, (2,)).astype(float)
+    if np.any(value < 0):
+        raise table.error(key, table.data[key], "diameters >= 0 [m]")
+    return float(value[0]), float(value[1])
+
+
+def _material(table: Table, key: str, known) -> Material:
+    name = table.text(key, required=True)
+    if name not in known:
+        raise table.error(key, name, "the name of one of the [[materials]] "
+                          + (visible_names(known) or "(none defined: add a [[materials]] table)"))
+    return known[name]
+
+
+def _tube(table: Table) -> tuple:
+    """A section's or a layer's outer and inner diameters [m], (left, right) each."""
+    outer = _pair(table, "outer_diameter")
+    inner = _pair(table, "inner_diameter", default=0.0)
+    if not (THINNEST <= min(outer) and max(outer) <= THICKEST):
+        raise table.error("outer_diameter", table.data["outer_diameter"],
+                          f"outer diameters from {THINNEST:g} to {THICKEST:g} m")
+    if inner[0] >= outer[0] or inner[1] >= outer[1]:
+        raise table.error("inner_diameter", table.data["inner_diameter"],
+                          f"an inner diameter below the outer diameter {table.data['outer_diameter']!r} "
+                          "at both ends of the section")
+    return outer, inner
+
+
+def _layers(table: Table, known) -> tuple:
+    """A section's ``layers`` (an array of tables): validated :class:`Layer` s."""
+    raw = table.data.get("layers", [])
+    if not isinstance(raw, list) or not all(isinstance(item, dict) for item in raw):
+        raise table.error("layers", raw, "an array of tables with outer_diameter, inner_diameter, material "
+                          "(layers = [{outer_diameter = ..., material = ...}, ...])")
+    out = []
+    for j, item in enumerate(raw):
+        layer = Table(table.source, f"{table.label}.layers.{j}", item)
+        layer.check_keys(_LAYER_KEYS)
+        outer, inner = _tube(layer)
+        out.append(Layer(outer=outer, inner=inner, material=_material(layer, "material", known)))
+    return tuple(out)
+
+
+def _section(table: Table, known) -> Section:
+    table.check_keys(_SECTION_KEYS)
+    length = table.number("length", required=True)
+    if not length >= SHORTEST_SECTION:
+        raise table.error("length", length, f"a section length > 0, at least {SHORTEST_SECTION:g} m")
+    outer, inner = _tube(table)
+    elements = table.data.get("elements")
+    if elements is not None and (isinstance(elements, bool) or not isinstance(elements, int)
+                                 or not 1 <= elements <= 10_000):
+        raise table.error("elements", elements, "a whole number of elements from 1 to 10000")
+    return Section(length=length, outer=outer, inner=inner, material=_material(table, "material", known),
+                   elements=elements, layers=_layers(table, known))
+
+
+def _disk(table: Table, index: int, known) -> Disk:
+    table.check_keys(_DISK_KEYS)
+    name = table.text("name", default=str(index))
+    z = table.number("axial_position", required=True)
+    width = table.number("width", positive=True)
+    geometry = [k for k in ("outer_diameter", "inner_diameter", "material") if k in table.data]
+    given = [k for k in ("mass", "polar_inertia", "diametral_inertia") if k in table.data]
+    if given and geometry:
+        raise table.error(geometry[0], table.data[geometry[0]], "no value: a disk is given either by mass, "
+                          "polar_inertia and diametral_inertia or by outer_diameter, width and material")
+    if geometry:
+        outer = table.number("outer_diameter", required=True, positive=True)
+        inner = table.number("inner_diameter", default=0.0, nonnegative=True)
+        if inner >= outer:
+            raise table.error("inner_diameter", inner, f"a bore below outer_diameter = {outer:g} [m]")
+        if width is None:
+            table.require("width")
+        density = _material(table, "material", known).density
+        mass = density * math.pi / 4 * (outer ** 2 - inner ** 2) * width
+        polar = mass / 8 * (outer ** 2 + inner ** 2)
+        return Disk(name, z, mass, polar, polar / 2 + mass * width ** 2 / 12, width)
+    mass = table.number("mass", required=True, positive=True)
+    polar = table.number("polar_inertia", required=True, nonnegative=True)
+    diametral = table.number("diametral_inertia", required=True, nonnegative=True)
+    if polar > 2.0 * diametral * (1 + 1e-12):
+        raise table.error("polar_inertia", polar, f"at most twice diametral_inertia = {diametral:g} "
+                          "(triangle inequality of a rigid body's principal moments)")
+    return Disk(name, z, mass, polar, diametral, width)
+
+
+def _point_mass(table: Table, index: int) -> PointMass:
+    table.check_keys(_POINT_MASS_KEYS)
+    return PointMass(table.text("name", default=str(index)), table.number("axial_position", required=True),
+                     table.number("mass", required=True, positive=True))
+
+
+def _items(rotor: Table, key: str):
+    """The sub-tables ``[[rotors.shaft]]`` etc. of a rotor, as (label, raw) pairs."""
+    raw = rotor.data.get(key, [])
+    if not isinstance(raw, list) or not all(isinstance(item, dict) for item in raw):
+        raise rotor.error(key, raw, f"an array of tables ([[rotors.{key}]])")
+    return raw
+
+
+def shaft(rotor: Table, known, spin_axis: np.ndarray) -> Shaft:
+    """Validate a flexible rotor's shaft, disks and point masses (``rotor`` its table)."""
+    source, label = rotor.source, rotor.label
+    raws = _items(rotor, "shaft")
+    if not raws:
+        raise rotor.error("shaft", raws, "at least one [[rotors.shaft]] section")
+    sections = tuple(_section(Table(source, f"{label}.shaft.{i}", raw), known) for i, raw in enumerate(raws))
+    start = rotor.vector3("start", required=True)
+    shear = rotor.text("shear", default="cowper", choices=_SHEAR)
+    length = sum(s.length for s in sections)
+    element_length = rotor.number("element_length", positive=True)
+    longest = element_length if element_length is not None else default_element_length(sections)
+    count = sum(s.elements if s.elements is not None else math.ceil(s.length / longest - 1e-9) for s in sections)
+    if count >= MAX_NODES:
+        key = "element_length" if element_length is not None else "shaft"
+        raise rotor.error(key, rotor.data[key] if key == "element_length" else f"<{len(sections)} sections>",
+                          f"a mesh of fewer than {MAX_NODES} nodes (these sections make {count} elements: "
+                          "give a longer element_length or fewer elements)")
+    disks, names = [], set()
+    for i, raw in enumerate(_items(rotor, "disks")):
+        table = Table(source, f"{label}.disks.{visible(raw.get('name', i))}", raw)
+        disk = _disk(table, i, known)
+        if disk.name in names:
+            raise table.error("name", disk.name, "a name unique among the rotor's [[rotors.disks]]")
+        names.add(disk.name)
+        _check_on_shaft(table, "axial_position", disk.z, length)
+        for other in disks:
+            _check_apart(table, disk, other)
+        disks.append(disk)
+    points = []
+    for i, raw in enumerate(_items(rotor, "point_masses")):
+        table = Table(source, f"{label}.point_masses.{visible(raw.get('name', i))}", raw)
+        point = _point_mass(table, i)
+        _check_on_shaft(table, "axial_position", point.z, length)
+        points.append(point)
+    return Shaft(start=start, axis=np.asarray(spin_axis, dtype=float), sections=sections, disks=tuple(disks),
+                 point_masses=tuple(points), shear=shear,
+                 element_length=element_length if element_length is not None else default_element_length(sections))
+
+
+def _check_on_shaft(table: Table, key: str, z: float, length: float) -> None:
+    slack = STATION_TOLERANCE * (1.0 + length)
+    if not -slack <= z <= length + slack:
+        raise table.error(key, table.data.get(key, z), f"an axial position on the shaft, from 0 to its length "
+                          f"{length:g} m (measured from the rotor's start)")
+
+
+def _check_apart(table: Table, disk: Disk, other: Disk) -> None:
+    gap = abs(disk.z - other.z)
+    if gap <= STATION_TOLERANCE:
+        raise table.error("axial_position", disk.z, f"a position other than disk {visible(other.name)!r}'s "
+                          f"({other.z:g} m): two disks at one station are one disk")
+    if disk.width is not None and other.width is not None and gap < 0.5 * (disk.width + other.width) - 1e-12:
+        raise table.error("axial_position", disk.z, f"a disk that does not overlap disk {visible(other.name)!r} "
+                          f"at {other.z:g} m (widths {disk.width:g} and {other.width:g} m: their centres must be "
+                          f"at least {0.5 * (disk.width + other.width):g} m apart)")
+
+
+# ----------------------------------------------------------------------------------------
+def station_z(table: Table, shaft: Shaft, rotor_name: str, key: str = "position", required: bool = True):
+    """A station of a flexible rotor: its point on the axis and ``z`` [m], from ``key`` (a 3-D
+    point on the axis) or ``axial_position`` (from the shaft's start); exactly one of them."""
+    given = [k for k in dict.fromkeys((key, "axial_position")) if k in table.data]
+    if len(given) == 2:
+        raise table.error("axial_position", table.data["axial_position"],
+                          f"either {key} or axial_position, not both")
+    if not given:
+        if not required:
+            return None, None
+        table.require(key)
+    length = shaft.length
+    if given[0] == "axial_position":
+        z = table.number("axial_position")
+    else:
+        point = table.vector3(key)
+        z = shaft.z_of(point)
+        off = float(np.linalg.norm(point - shaft.point(z)))
+        if off > STATION_TOLERANCE * (1.0 + abs(z)):
+            raise table.error(key, table.data[key], f"a point on the axis of the flexible rotor {rotor_name!r} "
+                              f"(the line from its start {_fmt(shaft.start)} along spin_axis); this point is "
+                              f"{off:.4g} m off it")
+    _check_on_shaft(table, given[0], z, length)
+    z = min(max(z, 0.0), length)
+    return shaft.point(z), z
+
+
+def _fmt(values) -> str:
+    return "[" + ", ".join(f"{v:.6g}" for v in values) + "]"
+
+
+# ----------------------------------------------------------------------------------------
+def mesh(shaft: Shaft, stations) -> Mesh:
+    """The nodes and elements of ``shaft`` with a node at every station ``z`` [m] of ``stations``
+    (disks and point masses are added here)."""
+    ends = shaft.ends
+    length = shaft.length
+    points = np.concatenate([np.asarray(list(stations), dtype=float).reshape(-1),
+                             [d.z for d in shaft.disks], [p.z for p in shaft.point_masses]])
+    tolerance = STATION_TOLERANCE
+    nodes, elements = [0.0], []
+    for index, section in enumerate(shaft.sections):
+        left, right = ends[index], ends[index + 1]
+        if section.elements is not None:
+            cuts = list(np.linspace(left, right, section.elements + 1)[1:-1])
+        else:
+            cuts = []
+        inside = [p for p in points if left + tolerance < p < right - tolerance]
+        marks = _merged(sorted([left, right, *cuts, *inside]), tolerance)
+        marks[0], marks[-1] = left, right
+        for a, b in zip(marks[:-1], marks[1:]):
+            count = 1 if section.elements is not None else max(1, math.ceil((b - a) / shaft.element_length - 1e-9))
+            for k in range(count):
+                z0, z1 = a + (b - a) * k / count, a + (b - a) * (k + 1) / count
+                if k == count - 1:
+                    z1 = b
+                elements.append((len(nodes) - 1, index, z1 - z0, _diameters(section.outer, section.length, left, z0, z1),
+                                 _diameters(section.inner, section.length, left, z0, z1)))
+                nodes.append(z1)
+    nodes[-1] = length
+    return Mesh(z=np.array(nodes), elements=tuple(elements))
+
+
+def _merged(values, tolerance):
+    """Sorted ``values`` without those within ``tolerance`` of the one before; the last kept
+    is the last value (a section's right end)."""
+    out = [values[0]]
+    for v in values[1:]:
+        if v - out[-1] > tolerance:
+            out.append(v)
+    if len(out) == 1:
+        out.append(values[-1])
+    out[-1] = values[-1]
+    return out
+
+
+def _diameters(d: tuple, length: float, left: float, z0: float, z1: float) -> tuple:
+    """Diameters ``d`` [m] (left, right) of a section of ``length`` [m] starting at ``left`` [m],
+    linear along it, at the ends ``z0``, ``z1`` [m] of an element."""
+    t0, t1 = (z0 - left) / length, (z1 - left) / length
+    # weights, not d0 + (d1 - d0) t: no cancellation, so a diameter stays between its ends
+    return (d[0] * (1 - t0) + d[1] * t0, d[0] * (1 - t1) + d[1] * t1)
+
+
+# ----------------------------------------------------------------------------------------
+def rotation(spin_axis) -> np.ndarray:
+    """``R``, rows ``a, b, e``: local components = ``R @`` model components, (3, 3)."""
+    a, b = transverse_axes(spin_axis)
+    e = np.asarray(spin_axis, dtype=float)
+    return np.array([a, b, e])
+
+
+def element_blocks(shaft: Shaft, mesh: Mesh):
+    """Each element's ``M, K, G`` (12 x 12, local axes ``a, b, e`` per node, G per unit spin): the
+    section's tube's plus, for a layered section, each layer's over the same element (its own
+    diameters there, material and shear coefficient), as ROSS adds parallel shaft elements."""
+    from ..elements.shaft import element_matrices
+
+    def matrices(length, outer, inner, material):
+        return element_matrices(length, outer, inner, material, shear=shaft.shear)
+
+    ends = shaft.ends
+    out = []
+    for left_node, index, length, outer, inner in mesh.elements:
+        section = shaft.sections[index]
+        blocks = matrices(length, outer, inner, section.material)
+        z0, z1 = float(mesh.z[left_node]), float(mesh.z[left_node + 1])
+        for layer in section.layers:
+            extra = matrices(length, _diameters(layer.outer, section.length, ends[index], z0, z1),
+                             _diameters(layer.inner, section.length, ends[index], z0, z1), layer.material)
+            blocks = tuple(a + b for a, b in zip(blocks, extra))
+        out.append(blocks)
+    return out
+
+
+def node_matrices(shaft: Shaft, mesh: Mesh, kinds=("M", "K", "G")):
+    """The shaft's, disks' and point masses' matrices on the nodes' 6 motions ``[u, theta]`` each
+    (model axes), shape (6 N, 6 N) each: mass [kg, kg m^2], stiffness, gyroscopic per unit spin."""
+    if mesh is shaft.mesh and all(kind in shaft._made for kind in kinds):
+        return tuple(shaft._made[kind] for kind in kinds)
+    size = 6 * mesh.n_nodes
+    rot = rotation(shaft.axis)
+    Q = np.kron(np.eye(4), rot)                      # local = Q @ model on [node1 (6), node2 (6)]
+    out = {k: np.zeros((size, size)) for k in kinds}
+    for (left, *_), blocks in zip(mesh.elements, element_blocks(shaft, mesh)):
+        rows = slice(6 * left, 6 * left + 12)
+        for kind, block in zip(("M", "K", "G"), blocks):
+            if kind in out:
+                out[kind][rows, rows] += Q.T @ block @ Q
+    e = shaft.axis
+    for disk in shaft.disks:
+        i = 6 * mesh.node(disk.z)
+        if "M" in out:
+            out["M"][i:i + 3, i:i + 3] += disk.mass * np.eye(3)
+            out["M"][i + 3:i + 6, i + 3:i + 6] += (disk.diametral_inertia * np.eye(3)
+                                                   + (disk.polar_inertia - disk.diametral_inertia) * np.outer(e, e))
+        if "G" in out:
+            out["G"][i + 3:i + 6, i + 3:i + 6] += -disk.polar_inertia * _skew(e)
+    for point in shaft.point_masses:
+        i = 6 * mesh.node(point.z)
+        if "M" in out:
+            out["M"][i:i + 3, i:i + 3] += point.mass * np.eye(3)
+    if mesh is shaft.mesh:
+        for kind, matrix in out.items():
+            matrix.flags.writeable = False
+            shaft._made[kind] = matrix
+    return tuple(out[k] for k in kinds)
+
+
+def _skew(v):
+    x, y, z = (float(c) for c in v)
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+def rigid_motion(points, reference) -> np.ndarray:
+    """Node motions of a rigid motion ``[u, theta]`` at ``reference``: (6 N, 6)."""
+    return shift_matrices(reference, points).transpose(0, 2, 1).reshape(-1, 6)
+
+
+def mass_properties(shaft: Shaft):
+    """Mass [kg], centre of mass (3,) [m], polar and diametral inertia [kg m^2] of the rotor
+    (shaft, disks, point masses), from the same matrices the model uses.
+
+    Returns
+    -------
+    mass, centre, polar, diametral
+    """
+    # one element per section: a rigid motion's kinetic energy is exact on any mesh
+    shaft = replace(shaft, sections=tuple(replace(s, elements=1) for s in shaft.sections))
+    coarse = mesh(shaft, [])
+    (M,) = node_matrices(shaft, coarse, kinds=("M",))
+    R = rigid_motion(shaft.point(coarse.z), shaft.start)
+    M6 = R.T @ M @ R
+    mass = float(M6[0, 0])
+    # M6 = B diag(m I, J) B^T about the start: its lower left block is m skew(c - start)
+    arm = np.array([M6[5, 1] - M6[4, 2], M6[3, 2] - M6[5, 0], M6[4, 0] - M6[3, 1]]) / (2.0 * mass)
+    z = float(arm @ shaft.axis)
+    centre = shaft.point(z)
+    R_c = rigid_motion(shaft.point(coarse.z), centre)
+    J = (R_c.T @ M @ R_c)[3:, 3:]
+    rot = rotation(shaft.axis)
+    local = rot @ J @ rot.T
+    return mass, centre, float(local[2, 2]), float(0.5 * (local[0, 0] + local[1, 1]))
+
+
+def with_mesh(shaft: Shaft, stations) -> Shaft:
+    """``shaft`` with its mesh (a node at each station ``z``)."""
+    return replace(shaft, mesh=mesh(shaft, stations))
+
+
+def check_consistent(table: Table, values: dict) -> None:
+    """A flexible rotor's table may give its mass, centre of mass and inertias only as
+    computed (within :data:`CONSISTENCY` relative)."""
+    for key, computed in values.items():
+        if key not in table.data:
+            continue
+        if key == "center_of_mass":
+            given = table.vector3(key)
+            scale = max(float(np.linalg.norm(computed)), values["_length"])
+            ok = float(np.linalg.norm(given - computed)) <= CONSISTENCY * scale
+            shown = _fmt(computed)
+        elif key.startswith("_"):
+            continue
+        else:
+            given = table.number(key)
+            ok = abs(given - computed) <= CONSISTENCY * abs(computed)
+            shown = f"{computed:.10g}"
+        if not ok:
+            raise table.error(key, table.data[key], f"the value computed from the rotor's shaft, disks and "
+                              f"point masses, {shown} (or no {key} key: a flexible rotor's {key} follows "
+                              "from its shaft)")
+
+
+
+def lateral_basis(shaft: Shaft) -> np.ndarray:
+    """Each node's motion ``[u, theta]`` (model axes) per lateral coordinate ``[u_a, u_b, theta_a,
+    theta_b]`` of every node (the flexible rotor's coordinates without the axial one), (6 N, 4 N)."""
+    a, b = transverse_axes(shaft.axis)
+    count = shaft.mesh.n_nodes
+    out = np.zeros((6 * count, 4 * count))
+    for k in range(count):
+        out[6 * k:6 * k + 3, 4 * k], out[6 * k:6 * k + 3, 4 * k + 1] = a, b
+        out[6 * k + 3:6 * k + 6, 4 * k + 2], out[6 * k + 3:6 * k + 6, 4 * k + 3] = a, b
+    return out
+
+
+def bending_frequencies(shaft: Shaft, supports=()):
+    """The first bending natural frequency [Hz] of a flexible rotor at rest, free-free, and its
+    lowest modes on its supports (the stator held still) with their share of strain energy in
+    the shaft.
+
+    Parameters
+    ----------
+    shaft : Shaft
+        With its mesh.
+    supports : sequence of (z [m], ndarray (6, 6))
+        Each bearing's stiffness on the node's motion ``[u, theta]`` (model axes) at rest; its
+        symmetric part is used.
+
+    Returns
+    -------
+    free : float
+        Free-free: the lowest frequency after the four rigid-body motions (two per plane) [Hz].
+    lowest : (float, float)
+        On the supports: the lowest mode's frequency [Hz] and the fraction of its strain energy
+        in the shaft (the rest in the bearings).
+    bending : float
+        On the supports: the lowest mode with over half its strain energy in the shaft [Hz]
+        (nan if none).
+    """
+    import scipy.linalg
+
+    M, K = node_matrices(shaft, shaft.mesh, kinds=("M", "K"))
+    L = lateral_basis(shaft)
+    mass, shaft_k = L.T @ M @ L, L.T @ K @ L
+    mass, shaft_k = 0.5 * (mass + mass.T), 0.5 * (shaft_k + shaft_k.T)
+    free = scipy.linalg.eigh(shaft_k, mass, eigvals_only=True)
+    supported_k = shaft_k.copy()
+    for z, k6 in supports:
+        i = 6 * shaft.mesh.node(z)
+        rows = L[i:i + 6]
+        supported_k += rows.T @ (0.5 * (k6 + k6.T)) @ rows
+    values, vectors = scipy.linalg.eigh(supported_k, mass)
+    held = values > 1e-9 * values[-1]          # not a rigid-body motion the supports leave free
+    values = np.where(held, values, 0.0)
+    share = np.where(held, np.einsum("im,ij,jm->m", vectors, shaft_k, vectors) / np.where(held, values, 1.0), 0.0)
+    bending = values[(share > 0.5) & held]
+    return (_hz(free[4]), (_hz(values[0]), float(share[0])),
+            _hz(bending[0]) if bending.size else float("nan"))
+
+
+def _hz(value: float) -> float:
+    """The frequency [Hz] of an eigenvalue omega^2 [rad^2/s^2]."""
+    return float(np.sqrt(max(value, 0.0)) / (2 * np.pi))

@@ -252,3 +252,9 @@ def test_unbalance_checks_in_us_units(tmp_path, capsys):
         _same_numbers(us[column].to_numpy(), si[column].to_numpy(), factor, column)
     assert list(us["unit"]) == ["mil" if p else "in/s" for p in probe]
     np.testing.assert_allclose(us.loc[probe, "limit"], 1.0, rtol=1e-9)   # API 617: 25.4 um pk-pk = 1 mil at most
+
+
+def test_level1_names_the_station_in_inches():
+    import rotordyn_modal as rdm
+
+    assert rdm.Station("fan", -0.0254).label("us") == "fan@-1" and rdm.Station("fan", -0.0254).label() == "fan@-0.0254"

@@ -79,7 +79,8 @@ def run(args) -> int:
     write_table(convert_table(table, kinds_by_ending(table.columns), args.units), args)
     if not args.quiet:
         scale, unit = unit_scale("stiffness", args.units)
-        print(f"Qa = {result.qa * scale:.6g} {unit} at {', '.join(map(str, result.stations))}; mode {result.mode} "
+        where = ", ".join(s.label(args.units) for s in result.stations)
+        print(f"Qa = {result.qa * scale:.6g} {unit} at {where}; mode {result.mode} "
               f"({result.frequencies_hz[0]:.5g} Hz at Q = 0) followed; "
               + (f"Q0 = {result.q0 * scale:.6g} {unit}; " if np.isfinite(result.q0) else
                  f"Q0 beyond {result.cross_coupling[-1] * scale:.6g} {unit}; ") + result.verdict(), file=sys.stderr)

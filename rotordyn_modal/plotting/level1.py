@@ -56,7 +56,7 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     top = ax.secondary_xaxis("top", functions=(lambda q: q * qa, lambda q: q / qa))
     top.set_xlabel(f"Q [{unit}]")
     ax.grid(True, alpha=0.3)
-    stations = ", ".join(str(s) for s in result.stations)
+    stations = ", ".join(s.label(units) for s in result.stations)
     heading = title or (f"API 617 Level I: {result.title}" if result.title else "API 617 Level I")
     import textwrap
 

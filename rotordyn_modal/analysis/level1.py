@@ -26,6 +26,7 @@ from scipy.optimize import brentq
 from ..errors import InputError
 from ..linear_system import speed_linear_form
 from ..model.geometry import transverse_axes
+from ..units import to_system
 from . import _arguments, _eigensolve, _vectors, _whirl
 from .modal import is_oscillating, modal_quantities
 from .tracking import track_modes
@@ -76,6 +77,12 @@ class Station:
 
     def __str__(self) -> str:
         return self.rotor if self.offset == 0 else f"{self.rotor}@{self.offset:g}"
+
+    def label(self, units: str = "si") -> str:
+        """``ROTOR`` or ``ROTOR@OFFSET``, the offset in the length unit of ``units`` (m; in for 'us')."""
+        if units == "si" or self.offset == 0:
+            return str(self)
+        return f"{self.rotor}@{to_system(self.offset, 'length', units):g}"
 
 
 def anticipated_cross_coupling(power, speed, diameter, height, density_ratio=1.0, machine: str = "compressor"):

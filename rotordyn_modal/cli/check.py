@@ -5,11 +5,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..model.geometry import transverse_axes
+from ..units import to_system, unit_label
 from ._common import add_model_argument, open_model
 
 NAME = "check"
 HELP = "validate a model file and print a summary"
-DESCRIPTION = """Validate MODEL and print its masses, rotors with their speed ratios,
+DESCRIPTION = """Validate MODEL and print (in the units of --units: kg, m, N/m or lb, in, lbf/in,
+lb in², oz in, reyn) its masses, rotors with their speed ratios,
 suspensions, bearings and generalized coordinates; for each flexible rotor (one with a shaft) its
 mesh (nodes, elements), mass, centre of mass, polar and diametral inertia computed from its shaft,
 disks and point masses, and its first bending natural frequency at rest, free-free and on its
@@ -32,37 +34,43 @@ def run(args) -> int:
 
     model = open_model(args)
     speed_linear_form(model)  # refuses a mass matrix that rounding leaves singular, as every analysis would
-    print(summary(model))
+    print(summary(model, args.units))
     return 0
 
 
-def summary(model) -> str:
+def summary(model, system: str = "si") -> str:
+    """The model in a few lines, its quantities in the units of ``system`` ('si' or 'us')."""
     from ..assembly import constant_matrices
 
+    u = _Units(system)
     K = constant_matrices(model).K
     lines = [f"{model.source}: valid model {model.name!r}",
              f"  spin axis {np.round(model.spin_axis, 6).tolist()}, reference rotor {model.reference_rotor!r}",
-             f"  total mass {model.total_mass:.6g} kg, matrices about {np.round(model.reference_point, 6).tolist()} m"]
+             f"  total mass {u(model.total_mass, 'mass'):.6g} {u.label('mass')}, matrices about "
+             f"{np.round(u(model.reference_point, 'length'), 6).tolist()} {u.label('length')}"]
     if model.stator is not None:
-        lines.append(f"  stator: {model.stator.mass:.6g} kg")
+        lines.append(f"  stator: {u(model.stator.mass, 'mass'):.6g} {u.label('mass')}")
     lines.append(f"  rotors ({len(model.rotors)}):")
     for r in model.rotors:
-        lines.append(f"    {r.name:<16} {r.mass:>9.4g} kg  Jp {r.polar_inertia:.4g}  Jd {r.diametral_inertia:.4g} "
-                     f"kg m^2  speed ratio {r.speed_ratio:+.6g}")
-    lines += _flexible_lines(model)
+        lines.append(f"    {r.name:<16} {u(r.mass, 'mass'):>9.4g} {u.label('mass')}  "
+                     f"Jp {u(r.polar_inertia, 'inertia'):.4g}"
+                     f"  Jd {u(r.diametral_inertia, 'inertia'):.4g} {u.label('inertia')}  speed ratio "
+                     f"{r.speed_ratio:+.6g}")
+    lines += _flexible_lines(model, u)
     for t in model.transmissions:
         teeth = f", {t.driver_teeth} driver teeth" if t.driver_teeth else ""
         lines.append(f"  {t.type} {t.driver} -> {t.driven}: ratio {t.ratio:g}{teeth}")
     lines.append(f"  suspensions ({len(model.suspensions)}):")
     for s in model.suspensions:
         diag = np.diag(s.stiffness_matrix)[:3]
-        lines.append(f"    {s.name:<16} at {np.round(s.position, 4).tolist()} m, translational stiffness "
-                     f"(model axes) {np.array2string(diag, precision=4)} N/m, loss factor {s.loss_factor:g}")
-    lines += _bearing_lines(model)
+        lines.append(f"    {s.name:<16} at {np.round(u(s.position, 'length'), 4).tolist()} {u.label('length')}, "
+                     f"translational stiffness (model axes) {np.array2string(u(diag, 'stiffness'), precision=4)} "
+                     f"{u.label('stiffness')}, loss factor {s.loss_factor:g}")
+    lines += _bearing_lines(model, u)
     lines.append(f"  sensors: {', '.join(s.name for s in model.sensors) or 'none'}; "
                  f"excitations: {', '.join(x.name for x in model.excitations) or 'none'}; "
                  f"unbalances: {len(model.unbalances)}")
-    lines += _grade_lines(model)
+    lines += _grade_lines(model, u)
     layout = model.dofs
     lines.append(f"  coordinates ({layout.n}): {', '.join(_coordinate_names(model))}")
     rank = np.linalg.matrix_rank(K)
@@ -72,14 +80,33 @@ def summary(model) -> str:
     return "\n".join(lines)
 
 
-def _grade_lines(model) -> list[str]:
+class _Units:
+    """``u(value, kind)``: an SI value in ``system``'s unit (SI values untouched); ``u.label(kind)``
+    its unit as this summary writes it (SI: as it always has)."""
+
+    _SI_LABELS = {"inertia": "kg m^2"}
+
+    def __init__(self, system: str = "si"):
+        self.system = system
+
+    def __call__(self, value, kind):
+        return value if self.system == "si" else to_system(value, kind, self.system)
+
+    def label(self, kind):
+        return self._SI_LABELS.get(kind, unit_label(kind, "si")) if self.system == "si" else \
+            unit_label(kind, self.system)
+
+
+def _grade_lines(model, units=_Units()) -> list[str]:
     """The amount of each unbalance given by an ISO 21940-11 balance grade."""
     lines = []
     for k, u in enumerate(model.unbalances):
         if u.grade is not None:
             mass = model.rotor(u.rotor).mass if u.mass is None else u.mass
+            amount = f"{u.amount * 1e6:.6g} g mm" if units.system == "si" else \
+                f"{to_system(u.amount, 'unbalance', units.system):.6g} {units.label('unbalance')}"
             lines.append(f"    unbalances[{k}] on {u.rotor!r}: G{u.grade:g} at {u.service_speed_rpm:g} rpm of "
-                         f"{mass:.6g} kg -> {u.amount * 1e6:.6g} g mm (ISO 21940-11, G m / Omega)")
+                         f"{units(mass, 'mass'):.6g} {units.label('mass')} -> {amount} (ISO 21940-11, G m / Omega)")
     return lines
 
 
@@ -97,7 +124,7 @@ def _coordinate_names(model) -> list[str]:
     return names
 
 
-def _flexible_lines(model) -> list[str]:
+def _flexible_lines(model, u=_Units()) -> list[str]:
     """Mesh, mass properties and first bending frequencies of each flexible rotor."""
     from ..model.flexible import bending_frequencies
 
@@ -117,35 +144,42 @@ def _flexible_lines(model) -> list[str]:
         else:
             held = (f"on its bearings (stator held) lowest mode {lowest:.6g} Hz ({share:.0%} of its strain energy "
                     f"in the shaft), first mostly bending (over 50 % in the shaft) {bending:.6g} Hz")
-        lines += [f"  flexible rotor {rotor.name}: shaft {shaft.length:.6g} m from {np.round(shaft.start, 6).tolist()} m, "
+        m, kg, inertia = u.label("length"), u.label("mass"), u.label("inertia")
+        lines += [f"  flexible rotor {rotor.name}: shaft {u(shaft.length, 'length'):.6g} {m} from "
+                  f"{np.round(u(shaft.start, 'length'), 6).tolist()} {m}, "
                   f"{len(shaft.sections)} sections, {len(shaft.disks)} disks, {len(shaft.point_masses)} point masses; "
                   f"mesh {shaft.mesh.n_nodes} nodes, {len(shaft.mesh.elements)} elements (shear {shaft.shear})",
-                  f"    mass {rotor.mass:.6g} kg, centre of mass {np.round(rotor.center_of_mass, 6).tolist()} m, "
-                  f"polar inertia {rotor.polar_inertia:.6g} kg m^2, diametral inertia {rotor.diametral_inertia:.6g} kg m^2",
+                  f"    mass {u(rotor.mass, 'mass'):.6g} {kg}, centre of mass "
+                  f"{np.round(u(rotor.center_of_mass, 'length'), 6).tolist()} {m}, polar inertia "
+                  f"{u(rotor.polar_inertia, 'inertia'):.6g} {inertia}, diametral inertia "
+                  f"{u(rotor.diametral_inertia, 'inertia'):.6g} {inertia}",
                   f"    at rest: first bending frequency free-free {free:.6g} Hz; {held}"]
     return lines
 
 
-def _bearing_lines(model) -> list[str]:
+def _bearing_lines(model, u=_Units()) -> list[str]:
     if not model.bearings:
         return []
     where = "the stator" if model.stator is not None else "the ground"
     lines = [f"  bearings ({len(model.bearings)}, to {where}):"]
     for b in model.bearings:
-        lines.append(f"    {b.name:<16} rotor {b.rotor!r} at {np.round(b.position, 4).tolist()} m, "
-                     + _coefficient_text(b.coefficients, model.spin_axis))
+        lines.append(f"    {b.name:<16} rotor {b.rotor!r} at {np.round(u(b.position, 'length'), 4).tolist()} "
+                     f"{u.label('length')}, " + _coefficient_text(b.coefficients, model.spin_axis, u))
     return lines
 
 
-def _coefficient_text(coefficients, spin_axis) -> str:
+def _coefficient_text(coefficients, spin_axis, u=_Units()) -> str:
     if coefficients.kind == "journal":
         j = coefficients.journal
-        return (f"plain journal D {j.diameter:g} m x L {j.length:g} m, clearance {j.clearance:g} m, "
-                f"viscosity {j.viscosity:g} Pa s, static load {j.load:.4g} N")
+        m = u.label("length")
+        return (f"plain journal D {u(j.diameter, 'length'):g} {m} x L {u(j.length, 'length'):g} {m}, clearance "
+                f"{u(j.clearance, 'length'):g} {m}, viscosity {u(j.viscosity, 'viscosity'):g} "
+                f"{u.label('viscosity')}, static load {u(j.load, 'force'):.4g} {u.label('force')}")
     # the translational stiffness in the plane normal to the spin axis (whatever the axial one)
     plane = transverse_axes(spin_axis)                                          # (2, 3), orthonormal
     radial = np.linalg.eigvals(plane @ coefficients.stiffness[0][:3, :3] @ plane.T)
-    text = f"radial stiffness {np.array2string(np.sort(np.abs(radial)), precision=4)} N/m"
+    text = f"radial stiffness {np.array2string(u(np.sort(np.abs(radial)), 'stiffness'), precision=4)} " \
+        f"{u.label('stiffness')}"
     if coefficients.kind == "table":
         rpm = coefficients.speeds * 30 / np.pi
         text += f" at {rpm[0]:g} rpm, tabulated over {len(rpm)} speeds {rpm[0]:g} .. {rpm[-1]:g} rpm"

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..errors import InputError
+from ..units import FRF_OUTPUT_KINDS, ratio_scale
 from ._common import (add_input_file, add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
                       parse_range, save_figure, to_rad_s, use_agg, write_table)
 
@@ -10,7 +13,8 @@ NAME = "frf"
 HELP = "frequency response from excitations to sensors (or forces), over measured data"
 DESCRIPTION = """Frequency response functions at one speed of the reference rotor, from the
 [[excitations]] to the [[sensors]]: receptance [m/N], mobility [m/s/N] or accelerance
-[m/s^2/N]. Viscous models use modal superposition, models with loss factors or Maxwell
+[m/s^2/N] (with --units us: in/lbf, in/s/lbf, g/lbf, and a last column unit; docs/units.md).
+Viscous models use modal superposition, models with loss factors or Maxwell
 branches a direct solve at every frequency. --forces suspensions gives the force each
 suspension passes to the ground per unit input (transmissibility), --forces bearings the
 force each [[bearings]] entry passes to the stator (or the ground) at its point and each
@@ -72,11 +76,38 @@ def run(args) -> int:
     if args.out and args.out.lower().endswith((".uff", ".unv")):
         _write_uff(result, model, args)
     else:
-        write_table(result.to_dataframe(), args)
+        write_table(_in_units(result.to_dataframe(), result, model, args.units), args)
     if args.plot:
         use_agg()
-        save_figure(result.plot(measured=measured), args)
+        save_figure(result.plot(measured=measured, units=args.units, input_kinds=_input_kinds(model)), args)
     return 0
+
+
+def _is_moment(output: str) -> bool:
+    """A force FRF's moment row (``NAME:Mx``, ``:My``, ``:Mz``)."""
+    return output.rsplit(":", 1)[-1] in ("Mx", "My", "Mz") and ":" in output
+
+
+def _input_kinds(model) -> dict:
+    """``{excitation name: 'force' or 'moment'}``."""
+    return {x.name: "moment" if getattr(x, "kind", "force") == "moment" else "force" for x in model.excitations}
+
+
+def _in_units(table, result, model, system):
+    """The FRF table (SI) in ``system``: real, imag and magnitude of each row times its factor
+    (output quantity over input force or moment), a last column ``unit`` (in/lbf, in/s/lbf,
+    g/lbf, lbf/lbf, lbf in/lbf); SI unchanged."""
+    if system == "si":
+        return table
+    inputs, output = _input_kinds(model), FRF_OUTPUT_KINDS[result.quantity]
+    scales = [ratio_scale("moment" if result.quantity == "force" and _is_moment(o) else output,
+                          inputs.get(i, "force"), system) for o, i in zip(table["output"], table["input"])]
+    factors = np.array([factor for factor, _ in scales])
+    table = table.copy()
+    for column in ("real", "imag", "magnitude"):
+        table[column] = table[column].to_numpy(dtype=float) * factors
+    table["unit"] = [label for _, label in scales]
+    return table
 
 
 def _write_uff(result, model, args):

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 
 import numpy as np
 
 from ..errors import InputError
-from ..units import speed_to_rad_s
+from ..units import from_system, speed_to_rad_s, unit_scale
+from ._units import convert_table, kinds_by_ending
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list, parse_number,
                       save_figure, use_agg, write_table)
 
@@ -27,6 +29,10 @@ with one --power, --impeller-diameter, --restriction-height and --density-ratio 
 With one station all of Q acts there; with one station per stage each takes its stage's share.
 A station is ROTOR (its centre of mass: a rigid rotor's) or ROTOR@OFFSET (m along spin_axis
 from the centre of mass: an impeller). docs/level1_and_ucs.md gives the formulas and sources.
+
+With --units us, --qa is in lbf/in, --power in hp, the diameter, height and OFFSET in in; the table's
+first column is then q_lbf_per_in and Q is printed and drawn in lbf/in (the formula is the same
+physics: its inputs are converted to SI, docs/units.md).
 
 CSV columns: q_n_per_m,q_over_qa,log_decrement,frequency_hz
 
@@ -51,11 +57,12 @@ def add_stage_arguments(parser, required: bool = True, speed_option: str = "--sp
     ``report``, where they are optional and the analysis speed is ``--mcs``)."""
     parser.add_argument("--station", action="append", required=required, metavar="ROTOR[@OFFSET]",
                         help="where Q acts (repeat for several stations)")
-    parser.add_argument("--qa", help="anticipated cross-coupling [N/m], or one per station (comma list)")
-    parser.add_argument("--power", help="rated power of each stage [W] (comma list)")
-    parser.add_argument("--impeller-diameter", help="impeller (or blade pitch) diameter of each stage [m]")
+    parser.add_argument("--qa", help="anticipated cross-coupling [N/m; lbf/in with --units us], or one per "
+                                     "station (comma list)")
+    parser.add_argument("--power", help="rated power of each stage [W; hp] (comma list)")
+    parser.add_argument("--impeller-diameter", help="impeller (or blade pitch) diameter of each stage [m; in]")
     parser.add_argument("--restriction-height", help="smaller of diffuser and impeller discharge width "
-                                                     "(turbines: effective blade height) of each stage [m]")
+                                                     "(turbines: effective blade height) of each stage [m; in]")
     parser.add_argument("--density-ratio", help="discharge over suction density of each stage (default 1)")
     parser.add_argument("--machine", choices=["compressor", "turbine"], default="compressor",
                         help="B = 3 (compressor) or 1.5 (turbine, no density ratio)")
@@ -66,21 +73,26 @@ def run(args) -> int:
     from ..analysis.level1 import Station, level1
 
     stations = [Station.parse(text) for text in args.station]
+    if args.units != "si":      # ROTOR@OFFSET: the offset in in
+        stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", args.units)) for s in stations]
     speed = float(speed_to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
     qa, shares = anticipated(args, len(stations), speed)
     factor = parse_number(args.factor, "--factor")
     forward = _whole(args.forward_mode, "--forward-mode")
     model = open_model(args)
     result = level1(model, speed, stations, qa, shares=shares, factor=factor, forward_mode=forward)
-    write_table(result.to_dataframe(), args)
+    table = result.to_dataframe()
+    write_table(convert_table(table, kinds_by_ending(table.columns), args.units), args)
     if not args.quiet:
-        print(f"Qa = {result.qa:.6g} N/m at {', '.join(map(str, result.stations))}; mode {result.mode} "
+        scale, unit = unit_scale("stiffness", args.units)
+        where = ", ".join(s.label(args.units) for s in result.stations)
+        print(f"Qa = {result.qa * scale:.6g} {unit} at {where}; mode {result.mode} "
               f"({result.frequencies_hz[0]:.5g} Hz at Q = 0) followed; "
-              + (f"Q0 = {result.q0:.6g} N/m; " if np.isfinite(result.q0) else
-                 f"Q0 beyond {result.cross_coupling[-1]:.6g} N/m; ") + result.verdict(), file=sys.stderr)
+              + (f"Q0 = {result.q0 * scale:.6g} {unit}; " if np.isfinite(result.q0) else
+                 f"Q0 beyond {result.cross_coupling[-1] * scale:.6g} {unit}; ") + result.verdict(), file=sys.stderr)
     if args.plot:
         use_agg()
-        save_figure(result.plot(), args)
+        save_figure(result.plot(units=args.units), args)
     return 0
 
 
@@ -92,14 +104,14 @@ def anticipated(args, count, speed):
     if args.qa is not None:
         if any(o is not None for o in stage_options) or args.density_ratio is not None:
             raise InputError("--qa and the stage data (--power, --impeller-diameter, ...) both given: give one")
-        values = parse_list(args.qa, "--qa")
+        values = from_system(parse_list(args.qa, "--qa"), "stiffness", args.units)
         if not np.all(values > 0):
             raise InputError(f"--qa {args.qa!r}: expected values > 0 [N/m]")
         return _spread(values, count, "--qa")
     if any(o is None for o in stage_options):
         raise InputError("give --qa N/m, or --power, --impeller-diameter and --restriction-height (one per stage)")
-    power, diameter, height = (parse_list(o, name) for o, name in zip(
-        stage_options, ("--power", "--impeller-diameter", "--restriction-height")))
+    power, diameter, height = (from_system(parse_list(o, name), kind, args.units) for o, name, kind in zip(
+        stage_options, ("--power", "--impeller-diameter", "--restriction-height"), ("power", "length", "length")))
     ratio = parse_list(args.density_ratio, "--density-ratio") if args.density_ratio else np.ones(1)
     stages = max(len(power), len(diameter), len(height), len(ratio))
     power, diameter, height, ratio = (_per_stage(v, stages, name) for v, name in zip(

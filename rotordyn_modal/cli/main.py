@@ -24,12 +24,14 @@ class _Parser(argparse.ArgumentParser):
 def build_parser() -> argparse.ArgumentParser:
     from .._version import __version__
     from ._resources import add_verbose
+    from ._units import add_units_option
     from .commands import SUBCOMMANDS
 
     parser = _Parser(prog=PROGRAM, description="Linear dynamics and modal analysis of multi-rotor "
                      "machines: modes, Campbell diagrams, critical speeds, stability, FRFs.",
                      epilog=f"Run '{PROGRAM} SUB --help' for the options of a sub-command.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    add_units_option(parser)
     subparsers = parser.add_subparsers(dest="command", metavar="SUB", required=True, parser_class=_Parser)
     for module in SUBCOMMANDS:
         sub = subparsers.add_parser(module.NAME, help=module.HELP, description=module.DESCRIPTION,
@@ -37,6 +39,8 @@ def build_parser() -> argparse.ArgumentParser:
         module.add_arguments(sub)
         if "--verbose" not in sub._option_string_actions:  # every sub-command has --verbose
             add_verbose(sub)
+        if "--units" not in sub._option_string_actions:  # --units before or after the sub-command's name
+            add_units_option(sub, suppress=True)
         sub.set_defaults(handler=module.run, file_options=file_options(sub))
     return parser
 
@@ -49,12 +53,14 @@ def main(argv=None) -> int:
     or none of them (:func:`rotordyn_modal.io.atomic.outputs_together`)."""
     from ..io.atomic import outputs_together
     from ._resources import report_peak_memory, verbose_log
+    from ._units import resolve_units
 
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     args = parser.parse_args(join_negative_values(argv, VALUE_OPTIONS))
     try:
         with _signals_as_interrupts(), _warnings_as_lines(args.command):
+            args.units = resolve_units(args.units)
             check_files(args)
             with verbose_log(args), outputs_together():
                 code = int(args.handler(args) or 0)

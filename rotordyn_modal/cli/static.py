@@ -5,8 +5,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from ..units import from_system, unit_label, unit_scale
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number, print_table,
                       to_rad_s, write_table)
+from ._units import convert_table, kinds_by_ending
 
 NAME = "static"
 HELP = "static displacement and support reactions under gravity, given forces and transmitted power"
@@ -20,7 +22,9 @@ static stiffness (Maxwell branches add nothing at zero frequency); bearings on t
 the operating speed, journal bearings on their light-load film, with each journal's eccentricity
 at its load (docs/static.md).
 
-BODY is 'stator' or a rotor's name; points and vectors are in model axes, SI units (m, N, N m).
+BODY is 'stator' or a rotor's name; points and vectors are in model axes, SI units (m, N, N m;
+with --units us: in, lbf, lbf in, and --power in hp; the tables then in in, lbf, lbf in, their
+columns named x_in, Fx_lbf, Mx_lbfin, ux_in; docs/units.md).
 A moment acts on the body as a whole (--moment BODY:MX,MY,MZ). --power W is the power every
 transmission carries from its driver to its driven rotor (negative: the other way);
 --power DRIVER->DRIVEN=W names one transmission (repeat the option for others).
@@ -40,11 +44,12 @@ def add_arguments(parser):
     parser.add_argument("--speed", help="reference rotor speed of the operating point (default: at rest)")
     add_speed_unit(parser)
     parser.add_argument("--power", action="append", metavar="W|DRIVER->DRIVEN=W",
-                        help="power [W] each transmission carries (repeat with DRIVER->DRIVEN=W for each one)")
+                        help="power [W; hp with --units us] each transmission carries (repeat with "
+                             "DRIVER->DRIVEN=W for each one)")
     parser.add_argument("--force", action="append", metavar="BODY:X,Y,Z:FX,FY,FZ",
-                        help="a static force [N] at a point [m] of the stator or a rotor (repeat for more)")
+                        help="a static force [N; lbf] at a point [m; in] of the stator or a rotor (repeat for more)")
     parser.add_argument("--moment", action="append", metavar="BODY:MX,MY,MZ",
-                        help="a static moment [N m] on the stator or a rotor (repeat for more)")
+                        help="a static moment [N m; lbf in] on the stator or a rotor (repeat for more)")
     add_outputs(parser, plot=False)
 
 
@@ -53,13 +58,14 @@ def run(args) -> int:
 
     model = open_model(args)
     speed = None if args.speed is None else float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
-    forces = [_force(text) for text in args.force or ()] + [_moment(text) for text in args.moment or ()]
-    result = static(model, speed=speed, forces=forces, power=_power(args.power))
-    table = result.to_dataframe()
+    forces = [_force(text, args.units) for text in args.force or ()] + \
+        [_moment(text, args.units) for text in args.moment or ()]
+    result = static(model, speed=speed, forces=forces, power=_power(args.power, args.units))
+    table = _in_units(result.to_dataframe(), args.units)
     if args.out:
         write_table(table, args) if args.out == "-" else write_table(table, _quietly(args))
     if args.out != "-" and not args.quiet:
-        _print(result)
+        _print(result, args.units)
     return 0
 
 
@@ -70,14 +76,21 @@ def _quietly(args):
     return argparse.Namespace(**{**vars(args), "quiet": True})
 
 
-def _print(result):
+def _in_units(table, system):
+    """A static table (SI) in ``system``: points and displacements in m or in, forces in N or lbf,
+    moments in N m or lbf in (the columns renamed ``x_in``, ``Fx_lbf``, ``Mx_lbfin``)."""
+    return convert_table(table, kinds_by_ending(table.columns), system)
+
+
+def _print(result, system="si"):
     for title, table in (("loads", result.loads_table()), ("displacements", result.displacements()),
                          ("reactions (on the body each support carries)", result.reactions_table())):
         print(f"{title}:")
-        print_table(table, empty="none")
+        print_table(_in_units(table, system), empty="none")
     force, moment, scale = result.imbalance()
-    print(f"balance of loads and reactions: sum of forces {np.linalg.norm(force):.3g} N, sum of moments "
-          f"{np.linalg.norm(moment):.3g} N m (the forces total {scale:.6g} N)")
+    (f, f_unit), (m, m_unit) = unit_scale("force", system), unit_scale("moment", system)
+    print(f"balance of loads and reactions: sum of forces {np.linalg.norm(force) * f:.3g} {f_unit}, sum of "
+          f"moments {np.linalg.norm(moment) * m:.3g} {m_unit} (the forces total {scale * f:.6g} {f_unit})")
 
 
 def _vector(text: str, option: str, whole: str) -> list:
@@ -87,29 +100,42 @@ def _vector(text: str, option: str, whole: str) -> list:
     return [parse_number(p.strip(), option) for p in parts]
 
 
-def _force(text: str) -> tuple:
-    """``BODY:X,Y,Z:FX,FY,FZ`` -> ``(body, point, force)``."""
+def _force(text: str, system: str = "si") -> tuple:
+    """``BODY:X,Y,Z:FX,FY,FZ`` (in ``system``'s units) -> ``(body, point [m], force [N])``."""
     body, _, rest = text.rpartition(":")
     body, _, point = body.rpartition(":")
     if not body:
         raise InputError(f"--force {text!r}: expected BODY:X,Y,Z:FX,FY,FZ (body 'stator' or a rotor's name, "
-                         "a point [m] and a force [N] in model axes)")
-    return body, _vector(point, "--force", text), _vector(rest, "--force", text)
+                         f"a point [{unit_label('length', system)}] and a force [{unit_label('force', system)}] "
+                         "in model axes)")
+    return body, list(from_system(_vector(point, "--force", text), "length", system)), \
+        list(from_system(_vector(rest, "--force", text), "force", system))
 
 
-def _moment(text: str) -> tuple:
-    """``BODY:MX,MY,MZ`` -> ``(body, point, zero force, moment)``; a moment's point does not matter."""
+def _moment(text: str, system: str = "si") -> tuple:
+    """``BODY:MX,MY,MZ`` (in ``system``'s units) -> ``(body, point, zero force, moment [N m])``; a
+    moment's point does not matter."""
     body, _, rest = text.rpartition(":")
     if not body:
         raise InputError(f"--moment {text!r}: expected BODY:MX,MY,MZ (body 'stator' or a rotor's name, a moment "
-                         "[N m] in model axes)")
-    return {"body": body, "moment": _vector(rest, "--moment", text)}
+                         f"[{unit_label('moment', system)}] in model axes)")
+    return {"body": body, "moment": list(from_system(_vector(rest, "--moment", text), "moment", system))}
 
 
-def _power(values):
-    """``--power`` values: one number for every transmission, or ``DRIVER->DRIVEN=W`` each."""
+def _power(values, system: str = "si"):
+    """``--power`` values [W, or hp in US units]: one number for every transmission, or
+    ``DRIVER->DRIVEN=W`` each; returned in W."""
     if not values:
         return None
+    given = _power_numbers(values)
+    if system == "si":
+        return given
+    return from_system(given, "power", system) if not isinstance(given, dict) else \
+        {label: from_system(value, "power", system) for label, value in given.items()}
+
+
+def _power_numbers(values):
+    """The numbers of the ``--power`` values as given (one number, or a dict by transmission)."""
     named = [v for v in values if "=" in v]
     if not named:
         if len(values) > 1:

@@ -9,7 +9,8 @@ import numpy as np
 from ..errors import InputError
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number, parse_range,
                       save_figure, use_agg, write_table)
-from ..units import speed_to_rad_s
+from ..units import from_system, speed_to_rad_s, to_system, unit_label
+from ._units import convert_table, kinds_by_ending
 
 NAME = "ucs-map"
 HELP = "undamped critical speed map: forward critical speeds against bearing stiffness"
@@ -26,9 +27,9 @@ crossings marked, the rigid-support asymptotes (the chosen bearings radially rig
 sweep's last stiffness, and --operating as a band. Bearings not chosen keep their coefficients, which must be constant.
 docs/level1_and_ucs.md gives the definitions.
 
-CSV columns: stiffness_n_per_m,mode,speed_rpm,frequency_hz (mode 1 = the lowest forward
-critical speed at that stiffness, a rank, not the figure's followed mode; empty where there is
-none). The terminal lists the crossings of the bearings' curves with the followed modes (their
+CSV columns: stiffness_n_per_m,mode,speed_rpm,frequency_hz (stiffness_lbf_per_in with --units us;
+mode 1 = the lowest forward critical speed at that stiffness, a rank, not the figure's followed
+mode; empty where there is none). The terminal lists the crossings of the bearings' curves with the followed modes (their
 numbers and names as on the figure).
 
 examples:
@@ -40,7 +41,8 @@ examples:
 def add_arguments(parser):
     add_model_argument(parser)
     parser.add_argument("--stiffness", required=True,
-                        help="START:STOP:N radial stiffness values [N/m], log-spaced, e.g. 1e5:1e9:41")
+                        help="START:STOP:N radial stiffness values [N/m; lbf/in with --units us], log-spaced, "
+                             "e.g. 1e5:1e9:41")
     parser.add_argument("--modes", default="4", help="number of forward critical speeds per stiffness (default 4)")
     parser.add_argument("--bearings", metavar="NAME,...", help="the bearings whose stiffness is swept (default all)")
     parser.add_argument("--speeds", help="START:STOP:N speeds at which the speed-dependent bearings' stiffness "
@@ -53,32 +55,33 @@ def add_arguments(parser):
 def run(args) -> int:
     from ..analysis.ucs_map import ucs_map
 
-    stiffness = _stiffness(args.stiffness)
+    stiffness = _stiffness(args.stiffness, args.units)
     modes = _modes(args.modes)
     speeds = speed_to_rad_s(parse_range(args.speeds, "--speeds"), args.speed_unit) if args.speeds else None
     operating = _operating(args) if args.operating else None
     bearings = [n.strip() for n in args.bearings.split(",") if n.strip()] if args.bearings else None
     model = open_model(args)
     result = ucs_map(model, stiffness, modes=modes, bearings=bearings, speeds=speeds, operating=operating)
-    write_table(result.to_dataframe(), args)
+    table = result.to_dataframe()
+    write_table(convert_table(table, kinds_by_ending(table.columns), args.units), args)
     if not args.quiet:
-        _print_crossings(result)
+        _print_crossings(result, args.units)
     if args.plot:
         use_agg()
-        save_figure(result.plot(), args)
+        save_figure(result.plot(units=args.units), args)
     return 0
 
 
-def _stiffness(text):
-    """``START:STOP:N`` -> N log-spaced values, START > 0."""
+def _stiffness(text, system="si"):
+    """``START:STOP:N`` (in the unit of ``system``) -> N log-spaced values [N/m], START > 0."""
     from ..analysis.ucs_map import STIFFNESS_RANGE
 
     linear = parse_range(text, "--stiffness")
-    low, high = STIFFNESS_RANGE
+    low, high = to_system(np.array(STIFFNESS_RANGE), "stiffness", system)
     if not (low <= linear[0] and linear[-1] <= high):
-        raise InputError(f"--stiffness {text!r}: START and STOP must lie from {low:g} to {high:g} N/m "
-                         "(log-spaced stiffness)")
-    return np.geomspace(linear[0], linear[-1], len(linear))
+        raise InputError(f"--stiffness {text!r}: START and STOP must lie from {low:g} to {high:g} "
+                         f"{unit_label('stiffness', system)} (log-spaced stiffness)")
+    return from_system(np.geomspace(linear[0], linear[-1], len(linear)), "stiffness", system)
 
 
 def _modes(text):
@@ -101,11 +104,12 @@ def _operating(args):
     return tuple(speed_to_rad_s(np.array([low, high]), args.speed_unit))
 
 
-def _print_crossings(result):
+def _print_crossings(result, system="si"):
     table = result.crossings_dataframe()
     if table.empty:
         print("no bearing's stiffness curve meets a mode's curve on the map", file=sys.stderr)
         return
     for row in table.itertuples(index=False):
-        print(f"bearing {row.bearing} K{row.axis} = {row.stiffness_n_per_m:.4g} N/m meets mode {row.mode} "
+        stiffness = f"{to_system(row.stiffness_n_per_m, 'stiffness', system):.4g} {unit_label('stiffness', system)}"
+        print(f"bearing {row.bearing} K{row.axis} = {stiffness} meets mode {row.mode} "
               f"({row.name}) at {row.speed_rpm:.6g} rpm", file=sys.stderr)

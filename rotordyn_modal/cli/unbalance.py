@@ -8,6 +8,7 @@ from ..errors import InputError
 from ._common import (add_model_argument, add_output_file, add_outputs, add_speed_unit, check_ending, check_extra_output,
                       open_model, parse_number, print_table, save_figure, speeds_option, speeds_text, to_rad_s,
                       use_agg, write_csv, write_table)
+from ._units import convert_table
 from .frf import names
 
 NAME = "unbalance"
@@ -53,7 +54,10 @@ the CSV), at that source's largest orbit and at the last speed.
 rotor points, stator), with --forces one panel per kind of force (the amplitude of each
 item's force vector, N); the largest peaks (amplification factor >= 2.5) are labelled.
 
-CSV columns: speed_rpm,output,source,frequency_hz,amplitude,phase_deg[,amplitude_pkpk|amplitude_rms][,case]
+Units (--units us, docs/units.md): amplitudes in mil, in/s or g (--quantity), forces in lbf and
+moments in lbf in, in every table (a last column unit gives each row's) and on the figure's axes.
+
+CSV columns: speed_rpm,output,source,frequency_hz,amplitude,phase_deg[,amplitude_pkpk|amplitude_rms][,case][,unit]
 orbit CSV columns: speed_rpm,pair,source,frequency_hz,major,minor,inclination_deg,precession,precession_ratio
 
 examples:
@@ -114,16 +118,16 @@ def run(args) -> int:
     if (args.orbits or args.orbit_plot) and not result.orbit_pairs:
         raise InputError(f"{model.source}: --orbits/--orbit-plot need a probe pair among the outputs: two "
                          "sensors at one point of the same body, directions normal to spin_axis")
-    write_table(result.to_dataframe(forces=args.forces), args)
+    write_table(in_units(result.to_dataframe(forces=args.forces), result, args.units), args)
     peaks = result.peaks(operating)
     if not args.quiet:
         print("\npeaks (API 684):", file=sys.stderr)
-        print_table(peaks, empty=f"no resonance peak {speeds_text(args)}")
+        print_table(in_units(peaks, result, args.units), empty=f"no resonance peak {speeds_text(args)}")
     checks = _write_checks(result, model, mcs, min_speed, args)
     if args.plot:
         use_agg()
         save_figure(result.plot(peaks=peaks, speed_unit=args.speed_unit, groups=sensor_groups(model),
-                                forces=args.forces, checks=checks), args)
+                                forces=args.forces, checks=checks, units=args.units), args)
     _write_orbits(result, args)
     return 0
 
@@ -162,12 +166,32 @@ def _write_checks(result, model, mcs, min_speed, args):
     checks = result.checks(model, mcs=mcs, min_speed=min_speed, iso_group=args.iso_group,
                            iso_support=args.iso_support)
     table = checks.to_dataframe()
+    if args.units != "si":
+        kinds = ["displacement" if check.startswith("API") else "velocity" for check in table["check"]]
+        table = convert_table(table, {"value": "row", "limit": "row"}, args.units, kinds, unit_column=True)
     if not args.quiet:
-        print("\nchecks (API 617 probe limits, ISO 20816-3 zones; m, m/s):", file=sys.stderr)
+        print("\nchecks (API 617 probe limits, ISO 20816-3 zones; "
+              f"{'m, m/s' if args.units == 'si' else 'mil, in/s'}):", file=sys.stderr)
         print_table(table, empty="no probe (measure = \"relative\") or casing sensor to check among the outputs")
     if args.checks:
         write_csv(table, args.checks)
     return checks
+
+
+#: columns of the response and peaks tables whose unit is the row's (a sensor's or a force's)
+_AMPLITUDE_COLUMNS = {"amplitude": "row", "amplitude_pkpk": "row", "amplitude_rms": "row"}
+
+
+def in_units(table, result, system: str):
+    """A response or peaks table (SI) in ``system``: each row's amplitudes in the unit of its
+    sensor's quantity, or of its force (``NAME:Fx``) or moment (``NAME:Mx``) row, with a last
+    column ``unit`` outside SI."""
+    if system == "si":
+        return table
+    sensors = set(result.outputs)
+    kinds = [result.quantity if name in sensors else ("moment" if name.rsplit(":", 1)[-1].startswith("M")
+                                                      else "force") for name in table["output"]]
+    return convert_table(table, _AMPLITUDE_COLUMNS, system, kinds, unit_column=True)
 
 
 def sensor_groups(model) -> dict:
@@ -185,9 +209,15 @@ def _write_orbits(result, args):
         table = result.orbits()
         largest = table.loc[table.groupby(["pair", "source"])["major"].idxmax()]
         print("\nlargest orbit of each probe pair:", file=sys.stderr)
-        print_table(largest)
+        print_table(_orbits_in_units(largest, result, args.units))
     if args.orbits:
-        write_csv(result.orbits(), args.orbits)
+        write_csv(_orbits_in_units(result.orbits(), result, args.units), args.orbits)
     if args.orbit_plot:
         use_agg()
-        save_figure(result.plot_orbits(), args, args.orbit_plot, "--orbit-plot")
+        save_figure(result.plot_orbits(units=args.units), args, args.orbit_plot, "--orbit-plot")
+
+
+def _orbits_in_units(table, result, system):
+    """The orbits table (semi-axes of the sensors' quantity) in ``system``, a last column ``unit``."""
+    kinds = [result.quantity] * len(table)
+    return convert_table(table, {"major": "row", "minor": "row"}, system, kinds, unit_column=True)

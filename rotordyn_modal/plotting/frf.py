@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..units import FRF_OUTPUT_KINDS, ratio_scale, unit_scale
+
 __all__ = ["plot_frf", "plot_unbalance", "plot_overlay"]
 
 #: more FRFs than this are drawn in groups, each with its legend
@@ -21,7 +23,7 @@ def _bode_axes(figsize=(8.0, 6.0)):
     return fig, mag, phase
 
 
-def plot_frf(result, measured=None, pairs=None, title: str | None = None):
+def plot_frf(result, measured=None, pairs=None, title: str | None = None, units: str = "si", input_kinds=None):
     """Magnitude (log) and phase of FRFs against frequency, measured data dotted beneath.
 
     Up to :data:`_MAX_LEGEND` FRFs of one unit share one magnitude and one phase panel;
@@ -37,6 +39,11 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None):
     pairs : list of (output, input), optional
         Which FRFs to draw (default all).
     title : str, optional
+    units : {'si', 'us'}
+        Unit system of the magnitudes: SI (m/N, m/s/N, m/s²/N, N/N) or US customary (in/lbf,
+        in/s/lbf, g/lbf, lbf/lbf; lbf in for moments), docs/units.md.
+    input_kinds : dict, optional
+        ``{input name: 'force' or 'moment'}`` (default force): the unit of each input in US units.
 
     Returns
     -------
@@ -49,16 +56,35 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None):
                + (f" ({len(pairs)} FRFs)" if len(pairs) > _MAX_LEGEND else "")
                + (f"; {zero} FRFs zero at every frequency, not drawn" if zero and nonzero else ""))
     groups = _frf_groups(pairs)
+    scale = _FrfScale(result.quantity, units, input_kinds)
     if len(groups) > 1 or _is_moment(pairs[0][0]) != _is_moment(pairs[-1][0]):
-        return _plot_frf_groups(result, measured, groups, title or default)
+        return _plot_frf_groups(result, measured, groups, title or default, scale)
     fig, mag, phase = _bode_axes(figsize=(9.5, 6.0))
-    _draw_frfs(mag, phase, result, measured, pairs, lambda o, i: f"{o} / {i}")
-    mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '')}]")
+    _draw_frfs(mag, phase, result, measured, pairs, lambda o, i: f"{o} / {i}", scale)
+    mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '') if units == 'si' else scale.label(pairs)}]")
     phase.set_xlabel("Frequency [Hz]")
     mag.legend(fontsize="small", title="model (line), measured (dots)" if measured is not None else None,
                title_fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))   # beside, off the curves
     mag.set_title(title or default)
     return fig
+
+
+class _FrfScale:
+    """The factor on an SI FRF ``(output, input)`` and the unit of a panel in ``units`` (the
+    output's quantity over the input's: force, or moment per ``input_kinds``)."""
+
+    def __init__(self, quantity, units="si", input_kinds=None):
+        self.quantity, self.units, self.input_kinds = quantity, units, input_kinds or {}
+
+    def _kinds(self, o, i):
+        out = "moment" if self.quantity == "force" and _is_moment(o) else FRF_OUTPUT_KINDS.get(self.quantity, "length")
+        return out, self.input_kinds.get(i, "force")
+
+    def __call__(self, o, i) -> float:
+        return ratio_scale(*self._kinds(o, i), self.units)[0]
+
+    def label(self, pairs) -> str:
+        return ", ".join(dict.fromkeys(ratio_scale(*self._kinds(o, i), self.units)[1] for o, i in pairs))
 
 
 def _is_moment(output: str) -> bool:
@@ -83,7 +109,7 @@ def _frf_groups(pairs):
     return parts
 
 
-def _plot_frf_groups(result, measured, groups, title):
+def _plot_frf_groups(result, measured, groups, title, scale=None):
     """One block of panels per group (forces, moments when any, phase), in up to two columns."""
     import matplotlib.pyplot as plt
 
@@ -101,8 +127,10 @@ def _plot_frf_groups(result, measured, groups, title):
         phase = axes[-1]
         for ax, kind in zip(axes, kinds):
             _draw_frfs(ax, phase, result, measured, kind,
-                       (lambda o, i: f"{o.rsplit(':', 1)[1]} / {i}") if by_item else (lambda o, i: o))
+                       (lambda o, i: f"{o.rsplit(':', 1)[1]} / {i}") if by_item else (lambda o, i: o), scale)
             unit = "N m/N" if _is_moment(kind[0][0]) else _UNITS.get(result.quantity, "")
+            if scale is not None and scale.units != "si":
+                unit = scale.label(kind)
             ax.set_ylabel(f"|H| [{unit}]")
             ax.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0),
                       title="line: model, dots: measured" if measured is not None else None,
@@ -115,14 +143,16 @@ def _plot_frf_groups(result, measured, groups, title):
     return fig
 
 
-def _draw_frfs(mag, phase, result, measured, pairs, label):
-    """Each pair's model line (and measured dots, same colour) on ``mag`` (log) and ``phase``."""
+def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None):
+    """Each pair's model line (and measured dots, same colour) on ``mag`` (log) and ``phase``
+    (``scale(o, i)``: the factor on the SI FRF, default 1)."""
     for n, (o, i) in enumerate(pairs):
         colour = f"C{n % 10}"
         style = "-" if n < 10 else "--"
-        h = result.H[result.outputs.index(o), result.inputs.index(i)]
+        factor = 1.0 if scale is None or scale.units == "si" else scale(o, i)
+        h = result.H[result.outputs.index(o), result.inputs.index(i)] * factor
         if measured is not None and o in measured.outputs and i in measured.inputs:
-            hm = measured.H[measured.outputs.index(o), measured.inputs.index(i)]
+            hm = measured.H[measured.outputs.index(o), measured.inputs.index(i)] * factor
             mag.semilogy(measured.frequencies_hz, np.abs(hm), ".", ms=2.5, color=colour, alpha=0.5)
             phase.plot(measured.frequencies_hz, np.degrees(np.angle(hm)), ".", ms=2.5, color=colour, alpha=0.5)
         mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=label(o, i))
@@ -163,7 +193,8 @@ def plot_overlay(models, measured, title: str | None = None):
 
 
 def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, title: str | None = None,
-                   groups=None, forces: str | None = None, amplitude: str = "peak", checks=None):
+                   groups=None, forces: str | None = None, amplitude: str = "peak", checks=None,
+                   units: str = "si"):
     """Amplitude (log, 0-peak, peak-to-peak or RMS) and phase of each source's harmonic against
     speed, one pair of panels per group of sensors, and one amplitude panel per kind of force asked.
 
@@ -191,6 +222,9 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
         ``result.checks(...)``: the API 617 probe limit drawn (dashed, over the checked
         speeds) on the panels of its probes, and a panel of the casing sensors' RMS vibration
         velocity with the ISO 20816-3 zones A-D as bands.
+    units : {'si', 'us'}
+        Unit system of the amplitude axes: SI (m, m/s, m/s², N; mm/s RMS for the zones) or US
+        customary (mil, in/s, g, lbf; in/s RMS), see docs/units.md.
 
     Returns
     -------
@@ -213,12 +247,12 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
     axes = list(axes[:, 0])
     x = result.speeds * speed_scale(speed_unit)
     marked = [_sensor_pair(axes[2 * n], axes[2 * n + 1], result, name, rows, x, (factor, words), peaks, checks,
-                           speed_unit) for n, (name, rows) in enumerate(panels)]
+                           speed_unit, units) for n, (name, rows) in enumerate(panels)]
     for ax, (kind, names, values) in zip(axes[2 * len(panels):], force_panels):
-        _draw_force_panel(ax, result, names, values, x, factor, words)
+        _draw_force_panel(ax, result, names, values, x, factor, words, units)
         ax.set_title(f"Force of the {kind} (vector amplitude, |F|)", fontsize="medium")
     if zones:
-        _draw_zone_panel(axes[-1], checks, x)
+        _draw_zone_panel(axes[-1], checks, x, units)
     axes[-1].set_xlabel(speed_label(speed_unit))
     fig.suptitle(title or "Unbalance response")
     if peaks is not None and marked:
@@ -228,16 +262,17 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
     return fig
 
 
-def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, speed_unit):
+def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, speed_unit, units="si"):
     """One group of sensors' amplitude (``convention``: factor on 0-peak, its words) and phase
     panels, with the probe limits of ``checks``; returns ``(mag, peaks to label)``."""
     from ._style import speed_scale
 
-    factor, words = convention
-    unit = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s²"}[result.quantity]
+    convention_factor, words = convention
+    scale, unit = unit_scale(result.quantity, units)
+    factor = convention_factor * scale
     colours = _draw_sensor_panel(mag, phase, result, rows, x, factor)
     if checks is not None:
-        _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor)
+        _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor, units)
     mag.set_ylabel(f"Amplitude, {words} [{unit}]")
     mag.set_title(name, fontsize="medium")
     if peaks is None:
@@ -317,7 +352,7 @@ def _force_panels(result, forces):
     return panels
 
 
-def _draw_probe_limits(ax, checks, names, x, factor):
+def _draw_probe_limits(ax, checks, names, x, factor, units="si"):
     """The API 617 limit of the panel's probes (peak-to-peak, drawn in the panel's convention)
     over the checked speeds: one dashed line per distinct limit."""
     limits = sorted({float(limit) for name, limit in zip(checks.probes, checks.probe_limits)
@@ -325,7 +360,8 @@ def _draw_probe_limits(ax, checks, names, x, factor):
     span = np.where(checks.checked, 1.0, np.nan)
     for limit in limits:
         ax.plot(x, limit * factor / 2 * span, color="k", ls="--", lw=1.2,
-                label=f"API 617 probe limit {limit * 1e6:.1f} µm pk-pk")
+                label=f"API 617 probe limit {limit * 1e6:.1f} µm pk-pk" if units == "si" else
+                f"API 617 probe limit {limit * unit_scale('displacement', units)[0]:.2f} mil pk-pk")
     if limits:
         low, high = ax.get_ylim()                 # the curves' range is fixed: make room for the limit
         ax.set_ylim(low, max(high, 2 * max(limits) * factor / 2))
@@ -336,16 +372,18 @@ def _draw_probe_limits(ax, checks, names, x, factor):
 _ZONE_COLOURS = ("#d9f0d3", "#fff7bc", "#fdd0a2", "#fcbba1")
 
 
-def _draw_zone_panel(ax, checks, x):
-    """The casing sensors' RMS vibration velocity [mm/s] over the ISO 20816-3 zone bands."""
+def _draw_zone_panel(ax, checks, x, units="si"):
+    """The casing sensors' RMS vibration velocity [mm/s; in/s in US units] over the ISO 20816-3
+    zone bands."""
     styles = ["-", "--", ":", "-."]
+    scale, unit = (1e3, "mm/s") if units == "si" else unit_scale("velocity", units)
     for m, name in enumerate(checks.casing):
         for c, case in enumerate(checks.cases):
-            ax.plot(x, checks.casing_velocity_rms[m, c] * 1e3, color=f"C{m % 10}", ls=styles[c % len(styles)],
+            ax.plot(x, checks.casing_velocity_rms[m, c] * scale, color=f"C{m % 10}", ls=styles[c % len(styles)],
                     label=f"{name} ({case})" if case else name)
-    bounds = [b * 1e3 for b in checks.zone_boundaries]
-    top = max(bounds[2] * 3, float(np.nanmax(checks.casing_velocity_rms, initial=0)) * 2e3)
-    largest = np.nanmax(np.where(checks.checked, checks.casing_velocity_rms, np.nan), axis=-1, initial=0) * 1e3
+    bounds = [b * scale for b in checks.zone_boundaries]
+    top = max(bounds[2] * 3, float(np.nanmax(checks.casing_velocity_rms, initial=0)) * 2 * scale)
+    largest = np.nanmax(np.where(checks.checked, checks.casing_velocity_rms, np.nan), axis=-1, initial=0) * scale
     shown = largest[largest > 0]             # each curve's largest checked value stays above the bottom
     bottom = max(min(bounds[0] / 30, 0.5 * float(shown.min()) if shown.size else np.inf), top * 1e-5)
     edges = (bottom, *bounds, top)
@@ -358,12 +396,14 @@ def _draw_zone_panel(ax, checks, x):
     if checks.mcs is not None or checks.checked.sum() < len(checks.checked):
         ax.plot(x, np.where(checks.checked, edges[0], np.nan), color="k", lw=6, solid_capstyle="butt",
                 label="checked speeds")
-    ax.set_ylabel("Velocity, RMS [mm/s]")
+    ax.set_ylabel(f"Velocity, RMS [{unit}]")
     ax.set_title(f"Casing vibration velocity, ISO 20816-3 zones ({checks.iso_class})", fontsize="medium")
     ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.04, 1.0))
 
 
-def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak"):
+def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak", units="si"):
+    scale, unit = unit_scale("force", units)
+    factor = factor * scale
     styles = ["-", "--", ":", "-."]
     for m, name in enumerate(names):
         for j, s in enumerate(result.sources):
@@ -371,7 +411,7 @@ def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak"):
             ax.semilogy(x, np.where(size > 0, size * factor, np.nan), color=f"C{m % 10}", ls=styles[j % len(styles)],
                         label=f"{name}: 1X {s}")
     _limit_range(ax)
-    ax.set_ylabel(f"Force amplitude, {words} [N]")
+    ax.set_ylabel(f"Force amplitude, {words} [{unit}]")
     ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
 
 

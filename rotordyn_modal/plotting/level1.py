@@ -4,30 +4,34 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..units import unit_scale
 from ._style import new_figure
 
 __all__ = ["plot_level1"]
 
 
-def plot_level1(result, title: str | None = None, ax=None):
+def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     """Log decrement against the applied cross-coupling ``Q / Qa``, with ``Qa`` and ``Q0`` marked.
 
     The criterion 0.1 is a dashed line, the log decrement at ``Qa`` a marker on its vertical
     line, ``Q0`` (where the log decrement reaches 0) a marker on the zero line; the title gives
     the verdict: the criteria's values and whether Level II is required. A second axis along
-    the top reads ``Q`` in N/m.
+    the top reads ``Q`` in N/m (lbf/in with ``units='us'``).
 
     Parameters
     ----------
     result : Level1Result
     title : str, optional
     ax : matplotlib Axes, optional
+    units : {'si', 'us'}
+        Unit system of ``Q``: N/m (SI) or lbf/in (US customary).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
     LOG_DEC_CRITERION, RATIO_CRITERION = result.log_decrement_criterion, result.ratio_criterion
+    scale, unit = unit_scale("stiffness", units)
     fig, ax = new_figure(ax, figsize=(8.0, 5.5))
     x = result.cross_coupling / result.qa
     ax.plot(x, result.log_decrements, color="tab:blue", linewidth=2.0,
@@ -40,18 +44,19 @@ def plot_level1(result, title: str | None = None, ax=None):
                label=f"Q0/Qa = {RATIO_CRITERION:g} (criterion)")
     colour = "tab:red" if not result.passes_log_decrement else "tab:green"
     ax.plot([1.0], [result.log_decrement_at_qa], "o", color=colour, markersize=8, zorder=5,
-            label=f"at Qa = {result.qa:.4g} N/m: log dec {result.log_decrement_at_qa:.3g}")
+            label=f"at Qa = {result.qa * scale:.4g} {unit}: log dec {result.log_decrement_at_qa:.3g}")
     if np.isfinite(result.q0):
         colour = "tab:red" if not result.passes_ratio else "tab:green"
         ax.plot([result.q0 / result.qa], [0.0], "D", color=colour, markersize=8, zorder=5,
-                label=f"Q0 = {result.q0:.4g} N/m (Q0/Qa = {result.ratio:.3g})")
+                label=f"Q0 = {result.q0 * scale:.4g} {unit} (Q0/Qa = {result.ratio:.3g})")
     _limits(ax, result)
     ax.set_xlabel("Applied cross-coupled stiffness Q / Qa [-]")
     ax.set_ylabel("Log decrement of the followed mode [-]\n(< 0: unstable)")
-    top = ax.secondary_xaxis("top", functions=(lambda q: q * result.qa, lambda q: q / result.qa))
-    top.set_xlabel("Q [N/m]")
+    qa = result.qa * scale
+    top = ax.secondary_xaxis("top", functions=(lambda q: q * qa, lambda q: q / qa))
+    top.set_xlabel(f"Q [{unit}]")
     ax.grid(True, alpha=0.3)
-    stations = ", ".join(str(s) for s in result.stations)
+    stations = ", ".join(s.label(units) for s in result.stations)
     heading = title or (f"API 617 Level I: {result.title}" if result.title else "API 617 Level I")
     import textwrap
 

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..units import unit_scale
+
 __all__ = ["plot_orbits"]
 
 _SCALE = {"displacement": (1e6, "µm"), "velocity": (1e3, "mm/s"), "acceleration": (1.0, "m/s²")}
 
 
-def plot_orbits(result, speeds=None, source=None, title: str | None = None):
+def plot_orbits(result, speeds=None, source=None, title: str | None = None, units: str = "si"):
     """Orbits of every probe pair and source at a few speeds, with the keyphasor dot at t = 0:
     one panel per (pair, source), as in ``result.orbits()`` (rows pairs, columns sources).
 
@@ -22,6 +24,8 @@ def plot_orbits(result, speeds=None, source=None, title: str | None = None):
     source : str, optional
         Draw only this exciting rotor (default every source).
     title : str, optional
+    units : {'si', 'us'}
+        Unit system of the axes (SI: µm, mm/s, m/s²; US: mil, in/s, g).
 
     Returns
     -------
@@ -33,7 +37,7 @@ def plot_orbits(result, speeds=None, source=None, title: str | None = None):
     if not pairs:
         raise ValueError("no probe pairs: give two sensors at one point with directions normal to the spin axis")
     sources = range(len(result.sources)) if source is None else [result.sources.index(source)]
-    scale, unit = _SCALE.get(result.quantity, (1.0, ""))
+    scale, unit = _SCALE.get(result.quantity, (1.0, "")) if units == "si" else unit_scale(result.quantity, units)
     rows, columns = len(pairs), len(sources)
     fig, axes = plt.subplots(rows, columns, figsize=(4.4 * columns, 4.4 * rows), squeeze=False,
                              layout="constrained")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..units import unit_scale
 from ._style import new_figure
 
 __all__ = ["plot_ucs_map"]
@@ -13,7 +14,7 @@ _MODE_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown
 _BEARING_COLOURS = ("0.15", "tab:red", "0.45", "darkgoldenrod", "teal", "indigo")
 
 
-def plot_ucs_map(result, title: str | None = None, ax=None):
+def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     """Forward critical speeds of the followed modes against the chosen bearings' stiffness.
 
     Log-log axes: bearing stiffness [N/m] across, speed [rpm] up. Each mode, followed over the
@@ -31,13 +32,16 @@ def plot_ucs_map(result, title: str | None = None, ax=None):
     result : UcsMap
     title : str, optional
     ax : matplotlib Axes, optional
+    units : {'si', 'us'}
+        Unit system of the stiffness axis: N/m (SI) or lbf/in (US customary).
 
     Returns
     -------
     matplotlib.figure.Figure
     """
     fig, ax = new_figure(ax, figsize=(8.5, 6.0))
-    k = result.stiffness
+    scale, unit = unit_scale("stiffness", units)
+    k = result.stiffness * scale
     rpm, names = _modes(result)
     ax.set_xscale("log")
     ax.set_yscale("log")
@@ -53,14 +57,14 @@ def plot_ucs_map(result, title: str | None = None, ax=None):
     if ends:
         ax.plot([], [], "s", color="0.3", markersize=4, label="a mode starts or stops being a forward crossing")
     _label_right_ends(ax, k, rpm, names, limits)
-    _draw_asymptotes(ax, result, rigid)
-    _draw_bearings(ax, result)
-    _draw_crossings(ax, result, limits)
+    _draw_asymptotes(ax, result, rigid, scale)
+    _draw_bearings(ax, result, (scale, unit))
+    _draw_crossings(ax, result, limits, scale)
     if result.operating is not None:
         low, high = (s * 30 / np.pi for s in result.operating)
         ax.axhspan(low, high, color="0.6", alpha=0.25, zorder=0.5, label="operating range")
     ax.grid(True, which="both", alpha=0.25)
-    ax.set_xlabel("Bearing radial stiffness, each chosen bearing [N/m]")
+    ax.set_xlabel(f"Bearing radial stiffness, each chosen bearing [{unit}]")
     ax.set_ylabel("Undamped critical speed (forward, 1X of the reference rotor) [rpm]")
     ax.set_title(title or (f"Undamped critical speed map: {result.title}" if result.title
                            else "Undamped critical speed map"), fontsize="medium")
@@ -151,7 +155,7 @@ def _rigid_speeds(result, limits):
     return speeds[np.isfinite(speeds) & (speeds >= limits[0]) & (speeds <= limits[1])]
 
 
-def _draw_asymptotes(ax, result, speeds):
+def _draw_asymptotes(ax, result, speeds, scale=1.0):
     """The rigid-support speeds: dotted grey lines beyond the sweep's last stiffness (where the
     curves that tend to them have already reached them, drawn over them, they would not show);
     without any, the legend says that the supports made rigid leave no critical speed."""
@@ -159,15 +163,17 @@ def _draw_asymptotes(ax, result, speeds):
         if result.rigid_speeds is not None:
             ax.plot([], [], ":", color="0.25", label="rigid supports: no critical speed")
         return
-    end = result.stiffness[-1]
+    end = result.stiffness[-1] * scale
     ax.axvline(end, color="0.5", linewidth=0.8)
     ax.hlines(speeds, end, ax.get_xlim()[1], colors="0.25", linestyles=":", linewidth=1.6,
               label="rigid supports (k -> infinity)")
 
 
-def _draw_bearings(ax, result):
+def _draw_bearings(ax, result, units=(1.0, "N/m")):
     """Each bearing's Kxx (solid) and Kyy (dashed) over speed; constant ones as vertical lines,
-    one line per distinct stiffness with the bearings' names together."""
+    one line per distinct stiffness with the bearings' names together (``units``: the
+    stiffness axis's factor on N/m and its unit)."""
+    scale, unit = units
     vertical: dict = {}
     drawn: list = []          # [(curve, names)]: curves of equal values drawn once
     colours = iter(_BEARING_COLOURS * 4)
@@ -184,13 +190,14 @@ def _draw_bearings(ax, result):
     for curve, names in drawn:
         colour = next(colours)
         rpm = curve.speeds * 30 / np.pi
-        ax.plot(curve.kxx, rpm, color=colour, linewidth=1.3, label=f"{', '.join(names)} Kxx")
-        ax.plot(curve.kyy, rpm, color=colour, linewidth=1.3, linestyle="--", label=f"{', '.join(names)} Kyy")
+        ax.plot(curve.kxx * scale, rpm, color=colour, linewidth=1.3, label=f"{', '.join(names)} Kxx")
+        ax.plot(curve.kyy * scale, rpm, color=colour, linewidth=1.3, linestyle="--",
+                label=f"{', '.join(names)} Kyy")
     for value, owners in sorted(vertical.items()):
         names = list(dict.fromkeys(name for name, _ in owners))
         axes = "/".join(sorted({axis for _, axis in owners}))
-        ax.axvline(value, color=next(colours), linewidth=1.3, linestyle="-.",
-                   label=f"{', '.join(names)} K{axes} = {value:.3g} N/m")
+        ax.axvline(value * scale, color=next(colours), linewidth=1.3, linestyle="-.",
+                   label=f"{', '.join(names)} K{axes} = {value * scale:.3g} {unit}")
 
 
 def _equal(a, b) -> bool:
@@ -198,21 +205,22 @@ def _equal(a, b) -> bool:
             and np.array_equal(a.kxx, b.kxx) and np.array_equal(a.kyy, b.kyy))
 
 
-def _draw_crossings(ax, result, limits):
+def _draw_crossings(ax, result, limits, scale=1.0):
     """A marker at every crossing (once per point), its speed written beside it."""
     seen, written = set(), []
     for crossing in result.crossings:
         rpm = crossing.speed * 30 / np.pi
-        key = (round(np.log(crossing.stiffness), 9), round(np.log(rpm), 9))
+        stiffness = crossing.stiffness * scale
+        key = (round(np.log(stiffness), 9), round(np.log(rpm), 9))
         if key in seen or not limits[0] <= rpm <= limits[1]:
             continue
         seen.add(key)
-        ax.plot(crossing.stiffness, rpm, "o", markersize=6, markerfacecolor="white", markeredgecolor="k", zorder=5)
-        here = np.log10([crossing.stiffness, rpm])
+        ax.plot(stiffness, rpm, "o", markersize=6, markerfacecolor="white", markeredgecolor="k", zorder=5)
+        here = np.log10([stiffness, rpm])
         if any(np.all(np.abs(here - other) < _TEXT_APART) for other in written):
             continue              # a number already written next to it (several close bearings)
         written.append(here)
-        ax.annotate(f"{rpm:.0f}", (crossing.stiffness, rpm), xytext=(5, -10), textcoords="offset points",
+        ax.annotate(f"{rpm:.0f}", (stiffness, rpm), xytext=(5, -10), textcoords="offset points",
                     fontsize="x-small", zorder=6)
 
 

@@ -1,0 +1,125 @@
+"""The unit system of the command line (``--units si|us``, or ROTORDYN_MODAL_UNITS): chosen
+once, applied to the tables printed and written and to the figures (docs/units.md). The
+analyses stay in SI; only what is shown is converted, here and in the figures."""
+
+from __future__ import annotations
+
+import argparse
+import os
+
+import numpy as np
+
+from ..errors import InputError
+from ..units import UNIT_SYSTEMS, to_system, unit_label
+
+#: environment variable naming the unit system when ``--units`` is not given
+ENVIRONMENT = "ROTORDYN_MODAL_UNITS"
+
+UNITS_HELP = (f"unit system of the tables and figures: si (default) or us (in, mil, lbf, lbf/in, lb in², "
+              f"rpm; docs/units.md); also set once by the environment variable {ENVIRONMENT} (this option wins). "
+              "Model files are always SI")
+
+#: column-name endings that carry an SI unit -> the US ending (``x_m`` -> ``x_in``)
+US_ENDINGS = {"_m": "_in", "_N": "_lbf", "_Nm": "_lbfin", "_n_per_m": "_lbf_per_in"}
+
+
+def add_units_option(parser, suppress: bool = False):
+    """``--units`` on the main parser (default None) or a sub-command's (``suppress``: it sets
+    nothing when not given, so the main parser's value stands)."""
+    parser.add_argument("--units", metavar="si|us", default=argparse.SUPPRESS if suppress else None,
+                        help=UNITS_HELP)
+
+
+def resolve_units(given) -> str:
+    """The unit system: ``--units`` if given, else ROTORDYN_MODAL_UNITS, else 'si'.
+
+    Raises
+    ------
+    InputError
+        A value that is not si or us (one line naming where it came from).
+    """
+    source, value = ("--units", given) if given is not None else (ENVIRONMENT, os.environ.get(ENVIRONMENT))
+    if value is None or (source == ENVIRONMENT and not value.strip()):
+        return "si"
+    name = str(value).strip().lower()
+    if name not in UNIT_SYSTEMS:
+        raise InputError(f"{source} {value!r}: expected one of {', '.join(UNIT_SYSTEMS)} (SI or US customary units)")
+    return name
+
+
+def us_column(name: str) -> str:
+    """The US name of a column whose name ends in its SI unit (``Fx_N`` -> ``Fx_lbf``); others unchanged."""
+    for ending in sorted(US_ENDINGS, key=len, reverse=True):
+        if name.endswith(ending):
+            return name[:-len(ending)] + US_ENDINGS[ending]
+    return name
+
+
+#: quantity kind of the columns whose name ends in an SI unit
+_ENDING_KINDS = {"_m": "length", "_N": "force", "_Nm": "moment", "_n_per_m": "stiffness"}
+
+
+def kinds_by_ending(columns) -> dict:
+    """Column -> kind of every column whose name ends in an SI unit (``x_m``: length, ``Fx_N``:
+    force, ``Mx_Nm``: moment, ``stiffness_n_per_m``: stiffness); for :func:`convert_table`."""
+    kinds = {}
+    for column in columns:
+        ending = next((e for e in sorted(_ENDING_KINDS, key=len, reverse=True) if str(column).endswith(e)), None)
+        if ending:
+            kinds[column] = _ENDING_KINDS[ending]
+    return kinds
+
+
+def convert_table(table, kinds: dict, system: str, row_kinds=None, unit_column: bool = False):
+    """``table`` (SI) in ``system``: the table itself for 'si' (SI output stays as it was).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+    kinds : dict
+        Column -> quantity kind (:data:`rotordyn_modal.units.QUANTITIES`) of its values; columns
+        not named are left as they are. Columns whose name ends in an SI unit are renamed
+        (:func:`us_column`).
+    system : {'si', 'us'}
+    row_kinds : array_like of str, shape (len(table),), optional
+        The kind of each row's values in the columns of ``kinds`` whose kind is ``'row'`` (a
+        column that mixes quantities, such as ``amplitude`` with sensors and forces).
+    unit_column : bool
+        Add a last column ``unit``: each row's unit of the ``'row'`` columns.
+    """
+    if system == "si":
+        return table
+    table = table.copy()
+    for column, kind in kinds.items():
+        if column not in table:
+            continue
+        values = table[column].to_numpy(dtype=float)
+        if kind == "row":
+            table[column] = _by_row(values, row_kinds, system)
+        else:
+            table[column] = to_system(values, kind, system)
+    if unit_column and row_kinds is not None:
+        table["unit"] = [unit_label(kind, system) if kind else "" for kind in row_kinds]
+    round_off = table.attrs.get("round_off", {})
+    table.attrs["round_off"] = {us_column(c): _round_off(v, kinds.get(c), row_kinds, system)
+                                for c, v in round_off.items()}
+    return table.rename(columns={c: us_column(c) for c in table.columns if c in kinds})
+
+
+def _by_row(values, row_kinds, system):
+    out = np.array(values, dtype=float)
+    row_kinds = np.asarray(row_kinds, dtype=object)
+    for kind in set(row_kinds):
+        if kind:
+            rows = row_kinds == kind
+            out[rows] = to_system(values[rows], kind, system)
+    return out
+
+
+def _round_off(noise, kind, row_kinds, system):
+    """The round-off of a converted column (``table.attrs['round_off']``) in its new unit."""
+    if kind is None:
+        return noise
+    if kind == "row":
+        return _by_row(np.broadcast_to(np.asarray(noise, dtype=float), (len(row_kinds),)), row_kinds, system)
+    return to_system(noise, kind, system)

@@ -28,7 +28,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["MachineOutline", "Body", "Spring", "Arrow", "machine_outline", "ModeShape3D", "mode_shape_3d",
-           "mode_index"]
+           "mode_index", "ShaftLine", "ShaftLines", "shaft_lines"]
 
 #: segments of a rotor's circles
 _CIRCLE = 24
@@ -381,3 +381,224 @@ def _point_motion(result, points, body):
         return np.zeros((len(result.eigenvalues), len(points), 3), complex)
     rotor = body if body in getattr(result, "rotor_names", ()) else None
     return np.stack([result.shape_at(p, body=rotor) for p in points], axis=1)
+
+
+# ---------------------------------------------------------------------------------------------
+# deflected shaft lines along the axis
+# ---------------------------------------------------------------------------------------------
+#: points drawn inside each element of a flexible rotor (besides its nodes)
+_POINTS_PER_ELEMENT = 8
+#: points along a rigid rotor's straight line
+_RIGID_POINTS = 21
+
+
+@dataclass(frozen=True)
+class ShaftLine:
+    """One rotor's deflected line in one mode, normalised with the other rotors of the mode.
+
+    Positions are along the model's spin axis ``e`` in model coordinates (``x . e`` [m]), so
+    every rotor of the machine and its bearings share one axis. Displacements are along the
+    transverse axes ``a, b`` (:func:`~rotordyn_modal.model.geometry.transverse_axes`); the
+    drawn line at phase ``phi`` is ``Re(u exp(i phi))``.
+
+    Attributes
+    ----------
+    rotor : str
+    flexible : bool
+        True for a rotor with a shaft (its nodes are the mesh's); False for a rigid rotor (a
+        straight line; its "nodes" are the line's two ends).
+    position : ndarray, shape (n,) [m]
+        Points of the line along the axis, increasing.
+    displacement : ndarray, shape (2, n), complex
+        ``(u_a, u_b)`` at each point, absolute (the stator's motion there included), normalised:
+        the largest ``|u|`` over the mode's lines is 1 and is real (phase 0).
+    relative : ndarray, shape (2, n), complex
+        The same relative to the stator's point at the same place (same factor).
+    node_position : ndarray, shape (N,) [m]
+    node_displacement, node_relative_displacement : ndarray, shape (2, N), complex
+        ``(u_a, u_b)`` at the nodes (same normalisation).
+    node_rotation, node_relative_rotation : ndarray, shape (2, N), complex
+        ``(theta_a, theta_b)`` at the nodes, in radians per the same unit as the displacements
+        [rad per normalised m: 1/m].
+    bearings : tuple of (str, float)
+        Each bearing's name and position [m] on the axis.
+    disks : tuple of (str, float, float)
+        Each disk's name, position [m] and mass [kg] (a flexible rotor's disks; none for a rigid
+        rotor).
+    whirl : str
+        The rotor's own whirl in the mode: 'forward', 'backward' or 'none'.
+    """
+
+    rotor: str
+    flexible: bool
+    position: np.ndarray
+    displacement: np.ndarray
+    relative: np.ndarray
+    node_position: np.ndarray
+    node_displacement: np.ndarray
+    node_rotation: np.ndarray
+    node_relative_displacement: np.ndarray
+    node_relative_rotation: np.ndarray
+    bearings: tuple = ()
+    disks: tuple = ()
+    whirl: str = "none"
+
+
+@dataclass(frozen=True)
+class ShaftLines:
+    """The deflected lines of every rotor in one mode.
+
+    Attributes
+    ----------
+    mode : int
+        Mode number as in the modes table (:func:`mode_index`).
+    frequency_hz, damping_ratio, whirl_ratio : float
+    whirl : str
+        The machine's whirl in the mode.
+    speed : float
+        Reference rotor speed [rad/s].
+    axis_names : tuple of str
+        Names of ``a, b`` and ``e`` (model axis letters when they are model axes).
+    lines : tuple of ShaftLine
+        One per rotor, in model order.
+    """
+
+    mode: int
+    frequency_hz: float
+    damping_ratio: float
+    whirl: str
+    whirl_ratio: float
+    speed: float
+    axis_names: tuple
+    lines: tuple
+
+    def plot(self, **kwargs):
+        """The panel; see :func:`rotordyn_modal.plotting.shaft_modes.plot_shaft_modes`."""
+        from ..plotting.shaft_modes import plot_shaft_modes
+
+        return plot_shaft_modes([self], **kwargs)
+
+
+def shaft_lines(result, model, mode: int, points_per_element: int = _POINTS_PER_ELEMENT) -> ShaftLines:
+    """Every rotor's deflected line along the axis in one mode.
+
+    A flexible rotor's line goes through its nodes' motions and, inside each element, follows
+    the element's own shape functions (:func:`~rotordyn_modal.elements.shaft.lateral_deflection`:
+    cubic, exact for rigid motions); a rigid rotor's line is straight, its rigid motion at
+    each point (:meth:`ModalResult.shape_at`), from its inertia-equivalent cylinder's ends or
+    its outermost bearings, whichever reach further.
+
+    Parameters
+    ----------
+    result : ModalResult
+    model : Model
+        The model analysed.
+    mode : int
+        Mode number as in ``result.to_dataframe()`` (1 = lowest oscillatory mode).
+    points_per_element : int
+        Points drawn inside each element of a flexible rotor.
+
+    Returns
+    -------
+    ShaftLines
+        Normalised together: the largest ``|u_a|`` or ``|u_b|`` of the absolute lines is 1 and
+        real.
+    """
+    from ..model.dofs import _axis_letters
+    from ..model.geometry import transverse_axes
+
+    k = mode_index(result, mode)
+    a, b = transverse_axes(model.spin_axis)
+    e = np.asarray(model.spin_axis, dtype=float)
+    raw = [_flexible_line(result, model, rotor, k, (a, b, e), points_per_element) if rotor.flexible is not None
+           else _rigid_line(result, model, rotor, k, (a, b, e)) for rotor in model.rotors]
+    values = np.concatenate([line["displacement"].ravel() for line in raw])
+    biggest = values[int(np.argmax(np.abs(values)))] if values.size else 0.0
+    factor = 1.0 / biggest if abs(biggest) > 0 else 1.0
+    scaled = {"displacement", "relative", "node_displacement", "node_rotation", "node_relative_displacement",
+              "node_relative_rotation"}
+    whirls = result.rotor_whirl[k] if result.rotor_whirl_ratios is not None else ["none"] * len(model.rotors)
+    lines = tuple(ShaftLine(**{key: factor * value if key in scaled else value for key, value in line.items()},
+                            whirl=str(whirl)) for line, whirl in zip(raw, whirls))
+    return ShaftLines(mode=int(mode), frequency_hz=float(result.frequencies_hz[k]),
+                      damping_ratio=float(result.damping_ratios[k]), whirl=str(result.whirl[k]),
+                      whirl_ratio=float(result.whirl_ratios[k]), speed=float(result.speed),
+                      axis_names=_axis_letters(model.spin_axis), lines=lines)
+
+
+def _node_motion(result, rotor, points, k, axes, relative):
+    """``(u_a, u_b)`` and ``(theta_a, theta_b)`` of ``rotor`` at each point in mode ``k``, each (2, P)."""
+    from ..model.geometry import point_motion_rows
+
+    a, b, _ = axes
+    u, theta = [], []
+    for p in np.asarray(points, dtype=float).reshape(-1, 3):
+        motion = result._motion(rotor, relative, p) @ result.shapes[k]      # [u, theta] at S, (6,)
+        rows = point_motion_rows([p, p], result.reference_point, [a, b])
+        u.append(rows @ motion)
+        theta.append([a @ motion[3:], b @ motion[3:]])
+    return np.asarray(u, complex).reshape(-1, 2).T, np.asarray(theta, complex).reshape(-1, 2).T
+
+
+def _markers(model, rotor, e):
+    bearings = tuple((x.name, float(np.asarray(x.position, float) @ e)) for x in model.bearings if x.rotor == rotor.name)
+    disks = ()
+    if rotor.flexible is not None:
+        start = float(rotor.flexible.start @ e)
+        disks = tuple((d.name, start + float(d.z), float(d.mass)) for d in rotor.flexible.disks)
+    return bearings, disks
+
+
+def _flexible_line(result, model, rotor, k, axes, points_per_element):
+    from ..elements.shaft import Material, lateral_deflection
+
+    shaft = rotor.flexible
+    nodes = shaft.node_positions
+    u, theta = _node_motion(result, rotor.name, nodes, k, axes, relative=False)
+    u_rel, theta_rel = _node_motion(result, rotor.name, nodes, k, axes, relative=True)
+    start = float(shaft.start @ axes[2])
+    xi = np.linspace(0.0, 1.0, points_per_element + 2)[:-1]
+    position, absolute, relative = [], [], []
+    for left, index, length, outer, inner in shaft.mesh.elements:
+        m = shaft.sections[index].material
+        material = Material(m.name, m.density, m.young_modulus, m.shear_modulus)
+        ends = slice(left, left + 2)
+        for out, (dis, rot) in ((absolute, (u, theta)), (relative, (u_rel, theta_rel))):
+            values = np.concatenate([dis[:, ends], rot[:, ends]]).T.ravel()   # per node: u_a, u_b, th_a, th_b
+            out.append(lateral_deflection(length, outer, inner, material, values, xi, shear=shaft.shear))
+        position.append(start + shaft.mesh.z[left] + length * xi)
+    position.append([start + shaft.mesh.z[-1]])
+    absolute.append(u[:, -1:])
+    relative.append(u_rel[:, -1:])
+    bearings, disks = _markers(model, rotor, axes[2])
+    return dict(rotor=rotor.name, flexible=True, position=np.concatenate(position),
+                displacement=np.concatenate(absolute, axis=1), relative=np.concatenate(relative, axis=1),
+                node_position=start + np.asarray(shaft.mesh.z, float), node_displacement=u, node_rotation=theta,
+                node_relative_displacement=u_rel, node_relative_rotation=theta_rel, bearings=bearings, disks=disks)
+
+
+def _rigid_line(result, model, rotor, k, axes):
+    e = axes[2]
+    centre = np.asarray(rotor.center_of_mass, dtype=float)
+    half = 0.5 * _rotor_size(rotor)[1]
+    bearings, disks = _markers(model, rotor, e)
+    reach = [centre @ e - half, centre @ e + half] + [z for _, z in bearings]
+    ends = np.array([min(reach), max(reach)])
+    position = np.linspace(ends[0], ends[1], _RIGID_POINTS)
+    points = centre + np.outer(position - centre @ e, e)
+    u, _ = _node_motion(result, rotor.name, points, k, axes, relative=False)
+    u_rel, _ = _node_motion(result, rotor.name, points, k, axes, relative=True)
+    node_u, node_theta = _node_motion(result, rotor.name, points[[0, -1]], k, axes, relative=False)
+    node_u_rel, node_theta_rel = _node_motion(result, rotor.name, points[[0, -1]], k, axes, relative=True)
+    return dict(rotor=rotor.name, flexible=False, position=position, displacement=u, relative=u_rel,
+                node_position=ends, node_displacement=node_u, node_rotation=node_theta,
+                node_relative_displacement=node_u_rel, node_relative_rotation=node_theta_rel,
+                bearings=bearings, disks=disks)
+
+
+def _rotor_size(rotor):
+    """Radius and length [m] of the solid cylinder with the rotor's mass and inertias."""
+    m = float(rotor.mass)
+    radius = np.sqrt(2 * rotor.polar_inertia / m)
+    length = np.sqrt(max(12 * rotor.diametral_inertia / m - 3 * radius ** 2, 0.0))
+    return radius, max(length, 0.15 * radius)

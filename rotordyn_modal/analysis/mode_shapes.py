@@ -390,6 +390,8 @@ def _point_motion(result, points, body):
 _POINTS_PER_ELEMENT = 8
 #: points along a rigid rotor's straight line
 _RIGID_POINTS = 21
+#: lateral motion below this fraction of the mode's largest motion is round-off (an axial mode)
+_LATERAL_ROUND_OFF = 1e-8
 
 
 @dataclass(frozen=True)
@@ -461,6 +463,9 @@ class ShaftLines:
         Names of ``a, b`` and ``e`` (model axis letters when they are model axes).
     lines : tuple of ShaftLine
         One per rotor, in model order.
+    lateral : bool
+        False when no rotor moves laterally in the mode (an axial or torsional mode): its lateral
+        motions are round-off (below 1e-8 of the mode's largest motion) and the lines are zero.
     """
 
     mode: int
@@ -471,6 +476,7 @@ class ShaftLines:
     speed: float
     axis_names: tuple
     lines: tuple
+    lateral: bool = True
 
     def plot(self, **kwargs):
         """The panel; see :func:`rotordyn_modal.plotting.shaft_modes.plot_shaft_modes`."""
@@ -514,7 +520,10 @@ def shaft_lines(result, model, mode: int, points_per_element: int = _POINTS_PER_
            else _rigid_line(result, model, rotor, k, (a, b, e)) for rotor in model.rotors]
     values = np.concatenate([line["displacement"].ravel() for line in raw])
     biggest = values[int(np.argmax(np.abs(values)))] if values.size else 0.0
-    factor = 1.0 / biggest if abs(biggest) > 0 else 1.0
+    # an axial or torsional mode has no lateral motion: round-off, not drawn as a shape
+    lateral = abs(biggest) > _LATERAL_ROUND_OFF * max(max([line.pop("largest") for line in raw], default=0.0),
+                                                      float(np.abs(result.shapes[k]).max()))
+    factor = 1.0 / biggest if lateral else 0.0
     scaled = {"displacement", "relative", "node_displacement", "node_rotation", "node_relative_displacement",
               "node_relative_rotation"}
     whirls = result.rotor_whirl[k] if result.rotor_whirl_ratios is not None else ["none"] * len(model.rotors)
@@ -523,21 +532,24 @@ def shaft_lines(result, model, mode: int, points_per_element: int = _POINTS_PER_
     return ShaftLines(mode=int(mode), frequency_hz=float(result.frequencies_hz[k]),
                       damping_ratio=float(result.damping_ratios[k]), whirl=str(result.whirl[k]),
                       whirl_ratio=float(result.whirl_ratios[k]), speed=float(result.speed),
-                      axis_names=_axis_letters(model.spin_axis), lines=lines)
+                      axis_names=_axis_letters(model.spin_axis), lines=lines, lateral=bool(lateral))
 
 
 def _node_motion(result, rotor, points, k, axes, relative):
-    """``(u_a, u_b)`` and ``(theta_a, theta_b)`` of ``rotor`` at each point in mode ``k``, each (2, P)."""
+    """``(u_a, u_b)`` and ``(theta_a, theta_b)`` of ``rotor`` at each point in mode ``k``, each (2, P),
+    and the largest axial displacement ``|u_e|`` among the points."""
     from ..model.geometry import point_motion_rows
 
-    a, b, _ = axes
-    u, theta = [], []
+    a, b, e = axes
+    u, theta, axial = [], [], [0.0]
     for p in np.asarray(points, dtype=float).reshape(-1, 3):
         motion = result._motion(rotor, relative, p) @ result.shapes[k]      # [u, theta] at S, (6,)
-        rows = point_motion_rows([p, p], result.reference_point, [a, b])
-        u.append(rows @ motion)
+        rows = point_motion_rows([p, p, p], result.reference_point, [a, b, e])
+        u_abe = rows @ motion
+        u.append(u_abe[:2])
+        axial.append(abs(u_abe[2]))
         theta.append([a @ motion[3:], b @ motion[3:]])
-    return np.asarray(u, complex).reshape(-1, 2).T, np.asarray(theta, complex).reshape(-1, 2).T
+    return np.asarray(u, complex).reshape(-1, 2).T, np.asarray(theta, complex).reshape(-1, 2).T, max(axial)
 
 
 def _markers(model, rotor, e):
@@ -554,8 +566,8 @@ def _flexible_line(result, model, rotor, k, axes, points_per_element):
 
     shaft = rotor.flexible
     nodes = shaft.node_positions
-    u, theta = _node_motion(result, rotor.name, nodes, k, axes, relative=False)
-    u_rel, theta_rel = _node_motion(result, rotor.name, nodes, k, axes, relative=True)
+    u, theta, axial = _node_motion(result, rotor.name, nodes, k, axes, relative=False)
+    u_rel, theta_rel, _ = _node_motion(result, rotor.name, nodes, k, axes, relative=True)
     start = float(shaft.start @ axes[2])
     xi = np.linspace(0.0, 1.0, points_per_element + 2)[:-1]
     position, absolute, relative = [], [], []
@@ -574,7 +586,8 @@ def _flexible_line(result, model, rotor, k, axes, points_per_element):
     return dict(rotor=rotor.name, flexible=True, position=np.concatenate(position),
                 displacement=np.concatenate(absolute, axis=1), relative=np.concatenate(relative, axis=1),
                 node_position=start + np.asarray(shaft.mesh.z, float), node_displacement=u, node_rotation=theta,
-                node_relative_displacement=u_rel, node_relative_rotation=theta_rel, bearings=bearings, disks=disks)
+                node_relative_displacement=u_rel, node_relative_rotation=theta_rel, bearings=bearings, disks=disks,
+                largest=max(axial, float(np.abs(u).max())))
 
 
 def _rigid_line(result, model, rotor, k, axes):
@@ -586,14 +599,14 @@ def _rigid_line(result, model, rotor, k, axes):
     ends = np.array([min(reach), max(reach)])
     position = np.linspace(ends[0], ends[1], _RIGID_POINTS)
     points = centre + np.outer(position - centre @ e, e)
-    u, _ = _node_motion(result, rotor.name, points, k, axes, relative=False)
-    u_rel, _ = _node_motion(result, rotor.name, points, k, axes, relative=True)
-    node_u, node_theta = _node_motion(result, rotor.name, points[[0, -1]], k, axes, relative=False)
-    node_u_rel, node_theta_rel = _node_motion(result, rotor.name, points[[0, -1]], k, axes, relative=True)
+    u, _, axial = _node_motion(result, rotor.name, points, k, axes, relative=False)
+    u_rel, _, _ = _node_motion(result, rotor.name, points, k, axes, relative=True)
+    node_u, node_theta, _ = _node_motion(result, rotor.name, points[[0, -1]], k, axes, relative=False)
+    node_u_rel, node_theta_rel, _ = _node_motion(result, rotor.name, points[[0, -1]], k, axes, relative=True)
     return dict(rotor=rotor.name, flexible=False, position=position, displacement=u, relative=u_rel,
                 node_position=ends, node_displacement=node_u, node_rotation=node_theta,
                 node_relative_displacement=node_u_rel, node_relative_rotation=node_theta_rel,
-                bearings=bearings, disks=disks)
+                bearings=bearings, disks=disks, largest=max(axial, float(np.abs(u).max())))
 
 
 def _rotor_size(rotor):

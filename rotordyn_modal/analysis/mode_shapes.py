@@ -126,7 +126,7 @@ def machine_outline(model, outline=None) -> MachineOutline:
         box = _stator_box(model.stator)
         bodies.insert(0, box)
         brackets = _brackets(model, box)
-    else:
+    elif _holder(model) != "ground":        # sensors on the ground need no line to a rotor
         brackets = _carrier(model)
     points = np.concatenate([b.vertices for b in bodies] + [brackets.reshape(-1, 3)]
                             + [[s.position for s in model.suspensions]] * bool(model.suspensions))
@@ -178,7 +178,33 @@ def _outline_body(outline) -> Body:
     return Body("stator", "outline", np.nan_to_num(points), tuple(lines))
 
 
+def _shaft_body(model, rotor, axis) -> Body:
+    """A flexible rotor: its axis line through the points of :func:`shaft_lines` (the nodes and the
+    points between them), then a circle at each disk (radius ``sqrt(2 J_p / m)``). ``faces`` are
+    open polylines: the line first, then each closed circle."""
+    shaft = rotor.flexible
+    line = shaft.point(_line_z(shaft))
+    e1, e2 = _ring_axes(axis)
+    angles = 2 * np.pi * np.arange(_CIRCLE) / _CIRCLE
+    vertices, faces = [line], [tuple(range(len(line)))]
+    for disk in shaft.disks:
+        radius = np.sqrt(2 * disk.polar_inertia / disk.mass)
+        first = sum(len(v) for v in vertices)
+        vertices.append(shaft.point(disk.z) + radius * (np.cos(angles)[:, None] * e1 + np.sin(angles)[:, None] * e2))
+        faces.append(tuple(range(first, first + _CIRCLE)) + (first,))
+    return Body(rotor.name, "shaft", np.concatenate(vertices), tuple(faces), axis=axis,
+                spin=float(model.speed_ratios[rotor.name]))
+
+
+def _ring_axes(axis):
+    e1 = np.cross(axis, [1.0, 0.0, 0.0] if abs(axis[0]) < 0.9 else [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    return e1, np.cross(axis, e1)
+
+
 def _rotor_body(model, rotor, axis) -> Body:
+    if rotor.flexible is not None:
+        return _shaft_body(model, rotor, axis)
     m = float(rotor.mass)
     radius = np.sqrt(2 * rotor.polar_inertia / m)
     length = np.sqrt(max(12 * rotor.diametral_inertia / m - 3 * radius ** 2, 0.0))
@@ -348,7 +374,8 @@ def mode_shape_3d(result, model, mode: int, scale: float | None = None, outline=
     """
     k = mode_index(result, mode)
     drawing = machine_outline(model, outline)
-    bodies = [_point_motion(result, b.vertices, b.name)[k] for b in drawing.bodies]
+    bodies = [_shaft_motion(result, model, b, k) if b.kind == "shaft" else _point_motion(result, b.vertices, b.name)[k]
+              for b in drawing.bodies]
     brackets = _point_motion(result, drawing.brackets.reshape(-1, 3), drawing.bracket_body)[k].reshape(-1, 2, 3)
     springs = np.array([[_end_motion(result, s.body_a, s.point_a, k), _end_motion(result, s.body_b, s.point_b, k)]
                         for s in drawing.springs], dtype=complex).reshape(-1, 2, 3)
@@ -362,6 +389,22 @@ def mode_shape_3d(result, model, mode: int, scale: float | None = None, outline=
                        whirl_ratio=float(result.whirl_ratios[k]), speed=float(result.speed), scale=float(scale),
                        body_motion=tuple(scale * b for b in bodies), bracket_motion=scale * brackets,
                        spring_motion=scale * springs, arrow_motion=scale * arrows, label=label)
+
+
+def _shaft_motion(result, model, body, k):
+    """A flexible rotor's drawing in mode ``k``: its line laterally as :func:`shaft_lines` draws it
+    (the elements' shape functions between the nodes), axially and its disks' circles as their
+    nodes move; (n_vertices, 3) complex [m per unit modal amplitude]."""
+    from ..model.geometry import transverse_axes
+
+    rotor = model.rotor(body.name)
+    a, b = transverse_axes(model.spin_axis)
+    e = np.asarray(model.spin_axis, dtype=float)
+    motion = _point_motion(result, body.vertices, body.name)[k]
+    line = list(body.faces[0])
+    lateral = _flexible_line(result, model, rotor, k, (a, b, e), _POINTS_PER_ELEMENT)["displacement"]
+    motion[line] = np.outer(motion[line] @ e, e) + np.outer(lateral[0], a) + np.outer(lateral[1], b)
+    return motion
 
 
 def _end_motion(result, body, point, k):
@@ -569,8 +612,8 @@ def _flexible_line(result, model, rotor, k, axes, points_per_element):
     u, theta, axial = _node_motion(result, rotor.name, nodes, k, axes, relative=False)
     u_rel, theta_rel, _ = _node_motion(result, rotor.name, nodes, k, axes, relative=True)
     start = float(shaft.start @ axes[2])
-    xi = np.linspace(0.0, 1.0, points_per_element + 2)[:-1]
-    position, absolute, relative = [], [], []
+    xi = _element_points(points_per_element)
+    absolute, relative = [], []
     for left, index, length, outer, inner in shaft.mesh.elements:
         m = shaft.sections[index].material
         material = Material(m.name, m.density, m.young_modulus, m.shear_modulus)
@@ -578,16 +621,27 @@ def _flexible_line(result, model, rotor, k, axes, points_per_element):
         for out, (dis, rot) in ((absolute, (u, theta)), (relative, (u_rel, theta_rel))):
             values = np.concatenate([dis[:, ends], rot[:, ends]]).T.ravel()   # per node: u_a, u_b, th_a, th_b
             out.append(lateral_deflection(length, outer, inner, material, values, xi, shear=shaft.shear))
-        position.append(start + shaft.mesh.z[left] + length * xi)
-    position.append([start + shaft.mesh.z[-1]])
     absolute.append(u[:, -1:])
     relative.append(u_rel[:, -1:])
     bearings, disks = _markers(model, rotor, axes[2])
-    return dict(rotor=rotor.name, flexible=True, position=np.concatenate(position),
+    return dict(rotor=rotor.name, flexible=True, position=start + _line_z(shaft, points_per_element),
                 displacement=np.concatenate(absolute, axis=1), relative=np.concatenate(relative, axis=1),
                 node_position=start + np.asarray(shaft.mesh.z, float), node_displacement=u, node_rotation=theta,
                 node_relative_displacement=u_rel, node_relative_rotation=theta_rel, bearings=bearings, disks=disks,
                 largest=max(axial, float(np.abs(u).max())))
+
+
+def _element_points(points_per_element):
+    """``xi`` of the points drawn in an element: its left node and ``points_per_element`` inside."""
+    return np.linspace(0.0, 1.0, points_per_element + 2)[:-1]
+
+
+def _line_z(shaft, points_per_element=_POINTS_PER_ELEMENT):
+    """Points of a flexible rotor's line from the shaft's start [m]: every node and
+    ``points_per_element`` inside each element, increasing, shape (n,)."""
+    xi = _element_points(points_per_element)
+    inside = [shaft.mesh.z[left] + length * xi for left, _, length, _, _ in shaft.mesh.elements]
+    return np.concatenate(inside + [[shaft.mesh.z[-1]]])
 
 
 def _rigid_line(result, model, rotor, k, axes):

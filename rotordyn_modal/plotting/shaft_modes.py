@@ -117,8 +117,11 @@ def _legend(fig, view, colours):
                Patch(color="0.2", alpha=0.15, label="orbit's largest excursion")]
     handles += [Line2D([], [], color=colours[line.rotor], linewidth=3,
                        label=f"{line.rotor} ({'flexible' if line.flexible else 'rigid'})") for line in view.lines]
-    handles += [Line2D([], [], linestyle="none", marker="^", color="0.6", markeredgecolor="k", label="bearing"),
-                Line2D([], [], color="0.5", linewidth=4.5, alpha=0.45, label="disk (height ~ mass^1/3)"),
-                Line2D([], [], linestyle="none", marker="|", color="0.35", label="node")]
+    present = [any(line.bearings for line in view.lines), any(line.disks for line in view.lines),
+               any(line.flexible for line in view.lines)]
+    markers = [Line2D([], [], linestyle="none", marker="^", color="0.6", markeredgecolor="k", label="bearing"),
+               Line2D([], [], color="0.5", linewidth=4.5, alpha=0.45, label="disk (height ~ mass^1/3)"),
+               Line2D([], [], linestyle="none", marker="|", color="0.35", label="node")]
+    handles += [handle for handle, shown in zip(markers, present) if shown]
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 5), fontsize="small",
                frameon=False)

@@ -596,7 +596,9 @@ def _node_motion(result, rotor, points, k, axes, relative):
 
 
 def _markers(model, rotor, e):
-    bearings = tuple((x.name, float(np.asarray(x.position, float) @ e)) for x in model.bearings if x.rotor == rotor.name)
+    """A rotor's bearings ``(name, position)`` and disks ``(name, position, mass)`` on the axis [m]."""
+    bearings = tuple((x.name, float(np.asarray(x.position, float) @ e)) for x in model.bearings
+                     if x.rotor == rotor.name)
     disks = ()
     if rotor.flexible is not None:
         start = float(rotor.flexible.start @ e)

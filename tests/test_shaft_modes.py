@@ -231,3 +231,4 @@ def test_the_3d_view_draws_a_flexible_rotor_as_its_deflected_line(uniform):
     lateral = motion[:, 1:].T
     factor = np.vdot(drawn.displacement, lateral) / np.vdot(drawn.displacement, drawn.displacement)
     assert np.allclose(lateral, factor * drawn.displacement, rtol=0, atol=1e-12 * np.abs(lateral).max())
+

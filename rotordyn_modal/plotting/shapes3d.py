@@ -344,18 +344,30 @@ def _draw_spin(ax, flat, view):
     if view.speed == 0:
         return
     for body in view.outline.bodies:
-        if body.kind != "rotor" or body.spin == 0:
+        if body.kind not in ("rotor", "shaft") or body.spin == 0:
             continue
-        n = (len(body.vertices) - 2) // 2
-        centre = body.vertices[-1]
-        ring = body.vertices[n:2 * n] - centre
-        e1 = ring[0] / np.linalg.norm(ring[0])
+        centre, radial = _spin_circle(body, view.outline.size)
+        e1 = radial / np.linalg.norm(radial)
         e2 = np.cross(body.axis, e1)
         angles = np.linspace(0, 1.5 * np.pi, 28) * np.sign(body.spin * view.speed)
-        arc = centre + 1.2 * np.linalg.norm(ring[0]) * (np.cos(angles)[:, None] * e1 + np.sin(angles)[:, None] * e2)
+        arc = centre + 1.2 * np.linalg.norm(radial) * (np.cos(angles)[:, None] * e1 + np.sin(angles)[:, None] * e2)
         along = _facing(flat, body.axis)
         _polyline(ax, along, arc[:-3], f"spin:{body.name}", color="k", linewidth=1.0)
         _arrow(ax, along, arc[-4], arc[-1] - arc[-4], f"spin-arrow:{body.name}", "k", head=0.8, width=1.0)
+
+
+def _spin_circle(body, size):
+    """Centre and a radius vector of the circle the spin arc goes around: a rigid rotor's front
+    face; a flexible rotor's last end, with its first disk's radius (or 4 % of the drawing)."""
+    if body.kind == "rotor":
+        n = (len(body.vertices) - 2) // 2
+        return body.vertices[-1], body.vertices[n] - body.vertices[-1]
+    centre = body.vertices[body.faces[0][-1]]
+    if len(body.faces) > 1:
+        ring = body.vertices[list(body.faces[1])]
+        return centre, ring[0] - ring[:-1].mean(axis=0)
+    side = np.cross(body.axis, [1.0, 0.0, 0.0] if abs(body.axis[0]) < 0.9 else [0.0, 1.0, 0.0])
+    return centre, 0.04 * size * side / np.linalg.norm(side)
 
 
 def _facing(flat, axis):
@@ -408,7 +420,7 @@ def _legend(ax, view, orbits):
                Line2D([], [], color="tab:blue", label="displaced (exaggerated)")]
     if orbits:
         handles.append(Line2D([], [], color="tab:red", marker=">", label="orbit; arrow: direction of motion"))
-    if view.speed != 0 and any(b.kind == "rotor" for b in view.outline.bodies):
+    if view.speed != 0 and any(b.kind in ("rotor", "shaft") for b in view.outline.bodies):
         handles.append(Line2D([], [], color="k", marker=">", label="spin of the rotors"))
     kinds = {a.kind for a in view.outline.arrows}
     handles += [Line2D([], [], color=_ARROW_COLOURS[k], label=k) for k in ("sensor", "excitation") if k in kinds]

@@ -232,3 +232,29 @@ def test_the_3d_view_draws_a_flexible_rotor_as_its_deflected_line(uniform):
     factor = np.vdot(drawn.displacement, lateral) / np.vdot(drawn.displacement, drawn.displacement)
     assert np.allclose(lateral, factor * drawn.displacement, rtol=0, atol=1e-12 * np.abs(lateral).max())
 
+
+
+def test_absolute_line_is_the_relative_line_plus_the_casing(tmp_path):
+    """On a casing on mounts, a node's absolute motion is the casing's rigid motion at the node
+    (``shape_at`` of the stator there) plus its motion relative to the casing, and a line in
+    between obeys the same sum (the casing's motion is a straight line, which the elements
+    reproduce exactly)."""
+    model = load_model(ROOT / "examples" / "flexible_pump_on_mounts.toml")
+    result = modal(model, 3000 * np.pi / 30)
+    a, b = transverse_axes(model.spin_axis)
+    e = np.asarray(model.spin_axis, float)
+    for mode in (1, 7):
+        view = shaft_lines(result, model, mode)
+        k = mode_index(result, mode)
+        (pump,) = [line for line in view.lines if line.rotor == "pump"]
+        shaft = model.rotor("pump").flexible
+        casing = np.array([result.shape_at(shaft.start + (z - shaft.start @ e) * e)[k] for z in pump.node_position])
+        drawn_casing = pump.node_displacement - pump.node_relative_displacement
+        factor = np.vdot(casing @ np.array([a, b]).T, drawn_casing.T) / np.vdot(casing @ np.array([a, b]).T,
+                                                                                casing @ np.array([a, b]).T)
+        assert np.allclose(drawn_casing, factor * (casing @ np.array([a, b]).T).T, rtol=0, atol=1e-12)
+        assert np.abs(drawn_casing).max() > 0.05                   # the casing moves: not 0 = 0
+        between = pump.displacement - pump.relative
+        basis = np.stack([np.ones_like(pump.position), pump.position], axis=1)
+        fitted = basis @ np.linalg.lstsq(basis, between.T, rcond=None)[0]
+        assert np.abs(fitted.T - between).max() < 1e-12 * np.abs(between).max()

@@ -33,7 +33,8 @@ def plot_shaft_modes(views, title: str | None = None, relative: bool = False, co
         The figure's title; default the speed.
     relative : bool
         Draw the rotors' motion relative to the stator (the bending and the bearings'
-        deflection, without the casing's motion) instead of the absolute motion.
+        deflection, without the casing's motion) instead of the absolute motion, scaled so that
+        its largest in each panel is 1.
     columns : int, optional
         Panels per row (default 1 for up to 3 modes, else 2).
 
@@ -59,18 +60,21 @@ def plot_shaft_modes(views, title: str | None = None, relative: bool = False, co
         ax.set_xlabel(f"position along {views[0].axis_names[2]} [m]")
     for ax in axes[:, 0]:
         ax.set_ylabel("displacement (normalised)")
-    _legend(fig, views[0], colours)
+    _legend(fig, views[0], colours, 5 if cols > 1 else 3)
     speed = views[0].speed * 30 / np.pi
-    what = "relative to the casing" if relative else "absolute"
-    fig.suptitle(title or f"Deflected shaft lines at {speed:.0f} rpm ({what}, largest = 1)", fontsize="medium")
+    what = "relative to the casing, largest = 1 in each panel" if relative else "absolute, largest = 1"
+    fig.suptitle(title or f"Deflected shaft lines at {speed:.0f} rpm ({what})", fontsize="medium")
     return fig
 
 
 def _panel(ax, view, colours, relative):
     heaviest = max([mass for line in view.lines for _, _, mass in line.disks] or [1.0])
+    # relative motions share the absolute lines' factor (the casing may carry most of the mode):
+    # drawn with the largest of the panel at 1
+    largest = max(float(np.abs(line.relative).max(initial=0.0)) for line in view.lines) if relative else 1.0
     for line in view.lines:
         c = colours[line.rotor]
-        u = line.relative if relative else line.displacement
+        u = line.relative / (largest or 1.0) if relative else line.displacement
         z = line.position
         ax.plot([z[0], z[-1]], [0.0, 0.0], color="0.6", linewidth=0.8, gid=f"axis:{line.rotor}")
         reach = _excursion(u)
@@ -107,7 +111,7 @@ def _excursion(u):
     return np.sqrt(0.5 * (np.abs(u[0]) ** 2 + np.abs(u[1]) ** 2 + np.abs(u[0] ** 2 + u[1] ** 2)))
 
 
-def _legend(fig, view, colours):
+def _legend(fig, view, colours, columns):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
@@ -123,5 +127,5 @@ def _legend(fig, view, colours):
                Line2D([], [], color="0.5", linewidth=4.5, alpha=0.45, label="disk (height ~ mass^1/3)"),
                Line2D([], [], linestyle="none", marker="|", color="0.35", label="node")]
     handles += [handle for handle, shown in zip(markers, present) if shown]
-    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 5), fontsize="small",
+    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), columns), fontsize="small",
                frameon=False)

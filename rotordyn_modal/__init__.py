@@ -42,6 +42,7 @@ _API = {
     "stability": "analysis.stability", "stability_map": "analysis.stability",
     "StabilityResult": "analysis.stability", "StabilityMap": "analysis.stability",
     "mode_shape_3d": "analysis.mode_shapes", "ModeShape3D": "analysis.mode_shapes",
+    "shaft_lines": "analysis.mode_shapes", "ShaftLines": "analysis.mode_shapes",
     # standards' screenings: undamped critical speed map, API 617 Level I
     "ucs_map": "analysis.ucs_map", "UcsMap": "analysis.ucs_map",
     "level1": "analysis.level1", "Level1Result": "analysis.level1", "Station": "analysis.level1",

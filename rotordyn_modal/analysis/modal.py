@@ -230,6 +230,16 @@ class ModalResult:
 
         return mode_shape_3d(self, model, mode, scale=scale, outline=outline).plot(**kwargs)
 
+    def plot_shaft_lines(self, model, modes=None, **kwargs):
+        """Deflected shaft lines of ``modes`` (numbers as in :meth:`to_dataframe`; default the
+        first six), one panel each; see :func:`rotordyn_modal.analysis.mode_shapes.shaft_lines`
+        and :func:`rotordyn_modal.plotting.plot_shaft_modes`."""
+        from ..plotting import plot_shaft_modes
+        from .mode_shapes import shaft_lines
+
+        modes = range(1, min(int(self.oscillatory.sum()), 6) + 1) if modes is None else modes
+        return plot_shaft_modes([shaft_lines(self, model, m) for m in modes], **kwargs)
+
     def animate(self, mode: int, model, path=None, scale=None, outline=None, **kwargs):
         """Animation of one mode, written to ``path`` (.gif, .html, .mp4) if given; see
         :func:`rotordyn_modal.plotting.animate_mode_shape`."""

@@ -28,7 +28,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["MachineOutline", "Body", "Spring", "Arrow", "machine_outline", "ModeShape3D", "mode_shape_3d",
-           "mode_index"]
+           "mode_index", "ShaftLine", "ShaftLines", "shaft_lines"]
 
 #: segments of a rotor's circles
 _CIRCLE = 24
@@ -126,7 +126,7 @@ def machine_outline(model, outline=None) -> MachineOutline:
         box = _stator_box(model.stator)
         bodies.insert(0, box)
         brackets = _brackets(model, box)
-    else:
+    elif _holder(model) != "ground":        # sensors on the ground need no line to a rotor
         brackets = _carrier(model)
     points = np.concatenate([b.vertices for b in bodies] + [brackets.reshape(-1, 3)]
                             + [[s.position for s in model.suspensions]] * bool(model.suspensions))
@@ -178,7 +178,33 @@ def _outline_body(outline) -> Body:
     return Body("stator", "outline", np.nan_to_num(points), tuple(lines))
 
 
+def _shaft_body(model, rotor, axis) -> Body:
+    """A flexible rotor: its axis line through the points of :func:`shaft_lines` (the nodes and the
+    points between them), then a circle at each disk (radius ``sqrt(2 J_p / m)``). ``faces`` are
+    open polylines: the line first, then each closed circle."""
+    shaft = rotor.flexible
+    line = shaft.point(_line_z(shaft))
+    e1, e2 = _ring_axes(axis)
+    angles = 2 * np.pi * np.arange(_CIRCLE) / _CIRCLE
+    vertices, faces = [line], [tuple(range(len(line)))]
+    for disk in shaft.disks:
+        radius = np.sqrt(2 * disk.polar_inertia / disk.mass)
+        first = sum(len(v) for v in vertices)
+        vertices.append(shaft.point(disk.z) + radius * (np.cos(angles)[:, None] * e1 + np.sin(angles)[:, None] * e2))
+        faces.append(tuple(range(first, first + _CIRCLE)) + (first,))
+    return Body(rotor.name, "shaft", np.concatenate(vertices), tuple(faces), axis=axis,
+                spin=float(model.speed_ratios[rotor.name]))
+
+
+def _ring_axes(axis):
+    e1 = np.cross(axis, [1.0, 0.0, 0.0] if abs(axis[0]) < 0.9 else [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    return e1, np.cross(axis, e1)
+
+
 def _rotor_body(model, rotor, axis) -> Body:
+    if rotor.flexible is not None:
+        return _shaft_body(model, rotor, axis)
     m = float(rotor.mass)
     radius = np.sqrt(2 * rotor.polar_inertia / m)
     length = np.sqrt(max(12 * rotor.diametral_inertia / m - 3 * radius ** 2, 0.0))
@@ -348,7 +374,8 @@ def mode_shape_3d(result, model, mode: int, scale: float | None = None, outline=
     """
     k = mode_index(result, mode)
     drawing = machine_outline(model, outline)
-    bodies = [_point_motion(result, b.vertices, b.name)[k] for b in drawing.bodies]
+    bodies = [_shaft_motion(result, model, b, k) if b.kind == "shaft" else _point_motion(result, b.vertices, b.name)[k]
+              for b in drawing.bodies]
     brackets = _point_motion(result, drawing.brackets.reshape(-1, 3), drawing.bracket_body)[k].reshape(-1, 2, 3)
     springs = np.array([[_end_motion(result, s.body_a, s.point_a, k), _end_motion(result, s.body_b, s.point_b, k)]
                         for s in drawing.springs], dtype=complex).reshape(-1, 2, 3)
@@ -362,6 +389,22 @@ def mode_shape_3d(result, model, mode: int, scale: float | None = None, outline=
                        whirl_ratio=float(result.whirl_ratios[k]), speed=float(result.speed), scale=float(scale),
                        body_motion=tuple(scale * b for b in bodies), bracket_motion=scale * brackets,
                        spring_motion=scale * springs, arrow_motion=scale * arrows, label=label)
+
+
+def _shaft_motion(result, model, body, k):
+    """A flexible rotor's drawing in mode ``k``: its line laterally as :func:`shaft_lines` draws it
+    (the elements' shape functions between the nodes), axially and its disks' circles as their
+    nodes move; (n_vertices, 3) complex [m per unit modal amplitude]."""
+    from ..model.geometry import transverse_axes
+
+    rotor = model.rotor(body.name)
+    a, b = transverse_axes(model.spin_axis)
+    e = np.asarray(model.spin_axis, dtype=float)
+    motion = _point_motion(result, body.vertices, body.name)[k]
+    line = list(body.faces[0])
+    lateral = _flexible_line(result, model, rotor, k, (a, b, e), _POINTS_PER_ELEMENT)["displacement"]
+    motion[line] = np.outer(motion[line] @ e, e) + np.outer(lateral[0], a) + np.outer(lateral[1], b)
+    return motion
 
 
 def _end_motion(result, body, point, k):
@@ -381,3 +424,250 @@ def _point_motion(result, points, body):
         return np.zeros((len(result.eigenvalues), len(points), 3), complex)
     rotor = body if body in getattr(result, "rotor_names", ()) else None
     return np.stack([result.shape_at(p, body=rotor) for p in points], axis=1)
+
+
+# ---------------------------------------------------------------------------------------------
+# deflected shaft lines along the axis
+# ---------------------------------------------------------------------------------------------
+#: points drawn inside each element of a flexible rotor (besides its nodes)
+_POINTS_PER_ELEMENT = 8
+#: points along a rigid rotor's straight line
+_RIGID_POINTS = 21
+#: lateral motion below this fraction of the mode's largest motion is round-off (an axial mode)
+_LATERAL_ROUND_OFF = 1e-8
+
+
+@dataclass(frozen=True)
+class ShaftLine:
+    """One rotor's deflected line in one mode, normalised with the other rotors of the mode.
+
+    Positions are along the model's spin axis ``e`` in model coordinates (``x . e`` [m]), so
+    every rotor of the machine and its bearings share one axis. Displacements are along the
+    transverse axes ``a, b`` (:func:`~rotordyn_modal.model.geometry.transverse_axes`); the
+    drawn line at phase ``phi`` is ``Re(u exp(i phi))``.
+
+    Attributes
+    ----------
+    rotor : str
+    flexible : bool
+        True for a rotor with a shaft (its nodes are the mesh's); False for a rigid rotor (a
+        straight line; its "nodes" are the line's two ends).
+    position : ndarray, shape (n,) [m]
+        Points of the line along the axis, increasing.
+    displacement : ndarray, shape (2, n), complex
+        ``(u_a, u_b)`` at each point, absolute (the stator's motion there included), normalised:
+        the largest ``|u|`` over the mode's lines is 1 and is real (phase 0).
+    relative : ndarray, shape (2, n), complex
+        The same relative to the stator's point at the same place (same factor).
+    node_position : ndarray, shape (N,) [m]
+    node_displacement, node_relative_displacement : ndarray, shape (2, N), complex
+        ``(u_a, u_b)`` at the nodes (same normalisation).
+    node_rotation, node_relative_rotation : ndarray, shape (2, N), complex
+        ``(theta_a, theta_b)`` at the nodes, in radians per the same unit as the displacements
+        [rad per normalised m: 1/m].
+    bearings : tuple of (str, float)
+        Each bearing's name and position [m] on the axis.
+    disks : tuple of (str, float, float)
+        Each disk's name, position [m] and mass [kg] (a flexible rotor's disks; none for a rigid
+        rotor).
+    whirl : str
+        The rotor's own whirl in the mode: 'forward', 'backward' or 'none'.
+    """
+
+    rotor: str
+    flexible: bool
+    position: np.ndarray
+    displacement: np.ndarray
+    relative: np.ndarray
+    node_position: np.ndarray
+    node_displacement: np.ndarray
+    node_rotation: np.ndarray
+    node_relative_displacement: np.ndarray
+    node_relative_rotation: np.ndarray
+    bearings: tuple = ()
+    disks: tuple = ()
+    whirl: str = "none"
+
+
+@dataclass(frozen=True)
+class ShaftLines:
+    """The deflected lines of every rotor in one mode.
+
+    Attributes
+    ----------
+    mode : int
+        Mode number as in the modes table (:func:`mode_index`).
+    frequency_hz, damping_ratio, whirl_ratio : float
+    whirl : str
+        The machine's whirl in the mode.
+    speed : float
+        Reference rotor speed [rad/s].
+    axis_names : tuple of str
+        Names of ``a, b`` and ``e`` (model axis letters when they are model axes).
+    lines : tuple of ShaftLine
+        One per rotor, in model order.
+    lateral : bool
+        False when no rotor moves laterally in the mode (an axial or torsional mode): its lateral
+        motions are round-off (below 1e-8 of the mode's largest motion) and the lines are zero.
+    """
+
+    mode: int
+    frequency_hz: float
+    damping_ratio: float
+    whirl: str
+    whirl_ratio: float
+    speed: float
+    axis_names: tuple
+    lines: tuple
+    lateral: bool = True
+
+    def plot(self, **kwargs):
+        """The panel; see :func:`rotordyn_modal.plotting.shaft_modes.plot_shaft_modes`."""
+        from ..plotting.shaft_modes import plot_shaft_modes
+
+        return plot_shaft_modes([self], **kwargs)
+
+
+def shaft_lines(result, model, mode: int, points_per_element: int = _POINTS_PER_ELEMENT) -> ShaftLines:
+    """Every rotor's deflected line along the axis in one mode.
+
+    A flexible rotor's line goes through its nodes' motions and, inside each element, follows
+    the element's own shape functions (:func:`~rotordyn_modal.elements.shaft.lateral_deflection`:
+    cubic, exact for rigid motions); a rigid rotor's line is straight, its rigid motion at
+    each point (:meth:`ModalResult.shape_at`), from its inertia-equivalent cylinder's ends or
+    its outermost bearings, whichever reach further.
+
+    Parameters
+    ----------
+    result : ModalResult
+    model : Model
+        The model analysed.
+    mode : int
+        Mode number as in ``result.to_dataframe()`` (1 = lowest oscillatory mode).
+    points_per_element : int
+        Points drawn inside each element of a flexible rotor.
+
+    Returns
+    -------
+    ShaftLines
+        Normalised together: the largest ``|u_a|`` or ``|u_b|`` of the absolute lines is 1 and
+        real.
+    """
+    from ..model.dofs import _axis_letters
+    from ..model.geometry import transverse_axes
+
+    k = mode_index(result, mode)
+    a, b = transverse_axes(model.spin_axis)
+    e = np.asarray(model.spin_axis, dtype=float)
+    raw = [_flexible_line(result, model, rotor, k, (a, b, e), points_per_element) if rotor.flexible is not None
+           else _rigid_line(result, model, rotor, k, (a, b, e)) for rotor in model.rotors]
+    values = np.concatenate([line["displacement"].ravel() for line in raw])
+    biggest = values[int(np.argmax(np.abs(values)))] if values.size else 0.0
+    # an axial or torsional mode has no lateral motion: round-off, not drawn as a shape
+    lateral = abs(biggest) > _LATERAL_ROUND_OFF * max(max([line.pop("largest") for line in raw], default=0.0),
+                                                      float(np.abs(result.shapes[k]).max()))
+    factor = 1.0 / biggest if lateral else 0.0
+    scaled = {"displacement", "relative", "node_displacement", "node_rotation", "node_relative_displacement",
+              "node_relative_rotation"}
+    whirls = result.rotor_whirl[k] if result.rotor_whirl_ratios is not None else ["none"] * len(model.rotors)
+    lines = tuple(ShaftLine(**{key: factor * value if key in scaled else value for key, value in line.items()},
+                            whirl=str(whirl)) for line, whirl in zip(raw, whirls))
+    return ShaftLines(mode=int(mode), frequency_hz=float(result.frequencies_hz[k]),
+                      damping_ratio=float(result.damping_ratios[k]), whirl=str(result.whirl[k]),
+                      whirl_ratio=float(result.whirl_ratios[k]), speed=float(result.speed),
+                      axis_names=_axis_letters(model.spin_axis), lines=lines, lateral=bool(lateral))
+
+
+def _node_motion(result, rotor, points, k, axes, relative):
+    """``(u_a, u_b)`` and ``(theta_a, theta_b)`` of ``rotor`` at each point in mode ``k``, each (2, P),
+    and the largest axial displacement ``|u_e|`` among the points."""
+    from ..model.geometry import point_motion_rows
+
+    a, b, e = axes
+    u, theta, axial = [], [], [0.0]
+    for p in np.asarray(points, dtype=float).reshape(-1, 3):
+        motion = result._motion(rotor, relative, p) @ result.shapes[k]      # [u, theta] at S, (6,)
+        rows = point_motion_rows([p, p, p], result.reference_point, [a, b, e])
+        u_abe = rows @ motion
+        u.append(u_abe[:2])
+        axial.append(abs(u_abe[2]))
+        theta.append([a @ motion[3:], b @ motion[3:]])
+    return np.asarray(u, complex).reshape(-1, 2).T, np.asarray(theta, complex).reshape(-1, 2).T, max(axial)
+
+
+def _markers(model, rotor, e):
+    """A rotor's bearings ``(name, position)`` and disks ``(name, position, mass)`` on the axis [m]."""
+    bearings = tuple((x.name, float(np.asarray(x.position, float) @ e)) for x in model.bearings
+                     if x.rotor == rotor.name)
+    disks = ()
+    if rotor.flexible is not None:
+        start = float(rotor.flexible.start @ e)
+        disks = tuple((d.name, start + float(d.z), float(d.mass)) for d in rotor.flexible.disks)
+    return bearings, disks
+
+
+def _flexible_line(result, model, rotor, k, axes, points_per_element):
+    from ..elements.shaft import Material, lateral_deflection
+
+    shaft = rotor.flexible
+    nodes = shaft.node_positions
+    u, theta, axial = _node_motion(result, rotor.name, nodes, k, axes, relative=False)
+    u_rel, theta_rel, _ = _node_motion(result, rotor.name, nodes, k, axes, relative=True)
+    start = float(shaft.start @ axes[2])
+    xi = _element_points(points_per_element)
+    absolute, relative = [], []
+    for left, index, length, outer, inner in shaft.mesh.elements:
+        m = shaft.sections[index].material
+        material = Material(m.name, m.density, m.young_modulus, m.shear_modulus)
+        ends = slice(left, left + 2)
+        for out, (dis, rot) in ((absolute, (u, theta)), (relative, (u_rel, theta_rel))):
+            values = np.concatenate([dis[:, ends], rot[:, ends]]).T.ravel()   # per node: u_a, u_b, th_a, th_b
+            out.append(lateral_deflection(length, outer, inner, material, values, xi, shear=shaft.shear))
+    absolute.append(u[:, -1:])
+    relative.append(u_rel[:, -1:])
+    bearings, disks = _markers(model, rotor, axes[2])
+    return dict(rotor=rotor.name, flexible=True, position=start + _line_z(shaft, points_per_element),
+                displacement=np.concatenate(absolute, axis=1), relative=np.concatenate(relative, axis=1),
+                node_position=start + np.asarray(shaft.mesh.z, float), node_displacement=u, node_rotation=theta,
+                node_relative_displacement=u_rel, node_relative_rotation=theta_rel, bearings=bearings, disks=disks,
+                largest=max(axial, float(np.abs(u).max())))
+
+
+def _element_points(points_per_element):
+    """``xi`` of the points drawn in an element: its left node and ``points_per_element`` inside."""
+    return np.linspace(0.0, 1.0, points_per_element + 2)[:-1]
+
+
+def _line_z(shaft, points_per_element=_POINTS_PER_ELEMENT):
+    """Points of a flexible rotor's line from the shaft's start [m]: every node and
+    ``points_per_element`` inside each element, increasing, shape (n,)."""
+    xi = _element_points(points_per_element)
+    inside = [shaft.mesh.z[left] + length * xi for left, _, length, _, _ in shaft.mesh.elements]
+    return np.concatenate(inside + [[shaft.mesh.z[-1]]])
+
+
+def _rigid_line(result, model, rotor, k, axes):
+    e = axes[2]
+    centre = np.asarray(rotor.center_of_mass, dtype=float)
+    half = 0.5 * _rotor_size(rotor)[1]
+    bearings, disks = _markers(model, rotor, e)
+    reach = [centre @ e - half, centre @ e + half] + [z for _, z in bearings]
+    ends = np.array([min(reach), max(reach)])
+    position = np.linspace(ends[0], ends[1], _RIGID_POINTS)
+    points = centre + np.outer(position - centre @ e, e)
+    u, _, axial = _node_motion(result, rotor.name, points, k, axes, relative=False)
+    u_rel, _, _ = _node_motion(result, rotor.name, points, k, axes, relative=True)
+    node_u, node_theta, _ = _node_motion(result, rotor.name, points[[0, -1]], k, axes, relative=False)
+    node_u_rel, node_theta_rel, _ = _node_motion(result, rotor.name, points[[0, -1]], k, axes, relative=True)
+    return dict(rotor=rotor.name, flexible=False, position=position, displacement=u, relative=u_rel,
+                node_position=ends, node_displacement=node_u, node_rotation=node_theta,
+                node_relative_displacement=node_u_rel, node_relative_rotation=node_theta_rel,
+                bearings=bearings, disks=disks, largest=max(axial, float(np.abs(u).max())))
+
+
+def _rotor_size(rotor):
+    """Radius and length [m] of the solid cylinder with the rotor's mass and inertias."""
+    m = float(rotor.mass)
+    radius = np.sqrt(2 * rotor.polar_inertia / m)
+    length = np.sqrt(max(12 * rotor.diametral_inertia / m - 3 * radius ** 2, 0.0))
+    return radius, max(length, 0.15 * radius)

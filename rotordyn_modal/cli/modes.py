@@ -5,8 +5,8 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
-from ._common import (add_input_file, add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
-                      save_figure, to_rad_s, use_agg, write_table)
+from ._common import (add_input_file, add_model_argument, add_output_file, add_outputs, add_speed_unit,
+                      check_extra_output, open_model, parse_number, save_figure, to_rad_s, use_agg, write_table)
 
 NAME = "modes"
 HELP = "modal analysis at one speed"
@@ -19,16 +19,25 @@ print as 0 (docs/theory.md section 8).
 (the machine at rest and displaced, whirl orbits, top/front/side views) and with --animate MODE
 an animation of it (--plot FILE.gif, FILE.html or FILE.mp4; MP4 needs ffmpeg). MODE is the
 'mode' column of the table. --outline FILE.csv draws the stator as polylines (columns x,y,z
-in metres, model axes; an empty row starts a new line) instead of its inertia-equivalent box.
+in metres, model axes; an empty row starts a new line) instead of its inertia-equivalent box;
+a flexible rotor is drawn as its deflected line through its nodes, with its disks.
+--plot-shaft FILE.png draws the modes as deflected shaft lines along the spin axis, one panel
+per mode (--modes, default 1-6): each rotor's displacement in both transverse planes (solid
+and dashed, phase 0), the band of its whirl orbits, its bearings (triangles), disks (bars)
+and nodes (ticks), normalised so that the largest displacement is 1. A flexible rotor's line
+follows its elements' shape functions between the nodes; a rigid rotor's is straight.
 
 CSV columns: mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part
 
 examples:
   rotordyn-modal modes examples/gear_machine.toml --speed 3000 --out modes.csv
   rotordyn-modal modes examples/gear_machine.toml --speed 3000 --shape 5 --plot mode5.png
-  rotordyn-modal modes examples/gear_machine.toml --speed 3000 --animate 5 --plot mode5.gif"""
+  rotordyn-modal modes examples/gear_machine.toml --speed 3000 --animate 5 --plot mode5.gif
+  rotordyn-modal modes examples/compressor_rotor.toml --speed 3000 --plot-shaft lines.png --modes 1-6"""
 
 _ANIMATION_ENDINGS = (".gif", ".html", ".mp4")
+#: panels of --plot-shaft in one figure
+_MOST_PANELS = 24
 
 
 def add_arguments(parser):
@@ -41,6 +50,11 @@ def add_arguments(parser):
                        help="animate this mode to --plot FILE.gif|FILE.html|FILE.mp4")
     add_input_file(parser, "--outline", metavar="FILE.csv", help="stator outline as polylines x,y,z [m]")
     parser.add_argument("--frames", type=int, default=36, help="frames per period of --animate (default 36)")
+    add_output_file(parser, "--plot-shaft", metavar="FILE.png|FILE.svg|FILE.pdf",
+                    help="draw the modes as deflected shaft lines along the axis to this file")
+    parser.add_argument("--modes", metavar="LIST",
+                        help="modes drawn by --plot-shaft: numbers and ranges of the table's 'mode' column, "
+                             "e.g. 1-6 or 1,3,7-9 (default 1-6)")
     add_outputs(parser)
 
 
@@ -53,6 +67,7 @@ def modal(model, speed):
 
 def run(args) -> int:
     _check_shape_options(args)
+    wanted = _mode_list(args.modes) if args.modes is not None else None
     model = open_model(args)
     speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
     result = modal(model, speed)
@@ -63,11 +78,15 @@ def run(args) -> int:
 
         mode = args.shape if args.shape is not None else args.animate
         view = mode_shape_3d(result, model, mode, outline=outline)
+    if args.plot_shaft:
+        _check_modes(result, wanted, args)
     table = result.to_dataframe()
     counts = _not_listed(result)
     write_table(table, args, empty=f"no oscillating modes at {args.speed} {args.speed_unit}: {counts}")
     if counts and len(table) and not args.quiet:
         print(f"{counts} not listed as modes (docs/model-file.md, roots that are not modes)", file=sys.stderr)
+    if args.plot_shaft:
+        _plot_shaft(result, model, wanted, args)
     if args.plot:
         use_agg()
         if args.animate is not None:
@@ -77,6 +96,44 @@ def run(args) -> int:
         else:
             save_figure(result.plot() if view is None else view.plot(), args)
     return 0
+
+
+def _plot_shaft(result, model, wanted, args):
+    """--plot-shaft: the chosen modes' deflected lines (default the first six)."""
+    from ..analysis.mode_shapes import shaft_lines
+    from ..plotting.shaft_modes import plot_shaft_modes
+
+    use_agg()
+    wanted = wanted or list(range(1, min(int(result.oscillatory.sum()), 6) + 1))
+    save_figure(plot_shaft_modes([shaft_lines(result, model, m) for m in wanted]), args, args.plot_shaft,
+                "--plot-shaft")
+
+
+def _check_modes(result, wanted, args):
+    """Refuse, before any output, --plot-shaft without modes or --modes beyond the table."""
+    count = int(result.oscillatory.sum())
+    if not count:
+        raise InputError(f"--plot-shaft: no oscillating modes at {args.speed} {args.speed_unit} to draw")
+    if wanted and max(wanted) > count:
+        raise InputError(f"--modes {args.modes!r}: mode {max(wanted)} does not exist; the table has modes 1 to "
+                         f"{count}")
+
+
+def _mode_list(text: str) -> list[int]:
+    """``1-6`` or ``1,3,7-9`` -> [1, 2, ...]: distinct mode numbers >= 1, in the order given."""
+    problem = f"--modes {text!r}: expected mode numbers and ranges from 1, e.g. 1-6 or 1,3,7-9"
+    out = []
+    for part in text.split(","):
+        ends = part.strip().split("-")
+        if len(ends) > 2 or not all(e.strip().isdigit() for e in ends):
+            raise InputError(problem)
+        first, last = int(ends[0]), int(ends[-1])
+        if first < 1 or last < first or last - first >= _MOST_PANELS:
+            raise InputError(problem)
+        out += [m for m in range(first, last + 1) if m not in out]
+    if len(out) > _MOST_PANELS:
+        raise InputError(f"--modes {text!r}: at most {_MOST_PANELS} modes in one figure")
+    return out
 
 
 def _not_listed(result) -> str:
@@ -104,6 +161,9 @@ def _check_shape_options(args):
         raise InputError("--outline is drawn with --shape MODE or --animate MODE only")
     if not 2 <= args.frames <= 720:
         raise InputError(f"--frames {args.frames}: expected a whole number from 2 to 720")
+    if args.modes is not None and not args.plot_shaft:
+        raise InputError("--modes chooses the panels of --plot-shaft FILE.png: give --plot-shaft")
+    check_extra_output(args, args.plot_shaft, "--plot-shaft", figure=True)
 
 
 def _read_outline(path):

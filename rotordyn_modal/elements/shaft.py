@@ -31,7 +31,7 @@ import numpy as np
 
 __all__ = ["Material", "SHEAR_METHODS", "MassProperties", "material_problem", "section_problem",
            "shear_coefficient", "element_matrices", "shaft_matrices", "shaft_mass_properties",
-           "free_free_frequencies"]
+           "free_free_frequencies", "lateral_deflection"]
 
 #: the shear coefficients a shaft may use (``shear_coefficient``'s ``method``)
 SHEAR_METHODS = ("cowper", "hutchinson", "none")
@@ -230,6 +230,34 @@ def element_matrices(length: float, outer, inner, material: Material, shear: str
         M[np.ix_(index, index)] += mass
         K[np.ix_(index, index)] += stiffness
     return M, K, G
+
+
+def lateral_deflection(length: float, outer, inner, material: Material, node_values, xi, shear: str = "cowper"):
+    """Lateral displacement inside one element from its nodes' motions, with the element's own
+    (Timoshenko) shape functions: the line the element's matrices assume.
+
+    Parameters
+    ----------
+    length, outer, inner, material, shear
+        As :func:`element_matrices`.
+    node_values : array_like, shape (8,) or (8, ...), real or complex
+        ``[u_a1, u_b1, theta_a1, theta_b1, u_a2, u_b2, theta_a2, theta_b2]`` [m, rad] of the
+        left and right node (local axes ``a, b``).
+    xi : array_like, shape (P,)
+        Positions in the element, ``z / L`` in [0, 1].
+
+    Returns
+    -------
+    ndarray, shape (2, P) + node_values.shape[1:]
+        ``u_a`` and ``u_b`` [m] at each ``xi``: equal to the nodes' values at ``xi = 0, 1``,
+        and exact for every rigid motion (a line ``u = c + theta z``).
+    """
+    geometry = _Frustum(length, outer, inner)
+    w = _plane_functions(np.asarray(xi, dtype=float), length, _shear_parameter(geometry, material, shear))[0]
+    q = np.asarray(node_values)
+    plane_a = q[[0, 3, 4, 7]]                                   # (u_a, theta_b): theta_b = +du_a/dz
+    plane_b = q[[1, 2, 5, 6]] * np.array([1.0, -1.0, 1.0, -1.0]).reshape((4,) + (1,) * (q.ndim - 1))
+    return np.stack([np.tensordot(w.T, plane_a, axes=1), np.tensordot(w.T, plane_b, axes=1)])
 
 
 def _bending(geometry: "_Frustum", material: Material, phi: float, rotary_inertia: bool):

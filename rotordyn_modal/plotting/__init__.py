@@ -16,10 +16,11 @@ from .orbits import plot_orbits
 from .identification import plot_stabilization
 from .measurement import plot_coherence, plot_time_records
 from .shapes3d import animate_mode_shape, plot_mode_shape, plot_mode_shapes
+from .shaft_modes import plot_shaft_modes
 from .study import plot_critical_histograms, plot_sensitivity, plot_study_campbell, plot_study_stability_map
 
 __all__ = ["plot_campbell", "plot_modes", "plot_stability", "plot_stability_map", "plot_simulation", "plot_runup",
            "plot_frf", "plot_overlay", "plot_unbalance", "plot_orbits", "plot_correlation", "plot_fit_correlation",
            "plot_rigid_body", "plot_study_campbell", "plot_critical_histograms", "plot_study_stability_map",
            "plot_sensitivity", "plot_stabilization", "plot_coherence", "plot_time_records", "plot_mode_shape",
-           "plot_mode_shapes", "animate_mode_shape", "plot_ucs_map", "plot_level1"]
+           "plot_mode_shapes", "animate_mode_shape", "plot_ucs_map", "plot_level1", "plot_shaft_modes"]

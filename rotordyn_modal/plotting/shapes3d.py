@@ -18,7 +18,7 @@ __all__ = ["plot_mode_shape", "plot_mode_shapes", "animate_mode_shape", "ANIMATI
 
 #: file endings of animations and how each is written
 ANIMATION_FORMATS = (".gif", ".html", ".mp4")
-_BODY_COLOURS = {"stator": "tab:blue", "outline": "tab:blue", "rotor": "tab:orange"}
+_BODY_COLOURS = {"stator": "tab:blue", "outline": "tab:blue", "rotor": "tab:orange", "shaft": "tab:orange"}
 _ARROW_COLOURS = {"sensor": "tab:green", "excitation": "tab:purple"}
 _SPRING_COILS = 6
 #: resolution of animation frames (a 12 x 8 inch figure: 864 x 576 pixels)
@@ -228,7 +228,7 @@ def _edges(body, points):
         n = (len(points) - 2) // 2
         loops = [list(range(n)) + [0], list(range(n, 2 * n)) + [n]]
         loops += [[k, n + k] for k in range(0, n, max(1, n // 4))]
-    elif body.kind == "outline":
+    elif body.kind in ("outline", "shaft"):     # open polylines (a shaft: its line, then its disks' circles)
         loops = [list(line) for line in body.faces]
     else:
         loops = [list(face) + [face[0]] for face in body.faces]
@@ -259,8 +259,9 @@ def _draw_displaced(ax, flat, view, phase):
     turn = np.exp(1j * phase)
     for body, points in zip(view.outline.bodies, view.at_phase(phase)):
         colour = _BODY_COLOURS[body.kind]
-        _polyline(ax, flat, _edges(body, points), f"displaced:{body.name}", color=colour, linewidth=1.4)
-        if body.kind != "outline":
+        _polyline(ax, flat, _edges(body, points), f"displaced:{body.name}", color=colour,
+                  linewidth=2.2 if body.kind == "shaft" else 1.4)
+        if body.kind not in ("outline", "shaft"):
             faces = Poly3DCollection([points[list(face)] for face in body.faces], facecolor=colour,
                                      alpha=0.15 if body.kind == "stator" else 0.35, edgecolor="none")
             faces.set_gid(f"displaced-faces:{body.name}")
@@ -313,6 +314,10 @@ def _orbit_points(view):
         if body.kind == "rotor":
             points.extend(body.vertices[-2:])
             motions.extend(motion[-2:])
+        elif body.kind == "shaft":                  # the line's two ends
+            ends = [body.faces[0][0], body.faces[0][-1]]
+            points.extend(body.vertices[ends])
+            motions.extend(motion[ends])
         elif body.kind == "stator":
             points.append(body.vertices.mean(axis=0))
             motions.append(motion.mean(axis=0))
@@ -339,18 +344,30 @@ def _draw_spin(ax, flat, view):
     if view.speed == 0:
         return
     for body in view.outline.bodies:
-        if body.kind != "rotor" or body.spin == 0:
+        if body.kind not in ("rotor", "shaft") or body.spin == 0:
             continue
-        n = (len(body.vertices) - 2) // 2
-        centre = body.vertices[-1]
-        ring = body.vertices[n:2 * n] - centre
-        e1 = ring[0] / np.linalg.norm(ring[0])
+        centre, radial = _spin_circle(body, view.outline.size)
+        e1 = radial / np.linalg.norm(radial)
         e2 = np.cross(body.axis, e1)
         angles = np.linspace(0, 1.5 * np.pi, 28) * np.sign(body.spin * view.speed)
-        arc = centre + 1.2 * np.linalg.norm(ring[0]) * (np.cos(angles)[:, None] * e1 + np.sin(angles)[:, None] * e2)
+        arc = centre + 1.2 * np.linalg.norm(radial) * (np.cos(angles)[:, None] * e1 + np.sin(angles)[:, None] * e2)
         along = _facing(flat, body.axis)
         _polyline(ax, along, arc[:-3], f"spin:{body.name}", color="k", linewidth=1.0)
         _arrow(ax, along, arc[-4], arc[-1] - arc[-4], f"spin-arrow:{body.name}", "k", head=0.8, width=1.0)
+
+
+def _spin_circle(body, size):
+    """Centre and a radius vector of the circle the spin arc goes around: a rigid rotor's front
+    face; a flexible rotor's last end, with its first disk's radius (or 4 % of the drawing)."""
+    if body.kind == "rotor":
+        n = (len(body.vertices) - 2) // 2
+        return body.vertices[-1], body.vertices[n] - body.vertices[-1]
+    centre = body.vertices[body.faces[0][-1]]
+    if len(body.faces) > 1:
+        ring = body.vertices[list(body.faces[1])]
+        return centre, ring[0] - ring[:-1].mean(axis=0)
+    side = np.cross(body.axis, [1.0, 0.0, 0.0] if abs(body.axis[0]) < 0.9 else [0.0, 1.0, 0.0])
+    return centre, 0.04 * size * side / np.linalg.norm(side)
 
 
 def _facing(flat, axis):
@@ -403,7 +420,7 @@ def _legend(ax, view, orbits):
                Line2D([], [], color="tab:blue", label="displaced (exaggerated)")]
     if orbits:
         handles.append(Line2D([], [], color="tab:red", marker=">", label="orbit; arrow: direction of motion"))
-    if view.speed != 0 and any(b.kind == "rotor" for b in view.outline.bodies):
+    if view.speed != 0 and any(b.kind in ("rotor", "shaft") for b in view.outline.bodies):
         handles.append(Line2D([], [], color="k", marker=">", label="spin of the rotors"))
     kinds = {a.kind for a in view.outline.arrows}
     handles += [Line2D([], [], color=_ARROW_COLOURS[k], label=k) for k in ("sensor", "excitation") if k in kinds]

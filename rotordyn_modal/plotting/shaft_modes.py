@@ -1,0 +1,131 @@
+"""Mode shapes as deflected shaft lines along the axis: one panel per mode, both planes.
+
+Draws :class:`~rotordyn_modal.analysis.mode_shapes.ShaftLines` (the analysis computes the
+lines; nothing is computed here). In each panel every rotor has its colour: the plane ``a``
+solid, the plane ``b`` dashed (both at phase 0, the drawing's ``Re(u)``), the band of its whirl
+orbits' largest excursion shaded, the undeformed axis thin grey, its nodes as ticks on the
+axis, its bearings as triangles below, its disks as bars across the axis (height growing with
+the disk's mass). Every artist carries a gid (``line-a:ROTOR``, ``bearing:ROTOR:NAME``,
+``disk:ROTOR:NAME``, ``nodes:ROTOR``, ...) so tests can find it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["plot_shaft_modes"]
+
+_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan")
+#: where the bearings' triangles stand (normalised displacement units)
+_BEARING_Y = -1.32
+#: half-heights of the lightest and of the heaviest disk's bar
+_DISK_HALF = (0.12, 0.45)
+
+
+def plot_shaft_modes(views, title: str | None = None, relative: bool = False, columns: int | None = None):
+    """The deflected shaft lines of several modes, one panel each.
+
+    Parameters
+    ----------
+    views : sequence of ShaftLines
+        One per mode (:func:`rotordyn_modal.analysis.mode_shapes.shaft_lines`).
+    title : str, optional
+        The figure's title; default the speed.
+    relative : bool
+        Draw the rotors' motion relative to the stator (the bending and the bearings'
+        deflection, without the casing's motion) instead of the absolute motion, scaled so that
+        its largest in each panel is 1.
+    columns : int, optional
+        Panels per row (default 1 for up to 3 modes, else 2).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib.pyplot as plt
+
+    views = list(views)
+    if not views:
+        raise ValueError("plot_shaft_modes: no mode to draw")
+    cols = columns or (1 if len(views) <= 3 else 2)
+    rows = int(np.ceil(len(views) / cols))
+    fig, axes = plt.subplots(rows, cols, figsize=(7.0 * cols, 2.9 * rows + 0.6), layout="constrained",
+                             squeeze=False, sharex=True)
+    for ax in axes.ravel()[len(views):]:
+        ax.set_visible(False)
+    colours = {line.rotor: _COLOURS[i % len(_COLOURS)] for i, line in enumerate(views[0].lines)}
+    for ax, view in zip(axes.ravel(), views):
+        _panel(ax, view, colours, relative)
+    for ax in axes[-1]:
+        ax.set_xlabel(f"position along {views[0].axis_names[2]} [m]")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("displacement (normalised)")
+    _legend(fig, views[0], colours, 5 if cols > 1 else 3)
+    speed = views[0].speed * 30 / np.pi
+    what = "relative to the casing, largest = 1 in each panel" if relative else "absolute, largest = 1"
+    fig.suptitle(title or f"Deflected shaft lines at {speed:.0f} rpm ({what})", fontsize="medium")
+    return fig
+
+
+def _panel(ax, view, colours, relative):
+    heaviest = max([mass for line in view.lines for _, _, mass in line.disks] or [1.0])
+    # relative motions share the absolute lines' factor (the casing may carry most of the mode):
+    # drawn with the largest of the panel at 1
+    largest = max(float(np.abs(line.relative).max(initial=0.0)) for line in view.lines) if relative else 1.0
+    for line in view.lines:
+        c = colours[line.rotor]
+        u = line.relative / (largest or 1.0) if relative else line.displacement
+        z = line.position
+        ax.plot([z[0], z[-1]], [0.0, 0.0], color="0.6", linewidth=0.8, gid=f"axis:{line.rotor}")
+        reach = _excursion(u)
+        ax.fill_between(z, -reach, reach, color=c, alpha=0.12, linewidth=0, gid=f"envelope:{line.rotor}")
+        ax.plot(z, u[0].real, color=c, linewidth=1.6, gid=f"line-a:{line.rotor}")
+        ax.plot(z, u[1].real, color=c, linewidth=1.3, linestyle="--", gid=f"line-b:{line.rotor}")
+        if line.flexible:
+            ax.plot(line.node_position, np.zeros(len(line.node_position)), linestyle="none", marker="|",
+                    markersize=5, color="0.35", gid=f"nodes:{line.rotor}")
+        for name, position, mass in line.disks:
+            half = _DISK_HALF[0] + (_DISK_HALF[1] - _DISK_HALF[0]) * (mass / heaviest) ** (1 / 3)
+            ax.plot([position, position], [-half, half], color=c, linewidth=4.5, alpha=0.45,
+                    solid_capstyle="butt", gid=f"disk:{line.rotor}:{name}")
+            ax.annotate(name, (position, half), xytext=(0, 2), textcoords="offset points", ha="center",
+                        va="bottom", fontsize="xx-small", color="0.25")
+        for name, position in line.bearings:
+            ax.plot([position], [_BEARING_Y], linestyle="none", marker="^", markersize=8, color=c,
+                    markeredgecolor="k", markeredgewidth=0.6, gid=f"bearing:{line.rotor}:{name}")
+            ax.annotate(name, (position, _BEARING_Y), xytext=(0, -9), textcoords="offset points", ha="center",
+                        va="top", fontsize="xx-small", color="0.25", annotation_clip=False)
+    ax.set_ylim(-1.6, 1.25)
+    ax.axhline(0.0, color="0.85", linewidth=0.5, zorder=0)
+    whirl = f"{view.whirl} whirl" if view.whirl != "none" else "no whirl"
+    if not view.lateral:
+        whirl = "no lateral motion (an axial or torsional mode)"
+    zeta = view.damping_ratio if abs(view.damping_ratio) >= 5e-4 else 0.0      # never "-0.000"
+    ax.set_title(f"mode {view.mode}: {view.frequency_hz:.2f} Hz, ζ = {zeta:.3f}, {whirl}", fontsize="small")
+    ax.tick_params(labelsize="small")
+
+
+def _excursion(u):
+    """Largest distance from the axis over a period of the orbit ``Re(u exp(i phi))``: its
+    semi-major axis ``sqrt((|u_a|^2 + |u_b|^2 + |u_a^2 + u_b^2|) / 2)``."""
+    return np.sqrt(0.5 * (np.abs(u[0]) ** 2 + np.abs(u[1]) ** 2 + np.abs(u[0] ** 2 + u[1] ** 2)))
+
+
+def _legend(fig, view, colours, columns):
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    a, b, _ = view.axis_names
+    handles = [Line2D([], [], color="0.2", linewidth=1.6, label=f"u_{a} (phase 0)"),
+               Line2D([], [], color="0.2", linewidth=1.3, linestyle="--", label=f"u_{b} (phase 0)"),
+               Patch(color="0.2", alpha=0.15, label="orbit's largest excursion")]
+    handles += [Line2D([], [], color=colours[line.rotor], linewidth=3,
+                       label=f"{line.rotor} ({'flexible' if line.flexible else 'rigid'})") for line in view.lines]
+    present = [any(line.bearings for line in view.lines), any(line.disks for line in view.lines),
+               any(line.flexible for line in view.lines)]
+    markers = [Line2D([], [], linestyle="none", marker="^", color="0.6", markeredgecolor="k", label="bearing"),
+               Line2D([], [], color="0.5", linewidth=4.5, alpha=0.45, label="disk (height ~ mass^1/3)"),
+               Line2D([], [], linestyle="none", marker="|", color="0.35", label="node")]
+    handles += [handle for handle, shown in zip(markers, present) if shown]
+    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), columns), fontsize="small",
+               frameon=False)

@@ -533,3 +533,24 @@ def test_units_us_on_the_command_line(built, tmp_path):
     assert [(r[0], r[3]) for r in si_tables[0][1]] == [(r[0], r[3]) for r in us_tables[0][1]]
     rotors = next(i for i, (h, _) in enumerate(si_tables) if "mass [kg]" in h)
     assert "mass [lb]" in us_tables[rotors][0] and _compare_table(si_tables[rotors], us_tables[rotors]) >= 2
+
+
+def test_units_us_options_are_read_in_us_units():
+    """With --units us the options are in US units, as in 'level1' and 'ucs-map': --qa and
+    --stiffness lbf/in, a station's OFFSET in in (1 lbf/in = 4.4482216152605 N / 0.0254 m)."""
+    from rotordyn_modal.cli.main import build_parser
+    from rotordyn_modal.cli.report import _inputs
+
+    def inputs(units, *extra):
+        args = build_parser().parse_args(["report", "m.toml", "--standard", "api617", "--mcs", "3000", "--out", "r.html",
+                                          "--station", "rotor@2", "--qa", "1000", *extra])
+        args.units = units
+        return _inputs(args)
+
+    si, us = inputs("si"), inputs("us", "--stiffness", "100:1e6:3")
+    assert us.level1["qa"] == pytest.approx(1000 * POUND_FORCE / INCH, rel=1e-12) and si.level1["qa"] == 1000
+    assert us.level1["stations"][0].offset == pytest.approx(2 * INCH, rel=1e-12)
+    assert si.level1["stations"][0].offset == 2
+    assert us.stiffness == pytest.approx(np.array([1e2, 1e4, 1e6]) * POUND_FORCE / INCH, rel=1e-12)
+    assert si.stiffness == pytest.approx(np.geomspace(1e5, 1e10, 41), rel=1e-12)   # the default, N/m
+    assert inputs("us").stiffness == pytest.approx(si.stiffness, rel=1e-12)          # the default stays N/m

@@ -235,8 +235,9 @@ def _unbalance(data, units) -> str:
     response, checks = data.results.get("unbalance"), data.results.get("checks")
     if response is None:
         return _heading("unbalance") + _skipped(data, "unbalance")
+    amount = "6350 W/N g mm" if units == "si" else "4 W/N oz in, W in lb,"   # the same amount (API 617)
     what = ("the model's [[unbalances]]" if data.inputs.standard == "iso" else
-            "the API 617/684 unbalance cases U = 6350 W/N g mm (api-static at the centre of mass, api-couple at "
+            f"the API 617/684 unbalance cases U = {amount} (api-static at the centre of mass, api-couple at "
             "the outermost bearings), each case on its own")
     parts = [_heading("unbalance"), f"<p>Response to {escape(what)}.</p>",
              _figure(response.plot(amplitude="pk-pk", checks=checks, peaks=data.results.get("margins"), **_units(units)),
@@ -276,11 +277,16 @@ def _level1(data, units) -> str:
             ["Q0/Qa [-]", ratio, f">= {result.ratio_criterion:g}"]]
     return "\n".join([
         _heading("level1"),
-        f"<p>Stations: {escape(', '.join(map(str, result.stations)))}; mode {result.mode} followed at the MCS. "
+        f"<p>Stations: {escape(', '.join(_station(s, units) for s in result.stations))}; mode {result.mode} followed at the MCS. "
         f"{escape(result.verdict())}.</p>",
         _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
         _figure(result.plot(**_units(units)), "Figure: log decrement of the first forward mode against the applied cross-coupling "
                 "Q (API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")])
+
+
+def _station(station, units) -> str:
+    """``ROTOR@OFFSET`` with the offset in the length unit of ``units``."""
+    return station.label(units) if hasattr(station, "label") else str(station)
 
 
 def _iso(data, units) -> str:

@@ -1,7 +1,15 @@
 """``rotordyn-modal report``: the HTML of the smallest examples and a casing on mounts builds,
 parses, holds every section of its standard, embeds valid PNGs only, and each verdict of its
 summary equals the verdict of the analysis function called here on its own; bad input exits 2;
-a real browser (headless Chromium, when installed) renders it with no broken image."""
+a real browser (headless Chromium, when installed) renders it with no broken image; the same
+report in US units (``--units us``) has the same verdicts and every number with a unit equals
+the SI one times the exact factor, to the printed precision.
+
+Speed: each report is built once (module fixture) and shared; the figures of the journal rotor
+(every kind of figure of an API 617 report) are drawn to PNG, those of the other examples are
+built by the plotting functions but not rasterised (``figure_png`` is the slow part: the
+layout of each figure takes seconds on a loaded machine), and their texts are kept to check
+the units of the US figures."""
 
 from __future__ import annotations
 
@@ -42,15 +50,59 @@ def _argv(name, out, standard, extra):
             "--points", str(POINTS), "--stiffness", "1e5:1e10:9", "--out", str(out), "--quiet", *extra]
 
 
+#: the example whose figures are drawn to PNG (journal bearings, API 617: every kind of figure)
+DRAWN = "journal_rotor"
+
+
+def _figure_texts(fig):
+    """Every text of a figure: axis labels, titles, legends, annotations."""
+    from matplotlib.text import Text
+
+    return [t.get_text() for t in fig.findobj(Text) if t.get_text()]
+
+
 @pytest.fixture(scope="module")
-def reports(tmp_path_factory):
+def tiny_png():
+    """A valid PNG data URI standing for a figure that is not rasterised."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.report.render import figure_png
+
+    return figure_png(plt.figure(figsize=(2, 2)), dpi=60)
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory, tiny_png):
+    """name -> (SI report file, its ReportData, the texts of its figures): each report built once."""
+    import rotordyn_modal.report as report
+    from rotordyn_modal.report import render
+
     folder = tmp_path_factory.mktemp("reports")
-    built = {}
+    done, collect = {}, report.collect
     for name, (standard, extra) in CASES.items():
-        out = folder / f"{name}.html"
-        assert main(_argv(name, out, standard, extra)) == 0
-        built[name] = out
-    return built
+        out, captured, texts = folder / f"{name}.html", [], []
+        with pytest.MonkeyPatch.context() as patch:
+            patch.setattr(report, "collect", lambda *a, **k: captured.append(collect(*a, **k)) or captured[-1])
+            if name != DRAWN:
+                patch.setattr(render, "figure_png", _fake_png(texts, tiny_png))
+            assert main(_argv(name, out, standard, extra)) == 0
+        done[name] = (out, captured[0], texts)
+    return done
+
+
+def _fake_png(texts, uri):
+    def fake(fig, dpi=110):
+        import matplotlib.pyplot as plt
+
+        texts.append(_figure_texts(fig))
+        plt.close(fig)
+        return uri
+    return fake
+
+
+@pytest.fixture(scope="module")
+def reports(built):
+    return {name: out for name, (out, _, _) in built.items()}
 
 
 class _Page(HTMLParser):
@@ -100,13 +152,15 @@ def _verdicts(page):
 
 
 @pytest.mark.parametrize("name", list(CASES))
-def test_report_parses_with_every_section_and_valid_pngs(name, reports):
+def test_report_parses_with_every_section_and_valid_pngs(name, reports, built):
     page = _page(reports[name])
     standard = CASES[name][0]
     assert {"summary", "contents", *STANDARDS[standard]} <= page.ids
     others = set(SECTIONS) - set(STANDARDS[standard])
     assert not others & page.ids                      # no section of another standard
     assert page.images
+    if name != DRAWN:
+        assert len(page.images) == len(built[name][2])     # each figure was built by its plotting function
     for source in page.images:
         assert source.startswith("data:image/png;base64,")
         data = base64.b64decode(source.split(",", 1)[1], validate=True)
@@ -245,7 +299,7 @@ def _chromium(*args, folder):
 
 @pytest.mark.skipif(_BROWSER is None, reason="no chromium on the PATH: the real-browser check of the report "
                                              "needs headless Chromium (apt-get install chromium)")
-@pytest.mark.parametrize("name", ["motor_pump_on_mounts"])
+@pytest.mark.parametrize("name", [DRAWN])
 def test_a_real_browser_renders_the_report_with_every_image(name, reports):
     from matplotlib.image import imread
 
@@ -320,3 +374,183 @@ def test_pdf_without_a_browser_is_refused_before_the_work(tmp_path, monkeypatch,
     out, pdf = tmp_path / "r.html", tmp_path / "r.pdf"
     assert main(_argv("counter_rotating", out, "api684", ["--pdf", str(pdf)])) == 2
     assert "Chromium" in capsys.readouterr().err and not out.exists() and not pdf.exists()
+
+
+# -- US customary units -----------------------------------------------------------------------
+#: exact definitions (NIST SP 811 appendix B), written here, not taken from the package
+INCH, POUND, STANDARD_GRAVITY = 0.0254, 0.45359237, 9.80665
+POUND_FORCE = POUND * STANDARD_GRAVITY
+#: (unit the SI report shows, unit the US report shows) -> factor from the SI number to the US number
+FACTORS = {("µm", "mil"): 1e-6 / (INCH / 1000), ("µm", "in"): 1e-6 / INCH, ("mm/s", "in/s"): 1e-3 / INCH,
+           ("N", "lbf"): 1 / POUND_FORCE, ("N/m", "lbf/in"): INCH / POUND_FORCE, ("kg", "lb"): 1 / POUND}
+SI_UNITS = {"µm", "mm/s", "N", "N/m", "kg", "m"}
+US_UNITS = {"mil", "in", "in/s", "lbf", "lbf/in", "lb"}
+
+
+class _Tables(HTMLParser):
+    """Every table of a page: a list of (headers, rows), cells as text."""
+
+    def __init__(self):
+        super().__init__()
+        self.tables, self._cell = [], None
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "table":
+            self.tables.append(([], []))
+        elif tag == "tr":
+            self._row = []
+        elif tag in ("th", "td"):
+            self._cell = ""
+
+    def handle_endtag(self, tag):
+        if tag in ("th", "td"):
+            self._row.append(self._cell.strip())
+            self._cell = None
+        elif tag == "tr":
+            headers, rows = self.tables[-1]
+            (rows if headers else headers).extend([self._row] if headers else self._row)
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell += data
+
+
+def _tables(html):
+    parser = _Tables()
+    parser.feed(html)
+    parser.close()
+    return parser.tables
+
+
+_NUMBER = r"-?\d+(?:\.\d*)?(?:e[-+]?\d+)?"
+_QUANTITY = re.compile(rf"({_NUMBER})(?: (µm|mil|mm/s|in/s|lbf/in|N/m|lbf|N|kg|lb|in)\b)?")
+
+
+def _half_digit(text):
+    """Half a unit of the last digit printed in ``text`` (a number as printed)."""
+    mantissa, _, exponent = text.partition("e")
+    decimals = len(mantissa.partition(".")[2])
+    return 0.5 * 10.0 ** (int(exponent or 0) - decimals)
+
+
+def _same_number(si, us, factor):
+    """``us`` (text) is ``si`` (text) times ``factor``, to the precision both are printed to."""
+    a, b = float(si), float(us)
+    return abs(b - a * factor) <= _half_digit(us) + _half_digit(si) * factor + 1e-12 * abs(b)
+
+
+def _unit_in(header):
+    found = re.search(r"\[([^\]]+)\]", header)
+    return found.group(1).split()[0] if found else None
+
+
+def _compare_text(si, us):
+    """Texts equal but for their quantities with a unit, converted by FACTORS; returns the number
+    converted."""
+    assert _QUANTITY.sub("#", si) == _QUANTITY.sub("#", us), (si, us)
+    converted = 0
+    for (a, unit_a), (b, unit_b) in zip(_QUANTITY.findall(si), _QUANTITY.findall(us)):
+        if unit_a == unit_b:
+            assert a == b, (si, us)
+        else:
+            assert unit_a in SI_UNITS and unit_b in US_UNITS, (si, us)
+            assert _same_number(a, b, FACTORS[unit_a, unit_b]), (si, us)
+            converted += 1
+    return converted
+
+
+def _compare_cells(si, us, factor):
+    if factor is None or not re.fullmatch(_NUMBER, si):
+        assert si == us
+        return 0
+    assert _same_number(si, us, factor), (si, us, factor)
+    return 1
+
+
+def _compare_table(si, us):
+    """Same table in SI and US: headers equal but for their unit, each converted cell = SI x factor."""
+    (si_headers, si_rows), (us_headers, us_rows) = si, us
+    assert len(si_headers) == len(us_headers) and len(si_rows) == len(us_rows)
+    factors, converted = [], 0
+    for a, b in zip(si_headers, us_headers):
+        unit_a, unit_b = _unit_in(a), _unit_in(b)
+        assert unit_b not in SI_UNITS, b
+        factors.append(None if a == b else FACTORS[unit_a, unit_b])
+        if a != b:
+            assert a.replace(unit_a, unit_b, 1) == b
+    for row_a, row_b in zip(si_rows, us_rows):
+        label_a, label_b = row_a[0], row_b[0]      # a row named with its unit (Level I: "Qa [N/m]")
+        row_factor = None if label_a == label_b else FACTORS[_unit_in(label_a), _unit_in(label_b)]
+        if row_factor is not None:
+            assert _unit_in(label_b) in US_UNITS
+            converted += sum(_compare_cells(x, y, row_factor) for x, y in zip(row_a[1:2], row_b[1:2]))
+            row_a, row_b = row_a[2:], row_b[2:]
+            heads = factors[2:]
+        else:
+            heads = factors
+        converted += sum(_compare_cells(x, y, f) for x, y, f in zip(row_a, row_b, heads))
+    return converted
+
+
+@pytest.mark.parametrize("name", ["journal_rotor", "motor_pump_on_mounts"])
+def test_us_report_says_the_same_as_the_si_one(name, built, tiny_png, monkeypatch):
+    """The US page of the same results: same criteria and verdicts, every number with a unit the SI
+    one times the exact factor (summary and every table), US units in the headers and figures."""
+    from rotordyn_modal.report import render, render_html
+
+    texts = []
+    monkeypatch.setattr(render, "figure_png", _fake_png(texts, tiny_png))
+    out, data, _ = built[name]
+    si_tables, us_tables = _tables(out.read_text(encoding="utf-8")), _tables(render_html(data, units="us"))
+    assert len(si_tables) == len(us_tables)
+    (_, si_summary), (_, us_summary) = si_tables[0], us_tables[0]
+    assert [(r[0], r[3]) for r in si_summary] == [(r[0], r[3]) for r in us_summary]     # names, verdicts
+    assert {r[3] for r in us_summary} & {"pass", "fail"}
+    summary = sum(_compare_text(a, b) for row_a, row_b in zip(si_summary, us_summary)
+                  for a, b in zip(row_a[1:], row_b[1:]))
+    assert summary >= 2                                   # value and limit (ISO, probe) or Qa (Level I)
+    converted = sum(_compare_table(a, b) for a, b in zip(si_tables[1:], us_tables[1:]))
+    headers = [h for table, _ in us_tables for h in table]
+    assert {"mass [lb]", "u_x [in]", "F_z [lbf]"} <= set(headers)
+    assert converted >= len(data.model_info["rotors"]) + 6          # masses, sag and reactions at least
+    if name == "motor_pump_on_mounts":
+        assert {"value [in/s RMS]", "amplitude, 0-peak [mil]"} <= set(headers)
+    else:
+        assert "value [mil pk-pk]" in headers
+    labels = " ".join(t for figure in texts for t in figure)
+    assert "mil" in labels and "µm" not in labels and "N/m" not in labels
+    if name == "journal_rotor":
+        assert "lbf/in" in labels                          # UCS map and Level I axes
+
+
+def test_units_us_on_the_command_line(built, tmp_path):
+    """``--units us`` before the sub-command: masses in lb, same verdicts as the SI report."""
+    out = tmp_path / "us.html"
+    standard, extra = CASES["counter_rotating"]
+    assert main(["--units", "us", *_argv("counter_rotating", out, standard, extra)]) == 0
+    si_tables, us_tables = _tables(built["counter_rotating"][0].read_text(encoding="utf-8")), _tables(
+        out.read_text(encoding="utf-8"))
+    assert [(r[0], r[3]) for r in si_tables[0][1]] == [(r[0], r[3]) for r in us_tables[0][1]]
+    rotors = next(i for i, (h, _) in enumerate(si_tables) if "mass [kg]" in h)
+    assert "mass [lb]" in us_tables[rotors][0] and _compare_table(si_tables[rotors], us_tables[rotors]) >= 2
+
+
+def test_units_us_options_are_read_in_us_units():
+    """With --units us the options are in US units, as in 'level1' and 'ucs-map': --qa and
+    --stiffness lbf/in, a station's OFFSET in in (1 lbf/in = 4.4482216152605 N / 0.0254 m)."""
+    from rotordyn_modal.cli.main import build_parser
+    from rotordyn_modal.cli.report import _inputs
+
+    def inputs(units, *extra):
+        args = build_parser().parse_args(["report", "m.toml", "--standard", "api617", "--mcs", "3000", "--out", "r.html",
+                                          "--station", "rotor@2", "--qa", "1000", *extra])
+        args.units = units
+        return _inputs(args)
+
+    si, us = inputs("si"), inputs("us", "--stiffness", "100:1e6:3")
+    assert us.level1["qa"] == pytest.approx(1000 * POUND_FORCE / INCH, rel=1e-12) and si.level1["qa"] == 1000
+    assert us.level1["stations"][0].offset == pytest.approx(2 * INCH, rel=1e-12)
+    assert si.level1["stations"][0].offset == 2
+    assert us.stiffness == pytest.approx(np.array([1e2, 1e4, 1e6]) * POUND_FORCE / INCH, rel=1e-12)
+    assert si.stiffness == pytest.approx(np.geomspace(1e5, 1e10, 41), rel=1e-12)   # the default, N/m
+    assert inputs("us").stiffness == pytest.approx(si.stiffness, rel=1e-12)          # the default stays N/m

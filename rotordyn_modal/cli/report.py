@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import shlex
 import shutil
 import subprocess
@@ -12,6 +13,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..io import atomic_write
+from ..units import from_system
 from ._common import add_model_argument, add_output_file, add_speed_unit, check_ending, check_extra_output, \
     open_model, parse_number, to_rad_s
 from .level1 import add_stage_arguments, anticipated
@@ -34,7 +36,12 @@ amplification factors and separation margins (required margin and verdict per pe
           ISO 20816-3 zones of the casing sensors (--iso-group and --iso-support)
 The sweeps run from 2 % of --mcs to 1.5 x --mcs (--points speeds); the operating range
 (--operating LO:HI, default the MCS alone) measures the separation margins. docs/report.md
-lists what each section holds and where its numbers come from.
+lists what each section holds and where its numbers come from. With --units us (or
+ROTORDYN_MODAL_UNITS=us) every table, figure and criterion shows US customary units: vibration
+in mil, casing velocity in in/s RMS, static displacement in in, forces in lbf, stiffness and Q
+in lbf/in, masses in lb (docs/units.md); the verdicts are the same. The options are then read in
+US units too, as by 'level1' and 'ucs-map': --qa and --stiffness in lbf/in, --power in hp, the
+impeller diameter, restriction height and station OFFSET in in.
 
 examples:
   rotordyn-modal report examples/journal_rotor.toml --standard api617 --mcs 6000 \\
@@ -52,8 +59,9 @@ def add_arguments(parser):
     parser.add_argument("--operating", metavar="LO:HI", help="operating speed range (default: the MCS alone)")
     add_speed_unit(parser)
     parser.add_argument("--points", default="151", help="speeds of the sweeps (default 151)")
-    parser.add_argument("--stiffness", default="1e5:1e10:41",
-                        help="START:STOP:N bearing stiffness of the UCS map [N/m], log-spaced (default 1e5:1e10:41)")
+    parser.add_argument("--stiffness",
+                        help="START:STOP:N bearing stiffness of the UCS map [N/m; lbf/in with --units us], "
+                             "log-spaced (default 1e5:1e10:41 N/m)")
     parser.add_argument("--iso-group", type=int, choices=[1, 2],
                         help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
     parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
@@ -78,13 +86,14 @@ def run(args) -> int:
 
     matplotlib.use("Agg")
     data = collect(model, inputs)
-    html = render_html(data)
+    units = getattr(args, "units", None) or "si"
+    html = render_html(data, units=units)
     with atomic_write(args.out, "w", encoding="utf-8") as handle:
         handle.write(html)
     if args.pdf:
         _print_pdf(html, args.pdf)
     if not args.quiet:
-        for c in data.criteria:
+        for c in (c.in_system(units) for c in data.criteria):
             print(f"{c.name}: {c.verdict}" + (f" ({c.value}; limit {c.limit})" if c.value else "")
                   + (f": {c.why}" if c.verdict == "not evaluated" else ""), file=sys.stderr)
     return 0
@@ -109,16 +118,20 @@ def _inputs(args):
     if (args.iso_group is None) != (args.iso_support is None):
         raise InputError("--iso-group/--iso-support: expected both (ISO 20816-3 machine group 1 or 2 and "
                          "support rigid or flexible) or neither")
+    units = getattr(args, "units", None) or "si"
     level1 = None
     if args.station:
         stations = [Station.parse(text) for text in args.station]
+        if units != "si":      # ROTOR@OFFSET: the offset in in, as in 'level1'
+            stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", units)) for s in stations]
         qa, shares = anticipated(args, len(stations), mcs)
         level1 = {"stations": stations, "qa": qa, "shares": shares}
     elif any(getattr(args, o) is not None for o in ("qa", "power", "impeller_diameter", "restriction_height")):
         raise InputError("--qa or stage data given without --station: name where the cross-coupling acts")
     return ReportInputs(standard=args.standard, mcs=mcs, operating=operating, points=points,
                         iso_group=args.iso_group, iso_support=args.iso_support, level1=level1,
-                        stiffness=_stiffness(args.stiffness), command=_command_line())
+                        stiffness=_stiffness(args.stiffness or "1e5:1e10:41", units if args.stiffness else "si"),
+                        command=_command_line())
 
 
 def _command_line() -> str:

@@ -12,14 +12,15 @@ from __future__ import annotations
 
 import hashlib
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
+from ..units import check_system, unit_scale
 
-__all__ = ["STANDARDS", "SECTIONS", "Criterion", "ReportInputs", "ReportData", "collect", "separation_margins"]
+__all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "Criterion", "ReportInputs", "ReportData", "collect", "separation_margins"]
 
 #: section id -> heading
 SECTIONS = {"model": "Model", "static": "Static loads and sag", "campbell": "Campbell diagram and critical speeds",
@@ -32,12 +33,34 @@ STANDARDS = {"api617": ("model", "static", "campbell", "ucs", "unbalance", "leve
              "iso": ("model", "static", "campbell", "unbalance", "iso")}
 
 
+#: what the report shows of each quantity: report kind -> {system: (factor from SI, label)}
+#: (vibration amplitudes in µm or mil, casing velocity in mm/s or in/s, static displacement in
+#: µm or in; the US units are those of docs/units.md)
+SHOWN_UNITS = {
+    "vibration": {"si": (1e6, "µm"), "us": unit_scale("displacement", "us")},
+    "velocity": {"si": (1e3, "mm/s"), "us": unit_scale("velocity", "us")},
+    "sag": {"si": (1e6, "µm"), "us": unit_scale("length", "us")},
+    "force": {"si": unit_scale("force", "si"), "us": unit_scale("force", "us")},
+    "stiffness": {"si": unit_scale("stiffness", "si"), "us": unit_scale("stiffness", "us")},
+    "mass": {"si": unit_scale("mass", "si"), "us": unit_scale("mass", "us")},
+}
+
+
+def shown_scale(kind: str, system: str = "si") -> tuple:
+    """``(factor, label)``: an SI value of report kind ``kind`` (:data:`SHOWN_UNITS`) times
+    ``factor`` is the number the report shows in ``label``, the unit of ``system``."""
+    return SHOWN_UNITS[kind][check_system(system)]
+
+
 @dataclass(frozen=True)
 class Criterion:
     """One line of the summary: a criterion, its value, limit and verdict.
 
     ``verdict`` is 'pass', 'fail' or 'not evaluated'; ``why`` says why not evaluated (or which
-    item governs); ``section`` the id of the section that holds its numbers.
+    item governs); ``section`` the id of the section that holds its numbers. ``value``,
+    ``limit`` and ``why`` are the SI text; ``quantities`` holds, for those with a unit,
+    ``(field, template, kind, si_values)``: the text is ``template.format(*numbers, unit=label)``
+    with the numbers in the unit of a system (:meth:`in_system`).
     """
 
     name: str
@@ -46,6 +69,21 @@ class Criterion:
     verdict: str
     section: str
     why: str = ""
+    quantities: tuple = ()
+
+    @classmethod
+    def of(cls, name, verdict, section, why="", value="", limit="", quantities=()):
+        """A criterion whose fields named in ``quantities`` are written from their SI values."""
+        made = cls(name, value, limit, verdict, section, why, tuple(quantities))
+        return made.in_system("si")
+
+    def in_system(self, system: str) -> "Criterion":
+        """This criterion with its quantities written in ``system`` ('si' or 'us'); the verdict
+        is the same (judged in SI)."""
+        texts = {field: template.format(*(v * shown_scale(kind, system)[0] for v in values),
+                                        unit=shown_scale(kind, system)[1])
+                 for field, template, kind, values in self.quantities}
+        return replace(self, **texts)
 
 
 @dataclass(frozen=True)
@@ -285,9 +323,10 @@ def _probe_limits(data):
         return
     worst = table.iloc[int(np.argmax(table["value"] / table["limit"]))]
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
-    data.criteria.append(Criterion("API 617 probe vibration limit", f"{worst.value * 1e6:.3g} µm pk-pk",
-                                   f"<= {worst.limit * 1e6:.3g} µm pk-pk", verdict, "unbalance",
-                                   f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm" + _case(worst)))
+    data.criteria.append(Criterion.of("API 617 probe vibration limit", verdict, "unbalance",
+                                      f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm" + _case(worst),
+                                      quantities=[("value", "{0:.3g} {unit} pk-pk", "vibration", (worst.value,)),
+                                                  ("limit", "<= {0:.3g} {unit} pk-pk", "vibration", (worst.limit,))]))
 
 
 def _level1(data):
@@ -305,10 +344,11 @@ def _level1(data):
             data.criteria.append(Criterion(name, "", "", "not evaluated", "level1", data.skipped["level1"]))
         return
     ratio = f"{result.ratio:.3g}" if np.isfinite(result.q0) else f"> {result.cross_coupling[-1] / result.qa:.3g}"
-    data.criteria.append(Criterion("API 617 Level I: log decrement at Qa", f"{result.log_decrement_at_qa:.3g}",
-                                   f">= {result.log_decrement_criterion:g}",
-                                   "pass" if result.passes_log_decrement else "fail", "level1",
-                                   f"Qa = {result.qa:.4g} N/m"))
+    data.criteria.append(Criterion.of("API 617 Level I: log decrement at Qa",
+                                      "pass" if result.passes_log_decrement else "fail", "level1",
+                                      value=f"{result.log_decrement_at_qa:.3g}",
+                                      limit=f">= {result.log_decrement_criterion:g}",
+                                      quantities=[("why", "Qa = {0:.4g} {unit}", "stiffness", (result.qa,))]))
     data.criteria.append(Criterion("API 617 Level I: Q0/Qa", ratio, f">= {result.ratio_criterion:g}",
                                    "pass" if result.passes_ratio else "fail", "level1",
                                    "Level II required" if result.level2_required else "Level II not required"))
@@ -331,9 +371,10 @@ def _iso(data):
     table = table[table["check"].str.startswith("ISO")]
     worst = table.iloc[int(np.argmax(table["value"]))]
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
-    data.criteria.append(Criterion(name, f"{worst.value * 1e3:.3g} mm/s RMS (zone {worst.zone})",
-                                   f"<= {worst.limit * 1e3:.3g} mm/s RMS (zone B)", verdict, "iso",
-                                   f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm"))
+    data.criteria.append(Criterion.of(
+        name, verdict, "iso", f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm",
+        quantities=[("value", "{0:.3g} {unit} RMS (zone %s)" % worst.zone, "velocity", (worst.value,)),
+                    ("limit", "<= {0:.3g} {unit} RMS (zone B)", "velocity", (worst.limit,))]))
 
 
 def _nothing(data):

@@ -12,7 +12,8 @@ from string import Template
 
 import numpy as np
 
-from .collect import SECTIONS
+from ..units import check_system
+from .collect import SECTIONS, shown_scale
 
 __all__ = ["render_html", "figure_png"]
 
@@ -57,18 +58,23 @@ def figure_png(fig, dpi: int = 110) -> str:
     return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
 
 
-def render_html(data, date: str | None = None) -> str:
-    """The report page of ``data`` (a :class:`~.collect.ReportData`) as a string."""
+def render_html(data, date: str | None = None, units: str = "si") -> str:
+    """The report page of ``data`` (a :class:`~.collect.ReportData`) as a string.
+
+    ``units`` ('si' or 'us', docs/units.md): the unit system of every number with a unit shown in
+    the tables, the summary and the figures; ``data`` stays SI (converted here, at the edge).
+    """
+    units = check_system(units)
     info = data.model_info
     names = {"api617": "API 617", "api684": "API RP 684", "iso": "ISO 21940-11 / ISO 20816-3"}
     toc = "".join(f'<li><a href="#{s}">{escape(SECTIONS[s])}</a></li>' for s in data.sections)
-    body = "\n".join(_SECTION_RENDERERS[s](data) for s in data.sections)
+    body = "\n".join(_SECTION_RENDERERS[s](data, units) for s in data.sections)
     return _PAGE.substitute(
         title=escape(f"Rotordynamic report: {info['name']}"), css=_CSS, standard=names[data.inputs.standard],
         version=escape(info["version"]),
         date=escape(date or datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")),
         toc='<li><a href="#summary">Summary of the criteria</a></li>' + toc,
-        summary=_summary(data), sections=body)
+        summary=_summary(data, units), sections=body)
 
 
 # -- pieces ---------------------------------------------------------------------------------
@@ -108,17 +114,19 @@ def _g(value, digits=4) -> str:
     return "" if value is None or (isinstance(value, float) and not np.isfinite(value)) else f"{value:.{digits}g}"
 
 
-def _summary(data) -> str:
+def _summary(data, units) -> str:
+    shown = [c.in_system(units) for c in data.criteria]
     rows = [[(f'<a href="#{c.section}">{escape(c.name)}</a>', "text"), c.value, c.limit, _verdict_cell(c.verdict),
-             c.why] for c in data.criteria]
+             c.why] for c in shown]
     headers = [("criterion", True), ("value", False), ("limit", False), ("verdict", True), ("note", True)]
     warn = "".join(f"<li>{escape(w)}</li>" for w in data.warnings)
     return _table(rows, headers) + (f'<p class="note">Warnings of the analyses:</p><ul class="note">{warn}</ul>'
                                     if warn else "")
 
 
-def _model(data) -> str:
+def _model(data, units) -> str:
     info, inputs = data.model_info, data.inputs
+    kg, mass = shown_scale("mass", units)
     low, high = (x * 30 / np.pi for x in inputs.range)
     facts = [("model", info["name"]), ("model file", info["file"]), ("SHA-256 of the model file", info["sha256"]),
              ("rotordyn_modal version", info["version"]), ("command", inputs.command or "(Python call)"),
@@ -126,11 +134,12 @@ def _model(data) -> str:
              ("operating range [rpm]", f"{low:.6g} to {high:.6g}"),
              ("speeds analysed [rpm]", f"{inputs.speeds[0] * 30 / np.pi:.6g} to {inputs.speeds[-1] * 30 / np.pi:.6g}"
                                        f" ({inputs.points} points)"),
-             ("stator (casing) mass [kg]", "none" if info["stator_mass"] is None else f"{info['stator_mass']:.6g}")]
+             (f"stator (casing) mass [{mass}]",
+              "none" if info["stator_mass"] is None else f"{info['stator_mass'] * kg:.6g}")]
     parts = [_heading("model"), _table([[k, (f'<span class="mono">{escape(v)}</span>', "text")] for k, v in facts],
                                        [("item", True), ("value", True)])]
-    parts.append("<h3>Rotors</h3>" + _table([[n, f"{m:.6g}", f"{r:.6g}"] for n, m, r in info["rotors"]],
-                                            [("rotor", True), ("mass [kg]", False), ("speed ratio [-]", False)]))
+    parts.append("<h3>Rotors</h3>" + _table([[n, f"{m * kg:.6g}", f"{r:.6g}"] for n, m, r in info["rotors"]],
+                                            [("rotor", True), (f"mass [{mass}]", False), ("speed ratio [-]", False)]))
     parts.append("<h3>Bearings</h3>" + (_table([list(b) for b in info["bearings"]],
                                                [("bearing", True), ("rotor", True), ("type", True)])
                                         if info["bearings"] else "<p>none (rotors rigidly attached)</p>"))
@@ -142,15 +151,16 @@ def _model(data) -> str:
     return "\n".join(parts)
 
 
-def _static(data) -> str:
+def _static(data, units) -> str:
     result = data.results.get("static")
     if result is None:
         return _heading("static") + _skipped(data, "static")
     shown = result.displacements()
-    sag = _at_round_off(shown[["ux_m", "uy_m", "uz_m"]].to_numpy()) * 1e6
+    (to_sag, sag_unit), (to_force, force_unit) = shown_scale("sag", units), shown_scale("force", units)
+    sag = _at_round_off(shown[["ux_m", "uy_m", "uz_m"]].to_numpy()) * to_sag
     rows = [[r.body, r.point, *(_g(v) for v in values)] for r, values in zip(shown.itertuples(), sag)]
     reactions = result.reactions_table()
-    forces = _at_round_off(reactions[["Fx_N", "Fy_N", "Fz_N"]].to_numpy())
+    forces = _at_round_off(reactions[["Fx_N", "Fy_N", "Fz_N"]].to_numpy()) * to_force
     rrows = [[r.support, r.kind, r.body, r.on, *(_g(v) for v in values)]
              for r, values in zip(reactions.itertuples(), forces)]
     return "\n".join([
@@ -158,11 +168,10 @@ def _static(data) -> str:
         f"<p>Under the model's gravity at the MCS ({data.inputs.mcs * 30 / np.pi:.6g} rpm), bearings at their "
         "stiffness at that speed (docs/static.md).</p>",
         "<h3>Static displacement (sag)</h3>",
-        _table(rows, [("body", True), ("point", True), ("u_x [µm]", False), ("u_y [µm]", False),
-                      ("u_z [µm]", False)]),
+        _table(rows, [("body", True), ("point", True), *((f"u_{a} [{sag_unit}]", False) for a in "xyz")]),
         "<h3>Reactions (force of each support on the body it carries)</h3>",
-        _table(rrows, [("support", True), ("kind", True), ("body", True), ("on", True), ("F_x [N]", False),
-                       ("F_y [N]", False), ("F_z [N]", False)])])
+        _table(rrows, [("support", True), ("kind", True), ("body", True), ("on", True),
+                       *((f"F_{a} [{force_unit}]", False) for a in "xyz")])])
 
 
 def _at_round_off(values, relative: float = 1e-9):
@@ -172,7 +181,7 @@ def _at_round_off(values, relative: float = 1e-9):
     return np.where(np.abs(values) <= relative * largest, 0.0, values) + 0.0
 
 
-def _campbell(data) -> str:
+def _campbell(data, units) -> str:
     result = data.results["campbell"]
     critical = result.critical.to_dataframe()
     low, high = (x * 30 / np.pi for x in data.inputs.range)
@@ -199,36 +208,39 @@ def _campbell(data) -> str:
         parts.append("<p>No resonance peak in the sweep.</p>")
     else:
         has_case = "case" in margins
-        mrows = [[r.output, *([r.case] if has_case else []), _g(r.speed_rpm, 6), _g(r.amplitude * 1e6),
+        to_vibration, vibration = shown_scale("vibration", units)
+        mrows = [[r.output, *([r.case] if has_case else []), _g(r.speed_rpm, 6), _g(r.amplitude * to_vibration),
                   _g(r.amplification_factor, 3), _g(r.separation_margin_pct, 3), _g(r.required_margin_pct, 3),
                   _verdict_cell(r.verdict)] for r in margins.itertuples()]
         parts.append(_table(mrows, [("output", True), *([("case", True)] if has_case else []),
-                                    ("peak speed [rpm]", False), ("amplitude, 0-peak [µm]", False),
+                                    ("peak speed [rpm]", False), (f"amplitude, 0-peak [{vibration}]", False),
                                     ("AF [-]", False), ("separation margin [%]", False),
                                     ("required margin [%]", False), ("verdict", True)]))
     return "\n".join(parts)
 
 
-def _ucs(data) -> str:
+def _ucs(data, units) -> str:
     result = data.results.get("ucs")
     if result is None:
         return _heading("ucs") + _skipped(data, "ucs")
-    stiffness = data.inputs.stiffness
+    factor, unit = shown_scale("stiffness", units)
+    stiffness = data.inputs.stiffness * factor
     return _heading("ucs") + _figure(
-        result.plot(), f"Figure: undamped critical speed map, forward critical speeds against the bearings' "
-        f"radial stiffness ({stiffness[0]:.3g} to {stiffness[-1]:.3g} N/m), the bearings' own stiffness over speed "
+        result.plot(**_units(units)), f"Figure: undamped critical speed map, forward critical speeds against the "
+        f"bearings' radial stiffness ({stiffness[0]:.3g} to {stiffness[-1]:.3g} {unit}), the bearings' own stiffness over speed "
         "drawn on it, the operating range as a band (docs/level1_and_ucs.md).", "Undamped critical speed map")
 
 
-def _unbalance(data) -> str:
+def _unbalance(data, units) -> str:
     response, checks = data.results.get("unbalance"), data.results.get("checks")
     if response is None:
         return _heading("unbalance") + _skipped(data, "unbalance")
+    amount = "6350 W/N g mm" if units == "si" else "4 W/N oz in, W in lb,"   # the same amount (API 617)
     what = ("the model's [[unbalances]]" if data.inputs.standard == "iso" else
-            "the API 617/684 unbalance cases U = 6350 W/N g mm (api-static at the centre of mass, api-couple at "
+            f"the API 617/684 unbalance cases U = {amount} (api-static at the centre of mass, api-couple at "
             "the outermost bearings), each case on its own")
     parts = [_heading("unbalance"), f"<p>Response to {escape(what)}.</p>",
-             _figure(response.plot(amplitude="pk-pk", checks=checks, peaks=data.results.get("margins")),
+             _figure(response.plot(amplitude="pk-pk", checks=checks, peaks=data.results.get("margins"), **_units(units)),
                      "Figure: unbalance response, amplitude peak-to-peak and phase against speed; the largest peaks "
                      "with their AF and separation margin from the operating range (the table of section "
                      "Campbell diagram and critical speeds); API 617 probe limits (informative in an ISO report) "
@@ -236,9 +248,11 @@ def _unbalance(data) -> str:
     table = checks.to_dataframe()
     table = table[table["check"] == "API 617 probe limit"]
     if data.inputs.standard != "iso":
-        parts.append("<h3>API 617 probe vibration limit</h3><p>A1 = 25.4 µm sqrt(12000/N), at most 25.4 µm "
-                     "peak-to-peak, N the probe's rotor's MCS [rpm]; largest over 0 to MCS.</p>")
-        parts.append(_check_table(table, 1e6, "µm pk-pk") if not table.empty else
+        factor, unit = shown_scale("vibration", units)
+        parts.append(f"<h3>API 617 probe vibration limit</h3><p>A1 = {25.4e-6 * factor:.3g} {unit} sqrt(12000/N), "
+                     f"at most {25.4e-6 * factor:.3g} {unit} peak-to-peak, N the probe's rotor's MCS [rpm]; largest "
+                     "over 0 to MCS.</p>")
+        parts.append(_check_table(table, factor, f"{unit} pk-pk") if not table.empty else
                      "<p>No proximity probe (measure = \"relative\") in the model.</p>")
     return "\n".join(parts)
 
@@ -251,36 +265,48 @@ def _check_table(table, scale, unit) -> str:
                          (f"value [{unit}]", False), (f"limit [{unit}]", False), ("zone", True), ("verdict", True)])
 
 
-def _level1(data) -> str:
+def _level1(data, units) -> str:
     result = data.results.get("level1")
     if result is None:
         return _heading("level1") + _skipped(data, "level1")
     ratio = f"{result.ratio:.3g}" if np.isfinite(result.q0) else f"> {result.cross_coupling[-1] / result.qa:.3g}"
-    rows = [["anticipated cross-coupling Qa [N/m]", _g(result.qa), ""],
+    factor, unit = shown_scale("stiffness", units)
+    rows = [[f"anticipated cross-coupling Qa [{unit}]", _g(result.qa * factor), ""],
             ["log decrement at Qa [-]", _g(result.log_decrement_at_qa, 3), f">= {result.log_decrement_criterion:g}"],
-            ["Q0 [N/m]", _g(result.q0) if np.isfinite(result.q0) else "beyond the sweep", ""],
+            [f"Q0 [{unit}]", _g(result.q0 * factor) if np.isfinite(result.q0) else "beyond the sweep", ""],
             ["Q0/Qa [-]", ratio, f">= {result.ratio_criterion:g}"]]
     return "\n".join([
         _heading("level1"),
-        f"<p>Stations: {escape(', '.join(map(str, result.stations)))}; mode {result.mode} followed at the MCS. "
+        f"<p>Stations: {escape(', '.join(_station(s, units) for s in result.stations))}; mode {result.mode} followed at the MCS. "
         f"{escape(result.verdict())}.</p>",
         _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
-        _figure(result.plot(), "Figure: log decrement of the first forward mode against the applied cross-coupling "
+        _figure(result.plot(**_units(units)), "Figure: log decrement of the first forward mode against the applied cross-coupling "
                 "Q (API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")])
 
 
-def _iso(data) -> str:
+def _station(station, units) -> str:
+    """``ROTOR@OFFSET`` with the offset in the length unit of ``units``."""
+    return station.label(units) if hasattr(station, "label") else str(station)
+
+
+def _iso(data, units) -> str:
     checks = data.results.get("checks")
     if "iso" in data.skipped:
         return _heading("iso") + _skipped(data, "iso")
     table = checks.to_dataframe()
     table = table[table["check"].str.startswith("ISO")]
-    low, mid, high = (b * 1e3 for b in checks.zone_boundaries)
+    factor, unit = shown_scale("velocity", units)
+    low, mid, high = (b * factor for b in checks.zone_boundaries)
     return "\n".join([_heading("iso"),
                       f"<p>RMS vibration velocity of every casing sensor, largest over the speeds up to the MCS, "
-                      f"{escape(checks.iso_class)}: zone boundaries A/B {low:.3g}, B/C {mid:.3g}, C/D {high:.3g} mm/s "
+                      f"{escape(checks.iso_class)}: zone boundaries A/B {low:.3g}, B/C {mid:.3g}, C/D {high:.3g} {unit} "
                       "RMS; pass in zones A and B (docs/standards.md).</p>",
-                      _check_table(table, 1e3, "mm/s RMS")])
+                      _check_table(table, factor, f"{unit} RMS")])
+
+
+def _units(units) -> dict:
+    """The figures' ``units=`` keyword: none in SI (the figures as they were), ``units='us'`` else."""
+    return {} if units == "si" else {"units": units}
 
 
 _SECTION_RENDERERS = {"model": _model, "static": _static, "campbell": _campbell, "ucs": _ucs,

@@ -1,0 +1,225 @@
+"""The lowest modes of a speed sweep, exact, without every root at every speed.
+
+Three steps (``docs/theory.md``, "The lowest modes only"):
+
+1. a speed-independent basis: the ``m`` lowest undamped modes of the symmetric parts of the
+   stiffness and mass at the sweep's first speed, mass-orthonormal;
+2. the projected pencils (``m x m``) of every speed, solved in one batched ``numpy.linalg.eig``
+   of their ``2m x 2m`` state matrices: starts for the wanted roots;
+3. each start refined to the full model's root by Newton's iteration on the full quadratic
+   pencil ``Q(s) = s^2 M + s (C + Omega G) + K`` (batched LU solves over speeds and roots),
+   until the step is at round-off.
+
+A speed where the refined roots are not ``count + 1`` distinct roots (two starts reaching one
+root), or where the basis cannot be shown to hold every root below the wanted ones (see
+:func:`_basis_suffices`), is solved whole instead (the full eigen-solve), with a notice.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse
+import scipy.sparse.linalg
+
+from . import _batches, _vectors
+from .modal import is_oscillating
+
+__all__ = ["lowest_roots"]
+
+#: Newton iterations at most; the starts from the projected pencils take 2 to 4
+_ITERATIONS = 12
+#: a step below this times |lam| ends the iteration (quadratic convergence: the root is then
+#: exact to round-off, far inside the 1e-9 promised)
+_STEP = 1e-11
+#: refined roots closer than this times |lam| are one root reached twice
+_SAME = 1e-8
+
+
+def lowest_roots(stack, speeds, count: int):
+    """The ``count`` lowest-frequency oscillating roots of a one-model stack at every speed.
+
+    Parameters
+    ----------
+    stack : Stack
+        One model without frequency-dependent branches (``stack.branch_times`` empty).
+    speeds : ndarray, shape (S,) [rad/s]
+    count : int
+        Modes wanted per speed (>= 1).
+
+    Returns
+    -------
+    eigenvalues : ndarray, shape (S, count), complex [1/s]
+        By frequency at each speed (not tracked).
+    shapes : ndarray, shape (S, count, n), complex, unit norm
+    full : ndarray of bool, shape (S,)
+        The speeds solved whole (fallback).
+    """
+    n = stack.n_dof
+    size = min(n, max(3 * count, count + 10))
+    basis, omegas, symmetric = _basis(stack, speeds[:1], size)
+    if stack.dependent and len(speeds) > 1:
+        basis = _joined(stack.M[0], basis, _basis(stack, speeds[-1:], size)[0])
+    want = min(count + 1, size)
+    starts, vectors, d_norm, e_norm = _projected_starts(stack, speeds, basis, symmetric, want)
+    values, shapes, ok = _refined(stack, speeds, starts, vectors)
+    ok &= _distinct(values) & _basis_suffices(values, omegas, size, d_norm, e_norm)
+    out_values = np.full((len(speeds), count), np.nan + 0j)
+    out_shapes = np.zeros((len(speeds), count, n), dtype=complex)
+    k = min(count, values.shape[1])
+    out_values[:, :k], out_shapes[:, :k] = values[:, :k], shapes[:, :k]
+    full = ~ok
+    if full.any():
+        warnings.warn(f"lowest modes: {int(full.sum())} of {len(speeds)} speeds solved whole (the reduced basis "
+                      "could not be shown to hold every root below the wanted ones there)", stacklevel=3)
+        lam, phi = _full_lowest(stack, speeds[full], count)
+        out_values[full], out_shapes[full] = lam, phi
+    return out_values, out_shapes, full
+
+
+def _basis(stack, speed, size):
+    """Mass-orthonormal undamped modes (n, size) of the symmetric parts of K and M at ``speed``
+    (an array of one speed), the square roots of all their eigenvalues (n,) [rad/s] (the
+    completeness test reads the first left out) and the symmetric stiffness (n, n)."""
+    _, stiffness = stack.damping_stiffness(np.zeros(1, int), speed)
+    K = stiffness[0] if stiffness.ndim == 3 else stiffness
+    K = 0.5 * (K + K.T)
+    # all of them: a dense eigh of n x n costs less than one speed's full solve
+    values, vectors = scipy.linalg.eigh(K, stack.M[0])
+    return vectors[:, :size], np.sqrt(np.maximum(values, 0.0)), K
+
+
+def _joined(M, first, second):
+    """A mass-orthonormal basis of the span of two bases (n, m1) and (n, m2): the speed-dependent
+    bearings' stiffness at the sweep's two ends each gives its modes."""
+    both = np.hstack([first, second])
+    values, vectors = scipy.linalg.eigh(both.T @ M @ both)
+    keep = values > 1e-10 * values.max()
+    return both @ (vectors[:, keep] / np.sqrt(values[keep]))
+
+
+def _projected_starts(stack, speeds, basis, symmetric, want):
+    """The ``want`` lowest-frequency oscillating roots of the projected pencils at every speed
+    (S, want), their vectors in full coordinates (S, want, n), and the mass-normalized norms of
+    the damping ``C + Omega G`` and of the stiffness's change from the basis's symmetric one at
+    each speed (S,) and (S,) (for :func:`_basis_suffices`)."""
+    n, m = basis.shape
+    S = len(speeds)
+    starts = np.empty((S, want), complex)
+    vectors = np.empty((S, want, n), complex)
+    d_norm, e_norm = np.empty(S), np.empty(S)
+    Linv = np.linalg.inv(np.linalg.cholesky(stack.M[0]))
+    Wt = basis.T
+    for part in _batches.chunk_slices(S, 48 * n * n):
+        damping, stiffness = stack.damping_stiffness(np.zeros(part.stop - part.start, int), speeds[part])
+        D = Wt @ damping @ basis                                             # (P, m, m)
+        Kr = np.broadcast_to(Wt @ stiffness @ basis, D.shape)
+        A = np.zeros((len(D), 2 * m, 2 * m))
+        A[:, :m, m:] = np.eye(m)
+        A[:, m:, :m] = -Kr              # the basis is mass-orthonormal: W^T M W = I
+        A[:, m:, m:] = -D
+        lam, vec = np.linalg.eig(A)
+        # oscillating roots by frequency; the others pushed to the end
+        key = np.where(is_oscillating(lam), lam.imag, np.inf)
+        order = np.argsort(key, axis=-1)[:, :want]
+        rows = np.arange(len(D))[:, None]
+        starts[part] = lam[rows, order]
+        vectors[part] = _vectors.unit_rows(vec[rows, :m, order] @ Wt)
+        d_norm[part] = np.linalg.norm(Linv @ damping @ Linv.T, ord=2, axis=(-2, -1))
+        change = Linv @ (stiffness - symmetric) @ Linv.T
+        e_norm[part] = np.linalg.norm(np.broadcast_to(change, damping.shape), ord=2, axis=(-2, -1))
+    return starts, vectors, d_norm, e_norm
+
+
+def _refined(stack, speeds, starts, vectors):
+    """Newton's iteration on the full quadratic pencil from every start, batched over speeds
+    and roots: ``u = Q(s)^-1 Q'(s) x``, ``s <- s - (c^H x)/(c^H u)``, ``x <- u / (c^H u)``
+    (``c`` the start vector, fixing the scale). Returns the roots (S, k), unit shapes (S, k, n)
+    and whether every root of a speed converged (S,)."""
+    S, k, n = vectors.shape
+    lam = starts.reshape(-1).copy()
+    x = vectors.reshape(-1, n).copy()
+    rows = np.repeat(np.arange(S), k)
+    ok = np.zeros(len(lam), bool)
+    M = stack.M[0]
+    for part in _batches.chunk_slices(len(lam), 64 * n * n):
+        ok[part] = _newton_part(stack, M, speeds[rows[part]], lam[part], x[part], lam, x, part)
+    return lam.reshape(S, k), _vectors.unit_rows(x.reshape(S, k, n)), ok.reshape(S, k).all(axis=1)
+
+
+def _newton_part(stack, M, speeds, lam, x, lam_out, x_out, part):
+    damping, stiffness = stack.damping_stiffness(np.zeros(len(speeds), int), speeds)
+    stiffness = np.broadcast_to(stiffness, damping.shape)
+    c = x.conj()
+    done = np.zeros(len(lam), bool)
+    for _ in range(_ITERATIONS):
+        dQx = np.einsum("pij,pj->pi", 2 * lam[:, None, None] * M + damping, x)
+        u = _solved(M, damping, stiffness, lam, dQx)
+        cu = np.einsum("pi,pi->p", c, u)
+        step = np.einsum("pi,pi->p", c, x) / cu
+        lam = lam - step
+        x = u / cu[:, None]
+        done = np.abs(step) <= _STEP * np.abs(lam)
+        if done.all():
+            break
+    lam_out[part], x_out[part] = lam, x
+    return done & np.isfinite(lam)
+
+
+def _solved(M, damping, stiffness, lam, rhs):
+    """``Q(lam_p)^-1 rhs_p`` for every row: a sparse LU each (SuperLU; the shaft's pencils are
+    banded, the stator's few coordinates a border) for large sparse pencils, else batched dense."""
+    n = M.shape[0]
+    if n <= _DENSE_DOF:
+        Q = (lam[:, None, None] ** 2) * M + lam[:, None, None] * damping + stiffness
+        return np.linalg.solve(Q, rhs[..., None])[..., 0]
+    out = np.empty(rhs.shape, complex)
+    pattern = (M != 0) | (damping != 0).any(axis=0) | (stiffness != 0).any(axis=0)
+    rows, cols = np.nonzero(pattern)
+    m_e = M[rows, cols]
+    for p in range(len(lam)):
+        data = lam[p] ** 2 * m_e + lam[p] * damping[p, rows, cols] + stiffness[p, rows, cols]
+        Q = scipy.sparse.csc_matrix((data, (rows, cols)), shape=(n, n))
+        out[p] = scipy.sparse.linalg.splu(Q).solve(rhs[p])
+    return out
+
+
+#: pencils up to this many coordinates are solved dense and batched
+_DENSE_DOF = 48
+
+
+def _distinct(values):
+    """(S,) no two refined roots of a speed are one root, and they are still by frequency."""
+    lam = values
+    gaps = np.abs(lam[:, :, None] - lam[:, None, :])
+    same = gaps <= _SAME * np.abs(lam[:, :, None])
+    np.einsum("sii->si", same)[...] = False
+    ordered = np.all(np.diff(lam.imag, axis=1) >= -_SAME * np.abs(lam[:, 1:]), axis=1)
+    return ~same.any(axis=(1, 2)) & ordered & is_oscillating(lam).all(axis=1)
+
+
+def _basis_suffices(values, omegas, size, d_norm, e_norm):
+    """(S,) the undamped modes left out of the basis are far enough above the wanted roots.
+
+    A root ``s`` with shape ``x`` of the full pencil has, along a left-out undamped mode ``j``
+    (``omega_j``) of the basis's symmetric stiffness ``K_0``, the modal amplitude
+    ``|q_j| <= (|s| d + e) ||x|| / (omega_j^2 - |s|^2)``, ``d`` and ``e`` the mass-normalized
+    norms of ``C + Omega G`` and of ``K(Omega) - K_0``. Every root up to the highest one refined,
+    ``rho``, is required to lie at least 90 % in the basis: ``(rho d + e) <= 0.1 (omega_m^2 -
+    rho^2)``. Otherwise the projected pencil may lack it and the speed is solved whole."""
+    if size >= len(omegas):
+        return np.ones(len(values), bool)
+    rho = np.max(np.abs(values), axis=1)
+    margin = omegas[size] ** 2 - rho ** 2
+    return (margin > 0) & (rho * d_norm + e_norm <= 0.1 * np.where(margin > 0, margin, 1.0))
+
+
+def _full_lowest(stack, speeds, count):
+    """The full eigen-solve of some speeds, their ``count`` lowest oscillating roots."""
+    lam, phi = stack.solve(stack.sweep(speeds)[0], np.zeros(len(speeds), int))
+    key = np.where(is_oscillating(lam), lam.imag, np.inf)
+    order = np.argsort(key, axis=-1, kind="stable")[:, :count]
+    rows = np.arange(len(speeds))[:, None]
+    return lam[rows, order], phi[rows, order]

@@ -59,11 +59,15 @@ def lowest_roots(stack, speeds, count: int):
     """
     n = stack.n_dof
     size = min(n, max(3 * count, count + 10))
-    basis, omegas, symmetric = _basis(stack, speeds[:1], size)
-    if stack.dependent and len(speeds) > 1:
-        basis = _joined(stack.M[0], basis, _basis(stack, speeds[-1:], size)[0])
+    omegas, symmetric, modes = _basis(stack, speeds[:1])
+    d_norm, e_norm = _coupling_norms(stack, speeds, symmetric)
     want = min(count + 1, size)
-    starts, vectors, d_norm, e_norm = _projected_starts(stack, speeds, basis, symmetric, want)
+    starts, vectors = _projected_starts(stack, speeds, _chosen(stack, speeds, modes, size), want)
+    # the basis the completeness bound asks for, from the starts (within a few 1e-5 of the roots)
+    needed = _needed_size(starts, omegas, d_norm, e_norm)
+    if needed > size:
+        size = min(n, needed)
+        starts, vectors = _projected_starts(stack, speeds, _chosen(stack, speeds, modes, size), want)
     values, shapes, ok = _refined(stack, speeds, starts, vectors)
     ok &= _distinct(values) & _basis_suffices(values, omegas, size, d_norm, e_norm)
     out_values = np.full((len(speeds), count), np.nan + 0j)
@@ -79,16 +83,66 @@ def lowest_roots(stack, speeds, count: int):
     return out_values, out_shapes, full
 
 
-def _basis(stack, speed, size):
-    """Mass-orthonormal undamped modes (n, size) of the symmetric parts of K and M at ``speed``
-    (an array of one speed), the square roots of all their eigenvalues (n,) [rad/s] (the
-    completeness test reads the first left out) and the symmetric stiffness (n, n)."""
+def _basis(stack, speed):
+    """The undamped modes of the symmetric parts of K and M at ``speed`` (an array of one
+    speed): the square roots of their eigenvalues (n,) [rad/s], the symmetric stiffness (n, n),
+    and the mass-orthonormal modes (n, n), ascending."""
     _, stiffness = stack.damping_stiffness(np.zeros(1, int), speed)
     K = stiffness[0] if stiffness.ndim == 3 else stiffness
     K = 0.5 * (K + K.T)
     # all of them: a dense eigh of n x n costs less than one speed's full solve
     values, vectors = scipy.linalg.eigh(K, stack.M[0])
-    return vectors[:, :size], np.sqrt(np.maximum(values, 0.0)), K
+    return np.sqrt(np.maximum(values, 0.0)), K, vectors
+
+
+def _chosen(stack, speeds, modes, size):
+    """The basis (n, m): the first ``size`` modes; with speed-dependent bearings joined by the
+    first ``size`` modes of the stiffness at the sweep's last speed."""
+    basis = modes[:, :size]
+    if stack.dependent and len(speeds) > 1 and size < len(modes):
+        basis = _joined(stack.M[0], basis, _basis(stack, speeds[-1:])[2][:, :size])
+    return basis
+
+
+def _scaled_norms(change, Linv):
+    """Frobenius norms of ``L^-1 X_p L^-T`` (P,) of sparse changes ``X_p`` (P, n, n), from their
+    nonzero entries (the bearings' few)."""
+    rows, cols = np.nonzero(np.any(change != 0, axis=0))
+    scaled = (Linv[:, rows][None] * change[:, None, rows, cols]) @ Linv[:, cols].T
+    return np.linalg.norm(scaled, axis=(-2, -1))
+
+
+def _needed_size(starts, omegas, d_norm, e_norm):
+    """The number of modes whose first left-out one meets :func:`_basis_suffices`'s bound for
+    roots up to 1.01 times the highest start, at every speed."""
+    rho = 1.01 * np.max(np.abs(starts), axis=1)
+    level = np.max(rho ** 2 + (rho * d_norm + e_norm) / _SHARE)
+    return int(np.searchsorted(omegas ** 2, level))
+
+
+def _coupling_norms(stack, speeds, symmetric):
+    """Upper bounds of the mass-normalized norms of ``C + Omega G`` and of ``K(Omega) - K_0``
+    at each speed (S,) and (S,): the 2-norms at the first speed plus ``|Omega - Omega_0|`` times
+    the gyroscopic matrix's 2-norm plus the Frobenius norms of the bearings' changes (those only
+    with speed-dependent bearings: each costs a few products of n x n per speed)."""
+    Linv = np.linalg.inv(np.linalg.cholesky(stack.M[0]))
+
+    def scaled(matrix):
+        return Linv @ matrix @ Linv.T
+
+    first = speeds[:1]
+    damping0, stiffness0 = stack.damping_stiffness(np.zeros(1, int), first)
+    stiffness0 = stiffness0[0] if stiffness0.ndim == 3 else stiffness0
+    gyro = np.linalg.norm(scaled(stack.G[0]), 2)
+    d_norm = np.linalg.norm(scaled(damping0[0]), 2) + np.abs(speeds - first[0]) * gyro
+    e_norm = np.full(len(speeds), np.linalg.norm(scaled(stiffness0 - symmetric), 2))
+    if stack.dependent:
+        n = len(symmetric)
+        for part in _batches.chunk_slices(len(speeds), 48 * n * n):
+            damping, stiffness = _bearing_changes(stack, speeds, part)
+            d_norm[part] += _scaled_norms(damping, Linv)
+            e_norm[part] += _scaled_norms(stiffness, Linv)
+    return d_norm, e_norm
 
 
 def _joined(M, first, second):
@@ -100,22 +154,24 @@ def _joined(M, first, second):
     return both @ (vectors[:, keep] / np.sqrt(values[keep]))
 
 
-def _projected_starts(stack, speeds, basis, symmetric, want):
+def _projected_starts(stack, speeds, basis, want):
     """The ``want`` lowest-frequency oscillating roots of the projected pencils at every speed
-    (S, want), their vectors in full coordinates (S, want, n), and the mass-normalized norms of
-    the damping ``C + Omega G`` and of the stiffness's change from the basis's symmetric one at
-    each speed (S,) and (S,) (for :func:`_basis_suffices`)."""
+    (S, want) and their vectors in full coordinates (S, want, n)."""
     n, m = basis.shape
     S = len(speeds)
     starts = np.empty((S, want), complex)
     vectors = np.empty((S, want, n), complex)
-    d_norm, e_norm = np.empty(S), np.empty(S)
-    Linv = np.linalg.inv(np.linalg.cholesky(stack.M[0]))
     Wt = basis.T
+    damping0, stiffness0 = (matrix[0] if matrix.ndim == 3 else matrix
+                            for matrix in stack.damping_stiffness(np.zeros(1, int), speeds[:1]))
+    D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ stack.G[0] @ basis
     for part in _batches.chunk_slices(S, 48 * n * n):
-        damping, stiffness = stack.damping_stiffness(np.zeros(part.stop - part.start, int), speeds[part])
-        D = Wt @ damping @ basis                                             # (P, m, m)
-        Kr = np.broadcast_to(Wt @ stiffness @ basis, D.shape)
+        D = D0 + (speeds[part] - speeds[0])[:, None, None] * Gr                  # (P, m, m)
+        Kr = np.broadcast_to(K0, D.shape)
+        if stack.dependent:      # the bearings' changes: a few entries each, projected entry by entry
+            damping, stiffness = _bearing_changes(stack, speeds, part)
+            D = D + _projected_change(damping, basis)
+            Kr = K0 + _projected_change(stiffness, basis)
         A = np.zeros((len(D), 2 * m, 2 * m))
         A[:, :m, m:] = np.eye(m)
         A[:, m:, :m] = -Kr              # the basis is mass-orthonormal: W^T M W = I
@@ -127,10 +183,22 @@ def _projected_starts(stack, speeds, basis, symmetric, want):
         rows = np.arange(len(D))[:, None]
         starts[part] = lam[rows, order]
         vectors[part] = _vectors.unit_rows(vec[rows, :m, order] @ Wt)
-        d_norm[part] = np.linalg.norm(Linv @ damping @ Linv.T, ord=2, axis=(-2, -1))
-        change = Linv @ (stiffness - symmetric) @ Linv.T
-        e_norm[part] = np.linalg.norm(np.broadcast_to(change, damping.shape), ord=2, axis=(-2, -1))
-    return starts, vectors, d_norm, e_norm
+    return starts, vectors
+
+
+def _bearing_changes(stack, speeds, part):
+    """The speed-dependent bearings' damping and stiffness at ``speeds[part]`` less those at
+    ``speeds[0]``, (P, n, n) each: nonzero at the bearings' few entries only."""
+    form = stack.forms[0]
+    chunk = speeds[part]
+    return (form.damping_at(chunk) - form.damping_at(speeds[:1]),
+            form.stiffness_at(chunk) - form.stiffness_at(speeds[:1]))
+
+
+def _projected_change(change, basis):
+    """``W^T X_p W`` (P, m, m) of sparse changes ``X_p`` (P, n, n) from their nonzero entries."""
+    rows, cols = np.nonzero(np.any(change != 0, axis=0))
+    return (basis[rows].T[None] * change[:, None, rows, cols]) @ basis[cols]
 
 
 def _refined(stack, speeds, starts, vectors):
@@ -186,6 +254,9 @@ def _solved(M, damping, stiffness, lam, rhs):
     return out
 
 
+#: the largest share of a wanted root's shape the bound allows outside the basis
+_SHARE = 0.1
+
 #: pencils up to this many coordinates are solved dense and batched
 _DENSE_DOF = 48
 
@@ -213,7 +284,7 @@ def _basis_suffices(values, omegas, size, d_norm, e_norm):
         return np.ones(len(values), bool)
     rho = np.max(np.abs(values), axis=1)
     margin = omegas[size] ** 2 - rho ** 2
-    return (margin > 0) & (rho * d_norm + e_norm <= 0.1 * np.where(margin > 0, margin, 1.0))
+    return (margin > 0) & (rho * d_norm + e_norm <= _SHARE * np.where(margin > 0, margin, 1.0))
 
 
 def _full_lowest(stack, speeds, count):

@@ -58,17 +58,18 @@ def lowest_roots(stack, speeds, count: int):
         The speeds solved whole (fallback).
     """
     n = stack.n_dof
-    size = min(n, max(3 * count, count + 10))
+    size = first = min(n, max(3 * count, count + 10))
+    pencils = _Pencils(stack, speeds)
     omegas, symmetric, modes = _basis(stack, speeds[:1])
-    d_norm, e_norm = _coupling_norms(stack, speeds, symmetric)
+    d_norm, e_norm = _coupling_norms(stack, pencils, symmetric)
     want = min(count + 1, size)
-    starts, vectors = _projected_starts(stack, speeds, _chosen(stack, speeds, modes, size), want)
+    starts, vectors = _projected_starts(pencils, _chosen(stack, speeds, modes, size, first), want)
     # the basis the completeness bound asks for, from the starts (within a few 1e-5 of the roots)
     needed = _needed_size(starts, omegas, d_norm, e_norm)
     if needed > size:
         size = min(n, needed)
-        starts, vectors = _projected_starts(stack, speeds, _chosen(stack, speeds, modes, size), want)
-    values, shapes, ok = _refined(stack, speeds, starts, vectors)
+        starts, vectors = _projected_starts(pencils, _chosen(stack, speeds, modes, size, first), want)
+    values, shapes, ok = _refined(pencils, starts, vectors)
     ok &= _distinct(values) & _basis_suffices(values, omegas, size, d_norm, e_norm)
     out_values = np.full((len(speeds), count), np.nan + 0j)
     out_shapes = np.zeros((len(speeds), count, n), dtype=complex)
@@ -95,21 +96,24 @@ def _basis(stack, speed):
     return np.sqrt(np.maximum(values, 0.0)), K, vectors
 
 
-def _chosen(stack, speeds, modes, size):
+def _chosen(stack, speeds, modes, size, extra):
     """The basis (n, m): the first ``size`` modes; with speed-dependent bearings joined by the
-    first ``size`` modes of the stiffness at the sweep's last speed."""
+    first ``extra`` modes of the stiffness at the sweep's last speed (better starts where the
+    bearings stiffen with speed)."""
     basis = modes[:, :size]
     if stack.dependent and len(speeds) > 1 and size < len(modes):
-        basis = _joined(stack.M[0], basis, _basis(stack, speeds[-1:])[2][:, :size])
+        basis = _joined(stack.M[0], basis, _basis(stack, speeds[-1:])[2][:, :extra])
     return basis
 
 
-def _scaled_norms(change, Linv):
-    """Frobenius norms of ``L^-1 X_p L^-T`` (P,) of sparse changes ``X_p`` (P, n, n), from their
-    nonzero entries (the bearings' few)."""
-    rows, cols = np.nonzero(np.any(change != 0, axis=0))
-    scaled = (Linv[:, rows][None] * change[:, None, rows, cols]) @ Linv[:, cols].T
-    return np.linalg.norm(scaled, axis=(-2, -1))
+def _scaled_norms(pencils, entries, Linv):
+    """Frobenius norms of ``L^-1 X_s L^-T`` (S,) of the bearings' entries ``entries`` (S, nb)."""
+    rows, cols = pencils.rows, pencils.cols
+    out = np.empty(len(entries))
+    for part in _batches.chunk_slices(len(entries), 32 * len(Linv) ** 2):
+        scaled = (Linv[:, rows][None] * entries[part, None, :]) @ Linv[:, cols].T
+        out[part] = np.linalg.norm(scaled, axis=(-2, -1))
+    return out
 
 
 def _needed_size(starts, omegas, d_norm, e_norm):
@@ -120,28 +124,23 @@ def _needed_size(starts, omegas, d_norm, e_norm):
     return int(np.searchsorted(omegas ** 2, level))
 
 
-def _coupling_norms(stack, speeds, symmetric):
-    """Upper bounds of the mass-normalized norms of ``C + Omega G`` and of ``K(Omega) - K_0``
+def _coupling_norms(stack, pencils, symmetric):
+    """Upper bounds of the mass-normalized norms of ``C + Omega G + C_b`` and of ``K(Omega) - K_0``
     at each speed (S,) and (S,): the 2-norms at the first speed plus ``|Omega - Omega_0|`` times
-    the gyroscopic matrix's 2-norm plus the Frobenius norms of the bearings' changes (those only
-    with speed-dependent bearings: each costs a few products of n x n per speed)."""
+    the gyroscopic matrix's 2-norm plus the Frobenius norms of the bearings' changes."""
     Linv = np.linalg.inv(np.linalg.cholesky(stack.M[0]))
 
     def scaled(matrix):
         return Linv @ matrix @ Linv.T
 
-    first = speeds[:1]
-    damping0, stiffness0 = stack.damping_stiffness(np.zeros(1, int), first)
-    stiffness0 = stiffness0[0] if stiffness0.ndim == 3 else stiffness0
-    gyro = np.linalg.norm(scaled(stack.G[0]), 2)
-    d_norm = np.linalg.norm(scaled(damping0[0]), 2) + np.abs(speeds - first[0]) * gyro
+    speeds = pencils.speeds
+    damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(np.zeros(1, int)))
+    gyro = np.linalg.norm(scaled(pencils.G), 2)
+    d_norm = np.linalg.norm(scaled(damping0), 2) + np.abs(speeds - speeds[0]) * gyro
     e_norm = np.full(len(speeds), np.linalg.norm(scaled(stiffness0 - symmetric), 2))
-    if stack.dependent:
-        n = len(symmetric)
-        for part in _batches.chunk_slices(len(speeds), 48 * n * n):
-            damping, stiffness = _bearing_changes(stack, speeds, part)
-            d_norm[part] += _scaled_norms(damping, Linv)
-            e_norm[part] += _scaled_norms(stiffness, Linv)
+    if len(pencils.rows):
+        d_norm += _scaled_norms(pencils, pencils.cb - pencils.cb[:1], Linv)
+        e_norm += _scaled_norms(pencils, pencils.kb - pencils.kb[:1], Linv)
     return d_norm, e_norm
 
 
@@ -154,29 +153,31 @@ def _joined(M, first, second):
     return both @ (vectors[:, keep] / np.sqrt(values[keep]))
 
 
-def _projected_starts(stack, speeds, basis, want):
+def _projected_starts(pencils, basis, want):
     """The ``want`` lowest-frequency oscillating roots of the projected pencils at every speed
     (S, want) and their vectors in full coordinates (S, want, n)."""
     n, m = basis.shape
+    speeds = pencils.speeds
     S = len(speeds)
     starts = np.empty((S, want), complex)
     vectors = np.empty((S, want, n), complex)
     Wt = basis.T
-    damping0, stiffness0 = (matrix[0] if matrix.ndim == 3 else matrix
-                            for matrix in stack.damping_stiffness(np.zeros(1, int), speeds[:1]))
-    D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ stack.G[0] @ basis
-    for part in _batches.chunk_slices(S, 48 * n * n):
+    damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(np.zeros(1, int)))
+    D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
+    # the bearings' changes from the first speed, projected entry by entry
+    left, right = basis[pencils.rows].T, basis[pencils.cols]
+    for part in _batches.chunk_slices(S, 64 * m * m):
         D = D0 + (speeds[part] - speeds[0])[:, None, None] * Gr                  # (P, m, m)
         Kr = np.broadcast_to(K0, D.shape)
-        if stack.dependent:      # the bearings' changes: a few entries each, projected entry by entry
-            damping, stiffness = _bearing_changes(stack, speeds, part)
-            D = D + _projected_change(damping, basis)
-            Kr = K0 + _projected_change(stiffness, basis)
+        if len(pencils.rows):
+            D = D + (left[None] * (pencils.cb[part] - pencils.cb[:1])[:, None, :]) @ right
+            Kr = Kr + (left[None] * (pencils.kb[part] - pencils.kb[:1])[:, None, :]) @ right
         A = np.zeros((len(D), 2 * m, 2 * m))
         A[:, :m, m:] = np.eye(m)
         A[:, m:, :m] = -Kr              # the basis is mass-orthonormal: W^T M W = I
         A[:, m:, m:] = -D
-        lam, vec = np.linalg.eig(A)
+        # in threads, one BLAS thread each (BLAS's own threads on top oversubscribe the cores)
+        lam, vec = _batches._threaded(np.linalg.eig, A, item_bytes=72 * (2 * m) ** 2)
         # oscillating roots by frequency; the others pushed to the end
         key = np.where(is_oscillating(lam), lam.imag, np.inf)
         order = np.argsort(key, axis=-1)[:, :want]
@@ -186,22 +187,81 @@ def _projected_starts(stack, speeds, basis, want):
     return starts, vectors
 
 
-def _bearing_changes(stack, speeds, part):
-    """The speed-dependent bearings' damping and stiffness at ``speeds[part]`` less those at
-    ``speeds[0]``, (P, n, n) each: nonzero at the bearings' few entries only."""
-    form = stack.forms[0]
-    chunk = speeds[part]
-    return (form.damping_at(chunk) - form.damping_at(speeds[:1]),
-            form.stiffness_at(chunk) - form.stiffness_at(speeds[:1]))
+class _Pencils:
+    """The full pencils ``Q(s) = s^2 M + s (C + Omega G + C_b(Omega)) + K + K_b(Omega)`` of every
+    speed of a sweep: the constant matrices (n, n) and the speed-dependent bearings' few
+    entries (S, nb), evaluated once for the sweep.
+
+    Parameters
+    ----------
+    stack : Stack
+        One model.
+    speeds : ndarray, shape (S,) [rad/s]
+    """
+
+    def __init__(self, stack, speeds):
+        form = stack.forms[0]
+        self.speeds = speeds
+        self.M, self.C, self.G, self.K = form.matrices.M, form.matrices.C, stack.G[0], form.matrices.K
+        n = len(self.M)
+        self.rows = self.cols = np.zeros(0, int)
+        self.kb = self.cb = np.zeros((len(speeds), 0))
+        if stack.dependent:
+            from ..assembly import dependent_bearing_matrices
+
+            parts = [(part, *dependent_bearing_matrices(stack.models[0], speeds[part]))
+                     for part in _batches.chunk_slices(len(speeds), 32 * n * n)]
+            used = np.zeros((n, n), bool)
+            for _, K, C in parts:
+                used |= np.any(K != 0, axis=0) | np.any(C != 0, axis=0)
+            self.rows, self.cols = np.nonzero(used)
+            self.kb = np.concatenate([K[:, self.rows, self.cols] for _, K, _ in parts])
+            self.cb = np.concatenate([C[:, self.rows, self.cols] for _, _, C in parts])
+        # the sparse LU's pattern: every entry of any of them
+        pattern = (self.M != 0) | (self.C != 0) | (self.G != 0) | (self.K != 0)
+        pattern[self.rows, self.cols] = True
+        self.pattern = np.nonzero(pattern)
+        where = np.full((n, n), -1)
+        where[self.pattern] = np.arange(len(self.pattern[0]))
+        self.bearing_at = where[self.rows, self.cols]
+        self.scatter = np.zeros((len(self.rows), n))
+        self.scatter[np.arange(len(self.rows)), self.rows] = 1.0
+
+    def dense(self, index):
+        """``C + Omega G + C_b`` and ``K + K_b`` of the speeds ``index`` (P,), (P, n, n) each."""
+        damping = self.C + self.speeds[index, None, None] * self.G
+        stiffness = np.array(np.broadcast_to(self.K, damping.shape))
+        damping[:, self.rows, self.cols] += self.cb[index]
+        stiffness[:, self.rows, self.cols] += self.kb[index]
+        return damping, stiffness
+
+    def derivative_times(self, index, lam, x):
+        """``Q'(lam_p) x_p = (2 lam_p M + C + Omega G + C_b) x_p`` (P, n)."""
+        out = 2 * lam[:, None] * (x @ self.M.T) + x @ self.C.T + self.speeds[index, None] * (x @ self.G.T)
+        return out + (self.cb[index] * x[:, self.cols]) @ self.scatter
+
+    def solve(self, index, lam, rhs):
+        """``Q(lam_p)^-1 rhs_p`` for every row: batched dense up to ``_DENSE_DOF`` coordinates, else
+        a sparse LU each (SuperLU; a shaft's pencils are banded, the stator's few coordinates a
+        border)."""
+        n = len(self.M)
+        if n <= _DENSE_DOF:
+            damping, stiffness = self.dense(index)
+            Q = (lam[:, None, None] ** 2) * self.M + lam[:, None, None] * damping + stiffness
+            return np.linalg.solve(Q, rhs[..., None])[..., 0]
+        rows, cols = self.pattern
+        m_e, c_e, g_e, k_e = (matrix[rows, cols] for matrix in (self.M, self.C, self.G, self.K))
+        out = np.empty(rhs.shape, complex)
+        for p in range(len(lam)):
+            s, speed = lam[p], self.speeds[index[p]]
+            data = s * s * m_e + s * (c_e + speed * g_e) + k_e
+            data[self.bearing_at] += s * self.cb[index[p]] + self.kb[index[p]]
+            Q = scipy.sparse.csc_matrix((data, (rows, cols)), shape=(n, n))
+            out[p] = scipy.sparse.linalg.splu(Q).solve(rhs[p])
+        return out
 
 
-def _projected_change(change, basis):
-    """``W^T X_p W`` (P, m, m) of sparse changes ``X_p`` (P, n, n) from their nonzero entries."""
-    rows, cols = np.nonzero(np.any(change != 0, axis=0))
-    return (basis[rows].T[None] * change[:, None, rows, cols]) @ basis[cols]
-
-
-def _refined(stack, speeds, starts, vectors):
+def _refined(pencils, starts, vectors):
     """Newton's iteration on the full quadratic pencil from every start, batched over speeds
     and roots: ``u = Q(s)^-1 Q'(s) x``, ``s <- s - (c^H x)/(c^H u)``, ``x <- u / (c^H u)``
     (``c`` the start vector, fixing the scale). Returns the roots (S, k), unit shapes (S, k, n)
@@ -209,49 +269,21 @@ def _refined(stack, speeds, starts, vectors):
     S, k, n = vectors.shape
     lam = starts.reshape(-1).copy()
     x = vectors.reshape(-1, n).copy()
-    rows = np.repeat(np.arange(S), k)
-    ok = np.zeros(len(lam), bool)
-    M = stack.M[0]
-    for part in _batches.chunk_slices(len(lam), 64 * n * n):
-        ok[part] = _newton_part(stack, M, speeds[rows[part]], lam[part], x[part], lam, x, part)
-    return lam.reshape(S, k), _vectors.unit_rows(x.reshape(S, k, n)), ok.reshape(S, k).all(axis=1)
-
-
-def _newton_part(stack, M, speeds, lam, x, lam_out, x_out, part):
-    damping, stiffness = stack.damping_stiffness(np.zeros(len(speeds), int), speeds)
-    stiffness = np.broadcast_to(stiffness, damping.shape)
+    index = np.repeat(np.arange(S), k)
     c = x.conj()
     done = np.zeros(len(lam), bool)
     for _ in range(_ITERATIONS):
-        dQx = np.einsum("pij,pj->pi", 2 * lam[:, None, None] * M + damping, x)
-        u = _solved(M, damping, stiffness, lam, dQx)
-        cu = np.einsum("pi,pi->p", c, u)
-        step = np.einsum("pi,pi->p", c, x) / cu
-        lam = lam - step
-        x = u / cu[:, None]
-        done = np.abs(step) <= _STEP * np.abs(lam)
-        if done.all():
+        todo = np.nonzero(~done)[0]
+        if not len(todo):
             break
-    lam_out[part], x_out[part] = lam, x
-    return done & np.isfinite(lam)
-
-
-def _solved(M, damping, stiffness, lam, rhs):
-    """``Q(lam_p)^-1 rhs_p`` for every row: a sparse LU each (SuperLU; the shaft's pencils are
-    banded, the stator's few coordinates a border) for large sparse pencils, else batched dense."""
-    n = M.shape[0]
-    if n <= _DENSE_DOF:
-        Q = (lam[:, None, None] ** 2) * M + lam[:, None, None] * damping + stiffness
-        return np.linalg.solve(Q, rhs[..., None])[..., 0]
-    out = np.empty(rhs.shape, complex)
-    pattern = (M != 0) | (damping != 0).any(axis=0) | (stiffness != 0).any(axis=0)
-    rows, cols = np.nonzero(pattern)
-    m_e = M[rows, cols]
-    for p in range(len(lam)):
-        data = lam[p] ** 2 * m_e + lam[p] * damping[p, rows, cols] + stiffness[p, rows, cols]
-        Q = scipy.sparse.csc_matrix((data, (rows, cols)), shape=(n, n))
-        out[p] = scipy.sparse.linalg.splu(Q).solve(rhs[p])
-    return out
+        u = pencils.solve(index[todo], lam[todo], pencils.derivative_times(index[todo], lam[todo], x[todo]))
+        cu = np.einsum("pi,pi->p", c[todo], u)
+        step = np.einsum("pi,pi->p", c[todo], x[todo]) / cu
+        lam[todo] -= step
+        x[todo] = u / cu[:, None]
+        done[todo] = np.abs(step) <= _STEP * np.abs(lam[todo])
+    ok = done & np.isfinite(lam)
+    return lam.reshape(S, k), _vectors.unit_rows(x.reshape(S, k, n)), ok.reshape(S, k).all(axis=1)
 
 
 #: the largest share of a wanted root's shape the bound allows outside the basis

@@ -105,3 +105,17 @@ def test_modes_must_be_a_whole_number(bad):
     model = rdm.Model.from_dict(_machine(element_length=0.2))
     with pytest.raises(InputError, match="modes"):
         rdm.campbell(model, [0.0, 10.0], modes=bad)
+
+
+def test_command_line_lowest(tmp_path, capsys):
+    from rotordyn_modal.cli.main import main
+
+    out = tmp_path / "c.csv"
+    assert main(["campbell", "examples/motor_pump_on_mounts.toml", "--speeds", "0:3000:4", "--lowest", "3",
+                 "--no-critical", "--out", str(out)]) == 0
+    import pandas as pd
+
+    table = pd.read_csv(out)
+    assert set(table["mode"]) <= {1, 2, 3} and len(table) == 12
+    assert main(["campbell", "examples/motor_pump_on_mounts.toml", "--speeds", "0:3000:4", "--lowest", "0"]) == 2
+    assert "--lowest '0'" in capsys.readouterr().err

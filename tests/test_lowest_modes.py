@@ -119,3 +119,21 @@ def test_command_line_lowest(tmp_path, capsys):
     assert set(table["mode"]) <= {1, 2, 3} and len(table) == 12
     assert main(["campbell", "examples/motor_pump_on_mounts.toml", "--speeds", "0:3000:4", "--lowest", "0"]) == 2
     assert "--lowest '0'" in capsys.readouterr().err
+
+
+def test_command_line_critical_speeds_lowest(tmp_path):
+    import pandas as pd
+
+    from rotordyn_modal.cli.main import main
+
+    full, low = tmp_path / "full.csv", tmp_path / "low.csv"
+    arguments = ["critical-speeds", "examples/flexible_pump_on_mounts.toml", "--speeds", "0:6000:41"]
+    assert main(arguments + ["--out", str(full)]) == 0
+    assert main(arguments + ["--lowest", "6", "--out", str(low)]) == 0
+    full, low = pd.read_csv(full), pd.read_csv(low)
+    top = low["frequency_hz"].max()
+    inside = full[full["frequency_hz"] < 0.5 * top]
+    assert len(inside) >= 1
+    for _, row in inside.iterrows():
+        match = low[np.isclose(low["speed_rpm"], row["speed_rpm"], rtol=1e-7, atol=0)]
+        assert len(match) == 1 and match["mode_at_speed"].iloc[0] == row["mode_at_speed"]

@@ -71,7 +71,7 @@ def test_rigid_machine_lowest_roots():
 
 def test_compressor_example_lowest_twelve_equal_the_full_sweep():
     model = rdm.Model.from_dict(read_ross_rotor("tests/data/ross/compressor_example.toml"))
-    speeds = np.linspace(420.0, 1150.0, 3)
+    speeds = np.array([420.0, 1150.0])
     lowest = rdm.campbell(model, speeds, critical=False, modes=12)
     full = rdm.campbell(model, speeds, critical=False)
     roots = np.where(full.oscillatory, full.eigenvalues, np.nan + 1e30j)
@@ -137,3 +137,16 @@ def test_command_line_critical_speeds_lowest(tmp_path):
     for _, row in inside.iterrows():
         match = low[np.isclose(low["speed_rpm"], row["speed_rpm"], rtol=1e-7, atol=0)]
         assert len(match) == 1 and match["mode_at_speed"].iloc[0] == row["mode_at_speed"]
+
+
+def test_speeds_the_bound_cannot_serve_are_solved_whole(monkeypatch):
+    from rotordyn_modal.analysis import _lowest
+
+    model = rdm.Model.from_dict(_damped_machine(0.05, 1.0, 100.0, 1.0))
+    speeds = np.linspace(0.0, 1500.0, 3)
+    monkeypatch.setattr(_lowest, "_SHARE", 1e-30)                # no basis short of every mode passes
+    monkeypatch.setattr(_lowest, "_needed_size", lambda *args: 0)
+    with pytest.warns(UserWarning, match="3 of 3 speeds solved whole"):
+        result = rdm.campbell(model, speeds, critical=False, modes=5)
+    reference = _lowest_by_scipy(model, speeds, 5)
+    assert np.max(np.abs(_by_frequency(result.eigenvalues) - reference) / np.abs(reference)) < 1e-9

@@ -220,7 +220,10 @@ class _Pencils:
         # the sparse LU's pattern: every entry of any of them
         pattern = (self.M != 0) | (self.C != 0) | (self.G != 0) | (self.K != 0)
         pattern[self.rows, self.cols] = True
-        self.pattern = np.nonzero(pattern)
+        cols, rows = np.nonzero(pattern.T)                # column by column: compressed-column order
+        self.pattern = rows, cols
+        self.indptr = np.concatenate([[0], np.cumsum(np.bincount(cols, minlength=n))]).astype(np.int32)
+        self.indices = rows.astype(np.int32)
         where = np.full((n, n), -1)
         where[self.pattern] = np.arange(len(self.pattern[0]))
         self.bearing_at = where[self.rows, self.cols]
@@ -256,7 +259,7 @@ class _Pencils:
             s, speed = lam[p], self.speeds[index[p]]
             data = s * s * m_e + s * (c_e + speed * g_e) + k_e
             data[self.bearing_at] += s * self.cb[index[p]] + self.kb[index[p]]
-            Q = scipy.sparse.csc_matrix((data, (rows, cols)), shape=(n, n))
+            Q = scipy.sparse.csc_matrix((data, self.indices, self.indptr), shape=(n, n))
             out[p] = scipy.sparse.linalg.splu(Q).solve(rhs[p])
         return out
 

@@ -46,14 +46,25 @@ def _dense(model, speeds, count):
     return np.sort_complex(roots * -1j)[:, :count] * 1j          # by imaginary part
 
 
-def _measured(function):
-    tracemalloc.start()
+def _timed(function):
     start = time.perf_counter()
     out = function()
-    elapsed = time.perf_counter() - start
+    return out, time.perf_counter() - start
+
+
+def _peak(function):
+    """Peak traced memory [bytes] of one more run (apart: tracemalloc slows Python-heavy code)."""
+    tracemalloc.start()
+    function()
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
-    return out, elapsed, peak
+    return peak
+
+
+def _lowest(model, speeds, count):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return rdm.campbell(model, speeds, critical=False, modes=count)
 
 
 def main(argv=None):
@@ -73,14 +84,12 @@ def main(argv=None):
         n = len(model.matrices()[0])
         ratios, full_t, low_t = [], [], []
         for _ in range(args.repeat):
-            reference, t_full, m_full = _measured(lambda: _dense(model, speeds, args.modes))
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                result, t_low, m_low = _measured(
-                    lambda: rdm.campbell(model, speeds, critical=False, modes=args.modes))
+            reference, t_full = _timed(lambda: _dense(model, speeds, args.modes))
+            result, t_low = _timed(lambda: _lowest(model, speeds, args.modes))
             ratios.append(t_full / t_low)
             full_t.append(t_full)
             low_t.append(t_low)
+        m_full, m_low = _peak(lambda: _dense(model, speeds, args.modes)), _peak(lambda: _lowest(model, speeds, args.modes))
         got = np.take_along_axis(result.eigenvalues, np.argsort(result.eigenvalues.imag, axis=1), axis=1)
         diff = np.nanmax(np.abs(got - reference) / np.abs(reference))
         name = f"{path.split('/')[-1]} el={length:g}"

@@ -212,7 +212,7 @@ def _progress(items, enabled, description):
     return tqdm(items, desc=description, unit="chunk", leave=False)
 
 
-def campbell(model, speeds, orders=(1,), progress=False, critical=True) -> CampbellResult:
+def campbell(model, speeds, orders=(1,), progress=False, critical=True, modes=None) -> CampbellResult:
     """Campbell diagram: all speeds solved in one batch, modes tracked.
 
     Parameters
@@ -227,6 +227,11 @@ def campbell(model, speeds, orders=(1,), progress=False, critical=True) -> Campb
     critical : bool
         Find the critical speeds (else ``critical`` is an empty table; the orders are still
         drawn).
+    modes : int, optional
+        Only the ``modes`` lowest-frequency oscillating roots at each speed, each the full
+        model's root to round-off (a reduced basis gives starts, Newton's iteration on the full
+        pencil refines them; a speed the basis cannot be shown to serve is solved whole, with a
+        warning; ``docs/theory.md``, "The lowest modes only"). Default: every root.
 
     Returns
     -------
@@ -256,7 +261,51 @@ def campbell(model, speeds, orders=(1,), progress=False, critical=True) -> Campb
         than the grid): the refinement closes in on the jump, and the frequency there is off the
         order line (see :func:`off_order_line`). A finer speed grid resolves them.
     """
+    if modes is not None:
+        return _campbell_lowest(model, speeds, orders, critical, _arguments_modes(modes))
     return campbell_many([model], speeds, orders, progress, critical)[0]
+
+
+def _arguments_modes(modes) -> int:
+    if isinstance(modes, bool) or not isinstance(modes, (int, np.integer)) or modes < 1:
+        raise InputError(f"modes = {modes!r}: expected a whole number of modes >= 1")
+    return int(modes)
+
+
+def _campbell_lowest(model, speeds, orders, critical, count) -> CampbellResult:
+    """:func:`campbell` of the ``count`` lowest modes at each speed (see its ``modes``)."""
+    from . import _lowest
+
+    speeds = _check_speeds(speeds)
+    orders = _arguments.orders(orders)
+    stack = Stack([model])
+    if stack.branch_times.shape[1]:          # frequency-dependent branches: more states than the pencil's
+        values, shapes = _lowest._full_lowest(stack, speeds, count)
+    else:
+        values, shapes, _ = _lowest.lowest_roots(stack, speeds, count)
+    values, shapes = values[None], shapes[None]
+    every = _variant_rows(1, len(speeds))
+    weighted = stack.weighted(shapes.reshape((-1,) + shapes.shape[-2:]), every).reshape(shapes.shape)
+    order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
+    values = values[np.zeros((1, 1, 1), int), np.arange(len(speeds))[None, :, None], order]
+    shapes, weighted = _reordered(shapes, order), _reordered(weighted, order)
+    ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, speeds)
+    oscillating = is_oscillating(values)
+    ratios = np.where(oscillating, ratios.reshape(values.shape), 0.0)
+    freq, zeta, log_dec = modal_quantities(values)
+    sources = [excitation_sources(model)]
+    critical = bool(critical) and len(orders) > 0
+    if critical:
+        tables = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes, oscillating,
+                                       False, lambda crossings: _refuse_crossings(stack, len(speeds), crossings))
+        _warn_of_jumps(tables[0], sources[0], model)
+    else:
+        tables = [_critical_table([], [], [], [], [], [], [], [])]
+    return CampbellResult(
+        speeds=speeds, eigenvalues=values[0], frequencies_hz=freq[0], damping_ratios=zeta[0],
+        log_decrements=log_dec[0], whirl_ratios=ratios[0], whirl=_whirl.whirl_labels(ratios)[0], shapes=shapes[0],
+        modes=np.arange(1, count + 1), sources=sources[0], critical=tables[0],
+        orders=tuple(float(o) for o in orders))
 
 
 def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) -> list:

@@ -39,6 +39,10 @@ def add_arguments(parser):
     parser.add_argument("--no-critical", action="store_true",
                         help="do not find the critical speeds (the orders are still drawn): large machines "
                              "cross the orders of every rotor and gear mesh many thousand times")
+    parser.add_argument("--lowest", metavar="N",
+                        help="only the N lowest-frequency modes at each speed, each the full model's root to "
+                             "round-off, without solving for every root (faster for large flexible rotors; the "
+                             "columns then follow those N; docs/theory.md, 'The lowest modes only')")
     parser.add_argument("--color-by", choices=["log_decrement", "damping_ratio"],
                         help="colour the curves by this quantity instead of by whirl")
     _add_frequency_axis(parser)
@@ -50,7 +54,7 @@ def run(args) -> int:
     model = open_model(args)
     axis = _frequency_axis(args)    # bad limits refused before the work
     result = campbell(model, speeds_option(args), orders=tuple(parse_list(args.orders, "--orders")),
-                      progress=show_progress(args), critical=not args.no_critical)
+                      progress=show_progress(args), critical=not args.no_critical, modes=_lowest(args.lowest))
     write_table(result.to_dataframe(), args, empty=f"no oscillating modes {speeds_text(args)}: "
                 f"{result.eigenvalues.shape[1]} roots at each speed, all real or overdamped")
     if args.plot:
@@ -58,6 +62,21 @@ def run(args) -> int:
         save_figure(result.plot(color_by=args.color_by, title=model.name or None, speed_unit=args.speed_unit,
                                 **axis), args)
     return 0
+
+
+def _lowest(text):
+    """``--lowest N`` as an int, or None (every mode); refused in one line unless a whole number >= 1."""
+    if text is None:
+        return None
+    from ..errors import InputError
+
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise InputError(f"--lowest {text!r}: expected a whole number of modes >= 1")
+    return value
 
 
 def _add_frequency_axis(parser):

@@ -29,14 +29,20 @@ def add_arguments(parser):
     parser.add_argument("--speeds", required=True, help="START:STOP:N search grid of reference speeds")
     add_speed_unit(parser)
     parser.add_argument("--orders", default="1", help="comma-separated excitation orders (default 1)")
+    parser.add_argument("--lowest", metavar="N",
+                        help="only the crossings of the N lowest-frequency modes at each speed, each mode the "
+                             "full model's root to round-off, without solving for every root (see campbell "
+                             "--lowest)")
     add_outputs(parser)
 
 
 def run(args) -> int:
     from ..analysis.campbell import campbell
+    from .campbell import _lowest
     model = open_model(args)
+    modes = _lowest(args.lowest)
     result = campbell(model, speeds_option(args), orders=tuple(parse_list(args.orders, "--orders")),
-                      progress=show_progress(args))
+                      progress=show_progress(args), modes=modes)
     write_table(_with_modes_at_speed(result.critical.to_dataframe(), model, result), args,
                 empty=f"no critical speed {speeds_text(args)} (orders {args.orders})")
     if args.plot:

@@ -185,7 +185,16 @@ def test_command_line(tmp_path, capsys):
     code = main(["ucs-map", "examples/journal_rotor.toml", "--stiffness", "1e5:1e10:11", "--modes", "2",
                  "--operating", "1000:3000", "--out", str(out), "--plot", str(plot)])
     assert code == 0 and plot.stat().st_size > 0
-    assert out.read_text().splitlines()[0] == "stiffness_n_per_m,mode,speed_rpm,frequency_hz"
+    assert out.read_text().splitlines()[0] == "stiffness_n_per_m,mode,name,speed_rpm,frequency_hz"
     assert "meets mode 1" in capsys.readouterr().err
+    # one numbering: the CSV's modes are the figure's followed modes (numbers and names)
+    import pandas as pd
+
+    written = pd.read_csv(out)
+    result = ucs_map(rdm.load_model("examples/journal_rotor.toml"), np.geomspace(1e5, 1e10, 11), modes=2)
+    assert sorted(set(zip(written["mode"], written["name"]))) == \
+        [(j + 1, name) for j, name in enumerate(result.mode_names)]
+    np.testing.assert_allclose(written["speed_rpm"].to_numpy().reshape(result.mode_speeds.shape),
+                               result.mode_speeds * 30 / np.pi, rtol=1e-9)
     assert main(["ucs-map", "examples/journal_rotor.toml", "--stiffness", "0:1e10:11"]) == 2
     assert main(["ucs-map", "examples/journal_rotor.toml", "--stiffness", "1e5:1e10:11", "--bearings", "X"]) == 2

@@ -27,9 +27,9 @@ crossings marked, the rigid-support asymptotes (the chosen bearings radially rig
 sweep's last stiffness, and --operating as a band. Bearings not chosen keep their coefficients, which must be constant.
 docs/level1_and_ucs.md gives the definitions.
 
-CSV columns: stiffness_n_per_m,mode,speed_rpm,frequency_hz (stiffness_lbf_per_in with --units us;
-mode 1 = the lowest forward critical speed at that stiffness, a rank, not the figure's followed
-mode; empty where there is none). The terminal lists the crossings of the bearings' curves with the followed modes (their
+CSV columns: stiffness_n_per_m,mode,name,speed_rpm,frequency_hz (stiffness_lbf_per_in with --units us;
+mode and name = the followed mode, numbered and named as on the figure and in the terminal's
+crossings; speed empty where that mode is no forward critical speed at that stiffness). The terminal lists the crossings of the bearings' curves with the followed modes (their
 numbers and names as on the figure).
 
 examples:
@@ -62,7 +62,7 @@ def run(args) -> int:
     bearings = [n.strip() for n in args.bearings.split(",") if n.strip()] if args.bearings else None
     model = open_model(args)
     result = ucs_map(model, stiffness, modes=modes, bearings=bearings, speeds=speeds, operating=operating)
-    table = result.to_dataframe()
+    table = result.modes_dataframe()      # the figure's followed modes: one numbering
     write_table(convert_table(table, kinds_by_ending(table.columns), args.units), args)
     if not args.quiet:
         _print_crossings(result, args.units)

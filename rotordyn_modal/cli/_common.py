@@ -44,6 +44,17 @@ def parse_number(text: str, option: str) -> float:
     return value
 
 
+def parse_count(text, option: str, of: str = "") -> int:
+    """A whole number >= 1 given to ``option`` (``of``: what it counts, named in the message)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise InputError(f"{option} {text!r}: expected a whole number{' of ' + of if of else ''} >= 1")
+    return value
+
+
 def parse_range(text: str, option: str) -> np.ndarray:
     """``START:STOP:N`` -> N points from START to STOP, both included."""
     parts = text.split(":")

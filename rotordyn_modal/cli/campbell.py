@@ -66,17 +66,9 @@ def run(args) -> int:
 
 def _lowest(text):
     """``--lowest N`` as an int, or None (every mode); refused in one line unless a whole number >= 1."""
-    if text is None:
-        return None
-    from ..errors import InputError
+    from ._common import parse_count
 
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise InputError(f"--lowest {text!r}: expected a whole number of modes >= 1")
-    return value
+    return None if text is None else parse_count(text, "--lowest", of="modes")
 
 
 def _add_frequency_axis(parser):

@@ -10,7 +10,7 @@ import numpy as np
 from ..errors import InputError
 from ..units import from_system, speed_to_rad_s, unit_scale
 from ._units import convert_table, kinds_by_ending
-from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list, parse_number,
+from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_count, parse_list, parse_number,
                       save_figure, use_agg, write_table)
 
 NAME = "level1"
@@ -78,7 +78,7 @@ def run(args) -> int:
     speed = float(speed_to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
     qa, shares = anticipated(args, len(stations), speed)
     factor = parse_number(args.factor, "--factor")
-    forward = _whole(args.forward_mode, "--forward-mode")
+    forward = parse_count(args.forward_mode, "--forward-mode")
     model = open_model(args)
     result = level1(model, speed, stations, qa, shares=shares, factor=factor, forward_mode=forward)
     table = result.to_dataframe()
@@ -138,13 +138,3 @@ def _spread(values, count, what):
     if len(values) != count:
         raise InputError(f"{what}: {len(values)} values for {count} stations: give one per station (or one station)")
     return float(values.sum()), values / values.sum()
-
-
-def _whole(text, option):
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise InputError(f"{option} {text!r}: expected a whole number >= 1")
-    return value

@@ -22,7 +22,7 @@ PROBE_Z = 0.6
 
 
 def _rotor(planes=PLANES):
-    """A steel shaft (1.2 m, 40 mm, 12 elements) with a 20 kg disk at mid-span on two damped
+    """A steel shaft (1.2 m, 40 mm, 8 elements) with a 20 kg disk at mid-span on two damped
     bearings (1e6 N/m, 1 kN s/m: the shaft's 48 EI / L^3 is 7.4e5 N/m, so its first mode bends
     the shaft more than it moves the bearings) at its ends, grounded; unbalances in ``planes``; a
     probe along y at mid-span."""
@@ -30,7 +30,7 @@ def _rotor(planes=PLANES):
         "name": "jeffcott-like", "spin_axis": [1.0, 0.0, 0.0],
         "materials": [{"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "poisson_ratio": 0.3}],
         "rotors": [{"name": "r", "speed_ratio": 1.0, "start": [0.0, 0.0, 0.0],
-                    "shaft": [{"length": LENGTH, "outer_diameter": 0.04, "material": "steel", "elements": 12}],
+                    "shaft": [{"length": LENGTH, "outer_diameter": 0.04, "material": "steel", "elements": 8}],
                     "disks": [{"name": "d", "axial_position": 0.6, "mass": 20.0, "polar_inertia": 0.2,
                                "diametral_inertia": 0.1}]}],
         "bearings": [{"name": n, "rotor": "r", "axial_position": z, "stiffness": 1e6, "damping": 1e3}

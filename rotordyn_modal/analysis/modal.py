@@ -120,7 +120,8 @@ class ModalResult:
         motion there; ``body_motions`` holds its node nearest its centre of mass).
     energy_parts : tuple of str
         Where strain energy is stored: those of ``'shaft'``, ``'bearings'``, ``'mounts'`` the
-        model has (:func:`strain_energy_fractions`).
+        model has (:func:`strain_energy_fractions`); empty (and ``energy_fractions`` None) for a
+        model without a flexible rotor.
     energy_fractions : ndarray, shape (n_roots, n_parts), optional
         Each root's strain energy ``1/2 Re(phi^H K_part phi)`` in each part over the sum of all
         parts (rows sum to 1; nan where the shape strains nothing).
@@ -323,7 +324,9 @@ def modal(model, speed: float = 0.0) -> ModalResult:
         len(model.rotors), len(upper)).T * oscillatory[:, None]
     freq, zeta, log_dec = modal_quantities(upper)
     layout = model.dofs
-    parts, fractions = strain_energy_fractions(model, speed, shapes, upper)
+    # the split is a flexible rotor's question (and costs a rigid machine's small modal analysis
+    # ~10 %): computed with one only; strain_energy_fractions gives it for any model
+    parts, fractions = strain_energy_fractions(model, speed, shapes, upper) if layout.shafts else ((), None)
     return ModalResult(
         speed=float(speed), eigenvalues=upper, frequencies_hz=freq, damping_ratios=zeta,
         log_decrements=log_dec, whirl_ratios=ratios,

@@ -295,6 +295,33 @@ def shaft_stiffness(model) -> np.ndarray:
     return 0.5 * (K + K.T)
 
 
+def stiffness_parts(model, speed: float | None = None) -> dict:
+    """``K`` of :func:`matrices` split by where the strain energy is stored: ``'shaft'`` (the
+    flexible rotors' bending, :func:`shaft_stiffness`), ``'bearings'`` and ``'mounts'`` (the
+    suspensions' static stiffness; their Maxwell branches are not in ``K``). Only the parts the
+    model has; they sum to ``matrices(model, speed).K`` (a new kind of element that adds to ``K``
+    adds its part here too: ``tests/test_strain_energy.py`` checks the sum on every example).
+
+    Parameters
+    ----------
+    model : Model
+    speed : float, optional
+        Reference speed [rad/s], needed for speed-dependent bearings.
+
+    Returns
+    -------
+    dict of str -> ndarray, shape (n, n) [N/m, ...]
+    """
+    parts = {}
+    if any(r.flexible is not None for r in model.rotors):
+        parts["shaft"] = shaft_stiffness(model)
+    if model.bearings:
+        parts["bearings"] = bearing_matrices(model, speed)[0]
+    if model.suspensions:
+        parts["mounts"] = frame_block(model, _suspension_sum(model, "stiffness_matrix"))
+    return parts
+
+
 def bearing_matrices(model, speed: float | None = None, constant_only: bool = False,
                      dependent_only: bool = False):
     """Stiffness and damping of the bearings in the generalized space.

@@ -113,7 +113,7 @@ def test_bad_clearance_refused_by_name(change, key, expected):
 
 
 def test_clearance_on_a_flexible_shaft_off_the_shaft_and_on_a_rotor_without_bearings_refused():
-    data = rdm.load_model("examples/compressor_with_seals.toml").to_dict()
+    data = rdm.load_model("examples/compressor_rotor.toml").to_dict()
     data["rotors"][0]["clearances"][0]["axial_position"] = 1.5          # the shaft is 1.2 m long
     with pytest.raises(ModelError, match=r"\[rotors.compressor.clearances.eye-seal-1\] axial_position = 1.5: "
                                          r"expected an axial position on the shaft"):
@@ -125,7 +125,7 @@ def test_clearance_on_a_flexible_shaft_off_the_shaft_and_on_a_rotor_without_bear
 
 
 def test_flexible_station_is_a_node_and_a_dotted_key():
-    model = rdm.load_model("examples/compressor_with_seals.toml")
+    model = rdm.load_model("examples/compressor_rotor.toml")
     z = model.rotors[0].flexible.mesh.z
     for clearance in model.clearances:
         assert np.min(np.abs(z - clearance.axial_position)) == 0.0

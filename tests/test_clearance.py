@@ -146,3 +146,29 @@ def test_unbalance_prints_the_clearance_check(tmp_path, capsys):
     assert "mil" in "".join(capsys.readouterr())
     assert main(["unbalance", str(path), "--speeds", "300:8400:29", "--trip-speed", "6300",
                  "--out", str(tmp_path / "u3.csv")]) == 2
+
+
+def test_response_is_relative_to_the_moving_casing():
+    """A fan on bearings in a housing on rubber mounts: the check at a seal equals twice the
+    semi-major axis of the orbit a relative probe pair at the seal sees (the sources' sums), and
+    differs from the absolute motion there (the casing moves)."""
+    from rotordyn_modal.analysis.orbits import orbit_ellipses
+    from rotordyn_modal.analysis.unbalance import unbalance_response
+
+    data = rdm.load_model("examples/fan_on_bearings.toml").to_dict()
+    seal = [-0.40, 0.0, 0.30]
+    fan = next(r for r in data["rotors"] if r["name"] == "fan")
+    fan["clearances"] = [{"name": "impeller-seal", "position": seal, "radial_clearance": 3e-4}]
+    data["sensors"] = [{"name": f"{kind}-{axis}", "rotor": "fan", "measure": kind, "position": seal,
+                        "direction": direction}
+                       for kind in ("relative", "absolute") for axis, direction in (("y", [0, 1, 0]), ("z", [0, 0, 1]))]
+    model = rdm.Model.from_dict(data, "fan.toml")
+    speeds = np.linspace(100, 4000, 40) * np.pi / 30
+    response = unbalance_response(model, speeds)
+    check = response.clearance_check(model, mcs=speeds[-1])
+    assert len(response.sources) == 2 and check.cases == ("",)
+    pairs = dict(zip(response.orbit_pairs, orbit_ellipses(response.orbit_planes, 1.0)[0]))
+    relative = 2 * pairs[("relative-y", "relative-z")].sum(axis=0)
+    absolute = 2 * pairs[("absolute-y", "absolute-z")].sum(axis=0)
+    np.testing.assert_allclose(check.pkpk[0, 0], relative, rtol=1e-10, atol=1e-18)
+    assert np.max(np.abs(absolute - relative) / relative) > 0.05

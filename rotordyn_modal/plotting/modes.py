@@ -15,7 +15,7 @@ def _labels(result) -> list[str]:
     return _DOF + names[6:] if names[:1] and names[0].startswith(("stator.", "frame.")) else names
 
 
-def plot_modes(result, title: str | None = None, modes=None):
+def plot_modes(result, title: str | None = None, modes=None, columns: int | None = None):
     """Bar chart of each oscillatory mode's mass-weighted DOF participation.
 
     Parameters
@@ -25,6 +25,8 @@ def plot_modes(result, title: str | None = None, modes=None):
     modes : sequence of int, optional
         The mode numbers drawn (as in ``result.to_dataframe()``, 1 = the lowest oscillatory
         mode); default every oscillatory mode.
+    columns : int, optional
+        Panels per row (default up to 3).
 
     Returns
     -------
@@ -35,7 +37,7 @@ def plot_modes(result, title: str | None = None, modes=None):
     oscillatory = np.nonzero(result.oscillatory)[0]
     numbers = list(range(1, len(oscillatory) + 1)) if modes is None else [int(n) for n in modes]
     modes = oscillatory[np.asarray(numbers, dtype=int) - 1]
-    cols = max(1, min(3, len(modes)))
+    cols = max(1, min(columns or 3, len(modes)))
     rows = max(1, int(np.ceil(len(modes) / cols)))
     labels = _labels(result)
     width = 3.2 if len(labels) <= 6 else 0.35 * len(labels) + 1.0

@@ -13,7 +13,7 @@ from string import Template
 import numpy as np
 
 from ..units import check_system
-from .collect import MODE_WINDOW, SECTIONS, shown_scale
+from .collect import LOWEST_MODES, MODE_WINDOW, MOST_MODES, SECTIONS, shown_scale
 
 __all__ = ["render_html", "figure_png"]
 
@@ -248,14 +248,16 @@ def _modes(data, units) -> str:
                                title=f"Mode shapes at the MCS, {mcs:.6g} rpm")
         what = "deflected shaft lines along the axis (both planes at phase 0, the orbits' largest excursion shaded)"
     else:
-        fig = result.plot(title=f"Mode shapes at the MCS, {mcs:.6g} rpm (|shape|, normalised)", modes=numbers)
+        # two panels a row when the machine has many coordinates: their labels stay readable
+        fig = result.plot(title=f"Mode shapes at the MCS, {mcs:.6g} rpm (|shape|, normalised)", modes=numbers,
+                          columns=3 if len(result.dof_names) <= 6 else 2)
         what = "each coordinate's share of the mode (|shape|, normalised)"
     return "\n".join([
         _heading("modes"),
         f"<p>Modes at the MCS ({mcs:.6g} rpm), numbered as <code>modes --speed {mcs:.6g}</code> numbers them: "
         f"those whose 1X critical speed or whose frequency at the MCS (as a 1X speed) lies within "
         f"{100 * MODE_WINDOW:.0f} % (the largest separation margin API 684 asks) of the operating range, "
-        f"{low:.6g} to {high:.6g} rpm; the lowest {len(numbers)} at the MCS when none does "
+        f"{low:.6g} to {high:.6g} rpm (at most {MOST_MODES}); the lowest {LOWEST_MODES} at the MCS when none does "
         "(docs/report.md).</p>",
         _table(rows, [("mode", True), ("frequency [Hz]", False), ("whirl", True), ("log decrement [-]", False),
                       ("damping ratio [-]", False), ("shown because", True)]),

@@ -157,6 +157,10 @@ def _check_options(args):
     if min_speed is not None and mcs is not None and min_speed > mcs:
         raise InputError(f"--min-speed {args.min_speed}: expected at most --mcs {args.mcs} (the checked speeds "
                          "run from one to the other)")
+    trip = _speed(args, args.trip_speed, "--trip-speed")
+    if trip is not None and (mcs is None or not trip >= mcs):
+        raise InputError(f"--trip-speed {args.trip_speed}: expected --mcs too and a trip speed at least --mcs "
+                         f"{args.mcs} (the clearance check's speeds run up to it)")
     if args.api_unbalance and mcs is None:
         raise InputError("--api-unbalance: expected --mcs too (the API amount 6350 W/N needs the maximum "
                          "continuous speed N)")
@@ -191,9 +195,6 @@ def _write_checks(result, model, mcs, min_speed, args):
 def _print_clearances(result, model, mcs, min_speed, args):
     """The clearance check (with --mcs, when the model has close-clearance stations), printed."""
     trip = _speed(args, args.trip_speed, "--trip-speed")
-    if trip is not None and (mcs is None or not trip >= mcs):
-        raise InputError(f"--trip-speed {args.trip_speed}: expected --mcs too and a trip speed at least --mcs "
-                         f"{args.mcs}")
     if mcs is None or not model.clearances or args.quiet:
         return
     table = result.clearance_check(model, mcs=mcs, min_speed=min_speed, trip_speed=trip).to_dataframe()

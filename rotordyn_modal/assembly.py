@@ -40,7 +40,7 @@ from .model.geometry import point_force_column, point_motion_rows, shift_matrice
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
-           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "flexible_rotor_matrices", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force", "weights", "weight_force"]
+           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "flexible_rotor_matrices", "dependent_bearing_matrices", "sensor_rows", "point_rows", "excitation_columns", "generalized_force", "weights", "weight_force"]
 
 
 class Matrices(NamedTuple):
@@ -470,7 +470,18 @@ def sensor_rows(model, names=None, rotor_motions=None) -> np.ndarray:
     -------
     ndarray, shape (n_sensors, n) [m/m, m/rad]
     """
-    sensors = _select(model.sensors, names, "sensor")
+    return point_rows(model, _select(model.sensors, names, "sensor"), rotor_motions)
+
+
+def point_rows(model, sensors, rotor_motions=None) -> np.ndarray:
+    """Rows mapping ``q`` to displacements of points along directions, as :func:`sensor_rows`
+    for any items with a sensor's ``rotor``, ``measure``, ``position`` and ``direction`` (the
+    model's sensors, or points made by an analysis: a close-clearance station's two axes).
+
+    Returns
+    -------
+    ndarray, shape (n_items, n) [m/m, m/rad]
+    """
     layout = model.dofs
     if not sensors:
         return np.zeros((0, layout.n))

@@ -198,6 +198,52 @@ def test_every_node_balances_its_point_loads_on_a_casing_with_an_inclined_axis()
     assert np.abs(force_sum).max() < 1e-11 * total and np.abs(moment_sum).max() < 1e-11 * total
 
 
+def _belt_to_a_shaft(position=None):
+    """A rigid motor (its centre at x = 1.5 m) pulling a flexible shaft (x from 0 to 1 m, bearings
+    at 0.1 and 0.7 m, a pulley disk at 0.9 m) up with a belt's pretension, without gravity."""
+    belt = {"type": "belt", "driver": "motor", "driven": "s", "ratio": 1.0, "pretension": 400.0}
+    if position is not None:
+        belt["position"] = position
+    return rdm.Model.from_dict({
+        "reference_rotor": "motor",
+        "materials": [{"name": "steel", "density": RHO, "young_modulus": E, "poisson_ratio": NU}],
+        "rotors": [{"name": "s", "start": [0.0, 0.0, 0.0], "speed_ratio": 1.0, "shear": "none", "element_length": 0.1,
+                    "shaft": [{"length": 1.0, "outer_diameter": 0.05, "material": "steel"}],
+                    "disks": [{"name": "pulley", "axial_position": 0.9, "mass": 2.0, "polar_inertia": 1e-3,
+                               "diametral_inertia": 1e-3}]},
+                   {"name": "motor", "mass": 10.0, "center_of_mass": [1.5, 0.0, 0.3], "polar_inertia": 0.02,
+                    "diametral_inertia": 0.1, "speed_ratio": 1.0}],
+        "bearings": [{"name": f"b{i}", "rotor": "s", "axial_position": z, "stiffness": K_BEARING}
+                     for i, z in enumerate((0.1, 0.7))] +
+                    [{"name": f"m{i}", "rotor": "motor", "position": [x, 0.0, 0.3], "stiffness": K_BEARING}
+                     for i, x in enumerate((1.4, 1.6))],
+        "transmissions": [belt]})
+
+
+def test_a_belt_on_a_flexible_shaft_pulls_at_its_pulley():
+    """A belt whose plane is given at the pulley pulls the shaft there with twice its pretension
+    along the line of centres (+z, towards the motor): the shear force in the plane of u_z jumps
+    by that pull at the pulley, and the overhang bent up by it carries M = +P a over the outer
+    bearing (the mirror of an overhung weight's -P a). Without a position the belt's plane is the
+    motor's centre, off the shaft's end: a warning (the pull then acts at the end node)."""
+    pull, overhang = 800.0, 0.2
+    result = rdm.static(_belt_to_a_shaft(position=[0.9, 0.0, 0.0]))
+    shaft = result.shafts["s"]
+    left, right = _at(shaft, 0.9, "left"), _at(shaft, 0.9, "right")
+    assert shaft.shear[right, 1] - shaft.shear[left, 1] == pytest.approx(pull, rel=TIGHT)
+    assert shaft.moment[_at(shaft, 0.7, "right"), 1] == pytest.approx(pull * overhang, rel=TIGHT)
+    assert [kind for kind, _, _ in shaft.loads] == ["belt"]
+    with pytest.warns(rdm.errors.ModelWarning, match=r"transmissions.motor->s\] acts at \[1.5, 0, 0\] m, off rotor s"):
+        rdm.static(_belt_to_a_shaft())
+
+
+def test_a_given_force_beyond_a_flexible_shaft_is_refused():
+    model = _shaft(1.0, (0.0, 1.0))
+    with pytest.raises(rdm.InputError, match=r"forces\[0\] point = \[1.2, 0, 0\]: expected a point along rotor s's shaft"):
+        rdm.static(model, forces=[("s", [1.2, 0.0, 0.0], [0.0, 0.0, -10.0])])
+    rdm.static(model, forces=[("s", [1.0, 0.3, 0.0], [0.0, 0.0, -10.0])])     # off the axis, on a lever: fine
+
+
 def test_rigid_rotors_have_no_shafts_and_the_csv_keeps_its_columns(examples_dir):
     result = rdm.static(rdm.load_model(examples_dir / "motor_pump_on_mounts.toml"))
     assert result.shafts == {} and result.shafts_table() is None

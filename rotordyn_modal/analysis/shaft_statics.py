@@ -15,8 +15,9 @@ For a uniform Euler-Bernoulli or Timoshenko element these are the exact section 
 the nodes (the element's shape functions solve the homogeneous beam equation, so the
 consistent load is the exact fixed-end load); a tapered element's are those of its
 interpolation. They are reported per bending plane (:class:`ShaftStatics`): the shear force
-``V = dM/dz`` and the bending moment ``M = E I u''``, sagging positive. Point loads (bearings, disks, point masses, given loads) sit at nodes, where
-the section forces jump by them: such a node has two stations, ``left`` and ``right``.
+``V = dM/dz`` and the bending moment ``M = E I u''``, sagging positive. Point loads (bearings,
+disks, point masses, given loads) sit at nodes, where the section forces jump by them: such a
+node has two stations, ``left`` and ``right``.
 
 The weight of a flexible rotor is applied the same way in the static solution
 (:func:`weight_force`), distributed along its shaft, its disks' and point masses' at their nodes.
@@ -212,39 +213,40 @@ def shaft_statics(model, rotor, q, loads=()) -> ShaftStatics:
     from ..model.dofs import _axis_letters
 
     shaft = rotor.flexible
-    mesh = shaft.mesh
-    count = mesh.n_nodes
+    count = shaft.mesh.n_nodes
     parts = flexible_rotor_matrices(model, rotor, kinds=())
     R = rotation(shaft.axis)
     relative = _local(R, (parts.relative @ q).reshape(count, 6))
     absolute = _local(R, (parts.motion @ q).reshape(count, 6))
     ends = _end_forces(shaft, relative, R @ np.asarray(model.gravity, dtype=float))
-    bearings = tuple((b.name, float(np.asarray(b.position, dtype=float) @ shaft.axis))
-                     for b in model.bearings_of(rotor.name))
     point_loads = [x for x in loads if x.body == rotor.name and x.kind not in ("weight", "coupling")]
-    marked = {mesh.node(shaft.z_of(b.position)) for b in model.bearings_of(rotor.name)}
-    marked |= {mesh.node(d.z) for d in shaft.disks} | {mesh.node(p.z) for p in shaft.point_masses}
-    marked |= {mesh.node(shaft.z_of(x.point)) for x in point_loads}
-    sections = [_section(shaft, i) for i in range(len(mesh.elements))]
-    rows = _stations(count, marked, sections)
-    node = np.array([k for k, _, _ in rows], dtype=int)
-    element = np.array([e for _, e, _ in rows], dtype=int)
-    end = np.array([s for _, _, s in rows], dtype=int)       # 0: the element's left end, 1: its right end
-    forces = ends[element, end]                               # (P, 6): force, moment beyond -> before
-    stiffness = np.array([sections[e][end_][0] for e, end_ in zip(element, end)])
-    reach = np.array([sections[e][end_][1] for e, end_ in zip(element, end)])
+    sections = [_section(shaft, i) for i in range(len(shaft.mesh.elements))]
+    rows = _stations(count, _loaded_nodes(model, rotor, point_loads), sections)
+    node, element, end = (np.array(column, dtype=int) for column in zip(*rows))   # end 0: left, 1: right
+    forces = ends[element, end]                        # (P, 6): force, moment of beyond on before
+    rigidity, reach, outer = (np.array(column) for column in zip(*(sections[e][k] for e, k in zip(element, end))))
     # per plane (a: u_a, b: u_b): V = dM/dz, M = E I u'' (theta_b = u_a', theta_a = -u_b')
     shear, moment = -forces[:, :2], np.column_stack([forces[:, 4], -forces[:, 3]])
-    z = mesh.z[node]
-    points = shaft.point(z)
+    points = shaft.point(shaft.mesh.z[node])
+    e = shaft.axis
     return ShaftStatics(
-        rotor=rotor.name, axis_names=_axis_letters(shaft.axis), axes=R, node=node,
-        side=np.array([side for _, _, side in _sides(rows)], dtype=object), z=z, position=points @ shaft.axis,
-        point=points, sag=relative[node, :2], sag_absolute=absolute[node, :2], shear=shear,
-        moment=moment, outer_diameter=np.array([sections[e][end_][2] for e, end_ in zip(element, end)]),
-        stress=np.hypot(*moment.T) * reach / stiffness, bearings=bearings,
-        disks=tuple((d.name, float(shaft.point(d.z) @ shaft.axis), d.mass) for d in shaft.disks),
-        loads=tuple((x.kind, x.source, float(np.asarray(x.point) @ shaft.axis)) for x in point_loads))
+        rotor=rotor.name, axis_names=_axis_letters(e), axes=R, node=node,
+        side=np.array([side for _, _, side in _sides(rows)], dtype=object), z=shaft.mesh.z[node],
+        position=points @ e, point=points, sag=relative[node, :2], sag_absolute=absolute[node, :2], shear=shear,
+        moment=moment, outer_diameter=outer, stress=np.hypot(*moment.T) * reach / rigidity,
+        bearings=tuple((b.name, float(np.asarray(b.position, dtype=float) @ e)) for b in model.bearings_of(rotor.name)),
+        disks=tuple((d.name, float(shaft.point(d.z) @ e), d.mass) for d in shaft.disks),
+        loads=tuple((x.kind, x.source, float(np.asarray(x.point) @ e)) for x in point_loads))
+
+
+def _loaded_nodes(model, rotor, point_loads) -> set:
+    """The nodes of a flexible rotor where a point load acts: bearings, disks, point masses and
+    ``point_loads``."""
+    shaft = rotor.flexible
+    node = shaft.mesh.node
+    return ({node(shaft.z_of(b.position)) for b in model.bearings_of(rotor.name)}
+            | {node(d.z) for d in shaft.disks} | {node(p.z) for p in shaft.point_masses}
+            | {node(shaft.z_of(x.point)) for x in point_loads})
 
 
 def _local(R, motions) -> np.ndarray:

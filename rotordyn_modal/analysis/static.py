@@ -28,6 +28,7 @@ the elements' end forces (:mod:`rotordyn_modal.analysis.shaft_statics`), in
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -37,10 +38,11 @@ from . import _arguments
 from .shaft_statics import shaft_statics, weight_force
 from ..assembly import bearing_motion, generalized_force, shaft_stiffness, weights
 from ..elements.bearings import evaluate
-from ..errors import InputError
+from ..errors import InputError, ModelWarning
 from ..linear_system import static_solution
 from ..model._table import visible
 from ..model.dofs import frame_block
+from ..model.flexible import STATION_TOLERANCE
 from ..model.geometry import shift_matrix, skew
 
 __all__ = ["static", "StaticResult", "StaticLoad", "SupportReaction", "transmission_torques",
@@ -354,7 +356,15 @@ def _loads(model, speed, forces, torques) -> list:
                         np.asarray(f, float), np.zeros(3)) for body, c, f in weights(model)]
     loads += [_given_load(model, i, item) for i, item in enumerate(forces or ())]
     for t in model.transmissions:
-        loads += _transmission_loads(model, t, torques.get(t.label, 0.0), speed)
+        mine = _transmission_loads(model, t, torques.get(t.label, 0.0), speed)
+        for x in mine:
+            off = _off_shaft(model, x.body, x.point)
+            if off:
+                warnings.warn(ModelWarning(
+                    f"{model.source}: [transmissions.{visible(t.label)}] acts at {_listed(x.point)} m, off {off}: "
+                    "it is applied at the nearest end node through a rigid arm; give the transmission's "
+                    "position (its plane) at the pulley or gear"), stacklevel=3)
+        loads += mine
     return loads
 
 
@@ -375,7 +385,28 @@ def _given_load(model, index: int, item) -> StaticLoad:
         point = model.reference_point if body is None else model.rotor(body).center_of_mass
     vectors = [_vector3(value, f"{name} {key}") for key, value in
                (("point", point), ("force", force), ("moment", moment))]
+    off = _off_shaft(model, body, vectors[0])
+    if off:
+        raise InputError(f"{name} point = {_listed(vectors[0])}: expected a point along {off}")
     return StaticLoad("force", name, body, *vectors)
+
+
+def _off_shaft(model, body, point) -> str:
+    """'' when ``point`` lies along ``body``'s shaft (between its ends, at any distance from its
+    axis) or ``body`` is not a flexible rotor; else the shaft's extent in words."""
+    shaft = None if body is None else model.rotor(body).flexible
+    if shaft is None:
+        return ""
+    slack = STATION_TOLERANCE * (1.0 + shaft.length)
+    if -slack <= shaft.z_of(point) <= shaft.length + slack:
+        return ""
+    ends = shaft.point(np.array([0.0, shaft.length]))
+    return (f"rotor {visible(body)}'s shaft, from {_listed(ends[0])} to {_listed(ends[1])} m (a load on a "
+            "flexible rotor acts at the shaft's node there)")
+
+
+def _listed(vector) -> str:
+    return "[" + ", ".join(f"{v:.6g}" for v in np.asarray(vector, dtype=float)) + "]"
 
 
 def _body(model, body, name: str):

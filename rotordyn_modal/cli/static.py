@@ -122,8 +122,9 @@ def _shaft_summary(shaft, system="si") -> str:
     u, u_unit = (1e6, "µm") if system == "si" else unit_scale("displacement", system)
     s, s_unit = (1e-6, "MPa") if system == "si" else unit_scale("pressure", system)
     parts = []
-    for quantity, what, scale, unit in (("sag", "sag", u, u_unit), ("shear", "shear force", f, f_unit),
-                                        ("moment", "bending moment", m, m_unit), ("stress", "bending stress", s, s_unit)):
+    shown = (("sag", "sag", u, u_unit), ("shear", "shear force", f, f_unit),
+             ("moment", "bending moment", m, m_unit), ("stress", "bending stress", s, s_unit))
+    for quantity, what, scale, unit in shown:
         value, i = shaft.largest(quantity)
         parts.append(f"{what} {value * scale:.4g} {unit} at {shaft.label(i)} ({shaft.axis_names[2]} = "
                      f"{shaft.position[i] * x:.4g} {x_unit})")

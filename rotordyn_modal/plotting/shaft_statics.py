@@ -4,11 +4,11 @@ Draws :class:`~rotordyn_modal.analysis.shaft_statics.ShaftStatics` (the analysis
 stations; nothing is computed here): per flexible rotor a column of three panels sharing the
 axis along the spin axis, the sag relative to the stator, the shear force and the bending
 moment, each in both planes (plane ``e-a``: ``u_a`` and its shear force and bending moment,
-solid; plane ``e-b``, dashed; bending moments ``E I u''``, sagging positive), with the bearings (triangles), disks (bars) and point
-loads (arrows) marked on every panel. A node with a point load has two stations, so the
-shear force steps there. Every artist carries a gid (``sag-a:ROTOR``, ``shear-b:ROTOR``,
-``moment-a:ROTOR``, ``bearing:ROTOR:NAME``, ``disk:ROTOR:NAME``, ``load:ROTOR:SOURCE``) so tests
-can find it.
+solid; plane ``e-b``, dashed; bending moments ``E I u''``, sagging positive), with the bearings
+(triangles), disks (bars) and point loads (red marks) marked on every panel. A node with a point
+load has two stations, so the shear force steps there. Every artist carries a gid
+(``sag-a:ROTOR``, ``shear-b:ROTOR``, ``moment-a:ROTOR``, ``bearing:ROTOR:NAME``,
+``disk:ROTOR:NAME``, ``load:ROTOR:SOURCE``) so tests can find it.
 """
 
 from __future__ import annotations

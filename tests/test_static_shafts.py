@@ -198,6 +198,33 @@ def test_every_node_balances_its_point_loads_on_a_casing_with_an_inclined_axis()
     assert np.abs(force_sum).max() < 1e-11 * total and np.abs(moment_sum).max() < 1e-11 * total
 
 
+def test_a_layered_section_carries_its_moment_by_the_stiffnesses_of_its_tubes():
+    """A steel core (d = 0.04) with an aluminium sleeve (0.04 to 0.06) under a central force P on
+    two supports, weightless: moment P L / 4 at mid-span however the section is made (statics),
+    sag P L^3 / (48 sum E I), and the largest stress that of the steel core's outer fibre,
+    E_steel (0.04 / 2) M / sum E I (plane sections; the sleeve's outer fibre, E_al 0.03 M / sum E I,
+    carries about half of it)."""
+    length, P, e_al = 1.0, 1000.0, 7.0e10
+    model = rdm.Model.from_dict({
+        "materials": [{"name": "steel", "density": RHO, "young_modulus": E, "poisson_ratio": NU},
+                      {"name": "aluminium", "density": 2700.0, "young_modulus": e_al, "poisson_ratio": 0.33}],
+        "rotors": [{"name": "s", "start": [0.0, 0.0, 0.0], "speed_ratio": 1.0, "shear": "none", "element_length": 0.125,
+                    "shaft": [{"length": length, "outer_diameter": 0.04, "material": "steel",
+                               "layers": [{"outer_diameter": 0.06, "inner_diameter": 0.04, "material": "aluminium"}]}]}],
+        "bearings": [{"name": f"b{i}", "rotor": "s", "axial_position": z, "stiffness": K_BEARING}
+                     for i, z in enumerate((0.0, length))]})
+    result = rdm.static(model, forces=[("s", [0.5, 0.0, 0.0], [0.0, 0.0, -P])])
+    shaft = result.shafts["s"]
+    rigidity = E * np.pi / 64 * 0.04**4 + e_al * np.pi / 64 * (0.06**4 - 0.04**4)
+    mid = _at(shaft, 0.5, "left")
+    assert shaft.moment[mid, 1] == pytest.approx(P * length / 4, rel=TIGHT)
+    chord = 0.5 * (shaft.sag[0, 1] + shaft.sag[-1, 1])
+    assert shaft.sag[mid, 1] - chord == pytest.approx(-P * length**3 / (48 * rigidity), rel=TIGHT)
+    assert E * 0.02 > 2 * e_al * 0.03
+    assert shaft.stress[mid] == pytest.approx(E * 0.02 * P * length / 4 / rigidity, rel=TIGHT)
+    assert shaft.outer_diameter[mid] == 0.06
+
+
 def _belt_to_a_shaft(position=None):
     """A rigid motor (its centre at x = 1.5 m) pulling a flexible shaft (x from 0 to 1 m, bearings
     at 0.1 and 0.7 m, a pulley disk at 0.9 m) up with a belt's pretension, without gravity."""

@@ -120,6 +120,8 @@ def test_a_central_disk_makes_the_shear_force_jump_by_its_weight():
     exact = P * length**3 / (48 * E * second) + 5 * w * length**4 / (384 * E * second)
     assert shaft.sag[left, 1] - chord == pytest.approx(-exact, rel=TIGHT)
     assert shaft.disks == (("d0", 0.5, mass),)
+    # the moment is continuous across the disk, the shear force is not: how the station is named
+    assert (shaft.label(left, "moment"), shaft.label(left, "shear"), shaft.label(right)) == ("n4", "n4 left", "n4 right")
 
 
 def test_an_overhung_disk():

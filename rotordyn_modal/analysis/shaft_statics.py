@@ -139,14 +139,22 @@ class ShaftStatics:
         station : int
             Index into the station arrays.
         """
-        values = {"sag": self.sag_magnitude, "sag_absolute": np.hypot(*self.sag_absolute.T),
-                  "shear": self.shear_magnitude, "moment": self.moment_magnitude, "stress": self.stress}[quantity]
+        values = self._magnitudes(quantity)
         i = int(np.argmax(values))
         return float(values[i]), i
 
-    def label(self, station: int) -> str:
-        """``n3`` or ``n3 left``: the station's node and side."""
+    def _magnitudes(self, quantity: str) -> np.ndarray:
+        return {"sag": self.sag_magnitude, "sag_absolute": np.hypot(*self.sag_absolute.T),
+                "shear": self.shear_magnitude, "moment": self.moment_magnitude, "stress": self.stress}[quantity]
+
+    def label(self, station: int, quantity: str | None = None) -> str:
+        """``n3`` or ``n3 left``: the station's node and side; the node alone when ``quantity``
+        (as :meth:`largest`) has the same magnitude on both its sides (within 1e-9 relative)."""
         side = self.side[station]
+        if side and quantity is not None:
+            values = self._magnitudes(quantity)[self.node == self.node[station]]
+            if abs(values[0] - values[-1]) <= 1e-9 * max(abs(values[0]), abs(values[-1])):
+                side = ""
         return f"n{self.node[station]}" + (f" {side}" if side else "")
 
     def table(self):

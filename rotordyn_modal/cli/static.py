@@ -126,7 +126,7 @@ def _shaft_summary(shaft, system="si") -> str:
              ("moment", "bending moment", m, m_unit), ("stress", "bending stress", s, s_unit))
     for quantity, what, scale, unit in shown:
         value, i = shaft.largest(quantity)
-        parts.append(f"{what} {value * scale:.4g} {unit} at {shaft.label(i)} ({shaft.axis_names[2]} = "
+        parts.append(f"{what} {value * scale:.4g} {unit} at {shaft.label(i, quantity)} ({shaft.axis_names[2]} = "
                      f"{shaft.position[i] * x:.4g} {x_unit})")
     indent = " " * (len(shaft.rotor) + 4)
     return f"  {shaft.rotor}: largest {parts[0]}; {parts[1]};\n{indent}{parts[2]}; {parts[3]}"

@@ -115,10 +115,10 @@ def _mark_largest(ax, shaft, quantity, scale_unit, x, stress=None):
         return
     components = shaft.sag if quantity == "sag" else shaft.moment
     y = components[i, int(np.argmax(np.abs(components[i])))] * scale
-    text = f"|{'u' if quantity == 'sag' else 'M'}| = {value * scale:.3g} {unit} at {shaft.label(i)}"
+    text = f"|{'u' if quantity == 'sag' else 'M'}| = {value * scale:.3g} {unit} at {shaft.label(i, quantity)}"
     if stress is not None:
         peak, j = shaft.largest("stress")
-        text += f"\nlargest bending stress {peak * stress[0]:.3g} {stress[1]} at {shaft.label(j)}"
+        text += f"\nlargest bending stress {peak * stress[0]:.3g} {stress[1]} at {shaft.label(j, 'stress')}"
     ax.plot([x[i]], [y], marker="o", markersize=5, color="k", linestyle="none", gid=f"largest-{quantity}:{shaft.rotor}")
     ax.annotate(text, (x[i], y), xytext=(8, -8 if y > 0 else 8), textcoords="offset points", fontsize="x-small",
                 va="top" if y > 0 else "bottom", ha="left" if x[i] < 0.5 * (x[0] + x[-1]) else "right",

@@ -149,11 +149,12 @@ class ShaftStatics:
 
     def label(self, station: int, quantity: str | None = None) -> str:
         """``n3`` or ``n3 left``: the station's node and side; the node alone when ``quantity``
-        (as :meth:`largest`) has the same magnitude on both its sides (within 1e-9 relative)."""
+        (as :meth:`largest`) is the same on both its sides (within 1e-9 relative)."""
         side = self.side[station]
         if side and quantity is not None:
-            values = self._magnitudes(quantity)[self.node == self.node[station]]
-            if abs(values[0] - values[-1]) <= 1e-9 * max(abs(values[0]), abs(values[-1])):
+            values = {"sag": self.sag, "sag_absolute": self.sag_absolute, "shear": self.shear,
+                      "moment": self.moment, "stress": self.stress[:, None]}[quantity][self.node == self.node[station]]
+            if np.linalg.norm(values[0] - values[-1]) <= 1e-9 * np.abs(values).max():
                 side = ""
         return f"n{self.node[station]}" + (f" {side}" if side else "")
 

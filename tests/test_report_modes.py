@@ -123,3 +123,24 @@ def test_clearance_table_and_criterion_equal_the_analysis(page):
     worst = check.iloc[int(np.argmax(check["ratio"]))]
     verdict = "pass" if (check["value"] <= 1.5 * check["clearance"].map(radial)).all() else "fail"
     assert f">{verdict}<" in row.group(1) and worst.clearance in row.group(1)
+
+
+def test_static_section_shows_the_flexible_shafts_largest_moment_and_diagram(monkeypatch):
+    """The report's static section of a flexible machine under gravity: the largest bending
+    moment row is the largest |M| of the shaft's stations (N m, and lbf in = N m / 0.112984829),
+    with the sag/shear/moment diagram embedded."""
+    import rotordyn_modal.report.render as render
+    from rotordyn_modal.analysis.static import static
+
+    monkeypatch.setattr(render, "figure_png", lambda fig, dpi=110: "data:image/png;base64,")
+    result = static(load_model(ROOT / "examples" / "flexible_pump_on_mounts.toml"))
+    (rotor, shaft), = result.shafts.items()
+    largest = shaft.table()["Mb_Nm"].abs().max()
+    assert largest > 0
+    for units, factor in (("si", 1.0), ("us", 1 / 0.112984829)):
+        html = "".join(render._shaft_statics(result, units))
+        rows = _rows(html)
+        moment = [r for r in rows if r[1].startswith("largest bending moment")]
+        assert len(moment) == 1 and moment[0][0] == rotor
+        assert float(moment[0][2]) == pytest.approx(largest * factor, rel=1e-3)
+        assert html.count("<img ") == 1

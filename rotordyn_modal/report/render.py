@@ -171,7 +171,35 @@ def _static(data, units) -> str:
         _table(rows, [("body", True), ("point", True), *((f"u_{a} [{sag_unit}]", False) for a in "xyz")]),
         "<h3>Reactions (force of each support on the body it carries)</h3>",
         _table(rrows, [("support", True), ("kind", True), ("body", True), ("on", True),
-                       *((f"F_{a} [{force_unit}]", False) for a in "xyz")])])
+                       *((f"F_{a} [{force_unit}]", False) for a in "xyz")]),
+        *_shaft_statics(result, units)])
+
+
+def _shaft_statics(result, units) -> list:
+    """The flexible shafts' largest sag, shear force, bending moment and bending stress (a table)
+    and their diagram along the axis (a figure); nothing for rigid rotors."""
+    shafts = list(result.shafts.values())
+    if not shafts:
+        return []
+    from ..units import unit_scale
+
+    shown = (("sag", "sag", shown_scale("sag", units)), ("shear", "shear force", shown_scale("force", units)),
+             ("moment", "bending moment", unit_scale("moment", units)),
+             ("stress", "bending stress", (1e-6, "MPa") if units == "si" else unit_scale("pressure", units)))
+    to_length, length_unit = unit_scale("length", units)
+    rows = []
+    for shaft in shafts:
+        for quantity, what, (factor, unit) in shown:
+            value, i = shaft.largest(quantity)
+            rows.append([shaft.rotor, f"largest {what} [{unit}]", _g(value * factor),
+                         shaft.label(i, quantity), f"{shaft.axis_names[2]} = {_g(shaft.position[i] * to_length)}"])
+    return ["<h3>Flexible shafts: sag, shear force and bending moment</h3>",
+            _table(rows, [("rotor", True), ("quantity", True), ("value", False), ("station", True),
+                          (f"position, model axes [{length_unit}]", True)]),
+            _figure(result.plot_shafts(units=units),
+                    "Figure: static sag relative to the stator, shear force and bending moment along each "
+                    "flexible shaft, both bending planes; bearings and disks marked (docs/static.md).",
+                    "Shaft sag, shear force and bending moment")]
 
 
 def _at_round_off(values, relative: float = 1e-9):

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from . import _arguments
-from ..assembly import bearing_motion, generalized_force, weights
+from ..assembly import bearing_motion, generalized_force, pedestal_stiffness_damping, weights
 from ..elements.bearings import evaluate
 from ..errors import InputError
 from ..linear_system import static_solution
@@ -489,6 +489,8 @@ def _stiffness(model, speed):
         rows, moves = bearing_motion(model, b)
         stiffness[rows, rows] += moves.T @ k6 @ moves
         supports.append(("bearing", b, k6))
+    if model.dofs.pedestals:     # the bearings' pedestals to the stator (their weight is no load)
+        stiffness += pedestal_stiffness_damping(model)[0]
     return stiffness, supports
 
 

@@ -125,7 +125,8 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
                    or _excitation(t, rotor_tables, shafts)
                    for i, t in enumerate(_named_tables(source, data, "excitations").values())]
     _bearing_validation.check_frame(top, stator, suspensions, bearings, sensors, excitations)
-    rotors = _meshed(top, rotors, bearings, unbalances, sensors, excitations)
+    _check_meshes(transmission_tables, transmissions, rotors, spin_axis)
+    rotors = _meshed(top, rotors, bearings, unbalances, sensors, excitations, transmissions)
     return {
         "name": name, "spin_axis": spin_axis, "reference_rotor": reference, "gravity": gravity,
         "stator": stator, "rotors": tuple(rotors), "transmissions": tuple(transmissions),
@@ -345,8 +346,9 @@ def _flexible_unbalance(table: _Table, unbalance: Unbalance, rotors) -> Unbalanc
     return dataclasses.replace(unbalance, axial_offset=z - centre)
 
 
-def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations):
-    """The rotors, each flexible one with its mesh: a node at every station of the model on it."""
+def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations, transmissions=()):
+    """The rotors, each flexible one with its mesh: a node at every station of the model on it
+    (a gear with a mesh stiffness or damping: its plane)."""
     out = []
     for rotor in rotors:
         shaft = rotor.flexible
@@ -363,6 +365,8 @@ def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations):
         stations += [centre + u.axial_offset for u in unbalances if u.rotor == rotor.name]
         stations += [shaft.z_of(x.position) for x in (*sensors, *excitations)
                      if x.rotor == rotor.name and x.position is not None]
+        stations += [shaft.z_of(_gear_plane(t, rotors)) for t in transmissions
+                     if rotor.name in (t.driver, t.driven) and (t.mesh_stiffness or t.mesh_damping) is not None]
         meshed = _flexible.with_mesh(shaft, stations)
         if meshed.mesh.n_nodes > _flexible.MAX_NODES:
             raise _Table(top.source, f"rotors.{visible(rotor.name)}", {}).error(
@@ -373,6 +377,11 @@ def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations):
         else:
             out.append(dataclasses.replace(rotor, flexible=meshed))
     return out
+
+
+def _gear_plane(t, rotors):
+    """A point of a gear's plane: its ``position``, else the driver's centre of mass."""
+    return t.position if t.position is not None else next(r.center_of_mass for r in rotors if r.name == t.driver)
 
 
 def _transmission(table: _Table, rotor_tables) -> Transmission:
@@ -400,7 +409,8 @@ _MAX_PRESSURE_ANGLE = 45.0
 
 def _transmission_geometry(table: _Table, kind: str) -> dict:
     """The optional keys of a transmission's static loads (docs/model-file.md), checked."""
-    for key, owner in (("pressure_angle", "gear"), ("pretension", "belt")):
+    for key, owner in (("pressure_angle", "gear"), ("pretension", "belt"), ("mesh_stiffness", "gear"),
+                       ("mesh_damping", "gear")):
         if key in table.data and kind != owner:
             raise table.error(key, table.data[key], f"no value: this key is for type = '{owner}' transmissions")
     angle = table.number("pressure_angle", nonnegative=True)
@@ -409,7 +419,33 @@ def _transmission_geometry(table: _Table, kind: str) -> dict:
                           f"{_MAX_PRESSURE_ANGLE:g} (20 is standard)")
     return {"position": table.vector3("position"),
             "driver_radius": table.number("driver_radius", positive=True),
-            "pressure_angle": angle, "pretension": table.number("pretension", nonnegative=True)}
+            "pressure_angle": angle, "pretension": table.number("pretension", nonnegative=True),
+            "mesh_stiffness": table.number("mesh_stiffness", positive=True),
+            "mesh_damping": table.number("mesh_damping", nonnegative=True)}
+
+
+def _check_meshes(tables, transmissions, rotors, spin_axis) -> None:
+    """A gear with a mesh stiffness or damping needs its line of action: two spin axes apart,
+    a pitch radius below their distance, and its plane on each flexible rotor's shaft."""
+    from .geometry import gear_mesh
+
+    by_name = {r.name: r for r in rotors}
+    for table, t in zip(tables, transmissions):
+        if t.mesh_stiffness is None and t.mesh_damping is None:
+            continue
+        mesh = gear_mesh(t, by_name[t.driver], by_name[t.driven], spin_axis)
+        if mesh is None:
+            raise table.error("mesh_stiffness", t.mesh_stiffness, "a gear between rotors whose spin axes are "
+                              "apart (the driver's and the driven rotor's axes coincide: no line of centres)")
+        if not mesh.radius < mesh.distance:
+            raise table.error("driver_radius", t.driver_radius, f"a pitch radius below the centre distance "
+                              f"{mesh.distance:g} m of the two spin axes")
+        for name, centre in ((t.driver, mesh.driver_centre), (t.driven, mesh.driven_centre)):
+            shaft = by_name[name].flexible
+            if shaft is not None and not -1e-9 <= shaft.z_of(centre) <= shaft.length + 1e-9:
+                raise table.error("position", table.data.get("position", "<missing>"),
+                                  f"a gear plane on rotor {visible(name)!r}'s shaft (0 .. {shaft.length:g} m "
+                                  f"from its start; it is at {shaft.z_of(centre):g} m)")
 
 
 def mesh_name(driver: str, driver_teeth, driven: str) -> str | None:

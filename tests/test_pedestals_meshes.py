@@ -1,0 +1,214 @@
+"""Bearing pedestals and gear mesh stiffness (issue 28, item 2): closed forms, limits, invariants.
+
+Truth from outside the code: 2-DOF series systems solved by hand (pedestals), point masses joined
+by a spring along a unit vector built here with numpy (gear meshes), the static tooth force's
+direction (line of action), symmetry of the matrices (reciprocity) and moving the origin.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.errors import InputError, ModelError
+from rotordyn_modal.model.geometry import gear_mesh
+
+M_R, J_D, L, K_B = 10.0, 0.4, 0.2, 1.0e6        # rotor mass, diametral inertia, bearing arm, bearing stiffness
+M_P, K_P = 5.0, 2.0e6                           # pedestal mass and stiffness
+
+
+def _rotor_on_pedestals(pedestal: dict | None = None, **rotor) -> dict:
+    """A rigid rotor on two identical bearings at +-L about its centre of mass, on the ground."""
+    extra = {} if pedestal is None else pedestal
+    return {"spin_axis": [1.0, 0.0, 0.0],
+            "rotors": [{"name": "r", "mass": M_R, "center_of_mass": [0.0, 0.0, 0.0], "polar_inertia": 0.05,
+                        "diametral_inertia": J_D, "speed_ratio": 1.0, **rotor}],
+            "bearings": [{"name": name, "rotor": "r", "position": [x, 0.0, 0.0], "stiffness": K_B, **extra}
+                         for name, x in (("A", -L), ("B", L))]}
+
+
+def _two_dof(m1, m2, k11, k12, k22) -> np.ndarray:
+    """The two natural frequencies [rad/s] of ``diag(m1, m2) x'' + [[k11, k12], [k12, k22]] x = 0``
+    from the quadratic in w^2 (by hand: no eigen-solver)."""
+    a, b, c = m1 * m2, -(k11 * m2 + k22 * m1), k11 * k22 - k12**2
+    root = math.sqrt(b * b - 4 * a * c)
+    return np.sqrt(np.array([(-b - root) / (2 * a), (-b + root) / (2 * a)]))
+
+
+def _by_frequency(roots) -> np.ndarray:
+    return roots[np.argsort(roots.imag)]
+
+
+def _frequencies(model, speed=0.0) -> np.ndarray:
+    return np.sort(2 * np.pi * rdm.modal(model, speed).frequencies_hz)
+
+
+def test_rigid_rotor_on_pedestals_matches_the_two_dof_series_systems():
+    """Translation: rotor y and both pedestals together, M = diag(m_r, 2 m_p),
+    K = [[2 k_b, -2 k_b], [-2 k_b, 2 k_b + 2 k_p]]; tilt: rotor angle and the pedestals apart,
+    M = diag(J_d, 2 m_p), K = [[2 k_b L^2, -2 k_b L], [-2 k_b L, 2 k_b + 2 k_p]]; each in y and z."""
+    model = rdm.Model.from_dict(_rotor_on_pedestals({"pedestal_mass": M_P, "pedestal_stiffness": K_P}))
+    assert model.dofs.names[-4:] == ("A.pedestal.uy", "A.pedestal.uz", "B.pedestal.uy", "B.pedestal.uz")
+    translation = _two_dof(M_R, 2 * M_P, 2 * K_B, -2 * K_B, 2 * K_B + 2 * K_P)
+    tilt = _two_dof(J_D, 2 * M_P, 2 * K_B * L**2, -2 * K_B * L, 2 * K_B + 2 * K_P)
+    expected = np.sort(np.repeat(np.r_[translation, tilt], 2))
+    np.testing.assert_allclose(_frequencies(model), expected, rtol=1e-10)
+
+
+def test_stiff_pedestals_tend_to_the_bearings_alone_as_one_over_k():
+    """k_p -> infinity: the pedestal stands still, the rotor's frequencies are sqrt(2 k_b / m_r)
+    and sqrt(2 k_b L^2 / J_d); the error falls as 1 / k_p (ten times per decade)."""
+    rigid = np.sort(np.repeat([math.sqrt(2 * K_B / M_R), math.sqrt(2 * K_B * L**2 / J_D)], 2))
+    errors = []
+    for k_p in (1e9, 1e10, 1e11):
+        model = rdm.Model.from_dict(_rotor_on_pedestals({"pedestal_mass": M_P, "pedestal_stiffness": k_p}))
+        errors.append(np.max(np.abs(_frequencies(model)[:4] / rigid - 1)))
+    without = rdm.Model.from_dict(_rotor_on_pedestals())
+    np.testing.assert_allclose(_frequencies(without), rigid, rtol=1e-12)
+    assert errors[0] < 1e-2
+    np.testing.assert_allclose(np.array(errors[:-1]) / errors[1:], 10.0, rtol=0.02)
+
+
+def test_pedestal_axes_anisotropic_stiffness_and_damping_in_the_bearing_axes():
+    """A 2-list stiffness is diagonal in the bearing's radial axes; damping only adds damping:
+    with [k_y, k_z] the y and z translations follow their own 2-DOF systems."""
+    pedestal = {"pedestal_mass": M_P, "pedestal_stiffness": [K_P, 3 * K_P]}
+    model = rdm.Model.from_dict(_rotor_on_pedestals(pedestal))
+    expected = np.r_[_two_dof(M_R, 2 * M_P, 2 * K_B, -2 * K_B, 2 * K_B + 2 * K_P),
+                     _two_dof(M_R, 2 * M_P, 2 * K_B, -2 * K_B, 2 * K_B + 6 * K_P),
+                     _two_dof(J_D, 2 * M_P, 2 * K_B * L**2, -2 * K_B * L, 2 * K_B + 2 * K_P),
+                     _two_dof(J_D, 2 * M_P, 2 * K_B * L**2, -2 * K_B * L, 2 * K_B + 6 * K_P)]
+    np.testing.assert_allclose(_frequencies(model), np.sort(expected), rtol=1e-10)
+    damped = rdm.Model.from_dict(_rotor_on_pedestals({**pedestal, "pedestal_damping": 50.0}))
+    assert np.all(rdm.modal(damped).damping_ratios > 0)
+
+
+@pytest.mark.parametrize("key, value, expected", [
+    ("pedestal_mass", -1.0, "> 0"),
+    ("pedestal_mass", 0.0, "> 0"),
+    ("pedestal_stiffness", [[1e6, 2e6], [2e6, 1e6]], "positive definite"),
+    ("pedestal_stiffness", [1e6, 0.0], "positive definite"),
+    ("pedestal_stiffness", [[1e6, 1e5], [0.0, 1e6]], "symmetric"),
+    ("pedestal_damping", -3.0, "positive semidefinite"),
+])
+def test_bad_pedestals_are_refused_by_name(key, value, expected):
+    pedestal = {"pedestal_mass": M_P, "pedestal_stiffness": K_P, key: value}
+    with pytest.raises(ModelError, match=rf"\[bearings\.A\] {key} = .*{expected}"):
+        rdm.Model.from_dict(_rotor_on_pedestals(pedestal))
+
+
+def test_a_pedestal_needs_mass_and_stiffness():
+    with pytest.raises(ModelError, match=r"\[bearings\.A\] pedestal_stiffness = '<missing>'"):
+        rdm.Model.from_dict(_rotor_on_pedestals({"pedestal_mass": M_P}))
+    with pytest.raises(ModelError, match=r"\[bearings\.A\] pedestal_mass = '<missing>'"):
+        rdm.Model.from_dict(_rotor_on_pedestals({"pedestal_stiffness": K_P}))
+
+
+def test_pedestal_mass_is_a_study_key_and_simulate_refuses_pedestals():
+    model = rdm.Model.from_dict(_rotor_on_pedestals({"pedestal_mass": M_P, "pedestal_stiffness": K_P}))
+    heavier = model.variant([("bearings.A.pedestal_mass", "scale", 2.0), ("bearings.B.pedestal_mass", "scale", 2.0)])
+    translation = _two_dof(M_R, 4 * M_P, 2 * K_B, -2 * K_B, 2 * K_B + 2 * K_P)
+    assert np.min(np.abs(_frequencies(heavier)[:, None] - translation[None]), axis=0).max() < 1e-8 * translation.max()
+    with pytest.raises(InputError, match=r"\[bearings\.A\] stands on a pedestal"):
+        rdm.simulate(model, 0.1, speed=10.0)
+
+
+# -- gear meshes ----------------------------------------------------------------------------
+M1, M2, K1, K2, K_MESH = 12.0, 7.0, 2.0e6, 1.5e6, 5.0e6
+
+
+def _geared(mesh: dict | None = None, shift=(0.0, 0.0, 0.0), **gear) -> dict:
+    """Two rigid rotors on isotropic bearings at +-L (ground), their centres in the plane x = 0,
+    a gear between them in that plane."""
+    d = np.asarray(shift, dtype=float)
+    rotors, bearings = [], []
+    for name, mass, k, centre in (("pinion", M1, K1, [0.0, 0.0, 0.0]), ("wheel", M2, K2, [0.0, 0.06, 0.08])):
+        c = np.asarray(centre) + d
+        rotors.append({"name": name, "mass": mass, "center_of_mass": c.tolist(), "polar_inertia": 0.02,
+                       "diametral_inertia": 0.05})
+        bearings += [{"name": f"{name}-{side}", "rotor": name, "position": (c + [x, 0.0, 0.0]).tolist(),
+                      "stiffness": k} for side, x in (("DE", -L), ("NDE", L))]
+    rotors[0]["speed_ratio"] = 1.0
+    transmission = {"type": "gear", "driver": "pinion", "driven": "wheel", "ratio": 1.5, **gear,
+                    **({} if mesh is None else mesh)}
+    return {"spin_axis": [1.0, 0.0, 0.0], "reference_rotor": "pinion", "rotors": rotors, "bearings": bearings,
+            "transmissions": [transmission]}
+
+
+def _line_of_action(model) -> np.ndarray:
+    """The tooth force's direction on the driver from ``rdm.static`` under a driving torque."""
+    loads = [x for x in rdm.static(model, speed=100.0, torques=50.0).loads if x.kind == "gear" and x.body == "pinion"]
+    return loads[0].force / np.linalg.norm(loads[0].force)
+
+
+def test_line_of_action_at_twenty_degrees():
+    """Normal to the spin axis, 20 deg from the tangent of the pitch circles, along the static
+    tooth force; the pitch point on the line of centres at r = a / (1 + ratio)."""
+    model = rdm.Model.from_dict(_geared({"mesh_stiffness": K_MESH}, pressure_angle=20.0))
+    t = model.transmissions[0]
+    mesh = gear_mesh(t, model.rotor("pinion"), model.rotor("wheel"), model.spin_axis)
+    u = np.array([0.0, 0.6, 0.8])                 # centre line from pinion to wheel, a = 0.1 m
+    n = mesh.direction
+    assert abs(np.linalg.norm(n) - 1) < 1e-14 and abs(n[0]) < 1e-15
+    assert math.degrees(math.asin(abs(n @ u))) == pytest.approx(20.0, abs=1e-12)
+    assert math.degrees(math.acos(abs(n @ np.cross([1.0, 0, 0], u)))) == pytest.approx(20.0, abs=1e-12)
+    np.testing.assert_allclose(mesh.pitch_point, 0.1 / 2.5 * u, atol=1e-15)
+    assert abs(abs(n @ _line_of_action(model)) - 1) < 1e-12
+
+
+def test_geared_rotors_match_point_masses_joined_along_the_line_of_action():
+    """Zero speed: the tilts are the rotors' own (2 k L^2 / J_d); the translations are two point
+    masses on springs 2 k_i, joined by k_mesh n n^T (built here; n from the static tooth force)."""
+    model = rdm.Model.from_dict(_geared({"mesh_stiffness": K_MESH}, pressure_angle=20.0))
+    n = _line_of_action(model)[1:]                                   # (y, z) components
+    coupling = K_MESH * np.outer(n, n)
+    K = np.block([[2 * K1 * np.eye(2) + coupling, -coupling], [-coupling, 2 * K2 * np.eye(2) + coupling]])
+    M = np.diag([M1, M1, M2, M2])
+    translations = np.sqrt(np.linalg.eigvalsh(np.linalg.solve(np.sqrt(M), np.linalg.solve(np.sqrt(M), K).T)))
+    tilts = np.repeat([math.sqrt(2 * K1 * L**2 / 0.05), math.sqrt(2 * K2 * L**2 / 0.05)], 2)
+    np.testing.assert_allclose(_frequencies(model), np.sort(np.r_[translations, tilts]), rtol=1e-10)
+    without = rdm.Model.from_dict(_geared())
+    assert not np.allclose(_frequencies(without), _frequencies(model), rtol=1e-3)
+
+
+def test_mesh_keeps_reciprocity_and_damping_and_moving_the_origin_changes_nothing():
+    """K and C symmetric, G skew: H(Omega) = H(-Omega)^T; the same machine moved by a vector
+    has the same roots at speed (gyroscopic, damped mesh, pedestals)."""
+    extra = {"mesh_stiffness": K_MESH, "mesh_damping": 80.0}
+    model = rdm.Model.from_dict(_geared(extra, pressure_angle=25.0, driver_radius=0.03))
+    M, C, G, K = model.matrices()
+    s = 1j * 2 * np.pi * 170.0
+    H = np.linalg.inv(M * s**2 + (C + 300.0 * G) * s + K)
+    H_reversed = np.linalg.inv(M * s**2 + (C - 300.0 * G) * s + K)
+    np.testing.assert_allclose(H, H_reversed.T, rtol=1e-10, atol=1e-12 * np.abs(H).max())
+    assert np.abs(G).max() > 0
+    roots = _by_frequency(rdm.modal(model, 300.0).eigenvalues)
+    data = _geared(extra, shift=(0.7, -1.3, 2.1), pressure_angle=25.0, driver_radius=0.03)
+    data["bearings"][0].update(pedestal_mass=3.0, pedestal_stiffness=[4e6, 5e6])
+    moved_with = _by_frequency(rdm.modal(rdm.Model.from_dict(data), 300.0).eigenvalues)
+    data = _geared(extra, pressure_angle=25.0, driver_radius=0.03)
+    data["bearings"][0].update(pedestal_mass=3.0, pedestal_stiffness=[4e6, 5e6])
+    here_with = _by_frequency(rdm.modal(rdm.Model.from_dict(data), 300.0).eigenvalues)
+    moved = _by_frequency(rdm.modal(rdm.Model.from_dict(_geared(extra, shift=(0.7, -1.3, 2.1), pressure_angle=25.0,
+                                                                   driver_radius=0.03)), 300.0).eigenvalues)
+    np.testing.assert_allclose(moved, roots, rtol=1e-10)
+    np.testing.assert_allclose(moved_with, here_with, rtol=1e-10)
+    ratios = rdm.modal(model, 300.0).damping_ratios      # the mesh damps the modes that strain it
+    assert ratios.min() > -1e-12 and (ratios > 1e-6).sum() >= 2
+
+
+def test_mesh_keys_refused_by_name_and_simulate_refuses_them():
+    with pytest.raises(ModelError, match=r"mesh_stiffness = -1.0: expected a finite number > 0"):
+        rdm.Model.from_dict(_geared({"mesh_stiffness": -1.0}))
+    belt = _geared({"mesh_stiffness": K_MESH})
+    belt["transmissions"][0]["type"] = "belt"
+    with pytest.raises(ModelError, match=r"mesh_stiffness = .*this key is for type = 'gear'"):
+        rdm.Model.from_dict(belt)
+    with pytest.raises(ModelError, match=r"driver_radius = 0.2: expected a pitch radius below the centre distance"):
+        rdm.Model.from_dict(_geared({"mesh_stiffness": K_MESH}, driver_radius=0.2))
+    model = rdm.Model.from_dict(_geared({"mesh_stiffness": K_MESH}))
+    with pytest.raises(InputError, match=r"\[transmissions\.pinion->wheel\] has a mesh stiffness"):
+        rdm.simulate(model, 0.1, speed=10.0)

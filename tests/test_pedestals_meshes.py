@@ -212,3 +212,40 @@ def test_mesh_keys_refused_by_name_and_simulate_refuses_them():
     model = rdm.Model.from_dict(_geared({"mesh_stiffness": K_MESH}))
     with pytest.raises(InputError, match=r"\[transmissions\.pinion->wheel\] has a mesh stiffness"):
         rdm.simulate(model, 0.1, speed=10.0)
+
+
+def test_bearing_force_on_a_pedestal_is_what_moves_the_pedestal():
+    """Newton on the pedestal: the bearing's force on it equals (K_p + i w C_p - w^2 m_p) p for
+    its harmonic motion p, through both force paths (per kind and all together)."""
+    from rotordyn_modal.analysis.forces import all_forces, bearing_point_forces
+    from rotordyn_modal.analysis.frf import dof_response
+
+    pedestal = {"pedestal_mass": M_P, "pedestal_stiffness": [[K_P, 2e5], [2e5, 2 * K_P]], "pedestal_damping": 70.0}
+    data = _rotor_on_pedestals(pedestal, center_of_mass=[0.05, 0.0, 0.0])
+    data["bearings"][0]["damping"] = 120.0
+    model = rdm.Model.from_dict(data)
+    force = np.zeros((model.dofs.n, 2))
+    force[0, 0], force[3, 1] = 1.0, 0.3                 # r.uy and a moment on r.rz
+    w = np.array([150.0, 420.0, 900.0])
+    q = dof_response(model, 200.0, w, force)
+    for bearings in (bearing_point_forces(model, 200.0, w, q), all_forces(model, 200.0, w, q)[2]):
+        for b, bearing in enumerate(model.bearings):
+            rows = model.dofs.pedestal(bearing.name)
+            p = q[:, rows]                                               # (F, 2, k): along y, z
+            k, c = bearing.pedestal.stiffness[1:, 1:], bearing.pedestal.damping[1:, 1:]
+            expected = (k[None] + 1j * w[:, None, None] * c[None] - w[:, None, None]**2 * M_P * np.eye(2)) @ p
+            np.testing.assert_allclose(bearings[b][:, 1:3], expected, rtol=1e-10, atol=1e-12 * np.abs(expected).max())
+
+
+def test_pedestals_move_with_the_stator_and_count_in_its_mass():
+    """A rigid translation of the whole machine (the stator's, every relative motion zero) moves
+    the pedestals with it in all three directions: its kinetic energy is the total mass's."""
+    data = _rotor_on_pedestals({"pedestal_mass": M_P, "pedestal_stiffness": K_P})
+    data.update(stator={"mass": 40.0, "inertia": [2.0, 3.0, 4.0], "center_of_mass": [0.1, 0.2, -0.3]},
+                suspensions=[{"name": f"s{i}", "position": p, "stiffness": [1e5, 1e5, 1e5]}
+                             for i, p in enumerate([[0.5, 0.5, -0.5], [-0.5, 0.5, -0.5], [0.5, -0.5, -0.5],
+                                                    [-0.5, -0.5, -0.5]])])
+    model = rdm.Model.from_dict(data)
+    M = model.matrices().M
+    for axis in range(3):
+        assert M[axis, axis] == pytest.approx(40.0 + M_R + 2 * M_P, rel=1e-14)

@@ -159,17 +159,21 @@ def test_line_of_action_at_twenty_degrees():
     assert abs(abs(n @ _line_of_action(model)) - 1) < 1e-12
 
 
-def test_geared_rotors_match_point_masses_joined_along_the_line_of_action():
-    """Zero speed: the tilts are the rotors' own (2 k L^2 / J_d); the translations are two point
-    masses on springs 2 k_i, joined by k_mesh n n^T (built here; n from the static tooth force)."""
-    model = rdm.Model.from_dict(_geared({"mesh_stiffness": K_MESH}, pressure_angle=20.0))
+def test_geared_rotors_match_rigid_bodies_joined_along_the_line_of_action():
+    """Zero speed, gear plane at x = s off both centres of mass: each rotor [u_y, u_z, r_y, r_z]
+    with diag(m, m, J_d, J_d) on springs 2 k, 2 k L^2; the mesh k n_w n_w^T on the difference of
+    the two gears' motions in the plane, u(s) = u + r x (s e) (built here; n from the static
+    tooth force)."""
+    s = 0.1
+    model = rdm.Model.from_dict(_geared({"mesh_stiffness": K_MESH}, pressure_angle=20.0, position=[s, 0.0, 0.0]))
     n = _line_of_action(model)[1:]                                   # (y, z) components
-    coupling = K_MESH * np.outer(n, n)
-    K = np.block([[2 * K1 * np.eye(2) + coupling, -coupling], [-coupling, 2 * K2 * np.eye(2) + coupling]])
-    M = np.diag([M1, M1, M2, M2])
-    translations = np.sqrt(np.linalg.eigvalsh(np.linalg.solve(np.sqrt(M), np.linalg.solve(np.sqrt(M), K).T)))
-    tilts = np.repeat([math.sqrt(2 * K1 * L**2 / 0.05), math.sqrt(2 * K2 * L**2 / 0.05)], 2)
-    np.testing.assert_allclose(_frequencies(model), np.sort(np.r_[translations, tilts]), rtol=1e-10)
+    w = np.array([n[0], n[1], -s * n[1], s * n[0]])                  # n . u(s) per [u_y, u_z, r_y, r_z]
+    w = np.r_[w, -w]
+    K = np.diag([2 * K1, 2 * K1, 2 * K1 * L**2, 2 * K1 * L**2, 2 * K2, 2 * K2, 2 * K2 * L**2, 2 * K2 * L**2])
+    K = K + K_MESH * np.outer(w, w)
+    scale = 1 / np.sqrt([M1, M1, 0.05, 0.05, M2, M2, 0.05, 0.05])
+    expected = np.sqrt(np.linalg.eigvalsh(scale[:, None] * K * scale[None]))
+    np.testing.assert_allclose(_frequencies(model), expected, rtol=1e-10)
     without = rdm.Model.from_dict(_geared())
     assert not np.allclose(_frequencies(without), _frequencies(model), rtol=1e-3)
 

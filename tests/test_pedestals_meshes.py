@@ -253,3 +253,23 @@ def test_pedestals_move_with_the_stator_and_count_in_its_mass():
     M = model.matrices().M
     for axis in range(3):
         assert M[axis, axis] == pytest.approx(40.0 + M_R + 2 * M_P, rel=1e-14)
+
+
+def test_a_rigid_motion_of_the_whole_machine_strains_no_mesh():
+    """Gears on the stator (no bearings): the mesh never strains, the matrices are today's; gears
+    on bearings in a stator on mounts: the stator's six motions (rotors riding along) strain nothing."""
+    from rotordyn_modal.assembly import mesh_matrices
+
+    base = rdm.load_model("examples/gear_machine.toml")
+    data = base.to_dict()
+    data["transmissions"][0].update(mesh_stiffness=K_MESH, mesh_damping=30.0, driver_radius=0.2)
+    meshed = rdm.Model.from_dict(data)
+    for a, b in zip(base.matrices(), meshed.matrices()):
+        np.testing.assert_allclose(b, a, rtol=0, atol=1e-9 * np.abs(a).max())
+    data = _geared({"mesh_stiffness": K_MESH}, position=[0.1, 0.0, 0.0])
+    data.update(stator={"mass": 40.0, "inertia": [2.0, 3.0, 4.0], "center_of_mass": [0.3, -0.2, 0.1]},
+                suspensions=[{"name": "s", "position": [0.0, 0.0, -0.4], "stiffness": [1e5] * 3 + [1e4] * 3}])
+    model = rdm.Model.from_dict(data)
+    K = mesh_matrices(model)[0]
+    assert np.abs(K).max() > 1e6
+    np.testing.assert_allclose(K[:, :6], 0.0, atol=1e-9 * np.abs(K).max())

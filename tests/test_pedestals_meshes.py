@@ -262,7 +262,7 @@ def test_a_rigid_motion_of_the_whole_machine_strains_no_mesh():
 
     base = rdm.load_model("examples/gear_machine.toml")
     data = base.to_dict()
-    data["transmissions"][0].update(mesh_stiffness=K_MESH, mesh_damping=30.0, driver_radius=0.2)
+    data["transmissions"][0].update(mesh_stiffness=K_MESH, mesh_damping=30.0, driver_radius=0.04)
     meshed = rdm.Model.from_dict(data)
     for a, b in zip(base.matrices(), meshed.matrices()):
         np.testing.assert_allclose(b, a, rtol=0, atol=1e-9 * np.abs(a).max())

@@ -273,3 +273,34 @@ def test_a_rigid_motion_of_the_whole_machine_strains_no_mesh():
     K = mesh_matrices(model)[0]
     assert np.abs(K).max() > 1e6
     np.testing.assert_allclose(K[:, :6], 0.0, atol=1e-9 * np.abs(K).max())
+
+
+def _flexible_on_pedestals(scale=1.0) -> dict:
+    """test_flexible_rotors' machine (a flexible rotor in a casing on mounts) with its bearings on
+    pedestals and a gear mesh to the rotor fixed in the casing, which drives it."""
+    from test_flexible_rotors import _machine
+
+    data = _machine(scale=scale)
+    del data["rotors"][0]["speed_ratio"]
+    data["transmissions"] = [{"type": "gear", "driver": "m", "driven": "r", "ratio": 1 / 1.5,
+                              "position": [0.3, 0.0, 0.0], "pressure_angle": 22.0, "mesh_stiffness": 4e6}]
+    data["bearings"][0].update(pedestal_mass=1.5, pedestal_stiffness=[5e6, 8e6])
+    data["bearings"][1].update(pedestal_mass=2.5, pedestal_stiffness=6e6)
+    return data
+
+
+def test_flexible_rotor_on_pedestals_with_a_mesh_tends_to_the_rigid_rotor_as_one_over_e():
+    from test_flexible_rotors import _refined, _rigid_twin
+
+    speed = 300.0
+    rigid = _rigid_twin(rdm.Model.from_dict(_flexible_on_pedestals()), _flexible_on_pedestals())
+    assert rigid.dofs.pedestals and np.abs(rdm.assembly.mesh_matrices(rigid)[0]).max() > 0
+    targets = np.sort(rdm.modal(rigid, speed).eigenvalues.imag)
+    exact = np.array([_refined(rigid, speed, w) for w in targets])
+    errors = []
+    for scale in (1e3, 1e4):       # (at 1e6 the roots' round-off, 3e-7, would show)
+        flexible = rdm.Model.from_dict(_flexible_on_pedestals(scale))
+        found = np.array([_refined(flexible, speed, w) for w in exact])
+        errors.append(np.max(np.abs(found - exact) / exact))
+    assert errors[0] < 1e-3
+    assert 9.5 < errors[0] / errors[1] < 10.5, errors

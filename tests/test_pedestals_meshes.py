@@ -304,3 +304,12 @@ def test_flexible_rotor_on_pedestals_with_a_mesh_tends_to_the_rigid_rotor_as_one
         errors.append(np.max(np.abs(found - exact) / exact))
     assert errors[0] < 1e-3
     assert 9.5 < errors[0] / errors[1] < 10.5, errors
+
+
+def test_a_mesh_on_a_flexible_rotor_acts_at_the_node_in_the_gear_plane():
+    model = rdm.Model.from_dict(_flexible_on_pedestals())
+    shaft = model.rotor("r").flexible
+    node = int(np.flatnonzero(np.isclose(shaft.mesh.z, 0.3, rtol=0, atol=1e-12))[0])   # shaft starts at x = 0
+    K = rdm.assembly.mesh_matrices(model)[0]
+    touched = {name for name, column in zip(model.dofs.names, np.abs(K).max(axis=0)) if column > 0}
+    assert touched == {f"r.n{node}.uy", f"r.n{node}.uz"}     # the pinion m rides on the casing: no stator motion strains it

@@ -313,3 +313,14 @@ def test_a_mesh_on_a_flexible_rotor_acts_at_the_node_in_the_gear_plane():
     K = rdm.assembly.mesh_matrices(model)[0]
     touched = {name for name, column in zip(model.dofs.names, np.abs(K).max(axis=0)) if column > 0}
     assert touched == {f"r.n{node}.uy", f"r.n{node}.uz"}     # the pinion m rides on the casing: no stator motion strains it
+
+
+def test_whirl_counts_the_pedestals_a_pedestal_mode_whirls_with_its_mass():
+    """The whirl forms' total is the mass matrix (pedestals included); a pedestal-dominated mode
+    of an isotropic machine at speed whirls forward or backward circularly (|ratio| near 1)."""
+    from rotordyn_modal.analysis._whirl import whirl_forms
+
+    model = rdm.Model.from_dict(_rotor_on_pedestals({"pedestal_mass": M_P, "pedestal_stiffness": K_P}))
+    np.testing.assert_allclose(whirl_forms(model).total, model.matrices().M, rtol=1e-14, atol=1e-14)
+    result = rdm.modal(model, 400.0)
+    assert np.all(np.abs(np.abs(result.whirl_ratios) - 1) < 1e-9)

@@ -324,3 +324,11 @@ def test_whirl_counts_the_pedestals_a_pedestal_mode_whirls_with_its_mass():
     np.testing.assert_allclose(whirl_forms(model).total, model.matrices().M, rtol=1e-14, atol=1e-14)
     result = rdm.modal(model, 400.0)
     assert np.all(np.abs(np.abs(result.whirl_ratios) - 1) < 1e-9)
+
+
+def test_mesh_stiffness_is_a_study_key():
+    model = rdm.Model.from_dict(_geared({"mesh_stiffness": K_MESH}))
+    stiffer = model.variant([("transmissions.0.mesh_stiffness", "scale", 3.0)])
+    direct = rdm.Model.from_dict(_geared({"mesh_stiffness": 3 * K_MESH}))
+    np.testing.assert_array_equal(_frequencies(stiffer), _frequencies(direct))
+    assert not np.allclose(_frequencies(stiffer), _frequencies(model), rtol=1e-3)

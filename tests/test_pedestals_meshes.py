@@ -332,3 +332,16 @@ def test_mesh_stiffness_is_a_study_key():
     direct = rdm.Model.from_dict(_geared({"mesh_stiffness": 3 * K_MESH}))
     np.testing.assert_array_equal(_frequencies(stiffer), _frequencies(direct))
     assert not np.allclose(_frequencies(stiffer), _frequencies(model), rtol=1e-3)
+
+
+def test_static_deflection_on_pedestals_is_the_series_springs():
+    """A force F at the rotor's centre: the rotor moves F / (2 k_b) + F / (2 k_p), each bearing
+    carries F / 2 (on the y axis; stiffer pedestals along z as given)."""
+    model = rdm.Model.from_dict(_rotor_on_pedestals({"pedestal_mass": M_P, "pedestal_stiffness": [K_P, 4 * K_P]}))
+    force = 300.0
+    result = rdm.static(model, forces=[("r", [0.0, 0.0, 0.0], [0.0, force, -force])])
+    moved = result.rotor_motion("r")[:3]
+    np.testing.assert_allclose(moved, [0.0, force / (2 * K_B) + force / (2 * K_P), -force / (2 * K_B) - force / (8 * K_P)],
+                               rtol=1e-12, atol=1e-18)
+    for reaction in (r for r in result.reactions if r.kind == "bearing"):
+        np.testing.assert_allclose(reaction.force, [0.0, -force / 2, force / 2], rtol=1e-12, atol=1e-9)

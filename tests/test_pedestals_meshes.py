@@ -345,3 +345,27 @@ def test_static_deflection_on_pedestals_is_the_series_springs():
                                rtol=1e-12, atol=1e-18)
     for reaction in (r for r in result.reactions if r.kind == "bearing"):
         np.testing.assert_allclose(reaction.force, [0.0, -force / 2, force / 2], rtol=1e-12, atol=1e-9)
+
+
+def test_command_line_lists_pedestals_and_refuses_bad_ones_in_one_line(tmp_path, capsys):
+    import tomli_w
+
+    from rotordyn_modal.cli.main import main
+
+    data = _geared({"mesh_stiffness": K_MESH})
+    data["bearings"][0].update(pedestal_mass=3.0, pedestal_stiffness=[4e6, 5e6])
+    good = tmp_path / "good.toml"
+    good.write_text(tomli_w.dumps(data), encoding="utf-8")
+    assert main(["check", str(good)]) == 0
+    out = capsys.readouterr().out
+    assert "pinion-DE.pedestal.uy, pinion-DE.pedestal.uz" in out and "on a pedestal of 3 kg" in out
+    assert "mesh stiffness 5e+06 N/m" in out
+    assert main(["simulate", str(good), "--duration", "0.1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "pedestal" in err
+    data["bearings"][0]["pedestal_stiffness"] = [[4e6, 5e6], [5e6, 4e6]]
+    bad = tmp_path / "bad.toml"
+    bad.write_text(tomli_w.dumps(data), encoding="utf-8")
+    assert main(["modes", str(bad)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "bad.toml: [bearings.pinion-DE] pedestal_stiffness = " in err

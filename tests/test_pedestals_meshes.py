@@ -157,6 +157,15 @@ def test_line_of_action_at_twenty_degrees():
     assert math.degrees(math.acos(abs(n @ np.cross([1.0, 0, 0], u)))) == pytest.approx(20.0, abs=1e-12)
     np.testing.assert_allclose(mesh.pitch_point, 0.1 / 2.5 * u, atol=1e-15)
     assert abs(abs(n @ _line_of_action(model)) - 1) < 1e-12
+    data = _geared({"mesh_stiffness": K_MESH}, pressure_angle=20.0)      # the driver turning backwards
+    data["reference_rotor"] = "wheel"
+    data["rotors"][0].pop("speed_ratio")
+    data["rotors"][1]["speed_ratio"] = 1.0
+    backwards = rdm.Model.from_dict(data)
+    assert backwards.speed_ratios["pinion"] < 0
+    mirrored = gear_mesh(backwards.transmissions[0], backwards.rotor("pinion"), backwards.rotor("wheel"),
+                         backwards.spin_axis).direction
+    assert abs(abs(mirrored @ _line_of_action(backwards)) - 1) < 1e-12 and abs(mirrored @ n) < 0.99
 
 
 def test_geared_rotors_match_rigid_bodies_joined_along_the_line_of_action():
@@ -183,12 +192,16 @@ def test_mesh_keeps_reciprocity_and_damping_and_moving_the_origin_changes_nothin
     has the same roots at speed (gyroscopic, damped mesh, pedestals)."""
     extra = {"mesh_stiffness": K_MESH, "mesh_damping": 80.0}
     model = rdm.Model.from_dict(_geared(extra, pressure_angle=25.0, driver_radius=0.03))
-    M, C, G, K = model.matrices()
-    s = 1j * 2 * np.pi * 170.0
-    H = np.linalg.inv(M * s**2 + (C + 300.0 * G) * s + K)
-    H_reversed = np.linalg.inv(M * s**2 + (C - 300.0 * G) * s + K)
-    np.testing.assert_allclose(H, H_reversed.T, rtol=1e-10, atol=1e-12 * np.abs(H).max())
-    assert np.abs(G).max() > 0
+    on_pedestal = _geared(extra, pressure_angle=25.0, driver_radius=0.03)
+    on_pedestal["bearings"][0].update(pedestal_mass=3.0, pedestal_stiffness=[[4e6, 1e6], [1e6, 5e6]],
+                                      pedestal_damping=40.0, damping=[[90.0, 10.0], [10.0, 60.0]])
+    for case in (model, rdm.Model.from_dict(on_pedestal)):
+        M, C, G, K = case.matrices()
+        s = 1j * 2 * np.pi * 170.0
+        H = np.linalg.inv(M * s**2 + (C + 300.0 * G) * s + K)
+        H_reversed = np.linalg.inv(M * s**2 + (C - 300.0 * G) * s + K)
+        np.testing.assert_allclose(H, H_reversed.T, rtol=1e-10, atol=1e-12 * np.abs(H).max())
+        assert np.abs(G).max() > 0
     roots = _by_frequency(rdm.modal(model, 300.0).eigenvalues)
     data = _geared(extra, shift=(0.7, -1.3, 2.1), pressure_angle=25.0, driver_radius=0.03)
     data["bearings"][0].update(pedestal_mass=3.0, pedestal_stiffness=[4e6, 5e6])

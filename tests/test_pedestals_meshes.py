@@ -382,3 +382,12 @@ def test_command_line_lists_pedestals_and_refuses_bad_ones_in_one_line(tmp_path,
     assert main(["modes", str(bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "bad.toml: [bearings.pinion-DE] pedestal_stiffness = " in err
+
+
+def test_a_mesh_needs_two_spin_axes_apart():
+    data = _geared({"mesh_damping": 10.0})
+    data["rotors"][1]["center_of_mass"] = [0.3, 0.0, 0.0]          # on the pinion's axis
+    for bearing in data["bearings"][2:]:
+        bearing["position"] = [0.3 + bearing["position"][0], 0.0, 0.0]
+    with pytest.raises(ModelError, match=r"mesh_damping = 10.0: expected a gear between rotors whose spin axes are apart"):
+        rdm.Model.from_dict(data)

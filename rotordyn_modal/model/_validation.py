@@ -20,6 +20,7 @@ from ..unbalance_standards import BALANCE_GRADES, balance_grade, permissible_unb
 from ..elements import _bearing_validation
 from ..elements._mount_validation import suspension as _suspension
 from . import flexible as _flexible
+from .geometry import gear_mesh
 from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, semidefinite_problem, visible, \
     visible_names
 from .components import (
@@ -366,7 +367,7 @@ def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations, tra
         stations += [shaft.z_of(x.position) for x in (*sensors, *excitations)
                      if x.rotor == rotor.name and x.position is not None]
         stations += [shaft.z_of(_gear_plane(t, rotors)) for t in transmissions
-                     if rotor.name in (t.driver, t.driven) and (t.mesh_stiffness or t.mesh_damping) is not None]
+                     if rotor.name in (t.driver, t.driven) and _has_mesh(t)]
         meshed = _flexible.with_mesh(shaft, stations)
         if meshed.mesh.n_nodes > _flexible.MAX_NODES:
             raise _Table(top.source, f"rotors.{visible(rotor.name)}", {}).error(
@@ -377,6 +378,11 @@ def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations, tra
         else:
             out.append(dataclasses.replace(rotor, flexible=meshed))
     return out
+
+
+def _has_mesh(t) -> bool:
+    """A gear with a mesh stiffness or damping."""
+    return t.mesh_stiffness is not None or t.mesh_damping is not None
 
 
 def _gear_plane(t, rotors):
@@ -427,16 +433,15 @@ def _transmission_geometry(table: _Table, kind: str) -> dict:
 def _check_meshes(tables, transmissions, rotors, spin_axis) -> None:
     """A gear with a mesh stiffness or damping needs its line of action: two spin axes apart,
     a pitch radius below their distance, and its plane on each flexible rotor's shaft."""
-    from .geometry import gear_mesh
-
     by_name = {r.name: r for r in rotors}
     for table, t in zip(tables, transmissions):
-        if t.mesh_stiffness is None and t.mesh_damping is None:
+        if not _has_mesh(t):
             continue
         mesh = gear_mesh(t, by_name[t.driver], by_name[t.driven], spin_axis)
         if mesh is None:
-            raise table.error("mesh_stiffness", t.mesh_stiffness, "a gear between rotors whose spin axes are "
-                              "apart (the driver's and the driven rotor's axes coincide: no line of centres)")
+            key = "mesh_stiffness" if t.mesh_stiffness is not None else "mesh_damping"
+            raise table.error(key, getattr(t, key), "a gear between rotors whose spin axes are apart (the "
+                              "driver's and the driven rotor's axes coincide: no line of centres)")
         if not mesh.radius < mesh.distance:
             raise table.error("driver_radius", t.driver_radius, f"a pitch radius below the centre distance "
                               f"{mesh.distance:g} m of the two spin axes")

@@ -46,7 +46,7 @@ from .model.geometry import gear_mesh, point_force_column, point_motion_rows, sh
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
            "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "flexible_rotor_matrices", "dependent_bearing_matrices",
-           "pedestal_mass", "pedestal_stiffness_damping", "mesh_matrices", "sensor_rows", "excitation_columns", "generalized_force", "weights", "weight_force"]
+           "pedestal_mass", "pedestal_stiffness_damping", "mesh_matrices", "sensor_rows", "point_rows", "excitation_columns", "generalized_force", "weights", "weight_force"]
 
 
 class Matrices(NamedTuple):
@@ -359,6 +359,33 @@ def shaft_stiffness(model) -> np.ndarray:
     return 0.5 * (K + K.T)
 
 
+def stiffness_parts(model, speed: float | None = None) -> dict:
+    """``K`` of :func:`matrices` split by where the strain energy is stored: ``'shaft'`` (the
+    flexible rotors' bending, :func:`shaft_stiffness`), ``'bearings'`` and ``'mounts'`` (the
+    suspensions' static stiffness; their Maxwell branches are not in ``K``). Only the parts the
+    model has; they sum to ``matrices(model, speed).K`` (a new kind of element that adds to ``K``
+    adds its part here too: ``tests/test_strain_energy.py`` checks the sum on every example).
+
+    Parameters
+    ----------
+    model : Model
+    speed : float, optional
+        Reference speed [rad/s], needed for speed-dependent bearings.
+
+    Returns
+    -------
+    dict of str -> ndarray, shape (n, n) [N/m, ...]
+    """
+    parts = {}
+    if any(r.flexible is not None for r in model.rotors):
+        parts["shaft"] = shaft_stiffness(model)
+    if model.bearings:
+        parts["bearings"] = bearing_matrices(model, speed)[0]
+    if model.suspensions:
+        parts["mounts"] = frame_block(model, _suspension_sum(model, "stiffness_matrix"))
+    return parts
+
+
 def bearing_matrices(model, speed: float | None = None, constant_only: bool = False,
                      dependent_only: bool = False):
     """Stiffness and damping of the bearings in the generalized space.
@@ -517,7 +544,18 @@ def sensor_rows(model, names=None, rotor_motions=None) -> np.ndarray:
     -------
     ndarray, shape (n_sensors, n) [m/m, m/rad]
     """
-    sensors = _select(model.sensors, names, "sensor")
+    return point_rows(model, _select(model.sensors, names, "sensor"), rotor_motions)
+
+
+def point_rows(model, sensors, rotor_motions=None) -> np.ndarray:
+    """Rows mapping ``q`` to displacements of points along directions, as :func:`sensor_rows`
+    for any items with a sensor's ``rotor``, ``measure``, ``position`` and ``direction`` (the
+    model's sensors, or points made by an analysis: a close-clearance station's two axes).
+
+    Returns
+    -------
+    ndarray, shape (n_items, n) [m/m, m/rad]
+    """
     layout = model.dofs
     if not sensors:
         return np.zeros((0, layout.n))

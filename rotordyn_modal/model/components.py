@@ -17,7 +17,7 @@ import numpy as np
 
 __all__ = [
     "Stator", "Rotor", "Transmission", "Suspension", "Bearing", "Pedestal", "Unbalance", "Sensor", "Excitation",
-    "TOP_LEVEL_KEYS", "ARRAY_TABLES", "component_class", "input_keys", "is_finite_number",
+    "Clearance", "TOP_LEVEL_KEYS", "ARRAY_TABLES", "component_class", "input_keys", "is_finite_number",
 ]
 
 #: keys read at the top level of a model description
@@ -75,6 +75,9 @@ class Rotor:
         The keys of a flexible rotor (docs/model-file.md, "Flexible rotors"). After validation
         :attr:`flexible` holds its :class:`~rotordyn_modal.model.flexible.Shaft` with the mesh,
         and ``mass`` ... ``diametral_inertia`` the values computed from it; None for a rigid rotor.
+    clearances : list of dict, optional
+        ``[[rotors.clearances]]``: close-clearance stations (seals), validated into
+        :class:`Clearance` items (``Model.clearances``).
     """
 
     name: str
@@ -89,7 +92,38 @@ class Rotor:
     start: Any = None
     shear: str | None = None
     element_length: float | None = None
+    clearances: Any = None
     flexible: Any = field(default=None, repr=False, compare=False)
+
+
+@dataclass(frozen=True)
+class Clearance:
+    """A close-clearance station of a rotor (a labyrinth seal, an impeller eye seal, a balance
+    piston): a point on the rotor's axis and the radial running clearance there.
+
+    Parameters
+    ----------
+    name : str
+        Unique among the model's clearances.
+    rotor : str
+    position : ndarray, shape (3,) [m]
+        The point on the rotor's axis, model axes (a node of a flexible rotor's mesh).
+    radial_clearance : float [m]
+        The minimum design radial running clearance (half the diametral one), > 0.
+    axial_position : float or None [m]
+        On a flexible rotor, the station from the shaft's start; None on a rigid rotor.
+    """
+
+    name: str
+    rotor: str
+    position: Any
+    radial_clearance: float
+    axial_position: float | None = None
+
+    @property
+    def diametral_clearance(self) -> float:
+        """[m] twice the radial clearance."""
+        return 2.0 * self.radial_clearance
 
 
 @dataclass(frozen=True)

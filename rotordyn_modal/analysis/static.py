@@ -36,7 +36,7 @@ import numpy as np
 
 from . import _arguments
 from .shaft_statics import shaft_statics, weight_force
-from ..assembly import bearing_motion, generalized_force, shaft_stiffness, weights
+from ..assembly import bearing_motion, generalized_force, pedestal_stiffness_damping, shaft_stiffness, weights
 from ..elements.bearings import evaluate
 from ..errors import InputError, ModelWarning
 from ..linear_system import static_solution
@@ -562,6 +562,8 @@ def _stiffness(model, speed):
         rows, moves = bearing_motion(model, b)
         stiffness[rows, rows] += moves.T @ k6 @ moves
         supports.append(("bearing", b, k6))
+    if model.dofs.pedestals:     # the bearings' pedestals to the stator (their weight is no load)
+        stiffness += pedestal_stiffness_damping(model)[0]
     return stiffness, supports
 
 

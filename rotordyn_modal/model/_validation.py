@@ -20,6 +20,7 @@ from ..unbalance_standards import BALANCE_GRADES, balance_grade, permissible_unb
 from ..elements import _bearing_validation
 from ..elements._mount_validation import suspension as _suspension
 from . import flexible as _flexible
+from .geometry import gear_mesh
 from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, semidefinite_problem, visible, \
     visible_names
 from .components import (
@@ -126,7 +127,8 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
                    for i, t in enumerate(_named_tables(source, data, "excitations").values())]
     _bearing_validation.check_frame(top, stator, suspensions, bearings, sensors, excitations)
     clearances = _clearances(rotor_tables, rotors, on_bearings, np.asarray(spin_axis, dtype=float))
-    rotors = _meshed(top, rotors, bearings, unbalances, sensors, excitations, clearances)
+    _check_meshes(transmission_tables, transmissions, rotors, spin_axis)
+    rotors = _meshed(top, rotors, bearings, unbalances, sensors, excitations, clearances, transmissions)
     return {
         "name": name, "spin_axis": spin_axis, "reference_rotor": reference, "gravity": gravity,
         "stator": stator, "rotors": tuple(rotors), "transmissions": tuple(transmissions),
@@ -346,8 +348,9 @@ def _flexible_unbalance(table: _Table, unbalance: Unbalance, rotors) -> Unbalanc
     return dataclasses.replace(unbalance, axial_offset=z - centre)
 
 
-def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations, clearances=()):
-    """The rotors, each flexible one with its mesh: a node at every station of the model on it."""
+def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations, clearances=(), transmissions=()):
+    """The rotors, each flexible one with its mesh: a node at every station of the model on it
+    (a gear with a mesh stiffness or damping: its plane)."""
     out = []
     for rotor in rotors:
         shaft = rotor.flexible
@@ -365,6 +368,8 @@ def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations, cle
         stations += [shaft.z_of(x.position) for x in (*sensors, *excitations)
                      if x.rotor == rotor.name and x.position is not None]
         stations += [c.axial_position for c in clearances if c.rotor == rotor.name]
+        stations += [shaft.z_of(_gear_plane(t, rotors)) for t in transmissions
+                     if rotor.name in (t.driver, t.driven) and _has_mesh(t)]
         meshed = _flexible.with_mesh(shaft, stations)
         if meshed.mesh.n_nodes > _flexible.MAX_NODES:
             raise _Table(top.source, f"rotors.{visible(rotor.name)}", {}).error(
@@ -375,6 +380,16 @@ def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations, cle
         else:
             out.append(dataclasses.replace(rotor, flexible=meshed))
     return out
+
+
+def _has_mesh(t) -> bool:
+    """A gear with a mesh stiffness or damping."""
+    return t.mesh_stiffness is not None or t.mesh_damping is not None
+
+
+def _gear_plane(t, rotors):
+    """A point of a gear's plane: its ``position``, else the driver's centre of mass."""
+    return t.position if t.position is not None else next(r.center_of_mass for r in rotors if r.name == t.driver)
 
 
 _CLEARANCE_KEYS = ("name", "position", "axial_position", "radial_clearance")
@@ -448,7 +463,8 @@ _MAX_PRESSURE_ANGLE = 45.0
 
 def _transmission_geometry(table: _Table, kind: str) -> dict:
     """The optional keys of a transmission's static loads (docs/model-file.md), checked."""
-    for key, owner in (("pressure_angle", "gear"), ("pretension", "belt")):
+    for key, owner in (("pressure_angle", "gear"), ("pretension", "belt"), ("mesh_stiffness", "gear"),
+                       ("mesh_damping", "gear")):
         if key in table.data and kind != owner:
             raise table.error(key, table.data[key], f"no value: this key is for type = '{owner}' transmissions")
     angle = table.number("pressure_angle", nonnegative=True)
@@ -457,7 +473,32 @@ def _transmission_geometry(table: _Table, kind: str) -> dict:
                           f"{_MAX_PRESSURE_ANGLE:g} (20 is standard)")
     return {"position": table.vector3("position"),
             "driver_radius": table.number("driver_radius", positive=True),
-            "pressure_angle": angle, "pretension": table.number("pretension", nonnegative=True)}
+            "pressure_angle": angle, "pretension": table.number("pretension", nonnegative=True),
+            "mesh_stiffness": table.number("mesh_stiffness", positive=True),
+            "mesh_damping": table.number("mesh_damping", nonnegative=True)}
+
+
+def _check_meshes(tables, transmissions, rotors, spin_axis) -> None:
+    """A gear with a mesh stiffness or damping needs its line of action: two spin axes apart,
+    a pitch radius below their distance, and its plane on each flexible rotor's shaft."""
+    by_name = {r.name: r for r in rotors}
+    for table, t in zip(tables, transmissions):
+        if not _has_mesh(t):
+            continue
+        mesh = gear_mesh(t, by_name[t.driver], by_name[t.driven], spin_axis)
+        if mesh is None:
+            key = "mesh_stiffness" if t.mesh_stiffness is not None else "mesh_damping"
+            raise table.error(key, getattr(t, key), "a gear between rotors whose spin axes are apart (the "
+                              "driver's and the driven rotor's axes coincide: no line of centres)")
+        if not mesh.radius < mesh.distance:
+            raise table.error("driver_radius", t.driver_radius, f"a pitch radius below the centre distance "
+                              f"{mesh.distance:g} m of the two spin axes")
+        for name, centre in ((t.driver, mesh.driver_centre), (t.driven, mesh.driven_centre)):
+            shaft = by_name[name].flexible
+            if shaft is not None and not -1e-9 <= shaft.z_of(centre) <= shaft.length + 1e-9:
+                raise table.error("position", table.data.get("position", "<missing>"),
+                                  f"a gear plane on rotor {visible(name)!r}'s shaft (0 .. {shaft.length:g} m "
+                                  f"from its start; it is at {shaft.z_of(centre):g} m)")
 
 
 def mesh_name(driver: str, driver_teeth, driven: str) -> str | None:

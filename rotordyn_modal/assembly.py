@@ -361,8 +361,9 @@ def shaft_stiffness(model) -> np.ndarray:
 
 def stiffness_parts(model, speed: float | None = None) -> dict:
     """``K`` of :func:`matrices` split by where the strain energy is stored: ``'shaft'`` (the
-    flexible rotors' bending, :func:`shaft_stiffness`), ``'bearings'`` and ``'mounts'`` (the
-    suspensions' static stiffness; their Maxwell branches are not in ``K``). Only the parts the
+    flexible rotors' bending, :func:`shaft_stiffness`), ``'bearings'``, ``'mounts'`` (the
+    suspensions' static stiffness; their Maxwell branches are not in ``K``), ``'pedestals'`` (the
+    bearings' pedestals' springs) and ``'meshes'`` (gear mesh stiffness). Only the parts the
     model has; they sum to ``matrices(model, speed).K`` (a new kind of element that adds to ``K``
     adds its part here too: ``tests/test_strain_energy.py`` checks the sum on every example).
 
@@ -383,6 +384,10 @@ def stiffness_parts(model, speed: float | None = None) -> dict:
         parts["bearings"] = bearing_matrices(model, speed)[0]
     if model.suspensions:
         parts["mounts"] = frame_block(model, _suspension_sum(model, "stiffness_matrix"))
+    if model.dofs.pedestals:
+        parts["pedestals"] = pedestal_stiffness_damping(model)[0]
+    if any(t.mesh_stiffness is not None for t in model.transmissions):
+        parts["meshes"] = mesh_matrices(model)[0]
     return parts
 
 

@@ -391,3 +391,21 @@ def test_a_mesh_needs_two_spin_axes_apart():
         bearing["position"] = [0.3 + bearing["position"][0], 0.0, 0.0]
     with pytest.raises(ModelError, match=r"mesh_damping = 10.0: expected a gear between rotors whose spin axes are apart"):
         rdm.Model.from_dict(data)
+
+
+def test_strain_energy_split_counts_pedestals_and_meshes():
+    """With pedestals and a gear mesh the strain-energy parts are still the whole stiffness
+    (none left out), every mode's fractions sum to 1 and the mesh is strained in some."""
+    from rotordyn_modal.assembly import matrices, stiffness_parts
+
+    model = rdm.Model.from_dict(_flexible_on_pedestals())
+    parts = stiffness_parts(model, 300.0)
+    assert {"pedestals", "meshes"} <= set(parts)
+    total = matrices(model, 300.0).K
+    assert np.allclose(sum(parts.values()), total, rtol=0, atol=1e-12 * np.abs(total).max())
+    result = rdm.modal(model, 300.0)
+    rows = result.energy_fractions[result.oscillatory]
+    assert np.allclose(rows.sum(axis=1), 1.0, atol=1e-10)
+    table = result.to_dataframe()
+    assert {"pedestal_energy", "mesh_energy"} <= set(table.columns)
+    assert (table["mesh_energy"] > 1e-6).any()

@@ -22,7 +22,7 @@ OVERDAMPED_LIMIT = 0.99
 #: (the threshold of ``check``'s "first mostly bending" frequency too)
 BENDING_FRACTION = 0.5
 #: the ``kind`` of a mode that is not a bending mode, by the part holding most of its strain energy
-_KINDS = {"bearings": "rigid-body", "mounts": "suspension"}
+_KINDS = {"bearings": "rigid-body", "mounts": "suspension", "pedestals": "pedestal", "meshes": "gear-mesh"}
 
 
 def is_oscillating(eigenvalues) -> np.ndarray:
@@ -151,8 +151,8 @@ class ModalResult:
     def kinds(self) -> np.ndarray:
         """Each root's kind by its strain energy, shape (n_roots,): ``'bending'`` when more than
         :data:`BENDING_FRACTION` of it is in the shafts, else ``'rigid-body'`` (most in the
-        bearings: the rotors move nearly rigidly on them) or ``'suspension'`` (most in the
-        mounts); ``'none'`` where the shape strains nothing."""
+        bearings: the rotors move nearly rigidly on them), ``'suspension'`` (most in the
+        mounts), ``'pedestal'`` or ``'gear-mesh'``; ``'none'`` where the shape strains nothing."""
         fractions = self.energy_fractions
         if fractions is None or not self.energy_parts:
             return np.full(len(self.eigenvalues), "none", dtype=object)
@@ -341,7 +341,8 @@ def modal(model, speed: float = 0.0) -> ModalResult:
 
 
 #: the table's column of each part's fraction of the strain energy
-_ENERGY_COLUMNS = {"shaft": "shaft_energy", "bearings": "bearing_energy", "mounts": "mount_energy"}
+_ENERGY_COLUMNS = {"shaft": "shaft_energy", "bearings": "bearing_energy", "mounts": "mount_energy",
+                   "pedestals": "pedestal_energy", "meshes": "mesh_energy"}
 
 
 def strain_energy_fractions(model, speed: float, shapes, eigenvalues):
@@ -365,7 +366,8 @@ def strain_energy_fractions(model, speed: float, shapes, eigenvalues):
     Returns
     -------
     parts : tuple of str
-        Those of ``'shaft'``, ``'bearings'``, ``'mounts'`` the model has.
+        Those of ``'shaft'``, ``'bearings'``, ``'mounts'``, ``'pedestals'``, ``'meshes'`` the
+        model has.
     fractions : ndarray, shape (n_roots, n_parts)
         Rows summing to 1 (nan where the shape strains nothing: rigid-body zero roots).
     """

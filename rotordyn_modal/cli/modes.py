@@ -28,9 +28,10 @@ and nodes (ticks), normalised so that the largest displacement is 1. A flexible 
 follows its elements' shape functions between the nodes; a rigid rotor's is straight.
 
 CSV columns: mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part; with a
-flexible rotor then shaft_energy,bearing_energy,mount_energy (those the model has: the fractions
-of the mode's strain energy in the shafts, bearings and mounts, summing to 1) and kind ('bending'
-when over half of it is in the shafts, else 'rigid-body' or 'suspension': docs/model-file.md,
+flexible rotor then shaft_energy,bearing_energy,mount_energy,pedestal_energy,mesh_energy (those
+the model has: the fractions of the mode's strain energy in the shafts, bearings, mounts, pedestals
+and gear meshes, summing to 1) and kind ('bending' when over half of it is in the shafts, else
+'rigid-body', 'suspension', 'pedestal' or 'gear-mesh', where most of it is: docs/model-file.md,
 "Which modes are bending modes")
 
 examples:

@@ -37,7 +37,7 @@ def kernels(backend: str = "auto"):
 
 def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, initial="rest",
              impulse=None, impulse_size=1.0, samples=None, rtol=1e-9, atol=1e-12,
-             unbalance_phases_deg=None, backend="auto", progress=False) -> SimulationResult:
+             unbalance_phases_deg=None, backend="auto", progress=False, modes_below=None) -> SimulationResult:
     """Integrate the machine's nonlinear equations of motion with large rotations.
 
     The stator is a rigid body whose rotation is an axial (roll) angle plus a transverse Euler
@@ -92,6 +92,17 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         compiles the kernels (~20 s) and prints :data:`COMPILE_NOTICE` on stderr first.
     progress : bool
         Show a progress bar (simulated time).
+    modes_below : float, optional
+        Only with a flexible rotor: the basis of the linear time model keeps the undamped modes
+        at rest below this [rad/s] (default: 4 times the fastest spin, at least the 12 lowest),
+        plus the static deflections under the unbalances, weights and impulse; ``math.inf``
+        keeps every mode (the linear model exactly, slower).
+
+    A model with a flexible rotor is integrated as its linear model instead (docs/simulate.md,
+    "Flexible rotors"; :mod:`rotordyn_modal.simulation.flexible`): small motions of every body
+    and of the shafts' nodes about the spinning machine, the drive's angle prescribed
+    (``drive='constant'`` or ``'ramp'``; ``'free'`` and journal bearings refused), the
+    assumption said once on stderr; ``backend`` then selects a small right-hand side of its own.
 
     Returns
     -------
@@ -105,15 +116,15 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     >>> bool(abs(res.spin_speed[-1] / 50.0 - 1) < 1e-3)
     True
     """
-    flexible = [r.name for r in model.rotors if r.flexible is not None]
-    if flexible:
-        raise InputError(f"{model.source}: rotor {flexible[0]!r} is flexible (it has a [[rotors.shaft]]): the time "
-                         "simulation models rigid rotors only; use the linear analyses (modes, campbell, frf, "
-                         "unbalance) for flexible rotors")
     duration, speed = _positive(duration, "duration"), _speed(speed, "speed")
     final_speed = None if final_speed is None else _speed(final_speed, "final_speed")
     rtol, atol = _tolerance(rtol, "rtol", *_RTOL_RANGE), _tolerance(atol, "atol", *_ATOL_RANGE)
     checked_mass_inverse(model)    # the model every analysis refuses is refused here too
+    if any(r.flexible is not None for r in model.rotors):
+        if backend not in BACKENDS:
+            raise InputError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+        return _simulate_flexible(model, duration, speed, drive, final_speed, initial, impulse, impulse_size,
+                                  samples, rtol, atol, unbalance_phases_deg, modes_below, progress, backend)
     rate = _fastest_rate(model, speed, final_speed)
     _check_duration(duration, rate)                # before any work on a run that would not end
     system = system_arrays(model, unbalance_phases_deg)
@@ -138,6 +149,21 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
                            "with an ideal drive, or extend the table")
     return SimulationResult.from_states(model, system, kn, extra, times, states, drive=drive)
+
+
+def _simulate_flexible(model, duration, speed, drive, final_speed, initial, impulse, impulse_size, samples,
+                       rtol, atol, phases, modes_below, progress, backend):
+    """The linear time model of a machine with a flexible rotor (arguments checked as for the others)."""
+    from .flexible import refuse, simulate_linear
+
+    refuse(model, drive)
+    _drive(drive, speed, final_speed, duration)
+    span = [speed] if final_speed is None else [speed, final_speed]
+    check_table_speeds(model, span, "the simulation's speeds " + " .. ".join(f"{v:.6g}" for v in span) + " rad/s")
+    return simulate_linear(model, duration, speed, drive=drive, final_speed=final_speed, initial=initial,
+                           impulse=impulse, impulse_size=impulse_size, samples=samples, rtol=rtol, atol=atol,
+                           unbalance_phases_deg=phases, modes_below=modes_below, progress=progress,
+                           backend=backend)
 
 
 #: the line printed on stderr before numba compiles the kernels (first run only)

@@ -123,3 +123,53 @@ def test_a_flexible_machine_in_free_spin_or_on_journal_bearings_is_refused_by_on
     with pytest.raises(InputError, match=r"\[bearings.A\] is a journal bearing") as error:
         rdm.simulate(rdm.Model.from_dict(data, source="small.toml"), 0.1, 100.0)
     assert "\n" not in str(error.value)
+
+
+def test_a_run_up_from_rest_starts_with_the_unbalances_tangential_force():
+    """From standstill the unbalance's force is its angular acceleration term alone: the
+    eccentric mass ``m`` at ``eps`` is accelerated by ``eps alpha`` along ``t = -sin(phase) a +
+    cos(phase) b`` and pulls the rotor back by ``U alpha`` along ``-t`` (Newton: the centre of mass
+    ``x + eps r(theta)`` moves only by the bearings' forces); and the casing takes the reaction
+    of the torque that spins the rotor up, ``-J_p alpha`` about the spin axis. At first the
+    machine moves as ``M^-1 f t^2 / 2``, with M, the sensor rows and the force columns of a point
+    force at the unbalance and of a moment on the casing taken from the linear model."""
+    from rotordyn_modal.analysis.unbalance import phase_reference
+    from rotordyn_modal.assembly import excitation_columns, sensor_rows
+
+    data = _machine(gear=False).to_dict()
+    a, b = phase_reference(data["spin_axis"])
+    phase = np.radians(data["unbalances"][0]["phase_deg"])
+    data["excitations"] = [{"name": "tangential", "rotor": "shaft", "axial_position": 0.3,
+                            "direction": (-np.sin(phase) * a + np.cos(phase) * b).tolist()},
+                           {"name": "roll", "kind": "moment", "position": [0.3, 0.0, 0.0], "direction": [1.0, 0.0, 0.0]}]
+    model = rdm.Model.from_dict(data)
+    alpha, t = 1e4, 1e-5                          # t far below the fastest mode's period (1.6 ms)
+    res = rdm.simulate(model, 2 * t, 0.0, drive="ramp", final_speed=2 * t * alpha, samples=3, modes_below=np.inf,
+                       rtol=1e-12, atol=1e-20)
+    columns = excitation_columns(model)
+    force = -alpha * (data["unbalances"][0]["amount"] * columns[:, 0] + model.rotors[0].polar_inertia * columns[:, 1])
+    expected = sensor_rows(model) @ np.linalg.solve(model.matrices(0.0).M, force) * t ** 2 / 2
+    np.testing.assert_allclose(res.sensors[1], expected, rtol=1e-2, atol=1e-3 * np.abs(expected).max())
+
+
+def test_linear_time_model_of_a_rigid_machine_follows_the_nonlinear_simulation(examples_dir):
+    """The time model of flexible machines run on a rigid one (the belt-driven fan on bearings in
+    its casing on mounts, without gravity) through the start of a run-up from standstill: it
+    follows the nonlinear large-rotation simulation (exact kinematics of the unbalanced rotors
+    and the casing) to the size of the neglected terms, which shrink with the motion: the
+    tangential unbalance force and the casing's reaction to the torque that spins the rotors up
+    are both in it (without either, the motion differs by its own size)."""
+    from rotordyn_modal.simulation.flexible import simulate_linear
+
+    data = rdm.load_model(examples_dir / "fan_on_bearings.toml").to_dict()
+    data["gravity"] = [0.0, 0.0, 0.0]
+    model = rdm.Model.from_dict(data)
+    errors = []
+    for top in (30.0, 60.0):             # the casing's roll (and the neglected terms) grow with the ramp
+        nonlinear = rdm.simulate(model, 0.05, 0.0, drive="ramp", final_speed=top, samples=101, rtol=1e-10,
+                                 atol=1e-14)
+        linear = simulate_linear(model, 0.05, 0.0, drive="ramp", final_speed=top, initial="rest", impulse=None,
+                                 impulse_size=1.0, samples=101, rtol=1e-10, atol=1e-14, unbalance_phases_deg=None,
+                                 modes_below=np.inf, progress=False)
+        errors.append(np.abs(linear.sensors - nonlinear.sensors).max() / np.abs(nonlinear.sensors).max())
+    assert errors[0] < 1e-2 and errors[1] > 1.5 * errors[0], errors

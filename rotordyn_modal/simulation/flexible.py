@@ -10,7 +10,8 @@ motion about the spinning, undeformed machine::
 
 with the matrices of the linearized model (``rotordyn_modal.assembly``: shaft elements,
 disks, bearings at each rotor's own speed, mounts), the unbalances as rotating forces
-``U (theta'^2 [cos theta, sin theta] + theta'' [-sin theta, cos theta])`` at their points
+``U (theta'^2 [cos theta, sin theta] - theta'' [-sin theta, cos theta])`` at their points (the
+reaction of the eccentric mass's acceleration: it lags on a run-up)
 (``theta = r_j phi + phase``) and the weights ``f_g = M a_g`` (gravity as a uniform
 acceleration ``a_g`` of every body). ``q = V eta`` on a speed-independent basis: the undamped
 modes at the start speed below a cutoff (at least the lowest :data:`LOWEST`) plus the static
@@ -92,6 +93,9 @@ class ReducedSystem:
         each unbalance's point.
     gravity : ndarray, shape (r,)
         Reduced weights.
+    reaction : ndarray, shape (r,)
+        Reduced reaction on the casing of the torque that accelerates the rotors' spins, per unit
+        angular acceleration of the drive [N m / (rad/s^2)] (zeros on the ground).
     """
 
     V: np.ndarray
@@ -107,6 +111,7 @@ class ReducedSystem:
     Fa: np.ndarray
     Fb: np.ndarray
     gravity: np.ndarray
+    reaction: np.ndarray
 
     @property
     def size(self) -> int:
@@ -124,17 +129,6 @@ class ReducedSystem:
             K += moves.T @ k6 @ moves
             C += moves.T @ c6 @ moves
         return K, C
-
-    def forces(self, phi, speed, accel):
-        """Reduced unbalance forces plus weights at drive angles ``phi`` [rad], speeds [rad/s] and
-        accelerations [rad/s^2] (arrays of one shape (N,) or scalars), shape (N, r)."""
-        phi, speed, accel = (np.atleast_1d(np.asarray(x, dtype=float)) for x in (phi, speed, accel))
-        theta = self.ratio * phi[:, None] + self.phase
-        rate, rate_dot = self.ratio * speed[:, None], self.ratio * accel[:, None]
-        c, s = np.cos(theta), np.sin(theta)
-        along_a = self.amount * (rate ** 2 * c - rate_dot * s)
-        along_b = self.amount * (rate ** 2 * s + rate_dot * c)
-        return along_a @ self.Fa + along_b @ self.Fb + self.gravity
 
 
 def unbalance_loads(model, phases_deg=None):
@@ -170,6 +164,20 @@ def unbalance_loads(model, phases_deg=None):
     return (np.array([model.rotor(u.rotor).speed_ratio for u in model.unbalances], dtype=float),
             np.radians(np.asarray(phases, dtype=float)).reshape(-1),
             np.array([u.amount for u in model.unbalances], dtype=float), Fa, Fb)
+
+
+def drive_reaction(model) -> np.ndarray:
+    """Generalized force (n,) on the casing per unit angular acceleration of the drive: the
+    reaction of the torque that spins the rotors up, a moment ``-sum_j r_j J_p,j e`` [N m s^2]
+    (the rotors' angular momentum about ``e`` changes at ``alpha sum_j r_j J_p,j``; drives and
+    transmissions sit in the casing). Zeros when the bearings stand on the ground."""
+    from ..assembly import generalized_force
+
+    if not model.dofs.n_frame:
+        return np.zeros(model.dofs.n)
+    momentum = sum(r.speed_ratio * r.polar_inertia for r in model.rotors)
+    e = np.asarray(model.spin_axis, dtype=float)
+    return generalized_force(model, None, model.reference_point, np.r_[0.0, 0.0, 0.0, -momentum * e])
 
 
 def gravity_acceleration(model) -> np.ndarray:
@@ -229,7 +237,8 @@ def reduced_system(model, speed: float, cutoff: float, extra_loads=(), phases_de
         K_start += bearing_matrices(model, speed, dependent_only=True)[0]
     ratio, phase, amount, Fa, Fb = unbalance_loads(model, phases_deg)
     gravity = M @ gravity_acceleration(model) if np.any(model.gravity) else np.zeros(len(M))
-    loads = np.column_stack([*Fa, *Fb, gravity, *extra_loads]) if len(M) else np.zeros((0, 0))
+    reaction = drive_reaction(model)
+    loads = np.column_stack([*Fa, *Fb, gravity, reaction, *extra_loads]) if len(M) else np.zeros((0, 0))
     V, frequencies, modes = _basis(0.5 * (M + M.T), 0.5 * (K_start + K_start.T), loads, cutoff)
     moves = []
     for bearing in dependent:
@@ -238,7 +247,7 @@ def reduced_system(model, speed: float, cutoff: float, extra_loads=(), phases_de
                       f"{model.source}: [bearings.{bearing.name}]", local @ V[rows]))
     return ReducedSystem(V=V, frequencies=frequencies, modes=modes, K=V.T @ K @ V, C=V.T @ C @ V,
                          G=V.T @ G @ V, dependent=tuple(moves), ratio=ratio, phase=phase, amount=amount,
-                         Fa=Fa @ V, Fb=Fb @ V, gravity=gravity @ V)
+                         Fa=Fa @ V, Fb=Fb @ V, gravity=gravity @ V, reaction=reaction @ V)
 
 
 def _basis(M, K, loads, cutoff):
@@ -383,15 +392,15 @@ def _packed(system, speed, accel):
     """The arguments of :func:`linear_rhs` after ``(t, y)``."""
     A, B = _first_order(system)
     return (A, B, np.ascontiguousarray(np.vstack([system.Fa, system.Fb])), system.ratio, system.phase,
-            system.amount, system.gravity, float(speed), float(accel))
+            system.amount, system.gravity + accel * system.reaction, float(speed), float(accel))
 
 
 def linear_rhs(t, y, A, B, loads, ratio, phase, amount, gravity, speed, accel):
     """``y'`` of the reduced equations at time ``t`` [s] (numba-compilable; constant bearings).
 
     ``loads`` (2 U, r): the unbalances' reduced forces along ``a`` then along ``b``; ``ratio``,
-    ``phase`` [rad], ``amount`` [kg m] (U,); ``gravity`` (r,); ``speed`` [rad/s] and ``accel``
-    [rad/s^2] of the drive."""
+    ``phase`` [rad], ``amount`` [kg m] (U,); ``gravity`` (r,): the constant forces (weights and the
+    drive's reaction); ``speed`` [rad/s] and ``accel`` [rad/s^2] of the drive."""
     r = gravity.shape[0]
     w = speed + accel * t
     phi = speed * t + 0.5 * accel * t * t
@@ -401,8 +410,8 @@ def linear_rhs(t, y, A, B, loads, ratio, phase, amount, gravity, speed, accel):
         theta = ratio[k] * phi + phase[k]
         c, s = np.cos(theta), np.sin(theta)
         rate2, rate_dot = (ratio[k] * w) ** 2, ratio[k] * accel
-        along_a = amount[k] * (rate2 * c - rate_dot * s)
-        along_b = amount[k] * (rate2 * s + rate_dot * c)
+        along_a = amount[k] * (rate2 * c + rate_dot * s)
+        along_b = amount[k] * (rate2 * s - rate_dot * c)
         for i in range(r):
             out[r + i] += along_a * loads[k, i] + along_b * loads[count + k, i]
     for i in range(r):
@@ -434,7 +443,7 @@ def _right_hand_side(system, speed, accel):
     A, B = _first_order(system)
     loads = np.vstack([system.Fa, system.Fb])                  # (2 U, r)
     ratio, phase, amount = system.ratio, system.phase, system.amount
-    gravity = system.gravity
+    gravity = system.gravity + accel * system.reaction
     forcing = np.zeros(2 * r)
     dependent = system.dependent
 
@@ -443,8 +452,8 @@ def _right_hand_side(system, speed, accel):
         theta = ratio * (speed * t + 0.5 * accel * t * t) + phase
         c, s = np.cos(theta), np.sin(theta)
         rate2, rate_dot = (ratio * w) ** 2, ratio * accel
-        forcing[r:] = np.concatenate([amount * (rate2 * c - rate_dot * s),
-                                      amount * (rate2 * s + rate_dot * c)]) @ loads + gravity
+        forcing[r:] = np.concatenate([amount * (rate2 * c + rate_dot * s),
+                                      amount * (rate2 * s - rate_dot * c)]) @ loads + gravity
         out = A @ y + w * (B @ y) + forcing
         if dependent:
             K, C = system.stiffness_damping([w])

@@ -297,7 +297,7 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
         the speed) and gravity ``-f_g^T q``; ``drive_torque`` is what spins the rotors' polar
         inertias up the ramp, ``accel sum_j r_j^2 J_p,j``.
     """
-    from .simulate import _check_duration, _default_samples, _finite
+    from ._system import check_duration, default_samples
 
     refuse(model, drive)
     notice_once()
@@ -306,11 +306,11 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     cutoff = CUTOFF_FACTOR * fastest if modes_below is None else _cutoff(modes_below)
     kick = None
     if impulse is not None:
-        kick = _impulse_load(model, impulse, _finite(impulse_size, "impulse size"))
+        kick = _impulse_load(model, impulse, float(impulse_size))
     system = reduced_system(model, speed, cutoff, () if kick is None else (kick,), unbalance_phases_deg)
     below = system.frequencies[:system.modes]
     rate = max(fastest, below[below < cutoff].max(initial=0.0) if np.isfinite(cutoff) else below.max(initial=0.0))
-    _check_duration(duration, rate)
+    check_duration(duration, rate)
     y0 = np.zeros(2 * system.size)
     if initial == "equilibrium":
         K0 = system.stiffness_damping([speed])[0][0]
@@ -319,7 +319,7 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
         raise InputError(f"initial {initial!r}: expected 'rest' or 'equilibrium'")
     if kick is not None:
         y0[system.size:] = kick @ system.V          # V^T M V = I: the velocity jump M^-1 Q, reduced
-    times = np.linspace(0.0, duration, samples or _default_samples(rate, duration))
+    times = np.linspace(0.0, duration, samples or default_samples(rate, duration))
     states = _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend)
     return _result(model, system, times, states, speed, accel, drive)
 
@@ -349,7 +349,7 @@ def _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend="a
 
     from scipy.integrate import ode
 
-    from .simulate import _progress_bar
+    from ._system import progress_bar
 
     compiled = None if system.dependent or backend == "numpy" else _compiled(backend)
     if compiled is None:
@@ -360,7 +360,7 @@ def _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend="a
     solver.set_initial_value(y0, times[0])
     states = np.empty((len(times), len(y0)))
     states[0] = y0
-    bar = _progress_bar(times[-1], progress)
+    bar = progress_bar(times[-1], progress)
     try:
         for i in range(1, len(times)):
             with warnings.catch_warnings():

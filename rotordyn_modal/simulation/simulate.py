@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._limits import count_problem
 from ..errors import InputError, ModelError
 from ..linear_system import checked_mass_inverse
 from . import _kernels
 from ._system import check_table_speeds, system_arrays
+from ._system import check_duration as _check_duration, default_samples as _default_samples
+from ._system import progress_bar as _progress_bar
 from .result import SimulationResult
 
 __all__ = ["simulate", "DRIVES", "BACKENDS", "kernels"]
@@ -161,7 +162,7 @@ def _simulate_flexible(model, duration, speed, drive, final_speed, initial, impu
     span = [speed] if final_speed is None else [speed, final_speed]
     check_table_speeds(model, span, "the simulation's speeds " + " .. ".join(f"{v:.6g}" for v in span) + " rad/s")
     return simulate_linear(model, duration, speed, drive=drive, final_speed=final_speed, initial=initial,
-                           impulse=impulse, impulse_size=impulse_size, samples=samples, rtol=rtol, atol=atol,
+                           impulse=impulse, impulse_size=_finite(impulse_size, "impulse size"), samples=samples, rtol=rtol, atol=atol,
                            unbalance_phases_deg=phases, modes_below=modes_below, progress=progress,
                            backend=backend)
 
@@ -293,14 +294,6 @@ def _integrate_plain(kn, system, extra, y0, times, rtol, atol, bar):
     return states.T
 
 
-def _progress_bar(total, progress):
-    if not progress:
-        return None
-    from tqdm.auto import tqdm
-
-    return tqdm(total=float(total), unit="s", desc="simulate", bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s")
-
-
 def _drive(drive, speed, final_speed, duration):
     if drive not in DRIVES:
         raise InputError(f"drive {drive!r}: expected one of {', '.join(DRIVES)}")
@@ -374,20 +367,6 @@ def _fastest_rate(model, speed, final_speed):
         except Exception:  # noqa: BLE001 - a model without restoring force still simulates
             continue
     return max(fastest_spin, natural)
-
-
-def _check_duration(duration, rate):
-    """Refuse a duration of more periods of the fastest motion than the count limit: the
-    integrator's steps grow with them, so such a run would not end in any useful time."""
-    periods = duration * rate / (2 * np.pi)
-    problem = count_problem(int(min(periods, 1e18)), "periods of the fastest motion")
-    if problem:
-        raise InputError(f"duration = {duration!r} s: expected {problem} "
-                         f"(the fastest motion is {rate / (2 * np.pi):.4g} Hz)")
-
-
-def _default_samples(rate, duration):
-    return int(min(max(201, 20.0 * rate / (2 * np.pi) * duration + 1), 2_000_001))
 
 
 def _positive(value, name):

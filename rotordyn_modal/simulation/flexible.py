@@ -314,7 +314,11 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     y0 = np.zeros(2 * system.size)
     if initial == "equilibrium":
         K0 = system.stiffness_damping([speed])[0][0]
-        y0[:system.size] = np.linalg.solve(K0, system.gravity) if np.any(system.gravity) else 0.0
+        try:
+            y0[:system.size] = np.linalg.solve(K0, system.gravity) if np.any(system.gravity) else 0.0
+        except np.linalg.LinAlgError:
+            raise InputError(f"{model.source}: no static equilibrium under gravity (the stiffness is singular: "
+                             "do the suspensions and bearings restrain every direction?); use initial 'rest'") from None
     elif initial != "rest":
         raise InputError(f"initial {initial!r}: expected 'rest' or 'equilibrium'")
     if kick is not None:

@@ -51,7 +51,7 @@ _API = {
     "frf": "analysis.frf", "FRFResult": "analysis.frf", "force_frf": "analysis.forces",
     "unbalance_response": "analysis.unbalance", "UnbalanceResult": "analysis.unbalance",
     # static loads, displacements and reactions
-    "static": "analysis.static", "StaticResult": "analysis.static",
+    "static": "analysis.static", "StaticResult": "analysis.static", "ShaftStatics": "analysis.shaft_statics",
     # model versus measurement
     "read_measured": "io.measured", "write_measured_csv": "io.measured", "write_uff58": "io.uff",
     "read_uff_info": "io.uff", "read_uff_nodes": "io.uff", "read_uff_time_records": "io.uff",

@@ -24,6 +24,10 @@ equation is::
   and it adds ``T_f^T M_f T_f``, ``r_j T_f^T G_f T_f`` and, on the relative motion alone (a rigid
   motion strains nothing), ``E_j^T N^T K_f N E_j``. Its bearings, sensors, excitations and
   unbalances act at their nodes.
+* A bearing on a pedestal acts between the rotor and the pedestal, a point mass with two lateral
+  coordinates of its own held to the stator point (or the ground) by its stiffness and damping;
+  a gear with ``mesh_stiffness`` adds a spring along its line of action between the two gears'
+  motions at the pitch point (docs/theory.md §18).
 
 Derivations and sign conventions: ``docs/theory.md``.
 """
@@ -36,11 +40,13 @@ import numpy as np
 
 from .model.dofs import frame_block
 from .errors import InputError
-from .model.geometry import point_force_column, point_motion_rows, shift_matrices, shift_matrix, skew
+from .model.geometry import gear_mesh, point_force_column, point_motion_rows, shift_matrices, shift_matrix, skew, \
+    transverse_axes
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
-           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "flexible_rotor_matrices", "dependent_bearing_matrices", "sensor_rows", "excitation_columns", "generalized_force", "weights", "weight_force"]
+           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "flexible_rotor_matrices", "dependent_bearing_matrices",
+           "pedestal_mass", "pedestal_stiffness_damping", "mesh_matrices", "sensor_rows", "point_rows", "excitation_columns", "generalized_force", "weights", "weight_force"]
 
 
 class Matrices(NamedTuple):
@@ -237,7 +243,65 @@ def mass_matrix(model) -> np.ndarray:
             mass += parts.motion.T @ parts.M @ parts.motion
             continue
         add_rotor_body(mass, model, rotor.name, rigid_mass_matrix(m, J, c, reference))
+    if model.dofs.pedestals:
+        mass = mass + pedestal_mass(model)
     return 0.5 * (mass + mass.T)
+
+
+def pedestal_mass(model) -> np.ndarray:
+    """``sum_p m_p T_p^T T_p``: the bearings' pedestals as point masses, ``T_p`` (3, n) a
+    pedestal's absolute translation (:meth:`Dofs.pedestal_motion`), shape (n, n) [kg]."""
+    layout = model.dofs
+    out = np.zeros((layout.n, layout.n))
+    for bearing in model.bearings:
+        if bearing.pedestal is not None:
+            motion = layout.pedestal_motion(bearing.name, bearing.position)
+            out += bearing.pedestal.mass * (motion.T @ motion)
+    return out
+
+
+def pedestal_stiffness_damping(model):
+    """Stiffness and damping of the pedestals to the stator (or the ground), on each
+    pedestal's two coordinates: ``P^T K_p P`` with ``P = [a, b]`` (3, 2).
+
+    Returns
+    -------
+    K, C : ndarray, shape (n, n) each [N/m, N s/m]
+    """
+    layout = model.dofs
+    K, C = np.zeros((layout.n, layout.n)), np.zeros((layout.n, layout.n))
+    lateral = transverse_axes(model.spin_axis).T                                    # (3, 2)
+    for bearing in model.bearings:
+        if bearing.pedestal is not None:
+            rows = layout.pedestal(bearing.name)
+            K[rows, rows] += lateral.T @ bearing.pedestal.stiffness @ lateral
+            C[rows, rows] += lateral.T @ bearing.pedestal.damping @ lateral
+    return K, C
+
+
+def mesh_matrices(model):
+    """Stiffness and damping of the gear meshes (``mesh_stiffness``, ``mesh_damping``) along
+    their lines of action (docs/theory.md §18): ``k w^T w``, ``w = n^T [(T_1 - T_2) at C]``, the
+    two gears' rigid motions at the pitch point C along the line of action n per coordinate.
+
+    Returns
+    -------
+    K, C : ndarray, shape (n, n) each [N/m, N s/m]
+    """
+    layout = model.dofs
+    K, C = np.zeros((layout.n, layout.n)), np.zeros((layout.n, layout.n))
+    for t in model.transmissions:
+        if t.mesh_stiffness is None and t.mesh_damping is None:
+            continue
+        driver, driven = model.rotor(t.driver), model.rotor(t.driven)
+        mesh = gear_mesh(t, driver, driven, model.spin_axis)
+        row = point_motion_rows([mesh.pitch_point], layout.reference_point, [mesh.direction])    # (1, 6)
+        motions = layout.motions([_motion_key(layout, driver.name, False, mesh.driver_centre),
+                                  _motion_key(layout, driven.name, False, mesh.driven_centre)])
+        w = row @ (motions[0] - motions[1])                                                     # (1, n)
+        K += (t.mesh_stiffness or 0.0) * (w.T @ w)
+        C += (t.mesh_damping or 0.0) * (w.T @ w)
+    return K, C
 
 
 class FlexibleParts(NamedTuple):
@@ -293,6 +357,33 @@ def shaft_stiffness(model) -> np.ndarray:
             parts = flexible_rotor_matrices(model, rotor, kinds=("K",))
             K += parts.relative.T @ parts.K @ parts.relative
     return 0.5 * (K + K.T)
+
+
+def stiffness_parts(model, speed: float | None = None) -> dict:
+    """``K`` of :func:`matrices` split by where the strain energy is stored: ``'shaft'`` (the
+    flexible rotors' bending, :func:`shaft_stiffness`), ``'bearings'`` and ``'mounts'`` (the
+    suspensions' static stiffness; their Maxwell branches are not in ``K``). Only the parts the
+    model has; they sum to ``matrices(model, speed).K`` (a new kind of element that adds to ``K``
+    adds its part here too: ``tests/test_strain_energy.py`` checks the sum on every example).
+
+    Parameters
+    ----------
+    model : Model
+    speed : float, optional
+        Reference speed [rad/s], needed for speed-dependent bearings.
+
+    Returns
+    -------
+    dict of str -> ndarray, shape (n, n) [N/m, ...]
+    """
+    parts = {}
+    if any(r.flexible is not None for r in model.rotors):
+        parts["shaft"] = shaft_stiffness(model)
+    if model.bearings:
+        parts["bearings"] = bearing_matrices(model, speed)[0]
+    if model.suspensions:
+        parts["mounts"] = frame_block(model, _suspension_sum(model, "stiffness_matrix"))
+    return parts
 
 
 def bearing_matrices(model, speed: float | None = None, constant_only: bool = False,
@@ -365,13 +456,17 @@ def bearing_motion(model, bearing):
     Returns
     -------
     rows : slice
-        The carried rotor's coordinates in ``q``.
+        The carried rotor's coordinates in ``q`` (on a pedestal: through the pedestal's).
     moves : ndarray, shape (6, k)
-        Relative motion ``[u, theta]`` of rotor and stator at the bearing point per coordinate.
+        Relative motion ``[u, theta]`` of rotor and stator (or its pedestal) at the bearing
+        point per coordinate of ``rows``.
     """
-    layout = model.dofs
-    j = layout.rotors.index(bearing.rotor)
-    return layout.slices[j], layout.local_relative_motion(bearing.rotor, bearing.position)
+    if getattr(bearing, "pedestal", None) is None:
+        layout = model.dofs
+        j = layout.rotors.index(bearing.rotor)
+        return layout.slices[j], layout.local_relative_motion(bearing.rotor, bearing.position)
+    rows, moves = model.dofs.bearing_moves(bearing.rotor, [bearing.position], [bearing.name])
+    return rows, moves[0]
 
 
 def matrices(model, speed: float | None = None) -> Matrices:
@@ -421,6 +516,12 @@ def constant_stiffness_damping(model):
     if model.bearings:
         k_b, c_b = bearing_matrices(model, constant_only=True)
         K, C = K + k_b, C + c_b
+    if model.dofs.pedestals:
+        k_p, c_p = pedestal_stiffness_damping(model)
+        K, C = K + k_p, C + c_p
+    if any(t.mesh_stiffness is not None or t.mesh_damping is not None for t in model.transmissions):
+        k_m, c_m = mesh_matrices(model)
+        K, C = K + k_m, C + c_m
     return K, C
 
 
@@ -443,7 +544,18 @@ def sensor_rows(model, names=None, rotor_motions=None) -> np.ndarray:
     -------
     ndarray, shape (n_sensors, n) [m/m, m/rad]
     """
-    sensors = _select(model.sensors, names, "sensor")
+    return point_rows(model, _select(model.sensors, names, "sensor"), rotor_motions)
+
+
+def point_rows(model, sensors, rotor_motions=None) -> np.ndarray:
+    """Rows mapping ``q`` to displacements of points along directions, as :func:`sensor_rows`
+    for any items with a sensor's ``rotor``, ``measure``, ``position`` and ``direction`` (the
+    model's sensors, or points made by an analysis: a close-clearance station's two axes).
+
+    Returns
+    -------
+    ndarray, shape (n_items, n) [m/m, m/rad]
+    """
     layout = model.dofs
     if not sensors:
         return np.zeros((0, layout.n))

@@ -35,7 +35,7 @@ REQUIRED = {"campbell": ["--speeds", "0:100:3"], "critical-speeds": ["--speeds",
 #: every file option of every sub-command: (inputs, outputs); a new one goes here
 FILE_OPTIONS = {
     "check": (["MODEL"], []),
-    "static": (["MODEL"], ["--out"]),
+    "static": (["MODEL"], ["--out", "--plot"]),
     "modes": (["MODEL", "--outline"], ["--out", "--plot", "--plot-shaft"]),
     "campbell": (["MODEL"], ["--out", "--plot"]),
     "critical-speeds": (["MODEL"], ["--out", "--plot"]),

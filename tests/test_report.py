@@ -554,3 +554,28 @@ def test_units_us_options_are_read_in_us_units():
     assert us.stiffness == pytest.approx(np.array([1e2, 1e4, 1e6]) * POUND_FORCE / INCH, rel=1e-12)
     assert si.stiffness == pytest.approx(np.geomspace(1e5, 1e10, 41), rel=1e-12)   # the default, N/m
     assert inputs("us").stiffness == pytest.approx(si.stiffness, rel=1e-12)          # the default stays N/m
+
+
+def test_rigid_rotor_report_shows_the_lowest_modes_when_none_is_near_the_range(reports):
+    """The journal rotor (rigid) has no mode and no 1X critical speed within 17 % of its range
+    2000:3000 rpm: the report shows the lowest 4 modes at the MCS (it has fewer), numbered,
+    captioned and listed as ``modal`` gives them, in one mode-shape figure."""
+    from rotordyn_modal.analysis.campbell import campbell
+    from rotordyn_modal.analysis.modal import modal
+
+    model = load_model(ROOT / "examples" / "journal_rotor.toml")
+    mcs, speeds = _speeds()
+    low, high = 0.83 * 2000, 1.17 * MCS_RPM
+    table = modal(model, mcs).to_dataframe()
+    assert not ((table["frequency_hz"] * 60 >= low) & (table["frequency_hz"] * 60 <= high)).any()
+    critical = campbell(model, speeds, orders=(1,)).critical.to_dataframe()["speed_rpm"]
+    assert not ((critical >= low) & (critical <= high)).any()
+    html = reports["journal_rotor"].read_text(encoding="utf-8")
+    start = html.index('<h2 id="modes">')
+    section = html[start:html.index("<h2 id=", start + 1)]
+    shown = [int(m) for m in re.findall(r"<tr><td class=\"text\">(\d+)</td>", section)]
+    assert shown == list(table["mode"][:4])
+    for mode in table.itertuples():
+        assert f"mode {mode.mode}: {mode.frequency_hz:.4g} Hz, {mode.whirl} whirl, log dec {mode.log_decrement:.3g}" \
+            in section
+    assert section.count("<img ") == 1

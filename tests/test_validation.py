@@ -52,7 +52,14 @@ def edit(path, value):
     return data
 
 
-DEL = object()
+class _Deleted:
+    """Marks a key removed from the model (a stable repr keeps test ids equal across pytest-xdist workers)."""
+
+    def __repr__(self):
+        return "<deleted>"
+
+
+DEL = _Deleted()
 NOT_SPD = [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]]
 NOT_SYMMETRIC = [[12.0, 0.5, 0.3], [0.0, 10.0, 0.0], [0.3, 0.0, 8.0]]
 TRIANGLE = [1.0, 1.0, 3.0]

@@ -119,7 +119,21 @@ def whirl_forms(model) -> WhirlForms:
             add_rotor_bodies([parts], model, rotor.name, [forms[:, first_rotor + j]])
     for j in flexible:
         parts = parts + _node_forms(model, model.rotors[j])
+    if model.dofs.pedestals:
+        parts = parts + _pedestal_forms(model)
     return WhirlForms(*parts)
+
+
+def _pedestal_forms(model) -> np.ndarray:
+    """The whirl forms of the bearings' pedestals, point masses moving with their translation
+    ``T_p`` (:meth:`Dofs.pedestal_motion`): ``sum_p m_p T_p^T X T_p``, shape (3, n, n)."""
+    X, _ = _directions(tuple(float(x) for x in model.spin_axis))
+    out = np.zeros((len(X), model.dofs.n, model.dofs.n))
+    for bearing in model.bearings:
+        if bearing.pedestal is not None:
+            motion = model.dofs.pedestal_motion(bearing.name, bearing.position)          # (3, n)
+            out += bearing.pedestal.mass * np.einsum("am,dab,bn->dmn", motion, X, motion)
+    return out
 
 
 def _node_forms(model, rotor) -> np.ndarray:

@@ -16,7 +16,8 @@ and what each bearing carries.
   relative to the stator, and this is the sum of its bearings' forces.
 * Bearing ``b`` at point ``P`` of rotor j pushes the stator (or the ground) with
   ``(K_b + i w C_b) B_RjP^T P_j p_j``: its springs and dampers acting on the
-  rotor's motion relative to the stator there (``[F, C]`` at P).
+  rotor's motion relative to the stator there (``[F, C]`` at P). A bearing on a pedestal
+  pushes its pedestal: the motion is the rotor's relative to the pedestal.
 
 All are linear in the complex amplitude ``q`` of the generalized coordinates;
 the functions here take ``q`` from :func:`rotordyn_modal.analysis.frf.dof_response`.
@@ -251,12 +252,12 @@ def _parts(items, rows):
     return _batches.chunk_slices(items, 96 * rows, budget=_FORCE_PART_BYTES)
 
 
-def _bearing_moves(layout, rotor, positions):
-    """Where a rotor's coordinates sit in ``q`` (a slice), and the relative motion ``B_RP^T P_j``
-    at each of its bearing points per coordinate (:meth:`Dofs.local_relative_motions`), stacked
-    (6 B_j, k_j)."""
-    moves = layout.local_relative_motions(rotor, positions)
-    return layout.slices[layout.rotors.index(rotor)], moves.reshape(-1, moves.shape[-1])
+def _bearing_moves(layout, rotor, bearings):
+    """Where a rotor's coordinates sit in ``q`` (a slice; through its bearings' pedestals), and
+    the motion across each of its ``bearings`` per coordinate (:meth:`Dofs.bearing_moves`: the
+    relative motion ``B_RP^T P_j`` at its point, less its pedestal's), stacked (6 B_j, width)."""
+    own, moves = layout.bearing_moves(rotor, [b.position for b in bearings], [b.name for b in bearings])
+    return own, moves.reshape(-1, moves.shape[-1])
 
 
 def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
@@ -289,7 +290,7 @@ def bearing_point_forces(model, speed, omega, q) -> np.ndarray:
     coordinates = _rows(q)
     out = np.empty((len(bearings), count, 6, n), dtype=complex)
     for rotor, which in by_rotor.items():
-        own, moves = _bearing_moves(layout, rotor, [bearings[b].position for b in which])
+        own, moves = _bearing_moves(layout, rotor, [bearings[b] for b in which])
         relative = _items(coordinates[:, own] @ moves.T, len(which))                     # (B_j, F n, 6)
         constant = [i for i, b in enumerate(which) if bearings[b].coefficients.kind == "constant"]
         if constant:     # the same 6 x 6 matrices at every speed
@@ -351,7 +352,7 @@ def all_forces(model, speed, omega, q, rotor_forces=None, centres=None):
     if suspensions:
         _suspension_motions(model, rows, out=motion[:, :6 * s])
     for rotor, which in groups:     # each rotor's bearings' relative motions from its coordinates
-        own, moves = _bearing_moves(layout, rotor, [bearings[i].position for i in which])
+        own, moves = _bearing_moves(layout, rotor, [bearings[i] for i in which])
         np.matmul(rows[:, own], moves.T, out=motion[:, 6 * (s + which[0]):6 * (s + which[-1] + 1)])
     if rotors:
         np.matmul(rows, (_to_centres(model, rotors) if centres is None else centres).T, out=motion[:, 6 * b:])

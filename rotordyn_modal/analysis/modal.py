@@ -12,11 +12,17 @@ from ..model.geometry import point_motion_row
 from ..linear_system import speed_linear_form
 from . import _arguments, _eigensolve, _roots, _whirl
 
-__all__ = ["ModalResult", "modal", "mac", "modal_quantities", "is_oscillating", "OVERDAMPED_LIMIT"]
+__all__ = ["ModalResult", "modal", "mac", "modal_quantities", "is_oscillating", "OVERDAMPED_LIMIT",
+           "strain_energy_fractions", "BENDING_FRACTION"]
 
 #: a root whose damping ratio exceeds this is overdamped: listed apart, never drawn as a mode
 #: (log decrement above 44: the motion dies within a fraction of a period)
 OVERDAMPED_LIMIT = 0.99
+#: a mode with more than this fraction of its strain energy in the shafts is a bending mode
+#: (the threshold of ``check``'s "first mostly bending" frequency too)
+BENDING_FRACTION = 0.5
+#: the ``kind`` of a mode that is not a bending mode, by the part holding most of its strain energy
+_KINDS = {"bearings": "rigid-body", "mounts": "suspension"}
 
 
 def is_oscillating(eigenvalues) -> np.ndarray:
@@ -112,6 +118,13 @@ class ModalResult:
     dofs : Dofs, optional
         The model's coordinates, for a point of a flexible rotor in :meth:`shape_at` (its node's
         motion there; ``body_motions`` holds its node nearest its centre of mass).
+    energy_parts : tuple of str
+        Where strain energy is stored: those of ``'shaft'``, ``'bearings'``, ``'mounts'`` the
+        model has (:func:`strain_energy_fractions`); empty (and ``energy_fractions`` None) for a
+        model without a flexible rotor.
+    energy_fractions : ndarray, shape (n_roots, n_parts), optional
+        Each root's strain energy ``1/2 Re(phi^H K_part phi)`` in each part over the sum of all
+        parts (rows sum to 1; nan where the shape strains nothing).
     """
 
     speed: float
@@ -131,6 +144,29 @@ class ModalResult:
     round_off: float = 0.0
     whirl_round_off: np.ndarray | None = None
     dofs: Any = None
+    energy_parts: tuple = ()
+    energy_fractions: np.ndarray | None = None
+
+    @property
+    def kinds(self) -> np.ndarray:
+        """Each root's kind by its strain energy, shape (n_roots,): ``'bending'`` when more than
+        :data:`BENDING_FRACTION` of it is in the shafts, else ``'rigid-body'`` (most in the
+        bearings: the rotors move nearly rigidly on them) or ``'suspension'`` (most in the
+        mounts); ``'none'`` where the shape strains nothing."""
+        fractions = self.energy_fractions
+        if fractions is None or not self.energy_parts:
+            return np.full(len(self.eigenvalues), "none", dtype=object)
+        parts = list(self.energy_parts)
+        others = [i for i, p in enumerate(parts) if p != "shaft"]
+        out = np.full(len(self.eigenvalues), "none", dtype=object)
+        for m, row in enumerate(fractions):
+            if not np.all(np.isfinite(row)):
+                continue
+            if "shaft" in parts and row[parts.index("shaft")] > BENDING_FRACTION:
+                out[m] = "bending"
+            elif others:
+                out[m] = _KINDS[parts[max(others, key=lambda i: row[i])]]
+        return out
 
     @property
     def rotor_whirl(self) -> np.ndarray:
@@ -190,6 +226,10 @@ class ModalResult:
             "whirl_ratio": self.whirl_ratios[keep] + 0.0,
             "real_part": self.eigenvalues.real[keep] + 0.0,
         })
+        if "shaft" in self.energy_parts:          # a flexible rotor: where each mode stores its strain energy
+            for i, part in enumerate(self.energy_parts):
+                table[_ENERGY_COLUMNS[part]] = self.energy_fractions[keep, i] + 0.0
+            table["kind"] = self.kinds[keep]
         table.attrs["round_off"] = self._round_off_columns(keep)
         return table
 
@@ -203,6 +243,8 @@ class ModalResult:
                      "log_decrement": 2 * np.pi * self.round_off / lam.imag}
         if self.whirl_round_off is not None:
             noise["whirl_ratio"] = self.whirl_round_off[keep]
+        for part in self.energy_parts:           # fractions of sums of products of unit shapes
+            noise[_ENERGY_COLUMNS[part]] = np.full(len(lam), 1e-12)
         return noise
 
     @property
@@ -282,6 +324,9 @@ def modal(model, speed: float = 0.0) -> ModalResult:
         len(model.rotors), len(upper)).T * oscillatory[:, None]
     freq, zeta, log_dec = modal_quantities(upper)
     layout = model.dofs
+    # the split is a flexible rotor's question (and costs a rigid machine's small modal analysis
+    # ~10 %): computed with one only; strain_energy_fractions gives it for any model
+    parts, fractions = strain_energy_fractions(model, speed, shapes, upper) if layout.shafts else ((), None)
     return ModalResult(
         speed=float(speed), eigenvalues=upper, frequencies_hz=freq, damping_ratios=zeta,
         log_decrements=log_dec, whirl_ratios=ratios,
@@ -291,7 +336,65 @@ def modal(model, speed: float = 0.0) -> ModalResult:
         rotor_whirl_ratios=rotor_ratios,
         body_motions=np.array([layout.frame_motion()] + [layout.body_motion(r.name) for r in model.rotors]),
         round_off=noise, whirl_round_off=ratio_noise, dofs=layout if layout.shafts else None,
+        energy_parts=parts, energy_fractions=fractions,
     )
+
+
+#: the table's column of each part's fraction of the strain energy
+_ENERGY_COLUMNS = {"shaft": "shaft_energy", "bearings": "bearing_energy", "mounts": "mount_energy"}
+
+
+def strain_energy_fractions(model, speed: float, shapes, eigenvalues):
+    """Where each mode stores its strain (potential) energy: ``1/2 Re(phi^H K_part phi)`` in the
+    shafts, the bearings and the mounts, over their sum.
+
+    ``K_part`` are the parts of the model's stiffness (:func:`~rotordyn_modal.assembly.stiffness_parts`;
+    the real part of ``phi^H K phi`` is that of the symmetric part of K, so cross-coupled bearings
+    count with their symmetric part). The mounts' Maxwell branches add the energy of their springs:
+    a branch of stiffness ``K_b`` and time ``tau`` stretched by the mode ``exp(lambda t)`` stores
+    ``1/2 |lambda tau / (1 + lambda tau)|^2 phi^H K_b phi``.
+
+    Parameters
+    ----------
+    model : Model
+    speed : float
+        Reference speed [rad/s] (speed-dependent bearings).
+    shapes : ndarray, shape (n_roots, n), complex
+    eigenvalues : ndarray, shape (n_roots,), complex [1/s]
+
+    Returns
+    -------
+    parts : tuple of str
+        Those of ``'shaft'``, ``'bearings'``, ``'mounts'`` the model has.
+    fractions : ndarray, shape (n_roots, n_parts)
+        Rows summing to 1 (nan where the shape strains nothing: rigid-body zero roots).
+    """
+    from ..assembly import stiffness_parts
+    from ..elements.mounts import maxwell_branches
+
+    stiffness = stiffness_parts(model, speed)
+    energies = {part: _energies(shapes, K) for part, K in stiffness.items()}
+    branches, times = maxwell_branches(model)
+    if len(times):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            stretch = np.abs(eigenvalues[:, None] * times / (1.0 + eigenvalues[:, None] * times)) ** 2
+        # lambda = -1 / tau: a branch relaxing alone, the machine at rest (its shape is zero)
+        stretch = np.where(np.isfinite(stretch), stretch, 0.0)
+        energies["mounts"] = energies["mounts"] + np.einsum(
+            "mb,mb->m", stretch, np.stack([_energies(shapes, K) for K in branches], axis=1))
+    if not energies:
+        return (), np.zeros((len(eigenvalues), 0))
+    table = np.stack(list(energies.values()), axis=1)
+    total = table.sum(axis=1)
+    strained = total > 1e-12 * np.abs(table).sum(axis=1)       # not a shape of zeros
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fractions = np.where(strained[:, None], table / np.where(strained, total, 1.0)[:, None], np.nan)
+    return tuple(energies), fractions
+
+
+def _energies(shapes, K):
+    """``1/2 Re(phi^H K phi)`` of each shape, (n_roots,)."""
+    return 0.5 * np.einsum("mi,ij,mj->m", shapes.conj(), K, shapes).real
 
 
 def _unique_indices(index, values, upper):

@@ -19,24 +19,30 @@ frequency, bearings at the operating speed) is solved for the generalized coordi
   the moment about its spin axis of the loads on it is taken there (a ``coupling`` load), not
   by its bearings.
 
-Flexible rotors (shear force and bending moment along a shaft) plug into
-:func:`_shaft_results`; rigid rotors have none.
+A flexible rotor's shaft adds its bending stiffness, and its weight is distributed along it
+(consistent loads, :func:`rotordyn_modal.analysis.shaft_statics.weight_force`); a load on it acts
+at the node at its point. Its sag, shear force and bending moment station by station come from
+the elements' end forces (:mod:`rotordyn_modal.analysis.shaft_statics`), in
+``StaticResult.shafts``; rigid rotors have none.
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from . import _arguments
-from ..assembly import bearing_motion, generalized_force, weights
+from .shaft_statics import shaft_statics, weight_force
+from ..assembly import bearing_motion, generalized_force, pedestal_stiffness_damping, shaft_stiffness, weights
 from ..elements.bearings import evaluate
-from ..errors import InputError
+from ..errors import InputError, ModelWarning
 from ..linear_system import static_solution
 from ..model._table import visible
 from ..model.dofs import frame_block
+from ..model.flexible import STATION_TOLERANCE
 from ..model.geometry import shift_matrix, skew
 
 __all__ = ["static", "StaticResult", "StaticLoad", "SupportReaction", "transmission_torques",
@@ -122,9 +128,10 @@ class StaticResult:
     loads : tuple of StaticLoad
     reactions : tuple of SupportReaction
         Every suspension, then every bearing.
-    shafts : dict
-        Hook for flexible rotors: per rotor name, its shaft's stations with sag, shear force
-        and bending moment (:func:`_shaft_results`). Empty for rigid rotors.
+    shafts : dict of str -> ShaftStatics
+        Per flexible rotor's name, its shaft's stations with sag, shear force, bending moment
+        and bending stress (:class:`~rotordyn_modal.analysis.shaft_statics.ShaftStatics`).
+        Empty when every rotor is rigid.
     """
 
     model: Any
@@ -244,16 +251,38 @@ class StaticResult:
         return pd.DataFrame(rows, columns=["kind", "source", "body", "x_m", "y_m", "z_m", "Fx_N", "Fy_N",
                                            "Fz_N", "Mx_Nm", "My_Nm", "Mz_Nm"])
 
+    def shafts_table(self):
+        """Every flexible rotor's stations (:meth:`ShaftStatics.table
+        <rotordyn_modal.analysis.shaft_statics.ShaftStatics.table>`) one under the other; None
+        when every rotor is rigid."""
+        import pandas as pd
+
+        if not self.shafts:
+            return None
+        return pd.concat([s.table() for s in self.shafts.values()], ignore_index=True)
+
     def to_dataframe(self):
-        """The three tables in one, a ``table`` column first (``load``, ``displacement``,
-        ``reaction``): what ``rotordyn-modal static --out`` writes."""
+        """The tables in one, a ``table`` column first (``load``, ``displacement``, ``reaction``,
+        and ``shaft`` for the stations of flexible rotors, whose columns come after the
+        others'): what ``rotordyn-modal static --out`` writes."""
         import pandas as pd
 
         parts = [self.loads_table().rename(columns={"source": "name"}).assign(table="load"),
                  self.displacements().rename(columns={"point": "name"}).assign(table="displacement"),
                  self.reactions_table().rename(columns={"support": "name"}).assign(table="reaction")]
+        shafts = self.shafts_table()
+        if shafts is not None:
+            parts.append(shafts.rename(columns={"rotor": "body", "station": "name"}).assign(table="shaft"))
         table = pd.concat(parts, ignore_index=True)
         return table[["table"] + [c for c in table.columns if c != "table"]]
+
+    def plot_shafts(self, **kwargs):
+        """The sag, shear force and bending moment diagram of every flexible rotor; see
+        :func:`rotordyn_modal.plotting.shaft_statics.plot_shaft_statics` (ValueError when every
+        rotor is rigid)."""
+        from ..plotting.shaft_statics import plot_shaft_statics
+
+        return plot_shaft_statics(list(self.shafts.values()), **kwargs)
 
 
 # ----------------------------------------------------------------------------------------
@@ -293,8 +322,7 @@ def static(model, speed=None, forces=None, torques=None, power=None) -> StaticRe
     loads = _loads(model, speed, forces, _torques(model, speed, torques, power))
     loads += _couplings(model, loads)
     stiffness, supports = _stiffness(model, speed)
-    load_vector = sum((generalized_force(model, x.body, x.point, np.r_[x.force, x.moment]) for x in loads),
-                      np.zeros(model.dofs.n))
+    load_vector = _load_vector(model, loads)
     q = _solve(model, stiffness, load_vector)
     reactions = tuple(_reaction(model, speed, q, *support) for support in supports) + _axial_holds(model, loads)
     return StaticResult(model=model, speed=speed, coordinates=q, loads=tuple(loads), reactions=reactions,
@@ -303,9 +331,23 @@ def static(model, speed=None, forces=None, torques=None, power=None) -> StaticRe
 
 def _shaft_results(model, q, loads) -> dict:
     """Per flexible rotor: its shaft's stations with the sag, the shear force and the bending
-    moment of the static solution. The hook for flexible rotors: a rigid rotor has no shaft
-    line, so with today's rotors this is empty."""
-    return {}
+    moment of the static solution (empty when every rotor is rigid)."""
+    return {r.name: shaft_statics(model, r, q, loads) for r in model.rotors
+            if r.flexible is not None and model.dofs.on_bearings(r.name)}
+
+
+def _load_vector(model, loads) -> np.ndarray:
+    """The generalized force of ``loads``: a flexible rotor's weight distributed along its
+    shaft, any other load on it at the node at its point (offset from the node rigidly)."""
+    total = np.zeros(model.dofs.n)
+    for x in loads:
+        flexible = x.body is not None and model.dofs.shaft(x.body) is not None
+        if flexible and x.kind == "weight":
+            total += weight_force(model, model.rotor(x.body))
+            continue
+        motion = model.dofs.body_motion(x.body, x.point) if flexible else None
+        total += generalized_force(model, x.body, x.point, np.r_[x.force, x.moment], motion=motion)
+    return total
 
 
 # -- loads -------------------------------------------------------------------------------
@@ -314,7 +356,15 @@ def _loads(model, speed, forces, torques) -> list:
                         np.asarray(f, float), np.zeros(3)) for body, c, f in weights(model)]
     loads += [_given_load(model, i, item) for i, item in enumerate(forces or ())]
     for t in model.transmissions:
-        loads += _transmission_loads(model, t, torques.get(t.label, 0.0), speed)
+        mine = _transmission_loads(model, t, torques.get(t.label, 0.0), speed)
+        for x in mine:
+            off = _off_shaft(model, x.body, x.point)
+            if off:
+                warnings.warn(ModelWarning(
+                    f"{model.source}: [transmissions.{visible(t.label)}] acts at {_listed(x.point)} m, off {off}: "
+                    "it is applied at the nearest end node through a rigid arm; give the transmission's "
+                    "position (its plane) at the pulley or gear"), stacklevel=3)
+        loads += mine
     return loads
 
 
@@ -335,7 +385,28 @@ def _given_load(model, index: int, item) -> StaticLoad:
         point = model.reference_point if body is None else model.rotor(body).center_of_mass
     vectors = [_vector3(value, f"{name} {key}") for key, value in
                (("point", point), ("force", force), ("moment", moment))]
+    off = _off_shaft(model, body, vectors[0])
+    if off:
+        raise InputError(f"{name} point = {_listed(vectors[0])}: expected a point along {off}")
     return StaticLoad("force", name, body, *vectors)
+
+
+def _off_shaft(model, body, point) -> str:
+    """'' when ``point`` lies along ``body``'s shaft (between its ends, at any distance from its
+    axis) or ``body`` is not a flexible rotor; else the shaft's extent in words."""
+    shaft = None if body is None else model.rotor(body).flexible
+    if shaft is None:
+        return ""
+    slack = STATION_TOLERANCE * (1.0 + shaft.length)
+    if -slack <= shaft.z_of(point) <= shaft.length + slack:
+        return ""
+    ends = shaft.point(np.array([0.0, shaft.length]))
+    return (f"rotor {visible(body)}'s shaft, from {_listed(ends[0])} to {_listed(ends[1])} m (a load on a "
+            "flexible rotor acts at the shaft's node there)")
+
+
+def _listed(vector) -> str:
+    return "[" + ", ".join(f"{v:.6g}" for v in np.asarray(vector, dtype=float)) + "]"
 
 
 def _body(model, body, name: str):
@@ -484,11 +555,15 @@ def _stiffness(model, speed):
         total += shift @ s.stiffness_matrix @ shift.T
         supports.append(("mount", s, s.stiffness_matrix))
     stiffness = frame_block(model, total)
+    if any(r.flexible is not None for r in model.rotors):
+        stiffness += shaft_stiffness(model)
     for b in model.bearings:
         k6 = _bearing_stiffness(model, b, speed)
         rows, moves = bearing_motion(model, b)
         stiffness[rows, rows] += moves.T @ k6 @ moves
         supports.append(("bearing", b, k6))
+    if model.dofs.pedestals:     # the bearings' pedestals to the stator (their weight is no load)
+        stiffness += pedestal_stiffness_damping(model)[0]
     return stiffness, supports
 
 

@@ -25,9 +25,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..assembly import generalized_force, sensor_rows
+from ..assembly import generalized_force, point_rows, sensor_rows
 from ..errors import InputError
-from ..model.geometry import cross, shift_matrices
+from ..model.components import Sensor
+from ..model.geometry import cross, shift_matrices, transverse_axes
 from ..unbalance_standards import amplitude_column, amplitude_factor
 from . import _arguments
 from .forces import COMPONENTS, centre_motions, all_forces
@@ -190,6 +191,8 @@ class UnbalanceResult:
     rigid_rotor_names: tuple = ()
     amplitude_kind: str = "peak"
     case_rotors: tuple = ()
+    clearance_names: tuple = ()
+    clearance_planes: np.ndarray | None = None
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -338,6 +341,13 @@ class UnbalanceResult:
         return unbalance_checks(self, model, mcs=mcs, min_speed=min_speed, iso_group=iso_group,
                                 iso_support=iso_support)
 
+    def clearance_check(self, model, mcs=None, min_speed: float = 0.0, trip_speed=None):
+        """The API 617 / 684 clearance check at the model's close-clearance stations; see
+        :func:`rotordyn_modal.analysis.clearance.clearance_check`."""
+        from .clearance import clearance_check
+
+        return clearance_check(self, model, mcs=mcs, min_speed=min_speed, trip_speed=trip_speed)
+
     def plot(self, outputs=None, **kwargs):
         """Bode figure: amplitude (in ``amplitude_kind``, or ``amplitude=``) and phase vs speed
         (``peaks=self.peaks(...)`` marks the API 684 figures, ``checks=self.checks(...)`` draws the
@@ -464,7 +474,19 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         orbit_pairs=pairs.names, orbit_planes=planes, spin_signs=spin_signs.reshape(n_src, n),
         rigid_rotor_names=tuple(r.name for r in model.rotors if not model.bearings_of(r.name)),
         amplitude_kind=amplitude,
+        clearance_names=tuple(c.name for c in model.clearances),
+        clearance_planes=_clearance_planes(model, q, motions, n_src, n),
     )
+
+
+def _clearance_planes(model, q, motions, n_src, n):
+    """Each close-clearance station's displacement relative to the stator along the transverse
+    axes ``a, b``, shape (n_clearances, n_src, N, 2) (``q`` (n_src N, n_dof, 1))."""
+    a, b = transverse_axes(model.spin_axis)
+    points = [Sensor(c.name, c.position, axis, rotor=c.rotor, measure="relative")
+              for c in model.clearances for axis in (a, b)]
+    rows = point_rows(model, points, motions)
+    return (rows @ q[..., 0].T).reshape(-1, 2, n_src, n).transpose(0, 2, 3, 1)
 
 
 def _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions):
@@ -535,4 +557,4 @@ def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: st
         frequencies_hz=joined("frequencies_hz", 0), response=joined("response", 1),
         ground_forces=joined("ground_forces", 2), bearing_forces=joined("bearing_forces", 2),
         bearing_point_forces=joined("bearing_point_forces", 2), orbit_planes=joined("orbit_planes", 1),
-        spin_signs=joined("spin_signs", 0))
+        spin_signs=joined("spin_signs", 0), clearance_planes=joined("clearance_planes", 1))

@@ -20,7 +20,7 @@ UNITS_HELP = (f"unit system of the tables and figures: si (default) or us (in, m
               "Model files are always SI")
 
 #: column-name endings that carry an SI unit -> the US ending (``x_m`` -> ``x_in``)
-US_ENDINGS = {"_m": "_in", "_N": "_lbf", "_Nm": "_lbfin", "_n_per_m": "_lbf_per_in"}
+US_ENDINGS = {"_m": "_in", "_N": "_lbf", "_Nm": "_lbfin", "_n_per_m": "_lbf_per_in", "_Pa": "_psi"}
 
 
 def add_units_option(parser, suppress: bool = False):
@@ -56,12 +56,13 @@ def us_column(name: str) -> str:
 
 
 #: quantity kind of the columns whose name ends in an SI unit
-_ENDING_KINDS = {"_m": "length", "_N": "force", "_Nm": "moment", "_n_per_m": "stiffness"}
+_ENDING_KINDS = {"_m": "length", "_N": "force", "_Nm": "moment", "_n_per_m": "stiffness", "_Pa": "pressure"}
 
 
 def kinds_by_ending(columns) -> dict:
     """Column -> kind of every column whose name ends in an SI unit (``x_m``: length, ``Fx_N``:
-    force, ``Mx_Nm``: moment, ``stiffness_n_per_m``: stiffness); for :func:`convert_table`."""
+    force, ``Mx_Nm``: moment, ``stiffness_n_per_m``: stiffness, ``stress_Pa``: pressure); for
+    :func:`convert_table`."""
     kinds = {}
     for column in columns:
         ending = next((e for e in sorted(_ENDING_KINDS, key=len, reverse=True) if str(column).endswith(e)), None)

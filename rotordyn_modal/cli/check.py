@@ -59,7 +59,9 @@ def summary(model, system: str = "si") -> str:
     lines += _flexible_lines(model, u)
     for t in model.transmissions:
         teeth = f", {t.driver_teeth} driver teeth" if t.driver_teeth else ""
-        lines.append(f"  {t.type} {t.driver} -> {t.driven}: ratio {t.ratio:g}{teeth}")
+        mesh = f", mesh stiffness {u(t.mesh_stiffness, 'stiffness'):.4g} {u.label('stiffness')}" \
+            if t.mesh_stiffness is not None else ""
+        lines.append(f"  {t.type} {t.driver} -> {t.driven}: ratio {t.ratio:g}{teeth}{mesh}")
     lines.append(f"  suspensions ({len(model.suspensions)}):")
     for s in model.suspensions:
         diag = np.diag(s.stiffness_matrix)[:3]
@@ -164,8 +166,19 @@ def _bearing_lines(model, u=_Units()) -> list[str]:
     lines = [f"  bearings ({len(model.bearings)}, to {where}):"]
     for b in model.bearings:
         lines.append(f"    {b.name:<16} rotor {b.rotor!r} at {np.round(u(b.position, 'length'), 4).tolist()} "
-                     f"{u.label('length')}, " + _coefficient_text(b.coefficients, model.spin_axis, u))
+                     f"{u.label('length')}, " + _coefficient_text(b.coefficients, model.spin_axis, u)
+                     + _pedestal_text(b, model.spin_axis, u))
     return lines
+
+
+def _pedestal_text(bearing, spin_axis, u=_Units()) -> str:
+    """``, on a pedestal of M kg, stiffness [k1 k2] N/m`` (empty without a pedestal)."""
+    if bearing.pedestal is None:
+        return ""
+    plane = transverse_axes(spin_axis)
+    values = np.sort(np.linalg.eigvalsh(plane @ bearing.pedestal.stiffness @ plane.T))
+    return (f", on a pedestal of {u(bearing.pedestal.mass, 'mass'):.4g} {u.label('mass')}, stiffness "
+            f"{np.array2string(u(values, 'stiffness'), precision=4)} {u.label('stiffness')}")
 
 
 def _coefficient_text(coefficients, spin_axis, u=_Units()) -> str:

@@ -27,7 +27,11 @@ and dashed, phase 0), the band of its whirl orbits, its bearings (triangles), di
 and nodes (ticks), normalised so that the largest displacement is 1. A flexible rotor's line
 follows its elements' shape functions between the nodes; a rigid rotor's is straight.
 
-CSV columns: mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part
+CSV columns: mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part; with a
+flexible rotor then shaft_energy,bearing_energy,mount_energy (those the model has: the fractions
+of the mode's strain energy in the shafts, bearings and mounts, summing to 1) and kind ('bending'
+when over half of it is in the shafts, else 'rigid-body' or 'suspension': docs/model-file.md,
+"Which modes are bending modes")
 
 examples:
   rotordyn-modal modes examples/gear_machine.toml --speed 3000 --out modes.csv

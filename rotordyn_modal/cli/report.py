@@ -26,10 +26,12 @@ from a browser, or --pdf with Chromium): a summary of the criteria (value, limit
 fail or not evaluated and why, each linking to its section), the model (bodies, bearings,
 mounts, sensors, the model file's name and SHA-256, the package version, the date, the command
 line), the static sag and reactions, the Campbell diagram with the critical speeds, the API 684
-amplification factors and separation margins (required margin and verdict per peak), then by
---standard:
+amplification factors and separation margins (required margin and verdict per peak), the mode
+shapes at the MCS of the modes whose 1X critical speed or frequency lies within 17 % of the
+operating range (else the lowest 4; shaft lines for flexible rotors), then by --standard:
   api684  the undamped critical speed map; the API unbalance cases' response with the API 617
-          probe limits
+          probe limits and, for a model with [[rotors.clearances]], the clearance check (pk-pk
+          at each station <= 75 % of its diametral clearance)
   api617  the same plus API 617 Level I stability (with --station and --qa or the stage data
           of 'level1'; otherwise 'not evaluated')
   iso     the response to the model's [[unbalances]] (amounts or ISO 21940-11 grades) and the

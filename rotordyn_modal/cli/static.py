@@ -7,7 +7,7 @@ import numpy as np
 from ..errors import InputError
 from ..units import from_system, unit_label, unit_scale
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number, print_table,
-                      to_rad_s, write_table)
+                      save_figure, to_rad_s, use_agg, write_table)
 from ._units import convert_table, kinds_by_ending
 
 NAME = "static"
@@ -22,6 +22,12 @@ static stiffness (Maxwell branches add nothing at zero frequency); bearings on t
 the operating speed, journal bearings on their light-load film, with each journal's eccentricity
 at its load (docs/static.md).
 
+A flexible rotor's shaft bends under its weight, distributed along it, and the loads on it;
+then the sag (relative to the stator and absolute), the shear force and the bending moment in
+both planes and the bending stress are listed station by station along it, with a summary
+(largest sag, moment and stress, and where); --plot draws them as a sag, shear force and
+bending moment diagram along each flexible shaft (bending moments sagging positive).
+
 BODY is 'stator' or a rotor's name; points and vectors are in model axes, SI units (m, N, N m;
 with --units us: in, lbf, lbf in, and --power in hp; the tables then in in, lbf, lbf in, their
 columns named x_in, Fx_lbf, Mx_lbfin, ux_in; docs/units.md).
@@ -31,12 +37,18 @@ transmission carries from its driver to its driven rotor (negative: the other wa
 
 CSV columns: table,kind,name,body,x_m,y_m,z_m,Fx_N,Fy_N,Fz_N,Mx_Nm,My_Nm,Mz_Nm,ux_m,uy_m,uz_m,rx_rad,ry_rad,rz_rad,on,eccentricity,attitude_deg
 ('table' is load, displacement or reaction and each row fills the columns of its table; 'name'
-is the load's source, the displaced point, or the support; 'on' what a support stands on)
+is the load's source, the displaced point, or the support; 'on' what a support stands on).
+With a flexible rotor, 'shaft' rows follow (name: the node, n0 at the shaft's start) and add
+the columns side,from_start_m,u_m,uy_abs_m,uz_abs_m,Vy_N,Vz_N,V_N,Mby_Nm,Mbz_Nm,Mb_Nm,
+outer_diameter_m,stress_Pa (a shaft along x; the letters name the plane of u_y or u_z: uy_m
+is the sag along y relative to the stator, Vy_N and Mby_Nm the shear force and bending moment
+in that plane; docs/static.md).
 
 examples:
   rotordyn-modal static examples/motor_pump_on_mounts.toml
   rotordyn-modal static examples/gear_machine.toml --speed 3000 --power 15000 --out static.csv
-  rotordyn-modal static examples/journal_rotor.toml --speed 6000 --force rotor:0,0,0:0,0,-200"""
+  rotordyn-modal static examples/journal_rotor.toml --speed 6000 --force rotor:0,0,0:0,0,-200
+  rotordyn-modal static examples/flexible_pump_on_mounts.toml --plot shaft.png"""
 
 
 def add_arguments(parser):
@@ -50,13 +62,16 @@ def add_arguments(parser):
                         help="a static force [N; lbf] at a point [m; in] of the stator or a rotor (repeat for more)")
     parser.add_argument("--moment", action="append", metavar="BODY:MX,MY,MZ",
                         help="a static moment [N m; lbf in] on the stator or a rotor (repeat for more)")
-    add_outputs(parser, plot=False)
+    add_outputs(parser)
 
 
 def run(args) -> int:
     from ..analysis.static import static
 
     model = open_model(args)
+    if args.plot and not any(r.flexible is not None for r in model.rotors):
+        raise InputError(f"--plot {args.plot}: the model has no flexible rotor (one with a shaft): the figure "
+                         "draws the sag, shear force and bending moment along flexible shafts")
     speed = None if args.speed is None else float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
     forces = [_force(text, args.units) for text in args.force or ()] + \
         [_moment(text, args.units) for text in args.moment or ()]
@@ -66,6 +81,9 @@ def run(args) -> int:
         write_table(table, args) if args.out == "-" else write_table(table, _quietly(args))
     if args.out != "-" and not args.quiet:
         _print(result, args.units)
+    if args.plot:
+        use_agg()
+        save_figure(result.plot_shafts(units=args.units), args)
     return 0
 
 
@@ -87,10 +105,31 @@ def _print(result, system="si"):
                          ("reactions (on the body each support carries)", result.reactions_table())):
         print(f"{title}:")
         print_table(_in_units(table, system), empty="none")
+    if result.shafts:
+        print("flexible shafts (sag relative to the stator; every station: --out FILE.csv):")
+        for shaft in result.shafts.values():
+            print(_shaft_summary(shaft, system))
     force, moment, scale = result.imbalance()
     (f, f_unit), (m, m_unit) = unit_scale("force", system), unit_scale("moment", system)
     print(f"balance of loads and reactions: sum of forces {np.linalg.norm(force) * f:.3g} {f_unit}, sum of "
           f"moments {np.linalg.norm(moment) * m:.3g} {m_unit} (the forces total {scale * f:.6g} {f_unit})")
+
+
+def _shaft_summary(shaft, system="si") -> str:
+    """Two lines per flexible rotor: its largest sag (µm or mil), shear force, bending moment and
+    bending stress (MPa or psi), each with its station and position."""
+    (x, x_unit), (f, f_unit), (m, m_unit) = (unit_scale(k, system) for k in ("length", "force", "moment"))
+    u, u_unit = (1e6, "µm") if system == "si" else unit_scale("displacement", system)
+    s, s_unit = (1e-6, "MPa") if system == "si" else unit_scale("pressure", system)
+    parts = []
+    shown = (("sag", "sag", u, u_unit), ("shear", "shear force", f, f_unit),
+             ("moment", "bending moment", m, m_unit), ("stress", "bending stress", s, s_unit))
+    for quantity, what, scale, unit in shown:
+        value, i = shaft.largest(quantity)
+        parts.append(f"{what} {value * scale:.4g} {unit} at {shaft.label(i, quantity)} ({shaft.axis_names[2]} = "
+                     f"{shaft.position[i] * x:.4g} {x_unit})")
+    indent = " " * (len(shaft.rotor) + 4)
+    return f"  {shaft.rotor}: largest {parts[0]}; {parts[1]};\n{indent}{parts[2]}; {parts[3]}"
 
 
 def _vector(text: str, option: str, whole: str) -> list:

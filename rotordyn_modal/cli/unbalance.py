@@ -43,6 +43,13 @@ cases of every rotor, U = 6350 W/N g mm (= 4 W/N oz in): api-static:ROTOR at its
 of mass (W its mass) and api-couple:ROTOR at its outermost bearing planes, 180 deg apart
 (W half its mass: a pure couple); each case is its own response, named in a last column
 case of the CSV, peaks and checks tables, and in the figure's legend.
+With --mcs, a model with close-clearance stations ([[rotors.clearances]]) gets the API
+617/684 clearance check, printed after the checks: at each station the peak-to-peak
+displacement of the rotor relative to the stator (twice its orbit's semi-major axis)
+against 75 % of the diametral clearance (1.5 x radial_clearance), largest over the speeds
+from --min-speed to --trip-speed (default --mcs), each API case on its own with
+--api-unbalance (the criterion's unbalance), else the model's unbalances together; value
+and limit in m (mil with --units us), peak-to-peak whatever --amplitude is.
 
 Two sensors at one point of the same body with directions normal to the spin axis (a
 pair of proximity probes, measure = "relative") see an orbit: --orbits FILE.csv writes
@@ -85,6 +92,8 @@ def add_arguments(parser):
     parser.add_argument("--mcs", metavar="SPEED", help="maximum continuous speed of the reference rotor (same "
                         "unit as --speeds): API 617 probe limits, top of the checked speeds")
     parser.add_argument("--min-speed", metavar="SPEED", help="bottom of the checked speeds (default 0)")
+    parser.add_argument("--trip-speed", metavar="SPEED", help="top of the speeds of the clearance check (same "
+                        "unit as --speeds; default --mcs)")
     parser.add_argument("--iso-group", type=int, choices=[1, 2],
                         help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
     parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
@@ -124,6 +133,7 @@ def run(args) -> int:
         print("\npeaks (API 684):", file=sys.stderr)
         print_table(in_units(peaks, result, args.units), empty=f"no resonance peak {speeds_text(args)}")
     checks = _write_checks(result, model, mcs, min_speed, args)
+    _print_clearances(result, model, mcs, min_speed, args)
     if args.plot:
         use_agg()
         save_figure(result.plot(peaks=peaks, speed_unit=args.speed_unit, groups=sensor_groups(model),
@@ -147,6 +157,10 @@ def _check_options(args):
     if min_speed is not None and mcs is not None and min_speed > mcs:
         raise InputError(f"--min-speed {args.min_speed}: expected at most --mcs {args.mcs} (the checked speeds "
                          "run from one to the other)")
+    trip = _speed(args, args.trip_speed, "--trip-speed")
+    if trip is not None and (mcs is None or not trip >= mcs):
+        raise InputError(f"--trip-speed {args.trip_speed}: expected --mcs too and a trip speed at least --mcs "
+                         f"{args.mcs} (the clearance check's speeds run up to it)")
     if args.api_unbalance and mcs is None:
         raise InputError("--api-unbalance: expected --mcs too (the API amount 6350 W/N needs the maximum "
                          "continuous speed N)")
@@ -176,6 +190,21 @@ def _write_checks(result, model, mcs, min_speed, args):
     if args.checks:
         write_csv(table, args.checks)
     return checks
+
+
+def _print_clearances(result, model, mcs, min_speed, args):
+    """The clearance check (with --mcs, when the model has close-clearance stations), printed."""
+    trip = _speed(args, args.trip_speed, "--trip-speed")
+    if mcs is None or not model.clearances or args.quiet:
+        return
+    table = result.clearance_check(model, mcs=mcs, min_speed=min_speed, trip_speed=trip).to_dataframe()
+    if args.units != "si":
+        table = convert_table(table, {"value": "row", "limit": "row"}, args.units, ["displacement"] * len(table),
+                              unit_column=True)
+    which = "the API unbalance cases" if args.api_unbalance else "the model's [[unbalances]], not the API amount"
+    print(f"\nclearance check (API 617/684: pk-pk relative to the stator <= 75 % of the diametral clearance; "
+          f"{which}; {'m' if args.units == 'si' else 'mil'}):", file=sys.stderr)
+    print_table(table)
 
 
 #: columns of the response and peaks tables whose unit is the row's (a sensor's or a force's)

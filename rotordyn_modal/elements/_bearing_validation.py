@@ -16,7 +16,7 @@ import numpy as np
 
 from ..model._table import LARGEST, Table, magnitude_problem, semidefinite_problem, visible, visible_names
 from .bearings import BearingCoefficients, JournalData, local_to_model
-from ..model.components import Bearing, input_keys, is_finite_number
+from ..model.components import Bearing, Pedestal, input_keys, is_finite_number
 from ..errors import ModelError
 from ..model.flexible import station_z
 from ..model.geometry import shift_matrix, transverse_axes
@@ -30,6 +30,7 @@ _RADIAL_KEYS = ("stiffness", "damping", "moment_stiffness", "moment_damping")
 _AXIAL_KEYS = ("axial_stiffness", "axial_damping")
 _JOURNAL_KEYS = ("diameter", "length", "clearance", "viscosity", "load", "load_direction")
 _JOURNAL_COMPUTES = ("stiffness", "damping", "speeds_rpm")
+_PEDESTAL_KEYS = ("pedestal_mass", "pedestal_stiffness", "pedestal_damping")
 #: longest journal bearing (length / diameter) that short-bearing theory is used for: DuBois and
 #: Ocvirk (NACA Report 1157, 1953) found it close to measurements up to L/D = 1; a longer one
 #: (up to this) draws a warning (:data:`LONG_JOURNAL`), beyond it the theory means nothing
@@ -83,7 +84,44 @@ def _bearing(table: Table, rotors, e: np.ndarray) -> Bearing:
     )
     values = {key: table.data.get(key) for key in input_keys("bearings")}
     values.update(name=table.data["name"], rotor=rotor, position=position, type=kind, axes=axes[:2])
-    return Bearing(**values, coefficients=coefficients)
+    return Bearing(**values, coefficients=coefficients, pedestal=_pedestal(table, axes))
+
+
+def _pedestal(table: Table, axes: np.ndarray):
+    """The bearing's :class:`Pedestal` (None without ``pedestal_mass``): its stiffness and
+    damping, symmetric 2x2 in the bearing's radial axes, to 3x3 model axes (zero along e)."""
+    given = [key for key in _PEDESTAL_KEYS if key in table.data]
+    if not given:
+        return None
+    for key in _PEDESTAL_KEYS[:2]:
+        if key not in table.data:
+            raise table.error(key, "<missing>", f"a value: a pedestal needs both pedestal_mass [kg] and "
+                              f"pedestal_stiffness [N/m] ({given[0]} is given)")
+    mass = table.number("pedestal_mass", positive=True)
+    stiffness = _pedestal_matrix(table, "pedestal_stiffness", definite=True)
+    damping = _pedestal_matrix(table, "pedestal_damping", definite=False)
+    radial = axes[:2]
+    return Pedestal(mass=mass, stiffness=radial.T @ stiffness @ radial, damping=radial.T @ damping @ radial)
+
+
+def _pedestal_matrix(table: Table, key: str, definite: bool) -> np.ndarray:
+    """A pedestal's symmetric 2x2 stiffness (positive definite: it alone holds the pedestal's
+    mass) or damping (positive semidefinite) from a number, a 2-list or a 2x2 matrix."""
+    if key not in table.data:
+        return np.zeros((2, 2))
+    raw = table.data[key]
+    value = table.array(key, [(), (2,), (2, 2)])
+    matrix = np.diag(np.broadcast_to(value, (2,))).astype(float) if value.ndim < 2 else value
+    what = "positive definite" if definite else "positive semidefinite"
+    if not np.allclose(matrix, matrix.T, rtol=1e-12, atol=0.0):
+        raise table.error(key, raw, f"a symmetric {what} 2x2 matrix (a pedestal is a structure: its "
+                          "coefficients are symmetric), a number or a 2-list")
+    lowest = float(np.linalg.eigvalsh(matrix)[0])
+    scale = float(np.abs(matrix).max(initial=0.0))
+    if (definite and not lowest > 1e-12 * scale) or (not definite and lowest < -1e-12 * scale):
+        raise table.error(key, raw, f"a {what} value ({'numbers > 0' if definite else 'numbers >= 0'} "
+                          f"as a number or 2-list; a 2x2 matrix's lowest eigenvalue is {lowest:.4g})")
+    return matrix
 
 
 def _on_spin_axis(table: Table, rotor, e: np.ndarray) -> np.ndarray:

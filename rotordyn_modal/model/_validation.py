@@ -20,10 +20,11 @@ from ..unbalance_standards import BALANCE_GRADES, balance_grade, permissible_unb
 from ..elements import _bearing_validation
 from ..elements._mount_validation import suspension as _suspension
 from . import flexible as _flexible
+from .geometry import gear_mesh
 from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, semidefinite_problem, visible, \
     visible_names
 from .components import (
-    ARRAY_TABLES, TOP_LEVEL_KEYS, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
+    ARRAY_TABLES, TOP_LEVEL_KEYS, Clearance, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
     Unbalance, input_keys, is_finite_number,
 )
 
@@ -125,13 +126,15 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
                    or _excitation(t, rotor_tables, shafts)
                    for i, t in enumerate(_named_tables(source, data, "excitations").values())]
     _bearing_validation.check_frame(top, stator, suspensions, bearings, sensors, excitations)
-    rotors = _meshed(top, rotors, bearings, unbalances, sensors, excitations)
+    clearances = _clearances(rotor_tables, rotors, on_bearings, np.asarray(spin_axis, dtype=float))
+    _check_meshes(transmission_tables, transmissions, rotors, spin_axis)
+    rotors = _meshed(top, rotors, bearings, unbalances, sensors, excitations, clearances, transmissions)
     return {
         "name": name, "spin_axis": spin_axis, "reference_rotor": reference, "gravity": gravity,
         "stator": stator, "rotors": tuple(rotors), "transmissions": tuple(transmissions),
         "suspensions": tuple(suspensions), "bearings": tuple(bearings),
         "unbalances": tuple(unbalances),
-        "sensors": tuple(sensors), "excitations": tuple(excitations),
+        "sensors": tuple(sensors), "excitations": tuple(excitations), "clearances": clearances,
     }
 
 
@@ -345,8 +348,9 @@ def _flexible_unbalance(table: _Table, unbalance: Unbalance, rotors) -> Unbalanc
     return dataclasses.replace(unbalance, axial_offset=z - centre)
 
 
-def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations):
-    """The rotors, each flexible one with its mesh: a node at every station of the model on it."""
+def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations, clearances=(), transmissions=()):
+    """The rotors, each flexible one with its mesh: a node at every station of the model on it
+    (a gear with a mesh stiffness or damping: its plane)."""
     out = []
     for rotor in rotors:
         shaft = rotor.flexible
@@ -363,6 +367,9 @@ def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations):
         stations += [centre + u.axial_offset for u in unbalances if u.rotor == rotor.name]
         stations += [shaft.z_of(x.position) for x in (*sensors, *excitations)
                      if x.rotor == rotor.name and x.position is not None]
+        stations += [c.axial_position for c in clearances if c.rotor == rotor.name]
+        stations += [shaft.z_of(_gear_plane(t, rotors)) for t in transmissions
+                     if rotor.name in (t.driver, t.driven) and _has_mesh(t)]
         meshed = _flexible.with_mesh(shaft, stations)
         if meshed.mesh.n_nodes > _flexible.MAX_NODES:
             raise _Table(top.source, f"rotors.{visible(rotor.name)}", {}).error(
@@ -373,6 +380,62 @@ def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations):
         else:
             out.append(dataclasses.replace(rotor, flexible=meshed))
     return out
+
+
+def _has_mesh(t) -> bool:
+    """A gear with a mesh stiffness or damping."""
+    return t.mesh_stiffness is not None or t.mesh_damping is not None
+
+
+def _gear_plane(t, rotors):
+    """A point of a gear's plane: its ``position``, else the driver's centre of mass."""
+    return t.position if t.position is not None else next(r.center_of_mass for r in rotors if r.name == t.driver)
+
+
+_CLEARANCE_KEYS = ("name", "position", "axial_position", "radial_clearance")
+
+
+def _clearances(rotor_tables, rotors, on_bearings, spin_axis) -> tuple:
+    """The ``[[rotors.clearances]]`` of every rotor (close-clearance stations), validated:
+    a name unique in the model, a radial clearance > 0, a point on the rotor's axis (on a
+    flexible rotor a station of its shaft), a rotor on bearings."""
+    out, names = [], set()
+    for rotor in rotors:
+        table = rotor_tables[rotor.name]
+        raws = table.data.get("clearances", [])
+        if not isinstance(raws, list) or not all(isinstance(item, dict) for item in raws):
+            raise table.error("clearances", raws, "an array of tables ([[rotors.clearances]])")
+        for i, raw in enumerate(raws):
+            item = _Table(table.source, f"{table.label}.clearances.{visible(raw.get('name', i))}", raw)
+            out.append(_clearance(item, rotor, on_bearings, spin_axis))
+            if out[-1].name in names:
+                raise item.error("name", out[-1].name, "a name unique among the model's [[rotors.clearances]]")
+            names.add(out[-1].name)
+    return tuple(out)
+
+
+def _clearance(table: _Table, rotor, on_bearings, spin_axis) -> Clearance:
+    table.check_keys(_CLEARANCE_KEYS)
+    name = table.text("name", required=True)
+    radial = table.number("radial_clearance", required=True, positive=True)
+    if rotor.name not in on_bearings:
+        raise table.error("radial_clearance", radial, f"a clearance on a rotor on [[bearings]]: rotor "
+                          f"{visible(rotor.name)!r} is rigidly attached to the stator, nothing moves in its clearance")
+    shaft = rotor.flexible
+    if shaft is not None:
+        point, z = _flexible.station_z(table, shaft, rotor.name)
+        return Clearance(name, rotor.name, point, radial, z)
+    if "axial_position" in table.data:
+        raise table.error("axial_position", table.data["axial_position"], "no value: axial_position places a "
+                          "clearance on a flexible rotor (on a rigid rotor give position, a point on its axis)")
+    point = table.vector3("position", required=True)
+    centre = np.asarray(rotor.center_of_mass, dtype=float)
+    offset = float((point - centre) @ spin_axis)
+    off = float(np.linalg.norm(point - centre - offset * spin_axis))
+    if off > _flexible.STATION_TOLERANCE * (1.0 + abs(offset)):
+        raise table.error("position", table.data["position"], f"a point on the axis of rotor {visible(rotor.name)!r} "
+                          f"(the line through its centre of mass along spin_axis); this point is {off:.4g} m off it")
+    return Clearance(name, rotor.name, centre + offset * spin_axis, radial)
 
 
 def _transmission(table: _Table, rotor_tables) -> Transmission:
@@ -400,7 +463,8 @@ _MAX_PRESSURE_ANGLE = 45.0
 
 def _transmission_geometry(table: _Table, kind: str) -> dict:
     """The optional keys of a transmission's static loads (docs/model-file.md), checked."""
-    for key, owner in (("pressure_angle", "gear"), ("pretension", "belt")):
+    for key, owner in (("pressure_angle", "gear"), ("pretension", "belt"), ("mesh_stiffness", "gear"),
+                       ("mesh_damping", "gear")):
         if key in table.data and kind != owner:
             raise table.error(key, table.data[key], f"no value: this key is for type = '{owner}' transmissions")
     angle = table.number("pressure_angle", nonnegative=True)
@@ -409,7 +473,32 @@ def _transmission_geometry(table: _Table, kind: str) -> dict:
                           f"{_MAX_PRESSURE_ANGLE:g} (20 is standard)")
     return {"position": table.vector3("position"),
             "driver_radius": table.number("driver_radius", positive=True),
-            "pressure_angle": angle, "pretension": table.number("pretension", nonnegative=True)}
+            "pressure_angle": angle, "pretension": table.number("pretension", nonnegative=True),
+            "mesh_stiffness": table.number("mesh_stiffness", positive=True),
+            "mesh_damping": table.number("mesh_damping", nonnegative=True)}
+
+
+def _check_meshes(tables, transmissions, rotors, spin_axis) -> None:
+    """A gear with a mesh stiffness or damping needs its line of action: two spin axes apart,
+    a pitch radius below their distance, and its plane on each flexible rotor's shaft."""
+    by_name = {r.name: r for r in rotors}
+    for table, t in zip(tables, transmissions):
+        if not _has_mesh(t):
+            continue
+        mesh = gear_mesh(t, by_name[t.driver], by_name[t.driven], spin_axis)
+        if mesh is None:
+            key = "mesh_stiffness" if t.mesh_stiffness is not None else "mesh_damping"
+            raise table.error(key, getattr(t, key), "a gear between rotors whose spin axes are apart (the "
+                              "driver's and the driven rotor's axes coincide: no line of centres)")
+        if not mesh.radius < mesh.distance:
+            raise table.error("driver_radius", t.driver_radius, f"a pitch radius below the centre distance "
+                              f"{mesh.distance:g} m of the two spin axes")
+        for name, centre in ((t.driver, mesh.driver_centre), (t.driven, mesh.driven_centre)):
+            shaft = by_name[name].flexible
+            if shaft is not None and not -1e-9 <= shaft.z_of(centre) <= shaft.length + 1e-9:
+                raise table.error("position", table.data.get("position", "<missing>"),
+                                  f"a gear plane on rotor {visible(name)!r}'s shaft (0 .. {shaft.length:g} m "
+                                  f"from its start; it is at {shaft.z_of(centre):g} m)")
 
 
 def mesh_name(driver: str, driver_teeth, driven: str) -> str | None:

@@ -16,8 +16,8 @@ from typing import Any
 import numpy as np
 
 __all__ = [
-    "Stator", "Rotor", "Transmission", "Suspension", "Bearing", "Unbalance", "Sensor", "Excitation",
-    "TOP_LEVEL_KEYS", "ARRAY_TABLES", "component_class", "input_keys", "is_finite_number",
+    "Stator", "Rotor", "Transmission", "Suspension", "Bearing", "Pedestal", "Unbalance", "Sensor", "Excitation",
+    "Clearance", "TOP_LEVEL_KEYS", "ARRAY_TABLES", "component_class", "input_keys", "is_finite_number",
 ]
 
 #: keys read at the top level of a model description
@@ -75,6 +75,9 @@ class Rotor:
         The keys of a flexible rotor (docs/model-file.md, "Flexible rotors"). After validation
         :attr:`flexible` holds its :class:`~rotordyn_modal.model.flexible.Shaft` with the mesh,
         and ``mass`` ... ``diametral_inertia`` the values computed from it; None for a rigid rotor.
+    clearances : list of dict, optional
+        ``[[rotors.clearances]]``: close-clearance stations (seals), validated into
+        :class:`Clearance` items (``Model.clearances``).
     """
 
     name: str
@@ -89,7 +92,38 @@ class Rotor:
     start: Any = None
     shear: str | None = None
     element_length: float | None = None
+    clearances: Any = None
     flexible: Any = field(default=None, repr=False, compare=False)
+
+
+@dataclass(frozen=True)
+class Clearance:
+    """A close-clearance station of a rotor (a labyrinth seal, an impeller eye seal, a balance
+    piston): a point on the rotor's axis and the radial running clearance there.
+
+    Parameters
+    ----------
+    name : str
+        Unique among the model's clearances.
+    rotor : str
+    position : ndarray, shape (3,) [m]
+        The point on the rotor's axis, model axes (a node of a flexible rotor's mesh).
+    radial_clearance : float [m]
+        The minimum design radial running clearance (half the diametral one), > 0.
+    axial_position : float or None [m]
+        On a flexible rotor, the station from the shaft's start; None on a rigid rotor.
+    """
+
+    name: str
+    rotor: str
+    position: Any
+    radial_clearance: float
+    axial_position: float | None = None
+
+    @property
+    def diametral_clearance(self) -> float:
+        """[m] twice the radial clearance."""
+        return 2.0 * self.radial_clearance
 
 
 @dataclass(frozen=True)
@@ -105,6 +139,10 @@ class Transmission:
     from the centre distance a: ``a / (1 + ratio)``) or pulley radius (belt); a gear's
     ``pressure_angle`` [deg] (default 20); a belt's ``pretension`` [N] in each strand at rest
     (default 0).
+
+    ``mesh_stiffness`` [N/m] and ``mesh_damping`` [N s/m] of a gear: a spring and damper along
+    the line of action at the pitch point, between the two gears' lateral motions
+    (docs/theory.md §18); without them the transmission fixes the speed ratio only.
     """
 
     type: str
@@ -116,6 +154,8 @@ class Transmission:
     driver_radius: float | None = None
     pressure_angle: float | None = None
     pretension: float | None = None
+    mesh_stiffness: float | None = None
+    mesh_damping: float | None = None
 
     @property
     def label(self) -> str:
@@ -181,6 +221,12 @@ class Bearing:
 
     After validation :attr:`coefficients` holds the normalised description
     (see :class:`rotordyn_modal.bearing_coefficients.BearingCoefficients`).
+
+    A bearing may stand on a pedestal: ``pedestal_mass`` [kg] moving in the two directions
+    normal to the spin axis, held by ``pedestal_stiffness`` [N/m] (and ``pedestal_damping``
+    [N s/m]; each a number, 2-list or symmetric 2x2 in the bearing's radial ``axes``) to the
+    stator point (or the ground); the bearing then acts between the rotor and the pedestal.
+    After validation :attr:`pedestal` holds its :class:`Pedestal` (None without one).
     """
 
     name: str
@@ -202,7 +248,30 @@ class Bearing:
     load: float | None = None
     load_direction: Any = None
     axial_position: float | None = None
+    pedestal_mass: float | None = None
+    pedestal_stiffness: Any = None
+    pedestal_damping: Any = None
     coefficients: Any = field(default=None, repr=False, compare=False)
+    pedestal: Any = field(default=None, repr=False, compare=False)
+
+
+@dataclass(frozen=True)
+class Pedestal:
+    """A bearing's pedestal after validation: a point mass moving normal to the spin axis
+    between the bearing and the stator (or the ground).
+
+    Attributes
+    ----------
+    mass : float
+        [kg], > 0.
+    stiffness, damping : ndarray, shape (3, 3)
+        Model axes [N/m, N s/m], acting on the pedestal's translation relative to the stator
+        point at the bearing (zero along the spin axis); symmetric.
+    """
+
+    mass: float
+    stiffness: np.ndarray
+    damping: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -272,7 +341,7 @@ _COMPONENTS = {
 
 def _input_keys(cls) -> tuple[str, ...]:
     return tuple(f.name for f in dataclasses.fields(cls)
-                 if f.init and not f.name.endswith("_matrix") and f.name not in ("coefficients", "flexible"))
+                 if f.init and not f.name.endswith("_matrix") and f.name not in ("coefficients", "flexible", "pedestal"))
 
 
 def component_class(table: str):

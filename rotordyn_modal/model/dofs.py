@@ -21,6 +21,10 @@
   rigid motion at S it is ``B_PS^T N_P`` (the motion of a rigid body that moves as the node).
   Where no point is named (a "body motion", :meth:`Dofs.body_motion`) a flexible rotor's
   motion is that of its node nearest its centre of mass.
+* then, for each bearing on a pedestal (``pedestal_mass``), in model order: the pedestal's
+  translation relative to the stator point at the bearing along ``a`` and ``b`` (names
+  ``BEARING.pedestal.ua``, ``BEARING.pedestal.ub``, axis letters as above:
+  ``DE.pedestal.uy``). It moves with the stator along the spin axis and does not turn.
 
 Every body's small rigid motion, written at S, is a linear map of ``q``:
 ``T_stator = [I, 0]`` and, for rotor j, ``T_j = T_stator + B_RjS^T P_j E_j``
@@ -61,6 +65,12 @@ class Dofs:
         ``P_j``: relative motion ``[u, theta]`` at the rotor's centre of mass per coordinate.
     centres : tuple of ndarray, each shape (3,) [m]
         Centres of mass of those rotors.
+    shafts : tuple
+        Each of those rotors' :class:`~rotordyn_modal.model.flexible.Shaft` or None (empty when
+        all are rigid).
+    pedestals : tuple of (str, slice)
+        Each bearing on a pedestal and where its two coordinates sit.
+    spin_axis : ndarray, shape (3,)
     """
 
     names: tuple
@@ -71,6 +81,8 @@ class Dofs:
     bases: tuple = ()
     centres: tuple = ()
     shafts: tuple = ()
+    pedestals: tuple = ()
+    spin_axis: np.ndarray | None = None
 
     @property
     def n(self) -> int:
@@ -107,6 +119,51 @@ class Dofs:
         if self.shafts and self.shafts[j] is not None:
             return _node_motions(self.shafts[j], self.bases[j].shape[1], points)
         return shift_matrices(self.centres[j], points).transpose(0, 2, 1) @ self.bases[j]
+
+    def pedestal(self, bearing: str) -> slice | None:
+        """Where the pedestal of ``bearing`` has its two coordinates in ``q`` (None: no pedestal)."""
+        return dict(self.pedestals).get(bearing)
+
+    def bearing_moves(self, rotor: str, positions, bearings) -> tuple[slice, np.ndarray]:
+        """The motion across each bearing of ``rotor``: the rotor's motion at its point relative
+        to the stator, less its pedestal's translation (when it stands on one).
+
+        Parameters
+        ----------
+        rotor : str
+        positions : array_like, shape (P, 3) [m]
+        bearings : sequence of str
+            The bearings' names, in the order of ``positions``.
+
+        Returns
+        -------
+        rows : slice
+            The coordinates the motions act on: the rotor's, through its bearings' pedestals.
+        moves : ndarray, shape (P, 6, width)
+            ``[u, theta]`` across each bearing per coordinate of ``rows``.
+        """
+        own = self.slices[self.rotors.index(rotor)]
+        moves = self.local_relative_motions(rotor, positions)
+        stands = [(p, self.pedestal(b)) for p, b in enumerate(bearings) if self.pedestal(b) is not None]
+        if not stands:
+            return own, moves
+        rows = slice(own.start, max(where.stop for _, where in stands))
+        wide = np.zeros(moves.shape[:2] + (rows.stop - rows.start,))
+        wide[..., :own.stop - own.start] = moves
+        lateral = -transverse_axes(self.spin_axis).T     # (3, 2): the pedestal's translation per coordinate
+        for p, where in stands:
+            wide[p, :3, where.start - rows.start:where.stop - rows.start] = lateral
+        return rows, wide
+
+    def pedestal_motion(self, bearing: str, point) -> np.ndarray:
+        """The absolute translation of a bearing's pedestal at ``point`` per coordinate, (3, n) [m/m]:
+        the stator's at the point plus its own lateral translation."""
+        out = np.zeros((3, self.n))
+        k = self.n_frame
+        if k:
+            out[:, :k] = shift_matrices(self.reference_point, [point])[0].T[:3, :k]
+        out[:, self.pedestal(bearing)] = transverse_axes(self.spin_axis).T
+        return out
 
     def shaft(self, rotor: str):
         """The flexible rotor's :class:`~rotordyn_modal.model.flexible.Shaft`, or None (rigid, or
@@ -185,9 +242,15 @@ def dofs(model) -> Dofs:
         bases.append(basis)
         centres.append(np.asarray(rotor.center_of_mass, dtype=float))
         shafts.append(rotor.flexible)
+    pedestals = []
+    for bearing in model.bearings:
+        if getattr(bearing, "pedestal", None) is not None:
+            pedestals.append((bearing.name, slice(len(names), len(names) + 2)))
+            names += [f"{bearing.name}.pedestal.u{letters[0]}", f"{bearing.name}.pedestal.u{letters[1]}"]
     return Dofs(names=tuple(names), reference_point=np.asarray(model.reference_point, dtype=float),
                 frame=frame, rotors=tuple(rotors), slices=tuple(slices), bases=tuple(bases),
-                centres=tuple(centres), shafts=tuple(shafts) if any(s is not None for s in shafts) else ())
+                centres=tuple(centres), shafts=tuple(shafts) if any(s is not None for s in shafts) else (),
+                pedestals=tuple(pedestals), spin_axis=np.asarray(model.spin_axis, dtype=float))
 
 
 def _flexible_basis(shaft, axial: bool, letters):

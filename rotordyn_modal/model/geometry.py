@@ -14,9 +14,11 @@ Conventions (see ``docs/theory.md``):
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-__all__ = ["skew", "shift_cross", "shift_matrix", "shift_matrices", "cross", "point_motion_row", "point_motion_rows",
+__all__ = ["GearMesh", "gear_mesh", "skew", "shift_cross", "shift_matrix", "shift_matrices", "cross", "point_motion_row", "point_motion_rows",
            "point_force_column",
            "transverse_axes"]
 
@@ -192,3 +194,51 @@ def transverse_axes(spin_axis) -> np.ndarray:
     a = following - (following @ e) * e
     a = a / np.linalg.norm(a)
     return np.array([a, cross(e, a)]) + 0.0
+
+
+class GearMesh(NamedTuple):
+    """Where a gear pair meshes (docs/theory.md §18), model axes.
+
+    Attributes
+    ----------
+    driver_centre, driven_centre : ndarray, shape (3,) [m]
+        The two spin axes where they cross the gear plane.
+    distance : float
+        Centre distance [m].
+    radius : float
+        The driver's pitch radius [m].
+    pitch_point : ndarray, shape (3,) [m]
+        ``driver_centre + radius u``, ``u`` the unit line of centres from driver to driven.
+    direction : ndarray, shape (3,)
+        Unit line of action ``n = s cos(alpha) (e x u) + sin(alpha) u``, ``s`` the sign of the
+        driver's speed ratio: the tooth force on the driver driving at positive reference speed
+        is ``-F n`` (F > 0), as in ``rdm.static``.
+    """
+
+    driver_centre: np.ndarray
+    driven_centre: np.ndarray
+    distance: float
+    radius: float
+    pitch_point: np.ndarray
+    direction: np.ndarray
+
+
+def gear_mesh(transmission, driver, driven, spin_axis) -> GearMesh | None:
+    """The :class:`GearMesh` of a gear ``transmission`` between rotors ``driver`` and ``driven``
+    (the plane through its ``position``, else the driver's centre of mass; the pitch radius
+    ``driver_radius``, else ``a / (1 + ratio)``; ``pressure_angle`` [deg], else 20), or None when
+    the two spin axes coincide."""
+    e = np.asarray(spin_axis, dtype=float)
+    plane = np.asarray(driver.center_of_mass if transmission.position is None else transmission.position,
+                       dtype=float)
+    centres = [np.asarray(r.center_of_mass, dtype=float) for r in (driver, driven)]
+    on_driver, on_driven = (c + ((plane - c) @ e) * e for c in centres)
+    distance = float(np.linalg.norm(on_driven - on_driver))
+    if not distance > 0:
+        return None
+    u = (on_driven - on_driver) / distance
+    radius = distance / (1.0 + transmission.ratio) if transmission.driver_radius is None else transmission.driver_radius
+    angle = np.radians(20.0 if transmission.pressure_angle is None else transmission.pressure_angle)
+    sense = -1.0 if driver.speed_ratio is not None and driver.speed_ratio < 0 else 1.0
+    direction = sense * np.cos(angle) * np.cross(e, u) + np.sin(angle) * u
+    return GearMesh(on_driver, on_driven, distance, float(radius), on_driver + radius * u, direction)

@@ -59,6 +59,8 @@ class Model:
         Spin speed of each rotor / reference speed (signed about ``spin_axis``).
     source : str
         Where the description came from (file name), used in messages.
+    clearances : tuple of Clearance
+        The rotors' close-clearance stations (``[[rotors.clearances]]``), in file order.
     """
 
     def __init__(
@@ -119,6 +121,7 @@ class Model:
         self.unbalances = validated["unbalances"]
         self.sensors = validated["sensors"]
         self.excitations = validated["excitations"]
+        self.clearances = validated["clearances"]
         self.speed_ratios = {rotor.name: rotor.speed_ratio for rotor in self.rotors}
         if earlier is not None and self.same_bodies(earlier) and _same(self.bearings, earlier.bearings):
             self._dofs = earlier.dofs   # the coordinates follow from these alone
@@ -129,7 +132,7 @@ class Model:
                 "gravity": self.gravity, "stator": self.stator, "rotors": self.rotors,
                 "transmissions": self.transmissions, "suspensions": self.suspensions,
                 "bearings": self.bearings, "unbalances": self.unbalances, "sensors": self.sensors,
-                "excitations": self.excitations}
+                "excitations": self.excitations, "clearances": self.clearances}
 
     def same_bodies(self, other: "Model") -> bool:
         """True when both models hold the very same stator and rotor components (as a study's

@@ -15,13 +15,18 @@ def _labels(result) -> list[str]:
     return _DOF + names[6:] if names[:1] and names[0].startswith(("stator.", "frame.")) else names
 
 
-def plot_modes(result, title: str | None = None):
+def plot_modes(result, title: str | None = None, modes=None, columns: int | None = None):
     """Bar chart of each oscillatory mode's mass-weighted DOF participation.
 
     Parameters
     ----------
     result : ModalResult
     title : str, optional
+    modes : sequence of int, optional
+        The mode numbers drawn (as in ``result.to_dataframe()``, 1 = the lowest oscillatory
+        mode); default every oscillatory mode.
+    columns : int, optional
+        Panels per row (default up to 3).
 
     Returns
     -------
@@ -29,8 +34,10 @@ def plot_modes(result, title: str | None = None):
     """
     import matplotlib.pyplot as plt
 
-    modes = np.nonzero(result.oscillatory)[0]
-    cols = max(1, min(3, len(modes)))
+    oscillatory = np.nonzero(result.oscillatory)[0]
+    numbers = list(range(1, len(oscillatory) + 1)) if modes is None else [int(n) for n in modes]
+    modes = oscillatory[np.asarray(numbers, dtype=int) - 1]
+    cols = max(1, min(columns or 3, len(modes)))
     rows = max(1, int(np.ceil(len(modes) / cols)))
     labels = _labels(result)
     width = 3.2 if len(labels) <= 6 else 0.35 * len(labels) + 1.0
@@ -38,12 +45,12 @@ def plot_modes(result, title: str | None = None):
                              squeeze=False)
     for ax in axes.ravel()[len(modes):]:
         ax.set_visible(False)
-    for i, (ax, m) in enumerate(zip(axes.ravel(), modes)):
+    for number, ax, m in zip(numbers, axes.ravel(), modes):
         magnitude = np.abs(result.shapes[m])
         ax.bar(labels, magnitude / magnitude.max(), color="tab:blue")
         if len(labels) > 6:
             ax.tick_params(axis="x", labelrotation=90, labelsize="x-small")
-        ax.set_title(f"mode {i + 1}: {result.frequencies_hz[m]:.2f} Hz, ζ={result.damping_ratios[m]:.3f}\n"
+        ax.set_title(f"mode {number}: {result.frequencies_hz[m]:.2f} Hz, ζ={result.damping_ratios[m]:.3f}\n"
                      f"{result.whirl[m]} (ratio {result.whirl_ratios[m]:+.2f})", fontsize="small")
         ax.set_ylim(0, 1.05)
     fig.suptitle(title or f"Mode shapes at {result.speed * 30 / np.pi:.0f} rpm (|shape|, normalised)")

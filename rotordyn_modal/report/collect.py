@@ -4,8 +4,9 @@ limit and verdict (no figure here: :mod:`.render` draws them).
 Sections (``ReportData.sections``, in order; a later one, such as the mode shapes of a
 flexible rotor, is one more entry of :data:`SECTIONS` and one more ``_collect_*`` step):
 ``model``, ``static``, ``campbell`` (critical speeds, amplification factors and separation
-margins), ``ucs`` (undamped critical speed map), ``unbalance`` (probe limits), ``level1``
-(API 617 Level I stability), ``iso`` (ISO 20816-3 zones).
+margins), ``modes`` (the mode shapes of the modes near the operating range), ``ucs`` (undamped
+critical speed map), ``unbalance`` (probe limits and the clearance check at close-clearance
+stations), ``level1`` (API 617 Level I stability), ``iso`` (ISO 20816-3 zones).
 """
 
 from __future__ import annotations
@@ -20,17 +21,27 @@ import numpy as np
 from ..errors import InputError
 from ..units import check_system, unit_scale
 
-__all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "Criterion", "ReportInputs", "ReportData", "collect", "separation_margins"]
+__all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "Criterion", "ReportInputs", "ReportData", "collect",
+           "separation_margins", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
 
 #: section id -> heading
 SECTIONS = {"model": "Model", "static": "Static loads and sag", "campbell": "Campbell diagram and critical speeds",
-            "ucs": "Undamped critical speed map", "unbalance": "Unbalance response and probe limits",
+            "modes": "Mode shapes near the operating range", "ucs": "Undamped critical speed map", "unbalance": "Unbalance response and probe limits",
             "level1": "API 617 Level I stability", "iso": "ISO 20816-3 vibration zones"}
 
 #: standard -> its sections, in order
-STANDARDS = {"api617": ("model", "static", "campbell", "ucs", "unbalance", "level1"),
-             "api684": ("model", "static", "campbell", "ucs", "unbalance"),
-             "iso": ("model", "static", "campbell", "unbalance", "iso")}
+STANDARDS = {"api617": ("model", "static", "campbell", "modes", "ucs", "unbalance", "level1"),
+             "api684": ("model", "static", "campbell", "modes", "ucs", "unbalance"),
+             "iso": ("model", "static", "campbell", "modes", "unbalance", "iso")}
+
+#: the modes section's window: the operating range widened by the largest separation margin
+#: API 684 requires (17 %, ``17 (1 - 1/(AF - 1.5))`` as AF grows): a mode whose 1X critical speed
+#: or whose frequency at the MCS (as a 1X speed) lies in it could fail the margin
+MODE_WINDOW = 0.17
+#: modes shown when none lies in the window: the lowest at the MCS
+LOWEST_MODES = 4
+#: most modes shown (the lowest numbers of those in the window)
+MOST_MODES = 8
 
 
 #: what the report shows of each quantity: report kind -> {system: (factor from SI, label)}
@@ -125,6 +136,31 @@ class ReportInputs:
     @property
     def range(self) -> tuple:
         return tuple(self.operating) if self.operating is not None else (self.mcs, self.mcs)
+
+
+@dataclass(frozen=True)
+class ModeShapes:
+    """The modes of the ``modes`` section, at the MCS.
+
+    Attributes
+    ----------
+    modal : ModalResult
+        At the MCS: its mode numbers are those of ``modes --speed MCS``.
+    numbers : tuple of int
+        The modes shown, increasing.
+    reasons : tuple of str
+        Why each is shown (its 1X critical speed or its frequency in the window, or the lowest).
+    window : (float, float) [rad/s]
+    lines : tuple of ShaftLines or None
+        Each mode's deflected shaft lines when a rotor is flexible (None: rigid rotors only,
+        drawn as the mode-shape bar chart).
+    """
+
+    modal: object
+    numbers: tuple
+    reasons: tuple
+    window: tuple
+    lines: tuple | None = None
 
 
 @dataclass
@@ -275,6 +311,57 @@ def _peak_outputs(model, response):
     return probes or list(response.outputs)
 
 
+def _modes(data):
+    """The modes near the operating range at the MCS (:data:`MODE_WINDOW`), else the lowest."""
+    from ..analysis.modal import modal
+
+    mcs = data.inputs.mcs
+    result = modal(data.model, mcs)
+    count = int(result.oscillatory.sum())
+    if not count:
+        data.skipped["modes"] = f"no oscillating mode at the MCS ({mcs * 30 / np.pi:.6g} rpm)"
+        return
+    low, high = data.inputs.range
+    window = (low * (1 - MODE_WINDOW), high * (1 + MODE_WINDOW))
+    reasons: dict = {}
+    frequencies = 2 * np.pi * result.frequencies_hz[result.oscillatory]
+    for number, w in enumerate(frequencies, start=1):
+        if window[0] <= w <= window[1]:
+            reasons.setdefault(number, f"frequency at the MCS {w * 30 / np.pi:.0f} rpm (1X) in the window")
+    for number, speed in _critical_numbers(data, result):
+        if window[0] <= speed <= window[1]:
+            reasons[number] = f"1X critical speed {speed * 30 / np.pi:.0f} rpm in the window"
+    if not reasons:
+        reasons = {n: "one of the lowest at the MCS (none in the window)" for n in range(1, min(count, LOWEST_MODES) + 1)}
+    numbers = tuple(sorted(reasons)[:MOST_MODES])
+    lines = None
+    if any(r.flexible is not None for r in data.model.rotors):
+        from ..analysis.mode_shapes import shaft_lines
+
+        lines = tuple(shaft_lines(result, data.model, n) for n in numbers)
+    data.results["modes"] = ModeShapes(result, numbers, tuple(reasons[n] for n in numbers), window, lines)
+
+
+def _critical_numbers(data, result):
+    """(number at the MCS, critical speed [rad/s]) of each 1X critical speed of the Campbell
+    sweep: its tracked mode's root at the sweep speed nearest the MCS, numbered as ``modes``
+    numbers the nearest root at the MCS."""
+    from ..analysis.mode_numbers import number_of_root
+
+    campbell = data.results.get("campbell")
+    if campbell is None:
+        return []
+    table = campbell.critical.to_dataframe()
+    table = table[np.isclose(table["order"].astype(float), 1.0)]
+    nearest = int(np.argmin(np.abs(np.abs(campbell.speeds) - data.inputs.mcs)))
+    out = []
+    for row in table.itertuples():
+        number = number_of_root(result.eigenvalues, campbell.eigenvalues[nearest, int(row.mode) - 1])
+        if number:
+            out.append((number, row.speed_rpm * np.pi / 30))
+    return out
+
+
 def _unbalance(data):
     from ..analysis.unbalance import api_unbalance_response, unbalance_response
 
@@ -295,6 +382,8 @@ def _unbalance(data):
     data.results["checks"] = data.results["unbalance"].checks(
         data.model, mcs=inputs.mcs, min_speed=0.0, iso_group=group,
         iso_support=inputs.iso_support if group else None)
+    if data.model.clearances and inputs.standard != "iso":
+        data.results["clearance"] = data.results["unbalance"].clearance_check(data.model, mcs=inputs.mcs)
 
 
 def _ucs(data):
@@ -327,6 +416,27 @@ def _probe_limits(data):
                                       f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm" + _case(worst),
                                       quantities=[("value", "{0:.3g} {unit} pk-pk", "vibration", (worst.value,)),
                                                   ("limit", "<= {0:.3g} {unit} pk-pk", "vibration", (worst.limit,))]))
+
+
+def _clearance(data):
+    """The API 617 clearance criterion (only for a model with close-clearance stations)."""
+    if not data.model.clearances or data.inputs.standard == "iso":
+        return
+    from ..analysis.clearance import CLEARANCE_CHECK
+
+    check = data.results.get("clearance")
+    if check is None:
+        data.criteria.append(Criterion(CLEARANCE_CHECK, "", "", "not evaluated", "unbalance",
+                                       data.skipped.get("unbalance", "")))
+        return
+    table = check.to_dataframe()
+    worst = table.iloc[int(np.argmax(table["ratio"]))]
+    verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
+    data.criteria.append(Criterion.of(
+        CLEARANCE_CHECK, verdict, "unbalance",
+        f"governing: {worst.clearance} at {worst.speed_rpm:.0f} rpm" + _case(worst) + f", ratio {worst.ratio:.3g}",
+        quantities=[("value", "{0:.3g} {unit} pk-pk", "vibration", (worst.value,)),
+                    ("limit", "<= {0:.3g} {unit} pk-pk", "vibration", (worst.limit,))]))
 
 
 def _level1(data):
@@ -381,5 +491,10 @@ def _nothing(data):
     return None
 
 
-_STEPS = {"model": _nothing, "static": _static, "campbell": _campbell, "ucs": _ucs, "unbalance": _probe_limits,
-          "level1": _level1, "iso": _iso}
+def _probe_limits_and_clearances(data):
+    _probe_limits(data)
+    _clearance(data)
+
+
+_STEPS = {"model": _nothing, "static": _static, "campbell": _campbell, "modes": _modes, "ucs": _ucs,
+          "unbalance": _probe_limits_and_clearances, "level1": _level1, "iso": _iso}

@@ -13,7 +13,7 @@ from string import Template
 import numpy as np
 
 from ..units import check_system
-from .collect import SECTIONS, shown_scale
+from .collect import LOWEST_MODES, MODE_WINDOW, MOST_MODES, SECTIONS, shown_scale
 
 __all__ = ["render_html", "figure_png"]
 
@@ -171,7 +171,35 @@ def _static(data, units) -> str:
         _table(rows, [("body", True), ("point", True), *((f"u_{a} [{sag_unit}]", False) for a in "xyz")]),
         "<h3>Reactions (force of each support on the body it carries)</h3>",
         _table(rrows, [("support", True), ("kind", True), ("body", True), ("on", True),
-                       *((f"F_{a} [{force_unit}]", False) for a in "xyz")])])
+                       *((f"F_{a} [{force_unit}]", False) for a in "xyz")]),
+        *_shaft_statics(result, units)])
+
+
+def _shaft_statics(result, units) -> list:
+    """The flexible shafts' largest sag, shear force, bending moment and bending stress (a table)
+    and their diagram along the axis (a figure); nothing for rigid rotors."""
+    shafts = list(result.shafts.values())
+    if not shafts:
+        return []
+    from ..units import unit_scale
+
+    shown = (("sag", "sag", shown_scale("sag", units)), ("shear", "shear force", shown_scale("force", units)),
+             ("moment", "bending moment", unit_scale("moment", units)),
+             ("stress", "bending stress", (1e-6, "MPa") if units == "si" else unit_scale("pressure", units)))
+    to_length, length_unit = unit_scale("length", units)
+    rows = []
+    for shaft in shafts:
+        for quantity, what, (factor, unit) in shown:
+            value, i = shaft.largest(quantity)
+            rows.append([shaft.rotor, f"largest {what} [{unit}]", _g(value * factor),
+                         shaft.label(i, quantity), f"{shaft.axis_names[2]} = {_g(shaft.position[i] * to_length)}"])
+    return ["<h3>Flexible shafts: sag, shear force and bending moment</h3>",
+            _table(rows, [("rotor", True), ("quantity", True), ("value", False), ("station", True),
+                          (f"position, model axes [{length_unit}]", True)]),
+            _figure(result.plot_shafts(units=units),
+                    "Figure: static sag relative to the stator, shear force and bending moment along each "
+                    "flexible shaft, both bending planes; bearings and disks marked (docs/static.md).",
+                    "Shaft sag, shear force and bending moment")]
 
 
 def _at_round_off(values, relative: float = 1e-9):
@@ -219,6 +247,51 @@ def _campbell(data, units) -> str:
     return "\n".join(parts)
 
 
+#: a damping ratio or log decrement below this is the round-off of an undamped mode
+_ROUND_OFF_DAMPING = 1e-9
+
+
+def _modes(data, units) -> str:
+    shapes = data.results.get("modes")
+    if shapes is None:
+        return _heading("modes") + _skipped(data, "modes")
+    from ..analysis.mode_shapes import mode_index
+
+    result, numbers = shapes.modal, shapes.numbers
+    mcs = data.inputs.mcs * 30 / np.pi
+    low, high = (x * 30 / np.pi for x in shapes.window)
+    rows, captions = [], []
+    for number, reason in zip(numbers, shapes.reasons):
+        k = mode_index(result, number)
+        # a log decrement at round-off (an undamped axial mode: 1e-15) shows as 0
+        delta, zeta = (x if abs(x) > _ROUND_OFF_DAMPING else 0.0
+                       for x in (result.log_decrements[k], result.damping_ratios[k]))
+        whirl = f"{result.whirl[k]} whirl" if result.whirl[k] != "none" else "no whirl"
+        rows.append([str(number), _g(result.frequencies_hz[k], 5), whirl, _g(delta, 3), _g(zeta, 3), reason])
+        captions.append(f"mode {number}: {result.frequencies_hz[k]:.4g} Hz, {whirl}, log dec {delta:.3g}")
+    if shapes.lines is not None:
+        from ..plotting.shaft_modes import plot_shaft_modes
+
+        fig = plot_shaft_modes(shapes.lines, relative=data.model.stator is not None,
+                               title=f"Mode shapes at the MCS, {mcs:.6g} rpm")
+        what = "deflected shaft lines along the axis (both planes at phase 0, the orbits' largest excursion shaded)"
+    else:
+        # two panels a row when the machine has many coordinates: their labels stay readable
+        fig = result.plot(title=f"Mode shapes at the MCS, {mcs:.6g} rpm (|shape|, normalised)", modes=numbers,
+                          columns=3 if len(result.dof_names) <= 6 else 2)
+        what = "each coordinate's share of the mode (|shape|, normalised)"
+    return "\n".join([
+        _heading("modes"),
+        f"<p>Modes at the MCS ({mcs:.6g} rpm), numbered as <code>modes --speed {mcs:.6g}</code> numbers them: "
+        f"those whose 1X critical speed or whose frequency at the MCS (as a 1X speed) lies within "
+        f"{100 * MODE_WINDOW:.0f} % (the largest separation margin API 684 asks) of the operating range, "
+        f"{low:.6g} to {high:.6g} rpm (at most {MOST_MODES}); the lowest {LOWEST_MODES} at the MCS when none does "
+        "(docs/report.md).</p>",
+        _table(rows, [("mode", True), ("frequency [Hz]", False), ("whirl", True), ("log decrement [-]", False),
+                      ("damping ratio [-]", False), ("shown because", True)]),
+        _figure(fig, f"Figure: {what}. " + "; ".join(captions) + ".", "Mode shapes")])
+
+
 def _ucs(data, units) -> str:
     result = data.results.get("ucs")
     if result is None:
@@ -254,7 +327,31 @@ def _unbalance(data, units) -> str:
                      "over 0 to MCS.</p>")
         parts.append(_check_table(table, factor, f"{unit} pk-pk") if not table.empty else
                      "<p>No proximity probe (measure = \"relative\") in the model.</p>")
+        parts.append(_clearance_table(data, units))
     return "\n".join(parts)
+
+
+def _clearance_table(data, units) -> str:
+    """The API 617 clearance check, one row per station and case (or why there is none)."""
+    check = data.results.get("clearance")
+    heading = '<h3 id="clearance">API 617 clearance check at close-clearance stations</h3>'
+    if check is None:
+        return heading + ("<p>No close-clearance station ([[rotors.clearances]]) in the model: not evaluated.</p>"
+                          if not data.model.clearances else "")
+    factor, unit = shown_scale("vibration", units)
+    table = check.to_dataframe()
+    radial = dict(zip(check.names, check.radial_clearances))
+    has_case = "case" in table
+    rows = [[r.clearance, r.rotor, *([r.case] if has_case else []), _g(radial[r.clearance] * factor),
+             _g(r.speed_rpm, 6), _g(r.value * factor), _g(r.limit * factor), _g(r.ratio, 3), _verdict_cell(r.verdict)]
+            for r in table.itertuples()]
+    return heading + (
+        "<p>At each station the rotor's motion relative to the casing (which holds the seal): its peak-to-peak "
+        "value, twice the orbit's semi-major axis, largest over 0 to MCS, against 75 % of the minimum diametral "
+        "running clearance (0.75 x 2 x the radial clearance), each API case on its own (docs/standards.md).</p>"
+    ) + _table(rows, [("clearance", True), ("rotor", True), *([("case", True)] if has_case else []),
+                      (f"radial clearance [{unit}]", False), ("speed [rpm]", False), (f"value [{unit} pk-pk]", False),
+                      (f"limit [{unit} pk-pk]", False), ("ratio [-]", False), ("verdict", True)])
 
 
 def _check_table(table, scale, unit) -> str:
@@ -309,5 +406,5 @@ def _units(units) -> dict:
     return {} if units == "si" else {"units": units}
 
 
-_SECTION_RENDERERS = {"model": _model, "static": _static, "campbell": _campbell, "ucs": _ucs,
+_SECTION_RENDERERS = {"model": _model, "static": _static, "campbell": _campbell, "modes": _modes, "ucs": _ucs,
                       "unbalance": _unbalance, "level1": _level1, "iso": _iso}

@@ -1,6 +1,6 @@
 """The time model of a machine with flexible rotors: the linear model integrated in time.
 
-A machine with a flexible rotor is integrated as its linear model (docs/theory.md §18,
+A machine with a flexible rotor is integrated as its linear model (docs/theory.md §19,
 docs/simulate.md "Flexible rotors"): the reference rotor's angle ``phi(t)`` is prescribed
 (constant speed or a linear ramp), and every other coordinate -- the flexible rotors' node
 motions, the rigid rotors' motions in their bearings and the casing's six motions -- is a small

@@ -36,6 +36,19 @@ def kernels(backend: str = "auto"):
     return _kernels.plain_namespace()
 
 
+def _refuse_linear_only(model) -> None:
+    """Refuse, in one line, a model with parts the time model does not have: bearing
+    pedestals and gear mesh stiffness (linear analyses only)."""
+    pedestal = next((b.name for b in model.bearings if b.pedestal is not None), None)
+    if pedestal is not None:
+        raise InputError(f"{model.source}: [bearings.{pedestal}] stands on a pedestal (pedestal_mass): the time "
+                         "simulation has no pedestals; use the linear analyses (modes, campbell, frf, unbalance)")
+    mesh = next((t for t in model.transmissions if t.mesh_stiffness is not None or t.mesh_damping is not None), None)
+    if mesh is not None:
+        raise InputError(f"{model.source}: [transmissions.{mesh.label}] has a mesh stiffness or damping: the time "
+                         "simulation keeps gears rigid; use the linear analyses (modes, campbell, frf, unbalance)")
+
+
 def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, initial="rest",
              impulse=None, impulse_size=1.0, samples=None, rtol=1e-9, atol=1e-12,
              unbalance_phases_deg=None, backend="auto", progress=False, modes_below=None) -> SimulationResult:
@@ -117,6 +130,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     >>> bool(abs(res.spin_speed[-1] / 50.0 - 1) < 1e-3)
     True
     """
+    _refuse_linear_only(model)
     duration, speed = _positive(duration, "duration"), _speed(speed, "speed")
     final_speed = None if final_speed is None else _speed(final_speed, "final_speed")
     rtol, atol = _tolerance(rtol, "rtol", *_RTOL_RANGE), _tolerance(atol, "atol", *_ATOL_RANGE)

@@ -1,0 +1,143 @@
+"""The API 617 / API 684 clearance check of an unbalance response (``docs/standards.md``).
+
+At every close-clearance station of the model (``[[rotors.clearances]]``: a point on a rotor's
+axis and its radial running clearance ``c``) the rotor's motion **relative to the stator** (the
+casing that holds the seal) traces an orbit; its peak-to-peak displacement in the worst
+direction is twice the orbit's semi-major axis (``orbits.orbit_ellipses``), summed over the
+sources (exact for one source or one API case; the largest the sum of harmonics of different
+frequencies reaches). It shall stay below 75 % of the minimum diametral running clearance::
+
+    pk-pk(station) <= 0.75 x 2 c            (0-peak: semi-major axis <= 0.75 c)
+
+over the checked speeds ``min_speed <= |speed| <= trip speed`` (API 617: from zero to trip
+speed; default the MCS), each API unbalance case on its own.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from .orbits import orbit_ellipses
+
+__all__ = ["ClearanceCheck", "clearance_check", "CLEARANCE_SHARE", "CLEARANCE_CHECK"]
+
+#: the share of the minimum diametral running clearance the pk-pk response may reach
+CLEARANCE_SHARE = 0.75
+#: the check's name in tables and the report's summary
+CLEARANCE_CHECK = "API 617 clearance (75 % of diametral)"
+
+
+@dataclass(frozen=True)
+class ClearanceCheck:
+    """Unbalance response at the close-clearance stations against 75 % of their clearance.
+
+    Attributes
+    ----------
+    speeds : ndarray, shape (N,) [rad/s]
+    checked : ndarray of bool, shape (N,)
+        The speeds in the checked range.
+    names, rotors : tuple of str
+        Each station and its rotor.
+    radial_clearances : ndarray, shape (n_stations,) [m]
+    pkpk : ndarray, shape (n_stations, n_cases, N) [m]
+        Peak-to-peak displacement of the rotor relative to the stator at each station (twice
+        the orbit's semi-major axis).
+    cases : tuple of str
+        The API unbalance cases (one source each), or ``('',)``: all sources together.
+    trip_speed : float or None [rad/s]
+        Top of the checked speeds (None: every speed of the sweep).
+    """
+
+    speeds: np.ndarray
+    checked: np.ndarray
+    names: tuple
+    rotors: tuple
+    radial_clearances: np.ndarray
+    pkpk: np.ndarray
+    cases: tuple = ("",)
+    trip_speed: float | None = None
+
+    @property
+    def limits(self) -> np.ndarray:
+        """[m] peak-to-peak: 75 % of the diametral clearance ``0.75 x 2 c``, shape (n_stations,)."""
+        return CLEARANCE_SHARE * 2.0 * np.asarray(self.radial_clearances, dtype=float)
+
+    def to_dataframe(self):
+        """One row per station and case: ``clearance, rotor, speed_rpm, value, amplitude, limit,
+        ratio, verdict`` (then ``case`` for the API cases).
+
+        ``value`` [m] is the largest peak-to-peak displacement over the checked speeds (at
+        ``speed_rpm``), ``limit`` [m] 75 % of the diametral clearance, ``ratio`` their quotient;
+        ``verdict`` pass when ``value <= limit``.
+        """
+        import pandas as pd
+
+        rows = []
+        for c, case in enumerate(self.cases):
+            for name, rotor, values, limit in zip(self.names, self.rotors, self.pkpk[:, c], self.limits):
+                speed, value = self._largest(values)
+                verdict = "no speed checked" if not np.isfinite(value) else ("pass" if value <= limit else "fail")
+                rows.append({"clearance": name, "rotor": rotor, "speed_rpm": speed, "value": value,
+                             "amplitude": "peak-to-peak", "limit": limit, "ratio": value / limit,
+                             "verdict": verdict, "case": case})
+        columns = ["clearance", "rotor", "speed_rpm", "value", "amplitude", "limit", "ratio", "verdict", "case"]
+        return pd.DataFrame(rows, columns=columns if self.cases != ("",) else columns[:-1])
+
+    def _largest(self, values):
+        """(speed [rpm], value) of the largest value over the checked speeds (NaN, NaN if none)."""
+        if not self.checked.any():
+            return np.nan, np.nan
+        k = int(np.argmax(np.where(self.checked, values, -np.inf)))
+        return float(self.speeds[k] * 30 / np.pi), float(values[k])
+
+
+def clearance_check(result, model, mcs=None, min_speed: float = 0.0, trip_speed=None) -> ClearanceCheck:
+    """The clearance check of ``result`` at ``model``'s close-clearance stations.
+
+    Parameters
+    ----------
+    result : UnbalanceResult
+        Of ``model`` (its ``clearance_planes``); the API cases
+        (:func:`~rotordyn_modal.analysis.unbalance.api_unbalance_response`) are checked each alone,
+        the model's own unbalances all together.
+    model : Model
+    mcs : float, optional
+        [rad/s] the reference rotor's maximum continuous speed: the top of the checked speeds
+        when ``trip_speed`` is not given.
+    min_speed : float
+        [rad/s] bottom of the checked speeds (default 0).
+    trip_speed : float, optional
+        [rad/s] top of the checked speeds (API 617: the trip speed), at least ``mcs``.
+
+    Returns
+    -------
+    ClearanceCheck
+    """
+    top = trip_speed if trip_speed is not None else mcs
+    for value, what in ((mcs, "maximum continuous speed"), (trip_speed, "trip speed")):
+        if value is not None and not (np.isfinite(value) and value > 0):
+            raise InputError(f"{what} {value!r} rad/s: expected a finite speed > 0")
+    if trip_speed is not None and mcs is not None and trip_speed < mcs:
+        raise InputError(f"trip speed {trip_speed!r} rad/s: expected at least the maximum continuous speed {mcs!r} rad/s")
+    if not (np.isfinite(min_speed) and min_speed >= 0) or (top is not None and min_speed > top):
+        raise InputError(f"minimum speed {min_speed!r} rad/s: expected a finite speed >= 0 and at most the top "
+                         "of the checked speeds")
+    if tuple(c.name for c in model.clearances) != tuple(result.clearance_names):
+        raise InputError(f"{model.source}: the unbalance response holds the clearances "
+                         f"{list(result.clearance_names)}, the model {[c.name for c in model.clearances]}: "
+                         "expected the response of this model")
+    speed = np.abs(result.speeds)
+    checked = (speed >= min_speed) & (speed <= (np.inf if top is None else top))
+    planes = result.clearance_planes
+    n_src = len(result.sources)
+    major = orbit_ellipses(planes, 1.0)[0] if planes is not None and planes.size else \
+        np.zeros((len(model.clearances), n_src, len(speed)))
+    together = not result.case_rotors
+    pkpk = 2.0 * (major.sum(axis=1, keepdims=True) if together else major)
+    return ClearanceCheck(speeds=result.speeds, checked=checked, names=tuple(c.name for c in model.clearances),
+                          rotors=tuple(c.rotor for c in model.clearances),
+                          radial_clearances=np.array([c.radial_clearance for c in model.clearances], dtype=float),
+                          pkpk=pkpk, cases=("",) if together else tuple(result.sources), trip_speed=top)

@@ -1,0 +1,140 @@
+"""The static sag, shear force and bending moment diagram of flexible shafts.
+
+Draws :class:`~rotordyn_modal.analysis.shaft_statics.ShaftStatics` (the analysis computes the
+stations; nothing is computed here): per flexible rotor a column of three panels sharing the
+axis along the spin axis, the sag relative to the stator, the shear force and the bending
+moment, each in both planes (plane ``e-a``: ``u_a`` and its shear force and bending moment,
+solid; plane ``e-b``, dashed; bending moments ``E I u''``, sagging positive), with the bearings
+(triangles), disks (bars) and point loads (red marks) marked on every panel. A node with a point
+load has two stations, so the shear force steps there. Every artist carries a gid
+(``sag-a:ROTOR``, ``shear-b:ROTOR``, ``moment-a:ROTOR``, ``bearing:ROTOR:NAME``,
+``disk:ROTOR:NAME``, ``load:ROTOR:SOURCE``) so tests can find it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..units import unit_scale
+
+__all__ = ["plot_shaft_statics"]
+
+#: the two planes' look: plane e-a (u_a, its shear force and bending moment), plane e-b
+_PLANES = ({"color": "tab:blue", "linestyle": "-", "linewidth": 1.6},
+           {"color": "tab:orange", "linestyle": "--", "linewidth": 1.6})
+#: sag in SI figures in micrometres (metres would read 3e-05); US: mil
+_SAG_SI = (1e6, "µm")
+
+
+def plot_shaft_statics(shafts, title: str | None = None, units: str = "si"):
+    """Sag, shear force and bending moment along each flexible rotor's shaft.
+
+    Parameters
+    ----------
+    shafts : sequence of ShaftStatics
+        One column of panels each (``StaticResult.shafts.values()``).
+    title : str, optional
+    units : {'si', 'us'}
+        Unit system of the axes: µm, N, N m (SI) or mil, lbf, lbf in (US customary); positions
+        along the axis in m or in.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib.pyplot as plt
+
+    shafts = list(shafts)
+    if not shafts:
+        raise ValueError("plot_shaft_statics: no flexible rotor to draw")
+    scales = {"sag": _SAG_SI if units == "si" else unit_scale("displacement", units),
+              "shear": unit_scale("force", units), "moment": unit_scale("moment", units),
+              "length": unit_scale("length", units), "stress": (1e-6, "MPa") if units == "si" else
+              unit_scale("pressure", units)}
+    fig, axes = plt.subplots(3, len(shafts), figsize=(7.2 * len(shafts), 8.2), layout="constrained",
+                             squeeze=False, sharex="col")
+    for column, shaft in zip(axes.T, shafts):
+        _column(column, shaft, scales)
+    _legend(fig, shafts)
+    fig.suptitle(title or "Static sag, shear force and bending moment along the shaft\n"
+                 "(V = dM/dz: force of the part before the cut on the part beyond; M sagging positive)",
+                 fontsize="medium")
+    return fig
+
+
+def _column(axes, shaft, scales):
+    e = shaft.axis_names[2]
+    length_scale, length_unit = scales["length"]
+    x = shaft.position * length_scale
+    rows = (("sag", shaft.sag, "sag relative to the stator"), ("shear", shaft.shear, "shear force"),
+            ("moment", shaft.moment, "bending moment"))
+    for ax, (kind, values, what) in zip(axes, rows):
+        scale, unit = scales[kind]
+        closed = kind != "sag"       # section forces drop to 0 beyond the shaft's ends
+        for plane, style in enumerate(_PLANES):
+            xs, ys = (np.r_[x[0], x, x[-1]], np.r_[0.0, values[:, plane] * scale, 0.0]) if closed else \
+                (x, values[:, plane] * scale)
+            ax.plot(xs, ys, gid=f"{kind}-{'ab'[plane]}:{shaft.rotor}", **style)
+        ax.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
+        ax.set_ylabel(f"{what} [{unit}]", fontsize="small")
+        ax.tick_params(labelsize="small")
+        _marks(ax, shaft, length_scale)
+    _mark_largest(axes[0], shaft, "sag", scales["sag"], x)
+    _mark_largest(axes[2], shaft, "moment", scales["moment"], x, scales["stress"])
+    axes[0].set_title(f"rotor {shaft.rotor}", fontsize="small")
+    axes[-1].set_xlabel(f"position along {e} [{length_unit}]")
+
+
+def _marks(ax, shaft, length_scale):
+    """Bearings (triangles on the zero line), disks (bars across it), point loads (arrows)."""
+    for name, position in shaft.bearings:
+        ax.plot([position * length_scale], [0.0], linestyle="none", marker="^", markersize=9, color="0.55",
+                markeredgecolor="k", markeredgewidth=0.6, zorder=3, gid=f"bearing:{shaft.rotor}:{name}")
+    for name, position, _ in shaft.disks:
+        ax.axvline(position * length_scale, color="tab:green", linewidth=4.0, alpha=0.25, zorder=0,
+                   gid=f"disk:{shaft.rotor}:{name}")
+    for _, source, position in shaft.loads:
+        ax.plot([position * length_scale], [0.0], linestyle="none", marker="v", markersize=7, color="tab:red",
+                zorder=3, gid=f"load:{shaft.rotor}:{source}")
+    if ax.get_subplotspec().is_first_row():
+        for name, position in shaft.bearings:
+            ax.annotate(name, (position * length_scale, 0.0), xytext=(0, -11), textcoords="offset points",
+                        ha="center", va="top", fontsize="xx-small", color="0.25")
+        for name, position, _ in shaft.disks:      # inside the panel, along the disk's bar
+            ax.annotate(name, (position * length_scale, 1.0), xycoords=("data", "axes fraction"), xytext=(3, -3),
+                        textcoords="offset points", ha="left", va="top", rotation=90, fontsize="xx-small",
+                        color="tab:green")
+
+
+def _mark_largest(ax, shaft, quantity, scale_unit, x, stress=None):
+    """The station of the largest magnitude, its value written beside it (and the largest
+    bending stress on the moment panel)."""
+    scale, unit = scale_unit
+    value, i = shaft.largest(quantity)
+    if not value > 0:
+        return
+    components = shaft.sag if quantity == "sag" else shaft.moment
+    y = components[i, int(np.argmax(np.abs(components[i])))] * scale
+    text = f"|{'u' if quantity == 'sag' else 'M'}| = {value * scale:.3g} {unit} at {shaft.label(i, quantity)}"
+    if stress is not None:
+        peak, j = shaft.largest("stress")
+        text += f"\nlargest bending stress {peak * stress[0]:.3g} {stress[1]} at {shaft.label(j, 'stress')}"
+    ax.plot([x[i]], [y], marker="o", markersize=5, color="k", linestyle="none", gid=f"largest-{quantity}:{shaft.rotor}")
+    ax.annotate(text, (x[i], y), xytext=(8, -8 if y > 0 else 8), textcoords="offset points", fontsize="x-small",
+                va="top" if y > 0 else "bottom", ha="left" if x[i] < 0.5 * (x[0] + x[-1]) else "right",
+                bbox={"boxstyle": "round,pad=0.2", "facecolor": "white", "edgecolor": "0.7", "alpha": 0.9})
+
+
+def _legend(fig, shafts):
+    from matplotlib.lines import Line2D
+
+    a, b, e = shafts[0].axis_names
+    handles = [Line2D([], [], label=f"plane {e}-{a}: u_{a}, V_{a}, M = E I u_{a}''", **_PLANES[0]),
+               Line2D([], [], label=f"plane {e}-{b}: u_{b}, V_{b}, M = E I u_{b}''", **_PLANES[1]),
+               Line2D([], [], linestyle="none", marker="^", color="0.55", markeredgecolor="k", label="bearing"),
+               Line2D([], [], color="tab:green", linewidth=4.0, alpha=0.25, label="disk"),
+               Line2D([], [], linestyle="none", marker="v", color="tab:red", label="point load")]
+    present = [True, True, any(s.bearings for s in shafts), any(s.disks for s in shafts), any(s.loads for s in shafts)]
+    handles = [h for h, shown in zip(handles, present) if shown]
+    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 3), fontsize="small",
+               frameon=False)

@@ -371,10 +371,26 @@ def test_analyses_run_on_the_flexible_examples(examples_dir, example, commands, 
         assert len(out.strip().splitlines()) >= 2, (command, out)
 
 
-def test_simulate_refuses_a_flexible_rotor(examples_dir, capsys):
-    assert main(["simulate", str(examples_dir / "compressor_rotor.toml"), "--duration", "0.1"]) == 2
+def test_simulate_runs_a_flexible_rotor_up_and_refuses_free_spin_by_one_line(examples_dir, tmp_path, capsys):
+    """The compressor's run-up writes its table, saying once on stderr that the machine is
+    integrated as its linear model; free spin, which that model does not have, is refused by one
+    line (exit 2). (The run-up figure is the rigid machines' own, drawn by test_simulate_cli.)"""
+    import pandas as pd
+
+    model = str(examples_dir / "compressor_rotor.toml")
+    table = tmp_path / "runup.csv"
+    assert main(["simulate", model, "--speed", "5000", "--ramp", "5200", "--duration", "0.05", "--quiet",
+                 "--samples", "801", "--modes-below", "300", "--out", str(table)]) == 0
+    err = capsys.readouterr().err
+    assert err.count("integrated as its linear model") <= 1          # said once per process
+    frame = pd.read_csv(table)
+    assert frame["drive_speed_rad_s"].iloc[-1] == pytest.approx(rdm.rpm(5200.0))
+    assert frame["midspan-y"].abs().max() > 0
+    assert main(["simulate", model, "--duration", "0.1", "--free-spin"]) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "flexible" in err
+    assert len(err.splitlines()) == 1 and "free spin" in err
+    assert main(["simulate", model, "--duration", "0.1", "--modes-below", "-3"]) == 2
+    assert "--modes-below" in capsys.readouterr().err
 
 
 def test_the_documented_short_flexible_model_loads(tmp_path):

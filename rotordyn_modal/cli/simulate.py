@@ -12,7 +12,8 @@ from ._common import (add_model_argument, add_outputs, add_speed_unit, open_mode
                       save_figure, show_progress, to_rad_s, use_agg, write_table)
 
 NAME = "simulate"
-HELP = "nonlinear large-rotation time simulation (constant speed, run-up ramp or free spin), rotors on bearings"
+HELP = ("nonlinear large-rotation time simulation (constant speed, run-up ramp or free spin), rotors on bearings; "
+        "flexible rotors in the linear time model")
 DESCRIPTION = """Integrate the machine's nonlinear equations of motion in time: the stator as a rigid
 body with large rotation (axial angle + transverse Euler vector, docs/theory-large-rotations.md), every rotor on
 [[bearings]] a rigid body of its own moving in its bearings' springs and dampers (its tilt
@@ -40,6 +41,17 @@ stator and of each rotor in its bearings, axial angular velocity, energy terms) 
 content), with the Campbell diagram's critical speeds overlaid and labelled (mode, order,
 rpm). With numba the first run compiles the kernels (~20 s, said on stderr).
 
+A model with a flexible rotor ([[rotors.shaft]]) is integrated as its linear model instead
+(said once on stderr; docs/simulate.md, 'Flexible rotors'): the drive's angle prescribed
+(--speed, or --ramp), every body and every node of the shafts moving by small motions about
+the spinning machine (M q'' + (C + w G) q' + K q = unbalance forces, w the drive speed), the
+unbalances as rotating forces (with their angular-acceleration part on a ramp). It keeps the
+undamped modes below 4 times the fastest spin frequency (at least the 6 lowest) plus the
+static deflections under the unbalances and weights; --modes-below F [Hz] sets that limit,
+'all' keeps every mode (the linear model exactly, slower). --free-spin and journal bearings
+(type = 'journal') are refused with such a model (exit 2). The energies in the CSV are then
+those of the small motions, the drive torque the one spinning up the rotors' polar inertias.
+
 CSV columns: time_s,u_x,u_y,u_z,theta_x,theta_y,theta_z,spin_speed_rad_s,drive_torque_nm,
 drive_speed_rad_s, then one column per sensor [m], rotor centres [m], each bearing's force
 and moment on the stator (NAME_Fx..NAME_Mz [N, N m], stator axes) and the energies [J].
@@ -54,7 +66,9 @@ examples:
   rotordyn-modal simulate examples/gear_machine.toml --speed 3000 --duration 0.5 \\
       --impulse hammer-z --impulse-size 0.5
   rotordyn-modal simulate examples/fan_on_bearings.toml --speed 0 --ramp 9000 --duration 3 \\
-      --samples 30001 --sensor probe-DE-x --plot fan_runup.png"""
+      --samples 30001 --sensor probe-DE-x --plot fan_runup.png
+  rotordyn-modal simulate examples/compressor_rotor.toml --speed 3000 --ramp 9000 --duration 2 \\
+      --sensor midspan-y --plot compressor_runup.png"""
 
 
 def add_arguments(parser):
@@ -78,6 +92,9 @@ def add_arguments(parser):
     parser.add_argument("--backend", choices=["auto", "numba", "numpy"], default="auto",
                         help="right-hand side: numba-compiled when installed (auto), or plain numpy")
     parser.add_argument("--sensor", help="sensor of the run-up figures (default: the first)")
+    parser.add_argument("--modes-below", metavar="F", help="flexible rotors: the linear time model keeps the "
+                        "modes below F [Hz] (default: 4 times the fastest spin frequency, at least the 6 "
+                        "lowest), or 'all'")
     add_outputs(parser)
 
 
@@ -99,7 +116,8 @@ def run(args) -> int:
     result = simulate(model, parse_number(args.duration, "--duration"), speed, drive=drive, final_speed=final,
                       initial=args.initial, impulse=args.impulse, impulse_size=parse_number(args.impulse_size, "--impulse-size"),
                       samples=args.samples, rtol=parse_number(args.rtol, "--rtol"),
-                      atol=parse_number(args.atol, "--atol"), backend=args.backend, progress=show_progress(args))
+                      atol=parse_number(args.atol, "--atol"), backend=args.backend, progress=show_progress(args),
+                      modes_below=_modes_below(args.modes_below))
     if args.out or not args.quiet:
         write_table(result.to_dataframe(), args)
     if not args.quiet:
@@ -111,6 +129,18 @@ def run(args) -> int:
             critical = campbell(model, np.linspace(min(speed, final), max(speed, final), 121)).critical
         save_figure(result.plot(sensor=args.sensor, critical=critical, title=model.name or None), args)
     return 0
+
+
+def _modes_below(text):
+    """``--modes-below``: a frequency [Hz] > 0 to rad/s, 'all' (every mode), or None."""
+    if text is None:
+        return None
+    if text.strip().lower() == "all":
+        return float("inf")
+    value = parse_number(text, "--modes-below")
+    if not np.isfinite(value) or value <= 0:
+        raise InputError(f"--modes-below {text}: expected a frequency [Hz] > 0, or 'all'")
+    return 2 * np.pi * value
 
 
 def _summary(result):

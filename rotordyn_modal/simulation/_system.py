@@ -266,3 +266,29 @@ def check_table_speeds(model, reference_speeds, what: str) -> None:
                      f"{model.source}: [bearings.{bearing.name}]")
         except InputError as error:
             raise InputError(f"{error}; in {what}") from None
+
+
+def progress_bar(total, progress):
+    """A tqdm bar over ``total`` simulated seconds, or None when not asked for."""
+    if not progress:
+        return None
+    from tqdm.auto import tqdm
+
+    return tqdm(total=float(total), unit="s", desc="simulate", bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s")
+
+
+def check_duration(duration, rate):
+    """Refuse a duration of more periods of the fastest motion (``rate`` [rad/s]) than the count
+    limit: the integrator's steps grow with them, so such a run would not end in any useful time."""
+    from .._limits import count_problem
+
+    periods = duration * rate / (2 * np.pi)
+    problem = count_problem(int(min(periods, 1e18)), "periods of the fastest motion")
+    if problem:
+        raise InputError(f"duration = {duration!r} s: expected {problem} "
+                         f"(the fastest motion is {rate / (2 * np.pi):.4g} Hz)")
+
+
+def default_samples(rate, duration):
+    """Output times: 20 per period of the fastest motion ``rate`` [rad/s], at least 201."""
+    return int(min(max(201, 20.0 * rate / (2 * np.pi) * duration + 1), 2_000_001))

@@ -59,6 +59,13 @@ class SimulationResult:
     drive : str
         ``'constant'``, ``'ramp'`` or ``'free'``.
     model_name : str
+
+    A model with a flexible rotor is simulated as its linear model
+    (:mod:`rotordyn_modal.simulation.flexible`): then ``states`` are ``[q, dq/dt]`` in the
+    coordinates ``model.dofs`` (``phi`` is ``drive_angle``), the rotations are small (``theta``
+    the stator's rotation vector, ``gamma`` its part normal to the spin axis), a flexible rotor's
+    centre, displacement and tilt are those of its node nearest its centre of mass, and the
+    energies are those of the small motions (docs/simulate.md, "Flexible rotors").
     """
 
     time: np.ndarray

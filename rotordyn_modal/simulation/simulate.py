@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._limits import count_problem
 from ..errors import InputError, ModelError
 from ..linear_system import checked_mass_inverse
 from . import _kernels
 from ._system import check_table_speeds, system_arrays
+from ._system import check_duration as _check_duration, default_samples as _default_samples
+from ._system import progress_bar as _progress_bar
 from .result import SimulationResult
 
 __all__ = ["simulate", "DRIVES", "BACKENDS", "kernels"]
@@ -50,7 +51,7 @@ def _refuse_linear_only(model) -> None:
 
 def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, initial="rest",
              impulse=None, impulse_size=1.0, samples=None, rtol=1e-9, atol=1e-12,
-             unbalance_phases_deg=None, backend="auto", progress=False) -> SimulationResult:
+             unbalance_phases_deg=None, backend="auto", progress=False, modes_below=None) -> SimulationResult:
     """Integrate the machine's nonlinear equations of motion with large rotations.
 
     The stator is a rigid body whose rotation is an axial (roll) angle plus a transverse Euler
@@ -105,6 +106,17 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         compiles the kernels (~20 s) and prints :data:`COMPILE_NOTICE` on stderr first.
     progress : bool
         Show a progress bar (simulated time).
+    modes_below : float, optional
+        Only with a flexible rotor: the basis of the linear time model keeps the undamped modes
+        at rest below this [rad/s] (default: 4 times the fastest spin, at least the 12 lowest),
+        plus the static deflections under the unbalances, weights and impulse; ``math.inf``
+        keeps every mode (the linear model exactly, slower).
+
+    A model with a flexible rotor is integrated as its linear model instead (docs/simulate.md,
+    "Flexible rotors"; :mod:`rotordyn_modal.simulation.flexible`): small motions of every body
+    and of the shafts' nodes about the spinning machine, the drive's angle prescribed
+    (``drive='constant'`` or ``'ramp'``; ``'free'`` and journal bearings refused), the
+    assumption said once on stderr; ``backend`` then selects a small right-hand side of its own.
 
     Returns
     -------
@@ -118,16 +130,16 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     >>> bool(abs(res.spin_speed[-1] / 50.0 - 1) < 1e-3)
     True
     """
-    flexible = [r.name for r in model.rotors if r.flexible is not None]
-    if flexible:
-        raise InputError(f"{model.source}: rotor {flexible[0]!r} is flexible (it has a [[rotors.shaft]]): the time "
-                         "simulation models rigid rotors only; use the linear analyses (modes, campbell, frf, "
-                         "unbalance) for flexible rotors")
     _refuse_linear_only(model)
     duration, speed = _positive(duration, "duration"), _speed(speed, "speed")
     final_speed = None if final_speed is None else _speed(final_speed, "final_speed")
     rtol, atol = _tolerance(rtol, "rtol", *_RTOL_RANGE), _tolerance(atol, "atol", *_ATOL_RANGE)
     checked_mass_inverse(model)    # the model every analysis refuses is refused here too
+    if any(r.flexible is not None for r in model.rotors):
+        if backend not in BACKENDS:
+            raise InputError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+        return _simulate_flexible(model, duration, speed, drive, final_speed, initial, impulse, impulse_size,
+                                  samples, rtol, atol, unbalance_phases_deg, modes_below, progress, backend)
     rate = _fastest_rate(model, speed, final_speed)
     _check_duration(duration, rate)                # before any work on a run that would not end
     system = system_arrays(model, unbalance_phases_deg)
@@ -152,6 +164,21 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
                            "with an ideal drive, or extend the table")
     return SimulationResult.from_states(model, system, kn, extra, times, states, drive=drive)
+
+
+def _simulate_flexible(model, duration, speed, drive, final_speed, initial, impulse, impulse_size, samples,
+                       rtol, atol, phases, modes_below, progress, backend):
+    """The linear time model of a machine with a flexible rotor (arguments checked as for the others)."""
+    from .flexible import refuse, simulate_linear
+
+    refuse(model, drive)
+    _drive(drive, speed, final_speed, duration)
+    span = [speed] if final_speed is None else [speed, final_speed]
+    check_table_speeds(model, span, "the simulation's speeds " + " .. ".join(f"{v:.6g}" for v in span) + " rad/s")
+    return simulate_linear(model, duration, speed, drive=drive, final_speed=final_speed, initial=initial,
+                           impulse=impulse, impulse_size=_finite(impulse_size, "impulse size"), samples=samples, rtol=rtol, atol=atol,
+                           unbalance_phases_deg=phases, modes_below=modes_below, progress=progress,
+                           backend=backend)
 
 
 #: the line printed on stderr before numba compiles the kernels (first run only)
@@ -281,14 +308,6 @@ def _integrate_plain(kn, system, extra, y0, times, rtol, atol, bar):
     return states.T
 
 
-def _progress_bar(total, progress):
-    if not progress:
-        return None
-    from tqdm.auto import tqdm
-
-    return tqdm(total=float(total), unit="s", desc="simulate", bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s")
-
-
 def _drive(drive, speed, final_speed, duration):
     if drive not in DRIVES:
         raise InputError(f"drive {drive!r}: expected one of {', '.join(DRIVES)}")
@@ -362,20 +381,6 @@ def _fastest_rate(model, speed, final_speed):
         except Exception:  # noqa: BLE001 - a model without restoring force still simulates
             continue
     return max(fastest_spin, natural)
-
-
-def _check_duration(duration, rate):
-    """Refuse a duration of more periods of the fastest motion than the count limit: the
-    integrator's steps grow with them, so such a run would not end in any useful time."""
-    periods = duration * rate / (2 * np.pi)
-    problem = count_problem(int(min(periods, 1e18)), "periods of the fastest motion")
-    if problem:
-        raise InputError(f"duration = {duration!r} s: expected {problem} "
-                         f"(the fastest motion is {rate / (2 * np.pi):.4g} Hz)")
-
-
-def _default_samples(rate, duration):
-    return int(min(max(201, 20.0 * rate / (2 * np.pi) * duration + 1), 2_000_001))
 
 
 def _positive(value, name):

@@ -1,0 +1,519 @@
+"""The time model of a machine with flexible rotors: the linear model integrated in time.
+
+A machine with a flexible rotor is integrated as its linear model (docs/theory.md §19,
+docs/simulate.md "Flexible rotors"): the reference rotor's angle ``phi(t)`` is prescribed
+(constant speed or a linear ramp), and every other coordinate -- the flexible rotors' node
+motions, the rigid rotors' motions in their bearings and the casing's six motions -- is a small
+motion about the spinning, undeformed machine::
+
+    M q'' + (C(w) + w G) q' + K(w) q = f_u(t) + f_g,      w = phi'(t)
+
+with the matrices of the linearized model (``rotordyn_modal.assembly``: shaft elements,
+disks, bearings at each rotor's own speed, mounts), the unbalances as rotating forces
+``U (theta'^2 [cos theta, sin theta] - theta'' [-sin theta, cos theta])`` at their points (the
+reaction of the eccentric mass's acceleration: it lags on a run-up)
+(``theta = r_j phi + phase``) and the weights ``f_g = M a_g`` (gravity as a uniform
+acceleration ``a_g`` of every body). ``q = V eta`` on a speed-independent basis: the undamped
+modes at the start speed below a cutoff (at least the lowest :data:`LOWEST`) plus the static
+deflections under the unbalances', weights' and impulse's forces that those modes leave out
+(modal truncation augmentation), made M-orthonormal by a Rayleigh-Ritz step. With every mode
+kept the reduction is exact.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["simulate_linear", "reduced_system", "ReducedSystem", "NOTICE", "LOWEST", "CUTOFF_FACTOR"]
+
+#: printed once per process on stderr when a machine with a flexible rotor is simulated
+NOTICE = ("simulate: the model has a flexible rotor: the machine is integrated as its linear model (small "
+          "motions about the spinning undeformed machine, the casing's motions linear too; the drive's angle "
+          "prescribed; docs/simulate.md, 'Flexible rotors')")
+#: the basis keeps at least this many of the lowest modes (all when the model has fewer)
+LOWEST = 6
+#: by default the basis keeps the modes below this multiple of the fastest spin frequency
+CUTOFF_FACTOR = 4.0
+_NOTICED: list = []
+
+
+def notice_once() -> bool:
+    """Print :data:`NOTICE` on stderr, the first time only. Returns whether it printed."""
+    if _NOTICED:
+        return False
+    _NOTICED.append(True)
+    print(NOTICE, file=sys.stderr, flush=True)
+    return True
+
+
+def refuse(model, drive: str) -> None:
+    """What the linear time model does not simulate, refused by one line."""
+    from ._system import refuse_hysteretic
+
+    journals = [b.name for b in model.bearings if b.coefficients.kind == "journal"]
+    if journals:
+        raise InputError(
+            f"{model.source}: [bearings.{journals[0]}] is a journal bearing: a machine with a flexible rotor is "
+            "simulated as its linear model, where the oil film's nonlinear force has no place; give the bearing "
+            "as type = 'linear' with its film coefficients (a speeds_rpm table) to simulate it")
+    if drive == "free":
+        raise InputError(f"{model.source}: drive 'free': a machine with a flexible rotor is simulated with its "
+                         "drive's angle prescribed (drive 'constant' or 'ramp'), not in free spin")
+    refuse_hysteretic(model)
+
+
+@dataclass(frozen=True)
+class ReducedSystem:
+    """The linear time model on the basis ``q = V eta`` (``V^T M V = I``).
+
+    Attributes
+    ----------
+    V : ndarray, shape (n, r)
+        Basis: generalized coordinates per reduced coordinate.
+    frequencies : ndarray, shape (r,) [rad/s]
+        The basis vectors' (Ritz) undamped frequencies at the start speed.
+    modes : int
+        How many of them are modes of the full model (the first ``modes``); the rest are
+        static corrections.
+    K, C, G : ndarray, shape (r, r)
+        Reduced stiffness and damping without the speed-dependent bearings, gyroscopic matrix
+        per unit reference speed.
+    dependent : tuple of (float, coefficients, str, ndarray (6, r))
+        Each speed-dependent bearing: its rotor's speed ratio, coefficients, name for messages
+        and relative motion at its point per reduced coordinate.
+    ratio, phase, amount : ndarray, shape (U,)
+        Each unbalance's rotor speed ratio, phase [rad] and amount [kg m].
+    Fa, Fb : ndarray, shape (U, r)
+        Reduced generalized force of a unit force along the phase reference ``a`` (``b``) at
+        each unbalance's point.
+    gravity : ndarray, shape (r,)
+        Reduced weights.
+    reaction : ndarray, shape (r,)
+        Reduced reaction on the casing of the torque that accelerates the rotors' spins, per unit
+        angular acceleration of the drive [N m / (rad/s^2)] (zeros on the ground).
+    """
+
+    V: np.ndarray
+    frequencies: np.ndarray
+    modes: int
+    K: np.ndarray
+    C: np.ndarray
+    G: np.ndarray
+    dependent: tuple
+    ratio: np.ndarray
+    phase: np.ndarray
+    amount: np.ndarray
+    Fa: np.ndarray
+    Fb: np.ndarray
+    gravity: np.ndarray
+    reaction: np.ndarray
+
+    @property
+    def size(self) -> int:
+        return self.V.shape[1]
+
+    def stiffness_damping(self, speeds):
+        """Reduced ``K`` and ``C`` at reference speeds ``speeds`` (N,) [rad/s], shape (N, r, r) each."""
+        from ..elements.bearings import evaluate
+
+        speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+        K = np.broadcast_to(self.K, (len(speeds),) + self.K.shape).copy()
+        C = np.broadcast_to(self.C, K.shape).copy()
+        for ratio, coefficients, where, moves in self.dependent:
+            k6, c6 = evaluate(coefficients, ratio * speeds, where)
+            K += moves.T @ k6 @ moves
+            C += moves.T @ c6 @ moves
+        return K, C
+
+
+def unbalance_loads(model, phases_deg=None):
+    """Each unbalance's generalized force of a unit force along ``a`` and along ``b`` (the phase
+    reference) at its point, with its rotor's speed ratio, phase [rad] and amount [kg m].
+
+    A rigid rotor's unbalance acts at its centre of mass with the moment of its axial offset;
+    a flexible rotor's at its node (as :func:`rotordyn_modal.analysis.unbalance.unbalance_response`).
+
+    Returns
+    -------
+    ratio, phase, amount : ndarray, shape (U,)
+    Fa, Fb : ndarray, shape (U, n)
+    """
+    from ..analysis.unbalance import phase_reference
+    from ..assembly import generalized_force
+
+    a, b = phase_reference(model.spin_axis)
+    e = np.asarray(model.spin_axis, dtype=float)
+    phases = [u.phase_deg for u in model.unbalances] if phases_deg is None else list(phases_deg)
+    n = model.dofs.n
+    Fa, Fb = np.zeros((len(model.unbalances), n)), np.zeros((len(model.unbalances), n))
+    for k, u in enumerate(model.unbalances):
+        rotor = model.rotor(u.rotor)
+        centre = np.asarray(rotor.center_of_mass, dtype=float)
+        for out, d in ((Fa, a), (Fb, b)):
+            if rotor.flexible is not None:
+                point = centre + u.axial_offset * e
+                out[k] = generalized_force(model, u.rotor, point, np.r_[d, 0.0, 0.0, 0.0],
+                                           motion=model.dofs.body_motion(u.rotor, point))
+            else:
+                out[k] = generalized_force(model, u.rotor, centre, np.r_[d, np.cross(u.axial_offset * e, d)])
+    return (np.array([model.rotor(u.rotor).speed_ratio for u in model.unbalances], dtype=float),
+            np.radians(np.asarray(phases, dtype=float)).reshape(-1),
+            np.array([u.amount for u in model.unbalances], dtype=float), Fa, Fb)
+
+
+def drive_reaction(model) -> np.ndarray:
+    """Generalized force (n,) on the casing per unit angular acceleration of the drive: the
+    reaction of the torque that spins the rotors up, a moment ``-sum_j r_j J_p,j e`` [N m s^2]
+    (the rotors' angular momentum about ``e`` changes at ``alpha sum_j r_j J_p,j``; drives and
+    transmissions sit in the casing). Zeros when the bearings stand on the ground."""
+    from ..assembly import generalized_force
+
+    if not model.dofs.n_frame:
+        return np.zeros(model.dofs.n)
+    momentum = sum(r.speed_ratio * r.polar_inertia for r in model.rotors)
+    e = np.asarray(model.spin_axis, dtype=float)
+    return generalized_force(model, None, model.reference_point, np.r_[0.0, 0.0, 0.0, -momentum * e])
+
+
+def gravity_acceleration(model) -> np.ndarray:
+    """``a_g``: the generalized coordinates of every body translated by the gravity vector
+    (the frame's translation, or each rotor's relative translation on the ground), (n,) [m/s^2]."""
+    from ..model.geometry import transverse_axes
+
+    layout = model.dofs
+    g = np.asarray(model.gravity, dtype=float)
+    out = np.zeros(layout.n)
+    if layout.n_frame:
+        out[:3] = g
+        return out
+    a, b = transverse_axes(model.spin_axis)
+    along = (g @ a, g @ b, g @ np.asarray(model.spin_axis, dtype=float))
+    for name, rows, basis in zip(layout.rotors, layout.slices, layout.bases):
+        width = rows.stop - rows.start
+        if layout.shaft(name) is not None:
+            own = np.zeros(width)
+            own[0:4 * (width // 4):4], own[1:4 * (width // 4):4] = along[0], along[1]
+            if width % 4:
+                own[-1] = along[2]
+        else:
+            own = basis.T @ np.r_[g, 0.0, 0.0, 0.0]
+        out[rows] = own
+    return out
+
+
+def reduced_system(model, speed: float, cutoff: float, extra_loads=(), phases_deg=None) -> ReducedSystem:
+    """The machine's linear model on a basis of its modes below ``cutoff`` plus static corrections.
+
+    Parameters
+    ----------
+    model : Model
+    speed : float
+        Reference speed [rad/s] at which speed-dependent bearings' stiffness sets the modes.
+    cutoff : float
+        Keep the undamped modes (symmetric stiffness, no gyroscopic or damping terms) below this
+        [rad/s], at least the :data:`LOWEST` lowest; ``inf`` keeps all (exact).
+    extra_loads : sequence of ndarray (n,)
+        Further generalized forces whose static deflection the basis must hold (an impulse's).
+    phases_deg : array_like, optional
+        Unbalance phases overriding the model's [deg].
+
+    Returns
+    -------
+    ReducedSystem
+    """
+    from ..assembly import bearing_motion, constant_matrices
+
+    M, C, G, K = constant_matrices(model)
+    dependent = [b for b in model.bearings if b.coefficients.kind != "constant"]
+    K_start = K.copy()
+    if dependent:
+        from ..assembly import bearing_matrices
+
+        K_start += bearing_matrices(model, speed, dependent_only=True)[0]
+    ratio, phase, amount, Fa, Fb = unbalance_loads(model, phases_deg)
+    gravity = M @ gravity_acceleration(model) if np.any(model.gravity) else np.zeros(len(M))
+    reaction = drive_reaction(model)
+    loads = np.column_stack([*Fa, *Fb, gravity, reaction, *extra_loads]) if len(M) else np.zeros((0, 0))
+    V, frequencies, modes = _basis(0.5 * (M + M.T), 0.5 * (K_start + K_start.T), loads, cutoff)
+    moves = []
+    for bearing in dependent:
+        rows, local = bearing_motion(model, bearing)
+        moves.append((model.rotor(bearing.rotor).speed_ratio, bearing.coefficients,
+                      f"{model.source}: [bearings.{bearing.name}]", local @ V[rows]))
+    return ReducedSystem(V=V, frequencies=frequencies, modes=modes, K=V.T @ K @ V, C=V.T @ C @ V,
+                         G=V.T @ G @ V, dependent=tuple(moves), ratio=ratio, phase=phase, amount=amount,
+                         Fa=Fa @ V, Fb=Fb @ V, gravity=gravity @ V, reaction=reaction @ V)
+
+
+def _basis(M, K, loads, cutoff):
+    """M-orthonormal basis: the modes of ``(K, M)`` below ``cutoff`` [rad/s] (at least
+    :data:`LOWEST`), then the static deflections under ``loads`` (n, L) in the other modes,
+    Rayleigh-Ritz orthonormalised. Returns ``V`` (n, r), its frequencies (r,), the mode count."""
+    import scipy.linalg
+
+    values, vectors = scipy.linalg.eigh(K, M)
+    n = len(values)
+    keep = max(int(np.sum(values < cutoff ** 2)) if np.isfinite(cutoff) else n, min(LOWEST, n))
+    frequencies = np.sqrt(np.abs(values[:keep]))
+    kept, rest, rest_values = vectors[:, :keep], vectors[:, keep:], values[keep:]
+    if not rest.shape[1] or not loads.size:
+        return kept, frequencies, keep
+    # static deflection in the left-out modes: sum_k phi_k phi_k^T F / lambda_k (their
+    # stiffness is positive: the rigid-body modes, if any, are among the lowest kept)
+    corrections = rest @ ((rest.T @ loads) / rest_values[:, None])
+    gram = corrections.T @ M @ corrections
+    scale = np.abs(np.diag(gram)).max(initial=0.0)
+    if scale == 0.0:
+        return kept, frequencies, keep
+    g_values, g_vectors = np.linalg.eigh(gram)
+    independent = g_values > 1e-10 * scale
+    Q = corrections @ (g_vectors[:, independent] / np.sqrt(g_values[independent]))   # M-orthonormal
+    ritz, R = np.linalg.eigh(Q.T @ K @ Q)
+    return (np.hstack([kept, Q @ R]), np.concatenate([frequencies, np.sqrt(np.abs(ritz))]), keep)
+
+
+def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impulse, impulse_size, samples,
+                    rtol, atol, unbalance_phases_deg, modes_below, progress, backend="auto"):
+    """:func:`rotordyn_modal.simulation.simulate` of a machine with a flexible rotor (its
+    arguments checked by it): the linear time model of the module docstring.
+
+    Parameters
+    ----------
+    modes_below : float or None
+        Cutoff of the basis [rad/s] (None: :data:`CUTOFF_FACTOR` times the fastest spin, at
+        least the :data:`LOWEST` lowest modes; ``inf``: every mode, the linear model exactly).
+
+    Returns
+    -------
+    SimulationResult
+        ``states`` holds ``[q, q']`` in the linear model's coordinates ``model.dofs`` (the drive's
+        angle is ``drive_angle``); the energies are those of the small motions: kinetic
+        ``q'^T M q' / 2``, elastic ``q^T K_s q / 2`` (``K_s`` the symmetric part of the stiffness at
+        the speed) and gravity ``-f_g^T q``; ``drive_torque`` is what spins the rotors' polar
+        inertias up the ramp, ``accel sum_j r_j^2 J_p,j``.
+    """
+    from ._system import check_duration, default_samples
+
+    refuse(model, drive)
+    notice_once()
+    accel = 0.0 if drive == "constant" else (final_speed - speed) / duration
+    fastest = max(abs(speed), abs(final_speed or 0.0)) * max(abs(r.speed_ratio) for r in model.rotors)
+    cutoff = CUTOFF_FACTOR * fastest if modes_below is None else _cutoff(modes_below)
+    kick = None
+    if impulse is not None:
+        kick = _impulse_load(model, impulse, float(impulse_size))
+    system = reduced_system(model, speed, cutoff, () if kick is None else (kick,), unbalance_phases_deg)
+    below = system.frequencies[:system.modes]
+    rate = max(fastest, below[below < cutoff].max(initial=0.0) if np.isfinite(cutoff) else below.max(initial=0.0))
+    check_duration(duration, rate)
+    y0 = np.zeros(2 * system.size)
+    if initial == "equilibrium":
+        K0 = system.stiffness_damping([speed])[0][0]
+        try:
+            y0[:system.size] = np.linalg.solve(K0, system.gravity) if np.any(system.gravity) else 0.0
+        except np.linalg.LinAlgError:
+            raise InputError(f"{model.source}: no static equilibrium under gravity (the stiffness is singular: "
+                             "do the suspensions and bearings restrain every direction?); use initial 'rest'") from None
+    elif initial != "rest":
+        raise InputError(f"initial {initial!r}: expected 'rest' or 'equilibrium'")
+    if kick is not None:
+        y0[system.size:] = kick @ system.V          # V^T M V = I: the velocity jump M^-1 Q, reduced
+    times = np.linspace(0.0, duration, samples or default_samples(rate, duration))
+    states = _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend)
+    return _result(model, system, times, states, speed, accel, drive)
+
+
+def _cutoff(value) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"modes_below = {value!r}: expected a frequency [rad/s] > 0, or inf") from None
+    if not value > 0:
+        raise InputError(f"modes_below = {value!r}: expected a frequency [rad/s] > 0, or inf")
+    return value
+
+
+def _impulse_load(model, name, size) -> np.ndarray:
+    """Generalized force (n,) of an impulse ``size`` [N s or N m s] through excitation ``name``."""
+    from ..assembly import excitation_columns
+
+    return size * excitation_columns(model, [name])[:, 0]
+
+
+def _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend="auto"):
+    """States ``[eta, eta']`` at ``times``: scipy's Fortran DOP853 on the reduced equations
+    (:func:`linear_rhs` compiled by numba when it is installed and no bearing depends on speed,
+    else :func:`_right_hand_side` in numpy: the same equations)."""
+    import warnings
+
+    from scipy.integrate import ode
+
+    from ._system import progress_bar
+
+    compiled = None if system.dependent or backend == "numpy" else _compiled(backend)
+    if compiled is None:
+        solver = ode(_right_hand_side(system, speed, accel))
+    else:
+        solver = ode(compiled).set_f_params(*_packed(system, speed, accel))
+    solver.set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
+    solver.set_initial_value(y0, times[0])
+    states = np.empty((len(times), len(y0)))
+    states[0] = y0
+    bar = progress_bar(times[-1], progress)
+    try:
+        for i in range(1, len(times)):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", UserWarning)
+                states[i] = solver.integrate(times[i])
+            if not solver.successful() or not np.all(np.isfinite(states[i])):
+                raise RuntimeError(f"integration failed at t = {solver.t:.6g} s (DOP853 code "
+                                   f"{solver.get_return_code()})")
+            if bar is not None:
+                bar.update(times[i] - times[i - 1])
+    finally:
+        if bar is not None:
+            bar.close()
+    return states
+
+
+def _first_order(system):
+    """``A``, ``B`` of ``y' = A y + w B y + [0, f]`` on ``y = [eta, eta']``, (2 r, 2 r) each."""
+    r = system.size
+    A = np.zeros((2 * r, 2 * r))
+    A[:r, r:] = np.eye(r)
+    A[r:, :r], A[r:, r:] = -system.K, -system.C
+    B = np.zeros_like(A)
+    B[r:, r:] = -system.G
+    return A, B
+
+
+def _packed(system, speed, accel):
+    """The arguments of :func:`linear_rhs` after ``(t, y)``."""
+    A, B = _first_order(system)
+    return (A, B, np.ascontiguousarray(np.vstack([system.Fa, system.Fb])), system.ratio, system.phase,
+            system.amount, system.gravity + accel * system.reaction, float(speed), float(accel))
+
+
+def linear_rhs(t, y, A, B, loads, ratio, phase, amount, gravity, speed, accel):
+    """``y'`` of the reduced equations at time ``t`` [s] (numba-compilable; constant bearings).
+
+    ``loads`` (2 U, r): the unbalances' reduced forces along ``a`` then along ``b``; ``ratio``,
+    ``phase`` [rad], ``amount`` [kg m] (U,); ``gravity`` (r,): the constant forces (weights and the
+    drive's reaction); ``speed`` [rad/s] and ``accel`` [rad/s^2] of the drive."""
+    r = gravity.shape[0]
+    w = speed + accel * t
+    phi = speed * t + 0.5 * accel * t * t
+    out = A @ y + w * (B @ y)
+    count = ratio.shape[0]
+    for k in range(count):
+        theta = ratio[k] * phi + phase[k]
+        c, s = np.cos(theta), np.sin(theta)
+        rate2, rate_dot = (ratio[k] * w) ** 2, ratio[k] * accel
+        along_a = amount[k] * (rate2 * c + rate_dot * s)
+        along_b = amount[k] * (rate2 * s - rate_dot * c)
+        for i in range(r):
+            out[r + i] += along_a * loads[k, i] + along_b * loads[count + k, i]
+    for i in range(r):
+        out[r + i] += gravity[i]
+    return out
+
+
+_COMPILED: dict = {}
+
+
+def _compiled(backend):
+    """:func:`linear_rhs` compiled by numba (cached on disk), or None without numba ('auto')."""
+    if "rhs" not in _COMPILED:
+        try:
+            import numba
+        except ImportError:
+            _COMPILED["rhs"] = None
+        else:
+            _COMPILED["rhs"] = numba.njit(cache=True)(linear_rhs)
+    if _COMPILED["rhs"] is None and backend == "numba":
+        raise InputError("backend 'numba': numba is not installed (pip install 'rotordyn_modal[fast]')")
+    return _COMPILED["rhs"]
+
+
+def _right_hand_side(system, speed, accel):
+    """``f(t, y)`` of the reduced first-order equations, written for few numpy calls (it runs
+    once per stage of every step): ``y' = A y + w(t) B y + [0, f(t)]``."""
+    r = system.size
+    A, B = _first_order(system)
+    loads = np.vstack([system.Fa, system.Fb])                  # (2 U, r)
+    ratio, phase, amount = system.ratio, system.phase, system.amount
+    gravity = system.gravity + accel * system.reaction
+    forcing = np.zeros(2 * r)
+    dependent = system.dependent
+
+    def rhs(t, y):
+        w = speed + accel * t
+        theta = ratio * (speed * t + 0.5 * accel * t * t) + phase
+        c, s = np.cos(theta), np.sin(theta)
+        rate2, rate_dot = (ratio * w) ** 2, ratio * accel
+        forcing[r:] = np.concatenate([amount * (rate2 * c + rate_dot * s),
+                                      amount * (rate2 * s - rate_dot * c)]) @ loads + gravity
+        out = A @ y + w * (B @ y) + forcing
+        if dependent:
+            K, C = system.stiffness_damping([w])
+            out[r:] -= (K[0] - system.K) @ y[:r] + (C[0] - system.C) @ y[r:]
+        return out
+
+    return rhs
+
+
+def _result(model, system, times, states, speed, accel, drive):
+    """The :class:`SimulationResult` of the reduced states (see its docstring for the fields)."""
+    from ..assembly import bearing_motion, sensor_rows
+    from ..elements.bearings import evaluate
+    from ..model.geometry import shift_matrices
+    from .result import SimulationResult
+
+    layout = model.dofs
+    V, r = system.V, system.size
+    eta, deta = states[:, :r], states[:, r:]
+    count = len(times)
+    spin = speed + accel * times
+    phi = speed * times + 0.5 * accel * times ** 2
+    e = np.asarray(model.spin_axis, dtype=float)
+    if layout.n_frame:
+        stator, stator_rate = eta @ V[:6].T, deta @ V[:6].T
+    else:
+        stator, stator_rate = np.zeros((count, 6)), np.zeros((count, 6))
+    roll, roll_rate = stator[:, 3:] @ e, stator_rate[:, 3:] @ e
+    ratios = np.array([rotor.speed_ratio for rotor in model.rotors], dtype=float)
+    centres = np.array([rotor.center_of_mass for rotor in model.rotors], dtype=float).reshape(-1, 3)
+    moves, tilts = np.zeros((count, len(ratios), 3)), np.zeros((count, len(ratios), 3))
+    centre_positions = np.empty((count, len(ratios), 3))
+    for j, rotor in enumerate(model.rotors):
+        motion = layout.motions([(rotor.name, False, tuple(centres[j]))])[0]            # (6, n) at S
+        at_centre = shift_matrices(layout.reference_point, [centres[j]])[0].T @ motion
+        centre_positions[:, j] = centres[j] + eta @ (at_centre[:3] @ V).T
+        if layout.on_bearings(rotor.name):
+            rows = layout.slices[layout.rotors.index(rotor.name)]
+            local = layout.local_relative_motion(rotor.name, centres[j]) @ V[rows]        # (6, r)
+            moves[:, j], tilts[:, j] = eta @ local[:3].T, eta @ local[3:].T
+    forces = np.zeros((count, len(model.bearings), 6))
+    for i, bearing in enumerate(model.bearings):
+        rows, local = bearing_motion(model, bearing)
+        reduced = local @ V[rows]
+        k6, c6 = evaluate(bearing.coefficients, model.rotor(bearing.rotor).speed_ratio * spin,
+                          f"{model.source}: [bearings.{bearing.name}]")
+        forces[:, i] = np.einsum("nij,nj->ni", k6, eta @ reduced.T) + np.einsum("nij,nj->ni", c6, deta @ reduced.T)
+    Ks = system.stiffness_damping(spin)[0] if system.dependent else system.K[None]
+    elastic = 0.5 * np.einsum("ni,nij,nj->n", eta, 0.5 * (Ks + Ks.transpose(0, 2, 1)), eta)
+    polar = np.array([rotor.polar_inertia for rotor in model.rotors], dtype=float)
+    return SimulationResult(
+        time=np.asarray(times), displacement=stator, velocity=stator_rate,
+        gamma=stator[:, 3:] - roll[:, None] * e, drive_angle=phi, drive_speed=spin, spin_speed=spin + roll_rate,
+        rotor_angles=roll[:, None] + phi[:, None] * ratios, drive_torque=np.full(count, accel * polar @ ratios ** 2),
+        rotor_centers=centre_positions, rotor_displacements=moves, rotor_tilts=tilts, bearing_forces=forces,
+        sensors=eta @ (sensor_rows(model) @ V).T, kinetic_energy=0.5 * np.einsum("ni,ni->n", deta, deta),
+        elastic_energy=elastic, gravity_energy=-eta @ system.gravity, states=np.hstack([eta @ V.T, deta @ V.T]),
+        sensor_names=[s.name for s in model.sensors], rotor_names=[rotor.name for rotor in model.rotors],
+        bearing_names=[b.name for b in model.bearings], speed_ratios=ratios, drive=drive, model_name=model.name)

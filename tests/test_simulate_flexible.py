@@ -207,3 +207,15 @@ def test_right_hand_sides_are_the_linear_models_equations(table):
         if not table:
             compiled = flexible.linear_rhs(t, y, *flexible._packed(system, speed, accel))
             np.testing.assert_allclose(compiled, got, rtol=1e-12, atol=1e-12 * np.abs(got).max())
+
+
+def test_the_flexible_kernel_announces_its_first_compilation(monkeypatch):
+    """Before numba compiles the flexible path's right-hand side the user is told (issue 27: a
+    silent ~20 s wait); the announcement is given the dispatcher that is about to run."""
+    pytest.importorskip("numba")
+    import rotordyn_modal.simulation.flexible as flexible
+
+    seen = []
+    monkeypatch.setattr(flexible, "announce_compilation", lambda kn: seen.append(kn.rhs_flat) or False)
+    rdm.simulate(_machine(), 0.01, 100.0, samples=3, backend="numba")
+    assert len(seen) == 1 and seen[0] is flexible._compiled("numba")

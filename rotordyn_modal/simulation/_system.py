@@ -292,3 +292,36 @@ def check_duration(duration, rate):
 def default_samples(rate, duration):
     """Output times: 20 per period of the fastest motion ``rate`` [rad/s], at least 201."""
     return int(min(max(201, 20.0 * rate / (2 * np.pi) * duration + 1), 2_000_001))
+
+
+#: the line printed on stderr before numba compiles the kernels (first run only)
+COMPILE_NOTICE = "compiling the simulation kernel (first run only, ~20 s)..."
+
+
+def announce_compilation(kn) -> bool:
+    """Print :data:`COMPILE_NOTICE` on stderr when the compiled right-hand side is about to be
+    compiled: not yet compiled in this process and not in numba's on-disk cache.
+
+    Returns
+    -------
+    bool
+        Whether the notice was printed.
+    """
+    import sys
+
+    dispatcher = getattr(kn, "rhs_flat", None)
+    if dispatcher is None or getattr(dispatcher, "signatures", None) != []:
+        return False                                  # plain numpy, or compiled already
+    if _cached(dispatcher):
+        return False
+    print(COMPILE_NOTICE, file=sys.stderr, flush=True)
+    return True
+
+
+def _cached(dispatcher) -> bool:
+    """Whether numba's cache holds a compiled version of ``dispatcher`` for its current source
+    (numba's own index, stale stamps dropped; any failure to read it counts as not cached)."""
+    try:
+        return bool(dispatcher._cache._cache_file._load_index())
+    except Exception:       # a private numba interface: a change of it only costs the notice
+        return False

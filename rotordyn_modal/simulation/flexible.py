@@ -23,11 +23,13 @@ kept the reduction is exact.
 from __future__ import annotations
 
 import sys
+from types import SimpleNamespace
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
+from ._system import announce_compilation
 
 __all__ = ["simulate_linear", "reduced_system", "ReducedSystem", "NOTICE", "LOWEST", "CUTOFF_FACTOR"]
 
@@ -356,6 +358,8 @@ def _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend="a
     from ._system import progress_bar
 
     compiled = None if system.dependent or backend == "numpy" else _compiled(backend)
+    if compiled is not None:
+        announce_compilation(SimpleNamespace(rhs_flat=compiled))
     if compiled is None:
         solver = ode(_right_hand_side(system, speed, accel))
     else:

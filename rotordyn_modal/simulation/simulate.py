@@ -10,6 +10,7 @@ from . import _kernels
 from ._system import check_table_speeds, system_arrays
 from ._system import check_duration as _check_duration, default_samples as _default_samples
 from ._system import progress_bar as _progress_bar
+from ._system import COMPILE_NOTICE, announce_compilation  # noqa: F401  (their old home)
 from .result import SimulationResult
 
 __all__ = ["simulate", "DRIVES", "BACKENDS", "kernels"]
@@ -179,39 +180,6 @@ def _simulate_flexible(model, duration, speed, drive, final_speed, initial, impu
                            impulse=impulse, impulse_size=_finite(impulse_size, "impulse size"), samples=samples, rtol=rtol, atol=atol,
                            unbalance_phases_deg=phases, modes_below=modes_below, progress=progress,
                            backend=backend)
-
-
-#: the line printed on stderr before numba compiles the kernels (first run only)
-COMPILE_NOTICE = "compiling the simulation kernel (first run only, ~20 s)..."
-
-
-def announce_compilation(kn) -> bool:
-    """Print :data:`COMPILE_NOTICE` on stderr when the compiled right-hand side is about to be
-    compiled: not yet compiled in this process and not in numba's on-disk cache.
-
-    Returns
-    -------
-    bool
-        Whether the notice was printed.
-    """
-    import sys
-
-    dispatcher = getattr(kn, "rhs_flat", None)
-    if dispatcher is None or getattr(dispatcher, "signatures", None) != []:
-        return False                                  # plain numpy, or compiled already
-    if _cached(dispatcher):
-        return False
-    print(COMPILE_NOTICE, file=sys.stderr, flush=True)
-    return True
-
-
-def _cached(dispatcher) -> bool:
-    """Whether numba's cache holds a compiled version of ``dispatcher`` for its current source
-    (numba's own index, stale stamps dropped; any failure to read it counts as not cached)."""
-    try:
-        return bool(dispatcher._cache._cache_file._load_index())
-    except Exception:       # a private numba interface: a change of it only costs the notice
-        return False
 
 
 def _integrate(kn, system, extra, y0, times, rtol, atol, progress, model=None):

@@ -101,12 +101,19 @@ def eig_seconds(n_states: int) -> float:
     return _timed_eig(size) * (n_states / size) ** _EXPONENT
 
 
-def _undamped_frequencies(model) -> np.ndarray:
-    """Natural frequencies of the undamped machine at rest [rad/s] (n,): all of ``K, M`` below
-    ``_DENSE_FREQUENCIES_DOF`` coordinates, else ``sqrt(K_ii / M_ii)``."""
+def _undamped_frequencies(model, speed: float) -> np.ndarray | None:
+    """Natural frequencies of the undamped machine [rad/s] (n,), its gyroscopic terms left out,
+    its bearings' coefficients at ``speed`` [rad/s]: all of ``K, M`` up to
+    ``_DENSE_FREQUENCIES_DOF`` coordinates, else ``sqrt(K_ii / M_ii)``; None where the
+    matrices cannot be had at that speed (the caller then counts every mode)."""
     import scipy.linalg
 
-    M, _, _, K = model.matrices(0.0)
+    from ..errors import ModelError
+
+    try:
+        M, _, _, K = model.matrices(speed)
+    except (InputError, ModelError):
+        return None
     if len(M) <= _DENSE_FREQUENCIES_DOF:
         try:
             squares = scipy.linalg.eigh(K, M, eigvals_only=True)
@@ -128,13 +135,16 @@ def _line_slopes(model, orders) -> np.ndarray:
 def expected_crossings(model, speeds, orders) -> int:
     """Crossings of the undamped machine's frequencies at rest with every order line over
     ``speeds`` [rad/s]: a line of slope ``s`` meets a frequency ``w`` once on each side of zero
-    where ``s |Omega|`` passes ``w`` inside that side's range of speeds."""
+    where ``s |Omega|`` passes ``w`` inside that side's range of speeds (the matrices taken at
+    the middle speed of the range; every mode with every line where they cannot be had)."""
     slopes = _line_slopes(model, orders)
     if not len(slopes) or not len(orders):
         return 0
-    frequencies = np.sort(_undamped_frequencies(model))
-    frequencies = frequencies[frequencies > 0]
     speeds = np.asarray(speeds, dtype=float)
+    frequencies = _undamped_frequencies(model, float(speeds[len(speeds) // 2]))
+    if frequencies is None:
+        return 2 * model.dofs.n * len(slopes)
+    frequencies = np.sort(frequencies[frequencies > 0])
     count = 0
     for side in (speeds[speeds >= 0], -speeds[speeds <= 0]):
         if len(side) < 2:

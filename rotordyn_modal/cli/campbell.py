@@ -25,8 +25,8 @@ A sweep or a set of critical speeds that would not fit in the memory at hand is 
 before its work, with its estimate (exit 2); ROTORDYN_MODAL_MEMORY_GB sets the memory to
 count on. So is one estimated to take more than 30 minutes of CPU time (its eigen-solutions
 and crossings counted from the model's size; --allow-long runs it anyway,
-ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit). On a terminal, bars show the progress of the eigen-solutions and of the critical
-speeds' refinement.
+ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit). On a terminal, bars show the progress of the
+eigen-solutions and of the critical speeds' refinement.
 
 example:
   rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png
@@ -34,7 +34,8 @@ example:
       --freq-range 0:40 --plot mounts.png"""
 
 #: what to do about work over the CPU-time limit
-LONG_ADVICE = ("ask for the lowest modes only (--lowest N), fewer excitation orders (--orders) or fewer speeds (--speeds), or leave out the critical speeds (--no-critical)")
+LONG_ADVICE = ("ask for the lowest modes only (--lowest N), fewer excitation orders (--orders) or fewer speeds "
+               "(--speeds), or leave out the critical speeds (--no-critical)")
 
 
 def add_arguments(parser):

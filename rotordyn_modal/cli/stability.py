@@ -65,8 +65,8 @@ def run(args) -> int:
     scale = _grid(args.scale, "--scale") if args.scale else None
     speeds = speeds_option(args)
     count = len(values if values is not None else scale) if args.vary else 1
-    refuse_long_work(args, model, speeds, critical=False, solutions=count * len(speeds),
-                     advice="use fewer speeds (--speeds)" + (" or fewer values (--values, --scale)" if args.vary else ""))
+    fewer = "use fewer speeds (--speeds)" + (" or fewer values (--values, --scale)" if args.vary else "")
+    refuse_long_work(args, model, speeds, critical=False, solutions=count * len(speeds), advice=fewer)
     result = stability(model, speeds, vary=args.vary, values=values, scale=scale, progress=show_progress(args))
     write_table(result.to_dataframe(), args)
     if not args.quiet:

@@ -234,10 +234,11 @@ def _quick_bound(model, speeds, orders, critical, numbers, solutions) -> float:
 
 
 def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, solutions=None,
-                     advice="") -> Work | None:
+                     advice="", memory=False) -> Work | None:
     """Refuse, before its first eigen-solution, an analysis estimated (:func:`estimate`) to take
     longer than :func:`limit_seconds`; returns the estimate where one was made (None where the
-    quick bound already passed it).
+    quick bound already passed it). With ``memory``, a Campbell sweep whose arrays would not fit
+    is refused first (:func:`.campbell.campbell`'s own check, from the sizes).
 
     Raises
     ------
@@ -245,6 +246,10 @@ def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, sol
         ``this analysis would take about 9.6 h of CPU time (...), more than the limit of 30 min:
         ADVICE, or --allow-long (ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit)``.
     """
+    if memory:                              # what cannot fit is refused first: no option runs it
+        from .campbell import _refuse_sizes_that_cannot_fit
+
+        _refuse_sizes_that_cannot_fit(model.dofs.n, _n_states(model), len(speeds), 1, critical)
     limit = limit_seconds()
     solutions = len(speeds) if solutions is None else solutions
     if limit == float("inf") or _quick_bound(model, speeds, orders, critical, numbers, solutions) <= limit:

@@ -171,14 +171,16 @@ def add_allow_long(parser):
                              "before it starts, with the estimate")
 
 
-def refuse_long_work(args, model, speeds, orders=(), critical=True, numbers=False, solutions=None, advice=""):
+def refuse_long_work(args, model, speeds, orders=(), critical=True, numbers=False, solutions=None, advice="",
+                     memory=False):
     """Refuse (one line, exit 2) an analysis whose estimated CPU time exceeds the limit, before
-    its first eigen-solution, unless ``--allow-long`` (``analysis._work``)."""
+    its first eigen-solution, unless ``--allow-long`` (``analysis._work``); with ``memory``, a
+    Campbell sweep that cannot fit first."""
     if getattr(args, "allow_long", False):
         return
     from ..analysis._work import refuse_long_work as refuse
 
-    refuse(model, speeds, orders, critical, numbers, solutions, advice)
+    refuse(model, speeds, orders, critical, numbers, solutions, advice, memory)
 
 
 def speeds_option(args) -> np.ndarray:

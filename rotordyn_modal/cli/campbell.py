@@ -63,7 +63,8 @@ def run(args) -> int:
     axis = _frequency_axis(args)    # bad limits refused before the work
     speeds, orders, lowest = speeds_option(args), tuple(parse_list(args.orders, "--orders")), _lowest(args.lowest)
     if lowest is None:
-        refuse_long_work(args, model, speeds, orders, critical=not args.no_critical, advice=LONG_ADVICE)
+        refuse_long_work(args, model, speeds, orders, critical=not args.no_critical, advice=LONG_ADVICE,
+                         memory=True)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), critical=not args.no_critical,
                       modes=lowest)
     write_table(result.to_dataframe(), args, empty=f"no oscillating modes {speeds_text(args)}: "

@@ -48,7 +48,7 @@ def run(args) -> int:
     speeds, orders = speeds_option(args), tuple(parse_list(args.orders, "--orders"))
     if modes is None:
         refuse_long_work(args, model, speeds, orders, numbers=True, advice="ask for the lowest modes only (--lowest "
-                         "N), fewer excitation orders (--orders) or fewer speeds (--speeds)")
+                         "N), fewer excitation orders (--orders) or fewer speeds (--speeds)", memory=True)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), modes=modes)
     write_table(_with_modes_at_speed(result.critical.to_dataframe(), model, result), args,
                 empty=f"no critical speed {speeds_text(args)} (orders {args.orders})")

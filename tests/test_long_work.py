@@ -55,6 +55,7 @@ def test_500_geared_rotors_on_bearings_are_refused_before_the_work_with_the_esti
     path = tmp_path / "chain.toml"
     path.write_text(chained_gear_toml(500, 500))
     line = _refusal(capsys, ["campbell", path, "--speeds", "0:3000:11"])
+    assert line.startswith(f"rotordyn-modal campbell: error: {path}: this analysis of 2,006 coordinates would take")
     assert "2,006 coordinates" in line and "11 eigen-solutions of 4,012 states" in line
     hours = float(line.split("would take about ")[1].split(" h of CPU time")[0])
     assert hours > 1.0                                          # far above the 30 minutes

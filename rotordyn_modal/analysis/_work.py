@@ -243,8 +243,8 @@ def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, sol
     Raises
     ------
     InputError
-        ``this analysis would take about 9.6 h of CPU time (...), more than the limit of 30 min:
-        ADVICE, or --allow-long (ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit)``.
+        ``MODEL: this analysis of N coordinates would take about 9.6 h of CPU time (...), more than the
+        limit of 30 min: ADVICE, or add --allow-long (ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit)``.
     """
     if memory:                              # what cannot fit is refused first: no option runs it
         from .campbell import _refuse_sizes_that_cannot_fit
@@ -256,7 +256,8 @@ def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, sol
         return None
     work = estimate(model, speeds, orders, critical, numbers, solutions)
     if work.seconds > limit:
-        raise InputError(f"this analysis of {work.n_dof:,} coordinates would take {work.text()}, more than the "
+        where = f"{model.source}: " if getattr(model, "source", None) else ""
+        raise InputError(f"{where}this analysis of {work.n_dof:,} coordinates would take {work.text()}, more than the "
                          f"limit of {_duration(limit)}: {advice + ', ' if advice else ''}or add --allow-long "
                          f"({ENVIRONMENT} sets the limit)")
     return work

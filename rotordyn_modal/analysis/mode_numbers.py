@@ -84,7 +84,10 @@ def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, 
     out = np.where(below == above, below, 0)
     rest = np.nonzero((below != above) | (below == 0))[0]
     if len(rest) and len(sweep_speeds) > 1:
-        counted, known = _counted_below(sweep_speeds, values, speeds[rest], k[rest], column[rest], eigenvalues[rest])
+        # a sweep of the lowest roots only (campbell --lowest): the roots left out lie above its columns
+        partial = values.shape[-1] < model.dofs.n
+        counted, known = _counted_below(sweep_speeds, values, speeds[rest], k[rest], column[rest], eigenvalues[rest],
+                                        partial)
         out[rest[known]] = counted[known]
         rest = rest[~known]
     if len(rest):
@@ -103,7 +106,7 @@ _TRAVEL_MARGIN = 0.25
 _RELATIVE_MARGIN = 1e-8
 
 
-def _counted_below(sweep_speeds, values, speeds, k, column, eigenvalues):
+def _counted_below(sweep_speeds, values, speeds, k, column, eigenvalues, partial=False):
     """The number of each mode at its speed from the sweep's roots interpolated there: one more
     than the count of the other roots that are modes and lie below its eigenvalue (by frequency,
     as :func:`numbers_at_speed` orders them); 0 where its own root is not a mode.
@@ -112,6 +115,8 @@ def _counted_below(sweep_speeds, values, speeds, k, column, eigenvalues):
     mode's than a margin (:data:`_MARGIN` times the cubic's difference from the linear
     interpolation, :data:`_TRAVEL_MARGIN` of its travel across the bracket, :data:`_RELATIVE_MARGIN`
     of the mode's eigenvalue) and it is a mode at both ends of the bracket (or at neither).
+    Where the sweep holds the lowest roots only (``partial``), a root it left out lies above its
+    columns: the mode's number is told only where some column lies surely above it.
 
     Returns
     -------
@@ -135,7 +140,7 @@ def _counted_below(sweep_speeds, values, speeds, k, column, eigenvalues):
         rows = np.arange(len(lam))
         told[rows, column[part]], low[rows, column[part]] = True, False
         numbers[part] = np.where(own_mode[part], 1 + low.sum(axis=1), 0)
-        known[part] = ~own_mode[part] | told.all(axis=1)
+        known[part] = ~own_mode[part] | (told.all(axis=1) & (high.any(axis=1) | (not partial)))
     return numbers, known
 
 

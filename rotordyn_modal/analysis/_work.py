@@ -52,9 +52,10 @@ _EXPONENT = 2.7
 _COORDINATE_SECONDS = 15e-6
 #: a dense factorisation of the pencil costs about this share of a dense eigen-solution
 _FACTOR_SHARE = 1 / 75
-#: share of the crossings whose mode number is solved for (measured 0.36 on a coarse grid of a
-#: 126-coordinate chain, 0.16 on a grid 6 times finer, none on the bundled examples)
-_NUMBERS_SHARE = 0.4
+#: share of the crossings whose mode number is solved for (measured on grids of 11 speeds: 0.36
+#: on the 126-coordinate chain, 0.53 on the 406-coordinate one; 0.16 on a grid 6 times finer,
+#: none on the bundled examples)
+_NUMBERS_SHARE = 0.5
 #: the eigenvalues alone cost about this share of an eigen-solution with vectors
 _EIGVALS_SHARE = 0.4
 #: pessimistic CPU seconds of one eigen-solution per cubed state, for :func:`_quick_bound`
@@ -187,7 +188,9 @@ def _duration(seconds: float) -> str:
         return f"{seconds:.2g} s"
     if seconds < 6000:
         return f"{seconds / 60:.3g} min"
-    return f"{seconds / 3600:.3g} h"
+    if seconds < 360000:
+        return f"{seconds / 3600:.3g} h"
+    return f"{seconds / 3600:,.0f} h"
 
 
 def _n_states(model) -> int:

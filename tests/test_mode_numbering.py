@@ -151,3 +151,33 @@ def test_where_a_root_crosses_the_modes_frequency_inside_the_bracket_the_number_
                                      critical.mode[p:p + 1], eigenvalues[p:p + 1])[0]
         modes = rdm.modal(model, critical.speeds[p]).to_dataframe()
         assert modes.frequency_hz[found - 1] == pytest.approx(critical.frequencies_hz[p], rel=1e-6)
+
+
+def test_where_the_order_changes_between_grid_speeds_the_sweep_tells_the_number_without_solving(examples_dir,
+                                                                                                monkeypatch):
+    """On a coarse grid of the flexible pump, the motor's 2X critical speed near 10,133 rpm lies
+    in a bracket where another root passes the mode's frequency (its number is 9 at 10,000 rpm and
+    8 at 11,000 rpm): its number at the critical speed is the one ``modal`` gives there, counted
+    from the sweep's roots interpolated to that speed, with no eigen-solution at that speed."""
+    from rotordyn_modal.analysis import _eigensolve, mode_numbers
+
+    model = rdm.load_model(examples_dir / "flexible_pump_on_mounts.toml")
+    result = rdm.campbell(model, rdm.rpm(np.linspace(0.0, 12000.0, 13)), orders=(1, 2, 3))
+    critical = result.critical
+    grid = mode_numbers.numbers_at_speed(result.eigenvalues)
+    k = np.searchsorted(result.speeds, critical.speeds) - 1
+    column = critical.mode - 1
+    changed = np.nonzero(grid[k, column] != grid[k + 1, column])[0]
+    assert len(changed) >= 1
+    imag = 2 * np.pi * critical.frequencies_hz[changed]
+    zeta = critical.damping_ratios[changed]
+    eigenvalues = -zeta * imag / np.sqrt(1 - zeta**2) + 1j * imag
+    expected = []
+    for p, lam in zip(changed, eigenvalues):          # modes --speed S: the listed mode nearest the root
+        modes = rdm.modal(model, critical.speeds[p]).to_dataframe()
+        listed = 2 * np.pi * modes.frequency_hz.to_numpy()
+        expected.append(int(modes["mode"].to_numpy()[np.argmin(np.abs(listed - lam.imag))]))
+    monkeypatch.setattr(_eigensolve, "eigenvalues_of", lambda *a, **k: pytest.fail("solved at the critical speed"))
+    found = mode_numbers.numbers_at_crossings(model, result.speeds, result.eigenvalues, critical.speeds[changed],
+                                              critical.mode[changed], eigenvalues)
+    np.testing.assert_array_equal(found, expected)

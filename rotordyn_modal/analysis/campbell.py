@@ -419,12 +419,17 @@ def _sizes(stack):
 def _refuse_what_cannot_fit(stack, n_speeds, critical):
     """Refuse a sweep whose arrays would not fit (see :func:`memory_estimate`), naming the
     number of speeds that would."""
-    n_dof, n_states = _sizes(stack)
-    needed = memory_estimate(n_dof, n_states, n_speeds, len(stack), critical)
+    _refuse_sizes_that_cannot_fit(*_sizes(stack), n_speeds, len(stack), critical)
+
+
+def _refuse_sizes_that_cannot_fit(n_dof, n_states, n_speeds, variants, critical):
+    """:func:`_refuse_what_cannot_fit` from the sizes alone (``n_dof`` coordinates, ``n_states``
+    states, ``variants`` models)."""
+    needed = memory_estimate(n_dof, n_states, n_speeds, variants, critical)
     if needed < _CHECKED_BYTES:
         return
-    fixed = memory_estimate(n_dof, n_states, 0, len(stack), critical)
-    per_speed = memory_estimate(n_dof, n_states, 1, len(stack), critical) - fixed
+    fixed = memory_estimate(n_dof, n_states, 0, variants, critical)
+    per_speed = memory_estimate(n_dof, n_states, 1, variants, critical) - fixed
     from .._limits import available_memory
 
     fitting = int(max(0.0, available_memory() - fixed) // max(per_speed, 1.0))
@@ -433,7 +438,7 @@ def _refuse_what_cannot_fit(stack, n_speeds, critical):
     if critical:
         advice += ", or leave out the critical speeds (campbell --no-critical, critical=False)"
     problem = memory_problem(needed, f"a Campbell sweep of {n_dof:,} coordinates at {n_speeds:,} speeds"
-                             + (f" of {len(stack)} models" if len(stack) > 1 else ""), advice)
+                             + (f" of {variants} models" if variants > 1 else ""), advice)
     if problem:
         raise InputError(problem)
 

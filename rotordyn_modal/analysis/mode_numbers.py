@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..linear_system import speed_linear_form
-from . import _eigensolve
+from . import _batches, _eigensolve
 from .modal import is_oscillating
 
 __all__ = ["numbers_at_speed", "number_of_root", "numbers_at_crossings"]
@@ -53,8 +53,12 @@ def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, 
     """The number ``modes --speed`` gives tracked modes at speeds between a sweep's speeds.
 
     Where the mode has the same number at both grid speeds around the speed, that number (no
-    root crosses its frequency in between); otherwise the roots at the speed are solved (the
-    state matrix is built only then).
+    root crosses its frequency in between). Otherwise (another root crossed its frequency inside
+    the bracket) the number is one more than the count of the other roots below the mode's own
+    eigenvalue at that speed, each root's frequency there interpolated from the sweep
+    (:func:`_counted_below`); only where a root lies too near that frequency for the
+    interpolation to tell its side are the roots at the speed solved (the state matrix is built
+    only then), all such speeds in one batch.
 
     Parameters
     ----------
@@ -71,15 +75,106 @@ def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, 
     -------
     ndarray of int, shape (P,); 0 where the root is not a mode at that speed
     """
-    grid = numbers_at_speed(sweep_eigenvalues)
+    sweep_speeds, values = np.asarray(sweep_speeds, dtype=float), np.asarray(sweep_eigenvalues)
+    speeds, eigenvalues = np.asarray(speeds, dtype=float), np.asarray(eigenvalues)
+    grid = numbers_at_speed(values)
     k = np.clip(np.searchsorted(sweep_speeds, speeds) - 1, 0, max(len(sweep_speeds) - 2, 0))
     column = np.asarray(modes, dtype=int) - 1
     below, above = grid[k, column], grid[np.minimum(k + 1, len(sweep_speeds) - 1), column]
     out = np.where(below == above, below, 0)
-    form = None
-    for p in np.nonzero((below != above) | (below == 0))[0]:
-        if form is None:
-            form = speed_linear_form(model)
-        roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(form.at(float(speeds[p]))[None]))[0]
-        out[p] = number_of_root(roots, eigenvalues[p])
+    rest = np.nonzero((below != above) | (below == 0))[0]
+    if len(rest) and len(sweep_speeds) > 1:
+        # a sweep of the lowest roots only (campbell --lowest): the roots left out lie above its columns
+        partial = values.shape[-1] < model.dofs.n
+        counted, known = _counted_below(sweep_speeds, values, speeds[rest], k[rest], column[rest], eigenvalues[rest],
+                                        partial)
+        out[rest[known]] = counted[known]
+        rest = rest[~known]
+    if len(rest):
+        out[rest] = _solved_numbers(model, speeds[rest], eigenvalues[rest])
+    return out
+
+
+#: the largest part of the crossings' interpolated roots computed at once [bytes]
+_PART_BYTES = 16 * 2**20
+#: a root counts on one side of the mode's frequency only beyond this many times the
+#: difference between its cubic and linear interpolations (the cubic's error is far smaller)
+_MARGIN = 4.0
+#: and beyond this fraction of its travel across the bracket (for a root that veers inside it)
+_TRAVEL_MARGIN = 0.25
+#: and beyond this fraction of the mode's |eigenvalue| (repeated roots)
+_RELATIVE_MARGIN = 1e-8
+
+
+def _counted_below(sweep_speeds, values, speeds, k, column, eigenvalues, partial=False):
+    """The number of each mode at its speed from the sweep's roots interpolated there: one more
+    than the count of the other roots that are modes and lie below its eigenvalue (by frequency,
+    as :func:`numbers_at_speed` orders them); 0 where its own root is not a mode.
+
+    A root is counted on one side only where its interpolated frequency is farther from the
+    mode's than a margin (:data:`_MARGIN` times the cubic's difference from the linear
+    interpolation, :data:`_TRAVEL_MARGIN` of its travel across the bracket, :data:`_RELATIVE_MARGIN`
+    of the mode's eigenvalue) and it is a mode at both ends of the bracket (or at neither).
+    Where the sweep holds the lowest roots only (``partial``), a root it left out lies above its
+    columns: the mode's number is told only where some column lies surely above it.
+
+    Returns
+    -------
+    numbers : ndarray of int, shape (P,)
+    known : ndarray of bool, shape (P,)
+        Every other root's side told apart (the others' numbers are meaningless).
+    """
+    count = len(k)
+    numbers, known = np.zeros(count, dtype=int), np.zeros(count, dtype=bool)
+    own_mode = is_oscillating(eigenvalues)
+    m = values.shape[-1]
+    step = max(1, _PART_BYTES // (16 * 12 * m))
+    for start in range(0, count, step):
+        part = slice(start, min(start + step, count))
+        estimate, margin, mode_both, mode_neither = _interpolated_roots(sweep_speeds, values, speeds[part], k[part])
+        lam = eigenvalues[part]
+        margin += _RELATIVE_MARGIN * np.abs(lam)[:, None]
+        low = mode_both & (estimate.imag + margin < lam.imag[:, None])
+        high = mode_both & (estimate.imag - margin > lam.imag[:, None])
+        told = low | high | mode_neither
+        rows = np.arange(len(lam))
+        told[rows, column[part]], low[rows, column[part]] = True, False
+        numbers[part] = np.where(own_mode[part], 1 + low.sum(axis=1), 0)
+        known[part] = ~own_mode[part] | (told.all(axis=1) & (high.any(axis=1) | (not partial)))
+    return numbers, known
+
+
+def _interpolated_roots(sweep_speeds, values, speeds, k):
+    """Every tracked root of the sweep at ``speeds`` (P,) inside brackets ``k`` (P,): the cubic
+    through the four nearest speeds of the sweep, the margin of its frequency (see
+    :func:`_counted_below`), and whether it is a mode at both ends of the bracket, or at
+    neither. Each (P, m). With fewer than four speeds, or where the root is not a mode at all
+    four, the linear interpolation across the bracket, with its whole travel as the margin."""
+    ends = values[k[:, None] + np.arange(2)]                                         # (P, 2, m)
+    t = ((speeds - sweep_speeds[k]) / (sweep_speeds[k + 1] - sweep_speeds[k]))[:, None]
+    linear = (1 - t) * ends[:, 0] + t * ends[:, 1]
+    oscillating = is_oscillating(ends)
+    travel = np.abs(ends[:, 1] - ends[:, 0])
+    if len(sweep_speeds) < 4:
+        return linear, travel, oscillating.all(axis=1), ~oscillating.any(axis=1)
+    nodes = np.minimum(np.maximum(k - 1, 0), len(sweep_speeds) - 4)[:, None] + np.arange(4)         # (P, 4)
+    xs, near = sweep_speeds[nodes], values[nodes]                                                   # (P, 4, m)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        factor = (speeds[:, None, None] - xs[:, None, :]) / (xs[:, :, None] - xs[:, None, :])
+    factor.reshape(len(speeds), 16)[:, ::5] = 1.0                                                   # the diagonals
+    cubic = np.einsum("pj,pjm->pm", factor.prod(axis=2), near)
+    smooth = is_oscillating(near).all(axis=1)
+    estimate = np.where(smooth, cubic, linear)
+    margin = np.where(smooth, _TRAVEL_MARGIN * travel + _MARGIN * np.abs(cubic - linear), travel)
+    return estimate, margin, oscillating.all(axis=1), ~oscillating.any(axis=1)
+
+
+def _solved_numbers(model, speeds, eigenvalues):
+    """The numbers by the roots solved at each speed (all speeds in one batch, in parts)."""
+    form = speed_linear_form(model)
+    out = np.empty(len(speeds), dtype=int)
+    size = form.n_states
+    for part in _batches.chunk_slices(len(speeds), 32 * size * size):
+        roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(form.at(speeds[part])))
+        out[part] = [number_of_root(row, lam) for row, lam in zip(roots, eigenvalues[part])]
     return out

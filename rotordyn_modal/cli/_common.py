@@ -163,6 +163,26 @@ def add_outputs(parser, table: bool = True, plot: bool = True, out_endings=(".cs
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no table on the terminal")
 
 
+def add_allow_long(parser):
+    """``--allow-long``: run an analysis estimated to take longer than the CPU-time limit."""
+    parser.add_argument("--allow-long", action="store_true",
+                        help="run even where the estimate of the work exceeds the limit of CPU time (default 30 "
+                             "min; ROTORDYN_MODAL_MAX_CPU_MINUTES sets it); without it such work is refused "
+                             "before it starts, with the estimate")
+
+
+def refuse_long_work(args, model, speeds, orders=(), critical=True, numbers=False, solutions=None, advice="",
+                     memory=False):
+    """Refuse (one line, exit 2) an analysis whose estimated CPU time exceeds the limit, before
+    its first eigen-solution, unless ``--allow-long`` (``analysis._work``); with ``memory``, a
+    Campbell sweep that cannot fit first."""
+    if getattr(args, "allow_long", False):
+        return
+    from ..analysis._work import refuse_long_work as refuse
+
+    refuse(model, speeds, orders, critical, numbers, solutions, advice, memory)
+
+
 def speeds_option(args) -> np.ndarray:
     return to_rad_s(parse_range(args.speeds, "--speeds"), args.speed_unit)
 

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
-                      save_figure, show_progress, speeds_option, speeds_text, use_agg, write_table)
+from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
+                      refuse_long_work, save_figure, show_progress, speeds_option, speeds_text, use_agg,
+                      write_table)
 
 NAME = "campbell"
 HELP = "Campbell diagram: modes tracked across speeds"
@@ -22,13 +23,19 @@ CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl
 
 A sweep or a set of critical speeds that would not fit in the memory at hand is refused
 before its work, with its estimate (exit 2); ROTORDYN_MODAL_MEMORY_GB sets the memory to
-count on. On a terminal, bars show the progress of the eigen-solutions and of the critical
-speeds' refinement.
+count on. So is one estimated to take more than 30 minutes of CPU time (its eigen-solutions
+and crossings counted from the model's size; --allow-long runs it anyway,
+ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit). On a terminal, bars show the progress of the
+eigen-solutions and of the critical speeds' refinement.
 
 example:
   rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png
   rotordyn-modal campbell examples/motor_pump_on_mounts.toml --speeds 0:3600:181 --orders 1,2 \
       --freq-range 0:40 --plot mounts.png"""
+
+#: what to do about work over the CPU-time limit
+LONG_ADVICE = ("ask for the lowest modes only (--lowest N), fewer excitation orders (--orders) or fewer speeds "
+               "(--speeds), or leave out the critical speeds (--no-critical)")
 
 
 def add_arguments(parser):
@@ -46,6 +53,7 @@ def add_arguments(parser):
     parser.add_argument("--color-by", choices=["log_decrement", "damping_ratio"],
                         help="colour the curves by this quantity instead of by whirl")
     _add_frequency_axis(parser)
+    add_allow_long(parser)
     add_outputs(parser)
 
 
@@ -53,8 +61,12 @@ def run(args) -> int:
     from ..analysis.campbell import campbell
     model = open_model(args)
     axis = _frequency_axis(args)    # bad limits refused before the work
-    result = campbell(model, speeds_option(args), orders=tuple(parse_list(args.orders, "--orders")),
-                      progress=show_progress(args), critical=not args.no_critical, modes=_lowest(args.lowest))
+    speeds, orders, lowest = speeds_option(args), tuple(parse_list(args.orders, "--orders")), _lowest(args.lowest)
+    if lowest is None:
+        refuse_long_work(args, model, speeds, orders, critical=not args.no_critical, advice=LONG_ADVICE,
+                         memory=True)
+    result = campbell(model, speeds, orders=orders, progress=show_progress(args), critical=not args.no_critical,
+                      modes=lowest)
     write_table(result.to_dataframe(), args, empty=f"no oscillating modes {speeds_text(args)}: "
                 f"{result.eigenvalues.shape[1]} roots at each speed, all real or overdamped")
     if args.plot:

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
-                      save_figure, show_progress, speeds_option, speeds_text, use_agg, write_table)
+from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
+                      refuse_long_work, save_figure, show_progress, speeds_option, speeds_text, use_agg,
+                      write_table)
 
 NAME = "critical-speeds"
 HELP = "crossings of natural frequencies with every rotor's and gear mesh's excitation orders"
@@ -18,6 +19,8 @@ in 'modes --speed SPEED_RPM', whose --shape draws it)
 
 A sweep or a set of crossings that would not fit in the memory at hand is refused before
 its work, with its estimate (exit 2); ROTORDYN_MODAL_MEMORY_GB sets the memory to count on.
+So is one estimated to take more than 30 minutes of CPU time (--allow-long runs it anyway,
+ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit).
 On a terminal, bars show the progress of the eigen-solutions and of the refinement.
 
 example:
@@ -33,6 +36,7 @@ def add_arguments(parser):
                         help="only the crossings of the N lowest-frequency modes at each speed, each mode the "
                              "full model's root to round-off, without solving for every root (see campbell "
                              "--lowest)")
+    add_allow_long(parser)
     add_outputs(parser)
 
 
@@ -41,8 +45,11 @@ def run(args) -> int:
     from .campbell import _lowest
     model = open_model(args)
     modes = _lowest(args.lowest)
-    result = campbell(model, speeds_option(args), orders=tuple(parse_list(args.orders, "--orders")),
-                      progress=show_progress(args), modes=modes)
+    speeds, orders = speeds_option(args), tuple(parse_list(args.orders, "--orders"))
+    if modes is None:
+        refuse_long_work(args, model, speeds, orders, numbers=True, advice="ask for the lowest modes only (--lowest "
+                         "N), fewer excitation orders (--orders) or fewer speeds (--speeds)", memory=True)
+    result = campbell(model, speeds, orders=orders, progress=show_progress(args), modes=modes)
     write_table(_with_modes_at_speed(result.critical.to_dataframe(), model, result), args,
                 empty=f"no critical speed {speeds_text(args)} (orders {args.orders})")
     if args.plot:

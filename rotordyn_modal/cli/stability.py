@@ -5,8 +5,9 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
-from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
-                      parse_range, save_figure, show_progress, speeds_option, use_agg, write_table)
+from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
+                      parse_range, refuse_long_work, save_figure, show_progress, speeds_option, use_agg,
+                      write_table)
 
 NAME = "stability"
 HELP = "stability over speed, or a map over speed and one model parameter"
@@ -20,7 +21,9 @@ interval of speeds where the machine is unstable (per value of a map), or, when 
 throughout, the least damped mode and its log decrement.
 KEY is a dotted key: suspensions.mount-FL.damping, rotors.fan.polar_inertia,
 suspensions.mount-FL.stiffness[3][4]. --values and --scale take START:STOP:N or a
-comma-separated list.
+comma-separated list. Work estimated to take more than 30 minutes of CPU time is refused
+before it starts, with the estimate (--allow-long runs it anyway, ROTORDYN_MODAL_MAX_CPU_MINUTES
+sets the limit).
 
 CSV columns: speed_rpm,value,mode,real_part,damping_ratio,log_decrement,frequency_hz,whirl,mode_at_speed
 ('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
@@ -43,6 +46,7 @@ def add_arguments(parser):
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--values", help="values to set KEY to: START:STOP:N or a list")
     group.add_argument("--scale", help="factors to multiply KEY by: START:STOP:N or a list")
+    add_allow_long(parser)
     add_outputs(parser)
 
 
@@ -59,8 +63,11 @@ def run(args) -> int:
         raise InputError("--values/--scale need --vary KEY")
     values = _grid(args.values, "--values") if args.values else None
     scale = _grid(args.scale, "--scale") if args.scale else None
-    result = stability(model, speeds_option(args), vary=args.vary, values=values, scale=scale,
-                       progress=show_progress(args))
+    speeds = speeds_option(args)
+    count = len(values if values is not None else scale) if args.vary else 1
+    fewer = "use fewer speeds (--speeds)" + (" or fewer values (--values, --scale)" if args.vary else "")
+    refuse_long_work(args, model, speeds, critical=False, solutions=count * len(speeds), advice=fewer)
+    result = stability(model, speeds, vary=args.vary, values=values, scale=scale, progress=show_progress(args))
     write_table(result.to_dataframe(), args)
     if not args.quiet:
         _print_thresholds(result)

@@ -1,0 +1,266 @@
+"""The CPU time of an analysis that solves every root of the state matrix at many speeds
+(Campbell diagrams, critical speeds, stability), estimated from the model's size before the
+first eigen-solution, and the refusal of work above a limit, with the estimate.
+
+The estimate adds three parts (``docs/theory.md``, "How long a sweep takes"):
+
+- the sweep: one dense eigen-solution with vectors per speed (and per value of a map),
+  ``t_eig(n_states)``: a random matrix of an eighth of the model's states (at least
+  ``_SMALLEST``) is solved once, timed in CPU seconds with one BLAS thread, and scaled by
+  ``(n_states / size) ** _EXPONENT`` (LAPACK runs larger matrices faster per operation: 2.5-2.8
+  measured between 250 and 4,000 states);
+- the critical speeds: the crossings expected (every oscillating mode of the undamped machine
+  at rest, frequency ``w``, with every source's order line ``slope |Omega|`` that reaches ``w``
+  inside the speed range) times the cost of one crossing, ``_COORDINATE_SECONDS`` per
+  coordinate (residual inverse iteration on the pencil, its whirl ratio and fingerprint:
+  measured 2.8 ms at 126, 6.5 ms at 406, 25-35 ms at 2,006 coordinates), plus a dense
+  factorisation of the pencil per crossing where the pencil is factored dense (below
+  ``_pencils.SPARSE_DOF`` coordinates);
+- the numbers ``modes --speed`` gives the critical speeds' modes (``critical-speeds``' column
+  ``mode_at_speed``): the roots solved at a share ``_NUMBERS_SHARE`` of the crossings.
+
+Small models are passed by a bound of the same terms with a pessimistic eigen-solution and no
+measurement at all (:func:`_quick_bound`). The limit is ``DEFAULT_MINUTES`` of CPU time; the
+environment variable ``ROTORDYN_MODAL_MAX_CPU_MINUTES`` sets another (``inf``: no check), the
+command line's ``--allow-long`` lifts it for one run.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["ENVIRONMENT", "DEFAULT_MINUTES", "Work", "limit_seconds", "eig_seconds", "expected_crossings",
+           "estimate", "refuse_long_work"]
+
+#: environment variable: the CPU minutes an analysis may be estimated to take (``inf``: any)
+ENVIRONMENT = "ROTORDYN_MODAL_MAX_CPU_MINUTES"
+#: the default limit [CPU minutes]
+DEFAULT_MINUTES = 30.0
+#: the smallest matrix timed to calibrate the eigen-solutions [states]
+_SMALLEST = 64
+#: exponent of the eigen-solution's time in the number of states (measured 2.5 to 2.8)
+_EXPONENT = 2.7
+#: CPU seconds per coordinate of one crossing's refinement (measured on the gear chains of
+#: tests/test_large_machine_cli.py: 126, 406 and 2,006 coordinates; 2 cores shared by several jobs)
+_COORDINATE_SECONDS = 15e-6
+#: a dense factorisation of the pencil costs about this share of a dense eigen-solution
+_FACTOR_SHARE = 1 / 75
+#: share of the crossings whose mode number is solved for (measured on grids of 11 speeds: 0.36
+#: on the 126-coordinate chain, 0.53 on the 406-coordinate one; 0.16 on a grid 6 times finer,
+#: none on the bundled examples)
+_NUMBERS_SHARE = 0.5
+#: the eigenvalues alone cost about this share of an eigen-solution with vectors
+_EIGVALS_SHARE = 0.4
+#: pessimistic CPU seconds of one eigen-solution per cubed state, for :func:`_quick_bound`
+#: (about ten times what a 4,000-state solution measured)
+_PESSIMISTIC = 1e-8
+#: models up to this many coordinates get their undamped frequencies by a dense symmetric
+#: eigen-solution; larger ones from the diagonals of K and M (an uncoupled estimate)
+_DENSE_FREQUENCIES_DOF = 1200
+
+
+def limit_seconds() -> float:
+    """The limit in force [CPU s]: ``ROTORDYN_MODAL_MAX_CPU_MINUTES`` when set, else
+    :data:`DEFAULT_MINUTES`."""
+    text = os.environ.get(ENVIRONMENT, "")
+    if not text.strip():
+        return 60.0 * DEFAULT_MINUTES
+    try:
+        minutes = float(text)
+    except ValueError:
+        minutes = float("nan")
+    if not minutes > 0:
+        raise InputError(f"{ENVIRONMENT}={text!r}: expected a number of CPU minutes > 0 (or inf)")
+    return 60.0 * minutes
+
+
+@functools.lru_cache(maxsize=16)
+def _timed_eig(size: int) -> float:
+    """CPU seconds of one ``numpy.linalg.eig`` with vectors of a random real ``size`` x ``size``
+    matrix, with one BLAS thread (as the sweep's threads run it)."""
+    from ._batches import one_blas_thread
+
+    matrix = np.random.default_rng(size).standard_normal((size, size))
+    with one_blas_thread(72 * size * size):
+        np.linalg.eig(matrix[:8, :8])                                   # the library loaded
+        start = time.process_time()
+        np.linalg.eig(matrix)
+        return max(time.process_time() - start, 1e-6)
+
+
+def eig_seconds(n_states: int) -> float:
+    """CPU seconds of one dense eigen-solution (with vectors) of ``n_states`` states on this
+    machine: a timed solution of an eighth of the size, scaled by ``_EXPONENT``."""
+    size = max(_SMALLEST, n_states // 8)
+    return _timed_eig(size) * (n_states / size) ** _EXPONENT
+
+
+def _undamped_frequencies(model, speed: float) -> np.ndarray | None:
+    """Natural frequencies of the undamped machine [rad/s] (n,), its gyroscopic terms left out,
+    its bearings' coefficients at ``speed`` [rad/s]: all of ``K, M`` up to
+    ``_DENSE_FREQUENCIES_DOF`` coordinates, else ``sqrt(K_ii / M_ii)``; None where the
+    matrices cannot be had at that speed (the caller then counts every mode)."""
+    import scipy.linalg
+
+    from ..errors import ModelError
+
+    try:
+        M, _, _, K = model.matrices(speed)
+    except (InputError, ModelError):
+        return None
+    if len(M) <= _DENSE_FREQUENCIES_DOF:
+        try:
+            squares = scipy.linalg.eigh(K, M, eigvals_only=True)
+        except (np.linalg.LinAlgError, ValueError):
+            squares = np.diag(K) / np.diag(M)
+    else:
+        squares = np.diag(K) / np.diag(M)
+    return np.sqrt(np.clip(squares, 0.0, None))
+
+
+def _line_slopes(model, orders) -> np.ndarray:
+    """Excitation [rad/s] per |reference speed| [rad/s] of every source's every order (L,)."""
+    from .critical_speeds import excitation_sources
+
+    multipliers = excitation_sources(model).multipliers
+    return (np.abs(np.asarray(orders, dtype=float))[:, None] * multipliers[None, :]).ravel()
+
+
+def expected_crossings(model, speeds, orders) -> int:
+    """Crossings of the undamped machine's frequencies at rest with every order line over
+    ``speeds`` [rad/s]: a line of slope ``s`` meets a frequency ``w`` once on each side of zero
+    where ``s |Omega|`` passes ``w`` inside that side's range of speeds (the matrices taken at
+    the middle speed of the range; every mode with every line where they cannot be had)."""
+    slopes = _line_slopes(model, orders)
+    if not len(slopes) or not len(orders):
+        return 0
+    speeds = np.asarray(speeds, dtype=float)
+    frequencies = _undamped_frequencies(model, float(speeds[len(speeds) // 2]))
+    if frequencies is None:
+        return 2 * model.dofs.n * len(slopes)
+    frequencies = np.sort(frequencies[frequencies > 0])
+    count = 0
+    for side in (speeds[speeds >= 0], -speeds[speeds <= 0]):
+        if len(side) < 2:
+            continue
+        low, high = slopes * side.min(), slopes * side.max()
+        count += int((np.searchsorted(frequencies, high) - np.searchsorted(frequencies, low)).sum())
+    return count
+
+
+@dataclass(frozen=True)
+class Work:
+    """An analysis's estimated CPU time [s], by part."""
+
+    n_dof: int
+    n_states: int
+    solutions: int
+    """Eigen-solutions of the sweep (speeds x values of a map)"""
+    crossings: int
+    sweep_seconds: float
+    crossing_seconds: float
+    numbers_seconds: float = 0.0
+
+    @property
+    def seconds(self) -> float:
+        return self.sweep_seconds + self.crossing_seconds + self.numbers_seconds
+
+    def text(self) -> str:
+        """``about 9.6 h of CPU time (11 eigen-solutions of 4,012 states: 12 min; about 1,000,000
+        crossings to refine: 9.4 h)``."""
+        parts = [f"{self.solutions:,} eigen-solutions of {self.n_states:,} states: {_duration(self.sweep_seconds)}"]
+        if self.crossings:
+            parts.append(f"about {self.crossings:,} crossings to refine: {_duration(self.crossing_seconds)}")
+        if self.numbers_seconds:
+            parts.append(f"their mode numbers: {_duration(self.numbers_seconds)}")
+        return f"about {_duration(self.seconds)} of CPU time ({'; '.join(parts)})"
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 100:
+        return f"{seconds:.2g} s"
+    if seconds < 6000:
+        return f"{seconds / 60:.3g} min"
+    if seconds < 360000:
+        return f"{seconds / 3600:.3g} h"
+    return f"{seconds / 3600:,.0f} h"
+
+
+def _n_states(model) -> int:
+    """States of the model's state matrix: twice the coordinates, plus Maxwell branches' own."""
+    from ..linear_system import speed_linear_form
+
+    if any(suspension.maxwell_time is not None for suspension in model.suspensions):
+        return speed_linear_form(model).n_states
+    return 2 * model.dofs.n
+
+
+def _crossing_seconds(n_dof: int, n_states: int, eig: float) -> float:
+    """CPU seconds of one crossing's refinement (see the module's notes)."""
+    from . import _pencils
+
+    dense = eig * _FACTOR_SHARE if n_dof < _pencils.SPARSE_DOF else 0.0
+    return _COORDINATE_SECONDS * n_dof + dense
+
+
+def estimate(model, speeds, orders=(), critical=True, numbers=False, solutions=None) -> Work:
+    """The CPU time of a sweep of ``model`` over ``speeds`` [rad/s] (``solutions``
+    eigen-solutions, default one per speed), of its critical speeds with ``orders`` when
+    ``critical``, and of their mode numbers when ``numbers``."""
+    n_dof = model.dofs.n
+    n_states = _n_states(model)
+    eig = eig_seconds(n_states)
+    solutions = len(speeds) if solutions is None else solutions
+    crossings = expected_crossings(model, speeds, orders) if critical else 0
+    per = _crossing_seconds(n_dof, n_states, eig)
+    return Work(n_dof, n_states, solutions, crossings, solutions * eig, crossings * per,
+                crossings * _NUMBERS_SHARE * _EIGVALS_SHARE * eig if numbers else 0.0)
+
+
+def _quick_bound(model, speeds, orders, critical, numbers, solutions) -> float:
+    """A pessimistic bound of :func:`estimate` [s] from the sizes alone (no timing, no
+    matrices): every mode crossing every line."""
+    n_dof = model.dofs.n
+    n_states = 2 * n_dof + 6 * len(model.suspensions)
+    eig = _PESSIMISTIC * n_states ** 3
+    lines = len(_line_slopes(model, orders)) if critical else 0
+    crossings = 2 * n_dof * lines
+    numbers_seconds = crossings * _NUMBERS_SHARE * _EIGVALS_SHARE * eig if numbers else 0.0
+    return solutions * eig + crossings * 3 * _crossing_seconds(n_dof, n_states, eig) + numbers_seconds
+
+
+def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, solutions=None,
+                     advice="", memory=False) -> Work | None:
+    """Refuse, before its first eigen-solution, an analysis estimated (:func:`estimate`) to take
+    longer than :func:`limit_seconds`; returns the estimate where one was made (None where the
+    quick bound already passed it). With ``memory``, a Campbell sweep whose arrays would not fit
+    is refused first (:func:`.campbell.campbell`'s own check, from the sizes).
+
+    Raises
+    ------
+    InputError
+        ``MODEL: this analysis of N coordinates would take about 9.6 h of CPU time (...), more than the
+        limit of 30 min: ADVICE, or add --allow-long (ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit)``.
+    """
+    if memory:                              # what cannot fit is refused first: no option runs it
+        from .campbell import _refuse_sizes_that_cannot_fit
+
+        _refuse_sizes_that_cannot_fit(model.dofs.n, _n_states(model), len(speeds), 1, critical)
+    limit = limit_seconds()
+    solutions = len(speeds) if solutions is None else solutions
+    if limit == float("inf") or _quick_bound(model, speeds, orders, critical, numbers, solutions) <= limit:
+        return None
+    work = estimate(model, speeds, orders, critical, numbers, solutions)
+    if work.seconds > limit:
+        where = f"{model.source}: " if getattr(model, "source", None) else ""
+        raise InputError(f"{where}this analysis of {work.n_dof:,} coordinates would take {work.text()}, more than the "
+                         f"limit of {_duration(limit)}: {advice + ', ' if advice else ''}or add --allow-long "
+                         f"({ENVIRONMENT} sets the limit)")
+    return work

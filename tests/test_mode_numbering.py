@@ -181,3 +181,22 @@ def test_where_the_order_changes_between_grid_speeds_the_sweep_tells_the_number_
     found = mode_numbers.numbers_at_crossings(model, result.speeds, result.eigenvalues, critical.speeds[changed],
                                               critical.mode[changed], eigenvalues)
     np.testing.assert_array_equal(found, expected)
+
+
+def test_a_number_equal_at_both_grid_speeds_is_not_trusted_between_them():
+    """Mode A stays at 10 rad/s; between the grid speeds 1 and 2 root B rises through it (at
+    1.2) and root C falls through it (at 1.8). A is mode 2 at both grid speeds, but at 1.5 both
+    others lie above it: there it is mode 1 (the count of roots below, by the straight lines
+    the roots follow exactly)."""
+    from types import SimpleNamespace
+
+    from rotordyn_modal.analysis.mode_numbers import numbers_at_crossings
+
+    grid = np.arange(4.0)
+    a = np.full(4, 10.0)
+    b = 10.0 + (grid - 1.2)
+    c = 10.0 - (grid - 1.8)
+    values = -0.01 + 1j * np.stack([a, b, c], axis=1)
+    model = SimpleNamespace(dofs=SimpleNamespace(n=3))     # (no root is solved: the lines tell every side)
+    assert list(numbers_at_crossings(model, grid, values, np.array([1.5]), np.ones(1, dtype=int),
+                                     np.array([-0.01 + 10j]))) == [1]

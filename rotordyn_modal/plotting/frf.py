@@ -279,7 +279,7 @@ def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, s
         return mag, []
     chosen = _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30, speed_unit, factor)
     low, high = mag.get_ylim()
-    mag.set_ylim(low, high * _HEADROOM)
+    mag.set_ylim(low, high * max(_HEADROOM, (high / low) ** _LABEL_ROOM))
     return mag, chosen
 
 
@@ -287,8 +287,9 @@ def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, s
 _AF_MARKED = 2.5
 #: peaks below this share of their own curve's largest amplitude are not marked
 _PEAK_SHARE = 0.05
-#: room above the curves for the peaks' labels (factor on the log axis's top)
-_HEADROOM = 10.0
+#: room above the curves for the peaks' labels (factor on the log axis's top): at least ten, and a
+#: quarter of the axis' height (the curves' decades to this power)
+_HEADROOM, _LABEL_ROOM = 10.0, 1.0 / 3.0
 #: at most this many peaks are labelled per panel, the largest
 _LABELLED = 6
 #: peaks of one source closer than this share of the sweep are one peak (seen by several sensors)

@@ -105,6 +105,41 @@ def test_unbalance_peak_labels_inside_and_apart(fan_unbalance):
     plt.close(fig)
 
 
+@pytest.fixture(scope="module")
+def pump_unbalance():
+    model = rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml")
+    return model, rdm.unbalance_response(model, rdm.rpm(np.linspace(100, 3600, 176)))
+
+
+@pytest.mark.parametrize("case", ["fan", "pump"])
+def test_no_curve_runs_through_an_unbalance_peak_label(fan_unbalance, pump_unbalance, case):
+    """fan_on_bearings (0.1 µm probes beside 100 µm casing curves) and the motor + belt-driven
+    pump on mounts (modes 5 Hz to 1 kHz, four sensors of two rotors on log axes): no curve of
+    a panel (other sensors', other sources', the probe limits) runs through an AF / SM label's
+    glyphs but within 6 sqrt(2) points of its own peak; the labels stay inside and apart."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments, glyph_box
+
+    model, result = fan_unbalance if case == "fan" else pump_unbalance
+    fig = result.plot(peaks=result.peaks(rdm.rpm(3000)), checks=result.checks(model, mcs=rdm.rpm(3000)) if case == "fan"
+                      else None)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    radius = 6 * np.sqrt(2) * fig.dpi / 72 + 1
+    total = 0
+    for ax in fig.axes:
+        labels = [t for t in ax.texts if t.get_text().startswith("AF ")]
+        total += len(labels)
+        _assert_inside_and_apart(ax, labels, renderer)
+        segments = curve_segments(ax)
+        for label in labels:
+            crossed = crossings(glyph_box(label, renderer), segments, [ax.transData.transform(label.xy)], radius)
+            assert not len(crossed), (label.get_text(), crossed[:4])
+    assert total >= 4
+    plt.close(fig)
+
+
 def test_unbalance_force_panels_one_unit_each(fan_unbalance):
     """--forces all: one panel per kind of force, in newtons, every item of the kind named; no
     axis carries two units."""

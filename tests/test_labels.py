@@ -102,11 +102,11 @@ def test_first_free_box_takes_the_first_candidate_inside_and_clear():
 
 # -- labels clear of the curves ------------------------------------------------------------------
 
-def _fan_of_lines(ax, n=6, points=2000):
+def _fan_of_lines(ax, n=6, points=2000, lw=1.5):
     """``n`` wavy curves across the axes (log y), thousands of points each."""
     x = np.linspace(0.0, 10.0, points)
     for k in range(n):
-        ax.plot(x, 10.0 ** (0.8 * k + 0.2 * np.sin(3 * x + k) + 0.05 * x), lw=1.5)
+        ax.plot(x, 10.0 ** (0.8 * k + 0.2 * np.sin(3 * x + k) + 0.05 * x), lw=lw)
     ax.set_yscale("log")
     ax.set_xlim(0, 10)
     ax.set_ylim(0.5, 10.0 ** 4.5)
@@ -123,7 +123,7 @@ def test_curve_map_never_calls_a_crossed_box_free_and_frees_boxes_away_from_the_
     from rotordyn_modal.plotting._labels import CurveMap, laid_out_renderer
 
     fig, ax = plt.subplots(figsize=(8, 5))
-    _fan_of_lines(ax)
+    _fan_of_lines(ax, n=12, points=300, lw=0.5)          # thin lines, long segments
     renderer = laid_out_renderer(fig)
     curves = CurveMap(ax, renderer)
     segments = curve_segments(ax)
@@ -131,8 +131,8 @@ def test_curve_map_never_calls_a_crossed_box_free_and_frees_boxes_away_from_the_
     reach = 3 * fig.dpi / 72
     rng = np.random.default_rng(1)
     seen = {True: 0, False: 0}
-    for _ in range(400):
-        w, h = rng.uniform(5, 60, 2)
+    for _ in range(1500):
+        w, h = rng.uniform(0.5, 30, 2)
         x, y = rng.uniform(frame.x0, frame.x1 - w), rng.uniform(frame.y0, frame.y1 - h)
         box = (x, y, x + w, y + h)
         crossed = len(crossings(Bbox.from_extents(*box), segments, inset=0.0)) > 0

@@ -2,7 +2,9 @@
 
 One placer serves every label inside the axes: :func:`first_free_box` takes the first of a
 label's candidate boxes that lies inside the axes and clear of every label already placed (and
-of markers); a label with no such candidate is left out. The callers only choose the candidates:
+of markers) and, where the callers ask (:class:`CurveMap`), where no drawn curve runs but near
+the label's own anchor; a label with no such candidate is left out. The callers only choose
+the candidates:
 
 - straight lines' labels (:func:`edge_label_boxes`): a few boxes next to where the line leaves
   the axes (a line whose label is left out keeps its colour); labels of one source whose exits
@@ -675,13 +677,15 @@ def box_distance(box, x, y) -> float:
 def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=None, curves=None):
     """Annotate points of ``ax`` in the order given, each label inside the axes and apart.
 
-    Each label takes the nearest free box (:func:`first_free_box`: inside the axes, clear of
-    every label placed before and of every anchor, its leader line crossing no label and no
-    leader line crossing it, and no curve of the axes running through it but within
+    Each label takes the free box (:func:`first_free_box`: inside the axes, clear of every
+    label placed before and of every anchor, its leader line crossing no label and no leader
+    line crossing it, and no curve of the axes running through it but within
     :data:`ANCHOR_POINTS` of its own anchor: :class:`CurveMap`) of a grid around its anchor
-    (:func:`boxes_around`), then of a wider grid; a leader line joins the box's point nearest
-    the anchor to the anchor. Labels crowded at one point so fan out in columns beside it. A
-    label with no free box is left out: give the anchors most important first.
+    (:func:`boxes_around`) that costs least: its distance plus :data:`_CROSSING_COST` label
+    heights for each curve its leader line crosses; a leader line joins the box's point
+    nearest the anchor to the anchor. Labels crowded at one point so fan out in columns
+    beside it. A label with no free box, or whose leader crosses curves at a cost above
+    :data:`_MOST_COST` label heights, is left out: give the anchors most important first.
 
     Parameters
     ----------

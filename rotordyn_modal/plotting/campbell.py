@@ -48,8 +48,10 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     axes where they leave them, apart from each other (close orders of one source share a
     label, a label with no room is left out: its line keeps its source's colour); critical
     speeds are marked and labelled with their speed where a label finds room clear of the
-    other labels and markers (every critical speed is in the result's table). The labels
-    are placed again whenever the figure is drawn, so they follow zooming and resizing.
+    other labels, markers and curves, beside the marker or nearby with a leader line (every
+    critical speed is in the result's table). No curve runs through a label but at its own
+    anchor (:class:`~rotordyn_modal.plotting._labels.CurveMap`). The labels are placed again
+    whenever the figure is drawn, so they follow zooming and resizing.
 
     Parameters
     ----------

@@ -208,7 +208,8 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
         ``result.peaks(...)``: the peaks that matter (amplification factor at least
         :data:`_AF_MARKED`, amplitude at least :data:`_PEAK_SHARE` of their curve's largest)
         are marked, the largest of them labelled with their amplification factor (and
-        separation margin when known), labels apart from each other inside the axes.
+        separation margin when known), labels apart from each other inside the axes, where
+        no curve runs, each joined to its peak by a leader line.
     groups : dict, optional
         Panel title of each sensor (``{'probe-DE-x': 'shaft relative to housing'}``): sensors
         with one title share a panel. Default: the probe pairs' sensors in one panel, the

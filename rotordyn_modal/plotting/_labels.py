@@ -718,23 +718,9 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     for (x, y), (px, py), text, color in zip(anchors, pixels, texts, colors):
         if not (frame.x0 <= px <= frame.x1 and frame.y0 <= py <= frame.y1):
             continue
-
-        def leader_clear(box, point=(px, py), keep=anchor_box(px, py, ANCHOR_POINTS * points)):
-            return curves.free(box, keep) and not crosses_any([(nearest_in(box, point), point)], labels) \
-                and not crosses_any(leaders, [box])
-
         w, h = text_size(fig, text, fontsize, renderer)
-
-        def cost(box, point=(px, py), keep=anchor_box(px, py, ANCHOR_POINTS * points), h=h):
-            return box_distance(box, *point) + _CROSSING_COST * h * curves.crossings(nearest_in(box, point), point, keep)
-
-        box = first_free_box(boxes_around(px, py, w, h, pad, marker, _FAR_ROWS, _FAR_COLUMNS), placed, (pad, pad),
-                             inner, allowed=leader_clear, cost=cost, bound=lambda box, point=(px, py):
-                             box_distance(box, *point))
-        if box is not None and cost(box) > _MOST_COST * h and cost(box) > box_distance(box, px, py):
-            # far, its leader across curves: left out
-            placed.pop()
-            box = None
+        box = _leader_box(boxes_around(px, py, w, h, pad, marker, _FAR_ROWS, _FAR_COLUMNS), (px, py), h, placed,
+                          (pad, inner), (labels, leaders), curves, ANCHOR_POINTS * points)
         if box is None:
             continue
         end = nearest_in(box, (px, py))
@@ -748,6 +734,32 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
                                  arrowprops={"arrowstyle": "-", "color": color, "lw": 0.5, "shrinkA": 0, "shrinkB": 2,
                                              "relpos": ((end[0] - box[0]) / w, (end[1] - box[1]) / h)}))
     return drawn
+
+
+def _leader_box(candidates, point, h, placed, room, drawn, curves, keep):
+    """The box of ``candidates`` for a label of height ``h`` joined to ``point`` by a leader
+    line, of least cost (:func:`place_point_labels`), or None.
+
+    ``room`` is (gap, frame), ``drawn`` (label boxes, leader lines) drawn so far, ``keep``
+    the half size of the square around ``point`` where curves may cross the label.
+    """
+    labels, leaders = drawn
+    square = anchor_box(*point, keep)
+
+    def clear(box):
+        return curves.free(box, square) and not crosses_any([(nearest_in(box, point), point)], labels) \
+            and not crosses_any(leaders, [box])
+
+    def cost(box):
+        return box_distance(box, *point) + _CROSSING_COST * h * curves.crossings(nearest_in(box, point), point, square)
+
+    gap, frame = room
+    box = first_free_box(candidates, placed, (gap, gap), frame, allowed=clear, cost=cost,
+                         bound=lambda box: box_distance(box, *point))
+    if box is not None and cost(box) > max(_MOST_COST * h, box_distance(box, *point)):
+        placed.pop()            # far, its leader across curves: left out
+        return None
+    return box
 
 
 def nearest_in(box, point):

@@ -331,3 +331,23 @@ def test_compile_notice_only_when_numba_compiles(signatures, index, printed, cap
     assert announce_compilation(SimpleNamespace(rhs_flat=_Dispatcher(signatures, index))) is printed
     assert capsys.readouterr().err == (COMPILE_NOTICE + "\n" if printed else "")
     assert announce_compilation(SimpleNamespace(rhs=None)) is False           # the numpy backend
+
+
+def test_frf_at_round_off_is_named_so_and_draws_no_phase():
+    """compressor_rotor at 0 rpm, shaker in y: the z probes' FRFs are zero by symmetry (1e-17
+    against 8e-7 m/N): their legend entries say round-off and no phase of noise is drawn; the
+    other FRFs keep their phase."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLES / "compressor_rotor.toml")
+    result = rdm.frf(model, 0.0, np.linspace(1, 200, 100))
+    largest = np.abs(result.H).max()
+    fig = result.plot()
+    mag, phase = fig.axes[:2]
+    for line, phase_line in zip(_curves(mag), phase.get_lines()):
+        o, i = line.get_label().split(" (")[0].split(" / ")
+        zero = np.abs(result.H[result.outputs.index(o), result.inputs.index(i)]).max() < 1e-6 * largest
+        assert ("round-off" in line.get_label()) == zero
+        assert np.all(np.isnan(phase_line.get_ydata())) == zero
+    assert sum("round-off" in line.get_label() for line in _curves(mag)) == 2
+    plt.close(fig)

@@ -145,18 +145,25 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
 
 def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None):
     """Each pair's model line (and measured dots, same colour) on ``mag`` (log) and ``phase``
-    (``scale(o, i)``: the factor on the SI FRF, default 1)."""
+    (``scale(o, i)``: the factor on the SI FRF, default 1). An FRF below :data:`_DYNAMIC_RANGE`
+    of the largest everywhere (zero but for round-off, by symmetry) is named so in the legend
+    and has no phase drawn (the phase of round-off is noise)."""
+    largest = max((float(np.max(np.abs(result.H[result.outputs.index(o), result.inputs.index(i)])))
+                   for o, i in pairs), default=0.0)
     for n, (o, i) in enumerate(pairs):
         colour = f"C{n % 10}"
         style = "-" if n < 10 else "--"
         factor = 1.0 if scale is None or scale.units == "si" else scale(o, i)
         h = result.H[result.outputs.index(o), result.inputs.index(i)] * factor
+        name, phase_values = label(o, i), np.degrees(np.angle(h))
+        if np.max(np.abs(h)) < _DYNAMIC_RANGE * largest * abs(factor):
+            name, phase_values = f"{name} (round-off: below 1e-6 of the largest)", np.full(h.shape, np.nan)
         if measured is not None and o in measured.outputs and i in measured.inputs:
             hm = measured.H[measured.outputs.index(o), measured.inputs.index(i)] * factor
             mag.semilogy(measured.frequencies_hz, np.abs(hm), ".", ms=2.5, color=colour, alpha=0.5)
             phase.plot(measured.frequencies_hz, np.degrees(np.angle(hm)), ".", ms=2.5, color=colour, alpha=0.5)
-        mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=label(o, i))
-        phase.plot(result.frequencies_hz, np.degrees(np.angle(h)), color=colour, ls=style, lw=0.9)
+        mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=name)
+        phase.plot(result.frequencies_hz, phase_values, color=colour, ls=style, lw=0.9)
     _limit_range(mag)
 
 

@@ -200,6 +200,20 @@ def _check_labels(result, fig, ax, renderer):
             assert t.get_text() in reads, (t.get_text(), reads)
             anchors[t] = xy[[k for k in near if reads[near.index(k)] == t.get_text()]]
     _check_no_curve_through_a_label(result, ax, labels, anchors, renderer)
+    _check_leaders_do_not_cross(ax)
+
+
+def _check_leaders_do_not_cross(ax):
+    """No two critical-speed leader lines cross (each pair's segments, exact orientation test)."""
+    ends = [line.get_transform().transform(np.column_stack(line.get_data()))[[0, -1]] for line in ax.get_lines()
+            if line.get_gid() == "critical-leader" and line.get_visible() and len(line.get_xdata())]
+
+    def side(a, b, c):
+        return np.sign((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+
+    for i, (a, b) in enumerate(ends):
+        for c, d in ends[i + 1:]:
+            assert not (side(a, b, c) * side(a, b, d) < 0 and side(c, d, a) * side(c, d, b) < 0), (a, b, c, d)
 
 
 def _critical_leader(ax, box):

@@ -246,6 +246,23 @@ def crosses_any(segments, boxes) -> bool:
     return bool(np.any(low <= high))
 
 
+def crosses_segments(start, end, segments) -> bool:
+    """Whether the segment ``start -> end`` crosses any of ``segments`` ((start, end) pairs);
+    segments that share an end point (leaders of one anchor) do not count."""
+    if not len(segments):
+        return False
+    others = np.asarray(segments, float).reshape(-1, 4)
+    p, r = np.asarray(start, float), np.asarray(end, float) - np.asarray(start, float)
+    q, t = others[:, :2], others[:, 2:] - others[:, :2]
+    denominator = r[0] * t[:, 1] - r[1] * t[:, 0]
+    qp = q - p
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = (qp[:, 0] * t[:, 1] - qp[:, 1] * t[:, 0]) / denominator
+        v = (qp[:, 0] * r[1] - qp[:, 1] * r[0]) / denominator
+    inside = (denominator != 0) & (u > 1e-9) & (u < 1 - 1e-9) & (v > 1e-9) & (v < 1 - 1e-9)
+    return bool(np.any(inside))
+
+
 def segment_crosses_box(start, end, box) -> bool:
     """Whether the segment ``start -> end`` (points (x, y)) passes through ``box`` (Liang-Barsky)."""
     (x0, y0), (x1, y1) = start, end

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, draw_time_layout,
-                      edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any,
+                      edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
                       set_if_changed, text_size)
 from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
 
@@ -442,7 +442,9 @@ class _CampbellLabels:
         others = list(placed)
 
         def leader_clear(box):
-            return free(box) and not crosses_any([(nearest_in(box, anchor), anchor)], others)
+            start = nearest_in(box, anchor)
+            return free(box) and not crosses_any([(start, anchor)], others) \
+                and not crosses_segments(start, anchor, self.leader_lines)
 
         def cost(box):
             start = nearest_in(box, anchor)

@@ -351,3 +351,30 @@ def test_frf_at_round_off_is_named_so_and_draws_no_phase():
         assert np.all(np.isnan(phase_line.get_ydata())) == zero
     assert sum("round-off" in line.get_label() for line in _curves(mag)) == 2
     plt.close(fig)
+
+
+# -- mode shapes ----------------------------------------------------------------------------------
+
+def test_mode_titles_never_write_a_small_ratio_as_minus_zero():
+    """fan_on_bearings at 3000 rpm: mode 1 whirls backward with a ratio of about -0.003; its
+    title writes that ratio (not -0.00), and each title's damping and whirl ratio read back
+    as the result's to their printed digits; a round-off ratio is written 0."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.plotting.modes import small_number
+
+    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+    result = rdm.modal(model, rdm.rpm(3000))
+    fig = result.plot()
+    titles = [ax.get_title() for ax in fig.axes if ax.get_visible()]
+    modes = np.nonzero(result.oscillatory)[0]
+    assert len(titles) == len(modes)
+    for title, m in zip(titles, modes):
+        zeta, ratio = re.search(r"ζ=(\S+)\n.*\(ratio (\S+)\)", title).groups()
+        assert "-0.00" not in title and "+0.00" not in title, title
+        for text, value in ((zeta, result.damping_ratios[m]), (ratio, result.whirl_ratios[m])):
+            digits = 0 if "." not in text or "e" in text else len(text.split(".")[1])
+            last = 0.051 * abs(value) if "e" in text else 0.5 * 10.0 ** -digits + 1e-12
+            assert abs(float(text) - value) <= last, (title, value)
+    assert small_number(-5.6e-25) == "0" and small_number(-3.2e-3, sign=True) == "-3.2e-03"
+    plt.close(fig)

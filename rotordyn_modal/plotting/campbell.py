@@ -296,6 +296,14 @@ class _CampbellLabels:
         return self.ax.text(x, 0.5, text, transform=self.ax.transAxes, fontsize=fontsize, ha="left", va=va,
                             gid=gid, visible=visible, clip_on=clip_on)
 
+    def _size(self, text, fontsize, renderer):
+        """(width, height) [pixels] of a label, measured once per text, size and resolution."""
+        key = (text, fontsize, renderer.points_to_pixels(1.0))
+        sizes = self.__dict__.setdefault("sizes", {})
+        if key not in sizes:
+            sizes[key] = text_size(self.ax.figure, text, fontsize, renderer)
+        return sizes[key]
+
     def place(self, renderer):
         """Place every label for the axes as they are now (called when the axes are drawn)."""
         ax = self.ax
@@ -367,7 +375,7 @@ class _CampbellLabels:
         """Labels beside the right edge, in their curves' order, each joined by a leader line."""
         if not indices:
             return
-        heights = [text_size(self.ax.figure, self.mode_texts[i].get_text(), _FONT, renderer)[1] * self.to_v
+        heights = [self._size(self.mode_texts[i].get_text(), _FONT, renderer)[1] * self.to_v
                    for i in indices]
         gap = self.points * self.to_v
         room = int(1.0 / (max(heights) + gap))
@@ -396,7 +404,7 @@ class _CampbellLabels:
         pad_u, pad_v = _PAD_POINTS * self.points * self.to_u, _PAD_POINTS * self.points * self.to_v
         for i in indices:
             text = self.mode_texts[i]
-            w, h = text_size(self.ax.figure, text.get_text(), _FONT, renderer)
+            w, h = self._size(text.get_text(), _FONT, renderer)
             w, h = w * self.to_u, h * self.to_v
             u, v = ends[i][1]
             corners = [(u + pad_u, v - h / 2), (u - w - pad_u, v + pad_v), (u - w - pad_u, v - h - pad_v),
@@ -495,7 +503,7 @@ class _CampbellLabels:
         for j in order:
             text = self.critical_texts[j]
             u, v = self.to_axes((self.critical[0][j], self.critical[1][j]))
-            w, h = text_size(self.ax.figure, text.get_text(), "xx-small", renderer)
+            w, h = self._size(text.get_text(), "xx-small", renderer)
             w, h = w * self.to_u, h * self.to_v
             corners = [(u + radius_u, v - radius_v - h * 0.5), (u + radius_u, v + radius_v - h * 0.5),
                        (u - radius_u - w, v - radius_v - h * 0.5), (u - radius_u - w, v + radius_v - h * 0.5),

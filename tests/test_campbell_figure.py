@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
+from label_geometry import clip_segments, crossings, curve_segments, glyph_box
 
 matplotlib.use("Agg")
 
@@ -182,16 +183,93 @@ def _check_labels(result, fig, ax, renderer):
         assert abs(ends[label] - height) < 0.5 and abs(ends[label] - height) == nearest, (t.get_text(), height, ends)
     points = fig.dpi / 72
     markers = [line for line in ax.get_lines() if line.get_label() == "critical speed"]
+    anchors = {}
     for kind, t in labels:
         if kind == "critical":
             box = t.get_window_extent(renderer)
             speeds = np.asarray(markers[0].get_xdata(), float)
             xy = ax.transData.transform(np.column_stack(markers[0].get_data()))
             reach = 6 * points
-            near = [k for k, (u, v) in enumerate(xy)
-                    if box.x0 - reach <= u <= box.x1 + reach and box.y0 - reach <= v <= box.y1 + reach]
+            leader = _critical_leader(ax, box)
+            if leader is None:      # beside its marker
+                near = [k for k, (u, v) in enumerate(xy)
+                        if box.x0 - reach <= u <= box.x1 + reach and box.y0 - reach <= v <= box.y1 + reach]
+            else:                   # its leader line ends at its marker's edge (4 points from the centre)
+                near = [k for k, p in enumerate(xy) if np.hypot(*(p - leader[1])) <= 4 * points + 1]
             reads = [f"{s:.0f}" if abs(s) >= 100 else f"{s:.3g}" for s in speeds[near]]
             assert t.get_text() in reads, (t.get_text(), reads)
+            anchors[t] = xy[[k for k in near if reads[near.index(k)] == t.get_text()]]
+    _check_no_curve_through_a_label(result, ax, labels, anchors, renderer)
+    _check_leaders_do_not_cross(ax)
+
+
+def _check_leaders_do_not_cross(ax):
+    """No two critical-speed leader lines cross (each pair's segments, exact orientation test)."""
+    ends = [line.get_transform().transform(np.column_stack(line.get_data()))[[0, -1]] for line in ax.get_lines()
+            if line.get_gid() == "critical-leader" and line.get_visible() and len(line.get_xdata())]
+
+    def side(a, b, c):
+        return np.sign((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+
+    for i, (a, b) in enumerate(ends):
+        for c, d in ends[i + 1:]:
+            assert not (side(a, b, c) * side(a, b, d) < 0 and side(c, d, a) * side(c, d, b) < 0), (a, b, c, d)
+
+
+def _critical_leader(ax, box):
+    """(start, end) [display] of the visible critical-speed leader line starting at ``box``, or None."""
+    for line in ax.get_lines():
+        if line.get_gid() == "critical-leader" and line.get_visible() and len(line.get_xdata()):
+            start, end = line.get_transform().transform(np.column_stack(line.get_data()))[[0, -1]]
+            if box.x0 - 1 <= start[0] <= box.x1 + 1 and box.y0 - 1 <= start[1] <= box.y1 + 1:
+                return start, end
+    return None
+
+
+def _check_no_curve_through_a_label(result, ax, labels, anchors, renderer):
+    """No curve drawn (mode, order line, instability band; leader lines aside) runs through a
+    label's glyphs but within 6 sqrt(2) points of the label's anchor: a critical speed's
+    marker, a curve's last point inside the axes (mode labels), the exits of the order lines
+    of the label's colour."""
+    leaders = [line for line in ax.get_lines() if (line.get_gid() or "").endswith("leader")
+               or (line.get_gid() or "").startswith("mode-leader")]
+    segments = curve_segments(ax, skip=leaders)
+    frame = ax.get_window_extent(renderer)
+    radius = 6 * np.sqrt(2) * ax.figure.dpi / 72 + 1
+    for kind, t in labels:
+        if kind == "critical":
+            points = anchors[t]
+        elif kind == "mode":
+            points = _last_points_inside(result, ax, int(MODE_LABEL.match(t.get_text()).group(1)))
+        else:
+            points = [p for line in ax.get_lines() if line.get_color() == t.get_color() and len(line.get_xdata()) > 2
+                      for p in _exits(line, frame)]
+        crossed = crossings(glyph_box(t, renderer), segments, points, radius)
+        assert not len(crossed), (t.get_text(), crossed[:4])
+
+
+def _last_points_inside(result, ax, label):
+    """The display point of mode ``label``'s last sample inside the axes (where its label sits)."""
+    m = list(result.modes).index(label)
+    x = np.asarray(ax.lines[0].get_xdata(), float)
+    f = np.where(result.oscillatory[:, m], result.frequencies_hz[:, m], np.nan)
+    (lo, hi), (bottom, top) = sorted(ax.get_xlim()), sorted(ax.get_ylim())
+    view = np.isfinite(f) & (x >= lo) & (x <= hi) & (f >= bottom) & (f <= top)
+    return ax.transData.transform(np.column_stack([x[view], f[view]]))[-1:] if view.any() else []
+
+
+def _exits(line, frame):
+    """Where a line's drawn path leaves the frame (its last point inside, display)."""
+    xy = line.get_transform().transform(np.column_stack(line.get_data()))
+    inside = np.all(np.isfinite(xy), axis=1) & (xy[:, 0] >= frame.x0 - 1) & (xy[:, 0] <= frame.x1 + 1) \
+        & (xy[:, 1] >= frame.y0 - 1) & (xy[:, 1] <= frame.y1 + 1)
+    if not inside.any():
+        return []
+    k = int(np.nonzero(inside)[0][-1])
+    if k + 1 < len(xy) and np.all(np.isfinite(xy[k + 1])):     # the crossing of the frame
+        part = clip_segments(np.hstack([xy[k], xy[k + 1]])[None], (frame.x0, frame.y0, frame.x1, frame.y1))
+        return [part[0, 2:]] if len(part) else [xy[k]]
+    return [xy[k]]
 
 
 def _curve_ends(result, ax):

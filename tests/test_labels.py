@@ -98,3 +98,80 @@ def test_first_free_box_takes_the_first_candidate_inside_and_clear():
     assert first_free_box(candidates[:3], placed, (0.2, 0.2), (0.0, 0.0, 4.0, 4.0)) is None
     assert first_free_box([(2.0, 2.0, 3.0, 3.0)], [], obstacles=[(2.5, 2.5, 2.6, 2.6)],
                           frame=(0.0, 0.0, 4.0, 4.0)) is None
+
+
+# -- labels clear of the curves ------------------------------------------------------------------
+
+def _fan_of_lines(ax, n=6, points=2000, lw=1.5):
+    """``n`` wavy curves across the axes (log y), thousands of points each."""
+    x = np.linspace(0.0, 10.0, points)
+    for k in range(n):
+        ax.plot(x, 10.0 ** (0.8 * k + 0.2 * np.sin(3 * x + k) + 0.05 * x), lw=lw)
+    ax.set_yscale("log")
+    ax.set_xlim(0, 10)
+    ax.set_ylim(0.5, 10.0 ** 4.5)
+
+
+def test_curve_map_never_calls_a_crossed_box_free_and_frees_boxes_away_from_the_curves():
+    """Against exact geometry (each segment clipped to the box): a box some curve runs through is
+    never free; a box no curve comes within 3 points of is free (a label keeps at most about a
+    cell and half a line width from the curves)."""
+    import matplotlib.pyplot as plt
+    from matplotlib.transforms import Bbox
+
+    from label_geometry import crossings, curve_segments
+    from rotordyn_modal.plotting._labels import CurveMap, laid_out_renderer
+
+    fig, ax = plt.subplots(figsize=(8, 5))
+    _fan_of_lines(ax, n=12, points=300, lw=0.5)          # thin lines, long segments
+    renderer = laid_out_renderer(fig)
+    curves = CurveMap(ax, renderer)
+    segments = curve_segments(ax)
+    frame = ax.get_window_extent(renderer)
+    reach = 3 * fig.dpi / 72
+    rng = np.random.default_rng(1)
+    seen = {True: 0, False: 0}
+    for _ in range(1500):
+        w, h = rng.uniform(0.5, 30, 2)
+        x, y = rng.uniform(frame.x0, frame.x1 - w), rng.uniform(frame.y0, frame.y1 - h)
+        box = (x, y, x + w, y + h)
+        crossed = len(crossings(Bbox.from_extents(*box), segments, inset=0.0)) > 0
+        near = len(crossings(Bbox.from_extents(x - reach, y - reach, x + w + reach, y + h + reach), segments,
+                             inset=0.0)) > 0
+        if crossed:
+            assert not curves.free(box), box
+        if not near:
+            assert curves.free(box), box
+        seen[crossed] += 1
+    assert min(seen.values()) > 20
+    plt.close(fig)
+
+
+def test_point_labels_among_curves_lie_where_no_other_curve_runs():
+    """Peaks on the middle curves of a dense fan: each label drawn lies where no curve runs
+    (but within 6 sqrt(2) points of its own point), inside the axes and apart."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments
+
+    fig, ax = plt.subplots(figsize=(8, 5))
+    _fan_of_lines(ax)
+    lines = ax.get_lines()
+    anchors = [(x, float(np.interp(x, lines[k].get_xdata(), lines[k].get_ydata())))
+               for k, x in ((3, 2.0), (4, 5.0), (5, 8.0), (2, 6.5))]
+    texts = [f"AF {k}.0 at {1000 * k} rpm\nSM {10 * k} %" for k in range(len(anchors))]
+    drawn = place_point_labels(ax, anchors, texts, ["k"] * len(anchors))
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    assert len(drawn) >= 3
+    boxes = _glyph_boxes(drawn, renderer)
+    segments = curve_segments(ax)
+    radius = 6 * np.sqrt(2) * fig.dpi / 72 + 1
+    for text, box in zip(drawn, boxes):
+        crossed = crossings(box, segments, [ax.transData.transform(text.xy)], radius)
+        assert not len(crossed), (text.get_text(), crossed[:4])
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1:]:
+            assert not a.overlaps(b)
+    _assert_leaders_cross_no_other_label(drawn, boxes, renderer)
+    plt.close(fig)

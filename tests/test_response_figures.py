@@ -105,6 +105,41 @@ def test_unbalance_peak_labels_inside_and_apart(fan_unbalance):
     plt.close(fig)
 
 
+@pytest.fixture(scope="module")
+def pump_unbalance():
+    model = rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml")
+    return model, rdm.unbalance_response(model, rdm.rpm(np.linspace(100, 3600, 176)))
+
+
+@pytest.mark.parametrize("case", ["fan", "pump"])
+def test_no_curve_runs_through_an_unbalance_peak_label(fan_unbalance, pump_unbalance, case):
+    """fan_on_bearings (0.1 µm probes beside 100 µm casing curves) and the motor + belt-driven
+    pump on mounts (modes 5 Hz to 1 kHz, four sensors of two rotors on log axes): no curve of
+    a panel (other sensors', other sources', the probe limits) runs through an AF / SM label's
+    glyphs but within 6 sqrt(2) points of its own peak; the labels stay inside and apart."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments, glyph_box
+
+    model, result = fan_unbalance if case == "fan" else pump_unbalance
+    fig = result.plot(peaks=result.peaks(rdm.rpm(3000)), checks=result.checks(model, mcs=rdm.rpm(3000)) if case == "fan"
+                      else None)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    radius = 6 * np.sqrt(2) * fig.dpi / 72 + 1
+    total = 0
+    for ax in fig.axes:
+        labels = [t for t in ax.texts if t.get_text().startswith("AF ")]
+        total += len(labels)
+        _assert_inside_and_apart(ax, labels, renderer)
+        segments = curve_segments(ax)
+        for label in labels:
+            crossed = crossings(glyph_box(label, renderer), segments, [ax.transData.transform(label.xy)], radius)
+            assert not len(crossed), (label.get_text(), crossed[:4])
+    assert total >= 4
+    plt.close(fig)
+
+
 def test_unbalance_force_panels_one_unit_each(fan_unbalance):
     """--forces all: one panel per kind of force, in newtons, every item of the kind named; no
     axis carries two units."""
@@ -296,3 +331,50 @@ def test_compile_notice_only_when_numba_compiles(signatures, index, printed, cap
     assert announce_compilation(SimpleNamespace(rhs_flat=_Dispatcher(signatures, index))) is printed
     assert capsys.readouterr().err == (COMPILE_NOTICE + "\n" if printed else "")
     assert announce_compilation(SimpleNamespace(rhs=None)) is False           # the numpy backend
+
+
+def test_frf_at_round_off_is_named_so_and_draws_no_phase():
+    """compressor_rotor at 0 rpm, shaker in y: the z probes' FRFs are zero by symmetry (1e-17
+    against 8e-7 m/N): their legend entries say round-off and no phase of noise is drawn; the
+    other FRFs keep their phase."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLES / "compressor_rotor.toml")
+    result = rdm.frf(model, 0.0, np.linspace(1, 200, 100))
+    largest = np.abs(result.H).max()
+    fig = result.plot()
+    mag, phase = fig.axes[:2]
+    for line, phase_line in zip(_curves(mag), phase.get_lines()):
+        o, i = line.get_label().split(" (")[0].split(" / ")
+        zero = np.abs(result.H[result.outputs.index(o), result.inputs.index(i)]).max() < 1e-6 * largest
+        assert ("round-off" in line.get_label()) == zero
+        assert np.all(np.isnan(phase_line.get_ydata())) == zero
+    assert sum("round-off" in line.get_label() for line in _curves(mag)) == 2
+    plt.close(fig)
+
+
+# -- mode shapes ----------------------------------------------------------------------------------
+
+def test_mode_titles_never_write_a_small_ratio_as_minus_zero():
+    """fan_on_bearings at 3000 rpm: mode 1 whirls backward with a ratio of about -0.003; its
+    title writes that ratio (not -0.00), and each title's damping and whirl ratio read back
+    as the result's to their printed digits; a round-off ratio is written 0."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.plotting.modes import small_number
+
+    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+    result = rdm.modal(model, rdm.rpm(3000))
+    fig = result.plot()
+    titles = [ax.get_title() for ax in fig.axes if ax.get_visible()]
+    modes = np.nonzero(result.oscillatory)[0]
+    assert len(titles) == len(modes)
+    for title, m in zip(titles, modes):
+        zeta, ratio = re.search(r"ζ=(\S+)\n.*\(ratio (\S+)\)", title).groups()
+        assert "-0.00" not in title and "+0.00" not in title, title
+        for text, value in ((zeta, result.damping_ratios[m]), (ratio, result.whirl_ratios[m])):
+            digits = 0 if "." not in text or "e" in text else len(text.split(".")[1])
+            last = 0.051 * abs(value) if "e" in text else 0.5 * 10.0 ** -digits + 1e-12
+            assert abs(float(text) - value) <= last, (title, value)
+    assert small_number(-5.6e-25) == "0" and small_number(-3.2e-3, sign=True) == "-3.2e-03"
+    plt.close(fig)

@@ -145,3 +145,26 @@ def test_the_least_damped_margin_is_readable(model, rpm):
         assert low <= values.min() and values.max() <= high
         assert np.abs(values).max() >= (high - low) / 10, (model, np.abs(values).max(), low, high)
     plt.close(fig)
+
+
+def test_threshold_label_lies_where_no_curve_runs():
+    """unstable_cross_coupled over 0-15,000 rpm: the label of the threshold at 10,886 rpm is drawn,
+    touches its own line, and no other curve (modes, zero line) runs through its glyphs."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments, glyph_box
+
+    model = rdm.load_model(EXAMPLES / "unstable_cross_coupled.toml")
+    result = rdm.stability(model, rdm.rpm(np.linspace(0, 15000, 101)))
+    fig = result.plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    labels = [t for t in ax.texts if t.get_gid() == "threshold-label"]
+    own = [line for line in ax.get_lines() if line.get_gid() == "threshold"]
+    assert len(labels) == 1 and len(own) == 1
+    box = glyph_box(labels[0], renderer)
+    line_x = ax.transData.transform((own[0].get_xdata()[0], 0.0))[0]
+    assert min(abs(box.x0 - line_x), abs(box.x1 - line_x)) < 6 * fig.dpi / 72          # beside its line
+    assert not len(crossings(box, curve_segments(ax, skip=own)))
+    plt.close(fig)

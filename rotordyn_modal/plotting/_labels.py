@@ -2,7 +2,9 @@
 
 One placer serves every label inside the axes: :func:`first_free_box` takes the first of a
 label's candidate boxes that lies inside the axes and clear of every label already placed (and
-of markers); a label with no such candidate is left out. The callers only choose the candidates:
+of markers) and, where the callers ask (:class:`CurveMap`), where no drawn curve runs but near
+the label's own anchor; a label with no such candidate is left out. The callers only choose
+the candidates:
 
 - straight lines' labels (:func:`edge_label_boxes`): a few boxes next to where the line leaves
   the axes (a line whose label is left out keeps its colour); labels of one source whose exits
@@ -33,6 +35,8 @@ _MARGIN_POINTS = 2.0
 _ROWS = 3
 #: a crowded label may slide along its row by up to this many half widths
 _SLIDES = 6
+#: a label at the right or left edge may step away from its line by up to this many quarter heights
+_STEPS = 6
 
 
 @dataclass
@@ -52,6 +56,8 @@ class EdgeLabel:
     v: float
     direction: int
     spread: float = 0.0
+    #: points (u, v) along the line back from its exit at the right or left edge, nearest first
+    back: tuple = ()
 
     @property
     def text(self) -> str:
@@ -133,11 +139,13 @@ def text_size(fig, text, fontsize, renderer):
     return extent.width, extent.height
 
 
-def edge_label_boxes(ax, labels, fontsize, renderer, placed):
+def edge_label_boxes(ax, labels, fontsize, renderer, placed, curves=None):
     """Boxes (axes fraction) of the :class:`EdgeLabel` s that find room, merged where close.
 
     ``placed`` holds the boxes (left, bottom, right, top in axes fraction) taken already;
-    the new ones are appended to it.
+    the new ones are appended to it. With ``curves`` (a :class:`CurveMap` in axes fraction)
+    a label takes the first of its boxes that no curve crosses (but near its own exits) or
+    is left out.
 
     Returns
     -------
@@ -155,37 +163,104 @@ def edge_label_boxes(ax, labels, fontsize, renderer, placed):
     margin = (_MARGIN_POINTS * points * to_u, _MARGIN_POINTS * points * to_v)
     frame = (margin[0], margin[1], 1.0 - margin[0], 1.0 - margin[1])
     taken = []
+    anchor_u, anchor_v = ANCHOR_POINTS * points * to_u, ANCHOR_POINTS * points * to_v
     for label in _merge_close(labels, size):
         w, h = size(label.text)
-        box = first_free_box([(left, bottom, left + w, bottom + h)
-                              for left, bottom in _candidates(label, w, h, pad_u, pad_v)],
-                             placed, (pad_u, pad_v), frame)
+        boxes = [(left, bottom, left + w, bottom + h) for left, bottom in _candidates(label, w, h, pad_u, pad_v)]
+        box = None
+        if curves is not None:
+            along_u, along_v = (label.spread, 0.0) if label.edge == "top" else (0.0, label.spread)
+            keep = (label.u - anchor_u, label.v - anchor_v, label.u + along_u + anchor_u, label.v + along_v + anchor_v)
+            box = first_free_box(boxes, placed, (pad_u, pad_v), frame, allowed=lambda b, k=keep: curves.free(b, k))
+        else:
+            box = first_free_box(boxes, placed, (pad_u, pad_v), frame)
         if box is not None:
             taken.append((label, box))
     return taken
 
 
-def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0), obstacles=(), allowed=None):
+def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0), obstacles=(), allowed=None,
+                   cost=None, bound=None):
     """The first of ``candidates`` inside ``frame`` and clear of every box in ``placed``.
 
     Boxes are (left, bottom, right, top) in one coordinate system; ``gap`` (along x, y) is
     kept from the boxes placed; ``obstacles`` (markers) are only not overlapped; ``allowed``
-    (a function of a box, optional) must also say True (e.g. a leader line crossing no label).
+    (a function of a box, optional) must also say True (e.g. a leader line crossing no label,
+    no curve through the box: :meth:`CurveMap.free`). With ``cost`` (a function of a box),
+    the free candidate of least cost is taken instead of the first (the first of equals);
+    ``bound`` (a function of a box, not above its cost and not decreasing along the
+    candidates) ends the search where no later candidate can cost less.
     The box taken is appended to ``placed``.
 
     Returns
     -------
     tuple or None
     """
-    for candidate in candidates:
-        inside = (candidate[0] >= frame[0] and candidate[1] >= frame[1] and candidate[2] <= frame[2]
-                  and candidate[3] <= frame[3])
-        if inside and not any(_overlap(candidate, other, *gap) for other in placed) \
-                and not any(_overlap(candidate, other, 0.0, 0.0) for other in obstacles) \
-                and (allowed is None or allowed(candidate)):
-            placed.append(candidate)
-            return candidate
-    return None
+    best = None
+    for k in np.nonzero(_inside_and_clear(candidates, placed, gap, frame, obstacles))[0]:
+        candidate = candidates[k]
+        if best is not None and bound is not None and bound(candidate) >= best[0]:
+            break
+        if allowed is None or allowed(candidate):
+            if cost is None:
+                best = (0.0, candidate)
+                break
+            score = cost(candidate)
+            if best is None or score < best[0]:
+                best = (score, candidate)
+    if best is None:
+        return None
+    placed.append(best[1])
+    return best[1]
+
+
+def _inside_and_clear(candidates, placed, gap, frame, obstacles):
+    """Mask of the ``candidates`` inside ``frame``, ``gap`` clear of ``placed`` and not on ``obstacles``."""
+    boxes = np.asarray(candidates, float).reshape(-1, 4)
+    ok = (boxes[:, 0] >= frame[0]) & (boxes[:, 1] >= frame[1]) & (boxes[:, 2] <= frame[2]) & (boxes[:, 3] <= frame[3])
+    for others, (gap_u, gap_v) in ((placed, gap), (obstacles, (0.0, 0.0))):
+        if len(others):
+            other = np.asarray(others, float).reshape(1, -1, 4)
+            b = boxes[:, None, :]
+            ok &= ~np.any((b[..., 0] < other[..., 2] + gap_u) & (other[..., 0] < b[..., 2] + gap_u)
+                          & (b[..., 1] < other[..., 3] + gap_v) & (other[..., 1] < b[..., 3] + gap_v), axis=1)
+    return ok
+
+
+def crosses_any(segments, boxes) -> bool:
+    """Whether any of ``segments`` ((start, end) pairs of points) passes through any of ``boxes``
+    (Liang-Barsky on every pair at once)."""
+    if not len(segments) or not len(boxes):
+        return False
+    lines = np.asarray(segments, float).reshape(-1, 1, 4)
+    boxes = np.asarray(boxes, float).reshape(1, -1, 4)
+    x0, y0, x1, y1 = (lines[..., k] for k in range(4))
+    low, high = np.zeros(np.broadcast_shapes(lines.shape[:2], boxes.shape[:2])), 1.0
+    for delta, near, far in ((x1 - x0, boxes[..., 0] - x0, boxes[..., 2] - x0),
+                             (y1 - y0, boxes[..., 1] - y0, boxes[..., 3] - y0)):
+        flat = delta == 0.0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            a, b = near / delta, far / delta
+        low = np.where(flat, low, np.maximum(low, np.minimum(a, b)))
+        high = np.where(flat, np.where((near > 0.0) | (far < 0.0), -1.0, high), np.minimum(high, np.maximum(a, b)))
+    return bool(np.any(low <= high))
+
+
+def crosses_segments(start, end, segments) -> bool:
+    """Whether the segment ``start -> end`` crosses any of ``segments`` ((start, end) pairs);
+    segments that share an end point (leaders of one anchor) do not count."""
+    if not len(segments):
+        return False
+    others = np.asarray(segments, float).reshape(-1, 4)
+    p, r = np.asarray(start, float), np.asarray(end, float) - np.asarray(start, float)
+    q, t = others[:, :2], others[:, 2:] - others[:, :2]
+    denominator = r[0] * t[:, 1] - r[1] * t[:, 0]
+    qp = q - p
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = (qp[:, 0] * t[:, 1] - qp[:, 1] * t[:, 0]) / denominator
+        v = (qp[:, 0] * r[1] - qp[:, 1] * r[0]) / denominator
+    inside = (denominator != 0) & (u > 1e-9) & (u < 1 - 1e-9) & (v > 1e-9) & (v < 1 - 1e-9)
+    return bool(np.any(inside))
 
 
 def segment_crosses_box(start, end, box) -> bool:
@@ -202,6 +277,189 @@ def segment_crosses_box(start, end, box) -> bool:
         if low > high:
             return False
     return True
+
+
+#: cell of the grid on which :class:`CurveMap` marks the curves [points]: a label keeps about
+#: this far from every curve
+_CELL_POINTS = 1.0
+#: a curve may run through a label's box this near its anchor (a marker's half size and a gap) [points]
+ANCHOR_POINTS = 6.0
+#: at most this many points of the curves are marked at once (bounded memory)
+_CHUNK = 1_000_000
+
+
+class CurveMap:
+    """Where the curves of an axes run as drawn: the cells of a grid over the axes' frame
+    that a visible line (or line collection) passes through, each widened by half its line
+    width; markers without a line mark their size. A box is free (:meth:`free`) when it
+    holds no marked cell (a summed-area table: one look-up per box, whatever the curves'
+    number of points).
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    renderer
+        The figure's renderer, laid out (:func:`laid_out_renderer`).
+    skip : iterable of artists
+        Lines not to mark (the labels' own leader lines).
+    units : {'pixels', 'axes'}
+        Coordinates of the boxes asked about: display pixels or the axes' fraction.
+    """
+
+    def __init__(self, ax, renderer, skip=(), units="pixels"):
+        frame = ax.get_window_extent(renderer)
+        self.origin, self.size = (frame.x0, frame.y0), (frame.width, frame.height)
+        self.units = units
+        self.cell = max(_CELL_POINTS * renderer.points_to_pixels(1.0), 0.5)
+        width, height = (max(int(np.ceil(d / self.cell)), 1) for d in self.size)
+        grid = np.zeros((height, width), bool)
+        for reach, points in _curve_points(ax, skip, (frame.x0, frame.y0, frame.x1, frame.y1), self.cell):
+            marked = np.zeros_like(grid)
+            i = np.clip(((points[:, 0] - frame.x0) / self.cell).astype(int), 0, width - 1)
+            j = np.clip(((points[:, 1] - frame.y0) / self.cell).astype(int), 0, height - 1)
+            marked[j, i] = True
+            grid |= _dilate(marked, reach)
+        self.grid = grid
+        self.table = np.zeros((height + 1, width + 1), np.int64)
+        self.table[1:, 1:] = grid.cumsum(axis=0).cumsum(axis=1)
+
+    def _cells(self, box):
+        """Marked cells overlapping ``box`` widened by half a cell (a crossing between two samples)."""
+        if self.units == "axes":
+            box = (self.origin[0] + box[0] * self.size[0], self.origin[1] + box[1] * self.size[1],
+                   self.origin[0] + box[2] * self.size[0], self.origin[1] + box[3] * self.size[1])
+        rows, columns = self.table.shape[0] - 1, self.table.shape[1] - 1
+        half = 0.5 * self.cell
+        i0 = min(max(int(np.floor((box[0] - half - self.origin[0]) / self.cell)), 0), columns)
+        i1 = min(max(int(np.ceil((box[2] + half - self.origin[0]) / self.cell)), 0), columns)
+        j0 = min(max(int(np.floor((box[1] - half - self.origin[1]) / self.cell)), 0), rows)
+        j1 = min(max(int(np.ceil((box[3] + half - self.origin[1]) / self.cell)), 0), rows)
+        if i1 <= i0 or j1 <= j0:
+            return 0
+        t = self.table
+        return int(t[j1, i1] - t[j0, i1] - t[j1, i0] + t[j0, i0])
+
+    def free(self, box, keep=None) -> bool:
+        """Whether no curve runs through ``box`` (left, bottom, right, top), but inside ``keep``
+        (a box around the label's anchor, where its own curve and marker are, or None)."""
+        crossed = self._cells(box)
+        if crossed and keep is not None:
+            inside = (max(box[0], keep[0]), max(box[1], keep[1]), min(box[2], keep[2]), min(box[3], keep[3]))
+            if inside[0] < inside[2] and inside[1] < inside[3]:
+                crossed -= self._cells(inside)
+        return crossed == 0
+
+    def crossings(self, start, end, keep=None) -> int:
+        """How many curves the segment ``start -> end`` crosses (runs of marked cells along it),
+        those inside ``keep`` not counted."""
+        if self.units == "axes":
+            start, end = ((self.origin[0] + p[0] * self.size[0], self.origin[1] + p[1] * self.size[1])
+                          for p in (start, end))
+            if keep is not None:
+                keep = (self.origin[0] + keep[0] * self.size[0], self.origin[1] + keep[1] * self.size[1],
+                        self.origin[0] + keep[2] * self.size[0], self.origin[1] + keep[3] * self.size[1])
+        steps = int(np.hypot(end[0] - start[0], end[1] - start[1]) / (0.5 * self.cell)) + 2
+        t = np.linspace(0.0, 1.0, steps)
+        x, y = start[0] + t * (end[0] - start[0]), start[1] + t * (end[1] - start[1])
+        i, j = ((x - self.origin[0]) / self.cell).astype(int), ((y - self.origin[1]) / self.cell).astype(int)
+        rows, columns = self.grid.shape
+        marked = (i >= 0) & (i < columns) & (j >= 0) & (j < rows)
+        marked[marked] = self.grid[j[marked], i[marked]]
+        if keep is not None:
+            marked &= ~((x >= keep[0]) & (x <= keep[2]) & (y >= keep[1]) & (y <= keep[3]))
+        return int(np.count_nonzero(marked[1:] & ~marked[:-1]) + marked[0])
+
+
+def _curve_points(ax, skip, frame, cell):
+    """``(reach, points (n, 2))``: points [pixels] every half ``cell`` along each visible curve
+    of ``ax`` inside ``frame`` (and each marker of a line without a line style), in groups of
+    at most :data:`_CHUNK`; ``reach`` [cells]: half the line's width (the marker's size)."""
+    from matplotlib.collections import LineCollection
+
+    points_px = ax.figure.dpi / 72.0
+    paths = []
+    for line in ax.get_lines():
+        if line in skip or not line.get_visible():
+            continue
+        xy = np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)])
+        if not len(xy):
+            continue
+        with np.errstate(all="ignore"):
+            display = line.get_transform().transform(xy)
+        if line.get_linestyle() in ("None", "", " ") or line.get_linewidth() == 0:
+            if line.get_marker() not in ("None", "", " ", None):
+                reach = int(round(0.5 * line.get_markersize() * points_px / cell))
+                inside = display[np.all(np.isfinite(display), axis=1)]
+                yield reach, inside[(inside[:, 0] >= frame[0]) & (inside[:, 0] <= frame[2])
+                                    & (inside[:, 1] >= frame[1]) & (inside[:, 1] <= frame[3])]
+            continue
+        paths.append((display, line.get_linewidth()))
+    for collection in ax.collections:
+        if isinstance(collection, LineCollection) and collection.get_visible() and collection not in skip:
+            widths = np.atleast_1d(collection.get_linewidth())
+            transform = collection.get_transform()
+            for n, path in enumerate(collection.get_paths()):
+                paths.append((transform.transform(path.vertices), float(widths[n % len(widths)])))
+    by_reach = {}
+    for display, width in paths:
+        segments = np.hstack([display[:-1], display[1:]])
+        segments = _clipped(segments[np.all(np.isfinite(segments), axis=1)], frame)
+        by_reach.setdefault(int(round(0.5 * width * points_px / cell)), []).append(segments)
+    for reach, pieces in by_reach.items():
+        segments = np.concatenate(pieces)
+        steps = np.ceil(np.hypot(segments[:, 2] - segments[:, 0], segments[:, 3] - segments[:, 1])
+                        / (0.5 * cell)).astype(np.int64) + 1
+        ends = np.cumsum(steps)
+        start = 0
+        while start < len(segments):
+            stop = max(int(np.searchsorted(ends, ends[start] - steps[start] + _CHUNK, side="right")), start + 1)
+            yield reach, _samples(segments[start:stop], steps[start:stop])
+            start = stop
+
+
+def _samples(segments, steps):
+    """``steps[k]`` points evenly along each segment ``k`` (its ends included)."""
+    owner = np.repeat(np.arange(len(segments)), steps)
+    first = np.repeat(np.cumsum(steps) - steps, steps)
+    t = (np.arange(len(owner)) - first) / np.maximum(steps[owner] - 1, 1)
+    x0, y0, x1, y1 = segments[owner].T
+    return np.column_stack([x0 + t * (x1 - x0), y0 + t * (y1 - y0)])
+
+
+def _clipped(segments, box):
+    """The parts ``(m, 4)`` of ``segments`` ``(n, 4)`` inside ``box`` (Liang-Barsky, vectorised)."""
+    x0, y0, x1, y1 = segments.T
+    dx, dy = x1 - x0, y1 - y0
+    low, high = np.zeros(len(segments)), np.ones(len(segments))
+    for delta, near, far in ((dx, box[0] - x0, box[2] - x0), (dy, box[1] - y0, box[3] - y0)):
+        flat = delta == 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            a, b = near / delta, far / delta
+        low = np.where(flat, low, np.maximum(low, np.minimum(a, b)))
+        high = np.where(flat, np.where((near > 0) | (far < 0), -1.0, high), np.minimum(high, np.maximum(a, b)))
+    keep = low <= high
+    low, high, x0, y0, dx, dy = low[keep], high[keep], x0[keep], y0[keep], dx[keep], dy[keep]
+    return np.column_stack([x0 + low * dx, y0 + low * dy, x0 + high * dx, y0 + high * dy])
+
+
+def _dilate(grid, reach):
+    """``grid`` with every marked cell widened by ``reach`` cells each way."""
+    for axis in (0, 1):
+        wide = grid.copy()
+        for shift in range(1, reach + 1):
+            if axis == 0:
+                wide[shift:] |= grid[:-shift]
+                wide[:-shift] |= grid[shift:]
+            else:
+                wide[:, shift:] |= grid[:, :-shift]
+                wide[:, :-shift] |= grid[:, shift:]
+        grid = wide
+    return grid
+
+
+def anchor_box(x, y, half):
+    """The square of half size ``half`` around an anchor: where its own curves may cross its label."""
+    return (x - half, y - half, x + half, y + half)
 
 
 def column_positions(targets, heights, lo, hi, gap=0.0):
@@ -324,7 +582,16 @@ def _candidates(label, w, h, pad_u, pad_v):
                 for side, sign in ((behind, away), (ahead, -away))]
     lo, hi = label.v, label.v + label.spread
     left = 1.0 - pad_u - w if label.edge == "right" else pad_u
-    return [(left, hi + pad_v), (left, lo - pad_v - h), (left, hi + 2 * pad_v + h), (left, lo - 2 * (pad_v + h))]
+    # then stepping away from the line by quarter heights (below a rising line: past its fall
+    # over the label's width), up to one and a half heights
+    steps = [k * h / 4 for k in range(1, _STEPS + 1)]
+    # then beside the line farther back: above it on the edge's side, below it on the other
+    rising = [(u - w if label.edge == "right" else u, v + pad_v) for u, v in label.back if not label.spread]
+    falling = [(u if label.edge == "right" else u - w, v - pad_v - h) for u, v in label.back if not label.spread]
+    return [(left, hi + pad_v), (left, lo - pad_v - h)] \
+        + [corner for step in steps for corner in ((left, hi + pad_v + step), (left, lo - pad_v - h - step))] \
+        + [(left, hi + 2 * pad_v + h), (left, lo - 2 * (pad_v + h))] \
+        + [corner for pair in zip(rising, falling) for corner in pair]
 
 
 def _overlap(a, b, gap_u, gap_v):
@@ -341,10 +608,31 @@ def exits_of_orders(orders, lines, x_limits, top, per_x, bottom=0.0, to_axes=Non
     labels = []
     for name, multiplier, color in lines:
         for order in orders:
-            exit_ = line_exit(float(np.abs(order * multiplier * per_x)), x_limits, top, bottom, to_axes)
+            slope = float(np.abs(order * multiplier * per_x))
+            exit_ = line_exit(slope, x_limits, top, bottom, to_axes)
             if exit_ is not None:
-                labels.append(EdgeLabel(f"{order:g}X", name, color, *exit_))
+                back = _back_along(slope, x_limits, top, bottom, to_axes, exit_[3]) if exit_[0] != "top" else ()
+                labels.append(EdgeLabel(f"{order:g}X", name, color, *exit_, back=back))
     return labels
+
+
+#: a line's points back from its exit: this many steps of 1/50 of the axes' width
+_BACK_STEPS = 25
+
+
+def _back_along(slope, x_limits, top, bottom, to_axes, direction):
+    """Points (u, v) of ``f = slope |x|`` back from the side edge it leaves by, inside the box."""
+    lo, hi = x_limits
+    far = hi if direction > 0 else lo
+    points = []
+    for k in range(1, _BACK_STEPS + 1):
+        x = far - direction * k * (hi - lo) / 50.0
+        f = slope * abs(x)
+        if not bottom < f < top or x * direction <= 0:
+            break
+        points.append(tuple(float(c) for c in to_axes(x, f)) if to_axes is not None
+                      else ((x - lo) / (hi - lo), (f - bottom) / (top - bottom)))
+    return tuple(points)
 
 
 #: half size of the marker at a point label's anchor, kept free of labels [points]
@@ -353,19 +641,26 @@ _MARKER_POINTS = 3.0
 #: a label with a leader line may sit this many rows (label heights) above and below its
 #: point, and this many columns (label widths) right and left of it
 _GRID_ROWS, _GRID_COLUMNS = 8, 2
+#: ... and, where no such box is clear of the curves, this many (farther, above the curves)
+_FAR_ROWS, _FAR_COLUMNS = 24, 4
+#: a leader line crossing a curve costs as much as this many label heights farther away
+_CROSSING_COST = 2.0
+#: a label whose leader crosses curves and costs more (label heights: its distance and its
+#: leader's crossings) is left out
+_MOST_COST = 12.0
 
 #: a box below the point counts this many times as far (a peak's curve falls away below it)
 _BELOW = 2.0
 
 
-def boxes_around(x, y, w, h, pad, clear):
+def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS):
     """Boxes of size ``w x h`` on a grid around the point ``(x, y)``, nearest first.
 
     Rows are centred on the point's height and a little more than ``pad`` apart (so that
-    round-off cannot bring neighbours within ``pad``), up to :data:`_GRID_ROWS` each way;
+    round-off cannot bring neighbours within ``pad``), up to ``rows`` each way;
     columns lie right and left of the point (none across it: its leader lines would block
-    the others'), up to :data:`_GRID_COLUMNS` each way, as far apart and clear of the point's
-    marker (half size ``clear``). Nearest is by the distance from the point to the box, those below the point
+    the others'), half a label's width apart, reaching ``columns`` label widths each way,
+    clear of the point's marker (half size ``clear``). Nearest is by the distance from the point to the box, those below the point
     counted :data:`_BELOW` times; ties: above before below, right before left.
 
     Parameters
@@ -378,28 +673,36 @@ def boxes_around(x, y, w, h, pad, clear):
     list of (left, bottom, right, top)
     """
     pad = 1.25 * pad
-    lefts = [left for j in range(_GRID_COLUMNS)
-             for left in (x + clear + pad + j * (w + pad), x - clear - pad - w - j * (w + pad))]
-    rows = sorted(range(-_GRID_ROWS, _GRID_ROWS + 1), key=lambda k: (abs(k), k < 0))
-    boxes = [(left, y - h / 2 + k * (h + pad), left + w, y + h / 2 + k * (h + pad)) for k in rows for left in lefts]
-
-    def distance(box):
-        du = max(box[0] - x, 0.0, x - box[2])
-        dv = max(box[1] - y, 0.0, _BELOW * (y - box[3]))
-        return du * du + dv * dv
-
-    return sorted(boxes, key=distance)
+    steps = np.arange(2 * columns - 1) * (w + pad) / 2
+    lefts = np.column_stack([x + clear + pad + steps, x - clear - pad - w - steps]).ravel()
+    heights = np.array(sorted(range(-rows, rows + 1), key=lambda k: (abs(k), k < 0)), float)
+    bottoms = np.repeat(y - h / 2 + heights * (h + pad), len(lefts))
+    lefts = np.tile(lefts, len(heights))
+    boxes = np.column_stack([lefts, bottoms, lefts + w, bottoms + h])
+    du = np.maximum(np.maximum(boxes[:, 0] - x, x - boxes[:, 2]), 0.0)
+    dv = np.maximum(np.maximum(boxes[:, 1] - y, _BELOW * (y - boxes[:, 3])), 0.0)
+    return [tuple(box) for box in boxes[np.argsort(np.hypot(du, dv), kind="stable")].tolist()]
 
 
-def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=None):
+def box_distance(box, x, y) -> float:
+    """Distance from the point ``(x, y)`` to ``box``, below the point counted :data:`_BELOW` times."""
+    du = max(box[0] - x, 0.0, x - box[2])
+    dv = max(box[1] - y, 0.0, _BELOW * (y - box[3]))
+    return float(np.hypot(du, dv))
+
+
+def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=None, curves=None):
     """Annotate points of ``ax`` in the order given, each label inside the axes and apart.
 
-    Each label takes the nearest free box (:func:`first_free_box`: inside the axes, clear of
-    every label placed before and of every anchor, its leader line crossing no label and no
-    leader line crossing it) of a grid around its anchor (:func:`boxes_around`); a leader
-    line joins the box's point nearest the anchor to the anchor. Labels crowded at one point
-    so fan out in columns beside it. A label with no free box is left out: give the anchors
-    most important first.
+    Each label takes the free box (:func:`first_free_box`: inside the axes, clear of every
+    label placed before and of every anchor, its leader line crossing no label and no leader
+    line crossing it, and no curve of the axes running through it but within
+    :data:`ANCHOR_POINTS` of its own anchor: :class:`CurveMap`) of a grid around its anchor
+    (:func:`boxes_around`) that costs least: its distance plus :data:`_CROSSING_COST` label
+    heights for each curve its leader line crosses; a leader line joins the box's point
+    nearest the anchor to the anchor. Labels crowded at one point so fan out in columns
+    beside it. A label with no free box, or whose leader crosses curves at a cost above
+    :data:`_MOST_COST` label heights, is left out: give the anchors most important first.
 
     Parameters
     ----------
@@ -409,6 +712,8 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
         One per anchor.
     renderer : optional
         From :func:`laid_out_renderer` once the figure is complete.
+    curves : CurveMap, optional
+        Where the curves run (default: every curve of ``ax`` as drawn now).
 
     Returns
     -------
@@ -417,6 +722,7 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     """
     fig = ax.figure
     renderer = renderer or laid_out_renderer(fig)
+    curves = curves or CurveMap(ax, renderer)
     frame = ax.get_window_extent(renderer)
     points = fig.dpi / 72.0
     margin, pad = _MARGIN_POINTS * points, _PAD_POINTS * points
@@ -429,17 +735,12 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     for (x, y), (px, py), text, color in zip(anchors, pixels, texts, colors):
         if not (frame.x0 <= px <= frame.x1 and frame.y0 <= py <= frame.y1):
             continue
-
-        def leader_clear(box, point=(px, py)):
-            end = _nearest_in(box, point)
-            return not any(segment_crosses_box(end, point, other) for other in labels) \
-                and not any(segment_crosses_box(*leader, box) for leader in leaders)
-
         w, h = text_size(fig, text, fontsize, renderer)
-        box = first_free_box(boxes_around(px, py, w, h, pad, marker), placed, (pad, pad), inner, allowed=leader_clear)
+        box = _leader_box(boxes_around(px, py, w, h, pad, marker, _FAR_ROWS, _FAR_COLUMNS), (px, py), h, placed,
+                          (pad, inner), (labels, leaders), curves, ANCHOR_POINTS * points)
         if box is None:
             continue
-        end = _nearest_in(box, (px, py))
+        end = nearest_in(box, (px, py))
         labels.append(box)
         leaders.append((end, (px, py)))
         drawn.append(ax.annotate(text, (x, y), xytext=((box[0] - px) / points, (box[1] - py) / points),
@@ -452,6 +753,32 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     return drawn
 
 
-def _nearest_in(box, point):
+def _leader_box(candidates, point, h, placed, room, drawn, curves, keep):
+    """The box of ``candidates`` for a label of height ``h`` joined to ``point`` by a leader
+    line, of least cost (:func:`place_point_labels`), or None.
+
+    ``room`` is (gap, frame), ``drawn`` (label boxes, leader lines) drawn so far, ``keep``
+    the half size of the square around ``point`` where curves may cross the label.
+    """
+    labels, leaders = drawn
+    square = anchor_box(*point, keep)
+
+    def clear(box):
+        return curves.free(box, square) and not crosses_any([(nearest_in(box, point), point)], labels) \
+            and not crosses_any(leaders, [box])
+
+    def cost(box):
+        return box_distance(box, *point) + _CROSSING_COST * h * curves.crossings(nearest_in(box, point), point, square)
+
+    gap, frame = room
+    box = first_free_box(candidates, placed, (gap, gap), frame, allowed=clear, cost=cost,
+                         bound=lambda box: box_distance(box, *point))
+    if box is not None and cost(box) > max(_MOST_COST * h, box_distance(box, *point)):
+        placed.pop()            # far, its leader across curves: left out
+        return None
+    return box
+
+
+def nearest_in(box, point):
     """The point of ``box`` nearest ``point``: where a leader line from ``point`` meets the box."""
     return min(max(point[0], box[0]), box[2]), min(max(point[1], box[1]), box[3])

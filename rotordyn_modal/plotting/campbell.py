@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ._labels import (column_positions, draw_time_layout, edge_label_boxes, exits_of_orders, first_free_box,
+from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, draw_time_layout,
+                      edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
                       set_if_changed, text_size)
 from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
 
@@ -27,6 +28,9 @@ _STUB_POINTS, _LEADER_POINTS, _PAD_POINTS = 2.0, 10.0, 2.0
 #: a real part above this fraction of its root's size is instability (damping ratio < -1e-10)
 _MARGINAL = 1e-10
 _UNSTABLE = {"color": "red", "alpha": 0.35, "linewidth": 7.0, "solid_capstyle": "butt"}
+#: a leader line crossing a curve costs as much as this many label heights farther away; a
+#: label costing more than :data:`_MOST_COST` label heights (distance and crossings) is left out
+_CROSSING_COST, _MOST_COST = 2.0, 12.0
 
 
 def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None = None,
@@ -44,8 +48,10 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     axes where they leave them, apart from each other (close orders of one source share a
     label, a label with no room is left out: its line keeps its source's colour); critical
     speeds are marked and labelled with their speed where a label finds room clear of the
-    other labels and markers (every critical speed is in the result's table). The labels
-    are placed again whenever the figure is drawn, so they follow zooming and resizing.
+    other labels, markers and curves, beside the marker or nearby with a leader line (every
+    critical speed is in the result's table). No curve runs through a label but at its own
+    anchor (:class:`~rotordyn_modal.plotting._labels.CurveMap`). The labels are placed again
+    whenever the figure is drawn, so they follow zooming and resizing.
 
     Parameters
     ----------
@@ -283,10 +289,20 @@ class _CampbellLabels:
                                 gid=f"mode-leader {result.modes[m]}")[0] for m in self.modes]
         self.critical_texts = [self._text(_speed_text(s), gid="critical-label", fontsize="xx-small")
                                for s in critical[0]] if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
+        self.critical_leaders = [ax.plot([], [], linewidth=0.5, color="k", transform=ax.transAxes, visible=False,
+                                         gid="critical-leader")[0] for _ in self.critical_texts]
 
     def _text(self, text, gid=None, va="bottom", fontsize=_FONT, visible=False, x=0.5, clip_on=True):
         return self.ax.text(x, 0.5, text, transform=self.ax.transAxes, fontsize=fontsize, ha="left", va=va,
                             gid=gid, visible=visible, clip_on=clip_on)
+
+    def _size(self, text, fontsize, renderer):
+        """(width, height) [pixels] of a label, measured once per text, size and resolution."""
+        key = (text, fontsize, renderer.points_to_pixels(1.0))
+        sizes = self.__dict__.setdefault("sizes", {})
+        if key not in sizes:
+            sizes[key] = text_size(self.ax.figure, text, fontsize, renderer)
+        return sizes[key]
 
     def place(self, renderer):
         """Place every label for the axes as they are now (called when the axes are drawn)."""
@@ -295,6 +311,8 @@ class _CampbellLabels:
         self.to_u, self.to_v = 1.0 / max(box.width, 1.0), 1.0 / max(box.height, 1.0)
         self.points = renderer.points_to_pixels(1.0)
         self.to_axes = (ax.transData + ax.transAxes.inverted()).transform
+        self.curves = CurveMap(ax, renderer, skip=self.leaders + self.critical_leaders, units="axes")
+        self.leader_lines = []          # (start, end) of the leader lines drawn inside the axes
         placed = []
         self._place_orders(renderer, placed)
         markers = self._marker_boxes()
@@ -307,7 +325,7 @@ class _CampbellLabels:
         bottom, top = ax.get_ylim()
         exits = exits_of_orders(self.result.orders, self.lines, ax.get_xlim(), top, self.per_x, bottom,
                                 lambda x, f: tuple(self.to_axes((x, f))))
-        taken = edge_label_boxes(ax, exits, _FONT, renderer, placed)
+        taken = edge_label_boxes(ax, exits, _FONT, renderer, placed, self.curves)
         for text, item in zip(self.order_texts, taken + [None] * (len(self.order_texts) - len(taken))):
             if item is None:
                 set_if_changed(text, visible=False)
@@ -357,7 +375,7 @@ class _CampbellLabels:
         """Labels beside the right edge, in their curves' order, each joined by a leader line."""
         if not indices:
             return
-        heights = [text_size(self.ax.figure, self.mode_texts[i].get_text(), _FONT, renderer)[1] * self.to_v
+        heights = [self._size(self.mode_texts[i].get_text(), _FONT, renderer)[1] * self.to_v
                    for i in indices]
         gap = self.points * self.to_v
         room = int(1.0 / (max(heights) + gap))
@@ -381,25 +399,87 @@ class _CampbellLabels:
                            color=colour, visible=True, clip_on=False)
 
     def _inside(self, renderer, indices, ends, placed, markers):
-        """Labels of curves that end inside the axes: next to the curve's last point."""
+        """Labels of curves that end inside the axes: next to the curve's last point, else
+        nearby with a leader line (:meth:`_label_box`)."""
         pad_u, pad_v = _PAD_POINTS * self.points * self.to_u, _PAD_POINTS * self.points * self.to_v
-        margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
         for i in indices:
             text = self.mode_texts[i]
-            w, h = text_size(self.ax.figure, text.get_text(), _FONT, renderer)
+            w, h = self._size(text.get_text(), _FONT, renderer)
             w, h = w * self.to_u, h * self.to_v
             u, v = ends[i][1]
             corners = [(u + pad_u, v - h / 2), (u - w - pad_u, v + pad_v), (u - w - pad_u, v - h - pad_v),
                        (u + pad_u, v + pad_v), (u + pad_u, v - h - pad_v), (u - w / 2, v + pad_v),
                        (u - w / 2, v - h - pad_v)]
-            box = first_free_box([(a, b, a + w, b + h) for a, b in corners], placed, (pad_u, pad_v),
-                                 (margin_u, margin_v, 1 - margin_u, 1 - margin_v), obstacles=markers)
-            set_if_changed(self.leaders[i], visible=False)
+            box, leader = self._label_box((u, v), [(a, b, a + w, b + h) for a, b in corners], (pad_u, pad_v),
+                                          placed, markers, (0.0, 0.0))
+            self._show_leader(self.leaders[i], leader, self._colour(self.modes[i], ends[i][2]))
             if box is None:
                 set_if_changed(text, visible=False)
                 continue
             set_if_changed(text, position=(box[0], box[1] + h / 2), va="center", ha="left", clip_on=True,
                            color=self._colour(self.modes[i], ends[i][2]), visible=True)
+
+    def _label_box(self, anchor, near, gap, placed, markers, clear):
+        """A label's box (axes fraction) and its leader line ((start, end) or None), or (None, None).
+
+        The first of the ``near`` boxes (touching the anchor) that lies inside the axes, clear
+        of the labels ``placed`` (``gap`` from them), of the ``markers``, of every leader line
+        and of every curve (but within :data:`ANCHOR_POINTS` of the anchor); else the box of a
+        grid around the anchor (:func:`boxes_around`) so clear whose distance plus its leader
+        line's crossings of curves costs least (at most :data:`_MOST_COST` label heights), the
+        leader crossing no label and ending ``clear`` (u, v) short of the anchor.
+        """
+        u, v = anchor
+        keep = (u - ANCHOR_POINTS * self.points * self.to_u, v - ANCHOR_POINTS * self.points * self.to_v,
+                u + ANCHOR_POINTS * self.points * self.to_u, v + ANCHOR_POINTS * self.points * self.to_v)
+        margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
+        frame = (margin_u, margin_v, 1 - margin_u, 1 - margin_v)
+
+        def free(box):
+            return self.curves.free(box, keep) and not crosses_any(self.leader_lines, [box])
+
+        box = first_free_box(near, placed, gap, frame, obstacles=markers, allowed=free)
+        if box is not None:
+            return box, None
+        w, h = near[0][2] - near[0][0], near[0][3] - near[0][1]
+        to_px = np.array([1 / self.to_u, 1 / self.to_v] * 2)
+        clear_px = max(clear[0] / self.to_u, clear[1] / self.to_v)
+        grid = [tuple(b) for b in (np.array(boxes_around(u / self.to_u, v / self.to_v, w / self.to_u, h / self.to_v,
+                                                          _PAD_POINTS * self.points,
+                                                          clear_px + _PAD_POINTS * self.points)) / to_px).tolist()]
+        others = list(placed)
+
+        def leader_clear(box):
+            start = nearest_in(box, anchor)
+            return free(box) and not crosses_any([(start, anchor)], others) \
+                and not crosses_segments(start, anchor, self.leader_lines)
+
+        def cost(box):
+            start = nearest_in(box, anchor)
+            return box_distance(box * to_px, u / self.to_u, v / self.to_v) \
+                + _CROSSING_COST * h / self.to_v * self.curves.crossings(start, anchor, keep)
+
+        box = first_free_box(grid, placed, gap, frame, obstacles=markers, allowed=leader_clear, cost=cost,
+                             bound=lambda box: box_distance(box * to_px, u / self.to_u, v / self.to_v))
+        if box is None:
+            return None, None
+        if cost(box) > max(_MOST_COST * h / self.to_v, box_distance(box * to_px, u / self.to_u, v / self.to_v)):
+            placed.pop()
+            return None, None
+        start = nearest_in(box, anchor)
+        direction = np.array([(start[0] - u) / self.to_u, (start[1] - v) / self.to_v])
+        shorten = clear_px / max(float(np.hypot(*direction)), 1e-9)
+        end = (u + shorten * direction[0] * self.to_u, v + shorten * direction[1] * self.to_v)
+        self.leader_lines.append((start, anchor))
+        return box, (start, end)
+
+    @staticmethod
+    def _show_leader(line, leader, colour):
+        if leader is None:
+            set_if_changed(line, visible=False)
+            return
+        (x0, y0), (x1, y1) = leader
+        set_if_changed(line, xdata=[x0, x1], ydata=[y0, y1], color=colour, visible=True)
 
     # -- critical speeds -----------------------------------------------------------------
     def _marker_boxes(self):
@@ -413,27 +493,32 @@ class _CampbellLabels:
         return boxes
 
     def _place_critical(self, renderer, placed, markers):
-        """Each critical speed's label in the first free box around its marker, or none."""
+        """Each critical speed's label beside its marker, else nearby with a leader line
+        (:meth:`_label_box`), or none."""
         if not self.critical_texts:
             return
         radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
         gap = (0.5 * self.points * self.to_u, 0.5 * self.points * self.to_v)
-        margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
         order = np.argsort(self.critical[0], kind="stable")
         for j in order:
             text = self.critical_texts[j]
             u, v = self.to_axes((self.critical[0][j], self.critical[1][j]))
-            w, h = text_size(self.ax.figure, text.get_text(), "xx-small", renderer)
+            w, h = self._size(text.get_text(), "xx-small", renderer)
             w, h = w * self.to_u, h * self.to_v
             corners = [(u + radius_u, v - radius_v - h * 0.5), (u + radius_u, v + radius_v - h * 0.5),
                        (u - radius_u - w, v - radius_v - h * 0.5), (u - radius_u - w, v + radius_v - h * 0.5),
                        (u - w / 2, v + radius_v), (u - w / 2, v - radius_v - h),
                        (u + radius_u, v - h / 2), (u - radius_u - w, v - h / 2)]
-            box = None
+            box = leader = None
             if 0 <= u <= 1 and 0 <= v <= 1:
-                box = first_free_box([(a, b, a + w, b + h) for a, b in corners], placed, gap,
-                                     (margin_u, margin_v, 1 - margin_u, 1 - margin_v), obstacles=markers)
+                box, leader = self._label_box((u, v), [(a, b, a + w, b + h) for a, b in corners], gap, placed,
+                                              [m for m in markers if not _contains(m, (u, v))], (radius_u, radius_v))
+            self._show_leader(self.critical_leaders[j], leader, "k")
             if box is None:
                 set_if_changed(text, visible=False)
                 continue
             set_if_changed(text, position=(box[0], box[1]), va="bottom", ha="left", clip_on=True, visible=True)
+
+
+def _contains(box, point) -> bool:
+    return box[0] <= point[0] <= box[2] and box[1] <= point[1] <= box[3]

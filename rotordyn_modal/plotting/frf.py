@@ -145,18 +145,25 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
 
 def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None):
     """Each pair's model line (and measured dots, same colour) on ``mag`` (log) and ``phase``
-    (``scale(o, i)``: the factor on the SI FRF, default 1)."""
+    (``scale(o, i)``: the factor on the SI FRF, default 1). An FRF below :data:`_DYNAMIC_RANGE`
+    of the largest everywhere (zero but for round-off, by symmetry) is named so in the legend
+    and has no phase drawn (the phase of round-off is noise)."""
+    largest = max((float(np.max(np.abs(result.H[result.outputs.index(o), result.inputs.index(i)])))
+                   for o, i in pairs), default=0.0)
     for n, (o, i) in enumerate(pairs):
         colour = f"C{n % 10}"
         style = "-" if n < 10 else "--"
         factor = 1.0 if scale is None or scale.units == "si" else scale(o, i)
         h = result.H[result.outputs.index(o), result.inputs.index(i)] * factor
+        name, phase_values = label(o, i), np.degrees(np.angle(h))
+        if np.max(np.abs(h)) < _DYNAMIC_RANGE * largest * abs(factor):
+            name, phase_values = f"{name} (round-off: below 1e-6 of the largest)", np.full(h.shape, np.nan)
         if measured is not None and o in measured.outputs and i in measured.inputs:
             hm = measured.H[measured.outputs.index(o), measured.inputs.index(i)] * factor
             mag.semilogy(measured.frequencies_hz, np.abs(hm), ".", ms=2.5, color=colour, alpha=0.5)
             phase.plot(measured.frequencies_hz, np.degrees(np.angle(hm)), ".", ms=2.5, color=colour, alpha=0.5)
-        mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=label(o, i))
-        phase.plot(result.frequencies_hz, np.degrees(np.angle(h)), color=colour, ls=style, lw=0.9)
+        mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=name)
+        phase.plot(result.frequencies_hz, phase_values, color=colour, ls=style, lw=0.9)
     _limit_range(mag)
 
 
@@ -208,7 +215,8 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
         ``result.peaks(...)``: the peaks that matter (amplification factor at least
         :data:`_AF_MARKED`, amplitude at least :data:`_PEAK_SHARE` of their curve's largest)
         are marked, the largest of them labelled with their amplification factor (and
-        separation margin when known), labels apart from each other inside the axes.
+        separation margin when known), labels apart from each other inside the axes, where
+        no curve runs, each joined to its peak by a leader line.
     groups : dict, optional
         Panel title of each sensor (``{'probe-DE-x': 'shaft relative to housing'}``): sensors
         with one title share a panel. Default: the probe pairs' sensors in one panel, the
@@ -279,7 +287,7 @@ def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, s
         return mag, []
     chosen = _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30, speed_unit, factor)
     low, high = mag.get_ylim()
-    mag.set_ylim(low, high * _HEADROOM)
+    mag.set_ylim(low, high * max(_HEADROOM, (high / low) ** _LABEL_ROOM))
     return mag, chosen
 
 
@@ -287,8 +295,9 @@ def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, s
 _AF_MARKED = 2.5
 #: peaks below this share of their own curve's largest amplitude are not marked
 _PEAK_SHARE = 0.05
-#: room above the curves for the peaks' labels (factor on the log axis's top)
-_HEADROOM = 10.0
+#: room above the curves for the peaks' labels (factor on the log axis's top): at least ten, and a
+#: quarter of the axis' height (the curves' decades to this power)
+_HEADROOM, _LABEL_ROOM = 10.0, 1.0 / 3.0
 #: at most this many peaks are labelled per panel, the largest
 _LABELLED = 6
 #: peaks of one source closer than this share of the sweep are one peak (seen by several sensors)

@@ -15,6 +15,23 @@ def _labels(result) -> list[str]:
     return _DOF + names[6:] if names[:1] and names[0].startswith(("stator.", "frame.")) else names
 
 
+#: a damping or whirl ratio within this of zero is round-off: written 0
+_ROUND_OFF = 1e-10
+
+
+def small_number(value: float, sign: bool = False) -> str:
+    """A ratio for a title: three decimals, two significant digits below 0.01 (``-0.00`` would
+    hide a backward whirl's -0.003 and read a round-off -1e-25 damping as unstable), and ``0``
+    within :data:`_ROUND_OFF` of zero."""
+    if not np.isfinite(value):
+        return f"{value}"
+    if abs(value) <= _ROUND_OFF:
+        return "0"
+    if abs(value) < 0.01:
+        return f"{value:+.1e}" if sign else f"{value:.1e}"
+    return f"{value:+.2f}" if sign else f"{value:.3f}"
+
+
 def plot_modes(result, title: str | None = None, modes=None, columns: int | None = None):
     """Bar chart of each oscillatory mode's mass-weighted DOF participation.
 
@@ -50,8 +67,8 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
         ax.bar(labels, magnitude / magnitude.max(), color="tab:blue")
         if len(labels) > 6:
             ax.tick_params(axis="x", labelrotation=90, labelsize="x-small")
-        ax.set_title(f"mode {number}: {result.frequencies_hz[m]:.2f} Hz, ζ={result.damping_ratios[m]:.3f}\n"
-                     f"{result.whirl[m]} (ratio {result.whirl_ratios[m]:+.2f})", fontsize="small")
+        ax.set_title(f"mode {number}: {result.frequencies_hz[m]:.2f} Hz, ζ={small_number(result.damping_ratios[m])}\n"
+                     f"{result.whirl[m]} (ratio {small_number(result.whirl_ratios[m], sign=True)})", fontsize="small")
         ax.set_ylim(0, 1.05)
     fig.suptitle(title or f"Mode shapes at {result.speed * 30 / np.pi:.0f} rpm (|shape|, normalised)")
     return fig

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from .modes import small_number
 
 __all__ = ["plot_mode_shape", "plot_mode_shapes", "animate_mode_shape", "ANIMATION_FORMATS"]
 
@@ -408,7 +409,7 @@ def _frame(ax, flat, view):
 
 def _title(view):
     rpm = view.speed * 30 / np.pi
-    whirl = "no whirl" if view.whirl == "none" else f"{view.whirl} whirl ({view.whirl_ratio:+.2f})"
+    whirl = "no whirl" if view.whirl == "none" else f"{view.whirl} whirl ({small_number(view.whirl_ratio, sign=True)})"
     return (f"{view.label.capitalize()} mode {view.mode}: {view.frequency_hz:.3f} Hz, "
             f"ζ = {view.damping_ratio:.4f}, {whirl}, {rpm:.0f} rpm")
 

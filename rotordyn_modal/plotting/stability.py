@@ -210,8 +210,9 @@ def _label_list(labels) -> str:
 
 
 def _draw_thresholds(top, bottom, result, scale, speed_unit):
-    """A vertical line at each threshold speed, labelled in the real-part panel where there is room."""
-    from ._labels import first_free_box, laid_out_renderer, text_size
+    """A vertical line at each threshold speed, labelled in the real-part panel where there is room,
+    beside its line where no curve runs (upright, else lying; from the top down), else upright at the top."""
+    from ._labels import CurveMap, first_free_box, laid_out_renderer, text_size
 
     unit = {"rpm": "rpm", "rad/s": "rad/s", "hz": "Hz"}[speed_unit]
     items = []
@@ -227,17 +228,34 @@ def _draw_thresholds(top, bottom, result, scale, speed_unit):
     frame = top.get_window_extent(renderer)
     (lo, hi), placed = top.get_xlim(), []
     pad = renderer.points_to_pixels(2.0) / frame.width
+    curves = CurveMap(top, renderer, units="axes")
     for at, text, colour in items:
         w, h = text_size(top.figure, text, "x-small", renderer)
         w, h = h / frame.width, w / frame.height      # turned upright
         u = (at - lo) / (hi - lo)
-        right, left = (u + pad, 0.98 - h, u + pad + w, 0.98), (u - pad - w, 0.98 - h, u - pad, 0.98)
-        # above zero, the side that is still stable is free of the crossing mode's curve
-        box = first_free_box([left, right] if colour == "tab:red" else [right, left], placed,
-                             frame=(0.0, 0.0, 1.0, 1.0))
+        # beside the line, the stable side first, from the top down: where no curve runs, else at the top
+        sides = [u - pad - w, u + pad] if colour == "tab:red" else [u + pad, u - pad - w]
+        boxes = [(left, upper - h, left + w, upper) for upper in np.arange(0.98, h, -0.02) for left in sides]
+        own = (u - 2 * pad, 0.0, u + 2 * pad, 1.0)       # its own line runs beside it
+
+        def free(box, own=own):
+            return curves.free(box, own)
+
+        box = first_free_box(boxes, placed, frame=(0.0, 0.0, 1.0, 1.0), allowed=free)
+        if box is None:      # lying beside its line where no curve runs
+            wide, high = h * frame.height / frame.width, w * frame.width / frame.height
+            flat = [(left, upper - high, left + wide, upper) for upper in np.arange(0.98, high, -0.02)
+                    for left in ([u + pad, u - pad - wide] if colour != "tab:red" else [u - pad - wide, u + pad])]
+            box = first_free_box(flat, placed, frame=(0.0, 0.0, 1.0, 1.0), allowed=free)
+            if box is not None:
+                top.text(box[0], box[1], text, transform=top.transAxes, ha="left", va="bottom", fontsize="x-small",
+                         color=colour, gid="threshold-label",
+                         bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5})
+                continue
+        box = box or first_free_box(boxes[:2], placed, frame=(0.0, 0.0, 1.0, 1.0))
         if box is None:
             continue
-        top.text(box[0] + w / 2, 0.98, text, transform=top.transAxes, rotation=90, ha="center", va="top",
+        top.text(box[0] + w / 2, box[3], text, transform=top.transAxes, rotation=90, ha="center", va="top",
                  fontsize="x-small", color=colour, gid="threshold-label",
                  bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5})
 

@@ -1,0 +1,87 @@
+"""Where a drawn figure's curves run under its labels: measured on the rendered figure.
+
+Independent of the placer (``rotordyn_modal.plotting._labels``): the curves are the axes'
+visible lines and line collections as drawn (their data through their own transforms, log
+axes included, clipped to the axes' frame), the labels the texts' glyph boxes
+(``Text.get_window_extent``), and a crossing is exact geometry (each segment clipped to the
+box), not a grid.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+import numpy as np
+
+
+def glyph_box(text, renderer):
+    """The box of a text's glyphs only (an annotation's own extent includes its leader line)."""
+    return matplotlib.text.Text.get_window_extent(text, renderer)
+
+
+def curve_segments(ax, skip=()):
+    """Segments ``(n, 4)``: x0, y0, x1, y1 [display pixels] of every visible curve of ``ax``
+    (lines with a line style, line collections), clipped to the axes' frame; ``skip``: artists
+    left out (a label's own leader line)."""
+    from matplotlib.collections import LineCollection
+
+    frame = ax.get_window_extent()
+    pieces = []
+    for line in ax.get_lines():
+        if line in skip or not line.get_visible() or line.get_linestyle() in ("None", "", " ") \
+                or line.get_linewidth() == 0:
+            continue
+        xy = np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)])
+        if len(xy) < 2:
+            continue
+        with np.errstate(all="ignore"):
+            points = line.get_transform().transform(xy)
+        pieces.append(np.hstack([points[:-1], points[1:]]))
+    for collection in ax.collections:
+        if isinstance(collection, LineCollection) and collection.get_visible() and collection not in skip:
+            transform = collection.get_transform()
+            for path in collection.get_paths():
+                points = transform.transform(path.vertices)
+                pieces.append(np.hstack([points[:-1], points[1:]]))
+    if not pieces:
+        return np.empty((0, 4))
+    segments = np.concatenate(pieces)
+    segments = segments[np.all(np.isfinite(segments), axis=1)]
+    return clip_segments(segments, (frame.x0, frame.y0, frame.x1, frame.y1))
+
+
+def clip_segments(segments, box):
+    """The parts of ``segments`` ``(n, 4)`` inside ``box`` (x0, y0, x1, y1): Liang-Barsky."""
+    x0, y0, x1, y1 = segments.T
+    dx, dy = x1 - x0, y1 - y0
+    low, high = np.zeros(len(segments)), np.ones(len(segments))
+    for delta, near, far in ((dx, box[0] - x0, box[2] - x0), (dy, box[1] - y0, box[3] - y0)):
+        flat = delta == 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            a, b = near / delta, far / delta
+        outside = flat & ((near > 0) | (far < 0))
+        low = np.where(flat, low, np.maximum(low, np.minimum(a, b)))
+        high = np.where(flat, high, np.minimum(high, np.maximum(a, b)))
+        high = np.where(outside, -1.0, high)
+    keep = low <= high
+    low, high = low[keep], high[keep]
+    x0, y0, dx, dy = x0[keep], y0[keep], dx[keep], dy[keep]
+    return np.column_stack([x0 + low * dx, y0 + low * dy, x0 + high * dx, y0 + high * dy])
+
+
+def crossings(box, segments, anchors=(), radius=0.0, inset=0.5):
+    """Points ``(k, 2)`` where a curve runs through ``box`` (shrunk by ``inset`` pixels) farther
+    than ``radius`` from every one of ``anchors`` (display points): the ends of each segment's
+    part inside the box (a part inside a disc has both its ends in it)."""
+    inner = (box.x0 + inset, box.y0 + inset, box.x1 - inset, box.y1 - inset)
+    if inner[0] >= inner[2] or inner[1] >= inner[3]:
+        return np.empty((0, 2))
+    parts = clip_segments(segments, inner)
+    ends = parts.reshape(-1, 2)
+    if len(anchors) and len(ends):
+        anchors = np.asarray(anchors, float).reshape(-1, 2)
+        far = np.ones(len(parts), bool)
+        for anchor in anchors:
+            near = np.all(np.hypot(*(ends - anchor).T).reshape(-1, 2) <= radius, axis=1)
+            far &= ~near
+        return parts[far].reshape(-1, 2)
+    return ends

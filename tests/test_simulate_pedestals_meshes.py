@@ -77,3 +77,51 @@ def test_steady_unbalance_orbits_with_pedestals_and_a_mesh_equal_the_linear_resp
     speed = 300.0
     res = rdm.simulate(model, 0.4, speed, modes_below=np.inf, samples=1601, rtol=1e-10, atol=1e-14)
     assert_steady_harmonics_equal_the_linear_response(res, model, speed, after=0.3, rtol=1e-6)
+
+
+@pytest.mark.parametrize("flexible", [True, False])
+def test_undamped_machine_with_pedestals_and_a_mesh_keeps_its_energy(flexible):
+    """No damping, no unbalance, no gravity, a hammer blow: the small motions' energy
+    ``q'^T M q' / 2 + q^T K q / 2`` in the linear model's own matrices (the pedestals' masses and
+    springs and the mesh's spring in them) stays constant to the integrator's tolerance, at rest
+    and spinning (the gyroscopic forces do no work)."""
+    data = _machine(damping=0.0, flexible=flexible)
+    data["unbalances"] = []
+    model = rdm.Model.from_dict(data)
+    M, C, G, K = model.matrices(0.0)
+    assert not C.any() and np.abs(G).max() > 0
+    n = model.dofs.n
+    for speed in (0.0, 800.0):
+        res = rdm.simulate(model, 0.1, speed, impulse="hammer", impulse_size=0.5, samples=201, rtol=1e-11,
+                           atol=1e-14)
+        q, dq = res.states[:, :n], res.states[:, n:]
+        assert np.abs(q[:, [r.start for _, r in model.dofs.pedestals]]).max() > 0     # the pedestals move
+        energy = 0.5 * np.einsum("ti,ij,tj->t", dq, M, dq) + 0.5 * np.einsum("ti,ij,tj->t", q, K, q)
+        assert energy[0] > 0
+        assert np.abs(energy - energy[0]).max() < 1e-8 * energy[0]
+        np.testing.assert_allclose(res.total_energy, energy, rtol=1e-9)
+
+
+@pytest.mark.parametrize("casing", [True, False])
+def test_equilibrium_under_gravity_carries_every_weight_the_pedestals_too(casing):
+    """Started in equilibrium under gravity (no unbalance), the machine stays there, and the
+    supports to the ground carry every mass's weight, the pedestals' ``m_p g`` included: on the
+    ground the pedestals' springs and bearing B (the one without a pedestal) hold the rotors and
+    pedestals; in the casing the mounts hold everything."""
+    data = _machine(flexible=True, casing=casing, gravity=(0.0, 0.0, -9.81))
+    data["unbalances"] = []
+    model = rdm.Model.from_dict(data)
+    res = rdm.simulate(model, 0.01, 100.0, initial="equilibrium", samples=11, rtol=1e-11, atol=1e-16)
+    q = res.states[:, :model.dofs.n]
+    np.testing.assert_allclose(q[-1], q[0], rtol=0, atol=1e-9 * np.abs(q[0]).max())
+    weight = 9.81 * (sum(r.mass for r in model.rotors) + PEDESTAL["pedestal_mass"] + 2.0)
+    if casing:
+        weight += 9.81 * data["stator"]["mass"]
+        held = sum(np.diag(s.stiffness_matrix)[2] * (q[0, 2] + np.cross(q[0, 3:6], np.asarray(s.position) -
+                                                                         model.reference_point)[2])
+                   for s in model.suspensions)
+    else:
+        lateral = {name: q[0, rows] for name, rows in model.dofs.pedestals}     # (y, z) per pedestal
+        held = PEDESTAL["pedestal_stiffness"][1] * lateral["A"][1] + 8e6 * lateral["G"][1]
+        held += res.bearing_forces[0, [b.name for b in model.bearings].index("B"), 2]
+    np.testing.assert_allclose(-held, weight, rtol=1e-9)

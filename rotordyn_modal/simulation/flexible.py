@@ -1,9 +1,10 @@
 """The time model of a machine with flexible rotors: the linear model integrated in time.
 
-A machine with a flexible rotor is integrated as its linear model (docs/theory.md §19,
-docs/simulate.md "Flexible rotors"): the reference rotor's angle ``phi(t)`` is prescribed
-(constant speed or a linear ramp), and every other coordinate -- the flexible rotors' node
-motions, the rigid rotors' motions in their bearings and the casing's six motions -- is a small
+A machine with a flexible rotor, bearing pedestals or gear mesh stiffness (:func:`linear_only`)
+is integrated as its linear model (docs/theory.md §19, docs/simulate.md "Flexible rotors"): the
+reference rotor's angle ``phi(t)`` is prescribed (constant speed or a linear ramp), and every
+other coordinate -- the flexible rotors' node motions, the rigid rotors' motions in their
+bearings, the pedestals' lateral motions and the casing's six motions -- is a small
 motion about the spinning, undeformed machine::
 
     M q'' + (C(w) + w G) q' + K(w) q = f_u(t) + f_g,      w = phi'(t)

@@ -101,7 +101,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         plus the static deflections under the unbalances, weights and impulse; ``math.inf``
         keeps every mode (the linear model exactly, slower).
 
-    A model with a flexible rotor is integrated as its linear model instead (docs/simulate.md,
+    A model with a flexible rotor, with bearing pedestals or with gear mesh stiffness (which the
+    nonlinear model cannot carry) is integrated as its linear model instead (docs/simulate.md,
     "Flexible rotors"; :mod:`rotordyn_modal.simulation.flexible`): small motions of every body
     and of the shafts' nodes about the spinning machine, the drive's angle prescribed
     (``drive='constant'`` or ``'ramp'``; ``'free'`` and journal bearings refused), the

@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
-from rotordyn_modal.errors import InputError
 from steady_harmonics import assert_steady_harmonics_equal_the_linear_response
 
 STEEL = {"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "poisson_ratio": 0.3}

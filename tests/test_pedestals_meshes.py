@@ -107,13 +107,36 @@ def test_a_pedestal_needs_mass_and_stiffness():
         rdm.Model.from_dict(_rotor_on_pedestals({"pedestal_stiffness": K_P}))
 
 
-def test_pedestal_mass_is_a_study_key_and_simulate_refuses_pedestals():
+def test_pedestal_mass_is_a_study_key_and_simulate_runs_pedestals_in_the_linear_time_model(monkeypatch, capsys):
+    """``simulate`` integrates a rigid machine on pedestals as its linear model, saying so in one
+    line on stderr: a blow on the rotor moves it as the 2-DOF series system solved by hand (the
+    pedestals move); free spin, which the linear time model has not, is refused by one line."""
+    from rotordyn_modal.simulation import flexible
+
     model = rdm.Model.from_dict(_rotor_on_pedestals({"pedestal_mass": M_P, "pedestal_stiffness": K_P}))
     heavier = model.variant([("bearings.A.pedestal_mass", "scale", 2.0), ("bearings.B.pedestal_mass", "scale", 2.0)])
     translation = _two_dof(M_R, 4 * M_P, 2 * K_B, -2 * K_B, 2 * K_B + 2 * K_P)
     assert np.min(np.abs(_frequencies(heavier)[:, None] - translation[None]), axis=0).max() < 1e-8 * translation.max()
-    with pytest.raises(InputError, match=r"\[bearings\.A\] stands on a pedestal"):
-        rdm.simulate(model, 0.1, speed=10.0)
+    data = _rotor_on_pedestals({"pedestal_mass": M_P, "pedestal_stiffness": K_P})
+    data["excitations"] = [{"name": "blow", "rotor": "r", "position": [0.0, 0.0, 0.0], "direction": [0, 1, 0]}]
+    data["sensors"] = [{"name": "y", "rotor": "r", "position": [0.0, 0.0, 0.0], "direction": [0, 1, 0]}]
+    monkeypatch.setattr(flexible, "_NOTICED", [])
+    res = rdm.simulate(rdm.Model.from_dict(data), 0.05, speed=10.0, impulse="blow", impulse_size=2.0, samples=201,
+                       rtol=1e-11, atol=1e-16)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "bearing pedestals ([bearings.A], [bearings.B])" in err[0] and "linear model" in err[0]
+    # the blow at the centre of mass excites the translation system alone (rotor y, both pedestals
+    # together): y(t) = sum_k phi_k(r) phi_k(r) m_r v0 sin(w_k t) / w_k, its modes by hand
+    m2, k11, k12 = 2 * M_P, 2 * K_B, -2 * K_B
+    y = np.zeros_like(res.time)
+    for w in _two_dof(M_R, m2, k11, k12, 2 * K_B + 2 * K_P):
+        shape = np.array([1.0, -(k11 - w**2 * M_R) / k12])
+        shape /= math.sqrt(M_R * shape[0] ** 2 + m2 * shape[1] ** 2)
+        y += shape[0] ** 2 * 2.0 * np.sin(w * res.time) / w          # m_r v0 = the impulse, 2 N s
+    np.testing.assert_allclose(res.sensor("y"), y, rtol=0, atol=1e-7 * np.abs(y).max())
+    with pytest.raises(InputError, match=r"drive 'free': a machine with bearing pedestals is simulated") as error:
+        rdm.simulate(model, 0.1, speed=10.0, drive="free")
+    assert "\n" not in str(error.value)
 
 
 # -- gear meshes ----------------------------------------------------------------------------
@@ -217,7 +240,7 @@ def test_mesh_keeps_reciprocity_and_damping_and_moving_the_origin_changes_nothin
     assert ratios.min() > -1e-12 and (ratios > 1e-6).sum() >= 2
 
 
-def test_mesh_keys_refused_by_name_and_simulate_refuses_them():
+def test_mesh_keys_refused_by_name_and_simulate_refuses_free_spin_with_a_mesh():
     with pytest.raises(ModelError, match=r"mesh_stiffness = -1.0: expected a finite number > 0"):
         rdm.Model.from_dict(_geared({"mesh_stiffness": -1.0}))
     belt = _geared({"mesh_stiffness": K_MESH})
@@ -227,8 +250,9 @@ def test_mesh_keys_refused_by_name_and_simulate_refuses_them():
     with pytest.raises(ModelError, match=r"driver_radius = 0.2: expected a pitch radius below the centre distance"):
         rdm.Model.from_dict(_geared({"mesh_stiffness": K_MESH}, driver_radius=0.2))
     model = rdm.Model.from_dict(_geared({"mesh_stiffness": K_MESH}))
-    with pytest.raises(InputError, match=r"\[transmissions\.pinion->wheel\] has a mesh stiffness"):
-        rdm.simulate(model, 0.1, speed=10.0)
+    with pytest.raises(InputError, match=r"drive 'free': a machine with gear mesh stiffness is simulated") as error:
+        rdm.simulate(model, 0.1, speed=10.0, drive="free")
+    assert "\n" not in str(error.value)
 
 
 def test_bearing_force_on_a_pedestal_is_what_moves_the_pedestal():
@@ -360,10 +384,11 @@ def test_static_deflection_on_pedestals_is_the_series_springs():
         np.testing.assert_allclose(reaction.force, [0.0, -force / 2, force / 2], rtol=1e-12, atol=1e-9)
 
 
-def test_command_line_lists_pedestals_and_refuses_bad_ones_in_one_line(tmp_path, capsys):
+def test_command_line_lists_pedestals_and_refuses_bad_ones_in_one_line(tmp_path, capsys, monkeypatch):
     import tomli_w
 
     from rotordyn_modal.cli.main import main
+    from rotordyn_modal.simulation import flexible
 
     data = _geared({"mesh_stiffness": K_MESH})
     data["bearings"][0].update(pedestal_mass=3.0, pedestal_stiffness=[4e6, 5e6])
@@ -373,9 +398,11 @@ def test_command_line_lists_pedestals_and_refuses_bad_ones_in_one_line(tmp_path,
     out = capsys.readouterr().out
     assert "pinion-DE.pedestal.uy, pinion-DE.pedestal.uz" in out and "on a pedestal of 3 kg" in out
     assert "mesh stiffness 5e+06 N/m" in out
-    assert main(["simulate", str(good), "--duration", "0.1"]) == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "pedestal" in err
+    monkeypatch.setattr(flexible, "_NOTICED", [])
+    assert main(["simulate", str(good), "--duration", "0.1"]) == 0     # the linear time model, said in one line
+    err = capsys.readouterr().err.strip().splitlines()
+    said = [line for line in err if "the nonlinear large-rotation model cannot carry" in line]
+    assert len(said) == 1 and "bearing pedestals ([bearings.pinion-DE]) and gear mesh stiffness" in said[0]
     data["bearings"][0]["pedestal_stiffness"] = [[4e6, 5e6], [5e6, 4e6]]
     bad = tmp_path / "bad.toml"
     bad.write_text(tomli_w.dumps(data), encoding="utf-8")

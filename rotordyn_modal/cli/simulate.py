@@ -13,7 +13,7 @@ from ._common import (add_model_argument, add_outputs, add_speed_unit, open_mode
 
 NAME = "simulate"
 HELP = ("nonlinear large-rotation time simulation (constant speed, run-up ramp or free spin), rotors on bearings; "
-        "flexible rotors in the linear time model")
+        "flexible rotors, pedestals and gear meshes in the linear time model")
 DESCRIPTION = """Integrate the machine's nonlinear equations of motion in time: the stator as a rigid
 body with large rotation (axial angle + transverse Euler vector, docs/theory-large-rotations.md), every rotor on
 [[bearings]] a rigid body of its own moving in its bearings' springs and dampers (its tilt
@@ -41,8 +41,10 @@ stator and of each rotor in its bearings, axial angular velocity, energy terms) 
 content), with the Campbell diagram's critical speeds overlaid and labelled (mode, order,
 rpm). With numba the first run compiles the kernels (~20 s, said on stderr).
 
-A model with a flexible rotor ([[rotors.shaft]]) is integrated as its linear model instead
-(said once on stderr; docs/simulate.md, 'Flexible rotors'): the drive's angle prescribed
+A model with a flexible rotor ([[rotors.shaft]]), with bearing pedestals (pedestal_mass) or
+with gear mesh stiffness (mesh_stiffness, mesh_damping), which the nonlinear model cannot
+carry, is integrated as its linear model instead (said once on stderr; docs/simulate.md,
+'Flexible rotors'): the drive's angle prescribed
 (--speed, or --ramp), every body and every node of the shafts moving by small motions about
 the spinning machine (M q'' + (C + w G) q' + K q = unbalance forces, w the drive speed), the
 unbalances as rotating forces (with their angular-acceleration part on a ramp). It keeps the

@@ -1,9 +1,10 @@
 """The time model of a machine with flexible rotors: the linear model integrated in time.
 
-A machine with a flexible rotor is integrated as its linear model (docs/theory.md §19,
-docs/simulate.md "Flexible rotors"): the reference rotor's angle ``phi(t)`` is prescribed
-(constant speed or a linear ramp), and every other coordinate -- the flexible rotors' node
-motions, the rigid rotors' motions in their bearings and the casing's six motions -- is a small
+A machine with a flexible rotor, bearing pedestals or gear mesh stiffness (:func:`linear_only`)
+is integrated as its linear model (docs/theory.md §19, docs/simulate.md "Flexible rotors"): the
+reference rotor's angle ``phi(t)`` is prescribed (constant speed or a linear ramp), and every
+other coordinate -- the flexible rotors' node motions, the rigid rotors' motions in their
+bearings, the pedestals' lateral motions and the casing's six motions -- is a small
 motion about the spinning, undeformed machine::
 
     M q'' + (C(w) + w G) q' + K(w) q = f_u(t) + f_g,      w = phi'(t)
@@ -22,6 +23,7 @@ kept the reduction is exact.
 
 from __future__ import annotations
 
+import re
 import sys
 from types import SimpleNamespace
 from dataclasses import dataclass
@@ -31,12 +33,19 @@ import numpy as np
 from ..errors import InputError
 from ._system import announce_compilation
 
-__all__ = ["simulate_linear", "reduced_system", "ReducedSystem", "NOTICE", "LOWEST", "CUTOFF_FACTOR"]
+__all__ = ["simulate_linear", "reduced_system", "ReducedSystem", "NOTICE", "LINEAR_ONLY_NOTICE", "linear_only", "LOWEST",
+           "CUTOFF_FACTOR"]
 
 #: printed once per process on stderr when a machine with a flexible rotor is simulated
 NOTICE = ("simulate: the model has a flexible rotor: the machine is integrated as its linear model (small "
           "motions about the spinning undeformed machine, the casing's motions linear too; the drive's angle "
           "prescribed; docs/simulate.md, 'Flexible rotors')")
+#: the same line for a machine of rigid rotors with bearing pedestals or gear mesh stiffness,
+#: ``{what}`` naming them
+LINEAR_ONLY_NOTICE = ("simulate: the model has {what}, which the nonlinear large-rotation model cannot carry: the "
+                      "machine is integrated as its linear model (small motions about the spinning machine, the "
+                      "casing's motions linear too; the drive's angle prescribed; docs/simulate.md, "
+                      "'Flexible rotors')")
 #: the basis keeps at least this many of the lowest modes (all when the model has fewer)
 LOWEST = 6
 #: by default the basis keeps the modes below this multiple of the fastest spin frequency
@@ -44,12 +53,30 @@ CUTOFF_FACTOR = 4.0
 _NOTICED: list = []
 
 
-def notice_once() -> bool:
-    """Print :data:`NOTICE` on stderr, the first time only. Returns whether it printed."""
-    if _NOTICED:
+def linear_only(model) -> str:
+    """What makes ``model`` a case for the linear time model, in words ('' when nothing does):
+    a flexible rotor, bearing pedestals, gear mesh stiffness (the nonlinear large-rotation model
+    has rigid rotors in bearings fixed in the casing and rigid gears)."""
+    if any(r.flexible is not None for r in model.rotors):
+        return "a flexible rotor"
+    parts = []
+    pedestals = [b.name for b in model.bearings if b.pedestal is not None]
+    if pedestals:
+        parts.append("bearing pedestals (" + ", ".join(f"[bearings.{name}]" for name in pedestals) + ")")
+    meshes = [t.label for t in model.transmissions if t.mesh_stiffness is not None or t.mesh_damping is not None]
+    if meshes:
+        parts.append("gear mesh stiffness (" + ", ".join(f"[transmissions.{label}]" for label in meshes) + ")")
+    return " and ".join(parts)
+
+
+def notice_once(what: str = "a flexible rotor") -> bool:
+    """Print :data:`NOTICE` (or :data:`LINEAR_ONLY_NOTICE` naming ``what``) on stderr, the first
+    time only for each text. Returns whether it printed."""
+    line = NOTICE if what == "a flexible rotor" else LINEAR_ONLY_NOTICE.format(what=what)
+    if line in _NOTICED:
         return False
-    _NOTICED.append(True)
-    print(NOTICE, file=sys.stderr, flush=True)
+    _NOTICED.append(line)
+    print(line, file=sys.stderr, flush=True)
     return True
 
 
@@ -57,14 +84,15 @@ def refuse(model, drive: str) -> None:
     """What the linear time model does not simulate, refused by one line."""
     from ._system import refuse_hysteretic
 
+    what = "a machine with " + re.sub(r" \([^)]*\)", "", linear_only(model) or "a flexible rotor")
     journals = [b.name for b in model.bearings if b.coefficients.kind == "journal"]
     if journals:
         raise InputError(
-            f"{model.source}: [bearings.{journals[0]}] is a journal bearing: a machine with a flexible rotor is "
+            f"{model.source}: [bearings.{journals[0]}] is a journal bearing: {what} is "
             "simulated as its linear model, where the oil film's nonlinear force has no place; give the bearing "
             "as type = 'linear' with its film coefficients (a speeds_rpm table) to simulate it")
     if drive == "free":
-        raise InputError(f"{model.source}: drive 'free': a machine with a flexible rotor is simulated with its "
+        raise InputError(f"{model.source}: drive 'free': {what} is simulated with its "
                          "drive's angle prescribed (drive 'constant' or 'ramp'), not in free spin")
     refuse_hysteretic(model)
 
@@ -184,7 +212,13 @@ def drive_reaction(model) -> np.ndarray:
 
 def gravity_acceleration(model) -> np.ndarray:
     """``a_g``: the generalized coordinates of every body translated by the gravity vector
-    (the frame's translation, or each rotor's relative translation on the ground), (n,) [m/s^2]."""
+    (the frame's translation, or each rotor's relative translation on the ground), (n,) [m/s^2].
+
+    A bearing's pedestal moves with the frame, plus its own two lateral coordinates: with a
+    frame it is translated with it (its coordinates stay 0); on the ground its coordinates take
+    the gravity vector's lateral components ``(g.a, g.b)`` (along the spin axis it stands on the
+    ground, which carries that component of its weight). ``M a_g`` is then every mass's weight,
+    the pedestals' ``m_p g`` included."""
     from ..model.geometry import transverse_axes
 
     layout = model.dofs
@@ -205,6 +239,8 @@ def gravity_acceleration(model) -> np.ndarray:
         else:
             own = basis.T @ np.r_[g, 0.0, 0.0, 0.0]
         out[rows] = own
+    for _, rows in layout.pedestals:
+        out[rows] = along[:2]
     return out
 
 
@@ -302,7 +338,7 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     from ._system import check_duration, default_samples
 
     refuse(model, drive)
-    notice_once()
+    notice_once(linear_only(model) or "a flexible rotor")
     accel = 0.0 if drive == "constant" else (final_speed - speed) / duration
     fastest = max(abs(speed), abs(final_speed or 0.0)) * max(abs(r.speed_ratio) for r in model.rotors)
     cutoff = CUTOFF_FACTOR * fastest if modes_below is None else _cutoff(modes_below)

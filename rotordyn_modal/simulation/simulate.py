@@ -11,6 +11,7 @@ from ._system import check_table_speeds, system_arrays
 from ._system import check_duration as _check_duration, default_samples as _default_samples
 from ._system import progress_bar as _progress_bar
 from ._system import COMPILE_NOTICE, announce_compilation  # noqa: F401  (their old home)
+from .flexible import linear_only
 from .result import SimulationResult
 
 __all__ = ["simulate", "DRIVES", "BACKENDS", "kernels"]
@@ -35,19 +36,6 @@ def kernels(backend: str = "auto"):
         if backend == "numba":
             raise InputError("backend 'numba': numba is not installed (pip install 'rotordyn_modal[fast]')")
     return _kernels.plain_namespace()
-
-
-def _refuse_linear_only(model) -> None:
-    """Refuse, in one line, a model with parts the time model does not have: bearing
-    pedestals and gear mesh stiffness (linear analyses only)."""
-    pedestal = next((b.name for b in model.bearings if b.pedestal is not None), None)
-    if pedestal is not None:
-        raise InputError(f"{model.source}: [bearings.{pedestal}] stands on a pedestal (pedestal_mass): the time "
-                         "simulation has no pedestals; use the linear analyses (modes, campbell, frf, unbalance)")
-    mesh = next((t for t in model.transmissions if t.mesh_stiffness is not None or t.mesh_damping is not None), None)
-    if mesh is not None:
-        raise InputError(f"{model.source}: [transmissions.{mesh.label}] has a mesh stiffness or damping: the time "
-                         "simulation keeps gears rigid; use the linear analyses (modes, campbell, frf, unbalance)")
 
 
 def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, initial="rest",
@@ -113,7 +101,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         plus the static deflections under the unbalances, weights and impulse; ``math.inf``
         keeps every mode (the linear model exactly, slower).
 
-    A model with a flexible rotor is integrated as its linear model instead (docs/simulate.md,
+    A model with a flexible rotor, with bearing pedestals or with gear mesh stiffness (which the
+    nonlinear model cannot carry) is integrated as its linear model instead (docs/simulate.md,
     "Flexible rotors"; :mod:`rotordyn_modal.simulation.flexible`): small motions of every body
     and of the shafts' nodes about the spinning machine, the drive's angle prescribed
     (``drive='constant'`` or ``'ramp'``; ``'free'`` and journal bearings refused), the
@@ -131,12 +120,11 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     >>> bool(abs(res.spin_speed[-1] / 50.0 - 1) < 1e-3)
     True
     """
-    _refuse_linear_only(model)
     duration, speed = _positive(duration, "duration"), _speed(speed, "speed")
     final_speed = None if final_speed is None else _speed(final_speed, "final_speed")
     rtol, atol = _tolerance(rtol, "rtol", *_RTOL_RANGE), _tolerance(atol, "atol", *_ATOL_RANGE)
     checked_mass_inverse(model)    # the model every analysis refuses is refused here too
-    if any(r.flexible is not None for r in model.rotors):
+    if linear_only(model):
         if backend not in BACKENDS:
             raise InputError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
         return _simulate_flexible(model, duration, speed, drive, final_speed, initial, impulse, impulse_size,

@@ -17,12 +17,14 @@ root), or where the basis cannot be shown to hold every root below the wanted on
 
 from __future__ import annotations
 
+import typing
 import warnings
 
 import numpy as np
 import scipy.linalg
 import scipy.sparse
 import scipy.sparse.linalg
+from scipy.linalg.lapack import zgbsv as _zgbsv
 
 from . import _batches, _vectors
 from .modal import is_oscillating
@@ -34,6 +36,10 @@ _ITERATIONS = 12
 #: a step below this times |lam| ends the iteration (quadratic convergence: the root is then
 #: exact to round-off, far inside the 1e-9 promised)
 _STEP = 1e-11
+#: a step below this times |lam| is in Newton's quadratic regime, where the error the step leaves,
+#: predicted from the last two steps, ends the iteration when below ``_LEFT`` times |lam| (one
+#: solve fewer than waiting for a step at round-off)
+_ASYMPTOTIC, _LEFT = 1e-5, 1e-13
 #: refined roots closer than this times |lam| are one root reached twice
 _SAME = 1e-8
 
@@ -57,20 +63,12 @@ def lowest_roots(stack, speeds, count: int):
     full : ndarray of bool, shape (S,)
         The speeds solved whole (fallback).
     """
+    # its dense steps are small BLAS calls (n x n once, m x m per speed): BLAS's own threads only
+    # wait for a core on a shared machine (measured up to 10x slower at load 5); the batched
+    # eigen-solves and banded solves run in threads of their own
+    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+        values, shapes, ok = _reduced_roots(stack, speeds, count)
     n = stack.n_dof
-    size = first = min(n, max(3 * count, count + 10))
-    pencils = _Pencils(stack, speeds)
-    omegas, symmetric, modes = _basis(stack, speeds[:1])
-    d_norm, e_norm = _coupling_norms(stack, pencils, symmetric)
-    want = min(count + 1, size)
-    starts, vectors = _projected_starts(pencils, _chosen(stack, speeds, modes, size, first), want)
-    # the basis the completeness bound asks for, from the starts (within a few 1e-5 of the roots)
-    needed = _needed_size(starts, omegas, d_norm, e_norm)
-    if needed > size:
-        size = min(n, needed)
-        starts, vectors = _projected_starts(pencils, _chosen(stack, speeds, modes, size, first), want)
-    values, shapes, ok = _refined(pencils, starts, vectors)
-    ok &= _distinct(values) & _basis_suffices(values, omegas, size, d_norm, e_norm)
     out_values = np.full((len(speeds), count), np.nan + 0j)
     out_shapes = np.zeros((len(speeds), count, n), dtype=complex)
     k = min(count, values.shape[1])
@@ -82,6 +80,28 @@ def lowest_roots(stack, speeds, count: int):
         lam, phi = _full_lowest(stack, speeds[full], count)
         out_values[full], out_shapes[full] = lam, phi
     return out_values, out_shapes, full
+
+
+def _reduced_roots(stack, speeds, count):
+    """The ``count + 1`` lowest roots of every speed from the reduced basis, refined: roots (S, k),
+    shapes (S, k, n) and whether the speed passed every check (S,)."""
+    n = stack.n_dof
+    size = min(n, max(3 * count, count + 10))
+    pencils = _Pencils(stack, speeds)
+    omegas, symmetric, modes = _basis(stack, speeds[:1])
+    bound = _Bound(pencils, omegas, modes, symmetric)
+    want = min(count + 1, size)
+    # the highest root wanted, from a few speeds (an underestimate only makes the final check stricter)
+    few = np.unique(np.round(np.linspace(0, len(speeds) - 1, min(len(speeds), _FEW))).astype(int))
+    rho = _MARGIN * np.max(np.abs(_projected_starts(pencils, modes[:, :size], want, few)[0]))
+    size = min(n, max(size, _needed_size(bound, rho, size)))
+    starts, vectors = _projected_starts(pencils, modes[:, :size], want)
+    values, shapes, ok = _refined(pencils, starts, vectors)
+    ok &= _distinct(values) & _unmissed(starts, values, count)
+    # Newton may reorder roots of close frequency: by frequency again
+    order = np.argsort(np.where(is_oscillating(values), values.imag, np.inf), axis=1, kind="stable")
+    values, shapes = np.take_along_axis(values, order, 1), np.take_along_axis(shapes, order[..., None], 1)
+    return values, shapes, ok & _basis_suffices(values, bound, size, rho)
 
 
 def _basis(stack, speed):
@@ -96,73 +116,97 @@ def _basis(stack, speed):
     return np.sqrt(np.maximum(values, 0.0)), K, vectors
 
 
-def _chosen(stack, speeds, modes, size, extra):
-    """The basis (n, m): the first ``size`` modes; with speed-dependent bearings joined by the
-    first ``extra`` modes of the stiffness at the sweep's last speed (better starts where the
-    bearings stiffen with speed)."""
-    basis = modes[:, :size]
-    if stack.dependent and len(speeds) > 1 and size < len(modes):
-        basis = _joined(stack.M[0], basis, _basis(stack, speeds[-1:])[2][:, :extra])
-    return basis
+class _Bound:
+    """Upper bounds, at every speed, of the coupling of the roots below ``rho`` to the undamped
+    modes left out of a basis of the first ``m`` (docs/theory.md section 17, "Completeness").
+
+    With ``Phi`` the mass-orthonormal undamped modes of ``(K_0, M)`` (all ``n``), ``D = C + Omega G
+    + C_b(Omega)`` and ``E = K(Omega) - K_0``, the bound of a speed is ``rho d + e`` with ``d`` the
+    2-norm of ``W Phi_out^T D Phi``, ``W = diag(1 / (omega_j^2 - rho^2))`` over the left-out modes
+    ``j >= m``, and ``e`` that of ``E``: the 2-norm exactly at a few anchor speeds, plus the
+    Frobenius norm of the change to the nearest anchor (``(Omega - Omega_a) G`` and the bearings'
+    entries), which is linear in a few numbers per speed and so comes from a small Gram matrix.
+
+    Parameters
+    ----------
+    pencils : _Pencils
+    omegas : ndarray, shape (n,) [rad/s]
+    modes : ndarray, shape (n, n)
+        Mass-orthonormal undamped modes, ascending.
+    symmetric : ndarray, shape (n, n)
+        ``K_0`` [N/m].
+    """
+
+    def __init__(self, pencils, omegas, modes, symmetric):
+        speeds = pencils.speeds
+        count = len(speeds)
+        self.omegas = omegas
+        self.anchors = np.unique(np.round(np.linspace(0, count - 1, min(count, _ANCHORS))).astype(int))
+        at = np.argmin(np.abs(np.arange(count)[:, None] - self.anchors[None]), axis=1)
+        self.at, near = at, self.anchors[at]
+        damping, stiffness = pencils.dense(self.anchors)
+        self.D = modes.T @ damping @ modes                                   # (A, n, n)
+        self.E = modes.T @ (stiffness - symmetric) @ modes
+        # the changes from the nearest anchor: [Omega, c_b entries] and [k_b entries], (S, 1 + nb) and (S, nb)
+        self.dD = np.column_stack([speeds - speeds[near], pencils.cb - pencils.cb[near]])
+        self.dE = pencils.kb - pencils.kb[near]
+        gyro = modes.T @ pencils.G @ modes
+        self.gyro_rows = np.einsum("ji,ji->j", gyro, gyro)                   # |row j of Phi^T G Phi|^2
+        self.left = modes[pencils.rows].T                                    # (n, nb): Phi[r, j]
+        self.gyro_cross = gyro @ modes[pencils.cols].T                       # (n, nb)
+        inverse_mass = modes[pencils.cols] @ modes[pencils.cols].T           # M^-1 among the columns
+        self.inverse_mass = inverse_mass
+
+    def norms(self, size: int, rho: float):
+        """``d`` and ``e`` (S,), (S,) for the basis of the first ``size`` modes and roots up to
+        ``rho`` [rad/s]; infinite where a left-out mode is not above ``rho``."""
+        count = len(self.at)
+        if self.omegas[size] <= rho:
+            return np.full(count, np.inf), np.full(count, np.inf)
+        w = 1.0 / (self.omegas[size:] ** 2 - rho ** 2)
+        d_anchor = np.array([np.linalg.norm(w[:, None] * D[size:], 2) for D in self.D])
+        e_anchor = np.array([np.linalg.norm(w[:, None] * E[size:], 2) for E in self.E])
+        v = w ** 2
+        left = self.left[size:] * v[:, None]
+        bearings = (left.T @ self.left[size:]) * self.inverse_mass            # (nb, nb)
+        gram = np.empty((len(bearings) + 1,) * 2)
+        gram[0, 0] = v @ self.gyro_rows[size:]
+        gram[0, 1:] = gram[1:, 0] = np.einsum("jt,jt->t", left, self.gyro_cross[size:])
+        gram[1:, 1:] = bearings
+        d = d_anchor[self.at] + _quadratic_root(self.dD, gram)
+        e = e_anchor[self.at] + _quadratic_root(self.dE, bearings)
+        return d, e
 
 
-def _scaled_norms(pencils, entries, Linv):
-    """Frobenius norms of ``L^-1 X_s L^-T`` (S,) of the bearings' entries ``entries`` (S, nb)."""
-    rows, cols = pencils.rows, pencils.cols
-    out = np.empty(len(entries))
-    for part in _batches.chunk_slices(len(entries), 32 * len(Linv) ** 2):
-        scaled = (Linv[:, rows][None] * entries[part, None, :]) @ Linv[:, cols].T
-        out[part] = np.linalg.norm(scaled, axis=(-2, -1))
-    return out
+def _quadratic_root(x, gram):
+    """``sqrt(x_s^T gram x_s)`` of every row (S,) of ``x`` (S, t): the Frobenius norm of a linear
+    combination of matrices whose inner products are ``gram`` (t, t)."""
+    return np.sqrt(np.maximum(np.einsum("st,tu,su->s", x, gram, x), 0.0))
 
 
-def _needed_size(starts, omegas, d_norm, e_norm):
-    """The number of modes whose first left-out one meets :func:`_basis_suffices`'s bound for
-    roots up to 1.01 times the highest start, at every speed."""
-    rho = 1.01 * np.max(np.abs(starts), axis=1)
-    level = np.max(rho ** 2 + (rho * d_norm + e_norm) / _SHARE)
-    return int(np.searchsorted(omegas ** 2, level))
+def _needed_size(bound, rho, size):
+    """The smallest basis from ``size`` on (growing by a quarter) whose bound holds at every speed
+    for roots up to ``rho`` [rad/s]; every mode where none does."""
+    n = len(bound.omegas)
+    while size < n:
+        d, e = bound.norms(size, rho)
+        if np.all(rho * d + e <= _SHARE):
+            return size
+        size = max(size + 1, int(np.ceil(1.25 * size)))
+    return n
 
 
-def _coupling_norms(stack, pencils, symmetric):
-    """Upper bounds of the mass-normalized norms of ``C + Omega G + C_b`` and of ``K(Omega) - K_0``
-    at each speed (S,) and (S,): the 2-norms at the first speed plus ``|Omega - Omega_0|`` times
-    the gyroscopic matrix's 2-norm plus the Frobenius norms of the bearings' changes."""
-    Linv = np.linalg.inv(np.linalg.cholesky(stack.M[0]))
-
-    def scaled(matrix):
-        return Linv @ matrix @ Linv.T
-
-    speeds = pencils.speeds
-    damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(np.zeros(1, int)))
-    gyro = np.linalg.norm(scaled(pencils.G), 2)
-    d_norm = np.linalg.norm(scaled(damping0), 2) + np.abs(speeds - speeds[0]) * gyro
-    e_norm = np.full(len(speeds), np.linalg.norm(scaled(stiffness0 - symmetric), 2))
-    if len(pencils.rows):
-        d_norm += _scaled_norms(pencils, pencils.cb - pencils.cb[:1], Linv)
-        e_norm += _scaled_norms(pencils, pencils.kb - pencils.kb[:1], Linv)
-    return d_norm, e_norm
-
-
-def _joined(M, first, second):
-    """A mass-orthonormal basis of the span of two bases (n, m1) and (n, m2): the speed-dependent
-    bearings' stiffness at the sweep's two ends each gives its modes."""
-    both = np.hstack([first, second])
-    values, vectors = scipy.linalg.eigh(both.T @ M @ both)
-    keep = values > 1e-10 * values.max()
-    return both @ (vectors[:, keep] / np.sqrt(values[keep]))
-
-
-def _projected_starts(pencils, basis, want):
+def _projected_starts(pencils, basis, want, index=None):
     """The ``want`` lowest-frequency oscillating roots of the projected pencils at every speed
-    (S, want) and their vectors in full coordinates (S, want, n)."""
+    (or at the speeds ``index``) (S, want) and their vectors in full coordinates (S, want, n)."""
     n, m = basis.shape
-    speeds = pencils.speeds
+    index = np.arange(len(pencils.speeds)) if index is None else index
+    speeds, cb, kb = pencils.speeds[index], pencils.cb[index], pencils.kb[index]
     S = len(speeds)
     starts = np.empty((S, want), complex)
     vectors = np.empty((S, want, n), complex)
     Wt = basis.T
-    damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(np.zeros(1, int)))
+    damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
     D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
     # the bearings' changes from the first speed, projected entry by entry
     left, right = basis[pencils.rows].T, basis[pencils.cols]
@@ -170,8 +214,8 @@ def _projected_starts(pencils, basis, want):
         D = D0 + (speeds[part] - speeds[0])[:, None, None] * Gr                  # (P, m, m)
         Kr = np.broadcast_to(K0, D.shape)
         if len(pencils.rows):
-            D = D + (left[None] * (pencils.cb[part] - pencils.cb[:1])[:, None, :]) @ right
-            Kr = Kr + (left[None] * (pencils.kb[part] - pencils.kb[:1])[:, None, :]) @ right
+            D = D + (left[None] * (cb[part] - cb[:1])[:, None, :]) @ right
+            Kr = Kr + (left[None] * (kb[part] - kb[:1])[:, None, :]) @ right
         A = np.zeros((len(D), 2 * m, 2 * m))
         A[:, :m, m:] = np.eye(m)
         A[:, m:, :m] = -Kr              # the basis is mass-orthonormal: W^T M W = I
@@ -207,16 +251,7 @@ class _Pencils:
         self.rows = self.cols = np.zeros(0, int)
         self.kb = self.cb = np.zeros((len(speeds), 0))
         if stack.dependent:
-            from ..assembly import dependent_bearing_matrices
-
-            parts = [(part, *dependent_bearing_matrices(stack.models[0], speeds[part]))
-                     for part in _batches.chunk_slices(len(speeds), 32 * n * n)]
-            used = np.zeros((n, n), bool)
-            for _, K, C in parts:
-                used |= np.any(K != 0, axis=0) | np.any(C != 0, axis=0)
-            self.rows, self.cols = np.nonzero(used)
-            self.kb = np.concatenate([K[:, self.rows, self.cols] for _, K, _ in parts])
-            self.cb = np.concatenate([C[:, self.rows, self.cols] for _, _, C in parts])
+            self.rows, self.cols, self.kb, self.cb = _bearing_entries(stack.models[0], speeds)
         # the sparse LU's pattern: every entry of any of them
         pattern = (self.M != 0) | (self.C != 0) | (self.G != 0) | (self.K != 0)
         pattern[self.rows, self.cols] = True
@@ -229,6 +264,9 @@ class _Pencils:
         self.bearing_at = where[self.rows, self.cols]
         self.scatter = np.zeros((len(self.rows), n))
         self.scatter[np.arange(len(self.rows)), self.rows] = 1.0
+        self.band = _band(rows, cols, n)
+        # the products Q'(s) x: sparse (a dense complex product of n x n per root cost more than the solves)
+        self.sparse = [scipy.sparse.csr_matrix(matrix) for matrix in (self.M, self.C, self.G)]
 
     def dense(self, index):
         """``C + Omega G + C_b`` and ``K + K_b`` of the speeds ``index`` (P,), (P, n, n) each."""
@@ -240,28 +278,112 @@ class _Pencils:
 
     def derivative_times(self, index, lam, x):
         """``Q'(lam_p) x_p = (2 lam_p M + C + Omega G + C_b) x_p`` (P, n)."""
-        out = 2 * lam[:, None] * (x @ self.M.T) + x @ self.C.T + self.speeds[index, None] * (x @ self.G.T)
+        M, C, G = self.sparse
+        out = 2 * lam[:, None] * (M @ x.T).T + (C @ x.T).T + self.speeds[index, None] * (G @ x.T).T
         return out + (self.cb[index] * x[:, self.cols]) @ self.scatter
 
     def solve(self, index, lam, rhs):
-        """``Q(lam_p)^-1 rhs_p`` for every row: batched dense up to ``_DENSE_DOF`` coordinates, else
-        a sparse LU each (SuperLU; a shaft's pencils are banded, the stator's few coordinates a
-        border)."""
+        """``Q(lam_p)^-1 rhs_p`` for every row: batched dense up to ``_DENSE_DOF`` coordinates; a
+        banded LU each where the pencils are banded (a shaft on the ground: its elements couple
+        neighbouring nodes), in threads; else a sparse LU each (SuperLU)."""
         n = len(self.M)
         if n <= _DENSE_DOF:
             damping, stiffness = self.dense(index)
             Q = (lam[:, None, None] ** 2) * self.M + lam[:, None, None] * damping + stiffness
             return np.linalg.solve(Q, rhs[..., None])[..., 0]
-        rows, cols = self.pattern
-        m_e, c_e, g_e, k_e = (matrix[rows, cols] for matrix in (self.M, self.C, self.G, self.K))
+        if self.band is not None:
+            width = 2 * self.band.lower + self.band.upper + 1
+            return _batches._threaded(self._banded_solve, index, lam, rhs, item_bytes=16 * n * (width + 2))
         out = np.empty(rhs.shape, complex)
         for p in range(len(lam)):
-            s, speed = lam[p], self.speeds[index[p]]
-            data = s * s * m_e + s * (c_e + speed * g_e) + k_e
-            data[self.bearing_at] += s * self.cb[index[p]] + self.kb[index[p]]
-            Q = scipy.sparse.csc_matrix((data, self.indices, self.indptr), shape=(n, n))
+            Q = scipy.sparse.csc_matrix((self._entries(index[p:p + 1], lam[p:p + 1])[0], self.indices, self.indptr),
+                                        shape=(n, n))
             out[p] = scipy.sparse.linalg.splu(Q).solve(rhs[p])
         return out
+
+    def _entries(self, index, lam):
+        """The pencils' entries on the pattern, (P, nnz) complex."""
+        rows, cols = self.pattern
+        s, speed = lam[:, None], self.speeds[index, None]
+        data = s * s * self.M[rows, cols] + s * (self.C[rows, cols] + speed * self.G[rows, cols]) + self.K[rows, cols]
+        data[:, self.bearing_at] += s * self.cb[index] + self.kb[index]
+        return data
+
+    def _banded_solve(self, index, lam, rhs):
+        """:meth:`solve` by LAPACK's banded LU with partial pivoting (``zgbsv``), one row at a time."""
+        band = self.band
+        n = len(self.M)
+        out = np.empty(rhs.shape, complex)
+        for part in _batches.chunk_slices(len(lam), 16 * n * (2 * band.lower + band.upper + 3), budget=2**24):
+            data = self._entries(index[part], lam[part])
+            # LAPACK's band storage A(i, j) -> ab[kl + ku + i - j, j], Fortran order: ab.T in C order
+            ab = np.zeros((len(data), n, 2 * band.lower + band.upper + 1), complex)
+            ab[:, band.cols, band.rows] = data
+            b = np.ascontiguousarray(rhs[part][:, band.order])
+            for p in range(len(data)):
+                _, _, x, info = _zgbsv(band.lower, band.upper, ab[p].T, b[p], overwrite_ab=1, overwrite_b=1)
+                b[p] = x if info == 0 else np.nan
+            out[part][:, band.order] = b
+        return out
+
+
+def _band(rows, cols, n):
+    """The band of a pattern ``(rows, cols)`` (nnz,) each, in its own order or reverse
+    Cuthill-McKee's, whichever is narrower: ``_Band`` (lower and upper bandwidth, the order, each
+    entry's place in LAPACK's band storage), or None where the band is too wide to pay."""
+    import scipy.sparse.csgraph
+
+    graph = scipy.sparse.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, n))
+    best = None
+    for order in (np.arange(n), scipy.sparse.csgraph.reverse_cuthill_mckee(graph + graph.T, symmetric_mode=True)):
+        place = np.empty(n, int)
+        place[order] = np.arange(n)
+        i, j = place[rows], place[cols]
+        lower, upper = int(max(0, np.max(i - j))), int(max(0, np.max(j - i)))
+        if best is None or lower + upper < best.lower + best.upper:
+            best = _Band(lower, upper, np.asarray(order), j, lower + upper + i - j)
+    if (2 * best.lower + best.upper + 1) * _BAND_SHARE > n:
+        return None
+    return best
+
+
+class _Band(typing.NamedTuple):
+    lower: int
+    upper: int
+    order: np.ndarray          # (n,) the band's coordinates: q[order]
+    cols: np.ndarray           # (nnz,) each entry's column in the band's order
+    rows: np.ndarray           # (nnz,) each entry's row in LAPACK's band storage
+
+
+def _bearing_entries(model, speeds):
+    """The speed-dependent bearings' entries of K and C: positions (nb,), (nb,) and values
+    (S, nb), (S, nb) at every speed (the rows and columns a bearing's relative motion touches)."""
+    from ..assembly import bearing_motion
+    from ..elements.bearings import evaluate
+
+    n = model.dofs.n
+    keys, stiffness, damping = [], [], []
+    for bearing in model.bearings:
+        if bearing.coefficients.kind == "constant":
+            continue
+        own = model.rotor(bearing.rotor).speed_ratio * speeds
+        k6, c6 = evaluate(bearing.coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
+        where, moves = bearing_motion(model, bearing)
+        used = np.nonzero(np.any(moves != 0, axis=0))[0]
+        part = moves[:, used]
+        index = np.arange(n)[where][used]
+        keys.append((index[:, None] * n + index[None, :]).reshape(-1))
+        stiffness.append((part.T @ k6 @ part).reshape(len(speeds), -1))
+        damping.append((part.T @ c6 @ part).reshape(len(speeds), -1))
+    if not keys:
+        return np.zeros(0, int), np.zeros(0, int), np.zeros((len(speeds), 0)), np.zeros((len(speeds), 0))
+    unique, inverse = np.unique(np.concatenate(keys), return_inverse=True)
+    kb, cb = np.zeros((len(speeds), len(unique))), np.zeros((len(speeds), len(unique)))
+    np.add.at(kb, (slice(None), inverse), np.hstack(stiffness))
+    np.add.at(cb, (slice(None), inverse), np.hstack(damping))
+    # the entries some speed's coefficients make nonzero (a bearing's tilt coordinates carry none)
+    used = np.any(kb != 0, axis=0) | np.any(cb != 0, axis=0)
+    return unique[used] // n, unique[used] % n, kb[:, used], cb[:, used]
 
 
 def _refined(pencils, starts, vectors):
@@ -275,6 +397,7 @@ def _refined(pencils, starts, vectors):
     index = np.repeat(np.arange(S), k)
     c = x.conj()
     done = np.zeros(len(lam), bool)
+    last = np.full(len(lam), np.inf)          # the previous relative step (none yet)
     for _ in range(_ITERATIONS):
         todo = np.nonzero(~done)[0]
         if not len(todo):
@@ -284,7 +407,12 @@ def _refined(pencils, starts, vectors):
         step = np.einsum("pi,pi->p", c[todo], x[todo]) / cu
         lam[todo] -= step
         x[todo] = u / cu[:, None]
-        done[todo] = np.abs(step) <= _STEP * np.abs(lam[todo])
+        relative = np.abs(step) / np.abs(lam[todo])
+        # quadratic convergence (error e' = k e^2, the steps are the errors): the error left after
+        # this step is about k relative^2 with k = relative / last^2
+        left = relative ** 3 / np.where(np.isfinite(last[todo]), last[todo], np.nan) ** 2
+        done[todo] = (relative <= _STEP) | ((relative <= _ASYMPTOTIC) & (left <= _LEFT))
+        last[todo] = relative
     ok = done & np.isfinite(lam)
     return lam.reshape(S, k), _vectors.unit_rows(x.reshape(S, k, n)), ok.reshape(S, k).all(axis=1)
 
@@ -292,34 +420,58 @@ def _refined(pencils, starts, vectors):
 #: the largest share of a wanted root's shape the bound allows outside the basis
 _SHARE = 0.1
 
+#: speeds whose projected roots estimate the highest root wanted, and the margin put on it
+_FEW, _MARGIN = 5, 1.05
+
+#: speeds where the bound's norms are taken exactly (2-norms); the others add their change from
+#: the nearest one (Frobenius)
+_ANCHORS = 3
+
 #: pencils up to this many coordinates are solved dense and batched
 _DENSE_DOF = 48
 
+#: a banded LU is taken where the band storage (2 kl + ku + 1 rows) is at most this part of n
+_BAND_SHARE = 4
+
 
 def _distinct(values):
-    """(S,) no two refined roots of a speed are one root, and they are still by frequency."""
+    """(S,) no two refined roots of a speed are one root, and all are modes."""
     lam = values
     gaps = np.abs(lam[:, :, None] - lam[:, None, :])
     same = gaps <= _SAME * np.abs(lam[:, :, None])
     np.einsum("sii->si", same)[...] = False
-    ordered = np.all(np.diff(lam.imag, axis=1) >= -_SAME * np.abs(lam[:, 1:]), axis=1)
-    return ~same.any(axis=(1, 2)) & ordered & is_oscillating(lam).all(axis=1)
+    return ~same.any(axis=(1, 2)) & is_oscillating(lam).all(axis=1)
 
 
-def _basis_suffices(values, omegas, size, d_norm, e_norm):
+def _unmissed(starts, values, count):
+    """(S,) no projected root left unrefined can stand for a root below the ``count``-th found.
+
+    The starts are the lowest projected roots by frequency (S, k), ``values`` (S, k) their refined
+    roots in the same order. A root of the full model missing from ``values`` has a projected root
+    near it (see :func:`_basis_suffices`) that was not refined: its frequency is at least the
+    highest start's. Taking the largest move from start to root of the speed as how near, that root
+    lies above the ``count``-th lowest found when the highest start, less that move, does."""
+    if starts.shape[1] <= count:        # a basis of every mode (n <= count): the projected pencil is the full one
+        return np.ones(len(values), bool)
+    moved = np.max(np.abs(starts - values), axis=1)
+    found = np.sort(values.imag, axis=1)[:, count - 1]
+    return starts[:, -1].imag - moved > found
+
+
+def _basis_suffices(values, bound, size, rho):
     """(S,) the undamped modes left out of the basis are far enough above the wanted roots.
 
-    A root ``s`` with shape ``x`` of the full pencil has, along a left-out undamped mode ``j``
-    (``omega_j``) of the basis's symmetric stiffness ``K_0``, the modal amplitude
-    ``|q_j| <= (|s| d + e) ||x|| / (omega_j^2 - |s|^2)``, ``d`` and ``e`` the mass-normalized
-    norms of ``C + Omega G`` and of ``K(Omega) - K_0``. Every root up to the highest one refined,
-    ``rho``, is required to lie at least 90 % in the basis: ``(rho d + e) <= 0.1 (omega_m^2 -
-    rho^2)``. Otherwise the projected pencil may lack it and the speed is solved whole."""
-    if size >= len(omegas):
+    A root ``s`` with shape ``x = Phi q`` of the full pencil has, along a left-out undamped mode
+    ``j`` of the basis's symmetric stiffness ``K_0``, ``(s^2 + omega_j^2) q_j = -phi_j^T (s D + E) x``,
+    so the left-out part of ``q`` is at most ``(|s| d + e) |q|`` (:class:`_Bound`). Every root up to
+    the highest one refined, ``rho_s``, is required to lie at least 90 % in the basis: ``rho_s d +
+    e <= 0.1``. Otherwise the projected pencil may lack it and the speed is solved whole."""
+    if size >= len(bound.omegas):
         return np.ones(len(values), bool)
-    rho = np.max(np.abs(values), axis=1)
-    margin = omegas[size] ** 2 - rho ** 2
-    return (margin > 0) & (rho * d_norm + e_norm <= _SHARE * np.where(margin > 0, margin, 1.0))
+    highest = np.max(np.abs(values), axis=1)
+    top = np.max(highest[np.isfinite(highest)], initial=rho)
+    d, e = bound.norms(size, max(rho, top))
+    return np.isfinite(highest) & (highest * d + e <= _SHARE)
 
 
 def _full_lowest(stack, speeds, count):

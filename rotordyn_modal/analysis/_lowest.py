@@ -94,14 +94,15 @@ def _reduced_roots(stack, speeds, count):
     # the highest root wanted, from a few speeds (an underestimate only makes the final check stricter)
     few = np.unique(np.round(np.linspace(0, len(speeds) - 1, min(len(speeds), _FEW))).astype(int))
     rho = _MARGIN * np.max(np.abs(_projected_starts(pencils, modes[:, :size], want, few)[0]))
-    size = min(n, max(size, _needed_size(bound, rho, size)))
-    starts, vectors = _projected_starts(pencils, modes[:, :size], want)
+    size = min(n, max(_needed_size(bound, rho, size), want))
+    _, attached = bound.shares(size, rho)
+    starts, vectors = _projected_starts(pencils, np.hstack([modes[:, :size], attached]), want)
     values, shapes, ok = _refined(pencils, starts, vectors)
     ok &= _distinct(values) & _unmissed(starts, values, count)
     # Newton may reorder roots of close frequency: by frequency again
     order = np.argsort(np.where(is_oscillating(values), values.imag, np.inf), axis=1, kind="stable")
     values, shapes = np.take_along_axis(values, order, 1), np.take_along_axis(shapes, order[..., None], 1)
-    return values, shapes, ok & _basis_suffices(values, bound, size, rho)
+    return values, shapes, ok & _basis_suffices(values, bound, size, attached.shape[1], rho)
 
 
 def _basis(stack, speed):
@@ -117,15 +118,21 @@ def _basis(stack, speed):
 
 
 class _Bound:
-    """Upper bounds, at every speed, of the coupling of the roots below ``rho`` to the undamped
-    modes left out of a basis of the first ``m`` (docs/theory.md section 17, "Completeness").
+    """How much of a root below ``rho`` can lie outside a basis of the first ``m`` undamped modes
+    and ``k`` attachment directions, at every speed (docs/theory.md section 17, "Completeness").
 
-    With ``Phi`` the mass-orthonormal undamped modes of ``(K_0, M)`` (all ``n``), ``D = C + Omega G
-    + C_b(Omega)`` and ``E = K(Omega) - K_0``, the bound of a speed is ``rho d + e`` with ``d`` the
-    2-norm of ``W Phi_out^T D Phi``, ``W = diag(1 / (omega_j^2 - rho^2))`` over the left-out modes
-    ``j >= m``, and ``e`` that of ``E``: the 2-norm exactly at a few anchor speeds, plus the
-    Frobenius norm of the change to the nearest anchor (``(Omega - Omega_a) G`` and the bearings'
-    entries), which is linear in a few numbers per speed and so comes from a small Gram matrix.
+    With ``Phi`` the mass-orthonormal undamped modes of ``(K_0, M)`` (all ``n``), the damping
+    ``C + C_b(Omega)`` and the stiffness's departure ``K(Omega) - K_0`` act on a few coordinates
+    ``L`` only (bearings, seals, dampers: ``B_c``, ``B_k``, ``|L| x |L|``), the gyroscopic matrix
+    ``G`` everywhere. A root ``(s, x = Phi q)`` has, along a left-out mode ``j``,
+    ``q_j = -(phi_j^T (s Omega G x + F z)) / (s^2 + omega_j^2)``, ``z = (s B_c + B_k) x_L``; the part
+    ``-phi_j^T F z / omega_j^2`` is the static response to the bearing forces (the attachments
+    ``K_0^-1 F``, kept in the basis along their ``k`` strongest directions), and the rest is at
+    most ``(a + sigma_k) mu (rho |B_c| + |B_k|) + rho |Omega| g`` times ``|q|``, with
+    ``a = |diag(rho^2 / (omega_j^2 (omega_j^2 - rho^2))) Phi_L^T|``, ``sigma_k`` the largest
+    attachment direction left out, ``mu = |Phi_L|`` and ``g = |diag(1 / (omega_j^2 - rho^2))
+    Phi^T G Phi|`` over the left-out modes (Frobenius norms where cheaper, 2-norms of the
+    bearings' blocks at every speed).
 
     Parameters
     ----------
@@ -138,62 +145,73 @@ class _Bound:
     """
 
     def __init__(self, pencils, omegas, modes, symmetric):
-        speeds = pencils.speeds
-        count = len(speeds)
-        self.omegas = omegas
-        self.anchors = np.unique(np.round(np.linspace(0, count - 1, min(count, _ANCHORS))).astype(int))
-        at = np.argmin(np.abs(np.arange(count)[:, None] - self.anchors[None]), axis=1)
-        self.at, near = at, self.anchors[at]
-        damping, stiffness = pencils.dense(self.anchors)
-        self.D = modes.T @ damping @ modes                                   # (A, n, n)
-        self.E = modes.T @ (stiffness - symmetric) @ modes
-        # the changes from the nearest anchor: [Omega, c_b entries] and [k_b entries], (S, 1 + nb) and (S, nb)
-        self.dD = np.column_stack([speeds - speeds[near], pencils.cb - pencils.cb[near]])
-        self.dE = pencils.kb - pencils.kb[near]
+        self.omegas, self.modes, self.speeds = omegas, modes, pencils.speeds
+        offset = pencils.K - symmetric
+        self.local = np.unique(np.concatenate([*np.nonzero(pencils.C), *np.nonzero(offset),
+                                               pencils.rows, pencils.cols])).astype(int)
+        self.damping_norms, self.stiffness_norms = _local_norms(pencils, offset, self.local)
+        self.reach = np.linalg.norm(modes[self.local], 2) if len(self.local) else 0.0
         gyro = modes.T @ pencils.G @ modes
-        self.gyro_rows = np.einsum("ji,ji->j", gyro, gyro)                   # |row j of Phi^T G Phi|^2
-        self.left = modes[pencils.rows].T                                    # (n, nb): Phi[r, j]
-        self.gyro_cross = gyro @ modes[pencils.cols].T                       # (n, nb)
-        inverse_mass = modes[pencils.cols] @ modes[pencils.cols].T           # M^-1 among the columns
-        self.inverse_mass = inverse_mass
+        self.gyro_rows = np.einsum("ji,ji->j", gyro, gyro)
+        self.local_rows = np.einsum("ij,ij->j", modes[self.local], modes[self.local])
 
-    def norms(self, size: int, rho: float):
-        """``d`` and ``e`` (S,), (S,) for the basis of the first ``size`` modes and roots up to
-        ``rho`` [rad/s]; infinite where a left-out mode is not above ``rho``."""
-        count = len(self.at)
+    def shares(self, size: int, rho: float, directions: int | None = None):
+        """The bound at every speed (S,) for roots up to ``rho`` [rad/s] and the basis of the first
+        ``size`` modes with ``directions`` attachment directions (default: the fewest meeting
+        ``_SHARE`` at every speed, or all), and those directions (n, k), mass-orthonormal."""
+        n = len(self.omegas)
+        if size >= n:
+            return np.zeros(len(self.speeds)), np.zeros((n, 0))
         if self.omegas[size] <= rho:
-            return np.full(count, np.inf), np.full(count, np.inf)
-        w = 1.0 / (self.omegas[size:] ** 2 - rho ** 2)
-        d_anchor = np.array([np.linalg.norm(w[:, None] * D[size:], 2) for D in self.D])
-        e_anchor = np.array([np.linalg.norm(w[:, None] * E[size:], 2) for E in self.E])
-        v = w ** 2
-        left = self.left[size:] * v[:, None]
-        bearings = (left.T @ self.left[size:]) * self.inverse_mass            # (nb, nb)
-        gram = np.empty((len(bearings) + 1,) * 2)
-        gram[0, 0] = v @ self.gyro_rows[size:]
-        gram[0, 1:] = gram[1:, 0] = np.einsum("jt,jt->t", left, self.gyro_cross[size:])
-        gram[1:, 1:] = bearings
-        d = d_anchor[self.at] + _quadratic_root(self.dD, gram)
-        e = e_anchor[self.at] + _quadratic_root(self.dE, bearings)
-        return d, e
+            return np.full(len(self.speeds), np.inf), np.zeros((n, 0))
+        omega2 = self.omegas[size:] ** 2
+        w = 1.0 / (omega2 - rho ** 2)
+        gyro = np.sqrt(w ** 2 @ self.gyro_rows[size:])
+        attached = np.sqrt((rho ** 2 * w / omega2) ** 2 @ self.local_rows[size:])
+        static = self.modes[self.local, size:].T / omega2[:, None]            # (n - m, |L|)
+        left, sigma, _ = np.linalg.svd(static, full_matrices=False)
+        force = self.reach * (rho * self.damping_norms + self.stiffness_norms)
+        base = rho * np.abs(self.speeds) * gyro
+        tails = np.append(sigma, 0.0)                                         # sigma_k, k = 0 .. |L|
+        if directions is None:
+            meets = np.nonzero((attached + tails) * np.max(force, initial=0.0) + np.max(base) <= _SHARE)[0]
+            directions = int(meets[0]) if len(meets) else len(sigma)
+        bound = (attached + tails[directions]) * force + base
+        return bound, self.modes[:, size:] @ left[:, :directions]
 
 
-def _quadratic_root(x, gram):
-    """``sqrt(x_s^T gram x_s)`` of every row (S,) of ``x`` (S, t): the Frobenius norm of a linear
-    combination of matrices whose inner products are ``gram`` (t, t)."""
-    return np.sqrt(np.maximum(np.einsum("st,tu,su->s", x, gram, x), 0.0))
+def _local_norms(pencils, offset, local):
+    """2-norms of the damping ``C + C_b`` and of ``K + K_b - K_0`` on the coordinates ``local``
+    at every speed, (S,) each (zeros without such coordinates)."""
+    count = len(pencils.speeds)
+    if not len(local):
+        return np.zeros(count), np.zeros(count)
+    block = np.ix_(local, local)
+    where = np.full((len(offset),) * 2, -1)
+    where[block] = np.arange(len(local) ** 2).reshape(len(local), len(local))
+    at = where[pencils.rows, pencils.cols]
+    out = np.empty((2, count))
+    for part in _batches.chunk_slices(count, 16 * len(local) ** 2):
+        for i, (constant, entries) in enumerate(((pencils.C[block], pencils.cb), (offset[block], pencils.kb))):
+            matrices = np.repeat(constant.reshape(1, -1), part.stop - part.start, axis=0)
+            np.add.at(matrices, (slice(None), at), entries[part])
+            out[i, part] = np.linalg.norm(matrices.reshape(-1, len(local), len(local)), 2, axis=(1, 2))
+    return out[0], out[1]
 
 
 def _needed_size(bound, rho, size):
-    """The smallest basis from ``size`` on (growing by a quarter) whose bound holds at every speed
-    for roots up to ``rho`` [rad/s]; every mode where none does."""
+    """The modes of the basis: of the sizes from the first mode above ``rho`` on, the one whose
+    bound holds at every speed with the fewest modes and attachment directions together."""
     n = len(bound.omegas)
-    while size < n:
-        d, e = bound.norms(size, rho)
-        if np.all(rho * d + e <= _SHARE):
-            return size
-        size = max(size + 1, int(np.ceil(1.25 * size)))
-    return n
+    first = int(np.searchsorted(bound.omegas, 1.1 * rho))
+    best, best_total = n, n
+    for m in np.unique(np.round(np.geomspace(max(first, 1), n, 24)).astype(int)):
+        if m >= best_total:
+            break
+        shares, directions = bound.shares(int(m), rho)
+        if np.all(shares <= _SHARE) and m + directions.shape[1] < best_total:
+            best, best_total = int(m), int(m) + directions.shape[1]
+    return best
 
 
 def _projected_starts(pencils, basis, want, index=None):
@@ -423,9 +441,6 @@ _SHARE = 0.1
 #: speeds whose projected roots estimate the highest root wanted, and the margin put on it
 _FEW, _MARGIN = 5, 1.05
 
-#: speeds where the bound's norms are taken exactly (2-norms); the others add their change from
-#: the nearest one (Frobenius)
-_ANCHORS = 3
 
 #: pencils up to this many coordinates are solved dense and batched
 _DENSE_DOF = 48
@@ -458,20 +473,14 @@ def _unmissed(starts, values, count):
     return starts[:, -1].imag - moved > found
 
 
-def _basis_suffices(values, bound, size, rho):
-    """(S,) the undamped modes left out of the basis are far enough above the wanted roots.
-
-    A root ``s`` with shape ``x = Phi q`` of the full pencil has, along a left-out undamped mode
-    ``j`` of the basis's symmetric stiffness ``K_0``, ``(s^2 + omega_j^2) q_j = -phi_j^T (s D + E) x``,
-    so the left-out part of ``q`` is at most ``(|s| d + e) |q|`` (:class:`_Bound`). Every root up to
-    the highest one refined, ``rho_s``, is required to lie at least 90 % in the basis: ``rho_s d +
-    e <= 0.1``. Otherwise the projected pencil may lack it and the speed is solved whole."""
-    if size >= len(bound.omegas):
-        return np.ones(len(values), bool)
+def _basis_suffices(values, bound, size, directions, rho):
+    """(S,) the basis (``size`` modes, ``directions`` attachment directions) holds at least 90 % of
+    every root up to the highest one refined (:class:`_Bound`, at ``rho`` or that root if higher);
+    otherwise the projected pencil may lack a root and the speed is solved whole."""
     highest = np.max(np.abs(values), axis=1)
     top = np.max(highest[np.isfinite(highest)], initial=rho)
-    d, e = bound.norms(size, max(rho, top))
-    return np.isfinite(highest) & (highest * d + e <= _SHARE)
+    shares, _ = bound.shares(size, max(rho, top), directions)
+    return np.isfinite(highest) & (shares <= _SHARE)
 
 
 def _full_lowest(stack, speeds, count):

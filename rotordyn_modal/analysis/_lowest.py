@@ -26,7 +26,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 from scipy.linalg.lapack import zgbsv as _zgbsv
 
-from . import _batches, _vectors
+from . import _batches, _pencils, _vectors
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]
@@ -42,6 +42,12 @@ _STEP = 1e-11
 _ASYMPTOTIC, _LEFT = 1e-5, 1e-13
 #: refined roots closer than this times |lam| are one root reached twice
 _SAME = 1e-8
+
+#: models of fewer coordinates solve every root of every speed (one batched eig) and keep the
+#: lowest: faster there (benchmarks/README.md, "The lowest modes only": the dense solve is faster
+#: up to about 50 coordinates, but from 39 on the Newton roots are kept, 10-20 % dearer: they keep
+#: an undamped gyroscopic model's roots on the imaginary axis to 1e-12, the dense eig to 3e-10)
+DENSE_BELOW = 38
 
 
 def lowest_roots(stack, speeds, count: int):
@@ -63,6 +69,9 @@ def lowest_roots(stack, speeds, count: int):
     full : ndarray of bool, shape (S,)
         The speeds solved whole (fallback).
     """
+    if stack.n_dof < DENSE_BELOW:           # every root of every speed costs less here
+        lam, phi = _full_lowest(stack, speeds, count)
+        return lam, phi, np.ones(len(speeds), bool)
     # its dense steps are small BLAS calls (n x n once, m x m per speed): BLAS's own threads only
     # wait for a core on a shared machine (measured up to 10x slower at load 5); the batched
     # eigen-solves and banded solves run in threads of their own
@@ -328,49 +337,96 @@ class _Pencils:
         return data
 
     def _banded_solve(self, index, lam, rhs):
-        """:meth:`solve` by LAPACK's banded LU with partial pivoting (``zgbsv``), one row at a time."""
+        """:meth:`solve` by LAPACK's banded LU with partial pivoting (``zgbsv``), one row at a
+        time, and a Schur complement for the border (a casing's coordinates), batched."""
         band = self.band
-        n = len(self.M)
+        n, k = len(self.M), len(band.order) - band.size
+        size, width = band.size, 2 * band.lower + band.upper + 1
         out = np.empty(rhs.shape, complex)
-        for part in _batches.chunk_slices(len(lam), 16 * n * (2 * band.lower + band.upper + 3), budget=2**24):
+        for part in _batches.chunk_slices(len(lam), 16 * n * (width + 3 * k + 2), budget=2**24):
             data = self._entries(index[part], lam[part])
+            count = len(data)
             # LAPACK's band storage A(i, j) -> ab[kl + ku + i - j, j], Fortran order: ab.T in C order
-            ab = np.zeros((len(data), n, 2 * band.lower + band.upper + 1), complex)
-            ab[:, band.cols, band.rows] = data
-            b = np.ascontiguousarray(rhs[part][:, band.order])
-            for p in range(len(data)):
-                _, _, x, info = _zgbsv(band.lower, band.upper, ab[p].T, b[p], overwrite_ab=1, overwrite_b=1)
-                b[p] = x if info == 0 else np.nan
-            out[part][:, band.order] = b
+            ab = np.zeros((count, size, width), complex)
+            ab[:, band.cols[band.inside], band.rows[band.inside]] = data[:, band.inside]
+            # the border's columns (every row) and rows (the band's columns), (P, n, k) and (P, k, size)
+            columns, rows = np.zeros((count, n, k), complex), np.zeros((count, k, size), complex)
+            columns[:, band.place_rows[band.right], band.cols[band.right] - size] = data[:, band.right]
+            rows[:, band.place_rows[band.below] - size, band.cols[band.below]] = data[:, band.below]
+            b = rhs[part][:, band.order]
+            # B^-1 [b_1, E]: one banded solve with k + 1 right-hand sides each
+            y = np.empty((count, k + 1, size), complex)
+            y[:, 0], y[:, 1:] = b[:, :size], np.swapaxes(columns[:, :size], 1, 2)
+            for p in range(count):
+                _, _, x, info = _zgbsv(band.lower, band.upper, ab[p].T, y[p].T, overwrite_ab=1, overwrite_b=1)
+                y[p] = x.T if info == 0 else np.nan
+            solution = np.empty((count, n), complex)
+            solution[:, :size] = y[:, 0]
+            if k:
+                schur = columns[:, size:] - rows @ np.swapaxes(y[:, 1:], 1, 2)                 # (P, k, k)
+                border = _pencils._solve(schur, (b[:, size:] - np.einsum("pki,pi->pk", rows, y[:, 0]))[..., None])[..., 0]
+                solution[:, size:] = border
+                solution[:, :size] -= np.einsum("pki,pk->pi", y[:, 1:], border)
+            out[part][:, band.order] = solution
         return out
 
 
 def _band(rows, cols, n):
-    """The band of a pattern ``(rows, cols)`` (nnz,) each, in its own order or reverse
-    Cuthill-McKee's, whichever is narrower: ``_Band`` (lower and upper bandwidth, the order, each
-    entry's place in LAPACK's band storage), or None where the band is too wide to pay."""
+    """The band of a pattern ``(rows, cols)`` (nnz,) each: a border of at most ``_BORDER``
+    coordinates (a casing's, coupled to distant nodes) set apart, the others in their own order
+    or reverse Cuthill-McKee's, whichever is narrower: ``_Band``, or None where the band is too
+    wide to pay."""
+    border = []
+    for _ in range(_BORDER + 1):
+        best = _narrowest(rows, cols, n, border)
+        if (2 * best.lower + best.upper + 1) * _BAND_SHARE <= n:
+            return best
+        if len(border) == _BORDER:
+            return None
+        # the coordinate coupled farthest in the band's order goes to the border
+        keep = np.isin(rows, border, invert=True) & np.isin(cols, border, invert=True)
+        where = best.place_rows[keep], best.cols[keep]
+        reach = np.zeros(n)
+        np.maximum.at(reach, best.order[where[0]], np.abs(where[0] - where[1]))
+        reach[border] = -1.0
+        border.append(int(np.argmax(reach)))
+    return None
+
+
+def _narrowest(rows, cols, n, border):
+    """:func:`_band` with the coordinates ``border`` set apart (last)."""
     import scipy.sparse.csgraph
 
-    graph = scipy.sparse.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, n))
+    inner = np.setdiff1d(np.arange(n), border)
+    keep = np.isin(rows, inner) & np.isin(cols, inner)
+    graph = scipy.sparse.csr_matrix((np.ones(int(keep.sum())), (rows[keep], cols[keep])), shape=(n, n))
+    graph = (graph + graph.T)[inner][:, inner]
     best = None
-    for order in (np.arange(n), scipy.sparse.csgraph.reverse_cuthill_mckee(graph + graph.T, symmetric_mode=True)):
+    for order in (inner, inner[scipy.sparse.csgraph.reverse_cuthill_mckee(graph.tocsr(), symmetric_mode=True)]):
+        order = np.concatenate([order, np.asarray(border, int)])
         place = np.empty(n, int)
         place[order] = np.arange(n)
         i, j = place[rows], place[cols]
-        lower, upper = int(max(0, np.max(i - j))), int(max(0, np.max(j - i)))
+        size = len(inner)
+        inside = (i < size) & (j < size)
+        lower = int(max(0, np.max(i - j, where=inside, initial=0)))
+        upper = int(max(0, np.max(j - i, where=inside, initial=0)))
         if best is None or lower + upper < best.lower + best.upper:
-            best = _Band(lower, upper, np.asarray(order), j, lower + upper + i - j)
-    if (2 * best.lower + best.upper + 1) * _BAND_SHARE > n:
-        return None
+            best = _Band(lower, upper, order, size, i, j, lower + upper + i - j, inside, j >= size, (i >= size) & (j < size))
     return best
 
 
 class _Band(typing.NamedTuple):
     lower: int
     upper: int
-    order: np.ndarray          # (n,) the band's coordinates: q[order]
-    cols: np.ndarray           # (nnz,) each entry's column in the band's order
+    order: np.ndarray          # (n,) the band's coordinates, then the border's: q[order]
+    size: int                  # coordinates in the band
+    place_rows: np.ndarray     # (nnz,) each entry's row in that order
+    cols: np.ndarray           # (nnz,) each entry's column in that order
     rows: np.ndarray           # (nnz,) each entry's row in LAPACK's band storage
+    inside: np.ndarray         # (nnz,) bool: the entry is in the band
+    right: np.ndarray          # (nnz,) bool: in a border column
+    below: np.ndarray          # (nnz,) bool: in a border row, a band column
 
 
 def _bearing_entries(model, speeds):
@@ -445,8 +501,9 @@ _FEW, _MARGIN = 5, 1.05
 #: pencils up to this many coordinates are solved dense and batched
 _DENSE_DOF = 48
 
-#: a banded LU is taken where the band storage (2 kl + ku + 1 rows) is at most this part of n
-_BAND_SHARE = 4
+#: a banded LU is taken where the band storage (2 kl + ku + 1 rows) is at most this part of n,
+#: with at most ``_BORDER`` coordinates set apart as a border (a casing's six motions, mounts)
+_BAND_SHARE, _BORDER = 2, 12
 
 
 def _distinct(values):

@@ -3,16 +3,19 @@
 Three steps (``docs/theory.md``, "The lowest modes only"):
 
 1. a speed-independent basis: the ``m`` lowest undamped modes of the symmetric parts of the
-   stiffness and mass at the sweep's first speed, mass-orthonormal;
-2. the projected pencils (``m x m``) of every speed, solved in one batched ``numpy.linalg.eig``
-   of their ``2m x 2m`` state matrices: starts for the wanted roots;
+   stiffness and mass at the sweep's first speed, mass-orthonormal, and ``k`` attachment
+   directions (the static response to forces where the bearings act, outside those modes);
+2. the projected pencils (``(m + k)`` square) of every speed, solved in one batched
+   ``numpy.linalg.eig`` of their state matrices: starts for the wanted roots;
 3. each start refined to the full model's root by Newton's iteration on the full quadratic
-   pencil ``Q(s) = s^2 M + s (C + Omega G) + K`` (batched LU solves over speeds and roots),
-   until the step is at round-off.
+   pencil ``Q(s) = s^2 M + s (C + Omega G) + K`` (a banded LU per root and iteration where the
+   pencils are banded, with a casing's coordinates as a border; batched dense LU for small
+   models; SuperLU otherwise), until the error left is at round-off.
 
-A speed where the refined roots are not ``count + 1`` distinct roots (two starts reaching one
-root), or where the basis cannot be shown to hold every root below the wanted ones (see
-:func:`_basis_suffices`), is solved whole instead (the full eigen-solve), with a notice.
+A speed where the refined roots are not ``count + 1`` distinct modes, where a projected root
+left unrefined could stand for a lower root, or where the basis cannot be shown to hold every
+root below the wanted ones (see :class:`_Bound`), is solved whole instead (the full
+eigen-solve), with a notice. Models below ``DENSE_BELOW`` coordinates are solved whole.
 """
 
 from __future__ import annotations

@@ -207,7 +207,9 @@ def _local_norms(pencils, offset, local):
         for i, (constant, entries) in enumerate(((pencils.C[block], pencils.cb), (offset[block], pencils.kb))):
             matrices = np.repeat(constant.reshape(1, -1), part.stop - part.start, axis=0)
             np.add.at(matrices, (slice(None), at), entries[part])
-            out[i, part] = np.linalg.norm(matrices.reshape(-1, len(local), len(local)), 2, axis=(1, 2))
+            # 2-norms of small blocks; Frobenius norms (larger, as cheap as the entries) of large ones
+            order = 2 if len(local) <= _EXACT_NORMS else "fro"
+            out[i, part] = np.linalg.norm(matrices.reshape(-1, len(local), len(local)), order, axis=(1, 2))
     return out[0], out[1]
 
 
@@ -496,6 +498,9 @@ def _refined(pencils, starts, vectors):
 
 #: the largest share of a wanted root's shape the bound allows outside the basis
 _SHARE = 0.1
+
+#: the bearings' blocks up to this size get their 2-norms at every speed, larger ones Frobenius norms
+_EXACT_NORMS = 64
 
 #: speeds whose projected roots estimate the highest root wanted, and the margin put on it
 _FEW, _MARGIN = 5, 1.05

@@ -39,7 +39,9 @@ file. Per rotor: the largest relative difference of ROSS's lateral roots (dense
 ``run_modal`` at the reference speeds) to rotordyn_modal's, the largest difference of their
 log decrements, and the Campbell time per speed of both (ROSS ``run_campbell(speeds,
 frequencies=12)``; ``rdm.campbell(model, speeds, critical=False)`` of all modes, and with ``modes=12`` (the
-lowest 12 only) where it offers that) as ratios from one run. Without flexible rotors in rotordyn_modal (a checkout
+lowest 12 only) where it offers that) as ratios from one run: the three are timed in turn
+``--repeat`` times, and the ratios' min / median / max printed, with the largest relative
+difference of the lowest 12 roots from the 12 lowest of all modes ("low vs all"). Without flexible rotors in rotordyn_modal (a checkout
 before them) the script says so and keeps the rigid comparison.
 """
 
@@ -443,21 +445,29 @@ def flexible_comparison(names, n_speeds: int, repeat: int) -> None:
         return
     from rotordyn_modal.io.ross_file import read_ross_rotor
 
-    print(f"{'rotor':>20} {'ROSS DOF':>8} {'rdm DOF':>7} | {'max rel. diff':>13} {'log dec diff':>12} | "
-          f"{'ROSS ms/speed':>13} {'rdm all':>9} {'rdm low 12':>10} {'ROSS/all':>8} {'ROSS/low':>8}")
+    print(f"{'rotor':>20} {'ROSS DOF':>8} {'rdm DOF':>7} | {'max rel. diff':>13} {'log dec diff':>12} "
+          f"{'low vs all':>10} | {'ROSS ms/speed':>13} {'rdm all':>9} {'rdm low 12':>10} | "
+          f"{'ROSS/all min/med/max':>20} {'ROSS/low min/med/max':>20}")
     for name in names:
         path = DATA / f"{name}.toml"
         reference = json.loads((DATA / f"{name}.json").read_text())
-        model = rdm.Model.from_dict(read_ross_rotor(path), source=str(path))
+        model = rdm.Model.from_dict(read_ross_rotor(path), source=path)
         with _quiet():
             rotor = rs.Rotor.load(path)
         rel, log_dec = root_agreement(model, rotor, reference, lateral_modes)
         speeds = [case["speed"] for case in reference["modal"]]
         grid = np.linspace(min(speeds), max(speeds), n_speeds)
-        t_ross, t_all, t_low = campbell_times(model, path, grid, repeat)
-        low = (f"{t_low / n_speeds * 1e3:10.3f}", f"{t_ross / t_low:7.0f}x") if t_low else (f"{'-':>10}", f"{'-':>8}")
-        print(f"{name:>20} {rotor.ndof:8d} {model.dofs.n:7d} | {rel:13.1e} {log_dec:12.1e} | "
-              f"{t_ross / n_speeds * 1e3:13.2f} {t_all / n_speeds * 1e3:9.3f} {low[0]} {t_ross / t_all:7.0f}x {low[1]}")
+        t_ross, t_all, t_low, low_vs_all = campbell_times(model, path, grid, repeat)
+        per_speed = [f"{np.median(t) / n_speeds * 1e3:{w}.3f}" if t is not None else f"{'-':>{w}}"
+                     for t, w in ((t_all, 9), (t_low, 10))]
+        ratios = [_spread(t_ross / t) if t is not None else f"{'-':>20}" for t in (t_all, t_low)]
+        print(f"{name:>20} {rotor.ndof:8d} {model.dofs.n:7d} | {rel:13.1e} {log_dec:12.1e} {low_vs_all:10.1e} | "
+              f"{np.median(t_ross) / n_speeds * 1e3:13.2f} {per_speed[0]} {per_speed[1]} | {ratios[0]} {ratios[1]}")
+
+
+def _spread(ratios) -> str:
+    """min / median / max of the ratios of one run's repeats, as ``12x/14x/15x``."""
+    return f"{np.min(ratios):.0f}x/{np.median(ratios):.0f}x/{np.max(ratios):.0f}x".rjust(20)
 
 
 def root_agreement(model, rotor, reference, lateral_modes):
@@ -476,25 +486,40 @@ def root_agreement(model, rotor, reference, lateral_modes):
 
 
 def campbell_times(model, path, grid, repeat):
-    """(ROSS run_campbell, rdm.campbell of all modes, rdm.campbell of the lowest 12 or None)
-    wall times [s] over ``grid``: ROSS once (a fresh Rotor: it memoises run_modal; after a first
-    call on two speeds that compiles and caches), rotordyn_modal best of ``repeat``."""
+    """Wall times [s] over ``grid`` of ROSS's run_campbell, rdm.campbell of all modes and of the
+    lowest 12 (None where campbell has no ``modes``), each (repeat,), taken in turn within each
+    repeat (a noisy machine then weighs on all three alike); and the largest relative difference
+    of the lowest 12 roots from the 12 lowest of all modes at every speed. ROSS gets a fresh Rotor
+    each time (it memoises run_modal), after a first call on two speeds that compiles and caches."""
     import inspect
 
     keywords = {"critical": False}
     lowest = dict(keywords, modes=CAMPBELL_MODES) if "modes" in inspect.signature(rdm.campbell).parameters else None
     with _quiet():
         rs.Rotor.load(path).run_campbell(grid[:2], frequencies=CAMPBELL_MODES)  # first call: numba, caches
-        rotor = rs.Rotor.load(path)
-        start = time.perf_counter()
-        rotor.run_campbell(grid, frequencies=CAMPBELL_MODES)
-        t_ross = time.perf_counter() - start
     rdm.campbell(model, grid[:3], **keywords)  # first call: imports, caches
-    t_all = best_time(lambda: rdm.campbell(model, grid, **keywords), repeat)
+    if lowest is not None:
+        rdm.campbell(model, grid[:3], **lowest)
+    times = np.full((3, repeat), np.nan)
+    for r in range(repeat):
+        with _quiet():
+            rotor = rs.Rotor.load(path)
+            start = time.perf_counter()
+            rotor.run_campbell(grid, frequencies=CAMPBELL_MODES)
+            times[0, r] = time.perf_counter() - start
+        start = time.perf_counter()
+        every = rdm.campbell(model, grid, **keywords)
+        times[1, r] = time.perf_counter() - start
+        if lowest is not None:
+            start = time.perf_counter()
+            low = rdm.campbell(model, grid, **lowest)
+            times[2, r] = time.perf_counter() - start
     if lowest is None:
-        return t_ross, t_all, None
-    rdm.campbell(model, grid[:3], **lowest)
-    return t_ross, t_all, best_time(lambda: rdm.campbell(model, grid, **lowest), repeat)
+        return times[0], times[1], None, np.nan
+    roots = np.where(every.oscillatory, every.eigenvalues, np.nan + 1e30j)
+    reference = np.take_along_axis(roots, np.argsort(roots.imag, axis=1), axis=1)[:, :CAMPBELL_MODES]
+    found = np.take_along_axis(low.eigenvalues, np.argsort(low.eigenvalues.imag, axis=1), axis=1)
+    return times[0], times[1], times[2], float(np.max(np.abs(found - reference) / np.abs(reference)))
 
 
 def write_figure(data, ross_table, rdm_worst):

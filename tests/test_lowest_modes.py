@@ -150,3 +150,87 @@ def test_speeds_the_bound_cannot_serve_are_solved_whole(monkeypatch):
         result = rdm.campbell(model, speeds, critical=False, modes=5)
     reference = _lowest_by_scipy(model, speeds, 5)
     assert np.max(np.abs(_by_frequency(result.eigenvalues) - reference) / np.abs(reference)) < 1e-9
+
+
+def _full_shapes(model, speed):
+    """Every oscillating root of the state matrix at ``speed`` and its shape over the coordinates."""
+    M, C, G, K = model.matrices(speed) if model.speed_dependent else model.matrices()
+    n = len(M)
+    A = np.block([[np.zeros((n, n)), np.eye(n)],
+                  [-np.linalg.solve(M, K), -np.linalg.solve(M, C + speed * G)]])
+    roots, vectors = scipy.linalg.eig(A)
+    keep = (roots.imag > 1e-9 * np.abs(roots)) & is_oscillating(roots)
+    return roots[keep], vectors[:n, keep].T
+
+
+@pytest.mark.parametrize("damping, speeds", [(300.0, [0.0, 800.0, 1500.0]), (2000.0, [200.0, 1200.0])])
+def test_completeness_bound_bounds_the_roots_outside_the_basis(damping, speeds):
+    """theory section 17: every root up to rho has at most the bound's share of its mass-norm
+    outside the basis of m undamped modes and k attachment directions (checked on scipy's roots
+    and shapes, for several m and k)."""
+    from rotordyn_modal.analysis import _lowest
+    from rotordyn_modal.analysis._stack import Stack
+
+    model = rdm.Model.from_dict(_damped_machine(0.05, 1.0, damping, 1.0))
+    speeds = np.array(speeds)
+    pencils = _lowest._Pencils(Stack([model]), speeds)
+    omegas, symmetric, modes = _lowest._basis(Stack([model]), speeds[:1])
+    bound = _lowest._Bound(pencils, omegas, modes, symmetric)
+    M = model.matrices()[0]
+    tight = []
+    for i, speed in enumerate(speeds):
+        roots, shapes = _full_shapes(model, speed)
+        rho = 1.02 * np.sort(np.abs(roots))[7]
+        below = np.abs(roots) <= rho
+        first = int(np.searchsorted(omegas, 1.05 * rho))
+        for m in (first, first + 3, first + 8):
+            for directions in (0, 3, None):
+                shares, attached = bound.shares(m, rho, directions)
+                basis = np.hstack([modes[:, :m], attached])
+                x = shapes[below].T                                                  # (n, r)
+                outside = x - basis @ (basis.T @ M @ x)
+                share = np.sqrt(np.real(np.einsum("ir,ij,jr->r", outside.conj(), M, outside))
+                                / np.real(np.einsum("ir,ij,jr->r", x.conj(), M, x)))
+                assert np.all(share <= shares[i] * (1 + 1e-9)), (m, directions, share.max(), shares[i])
+                tight.append(share.max() / shares[i])
+    assert max(tight) > 1e-3          # the bound is not vacuous: within three orders of the truth somewhere
+
+
+def test_bordered_band_solves_equal_dense_solves():
+    """The pencils of a shaft in a casing: banded with the casing's coordinates as a border; the
+    banded LU with its Schur complement solves Q(s) x = b as numpy's dense solve does."""
+    from rotordyn_modal.analysis import _lowest
+    from rotordyn_modal.analysis._stack import Stack
+
+    model = rdm.Model.from_dict(_damped_machine(0.05, 1.0, 300.0, 1.0))
+    n = model.dofs.n
+    speeds = np.array([0.0, 700.0, 1500.0])
+    pencils = _lowest._Pencils(Stack([model]), speeds)
+    band = pencils.band
+    assert band is not None and n - 6 <= band.size < n and max(band.lower, band.upper) <= 7
+    assert set(band.order[band.size:]) <= {model.dofs.names.index(f"stator.{c}") for c in ("ux", "uy", "uz", "rx", "ry", "rz")}
+    generator = np.random.default_rng(3)
+    lam = generator.normal(size=9) * 300 + 1j * generator.uniform(50, 900, size=9)
+    index = np.repeat(np.arange(3), 3)
+    rhs = generator.normal(size=(9, n)) + 1j * generator.normal(size=(9, n))
+    got = pencils.solve(index, lam, rhs)
+    M, C, G, K = model.matrices()
+    for p in range(9):
+        Q = lam[p] ** 2 * M + lam[p] * (C + speeds[index[p]] * G) + K
+        assert np.allclose(got[p], np.linalg.solve(Q, rhs[p]), rtol=1e-10, atol=0)
+
+
+@pytest.mark.parametrize("dense_below", [0, 10_000])
+def test_both_routes_give_the_full_models_lowest_roots(monkeypatch, dense_below):
+    """Below ``DENSE_BELOW`` coordinates the dense eig of every root, above it the reduced basis
+    and Newton: both the N lowest roots of the full model (here a bordered band of 59 coordinates,
+    damped and turning against the reference rotor)."""
+    from rotordyn_modal.analysis import _lowest
+
+    monkeypatch.setattr(_lowest, "DENSE_BELOW", dense_below)
+    data = _damped_machine(0.05, 1.7, 150.0, -1.5)
+    model = rdm.Model.from_dict(data)
+    speeds = np.linspace(0.0, 1500.0, 5)
+    result = rdm.campbell(model, speeds, critical=False, modes=10)
+    reference = _lowest_by_scipy(model, speeds, 10)
+    assert np.max(np.abs(_by_frequency(result.eigenvalues) - reference) / np.abs(reference)) < 1e-9

@@ -3,28 +3,33 @@
 Three steps (``docs/theory.md``, "The lowest modes only"):
 
 1. a speed-independent basis: the ``m`` lowest undamped modes of the symmetric parts of the
-   stiffness and mass at the sweep's first speed, mass-orthonormal;
-2. the projected pencils (``m x m``) of every speed, solved in one batched ``numpy.linalg.eig``
-   of their ``2m x 2m`` state matrices: starts for the wanted roots;
+   stiffness and mass at the sweep's first speed, mass-orthonormal, and ``k`` attachment
+   directions (the static response to forces where the bearings act, outside those modes);
+2. the projected pencils (``(m + k)`` square) of every speed, solved in one batched
+   ``numpy.linalg.eig`` of their state matrices: starts for the wanted roots;
 3. each start refined to the full model's root by Newton's iteration on the full quadratic
-   pencil ``Q(s) = s^2 M + s (C + Omega G) + K`` (batched LU solves over speeds and roots),
-   until the step is at round-off.
+   pencil ``Q(s) = s^2 M + s (C + Omega G) + K`` (a banded LU per root and iteration where the
+   pencils are banded, with a casing's coordinates as a border; batched dense LU for small
+   models; SuperLU otherwise), until the error left is at round-off.
 
-A speed where the refined roots are not ``count + 1`` distinct roots (two starts reaching one
-root), or where the basis cannot be shown to hold every root below the wanted ones (see
-:func:`_basis_suffices`), is solved whole instead (the full eigen-solve), with a notice.
+A speed where the refined roots are not ``count + 1`` distinct modes, where a projected root
+left unrefined could stand for a lower root, or where the basis cannot be shown to hold every
+root below the wanted ones (see :class:`_Bound`), is solved whole instead (the full
+eigen-solve), with a notice. Models below ``DENSE_BELOW`` coordinates are solved whole.
 """
 
 from __future__ import annotations
 
+import typing
 import warnings
 
 import numpy as np
 import scipy.linalg
 import scipy.sparse
 import scipy.sparse.linalg
+from scipy.linalg.lapack import zgbsv as _zgbsv
 
-from . import _batches, _vectors
+from . import _batches, _pencils, _vectors
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]
@@ -34,8 +39,18 @@ _ITERATIONS = 12
 #: a step below this times |lam| ends the iteration (quadratic convergence: the root is then
 #: exact to round-off, far inside the 1e-9 promised)
 _STEP = 1e-11
+#: a step below this times |lam| is in Newton's quadratic regime, where the error the step leaves,
+#: predicted from the last two steps, ends the iteration when below ``_LEFT`` times |lam| (one
+#: solve fewer than waiting for a step at round-off)
+_ASYMPTOTIC, _LEFT = 1e-5, 1e-13
 #: refined roots closer than this times |lam| are one root reached twice
 _SAME = 1e-8
+
+#: models of fewer coordinates solve every root of every speed (one batched eig) and keep the
+#: lowest: faster there (benchmarks/README.md, "The lowest modes only": the dense solve is faster
+#: up to about 50 coordinates, but from 39 on the Newton roots are kept, 10-20 % dearer: they keep
+#: an undamped gyroscopic model's roots on the imaginary axis to 1e-12, the dense eig to 3e-10)
+DENSE_BELOW = 38
 
 
 def lowest_roots(stack, speeds, count: int):
@@ -57,20 +72,15 @@ def lowest_roots(stack, speeds, count: int):
     full : ndarray of bool, shape (S,)
         The speeds solved whole (fallback).
     """
+    if stack.n_dof < DENSE_BELOW:           # every root of every speed costs less here
+        lam, phi = _full_lowest(stack, speeds, count)
+        return lam, phi, np.ones(len(speeds), bool)
+    # its dense steps are small BLAS calls (n x n once, m x m per speed): BLAS's own threads only
+    # wait for a core on a shared machine (measured up to 10x slower at load 5); the batched
+    # eigen-solves and banded solves run in threads of their own
+    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+        values, shapes, ok = _reduced_roots(stack, speeds, count)
     n = stack.n_dof
-    size = first = min(n, max(3 * count, count + 10))
-    pencils = _Pencils(stack, speeds)
-    omegas, symmetric, modes = _basis(stack, speeds[:1])
-    d_norm, e_norm = _coupling_norms(stack, pencils, symmetric)
-    want = min(count + 1, size)
-    starts, vectors = _projected_starts(pencils, _chosen(stack, speeds, modes, size, first), want)
-    # the basis the completeness bound asks for, from the starts (within a few 1e-5 of the roots)
-    needed = _needed_size(starts, omegas, d_norm, e_norm)
-    if needed > size:
-        size = min(n, needed)
-        starts, vectors = _projected_starts(pencils, _chosen(stack, speeds, modes, size, first), want)
-    values, shapes, ok = _refined(pencils, starts, vectors)
-    ok &= _distinct(values) & _basis_suffices(values, omegas, size, d_norm, e_norm)
     out_values = np.full((len(speeds), count), np.nan + 0j)
     out_shapes = np.zeros((len(speeds), count, n), dtype=complex)
     k = min(count, values.shape[1])
@@ -82,6 +92,29 @@ def lowest_roots(stack, speeds, count: int):
         lam, phi = _full_lowest(stack, speeds[full], count)
         out_values[full], out_shapes[full] = lam, phi
     return out_values, out_shapes, full
+
+
+def _reduced_roots(stack, speeds, count):
+    """The ``count + 1`` lowest roots of every speed from the reduced basis, refined: roots (S, k),
+    shapes (S, k, n) and whether the speed passed every check (S,)."""
+    n = stack.n_dof
+    size = min(n, max(3 * count, count + 10))
+    pencils = _Pencils(stack, speeds)
+    omegas, symmetric, modes = _basis(stack, speeds[:1])
+    bound = _Bound(pencils, omegas, modes, symmetric)
+    want = min(count + 1, size)
+    # the highest root wanted, from a few speeds (an underestimate only makes the final check stricter)
+    few = np.unique(np.round(np.linspace(0, len(speeds) - 1, min(len(speeds), _FEW))).astype(int))
+    rho = _MARGIN * np.max(np.abs(_projected_starts(pencils, modes[:, :size], want, few)[0]))
+    size = min(n, max(_needed_size(bound, rho, size), want))
+    _, attached = bound.shares(size, rho)
+    starts, vectors = _projected_starts(pencils, np.hstack([modes[:, :size], attached]), want)
+    values, shapes, ok = _refined(pencils, starts, vectors)
+    ok &= _distinct(values) & _unmissed(starts, values, count)
+    # Newton may reorder roots of close frequency: by frequency again
+    order = np.argsort(np.where(is_oscillating(values), values.imag, np.inf), axis=1, kind="stable")
+    values, shapes = np.take_along_axis(values, order, 1), np.take_along_axis(shapes, order[..., None], 1)
+    return values, shapes, ok & _basis_suffices(values, bound, size, attached.shape[1], rho)
 
 
 def _basis(stack, speed):
@@ -96,73 +129,116 @@ def _basis(stack, speed):
     return np.sqrt(np.maximum(values, 0.0)), K, vectors
 
 
-def _chosen(stack, speeds, modes, size, extra):
-    """The basis (n, m): the first ``size`` modes; with speed-dependent bearings joined by the
-    first ``extra`` modes of the stiffness at the sweep's last speed (better starts where the
-    bearings stiffen with speed)."""
-    basis = modes[:, :size]
-    if stack.dependent and len(speeds) > 1 and size < len(modes):
-        basis = _joined(stack.M[0], basis, _basis(stack, speeds[-1:])[2][:, :extra])
-    return basis
+class _Bound:
+    """How much of a root below ``rho`` can lie outside a basis of the first ``m`` undamped modes
+    and ``k`` attachment directions, at every speed (docs/theory.md section 17, "Completeness").
+
+    With ``Phi`` the mass-orthonormal undamped modes of ``(K_0, M)`` (all ``n``), the damping
+    ``C + C_b(Omega)`` and the stiffness's departure ``K(Omega) - K_0`` act on a few coordinates
+    ``L`` only (bearings, seals, dampers: ``B_c``, ``B_k``, ``|L| x |L|``), the gyroscopic matrix
+    ``G`` everywhere. A root ``(s, x = Phi q)`` has, along a left-out mode ``j``,
+    ``q_j = -(phi_j^T (s Omega G x + F z)) / (s^2 + omega_j^2)``, ``z = (s B_c + B_k) x_L``; the part
+    ``-phi_j^T F z / omega_j^2`` is the static response to the bearing forces (the attachments
+    ``K_0^-1 F``, kept in the basis along their ``k`` strongest directions), and the rest is at
+    most ``(a + sigma_k) mu (rho |B_c| + |B_k|) + rho |Omega| g`` times ``|q|``, with
+    ``a = |diag(rho^2 / (omega_j^2 (omega_j^2 - rho^2))) Phi_L^T|``, ``sigma_k`` the largest
+    attachment direction left out, ``mu = |Phi_L|`` and ``g = |diag(1 / (omega_j^2 - rho^2))
+    Phi^T G Phi|`` over the left-out modes (Frobenius norms where cheaper, 2-norms of the
+    bearings' blocks at every speed).
+
+    Parameters
+    ----------
+    pencils : _Pencils
+    omegas : ndarray, shape (n,) [rad/s]
+    modes : ndarray, shape (n, n)
+        Mass-orthonormal undamped modes, ascending.
+    symmetric : ndarray, shape (n, n)
+        ``K_0`` [N/m].
+    """
+
+    def __init__(self, pencils, omegas, modes, symmetric):
+        self.omegas, self.modes, self.speeds = omegas, modes, pencils.speeds
+        offset = pencils.K - symmetric
+        self.local = np.unique(np.concatenate([*np.nonzero(pencils.C), *np.nonzero(offset),
+                                               pencils.rows, pencils.cols])).astype(int)
+        self.damping_norms, self.stiffness_norms = _local_norms(pencils, offset, self.local)
+        self.reach = np.linalg.norm(modes[self.local], 2) if len(self.local) else 0.0
+        gyro = modes.T @ pencils.G @ modes
+        self.gyro_rows = np.einsum("ji,ji->j", gyro, gyro)
+        self.local_rows = np.einsum("ij,ij->j", modes[self.local], modes[self.local])
+
+    def shares(self, size: int, rho: float, directions: int | None = None):
+        """The bound at every speed (S,) for roots up to ``rho`` [rad/s] and the basis of the first
+        ``size`` modes with ``directions`` attachment directions (default: the fewest meeting
+        ``_SHARE`` at every speed, or all), and those directions (n, k), mass-orthonormal."""
+        n = len(self.omegas)
+        if size >= n:
+            return np.zeros(len(self.speeds)), np.zeros((n, 0))
+        if self.omegas[size] <= rho:
+            return np.full(len(self.speeds), np.inf), np.zeros((n, 0))
+        omega2 = self.omegas[size:] ** 2
+        w = 1.0 / (omega2 - rho ** 2)
+        gyro = np.sqrt(w ** 2 @ self.gyro_rows[size:])
+        attached = np.sqrt((rho ** 2 * w / omega2) ** 2 @ self.local_rows[size:])
+        static = self.modes[self.local, size:].T / omega2[:, None]            # (n - m, |L|)
+        left, sigma, _ = np.linalg.svd(static, full_matrices=False)
+        force = self.reach * (rho * self.damping_norms + self.stiffness_norms)
+        base = rho * np.abs(self.speeds) * gyro
+        tails = np.append(sigma, 0.0)                                         # sigma_k, k = 0 .. |L|
+        if directions is None:
+            meets = np.nonzero((attached + tails) * np.max(force, initial=0.0) + np.max(base) <= _SHARE)[0]
+            directions = int(meets[0]) if len(meets) else len(sigma)
+        bound = (attached + tails[directions]) * force + base
+        return bound, self.modes[:, size:] @ left[:, :directions]
 
 
-def _scaled_norms(pencils, entries, Linv):
-    """Frobenius norms of ``L^-1 X_s L^-T`` (S,) of the bearings' entries ``entries`` (S, nb)."""
-    rows, cols = pencils.rows, pencils.cols
-    out = np.empty(len(entries))
-    for part in _batches.chunk_slices(len(entries), 32 * len(Linv) ** 2):
-        scaled = (Linv[:, rows][None] * entries[part, None, :]) @ Linv[:, cols].T
-        out[part] = np.linalg.norm(scaled, axis=(-2, -1))
-    return out
+def _local_norms(pencils, offset, local):
+    """2-norms of the damping ``C + C_b`` and of ``K + K_b - K_0`` on the coordinates ``local``
+    at every speed, (S,) each (zeros without such coordinates)."""
+    count = len(pencils.speeds)
+    if not len(local):
+        return np.zeros(count), np.zeros(count)
+    block = np.ix_(local, local)
+    where = np.full((len(offset),) * 2, -1)
+    where[block] = np.arange(len(local) ** 2).reshape(len(local), len(local))
+    at = where[pencils.rows, pencils.cols]
+    out = np.empty((2, count))
+    for part in _batches.chunk_slices(count, 16 * len(local) ** 2):
+        for i, (constant, entries) in enumerate(((pencils.C[block], pencils.cb), (offset[block], pencils.kb))):
+            matrices = np.repeat(constant.reshape(1, -1), part.stop - part.start, axis=0)
+            np.add.at(matrices, (slice(None), at), entries[part])
+            # 2-norms of small blocks; Frobenius norms (larger, as cheap as the entries) of large ones
+            order = 2 if len(local) <= _EXACT_NORMS else "fro"
+            out[i, part] = np.linalg.norm(matrices.reshape(-1, len(local), len(local)), order, axis=(1, 2))
+    return out[0], out[1]
 
 
-def _needed_size(starts, omegas, d_norm, e_norm):
-    """The number of modes whose first left-out one meets :func:`_basis_suffices`'s bound for
-    roots up to 1.01 times the highest start, at every speed."""
-    rho = 1.01 * np.max(np.abs(starts), axis=1)
-    level = np.max(rho ** 2 + (rho * d_norm + e_norm) / _SHARE)
-    return int(np.searchsorted(omegas ** 2, level))
+def _needed_size(bound, rho, size):
+    """The modes of the basis: of the sizes from the first mode above ``rho`` on, the one whose
+    bound holds at every speed with the fewest modes and attachment directions together."""
+    n = len(bound.omegas)
+    first = int(np.searchsorted(bound.omegas, 1.1 * rho))
+    best, best_total = n, n
+    for m in np.unique(np.round(np.geomspace(max(first, 1), n, 24)).astype(int)):
+        if m >= best_total:
+            break
+        shares, directions = bound.shares(int(m), rho)
+        if np.all(shares <= _SHARE) and m + directions.shape[1] < best_total:
+            best, best_total = int(m), int(m) + directions.shape[1]
+    return best
 
 
-def _coupling_norms(stack, pencils, symmetric):
-    """Upper bounds of the mass-normalized norms of ``C + Omega G + C_b`` and of ``K(Omega) - K_0``
-    at each speed (S,) and (S,): the 2-norms at the first speed plus ``|Omega - Omega_0|`` times
-    the gyroscopic matrix's 2-norm plus the Frobenius norms of the bearings' changes."""
-    Linv = np.linalg.inv(np.linalg.cholesky(stack.M[0]))
-
-    def scaled(matrix):
-        return Linv @ matrix @ Linv.T
-
-    speeds = pencils.speeds
-    damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(np.zeros(1, int)))
-    gyro = np.linalg.norm(scaled(pencils.G), 2)
-    d_norm = np.linalg.norm(scaled(damping0), 2) + np.abs(speeds - speeds[0]) * gyro
-    e_norm = np.full(len(speeds), np.linalg.norm(scaled(stiffness0 - symmetric), 2))
-    if len(pencils.rows):
-        d_norm += _scaled_norms(pencils, pencils.cb - pencils.cb[:1], Linv)
-        e_norm += _scaled_norms(pencils, pencils.kb - pencils.kb[:1], Linv)
-    return d_norm, e_norm
-
-
-def _joined(M, first, second):
-    """A mass-orthonormal basis of the span of two bases (n, m1) and (n, m2): the speed-dependent
-    bearings' stiffness at the sweep's two ends each gives its modes."""
-    both = np.hstack([first, second])
-    values, vectors = scipy.linalg.eigh(both.T @ M @ both)
-    keep = values > 1e-10 * values.max()
-    return both @ (vectors[:, keep] / np.sqrt(values[keep]))
-
-
-def _projected_starts(pencils, basis, want):
+def _projected_starts(pencils, basis, want, index=None):
     """The ``want`` lowest-frequency oscillating roots of the projected pencils at every speed
-    (S, want) and their vectors in full coordinates (S, want, n)."""
+    (or at the speeds ``index``) (S, want) and their vectors in full coordinates (S, want, n)."""
     n, m = basis.shape
-    speeds = pencils.speeds
+    index = np.arange(len(pencils.speeds)) if index is None else index
+    speeds, cb, kb = pencils.speeds[index], pencils.cb[index], pencils.kb[index]
     S = len(speeds)
     starts = np.empty((S, want), complex)
     vectors = np.empty((S, want, n), complex)
     Wt = basis.T
-    damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(np.zeros(1, int)))
+    damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
     D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
     # the bearings' changes from the first speed, projected entry by entry
     left, right = basis[pencils.rows].T, basis[pencils.cols]
@@ -170,8 +246,8 @@ def _projected_starts(pencils, basis, want):
         D = D0 + (speeds[part] - speeds[0])[:, None, None] * Gr                  # (P, m, m)
         Kr = np.broadcast_to(K0, D.shape)
         if len(pencils.rows):
-            D = D + (left[None] * (pencils.cb[part] - pencils.cb[:1])[:, None, :]) @ right
-            Kr = Kr + (left[None] * (pencils.kb[part] - pencils.kb[:1])[:, None, :]) @ right
+            D = D + (left[None] * (cb[part] - cb[:1])[:, None, :]) @ right
+            Kr = Kr + (left[None] * (kb[part] - kb[:1])[:, None, :]) @ right
         A = np.zeros((len(D), 2 * m, 2 * m))
         A[:, :m, m:] = np.eye(m)
         A[:, m:, :m] = -Kr              # the basis is mass-orthonormal: W^T M W = I
@@ -207,16 +283,7 @@ class _Pencils:
         self.rows = self.cols = np.zeros(0, int)
         self.kb = self.cb = np.zeros((len(speeds), 0))
         if stack.dependent:
-            from ..assembly import dependent_bearing_matrices
-
-            parts = [(part, *dependent_bearing_matrices(stack.models[0], speeds[part]))
-                     for part in _batches.chunk_slices(len(speeds), 32 * n * n)]
-            used = np.zeros((n, n), bool)
-            for _, K, C in parts:
-                used |= np.any(K != 0, axis=0) | np.any(C != 0, axis=0)
-            self.rows, self.cols = np.nonzero(used)
-            self.kb = np.concatenate([K[:, self.rows, self.cols] for _, K, _ in parts])
-            self.cb = np.concatenate([C[:, self.rows, self.cols] for _, _, C in parts])
+            self.rows, self.cols, self.kb, self.cb = _bearing_entries(stack.models[0], speeds)
         # the sparse LU's pattern: every entry of any of them
         pattern = (self.M != 0) | (self.C != 0) | (self.G != 0) | (self.K != 0)
         pattern[self.rows, self.cols] = True
@@ -229,6 +296,9 @@ class _Pencils:
         self.bearing_at = where[self.rows, self.cols]
         self.scatter = np.zeros((len(self.rows), n))
         self.scatter[np.arange(len(self.rows)), self.rows] = 1.0
+        self.band = _band(rows, cols, n)
+        # the products Q'(s) x: sparse (a dense complex product of n x n per root cost more than the solves)
+        self.sparse = [scipy.sparse.csr_matrix(matrix) for matrix in (self.M, self.C, self.G)]
 
     def dense(self, index):
         """``C + Omega G + C_b`` and ``K + K_b`` of the speeds ``index`` (P,), (P, n, n) each."""
@@ -240,28 +310,159 @@ class _Pencils:
 
     def derivative_times(self, index, lam, x):
         """``Q'(lam_p) x_p = (2 lam_p M + C + Omega G + C_b) x_p`` (P, n)."""
-        out = 2 * lam[:, None] * (x @ self.M.T) + x @ self.C.T + self.speeds[index, None] * (x @ self.G.T)
+        M, C, G = self.sparse
+        out = 2 * lam[:, None] * (M @ x.T).T + (C @ x.T).T + self.speeds[index, None] * (G @ x.T).T
         return out + (self.cb[index] * x[:, self.cols]) @ self.scatter
 
     def solve(self, index, lam, rhs):
-        """``Q(lam_p)^-1 rhs_p`` for every row: batched dense up to ``_DENSE_DOF`` coordinates, else
-        a sparse LU each (SuperLU; a shaft's pencils are banded, the stator's few coordinates a
-        border)."""
+        """``Q(lam_p)^-1 rhs_p`` for every row: batched dense up to ``_DENSE_DOF`` coordinates; a
+        banded LU each where the pencils are banded (a shaft on the ground: its elements couple
+        neighbouring nodes), in threads; else a sparse LU each (SuperLU)."""
         n = len(self.M)
         if n <= _DENSE_DOF:
             damping, stiffness = self.dense(index)
             Q = (lam[:, None, None] ** 2) * self.M + lam[:, None, None] * damping + stiffness
             return np.linalg.solve(Q, rhs[..., None])[..., 0]
-        rows, cols = self.pattern
-        m_e, c_e, g_e, k_e = (matrix[rows, cols] for matrix in (self.M, self.C, self.G, self.K))
+        if self.band is not None:
+            width = 2 * self.band.lower + self.band.upper + 1
+            return _batches._threaded(self._banded_solve, index, lam, rhs, item_bytes=16 * n * (width + 2))
         out = np.empty(rhs.shape, complex)
         for p in range(len(lam)):
-            s, speed = lam[p], self.speeds[index[p]]
-            data = s * s * m_e + s * (c_e + speed * g_e) + k_e
-            data[self.bearing_at] += s * self.cb[index[p]] + self.kb[index[p]]
-            Q = scipy.sparse.csc_matrix((data, self.indices, self.indptr), shape=(n, n))
+            Q = scipy.sparse.csc_matrix((self._entries(index[p:p + 1], lam[p:p + 1])[0], self.indices, self.indptr),
+                                        shape=(n, n))
             out[p] = scipy.sparse.linalg.splu(Q).solve(rhs[p])
         return out
+
+    def _entries(self, index, lam):
+        """The pencils' entries on the pattern, (P, nnz) complex."""
+        rows, cols = self.pattern
+        s, speed = lam[:, None], self.speeds[index, None]
+        data = s * s * self.M[rows, cols] + s * (self.C[rows, cols] + speed * self.G[rows, cols]) + self.K[rows, cols]
+        data[:, self.bearing_at] += s * self.cb[index] + self.kb[index]
+        return data
+
+    def _banded_solve(self, index, lam, rhs):
+        """:meth:`solve` by LAPACK's banded LU with partial pivoting (``zgbsv``), one row at a
+        time, and a Schur complement for the border (a casing's coordinates), batched."""
+        band = self.band
+        n, k = len(self.M), len(band.order) - band.size
+        size, width = band.size, 2 * band.lower + band.upper + 1
+        out = np.empty(rhs.shape, complex)
+        for part in _batches.chunk_slices(len(lam), 16 * n * (width + 3 * k + 2), budget=2**24):
+            data = self._entries(index[part], lam[part])
+            count = len(data)
+            # LAPACK's band storage A(i, j) -> ab[kl + ku + i - j, j], Fortran order: ab.T in C order
+            ab = np.zeros((count, size, width), complex)
+            ab[:, band.cols[band.inside], band.rows[band.inside]] = data[:, band.inside]
+            # the border's columns (every row) and rows (the band's columns), (P, n, k) and (P, k, size)
+            columns, rows = np.zeros((count, n, k), complex), np.zeros((count, k, size), complex)
+            columns[:, band.place_rows[band.right], band.cols[band.right] - size] = data[:, band.right]
+            rows[:, band.place_rows[band.below] - size, band.cols[band.below]] = data[:, band.below]
+            b = rhs[part][:, band.order]
+            # B^-1 [b_1, E]: one banded solve with k + 1 right-hand sides each
+            y = np.empty((count, k + 1, size), complex)
+            y[:, 0], y[:, 1:] = b[:, :size], np.swapaxes(columns[:, :size], 1, 2)
+            for p in range(count):
+                _, _, x, info = _zgbsv(band.lower, band.upper, ab[p].T, y[p].T, overwrite_ab=1, overwrite_b=1)
+                y[p] = x.T if info == 0 else np.nan
+            solution = np.empty((count, n), complex)
+            solution[:, :size] = y[:, 0]
+            if k:
+                schur = columns[:, size:] - rows @ np.swapaxes(y[:, 1:], 1, 2)                 # (P, k, k)
+                border = _pencils._solve(schur, (b[:, size:] - np.einsum("pki,pi->pk", rows, y[:, 0]))[..., None])[..., 0]
+                solution[:, size:] = border
+                solution[:, :size] -= np.einsum("pki,pk->pi", y[:, 1:], border)
+            out[part][:, band.order] = solution
+        return out
+
+
+def _band(rows, cols, n):
+    """The band of a pattern ``(rows, cols)`` (nnz,) each: a border of at most ``_BORDER``
+    coordinates (a casing's, coupled to distant nodes) set apart, the others in their own order
+    or reverse Cuthill-McKee's, whichever is narrower: ``_Band``, or None where the band is too
+    wide to pay."""
+    border = []
+    for _ in range(_BORDER + 1):
+        best = _narrowest(rows, cols, n, border)
+        if (2 * best.lower + best.upper + 1) * _BAND_SHARE <= n:
+            return best
+        if len(border) == _BORDER:
+            return None
+        # the coordinate coupled farthest in the band's order goes to the border
+        keep = np.isin(rows, border, invert=True) & np.isin(cols, border, invert=True)
+        where = best.place_rows[keep], best.cols[keep]
+        reach = np.zeros(n)
+        np.maximum.at(reach, best.order[where[0]], np.abs(where[0] - where[1]))
+        reach[border] = -1.0
+        border.append(int(np.argmax(reach)))
+    return None
+
+
+def _narrowest(rows, cols, n, border):
+    """:func:`_band` with the coordinates ``border`` set apart (last)."""
+    import scipy.sparse.csgraph
+
+    inner = np.setdiff1d(np.arange(n), border)
+    keep = np.isin(rows, inner) & np.isin(cols, inner)
+    graph = scipy.sparse.csr_matrix((np.ones(int(keep.sum())), (rows[keep], cols[keep])), shape=(n, n))
+    graph = (graph + graph.T)[inner][:, inner]
+    best = None
+    for order in (inner, inner[scipy.sparse.csgraph.reverse_cuthill_mckee(graph.tocsr(), symmetric_mode=True)]):
+        order = np.concatenate([order, np.asarray(border, int)])
+        place = np.empty(n, int)
+        place[order] = np.arange(n)
+        i, j = place[rows], place[cols]
+        size = len(inner)
+        inside = (i < size) & (j < size)
+        lower = int(max(0, np.max(i - j, where=inside, initial=0)))
+        upper = int(max(0, np.max(j - i, where=inside, initial=0)))
+        if best is None or lower + upper < best.lower + best.upper:
+            best = _Band(lower, upper, order, size, i, j, lower + upper + i - j, inside, j >= size, (i >= size) & (j < size))
+    return best
+
+
+class _Band(typing.NamedTuple):
+    lower: int
+    upper: int
+    order: np.ndarray          # (n,) the band's coordinates, then the border's: q[order]
+    size: int                  # coordinates in the band
+    place_rows: np.ndarray     # (nnz,) each entry's row in that order
+    cols: np.ndarray           # (nnz,) each entry's column in that order
+    rows: np.ndarray           # (nnz,) each entry's row in LAPACK's band storage
+    inside: np.ndarray         # (nnz,) bool: the entry is in the band
+    right: np.ndarray          # (nnz,) bool: in a border column
+    below: np.ndarray          # (nnz,) bool: in a border row, a band column
+
+
+def _bearing_entries(model, speeds):
+    """The speed-dependent bearings' entries of K and C: positions (nb,), (nb,) and values
+    (S, nb), (S, nb) at every speed (the rows and columns a bearing's relative motion touches)."""
+    from ..assembly import bearing_motion
+    from ..elements.bearings import evaluate
+
+    n = model.dofs.n
+    keys, stiffness, damping = [], [], []
+    for bearing in model.bearings:
+        if bearing.coefficients.kind == "constant":
+            continue
+        own = model.rotor(bearing.rotor).speed_ratio * speeds
+        k6, c6 = evaluate(bearing.coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
+        where, moves = bearing_motion(model, bearing)
+        used = np.nonzero(np.any(moves != 0, axis=0))[0]
+        part = moves[:, used]
+        index = np.arange(n)[where][used]
+        keys.append((index[:, None] * n + index[None, :]).reshape(-1))
+        stiffness.append((part.T @ k6 @ part).reshape(len(speeds), -1))
+        damping.append((part.T @ c6 @ part).reshape(len(speeds), -1))
+    if not keys:
+        return np.zeros(0, int), np.zeros(0, int), np.zeros((len(speeds), 0)), np.zeros((len(speeds), 0))
+    unique, inverse = np.unique(np.concatenate(keys), return_inverse=True)
+    kb, cb = np.zeros((len(speeds), len(unique))), np.zeros((len(speeds), len(unique)))
+    np.add.at(kb, (slice(None), inverse), np.hstack(stiffness))
+    np.add.at(cb, (slice(None), inverse), np.hstack(damping))
+    # the entries some speed's coefficients make nonzero (a bearing's tilt coordinates carry none)
+    used = np.any(kb != 0, axis=0) | np.any(cb != 0, axis=0)
+    return unique[used] // n, unique[used] % n, kb[:, used], cb[:, used]
 
 
 def _refined(pencils, starts, vectors):
@@ -275,6 +476,7 @@ def _refined(pencils, starts, vectors):
     index = np.repeat(np.arange(S), k)
     c = x.conj()
     done = np.zeros(len(lam), bool)
+    last = np.full(len(lam), np.inf)          # the previous relative step (none yet)
     for _ in range(_ITERATIONS):
         todo = np.nonzero(~done)[0]
         if not len(todo):
@@ -284,7 +486,12 @@ def _refined(pencils, starts, vectors):
         step = np.einsum("pi,pi->p", c[todo], x[todo]) / cu
         lam[todo] -= step
         x[todo] = u / cu[:, None]
-        done[todo] = np.abs(step) <= _STEP * np.abs(lam[todo])
+        relative = np.abs(step) / np.abs(lam[todo])
+        # quadratic convergence (error e' = k e^2, the steps are the errors): the error left after
+        # this step is about k relative^2 with k = relative / last^2
+        left = relative ** 3 / np.where(np.isfinite(last[todo]), last[todo], np.nan) ** 2
+        done[todo] = (relative <= _STEP) | ((relative <= _ASYMPTOTIC) & (left <= _LEFT))
+        last[todo] = relative
     ok = done & np.isfinite(lam)
     return lam.reshape(S, k), _vectors.unit_rows(x.reshape(S, k, n)), ok.reshape(S, k).all(axis=1)
 
@@ -292,34 +499,53 @@ def _refined(pencils, starts, vectors):
 #: the largest share of a wanted root's shape the bound allows outside the basis
 _SHARE = 0.1
 
+#: the bearings' blocks up to this size get their 2-norms at every speed, larger ones Frobenius norms
+_EXACT_NORMS = 64
+
+#: speeds whose projected roots estimate the highest root wanted, and the margin put on it
+_FEW, _MARGIN = 5, 1.05
+
+
 #: pencils up to this many coordinates are solved dense and batched
 _DENSE_DOF = 48
 
+#: a banded LU is taken where the band storage (2 kl + ku + 1 rows) is at most this part of n,
+#: with at most ``_BORDER`` coordinates set apart as a border (a casing's six motions, mounts)
+_BAND_SHARE, _BORDER = 2, 12
+
 
 def _distinct(values):
-    """(S,) no two refined roots of a speed are one root, and they are still by frequency."""
+    """(S,) no two refined roots of a speed are one root, and all are modes."""
     lam = values
     gaps = np.abs(lam[:, :, None] - lam[:, None, :])
     same = gaps <= _SAME * np.abs(lam[:, :, None])
     np.einsum("sii->si", same)[...] = False
-    ordered = np.all(np.diff(lam.imag, axis=1) >= -_SAME * np.abs(lam[:, 1:]), axis=1)
-    return ~same.any(axis=(1, 2)) & ordered & is_oscillating(lam).all(axis=1)
+    return ~same.any(axis=(1, 2)) & is_oscillating(lam).all(axis=1)
 
 
-def _basis_suffices(values, omegas, size, d_norm, e_norm):
-    """(S,) the undamped modes left out of the basis are far enough above the wanted roots.
+def _unmissed(starts, values, count):
+    """(S,) no projected root left unrefined can stand for a root below the ``count``-th found.
 
-    A root ``s`` with shape ``x`` of the full pencil has, along a left-out undamped mode ``j``
-    (``omega_j``) of the basis's symmetric stiffness ``K_0``, the modal amplitude
-    ``|q_j| <= (|s| d + e) ||x|| / (omega_j^2 - |s|^2)``, ``d`` and ``e`` the mass-normalized
-    norms of ``C + Omega G`` and of ``K(Omega) - K_0``. Every root up to the highest one refined,
-    ``rho``, is required to lie at least 90 % in the basis: ``(rho d + e) <= 0.1 (omega_m^2 -
-    rho^2)``. Otherwise the projected pencil may lack it and the speed is solved whole."""
-    if size >= len(omegas):
+    The starts are the lowest projected roots by frequency (S, k), ``values`` (S, k) their refined
+    roots in the same order. A root of the full model missing from ``values`` has a projected root
+    near it (see :func:`_basis_suffices`) that was not refined: its frequency is at least the
+    highest start's. Taking the largest move from start to root of the speed as how near, that root
+    lies above the ``count``-th lowest found when the highest start, less that move, does."""
+    if starts.shape[1] <= count:        # a basis of every mode (n <= count): the projected pencil is the full one
         return np.ones(len(values), bool)
-    rho = np.max(np.abs(values), axis=1)
-    margin = omegas[size] ** 2 - rho ** 2
-    return (margin > 0) & (rho * d_norm + e_norm <= _SHARE * np.where(margin > 0, margin, 1.0))
+    moved = np.max(np.abs(starts - values), axis=1)
+    found = np.sort(values.imag, axis=1)[:, count - 1]
+    return starts[:, -1].imag - moved > found
+
+
+def _basis_suffices(values, bound, size, directions, rho):
+    """(S,) the basis (``size`` modes, ``directions`` attachment directions) holds at least 90 % of
+    every root up to the highest one refined (:class:`_Bound`, at ``rho`` or that root if higher);
+    otherwise the projected pencil may lack a root and the speed is solved whole."""
+    highest = np.max(np.abs(values), axis=1)
+    top = np.max(highest[np.isfinite(highest)], initial=rho)
+    shares, _ = bound.shares(size, max(rho, top), directions)
+    return np.isfinite(highest) & (shares <= _SHARE)
 
 
 def _full_lowest(stack, speeds, count):

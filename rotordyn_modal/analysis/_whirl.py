@@ -155,7 +155,10 @@ def _node_forms(model, rotor) -> np.ndarray:
     X, products = _directions(tuple(float(x) for x in model.spin_axis))
     forms = _bodies_quadratic(masses, second, X, skew(masses[:, None] * arms), products)    # (3, N, 6, 6)
     motions = model.dofs.motions([(rotor.name, False, tuple(p)) for p in points.tolist()])  # (N, 6, n)
-    return np.einsum("iam,diab,ibn->dmn", motions, forms, motions)
+    # sum_i T_i^T X_i T_i as one matrix product over (node, motion) (einsum's three-operand loop
+    # took 0.4 s at 224 coordinates)
+    weighted = np.einsum("diab,ibn->dian", forms, motions).reshape(len(forms), -1, motions.shape[-1])
+    return np.swapaxes(motions.reshape(-1, motions.shape[-1]), 0, 1) @ weighted
 
 
 def rotor_whirl_forms(model, rotor: str) -> WhirlForms:

@@ -278,14 +278,17 @@ def _campbell_lowest(model, speeds, orders, critical, count) -> CampbellResult:
 
     speeds = _check_speeds(speeds)
     orders = _arguments.orders(orders)
-    stack = Stack([model])
-    if stack.branch_times.shape[1]:          # frequency-dependent branches: more states than the pencil's
-        values, shapes = _lowest._full_lowest(stack, speeds, count)
-    else:
-        values, shapes, _ = _lowest.lowest_roots(stack, speeds, count)
-    values, shapes = values[None], shapes[None]
-    every = _variant_rows(1, len(speeds))
-    weighted = stack.weighted(shapes.reshape((-1,) + shapes.shape[-2:]), every).reshape(shapes.shape)
+    # the set-up (n x n) and the shapes' products: BLAS's own threads only wait for a core on a
+    # shared machine (the batched solves run in threads of their own)
+    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+        stack = Stack([model])
+        if stack.branch_times.shape[1]:          # frequency-dependent branches: more states than the pencil's
+            values, shapes = _lowest._full_lowest(stack, speeds, count)
+        else:
+            values, shapes, _ = _lowest.lowest_roots(stack, speeds, count)
+        values, shapes = values[None], shapes[None]
+        every = _variant_rows(1, len(speeds))
+        weighted = stack.weighted(shapes.reshape((-1,) + shapes.shape[-2:]), every).reshape(shapes.shape)
     order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
     values = values[np.zeros((1, 1, 1), int), np.arange(len(speeds))[None, :, None], order]
     shapes, weighted = _reordered(shapes, order), _reordered(weighted, order)

@@ -93,7 +93,7 @@ def gas_density(args):
     if args.machine != "compressor":
         raise InputError(f"--gas-density with --machine {args.machine}: the critical speed ratio chart screens "
                          "compressors (--machine compressor)")
-    return tuple(float(v) for v in from_system(values, "density", args.units))
+    return tuple(float(v) for v in from_system(values, "density", getattr(args, "units", None) or "si"))
 
 
 def run(args) -> int:

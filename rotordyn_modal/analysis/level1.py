@@ -477,6 +477,16 @@ class CsrScreening:
         """'B' above the dividing line (strictly), 'A' on or below it."""
         return "B" if self.csr > self.boundary else "A"
 
+    def dividing_line(self, end: float | None = None) -> tuple:
+        """The chart's line from 0 to ``end`` [kg/m^3] (default: past 60 kg/m^3 and the
+        machine's density): ``(rho, csr)``, each shape (N,), its kinks among the points (the
+        drop at 60 kg/m^3 as two points, 60 and just above)."""
+        end = max(80.0, 1.25 * self.density) if end is None else float(end)
+        rho = np.linspace(0.0, end, 401)
+        rho = np.unique(np.concatenate([rho, [x for x in (_CSR_KNEE, _CSR_END, np.nextafter(_CSR_END, np.inf))
+                                              if x <= end]]))
+        return rho, csr_boundary(rho)
+
     def summary(self, units: str = "si") -> str:
         """``CSR = 1.9 at 35 kg/m³: Region A (line 2.29)``, the density in ``units``."""
         scale, unit = _density_unit(units)

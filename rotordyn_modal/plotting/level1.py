@@ -82,7 +82,7 @@ def _limits(ax, result):
 def plot_csr_chart(screening, title: str | None = None, ax=None, units: str = "si", verdict: str | None = None):
     """API 617 Level I chart: critical speed ratio against average gas density.
 
-    The dividing line (``screening``'s :func:`~rotordyn_modal.analysis.level1.csr_boundary`)
+    The dividing line (``screening.dividing_line()``, :func:`~rotordyn_modal.analysis.level1.csr_boundary`)
     separates Region A (below) from Region B (above, shaded); the machine's point is marked,
     red in Region B. A second axis along the top reads the density in the other unit system.
 
@@ -100,15 +100,12 @@ def plot_csr_chart(screening, title: str | None = None, ax=None, units: str = "s
     -------
     matplotlib.figure.Figure
     """
-    from ..analysis.level1 import csr_boundary
-
     scale, unit = unit_scale("density", units)
     other = "us" if units == "si" else "si"
     other_scale, other_unit = unit_scale("density", other)
     fig, ax = new_figure(ax, figsize=(8.0, 5.5))
-    end = max(80.0, 1.25 * screening.density)            # kg/m^3: past the line's last kink
-    rho = np.unique(np.concatenate([np.linspace(0.0, end, 401), [16.53, 60.0, np.nextafter(60.0, np.inf)]]))
-    line = csr_boundary(rho)
+    rho, line = screening.dividing_line()
+    end = rho[-1]
     top = max(3.0, 1.15 * screening.csr)
     ax.fill_between(rho * scale, line, top, color="tab:red", alpha=0.08, linewidth=0)
     ax.plot(rho * scale, line, color="k", linewidth=1.8, label="dividing line (ROSS's reading of API 617)")

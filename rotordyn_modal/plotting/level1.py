@@ -132,6 +132,7 @@ def plot_csr_chart(screening, title: str | None = None, ax=None, units: str = "s
     lines = [textwrap.shorten(heading, 80), screening.summary(units)]
     if verdict:
         lines.append(f"Level I verdict: {textwrap.shorten(verdict, 90)}")
-    ax.set_title("\n".join(lines), fontsize="medium", color="tab:red" if screening.region == "B" else "darkgreen")
+    bad = screening.region == "B" or (verdict or "").strip() == "Level II required"
+    ax.set_title("\n".join(lines), fontsize="medium", color="tab:red" if bad else "darkgreen")
     ax.legend(fontsize="x-small", loc="upper right", framealpha=0.85)
     return fig

@@ -90,6 +90,7 @@ QUANTITIES = {
     "frequency": {"si": ("Hz", 1.0), "us": ("Hz", 1.0)},
     "speed": {"si": ("rpm", 1.0), "us": ("rpm", 1.0)},
     "angle": {"si": ("rad", 1.0), "us": ("rad", 1.0)},
+    "density": {"si": ("kg/m³", 1.0), "us": ("lb/ft³", POUND / (12.0 * INCH) ** 3)},
 }
 
 

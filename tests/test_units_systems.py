@@ -39,6 +39,7 @@ NIST_US = {                  # kind: (label, size in SI)
     "frequency": ("Hz", 1.0),
     "speed": ("rpm", 1.0),
     "angle": ("rad", 1.0),
+    "density": ("lb/ft³", 16.018463373960138),      # 0.45359237 / 0.3048**3
 }
 
 

@@ -32,7 +32,8 @@ from .modal import is_oscillating, modal_quantities
 from .tracking import track_modes
 
 __all__ = ["Station", "Level1Result", "level1", "anticipated_cross_coupling", "LOG_DEC_CRITERION",
-           "RATIO_CRITERION", "B_COMPRESSOR", "B_TURBINE"]
+           "RATIO_CRITERION", "B_COMPRESSOR", "B_TURBINE", "CsrScreening", "csr_screening", "csr_boundary",
+           "rigid_support_critical_speed", "CSR_RATIO_LIMIT"]
 
 #: API 617 Level I criteria: log decrement at Qa, and Q0 / Qa
 LOG_DEC_CRITERION = 0.1
@@ -40,6 +41,13 @@ RATIO_CRITERION = 2.0
 #: the formula's factor B for centrifugal compressor impellers and for turbine (axial) stages
 B_COMPRESSOR = 3.0
 B_TURBINE = 1.5
+#: the CSR chart applies while Q0 / Qa is below this (and at least RATIO_CRITERION)
+CSR_RATIO_LIMIT = 10.0
+#: the dividing line of the CSR chart as ROSS implements it (docs/standards.md): CSR 2.5 up to
+#: 16.53 kg/m^3, then 2.69 - 0.0115 rho [rho in kg/m^3] down to 2.0 at 60 kg/m^3; beyond
+#: 60 kg/m^3 the line is 0 (every CSR > 0 lies in Region B)
+_CSR_FLAT, _CSR_KNEE, _CSR_END = 2.5, 16.53, 60.0
+_CSR_INTERCEPT, _CSR_SLOPE = 2.69, -0.0115
 
 
 @dataclass(frozen=True)
@@ -161,6 +169,7 @@ class Level1Result:
     q0: float
     log_decrement_at_qa: float
     title: str = ""
+    csr: "CsrScreening | None" = None
 
     @property
     def ratio(self) -> float:
@@ -186,9 +195,25 @@ class Level1Result:
         return bool(self.ratio >= RATIO_CRITERION)
 
     @property
+    def csr_applies(self) -> bool:
+        """The CSR chart judges this rotor: a gas density was given and ``Q0 / Qa`` is below
+        :data:`CSR_RATIO_LIMIT` (taken as below when Q0 lies beyond a sweep shorter than that)."""
+        if self.csr is None:
+            return False
+        if np.isfinite(self.q0):
+            return bool(self.ratio < CSR_RATIO_LIMIT)
+        return bool(self.cross_coupling[-1] / self.qa < CSR_RATIO_LIMIT)
+
+    @property
+    def passes_csr(self) -> bool:
+        """False when the CSR chart applies and the rotor's point lies in Region B."""
+        return not (self.csr_applies and self.csr.region == "B")
+
+    @property
     def level2_required(self) -> bool:
-        """True unless both criteria pass."""
-        return not (self.passes_log_decrement and self.passes_ratio)
+        """True unless both criteria pass (and, with a gas density, the CSR chart: Region B with
+        ``Q0 / Qa`` below 10 requires Level II too)."""
+        return not (self.passes_log_decrement and self.passes_ratio and self.passes_csr)
 
     def verdict(self) -> str:
         """One sentence: the criteria, their values and whether Level II is required."""
@@ -196,6 +221,9 @@ class Level1Result:
                  else f"Q0/Qa > {self.cross_coupling[-1] / self.qa:.3g}")
         checks = (f"log dec at Qa = {self.log_decrement_at_qa:.3g} ({'>=' if self.passes_log_decrement else '<'} "
                   f"{LOG_DEC_CRITERION:g}), {ratio} ({'>=' if self.passes_ratio else '<'} {RATIO_CRITERION:g})")
+        if self.csr is not None:
+            checks += f", {self.csr.summary()}" + ("" if self.csr_applies else f" (not applied: Q0/Qa >= "
+                                                                               f"{CSR_RATIO_LIMIT:g})")
         return f"{checks}: Level II {'required' if self.level2_required else 'not required'}"
 
     def to_dataframe(self):
@@ -213,7 +241,7 @@ class Level1Result:
 
 
 def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_per_qa: int = 10,
-           forward_mode: int = 1) -> Level1Result:
+           forward_mode: int = 1, gas_density=None) -> Level1Result:
     """API 617 Level I screening of ``model`` at ``speed`` (see the module docstring).
 
     Parameters
@@ -237,12 +265,16 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
         the (first) station, where the cross-coupling acts, in a mode of the rotor in its
         bearings; judged at the sweep's first Q > 0 (0.1 Qa), where Q has split the rotor's
         forward and backward modes of one frequency, and followed from there to Q = 0 and up.
+    gas_density : float or (float, float), optional [kg/m^3]
+        The average gas density, or the suction and discharge densities (averaged): adds the
+        critical speed ratio criterion (:func:`csr_screening`) to the verdict.
 
     Returns
     -------
     Level1Result
     """
     speed = _checked(speed, qa, factor, steps_per_qa)
+    csr = None if gas_density is None else _gas_densities(gas_density)
     stations = tuple(s if isinstance(s, Station) else Station.parse(s) for s in stations)
     shares = _shares(shares, len(stations))
     _check_stations(model, stations)
@@ -265,7 +297,8 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     mode = int(is_oscillating(lam[0])[:order[0, label] + 1].sum())
     return Level1Result(speed=speed, stations=stations, shares=shares, cross_coupling=grid, log_decrements=log_dec,
                         frequencies_hz=freq, mode=mode, qa=float(qa), q0=q0,
-                        log_decrement_at_qa=float(log_dec[steps]), title=model.name)
+                        log_decrement_at_qa=float(log_dec[steps]), title=model.name,
+                        csr=None if csr is None else csr_screening(model, speed, csr))
 
 
 def _checked(speed, qa, factor, steps_per_qa) -> float:
@@ -383,3 +416,158 @@ def _zero_crossing(base, unit, n, grid, followed, log_dec) -> float:
     if real_part(grid[k]) == 0:
         return float(grid[k])
     return float(brentq(real_part, grid[k - 1], grid[k], xtol=1e-12 * grid[k], rtol=8.9e-16))
+
+
+def csr_boundary(density):
+    """The CSR chart's dividing line between Region A (below) and Region B (above).
+
+    As ROSS implements API 617's chart (docs/standards.md): 2.5 up to 16.53 kg/m^3, then
+    ``2.69 - 0.0115 rho`` down to 2.0 at 60 kg/m^3, and 0 beyond 60 kg/m^3.
+
+    Parameters
+    ----------
+    density : array_like [kg/m^3]
+        Average gas density.
+
+    Returns
+    -------
+    ndarray, the shape of ``density`` [-]
+    """
+    rho = np.asarray(density, dtype=float)
+    line = np.where(rho <= _CSR_KNEE, _CSR_FLAT, _CSR_INTERCEPT + _CSR_SLOPE * rho)
+    return np.where(rho > _CSR_END, 0.0, line)
+
+
+@dataclass(frozen=True)
+class CsrScreening:
+    """The rotor's point on API 617's chart of critical speed ratio against average gas density.
+
+    Attributes
+    ----------
+    speed : float [rad/s]
+        Maximum continuous speed (> 0).
+    critical_speed : float [rad/s]
+        First forward critical speed on rigid supports (:func:`rigid_support_critical_speed`);
+        nan when there is none (a rigid rotor pinned at its bearings cannot bend).
+    densities : tuple of float [kg/m^3]
+        As given: the average, or the suction and discharge densities.
+    """
+
+    speed: float
+    critical_speed: float
+    densities: tuple
+
+    @property
+    def density(self) -> float:
+        """Average gas density [kg/m^3]: the mean of the given densities."""
+        return float(np.mean(self.densities))
+
+    @property
+    def csr(self) -> float:
+        """``MCS / critical_speed``; 0 when there is no critical speed on rigid supports."""
+        return float(self.speed / self.critical_speed) if np.isfinite(self.critical_speed) else 0.0
+
+    @property
+    def boundary(self) -> float:
+        """The dividing line's CSR at :attr:`density`."""
+        return float(csr_boundary(self.density))
+
+    @property
+    def region(self) -> str:
+        """'B' above the dividing line (strictly), 'A' on or below it."""
+        return "B" if self.csr > self.boundary else "A"
+
+    def dividing_line(self, end: float | None = None) -> tuple:
+        """The chart's line from 0 to ``end`` [kg/m^3] (default: past 60 kg/m^3 and the
+        machine's density): ``(rho, csr)``, each shape (N,), its kinks among the points (the
+        drop at 60 kg/m^3 as two points, 60 and just above)."""
+        end = max(80.0, 1.25 * self.density) if end is None else float(end)
+        rho = np.linspace(0.0, end, 401)
+        rho = np.unique(np.concatenate([rho, [x for x in (_CSR_KNEE, _CSR_END, np.nextafter(_CSR_END, np.inf))
+                                              if x <= end]]))
+        return rho, csr_boundary(rho)
+
+    def summary(self, units: str = "si") -> str:
+        """``CSR = 1.9 at 35 kg/m³: Region A (line 2.29)``, the density in ``units``."""
+        scale, unit = _density_unit(units)
+        return (f"CSR = {self.csr:.3g} at {self.density * scale:.4g} {unit}: Region {self.region} "
+                f"(line {self.boundary:.3g})")
+
+    def plot(self, **kwargs):
+        """The chart; see :func:`rotordyn_modal.plotting.plot_csr_chart`."""
+        from ..plotting import plot_csr_chart
+
+        return plot_csr_chart(self, **kwargs)
+
+
+def _density_unit(units):
+    from ..units import unit_scale
+
+    return unit_scale("density", units)
+
+
+def _gas_densities(gas_density) -> tuple:
+    """One average density, or suction and discharge, each finite and > 0 [kg/m^3]."""
+    values = np.atleast_1d(np.asarray(gas_density, dtype=float)).ravel()
+    if not 1 <= len(values) <= 2 or not np.all(np.isfinite(values)) or not np.all(values > 0):
+        raise InputError(f"gas_density = {values.tolist()}: expected the average gas density, or the suction "
+                         "and discharge densities, finite and > 0 [kg/m^3]")
+    return tuple(float(v) for v in values)
+
+
+def csr_screening(model, speed, gas_density) -> CsrScreening:
+    """API 617 Level I: the rotor's critical speed ratio against the average gas density.
+
+    Parameters
+    ----------
+    model : Model
+    speed : float [rad/s]
+        Maximum continuous speed of the reference rotor (its sign is ignored).
+    gas_density : float or (float, float) [kg/m^3]
+        The average gas density, or the suction and discharge densities (averaged).
+
+    Returns
+    -------
+    CsrScreening
+    """
+    densities = _gas_densities(gas_density)
+    speed = abs(_arguments.speed(speed))
+    if speed == 0:
+        raise InputError("speed = 0: the critical speed ratio needs the maximum continuous speed (not 0)")
+    return CsrScreening(speed=speed, critical_speed=rigid_support_critical_speed(model), densities=densities)
+
+
+def rigid_support_critical_speed(model) -> float:
+    """First forward critical speed of ``model`` on rigid supports [rad/s] (nan when none).
+
+    Every bearing radially rigid (each rotor pinned to its support at its bearings' points;
+    their axial and tilt stiffness kept) and the supports fixed: the stator (or frame) and the
+    pedestals do not move. Undamped, synchronous with the reference rotor, forward whirl, as in
+    the UCS map (:func:`rotordyn_modal.analysis.ucs_map.forward_critical_speeds`); it is the
+    map's rigid-support asymptote with the casing held as well.
+    """
+    import scipy.linalg
+
+    from ..assembly import bearing_motion
+    from .ucs_map import _RADIAL_OF, _Pencil, forward_critical_speeds
+
+    if not model.bearings:
+        raise InputError("no bearings: a critical speed on rigid supports needs a rotor on bearings")
+    parts = _Pencil(model, list(model.bearings))
+    layout = model.dofs
+    n = parts.M.shape[0]
+    pins = [np.eye(layout.n_frame, n)]
+    for bearing in model.bearings:
+        rows, moves = bearing_motion(model, bearing)
+        block = np.zeros((6, n))
+        block[:, rows] = _RADIAL_OF(model) @ moves
+        pins.append(block[:3])
+        pedestal = layout.pedestal(bearing.name)
+        if pedestal is not None:
+            pins.append(np.eye(n)[pedestal])
+    T = scipy.linalg.null_space(np.vstack(pins))
+    if not T.shape[1]:
+        return float("nan")
+    forms = _whirl.WhirlForms(*(T.T @ X @ T for X in parts.forms))
+    return float(forward_critical_speeds(T.T @ parts.M @ T, T.T @ parts.G @ T, (T.T @ parts.rest @ T)[None],
+                                         forms, 1)[0, 0])

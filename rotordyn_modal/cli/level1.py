@@ -30,7 +30,15 @@ With one station all of Q acts there; with one station per stage each takes its 
 A station is ROTOR (its centre of mass: a rigid rotor's) or ROTOR@OFFSET (m along spin_axis
 from the centre of mass: an impeller). docs/level1_and_ucs.md gives the formulas and sources.
 
-With --units us, --qa is in lbf/in, --power in hp, the diameter, height and OFFSET in in; the table's
+With --gas-density RHO (the average gas density) or RHO_SUCTION,RHO_DISCHARGE (averaged), in
+kg/m^3, the critical speed ratio CSR = MCS / first forward critical speed on rigid supports
+(every bearing radially rigid, the casing and pedestals held) is placed on API 617's chart
+against the average density: above the dividing line (Region B: CSR 2.5 up to 16.53 kg/m^3,
+then 2.69 - 0.0115 rho to 2.0 at 60 kg/m^3, as ROSS implements it) with Q0/Qa below 10, Level
+II is required too. --csr-plot FILE draws the chart. docs/standards.md gives the line's source.
+
+With --units us, --qa is in lbf/in, --power in hp, the diameter, height and OFFSET in in, the
+gas density in lb/ft^3; the table's
 first column is then q_lbf_per_in and Q is printed and drawn in lbf/in (the formula is the same
 physics: its inputs are converted to SI, docs/units.md).
 
@@ -49,6 +57,8 @@ def add_arguments(parser):
     add_stage_arguments(parser)
     parser.add_argument("--factor", default="10", help="the sweep reaches FACTOR x Qa (default 10)")
     parser.add_argument("--forward-mode", default="1", help="follow the N-th forward mode (default 1, the first)")
+    parser.add_argument("--csr-plot", metavar="FILE", help="draw the CSR against gas density chart (needs "
+                                                            "--gas-density; .png, .svg or .pdf)")
     add_outputs(parser)
 
 
@@ -67,6 +77,23 @@ def add_stage_arguments(parser, required: bool = True, speed_option: str = "--sp
     parser.add_argument("--machine", choices=["compressor", "turbine"], default="compressor",
                         help="B = 3 (compressor) or 1.5 (turbine, no density ratio)")
     parser.add_argument("--operating-speed", help=f"normal operating speed N_r of the formula (default {speed_option})")
+    parser.add_argument("--gas-density", metavar="RHO[,RHO_DISCHARGE]",
+                        help="average gas density, or suction and discharge densities [kg/m^3; lb/ft^3 with --units "
+                             "us]: adds the critical speed ratio chart (compressors)")
+
+
+def gas_density(args):
+    """--gas-density in kg/m^3: None, or a tuple of one or two values > 0."""
+    if getattr(args, "gas_density", None) is None:
+        return None
+    values = parse_list(args.gas_density, "--gas-density")
+    if not 1 <= len(values) <= 2 or not np.all(np.isfinite(values) & (values > 0)):
+        raise InputError(f"--gas-density {args.gas_density!r}: expected the average gas density, or the suction and "
+                         "discharge densities RHO_S,RHO_D, > 0 [kg/m^3; lb/ft^3 with --units us]")
+    if args.machine != "compressor":
+        raise InputError(f"--gas-density with --machine {args.machine}: the critical speed ratio chart screens "
+                         "compressors (--machine compressor)")
+    return tuple(float(v) for v in from_system(values, "density", getattr(args, "units", None) or "si"))
 
 
 def run(args) -> int:
@@ -79,8 +106,12 @@ def run(args) -> int:
     qa, shares = anticipated(args, len(stations), speed)
     factor = parse_number(args.factor, "--factor")
     forward = parse_count(args.forward_mode, "--forward-mode")
+    density = gas_density(args)
+    if args.csr_plot and density is None:
+        raise InputError("--csr-plot: give --gas-density (the chart places the rotor by its average gas density)")
     model = open_model(args)
-    result = level1(model, speed, stations, qa, shares=shares, factor=factor, forward_mode=forward)
+    result = level1(model, speed, stations, qa, shares=shares, factor=factor, forward_mode=forward,
+                    gas_density=density)
     table = result.to_dataframe()
     write_table(convert_table(table, kinds_by_ending(table.columns), args.units), args)
     if not args.quiet:
@@ -93,6 +124,10 @@ def run(args) -> int:
     if args.plot:
         use_agg()
         save_figure(result.plot(units=args.units), args)
+    if args.csr_plot:
+        use_agg()
+        save_figure(result.csr.plot(units=args.units, title=f"API 617 Level I: {result.title}" if result.title
+                                    else None, verdict=result.verdict().rpartition(": ")[2]), args, args.csr_plot, "--csr-plot")
     return 0
 
 

@@ -16,7 +16,7 @@ from ..io import atomic_write
 from ..units import from_system
 from ._common import add_model_argument, add_output_file, add_speed_unit, check_ending, check_extra_output, \
     open_model, parse_number, to_rad_s
-from .level1 import add_stage_arguments, anticipated
+from .level1 import add_stage_arguments, anticipated, gas_density
 from .ucs_map import _operating, _stiffness
 
 NAME = "report"
@@ -33,7 +33,8 @@ operating range (else the lowest 4; shaft lines for flexible rotors), then by --
           probe limits and, for a model with [[rotors.clearances]], the clearance check (pk-pk
           at each station <= 75 % of its diametral clearance)
   api617  the same plus API 617 Level I stability (with --station and --qa or the stage data
-          of 'level1'; otherwise 'not evaluated')
+          of 'level1'; otherwise 'not evaluated'); with --gas-density also the critical speed
+          ratio against average gas density (its criterion line and chart, as 'level1')
   iso     the response to the model's [[unbalances]] (amounts or ISO 21940-11 grades) and the
           ISO 20816-3 zones of the casing sensors (--iso-group and --iso-support)
 The sweeps run from 2 % of --mcs to 1.5 x --mcs (--points speeds); the operating range
@@ -43,7 +44,7 @@ ROTORDYN_MODAL_UNITS=us) every table, figure and criterion shows US customary un
 in mil, casing velocity in in/s RMS, static displacement in in, forces in lbf, stiffness and Q
 in lbf/in, masses in lb (docs/units.md); the verdicts are the same. The options are then read in
 US units too, as by 'level1' and 'ucs-map': --qa and --stiffness in lbf/in, --power in hp, the
-impeller diameter, restriction height and station OFFSET in in.
+impeller diameter, restriction height and station OFFSET in in, --gas-density in lb/ft^3.
 
 examples:
   rotordyn-modal report examples/journal_rotor.toml --standard api617 --mcs 6000 \\
@@ -127,8 +128,9 @@ def _inputs(args):
         if units != "si":      # ROTOR@OFFSET: the offset in in, as in 'level1'
             stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", units)) for s in stations]
         qa, shares = anticipated(args, len(stations), mcs)
-        level1 = {"stations": stations, "qa": qa, "shares": shares}
-    elif any(getattr(args, o) is not None for o in ("qa", "power", "impeller_diameter", "restriction_height")):
+        level1 = {"stations": stations, "qa": qa, "shares": shares, "gas_density": gas_density(args)}
+    elif any(getattr(args, o) is not None for o in ("qa", "power", "impeller_diameter", "restriction_height",
+                                                    "gas_density")):
         raise InputError("--qa or stage data given without --station: name where the cross-coupling acts")
     return ReportInputs(standard=args.standard, mcs=mcs, operating=operating, points=points,
                         iso_group=args.iso_group, iso_support=args.iso_support, level1=level1,

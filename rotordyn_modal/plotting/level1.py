@@ -1,4 +1,5 @@
-"""API 617 Level I figure: log decrement of the first forward mode against Q / Qa."""
+"""API 617 Level I figures: log decrement of the first forward mode against Q / Qa; the critical
+speed ratio against average gas density."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import numpy as np
 from ..units import unit_scale
 from ._style import new_figure
 
-__all__ = ["plot_level1"]
+__all__ = ["plot_level1", "plot_csr_chart"]
 
 
 def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
@@ -76,3 +77,62 @@ def _limits(ax, result):
     high = max(values.max(initial=0.0), 0.12)
     span = high - low
     ax.set_ylim(low - 0.08 * span, high + 0.08 * span)
+
+
+def plot_csr_chart(screening, title: str | None = None, ax=None, units: str = "si", verdict: str | None = None):
+    """API 617 Level I chart: critical speed ratio against average gas density.
+
+    The dividing line (``screening.dividing_line()``, :func:`~rotordyn_modal.analysis.level1.csr_boundary`)
+    separates Region A (below) from Region B (above, shaded); the machine's point is marked,
+    red in Region B. A second axis along the top reads the density in the other unit system.
+
+    Parameters
+    ----------
+    screening : CsrScreening
+    title : str, optional
+    ax : matplotlib Axes, optional
+    units : {'si', 'us'}
+        Density along the bottom in kg/m³ (SI) or lb/ft³ (US customary).
+    verdict : str, optional
+        A short line added under the title (the Level I verdict, 'Level II required').
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    scale, unit = unit_scale("density", units)
+    other = "us" if units == "si" else "si"
+    other_scale, other_unit = unit_scale("density", other)
+    fig, ax = new_figure(ax, figsize=(8.0, 5.5))
+    rho, line = screening.dividing_line()
+    end = rho[-1]
+    top = max(3.0, 1.15 * screening.csr)
+    ax.fill_between(rho * scale, line, top, color="tab:red", alpha=0.08, linewidth=0)
+    ax.plot(rho * scale, line, color="k", linewidth=1.8, label="dividing line (ROSS's reading of API 617)")
+    ax.text(0.03, 0.05, "Region A", transform=ax.transAxes, fontsize="large", color="0.35")
+    ax.text(0.03, 0.93, "Region B (Level II if Q0/Qa < 10)", transform=ax.transAxes, fontsize="large",
+            color="tab:red", alpha=0.7, va="top")
+    colour = "tab:red" if screening.region == "B" else "tab:green"
+    critical = (f"{screening.critical_speed * 30 / np.pi:.5g} rpm" if np.isfinite(screening.critical_speed)
+                else "none (rigid rotor)")
+    ax.plot([screening.density * scale], [screening.csr], "o", color=colour, markersize=9, zorder=5,
+            label=f"machine: MCS {screening.speed * 30 / np.pi:.5g} rpm / first critical on rigid supports "
+                  f"{critical}")
+    ax.set_xlim(0.0, end * scale)
+    ax.set_ylim(0.0, top)
+    ax.set_xlabel(f"Average gas density [{unit}]")
+    ax.set_ylabel("Critical speed ratio CSR [-]\n(MCS / first critical speed on rigid supports)")
+    ratio = other_scale / scale
+    second = ax.secondary_xaxis("top", functions=(lambda x: x * ratio, lambda x: x / ratio))
+    second.set_xlabel(f"[{other_unit}]")
+    ax.grid(True, alpha=0.3)
+    heading = title or "API 617 Level I: critical speed ratio against gas density"
+    import textwrap
+
+    lines = [textwrap.shorten(heading, 80), screening.summary(units)]
+    if verdict:
+        lines.append(f"Level I verdict: {textwrap.shorten(verdict, 90)}")
+    bad = screening.region == "B" or (verdict or "").strip() == "Level II required"
+    ax.set_title("\n".join(lines), fontsize="medium", color="tab:red" if bad else "darkgreen")
+    ax.legend(fontsize="x-small", loc="upper right", framealpha=0.85)
+    return fig

@@ -54,6 +54,7 @@ SHOWN_UNITS = {
     "force": {"si": unit_scale("force", "si"), "us": unit_scale("force", "us")},
     "stiffness": {"si": unit_scale("stiffness", "si"), "us": unit_scale("stiffness", "us")},
     "mass": {"si": unit_scale("mass", "si"), "us": unit_scale("mass", "us")},
+    "density": {"si": unit_scale("density", "si"), "us": unit_scale("density", "us")},
 }
 
 
@@ -112,7 +113,9 @@ class ReportInputs:
         Speeds of the sweeps, from 2 % of the MCS to 1.5 MCS (journal bearings have no film at rest).
     iso_group, iso_support : ISO 20816-3 class (both or neither).
     level1 : dict, optional
-        ``{"stations": [Station], "qa": float [N/m], "shares": array or None}``.
+        ``{"stations": [Station], "qa": float [N/m], "shares": array or None}``, and optionally
+        ``"gas_density"``: the average, or suction and discharge densities [kg/m^3] (adds the
+        critical speed ratio criterion).
     stiffness : ndarray [N/m]
         Bearing stiffness values of the UCS map.
     command : str
@@ -447,7 +450,7 @@ def _level1(data):
         data.skipped["level1"] = "no --station with --qa or stage data given"
     else:
         data.results["level1"] = level1(data.model, data.inputs.mcs, given["stations"], given["qa"],
-                                        shares=given.get("shares"))
+                                        shares=given.get("shares"), gas_density=given.get("gas_density"))
     result = data.results.get("level1")
     if result is None:
         for name in ("API 617 Level I: log decrement at Qa", "API 617 Level I: Q0/Qa"):
@@ -462,6 +465,19 @@ def _level1(data):
     data.criteria.append(Criterion("API 617 Level I: Q0/Qa", ratio, f">= {result.ratio_criterion:g}",
                                    "pass" if result.passes_ratio else "fail", "level1",
                                    "Level II required" if result.level2_required else "Level II not required"))
+    if result.csr is not None:
+        _csr_criterion(data, result)
+
+
+def _csr_criterion(data, result):
+    """The critical speed ratio against the average gas density: Region B with Q0/Qa < 10 fails."""
+    csr = result.csr
+    why = ("Region A" if csr.region == "A" else "Region B" + ("" if result.csr_applies else ", not applied: Q0/Qa >= 10")) \
+        + " at {0:.4g} {unit}; MCS / first critical speed on rigid supports"
+    data.criteria.append(Criterion.of("API 617 Level I: critical speed ratio",
+                                      "pass" if result.passes_csr else "fail", "level1",
+                                      value=f"{csr.csr:.3g}", limit=f"<= {csr.boundary:.3g}",
+                                      quantities=[("why", why, "density", (csr.density,))]))
 
 
 def _iso(data):

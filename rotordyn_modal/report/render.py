@@ -372,13 +372,25 @@ def _level1(data, units) -> str:
             ["log decrement at Qa [-]", _g(result.log_decrement_at_qa, 3), f">= {result.log_decrement_criterion:g}"],
             [f"Q0 [{unit}]", _g(result.q0 * factor) if np.isfinite(result.q0) else "beyond the sweep", ""],
             ["Q0/Qa [-]", ratio, f">= {result.ratio_criterion:g}"]]
+    csr = result.csr
+    if csr is not None:
+        dscale, dunit = shown_scale("density", units)
+        critical = _g(csr.critical_speed * 30 / np.pi) if np.isfinite(csr.critical_speed) else "none (rigid rotor)"
+        rows += [["first critical speed on rigid supports [rpm]", critical, ""],
+                 [f"average gas density [{dunit}]", _g(csr.density * dscale), ""],
+                 ["critical speed ratio CSR [-]", _g(csr.csr, 3),
+                  f"Region A: <= {csr.boundary:.3g}" + ("" if result.csr_applies else " (Q0/Qa >= 10: not applied)")]]
     return "\n".join([
         _heading("level1"),
         f"<p>Stations: {escape(', '.join(_station(s, units) for s in result.stations))}; mode {result.mode} followed at the MCS. "
         f"{escape(result.verdict())}.</p>",
         _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
         _figure(result.plot(**_units(units)), "Figure: log decrement of the first forward mode against the applied cross-coupling "
-                "Q (API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")])
+                "Q (API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")]
+        + ([] if csr is None else [_figure(csr.plot(verdict=result.verdict().rpartition(": ")[2], **_units(units)),
+                                           "Figure: critical speed ratio against average gas density, the dividing "
+                                           "line between Regions A and B (API 617 Level I; docs/standards.md).",
+                                           "Critical speed ratio chart")]))
 
 
 def _station(station, units) -> str:

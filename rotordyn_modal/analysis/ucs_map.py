@@ -298,7 +298,7 @@ def _synchronous_roots(M, G, K, forms) -> _Roots:
     if not W.shape[1]:                      # every motion free: no mode at all
         empty = np.zeros((len(K), 0))
         return _Roots(empty, empty, np.zeros((len(K), 0, len(M)), dtype=complex), empty.astype(bool))
-    Kw = np.einsum("ji,sjk,kl->sil", W.conj(), K, W)
+    Kw = W.conj().T @ K @ W          # (s, n, n): matrix products, not a three-operand einsum (n^4 per speed)
     Bw = W.conj().T @ B @ W
     R = np.linalg.cholesky(0.5 * (Kw + Kw.conj().swapaxes(-1, -2)))
     X = np.linalg.solve(R, np.broadcast_to(Bw, Kw.shape))             # R^-1 Bw

@@ -1,0 +1,97 @@
+"""``--units us`` on the figures and tables converted after the first round (docs/units.md):
+mode-shape figures, simulate. Each conversion round-trips SI -> US -> SI with factors checked
+against the exact definitions (1 in = 0.0254 m, 1 lbf = 4.4482216152605 N)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rotordyn_modal.analysis.modal import modal
+from rotordyn_modal.analysis.mode_shapes import mode_shape_3d, shaft_lines
+from rotordyn_modal.cli import main
+from rotordyn_modal.io.model_file import load_model
+from rotordyn_modal.units import from_system, to_system
+
+IN = 0.0254                  # m, exact (NIST SP 811)
+LBF = 4.4482216152605        # N, exact: 0.45359237 kg * 9.80665 m/s^2
+
+
+@pytest.fixture(scope="module")
+def compressor():
+    model = load_model("examples/compressor_rotor.toml")
+    return model, modal(model, 3000 * np.pi / 30)
+
+
+def _agg():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def test_length_conversion_round_trips_with_the_exact_inch():
+    x = np.array([0.0, 1e-9, 0.0254, 1.2345, -3.0])
+    np.testing.assert_allclose(to_system(x, "length", "us"), x / IN, rtol=1e-15)
+    np.testing.assert_allclose(from_system(to_system(x, "length", "us"), "length", "us"), x, rtol=1e-12, atol=0)
+    np.testing.assert_allclose(to_system(x, "displacement", "us"), x / IN * 1000, rtol=1e-15)
+    np.testing.assert_allclose(to_system(x, "force", "us"), x / LBF, rtol=1e-15)
+
+
+def test_shaft_lines_in_inches_are_the_si_ones_over_the_inch(compressor):
+    """Every x on the --plot-shaft figure (lines, nodes, disks, bearings) drawn in in is the SI
+    position / 0.0254 and comes back to it to 1e-12; the normalised displacements are unchanged."""
+    plt = _agg()
+    model, result = compressor
+    views = [shaft_lines(result, model, m) for m in (1, 2)]
+    from rotordyn_modal.plotting.shaft_modes import plot_shaft_modes
+
+    si, us = plot_shaft_modes(views), plot_shaft_modes(views, units="us")
+    assert us.axes[-1].get_xlabel().endswith("[in]") and si.axes[-1].get_xlabel().endswith("[m]")
+    pairs = [(a, b) for ax_si, ax_us in zip(si.axes, us.axes)
+             for a, b in zip(ax_si.get_lines(), ax_us.get_lines()) if a.get_gid()]   # not the axhline
+    assert len(pairs) > 10 and all(a.get_gid() == b.get_gid() for a, b in pairs)
+    bearing = next(b for a, b in pairs if str(b.get_gid()).startswith("bearing:"))
+    name = bearing.get_gid().split(":")[-1]
+    bearing_x = next(b.position for b in model.bearings if b.name == name)
+    assert bearing.get_xdata()[0] * IN == pytest.approx(float(np.atleast_1d(bearing_x)[0]), rel=1e-12)
+    for a, b in pairs:
+        x_si = np.asarray(a.get_xdata(), dtype=float)
+        x_us = np.asarray(b.get_xdata(), dtype=float)
+        np.testing.assert_allclose(x_us, x_si / IN, rtol=1e-12, atol=0)
+        np.testing.assert_allclose(from_system(x_us, "length", "us"), x_si, rtol=1e-12, atol=1e-15)
+        np.testing.assert_array_equal(a.get_ydata(), b.get_ydata())
+    plt.close("all")
+
+
+def test_modes_command_line_draws_in_inches(monkeypatch, tmp_path):
+    plt = _agg()
+    import rotordyn_modal.cli.modes as command
+
+    drawn = []
+    monkeypatch.setattr(command, "save_figure", lambda fig, *a, **k: drawn.append(fig))
+    base = ["modes", "examples/compressor_rotor.toml", "--speed", "3000", "--quiet"]
+    assert main(["--units", "us"] + base + ["--plot-shaft", str(tmp_path / "l.png"), "--modes", "1"]) == 0
+    assert main(base + ["--shape", "1", "--plot", str(tmp_path / "s.png"), "--units", "us"]) == 0
+    assert drawn[0].axes[-1].get_xlabel() == "position along x [in]"
+    _ticks_are_round_inches(drawn[1])
+    plt.close("all")
+
+
+def _ticks_are_round_inches(fig):
+    """The 3D view and its three projections: every axis labelled in in, its ticks (placed in
+    metres) at round numbers of inches, each label the tick's place / 0.0254 (back to 1e-12)."""
+    fig.canvas.draw()
+    ax3d = fig.axes[0]
+    assert [ax3d.get_xlabel(), ax3d.get_ylabel(), ax3d.get_zlabel()] == ["x [in]", "y [in]", "z [in]"]
+    axes = [ax3d.xaxis, ax3d.yaxis, ax3d.zaxis] + [a for ax in fig.axes[1:] for a in (ax.xaxis, ax.yaxis)]
+    assert len(axes) == 9 and all(a.get_label_text().endswith("[in]") for a in axes)
+    for axis in axes:
+        ticks = np.asarray(axis.get_major_locator()(), dtype=float)
+        shown = np.array([float(axis.get_major_formatter()(t)) for t in ticks])
+        assert len(ticks) >= 3
+        np.testing.assert_allclose(shown, np.round(shown, 6), rtol=0, atol=1e-9)     # round inches
+        np.testing.assert_allclose(from_system(shown, "length", "us"), ticks, rtol=1e-12, atol=1e-15)
+        np.testing.assert_allclose(shown * IN, ticks, rtol=1e-12, atol=1e-15)

@@ -95,3 +95,90 @@ def _ticks_are_round_inches(fig):
         np.testing.assert_allclose(shown, np.round(shown, 6), rtol=0, atol=1e-9)     # round inches
         np.testing.assert_allclose(from_system(shown, "length", "us"), ticks, rtol=1e-12, atol=1e-15)
         np.testing.assert_allclose(shown * IN, ticks, rtol=1e-12, atol=1e-15)
+
+
+@pytest.fixture(scope="module")
+def fan_run():
+    """A short run of the fan on its bearings (sensors, two rotors, four bearings), its SI table."""
+    from rotordyn_modal.simulation import simulate
+
+    model = load_model("examples/fan_on_bearings.toml")
+    result = simulate(model, 0.02, 3000 * np.pi / 30, samples=41, backend="numpy")
+    return result, result.to_dataframe()
+
+
+def test_simulate_table_in_us_units_round_trips(fan_run):
+    """Every length, force and moment column of simulate's table in US units is the SI one in
+    mil (vibration), in (rotor centres), lbf or lbf in, named with its unit; back to SI to 1e-12;
+    the rest (time, angles, rad/s, J) unchanged."""
+    from rotordyn_modal.cli.simulate import _in_units
+
+    result, si = fan_run
+    us = _in_units(si, result, "us")
+    assert _in_units(si, result, "si") is si
+    sizes = {"_mil": IN / 1000, "_in": IN, "_lbf": LBF, "_lbfin": LBF * IN}
+    assert len(us.columns) == len(si.columns)
+    converted = 0
+    for old, new in zip(si.columns, us.columns):
+        ending = next((e for e in sorted(sizes, key=len, reverse=True) if new.endswith(e) and not old.endswith(e)),
+                      None)
+        if ending is None:
+            assert new == old
+            np.testing.assert_array_equal(us[new], si[old])
+            continue
+        converted += 1
+        back = us[new].to_numpy() * sizes[ending]
+        np.testing.assert_allclose(back, si[old].to_numpy(), rtol=1e-12, atol=1e-300)
+        kind = {"_mil": "displacement", "_in": "length", "_lbf": "force", "_lbfin": "moment"}[ending]
+        np.testing.assert_allclose(from_system(us[new].to_numpy(), kind, "us"), si[old], rtol=1e-12, atol=1e-300)
+    # u_x..u_z, 4 sensors, 2 x 3 centres, 4 bearings x 6, the drive torque
+    assert converted == 3 + len(result.sensor_names) + 3 * len(result.rotor_names) + 6 * len(result.bearing_names) + 1
+    assert {"u_x_mil", "probe-DE-x_mil", "fan_center_z_in", "fan-DE_Fz_lbf", "fan-DE_Mx_lbfin",
+            "drive_torque_lbfin"} <= set(us.columns)
+    assert np.abs(us["fan-DE_Fz_lbf"]).max() > 0 and np.abs(us["probe-DE-x_mil"]).max() > 0
+
+
+def test_simulate_figure_in_mil(fan_run):
+    plt = _agg()
+    result, _ = fan_run
+    si, us = result.plot(), result.plot(units="us")
+    assert si.axes[0].get_xlabel().endswith("[m]") and us.axes[0].get_xlabel().endswith("[mil]")
+    for a, b in zip(si.axes[0].get_lines(), us.axes[0].get_lines()):
+        np.testing.assert_allclose(np.asarray(b.get_xydata()) * IN / 1000, a.get_xydata(), rtol=1e-12, atol=1e-300)
+    right_si, right_us = si.axes[-1], us.axes[-1]          # the translation's twin axis
+    assert right_si.get_ylabel() == "Translation [mm]" and right_us.get_ylabel() == "Translation [mil]"
+    plt.close("all")
+
+
+def test_runup_figure_in_mil(fan_run):
+    """The run-up panels (signal, 1X amplitude, waterfall colour bar) in mil: the signal drawn is
+    the SI one in µm times 1e-6 / 2.54e-5 (back to metres to 1e-12)."""
+    plt = _agg()
+    from rotordyn_modal.plotting.simulation import plot_runup
+
+    result, _ = fan_run
+    si, us = (plot_runup(result, "probe-DE-x", segments=2, units=u) for u in ("si", "us"))
+    labels = lambda fig: [ax.get_ylabel() for ax in fig.axes]   # noqa: E731
+    assert labels(si)[:2] == ["probe-DE-x [µm]", "probe-DE-x, 1X amplitude [µm]"]
+    assert labels(us)[:2] == ["probe-DE-x [mil]", "probe-DE-x, 1X amplitude [mil]"]
+    assert labels(us)[-1] == "probe-DE-x, amplitude [mil]" and labels(si)[-1] == "probe-DE-x, amplitude [µm]"
+    signal = us.axes[0].get_lines()[0].get_ydata()
+    np.testing.assert_allclose(signal * IN / 1000, result.sensor("probe-DE-x"), rtol=1e-12, atol=1e-300)
+    np.testing.assert_allclose(signal * IN / 1000, si.axes[0].get_lines()[0].get_ydata() * 1e-6, rtol=1e-12,
+                               atol=1e-300)
+    plt.close("all")
+
+
+def test_simulate_command_line_names_the_us_units(monkeypatch, capsys, tmp_path):
+    plt = _agg()
+    import rotordyn_modal.cli.simulate as command
+
+    drawn = []
+    monkeypatch.setattr(command, "save_figure", lambda fig, *a, **k: drawn.append(fig))
+    assert main(["simulate", "examples/spring_block_rotor.toml", "--duration", "0.02", "--samples", "11",
+                 "--backend", "numpy", "--quiet", "--out", "-", "--units", "us", "--plot",
+                 str(tmp_path / "s.png")]) == 0
+    header = capsys.readouterr().out.splitlines()[0].split(",")
+    assert header[:4] == ["time_s", "u_x_mil", "u_y_mil", "u_z_mil"] and "drive_torque_lbfin" in header
+    assert "y displacement of the rotor centre [mil]" in [ax.get_xlabel() for ax in drawn[0].axes]
+    plt.close("all")

@@ -182,3 +182,32 @@ def test_simulate_command_line_names_the_us_units(monkeypatch, capsys, tmp_path)
     assert header[:4] == ["time_s", "u_x_mil", "u_y_mil", "u_z_mil"] and "drive_torque_lbfin" in header
     assert "y displacement of the rotor centre [mil]" in [ax.get_xlabel() for ax in drawn[0].axes]
     plt.close("all")
+
+
+def _soft_block(tmp_path, stiffness=(1e3, 1e3, 1e3)):
+    """100 kg on one suspension at its centre of mass under 9.81 m/s²: sag m g / k."""
+    import tomli_w
+
+    path = tmp_path / "soft.toml"
+    path.write_text(tomli_w.dumps({"stator": {"mass": 100.0, "inertia": [2.0, 2.0, 2.0]},
+                                   "suspensions": [{"name": "mount", "position": [0.0, 0.0, 0.0],
+                                                    "stiffness": [*stiffness, 1e6, 1e6, 1e6]}],
+                                   "gravity": [0.0, 0.0, -9.81]}))
+    return path
+
+
+def test_the_sag_warning_says_inches_and_pounds_in_us_units(tmp_path, capsys):
+    """The static sag warning: m g / k = 0.981 m is 38.6 in (0.981 / 0.0254), the limit 0.1 m is
+    3.94 in; the weight that nothing holds, 100 kg, is 220.5 lb (100 / 0.45359237). SI unchanged."""
+    path = _soft_block(tmp_path)
+    for argv in (["--units", "us", "check", str(path)], ["modes", str(path), "--quiet", "--units", "us"]):
+        assert main(argv) == 0
+        (line,) = capsys.readouterr().err.splitlines()
+        assert f"would sag {100 * 9.81 / 1e3 / IN:.3g} in at [suspensions.mount]" in line, line
+        assert f"over {0.1 / IN:.3g} in is unlikely" in line and " m " not in line
+    assert main(["check", str(path)]) == 0
+    assert "would sag 0.981 m at [suspensions.mount] (static deflection on its suspensions; mounts deflect " \
+           "millimetres, over 0.1 m is unlikely)" in capsys.readouterr().err
+    free = _soft_block(tmp_path, (1e6, 1e6, 0.0))
+    assert main(["--units", "us", "check", str(free)]) == 0
+    assert f"weight ({100 / 0.45359237:.4g} lb under gravity)" in capsys.readouterr().err

@@ -211,3 +211,15 @@ def test_the_sag_warning_says_inches_and_pounds_in_us_units(tmp_path, capsys):
     free = _soft_block(tmp_path, (1e6, 1e6, 0.0))
     assert main(["--units", "us", "check", str(free)]) == 0
     assert f"weight ({100 / 0.45359237:.4g} lb under gravity)" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command, says", [
+    ("campbell", "nothing here changes"), ("critical-speeds", "nothing here changes"),
+    ("stability", "in the model file's SI unit"), ("fit", "not converted yet"), ("study", "not converted yet"),
+    ("import-ross", "the model file it writes is SI"), ("modes", "si (default) or us"),
+    ("simulate", "si (default) or us")])
+def test_every_sub_command_says_what_units_does_to_it(command, says, capsys):
+    with pytest.raises(SystemExit):
+        main([command, "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert says in text[text.index("--units si|us "):]

@@ -22,6 +22,7 @@ from .elements._bearing_validation import LONG_JOURNAL
 from .model._table import visible
 from .errors import InputError, ModelError
 from .model.geometry import shift_matrix
+from .units import to_system, unit_label
 from .elements.mounts import maxwell_branches, with_branch_states
 
 __all__ = ["SpeedLinearForm", "speed_linear_form", "checked_mass_inverse", "implausible", "SAG_LIMIT",
@@ -69,7 +70,7 @@ SAG_LIMIT = 0.1
 LOWEST_MOUNT_FREQUENCY = 0.5
 
 
-def implausible(model) -> list[str]:
+def implausible(model, units: str = "si") -> list[str]:
     """What is legal in ``model`` but probably not meant, one sentence each (empty: nothing).
 
     * The machine on its suspensions, rigid (its rotors held in place), under ``gravity``: the
@@ -83,6 +84,9 @@ def implausible(model) -> list[str]:
     Parameters
     ----------
     model : Model
+    units : {'si', 'us'}
+        Unit system of the computed values said (the sag in m or in, the weight in kg or lb;
+        docs/units.md); the model's keys are quoted as the file gives them (SI).
 
     Returns
     -------
@@ -92,7 +96,7 @@ def implausible(model) -> list[str]:
     if model.suspensions:
         try:   # a model whose numbers overflow here is refused by its analyses, not by a warning
             with np.errstate(all="ignore"):
-                sag = _sag_line(model)
+                sag = _sag_line(model, units)
                 lines += [sag] if sag else _low_mode_lines(model)
         except (np.linalg.LinAlgError, ValueError):
             pass
@@ -114,27 +118,31 @@ def _on_suspensions(model):
     return mass, stiffness, shifts
 
 
-def _sag_line(model) -> str:
+def _sag_line(model, units: str = "si") -> str:
     """The warning about the machine's static sag under gravity, or ''.
 
     The stator's rows of the static solution ``K q = f`` (docs/static.md): bearings act on the
     rotors' relative motion only, so the stator's sag on its suspensions is the rigid machine's,
-    whatever the bearings (``rotordyn_modal.analysis.static`` solves the same rows)."""
+    whatever the bearings (``rotordyn_modal.analysis.static`` solves the same rows); the sag and
+    the weight in the unit system ``units``."""
     if not np.any(model.gravity):
         return ""
     _, stiffness, shifts = _on_suspensions(model)
     total = sum(m for m, _, _ in body_inertias(model))
     sag = static_solution(stiffness, weight_force(model)[:6])
     if sag is None:
-        return (f"{model.source}: the [[suspensions]] do not hold the machine's weight ({total:.4g} kg under "
+        return (f"{model.source}: the [[suspensions]] do not hold the machine's weight "
+                f"({to_system(total, 'mass', units):.4g} {unit_label('mass', units)} under "
                 "gravity): they have no stiffness in a direction the weight pushes, so it would fall")
     drops = [np.linalg.norm((shift.T @ sag)[:3]) for shift in shifts]
     worst = int(np.argmax(drops))
     if not drops[worst] > SAG_LIMIT:
         return ""
-    return (f"{model.source}: under gravity the machine would sag {drops[worst]:.3g} m at [suspensions."
-            f"{visible(model.suspensions[worst].name)}] (static deflection on its suspensions; mounts deflect "
-            f"millimetres, over {SAG_LIMIT:g} m is unlikely): is a stiffness in N/mm given as N/m?")
+    length = unit_label("length", units)
+    return (f"{model.source}: under gravity the machine would sag {to_system(drops[worst], 'length', units):.3g} "
+            f"{length} at [suspensions.{visible(model.suspensions[worst].name)}] (static deflection on its "
+            f"suspensions; mounts deflect millimetres, over {to_system(SAG_LIMIT, 'length', units):.3g} {length} "
+            "is unlikely): is a stiffness in N/mm given as N/m?")
 
 
 def static_solution(stiffness: np.ndarray, load: np.ndarray):

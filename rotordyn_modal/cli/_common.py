@@ -197,7 +197,7 @@ def speeds_text(args) -> str:
 def open_model(args):
     """Check the output options (before any work), then load and validate the model."""
     check_output_options(args)
-    return load_model(args.model)
+    return load_model(args.model, units=getattr(args, "units", None) or "si")   # its warnings' unit system
 
 
 def check_output_options(args):

@@ -23,11 +23,21 @@ UNITS_HELP = (f"unit system of the tables and figures: si (default) or us (in, m
 US_ENDINGS = {"_m": "_in", "_N": "_lbf", "_Nm": "_lbfin", "_n_per_m": "_lbf_per_in", "_Pa": "_psi"}
 
 
-def add_units_option(parser, suppress: bool = False):
+#: ``--units`` help of the sub-commands whose output has nothing to convert (their module's UNITS_HELP)
+NOTHING_TO_CONVERT = ("accepted (as in every sub-command: set once, e.g. by {env}) but nothing here changes "
+                      "with it: speeds are rpm (or --speed-unit), frequencies Hz, damping ratios and log "
+                      "decrements have no unit (docs/units.md)").format(env=ENVIRONMENT)
+#: ``--units`` help of the sub-commands that stay SI for now (their module's UNITS_HELP)
+STAYS_SI = ("accepted (as in every sub-command: set once, e.g. by {env}) but this sub-command reads, prints and "
+            "writes SI (m, kg, N, N/m) whatever it says: not converted yet (docs/units.md)").format(env=ENVIRONMENT)
+
+
+def add_units_option(parser, suppress: bool = False, help: str | None = None):
     """``--units`` on the main parser (default None) or a sub-command's (``suppress``: it sets
-    nothing when not given, so the main parser's value stands)."""
+    nothing when not given, so the main parser's value stands); ``help`` replaces the usual text
+    (a sub-command that converts nothing says so)."""
     parser.add_argument("--units", metavar="si|us", default=argparse.SUPPRESS if suppress else None,
-                        help=UNITS_HELP)
+                        help=help or UNITS_HELP)
 
 
 def resolve_units(given) -> str:

@@ -5,9 +5,11 @@ from __future__ import annotations
 from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       refuse_long_work, save_figure, show_progress, speeds_option, speeds_text, use_agg,
                       write_table)
+from ._units import NOTHING_TO_CONVERT
 
 NAME = "campbell"
 HELP = "Campbell diagram: modes tracked across speeds"
+UNITS_HELP = NOTHING_TO_CONVERT   # --units (docs/units.md)
 DESCRIPTION = """Natural frequencies, damping and whirl of every mode over a speed range, each mode
 tracked by its shape so that it keeps its label where frequencies cross. The figure
 shows forward (solid blue) and backward (dashed red) whirl, every rotor's and gear

@@ -5,9 +5,11 @@ from __future__ import annotations
 from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       refuse_long_work, save_figure, show_progress, speeds_option, speeds_text, use_agg,
                       write_table)
+from ._units import NOTHING_TO_CONVERT
 
 NAME = "critical-speeds"
 HELP = "crossings of natural frequencies with every rotor's and gear mesh's excitation orders"
+UNITS_HELP = NOTHING_TO_CONVERT   # --units (docs/units.md)
 DESCRIPTION = """Critical speeds: where a tracked natural frequency equals an excitation order of a
 rotor's own spin (which differs from rotor to rotor through the transmissions) or of
 a gear mesh. Each crossing is refined by root-finding on the eigenproblem, so the

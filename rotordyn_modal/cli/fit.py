@@ -10,9 +10,11 @@ from ..errors import InputError
 from ..io import save_model
 from ._common import (add_input_file, add_model_argument, add_output_file, check_ending, check_output_options,
                       check_outputs, load_model, parse_list, save_figure, show_progress, use_agg)
+from ._units import STAYS_SI
 
 NAME = "fit"
 HELP = "identify model parameters (mount stiffness, damping, ...) from measured FRFs"
+UNITS_HELP = STAYS_SI   # --units (docs/units.md)
 DESCRIPTION = """Least-squares fit of model parameters to measured FRFs (UFF 58/58b or CSV), at
 every speed in the file: log-scaled parameters within bounds, relative complex residual,
 coherence weighting, an optional frequency band, several starting points. Prints the fitted

@@ -5,9 +5,12 @@ from __future__ import annotations
 import sys
 
 from ._common import add_input_file, add_output_file, check_ending
+from ._units import STAYS_SI
 
 NAME = "import-ross"
 HELP = "read a rotor saved by ROSS (Rotor.save, TOML) into a model file"
+UNITS_HELP = (STAYS_SI.split(" whatever")[0] + ": the model file it writes is SI, as every model file "
+              "(docs/units.md)")   # --units
 DESCRIPTION = """Read a rotor that ROSS saved with Rotor.save (a TOML file; ROSS need not be
 installed) and write it as a model file with one flexible rotor: one shaft section per ROSS
 shaft element (parallel elements as layers), its disks and its bearings and seals (constant

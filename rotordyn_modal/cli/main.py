@@ -40,7 +40,7 @@ def build_parser() -> argparse.ArgumentParser:
         if "--verbose" not in sub._option_string_actions:  # every sub-command has --verbose
             add_verbose(sub)
         if "--units" not in sub._option_string_actions:  # --units before or after the sub-command's name
-            add_units_option(sub, suppress=True)
+            add_units_option(sub, suppress=True, help=getattr(module, "UNITS_HELP", None))
         sub.set_defaults(handler=module.run, file_options=file_options(sub))
     return parser
 

@@ -26,6 +26,8 @@ per mode (--modes, default 1-6): each rotor's displacement in both transverse pl
 and dashed, phase 0), the band of its whirl orbits, its bearings (triangles), disks (bars)
 and nodes (ticks), normalised so that the largest displacement is 1. A flexible rotor's line
 follows its elements' shape functions between the nodes; a rigid rotor's is straight.
+Lengths on the figures' axes are in m, or in in with --units us (docs/units.md); the table
+has no unit to convert (Hz, ratios) and --outline is read in metres, as the model file.
 
 CSV columns: mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part; with a
 flexible rotor then shaft_energy,bearing_energy,mount_energy,pedestal_energy,mesh_energy (those
@@ -95,11 +97,11 @@ def run(args) -> int:
     if args.plot:
         use_agg()
         if args.animate is not None:
-            view.animate(args.plot, frames=args.frames, inputs=[args.model, args.outline])
+            view.animate(args.plot, frames=args.frames, inputs=[args.model, args.outline], units=args.units)
             if not args.quiet:
                 print(f"animation written to {args.plot}", file=sys.stderr)
         else:
-            save_figure(result.plot() if view is None else view.plot(), args)
+            save_figure(result.plot() if view is None else view.plot(units=args.units), args)
     return 0
 
 
@@ -110,8 +112,8 @@ def _plot_shaft(result, model, wanted, args):
 
     use_agg()
     wanted = wanted or list(range(1, min(int(result.oscillatory.sum()), 6) + 1))
-    save_figure(plot_shaft_modes([shaft_lines(result, model, m) for m in wanted]), args, args.plot_shaft,
-                "--plot-shaft")
+    save_figure(plot_shaft_modes([shaft_lines(result, model, m) for m in wanted], units=args.units), args,
+                args.plot_shaft, "--plot-shaft")
 
 
 def _check_modes(result, wanted, args):

@@ -8,6 +8,7 @@ import numpy as np
 
 from .._limits import count_problem
 from ..errors import InputError
+from ..units import to_system
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
                       save_figure, show_progress, to_rad_s, use_agg, write_table)
 
@@ -59,6 +60,11 @@ drive_speed_rad_s, then one column per sensor [m], rotor centres [m], each beari
 and moment on the stator (NAME_Fx..NAME_Mz [N, N m], stator axes) and the energies [J].
 u is the displacement of the reference point [m], theta = gamma + psi e the stator's
 transverse Euler vector plus roll angle [rad], model axes.
+With --units us (docs/units.md) the displacements u_x..u_z and the sensors are in mil, the
+rotor centres in in, the bearings' forces in lbf and moments in lbf in, the drive torque in
+lbf in, each such column named with its unit (u_x_mil, NAME_center_x_in, NAME_Fx_lbf,
+NAME_Mx_lbfin, drive_torque_lbfin); times, angles, rad/s and energies [J] stay. The figures
+then draw displacements in mil.
 
 examples:
   rotordyn-modal simulate examples/spring_block_rotor.toml --speed 50 --speed-unit rad/s \\
@@ -121,7 +127,7 @@ def run(args) -> int:
                       atol=parse_number(args.atol, "--atol"), backend=args.backend, progress=show_progress(args),
                       modes_below=_modes_below(args.modes_below))
     if args.out or not args.quiet:
-        write_table(result.to_dataframe(), args)
+        write_table(_in_units(result.to_dataframe(), result, args.units), args)
     if not args.quiet:
         _summary(result)
     if args.plot:
@@ -129,8 +135,41 @@ def run(args) -> int:
         critical = None
         if drive == "ramp" and final != speed:
             critical = campbell(model, np.linspace(min(speed, final), max(speed, final), 121)).critical
-        save_figure(result.plot(sensor=args.sensor, critical=critical, title=model.name or None), args)
+        save_figure(result.plot(sensor=args.sensor, critical=critical, title=model.name or None,
+                                units=args.units), args)
     return 0
+
+
+#: quantity kind of the table's columns with a unit -> the ending its US name gets
+_US_ENDINGS = {"displacement": "_mil", "length": "_in", "force": "_lbf", "moment": "_lbfin"}
+
+
+def _column_kinds(result) -> dict:
+    """Column of :meth:`SimulationResult.to_dataframe` -> quantity kind, for those with a length,
+    force or moment: the reference point's and the sensors' vibration (displacement), the rotor
+    centres (points: length), the bearings' forces and moments and the drive torque."""
+    kinds = {f"u_{axis}": "displacement" for axis in "xyz"}
+    kinds |= {name: "displacement" for name in result.sensor_names}
+    kinds |= {f"{name}_center_{axis}": "length" for name in result.rotor_names for axis in "xyz"}
+    kinds |= {f"{name}_{c}": "force" if c.startswith("F") else "moment" for name in result.bearing_names
+              for c in ("Fx", "Fy", "Fz", "Mx", "My", "Mz")}
+    kinds["drive_torque_nm"] = "moment"
+    return kinds
+
+
+def _in_units(table, result, system):
+    """The table in ``system`` (as it is in SI): with --units us, the columns of
+    :func:`_column_kinds` converted and named with their unit (``u_x_mil``, ``probe_mil``,
+    ``rotor_center_x_in``, ``DE_Fx_lbf``, ``DE_Mx_lbfin``, ``drive_torque_lbfin``)."""
+    if system == "si":
+        return table
+    table = table.copy()
+    names = {}
+    for column, kind in _column_kinds(result).items():
+        table[column] = to_system(table[column].to_numpy(dtype=float), kind, system)
+        stem = column[:-len("_nm")] if column == "drive_torque_nm" else column
+        names[column] = stem + _US_ENDINGS[kind]
+    return table.rename(columns=names)
 
 
 def _modes_below(text):

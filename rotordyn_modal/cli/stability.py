@@ -8,9 +8,12 @@ from ..errors import InputError
 from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       parse_range, refuse_long_work, save_figure, show_progress, speeds_option, use_agg,
                       write_table)
+from ._units import NOTHING_TO_CONVERT
 
 NAME = "stability"
 HELP = "stability over speed, or a map over speed and one model parameter"
+UNITS_HELP = (NOTHING_TO_CONVERT + "; --vary's values and the 'value' column are the model key's, in the "
+              "model file's SI unit")   # --units (docs/units.md)
 DESCRIPTION = """Real parts, damping ratios and log decrements of every mode over speed; threshold
 speeds where a real part crosses zero, refined by root-finding. With --vary KEY and
 --values or --scale, a map over speed and that parameter with the boundary drawn.

@@ -12,9 +12,11 @@ from ..errors import InputError, OutputError, OutputWriteError
 from ._common import (add_input_file, add_model_argument, add_output_file, check_outputs, parse_number, print_table,
                       show_progress, use_agg)
 from ._resources import add_verbose
+from ._units import STAYS_SI
 
 NAME = "study"
 HELP = "parameter study (tolerance Monte Carlo, designs of experiments, grids) over model variants"
+UNITS_HELP = STAYS_SI   # --units (docs/units.md)
 DESCRIPTION = """Runs the analyses of a study file (docs/study-file.md) on every variant of the
 model: parameters addressed by dotted keys, as grids or distributions (normal, lognormal,
 uniform; truncation, correlation) sampled by Monte Carlo, Latin hypercube, Sobol or a

@@ -20,13 +20,16 @@ MAX_NESTING = 32
 _BOM = "\ufeff"
 
 
-def load_model(path) -> Model:
+def load_model(path, units: str = "si") -> Model:
     """Read and validate a model file.
 
     Parameters
     ----------
     path : str or path-like
         A TOML file as ``docs/model-file.md`` describes.
+    units : {'si', 'us'}
+        Unit system of the values computed in the warnings (a sag in m or in; docs/units.md).
+        The file itself is SI whatever this says.
 
     Returns
     -------
@@ -49,7 +52,7 @@ def load_model(path) -> Model:
 
     data = read_toml(path, "model file")
     model = Model.from_dict(data, source=str(path))
-    for line in implausible(model):
+    for line in implausible(model, units):
         warnings.warn(line, ModelWarning, stacklevel=2)
     return model
 

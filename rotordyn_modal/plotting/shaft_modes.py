@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..units import unit_scale
+
 __all__ = ["plot_shaft_modes"]
 
 _COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan")
@@ -22,7 +24,8 @@ _BEARING_Y = -1.32
 _DISK_HALF = (0.12, 0.45)
 
 
-def plot_shaft_modes(views, title: str | None = None, relative: bool = False, columns: int | None = None):
+def plot_shaft_modes(views, title: str | None = None, relative: bool = False, columns: int | None = None,
+                     units: str = "si"):
     """The deflected shaft lines of several modes, one panel each.
 
     Parameters
@@ -37,6 +40,8 @@ def plot_shaft_modes(views, title: str | None = None, relative: bool = False, co
         its largest in each panel is 1.
     columns : int, optional
         Panels per row (default 1 for up to 3 modes, else 2).
+    units : {'si', 'us'}
+        Unit system of the positions along the axis: m, or in (docs/units.md).
 
     Returns
     -------
@@ -54,10 +59,11 @@ def plot_shaft_modes(views, title: str | None = None, relative: bool = False, co
     for ax in axes.ravel()[len(views):]:
         ax.set_visible(False)
     colours = {line.rotor: _COLOURS[i % len(_COLOURS)] for i, line in enumerate(views[0].lines)}
+    factor, unit = unit_scale("length", units)
     for ax, view in zip(axes.ravel(), views):
-        _panel(ax, view, colours, relative)
+        _panel(ax, view, colours, relative, factor)
     for ax in axes[-1]:
-        ax.set_xlabel(f"position along {views[0].axis_names[2]} [m]")
+        ax.set_xlabel(f"position along {views[0].axis_names[2]} [{unit}]")
     for ax in axes[:, 0]:
         ax.set_ylabel("displacement (normalised)")
     _legend(fig, views[0], colours, 5 if cols > 1 else 3)
@@ -67,7 +73,8 @@ def plot_shaft_modes(views, title: str | None = None, relative: bool = False, co
     return fig
 
 
-def _panel(ax, view, colours, relative):
+def _panel(ax, view, colours, relative, factor=1.0):
+    """One mode's panel; positions along the axis drawn times ``factor`` (the unit system's)."""
     heaviest = max([mass for line in view.lines for _, _, mass in line.disks] or [1.0])
     # relative motions share the absolute lines' factor (the casing may carry most of the mode):
     # drawn with the largest of the panel at 1
@@ -75,22 +82,24 @@ def _panel(ax, view, colours, relative):
     for line in view.lines:
         c = colours[line.rotor]
         u = line.relative / (largest or 1.0) if relative else line.displacement
-        z = line.position
+        z = line.position * factor
         ax.plot([z[0], z[-1]], [0.0, 0.0], color="0.6", linewidth=0.8, gid=f"axis:{line.rotor}")
         reach = _excursion(u)
         ax.fill_between(z, -reach, reach, color=c, alpha=0.12, linewidth=0, gid=f"envelope:{line.rotor}")
         ax.plot(z, u[0].real, color=c, linewidth=1.6, gid=f"line-a:{line.rotor}")
         ax.plot(z, u[1].real, color=c, linewidth=1.3, linestyle="--", gid=f"line-b:{line.rotor}")
         if line.flexible:
-            ax.plot(line.node_position, np.zeros(len(line.node_position)), linestyle="none", marker="|",
+            ax.plot(line.node_position * factor, np.zeros(len(line.node_position)), linestyle="none", marker="|",
                     markersize=5, color="0.35", gid=f"nodes:{line.rotor}")
         for name, position, mass in line.disks:
+            position = position * factor
             half = _DISK_HALF[0] + (_DISK_HALF[1] - _DISK_HALF[0]) * (mass / heaviest) ** (1 / 3)
             ax.plot([position, position], [-half, half], color=c, linewidth=4.5, alpha=0.45,
                     solid_capstyle="butt", gid=f"disk:{line.rotor}:{name}")
             ax.annotate(name, (position, half), xytext=(0, 2), textcoords="offset points", ha="center",
                         va="bottom", fontsize="xx-small", color="0.25")
         for name, position in line.bearings:
+            position = position * factor
             ax.plot([position], [_BEARING_Y], linestyle="none", marker="^", markersize=8, color=c,
                     markeredgecolor="k", markeredgewidth=0.6, gid=f"bearing:{line.rotor}:{name}")
             ax.annotate(name, (position, _BEARING_Y), xytext=(0, -9), textcoords="offset points", ha="center",

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..units import unit_scale
 from .modes import small_number
 
 __all__ = ["plot_mode_shape", "plot_mode_shapes", "animate_mode_shape", "ANIMATION_FORMATS"]
@@ -27,7 +28,7 @@ _ANIMATION_DPI = 72
 
 
 def plot_mode_shape(view, ax=None, phase: float = 0.0, orbits: bool = True, labels: bool = True,
-                    projections: bool | None = None, title: str | None = None):
+                    projections: bool | None = None, title: str | None = None, units: str = "si"):
     """Draw the machine undeformed and displaced in one mode.
 
     Parameters
@@ -46,6 +47,9 @@ def plot_mode_shape(view, ax=None, phase: float = 0.0, orbits: bool = True, labe
         Add the top (x-y), front (x-z) and side (y-z) views beside the 3D view (default: when
         ``ax`` is not given).
     title : str, optional
+    units : {'si', 'us'}
+        Unit system of the axes' lengths: m, or in (docs/units.md). The drawing is the same; the
+        ticks stand at round numbers of the unit.
 
     Returns
     -------
@@ -55,13 +59,13 @@ def plot_mode_shape(view, ax=None, phase: float = 0.0, orbits: bool = True, labe
     fig, ax, flat = _figure(ax, projections)
     # frame first and hold it: mplot3d's autoscaling can overflow to infinite limits when
     # collections arrive on a fresh 3D axes
-    _frame(ax, flat, view)
+    _frame(ax, flat, view, units)
     ax.set_autoscale_on(False)
     _draw_static(ax, flat, view, orbits)
     _draw_displaced(ax, flat, view, phase)
     if labels:
         _label_arrows(ax, view)
-    _frame(ax, flat, view)
+    _frame(ax, flat, view, units)
     ax.set_title(title or _title(view), fontsize="medium")
     _legend(ax, view, orbits)
     return fig
@@ -94,7 +98,7 @@ def plot_mode_shapes(views, titles=None, phase: float = 0.0, suptitle: str | Non
     return fig
 
 
-def animate_mode_shape(view, path=None, frames: int = 36, fps: int = 18, inputs=()):
+def animate_mode_shape(view, path=None, frames: int = 36, fps: int = 18, inputs=(), units: str = "si"):
     """Animate one period of the mode; write it to ``path`` (.gif, .html or .mp4) if given.
 
     Parameters
@@ -109,6 +113,8 @@ def animate_mode_shape(view, path=None, frames: int = 36, fps: int = 18, inputs=
         Frames per second of the file.
     inputs : iterable of path-like
         Files that must not be overwritten.
+    units : {'si', 'us'}
+        Unit system of the axes' lengths (:func:`plot_mode_shape`).
 
     Returns
     -------
@@ -125,7 +131,7 @@ def animate_mode_shape(view, path=None, frames: int = 36, fps: int = 18, inputs=
         from ..io.atomic import check_not_input
 
         check_not_input(Path(path), inputs)
-    fig = plot_mode_shape(view)
+    fig = plot_mode_shape(view, units=units)
     ax, flat = fig.axes[0], list(zip(fig.axes[1:4], [pair for _, pair in _PROJECTIONS]))
     phases = 2 * np.pi * np.arange(int(frames)) / int(frames)
 
@@ -384,7 +390,7 @@ def _label_arrows(ax, view):
         ax.text(*tip, arrow.name, fontsize="x-small", color=_ARROW_COLOURS[arrow.kind])
 
 
-def _frame(ax, flat, view):
+def _frame(ax, flat, view, units="si"):
     points = np.concatenate([b.vertices for b in view.outline.bodies]
                             + [np.array([s.point_b for s in view.outline.springs]).reshape(-1, 3)])
     low, high = points.min(axis=0), points.max(axis=0)
@@ -392,19 +398,45 @@ def _frame(ax, flat, view):
     for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre):
         setter(c - half, c + half)
     ax.set_box_aspect((1, 1, 1))
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.set_zlabel("z [m]")
+    factor, unit = unit_scale("length", units)
+    ax.set_xlabel(f"x [{unit}]")
+    ax.set_ylabel(f"y [{unit}]")
+    ax.set_zlabel(f"z [{unit}]")
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        _unit_ticks(axis, factor)
     ax.tick_params(labelsize="x-small")
     for (panel, (i, j)), (name, _) in zip(flat, _PROJECTIONS):
         panel.set_xlim(centre[i] - half, centre[i] + half)
         panel.set_ylim(centre[j] - half, centre[j] + half)
         panel.set_aspect("equal")
-        panel.set_xlabel(f"{_AXIS_NAMES[i]} [m]", fontsize="small", labelpad=1)
-        panel.set_ylabel(f"{_AXIS_NAMES[j]} [m]", fontsize="small", labelpad=1)
+        panel.set_xlabel(f"{_AXIS_NAMES[i]} [{unit}]", fontsize="small", labelpad=1)
+        panel.set_ylabel(f"{_AXIS_NAMES[j]} [{unit}]", fontsize="small", labelpad=1)
+        _unit_ticks(panel.xaxis, factor)
+        _unit_ticks(panel.yaxis, factor)
         panel.set_title(name, fontsize="small")
         panel.tick_params(labelsize="x-small")
         panel.grid(True, alpha=0.3)
+
+
+def _unit_ticks(axis, factor):
+    """Ticks of an axis drawn in metres at round numbers of the shown unit (``factor`` per metre),
+    labelled in that unit; SI (factor 1) keeps matplotlib's own ticks."""
+    if factor == 1.0:
+        return
+    from matplotlib.ticker import FuncFormatter, Locator, MaxNLocator
+
+    class _Scaled(Locator):
+        def __init__(self):
+            self.inner = MaxNLocator()
+
+        def __call__(self):
+            return self.tick_values(*self.axis.get_view_interval())
+
+        def tick_values(self, vmin, vmax):
+            return np.asarray(self.inner.tick_values(vmin * factor, vmax * factor)) / factor
+
+    axis.set_major_locator(_Scaled())
+    axis.set_major_formatter(FuncFormatter(lambda value, _: f"{round(value * factor, 9):g}"))
 
 
 def _title(view):

@@ -6,10 +6,12 @@ import itertools
 
 import numpy as np
 
+from ..units import unit_scale
+
 __all__ = ["plot_simulation", "plot_runup"]
 
 
-def plot_simulation(result, title: str | None = None):
+def plot_simulation(result, title: str | None = None, units: str = "si"):
     """Four panels: rotor centres' path, stator (or carrier) motion and the rotors' tilt in
     their bearings, spin speed, energy terms.
 
@@ -17,6 +19,9 @@ def plot_simulation(result, title: str | None = None):
     ----------
     result : SimulationResult
     title : str, optional
+    units : {'si', 'us'}
+        Unit system of the displacements: the paths in m and translations in mm, or both in
+        mil (docs/units.md).
 
     Returns
     -------
@@ -25,28 +30,30 @@ def plot_simulation(result, title: str | None = None):
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), layout="constrained")
-    _draw_paths(axes[0, 0], result)
-    _draw_frame_motion(axes[0, 1], result)
+    _draw_paths(axes[0, 0], result, (1.0, "m") if units == "si" else unit_scale("displacement", units))
+    _draw_frame_motion(axes[0, 1], result, (1e3, "mm") if units == "si" else unit_scale("displacement", units))
     _draw_spin(axes[1, 0], result)
     _draw_energy(axes[1, 1], result)
     fig.suptitle(title or result.model_name or "Simulation")
     return fig
 
 
-def _draw_paths(ax, result):
-    """The rotors' centres in the y-z plane, from where each started."""
+def _draw_paths(ax, result, scale=(1.0, "m")):
+    """The rotors' centres in the y-z plane, from where each started (``scale``: factor, unit)."""
+    factor, unit = scale
     for j, name in enumerate(result.rotor_names):
-        path = result.rotor_centers[:, j] - result.rotor_centers[0, j]
+        path = (result.rotor_centers[:, j] - result.rotor_centers[0, j]) * factor
         ax.plot(path[:, 1], path[:, 2], lw=0.8, label=name)
-    ax.set(xlabel="y displacement of the rotor centre [m]", ylabel="z displacement [m]",
+    ax.set(xlabel=f"y displacement of the rotor centre [{unit}]", ylabel=f"z displacement [{unit}]",
            title="Path of the rotors' centres (y-z)")
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(fontsize="small")
 
 
-def _draw_frame_motion(ax, result):
-    """The stator's (or carrier's) transverse rotation and translation, and each rotor on
-    bearings' tilt in them."""
+def _draw_frame_motion(ax, result, scale=(1e3, "mm")):
+    """The stator's (or carrier's) transverse rotation and translation (``scale``: factor, unit),
+    and each rotor on bearings' tilt in them."""
+    factor, unit = scale
     t = result.time
     lines = []
     if result.displacement.any() or not result.rotor_tilts.any():
@@ -57,11 +64,11 @@ def _draw_frame_motion(ax, result):
                              label=f"|γ| {name} in its bearings [deg]")
     ax.set(xlabel="Time [s]", ylabel="Rotation [deg]", title="Transverse rotation and translation")
     if result.displacement.any() or not result.rotor_tilts.any():
-        right = ax.twinx()       # millimetres on an axis of their own
+        right = ax.twinx()       # millimetres (mils) on an axis of their own
         for k, axis in enumerate("xyz"):
-            lines += right.plot(t, result.displacement[:, k] * 1e3, lw=0.8, ls="--", color=f"C{k + 1 + len(lines)}",
-                                label=f"u_{axis} [mm]")
-        right.set_ylabel("Translation [mm]")
+            lines += right.plot(t, result.displacement[:, k] * factor, lw=0.8, ls="--", color=f"C{k + 1 + len(lines)}",
+                                label=f"u_{axis} [{unit}]")
+        right.set_ylabel(f"Translation [{unit}]")
     ax.legend(lines, [line.get_label() for line in lines], fontsize="small")
 
 
@@ -82,7 +89,8 @@ def _draw_energy(ax, result):
     ax.legend(fontsize="small")
 
 
-def plot_runup(result, sensor: str, critical=None, title: str | None = None, segments: int = 60):
+def plot_runup(result, sensor: str, critical=None, title: str | None = None, segments: int = 60,
+               units: str = "si"):
     """Run-up: sensor signal, order-tracked amplitude and phase (unwrapped, joined), waterfall
     (frequencies up to its content), all against speed.
 
@@ -94,6 +102,8 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     critical : CriticalSpeeds, optional
         The rotors' own orders' crossings: vertical lines, each labelled with its mode, order
         and speed where there is room (on the waterfall: points at their frequencies).
+    units : {'si', 'us'}
+        Unit system of the sensor's displacement: µm, or mil (docs/units.md).
 
     Returns
     -------
@@ -107,17 +117,18 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     if critical is not None:  # the rotors' own orders (gear-mesh crossings sit at very low speeds)
         critical = _rotor_orders(critical, result.rotor_names)
     rpm = 30.0 / np.pi
+    scale, unit = (1e6, "µm") if units == "si" else unit_scale("displacement", units)
     fig, axes = plt.subplots(2, 2, figsize=(13, 8.5), layout="constrained")
     ax = axes[0, 0]
-    ax.plot(result.drive_speed * rpm, result.sensor(sensor) * 1e6, lw=0.5)
-    ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor} [µm]", title="Sensor during the run-up")
+    ax.plot(result.drive_speed * rpm, result.sensor(sensor) * scale, lw=0.5)
+    ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor} [{unit}]", title="Sensor during the run-up")
     amplitude_ax, phase_ax = axes[0, 1], axes[1, 0]
     for rotor in result.rotor_names:
         track = order_track(result, sensor, rotor=rotor)
-        amplitude_ax.plot(track.speeds * rpm, track.amplitude * 1e6, ".-", ms=3, label=f"1X {rotor}")
+        amplitude_ax.plot(track.speeds * rpm, track.amplitude * scale, ".-", ms=3, label=f"1X {rotor}")
         phase_ax.plot(track.speeds * rpm, np.degrees(np.unwrap(np.radians(track.phase_deg))), ".-", ms=3,
                       label=f"1X {rotor}")
-    amplitude_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X amplitude [µm]",
+    amplitude_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X amplitude [{unit}]",
                      title="Order-tracked amplitude")
     phase_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X phase, unwrapped [deg]",
                  title="Order-tracked phase")
@@ -125,7 +136,8 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     for axis in (amplitude_ax, phase_ax):
         axis.legend(fontsize="small", loc="upper left")
         axis.set_xlim(axes[0, 0].get_xlim())            # the run's speeds, as the signal's panel
-    _draw_waterfall(fig, axes[1, 1], waterfall(result, sensor, segments=segments), result, critical, sensor)
+    _draw_waterfall(fig, axes[1, 1], waterfall(result, sensor, segments=segments), result, critical, sensor,
+                    (scale, unit))
     fig.suptitle(title or f"Run-up of {result.model_name or 'the machine'}")
     if critical is not None and len(critical):
         for axis in (axes[0, 0], amplitude_ax, phase_ax):
@@ -146,17 +158,18 @@ _WATERFALL_FLOOR = 1e-3
 _WATERFALL_MARGIN = 1.25
 
 
-def _draw_waterfall(fig, ax, fall, result, critical, sensor):
+def _draw_waterfall(fig, ax, fall, result, critical, sensor, shown=(1e6, "µm")):
     """Amplitude over frequency and speed on a log colour scale of three decades, frequencies up
-    to the content (:data:`_WATERFALL_FLOOR`) or the highest critical speed's frequency."""
+    to the content (:data:`_WATERFALL_FLOOR`) or the highest critical speed's frequency;
+    ``shown``: the amplitude's factor and unit."""
     from matplotlib.colors import LogNorm
 
     rpm = 30.0 / np.pi
-    values = fall.amplitude * 1e6
+    values = fall.amplitude * shown[0]
     top = np.nanmax(values) if values.size and np.nanmax(values) > 0 else 1.0
     image = ax.pcolormesh(fall.frequencies_hz, fall.speeds * rpm, np.maximum(values, top * _WATERFALL_FLOOR),
                           shading="nearest", cmap="viridis", norm=LogNorm(top * _WATERFALL_FLOOR, top))
-    fig.colorbar(image, ax=ax, label=f"{sensor}, amplitude [µm]")
+    fig.colorbar(image, ax=ax, label=f"{sensor}, amplitude [{shown[1]}]")
     ax.set(xlabel="Frequency [Hz]", ylabel="Speed of the reference rotor [rpm]", title="Waterfall",
            xlim=(0, _waterfall_limit(fall, critical)))
     if critical is not None and len(critical):

@@ -272,7 +272,7 @@ def _modes(data, units) -> str:
     if shapes.lines is not None:
         from ..plotting.shaft_modes import plot_shaft_modes
 
-        fig = plot_shaft_modes(shapes.lines, relative=data.model.stator is not None,
+        fig = plot_shaft_modes(shapes.lines, relative=data.model.stator is not None, units=units,
                                title=f"Mode shapes at the MCS, {mcs:.6g} rpm")
         what = "deflected shaft lines along the axis (both planes at phase 0, the orbits' largest excursion shaded)"
     else:

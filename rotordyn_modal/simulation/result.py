@@ -145,7 +145,7 @@ class SimulationResult:
 
         return waterfall(self, sensor, segments=segments)
 
-    def plot(self, sensor: str | None = None, critical=None, title: str | None = None):
+    def plot(self, sensor: str | None = None, critical=None, title: str | None = None, units: str = "si"):
         """Time histories (constant speed, free spin) or run-up figures (ramp).
 
         Parameters
@@ -154,6 +154,8 @@ class SimulationResult:
             Sensor of the run-up figures (default: the first).
         critical : CriticalSpeeds, optional
             Critical speeds overlaid on the run-up figures.
+        units : {'si', 'us'}
+            Unit system of the displacements drawn (docs/units.md).
 
         Returns
         -------
@@ -162,8 +164,8 @@ class SimulationResult:
         from ..plotting.simulation import plot_runup, plot_simulation
 
         if self.drive == "ramp" and self.sensor_names:
-            return plot_runup(self, sensor or self.sensor_names[0], critical=critical, title=title)
-        return plot_simulation(self, title=title)
+            return plot_runup(self, sensor or self.sensor_names[0], critical=critical, title=title, units=units)
+        return plot_simulation(self, title=title, units=units)
 
     @classmethod
     def from_states(cls, model, system, kn, extra, times, states, drive):

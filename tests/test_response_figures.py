@@ -266,6 +266,32 @@ def test_runup_phase_is_a_joined_unwrapped_line_and_critical_lines_are_labelled(
     plt.close(fig)
 
 
+def test_no_curve_runs_through_a_critical_speed_label(gear_runup):
+    """Issue 27: the run-up's critical-speed labels were placed clear of each other only: the
+    sensor's signal, the order tracks and the other critical lines ran through them. Measured
+    on the drawn figure (``label_geometry``): no visible curve but the label's own line crosses
+    a label's glyphs."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments, glyph_box
+
+    result, critical = gear_runup
+    fig = result.plot(sensor="acc-top-z", critical=critical)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    checked = 0
+    for ax in fig.axes:
+        for text in (t for t in ax.texts if t.get_text().startswith("mode ")):
+            own = [line for line in ax.get_lines() if line.get_label() == "_critical"
+                   and np.allclose(line.get_xdata(), text.xy[0])]
+            assert own, text.get_text()
+            through = crossings(glyph_box(text, renderer), curve_segments(ax, skip=own))
+            assert len(through) == 0, (ax.get_title(), text.get_text())
+            checked += 1
+    assert checked >= 3
+    plt.close(fig)
+
+
 def test_runup_waterfall_shows_its_content_only(gear_runup):
     """The waterfall's frequency axis ends within 1.5 times the highest frequency where the
     spectrum (or a critical speed) is above 1e-3 of the largest, and nothing above that floor

@@ -97,13 +97,21 @@ def _marks(ax, shaft, length_scale):
         ax.plot([position * length_scale], [0.0], linestyle="none", marker="v", markersize=7, color="tab:red",
                 zorder=3, gid=f"load:{shaft.rotor}:{source}")
     if ax.get_subplotspec().is_first_row():
-        for name, position in shaft.bearings:
-            ax.annotate(name, (position * length_scale, 0.0), xytext=(0, -11), textcoords="offset points",
-                        ha="center", va="top", fontsize="xx-small", color="0.25")
-        for name, position, _ in shaft.disks:      # inside the panel, along the disk's bar
-            ax.annotate(name, (position * length_scale, 1.0), xycoords=("data", "axes fraction"), xytext=(3, -3),
-                        textcoords="offset points", ha="left", va="top", rotation=90, fontsize="xx-small",
-                        color="tab:green")
+        _name_marks(ax, shaft, length_scale)
+
+
+def _name_marks(ax, shaft, length_scale):
+    """The bearings' and disks' names as ticks of an axis along the first panel's top edge:
+    outside the panel, where no curve runs through them (inside, the sag ran through them)."""
+    marks = sorted([(position * length_scale, name, "0.25") for name, position in shaft.bearings]
+                   + [(position * length_scale, name, "tab:green") for name, position, _ in shaft.disks])
+    if not marks:
+        return
+    top = ax.secondary_xaxis("top")
+    top.set_xticks([x for x, _, _ in marks], [name for _, name, _ in marks])
+    top.tick_params(labelsize="xx-small", length=3, pad=1)
+    for label, (_, _, colour) in zip(top.get_xticklabels(), marks):
+        label.set_color(colour)
 
 
 def _mark_largest(ax, shaft, quantity, scale_unit, x, stress=None):

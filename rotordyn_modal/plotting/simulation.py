@@ -181,34 +181,41 @@ def _waterfall_limit(fall, critical) -> float:
 def _label_critical_lines(axes, critical, renderer):
     """Label each critical-speed line ('mode 4, 1X fan, 1412 rpm', vertical, at the top of the
     line) in the first of ``axes`` where it overlaps no other label; returns the labels."""
+    from ._labels import CurveMap
+
     rpm = 30.0 / np.pi
     placed = {id(ax): [ax.get_legend().get_window_extent(renderer)] if ax.get_legend() else [] for ax in axes}
+    curves = {id(ax): CurveMap(ax, renderer) for ax in axes}       # the signal, the tracks, the lines
     labels = []
     for k in np.argsort(critical.speeds):
         text = f"mode {critical.mode[k]}, {critical.order[k]:g}X {critical.source[k]}, {critical.speeds[k] * rpm:.0f} rpm"
         for ax in axes:
-            label = _vertical_label(ax, critical.speeds[k] * rpm, text, placed[id(ax)], renderer)
+            label = _vertical_label(ax, critical.speeds[k] * rpm, text, placed[id(ax)], renderer, curves[id(ax)])
             if label is not None:
                 labels.append(label)
                 break
     return labels
 
 
-def _vertical_label(ax, x, text, placed, renderer):
+def _vertical_label(ax, x, text, placed, renderer, curves=None):
     """A vertical label just right (else left) of the line at ``x``, at the top of the axes (else
-    at the bottom), inside the axes and clear of the boxes in ``placed`` (display units,
-    updated); None where there is no room."""
+    at the bottom, else half-way), inside the axes, clear of the boxes in ``placed`` (display
+    units, updated) and of every curve of ``curves`` (a CurveMap) but its own line; None where
+    there is no room."""
     frame = ax.get_window_extent(renderer)
     pad = 2.0 * ax.figure.dpi / 72.0
+    line_x = ax.transData.transform((x, 0.0))[0]
+    own = (line_x - 0.5, frame.y0, line_x + 0.5, frame.y1)       # its own line, beside it
     for (ha, shift), (y, va, rise) in itertools.product((("left", 1), ("right", -1)),
-                                                       ((1.0, "top", -3), (0.0, "bottom", 3))):
+                                                       ((1.0, "top", -3), (0.0, "bottom", 3), (0.5, "center", 0))):
         label = ax.annotate(text, (x, y), xycoords=("data", "axes fraction"), xytext=(shift * 2, rise),
                             textcoords="offset points", rotation=90, ha=ha, va=va, fontsize="x-small",
                             color="tab:red", bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none",
                                                    "alpha": 0.7})
         box = label.get_window_extent(renderer)
         inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
-        if inside and not any(box.x0 < b.x1 + pad and b.x0 < box.x1 + pad and box.y0 < b.y1 + pad
+        clear = curves is None or curves.free((box.x0, box.y0, box.x1, box.y1), keep=own)
+        if inside and clear and not any(box.x0 < b.x1 + pad and b.x0 < box.x1 + pad and box.y0 < b.y1 + pad
                               and b.y0 < box.y1 + pad for b in placed):
             placed.append(box)
             return label

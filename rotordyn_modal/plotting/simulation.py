@@ -186,20 +186,38 @@ def _label_critical_lines(axes, critical, renderer):
     rpm = 30.0 / np.pi
     placed = {id(ax): [ax.get_legend().get_window_extent(renderer)] if ax.get_legend() else [] for ax in axes}
     curves = {id(ax): CurveMap(ax, renderer) for ax in axes}       # the signal, the tracks, the lines
-    labels = []
+    # where critical lines crowd closer than a label's width, a label may lie across the other
+    # critical lines (a second pass), never across the signal or the tracks
+    data = {id(ax): CurveMap(ax, renderer, skip=[line for line in ax.get_lines() if line.get_label() == "_critical"])
+            for ax in axes}
+    labels, missing = [], []
+    texts = {k: f"mode {critical.mode[k]}, {critical.order[k]:g}X {critical.source[k]}, {critical.speeds[k] * rpm:.0f} rpm"
+             for k in range(len(critical.speeds))}
     for k in np.argsort(critical.speeds):
-        text = f"mode {critical.mode[k]}, {critical.order[k]:g}X {critical.source[k]}, {critical.speeds[k] * rpm:.0f} rpm"
-        for ax in axes:
-            label = _vertical_label(ax, critical.speeds[k] * rpm, text, placed[id(ax)], renderer, curves[id(ax)])
-            if label is not None:
-                labels.append(label)
-                break
+        label = _first_room(axes, critical.speeds[k] * rpm, texts[k], placed, renderer, curves)
+        if label is None:
+            missing.append(k)
+        else:
+            labels.append(label)
+    for k in missing:
+        label = _first_room(axes, critical.speeds[k] * rpm, texts[k], placed, renderer, data)
+        if label is not None:
+            labels.append(label)
     return labels
+
+
+def _first_room(axes, x, text, placed, renderer, curves):
+    """The label of the line at ``x`` [rpm] in the first of ``axes`` with room for it, or None."""
+    for ax in axes:
+        label = _vertical_label(ax, x, text, placed[id(ax)], renderer, curves[id(ax)])
+        if label is not None:
+            return label
+    return None
 
 
 def _vertical_label(ax, x, text, placed, renderer, curves=None):
     """A vertical label just right (else left) of the line at ``x``, at the top of the axes (else
-    at the bottom, else half-way), inside the axes, clear of the boxes in ``placed`` (display
+    at the bottom, else at three heights between), inside the axes, clear of the boxes in ``placed`` (display
     units, updated) and of every curve of ``curves`` (a CurveMap) but its own line; None where
     there is no room."""
     frame = ax.get_window_extent(renderer)
@@ -207,7 +225,8 @@ def _vertical_label(ax, x, text, placed, renderer, curves=None):
     line_x = ax.transData.transform((x, 0.0))[0]
     own = (line_x - 0.5, frame.y0, line_x + 0.5, frame.y1)       # its own line, beside it
     for (ha, shift), (y, va, rise) in itertools.product((("left", 1), ("right", -1)),
-                                                       ((1.0, "top", -3), (0.0, "bottom", 3), (0.5, "center", 0))):
+                                                       ((1.0, "top", -3), (0.0, "bottom", 3), (0.5, "center", 0),
+                                                        (0.35, "center", 0), (0.65, "center", 0))):
         label = ax.annotate(text, (x, y), xycoords=("data", "axes fraction"), xytext=(shift * 2, rise),
                             textcoords="offset points", rotation=90, ha=ha, va=va, fontsize="x-small",
                             color="tab:red", bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none",

@@ -329,6 +329,50 @@ def test_every_simulation_axis_has_one_unit(gear_runup):
         plt.close(fig)
 
 
+def test_time_history_legends_hide_no_curve():
+    """Issue 27: the energy and rotation panels' legends sat inside the axes over the curves'
+    peaks (the spring-block rotor's kinetic energy). Measured on the drawn figure: no curve of
+    any panel runs under a legend's box."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments
+
+    model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
+    fig = rdm.simulate(model, 10.0, 50.0, drive="free", samples=2001).plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    segments = [curve_segments(ax) for ax in fig.axes]
+    legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None]
+    assert len(legends) >= 2
+    for legend in legends:
+        box = legend.get_window_extent(renderer)
+        for found in segments:
+            assert len(crossings(box, found)) == 0, [t.get_text() for t in legend.get_texts()]
+    plt.close(fig)
+
+
+def test_time_history_axes_need_no_offset_multiplier():
+    """Issue 27: the gear machine's rotor paths (tens of µm) were drawn in metres, the ticks
+    reading -4 ... 4 with a '1e-5' multiplier in the corner beside '[m]'. Every axis of the
+    time histories writes its values in its own unit, without an offset or multiplier, and the
+    path's extent in its unit is the rotor centres' largest excursion."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLES / "gear_machine.toml")
+    result = rdm.simulate(model, 0.3, rdm.rpm(1500), samples=301)
+    fig = result.plot()
+    fig.canvas.draw()
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            assert axis.get_offset_text().get_text() == "", (ax.get_title(), axis.get_label_text())
+    path_ax, = [ax for ax in fig.axes if ax.get_title().startswith("Path")]
+    unit = UNIT.findall(path_ax.get_xlabel())[0]
+    largest = max(np.abs(line.get_xydata()).max() for line in path_ax.get_lines())
+    excursion = np.abs((result.rotor_centers - result.rotor_centers[0])[:, :, 1:]).max()
+    np.testing.assert_allclose(largest, excursion * {"µm": 1e6, "mm": 1e3, "m": 1.0}[unit], rtol=1e-12)
+    plt.close(fig)
+
+
 # -- the compile notice -------------------------------------------------------------------------
 
 class _Dispatcher:

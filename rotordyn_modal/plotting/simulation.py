@@ -35,13 +35,21 @@ def plot_simulation(result, title: str | None = None):
 
 def _draw_paths(ax, result):
     """The rotors' centres in the y-z plane, from where each started."""
-    for j, name in enumerate(result.rotor_names):
-        path = result.rotor_centers[:, j] - result.rotor_centers[0, j]
-        ax.plot(path[:, 1], path[:, 2], lw=0.8, label=name)
-    ax.set(xlabel="y displacement of the rotor centre [m]", ylabel="z displacement [m]",
+    paths = [result.rotor_centers[:, j] - result.rotor_centers[0, j] for j in range(len(result.rotor_names))]
+    scale, unit = _length_unit(max([float(np.abs(p[:, 1:]).max(initial=0.0)) for p in paths] or [0.0]))
+    for name, path in zip(result.rotor_names, paths):
+        ax.plot(path[:, 1] * scale, path[:, 2] * scale, lw=0.8, label=name)
+    ax.set(xlabel=f"y displacement of the rotor centre [{unit}]", ylabel=f"z displacement [{unit}]",
            title="Path of the rotors' centres (y-z)")
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(fontsize="small")
+
+
+def _length_unit(largest):
+    """``(scale, unit)`` that writes lengths up to ``largest`` [m] without a 1e-5 offset."""
+    if largest < 1e-3:
+        return 1e6, "µm"
+    return (1e3, "mm") if largest < 1.0 else (1.0, "m")
 
 
 def _draw_frame_motion(ax, result):
@@ -57,12 +65,13 @@ def _draw_frame_motion(ax, result):
                              label=f"|γ| {name} in its bearings [deg]")
     ax.set(xlabel="Time [s]", ylabel="Rotation [deg]", title="Transverse rotation and translation")
     if result.displacement.any() or not result.rotor_tilts.any():
-        right = ax.twinx()       # millimetres on an axis of their own
+        right = ax.twinx()       # lengths on an axis of their own
+        scale, unit = _length_unit(float(np.abs(result.displacement).max(initial=0.0)))
         for k, axis in enumerate("xyz"):
-            lines += right.plot(t, result.displacement[:, k] * 1e3, lw=0.8, ls="--", color=f"C{k + 1 + len(lines)}",
-                                label=f"u_{axis} [mm]")
-        right.set_ylabel("Translation [mm]")
-    ax.legend(lines, [line.get_label() for line in lines], fontsize="small")
+            lines += right.plot(t, result.displacement[:, k] * scale, lw=0.8, ls="--", color=f"C{k + 1 + len(lines)}",
+                                label=f"u_{axis} [{unit}]")
+        right.set_ylabel(f"Translation [{unit}]")
+    _legend_below(ax, lines)
 
 
 def _draw_spin(ax, result):
@@ -76,10 +85,16 @@ def _draw_energy(ax, result):
     t = result.time
     potential = result.elastic_energy + result.gravity_energy
     ax.plot(t, result.kinetic_energy - result.kinetic_energy[0], label="1: change of kinetic energy")
-    ax.plot(t, result.total_energy - result.total_energy[0], label="2: change of total energy")
+    ax.plot(t, result.total_energy - result.total_energy[0], ls="--", label="2: change of total energy")  # over 1 when 3 is 0
     ax.plot(t, potential - potential[0], label="3: change of potential energy")
     ax.set(xlabel="Time [s]", ylabel="[J]", title="Energy")
-    ax.legend(fontsize="small")
+    _legend_below(ax, ax.get_lines())
+
+
+def _legend_below(ax, lines):
+    """The legend of a time history under its axes: inside, it hid the curves' peaks."""
+    ax.legend(lines, [line.get_label() for line in lines], fontsize="small", loc="upper center",
+              bbox_to_anchor=(0.5, -0.16), ncols=min(len(lines), 2), frameon=False)
 
 
 def plot_runup(result, sensor: str, critical=None, title: str | None = None, segments: int = 60):

@@ -355,3 +355,29 @@ def test_static_plot_names_every_bearing_and_disk_clear_of_the_curves(examples_d
         for found in segments:
             assert len(crossings(box, found)) == 0, f"a curve runs through {name}"
     plt.close(fig)
+
+
+def test_static_plot_largest_value_notes_hide_no_curve(examples_dir):
+    """Issue 27: the note of the largest bending moment (an opaque box) stood on the moment
+    line rising from its point and hid it. Measured on the drawn figure: no curve (but the
+    disks' pale background bands) runs under a note's box, and the moment's note names the
+    largest moment."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments
+
+    shaft = rdm.static(rdm.load_model(examples_dir / "flexible_pump_on_mounts.toml")).shafts["pump"]
+    fig = shaft.plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    notes = [(ax, t) for ax in fig.axes for t in ax.texts if t.get_text().startswith(("|u|", "|M|"))]
+    assert len(notes) == 2
+    for ax, note in notes:
+        box = note.get_bbox_patch().get_window_extent(renderer)
+        bands = [line for line in ax.get_lines() if str(line.get_gid()).startswith("disk:")]
+        assert len(crossings(box, curve_segments(ax, skip=bands))) == 0, note.get_text()
+    moment = next(t for _, t in notes if t.get_text().startswith("|M|")).get_text()
+    assert f"{np.abs(shaft.moment).max():.3g} N m" in moment
+    plt.close(fig)

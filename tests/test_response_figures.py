@@ -292,6 +292,42 @@ def test_no_curve_runs_through_a_critical_speed_label(gear_runup):
     plt.close(fig)
 
 
+def test_runup_track_legends_hide_no_track(monkeypatch):
+    """The order-tracked amplitude's and phase's legends stand where no track runs under them:
+    fixed in the upper left, the phase of a rotor through its critical speed (-90 deg falling to
+    -270 deg, as the compressor example's) ran under it. Drawn from given tracks (the plotting
+    computes nothing), measured on the drawn figure."""
+    import types
+
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments
+    from rotordyn_modal.plotting.simulation import plot_runup
+    from rotordyn_modal.simulation import runup
+
+    speeds = rdm.rpm(np.linspace(3000.0, 9000.0, 60))
+    ratio = speeds / rdm.rpm(6000.0)
+    response = 1.0 / (1.0 - ratio ** 2 + 0.1j * ratio)
+    track = runup.OrderTrack(speeds, 1e-6 * np.abs(response), np.degrees(np.angle(response)) - 90.0,
+                             "probe", "shaft", 1.0)
+    fall = runup.Waterfall(speeds, np.linspace(0.0, 200.0, 41), np.full((60, 41), 1e-9), "probe")
+    monkeypatch.setattr(runup, "order_track", lambda *args, **kwargs: track)
+    monkeypatch.setattr(runup, "waterfall", lambda *args, **kwargs: fall)
+    t = np.linspace(0.0, 1.0, 400)
+    result = types.SimpleNamespace(drive_speed=np.linspace(speeds[0], speeds[-1], 400), rotor_names=["shaft"],
+                                   model_name="test", sensor=lambda name: 1e-6 * np.sin(300 * t))
+    fig = plot_runup(result, "probe")
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    checked = 0
+    for ax in fig.axes:
+        if ax.get_legend() is not None and ax.get_title().startswith("Order-tracked"):
+            assert len(crossings(ax.get_legend().get_window_extent(renderer), curve_segments(ax))) == 0, ax.get_title()
+            checked += 1
+    assert checked == 2
+    plt.close(fig)
+
+
 def test_runup_waterfall_shows_its_content_only(gear_runup):
     """The waterfall's frequency axis ends within 1.5 times the highest frequency where the
     spectrum (or a critical speed) is above 1e-3 of the largest, and nothing above that floor

@@ -41,7 +41,7 @@ FILE_OPTIONS = {
     "critical-speeds": (["MODEL"], ["--out", "--plot"]),
     "stability": (["MODEL"], ["--out", "--plot"]),
     "ucs-map": (["MODEL"], ["--out", "--plot"]),
-    "level1": (["MODEL"], ["--out", "--plot"]),
+    "level1": (["MODEL"], ["--out", "--plot", "--csr-plot"]),
     "simulate": (["MODEL"], ["--out", "--plot"]),
     "frf": (["MODEL", "--measured", "--mapping"], ["--out", "--plot"]),
     "unbalance": (["MODEL"], ["--out", "--plot", "--orbits", "--orbit-plot", "--checks"]),

@@ -266,6 +266,68 @@ def test_runup_phase_is_a_joined_unwrapped_line_and_critical_lines_are_labelled(
     plt.close(fig)
 
 
+def test_no_curve_runs_through_a_critical_speed_label(gear_runup):
+    """Issue 27: the run-up's critical-speed labels were placed clear of each other only: the
+    sensor's signal and the order tracks ran through them. Measured on the drawn figure
+    (``label_geometry``): neither crosses a label's glyphs (where critical lines crowd closer
+    than a label's width a label may lie across the other critical lines), and every critical
+    line keeps its label."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments, glyph_box
+
+    result, critical = gear_runup
+    fig = result.plot(sensor="acc-top-z", critical=critical)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    checked = 0
+    for ax in fig.axes:
+        for text in (t for t in ax.texts if t.get_text().startswith("mode ")):
+            lines = [line for line in ax.get_lines() if line.get_label() == "_critical"]
+            assert any(np.allclose(line.get_xdata(), text.xy[0]) for line in lines), text.get_text()
+            through = crossings(glyph_box(text, renderer), curve_segments(ax, skip=lines))
+            assert len(through) == 0, (ax.get_title(), text.get_text())
+            checked += 1
+    assert checked == np.isin(critical.source, result.rotor_names).sum()
+    plt.close(fig)
+
+
+def test_runup_track_legends_hide_no_track(monkeypatch):
+    """The order-tracked amplitude's and phase's legends stand where no track runs under them:
+    fixed in the upper left, the phase of a rotor through its critical speed (-90 deg falling to
+    -270 deg, as the compressor example's) ran under it. Drawn from given tracks (the plotting
+    computes nothing), measured on the drawn figure."""
+    import types
+
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments
+    from rotordyn_modal.plotting.simulation import plot_runup
+    from rotordyn_modal.simulation import runup
+
+    speeds = rdm.rpm(np.linspace(3000.0, 9000.0, 60))
+    ratio = speeds / rdm.rpm(6000.0)
+    response = 1.0 / (1.0 - ratio ** 2 + 0.1j * ratio)
+    track = runup.OrderTrack(speeds, 1e-6 * np.abs(response), np.degrees(np.angle(response)) - 90.0,
+                             "probe", "shaft", 1.0)
+    fall = runup.Waterfall(speeds, np.linspace(0.0, 200.0, 41), np.full((60, 41), 1e-9), "probe")
+    monkeypatch.setattr(runup, "order_track", lambda *args, **kwargs: track)
+    monkeypatch.setattr(runup, "waterfall", lambda *args, **kwargs: fall)
+    t = np.linspace(0.0, 1.0, 400)
+    result = types.SimpleNamespace(drive_speed=np.linspace(speeds[0], speeds[-1], 400), rotor_names=["shaft"],
+                                   model_name="test", sensor=lambda name: 1e-6 * np.sin(300 * t))
+    fig = plot_runup(result, "probe")
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    checked = 0
+    for ax in fig.axes:
+        if ax.get_legend() is not None and ax.get_title().startswith("Order-tracked"):
+            assert len(crossings(ax.get_legend().get_window_extent(renderer), curve_segments(ax))) == 0, ax.get_title()
+            checked += 1
+    assert checked == 2
+    plt.close(fig)
+
+
 def test_runup_waterfall_shows_its_content_only(gear_runup):
     """The waterfall's frequency axis ends within 1.5 times the highest frequency where the
     spectrum (or a critical speed) is above 1e-3 of the largest, and nothing above that floor
@@ -301,6 +363,50 @@ def test_every_simulation_axis_has_one_unit(gear_runup):
                 assert all(f"[{u}]" in ax.get_ylabel() or u == "deg" and "deg" in ax.get_ylabel()
                            for u in units), (line.get_label(), ax.get_ylabel())
         plt.close(fig)
+
+
+def test_time_history_legends_hide_no_curve():
+    """Issue 27: the energy and rotation panels' legends sat inside the axes over the curves'
+    peaks (the spring-block rotor's kinetic energy). Measured on the drawn figure: no curve of
+    any panel runs under a legend's box."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments
+
+    model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
+    fig = rdm.simulate(model, 10.0, 50.0, drive="free", samples=2001).plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    segments = [curve_segments(ax) for ax in fig.axes]
+    legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None]
+    assert len(legends) >= 2
+    for legend in legends:
+        box = legend.get_window_extent(renderer)
+        for found in segments:
+            assert len(crossings(box, found)) == 0, [t.get_text() for t in legend.get_texts()]
+    plt.close(fig)
+
+
+def test_time_history_axes_need_no_offset_multiplier():
+    """Issue 27: the gear machine's rotor paths (tens of µm) were drawn in metres, the ticks
+    reading -4 ... 4 with a '1e-5' multiplier in the corner beside '[m]'. Every axis of the
+    time histories writes its values in its own unit, without an offset or multiplier, and the
+    path's extent in its unit is the rotor centres' largest excursion."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLES / "gear_machine.toml")
+    result = rdm.simulate(model, 0.3, rdm.rpm(1500), samples=301)
+    fig = result.plot()
+    fig.canvas.draw()
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            assert axis.get_offset_text().get_text() == "", (ax.get_title(), axis.get_label_text())
+    path_ax, = [ax for ax in fig.axes if ax.get_title().startswith("Path")]
+    unit = UNIT.findall(path_ax.get_xlabel())[0]
+    largest = max(np.abs(line.get_xydata()).max() for line in path_ax.get_lines())
+    excursion = np.abs((result.rotor_centers - result.rotor_centers[0])[:, :, 1:]).max()
+    np.testing.assert_allclose(largest, excursion * {"µm": 1e6, "mm": 1e3, "m": 1.0}[unit], rtol=1e-12)
+    plt.close(fig)
 
 
 # -- the compile notice -------------------------------------------------------------------------

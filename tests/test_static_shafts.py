@@ -327,3 +327,57 @@ def test_static_plot_draws_the_stations_and_refuses_a_rigid_model(tmp_path, exam
     assert main(["static", str(examples_dir / "motor_pump_on_mounts.toml"), "--plot", str(rigid)]) == 2
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and "no flexible rotor" in err and not rigid.exists()
+
+
+def test_static_plot_names_every_bearing_and_disk_clear_of_the_curves(examples_dir):
+    """Issue 27: the bearings' names stood under the zero line, where the sag ran through
+    'pump-IB' and 'pump-OB'. Measured on the drawn figure (``label_geometry``): each bearing's
+    and disk's name is drawn once, straight above its mark, and no curve of any panel crosses it."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.text import Text
+
+    from label_geometry import crossings, curve_segments, glyph_box
+
+    shaft = rdm.static(rdm.load_model(examples_dir / "flexible_pump_on_mounts.toml")).shafts["pump"]
+    fig = shaft.plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    panels = [ax for ax in fig.axes if ax.get_lines()]
+    segments = [curve_segments(ax) for ax in panels]
+    marks = [(name, x) for name, x in shaft.bearings] + [(name, x) for name, x, _ in shaft.disks]
+    for name, x in marks:
+        drawn = [t for t in fig.findobj(Text) if t.get_text() == name and t.get_visible()]
+        assert len(drawn) == 1, name
+        box = glyph_box(drawn[0], renderer)
+        assert box.x0 < panels[0].transData.transform((x, 0.0))[0] < box.x1, name
+        for found in segments:
+            assert len(crossings(box, found)) == 0, f"a curve runs through {name}"
+    plt.close(fig)
+
+
+def test_static_plot_largest_value_notes_hide_no_curve(examples_dir):
+    """Issue 27: the note of the largest bending moment (an opaque box) stood on the moment
+    line rising from its point and hid it. Measured on the drawn figure: no curve (but the
+    disks' pale background bands) runs under a note's box, and the moment's note names the
+    largest moment."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments
+
+    shaft = rdm.static(rdm.load_model(examples_dir / "flexible_pump_on_mounts.toml")).shafts["pump"]
+    fig = shaft.plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    notes = [(ax, t) for ax in fig.axes for t in ax.texts if t.get_text().startswith(("|u|", "|M|"))]
+    assert len(notes) == 2
+    for ax, note in notes:
+        box = note.get_bbox_patch().get_window_extent(renderer)
+        bands = [line for line in ax.get_lines() if str(line.get_gid()).startswith("disk:")]
+        assert len(crossings(box, curve_segments(ax, skip=bands))) == 0, note.get_text()
+    moment = next(t for _, t in notes if t.get_text().startswith("|M|")).get_text()
+    assert f"{np.abs(shaft.moment).max():.3g} N m" in moment
+    plt.close(fig)

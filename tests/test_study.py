@@ -521,3 +521,45 @@ def test_sobol_example_indices_are_variance_shares(examples_dir):
     # first-order shares of a nearly additive output: each in [0, 1] and together about 1
     assert np.all(table["S1"] > -3 * table["S1_se"]) and np.all(table["ST"] < 1 + 3 * table["ST_se"])
     assert abs(table["S1"].sum() - 1) < 3 * np.sqrt((table["S1_se"] ** 2).sum())
+
+
+def test_study_campbell_names_each_excitation_line_beside_it_and_clear_of_the_curves(gear):
+    """Issue 27: the excitation lines' names were anchored at the line's end with ha='right',
+    so the line ran through its own name ('motor 1X', 'fan 1X') and 'mesh:motor-fan 1X' stuck
+    out of the axes. Measured on the drawn figure (``label_geometry``): every name inside the
+    axes, no curve crossing it, no two names overlapping, each nearer its own line than any
+    other excitation line."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments, glyph_box
+
+    result = rdm.study(gear, {**small_gear_study(samples=2), "analyses": {"campbell": {"speeds_rpm": "0:6000:41",
+                                                                                    "orders": [1]}}})
+    fig = result.plot_campbell(band_rpm=(3400, 3700))
+    ax = fig.axes[0]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    frame = ax.get_window_extent(renderer)
+    dashed = [line for line in ax.get_lines() if line.get_linestyle() == "--"]    # drawn in the table's order
+    lines = dict(zip(map(str, result.dataset["excitation"].values), dashed))
+    names = [t for t in ax.texts if t.get_text() in lines]
+    assert len(lines) == 3 and {t.get_text() for t in names} == set(lines)
+    segments = curve_segments(ax)
+    boxes = [glyph_box(t, renderer) for t in names]
+    for text, box in zip(names, boxes):
+        assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1, text.get_text()
+        assert len(crossings(box, segments)) == 0, f"a curve runs through {text.get_text()}"
+        corners = np.array([[box.x0, box.y0], [box.x1, box.y0], [box.x0, box.y1], [box.x1, box.y1]])
+
+        def distance(line):          # from the box's nearest corner to the drawn segments
+            xy = line.get_transform().transform(np.column_stack([line.get_xdata(), line.get_ydata()]))
+            a, d = xy[:-1], np.diff(xy, axis=0)
+            t = np.clip(((corners[:, None] - a) * d).sum(-1) / np.maximum((d * d).sum(-1), 1e-12), 0, 1)
+            return np.hypot(*(a + t[..., None] * d - corners[:, None]).transpose(2, 0, 1)).min()
+        assert min(lines, key=lambda n: distance(lines[n])) == text.get_text()
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1:]:
+            assert not a.overlaps(b)
+    plt.close(fig)

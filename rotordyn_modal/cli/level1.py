@@ -10,8 +10,8 @@ import numpy as np
 from ..errors import InputError
 from ..units import from_system, speed_to_rad_s, unit_scale
 from ._units import convert_table, kinds_by_ending
-from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_count, parse_list, parse_number,
-                      save_figure, use_agg, write_table)
+from ._common import (add_model_argument, add_output_file, add_outputs, add_speed_unit, open_model, parse_count,
+                      parse_list, parse_number, save_figure, use_agg, write_table)
 
 NAME = "level1"
 HELP = "API 617 Level I stability screening: log decrement against applied cross-coupling"
@@ -57,8 +57,8 @@ def add_arguments(parser):
     add_stage_arguments(parser)
     parser.add_argument("--factor", default="10", help="the sweep reaches FACTOR x Qa (default 10)")
     parser.add_argument("--forward-mode", default="1", help="follow the N-th forward mode (default 1, the first)")
-    parser.add_argument("--csr-plot", metavar="FILE", help="draw the CSR against gas density chart (needs "
-                                                            "--gas-density; .png, .svg or .pdf)")
+    add_output_file(parser, "--csr-plot", metavar="FILE", help="draw the CSR against gas density chart (needs "
+                                                               "--gas-density; .png, .svg or .pdf)")
     add_outputs(parser)
 
 

@@ -79,6 +79,7 @@ def _panel(ax, view, colours, relative, factor=1.0):
     # relative motions share the absolute lines' factor (the casing may carry most of the mode):
     # drawn with the largest of the panel at 1
     largest = max(float(np.abs(line.relative).max(initial=0.0)) for line in view.lines) if relative else 1.0
+    disk_names, top = [], 1.0
     for line in view.lines:
         c = colours[line.rotor]
         u = line.relative / (largest or 1.0) if relative else line.displacement
@@ -96,15 +97,21 @@ def _panel(ax, view, colours, relative, factor=1.0):
             half = _DISK_HALF[0] + (_DISK_HALF[1] - _DISK_HALF[0]) * (mass / heaviest) ** (1 / 3)
             ax.plot([position, position], [-half, half], color=c, linewidth=4.5, alpha=0.45,
                     solid_capstyle="butt", gid=f"disk:{line.rotor}:{name}")
-            ax.annotate(name, (position, half), xytext=(0, 2), textcoords="offset points", ha="center",
-                        va="bottom", fontsize="xx-small", color="0.25")
+            disk_names.append((name, position))
+        top = max(top, float(reach.max(initial=0.0)), float(np.abs(u.real).max(initial=0.0)))
         for name, position in line.bearings:
             position = position * factor
             ax.plot([position], [_BEARING_Y], linestyle="none", marker="^", markersize=8, color=c,
                     markeredgecolor="k", markeredgewidth=0.6, gid=f"bearing:{line.rotor}:{name}")
             ax.annotate(name, (position, _BEARING_Y), xytext=(0, -9), textcoords="offset points", ha="center",
                         va="top", fontsize="xx-small", color="0.25", annotation_clip=False)
-    ax.set_ylim(-1.6, 1.25)
+    # the disks' names in a strip above every line and band (a name on the lines hides them),
+    # each straight above its disk's bar
+    name_y = top + 0.08
+    for name, position in disk_names:
+        ax.annotate(name, (position, name_y), xytext=(0, 0), textcoords="offset points", ha="center",
+                    va="bottom", fontsize="xx-small", color="0.25", gid=f"disk-name:{name}")
+    ax.set_ylim(-1.6, name_y + 0.3 if disk_names else max(1.25, top + 0.1))
     ax.axhline(0.0, color="0.85", linewidth=0.5, zorder=0)
     whirl = f"{view.whirl} whirl" if view.whirl != "none" else "no whirl"
     if not view.lateral:

@@ -59,7 +59,50 @@ def plot_shaft_statics(shafts, title: str | None = None, units: str = "si"):
     fig.suptitle(title or "Static sag, shear force and bending moment along the shaft\n"
                  "(V = dM/dz: force of the part before the cut on the part beyond; M sagging positive)",
                  fontsize="medium")
+    _clear_notes(fig)
     return fig
+
+
+def _clear_notes(fig):
+    """Move each largest-value note to the first corner of its point where no curve runs under
+    its box (it hid the moment line rising from its largest)."""
+    import matplotlib.text
+
+    from ._labels import CurveMap, laid_out_renderer
+
+    renderer = laid_out_renderer(fig)
+    for ax in fig.axes:
+        notes = [t for t in ax.texts if t.get_gid() == "largest-note"]
+        if not notes:
+            continue
+        # the disks' bands are pale background marks, notes may stand on them
+        curves = CurveMap(ax, renderer, skip=[line for line in ax.get_lines()
+                                              if str(line.get_gid()).startswith("disk:")])
+        frame = ax.get_window_extent(renderer)
+        for note in notes:
+            point = ax.transData.transform(note.xy)
+            keep = (point[0] - 6, point[1] - 6, point[0] + 6, point[1] + 6)     # its own point and curve
+            near = [(8, 8), (8, -8), (-8, 8), (-8, -8)]
+            far = [(sx * dx, sy * dy) for dx in (30, 60, 100, 150) for dy in (16, 40, 70) for sx in (1, -1)
+                   for sy in (1, -1)]
+            for dx, dy in near + far:
+                note.set(position=(dx, dy), ha="left" if dx > 0 else "right", va="bottom" if dy > 0 else "top")
+                box = matplotlib.text.Text.get_window_extent(note, renderer).padded(3.0)   # its rounded box
+                inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
+                corner = (box.x0 if dx > 0 else box.x1, box.y0 if dy > 0 else box.y1)
+                if inside and curves.free((box.x0, box.y0, box.x1, box.y1), keep=keep) \
+                        and ((dx, dy) in near or curves.crossings(tuple(point), corner, keep=keep) == 0):
+                    if (dx, dy) not in near:       # away from its point: a leader line to it
+                        ax.annotate(note.get_text(), note.xy, xytext=(dx, dy), textcoords="offset points",
+                                    fontsize=note.get_fontsize(), ha=note.get_ha(), va=note.get_va(),
+                                    gid="largest-note", bbox=_NOTE_BOX,
+                                    arrowprops={"arrowstyle": "-", "color": "0.5", "linewidth": 0.6,
+                                                "shrinkA": 0, "shrinkB": 3,
+                                                "relpos": (0.0 if dx > 0 else 1.0, 0.0 if dy > 0 else 1.0)})
+                        note.remove()
+                    break
+            else:
+                note.set(position=(8, -8 if note.xy[1] > 0 else 8), ha="left", va="top" if note.xy[1] > 0 else "bottom")
 
 
 def _column(axes, shaft, scales):
@@ -97,13 +140,24 @@ def _marks(ax, shaft, length_scale):
         ax.plot([position * length_scale], [0.0], linestyle="none", marker="v", markersize=7, color="tab:red",
                 zorder=3, gid=f"load:{shaft.rotor}:{source}")
     if ax.get_subplotspec().is_first_row():
-        for name, position in shaft.bearings:
-            ax.annotate(name, (position * length_scale, 0.0), xytext=(0, -11), textcoords="offset points",
-                        ha="center", va="top", fontsize="xx-small", color="0.25")
-        for name, position, _ in shaft.disks:      # inside the panel, along the disk's bar
-            ax.annotate(name, (position * length_scale, 1.0), xycoords=("data", "axes fraction"), xytext=(3, -3),
-                        textcoords="offset points", ha="left", va="top", rotation=90, fontsize="xx-small",
-                        color="tab:green")
+        _name_marks(ax, shaft, length_scale)
+
+
+def _name_marks(ax, shaft, length_scale):
+    """The bearings' and disks' names as ticks of an axis along the first panel's top edge:
+    outside the panel, where no curve runs through them (inside, the sag ran through them)."""
+    marks = sorted([(position * length_scale, name, "0.25") for name, position in shaft.bearings]
+                   + [(position * length_scale, name, "tab:green") for name, position, _ in shaft.disks])
+    if not marks:
+        return
+    top = ax.secondary_xaxis("top")
+    top.set_xticks([x for x, _, _ in marks], [name for _, name, _ in marks])
+    top.tick_params(labelsize="xx-small", length=3, pad=1)
+    for label, (_, _, colour) in zip(top.get_xticklabels(), marks):
+        label.set_color(colour)
+
+
+_NOTE_BOX = {"boxstyle": "round,pad=0.2", "facecolor": "white", "edgecolor": "0.7", "alpha": 0.9}
 
 
 def _mark_largest(ax, shaft, quantity, scale_unit, x, stress=None):
@@ -120,9 +174,9 @@ def _mark_largest(ax, shaft, quantity, scale_unit, x, stress=None):
         peak, j = shaft.largest("stress")
         text += f"\nlargest bending stress {peak * stress[0]:.3g} {stress[1]} at {shaft.label(j, 'stress')}"
     ax.plot([x[i]], [y], marker="o", markersize=5, color="k", linestyle="none", gid=f"largest-{quantity}:{shaft.rotor}")
-    ax.annotate(text, (x[i], y), xytext=(8, -8 if y > 0 else 8), textcoords="offset points", fontsize="x-small",
+    ax.annotate(text, (x[i], y), xytext=(8, -8 if y > 0 else 8), textcoords="offset points", fontsize="x-small", gid="largest-note",
                 va="top" if y > 0 else "bottom", ha="left" if x[i] < 0.5 * (x[0] + x[-1]) else "right",
-                bbox={"boxstyle": "round,pad=0.2", "facecolor": "white", "edgecolor": "0.7", "alpha": 0.9})
+                bbox=_NOTE_BOX)
 
 
 def _legend(fig, shafts):

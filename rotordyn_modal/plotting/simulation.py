@@ -30,30 +30,37 @@ def plot_simulation(result, title: str | None = None, units: str = "si"):
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), layout="constrained")
-    _draw_paths(axes[0, 0], result, (1.0, "m") if units == "si" else unit_scale("displacement", units))
-    _draw_frame_motion(axes[0, 1], result, (1e3, "mm") if units == "si" else unit_scale("displacement", units))
+    _draw_paths(axes[0, 0], result, None if units == "si" else unit_scale("displacement", units))
+    _draw_frame_motion(axes[0, 1], result, None if units == "si" else unit_scale("displacement", units))
     _draw_spin(axes[1, 0], result)
     _draw_energy(axes[1, 1], result)
     fig.suptitle(title or result.model_name or "Simulation")
     return fig
 
 
-def _draw_paths(ax, result, scale=(1.0, "m")):
-    """The rotors' centres in the y-z plane, from where each started (``scale``: factor, unit)."""
-    factor, unit = scale
-    for j, name in enumerate(result.rotor_names):
-        path = (result.rotor_centers[:, j] - result.rotor_centers[0, j]) * factor
-        ax.plot(path[:, 1], path[:, 2], lw=0.8, label=name)
+def _draw_paths(ax, result, scale=None):
+    """The rotors' centres in the y-z plane, from where each started (``scale``: (factor, unit),
+    or None: µm, mm or m, whichever writes them without an offset multiplier)."""
+    paths = [result.rotor_centers[:, j] - result.rotor_centers[0, j] for j in range(len(result.rotor_names))]
+    factor, unit = scale or _length_unit(max([float(np.abs(p[:, 1:]).max(initial=0.0)) for p in paths] or [0.0]))
+    for name, path in zip(result.rotor_names, paths):
+        ax.plot(path[:, 1] * factor, path[:, 2] * factor, lw=0.8, label=name)
     ax.set(xlabel=f"y displacement of the rotor centre [{unit}]", ylabel=f"z displacement [{unit}]",
            title="Path of the rotors' centres (y-z)")
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(fontsize="small")
 
 
-def _draw_frame_motion(ax, result, scale=(1e3, "mm")):
-    """The stator's (or carrier's) transverse rotation and translation (``scale``: factor, unit),
-    and each rotor on bearings' tilt in them."""
-    factor, unit = scale
+def _length_unit(largest):
+    """``(scale, unit)`` that writes lengths up to ``largest`` [m] without a 1e-5 offset."""
+    if largest < 1e-3:
+        return 1e6, "µm"
+    return (1e3, "mm") if largest < 1.0 else (1.0, "m")
+
+
+def _draw_frame_motion(ax, result, scale=None):
+    """The stator's (or carrier's) transverse rotation and translation (``scale``: (factor,
+    unit), or None: µm, mm or m by the largest), and each rotor on bearings' tilt in them."""
     t = result.time
     lines = []
     if result.displacement.any() or not result.rotor_tilts.any():
@@ -64,12 +71,13 @@ def _draw_frame_motion(ax, result, scale=(1e3, "mm")):
                              label=f"|γ| {name} in its bearings [deg]")
     ax.set(xlabel="Time [s]", ylabel="Rotation [deg]", title="Transverse rotation and translation")
     if result.displacement.any() or not result.rotor_tilts.any():
-        right = ax.twinx()       # millimetres (mils) on an axis of their own
+        right = ax.twinx()       # lengths on an axis of their own
+        factor, unit = scale or _length_unit(float(np.abs(result.displacement).max(initial=0.0)))
         for k, axis in enumerate("xyz"):
             lines += right.plot(t, result.displacement[:, k] * factor, lw=0.8, ls="--", color=f"C{k + 1 + len(lines)}",
                                 label=f"u_{axis} [{unit}]")
         right.set_ylabel(f"Translation [{unit}]")
-    ax.legend(lines, [line.get_label() for line in lines], fontsize="small")
+    _legend_below(ax, lines)
 
 
 def _draw_spin(ax, result):
@@ -83,10 +91,16 @@ def _draw_energy(ax, result):
     t = result.time
     potential = result.elastic_energy + result.gravity_energy
     ax.plot(t, result.kinetic_energy - result.kinetic_energy[0], label="1: change of kinetic energy")
-    ax.plot(t, result.total_energy - result.total_energy[0], label="2: change of total energy")
+    ax.plot(t, result.total_energy - result.total_energy[0], ls="--", label="2: change of total energy")  # over 1 when 3 is 0
     ax.plot(t, potential - potential[0], label="3: change of potential energy")
     ax.set(xlabel="Time [s]", ylabel="[J]", title="Energy")
-    ax.legend(fontsize="small")
+    _legend_below(ax, ax.get_lines())
+
+
+def _legend_below(ax, lines):
+    """The legend of a time history under its axes: inside, it hid the curves' peaks."""
+    ax.legend(lines, [line.get_label() for line in lines], fontsize="small", loc="upper center",
+              bbox_to_anchor=(0.5, -0.16), ncols=min(len(lines), 2), frameon=False)
 
 
 def plot_runup(result, sensor: str, critical=None, title: str | None = None, segments: int = 60,
@@ -134,7 +148,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
                  title="Order-tracked phase")
     phase_ax.yaxis.set_major_locator(plt.MultipleLocator(90) if _span(phase_ax) <= 1080 else plt.MaxNLocator())
     for axis in (amplitude_ax, phase_ax):
-        axis.legend(fontsize="small", loc="upper left")
+        axis.legend(fontsize="small", loc="best")        # where it hides the least of the tracks
         axis.set_xlim(axes[0, 0].get_xlim())            # the run's speeds, as the signal's panel
     _draw_waterfall(fig, axes[1, 1], waterfall(result, sensor, segments=segments), result, critical, sensor,
                     (scale, unit))
@@ -194,34 +208,60 @@ def _waterfall_limit(fall, critical) -> float:
 def _label_critical_lines(axes, critical, renderer):
     """Label each critical-speed line ('mode 4, 1X fan, 1412 rpm', vertical, at the top of the
     line) in the first of ``axes`` where it overlaps no other label; returns the labels."""
+    from ._labels import CurveMap
+
     rpm = 30.0 / np.pi
     placed = {id(ax): [ax.get_legend().get_window_extent(renderer)] if ax.get_legend() else [] for ax in axes}
-    labels = []
+    curves = {id(ax): CurveMap(ax, renderer) for ax in axes}       # the signal, the tracks, the lines
+    # where critical lines crowd closer than a label's width, a label may lie across the other
+    # critical lines (a second pass), never across the signal or the tracks
+    data = {id(ax): CurveMap(ax, renderer, skip=[line for line in ax.get_lines() if line.get_label() == "_critical"])
+            for ax in axes}
+    labels, missing = [], []
+    texts = {k: f"mode {critical.mode[k]}, {critical.order[k]:g}X {critical.source[k]}, {critical.speeds[k] * rpm:.0f} rpm"
+             for k in range(len(critical.speeds))}
     for k in np.argsort(critical.speeds):
-        text = f"mode {critical.mode[k]}, {critical.order[k]:g}X {critical.source[k]}, {critical.speeds[k] * rpm:.0f} rpm"
-        for ax in axes:
-            label = _vertical_label(ax, critical.speeds[k] * rpm, text, placed[id(ax)], renderer)
-            if label is not None:
-                labels.append(label)
-                break
+        label = _first_room(axes, critical.speeds[k] * rpm, texts[k], placed, renderer, curves)
+        if label is None:
+            missing.append(k)
+        else:
+            labels.append(label)
+    for k in missing:
+        label = _first_room(axes, critical.speeds[k] * rpm, texts[k], placed, renderer, data)
+        if label is not None:
+            labels.append(label)
     return labels
 
 
-def _vertical_label(ax, x, text, placed, renderer):
+def _first_room(axes, x, text, placed, renderer, curves):
+    """The label of the line at ``x`` [rpm] in the first of ``axes`` with room for it, or None."""
+    for ax in axes:
+        label = _vertical_label(ax, x, text, placed[id(ax)], renderer, curves[id(ax)])
+        if label is not None:
+            return label
+    return None
+
+
+def _vertical_label(ax, x, text, placed, renderer, curves=None):
     """A vertical label just right (else left) of the line at ``x``, at the top of the axes (else
-    at the bottom), inside the axes and clear of the boxes in ``placed`` (display units,
-    updated); None where there is no room."""
+    at the bottom, else at three heights between), inside the axes, clear of the boxes in ``placed`` (display
+    units, updated) and of every curve of ``curves`` (a CurveMap) but its own line; None where
+    there is no room."""
     frame = ax.get_window_extent(renderer)
     pad = 2.0 * ax.figure.dpi / 72.0
+    line_x = ax.transData.transform((x, 0.0))[0]
+    own = (line_x - 0.5, frame.y0, line_x + 0.5, frame.y1)       # its own line, beside it
     for (ha, shift), (y, va, rise) in itertools.product((("left", 1), ("right", -1)),
-                                                       ((1.0, "top", -3), (0.0, "bottom", 3))):
+                                                       ((1.0, "top", -3), (0.0, "bottom", 3), (0.5, "center", 0),
+                                                        (0.35, "center", 0), (0.65, "center", 0))):
         label = ax.annotate(text, (x, y), xycoords=("data", "axes fraction"), xytext=(shift * 2, rise),
                             textcoords="offset points", rotation=90, ha=ha, va=va, fontsize="x-small",
                             color="tab:red", bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none",
                                                    "alpha": 0.7})
         box = label.get_window_extent(renderer)
         inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
-        if inside and not any(box.x0 < b.x1 + pad and b.x0 < box.x1 + pad and box.y0 < b.y1 + pad
+        clear = curves is None or curves.free((box.x0, box.y0, box.x1, box.y1), keep=own)
+        if inside and clear and not any(box.x0 < b.x1 + pad and b.x0 < box.x1 + pad and box.y0 < b.y1 + pad
                               and b.y0 < box.y1 + pad for b in placed):
             placed.append(box)
             return label

@@ -61,17 +61,38 @@ def plot_study_campbell(result, percentiles=(5.0, 95.0), band_rpm=None, speed_un
                  f"of {int((~result.failed).sum())} variants")
     ax.legend(fontsize="small", ncols=2, loc="lower right")
     ax.grid(True, alpha=0.3)
+    if "excitation" in ds.coords:
+        _label_excitations(ax, ds["excitation"].values, ds["excitation_slope"].values / speed_scale(speed_unit))
     return fig
 
 
 def _excitation_lines(ax, x, speeds, names, slopes, top):
-    """Dashed excitation lines (base model), each labelled where it leaves the frame."""
+    """Dashed excitation lines (base model), labelled by :func:`_label_excitations`."""
     for name, slope in zip(names, slopes):
-        y = slope * speeds
-        ax.plot(x, y, color="0.4", linewidth=0.8, linestyle="--")
-        k = int(np.searchsorted(y, 0.95 * top)) if y[-1] > 0.95 * top else len(x) - 1
-        ax.annotate(str(name), (x[min(k, len(x) - 1)], min(y[min(k, len(x) - 1)], 0.95 * top)),
-                    fontsize="x-small", color="0.3", ha="right", va="bottom")
+        ax.plot(x, slope * speeds, color="0.4", linewidth=0.8, linestyle="--", gid=f"excitation:{name}")
+
+
+def _label_excitations(ax, names, slopes):
+    """Each excitation line's name beside it where it leaves the frame, inside the axes, clear
+    of the other labels, the legend and every curve (the Campbell diagram's edge labels);
+    ``slopes`` [Hz per unit of the speed axis]."""
+    from ._labels import CurveMap, EdgeLabel, edge_label_boxes, laid_out_renderer, line_exit
+
+    renderer = laid_out_renderer(ax.figure)
+    to_axes = ax.transAxes.inverted()
+    placed = [tuple(to_axes.transform(ax.get_legend().get_window_extent(renderer)).ravel())] \
+        if ax.get_legend() else []
+    bottom, top = ax.get_ylim()
+    labels = []
+    for name, slope in zip(names, slopes):
+        exit_ = line_exit(float(slope), ax.get_xlim(), top, bottom)
+        if exit_ is not None:
+            prefix, _, suffix = str(name).rpartition(" ")
+            labels.append(EdgeLabel(prefix or str(name), suffix if prefix else "", "0.3", *exit_))
+    curves = CurveMap(ax, renderer, units="axes")
+    for label, (left, low, _, _) in edge_label_boxes(ax, labels, "x-small", renderer, placed, curves):
+        ax.text(left, low, label.text.strip(), transform=ax.transAxes, fontsize="x-small", color=label.color,
+                ha="left", va="bottom", gid="excitation-label")
 
 
 def plot_critical_histograms(result, band_rpm=None, bins: int = 25, max_crossings: int = 6,

@@ -142,11 +142,14 @@ def test_simulate_figure_in_mil(fan_run):
     plt = _agg()
     result, _ = fan_run
     si, us = result.plot(), result.plot(units="us")
-    assert si.axes[0].get_xlabel().endswith("[m]") and us.axes[0].get_xlabel().endswith("[mil]")
+    per_metre = {"[m]": 1.0, "[mm]": 1e3, "[µm]": 1e6}       # SI paths in the unit of their size
+    si_unit = si.axes[0].get_xlabel().rpartition(" ")[2]
+    assert si_unit in per_metre and us.axes[0].get_xlabel().endswith("[mil]")
     for a, b in zip(si.axes[0].get_lines(), us.axes[0].get_lines()):
-        np.testing.assert_allclose(np.asarray(b.get_xydata()) * IN / 1000, a.get_xydata(), rtol=1e-12, atol=1e-300)
+        np.testing.assert_allclose(np.asarray(b.get_xydata()) * IN / 1000,
+                                   np.asarray(a.get_xydata()) / per_metre[si_unit], rtol=1e-12, atol=1e-300)
     right_si, right_us = si.axes[-1], us.axes[-1]          # the translation's twin axis
-    assert right_si.get_ylabel() == "Translation [mm]" and right_us.get_ylabel() == "Translation [mil]"
+    assert right_si.get_ylabel().rpartition(" ")[2] in per_metre and right_us.get_ylabel() == "Translation [mil]"
     plt.close("all")
 
 

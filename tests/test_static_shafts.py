@@ -381,3 +381,21 @@ def test_static_plot_largest_value_notes_hide_no_curve(examples_dir):
     moment = next(t for _, t in notes if t.get_text().startswith("|M|")).get_text()
     assert f"{np.abs(shaft.moment).max():.3g} N m" in moment
     plt.close(fig)
+
+
+def test_a_shaft_without_load_says_so_in_the_figure_and_the_summary(examples_dir, capsys):
+    """The compressor example has no gravity: every sag, shear force and moment is 0. The figure
+    says there is no load (all-zero curves alone read as a shaft that does not bend under its
+    loads) and marks no 'largest' value; the terminal says the same instead of 'largest sag 0'."""
+    from rotordyn_modal.analysis.static import static
+    from rotordyn_modal.cli import main
+    from rotordyn_modal.io import load_model
+
+    result = static(load_model(examples_dir / "compressor_rotor.toml"))
+    fig = result.plot_shafts()
+    texts = [t for ax in fig.axes for t in ax.texts]
+    assert [t.get_gid() for t in texts if t.get_gid()] == ["no-load-note"]
+    assert "no static load" in texts[0].get_text()
+    assert main(["static", str(examples_dir / "compressor_rotor.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "compressor: no static load on this shaft" in out and "largest sag" not in out

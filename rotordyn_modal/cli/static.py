@@ -121,6 +121,8 @@ def _shaft_summary(shaft, system="si") -> str:
     (x, x_unit), (f, f_unit), (m, m_unit) = (unit_scale(k, system) for k in ("length", "force", "moment"))
     u, u_unit = (1e6, "µm") if system == "si" else unit_scale("displacement", system)
     s, s_unit = (1e-6, "MPa") if system == "si" else unit_scale("pressure", system)
+    if not (np.any(shaft.sag) or np.any(shaft.shear) or np.any(shaft.moment)):
+        return f"  {shaft.rotor}: no static load on this shaft (the model has no gravity and no given force)"
     parts = []
     shown = (("sag", "sag", u, u_unit), ("shear", "shear force", f, f_unit),
              ("moment", "bending moment", m, m_unit), ("stress", "bending stress", s, s_unit))

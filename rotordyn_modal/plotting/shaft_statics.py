@@ -122,8 +122,14 @@ def _column(axes, shaft, scales):
         ax.set_ylabel(f"{what} [{unit}]", fontsize="small")
         ax.tick_params(labelsize="small")
         _marks(ax, shaft, length_scale)
-    _mark_largest(axes[0], shaft, "sag", scales["sag"], x)
-    _mark_largest(axes[2], shaft, "moment", scales["moment"], x, scales["stress"])
+    if not (np.any(shaft.sag) or np.any(shaft.shear) or np.any(shaft.moment)):
+        # zeros everywhere read as a shaft that carries its loads without bending: say there are none
+        axes[1].text(0.5, 0.5, "no static load on this shaft\n(the model has no gravity and no given force)",
+                     transform=axes[1].transAxes, ha="center", va="center", fontsize="medium", gid="no-load-note",
+                     bbox=dict(boxstyle="round", facecolor="white", edgecolor="0.6"))
+    else:
+        _mark_largest(axes[0], shaft, "sag", scales["sag"], x)
+        _mark_largest(axes[2], shaft, "moment", scales["moment"], x, scales["stress"])
     axes[0].set_title(f"rotor {shaft.rotor}", fontsize="small")
     axes[-1].set_xlabel(f"position along {e} [{length_unit}]")
 

@@ -45,7 +45,7 @@ from .model.geometry import gear_mesh, point_force_column, point_motion_rows, sh
 
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
-           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "flexible_rotor_matrices", "dependent_bearing_matrices",
+           "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "flexible_rotor_matrices", "dependent_bearing_matrices", "bearing_coefficients",
            "pedestal_mass", "pedestal_stiffness_damping", "mesh_matrices", "sensor_rows", "point_rows", "excitation_columns", "generalized_force", "weights", "weight_force"]
 
 
@@ -407,8 +407,6 @@ def bearing_matrices(model, speed: float | None = None, constant_only: bool = Fa
     -------
     K, C : ndarray, shape (n, n) each
     """
-    from .elements.bearings import evaluate
-
     n = model.dofs.n
     K, C = np.zeros((n, n)), np.zeros((n, n))
     for bearing in model.bearings:
@@ -418,12 +416,32 @@ def bearing_matrices(model, speed: float | None = None, constant_only: bool = Fa
         if dependent and speed is None:
             raise InputError(f"{model.source}: [bearings.{bearing.name}] has speed-dependent "
                              "coefficients: give the speed (matrices(speed=...))")
-        own = 0.0 if speed is None else model.rotor(bearing.rotor).speed_ratio * float(speed)
-        k6, c6 = evaluate(bearing.coefficients, [own], f"{model.source}: [bearings.{bearing.name}]")
+        k6, c6 = bearing_coefficients(model, bearing, [0.0 if speed is None else float(speed)])
         rows, moves = bearing_motion(model, bearing)
         K[rows, rows] += moves.T @ k6[0] @ moves
         C[rows, rows] += moves.T @ c6[0] @ moves
     return K, C
+
+
+def bearing_coefficients(model, bearing, speeds):
+    """A bearing's 6x6 stiffness and damping at reference speeds ``speeds``: its coefficients
+    evaluated at its own rotor's speed (speed ratio x reference speed).
+
+    Parameters
+    ----------
+    model : Model
+    bearing : Bearing
+    speeds : array_like, shape (N,)
+        Reference speeds [rad/s].
+
+    Returns
+    -------
+    k6, c6 : ndarray, shape (N, 6, 6) each [N/m, N m/rad; N s/m, N m s/rad]
+    """
+    from .elements.bearings import evaluate
+
+    own = model.rotor(bearing.rotor).speed_ratio * np.asarray(speeds, dtype=float)
+    return evaluate(bearing.coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
 
 
 def dependent_bearing_matrices(model, speeds):
@@ -439,16 +457,13 @@ def dependent_bearing_matrices(model, speeds):
     -------
     K, C : ndarray, shape (N, n, n) each (zeros without such bearings)
     """
-    from .elements.bearings import evaluate
-
     speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
     n = model.dofs.n
     K, C = np.zeros((len(speeds), n, n)), np.zeros((len(speeds), n, n))
     for bearing in model.bearings:
         if bearing.coefficients.kind == "constant":
             continue
-        own = model.rotor(bearing.rotor).speed_ratio * speeds
-        k6, c6 = evaluate(bearing.coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
+        k6, c6 = bearing_coefficients(model, bearing, speeds)
         rows, moves = bearing_motion(model, bearing)
         K[:, rows, rows] += moves.T @ k6 @ moves
         C[:, rows, rows] += moves.T @ c6 @ moves

@@ -437,16 +437,14 @@ class _Band(typing.NamedTuple):
 def _bearing_entries(model, speeds):
     """The speed-dependent bearings' entries of K and C: positions (nb,), (nb,) and values
     (S, nb), (S, nb) at every speed (the rows and columns a bearing's relative motion touches)."""
-    from ..assembly import bearing_motion
-    from ..elements.bearings import evaluate
+    from ..assembly import bearing_coefficients, bearing_motion
 
     n = model.dofs.n
     keys, stiffness, damping = [], [], []
     for bearing in model.bearings:
         if bearing.coefficients.kind == "constant":
             continue
-        own = model.rotor(bearing.rotor).speed_ratio * speeds
-        k6, c6 = evaluate(bearing.coefficients, own, f"{model.source}: [bearings.{bearing.name}]")
+        k6, c6 = bearing_coefficients(model, bearing, speeds)
         where, moves = bearing_motion(model, bearing)
         used = np.nonzero(np.any(moves != 0, axis=0))[0]
         part = moves[:, used]

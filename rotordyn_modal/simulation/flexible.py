@@ -509,8 +509,7 @@ def _right_hand_side(system, speed, accel):
 
 def _result(model, system, times, states, speed, accel, drive):
     """The :class:`SimulationResult` of the reduced states (see its docstring for the fields)."""
-    from ..assembly import bearing_motion, sensor_rows
-    from ..elements.bearings import evaluate
+    from ..assembly import bearing_coefficients, bearing_motion, sensor_rows
     from ..model.geometry import shift_matrices
     from .result import SimulationResult
 
@@ -542,8 +541,7 @@ def _result(model, system, times, states, speed, accel, drive):
     for i, bearing in enumerate(model.bearings):
         rows, local = bearing_motion(model, bearing)
         reduced = local @ V[rows]
-        k6, c6 = evaluate(bearing.coefficients, model.rotor(bearing.rotor).speed_ratio * spin,
-                          f"{model.source}: [bearings.{bearing.name}]")
+        k6, c6 = bearing_coefficients(model, bearing, spin)
         forces[:, i] = np.einsum("nij,nj->ni", k6, eta @ reduced.T) + np.einsum("nij,nj->ni", c6, deta @ reduced.T)
     Ks = system.stiffness_damping(spin)[0] if system.dependent else system.K[None]
     elastic = 0.5 * np.einsum("ni,nij,nj->n", eta, 0.5 * (Ks + Ks.transpose(0, 2, 1)), eta)

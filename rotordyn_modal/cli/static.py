@@ -118,15 +118,16 @@ def _print(result, system="si"):
 def _shaft_summary(shaft, system="si") -> str:
     """Two lines per flexible rotor: its largest sag (µm or mil), shear force, bending moment and
     bending stress (MPa or psi), each with its station and position."""
-    (x, x_unit), (f, f_unit), (m, m_unit) = (unit_scale(k, system) for k in ("length", "force", "moment"))
-    u, u_unit = (1e6, "µm") if system == "si" else unit_scale("displacement", system)
-    s, s_unit = (1e-6, "MPa") if system == "si" else unit_scale("pressure", system)
+    from ..plotting.shaft_statics import statics_scales
+
     if not (np.any(shaft.sag) or np.any(shaft.shear) or np.any(shaft.moment)):
         return f"  {shaft.rotor}: no static load on this shaft (the model has no gravity and no given force)"
+    scales = statics_scales(system)
+    x, x_unit = scales["length"]
     parts = []
-    shown = (("sag", "sag", u, u_unit), ("shear", "shear force", f, f_unit),
-             ("moment", "bending moment", m, m_unit), ("stress", "bending stress", s, s_unit))
-    for quantity, what, scale, unit in shown:
+    shown = (("sag", "sag"), ("shear", "shear force"), ("moment", "bending moment"), ("stress", "bending stress"))
+    for quantity, what in shown:
+        scale, unit = scales[quantity]
         value, i = shaft.largest(quantity)
         parts.append(f"{what} {value * scale:.4g} {unit} at {shaft.label(i, quantity)} ({shaft.axis_names[2]} = "
                      f"{shaft.position[i] * x:.4g} {x_unit})")

@@ -17,13 +17,22 @@ import numpy as np
 
 from ..units import unit_scale
 
-__all__ = ["plot_shaft_statics"]
+__all__ = ["plot_shaft_statics", "statics_scales"]
 
 #: the two planes' look: plane e-a (u_a, its shear force and bending moment), plane e-b
 _PLANES = ({"color": "tab:blue", "linestyle": "-", "linewidth": 1.6},
            {"color": "tab:orange", "linestyle": "--", "linewidth": 1.6})
-#: sag in SI figures in micrometres (metres would read 3e-05); US: mil
-_SAG_SI = (1e6, "µm")
+
+
+def statics_scales(units: str = "si") -> dict:
+    """``(factor, unit)`` of each quantity the shaft statics show (figure and terminal): an SI
+    value times ``factor`` is the number shown in ``unit``. Keys ``sag`` (µm, not metres that
+    would read 3e-05; mil), ``shear`` (N; lbf), ``moment`` (N m; lbf in), ``length`` (m; in) and
+    ``stress`` (MPa; psi)."""
+    return {"sag": (1e6, "µm") if units == "si" else unit_scale("displacement", units),
+            "shear": unit_scale("force", units), "moment": unit_scale("moment", units),
+            "length": unit_scale("length", units),
+            "stress": (1e-6, "MPa") if units == "si" else unit_scale("pressure", units)}
 
 
 def plot_shaft_statics(shafts, title: str | None = None, units: str = "si"):
@@ -47,10 +56,7 @@ def plot_shaft_statics(shafts, title: str | None = None, units: str = "si"):
     shafts = list(shafts)
     if not shafts:
         raise ValueError("plot_shaft_statics: no flexible rotor to draw")
-    scales = {"sag": _SAG_SI if units == "si" else unit_scale("displacement", units),
-              "shear": unit_scale("force", units), "moment": unit_scale("moment", units),
-              "length": unit_scale("length", units), "stress": (1e-6, "MPa") if units == "si" else
-              unit_scale("pressure", units)}
+    scales = statics_scales(units)
     fig, axes = plt.subplots(3, len(shafts), figsize=(7.2 * len(shafts), 8.2), layout="constrained",
                              squeeze=False, sharex="col")
     for column, shaft in zip(axes.T, shafts):

@@ -181,15 +181,15 @@ def _shaft_statics(result, units) -> list:
     shafts = list(result.shafts.values())
     if not shafts:
         return []
-    from ..units import unit_scale
+    from ..plotting.shaft_statics import statics_scales
 
-    shown = (("sag", "sag", shown_scale("sag", units)), ("shear", "shear force", shown_scale("force", units)),
-             ("moment", "bending moment", unit_scale("moment", units)),
-             ("stress", "bending stress", (1e-6, "MPa") if units == "si" else unit_scale("pressure", units)))
-    to_length, length_unit = unit_scale("length", units)
+    scales = {**statics_scales(units), "sag": shown_scale("sag", units)}     # sag as in the report's other tables
+    to_length, length_unit = scales["length"]
     rows = []
     for shaft in shafts:
-        for quantity, what, (factor, unit) in shown:
+        for quantity, what in (("sag", "sag"), ("shear", "shear force"), ("moment", "bending moment"),
+                               ("stress", "bending stress")):
+            factor, unit = scales[quantity]
             value, i = shaft.largest(quantity)
             rows.append([shaft.rotor, f"largest {what} [{unit}]", _g(value * factor),
                          shaft.label(i, quantity), f"{shaft.axis_names[2]} = {_g(shaft.position[i] * to_length)}"])

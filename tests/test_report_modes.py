@@ -2,7 +2,7 @@
 
 A small flexible rotor with two close-clearance stations (``tests/data/flexible_with_seals.toml``)
 reported to API 684: the ``modes`` section shows the modes the documented rule picks (computed
-here from ``modal`` at the MCS: a frequency at the MCS, as a 1X speed, within 17 % of the
+here from ``modal`` at the MCS: a frequency at the MCS, as a 1X speed, within 16 % below / 26 % above the
 operating range), captioned with number, frequency, whirl and log decrement as ``modal`` gives
 them, drawn as deflected shaft lines; the clearance table holds one row per station and API
 case with the values of the analysis called alone and the 75 % rule's verdicts; the summary
@@ -70,11 +70,12 @@ def page(tmp_path_factory):
 
 def _expected_modes(model):
     """The rule of docs/report.md written here: modes at the MCS whose frequency (as a 1X speed)
-    lies within 17 % of the operating range."""
+    lies within 16 % below or 26 % above the operating range (the largest separation margins of
+    API 617, ``min(16, ...)`` below and ``min(26, ...)`` above: docs/standards.md)."""
     result = modal(model, MCS_RPM * np.pi / 30)
     table = result.to_dataframe()
     rpm = table["frequency_hz"] * 60
-    return result, table[(rpm >= 0.83 * LOW_RPM) & (rpm <= 1.17 * MCS_RPM)]
+    return result, table[(rpm >= 0.84 * LOW_RPM) & (rpm <= 1.26 * MCS_RPM)]
 
 
 def test_mode_shapes_of_the_modes_near_the_operating_range(page):

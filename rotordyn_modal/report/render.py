@@ -226,8 +226,9 @@ def _campbell(data, units) -> str:
              if rows else "<p>No critical speed in the sweep.</p>",
              "<h3 id=\"margins\">Amplification factors and separation margins (API 684)</h3>",
              "<p>Peaks of the unbalance response at the probes (every sensor when there is none); "
-             "AF = N_c / (N_2 - N_1) at the half-power points; required separation margin from API 684: 0 for "
-             "AF &lt; 2.5, 15 % up to 3.55, 17 (1 - 1/(AF - 1.5)) % above; margin measured from the nearer end "
+             "AF = N_c / (N_2 - N_1) at the half-power points; required separation margin from API 617 / 684: 0 for "
+             "AF &lt; 2.5, else min(16, 17 (1 - 1/(AF - 1.5))) % below the range, min(26, 10 + 17 (1 - 1/(AF - 1.5))) % "
+             "above it; margin measured from the nearer end "
              "of the operating range (docs/standards.md).</p>"]
     margins = data.results.get("margins")
     if margins is None:
@@ -284,7 +285,8 @@ def _modes(data, units) -> str:
         _heading("modes"),
         f"<p>Modes at the MCS ({mcs:.6g} rpm), numbered as <code>modes --speed {mcs:.6g}</code> numbers them: "
         f"those whose 1X critical speed or whose frequency at the MCS (as a 1X speed) lies within "
-        f"{100 * MODE_WINDOW:.0f} % (the largest separation margin API 684 asks) of the operating range, "
+        f"{100 * MODE_WINDOW[0]:.0f} % below or {100 * MODE_WINDOW[1]:.0f} % above (the largest separation "
+        "margins API 617 asks) the operating range, "
         f"{low:.6g} to {high:.6g} rpm (at most {MOST_MODES}); the lowest {LOWEST_MODES} at the MCS when none does "
         "(docs/report.md).</p>",
         _table(rows, [("mode", True), ("frequency [Hz]", False), ("whirl", True), ("log decrement [-]", False),

@@ -344,12 +344,13 @@ class UnbalanceResult:
         return unbalance_checks(self, model, mcs=mcs, min_speed=min_speed, iso_group=iso_group,
                                 iso_support=iso_support)
 
-    def clearance_check(self, model, mcs=None, min_speed: float = 0.0, trip_speed=None):
-        """The API 617 / 684 clearance check at the model's close-clearance stations; see
+    def clearance_check(self, model, mcs=None, min_speed: float = 0.0, trip_speed=None, **options):
+        """The API 617 / 684 clearance check at the model's close-clearance stations, the response
+        scaled by ``Scc = Avl / Amax`` (``scale_cap``, ``min_operating``); see
         :func:`rotordyn_modal.analysis.clearance.clearance_check`."""
         from .clearance import clearance_check
 
-        return clearance_check(self, model, mcs=mcs, min_speed=min_speed, trip_speed=trip_speed)
+        return clearance_check(self, model, mcs=mcs, min_speed=min_speed, trip_speed=trip_speed, **options)
 
     def plot(self, outputs=None, **kwargs):
         """Bode figure: amplitude (in ``amplitude_kind``, or ``amplitude=``) and phase vs speed

@@ -389,7 +389,8 @@ def _unbalance(data):
         data.model, mcs=inputs.mcs, min_speed=0.0, iso_group=group,
         iso_support=inputs.iso_support if group else None)
     if data.model.clearances and inputs.standard != "iso":
-        data.results["clearance"] = data.results["unbalance"].clearance_check(data.model, mcs=inputs.mcs)
+        data.results["clearance"] = data.results["unbalance"].clearance_check(data.model, mcs=inputs.mcs,
+                                                                              min_operating=inputs.range[0])
 
 
 def _ucs(data):

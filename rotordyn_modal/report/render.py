@@ -312,7 +312,7 @@ def _unbalance(data, units) -> str:
         return _heading("unbalance") + _skipped(data, "unbalance")
     amount = "6350 W/N g mm" if units == "si" else "4 W/N oz in, W in lb,"   # the same amount (API 617)
     what = ("the model's [[unbalances]]" if data.inputs.standard == "iso" else
-            f"the API 617/684 unbalance cases U = {amount} (api-static at the centre of mass, api-couple at "
+            f"the API 617/684 unbalance cases Ua = 2 Ur, Ur = {amount} (api-static at the centre of mass, api-couple at "
             "the outermost bearings), each case on its own")
     parts = [_heading("unbalance"), f"<p>Response to {escape(what)}.</p>",
              _figure(response.plot(amplitude="pk-pk", checks=checks, peaks=data.results.get("margins"), **_units(units)),
@@ -345,14 +345,19 @@ def _clearance_table(data, units) -> str:
     radial = dict(zip(check.names, check.radial_clearances))
     has_case = "case" in table
     rows = [[r.clearance, r.rotor, *([r.case] if has_case else []), _g(radial[r.clearance] * factor),
-             _g(r.speed_rpm, 6), _g(r.value * factor), _g(r.limit * factor), _g(r.ratio, 3), _verdict_cell(r.verdict)]
+             _g(r.speed_rpm, 6), _g(r.response * factor), _g(r.scale_factor, 3), r.scaling,
+             _g(r.value * factor), _g(r.limit * factor), _g(r.ratio, 3), _verdict_cell(r.verdict)]
             for r in table.itertuples()]
     return heading + (
         "<p>At each station the rotor's motion relative to the casing (which holds the seal): its peak-to-peak "
-        "value, twice the orbit's semi-major axis, largest over 0 to MCS, against 75 % of the minimum diametral "
+        "response, twice the orbit's semi-major axis, scaled by the API 617 factor Scc = Avl/Amax (at most 6; "
+        "Avl the probe limit A1 of the station's rotor, Amax the largest peak-to-peak amplitude at its probes over "
+        "the operating range; 1 without a probe), largest over 0 to MCS, against 75 % of the minimum diametral "
         "running clearance (0.75 x 2 x the radial clearance), each API case on its own (docs/standards.md).</p>"
     ) + _table(rows, [("clearance", True), ("rotor", True), *([("case", True)] if has_case else []),
-                      (f"radial clearance [{unit}]", False), ("speed [rpm]", False), (f"value [{unit} pk-pk]", False),
+                      (f"radial clearance [{unit}]", False), ("speed [rpm]", False),
+                      (f"response [{unit} pk-pk]", False), ("Scc [-]", False), ("scale factor", True),
+                      (f"value = Scc x response [{unit} pk-pk]", False),
                       (f"limit [{unit} pk-pk]", False), ("ratio [-]", False), ("verdict", True)])
 
 

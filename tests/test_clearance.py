@@ -148,6 +148,13 @@ def test_scale_factor_takes_the_probes_over_the_operating_speeds():
     assert row["scale_factor"] == pytest.approx(_scale(z, psi, operating, mcs_rpm), rel=1e-9)
     with pytest.raises(rdm.InputError, match="minimum operating speed"):
         response.clearance_check(model, mcs=mcs, min_operating=1.1 * mcs)
+    # no speed of the sweep at exactly the MCS: Amax at the sweep's speed nearest it, said
+    row = response.clearance_check(model, mcs=mcs, min_operating=mcs).to_dataframe().iloc[0]
+    k = int(np.argmin(np.abs(speeds - mcs)))
+    assert not np.isclose(speeds[k], mcs)
+    assert row["scale_factor"] == pytest.approx(_scale(z, psi, np.arange(len(speeds)) == k, mcs_rpm), rel=1e-9)
+    assert row["scaling"].endswith(f" (Amax at {speeds[k] * 30 / np.pi:.6g} rpm, the sweep's speed nearest "
+                                   "the operating speeds)")
 
 
 def test_trip_speed_widens_the_checked_speeds():
@@ -212,6 +219,16 @@ def test_unbalance_prints_the_clearance_check(tmp_path, capsys):
     assert "mil" in "".join(capsys.readouterr())
     assert main(["unbalance", str(path), "--speeds", "300:8400:29", "--trip-speed", "6300",
                  "--out", str(tmp_path / "u3.csv")]) == 2
+    assert main(["unbalance", str(path), "--speeds", "300:8400:29", "--mcs", "6000", "--api-unbalance",
+                 "--min-operating-speed", "4800", "--out", str(tmp_path / "u4.csv")]) == 0
+    shown = "".join(capsys.readouterr())
+    assert "scale_factor" in shown and "Avl/Amax" in shown
+    for bad in (["--min-operating-speed", "6500", "--mcs", "6000"], ["--min-operating-speed", "4800"]):
+        assert main(["unbalance", str(path), "--speeds", "300:8400:29", *bad,
+                     "--out", str(tmp_path / "u5.csv")]) == 2
+        error = capsys.readouterr().err
+        assert "--min-operating-speed" in error and "expected --mcs too and a speed >= 0 and at most --mcs" in error
+        assert not (tmp_path / "u5.csv").exists()
 
 
 def test_response_is_relative_to_the_moving_casing():

@@ -105,16 +105,19 @@ def test_clearance_table_and_criterion_equal_the_analysis(page):
     model = load_model(MODEL)
     mcs = MCS_RPM * np.pi / 30
     speeds = np.linspace(0.02 * mcs, 1.5 * mcs, POINTS)
-    check = api_unbalance_response(model, speeds, mcs).clearance_check(model, mcs=mcs).to_dataframe()
+    check = api_unbalance_response(model, speeds, mcs).clearance_check(
+        model, mcs=mcs, min_operating=LOW_RPM * np.pi / 30).to_dataframe()
     section = _section(html, "unbalance")
     clearance = section[section.index('id="clearance"'):]
     rows = _rows(clearance)
     radial = {c.name: c.radial_clearance for c in model.clearances}
     assert len(rows) == len(model.clearances) * 2 == len(check)     # two stations, two API cases
     for row, expected in zip(rows, check.itertuples()):
-        name, rotor, case, radial_um, speed, value, limit, ratio, verdict = row
+        name, rotor, case, radial_um, speed, response, scale, scaling, value, limit, ratio, verdict = row
         assert (name, rotor, case) == (expected.clearance, expected.rotor, expected.case)
         assert float(radial_um) == pytest.approx(radial[name] * 1e6, rel=1e-12)
+        assert float(response) == pytest.approx(expected.response * 1e6, rel=5e-4)
+        assert float(scale) == pytest.approx(expected.scale_factor, rel=5e-3) and scaling == expected.scaling
         assert float(value) == pytest.approx(expected.value * 1e6, rel=5e-4)
         assert float(limit) == pytest.approx(0.75 * 2 * radial[name] * 1e6, rel=1e-12)   # 75 % of diametral
         assert verdict == ("pass" if expected.value <= 1.5 * radial[name] else "fail")

@@ -194,13 +194,14 @@ def _scale_factors(result, model, rotors, n_cases, mcs, min_speed, cap):
     if mcs is None:
         return scale, scaling
     probes = unbalance_checks(result, model, mcs=mcs, min_speed=min_speed)
+    window, where = _operating_speeds(np.abs(result.speeds), min_speed, mcs)
     rotor_of = {s.name: s.rotor for s in model.sensors}
     for s, rotor in enumerate(rotors):
         rows = [p for p, name in enumerate(probes.probes) if rotor_of[name] == rotor]
         if not rows:
             scaling[s] = f"unscaled: no probe on rotor {rotor}"
             continue
-        largest = np.where(probes.checked, probes.probe_pkpk[rows], -np.inf).max(axis=(0, 2))   # (n_cases,)
+        largest = np.where(window, probes.probe_pkpk[rows], -np.inf).max(axis=(0, 2))   # (n_cases,)
         limit = probes.probe_limits[rows[0]]
         for c in range(n_cases):
             if not (np.isfinite(largest[c]) and largest[c] > 0):
@@ -208,5 +209,16 @@ def _scale_factors(result, model, rotors, n_cases, mcs, min_speed, cap):
                 continue
             scale[s, c] = float(api_scale_factor(limit, largest[c], cap))
             capped = cap is not None and limit / largest[c] > cap
-            scaling[s, c] = f"Avl/Amax capped at {cap:g}" if capped else "Avl/Amax"
+            scaling[s, c] = (f"Avl/Amax capped at {cap:g}" if capped else "Avl/Amax") + where
     return scale, scaling
+
+
+def _operating_speeds(speed, low, high):
+    """The sweep's speeds [rad/s] from ``low`` to ``high`` (mask, ''), or, when none lies there,
+    the one nearest to them (mask, note naming it)."""
+    window = (speed >= low) & (speed <= high)
+    if window.any() or not speed.size:
+        return window, ""
+    k = int(np.argmin(np.abs(speed - np.clip(speed, low, high))))
+    window[k] = True
+    return window, f" (Amax at {speed[k] * 30 / np.pi:.6g} rpm, the sweep's speed nearest the operating speeds)"

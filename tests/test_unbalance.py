@@ -174,6 +174,25 @@ def test_required_separation_margin(af, position, expected):
     assert required_separation_margin(af, position) == pytest.approx(expected, nan_ok=True)
 
 
+def test_study_peak_takes_the_margin_of_its_side():
+    """A study's unbalance peak above its operating speed needs ``min(26, 10 + 17 (1 - 1/(AF - 1.5)))``
+    %, below it ``min(16, 17 (1 - 1/(AF - 1.5)))`` % (API 617; docs/standards.md): the peak of a
+    1-DOF oscillator of damping ratio 0.05 (AF about 10)."""
+    from rotordyn_modal.analysis.unbalance import amplification_factors
+    from rotordyn_modal.study.analyses import _unbalance_peak
+
+    w = np.linspace(50, 150, 2001)
+    amplitude = np.abs(w ** 2 / (100.0 ** 2 - w ** 2 + 2j * 0.05 * 100.0 * w))
+    (_, _, af), = amplification_factors(w, amplitude)
+    raw = 17 * (1 - 1 / (af - 1.5))
+    for operating, expected in ((60.0, min(26.0, 10 + raw)), (140.0, min(16.0, raw))):
+        out = {name: np.full((1, 1), np.nan) for name in ("unbalance_peak_amplitude", "unbalance_peak_speed",
+                                                          "amplification_factor", "separation_margin_pct",
+                                                          "required_margin_pct")}
+        _unbalance_peak(out, 0, 0, w, amplitude, operating, amplification_factors, required_separation_margin)
+        assert out["required_margin_pct"][0, 0] == pytest.approx(expected, rel=1e-12)
+
+
 def test_required_separation_margin_refuses_an_unknown_position():
     with pytest.raises(rdm.InputError, match="'inside': expected 'below' or 'above'"):
         required_separation_margin(3.0, "inside")

@@ -50,6 +50,7 @@ from ..model._table import visible
 from ..model.dofs import frame_block
 from ..model.flexible import STATION_TOLERANCE
 from ..model.geometry import shift_matrix, skew, transverse_axes
+from ..units import check_system, to_system, unit_label
 
 __all__ = ["static", "StaticResult", "StaticLoad", "SupportReaction", "transmission_torques",
            "DEFAULT_PRESSURE_ANGLE"]
@@ -328,7 +329,7 @@ def _stands_on(model, reaction) -> str:
 
 
 # ----------------------------------------------------------------------------------------
-def static(model, speed=None, forces=None, torques=None, power=None) -> StaticResult:
+def static(model, speed=None, forces=None, torques=None, power=None, units: str = "si") -> StaticResult:
     """Static displacement and support reactions of ``model`` under static loads.
 
     Parameters
@@ -349,6 +350,9 @@ def static(model, speed=None, forces=None, torques=None, power=None) -> StaticRe
     power : float or mapping, optional
         Power [W] through each transmission instead (``torque = power / |driver speed|``),
         one number or by ``"DRIVER->DRIVEN"``; needs ``speed``.
+    units : {'si', 'us'}
+        Unit system of the points said in warnings and refusals (m or in; docs/units.md): the
+        arguments and the result are SI whatever it says.
 
     Returns
     -------
@@ -361,7 +365,8 @@ def static(model, speed=None, forces=None, torques=None, power=None) -> StaticRe
         cannot be placed, or loads that push a motion nothing holds (the sentence names it).
     """
     speed = None if speed is None else _arguments.speed(speed)
-    loads = _loads(model, speed, forces, _torques(model, speed, torques, power))
+    units = check_system(units)
+    loads = _loads(model, speed, forces, _torques(model, speed, torques, power), units)
     loads += _couplings(model, loads)
     stiffness, supports = _stiffness(model, speed)
     load_vector = _load_vector(model, loads)
@@ -397,26 +402,27 @@ def _load_vector(model, loads) -> np.ndarray:
 
 
 # -- loads -------------------------------------------------------------------------------
-def _loads(model, speed, forces, torques) -> list:
+def _loads(model, speed, forces, torques, units="si") -> list:
     loads = [StaticLoad("weight", "stator" if body is None else body, body, np.asarray(c, float),
                         np.asarray(f, float), np.zeros(3)) for body, c, f in weights(model)]
     loads += [StaticLoad("pedestal", bearing, None, point, force, np.zeros(3))
               for bearing, point, force in pedestal_weights(model)]
-    loads += [_given_load(model, i, item) for i, item in enumerate(forces or ())]
+    loads += [_given_load(model, i, item, units) for i, item in enumerate(forces or ())]
     for t in model.transmissions:
         mine = _transmission_loads(model, t, torques.get(t.label, 0.0), speed)
         for x in mine:
-            off = _off_shaft(model, x.body, x.point)
+            off = _off_shaft(model, x.body, x.point, units)
             if off:
                 warnings.warn(ModelWarning(
-                    f"{model.source}: [transmissions.{visible(t.label)}] acts at {_listed(x.point)} m, off {off}: "
+                    f"{model.source}: [transmissions.{visible(t.label)}] acts at {_listed(x.point, units)} "
+                    f"{unit_label('length', units)}, off {off}: "
                     "it is applied at the nearest end node through a rigid arm; give the transmission's "
                     "position (its plane) at the pulley or gear"), stacklevel=3)
         loads += mine
     return loads
 
 
-def _given_load(model, index: int, item) -> StaticLoad:
+def _given_load(model, index: int, item, units="si") -> StaticLoad:
     """One item of ``forces`` checked: ``(body, point, force[, moment])`` or a mapping."""
     name = f"forces[{index}]"
     if isinstance(item, dict):
@@ -433,15 +439,17 @@ def _given_load(model, index: int, item) -> StaticLoad:
         point = model.reference_point if body is None else model.rotor(body).center_of_mass
     vectors = [_vector3(value, f"{name} {key}") for key, value in
                (("point", point), ("force", force), ("moment", moment))]
-    off = _off_shaft(model, body, vectors[0])
+    off = _off_shaft(model, body, vectors[0], units)
     if off:
-        raise InputError(f"{name} point = {_listed(vectors[0])}: expected a point along {off}")
+        raise InputError(f"{name} point = {_listed(vectors[0], units)}"
+                         f"{'' if units == 'si' else ' ' + unit_label('length', units)}: expected a point along {off}")
     return StaticLoad("force", name, body, *vectors)
 
 
-def _off_shaft(model, body, point) -> str:
+def _off_shaft(model, body, point, units="si") -> str:
     """'' when ``point`` lies along ``body``'s shaft (between its ends, at any distance from its
-    axis) or ``body`` is not a flexible rotor; else the shaft's extent in words."""
+    axis) or ``body`` is not a flexible rotor; else the shaft's extent in words (m, or in for
+    ``units='us'``)."""
     shaft = None if body is None else model.rotor(body).flexible
     if shaft is None:
         return ""
@@ -449,12 +457,14 @@ def _off_shaft(model, body, point) -> str:
     if -slack <= shaft.z_of(point) <= shaft.length + slack:
         return ""
     ends = shaft.point(np.array([0.0, shaft.length]))
-    return (f"rotor {visible(body)}'s shaft, from {_listed(ends[0])} to {_listed(ends[1])} m (a load on a "
+    return (f"rotor {visible(body)}'s shaft, from {_listed(ends[0], units)} to {_listed(ends[1], units)} "
+            f"{unit_label('length', units)} (a load on a "
             "flexible rotor acts at the shaft's node there)")
 
 
-def _listed(vector) -> str:
-    return "[" + ", ".join(f"{v:.6g}" for v in np.asarray(vector, dtype=float)) + "]"
+def _listed(vector, units="si") -> str:
+    """``[x, y, z]`` of a point [m], in the length unit of ``units``."""
+    return "[" + ", ".join(f"{v:.6g}" for v in to_system(np.asarray(vector, dtype=float), "length", units)) + "]"
 
 
 def _body(model, body, name: str):

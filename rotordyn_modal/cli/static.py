@@ -75,7 +75,7 @@ def run(args) -> int:
     speed = None if args.speed is None else float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
     forces = [_force(text, args.units) for text in args.force or ()] + \
         [_moment(text, args.units) for text in args.moment or ()]
-    result = static(model, speed=speed, forces=forces, power=_power(args.power, args.units))
+    result = static(model, speed=speed, forces=forces, power=_power(args.power, args.units), units=args.units)
     table = _in_units(result.to_dataframe(), args.units)
     if args.out:
         write_table(table, args) if args.out == "-" else write_table(table, _quietly(args))

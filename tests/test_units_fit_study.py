@@ -138,3 +138,113 @@ def test_fit_prints_and_draws_in_us_units_and_writes_the_si_model(tmp_path, caps
     drawn = [line.get_ydata() for line in magnitude.get_lines() if line.get_linestyle() == "-" and len(line.get_ydata())]
     np.testing.assert_allclose(drawn, np.abs(si.H[:, 0, :]) * LBF / INCH, rtol=1e-9)
     plt.close("all")
+
+
+# -- study ----------------------------------------------------------------------------------------
+MAP_STUDY = """[[parameters]]
+name = "damping A"
+key = "suspensions.bearing-A.damping[1]"
+values = [100.0, 300.0]
+
+[[parameters]]
+name = "casing"
+key = "stator.mass"
+values = [30.0, 50.0]
+
+[analyses.stability]
+speeds_rpm = "0:30000:7"
+"""
+
+UNBALANCE_STUDY = """[[parameters]]
+key = "stator.mass"
+values = [110.0, 130.0]
+
+[[parameters]]
+name = "stiffer"
+key = "suspensions.mount-FL.stiffness"
+scale = [1.0, 1.2]
+
+[analyses.unbalance]
+speeds_rpm = "500:3000:6"
+quantity = "{quantity}"
+"""
+
+
+def _us_study(tmp_path, model, spec, *extra):
+    """``--units us study``'s --table (read back) and the same study's SI result from the API."""
+    import pandas as pd
+
+    table = tmp_path / "t.csv"
+    assert main(["--units", "us", "study", str(ROOT / "examples" / model), "--spec", str(spec),
+                 "--out", str(tmp_path / "r.nc"), "--table", str(table), *extra]) == 0
+    return pd.read_csv(table), rdm.study(rdm.load_model(ROOT / "examples" / model), spec)
+
+
+def _si_table(result):
+    """The SI --table as the command writes it (10 significant digits), read back."""
+    import io
+
+    import pandas as pd
+
+    return pd.read_csv(io.StringIO(result.to_dataframe().to_csv(index=False, float_format="%.10g")))
+
+
+def test_study_stability_map_in_us_units_says_what_the_si_one_says(tmp_path, capsys, monkeypatch):
+    """A grid over a bearing's damping (lbf s/in) and the casing's mass (lb): the US table's
+    parameter columns are the SI ones over the exact units, named with them, every other column
+    the same; the map's axes are the SI axes over the same units, labelled with them."""
+    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
+
+    from rotordyn_modal.plotting import study as plotting
+
+    spec = tmp_path / "map.study.toml"
+    spec.write_text(MAP_STUDY, encoding="utf-8")
+    figures, draw = [], plotting.plot_study_stability_map
+    monkeypatch.setattr(plotting, "plot_study_stability_map", lambda *a, **k: figures.append(draw(*a, **k)) or figures[-1])
+    monkeypatch.setattr(Figure, "savefig", lambda self, path, **k: Path(path).write_bytes(b"figure"))   # not drawn
+    us, result = _us_study(tmp_path, "unstable_cross_coupled.toml", spec, "--plot-map", str(tmp_path / "map.png"),
+                           "--quiet")
+    si = _si_table(result)
+    sizes = {"damping A": ("damping A_lbf_s_per_in", LBF / INCH), "casing": ("casing_lb", POUND)}
+    assert list(us.columns) == [sizes.get(c, (c,))[0] for c in si.columns]
+    for column, (renamed, size) in sizes.items():
+        np.testing.assert_allclose(us[renamed], si[column] / size, rtol=6e-10)     # the CSV's 10 digits
+        np.testing.assert_allclose(us[renamed] * size, si[column], rtol=6e-10)     # and back
+    others = [c for c in si.columns if c not in sizes]
+    assert us[others].equals(si[others])
+    us_map, si_map = figures[0].axes[0], result.plot_stability_map().axes[0]
+    assert (si_map.get_xlabel(), si_map.get_ylabel()) == ("damping A", "casing")
+    assert (us_map.get_xlabel(), us_map.get_ylabel()) == ("damping A [lbf s/in]", "casing [lb]")
+    si_mesh, us_mesh = (ax.collections[0].get_coordinates() for ax in (si_map, us_map))
+    np.testing.assert_allclose(us_mesh[..., 0], si_mesh[..., 0] / (LBF / INCH), rtol=1e-12,
+                               atol=1e-12 * np.abs(us_mesh[..., 0]).max())          # an edge at 0
+    np.testing.assert_allclose(us_mesh[..., 1], si_mesh[..., 1] / POUND, rtol=1e-12)
+    np.testing.assert_array_equal(us_map.collections[0].get_array(), si_map.collections[0].get_array())
+    plt.close("all")
+
+
+def test_study_unbalance_amplitudes_in_us_units(tmp_path, capsys):
+    """The unbalance peak amplitudes of a study: in the US table (columns ending in _mil) and
+    summary (rows marked (mil)) the SI numbers over the exact mil; a value parameter (the casing's
+    mass) in lb, a factor (a scale grid) and the speeds unchanged."""
+    size = INCH / 1000
+    spec = tmp_path / "unbalance.study.toml"
+    spec.write_text(UNBALANCE_STUDY.format(quantity="displacement"), encoding="utf-8")
+    us, result = _us_study(tmp_path, "fan_on_bearings.toml", spec)
+    si = _si_table(result)
+    printed = capsys.readouterr().out
+    amplitudes = [c for c in si.columns if c.startswith("unbalance_peak_amplitude")]
+    assert amplitudes
+    renamed = {c: c + "_mil" for c in amplitudes} | {"stator.mass": "stator.mass_lb"}
+    assert list(us.columns) == [renamed.get(c, c) for c in si.columns]
+    for column in amplitudes:
+        np.testing.assert_allclose(us[column + "_mil"], si[column] / size, rtol=6e-10)   # 10 digits written
+    np.testing.assert_allclose(us["stator.mass_lb"], si["stator.mass"] / POUND, rtol=6e-10)
+    same = [c for c in si.columns if c not in renamed]
+    assert us[same].equals(si[same]) and "stiffer" in same and any("speed" in c for c in same)
+    summary = result.summary().set_index("output")
+    for column in amplitudes:
+        row = next(line for line in printed.splitlines() if line.lstrip().startswith(f"{column} (mil)"))
+        mean = float(row.split("(mil)")[1].split()[1])
+        assert mean == pytest.approx(summary.loc[column, "mean"] / size, rel=1e-5)     # printed to 6 digits

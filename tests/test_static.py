@@ -116,9 +116,9 @@ def test_a_rotor_on_three_bearings_is_the_beam_on_springs(stator):
 M_PED, K_PED = 30.0, (4e6, 2.5e6)             # pedestal mass; its stiffness along y and z
 
 
-def _pedestal_model(stator: bool, centre=0.1, stations=(-0.3, 0.4), mass=40.0, casing=None):
+def _pedestal_model(stator: bool, centre=0.1, stations=(-0.3, 0.4), mass=40.0, casing=None, gravity=(0.0, 0.0, -G)):
     data = {
-        "gravity": [0.0, 0.0, -G],
+        "gravity": list(gravity),
         "rotors": [{"name": "r", "mass": mass, "center_of_mass": [centre, 0.0, 0.0], "polar_inertia": 0.2,
                     "diametral_inertia": 1.0, "speed_ratio": 1.0}],
         "bearings": [{"name": f"b{i}", "rotor": "r", "position": [s, 0.0, 0.0], "stiffness": k,
@@ -160,6 +160,22 @@ def test_a_pedestal_sags_by_its_share_of_the_rotor_and_its_own_weight(stator):
     if not stator:    # the ground carries every weight, the pedestals' too
         ground = sum(r.force[2] for r in result.reactions if r.ground)
         assert ground == pytest.approx((mass + 2 * M_PED) * G, rel=1e-12)
+
+
+def test_on_the_ground_pedestals_pass_their_weight_along_the_spin_axis_to_it():
+    """Gravity inclined to the spin axis, the rotor held axially by the stator (no axial_stiffness):
+    the ground's reactions (the pedestals' and the rotor's axial hold) carry every weight, the
+    pedestals' along the axis too: their sum is -(m + 2 m_p) g."""
+    gravity = np.array([-0.6, 0.0, -0.8]) * G
+    mass = 40.0
+    result = rdm.static(_pedestal_model(False, mass=mass, gravity=gravity))
+    held = sum(r.force for r in result.reactions if r.ground)
+    np.testing.assert_allclose(held, -(mass + 2 * M_PED) * gravity, rtol=1e-12, atol=1e-12 * G * mass)
+    for r in (r for r in result.reactions if r.kind == "pedestal"):    # the pedestal's own axial weight
+        assert r.force[0] == pytest.approx(0.6 * G * M_PED, rel=1e-12)
+    for body in ["machine", "stator", "r"]:
+        force, moment, scale = result.imbalance(body)
+        assert np.abs(force).max() < 1e-11 * scale and np.abs(moment).max() < 1e-11 * scale, body
 
 
 def test_a_casing_carrying_pedestals_sags_by_the_whole_weight_over_its_mounts():
@@ -343,6 +359,10 @@ def _machines(draw):
                              "position": (centre + rng.uniform(-0.4, 0.4) * axis).tolist(),
                              "stiffness": float(rng.uniform(1e6, 1e8)),
                              **({"axial_stiffness": 1e7} if rng.random() < 0.5 else {})})
+    for bearing in bearings:         # some on pedestals (their weight, along an inclined axis too)
+        if draw(st.booleans()):
+            bearing.update(pedestal_mass=float(rng.uniform(1, 20)),
+                           pedestal_stiffness=rng.uniform(1e6, 1e8, 2).tolist())
     return {
         "spin_axis": axis.tolist(), "gravity": (rng.normal(size=3) * 5).tolist(), "reference_rotor": "r0",
         "stator": {"mass": float(rng.uniform(50, 500)), "inertia": [10.0, 12.0, 15.0],

@@ -199,9 +199,10 @@ def test_a_casing_carrying_pedestals_sags_by_the_whole_weight_over_its_mounts():
 
 
 def test_the_static_weights_are_every_mass_of_m_as_the_time_model_applies_them(examples_dir):
-    """A flexible shaft, a rigid rotor, a casing on mounts and two bearings on pedestals under
-    gravity: the static solution satisfies K q = M a_g, the weight of every mass of M as
-    ``simulate`` applies it (docs/theory.md §19), and the loads and reactions balance."""
+    """A flexible shaft (with disks and a point mass), a rigid rotor, a casing on mounts and two
+    bearings on pedestals under gravity: the static solution satisfies K q = M a_g, the weight of
+    every mass of M as ``simulate`` applies it (docs/theory.md §19), and the loads and reactions
+    balance."""
     import tomllib
 
     from rotordyn_modal.simulation.flexible import gravity_acceleration
@@ -210,6 +211,8 @@ def test_the_static_weights_are_every_mass_of_m_as_the_time_model_applies_them(e
     for b in data["bearings"]:
         if b["name"] in ("pump-IB", "motor-NDE"):
             b.update(pedestal_mass=4.0, pedestal_stiffness=[3e7, 2e7])
+    pump = next(r for r in data["rotors"] if "shaft" in r)
+    pump["point_masses"] = [{"axial_position": 0.2, "mass": 0.8}]
     model = rdm.Model.from_dict(data)
     result = rdm.static(model)
     matrices = model.matrices()

@@ -148,3 +148,30 @@ def test_static_section_shows_the_flexible_shafts_largest_moment_and_diagram(mon
         assert len(moment) == 1 and moment[0][0] == rotor
         assert float(moment[0][2]) == pytest.approx(largest * factor, rel=1e-3)
         assert html.count("<img ") == 1
+
+
+def test_static_section_gives_the_shaft_sag_in_the_unit_of_the_figure_and_the_terminal(monkeypatch):
+    """The largest sag of a flexible shaft in the report: µm (SI) or mil (US, 1 mil = 2.54e-5 m
+    exactly), the unit the shaft statics figure's sag axis and the ``static`` command's summary use."""
+    import rotordyn_modal.report.render as render
+    from rotordyn_modal.analysis.static import static
+    from rotordyn_modal.cli.static import _shaft_summary
+
+    labels = []
+
+    def keep_labels(fig, dpi=110):
+        labels.extend(ax.get_ylabel() for ax in fig.axes)
+        return "data:image/png;base64,"
+
+    monkeypatch.setattr(render, "figure_png", keep_labels)
+    result = static(load_model(ROOT / "examples" / "flexible_pump_on_mounts.toml"))
+    (rotor, shaft), = result.shafts.items()
+    largest = np.hypot(*shaft.sag.T).max()
+    for units, unit, factor in (("si", "µm", 1e6), ("us", "mil", 1 / 2.54e-5)):
+        labels.clear()
+        rows = _rows("".join(render._shaft_statics(result, units)))
+        (sag,) = [r for r in rows if r[1].startswith("largest sag")]
+        assert sag[1] == f"largest sag [{unit}]"
+        assert float(sag[2]) == pytest.approx(largest * factor, rel=1e-3)
+        assert any(label.startswith("sag") and f"[{unit}]" in label for label in labels), labels
+        assert re.search(rf"largest sag {float(sag[2]):.3g}\d* {unit} ", _shaft_summary(shaft, units))

@@ -167,32 +167,40 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None):
     _limit_range(mag)
 
 
-def plot_overlay(models, measured, title: str | None = None):
+def plot_overlay(models, measured, title: str | None = None, units: str = "si", input_kinds=None):
     """Model over measurement at several speeds: one colour per speed.
 
     Parameters
     ----------
     models, measured : list of FRFResult
         Paired by position (same speeds, names and frequencies).
+    title : str, optional
+    units : {'si', 'us'}
+        Unit system of the magnitudes, as :func:`plot_frf`'s.
+    input_kinds : dict, optional
+        ``{input name: 'force' or 'moment'}``, as :func:`plot_frf`'s.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
     fig, mag, phase = _bode_axes()
+    scale = _FrfScale(models[0].quantity, units, input_kinds)
     for n, (model, meas) in enumerate(zip(models, measured)):
         colour = f"C{n % 10}"
         for o in model.outputs:
             for i in model.inputs:
-                hm = meas.H[meas.outputs.index(o), meas.inputs.index(i)]
-                h = model.H[model.outputs.index(o), model.inputs.index(i)]
+                factor = 1.0 if units == "si" else scale(o, i)
+                hm = meas.H[meas.outputs.index(o), meas.inputs.index(i)] * factor
+                h = model.H[model.outputs.index(o), model.inputs.index(i)] * factor
                 mag.semilogy(meas.frequencies_hz, np.abs(hm), ".", ms=2.5, color=colour, alpha=0.5)
                 phase.plot(meas.frequencies_hz, np.degrees(np.angle(hm)), ".", ms=2.5, color=colour, alpha=0.5)
                 mag.semilogy(model.frequencies_hz, np.abs(h), color=colour)
                 phase.plot(model.frequencies_hz, np.degrees(np.angle(h)), color=colour)
         mag.plot([], [], color=colour, label=f"{model.speed * 30 / np.pi:.0f} rpm")
     _limit_range(mag)
-    mag.set_ylabel(f"|H| [{_UNITS.get(models[0].quantity, '')}]")
+    pairs = [(o, i) for o in models[0].outputs for i in models[0].inputs]
+    mag.set_ylabel(f"|H| [{_UNITS.get(models[0].quantity, '') if units == 'si' else scale.label(pairs)}]")
     phase.set_xlabel("Frequency [Hz]")
     mag.legend(fontsize="small", title="model (line), measured (dots)")
     mag.set_title(title or "Model versus measurement")

@@ -155,7 +155,7 @@ def _window(x, band):
 
 
 def plot_study_stability_map(result, x: str | None = None, y: str | None = None, speed_rpm: float | None = None,
-                             ax=None, title: str | None = None):
+                             ax=None, title: str | None = None, scales=None):
     """Threshold speed over two grid parameters, with the boundary of stability up to a speed.
 
     Parameters
@@ -170,6 +170,9 @@ def plot_study_stability_map(result, x: str | None = None, y: str | None = None,
         (default: half the top of the stability sweep).
     ax : matplotlib Axes, optional
     title : str, optional
+    scales : dict, optional
+        ``{parameter name: (factor, unit)}``: the parameter's values (SI) times ``factor`` are drawn,
+        its axis named with ``unit`` (``rotordyn-modal --units us study``); default as sampled.
 
     Returns
     -------
@@ -178,6 +181,7 @@ def plot_study_stability_map(result, x: str | None = None, y: str | None = None,
     from ..errors import InputError
 
     ds = result.dataset
+    scales = scales or {}
     grid = [str(p) for p, g in zip(ds["parameter"].values, ds["parameter_is_grid"].values) if g]
     x, y = x or (grid[0] if grid else None), y or (grid[1] if len(grid) > 1 else None)
     if x is None or y is None or len(grid) != ds.sizes["parameter"]:
@@ -193,13 +197,15 @@ def plot_study_stability_map(result, x: str | None = None, y: str | None = None,
     import matplotlib
 
     cmap = matplotlib.colormaps["viridis"].with_extremes(bad="0.85")
+    (x_factor, x_unit), (y_factor, y_unit) = (scales.get(name, (1.0, None)) for name in (x, y))
+    xs, ys = xs * x_factor, ys * y_factor
     mesh = ax.pcolormesh(xs, ys, np.ma.masked_invalid(field), cmap=cmap, shading="nearest")
     fig.colorbar(mesh, ax=ax, label="lowest unstable speed [rpm] (grey: stable over the sweep)")
     filled = np.where(np.isfinite(field), field, 2 * top)
     if len(xs) > 1 and len(ys) > 1 and filled.min() < level < filled.max():
         ax.contour(xs, ys, filled, levels=[level], colors="k", linewidths=2.0)
-    ax.set_xlabel(x)
-    ax.set_ylabel(y)
+    ax.set_xlabel(x if x_unit is None else f"{x} [{x_unit}]")
+    ax.set_ylabel(y if y_unit is None else f"{y} [{y_unit}]")
     ax.set_title(title or f"Stability map: stable up to {level:.0f} rpm below/right of the black line")
     return fig
 

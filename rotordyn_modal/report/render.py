@@ -183,7 +183,7 @@ def _shaft_statics(result, units) -> list:
         return []
     from ..plotting.shaft_statics import statics_scales
 
-    scales = {**statics_scales(units), "sag": shown_scale("sag", units)}     # sag as in the report's other tables
+    scales = statics_scales(units)          # the units of the figure and of the static command's summary
     to_length, length_unit = scales["length"]
     rows = []
     for shaft in shafts:

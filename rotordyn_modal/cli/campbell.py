@@ -36,7 +36,7 @@ example:
       --freq-range 0:40 --plot mounts.png"""
 
 #: what to do about work over the CPU-time limit
-LONG_ADVICE = ("ask for the lowest modes only (--lowest N), fewer excitation orders (--orders) or fewer speeds "
+LONG_ADVICE = ("ask for the lowest modes only (--lowest N, --max-frequency HZ), fewer excitation orders (--orders) or fewer speeds "
                "(--speeds), or leave out the critical speeds (--no-critical)")
 
 
@@ -52,6 +52,12 @@ def add_arguments(parser):
                         help="only the N lowest-frequency modes at each speed, each the full model's root to "
                              "round-off, without solving for every root (faster for large flexible rotors; the "
                              "columns then follow those N; docs/theory.md, 'The lowest modes only')")
+    parser.add_argument("--max-frequency", metavar="HZ",
+                        help="only the modes of damped natural frequency at most HZ [Hz] at each speed, each the "
+                             "full model's root to round-off, without solving for every root (with --lowest N, the "
+                             "lowest N of them); a mode is drawn and listed at the speeds where it lies below HZ, "
+                             "and the critical speeds are those at frequencies up to HZ (docs/theory.md, 'The "
+                             "modes below a frequency')")
     parser.add_argument("--color-by", choices=["log_decrement", "damping_ratio"],
                         help="colour the curves by this quantity instead of by whirl")
     _add_frequency_axis(parser)
@@ -64,11 +70,12 @@ def run(args) -> int:
     model = open_model(args)
     axis = _frequency_axis(args)    # bad limits refused before the work
     speeds, orders, lowest = speeds_option(args), tuple(parse_list(args.orders, "--orders")), _lowest(args.lowest)
-    if lowest is None:
+    limit = _max_frequency(args.max_frequency)
+    if lowest is None and limit is None:
         refuse_long_work(args, model, speeds, orders, critical=not args.no_critical, advice=LONG_ADVICE,
                          memory=True)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), critical=not args.no_critical,
-                      modes=lowest)
+                      modes=lowest, max_frequency=limit)
     write_table(result.to_dataframe(), args, empty=f"no oscillating modes {speeds_text(args)}: "
                 f"{result.eigenvalues.shape[1]} roots at each speed, all real or overdamped")
     if args.plot:
@@ -83,6 +90,20 @@ def _lowest(text):
     from ._common import parse_count
 
     return None if text is None else parse_count(text, "--lowest", of="modes")
+
+
+def _max_frequency(text):
+    """``--max-frequency HZ`` as a float [Hz], or None (no limit); refused in one line unless a
+    finite number > 0."""
+    from ..errors import InputError
+    from ._common import parse_number
+
+    if text is None:
+        return None
+    value = parse_number(text, "--max-frequency")
+    if not value > 0:
+        raise InputError(f"--max-frequency {text!r}: expected a frequency > 0 [Hz]")
+    return value
 
 
 def _add_frequency_axis(parser):

@@ -138,15 +138,35 @@ def test_table_rows_and_mode_numbers_are_the_full_sweeps():
 
 
 def test_critical_speeds_below_the_limit_equal_the_full_ones():
+    """The crossings at frequencies up to the limit, and only those: also a crossing just below the
+    limit whose mode lies above it at the end of its bracket, and none just above it whose mode lies
+    below it at the start."""
     model = rdm.load_model(COMPRESSOR)
     speeds = np.linspace(0.0, 1300.0, 27)
-    full = rdm.campbell(model, speeds, orders=(1, 2)).critical
-    below = _quiet(rdm.critical_speeds, model, speeds, orders=(1, 2), max_frequency=190.0)
-    inside = full.frequencies_hz <= 190.0
-    assert inside.sum() >= 3 and (~inside).sum() >= 1
-    assert len(below) == inside.sum()
-    assert np.allclose(np.sort(below.speeds), np.sort(full.speeds[inside]), rtol=1e-7, atol=0)
-    assert np.all(below.frequencies_hz <= 190.0)
+    sweep = rdm.campbell(model, speeds, orders=(1, 2))
+    full = sweep.critical
+    # the lowest crossing of 1X: its mode's frequency changes across its bracket by more than 2e-5 Hz
+    j = int(np.argmin(np.where(full.order == 1.0, full.frequencies_hz, np.inf)))
+    k = int(np.searchsorted(speeds, full.speeds[j])) - 1
+    ends = sweep.frequencies_hz[k:k + 2, full.mode[j] - 1]
+    crossing = full.frequencies_hz[j]
+    assert ends.min() < crossing - 1e-5 and ends.max() > crossing + 1e-5
+    for limit_hz in (190.0, crossing + 1e-5, crossing - 1e-5):
+        below = _quiet(rdm.critical_speeds, model, speeds, orders=(1, 2), max_frequency=limit_hz)
+        inside = full.frequencies_hz <= limit_hz
+        assert len(below) == inside.sum()
+        assert np.allclose(np.sort(below.speeds), np.sort(full.speeds[inside]), rtol=1e-7, atol=0)
+        assert np.all(below.frequencies_hz <= limit_hz)
+    assert inside.sum() >= 1 and (full.frequencies_hz <= 190.0).sum() >= 3 and (full.frequencies_hz > 190.0).any()
+
+
+def test_no_speed_solved_whole_where_the_basis_serves():
+    """Away from the double roots at rest, the basis chosen from the limit passes its checks at every
+    speed: no full eigen-solve (the fallback would hide a basis, or a start above the limit, missing)."""
+    for path, limit_hz in ((COMPRESSOR, 450.0), ("examples/flexible_pump_on_mounts.toml", 600.0)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            rdm.campbell(rdm.load_model(path), np.linspace(100.0, 1300.0, 4), critical=False, max_frequency=limit_hz)
 
 
 @pytest.mark.parametrize("bad", [0, -5.0, float("nan"), float("inf"), "450", True, [100.0, 200.0]])

@@ -169,6 +169,26 @@ def test_no_speed_solved_whole_where_the_basis_serves():
             rdm.campbell(rdm.load_model(path), np.linspace(100.0, 1300.0, 4), critical=False, max_frequency=limit_hz)
 
 
+def test_a_start_that_could_stand_for_a_root_below_the_limit_fails_the_speed():
+    """docs/theory.md, "The modes below a frequency": a speed passes only where its highest start
+    refined, less the largest move from a start to its root, lies above the limit (or above the
+    ``count``-th root found, where lower): else a projected root left unrefined, as near its root
+    as the farthest one moved, could stand for a root below the limit."""
+    from rotordyn_modal.analysis._lowest import _unmissed_below
+
+    values = np.array([[-1 + 100j, -1 + 200j, -1 + 300j]] * 3)
+    starts = values + np.array([[0.0], [0.0], [3.0j]])      # the last speed's starts moved 3 to their roots
+    starts[:, -1] = -1 + 302j
+    assert list(_unmissed_below(starts, values, 299.5, None)) == [True, True, False]
+    assert list(_unmissed_below(starts, values, 303.0, None)) == [False, False, False]
+    # the lowest two below 250: their limit is the second root found, 200
+    assert list(_unmissed_below(starts, values, 250.0, 2)) == [True, True, True]
+    assert list(_unmissed_below(starts - 100j, values, 250.0, 2)) == [False, False, False]
+    values[:, -1] = -1 + 230j                                 # refined from starts there: above 200, below 250
+    assert list(_unmissed_below(values, values, 250.0, 2)) == [True, True, True]
+    assert list(_unmissed_below(values, values, 250.0, None)) == [False, False, False]
+
+
 @pytest.mark.parametrize("bad", [0, -5.0, float("nan"), float("inf"), "450", True, [100.0, 200.0]])
 def test_max_frequency_must_be_one_frequency_above_zero(bad):
     model = rdm.load_model("examples/motor_pump_on_mounts.toml")

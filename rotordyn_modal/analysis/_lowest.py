@@ -590,11 +590,14 @@ def roots_below(stack, speeds, limit: float, count: int | None = None):
     full : ndarray of bool, shape (S,)
         The speeds solved whole.
     """
-    if stack.n_dof < DENSE_BELOW or stack.branch_times.shape[1]:
+    reduced = None
+    if stack.n_dof >= DENSE_BELOW and not stack.branch_times.shape[1]:
+        with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+            reduced = _reduced_below(stack, speeds, limit, count)
+    if reduced is None:             # a small model, or a basis of every mode: every root of every speed
         values, shapes = _full_lowest(stack, speeds, stack.n_dof)
         return _cut_below(values, shapes, limit, count) + (np.ones(len(speeds), bool),)
-    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
-        values, shapes, ok = _reduced_below(stack, speeds, limit, count)
+    values, shapes, ok = reduced
     full = ~ok
     if full.any():
         warnings.warn(f"modes below a frequency: {int(full.sum())} of {len(speeds)} speeds solved whole (the "
@@ -627,7 +630,8 @@ def _cut_below(values, shapes, limit, count):
 
 def _reduced_below(stack, speeds, limit, count):
     """:func:`_reduced_roots` for the roots below ``limit`` [rad/s] (at most ``count``): roots (S, k)
-    by frequency, the wanted ones first, shapes (S, k, n) and whether the speed passed every check."""
+    by frequency, the wanted ones first, shapes (S, k, n) and whether the speed passed every check;
+    None where the basis would hold every mode (the full eigen-solve costs less)."""
     n = stack.n_dof
     pencils = _Pencils(stack, speeds)
     omegas, symmetric, modes = _basis(stack, speeds[:1])
@@ -639,6 +643,8 @@ def _reduced_below(stack, speeds, limit, count):
     below = _wanted(starts, limit, count)
     rho = _MARGIN * max(limit, np.max(np.abs(starts), where=below, initial=0.0))
     size = min(n, _needed_size(bound, rho, size))
+    if size >= n:
+        return None
     _, attached = bound.shares(size, rho)
     basis = np.hstack([modes[:, :size], attached])
     starts, vectors = _starts_below(pencils, basis, limit, count, int(below.sum(axis=1).max(initial=0)) + 3)

@@ -307,6 +307,8 @@ def _campbell_lowest(model, speeds, orders, critical, count, limit=None) -> Camp
         wanted = None
         if limit is not None:
             values, shapes, wanted, _ = _lowest.roots_below(stack, speeds, limit, count)
+            if not values.shape[-1]:
+                return _no_modes(model, speeds, orders, stack.n_dof)
         elif stack.branch_times.shape[1]:          # frequency-dependent branches: more states than the pencil's
             values, shapes = _lowest._full_lowest(stack, speeds, count)
         else:
@@ -321,6 +323,8 @@ def _campbell_lowest(model, speeds, orders, critical, count, limit=None) -> Camp
     if wanted is not None:
         wanted = wanted[None][rows + (order,)]
         values, shapes, weighted, wanted = _columns_wanted(values, shapes, weighted, wanted)
+        if not values.shape[-1]:
+            return _no_modes(model, speeds, orders, stack.n_dof)
     ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, speeds)
     oscillating = is_oscillating(values)
     ratios = np.where(oscillating, ratios.reshape(values.shape), 0.0)
@@ -344,6 +348,16 @@ def _campbell_lowest(model, speeds, orders, critical, count, limit=None) -> Camp
         speeds=speeds, eigenvalues=values[0], frequencies_hz=freq[0], damping_ratios=zeta[0],
         log_decrements=log_dec[0], whirl_ratios=ratios[0], whirl=_whirl.whirl_labels(ratios)[0], shapes=shapes[0],
         modes=np.arange(1, values.shape[-1] + 1), sources=sources[0], critical=tables[0],
+        orders=tuple(float(o) for o in orders))
+
+
+def _no_modes(model, speeds, orders, n) -> CampbellResult:
+    """The :class:`CampbellResult` of no mode (none below the limit at any speed)."""
+    empty = np.zeros((len(speeds), 0))
+    return CampbellResult(
+        speeds=speeds, eigenvalues=empty.astype(complex), frequencies_hz=empty, damping_ratios=empty,
+        log_decrements=empty, whirl_ratios=empty, whirl=empty.astype(object), shapes=np.zeros((len(speeds), 0, n), complex),
+        modes=np.zeros(0, int), sources=excitation_sources(model), critical=_critical_table([], [], [], [], [], [], [], []),
         orders=tuple(float(o) for o in orders))
 
 

@@ -76,8 +76,9 @@ def run(args) -> int:
                          memory=True)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), critical=not args.no_critical,
                       modes=lowest, max_frequency=limit)
-    write_table(result.to_dataframe(), args, empty=f"no oscillating modes {speeds_text(args)}: "
-                f"{result.eigenvalues.shape[1]} roots at each speed, all real or overdamped")
+    empty = (f"no oscillating modes {speeds_text(args)}: {result.eigenvalues.shape[1]} roots at each speed, all "
+             "real or overdamped") if limit is None else f"no mode below {limit:g} Hz {speeds_text(args)}"
+    write_table(result.to_dataframe(), args, empty=empty)
     if args.plot:
         use_agg()
         save_figure(result.plot(color_by=args.color_by, title=model.name or None, speed_unit=args.speed_unit,

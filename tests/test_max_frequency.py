@@ -189,6 +189,19 @@ def test_a_start_that_could_stand_for_a_root_below_the_limit_fails_the_speed():
     assert list(_unmissed_below(values, values, 250.0, None)) == [False, False, False]
 
 
+def test_no_mode_below_and_every_mode_below():
+    """A limit below every mode: no column, no crossing; one above every mode: every mode of the
+    full sweep, solved whole without a warning (a basis of every mode would gain nothing)."""
+    model = rdm.load_model(COMPRESSOR)
+    speeds = np.linspace(100.0, 1200.0, 3)
+    none = rdm.campbell(model, speeds, max_frequency=1.0)
+    assert none.eigenvalues.shape == (3, 0) and len(none.critical) == 0 and len(none.to_dataframe()) == 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        every = rdm.campbell(model, speeds, critical=False, max_frequency=1e12)
+    _assert_same_roots(every, _below_by_numpy(model, speeds, 1e12))
+
+
 @pytest.mark.parametrize("bad", [0, -5.0, float("nan"), float("inf"), "450", True, [100.0, 200.0]])
 def test_max_frequency_must_be_one_frequency_above_zero(bad):
     model = rdm.load_model("examples/motor_pump_on_mounts.toml")

@@ -37,7 +37,8 @@ class CampbellResult:
     ----------
     speeds : ndarray, shape (N,) [rad/s]
     eigenvalues : ndarray, shape (N, n_modes), complex [1/s]
-        Column ``m`` is tracked mode ``m + 1`` at every speed.
+        Column ``m`` is tracked mode ``m + 1`` at every speed; NaN where that mode lies above
+        ``campbell(max_frequency=...)`` (not a mode there: ``oscillatory`` False).
     frequencies_hz, damping_ratios, log_decrements, whirl_ratios : ndarray, shape (N, n_modes)
     whirl : ndarray of str, shape (N, n_modes)
     shapes : ndarray, shape (N, n_modes, n), complex

@@ -17,7 +17,8 @@ mesh's excitation orders, and the critical speeds; unstable stretches lie on a r
 a red triangle where a mode becomes unstable. Its speed axis is in --speed-unit; its
 frequency axis is logarithmic when the modes at one speed span more than 30x (e.g. mount
 modes at 5 Hz and bearing modes at 1 kHz), else linear (--freq-scale); --freq-range or
---freq-max limit it.
+--freq-max limit it. --lowest N or --max-frequency HZ solve only the modes asked for
+(exact, faster for large flexible rotors; docs/theory.md section 17).
 
 CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part,mode_at_speed
 ('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
@@ -33,7 +34,9 @@ eigen-solutions and of the critical speeds' refinement.
 example:
   rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png
   rotordyn-modal campbell examples/motor_pump_on_mounts.toml --speeds 0:3600:181 --orders 1,2 \
-      --freq-range 0:40 --plot mounts.png"""
+      --freq-range 0:40 --plot mounts.png
+  rotordyn-modal campbell examples/compressor_rotor.toml --speeds 0:12000:201 --orders 1,2 \
+      --max-frequency 450 --plot compressor.png"""
 
 #: what to do about work over the CPU-time limit
 LONG_ADVICE = ("ask for the lowest modes only (--lowest N, --max-frequency HZ), fewer excitation orders (--orders) or fewer speeds "

@@ -219,9 +219,15 @@ def test_command_line_max_frequency(tmp_path, capsys):
     model = rdm.load_model("examples/motor_pump_on_mounts.toml")
     reference = _below_by_numpy(model, np.linspace(0.0, 3000.0, 4) * np.pi / 30, 20.0)
     assert len(table) == sum(len(r) for r in reference) and table["frequency_hz"].max() <= 20.0
-    assert main(["critical-speeds", "examples/motor_pump_on_mounts.toml", "--speeds", "0:3000:31",
-                 "--max-frequency", "20", "--out", str(critical)]) == 0
-    assert pd.read_csv(critical)["frequency_hz"].max() <= 20.0
+    arguments = ["critical-speeds", "examples/motor_pump_on_mounts.toml", "--speeds", "0:3000:31", "--orders", "1,2"]
+    assert main(arguments + ["--max-frequency", "20", "--out", str(critical)]) == 0
+    assert main(arguments + ["--out", str(tmp_path / "all.csv")]) == 0
+    below, every = pd.read_csv(critical), pd.read_csv(tmp_path / "all.csv")
+    every = every[every["frequency_hz"] <= 20.0]
+    assert len(every) >= 2 and len(below) == len(every)
+    below, every = (t.sort_values("speed_rpm").reset_index(drop=True) for t in (below, every))
+    assert np.allclose(below["speed_rpm"], every["speed_rpm"], rtol=1e-9, atol=0)
+    assert (below["mode_at_speed"] == every["mode_at_speed"]).all()
     for command, bads in (("campbell", ("0", "-3", "nan", "inf", "fast")), ("critical-speeds", ("-0.5", "x"))):
         for bad in bads:
             capsys.readouterr()

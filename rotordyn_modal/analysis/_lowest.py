@@ -595,17 +595,17 @@ def roots_below(stack, speeds, limit: float, count: int | None = None):
         with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
             reduced = _reduced_below(stack, speeds, limit, count)
     if reduced is None:             # a small model, or a basis of every mode: every root of every speed
-        values, shapes = _full_lowest(stack, speeds, stack.n_dof)
+        values, shapes = _full_lowest(stack, speeds, stack.forms[0].n_states)
         return _cut_below(values, shapes, limit, count) + (np.ones(len(speeds), bool),)
     values, shapes, ok = reduced
     full = ~ok
     if full.any():
         warnings.warn(f"modes below a frequency: {int(full.sum())} of {len(speeds)} speeds solved whole (the "
                       "reduced basis could not be shown to hold every root below it there)", stacklevel=3)
-        lam, phi = _full_lowest(stack, speeds[full], stack.n_dof)
+        lam, phi = _full_lowest(stack, speeds[full], stack.forms[0].n_states)
         if _wanted(lam, limit, count).sum(axis=1).max(initial=0) > values.shape[1]:
             # more roots below the limit than columns (a root the basis missed): every speed whole
-            values, shapes = _full_lowest(stack, speeds, stack.n_dof)
+            values, shapes = _full_lowest(stack, speeds, stack.forms[0].n_states)
             return _cut_below(values, shapes, limit, count) + (np.ones(len(speeds), bool),)
         k = values.shape[1]
         values[full], shapes[full] = lam[:, :k], phi[:, :k]

@@ -357,9 +357,9 @@ def _no_modes(model, speeds, orders, n) -> CampbellResult:
     empty = np.zeros((len(speeds), 0))
     return CampbellResult(
         speeds=speeds, eigenvalues=empty.astype(complex), frequencies_hz=empty, damping_ratios=empty,
-        log_decrements=empty, whirl_ratios=empty, whirl=empty.astype(object), shapes=np.zeros((len(speeds), 0, n), complex),
-        modes=np.zeros(0, int), sources=excitation_sources(model), critical=_critical_table([], [], [], [], [], [], [], []),
-        orders=tuple(float(o) for o in orders))
+        log_decrements=empty, whirl_ratios=empty, whirl=empty.astype(object),
+        shapes=np.zeros((len(speeds), 0, n), complex), modes=np.zeros(0, int), sources=excitation_sources(model),
+        critical=_critical_table([], [], [], [], [], [], [], []), orders=tuple(float(o) for o in orders))
 
 
 def _columns_wanted(values, shapes, weighted, wanted):

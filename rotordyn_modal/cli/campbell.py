@@ -39,8 +39,8 @@ example:
       --max-frequency 450 --plot compressor.png"""
 
 #: what to do about work over the CPU-time limit
-LONG_ADVICE = ("ask for the lowest modes only (--lowest N, --max-frequency HZ), fewer excitation orders (--orders) or fewer speeds "
-               "(--speeds), or leave out the critical speeds (--no-critical)")
+LONG_ADVICE = ("ask for the lowest modes only (--lowest N, --max-frequency HZ), fewer excitation orders (--orders) "
+               "or fewer speeds (--speeds), or leave out the critical speeds (--no-critical)")
 
 
 def add_arguments(parser):

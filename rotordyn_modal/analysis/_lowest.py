@@ -553,3 +553,130 @@ def _full_lowest(stack, speeds, count):
     order = np.argsort(key, axis=-1, kind="stable")[:, :count]
     rows = np.arange(len(speeds))[:, None]
     return lam[rows, order], phi[rows, order]
+
+
+# ----------------------------------------------------------------------------------------
+# The modes below a frequency (campbell(max_frequency=F), campbell --max-frequency F)
+
+def roots_below(stack, speeds, limit: float, count: int | None = None):
+    """Every oscillating root of frequency ``Im lam`` at most ``limit`` at every speed (the lowest
+    ``count`` of them where ``count`` is given), each the full model's root to round-off.
+
+    The basis is made complete for ``limit`` (:class:`_Bound` at ``1.05 limit``, or at the
+    largest ``|lam|`` of the projected roots below it) instead of for a number of roots; every root
+    below the limit is refined with the first above it, and a speed passes the checks of
+    :func:`lowest_roots` with the limit in place of the ``count``-th root (no projected root left
+    unrefined can stand for a root below it), else it is solved whole.
+
+    Parameters
+    ----------
+    stack : Stack
+        One model.
+    speeds : ndarray, shape (S,) [rad/s]
+    limit : float
+        Highest frequency wanted, ``Im lam`` [rad/s] (> 0).
+    count : int, optional
+        At most this many roots per speed (the lowest).
+
+    Returns
+    -------
+    eigenvalues : ndarray, shape (S, K), complex [1/s]
+        By frequency at each speed (not tracked); ``K`` the most roots wanted at any speed. The
+        entries past a speed's wanted roots are other roots of the full model (exact, but not
+        shown to be the next ones): fillers that let the columns be tracked.
+    shapes : ndarray, shape (S, K, n), complex, unit norm
+    wanted : ndarray of bool, shape (S, K)
+        The roots asked for (the first ones of each row).
+    full : ndarray of bool, shape (S,)
+        The speeds solved whole.
+    """
+    reduced = None
+    if stack.n_dof >= DENSE_BELOW and not stack.branch_times.shape[1]:
+        with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+            reduced = _reduced_below(stack, speeds, limit, count)
+    if reduced is None:             # a small model, or a basis of every mode: every root of every speed
+        values, shapes = _full_lowest(stack, speeds, stack.forms[0].n_states)
+        return _cut_below(values, shapes, limit, count) + (np.ones(len(speeds), bool),)
+    values, shapes, ok = reduced
+    full = ~ok
+    if full.any():
+        warnings.warn(f"modes below a frequency: {int(full.sum())} of {len(speeds)} speeds solved whole (the "
+                      "reduced basis could not be shown to hold every root below it there)", stacklevel=3)
+        lam, phi = _full_lowest(stack, speeds[full], stack.forms[0].n_states)
+        if _wanted(lam, limit, count).sum(axis=1).max(initial=0) > values.shape[1]:
+            # more roots below the limit than columns (a root the basis missed): every speed whole
+            values, shapes = _full_lowest(stack, speeds, stack.forms[0].n_states)
+            return _cut_below(values, shapes, limit, count) + (np.ones(len(speeds), bool),)
+        k = values.shape[1]
+        values[full], shapes[full] = lam[:, :k], phi[:, :k]
+    return values, shapes, _wanted(values, limit, count), full
+
+
+def _wanted(values, limit, count):
+    """(S, k) the roots asked for, of roots (S, k) sorted by frequency with the modes first."""
+    wanted = is_oscillating(values) & (values.imag <= limit)
+    if count is not None:
+        wanted[:, count:] = False
+    return wanted
+
+
+def _cut_below(values, shapes, limit, count):
+    """Roots (S, k) and shapes by frequency cut to the most wanted at any speed: the roots, the
+    shapes and which are wanted."""
+    wanted = _wanted(values, limit, count)
+    k = int(wanted.sum(axis=1).max(initial=0))
+    return values[:, :k], shapes[:, :k], wanted[:, :k]
+
+
+def _reduced_below(stack, speeds, limit, count):
+    """:func:`_reduced_roots` for the roots below ``limit`` [rad/s] (at most ``count``): roots (S, k)
+    by frequency, the wanted ones first, shapes (S, k, n) and whether the speed passed every check;
+    None where the basis would hold every mode (the full eigen-solve costs less)."""
+    n = stack.n_dof
+    pencils = _Pencils(stack, speeds)
+    omegas, symmetric, modes = _basis(stack, speeds[:1])
+    bound = _Bound(pencils, omegas, modes, symmetric)
+    # the largest |lam| below the limit, from a few speeds' projected roots on the modes up to twice it
+    few = np.unique(np.round(np.linspace(0, len(speeds) - 1, min(len(speeds), _FEW))).astype(int))
+    size = min(n, int(np.searchsorted(omegas, 2.0 * limit)) + 10)
+    starts = _projected_starts(pencils, modes[:, :size], size, few)[0]
+    below = _wanted(starts, limit, count)
+    rho = _MARGIN * max(limit, np.max(np.abs(starts), where=below, initial=0.0))
+    size = min(n, _needed_size(bound, rho, size))
+    if size >= n:
+        return None
+    _, attached = bound.shares(size, rho)
+    basis = np.hstack([modes[:, :size], attached])
+    starts, vectors = _starts_below(pencils, basis, limit, count, int(below.sum(axis=1).max(initial=0)) + 3)
+    values, shapes, ok = _refined(pencils, starts, vectors)
+    ok &= _distinct(values) & _unmissed_below(starts, values, limit, count)
+    order = np.argsort(np.where(is_oscillating(values), values.imag, np.inf), axis=1, kind="stable")
+    values, shapes = np.take_along_axis(values, order, 1), np.take_along_axis(shapes, order[..., None], 1)
+    # the bound at the wanted roots (a missed one lies below the limit, :func:`_unmissed_below`)
+    wanted = _wanted(values, limit, count)
+    return values, shapes, ok & _basis_suffices(np.where(wanted, values, 0), bound, size, attached.shape[1], rho)
+
+
+def _starts_below(pencils, basis, limit, count, want):
+    """The projected roots of every speed up to the first above ``limit`` (or past the ``count``-th),
+    the same number at every speed (the most any speed needs): starts (S, k) and vectors (S, k, n).
+    ``want`` is a first guess of ``k``, doubled until every speed has a start above the limit."""
+    most = basis.shape[1]
+    while True:
+        want = min(want, most)
+        starts, vectors = _projected_starts(pencils, basis, want)
+        needed = _wanted(starts, limit, count).sum(axis=1) + 1
+        if needed.max() <= want or want == most:
+            k = int(min(needed.max(), want))
+            return starts[:, :k], vectors[:, :k]
+        want *= 2
+
+
+def _unmissed_below(starts, values, limit, count):
+    """:func:`_unmissed` for the roots below ``limit``: (S,) no projected root left unrefined can
+    stand for a root below the limit (or below the ``count``-th root found, where lower)."""
+    top = np.full(len(values), float(limit))
+    if count is not None and values.shape[1] >= count:
+        top = np.minimum(top, np.sort(np.where(is_oscillating(values), values.imag, np.inf), axis=1)[:, count - 1])
+    moved = np.max(np.abs(starts - values), axis=1)
+    return starts[:, -1].imag - moved > top

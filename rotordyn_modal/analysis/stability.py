@@ -393,17 +393,46 @@ def roundoff_levels(form, speeds) -> np.ndarray:
     solving: LAPACK's error bound of an eigenvalue of condition number 1 (the smallest). A real
     part within it of zero has no sign: it counts as zero (marginal).
 
+    ``inf`` where the machine is conservative at that speed (:func:`_conservative`): every
+    root is then on the imaginary axis (``docs/theory.md`` section 8), and the computed real
+    parts are round-off whatever their size; an ill-conditioned root (nearly repeated, beside
+    roots many decades larger) has one far above ``eps ||B||_1``, which once read as unstable.
+
     Parameters
     ----------
     form : SpeedLinearForm
     speeds : ndarray, shape (N,) [rad/s]
     """
+    speeds = np.asarray(speeds, dtype=float)
     out = np.empty(len(speeds))
-    for k, speed in enumerate(np.asarray(speeds, dtype=float)):  # one state matrix at a time
+    for k, speed in enumerate(speeds):  # one state matrix at a time
         # LAPACK's own balancing (scipy.linalg.matrix_balance calls it, at 8 times the cost)
         balanced = scipy.linalg.lapack.dgebal(form.at(float(speed)), scale=1, permute=0)[0]
         out[k] = np.abs(balanced).sum(axis=0).max()
-    return np.finfo(float).eps * out
+    return np.where(_conservative(form, speeds), np.inf, np.finfo(float).eps * out)
+
+
+def _conservative(form, speeds) -> np.ndarray:
+    """(N,) bool: the machine has no damping and a symmetric positive semidefinite stiffness at
+    each speed (no Maxwell branch, ``C(Omega) = 0``, ``K(Omega) = K(Omega)^T >= 0`` to
+    round-off). Then ``phi^H (lam^2 M + lam Omega G + K) phi = 0`` with ``m > 0``, ``g``
+    imaginary (``G`` skew) and ``k >= 0`` puts every root ``lam`` on the imaginary axis."""
+    speeds = np.asarray(speeds, dtype=float)
+    if form.n_states != 2 * form.n_dof:
+        return np.zeros(len(speeds), dtype=bool)
+    damping, stiffness = form.damping_at(speeds), form.stiffness_at(speeds)
+    if damping.ndim == 2 and stiffness.ndim == 2:         # constant: one test for every speed
+        return np.full(len(speeds), not np.any(damping) and _symmetric_semidefinite(stiffness))
+    damping = np.broadcast_to(damping, (len(speeds),) + (form.n_dof,) * 2)
+    stiffness = np.broadcast_to(stiffness, damping.shape)
+    return np.array([not np.any(c) and _symmetric_semidefinite(k) for c, k in zip(damping, stiffness)],
+                    dtype=bool)
+
+
+def _symmetric_semidefinite(K) -> bool:
+    """``K = K^T >= 0`` to round-off (``100 n eps max|K|``)."""
+    scale = 100.0 * np.finfo(float).eps * K.shape[0] * max(np.abs(K).max(), np.finfo(float).tiny)
+    return bool(np.abs(K - K.T).max() <= scale and np.linalg.eigvalsh(0.5 * (K + K.T))[0] >= -scale)
 
 
 def _largest_real_part(form, speed, clip: bool = True) -> float:

@@ -148,13 +148,27 @@ class StabilityResult:
 
         count, n = self.eigenvalues.shape
         at_speed = self.modes_at_speed.ravel()
-        return pd.DataFrame({
+        table = pd.DataFrame({
             "speed_rpm": np.repeat(self.speeds_rpm, n), "value": "",
             "mode": np.tile(self.modes, count), "real_part": self.real_parts.ravel(),
             "damping_ratio": self.damping_ratios.ravel(), "log_decrement": self.log_decrements.ravel(),
             "frequency_hz": self.frequencies_hz.ravel(), "whirl": self.whirl.ravel(),
             "mode_at_speed": pd.array(np.where(at_speed > 0, at_speed, None), dtype="Int64"),
         })
+        table.attrs["round_off"] = self._round_off_columns()
+        return table
+
+    def _round_off_columns(self) -> dict:
+        """What round-off can move the real parts, damping ratios and log decrements by, row by
+        row: the tolerance the stability verdict uses (``roundoff``, or ``1e-10 |lam|``); the
+        terminal prints those within it as 0 (``cli._common.print_table``)."""
+        lam = self.eigenvalues.ravel()
+        tolerance = _MARGINAL_TOLERANCE * np.abs(lam)
+        if self.roundoff is not None:
+            tolerance = np.maximum(tolerance, np.repeat(self.roundoff, self.eigenvalues.shape[1]))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return {"real_part": tolerance, "damping_ratio": tolerance / np.abs(lam),
+                    "log_decrement": 2 * np.pi * tolerance / lam.imag}
 
     def plot(self, **kwargs):
         """Real parts and log decrements over speed; see :func:`rotordyn_modal.plotting.plot_stability`."""
@@ -393,7 +407,7 @@ def roundoff_levels(form, speeds) -> np.ndarray:
     solving: LAPACK's error bound of an eigenvalue of condition number 1 (the smallest). A real
     part within it of zero has no sign: it counts as zero (marginal).
 
-    ``inf`` where the machine is conservative at that speed (:func:`_conservative`): every
+    ``inf`` where the machine is conservative at that speed (:func:`._roots.conservative`): every
     root is then on the imaginary axis (``docs/theory.md`` section 8), and the computed real
     parts are round-off whatever their size; an ill-conditioned root (nearly repeated, beside
     roots many decades larger) has one far above ``eps ||B||_1``, which once read as unstable.
@@ -409,30 +423,7 @@ def roundoff_levels(form, speeds) -> np.ndarray:
         # LAPACK's own balancing (scipy.linalg.matrix_balance calls it, at 8 times the cost)
         balanced = scipy.linalg.lapack.dgebal(form.at(float(speed)), scale=1, permute=0)[0]
         out[k] = np.abs(balanced).sum(axis=0).max()
-    return np.where(_conservative(form, speeds), np.inf, np.finfo(float).eps * out)
-
-
-def _conservative(form, speeds) -> np.ndarray:
-    """(N,) bool: the machine has no damping and a symmetric positive semidefinite stiffness at
-    each speed (no Maxwell branch, ``C(Omega) = 0``, ``K(Omega) = K(Omega)^T >= 0`` to
-    round-off). Then ``phi^H (lam^2 M + lam Omega G + K) phi = 0`` with ``m > 0``, ``g``
-    imaginary (``G`` skew) and ``k >= 0`` puts every root ``lam`` on the imaginary axis."""
-    speeds = np.asarray(speeds, dtype=float)
-    if form.n_states != 2 * form.n_dof:
-        return np.zeros(len(speeds), dtype=bool)
-    damping, stiffness = form.damping_at(speeds), form.stiffness_at(speeds)
-    if damping.ndim == 2 and stiffness.ndim == 2:         # constant: one test for every speed
-        return np.full(len(speeds), not np.any(damping) and _symmetric_semidefinite(stiffness))
-    damping = np.broadcast_to(damping, (len(speeds),) + (form.n_dof,) * 2)
-    stiffness = np.broadcast_to(stiffness, damping.shape)
-    return np.array([not np.any(c) and _symmetric_semidefinite(k) for c, k in zip(damping, stiffness)],
-                    dtype=bool)
-
-
-def _symmetric_semidefinite(K) -> bool:
-    """``K = K^T >= 0`` to round-off (``100 n eps max|K|``)."""
-    scale = 100.0 * np.finfo(float).eps * K.shape[0] * max(np.abs(K).max(), np.finfo(float).tiny)
-    return bool(np.abs(K - K.T).max() <= scale and np.linalg.eigvalsh(0.5 * (K + K.T))[0] >= -scale)
+    return np.where(_roots.conservative(form, speeds), np.inf, np.finfo(float).eps * out)
 
 
 def _largest_real_part(form, speed, clip: bool = True) -> float:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       refuse_long_work, save_figure, show_progress, speeds_option, speeds_text, use_agg,
-                      write_table)
+                      undamped_zeros, write_table)
 from ._units import NOTHING_TO_CONVERT
 
 NAME = "campbell"
@@ -69,7 +69,7 @@ def run(args) -> int:
                          memory=True)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), critical=not args.no_critical,
                       modes=lowest)
-    write_table(result.to_dataframe(), args, empty=f"no oscillating modes {speeds_text(args)}: "
+    write_table(undamped_zeros(result.to_dataframe(), model), args, empty=f"no oscillating modes {speeds_text(args)}: "
                 f"{result.eigenvalues.shape[1]} roots at each speed, all real or overdamped")
     if args.plot:
         use_agg()

@@ -155,3 +155,28 @@ def test_a_damped_machine_prints_its_damping(examples_dir, capsys):
     mounts) prints every mode's positive damping ratio."""
     table = _terminal_table(["campbell", examples_dir / "gear_machine.toml", "--speeds", "0:3000:3"], capsys)
     assert np.all(table["damping_ratio"].to_numpy(dtype=float) > 0)
+
+
+def test_the_lowest_modes_of_a_free_casing_with_a_spinning_rotor(tmp_path, capsys):
+    """A casing without mounts (six free directions) carrying a rotor on bearings: spinning, the
+    free machine gets a gyroscopic nutation mode rising from 0 Hz, which enters the lowest
+    four and pushes a bearing mode out. `campbell --lowest 4` died in its critical speeds
+    ('ValueError: all the input array dimensions ... size 4 and ... size 11': the sub-sweep of a
+    bracket solved every root). Its roots are the lowest four oscillating roots of the state
+    matrix built here from M, C, G, K at every speed."""
+    text = _machine(100.0, 10.0, 1e7, 1e5, damping=10.0).split("[[suspensions]]")[0]
+    path = tmp_path / "free.toml"
+    path.write_text(text)
+    assert main(["campbell", str(path), "--speeds", "0:10000:11", "--lowest", "4"]) == 0, capsys.readouterr().err
+    model = rdm.load_model(path)
+    speeds = rdm.rpm(np.linspace(0, 10000, 11))
+    result = rdm.campbell(model, speeds, modes=4)
+    M, C, G, K = model.matrices()
+    n = len(M)
+    for speed, got in zip(speeds, result.eigenvalues):
+        state = np.block([[np.zeros((n, n)), np.eye(n)],
+                          [-np.linalg.solve(M, K), -np.linalg.solve(M, C + speed * G)]])
+        roots = np.linalg.eigvals(state)
+        modes = roots[(roots.imag > 1e-6) & (-roots.real < 0.99 * np.abs(roots))]
+        expected = np.sort(modes.imag)[:4]
+        np.testing.assert_allclose(np.sort(got.imag), expected, rtol=1e-9)

@@ -220,12 +220,15 @@ class StabilityMap:
     def to_dataframe(self):
         import pandas as pd
 
-        tables = []
+        tables, noise = [], []
         for value, result in zip(self.values, self.results):
             table = result.to_dataframe()
             table["value"] = value
+            noise.append(table.attrs.pop("round_off"))      # arrays: pandas cannot compare them to concat
             tables.append(table)
-        return pd.concat(tables, ignore_index=True)
+        out = pd.concat(tables, ignore_index=True)
+        out.attrs["round_off"] = {column: np.concatenate([n[column] for n in noise]) for column in noise[0]}
+        return out
 
     def plot(self, **kwargs):
         """Map with the stability boundary; see :func:`rotordyn_modal.plotting.plot_stability_map`."""

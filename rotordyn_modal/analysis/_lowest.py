@@ -549,9 +549,15 @@ def _basis_suffices(values, bound, size, directions, rho):
 def _full_lowest(stack, speeds, count):
     """The full eigen-solve of some speeds, their ``count`` lowest oscillating roots."""
     lam, phi = stack.solve(stack.sweep(speeds)[0], np.zeros(len(speeds), int))
+    return lowest_of(lam, phi, count)
+
+
+def lowest_of(lam, phi, count):
+    """The ``count`` lowest oscillating roots (then the others) of full eigen-solves, by speed:
+    ``lam`` (N, m), ``phi`` (N, m, n) -> (N, count), (N, count, n)."""
     key = np.where(is_oscillating(lam), lam.imag, np.inf)
     order = np.argsort(key, axis=-1, kind="stable")[:, :count]
-    rows = np.arange(len(speeds))[:, None]
+    rows = np.arange(len(lam))[:, None]
     return lam[rows, order], phi[rows, order]
 
 

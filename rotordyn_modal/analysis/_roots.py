@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["BACKWARD_FACTOR", "round_off", "balanced_norm", "snapped", "zero_roots", "zero_floor", "whirl_round_off", "at_round_off"]
+__all__ = ["BACKWARD_FACTOR", "round_off", "conservative", "balanced_norm", "snapped", "zero_roots", "zero_floor", "whirl_round_off", "at_round_off"]
 
 #: the backward error of a dense eigen-solve taken as this many ``eps ||B||_F``, ``B`` the
 #: balanced matrix (LAPACK's bound grows slowly with the size; measured errors are a few eps ||B||)
@@ -197,3 +197,26 @@ def at_round_off(values, noise) -> np.ndarray:
     """``values`` with those within ``noise`` of zero (and -0) made 0, same shape."""
     values = np.asarray(values, dtype=float)
     return np.where(np.abs(values) <= noise, 0.0, values) + 0.0
+
+
+def conservative(form, speeds) -> np.ndarray:
+    """(N,) bool: the machine has no damping and a symmetric positive semidefinite stiffness at
+    each speed (no Maxwell branch, ``C(Omega) = 0``, ``K(Omega) = K(Omega)^T >= 0`` to
+    round-off). Then ``phi^H (lam^2 M + lam Omega G + K) phi = 0`` with ``m > 0``, ``g``
+    imaginary (``G`` skew) and ``k >= 0`` puts every root ``lam`` on the imaginary axis."""
+    speeds = np.asarray(speeds, dtype=float)
+    if form.n_states != 2 * form.n_dof:
+        return np.zeros(len(speeds), dtype=bool)
+    damping, stiffness = form.damping_at(speeds), form.stiffness_at(speeds)
+    if damping.ndim == 2 and stiffness.ndim == 2:         # constant: one test for every speed
+        return np.full(len(speeds), not np.any(damping) and _symmetric_semidefinite(stiffness))
+    damping = np.broadcast_to(damping, (len(speeds),) + (form.n_dof,) * 2)
+    stiffness = np.broadcast_to(stiffness, damping.shape)
+    return np.array([not np.any(c) and _symmetric_semidefinite(k) for c, k in zip(damping, stiffness)],
+                    dtype=bool)
+
+
+def _symmetric_semidefinite(K) -> bool:
+    """``K = K^T >= 0`` to round-off (``100 n eps max|K|``)."""
+    scale = 100.0 * np.finfo(float).eps * K.shape[0] * max(np.abs(K).max(), np.finfo(float).tiny)
+    return bool(np.abs(K - K.T).max() <= scale and np.linalg.eigvalsh(0.5 * (K + K.T))[0] >= -scale)

@@ -148,13 +148,27 @@ class StabilityResult:
 
         count, n = self.eigenvalues.shape
         at_speed = self.modes_at_speed.ravel()
-        return pd.DataFrame({
+        table = pd.DataFrame({
             "speed_rpm": np.repeat(self.speeds_rpm, n), "value": "",
             "mode": np.tile(self.modes, count), "real_part": self.real_parts.ravel(),
             "damping_ratio": self.damping_ratios.ravel(), "log_decrement": self.log_decrements.ravel(),
             "frequency_hz": self.frequencies_hz.ravel(), "whirl": self.whirl.ravel(),
             "mode_at_speed": pd.array(np.where(at_speed > 0, at_speed, None), dtype="Int64"),
         })
+        table.attrs["round_off"] = self._round_off_columns()
+        return table
+
+    def _round_off_columns(self) -> dict:
+        """What round-off can move the real parts, damping ratios and log decrements by, row by
+        row: the tolerance the stability verdict uses (``roundoff``, or ``1e-10 |lam|``); the
+        terminal prints those within it as 0 (``cli._common.print_table``)."""
+        lam = self.eigenvalues.ravel()
+        tolerance = _MARGINAL_TOLERANCE * np.abs(lam)
+        if self.roundoff is not None:
+            tolerance = np.maximum(tolerance, np.repeat(self.roundoff, self.eigenvalues.shape[1]))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return {"real_part": tolerance, "damping_ratio": tolerance / np.abs(lam),
+                    "log_decrement": 2 * np.pi * tolerance / lam.imag}
 
     def plot(self, **kwargs):
         """Real parts and log decrements over speed; see :func:`rotordyn_modal.plotting.plot_stability`."""
@@ -206,12 +220,15 @@ class StabilityMap:
     def to_dataframe(self):
         import pandas as pd
 
-        tables = []
+        tables, noise = [], []
         for value, result in zip(self.values, self.results):
             table = result.to_dataframe()
             table["value"] = value
+            noise.append(table.attrs.pop("round_off"))      # arrays: pandas cannot compare them to concat
             tables.append(table)
-        return pd.concat(tables, ignore_index=True)
+        out = pd.concat(tables, ignore_index=True)
+        out.attrs["round_off"] = {column: np.concatenate([n[column] for n in noise]) for column in noise[0]}
+        return out
 
     def plot(self, **kwargs):
         """Map with the stability boundary; see :func:`rotordyn_modal.plotting.plot_stability_map`."""
@@ -393,17 +410,23 @@ def roundoff_levels(form, speeds) -> np.ndarray:
     solving: LAPACK's error bound of an eigenvalue of condition number 1 (the smallest). A real
     part within it of zero has no sign: it counts as zero (marginal).
 
+    ``inf`` where the machine is conservative at that speed (:func:`._roots.conservative`): every
+    root is then on the imaginary axis (``docs/theory.md`` section 8), and the computed real
+    parts are round-off whatever their size; an ill-conditioned root (nearly repeated, beside
+    roots many decades larger) has one far above ``eps ||B||_1``, which once read as unstable.
+
     Parameters
     ----------
     form : SpeedLinearForm
     speeds : ndarray, shape (N,) [rad/s]
     """
+    speeds = np.asarray(speeds, dtype=float)
     out = np.empty(len(speeds))
-    for k, speed in enumerate(np.asarray(speeds, dtype=float)):  # one state matrix at a time
+    for k, speed in enumerate(speeds):  # one state matrix at a time
         # LAPACK's own balancing (scipy.linalg.matrix_balance calls it, at 8 times the cost)
         balanced = scipy.linalg.lapack.dgebal(form.at(float(speed)), scale=1, permute=0)[0]
         out[k] = np.abs(balanced).sum(axis=0).max()
-    return np.finfo(float).eps * out
+    return np.where(_roots.conservative(form, speeds), np.inf, np.finfo(float).eps * out)
 
 
 def _largest_real_part(form, speed, clip: bool = True) -> float:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       refuse_long_work, save_figure, show_progress, speeds_option, speeds_text, use_agg,
-                      write_table)
+                      undamped_zeros, write_table)
 from ._units import NOTHING_TO_CONVERT
 
 NAME = "campbell"
@@ -81,7 +81,7 @@ def run(args) -> int:
                       modes=lowest, max_frequency=limit)
     empty = (f"no oscillating modes {speeds_text(args)}: {result.eigenvalues.shape[1]} roots at each speed, all "
              "real or overdamped") if limit is None else f"no mode below {limit:g} Hz {speeds_text(args)}"
-    write_table(result.to_dataframe(), args, empty=empty)
+    write_table(undamped_zeros(result.to_dataframe(), model), args, empty=empty)
     if args.plot:
         use_agg()
         save_figure(result.plot(color_by=args.color_by, title=model.name or None, speed_unit=args.speed_unit,

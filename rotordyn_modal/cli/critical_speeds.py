@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       refuse_long_work, save_figure, show_progress, speeds_option, speeds_text, use_agg,
-                      write_table)
+                      undamped_zeros, write_table)
 from ._units import NOTHING_TO_CONVERT
 
 NAME = "critical-speeds"
@@ -57,7 +57,7 @@ def run(args) -> int:
                          "N, --max-frequency HZ), fewer excitation orders (--orders) or fewer speeds (--speeds)",
                          memory=True)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), modes=modes, max_frequency=limit)
-    write_table(_with_modes_at_speed(result.critical.to_dataframe(), model, result), args,
+    write_table(undamped_zeros(_with_modes_at_speed(result.critical.to_dataframe(), model, result), model), args,
                 empty=f"no critical speed {speeds_text(args)} (orders {args.orders})")
     if args.plot:
         use_agg()

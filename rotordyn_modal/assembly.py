@@ -153,6 +153,12 @@ def _suspension_sum(model, attribute: str) -> np.ndarray:
     return total
 
 
+def suspension_block(model, suspension) -> np.ndarray:
+    """One suspension's stiffness on the stator's motion in ``q``, (n, n) [N/m, ...]."""
+    shift = shift_matrix(model.reference_point, suspension.position)
+    return frame_block(model, shift @ suspension.stiffness_matrix @ shift.T)
+
+
 def add_rotor_body(out: np.ndarray, model, rotor: str, body6: np.ndarray) -> None:
     """Add ``T_j^T X T_j - T_S^T X T_S`` of a rotor on bearings to ``out`` (in place).
 
@@ -280,6 +286,17 @@ def pedestal_stiffness_damping(model):
     return K, C
 
 
+def pedestal_piece(model, bearing):
+    """One bearing's pedestal stiffness in ``q``, (n, n) [N/m], or None without a pedestal."""
+    if bearing.pedestal is None:
+        return None
+    lateral = transverse_axes(model.spin_axis).T
+    K = np.zeros((model.dofs.n, model.dofs.n))
+    rows = model.dofs.pedestal(bearing.name)
+    K[rows, rows] = lateral.T @ bearing.pedestal.stiffness @ lateral
+    return K
+
+
 def mesh_matrices(model):
     """Stiffness and damping of the gear meshes (``mesh_stiffness``, ``mesh_damping``) along
     their lines of action (docs/theory.md §18): ``k w^T w``, ``w = n^T [(T_1 - T_2) at C]``, the
@@ -294,15 +311,22 @@ def mesh_matrices(model):
     for t in model.transmissions:
         if t.mesh_stiffness is None and t.mesh_damping is None:
             continue
-        driver, driven = model.rotor(t.driver), model.rotor(t.driven)
-        mesh = gear_mesh(t, driver, driven, model.spin_axis)
-        row = point_motion_rows([mesh.pitch_point], layout.reference_point, [mesh.direction])    # (1, 6)
-        motions = layout.motions([_motion_key(layout, driver.name, False, mesh.driver_centre),
-                                  _motion_key(layout, driven.name, False, mesh.driven_centre)])
-        w = row @ (motions[0] - motions[1])                                                     # (1, n)
+        w = mesh_row(model, t)
         K += (t.mesh_stiffness or 0.0) * (w.T @ w)
         C += (t.mesh_damping or 0.0) * (w.T @ w)
     return K, C
+
+
+def mesh_row(model, t) -> np.ndarray:
+    """``w``, (1, n): the two gears' relative motion along the line of action at the pitch point
+    per coordinate (a mesh's stiffness is ``k w^T w``)."""
+    layout = model.dofs
+    driver, driven = model.rotor(t.driver), model.rotor(t.driven)
+    mesh = gear_mesh(t, driver, driven, model.spin_axis)
+    row = point_motion_rows([mesh.pitch_point], layout.reference_point, [mesh.direction])    # (1, 6)
+    motions = layout.motions([_motion_key(layout, driver.name, False, mesh.driver_centre),
+                              _motion_key(layout, driven.name, False, mesh.driven_centre)])
+    return row @ (motions[0] - motions[1])
 
 
 class FlexibleParts(NamedTuple):

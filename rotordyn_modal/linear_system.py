@@ -26,6 +26,7 @@ from .units import to_system, unit_label
 from .elements.mounts import maxwell_branches, with_branch_states
 
 __all__ = ["SpeedLinearForm", "speed_linear_form", "checked_mass_inverse", "implausible", "SAG_LIMIT",
+           "stiffness_spread_lines", "SPREAD_WARN_DIGITS", "SPREAD_REFUSE_DIGITS",
            "LOWEST_MOUNT_FREQUENCY", "same_inertia", "state_matrices", "state_space", "static_solution"]
 
 _QUANTITY_ORDER = {"displacement": 0, "receptance": 0, "velocity": 1, "mobility": 1,
@@ -106,7 +107,7 @@ def implausible(model, units: str = "si") -> list[str]:
             lines.append(f"{model.source}: [bearings.{visible(b.name)}] length = {journal.length:g}: "
                          f"L/D = {journal.length / journal.diameter:.3g} is beyond {LONG_JOURNAL:g}, where "
                          "short-bearing (Ocvirk) theory stops matching measurements: its coefficients are rough")
-    return lines
+    return lines + stiffness_spread_lines(model)
 
 
 def _on_suspensions(model):
@@ -405,3 +406,102 @@ def _named(items, names):
     names = [names] if isinstance(names, str) else names
     by_name = {i.name: i for i in items}
     return [by_name[n] for n in names]
+
+
+#: digits of the low modes a support may cost (docs/theory.md §8, "Stiffness spread") before a
+#: model draws a warning: more than this leaves fewer than about ten of the sixteen
+SPREAD_WARN_DIGITS = 6.0
+#: digits double precision has, log10(1 / eps): a spread this large leaves none
+SPREAD_REFUSE_DIGITS = float(-np.log10(np.finfo(float).eps))
+
+
+def stiffness_spread_lines(model) -> list[str]:
+    """The warning about a support far stiffer than what it holds, one line each (or none).
+
+    Each support (a bearing's radial or moment stiffness, a mount, a pedestal, a gear mesh)
+    has a scale ``lam_e = max_j K_e,jj / M_jj`` [1/s^2] over the coordinates it loads; every
+    other stiffness of the machine (the flexible shafts' bending as one part, each other
+    support alone) has its own. What a support holds is the softest of the others, ``lam_h``;
+    the support costs the low modes ``log10(lam_e / lam_h)`` significant digits (docs/theory.md
+    §8, "Stiffness spread"). Journal bearings are not checked (their film sets its own
+    stiffness from the viscosity, and a stiff film is solved well: theory §8).
+
+    Raises
+    ------
+    ModelError
+        A support that costs at least :data:`SPREAD_REFUSE_DIGITS` digits: no digit of the low
+        modes is left (its stiffness also rounds the rest away in ``K``).
+    """
+    with np.errstate(all="ignore"):
+        mass = np.diagonal(mass_matrix(model)).copy()
+        parts = [(where, key, value, _scale(K, mass)) for where, key, value, K in _stiffness_pieces(model)]
+    parts = [p for p in parts if np.isfinite(p[3][0]) and p[3][0] > 0]
+    found = []
+    for i, (where, key, value, (scale, at)) in enumerate(parts):
+        others = [p[3][0] for j, p in enumerate(parts) if j != i and p[0] != where]
+        if where == "shaft" or not others:
+            continue
+        held = min(others)
+        digits = float(np.log10(scale / held))
+        if not digits > SPREAD_WARN_DIGITS:
+            continue
+        rigid = held * mass[at]
+        said = (f"{model.source}: {where} {key} = {value:.3g}: {10 ** digits:.1e} times the scale of what it holds "
+                f"(the machine's softest other stiffness, about {rigid:.3g} at its coordinate)")
+        if digits >= SPREAD_REFUSE_DIGITS:
+            raise ModelError(model.source, f"{where} {key}", f"{value:.3g}",
+                             f"a support stiffness that leaves the low modes a digit in double precision: at "
+                             f"most about {rigid * 10 ** (SPREAD_REFUSE_DIGITS - 1):.1g}, and {rigid * 1e3:.1g}–"
+                             f"{rigid * 1e4:.1g} already acts as rigid (docs/theory.md §8, stiffness spread)")
+        found.append((digits, f"{said}: the low modes lose about {digits:.0f} of 16 significant digits; "
+                              f"{rigid * 1e3:.1g}–{rigid * 1e4:.1g} already acts as rigid (docs/theory.md §8)"))
+    if not found:
+        return []
+    digits, line = max(found, key=lambda f: f[0])      # one line: the worst support, the others counted
+    more = len(found) - 1
+    return [line + (f" (and {more} other support{'s' if more > 1 else ''})" if more else "")]
+
+
+def _scale(K: np.ndarray, mass: np.ndarray):
+    """``max_j K_jj / M_jj`` over the coordinates ``K`` loads [1/s^2], and that ``j``."""
+    ratio = np.where(mass > 0, np.abs(np.diagonal(K)) / np.where(mass > 0, mass, 1.0), 0.0)
+    at = int(np.argmax(ratio))
+    return float(ratio[at]), at
+
+
+def _stiffness_pieces(model):
+    """``(where, key, value, K)`` of each stiffness of the machine, ``K`` (n, n) in ``q``: the
+    flexible shafts' bending (one piece), each bearing's translational and tilt stiffness (a
+    speed table at its largest), each mount, pedestal and gear mesh; ``value`` is the largest
+    coefficient [N/m or N m/rad]."""
+    from .assembly import mesh_row, shaft_stiffness, suspension_block, pedestal_piece
+
+    n = model.dofs.n
+    if any(r.flexible is not None for r in model.rotors):
+        yield "shaft", "bending", 0.0, shaft_stiffness(model)
+    for bearing in model.bearings:
+        kind = bearing.coefficients.kind
+        if kind == "journal":
+            continue
+        speeds = bearing.coefficients.speeds if kind == "table" else [0.0]
+        k6s, _ = evaluate(bearing.coefficients, speeds, f"{model.source}: [bearings.{bearing.name}]")
+        rows, moves = bearing_motion(model, bearing)
+        for block, key in ((slice(0, 3), "stiffness"), (slice(3, 6), "moment_stiffness")):
+            piece = np.zeros((6, 6))
+            k6 = k6s[np.argmax(np.abs(k6s[:, block, block]).max(axis=(1, 2)))]
+            piece[block, block] = k6[block, block]
+            K = np.zeros((n, n))
+            K[rows, rows] = moves.T @ piece @ moves
+            yield f"[bearings.{visible(bearing.name)}]", key, float(np.abs(piece).max()), K
+        pedestal = pedestal_piece(model, bearing)
+        if pedestal is not None:
+            yield f"[bearings.{visible(bearing.name)}]", "pedestal_stiffness", \
+                float(np.abs(bearing.pedestal.stiffness).max()), pedestal
+    for suspension in model.suspensions:
+        yield f"[suspensions.{visible(suspension.name)}]", "stiffness", \
+            float(np.abs(suspension.stiffness_matrix).max()), suspension_block(model, suspension)
+    for t in model.transmissions:
+        if t.mesh_stiffness:
+            w = mesh_row(model, t)
+            yield f"[transmissions.{visible(t.label)}]", "mesh_stiffness", \
+                float(t.mesh_stiffness), t.mesh_stiffness * (w.T @ w)

@@ -154,9 +154,10 @@ def _suspension_sum(model, attribute: str) -> np.ndarray:
 
 
 def suspension_block(model, suspension) -> np.ndarray:
-    """One suspension's stiffness on the stator's motion in ``q``, (n, n) [N/m, ...]."""
+    """One suspension's stiffness on the stator's six motions about the reference point, (6, 6)
+    [N/m, ...] (its place in ``q``: :func:`~rotordyn_modal.model.dofs.frame_block`)."""
     shift = shift_matrix(model.reference_point, suspension.position)
-    return frame_block(model, shift @ suspension.stiffness_matrix @ shift.T)
+    return shift @ suspension.stiffness_matrix @ shift.T
 
 
 def add_rotor_body(out: np.ndarray, model, rotor: str, body6: np.ndarray) -> None:
@@ -287,14 +288,14 @@ def pedestal_stiffness_damping(model):
 
 
 def pedestal_piece(model, bearing):
-    """One bearing's pedestal stiffness in ``q``, (n, n) [N/m], or None without a pedestal."""
+    """The diagonal of one bearing's pedestal stiffness in ``q``, (n,) [N/m], or None without
+    a pedestal."""
     if bearing.pedestal is None:
         return None
     lateral = transverse_axes(model.spin_axis).T
-    K = np.zeros((model.dofs.n, model.dofs.n))
-    rows = model.dofs.pedestal(bearing.name)
-    K[rows, rows] = lateral.T @ bearing.pedestal.stiffness @ lateral
-    return K
+    d = np.zeros(model.dofs.n)
+    d[model.dofs.pedestal(bearing.name)] = np.diagonal(lateral.T @ bearing.pedestal.stiffness @ lateral)
+    return d
 
 
 def mesh_matrices(model):

@@ -26,7 +26,7 @@ from .units import to_system, unit_label
 from .elements.mounts import maxwell_branches, with_branch_states
 
 __all__ = ["SpeedLinearForm", "speed_linear_form", "checked_mass_inverse", "implausible", "SAG_LIMIT",
-           "stiffness_spread_lines", "SPREAD_WARN_DIGITS", "SPREAD_REFUSE_DIGITS",
+           "stiffness_spread_lines", "support_spreads", "SPREAD_WARN_DIGITS", "SPREAD_REFUSE_DIGITS",
            "LOWEST_MOUNT_FREQUENCY", "same_inertia", "state_matrices", "state_space", "static_solution"]
 
 _QUANTITY_ORDER = {"displacement": 0, "receptance": 0, "velocity": 1, "mobility": 1,
@@ -432,20 +432,10 @@ def stiffness_spread_lines(model) -> list[str]:
         A support that costs at least :data:`SPREAD_REFUSE_DIGITS` digits: no digit of the low
         modes is left (its stiffness also rounds the rest away in ``K``).
     """
-    with np.errstate(all="ignore"):
-        mass = np.diagonal(mass_matrix(model)).copy()
-        parts = [(where, key, value, _scale(K, mass)) for where, key, value, K in _stiffness_pieces(model)]
-    parts = [p for p in parts if np.isfinite(p[3][0]) and p[3][0] > 0]
     found = []
-    for i, (where, key, value, (scale, at)) in enumerate(parts):
-        others = [p[3][0] for j, p in enumerate(parts) if j != i and p[0] != where]
-        if where == "shaft" or not others:
-            continue
-        held = min(others)
-        digits = float(np.log10(scale / held))
+    for where, key, value, digits, rigid in support_spreads(model):
         if not digits > SPREAD_WARN_DIGITS:
             continue
-        rigid = held * mass[at]
         said = (f"{model.source}: {where} {key} = {value:.3g}: {10 ** digits:.1e} times the scale of what it holds "
                 f"(the machine's softest other stiffness, about {rigid:.3g} at its coordinate)")
         if digits >= SPREAD_REFUSE_DIGITS:
@@ -462,46 +452,68 @@ def stiffness_spread_lines(model) -> list[str]:
     return [line + (f" (and {more} other support{'s' if more > 1 else ''})" if more else "")]
 
 
-def _scale(K: np.ndarray, mass: np.ndarray):
-    """``max_j K_jj / M_jj`` over the coordinates ``K`` loads [1/s^2], and that ``j``."""
-    ratio = np.where(mass > 0, np.abs(np.diagonal(K)) / np.where(mass > 0, mass, 1.0), 0.0)
+def support_spreads(model) -> list:
+    """What each support costs the low modes: ``(where, key, value, digits, rigid)``.
+
+    ``digits = log10(lam_e / lam_h)`` (see :func:`stiffness_spread_lines`), ``value`` the
+    support's largest coefficient [N/m or N m/rad], ``rigid = lam_h M_jj`` the softest other
+    stiffness of the machine at the support's coordinate ``j`` [N/m or N m/rad]. Only supports
+    that some other stiffness of the machine holds against are listed.
+    """
+    with np.errstate(all="ignore"):
+        mass = np.diagonal(mass_matrix(model)).copy()
+        parts = [(where, key, value, _scale(K, mass)) for where, key, value, K in _stiffness_pieces(model)]
+    parts = [p for p in parts if np.isfinite(p[3][0]) and p[3][0] > 0]
+    out = []
+    for i, (where, key, value, (scale, at)) in enumerate(parts):
+        others = [p[3][0] for j, p in enumerate(parts) if j != i and p[0] != where]
+        if where == "shaft" or not others:
+            continue
+        held = min(others)
+        out.append((where, key, value, float(np.log10(scale / held)), float(held * mass[at])))
+    return out
+
+
+def _scale(diagonal: np.ndarray, mass: np.ndarray):
+    """``max_j K_jj / M_jj`` over the coordinates a stiffness loads [1/s^2], and that ``j``."""
+    ratio = np.where(mass > 0, np.abs(diagonal) / np.where(mass > 0, mass, 1.0), 0.0)
     at = int(np.argmax(ratio))
     return float(ratio[at]), at
 
 
 def _stiffness_pieces(model):
-    """``(where, key, value, K)`` of each stiffness of the machine, ``K`` (n, n) in ``q``: the
-    flexible shafts' bending (one piece), each bearing's translational and tilt stiffness (a
-    speed table at its largest), each mount, pedestal and gear mesh; ``value`` is the largest
-    coefficient [N/m or N m/rad]."""
+    """``(where, key, value, d)`` of each stiffness of the machine, ``d`` (n,) the diagonal of its
+    ``K`` in ``q`` (only diagonals: a machine of thousands of coordinates and bearings builds no
+    n x n matrix per support): the flexible shafts' bending (one piece), each bearing's
+    translational and tilt stiffness (a speed table at its largest), each mount, pedestal and
+    gear mesh; ``value`` is the largest coefficient [N/m or N m/rad]."""
     from .assembly import mesh_row, shaft_stiffness, suspension_block, pedestal_piece
 
     n = model.dofs.n
     if any(r.flexible is not None for r in model.rotors):
-        yield "shaft", "bending", 0.0, shaft_stiffness(model)
+        yield "shaft", "bending", 0.0, np.diagonal(shaft_stiffness(model))
     for bearing in model.bearings:
         kind = bearing.coefficients.kind
         if kind == "journal":
             continue
         speeds = bearing.coefficients.speeds if kind == "table" else [0.0]
-        k6s, _ = evaluate(bearing.coefficients, speeds, f"{model.source}: [bearings.{bearing.name}]")
+        k6s, _ = evaluate(bearing.coefficients, speeds, f"{model.source}: [bearings.{visible(bearing.name)}]")
         rows, moves = bearing_motion(model, bearing)
         for block, key in ((slice(0, 3), "stiffness"), (slice(3, 6), "moment_stiffness")):
             piece = np.zeros((6, 6))
-            k6 = k6s[np.argmax(np.abs(k6s[:, block, block]).max(axis=(1, 2)))]
-            piece[block, block] = k6[block, block]
-            K = np.zeros((n, n))
-            K[rows, rows] = moves.T @ piece @ moves
-            yield f"[bearings.{visible(bearing.name)}]", key, float(np.abs(piece).max()), K
-        pedestal = pedestal_piece(model, bearing)
-        if pedestal is not None:
+            piece[block, block] = k6s[np.argmax(np.abs(k6s[:, block, block]).max(axis=(1, 2)))][block, block]
+            d = np.zeros(n)
+            d[rows] = np.einsum("ji,jk,ki->i", moves, piece, moves)
+            yield f"[bearings.{visible(bearing.name)}]", key, float(np.abs(piece).max()), d
+        if bearing.pedestal is not None:
             yield f"[bearings.{visible(bearing.name)}]", "pedestal_stiffness", \
-                float(np.abs(bearing.pedestal.stiffness).max()), pedestal
+                float(np.abs(bearing.pedestal.stiffness).max()), pedestal_piece(model, bearing)
     for suspension in model.suspensions:
+        d = np.zeros(n)
+        d[:model.dofs.n_frame] = np.diagonal(suspension_block(model, suspension))
         yield f"[suspensions.{visible(suspension.name)}]", "stiffness", \
-            float(np.abs(suspension.stiffness_matrix).max()), suspension_block(model, suspension)
+            float(np.abs(suspension.stiffness_matrix).max()), d
     for t in model.transmissions:
         if t.mesh_stiffness:
-            w = mesh_row(model, t)
-            yield f"[transmissions.{visible(t.label)}]", "mesh_stiffness", \
-                float(t.mesh_stiffness), t.mesh_stiffness * (w.T @ w)
+            yield f"[transmissions.{visible(t.label)}]", "mesh_stiffness", float(t.mesh_stiffness), \
+                t.mesh_stiffness * mesh_row(model, t)[0] ** 2

@@ -464,12 +464,12 @@ def support_spreads(model) -> list:
         mass = np.diagonal(mass_matrix(model)).copy()
         parts = [(where, key, value, _scale(K, mass)) for where, key, value, K in _stiffness_pieces(model)]
     parts = [p for p in parts if np.isfinite(p[3][0]) and p[3][0] > 0]
+    softest = sorted((p[3][0], p[0]) for p in parts)     # a few steps per support, not all pairs
     out = []
-    for i, (where, key, value, (scale, at)) in enumerate(parts):
-        others = [p[3][0] for j, p in enumerate(parts) if j != i and p[0] != where]
-        if where == "shaft" or not others:
+    for where, key, value, (scale, at) in parts:
+        held = next((other for other, owner in softest if owner != where), None)
+        if where == "shaft" or held is None:
             continue
-        held = min(others)
         out.append((where, key, value, float(np.log10(scale / held)), float(held * mass[at])))
     return out
 

@@ -108,8 +108,8 @@ def test_digits_lost_by_the_lowest_mode_stay_within_the_predicted_ones():
     """Over a sweep of bearing stiffness, the lowest mode's relative error (at most 1: no digit), in
     units of eps, against
     the exact limit (the same mesh pinned: the bearing coordinates removed) is at most the
-    predicted loss, log10(lam_e / lam_1) = (the support's digits) + log10(lam_h / lam_1), plus a
-    decade; and not below it by more than four (the criterion is no blanket)."""
+    predicted loss, log10(lam_e / lam_1) = (the support's digits) + log10(lam_h / lam_1), plus half a
+    decade (measured 2-3.6 decades below, the Weyl bound's slack: a criterion optimistic by 2.5 decades fails); and not below it by more than four (the criterion is no blanket)."""
     eps = np.finfo(float).eps
     base = rdm.Model.from_dict(_shaft(1.0))
     M, _, _, K = base.matrices()
@@ -117,7 +117,7 @@ def test_digits_lost_by_the_lowest_mode_stay_within_the_predicted_ones():
     free = np.setdiff1d(np.arange(len(M)), pinned)
     exact = np.sqrt(scipy.linalg.eigh(K[np.ix_(free, free)], M[np.ix_(free, free)], eigvals_only=True)[0])
     assert exact == pytest.approx(_pinned_timoshenko(), rel=1e-5)
-    for stiffness in 10.0 ** np.arange(12, 23, 2):
+    for stiffness in 10.0 ** np.arange(12, 19):
         model = rdm.Model.from_dict(_shaft(stiffness))
         (_, _, _, digits, rigid), _ = support_spreads(model)
         m_node = M[pinned[0], pinned[0]]
@@ -128,5 +128,16 @@ def test_digits_lost_by_the_lowest_mode_stay_within_the_predicted_ones():
             modes = rdm.modal(model, 0.0)
             found.append(np.abs(modes.eigenvalues[modes.oscillatory].imag).min())
         lost = [np.log10(np.clip(abs(value - exact) / exact, eps, 1.0) / eps) for value in found]
-        assert max(lost) <= predicted + 1.0, (stiffness, lost, predicted)
+        assert max(lost) <= predicted + 0.5, (stiffness, lost, predicted)
         assert lost[0] >= predicted - 4.0, (stiffness, lost, predicted)
+
+
+def test_a_very_stiff_journal_film_draws_no_line(examples_dir, tmp_path, capsys):
+    """journal_rotor.toml at 1e9 Pa s (film roots of -4e14 1/s; its whirl roots exact to 1e-9,
+    docs/theory.md §8): a film's stiffness is no typed support stiffness."""
+    text = (examples_dir / "journal_rotor.toml").read_text()
+    path = tmp_path / "thick.toml"
+    path.write_text(text.replace("viscosity = 0.02", "viscosity = 1e9"))
+    assert path.read_text().count("viscosity = 1e9") == 2
+    assert main(["check", str(path)]) == 0
+    assert "warning" not in capsys.readouterr().err

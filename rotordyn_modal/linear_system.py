@@ -433,18 +433,19 @@ def stiffness_spread_lines(model) -> list[str]:
         modes is left (its stiffness also rounds the rest away in ``K``).
     """
     found = []
-    for where, key, value, digits, rigid in support_spreads(model):
+    for where, key, value, digits, rigid, unit in support_spreads(model):
         if not digits > SPREAD_WARN_DIGITS:
             continue
         said = (f"{model.source}: {where} {key} = {value:.3g}: {10 ** digits:.1e} times the scale of what it holds "
-                f"(the machine's softest other stiffness, about {rigid:.3g} at its coordinate)")
+                f"(the machine's softest other stiffness, about {rigid:.3g} {unit} at its coordinate)")
         if digits >= SPREAD_REFUSE_DIGITS:
             raise ModelError(model.source, f"{where} {key}", f"{value:.3g}",
-                             f"a support stiffness that leaves the low modes a digit in double precision: at "
-                             f"most about {rigid * 10 ** (SPREAD_REFUSE_DIGITS - 1):.1g}, and {rigid * 1e3:.1g}–"
-                             f"{rigid * 1e4:.1g} already acts as rigid (docs/theory.md §8, stiffness spread)")
+                             f"a support stiffness that leaves the low modes a digit in double precision: "
+                             f"{10 ** digits:.1e} times the scale of what it holds, at most about "
+                             f"{rigid * 10 ** (SPREAD_REFUSE_DIGITS - 1):.1g} {unit}; {rigid * 1e3:.1g}–"
+                             f"{rigid * 1e4:.1g} {unit} already acts as rigid (docs/theory.md §8, stiffness spread)")
         found.append((digits, f"{said}: the low modes lose about {digits:.0f} of 16 significant digits; "
-                              f"{rigid * 1e3:.1g}–{rigid * 1e4:.1g} already acts as rigid (docs/theory.md §8)"))
+                              f"{rigid * 1e3:.1g}–{rigid * 1e4:.1g} {unit} already acts as rigid (docs/theory.md §8)"))
     if not found:
         return []
     digits, line = max(found, key=lambda f: f[0])      # one line: the worst support, the others counted
@@ -453,12 +454,13 @@ def stiffness_spread_lines(model) -> list[str]:
 
 
 def support_spreads(model) -> list:
-    """What each support costs the low modes: ``(where, key, value, digits, rigid)``.
+    """What each support costs the low modes: ``(where, key, value, digits, rigid, unit)``.
 
     ``digits = log10(lam_e / lam_h)`` (see :func:`stiffness_spread_lines`), ``value`` the
     support's largest coefficient [N/m or N m/rad], ``rigid = lam_h M_jj`` the softest other
     stiffness of the machine at the support's coordinate ``j`` [N/m or N m/rad]. Only supports
-    that some other stiffness of the machine holds against are listed.
+    that some other stiffness of the machine holds against are listed; ``unit`` is that of
+    ``rigid`` (``'N/m'``, or ``'N m/rad'`` at a rotation).
     """
     with np.errstate(all="ignore"):
         mass = np.diagonal(mass_matrix(model)).copy()
@@ -470,7 +472,8 @@ def support_spreads(model) -> list:
         held = next((other for other, owner in softest if owner != where), None)
         if where == "shaft" or held is None:
             continue
-        out.append((where, key, value, float(np.log10(scale / held)), float(held * mass[at])))
+        unit = "N m/rad" if model.dofs.names[at].rsplit(".", 1)[-1].startswith("r") else "N/m"
+        out.append((where, key, value, float(np.log10(scale / held)), float(held * mass[at]), unit))
     return out
 
 

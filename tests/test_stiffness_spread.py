@@ -119,7 +119,8 @@ def test_digits_lost_by_the_lowest_mode_stay_within_the_predicted_ones():
     assert exact == pytest.approx(_pinned_timoshenko(), rel=1e-5)
     for stiffness in 10.0 ** np.arange(12, 19):
         model = rdm.Model.from_dict(_shaft(stiffness))
-        (_, _, _, digits, rigid), _ = support_spreads(model)
+        (_, _, _, digits, rigid, unit), _ = support_spreads(model)
+        assert unit == "N/m"
         m_node = M[pinned[0], pinned[0]]
         predicted = min(digits + np.log10(rigid / m_node / exact ** 2), SPREAD_REFUSE_DIGITS)
         M_k, _, _, K_k = model.matrices()

@@ -142,3 +142,27 @@ def test_a_very_stiff_journal_film_draws_no_line(examples_dir, tmp_path, capsys)
     assert path.read_text().count("viscosity = 1e9") == 2
     assert main(["check", str(path)]) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("form", ["matrix", "table"])
+def test_matrix_and_table_forms_are_checked_as_the_scalar(form):
+    """A 2x2 matrix and a speed table's stiffest row count as the scalar does (rigid rotor in a
+    casing on mounts)."""
+    data = _rigid_in_casing()
+    for bearing in data["bearings"]:
+        if form == "matrix":
+            bearing["stiffness"] = [[1e30, 0.0], [0.0, 1e30]]
+        else:
+            bearing.update(speeds_rpm=[0.0, 3000.0], stiffness=[1e7, 1e30])
+    with pytest.raises(ModelError, match=r"\[bearings\.[AB]\] stiffness = '1e\+30'.*times the scale"):
+        implausible(rdm.Model.from_dict(data))
+
+
+def test_a_tilt_stiffness_far_above_the_shafts_warns_in_n_m_per_rad():
+    """moment_stiffness = 1e18 N m/rad at both ends of the slender shaft (the bearing rules
+    refuse 1e20 already: the rotor's motions are no longer independent in double precision)."""
+    data = _shaft(1e8)
+    for bearing in data["bearings"]:
+        bearing["moment_stiffness"] = 1e18
+    lines = implausible(rdm.Model.from_dict(data))
+    assert len(lines) == 1 and "moment_stiffness = 1e+18" in lines[0] and "N m/rad" in lines[0]

@@ -445,7 +445,8 @@ def stiffness_spread_lines(model) -> list[str]:
                              f"{rigid * 10 ** (SPREAD_REFUSE_DIGITS - 1):.1g} {unit}; {rigid * 1e3:.1g}–"
                              f"{rigid * 1e4:.1g} {unit} already acts as rigid (docs/theory.md §8, stiffness spread)")
         found.append((digits, f"{said}: the low modes lose about {digits:.0f} of 16 significant digits; "
-                              f"{rigid * 1e3:.1g}–{rigid * 1e4:.1g} {unit} already acts as rigid (docs/theory.md §8)"))
+                              f"{rigid * 1e3:.1g}–{rigid * 1e4:.1g} {unit} already acts as rigid "
+                              "(docs/theory.md §8)"))
     if not found:
         return []
     digits, line = max(found, key=lambda f: f[0])      # one line: the worst support, the others counted

@@ -98,6 +98,7 @@ def test_rigid_rotor_on_bearings_of_1e30_in_a_casing_is_refused(tmp_path, capsys
 
 
 def test_mounts_of_1e20_warn(tmp_path, capsys):
+    """Mounts of 1e20 N/m under a 200 kg casing holding a rotor on 1e7 N/m bearings: 12 digits."""
     code, err = _run(tmp_path, capsys, _rigid_in_casing(mount=1e20))
     assert code == 0
     warned = [line for line in err if "warning" in line]
@@ -105,11 +106,11 @@ def test_mounts_of_1e20_warn(tmp_path, capsys):
 
 
 def test_digits_lost_by_the_lowest_mode_stay_within_the_predicted_ones():
-    """Over a sweep of bearing stiffness, the lowest mode's relative error (at most 1: no digit), in
-    units of eps, against
-    the exact limit (the same mesh pinned: the bearing coordinates removed) is at most the
-    predicted loss, log10(lam_e / lam_1) = (the support's digits) + log10(lam_h / lam_1), plus half a
-    decade (measured 2-3.6 decades below, the Weyl bound's slack: a criterion optimistic by 2.5 decades fails); and not below it by more than four (the criterion is no blanket)."""
+    """Over a sweep of bearing stiffness, the lowest mode's relative error (at most 1: no digit),
+    in units of eps, against the exact limit (the same mesh pinned: the bearing coordinates
+    removed) is at most the predicted loss, log10(lam_e / lam_1) = (the support's digits) + log10(lam_h / lam_1), plus half a
+    decade (measured 2-3.6 decades below, the Weyl bound's slack: a criterion optimistic by 2.5
+    decades fails); and not below it by more than four (the criterion is no blanket)."""
     eps = np.finfo(float).eps
     base = rdm.Model.from_dict(_shaft(1.0))
     M, _, _, K = base.matrices()

@@ -437,7 +437,7 @@ def stiffness_spread_lines(model) -> list[str]:
         if not digits > SPREAD_WARN_DIGITS:
             continue
         said = (f"{model.source}: {where} {key} = {value:.3g}: {10 ** digits:.1e} times the scale of what it holds "
-                f"(the machine's softest other stiffness, about {rigid:.3g} {unit} at its coordinate)")
+                f"(the machine's softest other stiffness, as {rigid:.3g} {unit} there)")
         if digits >= SPREAD_REFUSE_DIGITS:
             raise ModelError(model.source, f"{where} {key}", f"{value:.3g}",
                              f"a support stiffness that leaves the low modes a digit in double precision: "
@@ -458,10 +458,9 @@ def support_spreads(model) -> list:
     """What each support costs the low modes: ``(where, key, value, digits, rigid, unit)``.
 
     ``digits = log10(lam_e / lam_h)`` (see :func:`stiffness_spread_lines`), ``value`` the
-    support's largest coefficient [N/m or N m/rad], ``rigid = lam_h M_jj`` the softest other
-    stiffness of the machine at the support's coordinate ``j`` [N/m or N m/rad]. Only supports
-    that some other stiffness of the machine holds against are listed; ``unit`` is that of
-    ``rigid`` (``'N/m'``, or ``'N m/rad'`` at a rotation).
+    support's largest coefficient, ``rigid = value lam_h / lam_e`` what it holds against in the
+    units of its key, ``unit`` (``'N/m'``; ``'N m/rad'`` for ``moment_stiffness``). Only
+    supports that some other stiffness of the machine holds against are listed.
     """
     with np.errstate(all="ignore"):
         mass = np.diagonal(mass_matrix(model)).copy()
@@ -473,8 +472,9 @@ def support_spreads(model) -> list:
         held = next((other for other, owner in softest if owner != where), None)
         if where == "shaft" or held is None:
             continue
-        unit = "N m/rad" if model.dofs.names[at].rsplit(".", 1)[-1].startswith("r") else "N/m"
-        out.append((where, key, value, float(np.log10(scale / held)), float(held * mass[at]), unit))
+        digits = float(np.log10(scale / held))
+        unit = "N m/rad" if key == "moment_stiffness" else "N/m"
+        out.append((where, key, value, digits, value * 10.0 ** -digits, unit))
     return out
 
 

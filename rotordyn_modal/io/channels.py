@@ -158,6 +158,7 @@ def assemble(records, model, quantity, source) -> list[FRFResult]:
         raise InputError(f"{source}: a spin speed of {bad} rpm (an empty speed_rpm cell, or a UFF z-axis value): "
                          "expected a finite speed for every line")
     coherence = records.get("coherence")
+    _check_lines(records, coherence, source)
     results = []
     for speed in np.unique(speeds):
         at = speeds == speed
@@ -166,6 +167,30 @@ def assemble(records, model, quantity, source) -> list[FRFResult]:
                                   None if coherence is None else np.asarray(coherence, float)[at],
                                   sensors, excitations, quantity, source))
     return results
+
+
+#: largest |H| of a measured FRF in SI units (as the model's numbers): beyond it a value is a
+#: mistake (a unit or format), and its square would overflow in the figures and the fits
+_LARGEST_VALUE = 1e30
+#: how far above 1 a coherence may be by the round-off of a tool that stores it in single precision
+_COHERENCE_ROUND_OFF = 1e-6
+
+
+def _check_lines(records, coherence, source):
+    """Refuse frequency lines below 0 Hz, values of no physical size, and coherences outside
+    [0, 1] (an empty coherence, NaN, means none measured), each with the first bad line."""
+    freq = np.asarray(records["frequency_hz"], dtype=float)
+    if np.any(bad := ~(freq >= 0)):
+        raise InputError(f"{source}: a frequency line of {freq[np.argmax(bad)]:g} Hz: expected frequencies >= 0 Hz")
+    size = np.abs(np.asarray(records["value"], dtype=complex))
+    if np.any(bad := ~(size <= _LARGEST_VALUE)):
+        raise InputError(f"{source}: an FRF value of magnitude {size[np.argmax(bad)]:g} (SI units) at "
+                         f"{freq[np.argmax(bad)]:g} Hz: expected a finite magnitude at most {_LARGEST_VALUE:g}")
+    if coherence is not None:
+        coh = np.asarray(coherence, dtype=float)
+        if np.any(bad := (coh < 0) | (coh > 1 + _COHERENCE_ROUND_OFF) | np.isinf(coh)):
+            raise InputError(f"{source}: a coherence of {coh[np.argmax(bad)]:g} at {freq[np.argmax(bad)]:g} Hz: "
+                             "expected a coherence from 0 to 1")
 
 
 def _one_speed(speed, freq, outs, ins, values, coherence, sensors, excitations, quantity, source):

@@ -177,8 +177,14 @@ def _read_outline(path):
     """Polylines ``x,y,z`` [m]; empty rows (NaN) separate the lines."""
     import pandas as pd
 
+    import io
+
+    from ..io.limits import read_limited
+
     try:
-        table = pd.read_csv(path, skip_blank_lines=False)
+        table = pd.read_csv(io.BytesIO(read_limited(path, "model", "stator outline")), skip_blank_lines=False)
+    except InputError:
+        raise
     except (OSError, ValueError) as error:
         raise InputError(f"{path}: cannot read the outline ({error})") from None
     if not {"x", "y", "z"} <= set(table.columns):

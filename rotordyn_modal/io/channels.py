@@ -72,8 +72,14 @@ def read_mapping(path, model) -> ChannelMap:
     """Read a mapping table ``name,node,direction[,sign]`` (CSV) against the model's channel names."""
     import pandas as pd
 
+    import io
+
+    from .limits import read_limited
+
     try:
-        table = pd.read_csv(path)
+        table = pd.read_csv(io.BytesIO(read_limited(path, "model", "mapping table")))  # a pipe too, bounded
+    except InputError:
+        raise
     except (OSError, ValueError) as error:
         raise InputError(f"{path}: cannot read the mapping table ({' '.join(str(error).split())})") from None
     missing = {"name", "node", "direction"} - set(table.columns)
@@ -99,6 +105,10 @@ def read_mapping(path, model) -> ChannelMap:
     return ChannelMap(outputs, inputs)
 
 
+#: largest node number of a UFF 58 record (a 10-character integer field, a 32-bit integer in readers)
+_LARGEST_NODE = 2**31 - 1
+
+
 def _mapping_row(row, has_sign, path, line):
     """``((node, direction), sign)`` of one row of a mapping table, or a refusal naming the line."""
     def whole(name):
@@ -112,6 +122,9 @@ def _mapping_row(row, has_sign, path, line):
         return int(number)
 
     node, direction = whole("node"), whole("direction")
+    if not abs(node) <= _LARGEST_NODE:
+        raise InputError(f"{path}: line {line}: node = {row.node!r}: expected a UFF node number of at most "
+                         f"{_LARGEST_NODE} (its 10-character field)")
     if not abs(direction) <= 6:
         raise InputError(f"{path}: line {line}: direction = {direction}: expected a UFF direction code "
                          "+-1 .. +-6 (X, Y, Z, then rotations), or 0 (a scalar channel, no direction)")

@@ -55,7 +55,9 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
     """
     path = Path(path)
     if not path.is_file():
-        raise InputError(f"{path}: measured data file not found")
+        raise InputError(f"{path}: measured data file not found" if not path.exists() else
+                         f"{path}: expected a measured data file, not a "
+                         f"{'folder' if path.is_dir() else 'pipe or device (its size is not known before reading)'}")
     if path.suffix.lower() == ".csv":
         return read_csv(path, model)
     if path.suffix.lower() in (".uff", ".unv", ".uf"):

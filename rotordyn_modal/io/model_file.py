@@ -9,7 +9,7 @@ from pathlib import Path
 from ..errors import ModelError, ModelWarning
 from ..model.machine import Model
 from .atomic import atomic_write, check_not_input
-from .limits import check_size
+from .limits import read_limited
 
 __all__ = ["load_model", "save_model", "read_toml", "MAX_NESTING"]
 
@@ -79,9 +79,8 @@ def read_toml(path, what: str, error=ModelError) -> dict:
     """
     path = Path(path)
     source = str(path)
-    check_size(path, "model", what)
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = read_limited(path, "model", what).decode("utf-8")
     except FileNotFoundError:
         raise error(source, "<file>", source, f"an existing {what} (no such file)") from None
     except IsADirectoryError:

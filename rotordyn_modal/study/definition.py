@@ -226,7 +226,10 @@ def _check_variant_count(parameters, samples, design, source):
     if random:
         count *= samples * (random + 2 if design == "saltelli" else 1)
     if problem := count_problem(count, "variants"):
-        raise StudyError(source, "samples", samples, "a study of " + problem)
+        if random:
+            raise StudyError(source, "samples", samples, "a study of " + problem)
+        grids = " x ".join(str(len(p.grid)) for p in parameters if p.is_grid)
+        raise StudyError(source, "[[parameters]] grids", f"{grids} points", "a study of " + problem)
 
 
 def _is_int(value) -> bool:

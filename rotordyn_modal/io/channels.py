@@ -90,18 +90,17 @@ def read_mapping(path, model) -> ChannelMap:
     outputs, inputs = {}, {}
     for line, row in enumerate(table.itertuples(index=False), start=2):
         key, sign = _mapping_row(row, "sign" in table.columns, path, line)
-        if row.name in sensors:
-            role = outputs
-        elif row.name in excitations:
-            role = inputs
-        else:
+        # a name that is a sensor's and an excitation's (a driving point named once) maps both
+        roles = [role for role, names in ((outputs, sensors), (inputs, excitations)) if row.name in names]
+        if not roles:
             raise InputError(f"{path}: name {row.name!r} is neither a sensor ({', '.join(sorted(sensors))}) "
                              f"nor an excitation ({', '.join(sorted(excitations))}) of the model")
-        if key in role:   # a response and a reference may share a node and direction (a driving point)
-            raise InputError(f"{path}: line {line}: node {key[0]} direction {key[1]} is given to {role[key][0]!r} "
-                             f"already: expected each node and direction once among the "
-                             f"{'sensors' if role is outputs else 'excitations'}")
-        role[key] = (row.name, sign)
+        for role in roles:
+            if key in role:   # a response and a reference may share a node and direction (a driving point)
+                raise InputError(f"{path}: line {line}: node {key[0]} direction {key[1]} is given to "
+                                 f"{role[key][0]!r} already: expected each node and direction once among the "
+                                 f"{'sensors' if role is outputs else 'excitations'}")
+            role[key] = (row.name, sign)
     return ChannelMap(outputs, inputs)
 
 

@@ -193,3 +193,13 @@ def test_a_model_through_a_pipe_is_read_up_to_the_limit(tmp_path, capsys, monkey
     capsys.readouterr()
     assert run(model + "#" * 20_000 + "\n") == 2
     _one_line_error(capsys, "pipe", "limit")
+
+
+def test_every_output_folder_is_checked_before_the_work_by_its_option(tmp_path, capsys):
+    """``level1 --csr-plot missing/x.png`` was refused only by the final write, without the option's name."""
+    journal = str(ROOT / "examples" / "journal_rotor.toml")
+    out = tmp_path / "missing" / "csr.png"
+    assert main(["level1", journal, "--speed", "4000", "--station", "rotor", "--qa", "2e5", "--gas-density", "10",
+                 "--quiet", "--csr-plot", str(out)]) == 2
+    _one_line_error(capsys, "--csr-plot", "does not exist")
+    assert not out.parent.exists()

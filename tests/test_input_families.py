@@ -203,3 +203,17 @@ def test_every_output_folder_is_checked_before_the_work_by_its_option(tmp_path, 
                  "--quiet", "--csr-plot", str(out)]) == 2
     _one_line_error(capsys, "--csr-plot", "does not exist")
     assert not out.parent.exists()
+
+
+@pytest.mark.parametrize("kind, old, new, suggestion", [
+    ("model", "\nstiffness = ", "\nstifness = ", "'stiffness'"),
+    ("study", 'speeds_rpm = "0:3000:3"', 'speed_rpm = "0:3000:3"', "'speeds_rpm'"),
+    ("study", "samples = 2", "sample = 2", "'samples'"),
+], ids=["model-key", "analysis-key", "study-key"])
+def test_a_typed_key_is_refused_with_the_key_it_is_probably_a_typo_of(tmp_path, capsys, kind, old, new, suggestion):
+    model_file, spec = tmp_path / "m.toml", tmp_path / "s.toml"
+    model_text, study_text = Path(GEAR).read_text(), _STUDY.format(speeds="0:3000:3")
+    model_file.write_text(model_text.replace(old, new, 1) if kind == "model" else model_text)
+    spec.write_text(study_text.replace(old, new, 1) if kind == "study" else study_text)
+    assert main(["study", str(model_file), "--spec", str(spec), "--out", str(tmp_path / "r.nc"), "--quiet"]) == 2
+    _one_line_error(capsys, new.strip().split()[0], f"did you mean {suggestion}?")

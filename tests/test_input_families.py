@@ -217,3 +217,17 @@ def test_a_typed_key_is_refused_with_the_key_it_is_probably_a_typo_of(tmp_path, 
     spec.write_text(study_text.replace(old, new, 1) if kind == "study" else study_text)
     assert main(["study", str(model_file), "--spec", str(spec), "--out", str(tmp_path / "r.nc"), "--quiet"]) == 2
     _one_line_error(capsys, new.strip().split()[0], f"did you mean {suggestion}?")
+
+
+@pytest.mark.parametrize("old, new, where", [
+    ("[stator]\nmass = 150.0", "[stator]\nmass = 1" + "0" * 400, "stator.mass"),
+    ("spin_axis = [1.0,", "spin_axis = [1" + "0" * 400 + ",", "spin_axis[0]"),
+], ids=["scalar", "in-an-array"])
+def test_an_integer_beyond_every_float_is_refused_by_its_key(tmp_path, capsys, old, new, where):
+    """TOML integers have no limit: one of 401 digits ended in OverflowError (exit 1)."""
+    text = Path(GEAR).read_text()
+    assert old in text
+    model_file = tmp_path / "m.toml"
+    model_file.write_text(text.replace(old, new, 1))
+    assert main(["check", str(model_file)]) == 2
+    _one_line_error(capsys, "m.toml", where, "401 digits", "at most 1e+30")

@@ -90,7 +90,7 @@ class Table:
             raise self.error(key, value, expected() + " of numbers (" + found + ")")
         try:
             arr = np.array(value, dtype=float)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):   # OverflowError: an integer beyond every float
             raise self.error(key, value, expected() + " of numbers") from None
         if isinstance(value, (str, bytes)) or arr.shape not in shapes:
             raise self.error(key, value, expected() + f" (got shape {arr.shape})")

@@ -231,3 +231,15 @@ def test_an_integer_beyond_every_float_is_refused_by_its_key(tmp_path, capsys, o
     model_file.write_text(text.replace(old, new, 1))
     assert main(["check", str(model_file)]) == 2
     _one_line_error(capsys, "m.toml", where, "401 digits", "at most 1e+30")
+
+
+@pytest.mark.parametrize("command", ["campbell", "critical-speeds"])
+def test_lowest_modes_beyond_the_models_roots_are_every_root(tmp_path, command):
+    """``--lowest 1000`` of a machine of 6 roots ended in ValueError (exit 1); a number of 17
+    digits asked numpy for 711 PiB. The 1000 lowest of 6 roots are the 6: the table without
+    --lowest."""
+    args = [command, GEAR, "--speeds", "0:3000:4", "--quiet", "--out"]
+    assert main([*args, str(tmp_path / "all.csv")]) == 0
+    for count in ("1000", "9" * 17):
+        assert main([*args, str(tmp_path / "low.csv"), "--lowest", count]) == 0
+        pd.testing.assert_frame_equal(pd.read_csv(tmp_path / "low.csv"), pd.read_csv(tmp_path / "all.csv"))

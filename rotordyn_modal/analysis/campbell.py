@@ -261,15 +261,23 @@ def campbell(model, speeds, orders=(1,), progress=False, critical=True, modes=No
         than the grid): the refinement closes in on the jump, and the frequency there is off the
         order line (see :func:`off_order_line`). A finer speed grid resolves them.
     """
-    if modes is not None:
-        return _campbell_lowest(model, speeds, orders, critical, _arguments_modes(modes))
-    return campbell_many([model], speeds, orders, progress, critical)[0]
+    if modes is not None and _arguments_modes(modes) < root_count(model):
+        return _campbell_lowest(model, speeds, orders, critical, int(modes))
+    return campbell_many([model], speeds, orders, progress, critical)[0]   # N at least every root: all
 
 
 def _arguments_modes(modes) -> int:
     if isinstance(modes, bool) or not isinstance(modes, (int, np.integer)) or modes < 1:
         raise InputError(f"modes = {modes!r}: expected a whole number of modes >= 1")
     return int(modes)
+
+
+def root_count(model) -> int:
+    """Roots of the model at each speed, one of each conjugate pair (half its states, Maxwell
+    branches included): ``campbell(modes=N)`` with N at least this many is every root."""
+    from ..linear_system import speed_linear_form
+
+    return speed_linear_form(model).n_states // 2
 
 
 def _campbell_lowest(model, speeds, orders, critical, count) -> CampbellResult:

@@ -63,7 +63,8 @@ def run(args) -> int:
     from ..analysis.campbell import campbell
     model = open_model(args)
     axis = _frequency_axis(args)    # bad limits refused before the work
-    speeds, orders, lowest = speeds_option(args), tuple(parse_list(args.orders, "--orders")), _lowest(args.lowest)
+    speeds, orders, lowest = speeds_option(args), tuple(parse_list(args.orders, "--orders")), _lowest(args.lowest,
+                                                                                                       model)
     if lowest is None:
         refuse_long_work(args, model, speeds, orders, critical=not args.no_critical, advice=LONG_ADVICE,
                          memory=True)
@@ -78,11 +79,14 @@ def run(args) -> int:
     return 0
 
 
-def _lowest(text):
-    """``--lowest N`` as an int, or None (every mode); refused in one line unless a whole number >= 1."""
+def _lowest(text, model):
+    """``--lowest N`` as an int, or None (every mode: also when N is at least the model's number of
+    roots, so that the long-work check holds); refused in one line unless a whole number >= 1."""
+    from ..analysis.campbell import root_count
     from ._common import parse_count
 
-    return None if text is None else parse_count(text, "--lowest", of="modes")
+    count = None if text is None else parse_count(text, "--lowest", of="modes")
+    return None if count is None or count >= root_count(model) else count
 
 
 def _add_frequency_axis(parser):

@@ -46,7 +46,7 @@ def run(args) -> int:
     from ..analysis.campbell import campbell
     from .campbell import _lowest
     model = open_model(args)
-    modes = _lowest(args.lowest)
+    modes = _lowest(args.lowest, model)
     speeds, orders = speeds_option(args), tuple(parse_list(args.orders, "--orders"))
     if modes is None:
         refuse_long_work(args, model, speeds, orders, numbers=True, advice="ask for the lowest modes only (--lowest "

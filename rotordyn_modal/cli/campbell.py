@@ -51,7 +51,8 @@ def add_arguments(parser):
     parser.add_argument("--lowest", metavar="N",
                         help="only the N lowest-frequency modes at each speed, each the full model's root to "
                              "round-off, without solving for every root (faster for large flexible rotors; the "
-                             "columns then follow those N; docs/theory.md, 'The lowest modes only')")
+                             "columns then follow those N; docs/theory.md, 'The lowest modes only'); N at least the "
+                             "model's number of roots is every root")
     parser.add_argument("--color-by", choices=["log_decrement", "damping_ratio"],
                         help="colour the curves by this quantity instead of by whirl")
     _add_frequency_axis(parser)

@@ -243,3 +243,16 @@ def test_lowest_modes_beyond_the_models_roots_are_every_root(tmp_path, command):
     for count in ("1000", "9" * 17):
         assert main([*args, str(tmp_path / "low.csv"), "--lowest", count]) == 0
         pd.testing.assert_frame_equal(pd.read_csv(tmp_path / "low.csv"), pd.read_csv(tmp_path / "all.csv"))
+
+
+def test_a_bore_tapering_to_zero_at_a_sections_end_is_a_valid_shaft(tmp_path):
+    """ROSS's compressor rotor with one layer's bore tapering to 0: the element's end, found by
+    summing the lengths, lay past the section by round-off, and the bore there came out as
+    -7.5e-17 m (ValueError, exit 1 from `check` and `import-ross`)."""
+    from rotordyn_modal.io.ross_file import read_ross_rotor
+
+    description = read_ross_rotor(ROOT / "tests" / "data" / "ross" / "compressor_example.toml")
+    layer = description["rotors"][0]["shaft"][9]["layers"][0]   # a parallel element of ROSS's
+    assert layer["inner_diameter"] == 0.085
+    layer["inner_diameter"] = [0.085, 0.0]
+    rdm.Model.from_dict(description)   # refused, or a ValueError, if a bore came out below 0

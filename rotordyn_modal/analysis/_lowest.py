@@ -480,14 +480,16 @@ def _refined(pencils, starts, vectors):
         if not len(todo):
             break
         u = pencils.solve(index[todo], lam[todo], pencils.derivative_times(index[todo], lam[todo], x[todo]))
-        cu = np.einsum("pi,pi->p", c[todo], u)
-        step = np.einsum("pi,pi->p", c[todo], x[todo]) / cu
-        lam[todo] -= step
-        x[todo] = u / cu[:, None]
-        relative = np.abs(step) / np.abs(lam[todo])
-        # quadratic convergence (error e' = k e^2, the steps are the errors): the error left after
-        # this step is about k relative^2 with k = relative / last^2
-        left = relative ** 3 / np.where(np.isfinite(last[todo]), last[todo], np.nan) ** 2
+        # a singular solve gives inf/nan: that root is left unconverged (ok False), not warned about
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            cu = np.einsum("pi,pi->p", c[todo], u)
+            step = np.einsum("pi,pi->p", c[todo], x[todo]) / cu
+            lam[todo] -= step
+            x[todo] = u / cu[:, None]
+            relative = np.abs(step) / np.abs(lam[todo])
+            # quadratic convergence (error e' = k e^2, the steps are the errors): the error left after
+            # this step is about k relative^2 with k = relative / last^2
+            left = relative ** 3 / np.where(np.isfinite(last[todo]), last[todo], np.nan) ** 2
         done[todo] = (relative <= _STEP) | ((relative <= _ASYMPTOTIC) & (left <= _LEFT))
         last[todo] = relative
     ok = done & np.isfinite(lam)

@@ -328,6 +328,53 @@ def test_runup_track_legends_hide_no_track(monkeypatch):
     plt.close(fig)
 
 
+def test_runup_track_legends_hide_no_track_among_critical_lines(monkeypatch):
+    """The fan's run-up: 22 critical speeds' lines cross every place a legend could take inside
+    the order-tracked panels, and matplotlib's 'best' place put the phase's legend on both
+    tracks (the amplitude's on the fan's peak). Drawn from given tracks (a resonance at 7700 rpm
+    and a small one; the plotting computes nothing), measured on the drawn figure: no track
+    runs under a legend."""
+    import types
+
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments
+    from rotordyn_modal.analysis.critical_speeds import CriticalSpeeds
+    from rotordyn_modal.plotting.simulation import plot_runup
+    from rotordyn_modal.simulation import runup
+
+    speeds = rdm.rpm(np.linspace(500.0, 8700.0, 25))
+    ratio = speeds / rdm.rpm(7700.0)
+    response = 1.0 / (1.0 - ratio ** 2 + 0.05j * ratio)
+    tracks = {"fan": runup.OrderTrack(speeds, 1e-6 * np.abs(response), np.degrees(np.angle(response)) - 90.0,
+                                      "probe", "fan", 1.0),
+              "motor": runup.OrderTrack(speeds, 0.15e-6 * np.abs(response) ** 0.5, np.degrees(np.angle(response)),
+                                        "probe", "motor", 1.0)}
+    fall = runup.Waterfall(speeds, np.linspace(0.0, 200.0, 41), np.full((25, 41), 1e-9), "probe")
+    monkeypatch.setattr(runup, "order_track", lambda *args, rotor=None, **kwargs: tracks[rotor])
+    monkeypatch.setattr(runup, "waterfall", lambda *args, **kwargs: fall)
+    at = rdm.rpm(np.array([499, 550, 798, 866, 880, 941, 1063, 1092, 1385, 1502, 1694, 1757, 2740, 3587, 3898,
+                           3943, 4157, 5774, 6308, 6929, 7885, 8029.0]))
+    n = len(at)
+    critical = CriticalSpeeds(np.full(n, "fan"), np.ones(n), np.arange(1, n + 1), at, at / (2 * np.pi),
+                              np.full(n, "forward"), np.ones(n), np.full(n, 0.01))
+    t = np.linspace(0.0, 1.0, 400)
+    result = types.SimpleNamespace(drive_speed=np.linspace(speeds[0], speeds[-1], 400), rotor_names=["motor", "fan"],
+                                   model_name="test", sensor=lambda name: 1e-6 * np.sin(300 * t))
+    fig = plot_runup(result, "probe", critical=critical)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    checked = 0
+    for ax in fig.axes:
+        if ax.get_title().startswith("Order-tracked"):
+            tracks_only = curve_segments(ax, skip=[line for line in ax.get_lines() if line.get_label() == "_critical"])
+            assert len(tracks_only) and ax.get_legend() is not None
+            assert len(crossings(ax.get_legend().get_window_extent(renderer), tracks_only)) == 0, ax.get_title()
+            checked += 1
+    assert checked == 2
+    plt.close(fig)
+
+
 def test_runup_waterfall_shows_its_content_only(gear_runup):
     """The waterfall's frequency axis ends within 1.5 times the highest frequency where the
     spectrum (or a critical speed) is above 1e-3 of the largest, and nothing above that floor

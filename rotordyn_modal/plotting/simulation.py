@@ -148,7 +148,9 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
                  title="Order-tracked phase")
     phase_ax.yaxis.set_major_locator(plt.MultipleLocator(90) if _span(phase_ax) <= 1080 else plt.MaxNLocator())
     for axis in (amplitude_ax, phase_ax):
-        axis.legend(fontsize="small", loc="best")        # where it hides the least of the tracks
+        # below the axes: placed 'best' inside, the critical speeds' lines drawn after it (which
+        # cross every place) drove it onto the tracks
+        _legend_below(axis, axis.get_lines())
         axis.set_xlim(axes[0, 0].get_xlim())            # the run's speeds, as the signal's panel
     _draw_waterfall(fig, axes[1, 1], waterfall(result, sensor, segments=segments), result, critical, sensor,
                     (scale, unit))

@@ -211,6 +211,32 @@ def test_frf_of_suspension_forces_names_every_curve():
     plt.close(fig)
 
 
+def test_frf_of_forces_and_moments_of_several_items_names_each_curve_apart():
+    """Compressor, every force at 6000 rpm (eight FRFs: both bearings' and the rotor's forces,
+    the rotor's moments) in one block of force and moment panels: 'Fy / shaker-y' named three
+    curves. Every legend entry is one curve, and that curve is |H| of the output and input the
+    entry names."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLES / "compressor_rotor.toml")
+    result = rdm.force_frf(model, rdm.rpm(6000), np.linspace(1, 200, 50), where="all")
+    fig = result.plot()
+    magnitude_axes = [ax for ax in fig.axes if ax.get_ylabel().startswith("|H|")]
+    assert len(magnitude_axes) == 2 and not any(a.get_title() for a in fig.axes[1:])   # one block, no item title
+    drawn = 0
+    for ax in magnitude_axes:
+        _every_curve_in_its_legend(ax)
+        names = [line.get_label() for line in _curves(ax)]
+        assert len(names) == len(set(names)), names
+        for line in _curves(ax):
+            output, excitation = line.get_label().split(" / ")
+            h = result.H[result.outputs.index(output), result.inputs.index(excitation)]
+            np.testing.assert_array_equal(line.get_ydata(), np.abs(h))
+            drawn += 1
+    assert drawn >= 6
+    plt.close(fig)
+
+
 def test_frf_over_measurement_keeps_one_legend_entry_per_curve():
     """With a measurement (the model itself, 10 % larger) each model curve is named once and its
     dots follow it in its colour."""

@@ -125,9 +125,14 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
         kinds = [k for k in kinds if k]
         axes = block.subplots(len(kinds) + 1, 1, sharex=True, gridspec_kw={"height_ratios": [2] * len(kinds) + [1]})
         phase = axes[-1]
+        # a block of one force item (its title) names the components only; a block of several
+        # (a few FRFs, forces beside moments) names the items too: 'Fy / shaker-y' three times
+        # (two bearings and the rotor) told the curves apart by nothing
+        one_item = by_item and name and len({o.rsplit(":", 1)[0] for o, _ in members}) == 1
         for ax, kind in zip(axes, kinds):
             _draw_frfs(ax, phase, result, measured, kind,
-                       (lambda o, i: f"{o.rsplit(':', 1)[1]} / {i}") if by_item else (lambda o, i: o), scale)
+                       (lambda o, i: f"{o.rsplit(':', 1)[1]} / {i}") if one_item else (lambda o, i: f"{o} / {i}"),
+                       scale)
             unit = "N m/N" if _is_moment(kind[0][0]) else _UNITS.get(result.quantity, "")
             if scale is not None and scale.units != "si":
                 unit = scale.label(kind)

@@ -401,6 +401,36 @@ def test_runup_track_legends_hide_no_track_among_critical_lines(monkeypatch):
     plt.close(fig)
 
 
+@pytest.mark.parametrize("swing", [65.0, 200.0, 500.0])
+def test_runup_phase_axis_has_readable_ticks(monkeypatch, swing):
+    """The order-tracked phase's axis is ticked at least three times within its limits: ticks
+    every 90 deg on a phase that swings 65 deg (the compressor's run-up, 60 to 125 deg) left one
+    tick on the axis. Drawn from a given track, the ticks counted on the drawn axis."""
+    import types
+
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.plotting.simulation import plot_runup
+    from rotordyn_modal.simulation import runup
+
+    speeds = rdm.rpm(np.linspace(1000.0, 12000.0, 30))
+    phase = 60.0 + swing * np.linspace(0.0, 1.0, 30) ** 2
+    track = runup.OrderTrack(speeds, 1e-6 * np.ones(30), phase, "probe", "shaft", 1.0)
+    fall = runup.Waterfall(speeds, np.linspace(0.0, 200.0, 41), np.full((30, 41), 1e-9), "probe")
+    monkeypatch.setattr(runup, "order_track", lambda *args, **kwargs: track)
+    monkeypatch.setattr(runup, "waterfall", lambda *args, **kwargs: fall)
+    t = np.linspace(0.0, 1.0, 400)
+    result = types.SimpleNamespace(drive_speed=np.linspace(speeds[0], speeds[-1], 400), rotor_names=["shaft"],
+                                   model_name="test", sensor=lambda name: 1e-6 * np.sin(300 * t))
+    fig = plot_runup(result, "probe")
+    fig.canvas.draw()
+    ax, = [a for a in fig.axes if a.get_title() == "Order-tracked phase"]
+    low, high = ax.get_ylim()
+    ticks = [v for v in ax.get_yticks() if low <= v <= high]
+    assert len(ticks) >= 3, ticks
+    plt.close(fig)
+
+
 def test_runup_waterfall_shows_its_content_only(gear_runup):
     """The waterfall's frequency axis ends within 1.5 times the highest frequency where the
     spectrum (or a critical speed) is above 1e-3 of the largest, and nothing above that floor

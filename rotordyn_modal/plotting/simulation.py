@@ -146,7 +146,9 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
                      title="Order-tracked amplitude")
     phase_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X phase, unwrapped [deg]",
                  title="Order-tracked phase")
-    phase_ax.yaxis.set_major_locator(plt.MultipleLocator(90) if _span(phase_ax) <= 1080 else plt.MaxNLocator())
+    # ticks every 90 deg where they make at least three (a span under 270 deg got one tick: the
+    # compressor's run-up, 60-125 deg), else matplotlib's
+    phase_ax.yaxis.set_major_locator(plt.MultipleLocator(90) if 270 <= _span(phase_ax) <= 1080 else plt.MaxNLocator())
     for axis in (amplitude_ax, phase_ax):
         # below the axes: placed 'best' inside, the critical speeds' lines drawn after it (which
         # cross every place) drove it onto the tracks

@@ -234,6 +234,11 @@ def test_frf_of_forces_and_moments_of_several_items_names_each_curve_apart():
             np.testing.assert_array_equal(line.get_ydata(), np.abs(h))
             drawn += 1
     assert drawn >= 6
+    # the one phase panel: each curve in the style of one magnitude curve, no two alike (the
+    # moments' curves took the first forces' colours)
+    styles = [(line.get_color(), line.get_linestyle()) for ax in magnitude_axes for line in _curves(ax)]
+    phase_styles = [(line.get_color(), line.get_linestyle()) for line in fig.axes[-1].get_lines()]
+    assert len(set(styles)) == len(styles) and sorted(phase_styles) == sorted(styles)
     plt.close(fig)
 
 

@@ -120,7 +120,8 @@ def test_a_flexible_machine_in_free_spin_or_on_a_journal_bearing_with_a_given_lo
     assert "\n" not in str(error.value)
     data = model.to_dict()
     data["bearings"][0] = {"name": "A", "rotor": "shaft", "axial_position": 0.0, "type": "journal",
-                           "diameter": 0.03, "length": 0.015, "clearance": 3e-5, "viscosity": 0.02, "load": 80.0}
+                           "diameter": 0.03, "length": 0.015, "clearance": 3e-5, "viscosity": 0.02, "load": 80.0,
+                           "load_direction": [0.0, 0.0, -1.0]}
     with pytest.raises(InputError, match=r"\[bearings.A\] load = 80: the time simulation loads a journal") as error:
         rdm.simulate(rdm.Model.from_dict(data, source="small.toml"), 0.1, 100.0)
     assert "\n" not in str(error.value)

@@ -160,14 +160,15 @@ def wrenches(model, V, system_films, eta, deta, spin) -> np.ndarray:
     from ..assembly import bearing_motion
 
     out = np.zeros((len(spin), len(system_films.names), 6))
+    force = _COMPILED.get("film_force", film_force)     # compiled when the run was: the same function
     for j, bearing in enumerate(journal_bearings(model)):
         rows, local = bearing_motion(model, bearing)
         reduced = local @ V[rows]                                   # (6, r)
         z, z_dot = eta @ reduced.T, deta @ reduced.T
         out[:, j] = z @ bearing.coefficients.stiffness[0].T + z_dot @ bearing.coefficients.damping[0].T
         for k in range(len(spin)):
-            out[k, j, :3] -= film_force(z[k, :3], z_dot[k, :3], system_films.ratio[j] * spin[k],
-                                        system_films.axes[j], system_films.film[j])
+            out[k, j, :3] -= force(np.ascontiguousarray(z[k, :3]), np.ascontiguousarray(z_dot[k, :3]),
+                                   system_films.ratio[j] * spin[k], system_films.axes[j], system_films.film[j])
     return out
 
 
@@ -202,5 +203,5 @@ def compiled_film_load(numba):
                                ("film_load", film_load)):
             rebound = types.FunctionType(function.__code__, namespace, name, function.__defaults__)
             namespace[name] = numba.njit(cache=True)(rebound)
-        _COMPILED["film_load"] = namespace["film_load"]
+        _COMPILED["film_load"], _COMPILED["film_force"] = namespace["film_load"], namespace["film_force"]
     return _COMPILED["film_load"]

@@ -198,3 +198,27 @@ def test_right_hand_side_is_the_linear_structure_plus_the_film_force_by_quadratu
             packed = (*flexible._packed(system, speed, 0.0), *system.films.arguments())
             np.testing.assert_allclose(flexible._compiled("auto", True)(0.0, y, *packed), got, rtol=0,
                                        atol=1e-12 * np.abs(got).max())
+
+
+def test_command_line_simulates_a_flexible_rotor_on_journal_bearings(tmp_path, capsys):
+    """``rotordyn-modal simulate`` on such a model: the run from equilibrium writes its CSV, the
+    journal bearings' forces at the start carry half the weight each; at speed 0 the equilibrium
+    is refused in one line (exit 2)."""
+    from rotordyn_modal.cli.main import main
+    from rotordyn_modal.io.model_file import save_model
+
+    path = tmp_path / "whip.toml"
+    save_model(_machine(unbalance=1e-4), path)
+    out = tmp_path / "run.csv"
+    assert main(["simulate", str(path), "--speed", "3800", "--duration", "0.01", "--initial", "equilibrium",
+                 "--samples", "11", "--out", str(out), "--quiet"]) == 0
+    import pandas as pd
+
+    table = pd.read_csv(out)
+    weight = 9.81 * (7810.0 * np.pi * 0.025 ** 2 / 4 * 0.6 + DISK + 2 * COLLAR)
+    np.testing.assert_allclose(table[["A_Fz", "B_Fz"]].iloc[0], [-weight / 2] * 2, rtol=1e-6)
+    capsys.readouterr()
+    assert main(["simulate", str(path), "--speed", "0", "--duration", "0.01", "--initial", "equilibrium",
+                 "--quiet"]) == 2
+    error = capsys.readouterr().err.strip()
+    assert "speed 0" in error and "\n" not in error, error

@@ -48,7 +48,8 @@ def _machine(diameter=0.025, unbalance=0.0, elements=2):
 def test_equilibrium_is_the_short_bearing_static_position_under_half_the_weight():
     """``initial='equilibrium'``: each journal sits where the short-bearing film (pressure
     integrated by quadrature, independently of the package) carries half the rotor's weight
-    (mass from the drawing: shaft, disk, collars), at its eccentricity and attitude angle."""
+    (mass from the drawing: shaft, disk, collars), at its eccentricity and attitude angle; the
+    default basis gives the equilibrium of the full model."""
     from journal_reference import Bearing, static_equilibrium
 
     diameter, speed = 0.025, 400.0
@@ -64,6 +65,11 @@ def test_equilibrium_is_the_short_bearing_static_position_under_half_the_weight(
     # the bearings carry the weight: the film's force passed to the ground is half the weight each, down
     np.testing.assert_allclose(res.bearing_forces[0, :, :3], [[0.0, 0.0, -weight / 2]] * 2, rtol=0,
                                atol=1e-6 * weight)
+    # the basis holds the static deflections under the weights and under forces at the journals,
+    # so the equilibrium (weights against films) is the full model's, every mode kept, to round-off
+    full = rdm.simulate(model, 1e-4, speed, initial="equilibrium", samples=2, backend="numpy", modes_below=np.inf)
+    assert rdm.simulation.flexible.reduced_system(model, speed, 4 * speed).size < model.dofs.n   # reduced
+    np.testing.assert_allclose(res.sensors[0], full.sensors[0], rtol=0, atol=1e-9 * np.abs(full.sensors[0]).max())
 
 
 def _free_modes(model, speed, slower_than):

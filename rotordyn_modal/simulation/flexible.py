@@ -18,7 +18,9 @@ acceleration ``a_g`` of every body). ``q = V eta`` on a speed-independent basis:
 modes at the start speed below a cutoff (at least the lowest :data:`LOWEST`) plus the static
 deflections under the unbalances', weights' and impulse's forces that those modes leave out
 (modal truncation augmentation), made M-orthonormal by a Rayleigh-Ritz step. With every mode
-kept the reduction is exact.
+kept the reduction is exact. Plain journal bearings are left out of the matrices and push their
+journals with the oil film's nonlinear force (:mod:`rotordyn_modal.simulation.flexible_journal`);
+the basis then also holds the static deflections under forces at the journals.
 """
 
 from __future__ import annotations

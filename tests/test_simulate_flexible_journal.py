@@ -228,3 +228,12 @@ def test_command_line_simulates_a_flexible_rotor_on_journal_bearings(tmp_path, c
                  "--quiet"]) == 2
     error = capsys.readouterr().err.strip()
     assert "speed 0" in error and "\n" not in error, error
+
+
+def test_a_journal_that_cannot_carry_its_load_ends_the_run_with_one_line():
+    """Started centred at a crawl the film has almost no wedge: the journals sink to their walls
+    and the run stops with one line naming each journal's eccentricity, not a traceback."""
+    with pytest.raises(InputError, match=r"journal bearings \(eccentricity at the last output time: "
+                       r"\[bearings.A\] 0\.\d+, \[bearings.B\] 0\.\d+\).*bearing wall") as error:
+        rdm.simulate(_machine(), 0.3, 2.0, samples=31)
+    assert "\n" not in str(error.value)

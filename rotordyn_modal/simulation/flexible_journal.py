@@ -3,8 +3,8 @@
 
 The structure stays linear (:mod:`rotordyn_modal.simulation.flexible`) and is assembled without
 the journal bearings' oil films; each film pushes its journal with the nonlinear short-bearing
-force (:func:`rotordyn_modal.simulation._kernels.film_force`, the kernel of the large-rotation
-model, numpy or numba) of the journal centre's displacement ``z = B eta`` and velocity
+force (:func:`rotordyn_modal.simulation._fast._film_force`, the kernel of the large-rotation
+model, plain or compiled by numba) of the journal centre's displacement ``z = B eta`` and velocity
 ``z' = B eta'`` relative to its housing (stator, pedestal or ground), at the journal's own speed
 ``r_j phi'``; on the reduced coordinates it acts as ``B^T F``. The basis holds, besides the
 modes of the structure without the films, the static deflections under unit forces at every
@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ._kernels import film_force
+from ._fast import _film_force, _sommerfeld_angle
 
 __all__ = ["Films", "journal_bearings", "constant_parts", "attachment_loads", "films", "film_load",
            "equilibrium", "wrenches", "compiled_film_load", "failure"]
@@ -115,11 +115,14 @@ def film_load(eta, deta, w, ratio, moves, axes, film):
 
     ``eta``, ``deta`` (r,): reduced coordinates and their rates; ``w`` [rad/s]: the drive's
     speed; the rest as :class:`Films`."""
-    out = np.zeros(eta.shape[0])
+    r = eta.shape[0]
+    out = np.zeros(r)
+    z, z_dot, force = np.zeros(3), np.zeros(3), np.zeros(3)
     for j in range(ratio.shape[0]):
-        B = moves[j]
-        force = film_force(B @ eta, B @ deta, ratio[j] * w, axes[j], film[j])
-        out += force[0] * B[0] + force[1] * B[1] + force[2] * B[2]
+        for i in range(3):
+            z[i], z_dot[i] = moves[j, i] @ eta, moves[j, i] @ deta
+        _film_force(z, z_dot, ratio[j] * w, axes[j], film[j], force)
+        out += force[0] * moves[j, 0] + force[1] * moves[j, 1] + force[2] * moves[j, 2]
     return out
 
 
@@ -160,15 +163,17 @@ def wrenches(model, V, system_films, eta, deta, spin) -> np.ndarray:
     from ..assembly import bearing_motion
 
     out = np.zeros((len(spin), len(system_films.names), 6))
-    force = _COMPILED.get("film_force", film_force)     # compiled when the run was: the same function
+    kernel = _COMPILED.get("film_force", _film_force)     # compiled when the run was: the same function
+    force = np.zeros(3)
     for j, bearing in enumerate(journal_bearings(model)):
         rows, local = bearing_motion(model, bearing)
         reduced = local @ V[rows]                                   # (6, r)
         z, z_dot = eta @ reduced.T, deta @ reduced.T
         out[:, j] = z @ bearing.coefficients.stiffness[0].T + z_dot @ bearing.coefficients.damping[0].T
         for k in range(len(spin)):
-            out[k, j, :3] -= force(np.ascontiguousarray(z[k, :3]), np.ascontiguousarray(z_dot[k, :3]),
-                                   system_films.ratio[j] * spin[k], system_films.axes[j], system_films.film[j])
+            kernel(np.ascontiguousarray(z[k, :3]), np.ascontiguousarray(z_dot[k, :3]),
+                   system_films.ratio[j] * spin[k], system_films.axes[j], system_films.film[j], force)
+            out[k, j, :3] -= force
     return out
 
 
@@ -194,14 +199,12 @@ _COMPILED: dict = {}
 
 def compiled_film_load(numba):
     """:func:`film_load` compiled by numba with the large-rotation model's own film kernel
-    (:func:`rotordyn_modal.simulation._kernels.film_force`, compiled in a namespace of its own)."""
+    (:func:`rotordyn_modal.simulation._fast._film_force`, compiled in a namespace of its own)."""
     if "film_load" not in _COMPILED:
-        from . import _kernels
-
         namespace = {"__name__": __name__, "np": np}
-        for name, function in (("sommerfeld_angle", _kernels.sommerfeld_angle), ("film_force", film_force),
+        for name, function in (("_sommerfeld_angle", _sommerfeld_angle), ("_film_force", _film_force),
                                ("film_load", film_load)):
             rebound = types.FunctionType(function.__code__, namespace, name, function.__defaults__)
             namespace[name] = numba.njit(cache=True)(rebound)
-        _COMPILED["film_load"], _COMPILED["film_force"] = namespace["film_load"], namespace["film_force"]
+        _COMPILED["film_load"], _COMPILED["film_force"] = namespace["film_load"], namespace["_film_force"]
     return _COMPILED["film_load"]

@@ -20,6 +20,7 @@ eigen-solve), with a notice. Models below ``DENSE_BELOW`` coordinates are solved
 
 from __future__ import annotations
 
+import functools
 import typing
 import warnings
 
@@ -29,7 +30,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 from scipy.linalg.lapack import zgbsv as _zgbsv
 
-from . import _batches, _pencils, _vectors
+from . import _batches, _eigensolve, _pencils, _vectors
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]
@@ -73,7 +74,7 @@ def lowest_roots(stack, speeds, count: int):
         The speeds solved whole (fallback).
     """
     if stack.n_dof < DENSE_BELOW:           # every root of every speed costs less here
-        lam, phi = _full_lowest(stack, speeds, count)
+        lam, phi = _dense_lowest(stack, speeds, count)
         return lam, phi, np.ones(len(speeds), bool)
     # its dense steps are small BLAS calls (n x n once, m x m per speed): BLAS's own threads only
     # wait for a core on a shared machine (measured up to 10x slower at load 5); the batched
@@ -553,3 +554,65 @@ def _full_lowest(stack, speeds, count):
     order = np.argsort(key, axis=-1, kind="stable")[:, :count]
     rows = np.arange(len(speeds))[:, None]
     return lam[rows, order], phi[rows, order]
+
+
+#: a wanted root closer than this times |lam| to another root (or to its conjugate) takes its
+#: shape from the full eigen-solve: one inverse-iteration step leaves an error of about its
+#: shift (1e-13 |lam|) over that gap
+_CLOSE = 1e-4
+
+
+def _dense_lowest(stack, speeds, count):
+    """:func:`_full_lowest` of a small model (``DENSE_BELOW``) from eigenvalues alone: every root of
+    every speed by one batched ``eigvals``, the ``count`` lowest oscillating roots' shapes by one
+    inverse-iteration step each on the pencil (``_pencils.pencil_shapes``). A speed whose roots
+    need their eigenvectors to be judged, whose wanted roots are not all modes, or where a
+    wanted root lies within ``_CLOSE`` of another, is solved whole by :func:`_full_lowest`.
+
+    Returns
+    -------
+    eigenvalues : ndarray, shape (S, count), complex; shapes : ndarray, shape (S, count, n)
+    """
+    upper, whole = _eigensolve.upper_eigenvalues(stack.sweep(speeds)[0])
+    key = np.where(is_oscillating(upper), upper.imag, np.inf)
+    order = np.argsort(key, axis=-1, kind="stable")[:, :count]
+    lam = np.take_along_axis(upper, order, axis=1)
+    whole |= ~is_oscillating(lam).all(axis=1) | _close(lam, upper, order)
+    shapes = np.empty(lam.shape + (stack.n_dof,), complex)
+    if whole.any():
+        lam[whole], shapes[whole] = _full_lowest(stack, speeds[whole], count)
+    sure = np.nonzero(~whole)[0]
+    if len(sure):
+        shapes[sure] = _pencil_shapes(stack, speeds[sure], lam[sure])
+    return lam, shapes
+
+
+def _pencil_shapes(stack, speeds, lam):
+    """Unit shapes (S, k, n) of the roots ``lam`` (S, k), one inverse-iteration step each on its
+    speed's pencil (``_pencils.pencil_shapes``), the speeds shared between threads."""
+    damping, stiffness = stack.damping_stiffness(np.zeros(len(speeds), int), speeds)
+    k, n = lam.shape[1], stack.n_dof
+    if stiffness.ndim == 2:             # one stiffness for every speed
+        part = functools.partial(_pencil_shapes_part, stack.M[0], stiffness)
+        return _batches._threaded(part, lam, damping, item_bytes=48 * k * n * n)
+    return _batches._threaded(functools.partial(_pencil_shapes_part, stack.M[0]), stiffness, lam, damping,
+                              item_bytes=48 * k * n * n)
+
+
+def _pencil_shapes_part(M, stiffness, lam, damping):
+    """:func:`_pencil_shapes` of some speeds: ``stiffness`` (n, n), or (P, n, n) per speed."""
+    k = lam.shape[1]
+    if stiffness.ndim == 3:
+        stiffness = np.repeat(stiffness, k, axis=0)
+    shapes = _pencils.pencil_shapes(M, np.repeat(damping, k, axis=0), stiffness, lam.reshape(-1))
+    return shapes.reshape(lam.shape + (M.shape[-1],))
+
+
+def _close(lam, upper, order):
+    """(S,) a root of ``lam`` (S, k) lies within ``_CLOSE`` times its modulus of another root of
+    ``upper`` (S, m), the upper roots it was picked from (at ``order`` (S, k)), or of its own
+    conjugate."""
+    distance = np.abs(lam[:, :, None] - upper[:, None, :])
+    np.put_along_axis(distance, order[:, :, None], np.inf, axis=-1)          # itself
+    nearest = np.minimum(distance.min(axis=-1), 2 * np.abs(lam.imag))
+    return (nearest <= _CLOSE * np.abs(lam)).any(axis=1)

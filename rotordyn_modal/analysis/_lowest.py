@@ -605,6 +605,12 @@ def _pencil_shapes_part(M, stiffness, lam, damping):
     if stiffness.ndim == 3:
         stiffness = np.repeat(stiffness, k, axis=0)
     shapes = _pencils.pencil_shapes(M, np.repeat(damping, k, axis=0), stiffness, lam.reshape(-1))
+    # the phase of eig's state eigenvectors [phi, lam phi]: their largest entry real (up to its
+    # sign, which eig leaves open)
+    roots = lam.reshape(-1, 1)
+    largest = np.take_along_axis(shapes, np.abs(shapes).argmax(axis=-1)[:, None], axis=-1)
+    largest = np.where(np.abs(roots) > 1.0, roots * largest, largest)
+    shapes *= largest.conj() / np.abs(largest)
     return shapes.reshape(lam.shape + (M.shape[-1],))
 
 

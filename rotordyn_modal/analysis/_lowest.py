@@ -253,15 +253,43 @@ def _projected_starts(pencils, basis, want, index=None):
         A[:, :m, m:] = np.eye(m)
         A[:, m:, :m] = -Kr              # the basis is mass-orthonormal: W^T M W = I
         A[:, m:, m:] = -D
-        # in threads, one BLAS thread each (BLAS's own threads on top oversubscribe the cores)
-        lam, vec = _batches._threaded(np.linalg.eig, A, item_bytes=72 * (2 * m) ** 2)
-        # oscillating roots by frequency; the others pushed to the end
-        key = np.where(is_oscillating(lam), lam.imag, np.inf)
-        order = np.argsort(key, axis=-1)[:, :want]
-        rows = np.arange(len(D))[:, None]
-        starts[part] = lam[rows, order]
-        vectors[part] = _vectors.unit_rows(vec[rows, :m, order] @ Wt)
+        lam, shapes = _projected_roots(A, D, Kr, want)
+        starts[part] = lam
+        vectors[part] = _vectors.unit_rows(shapes @ Wt)
     return starts, vectors
+
+
+def _projected_roots(A, damping, stiffness, want):
+    """The ``want`` lowest-frequency oscillating roots (P, want) of the projected state matrices
+    ``A`` (P, 2 m, 2 m) and their shapes (P, want, m): the roots by a batched ``eigvals``, the shapes
+    by one inverse-iteration step each on the projected pencils (``damping``, ``stiffness`` (P, m, m),
+    unit mass); a speed where a root picked is not a mode or lies within ``_CLOSE`` of another
+    takes ``eig``'s roots and eigenvectors. Threads, one BLAS thread each (BLAS's own threads on
+    top oversubscribe the cores)."""
+    m = damping.shape[-1]
+    lam = _batches._threaded(np.linalg.eigvals, A, item_bytes=24 * (2 * m) ** 2)
+    order = _lowest_order(lam, want)
+    picked = np.take_along_axis(lam, order, axis=1)
+    whole = ~is_oscillating(picked).all(axis=1) | _close(picked, lam, order)
+    shapes = np.empty(picked.shape + (m,), complex)
+    if whole.any():
+        values, vectors = np.linalg.eig(A[whole])
+        order = _lowest_order(values, want)
+        rows = np.arange(len(values))[:, None]
+        picked[whole], shapes[whole] = values[rows, order], vectors[rows, :m, order]
+    sure = np.nonzero(~whole)[0]
+    if len(sure):
+        part = functools.partial(_pencil_shapes_part, np.eye(m))
+        shapes[sure] = _batches._threaded(part, stiffness[sure], picked[sure], damping[sure],
+                                          item_bytes=48 * want * m * m)
+    return picked, shapes
+
+
+def _lowest_order(lam, want):
+    """Where the ``want`` lowest-frequency oscillating roots of each row of ``lam`` are (P, want):
+    the oscillating roots by frequency, the others pushed to the end."""
+    key = np.where(is_oscillating(lam), lam.imag, np.inf)
+    return np.argsort(key, axis=-1)[:, :want]
 
 
 class _Pencils:

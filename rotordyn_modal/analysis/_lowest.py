@@ -6,7 +6,8 @@ Three steps (``docs/theory.md``, "The lowest modes only"):
    stiffness and mass at the sweep's first speed, mass-orthonormal, and ``k`` attachment
    directions (the static response to forces where the bearings act, outside those modes);
 2. the projected pencils (``(m + k)`` square) of every speed, solved in one batched
-   ``numpy.linalg.eig`` of their state matrices: starts for the wanted roots;
+   ``numpy.linalg.eigvals`` of their state matrices, the wanted roots' vectors by inverse
+   iteration: starts for the wanted roots;
 3. each start refined to the full model's root by Newton's iteration on the full quadratic
    pencil ``Q(s) = s^2 M + s (C + Omega G) + K`` (a banded LU per root and iteration where the
    pencils are banded, with a casing's coordinates as a border; batched dense LU for small
@@ -15,7 +16,8 @@ Three steps (``docs/theory.md``, "The lowest modes only"):
 A speed where the refined roots are not ``count + 1`` distinct modes, where a projected root
 left unrefined could stand for a lower root, or where the basis cannot be shown to hold every
 root below the wanted ones (see :class:`_Bound`), is solved whole instead (the full
-eigen-solve), with a notice. Models below ``DENSE_BELOW`` coordinates are solved whole.
+eigen-solve), with a notice. Models below ``DENSE_BELOW`` coordinates solve every root of every
+speed (eigenvalues alone, the wanted roots' shapes by inverse iteration: :func:`_dense_lowest`).
 """
 
 from __future__ import annotations

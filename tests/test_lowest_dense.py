@@ -103,14 +103,15 @@ def test_balanced_norm_of_a_matrix_is_its_own_in_any_stack(monkeypatch):
     assert np.all(whole >= np.sqrt(np.sum(np.diagonal(stack, axis1=1, axis2=2) ** 2, axis=1)))
 
 
-@pytest.mark.parametrize("count", [1, 5])
-def test_dense_route_equals_the_whole_solve(count):
+@pytest.mark.parametrize("name, count", [("rotor_example", 1), ("rotor_example", 5), ("speed_tables", 6)])
+def test_dense_route_equals_the_whole_solve(name, count):
     """_dense_lowest and the whole solve of every root (eig with eigenvectors) agree: the same
-    roots to round-off, the same shapes up to a phase."""
+    roots to round-off, the same shapes up to a phase (speed_tables: bearings tabulated over
+    speed, a stiffness per speed)."""
     from rotordyn_modal.analysis._stack import Stack
 
-    stack = Stack([rdm.Model.from_dict(read_ross_rotor(ROTOR_EXAMPLE))])
-    speeds = np.linspace(0.0, 3000.0, 9)
+    stack = Stack([rdm.Model.from_dict(read_ross_rotor(f"tests/data/ross/{name}.toml"))])
+    speeds = np.linspace(0.0, 1500.0, 9)
     lam, phi = _lowest._dense_lowest(stack, speeds, count)
     lam_whole, phi_whole = _lowest._full_lowest(stack, speeds, count)
     assert np.allclose(lam, lam_whole, rtol=1e-13, atol=0)

@@ -46,7 +46,8 @@ from .model.geometry import gear_mesh, point_force_column, point_motion_rows, sh
 __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_stiffness",
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
            "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "flexible_rotor_matrices", "dependent_bearing_matrices", "bearing_coefficients",
-           "pedestal_mass", "pedestal_stiffness_damping", "mesh_matrices", "sensor_rows", "point_rows", "excitation_columns", "generalized_force", "weights", "weight_force"]
+           "pedestal_mass", "pedestal_stiffness_damping", "mesh_matrices", "sensor_rows", "point_rows", "excitation_columns", "generalized_force", "weights", "pedestal_weights",
+           "weight_force"]
 
 
 class Matrices(NamedTuple):
@@ -648,11 +649,24 @@ def weights(model) -> list:
     return out + [(r.name, r.center_of_mass, r.mass * model.gravity) for r in model.rotors]
 
 
+def pedestal_weights(model) -> list:
+    """The weight of every bearing's pedestal under ``model.gravity``: ``(bearing name, its
+    position, force)``, force ``m_p g`` [N], shape (3,), model axes. Empty without gravity."""
+    if not np.any(model.gravity):
+        return []
+    return [(b.name, np.asarray(b.position, dtype=float), b.pedestal.mass * np.asarray(model.gravity, dtype=float))
+            for b in model.bearings if b.pedestal is not None]
+
+
 def weight_force(model) -> np.ndarray:
-    """Generalized force of the weights of all bodies (:func:`weights`), shape (n,) [N, N m]."""
+    """Generalized force of the weights of all bodies (:func:`weights`) and of the bearings'
+    pedestals (:func:`pedestal_weights`, through each pedestal's absolute translation), shape
+    (n,) [N, N m]."""
     total = np.zeros(model.dofs.n)
     for body, centre, force in weights(model):
         total += generalized_force(model, body, centre, np.r_[force, 0.0, 0.0, 0.0])
+    for bearing, position, force in pedestal_weights(model):
+        total += model.dofs.pedestal_motion(bearing, position).T @ force
     return total
 
 

@@ -128,7 +128,8 @@ def _sag_line(model, units: str = "si") -> str:
     if not np.any(model.gravity):
         return ""
     _, stiffness, shifts = _on_suspensions(model)
-    total = sum(m for m, _, _ in body_inertias(model))
+    total = sum(m for m, _, _ in body_inertias(model)) + sum(b.pedestal.mass for b in model.bearings
+                                                            if b.pedestal is not None)
     sag = static_solution(stiffness, weight_force(model)[:6])
     if sag is None:
         return (f"{model.source}: the [[suspensions]] do not hold the machine's weight "

@@ -1,9 +1,10 @@
 """Numbers of the balancing and vibration standards, in SI (``docs/standards.md``).
 
 Pure formulas and tables, no model: the ISO 21940-11 permissible residual unbalance of a
-balance grade, the API 617 / API 684 unbalance amount for a response analysis and the API 617
-probe vibration limit, the ISO 20816-3 zone boundaries of casing vibration velocity, and the
-amplitude conventions (0-peak, peak-to-peak, RMS) of a harmonic.
+balance grade, the API 617 / API 684 residual unbalance and the unbalance of a response
+analysis (twice it), the API 617 probe vibration limit and clearance scale factor, the ISO
+20816-3 zone boundaries of casing vibration velocity, and the amplitude conventions (0-peak,
+peak-to-peak, RMS) of a harmonic.
 """
 
 from __future__ import annotations
@@ -13,17 +14,23 @@ import math
 import numpy as np
 
 __all__ = ["BALANCE_GRADES", "balance_grade", "permissible_unbalance", "api_unbalance",
-           "API_SI_CONSTANT", "API_US_CONSTANT", "api_probe_limit", "ISO_20816_3_ZONES",
+           "API_SI_CONSTANT", "API_US_CONSTANT", "API_ANALYSIS_MULTIPLE", "api_analysis_unbalance",
+           "API_SCALE_CAP", "api_scale_factor", "api_probe_limit", "ISO_20816_3_ZONES",
            "iso_zone_boundaries", "iso_zones", "AMPLITUDES", "amplitude_factor", "amplitude_label",
            "amplitude_column"]
 
 #: ISO 21940-11 balance quality grades G [mm/s] (G0.4 ... G4000)
 BALANCE_GRADES = (0.4, 1.0, 2.5, 6.3, 16.0, 40.0, 100.0, 250.0, 630.0, 1600.0, 4000.0)
 
-#: API 617 / 684: U [g mm] = 6350 W [kg] / N [rpm]
+#: API 617 / 684 residual unbalance: Ur [g mm] = 6350 W [kg] / N [rpm]
 API_SI_CONSTANT = 6350.0
-#: the same in US customary units: U [oz in] = 4 W [lb] / N [rpm]
+#: the same in US customary units: Ur [oz in] = 4 W [lb] / N [rpm]
 API_US_CONSTANT = 4.0
+#: API 617 (9th ed. 6.8.2.7, as petrobras/ross implements it): the unbalance of the response
+#: analysis is Ua = 2 Ur
+API_ANALYSIS_MULTIPLE = 2.0
+#: API 617 (9th ed. 6.8.2.10): the largest clearance scale factor Scc = Avl / Amax
+API_SCALE_CAP = 6.0
 
 #: ISO 20816-3 zone boundaries A/B, B/C, C/D [mm/s RMS] by (machine group, support class)
 ISO_20816_3_ZONES = {
@@ -84,7 +91,9 @@ def permissible_unbalance(grade: float, mass: float, speed: float) -> float:
 
 
 def api_unbalance(load: float, mcs_rpm: float) -> float:
-    """API 617 / API 684 unbalance amount ``U = 6350 W / N`` [g mm], returned in [kg m].
+    """API 617 / API 684 residual unbalance ``Ur = 6350 W / N`` [g mm], returned in [kg m].
+
+    The response analysis uses :func:`api_analysis_unbalance`, ``Ua = 2 Ur``.
 
     Parameters
     ----------
@@ -94,6 +103,40 @@ def api_unbalance(load: float, mcs_rpm: float) -> float:
         N [rpm]: the rotor's maximum continuous speed, > 0.
     """
     return API_SI_CONSTANT * load / mcs_rpm * 1e-6
+
+
+def api_analysis_unbalance(load: float, mcs_rpm: float) -> float:
+    """API 617 unbalance of the response analysis ``Ua = 2 Ur = 2 x 6350 W / N`` [g mm], in [kg m].
+
+    Parameters
+    ----------
+    load : float
+        W [kg]: the journal static load (or the mass the mode moves).
+    mcs_rpm : float
+        N [rpm]: the rotor's maximum continuous speed, > 0.
+    """
+    return API_ANALYSIS_MULTIPLE * api_unbalance(load, mcs_rpm)
+
+
+def api_scale_factor(limit, largest, cap=API_SCALE_CAP):
+    """API 617 clearance scale factor ``Scc = Avl / Amax``, at most ``cap``.
+
+    Parameters
+    ----------
+    limit : float or ndarray
+        Avl [m] pk-pk: the probe vibration limit (:func:`api_probe_limit`).
+    largest : float or ndarray
+        Amax [m] pk-pk: the largest calculated probe amplitude over the operating speeds, > 0.
+    cap : float or None
+        The largest factor (API 617: 6); None for none.
+
+    Returns
+    -------
+    float or ndarray
+        The factor that scales the response at the close clearances.
+    """
+    factor = np.asarray(limit, dtype=float) / np.asarray(largest, dtype=float)
+    return factor if cap is None else np.minimum(factor, cap)
 
 
 def api_probe_limit(mcs_rpm):

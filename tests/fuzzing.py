@@ -676,6 +676,8 @@ OPTION_SPACE = {
                   "--freq-range": lambda r: r.choice(("0:40", "5:2", "1:1", "-1:5", "x", "", "0:1e308", "1e-300:1e12",
                                                       "nan:3", "2:3:4", _range_text(r))),
                   "--freq-max": lambda r: r.choice(("40", "0", "-3", "inf", "x", "1e-300", _number_text(r))),
+                  "--max-frequency": lambda r: r.choice(("40", "0", "-3", "nan", "x", "1e-300", "1e300",
+                                                         _number_text(r))),
                   "--freq-scale": lambda r: r.choice(("auto", "linear", "log", "LOG", "x", "")),
                   "--plot": _plot_text}),
     "static": ("gear_machine.toml", ["--quiet"],
@@ -688,7 +690,8 @@ OPTION_SPACE = {
                 "--moment": lambda r: r.choice(("fan:0,0,5", "stator:1,2", "x", "", "motor:1e308,0,0")),
                 "--plot": _plot_text}),
     "critical-speeds": ("gear_machine.toml", ["--speeds", SPEEDS, "--quiet"],
-                        {"--speeds": _range_text, "--orders": _list_text}),
+                        {"--speeds": _range_text, "--orders": _list_text,
+                         "--max-frequency": lambda r: r.choice(("40", "0", "nan", "x", "1e300", _number_text(r)))}),
     "stability": ("unstable_cross_coupled.toml", ["--speeds", SPEEDS, "--quiet"],
                   {"--speeds": _range_text, "--vary": lambda r: r.choice(
                       ("suspensions.bearing-A.damping", "suspensions.bearing-A.stiffness[1][2]", "nosuch",

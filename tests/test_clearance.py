@@ -53,7 +53,23 @@ def _by_hand(w, force, moment):
     return np.linalg.solve(system, rhs[..., None])[..., 0]
 
 
+PROBE = 0.5                                                  # the probe's offset from the centre [m]
+
+
+def _scale(z, psi, checked, mcs_rpm, cap=6.0):
+    """API 617 (9th ed. 6.8.2.10, as petrobras/ross PR #1377 implements it): Scc = Avl / Amax, at
+    most 6; Avl = 25.4 um sqrt(12000 / N), at most 25.4 um; Amax the probe's largest pk-pk over
+    the operating speeds (here 0 to the MCS). A forward circle: the probe reads 2 |z + s psi|."""
+    amax = (2 * np.abs(z + PROBE * psi))[checked].max()
+    avl = min(25.4e-6, 25.4e-6 * np.sqrt(12000 / mcs_rpm))
+    return avl / amax if cap is None else min(avl / amax, cap)
+
+
 def test_clearance_check_of_a_rigid_rotor_equals_the_hand_solve():
+    """API 617 (9th ed. 6.8.2.7, 6.8.2.10, 6.8.2.11 as petrobras/ross PR #1377 implements them):
+    the unbalance Ua = 2 Ur, Ur = 6350 W / N g mm; the pk-pk response at each close clearance
+    scaled by Scc = Avl / Amax (at most 6) against 75 % of the diametral clearance. The old check
+    (Ur, unscaled) fails here."""
     model = rdm.Model.from_dict(_rigid_data(), "seals.toml")
     mcs_rpm = 6000.0
     mcs = mcs_rpm * np.pi / 30
@@ -61,27 +77,84 @@ def test_clearance_check_of_a_rigid_rotor_equals_the_hand_solve():
     check = api_unbalance_response(model, speeds, mcs).clearance_check(model, mcs=mcs)
     table = check.to_dataframe()
     w = speeds
-    static = 6350e-6 * MASS / mcs_rpm                          # API: 6350 W / N g mm, W the rotor's mass
-    couple = 6350e-6 * (MASS / 2) / mcs_rpm                    # at each outermost bearing plane, 180 deg apart
+    static = 2 * 6350e-6 * MASS / mcs_rpm                      # API: 2 x 6350 W / N g mm, W the rotor's mass
+    couple = 2 * 6350e-6 * (MASS / 2) / mcs_rpm                # at each outermost bearing plane, 180 deg apart
     a1, a2 = BEARINGS[0][0], BEARINGS[1][0]
     cases = {"api-static:rotor": _by_hand(w, static * w ** 2, 0.0),
              "api-couple:rotor": _by_hand(w, 0.0, couple * w ** 2 * (a1 - a2))}
     assert check.cases == tuple(cases)
     checked = w <= mcs * (1 + 1e-12)
     for case, (z, psi) in ((name, q.T) for name, q in cases.items()):
+        scale = _scale(z, psi, checked, mcs_rpm)
         for name, (s, radial) in STATIONS.items():
             pkpk = 2 * np.abs(z + s * psi)
             k = int(np.argmax(np.where(checked, pkpk, -1)))
             row = table[(table["clearance"] == name) & (table["case"] == case)].iloc[0]
-            assert row["value"] == pytest.approx(pkpk[k], rel=1e-9)
+            assert row["response"] == pytest.approx(pkpk[k], rel=1e-9)
+            assert row["scale_factor"] == pytest.approx(scale, rel=1e-9)
+            assert row["value"] == pytest.approx(scale * pkpk[k], rel=1e-9)
             assert row["speed_rpm"] == pytest.approx(w[k] * 30 / np.pi, rel=1e-12)
             assert row["limit"] == pytest.approx(0.75 * 2 * radial, rel=1e-15)
-            assert row["ratio"] == pytest.approx(pkpk[k] / (1.5 * radial), rel=1e-9)
-            assert row["verdict"] == ("pass" if pkpk[k] <= 1.5 * radial else "fail")
+            assert row["ratio"] == pytest.approx(scale * pkpk[k] / (1.5 * radial), rel=1e-9)
+            assert row["verdict"] == ("pass" if scale * pkpk[k] <= 1.5 * radial else "fail")
             assert row["amplitude"] == "peak-to-peak"
     # the clearances are chosen so that one station passes and one fails the static case
     static_rows = table[table["case"] == "api-static:rotor"].set_index("clearance")
     assert set(static_rows["verdict"]) == {"pass", "fail"}
+
+
+def test_scaled_clearance_response_does_not_depend_on_the_unbalance_amount():
+    """The analysis is linear: Scc x response is the same for any unbalance while Scc is below
+    its cap; with the cap (API 617: 6) a small unbalance's value is 6 x its response. Without a
+    probe on the rotor nothing is scaled (said in ``scaling``)."""
+    mcs = 6000.0 * np.pi / 30
+    speeds = np.linspace(0.05, 1.4, 60) * mcs
+    values = []
+    for amount in (1e-4, 4e-4):
+        data = _rigid_data()
+        data["unbalances"][0]["amount"] = amount
+        model = rdm.Model.from_dict(data, "seals.toml")
+        table = rdm.unbalance_response(model, speeds).clearance_check(model, mcs=mcs, scale_cap=None).to_dataframe()
+        values.append(table["value"].to_numpy())
+        assert (table["scaling"] == "Avl/Amax").all()
+    assert np.allclose(values[0], values[1], rtol=1e-9)
+    data = _rigid_data()
+    data["unbalances"][0]["amount"] = 1e-9
+    model = rdm.Model.from_dict(data, "seals.toml")
+    table = rdm.unbalance_response(model, speeds).clearance_check(model, mcs=mcs).to_dataframe()
+    assert (table["scale_factor"] == 6.0).all() and (table["scaling"] == "Avl/Amax capped at 6").all()
+    assert np.allclose(table["value"], 6.0 * table["response"], rtol=1e-12)
+    data["sensors"] = []
+    model = rdm.Model.from_dict(data, "seals.toml")
+    table = rdm.unbalance_response(model, speeds).clearance_check(model, mcs=mcs).to_dataframe()
+    assert (table["scale_factor"] == 1.0).all() and (table["scaling"] == "unscaled: no probe on rotor rotor").all()
+    assert np.allclose(table["value"], table["response"], rtol=0)
+
+
+def test_scale_factor_takes_the_probes_over_the_operating_speeds():
+    """Amax is the probes' largest amplitude from the minimum operating speed to the MCS (API 617:
+    the operating speeds), not over the run-up through a critical speed below them."""
+    model = rdm.Model.from_dict(_rigid_data(), "seals.toml")
+    mcs_rpm = 6000.0
+    mcs = mcs_rpm * np.pi / 30
+    speeds = np.linspace(0.05, 1.4, 60) * mcs
+    response = api_unbalance_response(model, speeds, mcs)
+    low = 0.8 * mcs
+    table = response.clearance_check(model, mcs=mcs, min_operating=low).to_dataframe()
+    static = 2 * 6350e-6 * MASS / mcs_rpm
+    z, psi = _by_hand(speeds, static * speeds ** 2, 0.0).T
+    operating = (speeds >= low) & (speeds <= mcs * (1 + 1e-12))
+    row = table[table["case"] == "api-static:rotor"].iloc[0]
+    assert row["scale_factor"] == pytest.approx(_scale(z, psi, operating, mcs_rpm), rel=1e-9)
+    with pytest.raises(rdm.InputError, match="minimum operating speed"):
+        response.clearance_check(model, mcs=mcs, min_operating=1.1 * mcs)
+    # no speed of the sweep at exactly the MCS: Amax at the sweep's speed nearest it, said
+    row = response.clearance_check(model, mcs=mcs, min_operating=mcs).to_dataframe().iloc[0]
+    k = int(np.argmin(np.abs(speeds - mcs)))
+    assert not np.isclose(speeds[k], mcs)
+    assert row["scale_factor"] == pytest.approx(_scale(z, psi, np.arange(len(speeds)) == k, mcs_rpm), rel=1e-9)
+    assert row["scaling"].endswith(f" (Amax at {speeds[k] * 30 / np.pi:.6g} rpm, the sweep's speed nearest "
+                                   "the operating speeds)")
 
 
 def test_trip_speed_widens_the_checked_speeds():
@@ -146,6 +219,16 @@ def test_unbalance_prints_the_clearance_check(tmp_path, capsys):
     assert "mil" in "".join(capsys.readouterr())
     assert main(["unbalance", str(path), "--speeds", "300:8400:29", "--trip-speed", "6300",
                  "--out", str(tmp_path / "u3.csv")]) == 2
+    assert main(["unbalance", str(path), "--speeds", "300:8400:29", "--mcs", "6000", "--api-unbalance",
+                 "--min-operating-speed", "4800", "--out", str(tmp_path / "u4.csv")]) == 0
+    shown = "".join(capsys.readouterr())
+    assert "scale_factor" in shown and "Avl/Amax" in shown
+    for bad in (["--min-operating-speed", "6500", "--mcs", "6000"], ["--min-operating-speed", "4800"]):
+        assert main(["unbalance", str(path), "--speeds", "300:8400:29", *bad,
+                     "--out", str(tmp_path / "u5.csv")]) == 2
+        error = capsys.readouterr().err
+        assert "--min-operating-speed" in error and "expected --mcs too and a speed >= 0 and at most --mcs" in error
+        assert not (tmp_path / "u5.csv").exists()
 
 
 def test_response_is_relative_to_the_moving_casing():

@@ -104,7 +104,8 @@ def test_several_planes_superpose_and_equal_the_independent_solve(sweep):
 
 def test_amplification_factor_and_separation_margin_of_the_bending_critical(sweep):
     """API 684: AF = N_c / (N_2 - N_1) from the half-power points; the separation margin
-    100 |N_op - N_c| / N_op and the required margin 17 (1 - 1 / (AF - 1.5)) for AF > 3.55. The
+    100 |N_op - N_c| / N_op and the required margin of a critical below the operating speed,
+    min(16, 17 (1 - 1 / (AF - 1.5))) (API 617; docs/standards.md). The
     package's figures from its 801-speed sweep equal the independent ones from the continuous
     response within the grid's interpolation (1e-3); AF is close to 1 / (2 zeta) of the mode
     (first order in zeta, the unbalance force growing as Omega^2 across the band)."""
@@ -119,8 +120,8 @@ def test_amplification_factor_and_separation_margin_of_the_bending_critical(swee
     assert row["speed_rpm"] * np.pi / 30 == pytest.approx(peak, rel=(speeds[1] - speeds[0]) / peak)
     assert row["amplification_factor"] == pytest.approx(af, rel=1e-3)
     assert row["separation_margin_pct"] == pytest.approx(100 * abs(operating - peak) / operating, abs=0.1)
-    assert af > 3.55 and row["required_margin_pct"] == pytest.approx(17 * (1 - 1 / (row["amplification_factor"] - 1.5)),
-                                                                     rel=1e-12)
+    assert af > 2.5 and row["required_margin_pct"] == pytest.approx(
+        min(16.0, 17 * (1 - 1 / (row["amplification_factor"] - 1.5))), rel=1e-12)
     # the mode at the critical speed, from the independent matrices: lambda of the quadratic pencil
     n = len(independent.K)
     zero, eye = np.zeros((n, n)), np.eye(n)

@@ -202,7 +202,7 @@ def _margin_verdict(response, operating, outputs):
             continue
         speed = peak.speed_rpm * np.pi / 30
         margin = 100 * (low - speed) / low if speed < low else (100 * (speed - high) / high if speed > high else 0)
-        required = required_separation_margin(peak.amplification_factor)
+        required = required_separation_margin(peak.amplification_factor, "above" if speed > high else "below")
         verdicts.append("not evaluated" if np.isnan(required) else ("pass" if margin >= required else "fail"))
     return "fail" if "fail" in verdicts else ("not evaluated" if "not evaluated" in verdicts else "pass")
 

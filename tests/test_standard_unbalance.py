@@ -18,9 +18,10 @@ from rotordyn_modal.analysis.unbalance import api_unbalance_response, unbalance_
 from rotordyn_modal.analysis.unbalance_checks import api_unbalance_cases
 from rotordyn_modal.cli.main import main
 from rotordyn_modal.errors import InputError, ModelError
-from rotordyn_modal.unbalance_standards import (API_SI_CONSTANT, API_US_CONSTANT, api_probe_limit,
-                                                api_unbalance, balance_grade, iso_zone_boundaries, iso_zones,
-                                                permissible_unbalance)
+from rotordyn_modal.unbalance_standards import (API_ANALYSIS_MULTIPLE, API_SCALE_CAP, API_SI_CONSTANT,
+                                                API_US_CONSTANT, api_analysis_unbalance, api_probe_limit,
+                                                api_scale_factor, api_unbalance, balance_grade,
+                                                iso_zone_boundaries, iso_zones, permissible_unbalance)
 
 G_MM = 1e-6          # kg m per g mm
 
@@ -95,6 +96,20 @@ def test_grade_refusals_name_the_key(unbalance, key):
 def test_api_amount_by_hand():
     """6350 W / N g mm: W = 500 kg at N = 10000 rpm is 317.5 g mm."""
     assert api_unbalance(500.0, 10000.0) == pytest.approx(317.5 * G_MM, rel=1e-14)
+
+
+def test_api_analysis_amount_is_twice_the_residual():
+    """API 617 (9th ed. 6.8.2.7, petrobras/ross ``Rotor.api617_unbalance``, PR #1377): Ua = 2 Ur;
+    W = 500 kg at N = 10000 rpm: 635 g mm."""
+    assert api_analysis_unbalance(500.0, 10000.0) == pytest.approx(635.0 * G_MM, rel=1e-14)
+    assert API_ANALYSIS_MULTIPLE == 2.0
+
+
+def test_api_scale_factor_by_hand():
+    """API 617 (9th ed. 6.8.2.10, as ROSS PR #1377 quotes it): Scc = Avl / Amax, capped at 6."""
+    assert api_scale_factor(25.4e-6, 12.7e-6) == pytest.approx(2.0, rel=1e-15)
+    assert api_scale_factor(25.4e-6, 1e-6) == 6.0 and API_SCALE_CAP == 6.0
+    assert api_scale_factor(25.4e-6, 1e-6, cap=None) == pytest.approx(25.4, rel=1e-15)
 
 
 def test_api_amount_us_customary_is_the_si_formula():
@@ -247,16 +262,19 @@ def test_no_speed_in_the_checked_range_is_said():
 
 
 def test_api_cases_amounts_and_responses():
-    """The static case is 6350 m / N at the centre of mass and its response the closed form; the
-    couple case is 6350 (m/2) / N at each bearing plane, opposite: no translation at the centre."""
+    """The static case is Ua = 2 x 6350 m / N at the centre of mass and its response the closed
+    form; the couple case is 2 x 6350 (m/2) / N at each bearing plane, opposite: no translation at
+    the centre. API 617 (9th ed. 6.8.2.7, as petrobras/ross PR #1377 implements it, tested in its
+    ``test_api617_unbalance_*``): the analysis unbalance is twice the residual unbalance
+    Ur = 6350 W / N (docs/standards.md); the old cases (Ur) fail."""
     model = _rotor_on_springs()
     mcs = rdm.rpm(6000.0)
     cases = dict(api_unbalance_cases(model, mcs))
     assert list(cases) == ["api-static:shaft", "api-couple:shaft"]
     (static,) = cases["api-static:shaft"].unbalances
-    assert static.amount == pytest.approx(6350 * M_R / 6000 * G_MM, rel=1e-14) and static.axial_offset == 0
+    assert static.amount == pytest.approx(2 * 6350 * M_R / 6000 * G_MM, rel=1e-14) and static.axial_offset == 0
     couple = cases["api-couple:shaft"].unbalances
-    assert [u.amount for u in couple] == pytest.approx([6350 * M_R / 2 / 6000 * G_MM] * 2, rel=1e-14)
+    assert [u.amount for u in couple] == pytest.approx([2 * 6350 * M_R / 2 / 6000 * G_MM] * 2, rel=1e-14)
     assert sorted((u.axial_offset, u.phase_deg) for u in couple) == [(-HALF, 0.0), (HALF, 180.0)]
     speeds = rdm.rpm(np.linspace(100.0, 8000.0, 80))
     res = api_unbalance_response(model, speeds, mcs, amplitude="pk-pk")

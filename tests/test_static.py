@@ -112,6 +112,117 @@ def test_a_rotor_on_three_bearings_is_the_beam_on_springs(stator):
     np.testing.assert_allclose(sag, -expected / np.asarray(stiffness), rtol=1e-10)
 
 
+# -- bearings on pedestals: the pedestals' own weight is a load (as M a_g in simulate) --------------
+M_PED, K_PED = 30.0, (4e6, 2.5e6)             # pedestal mass; its stiffness along y and z
+
+
+def _pedestal_model(stator: bool, centre=0.1, stations=(-0.3, 0.4), mass=40.0, casing=None, gravity=(0.0, 0.0, -G)):
+    data = {
+        "gravity": list(gravity),
+        "rotors": [{"name": "r", "mass": mass, "center_of_mass": [centre, 0.0, 0.0], "polar_inertia": 0.2,
+                    "diametral_inertia": 1.0, "speed_ratio": 1.0}],
+        "bearings": [{"name": f"b{i}", "rotor": "r", "position": [s, 0.0, 0.0], "stiffness": k,
+                      "pedestal_mass": M_PED, "pedestal_stiffness": list(K_PED)}
+                     for i, (s, k) in enumerate(zip(stations, [2e7, 5e7]))],
+    }
+    if stator:
+        data["stator"] = {"mass": 300.0, "inertia": [20.0, 30.0, 30.0], "center_of_mass": [0.0, 0.0, 0.0]}
+        data["suspensions"] = [{"name": f"m{i}", "position": [x, y, -0.3], "stiffness": list(casing or (1e6, 1e6, 2e6))}
+                               for i, (x, y) in enumerate(((0.6, 0.4), (0.6, -0.4), (-0.6, 0.4), (-0.6, -0.4)))]
+    return rdm.Model.from_dict(data)
+
+
+@pytest.mark.parametrize("stator", [False, True])
+def test_a_pedestal_sags_by_its_share_of_the_rotor_and_its_own_weight(stator):
+    """Rotor (m, centre c) on bearings at s1, s2 (k_b), each on a pedestal (m_p, k_p): the bearings
+    carry the lever rule's shares R_i; each pedestal carries R_i + m_p g on its spring, so it sags
+    (R_i + m_p g) / k_pz relative to what carries it, and the rotor at the bearing R_i / k_b more."""
+    s1, s2, c, mass = -0.3, 0.4, 0.1, 40.0
+    result = rdm.static(_pedestal_model(stator, centre=c, stations=(s1, s2), mass=mass))
+    shares = mass * G * np.array([(s2 - c) / (s2 - s1), (c - s1) / (s2 - s1)])
+    np.testing.assert_allclose(_forces(result)[:, 2], shares, rtol=1e-12)
+    held = shares + M_PED * G
+    np.testing.assert_allclose(_forces(result, "pedestal")[:, 2], held, rtol=1e-12)
+    np.testing.assert_allclose(_forces(result, "pedestal")[:, :2], 0.0, atol=1e-12 * held.max())
+    sag = np.array([result.pedestal_motion(f"b{i}")[2] for i in range(2)])
+    np.testing.assert_allclose(sag, -held / K_PED[1], rtol=1e-12)
+    np.testing.assert_allclose([result.pedestal_motion(f"b{i}")[1] for i in range(2)], 0.0, atol=1e-12 * abs(sag).max())
+    rotor = [result.rotor_motion("r", [s, 0.0, 0.0])[2] for s in (s1, s2)]
+    np.testing.assert_allclose(rotor, sag - shares / np.array([2e7, 5e7]), rtol=1e-12)
+    table = result.displacements()
+    np.testing.assert_allclose(table[table["body"] == "pedestal"]["uz_m"], sag, rtol=1e-12)
+    reactions = result.reactions_table()
+    assert list(reactions[reactions["kind"] == "bearing"]["on"]) == ["pedestal"] * 2
+    assert list(reactions[reactions["kind"] == "pedestal"]["on"]) == ["stator" if stator else "ground"] * 2
+    for body in ["machine", "stator", "r"]:
+        force, moment, scale = result.imbalance(body)
+        assert np.abs(force).max() < 1e-11 * scale and np.abs(moment).max() < 1e-11 * scale, body
+    if not stator:    # the ground carries every weight, the pedestals' too
+        ground = sum(r.force[2] for r in result.reactions if r.ground)
+        assert ground == pytest.approx((mass + 2 * M_PED) * G, rel=1e-12)
+
+
+def test_on_the_ground_pedestals_pass_their_weight_along_the_spin_axis_to_it():
+    """Gravity inclined to the spin axis, the rotor held axially by the stator (no axial_stiffness):
+    the ground's reactions (the pedestals' and the rotor's axial hold) carry every weight, the
+    pedestals' along the axis too: their sum is -(m + 2 m_p) g."""
+    gravity = np.array([-0.6, 0.0, -0.8]) * G
+    mass = 40.0
+    result = rdm.static(_pedestal_model(False, mass=mass, gravity=gravity))
+    held = sum(r.force for r in result.reactions if r.ground)
+    np.testing.assert_allclose(held, -(mass + 2 * M_PED) * gravity, rtol=1e-12, atol=1e-12 * G * mass)
+    for r in (r for r in result.reactions if r.kind == "pedestal"):    # the pedestal's own axial weight
+        assert r.force[0] == pytest.approx(0.6 * G * M_PED, rel=1e-12)
+    for body in ["machine", "stator", "r"]:
+        force, moment, scale = result.imbalance(body)
+        assert np.abs(force).max() < 1e-11 * scale and np.abs(moment).max() < 1e-11 * scale, body
+
+
+def test_a_casing_carrying_pedestals_sags_by_the_whole_weight_over_its_mounts():
+    """A casing centred over four equal mounts with a rotor centred between two bearings on
+    pedestals: the mounts carry (M_s + m + 2 m_p) g, a quarter each, the casing sags by that over
+    4 k_z, and each pedestal (m / 2 + m_p) g / k_pz relative to the casing."""
+    mass, kz = 40.0, 2e6
+    model = _pedestal_model(True, centre=0.0, stations=(-0.3, 0.3), mass=mass, casing=(1e6, 1e6, kz))
+    result = rdm.static(model)
+    total = (300.0 + mass + 2 * M_PED) * G
+    np.testing.assert_allclose(_forces(result, "mount")[:, 2], total / 4, rtol=1e-12)
+    assert result.stator_motion()[2] == pytest.approx(-total / (4 * kz), rel=1e-12)
+    np.testing.assert_allclose([result.pedestal_motion(f"b{i}")[2] for i in range(2)],
+                               -(mass * G / 2 + M_PED * G) / K_PED[1], rtol=1e-12)
+    loads = result.loads_table()
+    np.testing.assert_allclose(loads[loads["kind"] == "pedestal"]["Fz_N"], -M_PED * G, rtol=1e-15)
+    from rotordyn_modal.linear_system import implausible
+    soft = _pedestal_model(True, centre=0.0, stations=(-0.3, 0.3), mass=mass, casing=(1e3, 1e3, 2e3))
+    (line,) = implausible(soft)                         # the check's sag: the same weights
+    assert float(line.split("would sag ")[1].split(" m ")[0]) == pytest.approx(total / (4 * 2e3), rel=2e-3)
+
+
+def test_the_static_weights_are_every_mass_of_m_as_the_time_model_applies_them(examples_dir):
+    """A flexible shaft (with disks and a point mass), a rigid rotor, a casing on mounts and two
+    bearings on pedestals under gravity: the static solution satisfies K q = M a_g, the weight of
+    every mass of M as ``simulate`` applies it (docs/theory.md §19), and the loads and reactions
+    balance."""
+    import tomllib
+
+    from rotordyn_modal.simulation.flexible import gravity_acceleration
+
+    data = tomllib.loads((examples_dir / "flexible_pump_on_mounts.toml").read_text(encoding="utf-8"))
+    for b in data["bearings"]:
+        if b["name"] in ("pump-IB", "motor-NDE"):
+            b.update(pedestal_mass=4.0, pedestal_stiffness=[3e7, 2e7])
+    pump = next(r for r in data["rotors"] if "shaft" in r)
+    pump["point_masses"] = [{"axial_position": 0.2, "mass": 0.8}]
+    model = rdm.Model.from_dict(data)
+    result = rdm.static(model)
+    matrices = model.matrices()
+    weight = matrices.M @ gravity_acceleration(model)
+    np.testing.assert_allclose(matrices.K @ result.coordinates, weight, rtol=0, atol=1e-12 * np.abs(weight).max())
+    for body in ["machine", "stator"] + [r.name for r in model.rotors]:
+        force, moment, scale = result.imbalance(body)
+        assert np.abs(force).max() < 1e-11 * scale and np.abs(moment).max() < 1e-11 * scale, body
+
+
 def _journal_rotor(lengths, stations, centre=0.08, mass=50.0, loads=None):
     return rdm.Model.from_dict({
         "gravity": [0.0, 0.0, -G],
@@ -251,6 +362,10 @@ def _machines(draw):
                              "position": (centre + rng.uniform(-0.4, 0.4) * axis).tolist(),
                              "stiffness": float(rng.uniform(1e6, 1e8)),
                              **({"axial_stiffness": 1e7} if rng.random() < 0.5 else {})})
+    for bearing in bearings:         # some on pedestals (their weight, along an inclined axis too)
+        if draw(st.booleans()):
+            bearing.update(pedestal_mass=float(rng.uniform(1, 20)),
+                           pedestal_stiffness=rng.uniform(1e6, 1e8, 2).tolist())
     return {
         "spin_axis": axis.tolist(), "gravity": (rng.normal(size=3) * 5).tolist(), "reference_rotor": "r0",
         "stator": {"mass": float(rng.uniform(50, 500)), "inertia": [10.0, 12.0, 15.0],

@@ -230,10 +230,15 @@ def test_a_layered_section_carries_its_moment_by_the_stiffnesses_of_its_tubes():
 def _belt_to_a_shaft(position=None):
     """A rigid motor (its centre at x = 1.5 m) pulling a flexible shaft (x from 0 to 1 m, bearings
     at 0.1 and 0.7 m, a pulley disk at 0.9 m) up with a belt's pretension, without gravity."""
+    return rdm.Model.from_dict(_belt_data(position))
+
+
+def _belt_data(position=None) -> dict:
+    """The model file of :func:`_belt_to_a_shaft` as a dict."""
     belt = {"type": "belt", "driver": "motor", "driven": "s", "ratio": 1.0, "pretension": 400.0}
     if position is not None:
         belt["position"] = position
-    return rdm.Model.from_dict({
+    return {
         "reference_rotor": "motor",
         "materials": [{"name": "steel", "density": RHO, "young_modulus": E, "poisson_ratio": NU}],
         "rotors": [{"name": "s", "start": [0.0, 0.0, 0.0], "speed_ratio": 1.0, "shear": "none", "element_length": 0.1,
@@ -246,7 +251,7 @@ def _belt_to_a_shaft(position=None):
                      for i, z in enumerate((0.1, 0.7))] +
                     [{"name": f"m{i}", "rotor": "motor", "position": [x, 0.0, 0.3], "stiffness": K_BEARING}
                      for i, x in enumerate((1.4, 1.6))],
-        "transmissions": [belt]})
+        "transmissions": [belt]}
 
 
 def test_a_belt_on_a_flexible_shaft_pulls_at_its_pulley():
@@ -264,6 +269,28 @@ def test_a_belt_on_a_flexible_shaft_pulls_at_its_pulley():
     assert [kind for kind, _, _ in shaft.loads] == ["belt"]
     with pytest.warns(rdm.errors.ModelWarning, match=r"transmissions.motor->s\] acts at \[1.5, 0, 0\] m, off rotor s"):
         rdm.static(_belt_to_a_shaft())
+
+
+@pytest.mark.parametrize("units, unit, size", [("si", "m", 1.0), ("us", "in", 0.0254)])
+def test_static_warns_and_refuses_off_the_shaft_in_the_unit_system(units, unit, size, tmp_path, capsys):
+    """``--units us static``: the off-shaft belt's warning and a given force's refusal give the
+    points and the shaft's ends in inches (1 in = 0.0254 m exactly), as the --force typed in."""
+    import tomli_w
+
+    from rotordyn_modal.cli import main
+
+    path = tmp_path / "belt.toml"
+    path.write_text(tomli_w.dumps(_belt_data()), encoding="utf-8")
+    shown = (lambda metres: f"{metres / size:.6g}")
+    ends = f"from [0, 0, 0] to [{shown(1.0)}, 0, 0] {unit}"
+    assert main(["--units", units, "static", str(path), "--quiet"]) == 0
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert f"acts at [{shown(1.5)}, 0, 0] {unit}, off rotor s's shaft, {ends} (a load" in line
+    force = f"s:{shown(1.2)},0,0:0,0,-10"
+    assert main(["--units", units, "static", str(path), "--quiet", "--force", force]) == 2
+    err = capsys.readouterr().err
+    point = f"[{shown(1.2)}, 0, 0]" + ("" if units == "si" else " in")
+    assert f"forces[0] point = {point}: expected a point along rotor s's shaft, {ends} (a load" in err
 
 
 def test_a_given_force_beyond_a_flexible_shaft_is_refused():

@@ -160,9 +160,55 @@ def test_amplification_factor_of_a_single_oscillator():
     assert af == pytest.approx(1 / (2 * zeta), rel=1e-2)
 
 
-@pytest.mark.parametrize("af,expected", [(2.0, 0.0), (3.0, 15.0), (5.5, 17 * (1 - 1 / 4.0))])
-def test_required_separation_margin(af, expected):
-    assert required_separation_margin(af) == pytest.approx(expected)
+@pytest.mark.parametrize("af,position,expected", [
+    (2.0, "below", 0.0), (2.0, "above", 0.0),
+    (3.0, "below", 17 * (1 - 1 / 1.5)), (3.0, "above", 10 + 17 * (1 - 1 / 1.5)),
+    (5.5, "below", 17 * (1 - 1 / 4.0)), (5.5, "above", 10 + 17 * (1 - 1 / 4.0)),
+    (30.0, "below", 16.0), (30.0, "above", 26.0), (np.nan, "above", np.nan)])
+def test_required_separation_margin(af, position, expected):
+    """API 617 (7th/8th ed.) / API 684 (SP6.8.2.10): no margin below AF 2.5; below the operating
+    range ``min(16, 17 (1 - 1/(AF - 1.5)))`` %, above it ``min(26, 10 + 17 (1 - 1/(AF - 1.5)))`` %,
+    as implemented and cited in petrobras/ross ``ross/api_report.py`` (``Report.unbalance_response``,
+    last at commit e59e3fba^) and quoted with the API 617 8th ed. clause in public review tools
+    (docs/standards.md). The old rule (15 % for 2.5 <= AF <= 3.55, one formula both sides) fails."""
+    assert required_separation_margin(af, position) == pytest.approx(expected, nan_ok=True)
+
+
+def test_study_peak_takes_the_margin_of_its_side():
+    """A study's unbalance peak above its operating speed needs ``min(26, 10 + 17 (1 - 1/(AF - 1.5)))``
+    %, below it ``min(16, 17 (1 - 1/(AF - 1.5)))`` % (API 617; docs/standards.md): the peak of a
+    1-DOF oscillator of damping ratio 0.05 (AF about 10)."""
+    from rotordyn_modal.analysis.unbalance import amplification_factors
+    from rotordyn_modal.study.analyses import _unbalance_peak
+
+    w = np.linspace(50, 150, 2001)
+    amplitude = np.abs(w ** 2 / (100.0 ** 2 - w ** 2 + 2j * 0.05 * 100.0 * w))
+    (_, _, af), = amplification_factors(w, amplitude)
+    raw = 17 * (1 - 1 / (af - 1.5))
+    for operating, expected in ((60.0, min(26.0, 10 + raw)), (140.0, min(16.0, raw))):
+        out = {name: np.full((1, 1), np.nan) for name in ("unbalance_peak_amplitude", "unbalance_peak_speed",
+                                                          "amplification_factor", "separation_margin_pct",
+                                                          "required_margin_pct")}
+        _unbalance_peak(out, 0, 0, w, amplitude, operating, amplification_factors, required_separation_margin)
+        assert out["required_margin_pct"][0, 0] == pytest.approx(expected, rel=1e-12)
+
+
+def test_required_separation_margin_refuses_an_unknown_position():
+    with pytest.raises(rdm.InputError, match="'inside': expected 'below' or 'above'"):
+        required_separation_margin(3.0, "inside")
+
+
+def test_peaks_table_required_margin_follows_the_side_of_the_operating_speed():
+    """A peak below the operating speed needs ``min(16, 17 (1 - 1/(AF - 1.5)))`` %, one above it
+    ``min(26, 10 + 17 (1 - 1/(AF - 1.5)))`` % (API 617; docs/standards.md)."""
+    res = unbalance_response(_model(), rdm.rpm(np.linspace(0, 3000, 301)))
+    for operating in (rdm.rpm(200), rdm.rpm(2900)):
+        for row in res.peaks(operating_speed=operating).itertuples():
+            if not np.isfinite(row.amplification_factor) or row.amplification_factor < 2.5:
+                continue
+            raw = 17 * (1 - 1 / (row.amplification_factor - 1.5))
+            above = row.speed_rpm * np.pi / 30 > operating
+            assert row.required_margin_pct == pytest.approx(min(26, 10 + raw) if above else min(16, raw), rel=1e-12)
 
 
 def test_peaks_table():

@@ -218,7 +218,7 @@ def test_the_sag_warning_says_inches_and_pounds_in_us_units(tmp_path, capsys):
 
 @pytest.mark.parametrize("command, says", [
     ("campbell", "nothing here changes"), ("critical-speeds", "nothing here changes"),
-    ("stability", "in the model file's SI unit"), ("fit", "not converted yet"), ("study", "not converted yet"),
+    ("stability", "in the model file's SI unit"), ("fit", "si (default) or us"), ("study", "si (default) or us"),
     ("import-ross", "the model file it writes is SI"), ("modes", "si (default) or us"),
     ("simulate", "si (default) or us")])
 def test_every_sub_command_says_what_units_does_to_it(command, says, capsys):

@@ -19,7 +19,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["BACKWARD_FACTOR", "round_off", "balanced_norm", "snapped", "zero_roots", "zero_floor", "whirl_round_off", "at_round_off"]
+from . import _batches
+
+__all__ = ["BACKWARD_FACTOR", "round_off", "conservative", "balanced_norm", "snapped", "zero_roots", "zero_floor", "whirl_round_off", "at_round_off"]
 
 #: the backward error of a dense eigen-solve taken as this many ``eps ||B||_F``, ``B`` the
 #: balanced matrix (LAPACK's bound grows slowly with the size; measured errors are a few eps ||B||)
@@ -68,24 +70,43 @@ def balanced_norm(matrices) -> np.ndarray:
     -------
     ndarray, shape (...)
     """
-    a = np.abs(np.asarray(matrices, dtype=float))
+    a = np.asarray(matrices, dtype=float)
     n = a.shape[-1]
-    diagonal = np.diagonal(a, axis1=-2, axis2=-1) ** 2
-    off = a * (1.0 - np.eye(n))
-    squares = off * off
-    log_d = np.zeros(a.shape[:-1])      # log2 of D's entries: b_ij = a_ij d_j / d_i
+    flat = a.reshape((-1, n, n))
+    out = np.empty(len(flat))
+    # a part of the stack at a time, its sweeps in the cache (the whole stack's passes ran at memory speed)
+    for part in _batches.chunk_slices(len(flat), 8 * n * n, budget=_BALANCE_BYTES):
+        out[part] = _balanced_norms(flat[part])
+    return out.reshape(a.shape[:-2])
+
+
+#: the part of a stack balanced at once [bytes]
+_BALANCE_BYTES = 2**21
+
+
+def _balanced_norms(matrices) -> np.ndarray:
+    """:func:`balanced_norm` of a stack (P, n, n): the sweeps go on for the matrices not yet
+    balanced only; each matrix's products are its own (a row's bits do not depend on the others)."""
+    squares = matrices * matrices
+    diagonal = np.einsum("pii->pi", squares).copy()
+    np.einsum("pii->pi", squares)[...] = 0.0             # the off-diagonal part
+    log_d = np.zeros(squares.shape[:-1])      # log2 of D's entries: b_ij = a_ij d_j / d_i
+    active = np.arange(len(squares))
     for _ in range(_BALANCE_SWEEPS):
-        d2 = np.exp2(2.0 * log_d)
-        columns = np.einsum("...ij,...i->...j", squares, 1.0 / d2) * d2      # sum_i a_ij^2 d_j^2 / d_i^2
-        rows = np.einsum("...ij,...j->...i", squares, d2) / d2
+        part = squares if len(active) == len(squares) else squares[active]
+        d2 = np.exp2(2.0 * log_d[active])
+        columns = ((1.0 / d2)[:, None, :] @ part)[:, 0] * d2      # sum_i a_ij^2 d_j^2 / d_i^2
+        rows = (part @ d2[:, :, None])[..., 0] / d2
         with np.errstate(divide="ignore", invalid="ignore"):
             step = np.trunc(0.25 * np.log2(rows / columns))
         step = np.where(np.isfinite(step), step, 0.0)
-        if not step.any():
+        moving = step.any(axis=-1)
+        if not moving.any():
             break
-        log_d += step
+        log_d[active] += step
+        active = active[moving]
     d2 = np.exp2(2.0 * log_d)
-    off_squares = np.einsum("...ij,...i,...j->...", squares, 1.0 / d2, d2)
+    off_squares = (((1.0 / d2)[:, None, :] @ squares) @ d2[:, :, None])[:, 0, 0]
     return np.sqrt(off_squares + diagonal.sum(axis=-1))
 
 
@@ -197,3 +218,26 @@ def at_round_off(values, noise) -> np.ndarray:
     """``values`` with those within ``noise`` of zero (and -0) made 0, same shape."""
     values = np.asarray(values, dtype=float)
     return np.where(np.abs(values) <= noise, 0.0, values) + 0.0
+
+
+def conservative(form, speeds) -> np.ndarray:
+    """(N,) bool: the machine has no damping and a symmetric positive semidefinite stiffness at
+    each speed (no Maxwell branch, ``C(Omega) = 0``, ``K(Omega) = K(Omega)^T >= 0`` to
+    round-off). Then ``phi^H (lam^2 M + lam Omega G + K) phi = 0`` with ``m > 0``, ``g``
+    imaginary (``G`` skew) and ``k >= 0`` puts every root ``lam`` on the imaginary axis."""
+    speeds = np.asarray(speeds, dtype=float)
+    if form.n_states != 2 * form.n_dof:
+        return np.zeros(len(speeds), dtype=bool)
+    damping, stiffness = form.damping_at(speeds), form.stiffness_at(speeds)
+    if damping.ndim == 2 and stiffness.ndim == 2:         # constant: one test for every speed
+        return np.full(len(speeds), not np.any(damping) and _symmetric_semidefinite(stiffness))
+    damping = np.broadcast_to(damping, (len(speeds),) + (form.n_dof,) * 2)
+    stiffness = np.broadcast_to(stiffness, damping.shape)
+    return np.array([not np.any(c) and _symmetric_semidefinite(k) for c, k in zip(damping, stiffness)],
+                    dtype=bool)
+
+
+def _symmetric_semidefinite(K) -> bool:
+    """``K = K^T >= 0`` to round-off (``100 n eps max|K|``)."""
+    scale = 100.0 * np.finfo(float).eps * K.shape[0] * max(np.abs(K).max(), np.finfo(float).tiny)
+    return bool(np.abs(K - K.T).max() <= scale and np.linalg.eigvalsh(0.5 * (K + K.T))[0] >= -scale)

@@ -37,7 +37,8 @@ class CampbellResult:
     ----------
     speeds : ndarray, shape (N,) [rad/s]
     eigenvalues : ndarray, shape (N, n_modes), complex [1/s]
-        Column ``m`` is tracked mode ``m + 1`` at every speed.
+        Column ``m`` is tracked mode ``m + 1`` at every speed; NaN where that mode lies above
+        ``campbell(max_frequency=...)`` (not a mode there: ``oscillatory`` False).
     frequencies_hz, damping_ratios, log_decrements, whirl_ratios : ndarray, shape (N, n_modes)
     whirl : ndarray of str, shape (N, n_modes)
     shapes : ndarray, shape (N, n_modes, n), complex
@@ -212,7 +213,8 @@ def _progress(items, enabled, description):
     return tqdm(items, desc=description, unit="chunk", leave=False)
 
 
-def campbell(model, speeds, orders=(1,), progress=False, critical=True, modes=None) -> CampbellResult:
+def campbell(model, speeds, orders=(1,), progress=False, critical=True, modes=None,
+             max_frequency=None) -> CampbellResult:
     """Campbell diagram: all speeds solved in one batch, modes tracked.
 
     Parameters
@@ -232,6 +234,14 @@ def campbell(model, speeds, orders=(1,), progress=False, critical=True, modes=No
         model's root to round-off (a reduced basis gives starts, Newton's iteration on the full
         pencil refines them; a speed the basis cannot be shown to serve is solved whole, with a
         warning; ``docs/theory.md``, "The lowest modes only"). Default: every root.
+    max_frequency : float, optional
+        Only the oscillating roots of damped natural frequency ``Im lam / 2 pi`` at most this
+        [Hz] at each speed, each the full model's root to round-off (the reduced basis made
+        complete for this frequency; ``docs/theory.md``, "The modes below a frequency"); with
+        ``modes``, the lowest ``modes`` of them. The result has a column for each tracked mode
+        below it at some speed of the sweep, NaN (not a mode: ``oscillatory`` False) at the
+        speeds where that mode lies above it; the critical speeds are the crossings at
+        frequencies up to it. Default: no limit.
 
     Returns
     -------
@@ -261,9 +271,14 @@ def campbell(model, speeds, orders=(1,), progress=False, critical=True, modes=No
         than the grid): the refinement closes in on the jump, and the frequency there is off the
         order line (see :func:`off_order_line`). A finer speed grid resolves them.
     """
-    if modes is not None and _arguments_modes(modes) < root_count(model):
-        return _campbell_lowest(model, speeds, orders, critical, int(modes))
-    return campbell_many([model], speeds, orders, progress, critical)[0]   # N at least every root: all
+    if modes is not None and _arguments_modes(modes) >= root_count(model):
+        modes = None                # N at least every root: every root (below max_frequency, if given)
+    if max_frequency is not None:
+        return _campbell_lowest(model, speeds, orders, critical, None if modes is None else _arguments_modes(modes),
+                                2 * np.pi * _arguments_frequency(max_frequency))
+    if modes is not None:
+        return _campbell_lowest(model, speeds, orders, critical, _arguments_modes(modes))
+    return campbell_many([model], speeds, orders, progress, critical)[0]
 
 
 def _arguments_modes(modes) -> int:
@@ -280,8 +295,18 @@ def root_count(model) -> int:
     return speed_linear_form(model).n_states // 2
 
 
-def _campbell_lowest(model, speeds, orders, critical, count) -> CampbellResult:
-    """:func:`campbell` of the ``count`` lowest modes at each speed (see its ``modes``)."""
+def _arguments_frequency(value) -> float:
+    """``max_frequency``: one finite number > 0 [Hz]."""
+    expected = "one finite frequency > 0 [Hz]"
+    array = _arguments._numbers(value, "max_frequency", expected)
+    if array.ndim != 0 or not (np.isfinite(array) and array > 0):
+        raise InputError(f"max_frequency = {_arguments._shown(value)}: expected {expected}")
+    return float(array)
+
+
+def _campbell_lowest(model, speeds, orders, critical, count, limit=None) -> CampbellResult:
+    """:func:`campbell` of the ``count`` lowest modes at each speed (see its ``modes``), or of
+    those of frequency ``Im lam`` up to ``limit`` [rad/s] (see its ``max_frequency``)."""
     from . import _lowest
 
     speeds = _check_speeds(speeds)
@@ -290,7 +315,12 @@ def _campbell_lowest(model, speeds, orders, critical, count) -> CampbellResult:
     # shared machine (the batched solves run in threads of their own)
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
         stack = Stack([model])
-        if stack.branch_times.shape[1]:          # frequency-dependent branches: more states than the pencil's
+        wanted = None
+        if limit is not None:
+            values, shapes, wanted, _ = _lowest.roots_below(stack, speeds, limit, count)
+            if not values.shape[-1]:
+                return _no_modes(model, speeds, orders, stack.n_dof)
+        elif stack.branch_times.shape[1]:          # frequency-dependent branches: more states than the pencil's
             values, shapes = _lowest._full_lowest(stack, speeds, count)
         else:
             values, shapes, _ = _lowest.lowest_roots(stack, speeds, count)
@@ -298,25 +328,72 @@ def _campbell_lowest(model, speeds, orders, critical, count) -> CampbellResult:
         every = _variant_rows(1, len(speeds))
         weighted = stack.weighted(shapes.reshape((-1,) + shapes.shape[-2:]), every).reshape(shapes.shape)
     order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
-    values = values[np.zeros((1, 1, 1), int), np.arange(len(speeds))[None, :, None], order]
+    rows = np.zeros((1, 1, 1), int), np.arange(len(speeds))[None, :, None]
+    values = values[rows + (order,)]
     shapes, weighted = _reordered(shapes, order), _reordered(weighted, order)
+    if wanted is not None:
+        wanted = wanted[None][rows + (order,)]
+        values, shapes, weighted, wanted = _columns_wanted(values, shapes, weighted, wanted)
+        if not values.shape[-1]:
+            return _no_modes(model, speeds, orders, stack.n_dof)
     ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, speeds)
     oscillating = is_oscillating(values)
     ratios = np.where(oscillating, ratios.reshape(values.shape), 0.0)
-    freq, zeta, log_dec = modal_quantities(values)
     sources = [excitation_sources(model)]
-    critical = bool(critical) and len(orders) > 0
+    critical = bool(critical) and len(orders) > 0 and values.shape[-1] > 0
     if critical:
-        tables = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes, oscillating,
-                                       False, lambda crossings: _refuse_crossings(stack, len(speeds), crossings))
+        tables = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes,
+                                       oscillating if wanted is None else oscillating & _near(wanted), False,
+                                       lambda crossings: _refuse_crossings(stack, len(speeds), crossings))
+        if wanted is not None:
+            tables = [_table_below(tables[0], limit)]
         _warn_of_jumps(tables[0], sources[0], model)
     else:
         tables = [_critical_table([], [], [], [], [], [], [], [])]
+    if wanted is not None:                     # the roots not asked for are no result
+        values = np.where(wanted, values, complex(np.nan, np.nan))
+        shapes[~wanted] = 0.0
+        ratios = np.where(wanted, ratios, 0.0)
+    freq, zeta, log_dec = modal_quantities(values)
     return CampbellResult(
         speeds=speeds, eigenvalues=values[0], frequencies_hz=freq[0], damping_ratios=zeta[0],
         log_decrements=log_dec[0], whirl_ratios=ratios[0], whirl=_whirl.whirl_labels(ratios)[0], shapes=shapes[0],
-        modes=np.arange(1, count + 1), sources=sources[0], critical=tables[0],
+        modes=np.arange(1, values.shape[-1] + 1), sources=sources[0], critical=tables[0],
         orders=tuple(float(o) for o in orders))
+
+
+def _no_modes(model, speeds, orders, n) -> CampbellResult:
+    """The :class:`CampbellResult` of no mode (none below the limit at any speed)."""
+    empty = np.zeros((len(speeds), 0))
+    return CampbellResult(
+        speeds=speeds, eigenvalues=empty.astype(complex), frequencies_hz=empty, damping_ratios=empty,
+        log_decrements=empty, whirl_ratios=empty, whirl=empty.astype(object),
+        shapes=np.zeros((len(speeds), 0, n), complex), modes=np.zeros(0, int), sources=excitation_sources(model),
+        critical=_critical_table([], [], [], [], [], [], [], []), orders=tuple(float(o) for o in orders))
+
+
+def _columns_wanted(values, shapes, weighted, wanted):
+    """The tracked columns (1, N, k) wanted at some speed; the others (roots above the limit at
+    every speed: fillers of :func:`._lowest.roots_below`) left out."""
+    keep = wanted[0].any(axis=0)
+    return values[..., keep], shapes[:, :, keep], weighted[:, :, keep], wanted[..., keep]
+
+
+def _near(wanted):
+    """(1, N, k) wanted at the speed or at a neighbouring one: a crossing between a speed where its
+    mode lies below the limit and one where it lies above is still refined (on the full pencil)."""
+    near = wanted.copy()
+    near[:, 1:] |= wanted[:, :-1]
+    near[:, :-1] |= wanted[:, 1:]
+    return near
+
+
+def _table_below(table, limit):
+    """The crossings of ``table`` (CriticalSpeeds) at frequencies up to ``limit`` [rad/s]."""
+    keep = 2 * np.pi * np.asarray(table.frequencies_hz, dtype=float) <= limit
+    return _critical_table(*(np.asarray(column)[keep] for column in (
+        table.source, table.order, table.mode, table.speeds, table.frequencies_hz, table.whirl, table.whirl_ratios,
+        table.damping_ratios)))
 
 
 def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) -> list:
@@ -468,7 +545,7 @@ def _refuse_crossings(stack, n_speeds, crossings):
         raise InputError(problem)
 
 
-def critical_speeds(model, speeds, orders=(1,), progress=False) -> CriticalSpeeds:
+def critical_speeds(model, speeds, orders=(1,), progress=False, modes=None, max_frequency=None) -> CriticalSpeeds:
     """Critical speeds: tracked frequencies crossing every source's excitation orders.
 
     Each crossing is refined by root-finding on the eigenproblem itself, not
@@ -482,12 +559,15 @@ def critical_speeds(model, speeds, orders=(1,), progress=False) -> CriticalSpeed
         grid is fine enough to bracket them.
     orders : sequence of float
         Orders of every source (rotor spins and gear meshes).
+    modes, max_frequency : optional
+        The crossings of the lowest ``modes`` modes at each speed, or of the modes below
+        ``max_frequency`` [Hz] (the crossings at frequencies up to it); see :func:`campbell`.
 
     Returns
     -------
     CriticalSpeeds
     """
-    return campbell(model, speeds, orders=orders, progress=progress).critical
+    return campbell(model, speeds, orders=orders, progress=progress, modes=modes, max_frequency=max_frequency).critical
 
 
 def _check_speeds(speeds) -> np.ndarray:

@@ -5,12 +5,17 @@ axis and its radial running clearance ``c``) the rotor's motion **relative to th
 casing that holds the seal) traces an orbit; its peak-to-peak displacement in the worst
 direction is twice the orbit's semi-major axis (``orbits.orbit_ellipses``), summed over the
 sources (exact for one source or one API case; the largest the sum of harmonics of different
-frequencies reaches). It shall stay below 75 % of the minimum diametral running clearance::
+frequencies reaches). Scaled by the API 617 factor ``Scc`` it shall stay below 75 % of the
+minimum diametral running clearance::
 
-    pk-pk(station) <= 0.75 x 2 c            (0-peak: semi-major axis <= 0.75 c)
+    Scc x pk-pk(station) <= 0.75 x 2 c            (0-peak: Scc x semi-major axis <= 0.75 c)
 
 over the checked speeds ``min_speed <= |speed| <= trip speed`` (API 617: from zero to trip
-speed; default the MCS), each API unbalance case on its own.
+speed; default the MCS), each API unbalance case on its own. ``Scc = Avl / Amax``, at most 6:
+the probe vibration limit ``Avl`` of the station's rotor over the largest peak-to-peak amplitude
+``Amax`` of that rotor's probes (``measure = "relative"``) between ``min_speed`` and the MCS, in
+the same case; ``Scc = 1`` (unscaled) for a rotor without a probe among the outputs or without an
+MCS. The analysis is linear: the scaled response is the response to ``Scc`` times the unbalance.
 """
 
 from __future__ import annotations
@@ -20,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..unbalance_standards import API_SCALE_CAP, api_scale_factor
 from .orbits import orbit_ellipses
 
 __all__ = ["ClearanceCheck", "clearance_check", "CLEARANCE_SHARE", "CLEARANCE_CHECK"]
@@ -49,6 +55,10 @@ class ClearanceCheck:
         The API unbalance cases (one source each), or ``('',)``: all sources together.
     trip_speed : float or None [rad/s]
         Top of the checked speeds (None: every speed of the sweep).
+    scale : ndarray, shape (n_stations, n_cases), optional
+        The API 617 scale factor ``Scc`` of each station's rotor and case (default 1: unscaled).
+    scaling : ndarray of str, shape (n_stations, n_cases), optional
+        How ``scale`` was found (``'Avl/Amax'``, ``'Avl/Amax capped at 6'``, or why it is 1).
     """
 
     speeds: np.ndarray
@@ -59,31 +69,46 @@ class ClearanceCheck:
     pkpk: np.ndarray
     cases: tuple = ("",)
     trip_speed: float | None = None
+    scale: np.ndarray | None = None
+    scaling: np.ndarray | None = None
 
     @property
     def limits(self) -> np.ndarray:
         """[m] peak-to-peak: 75 % of the diametral clearance ``0.75 x 2 c``, shape (n_stations,)."""
         return CLEARANCE_SHARE * 2.0 * np.asarray(self.radial_clearances, dtype=float)
 
+    @property
+    def scale_factors(self) -> np.ndarray:
+        """``Scc`` of each station and case, shape (n_stations, n_cases) (1 where not scaled)."""
+        return np.ones(self.pkpk.shape[:2]) if self.scale is None else np.asarray(self.scale, dtype=float)
+
     def to_dataframe(self):
         """One row per station and case: ``clearance, rotor, speed_rpm, value, amplitude, limit,
-        ratio, verdict`` (then ``case`` for the API cases).
+        ratio, verdict, response, scale_factor, scaling`` (then ``case`` for the API cases).
 
-        ``value`` [m] is the largest peak-to-peak displacement over the checked speeds (at
-        ``speed_rpm``), ``limit`` [m] 75 % of the diametral clearance, ``ratio`` their quotient;
-        ``verdict`` pass when ``value <= limit``.
+        ``value`` [m] is the largest scaled peak-to-peak displacement ``Scc x response`` over the
+        checked speeds (at ``speed_rpm``), ``limit`` [m] 75 % of the diametral clearance, ``ratio``
+        their quotient; ``verdict`` pass when ``value <= limit``. ``response`` [m] is the
+        unscaled peak-to-peak displacement there, ``scale_factor`` the API 617 ``Scc`` and
+        ``scaling`` how it was found.
         """
         import pandas as pd
 
+        scale = self.scale_factors
+        scaling = np.full(scale.shape, "unscaled", dtype=object) if self.scaling is None else self.scaling
         rows = []
         for c, case in enumerate(self.cases):
-            for name, rotor, values, limit in zip(self.names, self.rotors, self.pkpk[:, c], self.limits):
-                speed, value = self._largest(values)
+            for s, (name, rotor, values, limit) in enumerate(zip(self.names, self.rotors, self.pkpk[:, c],
+                                                                  self.limits)):
+                speed, response = self._largest(values)
+                value = scale[s, c] * response
                 verdict = "no speed checked" if not np.isfinite(value) else ("pass" if value <= limit else "fail")
                 rows.append({"clearance": name, "rotor": rotor, "speed_rpm": speed, "value": value,
                              "amplitude": "peak-to-peak", "limit": limit, "ratio": value / limit,
-                             "verdict": verdict, "case": case})
-        columns = ["clearance", "rotor", "speed_rpm", "value", "amplitude", "limit", "ratio", "verdict", "case"]
+                             "verdict": verdict, "response": response, "scale_factor": scale[s, c],
+                             "scaling": scaling[s, c], "case": case})
+        columns = ["clearance", "rotor", "speed_rpm", "value", "amplitude", "limit", "ratio", "verdict",
+                   "response", "scale_factor", "scaling", "case"]
         return pd.DataFrame(rows, columns=columns if self.cases != ("",) else columns[:-1])
 
     def _largest(self, values):
@@ -94,7 +119,8 @@ class ClearanceCheck:
         return float(self.speeds[k] * 30 / np.pi), float(values[k])
 
 
-def clearance_check(result, model, mcs=None, min_speed: float = 0.0, trip_speed=None) -> ClearanceCheck:
+def clearance_check(result, model, mcs=None, min_speed: float = 0.0, trip_speed=None,
+                    scale_cap=API_SCALE_CAP, min_operating=None) -> ClearanceCheck:
     """The clearance check of ``result`` at ``model``'s close-clearance stations.
 
     Parameters
@@ -111,6 +137,12 @@ def clearance_check(result, model, mcs=None, min_speed: float = 0.0, trip_speed=
         [rad/s] bottom of the checked speeds (default 0).
     trip_speed : float, optional
         [rad/s] top of the checked speeds (API 617: the trip speed), at least ``mcs``.
+    scale_cap : float or None
+        The largest scale factor ``Scc`` (API 617: 6); None for none.
+    min_operating : float, optional
+        [rad/s] the minimum allowable (operating) speed: ``Amax`` of ``Scc`` is the probes'
+        largest amplitude from it to ``mcs`` (API 617: the operating speeds); default
+        ``min_speed``.
 
     Returns
     -------
@@ -137,7 +169,56 @@ def clearance_check(result, model, mcs=None, min_speed: float = 0.0, trip_speed=
         np.zeros((len(model.clearances), n_src, len(speed)))
     together = not result.case_rotors
     pkpk = 2.0 * (major.sum(axis=1, keepdims=True) if together else major)
+    rotors = tuple(c.rotor for c in model.clearances)
+    bottom = min_speed if min_operating is None else min_operating
+    if not (np.isfinite(bottom) and bottom >= 0) or (mcs is not None and bottom > mcs):
+        raise InputError(f"minimum operating speed {bottom!r} rad/s: expected a finite speed >= 0 and at most "
+                         "the maximum continuous speed")
+    scale, scaling = _scale_factors(result, model, rotors, pkpk.shape[1], mcs, bottom, scale_cap)
     return ClearanceCheck(speeds=result.speeds, checked=checked, names=tuple(c.name for c in model.clearances),
-                          rotors=tuple(c.rotor for c in model.clearances),
+                          rotors=rotors,
                           radial_clearances=np.array([c.radial_clearance for c in model.clearances], dtype=float),
-                          pkpk=pkpk, cases=("",) if together else tuple(result.sources), trip_speed=top)
+                          pkpk=pkpk, cases=("",) if together else tuple(result.sources), trip_speed=top,
+                          scale=scale, scaling=scaling)
+
+
+def _scale_factors(result, model, rotors, n_cases, mcs, min_speed, cap):
+    """API 617 ``Scc = Avl / Amax`` (at most ``cap``) of each station's rotor and case, from the
+    probes of the rotor among the result's outputs between ``min_speed`` and ``mcs``; 1 where
+    there is no probe, no MCS or no probe amplitude. Returns (scale, scaling), each of shape
+    (n_stations, n_cases)."""
+    from .unbalance_checks import unbalance_checks
+
+    scale = np.ones((len(rotors), n_cases))
+    scaling = np.full((len(rotors), n_cases), "unscaled: no MCS", dtype=object)
+    if mcs is None:
+        return scale, scaling
+    probes = unbalance_checks(result, model, mcs=mcs, min_speed=min_speed)
+    window, where = _operating_speeds(np.abs(result.speeds), min_speed, mcs)
+    rotor_of = {s.name: s.rotor for s in model.sensors}
+    for s, rotor in enumerate(rotors):
+        rows = [p for p, name in enumerate(probes.probes) if rotor_of[name] == rotor]
+        if not rows:
+            scaling[s] = f"unscaled: no probe on rotor {rotor}"
+            continue
+        largest = np.where(window, probes.probe_pkpk[rows], -np.inf).max(axis=(0, 2))   # (n_cases,)
+        limit = probes.probe_limits[rows[0]]
+        for c in range(n_cases):
+            if not (np.isfinite(largest[c]) and largest[c] > 0):
+                scaling[s, c] = "unscaled: no probe amplitude in the operating speeds"
+                continue
+            scale[s, c] = float(api_scale_factor(limit, largest[c], cap))
+            capped = cap is not None and limit / largest[c] > cap
+            scaling[s, c] = (f"Avl/Amax capped at {cap:g}" if capped else "Avl/Amax") + where
+    return scale, scaling
+
+
+def _operating_speeds(speed, low, high):
+    """The sweep's speeds [rad/s] from ``low`` to ``high`` (mask, ''), or, when none lies there,
+    the one nearest to them (mask, note naming it)."""
+    window = (speed >= low) & (speed <= high)
+    if window.any() or not speed.size:
+        return window, ""
+    k = int(np.argmin(np.abs(speed - np.clip(speed, low, high))))
+    window[k] = True
+    return window, f" (Amax at {speed[k] * 30 / np.pi:.6g} rpm, the sweep's speed nearest the operating speeds)"

@@ -417,6 +417,10 @@ def _crossings_in(single, v, ends, end_values, end_shapes, end_weighted, sources
     inner = speeds[1:-1]
     first = np.zeros(len(inner), dtype=int)
     lam, phi = single.solve(single.sweep(inner)[0], first)
+    if lam.shape[-1] > end_values.shape[-1]:     # a sweep of the lowest modes only: the same roots inside
+        from ._lowest import lowest_of
+
+        lam, phi = lowest_of(lam, phi, end_values.shape[-1])
     values = np.concatenate([end_values[:1], lam, end_values[1:]])[None]                  # (1, S, m)
     shapes = np.concatenate([end_shapes[:1], phi, end_shapes[1:]])[None]
     weighted = np.concatenate([end_weighted[:1], single.weighted(phi, first), end_weighted[1:]])[None]

@@ -24,6 +24,11 @@ A flexible rotor's shaft adds its bending stiffness, and its weight is distribut
 at the node at its point. Its sag, shear force and bending moment station by station come from
 the elements' end forces (:mod:`rotordyn_modal.analysis.shaft_statics`), in
 ``StaticResult.shafts``; rigid rotors have none.
+
+A bearing on a pedestal acts between its rotor and the pedestal, a point mass on its own springs
+(``pedestal_stiffness``) to the stator or the ground: the pedestal's weight ``m_p g`` is a load
+(kind ``pedestal``), as in every mass of ``M`` (``M a_g``, what ``simulate`` applies), and the
+pedestal's spring force is a reaction of kind ``pedestal``.
 """
 
 from __future__ import annotations
@@ -36,14 +41,16 @@ import numpy as np
 
 from . import _arguments
 from .shaft_statics import shaft_statics, weight_force
-from ..assembly import bearing_motion, generalized_force, pedestal_stiffness_damping, shaft_stiffness, weights
+from ..assembly import (bearing_motion, generalized_force, pedestal_stiffness_damping, pedestal_weights, shaft_stiffness,
+                        weights)
 from ..elements.bearings import evaluate
 from ..errors import InputError, ModelWarning
 from ..linear_system import static_solution
 from ..model._table import visible
 from ..model.dofs import frame_block
 from ..model.flexible import STATION_TOLERANCE
-from ..model.geometry import shift_matrix, skew
+from ..model.geometry import shift_matrix, skew, transverse_axes
+from ..units import check_system, to_system, unit_label
 
 __all__ = ["static", "StaticResult", "StaticLoad", "SupportReaction", "transmission_torques",
            "DEFAULT_PRESSURE_ANGLE"]
@@ -58,12 +65,14 @@ class StaticLoad:
 
     Attributes
     ----------
-    kind : {'weight', 'force', 'gear', 'belt', 'coupling'}
+    kind : {'weight', 'pedestal', 'force', 'gear', 'belt', 'coupling'}
+        ``pedestal``: the weight of a bearing's pedestal.
     source : str
-        What applies it: the body (weight), ``force[i]``, the transmission ``DRIVER->DRIVEN``,
-        or the rotor whose coupling holds its spin.
+        What applies it: the body (weight), the bearing (its pedestal's weight), ``force[i]``,
+        the transmission ``DRIVER->DRIVEN``, or the rotor whose coupling holds its spin.
     body : str or None
-        The rotor it acts on, None for the stator (or the frame).
+        The rotor it acts on, None for the stator (or the frame) and for a pedestal (which moves
+        with the stator along the spin axis and passes its loads to it).
     point : ndarray, shape (3,) [m]
     force, moment : ndarray, shape (3,) [N], [N m]
         Model axes; the moment is about ``point``.
@@ -83,20 +92,25 @@ class SupportReaction:
 
     Attributes
     ----------
-    kind : {'mount', 'bearing', 'axial'}
+    kind : {'mount', 'bearing', 'axial', 'pedestal'}
         ``axial``: a rotor on bearings without ``axial_stiffness`` moves axially with the
         stator (or stays on the ground), which holds it along its spin axis (a thrust face).
+        ``pedestal``: what holds a bearing's pedestal: its springs normal to the spin axis, the
+        stator (or the ground) along it and against its turning.
     name : str
+        The mount or bearing (a pedestal: its bearing's name).
     body : str or None
-        The carried body: None for the stator (a mount), else the rotor (a bearing).
+        The carried body: None for the stator (a mount) and for a pedestal, else the rotor (a
+        bearing).
     ground : bool
-        True when the support stands on the ground (mounts; bearings without a stator).
+        True when the support stands on the ground (mounts; bearings and pedestals without a
+        stator; a bearing on a pedestal stands on its pedestal).
     point : ndarray, shape (3,) [m]
     force, moment : ndarray, shape (3,) [N], [N m]
         On the carried body at ``point``, model axes.
     displacement : ndarray, shape (6,) [m, rad]
         Motion ``[u, theta]`` of the carried body at ``point`` relative to what carries it
-        (the ground, or the stator).
+        (the ground, the stator, or a bearing's pedestal).
     eccentricity, attitude_deg : float
         A journal bearing's eccentricity ratio [-] and attitude angle [deg] at its static load
         and speed (short-bearing solution); NaN for other supports.
@@ -127,7 +141,7 @@ class StaticResult:
         ``q`` over ``model.dofs``.
     loads : tuple of StaticLoad
     reactions : tuple of SupportReaction
-        Every suspension, then every bearing.
+        Every suspension, then every bearing, then the axial holds and every pedestal.
     shafts : dict of str -> ShaftStatics
         Per flexible rotor's name, its shaft's stations with sag, shear force, bending moment
         and bending stress (:class:`~rotordyn_modal.analysis.shaft_statics.ShaftStatics`).
@@ -162,6 +176,14 @@ class StaticResult:
         j = layout.rotors.index(rotor)
         point = layout.centres[j] if point is None else point
         return layout.local_relative_motion(rotor, point) @ self.coordinates[layout.slices[j]]
+
+    def pedestal_motion(self, bearing: str) -> np.ndarray:
+        """Motion ``[u, theta]`` [m, rad] of ``bearing``'s pedestal relative to the stator (or
+        the ground), shape (6,): a translation normal to the spin axis (a pedestal does not turn)."""
+        rows = self.model.dofs.pedestal(bearing)
+        if rows is None:
+            raise InputError(f"bearing {bearing!r}: expected a bearing on a pedestal (one with pedestal_mass)")
+        return np.r_[transverse_axes(self.model.spin_axis).T @ self.coordinates[rows], 0.0, 0.0, 0.0]
 
     # -- balance -------------------------------------------------------------------------
     def imbalance(self, body: str | None = "machine"):
@@ -203,6 +225,9 @@ class StaticResult:
             if body == "machine":
                 if r.ground:
                     yield r.point, r.force, r.moment
+            elif r.kind == "pedestal":   # the pedestal counts with the stator: its support only from the ground
+                if body is None and r.ground:
+                    yield r.point, r.force, r.moment
             elif r.body == body:
                 yield r.point, r.force, r.moment
             elif body is None and r.kind != "mount" and not r.ground:
@@ -211,7 +236,8 @@ class StaticResult:
     # -- tables --------------------------------------------------------------------------
     def displacements(self):
         """The stator at its centre of mass and at each mount, each rotor on bearings at its
-        centre of mass and at each bearing (relative to the stator): a DataFrame with columns
+        centre of mass and at each bearing (relative to the stator), and each bearing's pedestal
+        (body ``pedestal``, point its bearing, relative to the stator): a DataFrame with columns
         ``body, point, x_m, y_m, z_m, ux_m, uy_m, uz_m, rx_rad, ry_rad, rz_rad``."""
         import pandas as pd
 
@@ -226,6 +252,8 @@ class StaticResult:
             rows.append((rotor, "centre of mass", model.rotor(rotor).center_of_mass, self.rotor_motion(rotor)))
             rows += [(rotor, b.name, b.position, self.rotor_motion(rotor, b.position))
                      for b in model.bearings_of(rotor)]
+        rows += [("pedestal", b.name, b.position, self.pedestal_motion(b.name)) for b in model.bearings
+                 if layout.pedestal(b.name) is not None]
         return pd.DataFrame([(body, where, *np.asarray(p, float), *motion) for body, where, p, motion in rows],
                             columns=["body", "point", "x_m", "y_m", "z_m", "ux_m", "uy_m", "uz_m",
                                      "rx_rad", "ry_rad", "rz_rad"])
@@ -233,11 +261,12 @@ class StaticResult:
     def reactions_table(self):
         """Every mount's and bearing's reaction on the body it carries: a DataFrame with
         columns ``support, kind, body, on, x_m, y_m, z_m, Fx_N, Fy_N, Fz_N, Mx_Nm, My_Nm, Mz_Nm,
-        eccentricity, attitude_deg``."""
+        eccentricity, attitude_deg`` (``on``: ground, stator or pedestal; a pedestal's row has
+        body ``pedestal``)."""
         import pandas as pd
 
-        rows = [(r.name, r.kind, "stator" if r.body is None else r.body, "ground" if r.ground else "stator",
-                 *r.point, *r.force, *r.moment, r.eccentricity, r.attitude_deg) for r in self.reactions]
+        rows = [(r.name, r.kind, _carried(r), _stands_on(self.model, r), *r.point, *r.force, *r.moment,
+                 r.eccentricity, r.attitude_deg) for r in self.reactions]
         return pd.DataFrame(rows, columns=["support", "kind", "body", "on", "x_m", "y_m", "z_m", "Fx_N", "Fy_N",
                                            "Fz_N", "Mx_Nm", "My_Nm", "Mz_Nm", "eccentricity", "attitude_deg"])
 
@@ -246,8 +275,8 @@ class StaticResult:
         Fz_N, Mx_Nm, My_Nm, Mz_Nm`` (moments about the load's point)."""
         import pandas as pd
 
-        rows = [(x.kind, x.source, "stator" if x.body is None else x.body, *x.point, *x.force, *x.moment)
-                for x in self.loads]
+        rows = [(x.kind, x.source, "pedestal" if x.kind == "pedestal" else "stator" if x.body is None else x.body,
+                 *x.point, *x.force, *x.moment) for x in self.loads]
         return pd.DataFrame(rows, columns=["kind", "source", "body", "x_m", "y_m", "z_m", "Fx_N", "Fy_N",
                                            "Fz_N", "Mx_Nm", "My_Nm", "Mz_Nm"])
 
@@ -285,8 +314,22 @@ class StaticResult:
         return plot_shaft_statics(list(self.shafts.values()), **kwargs)
 
 
+def _carried(reaction) -> str:
+    """The body column of a reaction: the rotor, ``stator`` or ``pedestal``."""
+    if reaction.kind == "pedestal":
+        return "pedestal"
+    return "stator" if reaction.body is None else reaction.body
+
+
+def _stands_on(model, reaction) -> str:
+    """What a support stands on: ``ground``, ``stator`` or (a bearing on one) ``pedestal``."""
+    if reaction.kind == "bearing" and model.dofs.pedestal(reaction.name) is not None:
+        return "pedestal"
+    return "ground" if reaction.ground else "stator"
+
+
 # ----------------------------------------------------------------------------------------
-def static(model, speed=None, forces=None, torques=None, power=None) -> StaticResult:
+def static(model, speed=None, forces=None, torques=None, power=None, units: str = "si") -> StaticResult:
     """Static displacement and support reactions of ``model`` under static loads.
 
     Parameters
@@ -307,6 +350,9 @@ def static(model, speed=None, forces=None, torques=None, power=None) -> StaticRe
     power : float or mapping, optional
         Power [W] through each transmission instead (``torque = power / |driver speed|``),
         one number or by ``"DRIVER->DRIVEN"``; needs ``speed``.
+    units : {'si', 'us'}
+        Unit system of the points said in warnings and refusals (m or in; docs/units.md): the
+        arguments and the result are SI whatever it says.
 
     Returns
     -------
@@ -319,12 +365,14 @@ def static(model, speed=None, forces=None, torques=None, power=None) -> StaticRe
         cannot be placed, or loads that push a motion nothing holds (the sentence names it).
     """
     speed = None if speed is None else _arguments.speed(speed)
-    loads = _loads(model, speed, forces, _torques(model, speed, torques, power))
+    units = check_system(units)
+    loads = _loads(model, speed, forces, _torques(model, speed, torques, power), units)
     loads += _couplings(model, loads)
     stiffness, supports = _stiffness(model, speed)
     load_vector = _load_vector(model, loads)
     q = _solve(model, stiffness, load_vector)
     reactions = tuple(_reaction(model, speed, q, *support) for support in supports) + _axial_holds(model, loads)
+    reactions += _pedestal_reactions(model, q, reactions, loads)
     return StaticResult(model=model, speed=speed, coordinates=q, loads=tuple(loads), reactions=reactions,
                         shafts=_shaft_results(model, q, loads))
 
@@ -345,30 +393,36 @@ def _load_vector(model, loads) -> np.ndarray:
         if flexible and x.kind == "weight":
             total += weight_force(model, model.rotor(x.body))
             continue
+        if x.kind == "pedestal":     # through the pedestal's absolute translation
+            total += model.dofs.pedestal_motion(x.source, x.point).T @ x.force
+            continue
         motion = model.dofs.body_motion(x.body, x.point) if flexible else None
         total += generalized_force(model, x.body, x.point, np.r_[x.force, x.moment], motion=motion)
     return total
 
 
 # -- loads -------------------------------------------------------------------------------
-def _loads(model, speed, forces, torques) -> list:
+def _loads(model, speed, forces, torques, units="si") -> list:
     loads = [StaticLoad("weight", "stator" if body is None else body, body, np.asarray(c, float),
                         np.asarray(f, float), np.zeros(3)) for body, c, f in weights(model)]
-    loads += [_given_load(model, i, item) for i, item in enumerate(forces or ())]
+    loads += [StaticLoad("pedestal", bearing, None, point, force, np.zeros(3))
+              for bearing, point, force in pedestal_weights(model)]
+    loads += [_given_load(model, i, item, units) for i, item in enumerate(forces or ())]
     for t in model.transmissions:
         mine = _transmission_loads(model, t, torques.get(t.label, 0.0), speed)
         for x in mine:
-            off = _off_shaft(model, x.body, x.point)
+            off = _off_shaft(model, x.body, x.point, units)
             if off:
                 warnings.warn(ModelWarning(
-                    f"{model.source}: [transmissions.{visible(t.label)}] acts at {_listed(x.point)} m, off {off}: "
+                    f"{model.source}: [transmissions.{visible(t.label)}] acts at {_listed(x.point, units)} "
+                    f"{unit_label('length', units)}, off {off}: "
                     "it is applied at the nearest end node through a rigid arm; give the transmission's "
                     "position (its plane) at the pulley or gear"), stacklevel=3)
         loads += mine
     return loads
 
 
-def _given_load(model, index: int, item) -> StaticLoad:
+def _given_load(model, index: int, item, units="si") -> StaticLoad:
     """One item of ``forces`` checked: ``(body, point, force[, moment])`` or a mapping."""
     name = f"forces[{index}]"
     if isinstance(item, dict):
@@ -385,15 +439,17 @@ def _given_load(model, index: int, item) -> StaticLoad:
         point = model.reference_point if body is None else model.rotor(body).center_of_mass
     vectors = [_vector3(value, f"{name} {key}") for key, value in
                (("point", point), ("force", force), ("moment", moment))]
-    off = _off_shaft(model, body, vectors[0])
+    off = _off_shaft(model, body, vectors[0], units)
     if off:
-        raise InputError(f"{name} point = {_listed(vectors[0])}: expected a point along {off}")
+        raise InputError(f"{name} point = {_listed(vectors[0], units)}"
+                         f"{'' if units == 'si' else ' ' + unit_label('length', units)}: expected a point along {off}")
     return StaticLoad("force", name, body, *vectors)
 
 
-def _off_shaft(model, body, point) -> str:
+def _off_shaft(model, body, point, units="si") -> str:
     """'' when ``point`` lies along ``body``'s shaft (between its ends, at any distance from its
-    axis) or ``body`` is not a flexible rotor; else the shaft's extent in words."""
+    axis) or ``body`` is not a flexible rotor; else the shaft's extent in words (m, or in for
+    ``units='us'``)."""
     shaft = None if body is None else model.rotor(body).flexible
     if shaft is None:
         return ""
@@ -401,12 +457,14 @@ def _off_shaft(model, body, point) -> str:
     if -slack <= shaft.z_of(point) <= shaft.length + slack:
         return ""
     ends = shaft.point(np.array([0.0, shaft.length]))
-    return (f"rotor {visible(body)}'s shaft, from {_listed(ends[0])} to {_listed(ends[1])} m (a load on a "
+    return (f"rotor {visible(body)}'s shaft, from {_listed(ends[0], units)} to {_listed(ends[1], units)} "
+            f"{unit_label('length', units)} (a load on a "
             "flexible rotor acts at the shaft's node there)")
 
 
-def _listed(vector) -> str:
-    return "[" + ", ".join(f"{v:.6g}" for v in np.asarray(vector, dtype=float)) + "]"
+def _listed(vector, units="si") -> str:
+    """``[x, y, z]`` of a point [m], in the length unit of ``units``."""
+    return "[" + ", ".join(f"{v:.6g}" for v in to_system(np.asarray(vector, dtype=float), "length", units)) + "]"
 
 
 def _body(model, body, name: str):
@@ -562,7 +620,7 @@ def _stiffness(model, speed):
         rows, moves = bearing_motion(model, b)
         stiffness[rows, rows] += moves.T @ k6 @ moves
         supports.append(("bearing", b, k6))
-    if model.dofs.pedestals:     # the bearings' pedestals to the stator (their weight is no load)
+    if model.dofs.pedestals:     # the bearings' pedestals to the stator (their weight: a load of kind pedestal)
         stiffness += pedestal_stiffness_damping(model)[0]
     return stiffness, supports
 
@@ -629,7 +687,7 @@ def _reaction(model, speed, q, kind, item, k6) -> SupportReaction:
     else:
         rows, moves = bearing_motion(model, item)
         motion = moves @ q[rows]
-        body, ground = item.rotor, layout.frame == "ground"
+        body, ground = item.rotor, layout.frame == "ground" and item.pedestal is None
     wrench = -k6 @ motion
     extra = _journal_state(model, speed, item, wrench[:3]) if kind == "bearing" else {}
     return SupportReaction(kind=kind, name=item.name, body=body, ground=ground,
@@ -652,6 +710,26 @@ def _axial_holds(model, loads) -> tuple:
                                        ground=layout.frame == "ground",
                                        point=np.asarray(model.rotor(rotor).center_of_mass, dtype=float),
                                        force=-axial * e, moment=np.zeros(3), displacement=np.zeros(6)))
+    return tuple(out)
+
+
+def _pedestal_reactions(model, q, reactions, loads) -> tuple:
+    """What holds each bearing's pedestal: its springs' force ``-K_p u_p`` normal to the spin
+    axis, and along it and against turning the stator (or the ground), which takes the rest of
+    the bearing's force on the pedestal and of its weight (the pedestal moves with it there)."""
+    layout, e = model.dofs, np.asarray(model.spin_axis, dtype=float)
+    bearings = {r.name: r for r in reactions if r.kind == "bearing"}
+    pedestal_weight = {x.source: x.force for x in loads if x.kind == "pedestal"}
+    out = []
+    for b in model.bearings:
+        if b.pedestal is None:
+            continue
+        motion = np.r_[transverse_axes(e).T @ q[layout.pedestal(b.name)], 0.0, 0.0, 0.0]
+        spring = -b.pedestal.stiffness @ motion[:3]
+        held = bearings[b.name].force - pedestal_weight.get(b.name, np.zeros(3))   # the pedestal's balance
+        out.append(SupportReaction(kind="pedestal", name=b.name, body=None, ground=layout.frame == "ground",
+                                   point=np.asarray(b.position, dtype=float), force=spring + (held @ e) * e,
+                                   moment=bearings[b.name].moment.copy(), displacement=motion))
     return tuple(out)
 
 

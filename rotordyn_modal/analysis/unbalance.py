@@ -294,7 +294,8 @@ class UnbalanceResult:
         Parameters
         ----------
         operating_speed : float, optional
-            [rad/s], not zero; gives the actual separation margin (a percentage of it).
+            [rad/s], not zero; gives the actual separation margin (a percentage of it) and the
+            required one of a peak below it or above it (without it: the one below).
         amplitude : {None, 'peak', 'pk-pk', 'rms'}
             Adds the peak's amplitude in that convention as a last column (none for 'peak');
             default ``amplitude_kind``.
@@ -318,10 +319,12 @@ class UnbalanceResult:
                     speed, amp, af = peak
                     margin = np.nan if operating_speed is None else \
                         100 * abs(operating_speed - speed) / abs(operating_speed)
+                    above = operating_speed is not None and abs(speed) > abs(operating_speed)
                     rows.append({"output": out, "source": src, "speed_rpm": speed * 30 / np.pi,
                                  "amplitude": amp, "amplification_factor": af,
                                  "separation_margin_pct": margin,
-                                 "required_margin_pct": required_separation_margin(af)})
+                                 "required_margin_pct": required_separation_margin(
+                                     af, "above" if above else "below")})
         table = pd.DataFrame(rows, columns=["output", "source", "speed_rpm", "amplitude",
                                             "amplification_factor", "separation_margin_pct",
                                             "required_margin_pct"])
@@ -341,12 +344,13 @@ class UnbalanceResult:
         return unbalance_checks(self, model, mcs=mcs, min_speed=min_speed, iso_group=iso_group,
                                 iso_support=iso_support)
 
-    def clearance_check(self, model, mcs=None, min_speed: float = 0.0, trip_speed=None):
-        """The API 617 / 684 clearance check at the model's close-clearance stations; see
+    def clearance_check(self, model, mcs=None, min_speed: float = 0.0, trip_speed=None, **options):
+        """The API 617 / 684 clearance check at the model's close-clearance stations, the response
+        scaled by ``Scc = Avl / Amax`` (``scale_cap``, ``min_operating``); see
         :func:`rotordyn_modal.analysis.clearance.clearance_check`."""
         from .clearance import clearance_check
 
-        return clearance_check(self, model, mcs=mcs, min_speed=min_speed, trip_speed=trip_speed)
+        return clearance_check(self, model, mcs=mcs, min_speed=min_speed, trip_speed=trip_speed, **options)
 
     def plot(self, outputs=None, **kwargs):
         """Bode figure: amplitude (in ``amplitude_kind``, or ``amplitude=``) and phase vs speed
@@ -407,14 +411,26 @@ def _crossing(x, y, k, level, step):
     return x[i] + (level - y[i]) * (x[j] - x[i]) / (y[j] - y[i])
 
 
-def required_separation_margin(af: float) -> float:
-    """API 684 required separation margin [%] for an amplification factor.
+def required_separation_margin(af: float, position: str = "below") -> float:
+    """API 617 / API 684 required separation margin [%] for an amplification factor.
 
-    0 below AF 2.5; 15 % for 2.5 <= AF <= 3.55; ``17 (1 - 1 / (AF - 1.5))`` above.
+    0 for AF < 2.5 (critically damped); otherwise, for a critical speed below the operating
+    range (a percentage of its low end) ``min(16, 17 (1 - 1 / (AF - 1.5)))``, above it (a
+    percentage of its high end) ``min(26, 10 + 17 (1 - 1 / (AF - 1.5)))`` (``docs/standards.md``).
+
+    Parameters
+    ----------
+    af : float
+        Amplification factor [-]; NaN gives NaN (not evaluated).
+    position : {'below', 'above'}
+        Where the critical speed lies relative to the operating range.
     """
+    if position not in ("below", "above"):
+        raise InputError(f"separation margin position {position!r}: expected 'below' or 'above'")
     if not np.isfinite(af) or af < 2.5:
         return 0.0 if np.isfinite(af) else np.nan
-    return 15.0 if af <= 3.55 else 17.0 * (1 - 1 / (af - 1.5))
+    margin = 17.0 * (1 - 1 / (af - 1.5))
+    return min(16.0, margin) if position == "below" else min(26.0, 10.0 + margin)
 
 
 def unbalance_response(model, speeds, outputs=None, quantity: str = "displacement",

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model import Model
-from ..unbalance_standards import api_probe_limit, api_unbalance, iso_zone_boundaries, iso_zones
+from ..unbalance_standards import api_analysis_unbalance, api_probe_limit, iso_zone_boundaries, iso_zones
 
 __all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases"]
 
@@ -187,11 +187,12 @@ def api_unbalance_cases(model, mcs: float):
 
     For every rotor ``j`` (maximum continuous speed ``N_j = |r_j| mcs`` [rpm]):
 
-    - ``api-static:ROTOR`` (the cylindrical, first mode): one unbalance ``6350 m_j / N_j`` [g mm]
-      at the rotor's centre of mass (its "midspan" for a rigid rotor), ``m_j`` its mass;
+    - ``api-static:ROTOR`` (the cylindrical, first mode): one unbalance ``Ua = 2 x 6350 m_j / N_j``
+      [g mm] (twice the residual unbalance, API 617) at the rotor's centre of mass (its "midspan"
+      for a rigid rotor), ``m_j`` its mass;
     - ``api-couple:ROTOR`` (the conical, second mode), for a rotor on bearings at two or more
       axial places: one unbalance at each of its outermost bearings' planes, 180 deg apart,
-      each ``6350 (m_j / 2) / N_j`` (the journal static load of a rotor centred between two
+      each ``2 x 6350 (m_j / 2) / N_j`` (the journal static load of a rotor centred between two
       bearings): a pure couple, whatever the place of the centre of mass. (Amounts from each
       bearing's own static load would cancel the couple about the centre of mass where the
       rotor overhangs its bearings: the lever rule's moment balance.)
@@ -217,7 +218,7 @@ def api_unbalance_cases(model, mcs: float):
         n = abs(rotor.speed_ratio) * mcs * 30 / np.pi
         if n == 0:
             continue
-        static = [{"rotor": rotor.name, "amount": api_unbalance(rotor.mass, n)}]
+        static = [{"rotor": rotor.name, "amount": api_analysis_unbalance(rotor.mass, n)}]
         cases.append((f"api-static:{rotor.name}", static))
         couple = _couple_unbalances(model, rotor, n)
         if couple:
@@ -227,12 +228,12 @@ def api_unbalance_cases(model, mcs: float):
 
 def _couple_unbalances(model, rotor, n_rpm):
     """The two ``[[unbalances]]`` tables of a rotor's couple case (none with fewer than two
-    bearing planes): ``6350 (m / 2) / N`` at each outermost bearing plane, 180 deg apart."""
+    bearing planes): ``2 x 6350 (m / 2) / N`` at each outermost bearing plane, 180 deg apart."""
     e = model.spin_axis
     centre = np.asarray(rotor.center_of_mass, dtype=float)
     offsets = sorted({float((np.asarray(b.position, dtype=float) - centre) @ e) for b in model.bearings_of(rotor.name)})
     if len(offsets) < 2:
         return []
-    amount = api_unbalance(rotor.mass / 2, n_rpm)
+    amount = api_analysis_unbalance(rotor.mass / 2, n_rpm)
     return [{"rotor": rotor.name, "amount": amount, "phase_deg": phase, "axial_offset": offset}
             for phase, offset in ((0.0, offsets[0]), (180.0, offsets[-1]))]

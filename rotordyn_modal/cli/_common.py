@@ -281,6 +281,31 @@ def write_table(table, args, float_format="%.10g", empty: str | None = None):
 
 _TERMINAL_ROWS = 40
 
+#: a sweep's columns that are zero on a conservative machine (every root imaginary)
+_DAMPING_COLUMNS = ("damping_ratio", "log_decrement", "real_part")
+
+
+def undamped_zeros(table, model):
+    """``table`` (a sweep's rows with ``speed_rpm`` in rpm) with its damping columns marked as
+    round-off (printed 0 on the terminal, the CSV keeps every digit) on the rows where the machine
+    is conservative: no damping and a symmetric positive semidefinite stiffness put every root on
+    the imaginary axis (``analysis._roots.conservative``, docs/theory.md section 11), so a damping
+    ratio of -1.4e-30 or -6.2e-15 is round-off and must not read as unstable. Only the rows
+    printed are tested."""
+    from ..assembly import constant_matrices
+
+    if table.empty or "speed_rpm" not in table or constant_matrices(model).C.any():   # damped: no form built
+        return table
+    from ..analysis._roots import conservative
+    from ..linear_system import speed_linear_form
+
+    speeds = table["speed_rpm"].to_numpy(dtype=float)[:_TERMINAL_ROWS] * (math.pi / 30.0)
+    noise = np.where(conservative(speed_linear_form(model), speeds), np.inf, 0.0)
+    if noise.any():
+        table.attrs["round_off"] = {**table.attrs.get("round_off", {}),
+                                    **{column: noise for column in _DAMPING_COLUMNS if column in table}}
+    return table
+
 
 def print_table(table, empty: str | None = None):
     """Print a table on the terminal, shortened to its first rows when long.

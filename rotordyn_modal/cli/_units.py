@@ -6,11 +6,12 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 
 import numpy as np
 
 from ..errors import InputError
-from ..units import UNIT_SYSTEMS, to_system, unit_label
+from ..units import UNIT_SYSTEMS, from_system, to_system, unit_label
 
 #: environment variable naming the unit system when ``--units`` is not given
 ENVIRONMENT = "ROTORDYN_MODAL_UNITS"
@@ -134,3 +135,85 @@ def _round_off(noise, kind, row_kinds, system):
     if kind == "row":
         return _by_row(np.broadcast_to(np.asarray(noise, dtype=float), (len(row_kinds),)), row_kinds, system)
     return to_system(noise, kind, system)
+
+
+# -- model keys (fit, study): the quantity of a dotted key's value ---------------------------------
+#: quantity kind (:data:`rotordyn_modal.units.QUANTITIES`) of a model key's value by its field
+#: name (docs/model-file.md, SI there); a field not named here is shown as the model file gives it
+KEY_KINDS = {
+    **dict.fromkeys(("mass", "pedestal_mass"), "mass"),
+    **dict.fromkeys(("polar_inertia", "diametral_inertia", "inertia"), "inertia"),
+    **dict.fromkeys(("stiffness", "maxwell_stiffness", "pedestal_stiffness", "axial_stiffness", "mesh_stiffness"),
+                    "stiffness"),
+    **dict.fromkeys(("damping", "pedestal_damping", "axial_damping", "mesh_damping"), "damping"),
+    "moment_stiffness": "moment",                                      # N m/rad: a moment per radian
+    **dict.fromkeys(("center_of_mass", "position", "axial_position", "axial_offset", "start", "length",
+                     "outer_diameter", "inner_diameter", "element_length", "width", "diameter", "clearance",
+                     "radial_clearance", "driver_radius"), "length"),
+    "amount": "unbalance", "viscosity": "viscosity", "load": "force", "pretension": "force",
+    "density": "density", **dict.fromkeys(("young_modulus", "shear_modulus"), "pressure"),
+}
+#: the unit of the fields that keep their model-file unit in every system
+KEY_UNITS = {"maxwell_time": "s", "phase_deg": "deg", "pressure_angle": "deg", "service_speed_rpm": "rpm",
+             "gravity": "m/s²", "moment_damping": "N m s/rad"}
+#: a suspension's stiffness or damping with rotations (a 6-list, 6x6): the kind of each block
+#: (translations, rotations); N m s/rad has no kind (shown in SI)
+_SIX_BY_SIX = {"stiffness": (("stiffness", "force"), ("force", "moment")),
+               "maxwell_stiffness": (("stiffness", "force"), ("force", "moment")),
+               "damping": (("damping", None), (None, None))}
+_FIELD = re.compile(r"^(?P<path>.*?)(?P<indices>(\[-?\d+\])*)$")
+
+
+def key_kind(key: str, model=None):
+    """The quantity kind of a dotted model key's value (``suspensions.FL.stiffness[2]``:
+    'stiffness'), or None when it has no unit to convert (ratios, times, angles, ``gain``) or
+    mixes units (a suspension's whole 6-list or 6x6 stiffness, translations beside rotations).
+
+    Parameters
+    ----------
+    key : str
+    model : Model, optional
+        Tells a suspension's 6-list or 6x6 matrix from its 3-list or 3x3 (without it, a
+        suspension's stiffness and damping count as translational).
+    """
+    match = _FIELD.match(key)
+    path, field = match.group("path"), match.group("path").rpartition(".")[2]
+    if key.startswith("suspensions.") and field in _SIX_BY_SIX and model is not None:
+        indices = [int(i) for i in re.findall(r"-?\d+", match.group("indices"))]
+        whole = model.get(path)
+        if field.startswith("maxwell"):    # a list of branches: the first index picks one
+            if not indices:
+                return None if any(np.size(branch) > 9 or np.size(branch) == 6 for branch in whole) else "stiffness"
+            whole, indices = whole[indices[0]], indices[1:]
+        shape = np.shape(whole)
+        if max(shape, default=0) == 6:     # rotations too: the kind of the entry's block
+            rows = [indices[0] % 6 >= 3] if indices else []
+            if len(shape) == 2:
+                rows = [indices[0] % 6 >= 3, indices[1] % 6 >= 3] if len(indices) == 2 else []
+            elif rows:
+                rows = rows * 2                # a diagonal entry
+            return _SIX_BY_SIX[field][rows[0]][rows[1]] if rows else None
+    return KEY_KINDS.get(field)
+
+
+def key_unit(key: str, system: str, model=None) -> str:
+    """The unit a dotted key's value is shown in (``lbf/in``), ``-`` for a number without unit,
+    ``SI`` for one whose units are mixed (a suspension's 6x6, shown as the model file gives it)."""
+    kind = key_kind(key, model)
+    if kind is not None:
+        return unit_label(kind, system)
+    field = _FIELD.match(key).group("path").rpartition(".")[2]
+    if key.startswith("suspensions.") and field in _SIX_BY_SIX and model is not None:
+        return "SI"
+    return KEY_UNITS.get(field, "-")
+
+
+def key_value_in(key: str, value, system: str, model=None, inverse: bool = False):
+    """A dotted key's SI ``value`` (scalar or list) in ``system`` (``inverse``: from it to SI);
+    unchanged when its kind is None (:func:`key_kind`)."""
+    kind = key_kind(key, model)
+    if kind is None or system == "si":
+        return value
+    convert = from_system if inverse else to_system
+    return float(convert(value, kind, system)) if np.ndim(value) == 0 else \
+        [float(v) for v in np.ravel(convert(np.asarray(value, dtype=float), kind, system))]

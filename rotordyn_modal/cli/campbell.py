@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       refuse_long_work, save_figure, show_progress, speeds_option, speeds_text, use_agg,
-                      write_table)
+                      undamped_zeros, write_table)
 from ._units import NOTHING_TO_CONVERT
 
 NAME = "campbell"
@@ -17,7 +17,8 @@ mesh's excitation orders, and the critical speeds; unstable stretches lie on a r
 a red triangle where a mode becomes unstable. Its speed axis is in --speed-unit; its
 frequency axis is logarithmic when the modes at one speed span more than 30x (e.g. mount
 modes at 5 Hz and bearing modes at 1 kHz), else linear (--freq-scale); --freq-range or
---freq-max limit it.
+--freq-max limit it. --lowest N or --max-frequency HZ solve only the modes asked for
+(exact, faster for large flexible rotors; docs/theory.md section 17).
 
 CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part,mode_at_speed
 ('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
@@ -33,11 +34,13 @@ eigen-solutions and of the critical speeds' refinement.
 example:
   rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png
   rotordyn-modal campbell examples/motor_pump_on_mounts.toml --speeds 0:3600:181 --orders 1,2 \
-      --freq-range 0:40 --plot mounts.png"""
+      --freq-range 0:40 --plot mounts.png
+  rotordyn-modal campbell examples/compressor_rotor.toml --speeds 0:12000:201 --orders 1,2 \
+      --max-frequency 450 --plot compressor.png"""
 
 #: what to do about work over the CPU-time limit
-LONG_ADVICE = ("ask for the lowest modes only (--lowest N), fewer excitation orders (--orders) or fewer speeds "
-               "(--speeds), or leave out the critical speeds (--no-critical)")
+LONG_ADVICE = ("ask for the lowest modes only (--lowest N, --max-frequency HZ), fewer excitation orders (--orders) "
+               "or fewer speeds (--speeds), or leave out the critical speeds (--no-critical)")
 
 
 def add_arguments(parser):
@@ -53,6 +56,12 @@ def add_arguments(parser):
                              "round-off, without solving for every root (faster for large flexible rotors; the "
                              "columns then follow those N; docs/theory.md, 'The lowest modes only'); N at least the "
                              "model's number of roots is every root")
+    parser.add_argument("--max-frequency", metavar="HZ",
+                        help="only the modes of damped natural frequency at most HZ [Hz] at each speed, each the "
+                             "full model's root to round-off, without solving for every root (with --lowest N, the "
+                             "lowest N of them); a mode is drawn and listed at the speeds where it lies below HZ, "
+                             "and the critical speeds are those at frequencies up to HZ (docs/theory.md, 'The "
+                             "modes below a frequency')")
     parser.add_argument("--color-by", choices=["log_decrement", "damping_ratio"],
                         help="colour the curves by this quantity instead of by whirl")
     _add_frequency_axis(parser)
@@ -66,13 +75,15 @@ def run(args) -> int:
     axis = _frequency_axis(args)    # bad limits refused before the work
     speeds, orders, lowest = speeds_option(args), tuple(parse_list(args.orders, "--orders")), _lowest(args.lowest,
                                                                                                        model)
-    if lowest is None:
+    limit = _max_frequency(args.max_frequency)
+    if lowest is None and limit is None:
         refuse_long_work(args, model, speeds, orders, critical=not args.no_critical, advice=LONG_ADVICE,
                          memory=True)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), critical=not args.no_critical,
-                      modes=lowest)
-    write_table(result.to_dataframe(), args, empty=f"no oscillating modes {speeds_text(args)}: "
-                f"{result.eigenvalues.shape[1]} roots at each speed, all real or overdamped")
+                      modes=lowest, max_frequency=limit)
+    empty = (f"no oscillating modes {speeds_text(args)}: {result.eigenvalues.shape[1]} roots at each speed, all "
+             "real or overdamped") if limit is None else f"no mode below {limit:g} Hz {speeds_text(args)}"
+    write_table(undamped_zeros(result.to_dataframe(), model), args, empty=empty)
     if args.plot:
         use_agg()
         save_figure(result.plot(color_by=args.color_by, title=model.name or None, speed_unit=args.speed_unit,
@@ -88,6 +99,20 @@ def _lowest(text, model):
 
     count = None if text is None else parse_count(text, "--lowest", of="modes")
     return None if count is None or count >= root_count(model) else count
+
+
+def _max_frequency(text):
+    """``--max-frequency HZ`` as a float [Hz], or None (no limit); refused in one line unless a
+    finite number > 0."""
+    from ..errors import InputError
+    from ._common import parse_number
+
+    if text is None:
+        return None
+    value = parse_number(text, "--max-frequency")
+    if not value > 0:
+        raise InputError(f"--max-frequency {text!r}: expected a frequency > 0 [Hz]")
+    return value
 
 
 def _add_frequency_axis(parser):

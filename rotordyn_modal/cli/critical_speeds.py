@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
                       refuse_long_work, save_figure, show_progress, speeds_option, speeds_text, use_agg,
-                      write_table)
+                      undamped_zeros, write_table)
 from ._units import NOTHING_TO_CONVERT
 
 NAME = "critical-speeds"
@@ -38,21 +38,26 @@ def add_arguments(parser):
                         help="only the crossings of the N lowest-frequency modes at each speed, each mode the "
                              "full model's root to round-off, without solving for every root (see campbell "
                              "--lowest)")
+    parser.add_argument("--max-frequency", metavar="HZ",
+                        help="only the crossings at frequencies up to HZ [Hz], from the modes below HZ at each "
+                             "speed, each the full model's root to round-off, without solving for every root (see "
+                             "campbell --max-frequency)")
     add_allow_long(parser)
     add_outputs(parser)
 
 
 def run(args) -> int:
     from ..analysis.campbell import campbell
-    from .campbell import _lowest
+    from .campbell import _lowest, _max_frequency
     model = open_model(args)
-    modes = _lowest(args.lowest, model)
+    modes, limit = _lowest(args.lowest, model), _max_frequency(args.max_frequency)
     speeds, orders = speeds_option(args), tuple(parse_list(args.orders, "--orders"))
-    if modes is None:
+    if modes is None and limit is None:
         refuse_long_work(args, model, speeds, orders, numbers=True, advice="ask for the lowest modes only (--lowest "
-                         "N), fewer excitation orders (--orders) or fewer speeds (--speeds)", memory=True)
-    result = campbell(model, speeds, orders=orders, progress=show_progress(args), modes=modes)
-    write_table(_with_modes_at_speed(result.critical.to_dataframe(), model, result), args,
+                         "N, --max-frequency HZ), fewer excitation orders (--orders) or fewer speeds (--speeds)",
+                         memory=True)
+    result = campbell(model, speeds, orders=orders, progress=show_progress(args), modes=modes, max_frequency=limit)
+    write_table(undamped_zeros(_with_modes_at_speed(result.critical.to_dataframe(), model, result), model), args,
                 empty=f"no critical speed {speeds_text(args)} (orders {args.orders})")
     if args.plot:
         use_agg()

@@ -10,11 +10,14 @@ from ..errors import InputError
 from ..io import save_model
 from ._common import (add_input_file, add_model_argument, add_output_file, check_ending, check_output_options,
                       check_outputs, load_model, parse_list, save_figure, show_progress, use_agg)
-from ._units import STAYS_SI
+from ._units import ENVIRONMENT, key_unit, key_value_in
 
 NAME = "fit"
 HELP = "identify model parameters (mount stiffness, damping, ...) from measured FRFs"
-UNITS_HELP = STAYS_SI   # --units (docs/units.md)
+UNITS_HELP = ("unit system of what is printed and drawn: si (default) or us (the parameters' start and fitted "
+              "values in lb, lbf/in, lbf s/in, lb in², in ..., with a unit column; the --plot FRFs in in/lbf, "
+              f"in/s/lbf, g/lbf); also set once by {ENVIRONMENT}. The model files read and written stay SI "
+              "(docs/units.md)")   # --units
 DESCRIPTION = """Least-squares fit of model parameters to measured FRFs (UFF 58/58b or CSV), at
 every speed in the file: log-scaled parameters within bounds, relative complex residual,
 coherence weighting, an optional frequency band, several starting points. Prints the fitted
@@ -22,7 +25,10 @@ values with standard uncertainties and the correlation matrix and writes the fit
 file (never over the input). A fit that does not converge, or whose parameters the data do
 not determine, says why and exits with code 1 without writing the model.
 
-KEY is a dotted key (a whole array is scaled as one) or 'gain'.
+KEY is a dotted key (a whole array is scaled as one) or 'gain'. With --units us the table gives
+the start and fitted values in US units (lb, lbf/in, lbf s/in, lb in², in, oz in, psi) and a last
+column unit; factors, uncertainties, correlations and residuals have no unit. The model files
+(MODEL, --out) are SI whatever --units says.
 
 example:
   rotordyn-modal fit start.toml --measured measured.uff --freq-band 2:40 \\
@@ -70,7 +76,7 @@ def run(args) -> int:
                  progress=show_progress(args))
     fitted = result.fitted_model(model)
     if not args.quiet:
-        _report(result)
+        _report(result, model, args.units)
         _print_frac(model, fitted, measured)
     if args.plot:
         _overlay(fitted, measured, args)
@@ -83,10 +89,10 @@ def run(args) -> int:
     return 0
 
 
-def _report(result):
+def _report(result, model=None, system="si"):
     import pandas as pd
 
-    table = result.to_dataframe()
+    table = _in_units(result, model, system)
     with pd.option_context("display.width", 200, "display.max_colwidth", 80):
         print(table.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
         print("\nparameter correlation:")
@@ -94,6 +100,23 @@ def _report(result):
               .to_string(float_format=lambda v: f"{v:+.3f}"))
     print(f"\nRMS relative residual {result.cost:.4g} over {result.n_points} frequency lines; "
           f"from each start: {', '.join(f'{c:.3g}' for c in result.start_costs)}")
+
+
+def _in_units(result, model, system):
+    """The parameter table (:meth:`FitResult.to_dataframe`, SI) in ``system``: start and fitted
+    values in the unit of each key's quantity, and a last column ``unit``; SI unchanged."""
+    table = result.to_dataframe()
+    if system == "si":
+        return table
+    shown = (lambda values: [_text(key_value_in(k, v, system, model)) for k, v in zip(result.keys, values)])
+    table["start"], table["fitted"] = shown(result.start_values), shown(result.values)
+    table["unit"] = [key_unit(k, system, model) for k in result.keys]
+    return table
+
+
+def _text(value):
+    """As :meth:`FitResult.to_dataframe` writes a value: 6 digits, a list in brackets."""
+    return f"{value:.6g}" if np.ndim(value) == 0 else "[" + ", ".join(f"{v:.6g}" for v in np.ravel(value)) + "]"
 
 
 def _model_sets(model, measured):
@@ -113,7 +136,9 @@ def _print_frac(start, fitted, measured):
 
 def _overlay(fitted, measured, args):
     from ..plotting.frf import plot_overlay
+    from .frf import _input_kinds
 
     use_agg()
     save_figure(plot_overlay(_model_sets(fitted, measured), measured,
-                             title="Fitted model (lines) over the measurement (dots)"), args)
+                             title="Fitted model (lines) over the measurement (dots)", units=args.units,
+                             input_kinds=_input_kinds(fitted)), args)

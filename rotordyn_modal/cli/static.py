@@ -16,8 +16,8 @@ DESCRIPTION = """Static analysis: the machine under its weight (the model's grav
 and moments given here, and the tooth (gear) or strand (belt) forces of the power each
 transmission carries at the operating speed. Prints the loads, the displacement of the stator at
 its centre of mass and at each mount and of each rotor relative to the stator (at its centre of
-mass and at each bearing), and the force and moment of every mount and bearing on the body it
-carries, with the balance of all of them (zero to round-off). Rubber mounts stand on their
+mass and at each bearing, and each bearing's pedestal), and the force and moment of every mount,
+bearing and pedestal on the body it carries (a pedestal's weight is a load), with the balance of all of them (zero to round-off). Rubber mounts stand on their
 static stiffness (Maxwell branches add nothing at zero frequency); bearings on their stiffness at
 the operating speed, journal bearings on their light-load film, with each journal's eccentricity
 at its load (docs/static.md).
@@ -75,7 +75,7 @@ def run(args) -> int:
     speed = None if args.speed is None else float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
     forces = [_force(text, args.units) for text in args.force or ()] + \
         [_moment(text, args.units) for text in args.moment or ()]
-    result = static(model, speed=speed, forces=forces, power=_power(args.power, args.units))
+    result = static(model, speed=speed, forces=forces, power=_power(args.power, args.units), units=args.units)
     table = _in_units(result.to_dataframe(), args.units)
     if args.out:
         write_table(table, args) if args.out == "-" else write_table(table, _quietly(args))

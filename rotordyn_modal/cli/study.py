@@ -12,11 +12,15 @@ from ..errors import InputError, OutputError, OutputWriteError
 from ._common import (add_input_file, add_model_argument, add_output_file, check_outputs, parse_number, print_table,
                       show_progress, use_agg)
 from ._resources import add_verbose
-from ._units import STAYS_SI
+from ._units import ENVIRONMENT, key_kind
+from ..units import to_system, unit_label
 
 NAME = "study"
 HELP = "parameter study (tolerance Monte Carlo, designs of experiments, grids) over model variants"
-UNITS_HELP = STAYS_SI   # --units (docs/units.md)
+UNITS_HELP = ("unit system of what is printed, tabled and drawn: si (default) or us (parameters that set a key "
+              "in its US unit: lbf/in, lb, in ...; unbalance peak amplitudes in mil, in/s or g; the --table columns "
+              f"named with their unit); also set once by {ENVIRONMENT}. Speeds stay rpm (rad/s in --table and "
+              "RESULTS.nc), frequencies Hz; the model and study files and RESULTS.nc stay SI (docs/units.md)")
 DESCRIPTION = """Runs the analyses of a study file (docs/study-file.md) on every variant of the
 model: parameters addressed by dotted keys, as grids or distributions (normal, lognormal,
 uniform; truncation, correlation) sampled by Monte Carlo, Latin hypercube, Sobol or a
@@ -34,6 +38,13 @@ memory) is replaced once by a fresh pool of half the workers; on dask the schedu
 computes a lost worker's chunk again elsewhere, and a chunk whose workers all died stops
 the study with one line (its finished chunks kept: run again). A study whose results
 cannot fit in memory is refused before any work, with the estimate (docs/study-file.md).
+
+With --units us the --table CSV and the --plot-map axes give a parameter that sets a key (apply
+= "value", a values grid) in the US unit of the key's quantity (lbf/in, lbf s/in, lb, lb in², in,
+...; a factor, apply = "scale", has none), and the summary and the --table the unbalance peak
+amplitudes in mil, in/s or g; the converted --table columns end in their unit (_lbf_per_in, _lb,
+_in, _mil ...). The study
+file's numbers, the model file and RESULTS.nc stay SI; speeds stay rpm (rad/s in the files).
 
 examples:
   rotordyn-modal study examples/gear_machine.toml --spec examples/mount_tolerance.study.toml \\
@@ -91,10 +102,11 @@ def run(args) -> int:
         try:
             with outputs_together():  # the results, the table and the figures appear together
                 result = _compute(model, definition, args, folder)
-                _write(result, args, folder)
+                kinds = _column_kinds(result, definition, model, args.units)
+                _write(result, args, folder, kinds)
                 if not args.quiet:
-                    _report(result, band)
-                _plots(result, args, band)
+                    _report(result, band, kinds)
+                _plots(result, args, band, kinds)
         except (OutputError, OutputWriteError) as error:
             raise _kept_chunks(error, folder) from None
     return 0
@@ -242,8 +254,9 @@ class _executor:
         return False
 
 
-def _write(result, args, folder):
-    """The results and the table; the checkpoint goes once they are in place."""
+def _write(result, args, folder, kinds=None):
+    """The results and the table (its columns in the unit system of ``kinds``,
+    :func:`_column_kinds`); the checkpoint goes once they are in place."""
     from ..io import atomic_write
     from ..io.atomic import after_commit
     from ..study.execution import remove_checkpoint
@@ -252,10 +265,10 @@ def _write(result, args, folder):
     after_commit(lambda: remove_checkpoint(folder))
     if args.table:
         with atomic_write(args.table, "w", newline="") as handle:
-            result.to_dataframe().to_csv(handle, index=False, float_format="%.10g")
+            _in_units(result.to_dataframe(), kinds).to_csv(handle, index=False, float_format="%.10g")
 
 
-def _report(result, band):
+def _report(result, band, kinds=None):
     failed = int(result.failed.sum())
     print(f"{result.n_variants} variants, {failed} failed"
           + (f", {result.resumed_chunks} chunks resumed from an earlier run" if result.resumed_chunks else ""),
@@ -265,7 +278,7 @@ def _report(result, band):
         print(f"first failure: {reasons[0]}", file=sys.stderr)
     table = result.summary()
     if len(table):
-        table = _in_rpm(table)
+        table = _summary_in_units(_in_rpm(table), kinds)
         print_table(table[[c for c in table.columns if not c.endswith(("_low", "_high"))]])
     else:
         print("no scalar output to summarise: the curves (Campbell, responses) are in the results file")
@@ -273,6 +286,64 @@ def _report(result, band):
         p = result.probability_in_band(band[0] * np.pi / 30, band[1] * np.pi / 30)
         print(f"P(critical speed in {band[0]:g}-{band[1]:g} rpm) = {p['probability']:.4g} "
               f"+/- {p['standard_error']:.2g} (95 % {p['low']:.3g}..{p['high']:.3g}, n = {p['n']})")
+
+
+class _Kinds(dict):
+    """Column -> quantity kind of the study's numbers shown in another unit system (its ``system``)."""
+
+    def __init__(self, kinds, system):
+        super().__init__(kinds)
+        self.system = system
+
+
+def _column_kinds(result, definition, model, system):
+    """The columns of the per-variant table whose numbers ``system`` shows in another unit: each
+    parameter that sets its keys (``apply = 'value'``) by their quantity (all alike, else none),
+    and the unbalance peak amplitudes by the analysis's quantity; empty in SI."""
+    if system == "si":
+        return _Kinds({}, system)
+    kinds = {}
+    for parameter in definition.parameters:
+        found = {key_kind(key, model) for key in parameter.keys}
+        if parameter.apply == "value" and len(found) == 1 and None not in found:
+            kinds[parameter.name] = found.pop()
+    quantity = definition.analyses.get("unbalance", {}).get("quantity")
+    if quantity:
+        kinds |= {column: quantity for column in result.scalar_outputs() if column.startswith("unbalance_peak_amplitude")}
+    return _Kinds(kinds, system)
+
+
+def _ending(kind, system) -> str:
+    """``_lbf_per_in`` for lbf/in: the unit of ``kind`` as a column name's ending."""
+    label = unit_label(kind, system)
+    return "_" + label.replace(" s/", "_s_per_").replace("/", "_per_").replace(" ", "").replace("²", "2") \
+        .replace("³", "3")
+
+
+def _in_units(table, kinds):
+    """The per-variant table with the columns of ``kinds`` in its system, named with their unit
+    (``stator.mass_lb``, ``unbalance_peak_amplitude[probe,rotor]_mil``); SI unchanged."""
+    if not kinds:
+        return table
+    table = table.copy()
+    for column, kind in kinds.items():
+        if column in table:
+            table[column] = to_system(table[column].to_numpy(dtype=float), kind, kinds.system)
+    return table.rename(columns={c: c + _ending(k, kinds.system) for c, k in kinds.items()})
+
+
+def _summary_in_units(table, kinds):
+    """The summary's rows of the outputs in ``kinds`` in its system, their names marked with the
+    unit (``(mil)``), as the speeds' with ``(rpm)``."""
+    if not kinds:
+        return table
+    numbers = [c for c in table.columns if c not in ("output", "n")]
+    for column, kind in kinds.items():
+        rows = table["output"] == column
+        if rows.any():
+            table.loc[rows, numbers] = to_system(table.loc[rows, numbers].to_numpy(dtype=float), kind, kinds.system)
+            table.loc[rows, "output"] = f"{column} ({unit_label(kind, kinds.system)})"
+    return table
 
 
 _SPEEDS = ("critical_speed", "threshold_speed", "instability_speed", "unbalance_peak_speed")
@@ -287,7 +358,7 @@ def _in_rpm(table):
     return table
 
 
-def _plots(result, args, band):
+def _plots(result, args, band, kinds=None):
     wanted = [(option, method) for option, method in _PLOTS if getattr(args, option)]
     if not wanted:
         return
@@ -297,6 +368,9 @@ def _plots(result, args, band):
 
     for option, method in wanted:
         kwargs = {"band_rpm": band} if method in ("plot_campbell", "plot_critical_histograms") else {}
+        if method == "plot_stability_map" and kinds:
+            kwargs["scales"] = {name: (to_system(1.0, kind, kinds.system), unit_label(kind, kinds.system))
+                                for name, kind in kinds.items() if name in result.parameters}
         fig = getattr(result, method)(**kwargs)
         path = Path(getattr(args, option))
         with atomic_write(path, None) as temporary:

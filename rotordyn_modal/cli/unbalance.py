@@ -39,17 +39,20 @@ same speeds (the whole sweep without --mcs). The checks table (output, check, sp
 value, amplitude, limit, verdict, zone; values in m and m/s) is printed and written by
 --checks FILE.csv; --plot draws the probe limits and a velocity panel with the zones.
 --api-unbalance (with --mcs) replaces the model's [[unbalances]] by the API 617/684
-cases of every rotor, U = 6350 W/N g mm (= 4 W/N oz in): api-static:ROTOR at its centre
+cases of every rotor, Ua = 2 Ur, Ur = 6350 W/N g mm (= 4 W/N oz in): api-static:ROTOR at its centre
 of mass (W its mass) and api-couple:ROTOR at its outermost bearing planes, 180 deg apart
 (W half its mass: a pure couple); each case is its own response, named in a last column
 case of the CSV, peaks and checks tables, and in the figure's legend.
 With --mcs, a model with close-clearance stations ([[rotors.clearances]]) gets the API
 617/684 clearance check, printed after the checks: at each station the peak-to-peak
-displacement of the rotor relative to the stator (twice its orbit's semi-major axis)
-against 75 % of the diametral clearance (1.5 x radial_clearance), largest over the speeds
-from --min-speed to --trip-speed (default --mcs), each API case on its own with
---api-unbalance (the criterion's unbalance), else the model's unbalances together; value
-and limit in m (mil with --units us), peak-to-peak whatever --amplitude is.
+displacement of the rotor relative to the stator (twice its orbit's semi-major axis),
+scaled by Scc = Avl/Amax (at most 6; Avl the probe limit A1, Amax the largest pk-pk at the
+rotor's probes from --min-operating-speed, default --min-speed, to --mcs; 1 without a
+probe), against 75 % of the diametral clearance (1.5 x radial_clearance), largest over the
+speeds from --min-speed to --trip-speed (default --mcs), each API case on its own with
+--api-unbalance (the criterion's unbalance), else the model's unbalances together; value,
+limit and the unscaled response in m (mil with --units us), peak-to-peak whatever
+--amplitude is.
 
 Two sensors at one point of the same body with directions normal to the spin axis (a
 pair of proximity probes, measure = "relative") see an orbit: --orbits FILE.csv writes
@@ -94,6 +97,9 @@ def add_arguments(parser):
     parser.add_argument("--min-speed", metavar="SPEED", help="bottom of the checked speeds (default 0)")
     parser.add_argument("--trip-speed", metavar="SPEED", help="top of the speeds of the clearance check (same "
                         "unit as --speeds; default --mcs)")
+    parser.add_argument("--min-operating-speed", metavar="SPEED", help="minimum allowable speed (same unit as "
+                        "--speeds): bottom of the probe amplitudes of the clearance check's scale factor "
+                        "Scc = Avl/Amax (default --min-speed)")
     parser.add_argument("--iso-group", type=int, choices=[1, 2],
                         help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
     parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
@@ -161,8 +167,12 @@ def _check_options(args):
     if trip is not None and (mcs is None or not trip >= mcs):
         raise InputError(f"--trip-speed {args.trip_speed}: expected --mcs too and a trip speed at least --mcs "
                          f"{args.mcs} (the clearance check's speeds run up to it)")
+    operating = _speed(args, args.min_operating_speed, "--min-operating-speed")
+    if operating is not None and not (mcs is not None and 0 <= operating <= mcs):
+        raise InputError(f"--min-operating-speed {args.min_operating_speed}: expected --mcs too and a speed >= 0 "
+                         f"and at most --mcs {args.mcs} (the scale factor's probe amplitudes run from one to the other)")
     if args.api_unbalance and mcs is None:
-        raise InputError("--api-unbalance: expected --mcs too (the API amount 6350 W/N needs the maximum "
+        raise InputError("--api-unbalance: expected --mcs too (the API amount 2 x 6350 W/N needs the maximum "
                          "continuous speed N)")
     if (args.iso_group is None) != (args.iso_support is None):
         raise InputError("--iso-group/--iso-support: expected both (ISO 20816-3 machine group 1 or 2 and "
@@ -195,14 +205,16 @@ def _write_checks(result, model, mcs, min_speed, args):
 def _print_clearances(result, model, mcs, min_speed, args):
     """The clearance check (with --mcs, when the model has close-clearance stations), printed."""
     trip = _speed(args, args.trip_speed, "--trip-speed")
+    operating = _speed(args, args.min_operating_speed, "--min-operating-speed")
     if mcs is None or not model.clearances or args.quiet:
         return
-    table = result.clearance_check(model, mcs=mcs, min_speed=min_speed, trip_speed=trip).to_dataframe()
+    table = result.clearance_check(model, mcs=mcs, min_speed=min_speed, trip_speed=trip,
+                                   min_operating=operating).to_dataframe()
     if args.units != "si":
-        table = convert_table(table, {"value": "row", "limit": "row"}, args.units, ["displacement"] * len(table),
-                              unit_column=True)
+        table = convert_table(table, {"value": "row", "limit": "row", "response": "row"}, args.units,
+                              ["displacement"] * len(table), unit_column=True)
     which = "the API unbalance cases" if args.api_unbalance else "the model's [[unbalances]], not the API amount"
-    print(f"\nclearance check (API 617/684: pk-pk relative to the stator <= 75 % of the diametral clearance; "
+    print(f"\nclearance check (API 617/684: Scc x pk-pk relative to the stator <= 75 % of the diametral clearance; "
           f"{which}; {'m' if args.units == 'si' else 'mil'}):", file=sys.stderr)
     print_table(table)
 

@@ -125,9 +125,16 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
         kinds = [k for k in kinds if k]
         axes = block.subplots(len(kinds) + 1, 1, sharex=True, gridspec_kw={"height_ratios": [2] * len(kinds) + [1]})
         phase = axes[-1]
+        # a block of one force item (its title) names the components only; a block of several
+        # (a few FRFs, forces beside moments) names the items too: 'Fy / shaker-y' three times
+        # (two bearings and the rotor) told the curves apart by nothing
+        one_item = by_item and name and len({o.rsplit(":", 1)[0] for o, _ in members}) == 1
+        first = 0                   # the moments' curves go on in the forces' styles: one phase panel
         for ax, kind in zip(axes, kinds):
             _draw_frfs(ax, phase, result, measured, kind,
-                       (lambda o, i: f"{o.rsplit(':', 1)[1]} / {i}") if by_item else (lambda o, i: o), scale)
+                       (lambda o, i: f"{o.rsplit(':', 1)[1]} / {i}") if one_item else (lambda o, i: f"{o} / {i}"),
+                       scale, first)
+            first += len(kind)
             unit = "N m/N" if _is_moment(kind[0][0]) else _UNITS.get(result.quantity, "")
             if scale is not None and scale.units != "si":
                 unit = scale.label(kind)
@@ -143,14 +150,16 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
     return fig
 
 
-def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None):
+def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0):
     """Each pair's model line (and measured dots, same colour) on ``mag`` (log) and ``phase``
-    (``scale(o, i)``: the factor on the SI FRF, default 1). An FRF below :data:`_DYNAMIC_RANGE`
+    (``scale(o, i)``: the factor on the SI FRF, default 1; ``first``: the number of the first
+    pair's style, so that a phase panel shared with another magnitude panel's curves gives
+    every curve a style of its own). An FRF below :data:`_DYNAMIC_RANGE`
     of the largest everywhere (zero but for round-off, by symmetry) is named so in the legend
     and has no phase drawn (the phase of round-off is noise)."""
     largest = max((float(np.max(np.abs(result.H[result.outputs.index(o), result.inputs.index(i)])))
                    for o, i in pairs), default=0.0)
-    for n, (o, i) in enumerate(pairs):
+    for n, (o, i) in enumerate(pairs, start=first):
         colour = f"C{n % 10}"
         style = "-" if n < 10 else "--"
         factor = 1.0 if scale is None or scale.units == "si" else scale(o, i)
@@ -167,32 +176,40 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None):
     _limit_range(mag)
 
 
-def plot_overlay(models, measured, title: str | None = None):
+def plot_overlay(models, measured, title: str | None = None, units: str = "si", input_kinds=None):
     """Model over measurement at several speeds: one colour per speed.
 
     Parameters
     ----------
     models, measured : list of FRFResult
         Paired by position (same speeds, names and frequencies).
+    title : str, optional
+    units : {'si', 'us'}
+        Unit system of the magnitudes, as :func:`plot_frf`'s.
+    input_kinds : dict, optional
+        ``{input name: 'force' or 'moment'}``, as :func:`plot_frf`'s.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
     fig, mag, phase = _bode_axes()
+    scale = _FrfScale(models[0].quantity, units, input_kinds)
     for n, (model, meas) in enumerate(zip(models, measured)):
         colour = f"C{n % 10}"
         for o in model.outputs:
             for i in model.inputs:
-                hm = meas.H[meas.outputs.index(o), meas.inputs.index(i)]
-                h = model.H[model.outputs.index(o), model.inputs.index(i)]
+                factor = 1.0 if units == "si" else scale(o, i)
+                hm = meas.H[meas.outputs.index(o), meas.inputs.index(i)] * factor
+                h = model.H[model.outputs.index(o), model.inputs.index(i)] * factor
                 mag.semilogy(meas.frequencies_hz, np.abs(hm), ".", ms=2.5, color=colour, alpha=0.5)
                 phase.plot(meas.frequencies_hz, np.degrees(np.angle(hm)), ".", ms=2.5, color=colour, alpha=0.5)
                 mag.semilogy(model.frequencies_hz, np.abs(h), color=colour)
                 phase.plot(model.frequencies_hz, np.degrees(np.angle(h)), color=colour)
         mag.plot([], [], color=colour, label=f"{model.speed * 30 / np.pi:.0f} rpm")
     _limit_range(mag)
-    mag.set_ylabel(f"|H| [{_UNITS.get(models[0].quantity, '')}]")
+    pairs = [(o, i) for o in models[0].outputs for i in models[0].inputs]
+    mag.set_ylabel(f"|H| [{_UNITS.get(models[0].quantity, '') if units == 'si' else scale.label(pairs)}]")
     phase.set_xlabel("Frequency [Hz]")
     mag.legend(fontsize="small", title="model (line), measured (dots)")
     mag.set_title(title or "Model versus measurement")

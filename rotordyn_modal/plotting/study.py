@@ -117,6 +117,7 @@ def plot_critical_histograms(result, band_rpm=None, bins: int = 25, max_crossing
     matplotlib.figure.Figure
     """
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     ds = result.dataset
     speeds = np.abs(ds["critical_speed"].values[~result.failed]) * 30 / np.pi  # (variant, crossing) rpm
@@ -140,6 +141,8 @@ def plot_critical_histograms(result, band_rpm=None, bins: int = 25, max_crossing
         ax.set_xlabel("Critical speed [rpm]")
     for ax in axes[:, 0]:
         ax.set_ylabel("Variants")
+    for ax in axes.flat:            # counts: whole numbers (a few variants got ticks at 0.5)
+        ax.yaxis.set_major_locator(MaxNLocator(integer=True))
     fig.suptitle(title or f"Critical speeds over {int((~result.failed).sum())} variants"
                  + ("" if band_rpm is None else " (shaded: operating band)"))
     return fig
@@ -155,7 +158,7 @@ def _window(x, band):
 
 
 def plot_study_stability_map(result, x: str | None = None, y: str | None = None, speed_rpm: float | None = None,
-                             ax=None, title: str | None = None):
+                             ax=None, title: str | None = None, scales=None):
     """Threshold speed over two grid parameters, with the boundary of stability up to a speed.
 
     Parameters
@@ -170,6 +173,9 @@ def plot_study_stability_map(result, x: str | None = None, y: str | None = None,
         (default: half the top of the stability sweep).
     ax : matplotlib Axes, optional
     title : str, optional
+    scales : dict, optional
+        ``{parameter name: (factor, unit)}``: the parameter's values (SI) times ``factor`` are drawn,
+        its axis named with ``unit`` (``rotordyn-modal --units us study``); default as sampled.
 
     Returns
     -------
@@ -178,6 +184,7 @@ def plot_study_stability_map(result, x: str | None = None, y: str | None = None,
     from ..errors import InputError
 
     ds = result.dataset
+    scales = scales or {}
     grid = [str(p) for p, g in zip(ds["parameter"].values, ds["parameter_is_grid"].values) if g]
     x, y = x or (grid[0] if grid else None), y or (grid[1] if len(grid) > 1 else None)
     if x is None or y is None or len(grid) != ds.sizes["parameter"]:
@@ -193,13 +200,15 @@ def plot_study_stability_map(result, x: str | None = None, y: str | None = None,
     import matplotlib
 
     cmap = matplotlib.colormaps["viridis"].with_extremes(bad="0.85")
+    (x_factor, x_unit), (y_factor, y_unit) = (scales.get(name, (1.0, None)) for name in (x, y))
+    xs, ys = xs * x_factor, ys * y_factor
     mesh = ax.pcolormesh(xs, ys, np.ma.masked_invalid(field), cmap=cmap, shading="nearest")
     fig.colorbar(mesh, ax=ax, label="lowest unstable speed [rpm] (grey: stable over the sweep)")
     filled = np.where(np.isfinite(field), field, 2 * top)
     if len(xs) > 1 and len(ys) > 1 and filled.min() < level < filled.max():
         ax.contour(xs, ys, filled, levels=[level], colors="k", linewidths=2.0)
-    ax.set_xlabel(x)
-    ax.set_ylabel(y)
+    ax.set_xlabel(x if x_unit is None else f"{x} [{x_unit}]")
+    ax.set_ylabel(y if y_unit is None else f"{y} [{y_unit}]")
     ax.set_title(title or f"Stability map: stable up to {level:.0f} rpm below/right of the black line")
     return fig
 
@@ -240,5 +249,7 @@ def plot_sensitivity(table, outputs=None, max_outputs: int = 6, ax=None, title: 
     ax.set_xlabel({"ST": "total Sobol index ST (| marks first order S1)",
                    "SRC": "standardised regression coefficient"}[column])
     ax.set_title(title or "Sensitivity of each output to each parameter")
-    ax.legend(fontsize="x-small")
+    # below the axes: inside ('best') it covered the longest bars
+    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1 if len(names) > 2 else -0.25),
+              ncols=2, frameon=False)
     return fig

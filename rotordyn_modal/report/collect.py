@@ -34,10 +34,11 @@ STANDARDS = {"api617": ("model", "static", "campbell", "modes", "ucs", "unbalanc
              "api684": ("model", "static", "campbell", "modes", "ucs", "unbalance"),
              "iso": ("model", "static", "campbell", "modes", "unbalance", "iso")}
 
-#: the modes section's window: the operating range widened by the largest separation margin
-#: API 684 requires (17 %, ``17 (1 - 1/(AF - 1.5))`` as AF grows): a mode whose 1X critical speed
-#: or whose frequency at the MCS (as a 1X speed) lies in it could fail the margin
-MODE_WINDOW = 0.17
+#: the modes section's window: the operating range widened by the largest separation margins
+#: API 617 requires (below it 16 %, above it 26 %: ``min(16, 17 (1 - 1/(AF - 1.5)))`` and
+#: ``min(26, 10 + 17 (1 - 1/(AF - 1.5)))``): a mode whose 1X critical speed or whose frequency at
+#: the MCS (as a 1X speed) lies in it could fail the margin
+MODE_WINDOW = (0.16, 0.26)
 #: modes shown when none lies in the window: the lowest at the MCS
 LOWEST_MODES = 4
 #: most modes shown (the lowest numbers of those in the window)
@@ -300,6 +301,8 @@ def separation_margins(response, operating, outputs=None):
     table = below.copy()
     table["separation_margin_pct"] = np.where(speed < low, below["separation_margin_pct"],
                                               np.where(speed > high, above["separation_margin_pct"], 0.0))
+    # a peak above the range needs the margin of a critical speed above it (API 617)
+    table["required_margin_pct"] = np.where(speed > high, above["required_margin_pct"], below["required_margin_pct"])
     if outputs is not None:
         table = table[table["output"].isin(list(outputs))].reset_index(drop=True)
     required = table["required_margin_pct"].to_numpy(dtype=float)
@@ -325,7 +328,7 @@ def _modes(data):
         data.skipped["modes"] = f"no oscillating mode at the MCS ({mcs * 30 / np.pi:.6g} rpm)"
         return
     low, high = data.inputs.range
-    window = (low * (1 - MODE_WINDOW), high * (1 + MODE_WINDOW))
+    window = (low * (1 - MODE_WINDOW[0]), high * (1 + MODE_WINDOW[1]))
     reasons: dict = {}
     frequencies = 2 * np.pi * result.frequencies_hz[result.oscillatory]
     for number, w in enumerate(frequencies, start=1):
@@ -386,7 +389,8 @@ def _unbalance(data):
         data.model, mcs=inputs.mcs, min_speed=0.0, iso_group=group,
         iso_support=inputs.iso_support if group else None)
     if data.model.clearances and inputs.standard != "iso":
-        data.results["clearance"] = data.results["unbalance"].clearance_check(data.model, mcs=inputs.mcs)
+        data.results["clearance"] = data.results["unbalance"].clearance_check(data.model, mcs=inputs.mcs,
+                                                                              min_operating=inputs.range[0])
 
 
 def _ucs(data):

@@ -183,7 +183,7 @@ def _shaft_statics(result, units) -> list:
         return []
     from ..plotting.shaft_statics import statics_scales
 
-    scales = {**statics_scales(units), "sag": shown_scale("sag", units)}     # sag as in the report's other tables
+    scales = statics_scales(units)          # the units of the figure and of the static command's summary
     to_length, length_unit = scales["length"]
     rows = []
     for shaft in shafts:
@@ -226,8 +226,9 @@ def _campbell(data, units) -> str:
              if rows else "<p>No critical speed in the sweep.</p>",
              "<h3 id=\"margins\">Amplification factors and separation margins (API 684)</h3>",
              "<p>Peaks of the unbalance response at the probes (every sensor when there is none); "
-             "AF = N_c / (N_2 - N_1) at the half-power points; required separation margin from API 684: 0 for "
-             "AF &lt; 2.5, 15 % up to 3.55, 17 (1 - 1/(AF - 1.5)) % above; margin measured from the nearer end "
+             "AF = N_c / (N_2 - N_1) at the half-power points; required separation margin from API 617 / 684: 0 for "
+             "AF &lt; 2.5, else min(16, 17 (1 - 1/(AF - 1.5))) % below the range, min(26, 10 + 17 (1 - 1/(AF - 1.5))) % "
+             "above it; margin measured from the nearer end "
              "of the operating range (docs/standards.md).</p>"]
     margins = data.results.get("margins")
     if margins is None:
@@ -284,7 +285,8 @@ def _modes(data, units) -> str:
         _heading("modes"),
         f"<p>Modes at the MCS ({mcs:.6g} rpm), numbered as <code>modes --speed {mcs:.6g}</code> numbers them: "
         f"those whose 1X critical speed or whose frequency at the MCS (as a 1X speed) lies within "
-        f"{100 * MODE_WINDOW:.0f} % (the largest separation margin API 684 asks) of the operating range, "
+        f"{100 * MODE_WINDOW[0]:.0f} % below or {100 * MODE_WINDOW[1]:.0f} % above (the largest separation "
+        "margins API 617 asks) the operating range, "
         f"{low:.6g} to {high:.6g} rpm (at most {MOST_MODES}); the lowest {LOWEST_MODES} at the MCS when none does "
         "(docs/report.md).</p>",
         _table(rows, [("mode", True), ("frequency [Hz]", False), ("whirl", True), ("log decrement [-]", False),
@@ -310,7 +312,7 @@ def _unbalance(data, units) -> str:
         return _heading("unbalance") + _skipped(data, "unbalance")
     amount = "6350 W/N g mm" if units == "si" else "4 W/N oz in, W in lb,"   # the same amount (API 617)
     what = ("the model's [[unbalances]]" if data.inputs.standard == "iso" else
-            f"the API 617/684 unbalance cases U = {amount} (api-static at the centre of mass, api-couple at "
+            f"the API 617/684 unbalance cases Ua = 2 Ur, Ur = {amount} (api-static at the centre of mass, api-couple at "
             "the outermost bearings), each case on its own")
     parts = [_heading("unbalance"), f"<p>Response to {escape(what)}.</p>",
              _figure(response.plot(amplitude="pk-pk", checks=checks, peaks=data.results.get("margins"), **_units(units)),
@@ -343,14 +345,19 @@ def _clearance_table(data, units) -> str:
     radial = dict(zip(check.names, check.radial_clearances))
     has_case = "case" in table
     rows = [[r.clearance, r.rotor, *([r.case] if has_case else []), _g(radial[r.clearance] * factor),
-             _g(r.speed_rpm, 6), _g(r.value * factor), _g(r.limit * factor), _g(r.ratio, 3), _verdict_cell(r.verdict)]
+             _g(r.speed_rpm, 6), _g(r.response * factor), _g(r.scale_factor, 3), r.scaling,
+             _g(r.value * factor), _g(r.limit * factor), _g(r.ratio, 3), _verdict_cell(r.verdict)]
             for r in table.itertuples()]
     return heading + (
         "<p>At each station the rotor's motion relative to the casing (which holds the seal): its peak-to-peak "
-        "value, twice the orbit's semi-major axis, largest over 0 to MCS, against 75 % of the minimum diametral "
+        "response, twice the orbit's semi-major axis, scaled by the API 617 factor Scc = Avl/Amax (at most 6; "
+        "Avl the probe limit A1 of the station's rotor, Amax the largest peak-to-peak amplitude at its probes over "
+        "the operating range; 1 without a probe), largest over 0 to MCS, against 75 % of the minimum diametral "
         "running clearance (0.75 x 2 x the radial clearance), each API case on its own (docs/standards.md).</p>"
     ) + _table(rows, [("clearance", True), ("rotor", True), *([("case", True)] if has_case else []),
-                      (f"radial clearance [{unit}]", False), ("speed [rpm]", False), (f"value [{unit} pk-pk]", False),
+                      (f"radial clearance [{unit}]", False), ("speed [rpm]", False),
+                      (f"response [{unit} pk-pk]", False), ("Scc [-]", False), ("scale factor", True),
+                      (f"value = Scc x response [{unit} pk-pk]", False),
                       (f"limit [{unit} pk-pk]", False), ("ratio [-]", False), ("verdict", True)])
 
 

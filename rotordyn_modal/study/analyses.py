@@ -270,7 +270,8 @@ def _unbalance_peak(out, i, j, speeds, amplitude, operating, factors, required):
     out["unbalance_peak_amplitude"][i, j] = amp
     out["unbalance_peak_speed"][i, j] = speed
     out["amplification_factor"][i, j] = af
-    out["required_margin_pct"][i, j] = required(af)
+    above = operating is not None and abs(speed) > abs(operating)
+    out["required_margin_pct"][i, j] = required(af, "above" if above else "below")
     if operating is not None:
         out["separation_margin_pct"][i, j] = 100 * abs(operating - speed) / abs(operating)
 

@@ -149,11 +149,12 @@ def _summary(result):
             "largest to tell its sign; docs/theory.md, section 11); least damped: " + _least_damped(result))
 
 
-def _lowest(text):
-    """``--lowest N`` as an int, or None (every mode), refused as ``campbell --lowest`` refuses it."""
+def _lowest(text, model):
+    """``--lowest N`` as an int, or None (every mode, also where N is at least the model's number
+    of roots), refused as ``campbell --lowest`` refuses it."""
     from .campbell import _lowest as lowest
 
-    return lowest(text)
+    return lowest(text, model)
 
 
 def _interval(result, start, stop):

@@ -462,3 +462,33 @@ def test_critical_speeds_figure_follows_the_unit(tmp_path, monkeypatch):
     markers = next(line for line in ax.get_lines() if line.get_label() == "critical speed")
     np.testing.assert_allclose(markers.get_xdata(), result.critical.speeds_rpm / 60, rtol=1e-12)
     plt.close(figures[0])
+
+
+def test_an_order_label_reads_as_its_own_line():
+    """Gear machine to 6000 rpm, orders 1 and 2: the gear mesh's lines leave the top within
+    60 rpm of the origin, where there is no room; their label slid along its row to 1400 rpm,
+    between the motor's and the fan's lines. Measured on the drawn figure: at the height of each
+    order label the nearest order line (straight through the origin) is one of its colour."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import to_rgba
+
+    _, fig, ax = _figure("gear_machine.toml", np.linspace(0, 6000, 61), (1, 2))
+    renderer = fig.canvas.get_renderer()
+    straight = []
+    for line in ax.get_lines():
+        x, y = (np.asarray(v, float) for v in line.get_data())
+        if len(x) > 2 and x[0] == 0 and y[0] == 0 and y[-1] > 0 and np.allclose(y, y[-1] / x[-1] * x, rtol=1e-9):
+            straight.append(line)
+    labels = _order_labels(ax)
+    assert len(straight) >= 6 and labels
+    for text in labels:
+        box = glyph_box(text, renderer)
+        height = ax.transData.inverted().transform(((box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2))[1]
+        gaps = []
+        for line in straight:
+            x, y = (np.asarray(v, float) for v in line.get_data())
+            at = ax.transData.transform((height * x[-1] / y[-1], height))[0]      # the line's x at that height
+            gaps.append((max(box.x0 - at, at - box.x1, 0.0), to_rgba(line.get_color())))
+        nearest = min(gaps, key=lambda g: g[0])
+        assert nearest[1] == to_rgba(text.get_color()), (text.get_text(), nearest[0])
+    plt.close(fig)

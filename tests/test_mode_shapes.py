@@ -349,3 +349,67 @@ def test_unreadable_outlines_are_refused_by_name(tmp_path, capsys, kind, message
     assert main(argv) == 2
     assert f"{outline}: {message}" in capsys.readouterr().err
     assert not (tmp_path / "x.png").exists()
+
+
+def _label_boxes_and_arrows(fig, names):
+    """Rendered glyph boxes of the names (display pixels) and the drawn arrows' segments as projected,
+    measured on the figure (a 3D text is measured where mplot3d draws it: its point projected)."""
+    from matplotlib.text import Text
+    from mpl_toolkits.mplot3d import proj3d
+    from mpl_toolkits.mplot3d.art3d import Text3D
+
+    from label_geometry import glyph_box
+
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    boxes = {}
+    for text in ax.texts:
+        if text.get_text() not in names:
+            continue
+        if isinstance(text, Text3D):
+            x, y, _ = proj3d.proj_transform(text._x, text._y, text._z, ax.get_proj())
+            text = Text(*ax.transData.transform((x, y)), text.get_text(), fontproperties=text.get_fontproperties(),
+                        ha=text.get_ha(), va=text.get_va(), figure=fig)
+        boxes[text.get_text()] = glyph_box(text, renderer)
+    arrows = {}
+    for collection in ax.collections:
+        gid = str(collection.get_gid())
+        if gid.startswith("displaced-arrow:"):
+            segments = [ax.transData.transform(np.asarray(s, float)) for s in collection.get_segments()]
+            arrows[gid.split(":", 1)[1]] = np.concatenate([np.hstack([s[:-1], s[1:]]) for s in segments])
+    return ax, boxes, arrows
+
+
+@pytest.mark.parametrize("example, mode, view_angles", [
+    ("gear_machine", 2, None), ("motor_pump_on_mounts", 2, None), ("motor_pump_on_mounts", 2, (15, -120))])
+def test_arrow_names_clear_of_every_arrow_and_of_each_other(example, mode, view_angles):
+    """Each sensor's and excitation's name is drawn beside its own arrow, where no arrow (its own
+    included) runs through its rendered glyphs and no other name overlaps it, inside the 3D axes;
+    after the view is turned too (the names are placed where the arrows are drawn)."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import clip_segments
+    from rotordyn_modal.plotting.shapes3d import plot_mode_shape
+
+    model = rdm.load_model(EXAMPLES / f"{example}.toml")
+    view = mode_shape_3d(rdm.modal(model, rdm.rpm(3000)), model, mode)
+    names = [arrow.name for arrow in view.outline.arrows]
+    fig = plot_mode_shape(view, projections=False)     # the 3D view alone: the names are placed there
+    if view_angles is not None:
+        fig.axes[0].view_init(*view_angles)
+    ax, boxes, arrows = _label_boxes_and_arrows(fig, names)
+    assert sorted(boxes) == sorted(names) == sorted(arrows)
+    frame = ax.get_window_extent()
+    for name, box in boxes.items():
+        assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1, name
+        for other, segments in arrows.items():
+            assert not len(clip_segments(segments, box.extents)), f"arrow {other} runs through the name {name}"
+        for other, other_box in boxes.items():
+            assert other == name or not box.overlaps(other_box), f"names {name} and {other} overlap"
+        # beside its own arrow: within three of its heights of the arrow's drawn segments
+        ends = arrows[name].reshape(-1, 2)
+        near = np.hypot(np.maximum(0, np.maximum(box.x0 - ends[:, 0], ends[:, 0] - box.x1)),
+                        np.maximum(0, np.maximum(box.y0 - ends[:, 1], ends[:, 1] - box.y1))).min()
+        assert near <= 3 * box.height, f"{name} is {near:.0f} px from its arrow"
+    plt.close(fig)

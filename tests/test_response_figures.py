@@ -211,6 +211,37 @@ def test_frf_of_suspension_forces_names_every_curve():
     plt.close(fig)
 
 
+def test_frf_of_forces_and_moments_of_several_items_names_each_curve_apart():
+    """Compressor, every force at 6000 rpm (eight FRFs: both bearings' and the rotor's forces,
+    the rotor's moments) in one block of force and moment panels: 'Fy / shaker-y' named three
+    curves. Every legend entry is one curve, and that curve is |H| of the output and input the
+    entry names."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLES / "compressor_rotor.toml")
+    result = rdm.force_frf(model, rdm.rpm(6000), np.linspace(1, 200, 50), where="all")
+    fig = result.plot()
+    magnitude_axes = [ax for ax in fig.axes if ax.get_ylabel().startswith("|H|")]
+    assert len(magnitude_axes) == 2 and not any(a.get_title() for a in fig.axes[1:])   # one block, no item title
+    drawn = 0
+    for ax in magnitude_axes:
+        _every_curve_in_its_legend(ax)
+        names = [line.get_label() for line in _curves(ax)]
+        assert len(names) == len(set(names)), names
+        for line in _curves(ax):
+            output, excitation = line.get_label().split(" / ")
+            h = result.H[result.outputs.index(output), result.inputs.index(excitation)]
+            np.testing.assert_array_equal(line.get_ydata(), np.abs(h))
+            drawn += 1
+    assert drawn >= 6
+    # the one phase panel: each curve in the style of one magnitude curve, no two alike (the
+    # moments' curves took the first forces' colours)
+    styles = [(line.get_color(), line.get_linestyle()) for ax in magnitude_axes for line in _curves(ax)]
+    phase_styles = [(line.get_color(), line.get_linestyle()) for line in fig.axes[-1].get_lines()]
+    assert len(set(styles)) == len(styles) and sorted(phase_styles) == sorted(styles)
+    plt.close(fig)
+
+
 def test_frf_over_measurement_keeps_one_legend_entry_per_curve():
     """With a measurement (the model itself, 10 % larger) each model curve is named once and its
     dots follow it in its colour."""
@@ -325,6 +356,83 @@ def test_runup_track_legends_hide_no_track(monkeypatch):
             assert len(crossings(ax.get_legend().get_window_extent(renderer), curve_segments(ax))) == 0, ax.get_title()
             checked += 1
     assert checked == 2
+    plt.close(fig)
+
+
+def test_runup_track_legends_hide_no_track_among_critical_lines(monkeypatch):
+    """The fan's run-up: 22 critical speeds' lines cross every place a legend could take inside
+    the order-tracked panels, and matplotlib's 'best' place put the phase's legend on both
+    tracks (the amplitude's on the fan's peak). Drawn from given tracks (a resonance at 7700 rpm
+    and a small one; the plotting computes nothing), measured on the drawn figure: no track
+    runs under a legend."""
+    import types
+
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments
+    from rotordyn_modal.analysis.critical_speeds import CriticalSpeeds
+    from rotordyn_modal.plotting.simulation import plot_runup
+    from rotordyn_modal.simulation import runup
+
+    speeds = rdm.rpm(np.linspace(500.0, 8700.0, 25))
+    ratio = speeds / rdm.rpm(7700.0)
+    response = 1.0 / (1.0 - ratio ** 2 + 0.05j * ratio)
+    tracks = {"fan": runup.OrderTrack(speeds, 1e-6 * np.abs(response), np.degrees(np.angle(response)) - 90.0,
+                                      "probe", "fan", 1.0),
+              "motor": runup.OrderTrack(speeds, 0.15e-6 * np.abs(response) ** 0.5, np.degrees(np.angle(response)),
+                                        "probe", "motor", 1.0)}
+    fall = runup.Waterfall(speeds, np.linspace(0.0, 200.0, 41), np.full((25, 41), 1e-9), "probe")
+    monkeypatch.setattr(runup, "order_track", lambda *args, rotor=None, **kwargs: tracks[rotor])
+    monkeypatch.setattr(runup, "waterfall", lambda *args, **kwargs: fall)
+    at = rdm.rpm(np.array([499, 550, 798, 866, 880, 941, 1063, 1092, 1385, 1502, 1694, 1757, 2740, 3587, 3898,
+                           3943, 4157, 5774, 6308, 6929, 7885, 8029.0]))
+    n = len(at)
+    critical = CriticalSpeeds(np.full(n, "fan"), np.ones(n), np.arange(1, n + 1), at, at / (2 * np.pi),
+                              np.full(n, "forward"), np.ones(n), np.full(n, 0.01))
+    t = np.linspace(0.0, 1.0, 400)
+    result = types.SimpleNamespace(drive_speed=np.linspace(speeds[0], speeds[-1], 400), rotor_names=["motor", "fan"],
+                                   model_name="test", sensor=lambda name: 1e-6 * np.sin(300 * t))
+    fig = plot_runup(result, "probe", critical=critical)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    checked = 0
+    for ax in fig.axes:
+        if ax.get_title().startswith("Order-tracked"):
+            tracks_only = curve_segments(ax, skip=[line for line in ax.get_lines() if line.get_label() == "_critical"])
+            assert len(tracks_only) and ax.get_legend() is not None
+            assert len(crossings(ax.get_legend().get_window_extent(renderer), tracks_only)) == 0, ax.get_title()
+            checked += 1
+    assert checked == 2
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("swing", [65.0, 200.0, 500.0])
+def test_runup_phase_axis_has_readable_ticks(monkeypatch, swing):
+    """The order-tracked phase's axis is ticked at least three times within its limits: ticks
+    every 90 deg on a phase that swings 65 deg (the compressor's run-up, 60 to 125 deg) left one
+    tick on the axis. Drawn from a given track, the ticks counted on the drawn axis."""
+    import types
+
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.plotting.simulation import plot_runup
+    from rotordyn_modal.simulation import runup
+
+    speeds = rdm.rpm(np.linspace(1000.0, 12000.0, 30))
+    phase = 60.0 + swing * np.linspace(0.0, 1.0, 30) ** 2
+    track = runup.OrderTrack(speeds, 1e-6 * np.ones(30), phase, "probe", "shaft", 1.0)
+    fall = runup.Waterfall(speeds, np.linspace(0.0, 200.0, 41), np.full((30, 41), 1e-9), "probe")
+    monkeypatch.setattr(runup, "order_track", lambda *args, **kwargs: track)
+    monkeypatch.setattr(runup, "waterfall", lambda *args, **kwargs: fall)
+    t = np.linspace(0.0, 1.0, 400)
+    result = types.SimpleNamespace(drive_speed=np.linspace(speeds[0], speeds[-1], 400), rotor_names=["shaft"],
+                                   model_name="test", sensor=lambda name: 1e-6 * np.sin(300 * t))
+    fig = plot_runup(result, "probe")
+    fig.canvas.draw()
+    ax, = [a for a in fig.axes if a.get_title() == "Order-tracked phase"]
+    low, high = ax.get_ylim()
+    ticks = [v for v in ax.get_yticks() if low <= v <= high]
+    assert len(ticks) >= 3, ticks
     plt.close(fig)
 
 

@@ -299,3 +299,43 @@ def test_disk_names_are_clear_of_every_line_and_of_each_other(example, modes):
                 assert not a.overlaps(b), f"{example}: two disk names overprint each other"
     assert checked >= 15
     plt.close(fig)
+
+
+def _png_size(path) -> tuple[int, int]:
+    """(width, height) [px] of a PNG, from its header."""
+    import struct
+
+    header = Path(path).read_bytes()[16:24]
+    return struct.unpack(">II", header)
+
+
+def test_modes_plot_of_a_flexible_machine_draws_its_shaft_lines_not_a_bar_per_coordinate(examples_dir, tmp_path,
+                                                                                         capsys):
+    """``modes --plot`` on the compressor (53 modes, 53 coordinates) drew 53 panels of 53 bars
+    each (8797 x 7020 px, minutes of drawing); it now draws the first six modes' deflected lines,
+    as --plot-shaft does, and --modes chooses them."""
+    out = tmp_path / "modes.png"
+    model = str(examples_dir / "compressor_rotor.toml")
+    assert main(["modes", model, "--speed", "3000", "--quiet", "--plot", str(out)]) == 0
+    width, height = _png_size(out)
+    assert width <= 2400 and height <= 1600
+    assert main(["modes", model, "--speed", "3000", "--quiet", "--plot", str(out), "--modes", "2"]) == 0
+    assert _png_size(out)[1] < height                       # one panel
+
+
+def test_modes_plot_of_a_rigid_machine_with_many_modes_draws_the_first_twelve_and_says_so(tmp_path, capsys):
+    """A rigid machine with more modes than a figure holds (8 geared rotors on bearings in a casing)
+    gets the bars of modes 1-12, and one stderr line saying how to choose others."""
+    from test_large_machine_cli import chained_gear_toml
+
+    path = tmp_path / "chain.toml"
+    path.write_text(chained_gear_toml(8, 8))
+    out = tmp_path / "bars.png"
+    assert main(["modes", str(path), "--speed", "1000", "--plot", str(out)]) == 0
+    captured = capsys.readouterr()
+    count = sum(1 for line in captured.out.splitlines()[1:] if line.split() and line.split()[0].isdigit())
+    assert count > 24
+    assert f"--plot: modes 1-12 of {count} drawn (choose with --modes" in captured.err
+    assert main(["modes", str(path), "--speed", "1000", "--quiet", "--plot", str(out), "--modes", "30"]) == 0
+    assert main(["modes", str(path), "--speed", "1000", "--quiet", "--plot", str(out), "--modes", "999"]) == 2
+    assert "mode 999 does not exist" in capsys.readouterr().err

@@ -111,16 +111,18 @@ def test_run_up_passes_the_first_critical_speed_where_the_campbell_diagram_says(
     assert 0.7 * steady < track.amplitude[peak] < steady                 # passed too fast to build up fully
 
 
-def test_a_flexible_machine_in_free_spin_or_on_journal_bearings_is_refused_by_one_line():
+def test_a_flexible_machine_in_free_spin_or_on_a_journal_bearing_with_a_given_load_is_refused_by_one_line():
+    """Free spin stays refused; a journal bearing is simulated (tests/test_simulate_flexible_journal.py)
+    with the load gravity puts on it, so a given ``load`` is refused as in the large-rotation model."""
     model = _machine()
     with pytest.raises(InputError, match="free spin") as error:
         rdm.simulate(model, 0.1, 100.0, drive="free")
     assert "\n" not in str(error.value)
     data = model.to_dict()
     data["bearings"][0] = {"name": "A", "rotor": "shaft", "axial_position": 0.0, "type": "journal",
-                           "diameter": 0.03, "length": 0.015, "clearance": 3e-5, "viscosity": 0.02}
-    data["gravity"] = [0.0, 0.0, -9.81]
-    with pytest.raises(InputError, match=r"\[bearings.A\] is a journal bearing") as error:
+                           "diameter": 0.03, "length": 0.015, "clearance": 3e-5, "viscosity": 0.02, "load": 80.0,
+                           "load_direction": [0.0, 0.0, -1.0]}
+    with pytest.raises(InputError, match=r"\[bearings.A\] load = 80: the time simulation loads a journal") as error:
         rdm.simulate(rdm.Model.from_dict(data, source="small.toml"), 0.1, 100.0)
     assert "\n" not in str(error.value)
 

@@ -168,3 +168,18 @@ def test_threshold_label_lies_where_no_curve_runs():
     assert min(abs(box.x0 - line_x), abs(box.x1 - line_x)) < 6 * fig.dpi / 72          # beside its line
     assert not len(crossings(box, curve_segments(ax, skip=own)))
     plt.close(fig)
+
+
+def test_a_fast_shaft_mode_does_not_flatten_the_least_damped_modes_onto_zero(examples_dir):
+    """The flexible pump's 69 kHz shaft modes set the round-off floor of the real-part panel to
+    1e-4 |s| = 43 1/s, so the panel reached +58 1/s though no real part is positive, and its least
+    damped modes (real parts about -5e-4 1/s) lay on the zero line. The floor is for real parts
+    spanning round-off only: the panel now shows the least damped mode's real parts apart from zero."""
+    model = rdm.load_model(examples_dir / "flexible_pump_on_mounts.toml")
+    result = rdm.stability(model, rdm.rpm(np.linspace(0.0, 6000.0, 4)))
+    top = result.plot().axes[0]
+    bottom, upper = top.get_ylim()
+    least = np.nanargmax(np.nanmax(result.real_parts, axis=0))
+    real = result.real_parts[:, least]
+    assert np.all(real < 0) and np.all((real > bottom) & (real < upper))
+    assert upper - bottom < 20 * np.abs(real).max()          # the mode spans a visible part of the panel

@@ -490,6 +490,48 @@ def test_figures(gear, examples_dir):
     assert grid.n_variants == 88 and len(np.unique(grid.dataset["sample_value"].values, axis=0)) == 88
 
 
+def test_critical_histograms_count_in_whole_variants(gear):
+    """A histogram's axis counts variants: every tick within its limits is a whole number (four
+    variants were ticked at 0.2, 0.4, ...)."""
+    import matplotlib.pyplot as plt
+
+    fig = rdm.study(gear, small_gear_study(samples=4)).plot_critical_histograms(band_rpm=(3400, 3700))
+    fig.canvas.draw()
+    checked = 0
+    for ax in (a for a in fig.axes if a.get_visible()):
+        low, high = ax.get_ylim()
+        ticks = [t for t in ax.get_yticks() if low <= t <= high]
+        assert len(ticks) >= 2 and all(float(t).is_integer() for t in ticks), ticks
+        checked += 1
+    assert checked >= 2
+    plt.close(fig)
+
+
+def test_sensitivity_legend_covers_no_bar():
+    """The gear machine's mount tolerance study (six critical speeds, four mounts, coefficients
+    0.35 to 0.85): the legend placed 'best' inside the axes covered the longest bars. Drawn from
+    a given table (the plotting computes nothing), measured on the drawn figure."""
+    import matplotlib.pyplot as plt
+    import pandas as pd
+
+    from rotordyn_modal.plotting.study import plot_sensitivity
+
+    values = [[0.80, 0.78, 0.68, 0.65], [0.78, 0.80, 0.64, 0.62], [0.82, 0.85, 0.60, 0.54],
+              [0.82, 0.85, 0.58, 0.53], [0.42, 0.35, 0.74, 0.82], [0.49, 0.51, 0.80, 0.77]]
+    parameters = [f"suspensions.mount-{m}.stiffness" for m in ("FL", "FR", "RL", "RR")]
+    table = pd.DataFrame([{"output": f"critical_speed[motor,1,{k + 1}]", "parameter": p, "SRC": v}
+                          for k, row in enumerate(values) for p, v in zip(parameters, row)])
+    fig = plot_sensitivity(table)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    legend = ax.get_legend().get_window_extent(renderer)
+    bars = [patch.get_window_extent(renderer) for patch in ax.patches]
+    assert len(bars) == 24
+    assert not any(legend.overlaps(bar) for bar in bars)
+    plt.close(fig)
+
+
 def test_a_study_without_seed_records_the_one_it_drew_and_resumes_with_it(gear, tmp_path):
     spec = small_gear_study(samples=6)
     del spec["seed"]

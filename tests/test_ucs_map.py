@@ -3,6 +3,8 @@ rotor on two springs, the rigid-support asymptote and a bearing curve's crossing
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -10,6 +12,7 @@ import rotordyn_modal as rdm
 from rotordyn_modal.analysis.ucs_map import ucs_map
 from rotordyn_modal.cli import main
 
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 MASS, IP, ID, SPAN = 30.0, 0.2, 1.1, 0.35          # kg, kg m^2, kg m^2, m (bearings at +-SPAN)
 
 
@@ -198,3 +201,48 @@ def test_command_line(tmp_path, capsys):
                                result.mode_speeds * 30 / np.pi, rtol=1e-9)
     assert main(["ucs-map", "examples/journal_rotor.toml", "--stiffness", "0:1e10:11"]) == 2
     assert main(["ucs-map", "examples/journal_rotor.toml", "--stiffness", "1e5:1e10:11", "--bearings", "X"]) == 2
+
+
+def test_figure_writes_every_crossing_and_name_clear_of_curves_markers_and_each_other():
+    """The fan's map (three bearing stiffnesses meeting the modes in tight clusters, five curves
+    ending inside the axes): every crossing's speed is written (none hidden behind a neighbour's),
+    and every label inside the axes, measured on the rendered figure, overlaps no other label and
+    no crossing marker, and no curve runs through it but within its own anchor's marker."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments, glyph_box
+
+    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+    result = ucs_map(model, np.geomspace(1e5, 1e10, 31))
+    fig = result.plot()
+    ax = fig.axes[0]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    frame = ax.get_window_extent(renderer)
+    labels = [t for t in ax.texts if getattr(t, "xycoords", "data") == "data"]
+    markers = np.concatenate([ax.transData.transform(line.get_xydata()) for line in ax.get_lines()
+                              if line.get_marker() == "o" and line.get_linestyle() == "None"])
+    speeds = sorted({(round(c.stiffness, 6), round(c.speed * 30 / np.pi, 6)) for c in result.crossings})
+    written = sorted(t.get_text() for t in labels if len(t.get_text()) >= 3)
+    assert written == sorted(f"{rpm:.0f}" for _, rpm in speeds) and len(written) >= 12
+    stopped = [j for j in range(result.mode_speeds.shape[1]) if not np.isfinite(result.mode_speeds[-1, j])
+               and np.isfinite(result.mode_speeds[:, j]).any()]
+    assert sorted(t.get_text() for t in labels if len(t.get_text()) < 3) == sorted(str(j + 1) for j in stopped)
+    segments = curve_segments(ax)
+    radius = 6 * fig.dpi / 72 * np.sqrt(2) + 1
+    marker = 3 * fig.dpi / 72                      # the circles' radius (6 points across)
+    boxes = [glyph_box(t, renderer) for t in labels]
+    for t, box in zip(labels, boxes):
+        assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1, t.get_text()
+        anchor = ax.transData.transform(t.xy)
+        assert not len(crossings(box, segments, [anchor], radius)), t.get_text()
+        gap = np.hypot(np.maximum(0, np.maximum(box.x0 - markers[:, 0], markers[:, 0] - box.x1)),
+                       np.maximum(0, np.maximum(box.y0 - markers[:, 1], markers[:, 1] - box.y1)))
+        assert gap.min() >= marker - 0.5, f"a crossing's marker under {t.get_text()}"
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1:]:
+            assert not a.overlaps(b), "two labels overlap"
+    plt.close(fig)

@@ -6,7 +6,8 @@ Three steps (``docs/theory.md``, "The lowest modes only"):
    stiffness and mass at the sweep's first speed, mass-orthonormal, and ``k`` attachment
    directions (the static response to forces where the bearings act, outside those modes);
 2. the projected pencils (``(m + k)`` square) of every speed, solved in one batched
-   ``numpy.linalg.eig`` of their state matrices: starts for the wanted roots;
+   ``numpy.linalg.eigvals`` of their state matrices, the wanted roots' vectors by inverse
+   iteration: starts for the wanted roots;
 3. each start refined to the full model's root by Newton's iteration on the full quadratic
    pencil ``Q(s) = s^2 M + s (C + Omega G) + K`` (a banded LU per root and iteration where the
    pencils are banded, with a casing's coordinates as a border; batched dense LU for small
@@ -15,11 +16,13 @@ Three steps (``docs/theory.md``, "The lowest modes only"):
 A speed where the refined roots are not ``count + 1`` distinct modes, where a projected root
 left unrefined could stand for a lower root, or where the basis cannot be shown to hold every
 root below the wanted ones (see :class:`_Bound`), is solved whole instead (the full
-eigen-solve), with a notice. Models below ``DENSE_BELOW`` coordinates are solved whole.
+eigen-solve), with a notice. Models below ``DENSE_BELOW`` coordinates solve every root of every
+speed (eigenvalues alone, the wanted roots' shapes by inverse iteration: :func:`_dense_lowest`).
 """
 
 from __future__ import annotations
 
+import functools
 import typing
 import warnings
 
@@ -29,7 +32,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 from scipy.linalg.lapack import zgbsv as _zgbsv
 
-from . import _batches, _pencils, _vectors
+from . import _batches, _eigensolve, _pencils, _vectors
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]
@@ -73,7 +76,7 @@ def lowest_roots(stack, speeds, count: int):
         The speeds solved whole (fallback).
     """
     if stack.n_dof < DENSE_BELOW:           # every root of every speed costs less here
-        lam, phi = _full_lowest(stack, speeds, count)
+        lam, phi = _dense_lowest(stack, speeds, count)
         return lam, phi, np.ones(len(speeds), bool)
     # its dense steps are small BLAS calls (n x n once, m x m per speed): BLAS's own threads only
     # wait for a core on a shared machine (measured up to 10x slower at load 5); the batched
@@ -252,15 +255,43 @@ def _projected_starts(pencils, basis, want, index=None):
         A[:, :m, m:] = np.eye(m)
         A[:, m:, :m] = -Kr              # the basis is mass-orthonormal: W^T M W = I
         A[:, m:, m:] = -D
-        # in threads, one BLAS thread each (BLAS's own threads on top oversubscribe the cores)
-        lam, vec = _batches._threaded(np.linalg.eig, A, item_bytes=72 * (2 * m) ** 2)
-        # oscillating roots by frequency; the others pushed to the end
-        key = np.where(is_oscillating(lam), lam.imag, np.inf)
-        order = np.argsort(key, axis=-1)[:, :want]
-        rows = np.arange(len(D))[:, None]
-        starts[part] = lam[rows, order]
-        vectors[part] = _vectors.unit_rows(vec[rows, :m, order] @ Wt)
+        lam, shapes = _projected_roots(A, D, Kr, want)
+        starts[part] = lam
+        vectors[part] = _vectors.unit_rows(shapes @ Wt)
     return starts, vectors
+
+
+def _projected_roots(A, damping, stiffness, want):
+    """The ``want`` lowest-frequency oscillating roots (P, want) of the projected state matrices
+    ``A`` (P, 2 m, 2 m) and their shapes (P, want, m): the roots by a batched ``eigvals``, the shapes
+    by one inverse-iteration step each on the projected pencils (``damping``, ``stiffness`` (P, m, m),
+    unit mass); a speed where a root picked is not a mode or lies within ``_CLOSE`` of another
+    takes ``eig``'s roots and eigenvectors. Threads, one BLAS thread each (BLAS's own threads on
+    top oversubscribe the cores)."""
+    m = damping.shape[-1]
+    lam = _batches._threaded(np.linalg.eigvals, A, item_bytes=24 * (2 * m) ** 2)
+    order = _lowest_order(lam, want)
+    picked = np.take_along_axis(lam, order, axis=1)
+    whole = ~is_oscillating(picked).all(axis=1) | _close(picked, lam, order)
+    shapes = np.empty(picked.shape + (m,), complex)
+    if whole.any():
+        values, vectors = np.linalg.eig(A[whole])
+        order = _lowest_order(values, want)
+        rows = np.arange(len(values))[:, None]
+        picked[whole], shapes[whole] = values[rows, order], vectors[rows, :m, order]
+    sure = np.nonzero(~whole)[0]
+    if len(sure):
+        part = functools.partial(_pencil_shapes_part, np.eye(m))
+        shapes[sure] = _batches._threaded(part, stiffness[sure], picked[sure], damping[sure],
+                                          item_bytes=48 * want * m * m)
+    return picked, shapes
+
+
+def _lowest_order(lam, want):
+    """Where the ``want`` lowest-frequency oscillating roots of each row of ``lam`` are (P, want):
+    the oscillating roots by frequency, the others pushed to the end."""
+    key = np.where(is_oscillating(lam), lam.imag, np.inf)
+    return np.argsort(key, axis=-1)[:, :want]
 
 
 class _Pencils:
@@ -480,14 +511,16 @@ def _refined(pencils, starts, vectors):
         if not len(todo):
             break
         u = pencils.solve(index[todo], lam[todo], pencils.derivative_times(index[todo], lam[todo], x[todo]))
-        cu = np.einsum("pi,pi->p", c[todo], u)
-        step = np.einsum("pi,pi->p", c[todo], x[todo]) / cu
-        lam[todo] -= step
-        x[todo] = u / cu[:, None]
-        relative = np.abs(step) / np.abs(lam[todo])
-        # quadratic convergence (error e' = k e^2, the steps are the errors): the error left after
-        # this step is about k relative^2 with k = relative / last^2
-        left = relative ** 3 / np.where(np.isfinite(last[todo]), last[todo], np.nan) ** 2
+        # a singular solve gives inf/nan: that root is left unconverged (ok False), not warned about
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            cu = np.einsum("pi,pi->p", c[todo], u)
+            step = np.einsum("pi,pi->p", c[todo], x[todo]) / cu
+            lam[todo] -= step
+            x[todo] = u / cu[:, None]
+            relative = np.abs(step) / np.abs(lam[todo])
+            # quadratic convergence (error e' = k e^2, the steps are the errors): the error left after
+            # this step is about k relative^2 with k = relative / last^2
+            left = relative ** 3 / np.where(np.isfinite(last[todo]), last[todo], np.nan) ** 2
         done[todo] = (relative <= _STEP) | ((relative <= _ASYMPTOTIC) & (left <= _LEFT))
         last[todo] = relative
     ok = done & np.isfinite(lam)
@@ -686,3 +719,74 @@ def _unmissed_below(starts, values, limit, count):
         top = np.minimum(top, np.sort(np.where(is_oscillating(values), values.imag, np.inf), axis=1)[:, count - 1])
     moved = np.max(np.abs(starts - values), axis=1)
     return starts[:, -1].imag - moved > top
+
+
+# ----------------------------------------------------------------------------------------
+# Small models' lowest roots from eigenvalues alone
+
+#: a wanted root closer than this times |lam| to another root (or to its conjugate) takes its
+#: shape from the full eigen-solve: one inverse-iteration step leaves an error of about its
+#: shift (1e-13 |lam|) over that gap
+_CLOSE = 1e-4
+
+
+def _dense_lowest(stack, speeds, count):
+    """:func:`_full_lowest` of a small model (``DENSE_BELOW``) from eigenvalues alone: every root of
+    every speed by one batched ``eigvals``, the ``count`` lowest oscillating roots' shapes by one
+    inverse-iteration step each on the pencil (``_pencils.pencil_shapes``). A speed whose roots
+    need their eigenvectors to be judged, whose wanted roots are not all modes, or where a
+    wanted root lies within ``_CLOSE`` of another, is solved whole by :func:`_full_lowest`.
+
+    Returns
+    -------
+    eigenvalues : ndarray, shape (S, count), complex; shapes : ndarray, shape (S, count, n)
+    """
+    upper, whole = _eigensolve.upper_eigenvalues(stack.sweep(speeds)[0])
+    key = np.where(is_oscillating(upper), upper.imag, np.inf)
+    order = np.argsort(key, axis=-1, kind="stable")[:, :count]
+    lam = np.take_along_axis(upper, order, axis=1)
+    whole |= ~is_oscillating(lam).all(axis=1) | _close(lam, upper, order)
+    shapes = np.empty(lam.shape + (stack.n_dof,), complex)
+    if whole.any():
+        lam[whole], shapes[whole] = _full_lowest(stack, speeds[whole], count)
+    sure = np.nonzero(~whole)[0]
+    if len(sure):
+        shapes[sure] = _pencil_shapes(stack, speeds[sure], lam[sure])
+    return lam, shapes
+
+
+def _pencil_shapes(stack, speeds, lam):
+    """Unit shapes (S, k, n) of the roots ``lam`` (S, k), one inverse-iteration step each on its
+    speed's pencil (``_pencils.pencil_shapes``), the speeds shared between threads."""
+    damping, stiffness = stack.damping_stiffness(np.zeros(len(speeds), int), speeds)
+    k, n = lam.shape[1], stack.n_dof
+    if stiffness.ndim == 2:             # one stiffness for every speed
+        part = functools.partial(_pencil_shapes_part, stack.M[0], stiffness)
+        return _batches._threaded(part, lam, damping, item_bytes=48 * k * n * n)
+    return _batches._threaded(functools.partial(_pencil_shapes_part, stack.M[0]), stiffness, lam, damping,
+                              item_bytes=48 * k * n * n)
+
+
+def _pencil_shapes_part(M, stiffness, lam, damping):
+    """:func:`_pencil_shapes` of some speeds: ``stiffness`` (n, n), or (P, n, n) per speed."""
+    k = lam.shape[1]
+    if stiffness.ndim == 3:
+        stiffness = np.repeat(stiffness, k, axis=0)
+    shapes = _pencils.pencil_shapes(M, np.repeat(damping, k, axis=0), stiffness, lam.reshape(-1))
+    # the phase of eig's state eigenvectors [phi, lam phi]: their largest entry real (up to its
+    # sign, which eig leaves open)
+    roots = lam.reshape(-1, 1)
+    largest = np.take_along_axis(shapes, np.abs(shapes).argmax(axis=-1)[:, None], axis=-1)
+    largest = np.where(np.abs(roots) > 1.0, roots * largest, largest)
+    shapes *= largest.conj() / np.abs(largest)
+    return shapes.reshape(lam.shape + (M.shape[-1],))
+
+
+def _close(lam, upper, order):
+    """(S,) a root of ``lam`` (S, k) lies within ``_CLOSE`` times its modulus of another root of
+    ``upper`` (S, m), the upper roots it was picked from (at ``order`` (S, k)), or of its own
+    conjugate."""
+    distance = np.abs(lam[:, :, None] - upper[:, None, :])
+    np.put_along_axis(distance, order[:, :, None], np.inf, axis=-1)          # itself
+    nearest = np.minimum(distance.min(axis=-1), 2 * np.abs(lam.imag))
+    return (nearest <= _CLOSE * np.abs(lam)).any(axis=1)

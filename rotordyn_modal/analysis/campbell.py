@@ -271,6 +271,8 @@ def campbell(model, speeds, orders=(1,), progress=False, critical=True, modes=No
         than the grid): the refinement closes in on the jump, and the frequency there is off the
         order line (see :func:`off_order_line`). A finer speed grid resolves them.
     """
+    if modes is not None and _arguments_modes(modes) >= root_count(model):
+        modes = None                # N at least every root: every root (below max_frequency, if given)
     if max_frequency is not None:
         return _campbell_lowest(model, speeds, orders, critical, None if modes is None else _arguments_modes(modes),
                                 2 * np.pi * _arguments_frequency(max_frequency))
@@ -283,6 +285,14 @@ def _arguments_modes(modes) -> int:
     if isinstance(modes, bool) or not isinstance(modes, (int, np.integer)) or modes < 1:
         raise InputError(f"modes = {modes!r}: expected a whole number of modes >= 1")
     return int(modes)
+
+
+def root_count(model) -> int:
+    """Roots of the model at each speed, one of each conjugate pair (half its states, Maxwell
+    branches included): ``campbell(modes=N)`` with N at least this many is every root."""
+    from ..linear_system import speed_linear_form
+
+    return speed_linear_form(model).n_states // 2
 
 
 def _arguments_frequency(value) -> float:

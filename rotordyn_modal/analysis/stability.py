@@ -11,7 +11,7 @@ from scipy.optimize import brentq
 from ..errors import InputError
 from ..linear_system import speed_linear_form
 from . import _eigensolve, _roots, _whirl
-from .campbell import _check_speeds, _progress, solve_sweep
+from .campbell import _arguments_modes, _check_speeds, _progress, campbell, root_count, solve_sweep
 from .modal import is_oscillating, modal, modal_quantities
 from .mode_numbers import numbers_at_speed
 
@@ -45,6 +45,10 @@ class StabilityResult:
     threshold_modes_at_speed : ndarray of int, shape (n_thresholds,), optional
         The number ``modes --speed THRESHOLD`` gives it (0: not a mode there, a real or
         overdamped root); the tracked label is ``threshold_modes``.
+    lowest : int, optional
+        Set by ``stability(..., modes=N)``: only the N lowest-frequency modes of each speed were
+        solved and judged (columns, thresholds, least damped); the modes above them, and real
+        roots, are not checked. None: every root.
     """
 
     speeds: np.ndarray
@@ -62,6 +66,7 @@ class StabilityResult:
     threshold_frequencies_hz: np.ndarray | None = None
     threshold_whirl: np.ndarray | None = None
     threshold_modes_at_speed: np.ndarray | None = None
+    lowest: int | None = None
 
     @property
     def speeds_rpm(self) -> np.ndarray:
@@ -237,7 +242,7 @@ class StabilityMap:
         return plot_stability_map(self, **kwargs)
 
 
-def stability(model, speeds, vary: str | None = None, values=None, scale=None, progress=False):
+def stability(model, speeds, vary: str | None = None, values=None, scale=None, progress=False, modes=None):
     """Stability over speed, or a map over speed and one parameter.
 
     Parameters
@@ -249,15 +254,30 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
         with it, give ``values`` (set) or ``scale`` (multiply) and get a map.
     values, scale : array_like, shape (V,), optional
     progress : bool
+    modes : int, optional
+        Only the ``modes`` lowest-frequency oscillating roots of each speed (of each value of a
+        map), each the full model's root to round-off, as ``campbell(modes=N)`` finds them
+        (``docs/theory.md``, "The lowest modes only"): the columns are those roots, and the
+        thresholds are where the largest real part *among them* crosses zero, refined with
+        Brent's method on the same N lowest roots. **Modes above the N lowest are not checked**,
+        nor are real roots (a real root crossing zero, a divergence, is outside this route):
+        a threshold of a higher mode, or of a real root, is not found. ``result.lowest`` is N.
+        Default: every root of every speed.
 
     Returns
     -------
     StabilityResult, or StabilityMap when ``vary`` is given
     """
+    if modes is not None:
+        modes = _arguments_modes(modes)
+        if vary is None and modes >= root_count(model):
+            modes = None                            # N at least every root: every root, as campbell
     if vary is not None:
-        return stability_map(model, speeds, vary, values=values, scale=scale, progress=progress)
+        return stability_map(model, speeds, vary, values=values, scale=scale, progress=progress, modes=modes)
     if values is not None or scale is not None:
         raise InputError("values/scale given without a parameter to vary (vary=KEY)")
+    if modes is not None:
+        return _stability_lowest(model, speeds, modes)
     speeds = _check_speeds(speeds)
     form = speed_linear_form(model)
     eigenvalues, shapes, _ = solve_sweep(model, speeds, progress)
@@ -275,15 +295,88 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
     )
 
 
-def _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes) -> dict:
+def _stability_lowest(model, speeds, count) -> StabilityResult:
+    """:func:`stability` of the ``count`` lowest modes of each speed (see its ``modes``): the
+    tracked roots of ``campbell(modes=count)``, the thresholds of their largest real part
+    refined on the ``count`` lowest roots of each trial speed, judged against the full state
+    matrix's round-off (:func:`roundoff_levels`) as a full sweep's are."""
+    speeds = _check_speeds(speeds)
+    sweep = campbell(model, speeds, critical=False, modes=count)
+    form = speed_linear_form(model)
+    roundoff = roundoff_levels(form, speeds)
+    lowest = _LowestRoots(model, count)
+
+    def largest(speed, clip=True):
+        roots, _ = lowest.at(speed)
+        roots = roots[np.isfinite(roots)]       # fewer roots than asked (a model of few coordinates)
+        return float(_significant_real_parts(roots, clip, roundoff_levels(form, [speed]) if clip else None).max())
+
+    thresholds, threshold_modes, onsets = threshold_speeds(form, speeds, sweep.eigenvalues, roundoff, largest)
+    crossing = _crossing_roots(model, speeds, sweep.eigenvalues, thresholds, threshold_modes, lowest.crossing)
+    return StabilityResult(
+        speeds=speeds, eigenvalues=sweep.eigenvalues, real_parts=sweep.eigenvalues.real,
+        damping_ratios=sweep.damping_ratios, log_decrements=sweep.log_decrements,
+        frequencies_hz=sweep.frequencies_hz, whirl=sweep.whirl, modes=sweep.modes, thresholds=thresholds,
+        threshold_modes=threshold_modes, threshold_onsets=onsets, roundoff=roundoff, lowest=count, **crossing,
+    )
+
+
+class _LowestRoots:
+    """The ``count`` lowest oscillating roots of one model at one speed at a time (a threshold's
+    trial speeds), as ``campbell(modes=count)`` finds them at its speeds.
+
+    Parameters
+    ----------
+    model : Model
+    count : int
+    """
+
+    def __init__(self, model, count):
+        from ._stack import Stack
+
+        self.stack, self.count = Stack([model]), count
+
+    def at(self, speed):
+        """Roots (count,) complex [1/s], by frequency (nan where the model has fewer), and unit shapes
+        (count, n) at ``speed`` [rad/s]."""
+        from . import _batches, _lowest
+
+        speeds = np.array([float(speed)])
+        # BLAS's own threads only wait for a core on a shared machine (as in campbell(modes=N))
+        with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+            if self.stack.branch_times.shape[1]:     # frequency-dependent branches: solved whole, as campbell does
+                values, shapes = _lowest._full_lowest(self.stack, speeds, self.count)
+            else:
+                values, shapes, _ = _lowest.lowest_roots(self.stack, speeds, self.count)
+        return values[0], shapes[0]
+
+    def crossing(self, speed, guess):
+        """Frequency [Hz], whirl label and ``modes --speed`` number of the root nearest ``guess``."""
+        values, shapes = self.at(speed)
+        nearest = int(np.nanargmin(np.abs(values - guess)))
+        ratio = self.stack.whirl_ratios(shapes[None, nearest:nearest + 1], np.zeros(1, int), np.array([speed]))
+        ratio = np.where(is_oscillating(values[nearest]), ratio.reshape(1), 0.0)
+        # the lowest roots of a speed are its lowest modes: their order is modes' own numbering
+        return (float(values[nearest].imag / (2 * np.pi)), str(_whirl.whirl_labels(ratio)[0]),
+                int(numbers_at_speed(values)[nearest]))
+
+
+def _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes, root_at=None) -> dict:
     """Frequency, whirl and ``modes`` number of the root that crosses at each threshold:
-    :func:`.modal.modal` at the threshold, its root nearest the tracked mode's eigenvalue
-    (interpolated linearly between the grid speeds around the threshold)."""
+    :func:`.modal.modal` at the threshold (or ``root_at(speed, guess)``, returning the three), its
+    root nearest the tracked mode's eigenvalue (interpolated linearly between the grid speeds
+    around the threshold)."""
     frequencies, whirl, numbers = [], [], []
     for speed, mode in zip(thresholds, threshold_modes):
         k = int(np.clip(np.searchsorted(speeds, speed) - 1, 0, len(speeds) - 2))
         t = (speed - speeds[k]) / (speeds[k + 1] - speeds[k])
         guess = (1 - t) * eigenvalues[k, mode - 1] + t * eigenvalues[k + 1, mode - 1]
+        if root_at is not None:
+            frequency, label, number = root_at(speed, guess)
+            frequencies.append(frequency)
+            whirl.append(label)
+            numbers.append(number)
+            continue
         roots = modal(model, speed)
         nearest = int(np.argmin(np.abs(roots.eigenvalues - guess)))
         frequencies.append(roots.frequencies_hz[nearest])
@@ -294,7 +387,7 @@ def _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes) -> 
             "threshold_whirl": np.array(whirl, dtype=str), "threshold_modes_at_speed": np.array(numbers, dtype=int)}
 
 
-def stability_map(model, speeds, key: str, values=None, scale=None, progress=False) -> StabilityMap:
+def stability_map(model, speeds, key: str, values=None, scale=None, progress=False, modes=None) -> StabilityMap:
     """Stability over speed for each value (or scale factor) of one model parameter.
 
     Parameters
@@ -307,6 +400,9 @@ def stability_map(model, speeds, key: str, values=None, scale=None, progress=Fal
         Values to set the key to (a scalar key or one element).
     scale : array_like, shape (V,), optional
         Factors to multiply the key (a whole array if it is one) by.
+    modes : int, optional
+        Only the ``modes`` lowest modes of each speed and value (see :func:`stability`; the modes
+        above them and real roots are not checked).
 
     Returns
     -------
@@ -321,12 +417,12 @@ def stability_map(model, speeds, key: str, values=None, scale=None, progress=Fal
     results = []
     for value in _progress(list(grid), progress, f"map over {key}"):
         variant = model.with_values({key: value}) if values is not None else model.scaled({key: value})
-        results.append(stability(variant, speeds))
+        results.append(stability(variant, speeds, modes=modes))
     return StabilityMap(key=key, mode_of_variation="values" if values is not None else "scale",
                         values=grid, speeds=np.asarray(results[0].speeds), results=tuple(results))
 
 
-def threshold_speeds(form, speeds, eigenvalues, roundoff=None):
+def threshold_speeds(form, speeds, eigenvalues, roundoff=None, largest=None):
     """Speeds where the largest real part of the eigenvalues crosses zero.
 
     Real parts within round-off of zero count as zero (marginal, as in an undamped machine):
@@ -344,6 +440,10 @@ def threshold_speeds(form, speeds, eigenvalues, roundoff=None):
     eigenvalues : ndarray, shape (N, n), tracked
     roundoff : ndarray, shape (N,) [1/s], optional
         :func:`roundoff_levels` (computed when not given).
+    largest : callable, optional
+        ``largest(speed, clip=True)``: the largest real part of the roots judged at one speed
+        [1/s] (clipped: as :func:`_significant_real_parts`), for the refinement. Default: of
+        every root of the state matrix (``stability(modes=N)`` gives its N lowest roots).
 
     Returns
     -------
@@ -351,6 +451,10 @@ def threshold_speeds(form, speeds, eigenvalues, roundoff=None):
     """
     if roundoff is None:
         roundoff = roundoff_levels(form, speeds)
+    if largest is None:
+        def largest(speed, clip=True):
+            return _largest_real_part(form, speed, clip)
+    real_part = largest
     largest = _significant_real_parts(eigenvalues, roundoff=roundoff).max(axis=1)
     unstable = largest > 0
     found, modes, onsets = [], [], []
@@ -360,9 +464,9 @@ def threshold_speeds(form, speeds, eigenvalues, roundoff=None):
         root = None
         if other is not None:
             a, b = sorted((speeds[other], speeds[side]))
-            root = _brent(form, a, b)
+            root = _brent(real_part, a, b)
         if root is None:
-            root = _bisect_change(lambda s: _largest_real_part(form, s) > 0, speeds[k], speeds[k + 1])
+            root = _bisect_change(lambda s: real_part(s) > 0, speeds[k], speeds[k + 1])
         found.append(root)
         modes.append(int(np.argmax(eigenvalues[side].real)) + 1)
         onsets.append(bool(unstable[k + 1]))
@@ -378,11 +482,11 @@ def _last_stable(largest, start, step):
     return k if 0 <= k < len(largest) and largest[k] < 0 else None
 
 
-def _brent(form, a, b):
-    """The zero of the largest real part (unclipped) in [a, b] by Brent's method, or None
-    when the real parts solved again at a and b do not change sign (round-off)."""
+def _brent(real_part, a, b):
+    """The zero of the largest real part (``real_part(speed, clip=False)``) in [a, b] by Brent's
+    method, or None when the real parts solved again at a and b do not change sign (round-off)."""
     def f(s):
-        return _largest_real_part(form, s, clip=False)
+        return real_part(s, clip=False)
 
     fa, fb = f(a), f(b)
     if not fa * fb < 0:

@@ -140,6 +140,11 @@ def check_files(args) -> None:
             if same_file(path, other):
                 raise InputError(f"{other_option} and {option} name the same file {other}: "
                                  "give two different files")
+    for option, path in outputs:  # a missing or read-only folder, a folder in the way: before the work
+        try:
+            check_writable(path)
+        except InputError as error:
+            raise type(error)(f"{option}: {error}") from None
 
 
 def add_model_argument(parser):

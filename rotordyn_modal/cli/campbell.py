@@ -54,7 +54,8 @@ def add_arguments(parser):
     parser.add_argument("--lowest", metavar="N",
                         help="only the N lowest-frequency modes at each speed, each the full model's root to "
                              "round-off, without solving for every root (faster for large flexible rotors; the "
-                             "columns then follow those N; docs/theory.md, 'The lowest modes only')")
+                             "columns then follow those N; docs/theory.md, 'The lowest modes only'); N at least the "
+                             "model's number of roots is every root")
     parser.add_argument("--max-frequency", metavar="HZ",
                         help="only the modes of damped natural frequency at most HZ [Hz] at each speed, each the "
                              "full model's root to round-off, without solving for every root (with --lowest N, the "
@@ -72,7 +73,8 @@ def run(args) -> int:
     from ..analysis.campbell import campbell
     model = open_model(args)
     axis = _frequency_axis(args)    # bad limits refused before the work
-    speeds, orders, lowest = speeds_option(args), tuple(parse_list(args.orders, "--orders")), _lowest(args.lowest)
+    speeds, orders, lowest = speeds_option(args), tuple(parse_list(args.orders, "--orders")), _lowest(args.lowest,
+                                                                                                       model)
     limit = _max_frequency(args.max_frequency)
     if lowest is None and limit is None:
         refuse_long_work(args, model, speeds, orders, critical=not args.no_critical, advice=LONG_ADVICE,
@@ -89,11 +91,14 @@ def run(args) -> int:
     return 0
 
 
-def _lowest(text):
-    """``--lowest N`` as an int, or None (every mode); refused in one line unless a whole number >= 1."""
+def _lowest(text, model):
+    """``--lowest N`` as an int, or None (every mode: also when N is at least the model's number of
+    roots, so that the long-work check holds); refused in one line unless a whole number >= 1."""
+    from ..analysis.campbell import root_count
     from ._common import parse_count
 
-    return None if text is None else parse_count(text, "--lowest", of="modes")
+    count = None if text is None else parse_count(text, "--lowest", of="modes")
+    return None if count is None or count >= root_count(model) else count
 
 
 def _max_frequency(text):

@@ -50,7 +50,7 @@ def run(args) -> int:
     from ..analysis.campbell import campbell
     from .campbell import _lowest, _max_frequency
     model = open_model(args)
-    modes, limit = _lowest(args.lowest), _max_frequency(args.max_frequency)
+    modes, limit = _lowest(args.lowest, model), _max_frequency(args.max_frequency)
     speeds, orders = speeds_option(args), tuple(parse_list(args.orders, "--orders"))
     if modes is None and limit is None:
         refuse_long_work(args, model, speeds, orders, numbers=True, advice="ask for the lowest modes only (--lowest "

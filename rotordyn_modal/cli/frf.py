@@ -28,7 +28,8 @@ mapping: sensor k is node k, excitation k is node 100 + k, direction the model a
 excitation along no model axis needs --mapping, as UFF 58 directions are axis codes only). Measured
 UFF files are read in their own units (g, mm/s, lbf, dataset 164 factors) and converted to SI.
 
-CSV columns: frequency_hz,output,input,real,imag,magnitude,phase_deg
+CSV columns: frequency_hz,output,input,real,imag,magnitude,phase_deg,speed_rpm,quantity (then unit
+with --units us): the file reads back as --measured data of its speed, quantity and units.
 
 examples:
   rotordyn-modal frf examples/gear_machine.toml --speed 3000 --freqs 1:60:600 \\
@@ -76,7 +77,8 @@ def run(args) -> int:
     if args.out and args.out.lower().endswith((".uff", ".unv")):
         _write_uff(result, model, args)
     else:
-        write_table(_in_units(result.to_dataframe(), result, model, args.units), args)
+        table = _with_speed_and_quantity(result) if args.out else result.to_dataframe()  # the file's own columns
+        write_table(_in_units(table, result, model, args.units), args)
     if args.plot:
         use_agg()
         save_figure(result.plot(measured=measured, units=args.units, input_kinds=_input_kinds(model)), args)
@@ -91,6 +93,15 @@ def _is_moment(output: str) -> bool:
 def _input_kinds(model) -> dict:
     """``{excitation name: 'force' or 'moment'}``."""
     return {x.name: "moment" if getattr(x, "kind", "force") == "moment" else "force" for x in model.excitations}
+
+
+def _with_speed_and_quantity(result):
+    """The FRF table with the speed [rpm] and the quantity of every row as its last columns, so
+    that the file reads back (``--measured``) as what it holds (``io.measured.read_csv``)."""
+    table = result.to_dataframe()
+    table["speed_rpm"] = result.speed * 30 / np.pi
+    table["quantity"] = result.quantity
+    return table
 
 
 def _in_units(table, result, model, system):

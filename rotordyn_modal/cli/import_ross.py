@@ -18,7 +18,9 @@ or tabulated over speed, ROSS's rad/s written as rpm). ROSS's x, y, z are the mo
 (spin about +z, the shaft from the origin); kxy and kyx keep their signs. What this package
 does not model is refused by name with exit code 2: point masses (support masses), magnetic
 bearings, bearing mass coefficients, proportional or modal damping, elements without rotary
-inertia or gyroscopic terms, axial force or torque, mixed shear options (docs/ross.md).
+inertia or gyroscopic terms, axial force or torque, mixed shear options (docs/ross.md). A rotor
+that is no valid model (a length, density or disk mass <= 0, a negative bearing coefficient,
+bearings that leave it free) is refused the same way: no file is written that `check` refuses.
 
 example:
   rotordyn-modal import-ross compressor.toml --out compressor_model.toml
@@ -33,10 +35,11 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
-    from ..io.ross_file import model_text, read_ross_rotor, write_model_file
+    from ..io.ross_file import check_description, model_text, read_ross_rotor, write_model_file
 
     check_ending(args.out, (".toml",), "--out")
     description = read_ross_rotor(args.ross_file, name=args.name)
+    check_description(description, args.ross_file)   # no model file that `check` would refuse
     if args.out == "-":
         sys.stdout.write(model_text(description))
     else:

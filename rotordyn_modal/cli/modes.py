@@ -15,7 +15,9 @@ frequency, damping ratio, log decrement and whirl direction of every oscillating
 that are not modes (real roots: relaxations of rubber mounts, directions without suspension;
 overdamped pairs) are counted on a line of their own. Numbers within the eigen-solve's round-off
 print as 0 (docs/theory.md section 8).
---plot draws the modes' participation bars; with --shape MODE the 3D mode shape of that mode
+--plot draws the modes' participation bars (--modes, default every mode, or modes 1-12 where
+there are more than 24), or, on a machine with a flexible rotor, its deflected shaft lines as
+--plot-shaft does (hundreds of coordinates make unreadable bars); with --shape MODE the 3D mode shape of that mode
 (the machine at rest and displaced, whirl orbits, top/front/side views) and with --animate MODE
 an animation of it (--plot FILE.gif, FILE.html or FILE.mp4; MP4 needs ffmpeg). MODE is the
 'mode' column of the table. --outline FILE.csv draws the stator as polylines (columns x,y,z
@@ -45,6 +47,8 @@ examples:
 _ANIMATION_ENDINGS = (".gif", ".html", ".mp4")
 #: panels of --plot-shaft in one figure
 _MOST_PANELS = 24
+#: modes drawn by --plot's bars without --modes when the table has more than _MOST_PANELS
+_DEFAULT_BARS = 12
 
 
 def add_arguments(parser):
@@ -60,8 +64,9 @@ def add_arguments(parser):
     add_output_file(parser, "--plot-shaft", metavar="FILE.png|FILE.svg|FILE.pdf",
                     help="draw the modes as deflected shaft lines along the axis to this file")
     parser.add_argument("--modes", metavar="LIST",
-                        help="modes drawn by --plot-shaft: numbers and ranges of the table's 'mode' column, "
-                             "e.g. 1-6 or 1,3,7-9 (default 1-6)")
+                        help="modes drawn by --plot-shaft (default 1-6) or by --plot's bars (default every mode, "
+                             f"1-{_DEFAULT_BARS} where there are more than {_MOST_PANELS}): numbers and ranges of the "
+                             "table's 'mode' column, e.g. 1-6 or 1,3,7-9")
     add_outputs(parser)
 
 
@@ -85,7 +90,7 @@ def run(args) -> int:
 
         mode = args.shape if args.shape is not None else args.animate
         view = mode_shape_3d(result, model, mode, outline=outline)
-    if args.plot_shaft:
+    if args.plot_shaft or (args.plot and view is None):
         _check_modes(result, wanted, args)
     table = result.to_dataframe()
     counts = _not_listed(result)
@@ -101,25 +106,41 @@ def run(args) -> int:
             if not args.quiet:
                 print(f"animation written to {args.plot}", file=sys.stderr)
         else:
-            save_figure(result.plot() if view is None else view.plot(units=args.units), args)
+            if view is None and any(rotor.flexible is not None for rotor in model.rotors):
+                _plot_shaft(result, model, wanted, args, args.plot, "--plot")
+            else:
+                save_figure(_bars(result, wanted, args) if view is None else view.plot(units=args.units), args)
     return 0
 
 
-def _plot_shaft(result, model, wanted, args):
-    """--plot-shaft: the chosen modes' deflected lines (default the first six)."""
+def _bars(result, wanted, args):
+    """--plot without --shape: the participation bars of ``wanted`` (default every mode, or the
+    first :data:`_DEFAULT_BARS` of a longer table, said on stderr)."""
+    count = int(result.oscillatory.sum())
+    if wanted is None and count > _MOST_PANELS:
+        wanted = list(range(1, _DEFAULT_BARS + 1))
+        if not args.quiet:
+            print(f"--plot: modes 1-{_DEFAULT_BARS} of {count} drawn (choose with --modes; "
+                  "--plot-shaft draws a shaft's modes along its axis)", file=sys.stderr)
+    return result.plot(modes=wanted)
+
+
+def _plot_shaft(result, model, wanted, args, path=None, option="--plot-shaft"):
+    """--plot-shaft (or --plot on a machine with a flexible rotor): the chosen modes' deflected
+    lines (default the first six)."""
     from ..analysis.mode_shapes import shaft_lines
     from ..plotting.shaft_modes import plot_shaft_modes
 
     use_agg()
     wanted = wanted or list(range(1, min(int(result.oscillatory.sum()), 6) + 1))
     save_figure(plot_shaft_modes([shaft_lines(result, model, m) for m in wanted], units=args.units), args,
-                args.plot_shaft, "--plot-shaft")
+                path or args.plot_shaft, option)
 
 
 def _check_modes(result, wanted, args):
     """Refuse, before any output, --plot-shaft without modes or --modes beyond the table."""
     count = int(result.oscillatory.sum())
-    if not count:
+    if not count and args.plot_shaft:
         raise InputError(f"--plot-shaft: no oscillating modes at {args.speed} {args.speed_unit} to draw")
     if wanted and max(wanted) > count:
         raise InputError(f"--modes {args.modes!r}: mode {max(wanted)} does not exist; the table has modes 1 to "
@@ -168,8 +189,9 @@ def _check_shape_options(args):
         raise InputError("--outline is drawn with --shape MODE or --animate MODE only")
     if not 2 <= args.frames <= 720:
         raise InputError(f"--frames {args.frames}: expected a whole number from 2 to 720")
-    if args.modes is not None and not args.plot_shaft:
-        raise InputError("--modes chooses the panels of --plot-shaft FILE.png: give --plot-shaft")
+    if args.modes is not None and not (args.plot_shaft or (args.plot and args.shape is None and args.animate is None)):
+        raise InputError("--modes chooses the panels of --plot-shaft FILE.png or --plot FILE.png (the bars): "
+                         "give one of them")
     check_extra_output(args, args.plot_shaft, "--plot-shaft", figure=True)
 
 
@@ -177,8 +199,14 @@ def _read_outline(path):
     """Polylines ``x,y,z`` [m]; empty rows (NaN) separate the lines."""
     import pandas as pd
 
+    import io
+
+    from ..io.limits import read_limited
+
     try:
-        table = pd.read_csv(path, skip_blank_lines=False)
+        table = pd.read_csv(io.BytesIO(read_limited(path, "model", "stator outline")), skip_blank_lines=False)
+    except InputError:
+        raise
     except (OSError, ValueError) as error:
         raise InputError(f"{path}: cannot read the outline ({error})") from None
     if not {"x", "y", "z"} <= set(table.columns):

@@ -51,8 +51,10 @@ the spinning machine (M q'' + (C + w G) q' + K q = unbalance forces, w the drive
 unbalances as rotating forces (with their angular-acceleration part on a ramp). It keeps the
 undamped modes below 4 times the fastest spin frequency (at least the 6 lowest) plus the
 static deflections under the unbalances and weights; --modes-below F [Hz] sets that limit,
-'all' keeps every mode (the linear model exactly, slower). --free-spin and journal bearings
-(type = 'journal') are refused with such a model (exit 2). The energies in the CSV are then
+'all' keeps every mode (the linear model exactly, slower). --free-spin is refused with such
+a model (exit 2); a plain journal bearing (type = 'journal') keeps its film's nonlinear force
+on the linear structure (oil whirl and whip of flexible rotors; the basis then also holds the
+static deflections under forces at the journals). The energies in the CSV are then
 those of the small motions, the drive torque the one spinning up the rotors' polar inertias.
 
 CSV columns: time_s,u_x,u_y,u_z,theta_x,theta_y,theta_z,spin_speed_rad_s,drive_torque_nm,

@@ -1,4 +1,4 @@
-"""``stability MODEL --speeds R [--vary KEY (--values R | --scale R)]``."""
+"""``stability MODEL --speeds R [--lowest N] [--vary KEY (--values R | --scale R)]``."""
 
 from __future__ import annotations
 
@@ -27,6 +27,10 @@ suspensions.mount-FL.stiffness[3][4]. --values and --scale take START:STOP:N or 
 comma-separated list. Work estimated to take more than 30 minutes of CPU time is refused
 before it starts, with the estimate (--allow-long runs it anyway, ROTORDYN_MODAL_MAX_CPU_MINUTES
 sets the limit).
+--lowest N solves and judges only the N lowest-frequency modes of each speed (each the full
+model's root to round-off, thresholds refined on them; for flexible rotors of hundreds of
+coordinates): the modes above them and real (non-oscillating) roots are NOT checked, and the
+summary line says so ("... for the N lowest modes"). It also works with --vary.
 
 CSV columns: speed_rpm,value,mode,real_part,damping_ratio,log_decrement,frequency_hz,whirl,mode_at_speed
 ('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
@@ -36,6 +40,7 @@ examples:
   rotordyn-modal stability examples/unstable_cross_coupled.toml --speeds 0:20000:401
   rotordyn-modal stability examples/unstable_cross_coupled.toml --speeds 0:20000:201 \\
       --vary suspensions.bearing-A.damping --scale 0.5:2:31 --plot map.png
+  rotordyn-modal stability examples/compressor_rotor.toml --speeds 0:12000:201 --lowest 12
   rotordyn-modal stability examples/journal_rotor.toml --speeds 100:20000:201 --plot s.png
       (the figure is scaled to the modes that decide stability, threshold speeds are
       labelled lines, the speed axis in --speed-unit; docs/figures.md)"""
@@ -45,6 +50,11 @@ def add_arguments(parser):
     add_model_argument(parser)
     parser.add_argument("--speeds", required=True, help="START:STOP:N speeds of the reference rotor")
     add_speed_unit(parser)
+    parser.add_argument("--lowest", metavar="N",
+                        help="only the N lowest-frequency modes of each speed, each the full model's root to "
+                             "round-off, without solving for every root (faster for large flexible rotors): "
+                             "modes above them and real roots are not checked; docs/theory.md, 'The lowest "
+                             "modes only'")
     parser.add_argument("--vary", metavar="KEY", help="dotted key of the parameter of a map")
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--values", help="values to set KEY to: START:STOP:N or a list")
@@ -66,17 +76,24 @@ def run(args) -> int:
         raise InputError("--values/--scale need --vary KEY")
     values = _grid(args.values, "--values") if args.values else None
     scale = _grid(args.scale, "--scale") if args.scale else None
-    speeds = speeds_option(args)
+    speeds, lowest = speeds_option(args), _lowest(args.lowest, model)
     count = len(values if values is not None else scale) if args.vary else 1
-    fewer = "use fewer speeds (--speeds)" + (" or fewer values (--values, --scale)" if args.vary else "")
-    refuse_long_work(args, model, speeds, critical=False, solutions=count * len(speeds), advice=fewer)
-    result = stability(model, speeds, vary=args.vary, values=values, scale=scale, progress=show_progress(args))
+    if lowest is None:
+        fewer = ("ask for the lowest modes only (--lowest N), use fewer speeds (--speeds)"
+                 + (" or fewer values (--values, --scale)" if args.vary else ""))
+        refuse_long_work(args, model, speeds, critical=False, solutions=count * len(speeds), advice=fewer)
+    result = stability(model, speeds, vary=args.vary, values=values, scale=scale, progress=show_progress(args),
+                       modes=lowest)
     write_table(result.to_dataframe(), args)
     if not args.quiet:
         _print_thresholds(result)
     if args.plot:
         use_agg()
-        save_figure(result.plot(speed_unit=args.speed_unit, title=model.name or None), args)
+        title = model.name or None
+        if lowest is not None:                  # what the figure leaves out, in its title
+            title = (f"{title or ('Stability map' if args.vary else 'Stability over speed')}: "
+                     + (f"the {lowest} lowest modes only" if lowest > 1 else "the lowest mode only"))
+        save_figure(result.plot(speed_unit=args.speed_unit, title=title), args)
     return 0
 
 
@@ -114,16 +131,30 @@ def _threshold_line(result, k):
 
 def _summary(result):
     """One line: every interval of speeds where the machine is unstable, or else that it is
-    stable (naming the least damped mode) or marginal over the range."""
+    stable (naming the least damped mode) or marginal over the range; with ``--lowest N``, of
+    those N modes, and that the others were not checked."""
     intervals = result.unstable_intervals
+    lowest = "" if result.lowest is None else ("the lowest mode" if result.lowest == 1 else
+                                                f"the {result.lowest} lowest modes")
+    of = f" for {lowest}" if lowest else ""
+    unchecked = f"; modes above {'it' if result.lowest == 1 else 'them'} and real roots not checked" if lowest else ""
     if intervals:
-        return "unstable " + " and ".join(_interval(result, start, stop) for start, stop in intervals)
+        return ("unstable " + " and ".join(_interval(result, start, stop) for start, stop in intervals)
+                + (f" (among {lowest}{unchecked})" if lowest else ""))
     if result.stable.all():
-        return "stable over the range; least damped: " + _least_damped(result)
+        return f"stable over the range{of}{unchecked}; least damped: " + _least_damped(result)
     marginal = int((result.largest_real_parts == 0).sum())
-    return (f"stable or marginal over the range: at {marginal} of {len(result.speeds)} speeds the largest real "
-            "part is zero to round-off (an undamped mode, or a root too small beside the model's largest to "
-            "tell its sign; docs/theory.md, section 11); least damped: " + _least_damped(result))
+    return (f"stable or marginal over the range{of}{unchecked}: at {marginal} of {len(result.speeds)} speeds the "
+            "largest real part is zero to round-off (an undamped mode, or a root too small beside the model's "
+            "largest to tell its sign; docs/theory.md, section 11); least damped: " + _least_damped(result))
+
+
+def _lowest(text, model):
+    """``--lowest N`` as an int, or None (every mode, also where N is at least the model's number
+    of roots), refused as ``campbell --lowest`` refuses it."""
+    from .campbell import _lowest as lowest
+
+    return lowest(text, model)
 
 
 def _interval(result, start, stop):

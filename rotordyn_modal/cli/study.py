@@ -184,6 +184,8 @@ def _check_options(args):
             raise InputError(f"--{option.replace('_', '-')} {path}: the folder {Path(path).parent} does not exist")
         if option.startswith("plot") and Path(path).suffix.lower() not in (".png", ".svg", ".pdf"):
             raise InputError(f"--{option.replace('_', '-')} {path}: expected a file ending in .png, .svg or .pdf")
+    if args.table and Path(args.table).suffix.lower() != ".csv":
+        raise InputError(f"--table {args.table}: expected a file ending in .csv (the format follows the ending)")
     if Path(args.out).suffix.lower() != ".nc":
         raise InputError(f"--out {args.out}: expected a netCDF file name ending in .nc")
     _check_derived(args)

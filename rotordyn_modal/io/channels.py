@@ -72,8 +72,14 @@ def read_mapping(path, model) -> ChannelMap:
     """Read a mapping table ``name,node,direction[,sign]`` (CSV) against the model's channel names."""
     import pandas as pd
 
+    import io
+
+    from .limits import read_limited
+
     try:
-        table = pd.read_csv(path)
+        table = pd.read_csv(io.BytesIO(read_limited(path, "model", "mapping table")))  # a pipe too, bounded
+    except InputError:
+        raise
     except (OSError, ValueError) as error:
         raise InputError(f"{path}: cannot read the mapping table ({' '.join(str(error).split())})") from None
     missing = {"name", "node", "direction"} - set(table.columns)
@@ -84,19 +90,22 @@ def read_mapping(path, model) -> ChannelMap:
     outputs, inputs = {}, {}
     for line, row in enumerate(table.itertuples(index=False), start=2):
         key, sign = _mapping_row(row, "sign" in table.columns, path, line)
-        if row.name in sensors:
-            role = outputs
-        elif row.name in excitations:
-            role = inputs
-        else:
+        # a name that is a sensor's and an excitation's (a driving point named once) maps both
+        roles = [role for role, names in ((outputs, sensors), (inputs, excitations)) if row.name in names]
+        if not roles:
             raise InputError(f"{path}: name {row.name!r} is neither a sensor ({', '.join(sorted(sensors))}) "
                              f"nor an excitation ({', '.join(sorted(excitations))}) of the model")
-        if key in role:   # a response and a reference may share a node and direction (a driving point)
-            raise InputError(f"{path}: line {line}: node {key[0]} direction {key[1]} is given to {role[key][0]!r} "
-                             f"already: expected each node and direction once among the "
-                             f"{'sensors' if role is outputs else 'excitations'}")
-        role[key] = (row.name, sign)
+        for role in roles:
+            if key in role:   # a response and a reference may share a node and direction (a driving point)
+                raise InputError(f"{path}: line {line}: node {key[0]} direction {key[1]} is given to "
+                                 f"{role[key][0]!r} already: expected each node and direction once among the "
+                                 f"{'sensors' if role is outputs else 'excitations'}")
+            role[key] = (row.name, sign)
     return ChannelMap(outputs, inputs)
+
+
+#: largest node number of a UFF 58 record (a 10-character integer field, a 32-bit integer in readers)
+_LARGEST_NODE = 2**31 - 1
 
 
 def _mapping_row(row, has_sign, path, line):
@@ -112,6 +121,9 @@ def _mapping_row(row, has_sign, path, line):
         return int(number)
 
     node, direction = whole("node"), whole("direction")
+    if not abs(node) <= _LARGEST_NODE:
+        raise InputError(f"{path}: line {line}: node = {row.node!r}: expected a UFF node number of at most "
+                         f"{_LARGEST_NODE} (its 10-character field)")
     if not abs(direction) <= 6:
         raise InputError(f"{path}: line {line}: direction = {direction}: expected a UFF direction code "
                          "+-1 .. +-6 (X, Y, Z, then rotations), or 0 (a scalar channel, no direction)")
@@ -158,6 +170,7 @@ def assemble(records, model, quantity, source) -> list[FRFResult]:
         raise InputError(f"{source}: a spin speed of {bad} rpm (an empty speed_rpm cell, or a UFF z-axis value): "
                          "expected a finite speed for every line")
     coherence = records.get("coherence")
+    _check_lines(records, coherence, source)
     results = []
     for speed in np.unique(speeds):
         at = speeds == speed
@@ -166,6 +179,30 @@ def assemble(records, model, quantity, source) -> list[FRFResult]:
                                   None if coherence is None else np.asarray(coherence, float)[at],
                                   sensors, excitations, quantity, source))
     return results
+
+
+#: largest |H| of a measured FRF in SI units (as the model's numbers): beyond it a value is a
+#: mistake (a unit or format), and its square would overflow in the figures and the fits
+_LARGEST_VALUE = 1e30
+#: how far above 1 a coherence may be by the round-off of a tool that stores it in single precision
+_COHERENCE_ROUND_OFF = 1e-6
+
+
+def _check_lines(records, coherence, source):
+    """Refuse frequency lines below 0 Hz, values of no physical size, and coherences outside
+    [0, 1] (an empty coherence, NaN, means none measured), each with the first bad line."""
+    freq = np.asarray(records["frequency_hz"], dtype=float)
+    if np.any(bad := ~(freq >= 0)):
+        raise InputError(f"{source}: a frequency line of {freq[np.argmax(bad)]:g} Hz: expected frequencies >= 0 Hz")
+    size = np.abs(np.asarray(records["value"], dtype=complex))
+    if np.any(bad := ~(size <= _LARGEST_VALUE)):
+        raise InputError(f"{source}: an FRF value of magnitude {size[np.argmax(bad)]:g} (SI units) at "
+                         f"{freq[np.argmax(bad)]:g} Hz: expected a finite magnitude at most {_LARGEST_VALUE:g}")
+    if coherence is not None:
+        coh = np.asarray(coherence, dtype=float)
+        if np.any(bad := (coh < 0) | (coh > 1 + _COHERENCE_ROUND_OFF) | np.isinf(coh)):
+            raise InputError(f"{source}: a coherence of {coh[np.argmax(bad)]:g} at {freq[np.argmax(bad)]:g} Hz: "
+                             "expected a coherence from 0 to 1")
 
 
 def _one_speed(speed, freq, outs, ins, values, coherence, sensors, excitations, quantity, source):

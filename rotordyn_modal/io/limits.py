@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "check_size", "limit_bytes"]
+__all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "check_size", "limit_bytes", "read_limited"]
 
 #: default limit of model and study files [MB]; environment: ROTORDYN_MODAL_MAX_MODEL_MB
 MODEL_FILE_MB = 10
@@ -63,3 +63,31 @@ def check_size(path, kind: str, what: str) -> None:
     if size > limit:
         raise InputError(f"{path}: a {what} of {size / 2**20:.1f} MB is larger than the limit of "
                          f"{limit / 2**20:g} MB and is not read (set {variable} to a number of MB to allow it)")
+
+
+def read_limited(path, kind: str, what: str) -> bytes:
+    """The bytes of a file read whole, never more than its kind's limit: also a pipe or a
+    device (``/dev/stdin``, a FIFO, ``/dev/zero``), whose size no ``stat`` tells.
+
+    Parameters
+    ----------
+    path : path-like
+    kind : {'model', 'measured'}
+    what : str
+        Named in the message.
+
+    Raises
+    ------
+    InputError
+        The file is larger than the limit (a regular file before a byte is read).
+    OSError
+        As ``open`` raises it (missing file, folder, permission): the caller names it.
+    """
+    check_size(path, kind, what)
+    limit, variable = limit_bytes(kind)
+    with open(path, "rb") as handle:
+        data = handle.read(limit + 1)
+    if len(data) > limit:
+        raise InputError(f"{path}: a {what} of more than the limit of {limit / 2**20:g} MB is not read "
+                         f"(set {variable} to a number of MB to allow it)")
+    return data

@@ -9,7 +9,10 @@ CSV layout (one row per output, input and frequency; ``--out`` of ``frf`` writes
 
     speed_rpm,frequency_hz,output,input,real,imag[,coherence][,quantity]
 
-``speed_rpm`` may be left out (0); ``magnitude,phase_deg`` may replace ``real,imag``.
+``speed_rpm`` may be left out (0); ``magnitude,phase_deg`` may replace ``real,imag``. A
+``unit`` column (what ``frf --out`` writes with ``--units us``: ``in/lbf``, ``g/lbf``; or an SI
+label such as ``m/N``) gives each row's unit: the values are converted to SI and the labels
+give the quantity (they must agree with a ``quantity`` column).
 
 Mapping table (CSV ``name,node,direction[,sign]``): which UFF node and
 direction code (1/2/3 = +X/+Y/+Z, negative for minus, 4-6 rotations) is which
@@ -52,7 +55,9 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
     """
     path = Path(path)
     if not path.is_file():
-        raise InputError(f"{path}: measured data file not found")
+        raise InputError(f"{path}: measured data file not found" if not path.exists() else
+                         f"{path}: expected a measured data file, not a "
+                         f"{'folder' if path.is_dir() else 'pipe or device (its size is not known before reading)'}")
     if path.suffix.lower() == ".csv":
         return read_csv(path, model)
     if path.suffix.lower() in (".uff", ".unv", ".uf"):
@@ -93,6 +98,9 @@ def read_csv(path, model) -> list[FRFResult]:
     if not np.all(np.isfinite(values)) or not np.all(np.isfinite(column["frequency_hz"])):
         raise InputError(f"{path}: non-finite numbers in the data")
     quantity = _csv_quantity(table, path)
+    if "unit" in table.columns:
+        quantity, factors = _csv_units(table, quantity, model, path)
+        values = values * factors
     records = {"speed_rpm": column.get("speed_rpm", np.zeros(len(table))), "frequency_hz": column["frequency_hz"],
                "output": _names(table, "output"), "input": _names(table, "input"),
                "value": values, "coherence": column.get("coherence")}
@@ -123,6 +131,41 @@ def _csv_quantity(table, path):
         raise InputError(f"{path}: quantity column holds {sorted(found)}: expected one of "
                          f"{', '.join(_QUANTITIES)}, the same in every row")
     return found.pop()
+
+
+def _csv_units(table, quantity, model, path):
+    """The quantity and the factor to SI of every row of a CSV with a ``unit`` column (what
+    ``frf --out`` writes with ``--units us``: ``in/lbf``, ``in/s/lbf``, ``g/lbf``, ``... in`` over a
+    moment), or a refusal of a label that says no FRF of a known quantity. Without a
+    ``quantity`` column the labels give it; with one they must agree with it.
+
+    Returns
+    -------
+    (str, ndarray of shape (n_rows,))
+    """
+    from ..units import FRF_OUTPUT_KINDS, ratio_scale
+    from .unit_labels import quantity_of
+
+    moments = {x.name for x in model.excitations if getattr(x, "kind", "force") == "moment"}
+    given = "quantity" in table.columns
+    found, factors = set(), np.empty(len(table))
+    for row, (label, source) in enumerate(zip(table["unit"], table["input"])):
+        kind = "moment" if str(source) in moments else "force"
+        known = {ratio_scale(FRF_OUTPUT_KINDS[q], kind, system)[1]: (q, 1.0 / ratio_scale(FRF_OUTPUT_KINDS[q], kind,
+                                                                                          system)[0])
+                 for q in _QUANTITIES for system in ("si", "us")}
+        read = known.get(str(label).strip()) or (quantity_of(label) if kind == "force" else None)
+        if read is None or read[0] not in _QUANTITIES or (given and read[0] != quantity):
+            wanted = [lab for lab, (q, _) in known.items() if not given or q == quantity]
+            raise InputError(f"{path}: column unit line {row + 2} = {str(label)[:40]!r}: expected a unit of "
+                             f"{quantity if given else ' or '.join(_QUANTITIES)} over a {kind} "
+                             f"({', '.join(wanted)})")
+        found.add(read[0])
+        factors[row] = read[1]
+    if len(found) > 1:
+        raise InputError(f"{path}: column unit holds {' and '.join(sorted(found))}: expected one quantity "
+                         "in every row")
+    return found.pop(), factors
 
 
 def write_csv(results, path, inputs=()) -> None:

@@ -7,9 +7,10 @@ import warnings
 from pathlib import Path
 
 from ..errors import ModelError, ModelWarning
+from ..model._table import LARGEST
 from ..model.machine import Model
 from .atomic import atomic_write, check_not_input
-from .limits import check_size
+from .limits import read_limited
 
 __all__ = ["load_model", "save_model", "read_toml", "MAX_NESTING"]
 
@@ -17,6 +18,8 @@ __all__ = ["load_model", "save_model", "read_toml", "MAX_NESTING"]
 #: an array of tables, a list of 2x2 matrices); more is a mistake, and Python's parser would
 #: exhaust its recursion limit on a few hundred
 MAX_NESTING = 32
+#: an integer beyond this cannot become a float (it is refused as any number beyond LARGEST)
+_LARGEST_INTEGER = 10**308
 _BOM = "\ufeff"
 
 
@@ -82,9 +85,8 @@ def read_toml(path, what: str, error=ModelError) -> dict:
     """
     path = Path(path)
     source = str(path)
-    check_size(path, "model", what)
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = read_limited(path, "model", what).decode("utf-8")
     except FileNotFoundError:
         raise error(source, "<file>", source, f"an existing {what} (no such file)") from None
     except IsADirectoryError:
@@ -101,19 +103,27 @@ def read_toml(path, what: str, error=ModelError) -> dict:
     except RecursionError:
         raise error(source, "<file>", "arrays or tables nested too deep to parse", nested) from None
     if (deep := _too_deep(data)) is not None:
-        where = deep if len(deep) <= 60 else deep[:57] + "..."
+        where, value = deep
+        where = where if len(where) <= 60 else where[:57] + "..."
+        if isinstance(value, int):
+            raise error(source, where or "<file>", f"<an integer of {len(str(abs(value)))} digits>",
+                        f"a number of magnitude at most {LARGEST:g} (SI units)")
         raise error(source, where, f"<nested more than {MAX_NESTING} deep>", nested)
     return data
 
 
-def _too_deep(data) -> str | None:
-    """The dotted key of the first value nested deeper than :data:`MAX_NESTING`, or None
-    (an iterative walk: the data may be as deep as the parser allowed)."""
+def _too_deep(data):
+    """``(dotted key, value)`` of the first value nested deeper than :data:`MAX_NESTING`, or
+    of an integer beyond any float (TOML's integers have no limit; ``float()`` of one of 400
+    digits raises OverflowError), or None (an iterative walk: the data may be as deep as the
+    parser allowed)."""
     stack = [("", data, 0)]
     while stack:
         where, value, depth = stack.pop()
         if depth > MAX_NESTING:
-            return where
+            return where, None
+        if isinstance(value, int) and not isinstance(value, bool) and abs(value) > _LARGEST_INTEGER:
+            return where, value
         if isinstance(value, dict):
             stack.extend((f"{where}.{k}" if where else str(k), v, depth + 1) for k, v in value.items())
         elif isinstance(value, list):

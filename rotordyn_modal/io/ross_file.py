@@ -22,7 +22,7 @@ from ..errors import ModelError
 from .atomic import atomic_write, check_not_input
 from .model_file import read_toml
 
-__all__ = ["read_ross_rotor", "write_model_file", "model_text", "BEARING_CLASSES"]
+__all__ = ["read_ross_rotor", "check_description", "write_model_file", "model_text", "BEARING_CLASSES"]
 
 #: ROSS element classes whose saved tables hold their coefficients (read as bearings)
 BEARING_CLASSES = ("BearingElement", "SealElement", "BallBearingElement", "RollerBearingElement")
@@ -81,6 +81,33 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
     version = data.get("ross_version", "unknown")
     return {"name": f"{rotor_name} (ROSS {version} file {Path(source).name})", "spin_axis": [0.0, 0.0, 1.0],
             "materials": list(materials.values()), "rotors": [rotor], "bearings": bearings}
+
+
+def check_description(description: dict, source) -> None:
+    """Refuse a rotor read from a ROSS file that is no valid model (a negative length,
+    density or coefficient, a disk's inertias that no body has, bearings that hold nothing),
+    before a model file is written that ``check`` would refuse.
+
+    Parameters
+    ----------
+    description : dict
+        From :func:`read_ross_rotor`.
+    source : str or path-like
+        The ROSS file, named in the message.
+
+    Raises
+    ------
+    ModelError
+        Naming the ROSS file and the model file's key (section ``k`` is ROSS's shaft element
+        starting at node ``k``; disks and bearings keep ROSS's tags).
+    """
+    from ..model.machine import Model
+
+    try:
+        Model.from_dict(description, source=str(source))
+    except ModelError as error:
+        raise ModelError(str(source), f"{error.where} (in the model file it makes)", error.value,
+                         error.expected) from None
 
 
 def write_model_file(description: dict, path, inputs=()) -> None:

@@ -9,7 +9,7 @@ import numpy as np
 from .components import is_finite_number
 from ..errors import ModelError
 
-__all__ = ["Table", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number",
+__all__ = ["Table", "unknown_key", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number",
            "visible", "visible_names", "semidefinite_problem"]
 
 #: largest magnitude of a number in a model description (SI units): no machine needs more, and
@@ -36,7 +36,7 @@ class Table:
         for key in self.data:
             if key not in allowed:
                 raise self.error(visible(key), self.data[key], "one of the keys " + ", ".join(allowed)
-                                 + " (unknown key)")
+                                 + unknown_key(key, allowed))
 
     def require(self, key: str):
         if key not in self.data:
@@ -90,7 +90,7 @@ class Table:
             raise self.error(key, value, expected() + " of numbers (" + found + ")")
         try:
             arr = np.array(value, dtype=float)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):   # OverflowError: an integer beyond every float
             raise self.error(key, value, expected() + " of numbers") from None
         if isinstance(value, (str, bytes)) or arr.shape not in shapes:
             raise self.error(key, value, expected() + f" (got shape {arr.shape})")
@@ -108,6 +108,15 @@ class Table:
         if nonzero and vec is not None and not np.linalg.norm(vec) > 0:
             raise self.error(key, self.data.get(key), "a 3-vector of non-zero length")
         return vec
+
+
+def unknown_key(key, allowed) -> str:
+    """The end of an unknown key's message: ``" (unknown key)"``, with the allowed key it is
+    probably a typo of (``stifness`` -> ``" (unknown key; did you mean 'stiffness'?)"``)."""
+    import difflib
+
+    close = difflib.get_close_matches(str(key), [str(a) for a in allowed], n=1, cutoff=0.75)
+    return f" (unknown key; did you mean {close[0]!r}?)" if close else " (unknown key)"
 
 
 def non_number(value, deepest: int = 3) -> str | None:

@@ -356,6 +356,10 @@ def input_keys(table: str) -> tuple[str, ...]:
 
 
 def is_finite_number(value) -> bool:
-    """True for an int or float (not a bool) that is finite."""
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) \
-        and math.isfinite(float(value))
+    """True for an int or float (not a bool) that is finite (an integer beyond every float is not)."""
+    if not isinstance(value, (int, float, np.integer, np.floating)) or isinstance(value, bool):
+        return False
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:
+        return False

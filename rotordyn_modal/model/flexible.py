@@ -451,7 +451,9 @@ def _merged(values, tolerance):
 def _diameters(d: tuple, length: float, left: float, z0: float, z1: float) -> tuple:
     """Diameters ``d`` [m] (left, right) of a section of ``length`` [m] starting at ``left`` [m],
     linear along it, at the ends ``z0``, ``z1`` [m] of an element."""
-    t0, t1 = (z0 - left) / length, (z1 - left) / length
+    # within [0, 1]: the section's end found by summing lengths may lie past left + length by
+    # round-off, and a weight below 0 would take a bore tapering to 0 below 0 (refused)
+    t0, t1 = (min(max((z - left) / length, 0.0), 1.0) for z in (z0, z1))
     # weights, not d0 + (d1 - d0) t: no cancellation, so a diameter stays between its ends
     return (d[0] * (1 - t0) + d[1] * t0, d[0] * (1 - t1) + d[1] * t1)
 

@@ -164,19 +164,37 @@ def edge_label_boxes(ax, labels, fontsize, renderer, placed, curves=None):
     frame = (margin[0], margin[1], 1.0 - margin[0], 1.0 - margin[1])
     taken = []
     anchor_u, anchor_v = ANCHOR_POINTS * points * to_u, ANCHOR_POINTS * points * to_v
-    for label in _merge_close(labels, size):
+    merged = _merge_close(labels, size)
+    for label in merged:
         w, h = size(label.text)
         boxes = [(left, bottom, left + w, bottom + h) for left, bottom in _candidates(label, w, h, pad_u, pad_v)]
         box = None
         if curves is not None:
             along_u, along_v = (label.spread, 0.0) if label.edge == "top" else (0.0, label.spread)
             keep = (label.u - anchor_u, label.v - anchor_v, label.u + along_u + anchor_u, label.v + along_v + anchor_v)
-            box = first_free_box(boxes, placed, (pad_u, pad_v), frame, allowed=lambda b, k=keep: curves.free(b, k))
+            others = [other for other in merged if other is not label]
+            box = first_free_box(boxes, placed, (pad_u, pad_v), frame,
+                                 allowed=lambda b, k=keep, lab=label: curves.free(b, k) and nearest_own_exit(b, lab, others))
         else:
             box = first_free_box(boxes, placed, (pad_u, pad_v), frame)
         if box is not None:
             taken.append((label, box))
     return taken
+
+
+def nearest_own_exit(box, label, others) -> bool:
+    """Whether a top-edge label's ``box`` lies no farther from its own exits along the edge than
+    from any other line's exit (as near: lines leaving together), so that a label slid along its
+    row cannot read as another line's. Labels at the right and left edges always do (they step
+    away from their exit only by fractions of their height)."""
+    if label.edge != "top":
+        return True
+
+    def gap(lo, hi):
+        return max(lo - box[2], box[0] - hi, 0.0)
+
+    own = gap(label.u, label.u + label.spread)
+    return all(own <= gap(o.u, o.u + o.spread) for o in others if o.edge == "top")
 
 
 def first_free_box(candidates, placed, gap=(0.0, 0.0), frame=(0.0, 0.0, 1.0, 1.0), obstacles=(), allowed=None,

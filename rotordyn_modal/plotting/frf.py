@@ -125,9 +125,16 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
         kinds = [k for k in kinds if k]
         axes = block.subplots(len(kinds) + 1, 1, sharex=True, gridspec_kw={"height_ratios": [2] * len(kinds) + [1]})
         phase = axes[-1]
+        # a block of one force item (its title) names the components only; a block of several
+        # (a few FRFs, forces beside moments) names the items too: 'Fy / shaker-y' three times
+        # (two bearings and the rotor) told the curves apart by nothing
+        one_item = by_item and name and len({o.rsplit(":", 1)[0] for o, _ in members}) == 1
+        first = 0                   # the moments' curves go on in the forces' styles: one phase panel
         for ax, kind in zip(axes, kinds):
             _draw_frfs(ax, phase, result, measured, kind,
-                       (lambda o, i: f"{o.rsplit(':', 1)[1]} / {i}") if by_item else (lambda o, i: o), scale)
+                       (lambda o, i: f"{o.rsplit(':', 1)[1]} / {i}") if one_item else (lambda o, i: f"{o} / {i}"),
+                       scale, first)
+            first += len(kind)
             unit = "N m/N" if _is_moment(kind[0][0]) else _UNITS.get(result.quantity, "")
             if scale is not None and scale.units != "si":
                 unit = scale.label(kind)
@@ -143,14 +150,16 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
     return fig
 
 
-def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None):
+def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0):
     """Each pair's model line (and measured dots, same colour) on ``mag`` (log) and ``phase``
-    (``scale(o, i)``: the factor on the SI FRF, default 1). An FRF below :data:`_DYNAMIC_RANGE`
+    (``scale(o, i)``: the factor on the SI FRF, default 1; ``first``: the number of the first
+    pair's style, so that a phase panel shared with another magnitude panel's curves gives
+    every curve a style of its own). An FRF below :data:`_DYNAMIC_RANGE`
     of the largest everywhere (zero but for round-off, by symmetry) is named so in the legend
     and has no phase drawn (the phase of round-off is noise)."""
     largest = max((float(np.max(np.abs(result.H[result.outputs.index(o), result.inputs.index(i)])))
                    for o, i in pairs), default=0.0)
-    for n, (o, i) in enumerate(pairs):
+    for n, (o, i) in enumerate(pairs, start=first):
         colour = f"C{n % 10}"
         style = "-" if n < 10 else "--"
         factor = 1.0 if scale is None or scale.units == "si" else scale(o, i)

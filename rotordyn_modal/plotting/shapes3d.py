@@ -64,7 +64,7 @@ def plot_mode_shape(view, ax=None, phase: float = 0.0, orbits: bool = True, labe
     _draw_static(ax, flat, view, orbits)
     _draw_displaced(ax, flat, view, phase)
     if labels:
-        _label_arrows(ax, view)
+        _label_arrows(ax, view, phase)
     _frame(ax, flat, view, units)
     ax.set_title(title or _title(view), fontsize="medium")
     _legend(ax, view, orbits)
@@ -140,6 +140,8 @@ def animate_mode_shape(view, path=None, frames: int = 36, fps: int = 18, inputs=
             for artist in [a for a in axes.get_children() if str(a.get_gid()).startswith("displaced")]:
                 artist.remove()
         _draw_displaced(ax, flat, view, phases[k])
+        for layout in [a for a in ax.artists if a.get_gid() == "arrow-labels"]:
+            layout.arrow_labels.phase = phases[k]       # the names follow their arrows
         return []
 
     animation = FuncAnimation(fig, update, frames=len(phases), interval=1000.0 / fps, blit=False)
@@ -280,11 +282,20 @@ def _draw_displaced(ax, flat, view, phase):
         a, b = spring.point_a + np.real(motion[0] * turn), spring.point_b + np.real(motion[1] * turn)
         _polyline(ax, flat, _zigzag(a, b, view.outline.size), f"displaced-spring:{spring.name}", color="0.2",
                   linewidth=1.0)
+    for arrow, (tail, tip) in zip(view.outline.arrows, _arrow_segments(view, phase)):
+        _arrow(ax, [], tail, tip - tail, f"displaced-arrow:{arrow.name}", _ARROW_COLOURS[arrow.kind])
+
+
+def _arrow_segments(view, phase):
+    """Tail and tip [m] of each sensor's and excitation's arrow at ``phase`` [rad], shape (n, 2, 3):
+    a sensor's arrow starts at its point, an excitation's ends there."""
+    turn = np.exp(1j * phase)
+    segments = []
     for arrow, motion in zip(view.outline.arrows, view.arrow_motion):
         start = arrow.point + np.real(motion * turn)
         d = 0.12 * view.outline.size * arrow.direction / np.linalg.norm(arrow.direction)
-        tail = start - d if arrow.kind == "excitation" else start
-        _arrow(ax, [], tail, d, f"displaced-arrow:{arrow.name}", _ARROW_COLOURS[arrow.kind])
+        segments.append((start - d, start) if arrow.kind == "excitation" else (start, start + d))
+    return np.asarray(segments, float).reshape(-1, 2, 3)
 
 
 def _zigzag(a, b, size):
@@ -383,11 +394,117 @@ def _facing(flat, axis):
     return [(panel, pair) for panel, pair in flat if abs(axis[normals[pair]]) > 0.7]
 
 
-def _label_arrows(ax, view):
-    for arrow, motion in zip(view.outline.arrows, view.arrow_motion):
-        d = arrow.direction / np.linalg.norm(arrow.direction)
-        tip = arrow.point + np.real(motion) + (0.13 * view.outline.size * d if arrow.kind == "sensor" else 0)
-        ax.text(*tip, arrow.name, fontsize="x-small", color=_ARROW_COLOURS[arrow.kind])
+#: arrows' labels keep this far from the arrows, from each other and from the frame [points]
+_LABEL_PAD_POINTS = 3.0
+#: directions tried for an arrow's label from its free end, turned from the arrow's own [degrees]
+_LABEL_TURNS = (0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180)
+#: distances tried for an arrow's label beyond the pad [label heights]
+_LABEL_STEPS = (0.0, 0.5, 1.0, 1.5, 2.0, 3.0)
+#: the names stand above the bodies (mplot3d orders the collections from 1 up, one per collection)
+_LABEL_ZORDER = 1.0e6
+#: a light background keeps a name readable over the bodies (inside the pad)
+_LABEL_BACKGROUND = {"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.7}
+
+
+class _ArrowLabels:
+    """The sensors' and excitations' names in the 3D view, placed each time it is drawn.
+
+    A rotation of the view (and the animation's phase) moves the arrows on the screen, so the
+    names are laid out at draw time (:func:`._labels.draw_time_layout`), in display pixels:
+    each beside its arrow's free end (a sensor's tip, an excitation's tail), straight on along
+    the arrow first, else turned from it or a little farther away, where its box crosses no
+    arrow and overlaps no name placed before nor the legend, inside the axes.
+
+    Parameters
+    ----------
+    ax : matplotlib 3D Axes
+    view : ModeShape3D
+    phase : float
+        Phase of the drawn arrows [rad] (the animation sets it for each frame).
+    """
+
+    def __init__(self, ax, view, phase):
+        self.ax, self.view, self.phase = ax, view, phase
+        self.texts = [ax.text2D(0.0, 0.0, arrow.name, transform=ax.transAxes, fontsize="x-small",
+                                color=_ARROW_COLOURS[arrow.kind], ha="left", va="bottom", gid=f"arrow-label:{arrow.name}",
+                                zorder=_LABEL_ZORDER, bbox=_LABEL_BACKGROUND)
+                      for arrow in view.outline.arrows]
+        for text in self.texts:
+            text.set_in_layout(False)
+
+    def place(self, renderer):
+        """Put every name where :class:`_ArrowLabels` says (``renderer``: the one drawing)."""
+        from ._labels import first_free_box, set_if_changed
+
+        ax = self.ax
+        pad = _LABEL_PAD_POINTS * renderer.points_to_pixels(1.0)
+        segments = self._pixels(_arrow_segments(self.view, self.phase))
+        frame = ax.get_window_extent(renderer)
+        inner = (frame.x0 + pad, frame.y0 + pad, frame.x1 - pad, frame.y1 - pad)
+        legend = ax.get_legend()
+        obstacles = [] if legend is None else [tuple(legend.get_window_extent(renderer).extents)]
+        placed = []
+        for text, (attached, free) in zip(self.texts, self._ends(segments)):
+            extent = text.get_window_extent(renderer)
+            boxes = _boxes_beyond(free, free - attached, extent.width, extent.height, pad)
+            box = first_free_box(boxes, placed, (pad, pad), inner, obstacles,
+                                 allowed=lambda b: not _crosses_arrows(b, segments, pad))
+            if box is None:             # no room: the nearest box inside the axes, clear of the arrows if any
+                box = next((b for b in boxes if not _crosses_arrows(b, segments, pad)), boxes[0])
+                placed.append(box)
+            u, v = ax.transAxes.inverted().transform((box[0], box[1]))
+            set_if_changed(text, position=(u, v))
+
+    def _pixels(self, segments):
+        """``segments`` (n, 2, 3) [m] projected to display pixels, (n, 2, 2)."""
+        from mpl_toolkits.mplot3d import proj3d
+
+        points = segments.reshape(-1, 3)
+        x, y, _ = proj3d.proj_transform(points[:, 0], points[:, 1], points[:, 2], self.ax.get_proj())
+        return self.ax.transData.transform(np.column_stack([x, y])).reshape(-1, 2, 2)
+
+    def _ends(self, segments):
+        """(attached end, free end) of each arrow in pixels: the label goes at the free end."""
+        return [(tip, tail) if arrow.kind == "excitation" else (tail, tip)
+                for arrow, (tail, tip) in zip(self.view.outline.arrows, segments)]
+
+
+def _boxes_beyond(point, direction, w, h, pad):
+    """Boxes ``w x h`` [pixels] beside ``point``, ``pad`` away from it: along ``direction`` first
+    (an arrow seen end-on: to the upper right), then turned from it, then farther away."""
+    length = np.hypot(*direction)
+    angle = np.arctan2(direction[1], direction[0]) if length > pad else np.pi / 4
+    boxes = []
+    for step in _LABEL_STEPS:
+        for turn in np.radians(_LABEL_TURNS):
+            c, s = np.cos(angle + turn), np.sin(angle + turn)
+            reach = pad + step * h + 0.5 * (w * abs(c) + h * abs(s))     # the box's edge ``pad`` from the point
+            cx, cy = point[0] + reach * c, point[1] + reach * s
+            boxes.append((cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2))
+    return boxes
+
+
+def _crosses_arrows(box, segments, pad):
+    """Whether an arrow (pixels, (n, 2, 2)) runs through ``box`` widened by ``pad`` and by the
+    spread of the arrow's head (a tenth of its length)."""
+    from ._labels import crosses_any
+
+    for (start, end) in segments:
+        spread = pad + 0.1 * np.hypot(*(end - start))
+        if crosses_any([(start, end)], [(box[0] - spread, box[1] - spread, box[2] + spread, box[3] + spread)]):
+            return True
+    return False
+
+
+def _label_arrows(ax, view, phase):
+    """Name the sensors and excitations beside their arrows (:class:`_ArrowLabels`)."""
+    from ._labels import draw_time_layout
+
+    labels = _ArrowLabels(ax, view, phase)
+    layout = draw_time_layout(labels.place)
+    layout.set_gid("arrow-labels")
+    layout.arrow_labels = labels
+    ax.add_artist(layout)
 
 
 def _frame(ax, flat, view, units="si"):

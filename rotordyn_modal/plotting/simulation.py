@@ -146,9 +146,13 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
                      title="Order-tracked amplitude")
     phase_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X phase, unwrapped [deg]",
                  title="Order-tracked phase")
-    phase_ax.yaxis.set_major_locator(plt.MultipleLocator(90) if _span(phase_ax) <= 1080 else plt.MaxNLocator())
+    # ticks every 90 deg where they make at least three (a span under 270 deg got one tick: the
+    # compressor's run-up, 60-125 deg), else matplotlib's
+    phase_ax.yaxis.set_major_locator(plt.MultipleLocator(90) if 270 <= _span(phase_ax) <= 1080 else plt.MaxNLocator())
     for axis in (amplitude_ax, phase_ax):
-        axis.legend(fontsize="small", loc="best")        # where it hides the least of the tracks
+        # below the axes: placed 'best' inside, the critical speeds' lines drawn after it (which
+        # cross every place) drove it onto the tracks
+        _legend_below(axis, axis.get_lines())
         axis.set_xlim(axes[0, 0].get_xlim())            # the run's speeds, as the signal's panel
     _draw_waterfall(fig, axes[1, 1], waterfall(result, sensor, segments=segments), result, critical, sensor,
                     (scale, unit))

@@ -22,6 +22,9 @@ _LEGEND = 7
 _ZERO_ROOM = 0.12
 #: real parts within this fraction of the largest root are round-off of undamped modes
 _NOISE = 1e-4
+#: real parts spanning less than this fraction of the largest root are round-off (the panel then
+#: takes the height _NOISE of it)
+_ROUND_OFF = 1e-9
 _STYLES = ("-", "--", ":", "-.")
 
 
@@ -59,8 +62,9 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     log_dec = np.where(np.isfinite(result.log_decrements), result.log_decrements, np.nan)
     relevant = modes_that_matter(log_dec)
     size = np.abs(result.eigenvalues[np.isfinite(result.eigenvalues)])
-    floor = _NOISE * (size.max() if size.size and size.max() > 0 else 1.0)
-    top.set_ylim(*zero_centred_limits(*_real_part_span(real, log_dec, relevant), floor))
+    largest = size.max() if size.size and size.max() > 0 else 1.0
+    top.set_ylim(*zero_centred_limits(*_real_part_span(real, log_dec, relevant), _NOISE * largest,
+                                      tiny=_ROUND_OFF * largest))
     bottom.set_ylim(*zero_centred_limits(*_log_decrement_span(log_dec, relevant), 1e-3))
     shown = [m for m in relevant + [m for m in _by_damping(log_dec) if m not in relevant]
              if _within(real[:, m], top.get_ylim()) or _within(log_dec[:, m], bottom.get_ylim())][:_LEGEND]
@@ -146,15 +150,19 @@ def _log_decrement_span(log_dec, relevant):
     return _nan(np.min, chosen), min(highest, reach) if reach > 0 else highest
 
 
-def zero_centred_limits(lowest, highest, floor):
+def zero_centred_limits(lowest, highest, floor, tiny=None):
     """(bottom, top) 10 % beyond ``lowest`` and ``highest`` (NaN: none), with zero inside.
 
     Zero keeps :data:`_ZERO_ROOM` of the height from either end; the panel is at least
-    ``floor`` tall on each side of zero (an undamped machine's real parts are round-off).
+    ``floor`` tall on each side of zero (an undamped machine's real parts are round-off), or,
+    given ``tiny``, only where the values span less than ``tiny`` (the real parts of a machine
+    with a 60 kHz shaft mode, floor 43 1/s, spanning -7 to 0 1/s, are drawn at their own scale).
     """
     below = max(-1.1 * lowest, 0.0) if np.isfinite(lowest) else 0.0
     above = max(1.1 * highest, 0.0) if np.isfinite(highest) else 0.0
     room = _ZERO_ROOM / (1 - _ZERO_ROOM)
+    if tiny is not None and below + above >= tiny:
+        floor = 0.0
     below, above = max(below, room * above, room * floor), max(above, room * below, floor)
     return -below, above
 

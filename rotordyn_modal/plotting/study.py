@@ -117,6 +117,7 @@ def plot_critical_histograms(result, band_rpm=None, bins: int = 25, max_crossing
     matplotlib.figure.Figure
     """
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     ds = result.dataset
     speeds = np.abs(ds["critical_speed"].values[~result.failed]) * 30 / np.pi  # (variant, crossing) rpm
@@ -140,6 +141,8 @@ def plot_critical_histograms(result, band_rpm=None, bins: int = 25, max_crossing
         ax.set_xlabel("Critical speed [rpm]")
     for ax in axes[:, 0]:
         ax.set_ylabel("Variants")
+    for ax in axes.flat:            # counts: whole numbers (a few variants got ticks at 0.5)
+        ax.yaxis.set_major_locator(MaxNLocator(integer=True))
     fig.suptitle(title or f"Critical speeds over {int((~result.failed).sum())} variants"
                  + ("" if band_rpm is None else " (shaded: operating band)"))
     return fig
@@ -246,5 +249,7 @@ def plot_sensitivity(table, outputs=None, max_outputs: int = 6, ax=None, title: 
     ax.set_xlabel({"ST": "total Sobol index ST (| marks first order S1)",
                    "SRC": "standardised regression coefficient"}[column])
     ax.set_title(title or "Sensitivity of each output to each parameter")
-    ax.legend(fontsize="x-small")
+    # below the axes: inside ('best') it covered the longest bars
+    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1 if len(names) > 2 else -0.25),
+              ncols=2, frameon=False)
     return fig

@@ -20,12 +20,13 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     Log-log axes: bearing stiffness [N/m] across, speed [rpm] up. Each mode, followed over the
     stiffness by its shape (curves may cross), is a coloured line named at its right end and in
     the legend ("2 pump conical"); where it stops (or starts) being a forward critical speed
-    inside the sweep its curve ends at a square. The axis runs on past the sweep's last
+    inside the sweep its curve ends at a square, its number beside it. The axis runs on past the sweep's last
     stiffness, where the rigid-support asymptotes (the chosen bearings radially rigid) are
     dotted grey lines. Each bearing's own stiffness over speed is drawn over it (``Kxx`` solid,
     ``Kyy`` dashed; a constant bearing as vertical lines, bearings of equal stiffness named
-    together), with its crossings with the modes marked and their speeds written beside them;
-    the operating speed range is a grey band.
+    together), with its crossings with the modes marked and their speeds written beside them
+    (every one, clear of the curves and of each other); the operating speed range is a grey
+    band. The legend stands below the axes.
 
     Parameters
     ----------
@@ -56,10 +57,10 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
         ends += _draw_ends(ax, k, rpm[:, j], colour)
     if ends:
         ax.plot([], [], "s", color="0.3", markersize=4, label="a mode starts or stops being a forward crossing")
-    _label_right_ends(ax, k, rpm, names, limits)
+    inside = _label_right_ends(ax, k, rpm, names, limits)
     _draw_asymptotes(ax, result, rigid, scale)
     _draw_bearings(ax, result, (scale, unit))
-    _draw_crossings(ax, result, limits, scale)
+    crossings = _draw_crossings(ax, result, limits, scale)
     if result.operating is not None:
         low, high = (s * 30 / np.pi for s in result.operating)
         ax.axhspan(low, high, color="0.6", alpha=0.25, zorder=0.5, label="operating range")
@@ -68,8 +69,21 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     ax.set_ylabel("Undamped critical speed (forward, 1X of the reference rotor) [rpm]")
     ax.set_title(title or (f"Undamped critical speed map: {result.title}" if result.title
                            else "Undamped critical speed map"), fontsize="medium")
-    ax.legend(fontsize="x-small", loc="upper left", frameon=True, framealpha=0.85)
+    # below the axes: inside, it covered curves and the labels placed among them
+    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1), ncols=3, frameon=False)
+    _place_labels(ax, inside + crossings)
     return fig
+
+
+def _place_labels(ax, labels):
+    """Names of the curves ending inside the axes and the crossings' speeds, each joined to
+    its point by a leader line, clear of the curves, the markers and each other
+    (:func:`._labels.place_point_labels`); ``labels``: (x, y, text, colour), most important first."""
+    from ._labels import laid_out_renderer, place_point_labels
+
+    if labels:
+        place_point_labels(ax, [(x, y) for x, y, _, _ in labels], [t for _, _, t, _ in labels],
+                           [c for _, _, _, c in labels], renderer=laid_out_renderer(ax.figure))
 
 
 def _modes(result):
@@ -121,10 +135,11 @@ def _draw_ends(ax, k, rpm, colour) -> list:
 _NAME_APART = 0.035
 
 
-def _label_right_ends(ax, k, rpm, names, limits):
+def _label_right_ends(ax, k, rpm, names, limits) -> list:
     """Each curve reaching the sweep's end named beside the right edge (the names moved apart
-    where curves end close together); the others at their last point."""
-    ends = []
+    where curves end close together); the others' numbers are returned as (x, y, text, colour)
+    of their last point, to be placed among the curves (:func:`_place_labels`)."""
+    ends, inside = [], []
     for j in range(rpm.shape[1]):
         finite = np.nonzero(np.isfinite(rpm[:, j]))[0]
         if not finite.size:
@@ -132,9 +147,8 @@ def _label_right_ends(ax, k, rpm, names, limits):
         last = finite[-1]
         text = f"{j + 1} {names[j]}"
         colour = _MODE_COLOURS[j % len(_MODE_COLOURS)]
-        if last < len(k) - 1:
-            ax.annotate(text, (k[last], rpm[last, j]), xytext=(3, 3), textcoords="offset points", color=colour,
-                        fontsize="x-small", va="bottom", ha="left")
+        if last < len(k) - 1:        # its number, the legend's key: a crowd of long names finds no room
+            inside.append((k[last], rpm[last, j], f"{j + 1}", colour))
         elif limits[0] <= rpm[last, j] <= limits[1]:
             ends.append([np.log(rpm[last, j] / limits[0]) / np.log(limits[1] / limits[0]), text, colour])
     ends.sort(key=lambda e: e[0])
@@ -145,6 +159,7 @@ def _label_right_ends(ax, k, rpm, names, limits):
         ax.annotate(text, (1.0, place - shift), xycoords="axes fraction", xytext=(4, 0),
                     textcoords="offset points", color=colour, fontsize="small", va="center", ha="left",
                     annotation_clip=False)
+    return inside
 
 
 def _rigid_speeds(result, limits):
@@ -205,9 +220,10 @@ def _equal(a, b) -> bool:
             and np.array_equal(a.kxx, b.kxx) and np.array_equal(a.kyy, b.kyy))
 
 
-def _draw_crossings(ax, result, limits, scale=1.0):
-    """A marker at every crossing (once per point), its speed written beside it."""
-    seen, written = set(), []
+def _draw_crossings(ax, result, limits, scale=1.0) -> list:
+    """A marker at every crossing (once per point); returned: (x, y, text, colour) of the speed
+    to write beside each (placed among the curves by :func:`_place_labels`)."""
+    seen, labels = set(), []
     for crossing in result.crossings:
         rpm = crossing.speed * 30 / np.pi
         stiffness = crossing.stiffness * scale
@@ -216,13 +232,5 @@ def _draw_crossings(ax, result, limits, scale=1.0):
             continue
         seen.add(key)
         ax.plot(stiffness, rpm, "o", markersize=6, markerfacecolor="white", markeredgecolor="k", zorder=5)
-        here = np.log10([stiffness, rpm])
-        if any(np.all(np.abs(here - other) < _TEXT_APART) for other in written):
-            continue              # a number already written next to it (several close bearings)
-        written.append(here)
-        ax.annotate(f"{rpm:.0f}", (stiffness, rpm), xytext=(5, -10), textcoords="offset points",
-                    fontsize="x-small", zorder=6)
-
-
-#: a crossing's speed is written unless one is written within this (decades of stiffness, of speed)
-_TEXT_APART = np.array([0.3, 0.05])
+        labels.append((stiffness, rpm, f"{rpm:.0f}", "k"))
+    return labels

@@ -18,13 +18,16 @@ acceleration ``a_g`` of every body). ``q = V eta`` on a speed-independent basis:
 modes at the start speed below a cutoff (at least the lowest :data:`LOWEST`) plus the static
 deflections under the unbalances', weights' and impulse's forces that those modes leave out
 (modal truncation augmentation), made M-orthonormal by a Rayleigh-Ritz step. With every mode
-kept the reduction is exact.
+kept the reduction is exact. Plain journal bearings are left out of the matrices and push their
+journals with the oil film's nonlinear force (:mod:`rotordyn_modal.simulation.flexible_journal`);
+the basis then also holds the static deflections under forces at the journals.
 """
 
 from __future__ import annotations
 
 import re
 import sys
+import types
 from types import SimpleNamespace
 from dataclasses import dataclass
 
@@ -32,6 +35,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._system import announce_compilation
+from .flexible_journal import film_load
 
 __all__ = ["simulate_linear", "reduced_system", "ReducedSystem", "NOTICE", "LINEAR_ONLY_NOTICE", "linear_only", "LOWEST",
            "CUTOFF_FACTOR"]
@@ -81,16 +85,13 @@ def notice_once(what: str = "a flexible rotor") -> bool:
 
 
 def refuse(model, drive: str) -> None:
-    """What the linear time model does not simulate, refused by one line."""
-    from ._system import refuse_hysteretic
+    """What the linear time model does not simulate, refused by one line (a journal bearing's
+    given static load too: its load is the weight it carries under gravity, as in the
+    large-rotation model)."""
+    from ._system import refuse_hysteretic, refuse_journal_loads
 
     what = "a machine with " + re.sub(r" \([^)]*\)", "", linear_only(model) or "a flexible rotor")
-    journals = [b.name for b in model.bearings if b.coefficients.kind == "journal"]
-    if journals:
-        raise InputError(
-            f"{model.source}: [bearings.{journals[0]}] is a journal bearing: {what} is "
-            "simulated as its linear model, where the oil film's nonlinear force has no place; give the bearing "
-            "as type = 'linear' with its film coefficients (a speeds_rpm table) to simulate it")
+    refuse_journal_loads(model)
     if drive == "free":
         raise InputError(f"{model.source}: drive 'free': {what} is simulated with its "
                          "drive's angle prescribed (drive 'constant' or 'ramp'), not in free spin")
@@ -126,6 +127,10 @@ class ReducedSystem:
     reaction : ndarray, shape (r,)
         Reduced reaction on the casing of the torque that accelerates the rotors' spins, per unit
         angular acceleration of the drive [N m / (rad/s^2)] (zeros on the ground).
+    films : Films or None
+        The journal bearings' oil films, nonlinear forces on the reduced coordinates
+        (:mod:`rotordyn_modal.simulation.flexible_journal`); ``K`` and ``C`` hold only their
+        constant (axial and moment) parts.
     """
 
     V: np.ndarray
@@ -142,6 +147,7 @@ class ReducedSystem:
     Fb: np.ndarray
     gravity: np.ndarray
     reaction: np.ndarray
+    films: object = None
 
     @property
     def size(self) -> int:
@@ -263,16 +269,22 @@ def reduced_system(model, speed: float, cutoff: float, extra_loads=(), phases_de
     Returns
     -------
     ReducedSystem
+        Journal bearings (``type = 'journal'``) are left out of the matrices but for their
+        constant parts; their films are ``films``, and the basis holds the static deflections
+        under unit forces at the journals (:func:`flexible_journal.attachment_loads`).
     """
     from ..assembly import bearing_motion, constant_matrices
+    from . import flexible_journal
 
     M, C, G, K = constant_matrices(model)
-    dependent = [b for b in model.bearings if b.coefficients.kind != "constant"]
+    dependent = [b for b in model.bearings if b.coefficients.kind not in ("constant", "journal")]
+    if flexible_journal.journal_bearings(model):
+        k_j, c_j = flexible_journal.constant_parts(model)
+        K, C = K + k_j, C + c_j
+        extra_loads = (*extra_loads, *flexible_journal.attachment_loads(model))
     K_start = K.copy()
     if dependent:
-        from ..assembly import bearing_matrices
-
-        K_start += bearing_matrices(model, speed, dependent_only=True)[0]
+        K_start += _bearings_stiffness(model, dependent, speed)
     ratio, phase, amount, Fa, Fb = unbalance_loads(model, phases_deg)
     gravity = M @ gravity_acceleration(model) if np.any(model.gravity) else np.zeros(len(M))
     reaction = drive_reaction(model)
@@ -285,7 +297,20 @@ def reduced_system(model, speed: float, cutoff: float, extra_loads=(), phases_de
                       f"{model.source}: [bearings.{bearing.name}]", local @ V[rows]))
     return ReducedSystem(V=V, frequencies=frequencies, modes=modes, K=V.T @ K @ V, C=V.T @ C @ V,
                          G=V.T @ G @ V, dependent=tuple(moves), ratio=ratio, phase=phase, amount=amount,
-                         Fa=Fa @ V, Fb=Fb @ V, gravity=gravity @ V, reaction=reaction @ V)
+                         Fa=Fa @ V, Fb=Fb @ V, gravity=gravity @ V, reaction=reaction @ V,
+                         films=flexible_journal.films(model, V))
+
+
+def _bearings_stiffness(model, bearings, speed) -> np.ndarray:
+    """Stiffness (n, n) of ``bearings`` at reference speed ``speed`` [rad/s]."""
+    from ..assembly import bearing_coefficients, bearing_motion
+
+    n = model.dofs.n
+    K = np.zeros((n, n))
+    for bearing in bearings:
+        rows, local = bearing_motion(model, bearing)
+        K[rows, rows] += local.T @ bearing_coefficients(model, bearing, [speed])[0][0] @ local
+    return K
 
 
 def _basis(M, K, loads, cutoff):
@@ -350,7 +375,12 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     rate = max(fastest, below[below < cutoff].max(initial=0.0) if np.isfinite(cutoff) else below.max(initial=0.0))
     check_duration(duration, rate)
     y0 = np.zeros(2 * system.size)
-    if initial == "equilibrium":
+    if initial == "equilibrium" and system.films is not None:
+        from .flexible_journal import equilibrium
+
+        y0[:system.size] = equilibrium(system.stiffness_damping([speed])[0][0], system.gravity, system.films, speed,
+                                       model.source)
+    elif initial == "equilibrium":
         K0 = system.stiffness_damping([speed])[0][0]
         try:
             y0[:system.size] = np.linalg.solve(K0, system.gravity) if np.any(system.gravity) else 0.0
@@ -362,7 +392,14 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     if kick is not None:
         y0[system.size:] = kick @ system.V          # V^T M V = I: the velocity jump M^-1 Q, reduced
     times = np.linspace(0.0, duration, samples or default_samples(rate, duration))
-    states = _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend)
+    try:
+        states = _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend)
+    except RuntimeError as error:
+        if system.films is None:
+            raise
+        from .flexible_journal import failure
+
+        raise failure(model, system.films, error.state, str(error)) from None
     return _result(model, system, times, states, speed, accel, drive)
 
 
@@ -385,21 +422,24 @@ def _impulse_load(model, name, size) -> np.ndarray:
 
 def _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend="auto"):
     """States ``[eta, eta']`` at ``times``: scipy's Fortran DOP853 on the reduced equations
-    (:func:`linear_rhs` compiled by numba when it is installed and no bearing depends on speed,
-    else :func:`_right_hand_side` in numpy: the same equations)."""
+    (:func:`linear_rhs`, or :func:`journal_rhs` with journal bearings, compiled by numba when it
+    is installed and no bearing depends on speed, else :func:`_right_hand_side` in numpy: the
+    same equations). A failure raises RuntimeError with the last state reached as ``.state``."""
     import warnings
 
     from scipy.integrate import ode
 
     from ._system import progress_bar
 
-    compiled = None if system.dependent or backend == "numpy" else _compiled(backend)
+    journals = system.films is not None
+    compiled = None if system.dependent or backend == "numpy" else _compiled(backend, journals)
     if compiled is not None:
         announce_compilation(SimpleNamespace(rhs_flat=compiled))
     if compiled is None:
         solver = ode(_right_hand_side(system, speed, accel))
     else:
-        solver = ode(compiled).set_f_params(*_packed(system, speed, accel))
+        films = system.films.arguments() if journals else ()
+        solver = ode(compiled).set_f_params(*_packed(system, speed, accel), *films)
     solver.set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
     solver.set_initial_value(y0, times[0])
     states = np.empty((len(times), len(y0)))
@@ -411,8 +451,10 @@ def _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend="a
                 warnings.simplefilter("ignore", UserWarning)
                 states[i] = solver.integrate(times[i])
             if not solver.successful() or not np.all(np.isfinite(states[i])):
-                raise RuntimeError(f"integration failed at t = {solver.t:.6g} s (DOP853 code "
-                                   f"{solver.get_return_code()})")
+                failed = RuntimeError(f"integration failed at t = {solver.t:.6g} s (DOP853 code "
+                                      f"{solver.get_return_code()})")
+                failed.state = states[i - 1]
+                raise failed
             if bar is not None:
                 bar.update(times[i] - times[i - 1])
     finally:
@@ -463,21 +505,38 @@ def linear_rhs(t, y, A, B, loads, ratio, phase, amount, gravity, speed, accel):
     return out
 
 
+def journal_rhs(t, y, A, B, loads, ratio, phase, amount, gravity, speed, accel, fratio, fmoves, faxes, ffilm):
+    """``y'`` of the reduced equations with journal bearings (numba-compilable): :func:`linear_rhs`
+    plus the films' force :func:`rotordyn_modal.simulation.flexible_journal.film_load`
+    (``fratio``, ``fmoves``, ``faxes``, ``ffilm``: the fields of its ``Films``)."""
+    out = linear_rhs(t, y, A, B, loads, ratio, phase, amount, gravity, speed, accel)
+    r = gravity.shape[0]
+    out[r:] += film_load(y[:r], y[r:], speed + accel * t, fratio, fmoves, faxes, ffilm)
+    return out
+
+
 _COMPILED: dict = {}
 
 
-def _compiled(backend):
-    """:func:`linear_rhs` compiled by numba (cached on disk), or None without numba ('auto')."""
+def _compiled(backend, journals=False):
+    """:func:`linear_rhs` (:func:`journal_rhs` with ``journals``) compiled by numba (cached on
+    disk), or None without numba ('auto')."""
     if "rhs" not in _COMPILED:
         try:
             import numba
         except ImportError:
-            _COMPILED["rhs"] = None
+            _COMPILED["rhs"] = _COMPILED["journal"] = None
         else:
+            from .flexible_journal import compiled_film_load
+
             _COMPILED["rhs"] = numba.njit(cache=True)(linear_rhs)
+            namespace = {"__name__": __name__, "np": np, "linear_rhs": _COMPILED["rhs"],
+                         "film_load": compiled_film_load(numba)}
+            rebound = types.FunctionType(journal_rhs.__code__, namespace, "journal_rhs")
+            _COMPILED["journal"] = numba.njit(cache=True)(rebound)
     if _COMPILED["rhs"] is None and backend == "numba":
         raise InputError("backend 'numba': numba is not installed (pip install 'rotordyn_modal[fast]')")
-    return _COMPILED["rhs"]
+    return _COMPILED["journal" if journals else "rhs"]
 
 
 def _right_hand_side(system, speed, accel):
@@ -490,6 +549,7 @@ def _right_hand_side(system, speed, accel):
     gravity = system.gravity + accel * system.reaction
     forcing = np.zeros(2 * r)
     dependent = system.dependent
+    films = None if system.films is None else system.films.arguments()
 
     def rhs(t, y):
         w = speed + accel * t
@@ -502,6 +562,8 @@ def _right_hand_side(system, speed, accel):
         if dependent:
             K, C = system.stiffness_damping([w])
             out[r:] -= (K[0] - system.K) @ y[:r] + (C[0] - system.C) @ y[r:]
+        if films is not None:
+            out[r:] += film_load(y[:r], y[r:], w, *films)
         return out
 
     return rhs
@@ -538,7 +600,14 @@ def _result(model, system, times, states, speed, accel, drive):
             local = layout.local_relative_motion(rotor.name, centres[j]) @ V[rows]        # (6, r)
             moves[:, j], tilts[:, j] = eta @ local[:3].T, eta @ local[3:].T
     forces = np.zeros((count, len(model.bearings), 6))
+    if system.films is not None:
+        from .flexible_journal import wrenches
+
+        journal_forces = wrenches(model, V, system.films, eta, deta, spin)
     for i, bearing in enumerate(model.bearings):
+        if bearing.coefficients.kind == "journal":
+            forces[:, i] = journal_forces[:, system.films.names.index(bearing.name)]
+            continue
         rows, local = bearing_motion(model, bearing)
         reduced = local @ V[rows]
         k6, c6 = bearing_coefficients(model, bearing, spin)

@@ -105,7 +105,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     nonlinear model cannot carry) is integrated as its linear model instead (docs/simulate.md,
     "Flexible rotors"; :mod:`rotordyn_modal.simulation.flexible`): small motions of every body
     and of the shafts' nodes about the spinning machine, the drive's angle prescribed
-    (``drive='constant'`` or ``'ramp'``; ``'free'`` and journal bearings refused), the
+    (``drive='constant'`` or ``'ramp'``; ``'free'`` refused), plain journal bearings' oil films
+    keeping their nonlinear force (:mod:`rotordyn_modal.simulation.flexible_journal`), the
     assumption said once on stderr; ``backend`` then selects a small right-hand side of its own.
 
     Returns

@@ -41,6 +41,9 @@ def grid_values(value, where, source) -> np.ndarray:
             raise StudyError(source, where, value, "a list of numbers or 'START:STOP:N'") from None
         if len(parts) != 3 or count < 1 or not (math.isfinite(start) and math.isfinite(stop)):
             raise StudyError(source, where, value, "'START:STOP:N' with N >= 1 and finite ends")
+        if count == 1 and start != stop:   # one point would silently drop STOP
+            raise StudyError(source, where, value, "'START:STOP:N' with N >= 2 for a range (or START = STOP "
+                             "with N = 1)")
         if problem := count_problem(count):
             raise StudyError(source, where, value, "'START:STOP:N' with N " + problem)
         return np.linspace(start, stop, count)

@@ -24,6 +24,7 @@ from typing import Callable
 import numpy as np
 
 from ._rules import StudyError, grid_values
+from ..model._table import unknown_key
 
 __all__ = ["Analysis", "ANALYSES", "parse_analyses", "describe", "run_analyses"]
 
@@ -309,7 +310,8 @@ def parse_analyses(table, source, model=None) -> dict:
         for key in options:
             if key not in ANALYSES[name].keys:
                 raise _error(source, f"{where} {key}", options[key],
-                             "one of the keys " + (", ".join(ANALYSES[name].keys) or "(none)"))
+                             "one of the keys " + (", ".join(ANALYSES[name].keys) or "(none)")
+                             + unknown_key(key, ANALYSES[name].keys))
         if name == "critical_speeds" and "speeds_rpm" not in options and "campbell" in out:
             options = {"orders": table["campbell"].get("orders"), **options}
             out[name] = {"speeds": out["campbell"]["speeds"],

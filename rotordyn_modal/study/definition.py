@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._limits import count_problem
-from ..model._table import non_number, visible
+from ..model._table import non_number, unknown_key, visible
 from ..errors import InputError
 from ._rules import StudyError, grid_values, is_number
 from .analyses import parse_analyses
@@ -226,7 +226,10 @@ def _check_variant_count(parameters, samples, design, source):
     if random:
         count *= samples * (random + 2 if design == "saltelli" else 1)
     if problem := count_problem(count, "variants"):
-        raise StudyError(source, "samples", samples, "a study of " + problem)
+        if random:
+            raise StudyError(source, "samples", samples, "a study of " + problem)
+        grids = " x ".join(str(len(p.grid)) for p in parameters if p.is_grid)
+        raise StudyError(source, "[[parameters]] grids", f"{grids} points", "a study of " + problem)
 
 
 def _is_int(value) -> bool:
@@ -236,7 +239,8 @@ def _is_int(value) -> bool:
 def _unknown(table, allowed, source, where):
     for key in table:
         if key not in allowed:
-            raise StudyError(source, f"{where} {visible(key)}", table[key], "one of the keys " + ", ".join(allowed))
+            raise StudyError(source, f"{where} {visible(key)}", table[key], "one of the keys " + ", ".join(allowed)
+                             + unknown_key(key, allowed))
 
 
 def _unique_names(parameters, source):

@@ -1,0 +1,119 @@
+"""campbell(modes=N) of small models (below ``_lowest.DENSE_BELOW`` coordinates): every root of
+every speed from eigenvalues alone, the N lowest roots' shapes by inverse iteration on the pencil
+(issue 28, speed). Truth from outside the code under test: scipy's eigenvalues of the state
+matrix built here, the eigen-equation Q(lam) phi = 0 of each shape, and the circular whirl of
+the two shapes of a repeated root of an axisymmetric rotor at rest."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+import rotordyn_modal as rdm
+from rotordyn_modal.analysis import _lowest, _roots
+from rotordyn_modal.io.ross_file import read_ross_rotor
+
+ROTOR_EXAMPLE = "tests/data/ross/rotor_example.toml"
+
+
+def _state_matrix(M, C, G, K, speed):
+    n = len(M)
+    return np.block([[np.zeros((n, n)), np.eye(n)],
+                     [-np.linalg.solve(M, K), -np.linalg.solve(M, C + speed * G)]])
+
+
+def test_small_model_lowest_modes_need_no_eigenvectors_of_the_state_matrices(monkeypatch):
+    """ROSS's rotor_example (28 coordinates, the dense route): no eigenvectors of the 56-state
+    matrices are computed, and the roots are scipy's, the shapes solve the pencil."""
+    model = rdm.Model.from_dict(read_ross_rotor(ROTOR_EXAMPLE))
+    n = model.dofs.n
+    assert n < _lowest.DENSE_BELOW
+    eigen_sizes = []
+    plain_eig = np.linalg.eig
+
+    def recording_eig(a):
+        eigen_sizes.append(np.shape(a)[-1])
+        return plain_eig(a)
+
+    monkeypatch.setattr(np.linalg, "eig", recording_eig)
+    speeds = np.linspace(100.0, 3000.0, 7)
+    result = rdm.campbell(model, speeds, critical=False, modes=12)
+    assert 2 * n not in eigen_sizes
+    M, C, G, K = model.matrices()
+    for k, speed in enumerate(speeds):
+        roots = scipy.linalg.eigvals(_state_matrix(M, C, G, K, speed))
+        roots = np.sort_complex(roots[roots.imag > 0])           # lightly damped: all are modes
+        reference = roots[np.argsort(roots.imag, kind="stable")][:12]
+        lam = result.eigenvalues[k][np.argsort(result.eigenvalues[k].imag)]
+        assert np.max(np.abs(lam - reference) / np.abs(reference)) < 1e-9      # round-off of a 56-state solve
+        for root, shape in zip(result.eigenvalues[k], result.shapes[k]):
+            Q = root ** 2 * M + root * (C + speed * G) + K
+            assert np.linalg.norm(Q @ shape) <= 1e-12 * np.linalg.norm(Q) * np.linalg.norm(shape)
+
+
+def _axisymmetric_shaft():
+    """A uniform steel shaft on two isotropic bearings at its ends, spinning about x: at rest
+    every bending root is a double root (the two planes alike)."""
+    return rdm.Model.from_dict({
+        "name": "shaft", "spin_axis": [1.0, 0.0, 0.0],
+        "materials": [{"name": "steel", "density": 7800.0, "young_modulus": 2e11, "shear_modulus": 8e10}],
+        "rotors": [{"name": "r", "start": [0.0, 0.0, 0.0], "element_length": 0.1,
+                    "shaft": [{"length": 0.6, "outer_diameter": 0.05, "material": "steel"}],
+                    "disks": [{"name": "d", "axial_position": 0.4, "mass": 5.0, "polar_inertia": 0.03,
+                               "diametral_inertia": 0.02}]}],
+        "bearings": [{"name": f"b{i}", "rotor": "r", "axial_position": z, "stiffness": 1e7, "damping": 50.0}
+                     for i, z in enumerate((0.0, 0.6))],
+    })
+
+
+def test_repeated_roots_keep_their_circular_shapes():
+    """At rest the double roots' shapes are the forward and backward circular combinations (whirl
+    ratios -1 and +1, as campbell of every root gives them); inverse iteration alone would give
+    both roots of a pair one and the same shape."""
+    model = _axisymmetric_shaft()
+    assert model.dofs.n < _lowest.DENSE_BELOW
+    speeds = np.array([0.0, 500.0, 1000.0])
+    lowest = rdm.campbell(model, speeds, critical=False, modes=6)
+    full = rdm.campbell(model, speeds, critical=False)
+    at_rest = np.sort(lowest.whirl_ratios[0])
+    assert np.allclose(at_rest, [-1, -1, -1, 1, 1, 1], atol=1e-9)
+    roots = np.where(full.oscillatory, full.eigenvalues, np.nan + 1e30j)
+    order = np.argsort(roots.imag, axis=1)[:, :6]
+    for k in range(len(speeds)):
+        mine = np.argsort(lowest.eigenvalues[k].imag)
+        theirs = order[k]
+        assert np.allclose(lowest.eigenvalues[k][mine], full.eigenvalues[k][theirs], rtol=1e-12, atol=0)
+        assert np.allclose(lowest.whirl_ratios[k][mine], full.whirl_ratios[k][theirs], atol=1e-9)
+
+
+def test_balanced_norm_of_a_matrix_is_its_own_in_any_stack(monkeypatch):
+    """The balanced norm of each matrix does not depend on the other matrices of the stack nor on
+    the parts the stack is cut into, and it is the Frobenius norm of a diagonal similarity of it
+    (a power-of-two scaling: no larger than the plain norm where the matrix is badly scaled)."""
+    rng = np.random.default_rng(7)
+    scales = 10.0 ** rng.uniform(-6, 6, size=(9, 1, 12))
+    stack = rng.standard_normal((9, 12, 12)) * scales * np.swapaxes(1.0 / scales, 1, 2)
+    whole = _roots.balanced_norm(stack)
+    alone = np.array([_roots.balanced_norm(matrix[None])[0] for matrix in stack])
+    monkeypatch.setattr(_roots, "_BALANCE_BYTES", 3 * 8 * 12 * 12)
+    assert np.array_equal(_roots.balanced_norm(stack), whole)
+    assert np.array_equal(alone, whole)
+    assert np.all(whole <= np.linalg.norm(stack, axis=(1, 2)))
+    assert np.all(whole >= np.sqrt(np.sum(np.diagonal(stack, axis1=1, axis2=2) ** 2, axis=1)))
+
+
+@pytest.mark.parametrize("name, count", [("rotor_example", 1), ("rotor_example", 5), ("speed_tables", 6)])
+def test_dense_route_equals_the_whole_solve(name, count):
+    """_dense_lowest and the whole solve of every root (eig with eigenvectors) agree: the same
+    roots to round-off, the same shapes up to a phase (speed_tables: bearings tabulated over
+    speed, a stiffness per speed)."""
+    from rotordyn_modal.analysis._stack import Stack
+
+    stack = Stack([rdm.Model.from_dict(read_ross_rotor(f"tests/data/ross/{name}.toml"))])
+    speeds = np.linspace(0.0, 1500.0, 9)
+    lam, phi = _lowest._dense_lowest(stack, speeds, count)
+    lam_whole, phi_whole = _lowest._full_lowest(stack, speeds, count)
+    assert np.allclose(lam, lam_whole, rtol=1e-13, atol=0)
+    mac = np.abs(np.einsum("ski,ski->sk", phi.conj(), phi_whole)) ** 2
+    assert np.all(mac >= 1 - 1e-12)

@@ -592,3 +592,23 @@ def test_mode_titles_never_write_a_small_ratio_as_minus_zero():
             assert abs(float(text) - value) <= last, (title, value)
     assert small_number(-5.6e-25) == "0" and small_number(-3.2e-3, sign=True) == "-3.2e-03"
     plt.close(fig)
+
+
+def test_unbalance_curves_that_coincide_are_both_visible(examples_dir):
+    """The compressor's probes read the same amplitude in y and z (isotropic bearings): the z
+    curve was drawn solid over the y curve, which no reader could see. A curve that covers an
+    earlier one within 1 % is drawn in dashes over it and its legend says which it equals."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(examples_dir / "compressor_rotor.toml")
+    result = rdm.unbalance_response(model, rdm.rpm(np.linspace(500.0, 12000.0, 24)))
+    fig = result.plot()
+    for ax in fig.axes:
+        lines = [line for line in ax.get_lines() if not line.get_label().startswith("_")]
+        for k, line in enumerate(lines):
+            for earlier in lines[:k]:
+                a, b = np.asarray(line.get_ydata(), float), np.asarray(earlier.get_ydata(), float)
+                if a.shape == b.shape and np.allclose(a, b, rtol=1e-2, equal_nan=True):
+                    assert line.get_linestyle() != earlier.get_linestyle(), line.get_label()
+                    assert "(= " in line.get_label()
+    plt.close(fig)

@@ -341,18 +341,42 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0):
     the colour of each (i, j)."""
     colours = {}
     styles = ["-", "--", ":", "-."]
+    drawn = []                                   # ((output, source), amplitude) of the curves drawn so far
     for m, i in enumerate(rows):
         for j, s in enumerate(result.sources):
             colour, style = f"C{m % 10}", styles[j % len(styles)]
             amplitude = np.where(result.amplitude[i, j] > 0, result.amplitude[i, j] * factor, np.nan)
-            mag.semilogy(x, amplitude, color=colour, ls=style, label=f"{result.outputs[i]}: 1X {s}")
-            phase.plot(x, result.phase_deg[i, j], color=colour, ls=style, lw=0.9)
+            label = f"{result.outputs[i]}: 1X {s}"
+            under = _coinciding(amplitude, drawn)
+            if under is not None:                # drawn in dashes over it, so that both show
+                output, source = under
+                style, label = _OVER, f"{label} (= {output}{'' if source == s else f': 1X {source}'})"
+            mag.semilogy(x, amplitude, color=colour, ls=style, label=label)
+            phase.plot(x, result.phase_deg[i, j], color=colour, ls=styles[j % len(styles)], lw=0.9)
             colours[i, j] = colour
+            drawn.append(((result.outputs[i], s), amplitude))
     _limit_range(mag)
     mag.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
     phase.set_yticks([-180, -90, 0, 90, 180])
     phase.set_ylabel("Phase [deg]")
     return colours
+
+
+#: the line style of a curve drawn over an earlier one it coincides with (offset dashes)
+_OVER = (2.0, (3.0, 3.0))
+#: curves closer than this relative difference everywhere coincide on a figure
+_COINCIDE = 0.01
+
+
+def _coinciding(amplitude, drawn):
+    """The key of the first curve in ``drawn`` [(key, values)] that ``amplitude`` covers on
+    the figure (within :data:`_COINCIDE` relative at every speed where both are drawn), or None.
+    An isotropic rotor's y and z probes read the same amplitude: the second hid the first."""
+    for label, other in drawn:
+        both = np.isfinite(amplitude) & np.isfinite(other)
+        if both.any() and np.all(np.abs(amplitude[both] - other[both]) <= _COINCIDE * np.abs(other[both])):
+            return label
+    return None
 
 
 def _force_panels(result, forces):

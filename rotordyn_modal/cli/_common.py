@@ -144,7 +144,9 @@ def check_files(args) -> None:
         try:
             check_writable(path)
         except InputError as error:
-            raise type(error)(f"{option}: {error}") from None
+            message = str(error)            # "PATH: the folder ... does not exist" reads "--out PATH: ..."
+            raise type(error)(f"{option} {message}" if message.startswith(f"{path}:") else
+                              f"{option}: {message}") from None
 
 
 def add_model_argument(parser):

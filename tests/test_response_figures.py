@@ -323,17 +323,36 @@ def test_no_curve_runs_through_a_critical_speed_label(gear_runup):
     plt.close(fig)
 
 
+def _runup_from_tracks(monkeypatch, tracks, rotor_names=("shaft",), critical=None):
+    """The run-up figure of given order tracks ({rotor: OrderTrack}, over the same speeds [rad/s]),
+    with a flat waterfall and a sine time record: the figure computes nothing, so these are what
+    it draws."""
+    import types
+
+    from rotordyn_modal.plotting.simulation import plot_runup
+    from rotordyn_modal.simulation import runup
+
+    speeds = next(iter(tracks.values())).speeds
+    fall = runup.Waterfall(speeds, np.linspace(0.0, 200.0, 41), np.full((len(speeds), 41), 1e-9), "probe")
+    monkeypatch.setattr(runup, "order_track", lambda *args, rotor=None, **kwargs: tracks[rotor])
+    monkeypatch.setattr(runup, "waterfall", lambda *args, **kwargs: fall)
+    t = np.linspace(0.0, 1.0, 400)
+    result = types.SimpleNamespace(drive_speed=np.linspace(speeds[0], speeds[-1], 400),
+                                   rotor_names=list(rotor_names), model_name="test",
+                                   sensor=lambda name: 1e-6 * np.sin(300 * t))
+    fig = plot_runup(result, "probe", critical=critical)
+    fig.canvas.draw()
+    return fig
+
+
 def test_runup_track_legends_hide_no_track(monkeypatch):
     """The order-tracked amplitude's and phase's legends stand where no track runs under them:
     fixed in the upper left, the phase of a rotor through its critical speed (-90 deg falling to
     -270 deg, as the compressor example's) ran under it. Drawn from given tracks (the plotting
     computes nothing), measured on the drawn figure."""
-    import types
-
     import matplotlib.pyplot as plt
 
     from label_geometry import crossings, curve_segments
-    from rotordyn_modal.plotting.simulation import plot_runup
     from rotordyn_modal.simulation import runup
 
     speeds = rdm.rpm(np.linspace(3000.0, 9000.0, 60))
@@ -341,14 +360,7 @@ def test_runup_track_legends_hide_no_track(monkeypatch):
     response = 1.0 / (1.0 - ratio ** 2 + 0.1j * ratio)
     track = runup.OrderTrack(speeds, 1e-6 * np.abs(response), np.degrees(np.angle(response)) - 90.0,
                              "probe", "shaft", 1.0)
-    fall = runup.Waterfall(speeds, np.linspace(0.0, 200.0, 41), np.full((60, 41), 1e-9), "probe")
-    monkeypatch.setattr(runup, "order_track", lambda *args, **kwargs: track)
-    monkeypatch.setattr(runup, "waterfall", lambda *args, **kwargs: fall)
-    t = np.linspace(0.0, 1.0, 400)
-    result = types.SimpleNamespace(drive_speed=np.linspace(speeds[0], speeds[-1], 400), rotor_names=["shaft"],
-                                   model_name="test", sensor=lambda name: 1e-6 * np.sin(300 * t))
-    fig = plot_runup(result, "probe")
-    fig.canvas.draw()
+    fig = _runup_from_tracks(monkeypatch, {None: track, "shaft": track})
     renderer = fig.canvas.get_renderer()
     checked = 0
     for ax in fig.axes:
@@ -365,13 +377,10 @@ def test_runup_track_legends_hide_no_track_among_critical_lines(monkeypatch):
     tracks (the amplitude's on the fan's peak). Drawn from given tracks (a resonance at 7700 rpm
     and a small one; the plotting computes nothing), measured on the drawn figure: no track
     runs under a legend."""
-    import types
-
     import matplotlib.pyplot as plt
 
     from label_geometry import crossings, curve_segments
     from rotordyn_modal.analysis.critical_speeds import CriticalSpeeds
-    from rotordyn_modal.plotting.simulation import plot_runup
     from rotordyn_modal.simulation import runup
 
     speeds = rdm.rpm(np.linspace(500.0, 8700.0, 25))
@@ -381,19 +390,12 @@ def test_runup_track_legends_hide_no_track_among_critical_lines(monkeypatch):
                                       "probe", "fan", 1.0),
               "motor": runup.OrderTrack(speeds, 0.15e-6 * np.abs(response) ** 0.5, np.degrees(np.angle(response)),
                                         "probe", "motor", 1.0)}
-    fall = runup.Waterfall(speeds, np.linspace(0.0, 200.0, 41), np.full((25, 41), 1e-9), "probe")
-    monkeypatch.setattr(runup, "order_track", lambda *args, rotor=None, **kwargs: tracks[rotor])
-    monkeypatch.setattr(runup, "waterfall", lambda *args, **kwargs: fall)
     at = rdm.rpm(np.array([499, 550, 798, 866, 880, 941, 1063, 1092, 1385, 1502, 1694, 1757, 2740, 3587, 3898,
                            3943, 4157, 5774, 6308, 6929, 7885, 8029.0]))
     n = len(at)
     critical = CriticalSpeeds(np.full(n, "fan"), np.ones(n), np.arange(1, n + 1), at, at / (2 * np.pi),
                               np.full(n, "forward"), np.ones(n), np.full(n, 0.01))
-    t = np.linspace(0.0, 1.0, 400)
-    result = types.SimpleNamespace(drive_speed=np.linspace(speeds[0], speeds[-1], 400), rotor_names=["motor", "fan"],
-                                   model_name="test", sensor=lambda name: 1e-6 * np.sin(300 * t))
-    fig = plot_runup(result, "probe", critical=critical)
-    fig.canvas.draw()
+    fig = _runup_from_tracks(monkeypatch, tracks, ("motor", "fan"), critical)
     renderer = fig.canvas.get_renderer()
     checked = 0
     for ax in fig.axes:
@@ -411,24 +413,14 @@ def test_runup_phase_axis_has_readable_ticks(monkeypatch, swing):
     """The order-tracked phase's axis is ticked at least three times within its limits: ticks
     every 90 deg on a phase that swings 65 deg (the compressor's run-up, 60 to 125 deg) left one
     tick on the axis. Drawn from a given track, the ticks counted on the drawn axis."""
-    import types
-
     import matplotlib.pyplot as plt
 
-    from rotordyn_modal.plotting.simulation import plot_runup
     from rotordyn_modal.simulation import runup
 
     speeds = rdm.rpm(np.linspace(1000.0, 12000.0, 30))
     phase = 60.0 + swing * np.linspace(0.0, 1.0, 30) ** 2
     track = runup.OrderTrack(speeds, 1e-6 * np.ones(30), phase, "probe", "shaft", 1.0)
-    fall = runup.Waterfall(speeds, np.linspace(0.0, 200.0, 41), np.full((30, 41), 1e-9), "probe")
-    monkeypatch.setattr(runup, "order_track", lambda *args, **kwargs: track)
-    monkeypatch.setattr(runup, "waterfall", lambda *args, **kwargs: fall)
-    t = np.linspace(0.0, 1.0, 400)
-    result = types.SimpleNamespace(drive_speed=np.linspace(speeds[0], speeds[-1], 400), rotor_names=["shaft"],
-                                   model_name="test", sensor=lambda name: 1e-6 * np.sin(300 * t))
-    fig = plot_runup(result, "probe")
-    fig.canvas.draw()
+    fig = _runup_from_tracks(monkeypatch, {None: track, "shaft": track})
     ax, = [a for a in fig.axes if a.get_title() == "Order-tracked phase"]
     low, high = ax.get_ylim()
     ticks = [v for v in ax.get_yticks() if low <= v <= high]

@@ -297,3 +297,20 @@ def test_stability_map_prints_each_values_threshold_in_rpm(examples_dir, tmp_pat
     (start, stop), (again, _) = expected.results[0].unstable_intervals
     assert lines[0].endswith(f"from {start * 30 / np.pi:.6g} rpm to {stop * 30 / np.pi:.6g} rpm "
                              f"and from {again * 30 / np.pi:.6g} rpm")
+
+
+def test_python_dash_m_runs_the_command_line_without_a_warning(examples_dir):
+    """``python -m rotordyn_modal`` is the ``rotordyn-modal`` command (no scripts folder on the
+    PATH needed): same exit codes, and nothing on stderr but the command's own lines (running
+    ``python -m rotordyn_modal.cli.main`` prints runpy's RuntimeWarning)."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    env = {**os.environ, "PYTHONPATH": str(root)}
+    done = subprocess.run([sys.executable, "-m", "rotordyn_modal", "check", str(examples_dir / "gear_machine.toml")],
+                          capture_output=True, text=True, env=env, timeout=120)
+    assert done.returncode == 0 and "Warning" not in done.stderr, done.stderr
+    assert "gear" in done.stdout.lower()
+    bad = subprocess.run([sys.executable, "-m", "rotordyn_modal", "modes", str(examples_dir / "missing.toml")],
+                         capture_output=True, text=True, env=env, timeout=120)
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1

@@ -115,7 +115,7 @@ def _reduced_roots(stack, speeds, count):
     values, shapes, ok = _refined(pencils, starts, vectors)
     ok &= _distinct(values) & _unmissed(starts, values, count)
     # Newton may reorder roots of close frequency: by frequency again
-    order = np.argsort(np.where(is_oscillating(values), values.imag, np.inf), axis=1, kind="stable")
+    order = np.argsort(frequency_key(values), axis=1, kind="stable")
     values, shapes = np.take_along_axis(values, order, 1), np.take_along_axis(shapes, order[..., None], 1)
     return values, shapes, ok & _basis_suffices(values, bound, size, attached.shape[1], rho)
 
@@ -261,6 +261,12 @@ def _projected_starts(pencils, basis, want, index=None):
     return starts, vectors
 
 
+def frequency_key(lam):
+    """The sort key of roots ``lam`` (any shape) by frequency: ``Im lam`` of the oscillating roots,
+    ``inf`` for the others (pushed to the end)."""
+    return np.where(is_oscillating(lam), lam.imag, np.inf)
+
+
 def _projected_roots(A, damping, stiffness, want):
     """The ``want`` lowest-frequency oscillating roots (P, want) of the projected state matrices
     ``A`` (P, 2 m, 2 m) and their shapes (P, want, m): the roots by a batched ``eigvals``, the shapes
@@ -290,8 +296,7 @@ def _projected_roots(A, damping, stiffness, want):
 def _lowest_order(lam, want):
     """Where the ``want`` lowest-frequency oscillating roots of each row of ``lam`` are (P, want):
     the oscillating roots by frequency, the others pushed to the end."""
-    key = np.where(is_oscillating(lam), lam.imag, np.inf)
-    return np.argsort(key, axis=-1)[:, :want]
+    return np.argsort(frequency_key(lam), axis=-1)[:, :want]
 
 
 class _Pencils:
@@ -588,8 +593,7 @@ def _full_lowest(stack, speeds, count):
 def lowest_of(lam, phi, count):
     """The ``count`` lowest oscillating roots (then the others) of full eigen-solves, by speed:
     ``lam`` (N, m), ``phi`` (N, m, n) -> (N, count), (N, count, n)."""
-    key = np.where(is_oscillating(lam), lam.imag, np.inf)
-    order = np.argsort(key, axis=-1, kind="stable")[:, :count]
+    order = np.argsort(frequency_key(lam), axis=-1, kind="stable")[:, :count]
     rows = np.arange(len(lam))[:, None]
     return lam[rows, order], phi[rows, order]
 
@@ -689,7 +693,7 @@ def _reduced_below(stack, speeds, limit, count):
     starts, vectors = _starts_below(pencils, basis, limit, count, int(below.sum(axis=1).max(initial=0)) + 3)
     values, shapes, ok = _refined(pencils, starts, vectors)
     ok &= _distinct(values) & _unmissed_below(starts, values, limit, count)
-    order = np.argsort(np.where(is_oscillating(values), values.imag, np.inf), axis=1, kind="stable")
+    order = np.argsort(frequency_key(values), axis=1, kind="stable")
     values, shapes = np.take_along_axis(values, order, 1), np.take_along_axis(shapes, order[..., None], 1)
     # the bound at the wanted roots (a missed one lies below the limit, :func:`_unmissed_below`)
     wanted = _wanted(values, limit, count)
@@ -716,7 +720,7 @@ def _unmissed_below(starts, values, limit, count):
     stand for a root below the limit (or below the ``count``-th root found, where lower)."""
     top = np.full(len(values), float(limit))
     if count is not None and values.shape[1] >= count:
-        top = np.minimum(top, np.sort(np.where(is_oscillating(values), values.imag, np.inf), axis=1)[:, count - 1])
+        top = np.minimum(top, np.sort(frequency_key(values), axis=1)[:, count - 1])
     moved = np.max(np.abs(starts - values), axis=1)
     return starts[:, -1].imag - moved > top
 
@@ -742,8 +746,7 @@ def _dense_lowest(stack, speeds, count):
     eigenvalues : ndarray, shape (S, count), complex; shapes : ndarray, shape (S, count, n)
     """
     upper, whole = _eigensolve.upper_eigenvalues(stack.sweep(speeds)[0])
-    key = np.where(is_oscillating(upper), upper.imag, np.inf)
-    order = np.argsort(key, axis=-1, kind="stable")[:, :count]
+    order = np.argsort(frequency_key(upper), axis=-1, kind="stable")[:, :count]
     lam = np.take_along_axis(upper, order, axis=1)
     whole |= ~is_oscillating(lam).all(axis=1) | _close(lam, upper, order)
     shapes = np.empty(lam.shape + (stack.n_dof,), complex)

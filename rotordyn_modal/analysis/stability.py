@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -363,28 +364,28 @@ class _LowestRoots:
 
 def _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes, root_at=None) -> dict:
     """Frequency, whirl and ``modes`` number of the root that crosses at each threshold:
-    :func:`.modal.modal` at the threshold (or ``root_at(speed, guess)``, returning the three), its
-    root nearest the tracked mode's eigenvalue (interpolated linearly between the grid speeds
-    around the threshold)."""
-    frequencies, whirl, numbers = [], [], []
+    ``root_at(speed, guess)`` (default :func:`_modal_root_at`: of :func:`.modal.modal` at the
+    threshold) of the tracked mode's eigenvalue interpolated linearly between the grid speeds
+    around the threshold."""
+    root_at = root_at or functools.partial(_modal_root_at, model)
+    crossing = []
     for speed, mode in zip(thresholds, threshold_modes):
         k = int(np.clip(np.searchsorted(speeds, speed) - 1, 0, len(speeds) - 2))
         t = (speed - speeds[k]) / (speeds[k + 1] - speeds[k])
-        guess = (1 - t) * eigenvalues[k, mode - 1] + t * eigenvalues[k + 1, mode - 1]
-        if root_at is not None:
-            frequency, label, number = root_at(speed, guess)
-            frequencies.append(frequency)
-            whirl.append(label)
-            numbers.append(number)
-            continue
-        roots = modal(model, speed)
-        nearest = int(np.argmin(np.abs(roots.eigenvalues - guess)))
-        frequencies.append(roots.frequencies_hz[nearest])
-        whirl.append(roots.whirl[nearest])
-        # modes' own numbering: its modes in its order
-        numbers.append(int(roots.oscillatory[:nearest + 1].sum()) if roots.oscillatory[nearest] else 0)
+        crossing.append(root_at(speed, (1 - t) * eigenvalues[k, mode - 1] + t * eigenvalues[k + 1, mode - 1]))
+    frequencies, whirl, numbers = zip(*crossing) if crossing else ((), (), ())
     return {"threshold_frequencies_hz": np.array(frequencies, dtype=float),
             "threshold_whirl": np.array(whirl, dtype=str), "threshold_modes_at_speed": np.array(numbers, dtype=int)}
+
+
+def _modal_root_at(model, speed, guess):
+    """Frequency [Hz], whirl label and ``modes --speed`` number (0: not a mode) of the root of
+    :func:`.modal.modal` at ``speed`` [rad/s] nearest ``guess``."""
+    roots = modal(model, speed)
+    nearest = int(np.argmin(np.abs(roots.eigenvalues - guess)))
+    # modes' own numbering: its modes in its order
+    number = int(roots.oscillatory[:nearest + 1].sum()) if roots.oscillatory[nearest] else 0
+    return float(roots.frequencies_hz[nearest]), str(roots.whirl[nearest]), number
 
 
 def stability_map(model, speeds, key: str, values=None, scale=None, progress=False, modes=None) -> StabilityMap:

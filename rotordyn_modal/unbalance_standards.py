@@ -162,9 +162,9 @@ def iso_zone_boundaries(group: int, support: str) -> tuple[float, float, float]:
 
 def iso_zones(velocity_rms, group: int, support: str) -> np.ndarray:
     """Zone 'A', 'B', 'C' or 'D' of each RMS velocity [m/s]; a value on a boundary is in the
-    upper zone."""
+    lower zone (the B/C boundary is "the upper limit of zone B": docs/standards.md)."""
     bounds = np.array(iso_zone_boundaries(group, support))
-    index = np.searchsorted(bounds, np.asarray(velocity_rms, dtype=float), side="right")
+    index = np.searchsorted(bounds, np.asarray(velocity_rms, dtype=float), side="left")
     return np.array(list("ABCD"), dtype=object)[index]
 
 

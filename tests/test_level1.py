@@ -104,6 +104,18 @@ def test_the_us_constant_63_is_the_same_formula():
         == pytest.approx(q * klbf_per_in / 2, rel=1e-12)            # B = 1.5, no density ratio
 
 
+def test_the_standards_si_form_in_millimetres_and_kn_per_mm():
+    """API 617 (2014) as transcribed in ross-rotordynamics/ross-report ``report/standard_text.py``:
+    HP the rated power per impeller in N m/s, C = 9.55, D and H in mm, N in rpm, q_a in kN/mm.
+    A 2.5 MW impeller of 0.6 m x 25 mm at 9000 rpm, density ratio 1.3: the standard's number
+    in kN/mm is the package's in N/m / 1e6, but for C = 9.55 against 60 / 2 pi (0.0074 %)."""
+    power, d_mm, h_mm, n_rpm, ratio = 2.5e6, 600.0, 25.0, 9000.0, 1.3
+    standard_kn_per_mm = power * 3 * 9.55 * ratio / (d_mm * h_mm * n_rpm)           # 0.1655 kN/mm
+    q = anticipated_cross_coupling([power], rdm.rpm(n_rpm), [d_mm / 1e3], [h_mm / 1e3], [ratio])[0]
+    assert q * 9.55 / (30 / np.pi) / 1e6 == pytest.approx(standard_kn_per_mm, rel=1e-12)
+    assert q / 1e6 == pytest.approx(standard_kn_per_mm, rel=1e-4)
+
+
 def test_refusals():
     model = _rotor()
     for kwargs, words in (({"stations": ["nope"], "qa": 1e4}, "no rotor"), ({"stations": ["r"], "qa": 0.0}, "qa"),

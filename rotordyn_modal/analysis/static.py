@@ -305,6 +305,12 @@ class StaticResult:
         table = pd.concat(parts, ignore_index=True)
         return table[["table"] + [c for c in table.columns if c != "table"]]
 
+    def stress_checks(self) -> list:
+        """Per flexible shaft, its stress verdict
+        (:class:`~rotordyn_modal.analysis.shaft_statics.StressCheck`: the largest von Mises stress
+        against the allowable stress, and where); empty when every rotor is rigid."""
+        return [shaft.stress_check() for shaft in self.shafts.values()]
+
     def plot_shafts(self, **kwargs):
         """The sag, shear force and bending moment diagram of every flexible rotor; see
         :func:`rotordyn_modal.plotting.shaft_statics.plot_shaft_statics` (ValueError when every
@@ -329,7 +335,8 @@ def _stands_on(model, reaction) -> str:
 
 
 # ----------------------------------------------------------------------------------------
-def static(model, speed=None, forces=None, torques=None, power=None, units: str = "si") -> StaticResult:
+def static(model, speed=None, forces=None, torques=None, power=None, units: str = "si",
+           allowable_stress=None) -> StaticResult:
     """Static displacement and support reactions of ``model`` under static loads.
 
     Parameters
@@ -353,6 +360,9 @@ def static(model, speed=None, forces=None, torques=None, power=None, units: str 
     units : {'si', 'us'}
         Unit system of the points said in warnings and refusals (m or in; docs/units.md): the
         arguments and the result are SI whatever it says.
+    allowable_stress : float, optional
+        [Pa] allowable von Mises stress of every flexible shaft, in place of its materials'
+        ``allowable_stress`` (``StaticResult.stress_checks``).
 
     Returns
     -------
@@ -366,6 +376,8 @@ def static(model, speed=None, forces=None, torques=None, power=None, units: str 
     """
     speed = None if speed is None else _arguments.speed(speed)
     units = check_system(units)
+    if allowable_stress is not None and not (np.isfinite(allowable_stress) and allowable_stress > 0):
+        raise InputError(f"allowable_stress = {allowable_stress!r}: expected a stress > 0 [Pa]")
     loads = _loads(model, speed, forces, _torques(model, speed, torques, power), units)
     loads += _couplings(model, loads)
     stiffness, supports = _stiffness(model, speed)
@@ -374,13 +386,13 @@ def static(model, speed=None, forces=None, torques=None, power=None, units: str 
     reactions = tuple(_reaction(model, speed, q, *support) for support in supports) + _axial_holds(model, loads)
     reactions += _pedestal_reactions(model, q, reactions, loads)
     return StaticResult(model=model, speed=speed, coordinates=q, loads=tuple(loads), reactions=reactions,
-                        shafts=_shaft_results(model, q, loads))
+                        shafts=_shaft_results(model, q, loads, allowable_stress))
 
 
-def _shaft_results(model, q, loads) -> dict:
+def _shaft_results(model, q, loads, allowable_stress=None) -> dict:
     """Per flexible rotor: its shaft's stations with the sag, the shear force and the bending
-    moment of the static solution (empty when every rotor is rigid)."""
-    return {r.name: shaft_statics(model, r, q, loads) for r in model.rotors
+    moment of the static solution, the torque and the stresses (empty when every rotor is rigid)."""
+    return {r.name: shaft_statics(model, r, q, loads, allowable_stress) for r in model.rotors
             if r.flexible is not None and model.dofs.on_bearings(r.name)}
 
 

@@ -151,7 +151,7 @@ KEY_KINDS = {
                      "outer_diameter", "inner_diameter", "element_length", "width", "diameter", "clearance",
                      "radial_clearance", "driver_radius"), "length"),
     "amount": "unbalance", "viscosity": "viscosity", "load": "force", "pretension": "force",
-    "density": "density", **dict.fromkeys(("young_modulus", "shear_modulus"), "pressure"),
+    "density": "density", **dict.fromkeys(("young_modulus", "shear_modulus", "allowable_stress"), "pressure"),
 }
 #: the unit of the fields that keep their model-file unit in every system
 KEY_UNITS = {"maxwell_time": "s", "phase_deg": "deg", "pressure_angle": "deg", "service_speed_rpm": "rpm",

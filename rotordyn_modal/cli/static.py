@@ -1,4 +1,5 @@
-"""``static MODEL [--speed S] [--power W] [--force BODY:X,Y,Z:FX,FY,FZ] [--out FILE.csv]``."""
+"""``static MODEL [--speed S] [--power W] [--force BODY:X,Y,Z:FX,FY,FZ] [--allowable-stress PA]
+[--out FILE.csv]``."""
 
 from __future__ import annotations
 
@@ -27,6 +28,12 @@ then the sag (relative to the stator and absolute), the shear force and the bend
 both planes and the bending stress are listed station by station along it, with a summary
 (largest sag, moment and stress, and where); --plot draws them as a sag, shear force and
 bending moment diagram along each flexible shaft (bending moments sagging positive).
+The torque each shaft carries (from the transmitted power or torque and given moments, taken
+by the rotor's coupling at its centre of mass) adds the torsional shear stress T c / J; the
+section's von Mises stress sqrt(sigma^2 + 3 tau^2) is judged against the allowable stress:
+the shaft's material's allowable_stress [Pa] in the model file, or --allowable-stress for every
+shaft (Pa; psi with --units us). The summary gives the largest von Mises stress, where, and the
+verdict (pass when it is at most the allowable stress; 'not evaluated' without one).
 
 BODY is 'stator' or a rotor's name; points and vectors are in model axes, SI units (m, N, N m;
 with --units us: in, lbf, lbf in, and --power in hp; the tables then in in, lbf, lbf in, their
@@ -40,15 +47,17 @@ CSV columns: table,kind,name,body,x_m,y_m,z_m,Fx_N,Fy_N,Fz_N,Mx_Nm,My_Nm,Mz_Nm,u
 is the load's source, the displaced point, or the support; 'on' what a support stands on).
 With a flexible rotor, 'shaft' rows follow (name: the node, n0 at the shaft's start) and add
 the columns side,from_start_m,u_m,uy_abs_m,uz_abs_m,Vy_N,Vz_N,V_N,Mby_Nm,Mbz_Nm,Mb_Nm,
-outer_diameter_m,stress_Pa (a shaft along x; the letters name the plane of u_y or u_z: uy_m
-is the sag along y relative to the stator, Vy_N and Mby_Nm the shear force and bending moment
-in that plane; docs/static.md).
+outer_diameter_m,stress_Pa,T_Nm,shear_stress_Pa,von_mises_Pa,allowable_Pa,utilization (a shaft
+along x; the letters name the plane of u_y or u_z: uy_m is the sag along y relative to the
+stator, Vy_N and Mby_Nm the shear force and bending moment in that plane; T_Nm the torque,
+utilization von_mises / allowable, empty without an allowable stress; docs/static.md).
 
 examples:
   rotordyn-modal static examples/motor_pump_on_mounts.toml
   rotordyn-modal static examples/gear_machine.toml --speed 3000 --power 15000 --out static.csv
   rotordyn-modal static examples/journal_rotor.toml --speed 6000 --force rotor:0,0,0:0,0,-200
-  rotordyn-modal static examples/flexible_pump_on_mounts.toml --plot shaft.png"""
+  rotordyn-modal static examples/flexible_pump_on_mounts.toml --plot shaft.png
+  rotordyn-modal static examples/flexible_pump_on_mounts.toml --allowable-stress 120e6"""
 
 
 def add_arguments(parser):
@@ -62,6 +71,9 @@ def add_arguments(parser):
                         help="a static force [N; lbf] at a point [m; in] of the stator or a rotor (repeat for more)")
     parser.add_argument("--moment", action="append", metavar="BODY:MX,MY,MZ",
                         help="a static moment [N m; lbf in] on the stator or a rotor (repeat for more)")
+    parser.add_argument("--allowable-stress", metavar="STRESS",
+                        help="allowable von Mises stress [Pa; psi] of every flexible shaft (default: each "
+                             "material's allowable_stress)")
     add_outputs(parser)
 
 
@@ -75,7 +87,8 @@ def run(args) -> int:
     speed = None if args.speed is None else float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
     forces = [_force(text, args.units) for text in args.force or ()] + \
         [_moment(text, args.units) for text in args.moment or ()]
-    result = static(model, speed=speed, forces=forces, power=_power(args.power, args.units), units=args.units)
+    result = static(model, speed=speed, forces=forces, power=_power(args.power, args.units), units=args.units,
+                    allowable_stress=_allowable(args.allowable_stress, args.units))
     table = _in_units(result.to_dataframe(), args.units)
     if args.out:
         write_table(table, args) if args.out == "-" else write_table(table, _quietly(args))
@@ -85,6 +98,16 @@ def run(args) -> int:
         use_agg()
         save_figure(result.plot_shafts(units=args.units), args)
     return 0
+
+
+def _allowable(text, system: str = "si"):
+    """``--allowable-stress`` [Pa, or psi in US units] in Pa, or None."""
+    if text is None:
+        return None
+    value = parse_number(text, "--allowable-stress")
+    if not value > 0:
+        raise InputError(f"--allowable-stress {text}: expected a stress > 0 [{unit_label('pressure', system)}]")
+    return float(from_system(value, "pressure", system))
 
 
 def _quietly(args):
@@ -132,7 +155,24 @@ def _shaft_summary(shaft, system="si") -> str:
         parts.append(f"{what} {value * scale:.4g} {unit} at {shaft.label(i, quantity)} ({shaft.axis_names[2]} = "
                      f"{shaft.position[i] * x:.4g} {x_unit})")
     indent = " " * (len(shaft.rotor) + 4)
-    return f"  {shaft.rotor}: largest {parts[0]}; {parts[1]};\n{indent}{parts[2]}; {parts[3]}"
+    return f"  {shaft.rotor}: largest {parts[0]}; {parts[1]};\n{indent}{parts[2]}; {parts[3]};\n{indent}" \
+        + _stress_line(shaft, system)
+
+
+def _stress_line(shaft, system="si") -> str:
+    """The shaft's stress verdict: its largest von Mises stress (with the torque there), where,
+    against the allowable stress."""
+    from ..plotting.shaft_statics import statics_scales
+
+    scales = statics_scales(system)
+    (s, s_unit), (x, x_unit), (m, m_unit) = scales["stress"], scales["length"], scales["moment"]
+    check = shaft.stress_check()
+    text = (f"von Mises stress {check.von_mises * s:.4g} {s_unit} (torque {abs(check.torque) * m:.4g} {m_unit}) "
+            f"at {check.label} ({shaft.axis_names[2]} = {check.position * x:.4g} {x_unit})")
+    if check.verdict == "not evaluated":
+        return text + ": not evaluated (no allowable_stress for its material, no --allowable-stress)"
+    return text + f", allowable {check.allowable * s:.4g} {s_unit}: {check.verdict} " \
+        f"(utilization {check.utilization:.3g})"
 
 
 def _vector(text: str, option: str, whole: str) -> list:

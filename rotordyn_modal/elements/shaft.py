@@ -60,12 +60,16 @@ class Material:
         E [Pa]
     shear_modulus : float
         G [Pa]
+    allowable_stress : float or None
+        [Pa] the largest von Mises stress the static check allows in a shaft of this material
+        (``static``'s stress verdict); None: not judged.
     """
 
     name: str
     density: float
     young_modulus: float
     shear_modulus: float
+    allowable_stress: float | None = None
 
     @classmethod
     def from_poisson(cls, name: str, density: float, young_modulus: float, poisson_ratio: float) -> "Material":

@@ -42,7 +42,7 @@ THINNEST, THICKEST = 1e-6, 1e3
 MAX_NODES = 500
 #: keys of a rotor table that make it flexible or only mean something on a flexible rotor
 SHAFT_KEYS = ("shaft", "disks", "point_masses", "start", "shear", "element_length")
-_MATERIAL_KEYS = ("name", "density", "young_modulus", "shear_modulus", "poisson_ratio")
+_MATERIAL_KEYS = ("name", "density", "young_modulus", "shear_modulus", "poisson_ratio", "allowable_stress")
 _SECTION_KEYS = ("length", "outer_diameter", "inner_diameter", "material", "elements", "layers")
 _LAYER_KEYS = ("outer_diameter", "inner_diameter", "material")
 _DISK_KEYS = ("name", "axial_position", "mass", "polar_inertia", "diametral_inertia", "outer_diameter",
@@ -205,7 +205,9 @@ def materials(source: str, data) -> dict[str, Material]:
             raise table.error(problem[0], raw.get(problem[0]), problem[2])
         if shear is None:
             shear = young / (2.0 * (1.0 + nu))
-        out[name] = Material(name=name, density=density, young_modulus=young, shear_modulus=shear)
+        allowable = table.number("allowable_stress", positive=True)
+        out[name] = Material(name=name, density=density, young_modulus=young, shear_modulus=shear,
+                             allowable_stress=allowable)
     return out
 
 

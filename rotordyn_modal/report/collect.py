@@ -56,6 +56,7 @@ SHOWN_UNITS = {
     "stiffness": {"si": unit_scale("stiffness", "si"), "us": unit_scale("stiffness", "us")},
     "mass": {"si": unit_scale("mass", "si"), "us": unit_scale("mass", "us")},
     "density": {"si": unit_scale("density", "si"), "us": unit_scale("density", "us")},
+    "stress": {"si": (1e-6, "MPa"), "us": unit_scale("pressure", "us")},
 }
 
 
@@ -231,6 +232,25 @@ def _static(data):
         data.results["static"] = static(data.model, speed=data.inputs.mcs)
     except InputError as error:
         data.skipped["static"] = str(error)
+        return
+    for check in data.results["static"].stress_checks():
+        _stress_criterion(data, check)
+
+
+def _stress_criterion(data, check):
+    """A flexible shaft's largest von Mises stress under its static loads against its material's
+    ``allowable_stress`` (docs/static.md)."""
+    name = f"Shaft stress, {check.rotor} (von Mises, static)"
+    where = f"at {check.label}"
+    if check.verdict == "not evaluated":
+        data.criteria.append(Criterion.of(
+            name, "not evaluated", "static", "no allowable_stress given for the shaft's material "
+            "(docs/model-file.md)", quantities=[("value", "{0:.3g} {unit} " + where, "stress", (check.von_mises,))]))
+        return
+    data.criteria.append(Criterion.of(
+        name, check.verdict, "static", f"governing: {check.label}, utilization {check.utilization:.3g}",
+        quantities=[("value", "{0:.3g} {unit} " + where, "stress", (check.von_mises,)),
+                    ("limit", "<= {0:.3g} {unit} (allowable_stress)", "stress", (check.allowable,))]))
 
 
 def _campbell(data):

@@ -188,12 +188,16 @@ def _shaft_statics(result, units) -> list:
     rows = []
     for shaft in shafts:
         for quantity, what in (("sag", "sag"), ("shear", "shear force"), ("moment", "bending moment"),
-                               ("stress", "bending stress")):
-            factor, unit = scales[quantity]
+                               ("stress", "bending stress"), ("torque", "torque"), ("von_mises", "von Mises stress")):
+            factor, unit = scales[{"torque": "moment", "von_mises": "stress"}.get(quantity, quantity)]
             value, i = shaft.largest(quantity)
             rows.append([shaft.rotor, f"largest {what} [{unit}]", _g(value * factor),
                          shaft.label(i, quantity), f"{shaft.axis_names[2]} = {_g(shaft.position[i] * to_length)}"])
-    return ["<h3>Flexible shafts: sag, shear force and bending moment</h3>",
+    return ["<h3>Flexible shafts: sag, shear force, bending moment and stress</h3>",
+            "<p>Stresses at the outer fibre of the section: bending <i>&sigma; = M c / I</i>, torsion "
+            "<i>&tau; = T c / J</i> (the torque of the loads' moments about the spin axis; none without "
+            "a transmitted torque), von Mises <i>&radic;(&sigma;&sup2; + 3 &tau;&sup2;)</i> against the "
+            "material's allowable_stress (the criterion above; docs/static.md).</p>",
             _table(rows, [("rotor", True), ("quantity", True), ("value", False), ("station", True),
                           (f"position, model axes [{length_unit}]", True)]),
             _figure(result.plot_shafts(units=units),

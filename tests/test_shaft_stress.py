@@ -116,6 +116,31 @@ def test_a_transmitted_torque_adds_its_shear_stress():
     assert override.stress_checks()[0].verdict == "fail"         # 13.6 MPa > 10 MPa
 
 
+def test_coupling_position_is_where_the_torque_leaves_the_shaft():
+    """With coupling_position = 0.05 m (the drive end) the same 50 N m runs from there to the
+    pulley at 0.9 m: |T| = 50 N m on every station between, 0 outside; the coupling is a
+    station of the mesh; the loads table shows it there; a position off the shaft, or one on a
+    rigid rotor, is refused by name."""
+    data = _belt_data([0.9, 0.0, 0.0])
+    data["transmissions"][0]["driver_radius"] = 0.1
+    data["rotors"][0]["coupling_position"] = 0.05
+    result = rdm.static(rdm.Model.from_dict(data), speed=100.0, torques=50.0)
+    shaft = result.shafts["s"]
+    carrying = ((shaft.z > 0.05 + 1e-9) | ((shaft.z == 0.05) & (shaft.side == "right"))) & \
+        ((shaft.z < 0.9 - 1e-9) | ((shaft.z == 0.9) & (shaft.side == "left")))
+    assert 0.05 in shaft.z
+    np.testing.assert_allclose(np.abs(shaft.torque), np.where(carrying, 50.0, 0.0), rtol=1e-12, atol=1e-12)
+    (coupling,) = [x for x in result.loads if x.kind == "coupling" and x.body == "s"]
+    np.testing.assert_allclose(coupling.point, [0.05, 0.0, 0.0], atol=1e-15)
+    data["rotors"][0]["coupling_position"] = 1.5
+    with pytest.raises(rdm.ModelError, match=r"rotors.s\] coupling_position = 1.5: expected an axial position"):
+        rdm.Model.from_dict(data)
+    rigid = _belt_data()
+    rigid["rotors"][1]["coupling_position"] = 0.1
+    with pytest.raises(rdm.ModelError, match=r"rotors.motor\] coupling_position = 0.1: expected no value"):
+        rdm.Model.from_dict(rigid)
+
+
 def test_allowable_stress_is_refused_by_name():
     data = _data(1.0, (0.0, 1.0), allowable=-5.0)
     with pytest.raises(rdm.InputError, match=r"materials.steel\] allowable_stress = -5"):

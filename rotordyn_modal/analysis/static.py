@@ -610,7 +610,8 @@ def _couplings(model, loads) -> list:
         scale = sum(np.linalg.norm(x.moment) + np.linalg.norm(x.force) * np.linalg.norm(x.point - centre)
                     for x in mine)
         if abs(spin) > 1e-13 * scale:
-            out.append(StaticLoad("coupling", rotor.name, rotor.name, centre, np.zeros(3), -spin * e))
+            where = centre if rotor.coupling_position is None else rotor.flexible.point(rotor.coupling_position)
+            out.append(StaticLoad("coupling", rotor.name, rotor.name, where, np.zeros(3), -spin * e))
     return out
 
 

@@ -29,7 +29,8 @@ both planes and the bending stress are listed station by station along it, with 
 (largest sag, moment and stress, and where); --plot draws them as a sag, shear force and
 bending moment diagram along each flexible shaft (bending moments sagging positive).
 The torque each shaft carries (from the transmitted power or torque and given moments, taken
-by the rotor's coupling at its centre of mass) adds the torsional shear stress T c / J; the
+by the rotor's coupling at its coupling_position, by default its centre of mass) adds the
+torsional shear stress T c / J; the
 section's von Mises stress sqrt(sigma^2 + 3 tau^2) is judged against the allowable stress:
 the shaft's material's allowable_stress [Pa] in the model file, or --allowable-stress for every
 shaft (Pa; psi with --units us). The summary gives the largest von Mises stress, where, and the

@@ -294,7 +294,8 @@ def _rotor(table: _Table, ratio: float, materials=None, spin_axis=None) -> Rotor
     for key in _flexible.SHAFT_KEYS:
         if key in table.data:
             raise table.error(key, table.data[key], "no value on a rigid rotor (a rotor with a [[rotors.shaft]] "
-                              "is flexible; only then does it take disks, point_masses, start, shear, element_length)")
+                              "is flexible; only then does it take disks, point_masses, start, shear, element_length, "
+                              "coupling_position)")
     polar = table.number("polar_inertia", required=True, positive=True)
     diametral = table.number("diametral_inertia", required=True, positive=True)
     if polar > 2.0 * diametral * (1 + 1e-12):
@@ -320,6 +321,10 @@ def _flexible_rotor(table: _Table, ratio: float, materials, spin_axis) -> Rotor:
     _flexible.check_consistent(table, {"mass": mass, "center_of_mass": centre, "polar_inertia": polar,
                                        "diametral_inertia": diametral, "_length": shaft.length})
     keys = {k: table.data[k] for k in _flexible.SHAFT_KEYS if k in table.data}
+    if "coupling_position" in table.data:      # [m] from the start: where the coupling holds the spin
+        keys["coupling_position"] = table.number("coupling_position")
+        _flexible._check_on_shaft(table, "coupling_position", keys["coupling_position"], shaft.length)
+        keys["coupling_position"] = min(max(keys["coupling_position"], 0.0), shaft.length)
     return Rotor(name=table.data["name"], mass=mass, center_of_mass=centre, polar_inertia=polar,
                  diametral_inertia=diametral, speed_ratio=ratio, **keys, flexible=shaft)
 
@@ -368,6 +373,7 @@ def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations, cle
         stations += [shaft.z_of(x.position) for x in (*sensors, *excitations)
                      if x.rotor == rotor.name and x.position is not None]
         stations += [c.axial_position for c in clearances if c.rotor == rotor.name]
+        stations += [rotor.coupling_position] if rotor.coupling_position is not None else []
         stations += [shaft.z_of(_gear_plane(t, rotors)) for t in transmissions
                      if rotor.name in (t.driver, t.driven) and _has_mesh(t)]
         meshed = _flexible.with_mesh(shaft, stations)

@@ -71,7 +71,7 @@ class Rotor:
     speed_ratio : float or None
         Spin speed / reference speed, signed about ``spin_axis``; None when a
         transmission fixes it. After validation it holds the resolved ratio.
-    shaft, disks, point_masses, start, shear, element_length
+    shaft, disks, point_masses, start, shear, element_length, coupling_position
         The keys of a flexible rotor (docs/model-file.md, "Flexible rotors"). After validation
         :attr:`flexible` holds its :class:`~rotordyn_modal.model.flexible.Shaft` with the mesh,
         and ``mass`` ... ``diametral_inertia`` the values computed from it; None for a rigid rotor.
@@ -92,6 +92,7 @@ class Rotor:
     start: Any = None
     shear: str | None = None
     element_length: float | None = None
+    coupling_position: float | None = None
     clearances: Any = None
     flexible: Any = field(default=None, repr=False, compare=False)
 

@@ -41,7 +41,7 @@ THINNEST, THICKEST = 1e-6, 1e3
 #: most nodes of one flexible rotor's mesh (its node matrices are dense: 6 N x 6 N each)
 MAX_NODES = 500
 #: keys of a rotor table that make it flexible or only mean something on a flexible rotor
-SHAFT_KEYS = ("shaft", "disks", "point_masses", "start", "shear", "element_length")
+SHAFT_KEYS = ("shaft", "disks", "point_masses", "start", "shear", "element_length", "coupling_position")
 _MATERIAL_KEYS = ("name", "density", "young_modulus", "shear_modulus", "poisson_ratio", "allowable_stress")
 _SECTION_KEYS = ("length", "outer_diameter", "inner_diameter", "material", "elements", "layers")
 _LAYER_KEYS = ("outer_diameter", "inner_diameter", "material")

@@ -101,14 +101,7 @@ def _system_available() -> float:
 
 def _meminfo_available() -> float:
     """``MemAvailable`` of ``/proc/meminfo`` (Linux) [bytes], inf elsewhere."""
-    try:
-        with open("/proc/meminfo") as handle:
-            for line in handle:
-                if line.startswith("MemAvailable:"):
-                    return float(line.split()[1]) * 1024
-    except OSError:
-        pass
-    return float("inf")
+    return _proc_bytes("/proc/meminfo", "MemAvailable", float("inf"))
 
 
 def _address_space_room() -> tuple[float, str]:
@@ -126,14 +119,20 @@ def _address_space_room() -> tuple[float, str]:
 
 
 def _virtual_size() -> float:
+    """``VmSize`` of ``/proc/self/status`` (Linux) [bytes], 0 elsewhere."""
+    return _proc_bytes("/proc/self/status", "VmSize", 0.0)
+
+
+def _proc_bytes(path: str, field: str, missing: float) -> float:
+    """The ``FIELD:  N kB`` line of a ``/proc`` file [bytes], ``missing`` without the file or line."""
     try:
-        with open("/proc/self/status") as handle:
+        with open(path) as handle:
             for line in handle:
-                if line.startswith("VmSize:"):
+                if line.startswith(field + ":"):
                     return float(line.split()[1]) * 1024
     except OSError:
         pass
-    return 0.0
+    return missing
 
 
 def _cgroup_room() -> tuple[float, str]:

@@ -9,9 +9,9 @@ CSV, TDMS) are allowed much more. Each limit can be raised by an environment var
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
+from .._limits import environment_number
 from ..errors import InputError
 
 __all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "check_size", "limit_bytes", "read_limited"]
@@ -29,13 +29,7 @@ def limit_bytes(kind: str) -> tuple[int, str]:
     """The limit of a kind of file ('model': model and study files; 'measured') [bytes],
     and the environment variable that sets it."""
     variable, default = _LIMITS[kind]
-    text = os.environ.get(variable, "")
-    try:
-        megabytes = float(text) if text.strip() else float(default)
-    except ValueError:
-        raise InputError(f"{variable}={text!r}: expected a number of megabytes") from None
-    if not megabytes > 0:
-        raise InputError(f"{variable}={text!r}: expected a number of megabytes > 0")
+    megabytes = environment_number(variable, "a number of megabytes > 0", lambda v: v > 0, float(default))
     return int(megabytes * 2**20), variable
 
 

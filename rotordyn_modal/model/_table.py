@@ -75,6 +75,14 @@ class Table:
             raise self.error(key, value, "one of " + ", ".join(repr(c) for c in choices))
         return value
 
+    def name_of(self, key: str, names, what: str, *, required=False, hint: str = "") -> str | None:
+        """A :meth:`text` that names one of ``names`` (None when absent and not ``required``):
+        else ``expected the name of one of the WHAT NAMES HINT``."""
+        value = self.text(key, required=required)
+        if value is not None and value not in names:
+            raise self.error(key, value, f"the name of one of the {what} " + visible_names(names) + hint)
+        return value
+
     def array(self, key: str, shapes, default=None, *, required=False) -> np.ndarray:
         """A finite numeric array of one of ``shapes``."""
         if key not in self.data:

@@ -245,10 +245,7 @@ def _reference_rotor(top: _Table, rotor_tables: Mapping[str, _Table]) -> str | N
             return next(iter(rotor_tables))
         raise top.error("reference_rotor", "<missing>", "the name of one of the rotors "
                         + visible_names(rotor_tables) + " (required with several rotors)")
-    name = top.text("reference_rotor")
-    if name not in rotor_tables:
-        raise top.error("reference_rotor", name, "the name of one of the rotors " + visible_names(rotor_tables))
-    return name
+    return top.name_of("reference_rotor", rotor_tables, "rotors")
 
 
 # ----------------------------------------------------------------------------------------
@@ -443,10 +440,7 @@ def _transmission(table: _Table, rotor_tables) -> Transmission:
     kind = table.text("type", required=True, choices=("gear", "belt"))
     names = []
     for key in ("driver", "driven"):
-        name = table.text(key, required=True)
-        if name not in rotor_tables:
-            raise table.error(key, name, "the name of one of the rotors " + visible_names(rotor_tables))
-        names.append(name)
+        names.append(table.name_of(key, rotor_tables, "rotors", required=True))
     if names[0] == names[1]:
         raise table.error("driven", names[1], "a rotor other than the driver")
     teeth = table.data.get("driver_teeth")
@@ -574,9 +568,7 @@ def _speed_ratios(source: str, rotor_tables: Mapping[str, _Table], transmissions
 
 def _unbalance(table: _Table, rotor_tables, rotors) -> Unbalance:
     table.check_keys(input_keys("unbalances"))
-    rotor = table.text("rotor", required=True)
-    if rotor not in rotor_tables:
-        raise table.error("rotor", rotor, "the name of one of the rotors " + visible_names(rotor_tables))
+    rotor = table.name_of("rotor", rotor_tables, "rotors", required=True)
     common = {"rotor": rotor, "phase_deg": table.number("phase_deg", default=0.0),
               "axial_offset": table.number("axial_offset", default=0.0)}
     if "grade" not in table.data:
@@ -651,11 +643,7 @@ def _excitation(table: _Table, rotor_names, shafts=None) -> Excitation:
 
 def _carrying_rotor(table: _Table, rotor_names) -> str | None:
     """The optional ``rotor`` key of a sensor or excitation (None: the stator)."""
-    rotor = table.text("rotor", default=None)
-    if rotor is not None and rotor not in rotor_names:
-        raise table.error("rotor", rotor, "the name of one of the rotors " + visible_names(rotor_names)
-                          + " (or no rotor key for a point of the stator)")
-    return rotor
+    return table.name_of("rotor", rotor_names, "rotors", hint=" (or no rotor key for a point of the stator)")
 
 
 __all__ = ["validate", "plain_copy", "mesh_name"]

@@ -21,7 +21,7 @@ from ..elements import _bearing_validation
 from ..elements._mount_validation import suspension as _suspension
 from . import flexible as _flexible
 from .geometry import gear_mesh
-from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, semidefinite_problem, visible, \
+from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, plain, semidefinite_problem, visible, \
     visible_names
 from .components import (
     ARRAY_TABLES, TOP_LEVEL_KEYS, Clearance, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
@@ -38,31 +38,7 @@ def plain_copy(data: Mapping[str, Any], source: str) -> dict[str, Any]:
     """A deep copy of the description with numpy arrays turned into lists."""
     if not isinstance(data, Mapping):
         raise ModelError(source, "<model>", type(data).__name__, "a table of keys (a mapping)")
-    return _plain(data)
-
-
-_SCALARS = (str, int, float, bool, type(None))
-
-
-def _plain(value):
-    kind = type(value)
-    if kind in _SCALARS:                       # the common case first: the ABC checks are slow
-        return value
-    if kind is dict:
-        return {str(k): _plain(v) for k, v in value.items()}
-    if kind is list:
-        if all(type(v) in _SCALARS for v in value):   # a vector: a flat copy will do
-            return value.copy()
-        return [_plain(v) for v in value]
-    if isinstance(value, Mapping):
-        return {str(k): _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
+    return plain(data)
 
 
 def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]:

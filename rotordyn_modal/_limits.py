@@ -12,6 +12,7 @@ refused before its work with its estimate (:func:`memory_problem`); the environm
 
 from __future__ import annotations
 
+import math
 import os
 
 from .errors import InputError
@@ -27,15 +28,37 @@ ENVIRONMENT = "ROTORDYN_MODAL_MAX_POINTS"
 
 def max_points() -> int:
     """The limit in force: ``ROTORDYN_MODAL_MAX_POINTS`` when set, else :data:`MAX_POINTS`."""
-    text = os.environ.get(ENVIRONMENT)
-    if text is None or not text.strip():
-        return MAX_POINTS
+    value = environment_number(ENVIRONMENT, "a whole number >= 1", lambda v: math.isfinite(v) and v >= 1)
+    return MAX_POINTS if value is None else int(value)
+
+
+def environment_number(variable: str, expected: str, valid, default=None):
+    """The number the environment variable ``variable`` holds, ``default`` when it is unset or blank.
+
+    Parameters
+    ----------
+    variable : str
+    expected : str
+        What it must hold, for the message ('a number of CPU minutes > 0 (or inf)').
+    valid : callable
+        ``valid(value) -> bool`` of the float read (nan where the text is no number).
+    default : optional
+        Returned when the variable is unset or blank.
+
+    Raises
+    ------
+    InputError
+        ``VARIABLE='TEXT': expected EXPECTED`` where the text is no number or ``valid`` refuses it.
+    """
+    text = os.environ.get(variable, "")
+    if not text.strip():
+        return default
     try:
-        value = int(float(text))
-    except (ValueError, OverflowError):
-        raise InputError(f"{ENVIRONMENT}={text!r}: expected a whole number >= 1") from None
-    if value < 1:
-        raise InputError(f"{ENVIRONMENT}={text!r}: expected a whole number >= 1")
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not valid(value):
+        raise InputError(f"{variable}={text!r}: expected {expected}")
     return value
 
 
@@ -71,15 +94,9 @@ def available_memory() -> float:
 
 def memory_room() -> tuple[float, str]:
     """:func:`available_memory` [bytes] and which limit it is, in words for a message."""
-    text = os.environ.get(MEMORY_ENVIRONMENT)
-    if text is not None and text.strip():
-        try:
-            value = float(text)
-        except ValueError:
-            value = float("nan")
-        if not value >= 0:
-            raise InputError(f"{MEMORY_ENVIRONMENT}={text!r}: expected a number of GiB >= 0 (or inf)")
-        return value * 2**30, f"{MEMORY_ENVIRONMENT}={text.strip()}"
+    value = environment_number(MEMORY_ENVIRONMENT, "a number of GiB >= 0 (or inf)", lambda v: v >= 0)
+    if value is not None:
+        return value * 2**30, f"{MEMORY_ENVIRONMENT}={os.environ[MEMORY_ENVIRONMENT].strip()}"
     return min((_system_available(), "the memory this machine has available (MemAvailable)"),
                _address_space_room(), _cgroup_room())
 
@@ -101,14 +118,7 @@ def _system_available() -> float:
 
 def _meminfo_available() -> float:
     """``MemAvailable`` of ``/proc/meminfo`` (Linux) [bytes], inf elsewhere."""
-    try:
-        with open("/proc/meminfo") as handle:
-            for line in handle:
-                if line.startswith("MemAvailable:"):
-                    return float(line.split()[1]) * 1024
-    except OSError:
-        pass
-    return float("inf")
+    return _proc_bytes("/proc/meminfo", "MemAvailable", float("inf"))
 
 
 def _address_space_room() -> tuple[float, str]:
@@ -126,14 +136,20 @@ def _address_space_room() -> tuple[float, str]:
 
 
 def _virtual_size() -> float:
+    """``VmSize`` of ``/proc/self/status`` (Linux) [bytes], 0 elsewhere."""
+    return _proc_bytes("/proc/self/status", "VmSize", 0.0)
+
+
+def _proc_bytes(path: str, field: str, missing: float) -> float:
+    """The ``FIELD:  N kB`` line of a ``/proc`` file [bytes], ``missing`` without the file or line."""
     try:
-        with open("/proc/self/status") as handle:
+        with open(path) as handle:
             for line in handle:
-                if line.startswith("VmSize:"):
+                if line.startswith(field + ":"):
                     return float(line.split()[1]) * 1024
     except OSError:
         pass
-    return 0.0
+    return missing
 
 
 def _cgroup_room() -> tuple[float, str]:

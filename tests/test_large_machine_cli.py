@@ -163,6 +163,28 @@ def test_the_model_limit_is_the_documented_one_and_can_be_raised(tmp_path, capsy
     assert "ROTORDYN_MODAL_MAX_MODEL_MB='-1': expected a number of megabytes > 0" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("text", ["1e6", "1e13"])
+def test_a_file_limit_of_terabytes_reads_a_small_file_as_any_limit(monkeypatch, text):
+    """A limit far above the file (1e6 MB, more than the machine's memory; 1e13 MB, more bytes
+    than a read may ask for) is only a limit: the model and a measured file are read (one read
+    of the limit itself once failed with MemoryError or OverflowError, exit 1)."""
+    from rotordyn_modal.io.limits import read_limited
+
+    monkeypatch.setenv("ROTORDYN_MODAL_MAX_MODEL_MB", text)
+    monkeypatch.setenv("ROTORDYN_MODAL_MAX_MEASURED_MB", text)
+    model = ROOT / "examples" / "fan_on_bearings.toml"
+    assert main(["check", str(model)]) == 0
+    assert read_limited(model, "measured", "measured-data file") == model.read_bytes()
+
+
+@pytest.mark.parametrize("text", ["inf", "1e400", "nan"])
+def test_a_file_limit_that_is_no_finite_number_is_refused_in_one_line(capsys, monkeypatch, text):
+    monkeypatch.setenv("ROTORDYN_MODAL_MAX_MODEL_MB", text)
+    assert main(["check", str(ROOT / "examples" / "fan_on_bearings.toml")]) == 2
+    err = [line for line in capsys.readouterr().err.splitlines() if line.strip()]
+    assert len(err) == 1 and f"ROTORDYN_MODAL_MAX_MODEL_MB={text!r}: expected a number of megabytes > 0" in err[0], err
+
+
 def test_a_study_file_over_the_limit_is_refused(tmp_path, capsys):
     big = _big_file(tmp_path / "big.study.toml", 10.5)
     _refused(capsys, ["study", str(ROOT / "examples" / "gear_machine.toml"), "--spec", str(big),

@@ -99,6 +99,15 @@ def test_a_lower_limit_refuses_and_allow_long_runs_it_anyway(examples_dir, capsy
         f"{_work.ENVIRONMENT}='soon': expected a number of CPU minutes > 0 (or inf)")
 
 
+@pytest.mark.parametrize("text", ["lots", "0", "1.5", "inf"])
+def test_a_thread_count_that_is_no_whole_number_is_refused_in_one_line(examples_dir, capsys, monkeypatch, text):
+    """ROTORDYN_MODAL_THREADS (the eigen-solutions' threads) is read like the other limits: a value
+    that is no whole number >= 1 is named in one line, exit 2 (was ValueError, exit 1)."""
+    monkeypatch.setenv("ROTORDYN_MODAL_THREADS", text)
+    assert _refusal(capsys, ["campbell", examples_dir / "fan_on_bearings.toml", "--speeds", "0:3000:31"]).endswith(
+        f"ROTORDYN_MODAL_THREADS={text!r}: expected a whole number of threads >= 1")
+
+
 def test_an_eigen_solution_is_timed_at_an_eighth_of_the_size_and_scaled(monkeypatch):
     asked = []
     monkeypatch.setattr(_work, "_timed_eig", lambda size: asked.append(size) or 2.0)

@@ -10,10 +10,14 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from .._limits import environment_number
+
 __all__ = ["CHUNK_BYTES", "chunk_slices", "concatenated", "one_blas_thread"]
 
 
 _THREADS = max(1, min(4, os.cpu_count() or 1))
+#: environment variable: the threads of a batch (1: one core, as a study's workers set it)
+THREADS_ENVIRONMENT = "ROTORDYN_MODAL_THREADS"
 
 
 #: batches whose work arrays exceed this are shared between threads [bytes]
@@ -74,7 +78,8 @@ def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
     """
     global _POOL
     count = len(batches[0])
-    threads = int(os.environ.get("ROTORDYN_MODAL_THREADS", _THREADS))
+    threads = int(environment_number(THREADS_ENVIRONMENT, "a whole number of threads >= 1",
+                                     lambda v: v >= 1 and v.is_integer(), _THREADS))
     pieces = max(1, min(count, -(-count * item_bytes // _PART_BYTES)))
     if threads > 1 and count * item_bytes >= _THREAD_BYTES:
         pieces = max(pieces, min(count, threads))

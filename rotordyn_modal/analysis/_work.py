@@ -28,12 +28,12 @@ command line's ``--allow-long`` lifts it for one run.
 from __future__ import annotations
 
 import functools
-import os
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
+from .._limits import environment_number
 from ..errors import InputError
 
 __all__ = ["ENVIRONMENT", "DEFAULT_MINUTES", "Work", "limit_seconds", "eig_seconds", "expected_crossings",
@@ -69,15 +69,8 @@ _DENSE_FREQUENCIES_DOF = 1200
 def limit_seconds() -> float:
     """The limit in force [CPU s]: ``ROTORDYN_MODAL_MAX_CPU_MINUTES`` when set, else
     :data:`DEFAULT_MINUTES`."""
-    text = os.environ.get(ENVIRONMENT, "")
-    if not text.strip():
-        return 60.0 * DEFAULT_MINUTES
-    try:
-        minutes = float(text)
-    except ValueError:
-        minutes = float("nan")
-    if not minutes > 0:
-        raise InputError(f"{ENVIRONMENT}={text!r}: expected a number of CPU minutes > 0 (or inf)")
+    minutes = environment_number(ENVIRONMENT, "a number of CPU minutes > 0 (or inf)", lambda v: v > 0,
+                                 DEFAULT_MINUTES)
     return 60.0 * minutes
 
 

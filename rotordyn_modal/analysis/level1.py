@@ -546,28 +546,9 @@ def rigid_support_critical_speed(model) -> float:
     the UCS map (:func:`rotordyn_modal.analysis.ucs_map.forward_critical_speeds`); it is the
     map's rigid-support asymptote with the casing held as well.
     """
-    import scipy.linalg
-
-    from ..assembly import bearing_motion
-    from .ucs_map import _RADIAL_OF, _Pencil, forward_critical_speeds
+    from .ucs_map import _Pencil, _rigid_support
 
     if not model.bearings:
         raise InputError("no bearings: a critical speed on rigid supports needs a rotor on bearings")
-    parts = _Pencil(model, list(model.bearings))
-    layout = model.dofs
-    n = parts.M.shape[0]
-    pins = [np.eye(layout.n_frame, n)]
-    for bearing in model.bearings:
-        rows, moves = bearing_motion(model, bearing)
-        block = np.zeros((6, n))
-        block[:, rows] = _RADIAL_OF(model) @ moves
-        pins.append(block[:3])
-        pedestal = layout.pedestal(bearing.name)
-        if pedestal is not None:
-            pins.append(np.eye(n)[pedestal])
-    T = scipy.linalg.null_space(np.vstack(pins))
-    if not T.shape[1]:
-        return float("nan")
-    forms = _whirl.WhirlForms(*(T.T @ X @ T for X in parts.forms))
-    return float(forward_critical_speeds(T.T @ parts.M @ T, T.T @ parts.G @ T, (T.T @ parts.rest @ T)[None],
-                                         forms, 1)[0, 0])
+    chosen = list(model.bearings)
+    return float(_rigid_support(_Pencil(model, chosen), model, chosen, 1, supports_fixed=True)[0])

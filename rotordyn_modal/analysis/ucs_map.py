@@ -660,18 +660,30 @@ def _curve_crossings(parts, curve, axis, speeds, values, grid, followed):
     return out
 
 
-def _rigid_support(parts, model, chosen, modes):
+def _rigid_support(parts, model, chosen, modes, supports_fixed=False):
     """Forward critical speeds with the chosen bearings radially rigid: each rotor pinned to the
     stator at its chosen bearings' points (two pins fix its lateral motion and tilt; the axial
     and tilt stiffness stay as given): the limit of the map as ``k`` grows without bound. The
-    coordinates are restricted to the null space of the pins' radial relative motions."""
+    coordinates are restricted to the null space of the pins' radial relative motions; with
+    ``supports_fixed`` the stator (or frame) and the chosen bearings' pedestals are held too
+    (API 617's rigid-support critical speed, :func:`rotordyn_modal.analysis.level1.rigid_support_critical_speed`).
+
+    Returns
+    -------
+    ndarray, shape (modes,) [rad/s]
+        The ``modes`` lowest, nan where there are fewer (all nan when the pins hold everything).
+    """
     n = parts.M.shape[0]
-    pins = []
+    layout = model.dofs
+    pins = [np.eye(layout.n_frame, n)] if supports_fixed else []
     for bearing in chosen:
         rows, moves = bearing_motion(model, bearing)
         block = np.zeros((6, n))
         block[:, rows] = _RADIAL_OF(model) @ moves
         pins.append(block[:3])
+        pedestal = layout.pedestal(bearing.name) if supports_fixed else None
+        if pedestal is not None:
+            pins.append(np.eye(n)[pedestal])
     T = scipy.linalg.null_space(np.vstack(pins))
     if not T.shape[1]:
         return np.full(modes, np.nan)

@@ -14,7 +14,7 @@ import dataclasses
 
 import numpy as np
 
-from ..model._table import LARGEST, Table, magnitude_problem, semidefinite_problem, visible, visible_names
+from ..model._table import LARGEST, Table, magnitude_problem, semidefinite_problem, visible
 from .bearings import BearingCoefficients, JournalData, local_to_model
 from ..model.components import Bearing, Pedestal, input_keys, is_finite_number
 from ..errors import ModelError
@@ -67,9 +67,7 @@ def bearings(tables: dict, rotors, spin_axis: np.ndarray, gravity: np.ndarray) -
 # ----------------------------------------------------------------------------------------
 def _bearing(table: Table, rotors, e: np.ndarray) -> Bearing:
     table.check_keys(input_keys("bearings"))
-    rotor = table.text("rotor", required=True)
-    if rotor not in rotors:
-        raise table.error("rotor", rotor, "the name of one of the rotors " + visible_names(rotors))
+    rotor = table.name_of("rotor", rotors, "rotors", required=True)
     position = _on_spin_axis(table, rotors[rotor], e)
     kind = table.text("type", default="linear", choices=("linear", "journal"))
     _check_keys_of_type(table, kind)

@@ -9,9 +9,11 @@ CSV, TDMS) are allowed much more. Each limit can be raised by an environment var
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
+from .._limits import environment_number
 from ..errors import InputError
 
 __all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "check_size", "limit_bytes", "read_limited"]
@@ -29,13 +31,8 @@ def limit_bytes(kind: str) -> tuple[int, str]:
     """The limit of a kind of file ('model': model and study files; 'measured') [bytes],
     and the environment variable that sets it."""
     variable, default = _LIMITS[kind]
-    text = os.environ.get(variable, "")
-    try:
-        megabytes = float(text) if text.strip() else float(default)
-    except ValueError:
-        raise InputError(f"{variable}={text!r}: expected a number of megabytes") from None
-    if not megabytes > 0:
-        raise InputError(f"{variable}={text!r}: expected a number of megabytes > 0")
+    megabytes = environment_number(variable, "a number of megabytes > 0 (not inf)", lambda v: 0 < v < math.inf,
+                                   float(default))
     return int(megabytes * 2**20), variable
 
 
@@ -86,8 +83,27 @@ def read_limited(path, kind: str, what: str) -> bytes:
     check_size(path, kind, what)
     limit, variable = limit_bytes(kind)
     with open(path, "rb") as handle:
-        data = handle.read(limit + 1)
+        data = _read_at_most(handle, limit + 1)
     if len(data) > limit:
         raise InputError(f"{path}: a {what} of more than the limit of {limit / 2**20:g} MB is not read "
                          f"(set {variable} to a number of MB to allow it)")
     return data
+
+
+#: bytes of one read of a pipe or device, whose size ``stat`` does not tell
+_BLOCK = 2**20
+
+
+def _read_at_most(handle, count: int) -> bytes:
+    """Up to ``count`` bytes of an open binary file: first as many as its size and one more (all
+    of a regular file, in one buffer of its size), then blocks of :data:`_BLOCK` (a pipe, a
+    device, a file that grew). One read of ``count`` would allocate ``count`` bytes at once,
+    which fails for a large limit (``ROTORDYN_MODAL_MAX_MODEL_MB=1e6``) whatever the file."""
+    size = os.fstat(handle.fileno()).st_size
+    parts = [handle.read(min(count, size + 1))]
+    count -= len(parts[0])
+    while count > 0 and parts[-1]:
+        parts.append(handle.read(min(count, _BLOCK)))
+        count -= len(parts[-1])
+    parts = [part for part in parts if part]
+    return parts[0] if len(parts) == 1 else b"".join(parts)

@@ -10,7 +10,7 @@ from .components import is_finite_number
 from ..errors import ModelError
 
 __all__ = ["Table", "unknown_key", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number",
-           "visible", "visible_names", "semidefinite_problem"]
+           "visible", "visible_names", "semidefinite_problem", "plain"]
 
 #: largest magnitude of a number in a model description (SI units): no machine needs more, and
 #: products of two such numbers (stiffness over mass, squared frequencies) stay far from overflow
@@ -73,6 +73,14 @@ class Table:
             raise self.error(key, value, "a non-empty string")
         if choices is not None and value not in choices:
             raise self.error(key, value, "one of " + ", ".join(repr(c) for c in choices))
+        return value
+
+    def name_of(self, key: str, names, what: str, *, required=False, hint: str = "") -> str | None:
+        """A :meth:`text` that names one of ``names`` (None when absent and not ``required``):
+        else ``expected the name of one of the WHAT NAMES HINT``."""
+        value = self.text(key, required=required)
+        if value is not None and value not in names:
+            raise self.error(key, value, f"the name of one of the {what} " + visible_names(names) + hint)
         return value
 
     def array(self, key: str, shapes, default=None, *, required=False) -> np.ndarray:
@@ -211,3 +219,29 @@ def shape_text(shape) -> str:
     if len(shape) == 1:
         return f"a {shape[0]}-list"
     return f"a {shape[0]}x{shape[1]} matrix"
+
+
+_SCALARS = (str, int, float, bool, type(None))
+
+
+def plain(value):
+    """``value`` in plain Python types: numpy arrays and scalars as lists and numbers, mappings as
+    dicts with string keys, tuples as lists; every container a copy (a flat list copied flat)."""
+    kind = type(value)
+    if kind in _SCALARS:                       # the common case first: the ABC checks are slow
+        return value
+    if kind is dict:
+        return {str(k): plain(v) for k, v in value.items()}
+    if kind is list:
+        if all(type(v) in _SCALARS for v in value):   # a vector: a flat copy will do
+            return value.copy()
+        return [plain(v) for v in value]
+    if isinstance(value, Mapping):
+        return {str(k): plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    return value

@@ -21,7 +21,7 @@ from ..elements import _bearing_validation
 from ..elements._mount_validation import suspension as _suspension
 from . import flexible as _flexible
 from .geometry import gear_mesh
-from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, semidefinite_problem, visible, \
+from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, plain, semidefinite_problem, visible, \
     visible_names
 from .components import (
     ARRAY_TABLES, TOP_LEVEL_KEYS, Clearance, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
@@ -38,31 +38,7 @@ def plain_copy(data: Mapping[str, Any], source: str) -> dict[str, Any]:
     """A deep copy of the description with numpy arrays turned into lists."""
     if not isinstance(data, Mapping):
         raise ModelError(source, "<model>", type(data).__name__, "a table of keys (a mapping)")
-    return _plain(data)
-
-
-_SCALARS = (str, int, float, bool, type(None))
-
-
-def _plain(value):
-    kind = type(value)
-    if kind in _SCALARS:                       # the common case first: the ABC checks are slow
-        return value
-    if kind is dict:
-        return {str(k): _plain(v) for k, v in value.items()}
-    if kind is list:
-        if all(type(v) in _SCALARS for v in value):   # a vector: a flat copy will do
-            return value.copy()
-        return [_plain(v) for v in value]
-    if isinstance(value, Mapping):
-        return {str(k): _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
+    return plain(data)
 
 
 def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]:
@@ -245,10 +221,7 @@ def _reference_rotor(top: _Table, rotor_tables: Mapping[str, _Table]) -> str | N
             return next(iter(rotor_tables))
         raise top.error("reference_rotor", "<missing>", "the name of one of the rotors "
                         + visible_names(rotor_tables) + " (required with several rotors)")
-    name = top.text("reference_rotor")
-    if name not in rotor_tables:
-        raise top.error("reference_rotor", name, "the name of one of the rotors " + visible_names(rotor_tables))
-    return name
+    return top.name_of("reference_rotor", rotor_tables, "rotors")
 
 
 # ----------------------------------------------------------------------------------------
@@ -449,10 +422,7 @@ def _transmission(table: _Table, rotor_tables) -> Transmission:
     kind = table.text("type", required=True, choices=("gear", "belt"))
     names = []
     for key in ("driver", "driven"):
-        name = table.text(key, required=True)
-        if name not in rotor_tables:
-            raise table.error(key, name, "the name of one of the rotors " + visible_names(rotor_tables))
-        names.append(name)
+        names.append(table.name_of(key, rotor_tables, "rotors", required=True))
     if names[0] == names[1]:
         raise table.error("driven", names[1], "a rotor other than the driver")
     teeth = table.data.get("driver_teeth")
@@ -580,9 +550,7 @@ def _speed_ratios(source: str, rotor_tables: Mapping[str, _Table], transmissions
 
 def _unbalance(table: _Table, rotor_tables, rotors) -> Unbalance:
     table.check_keys(input_keys("unbalances"))
-    rotor = table.text("rotor", required=True)
-    if rotor not in rotor_tables:
-        raise table.error("rotor", rotor, "the name of one of the rotors " + visible_names(rotor_tables))
+    rotor = table.name_of("rotor", rotor_tables, "rotors", required=True)
     common = {"rotor": rotor, "phase_deg": table.number("phase_deg", default=0.0),
               "axial_offset": table.number("axial_offset", default=0.0)}
     if "grade" not in table.data:
@@ -657,11 +625,7 @@ def _excitation(table: _Table, rotor_names, shafts=None) -> Excitation:
 
 def _carrying_rotor(table: _Table, rotor_names) -> str | None:
     """The optional ``rotor`` key of a sensor or excitation (None: the stator)."""
-    rotor = table.text("rotor", default=None)
-    if rotor is not None and rotor not in rotor_names:
-        raise table.error("rotor", rotor, "the name of one of the rotors " + visible_names(rotor_names)
-                          + " (or no rotor key for a point of the stator)")
-    return rotor
+    return table.name_of("rotor", rotor_names, "rotors", hint=" (or no rotor key for a point of the stator)")
 
 
 __all__ = ["validate", "plain_copy", "mesh_name"]

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from ._table import visible_names
+from ._table import plain, visible_names
 from .components import ARRAY_TABLES
 
 __all__ = ["parse_key", "get_value", "set_value", "scale_value", "change_at"]
@@ -134,21 +134,13 @@ def change_at(located, apply: str, value, key: str, source: str = "<model>") -> 
             raise InputError(f"{source}: parameter key {key!r}: holds {current!r}, which is not numeric "
                              "and cannot be scaled") from None
     if not indices:
-        container[field] = _plain(value)
+        container[field] = plain(value)
         return
     target = container[field]
     for depth, index in enumerate(indices[:-1]):
         target = _index(target, index, key, depth, source)
     _index(target, indices[-1], key, len(indices) - 1, source)
-    target[indices[-1]] = _plain(value)
+    target[indices[-1]] = plain(value)
     if field == "inertia" and len(indices) == 2 and indices[0] != indices[1]:
         # a product of inertia is one parameter: keep the tensor symmetric
-        container[field][indices[1]][indices[0]] = _plain(value)
-
-
-def _plain(value):
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
+        container[field][indices[1]][indices[0]] = plain(value)

@@ -29,6 +29,7 @@ import types
 import numpy as np
 
 from . import kinematics
+from ._jit import compile_together, numba_or_none
 from .kinematics import axial_rotation, rotation_tensor, skew, zhilin_derivative, zhilin_tensor
 
 FREE, PRESCRIBED = 0, 1
@@ -474,41 +475,27 @@ def compiled_namespace():
     """The kernels compiled by numba (``None`` when numba is not installed).
 
     Each function is rebound to a namespace whose globals are the compiled versions of the
-    others, so numba can call them from machine code. The ones ``rdm.simulate`` calls
+    others (:func:`rotordyn_modal.simulation._jit.compile_together`), so numba can call them
+    from machine code. The ones ``rdm.simulate`` calls
     (``assemble``, ``rhs``, ``potential``, ``bearing_wrenches``, ``sample_outputs``) are the
     allocation-light versions of :mod:`rotordyn_modal.simulation._fast` (same results to
     round-off, tested), which also compile much faster; the readable ones compile only
     when called.
     """
-    try:
-        import numba
-    except ImportError:
+    from . import _fast
+
+    if numba_or_none() is None:
         return None
-    namespace = {"__name__": __name__, "np": np, "FREE": FREE, "PRESCRIBED": PRESCRIBED, "SERIES_ANGLE": kinematics.SERIES_ANGLE}
-    sources = [(kinematics, name) for name in _KINEMATICS] + [(None, name) for name in _KERNELS]
-    for module, name in sources:
-        function = getattr(module, name) if module is not None else globals()[name]
-        rebound = types.FunctionType(function.__code__, namespace, name, function.__defaults__)
-        namespace[name] = numba.njit(cache=True, fastmath=False)(rebound)
-    fast = _compiled_fast(numba)
+    functions = [getattr(kinematics, name) for name in _KINEMATICS] + [globals()[name] for name in _KERNELS]
+    namespace = compile_together(functions, {"np": np, "FREE": FREE, "PRESCRIBED": PRESCRIBED,
+                                             "SERIES_ANGLE": kinematics.SERIES_ANGLE}, __name__)
+    fast = compile_together([getattr(_fast, name) for name in _fast.FUNCTIONS],
+                            {"np": np, "SERIES": _fast.SERIES}, _fast.__name__, inlined=_fast.INLINED)
     for name in _FAST:     # looked up by the readable callers when they compile, on first call
         namespace[name] = fast[name]
     compiled = types.SimpleNamespace(**{name: namespace[name] for name in _KERNELS})
     compiled.rhs_flat = fast["rhs_flat"]
     return compiled
-
-
-def _compiled_fast(numba):
-    """The allocation-light kernels of ``_fast``, compiled (a dict by name)."""
-    from . import _fast
-
-    namespace = {"__name__": _fast.__name__, "np": np, "SERIES": _fast.SERIES}
-    for name in _fast.FUNCTIONS:
-        function = getattr(_fast, name)
-        rebound = types.FunctionType(function.__code__, namespace, name, function.__defaults__)
-        inline = "always" if name in _fast.INLINED else "never"
-        namespace[name] = numba.njit(cache=True, inline=inline)(rebound)
-    return namespace
 
 
 def plain_namespace():

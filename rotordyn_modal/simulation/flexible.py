@@ -27,13 +27,13 @@ from __future__ import annotations
 
 import re
 import sys
-import types
 from types import SimpleNamespace
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
+from ._jit import compile_together, numba_or_none
 from ._system import announce_compilation
 from .flexible_journal import film_load
 
@@ -522,18 +522,14 @@ def _compiled(backend, journals=False):
     """:func:`linear_rhs` (:func:`journal_rhs` with ``journals``) compiled by numba (cached on
     disk), or None without numba ('auto')."""
     if "rhs" not in _COMPILED:
-        try:
-            import numba
-        except ImportError:
+        if numba_or_none() is None:
             _COMPILED["rhs"] = _COMPILED["journal"] = None
         else:
             from .flexible_journal import compiled_film_load
 
-            _COMPILED["rhs"] = numba.njit(cache=True)(linear_rhs)
-            namespace = {"__name__": __name__, "np": np, "linear_rhs": _COMPILED["rhs"],
-                         "film_load": compiled_film_load(numba)}
-            rebound = types.FunctionType(journal_rhs.__code__, namespace, "journal_rhs")
-            _COMPILED["journal"] = numba.njit(cache=True)(rebound)
+            namespace = compile_together([linear_rhs, journal_rhs], {"np": np, "film_load": compiled_film_load()},
+                                         __name__)
+            _COMPILED["rhs"], _COMPILED["journal"] = namespace["linear_rhs"], namespace["journal_rhs"]
     if _COMPILED["rhs"] is None and backend == "numba":
         raise InputError("backend 'numba': numba is not installed (pip install 'rotordyn_modal[fast]')")
     return _COMPILED["journal" if journals else "rhs"]

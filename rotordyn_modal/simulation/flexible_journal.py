@@ -15,13 +15,13 @@ large-rotation model.
 
 from __future__ import annotations
 
-import types
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
 from ._fast import _film_force, _sommerfeld_angle
+from ._jit import compile_together
 
 __all__ = ["Films", "journal_bearings", "constant_parts", "attachment_loads", "films", "film_load",
            "equilibrium", "wrenches", "compiled_film_load", "failure"]
@@ -197,14 +197,10 @@ def failure(model, system_films, state, message) -> InputError:
 _COMPILED: dict = {}
 
 
-def compiled_film_load(numba):
+def compiled_film_load():
     """:func:`film_load` compiled by numba with the large-rotation model's own film kernel
     (:func:`rotordyn_modal.simulation._fast._film_force`, compiled in a namespace of its own)."""
     if "film_load" not in _COMPILED:
-        namespace = {"__name__": __name__, "np": np}
-        for name, function in (("_sommerfeld_angle", _sommerfeld_angle), ("_film_force", _film_force),
-                               ("film_load", film_load)):
-            rebound = types.FunctionType(function.__code__, namespace, name, function.__defaults__)
-            namespace[name] = numba.njit(cache=True)(rebound)
+        namespace = compile_together([_sommerfeld_angle, _film_force, film_load], {"np": np}, __name__)
         _COMPILED["film_load"], _COMPILED["film_force"] = namespace["film_load"], namespace["_film_force"]
     return _COMPILED["film_load"]

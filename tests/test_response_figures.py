@@ -59,10 +59,15 @@ def _every_curve_in_its_legend(ax):
 
 # -- unbalance --------------------------------------------------------------------------------
 
+#: metres per unit of an amplitude axis
+PER_METRE = {"m": 1.0, "mm": 1e3, "µm": 1e6}
+
+
 def test_unbalance_amplitudes_on_log_axes_probes_apart_from_casing(fan_unbalance):
     """The probes' 0.1 µm and the casing's 100 µm curves are both readable: every amplitude axis
     is logarithmic, probe pairs' sensors never share an axis with the other sensors, and each
-    curve drawn is the result's amplitude of the sensor and source its legend names."""
+    curve drawn is the result's amplitude of the sensor and source its legend names (in the
+    axis' unit)."""
     import matplotlib.pyplot as plt
 
     model, result = fan_unbalance
@@ -73,12 +78,46 @@ def test_unbalance_amplitudes_on_log_axes_probes_apart_from_casing(fan_unbalance
     for ax in amplitude_axes:
         assert ax.get_yscale() == "log"
         _every_curve_in_its_legend(ax)
-        names = [line.get_label().split(": 1X ") for line in _curves(ax)]
+        names = [line.get_label().split(" (= ")[0].split(": 1X ") for line in _curves(ax)]
         kinds = {name in probes for name, _ in names}
         assert len(kinds) == 1, names
+        per_metre = PER_METRE[UNIT.findall(ax.get_ylabel())[0]]
         for line, (name, source) in zip(_curves(ax), names):
             expected = result.amplitude[result.outputs.index(name), result.sources.index(source)]
-            np.testing.assert_array_equal(np.nan_to_num(line.get_ydata()), expected)
+            np.testing.assert_allclose(np.nan_to_num(line.get_ydata()), expected * per_metre, rtol=1e-15)
+    plt.close(fig)
+
+
+def _plain(text):
+    """A tick label's text without matplotlib's math wrapper."""
+    return text.replace("$\\mathdefault{", "").replace("}$", "").replace("\\minus", "-").replace("−", "-")
+
+
+@pytest.mark.parametrize("case, units", [("fan", "si"), ("pump", "si"), ("fan", "us")])
+def test_unbalance_amplitude_ticks_read_in_an_engineering_unit(fan_unbalance, pump_unbalance, case, units):
+    """Amplitudes were drawn in metres (ticks 10^-6 m): each amplitude axis is in µm or mm (mil
+    in US units), the one where the largest curve reads between 1 and 1000 (µm or mil below),
+    and every tick label from a thousandth of that curve (and 0.001) up is a plain decimal
+    (0.1, 1, 10) equal to its tick's value, never a power of ten."""
+    import matplotlib.pyplot as plt
+
+    model, result = fan_unbalance if case == "fan" else pump_unbalance
+    fig = result.plot(units=units)
+    fig.canvas.draw()
+    for ax in [ax for ax in fig.axes if "Amplitude" in ax.get_ylabel()]:
+        unit = UNIT.findall(ax.get_ylabel())[0]
+        per_metre = {"si": PER_METRE, "us": {"mil": 1e3 / 0.0254, "in": 1 / 0.0254}}[units][unit]
+        rows = [result.outputs.index(line.get_label().split(": 1X ")[0]) for line in _curves(ax)]
+        largest = np.nanmax(result.amplitude[rows]) * per_metre
+        assert 1.0 <= largest < 1000.0 or (unit in ("µm", "mil") and largest < 1.0), (unit, largest)
+        low, high = ax.get_ylim()
+        shown = [(tick.get_loc(), _plain(tick.label1.get_text())) for tick in ax.yaxis.get_major_ticks()
+                 if low <= tick.get_loc() <= high and tick.label1.get_text()]
+        assert len(shown) >= 2
+        for value, text in shown:
+            if value >= max(largest / 1000, 1e-3):
+                assert re.fullmatch(r"\d+(\.\d+)?", text), (unit, value, text)
+                assert float(text) == pytest.approx(value, rel=1e-9)
     plt.close(fig)
 
 
@@ -603,4 +642,89 @@ def test_unbalance_curves_that_coincide_are_both_visible(examples_dir):
                 if a.shape == b.shape and np.allclose(a, b, rtol=1e-2, equal_nan=True):
                     assert line.get_linestyle() != earlier.get_linestyle(), line.get_label()
                     assert "(= " in line.get_label()
+    plt.close(fig)
+
+
+def _colour_near_path(image, line, colour, window):
+    """For each ``window`` of display x along ``line`` (drawn, inside its axes): whether a pixel
+    of ``colour`` (RGB 0-1, within 0.12) lies within two pixels of the line's path there."""
+    ax = line.axes
+    frame = ax.get_window_extent()
+    xy = line.get_transform().transform(np.column_stack([line.get_xdata(), line.get_ydata()]))
+    xy = xy[np.all(np.isfinite(xy), axis=1)]
+    height = image.shape[0]
+    px = np.arange(np.ceil(max(xy[0, 0], frame.x0)), np.floor(min(xy[-1, 0], frame.x1)))
+    py = np.interp(px, xy[:, 0], xy[:, 1])
+    matches = np.zeros(len(px), bool)
+    target = np.asarray(colour[:3])
+    for k, (x, y) in enumerate(zip(px, py)):
+        if not frame.y0 <= y <= frame.y1:
+            continue
+        row = int(round(height - y))
+        patch = image[max(row - 2, 0):row + 3, int(x) - 1:int(x) + 2, :3] / 255.0
+        matches[k] = np.any(np.all(np.abs(patch - target) < 0.12, axis=-1))
+    edges = np.arange(px[0], px[-1], window)
+    return px, [bool(matches[(px >= a) & (px < a + window)].any()) for a in edges], edges
+
+
+def test_unbalance_curves_lying_on_each_other_over_part_of_the_range_all_show(pump_unbalance):
+    """The pump's x and y probes for the pump's unbalance differ by more than 1 % and lie on each
+    other above 1500 rpm (closer than a line width): the y curve (drawn later, dashed like the
+    x curve) covered the x curve there.
+    Measured on the rendered pixels: along every curve of the probe panel, in every 20-pixel
+    stretch of speed, the curve's own colour shows on its path."""
+    import matplotlib.colors as mcolors
+    import matplotlib.pyplot as plt
+
+    model, result = pump_unbalance
+    fig = result.plot()
+    fig.canvas.draw()
+    image = np.asarray(fig.canvas.buffer_rgba())
+    ax = next(ax for ax in fig.axes if ax.get_title() == "probe pairs")
+    curves = _curves(ax)
+    assert len(curves) == 4
+    x, y = (next(line for line in curves if line.get_label().startswith(f"probe-pump-{d}: 1X pump")) for d in "xy")
+    a, b = (np.asarray(line.get_ydata(), float) for line in (x, y))
+    assert np.abs(a - b).max() > 0.01 * np.abs(a).max()              # not one curve within 1 %
+    high = np.asarray(x.get_xdata()) >= 1500
+    gap = np.abs(ax.transData.transform(np.column_stack([x.get_xdata(), a]))[high, 1]
+                 - ax.transData.transform(np.column_stack([y.get_xdata(), b]))[high, 1])
+    assert gap.max() < x.get_linewidth() * fig.dpi / 72           # on each other above 1500 rpm
+    for line in curves:
+        _, shown, edges = _colour_near_path(image, line, mcolors.to_rgb(line.get_color()), 20)
+        hidden = [float(ax.transData.inverted().transform((e, 0))[0]) for e, s in zip(edges, shown) if not s]
+        assert not hidden, (line.get_label(), np.round(hidden[:8]))
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("case", ["fan", "pump", "gear", "rubber"])
+def test_unbalance_peak_leaders_cross_no_curve(fan_unbalance, pump_unbalance, case):
+    """Leader lines of AF / SM labels crossed curves (fan_on_bearings' AF 95.7 at 5800 rpm across
+    the casing's curves, gear_machine's and rubber_mounts' labels below their peaks across
+    the other sensors'): every leader line drawn (from its label to its peak) crosses no
+    curve of its panel but within 6 sqrt(2) points of its own peak, and is at most 2 inches
+    long; each panel with peaks still labels its largest peak."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import curve_segments, segment_crossings
+
+    if case in ("fan", "pump"):
+        model, result = fan_unbalance if case == "fan" else pump_unbalance
+    else:
+        model = rdm.load_model(EXAMPLES / ("gear_machine.toml" if case == "gear" else "rubber_mounts.toml"))
+        result = rdm.unbalance_response(model, rdm.rpm(np.linspace(0, 6000 if case == "gear" else 3000, 151)))
+    fig = result.plot(peaks=result.peaks(rdm.rpm(3000 if case != "rubber" else 1500)))
+    fig.canvas.draw()
+    radius = 6 * np.sqrt(2) * fig.dpi / 72 + 1
+    total = 0
+    for ax in fig.axes:
+        segments = curve_segments(ax)
+        for label in [t for t in ax.texts if t.get_text().startswith("AF ")]:
+            total += 1
+            anchor = ax.transData.transform(label.xy)
+            start = label.arrow_patch.get_path().vertices[0]
+            crossed = segment_crossings(start, anchor, segments, anchor, radius)
+            assert not len(crossed), (label.get_text(), crossed[:4])
+            assert np.hypot(*(start - anchor)) <= 2 * fig.dpi, label.get_text()
+    assert total >= 2
     plt.close(fig)

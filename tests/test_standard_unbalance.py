@@ -343,8 +343,9 @@ def test_figure_labels_say_the_convention(tmp_path):
         fig = res.plot(checks=res.checks(model, mcs=rdm.rpm(6000.0)))
         mag = fig.axes[0]
         assert words in mag.get_ylabel()
+        per_metre = {"[m]": 1.0, "[mm]": 1e3, "[µm]": 1e6}[mag.get_ylabel().rpartition(" ")[2]]
         curve = next(line for line in mag.get_lines() if line.get_label().startswith("probe-x"))
-        factor = {"peak": 1.0, "pk-pk": 2.0, "rms": 1 / math.sqrt(2)}[kind]
+        factor = {"peak": 1.0, "pk-pk": 2.0, "rms": 1 / math.sqrt(2)}[kind] * per_metre
         np.testing.assert_allclose(curve.get_ydata(), factor * _rotor_closed_form(speeds, 5e-5), rtol=1e-9)
         limit = next(line for line in mag.get_lines() if "API 617" in line.get_label())
         assert np.nanmax(limit.get_ydata()) == pytest.approx(factor * 25.4e-6 / 2, rel=1e-14)

@@ -183,10 +183,10 @@ def test_figures_say_the_us_unit():
     assert "peak-to-peak [mil]" in labels(us) and "[lbf]" in labels(us) and "RMS [in/s]" in labels(us)
     assert "mil pk-pk" in texts(us) and "[m]" not in labels(us) and "[N]" not in labels(us)
     si = result.plot(forces="bearings", checks=checks)
-    assert "peak-to-peak [m]" in labels(si) and "[N]" in labels(si) and "RMS [mm/s]" in labels(si)
-    # the same curves, drawn in mil: the SI ones times 1000/0.0254 (the probe panel, first axes)
+    assert "peak-to-peak [µm]" in labels(si) and "[N]" in labels(si) and "RMS [mm/s]" in labels(si)
+    # the same curves, drawn in mil: the SI ones (µm) times 1e-6 * 1000/0.0254 (the probe panel, first axes)
     for a, b in zip(us.axes[0].get_lines(), si.axes[0].get_lines()):
-        np.testing.assert_allclose(a.get_ydata(), b.get_ydata() * 1000 / IN, rtol=1e-12)
+        np.testing.assert_allclose(a.get_ydata(), b.get_ydata() * 1e-6 * 1000 / IN, rtol=1e-12)
     assert "[mil]" in labels(result.plot_orbits(units="us"))
     ucs = rdm.ucs_map(rdm.load_model("examples/journal_rotor.toml"), np.geomspace(1e6, 1e9, 4), modes=1)
     assert "[lbf/in]" in labels(ucs.plot(units="us"))

@@ -60,9 +60,11 @@ each pair's ellipse per source and speed (semi-axes: 0-peak, inclination, forwar
 precession) and --orbit-plot FILE.png draws them, one panel per pair and source (as in
 the CSV), at that source's largest orbit and at the last speed.
 
---plot draws one amplitude (log axis) and phase panel per kind of sensor (shaft probes,
-rotor points, stator), with --forces one panel per kind of force (the amplitude of each
-item's force vector, N); the largest peaks (amplification factor >= 2.5) are labelled.
+--plot draws one amplitude (log axis, in um or mm, mil with --units us, whichever reads the
+largest curve from 1 up) and phase panel per kind of sensor (shaft probes, rotor points,
+stator), with --forces one panel per kind of force (the amplitude of each item's force
+vector, N); curves lying on each other are drawn there in alternating dashes; the largest
+peaks (amplification factor >= 2.5) are labelled where a short leader crosses no curve.
 
 Units (--units us, docs/units.md): amplitudes in mil, in/s or g (--quantity), forces in lbf and
 moments in lbf in, in every table (a last column unit gives each row's) and on the figure's axes.

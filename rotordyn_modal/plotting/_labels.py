@@ -667,17 +667,22 @@ _CROSSING_COST = 2.0
 #: leader's crossings) is left out
 _MOST_COST = 12.0
 
+#: without crossings (``place_point_labels(crossing=False)``) a leader line is at most this many
+#: label heights long
+_LONGEST_LEADER = 6.0
+
 #: a box below the point counts this many times as far (a peak's curve falls away below it)
 _BELOW = 2.0
 
 
-def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS):
+def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS, across=False):
     """Boxes of size ``w x h`` on a grid around the point ``(x, y)``, nearest first.
 
     Rows are centred on the point's height and a little more than ``pad`` apart (so that
     round-off cannot bring neighbours within ``pad``), up to ``rows`` each way;
     columns lie right and left of the point (none across it: its leader lines would block
-    the others'), half a label's width apart, reaching ``columns`` label widths each way,
+    the others'; with ``across``, also one centred on it, for a short straight leader up
+    or down), half a label's width apart, reaching ``columns`` label widths each way,
     clear of the point's marker (half size ``clear``). Nearest is by the distance from the point to the box, those below the point
     counted :data:`_BELOW` times; ties: above before below, right before left.
 
@@ -693,6 +698,8 @@ def boxes_around(x, y, w, h, pad, clear, rows=_GRID_ROWS, columns=_GRID_COLUMNS)
     pad = 1.25 * pad
     steps = np.arange(2 * columns - 1) * (w + pad) / 2
     lefts = np.column_stack([x + clear + pad + steps, x - clear - pad - w - steps]).ravel()
+    if across:
+        lefts = np.concatenate([[x - w / 2], lefts])
     heights = np.array(sorted(range(-rows, rows + 1), key=lambda k: (abs(k), k < 0)), float)
     bottoms = np.repeat(y - h / 2 + heights * (h + pad), len(lefts))
     lefts = np.tile(lefts, len(heights))
@@ -709,7 +716,7 @@ def box_distance(box, x, y) -> float:
     return float(np.hypot(du, dv))
 
 
-def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=None, curves=None):
+def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=None, curves=None, crossing=True):
     """Annotate points of ``ax`` in the order given, each label inside the axes and apart.
 
     Each label takes the free box (:func:`first_free_box`: inside the axes, clear of every
@@ -732,6 +739,11 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
         From :func:`laid_out_renderer` once the figure is complete.
     curves : CurveMap, optional
         Where the curves run (default: every curve of ``ax`` as drawn now).
+    crossing : bool
+        Whether a leader line may cross curves (at the cost above); False: only boxes whose
+        leader crosses no curve (but within :data:`ANCHOR_POINTS` of its anchor) and is at
+        most :data:`_LONGEST_LEADER` label heights long are taken, the nearest, boxes straight
+        above and below the anchor among them.
 
     Returns
     -------
@@ -754,8 +766,9 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
         if not (frame.x0 <= px <= frame.x1 and frame.y0 <= py <= frame.y1):
             continue
         w, h = text_size(fig, text, fontsize, renderer)
-        box = _leader_box(boxes_around(px, py, w, h, pad, marker, _FAR_ROWS, _FAR_COLUMNS), (px, py), h, placed,
-                          (pad, inner), (labels, leaders), curves, ANCHOR_POINTS * points)
+        candidates = boxes_around(px, py, w, h, pad, marker, _FAR_ROWS, _FAR_COLUMNS, across=not crossing)
+        box = _leader_box(candidates, (px, py), h, placed, (pad, inner), (labels, leaders), curves,
+                          ANCHOR_POINTS * points, crossing)
         if box is None:
             continue
         end = nearest_in(box, (px, py))
@@ -771,19 +784,22 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     return drawn
 
 
-def _leader_box(candidates, point, h, placed, room, drawn, curves, keep):
+def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossing=True):
     """The box of ``candidates`` for a label of height ``h`` joined to ``point`` by a leader
     line, of least cost (:func:`place_point_labels`), or None.
 
     ``room`` is (gap, frame), ``drawn`` (label boxes, leader lines) drawn so far, ``keep``
-    the half size of the square around ``point`` where curves may cross the label.
+    the half size of the square around ``point`` where curves may cross the label (and its
+    leader), ``crossing`` whether the leader may cross curves beyond it.
     """
     labels, leaders = drawn
     square = anchor_box(*point, keep)
 
     def clear(box):
         return curves.free(box, square) and not crosses_any([(nearest_in(box, point), point)], labels) \
-            and not crosses_any(leaders, [box])
+            and not crosses_any(leaders, [box]) \
+            and (crossing or (not curves.crossings(nearest_in(box, point), point, square)
+                              and np.hypot(*np.subtract(nearest_in(box, point), point)) <= _LONGEST_LEADER * h))
 
     def cost(box):
         return box_distance(box, *point) + _CROSSING_COST * h * curves.crossings(nearest_in(box, point), point, square)

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import functools
+
+import numpy as np
+
 WHIRL_STYLE = {
     "forward": {"color": "tab:blue", "linestyle": "-", "label": "forward whirl"},
     "backward": {"color": "tab:red", "linestyle": "--", "label": "backward whirl"},
@@ -29,3 +33,58 @@ def speed_scale(unit: str) -> float:
     import math
 
     return {"rpm": 30.0 / math.pi, "rad/s": 1.0, "hz": 1.0 / (2.0 * math.pi)}[unit]
+
+
+#: amplitude units of a kind and system, smallest first: (label, factor from the SI unit); the
+#: figure takes the largest in which the largest amplitude drawn is at least 1
+_READABLE_UNITS = {
+    ("displacement", "si"): (("µm", 1e6), ("mm", 1e3), ("m", 1.0)),
+    ("displacement", "us"): (("mil", 1e3 / 0.0254), ("in", 1.0 / 0.0254)),
+    ("velocity", "si"): (("mm/s", 1e3), ("m/s", 1.0)),
+}
+
+
+def readable_scale(kind: str, largest: float, system: str = "si") -> tuple:
+    """``(factor, label)`` of the unit that writes amplitudes of ``kind`` up to ``largest`` (in
+    the SI unit of the kind) from 1 up where the system has one, else in its smallest (µm for
+    a 25 µm casing curve and a 0.3 µm probe, mm for a 2 mm orbit; mil, or in, in US units): an
+    SI value times ``factor`` is the number on the axis. Other kinds (acceleration, force) keep
+    :func:`units.unit_scale`'s unit."""
+    from ..units import check_system, unit_scale
+
+    ladder = _READABLE_UNITS.get((kind, check_system(system)))
+    if ladder is None:
+        return unit_scale(kind, system)
+    label, factor = ladder[0]
+    for name, scale in ladder:
+        if np.isfinite(largest) and largest * scale >= 1 - 1e-12:
+            label, factor = name, scale
+    return factor, label
+
+
+def plain_log_ticks(axis):
+    """Label a log ``axis`` (``ax.yaxis``) with plain decimals (0.01, 1, 100) from 0.001 to
+    100,000 and powers of ten beyond: the decades read in the axis' own unit."""
+    formatter = _plain_log_formatter()
+    axis.set_major_formatter(formatter())
+    axis.set_minor_formatter(formatter(labelOnlyBase=False, minor_thresholds=(2, 0.4)))
+
+
+#: tick values written as plain decimals on log axes (beyond: powers of ten)
+_PLAIN_LOW, _PLAIN_HIGH = 1e-3, 1e6
+
+
+@functools.cache
+def _plain_log_formatter():
+    """matplotlib's log tick formatter (it decides which ticks are labelled) writing the values
+    in [:data:`_PLAIN_LOW`, :data:`_PLAIN_HIGH`) as plain decimals."""
+    from matplotlib.ticker import LogFormatterSciNotation
+
+    class PlainLogFormatter(LogFormatterSciNotation):
+        def __call__(self, x, pos=None):
+            text = super().__call__(x, pos)
+            if not text or not _PLAIN_LOW * (1 - 1e-9) <= abs(x) < _PLAIN_HIGH:
+                return text
+            return np.format_float_positional(float(f"{x:.6g}"), trim="-")
+
+    return PlainLogFormatter

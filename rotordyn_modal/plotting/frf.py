@@ -280,8 +280,10 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
         _draw_zone_panel(axes[-1], checks, x, units)
     axes[-1].set_xlabel(speed_label(speed_unit))
     fig.suptitle(title or "Unbalance response")
+    renderer = laid_out_renderer(fig)
+    if _show_overlaps(axes[:2 * len(panels) + len(force_panels)], x, speed_unit):
+        renderer = laid_out_renderer(fig)      # the legends' notes widened them
     if peaks is not None and marked:
-        renderer = laid_out_renderer(fig)
         for ax, chosen in marked:
             _label_peaks(ax, chosen, renderer)
     return fig
@@ -290,12 +292,14 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
 def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, speed_unit, units="si"):
     """One group of sensors' amplitude (``convention``: factor on 0-peak, its words) and phase
     panels, with the probe limits of ``checks``; returns ``(mag, peaks to label)``."""
-    from ._style import speed_scale
+    from ._style import plain_log_ticks, readable_scale, speed_scale
 
     convention_factor, words = convention
-    scale, unit = unit_scale(result.quantity, units)
+    largest = convention_factor * float(np.nanmax(result.amplitude[rows], initial=0.0))
+    scale, unit = readable_scale(result.quantity, largest, units)
     factor = convention_factor * scale
     colours = _draw_sensor_panel(mag, phase, result, rows, x, factor)
+    plain_log_ticks(mag.yaxis)
     if checks is not None:
         _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor, units)
     mag.set_ylabel(f"Amplitude, {words} [{unit}]")
@@ -341,20 +345,13 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0):
     the colour of each (i, j)."""
     colours = {}
     styles = ["-", "--", ":", "-."]
-    drawn = []                                   # ((output, source), amplitude) of the curves drawn so far
     for m, i in enumerate(rows):
         for j, s in enumerate(result.sources):
             colour, style = f"C{m % 10}", styles[j % len(styles)]
             amplitude = np.where(result.amplitude[i, j] > 0, result.amplitude[i, j] * factor, np.nan)
-            label = f"{result.outputs[i]}: 1X {s}"
-            under = _coinciding(amplitude, drawn)
-            if under is not None:                # drawn in dashes over it, so that both show
-                output, source = under
-                style, label = _OVER, f"{label} (= {output}{'' if source == s else f': 1X {source}'})"
-            mag.semilogy(x, amplitude, color=colour, ls=style, label=label)
-            phase.plot(x, result.phase_deg[i, j], color=colour, ls=styles[j % len(styles)], lw=0.9)
+            mag.semilogy(x, amplitude, color=colour, ls=style, label=f"{result.outputs[i]}: 1X {s}")
+            phase.plot(x, result.phase_deg[i, j], color=colour, ls=style, lw=0.9)
             colours[i, j] = colour
-            drawn.append(((result.outputs[i], s), amplitude))
     _limit_range(mag)
     mag.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
     phase.set_yticks([-180, -90, 0, 90, 180])
@@ -362,21 +359,79 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0):
     return colours
 
 
-#: the line style of a curve drawn over an earlier one it coincides with (offset dashes)
-_OVER = (2.0, (3.0, 3.0))
-#: curves closer than this relative difference everywhere coincide on a figure
-_COINCIDE = 0.01
+def _show_overlaps(axes, x, speed_unit):
+    """Curves of ``axes`` (laid out) lying on each other drawn there in turn
+    (:func:`._overlap.show_overlaps`), each legend naming the earlier curve a curve lies on
+    ("(= probe-x)", "(= probe-x above 1520 rpm)"); returns whether a legend changed."""
+    from ._overlap import show_overlaps
+
+    changed = False
+    for ax in axes:
+        curves = [line for line in ax.get_lines() if ax.get_legend() is None or not line.get_label().startswith("_")]
+        names = {line: line.get_label() for line in curves}
+        notes = {}
+        for overlap in show_overlaps(ax, curves):
+            notes.setdefault(overlap.line, []).append(overlap)
+        notes = {line: found for line, found in notes.items() if _noted(line, found)}
+        for line, overlaps in notes.items():
+            line.set_label(f"{names[line]} ({_equal_note(names[line], overlaps, names, x, speed_unit)})")
+        if notes and ax.get_legend() is not None:
+            ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+            changed = True
+    return changed
 
 
-def _coinciding(amplitude, drawn):
-    """The key of the first curve in ``drawn`` [(key, values)] that ``amplitude`` covers on
-    the figure (within :data:`_COINCIDE` relative at every speed where both are drawn), or None.
-    An isotropic rotor's y and z probes read the same amplitude: the second hid the first."""
-    for label, other in drawn:
-        both = np.isfinite(amplitude) & np.isfinite(other)
-        if both.any() and np.all(np.abs(amplitude[both] - other[both]) <= _COINCIDE * np.abs(other[both])):
-            return label
-    return None
+def _equal_note(name, overlaps, names, x, speed_unit):
+    """"= other" (the earlier curve the line lies on longest), with the speeds where it does
+    when that is one range but not all of the line's drawn range ("above 960 rpm"), else
+    "in parts"."""
+    lengths = {}
+    for o in overlaps:
+        lengths[o.other] = lengths.get(o.other, 0) + o.stop - o.start
+    other = max(lengths, key=lambda line: (lengths[line], -list(names).index(line)))   # the earliest of equals
+    output, _, source = names[other].partition(": 1X ")
+    same = source and name.partition(": 1X ")[2] == source
+    text = f"= {output if same else names[other]}"
+    ranges = _merged([(o.start, o.stop) for o in overlaps if o.other is other])
+    drawn = np.flatnonzero(np.isfinite(np.asarray(overlaps[0].line.get_ydata(), float)))
+    if len(ranges) == 1 and ranges[0][0] <= drawn[0] and ranges[0][1] >= drawn[-1]:
+        return text
+    if len(ranges) > 1:
+        return f"{text} in parts"
+    unit = {"rpm": " rpm", "rad/s": " rad/s", "hz": " Hz"}[speed_unit]
+    (start, stop), = ranges
+    if start <= drawn[0]:
+        return f"{text} below {_speed_text(x[stop])}{unit}"
+    if stop >= drawn[-1]:
+        return f"{text} above {_speed_text(x[start])}{unit}"
+    return f"{text} {_speed_text(x[start])}–{_speed_text(x[stop])}{unit}"
+
+
+#: a curve's legend names the curve it lies on when that is at least this share of its drawn
+#: points (shorter stretches show on the figure only), with the speeds when they are one range
+_NOTED_SHARE = 0.2
+
+
+def _noted(line, overlaps) -> bool:
+    """Whether ``line`` lies on earlier curves over :data:`_NOTED_SHARE` of its drawn points."""
+    drawn = np.count_nonzero(np.isfinite(np.asarray(line.get_ydata(), float)))
+    stretches = {(o.start, o.stop) for o in overlaps}
+    return sum(stop - start + 1 for start, stop in stretches) >= _NOTED_SHARE * drawn
+
+
+def _merged(ranges):
+    """Index ranges ``[(start, stop), ...]`` joined where they touch, in order."""
+    merged = []
+    for start, stop in sorted(ranges):
+        if merged and start <= merged[-1][1] + 1:
+            merged[-1] = (merged[-1][0], max(stop, merged[-1][1]))
+        else:
+            merged.append((start, stop))
+    return merged
+
+
+def _speed_text(value):
+    return f"{value:.0f}" if abs(value) >= 100 else f"{value:.3g}"
 
 
 def _force_panels(result, forces):
@@ -425,6 +480,8 @@ _ZONE_COLOURS = ("#d9f0d3", "#fff7bc", "#fdd0a2", "#fcbba1")
 def _draw_zone_panel(ax, checks, x, units="si"):
     """The casing sensors' RMS vibration velocity [mm/s; in/s in US units] over the ISO 20816-3
     zone bands."""
+    from ._style import plain_log_ticks
+
     styles = ["-", "--", ":", "-."]
     scale, unit = (1e3, "mm/s") if units == "si" else unit_scale("velocity", units)
     for m, name in enumerate(checks.casing):
@@ -442,6 +499,7 @@ def _draw_zone_panel(ax, checks, x, units="si"):
         ax.text(1.0, np.sqrt(low * high), " " + "ABCD"[zone], transform=ax.get_yaxis_transform(),
                 va="center", ha="left", fontsize="small", clip_on=False)
     ax.set_yscale("log")
+    plain_log_ticks(ax.yaxis)
     ax.set_ylim(edges[0], top)
     if checks.mcs is not None or checks.checked.sum() < len(checks.checked):
         ax.plot(x, np.where(checks.checked, edges[0], np.nan), color="k", lw=6, solid_capstyle="butt",
@@ -452,6 +510,8 @@ def _draw_zone_panel(ax, checks, x, units="si"):
 
 
 def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak", units="si"):
+    from ._style import plain_log_ticks
+
     scale, unit = unit_scale("force", units)
     factor = factor * scale
     styles = ["-", "--", ":", "-."]
@@ -461,6 +521,7 @@ def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak", 
             ax.semilogy(x, np.where(size > 0, size * factor, np.nan), color=f"C{m % 10}", ls=styles[j % len(styles)],
                         label=f"{name}: 1X {s}")
     _limit_range(ax)
+    plain_log_ticks(ax.yaxis)
     ax.set_ylabel(f"Force amplitude, {words} [{unit}]")
     ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
 
@@ -494,7 +555,7 @@ def _label_peaks(ax, chosen, renderer):
     from ._labels import place_point_labels
 
     drawn = place_point_labels(ax, [(c[0], c[1]) for c in chosen], [c[2] for c in chosen],
-                               [c[3] for c in chosen], renderer=renderer)
+                               [c[3] for c in chosen], renderer=renderer, crossing=False)
     for label in drawn:
         ax.plot(*label.xy, "v", color=label.get_color(), mec="k", mew=0.5, ms=5, label="_peak")
 

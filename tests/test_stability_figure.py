@@ -183,3 +183,34 @@ def test_a_fast_shaft_mode_does_not_flatten_the_least_damped_modes_onto_zero(exa
     real = result.real_parts[:, least]
     assert np.all(real < 0) and np.all((real > bottom) & (real < upper))
     assert upper - bottom < 20 * np.abs(real).max()          # the mode spans a visible part of the panel
+
+
+def test_every_threshold_label_of_an_island_lies_beside_its_line_clear_of_the_curves(tmp_path):
+    """The island rotor (tests/test_stability_report.py: unstable, stable again, unstable again,
+    each at a closed-form speed): every threshold has its label, beside its own line, and no
+    other curve runs through its glyphs. The label of the first onset (1,581 rpm) stood upright
+    at the top of its line with its white box over the unstable mode's curve just where that
+    curve crosses zero: the crossing the figure is drawn to show was hidden."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments, glyph_box
+    from test_stability_report import _crossings_rpm, _island_rotor
+
+    result = rdm.stability(rdm.Model.from_dict(_island_rotor()), rdm.rpm(np.linspace(0.0, 8000.0, 81)))
+    expected = [speed for speed, _ in _crossings_rpm(20.0)]
+    np.testing.assert_allclose(result.thresholds * 30 / np.pi, expected, rtol=1e-6)
+    fig = result.plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    labels = [t for t in ax.texts if t.get_gid() == "threshold-label"]
+    lines = [line for line in ax.get_lines() if line.get_gid() == "threshold"]
+    assert len(labels) == len(lines) == len(expected)
+    for text in labels:
+        speed = float(text.get_text().split(" ")[0].replace(",", ""))
+        own = min(lines, key=lambda line: abs(line.get_xdata()[0] - speed))
+        box = glyph_box(text, renderer)
+        line_x = ax.transData.transform((own.get_xdata()[0], 0.0))[0]
+        assert min(abs(box.x0 - line_x), abs(box.x1 - line_x)) < 6 * fig.dpi / 72, text.get_text()
+        assert not len(crossings(box, curve_segments(ax, skip=[own]))), text.get_text()
+    plt.close(fig)

@@ -218,9 +218,10 @@ def _label_list(labels) -> str:
 
 
 def _draw_thresholds(top, bottom, result, scale, speed_unit):
-    """A vertical line at each threshold speed, labelled in the real-part panel where there is room,
-    beside its line where no curve runs (upright, else lying; from the top down), else upright at the top."""
-    from ._labels import CurveMap, first_free_box, laid_out_renderer, text_size
+    """A vertical line at each threshold speed, labelled in the real-part panel where there is room:
+    beside its line where no curve runs (upright, else lying; on one line, else on two or three;
+    from the top down), else upright at the top."""
+    from ._labels import CurveMap, laid_out_renderer
 
     unit = {"rpm": "rpm", "rad/s": "rad/s", "hz": "Hz"}[speed_unit]
     items = []
@@ -228,44 +229,61 @@ def _draw_thresholds(top, bottom, result, scale, speed_unit):
         colour = "tab:red" if onset else "tab:green"
         for axis in (top, bottom):
             axis.axvline(speed * scale, color=colour, linewidth=1.2, alpha=0.9, gid="threshold")
-        items.append((speed * scale, f"{speed * scale:,.0f} {unit}: mode {mode} "
-                      f"{'becomes unstable' if onset else 'stable again'}", colour))
+        items.append((speed * scale, (f"{speed * scale:,.0f} {unit}:", f"mode {mode}",
+                                      "becomes unstable" if onset else "stable again"), colour))
     if not items:
         return
     renderer = laid_out_renderer(top.figure)
-    frame = top.get_window_extent(renderer)
-    (lo, hi), placed = top.get_xlim(), []
-    pad = renderer.points_to_pixels(2.0) / frame.width
     curves = CurveMap(top, renderer, units="axes")
-    for at, text, colour in items:
+    placed = []
+    for at, parts, colour in items:
+        _label_threshold(top, renderer, curves, placed, at, parts, colour)
+
+
+def _label_threshold(top, renderer, curves, placed, at, parts, colour):
+    """One threshold line's label (``parts``: its speed, its mode, what happens) beside the line at
+    ``at`` [axis unit]: the first free place of :func:`_threshold_places`, upright, else lying, on
+    one line, else two, else three; else upright at the top, on one line."""
+    from ._labels import first_free_box, text_size
+
+    frame = top.get_window_extent(renderer)
+    lo, hi = top.get_xlim()
+    u = (at - lo) / (hi - lo)
+    pad = renderer.points_to_pixels(2.0) / frame.width
+    own = (u - 2 * pad, 0.0, u + 2 * pad, 1.0)       # its own line runs beside it
+
+    def free(box):
+        return curves.free(box, own)
+
+    first = None
+    speed, mode, words = parts
+    shapes = [f"{speed} {mode} {words}", f"{speed}\n{mode} {words}", f"{speed}\n{mode}\n{words}"]
+    for text, upright in ((text, upright) for text in shapes for upright in (True, False)):
         w, h = text_size(top.figure, text, "x-small", renderer)
-        w, h = h / frame.width, w / frame.height      # turned upright
-        u = (at - lo) / (hi - lo)
-        # beside the line, the stable side first, from the top down: where no curve runs, else at the top
-        sides = [u - pad - w, u + pad] if colour == "tab:red" else [u + pad, u - pad - w]
-        boxes = [(left, upper - h, left + w, upper) for upper in np.arange(0.98, h, -0.02) for left in sides]
-        own = (u - 2 * pad, 0.0, u + 2 * pad, 1.0)       # its own line runs beside it
-
-        def free(box, own=own):
-            return curves.free(box, own)
-
+        w, h = (h / frame.width, w / frame.height) if upright else (w / frame.width, h / frame.height)
+        boxes = _threshold_places(u, w, h, pad, colour == "tab:red")
+        first = first or (text, boxes[:2])
         box = first_free_box(boxes, placed, frame=(0.0, 0.0, 1.0, 1.0), allowed=free)
-        if box is None:      # lying beside its line where no curve runs
-            wide, high = h * frame.height / frame.width, w * frame.width / frame.height
-            flat = [(left, upper - high, left + wide, upper) for upper in np.arange(0.98, high, -0.02)
-                    for left in ([u + pad, u - pad - wide] if colour != "tab:red" else [u - pad - wide, u + pad])]
-            box = first_free_box(flat, placed, frame=(0.0, 0.0, 1.0, 1.0), allowed=free)
-            if box is not None:
-                top.text(box[0], box[1], text, transform=top.transAxes, ha="left", va="bottom", fontsize="x-small",
-                         color=colour, gid="threshold-label",
-                         bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5})
-                continue
-        box = box or first_free_box(boxes[:2], placed, frame=(0.0, 0.0, 1.0, 1.0))
+        if box is not None:
+            break
+    else:                    # upright at the top, across the curves
+        text, upright = first[0], True
+        box = first_free_box(first[1], placed, frame=(0.0, 0.0, 1.0, 1.0))
         if box is None:
-            continue
-        top.text(box[0] + w / 2, box[3], text, transform=top.transAxes, rotation=90, ha="center", va="top",
-                 fontsize="x-small", color=colour, gid="threshold-label",
-                 bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5})
+            return
+    style = {"transform": top.transAxes, "fontsize": "x-small", "color": colour, "gid": "threshold-label",
+             "bbox": {"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5}}
+    if upright:
+        top.text(0.5 * (box[0] + box[2]), box[3], text, rotation=90, ha="center", va="top", **style)
+    else:
+        top.text(box[0], box[1], text, ha="left", va="bottom", **style)
+
+
+def _threshold_places(u, w, h, pad, onset):
+    """Boxes (axes fraction) ``w`` wide and ``h`` high beside a threshold line at ``u``, the
+    stable side first (left of an onset, right of a return to stability), from the top down."""
+    sides = [u - pad - w, u + pad] if onset else [u + pad, u - pad - w]
+    return [(left, upper - h, left + w, upper) for upper in np.arange(0.98, h, -0.02) for left in sides]
 
 
 def plot_stability_map(result, speed_unit: str = "rpm", quantity: str = "min_damping_ratio",

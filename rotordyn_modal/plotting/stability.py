@@ -290,6 +290,12 @@ def plot_stability_map(result, speed_unit: str = "rpm", quantity: str = "min_dam
                        title: str | None = None):
     """Map over speed and one parameter, with the stability boundary drawn.
 
+    The colours are centred on zero (white), each side scaled to its own extreme: the most
+    unstable cell is the colour map's red end (``max_real_part``: blue end) however small
+    beside the most stable. The legend, below the axes, names the boundary (the black line
+    where the largest real part is zero), the root-found thresholds, or says that the map is
+    stable everywhere.
+
     Parameters
     ----------
     result : StabilityMap
@@ -305,19 +311,35 @@ def plot_stability_map(result, speed_unit: str = "rpm", quantity: str = "min_dam
     x = result.speeds * speed_scale(speed_unit)
     y = result.values
     field = result.min_damping_ratios if quantity == "min_damping_ratio" else result.max_real_parts
-    limit = np.nanmax(np.abs(field[np.isfinite(field)])) if np.isfinite(field).any() else 1.0
     mesh = ax.pcolormesh(x, y, field, cmap="RdBu" if quantity == "min_damping_ratio" else "RdBu_r",
-                         vmin=-limit, vmax=limit, shading="nearest")
+                         norm=_zero_centred_norm(field), shading="nearest")
     fig.colorbar(mesh, ax=ax, label=quantity.replace("_", " "))
     if len(y) > 1 and len(x) > 1:
-        ax.contour(x, y, result.max_real_parts, levels=[0.0], colors="k", linewidths=2.0)
+        boundary = ax.contour(x, y, result.max_real_parts, levels=[0.0], colors="k", linewidths=2.0)
+        if any(len(segment) for level in boundary.allsegs for segment in level):
+            ax.plot([], [], color="k", linewidth=2.0, label="stability boundary: largest real part 0")
     _mark_every_threshold(ax, result, speed_scale(speed_unit))
+    if not any(r.unstable_intervals for r in result.results):
+        ax.plot([], [], linestyle="none", label="stable everywhere on the map")
     ax.set_xlabel(speed_label(speed_unit))
     ylabel = result.key if result.mode_of_variation == "values" else f"scale of {result.key}"
     ax.set_ylabel(ylabel)
     ax.set_title(title or "Stability map (black line: boundary, red: unstable)")
-    ax.legend(loc="upper right", fontsize="small")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize="small", frameon=False)
     return fig
+
+
+def _zero_centred_norm(field):
+    """Colours centred on zero, each side reaching its own extreme of ``field`` (the other's
+    when a side is empty)."""
+    from matplotlib.colors import TwoSlopeNorm
+
+    finite = field[np.isfinite(field)]
+    low, high = (float(finite.min()), float(finite.max())) if finite.size else (-1.0, 1.0)
+    low, high = min(low, -high, 0.0) if low >= 0 else low, max(high, -low, 0.0) if high <= 0 else high
+    if not low < 0 < high:
+        low, high = -1.0, 1.0
+    return TwoSlopeNorm(vcenter=0.0, vmin=low, vmax=high)
 
 
 def _mark_every_threshold(ax, result, scale):

@@ -405,3 +405,32 @@ def test_fit_overlay_tells_every_curve_apart():
             assert dot.get_color() == line.get_color()
         assert [t.get_text() for t in ax.get_legend().get_texts()] == [line.get_label() for line in lines]
     plt.close(fig)
+
+
+def test_frf_over_three_decades_shows_the_mount_modes_apart():
+    """motor_pump_on_mounts from 1 to 1,500 Hz: mount modes at 5-16 Hz, bearing modes at
+    530-1,180 Hz. On a linear frequency axis the six mount modes' peaks stood within 1 % of the
+    axis' width (a few pixels); the axis is logarithmic when the frequencies span more than 30
+    times (as the Campbell diagram's), so the lowest and the highest mount mode (the modal
+    analysis' frequencies) stand at least a tenth of the width apart. A band of one decade
+    (2-40 Hz) stays linear."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLE.parent / "motor_pump_on_mounts.toml")
+    speed = rdm.rpm(3000)
+    modes = rdm.modal(model, speed).frequencies_hz
+    mounts = modes[modes < 50]
+    assert len(mounts) == 6 and modes.max() > 1000
+    fig = rdm.frf(model, speed, np.linspace(1.0, 1500.0, 400)).plot()
+    fig.canvas.draw()
+    mag = fig.axes[0]
+    assert mag.get_xscale() == "log"
+    left, right = (mag.transData.transform((f, 1.0))[0] for f in (mounts.min(), mounts.max()))
+    assert right - left >= 0.1 * mag.get_window_extent().width
+    plt.close(fig)
+    narrow = rdm.frf(model, speed, np.linspace(2.0, 40.0, 50)).plot()
+    assert narrow.axes[0].get_xscale() == "linear"
+    plt.close(narrow)

@@ -26,7 +26,8 @@ def _bode_axes(figsize=(8.0, 6.0)):
 def plot_frf(result, measured=None, pairs=None, title: str | None = None, units: str = "si", input_kinds=None):
     """Magnitude (log) and phase of FRFs against frequency, measured data dotted beneath.
 
-    Up to :data:`_MAX_LEGEND` FRFs of one unit share one magnitude and one phase panel;
+    The frequency axis is logarithmic where the frequencies span more than 30 times (from
+    above 0 Hz), else linear. Up to :data:`_MAX_LEGEND` FRFs of one unit share one magnitude and one phase panel;
     more, or forces beside moments, are drawn in groups (:func:`_frf_groups`: each force
     item, else each input), each group's forces, moments and phases in panels of their own,
     every curve named in its group's legend.
@@ -174,6 +175,19 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0):
         mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=name)
         phase.plot(result.frequencies_hz, phase_values, color=colour, ls=style, lw=0.9)
     _limit_range(mag)
+    _frequency_scale(mag, result.frequencies_hz)
+
+
+def _frequency_scale(ax, frequencies):
+    """A logarithmic frequency axis (shared by the phase panel) when the frequencies [Hz], all
+    > 0, span more than :data:`~rotordyn_modal.plotting.campbell.LOG_SPAN` times (mount modes at
+    5 Hz beside bearing modes at 1 kHz), else linear."""
+    from .campbell import LOG_SPAN
+
+    f = np.asarray(frequencies, float)
+    f = f[np.isfinite(f)]
+    if f.size and f.min() > 0 and f.max() > LOG_SPAN * f.min():
+        ax.set_xscale("log")
 
 
 def plot_overlay(models, measured, title: str | None = None, units: str = "si", input_kinds=None):

@@ -288,3 +288,21 @@ def test_a_map_stable_everywhere_says_so_without_a_warning():
     names = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
     assert any("stable" in name and "everywhere" in name for name in names), names
     plt.close(fig)
+
+
+def test_undamped_modes_drawn_over_one_another_on_zero_are_named():
+    """spring_block_rotor has no damping: every mode's real part and log decrement are 0 (to
+    round-off) at every speed, so the five coloured curves lie on one another on the zero line
+    and only the last drawn shows, while the legend lists five. A note beside the panel names
+    the modes that lie on zero throughout."""
+    import matplotlib.pyplot as plt
+
+    result = rdm.stability(rdm.load_model(EXAMPLES / "spring_block_rotor.toml"), rdm.rpm(np.linspace(0, 3000, 31)))
+    assert np.all(result.significant_real_parts[np.isfinite(result.log_decrements)] == 0)
+    fig = result.plot()
+    top = fig.axes[0]
+    legend = [t.get_text() for t in top.get_legend().get_texts() if t.get_text().startswith("mode ")]
+    assert len(legend) == 5
+    notes = " ".join(t.get_text().replace("\n", " ") for t in top.texts if t.get_gid() == "zero-note")
+    assert "modes 1-5" in notes and "on zero" in notes, notes
+    plt.close(fig)

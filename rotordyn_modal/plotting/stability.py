@@ -73,6 +73,7 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
         axis.axhline(0.0, color="k", linewidth=0.8, zorder=1.2)   # under the curves (undamped modes lie on it)
         axis.grid(True, alpha=0.3)
         _note_cut_off(axis, result.modes, values, unit)
+    _note_on_zero(top, result, shown)
     top.set_xlim(x.min(), x.max() if x.max() > x.min() else x.min() + 1)
     top.set_ylabel("Real part of eigenvalue [1/s]\n(> 0: unstable)")
     bottom.set_ylabel("Log decrement [-]\n(< 0: unstable)")
@@ -203,6 +204,23 @@ def _note_cut_off(ax, labels, values, unit):
     if notes:
         ax.text(1.02, 0.0, "\n".join(textwrap.fill(note, 30) for note in notes), transform=ax.transAxes,
                 fontsize="x-small", ha="left", va="bottom", color="0.3", gid="cut-off-note", clip_on=False)
+
+
+def _note_on_zero(ax, result, shown):
+    """Name the coloured modes whose real part is zero to round-off wherever they are modes (an
+    undamped machine): their curves lie on one another on the zero line, only the last drawn
+    shows (beside the panel, below the legend)."""
+    import textwrap
+
+    significant = result.significant_real_parts
+    modes = np.isfinite(result.log_decrements)
+    flat = [m for m in shown if modes[:, m].any() and np.all(significant[modes[:, m], m] == 0)]
+    if len(flat) < 2:
+        return
+    note = (f"modes {_label_list(sorted(result.modes[flat]))}: real part and log decrement 0 (to round-off) "
+            f"at every speed, drawn on zero over one another")
+    ax.text(1.02, 0.45, textwrap.fill(note, 30), transform=ax.transAxes, fontsize="x-small", ha="left", va="top",
+            color="0.3", gid="zero-note", clip_on=False)
 
 
 def _label_list(labels) -> str:

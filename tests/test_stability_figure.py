@@ -196,7 +196,7 @@ def test_every_threshold_label_of_an_island_lies_beside_its_line_clear_of_the_cu
     from label_geometry import crossings, curve_segments, glyph_box
     from test_stability_report import _crossings_rpm, _island_rotor
 
-    result = rdm.stability(rdm.Model.from_dict(_island_rotor()), rdm.rpm(np.linspace(0.0, 8000.0, 81)))
+    result = rdm.stability(rdm.Model.from_dict(_island_rotor()), rdm.rpm(np.linspace(0.0, 8000.0, 41)))
     expected = [speed for speed, _ in _crossings_rpm(20.0)]
     np.testing.assert_allclose(result.thresholds * 30 / np.pi, expected, rtol=1e-6)
     fig = result.plot()

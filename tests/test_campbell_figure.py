@@ -492,3 +492,49 @@ def test_an_order_label_reads_as_its_own_line():
         nearest = min(gaps, key=lambda g: g[0])
         assert nearest[1] == to_rgba(text.get_color()), (text.get_text(), nearest[0])
     plt.close(fig)
+
+
+# -- lines of two sources that coincide: counter_rotating's twin rotors, geared 1:1 -------------
+
+def test_coinciding_order_lines_share_one_label_in_the_colour_drawn_on_top():
+    """counter_rotating: the two rotors turn at the same speed, so each order of 'upper' is the
+    same line as that order of 'lower', drawn over it. Each such line has one label naming both
+    sources, in the colour of the line that shows; the old figure wrote '1X upper' and '2X upper'
+    in upper's grey beside a line that shows only lower's green, away from any line. And each
+    critical speed where both cross one mode (one circle) is written once, not twice."""
+    import matplotlib.pyplot as plt
+
+    result = rdm.campbell(rdm.load_model(EXAMPLES / "counter_rotating.toml"), rdm.rpm(np.linspace(0, 6000, 121)),
+                          orders=(1, 2))
+    fig = result.plot()
+    renderer = _drawn(fig)
+    ax = fig.axes[0]
+    rpm = result.speeds_rpm
+    drawn = {}           # slope [Hz/rpm] -> colour of the last line drawn with it (the one seen)
+    for line in ax.get_lines():
+        y, x = np.asarray(line.get_ydata(), float), np.asarray(line.get_xdata(), float)
+        if len(x) == len(rpm) and np.all(np.isfinite(y)) and x[-1] > 0 and y[-1] > 0 \
+                and np.allclose(y[1:] / x[1:], y[-1] / x[-1], rtol=1e-12):
+            drawn[round(y[-1] / x[-1], 12)] = matplotlib.colors.to_hex(line.get_color())
+    assert len(drawn) == 4                                    # 1X, 2X of both rotors and of the mesh
+    texts = [t for kind, t in _labels(ax) if kind == "order"]
+    assert any(not t.get_text().endswith("mesh:upper-lower") for t in texts)
+    for t in texts:
+        orders = [float(o) for o in re.findall(r"(\d+(?:\.\d+)?)X", t.get_text())]
+        sources = re.sub(r"^[\d.X, ]+", "", t.get_text())
+        if sources.startswith("mesh"):
+            continue
+        assert sources == "upper, lower", t.get_text()
+        for order in orders:
+            assert matplotlib.colors.to_hex(t.get_color()) == drawn[round(order / 60.0, 12)], t.get_text()
+    critical = [t for kind, t in _labels(ax) if kind == "critical"]
+    markers = [line for line in ax.get_lines() if line.get_label() == "critical speed"][0]
+    points = np.column_stack(markers.get_data())
+    distinct = np.unique(np.round(points / np.abs(points).max(axis=0), 9), axis=0)
+    assert len(points) == len(distinct)                       # one circle per point
+    table = result.critical
+    both = np.unique(np.round(np.column_stack([table.speeds_rpm, table.frequencies_hz]) / np.abs(points).max(axis=0),
+                              9), axis=0)
+    assert len(distinct) == len(both) < len(table.speeds_rpm)   # every point of the table, each once
+    assert 0 < len(critical) <= len(distinct)
+    plt.close(fig)

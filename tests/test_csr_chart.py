@@ -219,3 +219,32 @@ def test_report_has_the_criterion_line_and_chart_when_a_gas_density_is_given(coa
     line = names[(10.0, 12.0)]["API 617 Level I: critical speed ratio"]
     assert line.verdict == "fail" and line.value == "2.6" and "Region B" in line.why and "11 kg/m³" in line.why
     assert "API 617 Level I: critical speed ratio" not in names[None]
+
+
+@pytest.mark.parametrize("critical,density", [(np.nan, 11.0), (100.0 / 2.9, 75.0), (40.0, 20.0)],
+                         ids=["rigid-rotor", "upper-right", "region-b"])
+def test_the_machine_point_is_drawn_whole_and_uncovered(critical, density):
+    """The machine's point on the rendered chart: a rigid rotor's CSR 0 lies on the bottom
+    spine (its circle was clipped to a half); a point at CSR 2.9 and 75 kg/m³ lay under the
+    legend. The circle is drawn whole (not clipped) and no legend or text box covers it."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.plotting.level1 import plot_csr_chart
+
+    screening = CsrScreening(100.0, critical, (density,))
+    fig = plot_csr_chart(screening)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    point, = [line for line in ax.get_lines() if line.get_marker() == "o"]
+    assert not point.get_clip_on()
+    centre = ax.transData.transform((screening.density, screening.csr))
+    radius = point.get_markersize() / 2 * fig.dpi / 72
+    mark = matplotlib.transforms.Bbox.from_extents(*(centre - radius), *(centre + radius))
+    assert fig.bbox.x0 <= mark.x0 and mark.x1 <= fig.bbox.x1 and fig.bbox.y0 <= mark.y0 and mark.y1 <= fig.bbox.y1
+    covers = [ax.get_legend().get_window_extent(renderer)] + [t.get_window_extent(renderer) for t in ax.texts]
+    assert not any(box.overlaps(mark) for box in covers)
+    plt.close(fig)

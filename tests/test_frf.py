@@ -365,3 +365,72 @@ def test_bode_figures_draw_each_pair_by_name_in_degrees():
                 marker, c, y = drawn[at - 1]
                 assert marker == "." and c == drawn[at][1] and np.array_equal(y, value(hm)), (o, i)
         plt.close(fig)
+
+
+def test_fit_overlay_tells_every_curve_apart():
+    """The fit's overlay (`fit --plot`) of 4 FRFs at two speeds: one magnitude and phase panel per
+    speed, named by it; within a panel each FRF has a style (colour, line style) of its own, named
+    in the legend, and its measured dots in its colour. The old overlay drew every FRF of a speed
+    in that speed's colour on one panel: 8 lines in 2 colours, which curve was which FRF could not
+    be read, and the 2400 rpm lines covered the 0 rpm ones."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.analysis.frf import FRFResult
+    from rotordyn_modal.plotting.frf import plot_overlay
+
+    model = rdm.load_model(EXAMPLE)
+    speeds = (0.0, rdm.rpm(2400))
+    models = [frf(model, s, FREQS[1:], quantity="accelerance") for s in speeds]
+    measured = [FRFResult(**{**m.__dict__, "H": 1.1 * m.H}) for m in models]
+    pairs = [(o, i) for o in models[0].outputs for i in models[0].inputs]
+    assert len(pairs) == 4
+    fig = plot_overlay(models, measured)
+    magnitudes = [ax for ax in fig.axes if ax.get_yscale() == "log"]
+    assert len(magnitudes) == len(speeds)
+    for ax, speed, m in zip(magnitudes, speeds, models):
+        assert f"{speed * 30 / np.pi:.0f} rpm" in ax.get_title()
+        lines = [line for line in ax.get_lines() if line.get_marker() in ("None", "", None) and len(line.get_xdata())]
+        dots = [line for line in ax.get_lines() if line.get_marker() == "."]
+        assert len(lines) == len(dots) == len(pairs)
+        styles = [(matplotlib.colors.to_hex(line.get_color()), line.get_linestyle()) for line in lines]
+        assert len(set(styles)) == len(pairs), styles
+        for o, i in pairs:
+            h = np.abs(m.H[m.outputs.index(o), m.inputs.index(i)])
+            line, = [line for line in lines if np.array_equal(line.get_ydata(), h)]
+            assert line.get_label().startswith(f"{o} / {i}")     # '(round-off ...)' where zero by symmetry
+            dot, = [d for d in dots if np.allclose(d.get_ydata(), 1.1 * h)]
+            assert dot.get_color() == line.get_color()
+        assert [t.get_text() for t in ax.get_legend().get_texts()] == [line.get_label() for line in lines]
+    plt.close(fig)
+
+
+def test_frf_over_three_decades_shows_the_mount_modes_apart():
+    """motor_pump_on_mounts from 1 to 1,500 Hz: mount modes at 5-16 Hz, bearing modes at
+    530-1,180 Hz. On a linear frequency axis the six mount modes' peaks stood within 1 % of the
+    axis' width (a few pixels); the axis is logarithmic when the frequencies span more than 30
+    times (as the Campbell diagram's), so the lowest and the highest mount mode (the modal
+    analysis' frequencies) stand at least a tenth of the width apart. A band of one decade
+    (2-40 Hz) stays linear."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLE.parent / "motor_pump_on_mounts.toml")
+    speed = rdm.rpm(3000)
+    modes = rdm.modal(model, speed).frequencies_hz
+    mounts = modes[modes < 50]
+    assert len(mounts) == 6 and modes.max() > 1000
+    fig = rdm.frf(model, speed, np.linspace(1.0, 1500.0, 100)).plot()
+    fig.canvas.draw()
+    mag = fig.axes[0]
+    assert mag.get_xscale() == "log"
+    left, right = (mag.transData.transform((f, 1.0))[0] for f in (mounts.min(), mounts.max()))
+    assert right - left >= 0.1 * mag.get_window_extent().width
+    plt.close(fig)
+    narrow = rdm.frf(model, speed, np.linspace(2.0, 40.0, 20)).plot()
+    assert narrow.axes[0].get_xscale() == "linear"
+    plt.close(narrow)

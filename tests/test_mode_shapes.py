@@ -413,3 +413,41 @@ def test_arrow_names_clear_of_every_arrow_and_of_each_other(example, mode, view_
                         np.maximum(0, np.maximum(box.y0 - ends[:, 1], ends[:, 1] - box.y1))).min()
         assert near <= 3 * box.height, f"{name} is {near:.0f} px from its arrow"
     plt.close(fig)
+
+
+def test_a_bearing_beyond_the_rotors_body_is_joined_to_it_by_its_axis(examples_dir):
+    """spring_block_rotor: the disk's centre is 0.75 m from its bearing (a rigid massless rod
+    along the spin axis). The 3D drawing showed the disk and, 0.75 m away, the bearing's spring
+    hanging from nothing. The rotor's axis is drawn from its body to the bearing and moves with
+    it: in the drawn figure the spring's rotor end lies on a line drawn in the rotor's colour,
+    at every phase of an animation too (checked at 0 and a quarter period)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(examples_dir / "spring_block_rotor.toml")
+    result = rdm.modal(model, rdm.rpm(3000))
+    view = mode_shape_3d(result, model, 1)
+    spring, = view.outline.springs
+    for phase in (0.0, np.pi / 2):
+        fig = view.plot(phase=phase)
+        ax = fig.axes[0]
+        end = spring.point_a + np.real(view.spring_motion[0][0] * np.exp(1j * phase))
+        drawn = [np.column_stack(line.get_data_3d()) for line in ax.get_lines()
+                 if (line.get_gid() or "").startswith("displaced") and line.get_gid() != "displaced-spring:spring-block"
+                 and matplotlib.colors.to_hex(line.get_color()) == matplotlib.colors.to_hex("tab:orange")]
+        nearest = min(_distance_to_polyline(end, points) for points in drawn)
+        assert nearest < 1e-9 * view.outline.size, nearest
+        plt.close(fig)
+
+
+def _distance_to_polyline(point, points):
+    """Shortest distance [m] from ``point`` to the segments of ``points`` (n, 3), NaN rows
+    separating polylines."""
+    a, b = points[:-1], points[1:]
+    keep = np.all(np.isfinite(a), axis=1) & np.all(np.isfinite(b), axis=1)
+    a, b = a[keep], b[keep]
+    d = b - a
+    t = np.clip(np.einsum("ij,ij->i", point - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300), 0.0, 1.0)
+    return float(np.min(np.linalg.norm(a + t[:, None] * d - point, axis=1)))

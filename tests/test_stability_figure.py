@@ -183,3 +183,126 @@ def test_a_fast_shaft_mode_does_not_flatten_the_least_damped_modes_onto_zero(exa
     real = result.real_parts[:, least]
     assert np.all(real < 0) and np.all((real > bottom) & (real < upper))
     assert upper - bottom < 20 * np.abs(real).max()          # the mode spans a visible part of the panel
+
+
+def test_every_threshold_label_of_an_island_lies_beside_its_line_clear_of_the_curves(tmp_path):
+    """The island rotor (tests/test_stability_report.py: unstable, stable again, unstable again,
+    each at a closed-form speed): every threshold has its label, beside its own line, and no
+    other curve runs through its glyphs. The label of the first onset (1,581 rpm) stood upright
+    at the top of its line with its white box over the unstable mode's curve just where that
+    curve crosses zero: the crossing the figure is drawn to show was hidden."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments, glyph_box
+    from test_stability_report import _crossings_rpm, _island_rotor
+
+    result = rdm.stability(rdm.Model.from_dict(_island_rotor()), rdm.rpm(np.linspace(0.0, 8000.0, 41)))
+    expected = [speed for speed, _ in _crossings_rpm(20.0)]
+    np.testing.assert_allclose(result.thresholds * 30 / np.pi, expected, rtol=1e-6)
+    fig = result.plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    labels = [t for t in ax.texts if t.get_gid() == "threshold-label"]
+    lines = [line for line in ax.get_lines() if line.get_gid() == "threshold"]
+    assert len(labels) == len(lines) == len(expected)
+    for text in labels:
+        speed = float(text.get_text().split(" ")[0].replace(",", ""))
+        own = min(lines, key=lambda line: abs(line.get_xdata()[0] - speed))
+        box = glyph_box(text, renderer)
+        line_x = ax.transData.transform((own.get_xdata()[0], 0.0))[0]
+        assert min(abs(box.x0 - line_x), abs(box.x1 - line_x)) < 6 * fig.dpi / 72, text.get_text()
+        assert not len(crossings(box, curve_segments(ax, skip=[own]))), text.get_text()
+    plt.close(fig)
+
+
+# -- the map over speed and a parameter ---------------------------------------------------------
+
+def _map(model, rpm, key, scale):
+    if isinstance(model, str):
+        model = rdm.load_model(EXAMPLES / model)
+    return rdm.stability_map(model, rdm.rpm(np.linspace(*rpm)), key, scale=scale)
+
+
+@pytest.fixture(scope="module")
+def island_map():
+    """The island rotor over its mass: an onset, a return to stability and a second onset."""
+    from test_stability_report import _island_rotor
+
+    return _map(rdm.Model.from_dict(_island_rotor()), (0.0, 8000.0, 41), "rotors.r.mass", [0.5, 1.0, 2.0, 3.0])
+
+
+def test_the_map_legend_names_the_boundary_and_covers_no_cell(island_map):
+    """The black line (the stability boundary) is named in the legend (the command line's title,
+    the model's name, replaces the default title that said so), and the legend lies outside the
+    map's axes (it stood over the unstable cells in the upper right)."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.plotting.stability import plot_stability_map
+
+    fig = plot_stability_map(island_map, title="the model's name")
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    legend = ax.get_legend()
+    names = [t.get_text() for t in legend.get_texts()]
+    assert any("boundary" in name for name in names), names
+    box, frame = legend.get_window_extent(fig.canvas.get_renderer()), ax.get_window_extent()
+    assert not box.overlaps(frame), (box, frame)
+    assert fig.bbox.x0 <= box.x0 and box.x1 <= fig.bbox.x1 and fig.bbox.y0 <= box.y0 and box.y1 <= fig.bbox.y1
+    plt.close(fig)
+
+
+def test_the_most_unstable_cell_is_drawn_full_red(island_map):
+    """The colours are centred on zero with each side scaled to its own extreme: the least
+    damping ratio of the map is the colour map's red end, the largest its blue end (a
+    symmetric scale drew damping ratios of -0.03 beside +0.08 a pale pink)."""
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import QuadMesh
+
+    from rotordyn_modal.plotting.stability import plot_stability_map
+
+    fig = plot_stability_map(island_map)
+    mesh = [c for c in fig.axes[0].collections if isinstance(c, QuadMesh)][0]
+    field = island_map.min_damping_ratios
+    assert field.min() < 0 < field.max()
+    norm = mesh.norm
+    assert norm(field.min()) == pytest.approx(0.0) and norm(field.max()) == pytest.approx(1.0)
+    assert norm(0.0) == pytest.approx(0.5)
+    plt.close(fig)
+
+
+def test_a_map_stable_everywhere_says_so_without_a_warning():
+    """No boundary, no threshold: the legend says the map is stable everywhere; matplotlib's
+    'No artists with labels found to put in legend' (printed by the command line) is not raised."""
+    import warnings
+
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.plotting.stability import plot_stability_map
+
+    result = _map("motor_fan_minimal.toml", (0.0, 6000.0, 4), "suspensions.mount-FL.damping", [0.5, 2.0])
+    assert all(not r.unstable_intervals for r in result.results)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fig = plot_stability_map(result)
+    names = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert any("stable" in name and "everywhere" in name for name in names), names
+    plt.close(fig)
+
+
+def test_undamped_modes_drawn_over_one_another_on_zero_are_named():
+    """spring_block_rotor has no damping: every mode's real part and log decrement are 0 (to
+    round-off) at every speed, so the five coloured curves lie on one another on the zero line
+    and only the last drawn shows, while the legend lists five. A note beside the panel names
+    the modes that lie on zero throughout."""
+    import matplotlib.pyplot as plt
+
+    result = rdm.stability(rdm.load_model(EXAMPLES / "spring_block_rotor.toml"), rdm.rpm(np.linspace(0, 3000, 31)))
+    assert np.all(result.significant_real_parts[np.isfinite(result.log_decrements)] == 0)
+    fig = result.plot()
+    top = fig.axes[0]
+    legend = [t.get_text() for t in top.get_legend().get_texts() if t.get_text().startswith("mode ")]
+    assert len(legend) == 5
+    notes = " ".join(t.get_text().replace("\n", " ") for t in top.texts if t.get_gid() == "zero-note")
+    assert "modes 1-5" in notes and "on zero" in notes, notes
+    plt.close(fig)

@@ -7,7 +7,8 @@ The geometry (:class:`MachineOutline`, model axes [m]) is made of
   ``a_i^2 = 3 (I_j + I_k - I_i) / (2 m)``), or an outline given by the user (polylines); each
   rotor as the solid cylinder with its mass, polar and diametral inertia
   (``r^2 = 2 J_p / m``, ``L^2 = 12 I_d / m - 3 r^2``) along the spin axis;
-* brackets: lines from the stator's box to its attachment points that lie outside it;
+* brackets: lines from the stator's box to its attachment points that lie outside it; a rigid
+  rotor's axis from its cylinder out to its bearings that lie beyond it (a body of kind 'rod');
 * springs between two bodies, or a body and the ground (suspensions today), each from a point
   of one to a point of the other;
 * sensors and excitations as arrows along their directions.
@@ -40,8 +41,9 @@ _DISPLAY_FRACTION = 0.15
 class Body:
     """A rigid body's drawing: vertices [m] and faces (polygons as vertex indices).
 
-    ``kind`` is 'stator', 'rotor' or 'outline' (user polylines: ``faces`` are then open
-    polylines, drawn as lines, not filled).
+    ``kind`` is 'stator', 'rotor', 'shaft' (a flexible rotor's line), 'rod' (a rigid rotor's
+    axis out to bearings beyond its cylinder) or 'outline' (user polylines); for the last three
+    ``faces`` are open polylines, drawn as lines, not filled.
     """
 
     name: str
@@ -128,6 +130,7 @@ def machine_outline(model, outline=None) -> MachineOutline:
         brackets = _brackets(model, box)
     elif _holder(model) != "ground":        # sensors on the ground need no line to a rotor
         brackets = _carrier(model)
+    bodies += [rod for rotor in model.rotors if (rod := _rotor_rod(model, rotor, axis)) is not None]
     points = np.concatenate([b.vertices for b in bodies] + [brackets.reshape(-1, 3)]
                             + [[s.position for s in model.suspensions]] * bool(model.suspensions))
     size = float(np.max(np.ptp(points, axis=0))) or 1.0
@@ -202,13 +205,34 @@ def _ring_axes(axis):
     return e1, np.cross(axis, e1)
 
 
-def _rotor_body(model, rotor, axis) -> Body:
-    if rotor.flexible is not None:
-        return _shaft_body(model, rotor, axis)
+def _cylinder(rotor):
+    """(radius, length) [m] of the solid cylinder drawn for a rigid rotor."""
     m = float(rotor.mass)
     radius = np.sqrt(2 * rotor.polar_inertia / m)
     length = np.sqrt(max(12 * rotor.diametral_inertia / m - 3 * radius ** 2, 0.0))
-    length = max(length, 0.15 * radius)
+    return radius, max(length, 0.15 * radius)
+
+
+def _rotor_rod(model, rotor, axis) -> Body | None:
+    """A rigid rotor's axis from its cylinder to its bearings beyond it (a disk on a rod held in
+    a bearing 0.75 m away), an open polyline of kind 'rod' that moves with the rotor; None
+    when every bearing lies within the cylinder's length."""
+    if rotor.flexible is not None:
+        return None
+    centre = np.asarray(rotor.center_of_mass, float)
+    along = [float((np.asarray(b.position, float) - centre) @ axis) for b in model.bearings if b.rotor == rotor.name]
+    half = 0.5 * _cylinder(rotor)[1]
+    low, high = min(along + [-half]), max(along + [half])
+    if low >= -half and high <= half:
+        return None
+    vertices = np.array([centre + low * axis, centre + high * axis])
+    return Body(rotor.name, "rod", vertices, ((0, 1),), axis=axis)
+
+
+def _rotor_body(model, rotor, axis) -> Body:
+    if rotor.flexible is not None:
+        return _shaft_body(model, rotor, axis)
+    radius, length = _cylinder(rotor)
     e1 = np.cross(axis, [1.0, 0.0, 0.0] if abs(axis[0]) < 0.9 else [0.0, 1.0, 0.0])
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(axis, e1)

@@ -621,17 +621,41 @@ def exits_of_orders(orders, lines, x_limits, top, per_x, bottom=0.0, to_axes=Non
 
     ``lines`` is a list of (name, multiplier, colour), one per source; ``per_x`` turns a
     plotted speed into Hz per unit of order and multiplier; ``bottom`` and ``to_axes`` as
-    for :func:`line_exit`.
+    for :func:`line_exit`. Lines of several sources that coincide (twin rotors at one speed,
+    a rotor's 2X on another's 1X) get one label naming them all, in the colour of the one
+    drawn last (on top, the one seen): ``1X upper, lower``, ``2X motor = 1X fan``.
     """
     labels = []
+    for slope, members in _coinciding_orders(orders, lines, per_x):
+        exit_ = line_exit(slope, x_limits, top, bottom, to_axes)
+        if exit_ is not None:
+            back = _back_along(slope, x_limits, top, bottom, to_axes, exit_[3]) if exit_[0] != "top" else ()
+            labels.append(EdgeLabel(*_order_words(members), members[-1][2], *exit_, back=back))
+    return labels
+
+
+def _coinciding_orders(orders, lines, per_x):
+    """``[(slope, [(order, name, colour), ...]), ...]``: the order lines in the order they are
+    drawn (source by source, order by order), those of one slope (to 1e-9) together."""
+    groups = []
     for name, multiplier, color in lines:
         for order in orders:
             slope = float(np.abs(order * multiplier * per_x))
-            exit_ = line_exit(slope, x_limits, top, bottom, to_axes)
-            if exit_ is not None:
-                back = _back_along(slope, x_limits, top, bottom, to_axes, exit_[3]) if exit_[0] != "top" else ()
-                labels.append(EdgeLabel(f"{order:g}X", name, color, *exit_, back=back))
-    return labels
+            same = [g for g in groups if np.isclose(g[0], slope, rtol=1e-9, atol=0.0)]
+            if same:
+                same[0][1].append((order, name, color))
+            else:
+                groups.append((slope, [(order, name, color)]))
+    return groups
+
+
+def _order_words(members):
+    """(prefix, suffix) of a label of coinciding lines: ``('1X', 'upper, lower')`` where the
+    orders are one, else ``('2X', 'motor = 1X fan')``."""
+    first = f"{members[0][0]:g}X"
+    if all(order == members[0][0] for order, _, _ in members):
+        return first, ", ".join(name for _, name, _ in members)
+    return first, " = ".join([members[0][1]] + [f"{order:g}X {name}" for order, name, _ in members[1:]])
 
 
 #: a line's points back from its exit: this many steps of 1/50 of the axes' width

@@ -259,9 +259,22 @@ def _draw_critical(ax, result, scale, sources):
         return np.empty(0), np.empty(0)
     keep = np.array([sources is None or s in sources for s in critical.source], dtype=bool)
     speeds, freqs = critical.speeds[keep] * scale, critical.frequencies_hz[keep]
+    speeds, freqs = _distinct_points(speeds, freqs)
     ax.plot(speeds, freqs, "o", markersize=6, markerfacecolor="none", markeredgecolor="k",
             label="critical speed", zorder=3)
     return speeds, freqs
+
+
+def _distinct_points(speeds, freqs):
+    """The points ``(speed, frequency)`` once each (to 1e-9 of the largest), in their order: where
+    the coinciding order lines of two sources cross a mode there is one circle and one label."""
+    if not len(speeds):
+        return speeds, freqs
+    points = np.column_stack([speeds, freqs])
+    size = np.where(np.abs(points).max(axis=0) > 0, np.abs(points).max(axis=0), 1.0)
+    _, first = np.unique(np.round(points / size, 9), axis=0, return_index=True)
+    first = np.sort(first)
+    return speeds[first], freqs[first]
 
 
 def _speed_text(value: float) -> str:

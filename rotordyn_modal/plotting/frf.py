@@ -26,7 +26,8 @@ def _bode_axes(figsize=(8.0, 6.0)):
 def plot_frf(result, measured=None, pairs=None, title: str | None = None, units: str = "si", input_kinds=None):
     """Magnitude (log) and phase of FRFs against frequency, measured data dotted beneath.
 
-    Up to :data:`_MAX_LEGEND` FRFs of one unit share one magnitude and one phase panel;
+    The frequency axis is logarithmic where the frequencies span more than 30 times (from
+    above 0 Hz), else linear. Up to :data:`_MAX_LEGEND` FRFs of one unit share one magnitude and one phase panel;
     more, or forces beside moments, are drawn in groups (:func:`_frf_groups`: each force
     item, else each input), each group's forces, moments and phases in panels of their own,
     every curve named in its group's legend.
@@ -174,10 +175,26 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0):
         mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=name)
         phase.plot(result.frequencies_hz, phase_values, color=colour, ls=style, lw=0.9)
     _limit_range(mag)
+    _frequency_scale(mag, result.frequencies_hz)
+
+
+def _frequency_scale(ax, frequencies):
+    """A logarithmic frequency axis (shared by the phase panel) when the frequencies [Hz], all
+    > 0, span more than :data:`~rotordyn_modal.plotting.campbell.LOG_SPAN` times (mount modes at
+    5 Hz beside bearing modes at 1 kHz), else linear."""
+    from .campbell import LOG_SPAN
+
+    f = np.asarray(frequencies, float)
+    f = f[np.isfinite(f)]
+    if f.size and f.min() > 0 and f.max() > LOG_SPAN * f.min():
+        ax.set_xscale("log")
 
 
 def plot_overlay(models, measured, title: str | None = None, units: str = "si", input_kinds=None):
-    """Model over measurement at several speeds: one colour per speed.
+    """Model over measurement at several speeds: one magnitude and phase panel per speed.
+
+    In each speed's panels every FRF has a style of its own (as :func:`plot_frf`), named in that
+    panel's legend, its measured dots in its colour; the panels stand in up to two columns.
 
     Parameters
     ----------
@@ -193,26 +210,28 @@ def plot_overlay(models, measured, title: str | None = None, units: str = "si", 
     -------
     matplotlib.figure.Figure
     """
-    fig, mag, phase = _bode_axes()
+    import matplotlib.pyplot as plt
+
+    columns = 1 if len(models) == 1 else 2
+    rows = int(np.ceil(len(models) / columns))
+    fig = plt.figure(figsize=(8.0 * columns, 5.2 * rows), layout="constrained")
+    blocks = np.atleast_1d(fig.subfigures(rows, columns, squeeze=False).ravel())
+    for block in blocks[len(models):]:
+        block.set_visible(False)
     scale = _FrfScale(models[0].quantity, units, input_kinds)
-    for n, (model, meas) in enumerate(zip(models, measured)):
-        colour = f"C{n % 10}"
-        for o in model.outputs:
-            for i in model.inputs:
-                factor = 1.0 if units == "si" else scale(o, i)
-                hm = meas.H[meas.outputs.index(o), meas.inputs.index(i)] * factor
-                h = model.H[model.outputs.index(o), model.inputs.index(i)] * factor
-                mag.semilogy(meas.frequencies_hz, np.abs(hm), ".", ms=2.5, color=colour, alpha=0.5)
-                phase.plot(meas.frequencies_hz, np.degrees(np.angle(hm)), ".", ms=2.5, color=colour, alpha=0.5)
-                mag.semilogy(model.frequencies_hz, np.abs(h), color=colour)
-                phase.plot(model.frequencies_hz, np.degrees(np.angle(h)), color=colour)
-        mag.plot([], [], color=colour, label=f"{model.speed * 30 / np.pi:.0f} rpm")
-    _limit_range(mag)
     pairs = [(o, i) for o in models[0].outputs for i in models[0].inputs]
-    mag.set_ylabel(f"|H| [{_UNITS.get(models[0].quantity, '') if units == 'si' else scale.label(pairs)}]")
-    phase.set_xlabel("Frequency [Hz]")
-    mag.legend(fontsize="small", title="model (line), measured (dots)")
-    mag.set_title(title or "Model versus measurement")
+    unit = _UNITS.get(models[0].quantity, "") if units == "si" else scale.label(pairs)
+    for block, model, meas in zip(blocks, models, measured):
+        mag, phase = block.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [2, 1]})
+        _draw_frfs(mag, phase, model, meas, pairs, lambda o, i: f"{o} / {i}", scale)
+        mag.set_ylabel(f"|H| [{unit}]")
+        mag.set_title(f"at {model.speed * 30 / np.pi:.0f} rpm", fontsize="medium")
+        mag.legend(fontsize="x-small", title="model (line), measured (dots)", title_fontsize="x-small",
+                   loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        phase.set_yticks([-180, -90, 0, 90, 180])
+        phase.set_ylabel("Phase [deg]")
+        phase.set_xlabel("Frequency [Hz]")
+    fig.suptitle(title or "Model versus measurement")
     return fig
 
 

@@ -109,13 +109,18 @@ def plot_csr_chart(screening, title: str | None = None, ax=None, units: str = "s
     top = max(3.0, 1.15 * screening.csr)
     ax.fill_between(rho * scale, line, top, color="tab:red", alpha=0.08, linewidth=0)
     ax.plot(rho * scale, line, color="k", linewidth=1.8, label="dividing line (ROSS's reading of API 617)")
-    ax.text(0.03, 0.05, "Region A", transform=ax.transAxes, fontsize="large", color="0.35")
-    ax.text(0.03, 0.93, "Region B (Level II if Q0/Qa < 10)", transform=ax.transAxes, fontsize="large",
-            color="tab:red", alpha=0.7, va="top")
+    # the region names stand away from the machine's point (u, v: axes fraction)
+    u, v = screening.density / end, screening.csr / top
+    ax.text(0.03, 0.45 if u < 0.3 and v < 0.2 else 0.05, "Region A", transform=ax.transAxes, fontsize="large",
+            color="0.35")
+    x, side = (0.03, "left") if u > 0.5 else (0.97, "right")
+    ax.text(x, 0.93, "Region B (Level II if Q0/Qa < 10)", transform=ax.transAxes, fontsize="large", color="tab:red",
+            alpha=0.7, va="top", ha=side)
     colour = "tab:red" if screening.region == "B" else "tab:green"
     critical = (f"{screening.critical_speed * 30 / np.pi:.5g} rpm" if np.isfinite(screening.critical_speed)
                 else "none (rigid rotor)")
-    ax.plot([screening.density * scale], [screening.csr], "o", color=colour, markersize=9, zorder=5,
+    # not clipped: a rigid rotor's CSR 0 lies on the bottom spine
+    ax.plot([screening.density * scale], [screening.csr], "o", color=colour, markersize=9, zorder=5, clip_on=False,
             label=f"machine: MCS {screening.speed * 30 / np.pi:.5g} rpm / first critical on rigid supports "
                   f"{critical}")
     ax.set_xlim(0.0, end * scale)
@@ -134,5 +139,5 @@ def plot_csr_chart(screening, title: str | None = None, ax=None, units: str = "s
         lines.append(f"Level I verdict: {textwrap.shorten(verdict, 90)}")
     bad = screening.region == "B" or (verdict or "").strip() == "Level II required"
     ax.set_title("\n".join(lines), fontsize="medium", color="tab:red" if bad else "darkgreen")
-    ax.legend(fontsize="x-small", loc="upper right", framealpha=0.85)
+    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.12), frameon=False)   # off the chart
     return fig

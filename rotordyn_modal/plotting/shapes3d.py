@@ -20,7 +20,8 @@ __all__ = ["plot_mode_shape", "plot_mode_shapes", "animate_mode_shape", "ANIMATI
 
 #: file endings of animations and how each is written
 ANIMATION_FORMATS = (".gif", ".html", ".mp4")
-_BODY_COLOURS = {"stator": "tab:blue", "outline": "tab:blue", "rotor": "tab:orange", "shaft": "tab:orange"}
+_BODY_COLOURS = {"stator": "tab:blue", "outline": "tab:blue", "rotor": "tab:orange", "shaft": "tab:orange",
+                 "rod": "tab:orange"}
 _ARROW_COLOURS = {"sensor": "tab:green", "excitation": "tab:purple"}
 _SPRING_COILS = 6
 #: resolution of animation frames (a 12 x 8 inch figure: 864 x 576 pixels)
@@ -237,7 +238,7 @@ def _edges(body, points):
         n = (len(points) - 2) // 2
         loops = [list(range(n)) + [0], list(range(n, 2 * n)) + [n]]
         loops += [[k, n + k] for k in range(0, n, max(1, n // 4))]
-    elif body.kind in ("outline", "shaft"):     # open polylines (a shaft: its line, then its disks' circles)
+    elif body.kind in ("outline", "shaft", "rod"):  # open polylines (a shaft: its line, then its disks' circles)
         loops = [list(line) for line in body.faces]
     else:
         loops = [list(face) + [face[0]] for face in body.faces]
@@ -270,7 +271,7 @@ def _draw_displaced(ax, flat, view, phase):
         colour = _BODY_COLOURS[body.kind]
         _polyline(ax, flat, _edges(body, points), f"displaced:{body.name}", color=colour,
                   linewidth=2.2 if body.kind == "shaft" else 1.4)
-        if body.kind not in ("outline", "shaft"):
+        if body.kind not in ("outline", "shaft", "rod"):
             faces = Poly3DCollection([points[list(face)] for face in body.faces], facecolor=colour,
                                      alpha=0.15 if body.kind == "stator" else 0.35, edgecolor="none")
             faces.set_gid(f"displaced-faces:{body.name}")

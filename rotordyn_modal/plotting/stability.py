@@ -73,6 +73,7 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
         axis.axhline(0.0, color="k", linewidth=0.8, zorder=1.2)   # under the curves (undamped modes lie on it)
         axis.grid(True, alpha=0.3)
         _note_cut_off(axis, result.modes, values, unit)
+    _note_on_zero(top, result, shown)
     top.set_xlim(x.min(), x.max() if x.max() > x.min() else x.min() + 1)
     top.set_ylabel("Real part of eigenvalue [1/s]\n(> 0: unstable)")
     bottom.set_ylabel("Log decrement [-]\n(< 0: unstable)")
@@ -205,6 +206,23 @@ def _note_cut_off(ax, labels, values, unit):
                 fontsize="x-small", ha="left", va="bottom", color="0.3", gid="cut-off-note", clip_on=False)
 
 
+def _note_on_zero(ax, result, shown):
+    """Name the coloured modes whose real part is zero to round-off wherever they are modes (an
+    undamped machine): their curves lie on one another on the zero line, only the last drawn
+    shows (beside the panel, below the legend)."""
+    import textwrap
+
+    significant = result.significant_real_parts
+    modes = np.isfinite(result.log_decrements)
+    flat = [m for m in shown if modes[:, m].any() and np.all(significant[modes[:, m], m] == 0)]
+    if len(flat) < 2:
+        return
+    note = (f"modes {_label_list(sorted(result.modes[flat]))}: real part and log decrement 0 (to round-off) "
+            f"at every speed, drawn on zero over one another")
+    ax.text(1.02, 0.45, textwrap.fill(note, 30), transform=ax.transAxes, fontsize="x-small", ha="left", va="top",
+            color="0.3", gid="zero-note", clip_on=False)
+
+
 def _label_list(labels) -> str:
     """``[3, 4, 7, 8, 9, 10]`` -> ``'3, 4, 7-10'``: runs of three or more as ranges."""
     parts, run = [], []
@@ -218,9 +236,10 @@ def _label_list(labels) -> str:
 
 
 def _draw_thresholds(top, bottom, result, scale, speed_unit):
-    """A vertical line at each threshold speed, labelled in the real-part panel where there is room,
-    beside its line where no curve runs (upright, else lying; from the top down), else upright at the top."""
-    from ._labels import CurveMap, first_free_box, laid_out_renderer, text_size
+    """A vertical line at each threshold speed, labelled in the real-part panel where there is room:
+    beside its line where no curve runs (upright, else lying; on one line, else on two or three;
+    from the top down), else upright at the top."""
+    from ._labels import CurveMap, laid_out_renderer
 
     unit = {"rpm": "rpm", "rad/s": "rad/s", "hz": "Hz"}[speed_unit]
     items = []
@@ -228,49 +247,72 @@ def _draw_thresholds(top, bottom, result, scale, speed_unit):
         colour = "tab:red" if onset else "tab:green"
         for axis in (top, bottom):
             axis.axvline(speed * scale, color=colour, linewidth=1.2, alpha=0.9, gid="threshold")
-        items.append((speed * scale, f"{speed * scale:,.0f} {unit}: mode {mode} "
-                      f"{'becomes unstable' if onset else 'stable again'}", colour))
+        items.append((speed * scale, (f"{speed * scale:,.0f} {unit}:", f"mode {mode}",
+                                      "becomes unstable" if onset else "stable again"), colour))
     if not items:
         return
     renderer = laid_out_renderer(top.figure)
-    frame = top.get_window_extent(renderer)
-    (lo, hi), placed = top.get_xlim(), []
-    pad = renderer.points_to_pixels(2.0) / frame.width
     curves = CurveMap(top, renderer, units="axes")
-    for at, text, colour in items:
+    placed = []
+    for at, parts, colour in items:
+        _label_threshold(top, renderer, curves, placed, at, parts, colour)
+
+
+def _label_threshold(top, renderer, curves, placed, at, parts, colour):
+    """One threshold line's label (``parts``: its speed, its mode, what happens) beside the line at
+    ``at`` [axis unit]: the first free place of :func:`_threshold_places`, upright, else lying, on
+    one line, else two, else three; else upright at the top, on one line."""
+    from ._labels import first_free_box, text_size
+
+    frame = top.get_window_extent(renderer)
+    lo, hi = top.get_xlim()
+    u = (at - lo) / (hi - lo)
+    pad = renderer.points_to_pixels(2.0) / frame.width
+    own = (u - 2 * pad, 0.0, u + 2 * pad, 1.0)       # its own line runs beside it
+
+    def free(box):
+        return curves.free(box, own)
+
+    first = None
+    speed, mode, words = parts
+    shapes = [f"{speed} {mode} {words}", f"{speed}\n{mode} {words}", f"{speed}\n{mode}\n{words}"]
+    for text, upright in ((text, upright) for text in shapes for upright in (True, False)):
         w, h = text_size(top.figure, text, "x-small", renderer)
-        w, h = h / frame.width, w / frame.height      # turned upright
-        u = (at - lo) / (hi - lo)
-        # beside the line, the stable side first, from the top down: where no curve runs, else at the top
-        sides = [u - pad - w, u + pad] if colour == "tab:red" else [u + pad, u - pad - w]
-        boxes = [(left, upper - h, left + w, upper) for upper in np.arange(0.98, h, -0.02) for left in sides]
-        own = (u - 2 * pad, 0.0, u + 2 * pad, 1.0)       # its own line runs beside it
-
-        def free(box, own=own):
-            return curves.free(box, own)
-
+        w, h = (h / frame.width, w / frame.height) if upright else (w / frame.width, h / frame.height)
+        boxes = _threshold_places(u, w, h, pad, colour == "tab:red")
+        first = first or (text, boxes[:2])
         box = first_free_box(boxes, placed, frame=(0.0, 0.0, 1.0, 1.0), allowed=free)
-        if box is None:      # lying beside its line where no curve runs
-            wide, high = h * frame.height / frame.width, w * frame.width / frame.height
-            flat = [(left, upper - high, left + wide, upper) for upper in np.arange(0.98, high, -0.02)
-                    for left in ([u + pad, u - pad - wide] if colour != "tab:red" else [u - pad - wide, u + pad])]
-            box = first_free_box(flat, placed, frame=(0.0, 0.0, 1.0, 1.0), allowed=free)
-            if box is not None:
-                top.text(box[0], box[1], text, transform=top.transAxes, ha="left", va="bottom", fontsize="x-small",
-                         color=colour, gid="threshold-label",
-                         bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5})
-                continue
-        box = box or first_free_box(boxes[:2], placed, frame=(0.0, 0.0, 1.0, 1.0))
+        if box is not None:
+            break
+    else:                    # upright at the top, across the curves
+        text, upright = first[0], True
+        box = first_free_box(first[1], placed, frame=(0.0, 0.0, 1.0, 1.0))
         if box is None:
-            continue
-        top.text(box[0] + w / 2, box[3], text, transform=top.transAxes, rotation=90, ha="center", va="top",
-                 fontsize="x-small", color=colour, gid="threshold-label",
-                 bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5})
+            return
+    style = {"transform": top.transAxes, "fontsize": "x-small", "color": colour, "gid": "threshold-label",
+             "bbox": {"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5}}
+    if upright:
+        top.text(0.5 * (box[0] + box[2]), box[3], text, rotation=90, ha="center", va="top", **style)
+    else:
+        top.text(box[0], box[1], text, ha="left", va="bottom", **style)
+
+
+def _threshold_places(u, w, h, pad, onset):
+    """Boxes (axes fraction) ``w`` wide and ``h`` high beside a threshold line at ``u``, the
+    stable side first (left of an onset, right of a return to stability), from the top down."""
+    sides = [u - pad - w, u + pad] if onset else [u + pad, u - pad - w]
+    return [(left, upper - h, left + w, upper) for upper in np.arange(0.98, h, -0.02) for left in sides]
 
 
 def plot_stability_map(result, speed_unit: str = "rpm", quantity: str = "min_damping_ratio",
                        title: str | None = None):
     """Map over speed and one parameter, with the stability boundary drawn.
+
+    The colours are centred on zero (white), each side scaled to its own extreme: the most
+    unstable cell is the colour map's red end (``max_real_part``: blue end) however small
+    beside the most stable. The legend, below the axes, names the boundary (the black line
+    where the largest real part is zero), the root-found thresholds, or says that the map is
+    stable everywhere.
 
     Parameters
     ----------
@@ -287,19 +329,35 @@ def plot_stability_map(result, speed_unit: str = "rpm", quantity: str = "min_dam
     x = result.speeds * speed_scale(speed_unit)
     y = result.values
     field = result.min_damping_ratios if quantity == "min_damping_ratio" else result.max_real_parts
-    limit = np.nanmax(np.abs(field[np.isfinite(field)])) if np.isfinite(field).any() else 1.0
     mesh = ax.pcolormesh(x, y, field, cmap="RdBu" if quantity == "min_damping_ratio" else "RdBu_r",
-                         vmin=-limit, vmax=limit, shading="nearest")
+                         norm=_zero_centred_norm(field), shading="nearest")
     fig.colorbar(mesh, ax=ax, label=quantity.replace("_", " "))
     if len(y) > 1 and len(x) > 1:
-        ax.contour(x, y, result.max_real_parts, levels=[0.0], colors="k", linewidths=2.0)
+        boundary = ax.contour(x, y, result.max_real_parts, levels=[0.0], colors="k", linewidths=2.0)
+        if any(len(segment) for level in boundary.allsegs for segment in level):
+            ax.plot([], [], color="k", linewidth=2.0, label="stability boundary: largest real part 0")
     _mark_every_threshold(ax, result, speed_scale(speed_unit))
+    if not any(r.unstable_intervals for r in result.results):
+        ax.plot([], [], linestyle="none", label="stable everywhere on the map")
     ax.set_xlabel(speed_label(speed_unit))
     ylabel = result.key if result.mode_of_variation == "values" else f"scale of {result.key}"
     ax.set_ylabel(ylabel)
     ax.set_title(title or "Stability map (black line: boundary, red: unstable)")
-    ax.legend(loc="upper right", fontsize="small")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize="small", frameon=False)
     return fig
+
+
+def _zero_centred_norm(field):
+    """Colours centred on zero, each side reaching its own extreme of ``field`` (the other's
+    when a side is empty)."""
+    from matplotlib.colors import TwoSlopeNorm
+
+    finite = field[np.isfinite(field)]
+    low, high = (float(finite.min()), float(finite.max())) if finite.size else (-1.0, 1.0)
+    low, high = min(low, -high, 0.0) if low >= 0 else low, max(high, -low, 0.0) if high <= 0 else high
+    if not low < 0 < high:
+        low, high = -1.0, 1.0
+    return TwoSlopeNorm(vcenter=0.0, vmin=low, vmax=high)
 
 
 def _mark_every_threshold(ax, result, scale):

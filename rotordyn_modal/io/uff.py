@@ -115,6 +115,12 @@ def _check_writable_channels(results, mapping, path):
         if len(name) > 80:
             raise InputError(f"{path}: channel name {name[:40]!r}... has {len(name)} characters: a UFF 58 ID line "
                              "holds 80")
+        if name in getattr(mapping, "twice", {}):
+            table, ((line_a, (node_a, dir_a)), (line_b, (node_b, dir_b))) = mapping.twice[name]
+            raise InputError(f"{table}: line {line_b}: name {name!r} is given node {node_b} direction {dir_b} here "
+                             f"and node {node_a} direction {dir_a} on line {line_a}: writing {path} (UFF) needs one "
+                             "node and direction per name (two read a file that numbers a driving point's response "
+                             "and reference apart)")
 
 
 def _entity(name):
@@ -215,7 +221,8 @@ def _check_complete(path):
         head = handle.read(4096)
     if b"\0" in head or b"58b" in head.lower():
         return  # binary 58b sets: pyuff checks their byte counts
-    lines = open(path, encoding="latin-1").read().splitlines()
+    with open(path, encoding="latin-1") as handle:
+        lines = handle.read().splitlines()
     marks = [k for k, line in enumerate(lines) if line.strip() == "-1" and line.startswith("    -1")]
     tail = [line for line in lines[(marks[-1] + 1 if marks else 0):] if line.strip()]
     if len(marks) % 2 or tail:
@@ -370,9 +377,15 @@ def _check_set(s, path):
 
 
 def _lookup(table, node, direction, what, path):
+    """``(name, sign)`` of a file's node and direction: a direction opposite to the mapped one
+    (``-3`` where the mapping says ``+3``, as tools write a sensor mounted upside down) is the
+    same channel with its sign flipped."""
     key = (int(node), int(direction))
     if key in table:
         return table[key]
+    if key[1] and (key[0], -key[1]) in table:
+        name, sign = table[(key[0], -key[1])]
+        return name, -sign
     known = ", ".join(f"{n}:{d}={name}" for (n, d), (name, _) in sorted(table.items()))
     raise InputError(f"{path}: {what} node {node} direction {direction} is not in the mapping table "
                      f"(node:direction=name: {known}); give --mapping FILE.csv with columns name,node,direction")
@@ -732,7 +745,7 @@ def _sign(key, mapping, quantity):
     if mapping is None:
         return 1.0
     table = mapping.inputs if quantity == "force" else mapping.outputs
-    return table[key][1]
+    return _lookup(table, *key, "channel", "")[1]
 
 
 def place_channels(model, nodes, mapping):

@@ -1,0 +1,182 @@
+"""More inputs of the families a reviewer tries (after ``test_input_families.py``): names that
+hold commas in list options, mapping tables that give a name two nodes, other tools' ways of
+writing UFF directions and units. Each case through the command line in this process (the
+right answer, or exit 2 with one line naming the file or option and nothing written) or
+through the reader the command line calls."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import pyuff
+
+import rotordyn_modal as rdm
+from rotordyn_modal.cli import main
+from rotordyn_modal.io.measured import default_mapping, read_measured
+from rotordyn_modal.io.uff import write_uff58
+
+ROOT = Path(__file__).resolve().parent.parent
+GEAR = ROOT / "examples" / "gear_machine.toml"
+FAN = ROOT / "examples" / "fan_on_bearings.toml"
+
+
+def _one_line_error(capsys, *words):
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+    for word in words:
+        assert word in err, err
+    return err
+
+
+def _renamed(tmp_path, source, renames, name="renamed.toml"):
+    """A copy of an example whose ``name = "OLD"`` lines read ``name = "NEW"``."""
+    text = Path(source).read_text()
+    for old, new in renames.items():
+        assert f'name = "{old}"' in text
+        text = text.replace(f'name = "{old}"', f'name = "{new}"')
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def _csv_rows(capsys):
+    import io
+
+    import pandas as pd
+
+    return pd.read_csv(io.StringIO(capsys.readouterr().out))
+
+
+# ----------------------------------------------------------------------- names holding commas
+@pytest.mark.parametrize("sensor, excitation", [
+    ("acc, top z", "hammer,z"),                      # given whole: the known name first
+    ('"acc, top z"', '"hammer,z",shaker-y'),         # quoted
+    ("acc\\, top z", "hammer\\,z,shaker-y"),         # commas escaped
+], ids=["whole", "quoted", "escaped"])
+def test_a_name_holding_commas_is_chosen_in_a_list_option(tmp_path, capsys, sensor, excitation):
+    """``--sensor "acc, top z"`` was split at its comma into 'acc' and 'top z': exit 2, no
+    such sensor; the name could not be chosen at all."""
+    model_file = _renamed(tmp_path, GEAR, {"acc-top-z": "acc, top z", "hammer-z": "hammer,z"})
+    assert main(["frf", str(model_file), "--freqs", "2:40:3", "--sensor", sensor, "--excitation", excitation,
+                 "--out", "-", "--quiet"]) == 0
+    table = _csv_rows(capsys)
+    model = rdm.load_model(model_file)
+    wanted = ["hammer,z"] + (["shaker-y"] if "shaker" in excitation else [])
+    exact = rdm.frf(model, 0.0, np.linspace(2, 40, 3), inputs=wanted, outputs=["acc, top z"])
+    assert set(table["output"]) == {"acc, top z"} and list(dict.fromkeys(table["input"])) == wanted
+    first = table[table["input"] == "hammer,z"]
+    np.testing.assert_allclose(first["real"] + 1j * first["imag"], exact.H[0, 0], rtol=1e-9)
+
+
+def test_a_list_that_reads_as_two_sets_of_names_is_refused(tmp_path, capsys):
+    """Sensors 'a', 'b' and 'a,b': ``--sensor a,b`` is either; it is refused with the way out."""
+    model_file = _renamed(tmp_path, FAN, {"probe-DE-x": "a", "probe-DE-y": "b", "acc-fan-z": "a,b"})
+    assert main(["unbalance", str(model_file), "--speeds", "100:3000:3", "--sensor", "a,b", "--quiet"]) == 2
+    _one_line_error(capsys, "--sensor 'a,b'", "'a', 'b'", "'a,b'", "quote")
+    assert main(["unbalance", str(model_file), "--speeds", "100:3000:3", "--sensor", '"a,b"', "--out", "-",
+                 "--quiet"]) == 0
+    assert set(_csv_rows(capsys)["output"]) == {"a,b"}
+    assert main(["unbalance", str(model_file), "--speeds", "100:3000:3", "--sensor", '"a","b"', "--out", "-",
+                 "--quiet"]) == 0
+    assert list(dict.fromkeys(_csv_rows(capsys)["output"])) == ["a", "b"]
+
+
+def test_a_bearing_name_holding_a_comma_is_chosen_in_ucs_map(tmp_path, capsys):
+    model_file = _renamed(tmp_path, FAN, {"fan-DE": "fan, DE"})
+    out = tmp_path / "u.csv"
+    assert main(["ucs-map", str(model_file), "--stiffness", "1e6:1e8:3", "--bearings", "fan, DE,fan-NDE",
+                 "--out", str(out), "--quiet"]) == 0
+    assert main(["ucs-map", str(model_file), "--stiffness", "1e6:1e8:3", "--bearings", "fan",
+                 "--quiet"]) == 2
+    _one_line_error(capsys, "'fan'", "'fan, DE'")    # the names listed unambiguously, quoted
+
+
+@pytest.mark.parametrize("text, words", [('"acc-top-z', ["not closed"]), ("acc-top-z\\", ["backslash"]),
+                                         (" , ", ["one or more names"])],
+                         ids=["open-quote", "trailing-backslash", "nothing"])
+def test_a_malformed_name_list_is_one_line(capsys, text, words):
+    assert main(["frf", str(GEAR), "--freqs", "2:40:3", "--sensor", text, "--quiet"]) == 2
+    _one_line_error(capsys, "--sensor", *words)
+
+
+# ----------------------------------------------------------------------- mapping tables
+def test_a_mapping_that_gives_a_name_two_nodes_is_refused_naming_both(tmp_path, capsys):
+    """The UFF was written with the first row's node, silently (exit 0)."""
+    mapping = tmp_path / "map.csv"
+    mapping.write_text("name,node,direction\nacc-top-z,1,3\nacc-side-y,2,2\nhammer-z,101,3\nshaker-y,102,2\n"
+                       "acc-top-z,7,3\n")
+    out = tmp_path / "f.uff"
+    assert main(["frf", str(GEAR), "--freqs", "2:40:3", "--mapping", str(mapping), "--out", str(out),
+                 "--quiet"]) == 2
+    _one_line_error(capsys, "map.csv", "line 6", "'acc-top-z'", "node 7", "node 1", "line 2")
+    assert not out.exists()
+
+
+def test_a_driving_point_with_two_rows_reads_but_is_not_written(tmp_path, capsys):
+    """A name that is a sensor and an excitation may have its response's and its reference's
+    row (for reading a file that numbers them apart); a UFF written from it needs one."""
+    model_file = tmp_path / "same.toml"
+    model_file.write_text(GEAR.read_text().replace('name = "hammer-z"', 'name = "acc-top-z"'))
+    mapping = tmp_path / "map.csv"
+    mapping.write_text("name,node,direction\nacc-top-z,1,3\nacc-side-y,2,2\nacc-top-z,101,3\nshaker-y,102,2\n")
+    out = tmp_path / "f.uff"
+    assert main(["frf", str(model_file), "--freqs", "2:40:3", "--mapping", str(mapping), "--out", str(out),
+                 "--quiet"]) == 2
+    _one_line_error(capsys, "map.csv", "line 4", "'acc-top-z'", "node 101", "node 1", "line 2")
+    assert not out.exists()
+    mapping.write_text("name,node,direction\nacc-top-z,1,3\nacc-side-y,2,2\nacc-top-z,101,3\nshaker-y,102,2\n"
+                       "acc-top-z,5,3\n")
+    assert main(["frf", str(model_file), "--freqs", "2:40:3", "--mapping", str(mapping), "--out", str(out),
+                 "--quiet"]) == 2
+    _one_line_error(capsys, "map.csv", "line 6", "node 5")
+
+
+def test_a_channel_left_out_of_a_mapping_is_named_with_the_mapping_file(tmp_path, capsys):
+    mapping = tmp_path / "map.csv"
+    mapping.write_text("name,node,direction\nacc-top-z,1,3\nacc-side-y,2,2\nhammer-z,101,3\n")
+    out = tmp_path / "f.uff"
+    assert main(["frf", str(GEAR), "--freqs", "2:40:3", "--mapping", str(mapping), "--out", str(out),
+                 "--quiet"]) == 2
+    _one_line_error(capsys, "map.csv", "shaker-y", "not in the mapping table")
+    assert not out.exists()
+
+
+# ----------------------------------------------------------------------- UFF of other tools
+def test_a_direction_opposite_to_the_mapped_one_reads_with_its_sign_flipped(tmp_path):
+    """A file that says -Z for a sensor the mapping puts at +Z measures minus its FRF (it was
+    refused: node 1 direction -3 not in the mapping table)."""
+    model = rdm.load_model(GEAR)
+    exact = rdm.frf(model, 0.0, np.linspace(2, 40, 5))
+    mapping = default_mapping(model)
+    flipped = type(mapping)({(node, -direction) if name == "acc-top-z" else (node, direction): (name, sign)
+                             for (node, direction), (name, sign) in mapping.outputs.items()}, mapping.inputs)
+    path = tmp_path / "minus_z.uff"
+    write_uff58([exact], path, flipped)
+    [back] = read_measured(path, model)              # the default mapping: acc-top-z at node 1, +Z
+    row = back.outputs.index("acc-top-z")
+    np.testing.assert_allclose(back.H[row], -exact.H[exact.outputs.index("acc-top-z")], rtol=1e-10)
+    other = back.outputs.index("acc-side-y")
+    np.testing.assert_allclose(back.H[other], exact.H[exact.outputs.index("acc-side-y")], rtol=1e-10)
+
+
+@pytest.mark.parametrize("change, scale, hz", [
+    (dict(abscissa_axis_units_lab="kHz"), 1.0, 1e3),
+    (dict(ordinate_spec_data_type=11, ordinate_axis_units_lab="ips", orddenom_axis_units_lab="lbf"),
+     0.0254 / (0.45359237 * 9.80665), 1.0),
+], ids=["kHz-abscissa", "ips-over-lbf"])
+def test_uff_units_of_other_tools_are_converted(tmp_path, change, scale, hz):
+    """kHz on the abscissa and ips (in/s, a US velocity unit) were refused as not understood."""
+    freqs, values = np.linspace(0.0, 0.05, 6), np.linspace(1.0, 2.0, 6) * (1 - 0.5j)
+    quantity = "mobility" if change.get("ordinate_spec_data_type") == 11 else "accelerance"
+    fields = dict(func_type=4, rsp_node=1, rsp_dir=3, ref_node=101, ref_dir=3, x=freqs, data=values, id1="x",
+                  binary=0, abscissa_spec_data_type=18, ordinate_spec_data_type=12, orddenom_spec_data_type=13,
+                  ordinate_axis_units_lab="m/s^2", orddenom_axis_units_lab="N")
+    path = tmp_path / "other.uff"
+    pyuff.UFF(str(path)).write_sets([pyuff.prepare_58(**{**fields, **change})], mode="add")
+    [back] = read_measured(path, rdm.load_model(GEAR))
+    assert back.quantity == quantity
+    np.testing.assert_allclose(back.frequencies_hz, freqs * hz, rtol=1e-12)
+    np.testing.assert_allclose(back.H[back.outputs.index("acc-top-z"), back.inputs.index("hammer-z")],
+                               values * scale, rtol=1e-10)

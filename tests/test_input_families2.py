@@ -180,3 +180,75 @@ def test_uff_units_of_other_tools_are_converted(tmp_path, change, scale, hz):
     np.testing.assert_allclose(back.frequencies_hz, freqs * hz, rtol=1e-12)
     np.testing.assert_allclose(back.H[back.outputs.index("acc-top-z"), back.inputs.index("hammer-z")],
                                values * scale, rtol=1e-10)
+
+
+# ----------------------------------------------------------------------- CSV of spreadsheets and other tools
+def _frf_table(tmp_path):
+    """The gear machine's FRF CSV (``frf --out``) as a DataFrame, and the model's FRF."""
+    import pandas as pd
+
+    out = tmp_path / "f.csv"
+    assert main(["frf", str(GEAR), "--speed", "1200", "--freqs", "2:40:5", "--quantity", "accelerance",
+                 "--out", str(out), "--quiet"]) == 0
+    model = rdm.load_model(GEAR)
+    return pd.read_csv(out), model, rdm.frf(model, rdm.rpm(1200), np.linspace(2, 40, 5), quantity="accelerance")
+
+
+@pytest.mark.parametrize("layout", ["semicolon-decimal-comma", "tab-utf16", "units-in-headers"])
+def test_a_measured_csv_of_a_spreadsheet_reads_as_the_same_frf(tmp_path, layout):
+    """A European spreadsheet's export (``;`` and decimal commas), a UTF-16 tab-separated text and
+    headers that carry their units (``Frequency [kHz]``, ``Phase [rad]``, ``Magnitude [g/N]``)
+    were refused: the columns were not found."""
+    table, model, exact = _frf_table(tmp_path)
+    path = tmp_path / f"{layout}.csv"
+    if layout == "semicolon-decimal-comma":
+        path.write_text("# exported by a spreadsheet\n" + table.to_csv(sep=";", decimal=",", index=False,
+                                                                         float_format="%.12g"), encoding="cp1252")
+    elif layout == "tab-utf16":
+        path.write_bytes(table.to_csv(sep="\t", index=False, float_format="%.12g").encode("utf-16"))
+    else:
+        renamed = table.drop(columns=["real", "imag"]).rename(columns={
+            "frequency_hz": "Frequency [kHz]", "magnitude": "Magnitude [g/N]", "phase_deg": "Phase [rad]",
+            "speed_rpm": "Speed (rpm)", "output": "Output", "input": "Input"}).drop(columns=["quantity"])
+        renamed["Frequency [kHz]"] = table["frequency_hz"] / 1e3
+        renamed["Magnitude [g/N]"] = table["magnitude"] / 9.80665
+        renamed["Phase [rad]"] = np.radians(table["phase_deg"])
+        renamed.to_csv(path, index=False, float_format="%.15g")
+    [back] = read_measured(path, model)
+    assert back.quantity == "accelerance" and back.speed == pytest.approx(rdm.rpm(1200), rel=1e-12)
+    np.testing.assert_allclose(back.frequencies_hz, np.linspace(2, 40, 5), rtol=1e-12)
+    np.testing.assert_allclose(back.H, exact.H, rtol=1e-9)
+
+
+def test_a_header_unit_that_is_no_unit_of_its_column_is_refused(tmp_path, capsys):
+    table, _, _ = _frf_table(tmp_path)
+    path = tmp_path / "rpm.csv"
+    table.rename(columns={"frequency_hz": "frequency [rpm]"}).to_csv(path, index=False)
+    assert main(["frf", str(GEAR), "--speed", "1200", "--freqs", "2:40:5", "--quantity", "accelerance",
+                 "--measured", str(path), "--plot", str(tmp_path / "f.png"), "--quiet"]) == 2
+    _one_line_error(capsys, "rpm.csv", "'frequency [rpm]'", "'rpm'")
+    assert not (tmp_path / "f.png").exists()
+
+
+def test_a_mapping_with_semicolons_and_names_that_look_like_numbers(tmp_path):
+    """Sensor names '01' and 'NA' (a test rig's channel numbers) in a ``;``-separated mapping:
+    they were read as the number 1 and as a missing value, and the table was refused."""
+    model_file = _renamed(tmp_path, GEAR, {"acc-top-z": "01", "acc-side-y": "NA"})
+    model = rdm.load_model(model_file)
+    exact = rdm.frf(model, 0.0, np.linspace(2, 40, 5))
+    uff = tmp_path / "m.uff"
+    write_uff58([exact], uff, default_mapping(model))
+    mapping = tmp_path / "map.csv"
+    mapping.write_text("Name;Node;Direction\n01;1;3\nNA;2;2\nhammer-z;101;3\nshaker-y;102;2\n")
+    [back] = read_measured(uff, model, mapping)
+    assert back.outputs == ("01", "NA")
+    np.testing.assert_allclose(back.H, exact.H, rtol=1e-10)
+
+
+def test_an_outline_the_csv_parser_refuses_is_one_line(tmp_path, capsys):
+    """pandas' message ended in a line break: the error took two lines."""
+    outline = tmp_path / "outline.csv"
+    outline.write_bytes(bytes(range(256)) * 40)
+    assert main(["modes", str(GEAR), "--speed", "100", "--shape", "1", "--plot", str(tmp_path / "s.png"),
+                 "--outline", str(outline), "--quiet"]) == 2
+    _one_line_error(capsys, "outline.csv", "cannot read the outline")

@@ -80,18 +80,15 @@ def _along_an_axis(direction) -> bool:
 
 def read_mapping(path, model) -> ChannelMap:
     """Read a mapping table ``name,node,direction[,sign]`` (CSV) against the model's channel names."""
-    import pandas as pd
-
-    import io
-
+    from .csv_tables import read_csv_table, split_header
     from .limits import read_limited
 
     try:
-        table = pd.read_csv(io.BytesIO(read_limited(path, "model", "mapping table")))  # a pipe too, bounded
-    except InputError:
-        raise
-    except (OSError, ValueError) as error:
+        data = read_limited(path, "model", "mapping table")  # a pipe too, bounded
+    except OSError as error:
         raise InputError(f"{path}: cannot read the mapping table ({' '.join(str(error).split())})") from None
+    table, _ = read_csv_table(data, path, "the mapping table")   # ';' or tabs, names as written
+    table.columns = [split_header(c)[0] for c in table.columns]
     missing = {"name", "node", "direction"} - set(table.columns)
     if missing:
         raise InputError(f"{path}: mapping table lacks the column(s) {', '.join(sorted(missing))}: "

@@ -252,3 +252,46 @@ def test_an_outline_the_csv_parser_refuses_is_one_line(tmp_path, capsys):
     assert main(["modes", str(GEAR), "--speed", "100", "--shape", "1", "--plot", str(tmp_path / "s.png"),
                  "--outline", str(outline), "--quiet"]) == 2
     _one_line_error(capsys, "outline.csv", "cannot read the outline")
+
+
+# ----------------------------------------------------------------------- TDMS records
+def _tdms(path, data, **properties):
+    nptdms = pytest.importorskip("nptdms")
+    with nptdms.TdmsWriter(str(path)) as writer:
+        writer.write_segment([nptdms.ChannelObject("record", "acc", data,
+                                                   properties={"unit_string": "g", "wf_increment": 1e-3,
+                                                               **properties})])
+    return path
+
+
+@pytest.mark.parametrize("data, properties, units, words", [
+    (np.r_[np.zeros(5), np.nan, np.zeros(4)], {}, None, ["'acc'", "sample 5", "finite"]),
+    (np.zeros(10) + 1j, {}, None, ["'acc'", "complex128", "real numbers"]),
+    (np.zeros(1), {}, None, ["1 sample", "at least 2"]),
+    (np.zeros(10), {"wf_xunit_string": "Hz"}, None, ["wf_xunit_string", "'Hz'"]),
+    (np.zeros(10), {"unit_string": "V"}, {"V": ("acceleration", 0.0)}, ["units['V']", "other than 0"]),
+], ids=["nan-sample", "complex", "one-sample", "frequency-x-unit", "zero-factor"])
+def test_a_tdms_record_of_no_meaning_is_refused(tmp_path, data, properties, units, words):
+    """A NaN sample, complex samples, one sample and a declared factor of 0 were read without a
+    word (NaN spectra, the imaginary part dropped, a zero record); a time unit of Hz was ignored."""
+    from rotordyn_modal.errors import InputError
+    from rotordyn_modal.io.tdms import read_tdms_records
+
+    path = _tdms(tmp_path / "r.tdms", data, **properties)
+    with pytest.raises(InputError) as info:
+        read_tdms_records(path, units=units)
+    message = str(info.value)
+    assert "\n" not in message and message.startswith(str(path))
+    for word in words:
+        assert word in message, message
+
+
+def test_a_tdms_interval_in_milliseconds_gives_the_rate_in_hz(tmp_path):
+    """``wf_xunit_string = 'ms'`` with an increment of 1: 1000 Hz (it read 1 Hz)."""
+    from rotordyn_modal.io.tdms import read_tdms_records
+
+    samples = np.sin(np.arange(64) * 0.3)
+    records = read_tdms_records(_tdms(tmp_path / "ms.tdms", samples, wf_increment=1.0, wf_xunit_string="ms"),
+                                channels="acc")
+    assert records.sampling_rate_hz == pytest.approx(1000.0, rel=1e-12) and records.channels == ("acc",)
+    np.testing.assert_allclose(records.signals[0, 0], samples * 9.80665, rtol=1e-15)

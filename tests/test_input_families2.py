@@ -295,3 +295,39 @@ def test_a_tdms_interval_in_milliseconds_gives_the_rate_in_hz(tmp_path):
                                 channels="acc")
     assert records.sampling_rate_hz == pytest.approx(1000.0, rel=1e-12) and records.channels == ("acc",)
     np.testing.assert_allclose(records.signals[0, 0], samples * 9.80665, rtol=1e-15)
+
+
+# ----------------------------------------------------------------------- file options: empty names, pipes
+@pytest.mark.parametrize("argv, option", [
+    (["frf", str(GEAR), "--freqs", "2:40:3", "--mapping", "", "--out", "{tmp}/f.uff"], "--mapping"),
+    (["frf", str(GEAR), "--freqs", "2:40:3", "--measured", "", "--plot", "{tmp}/f.png"], "--measured"),
+    (["campbell", str(GEAR), "--speeds", "0:100:3", "--out", ""], "--out"),
+    (["check", ""], "MODEL"),
+], ids=["mapping", "measured", "out", "model"])
+def test_an_empty_file_name_is_refused_not_taken_as_not_given(tmp_path, capsys, argv, option):
+    """A script's empty variable (``--mapping "$MAP"``): the option was dropped without a word
+    (the default mapping written, no overlay drawn, no file written; exit 0)."""
+    assert main([a.replace("{tmp}", str(tmp_path)) for a in argv] + ["--quiet"] * (argv[0] != "check")) == 2
+    _one_line_error(capsys, f"{option} ''", "expected a file name")
+    assert not list(tmp_path.iterdir())
+
+
+def test_out_into_a_pipe_without_an_ending_is_csv(tmp_path):
+    """``--out >(gzip > c.csv.gz)`` or ``--out /dev/stdout`` into a pipe: /dev/fd/N links to
+    'pipe:[...]', which has no name to follow; the write failed (exit 2, no such file)."""
+    import os
+    import threading
+
+    read_end, write_end = os.pipe()
+    chunks = []
+    reader = threading.Thread(target=lambda: chunks.append(os.read(read_end, 1 << 20)))
+    reader.start()
+    try:
+        assert main(["campbell", str(GEAR), "--speeds", "0:100:3", "--out", f"/dev/fd/{write_end}",
+                     "--quiet"]) == 0
+    finally:
+        os.close(write_end)
+        reader.join(timeout=30)
+        os.close(read_end)
+    assert main(["campbell", str(GEAR), "--speeds", "0:100:3", "--out", str(tmp_path / "c.csv"), "--quiet"]) == 0
+    assert b"".join(chunks).decode() == (tmp_path / "c.csv").read_text()

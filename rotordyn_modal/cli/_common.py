@@ -236,6 +236,10 @@ def check_files(args) -> None:
     """
     from ..io.atomic import same_file
 
+    for role in ("input", "output"):
+        for dest, option in getattr(args, "file_options", {}).get(role, ()):
+            if getattr(args, dest, None) == "":   # an empty variable in a script: never "not given"
+                raise InputError(f"{option} '': expected a file name")
     inputs, outputs = _given(args, "input"), _given(args, "output")
     for option, path in inputs + outputs:
         if "\0" in str(path):
@@ -339,9 +343,14 @@ def check_output_options(args):
 
 
 def check_ending(path, endings, option: str):
-    """Refuse an output whose file ending is not one of the formats written (``-``: standard output)."""
+    """Refuse an output whose file ending is not one of the formats written (``-``: standard output;
+    a pipe or device without an ending, where CSV is one of them, is written as CSV)."""
     from pathlib import Path
 
+    from ..io.atomic import _is_special
+
+    if path and path != "-" and endings and not Path(path).suffix and ".csv" in endings and _is_special(path):
+        return   # a pipe or device without an ending (a shell's >(gzip > f.gz), /dev/stdout): CSV, as '-'
     if path and path != "-" and endings and Path(path).suffix.lower() not in endings:
         raise InputError(f"{option} {path}: expected a file ending in {' or '.join(endings)} (the format "
                          "follows the ending)")

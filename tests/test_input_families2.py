@@ -331,3 +331,31 @@ def test_out_into_a_pipe_without_an_ending_is_csv(tmp_path):
         os.close(read_end)
     assert main(["campbell", str(GEAR), "--speeds", "0:100:3", "--out", str(tmp_path / "c.csv"), "--quiet"]) == 0
     assert b"".join(chunks).decode() == (tmp_path / "c.csv").read_text()
+
+
+def test_fit_params_keep_a_dotted_key_whose_name_holds_a_comma(tmp_path):
+    """``--params suspensions.mount,FL.stiffness,gain``: the key of the mount named 'mount,FL'
+    and the gain (it was split into 'suspensions.mount', 'FL.stiffness' and 'gain')."""
+    from rotordyn_modal.cli._common import parse_names
+    from rotordyn_modal.cli.fit import _is_key
+
+    model = rdm.load_model(_renamed(tmp_path, GEAR, {"mount-FL": "mount,FL"}))
+    keys = parse_names("suspensions.mount,FL.stiffness,gain", "--params",
+                       lambda key: key == "gain" or _is_key(model, key))
+    assert keys == ["suspensions.mount,FL.stiffness", "gain"]
+    assert model.get(keys[0]) == [2.0e5, 1.5e5, 4.0e5]
+
+
+def test_a_time_record_in_the_direction_opposite_to_the_mapped_one_is_flipped(tmp_path):
+    from rotordyn_modal.io.channels import ChannelMap
+    from rotordyn_modal.io.uff import read_uff_time_records
+
+    samples = np.sin(np.arange(64) * 0.2)
+    path = tmp_path / "minus_z.uff"
+    pyuff.UFF(str(path)).write_sets([pyuff.prepare_58(
+        func_type=1, rsp_node=5, rsp_dir=-3, ref_node=0, ref_dir=0, x=np.arange(64) * 1e-3, data=samples, id1="x",
+        binary=1, abscissa_spec_data_type=17, ordinate_spec_data_type=12, orddenom_spec_data_type=0,
+        ordinate_axis_units_lab="m/s^2", abscissa_axis_units_lab="s")], mode="add")
+    records = read_uff_time_records(path, ChannelMap({(5, 3): ("acc-top", 1.0)}, {}))
+    assert records.channels == ("acc-top",)
+    np.testing.assert_allclose(records.signals[0, 0], -samples, rtol=1e-15)

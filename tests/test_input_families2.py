@@ -359,3 +359,37 @@ def test_a_time_record_in_the_direction_opposite_to_the_mapped_one_is_flipped(tm
     records = read_uff_time_records(path, ChannelMap({(5, 3): ("acc-top", 1.0)}, {}))
     assert records.channels == ("acc-top",)
     np.testing.assert_allclose(records.signals[0, 0], -samples, rtol=1e-15)
+
+
+def _time_set(node, data, label):
+    return pyuff.prepare_58(func_type=1, rsp_node=node, rsp_dir=3, ref_node=0, ref_dir=0, x=np.arange(len(data)) * 1e-3,
+                            data=data, id1="x", binary=1, abscissa_spec_data_type=17, ordinate_spec_data_type=1,
+                            orddenom_spec_data_type=0, ordinate_axis_units_lab=label, abscissa_axis_units_lab="s")
+
+
+def test_a_uff_channel_recorded_in_volts_is_read_with_its_declared_unit(tmp_path):
+    """One channel of a recording in V (an accelerometer of 100 mV/g recorded uncalibrated):
+    the whole file was refused and, unlike TDMS, a UFF had no way to declare the unit."""
+    from rotordyn_modal.errors import InputError
+    from rotordyn_modal.io.uff import read_uff_time_records
+
+    samples = np.sin(np.arange(64) * 0.2)
+    path = tmp_path / "volts.uff"
+    pyuff.UFF(str(path)).write_sets([_time_set(1, samples, "g"), _time_set(2, 0.5 * samples, "V")], mode="add")
+    with pytest.raises(InputError, match="'V' is not understood"):
+        read_uff_time_records(path)
+    records = read_uff_time_records(path, units={"V": ("acceleration", 9.80665 / 0.1)})
+    assert records.quantities == ("acceleration", "acceleration")
+    np.testing.assert_allclose(records.signals[0, 1], 0.5 * samples * 98.0665, rtol=1e-12)
+    np.testing.assert_allclose(records.signals[0, 0], samples * 9.80665, rtol=1e-12)
+
+
+def test_complex_uff_time_samples_are_refused(tmp_path):
+    """Complex samples of a time record lost their imaginary part without a word."""
+    from rotordyn_modal.errors import InputError
+    from rotordyn_modal.io.uff import read_uff_time_records
+
+    path = tmp_path / "complex.uff"
+    pyuff.UFF(str(path)).write_sets([_time_set(1, np.sin(np.arange(64) * 0.2) + 1j, "g")], mode="add")
+    with pytest.raises(InputError, match="complex samples"):
+        read_uff_time_records(path)

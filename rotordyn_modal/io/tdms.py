@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import InputError
 from .unit_labels import quantity_of
 
-__all__ = ["read_tdms_records", "SI_UNITS"]
+__all__ = ["read_tdms_records", "SI_UNITS", "declared_units"]
 
 #: unit string -> (quantity, factor to SI)
 SI_UNITS = {"N": ("force", 1.0), "m": ("displacement", 1.0), "m/s": ("velocity", 1.0),
@@ -65,7 +65,7 @@ def read_tdms_records(path, group: str | None = None, channels=None, units=None,
     """
     from ..analysis.spectra import TimeRecords
 
-    known = {**SI_UNITS, **_declared_units(units, path)}
+    known = {**SI_UNITS, **declared_units(units, path)}
     tdms = _tdms_file(path)
     chosen = _group(tdms, group, path)
     available = {c.name: c for c in chosen.channels()}
@@ -98,7 +98,7 @@ def read_tdms_records(path, group: str | None = None, channels=None, units=None,
                        quantities=tuple(quantities), speed=float(speed))
 
 
-def _declared_units(units, path) -> dict:
+def declared_units(units, path) -> dict:
     """``units`` checked: ``{unit_string: (quantity, factor to SI)}`` with a quantity of a time
     record and a finite factor other than 0 (a factor of 0 would read every sample as 0)."""
     if units is None:

@@ -584,7 +584,7 @@ def _system(systems, number, node, path):
     return origin, rotation
 
 
-def read_uff_time_records(path, mapping=None, speed: float = 0.0):
+def read_uff_time_records(path, mapping=None, speed: float = 0.0, units=None):
     """Time records (dataset 58/58b, function type 1) of a Universal File.
 
     Each set is a channel: its response node and direction, force or response, and entity name
@@ -609,24 +609,31 @@ def read_uff_time_records(path, mapping=None, speed: float = 0.0):
         default ``NODE:DIRECTION`` (e.g. ``7:+3``).
     speed : float
         Reference rotor speed during the records [rad/s].
+    units : dict, optional
+        Unit labels declared, or overridden: ``{label: (quantity, factor to SI)}``, e.g.
+        ``{"V": ("acceleration", 9.80665 / 0.1)}`` for a 100 mV/g accelerometer recorded in volts
+        (as :func:`~rotordyn_modal.io.tdms.read_tdms_records` takes them).
 
     Returns
     -------
     TimeRecords
-        Signals in SI units: N, m, m/s, m/s^2, Pa.
+        Signals in SI units: N, m, m/s, m/s^2, Pa. NaN, infinite or complex samples are refused.
     """
     from ..analysis.spectra import TimeRecords
+    from .tdms import declared_units
 
+    declared = declared_units(units, path)
     sets, types = _all_sets(path)
     found = [s for s in sets if s["type"] == 58 and int(s.get("func_type", -1)) == 1]
     if not found:
         kinds = sorted({int(s.get("func_type", -1)) for s in sets if s["type"] == 58})
         raise InputError(f"{path}: no time record (dataset 58, function type 1) in the file; "
                          f"dataset 58 function types found: {kinds or 'none'}")
-    units = _units(sets, path)
+    file_units = _units(sets, path)
     rate, channels = None, []
     for s in found:
-        quantity, factor = _time_quantity(s, units, path)
+        label = _label_text(s, "ordinate_axis_units_lab", path)
+        quantity, factor = declared[label] if label in declared else _time_quantity(s, file_units, path)
         dt = _time_step(s, path) * _abscissa_factor(s, _TIME, path)
         rate = 1.0 / dt if rate is None else rate
         # a channel: node, direction, force or response (a driving point has both) and entity name
@@ -638,10 +645,23 @@ def read_uff_time_records(path, mapping=None, speed: float = 0.0):
             raise InputError(f"{path}: channel {key[0]}:{key[1]:+d} is sampled at {1 / dt:g} Hz, another at "
                              f"{rate:g} Hz: every record must share one sampling rate")
         label = f"{len(channels) + 1} ({entity!r}, {str(s.get('id1', '')).strip()!r})"     # for messages
-        channels.append((key, quantity, np.asarray(s["data"], dtype=float) * factor, label))
+        channels.append((key, quantity, _samples(s, path) * float(factor), label))
     names, quantities, signals = _arrange(channels, mapping, path)
     return TimeRecords(signals=signals, sampling_rate_hz=float(rate), channels=tuple(names),
                        quantities=tuple(quantities), speed=float(speed))
+
+
+def _samples(s, path) -> np.ndarray:
+    """A time record's samples as floats; complex or non-finite samples are refused."""
+    data = np.asarray(s["data"])
+    where = f"{path}: time record {s.get('rsp_node')}:{int(s.get('rsp_dir', 0)):+d}"
+    if data.dtype.kind == "c":
+        raise InputError(f"{where} holds complex samples: expected real numbers (a time record)")
+    data = data.astype(float)
+    if not np.all(np.isfinite(data)):
+        bad = int(np.argmax(~np.isfinite(data)))
+        raise InputError(f"{where}: sample {bad} is {data[bad]}: expected finite samples")
+    return data
 
 
 def _arrange(channels, mapping, path):

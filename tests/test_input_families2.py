@@ -6,6 +6,7 @@ through the reader the command line calls."""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -393,3 +394,19 @@ def test_complex_uff_time_samples_are_refused(tmp_path):
     pyuff.UFF(str(path)).write_sets([_time_set(1, np.sin(np.arange(64) * 0.2) + 1j, "g")], mode="add")
     with pytest.raises(InputError, match="complex samples"):
         read_uff_time_records(path)
+
+
+def test_an_output_that_is_a_loop_of_links_is_refused_and_kept(tmp_path, capsys):
+    """``--out loop.csv`` where loop.csv -> loop.csv: the link was replaced by the CSV (exit 0)."""
+    loop = tmp_path / "loop.csv"
+    loop.symlink_to(loop.name)
+    assert main(["campbell", str(GEAR), "--speeds", "0:100:3", "--out", str(loop), "--quiet"]) == 2
+    _one_line_error(capsys, "loop.csv", "symbolic links")
+    assert loop.is_symlink() and os.readlink(loop) == "loop.csv"
+
+
+def test_measured_data_through_a_broken_link_names_the_link(tmp_path, capsys):
+    link = tmp_path / "m.uff"
+    link.symlink_to(tmp_path / "moved.uff")
+    assert main(["frf", str(GEAR), "--freqs", "2:40:3", "--measured", str(link), "--quiet"]) == 2
+    _one_line_error(capsys, "m.uff", "symbolic link", "moved.uff")

@@ -130,6 +130,13 @@ def check_writable(path) -> None:
     OutputError
     """
     shown, path = path, real_target(path)
+    if Path(shown).is_symlink():
+        try:
+            os.path.realpath(shown, strict=True)
+        except FileNotFoundError:
+            pass                       # a link to a file not there yet: the write creates it
+        except OSError as error:       # a loop of links: no target to write (it replaced the link)
+            raise _cannot(shown, error) from None
     if path.is_dir():
         raise OutputError(f"cannot write {shown}: it is a folder")
     if _is_special(path):

@@ -24,6 +24,7 @@ direction (signed).
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -55,6 +56,9 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
     """
     path = Path(path)
     if not path.is_file():
+        if path.is_symlink() and not path.exists():
+            raise InputError(f"{path}: a symbolic link that leads to no file (to {os.readlink(path)}, a missing file "
+                             "or a loop of links)")
         raise InputError(f"{path}: measured data file not found" if not path.exists() else
                          f"{path}: expected a measured data file, not a "
                          f"{'folder' if path.is_dir() else 'pipe or device (its size is not known before reading)'}")

@@ -410,3 +410,27 @@ def test_measured_data_through_a_broken_link_names_the_link(tmp_path, capsys):
     link.symlink_to(tmp_path / "moved.uff")
     assert main(["frf", str(GEAR), "--freqs", "2:40:3", "--measured", str(link), "--quiet"]) == 2
     _one_line_error(capsys, "m.uff", "symbolic link", "moved.uff")
+
+
+# ----------------------------------------------------------------------- numbers beyond every scale
+@pytest.mark.parametrize("call, words", [
+    (lambda m: rdm.modal(m, 1e299), ["speed = 1e+299", "at most 1e+30"]),
+    (lambda m: rdm.frf(m, 0.0, [1.0, 1e300]), ["freqs_hz", "at most 1e+30", "element 1"]),
+    (lambda m: rdm.campbell(m, [0.0, 1e299]), ["speeds", "at most 1e+30", "element 1"]),
+    (lambda m: rdm.unbalance_response(m, [1.0, 1e299]), ["speeds", "at most 1e+30"]),
+], ids=["modal-speed", "frf-frequencies", "campbell-speeds", "unbalance-speeds"])
+def test_speeds_and_frequencies_beyond_the_models_scale_are_refused(call, words):
+    """``modes --speed 1e300`` printed "no oscillating modes at 1e300 rpm: 6 real roots" under
+    an overflow warning (exit 0): a speed of no machine, computed into nonsense."""
+    from rotordyn_modal.errors import InputError
+
+    with pytest.raises(InputError) as info:
+        call(rdm.load_model(GEAR))
+    for word in words:
+        assert word in str(info.value), str(info.value)
+
+
+def test_a_level1_cross_coupling_beyond_every_scale_is_refused(capsys):
+    """``--qa 1e300`` overflowed and was reported as 'there are 0 modes whirling forward'."""
+    assert main(["level1", str(FAN), "--speed", "3000", "--station", "fan", "--qa", "1e300", "--quiet"]) == 2
+    _one_line_error(capsys, "qa = 1e+300", "at most 1e+27")

@@ -434,3 +434,11 @@ def test_a_level1_cross_coupling_beyond_every_scale_is_refused(capsys):
     """``--qa 1e300`` overflowed and was reported as 'there are 0 modes whirling forward'."""
     assert main(["level1", str(FAN), "--speed", "3000", "--station", "fan", "--qa", "1e300", "--quiet"]) == 2
     _one_line_error(capsys, "qa = 1e+300", "at most 1e+27")
+
+
+def test_a_typo_beside_a_name_holding_commas_is_named_alone(tmp_path, capsys):
+    """``--sensor "acc, top z,acc-typo"``: the refusal named 'acc', 'top z' and the typo as unknown."""
+    model_file = _renamed(tmp_path, GEAR, {"acc-top-z": "acc, top z"})
+    assert main(["frf", str(model_file), "--freqs", "2:40:3", "--sensor", "acc, top z,acc-typo", "--quiet"]) == 2
+    err = _one_line_error(capsys, "'acc-typo'")
+    assert "'acc'" not in err and "'top z'" not in err

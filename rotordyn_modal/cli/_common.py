@@ -182,14 +182,26 @@ def _join_known(pieces, text, option, is_known) -> list[str]:
             if len(found) == 2:
                 break
         ways[start] = found
-    if not ways[0]:
-        return [piece.strip() for piece in pieces]
+    if not ways[0]:      # some piece is no name: the known names kept whole, the rest as split (refused later)
+        return _longest_known(pieces, is_known)
     if len(ways[0]) > 1:
         first, second = ways[0][:2]
         raise InputError(f"{option} {text!r}: reads as {', '.join(map(repr, first))} or as "
                          f"{', '.join(map(repr, second))}: quote the names that hold commas (\"a,b\") or "
                          "escape their commas (a\\,b)")
     return ways[0][0]
+
+
+def _longest_known(pieces, is_known) -> list[str]:
+    """``pieces`` grouped from the left, each group the longest run that reads as a known name
+    (a single piece where none does): an unknown name is then named alone in the refusal."""
+    names, start = [], 0
+    while start < len(pieces):
+        stop = next((stop for stop in range(len(pieces), start, -1)
+                     if is_known(",".join(pieces[start:stop]).strip())), start + 1)
+        names.append(",".join(pieces[start:stop]).strip())
+        start = stop
+    return names
 
 
 def add_input_file(parser, *flags, **kwargs):

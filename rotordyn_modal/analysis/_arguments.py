@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from ..model._table import LARGEST
 
 __all__ = ["speed", "values", "speeds", "frequencies", "orders"]
 
@@ -34,19 +35,23 @@ def _numbers(value, name: str, expected: str) -> np.ndarray:
 
 
 def speed(value, name: str = "speed") -> float:
-    """One finite speed [rad/s]."""
+    """One finite speed [rad/s], of magnitude at most ``LARGEST`` (1e30, as a model's numbers)."""
     expected = "one finite number [rad/s]"
     array = _numbers(value, name, expected)
     if array.ndim != 0:
         raise InputError(f"{name} = {_shown(value)}: expected {expected}, got an array of shape {array.shape}")
     if not np.isfinite(array):
         raise InputError(f"{name} = {_shown(value)}: expected {expected}")
+    if abs(float(array)) > LARGEST:
+        raise InputError(f"{name} = {_shown(value)}: expected a speed of magnitude at most {LARGEST:g} rad/s (beyond "
+                         "it the gyroscopic terms of the model's numbers overflow)")
     return float(array)
 
 
 def values(value, name: str, unit: str, positive: bool = False, non_negative: bool = False,
            increasing: bool = False) -> np.ndarray:
-    """A non-empty 1-D array of finite numbers (a scalar is one value).
+    """A non-empty 1-D array of finite numbers of magnitude at most ``LARGEST`` (1e30, as a model's
+    numbers: beyond it products with them overflow); a scalar is one value.
 
     Parameters
     ----------
@@ -67,6 +72,7 @@ def values(value, name: str, unit: str, positive: bool = False, non_negative: bo
     if array.ndim != 1 or array.size == 0:
         raise InputError(f"{name} = {_shown(value)}: expected {expected}, got shape {array.shape}")
     for test, what in ((~np.isfinite(array), "finite numbers"),
+                       (np.abs(array) > LARGEST, f"numbers of magnitude at most {LARGEST:g}"),
                        (array <= 0 if positive else None, "numbers > 0"),
                        (array < 0 if non_negative else None, "numbers >= 0")):
         if test is not None and test.any():

@@ -32,6 +32,7 @@ import numpy as np
 from ..assembly import constant_matrices, dependent_bearing_matrices, excitation_columns, \
     loss_stiffness, sensor_rows
 from ..errors import InputError
+from ..model._table import visible_names
 from ..elements.mounts import has_frequency_dependence, maxwell_stiffness
 from . import _arguments, _batches
 
@@ -139,7 +140,7 @@ def _positions(names, wanted, what):
     wanted = [wanted] if isinstance(wanted, str) else list(wanted)
     missing = [w for w in wanted if w not in names]
     if missing:
-        raise InputError(f"unknown {what} {', '.join(map(repr, missing))}: expected one of {', '.join(names)}")
+        raise InputError(f"unknown {what} {', '.join(map(repr, missing))}: expected one of {visible_names(names)}")
     return [list(names).index(w) for w in wanted]
 
 

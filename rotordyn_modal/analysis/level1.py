@@ -25,6 +25,7 @@ from scipy.optimize import brentq
 
 from ..errors import InputError
 from ..linear_system import speed_linear_form
+from ..model._table import LARGEST
 from ..model.geometry import transverse_axes
 from ..units import to_system
 from . import _arguments, _eigensolve, _vectors, _whirl
@@ -306,8 +307,9 @@ def _checked(speed, qa, factor, steps_per_qa) -> float:
     speed = _arguments.speed(speed)
     if speed == 0:
         raise InputError("speed = 0: a Level I analysis runs at the maximum continuous speed (not 0)")
-    if not (np.isfinite(qa) and qa > 0):
-        raise InputError(f"qa = {qa!r}: expected the anticipated cross-coupling > 0 [N/m]")
+    if not (np.isfinite(qa) and 0 < qa <= LARGEST / 1000):   # swept to factor x Qa: products stay finite
+        raise InputError(f"qa = {qa!r}: expected the anticipated cross-coupling > 0 and at most "
+                         f"{LARGEST / 1000:g} [N/m]")
     if not (np.isfinite(factor) and 1 <= factor <= 1000) or not 1 <= int(steps_per_qa) <= 1000:
         raise InputError(f"factor = {factor!r}, steps_per_qa = {steps_per_qa!r}: expected a factor from 1 to 1000 "
                          "and 1 to 1000 steps per Qa")

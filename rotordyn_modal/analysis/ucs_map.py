@@ -37,6 +37,7 @@ from scipy.optimize import brentq
 from ..assembly import bearing_motion, body_inertias, constant_stiffness_damping, gyroscopic_matrix, mass_matrix
 from ..elements.bearings import evaluate
 from ..errors import InputError
+from ..model._table import visible_names
 from ..model.geometry import skew
 from . import _eigensolve, _vectors, _whirl
 from .tracking import track_modes
@@ -352,7 +353,7 @@ def _chosen_bearings(model, names):
     unknown = [n for n in names if n not in by_name]
     if unknown or not names:
         raise InputError(f"bearings {', '.join(map(repr, unknown)) or '(none)'}: expected names of the "
-                         f"model's bearings: {', '.join(by_name)}")
+                         f"model's bearings: {visible_names(by_name)}")
     return [by_name[n] for n in dict.fromkeys(names)]
 
 

@@ -83,6 +83,127 @@ def parse_list(text: str, option: str) -> np.ndarray:
     return np.array(values)
 
 
+#: how a name holding ',' is written in a list option (the help texts and messages say it)
+NAME_LIST_HELP = ("comma-separated; a name holding ',' is given whole, or quoted (\"a,b\"), or with its "
+                  "commas escaped (a\\,b)")
+
+
+def parse_names(text, option: str, known=None) -> list[str] | None:
+    """The names of a comma-separated list option (``--sensor a,b``), where a name may itself
+    hold commas (model names are any text).
+
+    Double quotes keep what they enclose as one name (``"acc, top",probe-x``), a backslash
+    escapes the next character (``acc\\, top``); an item so written is taken as written. The
+    other items are matched against ``known`` first: the pieces are joined back where the joint
+    text (``acc, top``) is a known name, so a name holding commas also works given as it is.
+
+    Parameters
+    ----------
+    text : str or None
+        The option's value (None: not given).
+    option : str
+        The option, for messages.
+    known : collection of str or callable, optional
+        The names the option may take (or a test of one): used to join pieces back.
+
+    Returns
+    -------
+    list of str, or None when ``text`` is None
+
+    Raises
+    ------
+    InputError
+        An unclosed quote, a trailing backslash, nothing named, or pieces that read as known
+        names in two ways (``a,b`` where ``a``, ``b`` and ``a,b`` are all names).
+    """
+    if text is None:
+        return None
+    is_known = known if callable(known) or known is None else (lambda name, names=set(known): name in names)
+    if is_known and ('"' in text or "\\" in text) and is_known(text):
+        return [text]           # a name holding a quote or a backslash, given whole
+    names, plain = [], []
+    for item, protected in _list_items(text, option) + [(None, True)]:
+        if not protected:
+            plain.append(item)
+            continue
+        if plain:       # the unprotected pieces since the last protected item
+            names.extend(_join_known(plain, text, option, is_known) if is_known and len(plain) > 1 else
+                         [piece.strip() for piece in plain])
+            plain = []
+        if item is not None:
+            names.append(item)
+    names = [n for n in names if n]
+    if not names:
+        raise InputError(f"{option} {text!r}: expected one or more names, {NAME_LIST_HELP}")
+    return names
+
+
+def _list_items(text: str, option: str) -> list[tuple[str, bool]]:
+    """``text`` split at its commas outside quotes and not escaped: ``(item, protected)`` pairs.
+    A protected item (it used a quote or an escape) is as written, less the white space around
+    it outside quotes; an unprotected one is its raw text (joined back by :func:`_join_known`)."""
+    items, chars, protected, quoted, i = [], [], False, False, 0
+    while i <= len(text):
+        char = text[i] if i < len(text) else ","
+        if char == "\\" and i + 1 < len(text):
+            chars.append((text[i + 1], True))
+            protected, i = True, i + 2
+            continue
+        if char == "\\":
+            raise InputError(f"{option} {text!r}: a backslash at the end escapes nothing ({NAME_LIST_HELP})")
+        if char == '"' and i < len(text):
+            quoted, protected = not quoted, True
+        elif char == "," and (not quoted or i == len(text)):
+            if quoted:
+                raise InputError(f"{option} {text!r}: a quote is not closed ({NAME_LIST_HELP})")
+            while protected and chars and not chars[-1][1] and chars[-1][0].isspace():
+                chars.pop()
+            while protected and chars and not chars[0][1] and chars[0][0].isspace():
+                chars.pop(0)
+            items.append(("".join(c for c, _ in chars), protected))
+            chars, protected = [], False
+        else:
+            chars.append((char, quoted))
+        i += 1
+    return items
+
+
+def _join_known(pieces, text, option, is_known) -> list[str]:
+    """``pieces`` (the text between commas) grouped into consecutive runs that each read as a
+    known name; as split when no grouping does; refused when two groupings do."""
+    count = len(pieces)
+    ways = {count: [[]]}          # ways[i]: groupings of pieces[i:] into known names (at most 2 kept)
+    for start in range(count - 1, -1, -1):
+        found = []
+        for stop in range(start + 1, count + 1):
+            name = ",".join(pieces[start:stop]).strip()
+            if is_known(name):
+                found.extend([[name] + rest for rest in ways[stop]][:2 - len(found)])
+            if len(found) == 2:
+                break
+        ways[start] = found
+    if not ways[0]:      # some piece is no name: the known names kept whole, the rest as split (refused later)
+        return _longest_known(pieces, is_known)
+    if len(ways[0]) > 1:
+        first, second = ways[0][:2]
+        raise InputError(f"{option} {text!r}: reads as {', '.join(map(repr, first))} or as "
+                         f"{', '.join(map(repr, second))}: quote the names that hold commas (\"a,b\") or "
+                         "escape their commas (a\\,b)")
+    return ways[0][0]
+
+
+def _longest_known(pieces, is_known) -> list[str]:
+    """``pieces`` grouped from the left, each group the longest run that reads as a known name
+    (a single piece where none does): an unknown name is then named alone in the refusal."""
+    names, start = [], 0
+    while start < len(pieces):
+        stop = next((stop for stop in range(len(pieces), start, -1)
+                     if is_known(",".join(pieces[start:stop]).strip())), start + 1)
+        names.append(",".join(pieces[start:stop]).strip())
+        start = stop
+    return names
+
+
 def add_input_file(parser, *flags, **kwargs):
     """``parser.add_argument`` for a file the command reads: no output may name it
     (:func:`check_files`, run for every command before its work)."""
@@ -127,6 +248,10 @@ def check_files(args) -> None:
     """
     from ..io.atomic import same_file
 
+    for role in ("input", "output"):
+        for dest, option in getattr(args, "file_options", {}).get(role, ()):
+            if getattr(args, dest, None) == "":   # an empty variable in a script: never "not given"
+                raise InputError(f"{option} '': expected a file name")
     inputs, outputs = _given(args, "input"), _given(args, "output")
     for option, path in inputs + outputs:
         if "\0" in str(path):
@@ -230,9 +355,14 @@ def check_output_options(args):
 
 
 def check_ending(path, endings, option: str):
-    """Refuse an output whose file ending is not one of the formats written (``-``: standard output)."""
+    """Refuse an output whose file ending is not one of the formats written (``-``: standard output;
+    a pipe or device without an ending, where CSV is one of them, is written as CSV)."""
     from pathlib import Path
 
+    from ..io.atomic import _is_special
+
+    if path and path != "-" and endings and not Path(path).suffix and ".csv" in endings and _is_special(path):
+        return   # a pipe or device without an ending (a shell's >(gzip > f.gz), /dev/stdout): CSV, as '-'
     if path and path != "-" and endings and Path(path).suffix.lower() not in endings:
         raise InputError(f"{option} {path}: expected a file ending in {' or '.join(endings)} (the format "
                          "follows the ending)")

@@ -9,7 +9,7 @@ import numpy as np
 from ..errors import InputError
 from ..io import save_model
 from ._common import (add_input_file, add_model_argument, add_output_file, check_ending, check_output_options,
-                      check_outputs, load_model, parse_list, save_figure, show_progress, use_agg)
+                      check_outputs, load_model, parse_list, parse_names, save_figure, show_progress, use_agg)
 from ._units import ENVIRONMENT, key_unit, key_value_in
 
 NAME = "fit"
@@ -39,7 +39,9 @@ def add_arguments(parser):
     add_model_argument(parser)
     add_input_file(parser, "--measured", required=True, metavar="FILE", help="measured FRFs (.uff/.unv or .csv)")
     add_input_file(parser, "--mapping", metavar="FILE.csv", help="UFF node/direction to channel table")
-    parser.add_argument("--params", required=True, help="comma-separated dotted keys (or 'gain')")
+    parser.add_argument("--params", required=True,
+                        help="dotted keys (or 'gain'), comma-separated; a key whose names hold ',' is given as "
+                             "it is, or quoted (\"a,b\"), or with its commas escaped (a\\,b)")
     add_output_file(parser, "--out", required=True, metavar="FITTED.toml", help="fitted model file to write")
     parser.add_argument("--freq-band", "--band", dest="band", metavar="LOW:HIGH",
                         help="frequency band of the measured FRFs used [Hz] (--band is the same)")
@@ -58,7 +60,7 @@ def run(args) -> int:
     check_ending(args.out, (".toml",), "--out")
     check_output_options(args)
     model = load_model(args.model)
-    params = [p.strip() for p in args.params.split(",") if p.strip()]
+    params = parse_names(args.params, "--params", lambda key: key == "gain" or _is_key(model, key))
     band = tuple(parse_list(args.band.replace(":", ","), "--freq-band")) if args.band else None
     if band is not None and (len(band) != 2 or not band[1] > band[0] >= 0):
         raise InputError(f"--freq-band {args.band}: expected LOW:HIGH in Hz with 0 <= LOW < HIGH")
@@ -142,3 +144,12 @@ def _overlay(fitted, measured, args):
     save_figure(plot_overlay(_model_sets(fitted, measured), measured,
                              title="Fitted model (lines) over the measurement (dots)", units=args.units,
                              input_kinds=_input_kinds(fitted)), args)
+
+
+def _is_key(model, key: str) -> bool:
+    """True when ``key`` is a dotted key of one of the model's values."""
+    try:
+        model.get(key)
+    except (InputError, LookupError, TypeError, ValueError):
+        return False
+    return True

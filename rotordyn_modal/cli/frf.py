@@ -6,8 +6,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..units import FRF_OUTPUT_KINDS, ratio_scale
-from ._common import (add_input_file, add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
-                      parse_range, save_figure, to_rad_s, use_agg, write_table)
+from ._common import (NAME_LIST_HELP, add_input_file, add_model_argument, add_outputs, add_speed_unit, open_model,
+                      parse_names, parse_number, parse_range, save_figure, to_rad_s, use_agg, write_table)
 
 NAME = "frf"
 HELP = "frequency response from excitations to sensors (or forces), over measured data"
@@ -43,9 +43,9 @@ def add_arguments(parser):
     add_speed_unit(parser)
     parser.add_argument("--freqs", required=True, help="START:STOP:N frequencies [Hz]")
     parser.add_argument("--excitation", "--input", dest="input", metavar="NAME[,NAME]",
-                        help="excitation name(s), comma-separated (default all; --input is the same)")
+                        help=f"excitation name(s), {NAME_LIST_HELP} (default all; --input is the same)")
     parser.add_argument("--sensor", "--output", dest="output", metavar="NAME[,NAME]",
-                        help="sensor name(s), comma-separated (default all; --output is the same)")
+                        help=f"sensor name(s), {NAME_LIST_HELP} (default all; --output is the same)")
     parser.add_argument("--quantity", choices=["receptance", "mobility", "accelerance"], default="receptance")
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="forces per unit input instead of sensor motion (all: the three kinds)")
@@ -54,8 +54,14 @@ def add_arguments(parser):
     add_outputs(parser, out_endings=(".csv", ".uff", ".unv"))
 
 
-def names(text):
-    return None if text is None else [n.strip() for n in text.split(",") if n.strip()]
+def sensor_names(args, model):
+    """The sensors named by --sensor (None: all), a name holding commas given whole or quoted."""
+    return parse_names(args.output, "--sensor", [s.name for s in model.sensors])
+
+
+def excitation_names(args, model):
+    """The excitations named by --excitation (None: all)."""
+    return parse_names(args.input, "--excitation", [x.name for x in model.excitations])
 
 
 def run(args) -> int:
@@ -69,9 +75,9 @@ def run(args) -> int:
     if freqs.min() < 0:
         raise InputError(f"--freqs {args.freqs}: frequencies must be >= 0 Hz")
     if args.forces:
-        result = force_frf(model, speed, freqs, inputs=names(args.input), where=args.forces)
+        result = force_frf(model, speed, freqs, inputs=excitation_names(args, model), where=args.forces)
     else:
-        result = frf(model, speed, freqs, inputs=names(args.input), outputs=names(args.output),
+        result = frf(model, speed, freqs, inputs=excitation_names(args, model), outputs=sensor_names(args, model),
                      quantity=args.quantity)
     measured = _measured_at(args, model, speed) if args.measured else None
     if args.out and args.out.lower().endswith((".uff", ".unv")):
@@ -146,8 +152,8 @@ def _measured_at(args, model, speed):
     if best.quantity != args.quantity and not args.forces:
         raise InputError(f"--measured {args.measured}: the file holds {best.quantity}, the model is asked for "
                          f"{args.quantity}: give --quantity {best.quantity}")
-    for option, wanted, present in (("--sensor", names(args.output), best.outputs),
-                                    ("--excitation", names(args.input), best.inputs)):
+    for option, wanted, present in (("--sensor", sensor_names(args, model), best.outputs),
+                                    ("--excitation", excitation_names(args, model), best.inputs)):
         missing = [n for n in (wanted or []) if n not in present]
         if missing and not args.forces:
             raise InputError(f"--measured {args.measured}: no channel {', '.join(missing)} ({option}) in the "

@@ -67,10 +67,10 @@ def main(argv=None) -> int:
             report_peak_memory(args)
             return code
     except InputError as error:
-        print(f"{PROGRAM} {args.command}: error: {error}", file=sys.stderr)
+        print(f"{PROGRAM} {args.command}: error: {_one_line(error)}", file=sys.stderr)
         return 2
     except OutputWriteError as error:  # full disk, size limit: the machine's failure, not the input's
-        print(f"{PROGRAM} {args.command}: error: {error}", file=sys.stderr)
+        print(f"{PROGRAM} {args.command}: error: {_one_line(error)}", file=sys.stderr)
         return 1
     except BrokenPipeError:  # the reader (e.g. `| head`) closed the pipe: stop quietly
         devnull = os.open(os.devnull, os.O_WRONLY)
@@ -86,9 +86,15 @@ def main(argv=None) -> int:
     except Exception as error:  # noqa: BLE001 - the last line of defence, exit code 1
         if os.environ.get("ROTORDYN_MODAL_DEBUG"):
             raise
-        print(f"{PROGRAM} {args.command}: failed: {type(error).__name__}: {error} "
+        print(f"{PROGRAM} {args.command}: failed: {type(error).__name__}: {_one_line(error)} "
               "(set ROTORDYN_MODAL_DEBUG=1 for the traceback)", file=sys.stderr)
         return 1
+
+
+def _one_line(error) -> str:
+    """An error's message on one line: a library's text quoted in it (a CSV parser's
+    ``... saw 2\n``) may hold line breaks."""
+    return " ".join(line.strip() for line in str(error).splitlines() if line.strip())
 
 
 class Terminated(KeyboardInterrupt):

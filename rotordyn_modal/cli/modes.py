@@ -208,7 +208,7 @@ def _read_outline(path):
     except InputError:
         raise
     except (OSError, ValueError) as error:
-        raise InputError(f"{path}: cannot read the outline ({error})") from None
+        raise InputError(f"{path}: cannot read the outline ({' '.join(str(error).split())})") from None
     if not {"x", "y", "z"} <= set(table.columns):
         raise InputError(f"{path}: the outline needs the columns x,y,z (metres, model axes); found "
                          f"{','.join(map(str, table.columns))}")

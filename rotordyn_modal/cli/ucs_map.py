@@ -7,8 +7,8 @@ import sys
 import numpy as np
 
 from ..errors import InputError
-from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number, parse_range,
-                      save_figure, use_agg, write_table)
+from ._common import (NAME_LIST_HELP, add_model_argument, add_outputs, add_speed_unit, open_model, parse_names,
+                      parse_number, parse_range, save_figure, use_agg, write_table)
 from ..units import from_system, speed_to_rad_s, to_system, unit_label
 from ._units import convert_table, kinds_by_ending
 
@@ -44,7 +44,8 @@ def add_arguments(parser):
                         help="START:STOP:N radial stiffness values [N/m; lbf/in with --units us], log-spaced, "
                              "e.g. 1e5:1e9:41")
     parser.add_argument("--modes", default="4", help="number of forward critical speeds per stiffness (default 4)")
-    parser.add_argument("--bearings", metavar="NAME,...", help="the bearings whose stiffness is swept (default all)")
+    parser.add_argument("--bearings", metavar="NAME,...",
+                        help=f"the bearings whose stiffness is swept, {NAME_LIST_HELP} (default all)")
     parser.add_argument("--speeds", help="START:STOP:N speeds at which the speed-dependent bearings' stiffness "
                                          "is drawn (default: over the map's speeds)")
     parser.add_argument("--operating", metavar="LO:HI", help="operating speed range, drawn as a band")
@@ -59,8 +60,8 @@ def run(args) -> int:
     modes = _modes(args.modes)
     speeds = speed_to_rad_s(parse_range(args.speeds, "--speeds"), args.speed_unit) if args.speeds else None
     operating = _operating(args) if args.operating else None
-    bearings = [n.strip() for n in args.bearings.split(",") if n.strip()] if args.bearings else None
     model = open_model(args)
+    bearings = parse_names(args.bearings, "--bearings", [b.name for b in model.bearings])
     result = ucs_map(model, stiffness, modes=modes, bearings=bearings, speeds=speeds, operating=operating)
     table = result.modes_dataframe()      # the figure's followed modes: one numbering
     write_table(convert_table(table, kinds_by_ending(table.columns), args.units), args)

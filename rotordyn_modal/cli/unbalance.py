@@ -5,11 +5,11 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
-from ._common import (add_model_argument, add_output_file, add_outputs, add_speed_unit, check_ending, check_extra_output,
-                      open_model, parse_number, print_table, save_figure, speeds_option, speeds_text, to_rad_s,
-                      use_agg, write_csv, write_table)
+from ._common import (NAME_LIST_HELP, add_model_argument, add_output_file, add_outputs, add_speed_unit, check_ending,
+                      check_extra_output, open_model, parse_number, print_table, save_figure, speeds_option,
+                      speeds_text, to_rad_s, use_agg, write_csv, write_table)
 from ._units import convert_table
-from .frf import names
+from .frf import sensor_names
 
 NAME = "unbalance"
 HELP = "steady unbalance response vs speed, each rotor's harmonic at its own spin frequency"
@@ -86,7 +86,7 @@ def add_arguments(parser):
     parser.add_argument("--speeds", required=True, help="START:STOP:N speeds of the reference rotor")
     add_speed_unit(parser)
     parser.add_argument("--sensor", "--output", dest="output", metavar="NAME[,NAME]",
-                        help="sensor name(s), comma-separated (default all; --output is the same)")
+                        help=f"sensor name(s), {NAME_LIST_HELP} (default all; --output is the same)")
     parser.add_argument("--quantity", choices=["displacement", "velocity", "acceleration"], default="displacement")
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="add force rows after the sensors' (default none)")
@@ -127,11 +127,11 @@ def run(args) -> int:
                          "separation margin is a percentage of it)")
     mcs, min_speed = _check_options(args)
     if args.api_unbalance:
-        result = api_unbalance_response(model, speeds_option(args), mcs, outputs=names(args.output),
+        result = api_unbalance_response(model, speeds_option(args), mcs, outputs=sensor_names(args, model),
                                         quantity=args.quantity, amplitude=args.amplitude)
     else:
-        result = unbalance_response(model, speeds_option(args), outputs=names(args.output), quantity=args.quantity,
-                                    amplitude=args.amplitude)
+        result = unbalance_response(model, speeds_option(args), outputs=sensor_names(args, model),
+                                    quantity=args.quantity, amplitude=args.amplitude)
     if (args.orbits or args.orbit_plot) and not result.orbit_pairs:
         raise InputError(f"{model.source}: --orbits/--orbit-plot need a probe pair among the outputs: two "
                          "sensors at one point of the same body, directions normal to spin_axis")

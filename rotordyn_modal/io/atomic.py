@@ -29,8 +29,12 @@ _MARK = "rdm-tmp"
 
 def real_target(path) -> Path:
     """The file a write of ``path`` replaces: a symbolic link's target (followed to the end),
-    else ``path`` itself. Writing through a link keeps the link, as ``cp`` or an editor does."""
+    else ``path`` itself. Writing through a link keeps the link, as ``cp`` or an editor does.
+    A link to a pipe or a device is ``path`` itself: such a target (``pipe:[...]``) has no name
+    to follow, and is written in place through the link."""
     path = Path(path)
+    if path.is_symlink() and _is_special(path):
+        return path   # a pipe or device behind a link (a shell's >(...) as /dev/fd/63, /dev/stdout): written through it
     return Path(os.path.realpath(path)) if path.is_symlink() else path
 
 
@@ -126,6 +130,13 @@ def check_writable(path) -> None:
     OutputError
     """
     shown, path = path, real_target(path)
+    if Path(shown).is_symlink():
+        try:
+            os.path.realpath(shown, strict=True)
+        except FileNotFoundError:
+            pass                       # a link to a file not there yet: the write creates it
+        except OSError as error:       # a loop of links: no target to write (it replaced the link)
+            raise _cannot(shown, error) from None
     if path.is_dir():
         raise OutputError(f"cannot write {shown}: it is a folder")
     if _is_special(path):

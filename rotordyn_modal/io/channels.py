@@ -16,6 +16,7 @@ import numpy as np
 
 from ..analysis.frf import FRFResult
 from ..errors import InputError
+from ..model._table import visible, visible_names
 
 __all__ = ["ChannelMap", "default_mapping", "read_mapping", "assemble"]
 
@@ -29,12 +30,19 @@ class ChannelMap:
     oblique : dict[str, tuple of float]
         Channels the default mapping gave the nearest axis code although they measure along no
         model axis: name -> direction. A UFF 58 file cannot say such a direction (it is not written).
+    twice : dict[str, tuple]
+        Driving points given two rows of a mapping table: name -> (the table's path,
+        [(line, (node, direction)), ...]); both read as the channel, but a UFF file written needs one.
+    source : path-like or None
+        The mapping table read (None: the default mapping), for messages.
     """
 
-    def __init__(self, outputs, inputs, oblique=None):
+    def __init__(self, outputs, inputs, oblique=None, twice=None, source=None):
         self.outputs = dict(outputs)
         self.inputs = dict(inputs)
         self.oblique = dict(oblique or {})
+        self.twice = dict(twice or {})
+        self.source = source
 
     def node_of(self, name):
         """``(node, direction, sign)`` of a sensor or excitation name."""
@@ -42,7 +50,9 @@ class ChannelMap:
             for (node, direction), (n, sign) in table.items():
                 if n == name:
                     return node, direction, sign
-        raise InputError(f"channel {name!r} is not in the mapping table")
+        where = f"{self.source}: " if self.source else ""
+        raise InputError(f"{where}channel {visible(name)} is not in the mapping table: expected a row "
+                         "name,node,direction for it")
 
 
 def _axis_code(direction, rotation: bool = False) -> int:
@@ -70,38 +80,52 @@ def _along_an_axis(direction) -> bool:
 
 def read_mapping(path, model) -> ChannelMap:
     """Read a mapping table ``name,node,direction[,sign]`` (CSV) against the model's channel names."""
-    import pandas as pd
-
-    import io
-
+    from .csv_tables import read_csv_table, split_header
     from .limits import read_limited
 
     try:
-        table = pd.read_csv(io.BytesIO(read_limited(path, "model", "mapping table")))  # a pipe too, bounded
-    except InputError:
-        raise
-    except (OSError, ValueError) as error:
+        data = read_limited(path, "model", "mapping table")  # a pipe too, bounded
+    except OSError as error:
         raise InputError(f"{path}: cannot read the mapping table ({' '.join(str(error).split())})") from None
+    table, _ = read_csv_table(data, path, "the mapping table")   # ';' or tabs, names as written
+    table.columns = [split_header(c)[0] for c in table.columns]
     missing = {"name", "node", "direction"} - set(table.columns)
     if missing:
         raise InputError(f"{path}: mapping table lacks the column(s) {', '.join(sorted(missing))}: "
                          "expected name,node,direction[,sign]")
     sensors, excitations = {s.name for s in model.sensors}, {x.name for x in model.excitations}
     outputs, inputs = {}, {}
+    given = {}          # name -> (line, key) of its first row
     for line, row in enumerate(table.itertuples(index=False), start=2):
         key, sign = _mapping_row(row, "sign" in table.columns, path, line)
+        _check_one_node(given, row.name, key, line, path, both=row.name in sensors and row.name in excitations)
         # a name that is a sensor's and an excitation's (a driving point named once) maps both
         roles = [role for role, names in ((outputs, sensors), (inputs, excitations)) if row.name in names]
         if not roles:
-            raise InputError(f"{path}: name {row.name!r} is neither a sensor ({', '.join(sorted(sensors))}) "
-                             f"nor an excitation ({', '.join(sorted(excitations))}) of the model")
+            raise InputError(f"{path}: line {line}: name {row.name!r} is neither a sensor "
+                             f"({visible_names(sorted(sensors))}) nor an excitation "
+                             f"({visible_names(sorted(excitations))}) of the model")
         for role in roles:
             if key in role:   # a response and a reference may share a node and direction (a driving point)
                 raise InputError(f"{path}: line {line}: node {key[0]} direction {key[1]} is given to "
                                  f"{role[key][0]!r} already: expected each node and direction once among the "
                                  f"{'sensors' if role is outputs else 'excitations'}")
             role[key] = (row.name, sign)
-    return ChannelMap(outputs, inputs)
+    return ChannelMap(outputs, inputs, twice={name: (path, rows) for name, rows in given.items() if len(rows) > 1},
+                      source=path)
+
+
+def _check_one_node(given, name, key, line, path, both):
+    """Refuse a second node and direction for a name (the first was taken silently when writing
+    UFF), except one second row of a name that is a sensor and an excitation (a driving point
+    whose response and reference a file numbers apart); ``given[name]``: its rows' (line, key)."""
+    rows = given.setdefault(name, [])
+    if rows and (not both or len(rows) > 1):
+        first_line, (node, direction) = rows[0]
+        raise InputError(f"{path}: line {line}: name {name!r} is given node {key[0]} direction {key[1]} here and "
+                         f"node {node} direction {direction} on line {first_line}: expected one node and direction "
+                         "per name" + (" (two for a driving point: its response and its reference)" if both else ""))
+    rows.append((line, key))
 
 
 #: largest node number of a UFF 58 record (a 10-character integer field, a 32-bit integer in readers)

@@ -24,6 +24,7 @@ direction (signed).
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -55,6 +56,9 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
     """
     path = Path(path)
     if not path.is_file():
+        if path.is_symlink() and not path.exists():
+            raise InputError(f"{path}: a symbolic link that leads to no file (to {os.readlink(path)}, a missing file "
+                             "or a loop of links)")
         raise InputError(f"{path}: measured data file not found" if not path.exists() else
                          f"{path}: expected a measured data file, not a "
                          f"{'folder' if path.is_dir() else 'pipe or device (its size is not known before reading)'}")
@@ -73,22 +77,20 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
 
 
 def read_csv(path, model) -> list[FRFResult]:
-    """Read the plain CSV layout (see the module docstring)."""
-    import pandas as pd
+    """Read the plain CSV layout (see the module docstring): also with ``;`` or tabs between the
+    cells and decimal commas, header names in any case with their units (``Frequency [kHz]``,
+    ``Phase [rad]``, ``Real [g/N]``; :mod:`.csv_tables`)."""
+    from .csv_tables import numbers, read_csv_table
+    from .limits import read_limited
 
-    from .limits import check_size
-
-    check_size(path, "measured", "measured-data file")
-    try:
-        table = pd.read_csv(path)
-    except (OSError, ValueError) as error:
-        raise InputError(f"{path}: cannot read as CSV ({' '.join(str(error).split())})") from None
+    table, decimal = read_csv_table(read_limited(path, "measured", "measured-data file"), path, "as CSV")
+    table, scales, value_unit = _canonical_columns(table, path)
     needed = {"frequency_hz", "output", "input"}
     if not needed <= set(table.columns) or not ({"real", "imag"} <= set(table.columns)
                                                 or {"magnitude", "phase_deg"} <= set(table.columns)):
         raise InputError(f"{path}: expected the columns speed_rpm,frequency_hz,output,input,real,imag"
                          f"[,coherence] (or magnitude,phase_deg); found {','.join(map(str, table.columns))}")
-    column = {name: _numbers(table, name, path) for name in
+    column = {name: numbers(table, name, path, decimal) * scales.get(name, 1.0) for name in
               ("speed_rpm", "frequency_hz", "real", "imag", "magnitude", "phase_deg", "coherence")
               if name in table.columns}
     if {"real", "imag"} <= set(table.columns):
@@ -98,6 +100,8 @@ def read_csv(path, model) -> list[FRFResult]:
     if not np.all(np.isfinite(values)) or not np.all(np.isfinite(column["frequency_hz"])):
         raise InputError(f"{path}: non-finite numbers in the data")
     quantity = _csv_quantity(table, path)
+    if value_unit is not None:
+        table["unit"] = value_unit
     if "unit" in table.columns:
         quantity, factors = _csv_units(table, quantity, model, path)
         values = values * factors
@@ -107,16 +111,56 @@ def read_csv(path, model) -> list[FRFResult]:
     return assemble(records, model, quantity, str(path))
 
 
-def _numbers(table, name, path) -> np.ndarray:
-    """A numeric column as floats; a cell that is not a number is refused (an empty one is NaN)."""
-    import pandas as pd
+#: header names of the CSV columns -> the column
+_ALIASES = {"frequency": "frequency_hz", "freq": "frequency_hz", "freq_hz": "frequency_hz",
+            "speed": "speed_rpm", "rpm": "speed_rpm", "phase": "phase_deg", "mag": "magnitude",
+            "imaginary": "imag", "re": "real", "im": "imag"}
+#: units a header may give its column, and the factor to the column's own unit
+_HEADER_UNITS = {"frequency_hz": {"hz": 1.0, "khz": 1e3},
+                 "speed_rpm": {"rpm": 1.0, "1/min": 1.0, "rad/s": 30.0 / np.pi, "hz": 60.0},
+                 "phase_deg": {"deg": 1.0, "°": 1.0, "degree": 1.0, "degrees": 1.0, "rad": 180.0 / np.pi}}
+_VALUE_COLUMNS = ("real", "imag", "magnitude")
 
-    values = pd.to_numeric(table[name], errors="coerce").to_numpy(float)
-    bad = np.isnan(values) & table[name].notna().to_numpy()
-    if bad.any():
-        row = int(np.argmax(bad))
-        raise InputError(f"{path}: column {name} line {row + 2} = {str(table[name].iloc[row])[:40]!r}: expected a number")
-    return values
+
+def _canonical_columns(table, path):
+    """The table with its header names made the layout's (``Frequency [kHz]`` -> ``frequency_hz``),
+    the factors of the numeric columns to the layout's units, and the unit the header gives the
+    FRF values (``Real [m/s^2/N]``; None without one).
+
+    Returns
+    -------
+    (DataFrame, dict, str or None)
+    """
+    from .csv_tables import split_header
+
+    names, scales, value_units = {}, {}, set()
+    for cell in table.columns:
+        name, unit = split_header(cell)
+        name = _ALIASES.get(name, name)
+        if name in names.values():
+            first = next(c for c, n in names.items() if n == name)
+            raise InputError(f"{path}: two columns are {name} ({first!r} and {cell!r}): expected each column once")
+        names[cell] = name
+        if unit is None:
+            continue
+        if name in _HEADER_UNITS:
+            factor = _HEADER_UNITS[name].get(unit.lower())
+            if factor is None:
+                raise InputError(f"{path}: column {cell!r}: unit {unit!r} not understood: expected one of "
+                                 f"{', '.join(_HEADER_UNITS[name])}")
+            scales[name] = factor
+        elif name in _VALUE_COLUMNS:
+            value_units.add(unit)
+        elif name != "coherence" or unit not in ("-", "1"):
+            raise InputError(f"{path}: column {cell!r}: a unit {unit!r} where the column has none")
+    if len(value_units) > 1:
+        raise InputError(f"{path}: the FRF columns give the units {', '.join(sorted(map(repr, value_units)))}: "
+                         "expected one unit of every value")
+    value_unit = value_units.pop() if value_units else None
+    if value_unit is not None and "unit" in names.values():
+        raise InputError(f"{path}: the FRF values' unit is given in their header ({value_unit!r}) and in a unit "
+                         "column: expected one of them")
+    return table.rename(columns=names), scales, value_unit
 
 
 def _names(table, name) -> np.ndarray:

@@ -6,7 +6,10 @@ the factor to SI: ``N``, ``kN``, ``lbf`` (force), ``m``, ``mm``, ``um`` (displac
 ``mm/s``, ``in/s`` (velocity), ``m/s^2``, ``g`` (9.80665 m/s^2; acceleration), ``Pa``, ``hPa``,
 ``bar`` (pressure), read by :mod:`.unit_labels`; ``units`` declares others or overrides,
 e.g. ``units={"V": ("acceleration", 9.80665 / 0.1)}`` (quantity and factor to SI). A unit that
-is neither (``V``, ``C``, ``°``) is refused.
+is neither (``V``, ``C``, ``°``) is refused. The interval is in the unit of ``wf_xunit_string``
+(``s``, ``ms``; seconds without one). Refused too: text or complex samples, a NaN or infinite
+sample, a channel of fewer than 2 samples, a declared unit of no time-record quantity or of a
+factor 0.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ import numpy as np
 from ..errors import InputError
 from .unit_labels import quantity_of
 
-__all__ = ["read_tdms_records", "SI_UNITS"]
+__all__ = ["read_tdms_records", "SI_UNITS", "declared_units"]
 
 #: unit string -> (quantity, factor to SI)
 SI_UNITS = {"N": ("force", 1.0), "m": ("displacement", 1.0), "m/s": ("velocity", 1.0),
@@ -62,11 +65,11 @@ def read_tdms_records(path, group: str | None = None, channels=None, units=None,
     """
     from ..analysis.spectra import TimeRecords
 
+    known = {**SI_UNITS, **declared_units(units, path)}
     tdms = _tdms_file(path)
     chosen = _group(tdms, group, path)
-    known = {**SI_UNITS, **(units or {})}
     available = {c.name: c for c in chosen.channels()}
-    names = list(available) if channels is None else list(channels)
+    names = list(available) if channels is None else [channels] if isinstance(channels, str) else list(channels)
     missing = [n for n in names if n not in available]
     if missing or not names:
         raise InputError(f"{path}: group {chosen.name!r} has no channel {', '.join(missing) or '(none)'}; its channels: "
@@ -81,15 +84,69 @@ def read_tdms_records(path, group: str | None = None, channels=None, units=None,
                              f"velocity, acceleration or pressure (e.g. {', '.join(SI_UNITS)}, g, mm/s), or declare "
                              f"it, e.g. units={{{unit!r}: ('acceleration', factor to SI)}}")
         quantity, factor = read
-        signals.append(np.asarray(channel[:], dtype=float) * float(factor))
+        signals.append(_samples(channel, path) * float(factor))
         quantities.append(quantity)
-        steps.add(float(channel.properties.get("wf_increment", 0.0)))
+        steps.add(_increment(channel, path))
     lengths = {len(s) for s in signals}
     if len(steps) != 1 or len(lengths) != 1 or not min(steps) > 0:
         raise InputError(f"{path}: channels of group {chosen.name!r} have sampling intervals {sorted(steps)} s and "
                          f"lengths {sorted(lengths)}: one record needs one interval (> 0) and one length")
+    if min(lengths) < 2:
+        raise InputError(f"{path}: the channels of group {chosen.name!r} hold {min(lengths)} sample(s): expected a "
+                         "time record of at least 2 samples")
     return TimeRecords(signals=np.stack(signals)[None], sampling_rate_hz=1.0 / steps.pop(), channels=tuple(names),
                        quantities=tuple(quantities), speed=float(speed))
+
+
+def declared_units(units, path) -> dict:
+    """``units`` checked: ``{unit_string: (quantity, factor to SI)}`` with a quantity of a time
+    record and a finite factor other than 0 (a factor of 0 would read every sample as 0)."""
+    if units is None:
+        return {}
+    if not isinstance(units, dict):
+        raise InputError(f"{path}: units = {units!r}: expected a dict {{unit_string: (quantity, factor to SI)}}")
+    for unit, read in units.items():
+        try:
+            quantity, factor = read
+            factor = float(factor)
+        except (TypeError, ValueError):
+            quantity, factor = None, float("nan")
+        if quantity not in _QUANTITIES or not np.isfinite(factor) or factor == 0:
+            raise InputError(f"{path}: units[{unit!r}] = {read!r}: expected (quantity, factor to SI) with a quantity "
+                             f"of {', '.join(_QUANTITIES)} and a finite factor other than 0")
+    return dict(units)
+
+
+def _samples(channel, path) -> np.ndarray:
+    """A channel's samples as floats; text, complex or non-finite samples are refused."""
+    data = np.asarray(channel[:])
+    if data.dtype.kind not in "biuf":
+        raise InputError(f"{path}: channel {channel.name!r} holds {data.dtype} data: expected real numbers "
+                         "(a time record)")
+    data = data.astype(float)
+    if not np.all(np.isfinite(data)):
+        bad = int(np.argmax(~np.isfinite(data)))
+        raise InputError(f"{path}: channel {channel.name!r} sample {bad} is {data[bad]}: expected finite samples")
+    return data
+
+
+def _increment(channel, path) -> float:
+    """A channel's sampling interval [s]: ``wf_increment`` in the unit of ``wf_xunit_string``
+    (seconds when it says none)."""
+    from .unit_labels import is_none, parse_unit
+
+    try:
+        step = float(channel.properties.get("wf_increment", 0.0))
+    except (TypeError, ValueError):
+        step = float("nan")
+    unit = str(channel.properties.get("wf_xunit_string", "s")).strip()
+    if is_none(unit):
+        return step
+    parsed = parse_unit(unit)
+    if parsed is None or parsed[1] != (0, 0, 1):
+        raise InputError(f"{path}: channel {channel.name!r} has the time unit wf_xunit_string = {unit!r}: expected "
+                         "s or ms (a time record)")
+    return step * parsed[0]
 
 
 def _group(tdms, name, path):

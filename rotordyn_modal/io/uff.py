@@ -115,6 +115,12 @@ def _check_writable_channels(results, mapping, path):
         if len(name) > 80:
             raise InputError(f"{path}: channel name {name[:40]!r}... has {len(name)} characters: a UFF 58 ID line "
                              "holds 80")
+        if name in getattr(mapping, "twice", {}):
+            table, ((line_a, (node_a, dir_a)), (line_b, (node_b, dir_b))) = mapping.twice[name]
+            raise InputError(f"{table}: line {line_b}: name {name!r} is given node {node_b} direction {dir_b} here "
+                             f"and node {node_a} direction {dir_a} on line {line_a}: writing {path} (UFF) needs one "
+                             "node and direction per name (two read a file that numbers a driving point's response "
+                             "and reference apart)")
 
 
 def _entity(name):
@@ -215,7 +221,8 @@ def _check_complete(path):
         head = handle.read(4096)
     if b"\0" in head or b"58b" in head.lower():
         return  # binary 58b sets: pyuff checks their byte counts
-    lines = open(path, encoding="latin-1").read().splitlines()
+    with open(path, encoding="latin-1") as handle:
+        lines = handle.read().splitlines()
     marks = [k for k, line in enumerate(lines) if line.strip() == "-1" and line.startswith("    -1")]
     tail = [line for line in lines[(marks[-1] + 1 if marks else 0):] if line.strip()]
     if len(marks) % 2 or tail:
@@ -370,9 +377,15 @@ def _check_set(s, path):
 
 
 def _lookup(table, node, direction, what, path):
+    """``(name, sign)`` of a file's node and direction: a direction opposite to the mapped one
+    (``-3`` where the mapping says ``+3``, as tools write a sensor mounted upside down) is the
+    same channel with its sign flipped."""
     key = (int(node), int(direction))
     if key in table:
         return table[key]
+    if key[1] and (key[0], -key[1]) in table:
+        name, sign = table[(key[0], -key[1])]
+        return name, -sign
     known = ", ".join(f"{n}:{d}={name}" for (n, d), (name, _) in sorted(table.items()))
     raise InputError(f"{path}: {what} node {node} direction {direction} is not in the mapping table "
                      f"(node:direction=name: {known}); give --mapping FILE.csv with columns name,node,direction")
@@ -571,7 +584,7 @@ def _system(systems, number, node, path):
     return origin, rotation
 
 
-def read_uff_time_records(path, mapping=None, speed: float = 0.0):
+def read_uff_time_records(path, mapping=None, speed: float = 0.0, units=None):
     """Time records (dataset 58/58b, function type 1) of a Universal File.
 
     Each set is a channel: its response node and direction, force or response, and entity name
@@ -596,24 +609,31 @@ def read_uff_time_records(path, mapping=None, speed: float = 0.0):
         default ``NODE:DIRECTION`` (e.g. ``7:+3``).
     speed : float
         Reference rotor speed during the records [rad/s].
+    units : dict, optional
+        Unit labels declared, or overridden: ``{label: (quantity, factor to SI)}``, e.g.
+        ``{"V": ("acceleration", 9.80665 / 0.1)}`` for a 100 mV/g accelerometer recorded in volts
+        (as :func:`~rotordyn_modal.io.tdms.read_tdms_records` takes them).
 
     Returns
     -------
     TimeRecords
-        Signals in SI units: N, m, m/s, m/s^2, Pa.
+        Signals in SI units: N, m, m/s, m/s^2, Pa. NaN, infinite or complex samples are refused.
     """
     from ..analysis.spectra import TimeRecords
+    from .tdms import declared_units
 
+    declared = declared_units(units, path)
     sets, types = _all_sets(path)
     found = [s for s in sets if s["type"] == 58 and int(s.get("func_type", -1)) == 1]
     if not found:
         kinds = sorted({int(s.get("func_type", -1)) for s in sets if s["type"] == 58})
         raise InputError(f"{path}: no time record (dataset 58, function type 1) in the file; "
                          f"dataset 58 function types found: {kinds or 'none'}")
-    units = _units(sets, path)
+    file_units = _units(sets, path)
     rate, channels = None, []
     for s in found:
-        quantity, factor = _time_quantity(s, units, path)
+        label = _label_text(s, "ordinate_axis_units_lab", path)
+        quantity, factor = declared[label] if label in declared else _time_quantity(s, file_units, path)
         dt = _time_step(s, path) * _abscissa_factor(s, _TIME, path)
         rate = 1.0 / dt if rate is None else rate
         # a channel: node, direction, force or response (a driving point has both) and entity name
@@ -625,10 +645,23 @@ def read_uff_time_records(path, mapping=None, speed: float = 0.0):
             raise InputError(f"{path}: channel {key[0]}:{key[1]:+d} is sampled at {1 / dt:g} Hz, another at "
                              f"{rate:g} Hz: every record must share one sampling rate")
         label = f"{len(channels) + 1} ({entity!r}, {str(s.get('id1', '')).strip()!r})"     # for messages
-        channels.append((key, quantity, np.asarray(s["data"], dtype=float) * factor, label))
+        channels.append((key, quantity, _samples(s, path) * float(factor), label))
     names, quantities, signals = _arrange(channels, mapping, path)
     return TimeRecords(signals=signals, sampling_rate_hz=float(rate), channels=tuple(names),
                        quantities=tuple(quantities), speed=float(speed))
+
+
+def _samples(s, path) -> np.ndarray:
+    """A time record's samples as floats; complex or non-finite samples are refused."""
+    data = np.asarray(s["data"])
+    where = f"{path}: time record {s.get('rsp_node')}:{int(s.get('rsp_dir', 0)):+d}"
+    if data.dtype.kind == "c":
+        raise InputError(f"{where} holds complex samples: expected real numbers (a time record)")
+    data = data.astype(float)
+    if not np.all(np.isfinite(data)):
+        bad = int(np.argmax(~np.isfinite(data)))
+        raise InputError(f"{where}: sample {bad} is {data[bad]}: expected finite samples")
+    return data
 
 
 def _arrange(channels, mapping, path):
@@ -732,7 +765,7 @@ def _sign(key, mapping, quantity):
     if mapping is None:
         return 1.0
     table = mapping.inputs if quantity == "force" else mapping.outputs
-    return table[key][1]
+    return _lookup(table, *key, "channel", "")[1]
 
 
 def place_channels(model, nodes, mapping):

@@ -202,9 +202,10 @@ def semidefinite_problem(matrix: np.ndarray) -> str:
 def visible(name) -> str:
     """A name or key as a message shows it: as it is when every character is visible, else
     quoted with the invisible ones escaped (``'mount\\u200b-FL'``, ``'fan\\xa0'``, ``' fan'``):
-    a zero-width or non-breaking space, a control character, a space at either end."""
+    a zero-width or non-breaking space, a control character, a space at either end; quoted too
+    when it holds a comma (``'acc, top'``), which would read as two names in a list."""
     text = str(name)
-    return text if text and text.isprintable() and text.strip() == text else repr(text)
+    return text if text and text.isprintable() and text.strip() == text and "," not in text else repr(text)
 
 
 def visible_names(names) -> str:

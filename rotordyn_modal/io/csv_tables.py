@@ -1,0 +1,111 @@
+"""CSV tables as other tools and spreadsheets write them: the text's encoding (UTF-8 with or
+without a byte-order mark, UTF-16, else Latin-1), the separator (``,``, ``;`` or a tab, read
+from the header line), decimal commas (``1,5`` beside a ``;`` or tab separator), comment lines
+(``# ...``) before the header, and header names in any case with a unit in brackets
+(``Frequency [kHz]``, ``phase (rad)``).
+"""
+
+from __future__ import annotations
+
+import io
+import re
+
+from ..errors import InputError
+
+__all__ = ["read_csv_table", "numbers", "split_header"]
+
+_SEPARATORS = (",", ";", "\t")
+#: cells that say "no value" (NaN), as pandas reads them by default
+_EMPTY = ["", "nan", "-nan", "na", "n/a", "#n/a", "#na", "null", "none", "<na>"]
+#: ``name [unit]`` or ``name (unit)``: a header cell with its unit
+_HEADER = re.compile(r"^(?P<name>.*?)\s*(?:\[(?P<bracket>[^\]]*)\]|\((?P<paren>[^)]*)\))\s*$")
+
+
+def _text(data: bytes) -> str:
+    """The bytes of a file as text: a byte-order mark says UTF-8, UTF-16 or UTF-32; else UTF-8,
+    else Latin-1 (a spreadsheet's 8-bit export; every byte is a character)."""
+    for mark, encoding in ((b"\xef\xbb\xbf", "utf-8-sig"), (b"\xff\xfe\x00\x00", "utf-32"),
+                           (b"\x00\x00\xfe\xff", "utf-32"), (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16")):
+        if data.startswith(mark):
+            try:
+                return data.decode(encoding)
+            except UnicodeDecodeError:
+                break
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        return data.decode("latin-1")
+
+
+def read_csv_table(data: bytes, path, what: str, **options):
+    """A CSV table of ``data`` (a file's bytes): its cells as text (names stay as written:
+    ``01``, ``NA``), the header names stripped, and the decimal mark of its numbers.
+
+    Parameters
+    ----------
+    data : bytes
+    path : path-like
+        Named in messages.
+    what : str
+        Completes the message "cannot read ..." ('as CSV', 'the mapping table').
+    **options
+        More arguments of ``pandas.read_csv`` (``skip_blank_lines``).
+
+    Returns
+    -------
+    (DataFrame of str, str)
+        The table and its decimal mark ('.' or ',', for :func:`numbers`).
+
+    Raises
+    ------
+    InputError
+        The text is no table, on one line naming the file.
+    """
+    import pandas as pd
+
+    text = _text(data)
+    lines = text.splitlines(keepends=True)
+    start = 0
+    while start < len(lines) and lines[start].lstrip().startswith("#"):   # a tool's comment lines
+        start += 1
+    text = "".join(lines[start:])
+    header = lines[start] if start < len(lines) else ""
+    separator = max(_SEPARATORS, key=lambda s: (header.count(s), s == ","))
+    body = "".join(lines[start + 1:start + 200])
+    decimal = "," if separator != "," and re.search(r"(^|[;\t])\s*[-+]?\d+,\d+\s*([;\t]|$)", body, re.M) else "."
+    try:
+        table = pd.read_csv(io.StringIO(text), sep=separator, dtype=str, keep_default_na=False, **options)
+    except (OSError, ValueError) as error:
+        raise InputError(f"{path}: cannot read {what} ({' '.join(str(error).split())})") from None
+    table.columns = [str(c).strip() for c in table.columns]
+    return table, decimal
+
+
+def numbers(table, name, path, decimal: str = ".", first_line: int = 2):
+    """A column of text cells (:func:`read_csv_table`) as floats; an empty cell is NaN, a cell that
+    is no number is refused naming its line (``first_line``: the file's line of the first row).
+
+    Returns
+    -------
+    ndarray of float, shape (n_rows,)
+    """
+    import numpy as np
+    import pandas as pd
+
+    cells = table[name].astype(str).str.strip()
+    text = cells.str.replace(",", ".", regex=False) if decimal == "," else cells
+    values = pd.to_numeric(text, errors="coerce").to_numpy(float)
+    bad = np.isnan(values) & ~cells.str.lower().isin(_EMPTY).to_numpy()
+    if bad.any():
+        row = int(np.argmax(bad))
+        raise InputError(f"{path}: column {name} line {row + first_line} = {cells.iloc[row][:40]!r}: expected a number")
+    return values
+
+
+def split_header(cell) -> tuple[str, str | None]:
+    """``('frequency', 'kHz')`` of a header cell ``Frequency [kHz]``: the name in lower case with
+    spaces as ``_``, and its unit (None without one)."""
+    text = str(cell).strip()
+    found = _HEADER.match(text)
+    name, unit = (found.group("name"), found.group("bracket") or found.group("paren")) if found else (text, None)
+    return re.sub(r"\s+", "_", name.strip().lower()), (unit.strip() if unit and unit.strip() else None)

@@ -42,3 +42,47 @@ def test_motor_pump_modes_span_the_decades_its_header_promises(examples_dir):
     critical = result.critical
     assert len(critical) == 24 and critical.speeds_rpm.max() < 1000
     assert sorted(set(zip(critical.source, critical.order))) == [("motor", 1), ("motor", 2), ("pump", 1), ("pump", 2)]
+
+
+#: compressor_on_journals.toml's operating range [rpm], as its header gives it
+COMPRESSOR_RANGE = (6000.0, 6600.0)
+
+
+def test_compressor_on_journals_has_what_its_header_promises(examples_dir):
+    """compressor_on_journals.toml: a few hundred kg on two plain journal bearings of L/D 0.5 and a
+    clearance of 1-2 per mille of the diameter; its first bending critical speeds lie 15 % below
+    the operating range, and it loses stability above the MCS in oil whirl: the full state
+    matrix's largest real part (numpy's eigenvalues, outside the analysis) changes sign at the
+    threshold, whose root whirls at about half the running speed."""
+    from rotordyn_modal.linear_system import state_matrices
+
+    model = rdm.load_model(examples_dir / "compressor_on_journals.toml")
+    assert 200.0 < sum(r.mass for r in model.rotors) < 400.0
+    for bearing in model.bearings:
+        journal = bearing.coefficients.journal
+        assert 0.4 <= journal.length / journal.diameter <= 0.6
+        assert 1e-3 <= 2 * journal.clearance / journal.diameter <= 2e-3 and journal.viscosity == 0.02
+    speeds = rdm.rpm(np.linspace(500.0, 12000.0, 12))
+    critical = rdm.critical_speeds(model, speeds, max_frequency=150.0)
+    assert len(critical) == 2
+    assert np.all((critical.speeds_rpm > 4800.0) & (critical.speeds_rpm < COMPRESSOR_RANGE[0] * (1 - 0.14)))
+    result = rdm.stability(model, speeds, max_frequency=150.0)
+    assert len(result.thresholds) == 1 and result.threshold_onsets[0]
+    threshold = result.threshold_speed
+    assert rdm.rpm(1.05 * COMPRESSOR_RANGE[1]) < threshold < rdm.rpm(1.15 * COMPRESSOR_RANGE[1])
+    largest = [np.linalg.eigvals(A).real.max() for A in state_matrices(model, [threshold * 0.999, threshold * 1.001])]
+    assert largest[0] < 0 < largest[1]
+    assert 0.45 < 2 * np.pi * result.threshold_frequencies_hz[0] / threshold < 0.55
+
+
+@pytest.mark.parametrize("arguments", [
+    ["check"], ["modes", "--speed", "6000"], ["campbell", "--speeds", "500:9000:5", "--orders", "1,0.5"],
+    ["critical-speeds", "--speeds", "500:9000:9"], ["stability", "--speeds", "500:9000:5"],
+    ["unbalance", "--speeds", "500:9000:9"], ["static", "--speed", "6000"],
+    ["simulate", "--duration", "0.01", "--speed", "6000", "--initial", "equilibrium", "--backend", "numpy"],
+], ids=lambda arguments: arguments[0])
+def test_compressor_on_journals_runs_in_every_command(examples_dir, arguments, capsys):
+    from rotordyn_modal.cli.main import main
+
+    quiet = [] if arguments[0] == "check" else ["--quiet"]
+    assert main([arguments[0], str(examples_dir / "compressor_on_journals.toml"), *arguments[1:], *quiet]) == 0

@@ -151,6 +151,73 @@ def test_whirl_below_the_threshold_dies_out_above_it_grows_at_the_unstable_roots
         assert np.abs(res.sensor("A-z")).max() < CLEARANCE
 
 
+def _stiff_machine():
+    """A stiff flexible rotor for oil whirl (not whip): a steel shaft 0.6 m long, 70 mm between
+    journals turned down to 50 mm, a 30 kg disk at mid-span and 10 kg sleeves at the journals, in
+    two plain journal bearings (D 50 mm, L/D 0.5, clearance 40 um, a light oil of 0.003 Pa s) on
+    the ground under gravity. Its first bending mode lies far above the half-speed whirl, so the
+    whirl above the threshold is the rotor's motion in its films, which the films' nonlinearity
+    limits (the sleeves give the journals the mass that keeps the integrator's steps long)."""
+    sleeve = {"polar_inertia": 1e-2, "diametral_inertia": 1e-2, "mass": 10.0}
+    data = {"name": "whirl", "spin_axis": [1.0, 0.0, 0.0], "gravity": [0.0, 0.0, -9.81], "materials": [STEEL],
+            "rotors": [{"name": "shaft", "speed_ratio": 1.0, "start": [0.0, 0.0, 0.0],
+                        "shaft": [{"length": 0.05, "outer_diameter": 0.05, "material": "steel", "elements": 1},
+                                  {"length": 0.5, "outer_diameter": 0.07, "material": "steel", "elements": 4},
+                                  {"length": 0.05, "outer_diameter": 0.05, "material": "steel", "elements": 1}],
+                        "disks": [{"name": "disk", "axial_position": 0.3, "mass": 30.0, "polar_inertia": 0.15,
+                                   "diametral_inertia": 0.08},
+                                  {"name": "sleeve-A", "axial_position": 0.0, **sleeve},
+                                  {"name": "sleeve-B", "axial_position": 0.6, **sleeve}]}],
+            "bearings": [{"name": n, "rotor": "shaft", "axial_position": x, "type": "journal", "diameter": 0.05,
+                          "length": 0.025, "clearance": CLEARANCE, "viscosity": 0.003}
+                         for n, x in (("A", 0.0), ("B", 0.6))],
+            "sensors": [{"name": f"{point}-{axis}", "rotor": "shaft", "axial_position": x, "direction": direction}
+                        for point, x in (("disk", 0.3), ("A", 0.0))
+                        for axis, direction in (("y", [0, 1, 0]), ("z", [0, 0, 1]))],
+            "excitations": [{"name": "tap", "rotor": "shaft", "axial_position": 0.3, "direction": [0, 0.6, 0.8]}]}
+    return rdm.Model.from_dict(data, source="whirl.toml")
+
+
+def test_above_the_threshold_the_whirl_settles_on_one_limit_cycle_inside_the_clearance():
+    """20 % above Lund's threshold (``rdm.stability``) the stiff rotor's whirl grows, from a small
+    tap and from one ten times larger, onto the same orbit: over the last whirl periods the disk's
+    orbit is the other run's (to 1 %) and has stopped growing, and the journals orbit inside the
+    clearance (eccentricity 0.91), both runs alike. The limit cycle whirls subsynchronously, within
+    12 % above the linear model's unstable root, at half the running speed: on a circular orbit about the bearing centre the
+    short-bearing film carries no tangential force at a whirl of half the journal's speed (its
+    squeeze and wedge terms cancel), so it neither feeds nor damps such a whirl."""
+    model = _stiff_machine()
+    threshold = rdm.stability(model, np.linspace(300.0, 1500.0, 13)).threshold_speed
+    speed = 1.2 * threshold
+    roots = rdm.modal(model, speed).eigenvalues
+    roots = roots[roots.imag > 1.0]
+    root = roots[np.argmax(roots.real)]
+    assert root.real > 20.0 and root.imag < 0.5 * speed
+    period, duration = 2 * np.pi / root.imag, 0.15
+    runs = []
+    for size in (0.2, 2.0):
+        res = rdm.simulate(model, duration, speed, initial="equilibrium", impulse="tap", impulse_size=size,
+                           samples=151, rtol=1e-5, atol=1e-13)
+        y, z = (res.sensor(f"disk-{axis}") - res.sensor(f"disk-{axis}")[0] for axis in "yz")
+        disk = np.hypot(y, z)
+        eccentricity = np.hypot(res.sensor("A-y"), res.sensor("A-z")) / CLEARANCE
+        first, last = res.time <= 2 * period, res.time > duration - 3 * period
+        before = (res.time > duration - 6 * period) & ~last
+        angle = np.unwrap(np.arctan2(z[last], y[last]))
+        runs.append({"start": disk[first].max(), "orbit": disk[last].max(), "before": disk[before].max(),
+                     "eccentricity": eccentricity[last].max(), "whirl": np.polyfit(res.time[last], angle, 1)[0]})
+    small, large = runs
+    assert large["start"] > 5 * small["start"] and small["orbit"] > 5 * small["start"], runs
+    assert abs(small["orbit"] - large["orbit"]) < 0.01 * large["orbit"], runs
+    for run in runs:
+        # stopped: growing at the linear rate it would gain a factor exp(6 pi Re/Im) = 3.3 over 3 periods
+        assert abs(run["orbit"] - run["before"]) < 0.02 * run["orbit"], runs
+        assert 0.8 < run["eccentricity"] < 0.95, runs
+        assert abs(run["whirl"] - 0.5 * speed) < 0.01 * speed, runs
+        assert root.imag < run["whirl"] < 1.12 * root.imag, runs        # the root: 0.458 times the speed
+    assert abs(small["eccentricity"] - large["eccentricity"]) < 0.01, runs
+
+
 def test_free_spin_still_refused_and_a_given_journal_load_too():
     model = _machine()
     with pytest.raises(InputError, match="free spin") as error:

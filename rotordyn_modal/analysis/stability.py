@@ -12,7 +12,8 @@ from scipy.optimize import brentq
 from ..errors import InputError
 from ..linear_system import speed_linear_form
 from . import _eigensolve, _roots, _whirl
-from .campbell import _arguments_modes, _check_speeds, _progress, campbell, root_count, solve_sweep
+from .campbell import (_arguments_frequency, _arguments_modes, _check_speeds, _progress, campbell, root_count,
+                       solve_sweep)
 from .modal import is_oscillating, modal, modal_quantities
 from .mode_numbers import numbers_at_speed
 
@@ -50,6 +51,10 @@ class StabilityResult:
         Set by ``stability(..., modes=N)``: only the N lowest-frequency modes of each speed were
         solved and judged (columns, thresholds, least damped); the modes above them, and real
         roots, are not checked. None: every root.
+    max_frequency_hz : float, optional
+        Set by ``stability(..., max_frequency=F)`` [Hz]: only the modes of damped natural
+        frequency at most F at each speed were solved and judged (NaN columns where a mode lies
+        above it); the modes above F, and real roots, are not checked. None: no limit.
     """
 
     speeds: np.ndarray
@@ -68,6 +73,7 @@ class StabilityResult:
     threshold_whirl: np.ndarray | None = None
     threshold_modes_at_speed: np.ndarray | None = None
     lowest: int | None = None
+    max_frequency_hz: float | None = None
 
     @property
     def speeds_rpm(self) -> np.ndarray:
@@ -82,8 +88,9 @@ class StabilityResult:
     @property
     def largest_real_parts(self) -> np.ndarray:
         """(N,) [1/s]: the largest real part at each speed, 0 where it is within round-off
-        of zero (rigid-body roots left out)."""
-        return self.significant_real_parts.max(axis=1)
+        of zero (rigid-body roots left out; -inf where no root is judged: none below
+        ``max_frequency_hz``)."""
+        return self.significant_real_parts.max(axis=1, initial=-np.inf)
 
     @property
     def stable(self) -> np.ndarray:
@@ -149,11 +156,13 @@ class StabilityResult:
     def to_dataframe(self):
         """Long table ``speed_rpm, value, mode, real_part, damping_ratio, log_decrement,
         frequency_hz, whirl, mode_at_speed`` (``mode`` the tracked label, ``mode_at_speed`` the
-        number ``modes --speed`` gives that root, empty where it is not a mode)."""
+        number ``modes --speed`` gives that root, empty where it is not a mode). With
+        ``max_frequency_hz``, a mode's rows at the speeds where it lies above it are left out."""
         import pandas as pd
 
         count, n = self.eigenvalues.shape
         at_speed = self.modes_at_speed.ravel()
+        asked = ~np.isnan(self.eigenvalues.ravel())         # NaN: above max_frequency_hz there
         table = pd.DataFrame({
             "speed_rpm": np.repeat(self.speeds_rpm, n), "value": "",
             "mode": np.tile(self.modes, count), "real_part": self.real_parts.ravel(),
@@ -161,7 +170,9 @@ class StabilityResult:
             "frequency_hz": self.frequencies_hz.ravel(), "whirl": self.whirl.ravel(),
             "mode_at_speed": pd.array(np.where(at_speed > 0, at_speed, None), dtype="Int64"),
         })
-        table.attrs["round_off"] = self._round_off_columns()
+        if not asked.all():
+            table = table[asked].reset_index(drop=True)
+        table.attrs["round_off"] = {key: value[asked] for key, value in self._round_off_columns().items()}
         return table
 
     def _round_off_columns(self) -> dict:
@@ -243,7 +254,8 @@ class StabilityMap:
         return plot_stability_map(self, **kwargs)
 
 
-def stability(model, speeds, vary: str | None = None, values=None, scale=None, progress=False, modes=None):
+def stability(model, speeds, vary: str | None = None, values=None, scale=None, progress=False, modes=None,
+              max_frequency=None):
     """Stability over speed, or a map over speed and one parameter.
 
     Parameters
@@ -264,21 +276,32 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
         nor are real roots (a real root crossing zero, a divergence, is outside this route):
         a threshold of a higher mode, or of a real root, is not found. ``result.lowest`` is N.
         Default: every root of every speed.
+    max_frequency : float, optional
+        Only the oscillating roots of damped natural frequency ``Im lam / 2 pi`` at most this [Hz]
+        at each speed (with ``modes``, the lowest ``modes`` of them), each the full model's root to
+        round-off, as ``campbell(max_frequency=F)`` finds them (``docs/theory.md``, "The modes
+        below a frequency"): a column for each tracked mode below F at some speed, NaN where it
+        lies above; the thresholds are where the largest real part *among the roots below F*
+        crosses zero, refined with Brent's method on those roots. **Modes above F are not
+        checked**, nor are real roots. ``result.max_frequency_hz`` is F. Default: no limit.
 
     Returns
     -------
     StabilityResult, or StabilityMap when ``vary`` is given
     """
+    if max_frequency is not None:
+        max_frequency = _arguments_frequency(max_frequency)
     if modes is not None:
         modes = _arguments_modes(modes)
         if vary is None and modes >= root_count(model):
             modes = None                            # N at least every root: every root, as campbell
     if vary is not None:
-        return stability_map(model, speeds, vary, values=values, scale=scale, progress=progress, modes=modes)
+        return stability_map(model, speeds, vary, values=values, scale=scale, progress=progress, modes=modes,
+                             max_frequency=max_frequency)
     if values is not None or scale is not None:
         raise InputError("values/scale given without a parameter to vary (vary=KEY)")
-    if modes is not None:
-        return _stability_lowest(model, speeds, modes)
+    if modes is not None or max_frequency is not None:
+        return _stability_lowest(model, speeds, modes, max_frequency)
     speeds = _check_speeds(speeds)
     form = speed_linear_form(model)
     eigenvalues, shapes, _ = solve_sweep(model, speeds, progress)
@@ -296,21 +319,24 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
     )
 
 
-def _stability_lowest(model, speeds, count) -> StabilityResult:
-    """:func:`stability` of the ``count`` lowest modes of each speed (see its ``modes``): the
-    tracked roots of ``campbell(modes=count)``, the thresholds of their largest real part
-    refined on the ``count`` lowest roots of each trial speed, judged against the full state
-    matrix's round-off (:func:`roundoff_levels`) as a full sweep's are."""
+def _stability_lowest(model, speeds, count, limit_hz=None) -> StabilityResult:
+    """:func:`stability` of the ``count`` lowest modes of each speed (see its ``modes``), or of
+    those below ``limit_hz`` [Hz] (see its ``max_frequency``; the lowest ``count`` of them when
+    both are given): the tracked roots of ``campbell(modes=count, max_frequency=limit_hz)``, the
+    thresholds of their largest real part refined on the same roots of each trial speed, judged
+    against the full state matrix's round-off (:func:`roundoff_levels`) as a full sweep's are."""
     speeds = _check_speeds(speeds)
-    sweep = campbell(model, speeds, critical=False, modes=count)
+    sweep = campbell(model, speeds, critical=False, modes=count, max_frequency=limit_hz)
     form = speed_linear_form(model)
     roundoff = roundoff_levels(form, speeds)
-    lowest = _LowestRoots(model, count)
+    lowest = _LowestRoots(model, count, None if limit_hz is None else 2 * np.pi * limit_hz)
 
     def largest(speed, clip=True):
         roots, _ = lowest.at(speed)
         roots = roots[np.isfinite(roots)]       # fewer roots than asked (a model of few coordinates)
-        return float(_significant_real_parts(roots, clip, roundoff_levels(form, [speed]) if clip else None).max())
+        # -inf: no root below max_frequency at that speed (nothing judged there)
+        return float(_significant_real_parts(roots, clip, roundoff_levels(form, [speed]) if clip else None)
+                     .max(initial=-np.inf))
 
     thresholds, threshold_modes, onsets = threshold_speeds(form, speeds, sweep.eigenvalues, roundoff, largest)
     crossing = _crossing_roots(model, speeds, sweep.eigenvalues, thresholds, threshold_modes, lowest.crossing)
@@ -318,33 +344,43 @@ def _stability_lowest(model, speeds, count) -> StabilityResult:
         speeds=speeds, eigenvalues=sweep.eigenvalues, real_parts=sweep.eigenvalues.real,
         damping_ratios=sweep.damping_ratios, log_decrements=sweep.log_decrements,
         frequencies_hz=sweep.frequencies_hz, whirl=sweep.whirl, modes=sweep.modes, thresholds=thresholds,
-        threshold_modes=threshold_modes, threshold_onsets=onsets, roundoff=roundoff, lowest=count, **crossing,
+        threshold_modes=threshold_modes, threshold_onsets=onsets, roundoff=roundoff, lowest=count,
+        max_frequency_hz=limit_hz, **crossing,
     )
 
 
 class _LowestRoots:
     """The ``count`` lowest oscillating roots of one model at one speed at a time (a threshold's
-    trial speeds), as ``campbell(modes=count)`` finds them at its speeds.
+    trial speeds), as ``campbell(modes=count)`` finds them at its speeds; or those of frequency
+    ``Im lam`` up to ``limit`` (the lowest ``count`` of them, if given), as
+    ``campbell(max_frequency=...)`` finds them.
 
     Parameters
     ----------
     model : Model
-    count : int
+    count : int or None
+        None: every root below ``limit``.
+    limit : float, optional
+        Highest frequency ``Im lam`` [rad/s].
     """
 
-    def __init__(self, model, count):
+    def __init__(self, model, count, limit=None):
         from ._stack import Stack
 
-        self.stack, self.count = Stack([model]), count
+        self.stack, self.count, self.limit = Stack([model]), count, limit
 
     def at(self, speed):
-        """Roots (count,) complex [1/s], by frequency (nan where the model has fewer), and unit shapes
-        (count, n) at ``speed`` [rad/s]."""
+        """Roots (k,) complex [1/s], by frequency (nan where the model has fewer than ``count``), and
+        unit shapes (k, n) at ``speed`` [rad/s]; ``k`` is ``count``, or with ``limit`` the number of
+        roots below it there (0 or more)."""
         from . import _batches, _lowest
 
         speeds = np.array([float(speed)])
         # BLAS's own threads only wait for a core on a shared machine (as in campbell(modes=N))
         with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+            if self.limit is not None:
+                values, shapes, wanted, _ = _lowest.roots_below(self.stack, speeds, self.limit, self.count)
+                return values[0][wanted[0]], shapes[0][wanted[0]]
             if self.stack.branch_times.shape[1]:     # frequency-dependent branches: solved whole, as campbell does
                 values, shapes = _lowest._full_lowest(self.stack, speeds, self.count)
             else:
@@ -352,8 +388,11 @@ class _LowestRoots:
         return values[0], shapes[0]
 
     def crossing(self, speed, guess):
-        """Frequency [Hz], whirl label and ``modes --speed`` number of the root nearest ``guess``."""
+        """Frequency [Hz], whirl label and ``modes --speed`` number of the root nearest ``guess``
+        (nan, 'none' and 0 where no root is below the limit there)."""
         values, shapes = self.at(speed)
+        if not np.isfinite(values).any():
+            return float("nan"), "none", 0
         nearest = int(np.nanargmin(np.abs(values - guess)))
         ratio = self.stack.whirl_ratios(shapes[None, nearest:nearest + 1], np.zeros(1, int), np.array([speed]))
         ratio = np.where(is_oscillating(values[nearest]), ratio.reshape(1), 0.0)
@@ -366,13 +405,15 @@ def _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes, roo
     """Frequency, whirl and ``modes`` number of the root that crosses at each threshold:
     ``root_at(speed, guess)`` (default :func:`_modal_root_at`: of :func:`.modal.modal` at the
     threshold) of the tracked mode's eigenvalue interpolated linearly between the grid speeds
-    around the threshold."""
+    around the threshold (the one end's where the other is NaN: above ``max_frequency``)."""
     root_at = root_at or functools.partial(_modal_root_at, model)
     crossing = []
     for speed, mode in zip(thresholds, threshold_modes):
         k = int(np.clip(np.searchsorted(speeds, speed) - 1, 0, len(speeds) - 2))
         t = (speed - speeds[k]) / (speeds[k + 1] - speeds[k])
-        crossing.append(root_at(speed, (1 - t) * eigenvalues[k, mode - 1] + t * eigenvalues[k + 1, mode - 1]))
+        ends = eigenvalues[k:k + 2, mode - 1]
+        guess = (1 - t) * ends[0] + t * ends[1] if np.isfinite(ends).all() else ends[np.isfinite(ends)][0]
+        crossing.append(root_at(speed, guess))
     frequencies, whirl, numbers = zip(*crossing) if crossing else ((), (), ())
     return {"threshold_frequencies_hz": np.array(frequencies, dtype=float),
             "threshold_whirl": np.array(whirl, dtype=str), "threshold_modes_at_speed": np.array(numbers, dtype=int)}
@@ -388,7 +429,8 @@ def _modal_root_at(model, speed, guess):
     return float(roots.frequencies_hz[nearest]), str(roots.whirl[nearest]), number
 
 
-def stability_map(model, speeds, key: str, values=None, scale=None, progress=False, modes=None) -> StabilityMap:
+def stability_map(model, speeds, key: str, values=None, scale=None, progress=False, modes=None,
+                  max_frequency=None) -> StabilityMap:
     """Stability over speed for each value (or scale factor) of one model parameter.
 
     Parameters
@@ -404,6 +446,9 @@ def stability_map(model, speeds, key: str, values=None, scale=None, progress=Fal
     modes : int, optional
         Only the ``modes`` lowest modes of each speed and value (see :func:`stability`; the modes
         above them and real roots are not checked).
+    max_frequency : float, optional
+        Only the modes below this frequency [Hz] (see :func:`stability`; the modes above it and
+        real roots are not checked).
 
     Returns
     -------
@@ -418,7 +463,7 @@ def stability_map(model, speeds, key: str, values=None, scale=None, progress=Fal
     results = []
     for value in _progress(list(grid), progress, f"map over {key}"):
         variant = model.with_values({key: value}) if values is not None else model.scaled({key: value})
-        results.append(stability(variant, speeds, modes=modes))
+        results.append(stability(variant, speeds, modes=modes, max_frequency=max_frequency))
     return StabilityMap(key=key, mode_of_variation="values" if values is not None else "scale",
                         values=grid, speeds=np.asarray(results[0].speeds), results=tuple(results))
 
@@ -456,7 +501,7 @@ def threshold_speeds(form, speeds, eigenvalues, roundoff=None, largest=None):
         def largest(speed, clip=True):
             return _largest_real_part(form, speed, clip)
     real_part = largest
-    largest = _significant_real_parts(eigenvalues, roundoff=roundoff).max(axis=1)
+    largest = _significant_real_parts(eigenvalues, roundoff=roundoff).max(axis=1, initial=-np.inf)
     unstable = largest > 0
     found, modes, onsets = [], [], []
     for k in np.nonzero(unstable[:-1] != unstable[1:])[0]:
@@ -469,7 +514,8 @@ def threshold_speeds(form, speeds, eigenvalues, roundoff=None, largest=None):
         if root is None:
             root = _bisect_change(lambda s: real_part(s) > 0, speeds[k], speeds[k + 1])
         found.append(root)
-        modes.append(int(np.argmax(eigenvalues[side].real)) + 1)
+        # NaN: a mode above max_frequency at that speed, not judged
+        modes.append(int(np.argmax(np.where(np.isnan(eigenvalues[side]), -np.inf, eigenvalues[side].real))) + 1)
         onsets.append(bool(unstable[k + 1]))
     return np.array(found), np.array(modes, dtype=int), np.array(onsets, dtype=bool)
 
@@ -485,14 +531,26 @@ def _last_stable(largest, start, step):
 
 def _brent(real_part, a, b):
     """The zero of the largest real part (``real_part(speed, clip=False)``) in [a, b] by Brent's
-    method, or None when the real parts solved again at a and b do not change sign (round-off)."""
+    method, or None when the real parts solved again at a and b do not change sign (round-off),
+    or when one of them is -inf (no root judged there: none below ``max_frequency``, where the
+    change is a mode passing the limit, a jump for the bisection)."""
     def f(s):
-        return real_part(s, clip=False)
+        value = real_part(s, clip=False)
+        if not np.isfinite(value):
+            raise _NoRootJudged
+        return value
 
-    fa, fb = f(a), f(b)
-    if not fa * fb < 0:
+    try:
+        fa, fb = f(a), f(b)
+        if not fa * fb < 0:
+            return None
+        return brentq(f, a, b, xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
+    except _NoRootJudged:
         return None
-    return brentq(f, a, b, xtol=1e-13 * max(abs(a), abs(b), 1.0), rtol=8.9e-16, maxiter=200)
+
+
+class _NoRootJudged(Exception):
+    """Raised inside :func:`_brent` where no root is judged at a trial speed."""
 
 
 def _bisect_change(predicate, a, b):
@@ -548,8 +606,9 @@ def _significant_real_parts(eigenvalues, clip: bool = True, roundoff=None) -> np
     direction without suspension) set to -inf so that their round-off sign is not read as
     instability, and real parts within round-off of zero (undamped modes: within ``1e-10 |lam|``
     of the root's own size, or within ``roundoff``, shape (...,) [1/s], of each speed when
-    given) set to exactly 0."""
-    rigid = eigenvalues == 0
+    given) set to exactly 0. NaN roots (above ``max_frequency`` at that speed) are -inf too: not
+    judged."""
+    rigid = (eigenvalues == 0) | np.isnan(eigenvalues)
     real = eigenvalues.real
     if clip:
         tolerance = _MARGINAL_TOLERANCE * np.abs(eigenvalues)

@@ -1,4 +1,4 @@
-"""``stability MODEL --speeds R [--lowest N] [--vary KEY (--values R | --scale R)]``."""
+"""``stability MODEL --speeds R [--lowest N] [--max-frequency HZ] [--vary KEY (--values R | --scale R)]``."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import sys
 
 from ..errors import InputError
 from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
-                      parse_range, refuse_long_work, save_figure, show_progress, speeds_option, use_agg,
-                      write_table)
+                      parse_range, refuse_long_work, save_figure, show_progress, speeds_option, speeds_text,
+                      use_agg, write_table)
 from ._units import NOTHING_TO_CONVERT
 
 NAME = "stability"
@@ -31,6 +31,11 @@ sets the limit).
 model's root to round-off, thresholds refined on them; for flexible rotors of hundreds of
 coordinates): the modes above them and real (non-oscillating) roots are NOT checked, and the
 summary line says so ("... for the N lowest modes"). It also works with --vary.
+--max-frequency HZ solves and judges only the modes of damped natural frequency at most HZ at
+each speed (with --lowest N, the lowest N of them), each the full model's root to round-off:
+the modes above HZ and real roots are NOT checked, and the summary line says so ("... for the
+modes below HZ Hz; modes above HZ Hz and real roots not checked"); the table leaves out a
+mode's rows at the speeds where it lies above HZ. It also works with --vary.
 
 CSV columns: speed_rpm,value,mode,real_part,damping_ratio,log_decrement,frequency_hz,whirl,mode_at_speed
 ('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in
@@ -41,6 +46,7 @@ examples:
   rotordyn-modal stability examples/unstable_cross_coupled.toml --speeds 0:20000:201 \\
       --vary suspensions.bearing-A.damping --scale 0.5:2:31 --plot map.png
   rotordyn-modal stability examples/compressor_rotor.toml --speeds 0:12000:201 --lowest 12
+  rotordyn-modal stability examples/compressor_rotor.toml --speeds 0:12000:201 --max-frequency 450
   rotordyn-modal stability examples/journal_rotor.toml --speeds 100:20000:201 --plot s.png
       (the figure is scaled to the modes that decide stability, threshold speeds are
       labelled lines, the speed axis in --speed-unit; docs/figures.md)"""
@@ -55,6 +61,11 @@ def add_arguments(parser):
                              "round-off, without solving for every root (faster for large flexible rotors): "
                              "modes above them and real roots are not checked; docs/theory.md, 'The lowest "
                              "modes only'")
+    parser.add_argument("--max-frequency", metavar="HZ",
+                        help="only the modes of damped natural frequency at most HZ [Hz] at each speed (with "
+                             "--lowest N, the lowest N of them), each the full model's root to round-off: modes "
+                             "above HZ and real roots are not checked; docs/theory.md, 'The modes below a "
+                             "frequency'")
     parser.add_argument("--vary", metavar="KEY", help="dotted key of the parameter of a map")
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--values", help="values to set KEY to: START:STOP:N or a list")
@@ -77,22 +88,24 @@ def run(args) -> int:
     values = _grid(args.values, "--values") if args.values else None
     scale = _grid(args.scale, "--scale") if args.scale else None
     speeds, lowest = speeds_option(args), _lowest(args.lowest, model)
+    limit = _max_frequency(args.max_frequency)
     count = len(values if values is not None else scale) if args.vary else 1
-    if lowest is None:
-        fewer = ("ask for the lowest modes only (--lowest N), use fewer speeds (--speeds)"
+    if lowest is None and limit is None:
+        fewer = ("ask for the lowest modes only (--lowest N, --max-frequency HZ), use fewer speeds (--speeds)"
                  + (" or fewer values (--values, --scale)" if args.vary else ""))
         refuse_long_work(args, model, speeds, critical=False, solutions=count * len(speeds), advice=fewer)
     result = stability(model, speeds, vary=args.vary, values=values, scale=scale, progress=show_progress(args),
-                       modes=lowest)
-    write_table(result.to_dataframe(), args)
+                       modes=lowest, max_frequency=limit)
+    empty = None if limit is None else f"no mode below {limit:g} Hz {speeds_text(args)}"
+    write_table(result.to_dataframe(), args, empty=empty)
     if not args.quiet:
         _print_thresholds(result)
     if args.plot:
         use_agg()
         title = model.name or None
-        if lowest is not None:                  # what the figure leaves out, in its title
+        if lowest is not None or limit is not None:         # what the figure leaves out, in its title
             title = (f"{title or ('Stability map' if args.vary else 'Stability over speed')}: "
-                     + (f"the {lowest} lowest modes only" if lowest > 1 else "the lowest mode only"))
+                     + _judged(lowest, limit) + " only")
         save_figure(result.plot(speed_unit=args.speed_unit, title=title), args)
     return 0
 
@@ -131,13 +144,15 @@ def _threshold_line(result, k):
 
 def _summary(result):
     """One line: every interval of speeds where the machine is unstable, or else that it is
-    stable (naming the least damped mode) or marginal over the range; with ``--lowest N``, of
-    those N modes, and that the others were not checked."""
+    stable (naming the least damped mode) or marginal over the range; with ``--lowest N`` or
+    ``--max-frequency HZ``, of those modes, and that the others were not checked."""
     intervals = result.unstable_intervals
-    lowest = "" if result.lowest is None else ("the lowest mode" if result.lowest == 1 else
-                                                f"the {result.lowest} lowest modes")
+    limit = result.max_frequency_hz
+    lowest = "" if result.lowest is None and limit is None else _judged(result.lowest, limit)
     of = f" for {lowest}" if lowest else ""
-    unchecked = f"; modes above {'it' if result.lowest == 1 else 'them'} and real roots not checked" if lowest else ""
+    unchecked = f"; {_unchecked(result.lowest, limit)} and real roots not checked" if lowest else ""
+    if limit is not None and not result.eigenvalues.shape[1]:
+        return f"stability not checked: no mode below {limit:g} Hz at any speed (modes above it and real roots not checked)"
     if intervals:
         return ("unstable " + " and ".join(_interval(result, start, stop) for start, stop in intervals)
                 + (f" (among {lowest}{unchecked})" if lowest else ""))
@@ -147,6 +162,29 @@ def _summary(result):
     return (f"stable or marginal over the range{of}{unchecked}: at {marginal} of {len(result.speeds)} speeds the "
             "largest real part is zero to round-off (an undamped mode, or a root too small beside the model's "
             "largest to tell its sign; docs/theory.md, section 11); least damped: " + _least_damped(result))
+
+
+def _judged(lowest, limit):
+    """The modes judged: ``the 6 lowest modes``, ``the modes below 450 Hz``, ``the 6 lowest modes
+    below 450 Hz`` (``lowest`` an int or None, ``limit`` [Hz] or None, not both None)."""
+    modes = ("the modes" if lowest is None else "the lowest mode" if lowest == 1 else f"the {lowest} lowest modes")
+    return modes + ("" if limit is None else f" below {limit:g} Hz")
+
+
+def _unchecked(lowest, limit):
+    """The modes not judged: ``modes above them``, ``modes above 450 Hz``, ``modes above them or
+    above 450 Hz``."""
+    above = [] if lowest is None else ["above it" if lowest == 1 else "above them"]
+    above += [] if limit is None else [f"above {limit:g} Hz"]
+    return "modes " + " or ".join(above)
+
+
+def _max_frequency(text):
+    """``--max-frequency HZ`` as a float [Hz], or None, refused as ``campbell --max-frequency``
+    refuses it."""
+    from .campbell import _max_frequency as max_frequency
+
+    return max_frequency(text)
 
 
 def _lowest(text, model):

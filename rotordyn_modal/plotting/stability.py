@@ -79,7 +79,8 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     bottom.set_ylabel("Log decrement [-]\n(< 0: unstable)")
     bottom.set_xlabel(speed_label(speed_unit))
     top.set_title(title or "Stability over speed")
-    top.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    if top.get_legend_handles_labels()[0]:      # none: no mode (none below max_frequency)
+        top.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     _draw_thresholds(top, bottom, result, scale, speed_unit)
     return fig
 
@@ -136,8 +137,9 @@ def _real_part_span(real, log_dec, relevant):
     modes = np.where(np.isfinite(log_dec), real, np.nan)
     chosen = modes[:, relevant] if relevant else real
     least = np.array([_nan(np.max, row) for row in modes])
-    lowest = np.nanmax([_nan(np.min, chosen), _REACH * _nan(np.min, least)])
-    highest = np.nanmax([_nan(np.max, chosen), max(_nan(np.max, real), 0.0)])
+    # NaN where there is no mode (none below max_frequency): no warning
+    lowest = _nan(np.max, [_nan(np.min, chosen), _REACH * _nan(np.min, least)])
+    highest = _nan(np.max, [_nan(np.max, chosen), max(_nan(np.max, real), 0.0)])
     return lowest, highest
 
 

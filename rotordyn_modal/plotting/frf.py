@@ -67,6 +67,7 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None, units:
     mag.legend(fontsize="small", title="model (line), measured (dots)" if measured is not None else None,
                title_fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))   # beside, off the curves
     mag.set_title(title or default)
+    _show_frf_overlaps(fig, [mag, phase] if measured is None else [mag], result)
     return fig
 
 
@@ -121,6 +122,7 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
     for block in blocks[len(groups):]:
         block.set_visible(False)
     by_item = all(":" in o for _, members in groups for o, _ in members)
+    drawn = []              # axes whose curves are drawn in turn where they lie on each other
     for block, (name, members) in zip(blocks, groups):
         kinds = [[p for p in members if not _is_moment(p[0])], [p for p in members if _is_moment(p[0])]]
         kinds = [k for k in kinds if k]
@@ -147,8 +149,20 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
         phase.set_ylabel("Phase [deg]")
         phase.set_xlabel("Frequency [Hz]")
         axes[0].set_title(name, fontsize="medium")
+        drawn.extend(axes if measured is None else axes[:-1])   # measured dots share no samples
     fig.suptitle(title)
+    _show_frf_overlaps(fig, drawn, result)
     return fig
+
+
+def _show_frf_overlaps(fig, axes, result):
+    """Model curves of ``axes`` lying on each other (a symmetric machine's mounts: the same
+    force in two of them) drawn there in turn, each legend naming the curve it equals
+    (:func:`_show_overlaps`); found on the figure laid out as it is drawn."""
+    from ._labels import laid_out_renderer
+
+    laid_out_renderer(fig)
+    _show_overlaps(axes, result.frequencies_hz, "hz")
 
 
 def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0):
@@ -395,7 +409,8 @@ def _show_overlaps(axes, x, speed_unit):
         for line, overlaps in notes.items():
             line.set_label(f"{names[line]} ({_equal_note(names[line], overlaps, names, x, speed_unit)})")
         if notes and ax.get_legend() is not None:
-            ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+            size = ax.get_legend().get_texts()[0].get_fontsize()
+            ax.legend(fontsize=size, loc="upper left", bbox_to_anchor=(1.01, 1.0))
             changed = True
     return changed
 
@@ -408,9 +423,10 @@ def _equal_note(name, overlaps, names, x, speed_unit):
     for o in overlaps:
         lengths[o.other] = lengths.get(o.other, 0) + o.stop - o.start
     other = max(lengths, key=lambda line: (lengths[line], -list(names).index(line)))   # the earliest of equals
-    output, _, source = names[other].partition(": 1X ")
-    same = source and name.partition(": 1X ")[2] == source
-    text = f"= {output if same else names[other]}"
+    twin = _equal_everywhere(overlaps[0].line, names)
+    if twin is not None:
+        return _equal_text(name, names[twin])
+    text = _equal_text(name, names[other])
     ranges = _merged([(o.start, o.stop) for o in overlaps if o.other is other])
     drawn = np.flatnonzero(np.isfinite(np.asarray(overlaps[0].line.get_ydata(), float)))
     if len(ranges) == 1 and ranges[0][0] <= drawn[0] and ranges[0][1] >= drawn[-1]:
@@ -424,6 +440,27 @@ def _equal_note(name, overlaps, names, x, speed_unit):
     if stop >= drawn[-1]:
         return f"{text} above {_speed_text(x[start])}{unit}"
     return f"{text} {_speed_text(x[start])}–{_speed_text(x[stop])}{unit}"
+
+
+def _equal_text(name, other):
+    """"= other", the other's output only where both are excited by the same source."""
+    output, _, source = other.partition(": 1X ")
+    same = source and name.partition(": 1X ")[2] == source
+    return f"= {output if same else other}"
+
+
+def _equal_everywhere(line, names):
+    """The earliest curve of ``names`` before ``line`` equal to it within 1 % wherever either
+    is drawn (the same sensor signal twice: an isotropic rotor's probes, a symmetric machine's
+    mounts), else None."""
+    y = np.asarray(line.get_ydata(), float)
+    for earlier in names:
+        if earlier is line:
+            return None
+        e = np.asarray(earlier.get_ydata(), float)
+        if e.shape == y.shape and np.allclose(y, e, rtol=1e-2, atol=0.0, equal_nan=True):
+            return earlier
+    return None
 
 
 #: a curve's legend names the curve it lies on when that is at least this share of its drawn

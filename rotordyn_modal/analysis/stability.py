@@ -12,7 +12,8 @@ from scipy.optimize import brentq
 from ..errors import InputError
 from ..linear_system import speed_linear_form
 from . import _eigensolve, _roots, _whirl
-from .campbell import _arguments_modes, _check_speeds, _progress, campbell, root_count, solve_sweep
+from .campbell import (_arguments_modes, _campbell_lowest, _check_speeds, _progress, lowest_stack, solve_sweep,
+                       stack_root_count)
 from .modal import is_oscillating, modal, modal_quantities
 from .mode_numbers import numbers_at_speed
 
@@ -271,15 +272,15 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
     """
     if modes is not None:
         modes = _arguments_modes(modes)
-        if vary is None and modes >= root_count(model):
-            modes = None                            # N at least every root: every root, as campbell
     if vary is not None:
         return stability_map(model, speeds, vary, values=values, scale=scale, progress=progress, modes=modes)
     if values is not None or scale is not None:
         raise InputError("values/scale given without a parameter to vary (vary=KEY)")
-    if modes is not None:
-        return _stability_lowest(model, speeds, modes)
     speeds = _check_speeds(speeds)
+    if modes is not None:
+        stack = lowest_stack(model)
+        if modes < stack_root_count(stack):       # else N is at least every root: every root, as campbell
+            return _stability_lowest(stack, speeds, modes)
     form = speed_linear_form(model)
     eigenvalues, shapes, _ = solve_sweep(model, speeds, progress)
     ratios = np.where(is_oscillating(eigenvalues),
@@ -296,16 +297,17 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
     )
 
 
-def _stability_lowest(model, speeds, count) -> StabilityResult:
-    """:func:`stability` of the ``count`` lowest modes of each speed (see its ``modes``): the
-    tracked roots of ``campbell(modes=count)``, the thresholds of their largest real part
-    refined on the ``count`` lowest roots of each trial speed, judged against the full state
-    matrix's round-off (:func:`roundoff_levels`) as a full sweep's are."""
-    speeds = _check_speeds(speeds)
-    sweep = campbell(model, speeds, critical=False, modes=count)
-    form = speed_linear_form(model)
+def _stability_lowest(stack, speeds, count) -> StabilityResult:
+    """:func:`stability` of the ``count`` lowest modes of each speed (see its ``modes``) of the
+    model of a one-model stack (:func:`.campbell.lowest_stack`), at checked speeds: the tracked
+    roots of ``campbell(modes=count)``, the thresholds of their largest real part refined on the
+    ``count`` lowest roots of each trial speed, judged against the full state matrix's round-off
+    (:func:`roundoff_levels`) as a full sweep's are. The stack's state form serves all three."""
+    model = stack.models[0]
+    sweep = _campbell_lowest(stack, speeds, (1.0,), False, count)
+    form = stack.forms[0]
     roundoff = roundoff_levels(form, speeds)
-    lowest = _LowestRoots(model, count)
+    lowest = _LowestRoots(stack, count)
 
     def largest(speed, clip=True):
         roots, _ = lowest.at(speed)
@@ -328,14 +330,13 @@ class _LowestRoots:
 
     Parameters
     ----------
-    model : Model
+    stack : Stack
+        Of the one model.
     count : int
     """
 
-    def __init__(self, model, count):
-        from ._stack import Stack
-
-        self.stack, self.count = Stack([model]), count
+    def __init__(self, stack, count):
+        self.stack, self.count = stack, count
 
     def at(self, speed):
         """Roots (count,) complex [1/s], by frequency (nan where the model has fewer), and unit shapes

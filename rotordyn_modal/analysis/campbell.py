@@ -353,7 +353,9 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None) -> Camp
         values, shapes, weighted, wanted = _columns_wanted(values, shapes, weighted, wanted)
         if not values.shape[-1]:
             return _no_modes(model, speeds, orders, stack.n_dof)
-    ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, speeds)
+    # one product of every shape with the whirl forms: BLAS's own threads would wait for a core too
+    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+        ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, speeds)
     oscillating = is_oscillating(values)
     ratios = np.where(oscillating, ratios.reshape(values.shape), 0.0)
     sources = [excitation_sources(model)]

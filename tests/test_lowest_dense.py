@@ -117,3 +117,47 @@ def test_dense_route_equals_the_whole_solve(name, count):
     assert np.allclose(lam, lam_whole, rtol=1e-13, atol=0)
     mac = np.abs(np.einsum("ski,ski->sk", phi.conj(), phi_whole)) ** 2
     assert np.all(mac >= 1 - 1e-12)
+
+
+@pytest.mark.parametrize("analysis", ["campbell", "stability"])
+def test_lowest_modes_build_the_state_form_once(analysis, monkeypatch):
+    """campbell(modes=N) and stability(modes=N) build the model's state form (M^-1, A0, A1) once:
+    N is compared with the roots of the stack that does the work, and stability's round-off and
+    threshold roots use that stack too (issue 28, speed: each further build cost 0.2-0.6 s of
+    ROSS's 224-coordinate compressor_example on a loaded machine)."""
+    from rotordyn_modal import linear_system
+
+    model = rdm.Model.from_dict(read_ross_rotor(ROTOR_EXAMPLE))
+    builds = []
+    plain = linear_system.SpeedLinearForm.__init__
+
+    def counting(self, *args, **kwargs):
+        builds.append(1)
+        plain(self, *args, **kwargs)
+
+    monkeypatch.setattr(linear_system.SpeedLinearForm, "__init__", counting)
+    getattr(rdm, analysis)(model, np.linspace(100.0, 3000.0, 5), modes=4)
+    assert len(builds) == 1
+
+
+@pytest.mark.parametrize("name", ["rubber_mounts.toml", "fan_on_bearings.toml"])
+def test_root_count_is_half_the_states_and_the_route_switches_there(name, examples_dir):
+    """root_count (from the sizes: n + 3 per Maxwell branch) is half the state matrix's size, built
+    here from the model's matrices and branches; campbell(modes=N) is every root from that N on
+    (the same roots as campbell()) and the N lowest below it."""
+    from rotordyn_modal.analysis.campbell import root_count
+    from rotordyn_modal.elements.mounts import maxwell_branches
+
+    model = rdm.load_model(examples_dir / name)
+    M = model.matrices()[0]
+    branches = len(maxwell_branches(model)[1])
+    assert (name == "rubber_mounts.toml") == (branches > 0)
+    assert root_count(model) == (2 * len(M) + 6 * branches) // 2
+    speeds = np.linspace(0.0, 300.0, 4)
+    every = rdm.campbell(model, speeds, critical=False)
+    all_of_them = rdm.campbell(model, speeds, critical=False, modes=root_count(model))
+    # the shapes too: the lowest route's shapes (inverse iteration) differ from eig's in the last bits
+    assert np.array_equal(all_of_them.eigenvalues, every.eigenvalues, equal_nan=True)
+    assert np.array_equal(all_of_them.shapes, every.shapes)
+    assert rdm.campbell(model, speeds, critical=False, modes=root_count(model) - 1).eigenvalues.shape == \
+        (len(speeds), root_count(model) - 1)

@@ -271,14 +271,17 @@ def campbell(model, speeds, orders=(1,), progress=False, critical=True, modes=No
         than the grid): the refinement closes in on the jump, and the frequency there is off the
         order line (see :func:`off_order_line`). A finer speed grid resolves them.
     """
-    if modes is not None and _arguments_modes(modes) >= root_count(model):
-        modes = None                # N at least every root: every root (below max_frequency, if given)
-    if max_frequency is not None:
-        return _campbell_lowest(model, speeds, orders, critical, None if modes is None else _arguments_modes(modes),
-                                2 * np.pi * _arguments_frequency(max_frequency))
-    if modes is not None:
-        return _campbell_lowest(model, speeds, orders, critical, _arguments_modes(modes))
-    return campbell_many([model], speeds, orders, progress, critical)[0]
+    count = None if modes is None else _arguments_modes(modes)
+    limit = None if max_frequency is None else 2 * np.pi * _arguments_frequency(max_frequency)
+    if count is None and limit is None:
+        return campbell_many([model], speeds, orders, progress, critical)[0]
+    speeds, orders = _check_speeds(speeds), _arguments.orders(orders)
+    stack = lowest_stack(model)
+    if count is not None and count >= stack_root_count(stack):
+        count = None                # N at least every root: every root (below max_frequency, if given)
+        if limit is None:
+            return campbell_many([model], speeds, orders, progress, critical)[0]
+    return _campbell_lowest(stack, speeds, orders, critical, count, limit)
 
 
 def _arguments_modes(modes) -> int:
@@ -289,10 +292,25 @@ def _arguments_modes(modes) -> int:
 
 def root_count(model) -> int:
     """Roots of the model at each speed, one of each conjugate pair (half its states, Maxwell
-    branches included): ``campbell(modes=N)`` with N at least this many is every root."""
-    from ..linear_system import speed_linear_form
+    branches included): ``campbell(modes=N)`` with N at least this many is every root. From
+    the sizes alone (no matrix is built): ``n + 3 n_b`` for ``n`` coordinates and ``n_b``
+    Maxwell branches (six states each)."""
+    from ..elements.mounts import branch_count
 
-    return speed_linear_form(model).n_states // 2
+    return model.dofs.n + 3 * branch_count(model)
+
+
+def stack_root_count(stack) -> int:
+    """:func:`root_count` of a one-model :class:`~._stack.Stack`, read from its state form."""
+    return stack.forms[0].n_states // 2
+
+
+def lowest_stack(model) -> Stack:
+    """The :class:`~._stack.Stack` of one model for ``campbell(modes=N)`` and
+    ``stability(modes=N)``, built with one BLAS thread (its n x n set-up: BLAS's own threads only
+    wait for a core on a shared machine), as the lowest modes' work that uses it runs."""
+    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+        return Stack([model])
 
 
 def _arguments_frequency(value) -> float:
@@ -304,17 +322,16 @@ def _arguments_frequency(value) -> float:
     return float(array)
 
 
-def _campbell_lowest(model, speeds, orders, critical, count, limit=None) -> CampbellResult:
+def _campbell_lowest(stack, speeds, orders, critical, count, limit=None) -> CampbellResult:
     """:func:`campbell` of the ``count`` lowest modes at each speed (see its ``modes``), or of
-    those of frequency ``Im lam`` up to ``limit`` [rad/s] (see its ``max_frequency``)."""
+    those of frequency ``Im lam`` up to ``limit`` [rad/s] (see its ``max_frequency``), of the
+    model of a one-model stack (:func:`lowest_stack`), at checked ``speeds`` and ``orders``."""
     from . import _lowest
 
-    speeds = _check_speeds(speeds)
-    orders = _arguments.orders(orders)
-    # the set-up (n x n) and the shapes' products: BLAS's own threads only wait for a core on a
-    # shared machine (the batched solves run in threads of their own)
+    model = stack.models[0]
+    # the shapes' products: BLAS's own threads only wait for a core on a shared machine (the
+    # batched solves run in threads of their own)
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
-        stack = Stack([model])
         wanted = None
         if limit is not None:
             values, shapes, wanted, _ = _lowest.roots_below(stack, speeds, limit, count)
@@ -336,7 +353,9 @@ def _campbell_lowest(model, speeds, orders, critical, count, limit=None) -> Camp
         values, shapes, weighted, wanted = _columns_wanted(values, shapes, weighted, wanted)
         if not values.shape[-1]:
             return _no_modes(model, speeds, orders, stack.n_dof)
-    ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, speeds)
+    # one product of every shape with the whirl forms: BLAS's own threads would wait for a core too
+    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+        ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every, speeds)
     oscillating = is_oscillating(values)
     ratios = np.where(oscillating, ratios.reshape(values.shape), 0.0)
     sources = [excitation_sources(model)]

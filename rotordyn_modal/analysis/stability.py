@@ -12,8 +12,8 @@ from scipy.optimize import brentq
 from ..errors import InputError
 from ..linear_system import speed_linear_form
 from . import _eigensolve, _roots, _whirl
-from .campbell import (_arguments_frequency, _arguments_modes, _check_speeds, _progress, campbell, root_count,
-                       solve_sweep)
+from .campbell import (_arguments_frequency, _arguments_modes, _campbell_lowest, _check_speeds, _progress,
+                       lowest_stack, solve_sweep, stack_root_count)
 from .modal import is_oscillating, modal, modal_quantities
 from .mode_numbers import numbers_at_speed
 
@@ -293,16 +293,18 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
         max_frequency = _arguments_frequency(max_frequency)
     if modes is not None:
         modes = _arguments_modes(modes)
-        if vary is None and modes >= root_count(model):
-            modes = None                            # N at least every root: every root, as campbell
     if vary is not None:
         return stability_map(model, speeds, vary, values=values, scale=scale, progress=progress, modes=modes,
                              max_frequency=max_frequency)
     if values is not None or scale is not None:
         raise InputError("values/scale given without a parameter to vary (vary=KEY)")
-    if modes is not None or max_frequency is not None:
-        return _stability_lowest(model, speeds, modes, max_frequency)
     speeds = _check_speeds(speeds)
+    if modes is not None or max_frequency is not None:
+        stack = lowest_stack(model)
+        if modes is not None and modes >= stack_root_count(stack):
+            modes = None                        # N at least every root: every root, as campbell
+        if modes is not None or max_frequency is not None:
+            return _stability_lowest(stack, speeds, modes, max_frequency)
     form = speed_linear_form(model)
     eigenvalues, shapes, _ = solve_sweep(model, speeds, progress)
     ratios = np.where(is_oscillating(eigenvalues),
@@ -319,17 +321,20 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
     )
 
 
-def _stability_lowest(model, speeds, count, limit_hz=None) -> StabilityResult:
+def _stability_lowest(stack, speeds, count, limit_hz=None) -> StabilityResult:
     """:func:`stability` of the ``count`` lowest modes of each speed (see its ``modes``), or of
     those below ``limit_hz`` [Hz] (see its ``max_frequency``; the lowest ``count`` of them when
-    both are given): the tracked roots of ``campbell(modes=count, max_frequency=limit_hz)``, the
+    both are given), of the model of a one-model stack (:func:`.campbell.lowest_stack`), at
+    checked speeds: the tracked roots of ``campbell(modes=count, max_frequency=limit_hz)``, the
     thresholds of their largest real part refined on the same roots of each trial speed, judged
-    against the full state matrix's round-off (:func:`roundoff_levels`) as a full sweep's are."""
-    speeds = _check_speeds(speeds)
-    sweep = campbell(model, speeds, critical=False, modes=count, max_frequency=limit_hz)
-    form = speed_linear_form(model)
+    against the full state matrix's round-off (:func:`roundoff_levels`) as a full sweep's are.
+    The stack's state form serves all three."""
+    model = stack.models[0]
+    limit = None if limit_hz is None else 2 * np.pi * limit_hz
+    sweep = _campbell_lowest(stack, speeds, (1.0,), False, count, limit)
+    form = stack.forms[0]
     roundoff = roundoff_levels(form, speeds)
-    lowest = _LowestRoots(model, count, None if limit_hz is None else 2 * np.pi * limit_hz)
+    lowest = _LowestRoots(stack, count, limit)
 
     def largest(speed, clip=True):
         roots, _ = lowest.at(speed)
@@ -357,17 +362,16 @@ class _LowestRoots:
 
     Parameters
     ----------
-    model : Model
+    stack : Stack
+        Of the one model.
     count : int or None
         None: every root below ``limit``.
     limit : float, optional
         Highest frequency ``Im lam`` [rad/s].
     """
 
-    def __init__(self, model, count, limit=None):
-        from ._stack import Stack
-
-        self.stack, self.count, self.limit = Stack([model]), count, limit
+    def __init__(self, stack, count, limit=None):
+        self.stack, self.count, self.limit = stack, count, limit
 
     def at(self, speed):
         """Roots (k,) complex [1/s], by frequency (nan where the model has fewer than ``count``), and

@@ -16,12 +16,19 @@ import numpy as np
 from ..model.dofs import frame_block
 from ..model.geometry import shift_matrix
 
-__all__ = ["has_frequency_dependence", "maxwell_stiffness", "maxwell_branches"]
+__all__ = ["branch_count", "has_frequency_dependence", "maxwell_stiffness", "maxwell_branches"]
 
 
 def has_frequency_dependence(model) -> bool:
     """True when a suspension has Maxwell branches."""
     return any(getattr(s, "maxwell_stiffness_matrix", None) is not None for s in model.suspensions)
+
+
+def branch_count(model) -> int:
+    """Maxwell branches of every suspension (each adds six first-order states,
+    :func:`with_branch_states`), counted without building them."""
+    return sum(1 for s in model.suspensions if getattr(s, "maxwell_stiffness_matrix", None) is not None
+               for _ in zip(s.maxwell_stiffness_matrix, s.maxwell_time))
 
 
 def maxwell_branches(model):

@@ -88,3 +88,63 @@ def test_a_mesh_beyond_the_cap_is_refused_by_key_and_value():
     assert f"fewer than {flexible.MAX_NODES} nodes" in message and f"make {count} elements" in message
     data["rotors"][0]["element_length"] = 4.0 / (count - 1)       # count nodes: accepted (not built here)
     assert flexible.MAX_NODES >= 2500
+
+
+def _on_bearings(count, sensors=False):
+    """A 4 m uniform shaft of ``count`` elements with a disk at 1.2 m on two damped bearings near
+    its ends (a sensor and an excitation at the disk when ``sensors``)."""
+    data = _pinned(count, shear="cowper")
+    data["rotors"][0]["disks"] = [{"name": "d", "axial_position": 1.2, "mass": 20.0, "polar_inertia": 0.3,
+                                   "diametral_inertia": 0.16}]
+    data["bearings"] = [{"name": n, "rotor": "s", "axial_position": z, "stiffness": 1e8, "damping": 2000.0}
+                        for n, z in (("a", 0.2), ("b", 3.8))]
+    data["unbalances"] = [{"rotor": "s", "axial_position": 1.2, "amount": 1e-3}]
+    if sensors:
+        data["sensors"] = [{"name": "p", "rotor": "s", "axial_position": 1.2, "direction": [0, 1, 0]}]
+        data["excitations"] = [{"name": "f", "rotor": "s", "axial_position": 1.2, "direction": [0, 1, 0]}]
+    return rdm.Model.from_dict(data)
+
+
+def test_lowest_roots_of_a_fine_mesh_are_refined_without_the_full_solve():
+    """A 300-element shaft at 600 rpm: Newton's steps on its lowest roots stall at about 1e-9 of
+    them (the stiffness's conditioning), above the step that ended the iteration before, so the
+    speed was solved whole; now taken at that round-off. Each root is the pencil's own: the nearest
+    root to it of the linearised pencil, by scipy's sparse shift-invert Arnoldi (no code shared)."""
+    import warnings
+
+    from rotordyn_modal.analysis import _lowest
+    from rotordyn_modal.analysis._stack import Stack
+
+    model = _on_bearings(300)
+    speed = 600 * np.pi / 30
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                          # no "solved whole" warning
+        lam, _, full = _lowest.lowest_roots(Stack([model]), np.array([speed]), 6)
+    assert not full.any()
+    M, C, G, K = (scipy.sparse.csc_matrix(m) for m in model.matrices())
+    n = M.shape[0]
+    eye = scipy.sparse.identity(n, format="csc")
+    A = scipy.sparse.bmat([[None, eye], [-K, -(C + speed * G)]], format="csc").astype(complex)
+    B = scipy.sparse.bmat([[eye, None], [None, M]], format="csc").astype(complex)
+    for root in lam[0]:
+        nearest = scipy.sparse.linalg.eigs(A, k=1, M=B, sigma=root, which="LM", return_eigenvectors=False)[0]
+        assert abs(nearest - root) <= 1e-8 * abs(root)
+    # forward and backward whirl of the three lowest bending pairs, apart by the gyroscopic split
+    assert np.all(np.diff(lam[0].imag) > 0)
+
+
+def test_frf_and_unbalance_of_a_long_mesh_by_sparse_solves_equal_the_dense_ones(monkeypatch):
+    """Above ``SPARSE_FRF_DOF`` coordinates the direct engine solves each frequency by a sparse LU:
+    the same responses as the dense solves of the same model."""
+    from rotordyn_modal.analysis import frf as frf_module
+
+    model = _on_bearings(40, sensors=True)
+    freqs = [5.0, 14.0, 60.0, 200.0]
+    dense = rdm.frf(model, 300.0, freqs, engine="direct").H
+    unbalance = rdm.unbalance_response(model, [150.0, 300.0]).response
+    monkeypatch.setattr(frf_module, "SPARSE_FRF_DOF", 10)
+    sparse = rdm.frf(model, 300.0, freqs)
+    assert sparse.engine == "direct"
+    assert np.allclose(sparse.H, dense, rtol=1e-9, atol=1e-12 * np.abs(dense).max())
+    again = rdm.unbalance_response(model, [150.0, 300.0]).response
+    assert np.allclose(again, unbalance, rtol=1e-9, atol=1e-12 * np.abs(unbalance).max())

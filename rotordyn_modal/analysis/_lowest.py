@@ -90,6 +90,7 @@ def lowest_roots(stack, speeds, count: int):
     out_values[:, :k], out_shapes[:, :k] = values[:, :k], shapes[:, :k]
     full = ~ok
     if full.any():
+        _refuse_long_fallback(stack, int(full.sum()), len(speeds))
         warnings.warn(f"lowest modes: {int(full.sum())} of {len(speeds)} speeds solved whole (the reduced basis "
                       "could not be shown to hold every root below the wanted ones there)", stacklevel=3)
         lam, phi = _full_lowest(stack, speeds[full], count)
@@ -333,6 +334,13 @@ class _Pencils:
         self.scatter = np.zeros((len(self.rows), n))
         self.scatter[np.arange(len(self.rows)), self.rows] = 1.0
         self.band = _band(rows, cols, n)
+        # omega_max^2: the largest ratio of the stiffness's diagonal (with the bearings' at any speed) to the mass's
+        diagonal = np.abs(np.diagonal(self.K)).copy()
+        on = self.rows == self.cols
+        if on.any():
+            np.maximum.at(diagonal, self.rows[on], np.abs(np.diagonal(self.K)[self.rows[on]] + self.kb[:, on]).max(axis=0))
+        mass = np.diagonal(self.M)
+        self.scale = float(np.max(diagonal / np.where(mass > 0, mass, np.inf)))
         # the products Q'(s) x: sparse (a dense complex product of n x n per root cost more than the solves)
         self.sparse = [scipy.sparse.csr_matrix(matrix) for matrix in (self.M, self.C, self.G)]
 
@@ -526,10 +534,25 @@ def _refined(pencils, starts, vectors):
             # quadratic convergence (error e' = k e^2, the steps are the errors): the error left after
             # this step is about k relative^2 with k = relative / last^2
             left = relative ** 3 / np.where(np.isfinite(last[todo]), last[todo], np.nan) ** 2
-        done[todo] = (relative <= _STEP) | ((relative <= _ASYMPTOTIC) & (left <= _LEFT))
+        done[todo] = (relative <= _STEP) | ((relative <= _ASYMPTOTIC) & (left <= _LEFT)) \
+            | _stagnant(relative, last[todo], pencils.scale / np.abs(lam[todo]) ** 2)
         last[todo] = relative
     ok = done & np.isfinite(lam)
     return lam.reshape(S, k), _vectors.unit_rows(x.reshape(S, k, n)), ok.reshape(S, k).all(axis=1)
+
+
+#: a step of at most this many ``eps (omega_max / |lam|)^2`` (``omega_max^2`` the largest ratio
+#: ``K_ii / M_ii``, the highest mode's scale) that no longer falls quadratically is round-off: the
+#: pencil's conditioning leaves a low root of a fine mesh no more digits (a shaft of 300 elements
+#: stalls at relative steps of 1e-9, above ``_STEP``), and the full eigen-solve has the same floor
+_ROUNDOFF, _STALLED = 10.0, 0.5
+
+
+def _stagnant(relative, last, spread):
+    """Roots whose relative Newton step ``relative`` is at their round-off floor, ``_ROUNDOFF eps
+    spread`` (``spread`` = ``omega_max^2 / |lam|^2``), and has stopped falling (at least
+    ``_STALLED`` times the step before)."""
+    return (relative <= _ROUNDOFF * np.finfo(float).eps * spread) & (relative >= _STALLED * last)
 
 
 #: the largest share of a wanted root's shape the bound allows outside the basis
@@ -582,6 +605,28 @@ def _basis_suffices(values, bound, size, directions, rho):
     top = np.max(highest[np.isfinite(highest)], initial=rho)
     shares, _ = bound.shares(size, max(rho, top), directions)
     return np.isfinite(highest) & (shares <= _SHARE)
+
+
+def _refuse_long_fallback(stack, count: int, total: int) -> None:
+    """Refuse the full eigen-solve of ``count`` of ``total`` speeds where it is estimated
+    (``_work.eig_seconds``) to take longer than the limit in force (a long flexible rotor: a
+    dense eigen-solution of 8,000 states takes many minutes): with the estimate and what to do.
+    The usual cause is a double root (an axisymmetric rotor at rest: forward and backward whirl
+    coincide), which the reduced route leaves to the full solve."""
+    from . import _work
+
+    seconds = count * _work.eig_seconds(stack.forms[0].n_states)
+    limit = _work.limit_seconds()
+    if seconds > limit:
+        from ..errors import InputError
+
+        source = getattr(stack.models[0], "source", None)
+        raise InputError(f"{source + ': ' if source else ''}lowest modes: {count} of {total} speeds need the full "
+                         f"eigen-solve (the reduced basis could not be shown to hold every root there; at rest an "
+                         f"axisymmetric rotor's double roots), {count} eigen-solutions of {stack.forms[0].n_states:,} "
+                         f"states: about {_work._duration(seconds)} of CPU time, more than the limit of "
+                         f"{_work._duration(limit)}: leave speed 0 out of the speeds, or raise "
+                         f"{_work.ENVIRONMENT}")
 
 
 def _full_lowest(stack, speeds, count):
@@ -643,6 +688,7 @@ def roots_below(stack, speeds, limit: float, count: int | None = None):
     values, shapes, ok = reduced
     full = ~ok
     if full.any():
+        _refuse_long_fallback(stack, int(full.sum()), len(speeds))
         warnings.warn(f"modes below a frequency: {int(full.sum())} of {len(speeds)} speeds solved whole (the "
                       "reduced basis could not be shown to hold every root below it there)", stacklevel=3)
         lam, phi = _full_lowest(stack, speeds[full], stack.forms[0].n_states)

@@ -90,7 +90,6 @@ def lowest_roots(stack, speeds, count: int):
     out_values[:, :k], out_shapes[:, :k] = values[:, :k], shapes[:, :k]
     full = ~ok
     if full.any():
-        _refuse_long_fallback(stack, int(full.sum()), len(speeds))
         warnings.warn(f"lowest modes: {int(full.sum())} of {len(speeds)} speeds solved whole (the reduced basis "
                       "could not be shown to hold every root below the wanted ones there)", stacklevel=3)
         lam, phi = _full_lowest(stack, speeds[full], count)
@@ -607,28 +606,6 @@ def _basis_suffices(values, bound, size, directions, rho):
     return np.isfinite(highest) & (shares <= _SHARE)
 
 
-def _refuse_long_fallback(stack, count: int, total: int) -> None:
-    """Refuse the full eigen-solve of ``count`` of ``total`` speeds where it is estimated
-    (``_work.eig_seconds``) to take longer than the limit in force (a long flexible rotor: a
-    dense eigen-solution of 8,000 states takes many minutes): with the estimate and what to do.
-    The usual cause is a double root (an axisymmetric rotor at rest: forward and backward whirl
-    coincide), which the reduced route leaves to the full solve."""
-    from . import _work
-
-    seconds = count * _work.eig_seconds(stack.forms[0].n_states)
-    limit = _work.limit_seconds()
-    if seconds > limit:
-        from ..errors import InputError
-
-        source = getattr(stack.models[0], "source", None)
-        raise InputError(f"{source + ': ' if source else ''}lowest modes: {count} of {total} speeds need the full "
-                         f"eigen-solve (the reduced basis could not be shown to hold every root there; at rest an "
-                         f"axisymmetric rotor's double roots), {count} eigen-solutions of {stack.forms[0].n_states:,} "
-                         f"states: about {_work._duration(seconds)} of CPU time, more than the limit of "
-                         f"{_work._duration(limit)}: leave speed 0 out of the speeds, or raise "
-                         f"{_work.ENVIRONMENT}")
-
-
 def _full_lowest(stack, speeds, count):
     """The full eigen-solve of some speeds, their ``count`` lowest oscillating roots."""
     lam, phi = stack.solve(stack.sweep(speeds)[0], np.zeros(len(speeds), int))
@@ -688,7 +665,6 @@ def roots_below(stack, speeds, limit: float, count: int | None = None):
     values, shapes, ok = reduced
     full = ~ok
     if full.any():
-        _refuse_long_fallback(stack, int(full.sum()), len(speeds))
         warnings.warn(f"modes below a frequency: {int(full.sum())} of {len(speeds)} speeds solved whole (the "
                       "reduced basis could not be shown to hold every root below it there)", stacklevel=3)
         lam, phi = _full_lowest(stack, speeds[full], stack.forms[0].n_states)

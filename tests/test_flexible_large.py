@@ -85,8 +85,8 @@ def test_a_mesh_beyond_the_cap_is_refused_by_key_and_value():
         rdm.Model.from_dict(data)
     message = str(caught.value)
     assert "element_length" in message and f"{4.0 / count!r}"[:8] in message
-    assert f"fewer than {flexible.MAX_NODES} nodes" in message and f"make {count} elements" in message
-    data["rotors"][0]["element_length"] = 4.0 / (count - 1)       # count nodes: accepted (not built here)
+    assert f"at most {flexible.MAX_NODES} nodes" in message and f"make {count} elements" in message
+    assert f"{4 * (count + 1)} coordinates" in message      # what the mesh would cost, 4 per node
     assert flexible.MAX_NODES >= 2500
 
 

@@ -332,7 +332,7 @@ def shaft(rotor: Table, known, spin_axis: np.ndarray) -> Shaft:
     if count >= MAX_NODES:
         key = "element_length" if element_length is not None else "shaft"
         raise rotor.error(key, rotor.data[key] if key == "element_length" else f"<{len(sections)} sections>",
-                          f"a mesh of fewer than {MAX_NODES} nodes (these sections make {count} elements: "
+                          f"a mesh of at most {MAX_NODES} nodes (these sections make {count} elements: "
                           f"give a longer element_length or fewer elements; {_dense_size(count + 1)})")
     disks, names = [], set()
     for i, raw in enumerate(_items(rotor, "disks")):

@@ -148,3 +148,17 @@ def test_frf_and_unbalance_of_a_long_mesh_by_sparse_solves_equal_the_dense_ones(
     assert np.allclose(sparse.H, dense, rtol=1e-9, atol=1e-12 * np.abs(dense).max())
     again = rdm.unbalance_response(model, [150.0, 300.0]).response
     assert np.allclose(again, unbalance, rtol=1e-9, atol=1e-12 * np.abs(unbalance).max())
+
+
+def test_modes_refuses_every_root_beyond_the_cpu_limit_with_its_estimate(monkeypatch, capsys):
+    """``modes`` solves every root (one dense eigen-solution of 2n states: hours for a shaft of
+    thousands of nodes): over the CPU limit it is refused before the work, with the estimate;
+    ``--allow-long`` runs it."""
+    from rotordyn_modal.cli.main import main
+
+    monkeypatch.setenv("ROTORDYN_MODAL_MAX_CPU_MINUTES", "1e-7")
+    assert main(["modes", "examples/compressor_rotor.toml", "--speed", "0"]) == 2
+    error = capsys.readouterr().err
+    assert "this analysis of 53 coordinates would take" in error and "eigen-solutions of 106 states" in error
+    assert error.count("\n") == 1
+    assert main(["modes", "examples/compressor_rotor.toml", "--speed", "0", "--allow-long", "--quiet"]) == 0

@@ -22,6 +22,7 @@ Usage::
     python benchmarks/bench_flexible.py [--speeds 201] [--modes 12] [--repeat 3] [--sizes 0.2,0.05,0.012]
                                         [--max-frequency HZ]
     python benchmarks/bench_flexible.py --long 500,1000 [--speeds 11] [--repeat 3] [--dense-nodes 1100]
+                                        [--cases matrices,check,campbell,frf,unbalance]
 """
 
 from __future__ import annotations
@@ -140,6 +141,8 @@ def _long(args):
                   ("frf 20 frequencies", lambda: rdm.frf(model, 300.0, np.linspace(1.0, 200.0, 20))),
                   ("unbalance 20 speeds", lambda: rdm.unbalance_response(model, np.linspace(30.0, 600.0, 20)))]
         for what, function in cases:
+            if args.cases and not any(word in what for word in args.cases.split(",")):
+                continue
             times = []
             for _ in range(args.repeat):
                 model.rotors[0].flexible.__dict__.pop("_node_matrices", None)      # nothing kept between runs
@@ -157,6 +160,8 @@ def main(argv=None):
     parser.add_argument("--max-frequency", type=float, help="every mode below this [Hz] instead of the lowest N")
     parser.add_argument("--long", help="element counts of a long uniform shaft (e.g. 500,1000): see the docstring")
     parser.add_argument("--dense-nodes", type=int, default=1100, help="largest mesh timed by the dense route too")
+    parser.add_argument("--cases", help="with --long: only the cases whose name holds one of these words "
+                                        "(comma-separated: matrices, check, campbell, frf, unbalance)")
     args = parser.parse_args(argv)
     if args.long:
         return _long(args)

@@ -9,10 +9,20 @@ relative difference of the N lowest roots from the dense solve's. With ``--max-f
 ``campbell(..., max_frequency=HZ)`` instead: every mode below HZ at each speed (``--modes`` unused),
 compared with the dense solve's roots below HZ.
 
+With ``--long NODES,...`` instead: a uniform 4 m shaft (a disk, two anisotropic damped bearings)
+meshed with that many elements, 4 coordinates per node (500 and 1,000 nodes: 2,004 and 4,004
+coordinates); for each, min / median / max over ``--repeat`` runs of the time of the machine's
+matrices from the sparse node matrices against the dense route they replaced (dense 6N x 6N node
+matrices times dense node motions, as before issue 28's "Size and speed"; below ``--dense-nodes``
+nodes), of ``campbell(..., modes=N, critical=False)`` at ``--speeds`` speeds, of an FRF at 20
+frequencies and of ``check``'s first bending frequencies, each with its peak traced memory.
+
 Usage::
 
     python benchmarks/bench_flexible.py [--speeds 201] [--modes 12] [--repeat 3] [--sizes 0.2,0.05,0.012]
                                         [--max-frequency HZ]
+    python benchmarks/bench_flexible.py --long 500,1000 [--speeds 11] [--repeat 3] [--dense-nodes 1100]
+                                        [--cases matrices,check,campbell,frf,unbalance]
 """
 
 from __future__ import annotations
@@ -75,6 +85,72 @@ def _lowest(model, speeds, count, limit=None):
         return rdm.campbell(model, speeds, critical=False, modes=count)
 
 
+def _long_shaft(count):
+    """A uniform steel shaft 4 m long, 0.1 m thick, of ``count`` elements: a disk at 1.2 m, two
+    bearings (1e8 and 1.2e8 N/m, 2 kN s/m) at 0.2 and 3.8 m, a sensor, an excitation and an
+    unbalance at the disk."""
+    steel = {"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "poisson_ratio": 0.3}
+    at_disk = {"rotor": "s", "axial_position": 1.2, "direction": [0.0, 1.0, 0.0]}
+    return rdm.Model.from_dict({
+        "materials": [steel],
+        "rotors": [{"name": "s", "speed_ratio": 1.0, "start": [0, 0, 0], "element_length": 4.0 / count,
+                    "shaft": [{"length": 4.0, "outer_diameter": 0.1, "material": "steel"}],
+                    "disks": [{"name": "d", "axial_position": 1.2, "mass": 20.0, "polar_inertia": 0.3,
+                               "diametral_inertia": 0.16}]}],
+        "bearings": [{"name": n, "rotor": "s", "axial_position": z, "stiffness": [1e8, 1.2e8], "damping": 2000.0}
+                     for n, z in (("a", 0.2), ("b", 3.8))],
+        "sensors": [dict(at_disk, name="p")], "excitations": [dict(at_disk, name="f")],
+        "unbalances": [{"rotor": "s", "axial_position": 1.2, "amount": 1e-3}]})
+
+
+def _dense_matrices(model):
+    """The flexible rotor's part of M, G, K by the dense route replaced: dense node matrices
+    (6N x 6N) times dense node motions (6N x n)."""
+    from rotordyn_modal.assembly import flexible_rotor_matrices
+
+    parts = flexible_rotor_matrices(model, model.rotors[0])
+    motion, relative = parts.motion.toarray(), parts.relative.toarray()
+    M, K, G = (matrix.toarray() for matrix in (parts.M, parts.K, parts.G))
+    return motion.T @ M @ motion, relative.T @ K @ relative, motion.T @ G @ motion
+
+
+def _bending(model):
+    from rotordyn_modal.model.flexible import bending_frequencies
+
+    shaft = model.rotors[0].flexible
+    return bending_frequencies(shaft, [(shaft.z_of(b.position), b.coefficients.stiffness[0]) for b in model.bearings])
+
+
+def _stats(values):
+    return f"{min(values):7.2f}/{np.median(values):7.2f}/{max(values):7.2f}"
+
+
+def _long(args):
+    """The ``--long`` benchmark (see the module docstring)."""
+    speeds = np.linspace(0.0, 600.0, args.speeds)
+    print(f"{'nodes':>6s} {'n':>6s}  {'what':28s} {'time [s] min/med/max':>24s} {'peak MB':>9s}")
+    for count in (int(x) for x in args.long.split(",")):
+        model = _long_shaft(count)
+        n = model.dofs.n
+        cases = [("matrices (sparse)", lambda: model.matrices())]
+        if count + 1 <= args.dense_nodes:
+            cases.append(("matrices (dense route)", lambda: _dense_matrices(model)))
+        cases += [("check's bending frequencies", lambda: _bending(model)),
+                  (f"campbell lowest {args.modes}, {args.speeds} speeds",
+                   lambda: _lowest(model, speeds, args.modes)),
+                  ("frf 20 frequencies", lambda: rdm.frf(model, 300.0, np.linspace(1.0, 200.0, 20))),
+                  ("unbalance 20 speeds", lambda: rdm.unbalance_response(model, np.linspace(30.0, 600.0, 20)))]
+        for what, function in cases:
+            if args.cases and not any(word in what for word in args.cases.split(",")):
+                continue
+            times = []
+            for _ in range(args.repeat):
+                model.rotors[0].flexible.__dict__.pop("_node_matrices", None)      # nothing kept between runs
+                times.append(_timed(function)[1])
+            peak = _peak(function)
+            print(f"{count + 1:6d} {n:6d}  {what:28s} {_stats(times):>24s} {peak / 2**20:9.0f}", flush=True)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--speeds", type=int, default=201)
@@ -82,7 +158,13 @@ def main(argv=None):
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--sizes", default="0.2,0.05,0.012", help="element lengths [m] of the compressor shaft")
     parser.add_argument("--max-frequency", type=float, help="every mode below this [Hz] instead of the lowest N")
+    parser.add_argument("--long", help="element counts of a long uniform shaft (e.g. 500,1000): see the docstring")
+    parser.add_argument("--dense-nodes", type=int, default=1100, help="largest mesh timed by the dense route too")
+    parser.add_argument("--cases", help="with --long: only the cases whose name holds one of these words "
+                                        "(comma-separated: matrices, check, campbell, frf, unbalance)")
     args = parser.parse_args(argv)
+    if args.long:
+        return _long(args)
     limit = args.max_frequency
     cases = [("examples/compressor_rotor.toml", float(x)) for x in args.sizes.split(",")]
     cases += [("examples/flexible_pump_on_mounts.toml", x) for x in (0.05, 0.01)]

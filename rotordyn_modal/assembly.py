@@ -225,7 +225,7 @@ def gyroscopic_matrix(model) -> np.ndarray:
     for rotor in model.rotors:
         if rotor.flexible is not None:
             parts = flexible_rotor_matrices(model, rotor, kinds=("G",))
-            out += rotor.speed_ratio * (parts.motion.T @ parts.G @ parts.motion)
+            _add_sparse(out, rotor.speed_ratio * (parts.motion.T @ parts.G @ parts.motion))
             continue
         add_rotor_body(out, model, rotor.name, rotor_gyroscopic(model, rotor))
     return out
@@ -248,7 +248,7 @@ def mass_matrix(model) -> np.ndarray:
     for rotor, (m, c, J) in zip(model.rotors, bodies[first_rotor:]):
         if rotor.flexible is not None:
             parts = flexible_rotor_matrices(model, rotor, kinds=("M",))
-            mass += parts.motion.T @ parts.M @ parts.motion
+            _add_sparse(mass, parts.motion.T @ parts.M @ parts.motion)
             continue
         add_rotor_body(mass, model, rotor.name, rigid_mass_matrix(m, J, c, reference))
     if model.dofs.pedestals:
@@ -332,13 +332,15 @@ def mesh_row(model, t) -> np.ndarray:
 
 class FlexibleParts(NamedTuple):
     """A flexible rotor's node matrices (model axes, 6 per node, each (6 N, 6 N) or None when not
-    asked for) and its nodes' motions per generalized coordinate, absolute and relative (6 N, n)."""
+    asked for) and its nodes' motions per generalized coordinate, absolute and relative (6 N, n);
+    all ``scipy.sparse`` (CSR): a node moves with its own four coordinates, the rotor's axial one
+    and the casing's six."""
 
-    M: np.ndarray | None
-    K: np.ndarray | None
-    G: np.ndarray | None
-    motion: np.ndarray
-    relative: np.ndarray
+    M: object | None
+    K: object | None
+    G: object | None
+    motion: object
+    relative: object
 
 
 def flexible_rotor_matrices(model, rotor, kinds=("M", "K", "G")) -> FlexibleParts:
@@ -357,21 +359,53 @@ def flexible_rotor_matrices(model, rotor, kinds=("M", "K", "G")) -> FlexiblePart
     -------
     FlexibleParts
     """
+    import scipy.sparse
+
     from .model.flexible import node_matrices
 
     shaft = rotor.flexible
     layout = model.dofs
     points = shaft.node_positions
     own = layout.slices[layout.rotors.index(rotor.name)]
-    relative = np.zeros((6 * len(points), layout.n))
-    relative[:, own] = layout.local_relative_motions(rotor.name, points).reshape(6 * len(points), -1)
-    motion = relative.copy()
+    relative = _node_relative(shaft, own, layout.n)
+    motion = relative
     k = layout.n_frame
     if k:
-        motion[:, :k] += shift_matrices(layout.reference_point, points).transpose(0, 2, 1).reshape(-1, 6)[:, :k]
+        frame = np.zeros((6 * len(points), layout.n))
+        frame[:, :k] = shift_matrices(layout.reference_point, points).transpose(0, 2, 1).reshape(-1, 6)[:, :k]
+        motion = (relative + scipy.sparse.csr_matrix(frame)).tocsr()
     matrices = dict(zip(kinds, node_matrices(shaft, shaft.mesh, kinds)))
     return FlexibleParts(M=matrices.get("M"), K=matrices.get("K"), G=matrices.get("G"), motion=motion,
                          relative=relative)
+
+
+def _node_relative(shaft, own: slice, n: int):
+    """``N E_j``: each node's motion ``[u, theta]`` relative to the stator per generalized
+    coordinate, sparse (6 N, n): the lateral basis (:func:`~rotordyn_modal.model.flexible.lateral_basis`)
+    on the rotor's coordinates ``own``, and its axial coordinate (when it has one, the last) moving
+    every node along ``e`` (as ``Dofs.local_relative_motions`` at the nodes)."""
+    import scipy.sparse
+
+    from .model.flexible import lateral_basis
+
+    lateral = lateral_basis(shaft).tocoo()
+    count = shaft.mesh.n_nodes
+    rows, cols, data = lateral.row, lateral.col, lateral.data
+    width = own.stop - own.start
+    if width % 4:
+        node = np.arange(count)
+        rows = np.concatenate([rows, (6 * node[:, None] + np.arange(3)).ravel()])
+        cols = np.concatenate([cols, np.full(3 * count, width - 1)])
+        data = np.concatenate([data, np.tile(shaft.axis, count)])
+    keep = data != 0.0
+    return scipy.sparse.csr_matrix((data[keep], (rows[keep], cols[keep] + own.start)), shape=(6 * count, n))
+
+
+def _add_sparse(out: np.ndarray, matrix) -> None:
+    """``out += matrix`` (in place) for a sparse ``matrix`` of ``out``'s shape."""
+    coo = matrix.tocoo()
+    coo.sum_duplicates()
+    out[coo.row, coo.col] += coo.data
 
 
 def shaft_stiffness(model) -> np.ndarray:
@@ -381,7 +415,7 @@ def shaft_stiffness(model) -> np.ndarray:
     for rotor in model.rotors:
         if rotor.flexible is not None:
             parts = flexible_rotor_matrices(model, rotor, kinds=("K",))
-            K += parts.relative.T @ parts.K @ parts.relative
+            _add_sparse(K, parts.relative.T @ parts.K @ parts.relative)
     return 0.5 * (K + K.T)
 
 
@@ -444,9 +478,21 @@ def bearing_matrices(model, speed: float | None = None, constant_only: bool = Fa
                              "coefficients: give the speed (matrices(speed=...))")
         k6, c6 = bearing_coefficients(model, bearing, [0.0 if speed is None else float(speed)])
         rows, moves = bearing_motion(model, bearing)
-        K[rows, rows] += moves.T @ k6[0] @ moves
-        C[rows, rows] += moves.T @ c6[0] @ moves
+        rows, moves = _moved(rows, moves)
+        K[rows] += moves.T @ k6[0] @ moves
+        C[rows] += moves.T @ c6[0] @ moves
     return K, C
+
+
+def _moved(rows: slice, moves: np.ndarray):
+    """A bearing's block of ``q`` and its motion ``moves`` (6, k) cut to the coordinates that move
+    it: ``(rows, rows)`` as before where all do (a rigid rotor), else the index of those few (a
+    flexible rotor's bearing moves one node's coordinates of thousands) and their columns."""
+    used = np.any(moves != 0, axis=0)
+    if used.all():
+        return (rows, rows), moves
+    index = np.arange(rows.start, rows.stop)[used]
+    return np.ix_(index, index), moves[:, used]
 
 
 def bearing_coefficients(model, bearing, speeds):

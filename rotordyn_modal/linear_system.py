@@ -225,33 +225,53 @@ class SpeedLinearForm:
         else:
             self.matrices = constant_matrices(model)
             m_inv = _mass_inverse(self.matrices.M, model)
-        M, C, G, K = self.matrices
-        n = M.shape[0]
-        self.n_dof = n
-        self.A0 = np.zeros((2 * n, 2 * n))
-        self.A0[:n, n:] = np.eye(n)
-        self.A0[n:, :n] = -m_inv @ K
-        self.A0[n:, n:] = -m_inv @ C
-        self.A1 = np.zeros((2 * n, 2 * n))
-        self.A1[n:, n:] = -m_inv @ G
+        self.n_dof = self.matrices.M.shape[0]
         self.mass_inverse = m_inv
-        self._add_maxwell_branches(model)
+        self.branch_stiffness, self.branch_times = maxwell_branches(model)
+        self._states = None        # (A0, A1, branch state names), made on first use
         self._dependent = _dependent_bearings(model, m_inv)
         self.speed_dependent = bool(self._dependent)
 
-    def _add_maxwell_branches(self, model):
-        """Rubber mounts' Maxwell branches add 6 first-order states each (after q, q')."""
-        self.branch_stiffness, self.branch_times = maxwell_branches(model)
-        self.A0, _, self.branch_state_names = with_branch_states(
-            model, self.A0, np.zeros((2 * self.n_dof, 0)), self.mass_inverse)
-        extra = self.A0.shape[0] - self.A1.shape[0]
-        if extra:
-            self.A1 = np.pad(self.A1, ((0, extra), (0, extra)))
+    @property
+    def A0(self) -> np.ndarray:
+        """``A0`` (n_states, n_states), made on first use (the lowest modes and the FRFs of a
+        large model work on M, C, G, K and never build the 2n x 2n state matrices)."""
+        return self._state_matrices()[0]
+
+    @property
+    def A1(self) -> np.ndarray:
+        """``A1`` (n_states, n_states), made on first use."""
+        return self._state_matrices()[1]
+
+    @property
+    def branch_state_names(self) -> list:
+        """Names of the Maxwell branches' states (see ``with_branch_states``)."""
+        return self._state_matrices()[2]
+
+    def _state_matrices(self):
+        """``A0``, ``A1`` and the branch states' names, made once: ``[[0, I], [-M^-1 K, -M^-1 C]]``
+        and ``[[0, 0], [0, -M^-1 G]]``, with the rubber mounts' Maxwell branches' 6 first-order
+        states each after ``q, q'``."""
+        if self._states is None:
+            M, C, G, K = self.matrices
+            n, m_inv = self.n_dof, self.mass_inverse
+            A0 = np.zeros((2 * n, 2 * n))
+            A0[:n, n:] = np.eye(n)
+            A0[n:, :n] = -m_inv @ K
+            A0[n:, n:] = -m_inv @ C
+            A1 = np.zeros((2 * n, 2 * n))
+            A1[n:, n:] = -m_inv @ G
+            A0, _, names = with_branch_states(self.model, A0, np.zeros((2 * n, 0)), m_inv)
+            extra = A0.shape[0] - A1.shape[0]
+            if extra:
+                A1 = np.pad(A1, ((0, extra), (0, extra)))
+            self._states = A0, A1, names
+        return self._states
 
     @property
     def n_states(self) -> int:
         """2n, plus 6 per Maxwell branch."""
-        return self.A0.shape[0]
+        return 2 * self.n_dof + 6 * len(self.branch_times)
 
     def at(self, speeds) -> np.ndarray:
         """State matrices at ``speeds`` [rad/s].

@@ -55,8 +55,7 @@ class Stack:
         self._whirl_stacked = None     # the forms side by side for whirl ratios, made on first use
         self.M, self.C, self.G, self.K = (_stacked(parts) for parts in zip(*(f.matrices for f in self.forms)))
         self.factor = np.linalg.cholesky(self.M[:1] if self.shared_mass else self.M)
-        self.A0 = _stacked([f.A0 for f in self.forms])
-        self.A1 = _stacked([f.A1 for f in self.forms])
+        self._state = None       # A0, A1 stacked, made on first use
         self.dependent = any(f.speed_dependent for f in self.forms)
         self.branch_stiffness = _stacked([f.branch_stiffness for f in self.forms])   # (V, n_b, n, n)
         self.branch_times = _stacked([f.branch_times for f in self.forms])           # (V, n_b)
@@ -65,6 +64,22 @@ class Stack:
 
     def __len__(self) -> int:
         return len(self.forms)
+
+    @property
+    def A0(self) -> np.ndarray:
+        """The forms' ``A0`` stacked (V, n_states, n_states), made on first use (the lowest
+        modes' route never needs the state matrices)."""
+        return self._states()[0]
+
+    @property
+    def A1(self) -> np.ndarray:
+        """The forms' ``A1`` stacked (V, n_states, n_states), made on first use."""
+        return self._states()[1]
+
+    def _states(self):
+        if self._state is None:
+            self._state = _stacked([f.A0 for f in self.forms]), _stacked([f.A1 for f in self.forms])
+        return self._state
 
     @property
     def n_dof(self) -> int:

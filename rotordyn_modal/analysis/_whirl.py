@@ -9,9 +9,9 @@ from typing import NamedTuple
 import numpy as np
 
 from . import _pencils, _vectors
-from ..assembly import add_rotor_bodies, body_inertias
+from ..assembly import _add_sparse, add_rotor_bodies, body_inertias
 from ..model.dofs import frame_block
-from ..model.geometry import skew
+from ..model.geometry import shift_matrices, skew
 
 __all__ = ["WHIRL_TOLERANCE", "WhirlForms", "quadratic_forms", "rotor_whirl_forms", "stacked_forms", "whirl_forms", "whirl_labels", "whirl_ratios"]
 
@@ -140,25 +140,53 @@ def _node_forms(model, rotor) -> np.ndarray:
     """The whirl forms of a flexible rotor, each node a rigid body (its share of the mass matrix
     lumped: the row sums of the translations, the rotations' own block) moving as the node:
     ``sum_i T_i^T X_i T_i``, shape (3, n, n)."""
+    import scipy.sparse
+
     from ..assembly import flexible_rotor_matrices
 
     shaft = rotor.flexible
     points = shaft.node_positions
     count = len(points)
-    M = flexible_rotor_matrices(model, rotor, kinds=("M",)).M.reshape(count, 6, count, 6)
-    masses = np.trace(M[:, :3, :, :3].sum(axis=2), axis1=1, axis2=2) / 3.0
-    inertias = M[np.arange(count), 3:, np.arange(count), 3:]
+    parts = flexible_rotor_matrices(model, rotor, kinds=("M",))
+    M = parts.M                                                    # sparse (6 N, 6 N)
+    # sum over the columns' nodes of each translation block, and its trace per node
+    summed = (M @ np.tile(np.eye(6, 3), (count, 1))).reshape(count, 6, 3)
+    masses = np.trace(summed[:, :3], axis1=1, axis2=2) / 3.0
+    # the rotations' own 3 x 3 block of each node: rows 6 i + 3 + r, columns 6 i + 3 + c
+    start = 6 * np.arange(count)[:, None, None] + 3
+    rows, cols = np.broadcast_arrays(start + np.arange(3)[:, None], start + np.arange(3))
+    inertias = np.asarray(M[rows.ravel(), cols.ravel()]).reshape(count, 3, 3)
     arms = points - model.reference_point
     traces = inertias.trace(axis1=1, axis2=2)
     second = (0.5 * traces[:, None, None] * np.eye(3) - inertias
               + masses[:, None, None] * arms[:, :, None] * arms[:, None, :])
     X, products = _directions(tuple(float(x) for x in model.spin_axis))
     forms = _bodies_quadratic(masses, second, X, skew(masses[:, None] * arms), products)    # (3, N, 6, 6)
-    motions = model.dofs.motions([(rotor.name, False, tuple(p)) for p in points.tolist()])  # (N, 6, n)
-    # sum_i T_i^T X_i T_i as one matrix product over (node, motion) (einsum's three-operand loop
-    # took 0.4 s at 224 coordinates)
-    weighted = np.einsum("diab,ibn->dian", forms, motions).reshape(len(forms), -1, motions.shape[-1])
-    return np.swapaxes(motions.reshape(-1, motions.shape[-1]), 0, 1) @ weighted
+    motions = _node_motions_at_reference(model, shaft, parts.relative)                       # (6 N, n)
+    out = np.zeros((len(forms), model.dofs.n, model.dofs.n))
+    for d, form in enumerate(forms):
+        # sum_i T_i^T X_i T_i = T^T blockdiag(X_i) T, sparse: a node moves with a few coordinates
+        _add_sparse(out[d], motions.T @ (scipy.sparse.block_diag(form, format="csr") @ motions))
+    return out
+
+
+def _node_motions_at_reference(model, shaft, relative):
+    """Each node's absolute motion as a rigid motion at the reference point S per coordinate,
+    sparse (6 N, n): the frame's identity on its coordinates, plus ``B_{node S}^T`` times the
+    node's relative motion (as ``Dofs.motions`` of the node)."""
+    import scipy.sparse
+
+    points = shaft.node_positions
+    count = len(points)
+    layout = model.dofs
+    shifts = shift_matrices(points, layout.reference_point).transpose(0, 2, 1)               # (N, 6, 6)
+    out = scipy.sparse.block_diag(list(shifts), format="csr") @ relative
+    k = layout.n_frame
+    if k:
+        frame = np.zeros((6 * count, layout.n))
+        frame[:, :k] = np.tile(np.eye(6)[:, :k], (count, 1))
+        out = out + scipy.sparse.csr_matrix(frame)
+    return out.tocsr()
 
 
 def rotor_whirl_forms(model, rotor: str) -> WhirlForms:

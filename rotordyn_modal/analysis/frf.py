@@ -46,6 +46,10 @@ _MAX_CONDITION = 1e8
 #: work memory of one part of a batched direct solve (Z, LAPACK's copy): a few parts fit in
 #: the cache, and the Python cost of a part stays small beside its LU factorisations [bytes]
 _SOLVE_PART_BYTES = 16 * 2**20
+#: models of more coordinates (a long flexible rotor: its pencils are banded) take the direct
+#: engine with a sparse LU per frequency (SuperLU, O(nnz) memory) instead of the modal
+#: superposition (a dense eigen-decomposition of 2n states) and the dense solves (O(n^3) each)
+SPARSE_FRF_DOF = 2500
 
 
 @dataclass(frozen=True)
@@ -156,7 +160,8 @@ def _check_frequencies(freqs_hz) -> np.ndarray:
 
 def choose_engine(model) -> str:
     """'modal' when every mount is viscous, else 'direct' (loss factors, Maxwell branches)."""
-    if any(s.loss_factor for s in model.suspensions) or has_frequency_dependence(model):
+    if any(s.loss_factor for s in model.suspensions) or has_frequency_dependence(model) \
+            or model.dofs.n > SPARSE_FRF_DOF:
         return "direct"
     return "modal"
 
@@ -247,6 +252,8 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     rhs = np.asarray(forces, dtype=complex)
     if rhs.shape != (len(w),) + rhs.shape[-2:]:
         rhs = np.broadcast_to(rhs, (len(w),) + rhs.shape[-2:])
+    if n > SPARSE_FRF_DOF:
+        return _sparse_response(terms, speeds, w, rhs)
     # per system: Z, LAPACK's copy and the temporaries of its right-hand side
     parts = _batches.chunk_slices(len(w), 48 * n * n, budget=_SOLVE_PART_BYTES)
     if len(parts) == 1:
@@ -256,6 +263,35 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     out = np.empty(rhs.shape, dtype=complex)
     for part in parts:
         out[part] = np.linalg.solve(terms.at(speeds[part], w[part]), rhs[part])
+    return out
+
+
+def _sparse_response(terms, speeds, w, rhs) -> np.ndarray:
+    """:func:`dof_response` of a large model: ``Z(w_f)`` assembled sparse (the constant matrices'
+    nonzero entries; a speed-dependent bearing's or a Maxwell branch's terms added at their
+    frequency) and solved by a sparse LU each (SuperLU), one frequency at a time.
+
+    Returns
+    -------
+    ndarray, shape (n_freq, n_dof, k), complex [m, rad]
+    """
+    import scipy.sparse
+    import scipy.sparse.linalg
+
+    M, C, G, K = (scipy.sparse.csc_matrix(matrix) for matrix in terms.matrices)
+    loss = scipy.sparse.csc_matrix(terms.loss) if np.ndim(terms.loss) else None
+    out = np.empty(rhs.shape, dtype=complex)
+    for f, (speed, omega) in enumerate(zip(speeds, w)):
+        stiffness, damping = K, C
+        if terms.speed_dependent:
+            k_b, c_b = dependent_bearing_matrices(terms.model, [speed])
+            stiffness, damping = K + scipy.sparse.csc_matrix(k_b[0]), C + scipy.sparse.csc_matrix(c_b[0])
+        Z = (stiffness - omega ** 2 * M) + 1j * (omega * (damping + speed * G))
+        if loss is not None:
+            Z = Z + 1j * loss
+        if terms.frequency_dependent:
+            Z = Z + scipy.sparse.csc_matrix(maxwell_stiffness(terms.model, [omega])[0])
+        out[f] = scipy.sparse.linalg.splu(scipy.sparse.csc_matrix(Z)).solve(np.ascontiguousarray(rhs[f]))
     return out
 
 

@@ -75,11 +75,36 @@ def summary(model, system: str = "si") -> str:
     lines += _grade_lines(model, u)
     layout = model.dofs
     lines.append(f"  coordinates ({layout.n}): {', '.join(_coordinate_names(model))}")
-    rank = np.linalg.matrix_rank(K)
+    rank = np.linalg.matrix_rank(K) if layout.n <= _DENSE_RANK else _sparse_rank(model, K)
     if rank < layout.n and not model.speed_dependent:
         lines.append(f"  note: the suspensions and bearings restrain {rank} of {layout.n} directions "
                      "(the others give zero eigenvalues)")
     return "\n".join(lines)
+
+
+#: coordinates up to which the note on unrestrained directions takes the rank of K from its SVD;
+#: beyond (a long flexible rotor), from the lowest eigenvalues of K's symmetric part (see
+#: :func:`_sparse_rank`)
+_DENSE_RANK = 2000
+
+
+def _sparse_rank(model, K) -> int:
+    """The rank of a large model's stiffness: ``n`` less the zero eigenvalues among the 12 lowest
+    of its symmetric part against the mass (shift-invert Lanczos just below zero, as
+    ``model.flexible.bending_frequencies``); zero: below ``1e-9`` of the largest diagonal ratio
+    ``K_ii / M_ii``, the scale of the highest mode."""
+    import scipy.sparse
+    import scipy.sparse.linalg
+
+    from ..assembly import mass_matrix
+
+    stiffness = scipy.sparse.csc_matrix(0.5 * (K + K.T))
+    mass = scipy.sparse.csc_matrix(mass_matrix(model))
+    diagonal = mass.diagonal()
+    largest = float(np.max(np.abs(stiffness.diagonal()) / np.where(diagonal > 0, diagonal, np.inf)))
+    values = scipy.sparse.linalg.eigsh(stiffness, k=min(12, K.shape[0] - 2), M=mass, sigma=-1e-12 * largest,
+                                       which="LM", return_eigenvectors=False)
+    return K.shape[0] - int(np.count_nonzero(values <= 1e-9 * largest))
 
 
 class _Units:

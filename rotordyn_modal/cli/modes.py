@@ -5,8 +5,9 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
-from ._common import (add_input_file, add_model_argument, add_output_file, add_outputs, add_speed_unit,
-                      check_extra_output, open_model, parse_number, save_figure, to_rad_s, use_agg, write_table)
+from ._common import (add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
+                      add_speed_unit, check_extra_output, open_model, parse_number, refuse_long_work, save_figure,
+                      to_rad_s, use_agg, write_table)
 
 NAME = "modes"
 HELP = "modal analysis at one speed"
@@ -67,6 +68,7 @@ def add_arguments(parser):
                         help="modes drawn by --plot-shaft (default 1-6) or by --plot's bars (default every mode, "
                              f"1-{_DEFAULT_BARS} where there are more than {_MOST_PANELS}): numbers and ranges of the "
                              "table's 'mode' column, e.g. 1-6 or 1,3,7-9")
+    add_allow_long(parser)
     add_outputs(parser)
 
 
@@ -82,6 +84,9 @@ def run(args) -> int:
     wanted = _mode_list(args.modes) if args.modes is not None else None
     model = open_model(args)
     speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
+    # every root is one dense eigen-solution of the state matrix: a long flexible rotor's takes hours
+    refuse_long_work(args, model, [speed], critical=False,
+                     advice="ask for the lowest modes only (campbell --lowest N --speeds S:S:1)")
     result = modal(model, speed)
     outline = _read_outline(args.outline) if args.outline else None
     view = None

@@ -353,7 +353,8 @@ def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations, cle
         if meshed.mesh.n_nodes > _flexible.MAX_NODES:
             raise _Table(top.source, f"rotors.{visible(rotor.name)}", {}).error(
                 "element_length", shaft.element_length, f"a mesh of at most {_flexible.MAX_NODES} nodes with the "
-                f"model's stations (it would have {meshed.mesh.n_nodes}: give a longer element_length)")
+                f"model's stations (it would have {meshed.mesh.n_nodes}: give a longer element_length; "
+                f"{_flexible._dense_size(meshed.mesh.n_nodes)})")
         if shaft.mesh is not None and np.array_equal(shaft.mesh.z, meshed.mesh.z):
             out.append(rotor)            # a study's variant: the same rotor, the same mesh
         else:

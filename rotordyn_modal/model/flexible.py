@@ -38,8 +38,11 @@ SHORTEST_SECTION = 1e-5
 #: [m] the range of a shaft's outer diameters (beyond it the section's area or second moment
 #: rounds badly: a shaft is neither a micron nor a kilometre thick)
 THINNEST, THICKEST = 1e-6, 1e3
-#: most nodes of one flexible rotor's mesh (its node matrices are dense: 6 N x 6 N each)
-MAX_NODES = 500
+#: most nodes of one flexible rotor's mesh. Its node matrices are sparse (O(N) entries), but the
+#: machine's matrices M, C, G, K are dense over the generalized coordinates (4 per node): 2,500
+#: nodes make 10,000 coordinates, 0.8 GB per matrix, and the lowest modes' basis, the mass's
+#: inverse and the whirl forms about ten such matrices (docs/model-file.md, "Mesh")
+MAX_NODES = 2500
 #: keys of a rotor table that make it flexible or only mean something on a flexible rotor
 SHAFT_KEYS = ("shaft", "disks", "point_masses", "start", "shear", "element_length", "coupling_position")
 _MATERIAL_KEYS = ("name", "density", "young_modulus", "shear_modulus", "poisson_ratio", "allowable_stress")
@@ -331,8 +334,8 @@ def shaft(rotor: Table, known, spin_axis: np.ndarray) -> Shaft:
     if count >= MAX_NODES:
         key = "element_length" if element_length is not None else "shaft"
         raise rotor.error(key, rotor.data[key] if key == "element_length" else f"<{len(sections)} sections>",
-                          f"a mesh of fewer than {MAX_NODES} nodes (these sections make {count} elements: "
-                          "give a longer element_length or fewer elements)")
+                          f"a mesh of at most {MAX_NODES} nodes (these sections make {count} elements: "
+                          f"give a longer element_length or fewer elements; {_dense_size(count + 1)})")
     disks, names = [], set()
     for i, raw in enumerate(_items(rotor, "disks")):
         table = Table(source, f"{label}.disks.{visible(raw.get('name', i))}", raw)
@@ -353,6 +356,12 @@ def shaft(rotor: Table, known, spin_axis: np.ndarray) -> Shaft:
     return Shaft(start=start, axis=np.asarray(spin_axis, dtype=float), sections=sections, disks=tuple(disks),
                  point_masses=tuple(points), shear=shear,
                  element_length=element_length if element_length is not None else default_element_length(sections))
+
+
+def _dense_size(nodes: int) -> str:
+    """What a mesh of ``nodes`` nodes costs: its coordinates and one dense matrix over them."""
+    return (f"{nodes} nodes make {4 * nodes} coordinates, {8 * (4 * nodes) ** 2 / 1e9:.2g} GB per dense matrix "
+            "of the machine")
 
 
 def _check_on_shaft(table: Table, key: str, z: float, length: float) -> None:
@@ -493,36 +502,64 @@ def element_blocks(shaft: Shaft, mesh: Mesh):
 
 def node_matrices(shaft: Shaft, mesh: Mesh, kinds=("M", "K", "G")):
     """The shaft's, disks' and point masses' matrices on the nodes' 6 motions ``[u, theta]`` each
-    (model axes), shape (6 N, 6 N) each: mass [kg, kg m^2], stiffness, gyroscopic per unit spin."""
-    if mesh is shaft.mesh and all(kind in shaft._made for kind in kinds):
+    (model axes), shape (6 N, 6 N) each, sparse (``scipy.sparse.csr_matrix``, read-only: an
+    element couples its two nodes only, so a shaft of thousands of nodes stores O(N) entries):
+    mass [kg, kg m^2], stiffness, gyroscopic per unit spin."""
+    import scipy.sparse
+
+    if mesh is shaft.mesh:          # all three made and kept at once: the element blocks are made together
+        if not all(kind in shaft._made for kind in kinds):
+            shaft._made.update(zip("MKG", _node_matrices(shaft, mesh, "MKG")))
         return tuple(shaft._made[kind] for kind in kinds)
+    return _node_matrices(shaft, mesh, kinds)
+
+
+def _node_matrices(shaft: Shaft, mesh: Mesh, kinds):
+    """:func:`node_matrices` made anew."""
+    import scipy.sparse
+
     size = 6 * mesh.n_nodes
     rot = rotation(shaft.axis)
     Q = np.kron(np.eye(4), rot)                      # local = Q @ model on [node1 (6), node2 (6)]
-    out = {k: np.zeros((size, size)) for k in kinds}
-    for (left, *_), blocks in zip(mesh.elements, element_blocks(shaft, mesh)):
-        rows = slice(6 * left, 6 * left + 12)
-        for kind, block in zip(("M", "K", "G"), blocks):
-            if kind in out:
-                out[kind][rows, rows] += Q.T @ block @ Q
+    lefts = np.array([left for left, *_ in mesh.elements], dtype=int)
+    # each element's 12 x 12 block at rows and columns 6 left .. 6 left + 12; summed where they
+    # overlap (a node shared by two elements) in element order, then the disks and point masses
+    block = 6 * lefts[:, None] + np.arange(12)                                   # (E, 12)
+    rows, cols = (np.broadcast_to(x, (len(lefts), 12, 12)).ravel() for x in (block[:, :, None], block[:, None, :]))
+    parts = {k: ([rows], [cols], []) for k in kinds}
+    blocks = element_blocks(shaft, mesh)
+    for kind, i in (("M", 0), ("K", 1), ("G", 2)):
+        if kind in parts:
+            parts[kind][2].append((Q.T @ np.array([b[i] for b in blocks]).reshape(-1, 12, 12) @ Q).ravel())
     e = shaft.axis
+    eye, outer, skew = np.eye(3), np.outer(e, e), _skew(e)
     for disk in shaft.disks:
         i = 6 * mesh.node(disk.z)
-        if "M" in out:
-            out["M"][i:i + 3, i:i + 3] += disk.mass * np.eye(3)
-            out["M"][i + 3:i + 6, i + 3:i + 6] += (disk.diametral_inertia * np.eye(3)
-                                                   + (disk.polar_inertia - disk.diametral_inertia) * np.outer(e, e))
-        if "G" in out:
-            out["G"][i + 3:i + 6, i + 3:i + 6] += -disk.polar_inertia * _skew(e)
+        _add_block(parts.get("M"), i, disk.mass * eye)
+        _add_block(parts.get("M"), i + 3, disk.diametral_inertia * eye + (disk.polar_inertia - disk.diametral_inertia) * outer)
+        _add_block(parts.get("G"), i + 3, -disk.polar_inertia * skew)
     for point in shaft.point_masses:
-        i = 6 * mesh.node(point.z)
-        if "M" in out:
-            out["M"][i:i + 3, i:i + 3] += point.mass * np.eye(3)
-    if mesh is shaft.mesh:
-        for kind, matrix in out.items():
-            matrix.flags.writeable = False
-            shaft._made[kind] = matrix
+        _add_block(parts.get("M"), 6 * mesh.node(point.z), point.mass * eye)
+    out = {}
+    for kind, (r, c, data) in parts.items():
+        matrix = scipy.sparse.csr_matrix((np.concatenate(data), (np.concatenate(r), np.concatenate(c))),
+                                         shape=(size, size))
+        matrix.sum_duplicates()
+        for array in (matrix.data, matrix.indices, matrix.indptr):
+            array.flags.writeable = False
+        out[kind] = matrix
     return tuple(out[k] for k in kinds)
+
+
+def _add_block(part, start: int, block) -> None:
+    """Append a 3 x 3 ``block`` at rows and columns ``start .. start + 3`` to a matrix's
+    ``(rows, cols, data)`` lists (nothing when the matrix is not asked for)."""
+    if part is None:
+        return
+    index = start + np.arange(3)
+    part[0].append(np.repeat(index, 3))
+    part[1].append(np.tile(index, 3))
+    part[2].append(np.asarray(block, dtype=float).ravel())
 
 
 def _skew(v):
@@ -590,16 +627,29 @@ def check_consistent(table: Table, values: dict) -> None:
 
 
 
-def lateral_basis(shaft: Shaft) -> np.ndarray:
+def lateral_basis(shaft: Shaft):
     """Each node's motion ``[u, theta]`` (model axes) per lateral coordinate ``[u_a, u_b, theta_a,
-    theta_b]`` of every node (the flexible rotor's coordinates without the axial one), (6 N, 4 N)."""
+    theta_b]`` of every node (the flexible rotor's coordinates without the axial one), sparse (CSR)
+    (6 N, 4 N): node ``k``'s rows ``6 k .. 6 k + 2`` take ``a``, ``b`` in columns ``4 k``, ``4 k + 1``,
+    its rows ``6 k + 3 .. 6 k + 5`` take them in ``4 k + 2``, ``4 k + 3``."""
+    import scipy.sparse
+
     a, b = transverse_axes(shaft.axis)
     count = shaft.mesh.n_nodes
-    out = np.zeros((6 * count, 4 * count))
-    for k in range(count):
-        out[6 * k:6 * k + 3, 4 * k], out[6 * k:6 * k + 3, 4 * k + 1] = a, b
-        out[6 * k + 3:6 * k + 6, 4 * k + 2], out[6 * k + 3:6 * k + 6, 4 * k + 3] = a, b
-    return out
+    node = np.arange(count)
+    rows = 6 * node[:, None, None] + np.array([[0, 1, 2]] * 2 + [[3, 4, 5]] * 2)[None]        # (N, 4, 3)
+    cols = np.broadcast_to((4 * node[:, None] + np.arange(4))[..., None], rows.shape)
+    data = np.broadcast_to(np.array([a, b, a, b]), rows.shape)
+    keep = data != 0.0
+    return scipy.sparse.csr_matrix((data[keep], (rows[keep], cols[keep])), shape=(6 * count, 4 * count))
+
+
+#: lateral coordinates (4 per node) up to which :func:`bending_frequencies` solves every mode
+#: (a dense ``eigh``); beyond, the lowest few by shift-invert Lanczos on the sparse matrices
+DENSE_BENDING = 400
+#: modes the sparse route finds at first, doubled (up to :data:`MOST_BENDING`) until one is
+#: mostly bending
+FIRST_BENDING, MOST_BENDING = 12, 192
 
 
 def bending_frequencies(shaft: Shaft, supports=()):
@@ -624,27 +674,72 @@ def bending_frequencies(shaft: Shaft, supports=()):
         in the shaft (the rest in the bearings).
     bending : float
         On the supports: the lowest mode with over half its strain energy in the shaft [Hz]
-        (nan if none).
+        (nan if none; on a mesh of over :data:`DENSE_BENDING` lateral coordinates, nan too if
+        none among the lowest :data:`MOST_BENDING`).
     """
-    import scipy.linalg
+    import scipy.sparse
 
     M, K = node_matrices(shaft, shaft.mesh, kinds=("M", "K"))
     L = lateral_basis(shaft)
-    mass, shaft_k = L.T @ M @ L, L.T @ K @ L
+    mass, shaft_k = (L.T @ M @ L).tocsr(), (L.T @ K @ L).tocsr()
     mass, shaft_k = 0.5 * (mass + mass.T), 0.5 * (shaft_k + shaft_k.T)
-    free = scipy.linalg.eigh(shaft_k, mass, eigvals_only=True)
     supported_k = shaft_k.copy()
     for z, k6 in supports:
         i = 6 * shaft.mesh.node(z)
         rows = L[i:i + 6]
-        supported_k += rows.T @ (0.5 * (k6 + k6.T)) @ rows
+        supported_k = supported_k + rows.T @ scipy.sparse.csr_matrix(0.5 * (k6 + k6.T)) @ rows
+    if mass.shape[0] <= DENSE_BENDING:
+        return _bending_dense(mass.toarray(), shaft_k.toarray(), supported_k.toarray())
+    return _bending_sparse(mass.tocsc(), shaft_k.tocsc(), supported_k.tocsc())
+
+
+def _bending_dense(mass, shaft_k, supported_k):
+    """:func:`bending_frequencies` from every mode (dense ``eigh``), each matrix (4 N, 4 N)."""
+    import scipy.linalg
+
+    free = scipy.linalg.eigh(shaft_k, mass, eigvals_only=True)
     values, vectors = scipy.linalg.eigh(supported_k, mass)
-    held = values > 1e-9 * values[-1]          # not a rigid-body motion the supports leave free
+    return (_hz(free[4]),) + _supported(values, vectors, shaft_k, values[-1])
+
+
+def _supported(values, vectors, shaft_k, largest):
+    """The lowest mode (frequency [Hz], share of strain energy in the shaft) and the lowest mostly
+    bending (or nan) of modes ``values`` (k,) ascending, ``vectors`` (4 N, k); ``largest`` the scale
+    of the eigenvalues below which a value counts as a rigid-body motion (the highest of all)."""
+    held = values > 1e-9 * largest             # not a rigid-body motion the supports leave free
     values = np.where(held, values, 0.0)
-    share = np.where(held, np.einsum("im,ij,jm->m", vectors, shaft_k, vectors) / np.where(held, values, 1.0), 0.0)
+    energy = np.einsum("im,im->m", vectors, shaft_k @ vectors)
+    share = np.where(held, energy / np.where(held, values, 1.0), 0.0)
     bending = values[(share > 0.5) & held]
-    return (_hz(free[4]), (_hz(values[0]), float(share[0])),
-            _hz(bending[0]) if bending.size else float("nan"))
+    return (_hz(values[0]), float(share[0])), _hz(bending[0]) if bending.size else float("nan")
+
+
+def _bending_sparse(mass, shaft_k, supported_k):
+    """:func:`bending_frequencies` of a long mesh from its lowest modes only: shift-invert Lanczos
+    (``eigsh``) about ``-s``, just below zero (the rigid-body motions make ``K`` singular; ``s`` a
+    ``1e-12`` part of the largest diagonal ratio ``K_ii / M_ii``, the scale of the highest mode:
+    ``K + s M`` stays well inside double precision, and the eigenvalues ``1/theta - s`` keep their
+    digits while ``s`` is below a thousand times the lowest)."""
+    import scipy.sparse.linalg
+
+    diagonal = mass.diagonal()
+    largest = float(np.max(shaft_k.diagonal() / np.where(diagonal > 0, diagonal, np.inf)))
+    largest = max(largest, float(np.max(supported_k.diagonal() / np.where(diagonal > 0, diagonal, np.inf))))
+    shift = -1e-12 * largest
+
+    def lowest(stiffness, count):
+        values, vectors = scipy.sparse.linalg.eigsh(stiffness, k=count, M=mass, sigma=shift, which="LM")
+        order = np.argsort(values)
+        return values[order], vectors[:, order]
+
+    free = lowest(shaft_k, 5)[0]
+    count = FIRST_BENDING
+    while True:
+        values, vectors = lowest(supported_k, min(count, mass.shape[0] - 2))
+        (first, share), bending = _supported(values, vectors, shaft_k, largest)
+        if bending == bending or count >= MOST_BENDING:
+            return _hz(free[4]), (first, share), bending
+        count *= 2
 
 
 def _hz(value: float) -> float:

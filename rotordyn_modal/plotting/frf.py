@@ -111,16 +111,23 @@ def _frf_groups(pairs):
     return parts
 
 
-def _plot_frf_groups(result, measured, groups, title, scale=None):
-    """One block of panels per group (forces, moments when any, phase), in up to two columns."""
+def _blocks(count, size):
+    """A figure of ``count`` blocks (subfigures) of ``size`` (width, height) [in] each, in up to
+    two columns; returns the figure and the blocks, row by row (those past ``count`` hidden)."""
     import matplotlib.pyplot as plt
 
-    columns = 1 if len(groups) == 1 else 2
-    rows = int(np.ceil(len(groups) / columns))
-    fig = plt.figure(figsize=(7.5 * columns, 4.6 * rows), layout="constrained")
+    columns = 1 if count == 1 else 2
+    rows = int(np.ceil(count / columns))
+    fig = plt.figure(figsize=(size[0] * columns, size[1] * rows), layout="constrained")
     blocks = np.atleast_1d(fig.subfigures(rows, columns, squeeze=False).ravel())
-    for block in blocks[len(groups):]:
+    for block in blocks[count:]:
         block.set_visible(False)
+    return fig, blocks
+
+
+def _plot_frf_groups(result, measured, groups, title, scale=None):
+    """One block of panels per group (forces, moments when any, phase), in up to two columns."""
+    fig, blocks = _blocks(len(groups), (7.5, 4.6))
     by_item = all(":" in o for _, members in groups for o, _ in members)
     drawn = []              # axes whose curves are drawn in turn where they lie on each other
     for block, (name, members) in zip(blocks, groups):
@@ -224,14 +231,7 @@ def plot_overlay(models, measured, title: str | None = None, units: str = "si", 
     -------
     matplotlib.figure.Figure
     """
-    import matplotlib.pyplot as plt
-
-    columns = 1 if len(models) == 1 else 2
-    rows = int(np.ceil(len(models) / columns))
-    fig = plt.figure(figsize=(8.0 * columns, 5.2 * rows), layout="constrained")
-    blocks = np.atleast_1d(fig.subfigures(rows, columns, squeeze=False).ravel())
-    for block in blocks[len(models):]:
-        block.set_visible(False)
+    fig, blocks = _blocks(len(models), (8.0, 5.2))
     scale = _FrfScale(models[0].quantity, units, input_kinds)
     pairs = [(o, i) for o in models[0].outputs for i in models[0].inputs]
     unit = _UNITS.get(models[0].quantity, "") if units == "si" else scale.label(pairs)

@@ -17,18 +17,11 @@ import rotordyn_modal as rdm
 from rotordyn_modal.cli import main
 from rotordyn_modal.io.measured import default_mapping, read_measured
 from rotordyn_modal.io.uff import write_uff58
+from test_input_families import _one_line_error
 
 ROOT = Path(__file__).resolve().parent.parent
 GEAR = ROOT / "examples" / "gear_machine.toml"
 FAN = ROOT / "examples" / "fan_on_bearings.toml"
-
-
-def _one_line_error(capsys, *words):
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
-    for word in words:
-        assert word in err, err
-    return err
 
 
 def _renamed(tmp_path, source, renames, name="renamed.toml"):

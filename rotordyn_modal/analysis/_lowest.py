@@ -32,7 +32,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 from scipy.linalg.lapack import zgbsv as _zgbsv
 
-from . import _batches, _eigensolve, _pencils, _vectors
+from . import _batches, _cost, _eigensolve, _pencils, _vectors
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]
@@ -90,6 +90,7 @@ def lowest_roots(stack, speeds, count: int):
     out_values[:, :k], out_shapes[:, :k] = values[:, :k], shapes[:, :k]
     full = ~ok
     if full.any():
+        _refuse_long_full(stack, speeds[full], len(speeds), "lowest modes", _UNSERVED)
         warnings.warn(f"lowest modes: {int(full.sum())} of {len(speeds)} speeds solved whole (the reduced basis "
                       "could not be shown to hold every root below the wanted ones there)", stacklevel=3)
         lam, phi = _full_lowest(stack, speeds[full], count)
@@ -606,6 +607,59 @@ def _basis_suffices(values, bound, size, directions, rho):
     return np.isfinite(highest) & (shares <= _SHARE)
 
 
+#: why the reduced basis leaves a speed to the full eigen-solve, for the refusal's message
+_UNSERVED = ("the reduced basis could not be shown to hold every root there; an axisymmetric rotor at rest has "
+             "double roots")
+#: the full eigen-solve's memory is measured against the memory at hand above this [bytes]
+_CHECKED_BYTES = 2**30
+
+
+def _refuse_long_full(stack, speeds, total: int, what: str, why: str, advice: str = "") -> None:
+    """Refuse, before it, the full eigen-solve of ``speeds`` [rad/s] (of ``total``) where its
+    arrays would not fit in the memory at hand, or where it is estimated to take longer than the
+    limit of CPU time (``_cost``, lifted by ``--allow-long``): one line naming the speeds, the
+    size, the estimate and the way out (``advice``, default: leave those speeds out). A long
+    flexible rotor's full solve is a dense eigen-solution of thousands of states per speed
+    (minutes each, GB of memory).
+
+    Raises
+    ------
+    InputError
+        ``MODEL: lowest modes: the full eigen-solve of 1 of 5 speeds (0 rpm; WHY), 1 eigen-solution
+        of 16,008 states, would take about 39.8 min of CPU time, more than the limit of 30 min: leave
+        those speeds out of the sweep, or add --allow-long (ROTORDYN_MODAL_MAX_CPU_MINUTES sets the
+        limit)``; or ``MODEL: ... needs about 4.1 GiB of memory, 2.0 GiB is available: ...``.
+    """
+    from .._limits import memory_problem
+    from ..errors import InputError
+
+    n_states, count = stack.forms[0].n_states, len(speeds)
+    rpm = ", ".join(f"{speed * 30 / np.pi:,.6g}" for speed in speeds[:_NAMED])
+    named = f"{rpm}{', ...' if count > _NAMED else ''} rpm"
+    source = getattr(stack.models[0], "source", None)
+    head = (f"{source + ': ' if source else ''}{what}: the full eigen-solve of {count:,} of {total:,} speeds "
+            f"({named}; {why})")
+    advice = advice or "leave those speeds out of the sweep"
+    solutions = f"{count:,} eigen-solution{'s' if count > 1 else ''} of {n_states:,} states"
+    # the state matrices, one part's eigen-solution and the shapes kept
+    needed = 8.0 * count * n_states ** 2 + max(_batches.CHUNK_BYTES, 72.0 * n_states ** 2) \
+        + 16.0 * count * n_states * stack.n_dof
+    if needed >= _CHECKED_BYTES:
+        problem = memory_problem(needed, f"{head}, {solutions},", advice)
+        if problem:
+            raise InputError(problem)
+    over = _cost.eigen_solutions_over_limit(n_states, count)
+    if over is not None:
+        seconds, limit = over
+        raise InputError(f"{head}, {solutions}, would take about "
+                         f"{_cost.duration(seconds)} of CPU time, more than the limit of {_cost.duration(limit)}: "
+                         f"{advice}, or add --allow-long ({_cost.ENVIRONMENT} sets the limit)")
+
+
+#: speeds named in the refusal at most
+_NAMED = 5
+
+
 def _full_lowest(stack, speeds, count):
     """The full eigen-solve of some speeds, their ``count`` lowest oscillating roots."""
     lam, phi = stack.solve(stack.sweep(speeds)[0], np.zeros(len(speeds), int))
@@ -660,16 +714,23 @@ def roots_below(stack, speeds, limit: float, count: int | None = None):
         with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
             reduced = _reduced_below(stack, speeds, limit, count)
     if reduced is None:             # a small model, or a basis of every mode: every root of every speed
+        if stack.n_dof >= DENSE_BELOW:
+            _refuse_long_full(stack, speeds, len(speeds), "modes below a frequency",
+                              "a basis for the frequency would hold every mode",
+                              "use fewer speeds, or a lower frequency")
         values, shapes = _full_lowest(stack, speeds, stack.forms[0].n_states)
         return _cut_below(values, shapes, limit, count) + (np.ones(len(speeds), bool),)
     values, shapes, ok = reduced
     full = ~ok
     if full.any():
+        _refuse_long_full(stack, speeds[full], len(speeds), "modes below a frequency", _UNSERVED)
         warnings.warn(f"modes below a frequency: {int(full.sum())} of {len(speeds)} speeds solved whole (the "
                       "reduced basis could not be shown to hold every root below it there)", stacklevel=3)
         lam, phi = _full_lowest(stack, speeds[full], stack.forms[0].n_states)
         if _wanted(lam, limit, count).sum(axis=1).max(initial=0) > values.shape[1]:
             # more roots below the limit than columns (a root the basis missed): every speed whole
+            _refuse_long_full(stack, speeds, len(speeds), "modes below a frequency",
+                              "the reduced basis missed a root below it", "use fewer speeds")
             values, shapes = _full_lowest(stack, speeds, stack.forms[0].n_states)
             return _cut_below(values, shapes, limit, count) + (np.ones(len(speeds), bool),)
         k = values.shape[1]

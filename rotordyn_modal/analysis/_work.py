@@ -27,26 +27,19 @@ command line's ``--allow-long`` lifts it for one run.
 
 from __future__ import annotations
 
-import functools
-import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from .._limits import environment_number
 from ..errors import InputError
+from . import _cost
+# the size-only part lives in _cost (the lowest modes' fallback reads it without this module)
+from ._cost import _EXPONENT, _PESSIMISTIC, _SMALLEST, DEFAULT_MINUTES, ENVIRONMENT, limit_seconds  # noqa: F401
+from ._cost import duration as _duration
 
 __all__ = ["ENVIRONMENT", "DEFAULT_MINUTES", "Work", "limit_seconds", "eig_seconds", "expected_crossings",
            "estimate", "refuse_long_work"]
 
-#: environment variable: the CPU minutes an analysis may be estimated to take (``inf``: any)
-ENVIRONMENT = "ROTORDYN_MODAL_MAX_CPU_MINUTES"
-#: the default limit [CPU minutes]
-DEFAULT_MINUTES = 30.0
-#: the smallest matrix timed to calibrate the eigen-solutions [states]
-_SMALLEST = 64
-#: exponent of the eigen-solution's time in the number of states (measured 2.5 to 2.8)
-_EXPONENT = 2.7
 #: CPU seconds per coordinate of one crossing's refinement (measured on the gear chains of
 #: tests/test_large_machine_cli.py: 126, 406 and 2,006 coordinates; 2 cores shared by several jobs)
 _COORDINATE_SECONDS = 15e-6
@@ -58,41 +51,19 @@ _FACTOR_SHARE = 1 / 75
 _NUMBERS_SHARE = 0.5
 #: the eigenvalues alone cost about this share of an eigen-solution with vectors
 _EIGVALS_SHARE = 0.4
-#: pessimistic CPU seconds of one eigen-solution per cubed state, for :func:`_quick_bound`
-#: (about ten times what a 4,000-state solution measured)
-_PESSIMISTIC = 1e-8
 #: models up to this many coordinates get their undamped frequencies by a dense symmetric
 #: eigen-solution; larger ones from the diagonals of K and M (an uncoupled estimate)
 _DENSE_FREQUENCIES_DOF = 1200
 
 
-def limit_seconds() -> float:
-    """The limit in force [CPU s]: ``ROTORDYN_MODAL_MAX_CPU_MINUTES`` when set, else
-    :data:`DEFAULT_MINUTES`."""
-    minutes = environment_number(ENVIRONMENT, "a number of CPU minutes > 0 (or inf)", lambda v: v > 0,
-                                 DEFAULT_MINUTES)
-    return 60.0 * minutes
-
-
-@functools.lru_cache(maxsize=16)
-def _timed_eig(size: int) -> float:
-    """CPU seconds of one ``numpy.linalg.eig`` with vectors of a random real ``size`` x ``size``
-    matrix, with one BLAS thread (as the sweep's threads run it)."""
-    from ._batches import one_blas_thread
-
-    matrix = np.random.default_rng(size).standard_normal((size, size))
-    with one_blas_thread(72 * size * size):
-        np.linalg.eig(matrix[:8, :8])                                   # the library loaded
-        start = time.process_time()
-        np.linalg.eig(matrix)
-        return max(time.process_time() - start, 1e-6)
+#: the eigen-solution timed (tests replace it)
+_timed_eig = _cost._timed_eig
 
 
 def eig_seconds(n_states: int) -> float:
     """CPU seconds of one dense eigen-solution (with vectors) of ``n_states`` states on this
     machine: a timed solution of an eighth of the size, scaled by ``_EXPONENT``."""
-    size = max(_SMALLEST, n_states // 8)
-    return _timed_eig(size) * (n_states / size) ** _EXPONENT
+    return _cost.eig_seconds(n_states, _timed_eig)
 
 
 def _undamped_frequencies(model, speed: float) -> np.ndarray | None:
@@ -174,16 +145,6 @@ class Work:
         if self.numbers_seconds:
             parts.append(f"their mode numbers: {_duration(self.numbers_seconds)}")
         return f"about {_duration(self.seconds)} of CPU time ({'; '.join(parts)})"
-
-
-def _duration(seconds: float) -> str:
-    if seconds < 100:
-        return f"{seconds:.2g} s"
-    if seconds < 6000:
-        return f"{seconds / 60:.3g} min"
-    if seconds < 360000:
-        return f"{seconds / 3600:.3g} h"
-    return f"{seconds / 3600:,.0f} h"
 
 
 def _n_states(model) -> int:

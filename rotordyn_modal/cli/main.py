@@ -51,6 +51,7 @@ def main(argv=None) -> int:
     study; 1 any other failure, a full disk included; 130 after Ctrl-C, 128 + N after
     signal N (143 SIGTERM, 129 SIGHUP). A command's output files appear together at its end,
     or none of them (:func:`rotordyn_modal.io.atomic.outputs_together`)."""
+    from ..analysis._cost import long_work_allowed
     from ..io.atomic import outputs_together
     from ._resources import report_peak_memory, verbose_log
     from ._units import resolve_units
@@ -62,7 +63,8 @@ def main(argv=None) -> int:
         with _signals_as_interrupts(), _warnings_as_lines(args.command):
             args.units = resolve_units(args.units)
             check_files(args)
-            with verbose_log(args), outputs_together():
+            # --allow-long reaches the analyses' own checks too (the lowest modes' full-solve fallback)
+            with verbose_log(args), outputs_together(), long_work_allowed(getattr(args, "allow_long", False)):
                 code = int(args.handler(args) or 0)
             report_peak_memory(args)
             return code

@@ -16,7 +16,8 @@ from ..units import speed_to_rad_s as to_rad_s
 
 #: options that take a value which may start with '-' (a negative speed or range)
 VALUE_OPTIONS = ("--speed", "--speeds", "--values", "--scale", "--freqs", "--orders", "--impulse",
-                 "--ramp", "--duration", "--power")
+                 "--ramp", "--duration", "--power", "--freq-range", "--operating", "--speed-band",
+                 "--freq-band", "--band")
 
 
 def join_negative_values(argv, options):
@@ -73,6 +74,66 @@ def parse_range(text: str, option: str) -> np.ndarray:
     if problem := count_problem(count):
         raise InputError(f"{option} {text!r}: N must be {problem}")
     return np.linspace(start, stop, count)
+
+
+def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=("LO", "HI"),
+               example="0:40", wording="rule") -> tuple[float, float]:
+    """``LO:HI`` -> (LO, HI): the one parser of the band options (``--freq-range``, ``--operating``,
+    ``--speed-band``, ``--freq-band``), so that each refuses the same inputs the same way.
+
+    Parameters
+    ----------
+    text : str
+        The option's value: two finite numbers joined by one ':'.
+    option : str
+        The option, for messages.
+    unit : str
+        The unit of LO and HI, for messages (e.g. ``"Hz"``, ``"rpm"``).
+    low : float or None
+        The least LO may be (None: any number, e.g. a band of negative speeds).
+    low_open : bool
+        LO must be greater than ``low`` (True) or may equal it (False).
+    names : (str, str)
+        How LO and HI are spelled in the option's ``--help`` (``("LOW", "HIGH")``).
+    example : str
+        A valid value, shown when the form is wrong.
+    wording : {"rule", "form"}
+        How a band out of order or below ``low`` is refused: "rule" echoes the value quoted and
+        names the rule (``expected 0 <= LO < HI [Hz]``); "form" echoes it as typed and names the
+        form first (``expected LOW:HIGH in Hz with 0 <= LOW < HIGH``), the wording ``fit`` has used.
+
+    Returns
+    -------
+    (float, float)
+        LO < HI, in ``unit``.
+
+    Raises
+    ------
+    InputError
+        Not exactly one ':' (an empty value too), a side that is not a finite number, LO >= HI,
+        or LO below ``low``.
+    """
+    lo, hi = names
+    shown = repr(text) if wording == "rule" else text
+    parts = text.split(":")
+    if len(parts) != 2:
+        raise InputError(f"{option} {shown}: expected {lo}:{hi} [{unit}], e.g. {example}")
+    values = []
+    for part in parts:
+        try:
+            values.append(float(part))
+        except ValueError:
+            raise InputError(f"{option} {shown}: expected {lo}:{hi} [{unit}] of two numbers, e.g. {example} "
+                             f"({part!r} is not a number)") from None
+        if not math.isfinite(values[-1]):
+            raise InputError(f"{option} {shown}: expected {lo}:{hi} [{unit}] of two finite numbers, "
+                             f"e.g. {example}")
+    low_value, high_value = values
+    rule = f"{lo} < {hi}" if low is None else f"{low:g} {'<' if low_open else '<='} {lo} < {hi}"
+    if not (low_value < high_value and (low is None or low_value > low or (low_value == low and not low_open))):
+        raise InputError(f"{option} {shown}: expected {rule} [{unit}]" if wording == "rule" else
+                         f"{option} {shown}: expected {lo}:{hi} in {unit} with {rule}")
+    return low_value, high_value
 
 
 def parse_list(text: str, option: str) -> np.ndarray:

@@ -147,7 +147,7 @@ def _frequency_axis(args) -> dict:
 def _frequency_range(freq_max, freq_range):
     """(low or None, high) [Hz] from --freq-max or --freq-range, or None."""
     from ..errors import InputError
-    from ._common import parse_number
+    from ._common import parse_band, parse_number
 
     if freq_max is not None:
         high = parse_number(freq_max, "--freq-max")
@@ -156,10 +156,4 @@ def _frequency_range(freq_max, freq_range):
         return None, high
     if freq_range is None:
         return None
-    parts = freq_range.split(":")
-    if len(parts) != 2:
-        raise InputError(f"--freq-range {freq_range!r}: expected LO:HI [Hz], e.g. 0:40")
-    low, high = (parse_number(part, "--freq-range") for part in parts)
-    if not 0 <= low < high:
-        raise InputError(f"--freq-range {freq_range!r}: expected 0 <= LO < HI [Hz]")
-    return low, high
+    return parse_band(freq_range, "--freq-range", "Hz")

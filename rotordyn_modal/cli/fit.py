@@ -9,7 +9,7 @@ import numpy as np
 from ..errors import InputError
 from ..io import save_model
 from ._common import (add_input_file, add_model_argument, add_output_file, check_ending, check_output_options,
-                      check_outputs, load_model, parse_list, parse_names, save_figure, show_progress, use_agg)
+                      check_outputs, load_model, parse_band, parse_list, parse_names, save_figure, show_progress, use_agg)
 from ._units import ENVIRONMENT, key_unit, key_value_in
 
 NAME = "fit"
@@ -61,9 +61,8 @@ def run(args) -> int:
     check_output_options(args)
     model = load_model(args.model)
     params = parse_names(args.params, "--params", lambda key: key == "gain" or _is_key(model, key))
-    band = tuple(parse_list(args.band.replace(":", ","), "--freq-band")) if args.band else None
-    if band is not None and (len(band) != 2 or not band[1] > band[0] >= 0):
-        raise InputError(f"--freq-band {args.band}: expected LOW:HIGH in Hz with 0 <= LOW < HIGH")
+    band = parse_band(args.band, "--freq-band", "Hz", names=("LOW", "HIGH"), example="2:40", wording="form") \
+        if args.band is not None else None
     factor = float(parse_list(args.bound_factor, "--bound-factor")[0])
     if not factor > 1:
         raise InputError(f"--bound-factor {args.bound_factor}: expected a number > 1")

@@ -109,9 +109,7 @@ def _inputs(args):
     mcs = float(to_rad_s(parse_number(args.mcs, "--mcs"), args.speed_unit))
     if not mcs > 0:
         raise InputError(f"--mcs {args.mcs}: expected a maximum continuous speed > 0")
-    operating = _operating(args) if args.operating else None
-    if operating is not None and operating[0] <= 0:
-        raise InputError(f"--operating {args.operating!r}: expected 0 < LO < HI")
+    operating = _operating(args, low_open=True) if args.operating is not None else None
     try:
         points = int(args.points)
     except ValueError:

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, OutputError, OutputWriteError
-from ._common import (add_input_file, add_model_argument, add_output_file, check_outputs, parse_number, print_table,
+from ._common import (add_input_file, add_model_argument, add_output_file, check_outputs, parse_band, print_table,
                       show_progress, use_agg)
 from ._resources import add_verbose
 from ._units import ENVIRONMENT, key_kind
@@ -94,7 +94,8 @@ def run(args) -> int:
     _check_options(args)
     model = load_model(args.model)
     definition = read_study(args.spec, model)
-    band = _band(args.band) if args.band else definition.operating_band_rpm
+    band = definition.operating_band_rpm if args.band is None else \
+        parse_band(args.band, "--speed-band", "rpm", low=None, names=("LOW", "HIGH"), example="2700:3300")
     folder = checkpoint_folder(args.out)  # both follow links: one lock and checkpoint however
     with ResultsLock(args.out):  # the file is named
         if args.restart and folder.exists():
@@ -199,16 +200,6 @@ def _check_derived(args):
 
     for derived in (ResultsLock(args.out).path, checkpoint_folder(args.out)):
         check_not_input(derived, [args.model, args.spec])
-
-
-def _band(text):
-    parts = text.split(":")
-    if len(parts) != 2:
-        raise InputError(f"--speed-band {text!r}: expected LOW:HIGH in rpm, e.g. 2700:3300")
-    low, high = parse_number(parts[0], "--speed-band"), parse_number(parts[1], "--speed-band")
-    if not high > low:
-        raise InputError(f"--speed-band {text!r}: expected LOW < HIGH")
-    return low, high
 
 
 def _workers(args, attempt: int = 1) -> int:

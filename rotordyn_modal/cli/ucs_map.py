@@ -7,8 +7,8 @@ import sys
 import numpy as np
 
 from ..errors import InputError
-from ._common import (NAME_LIST_HELP, add_model_argument, add_outputs, add_speed_unit, open_model, parse_names,
-                      parse_number, parse_range, save_figure, use_agg, write_table)
+from ._common import (NAME_LIST_HELP, add_model_argument, add_outputs, add_speed_unit, open_model, parse_band,
+                      parse_names, parse_range, save_figure, use_agg, write_table)
 from ..units import from_system, speed_to_rad_s, to_system, unit_label
 from ._units import convert_table, kinds_by_ending
 
@@ -59,7 +59,7 @@ def run(args) -> int:
     stiffness = _stiffness(args.stiffness, args.units)
     modes = _modes(args.modes)
     speeds = speed_to_rad_s(parse_range(args.speeds, "--speeds"), args.speed_unit) if args.speeds else None
-    operating = _operating(args) if args.operating else None
+    operating = _operating(args) if args.operating is not None else None
     model = open_model(args)
     bearings = parse_names(args.bearings, "--bearings", [b.name for b in model.bearings])
     result = ucs_map(model, stiffness, modes=modes, bearings=bearings, speeds=speeds, operating=operating)
@@ -95,14 +95,10 @@ def _modes(text):
     return value
 
 
-def _operating(args):
-    parts = args.operating.split(":")
-    if len(parts) != 2:
-        raise InputError(f"--operating {args.operating!r}: expected LO:HI ({args.speed_unit})")
-    low, high = (parse_number(p, "--operating") for p in parts)
-    if not 0 <= low < high:
-        raise InputError(f"--operating {args.operating!r}: expected 0 <= LO < HI")
-    return tuple(speed_to_rad_s(np.array([low, high]), args.speed_unit))
+def _operating(args, low_open=False):
+    """--operating LO:HI [--speed-unit] -> (low, high) [rad/s]; LO > 0 with ``low_open``."""
+    band = parse_band(args.operating, "--operating", args.speed_unit, low_open=low_open, example="1000:3000")
+    return tuple(speed_to_rad_s(np.array(band), args.speed_unit))
 
 
 def _print_crossings(result, system="si"):

@@ -400,7 +400,10 @@ _LABEL_PAD_POINTS = 3.0
 #: directions tried for an arrow's label from its free end, turned from the arrow's own [degrees]
 _LABEL_TURNS = (0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180)
 #: distances tried for an arrow's label beyond the pad [label heights]
-_LABEL_STEPS = (0.0, 0.5, 1.0, 1.5, 2.0, 3.0)
+_LABEL_STEPS = (0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0)
+#: a name moves off the bodies' edges to at most this many of its heights from its arrow's end
+#: (farther it would read as another arrow's)
+_BODY_REACH = 2.9
 #: the names stand above the bodies (mplot3d orders the collections from 1 up, one per collection)
 _LABEL_ZORDER = 1.0e6
 #: a light background keeps a name readable over the bodies (inside the pad)
@@ -414,7 +417,10 @@ class _ArrowLabels:
     names are laid out at draw time (:func:`._labels.draw_time_layout`), in display pixels:
     each beside its arrow's free end (a sensor's tip, an excitation's tail), straight on along
     the arrow first, else turned from it or a little farther away, where its box crosses no
-    arrow and overlaps no name placed before nor the legend, inside the axes.
+    arrow and overlaps no name placed before nor the legend, inside the axes; and, within
+    :data:`_BODY_REACH` of its heights from the arrow's end, off the bodies as drawn at the
+    phase (their edges and filled outlines, projected as the view now stands), else on the
+    fewest of their edges.
 
     Parameters
     ----------
@@ -445,16 +451,44 @@ class _ArrowLabels:
         legend = ax.get_legend()
         obstacles = [] if legend is None else [tuple(legend.get_window_extent(renderer).extents)]
         placed = []
+        edges, hulls = self._bodies()
         for text, (attached, free) in zip(self.texts, self._ends(segments)):
             extent = text.get_window_extent(renderer)
             boxes = _boxes_beyond(free, free - attached, extent.width, extent.height, pad)
-            box = first_free_box(boxes, placed, (pad, pad), inner, obstacles,
-                                 allowed=lambda b: not _crosses_arrows(b, segments, pad))
+            near = [b for b in boxes if _distance_to_box(free, b) <= _BODY_REACH * extent.height]
+            clear, crossings = _preferences(segments, edges, hulls, pad)
+            box = None
+            for allowed in clear[:-1]:
+                box = first_free_box(near, placed, (pad, pad), inner, obstacles, allowed=allowed)
+                if box is not None:
+                    break
+            if box is None:             # among the near boxes clear of the arrows, the one on fewest body edges
+                box = first_free_box(near, placed, (pad, pad), inner, obstacles, allowed=clear[-1], cost=crossings)
+            if box is None:
+                box = first_free_box(boxes, placed, (pad, pad), inner, obstacles, allowed=clear[-1])
             if box is None:             # no room: the nearest box inside the axes, clear of the arrows if any
                 box = next((b for b in boxes if not _crosses_arrows(b, segments, pad)), boxes[0])
                 placed.append(box)
             u, v = ax.transAxes.inverted().transform((box[0], box[1]))
             set_if_changed(text, position=(u, v))
+
+    def _bodies(self):
+        """The bodies as drawn now, in display pixels: their edges' segments ``(displaced, at rest)``,
+        each (n, 4), and the outlines (convex hulls) of the filled bodies (rotors, stator box)."""
+        displaced, at_rest, hulls = [], [], []
+        for body, points in zip(self.view.outline.bodies, self.view.at_phase(self.phase)):
+            displaced.append(_segments(self._project(_edges(body, points))))
+            at_rest.append(_segments(self._project(_edges(body, body.vertices))))
+            if body.kind in ("stator", "rotor"):
+                hulls.append(_convex_hull(self._project(points)))
+        return (np.concatenate(displaced or [np.empty((0, 4))]), np.concatenate(at_rest or [np.empty((0, 4))])), hulls
+
+    def _project(self, points):
+        """``points`` (n, 3) [m] projected to display pixels, (n, 2) (NaN rows stay NaN)."""
+        from mpl_toolkits.mplot3d import proj3d
+
+        x, y, _ = proj3d.proj_transform(points[:, 0], points[:, 1], points[:, 2], self.ax.get_proj())
+        return self.ax.transData.transform(np.column_stack([x, y]))
 
     def _pixels(self, segments):
         """``segments`` (n, 2, 3) [m] projected to display pixels, (n, 2, 2)."""
@@ -495,6 +529,86 @@ def _crosses_arrows(box, segments, pad):
         if crosses_any([(start, end)], [(box[0] - spread, box[1] - spread, box[2] + spread, box[3] + spread)]):
             return True
     return False
+
+
+def _preferences(segments, edges, hulls, pad):
+    """Tests a name's box must pass, the strictest first: clear of every arrow, of the bodies'
+    edges (displaced and at rest) and of their filled outlines; then of the edges only; then of
+    the displaced edges; then of the arrows only. And the cost of a box where none passes but the
+    last: the body edges through it (a displaced one counts twice: drawn solid)."""
+    from ._labels import crosses_any
+
+    displaced, at_rest = edges
+
+    def clear_of(lines, b):
+        return not crosses_any(lines.reshape(-1, 2, 2), [(b[0] - pad, b[1] - pad, b[2] + pad, b[3] + pad)])
+
+    def crossings(b):
+        widened = (b[0] - pad, b[1] - pad, b[2] + pad, b[3] + pad)
+        return 2 * _count_through(displaced, widened) + _count_through(at_rest, widened)
+
+    def arrows(b):
+        return not _crosses_arrows(b, segments, pad)
+
+    return [lambda b: arrows(b) and clear_of(displaced, b) and clear_of(at_rest, b)
+            and not any(_box_meets_polygon(b, hull) for hull in hulls),
+            lambda b: arrows(b) and clear_of(displaced, b) and clear_of(at_rest, b),
+            lambda b: arrows(b) and clear_of(displaced, b),
+            arrows], crossings
+
+
+def _distance_to_box(point, box):
+    """Distance [pixels] from ``point`` (x, y) to the nearest point of ``box`` (x0, y0, x1, y1)."""
+    return float(np.hypot(max(box[0] - point[0], 0.0, point[0] - box[2]), max(box[1] - point[1], 0.0, point[1] - box[3])))
+
+
+def _count_through(lines, box):
+    """How many of the segments ``lines`` (n, 4) pass through ``box`` (x0, y0, x1, y1)."""
+    from ._labels import segment_crosses_box
+
+    near = (np.minimum(lines[:, 0], lines[:, 2]) <= box[2]) & (np.maximum(lines[:, 0], lines[:, 2]) >= box[0]) \
+        & (np.minimum(lines[:, 1], lines[:, 3]) <= box[3]) & (np.maximum(lines[:, 1], lines[:, 3]) >= box[1])
+    return sum(segment_crosses_box(line[:2], line[2:], box) for line in lines[near])
+
+
+def _segments(polyline):
+    """Segments (n, 4) [x0, y0, x1, y1] of a NaN-separated polyline (m, 2)."""
+    pairs = np.hstack([polyline[:-1], polyline[1:]])
+    return pairs[np.all(np.isfinite(pairs), axis=1)]
+
+
+def _convex_hull(points):
+    """Corners (k, 2) of the convex hull of ``points`` (n, 2), counter-clockwise (monotone chain)."""
+    points = np.unique(points[np.all(np.isfinite(points), axis=1)], axis=0)
+    if len(points) < 3:
+        return points
+
+    def half(sequence):
+        chain = []
+        for p in sequence:
+            while len(chain) >= 2 and _turn(chain[-2], chain[-1], p) <= 0:
+                chain.pop()
+            chain.append(p)
+        return chain[:-1]
+
+    return np.array(half(points) + half(points[::-1]))
+
+
+def _turn(a, b, c):
+    """z of (b - a) x (c - a): > 0 where a -> b -> c turns counter-clockwise."""
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+
+
+def _box_meets_polygon(box, corners):
+    """Whether the box (x0, y0, x1, y1) and the convex polygon ``corners`` (k, 2) overlap
+    (separating axes: the box's two and the polygon's edge normals)."""
+    if len(corners) < 3:
+        return False
+    square = np.array([[box[0], box[1]], [box[2], box[1]], [box[2], box[3]], [box[0], box[3]]])
+    sides = np.roll(corners, -1, axis=0) - corners
+    axes = np.vstack([[1.0, 0.0], [0.0, 1.0], np.column_stack([-sides[:, 1], sides[:, 0]])])
+    a, b = square @ axes.T, corners @ axes.T
+    return not np.any((a.max(axis=0) <= b.min(axis=0)) | (b.max(axis=0) <= a.min(axis=0)))
 
 
 def _label_arrows(ax, view, phase):

@@ -103,19 +103,26 @@ def test_the_lowest_modes_log_decrements_are_the_full_models(shaft, lowest):
     assert np.max(np.abs(by_frequency - log_dec) / (2 * np.pi * np.abs(reference) / reference.imag)) < 1e-9
 
 
-def test_the_threshold_of_the_lowest_modes_is_the_full_models(shaft, lowest):
+def assert_the_threshold_is_the_full_models(shaft, result):
+    """``result``'s one threshold equals Brent's method on the largest real part of scipy's
+    eigenvalues of the full state matrix (one onset, unstable after it) to 1e-9, and its
+    crossing root's frequency, ``modes`` number and whirl are the full model's there."""
     largest = np.array([_roots(shaft, speed).real.max() for speed in SPEEDS])
     k = int(np.nonzero((largest[:-1] < 0) & (largest[1:] > 0))[0][0])
     assert np.all(largest[:k + 1] < 0) and np.all(largest[k + 1:] > 0)     # one onset, stays unstable
     threshold = brentq(lambda s: _roots(shaft, s).real.max(), SPEEDS[k], SPEEDS[k + 1], xtol=1e-12, rtol=1e-15)
-    assert len(lowest.thresholds) == 1 and lowest.threshold_onsets[0]
-    assert abs(lowest.threshold_speed - threshold) <= 1e-9 * threshold
+    assert len(result.thresholds) == 1 and result.threshold_onsets[0]
+    assert abs(result.threshold_speed - threshold) <= 1e-9 * threshold
     # the root that crosses: its frequency and its number among the modes at the threshold
-    roots = _roots(shaft, lowest.thresholds[0])
+    roots = _roots(shaft, result.thresholds[0])
     crossing = int(np.argmin(np.abs(roots.real)))
-    assert abs(lowest.threshold_frequencies_hz[0] - roots[crossing].imag / (2 * np.pi)) <= 1e-9 * roots[crossing].imag
-    assert lowest.threshold_modes_at_speed[0] == int(is_oscillating(roots[:crossing + 1]).sum())
-    assert lowest.threshold_whirl[0] == "forward"
+    assert abs(result.threshold_frequencies_hz[0] - roots[crossing].imag / (2 * np.pi)) <= 1e-9 * roots[crossing].imag
+    assert result.threshold_modes_at_speed[0] == int(is_oscillating(roots[:crossing + 1]).sum())
+    assert result.threshold_whirl[0] == "forward"
+
+
+def test_the_threshold_of_the_lowest_modes_is_the_full_models(shaft, lowest):
+    assert_the_threshold_is_the_full_models(shaft, lowest)
 
 
 def test_modes_above_the_lowest_are_not_checked_and_the_summary_says_so(shaft, lowest):

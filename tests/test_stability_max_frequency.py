@@ -11,13 +11,12 @@ import warnings
 import numpy as np
 import pandas as pd
 import pytest
-from scipy.optimize import brentq
-from test_stability_lowest import SPEEDS, _cross_coupled_shaft, _roots
+from test_stability_lowest import SPEEDS, _cross_coupled_shaft, _roots, assert_the_threshold_is_the_full_models
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _lowest
 from rotordyn_modal.analysis import stability as stability_module
-from rotordyn_modal.analysis.modal import OVERDAMPED_LIMIT, is_oscillating
+from rotordyn_modal.analysis.modal import OVERDAMPED_LIMIT
 from rotordyn_modal.cli.main import main
 from rotordyn_modal.cli.stability import _summary
 from rotordyn_modal.errors import InputError
@@ -74,17 +73,7 @@ def test_the_roots_below_the_limit_are_the_full_models(shaft, below):
 
 
 def test_the_threshold_below_the_limit_is_the_full_models(shaft, below):
-    largest = np.array([_roots(shaft, speed).real.max() for speed in SPEEDS])
-    k = int(np.nonzero((largest[:-1] < 0) & (largest[1:] > 0))[0][0])
-    assert np.all(largest[:k + 1] < 0) and np.all(largest[k + 1:] > 0)     # one onset, stays unstable
-    threshold = brentq(lambda s: _roots(shaft, s).real.max(), SPEEDS[k], SPEEDS[k + 1], xtol=1e-12, rtol=1e-15)
-    assert len(below.thresholds) == 1 and below.threshold_onsets[0]
-    assert abs(below.threshold_speed - threshold) <= 1e-9 * threshold
-    roots = _roots(shaft, below.thresholds[0])
-    crossing = int(np.argmin(np.abs(roots.real)))
-    assert abs(below.threshold_frequencies_hz[0] - roots[crossing].imag / (2 * np.pi)) <= 1e-9 * roots[crossing].imag
-    assert below.threshold_modes_at_speed[0] == int(is_oscillating(roots[:crossing + 1]).sum())
-    assert below.threshold_whirl[0] == "forward"
+    assert_the_threshold_is_the_full_models(shaft, below)
     assert _summary(below) == ("unstable from 7291.91 rpm (among the modes below 200 Hz; modes above 200 Hz and "
                                "real roots not checked)")
 

@@ -380,6 +380,26 @@ def speeds_option(args) -> np.ndarray:
     return to_rad_s(parse_range(args.speeds, "--speeds"), args.speed_unit)
 
 
+def lowest_option(text, model):
+    """``--lowest N`` as an int, or None (every mode: also when N is at least the model's number of
+    roots, so that the long-work check holds); refused in one line unless a whole number >= 1."""
+    from ..analysis.campbell import root_count
+
+    count = None if text is None else parse_count(text, "--lowest", of="modes")
+    return None if count is None or count >= root_count(model) else count
+
+
+def max_frequency_option(text):
+    """``--max-frequency HZ`` as a float [Hz], or None (no limit); refused in one line unless a
+    finite number > 0."""
+    if text is None:
+        return None
+    value = parse_number(text, "--max-frequency")
+    if not value > 0:
+        raise InputError(f"--max-frequency {text!r}: expected a frequency > 0 [Hz]")
+    return value
+
+
 def speeds_text(args) -> str:
     """The --speeds range in words, ``between 500 and 15000 rpm`` (``at 3000 rpm`` for one point)."""
     points = parse_range(args.speeds, "--speeds")

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
+from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
+                      max_frequency_option, open_model, parse_list,
                       refuse_long_work, save_figure, show_progress, speeds_option, speeds_text, use_agg,
                       undamped_zeros, write_table)
 from ._units import NOTHING_TO_CONVERT
@@ -75,9 +76,8 @@ def run(args) -> int:
     from ..analysis.campbell import campbell
     model = open_model(args)
     axis = _frequency_axis(args)    # bad limits refused before the work
-    speeds, orders, lowest = speeds_option(args), tuple(parse_list(args.orders, "--orders")), _lowest(args.lowest,
-                                                                                                       model)
-    limit = _max_frequency(args.max_frequency)
+    speeds, orders = speeds_option(args), tuple(parse_list(args.orders, "--orders"))
+    lowest, limit = lowest_option(args.lowest, model), max_frequency_option(args.max_frequency)
     if lowest is None and limit is None:
         refuse_long_work(args, model, speeds, orders, critical=not args.no_critical, advice=LONG_ADVICE,
                          memory=True)
@@ -91,30 +91,6 @@ def run(args) -> int:
         save_figure(result.plot(color_by=args.color_by, title=model.name or None, speed_unit=args.speed_unit,
                                 **axis), args)
     return 0
-
-
-def _lowest(text, model):
-    """``--lowest N`` as an int, or None (every mode: also when N is at least the model's number of
-    roots, so that the long-work check holds); refused in one line unless a whole number >= 1."""
-    from ..analysis.campbell import root_count
-    from ._common import parse_count
-
-    count = None if text is None else parse_count(text, "--lowest", of="modes")
-    return None if count is None or count >= root_count(model) else count
-
-
-def _max_frequency(text):
-    """``--max-frequency HZ`` as a float [Hz], or None (no limit); refused in one line unless a
-    finite number > 0."""
-    from ..errors import InputError
-    from ._common import parse_number
-
-    if text is None:
-        return None
-    value = parse_number(text, "--max-frequency")
-    if not value > 0:
-        raise InputError(f"--max-frequency {text!r}: expected a frequency > 0 [Hz]")
-    return value
 
 
 def _add_frequency_axis(parser):

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
+from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
+                      max_frequency_option, open_model, parse_list,
                       refuse_long_work, save_figure, show_progress, speeds_option, speeds_text, use_agg,
                       undamped_zeros, write_table)
 from ._units import NOTHING_TO_CONVERT
@@ -48,9 +49,8 @@ def add_arguments(parser):
 
 def run(args) -> int:
     from ..analysis.campbell import campbell
-    from .campbell import _lowest, _max_frequency
     model = open_model(args)
-    modes, limit = _lowest(args.lowest, model), _max_frequency(args.max_frequency)
+    modes, limit = lowest_option(args.lowest, model), max_frequency_option(args.max_frequency)
     speeds, orders = speeds_option(args), tuple(parse_list(args.orders, "--orders"))
     if modes is None and limit is None:
         refuse_long_work(args, model, speeds, orders, numbers=True, advice="ask for the lowest modes only (--lowest "

@@ -5,7 +5,8 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
-from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, open_model, parse_list,
+from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
+                      max_frequency_option, open_model, parse_list,
                       parse_range, refuse_long_work, save_figure, show_progress, speeds_option, speeds_text,
                       use_agg, write_table)
 from ._units import NOTHING_TO_CONVERT
@@ -87,8 +88,8 @@ def run(args) -> int:
         raise InputError("--values/--scale need --vary KEY")
     values = _grid(args.values, "--values") if args.values else None
     scale = _grid(args.scale, "--scale") if args.scale else None
-    speeds, lowest = speeds_option(args), _lowest(args.lowest, model)
-    limit = _max_frequency(args.max_frequency)
+    speeds, lowest = speeds_option(args), lowest_option(args.lowest, model)
+    limit = max_frequency_option(args.max_frequency)
     count = len(values if values is not None else scale) if args.vary else 1
     if lowest is None and limit is None:
         fewer = ("ask for the lowest modes only (--lowest N, --max-frequency HZ), use fewer speeds (--speeds)"
@@ -177,22 +178,6 @@ def _unchecked(lowest, limit):
     above = [] if lowest is None else ["above it" if lowest == 1 else "above them"]
     above += [] if limit is None else [f"above {limit:g} Hz"]
     return "modes " + " or ".join(above)
-
-
-def _max_frequency(text):
-    """``--max-frequency HZ`` as a float [Hz], or None, refused as ``campbell --max-frequency``
-    refuses it."""
-    from .campbell import _max_frequency as max_frequency
-
-    return max_frequency(text)
-
-
-def _lowest(text, model):
-    """``--lowest N`` as an int, or None (every mode, also where N is at least the model's number
-    of roots), refused as ``campbell --lowest`` refuses it."""
-    from .campbell import _lowest as lowest
-
-    return lowest(text, model)
 
 
 def _interval(result, start, stop):

@@ -68,9 +68,9 @@ def _by_frequency(values):
     return np.take_along_axis(values, np.argsort(values.imag, axis=1), axis=1)
 
 
-@pytest.fixture(scope="module")
-def lowest(shaft):
-    """stability(modes=6) of the shaft, solved without any full eigen-solution of a trial speed."""
+def without_full_solves(function, *args, **kwargs):
+    """``function(*args, **kwargs)`` with stability's routes that solve every root of a trial
+    speed refused (an AssertionError if one is taken)."""
     patch = pytest.MonkeyPatch()
 
     def refused(*args, **kwargs):
@@ -79,11 +79,17 @@ def lowest(shaft):
     patch.setattr(stability_module, "_largest_real_part", refused)
     patch.setattr(stability_module, "modal", refused)
     try:
-        with warnings.catch_warnings():     # the repeated roots at rest are solved whole, with a warning
-            warnings.simplefilter("ignore", UserWarning)
-            return rdm.stability(shaft, SPEEDS, modes=6)
+        return function(*args, **kwargs)
     finally:
         patch.undo()
+
+
+@pytest.fixture(scope="module")
+def lowest(shaft):
+    """stability(modes=6) of the shaft, solved without any full eigen-solution of a trial speed."""
+    with warnings.catch_warnings():     # the repeated roots at rest are solved whole, with a warning
+        warnings.simplefilter("ignore", UserWarning)
+        return without_full_solves(rdm.stability, shaft, SPEEDS, modes=6)
 
 
 def test_the_lowest_modes_log_decrements_are_the_full_models(shaft, lowest):

@@ -11,7 +11,8 @@ import warnings
 import numpy as np
 import pandas as pd
 import pytest
-from test_stability_lowest import SPEEDS, _cross_coupled_shaft, _roots, assert_the_threshold_is_the_full_models
+from test_stability_lowest import (SPEEDS, _cross_coupled_shaft, _roots, assert_the_threshold_is_the_full_models,
+                                   without_full_solves)
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _lowest
@@ -47,17 +48,7 @@ def _below(roots, limit_hz):
 @pytest.fixture(scope="module")
 def below(shaft):
     """stability(max_frequency=200 Hz) of the shaft, solved without any full eigen-solution of a trial speed."""
-    patch = pytest.MonkeyPatch()
-
-    def refused(*args, **kwargs):
-        raise AssertionError("every root of a trial speed was solved")
-
-    patch.setattr(stability_module, "_largest_real_part", refused)
-    patch.setattr(stability_module, "modal", refused)
-    try:
-        return _quiet(rdm.stability, shaft, SPEEDS, max_frequency=ABOVE_THE_FIRST_PAIR)
-    finally:
-        patch.undo()
+    return without_full_solves(_quiet, rdm.stability, shaft, SPEEDS, max_frequency=ABOVE_THE_FIRST_PAIR)
 
 
 def test_the_roots_below_the_limit_are_the_full_models(shaft, below):

@@ -35,7 +35,7 @@ from scipy.linalg.lapack import zgbsv as _zgbsv
 from . import _batches, _cost, _eigensolve, _pencils, _vectors
 from .modal import is_oscillating
 
-__all__ = ["lowest_roots"]
+__all__ = ["lowest_roots", "branch_lowest"]
 
 #: Newton iterations at most; the starts from the projected pencils take 2 to 4
 _ITERATIONS = 12
@@ -772,6 +772,20 @@ def _refuse_long_full(stack, speeds, total: int, what: str, why: str, advice: st
 _NAMED = 5
 
 
+#: why a model with frequency-dependent branches is solved whole, for the refusal's message
+_BRANCHES = "the mounts' frequency-dependent (Maxwell) branches add states the reduced basis does not hold"
+
+
+def branch_lowest(stack, speeds, count: int, what: str = "lowest modes"):
+    """The ``count`` lowest oscillating roots (S, count) and shapes (S, count, n) of a model with
+    frequency-dependent branches (``stack.branch_times`` not empty) at ``speeds`` [rad/s] (S,): every
+    root of every speed (the branches' states lie outside the pencil the reduced route refines),
+    refused before the work where that is over the memory at hand or the limit of CPU time
+    (:func:`_refuse_long_full`; ``--allow-long`` lifts the latter)."""
+    _refuse_long_full(stack, speeds, len(speeds), what, _BRANCHES, "use fewer speeds")
+    return _full_lowest(stack, speeds, count)
+
+
 def _full_lowest(stack, speeds, count):
     """The full eigen-solve of some speeds, their ``count`` lowest oscillating roots."""
     lam, phi = stack.solve(stack.sweep(speeds)[0], np.zeros(len(speeds), int))
@@ -825,8 +839,10 @@ def roots_below(stack, speeds, limit: float, count: int | None = None):
     if stack.n_dof >= DENSE_BELOW and not stack.branch_times.shape[1]:
         with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
             reduced = _reduced_below(stack, speeds, limit, count)
-    if reduced is None:             # a small model, or a basis of every mode: every root of every speed
-        if stack.n_dof >= DENSE_BELOW:
+    if reduced is None:             # a small model, branches, or a basis of every mode: every root of every speed
+        if stack.branch_times.shape[1]:
+            _refuse_long_full(stack, speeds, len(speeds), "modes below a frequency", _BRANCHES, "use fewer speeds")
+        elif stack.n_dof >= DENSE_BELOW:
             _refuse_long_full(stack, speeds, len(speeds), "modes below a frequency",
                               "a basis for the frequency would hold every mode",
                               "use fewer speeds, or a lower frequency")

@@ -338,7 +338,7 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None) -> Camp
             if not values.shape[-1]:
                 return _no_modes(model, speeds, orders, stack.n_dof)
         elif stack.branch_times.shape[1]:          # frequency-dependent branches: more states than the pencil's
-            values, shapes = _lowest._full_lowest(stack, speeds, count)
+            values, shapes = _lowest.branch_lowest(stack, speeds, count)
         else:
             values, shapes, _ = _lowest.lowest_roots(stack, speeds, count)
         values, shapes = values[None], shapes[None]

@@ -386,7 +386,7 @@ class _LowestRoots:
                 values, shapes, wanted, _ = _lowest.roots_below(self.stack, speeds, self.limit, self.count)
                 return values[0][wanted[0]], shapes[0][wanted[0]]
             if self.stack.branch_times.shape[1]:     # frequency-dependent branches: solved whole, as campbell does
-                values, shapes = _lowest._full_lowest(self.stack, speeds, self.count)
+                values, shapes = _lowest.branch_lowest(self.stack, speeds, self.count)
             else:
                 values, shapes, _ = _lowest.lowest_roots(self.stack, speeds, self.count)
         return values[0], shapes[0]

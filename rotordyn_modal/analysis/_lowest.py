@@ -583,7 +583,8 @@ def _roundoff(pencils, index, lam, x):
     s, a = np.abs(lam)[:, None], np.abs(x)
     speeds = np.abs(pencils.speeds[index])[:, None]
     M, C, G = (abs(matrix) for matrix in pencils.sparse)
-    terms = s * s * (M @ a.T).T + s * ((C @ a.T).T + speeds * (G @ a.T).T) + (np.abs(pencils.K) @ a.T).T
+    K = scipy.sparse.csr_matrix(np.abs(pencils.K))          # sparse: a dense |K| product per root costs n^2
+    terms = s * s * (M @ a.T).T + s * ((C @ a.T).T + speeds * (G @ a.T).T) + (K @ a.T).T
     if len(pencils.rows):
         np.add.at(terms, (slice(None), pencils.rows), (s * np.abs(pencils.cb[index]) + np.abs(pencils.kb[index]))
                   * a[:, pencils.cols])

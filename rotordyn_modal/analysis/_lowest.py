@@ -633,8 +633,8 @@ def _polished(pencils, index, lam, x):
     if uncertain.any():
         warnings.warn(f"lowest modes: {int(uncertain.sum())} root(s) (at {_speeds_named(pencils.speeds[index[uncertain]])}) "
                       f"exact only to about {np.max(left[uncertain]):.1e} relative, not 1e-9: the pencil's round-off "
-                      "(a low mode beside stiff elements) is above what the extended-precision residual removes",
-                      stacklevel=5)
+                      f"(a low mode beside stiff elements), which a residual of {np.finfo(_EXTENDED).nmant + 1} "
+                      "significant bits cannot remove", stacklevel=5)
     return lam, x
 
 

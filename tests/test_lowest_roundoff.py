@@ -13,6 +13,8 @@ correction falling to its own round-off, 1e-11 here (iterative refinement: the a
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from threadpoolctl import threadpool_limits
@@ -67,10 +69,10 @@ def _reference_root(M, D, K, lam, phi, steps=3):
 
 
 def _errors(model, values, shapes):
-    """Relative errors (S, k) of roots ``values`` against :func:`_reference_root`."""
-    M, C, G, K = model.matrices()
+    """Relative errors (S, k) of roots ``values`` at ``SPEEDS`` against :func:`_reference_root`."""
     errors = np.empty(values.shape)
     for i, speed in enumerate(SPEEDS):
+        M, C, G, K = model.matrices(speed)
         for j in range(values.shape[1]):
             # one BLAS thread: the dense solves are small, BLAS's threads only wait on a loaded machine
             with threadpool_limits(1):
@@ -102,7 +104,9 @@ def test_roots_stalled_at_round_off_are_the_full_models_to_1e_9(monkeypatch):
     to 1e-9 relative (before the polish: 2.5e-7 to 5.9e-7 off)."""
     model = _soft_shaft()
     fired = _counting_stagnation(monkeypatch)
-    result = rdm.campbell(model, SPEEDS, modes=4, critical=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                  # no speed solved whole, no accuracy warned of
+        result = rdm.campbell(model, SPEEDS, modes=4, critical=False)
     assert fired[0] >= 1
     assert np.all(_errors(model, result.eigenvalues, result.shapes) <= 1e-9)
 
@@ -119,3 +123,24 @@ def test_without_extended_precision_the_accuracy_reached_is_warned_of(monkeypatc
     claimed = float(message.split("about ")[1].split(" relative")[0])
     if EXTENDED:
         assert np.max(_errors(model, result.eigenvalues, result.shapes)) <= claimed
+
+
+@needs_extended
+def test_polishing_every_root_of_speed_dependent_bearings_keeps_the_full_models_roots(monkeypatch):
+    """Every root polished (journal bearings: the residual carries their speed-dependent entries,
+    stiffness and damping); each stays the full model's to 1e-9."""
+    monkeypatch.setattr(_lowest, "_CERTAIN", 0.0)
+    polished = [0]
+    original = _lowest._polished
+
+    def counted(pencils, index, lam, x):
+        polished[0] += len(lam)
+        return original(pencils, index, lam, x)
+
+    monkeypatch.setattr(_lowest, "_polished", counted)
+    model = rdm.load_model("examples/compressor_on_journals.toml")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                  # no speed solved whole: the polished roots serve
+        result = rdm.campbell(model, SPEEDS, modes=4, critical=False)
+    assert polished[0] >= 2 * 4
+    assert np.all(_errors(model, result.eigenvalues, result.shapes) <= 1e-9)

@@ -569,7 +569,7 @@ _PROMISED = 1e-9
 #: the polishing residual's precision: numpy's extended type (x86: 64-bit significand, 2,048 times
 #: double's; where it is double, the polish cannot help and the warning tells the accuracy reached)
 _EXTENDED = np.longdouble
-#: polishing steps at most (measured: one brings a root from 6e-7 to 4e-11, a second is round-off)
+#: polishing steps at most (measured: one brings a root from 6e-7 to 6e-11, a second is round-off)
 _POLISH_STEPS = 2
 
 
@@ -599,19 +599,36 @@ def _polished(pencils, index, lam, x):
     ``[[Q(s), Q'(s) x], [x^H, 0]] [dx; ds] = -[Q(s) x; 0]`` with the residual ``Q(s) x`` in extended
     precision (:func:`_residuals`) and the system solved whole by a sparse LU (well conditioned where
     ``Q(s)`` is nearly singular): iterative refinement, whose accuracy is the residual's (measured on
-    a shaft on soft supports: 6e-7 relative before, 4e-11 after; docs/theory.md section 17). Where
+    a shaft on soft supports: 6e-7 relative before, 6e-11 after; docs/theory.md section 17). Where
     the round-off left (:func:`_roundoff` scaled to the extended precision) may exceed
-    ``_PROMISED``, a warning names it.
+    ``_PROMISED``, a warning names it. In chunks of bounded memory (the residuals' products).
 
     Returns
     -------
     lam : ndarray, shape (P,), complex [1/s]; x : ndarray, shape (P, n), complex
     """
     lam, x = lam.copy(), x.copy()
+    parts = [scipy.sparse.csr_matrix(matrix) for matrix in (pencils.M, pencils.C, pencils.G, pencils.K)]
+    entries = sum(part.nnz for part in parts) + 4 * x.shape[1]
+    for chunk in _batches.chunk_slices(len(lam), 64 * entries):
+        lam[chunk], x[chunk] = _polish_part(pencils, parts, index[chunk], lam[chunk], x[chunk])
+    left = _roundoff(pencils, index, lam, x) * np.finfo(_EXTENDED).eps / np.finfo(float).eps
+    uncertain = left > _PROMISED
+    if uncertain.any():
+        named = _speeds_named(pencils.speeds[index[uncertain]])
+        warnings.warn(f"lowest modes: {int(uncertain.sum())} root(s) (at {named}) "
+                      f"exact only to about {np.max(left[uncertain]):.1e} relative, not 1e-9: the pencil's round-off "
+                      f"(a low mode beside stiff elements), which a residual of {np.finfo(_EXTENDED).nmant + 1} "
+                      "significant bits cannot remove", stacklevel=5)
+    return lam, x
+
+
+def _polish_part(pencils, parts, index, lam, x):
+    """:func:`_polished`'s steps on some roots (P,), shapes (P, n); ``parts`` are M, C, G, K as CSR."""
     n = x.shape[1]
     active = np.arange(len(lam))
     for _ in range(_POLISH_STEPS):
-        residual = _residuals(pencils, index[active], lam[active], x[active])
+        residual = _residuals(pencils, parts, index[active], lam[active], x[active])
         derivative = pencils.derivative_times(index[active], lam[active], x[active])
         entries = pencils._entries(index[active], lam[active])
         moved = np.zeros(len(active))
@@ -628,13 +645,6 @@ def _polished(pencils, index, lam, x):
         active = active[moved > _STEP]
         if not len(active):
             break
-    left = _roundoff(pencils, index, lam, x) * np.finfo(_EXTENDED).eps / np.finfo(float).eps
-    uncertain = left > _PROMISED
-    if uncertain.any():
-        warnings.warn(f"lowest modes: {int(uncertain.sum())} root(s) (at {_speeds_named(pencils.speeds[index[uncertain]])}) "
-                      f"exact only to about {np.max(left[uncertain]):.1e} relative, not 1e-9: the pencil's round-off "
-                      f"(a low mode beside stiff elements), which a residual of {np.finfo(_EXTENDED).nmant + 1} "
-                      "significant bits cannot remove", stacklevel=5)
     return lam, x
 
 
@@ -645,15 +655,15 @@ def _speeds_named(speeds):
     return f"{rpm}{', ...' if len(unique) > _NAMED else ''} rpm"
 
 
-def _residuals(pencils, index, lam, x):
-    """``Q(lam_p) x_p`` (P, n) computed in ``_EXTENDED`` precision from the pencil's double entries,
-    rounded to complex: the products of a low mode's smooth shape with stiff elements cancel to a
-    small part of their terms, which double precision leaves at round-off."""
+def _residuals(pencils, parts, index, lam, x):
+    """``Q(lam_p) x_p`` (P, n) computed in ``_EXTENDED`` precision from the pencil's double entries
+    (``parts``: M, C, G, K as CSR), rounded to complex: the products of a low mode's smooth shape
+    with stiff elements cancel to a small part of their terms, which double precision leaves at
+    round-off."""
     wide = np.result_type(_EXTENDED, 1j)
     X, s = x.astype(wide), lam.astype(wide)[:, None]
 
-    def times(matrix):
-        csr = scipy.sparse.csr_matrix(matrix)
+    def times(csr):
         products = np.zeros((len(X), csr.nnz + 1), wide)          # a zero past the end: empty last rows
         products[:, :-1] = csr.data.astype(_EXTENDED) * X[:, csr.indices]
         out = np.add.reduceat(products, csr.indptr[:-1], axis=1)
@@ -661,7 +671,8 @@ def _residuals(pencils, index, lam, x):
         return out
 
     speed = pencils.speeds[index].astype(_EXTENDED)[:, None]
-    out = s * s * times(pencils.M) + s * (times(pencils.C) + speed * times(pencils.G)) + times(pencils.K)
+    M, C, G, K = parts
+    out = s * s * times(M) + s * (times(C) + speed * times(G)) + times(K)
     if len(pencils.rows):
         coefficients = s * pencils.cb[index].astype(_EXTENDED) + pencils.kb[index].astype(_EXTENDED)
         np.add.at(out, (slice(None), pencils.rows), coefficients * X[:, pencils.cols])

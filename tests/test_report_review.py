@@ -138,3 +138,32 @@ def test_terminal_line_prints_no_empty_limit():
     assert _terminal_line(probe) == "API 617 probe vibration limit: pass (1.45 µm pk-pk; limit <= 25.4 µm pk-pk)"
     missing = report_collect.Criterion("API 617 Level I: Q0/Qa", "", "", "not evaluated", "level1", "no --station")
     assert _terminal_line(missing) == "API 617 Level I: Q0/Qa: not evaluated: no --station"
+
+
+def test_us_level1_section_states_the_gas_density_in_us_units(model, monkeypatch):
+    """A report in US units says the CSR's gas density in lb/ft³ everywhere: in the section's
+    verdict sentence and in the Level I figure's title (they said kg/m³ while the summary and the
+    chart said lb/ft³)."""
+    from matplotlib.text import Text
+
+    from rotordyn_modal.report import render
+
+    inputs = ReportInputs("api617", MCS, level1={"stations": [Station("rotor", 0.0)], "qa": QA, "gas_density": 20.0})
+    data = report_collect.ReportData(inputs, model, {}, ("level1",))
+    report_collect._level1(data)
+    texts = []
+
+    def fake(fig, dpi=110):
+        import matplotlib.pyplot as plt
+
+        texts.append(" ".join(t.get_text() for t in fig.findobj(Text)))
+        plt.close(fig)
+        return "data:image/png;base64,"
+
+    monkeypatch.setattr(render, "figure_png", fake)
+    html = render._level1(data, "us")
+    density = f"{20.0 / (0.45359237 / 0.3048 ** 3):.4g} lb/ft³"          # lb and ft by definition
+    assert len(texts) == 2                                               # the Level I figure, the CSR chart
+    for text in (html, *texts):
+        assert "kg/m³" not in text.replace("[kg/m³]", "")               # the chart's second axis says both
+        assert density in " ".join(text.split())

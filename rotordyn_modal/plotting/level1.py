@@ -63,7 +63,7 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
 
     # the verdict (with the CSR a line of some 150 characters) wrapped to the figure's width
     ax.set_title(f"{textwrap.shorten(heading, 80)}\nat {result.speed * 30 / np.pi:.6g} rpm, Q at {stations}\n"
-                 f"{textwrap.fill(result.verdict(), 80)}",
+                 f"{textwrap.fill(result.verdict(units), 80)}",
                  fontsize="medium", color="tab:red" if result.level2_required else "darkgreen")
     ax.legend(fontsize="x-small", loc="best", framealpha=0.85)
     return fig

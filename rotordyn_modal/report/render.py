@@ -410,7 +410,7 @@ def _level1(data, units) -> str:
         _heading("level1"),
         f"<p>Stations: {escape(', '.join(_station(s, units) for s in result.stations))}; at the MCS the "
         f"rotor's forward modes at the station ({len(runs)} followed) are swept and the least stable is judged: "
-        f"mode {result.mode} (docs/report.md). {escape(result.verdict())}.</p>",
+        f"mode {result.mode} (docs/report.md). {escape(result.verdict(units))}.</p>",
         _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
         _runs_table(runs, result, units),
         _figure(result.plot(**_units(units)), f"Figure: log decrement of mode {result.mode}, the least stable "

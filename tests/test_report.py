@@ -611,3 +611,10 @@ def test_journal_bearings_static_position_is_the_films(reports):
     assert len(rows) == 2
     for row in rows:                                   # printed to 4 digits
         assert float(row[-2]) == pytest.approx(eps, rel=1e-3) and float(row[-1]) == pytest.approx(phi, rel=1e-3)
+
+
+def test_a_model_without_gravity_says_why_nothing_sags(reports):
+    """examples/counter_rotating.toml gives no gravity: its zero sag and reactions are explained."""
+    assert not np.any(load_model(ROOT / "examples" / "counter_rotating.toml").gravity)
+    assert "gives no gravity" in reports["counter_rotating"].read_text(encoding="utf-8")
+    assert "gives no gravity" not in reports["journal_rotor"].read_text(encoding="utf-8")

@@ -171,6 +171,7 @@ def _static(data, units) -> str:
         _heading("static"),
         f"<p>Under the model's gravity at the MCS ({data.inputs.mcs * 30 / np.pi:.6g} rpm), bearings at their "
         "stiffness at that speed (docs/static.md).</p>",
+        *([] if np.any(np.asarray(data.model.gravity, dtype=float)) else [_NO_GRAVITY]),
         "<h3>Static displacement (sag)</h3>",
         _table(rows, [("body", True), ("point", True), *((f"u_{a} [{sag_unit}]", False) for a in "xyz")]),
         *([_JOURNAL_NOTE] if journals else []),
@@ -180,6 +181,10 @@ def _static(data, units) -> str:
                        *([("eccentricity ratio [-]", False), ("attitude angle [deg]", False)] if journals else [])]),
         *_shaft_statics(result, units)])
 
+
+#: a model without gravity: the report applies no other static load
+_NO_GRAVITY = ('<p class="note">The model gives no gravity (its <code>gravity</code> is absent or zero) and the '
+               "report applies no other static load: nothing sags and every reaction is 0.</p>")
 
 #: under the sag table of a machine with journal bearings: which displacement it is (docs/static.md)
 _JOURNAL_NOTE = ('<p class="note">At a journal bearing the displacement above is that of its light-load '

@@ -289,7 +289,9 @@ _CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-qui
 #: appended to a copy of the page: the body's data-broken attribute counts images not decoded
 _PROBE = ("<script>window.addEventListener('load', function () { var n = 0; for (const i of document.images) "
           "{ if (!(i.complete && i.naturalWidth > 0)) n++; } document.body.setAttribute('data-broken', n); "
-          "document.body.setAttribute('data-images', document.images.length); });</script>")
+          "document.body.setAttribute('data-images', document.images.length); "
+          "document.body.setAttribute('data-overflow', document.documentElement.scrollWidth - "
+          "document.documentElement.clientWidth); });</script>")
 
 
 def _chromium(*args, folder):
@@ -307,10 +309,12 @@ def test_a_real_browser_renders_the_report_with_every_image(name, reports):
         page = Path(folder) / "page.html"
         page.write_text(reports[name].read_text(encoding="utf-8").replace("</body>", _PROBE + "</body>"),
                         encoding="utf-8")
-        dom = _chromium("--virtual-time-budget=5000", "--dump-dom", page.as_uri(), folder=folder).stdout
-        found = re.search(r'data-broken="(\d+)" data-images="(\d+)"', dom)
+        dom = _chromium("--virtual-time-budget=5000", "--window-size=1280,3000", "--dump-dom", page.as_uri(),
+                       folder=folder).stdout
+        found = re.search(r'data-broken="(\d+)" data-images="(\d+)" data-overflow="(-?\d+)"', dom)
         assert found, dom[:300]
         assert int(found.group(1)) == 0 and int(found.group(2)) == len(_page(reports[name]).images)
+        assert int(found.group(3)) <= 0                  # nothing wider than the window: no sideways scroll
         shot = Path(folder) / "shot.png"
         _chromium(f"--screenshot={shot}", "--window-size=1280,3000", reports[name].as_uri(), folder=folder)
         pixels = imread(shot)

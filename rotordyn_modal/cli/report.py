@@ -34,7 +34,8 @@ shapes at the MCS of the modes whose 1X critical speed or frequency lies within 
           probe limits and, for a model with [[rotors.clearances]], the clearance check (pk-pk
           at each station <= 75 % of its diametral clearance)
   api617  the same plus API 617 Level I stability (with --station and --qa or the stage data
-          of 'level1'; otherwise 'not evaluated'); with --gas-density also the critical speed
+          of 'level1'; otherwise 'not evaluated'), judged on the least stable of the rotor's
+          first three forward modes at the station; with --gas-density also the critical speed
           ratio against average gas density (its criterion line and chart, as 'level1')
   iso     the response to the model's [[unbalances]] (amounts or ISO 21940-11 grades) and the
           ISO 20816-3 zones of the casing sensors (--iso-group and --iso-support)

@@ -289,7 +289,9 @@ _CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-qui
 #: appended to a copy of the page: the body's data-broken attribute counts images not decoded
 _PROBE = ("<script>window.addEventListener('load', function () { var n = 0; for (const i of document.images) "
           "{ if (!(i.complete && i.naturalWidth > 0)) n++; } document.body.setAttribute('data-broken', n); "
-          "document.body.setAttribute('data-images', document.images.length); });</script>")
+          "document.body.setAttribute('data-images', document.images.length); "
+          "document.body.setAttribute('data-overflow', document.documentElement.scrollWidth - "
+          "document.documentElement.clientWidth); });</script>")
 
 
 def _chromium(*args, folder):
@@ -307,10 +309,12 @@ def test_a_real_browser_renders_the_report_with_every_image(name, reports):
         page = Path(folder) / "page.html"
         page.write_text(reports[name].read_text(encoding="utf-8").replace("</body>", _PROBE + "</body>"),
                         encoding="utf-8")
-        dom = _chromium("--virtual-time-budget=5000", "--dump-dom", page.as_uri(), folder=folder).stdout
-        found = re.search(r'data-broken="(\d+)" data-images="(\d+)"', dom)
+        dom = _chromium("--virtual-time-budget=5000", "--window-size=1280,3000", "--dump-dom", page.as_uri(),
+                       folder=folder).stdout
+        found = re.search(r'data-broken="(\d+)" data-images="(\d+)" data-overflow="(-?\d+)"', dom)
         assert found, dom[:300]
         assert int(found.group(1)) == 0 and int(found.group(2)) == len(_page(reports[name]).images)
+        assert int(found.group(3)) <= 0                  # nothing wider than the window: no sideways scroll
         shot = Path(folder) / "shot.png"
         _chromium(f"--screenshot={shot}", "--window-size=1280,3000", reports[name].as_uri(), folder=folder)
         pixels = imread(shot)
@@ -579,3 +583,42 @@ def test_rigid_rotor_report_shows_the_lowest_modes_when_none_is_near_the_range(r
         assert f"mode {mode.mode}: {mode.frequency_hz:.4g} Hz, {mode.whirl} whirl, log dec {mode.log_decrement:.3g}" \
             in section
     assert section.count("<img ") == 1
+
+
+def _table_after(text, heading):
+    """(headers, rows) of the first table after the heading ``heading`` in a report's HTML."""
+    start = text.index(heading)
+    table = text[text.index("<table>", start):text.index("</table>", start)]
+    cells = lambda html, tag: [re.sub(r"<[^>]+>", "", c).strip() for c in re.findall(rf"<{tag}[^>]*>(.*?)</{tag}>", html)]
+    rows = re.findall(r"<tr>(.*?)</tr>", table)
+    return cells(rows[0], "th"), [cells(r, "td") for r in rows[1:]]
+
+
+def test_journal_bearings_static_position_is_the_films(reports):
+    """The sag table of a rotor in journal bearings shows the linear film's displacement (across
+    the load); the journal's position at its load, the short bearing's eccentricity ratio and
+    attitude angle, is in the reactions table, as the closed form gives it (Ocvirk: W =
+    mu U L^3 / (4 c^2) eps / (1 - eps^2)^2 sqrt(16 eps^2 + pi^2 (1 - eps^2)), U = omega D / 2,
+    tan(phi) = pi sqrt(1 - eps^2) / (4 eps))."""
+    from scipy.optimize import brentq
+
+    text = reports["journal_rotor"].read_text(encoding="utf-8")
+    assert "linear film" in text and "eccentricity ratio" in text
+    headers, rows = _table_after(text, "Reactions (force of each support")
+    assert headers[-2:] == ["eccentricity ratio [-]", "attitude angle [deg]"]
+    # examples/journal_rotor.toml: 50 kg on two journals 0.3 m either side of the centre of mass
+    mu, diameter, length, clearance, load = 0.02, 0.05, 0.025, 5.0e-5, 50.0 * 9.81 / 2
+    scale = mu * (MCS_RPM * np.pi / 30) * diameter / 2 * length ** 3 / (4 * clearance ** 2)
+    eps = brentq(lambda e: scale * e / (1 - e * e) ** 2 * np.sqrt(16 * e * e + np.pi ** 2 * (1 - e * e)) - load,
+                 1e-9, 1 - 1e-9, xtol=1e-14)
+    phi = np.degrees(np.arctan(np.pi * np.sqrt(1 - eps * eps) / (4 * eps)))
+    assert len(rows) == 2
+    for row in rows:                                   # printed to 4 digits
+        assert float(row[-2]) == pytest.approx(eps, rel=1e-3) and float(row[-1]) == pytest.approx(phi, rel=1e-3)
+
+
+def test_a_model_without_gravity_says_why_nothing_sags(reports):
+    """examples/counter_rotating.toml gives no gravity: its zero sag and reactions are explained."""
+    assert not np.any(load_model(ROOT / "examples" / "counter_rotating.toml").gravity)
+    assert "gives no gravity" in reports["counter_rotating"].read_text(encoding="utf-8")
+    assert "gives no gravity" not in reports["journal_rotor"].read_text(encoding="utf-8")

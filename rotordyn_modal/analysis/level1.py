@@ -216,14 +216,15 @@ class Level1Result:
         ``Q0 / Qa`` below 10 requires Level II too)."""
         return not (self.passes_log_decrement and self.passes_ratio and self.passes_csr)
 
-    def verdict(self) -> str:
-        """One sentence: the criteria, their values and whether Level II is required."""
+    def verdict(self, units: str = "si") -> str:
+        """One sentence: the criteria, their values and whether Level II is required (the gas
+        density of the CSR in the density unit of ``units``: kg/m³, or lb/ft³ for 'us')."""
         ratio = (f"Q0/Qa = {self.ratio:.3g}" if np.isfinite(self.q0)
                  else f"Q0/Qa > {self.cross_coupling[-1] / self.qa:.3g}")
         checks = (f"log dec at Qa = {self.log_decrement_at_qa:.3g} ({'>=' if self.passes_log_decrement else '<'} "
                   f"{LOG_DEC_CRITERION:g}), {ratio} ({'>=' if self.passes_ratio else '<'} {RATIO_CRITERION:g})")
         if self.csr is not None:
-            checks += f", {self.csr.summary()}" + ("" if self.csr_applies else f" (not applied: Q0/Qa >= "
+            checks += f", {self.csr.summary(units)}" + ("" if self.csr_applies else f" (not applied: Q0/Qa >= "
                                                                                f"{CSR_RATIO_LIMIT:g})")
         return f"{checks}: Level II {'required' if self.level2_required else 'not required'}"
 

@@ -120,7 +120,8 @@ def run(args) -> int:
         print(f"Qa = {result.qa * scale:.6g} {unit} at {where}; mode {result.mode} "
               f"({result.frequencies_hz[0]:.5g} Hz at Q = 0) followed; "
               + (f"Q0 = {result.q0 * scale:.6g} {unit}; " if np.isfinite(result.q0) else
-                 f"Q0 beyond {result.cross_coupling[-1] * scale:.6g} {unit}; ") + result.verdict(), file=sys.stderr)
+                 f"Q0 beyond {result.cross_coupling[-1] * scale:.6g} {unit}; ") + result.verdict(args.units),
+              file=sys.stderr)
     if args.plot:
         use_agg()
         save_figure(result.plot(units=args.units), args)

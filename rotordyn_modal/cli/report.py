@@ -27,13 +27,15 @@ fail or not evaluated and why, each linking to its section), the model (bodies, 
 mounts, sensors, the model file's name and SHA-256, the package version, the date, the command
 line), the static sag and reactions, the Campbell diagram with the critical speeds, the API 684
 amplification factors and separation margins (required margin and verdict per peak), the mode
-shapes at the MCS of the modes whose 1X critical speed or frequency lies within 17 % of the
-operating range (else the lowest 4; shaft lines for flexible rotors), then by --standard:
+shapes at the MCS of the modes whose 1X critical speed or frequency lies within 16 % below or
+26 % above the operating range (else the lowest 4; shaft lines for flexible rotors), then by
+--standard:
   api684  the undamped critical speed map; the API unbalance cases' response with the API 617
           probe limits and, for a model with [[rotors.clearances]], the clearance check (pk-pk
           at each station <= 75 % of its diametral clearance)
   api617  the same plus API 617 Level I stability (with --station and --qa or the stage data
-          of 'level1'; otherwise 'not evaluated'); with --gas-density also the critical speed
+          of 'level1'; otherwise 'not evaluated'), judged on the least stable of the rotor's
+          first three forward modes at the station; with --gas-density also the critical speed
           ratio against average gas density (its criterion line and chart, as 'level1')
   iso     the response to the model's [[unbalances]] (amounts or ISO 21940-11 grades) and the
           ISO 20816-3 zones of the casing sensors (--iso-group and --iso-support)
@@ -97,9 +99,16 @@ def run(args) -> int:
         _print_pdf(html, args.pdf)
     if not args.quiet:
         for c in (c.in_system(units) for c in data.criteria):
-            print(f"{c.name}: {c.verdict}" + (f" ({c.value}; limit {c.limit})" if c.value else "")
-                  + (f": {c.why}" if c.verdict == "not evaluated" else ""), file=sys.stderr)
+            print(_terminal_line(c), file=sys.stderr)
     return 0
+
+
+def _terminal_line(criterion) -> str:
+    """``NAME: VERDICT (VALUE; limit LIMIT)``, the parts a criterion has (no empty limit), and why
+    when it is not evaluated."""
+    shown = "; ".join(part for part in (criterion.value, criterion.limit and f"limit {criterion.limit}") if part)
+    return (f"{criterion.name}: {criterion.verdict}" + (f" ({shown})" if criterion.value else "")
+            + (f": {criterion.why}" if criterion.verdict == "not evaluated" else ""))
 
 
 def _inputs(args):

@@ -36,7 +36,7 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     fig, ax = new_figure(ax, figsize=(8.0, 5.5))
     x = result.cross_coupling / result.qa
     ax.plot(x, result.log_decrements, color="tab:blue", linewidth=2.0,
-            label=f"mode {result.mode} (first forward), {result.frequencies_hz[0]:.4g} Hz at Q = 0")
+            label=f"mode {result.mode} (forward), {result.frequencies_hz[0]:.4g} Hz at Q = 0")
     ax.axhline(0.0, color="k", linewidth=0.8)
     ax.axhline(LOG_DEC_CRITERION, color="tab:red", linestyle="--", linewidth=1.0,
                label=f"log decrement {LOG_DEC_CRITERION:g} (criterion at Qa)")
@@ -61,8 +61,9 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     heading = title or (f"API 617 Level I: {result.title}" if result.title else "API 617 Level I")
     import textwrap
 
+    # the verdict (with the CSR a line of some 150 characters) wrapped to the figure's width
     ax.set_title(f"{textwrap.shorten(heading, 80)}\nat {result.speed * 30 / np.pi:.6g} rpm, Q at {stations}\n"
-                 f"{result.verdict()}",
+                 f"{textwrap.fill(result.verdict(units), 80)}",
                  fontsize="medium", color="tab:red" if result.level2_required else "darkgreen")
     ax.legend(fontsize="x-small", loc="best", framealpha=0.85)
     return fig

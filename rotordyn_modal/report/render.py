@@ -161,18 +161,37 @@ def _static(data, units) -> str:
     rows = [[r.body, r.point, *(_g(v) for v in values)] for r, values in zip(shown.itertuples(), sag)]
     reactions = result.reactions_table()
     forces = _at_round_off(reactions[["Fx_N", "Fy_N", "Fz_N"]].to_numpy()) * to_force
-    rrows = [[r.support, r.kind, r.body, r.on, *(_g(v) for v in values)]
-             for r, values in zip(reactions.itertuples(), forces)]
+    # a journal bearing's true position at its load: the film's eccentricity and attitude angle
+    journals = bool(np.isfinite(reactions["eccentricity"].to_numpy(dtype=float)).any())
+    film = ([[_g(r.eccentricity, 4), _g(r.attitude_deg, 4)] for r in reactions.itertuples()] if journals
+            else [[] for _ in range(len(reactions))])
+    rrows = [[r.support, r.kind, r.body, r.on, *(_g(v) for v in values), *extra]
+             for r, values, extra in zip(reactions.itertuples(), forces, film)]
     return "\n".join([
         _heading("static"),
         f"<p>Under the model's gravity at the MCS ({data.inputs.mcs * 30 / np.pi:.6g} rpm), bearings at their "
         "stiffness at that speed (docs/static.md).</p>",
+        *([] if np.any(np.asarray(data.model.gravity, dtype=float)) else [_NO_GRAVITY]),
         "<h3>Static displacement (sag)</h3>",
         _table(rows, [("body", True), ("point", True), *((f"u_{a} [{sag_unit}]", False) for a in "xyz")]),
+        *([_JOURNAL_NOTE] if journals else []),
         "<h3>Reactions (force of each support on the body it carries)</h3>",
         _table(rrows, [("support", True), ("kind", True), ("body", True), ("on", True),
-                       *((f"F_{a} [{force_unit}]", False) for a in "xyz")]),
+                       *((f"F_{a} [{force_unit}]", False) for a in "xyz"),
+                       *([("eccentricity ratio [-]", False), ("attitude angle [deg]", False)] if journals else [])]),
         *_shaft_statics(result, units)])
+
+
+#: a model without gravity: the report applies no other static load
+_NO_GRAVITY = ('<p class="note">The model gives no gravity (its <code>gravity</code> is absent or zero) and the '
+               "report applies no other static load: nothing sags and every reaction is 0.</p>")
+
+#: under the sag table of a machine with journal bearings: which displacement it is (docs/static.md)
+_JOURNAL_NOTE = ('<p class="note">At a journal bearing the displacement above is that of its light-load '
+                 "linear film (the load over the film's stiffness, across the load: the film holds the journal at "
+                 "90&deg; to its offset); the journal's position at its load is its eccentricity ratio (of the "
+                 "radial clearance) and attitude angle (from the load, in the sense of rotation) in the reactions "
+                 "table, from the full short-bearing solution (docs/static.md).</p>")
 
 
 def _shaft_statics(result, units) -> list:
@@ -391,17 +410,38 @@ def _level1(data, units) -> str:
                  [f"average gas density [{dunit}]", _g(csr.density * dscale), ""],
                  ["critical speed ratio CSR [-]", _g(csr.csr, 3),
                   f"Region A: <= {csr.boundary:.3g}" + ("" if result.csr_applies else " (Q0/Qa >= 10: not applied)")]]
+    runs = data.results.get("level1_runs") or [result]
     return "\n".join([
         _heading("level1"),
-        f"<p>Stations: {escape(', '.join(_station(s, units) for s in result.stations))}; mode {result.mode} followed at the MCS. "
-        f"{escape(result.verdict())}.</p>",
+        f"<p>Stations: {escape(', '.join(_station(s, units) for s in result.stations))}; at the MCS the "
+        f"rotor's forward modes at the station ({len(runs)} followed) are swept and the least stable is judged: "
+        f"mode {result.mode} (docs/report.md). {escape(result.verdict(units))}.</p>",
         _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
-        _figure(result.plot(**_units(units)), "Figure: log decrement of the first forward mode against the applied cross-coupling "
-                "Q (API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")]
+        _runs_table(runs, result, units),
+        _figure(result.plot(**_units(units)), f"Figure: log decrement of mode {result.mode}, the least stable "
+                "forward mode at Qa, against the applied cross-coupling Q; Q0 the smallest of the swept modes' "
+                "(API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")]
         + ([] if csr is None else [_figure(csr.plot(verdict=result.verdict().rpartition(": ")[2], **_units(units)),
                                            "Figure: critical speed ratio against average gas density, the dividing "
                                            "line between Regions A and B (API 617 Level I; docs/standards.md).",
                                            "Critical speed ratio chart")]))
+
+
+def _runs_table(runs, judged, units) -> str:
+    """One row per forward mode the Level I swept: its frequency at Q = 0, log decrement at Qa,
+    Q0 and Q0/Qa, and which criterion it governs."""
+    factor, unit = shown_scale("stiffness", units)
+    rows = []
+    for run in runs:
+        governs = [what for what, yes in (("log decrement at Qa", run.mode == judged.mode),
+                                          ("Q0", np.isfinite(judged.q0) and run.q0 == judged.q0)) if yes]
+        beyond = f"> {run.cross_coupling[-1] / run.qa:.3g}"
+        rows.append([str(run.mode), _g(run.frequencies_hz[0], 5), _g(run.log_decrement_at_qa, 3),
+                     _g(run.q0 * factor) if np.isfinite(run.q0) else "beyond the sweep",
+                     f"{run.ratio:.3g}" if np.isfinite(run.q0) else beyond, ", ".join(governs)])
+    return ("<h3>Forward modes swept</h3>"
+            + _table(rows, [("mode", True), ("frequency at Q = 0 [Hz]", False), ("log decrement at Qa [-]", False),
+                            (f"Q0 [{unit}]", False), ("Q0/Qa [-]", False), ("governs", True)]))
 
 
 def _station(station, units) -> str:

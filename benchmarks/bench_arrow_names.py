@@ -9,8 +9,11 @@ convex hull of its projected edges: rotor cylinders, stator box). For every view
 * ``edge``: names whose box a displaced body's edge runs through (the count of issue 27 §3);
 * ``outline``: names whose box overlaps a rotor's or the stator box's projected outline;
 * ``overlap``: pairs of names whose boxes overlap; ``arrow``: names an arrow runs through;
+* ``any line``: names any line drawn in the 3D view runs through (springs, orbits, spin arcs, the
+  bodies at rest included);
 * ``leader``: names drawn with a leader line; ``bad leader``: leaders that do not run from their
-  name's box to their arrow's free end, or cross another name.
+  name's box to their arrow's free end, or cross another name; ``leaders crossing``: pairs of
+  leaders that cross; ``longest leader``: in name heights.
 
 The grid: motor_pump_on_mounts modes 1, 2 at 0 and 3000 rpm, fan_on_bearings modes 2, 3 at
 3000 rpm, each in the default view and turned to (elevation 15, azimuth -120); gear_machine modes
@@ -87,6 +90,17 @@ def free_end(ax, view, name, shaft):
     return ends[np.argmax(np.hypot(*(ends - point).T))]
 
 
+def _crossing(a, b):
+    """Whether the segments ``a`` and ``b`` (2, 2) cross (strictly inside both)."""
+    r, t = a[1] - a[0], b[1] - b[0]
+    denominator = r[0] * t[1] - r[1] * t[0]
+    if denominator == 0:
+        return False
+    q = b[0] - a[0]
+    u, v = (q[0] * t[1] - q[1] * t[0]) / denominator, (q[0] * r[1] - q[1] * r[0]) / denominator
+    return bool(0 < u < 1 and 0 < v < 1)
+
+
 def box_meets_outline(box, outline):
     """Whether the box (Bbox) and the convex outline (Path) overlap."""
     corners = np.array([[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1], [box.x0, box.y1]])
@@ -113,16 +127,23 @@ def measure(example, mode, rpm, angles, png=None):
         if gid.startswith("displaced-arrow:"):
             segments = [ax.transData.transform(np.asarray(s, float)) for s in collection.get_segments()]
             arrows[gid.split(":", 1)[1]] = np.concatenate([np.hstack([s[:-1], s[1:]]) for s in segments])
-    counts = dict.fromkeys(("names", "edge", "outline", "overlap", "arrow", "leader", "bad leader"), 0)
+    counts = dict.fromkeys(("names", "edge", "outline", "any line", "overlap", "arrow", "leader", "bad leader",
+                            "leaders crossing", "longest leader"), 0)
     counts["names"] = len(boxes)
     which = []
+    drawn = [projected(ax, np.column_stack([np.asarray(c, float) for c in line.get_data_3d()]))
+             for line in ax.get_lines() if hasattr(line, "get_data_3d")]
+    lines = np.concatenate([np.hstack([p[:-1], p[1:]]) for p in drawn])
+    lines = lines[np.all(np.isfinite(lines), axis=1)]
     for name, box in boxes.items():
+        counts["any line"] += bool(len(clip_segments(lines, box.extents)))
         if len(clip_segments(edges, box.extents)):
             counts["edge"] += 1
             which.append(name)
         counts["outline"] += any(box_meets_outline(box, outline) for outline in outlines)
         counts["arrow"] += any(len(clip_segments(s, box.extents)) for s in arrows.values())
-        counts["overlap"] += sum(other < name and box.overlaps(b) for other, b in boxes.items())
+        counts["overlap"] += int(sum(other < name and box.overlaps(b) for other, b in boxes.items()))
+    drawn_leaders = []
     for line in ax.get_lines():
         gid = str(line.get_gid())
         if gid.startswith("arrow-leader:") and line.get_visible():
@@ -134,6 +155,11 @@ def measure(example, mode, rpm, angles, png=None):
             others = [b for n, b in boxes.items() if n != name]
             crosses = any(len(clip_segments(np.hstack([ends[:-1], ends[1:]]), b.extents)) for b in others)
             counts["bad leader"] += not (starts_at_name and np.hypot(*(ends[-1] - free)) < 1.5) or crosses
+            counts["longest leader"] = max(counts["longest leader"], round(float(np.hypot(*(ends[-1] - ends[0])) / box.height), 1))
+            drawn_leaders.append(ends)
+    for k, a in enumerate(drawn_leaders):
+        for b in drawn_leaders[:k]:
+            counts["leaders crossing"] += _crossing(a, b)
     if png is not None:
         tag = f"{example}-m{mode}-{rpm}rpm{'-turned' if angles else ''}"
         fig.savefig(Path(png) / f"{tag}.png", dpi=80)
@@ -148,15 +174,15 @@ def main(argv=None):
     if args.png:
         Path(args.png).mkdir(parents=True, exist_ok=True)
     for title, grid in (("15 views (motor_pump, fan, gear)", GRID), ("4 views (flexible_pump)", FLEXIBLE)):
-        total = None
         print(title)
+        rows = []
         for case in grid:
             counts, which = measure(*case, png=args.png)
-            total = counts if total is None else {k: total[k] + v for k, v in counts.items()}
+            rows.append(counts)
             print(f"  {case[0]:24s} mode {case[1]} {case[2]:5d} rpm {str(case[3] or 'default'):10s} "
                   + " ".join(f"{k} {v}" for k, v in counts.items()) + (f"  on edges: {', '.join(which)}" if which else ""))
+        total = {k: (max if k == "longest leader" else sum)(row[k] for row in rows) for k in rows[0]}
         print("  total: " + ", ".join(f"{k} {v}" for k, v in total.items()))
-
 
 if __name__ == "__main__":
     main()

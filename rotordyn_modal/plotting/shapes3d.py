@@ -421,11 +421,16 @@ class _ArrowLabels:
     A rotation of the view (and the animation's phase) moves the arrows on the screen, so the
     names are laid out at draw time (:func:`._labels.draw_time_layout`), in display pixels:
     each beside its arrow's free end (a sensor's tip, an excitation's tail), straight on along
-    the arrow first, else turned from it or a little farther away, where its box crosses no
-    arrow and overlaps no name placed before nor the legend, inside the axes; and, within
-    :data:`_BODY_REACH` of its heights from the arrow's end, off the bodies as drawn at the
-    phase (their edges and filled outlines, projected as the view now stands), else on the
-    fewest of their edges.
+    the arrow first, else turned from it or a little farther away, within :data:`_BODY_REACH`
+    of its heights, where its box crosses no arrow, overlaps no name placed before nor the
+    legend, inside the axes, and is off the bodies as drawn at the phase (their edges, displaced
+    and at rest, and the filled outlines of rotors and stator box, projected as the view now
+    stands). A name with no such spot stands in clear space, the nearest spot off every drawn
+    line, arrow, outline, name and the legend inside the axes' drawn box (else off the bodies'
+    edges and outlines, the arrows, names and legend only), joined to its arrow's free end by a
+    thin leader line in the arrow's colour that crosses no name (and, where possible, no other
+    leader nor arrow). Where the axes hold no such spot either, the name stays beside its
+    arrow, off the bodies' edges if it can, else on the fewest of them.
 
     Parameters
     ----------
@@ -796,8 +801,9 @@ def _preferences(segments, edges, hulls, pad):
     def arrows(b):
         return not _crosses_arrows(b, segments, pad)
 
-    return [lambda b: arrows(b) and clear_of(displaced, b) and clear_of(at_rest, b)
-            and not any(_box_meets_polygon(b, hull) for hull in hulls),
+    # the cheapest test first (the outlines: a few corners each), the arrows' last (one call each)
+    return [lambda b: not any(_box_meets_polygon(b, hull) for hull in hulls) and clear_of(displaced, b)
+            and clear_of(at_rest, b) and arrows(b),
             lambda b: arrows(b) and clear_of(displaced, b) and clear_of(at_rest, b),
             lambda b: arrows(b) and clear_of(displaced, b),
             arrows], crossings

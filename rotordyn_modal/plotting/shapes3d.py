@@ -409,6 +409,9 @@ _BODY_REACH = 2.9
 _LEADER_WIDTH = 0.7
 #: at most this many free boxes are tried for a leader's name, the nearest first
 _LEADER_TRIES = 400
+#: a leader crossing no other leader nor arrow may be this many name heights longer than the
+#: shortest one that crosses no name (longer, the crossing reads better than the detour)
+_LEADER_DETOUR = 6.0
 #: the names stand above the bodies (mplot3d orders the collections from 1 up, one per collection)
 _LABEL_ZORDER = 1.0e6
 #: a light background keeps a name readable over the bodies (inside the pad)
@@ -590,8 +593,9 @@ def _leader_spot(spaces, free, direction, w, h, pad, placed, leaders, segments, 
     """A box ``w x h`` [pixels] for a name in clear space and its leader to the arrow's ``free``
     end: the nearest box (rings around ``free``, along ``direction`` first) that the first of
     ``spaces`` (:class:`_Occupied`) that has one leaves free, inside ``inner``, clear of the names
-    ``placed``, whose leader crosses no name, preferably no other leader and no arrow. The box
-    and the leader are added to ``placed``, ``leaders`` and every space.
+    ``placed``, whose leader crosses no name, preferably (up to :data:`_LEADER_DETOUR` name heights
+    farther) no other leader and no arrow. The box and the leader are added to ``placed``,
+    ``leaders`` and every space.
 
     Returns
     -------
@@ -610,17 +614,22 @@ def _leader_spot(spaces, free, direction, w, h, pad, placed, leaders, segments, 
                       & (b[..., 1] < other[..., 3] + pad) & (other[..., 1] < b[..., 3] + pad), axis=1)
     others = [s for s in segments if np.hypot(*(s[1] - free)) > 0.5 and np.hypot(*(s[0] - free)) > 0.5]
     for space in spaces:
-        fallback = None
+        found, first = [None, None, None], None     # crossing nothing; no other leader; only no name
         for box in boxes[ok & space.free(boxes, pad)][:_LEADER_TRIES]:
             line = (tuple(np.clip(free, box[:2], box[2:])), tuple(free))
+            if first is not None and _distance_to_box(free, box) > first + _LEADER_DETOUR * h:
+                break
             if crosses_any([line], [_widened(p, 0.5 * pad) for p in placed]):
                 continue
-            if not crosses_any(leaders, [_widened(box, pad)]) and not _touches_segments(line, leaders + others):
-                fallback = (box, line)
+            first = _distance_to_box(free, box) if first is None else first
+            off_leaders = not crosses_any(leaders, [_widened(box, pad)]) and not _touches_segments(line, leaders)
+            rank = 0 if off_leaders and not _touches_segments(line, others) else 1 if off_leaders else 2
+            found[rank] = found[rank] or (box, line)
+            if rank == 0:
                 break
-            fallback = fallback or (box, line)
-        if fallback is not None:
-            box, line = fallback
+        best = next((each for each in found if each is not None), None)
+        if best is not None:
+            box, line = best
             placed.append(tuple(box))
             leaders.append(line)
             for each in spaces:

@@ -155,7 +155,8 @@ def measure(example, mode, rpm, angles, png=None):
             others = [b for n, b in boxes.items() if n != name]
             crosses = any(len(clip_segments(np.hstack([ends[:-1], ends[1:]]), b.extents)) for b in others)
             counts["bad leader"] += not (starts_at_name and np.hypot(*(ends[-1] - free)) < 1.5) or crosses
-            counts["longest leader"] = max(counts["longest leader"], round(float(np.hypot(*(ends[-1] - ends[0])) / box.height), 1))
+            length = float(np.hypot(*(ends[-1] - ends[0]))) / box.height
+            counts["longest leader"] = max(counts["longest leader"], round(length, 1))
             drawn_leaders.append(ends)
     for k, a in enumerate(drawn_leaders):
         for b in drawn_leaders[:k]:
@@ -180,7 +181,8 @@ def main(argv=None):
             counts, which = measure(*case, png=args.png)
             rows.append(counts)
             print(f"  {case[0]:24s} mode {case[1]} {case[2]:5d} rpm {str(case[3] or 'default'):10s} "
-                  + " ".join(f"{k} {v}" for k, v in counts.items()) + (f"  on edges: {', '.join(which)}" if which else ""))
+                  + " ".join(f"{k} {v}" for k, v in counts.items())
+                  + (f"  on edges: {', '.join(which)}" if which else ""))
         total = {k: (max if k == "longest leader" else sum)(row[k] for row in rows) for k in rows[0]}
         print("  total: " + ", ".join(f"{k} {v}" for k, v in total.items()))
 

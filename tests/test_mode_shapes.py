@@ -384,9 +384,10 @@ def _label_boxes_and_arrows(fig, names):
 @pytest.mark.parametrize("example, mode, view_angles", [
     ("gear_machine", 2, None), ("motor_pump_on_mounts", 2, None), ("motor_pump_on_mounts", 2, (15, -120))])
 def test_arrow_names_clear_of_every_arrow_and_of_each_other(example, mode, view_angles):
-    """Each sensor's and excitation's name is drawn beside its own arrow, where no arrow (its own
-    included) runs through its rendered glyphs and no other name overlaps it, inside the 3D axes;
-    after the view is turned too (the names are placed where the arrows are drawn)."""
+    """Each sensor's and excitation's name is drawn beside its own arrow (or, with no clear spot
+    there, joined to it by a leader line: test_names_stand_off_the_bodies_with_leaders_to_their_arrows),
+    where no arrow (its own included) runs through its rendered glyphs and no other name overlaps
+    it, inside the 3D axes; after the view is turned too (the names are placed where the arrows are drawn)."""
     import matplotlib.pyplot as plt
 
     from label_geometry import clip_segments
@@ -553,8 +554,8 @@ def test_names_stand_off_the_bodies_with_leaders_to_their_arrows(mode, phase, vi
         fig.axes[0].view_init(*view_angles)
     ax, boxes, arrows = _label_boxes_and_arrows(fig, names)
     edges = np.concatenate(list(_drawn_body_edges(ax, "displaced:").values()))
-    outlines = {body.name: _projected_outline(ax, points) for body, points in zip(view.outline.bodies, view.at_phase(phase))
-                if body.kind in ("rotor", "stator")}
+    outlines = {body.name: _projected_outline(ax, points)
+                for body, points in zip(view.outline.bodies, view.at_phase(phase)) if body.kind in ("rotor", "stator")}
     for name, box in boxes.items():
         for body, outline in outlines.items():
             corners = [(box.x0, box.y0), (box.x1, box.y0), (box.x1, box.y1), (box.x0, box.y1)]

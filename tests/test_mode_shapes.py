@@ -384,9 +384,10 @@ def _label_boxes_and_arrows(fig, names):
 @pytest.mark.parametrize("example, mode, view_angles", [
     ("gear_machine", 2, None), ("motor_pump_on_mounts", 2, None), ("motor_pump_on_mounts", 2, (15, -120))])
 def test_arrow_names_clear_of_every_arrow_and_of_each_other(example, mode, view_angles):
-    """Each sensor's and excitation's name is drawn beside its own arrow, where no arrow (its own
-    included) runs through its rendered glyphs and no other name overlaps it, inside the 3D axes;
-    after the view is turned too (the names are placed where the arrows are drawn)."""
+    """Each sensor's and excitation's name is drawn beside its own arrow (or, with no clear spot
+    there, joined to it by a leader line: test_names_stand_off_the_bodies_with_leaders_to_their_arrows),
+    where no arrow (its own included) runs through its rendered glyphs and no other name overlaps
+    it, inside the 3D axes; after the view is turned too (the names are placed where the arrows are drawn)."""
     import matplotlib.pyplot as plt
 
     from label_geometry import clip_segments
@@ -407,7 +408,10 @@ def test_arrow_names_clear_of_every_arrow_and_of_each_other(example, mode, view_
             assert not len(clip_segments(segments, box.extents)), f"arrow {other} runs through the name {name}"
         for other, other_box in boxes.items():
             assert other == name or not box.overlaps(other_box), f"names {name} and {other} overlap"
-        # beside its own arrow: within three of its heights of the arrow's drawn segments
+        # beside its own arrow: within three of its heights of the arrow's drawn segments, or
+        # (no room there) joined to it by its leader line
+        if name in _leaders(ax):
+            continue
         ends = arrows[name].reshape(-1, 2)
         near = np.hypot(np.maximum(0, np.maximum(box.x0 - ends[:, 0], ends[:, 0] - box.x1)),
                         np.maximum(0, np.maximum(box.y0 - ends[:, 1], ends[:, 1] - box.y1))).min()
@@ -507,4 +511,71 @@ def test_arrow_names_clear_of_the_bodies_edges(example, mode, rpm, view_angles):
             assert not len(clip_segments(segments, boxes[arrow.name].extents)), \
                 f"the {body}'s edge runs through the name {arrow.name}"
     assert checked >= 1                         # the test can fail
+    plt.close(fig)
+
+
+def _leaders(ax):
+    """The leader lines drawn from names to arrows: pixels (n, 2) of each, by name."""
+    return {str(line.get_gid()).split(":", 1)[1]: line.get_transform().transform(
+            np.column_stack([line.get_xdata(), line.get_ydata()]))
+            for line in ax.get_lines() if str(line.get_gid()).startswith("arrow-leader:") and line.get_visible()}
+
+
+def _projected_outline(ax, points):
+    """The convex outline (a matplotlib Path, display pixels) of ``points`` (n, 3) as mplot3d projects them."""
+    from matplotlib.path import Path as PixelPath
+    from mpl_toolkits.mplot3d import proj3d
+    from scipy.spatial import ConvexHull
+
+    x, y, _ = proj3d.proj_transform(points[:, 0], points[:, 1], points[:, 2], ax.get_proj())
+    flat = ax.transData.transform(np.column_stack([x, y]))
+    return PixelPath(flat[ConvexHull(flat).vertices])
+
+
+@pytest.mark.parametrize("mode, phase, view_angles", [(1, 0.0, None), (2, np.pi / 2, (15, -120))])
+def test_names_stand_off_the_bodies_with_leaders_to_their_arrows(mode, phase, view_angles):
+    """motor_pump_on_mounts: the pump's probes end inside the pump's cylinder and the stator box,
+    where no spot beside them is clear, and their names were drawn over the bodies. Now no name's
+    rendered box meets the projected outline of a displaced rotor or of the stator box (the
+    bodies' own corners at the drawn phase, projected as the view stands), nor a drawn edge; a
+    name moved away is joined to its arrow by a line from its box to the arrow's free end (the
+    drawn shaft's end away from the arrow's point) that crosses no other name. At an animation's
+    phase and after the view is turned too."""
+    import matplotlib.pyplot as plt
+    from mpl_toolkits.mplot3d import proj3d
+
+    from label_geometry import clip_segments
+
+    model = rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml")
+    view = mode_shape_3d(rdm.modal(model, rdm.rpm(3000)), model, mode)
+    names = [arrow.name for arrow in view.outline.arrows]
+    fig = plot_mode_shape(view, phase=phase, projections=False)
+    if view_angles is not None:
+        fig.axes[0].view_init(*view_angles)
+    ax, boxes, arrows = _label_boxes_and_arrows(fig, names)
+    edges = np.concatenate(list(_drawn_body_edges(ax, "displaced:").values()))
+    outlines = {body.name: _projected_outline(ax, points)
+                for body, points in zip(view.outline.bodies, view.at_phase(phase)) if body.kind in ("rotor", "stator")}
+    for name, box in boxes.items():
+        for body, outline in outlines.items():
+            corners = [(box.x0, box.y0), (box.x1, box.y0), (box.x1, box.y1), (box.x0, box.y1)]
+            assert not outline.intersects_bbox(box) and not outline.contains_points(corners).any(), \
+                f"the name {name} stands on the {body}"
+        assert not len(clip_segments(edges, box.extents)), f"a body's edge runs through the name {name}"
+    leaders = _leaders(ax)
+    assert leaders                              # the probes' names are joined to their arrows
+    for name, line in leaders.items():
+        box = boxes[name]
+        start, end = line[0], line[-1]
+        assert box.x0 - 1 <= start[0] <= box.x1 + 1 and box.y0 - 1 <= start[1] <= box.y1 + 1, f"{name}'s leader"
+        arrow = names.index(name)
+        point = view.outline.arrows[arrow].point + np.real(view.arrow_motion[arrow] * np.exp(1j * phase))
+        x, y, _ = proj3d.proj_transform(*point, ax.get_proj())
+        point = ax.transData.transform((x, y))
+        shaft = arrows[name][0].reshape(2, 2)
+        free = shaft[np.argmax(np.hypot(*(shaft - point).T))]
+        assert np.hypot(*(end - free)) < 1.0, f"{name}'s leader ends {np.hypot(*(end - free)):.1f} px from its arrow"
+        for other, other_box in boxes.items():
+            assert other == name or not len(clip_segments(np.hstack([line[:-1], line[1:]]), other_box.extents)), \
+                f"{name}'s leader runs through the name {other}"
     plt.close(fig)

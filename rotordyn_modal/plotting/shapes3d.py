@@ -404,6 +404,14 @@ _LABEL_STEPS = (0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0)
 #: a name moves off the bodies' edges to at most this many of its heights from its arrow's end
 #: (farther it would read as another arrow's)
 _BODY_REACH = 2.9
+#: a name placed away from its arrow (no room beside it) is joined to the arrow's free end by a
+#: line this wide [points]
+_LEADER_WIDTH = 0.7
+#: at most this many free boxes are tried for a leader's name, the nearest first
+_LEADER_TRIES = 400
+#: a leader crossing no other leader nor arrow may be this many name heights longer than the
+#: shortest one that crosses no name (longer, the crossing reads better than the detour)
+_LEADER_DETOUR = 6.0
 #: the names stand above the bodies (mplot3d orders the collections from 1 up, one per collection)
 _LABEL_ZORDER = 1.0e6
 #: a light background keeps a name readable over the bodies (inside the pad)
@@ -416,11 +424,16 @@ class _ArrowLabels:
     A rotation of the view (and the animation's phase) moves the arrows on the screen, so the
     names are laid out at draw time (:func:`._labels.draw_time_layout`), in display pixels:
     each beside its arrow's free end (a sensor's tip, an excitation's tail), straight on along
-    the arrow first, else turned from it or a little farther away, where its box crosses no
-    arrow and overlaps no name placed before nor the legend, inside the axes; and, within
-    :data:`_BODY_REACH` of its heights from the arrow's end, off the bodies as drawn at the
-    phase (their edges and filled outlines, projected as the view now stands), else on the
-    fewest of their edges.
+    the arrow first, else turned from it or a little farther away, within :data:`_BODY_REACH`
+    of its heights, where its box crosses no arrow, overlaps no name placed before nor the
+    legend, inside the axes, and is off the bodies as drawn at the phase (their edges, displaced
+    and at rest, and the filled outlines of rotors and stator box, projected as the view now
+    stands). A name with no such spot stands in clear space, the nearest spot off every drawn
+    line, arrow, outline, name and the legend inside the axes' drawn box (else off the bodies'
+    edges and outlines, the arrows, names and legend only), joined to its arrow's free end by a
+    thin leader line in the arrow's colour that crosses no name (and, where possible, no other
+    leader nor arrow). Where the axes hold no such spot either, the name stays beside its
+    arrow, off the bodies' edges if it can, else on the fewest of them.
 
     Parameters
     ----------
@@ -438,10 +451,11 @@ class _ArrowLabels:
                       for arrow in view.outline.arrows]
         for text in self.texts:
             text.set_in_layout(False)
+        self.leaders = [_leader_line(ax, arrow) for arrow in view.outline.arrows]
 
     def place(self, renderer):
         """Put every name where :class:`_ArrowLabels` says (``renderer``: the one drawing)."""
-        from ._labels import first_free_box, set_if_changed
+        from ._labels import first_free_box
 
         ax = self.ax
         pad = _LABEL_PAD_POINTS * renderer.points_to_pixels(1.0)
@@ -450,27 +464,86 @@ class _ArrowLabels:
         inner = (frame.x0 + pad, frame.y0 + pad, frame.x1 - pad, frame.y1 - pad)
         legend = ax.get_legend()
         obstacles = [] if legend is None else [tuple(legend.get_window_extent(renderer).extents)]
-        placed = []
+        placed, leaders = [], []
         edges, hulls = self._bodies()
-        for text, (attached, free) in zip(self.texts, self._ends(segments)):
-            extent = text.get_window_extent(renderer)
-            boxes = _boxes_beyond(free, free - attached, extent.width, extent.height, pad)
-            near = [b for b in boxes if _distance_to_box(free, b) <= _BODY_REACH * extent.height]
-            clear, crossings = _preferences(segments, edges, hulls, pad)
-            box = None
-            for allowed in clear[:-1]:
-                box = first_free_box(near, placed, (pad, pad), inner, obstacles, allowed=allowed)
-                if box is not None:
-                    break
-            if box is None:             # among the near boxes clear of the arrows, the one on fewest body edges
-                box = first_free_box(near, placed, (pad, pad), inner, obstacles, allowed=clear[-1], cost=crossings)
-            if box is None:
-                box = first_free_box(boxes, placed, (pad, pad), inner, obstacles, allowed=clear[-1])
-            if box is None:             # no room: the nearest box inside the axes, clear of the arrows if any
-                box = next((b for b in boxes if not _crosses_arrows(b, segments, pad)), boxes[0])
-                placed.append(box)
-            u, v = ax.transAxes.inverted().transform((box[0], box[1]))
-            set_if_changed(text, position=(u, v))
+        clear, crossings = _preferences(segments, edges, hulls, pad)
+        ends = self._ends(segments)
+        sizes = [(e.width, e.height) for e in (text.get_window_extent(renderer) for text in self.texts)]
+        boxes, lines = [None] * len(self.texts), [None] * len(self.texts)
+        for k, ((attached, free), (w, h)) in enumerate(zip(ends, sizes)):      # beside the arrow, clear
+            near = [b for b in _boxes_beyond(free, free - attached, w, h, pad)
+                    if _distance_to_box(free, b) <= _BODY_REACH * h]
+            boxes[k] = first_free_box(near, placed, (pad, pad), inner, obstacles, allowed=clear[0])
+        spaces = None
+        for k, ((attached, free), (w, h)) in enumerate(zip(ends, sizes)):      # in clear space, with a leader
+            if boxes[k] is None:
+                spaces = spaces or self._clear_space(frame, pad, segments, edges, hulls, obstacles)
+                boxes[k], lines[k] = _leader_spot(spaces, free, free - attached, w, h, pad, placed, leaders,
+                                                  segments, inner)
+        for k, ((attached, free), (w, h)) in enumerate(zip(ends, sizes)):      # no room: as before
+            if boxes[k] is None:
+                boxes[k] = self._fallback(free, attached, w, h, pad, placed, leaders, segments, inner,
+                                          obstacles, clear, crossings)
+        for text, leader, box, line in zip(self.texts, self.leaders, boxes, lines):
+            self._show(text, leader, box, line)
+
+    def _fallback(self, free, attached, w, h, pad, placed, leaders, segments, inner, obstacles, clear, crossings):
+        """The box beside the arrow where no clear spot is, near or with a leader: the nearest clear
+        of the bodies' edges, else on the fewest of them, else clear of the arrows (and leaders)."""
+        from ._labels import crosses_any, first_free_box
+
+        def off_leaders(test):
+            return lambda b: test(b) and not crosses_any(leaders, [_widened(b, pad)])
+
+        boxes = _boxes_beyond(free, free - attached, w, h, pad)
+        near = [b for b in boxes if _distance_to_box(free, b) <= _BODY_REACH * h]
+        for allowed in clear[1:-1]:
+            box = first_free_box(near, placed, (pad, pad), inner, obstacles, allowed=off_leaders(allowed))
+            if box is not None:
+                return box
+        box = first_free_box(near, placed, (pad, pad), inner, obstacles, allowed=off_leaders(clear[-1]),
+                             cost=crossings)
+        if box is None:
+            box = first_free_box(boxes, placed, (pad, pad), inner, obstacles, allowed=off_leaders(clear[-1]))
+        if box is None:
+            box = next((b for b in boxes if not _crosses_arrows(b, segments, pad)), boxes[0])
+            placed.append(box)
+        return box
+
+    def _show(self, text, leader, box, line):
+        """Move ``text`` to ``box`` (pixels) and draw its ``leader`` along ``line`` (pixels, or hide it)."""
+        from ._labels import set_if_changed
+
+        to_axes = self.ax.transAxes.inverted()
+        u, v = to_axes.transform((box[0], box[1]))
+        set_if_changed(text, position=(u, v))
+        if line is None:
+            set_if_changed(leader, visible=False)
+            return
+        (u0, v0), (u1, v1) = to_axes.transform(np.asarray(line, float))
+        set_if_changed(leader, xdata=[u0, u1], ydata=[v0, v1], visible=True)
+
+    def _clear_space(self, frame, pad, segments, edges, hulls, obstacles):
+        """Where a name may stand away from its arrow, the strictest first (:class:`_Occupied`):
+        off every line drawn in the 3D view, the arrows, the bodies' outlines and the legend, inside
+        the drawn box of the axes (the tick labels are outside it); then off the bodies' edges, the
+        arrows, their outlines and the legend only."""
+        cube = _convex_hull(self._project(_cube_corners(self.ax)))
+        drawn = [self._project(np.column_stack([np.asarray(c, float) for c in line.get_data_3d()]))
+                 for line in self.ax.get_lines() if hasattr(line, "get_data_3d")]
+        spaces = []
+        for lines in ([_segments(points) for points in drawn] + list(edges), list(edges)):
+            space = _Occupied(frame, pad)
+            for part in lines:
+                space.add_segments(part)
+            space.add_arrows(segments)
+            for hull in hulls:
+                space.add_polygon(hull)
+            space.add_outside(cube)
+            for box in obstacles:
+                space.add_box(box)
+            spaces.append(space)
+        return spaces
 
     def _bodies(self):
         """The bodies as drawn now, in display pixels: their edges' segments ``(displaced, at rest)``,
@@ -502,6 +575,193 @@ class _ArrowLabels:
         """(attached end, free end) of each arrow in pixels: the label goes at the free end."""
         return [(tip, tail) if arrow.kind == "excitation" else (tail, tip)
                 for arrow, (tail, tip) in zip(self.view.outline.arrows, segments)]
+
+
+def _leader_line(ax, arrow):
+    """The thin line from an arrow's name to its free end, hidden until a name needs it (pixels
+    set at draw time, in axes coordinates)."""
+    from matplotlib.lines import Line2D
+
+    line = Line2D([], [], transform=ax.transAxes, color=_ARROW_COLOURS[arrow.kind], linewidth=_LEADER_WIDTH,
+                  zorder=_LABEL_ZORDER - 1, visible=False, gid=f"arrow-leader:{arrow.name}")
+    line.set_in_layout(False)
+    ax.add_artist(line)
+    return line
+
+
+def _leader_spot(spaces, free, direction, w, h, pad, placed, leaders, segments, inner):
+    """A box ``w x h`` [pixels] for a name in clear space and its leader to the arrow's ``free``
+    end: the nearest box (rings around ``free``, along ``direction`` first) that the first of
+    ``spaces`` (:class:`_Occupied`) that has one leaves free, inside ``inner``, clear of the names
+    ``placed``, whose leader crosses no name, preferably (up to :data:`_LEADER_DETOUR` name heights
+    farther) no other leader and no arrow. The box and the leader are added to ``placed``,
+    ``leaders`` and every space.
+
+    Returns
+    -------
+    tuple
+        ``(box, ((x0, y0), (x1, y1)))`` [pixels], or ``(None, None)`` where there is no room.
+    """
+    from ._labels import crosses_any
+
+    reach = np.hypot(inner[2] - inner[0], inner[3] - inner[1])
+    boxes = _ring_boxes(free, direction, w, h, pad, reach)
+    ok = (boxes[:, 0] >= inner[0]) & (boxes[:, 1] >= inner[1]) & (boxes[:, 2] <= inner[2]) & (boxes[:, 3] <= inner[3])
+    if placed:
+        other = np.asarray(placed, float)[None, :, :]
+        b = boxes[:, None, :]
+        ok &= ~np.any((b[..., 0] < other[..., 2] + pad) & (other[..., 0] < b[..., 2] + pad)
+                      & (b[..., 1] < other[..., 3] + pad) & (other[..., 1] < b[..., 3] + pad), axis=1)
+    others = [s for s in segments if np.hypot(*(s[1] - free)) > 0.5 and np.hypot(*(s[0] - free)) > 0.5]
+    for space in spaces:
+        found, first = [None, None, None], None     # crossing nothing; no other leader; only no name
+        for box in boxes[ok & space.free(boxes, pad)][:_LEADER_TRIES]:
+            line = (tuple(np.clip(free, box[:2], box[2:])), tuple(free))
+            if first is not None and _distance_to_box(free, box) > first + _LEADER_DETOUR * h:
+                break
+            if crosses_any([line], [_widened(p, 0.5 * pad) for p in placed]):
+                continue
+            first = _distance_to_box(free, box) if first is None else first
+            off_leaders = not crosses_any(leaders, [_widened(box, pad)]) and not _touches_segments(line, leaders)
+            rank = 0 if off_leaders and not _touches_segments(line, others) else 1 if off_leaders else 2
+            found[rank] = found[rank] or (box, line)
+            if rank == 0:
+                break
+        best = next((each for each in found if each is not None), None)
+        if best is not None:
+            box, line = best
+            placed.append(tuple(box))
+            leaders.append(line)
+            for each in spaces:
+                each.add_segments(np.array([[*line[0], *line[1]]]))
+            return tuple(box), line
+    return None, None
+
+
+def _touches_segments(line, segments):
+    """Whether ``line`` ((x0, y0), (x1, y1)) crosses any of ``segments`` ((start, end) pairs)
+    away from its own ends."""
+    from ._labels import crosses_segments
+
+    return bool(len(segments)) and crosses_segments(line[0], line[1], np.asarray(segments, float).reshape(-1, 4))
+
+
+def _widened(box, by):
+    return (box[0] - by, box[1] - by, box[2] + by, box[3] + by)
+
+
+def _ring_boxes(point, direction, w, h, pad, reach):
+    """Boxes ``w x h`` [pixels] around ``point`` on rings half a box height apart out to ``reach``
+    [pixels], each ring along ``direction`` first then turned from it both ways, shape (n, 4)."""
+    length = np.hypot(*direction)
+    angle = np.arctan2(direction[1], direction[0]) if length > pad else np.pi / 4
+    turns = np.radians(np.concatenate([[0.0], np.repeat(np.arange(15.0, 181.0, 15.0), 2)
+                                       * np.tile([1.0, -1.0], 12)]))
+    steps = np.arange(0.0, max(reach / h, 1.0), 0.5)
+    c, s = np.cos(angle + turns)[None, :], np.sin(angle + turns)[None, :]
+    along = pad + steps[:, None] * h + 0.5 * (w * np.abs(c) + h * np.abs(s))
+    cx, cy = (point[0] + along * c).ravel(), (point[1] + along * s).ravel()
+    return np.column_stack([cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2])
+
+
+def _cube_corners(ax):
+    """The eight corners [m] of a 3D axes' drawn box (its limits), shape (8, 3)."""
+    limits = (ax.get_xlim3d(), ax.get_ylim3d(), ax.get_zlim3d())
+    return np.array([[x, y, z] for x in limits[0] for y in limits[1] for z in limits[2]], float)
+
+
+class _Occupied:
+    """Which cells of a grid over the axes' frame [pixels] are taken (by drawn lines, filled
+    outlines, boxes, what lies outside a polygon): a box is free where it covers no taken cell
+    (a summed-area table, one look-up per box however many lines are drawn).
+
+    Parameters
+    ----------
+    frame : matplotlib Bbox
+        The axes' frame [pixels].
+    cell : float
+        Side of a cell [pixels]; a line marks every cell it passes through.
+    """
+
+    def __init__(self, frame, cell):
+        self.origin, self.cell = np.array([frame.x0, frame.y0]), max(float(cell), 1.0)
+        self.grid = np.zeros((int(frame.height / self.cell) + 2, int(frame.width / self.cell) + 2), bool)
+        self._table = None
+
+    def _mark(self, points):
+        index = np.floor((np.asarray(points, float).reshape(-1, 2) - self.origin) / self.cell)
+        index = index[np.all(np.isfinite(index), axis=1)].astype(int)
+        ny, nx = self.grid.shape
+        keep = (index[:, 0] >= 0) & (index[:, 0] < nx) & (index[:, 1] >= 0) & (index[:, 1] < ny)
+        self.grid[index[keep, 1], index[keep, 0]] = True
+        self._table = None
+
+    def add_segments(self, lines):
+        """Take the cells the segments ``lines`` (n, 4) [pixels] pass through."""
+        lines = np.asarray(lines, float).reshape(-1, 4)
+        lines = lines[np.all(np.isfinite(lines), axis=1)]
+        if not len(lines):
+            return
+        delta = lines[:, 2:] - lines[:, :2]
+        count = np.minimum(np.ceil(np.hypot(delta[:, 0], delta[:, 1]) / (0.5 * self.cell)), 1e4).astype(int) + 1
+        which = np.repeat(np.arange(len(lines)), count)
+        first = np.cumsum(count) - count
+        t = (np.arange(count.sum()) - first[which]) / np.maximum(count[which] - 1, 1)
+        self._mark(lines[which, :2] + t[:, None] * delta[which])
+
+    def add_arrows(self, segments):
+        """Take the cells of arrows (n, 2, 2) [pixels]: shaft and head (a tenth of the length to
+        either side of its last third)."""
+        for start, end in np.asarray(segments, float).reshape(-1, 2, 2):
+            side = 0.1 * np.array([start[1] - end[1], end[0] - start[0]])
+            back = end - 0.3 * (end - start)
+            self.add_segments(np.array([[*start, *end], [*(back + side), *end], [*(back - side), *end],
+                                        [*(back + side), *(back - side)]]))
+
+    def _centres(self):
+        ny, nx = self.grid.shape
+        i, j = np.meshgrid(np.arange(nx), np.arange(ny))
+        return self.origin + (np.column_stack([i.ravel(), j.ravel()]) + 0.5) * self.cell
+
+    def add_polygon(self, corners):
+        """Take the cells inside (and on) the polygon ``corners`` (k, 2) [pixels]."""
+        from matplotlib.path import Path
+
+        if len(corners) < 3:
+            return
+        closed = np.vstack([corners, corners[:1]])
+        self.add_segments(np.hstack([closed[:-1], closed[1:]]))
+        inside = Path(corners).contains_points(self._centres()).reshape(self.grid.shape)
+        self.grid |= inside
+
+    def add_outside(self, corners):
+        """Take the cells outside the polygon ``corners`` (k, 2) [pixels]."""
+        from matplotlib.path import Path
+
+        if len(corners) >= 3:
+            self.grid |= ~Path(corners).contains_points(self._centres()).reshape(self.grid.shape)
+            self._table = None
+
+    def add_box(self, box):
+        """Take the cells of ``box`` (x0, y0, x1, y1) [pixels]."""
+        (i0, j0), (i1, j1) = self._index(np.array([box[:2]])), self._index(np.array([box[2:]]))
+        self.grid[j0[0]:j1[0] + 1, i0[0]:i1[0] + 1] = True
+        self._table = None
+
+    def _index(self, points):
+        ny, nx = self.grid.shape
+        index = np.floor((points - self.origin) / self.cell).astype(int)
+        return np.clip(index[:, 0], 0, nx - 1), np.clip(index[:, 1], 0, ny - 1)
+
+    def free(self, boxes, widen=0.0):
+        """Mask of the ``boxes`` (n, 4) [pixels], widened by ``widen``, that cover no taken cell."""
+        if self._table is None:
+            self._table = np.pad(self.grid.astype(np.int32).cumsum(0).cumsum(1), ((1, 0), (1, 0)))
+        boxes = np.asarray(boxes, float).reshape(-1, 4)
+        i0, j0 = self._index(boxes[:, :2] - widen)
+        i1, j1 = self._index(boxes[:, 2:] + widen)
+        t = self._table
+        return (t[j1 + 1, i1 + 1] - t[j0, i1 + 1] - t[j1 + 1, i0] + t[j0, i0]) == 0
 
 
 def _boxes_beyond(point, direction, w, h, pad):
@@ -550,8 +810,9 @@ def _preferences(segments, edges, hulls, pad):
     def arrows(b):
         return not _crosses_arrows(b, segments, pad)
 
-    return [lambda b: arrows(b) and clear_of(displaced, b) and clear_of(at_rest, b)
-            and not any(_box_meets_polygon(b, hull) for hull in hulls),
+    # the cheapest test first (the outlines: a few corners each), the arrows' last (one call each)
+    return [lambda b: not any(_box_meets_polygon(b, hull) for hull in hulls) and clear_of(displaced, b)
+            and clear_of(at_rest, b) and arrows(b),
             lambda b: arrows(b) and clear_of(displaced, b) and clear_of(at_rest, b),
             lambda b: arrows(b) and clear_of(displaced, b),
             arrows], crossings

@@ -167,7 +167,8 @@ def test_python_and_the_command_line_allow_long_work_by_one_switch(examples_dir,
     command line's option)."""
     path = str(examples_dir / "compressor_rotor.toml")        # axisymmetric: speed 0 left to the full solve
     model, speeds = rdm.load_model(path), np.array([0.0, 500.0])
-    command = ["campbell", path, "--speeds", "0:500:2", "--speed-unit", "rad/s", "--no-critical", "--quiet", "--out", "-"]
+    command = ["campbell", path, "--speeds", "0:500:2", "--speed-unit", "rad/s", "--no-critical", "--quiet",
+               "--out", "-"]
     routes = [(lambda: _work.refuse_long_work(model, speeds, critical=False, advice=LONG_ADVICE, memory=True), []),
               (lambda: rdm.campbell(model, speeds, critical=False, modes=4), ["--lowest", "4"])]
     monkeypatch.setenv(_work.ENVIRONMENT, "1e-9")

@@ -67,6 +67,8 @@ _API = {
     "simulate": "simulation", "SimulationResult": "simulation",
     # parameter studies (the module is callable: rdm.study(model, spec))
     "study": None, "StudyResult": "study", "load_study": "study",
+    # work over the CPU-time limit run anyway (the command line's --allow-long)
+    "long_work_allowed": "analysis._cost",
 }
 _RENAMED = {"write_measured_csv": "write_csv"}
 #: public module names -> where the module lives

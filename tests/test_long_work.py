@@ -21,8 +21,10 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _eigensolve, _work
+from rotordyn_modal.analysis import _cost, _eigensolve, _work
 from rotordyn_modal.cli import main
+from rotordyn_modal.cli.campbell import LONG_ADVICE
+from rotordyn_modal.errors import InputError
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_large_machine_cli import chained_gear_toml  # noqa: E402
@@ -111,10 +113,10 @@ def test_a_thread_count_that_is_no_whole_number_is_refused_in_one_line(examples_
 def test_an_eigen_solution_is_timed_at_an_eighth_of_the_size_and_scaled(monkeypatch):
     asked = []
     monkeypatch.setattr(_work, "_timed_eig", lambda size: asked.append(size) or 2.0)
-    assert _work.eig_seconds(4012) == pytest.approx(2.0 * (4012 / 501) ** _work._EXPONENT)
-    assert _work.eig_seconds(100) == pytest.approx(2.0 * (100 / 64) ** _work._EXPONENT)
+    assert _work.eig_seconds(4012) == pytest.approx(2.0 * (4012 / 501) ** _cost._EXPONENT)
+    assert _work.eig_seconds(100) == pytest.approx(2.0 * (100 / 64) ** _cost._EXPONENT)
     assert asked == [501, 64]
-    assert 2.5 <= _work._EXPONENT <= 3.0                          # dense eigen-solutions: n^3 work
+    assert 2.5 <= _cost._EXPONENT <= 3.0                          # dense eigen-solutions: n^3 work
 
 
 def test_the_work_is_one_solution_per_speed_and_the_crossings_cost_per_coordinate(examples_dir, monkeypatch):
@@ -122,7 +124,7 @@ def test_the_work_is_one_solution_per_speed_and_the_crossings_cost_per_coordinat
     model = rdm.load_model(examples_dir / "fan_on_bearings.toml")
     speeds = rdm.rpm(np.linspace(0, 9000, 41))
     work = _work.estimate(model, speeds, (1, 2), critical=True, numbers=True)
-    eig = (32 / 64) ** _work._EXPONENT
+    eig = (32 / 64) ** _cost._EXPONENT
     assert (work.n_dof, work.n_states, work.solutions) == (16, 32, 41)
     assert work.sweep_seconds == pytest.approx(41 * eig)
     per = _work._COORDINATE_SECONDS * 16 + _work._FACTOR_SHARE * eig          # a dense pencil (16 < SPARSE_DOF)
@@ -154,3 +156,28 @@ def test_the_crossings_expected_are_those_of_the_undamped_frequencies_with_the_o
     found = len(rdm.campbell(model, rdm.rpm(np.linspace(0, 3000, 61)), orders=orders).critical)
     assert 0.5 * found <= expected <= 2 * found
     assert math.isfinite(_work.limit_seconds())
+
+
+@pytest.mark.filterwarnings("ignore:lowest modes")
+def test_python_and_the_command_line_allow_long_work_by_one_switch(examples_dir, capsys, monkeypatch):
+    """Both checks of the CPU time, the sweep's estimate (the command line's, ``analysis/_work.py``)
+    and the lowest modes' full-solve fallback (``analysis/_lowest.py``), refuse the same work with
+    the same line from Python and from the command line, and both run it inside
+    ``rdm.long_work_allowed()`` as with ``--allow-long`` (was: the sweep's check read only the
+    command line's option)."""
+    path = str(examples_dir / "compressor_rotor.toml")        # axisymmetric: speed 0 left to the full solve
+    model, speeds = rdm.load_model(path), np.array([0.0, 500.0])
+    command = ["campbell", path, "--speeds", "0:500:2", "--speed-unit", "rad/s", "--no-critical", "--quiet",
+               "--out", "-"]
+    routes = [(lambda: _work.refuse_long_work(model, speeds, critical=False, advice=LONG_ADVICE, memory=True), []),
+              (lambda: rdm.campbell(model, speeds, critical=False, modes=4), ["--lowest", "4"])]
+    monkeypatch.setenv(_work.ENVIRONMENT, "1e-9")
+    for analysis, options in routes:
+        with pytest.raises(InputError) as refused:
+            analysis()
+        assert _refusal(capsys, command + options) == f"rotordyn-modal campbell: error: {refused.value}"
+        with rdm.long_work_allowed():
+            analysis()
+        assert main(command + options + ["--allow-long"]) == 0, capsys.readouterr().err
+        with pytest.raises(InputError):                         # for the block only
+            analysis()

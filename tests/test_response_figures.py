@@ -698,6 +698,39 @@ def test_unbalance_curves_lying_on_each_other_over_part_of_the_range_all_show(pu
     plt.close(fig)
 
 
+@pytest.fixture
+def layouts(monkeypatch):
+    """The constrained layouts run since the fixture began (a list, one entry per layout)."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    done, execute = [], ConstrainedLayoutEngine.execute
+    monkeypatch.setattr(ConstrainedLayoutEngine, "execute", lambda self, fig: done.append(fig) or execute(self, fig))
+    return done
+
+
+def test_the_overlaps_cost_no_layout_of_their_own(layouts):
+    """Laying a figure out is most of its drawing (its log axes' ticks). The curves lying on each
+    other were found on a layout of their own, done again by the save: an FRF figure (each move
+    of the tuning widget's slider) is laid out once, by its save (the overlaps found on that
+    layout); an unbalance figure whose legends the overlaps widen, twice (the overlaps', the
+    save's), as when they widen none."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.plotting.interactive import TuningWidget
+
+    gear = rdm.load_model(EXAMPLES / "gear_machine.toml")
+    tuner = TuningWidget(gear, [rdm.frf(gear, 0.0, np.linspace(2, 40, 77))], ["suspensions.mount-FL.stiffness"])
+    tuner.update(**{"suspensions.mount-FL.stiffness": 1.2}).draw_without_rendering()     # as saved, not rendered
+    assert len(layouts) == 1
+    result = rdm.unbalance_response(rdm.load_model(EXAMPLES / "compressor_rotor.toml"),
+                                    rdm.rpm(np.linspace(500.0, 12000.0, 24)))
+    fig = result.plot(outputs=["probe-left-y", "probe-left-z"])        # isotropic: z on y
+    assert any("(= " in line.get_label() for ax in fig.axes for line in ax.get_lines())   # legends widened
+    fig.draw_without_rendering()
+    assert len(layouts) == 1 + 2
+    plt.close("all")
+
+
 @pytest.mark.parametrize("case", ["fan", "pump", "gear", "rubber"])
 def test_unbalance_peak_leaders_cross_no_curve(fan_unbalance, pump_unbalance, case):
     """Leader lines of AF / SM labels crossed curves (fan_on_bearings' AF 95.7 at 5800 rpm across

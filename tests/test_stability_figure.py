@@ -152,22 +152,35 @@ def test_threshold_label_lies_where_no_curve_runs():
     touches its own line, and no other curve (modes, zero line) runs through its glyphs."""
     import matplotlib.pyplot as plt
 
-    from label_geometry import crossings, curve_segments, glyph_box
-
     model = rdm.load_model(EXAMPLES / "unstable_cross_coupled.toml")
     result = rdm.stability(model, rdm.rpm(np.linspace(0, 15000, 101)))
+    fig, labels, own = _threshold_labels_and_lines(result)
+    assert len(labels) == 1 and len(own) == 1
+    _assert_beside_its_line_clear_of_the_curves(labels[0], own[0])
+    plt.close(fig)
+
+
+def _threshold_labels_and_lines(result):
+    """``result``'s stability figure drawn: the figure, its top panel's threshold labels and lines."""
     fig = result.plot()
     fig.canvas.draw()
-    renderer = fig.canvas.get_renderer()
     ax = fig.axes[0]
     labels = [t for t in ax.texts if t.get_gid() == "threshold-label"]
-    own = [line for line in ax.get_lines() if line.get_gid() == "threshold"]
-    assert len(labels) == 1 and len(own) == 1
-    box = glyph_box(labels[0], renderer)
-    line_x = ax.transData.transform((own[0].get_xdata()[0], 0.0))[0]
-    assert min(abs(box.x0 - line_x), abs(box.x1 - line_x)) < 6 * fig.dpi / 72          # beside its line
-    assert not len(crossings(box, curve_segments(ax, skip=own)))
-    plt.close(fig)
+    lines = [line for line in ax.get_lines() if line.get_gid() == "threshold"]
+    return fig, labels, lines
+
+
+def _assert_beside_its_line_clear_of_the_curves(text, own):
+    """A threshold label's glyphs end within 6 pt of its own line, and no other curve (modes, zero
+    line) runs through them."""
+    from label_geometry import crossings, curve_segments, glyph_box
+
+    ax = own.axes
+    fig = ax.figure
+    box = glyph_box(text, fig.canvas.get_renderer())
+    line_x = ax.transData.transform((own.get_xdata()[0], 0.0))[0]
+    assert min(abs(box.x0 - line_x), abs(box.x1 - line_x)) < 6 * fig.dpi / 72, text.get_text()     # beside its line
+    assert not len(crossings(box, curve_segments(ax, skip=[own]))), text.get_text()
 
 
 def test_a_fast_shaft_mode_does_not_flatten_the_least_damped_modes_onto_zero(examples_dir):
@@ -193,26 +206,17 @@ def test_every_threshold_label_of_an_island_lies_beside_its_line_clear_of_the_cu
     curve crosses zero: the crossing the figure is drawn to show was hidden."""
     import matplotlib.pyplot as plt
 
-    from label_geometry import crossings, curve_segments, glyph_box
     from test_stability_report import _crossings_rpm, _island_rotor
 
     result = rdm.stability(rdm.Model.from_dict(_island_rotor()), rdm.rpm(np.linspace(0.0, 8000.0, 41)))
     expected = [speed for speed, _ in _crossings_rpm(20.0)]
     np.testing.assert_allclose(result.thresholds * 30 / np.pi, expected, rtol=1e-6)
-    fig = result.plot()
-    fig.canvas.draw()
-    renderer = fig.canvas.get_renderer()
-    ax = fig.axes[0]
-    labels = [t for t in ax.texts if t.get_gid() == "threshold-label"]
-    lines = [line for line in ax.get_lines() if line.get_gid() == "threshold"]
+    fig, labels, lines = _threshold_labels_and_lines(result)
     assert len(labels) == len(lines) == len(expected)
     for text in labels:
         speed = float(text.get_text().split(" ")[0].replace(",", ""))
         own = min(lines, key=lambda line: abs(line.get_xdata()[0] - speed))
-        box = glyph_box(text, renderer)
-        line_x = ax.transData.transform((own.get_xdata()[0], 0.0))[0]
-        assert min(abs(box.x0 - line_x), abs(box.x1 - line_x)) < 6 * fig.dpi / 72, text.get_text()
-        assert not len(crossings(box, curve_segments(ax, skip=[own]))), text.get_text()
+        _assert_beside_its_line_clear_of_the_curves(text, own)
     plt.close(fig)
 
 

@@ -141,33 +141,18 @@ def test_fit_prints_and_draws_in_us_units_and_writes_the_si_model(tmp_path, caps
 
 
 # -- study ----------------------------------------------------------------------------------------
-MAP_STUDY = """[[parameters]]
-name = "damping A"
-key = "suspensions.bearing-A.damping[1]"
-values = [100.0, 300.0]
+def _study_file(tmp_path, name, analysis, settings, *parameters):
+    """``tmp_path / NAME.study.toml``: one ``[[parameters]]`` table per dict of ``parameters``, then
+    ``[analyses.ANALYSIS]`` with ``settings`` (strings, numbers and lists: TOML writes them as JSON)."""
+    import json
 
-[[parameters]]
-name = "casing"
-key = "stator.mass"
-values = [30.0, 50.0]
+    def pairs(table):
+        return "".join(f"{key} = {json.dumps(value)}\n" for key, value in table.items())
 
-[analyses.stability]
-speeds_rpm = "0:30000:7"
-"""
-
-UNBALANCE_STUDY = """[[parameters]]
-key = "stator.mass"
-values = [110.0, 130.0]
-
-[[parameters]]
-name = "stiffer"
-key = "suspensions.mount-FL.stiffness"
-scale = [1.0, 1.2]
-
-[analyses.unbalance]
-speeds_rpm = "500:3000:6"
-quantity = "{quantity}"
-"""
+    spec = tmp_path / f"{name}.study.toml"
+    spec.write_text("\n".join([*(f"[[parameters]]\n{pairs(p)}" for p in parameters),
+                                f"[analyses.{analysis}]\n{pairs(settings)}"]), encoding="utf-8")
+    return spec
 
 
 def _us_study(tmp_path, model, spec, *extra):
@@ -198,8 +183,9 @@ def test_study_stability_map_in_us_units_says_what_the_si_one_says(tmp_path, cap
 
     from rotordyn_modal.plotting import study as plotting
 
-    spec = tmp_path / "map.study.toml"
-    spec.write_text(MAP_STUDY, encoding="utf-8")
+    spec = _study_file(tmp_path, "map", "stability", {"speeds_rpm": "0:30000:7"},
+                       {"name": "damping A", "key": "suspensions.bearing-A.damping[1]", "values": [100.0, 300.0]},
+                       {"name": "casing", "key": "stator.mass", "values": [30.0, 50.0]})
     figures, draw = [], plotting.plot_study_stability_map
     monkeypatch.setattr(plotting, "plot_study_stability_map", lambda *a, **k: figures.append(draw(*a, **k)) or figures[-1])
     monkeypatch.setattr(Figure, "savefig", lambda self, path, **k: Path(path).write_bytes(b"figure"))   # not drawn
@@ -229,8 +215,9 @@ def test_study_unbalance_amplitudes_in_us_units(tmp_path, capsys):
     summary (rows marked (mil)) the SI numbers over the exact mil; a value parameter (the casing's
     mass) in lb, a factor (a scale grid) and the speeds unchanged."""
     size = INCH / 1000
-    spec = tmp_path / "unbalance.study.toml"
-    spec.write_text(UNBALANCE_STUDY.format(quantity="displacement"), encoding="utf-8")
+    spec = _study_file(tmp_path, "unbalance", "unbalance", {"speeds_rpm": "500:3000:6", "quantity": "displacement"},
+                       {"key": "stator.mass", "values": [110.0, 130.0]},
+                       {"name": "stiffer", "key": "suspensions.mount-FL.stiffness", "scale": [1.0, 1.2]})
     us, result = _us_study(tmp_path, "fan_on_bearings.toml", spec)
     si = _si_table(result)
     printed = capsys.readouterr().out

@@ -4,8 +4,12 @@ CPU time in force: the part of :mod:`._work`'s estimate that needs no model.
 It stands apart so that the lowest modes' full-solve fallback (:mod:`._lowest`) can be refused
 before its work without importing :mod:`._work`, which reads the sweep's modules (``campbell``,
 ``critical_speeds``) that import ``_lowest``. The limit is ``DEFAULT_MINUTES`` of CPU time; the
-environment variable ``ROTORDYN_MODAL_MAX_CPU_MINUTES`` sets another (``inf``: no check), and
-the command line's ``--allow-long`` lifts it for one run (:func:`long_work_allowed`).
+environment variable ``ROTORDYN_MODAL_MAX_CPU_MINUTES`` sets another (``inf``: no check).
+
+Whether long work runs anyway is said in one place, :func:`long_work_is_allowed`, read by every
+check (the command line's sweeps in :mod:`._work`, the lowest modes' fallback in :mod:`._lowest`);
+it is set by :func:`long_work_allowed` alone, which the command line enters for a run with
+``--allow-long`` and Python code as ``with rdm.long_work_allowed(): ...``.
 """
 
 from __future__ import annotations
@@ -33,8 +37,8 @@ _EXPONENT = 2.7
 #: (about ten times what a 4,000-state solution measured)
 _PESSIMISTIC = 1e-8
 
-#: set by the command line's ``--allow-long`` for its one run (a module flag, not a context
-#: variable: the analyses' worker threads read it too)
+#: set by :func:`long_work_allowed` alone (a module flag, not a context variable: the analyses'
+#: worker threads read it too)
 _ALLOWED = [False]
 
 
@@ -48,7 +52,23 @@ def limit_seconds() -> float:
 
 @contextlib.contextmanager
 def long_work_allowed(allowed: bool = True):
-    """Inside, :func:`long_work_is_allowed` is ``allowed`` (the command line's ``--allow-long``)."""
+    """Run work estimated to exceed the limit of CPU time anyway, inside the ``with`` block: the
+    Python form of the command line's ``--allow-long`` (which runs its command inside it).
+
+    Parameters
+    ----------
+    allowed : bool
+        Whether :func:`long_work_is_allowed` holds inside (``False``: the limit holds again, e.g.
+        in a part of a longer block); the value before is restored on leaving.
+
+    Examples
+    --------
+    >>> import rotordyn_modal as rdm
+    >>> with rdm.long_work_allowed():                                # doctest: +SKIP
+    ...     result = rdm.campbell(model, speeds, modes=4)   # its full-solve fallback not refused
+
+    The memory's limit is not lifted: what cannot fit is refused all the same.
+    """
     before = _ALLOWED[0]
     _ALLOWED[0] = bool(allowed)
     try:
@@ -58,7 +78,8 @@ def long_work_allowed(allowed: bool = True):
 
 
 def long_work_is_allowed() -> bool:
-    """Whether work over :func:`limit_seconds` runs anyway (``--allow-long``)."""
+    """Whether work over :func:`limit_seconds` runs anyway: the one answer every check of the CPU
+    time reads (inside :func:`long_work_allowed`, ``--allow-long``)."""
     return _ALLOWED[0]
 
 

@@ -6,8 +6,8 @@ The estimate adds three parts (``docs/theory.md``, "How long a sweep takes"):
 
 - the sweep: one dense eigen-solution with vectors per speed (and per value of a map),
   ``t_eig(n_states)``: a random matrix of an eighth of the model's states (at least
-  ``_SMALLEST``) is solved once, timed in CPU seconds with one BLAS thread, and scaled by
-  ``(n_states / size) ** _EXPONENT`` (LAPACK runs larger matrices faster per operation: 2.5-2.8
+  ``_cost._SMALLEST``) is solved once, timed in CPU seconds with one BLAS thread, and scaled by
+  ``(n_states / size) ** _cost._EXPONENT`` (LAPACK runs larger matrices faster per operation: 2.5-2.8
   measured between 250 and 4,000 states);
 - the critical speeds: the crossings expected (every oscillating mode of the undamped machine
   at rest, frequency ``w``, with every source's order line ``slope |Omega|`` that reaches ``w``
@@ -21,8 +21,9 @@ The estimate adds three parts (``docs/theory.md``, "How long a sweep takes"):
 
 Small models are passed by a bound of the same terms with a pessimistic eigen-solution and no
 measurement at all (:func:`_quick_bound`). The limit is ``DEFAULT_MINUTES`` of CPU time; the
-environment variable ``ROTORDYN_MODAL_MAX_CPU_MINUTES`` sets another (``inf``: no check), the
-command line's ``--allow-long`` lifts it for one run.
+environment variable ``ROTORDYN_MODAL_MAX_CPU_MINUTES`` sets another (``inf``: no check); inside
+:func:`._cost.long_work_allowed` (the command line's ``--allow-long``) nothing is refused for its
+CPU time.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ import numpy as np
 from ..errors import InputError
 from . import _cost
 # the size-only part lives in _cost (the lowest modes' fallback reads it without this module)
-from ._cost import _EXPONENT, _PESSIMISTIC, _SMALLEST, DEFAULT_MINUTES, ENVIRONMENT, limit_seconds  # noqa: F401
+from ._cost import _PESSIMISTIC, DEFAULT_MINUTES, ENVIRONMENT, limit_seconds
 from ._cost import duration as _duration
 
 __all__ = ["ENVIRONMENT", "DEFAULT_MINUTES", "Work", "limit_seconds", "eig_seconds", "expected_crossings",
@@ -62,7 +63,7 @@ _timed_eig = _cost._timed_eig
 
 def eig_seconds(n_states: int) -> float:
     """CPU seconds of one dense eigen-solution (with vectors) of ``n_states`` states on this
-    machine: a timed solution of an eighth of the size, scaled by ``_EXPONENT``."""
+    machine: a timed solution of an eighth of the size, scaled by ``_cost._EXPONENT``."""
     return _cost.eig_seconds(n_states, _timed_eig)
 
 
@@ -193,9 +194,11 @@ def _quick_bound(model, speeds, orders, critical, numbers, solutions) -> float:
 def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, solutions=None,
                      advice="", memory=False) -> Work | None:
     """Refuse, before its first eigen-solution, an analysis estimated (:func:`estimate`) to take
-    longer than :func:`limit_seconds`; returns the estimate where one was made (None where the
-    quick bound already passed it). With ``memory``, a Campbell sweep whose arrays would not fit
-    is refused first (:func:`.campbell.campbell`'s own check, from the sizes).
+    longer than :func:`limit_seconds`, unless long work is allowed
+    (:func:`._cost.long_work_is_allowed`: ``--allow-long``); returns the estimate where one was
+    made (None where the quick bound already passed it, or long work is allowed). With ``memory``,
+    a Campbell sweep whose arrays would not fit is refused first (:func:`.campbell.campbell`'s own
+    check, from the sizes; where long work is allowed, that check refuses it at its start).
 
     Raises
     ------
@@ -203,6 +206,8 @@ def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, sol
         ``MODEL: this analysis of N coordinates would take about 9.6 h of CPU time (...), more than the
         limit of 30 min: ADVICE, or add --allow-long (ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit)``.
     """
+    if _cost.long_work_is_allowed():
+        return None
     if memory:                              # what cannot fit is refused first: no option runs it
         from .campbell import _refuse_sizes_that_cannot_fit
 

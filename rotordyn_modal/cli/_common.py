@@ -364,13 +364,12 @@ def add_allow_long(parser):
                              "before it starts, with the estimate")
 
 
-def refuse_long_work(args, model, speeds, orders=(), critical=True, numbers=False, solutions=None, advice="",
+def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, solutions=None, advice="",
                      memory=False):
     """Refuse (one line, exit 2) an analysis whose estimated CPU time exceeds the limit, before
-    its first eigen-solution, unless ``--allow-long`` (``analysis._work``); with ``memory``, a
-    Campbell sweep that cannot fit first."""
-    if getattr(args, "allow_long", False):
-        return
+    its first eigen-solution (``analysis._work``), unless ``--allow-long`` (:func:`.main.main`
+    runs the command inside ``analysis._cost.long_work_allowed``); with ``memory``, a Campbell
+    sweep that cannot fit first."""
     from ..analysis._work import refuse_long_work as refuse
 
     refuse(model, speeds, orders, critical, numbers, solutions, advice, memory)

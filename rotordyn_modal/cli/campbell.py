@@ -80,7 +80,7 @@ def run(args) -> int:
     speeds, orders = speeds_option(args), tuple(parse_list(args.orders, "--orders"))
     lowest, limit = lowest_option(args.lowest, model), max_frequency_option(args.max_frequency)
     if lowest is None and limit is None:
-        refuse_long_work(args, model, speeds, orders, critical=not args.no_critical, advice=LONG_ADVICE,
+        refuse_long_work(model, speeds, orders, critical=not args.no_critical, advice=LONG_ADVICE,
                          memory=True)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), critical=not args.no_critical,
                       modes=lowest, max_frequency=limit)

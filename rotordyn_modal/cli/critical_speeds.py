@@ -53,7 +53,7 @@ def run(args) -> int:
     modes, limit = lowest_option(args.lowest, model), max_frequency_option(args.max_frequency)
     speeds, orders = speeds_option(args), tuple(parse_list(args.orders, "--orders"))
     if modes is None and limit is None:
-        refuse_long_work(args, model, speeds, orders, numbers=True, advice="ask for the lowest modes only (--lowest "
+        refuse_long_work(model, speeds, orders, numbers=True, advice="ask for the lowest modes only (--lowest "
                          "N, --max-frequency HZ), fewer excitation orders (--orders) or fewer speeds (--speeds)",
                          memory=True)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), modes=modes, max_frequency=limit)

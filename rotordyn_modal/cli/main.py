@@ -63,7 +63,7 @@ def main(argv=None) -> int:
         with _signals_as_interrupts(), _warnings_as_lines(args.command):
             args.units = resolve_units(args.units)
             check_files(args)
-            # --allow-long reaches the analyses' own checks too (the lowest modes' full-solve fallback)
+            # --allow-long: the one switch every check of the CPU time reads (analysis/_cost.py)
             with verbose_log(args), outputs_together(), long_work_allowed(getattr(args, "allow_long", False)):
                 code = int(args.handler(args) or 0)
             report_peak_memory(args)

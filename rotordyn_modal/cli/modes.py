@@ -85,7 +85,7 @@ def run(args) -> int:
     model = open_model(args)
     speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
     # every root is one dense eigen-solution of the state matrix: a long flexible rotor's takes hours
-    refuse_long_work(args, model, [speed], critical=False,
+    refuse_long_work(model, [speed], critical=False,
                      advice="ask for the lowest modes only (campbell --lowest N --speeds S:S:1)")
     result = modal(model, speed)
     outline = _read_outline(args.outline) if args.outline else None

@@ -94,7 +94,7 @@ def run(args) -> int:
     if lowest is None and limit is None:
         fewer = ("ask for the lowest modes only (--lowest N, --max-frequency HZ), use fewer speeds (--speeds)"
                  + (" or fewer values (--values, --scale)" if args.vary else ""))
-        refuse_long_work(args, model, speeds, critical=False, solutions=count * len(speeds), advice=fewer)
+        refuse_long_work(model, speeds, critical=False, solutions=count * len(speeds), advice=fewer)
     result = stability(model, speeds, vary=args.vary, values=values, scale=scale, progress=show_progress(args),
                        modes=lowest, max_frequency=limit)
     empty = None if limit is None else f"no mode below {limit:g} Hz {speeds_text(args)}"

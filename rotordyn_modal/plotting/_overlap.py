@@ -7,7 +7,8 @@ the laid-out figure, the stretches where curves run within a line width of each 
 (measured across the curve, in points, on the axes' scales as drawn) and draws each group of
 such curves there in dashes of one length at different phases, each curve in its own
 colour, one after the other: every curve shows in every such stretch, and nothing changes
-where the curves are apart.
+where the curves are apart. :func:`at_first_layout` runs it on the layout the figure's first
+drawing does anyway (its save, its display), instead of laying the figure out once more.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from matplotlib.layout_engine import ConstrainedLayoutEngine
 
 #: length of each curve's dash where curves lie on each other [points]
 DASH_POINTS = 4.0
@@ -54,8 +56,8 @@ def show_overlaps(ax, lines):
     ----------
     ax : matplotlib Axes
     lines : list of matplotlib.lines.Line2D
-        Drawn on a figure laid out (:func:`._labels.laid_out_renderer`): the axes' size and
-        limits as they are drawn.
+        Drawn on a figure laid out (:func:`._labels.laid_out_renderer`, or inside its drawing:
+        :func:`at_first_layout`): the axes' size and limits as they are drawn.
 
     Returns
     -------
@@ -83,6 +85,30 @@ def show_overlaps(ax, lines):
         if stretches and all(members.index(k) for _, _, members in stretches) and _covered(stretches, points[k]):
             line.set_linestyle(_dashes(1, 2, line.get_linewidth()))    # the legend shows its dashes
     return found
+
+
+class _OverlapsAtFirstLayout(ConstrainedLayoutEngine):
+    """Constrained layout that, the first time it lays its figure out, calls ``show()`` (the
+    overlaps found and drawn on that layout) and lays the figure out again only where ``show``
+    says the figure changed outside its axes (a legend's notes widened it)."""
+
+    def __init__(self, show, **settings):
+        super().__init__(**settings)
+        self._show = show
+
+    def execute(self, fig):
+        super().execute(fig)
+        show, self._show = self._show, None
+        if show is not None and show():
+            super().execute(fig)
+
+
+def at_first_layout(fig, show):
+    """Have ``show()`` (-> whether the figure changed outside its axes) run on the constrained
+    layout of ``fig``'s first drawing, before anything is drawn: the drawing lays the figure out
+    anyway, so the overlaps cost no layout of their own (a figure saved once, each redraw of the
+    tuning widget). ``fig`` has constrained layout (its settings are kept)."""
+    fig.set_layout_engine(_OverlapsAtFirstLayout(show, **fig.get_layout_engine().get()))
 
 
 def _display_points(lines):

@@ -30,7 +30,9 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None, units:
     above 0 Hz), else linear. Up to :data:`_MAX_LEGEND` FRFs of one unit share one magnitude and one phase panel;
     more, or forces beside moments, are drawn in groups (:func:`_frf_groups`: each force
     item, else each input), each group's forces, moments and phases in panels of their own,
-    every curve named in its group's legend.
+    every curve named in its group's legend. Curves lying on each other are drawn there in
+    turn, found on the layout of the figure's first drawing (its save or display:
+    :func:`._overlap.at_first_layout`).
 
     Parameters
     ----------
@@ -165,11 +167,13 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
 def _show_frf_overlaps(fig, axes, result):
     """Model curves of ``axes`` lying on each other (a symmetric machine's mounts: the same
     force in two of them) drawn there in turn, each legend naming the curve it equals
-    (:func:`_show_overlaps`); found on the figure laid out as it is drawn."""
-    from ._labels import laid_out_renderer
+    (:func:`_show_overlaps`); found on the layout of the figure's first drawing
+    (:func:`._overlap.at_first_layout`: no layout of their own)."""
+    from functools import partial
 
-    laid_out_renderer(fig)
-    _show_overlaps(axes, result.frequencies_hz, "hz")
+    from ._overlap import at_first_layout
+
+    at_first_layout(fig, partial(_show_overlaps, axes, result.frequencies_hz, "hz"))
 
 
 def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0):
@@ -314,9 +318,10 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
     axes[-1].set_xlabel(speed_label(speed_unit))
     fig.suptitle(title or "Unbalance response")
     renderer = laid_out_renderer(fig)
-    if _show_overlaps(axes[:2 * len(panels) + len(force_panels)], x, speed_unit):
-        renderer = laid_out_renderer(fig)      # the legends' notes widened them
+    widened = _show_overlaps(axes[:2 * len(panels) + len(force_panels)], x, speed_unit)   # the legends' notes
     if peaks is not None and marked:
+        if widened:
+            renderer = laid_out_renderer(fig)  # the peaks' labels placed on the axes as drawn
         for ax, chosen in marked:
             _label_peaks(ax, chosen, renderer)
     return fig

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
+import pytest
 
 import rotordyn_modal as rdm
 from label_geometry import glyph_box
@@ -18,7 +19,14 @@ EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 ORDER_LABEL = re.compile(r"^((?:\d+(?:\.\d+)?X)(?:, \d+(?:\.\d+)?X)*) (.+)$")
 
 
-def test_every_order_line_of_crowded_exits_is_labelled_beside_its_own_line():
+@pytest.fixture(scope="module")
+def pump_sweep():
+    """motor_pump_on_mounts, 0-3000 rpm, orders 1 and 2 (its modes span 5 Hz to 1.2 kHz)."""
+    return rdm.campbell(rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml"), rdm.rpm(np.linspace(0, 3000, 61)),
+                        orders=(1, 2))
+
+
+def test_every_order_line_of_crowded_exits_is_labelled_beside_its_own_line(pump_sweep):
     """motor_pump_on_mounts to 18.2 Hz (its six mount modes; `--max-frequency 30`), 0-3000 rpm, orders 1 and 2: the four order lines leave
     the top within 1,000 rpm, two pairs a label's width apart; '1X pump' found no room in the
     rows under the top edge and was left out (the line unnamed). Every line is named once, and
@@ -26,8 +34,7 @@ def test_every_order_line_of_crowded_exits_is_labelled_beside_its_own_line():
     order x multiplier / 60 Hz per rpm from the result's sources) is the one it names."""
     import matplotlib.pyplot as plt
 
-    result = rdm.campbell(rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml"),
-                          rdm.rpm(np.linspace(0, 3000, 61)), orders=(1, 2))
+    result = pump_sweep
     fig = result.plot(freq_range=(0, 18.2))
     fig.canvas.draw()
     ax, renderer = fig.axes[0], fig.canvas.get_renderer()
@@ -49,4 +56,25 @@ def test_every_order_line_of_crowded_exits_is_labelled_beside_its_own_line():
             gaps.append((max(box.x0 - at, at - box.x1, 0.0), slope))
         assert min(gaps)[1] in own, (text.get_text(), sorted(gaps)[:2])
     assert sorted(named) == sorted(slopes)
+    plt.close(fig)
+
+
+def test_critical_speed_numbers_side_by_side_never_read_as_one(pump_sweep):
+    """Two critical speeds' labels on one line were placed 0.5 points apart: '286' beside '357'
+    (motor_pump_on_mounts to 18.2 Hz), '1157' beside '2313' read '11572313' (rubber_mounts).
+    Measured on the glyphs: labels that share a line are at least half a label's height
+    apart (about a digit's width), wherever the placer puts them."""
+    import matplotlib.pyplot as plt
+
+    fig = pump_sweep.plot(freq_range=(0, 18.2))
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    texts = [t for t in fig.axes[0].texts if t.get_visible() and re.fullmatch(r"[\d.]+", t.get_text())]
+    boxes = [glyph_box(t, renderer) for t in texts]
+    assert len(boxes) >= 12
+    for i, a in enumerate(boxes):
+        for j, b in enumerate(boxes[i + 1:], i + 1):
+            if min(a.y1, b.y1) > max(a.y0, b.y0):                   # on one line
+                gap = max(b.x0 - a.x1, a.x0 - b.x1)
+                assert gap >= 0.5 * max(a.height, b.height), (texts[i].get_text(), texts[j].get_text(), gap)
     plt.close(fig)

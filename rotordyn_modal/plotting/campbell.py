@@ -28,6 +28,9 @@ _STUB_POINTS, _LEADER_POINTS, _PAD_POINTS = 2.0, 10.0, 2.0
 #: a real part above this fraction of its root's size is instability (damping ratio < -1e-10)
 _MARGINAL = 1e-10
 _UNSTABLE = {"color": "red", "alpha": 0.35, "linewidth": 7.0, "solid_capstyle": "butt"}
+#: critical speeds' labels side by side keep this far apart [points], more than a digit's width,
+#: so that two numbers never read as one ('1157' beside '2313' read '11572313')
+_NUMBER_GAP_POINTS = 4.0
 #: a leader line crossing a curve costs as much as this many label heights farther away; a
 #: label costing more than :data:`_MOST_COST` label heights (distance and crossings) is left out
 _CROSSING_COST, _MOST_COST = 2.0, 12.0
@@ -512,7 +515,7 @@ class _CampbellLabels:
         if not self.critical_texts:
             return
         radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
-        gap = (0.5 * self.points * self.to_u, 0.5 * self.points * self.to_v)
+        gap = (_NUMBER_GAP_POINTS * self.points * self.to_u, 0.5 * self.points * self.to_v)
         order = np.argsort(self.critical[0], kind="stable")
         for j in order:
             text = self.critical_texts[j]

@@ -78,3 +78,38 @@ def test_critical_speed_numbers_side_by_side_never_read_as_one(pump_sweep):
                 gap = max(b.x0 - a.x1, a.x0 - b.x1)
                 assert gap >= 0.5 * max(a.height, b.height), (texts[i].get_text(), texts[j].get_text(), gap)
     plt.close(fig)
+
+
+def test_level1_top_axis_reads_q_without_a_floating_multiplier():
+    """The top axis of the Level I figure read 'Q [N/m]' with ticks 0.25 ... 2.00 and '1e7' in
+    the corner (Q = 0.25 N/m at a glance). Each tick's number times its unit's prefix is Q =
+    (Q/Qa) Qa at that tick's position on the bottom axis, and no offset or multiplier text is
+    shown."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.Model(rotors=[rdm.Rotor("r", 20.0, [0.0, 0.0, 0.0], 0.1, 0.5, speed_ratio=1.0)],
+                      bearings=[dict(name=n, rotor="r", position=[x, 0.0, 0.0], stiffness=1e6, damping=200.0)
+                                for n, x in (("A", 0.4), ("B", -0.4))])
+    qa = 2.0e6
+    result = rdm.level1(model, rdm.rpm(3000), ["r"], qa=qa)
+    fig = result.plot()
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    top = next(child for child in ax.get_children() if type(child).__name__ == "SecondaryAxis")
+    unit = re.fullmatch(r"Q \[(k|M|G)?N/m\]", top.get_xlabel())
+    assert unit, top.get_xlabel()
+    factor = {None: 1.0, "k": 1e3, "M": 1e6, "G": 1e9}[unit.group(1)]
+    assert top.xaxis.get_offset_text().get_text() == ""
+    renderer = fig.canvas.get_renderer()
+    to_data = ax.transData.inverted()
+    (left, right), ticks = ax.get_xlim(), []
+    for label in top.get_xticklabels():
+        box = label.get_window_extent(renderer)
+        x = to_data.transform(((box.x0 + box.x1) / 2, 0.0))[0]           # Q / Qa on the bottom axis
+        if label.get_text() and left <= x <= right:
+            ticks.append((x, float(label.get_text().replace("\u2212", "-"))))
+    assert len(ticks) >= 3
+    for x, value in ticks:
+        assert abs(value) < 1000
+        assert value * factor == pytest.approx(x * qa, abs=0.01 * (right - left) * qa)
+    plt.close(fig)

@@ -26,18 +26,23 @@ def pump_sweep():
                         orders=(1, 2))
 
 
-def test_every_order_line_of_crowded_exits_is_labelled_beside_its_own_line(pump_sweep):
-    """motor_pump_on_mounts to 18.2 Hz (its six mount modes; `--max-frequency 30`), 0-3000 rpm, orders 1 and 2: the four order lines leave
+@pytest.fixture(scope="module")
+def pump_figure(pump_sweep):
+    """``pump_sweep`` drawn to 18.2 Hz (its six mount modes; ``--max-frequency 30``): the figure
+    and the renderer it was drawn with (kept: closing the figures after a test drops its canvas)."""
+    fig = pump_sweep.plot(freq_range=(0, 18.2))
+    fig.canvas.draw()
+    return fig, fig.canvas.get_renderer()
+
+
+def test_every_order_line_of_crowded_exits_is_labelled_beside_its_own_line(pump_sweep, pump_figure):
+    """motor_pump_on_mounts to 18.2 Hz, 0-3000 rpm, orders 1 and 2: the four order lines leave
     the top within 1,000 rpm, two pairs a label's width apart; '1X pump' found no room in the
     rows under the top edge and was left out (the line unnamed). Every line is named once, and
     at the height of each label the nearest order line (straight through the origin, slope
     order x multiplier / 60 Hz per rpm from the result's sources) is the one it names."""
-    import matplotlib.pyplot as plt
-
-    result = pump_sweep
-    fig = result.plot(freq_range=(0, 18.2))
-    fig.canvas.draw()
-    ax, renderer = fig.axes[0], fig.canvas.get_renderer()
+    result, (fig, renderer) = pump_sweep, pump_figure
+    ax = fig.axes[0]
     slopes = {(order, name): order * multiplier / 60.0 for name, multiplier in
               zip(result.sources.names, result.sources.multipliers) for order in result.orders}
     named = []
@@ -56,19 +61,14 @@ def test_every_order_line_of_crowded_exits_is_labelled_beside_its_own_line(pump_
             gaps.append((max(box.x0 - at, at - box.x1, 0.0), slope))
         assert min(gaps)[1] in own, (text.get_text(), sorted(gaps)[:2])
     assert sorted(named) == sorted(slopes)
-    plt.close(fig)
 
 
-def test_critical_speed_numbers_side_by_side_never_read_as_one(pump_sweep):
+def test_critical_speed_numbers_side_by_side_never_read_as_one(pump_figure):
     """Two critical speeds' labels on one line were placed 0.5 points apart: '286' beside '357'
     (motor_pump_on_mounts to 18.2 Hz), '1157' beside '2313' read '11572313' (rubber_mounts).
     Measured on the glyphs: labels that share a line are at least half a label's height
     apart (about a digit's width), wherever the placer puts them."""
-    import matplotlib.pyplot as plt
-
-    fig = pump_sweep.plot(freq_range=(0, 18.2))
-    fig.canvas.draw()
-    renderer = fig.canvas.get_renderer()
+    fig, renderer = pump_figure
     texts = [t for t in fig.axes[0].texts if t.get_visible() and re.fullmatch(r"[\d.]+", t.get_text())]
     boxes = [glyph_box(t, renderer) for t in texts]
     assert len(boxes) >= 12
@@ -77,7 +77,6 @@ def test_critical_speed_numbers_side_by_side_never_read_as_one(pump_sweep):
             if min(a.y1, b.y1) > max(a.y0, b.y0):                   # on one line
                 gap = max(b.x0 - a.x1, a.x0 - b.x1)
                 assert gap >= 0.5 * max(a.height, b.height), (texts[i].get_text(), texts[j].get_text(), gap)
-    plt.close(fig)
 
 
 def test_level1_top_axis_reads_q_without_a_floating_multiplier():
@@ -113,3 +112,50 @@ def test_level1_top_axis_reads_q_without_a_floating_multiplier():
         assert abs(value) < 1000
         assert value * factor == pytest.approx(x * qa, abs=0.01 * (right - left) * qa)
     plt.close(fig)
+
+
+def test_frf_curves_are_never_narrower_than_their_legend():
+    """motor_pump_on_mounts, hammer to every sensor: the legend beside the panels (names and the
+    note '(= acc-pump-z / hammer-z in parts)') took 4.2 of the figure's 9.5 inches and left the
+    curves 4.4, less than half the figure. Measured on the drawn figure: each axes with a legend
+    beside it is at least one and a half times as wide as that legend."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml")
+    fig = rdm.frf(model, rdm.rpm(1500), np.linspace(1, 1500, 60), "hammer-z").plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    beside = 0
+    for ax in fig.axes:
+        legend = ax.get_legend()
+        if legend is None:
+            continue
+        box, frame = legend.get_window_extent(renderer), ax.get_window_extent(renderer)
+        if box.x0 >= frame.x1:
+            beside += 1
+            assert frame.width >= 1.5 * box.width, (frame.width, box.width)
+    assert beside
+    plt.close(fig)
+
+
+def test_the_reports_campbell_diagram_shows_its_crossings_not_the_bearing_modes(pump_sweep, monkeypatch):
+    """The report drew motor_pump_on_mounts' Campbell diagram to 1.7 kHz (its bearing modes) on
+    a log axis: the order lines (at most 125 Hz: 2X of the pump at 3000 rpm) and all their
+    crossings with the mount modes (5-16 Hz) in the bottom third. The figure the report embeds reaches above every
+    order line of the sweep (each crossing is drawn) and no higher than three times the highest
+    (frequency = order x multiplier x speed / 2 pi, from the result's sources)."""
+    from types import SimpleNamespace
+
+    from rotordyn_modal.report import render
+
+    drawn = []
+    monkeypatch.setattr(render, "figure_png", lambda fig, dpi=110: drawn.append(fig) or "")
+    data = SimpleNamespace(results={"campbell": pump_sweep}, inputs=SimpleNamespace(range=(0.0, 300.0)),
+                           model_info={"name": "pump"}, skipped={"unbalance": "not asked"})
+    render._campbell(data, "si")
+    (fig,) = drawn
+    ax = fig.axes[0]
+    lines = max(pump_sweep.orders) * max(pump_sweep.sources.multipliers) * pump_sweep.speeds.max() / (2 * np.pi)
+    bottom, top = ax.get_ylim()
+    assert lines <= top <= 3 * lines, (lines, top)
+    assert np.all(pump_sweep.critical.frequencies_hz <= top)

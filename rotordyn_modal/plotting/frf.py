@@ -68,7 +68,6 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None, units:
                title_fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))   # beside, off the curves
     mag.set_title(title or default)
     _show_frf_overlaps(fig, [mag, phase] if measured is None else [mag], result)
-    _room_for_curves(fig)
     return fig
 
 
@@ -93,36 +92,6 @@ class _FrfScale:
 def _is_moment(output: str) -> bool:
     """A force FRF's moment component (``NAME:Mx``)."""
     return ":M" in output and output.rsplit(":", 1)[1] in ("Mx", "My", "Mz")
-
-
-#: an axes is at least this many times as wide as the legend beside it
-_CURVES_PER_LEGEND = 1.5
-
-
-def _room_for_curves(fig):
-    """Widen ``fig`` where a legend beside an axes leaves the curves less than
-    :data:`_CURVES_PER_LEGEND` times its width (long names, notes of curves lying on others:
-    the axes had 4.4 of 9.5 inches); the figure grows by the largest shortfall in each column
-    of axes. Returns whether it grew."""
-    from ._labels import laid_out_renderer
-
-    renderer = laid_out_renderer(fig)
-    per_inch = fig.dpi
-    shortfall = {}
-    for ax in fig.axes:
-        legend = ax.get_legend()
-        if legend is None or not legend.get_visible():
-            continue
-        box, frame = legend.get_window_extent(renderer), ax.get_window_extent(renderer)
-        if box.x0 < frame.x1:                        # inside the axes or under them: not beside
-            continue
-        column = round(ax.get_position().x0, 2)
-        shortfall[column] = max(shortfall.get(column, 0.0), (_CURVES_PER_LEGEND * box.width - frame.width) / per_inch)
-    grow = sum(max(value, 0.0) for value in shortfall.values())
-    if grow <= 0.0:
-        return False
-    fig.set_figwidth(fig.get_figwidth() + grow + 0.1)
-    return True
 
 
 def _frf_groups(pairs):
@@ -190,7 +159,6 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
         drawn.extend(axes if measured is None else axes[:-1])   # measured dots share no samples
     fig.suptitle(title)
     _show_frf_overlaps(fig, drawn, result)
-    _room_for_curves(fig)
     return fig
 
 
@@ -278,7 +246,6 @@ def plot_overlay(models, measured, title: str | None = None, units: str = "si", 
         phase.set_ylabel("Phase [deg]")
         phase.set_xlabel("Frequency [Hz]")
     fig.suptitle(title or "Model versus measurement")
-    _room_for_curves(fig)
     return fig
 
 
@@ -347,8 +314,8 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
     axes[-1].set_xlabel(speed_label(speed_unit))
     fig.suptitle(title or "Unbalance response")
     renderer = laid_out_renderer(fig)
-    if _show_overlaps(axes[:2 * len(panels) + len(force_panels)], x, speed_unit) | _room_for_curves(fig):
-        renderer = laid_out_renderer(fig)      # the legends' notes widened them, the figure grew
+    if _show_overlaps(axes[:2 * len(panels) + len(force_panels)], x, speed_unit):
+        renderer = laid_out_renderer(fig)      # the legends' notes widened them
     if peaks is not None and marked:
         for ax, chosen in marked:
             _label_peaks(ax, chosen, renderer)

@@ -7,8 +7,10 @@ the label's own anchor; a label with no such candidate is left out. The callers 
 the candidates:
 
 - straight lines' labels (:func:`edge_label_boxes`): a few boxes next to where the line leaves
-  the axes (a line whose label is left out keeps its colour); labels of one source whose exits
-  are closer than a label's width are merged first (``1X, 2X fan``);
+  the axes, then beside the line farther back (down from the top edge where the exits there
+  are crowded; the line nearest the label at its height is its own); a line whose label is
+  left out keeps its colour; labels of one source whose exits are closer than a label's width
+  are merged first (``1X, 2X fan``);
 - labels of points without a leader line (Campbell mode ends and critical speeds, stability
   thresholds): a few boxes touching the point's marker;
 - labels of points with a leader line (:func:`place_point_labels`, unbalance peaks): a grid
@@ -56,8 +58,12 @@ class EdgeLabel:
     v: float
     direction: int
     spread: float = 0.0
-    #: points (u, v) along the line back from its exit at the right or left edge, nearest first
+    #: points (u, v) along the line back from its exit at the right or left edge, nearest first;
+    #: down from its exit at the top edge (every 1/25 of the axes' height), nearest first
     back: tuple = ()
+    #: the line (or merged lines) as drawn inside the axes: polylines of points (u, v), from the
+    #: exit down (empty where not known: then no label slides down along it)
+    paths: tuple = ()
 
     @property
     def text(self) -> str:
@@ -189,6 +195,9 @@ def nearest_own_exit(box, label, others) -> bool:
     away from their exit only by fractions of their height)."""
     if label.edge != "top":
         return True
+    if label.paths and box[1] < 1.0 - _ROWS * (box[3] - box[1]) * 1.5:
+        own = _gap_at_height(box, label.paths)
+        return own < np.inf and all(own <= _gap_at_height(box, o.paths) for o in others)
 
     def gap(lo, hi):
         return max(lo - box[2], box[0] - hi, 0.0)
@@ -571,7 +580,7 @@ def _merge_close(labels, size):
             if (label.u, label.v)[along] - (start + last.spread) < size(last.text)[along]:
                 spread = (label.u, label.v)[along] - start
                 merged[-1] = EdgeLabel(_join(last.prefix, label.prefix), last.suffix, last.color, last.edge,
-                                       last.u, last.v, last.direction, spread)
+                                       last.u, last.v, last.direction, spread, paths=last.paths + label.paths)
                 continue
         merged.append(label)
     return sorted(merged, key=lambda lab: (lab.edge != "top", -lab.direction * lab.u, -lab.v))
@@ -597,7 +606,7 @@ def _candidates(label, w, h, pad_u, pad_v):
         slides = [0.0] + [k * w / 2 for k in range(1, _SLIDES + 1)]
         away = -1.0 if behind < ahead else 1.0
         return [(side + sign * slide, row) for slide in slides for row in rows
-                for side, sign in ((behind, away), (ahead, -away))]
+                for side, sign in ((behind, away), (ahead, -away))] + _down_the_line(label, w, h, pad_u, pad_v)
     lo, hi = label.v, label.v + label.spread
     left = 1.0 - pad_u - w if label.edge == "right" else pad_u
     # then stepping away from the line by quarter heights (below a rising line: past its fall
@@ -610,6 +619,38 @@ def _candidates(label, w, h, pad_u, pad_v):
         + [corner for step in steps for corner in ((left, hi + pad_v + step), (left, lo - pad_v - h - step))] \
         + [(left, hi + 2 * pad_v + h), (left, lo - 2 * (pad_v + h))] \
         + [corner for pair in zip(rising, falling) for corner in pair]
+
+
+def _down_the_line(label, w, h, pad_u, pad_v):
+    """Lower-left corners of boxes beside a top-edge line farther down (its ``back`` points), on
+    the side where the line runs away from the box: above it on its rising side, below it on
+    the other (where the exits at the top are too crowded for the label)."""
+    if label.spread:
+        return []
+    corners = []
+    for u, v in label.back:
+        if label.direction > 0:
+            corners += [(u - pad_u - w, v + pad_v), (u + pad_u, v - pad_v - h)]
+        else:
+            corners += [(u + pad_u, v + pad_v), (u - pad_u - w, v - pad_v - h)]
+    return corners
+
+
+def _gap_at_height(box, paths):
+    """Horizontal gap between ``box`` and the nearest of ``paths`` (polylines (u, v)) at the
+    box's middle height (inf where none reaches that height)."""
+    middle = 0.5 * (box[1] + box[3])
+    gap = np.inf
+    for path in paths:
+        points = np.asarray(path, float)
+        if len(points) < 2:
+            continue
+        v, order = points[:, 1], np.argsort(points[:, 1])
+        if not v.min() <= middle <= v.max():
+            continue
+        u = float(np.interp(middle, v[order], points[order, 0]))
+        gap = min(gap, max(box[0] - u, u - box[2], 0.0))
+    return gap
 
 
 def _overlap(a, b, gap_u, gap_v):
@@ -629,9 +670,44 @@ def exits_of_orders(orders, lines, x_limits, top, per_x, bottom=0.0, to_axes=Non
     for slope, members in _coinciding_orders(orders, lines, per_x):
         exit_ = line_exit(slope, x_limits, top, bottom, to_axes)
         if exit_ is not None:
-            back = _back_along(slope, x_limits, top, bottom, to_axes, exit_[3]) if exit_[0] != "top" else ()
-            labels.append(EdgeLabel(*_order_words(members), members[-1][2], *exit_, back=back))
+            path = _line_path(slope, x_limits, top, bottom, to_axes, exit_[3])
+            back = _back_along(slope, x_limits, top, bottom, to_axes, exit_[3]) if exit_[0] != "top" \
+                else _down_from_top(path)
+            labels.append(EdgeLabel(*_order_words(members), members[-1][2], *exit_, back=back,
+                                    paths=(path,) if len(path) > 1 else ()))
     return labels
+
+
+#: samples of a line's path inside the axes; a top-edge label may slide down it in this many steps
+_PATH_SAMPLES, _DOWN_STEPS = 200, 25
+
+
+def _line_path(slope, x_limits, top, bottom, to_axes, direction):
+    """Points (u, v) of ``f = slope |x|`` inside the box, from its far end toward ``x = 0``
+    (geometric steps where the box's bottom is above 0: a logarithmic axis)."""
+    lo, hi = x_limits
+    far = min(hi, top / slope) if direction > 0 else max(lo, -top / slope)
+    near_limit = max(lo, 0.0) if direction > 0 else min(hi, 0.0)
+    near = direction * max(abs(near_limit), max(bottom, 0.0) / slope)
+    if abs(far) <= abs(near) or far * direction <= 0:
+        return ()
+    x = np.geomspace(far, near, _PATH_SAMPLES) if near != 0 else np.linspace(far, near, _PATH_SAMPLES)
+    if to_axes is None:
+        points = [((a - lo) / (hi - lo), (slope * abs(a) - bottom) / (top - bottom)) for a in x]
+    else:
+        points = [to_axes(a, slope * abs(a)) for a in x]
+    return tuple((float(u), float(v)) for u, v in points)
+
+
+def _down_from_top(path):
+    """Points of ``path`` (from the top edge down) every 1/:data:`_DOWN_STEPS` of the height."""
+    if len(path) < 2:
+        return ()
+    points = np.asarray(path, float)
+    order = np.argsort(points[:, 1])
+    heights = [1.0 - k / _DOWN_STEPS for k in range(1, _DOWN_STEPS)]
+    return tuple((float(np.interp(v, points[order, 1], points[order, 0])), v) for v in heights
+                 if points[:, 1].min() <= v <= points[:, 1].max())
 
 
 def _coinciding_orders(orders, lines, per_x):

@@ -28,6 +28,9 @@ _STUB_POINTS, _LEADER_POINTS, _PAD_POINTS = 2.0, 10.0, 2.0
 #: a real part above this fraction of its root's size is instability (damping ratio < -1e-10)
 _MARGINAL = 1e-10
 _UNSTABLE = {"color": "red", "alpha": 0.35, "linewidth": 7.0, "solid_capstyle": "butt"}
+#: critical speeds' labels side by side keep this far apart [points], more than a digit's width,
+#: so that two numbers never read as one ('1157' beside '2313' read '11572313')
+_NUMBER_GAP_POINTS = 4.0
 #: a leader line crossing a curve costs as much as this many label heights farther away; a
 #: label costing more than :data:`_MOST_COST` label heights (distance and crossings) is left out
 _CROSSING_COST, _MOST_COST = 2.0, 12.0
@@ -45,8 +48,9 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     curves' order, joined to its curve by a leader line; inside the axes next to the curve's
     last point when the curve leaves through the top or bottom or ends before the right edge.
     Each rotor's (and gear mesh's) excitation orders are straight lines, labelled inside the
-    axes where they leave them, apart from each other (close orders of one source share a
-    label, a label with no room is left out: its line keeps its source's colour); critical
+    axes where they leave them, apart from each other, or beside the line farther down where
+    the exits are crowded (close orders of one source share a label, a label with no room is
+    left out: its line keeps its source's colour); critical
     speeds are marked and labelled with their speed where a label finds room clear of the
     other labels, markers and curves, beside the marker or nearby with a leader line (every
     critical speed is in the result's table). No curve runs through a label but at its own
@@ -511,7 +515,7 @@ class _CampbellLabels:
         if not self.critical_texts:
             return
         radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
-        gap = (0.5 * self.points * self.to_u, 0.5 * self.points * self.to_v)
+        gap = (_NUMBER_GAP_POINTS * self.points * self.to_u, 0.5 * self.points * self.to_v)
         order = np.argsort(self.critical[0], kind="stable")
         for j in order:
             text = self.critical_texts[j]

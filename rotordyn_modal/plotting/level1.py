@@ -17,7 +17,8 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     The criterion 0.1 is a dashed line, the log decrement at ``Qa`` a marker on its vertical
     line, ``Q0`` (where the log decrement reaches 0) a marker on the zero line; the title gives
     the verdict: the criteria's values and whether Level II is required. A second axis along
-    the top reads ``Q`` in N/m (lbf/in with ``units='us'``).
+    the top reads ``Q`` in N/m, kN/m, MN/m or GN/m (lbf/in, klbf/in, ... with ``units='us'``), the
+    prefix chosen so that its ticks read below 1000 with no multiplier beside the axis.
 
     Parameters
     ----------
@@ -53,9 +54,12 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     _limits(ax, result)
     ax.set_xlabel("Applied cross-coupled stiffness Q / Qa [-]")
     ax.set_ylabel("Log decrement of the followed mode [-]\n(< 0: unstable)")
-    qa = result.qa * scale
+    prefix, factor = _prefix(float(np.nanmax(np.abs(result.cross_coupling), initial=0.0)) * scale)
+    qa = result.qa * scale / factor
     top = ax.secondary_xaxis("top", functions=(lambda q: q * qa, lambda q: q / qa))
-    top.set_xlabel(f"Q [{unit}]")
+    top.xaxis.get_major_formatter().set_useOffset(False)
+    top.xaxis.get_major_formatter().set_scientific(False)
+    top.set_xlabel(f"Q [{prefix}{unit}]")
     ax.grid(True, alpha=0.3)
     stations = ", ".join(s.label(units) for s in result.stations)
     heading = title or (f"API 617 Level I: {result.title}" if result.title else "API 617 Level I")
@@ -67,6 +71,19 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
                  fontsize="medium", color="tab:red" if result.level2_required else "darkgreen")
     ax.legend(fontsize="x-small", loc="best", framealpha=0.85)
     return fig
+
+
+#: SI prefixes of the top axis' unit, so that its ticks read below 1000 without a floating
+#: multiplier ('1e7' in the corner read as Q = 0.25 N/m)
+_PREFIXES = ((1e9, "G"), (1e6, "M"), (1e3, "k"))
+
+
+def _prefix(largest: float) -> tuple:
+    """(prefix, factor) of the unit for values up to ``largest``: ('M', 1e6) for 2e7."""
+    for factor, prefix in _PREFIXES:
+        if largest >= factor:
+            return prefix, factor
+    return "", 1.0
 
 
 def _limits(ax, result):

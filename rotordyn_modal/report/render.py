@@ -232,16 +232,44 @@ def _at_round_off(values, relative: float = 1e-9):
     return np.where(np.abs(values) <= relative * largest, 0.0, values) + 0.0
 
 
+#: the report's Campbell diagram reaches this factor above the highest frequency of its order
+#: lines: beyond API 617's largest separation margin above the range (26 %)
+_ABOVE_ORDERS = 1.4
+
+
+def campbell_top(result):
+    """Top of the report's Campbell frequency axis [Hz], or None (the whole diagram).
+
+    :data:`_ABOVE_ORDERS` times the highest frequency an order line reaches in the sweep (the largest order times
+    the largest source multiplier times the largest speed), at least 1.4 times the lowest
+    mode; None where no mode lies above it. Modes higher up are crossed by no order line, and
+    on an axis reaching them (bearing modes at 1 kHz over mount modes at 5 Hz) the crossings
+    fill the bottom few per cent.
+    """
+    freqs = np.where(result.oscillatory, result.frequencies_hz, np.nan)
+    if not np.isfinite(freqs).any() or not len(result.sources.multipliers):
+        return None
+    lines = float(np.max(np.abs(result.orders)) * np.max(np.abs(result.sources.multipliers))
+                  * np.max(np.abs(result.speeds)) / (2 * np.pi))
+    top = max(_ABOVE_ORDERS * lines, 1.4 * float(np.nanmin(freqs)))
+    return top if float(np.nanmax(freqs)) > top else None
+
+
 def _campbell(data, units) -> str:
     result = data.results["campbell"]
     critical = result.critical.to_dataframe()
     low, high = (x * 30 / np.pi for x in data.inputs.range)
     rows = [[r.source, _g(r.order), r.mode, _g(r.speed_rpm, 6), _g(r.frequency_hz, 5), r.whirl,
              _g(r.damping_ratio, 3)] for r in critical.itertuples()]
+    top = campbell_top(result)
+    lowest = np.min(np.where(result.oscillatory, result.frequencies_hz, np.inf), axis=0)    # of each mode
+    above = 0 if top is None else int(np.sum(np.isfinite(lowest) & (lowest > top)))
     parts = [_heading("campbell"),
-             _figure(result.plot(title=data.model_info["name"]),
+             _figure(result.plot(title=data.model_info["name"], freq_range=None if top is None else (None, top)),
                      f"Figure: Campbell diagram, natural frequencies against the reference rotor's speed "
-                     f"with the 1X lines; critical speeds marked. Operating range {low:.6g} to {high:.6g} rpm.",
+                     f"with the 1X lines; critical speeds marked. Operating range {low:.6g} to {high:.6g} rpm."
+                     + (f" Frequencies up to {top:.4g} Hz, {_ABOVE_ORDERS:g} times the highest 1X line's: the {above} "
+                        "modes above are crossed by no 1X line in the sweep." if above else ""),
                      "Campbell diagram"),
              "<h3>Critical speeds (1X crossings)</h3>",
              _table(rows, [("source", True), ("order [-]", False), ("mode", True), ("speed [rpm]", False),

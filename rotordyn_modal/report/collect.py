@@ -466,21 +466,18 @@ def _clearance(data):
                     ("limit", "<= {0:.3g} {unit} pk-pk", "vibration", (worst.limit,))]))
 
 
-#: the report's Level I follows this many of the rotor's forward modes (the first, second, ...)
-#: and judges the least stable: the first forward mode by frequency may be one the cross-coupling
-#: at the station barely reaches (a tilting mode of a rotor whose centre hardly moves), while the
-#: next one goes unstable
-LEVEL1_MODES = 3
-
-
 def _level1(data):
     given = data.inputs.level1
     if not given:
         data.skipped["level1"] = "no --station with --qa or stage data given"
     else:
-        runs = level1_runs(data.model, data.inputs.mcs, given)
-        data.results["level1_runs"] = runs
-        data.results["level1"] = judged_level1(runs)
+        from ..analysis.level1 import level1
+
+        # the least stable of the rotor's first forward modes, each in result.swept
+        result = level1(data.model, data.inputs.mcs, given["stations"], given["qa"], shares=given.get("shares"),
+                        gas_density=given.get("gas_density"))
+        data.results["level1_runs"] = list(result.swept)
+        data.results["level1"] = result
     result = data.results.get("level1")
     if result is None:
         for name in ("API 617 Level I: log decrement at Qa", "API 617 Level I: Q0/Qa"):
@@ -497,49 +494,6 @@ def _level1(data):
                                    "Level II required" if result.level2_required else "Level II not required"))
     if result.csr is not None:
         _csr_criterion(data, result)
-
-
-def level1_runs(model, mcs, given) -> list:
-    """The Level I sweep of each of the stations' rotor's forward modes at the MCS, first to
-    :data:`LEVEL1_MODES`-th (those there are), the first with the gas density's CSR screening.
-
-    Parameters
-    ----------
-    model : Model
-    mcs : float [rad/s]
-    given : dict
-        ``ReportInputs.level1``: ``stations``, ``qa`` [N/m], optionally ``shares`` and
-        ``gas_density`` [kg/m^3].
-
-    Returns
-    -------
-    list of Level1Result
-        Index ``k`` follows the ``k + 1``-th forward mode.
-    """
-    from ..analysis.level1 import level1
-
-    def run(number, gas_density=None):
-        return level1(model, mcs, given["stations"], given["qa"], shares=given.get("shares"),
-                      forward_mode=number, gas_density=gas_density)
-
-    runs = [run(1, given.get("gas_density"))]          # bad input is refused here, as before
-    for number in range(2, LEVEL1_MODES + 1):
-        try:
-            runs.append(run(number))
-        except InputError:                             # no further forward mode
-            break
-    return runs
-
-
-def judged_level1(runs):
-    """The Level I result the report judges: the run of the least stable forward mode (the
-    lowest log decrement at Qa), with ``Q0`` the smallest of all runs (the cross-coupling at
-    which the first of them reaches a zero log decrement: the machine's threshold) and the first
-    run's CSR screening."""
-    judged = min(runs, key=lambda r: r.log_decrement_at_qa)
-    thresholds = [r.q0 for r in runs if np.isfinite(r.q0)]
-    q0 = min(thresholds) if thresholds else judged.q0
-    return replace(judged, q0=float(q0), csr=runs[0].csr)
 
 
 def _csr_criterion(data, result):

@@ -418,9 +418,9 @@ def _level1(data, units) -> str:
         f"mode {result.mode} (docs/report.md). {escape(result.verdict(units))}.</p>",
         _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
         _runs_table(runs, result, units),
-        _figure(result.plot(**_units(units)), f"Figure: log decrement of mode {result.mode}, the least stable "
-                "forward mode at Qa, against the applied cross-coupling Q; Q0 the smallest of the swept modes' "
-                "(API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")]
+        _figure(result.plot(**_units(units)), f"Figure: log decrement of each swept forward mode against the "
+                f"applied cross-coupling Q, mode {result.mode} (bold), the least stable at Qa; Q0 the smallest of "
+                "the swept modes' (API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")]
         + ([] if csr is None else [_figure(csr.plot(verdict=result.verdict().rpartition(": ")[2], **_units(units)),
                                            "Figure: critical speed ratio against average gas density, the dividing "
                                            "line between Regions A and B (API 617 Level I; docs/standards.md).",

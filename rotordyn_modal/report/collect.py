@@ -253,10 +253,41 @@ def _stress_criterion(data, check):
                     ("limit", "<= {0:.3g} {unit} (allowable_stress)", "stress", (check.allowable,))]))
 
 
+def critical_round_off(model, critical) -> np.ndarray:
+    """What round-off can move each critical speed's damping ratio by, reckoned as ``modes``
+    reckons it (``ModalResult.to_dataframe``): the eigen-solve's round-off at that speed over
+    ``|lambda|``; infinite where the machine is conservative (no damping, a symmetric
+    semidefinite stiffness: every root imaginary, as ``critical-speeds`` prints it).
+
+    Parameters
+    ----------
+    model : Model
+    critical : CriticalSpeeds
+        Its ``speeds_rpm`` (the reference rotor's) and ``frequencies_hz``, shape (N,).
+
+    Returns
+    -------
+    ndarray, shape (N,) [-]
+    """
+    from ..analysis._roots import conservative, round_off
+    from ..linear_system import speed_linear_form
+
+    speeds = np.asarray(critical.speeds_rpm, dtype=float) * (np.pi / 30)
+    if not len(speeds):
+        return np.zeros(0)
+    form = speed_linear_form(model)
+    noise = round_off(np.stack([form.at(speed) for speed in speeds]))
+    zeta = np.clip(np.abs(np.asarray(critical.damping_ratios, dtype=float)), 0.0, 1.0 - 1e-12)
+    size = 2 * np.pi * np.asarray(critical.frequencies_hz, dtype=float) / np.sqrt(1 - zeta ** 2)   # |lambda|
+    with np.errstate(divide="ignore"):
+        return np.where(conservative(form, speeds), np.inf, noise / size)
+
+
 def _campbell(data):
     from ..analysis.campbell import campbell
 
     data.results["campbell"] = campbell(data.model, data.inputs.speeds, orders=(1,))
+    data.results["critical_round_off"] = critical_round_off(data.model, data.results["campbell"].critical)
     name = _MARGIN + (" (informative)" if data.inputs.standard == "iso" else "")
     _unbalance(data)                      # the amplification factors come from the response
     response = data.results.get("unbalance")

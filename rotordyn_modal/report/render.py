@@ -234,7 +234,12 @@ def _at_round_off(values, relative: float = 1e-9):
 
 def _campbell(data, units) -> str:
     result = data.results["campbell"]
+    from ..analysis._roots import at_round_off
+
     critical = result.critical.to_dataframe()
+    # a damping ratio within the solve's round-off (-1.6e-17 of an undamped mode) shows as 0, as in 'modes'
+    noise = data.results.get("critical_round_off", np.zeros(len(critical)))
+    critical["damping_ratio"] = at_round_off(critical["damping_ratio"].to_numpy(dtype=float), noise)
     low, high = (x * 30 / np.pi for x in data.inputs.range)
     rows = [[r.source, _g(r.order), r.mode, _g(r.speed_rpm, 6), _g(r.frequency_hz, 5), r.whirl,
              _g(r.damping_ratio, 3)] for r in critical.itertuples()]

@@ -58,3 +58,23 @@ def test_critical_speed_table_prints_round_off_damping_as_zero(no_figures, monke
     assert len(raw) >= 2 and np.any(raw != 0)              # the solve's round-off is there to clean
     cells = _column(render._campbell(data, "si"), "damping ratio [-]")
     assert len(cells) == len(raw) and set(cells) == {"0"}
+
+
+def test_mode_shapes_of_a_window_without_lateral_modes_show_the_nearest_lateral_ones(no_figures):
+    """compressor_rotor.toml at 9,000 rpm, operating 7,000 to 9,000 rpm: the window (5,880 to
+    11,340 rpm) holds only an axial/torsional mode (185 Hz), whose shaft lines are flat. The
+    section shows the lateral modes nearest it instead, below and above, and says so."""
+    model = load_model(ROOT / "examples" / "compressor_rotor.toml")
+    rpm = np.pi / 30
+    data = report_collect.ReportData(ReportInputs("api684", 9000 * rpm, operating=(7000 * rpm, 9000 * rpm)), model,
+                                     {"name": model.name}, ("modes",))
+    report_collect._modes(data)
+    shapes = data.results["modes"]
+    low, high = shapes.window
+    speeds = {n: 2 * np.pi * shapes.modal.frequencies_hz[shapes.modal.oscillatory][n - 1] for n in shapes.numbers}
+    assert any(w < low for w in speeds.values()) and any(w > high for w in speeds.values())
+    for line in shapes.lines:                              # each drawn mode moves the shaft sideways
+        assert max(np.abs(rotor.displacement).max() for rotor in line.lines) == pytest.approx(1.0)
+    html = render._modes(data, "si")
+    assert "The window holds no lateral mode" in html and "shown instead" in html
+    assert len(_column(html, "shown because")) == len(shapes.numbers)

@@ -159,6 +159,9 @@ class ModeShapes:
     lines : tuple of ShaftLines or None
         Each mode's deflected shaft lines when a rotor is flexible (None: rigid rotors only,
         drawn as the mode-shape bar chart).
+    note : str
+        Said under the section's introduction: why the modes shown are not the window's (it
+        holds only axial or torsional modes of a flexible rotor, whose lines are flat), or "".
     """
 
     modal: object
@@ -166,6 +169,7 @@ class ModeShapes:
     reasons: tuple
     window: tuple
     lines: tuple | None = None
+    note: str = ""
 
 
 @dataclass
@@ -391,12 +395,65 @@ def _modes(data):
     if not reasons:
         reasons = {n: "one of the lowest at the MCS (none in the window)" for n in range(1, min(count, LOWEST_MODES) + 1)}
     numbers = tuple(sorted(reasons)[:MOST_MODES])
-    lines = None
+    lines, note = None, ""
     if any(r.flexible is not None for r in data.model.rotors):
         from ..analysis.mode_shapes import shaft_lines
 
         lines = tuple(shaft_lines(result, data.model, n) for n in numbers)
-    data.results["modes"] = ModeShapes(result, numbers, tuple(reasons[n] for n in numbers), window, lines)
+        if not any(line.lateral for line in lines):
+            # only axial or torsional modes in the window: their shaft lines are flat; the
+            # lateral modes nearest the window are drawn instead
+            nearest = _nearest_lateral(data.model, result, window)
+            if nearest:
+                note = (f"The window holds no lateral mode: {', '.join(f'mode {n}' for n in numbers)} "
+                        f"{'is' if len(numbers) == 1 else 'are'} axial or torsional (no lateral motion to draw); "
+                        "the lateral modes nearest the operating range, below and above the window, are shown "
+                        "instead.")
+                reasons = {n: why for n, (why, _) in nearest.items()}
+                numbers = tuple(sorted(nearest))
+                lines = tuple(nearest[n][1] for n in numbers)
+    data.results["modes"] = ModeShapes(result, numbers, tuple(reasons[n] for n in numbers), window, lines, note)
+
+
+#: the lateral modes shown on each side of the window when it holds only axial or torsional ones
+#: (a whirl pair: backward and forward)
+NEAREST_LATERAL = 2
+
+
+def _nearest_lateral(model, result, window) -> dict:
+    """The :data:`NEAREST_LATERAL` lateral modes nearest below and above ``window`` [rad/s] by
+    their frequency at the MCS taken as a 1X speed.
+
+    Parameters
+    ----------
+    model : Model
+    result : ModalResult
+        At the MCS.
+    window : (float, float) [rad/s]
+
+    Returns
+    -------
+    dict
+        ``{number: (reason, ShaftLines)}``, the numbers as ``modes`` numbers them.
+    """
+    from ..analysis.mode_shapes import shaft_lines
+
+    speeds = 2 * np.pi * result.frequencies_hz[result.oscillatory]
+    numbers = np.arange(1, len(speeds) + 1)
+    below, above = numbers[speeds < window[0]][::-1], numbers[speeds > window[1]]
+    chosen = {}
+    for side, candidates in (("below", below), ("above", above)):
+        found = 0
+        for number in candidates:
+            line = shaft_lines(result, model, int(number))
+            if line.lateral:
+                speed = speeds[number - 1] * 30 / np.pi
+                chosen[int(number)] = (f"nearest lateral mode {side} the window (frequency at the MCS "
+                                       f"{speed:.0f} rpm as 1X), shown as the window has none", line)
+                found += 1
+                if found == NEAREST_LATERAL:
+                    break
+    return chosen
 
 
 def _critical_numbers(data, result):

@@ -316,7 +316,7 @@ def _modes(data, units) -> str:
         f"{100 * MODE_WINDOW[0]:.0f} % below or {100 * MODE_WINDOW[1]:.0f} % above (the largest separation "
         "margins API 617 asks) the operating range, "
         f"{low:.6g} to {high:.6g} rpm (at most {MOST_MODES}); the lowest {LOWEST_MODES} at the MCS when none does "
-        "(docs/report.md).</p>",
+        "(docs/report.md).</p>" + (f"<p>{escape(shapes.note)}</p>" if shapes.note else ""),
         _table(rows, [("mode", True), ("frequency [Hz]", False), ("whirl", True), ("log decrement [-]", False),
                       ("damping ratio [-]", False), ("shown because", True)]),
         _figure(fig, f"Figure: {what}. " + "; ".join(captions) + ".", "Mode shapes")])

@@ -3,8 +3,9 @@
 A cross-coupled stiffness ``Q`` (the aerodynamic excitation of impellers and stages) is applied
 between a rotor and the stator at named **stations** (a point on the rotor's axis: its centre of
 mass for a rigid rotor, an impeller's plane given by its axial offset), swept from 0 to
-``factor * Qa`` (API: 10 Qa), and the log decrement of the first forward mode at the maximum
-continuous speed followed. ``Qa``, the anticipated cross-coupling, comes from the API formula
+``factor * Qa`` (API: 10 Qa), and the log decrement at the maximum continuous speed followed
+for each of the rotor's first :data:`FORWARD_MODES` forward modes, the least stable judged (or
+for one forward mode asked for). ``Qa``, the anticipated cross-coupling, comes from the API formula
 (:func:`anticipated_cross_coupling`) or is given. Criteria: the log decrement at ``Qa`` at
 least 0.1 and ``Q0 / Qa`` at least 2.0 (``Q0`` the ``Q`` at which it reaches 0); otherwise a
 Level II analysis is required.
@@ -18,7 +19,7 @@ along a forward (with the spin) whirl orbit, and feeds it. For a rotor spinning 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import brentq
@@ -34,11 +35,14 @@ from .tracking import track_modes
 
 __all__ = ["Station", "Level1Result", "level1", "anticipated_cross_coupling", "LOG_DEC_CRITERION",
            "RATIO_CRITERION", "B_COMPRESSOR", "B_TURBINE", "CsrScreening", "csr_screening", "csr_boundary",
-           "rigid_support_critical_speed", "CSR_RATIO_LIMIT"]
+           "rigid_support_critical_speed", "CSR_RATIO_LIMIT", "FORWARD_MODES", "least_stable"]
 
 #: API 617 Level I criteria: log decrement at Qa, and Q0 / Qa
 LOG_DEC_CRITERION = 0.1
 RATIO_CRITERION = 2.0
+#: by default Level I follows this many of the rotor's forward modes (the first, second, ...)
+#: and judges the least stable
+FORWARD_MODES = 3
 #: the formula's factor B for centrifugal compressor impellers and for turbine (axial) stages
 B_COMPRESSOR = 3.0
 B_TURBINE = 1.5
@@ -136,7 +140,7 @@ def anticipated_cross_coupling(power, speed, diameter, height, density_ratio=1.0
 
 @dataclass(frozen=True)
 class Level1Result:
-    """Log decrement of the first forward mode against the applied cross-coupling.
+    """Log decrement of the governing forward mode against the applied cross-coupling.
 
     Attributes
     ----------
@@ -148,15 +152,23 @@ class Level1Result:
     cross_coupling : ndarray, shape (NQ,) [N/m]
         The total applied ``Q``, from 0.
     log_decrements, frequencies_hz : ndarray, shape (NQ,)
-        Of the followed mode (tracked from Q = 0 by its shape).
+        Of the followed mode (tracked from Q = 0 by its shape); with several swept, the one of
+        the lowest log decrement at Qa.
     mode : int
         That mode's number at Q = 0 among the modes (``modes --speed`` numbering).
     qa : float [N/m]
     q0 : float [N/m]
-        Where the log decrement reaches 0 (root-found); nan when it stays positive over the
-        sweep (then ``Q0 > cross_coupling[-1]``), 0 when it is not positive at Q = 0.
+        Where the log decrement reaches 0 (root-found; with several modes swept, the smallest
+        of theirs); nan when it stays positive over the sweep (then ``Q0 > cross_coupling[-1]``),
+        0 when it is not positive at Q = 0.
     log_decrement_at_qa : float
     title : str
+    csr : CsrScreening or None
+    forward_mode : int
+        The followed mode's rank among the rotor's forward modes by frequency (1 the first).
+    swept : tuple of Level1Result
+        The result of each followed mode, by ``forward_mode`` (each with its own ``q0`` and an
+        empty ``swept``); this result is one of them with the judged ``q0``.
     """
 
     speed: float
@@ -171,6 +183,16 @@ class Level1Result:
     log_decrement_at_qa: float
     title: str = ""
     csr: "CsrScreening | None" = None
+    forward_mode: int = 1
+    swept: tuple = ()
+
+    @property
+    def governs_q0(self) -> "Level1Result | None":
+        """The swept mode whose log decrement reaches 0 first (its ``q0`` is this result's),
+        None when none does over the sweep."""
+        if not np.isfinite(self.q0):
+            return None
+        return next((r for r in self.swept or (self,) if r.q0 == self.q0), None)
 
     @property
     def ratio(self) -> float:
@@ -229,11 +251,18 @@ class Level1Result:
         return f"{checks}: Level II {'required' if self.level2_required else 'not required'}"
 
     def to_dataframe(self):
-        """Table ``q_n_per_m, q_over_qa, log_decrement, frequency_hz``."""
+        """Table ``q_n_per_m, q_over_qa, log_decrement, frequency_hz`` (the judged mode), then
+        ``log_decrement_mode_N, frequency_hz_mode_N`` for each swept mode ``N`` (``modes``
+        numbering) when more than one was swept."""
         import pandas as pd
 
-        return pd.DataFrame({"q_n_per_m": self.cross_coupling, "q_over_qa": self.cross_coupling / self.qa,
-                             "log_decrement": self.log_decrements, "frequency_hz": self.frequencies_hz})
+        columns = {"q_n_per_m": self.cross_coupling, "q_over_qa": self.cross_coupling / self.qa,
+                   "log_decrement": self.log_decrements, "frequency_hz": self.frequencies_hz}
+        if len(self.swept) > 1:
+            for run in self.swept:
+                columns[f"log_decrement_mode_{run.mode}"] = run.log_decrements
+                columns[f"frequency_hz_mode_{run.mode}"] = run.frequencies_hz
+        return pd.DataFrame(columns)
 
     def plot(self, **kwargs):
         """Log decrement against Q / Qa; see :func:`rotordyn_modal.plotting.plot_level1`."""
@@ -243,7 +272,7 @@ class Level1Result:
 
 
 def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_per_qa: int = 10,
-           forward_mode: int = 1, gas_density=None) -> Level1Result:
+           forward_mode: int | None = None, gas_density=None) -> Level1Result:
     """API 617 Level I screening of ``model`` at ``speed`` (see the module docstring).
 
     Parameters
@@ -261,11 +290,14 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
         The sweep reaches ``factor * qa`` (API: 10), rounded up to a whole step; 1 to 1000.
     steps_per_qa : int
         Points per ``qa`` of the sweep (``qa`` is a point of it).
-    forward_mode : int
-        Which forward mode to follow: 1 the first (API), 2 the second, ... by frequency. Forward
-        means whirling with the stations' rotor's spin in its motion relative to the stator at
-        the (first) station, where the cross-coupling acts, in a mode of the rotor in its
-        bearings; judged at the sweep's first Q > 0 (0.1 Qa), where Q has split the rotor's
+    forward_mode : int, optional
+        Default (None): follow the first :data:`FORWARD_MODES` forward modes by frequency (those
+        there are) and judge the least stable (:func:`least_stable`): the first by frequency may
+        be one the cross-coupling at the station barely reaches (a tilt whose centre hardly
+        moves) while the next goes unstable. ``K``: follow the ``K``-th forward mode alone.
+        Forward means whirling with the stations' rotor's spin in its motion relative to the
+        stator at the (first) station, where the cross-coupling acts, in a mode of the rotor in
+        its bearings; judged at the sweep's first Q > 0 (0.1 Qa), where Q has split the rotor's
         forward and backward modes of one frequency, and followed from there to Q = 0 and up.
     gas_density : float or (float, float), optional [kg/m^3]
         The average gas density, or the suction and discharge densities (averaged): adds the
@@ -274,6 +306,7 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     Returns
     -------
     Level1Result
+        Its ``swept`` holds the result of each followed mode.
     """
     speed = _checked(speed, qa, factor, steps_per_qa)
     csr = None if gas_density is None else _gas_densities(gas_density)
@@ -290,17 +323,45 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     order = track_modes(lam, _vectors.mass_normalized(shapes, form.matrices.M))
     # chosen at the first Q > 0: there Q has split a forward and backward pair of one frequency
     # (a rotor's cylindrical modes), which at Q = 0 the solver may return as any two mixtures
-    first = _forward(model, lam[1], shapes[1], form.matrices.M, stations[0],
-                     np.sign(speed) * _spin_sign(model, stations), forward_mode)
-    label = int(np.nonzero(order[1] == first)[0][0])
-    followed = lam[np.arange(len(grid)), order[:, label]]
-    freq, _, log_dec = modal_quantities(followed)
-    q0 = _zero_crossing(base, unit, form.n_dof, grid, followed, log_dec)
-    mode = int(is_oscillating(lam[0])[:order[0, label] + 1].sum())
-    return Level1Result(speed=speed, stations=stations, shares=shares, cross_coupling=grid, log_decrements=log_dec,
-                        frequencies_hz=freq, mode=mode, qa=float(qa), q0=q0,
-                        log_decrement_at_qa=float(log_dec[steps]), title=model.name,
-                        csr=None if csr is None else csr_screening(model, speed, csr))
+    forward = _forward_modes(model, lam[1], shapes[1], form.matrices.M, stations[0],
+                             np.sign(speed) * _spin_sign(model, stations))
+    numbers = [forward_mode] if forward_mode is not None else range(1, max(1, min(FORWARD_MODES, len(forward))) + 1)
+    runs = []
+    for number in numbers:
+        if not 1 <= number <= len(forward):
+            raise InputError(f"forward mode {number}: there are {len(forward)} modes of rotor {stations[0].rotor!r} "
+                             f"whirling forward at station {stations[0]} at this speed")
+        label = int(np.nonzero(order[1] == forward[number - 1])[0][0])
+        followed = lam[np.arange(len(grid)), order[:, label]]
+        freq, _, log_dec = modal_quantities(followed)
+        runs.append(Level1Result(
+            speed=speed, stations=stations, shares=shares, cross_coupling=grid, log_decrements=log_dec,
+            frequencies_hz=freq, mode=int(is_oscillating(lam[0])[:order[0, label] + 1].sum()), qa=float(qa),
+            q0=_zero_crossing(base, unit, form.n_dof, grid, followed, log_dec),
+            log_decrement_at_qa=float(log_dec[steps]), title=model.name, forward_mode=int(number)))
+    judged = least_stable(runs) if forward_mode is None else replace(runs[0], swept=tuple(runs))
+    return replace(judged, csr=None if csr is None else csr_screening(model, speed, csr))
+
+
+def least_stable(runs) -> Level1Result:
+    """The Level I result of several followed forward modes: the run of the least stable (the
+    lowest log decrement at Qa), with ``Q0`` the smallest of all runs (the cross-coupling at
+    which the first of them reaches a zero log decrement: the machine's threshold).
+
+    Parameters
+    ----------
+    runs : sequence of Level1Result
+        One per followed mode, each with its own ``q0``.
+
+    Returns
+    -------
+    Level1Result
+        ``swept`` the runs, in their order.
+    """
+    judged = min(runs, key=lambda r: r.log_decrement_at_qa)
+    thresholds = [r.q0 for r in runs if np.isfinite(r.q0)]
+    q0 = min(thresholds) if thresholds else judged.q0
+    return replace(judged, q0=float(q0), swept=tuple(runs))
 
 
 def _checked(speed, qa, factor, steps_per_qa) -> float:
@@ -366,8 +427,8 @@ def _unit_state_matrix(model, form, stations, shares, speed):
     return unit
 
 
-def _forward(model, lam, shapes, M, station, spin, number) -> int:
-    """Index among ``lam`` (one Q) of the ``number``-th lowest mode of the stations'
+def _forward_modes(model, lam, shapes, M, station, spin) -> np.ndarray:
+    """Indices among ``lam`` (one Q), lowest frequency first, of the modes of the stations'
     rotor whirling forward: its motion relative to the stator at ``station`` turns with the
     rotor's spin ``spin`` (+-1), ``-2 spin Im(conj(U_a) U_b) / (|U_a|^2 + |U_b|^2) > 1e-3`` for the
     radial amplitudes ``U_a, U_b`` of the orbit ``Re(U e^{i w t})``, and is a mode of the rotor in
@@ -388,11 +449,7 @@ def _forward(model, lam, shapes, M, station, spin, number) -> int:
     np.divide(-2 * spin * np.imag(np.conj(u_a) * u_b), size, out=ratio, where=size > 0)
     candidates = np.nonzero(oscillating & (ratio > _whirl.WHIRL_TOLERANCE) & (size >= _ROTOR_SHARE * largest)
                             & (largest > 0))[0]
-    candidates = candidates[np.argsort(lam.imag[candidates], kind="stable")]
-    if len(candidates) < number:
-        raise InputError(f"forward mode {number}: there are {len(candidates)} modes of rotor {station.rotor!r} "
-                         f"whirling forward at station {station} at this speed")
-    return int(candidates[number - 1])
+    return candidates[np.argsort(lam.imag[candidates], kind="stable")]
 
 
 #: a mode is one of the station's rotor in its bearings when the station's motion relative to the

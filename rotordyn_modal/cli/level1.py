@@ -17,9 +17,14 @@ NAME = "level1"
 HELP = "API 617 Level I stability screening: log decrement against applied cross-coupling"
 DESCRIPTION = """API 617 Level I stability screening. A cross-coupled stiffness Q (k_ab = +Q,
 k_ba = -Q in the radial axes a, b = spin axis x a: destabilising for forward whirl) acts between
-each --station's rotor and the stator, Q swept from 0 to --factor x Qa (API: 10); the log
-decrement of the first forward mode (whirling with the rotor's spin at the station, relative to
-the stator) at --speed (the maximum continuous speed) is followed by its shape. Qa is given
+each --station's rotor and the stator, Q swept from 0 to --factor x Qa (API: 10); at --speed
+(the maximum continuous speed) the log decrement of each of the rotor's first three forward
+modes by frequency (whirling with the rotor's spin at the station, relative to the stator;
+those there are) is followed by its shape, and the least stable is judged: the log decrement
+at Qa is the lowest of theirs, Q0 the smallest (the first by frequency may be a mode the
+cross-coupling at the station barely reaches, while the next goes unstable). --forward-mode N
+follows the N-th forward mode alone. The terminal, the figure (one curve per mode, the
+governing one bold) and the CSV (columns per mode) show every followed mode. Qa is given
 (--qa, N/m) or is the API anticipated cross-coupling summed over the stages:
   qa = B T / (D H) (rho_d / rho_s),  T = P / Omega_r  (= B 9.55 P / (D H N_r) with P in W,
   D and H in m, N_r in rpm, q in N/m; B = 3 compressors, 1.5 turbines without density ratio)
@@ -42,7 +47,9 @@ gas density in lb/ft^3; the table's
 first column is then q_lbf_per_in and Q is printed and drawn in lbf/in (the formula is the same
 physics: its inputs are converted to SI, docs/units.md).
 
-CSV columns: q_n_per_m,q_over_qa,log_decrement,frequency_hz
+CSV columns: q_n_per_m,q_over_qa,log_decrement,frequency_hz (the mode of the lowest log
+decrement at Qa), then log_decrement_mode_N,frequency_hz_mode_N for each followed mode N
+(modes numbering) when several are followed
 
 examples:
   rotordyn-modal level1 examples/journal_rotor.toml --speed 4000 --station rotor --qa 2e5 --plot l1.png
@@ -56,7 +63,8 @@ def add_arguments(parser):
     add_speed_unit(parser)
     add_stage_arguments(parser)
     parser.add_argument("--factor", default="10", help="the sweep reaches FACTOR x Qa (default 10)")
-    parser.add_argument("--forward-mode", default="1", help="follow the N-th forward mode (default 1, the first)")
+    parser.add_argument("--forward-mode", metavar="N",
+                        help="follow the N-th forward mode alone (default: the first three, the least stable judged)")
     add_output_file(parser, "--csr-plot", metavar="FILE", help="draw the CSR against gas density chart (needs "
                                                                "--gas-density; .png, .svg or .pdf)")
     add_outputs(parser)
@@ -105,7 +113,7 @@ def run(args) -> int:
     speed = float(speed_to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
     qa, shares = anticipated(args, len(stations), speed)
     factor = parse_number(args.factor, "--factor")
-    forward = parse_count(args.forward_mode, "--forward-mode")
+    forward = None if args.forward_mode is None else parse_count(args.forward_mode, "--forward-mode")
     density = gas_density(args)
     if args.csr_plot and density is None:
         raise InputError("--csr-plot: give --gas-density (the chart places the rotor by its average gas density)")
@@ -117,8 +125,12 @@ def run(args) -> int:
     if not args.quiet:
         scale, unit = unit_scale("stiffness", args.units)
         where = ", ".join(s.label(args.units) for s in result.stations)
-        print(f"Qa = {result.qa * scale:.6g} {unit} at {where}; mode {result.mode} "
-              f"({result.frequencies_hz[0]:.5g} Hz at Q = 0) followed; "
+        if len(result.swept) > 1:
+            for run in result.swept:
+                print(_mode_line(run, result, scale, unit), file=sys.stderr)
+        followed = (f"mode {result.mode} ({result.frequencies_hz[0]:.5g} Hz at Q = 0) "
+                    + ("followed" if len(result.swept) <= 1 else "the least stable"))
+        print(f"Qa = {result.qa * scale:.6g} {unit} at {where}; {followed}; "
               + (f"Q0 = {result.q0 * scale:.6g} {unit}; " if np.isfinite(result.q0) else
                  f"Q0 beyond {result.cross_coupling[-1] * scale:.6g} {unit}; ") + result.verdict(args.units),
               file=sys.stderr)
@@ -130,6 +142,16 @@ def run(args) -> int:
         save_figure(result.csr.plot(units=args.units, title=f"API 617 Level I: {result.title}" if result.title
                                     else None, verdict=result.verdict().rpartition(": ")[2]), args, args.csr_plot, "--csr-plot")
     return 0
+
+
+def _mode_line(run, result, scale, unit) -> str:
+    """``forward mode 2: mode 7, 57.7 Hz at Q = 0, log dec at Qa 0.255, Q0 = ... (governs ...)``."""
+    governs = [what for what, yes in (("log dec at Qa", run.mode == result.mode),
+                                      ("Q0", result.governs_q0 is run)) if yes]
+    q0 = f"Q0 = {run.q0 * scale:.6g} {unit}" if np.isfinite(run.q0) else "Q0 beyond the sweep"
+    return (f"forward mode {run.forward_mode}: mode {run.mode}, {run.frequencies_hz[0]:.5g} Hz at Q = 0, "
+            f"log dec at Qa {run.log_decrement_at_qa:.3g}, {q0}" + (f" (governs {' and '.join(governs)})"
+                                                                     if governs else ""))
 
 
 def anticipated(args, count, speed):

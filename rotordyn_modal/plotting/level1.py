@@ -1,7 +1,9 @@
-"""API 617 Level I figures: log decrement of the first forward mode against Q / Qa; the critical
-speed ratio against average gas density."""
+"""API 617 Level I figures: log decrement of the followed forward modes against Q / Qa; the
+critical speed ratio against average gas density."""
 
 from __future__ import annotations
+
+import textwrap
 
 import numpy as np
 
@@ -14,8 +16,10 @@ __all__ = ["plot_level1", "plot_csr_chart"]
 def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     """Log decrement against the applied cross-coupling ``Q / Qa``, with ``Qa`` and ``Q0`` marked.
 
-    The criterion 0.1 is a dashed line, the log decrement at ``Qa`` a marker on its vertical
-    line, ``Q0`` (where the log decrement reaches 0) a marker on the zero line; the title gives
+    One curve per followed forward mode (``result.swept``), the one judged at ``Qa`` (the lowest
+    log decrement there) bold, each labelled with what it governs. The criterion 0.1 is a dashed
+    line, the log decrement at ``Qa`` a marker on its vertical line, ``Q0`` (where the first
+    mode's log decrement reaches 0) a marker on the zero line; the title gives
     the verdict: the criteria's values and whether Level II is required. A second axis along
     the top reads ``Q`` in N/m, kN/m, MN/m or GN/m (lbf/in, klbf/in, ... with ``units='us'``), the
     prefix chosen so that its ticks read below 1000 with no multiplier beside the axis.
@@ -36,8 +40,7 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     scale, unit = unit_scale("stiffness", units)
     fig, ax = new_figure(ax, figsize=(8.0, 5.5))
     x = result.cross_coupling / result.qa
-    ax.plot(x, result.log_decrements, color="tab:blue", linewidth=2.0,
-            label=f"mode {result.mode} (forward), {result.frequencies_hz[0]:.4g} Hz at Q = 0")
+    _curves(ax, result, x)
     ax.axhline(0.0, color="k", linewidth=0.8)
     ax.axhline(LOG_DEC_CRITERION, color="tab:red", linestyle="--", linewidth=1.0,
                label=f"log decrement {LOG_DEC_CRITERION:g} (criterion at Qa)")
@@ -53,7 +56,8 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
                 label=f"Q0 = {result.q0 * scale:.4g} {unit} (Q0/Qa = {result.ratio:.3g})")
     _limits(ax, result)
     ax.set_xlabel("Applied cross-coupled stiffness Q / Qa [-]")
-    ax.set_ylabel("Log decrement of the followed mode [-]\n(< 0: unstable)")
+    ax.set_ylabel(("Log decrement of the followed modes [-]" if len(result.swept) > 1
+                   else "Log decrement of the followed mode [-]") + "\n(< 0: unstable)")
     prefix, factor = _prefix(float(np.nanmax(np.abs(result.cross_coupling), initial=0.0)) * scale)
     qa = result.qa * scale / factor
     top = ax.secondary_xaxis("top", functions=(lambda q: q * qa, lambda q: q / qa))
@@ -63,8 +67,6 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     ax.grid(True, alpha=0.3)
     stations = ", ".join(s.label(units) for s in result.stations)
     heading = title or (f"API 617 Level I: {result.title}" if result.title else "API 617 Level I")
-    import textwrap
-
     # the verdict (with the CSR a line of some 150 characters) wrapped to the figure's width
     ax.set_title(f"{textwrap.shorten(heading, 80)}\nat {result.speed * 30 / np.pi:.6g} rpm, Q at {stations}\n"
                  f"{textwrap.fill(result.verdict(units), 80)}",
@@ -86,11 +88,27 @@ def _prefix(largest: float) -> tuple:
     return "", 1.0
 
 
+def _curves(ax, result, x):
+    """The log decrement of each followed mode; the judged one bold, in blue."""
+    runs = result.swept if len(result.swept) > 1 else (result,)
+    others = iter(["tab:orange", "tab:purple", "tab:brown", "tab:olive", "tab:cyan"])
+    governs_q0 = result.governs_q0
+    for run in runs:
+        judged = run.mode == result.mode
+        governs = [what for what, yes in (("log dec at Qa", judged and len(runs) > 1),
+                                          ("Q0", governs_q0 is run and len(runs) > 1)) if yes]
+        ax.plot(x, run.log_decrements, color="tab:blue" if judged else next(others, "0.5"),
+                linewidth=2.0 if judged else 1.3, linestyle="-" if judged else "--", zorder=3 if judged else 2,
+                label=f"mode {run.mode} (forward {run.forward_mode}), {run.frequencies_hz[0]:.4g} Hz at Q = 0"
+                      + (f": governs {' and '.join(governs)}" if governs else ""))
+
+
 def _limits(ax, result):
-    """x from 0 to the sweep's end; y over the curve, zero and the criterion, with a margin."""
+    """x from 0 to the sweep's end; y over the curves, zero and the criterion, with a margin."""
     x = result.cross_coupling / result.qa
     ax.set_xlim(0.0, x[-1])
-    values = result.log_decrements[np.isfinite(result.log_decrements)]
+    values = np.concatenate([r.log_decrements for r in result.swept or (result,)])
+    values = values[np.isfinite(values)]
     low = min(values.min(initial=0.0), 0.0)
     high = max(values.max(initial=0.0), 0.12)
     span = high - low

@@ -159,6 +159,9 @@ class ModeShapes:
     lines : tuple of ShaftLines or None
         Each mode's deflected shaft lines when a rotor is flexible (None: rigid rotors only,
         drawn as the mode-shape bar chart).
+    note : str
+        Said under the section's introduction: why the modes shown are not the window's (it
+        holds only axial or torsional modes of a flexible rotor, whose lines are flat), or "".
     """
 
     modal: object
@@ -166,6 +169,7 @@ class ModeShapes:
     reasons: tuple
     window: tuple
     lines: tuple | None = None
+    note: str = ""
 
 
 @dataclass
@@ -253,10 +257,41 @@ def _stress_criterion(data, check):
                     ("limit", "<= {0:.3g} {unit} (allowable_stress)", "stress", (check.allowable,))]))
 
 
+def critical_round_off(model, critical) -> np.ndarray:
+    """What round-off can move each critical speed's damping ratio by, reckoned as ``modes``
+    reckons it (``ModalResult.to_dataframe``): the eigen-solve's round-off at that speed over
+    ``|lambda|``; infinite where the machine is conservative (no damping, a symmetric
+    semidefinite stiffness: every root imaginary, as ``critical-speeds`` prints it).
+
+    Parameters
+    ----------
+    model : Model
+    critical : CriticalSpeeds
+        Its ``speeds_rpm`` (the reference rotor's) and ``frequencies_hz``, shape (N,).
+
+    Returns
+    -------
+    ndarray, shape (N,) [-]
+    """
+    from ..analysis._roots import conservative, round_off
+    from ..linear_system import speed_linear_form
+
+    speeds = np.asarray(critical.speeds_rpm, dtype=float) * (np.pi / 30)
+    if not len(speeds):
+        return np.zeros(0)
+    form = speed_linear_form(model)
+    noise = round_off(np.stack([form.at(speed) for speed in speeds]))
+    zeta = np.clip(np.abs(np.asarray(critical.damping_ratios, dtype=float)), 0.0, 1.0 - 1e-12)
+    size = 2 * np.pi * np.asarray(critical.frequencies_hz, dtype=float) / np.sqrt(1 - zeta ** 2)   # |lambda|
+    with np.errstate(divide="ignore"):
+        return np.where(conservative(form, speeds), np.inf, noise / size)
+
+
 def _campbell(data):
     from ..analysis.campbell import campbell
 
     data.results["campbell"] = campbell(data.model, data.inputs.speeds, orders=(1,))
+    data.results["critical_round_off"] = critical_round_off(data.model, data.results["campbell"].critical)
     name = _MARGIN + (" (informative)" if data.inputs.standard == "iso" else "")
     _unbalance(data)                      # the amplification factors come from the response
     response = data.results.get("unbalance")
@@ -360,12 +395,65 @@ def _modes(data):
     if not reasons:
         reasons = {n: "one of the lowest at the MCS (none in the window)" for n in range(1, min(count, LOWEST_MODES) + 1)}
     numbers = tuple(sorted(reasons)[:MOST_MODES])
-    lines = None
+    lines, note = None, ""
     if any(r.flexible is not None for r in data.model.rotors):
         from ..analysis.mode_shapes import shaft_lines
 
         lines = tuple(shaft_lines(result, data.model, n) for n in numbers)
-    data.results["modes"] = ModeShapes(result, numbers, tuple(reasons[n] for n in numbers), window, lines)
+        if not any(line.lateral for line in lines):
+            # only axial or torsional modes in the window: their shaft lines are flat; the
+            # lateral modes nearest the window are drawn instead
+            nearest = _nearest_lateral(data.model, result, window)
+            if nearest:
+                note = (f"The window holds no lateral mode: {', '.join(f'mode {n}' for n in numbers)} "
+                        f"{'is' if len(numbers) == 1 else 'are'} axial or torsional (no lateral motion to draw); "
+                        "the lateral modes nearest the operating range, below and above the window, are shown "
+                        "instead.")
+                reasons = {n: why for n, (why, _) in nearest.items()}
+                numbers = tuple(sorted(nearest))
+                lines = tuple(nearest[n][1] for n in numbers)
+    data.results["modes"] = ModeShapes(result, numbers, tuple(reasons[n] for n in numbers), window, lines, note)
+
+
+#: the lateral modes shown on each side of the window when it holds only axial or torsional ones
+#: (a whirl pair: backward and forward)
+NEAREST_LATERAL = 2
+
+
+def _nearest_lateral(model, result, window) -> dict:
+    """The :data:`NEAREST_LATERAL` lateral modes nearest below and above ``window`` [rad/s] by
+    their frequency at the MCS taken as a 1X speed.
+
+    Parameters
+    ----------
+    model : Model
+    result : ModalResult
+        At the MCS.
+    window : (float, float) [rad/s]
+
+    Returns
+    -------
+    dict
+        ``{number: (reason, ShaftLines)}``, the numbers as ``modes`` numbers them.
+    """
+    from ..analysis.mode_shapes import shaft_lines
+
+    speeds = 2 * np.pi * result.frequencies_hz[result.oscillatory]
+    numbers = np.arange(1, len(speeds) + 1)
+    below, above = numbers[speeds < window[0]][::-1], numbers[speeds > window[1]]
+    chosen = {}
+    for side, candidates in (("below", below), ("above", above)):
+        found = 0
+        for number in candidates:
+            line = shaft_lines(result, model, int(number))
+            if line.lateral:
+                speed = speeds[number - 1] * 30 / np.pi
+                chosen[int(number)] = (f"nearest lateral mode {side} the window (frequency at the MCS "
+                                       f"{speed:.0f} rpm as 1X), shown as the window has none", line)
+                found += 1
+                if found == NEAREST_LATERAL:
+                    break
+    return chosen
 
 
 def _critical_numbers(data, result):
@@ -466,21 +554,18 @@ def _clearance(data):
                     ("limit", "<= {0:.3g} {unit} pk-pk", "vibration", (worst.limit,))]))
 
 
-#: the report's Level I follows this many of the rotor's forward modes (the first, second, ...)
-#: and judges the least stable: the first forward mode by frequency may be one the cross-coupling
-#: at the station barely reaches (a tilting mode of a rotor whose centre hardly moves), while the
-#: next one goes unstable
-LEVEL1_MODES = 3
-
-
 def _level1(data):
     given = data.inputs.level1
     if not given:
         data.skipped["level1"] = "no --station with --qa or stage data given"
     else:
-        runs = level1_runs(data.model, data.inputs.mcs, given)
-        data.results["level1_runs"] = runs
-        data.results["level1"] = judged_level1(runs)
+        from ..analysis.level1 import level1
+
+        # the least stable of the rotor's first forward modes, each in result.swept
+        result = level1(data.model, data.inputs.mcs, given["stations"], given["qa"], shares=given.get("shares"),
+                        gas_density=given.get("gas_density"))
+        data.results["level1_runs"] = list(result.swept)
+        data.results["level1"] = result
     result = data.results.get("level1")
     if result is None:
         for name in ("API 617 Level I: log decrement at Qa", "API 617 Level I: Q0/Qa"):
@@ -497,49 +582,6 @@ def _level1(data):
                                    "Level II required" if result.level2_required else "Level II not required"))
     if result.csr is not None:
         _csr_criterion(data, result)
-
-
-def level1_runs(model, mcs, given) -> list:
-    """The Level I sweep of each of the stations' rotor's forward modes at the MCS, first to
-    :data:`LEVEL1_MODES`-th (those there are), the first with the gas density's CSR screening.
-
-    Parameters
-    ----------
-    model : Model
-    mcs : float [rad/s]
-    given : dict
-        ``ReportInputs.level1``: ``stations``, ``qa`` [N/m], optionally ``shares`` and
-        ``gas_density`` [kg/m^3].
-
-    Returns
-    -------
-    list of Level1Result
-        Index ``k`` follows the ``k + 1``-th forward mode.
-    """
-    from ..analysis.level1 import level1
-
-    def run(number, gas_density=None):
-        return level1(model, mcs, given["stations"], given["qa"], shares=given.get("shares"),
-                      forward_mode=number, gas_density=gas_density)
-
-    runs = [run(1, given.get("gas_density"))]          # bad input is refused here, as before
-    for number in range(2, LEVEL1_MODES + 1):
-        try:
-            runs.append(run(number))
-        except InputError:                             # no further forward mode
-            break
-    return runs
-
-
-def judged_level1(runs):
-    """The Level I result the report judges: the run of the least stable forward mode (the
-    lowest log decrement at Qa), with ``Q0`` the smallest of all runs (the cross-coupling at
-    which the first of them reaches a zero log decrement: the machine's threshold) and the first
-    run's CSR screening."""
-    judged = min(runs, key=lambda r: r.log_decrement_at_qa)
-    thresholds = [r.q0 for r in runs if np.isfinite(r.q0)]
-    q0 = min(thresholds) if thresholds else judged.q0
-    return replace(judged, q0=float(q0), csr=runs[0].csr)
 
 
 def _csr_criterion(data, result):

@@ -257,7 +257,12 @@ def campbell_top(result):
 
 def _campbell(data, units) -> str:
     result = data.results["campbell"]
+    from ..analysis._roots import at_round_off
+
     critical = result.critical.to_dataframe()
+    # a damping ratio within the solve's round-off (-1.6e-17 of an undamped mode) shows as 0, as in 'modes'
+    noise = data.results.get("critical_round_off", np.zeros(len(critical)))
+    critical["damping_ratio"] = at_round_off(critical["damping_ratio"].to_numpy(dtype=float), noise)
     low, high = (x * 30 / np.pi for x in data.inputs.range)
     rows = [[r.source, _g(r.order), r.mode, _g(r.speed_rpm, 6), _g(r.frequency_hz, 5), r.whirl,
              _g(r.damping_ratio, 3)] for r in critical.itertuples()]
@@ -339,7 +344,7 @@ def _modes(data, units) -> str:
         f"{100 * MODE_WINDOW[0]:.0f} % below or {100 * MODE_WINDOW[1]:.0f} % above (the largest separation "
         "margins API 617 asks) the operating range, "
         f"{low:.6g} to {high:.6g} rpm (at most {MOST_MODES}); the lowest {LOWEST_MODES} at the MCS when none does "
-        "(docs/report.md).</p>",
+        "(docs/report.md).</p>" + (f"<p>{escape(shapes.note)}</p>" if shapes.note else ""),
         _table(rows, [("mode", True), ("frequency [Hz]", False), ("whirl", True), ("log decrement [-]", False),
                       ("damping ratio [-]", False), ("shown because", True)]),
         _figure(fig, f"Figure: {what}. " + "; ".join(captions) + ".", "Mode shapes")])
@@ -446,9 +451,9 @@ def _level1(data, units) -> str:
         f"mode {result.mode} (docs/report.md). {escape(result.verdict(units))}.</p>",
         _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
         _runs_table(runs, result, units),
-        _figure(result.plot(**_units(units)), f"Figure: log decrement of mode {result.mode}, the least stable "
-                "forward mode at Qa, against the applied cross-coupling Q; Q0 the smallest of the swept modes' "
-                "(API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")]
+        _figure(result.plot(**_units(units)), f"Figure: log decrement of each swept forward mode against the "
+                f"applied cross-coupling Q, mode {result.mode} (bold), the least stable at Qa; Q0 the smallest of "
+                "the swept modes' (API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")]
         + ([] if csr is None else [_figure(csr.plot(verdict=result.verdict().rpartition(": ")[2], **_units(units)),
                                            "Figure: critical speed ratio against average gas density, the dividing "
                                            "line between Regions A and B (API 617 Level I; docs/standards.md).",

@@ -41,7 +41,11 @@ log decrements, and the Campbell time per speed of both (ROSS ``run_campbell(spe
 frequencies=12)``; ``rdm.campbell(model, speeds, critical=False)`` of all modes, and with ``modes=12`` (the
 lowest 12 only) where it offers that) as ratios from one run: the three are timed in turn
 ``--repeat`` times, and the ratios' min / median / max printed, with the largest relative
-difference of the lowest 12 roots from the 12 lowest of all modes ("low vs all"). Without flexible rotors in rotordyn_modal (a checkout
+difference of the lowest 12 roots from the 12 lowest of all modes ("low vs all"). Where the
+package has the Hermitian route of small undamped gyroscopic models (``_lowest._gyroscopic_lowest``),
+each repeat also times ``modes=12`` with that route switched off (``eigvals`` of the state
+matrices, the route before it): a baseline from the same run, printed under the rotor's row as
+its time per speed, ROSS / it, and it / the lowest 12 (min/median/max). Without flexible rotors in rotordyn_modal (a checkout
 before them) the script says so and keeps the rigid comparison.
 """
 
@@ -463,6 +467,11 @@ def flexible_comparison(names, n_speeds: int, repeat: int) -> None:
         ratios = [_spread(t_ross / t) if t is not None else f"{'-':>20}" for t in (t_all, t_low)]
         print(f"{name:>20} {rotor.ndof:8d} {model.dofs.n:7d} | {rel:13.1e} {log_dec:12.1e} {low_vs_all:10.1e} | "
               f"{np.median(t_ross) / n_speeds * 1e3:13.2f} {per_speed[0]} {per_speed[1]} | {ratios[0]} {ratios[1]}")
+        base = _BASELINE[0]
+        if t_low is not None and np.isfinite(base).all():
+            print(f"{'':>20} lowest 12 by the state matrices' eigvals (the route before the Hermitian one, same run): "
+                  f"{np.median(base) / n_speeds * 1e3:.3f} ms/speed, ROSS/it {_spread(t_ross / base).strip()}, "
+                  f"it/rdm low 12 {np.min(base / t_low):.2f}/{np.median(base / t_low):.2f}/{np.max(base / t_low):.2f}")
 
 
 def _spread(ratios) -> str:
@@ -500,7 +509,8 @@ def campbell_times(model, path, grid, repeat):
     rdm.campbell(model, grid[:3], **keywords)  # first call: imports, caches
     if lowest is not None:
         rdm.campbell(model, grid[:3], **lowest)
-    times = np.full((3, repeat), np.nan)
+    times = np.full((4, repeat), np.nan)
+    baseline = _state_matrix_route() if lowest is not None else None
     for r in range(repeat):
         with _quiet():
             rotor = rs.Rotor.load(path)
@@ -514,12 +524,43 @@ def campbell_times(model, path, grid, repeat):
             start = time.perf_counter()
             low = rdm.campbell(model, grid, **lowest)
             times[2, r] = time.perf_counter() - start
+        if baseline is not None:
+            with baseline():
+                start = time.perf_counter()
+                rdm.campbell(model, grid, **lowest)
+                times[3, r] = time.perf_counter() - start
+    _BASELINE[:] = [times[3]]
     if lowest is None:
         return times[0], times[1], None, np.nan
     roots = np.where(every.oscillatory, every.eigenvalues, np.nan + 1e30j)
     reference = np.take_along_axis(roots, np.argsort(roots.imag, axis=1), axis=1)[:, :CAMPBELL_MODES]
     found = np.take_along_axis(low.eigenvalues, np.argsort(low.eigenvalues.imag, axis=1), axis=1)
     return times[0], times[1], times[2], float(np.max(np.abs(found - reference) / np.abs(reference)))
+
+
+#: the last campbell_times' baseline times [s] (repeat,), NaN where there is none
+_BASELINE = [np.array([np.nan])]
+
+
+def _state_matrix_route():
+    """A context in which the lowest modes of a small model take the route before the Hermitian
+    one (``eigvals`` of the real state matrices, ``_lowest._dense_lowest``): the baseline timed in
+    the same run; None on a checkout without the Hermitian route."""
+    from rotordyn_modal.analysis import _lowest
+
+    if not hasattr(_lowest, "_gyroscopic_lowest"):
+        return None
+
+    @contextlib.contextmanager
+    def context():
+        plain = _lowest._gyroscopic_lowest
+        _lowest._gyroscopic_lowest = lambda stack, speeds, count: None
+        try:
+            yield
+        finally:
+            _lowest._gyroscopic_lowest = plain
+
+    return context
 
 
 def write_figure(data, ross_table, rdm_worst):

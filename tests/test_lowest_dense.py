@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 import scipy.linalg
 
 import rotordyn_modal as rdm
@@ -161,3 +163,133 @@ def test_root_count_is_half_the_states_and_the_route_switches_there(name, exampl
     assert np.array_equal(all_of_them.shapes, every.shapes)
     assert rdm.campbell(model, speeds, critical=False, modes=root_count(model) - 1).eigenvalues.shape == \
         (len(speeds), root_count(model) - 1)
+
+
+# ----------------------------------------------------------------------------------------
+# Undamped gyroscopic models: the roots from a Hermitian matrix of the states
+
+def _refined_root(root, shape, M, G, K, speed):
+    """The root of ``s^2 M + s speed G + K`` near ``root`` (start shape ``shape``), by Newton's
+    iteration on the bordered system with the residual in extended precision (numpy's longdouble)
+    and the correction in double: the truth the roots are measured against."""
+    n, wide = len(M), np.clongdouble
+    Ml, Gl, Kl = (matrix.astype(np.longdouble) for matrix in (M, G, K))
+    j = int(np.argmax(np.abs(shape)))
+    s, x = wide(root), (shape / shape[j]).astype(wide)
+    for _ in range(5):
+        Q = Ml * s * s + Gl * (s * speed) + Kl
+        residual = np.append(-(Q @ x), wide(1) - x[j])
+        jacobian = np.zeros((n + 1, n + 1), complex)
+        jacobian[:n, :n] = Q.astype(complex)
+        jacobian[:n, n] = ((2 * s * Ml + speed * Gl) @ x).astype(complex)
+        jacobian[n, j] = 1.0
+        step = np.linalg.solve(jacobian, residual.astype(complex))
+        x, s = x + step[:n].astype(wide), s + wide(step[n])
+    return s
+
+
+def _eig_lowest(M, G, K, speed, count):
+    """The ``count`` lowest upper roots of the state matrix (numpy's eig, built here) and their
+    unit displacement shapes."""
+    values, vectors = np.linalg.eig(_state_matrix(M, np.zeros_like(M), G, K, speed))
+    order = np.argsort(np.where(values.imag > 0, values.imag, np.inf))[:count]
+    shapes = vectors[:len(M), order].T
+    return values[order], shapes / np.linalg.norm(shapes, axis=1, keepdims=True)
+
+
+def _check_gyroscopic_route(model, speeds, count, exact):
+    """The lowest roots of ``model`` (undamped gyroscopic) by the Hermitian route: purely
+    imaginary, as close to the extended-precision roots as eig's of the state matrix (within
+    ``exact`` relative, or three times eig's worst error over the speeds: the round-off of a model
+    whose M and K span many decades), and with eig's shapes up to a phase."""
+    from rotordyn_modal.analysis._stack import Stack
+
+    stack = Stack([model])
+    lowest = _lowest._gyroscopic_lowest(stack, speeds, count)
+    assert lowest is not None                            # the route applies
+    lam, phi = lowest
+    M, C, G, K = model.matrices()
+    assert not C.any()
+    whole = _lowest._full_lowest(stack, speeds, count)[0]
+    errors, eig_errors = [0.0], [0.0]
+    for k, speed in enumerate(speeds):
+        if np.array_equal(lam[k], whole[k]):    # a speed of double roots: solved whole, as before
+            continue
+        reference, shapes = _eig_lowest(M, G, K, speed, count)
+        truth = np.array([_refined_root(r, x, M, G, K, speed) for r, x in zip(reference, shapes)]).astype(complex)
+        assert np.all(lam[k].real == 0)
+        errors.append(np.max(np.abs(lam[k] - truth) / np.abs(truth)))
+        eig_errors.append(np.max(np.abs(reference - truth) / np.abs(truth)))
+        mac = np.abs(np.einsum("ki,ki->k", phi[k].conj(), shapes)) ** 2
+        assert np.all(mac >= 1 - 1e-10)
+    assert max(errors) <= max(exact, 3 * max(eig_errors))
+    return max(errors), max(eig_errors)
+
+
+def test_undamped_gyroscopic_roots_come_from_a_hermitian_matrix(monkeypatch):
+    """ROSS's rotor_example (no damping): no eigenvalues of the 56-state matrices are computed (a
+    Hermitian matrix of the states instead: a third of the work), the roots are on the imaginary
+    axis and within 5e-13 of the extended-precision roots (eig of the state matrix: within 1.6e-12),
+    the shapes eig's."""
+    model = rdm.Model.from_dict(read_ross_rotor(ROTOR_EXAMPLE))
+    sizes = []
+    plain = np.linalg.eigvals
+
+    def recording(a):
+        sizes.append(np.shape(a)[-1])
+        return plain(a)
+
+    monkeypatch.setattr(np.linalg, "eigvals", recording)
+    speeds = np.linspace(0.0, 1500.0, 11)
+    result = rdm.campbell(model, speeds, critical=False, modes=12)
+    assert 2 * model.dofs.n not in sizes
+    assert np.all(result.eigenvalues[1:].real == 0)          # speed 0: double roots, solved whole
+    error, eig_error = _check_gyroscopic_route(model, speeds, 12, 5e-13)
+    assert error <= 5e-13 < eig_error
+
+
+_steel = {"name": "steel", "density": 7800.0, "young_modulus": 2.1e11, "shear_modulus": 8.1e10}
+
+
+@given(st.integers(1, 3), st.floats(0.3, 1.0), st.integers(2, 6), st.floats(0.03, 0.08),
+       st.tuples(st.floats(5.0, 8.5), st.floats(5.0, 8.5)), st.floats(0.0, 30.0), st.integers(1, 8),
+       st.floats(100.0, 2000.0))
+@settings(max_examples=5, deadline=None, database=None)
+def test_random_undamped_shafts_take_the_hermitian_route(sections, length, elements, diameter, log_k,
+                                                         disk_mass, count, top_speed):
+    """Random undamped shafts (sections of random diameters, a disk, bearings of random anisotropic
+    stiffness): the Hermitian route's roots are as close to the extended-precision roots as eig's
+    of the state matrix, its shapes eig's."""
+    model = rdm.Model.from_dict({
+        "name": "shaft", "spin_axis": [1.0, 0.0, 0.0], "materials": [_steel],
+        "rotors": [{"name": "r", "start": [0.0, 0.0, 0.0], "element_length": length / elements,
+                    "shaft": [{"length": length / sections, "outer_diameter": diameter * (1 + 0.3 * i),
+                               "material": "steel"} for i in range(sections)],
+                    "disks": [{"name": "d", "axial_position": 0.6 * length, "mass": disk_mass + 0.1,
+                               "polar_inertia": 0.01 * (disk_mass + 0.1), "diametral_inertia": 0.006 * (disk_mass + 0.1)}]}],
+        "bearings": [{"name": f"b{i}", "rotor": "r", "axial_position": z,
+                      "stiffness": [10 ** log_k[0], 10 ** log_k[1]]} for i, z in enumerate((0.0, length))],
+    })
+    assume(model.dofs.n < _lowest.DENSE_BELOW)
+    _check_gyroscopic_route(model, np.linspace(0.0, top_speed, 3), min(count, model.dofs.n), 1e-12)
+
+
+def test_damped_cross_coupled_or_free_models_keep_the_state_matrix_route():
+    """The Hermitian route refuses the models it does not hold for: damping, a cross-coupled
+    (non-symmetric) stiffness, a singular stiffness (a rotor free to roll on its mounts)."""
+    from rotordyn_modal.analysis._stack import Stack
+
+    assert _lowest._hermitian_form(Stack([_axisymmetric_shaft()])) is None          # damped bearings
+    crossed = rdm.Model.from_dict({
+        "name": "crossed", "spin_axis": [1.0, 0.0, 0.0], "materials": [_steel],
+        "rotors": [{"name": "r", "start": [0.0, 0.0, 0.0], "element_length": 0.1,
+                    "shaft": [{"length": 0.4, "outer_diameter": 0.05, "material": "steel"}]}],
+        "bearings": [{"name": f"b{i}", "rotor": "r", "axial_position": z, "stiffness": [[1e7, 2e6], [-2e6, 1e7]]}
+                     for i, z in enumerate((0.0, 0.4))],
+    })
+    assert _lowest._hermitian_form(Stack([crossed])) is None
+    stiff = [1e2, 1e6, 1e6, 0.0, 0.0, 0.0]
+    free = rdm.Model(name="free to roll", rotors=[rdm.Rotor("rotor", 50.0, [0.0, 0.0, 0.0], 0.4, 0.9, speed_ratio=1.0)],
+                     suspensions=[rdm.Suspension(f"s{i}", [x, 0.0, 0.0], stiff) for i, x in enumerate((-0.25, 0.25))])
+    assert not np.any(free.matrices()[1])
+    assert _lowest._hermitian_form(Stack([free])) is None

@@ -55,8 +55,7 @@ def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarr
     -------
     ndarray, shape (P, n), complex, unit norm
     """
-    lam = np.asarray(eigenvalues, dtype=complex)
-    shifted = lam + 1e-13 * (np.abs(lam) + 1e-300) * (1 + 1j)   # round-off shift keeps an exactly singular pencil solvable
+    shifted = shifted_roots(eigenvalues)
     pencil = _quadratic(M, damping, stiffness, shifted)
     if branches is not None and branches[1].shape[-1]:
         stiffness_b, times = branches
@@ -64,6 +63,13 @@ def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarr
         pencil += np.einsum("pb,pbij->pij", factor, stiffness_b)
     start = np.broadcast_to(_start_vectors(1, M.shape[-1])[0][:, None], pencil.shape[:-1] + (1,))
     return _vectors.unit_rows(_solve(pencil, start)[..., 0])
+
+
+def shifted_roots(eigenvalues) -> np.ndarray:
+    """The shifts of :func:`pencil_shapes`' inverse iteration: each root moved by its round-off,
+    ``1e-13 |lam| (1 + i)``, which keeps an exactly singular pencil solvable."""
+    lam = np.asarray(eigenvalues, dtype=complex)
+    return lam + 1e-13 * (np.abs(lam) + 1e-300) * (1 + 1j)
 
 
 #: pencils of at most this many coordinates are kept whole and solved in one batched call;

@@ -25,20 +25,26 @@ def _state_matrix(M, C, G, K, speed):
                      [-np.linalg.solve(M, K), -np.linalg.solve(M, C + speed * G)]])
 
 
+def _recorded_sizes(monkeypatch, name: str) -> list:
+    """The sizes of the matrices ``numpy.linalg.<name>`` is called with from now on (a list that
+    grows as the calls come)."""
+    sizes, plain = [], getattr(np.linalg, name)
+
+    def recording(a):
+        sizes.append(np.shape(a)[-1])
+        return plain(a)
+
+    monkeypatch.setattr(np.linalg, name, recording)
+    return sizes
+
+
 def test_small_model_lowest_modes_need_no_eigenvectors_of_the_state_matrices(monkeypatch):
     """ROSS's rotor_example (28 coordinates, the dense route): no eigenvectors of the 56-state
     matrices are computed, and the roots are scipy's, the shapes solve the pencil."""
     model = rdm.Model.from_dict(read_ross_rotor(ROTOR_EXAMPLE))
     n = model.dofs.n
     assert n < _lowest.DENSE_BELOW
-    eigen_sizes = []
-    plain_eig = np.linalg.eig
-
-    def recording_eig(a):
-        eigen_sizes.append(np.shape(a)[-1])
-        return plain_eig(a)
-
-    monkeypatch.setattr(np.linalg, "eig", recording_eig)
+    eigen_sizes = _recorded_sizes(monkeypatch, "eig")
     speeds = np.linspace(100.0, 3000.0, 7)
     result = rdm.campbell(model, speeds, critical=False, modes=12)
     assert 2 * n not in eigen_sizes
@@ -232,14 +238,7 @@ def test_undamped_gyroscopic_roots_come_from_a_hermitian_matrix(monkeypatch):
     axis and within 5e-13 of the extended-precision roots (eig of the state matrix: within 1.6e-12),
     the shapes eig's."""
     model = rdm.Model.from_dict(read_ross_rotor(ROTOR_EXAMPLE))
-    sizes = []
-    plain = np.linalg.eigvals
-
-    def recording(a):
-        sizes.append(np.shape(a)[-1])
-        return plain(a)
-
-    monkeypatch.setattr(np.linalg, "eigvals", recording)
+    sizes = _recorded_sizes(monkeypatch, "eigvals")
     speeds = np.linspace(0.0, 1500.0, 11)
     result = rdm.campbell(model, speeds, critical=False, modes=12)
     assert 2 * model.dofs.n not in sizes

@@ -104,8 +104,8 @@ def _reduced_roots(stack, speeds, count):
     n = stack.n_dof
     size = min(n, max(3 * count, count + 10))
     pencils = _Pencils(stack, speeds)
-    omegas, symmetric, modes = _basis(stack, speeds[:1])
-    bound = _Bound(pencils, omegas, modes, symmetric)
+    bound = _stack_bound(stack, pencils)
+    modes = bound.modes
     want = min(count + 1, size)
     # the highest root wanted, from a few speeds (an underestimate only makes the final check stricter)
     few = np.unique(np.round(np.linspace(0, len(speeds) - 1, min(len(speeds), _FEW))).astype(int))
@@ -131,6 +131,21 @@ def _basis(stack, speed):
     # all of them: a dense eigh of n x n costs less than one speed's full solve
     values, vectors = scipy.linalg.eigh(K, stack.M[0])
     return np.sqrt(np.maximum(values, 0.0)), K, vectors
+
+
+def _stack_bound(stack, pencils):
+    """The :class:`_Bound` of ``pencils`` on the undamped modes of ``stack`` at the first speed it
+    is asked for, computed once per stack: the critical speeds' sub-sweeps of the lowest modes
+    reuse the sweep's basis (any speed's basis serves, :class:`_Bound` measures the stiffness's
+    departure from it) and its speed-independent products, an ``eigh`` and ``n^3`` products fewer
+    each."""
+    cached = stack.__dict__.get("_lowest_basis")
+    if cached is None:
+        omegas, symmetric, modes = _basis(stack, pencils.speeds[:1])
+        cached = stack.__dict__["_lowest_basis"] = {"basis": (omegas, modes, symmetric)}
+    bound = _Bound(pencils, *cached["basis"], products=cached.get("products"))
+    cached["products"] = bound.products
+    return bound
 
 
 class _Bound:
@@ -160,21 +175,27 @@ class _Bound:
         ``K_0`` [N/m].
     """
 
-    def __init__(self, pencils, omegas, modes, symmetric):
+    def __init__(self, pencils, omegas, modes, symmetric, products=None):
         self.omegas, self.modes, self.speeds = omegas, modes, pencils.speeds
         offset = pencils.K - symmetric
         self.local = np.unique(np.concatenate([*np.nonzero(pencils.C), *np.nonzero(offset),
                                                pencils.rows, pencils.cols])).astype(int)
         self.damping_norms, self.stiffness_norms = _local_norms(pencils, offset, self.local)
-        self.reach = np.linalg.norm(modes[self.local], 2) if len(self.local) else 0.0
-        gyro = modes.T @ pencils.G @ modes
-        self.gyro_rows = np.einsum("ji,ji->j", gyro, gyro)
-        self.local_rows = np.einsum("ij,ij->j", modes[self.local], modes[self.local])
+        del offset
+        if products is None or not np.array_equal(products[0], self.local):
+            reach = np.linalg.norm(modes[self.local], 2) if len(self.local) else 0.0
+            local_rows = np.einsum("ij,ij->j", modes[self.local], modes[self.local])
+            products = self.local, reach, _gyro_rows(pencils.sparse[2], modes), local_rows
+        #: the speed-independent parts, kept for another sweep of the same basis (:func:`_stack_bound`)
+        self.products = products
+        _, self.reach, self.gyro_rows, self.local_rows = products
 
-    def shares(self, size: int, rho: float, directions: int | None = None):
+    def shares(self, size: int, rho: float, directions: int | None = None, vectors: bool = True):
         """The bound at every speed (S,) for roots up to ``rho`` [rad/s] and the basis of the first
         ``size`` modes with ``directions`` attachment directions (default: the fewest meeting
-        ``_SHARE`` at every speed, or all), and those directions (n, k), mass-orthonormal."""
+        ``_SHARE`` at every speed, or all), and those directions (n, k), mass-orthonormal (without
+        ``vectors``: their number only, as (0, k) zeros; the singular values alone cost a fraction
+        of the vectors where the bearings reach most coordinates, a chain of rotors on bearings)."""
         n = len(self.omegas)
         if size >= n:
             return np.zeros(len(self.speeds)), np.zeros((n, 0))
@@ -185,7 +206,10 @@ class _Bound:
         gyro = np.sqrt(w ** 2 @ self.gyro_rows[size:])
         attached = np.sqrt((rho ** 2 * w / omega2) ** 2 @ self.local_rows[size:])
         static = self.modes[self.local, size:].T / omega2[:, None]            # (n - m, |L|)
-        left, sigma, _ = np.linalg.svd(static, full_matrices=False)
+        if vectors:
+            left, sigma, _ = np.linalg.svd(static, full_matrices=False)
+        else:
+            left, sigma = None, np.linalg.svd(static, compute_uv=False)
         force = self.reach * (rho * self.damping_norms + self.stiffness_norms)
         base = rho * np.abs(self.speeds) * gyro
         tails = np.append(sigma, 0.0)                                         # sigma_k, k = 0 .. |L|
@@ -193,7 +217,21 @@ class _Bound:
             meets = np.nonzero((attached + tails) * np.max(force, initial=0.0) + np.max(base) <= _SHARE)[0]
             directions = int(meets[0]) if len(meets) else len(sigma)
         bound = (attached + tails[directions]) * force + base
+        if not vectors:
+            return bound, np.zeros((0, directions))
         return bound, self.modes[:, size:] @ left[:, :directions]
+
+
+def _gyro_rows(G, modes):
+    """The squared norms of the rows of ``modes^T G modes`` (n,), for a sparse ``G`` (n, n), a
+    block of columns at a time (never a second n x n array)."""
+    n = modes.shape[1]
+    out = np.zeros(n)
+    step = max(1, _batches.CHUNK_BYTES // (16 * max(modes.shape[0], 1)))
+    for start in range(0, n, step):
+        part = modes.T @ (G @ modes[:, start:start + step])          # columns of modes^T G modes
+        out += np.einsum("ji,ji->j", part, part)
+    return out
 
 
 def _local_norms(pencils, offset, local):
@@ -203,9 +241,9 @@ def _local_norms(pencils, offset, local):
     if not len(local):
         return np.zeros(count), np.zeros(count)
     block = np.ix_(local, local)
-    where = np.full((len(offset),) * 2, -1)
-    where[block] = np.arange(len(local) ** 2).reshape(len(local), len(local))
-    at = where[pencils.rows, pencils.cols]
+    place = np.full(len(offset), -1)
+    place[local] = np.arange(len(local))
+    at = place[pencils.rows] * len(local) + place[pencils.cols]        # the bearings' entries in the block
     out = np.empty((2, count))
     for part in _batches.chunk_slices(count, 16 * len(local) ** 2):
         for i, (constant, entries) in enumerate(((pencils.C[block], pencils.cb), (offset[block], pencils.kb))):
@@ -226,7 +264,7 @@ def _needed_size(bound, rho, size):
     for m in np.unique(np.round(np.geomspace(max(first, 1), n, 24)).astype(int)):
         if m >= best_total:
             break
-        shares, directions = bound.shares(int(m), rho)
+        shares, directions = bound.shares(int(m), rho, vectors=False)
         if np.all(shares <= _SHARE) and m + directions.shape[1] < best_total:
             best, best_total = int(m), int(m) + directions.shape[1]
     return best
@@ -328,9 +366,8 @@ class _Pencils:
         self.pattern = rows, cols
         self.indptr = np.concatenate([[0], np.cumsum(np.bincount(cols, minlength=n))]).astype(np.int32)
         self.indices = rows.astype(np.int32)
-        where = np.full((n, n), -1)
-        where[self.pattern] = np.arange(len(self.pattern[0]))
-        self.bearing_at = where[self.rows, self.cols]
+        # each bearing entry's place on the pattern (its keys col * n + row ascend)
+        self.bearing_at = np.searchsorted(cols * n + rows, self.cols * n + self.rows)
         self.scatter = np.zeros((len(self.rows), n))
         self.scatter[np.arange(len(self.rows)), self.rows] = 1.0
         self.band = _band(rows, cols, n)
@@ -760,8 +797,8 @@ def _reduced_below(stack, speeds, limit, count):
     None where the basis would hold every mode (the full eigen-solve costs less)."""
     n = stack.n_dof
     pencils = _Pencils(stack, speeds)
-    omegas, symmetric, modes = _basis(stack, speeds[:1])
-    bound = _Bound(pencils, omegas, modes, symmetric)
+    bound = _stack_bound(stack, pencils)
+    omegas, modes = bound.omegas, bound.modes
     # the largest |lam| below the limit, from a few speeds' projected roots on the modes up to twice it
     few = np.unique(np.round(np.linspace(0, len(speeds) - 1, min(len(speeds), _FEW))).astype(int))
     size = min(n, int(np.searchsorted(omegas, 2.0 * limit)) + 10)

@@ -205,13 +205,16 @@ class _Bound:
         w = 1.0 / (omega2 - rho ** 2)
         gyro = np.sqrt(w ** 2 @ self.gyro_rows[size:])
         attached = np.sqrt((rho ** 2 * w / omega2) ** 2 @ self.local_rows[size:])
+        force = self.reach * (rho * self.damping_norms + self.stiffness_norms)
+        base = rho * np.abs(self.speeds) * gyro
+        if not vectors and np.any(attached * force + base > _SHARE):
+            # not met even with every direction (the least the bound can be): no SVD needed to say so
+            return attached * force + base, np.zeros((0, min(n - size, len(self.local))))
         static = self.modes[self.local, size:].T / omega2[:, None]            # (n - m, |L|)
         if vectors:
             left, sigma, _ = np.linalg.svd(static, full_matrices=False)
         else:
             left, sigma = None, np.linalg.svd(static, compute_uv=False)
-        force = self.reach * (rho * self.damping_norms + self.stiffness_norms)
-        base = rho * np.abs(self.speeds) * gyro
         tails = np.append(sigma, 0.0)                                         # sigma_k, k = 0 .. |L|
         if directions is None:
             meets = np.nonzero((attached + tails) * np.max(force, initial=0.0) + np.max(base) <= _SHARE)[0]

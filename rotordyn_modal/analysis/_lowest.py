@@ -123,14 +123,19 @@ def _reduced_roots(stack, speeds, count):
 
 def _basis(stack, speed):
     """The undamped modes of the symmetric parts of K and M at ``speed`` (an array of one
-    speed): the square roots of their eigenvalues (n,) [rad/s], the symmetric stiffness (n, n),
+    speed): the square roots of their eigenvalues (n,) [rad/s], the symmetric stiffness (n, n,
+    ``scipy.sparse`` CSR: a large model's is sparse, and only its departures from K are used),
     and the mass-orthonormal modes (n, n), ascending."""
     _, stiffness = stack.damping_stiffness(np.zeros(1, int), speed)
     K = stiffness[0] if stiffness.ndim == 3 else stiffness
-    K = 0.5 * (K + K.T)
-    # all of them: a dense eigh of n x n costs less than one speed's full solve
-    values, vectors = scipy.linalg.eigh(K, stack.M[0])
-    return np.sqrt(np.maximum(values, 0.0)), K, vectors
+    K = K + K.T
+    K *= 0.5
+    symmetric = scipy.sparse.csr_matrix(K)
+    # all of them: a dense eigh of n x n costs less than one speed's full solve; on K's own copy,
+    # overwritten (K is exactly symmetric: its transpose is the Fortran-ordered array LAPACK
+    # takes, not copied again) and a Fortran copy of M: the modes are the only n x n array left
+    values, vectors = scipy.linalg.eigh(K.T, np.asfortranarray(stack.M[0]), overwrite_a=True, overwrite_b=True)
+    return np.sqrt(np.maximum(values, 0.0)), symmetric, vectors
 
 
 def _stack_bound(stack, pencils):
@@ -171,14 +176,16 @@ class _Bound:
     omegas : ndarray, shape (n,) [rad/s]
     modes : ndarray, shape (n, n)
         Mass-orthonormal undamped modes, ascending.
-    symmetric : ndarray, shape (n, n)
+    symmetric : ndarray or scipy.sparse matrix, shape (n, n)
         ``K_0`` [N/m].
     """
 
     def __init__(self, pencils, omegas, modes, symmetric, products=None):
         self.omegas, self.modes, self.speeds = omegas, modes, pencils.speeds
-        offset = pencils.K - symmetric
-        self.local = np.unique(np.concatenate([*np.nonzero(pencils.C), *np.nonzero(offset),
+        # K's departure from K_0, sparse (K_0 dense where a caller gives it so)
+        offset = scipy.sparse.csr_matrix(pencils.K) - scipy.sparse.csr_matrix(symmetric)
+        offset.eliminate_zeros()
+        self.local = np.unique(np.concatenate([*np.nonzero(pencils.C), *offset.nonzero(),
                                                pencils.rows, pencils.cols])).astype(int)
         self.damping_norms, self.stiffness_norms = _local_norms(pencils, offset, self.local)
         del offset
@@ -244,12 +251,13 @@ def _local_norms(pencils, offset, local):
     if not len(local):
         return np.zeros(count), np.zeros(count)
     block = np.ix_(local, local)
-    place = np.full(len(offset), -1)
+    place = np.full(offset.shape[0], -1)
     place[local] = np.arange(len(local))
     at = place[pencils.rows] * len(local) + place[pencils.cols]        # the bearings' entries in the block
+    offset = offset[local][:, local].toarray()                            # (|L|, |L|)
     out = np.empty((2, count))
     for part in _batches.chunk_slices(count, 16 * len(local) ** 2):
-        for i, (constant, entries) in enumerate(((pencils.C[block], pencils.cb), (offset[block], pencils.kb))):
+        for i, (constant, entries) in enumerate(((pencils.C[block], pencils.cb), (offset, pencils.kb))):
             matrices = np.repeat(constant.reshape(1, -1), part.stop - part.start, axis=0)
             np.add.at(matrices, (slice(None), at), entries[part])
             # 2-norms of small blocks; Frobenius norms (larger, as cheap as the entries) of large ones

@@ -26,13 +26,13 @@ from test_large_machine_cli import chained_gear_toml
 
 
 def test_critical_speeds_of_a_lowest_sweep_never_solve_every_root(monkeypatch):
-    """A chain of 10 geared rotors on bearings (46 coordinates, above ``DENSE_BELOW``): its 12
+    """A chain of 8 geared rotors on bearings (38 coordinates, ``DENSE_BELOW``): its 12
     lowest modes cross the orders in brackets that are swept again; those sub-sweeps take the
     lowest roots from the reduced basis (no state matrix is formed at their speeds), and every
     crossing found is one of the full sweep's, to 1e-9 of its speed."""
-    model = rdm.Model.from_dict(tomllib.loads(chained_gear_toml(10, 10)))
+    model = rdm.Model.from_dict(tomllib.loads(chained_gear_toml(8, 8)))
     assert model.dofs.n >= _lowest.DENSE_BELOW
-    speeds = np.linspace(0.0, rdm.rpm(3000.0), 11)
+    speeds = np.linspace(0.0, rdm.rpm(3000.0), 7)
     full = rdm.campbell(model, speeds, orders=(1,)).critical
     swept = []
     real_sub = critical_module._crossings_in

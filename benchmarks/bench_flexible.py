@@ -14,7 +14,8 @@ meshed with that many elements, 4 coordinates per node (500 and 1,000 nodes: 2,0
 coordinates); for each, min / median / max over ``--repeat`` runs of the time of the machine's
 matrices from the sparse node matrices against the dense route they replaced (dense 6N x 6N node
 matrices times dense node motions, as before issue 28's "Size and speed"; below ``--dense-nodes``
-nodes), of ``campbell(..., modes=N, critical=False)`` at ``--speeds`` speeds, of an FRF at 20
+nodes), of ``campbell(..., modes=N, critical=False)`` at ``--speeds`` speeds, of the critical
+speeds of those N modes (orders 1 and 2), of an FRF at 20
 frequencies and of ``check``'s first bending frequencies, each with its peak traced memory.
 
 Usage::
@@ -22,7 +23,7 @@ Usage::
     python benchmarks/bench_flexible.py [--speeds 201] [--modes 12] [--repeat 3] [--sizes 0.2,0.05,0.012]
                                         [--max-frequency HZ]
     python benchmarks/bench_flexible.py --long 500,1000 [--speeds 11] [--repeat 3] [--dense-nodes 1100]
-                                        [--cases matrices,check,campbell,frf,unbalance]
+                                        [--cases matrices,check,campbell,critical,frf,unbalance]
 """
 
 from __future__ import annotations
@@ -85,6 +86,13 @@ def _lowest(model, speeds, count, limit=None):
         return rdm.campbell(model, speeds, critical=False, modes=count)
 
 
+def _critical(model, speeds, count):
+    """The critical speeds (orders 1 and 2) of the ``count`` lowest modes."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return rdm.critical_speeds(model, speeds, orders=(1, 2), modes=count)
+
+
 def _long_shaft(count):
     """A uniform steel shaft 4 m long, 0.1 m thick, of ``count`` elements: a disk at 1.2 m, two
     bearings (1e8 and 1.2e8 N/m, 2 kN s/m) at 0.2 and 3.8 m, a sensor, an excitation and an
@@ -138,6 +146,7 @@ def _long(args):
         cases += [("check's bending frequencies", lambda: _bending(model)),
                   (f"campbell lowest {args.modes}, {args.speeds} speeds",
                    lambda: _lowest(model, speeds, args.modes)),
+                  (f"critical lowest {args.modes}, orders 1,2", lambda: _critical(model, speeds, args.modes)),
                   ("frf 20 frequencies", lambda: rdm.frf(model, 300.0, np.linspace(1.0, 200.0, 20))),
                   ("unbalance 20 speeds", lambda: rdm.unbalance_response(model, np.linspace(30.0, 600.0, 20)))]
         for what, function in cases:
@@ -161,7 +170,7 @@ def main(argv=None):
     parser.add_argument("--long", help="element counts of a long uniform shaft (e.g. 500,1000): see the docstring")
     parser.add_argument("--dense-nodes", type=int, default=1100, help="largest mesh timed by the dense route too")
     parser.add_argument("--cases", help="with --long: only the cases whose name holds one of these words "
-                                        "(comma-separated: matrices, check, campbell, frf, unbalance)")
+                                        "(comma-separated: matrices, check, campbell, critical, frf, unbalance)")
     args = parser.parse_args(argv)
     if args.long:
         return _long(args)

@@ -105,8 +105,8 @@ def _reduced_roots(stack, speeds, count):
     n = stack.n_dof
     size = min(n, max(3 * count, count + 10))
     pencils = _Pencils(stack, speeds)
-    omegas, symmetric, modes = _basis(stack, speeds[:1])
-    bound = _Bound(pencils, omegas, modes, symmetric)
+    bound = _stack_bound(stack, pencils)
+    modes = bound.modes
     want = min(count + 1, size)
     # the highest root wanted, from a few speeds (an underestimate only makes the final check stricter)
     few = np.unique(np.round(np.linspace(0, len(speeds) - 1, min(len(speeds), _FEW))).astype(int))
@@ -124,14 +124,34 @@ def _reduced_roots(stack, speeds, count):
 
 def _basis(stack, speed):
     """The undamped modes of the symmetric parts of K and M at ``speed`` (an array of one
-    speed): the square roots of their eigenvalues (n,) [rad/s], the symmetric stiffness (n, n),
+    speed): the square roots of their eigenvalues (n,) [rad/s], the symmetric stiffness (n, n,
+    ``scipy.sparse`` CSR: a large model's is sparse, and only its departures from K are used),
     and the mass-orthonormal modes (n, n), ascending."""
     _, stiffness = stack.damping_stiffness(np.zeros(1, int), speed)
     K = stiffness[0] if stiffness.ndim == 3 else stiffness
-    K = 0.5 * (K + K.T)
-    # all of them: a dense eigh of n x n costs less than one speed's full solve
-    values, vectors = scipy.linalg.eigh(K, stack.M[0])
-    return np.sqrt(np.maximum(values, 0.0)), K, vectors
+    K = K + K.T
+    K *= 0.5
+    symmetric = scipy.sparse.csr_matrix(K)
+    # all of them: a dense eigh of n x n costs less than one speed's full solve; on K's own copy,
+    # overwritten (K is exactly symmetric: its transpose is the Fortran-ordered array LAPACK
+    # takes, not copied again) and a Fortran copy of M: the modes are the only n x n array left
+    values, vectors = scipy.linalg.eigh(K.T, np.asfortranarray(stack.M[0]), overwrite_a=True, overwrite_b=True)
+    return np.sqrt(np.maximum(values, 0.0)), symmetric, vectors
+
+
+def _stack_bound(stack, pencils):
+    """The :class:`_Bound` of ``pencils`` on the undamped modes of ``stack`` at the first speed it
+    is asked for, computed once per stack: the critical speeds' sub-sweeps of the lowest modes
+    reuse the sweep's basis (any speed's basis serves, :class:`_Bound` measures the stiffness's
+    departure from it) and its speed-independent products, an ``eigh`` and ``n^3`` products fewer
+    each."""
+    cached = stack.__dict__.get("_lowest_basis")
+    if cached is None:
+        omegas, symmetric, modes = _basis(stack, pencils.speeds[:1])
+        cached = stack.__dict__["_lowest_basis"] = {"basis": (omegas, modes, symmetric)}
+    bound = _Bound(pencils, *cached["basis"], products=cached.get("products"))
+    cached["products"] = bound.products
+    return bound
 
 
 class _Bound:
@@ -157,25 +177,33 @@ class _Bound:
     omegas : ndarray, shape (n,) [rad/s]
     modes : ndarray, shape (n, n)
         Mass-orthonormal undamped modes, ascending.
-    symmetric : ndarray, shape (n, n)
+    symmetric : ndarray or scipy.sparse matrix, shape (n, n)
         ``K_0`` [N/m].
     """
 
-    def __init__(self, pencils, omegas, modes, symmetric):
+    def __init__(self, pencils, omegas, modes, symmetric, products=None):
         self.omegas, self.modes, self.speeds = omegas, modes, pencils.speeds
-        offset = pencils.K - symmetric
-        self.local = np.unique(np.concatenate([*np.nonzero(pencils.C), *np.nonzero(offset),
+        # K's departure from K_0, sparse (K_0 dense where a caller gives it so)
+        offset = scipy.sparse.csr_matrix(pencils.K) - scipy.sparse.csr_matrix(symmetric)
+        offset.eliminate_zeros()
+        self.local = np.unique(np.concatenate([*np.nonzero(pencils.C), *offset.nonzero(),
                                                pencils.rows, pencils.cols])).astype(int)
         self.damping_norms, self.stiffness_norms = _local_norms(pencils, offset, self.local)
-        self.reach = np.linalg.norm(modes[self.local], 2) if len(self.local) else 0.0
-        gyro = modes.T @ pencils.G @ modes
-        self.gyro_rows = np.einsum("ji,ji->j", gyro, gyro)
-        self.local_rows = np.einsum("ij,ij->j", modes[self.local], modes[self.local])
+        del offset
+        if products is None or not np.array_equal(products[0], self.local):
+            reach = np.linalg.norm(modes[self.local], 2) if len(self.local) else 0.0
+            local_rows = np.einsum("ij,ij->j", modes[self.local], modes[self.local])
+            products = self.local, reach, _gyro_rows(pencils.sparse[2], modes), local_rows
+        #: the speed-independent parts, kept for another sweep of the same basis (:func:`_stack_bound`)
+        self.products = products
+        _, self.reach, self.gyro_rows, self.local_rows = products
 
-    def shares(self, size: int, rho: float, directions: int | None = None):
+    def shares(self, size: int, rho: float, directions: int | None = None, vectors: bool = True):
         """The bound at every speed (S,) for roots up to ``rho`` [rad/s] and the basis of the first
         ``size`` modes with ``directions`` attachment directions (default: the fewest meeting
-        ``_SHARE`` at every speed, or all), and those directions (n, k), mass-orthonormal."""
+        ``_SHARE`` at every speed, or all), and those directions (n, k), mass-orthonormal (without
+        ``vectors``: their number only, as (0, k) zeros; the singular values alone cost a fraction
+        of the vectors where the bearings reach most coordinates, a chain of rotors on bearings)."""
         n = len(self.omegas)
         if size >= n:
             return np.zeros(len(self.speeds)), np.zeros((n, 0))
@@ -185,16 +213,36 @@ class _Bound:
         w = 1.0 / (omega2 - rho ** 2)
         gyro = np.sqrt(w ** 2 @ self.gyro_rows[size:])
         attached = np.sqrt((rho ** 2 * w / omega2) ** 2 @ self.local_rows[size:])
-        static = self.modes[self.local, size:].T / omega2[:, None]            # (n - m, |L|)
-        left, sigma, _ = np.linalg.svd(static, full_matrices=False)
         force = self.reach * (rho * self.damping_norms + self.stiffness_norms)
         base = rho * np.abs(self.speeds) * gyro
+        if not vectors and np.any(attached * force + base > _SHARE):
+            # not met even with every direction (the least the bound can be): no SVD needed to say so
+            return attached * force + base, np.zeros((0, min(n - size, len(self.local))))
+        static = self.modes[self.local, size:].T / omega2[:, None]            # (n - m, |L|)
+        if vectors:
+            left, sigma, _ = np.linalg.svd(static, full_matrices=False)
+        else:
+            left, sigma = None, np.linalg.svd(static, compute_uv=False)
         tails = np.append(sigma, 0.0)                                         # sigma_k, k = 0 .. |L|
         if directions is None:
             meets = np.nonzero((attached + tails) * np.max(force, initial=0.0) + np.max(base) <= _SHARE)[0]
             directions = int(meets[0]) if len(meets) else len(sigma)
         bound = (attached + tails[directions]) * force + base
+        if not vectors:
+            return bound, np.zeros((0, directions))
         return bound, self.modes[:, size:] @ left[:, :directions]
+
+
+def _gyro_rows(G, modes):
+    """The squared norms of the rows of ``modes^T G modes`` (n,), for a sparse ``G`` (n, n), a
+    block of columns at a time (never a second n x n array)."""
+    n = modes.shape[1]
+    out = np.zeros(n)
+    step = max(1, _batches.CHUNK_BYTES // (16 * max(modes.shape[0], 1)))
+    for start in range(0, n, step):
+        part = modes.T @ (G @ modes[:, start:start + step])          # columns of modes^T G modes
+        out += np.einsum("ji,ji->j", part, part)
+    return out
 
 
 def _local_norms(pencils, offset, local):
@@ -204,12 +252,13 @@ def _local_norms(pencils, offset, local):
     if not len(local):
         return np.zeros(count), np.zeros(count)
     block = np.ix_(local, local)
-    where = np.full((len(offset),) * 2, -1)
-    where[block] = np.arange(len(local) ** 2).reshape(len(local), len(local))
-    at = where[pencils.rows, pencils.cols]
+    place = np.full(offset.shape[0], -1)
+    place[local] = np.arange(len(local))
+    at = place[pencils.rows] * len(local) + place[pencils.cols]        # the bearings' entries in the block
+    offset = offset[local][:, local].toarray()                            # (|L|, |L|)
     out = np.empty((2, count))
     for part in _batches.chunk_slices(count, 16 * len(local) ** 2):
-        for i, (constant, entries) in enumerate(((pencils.C[block], pencils.cb), (offset[block], pencils.kb))):
+        for i, (constant, entries) in enumerate(((pencils.C[block], pencils.cb), (offset, pencils.kb))):
             matrices = np.repeat(constant.reshape(1, -1), part.stop - part.start, axis=0)
             np.add.at(matrices, (slice(None), at), entries[part])
             # 2-norms of small blocks; Frobenius norms (larger, as cheap as the entries) of large ones
@@ -227,7 +276,7 @@ def _needed_size(bound, rho, size):
     for m in np.unique(np.round(np.geomspace(max(first, 1), n, 24)).astype(int)):
         if m >= best_total:
             break
-        shares, directions = bound.shares(int(m), rho)
+        shares, directions = bound.shares(int(m), rho, vectors=False)
         if np.all(shares <= _SHARE) and m + directions.shape[1] < best_total:
             best, best_total = int(m), int(m) + directions.shape[1]
     return best
@@ -329,9 +378,8 @@ class _Pencils:
         self.pattern = rows, cols
         self.indptr = np.concatenate([[0], np.cumsum(np.bincount(cols, minlength=n))]).astype(np.int32)
         self.indices = rows.astype(np.int32)
-        where = np.full((n, n), -1)
-        where[self.pattern] = np.arange(len(self.pattern[0]))
-        self.bearing_at = where[self.rows, self.cols]
+        # each bearing entry's place on the pattern (its keys col * n + row ascend)
+        self.bearing_at = np.searchsorted(cols * n + rows, self.cols * n + self.rows)
         self.scatter = np.zeros((len(self.rows), n))
         self.scatter[np.arange(len(self.rows)), self.rows] = 1.0
         self.band = _band(rows, cols, n)
@@ -901,8 +949,8 @@ def _reduced_below(stack, speeds, limit, count):
     None where the basis would hold every mode (the full eigen-solve costs less)."""
     n = stack.n_dof
     pencils = _Pencils(stack, speeds)
-    omegas, symmetric, modes = _basis(stack, speeds[:1])
-    bound = _Bound(pencils, omegas, modes, symmetric)
+    bound = _stack_bound(stack, pencils)
+    omegas, modes = bound.omegas, bound.modes
     # the largest |lam| below the limit, from a few speeds' projected roots on the modes up to twice it
     few = np.unique(np.round(np.linspace(0, len(speeds) - 1, min(len(speeds), _FEW))).astype(int))
     size = min(n, int(np.searchsorted(omegas, 2.0 * limit)) + 10)

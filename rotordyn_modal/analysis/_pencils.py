@@ -72,6 +72,25 @@ def shifted_roots(eigenvalues) -> np.ndarray:
     return lam + 1e-13 * (np.abs(lam) + 1e-300) * (1 + 1j)
 
 
+#: :meth:`~._stack.Stack.shapes_at` of larger models with sparse pencils factors them sparse
+#: (:func:`sparse_pencil_shapes`): a dense pencil per row is ``16 n^2`` bytes and ``n^3`` work
+SPARSE_SHAPES_DOF = 400
+
+
+def sparse_pencil_shapes(pencils, eigenvalues) -> np.ndarray:
+    """:func:`pencil_shapes` of sparse pencils (rows of a ``_stack.Pencils`` whose variants
+    have a sparse layout, no Maxwell branches): the same shifted step from the same start, by a
+    SuperLU factorisation per row. Returns (P, n) complex, unit norm."""
+    lam = np.asarray(eigenvalues, dtype=complex)
+    shifted = shifted_roots(lam)
+    start = _start_vectors(1, pencils.n_dof)[0].astype(complex)
+    out = np.empty((len(lam), pencils.n_dof), dtype=complex)
+    for row in range(len(lam)):
+        lu, _ = _sparse_lu(pencils, row, shifted[row])
+        out[row] = np.nan if lu is None else lu.solve(start)
+    return _vectors.unit_rows(out)
+
+
 #: pencils of at most this many coordinates are kept whole and solved in one batched call;
 #: larger ones are factored once (LU per row) and solved by triangular substitution
 BATCHED_DOF = 48

@@ -46,15 +46,15 @@ class Stack:
         shapes = {(f.n_dof, f.n_states) for f in self.forms}
         if len(shapes) != 1:
             raise ValueError(f"models of different structure cannot be stacked: {sorted(shapes)}")
-        whirl = [_whirl.whirl_forms(self.models[0])]
-        whirl += [whirl[0] if same_inertia(self.models[0], m) else _whirl.whirl_forms(m) for m in self.models[1:]]
         #: every variant has the first one's mass matrix (and whirl forms): the single model's products apply
         self.shared_mass = all(f.matrices.M is first.matrices.M for f in self.forms)
-        self.shared_whirl = all(w is whirl[0] for w in whirl)
-        self.whirl = _whirl.WhirlForms(*(_stacked(parts) for parts in zip(*whirl)))
+        self.shared_whirl = all(same_inertia(self.models[0], m) for m in self.models[1:])
+        # the whirl forms (3 n x n) and M's Cholesky factor, made on first use: the lowest modes'
+        # route needs neither until its roots are found (its largest arrays are freed by then)
+        self._whirl = None
+        self._factor = None
         self._whirl_stacked = None     # the forms side by side for whirl ratios, made on first use
         self.M, self.C, self.G, self.K = (_stacked(parts) for parts in zip(*(f.matrices for f in self.forms)))
-        self.factor = np.linalg.cholesky(self.M[:1] if self.shared_mass else self.M)
         self._state = None       # A0, A1 stacked, made on first use
         self.dependent = any(f.speed_dependent for f in self.forms)
         self.branch_stiffness = _stacked([f.branch_stiffness for f in self.forms])   # (V, n_b, n, n)
@@ -64,6 +64,22 @@ class Stack:
 
     def __len__(self) -> int:
         return len(self.forms)
+
+    @property
+    def whirl(self) -> _whirl.WhirlForms:
+        """The whirl forms of every variant stacked, (V, n, n) each, made on first use."""
+        if self._whirl is None:
+            whirl = [_whirl.whirl_forms(self.models[0])]
+            whirl += [whirl[0] if same_inertia(self.models[0], m) else _whirl.whirl_forms(m) for m in self.models[1:]]
+            self._whirl = _whirl.WhirlForms(*(_stacked(parts) for parts in zip(*whirl)))
+        return self._whirl
+
+    @property
+    def factor(self) -> np.ndarray:
+        """Cholesky factor of each M, (V, n, n) (one where the mass is shared), made on first use."""
+        if self._factor is None:
+            self._factor = np.linalg.cholesky(self.M[:1] if self.shared_mass else self.M)
+        return self._factor
 
     @property
     def A0(self) -> np.ndarray:
@@ -179,7 +195,10 @@ class Stack:
             speeds = np.broadcast_to(speeds, shapes.shape[:-2])
         # in parts: the products with the three forms are three times the shapes, twice over
         if self._whirl_stacked is None:
-            self._whirl_stacked = _whirl.stacked_forms(self.whirl)
+            if self.shared_whirl and self.n_dof > _pencils.SPARSE_SHAPES_DOF:    # sparse: 3 n x n fewer
+                self._whirl_stacked = [_whirl.sparse_stacked_forms(_whirl.WhirlForms(*(f[0] for f in self.whirl)))]
+            else:
+                self._whirl_stacked = _whirl.stacked_forms(self.whirl)
         for variant, part in _variant_parts(variants, 160 * shapes[0].size):
             stacked = self._whirl_stacked[0 if self.shared_whirl else variant]
             out[part] = _whirl.whirl_ratios(shapes[part], None, speeds[part], stacked)
@@ -190,6 +209,16 @@ class Stack:
         (P, n): in parts of bounded memory (each row holds its own pencil and matrices, n x n,
         several copies)."""
         out = np.empty((len(x), self.n_dof), dtype=complex)
+        if self.n_dof > _pencils.SPARSE_SHAPES_DOF and not self.branch_times.shape[-1]:
+            sparse = np.array([self.sparse_layout(v) is not None for v in variants], dtype=bool)
+            if sparse.any():            # a large sparse model: a sparse LU each, never n x n per row
+                rows = np.nonzero(sparse)[0]
+                out[rows] = _pencils.sparse_pencil_shapes(Pencils(self, variants[rows], x[rows]), lam[rows])
+                if sparse.all():
+                    return out
+                rest = np.nonzero(~sparse)[0]
+                out[rest] = self.shapes_at(variants[rest], x[rest], lam[rest])
+                return out
         for part in _batches.chunk_slices(len(x), 80 * self.n_dof ** 2):
             mine = variants[part]
             damping, stiffness = self.damping_stiffness(mine, x[part])

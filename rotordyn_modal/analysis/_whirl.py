@@ -7,6 +7,7 @@ import functools
 from typing import NamedTuple
 
 import numpy as np
+import scipy.sparse
 
 from . import _pencils, _vectors
 from ..assembly import _add_sparse, add_rotor_bodies, body_inertias
@@ -118,7 +119,7 @@ def whirl_forms(model) -> WhirlForms:
         if model.dofs.on_bearings(rotor.name):
             add_rotor_bodies([parts], model, rotor.name, [forms[:, first_rotor + j]])
     for j in flexible:
-        parts = parts + _node_forms(model, model.rotors[j])
+        _node_forms(model, model.rotors[j], out=parts)          # added in place: no third 3 n x n array
     if model.dofs.pedestals:
         parts = parts + _pedestal_forms(model)
     return WhirlForms(*parts)
@@ -136,10 +137,10 @@ def _pedestal_forms(model) -> np.ndarray:
     return out
 
 
-def _node_forms(model, rotor) -> np.ndarray:
+def _node_forms(model, rotor, out=None) -> np.ndarray:
     """The whirl forms of a flexible rotor, each node a rigid body (its share of the mass matrix
     lumped: the row sums of the translations, the rotations' own block) moving as the node:
-    ``sum_i T_i^T X_i T_i``, shape (3, n, n)."""
+    ``sum_i T_i^T X_i T_i``, shape (3, n, n) (added to ``out`` where given, and returned)."""
     import scipy.sparse
 
     from ..assembly import flexible_rotor_matrices
@@ -163,7 +164,8 @@ def _node_forms(model, rotor) -> np.ndarray:
     X, products = _directions(tuple(float(x) for x in model.spin_axis))
     forms = _bodies_quadratic(masses, second, X, skew(masses[:, None] * arms), products)    # (3, N, 6, 6)
     motions = _node_motions_at_reference(model, shaft, parts.relative)                       # (6 N, n)
-    out = np.zeros((len(forms), model.dofs.n, model.dofs.n))
+    if out is None:
+        out = np.zeros((len(forms), model.dofs.n, model.dofs.n))
     for d, form in enumerate(forms):
         # sum_i T_i^T X_i T_i = T^T blockdiag(X_i) T, sparse: a node moves with a few coordinates
         _add_sparse(out[d], motions.T @ (scipy.sparse.block_diag(form, format="csr") @ motions))
@@ -207,6 +209,13 @@ def stacked_forms(forms: WhirlForms) -> np.ndarray:
         np.concatenate([np.swapaxes(f, -1, -2) for f in (forms.W, forms.N, forms.total)], axis=-1))
 
 
+def sparse_stacked_forms(forms: WhirlForms):
+    """:func:`stacked_forms` of one model's forms (n, n) each as a ``scipy.sparse`` CSR matrix
+    (n, 3 n): a large flexible model's forms couple each node with its neighbours only."""
+    # each form's CSR from its own C-ordered array, then transposed (a transposed view would be copied whole)
+    return scipy.sparse.hstack([scipy.sparse.csr_matrix(f).T for f in (forms.W, forms.N, forms.total)], format="csr")
+
+
 def whirl_ratios(shapes, forms: WhirlForms, speeds, stacked=None) -> np.ndarray:
     """Signed whirl ratio in [-1, 1] relative to the reference rotor's spin.
 
@@ -222,8 +231,8 @@ def whirl_ratios(shapes, forms: WhirlForms, speeds, stacked=None) -> np.ndarray:
         Each (n, n), or stacked like the shapes' leading axes, (..., n, n); unused (may be None)
         when ``stacked`` is given.
     speeds : ndarray, shape (...) [rad/s]; the sign of the spin (0 counts as +)
-    stacked : ndarray, optional
-        :func:`stacked_forms` of ``forms``, when the caller keeps it.
+    stacked : ndarray or scipy.sparse matrix, optional
+        :func:`stacked_forms` (or :func:`sparse_stacked_forms`) of ``forms``, when the caller keeps it.
 
     Returns
     -------
@@ -257,6 +266,10 @@ def quadratic_forms(shapes, stacked) -> np.ndarray:
     ndarray, shape (..., m, K), complex
     """
     n = shapes.shape[-1]
+    if scipy.sparse.issparse(stacked):          # a large model's forms, sparse (n, K n): no n x K n array
+        flat = shapes.reshape(-1, n)
+        product = (flat.real @ stacked + 1j * (flat.imag @ stacked)).reshape(shapes.shape[:-1] + (-1,))
+        return np.einsum("...i,...ki->...k", shapes.conj(), product.reshape(shapes.shape[:-1] + (-1, n)))
     # small shapes: complex products, one per speed (numpy makes the forms complex, a few
     # hundred numbers), cost less than the real parts' copies and their product's large
     # temporaries, and each is too small to start BLAS threads (which a loaded machine makes

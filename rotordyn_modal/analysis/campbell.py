@@ -363,7 +363,8 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None) -> Camp
     if critical:
         tables = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes,
                                        oscillating if wanted is None else oscillating & _near(wanted), False,
-                                       lambda crossings: _refuse_crossings(stack, len(speeds), crossings))
+                                       lambda crossings: _refuse_crossings(stack, len(speeds), crossings,
+                                                                           values.shape[-1]))
         if wanted is not None:
             tables = [_table_below(tables[0], limit)]
         _warn_of_jumps(tables[0], sources[0], model)
@@ -471,7 +472,7 @@ _BASE_BYTES = 256 * 2**20
 _CROSSING_BYTES = 4096
 
 
-def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossings=0) -> float:
+def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossings=0, roots=None) -> float:
     """Peak memory of :func:`campbell_many` [bytes], estimated from the sizes alone.
 
     The sweep keeps two sets of unit shapes (plain and mass-weighted: ``2 V N m n`` complex
@@ -494,12 +495,20 @@ def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossi
         Critical speeds are refined.
     crossings : int
         Crossings to refine, where known (after the sweep).
+    roots : int, optional
+        Roots kept at each speed where fewer than every root: a sweep of the lowest modes
+        (``campbell(modes=N)`` or ``max_frequency``), whose brackets are swept again by the
+        lowest modes' route (no eigen-solution of the state matrices) where the model has
+        ``_lowest.DENSE_BELOW`` coordinates or more.
 
     Returns
     -------
     float
     """
-    roots = n_states - n_states // 2
+    from ._lowest import DENSE_BELOW
+
+    lowest = roots is not None and n_dof >= DENSE_BELOW
+    roots = n_states - n_states // 2 if roots is None else roots
     per_speed = variants * roots * n_dof * 16.0                        # one set of shapes at one speed
     one_speed = 72.0 * variants * n_states ** 2                        # the eigen-solver's work for one speed
     solver = max(min(_batches.CHUNK_BYTES, n_speeds * one_speed), one_speed)
@@ -508,7 +517,7 @@ def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossi
     after = 2 * per_speed * n_speeds                                    # shapes and weighted shapes
     if critical:
         refine = max(_batches.CHUNK_BYTES, 64.0 * n_dof ** 2)
-        sub = _SUB_DEPTH * 2 * _SUB_SPEEDS * roots * n_dof * 16.0 + one_speed / variants
+        sub = _SUB_DEPTH * 2 * _SUB_SPEEDS * roots * n_dof * 16.0 + (0.0 if lowest else one_speed / variants)
         after += max(refine, sub) + _CROSSING_BYTES * crossings
     matrices = 24 * 8.0 * variants * n_dof ** 2
     return _BASE_BYTES + matrices + small + max(work, after)
@@ -544,22 +553,32 @@ def _refuse_sizes_that_cannot_fit(n_dof, n_states, n_speeds, variants, critical)
               "the model is too large for this machine's memory at any number of speeds")
     if critical:
         advice += ", or leave out the critical speeds (campbell --no-critical, critical=False)"
+    if variants == 1:
+        advice += f", or {_LOWEST_ADVICE}"
     problem = memory_problem(needed, f"a Campbell sweep of {n_dof:,} coordinates at {n_speeds:,} speeds"
                              + (f" of {variants} models" if variants > 1 else ""), advice)
     if problem:
         raise InputError(problem)
 
 
-def _refuse_crossings(stack, n_speeds, crossings):
-    """Refuse, before refining them, crossings that would not fit beside the sweep's arrays."""
+#: the way to a sweep of a large single model that fits: only the modes asked for
+_LOWEST_ADVICE = ("ask for the lowest modes only (--lowest N or --max-frequency HZ; modes=N or max_frequency=F), "
+                  "whose memory grows with the modes asked for")
+
+
+def _refuse_crossings(stack, n_speeds, crossings, roots=None):
+    """Refuse, before refining them, crossings that would not fit beside the sweep's arrays
+    (``roots`` kept per speed: a sweep of the lowest modes, see :func:`memory_estimate`)."""
     n_dof, n_states = _sizes(stack)
-    needed = memory_estimate(n_dof, n_states, n_speeds, len(stack), True, crossings)
+    needed = memory_estimate(n_dof, n_states, n_speeds, len(stack), True, crossings, roots)
     if needed < _CHECKED_BYTES:
         return
+    advice = "ask for fewer excitation orders (--orders) or a narrower speed range"
+    if roots is None and len(stack) == 1:
+        advice += f", {_LOWEST_ADVICE},"
     problem = memory_problem(needed, f"refining the {crossings:,} critical speeds found over {n_speeds:,} speeds "
-                             f"of {n_dof:,} coordinates", "ask for fewer excitation orders (--orders) or a "
-                             "narrower speed range, or leave out the critical speeds (campbell --no-critical, "
-                             "critical=False)")
+                             f"of {n_dof:,} coordinates", f"{advice} or leave out the critical speeds "
+                             "(campbell --no-critical, critical=False)")
     if problem:
         raise InputError(problem)
 

@@ -416,11 +416,7 @@ def _crossings_in(single, v, ends, end_values, end_shapes, end_weighted, sources
     speeds = np.linspace(ends[0], ends[1], _SUB_SPEEDS)
     inner = speeds[1:-1]
     first = np.zeros(len(inner), dtype=int)
-    lam, phi = single.solve(single.sweep(inner)[0], first)
-    if lam.shape[-1] > end_values.shape[-1]:     # a sweep of the lowest modes only: the same roots inside
-        from ._lowest import lowest_of
-
-        lam, phi = lowest_of(lam, phi, end_values.shape[-1])
+    lam, phi = _sub_sweep(single, inner, end_values.shape[-1])
     values = np.concatenate([end_values[:1], lam, end_values[1:]])[None]                  # (1, S, m)
     shapes = np.concatenate([end_shapes[:1], phi, end_shapes[1:]])[None]
     weighted = np.concatenate([end_weighted[:1], single.weighted(phi, first), end_weighted[1:]])[None]
@@ -433,6 +429,25 @@ def _crossings_in(single, v, ends, end_values, end_shapes, end_weighted, sources
     _progress_units(len(brackets.k))
     found = _refined(single, speeds, values, weighted, shapes, brackets, [sources], orders, depth + 1)
     return found._replace(variant=np.full(len(found.roots), v))
+
+
+def _sub_sweep(single, speeds, columns):
+    """The roots (S, m) and unit shapes (S, m, n) of a bracket swept again at ``speeds``: every
+    root, or, where the sweep has fewer ``columns`` than roots (a sweep of the lowest modes
+    only), the ``columns`` lowest, the same roots inside. A large model's lowest roots come
+    from the lowest modes' route (:func:`._lowest.lowest_roots`, its basis shared with the
+    sweep's), never from every root of its state matrices (a flexible rotor of thousands of
+    coordinates: minutes and GB per speed)."""
+    from ._lowest import DENSE_BELOW, lowest_of, lowest_roots
+
+    lowest = columns < single.forms[0].n_states // 2 and not single.branch_times.shape[-1]
+    if lowest and single.n_dof >= DENSE_BELOW:
+        lam, phi, _ = lowest_roots(single, speeds, columns)
+        return lam, phi
+    lam, phi = single.solve(single.sweep(speeds)[0], np.zeros(len(speeds), dtype=int))
+    if lam.shape[-1] > columns:                  # a sweep of the lowest modes only: the same roots inside
+        lam, phi = lowest_of(lam, phi, columns)
+    return lam, phi
 
 
 def _critical_table(source, order, mode, speeds, freq, whirl, ratios, zeta) -> CriticalSpeeds:

@@ -334,6 +334,26 @@ def _check_stations(model, stations):
         if not model.dofs.on_bearings(station.rotor):
             raise InputError(f"station {station}: rotor {station.rotor!r} has no bearings (it is rigidly attached to "
                              "the stator): cross-coupling needs a rotor moving in its bearings")
+        _check_on_shaft(model, station)
+
+
+def _check_on_shaft(model, station):
+    """A station of a flexible rotor lies on its shaft (off it, the nearest end node took the
+    cross-coupling without a word)."""
+    from ..model.flexible import STATION_TOLERANCE
+
+    dofs = model.dofs
+    shaft = dofs.shafts[dofs.rotors.index(station.rotor)] if dofs.shafts else None
+    if shaft is None:
+        return
+    z, length = shaft.z_of(station.point(model)), shaft.length
+    slack = STATION_TOLERANCE * (1.0 + length)
+    if not -slack <= z <= length + slack:
+        centre = shaft.z_of(model.rotor(station.rotor).center_of_mass)
+        raise InputError(f"station {station.rotor}@OFFSET, OFFSET = {station.offset:.6g} m: expected a point on "
+                         f"rotor {station.rotor!r}'s shaft, OFFSET from {-centre:.6g} to {length - centre:.6g} m "
+                         f"(the shaft runs 0 to {length:g} m from its start, its centre of mass at {centre:.6g} m; "
+                         f"this OFFSET is at {z:.6g} m)")
 
 
 def _spin_sign(model, stations) -> float:

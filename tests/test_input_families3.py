@@ -1,0 +1,102 @@
+"""A third round of inputs of the families a reviewer tries (after ``test_input_families.py`` and
+``test_input_families2.py``): negative numbers written with an exponent, stations off a
+flexible rotor's shaft, measured levels in dB and infinite cells, fits whose parameters sit near
+their start. Each case through the command line in this process (the right answer, or exit 2
+with one line naming the file or option and nothing written) or through the Python API."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.cli import main
+from rotordyn_modal.errors import InputError
+from test_input_families import _one_line_error
+
+ROOT = Path(__file__).resolve().parent.parent
+GEAR = str(ROOT / "examples" / "gear_machine.toml")
+FAN = str(ROOT / "examples" / "fan_on_bearings.toml")
+JOURNAL = str(ROOT / "examples" / "journal_rotor.toml")
+COMPRESSOR = str(ROOT / "examples" / "compressor_rotor.toml")
+
+
+# ----------------------------------------------------------------------- negative numbers
+@pytest.mark.parametrize("argv, words", [
+    (["level1", JOURNAL, "--speed", "4000", "--station", "rotor", "--qa", "-2e5"], ["--qa '-2e5'", "> 0"]),
+    (["unbalance", FAN, "--speeds", "100:3000:3", "--mcs", "-3e3"], ["--mcs -3e3", "> 0"]),
+    (["simulate", GEAR, "--duration", "0.1", "--rtol", "-1e-9"], ["rtol = -1e-09", "tolerance"]),
+    (["static", GEAR, "--allowable-stress", "-1e8"], ["--allowable-stress -1e8", "> 0"]),
+    (["campbell", GEAR, "--speeds", "0:3000:3", "--lowest", "-1e3"], ["--lowest '-1e3'", ">= 1"]),
+], ids=["level1-qa", "unbalance-mcs", "simulate-rtol", "static-stress", "campbell-lowest"])
+def test_a_negative_number_with_an_exponent_reaches_the_options_own_check(capsys, argv, words):
+    """argparse takes ``-3e3`` for an option, not a number: it printed its whole usage and
+    'argument --mcs: expected one argument' (the value was given), a SystemExit out of ``main``."""
+    assert main(argv + ["--quiet"] * (argv[0] != "level1")) == 2
+    _one_line_error(capsys, *words)
+
+
+# ----------------------------------------------------------------------- flexible rotors' stations
+@pytest.mark.parametrize("station, at", [("compressor@5", 5.583265), ("compressor@-0.7", -0.116735)],
+                         ids=["beyond-the-end", "before-the-start"])
+def test_a_level1_station_off_a_flexible_shaft_is_refused(capsys, station, at):
+    """The compressor's shaft runs 0 to 1.2 m from its start, its centre of mass at 0.5833 m: a
+    station 5 m from the centre was taken by the shaft's end node without a word (exit 0, a
+    different mode followed and another log decrement)."""
+    model = rdm.load_model(COMPRESSOR)
+    shaft = model.dofs.shafts[model.dofs.rotors.index("compressor")]
+    centre = shaft.z_of(model.rotor("compressor").center_of_mass)
+    assert shaft.length == pytest.approx(1.2, rel=1e-12)
+    offset = float(station.split("@")[1])
+    assert centre + offset == pytest.approx(at, abs=1e-6) and not 0 <= centre + offset <= shaft.length
+    assert main(["level1", COMPRESSOR, "--speed", "4000", "--station", station, "--qa", "2e5", "--quiet"]) == 2
+    _one_line_error(capsys, f"OFFSET = {offset:g} m", "on rotor 'compressor''s shaft", f"{-centre:.6g} to")
+    with pytest.raises(InputError, match="shaft"):
+        rdm.level1(model, rdm.rpm(4000), [station], 2e5)
+
+
+# ----------------------------------------------------------------------- measured CSV cells
+def _measured(tmp_path, change):
+    out = tmp_path / "m.csv"
+    assert main(["frf", GEAR, "--freqs", "2:40:5", "--out", str(out), "--quiet"]) == 0
+    table = change(pd.read_csv(out))
+    table.to_csv(out, index=False)
+    return out
+
+
+@pytest.mark.parametrize("change, words", [
+    (lambda t: t.drop(columns=["real", "imag"]).assign(magnitude=20 * np.log10(t.magnitude)),
+     ["magnitude = -122", "data row 1", "20 such row(s)", "not a level in dB"]),
+    (lambda t: t.assign(imag=np.where(t.index == 3, np.inf, t.imag)), ["imag = inf", "data row 4", "30.5 Hz"]),
+], ids=["magnitude-in-db", "infinite-imaginary-part"])
+def test_a_measured_cell_of_no_frf_is_refused_by_column_and_row(tmp_path, capsys, change, words):
+    """A magnitude column in dB (every value negative) was read as a linear FRF of those
+    magnitudes, drawn and fitted (exit 0); an infinite cell gave a numpy warning line before
+    the refusal."""
+    path = _measured(tmp_path, change)
+    plot = tmp_path / "p.png"
+    assert main(["frf", GEAR, "--freqs", "2:40:5", "--measured", str(path), "--plot", str(plot), "--quiet"]) == 2
+    _one_line_error(capsys, "m.csv", *words)
+    assert not plot.exists()
+
+
+# ----------------------------------------------------------------------- fits near their start
+@pytest.mark.parametrize("key, start, freqs", [
+    ("suspensions.mount-FL.stiffness", 1.0, [11.5]),
+    ("suspensions.mount-FL.stiffness", 1.0005, [11.5]),
+    ("stator.mass", 1.0, [11.5, 30.5]),
+], ids=["stiffness-at-the-truth", "stiffness-0.05%-off", "mass-at-the-truth"])
+def test_a_fit_whose_optimum_is_near_its_start_is_determined(key, start, freqs):
+    """Data of the model itself: the fitted factor is the truth over the start. With the
+    optimum within 1e-3 of log 1, scipy's relative step (1e-6 x the log) left the factor equal
+    in every bit, the Jacobian was 0 and the fit said 'the measured FRFs do not determine the
+    parameters' (not converged, exit 1)."""
+    truth = rdm.load_model(GEAR)
+    measured = rdm.frf(truth, rdm.rpm(600), np.array(freqs))
+    model = truth.scaled({key: start})
+    result = rdm.fit(model, measured, [key], starts=1)
+    assert result.converged, result.message
+    assert result.factors[0] == pytest.approx(1.0 / start, rel=1e-7)

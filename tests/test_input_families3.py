@@ -100,3 +100,30 @@ def test_a_fit_whose_optimum_is_near_its_start_is_determined(key, start, freqs):
     result = rdm.fit(model, measured, [key], starts=1)
     assert result.converged, result.message
     assert result.factors[0] == pytest.approx(1.0 / start, rel=1e-7)
+
+
+# ----------------------------------------------------------------------- unbalance sweeps in any order
+@pytest.mark.parametrize("order", ["reversed", "repeated", "negative", "negative-reversed"])
+def test_amplification_factors_of_a_sweep_in_any_order(order):
+    """A single degree of freedom under unbalance, ``|r^2 / (1 - r^2 + 2 i zeta r)|``: its peak
+    lies at ``r = 1 / sqrt(1 - 2 zeta^2)`` and its half-power amplification factor is the peak's
+    ``r`` over the width between the two ``r`` where the curve is at peak / sqrt(2) (found here by
+    brentq, about ``1 / (2 zeta)``). A run-down (speeds decreasing), a sweep with a repeated
+    speed and one of negative speeds (every rotor reversed) gave NaN (not evaluated: the
+    half-power points were looked for in the wrong direction)."""
+    from scipy.optimize import brentq
+
+    from rotordyn_modal.analysis.unbalance import amplification_factors
+
+    zeta, omega_n = 0.02, 300.0
+    curve = lambda r: np.abs(r ** 2 / (1 - r ** 2 + 2j * zeta * r))   # noqa: E731
+    r_peak = 1 / np.sqrt(1 - 2 * zeta ** 2)
+    half = lambda r: curve(r) - curve(r_peak) / np.sqrt(2)            # noqa: E731
+    exact_af = r_peak / (brentq(half, r_peak, 1.5) - brentq(half, 0.5, r_peak))
+    speeds = np.linspace(0.5, 1.5, 2001) * omega_n
+    arranged = {"reversed": speeds[::-1], "repeated": np.insert(speeds, 1000, speeds[1000]),
+                "negative": -speeds[::-1], "negative-reversed": -speeds}[order]
+    [(speed, amplitude, af)] = amplification_factors(arranged, curve(np.abs(arranged) / omega_n))
+    assert abs(speed) == pytest.approx(omega_n * r_peak, rel=5e-4) and np.sign(speed) == np.sign(arranged[0])
+    assert amplitude == pytest.approx(curve(r_peak), rel=1e-4)   # the sample nearest the peak
+    assert exact_af == pytest.approx(1 / (2 * zeta), rel=0.01) and af == pytest.approx(exact_af, rel=1e-3)

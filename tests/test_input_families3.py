@@ -127,3 +127,26 @@ def test_amplification_factors_of_a_sweep_in_any_order(order):
     assert abs(speed) == pytest.approx(omega_n * r_peak, rel=5e-4) and np.sign(speed) == np.sign(arranged[0])
     assert amplitude == pytest.approx(curve(r_peak), rel=1e-4)   # the sample nearest the peak
     assert exact_af == pytest.approx(1 / (2 * zeta), rel=0.01) and af == pytest.approx(exact_af, rel=1e-3)
+
+
+# ----------------------------------------------------------------------- materials in other units
+@pytest.mark.parametrize("key, value, words", [
+    ("young_modulus", "200.0", ["young_modulus = 200:", "GPa or MPa"]),              # GPa typed for Pa
+    ("young_modulus", "210000.0", ["young_modulus = 210000:", "GPa or MPa"]),         # N/mm^2
+    ("density", "7.81", ["density = 7.81:", "g/cm^3"]),                               # g/cm^3
+], ids=["E-in-GPa", "E-in-MPa", "density-in-g-per-cm3"])
+def test_a_shaft_material_in_other_units_draws_one_warning(tmp_path, capsys, key, value, words):
+    """A steel shaft of E = 200 (GPa typed for Pa) bends with frequencies sqrt(1e9) times too
+    low; ``check`` said nothing of the material (the density in g/cm^3: nothing at all)."""
+    text = Path(COMPRESSOR).read_text()
+    line = {"young_modulus": "young_modulus = 2.11e11", "density": "density = 7810.0"}[key]
+    assert text.count(line) == 1
+    model_file = tmp_path / "units.toml"
+    model_file.write_text(text.replace(line, f"{key} = {value}"))
+    assert main(["check", str(model_file)]) == 0
+    lines = [x for x in capsys.readouterr().err.splitlines() if "[materials.steel]" in x]
+    assert len(lines) == 1 and "warning" in lines[0] and "units.toml" in lines[0], lines
+    for word in words:
+        assert word in lines[0], lines[0]
+    assert main(["check", COMPRESSOR]) == 0
+    assert "materials" not in capsys.readouterr().err   # steel in SI: no word

@@ -150,3 +150,24 @@ def test_a_shaft_material_in_other_units_draws_one_warning(tmp_path, capsys, key
         assert word in lines[0], lines[0]
     assert main(["check", COMPRESSOR]) == 0
     assert "materials" not in capsys.readouterr().err   # steel in SI: no word
+
+
+# ----------------------------------------------------------------------- level1 on an undamped rotor
+@pytest.mark.parametrize("real_part, sweep_log_dec, q0", [
+    (+1e-15, [1e-16, -0.5, -1.0], 0.0),    # unstable by round-off at Q = 0 already: Q0 = 0
+    (-0.5, [0.3, -1e-16, -1e-16], 100.0),   # stable at both ends, the sweep's sign change round-off: the grid's Q
+    (-0.05, [0.3, -0.2, -0.5], 50.0),       # a real crossing: Re = -0.05 + 1e-3 Q reaches 0 at Q = 50
+], ids=["unstable-at-zero", "no-crossing", "real-crossing"])
+def test_level1_q0_where_the_sweeps_sign_change_is_round_off(real_part, sweep_log_dec, q0):
+    """A flexible shaft on undamped bearings (``level1`` at its centre: log decrement 0 at Q = 0
+    to round-off) ended in scipy's 'f(a) and f(b) must have different signs' (exit 1): the
+    sweep's sign change and the re-solved root's disagreed at round-off (that model takes 20 s;
+    the step is checked alone). Here a mode ``lambda = a + 1e-3 Q +- 10 i``: Q0 is where
+    ``a + 1e-3 Q`` reaches 0, or the end of the grid step the sweep found."""
+    from rotordyn_modal.analysis.level1 import _zero_crossing
+
+    base = np.array([[real_part, -10.0], [10.0, real_part]])
+    unit = np.eye(2) * 1e-3
+    grid = np.array([0.0, 100.0, 200.0])
+    followed = real_part + 1e-3 * grid + 10j
+    assert _zero_crossing(base, unit, 1, grid, followed, np.array(sweep_log_dec)) == pytest.approx(q0, abs=1e-9)

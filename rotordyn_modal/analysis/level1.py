@@ -435,8 +435,11 @@ def _zero_crossing(base, unit, n, grid, followed, log_dec) -> float:
         roots = np.linalg.eigvals(base + q * unit)
         return float(roots[np.argmin(np.abs(roots - guess))].real)
 
-    if real_part(grid[k]) == 0:
+    low, high = real_part(grid[k - 1]), real_part(grid[k])
+    if high == 0:
         return float(grid[k])
+    if not low * high < 0:   # the sweep's sign change is round-off (a mode undamped at Q = 0): no root between
+        return float(grid[k - 1] if low >= 0 else grid[k])   # unstable at the lower end already: Q0 there
     return float(brentq(real_part, grid[k - 1], grid[k], xtol=1e-12 * grid[k], rtol=8.9e-16))
 
 

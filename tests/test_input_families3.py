@@ -171,3 +171,20 @@ def test_level1_q0_where_the_sweeps_sign_change_is_round_off(real_part, sweep_lo
     grid = np.array([0.0, 100.0, 200.0])
     followed = real_part + 1e-3 * grid + 10j
     assert _zero_crossing(base, unit, 1, grid, followed, np.array(sweep_log_dec)) == pytest.approx(q0, abs=1e-9)
+
+
+# ----------------------------------------------------------------------- report ranges
+def test_a_report_operating_range_above_the_mcs_is_refused(tmp_path, capsys):
+    """The maximum continuous speed is the top of the operating range: ``--mcs 9000 --operating
+    7000:12000`` wrote a report (exit 0) whose separation margins were measured from 12,000 rpm,
+    a speed the sweep (to 1.5 MCS) barely reached and the machine never runs at."""
+    out = tmp_path / "r.html"
+    assert main(["report", COMPRESSOR, "--standard", "api684", "--mcs", "9000", "--operating", "7000:12000",
+                 "--out", str(out), "--quiet"]) == 2
+    _one_line_error(capsys, "--operating 7000:12000", "at most --mcs 9000")
+    assert not out.exists()
+    from rotordyn_modal.report import ReportInputs, collect
+
+    with pytest.raises(InputError, match="at most the maximum continuous speed"):
+        collect(rdm.load_model(COMPRESSOR), ReportInputs(standard="api684", mcs=rdm.rpm(9000),
+                                                          operating=(rdm.rpm(7000), rdm.rpm(12000))))

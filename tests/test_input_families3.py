@@ -188,3 +188,10 @@ def test_a_report_operating_range_above_the_mcs_is_refused(tmp_path, capsys):
     with pytest.raises(InputError, match="at most the maximum continuous speed"):
         collect(rdm.load_model(COMPRESSOR), ReportInputs(standard="api684", mcs=rdm.rpm(9000),
                                                           operating=(rdm.rpm(7000), rdm.rpm(12000))))
+
+
+def test_unbalance_min_speed_without_a_check_is_refused(capsys):
+    """``--min-speed`` is the bottom of the API 617 / ISO 20816-3 checks' speeds: given without
+    --mcs or --iso-group it was dropped without a word (exit 0)."""
+    assert main(["unbalance", FAN, "--speeds", "100:3000:3", "--min-speed", "500", "--quiet"]) == 2
+    _one_line_error(capsys, "--min-speed 500", "--mcs", "--iso-group")

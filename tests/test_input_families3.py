@@ -195,3 +195,22 @@ def test_unbalance_min_speed_without_a_check_is_refused(capsys):
     --mcs or --iso-group it was dropped without a word (exit 0)."""
     assert main(["unbalance", FAN, "--speeds", "100:3000:3", "--min-speed", "500", "--quiet"]) == 2
     _one_line_error(capsys, "--min-speed 500", "--mcs", "--iso-group")
+
+
+# ----------------------------------------------------------------------- --outline files
+@pytest.mark.parametrize("rows, words", [
+    ("0,0,0\ninf,0,0\n", ["point 1 x = inf", "finite"]),
+    ("0,0,0\n1,-1e300,0\n", ["point 1 y = -1e+300", "at most 1e+30"]),
+    ("0,0,0\n", ["n >= 2"]),
+], ids=["infinite", "beyond-every-scale", "one-point"])
+def test_an_outline_of_no_drawable_point_is_refused_naming_the_file(tmp_path, capsys, rows, words):
+    """An infinite coordinate reached matplotlib: 'Axis limits ... cannot be infinite' (exit 1,
+    after a numpy overflow warning line); an outline of one point was refused without the
+    file's name."""
+    outline = tmp_path / "outline.csv"
+    outline.write_text("x,y,z\n" + rows)
+    plot = tmp_path / "s.png"
+    assert main(["modes", GEAR, "--speed", "100", "--shape", "1", "--plot", str(plot), "--outline", str(outline),
+                 "--quiet"]) == 2
+    _one_line_error(capsys, "outline.csv", *words)
+    assert not plot.exists()

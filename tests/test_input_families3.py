@@ -214,3 +214,13 @@ def test_an_outline_of_no_drawable_point_is_refused_naming_the_file(tmp_path, ca
                  "--quiet"]) == 2
     _one_line_error(capsys, "outline.csv", *words)
     assert not plot.exists()
+
+
+# ----------------------------------------------------------------------- repeated orders
+@pytest.mark.parametrize("command", ["critical-speeds", "campbell"])
+def test_a_repeated_order_is_refused(capsys, command):
+    """``--orders 1,2,1``: every 1X critical speed was listed twice (exit 0)."""
+    assert main([command, GEAR, "--speeds", "0:3000:4", "--orders", "1,2,1", "--quiet"]) == 2
+    _one_line_error(capsys, "orders", "each order once", "element 2")
+    with pytest.raises(InputError, match="each order once"):
+        rdm.campbell(rdm.load_model(GEAR), [0.0, 100.0], orders=[2, 2.0])

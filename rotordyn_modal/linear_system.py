@@ -107,7 +107,22 @@ def implausible(model, units: str = "si") -> list[str]:
             lines.append(f"{model.source}: [bearings.{visible(b.name)}] length = {journal.length:g}: "
                          f"L/D = {journal.length / journal.diameter:.3g} is beyond {LONG_JOURNAL:g}, where "
                          "short-bearing (Ocvirk) theory stops matching measurements: its coefficients are rough")
-    return lines + stiffness_spread_lines(model)
+    return lines + _material_lines(model) + stiffness_spread_lines(model)
+
+
+def _material_lines(model) -> list[str]:
+    """A line for each number of a flexible shaft's material that no solid has."""
+    from .elements.shaft import material_implausible
+
+    if not any(rotor.shaft for rotor in model.rotors):
+        return []
+    used = {}
+    for rotor, shaft in zip(model.dofs.rotors, model.dofs.shafts or ()):
+        for section in shaft.sections if shaft is not None else ():
+            for material in (section.material, *(layer.material for layer in section.layers)):
+                used.setdefault(material.name, material)
+    return [f"{model.source}: [materials.{visible(name)}] {key} = {value:g}: {why}"
+            for name, material in used.items() for key, value, why in material_implausible(material)]
 
 
 def _on_suspensions(model):

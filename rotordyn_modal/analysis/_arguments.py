@@ -100,7 +100,13 @@ def frequencies(value, name: str = "freqs_hz") -> np.ndarray:
 
 
 def orders(value, name: str = "orders") -> tuple:
-    """Excitation orders (1X, 2X, ...): finite, > 0; an empty sequence is no order."""
+    """Excitation orders (1X, 2X, ...): finite, > 0, each once (a repeated order listed every
+    critical speed of its line twice); an empty sequence is no order."""
     if isinstance(value, (list, tuple, np.ndarray)) and len(value) == 0:
         return ()
-    return tuple(float(v) for v in values(value, name, "multiples of the speed", positive=True))
+    out = tuple(float(v) for v in values(value, name, "multiples of the speed", positive=True))
+    for index, order in enumerate(out):
+        if order in out[:index]:
+            raise InputError(f"{name} = {_shown(list(out))}: expected each order once; element {index} ({order:g}) "
+                             f"repeats element {out.index(order)}")
+    return out

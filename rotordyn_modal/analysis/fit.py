@@ -40,6 +40,10 @@ _MOST_STARTS = 100
 _BOUND_FACTOR = 100.0
 #: a parameter known only within a factor e (std of its log > 1) is not determined by the data
 _MAX_LOG_STD = 1.0
+#: forward-difference step of the Jacobian, relative to each log factor (scipy's diff_step);
+#: below _SMALLEST_LOG the step is scipy's own at 0 instead (see _Problem.jacobian)
+_DIFF_STEP = 1e-6
+_SMALLEST_LOG = 1e-3
 
 
 @dataclass(frozen=True)
@@ -141,6 +145,27 @@ class _Problem:
         self.weights = [w / mean_w / _scale(H, v) for (_, _, H, v, w) in self.sets]
         self.n_points = n
         self.bar = None
+        self.last = None                       # (logs, residual) of the last evaluation
+        self.lower = self.upper = None         # the bounds of the logs, set by fit()
+
+    def jacobian(self, logs):
+        """Forward differences of :meth:`residual` in the log factors, shape (m, n): scipy's own
+        ``diff_step`` (1e-6 relative to each log, sqrt(eps) at 0) except where that step shrinks
+        below 1e-9 (a log within 1e-3 of 0: a factor near 1, the start): there, a step of
+        1e-9 x |log| left the factor equal in every bit and the Jacobian exactly 0, and a
+        parameter the data determine was reported as not determined."""
+        logs = np.asarray(logs, dtype=float)
+        base = self.last[1] if self.last is not None and np.array_equal(self.last[0], logs) else self.residual(logs)
+        sign = np.where(logs >= 0, 1.0, -1.0)
+        step = np.where(np.abs(logs) >= _SMALLEST_LOG, _DIFF_STEP * np.abs(logs),
+                        np.sqrt(np.finfo(float).eps) * np.maximum(1.0, np.abs(logs))) * sign
+        step = np.where((logs + step > self.upper) | (logs + step < self.lower), -step, step)
+        J = np.empty((base.size, logs.size))
+        for i in range(logs.size):
+            moved = logs.copy()
+            moved[i] += step[i]
+            J[:, i] = (self.residual(moved) - base) / (moved[i] - logs[i])
+        return J
 
     def residual(self, logs):
         if self.bar is not None:
@@ -153,7 +178,9 @@ class _Problem:
                      quantity=res.quantity, engine="direct").H * gain
             r = (w * (Hm - H))[valid]
             parts += [r.real, r.imag]
-        return np.concatenate(parts)
+        result = np.concatenate(parts)
+        self.last = (np.array(logs, dtype=float), result)
+        return result
 
 
 def _scale(H, valid):
@@ -205,6 +232,7 @@ def fit(model, measured, params, bounds=None, band_hz=None, weighting: str = "co
         raise InputError(f"starts = {starts}: expected at most {_MOST_STARTS} starting points")
     lower, upper = _log_bounds(keys, bounds)
     problem = _Problem(model, measured, keys, band_hz, weighting)
+    problem.lower, problem.upper = lower, upper
     rng = np.random.default_rng(seed)
     points = [np.zeros(len(keys))] + [rng.uniform(lower, upper) for _ in range(starts - 1)]
     outcomes = []
@@ -217,8 +245,8 @@ def fit(model, measured, params, bounds=None, band_hz=None, weighting: str = "co
             if problem.bar is not None:
                 problem.bar.set_postfix_str(f"start {k + 1}/{len(points)}")
             outcomes.append(scipy.optimize.least_squares(
-                problem.residual, np.clip(x0, lower, upper), bounds=(lower, upper), x_scale=1.0,
-                diff_step=1e-6, max_nfev=max_evaluations, xtol=1e-12, ftol=1e-12, gtol=1e-12))
+                problem.residual, np.clip(x0, lower, upper), jac=problem.jacobian, bounds=(lower, upper),
+                x_scale=1.0, max_nfev=max_evaluations, xtol=1e-12, ftol=1e-12, gtol=1e-12))
     finally:
         if problem.bar is not None:
             problem.bar.close()

@@ -396,6 +396,26 @@ def _check_stations(model, stations):
         if not model.dofs.on_bearings(station.rotor):
             raise InputError(f"station {station}: rotor {station.rotor!r} has no bearings (it is rigidly attached to "
                              "the stator): cross-coupling needs a rotor moving in its bearings")
+        _check_on_shaft(model, station)
+
+
+def _check_on_shaft(model, station):
+    """A station of a flexible rotor lies on its shaft (off it, the nearest end node took the
+    cross-coupling without a word)."""
+    from ..model.flexible import STATION_TOLERANCE
+
+    dofs = model.dofs
+    shaft = dofs.shafts[dofs.rotors.index(station.rotor)] if dofs.shafts else None
+    if shaft is None:
+        return
+    z, length = shaft.z_of(station.point(model)), shaft.length
+    slack = STATION_TOLERANCE * (1.0 + length)
+    if not -slack <= z <= length + slack:
+        centre = shaft.z_of(model.rotor(station.rotor).center_of_mass)
+        raise InputError(f"station {station.rotor}@OFFSET, OFFSET = {station.offset:.6g} m: expected a point on "
+                         f"rotor {station.rotor!r}'s shaft, OFFSET from {-centre:.6g} to {length - centre:.6g} m "
+                         f"(the shaft runs 0 to {length:g} m from its start, its centre of mass at {centre:.6g} m; "
+                         f"this OFFSET is at {z:.6g} m)")
 
 
 def _spin_sign(model, stations) -> float:
@@ -473,8 +493,11 @@ def _zero_crossing(base, unit, n, grid, followed, log_dec) -> float:
         roots = np.linalg.eigvals(base + q * unit)
         return float(roots[np.argmin(np.abs(roots - guess))].real)
 
-    if real_part(grid[k]) == 0:
+    low, high = real_part(grid[k - 1]), real_part(grid[k])
+    if high == 0:
         return float(grid[k])
+    if not low * high < 0:   # the sweep's sign change is round-off (a mode undamped at Q = 0): no root between
+        return float(grid[k - 1] if low >= 0 else grid[k])   # unstable at the lower end already: Q0 there
     return float(brentq(real_part, grid[k - 1], grid[k], xtol=1e-12 * grid[k], rtol=8.9e-16))
 
 

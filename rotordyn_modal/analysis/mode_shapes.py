@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..model._table import LARGEST
 
 __all__ = ["MachineOutline", "Body", "Spring", "Arrow", "machine_outline", "ModeShape3D", "mode_shape_3d",
            "mode_index", "ShaftLine", "ShaftLines", "shaft_lines"]
@@ -170,6 +171,11 @@ def _outline_body(outline) -> Body:
     if points.ndim != 2 or points.shape[1] != 3 or len(points) < 2:
         raise InputError(f"outline: expected points of shape (n, 3) with n >= 2 (NaN rows separate lines), "
                          f"got shape {points.shape}")
+    bad = ~np.isnan(points) & ~(np.abs(points) <= LARGEST)   # NaN separates lines; inf or 1e300 is no point
+    if bad.any():
+        row, column = (int(i) for i in np.argwhere(bad)[0])
+        raise InputError(f"outline: point {row} {'xyz'[column]} = {points[row, column]:g}: expected finite "
+                         f"coordinates of magnitude at most {LARGEST:g} m (NaN rows separate lines)")
     breaks = np.nonzero(np.isnan(points).any(axis=1))[0]
     lines, start = [], 0
     for stop in list(breaks) + [len(points)]:

@@ -382,22 +382,33 @@ def amplification_factors(speeds, amplitude):
 
     Parameters
     ----------
-    speeds : array_like, shape (N,) [rad/s], increasing
+    speeds : array_like, shape (N,) [rad/s]
+        In any order (a run-down, repeated speeds); each direction of spin (negative speeds,
+        the others) is a curve of its own, ordered by the magnitude of the speed.
     amplitude : array_like, shape (N,)
 
     Returns
     -------
-    list of (speed [rad/s], amplitude, amplification factor)
+    list of (speed [rad/s], amplitude, amplification factor), in the order of ``speeds``
     """
+    speeds, amplitude = np.asarray(speeds, dtype=float), np.asarray(amplitude, dtype=float)
+    out = []
+    for side in (np.flatnonzero(speeds < 0), np.flatnonzero(speeds >= 0)):
+        x, first = np.unique(np.abs(speeds[side]), return_index=True)
+        out += [(side[first[k]], peak) for k, peak in _curve_peaks(x, amplitude[side][first])]
+    return [(float(speeds[index]), amp, af) for index, (_, amp, af) in sorted(out, key=lambda item: item[0])]
+
+
+def _curve_peaks(x, y):
+    """``(k, (x_k, y_k, AF))`` of each peak of ``y`` over increasing ``x``."""
     from scipy.signal import find_peaks
 
-    x, y = np.abs(np.asarray(speeds, dtype=float)), np.asarray(amplitude, dtype=float)
     out = []
     for k in find_peaks(y)[0]:
         level = y[k] / np.sqrt(2)
         left, right = _crossing(x, y, k, level, -1), _crossing(x, y, k, level, +1)
         af = x[k] / (right - left) if np.isfinite(left) and np.isfinite(right) and right > left else np.nan
-        out.append((float(speeds[k]), float(y[k]), float(af)))
+        out.append((k, (float(x[k]), float(y[k]), float(af))))
     return out
 
 

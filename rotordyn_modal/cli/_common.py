@@ -21,18 +21,33 @@ VALUE_OPTIONS = ("--speed", "--speeds", "--values", "--scale", "--freqs", "--ord
 
 
 def join_negative_values(argv, options):
-    """Turn ``--speeds -6000:6000:13`` into ``--speeds=-6000:6000:13`` for argparse."""
+    """Turn ``--speeds -6000:6000:13`` into ``--speeds=-6000:6000:13`` for argparse; and any
+    ``--option -2e5`` (a negative number argparse does not take for one: an exponent, ``-inf``)
+    into ``--option=-2e5``, so that the option's own check names it."""
     out, i = [], 0
     while i < len(argv):
         token = argv[i]
-        if token in options and i + 1 < len(argv) and argv[i + 1].startswith("-") \
-                and len(argv[i + 1]) > 1 and (argv[i + 1][1].isdigit() or argv[i + 1][1] == "."):
+        value = argv[i + 1] if i + 1 < len(argv) else ""
+        if (token in options and value.startswith("-") and len(value) > 1
+                and (value[1].isdigit() or value[1] == ".")) \
+                or (token.startswith("--") and token != "--" and "=" not in token and _negative_number(value)):
             out.append(f"{token}={argv[i + 1]}")
             i += 2
             continue
         out.append(token)
         i += 1
     return out
+
+
+def _negative_number(text: str) -> bool:
+    """True for a token such as ``-2e5``, ``-.5`` or ``-inf``: a number, never an option."""
+    if not text.startswith("-") or text.startswith("--"):
+        return False
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def parse_number(text: str, option: str) -> float:

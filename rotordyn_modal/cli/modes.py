@@ -206,6 +206,7 @@ def _read_outline(path):
 
     import io
 
+    from ..analysis.mode_shapes import _outline_body
     from ..io.limits import read_limited
 
     try:
@@ -218,6 +219,11 @@ def _read_outline(path):
         raise InputError(f"{path}: the outline needs the columns x,y,z (metres, model axes); found "
                          f"{','.join(map(str, table.columns))}")
     try:
-        return table[["x", "y", "z"]].to_numpy(dtype=float)
+        points = table[["x", "y", "z"]].to_numpy(dtype=float)
     except ValueError:
         raise InputError(f"{path}: the outline's x,y,z must be numbers (an empty row starts a new line)") from None
+    try:
+        _outline_body(points)
+    except InputError as error:   # the same rule, said with the file's name
+        raise InputError(f"{path}: {error}") from None
+    return points

@@ -119,6 +119,9 @@ def _inputs(args):
     if not mcs > 0:
         raise InputError(f"--mcs {args.mcs}: expected a maximum continuous speed > 0")
     operating = _operating(args, low_open=True) if args.operating is not None else None
+    if operating is not None and operating[1] > mcs * (1 + 1e-12):
+        raise InputError(f"--operating {args.operating}: expected HI at most --mcs {args.mcs} (the maximum "
+                         "continuous speed is the top of the operating range)")
     try:
         points = int(args.points)
     except ValueError:

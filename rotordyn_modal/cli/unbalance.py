@@ -96,7 +96,8 @@ def add_arguments(parser):
                              "the amplitude column), peak-to-peak or RMS")
     parser.add_argument("--mcs", metavar="SPEED", help="maximum continuous speed of the reference rotor (same "
                         "unit as --speeds): API 617 probe limits, top of the checked speeds")
-    parser.add_argument("--min-speed", metavar="SPEED", help="bottom of the checked speeds (default 0)")
+    parser.add_argument("--min-speed", metavar="SPEED", help="bottom of the checked speeds of --mcs's and --iso-group's "
+                        "checks, with one of them (default 0)")
     parser.add_argument("--trip-speed", metavar="SPEED", help="top of the speeds of the clearance check (same "
                         "unit as --speeds; default --mcs)")
     parser.add_argument("--min-operating-speed", metavar="SPEED", help="minimum allowable speed (same unit as "
@@ -162,6 +163,10 @@ def _check_options(args):
         raise InputError(f"--mcs {args.mcs}: expected a maximum continuous speed > 0")
     if min_speed is not None and not min_speed >= 0:
         raise InputError(f"--min-speed {args.min_speed}: expected a speed >= 0")
+    if min_speed is not None and mcs is None and args.iso_group is None:
+        raise InputError(f"--min-speed {args.min_speed}: expected --mcs (API 617 probe limits, clearances) or "
+                         "--iso-group and --iso-support (ISO 20816-3 zones) too: it is the bottom of their checked "
+                         "speeds, and nothing else uses it")
     if min_speed is not None and mcs is not None and min_speed > mcs:
         raise InputError(f"--min-speed {args.min_speed}: expected at most --mcs {args.mcs} (the checked speeds "
                          "run from one to the other)")

@@ -93,6 +93,28 @@ class Material:
         return self.young_modulus / (2.0 * self.shear_modulus) - 1.0
 
 
+#: densities [kg/m^3] of solids, balsa to osmium: outside, a value in g/cm^3 (7.85) or t/mm^3
+#: (7.85e-9, finite element tools' unit) typed for kg/m^3 is likely
+PLAUSIBLE_DENSITY = (100.0, 25_000.0)
+#: Young's moduli [Pa] of solids, soft rubber to diamond: outside, a value in GPa (200) or MPa
+#: = N/mm^2 (210000) typed for Pa is likely
+PLAUSIBLE_YOUNG_MODULUS = (1e6, 1.5e12)
+
+
+def material_implausible(material) -> list[tuple[str, float, str]]:
+    """A material's legal numbers that no solid has, each ``(key, value, why)``: a density or
+    Young's modulus outside :data:`PLAUSIBLE_DENSITY` / :data:`PLAUSIBLE_YOUNG_MODULUS`,
+    most likely a value in other units (the model file is SI: kg/m^3 and Pa)."""
+    out = []
+    for key, value, (low, high), unit, hint in (
+            ("density", material.density, PLAUSIBLE_DENSITY, "kg/m^3", "g/cm^3 or t/mm^3"),
+            ("young_modulus", material.young_modulus, PLAUSIBLE_YOUNG_MODULUS, "Pa", "GPa or MPa (N/mm^2)")):
+        if not low <= value <= high:
+            out.append((key, value, f"outside the {low:g} to {high:g} {unit} of solids; a value in {hint} "
+                                    f"typed for {unit}? (model files are SI)"))
+    return out
+
+
 def material_problem(density, young_modulus, shear_modulus=None, poisson_ratio=None):
     """The first thing wrong with a material's numbers, or None.
 

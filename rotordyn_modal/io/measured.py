@@ -76,6 +76,19 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
                      "(UFF 58/58b) or .csv")
 
 
+def _check_column(table, column, name, path, valid, expected) -> None:
+    """Refuse the first row of ``column[name]`` (one value per row of ``table``) that is not
+    ``valid``, naming the column, the value and the row's channel pair and frequency."""
+    values = column[name]
+    bad = np.flatnonzero(~valid(values))
+    if bad.size:
+        first = int(bad[0])
+        row = table.iloc[first]
+        where = f"{row.get('output', '?')} / {row.get('input', '?')} at {column['frequency_hz'][first]:g} Hz"
+        raise InputError(f"{path}: {name} = {values[first]:g} in data row {first + 1} ({where}; {bad.size} such "
+                         f"row(s)): expected {expected}")
+
+
 def read_csv(path, model) -> list[FRFResult]:
     """Read the plain CSV layout (see the module docstring): also with ``;`` or tabs between the
     cells and decimal commas, header names in any case with their units (``Frequency [kHz]``,
@@ -93,12 +106,15 @@ def read_csv(path, model) -> list[FRFResult]:
     column = {name: numbers(table, name, path, decimal) * scales.get(name, 1.0) for name in
               ("speed_rpm", "frequency_hz", "real", "imag", "magnitude", "phase_deg", "coherence")
               if name in table.columns}
-    if {"real", "imag"} <= set(table.columns):
+    parts = ("real", "imag") if {"real", "imag"} <= set(table.columns) else ("magnitude", "phase_deg")
+    for name in ("frequency_hz", *parts):
+        _check_column(table, column, name, path, lambda x: np.isfinite(x), "a finite number")
+    if parts[0] == "real":
         values = column["real"] + 1j * column["imag"]
-    else:
+    else:   # a level in dB is negative: read as a linear magnitude it would be a wrong FRF
+        _check_column(table, column, "magnitude", path, lambda x: x >= 0,
+                      "a magnitude >= 0 (a linear FRF, not a level in dB)")
         values = column["magnitude"] * np.exp(1j * np.radians(column["phase_deg"]))
-    if not np.all(np.isfinite(values)) or not np.all(np.isfinite(column["frequency_hz"])):
-        raise InputError(f"{path}: non-finite numbers in the data")
     quantity = _csv_quantity(table, path)
     if value_unit is not None:
         table["unit"] = value_unit

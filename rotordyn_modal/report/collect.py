@@ -110,7 +110,7 @@ class ReportInputs:
     mcs : float [rad/s]
         Maximum continuous speed of the reference rotor, > 0.
     operating : (float, float) [rad/s]
-        Operating speed range (low <= high); default (mcs, mcs).
+        Operating speed range (0 < low <= high <= mcs); default (mcs, mcs).
     points : int
         Speeds of the sweeps, from 2 % of the MCS to 1.5 MCS (journal bearings have no film at rest).
     iso_group, iso_support : ISO 20816-3 class (both or neither).
@@ -201,6 +201,9 @@ def collect(model, inputs: ReportInputs) -> ReportData:
     low, high = inputs.range
     if not 0 < low <= high:
         raise InputError(f"operating range {low!r}:{high!r} rad/s: expected 0 < low <= high")
+    if high > inputs.mcs * (1 + 1e-12):
+        raise InputError(f"operating range {low!r}:{high!r} rad/s: expected its top at most the maximum continuous "
+                         f"speed {inputs.mcs!r} rad/s (the top of the operating range)")
     data = ReportData(inputs, model, model_summary(model), STANDARDS[inputs.standard])
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

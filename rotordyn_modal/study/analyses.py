@@ -71,6 +71,8 @@ def _orders(value, where, source) -> tuple:
     if not isinstance(value, list) or not value or not all(
             isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0 for v in value):
         raise _error(source, where, value, "a list of excitation orders > 0, e.g. [1, 2]")
+    if len(set(map(float, value))) != len(value):
+        raise _error(source, where, value, "a list of excitation orders > 0, each once, e.g. [1, 2]")
     return tuple(float(v) for v in value)
 
 

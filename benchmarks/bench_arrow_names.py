@@ -42,7 +42,7 @@ from rotordyn_modal.analysis.mode_shapes import mode_shape_3d  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests"))
-from label_geometry import clip_segments, glyph_box  # noqa: E402
+from label_geometry import arrow_segments, clip_segments, glyph_box  # noqa: E402
 
 TURNED = (15, -120)
 GRID = ([("motor_pump_on_mounts", mode, rpm, angles) for mode in (1, 2) for rpm in (0, 3000)
@@ -121,12 +121,7 @@ def measure(example, mode, rpm, angles, png=None):
     names = {arrow.name for arrow in view.outline.arrows}
     boxes = {t.get_text(): glyph_box(t, renderer) for t in ax.texts if t.get_text() in names}
     edges, outlines = drawn_bodies(ax, view)
-    arrows = {}
-    for collection in ax.collections:
-        gid = str(collection.get_gid())
-        if gid.startswith("displaced-arrow:"):
-            segments = [ax.transData.transform(np.asarray(s, float)) for s in collection.get_segments()]
-            arrows[gid.split(":", 1)[1]] = np.concatenate([np.hstack([s[:-1], s[1:]]) for s in segments])
+    arrows = arrow_segments(ax)
     counts = dict.fromkeys(("names", "edge", "outline", "any line", "overlap", "arrow", "leader", "bad leader",
                             "leaders crossing", "longest leader"), 0)
     counts["names"] = len(boxes)

@@ -18,6 +18,18 @@ def glyph_box(text, renderer):
     return matplotlib.text.Text.get_window_extent(text, renderer)
 
 
+def arrow_segments(ax) -> dict:
+    """The 3-D view's drawn arrows by name: segments ``(k, 4)`` x0, y0, x1, y1 [display pixels] of
+    each line collection whose gid is ``displaced-arrow:NAME``."""
+    arrows = {}
+    for collection in ax.collections:
+        gid = str(collection.get_gid())
+        if gid.startswith("displaced-arrow:"):
+            segments = [ax.transData.transform(np.asarray(s, float)) for s in collection.get_segments()]
+            arrows[gid.split(":", 1)[1]] = np.concatenate([np.hstack([s[:-1], s[1:]]) for s in segments])
+    return arrows
+
+
 def curve_segments(ax, skip=()):
     """Segments ``(n, 4)``: x0, y0, x1, y1 [display pixels] of every visible curve of ``ax``
     (lines with a line style, line collections), clipped to the axes' frame; ``skip``: artists

@@ -358,7 +358,7 @@ def _label_boxes_and_arrows(fig, names):
     from mpl_toolkits.mplot3d import proj3d
     from mpl_toolkits.mplot3d.art3d import Text3D
 
-    from label_geometry import glyph_box
+    from label_geometry import arrow_segments, glyph_box
 
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
@@ -372,12 +372,7 @@ def _label_boxes_and_arrows(fig, names):
             text = Text(*ax.transData.transform((x, y)), text.get_text(), fontproperties=text.get_fontproperties(),
                         ha=text.get_ha(), va=text.get_va(), figure=fig)
         boxes[text.get_text()] = glyph_box(text, renderer)
-    arrows = {}
-    for collection in ax.collections:
-        gid = str(collection.get_gid())
-        if gid.startswith("displaced-arrow:"):
-            segments = [ax.transData.transform(np.asarray(s, float)) for s in collection.get_segments()]
-            arrows[gid.split(":", 1)[1]] = np.concatenate([np.hstack([s[:-1], s[1:]]) for s in segments])
+    arrows = arrow_segments(ax)
     return ax, boxes, arrows
 
 

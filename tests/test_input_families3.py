@@ -197,6 +197,21 @@ def test_unbalance_min_speed_without_a_check_is_refused(capsys):
     _one_line_error(capsys, "--min-speed 500", "--mcs", "--iso-group")
 
 
+def test_an_operating_speed_against_the_sweeps_direction_is_refused(tmp_path, capsys):
+    """The separation margin of a peak at +1500 rpm from an operating speed of -1500 rpm was given
+    as 200 % (exit 0): a margin across zero speed. Refused before anything is written, in the
+    command line and in ``peaks``; the same direction on both sides still gives margins."""
+    out = tmp_path / "u.csv"
+    assert main(["unbalance", FAN, "--speeds", "100:3000:5", "--operating-speed", "-1500", "--out", str(out)]) == 2
+    _one_line_error(capsys, "-1500 rpm", "direction of spin", "100 to 3000 rpm")
+    assert not out.exists()
+    result = rdm.unbalance_response(rdm.load_model(FAN), np.linspace(-300.0, -10.0, 30))
+    with pytest.raises(InputError, match="direction of spin"):
+        result.peaks(operating_speed=157.0)
+    margins = result.peaks(operating_speed=-157.0)["separation_margin_pct"]
+    assert len(margins) and np.all(np.isfinite(margins))
+
+
 # ----------------------------------------------------------------------- --outline files
 @pytest.mark.parametrize("rows, words", [
     ("0,0,0\ninf,0,0\n", ["point 1 x = inf", "finite"]),

@@ -308,9 +308,7 @@ class UnbalanceResult:
         """
         import pandas as pd
 
-        if operating_speed is not None and not (np.isfinite(operating_speed) and operating_speed != 0):
-            raise InputError(f"operating speed {operating_speed!r} rad/s: expected a finite speed other than 0 "
-                             "(the separation margin is a percentage of it)")
+        check_operating_speed(self.speeds, operating_speed)
 
         rows = []
         for i, out in enumerate(self.outputs):
@@ -371,6 +369,24 @@ def _with_convention(table, amplitude: str, after: str | None = "phase_deg"):
     position = len(table.columns) if after is None else list(table.columns).index(after) + 1
     table.insert(position, column, table["amplitude"].to_numpy() * factor)
     return table
+
+def check_operating_speed(speeds, operating_speed) -> None:
+    """Raise InputError unless ``operating_speed`` [rad/s] (None: not given) can measure the
+    separation margins of a sweep over ``speeds`` (S,) [rad/s]: finite, not 0 (the margin is a
+    percentage of it) and in the direction of spin of some speed of the sweep (a margin across
+    zero speed, from a peak at +1500 rpm to -1500 rpm, is not a separation)."""
+    if operating_speed is None:
+        return
+    if not (np.isfinite(operating_speed) and operating_speed != 0):
+        raise InputError(f"operating speed {operating_speed!r} rad/s: expected a finite speed other than 0 "
+                         "(the separation margin is a percentage of it)")
+    speeds = np.asarray(speeds, dtype=float)
+    if not np.any(np.sign(speeds) == np.sign(operating_speed)):
+        low, high = (float(f(speeds)) * 30 / np.pi for f in (np.min, np.max))
+        raise InputError(f"operating speed {operating_speed:.6g} rad/s ({operating_speed * 30 / np.pi:.6g} rpm): "
+                         f"expected a speed in the sweep's direction of spin (the sweep runs from {low:.6g} to "
+                         f"{high:.6g} rpm): its separation margins would be measured across zero speed")
+
 
 
 def amplification_factors(speeds, amplitude):

@@ -90,7 +90,7 @@ def add_arguments(parser):
     parser.add_argument("--quantity", choices=["displacement", "velocity", "acceleration"], default="displacement")
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="add force rows after the sensors' (default none)")
-    parser.add_argument("--operating-speed", help="operating speed (same unit as --speeds) for the separation margin")
+    parser.add_argument("--operating-speed", help="operating speed (same unit as --speeds, in the direction of spin of the sweep) for the separation margin")
     parser.add_argument("--amplitude", choices=["peak", "pk-pk", "rms"], default="peak",
                         help="amplitude convention of the added column and the figure: 0-peak (default, "
                              "the amplitude column), peak-to-peak or RMS")
@@ -116,7 +116,7 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
-    from ..analysis.unbalance import api_unbalance_response, unbalance_response
+    from ..analysis.unbalance import api_unbalance_response, check_operating_speed, unbalance_response
     check_extra_output(args, args.orbits, "--orbits")
     check_ending(args.orbits, (".csv",), "--orbits")
     check_ending(args.checks, (".csv",), "--checks")
@@ -127,6 +127,7 @@ def run(args) -> int:
         raise InputError(f"--operating-speed {args.operating_speed}: expected a speed other than 0 (the "
                          "separation margin is a percentage of it)")
     mcs, min_speed = _check_options(args)
+    check_operating_speed(speeds_option(args), operating)     # before anything is computed or written
     if args.api_unbalance:
         result = api_unbalance_response(model, speeds_option(args), mcs, outputs=sensor_names(args, model),
                                         quantity=args.quantity, amplitude=args.amplitude)

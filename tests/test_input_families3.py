@@ -239,3 +239,16 @@ def test_a_repeated_order_is_refused(capsys, command):
     _one_line_error(capsys, "orders", "each order once", "element 2")
     with pytest.raises(InputError, match="each order once"):
         rdm.campbell(rdm.load_model(GEAR), [0.0, 100.0], orders=[2, 2.0])
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["simulate", FAN, "--duration", "0.1", "--ramp", "0:100", "--free-spin"], ("--free-spin", "not allowed")),
+    (["campbell", FAN, "--speeds", "0:100:3", "--no-such-option"], ("unrecognized arguments", "--no-such-option")),
+    ([], ("required", "SUB")),
+])
+def test_an_option_argparse_refuses_gets_one_line(capsys, argv, words):
+    """argparse's refusals printed its usage block (several lines) before the error line."""
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    assert info.value.code == 2
+    _one_line_error(capsys, *words, "--help")

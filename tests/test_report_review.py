@@ -46,7 +46,7 @@ def test_level1_verdict_is_that_of_the_least_stable_forward_mode(model):
     assert result.log_decrement_at_qa == pytest.approx(least, rel=1e-8)
     verdicts = {c.name: c.verdict for c in data.criteria}
     assert verdicts == {"API 617 Level I: log decrement at Qa": "fail", "API 617 Level I: Q0/Qa": "fail"}
-    assert [run.mode for run in data.results["level1_runs"]] == [first.mode, result.mode]
+    assert [run.mode for run in result.swept] == [first.mode, result.mode]
 
 
 def test_level1_figure_title_stays_inside_the_figure(model):

@@ -664,7 +664,7 @@ def _polished(pencils, index, lam, x):
     left = _roundoff(pencils, index, lam, x) * np.finfo(_EXTENDED).eps / np.finfo(float).eps
     uncertain = left > _PROMISED
     if uncertain.any():
-        named = _speeds_named(pencils.speeds[index[uncertain]])
+        named = _speeds_named(np.unique(pencils.speeds[index[uncertain]]))
         warnings.warn(f"lowest modes: {int(uncertain.sum())} root(s) (at {named}) "
                       f"exact only to about {np.max(left[uncertain]):.1e} relative, not 1e-9: the pencil's round-off "
                       f"(a low mode beside stiff elements), which a residual of {np.finfo(_EXTENDED).nmant + 1} "
@@ -698,10 +698,9 @@ def _polish_part(pencils, parts, index, lam, x):
 
 
 def _speeds_named(speeds):
-    """``600, 1,200, ... rpm`` of speeds [rad/s], the first ``_NAMED`` distinct ones."""
-    unique = np.unique(speeds)
-    rpm = ", ".join(f"{speed * 30 / np.pi:,.6g}" for speed in unique[:_NAMED])
-    return f"{rpm}{', ...' if len(unique) > _NAMED else ''} rpm"
+    """``600, 1,200, ... rpm`` of speeds [rad/s] (S,), the first ``_NAMED`` of them as given."""
+    rpm = ", ".join(f"{speed * 30 / np.pi:,.6g}" for speed in speeds[:_NAMED])
+    return f"{rpm}{', ...' if len(speeds) > _NAMED else ''} rpm"
 
 
 def _residuals(pencils, parts, index, lam, x):
@@ -807,8 +806,7 @@ def _refuse_long_full(stack, speeds, total: int, what: str, why: str, advice: st
     from ..errors import InputError
 
     n_states, count = stack.forms[0].n_states, len(speeds)
-    rpm = ", ".join(f"{speed * 30 / np.pi:,.6g}" for speed in speeds[:_NAMED])
-    named = f"{rpm}{', ...' if count > _NAMED else ''} rpm"
+    named = _speeds_named(speeds)
     source = getattr(stack.models[0], "source", None)
     head = (f"{source + ': ' if source else ''}{what}: the full eigen-solve of {count:,} of {total:,} speeds "
             f"({named}; {why})")

@@ -642,15 +642,20 @@ def _gap_at_height(box, paths):
     middle = 0.5 * (box[1] + box[3])
     gap = np.inf
     for path in paths:
-        points = np.asarray(path, float)
-        if len(points) < 2:
-            continue
-        v, order = points[:, 1], np.argsort(points[:, 1])
-        if not v.min() <= middle <= v.max():
-            continue
-        u = float(np.interp(middle, v[order], points[order, 0]))
-        gap = min(gap, max(box[0] - u, u - box[2], 0.0))
+        u = _u_at_heights(path, [middle])[0] if len(path) >= 2 else np.nan
+        if np.isfinite(u):
+            gap = min(gap, max(box[0] - u, u - box[2], 0.0))
     return gap
+
+
+def _u_at_heights(path, heights) -> np.ndarray:
+    """u (H,) of the polyline ``path`` (points (u, v), at least two) at each of ``heights`` (H,),
+    nan where it does not reach that height."""
+    points = np.asarray(path, float)
+    order = np.argsort(points[:, 1])
+    v, heights = points[order, 1], np.asarray(heights, float)
+    u = np.interp(heights, v, points[order, 0])
+    return np.where((v[0] <= heights) & (heights <= v[-1]), u, np.nan)
 
 
 def _overlap(a, b, gap_u, gap_v):
@@ -703,11 +708,8 @@ def _down_from_top(path):
     """Points of ``path`` (from the top edge down) every 1/:data:`_DOWN_STEPS` of the height."""
     if len(path) < 2:
         return ()
-    points = np.asarray(path, float)
-    order = np.argsort(points[:, 1])
     heights = [1.0 - k / _DOWN_STEPS for k in range(1, _DOWN_STEPS)]
-    return tuple((float(np.interp(v, points[order, 1], points[order, 0])), v) for v in heights
-                 if points[:, 1].min() <= v <= points[:, 1].max())
+    return tuple((float(u), v) for u, v in zip(_u_at_heights(path, heights), heights) if np.isfinite(u))
 
 
 def _coinciding_orders(orders, lines, per_x):

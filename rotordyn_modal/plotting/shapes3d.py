@@ -801,10 +801,10 @@ def _preferences(segments, edges, hulls, pad):
     displaced, at_rest = edges
 
     def clear_of(lines, b):
-        return not crosses_any(lines.reshape(-1, 2, 2), [(b[0] - pad, b[1] - pad, b[2] + pad, b[3] + pad)])
+        return not crosses_any(lines.reshape(-1, 2, 2), [_widened(b, pad)])
 
     def crossings(b):
-        widened = (b[0] - pad, b[1] - pad, b[2] + pad, b[3] + pad)
+        widened = _widened(b, pad)
         return 2 * _count_through(displaced, widened) + _count_through(at_rest, widened)
 
     def arrows(b):

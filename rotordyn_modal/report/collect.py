@@ -564,11 +564,9 @@ def _level1(data):
     else:
         from ..analysis.level1 import level1
 
-        # the least stable of the rotor's first forward modes, each in result.swept
-        result = level1(data.model, data.inputs.mcs, given["stations"], given["qa"], shares=given.get("shares"),
-                        gas_density=given.get("gas_density"))
-        data.results["level1_runs"] = list(result.swept)
-        data.results["level1"] = result
+        # the least stable of the rotor's first forward modes, each in its ``swept``
+        data.results["level1"] = level1(data.model, data.inputs.mcs, given["stations"], given["qa"],
+                                        shares=given.get("shares"), gas_density=given.get("gas_density"))
     result = data.results.get("level1")
     if result is None:
         for name in ("API 617 Level I: log decrement at Qa", "API 617 Level I: Q0/Qa"):

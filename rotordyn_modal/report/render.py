@@ -443,7 +443,7 @@ def _level1(data, units) -> str:
                  [f"average gas density [{dunit}]", _g(csr.density * dscale), ""],
                  ["critical speed ratio CSR [-]", _g(csr.csr, 3),
                   f"Region A: <= {csr.boundary:.3g}" + ("" if result.csr_applies else " (Q0/Qa >= 10: not applied)")]]
-    runs = data.results.get("level1_runs") or [result]
+    runs = result.swept or (result,)
     return "\n".join([
         _heading("level1"),
         f"<p>Stations: {escape(', '.join(_station(s, units) for s in result.stations))}; at the MCS the "

@@ -379,17 +379,6 @@ def add_allow_long(parser):
                              "before it starts, with the estimate")
 
 
-def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, solutions=None, advice="",
-                     memory=False):
-    """Refuse (one line, exit 2) an analysis whose estimated CPU time exceeds the limit, before
-    its first eigen-solution (``analysis._work``), unless ``--allow-long`` (:func:`.main.main`
-    runs the command inside ``analysis._cost.long_work_allowed``); with ``memory``, a Campbell
-    sweep that cannot fit first."""
-    from ..analysis._work import refuse_long_work as refuse
-
-    refuse(model, speeds, orders, critical, numbers, solutions, advice, memory)
-
-
 def speeds_option(args) -> np.ndarray:
     return to_rad_s(parse_range(args.speeds, "--speeds"), args.speed_unit)
 

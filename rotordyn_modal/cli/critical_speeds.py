@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
-                      refuse_long_work, save_figure, show_progress, speeds_option, speeds_text, use_agg,
+                      save_figure, show_progress, speeds_option, speeds_text, use_agg,
                       undamped_zeros, write_table)
 from ._units import NOTHING_TO_CONVERT
 
@@ -48,6 +48,7 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
+    from ..analysis._work import refuse_long_work
     from ..analysis.campbell import campbell
     model = open_model(args)
     modes, limit = lowest_option(args.lowest, model), max_frequency_option(args.max_frequency)

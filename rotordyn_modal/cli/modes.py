@@ -6,7 +6,7 @@ import sys
 
 from ..errors import InputError
 from ._common import (add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
-                      add_speed_unit, check_extra_output, open_model, parse_number, refuse_long_work, save_figure,
+                      add_speed_unit, check_extra_output, open_model, parse_number, save_figure,
                       to_rad_s, use_agg, write_table)
 
 NAME = "modes"
@@ -80,6 +80,7 @@ def modal(model, speed):
 
 
 def run(args) -> int:
+    from ..analysis._work import refuse_long_work
     _check_shape_options(args)
     wanted = _mode_list(args.modes) if args.modes is not None else None
     model = open_model(args)

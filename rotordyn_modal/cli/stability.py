@@ -7,7 +7,7 @@ import sys
 from ..errors import InputError
 from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
-                      parse_range, refuse_long_work, save_figure, show_progress, speeds_option, speeds_text,
+                      parse_range, save_figure, show_progress, speeds_option, speeds_text,
                       use_agg, write_table)
 from ._units import NOTHING_TO_CONVERT
 
@@ -80,6 +80,7 @@ def _grid(text, option):
 
 
 def run(args) -> int:
+    from ..analysis._work import refuse_long_work
     from ..analysis.stability import stability
     model = open_model(args)
     if args.vary and not (args.values or args.scale):

@@ -209,21 +209,19 @@ class Stack:
         (P, n): in parts of bounded memory (each row holds its own pencil and matrices, n x n,
         several copies)."""
         out = np.empty((len(x), self.n_dof), dtype=complex)
+        dense = np.arange(len(x))
         if self.n_dof > _pencils.SPARSE_SHAPES_DOF and not self.branch_times.shape[-1]:
             sparse = np.array([self.sparse_layout(v) is not None for v in variants], dtype=bool)
             if sparse.any():            # a large sparse model: a sparse LU each, never n x n per row
                 rows = np.nonzero(sparse)[0]
                 out[rows] = _pencils.sparse_pencil_shapes(Pencils(self, variants[rows], x[rows]), lam[rows])
-                if sparse.all():
-                    return out
-                rest = np.nonzero(~sparse)[0]
-                out[rest] = self.shapes_at(variants[rest], x[rest], lam[rest])
-                return out
-        for part in _batches.chunk_slices(len(x), 80 * self.n_dof ** 2):
-            mine = variants[part]
-            damping, stiffness = self.damping_stiffness(mine, x[part])
-            out[part] = _pencils.pencil_shapes(self.M[0] if len(self) == 1 else self.M[mine], damping, stiffness,
-                                             lam[part], (self.branch_stiffness[mine], self.branch_times[mine]))
+                dense = np.nonzero(~sparse)[0]
+        for part in _batches.chunk_slices(len(dense), 80 * self.n_dof ** 2):
+            rows = dense[part]
+            mine = variants[rows]
+            damping, stiffness = self.damping_stiffness(mine, x[rows])
+            out[rows] = _pencils.pencil_shapes(self.M[0] if len(self) == 1 else self.M[mine], damping, stiffness,
+                                             lam[rows], (self.branch_stiffness[mine], self.branch_times[mine]))
         return out
 
 

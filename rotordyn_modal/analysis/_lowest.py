@@ -1146,20 +1146,7 @@ def _pencil_shapes(stack, speeds, lam):
 
 def _pencil_shapes_part(M, stiffness, lam, damping):
     """:func:`_pencil_shapes` of some speeds: ``stiffness`` (n, n), or (P, n, n) per speed."""
-    count, k = lam.shape
-    n = M.shape[-1]
-    # _pencils.pencil_shapes (its shift and start vector), the k pencils of a speed built in one
-    # product: their (k, 3) coefficients times the speed's M, C + Omega G and K (3, n^2), a third of
-    # the time of building each pencil apart (rotor_example, 2,412 pencils: 8 ms against 24)
-    shifted = _pencils.shifted_roots(lam.reshape(-1))
-    coefficients = np.stack([shifted ** 2, shifted, np.ones_like(shifted)], axis=-1).reshape(count, k, 3)
-    terms = np.empty((count, 3, n * n), complex)
-    terms[:, 0] = M.reshape(-1)
-    terms[:, 1] = damping.reshape(count, -1)
-    terms[:, 2] = stiffness.reshape(-1, n * n)
-    pencils = (coefficients @ terms).reshape(count * k, n, n)
-    start = np.broadcast_to(_pencils._start_vectors(1, n)[0][:, None], (count * k, n, 1))
-    shapes = _vectors.unit_rows(_pencils._solve(pencils, start)[..., 0])
+    shapes = _pencils.pencil_shapes(M, damping, stiffness, lam).reshape(-1, M.shape[-1])
     # the phase of eig's state eigenvectors [phi, lam phi]: their largest entry real (up to its
     # sign, which eig leaves open)
     roots = lam.reshape(-1, 1)

@@ -39,23 +39,34 @@ _SKIP_BYTES = 8 * 2**20
 
 
 def pencil_shapes(M, damping, stiffness, eigenvalues, branches=None) -> np.ndarray:
-    """One inverse-iteration step per row for a single known eigenvalue: ``Q(lam) phi = 0``.
+    """One inverse-iteration step per known eigenvalue: ``Q(lam) phi = 0``, for one eigenvalue of
+    each row or ``k`` of each row.
 
     Parameters
     ----------
     M : ndarray, shape (P, n, n) or (n, n)
         Each row's mass, or one for all.
-    damping, stiffness : ndarray, shape (P, n, n)
-        Each row's ``C + Omega G`` and stiffness.
-    eigenvalues : ndarray, shape (P,), complex
+    damping : ndarray, shape (P, n, n)
+        Each row's ``C + Omega G``.
+    stiffness : ndarray, shape (P, n, n) or (n, n)
+        Each row's stiffness, or one for all.
+    eigenvalues : ndarray, shape (P,) or (P, k), complex
+        One root of each row's pencil, or ``k``: then the ``k`` pencils of a row are built in one
+        product, their (k, 3) coefficients times the row's ``M``, ``C + Omega G`` and ``K``
+        (3, n^2), a third of the time of building each pencil apart (rotor_example, 2,412
+        pencils: 8 ms against 24).
     branches : (ndarray (P, n_b, n, n), ndarray (P, n_b)), optional
-        Each row's Maxwell branches (stiffness, relaxation times).
+        Each row's Maxwell branches (stiffness, relaxation times); with eigenvalues (P,) only.
 
     Returns
     -------
-    ndarray, shape (P, n), complex, unit norm
+    ndarray, shape (P, n) or (P, k, n), complex, unit norm
     """
     shifted = shifted_roots(eigenvalues)
+    if shifted.ndim == 2:
+        start = np.broadcast_to(_start_vectors(1, M.shape[-1])[0][:, None], (shifted.size, M.shape[-1], 1))
+        shapes = _vectors.unit_rows(_solve(_row_pencils(M, damping, stiffness, shifted), start)[..., 0])
+        return shapes.reshape(shifted.shape + (M.shape[-1],))
     pencil = _quadratic(M, damping, stiffness, shifted)
     if branches is not None and branches[1].shape[-1]:
         stiffness_b, times = branches
@@ -681,6 +692,20 @@ def _quadratic(M, damping, stiffness, lam):
         _quadratic_part(out[part], M if M.ndim == 2 else M[part], damping[part],
                         stiffness if stiffness.ndim == 2 else stiffness[part], squares[part], lam[part])
     return out
+
+
+def _row_pencils(M, damping, stiffness, lam):
+    """The pencils ``lam^2 M + lam D + K`` (P k, n, n) of ``k`` roots ``lam`` (P, k) of each row:
+    each row's (k, 3) coefficients times its ``M``, ``D`` and ``K`` (3, n^2), one product
+    (``M`` and ``K`` (n, n) where the rows share them, else (P, n, n); ``D`` (P, n, n))."""
+    count, k = lam.shape
+    n = M.shape[-1]
+    coefficients = np.stack([lam ** 2, lam, np.ones_like(lam)], axis=-1)
+    terms = np.empty((count, 3, n * n), complex)
+    terms[:, 0] = M.reshape(-1, n * n)
+    terms[:, 1] = damping.reshape(count, -1)
+    terms[:, 2] = stiffness.reshape(-1, n * n)
+    return (coefficients @ terms).reshape(count * k, n, n)
 
 
 def _quadratic_part(out, mass, damping, stiffness, squares, lam):

@@ -841,8 +841,14 @@ def branch_lowest(stack, speeds, count: int, what: str = "lowest modes"):
     root of every speed (the branches' states lie outside the pencil the reduced route refines),
     refused before the work where that is over the memory at hand or the limit of CPU time
     (:func:`_refuse_long_full`; ``--allow-long`` lifts the latter)."""
-    _refuse_long_full(stack, speeds, len(speeds), what, _BRANCHES, "use fewer speeds")
+    _refuse_long_branches(stack, speeds, what)
     return _full_lowest(stack, speeds, count)
+
+
+def _refuse_long_branches(stack, speeds, what):
+    """:func:`_refuse_long_full` of every root of every speed of a model with frequency-dependent
+    branches (:func:`branch_lowest`, :func:`roots_below`)."""
+    _refuse_long_full(stack, speeds, len(speeds), what, _BRANCHES, "use fewer speeds")
 
 
 def _full_lowest(stack, speeds, count):
@@ -900,7 +906,7 @@ def roots_below(stack, speeds, limit: float, count: int | None = None):
             reduced = _reduced_below(stack, speeds, limit, count)
     if reduced is None:             # a small model, branches, or a basis of every mode: every root of every speed
         if stack.branch_times.shape[1]:
-            _refuse_long_full(stack, speeds, len(speeds), "modes below a frequency", _BRANCHES, "use fewer speeds")
+            _refuse_long_branches(stack, speeds, "modes below a frequency")
         elif stack.n_dof >= DENSE_BELOW:
             _refuse_long_full(stack, speeds, len(speeds), "modes below a frequency",
                               "a basis for the frequency would hold every mode",

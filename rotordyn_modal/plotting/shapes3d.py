@@ -839,25 +839,19 @@ def _segments(polyline):
 
 
 def _convex_hull(points):
-    """Corners (k, 2) of the convex hull of ``points`` (n, 2), counter-clockwise (monotone chain)."""
-    points = np.unique(points[np.all(np.isfinite(points), axis=1)], axis=0)
+    """Corners (k, 2) of the convex hull of the finite ``points`` (n, 2), counter-clockwise from
+    the lowest x (then y) (scipy's Qhull); where fewer than 3 distinct points, those, and where all
+    lie on one line (Qhull refuses a flat hull), its two ends: no polygon (:meth:`_Occupied.add_polygon`)."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    points = np.unique(points[np.all(np.isfinite(points), axis=1)], axis=0)       # sorted by x, then y
     if len(points) < 3:
         return points
-
-    def half(sequence):
-        chain = []
-        for p in sequence:
-            while len(chain) >= 2 and _turn(chain[-2], chain[-1], p) <= 0:
-                chain.pop()
-            chain.append(p)
-        return chain[:-1]
-
-    return np.array(half(points) + half(points[::-1]))
-
-
-def _turn(a, b, c):
-    """z of (b - a) x (c - a): > 0 where a -> b -> c turns counter-clockwise."""
-    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    try:
+        corners = ConvexHull(points).vertices
+    except QhullError:
+        return points[[0, -1]]
+    return points[np.roll(corners, -np.argmin(corners))]
 
 
 def _box_meets_polygon(box, corners):

@@ -438,9 +438,13 @@ def _sub_sweep(single, speeds, columns):
     from the lowest modes' route (:func:`._lowest.lowest_roots`, its basis shared with the
     sweep's), never from every root of its state matrices (a flexible rotor of thousands of
     coordinates: minutes and GB per speed)."""
+    from . import _lowest_branches
     from ._lowest import DENSE_BELOW, lowest_of, lowest_roots
 
-    lowest = columns < single.forms[0].n_states // 2 and not single.branch_times.shape[-1]
+    lowest = columns < single.forms[0].n_states // 2
+    if lowest and single.branch_times.shape[-1]:       # Maxwell branches: the rational pencil's lowest roots
+        lam, phi, _ = _lowest_branches.lowest_roots(single, speeds, columns)
+        return lam, phi
     if lowest and single.n_dof >= DENSE_BELOW:
         lam, phi, _ = lowest_roots(single, speeds, columns)
         return lam, phi

@@ -63,7 +63,7 @@ def lowest_roots(stack, speeds, count: int):
     out_values[:, :k], out_shapes[:, :k] = values[:, :k], shapes[:, :k]
     full = ~ok
     if full.any():
-        _lowest._refuse_long_full(stack, speeds[full], len(speeds), "lowest modes", _UNSERVED)
+        _lowest._refuse_long_full(stack, speeds[full], len(speeds), "lowest modes", _UNSERVED, "use fewer speeds")
         warnings.warn(f"lowest modes: {int(full.sum())} of {len(speeds)} speeds solved whole (the reduced basis "
                       "could not be shown to hold every root below the wanted ones there)", stacklevel=3)
         out_values[full], out_shapes[full] = _lowest._full_lowest(stack, speeds[full], count)
@@ -71,13 +71,16 @@ def lowest_roots(stack, speeds, count: int):
 
 
 #: why a speed is left to the full eigen-solve, for the refusal's message
-_UNSERVED = ("the reduced basis of the mounts' rational stiffness could not be shown to hold every root "
-             "there, or fewer modes than asked for")
+_UNSERVED = ("the reduced basis of the mounts' Maxwell branches' rational stiffness could not be shown to hold "
+             "every root there, or its pencil has fewer roots than asked for")
 
 
 def _reduced_roots(stack, speeds, count):
     """:func:`._lowest._reduced_roots` on the rational pencil: roots (S, k), shapes (S, k, n) and
-    whether the speed passed every check (S,)."""
+    whether the speed passed every check (S,). With a basis of every mode (a small model) the
+    projected pencil is the full one: the ``count`` lowest of its roots are wanted (no ``count + 1``-th
+    to check against), modes first and then, where it has fewer modes, its relaxation roots as
+    the full solve's lowest roots are (:func:`._lowest.lowest_of`)."""
     n = stack.n_dof
     size = min(n, max(3 * count, count + 10))
     pencils = RationalPencils(stack, speeds)
@@ -85,19 +88,38 @@ def _reduced_roots(stack, speeds, count):
     modes = bound.modes
     want = min(count + 1, size)
     few = np.unique(np.round(np.linspace(0, len(speeds) - 1, min(len(speeds), _lowest._FEW))).astype(int))
-    rho = _lowest._MARGIN * np.max(np.abs(_projected_starts(pencils, modes[:, :size], want, few)[0]))
+    rho = _lowest._MARGIN * np.nanmax(np.abs(_projected_starts(pencils, modes[:, :size], want, few)[0]))
     size = min(n, max(_lowest._needed_size(bound, rho, size), want))
+    complete = size >= n
+    want = count if complete else want
     _, attached = bound.shares(size, rho)
     starts, vectors = _projected_starts(pencils, np.hstack([modes[:, :size], attached]), want)
-    modal = is_oscillating(starts).all(axis=1)
-    # a relaxation root among the starts (fewer modes than asked for) is no start of Newton's
-    # iteration: near a pole of T(s); its speed goes to the full solve
-    starts = np.where(modal[:, None], starts, 1j * np.abs(starts) + 1.0)
-    values, shapes, ok = _lowest._refined(pencils, starts, vectors)
-    ok &= modal & _lowest._distinct(values) & _lowest._unmissed(starts, values, count)
+    values, shapes, ok, modal = _refined_modes(stack, pencils, starts, vectors)
+    ok &= np.isfinite(starts).all(axis=1) & (modal.all(axis=1) | complete)
+    ok &= _lowest._unmissed(starts, values, count)
     order = np.argsort(_lowest.frequency_key(values), axis=1, kind="stable")
     values, shapes = np.take_along_axis(values, order, 1), np.take_along_axis(shapes, order[..., None], 1)
-    return values, shapes, ok & _lowest._basis_suffices(values, bound, size, attached.shape[1], rho)
+    return values, shapes, ok & _lowest._basis_suffices(np.where(modal, values, 0), bound, size,
+                                                        attached.shape[1], rho)
+
+
+def _refined_modes(stack, pencils, starts, vectors):
+    """The oscillating starts (S, k) refined by :func:`._lowest._refined` on the rational pencil, the
+    others (the branches' relaxation roots, by frequency after the modes) kept as they are: near a
+    pole of ``T(s)`` they are no starts of Newton's iteration. Returns the roots (S, k), shapes
+    (S, k, n), whether a speed's refined roots converged to distinct modes (S,) and which starts
+    were modes (S, k)."""
+    modal = is_oscillating(starts)
+    values, shapes = starts.copy(), vectors.copy()
+    ok = np.ones(len(starts), bool)
+    found = modal.sum(axis=1)
+    for k in np.unique(found[found > 0]):
+        rows = np.nonzero(found == k)[0]
+        part = pencils if len(rows) == len(starts) else RationalPencils(stack, pencils.speeds[rows])
+        refined, refined_shapes, converged = _lowest._refined(part, starts[rows, :k], vectors[rows, :k])
+        values[rows, :k], shapes[rows, :k] = refined, refined_shapes
+        ok[rows] = converged & _lowest._distinct(refined)
+    return values, shapes, ok, modal
 
 
 def rational_terms(stack):
@@ -257,7 +279,7 @@ class _RationalBound(_lowest._Bound):
 def _projected_starts(pencils, basis, want, index=None):
     """The ``want`` lowest-frequency roots (oscillating first) of the projected rational pencils at
     every speed (or at the speeds ``index``), (S, want), and their vectors in full coordinates
-    (S, want, n): eigenvalues and eigenvectors of the projected state matrices with each term's
+    (S, want, n) (the modes, then the real roots; nan past the roots there are): eigenvalues and eigenvectors of the projected state matrices with each term's
     states kept whole, ``y = [p, p', z_t]``, ``tau_t z_t' = V_t^T E W p - z_t`` and the force
     ``-W^T E^T U_t (V_t^T E W p - z_t)`` (exact for the projected pencil ``W^T T(s) W``)."""
     n, m = basis.shape
@@ -291,8 +313,11 @@ def _projected_starts(pencils, basis, want, index=None):
         A[:, m:2 * m, :m] -= Kr             # the basis is mass-orthonormal: W^T M W = I
         A[:, m:2 * m, m:2 * m] = -D
         values, states = _batches._threaded(np.linalg.eig, A, item_bytes=80 * size * size)
-        order = _lowest._lowest_order(values, want)
+        # one root of each pair: the modes by frequency, then the real roots; a lower conjugate
+        # root is none (nan where fewer roots than wanted)
+        key = np.where(values.imag < 0, np.nan, _lowest.frequency_key(values))
+        order = np.argsort(key, axis=-1, kind="stable")[:, :want]
         rows = np.arange(len(values))[:, None]
-        starts[part] = values[rows, order]
+        starts[part] = np.where(np.isnan(key[rows, order]), np.nan, values[rows, order])
         vectors[part] = _vectors.unit_rows(np.swapaxes(states, 1, 2)[rows, order, :m] @ Wt)
     return starts, vectors

@@ -34,6 +34,10 @@ __all__ = ["lowest_roots", "largest_factor", "rational_terms"]
 #: singular values of a relaxation time's summed stiffness below this times the largest are zero
 #: (a branch given on the translations only has none on the rotations)
 _RANK = 1e-12
+#: entries of a relaxation time's summed stiffness below this times its largest are the shift
+#: matrices' round-off (where the static stiffness has exact zeros): zero, so that they do not
+#: widen the pencils' pattern (and cost the banded solve)
+_ROUNDOFF = 64 * np.finfo(float).eps
 
 
 def lowest_roots(stack, speeds, count: int):
@@ -128,20 +132,21 @@ def rational_terms(stack):
 
     Returns
     -------
-    list of (times, coordinates, left, right)
-        ``tau_t`` [s]; the coordinates (c,) where ``K_t`` has entries; ``U_t`` (c, r_t) [N/m, ...]
-        and ``V_t`` (c, r_t) [1] (``K_t[c, c] = U_t V_t^T``).
+    list of (times, coordinates, block, left, right)
+        ``tau_t`` [s]; the coordinates (c,) where ``K_t`` has entries; ``K_t[c, c]`` (c, c)
+        [N/m, ...]; ``U_t`` (c, r_t) [N/m, ...] and ``V_t`` (c, r_t) [1] (``K_t[c, c] = U_t V_t^T``).
     """
     stiffness, times = stack.branch_stiffness[0], stack.branch_times[0]
     terms = []
     for tau in np.unique(times):
         total = stiffness[times == tau].sum(axis=0)
+        total[np.abs(total) <= _ROUNDOFF * np.max(np.abs(total), initial=0.0)] = 0.0
         where = np.nonzero(np.any(total != 0, axis=0) | np.any(total != 0, axis=1))[0]
         block = total[np.ix_(where, where)]
         left, sigma, right = np.linalg.svd(block)
         rank = int(np.sum(sigma > _RANK * np.max(sigma, initial=0.0)))
         if rank:
-            terms.append((float(tau), where, left[:, :rank] * sigma[:rank], right[:rank].T))
+            terms.append((float(tau), where, block, left[:, :rank] * sigma[:rank], right[:rank].T))
     return terms
 
 
@@ -190,14 +195,14 @@ class RationalPencils(_lowest._Pencils):
         rows, cols = self.pattern
         keys = cols * n + rows
         self.term_at, self.term_values = [], []
-        for _, where, left, right in self.terms:
-            block = left @ right.T
-            self.term_at.append(np.searchsorted(keys, (where[None, :] * n + where[:, None]).reshape(-1)))
-            self.term_values.append(block.reshape(-1))
+        for _, where, block, _, _ in self.terms:
+            i, j = np.nonzero(block)
+            self.term_at.append(np.searchsorted(keys, where[j] * n + where[i]))
+            self.term_values.append(block[i, j])
         # the highest mode's scale with the branches' stiffness at its largest (``K + sum K_b``)
         stiffest = np.abs(np.diagonal(self.K)).copy()
-        for _, where, left, right in self.terms:
-            stiffest[where] += np.abs(np.einsum("ij,ij->i", left, right))
+        for _, where, block, _, _ in self.terms:
+            stiffest[where] += np.abs(np.diagonal(block))
         mass = np.diagonal(self.M)
         self.scale = max(self.scale, float(np.max(stiffest / np.where(mass > 0, mass, np.inf))))
 
@@ -208,8 +213,9 @@ class RationalPencils(_lowest._Pencils):
         n = stack.n_dof
         present = rows * n + cols
         extra = []
-        for _, where, _, _ in getattr(self, "terms", ()):
-            extra.append((where[:, None] * n + where[None, :]).reshape(-1))
+        for _, where, block, _, _ in self.terms:
+            i, j = np.nonzero(block)
+            extra.append(where[i] * n + where[j])
         extra = np.setdiff1d(np.concatenate(extra) if extra else np.zeros(0, int), present)
         zeros = np.zeros((len(speeds), len(extra)))
         return (np.concatenate([rows, extra // n]), np.concatenate([cols, extra % n]),
@@ -224,11 +230,11 @@ class RationalPencils(_lowest._Pencils):
     def _terms_times(self, factors, x, precision=float, magnitude=False):
         """``sum_t factors[:, t] K_t x`` (P, n) in ``precision`` (moduli with ``magnitude``)."""
         out = np.zeros(x.shape, dtype=np.result_type(precision, x.dtype, 1j))
-        for t, (_, where, left, right) in enumerate(self.terms):
+        for t, (_, where, block, _, _) in enumerate(self.terms):
             if magnitude:
-                product = np.abs(x[:, where]) @ np.abs(left @ right.T).T
+                product = np.abs(x[:, where]) @ np.abs(block).T
             else:
-                product = (x[:, where] @ right.astype(precision)) @ left.T.astype(precision)
+                product = x[:, where] @ block.T.astype(precision)
             out[:, where] += (np.abs(factors[:, t]) if magnitude else factors[:, t])[:, None] * product
         return out.real if magnitude else out
 
@@ -267,7 +273,7 @@ class _RationalBound(_lowest._Bound):
     def __init__(self, pencils, omegas, modes, symmetric, products=None):
         super().__init__(pencils, omegas, modes, symmetric, products)
         self.static_norms = self.stiffness_norms
-        self.term_norms = np.array([np.linalg.norm(left @ right.T, 2) for _, _, left, right in pencils.terms])
+        self.term_norms = np.array([np.linalg.norm(term[2], 2) for term in pencils.terms])
         self.term_times = np.array([term[0] for term in pencils.terms])
 
     def shares(self, size, rho, directions=None, vectors=True):
@@ -289,12 +295,12 @@ def _projected_starts(pencils, basis, want, index=None):
     damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
     D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
     left, right = basis[pencils.rows].T, basis[pencils.cols]
-    ranks = [term[2].shape[1] for term in pencils.terms]
+    ranks = [term[3].shape[1] for term in pencils.terms]
     size = 2 * m + sum(ranks)
     constant = np.zeros((size, size))
     constant[:m, m:2 * m] = np.eye(m)
     at = 2 * m
-    for (tau, where, u, v), r in zip(pencils.terms, ranks):
+    for (tau, where, _, u, v), r in zip(pencils.terms, ranks):
         forced, sensed = Wt[:, where] @ u, v.T @ basis[where]               # (m, r), (r, m)
         constant[m:2 * m, :m] -= forced @ sensed
         constant[m:2 * m, at:at + r] = forced

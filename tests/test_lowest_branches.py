@@ -117,14 +117,24 @@ def test_more_roots_than_modes_are_its_relaxation_roots_as_the_full_solve_gives(
 
 def test_a_flexible_rotor_in_a_casing_on_maxwell_mounts(pump, full_solves):
     """The 10 lowest roots over a speed sweep are the roots of the state matrix with the branches'
-    states (184 states) to 1e-9, without a full solve."""
-    speeds = np.array([0.0, 2000.0, 4500.0, 6000.0]) * np.pi / 30
-    result = rdm.campbell(pump, speeds, modes=10, critical=False)
+    states (184 states) to 1e-9, and so are its critical speeds' roots (their sub-sweeps and
+    refinement on the rational pencil too), without a full solve."""
+    speeds = np.array([0.0, 3000.0, 6000.0]) * np.pi / 30
+    result = rdm.campbell(pump, speeds, orders=(1,), modes=10)
     assert full_solves == []
     for i, A in enumerate(state_matrices(pump, speeds)):
         truth = _true_roots(A, 10)
         got = np.sort_complex(result.eigenvalues[i][np.argsort(result.eigenvalues[i].imag)])
         assert np.max(np.abs(got - np.sort_complex(truth)) / np.abs(truth)) <= 1e-9
+    critical = result.critical
+    assert len(critical.speeds) >= 4
+    ratios = {"motor": 1.0, "pump": 1.25}             # the belt's: the pump turns 1.25 times the motor's speed
+    for j in (0, len(critical.speeds) - 1):
+        speed, frequency = critical.speeds[j], critical.frequencies_hz[j]
+        assert frequency == pytest.approx(critical.order[j] * ratios[critical.source[j]] * speed / (2 * np.pi),
+                                          rel=1e-9)
+        truth = _true_roots(state_matrices(pump, np.array([speed]))[0], 10)
+        assert np.min(np.abs(truth.imag / (2 * np.pi) - frequency)) <= 1e-9 * frequency
 
 
 def test_stability_of_the_lowest_modes_without_a_full_solve(full_solves):
@@ -186,14 +196,14 @@ def test_largest_factor_is_the_supremum_over_oscillating_roots(rho_tau):
     assert sampled >= bound * (1 - 1e-3)
 
 
-@pytest.mark.parametrize("below", [3, 7], ids=["mount modes", "bending modes"])
-def test_the_bound_bounds_the_roots_outside_the_basis(pump, below):
+@pytest.mark.parametrize("below, speed", [(3, 400.0), (7, 0.0)], ids=["mount modes", "bending modes"])
+def test_the_bound_bounds_the_roots_outside_the_basis(pump, below, speed):
     """docs/theory.md section 17: with the branches' stiffness at its largest up to ``rho``, every mode
     of the full model (the state matrix with the branches' states) up to ``rho`` has at most the
     bound's share of its mass-norm outside the basis of m undamped modes and k attachment
     directions (up to the mount modes, where the branches' stiffness outweighs the bearings'
     damping, and up to bending modes)."""
-    speeds = np.array([0.0, 400.0])
+    speeds = np.array([speed])
     stack = Stack([pump])
     n = stack.n_dof
     pencils = _lowest_branches.RationalPencils(stack, speeds)
@@ -235,14 +245,12 @@ def test_the_bound_bounds_the_roots_outside_the_basis(pump, below):
 
 def test_lowest_four_now_runs_under_the_cpu_limit(monkeypatch, tmp_path, capsys, full_solves):
     """Changed by the rational pencil: ``--lowest 4`` of rubber_mounts (once every root of every
-    speed, refused under a tiny limit) solves no speed whole, so the limit does not apply (the
-    critical speeds' refinement, left out here, still solves the trial speeds' state matrices)."""
+    speed, refused under a tiny limit) solves no speed whole, its critical speeds neither, so the
+    limit does not apply."""
     monkeypatch.setenv("ROTORDYN_MODAL_MAX_CPU_MINUTES", "1e-7")
-    for command in (["campbell", "--no-critical"], ["stability"]):
-        out = tmp_path / f"{command[0]}.csv"
-        assert main([*command, MODEL, "--speeds", "0:3000:11", "--lowest", "4", "--out", str(out), "--quiet"]) == 0
-        assert out.exists()
-    assert full_solves == []
+    out = tmp_path / "campbell.csv"
+    assert main(["campbell", MODEL, "--speeds", "0:3000:11", "--lowest", "4", "--out", str(out), "--quiet"]) == 0
+    assert out.exists() and full_solves == []
 
 
 @pytest.mark.parametrize("command", [["campbell", "--lowest", "20"], ["campbell", "--max-frequency", "20"],

@@ -29,7 +29,7 @@ import numpy as np
 from . import _batches, _lowest, _pencils, _vectors
 from .modal import OVERDAMPED_LIMIT, is_oscillating
 
-__all__ = ["lowest_roots", "largest_factor", "rational_terms"]
+__all__ = ["lowest_roots", "roots_near", "largest_factor", "rational_terms"]
 
 #: singular values of a relaxation time's summed stiffness below this times the largest are zero
 #: (a branch given on the translations only has none on the rotations)
@@ -72,6 +72,34 @@ def lowest_roots(stack, speeds, count: int):
                       "could not be shown to hold every root below the wanted ones there)", stacklevel=3)
         out_values[full], out_shapes[full] = _lowest._full_lowest(stack, speeds[full], count)
     return out_values, out_shapes, full
+
+
+def roots_near(stack, x, centers, count: int):
+    """The modes to pick a tracked mode from at trial speeds ``x`` (R,) of a critical speed's
+    refinement, as ``critical_speeds._roots_near`` returns them: the lowest ``count`` modes, twice as
+    many until the highest lies above every center (R,), or every mode is among them.
+
+    Returns
+    -------
+    lam : ndarray, shape (R, k), complex [1/s]
+    shapes : ndarray, shape (R, k, n), complex (a repeated root's pair by whirl)
+    radius : ndarray, shape (R,) [1/s]
+        Every mode within it of the center is among them (the modes left out lie higher; the
+        branches' relaxation roots are no candidates).
+    """
+    from ._eigensolve import resolve_repeated
+
+    most = stack.forms[0].n_states // 2
+    k = min(count, most)
+    while True:
+        lam, shapes, _ = lowest_roots(stack, x, k)
+        top = np.max(np.where(np.isfinite(lam), lam.imag, -np.inf), axis=1)
+        every = ~is_oscillating(lam).all(axis=1)        # fewer modes than asked for: all of them
+        if k >= most or np.all(every | (top > centers.imag)):
+            break
+        k = min(2 * k, most)
+    radius = np.where(every | (k >= most), np.inf, np.maximum(top - centers.imag, 0.0))
+    return lam, resolve_repeated(lam, shapes, stack.whirl, np.zeros(len(x), int)), radius
 
 
 #: why a speed is left to the full eigen-solve, for the refusal's message
@@ -323,7 +351,8 @@ def _projected_starts(pencils, basis, want, index=None):
         # root is none (nan where fewer roots than wanted)
         key = np.where(values.imag < 0, np.nan, _lowest.frequency_key(values))
         order = np.argsort(key, axis=-1, kind="stable")[:, :want]
-        rows = np.arange(len(values))[:, None]
-        starts[part] = np.where(np.isnan(key[rows, order]), np.nan, values[rows, order])
-        vectors[part] = _vectors.unit_rows(np.swapaxes(states, 1, 2)[rows, order, :m] @ Wt)
+        rows, k = np.arange(len(values))[:, None], order.shape[1]
+        starts[part, :k] = np.where(np.isnan(key[rows, order]), np.nan, values[rows, order])
+        vectors[part, :k] = _vectors.unit_rows(np.swapaxes(states, 1, 2)[rows, order, :m] @ Wt)
+        starts[part, k:], vectors[part, k:] = np.nan, 0.0
     return starts, vectors

@@ -137,6 +137,19 @@ def test_a_flexible_rotor_in_a_casing_on_maxwell_mounts(pump, full_solves):
         assert np.min(np.abs(truth.imag / (2 * np.pi) - frequency)) <= 1e-9 * frequency
 
 
+def test_the_modes_below_a_frequency_without_a_full_solve(pump, full_solves):
+    """``max_frequency``: every mode below 15 Hz of the pump on Maxwell mounts (its five mount modes
+    there), each the state matrix's root to 1e-9."""
+    speeds = np.array([0.0, 6000.0]) * np.pi / 30
+    result = rdm.campbell(pump, speeds, max_frequency=15.0, critical=False)
+    assert full_solves == []
+    for i, A in enumerate(state_matrices(pump, speeds)):
+        truth = _true_roots(A, 8)
+        truth = np.sort(truth[truth.imag <= 2 * np.pi * 15.0].imag)
+        got = result.eigenvalues[i][np.isfinite(result.eigenvalues[i])]
+        assert len(truth) == 5 and np.sort(got.imag) == pytest.approx(truth, rel=1e-9)
+
+
 def test_stability_of_the_lowest_modes_without_a_full_solve(full_solves):
     model = rdm.load_model(MODEL)
     speeds = np.linspace(0.0, 300.0, 4)
@@ -244,20 +257,22 @@ def test_the_bound_bounds_the_roots_outside_the_basis(pump, below, speed):
 
 
 def test_lowest_four_now_runs_under_the_cpu_limit(monkeypatch, tmp_path, capsys, full_solves):
-    """Changed by the rational pencil: ``--lowest 4`` of rubber_mounts (once every root of every
-    speed, refused under a tiny limit) solves no speed whole, its critical speeds neither, so the
-    limit does not apply."""
+    """Changed by the rational pencil: ``--lowest 4`` and ``--max-frequency 20`` of rubber_mounts
+    (once every root of every speed, refused under a tiny limit) solve no speed whole, their critical
+    speeds neither, so the limit does not apply."""
     monkeypatch.setenv("ROTORDYN_MODAL_MAX_CPU_MINUTES", "1e-7")
-    out = tmp_path / "campbell.csv"
-    assert main(["campbell", MODEL, "--speeds", "0:3000:11", "--lowest", "4", "--out", str(out), "--quiet"]) == 0
-    assert out.exists() and full_solves == []
+    for option in (["--lowest", "4"], ["--max-frequency", "20"]):
+        out = tmp_path / f"campbell{option[0]}.csv"
+        assert main(["campbell", MODEL, "--speeds", "0:3000:11", *option, "--out", str(out), "--quiet"]) == 0
+        assert out.exists()
+    assert full_solves == []
 
 
-@pytest.mark.parametrize("command", [["campbell", "--lowest", "20"], ["campbell", "--max-frequency", "20"],
-                                     ["stability", "--lowest", "20"]], ids=["campbell", "max-frequency", "stability"])
+@pytest.mark.parametrize("command", [["campbell", "--lowest", "20"], ["stability", "--lowest", "20"]],
+                         ids=["campbell", "stability"])
 def test_over_the_cpu_limit_refused_before_the_work_and_allowed_long(command, monkeypatch, tmp_path, capsys):
     """Where the full solve remains (20 roots of rubber_mounts: more than its projected pencil's 6
-    modes and 12 relaxations; the modes below a frequency) it is refused as before."""
+    modes and 12 relaxations) it is refused as before."""
     monkeypatch.setenv("ROTORDYN_MODAL_MAX_CPU_MINUTES", "1e-7")
     out = tmp_path / "out.csv"
     arguments = [command[0], MODEL, "--speeds", "0:3000:11", *command[1:], "--out", str(out), "--quiet"]

@@ -29,7 +29,7 @@ import numpy as np
 from . import _batches, _lowest, _pencils, _vectors
 from .modal import OVERDAMPED_LIMIT, is_oscillating
 
-__all__ = ["lowest_roots", "roots_near", "largest_factor", "rational_terms"]
+__all__ = ["lowest_roots", "roots_below", "roots_near", "largest_factor", "rational_terms"]
 
 #: singular values of a relaxation time's summed stiffness below this times the largest are zero
 #: (a branch given on the translations only has none on the rotations)
@@ -72,6 +72,31 @@ def lowest_roots(stack, speeds, count: int):
                       "could not be shown to hold every root below the wanted ones there)", stacklevel=3)
         out_values[full], out_shapes[full] = _lowest._full_lowest(stack, speeds[full], count)
     return out_values, out_shapes, full
+
+
+def roots_below(stack, speeds, limit: float, count: int | None = None):
+    """:func:`._lowest.roots_below` of a model with Maxwell branches: every mode of frequency
+    ``Im lam`` at most ``limit`` [rad/s] at every speed (the lowest ``count`` where given), as the
+    lowest modes of :func:`lowest_roots`, as many as the undamped modes of the static stiffness up
+    to ``1.1 limit`` and two more, twice as many until the highest lies above the limit at every
+    speed (or every mode is among them).
+
+    Returns
+    -------
+    eigenvalues, shapes, wanted, full
+        As :func:`._lowest.roots_below`.
+    """
+    most = stack.forms[0].n_states // 2
+    omegas = _lowest._stack_bound(stack, RationalPencils(stack, speeds[:1]), _RationalBound).omegas
+    k = min(int(np.searchsorted(omegas, 1.1 * limit)) + 2, most if count is None else count, most)
+    while True:
+        values, shapes, full = lowest_roots(stack, speeds, k)
+        top = np.max(np.where(np.isfinite(values), values.imag, -np.inf), axis=1)
+        every = ~is_oscillating(values).all(axis=1)       # fewer modes than asked for: all of them
+        if k >= most or (count is not None and k >= count) or np.all(every | (top > limit)):
+            break
+        k = min(2 * k, most if count is None else count, most)
+    return _lowest._cut_below(values, shapes, limit, count) + (full,)
 
 
 def roots_near(stack, x, centers, count: int):

@@ -383,7 +383,8 @@ class _LowestRoots:
         # BLAS's own threads only wait for a core on a shared machine (as in campbell(modes=N))
         with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
             if self.limit is not None:
-                values, shapes, wanted, _ = _lowest.roots_below(self.stack, speeds, self.limit, self.count)
+                below = _lowest_branches.roots_below if self.stack.branch_times.shape[1] else _lowest.roots_below
+                values, shapes, wanted, _ = below(self.stack, speeds, self.limit, self.count)
                 return values[0][wanted[0]], shapes[0][wanted[0]]
             if self.stack.branch_times.shape[1]:     # Maxwell branches: the rational pencil, as campbell does
                 values, shapes, _ = _lowest_branches.lowest_roots(self.stack, speeds, self.count)

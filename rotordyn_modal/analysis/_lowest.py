@@ -36,7 +36,7 @@ from scipy.linalg.lapack import zgbsv as _zgbsv
 from . import _batches, _cost, _eigensolve, _pencils, _roots, _vectors
 from .modal import is_oscillating
 
-__all__ = ["lowest_roots", "branch_lowest"]
+__all__ = ["lowest_roots"]
 
 #: Newton iterations at most; the starts from the projected pencils take 2 to 4
 _ITERATIONS = 12
@@ -847,16 +847,6 @@ _NAMED = 5
 
 #: why a model with frequency-dependent branches is solved whole, for the refusal's message
 _BRANCHES = "the mounts' frequency-dependent (Maxwell) branches add states the reduced basis does not hold"
-
-
-def branch_lowest(stack, speeds, count: int, what: str = "lowest modes"):
-    """The ``count`` lowest oscillating roots (S, count) and shapes (S, count, n) of a model with
-    frequency-dependent branches (``stack.branch_times`` not empty) at ``speeds`` [rad/s] (S,): every
-    root of every speed (the branches' states lie outside the pencil the reduced route refines),
-    refused before the work where that is over the memory at hand or the limit of CPU time
-    (:func:`_refuse_long_full`; ``--allow-long`` lifts the latter)."""
-    _refuse_long_full(stack, speeds, len(speeds), what, _BRANCHES, "use fewer speeds")
-    return _full_lowest(stack, speeds, count)
 
 
 def _full_lowest(stack, speeds, count):

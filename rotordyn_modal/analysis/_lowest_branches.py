@@ -86,17 +86,25 @@ def roots_below(stack, speeds, limit: float, count: int | None = None):
     eigenvalues, shapes, wanted, full
         As :func:`._lowest.roots_below`.
     """
-    most = stack.forms[0].n_states // 2
+    most = stack.forms[0].n_states // 2 if count is None else min(count, stack.forms[0].n_states // 2)
     omegas = _lowest._stack_bound(stack, RationalPencils(stack, speeds[:1]), _RationalBound).omegas
-    k = min(int(np.searchsorted(omegas, 1.1 * limit)) + 2, most if count is None else count, most)
-    while True:
-        values, shapes, full = lowest_roots(stack, speeds, k)
-        top = np.max(np.where(np.isfinite(values), values.imag, -np.inf), axis=1)
-        every = ~is_oscillating(values).all(axis=1)       # fewer modes than asked for: all of them
-        if k >= most or (count is not None and k >= count) or np.all(every | (top > limit)):
-            break
-        k = min(2 * k, most if count is None else count, most)
+    first = min(int(np.searchsorted(omegas, 1.1 * limit)) + 2, most)
+    values, shapes, full, _, _ = _lowest_past(stack, speeds, first, limit, most)
     return _lowest._cut_below(values, shapes, limit, count) + (full,)
+
+
+def _lowest_past(stack, speeds, count, above, most):
+    """:func:`lowest_roots` of ``count`` modes, twice as many (up to ``most``) until at every speed
+    the highest lies above ``above`` [rad/s] (scalar or (S,)) or every mode is among them (fewer
+    modes than asked for: relaxation roots after them). Returns its roots, shapes and speeds solved
+    whole, and per speed whether every mode is among them (S,) and the highest ``Im lam`` (S,)."""
+    while True:
+        values, shapes, full = lowest_roots(stack, speeds, count)
+        top = np.max(np.where(np.isfinite(values), values.imag, -np.inf), axis=1)
+        every = ~is_oscillating(values).all(axis=1) | (count >= most)
+        if count >= most or np.all(every | (top > above)):
+            return values, shapes, full, every, top
+        count = min(2 * count, most)
 
 
 def roots_near(stack, x, centers, count: int):
@@ -115,15 +123,8 @@ def roots_near(stack, x, centers, count: int):
     from ._eigensolve import resolve_repeated
 
     most = stack.forms[0].n_states // 2
-    k = min(count, most)
-    while True:
-        lam, shapes, _ = lowest_roots(stack, x, k)
-        top = np.max(np.where(np.isfinite(lam), lam.imag, -np.inf), axis=1)
-        every = ~is_oscillating(lam).all(axis=1)        # fewer modes than asked for: all of them
-        if k >= most or np.all(every | (top > centers.imag)):
-            break
-        k = min(2 * k, most)
-    radius = np.where(every | (k >= most), np.inf, np.maximum(top - centers.imag, 0.0))
+    lam, shapes, _, every, top = _lowest_past(stack, x, min(count, most), centers.imag, most)
+    radius = np.where(every, np.inf, np.maximum(top - centers.imag, 0.0))
     return lam, resolve_repeated(lam, shapes, stack.whirl, np.zeros(len(x), int)), radius
 
 
@@ -338,8 +339,9 @@ class _RationalBound(_lowest._Bound):
 def _projected_starts(pencils, basis, want, index=None):
     """The ``want`` lowest-frequency roots (oscillating first) of the projected rational pencils at
     every speed (or at the speeds ``index``), (S, want), and their vectors in full coordinates
-    (S, want, n) (the modes, then the real roots; nan past the roots there are): eigenvalues and eigenvectors of the projected state matrices with each term's
-    states kept whole, ``y = [p, p', z_t]``, ``tau_t z_t' = V_t^T E W p - z_t`` and the force
+    (S, want, n) (the modes, then the real roots; nan past the roots there are): eigenvalues and
+    eigenvectors of the projected state matrices with each term's states kept whole,
+    ``y = [p, p', z_t]``, ``tau_t z_t' = V_t^T E W p - z_t`` and the force
     ``-W^T E^T U_t (V_t^T E W p - z_t)`` (exact for the projected pencil ``W^T T(s) W``)."""
     n, m = basis.shape
     index = np.arange(len(pencils.speeds)) if index is None else index

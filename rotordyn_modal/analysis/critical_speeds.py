@@ -1248,7 +1248,7 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
         Distance from each eigenvalue to the nearest other root (of those at hand) [1/s].
     """
     expected = _interpolated(brackets, rows, x)
-    lam, phi, radius = _roots_near(stack, brackets.variant[rows], x, expected, lowest=_of_lowest(stack, values))
+    lam, phi, radius = _candidates(stack, values, brackets.variant[rows], x, expected)
     distance = np.abs(lam - expected[:, None])
     nearest, second = np.argsort(distance, axis=1)[:, :2].T
     every = np.arange(len(x))
@@ -1280,20 +1280,14 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
 _NEAREST_ROOTS = 8
 
 
-def _roots_near(stack, variants, x, centers, shapes=False, count=None, lowest=False):
+def _roots_near(stack, variants, x, centers, shapes=False, count=None):
     """The upper roots at speeds ``x`` to pick the tracked mode from, their unit shapes, and the
     distance from ``centers`` within which every root is among them: for large models (see
     :func:`_pencils.nearest_roots`) the ``count`` nearest ``centers``, (R, count) and (R, count,
     n); else (or where ``count`` reaches the coordinates) all of them, (R, m), with shapes (R, m,
     n) only when ``shapes`` (None otherwise), and an infinite radius. ``count`` defaults to
-    ``_NEAREST_ROOTS``. A sweep of the ``lowest`` modes of a model with Maxwell branches takes the
-    lowest modes up to past the centers from their rational pencil (no state matrix solved whole:
-    :func:`._lowest_branches.roots_near`)."""
+    ``_NEAREST_ROOTS``."""
     count = _NEAREST_ROOTS if count is None else count
-    if lowest and len(stack) == 1 and stack.branch_times.shape[-1]:
-        from ._lowest_branches import roots_near
-
-        return roots_near(stack, x, centers, count)
     if stack.n_dof <= max(_pencils.NEAREST_ROOTS_DOF, count) or stack.branch_times.shape[-1]:
         return (*_all_roots(stack, variants, x, shapes), np.full(len(x), np.inf))
     lam, phi, radius = _pencils.nearest_roots(Pencils(stack, variants, x), centers, count)
@@ -1311,9 +1305,16 @@ def _roots_near(stack, variants, x, centers, shapes=False, count=None, lowest=Fa
     return lam, _eigensolve.resolve_repeated(lam, phi, stack.whirl, variants), radius
 
 
-def _of_lowest(stack, values) -> bool:
-    """The sweep's roots ``values`` (V, S, k) are its lowest modes only (fewer columns than roots)."""
-    return values.shape[-1] < stack.forms[0].n_states // 2
+def _candidates(stack, values, variants, x, centers, shapes=False, count=None):
+    """:func:`_roots_near`; where the sweep's roots ``values`` (V, S, k) are the lowest modes only
+    (fewer columns than roots) of a model with Maxwell branches, the lowest modes up to past the
+    centers from their rational pencil instead (no state matrix solved whole:
+    :func:`._lowest_branches.roots_near`)."""
+    if len(stack) == 1 and stack.branch_times.shape[-1] and values.shape[-1] < stack.forms[0].n_states // 2:
+        from ._lowest_branches import roots_near
+
+        return roots_near(stack, x, centers, _NEAREST_ROOTS if count is None else count)
+    return _roots_near(stack, variants, x, centers, shapes, count)
 
 
 def _all_roots(stack, variants, x, shapes):
@@ -1351,8 +1352,7 @@ def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iter
 def _modes_at(stack, speeds, values, weighted, brackets, x):
     """Eigenvalue and shape of each bracket's tracked mode at ``x`` (see :func:`_identified`)."""
     expected = _interpolated(brackets, np.arange(len(x)), x)
-    lam, phi, radius = _roots_near(stack, brackets.variant, x, expected, shapes=True,
-                                   lowest=_of_lowest(stack, values))
+    lam, phi, radius = _candidates(stack, values, brackets.variant, x, expected, True)
     return _identified(stack, speeds, values, weighted, brackets, x, lam, phi, radius)
 
 
@@ -1376,8 +1376,7 @@ def _identified(stack, speeds, values, weighted, brackets, x, lam, phi, radius):
     picked, shape = lam[rows, j], phi[rows, j]
     short = np.nonzero(~(cost[rows, j] <= radius / spread) & np.isfinite(radius))[0]
     if len(short):
-        more = _roots_near(stack, brackets.variant[short], x[short], expected[short], True, 4 * lam.shape[1],
-                           _of_lowest(stack, values))
+        more = _candidates(stack, values, brackets.variant[short], x[short], expected[short], True, 4 * lam.shape[1])
         picked[short], shape[short] = _identified(stack, speeds, values, weighted, brackets.subset(short), x[short],
                                                   *more)
     return picked, shape

@@ -36,7 +36,7 @@ from scipy.linalg.lapack import zgbsv as _zgbsv
 from . import _batches, _cost, _eigensolve, _pencils, _roots, _vectors
 from .modal import is_oscillating
 
-__all__ = ["lowest_roots", "branch_lowest"]
+__all__ = ["lowest_roots"]
 
 #: Newton iterations at most; the starts from the projected pencils take 2 to 4
 _ITERATIONS = 12
@@ -139,17 +139,17 @@ def _basis(stack, speed):
     return np.sqrt(np.maximum(values, 0.0)), symmetric, vectors
 
 
-def _stack_bound(stack, pencils):
+def _stack_bound(stack, pencils, kind=None):
     """The :class:`_Bound` of ``pencils`` on the undamped modes of ``stack`` at the first speed it
     is asked for, computed once per stack: the critical speeds' sub-sweeps of the lowest modes
     reuse the sweep's basis (any speed's basis serves, :class:`_Bound` measures the stiffness's
     departure from it) and its speed-independent products, an ``eigh`` and ``n^3`` products fewer
-    each."""
+    each. ``kind``: the bound's class (default :class:`_Bound`)."""
     cached = stack.__dict__.get("_lowest_basis")
     if cached is None:
         omegas, symmetric, modes = _basis(stack, pencils.speeds[:1])
         cached = stack.__dict__["_lowest_basis"] = {"basis": (omegas, modes, symmetric)}
-    bound = _Bound(pencils, *cached["basis"], products=cached.get("products"))
+    bound = (kind or _Bound)(pencils, *cached["basis"], products=cached.get("products"))
     cached["products"] = bound.products
     return bound
 
@@ -367,10 +367,7 @@ class _Pencils:
         self.speeds = speeds
         self.M, self.C, self.G, self.K = form.matrices.M, form.matrices.C, stack.G[0], form.matrices.K
         n = len(self.M)
-        self.rows = self.cols = np.zeros(0, int)
-        self.kb = self.cb = np.zeros((len(speeds), 0))
-        if stack.dependent:
-            self.rows, self.cols, self.kb, self.cb = _bearing_entries(stack.models[0], speeds)
+        self.rows, self.cols, self.kb, self.cb = self._speed_entries(stack, speeds)
         # the sparse LU's pattern: every entry of any of them
         pattern = (self.M != 0) | (self.C != 0) | (self.G != 0) | (self.K != 0)
         pattern[self.rows, self.cols] = True
@@ -392,6 +389,21 @@ class _Pencils:
         self.scale = float(np.max(diagonal / np.where(mass > 0, mass, np.inf)))
         # the products Q'(s) x: sparse (a dense complex product of n x n per root cost more than the solves)
         self.sparse = [scipy.sparse.csr_matrix(matrix) for matrix in (self.M, self.C, self.G)]
+
+    def _speed_entries(self, stack, speeds):
+        """The entries of K and C that change with the speed (the bearings'): rows (nb,), columns
+        (nb,), stiffness and damping (S, nb) each; a subclass adds entries of its own to the
+        pattern and the completeness bound's coordinates (``_lowest_branches``)."""
+        if stack.dependent:
+            return _bearing_entries(stack.models[0], speeds)
+        return np.zeros(0, int), np.zeros(0, int), np.zeros((len(speeds), 0)), np.zeros((len(speeds), 0))
+
+    def more_terms(self, index, lam, x, precision=float, magnitude=False):
+        """The pencil's terms beyond ``s^2 M + s (C + Omega G + C_b) + K + K_b`` times ``x`` (P, n)
+        at roots ``lam`` (P,) in ``precision`` (with ``magnitude``: their entries' moduli times
+        ``x``), for the residuals and the round-off estimate: none here (0); the Maxwell branches'
+        rational stiffness in ``_lowest_branches``."""
+        return 0.0
 
     def dense(self, index):
         """``C + Omega G + C_b`` and ``K + K_b`` of the speeds ``index`` (P,), (P, n, n) each."""
@@ -637,6 +649,7 @@ def _roundoff(pencils, index, lam, x):
     if len(pencils.rows):
         np.add.at(terms, (slice(None), pencils.rows), (s * np.abs(pencils.cb[index]) + np.abs(pencils.kb[index]))
                   * a[:, pencils.cols])
+    terms = terms + pencils.more_terms(index, lam, a, magnitude=True)
     derivative = np.abs(np.einsum("pi,pi->p", x.conj(), pencils.derivative_times(index, lam, x)))
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.finfo(float).eps * np.einsum("pi,pi->p", a, terms) / (np.abs(lam) * derivative)
@@ -724,6 +737,7 @@ def _residuals(pencils, parts, index, lam, x):
     if len(pencils.rows):
         coefficients = s * pencils.cb[index].astype(_EXTENDED) + pencils.kb[index].astype(_EXTENDED)
         np.add.at(out, (slice(None), pencils.rows), coefficients * X[:, pencils.cols])
+    out = out + pencils.more_terms(index, s[:, 0], X, wide)
     return out.astype(complex)
 
 
@@ -835,19 +849,10 @@ _NAMED = 5
 _BRANCHES = "the mounts' frequency-dependent (Maxwell) branches add states the reduced basis does not hold"
 
 
-def branch_lowest(stack, speeds, count: int, what: str = "lowest modes"):
-    """The ``count`` lowest oscillating roots (S, count) and shapes (S, count, n) of a model with
-    frequency-dependent branches (``stack.branch_times`` not empty) at ``speeds`` [rad/s] (S,): every
-    root of every speed (the branches' states lie outside the pencil the reduced route refines),
-    refused before the work where that is over the memory at hand or the limit of CPU time
-    (:func:`_refuse_long_full`; ``--allow-long`` lifts the latter)."""
-    _refuse_long_branches(stack, speeds, what)
-    return _full_lowest(stack, speeds, count)
-
-
 def _refuse_long_branches(stack, speeds, what):
     """:func:`_refuse_long_full` of every root of every speed of a model with frequency-dependent
-    branches (:func:`branch_lowest`, :func:`roots_below`)."""
+    branches (:func:`roots_below` called directly: the commands route such models to
+    :mod:`._lowest_branches`)."""
     _refuse_long_full(stack, speeds, len(speeds), what, _BRANCHES, "use fewer speeds")
 
 

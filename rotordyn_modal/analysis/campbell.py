@@ -326,7 +326,7 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None) -> Camp
     """:func:`campbell` of the ``count`` lowest modes at each speed (see its ``modes``), or of
     those of frequency ``Im lam`` up to ``limit`` [rad/s] (see its ``max_frequency``), of the
     model of a one-model stack (:func:`lowest_stack`), at checked ``speeds`` and ``orders``."""
-    from . import _lowest
+    from . import _lowest, _lowest_branches
 
     model = stack.models[0]
     # the shapes' products: BLAS's own threads only wait for a core on a shared machine (the
@@ -334,11 +334,12 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None) -> Camp
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
         wanted = None
         if limit is not None:
-            values, shapes, wanted, _ = _lowest.roots_below(stack, speeds, limit, count)
+            below = _lowest_branches.roots_below if stack.branch_times.shape[1] else _lowest.roots_below
+            values, shapes, wanted, _ = below(stack, speeds, limit, count)
             if not values.shape[-1]:
                 return _no_modes(model, speeds, orders, stack.n_dof)
-        elif stack.branch_times.shape[1]:          # frequency-dependent branches: more states than the pencil's
-            values, shapes = _lowest.branch_lowest(stack, speeds, count)
+        elif stack.branch_times.shape[1]:          # Maxwell branches: the rational pencil (theory section 17)
+            values, shapes, _ = _lowest_branches.lowest_roots(stack, speeds, count)
         else:
             values, shapes, _ = _lowest.lowest_roots(stack, speeds, count)
         values, shapes = values[None], shapes[None]

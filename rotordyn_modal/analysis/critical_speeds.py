@@ -438,9 +438,13 @@ def _sub_sweep(single, speeds, columns):
     from the lowest modes' route (:func:`._lowest.lowest_roots`, its basis shared with the
     sweep's), never from every root of its state matrices (a flexible rotor of thousands of
     coordinates: minutes and GB per speed)."""
+    from . import _lowest_branches
     from ._lowest import DENSE_BELOW, lowest_of, lowest_roots
 
-    lowest = columns < single.forms[0].n_states // 2 and not single.branch_times.shape[-1]
+    lowest = columns < single.forms[0].n_states // 2
+    if lowest and single.branch_times.shape[-1]:       # Maxwell branches: the rational pencil's lowest roots
+        lam, phi, _ = _lowest_branches.lowest_roots(single, speeds, columns)
+        return lam, phi
     if lowest and single.n_dof >= DENSE_BELOW:
         lam, phi, _ = lowest_roots(single, speeds, columns)
         return lam, phi
@@ -1244,7 +1248,7 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
         Distance from each eigenvalue to the nearest other root (of those at hand) [1/s].
     """
     expected = _interpolated(brackets, rows, x)
-    lam, phi, radius = _roots_near(stack, brackets.variant[rows], x, expected)
+    lam, phi, radius = _candidates(stack, values, brackets.variant[rows], x, expected)
     distance = np.abs(lam - expected[:, None])
     nearest, second = np.argsort(distance, axis=1)[:, :2].T
     every = np.arange(len(x))
@@ -1301,6 +1305,18 @@ def _roots_near(stack, variants, x, centers, shapes=False, count=None):
     return lam, _eigensolve.resolve_repeated(lam, phi, stack.whirl, variants), radius
 
 
+def _candidates(stack, values, variants, x, centers, shapes=False, count=None):
+    """:func:`_roots_near`; where the sweep's roots ``values`` (V, S, k) are the lowest modes only
+    (fewer columns than roots) of a model with Maxwell branches, the lowest modes up to past the
+    centers from their rational pencil instead (no state matrix solved whole:
+    :func:`._lowest_branches.roots_near`)."""
+    if len(stack) == 1 and stack.branch_times.shape[-1] and values.shape[-1] < stack.forms[0].n_states // 2:
+        from ._lowest_branches import roots_near
+
+        return roots_near(stack, x, centers, _NEAREST_ROOTS if count is None else count)
+    return _roots_near(stack, variants, x, centers, shapes, count)
+
+
 def _all_roots(stack, variants, x, shapes):
     """All upper roots of the state matrices at ``x`` (R, m), with their unit shapes (R, m, n)
     when ``shapes`` (None otherwise)."""
@@ -1336,7 +1352,7 @@ def _shapes_at(stack, speeds, values, weighted, brackets, roots, lam, sure, iter
 def _modes_at(stack, speeds, values, weighted, brackets, x):
     """Eigenvalue and shape of each bracket's tracked mode at ``x`` (see :func:`_identified`)."""
     expected = _interpolated(brackets, np.arange(len(x)), x)
-    lam, phi, radius = _roots_near(stack, brackets.variant, x, expected, shapes=True)
+    lam, phi, radius = _candidates(stack, values, brackets.variant, x, expected, True)
     return _identified(stack, speeds, values, weighted, brackets, x, lam, phi, radius)
 
 
@@ -1360,7 +1376,7 @@ def _identified(stack, speeds, values, weighted, brackets, x, lam, phi, radius):
     picked, shape = lam[rows, j], phi[rows, j]
     short = np.nonzero(~(cost[rows, j] <= radius / spread) & np.isfinite(radius))[0]
     if len(short):
-        more = _roots_near(stack, brackets.variant[short], x[short], expected[short], True, 4 * lam.shape[1])
+        more = _candidates(stack, values, brackets.variant[short], x[short], expected[short], True, 4 * lam.shape[1])
         picked[short], shape[short] = _identified(stack, speeds, values, weighted, brackets.subset(short), x[short],
                                                   *more)
     return picked, shape

@@ -377,16 +377,17 @@ class _LowestRoots:
         """Roots (k,) complex [1/s], by frequency (nan where the model has fewer than ``count``), and
         unit shapes (k, n) at ``speed`` [rad/s]; ``k`` is ``count``, or with ``limit`` the number of
         roots below it there (0 or more)."""
-        from . import _batches, _lowest
+        from . import _batches, _lowest, _lowest_branches
 
         speeds = np.array([float(speed)])
         # BLAS's own threads only wait for a core on a shared machine (as in campbell(modes=N))
         with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
             if self.limit is not None:
-                values, shapes, wanted, _ = _lowest.roots_below(self.stack, speeds, self.limit, self.count)
+                below = _lowest_branches.roots_below if self.stack.branch_times.shape[1] else _lowest.roots_below
+                values, shapes, wanted, _ = below(self.stack, speeds, self.limit, self.count)
                 return values[0][wanted[0]], shapes[0][wanted[0]]
-            if self.stack.branch_times.shape[1]:     # frequency-dependent branches: solved whole, as campbell does
-                values, shapes = _lowest.branch_lowest(self.stack, speeds, self.count)
+            if self.stack.branch_times.shape[1]:     # Maxwell branches: the rational pencil, as campbell does
+                values, shapes, _ = _lowest_branches.lowest_roots(self.stack, speeds, self.count)
             else:
                 values, shapes, _ = _lowest.lowest_roots(self.stack, speeds, self.count)
         return values[0], shapes[0]

@@ -30,9 +30,9 @@ before its work, with its estimate (exit 2); ROTORDYN_MODAL_MEMORY_GB sets the m
 count on. So is one estimated to take more than 30 minutes of CPU time (its eigen-solutions
 and crossings counted from the model's size; --allow-long runs it anyway,
 ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit). With --lowest or --max-frequency, the speeds
-the reduced basis cannot serve (an axisymmetric rotor at rest), and every speed of a model whose
-mounts have frequency-dependent branches, are solved whole, and that solve is refused alike
-before its work, naming the speeds. On a terminal, bars show the progress of the
+the reduced basis cannot serve (an axisymmetric rotor at rest) are solved whole, and that solve is
+refused alike before its work, naming the speeds (mounts with Maxwell branches are served by
+their rational stiffness, docs/theory.md section 17). On a terminal, bars show the progress of the
 eigen-solutions and of the critical speeds' refinement.
 
 example:

@@ -32,9 +32,11 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None, units:
     above 0 Hz), else linear. Up to :data:`_MAX_LEGEND` FRFs of one unit share one magnitude and one phase panel;
     more, or forces beside moments, are drawn in groups (:func:`_frf_groups`: each force
     item, else each input), each group's forces, moments and phases in panels of their own,
-    every curve named in its group's legend. Curves lying on each other are drawn there in
-    turn, found on the layout of the figure's first drawing (its save or display:
-    :func:`._overlap.at_first_layout`).
+    every curve named in its group's legend (beside the panels, or above each panel where a
+    legend would take more than :data:`_LEGEND_SHARE` of its block's width:
+    :func:`_place_legends`). Curves lying on each other are drawn there in turn, found on the
+    layout of the figure's first drawing (its save or display:
+    :func:`._overlap.at_first_layout`), or for groups when the figure is made.
 
     Parameters
     ----------
@@ -401,6 +403,10 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
                    units: str = "si"):
     """Amplitude (log, 0-peak, peak-to-peak or RMS) and phase of each source's harmonic against
     speed, one pair of panels per group of sensors, and one amplitude panel per kind of force asked.
+
+    Each amplitude panel's legend stands beside it, or, where one of them would take more than
+    :data:`_LEGEND_SHARE` of the width (long names, notes of curves lying on each other), each
+    above its panel in columns, the figure taller by their height (:func:`_place_legends`).
 
     Parameters
     ----------

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..units import FRF_OUTPUT_KINDS, ratio_scale, unit_scale
@@ -30,9 +32,11 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None, units:
     above 0 Hz), else linear. Up to :data:`_MAX_LEGEND` FRFs of one unit share one magnitude and one phase panel;
     more, or forces beside moments, are drawn in groups (:func:`_frf_groups`: each force
     item, else each input), each group's forces, moments and phases in panels of their own,
-    every curve named in its group's legend. Curves lying on each other are drawn there in
-    turn, found on the layout of the figure's first drawing (its save or display:
-    :func:`._overlap.at_first_layout`).
+    every curve named in its group's legend (beside the panels, or above each panel where a
+    legend would take more than :data:`_LEGEND_SHARE` of its block's width:
+    :func:`_place_legends`). Curves lying on each other are drawn there in turn, found on the
+    layout of the figure's first drawing (its save or display:
+    :func:`._overlap.at_first_layout`), or for groups when the figure is made.
 
     Parameters
     ----------
@@ -66,10 +70,13 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None, units:
     _draw_frfs(mag, phase, result, measured, pairs, lambda o, i: f"{o} / {i}", scale)
     mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '') if units == 'si' else scale.label(pairs)}]")
     phase.set_xlabel("Frequency [Hz]")
-    mag.legend(fontsize="small", title="model (line), measured (dots)" if measured is not None else None,
-               title_fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))   # beside, off the curves
     mag.set_title(title or default)
-    _show_frf_overlaps(fig, [mag, phase] if measured is None else [mag], result)
+    # beside, off the curves, whatever its width: the overlaps of curves lying on each other are
+    # found at the first drawing, on this layout (see docs/figures.md, "FRF and unbalance legends")
+    legends = [_Legend(mag, "small", "model (line), measured (dots)" if measured is not None else None,
+                       always_beside=True)]
+    _place_legends([(fig, legends)])
+    _show_frf_overlaps(fig, [mag, phase] if measured is None else [mag], result, [(fig, legends)], [0.0])
     return fig
 
 
@@ -132,6 +139,7 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
     fig, blocks = _blocks(len(groups), (7.5, 4.6))
     by_item = all(":" in o for _, members in groups for o, _ in members)
     drawn = []              # axes whose curves are drawn in turn where they lie on each other
+    placed = []             # (block, its legends)
     for block, (name, members) in zip(blocks, groups):
         kinds = [[p for p in members if not _is_moment(p[0])], [p for p in members if _is_moment(p[0])]]
         kinds = [k for k in kinds if k]
@@ -151,29 +159,166 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
             if scale is not None and scale.units != "si":
                 unit = scale.label(kind)
             ax.set_ylabel(f"|H| [{unit}]")
-            ax.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0),
-                      title="line: model, dots: measured" if measured is not None else None,
-                      title_fontsize="x-small")
         phase.set_yticks([-180, -90, 0, 90, 180])
         phase.set_ylabel("Phase [deg]")
         phase.set_xlabel("Frequency [Hz]")
         axes[0].set_title(name, fontsize="medium")
         drawn.extend(axes if measured is None else axes[:-1])   # measured dots share no samples
+        placed.append((block, [_Legend(ax, "x-small", "line: model, dots: measured" if measured is not None else None)
+                               for ax in axes[:-1]]))
     fig.suptitle(title)
-    _show_frf_overlaps(fig, drawn, result)
+    height = fig.get_figheight()
+    above = _place_legends(placed)
+    _grow(fig, height, above)
+    # the overlaps found on a layout of their own: their notes may take the legends above the
+    # panels, and the figure grows by their height (it cannot while it is drawn)
+    _notes_and_legends(fig, drawn, (result.frequencies_hz, "hz"), placed, above,
+                       lambda heights: _grow(fig, height, heights))
     return fig
 
 
-def _show_frf_overlaps(fig, axes, result):
+def _notes_and_legends(fig, axes, speeds, placed, above, grow=None):
+    """Curves of ``axes`` lying on each other drawn in turn on ``fig`` as now laid out (its
+    layout run here), their legends' notes written (:func:`_show_overlaps`; ``speeds``: its
+    ``x`` and ``speed_unit``) and the legends of ``placed`` placed again (``above``: their
+    heights above each holder's panels so far, :func:`_place_legends`); where the notes change
+    those heights (take the legends from beside the panels to above them: the panels widen;
+    add rows above them), the overlaps are found again on the new layout. ``grow(heights)``
+    resizes the figure; None: inside the figure's drawing, no resize. Returns whether a legend
+    changed."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    def lay_out():
+        if grow is None:                # inside the drawing: its layout only
+            ConstrainedLayoutEngine.execute(fig.get_layout_engine(), fig)
+        else:
+            fig.draw_without_rendering()
+
+    if grow is not None:
+        lay_out()
+    state = [(line, line.get_label(), line.get_linestyle()) for ax in axes for line in ax.get_lines()]
+    if not _show_overlaps(axes, *speeds):
+        return False
+    heights = _place_legends(placed)
+    if grow is not None:
+        grow(heights)
+    if heights != above:
+        lay_out()
+        for ax in axes:
+            for line in [line for line in ax.get_lines() if line.get_label() == "_overlap"]:
+                line.remove()
+        for line, label, style in state:
+            line.set_label(label)
+            line.set_linestyle(style)
+        _show_overlaps(axes, *speeds)
+        heights = _place_legends(placed, above=any(heights))
+        if grow is not None:
+            grow(heights)
+    return True
+
+
+def _grow(fig, height, above):
+    """Make ``fig`` of blocks (two a row, :func:`_blocks`) ``height`` [in] plus the height of
+    the legends above the panels of each row's block (``above``, [in], one per block)."""
+    fig.set_figheight(height + sum(max(above[k:k + 2]) for k in range(0, len(above), 2)))
+
+
+#: a legend beside its panel takes at most this share of the width of its figure (or block of
+#: panels); a wider one (long names, '(= ...)' notes) and every other legend of that figure
+#: (block) stand above their panels instead, in as many columns as the width takes
+_LEGEND_SHARE = 0.2
+#: share of the figure's (block's) width a legend above its panel may take
+_ABOVE_SHARE = 0.9
+
+
+@dataclass
+class _Legend:
+    """The legend of the curves of ``ax`` (font size, title; ``beside``: its left edge beside
+    the axes, in axes widths)."""
+
+    ax: object
+    fontsize: str = "small"
+    title: str | None = None
+    beside: float = 1.01
+    always_beside: bool = False
+
+
+def _place_legends(placed, renderer=None, above=False) -> list:
+    """Draw the legends of ``placed`` (``[(holder, [_Legend, ...]), ...]``: a figure or its
+    blocks (subfigures), the legends of their panels): each beside its panel's top right when
+    every one of them is at most :data:`_LEGEND_SHARE` of its holder's width, else each above
+    its panel (under the panel's title) in columns, at most :data:`_ABOVE_SHARE` of the width:
+    one place for all, the figure reads alike (``above``: above in any case). Returns, per
+    holder, the height [in] of its legends above its panels (0 beside)."""
+    renderer = renderer or _renderer(placed[0][0].get_figure(root=True))
+    narrow = not above
+    for holder, legends in placed:
+        for legend, box in ((legend, _legend_beside(legend)) for legend in legends):
+            narrow = narrow and (box is None or legend.always_beside
+                                 or box.get_window_extent(renderer).width <= _LEGEND_SHARE * holder.bbox.width)
+    if narrow:
+        return [0.0] * len(placed)
+    return [sum(_legend_above(legend, _ABOVE_SHARE * holder.bbox.width, renderer) for legend in legends)
+            for holder, legends in placed]
+
+
+def _renderer(fig):
+    """A renderer of ``fig`` to measure text with (the canvas's own, as it draws)."""
+    get = getattr(fig.canvas, "get_renderer", None)
+    return get() if get is not None else fig._get_renderer()
+
+
+def _legend_beside(legend):
+    """``legend`` beside its panel's top right (None when the panel has no named curve)."""
+    if not legend.ax.get_legend_handles_labels()[0]:
+        return None
+    return legend.ax.legend(fontsize=legend.fontsize, title=legend.title, title_fontsize=legend.fontsize,
+                            loc="upper left", bbox_to_anchor=(legend.beside, 1.0))
+
+
+def _legend_above(legend, width, renderer) -> float:
+    """``legend`` centred above its panel in the most columns (up to six) that keep it within
+    ``width`` [pixels], the panel's title moved above it; returns its height [in]."""
+    from matplotlib.transforms import offset_copy
+
+    ax = legend.ax
+    count = len(ax.get_legend_handles_labels()[0])
+    if not count:
+        return 0.0
+    above = offset_copy(ax.transAxes, fig=ax.get_figure(root=True), y=_ABOVE_GAP, units="points")
+
+    def drawn(columns):
+        box = ax.legend(fontsize=legend.fontsize, title=legend.title, title_fontsize=legend.fontsize,
+                        loc="lower center", bbox_to_anchor=(0.5, 1.0), bbox_transform=above, ncols=columns)
+        return box.get_window_extent(renderer)
+
+    columns = next((c for c in range(min(count, 6), 0, -1) if drawn(c).width <= width), 1)
+    even = -(-count // -(-count // columns))          # as few columns as give that many rows
+    extent = drawn(even)
+    if extent.width > width:
+        extent = drawn(columns)
+    points = (extent.y1 - ax.bbox.y1) * 72.0 / ax.get_figure(root=True).dpi     # its top over the panel's
+    if ax.get_title():
+        ax.set_title(ax.get_title(), fontsize=ax.title.get_fontsize(), pad=_TITLE_PAD + points)
+    return points / 72.0
+
+
+#: points between a panel and the legend above it; matplotlib's pad of a title over its axes
+_ABOVE_GAP, _TITLE_PAD = 3.0, 6.0
+
+
+def _show_frf_overlaps(fig, axes, result, placed, above):
     """Model curves of ``axes`` lying on each other (a symmetric machine's mounts: the same
     force in two of them) drawn there in turn, each legend naming the curve it equals
-    (:func:`_show_overlaps`); found on the layout of the figure's first drawing
+    (:func:`_show_overlaps`), the legends of ``placed`` (``[(figure or block, [_Legend, ...]),
+    ...]``; ``above``: their heights above the panels) placed again
+    (:func:`_notes_and_legends`); found on the layout of the figure's first drawing
     (:func:`._overlap.at_first_layout`: no layout of their own)."""
     from functools import partial
 
     from ._overlap import at_first_layout
 
-    at_first_layout(fig, partial(_show_overlaps, axes, result.frequencies_hz, "hz"))
+    at_first_layout(fig, partial(_notes_and_legends, fig, axes, (result.frequencies_hz, "hz"), placed, above))
 
 
 def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0):
@@ -259,6 +404,10 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
     """Amplitude (log, 0-peak, peak-to-peak or RMS) and phase of each source's harmonic against
     speed, one pair of panels per group of sensors, and one amplitude panel per kind of force asked.
 
+    Each amplitude panel's legend stands beside it, or, where one of them would take more than
+    :data:`_LEGEND_SHARE` of the width (long names, notes of curves lying on each other), each
+    above its panel in columns, the figure taller by their height (:func:`_place_legends`).
+
     Parameters
     ----------
     result : UnbalanceResult
@@ -317,11 +466,16 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
         _draw_zone_panel(axes[-1], checks, x, units)
     axes[-1].set_xlabel(speed_label(speed_unit))
     fig.suptitle(title or "Unbalance response")
-    renderer = laid_out_renderer(fig)
-    widened = _show_overlaps(axes[:2 * len(panels) + len(force_panels)], x, speed_unit)   # the legends' notes
+    legends = [_Legend(ax) for ax in axes[0:2 * len(panels):2] + axes[2 * len(panels):len(axes) - zones]]
+    legends += [_Legend(axes[-1], beside=1.04)] if zones else []     # clear of the zones' letters
+    height = fig.get_figheight()
+    above = _place_legends([(fig, legends)])
+    fig.set_figheight(height + above[0])                  # the panels keep their height
+    widened = _notes_and_legends(fig, axes[:2 * len(panels) + len(force_panels)], (x, speed_unit),
+                                 [(fig, legends)], above, lambda heights: fig.set_figheight(height + heights[0]))
     if peaks is not None and marked:
-        if widened:
-            renderer = laid_out_renderer(fig)  # the peaks' labels placed on the axes as drawn
+        # the peaks' labels placed on the axes as drawn
+        renderer = laid_out_renderer(fig) if widened else fig.canvas.get_renderer()
         for ax, chosen in marked:
             _label_peaks(ax, chosen, renderer)
     return fig
@@ -391,7 +545,6 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0):
             phase.plot(x, result.phase_deg[i, j], color=colour, ls=style, lw=0.9)
             colours[i, j] = colour
     _limit_range(mag)
-    mag.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
     phase.set_yticks([-180, -90, 0, 90, 180])
     phase.set_ylabel("Phase [deg]")
     return colours
@@ -399,13 +552,15 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0):
 
 def _show_overlaps(axes, x, speed_unit):
     """Curves of ``axes`` (laid out) lying on each other drawn there in turn
-    (:func:`._overlap.show_overlaps`), each legend naming the earlier curve a curve lies on
-    ("(= probe-x)", "(= probe-x above 1520 rpm)"); returns whether a legend changed."""
+    (:func:`._overlap.show_overlaps`), each curve's label naming the earlier curve it lies on
+    ("(= probe-x)", "(= probe-x above 1520 rpm)"); returns whether a label in a legend changed
+    (the caller places the legends again)."""
     from ._overlap import show_overlaps
 
     changed = False
     for ax in axes:
-        curves = [line for line in ax.get_lines() if ax.get_legend() is None or not line.get_label().startswith("_")]
+        named = any(not line.get_label().startswith("_") for line in ax.get_lines())   # a legend's panel
+        curves = [line for line in ax.get_lines() if not (named and line.get_label().startswith("_"))]
         names = {line: line.get_label() for line in curves}
         notes = {}
         for overlap in show_overlaps(ax, curves):
@@ -413,10 +568,7 @@ def _show_overlaps(axes, x, speed_unit):
         notes = {line: found for line, found in notes.items() if _noted(line, found)}
         for line, overlaps in notes.items():
             line.set_label(f"{names[line]} ({_equal_note(names[line], overlaps, names, x, speed_unit)})")
-        if notes and ax.get_legend() is not None:
-            size = ax.get_legend().get_texts()[0].get_fontsize()
-            ax.legend(fontsize=size, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-            changed = True
+        changed = changed or bool(notes and named)
     return changed
 
 
@@ -531,7 +683,6 @@ def _draw_probe_limits(ax, checks, names, x, factor, units="si"):
     if limits:
         low, high = ax.get_ylim()                 # the curves' range is fixed: make room for the limit
         ax.set_ylim(low, max(high, 2 * max(limits) * factor / 2))
-        ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
 
 
 #: colours of the ISO 20816-3 zones A, B, C, D
@@ -567,7 +718,6 @@ def _draw_zone_panel(ax, checks, x, units="si"):
                 label="checked speeds")
     ax.set_ylabel(f"Velocity, RMS [{unit}]")
     ax.set_title(f"Casing vibration velocity, ISO 20816-3 zones ({checks.iso_class})", fontsize="medium")
-    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.04, 1.0))
 
 
 def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak", units="si"):
@@ -584,7 +734,6 @@ def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak", 
     _limit_range(ax)
     plain_log_ticks(ax.yaxis)
     ax.set_ylabel(f"Force amplitude, {words} [{unit}]")
-    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
 
 
 def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=1.0):

@@ -64,7 +64,7 @@ def _draw_orbit(ax, result, p, s, chosen, scale, unit):
     ax.axhline(0, color="0.8", lw=0.6)
     ax.axvline(0, color="0.8", lw=0.6)
     ax.set_xlabel(f"{pair[0]} [{unit}]")
-    ax.set_ylabel(f"e × {pair[0]} [{unit}]")
+    ax.set_ylabel(f"e × {pair[0]} [{unit}]  (e: spin axis)")     # the plane's second axis, w = e x u
     ax.set_title(f"{pair[0]} / {pair[1]}, 1X {result.sources[s]}", fontsize="medium")
     ax.legend(fontsize="small", title="dot: t = 0, arrow: direction", title_fontsize="small",
               loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=min(len(chosen), 3))

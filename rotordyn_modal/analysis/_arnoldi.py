@@ -1,5 +1,5 @@
 """The lowest roots of a model whose undamped modes crowd right above the wanted ones: shift-invert
-Arnoldi on a sparse LU of each speed's pencil, its roots counted by the argument principle.
+Arnoldi on a sparse LU of each speed's pencil, the roots below a gap counted by Sylvester's inertia.
 
 ``docs/theory.md`` section 17, "Crowded spectra: shift-invert Arnoldi". The reduced route of
 :mod:`._lowest` needs a basis that holds every root up to the wanted ones; where the completeness
@@ -9,14 +9,13 @@ thousands of bearing modes start right above the 12th root), :func:`takes` says 
 
 1. at each speed, ARPACK's shift-invert Arnoldi (:func:`scipy.sparse.linalg.eigs`, real
    arithmetic, shift ``sigma`` on the real axis near 0) on the first-order form, one sparse LU of
-   ``Q(sigma) = sigma^2 M + sigma D + K`` per speed: the ``2 (count + 1 + extra)`` roots nearest
+   ``Q(sigma) = sigma^2 M + sigma D + K`` per speed: the ``2 (count + 1 + _EXTRA)`` roots nearest
    ``sigma``;
-2. **the count**: the number of roots of ``det Q(s)`` inside the rectangle ``|Re s| <= X``,
-   ``eps <= Im s <= omega_c`` (``omega_c`` in a gap of the roots found above the wanted ones, ``X``
-   the widest real part an oscillating root below ``omega_c`` can have), from the change of
-   ``arg det Q(s)`` around it (each ``det`` from a sparse LU's pivots), must equal the number of
-   roots found inside; else more roots are asked for, and at last the speed is left to the full
-   eigen-solve;
+2. **the count** (:func:`count_below`): the number of roots below a frequency ``omega_c`` (in the
+   widest relative gap of the roots found above the wanted ones) of the pencil's conservative part,
+   the negative eigenvalues of the Hermitian ``K_s - omega_c^2 M + i omega_c D_g``, must equal the
+   number of roots found below it; else more roots are asked for, and at last the speed is left to
+   the full eigen-solve;
 3. the wanted roots refined on the full pencil by the reduced route's Newton iteration (passed
    in: ``refine``), so that both routes give each root to round-off the same way.
 
@@ -47,6 +46,7 @@ _TOLERANCE = 1e-10
 #: a refined root may move from ARPACK's root by at most this times its modulus
 _MOVED = 1e-6
 
+
 def takes(basis: int, n: int) -> bool:
     """The rule of the route: shift-invert Arnoldi where the reduced basis the completeness bound
     asks for (``basis`` = modes + attachment directions) holds more than ``SHARE`` of the ``n``
@@ -55,8 +55,8 @@ def takes(basis: int, n: int) -> bool:
 
 
 def lowest(pencils, count: int, refine, distinct, progress: bool = False):
-    """The ``count + 1`` lowest oscillating roots of every speed of ``pencils``, each counted
-    complete (the argument principle) and refined on the full pencil.
+    """The ``count + 1`` lowest oscillating roots of every speed of ``pencils``, counted complete
+    (:func:`count_below`) and refined on the full pencil.
 
     Parameters
     ----------
@@ -211,16 +211,17 @@ def _arnoldi(pencil, Md, Dd, indices, indptr, n, k, scale):
 
 
 def _picked(lam, x, want, every):
-    """The ``want`` lowest oscillating roots of ``lam`` (k,) with shapes (want, n), and the contour
-    that must hold as many roots as were found in it: ``(width, bottom, top)`` (see
-    :func:`count_inside`); None where too few roots were found to place it."""
+    """The ``want`` lowest oscillating roots of ``lam`` (k,) (ARPACK's, shapes ``x`` (n, k)) with
+    unit shapes (want, n), and the frequency ``omega_c`` [rad/s] below which the count must find as
+    many roots as ARPACK did (:func:`count_below`): in the middle of the widest relative gap between
+    the frequencies found from the ``want``-th on (below the highest found: ARPACK's roots are those
+    nearest the shift, so every root near the imaginary axis below it was in reach); twice the
+    highest where ``every`` root was asked for; None where too few were found to place it."""
     key = np.where(is_oscillating(lam), lam.imag, np.inf)
     order = np.argsort(key, kind="stable")
     if not np.isfinite(key[order[want - 1]]):
         return None
     upper = np.sort(lam.imag[lam.imag > 0])
-    # the top side in the widest relative gap above the wanted roots, below the highest found
-    # (ARPACK's roots are the nearest the shift: the top side stays inside their disc)
     wanted_top = key[order[want - 1]]
     above = upper[upper >= wanted_top]
     if len(above) < 2:

@@ -20,11 +20,12 @@ from rotordyn_modal.analysis.campbell import lowest_stack
 from test_flexible_large import _on_bearings
 
 
-def _chain(count, damping=1e-4, seed=1):
+def _chain(count, damping=1e-4, seed=1, coupled=0):
     """``count`` rigid rotors in a row, each driving the next by a gear, each on two bearings
     (1e7-5e7 N/m, damping ``damping`` s times the stiffness), in a casing twice their mass on six
     mounts (damped as the bearings): ``6 + 5 count`` coordinates (``benchmarks/_machines.py``'s
-    ``gear_chain``, its damping a parameter)."""
+    ``gear_chain``, its damping a parameter). The bearings of the first ``coupled`` rotors are
+    speed-dependent and cross-coupled (a table over +-8,000 rpm of their own speed)."""
     rng = np.random.default_rng(seed)
     rotors, bearings, gears, log_speed = [], [], [], 0.0
     for j in range(count):
@@ -47,6 +48,11 @@ def _chain(count, damping=1e-4, seed=1):
                        "position": [centre[0] + offset, centre[1], centre[2]], "stiffness": k, "damping": damping * k}
             if side == "DE":
                 bearing["axial_stiffness"] = 0.5 * k
+            if j < coupled:
+                bearing.update(speeds_rpm=[-8000.0, 8000.0], stiffness=[[[k, 0.0], [0.0, k]], [[k, 0.2 * k], [-0.2 * k, 1.1 * k]]],
+                               damping=[damping * k, 2 * damping * k])
+                if "axial_stiffness" in bearing:
+                    bearing["axial_stiffness"] = [0.5 * k, 0.5 * k]
             bearings.append(bearing)
     casing = 2 * sum(r["mass"] for r in rotors)
     length = count * 0.3
@@ -135,26 +141,31 @@ def test_the_inertia_count_is_the_number_of_roots_below():
 
 
 def test_a_root_the_arnoldi_step_misses_is_caught(monkeypatch, arnoldi_calls):
-    """Where ARPACK's roots lack one (the lowest pair removed, as a Krylov method can miss a
-    root), the count below the gap disagrees at every try: the speed is solved whole, and its
-    roots are still scipy's."""
-    model = _chain(20)
+    """Where ARPACK's roots lack one at the first speed (the lowest pair removed, as a Krylov
+    method can miss a root), the count below the gap disagrees at every try: that speed is solved
+    whole, the next one (speed-dependent cross-coupled bearings) by Arnoldi, and the roots of both
+    are scipy's."""
+    model = _chain(20, coupled=6)
     stack = lowest_stack(model)
-    real = _arnoldi._arnoldi
+    real, tries = _arnoldi._arnoldi, []
 
     def missing(*args):
         lam, x = real(*args)
+        tries.append(len(lam))
+        if len(tries) > 2:                  # the first speed's tries only
+            return lam, x
         keep = np.abs(lam) > np.min(np.abs(lam)) * (1 + 1e-9)
         return lam[keep], x[:, keep]
 
     monkeypatch.setattr(_arnoldi, "_arnoldi", missing)
     monkeypatch.setattr(_arnoldi, "_TRIES", 2)        # each try misses it: two show it (and cost less)
-    speed = rdm.rpm(1500.0)
+    speeds = rdm.rpm(np.array([1500.0, 2500.0]))
     with pytest.warns(UserWarning, match="solved whole"), threadpool_limits(1):
-        lam, _, full = _lowest.lowest_roots(stack, np.array([speed]), 12)
-    assert arnoldi_calls == [1] and full.all()
-    dense = _dense_lowest(stack, speed, 12)
-    assert np.max(np.abs(lam[0] - dense) / np.abs(dense)) < 1e-9
+        lam, _, full = _lowest.lowest_roots(stack, speeds, 12)
+    assert arnoldi_calls == [2] and list(full) == [True, False]
+    for p, speed in enumerate(speeds):
+        dense = _dense_lowest(stack, speed, 12)
+        assert np.max(np.abs(lam[p] - dense) / np.abs(dense)) < 1e-9
 
 
 def test_models_whose_basis_is_small_keep_the_reduced_route(arnoldi_calls):

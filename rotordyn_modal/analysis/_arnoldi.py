@@ -24,6 +24,8 @@ M, C, G and K may be dense or ``scipy.sparse`` (n, n): they are taken as ``scipy
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 import scipy.sparse
 import scipy.sparse.linalg
@@ -43,8 +45,6 @@ MIN_DOF = 100
 _EXTRA, _TRIES = 6, 4
 #: ARPACK's tolerance on the shifted inverse's Ritz values (the roots are refined by Newton after)
 _TOLERANCE = 1e-10
-#: a refined root may move from ARPACK's root by at most this times its modulus
-_MOVED = 1e-6
 
 
 def takes(basis: int, n: int) -> bool:
@@ -91,21 +91,32 @@ def lowest(pencils, count: int, refine, distinct, progress: bool = False):
         from tqdm.auto import tqdm
 
         speeds = tqdm(speeds, desc="lowest modes (Arnoldi)", unit="speed", leave=False)
+    reach = np.full((S, want), np.inf)
     for p in speeds:
         found = _counted_roots(parts, p, want)
         if found is not None:
-            starts[p], vectors[p] = found
+            starts[p], vectors[p], reach[p] = found
             ok[p] = True
     values, shapes = starts.copy(), vectors.copy()
     if ok.any():
         sure = np.nonzero(ok)[0]
-        refined, unit, converged = refine(pencils, starts[sure], vectors[sure])
-        close = np.all(np.abs(refined - starts[sure]) <= _MOVED * np.abs(starts[sure]), axis=1)
-        ok[sure] = converged & close & distinct(refined)
+        refined, unit, converged = refine(_speeds_of(pencils, sure), starts[sure], vectors[sure])
+        # Newton reached the root its start stands for (nearer it than half the way to another root)
+        own = np.all(np.abs(refined - starts[sure]) < 0.5 * reach[sure], axis=1)
+        ok[sure] = converged & own & distinct(refined)
         order = np.argsort(np.where(is_oscillating(refined), refined.imag, np.inf), axis=1, kind="stable")
         values[sure] = np.take_along_axis(refined, order, 1)
         shapes[sure] = np.take_along_axis(unit, order[..., None], 1)
     return values, shapes, ok
+
+
+def _speeds_of(pencils, index):
+    """``pencils`` of the speeds ``index`` only (a shallow copy: the constant matrices shared)."""
+    if len(index) == len(pencils.speeds):
+        return pencils
+    part = copy.copy(pencils)
+    part.speeds, part.kb, part.cb = pencils.speeds[index], pencils.kb[index], pencils.cb[index]
+    return part
 
 
 class _Parts:
@@ -147,7 +158,8 @@ class _Parts:
 
 def _counted_roots(parts, p, want):
     """The ``want`` lowest oscillating roots of speed ``p`` by ARPACK, counted complete: starts
-    (want,) and shapes (want, n); None where the count never agreed (or ARPACK failed)."""
+    (want,), shapes (want, n) and each one's distance to the nearest other root found (want,);
+    None where the count never agreed (or ARPACK failed)."""
     (Md, Dd, Kd), indices, indptr = parts.at(p)
     n = parts.n
 
@@ -164,11 +176,11 @@ def _counted_roots(parts, p, want):
         lam, x = found
         picked = _picked(lam, x, want, k >= 2 * n - 3)
         if picked is not None:
-            roots, shapes, top = picked
+            roots, shapes, reach, top = picked
             counted = count_below(parts, p, top)
             below = np.sum((lam.imag > 0) & (lam.imag < top))
             if counted is not None and counted == below:
-                return roots, shapes
+                return roots, shapes, reach
         if k >= 2 * n - 3:
             return None
         pairs *= 2
@@ -212,7 +224,8 @@ def _arnoldi(pencil, Md, Dd, indices, indptr, n, k, scale):
 
 def _picked(lam, x, want, every):
     """The ``want`` lowest oscillating roots of ``lam`` (k,) (ARPACK's, shapes ``x`` (n, k)) with
-    unit shapes (want, n), and the frequency ``omega_c`` [rad/s] below which the count must find as
+    unit shapes (want, n), each one's distance to the nearest other root of ``lam`` or its own
+    conjugate (want,), and the frequency ``omega_c`` [rad/s] below which the count must find as
     many roots as ARPACK did (:func:`count_below`): in the middle of the widest relative gap between
     the frequencies found from the ``want``-th on (below the highest found: ARPACK's roots are those
     nearest the shift, so every root near the imaginary axis below it was in reach); twice the
@@ -236,7 +249,11 @@ def _picked(lam, x, want, every):
         top = 0.5 * (above[j] + above[j + 1])
     shapes = x[:, order[:want]].T
     shapes = shapes / np.linalg.norm(shapes, axis=1, keepdims=True)
-    return lam[order[:want]], shapes, top
+    picked = lam[order[:want]]
+    others = np.abs(picked[:, None] - lam[None, :])
+    others[np.arange(want), order[:want]] = np.inf
+    reach = np.minimum(others.min(axis=1), 2 * np.abs(picked.imag))     # its conjugate, too
+    return picked, shapes, reach, top
 
 
 def count_below(parts, p, omega):

@@ -33,7 +33,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 from scipy.linalg.lapack import zgbsv as _zgbsv
 
-from . import _batches, _cost, _eigensolve, _pencils, _roots, _vectors
+from . import _arnoldi, _batches, _cost, _eigensolve, _pencils, _roots, _vectors
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]
@@ -57,7 +57,7 @@ _SAME = 1e-8
 DENSE_BELOW = 38
 
 
-def lowest_roots(stack, speeds, count: int):
+def lowest_roots(stack, speeds, count: int, progress: bool = False):
     """The ``count`` lowest-frequency oscillating roots of a one-model stack at every speed.
 
     Parameters
@@ -67,6 +67,8 @@ def lowest_roots(stack, speeds, count: int):
     speeds : ndarray, shape (S,) [rad/s]
     count : int
         Modes wanted per speed (>= 1).
+    progress : bool
+        A progress bar over the speeds where they are solved by shift-invert Arnoldi.
 
     Returns
     -------
@@ -83,7 +85,7 @@ def lowest_roots(stack, speeds, count: int):
     # wait for a core on a shared machine (measured up to 10x slower at load 5); the batched
     # eigen-solves and banded solves run in threads of their own
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
-        values, shapes, ok = _reduced_roots(stack, speeds, count)
+        values, shapes, ok = _reduced_roots(stack, speeds, count, progress)
     n = stack.n_dof
     out_values = np.full((len(speeds), count), np.nan + 0j)
     out_shapes = np.zeros((len(speeds), count, n), dtype=complex)
@@ -99,9 +101,10 @@ def lowest_roots(stack, speeds, count: int):
     return out_values, out_shapes, full
 
 
-def _reduced_roots(stack, speeds, count):
+def _reduced_roots(stack, speeds, count, progress=False):
     """The ``count + 1`` lowest roots of every speed from the reduced basis, refined: roots (S, k),
-    shapes (S, k, n) and whether the speed passed every check (S,)."""
+    shapes (S, k, n) and whether the speed passed every check (S,); by shift-invert Arnoldi
+    (:mod:`._arnoldi`, with a progress bar where ``progress``) where that basis would be too large."""
     n = stack.n_dof
     size = min(n, max(3 * count, count + 10))
     pencils = _Pencils(stack, speeds)
@@ -113,6 +116,8 @@ def _reduced_roots(stack, speeds, count):
     rho = _MARGIN * np.max(np.abs(_projected_starts(pencils, modes[:, :size], want, few)[0]))
     size = min(n, max(_needed_size(bound, rho, size), want))
     _, attached = bound.shares(size, rho)
+    if _arnoldi.takes(size + attached.shape[1], n):     # the undamped modes crowd above the wanted roots
+        return _arnoldi.lowest(pencils, count, _refined, _distinct, progress)
     starts, vectors = _projected_starts(pencils, np.hstack([modes[:, :size], attached]), want)
     values, shapes, ok = _refined(pencils, starts, vectors)
     ok &= _distinct(values) & _unmissed(starts, values, count)

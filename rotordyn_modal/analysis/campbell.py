@@ -281,7 +281,7 @@ def campbell(model, speeds, orders=(1,), progress=False, critical=True, modes=No
         count = None                # N at least every root: every root (below max_frequency, if given)
         if limit is None:
             return campbell_many([model], speeds, orders, progress, critical)[0]
-    return _campbell_lowest(stack, speeds, orders, critical, count, limit)
+    return _campbell_lowest(stack, speeds, orders, critical, count, limit, progress)
 
 
 def _arguments_modes(modes) -> int:
@@ -322,10 +322,11 @@ def _arguments_frequency(value) -> float:
     return float(array)
 
 
-def _campbell_lowest(stack, speeds, orders, critical, count, limit=None) -> CampbellResult:
+def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progress=False) -> CampbellResult:
     """:func:`campbell` of the ``count`` lowest modes at each speed (see its ``modes``), or of
     those of frequency ``Im lam`` up to ``limit`` [rad/s] (see its ``max_frequency``), of the
-    model of a one-model stack (:func:`lowest_stack`), at checked ``speeds`` and ``orders``."""
+    model of a one-model stack (:func:`lowest_stack`), at checked ``speeds`` and ``orders``; a
+    progress bar where ``progress`` and the speeds are solved by shift-invert Arnoldi."""
     from . import _lowest, _lowest_branches
 
     model = stack.models[0]
@@ -341,7 +342,7 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None) -> Camp
         elif stack.branch_times.shape[1]:          # Maxwell branches: the rational pencil (theory section 17)
             values, shapes, _ = _lowest_branches.lowest_roots(stack, speeds, count)
         else:
-            values, shapes, _ = _lowest.lowest_roots(stack, speeds, count)
+            values, shapes, _ = _lowest.lowest_roots(stack, speeds, count, progress)
         values, shapes = values[None], shapes[None]
         every = _variant_rows(1, len(speeds))
         weighted = stack.weighted(shapes.reshape((-1,) + shapes.shape[-2:]), every).reshape(shapes.shape)

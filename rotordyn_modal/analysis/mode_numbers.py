@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..linear_system import speed_linear_form
-from . import _batches, _eigensolve
+from . import _arnoldi, _batches, _eigensolve
 from .modal import is_oscillating
 
 __all__ = ["numbers_at_speed", "number_of_root", "numbers_at_crossings"]
@@ -95,7 +95,7 @@ def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, 
         out[rest[known]] = counted[known]
         rest = rest[~known]
     if len(rest):
-        out[rest] = _solved_numbers(model, speeds[rest], eigenvalues[rest])
+        out[rest] = _solved_numbers(model, speeds[rest], eigenvalues[rest], values.shape[-1] if partial else None)
     return out
 
 
@@ -173,12 +173,42 @@ def _interpolated_roots(sweep_speeds, values, speeds, k):
     return estimate, margin, oscillating.all(axis=1), ~oscillating.any(axis=1)
 
 
-def _solved_numbers(model, speeds, eigenvalues):
-    """The numbers by the roots solved at each speed (all speeds in one batch, in parts)."""
-    form = speed_linear_form(model)
+def _solved_numbers(model, speeds, eigenvalues, lowest=None):
+    """The numbers by the roots solved at each speed (all speeds in one batch, in parts). After a
+    sweep of the ``lowest`` lowest roots of a model of at least ``_arnoldi.MIN_DOF`` coordinates,
+    by the ``lowest + 1`` lowest roots at each speed (:func:`_numbers_among_lowest`) first: every
+    root of the state matrix of thousands of states costs about a minute per speed."""
     out = np.empty(len(speeds), dtype=int)
+    todo = np.arange(len(speeds))
+    if lowest is not None and model.dofs.n >= _arnoldi.MIN_DOF:
+        numbers = _numbers_among_lowest(model, speeds, eigenvalues, lowest + 1)
+        known = numbers > 0
+        out[known] = numbers[known]
+        todo = todo[~known]
+    if not len(todo):
+        return out
+    form = speed_linear_form(model)
     size = form.n_states
-    for part in _batches.chunk_slices(len(speeds), 32 * size * size):
-        roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(form.at(speeds[part])))
-        out[part] = [number_of_root(row, lam) for row, lam in zip(roots, eigenvalues[part])]
+    for part in _batches.chunk_slices(len(todo), 32 * size * size):
+        rows = todo[part]
+        roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(form.at(speeds[rows])))
+        out[rows] = [number_of_root(row, lam) for row, lam in zip(roots, eigenvalues[rows])]
+    return out
+
+
+def _numbers_among_lowest(model, speeds, eigenvalues, count):
+    """The number of each root ``eigenvalues`` (P,) at its speed (P,) [rad/s] among the ``count``
+    lowest roots there (``_lowest.lowest_roots``: each the full model's, every lower root among
+    them): one more than the modes below it; 0 where it is not among them (within ``1e-6`` of one,
+    not the last) or not a mode."""
+    from ._lowest import lowest_roots
+    from ._stack import Stack
+
+    roots, _, _ = lowest_roots(Stack([model]), np.asarray(speeds, dtype=float), count)
+    out = np.zeros(len(speeds), dtype=int)
+    for p, (row, lam) in enumerate(zip(roots, eigenvalues)):
+        gaps = np.abs(row - lam)
+        j = int(np.nanargmin(gaps)) if np.isfinite(gaps).any() else -1
+        if 0 <= j < count - 1 and gaps[j] <= 1e-6 * abs(lam) and is_oscillating(lam):
+            out[p] = number_of_root(row, lam)
     return out

@@ -19,7 +19,9 @@ a red triangle where a mode becomes unstable. Its speed axis is in --speed-unit;
 frequency axis is logarithmic when the modes at one speed span more than 30x (e.g. mount
 modes at 5 Hz and bearing modes at 1 kHz), else linear (--freq-scale); --freq-range or
 --freq-max limit it. --lowest N or --max-frequency HZ solve only the modes asked for
-(exact, faster for large flexible rotors; docs/theory.md section 17).
+(exact, faster for large flexible rotors; docs/theory.md section 17). Where the modes crowd
+right above the N lowest (hundreds of rotors on bearings), --lowest N takes shift-invert
+Arnoldi at each speed, with a bar of the speeds on a terminal (section 17, "Crowded spectra").
 
 CSV columns: speed_rpm,mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part,mode_at_speed
 ('mode' is the mode's label tracked over the sweep; 'mode_at_speed' its number in

@@ -10,8 +10,8 @@ import numpy as np
 from ..errors import InputError
 from ..units import from_system, speed_to_rad_s, unit_scale
 from ._units import convert_table, kinds_by_ending
-from ._common import (add_model_argument, add_output_file, add_outputs, add_speed_unit, open_model, parse_count,
-                      parse_list, parse_number, save_figure, use_agg, write_table)
+from ._common import (add_model_argument, add_output_file, add_outputs, add_speed_unit, check_extra_output,
+                      open_model, parse_count, parse_list, parse_number, save_figure, use_agg, write_table)
 
 NAME = "level1"
 HELP = "API 617 Level I stability screening: log decrement against applied cross-coupling"
@@ -118,6 +118,7 @@ def run(args) -> int:
     density = gas_density(args)
     if args.csr_plot and density is None:
         raise InputError("--csr-plot: give --gas-density (the chart places the rotor by its average gas density)")
+    check_extra_output(args, args.csr_plot, "--csr-plot", figure=True)   # before the work and its table
     model = open_model(args)
     result = level1(model, speed, stations, qa, shares=shares, factor=factor, forward_mode=forward,
                     gas_density=density)

@@ -279,7 +279,7 @@ class Outcome:
 
 #: CPU seconds before a run counts as a hang (:func:`time_limit`)
 TIME_LIMIT = 60.0
-#: the memory the runs count on [GB] (``ROTORDYN_MODAL_MEMORY_GB``), whatever the machine has free at
+#: the memory the runs count on [GiB] (``ROTORDYN_MODAL_MEMORY_GB``), whatever the machine has free at
 #: the moment: a mutated mesh of 6,805 coordinates was refused for 65 GiB against the memory at hand,
 #: so that whether a run was refused (and by which message) depended on the other work running
 MEMORY_GB = "4"

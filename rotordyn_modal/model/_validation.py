@@ -207,10 +207,10 @@ def _named_tables(source: str, data, key: str) -> dict[str, _Table]:
             raise _Table(source, label, raw).error("name", name, f"a name unique among the [[{key}]]")
         twin = normal.get(unicodedata.normalize("NFC", name))
         if twin is not None:   # 'café' typed precomposed and decomposed: two names that read the same
+            codes = [text.encode("unicode_escape").decode() for text in (twin, name)]
             raise _Table(source, label, raw).error("name", name, f"a name unique among the [[{key}]]: it reads as "
-                                                   f"{visible(twin)} ({twin.encode('unicode_escape').decode()} "
-                                                   f"against {name.encode('unicode_escape').decode()}: the same letters "
-                                                   "written with other Unicode code points)")
+                                                   f"{visible(twin)} ({codes[0]} against {codes[1]}: the same "
+                                                   "letters written with other Unicode code points)")
         normal[unicodedata.normalize("NFC", name)] = name
         tables[name] = _Table(source, f"{key}.{visible(name)}", raw)
     return tables

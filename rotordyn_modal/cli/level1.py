@@ -34,7 +34,9 @@ with one --power, --impeller-diameter, --restriction-height and --density-ratio 
 With one station all of Q acts there; with one station per stage each takes its stage's share.
 A station is ROTOR (its centre of mass: a rigid rotor's) or ROTOR@OFFSET (m along spin_axis
 from the centre of mass: an impeller; on a flexible rotor a point of its shaft, the node
-nearest it). docs/level1_and_ucs.md gives the formulas and sources.
+nearest it; on a rigid rotor within its extent: its bearings and the points the model places on
+it, at least the slender rod of its mass and diametral inertia). docs/level1_and_ucs.md gives
+the formulas and sources.
 
 With --gas-density RHO (the average gas density) or RHO_SUCTION,RHO_DISCHARGE (averaged), in
 kg/m^3, the critical speed ratio CSR = MCS / first forward critical speed on rigid supports

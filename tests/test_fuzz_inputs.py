@@ -87,12 +87,46 @@ def test_absurd_counts_are_refused_before_allocating(folder):
     """A range of 1e8 speeds is refused at once with the limit and the way around it."""
     import time
 
-    start = time.perf_counter()
+    fuzzing.run_cli(["check", fuzzing.EXAMPLES / "gear_machine.toml"])   # the command line imported
+    start = time.process_time()   # CPU time: on a machine shared with other work the wall clock took 6.3 s
     outcome = fuzzing.judge(["campbell", fuzzing.EXAMPLES / "gear_machine.toml", "--speeds", "0:3000:100000000"],
                             "--speeds")
     assert outcome.verdict == "refused" and outcome.code == 2
     assert "1,000,000" in outcome.stderr and "ROTORDYN_MODAL_MAX_POINTS" in outcome.stderr
-    assert time.perf_counter() - start < 5.0  # nothing of 1e8 points was built
+    assert time.process_time() - start < 5.0  # nothing of 1e8 points was built
+
+
+def test_the_hang_guard_counts_cpu_time_not_waiting(monkeypatch):
+    """A run that waits (another process has the core) is no hang: on a shared machine a 12 s run
+    took over 60 s of wall-clock time and counted as a crash. Work that burns the CPU past the
+    limit is one, and waiting past ``WALL_FACTOR`` times the limit too."""
+    import time
+
+    with fuzzing.time_limit(0.1):
+        time.sleep(0.3)                          # wall-clock time beyond the limit, no CPU
+    with pytest.raises(fuzzing.Timeout, match="wall-clock time"):
+        with fuzzing.time_limit(0.02):
+            time.sleep(5.0)                      # 250 x the limit: blocked, a hang all the same
+    monkeypatch.setattr(fuzzing, "WALL_FACTOR", 1000.0)   # however little of the CPU this process gets
+    with pytest.raises(fuzzing.Timeout, match="CPU time"):
+        with fuzzing.time_limit(0.1):
+            end = time.process_time() + 60.0
+            while time.process_time() < end:     # CPU time beyond the limit
+                pass
+
+
+def test_the_runs_count_on_a_fixed_memory(monkeypatch):
+    """Each run counts on ``fuzzing.MEMORY_GB`` whatever the machine has free, so that a refusal
+    for memory (a mutated mesh of 6,805 coordinates needs 65 GiB) is the same on a machine whose
+    other work leaves more or less of it; the setting is undone after the run."""
+    monkeypatch.delenv("ROTORDYN_MODAL_MEMORY_GB", raising=False)
+    seen = []
+    import importlib
+
+    monkeypatch.setattr(importlib.import_module("rotordyn_modal.cli.main"), "main",
+                        lambda argv: seen.append(os.environ.get("ROTORDYN_MODAL_MEMORY_GB")) or 0)
+    assert fuzzing.run_cli(["check", "model.toml"])[0] == 0
+    assert seen == [fuzzing.MEMORY_GB] and "ROTORDYN_MODAL_MEMORY_GB" not in os.environ
 
 
 def test_the_limit_is_raised_by_the_environment(monkeypatch):

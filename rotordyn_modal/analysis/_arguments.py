@@ -16,9 +16,21 @@ from ..model._table import LARGEST
 __all__ = ["speed", "values", "speeds", "frequencies", "orders"]
 
 
+def _plain(value):
+    """``value`` with numpy arrays and numbers as Python lists and numbers (their repr reads
+    ``array([...])``, ``np.float64(-1.0)``)."""
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, (list, tuple)):
+        return type(value)(_plain(v) for v in value)
+    return value
+
+
 def _shown(value, limit: int = 80) -> str:
-    """``repr(value)`` on one line, at most ``limit`` characters."""
-    text = " ".join(repr(value).split())
+    """``repr(value)`` on one line, at most ``limit`` characters, numpy's values as Python's."""
+    text = " ".join(repr(_plain(value)).split())
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 

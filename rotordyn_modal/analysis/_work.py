@@ -211,7 +211,8 @@ def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, sol
     if memory:                              # what cannot fit is refused first: no option runs it
         from .campbell import _refuse_sizes_that_cannot_fit
 
-        _refuse_sizes_that_cannot_fit(model.dofs.n, _n_states(model), len(speeds), 1, critical)
+        _refuse_sizes_that_cannot_fit(model.dofs.n, _n_states(model), len(speeds), 1, critical,
+                                      f"{model.source}: " if getattr(model, "source", None) else "")
     limit = limit_seconds()
     solutions = len(speeds) if solutions is None else solutions
     if limit == float("inf") or _quick_bound(model, speeds, orders, critical, numbers, solutions) <= limit:

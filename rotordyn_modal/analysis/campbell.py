@@ -537,12 +537,18 @@ def _sizes(stack):
 def _refuse_what_cannot_fit(stack, n_speeds, critical):
     """Refuse a sweep whose arrays would not fit (see :func:`memory_estimate`), naming the
     number of speeds that would."""
-    _refuse_sizes_that_cannot_fit(*_sizes(stack), n_speeds, len(stack), critical)
+    _refuse_sizes_that_cannot_fit(*_sizes(stack), n_speeds, len(stack), critical, _source(stack))
 
 
-def _refuse_sizes_that_cannot_fit(n_dof, n_states, n_speeds, variants, critical):
+def _source(stack) -> str:
+    """``'MODEL: '``, the file of the stack's first model, that a refusal starts with ('' without one)."""
+    source = getattr(stack.models[0], "source", None)
+    return f"{source}: " if source else ""
+
+
+def _refuse_sizes_that_cannot_fit(n_dof, n_states, n_speeds, variants, critical, source=""):
     """:func:`_refuse_what_cannot_fit` from the sizes alone (``n_dof`` coordinates, ``n_states``
-    states, ``variants`` models)."""
+    states, ``variants`` models); ``source`` (``'MODEL: '``) starts the message."""
     needed = memory_estimate(n_dof, n_states, n_speeds, variants, critical)
     if needed < _CHECKED_BYTES:
         return
@@ -557,7 +563,7 @@ def _refuse_sizes_that_cannot_fit(n_dof, n_states, n_speeds, variants, critical)
         advice += ", or leave out the critical speeds (campbell --no-critical, critical=False)"
     if variants == 1:
         advice += f", or {_LOWEST_ADVICE}"
-    problem = memory_problem(needed, f"a Campbell sweep of {n_dof:,} coordinates at {n_speeds:,} speeds"
+    problem = memory_problem(needed, f"{source}a Campbell sweep of {n_dof:,} coordinates at {n_speeds:,} speeds"
                              + (f" of {variants} models" if variants > 1 else ""), advice)
     if problem:
         raise InputError(problem)
@@ -578,7 +584,7 @@ def _refuse_crossings(stack, n_speeds, crossings, roots=None):
     advice = "ask for fewer excitation orders (--orders) or a narrower speed range"
     if roots is None and len(stack) == 1:
         advice += f", {_LOWEST_ADVICE},"
-    problem = memory_problem(needed, f"refining the {crossings:,} critical speeds found over {n_speeds:,} speeds "
+    problem = memory_problem(needed, f"{_source(stack)}refining the {crossings:,} critical speeds found over {n_speeds:,} speeds "
                              f"of {n_dof:,} coordinates", f"{advice} or leave out the critical speeds "
                              "(campbell --no-critical, critical=False)")
     if problem:

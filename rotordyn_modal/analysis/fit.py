@@ -231,6 +231,8 @@ def fit(model, measured, params, bounds=None, band_hz=None, weighting: str = "co
     if starts > _MOST_STARTS:
         raise InputError(f"starts = {starts}: expected at most {_MOST_STARTS} starting points")
     lower, upper = _log_bounds(keys, bounds)
+    for key, low, high in zip(keys, lower, upper):
+        _check_changeable(model, key, float(np.exp(low)), float(np.exp(high)))
     problem = _Problem(model, measured, keys, band_hz, weighting)
     problem.lower, problem.upper = lower, upper
     rng = np.random.default_rng(seed)
@@ -273,6 +275,50 @@ def _check_params(model, params):
             raise InputError(f"fit: {key} = {model.get(key)!r}: a fitted value must be > 0 at the start "
                              "(the fit scales it by a positive factor)")
     return tuple(keys)
+
+
+#: a parameter the model refuses to change by this factor either way is fixed by other keys
+_NUDGE = 1.001
+
+
+def _check_changeable(model, key: str, low: float, high: float) -> None:
+    """Refuse a parameter the fit cannot scale over its bounds (factors ``low`` .. ``high``):
+    one the model fixes (a speed ratio fixed by the reference rotor or a transmission), or one
+    whose bound gives a model that is refused (a polar inertia beyond twice the diametral).
+    Without this the fit stopped at the first such trial with the model's refusal of a value
+    the user never wrote (``speed_ratio = 1.0000000149``)."""
+    if key == "gain":
+        return
+    value = model.get(key)
+    nudged = [_refusal(model, key, f) for f in (_NUDGE, 1 / _NUDGE)]
+    if all(nudged) and key.rpartition(".")[2] == "speed_ratio":
+        raise InputError(f"fit: {key} = {value!r}: expected a parameter the model lets change, but a rotor's "
+                         "speed ratio is fixed by the reference rotor (ratio 1) and the transmissions from it "
+                         "(fit a transmission's ratio, transmissions.N.ratio, instead)")
+    if all(nudged):
+        raise InputError(f"fit: {key} = {value!r}: expected a parameter the model lets change, but it refuses "
+                         f"any other value ({_why(nudged[0])}); fit the keys that fix it instead")
+    for factor, end in ((high, "upper"), (low, "lower")):
+        problem = _refusal(model, key, factor)
+        if problem:
+            raise InputError(f"fit: {key} = {value!r}: expected bounds within which the model stays valid, but at "
+                             f"its {end} bound (factor {factor:.6g}) it is refused ({_why(problem)}); give "
+                             "narrower bounds (--bound-factor)")
+
+
+def _refusal(model, key: str, factor: float) -> str:
+    """The model's refusal of ``key`` scaled by ``factor`` ('' when it is valid)."""
+    try:
+        model.scaled({key: factor})
+    except InputError as error:
+        return str(error)
+    return ""
+
+
+def _why(message: str) -> str:
+    """A model's refusal without its file name (the file holds the start, not the trial)."""
+    head, _, rest = message.partition(": [")
+    return "[" + rest if rest else message
 
 
 def _log_bounds(keys, bounds):

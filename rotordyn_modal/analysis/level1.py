@@ -407,6 +407,7 @@ def _check_on_shaft(model, station):
     dofs = model.dofs
     shaft = dofs.shafts[dofs.rotors.index(station.rotor)] if dofs.shafts else None
     if shaft is None:
+        _check_on_rigid(model, station)
         return
     z, length = shaft.z_of(station.point(model)), shaft.length
     slack = STATION_TOLERANCE * (1.0 + length)
@@ -416,6 +417,35 @@ def _check_on_shaft(model, station):
                          f"rotor {station.rotor!r}'s shaft, OFFSET from {-centre:.6g} to {length - centre:.6g} m "
                          f"(the shaft runs 0 to {length:g} m from its start, its centre of mass at {centre:.6g} m; "
                          f"this OFFSET is at {z:.6g} m)")
+
+
+def _rigid_extent(model, name: str) -> tuple[float, float]:
+    """The extent of rigid rotor ``name`` along ``spin_axis`` [m], as offsets from its centre of
+    mass (low, high): the span of its bearings, unbalance planes, sensors, excitations and
+    close-clearance stations, widened to the slender rod of its mass ``m`` and diametral inertia
+    ``Id`` (half-length ``sqrt(3 Id / m)``), the longest body of that mass and inertia with its
+    mass on the axis. A rigid rotor gives no length of its own; this is where it may stand."""
+    rotor = model.rotor(name)
+    e = np.asarray(model.spin_axis, dtype=float)
+    centre = np.asarray(rotor.center_of_mass, dtype=float)
+    half = float(np.sqrt(3.0 * rotor.diametral_inertia / rotor.mass))
+    points = [b.position for b in model.bearings if b.rotor == name]
+    points += [p.position for p in (*model.sensors, *model.excitations, *model.clearances) if p.rotor == name]
+    offsets = [float((np.asarray(p, dtype=float) - centre) @ e) for p in points]
+    offsets += [u.axial_offset for u in model.unbalances if u.rotor == name]
+    return min([-half, *offsets]), max([half, *offsets])
+
+
+def _check_on_rigid(model, station):
+    """A station of a rigid rotor lies within its extent (:func:`_rigid_extent`): an OFFSET of
+    1e6 m was taken without a word, a cross-coupling lever arm of no machine."""
+    low, high = _rigid_extent(model, station.rotor)
+    slack = 1e-6 * (1.0 + high - low)
+    if not low - slack <= station.offset <= high + slack:
+        raise InputError(f"station {station.rotor}@OFFSET, OFFSET = {station.offset:.6g} m: expected a point on "
+                         f"rigid rotor {station.rotor!r}, OFFSET from {low:.6g} to {high:.6g} m (its extent along "
+                         "spin_axis from its centre of mass: its bearings, the points the model places on it, "
+                         "and a slender rod of its mass and diametral inertia)")
 
 
 def _spin_sign(model, stations) -> float:

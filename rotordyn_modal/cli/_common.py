@@ -211,6 +211,11 @@ def parse_names(text, option: str, known=None) -> list[str] | None:
     names = [n for n in names if n]
     if not names:
         raise InputError(f"{option} {text!r}: expected one or more names, {NAME_LIST_HELP}")
+    twice = [n for i, n in enumerate(names) if n in names[:i]]
+    if twice:   # --sensor a,a wrote every FRF twice: a file the package then refused to read
+        from ..model._table import visible
+
+        raise InputError(f"{option} {text!r}: expected each name once ({visible(twice[0])} is given twice)")
     return names
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 
+from ..errors import InputError
 from ._common import add_input_file, add_output_file, check_ending
 from ._units import STAYS_SI
 
@@ -38,6 +39,8 @@ def run(args) -> int:
     from ..io.ross_file import check_description, model_text, read_ross_rotor, write_model_file
 
     check_ending(args.out, (".toml",), "--out")
+    if args.name is not None and not args.name.strip():   # a script's empty variable: was the file's stem
+        raise InputError(f"--name {args.name!r}: expected the rotor's name (a text other than blanks)")
     description = read_ross_rotor(args.ross_file, name=args.name)
     check_description(description, args.ross_file)   # no model file that `check` would refuse
     if args.out == "-":

@@ -10,8 +10,8 @@ import numpy as np
 from ..errors import InputError
 from ..units import from_system, speed_to_rad_s, unit_scale
 from ._units import convert_table, kinds_by_ending
-from ._common import (add_model_argument, add_output_file, add_outputs, add_speed_unit, open_model, parse_count,
-                      parse_list, parse_number, save_figure, use_agg, write_table)
+from ._common import (add_model_argument, add_output_file, add_outputs, add_speed_unit, check_extra_output,
+                      open_model, parse_count, parse_list, parse_number, save_figure, use_agg, write_table)
 
 NAME = "level1"
 HELP = "API 617 Level I stability screening: log decrement against applied cross-coupling"
@@ -34,7 +34,9 @@ with one --power, --impeller-diameter, --restriction-height and --density-ratio 
 With one station all of Q acts there; with one station per stage each takes its stage's share.
 A station is ROTOR (its centre of mass: a rigid rotor's) or ROTOR@OFFSET (m along spin_axis
 from the centre of mass: an impeller; on a flexible rotor a point of its shaft, the node
-nearest it). docs/level1_and_ucs.md gives the formulas and sources.
+nearest it; on a rigid rotor within its extent: its bearings and the points the model places on
+it, at least the slender rod of its mass and diametral inertia). docs/level1_and_ucs.md gives
+the formulas and sources.
 
 With --gas-density RHO (the average gas density) or RHO_SUCTION,RHO_DISCHARGE (averaged), in
 kg/m^3, the critical speed ratio CSR = MCS / first forward critical speed on rigid supports
@@ -118,6 +120,7 @@ def run(args) -> int:
     density = gas_density(args)
     if args.csr_plot and density is None:
         raise InputError("--csr-plot: give --gas-density (the chart places the rotor by its average gas density)")
+    check_extra_output(args, args.csr_plot, "--csr-plot", figure=True)   # before the work and its table
     model = open_model(args)
     result = level1(model, speed, stations, qa, shares=shares, factor=factor, forward_mode=forward,
                     gas_density=density)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
+from ..model._table import LARGEST
 from ._common import (NAME_LIST_HELP, add_model_argument, add_output_file, add_outputs, add_speed_unit, check_ending,
                       check_extra_output, open_model, parse_number, print_table, save_figure, speeds_option,
                       speeds_text, to_rad_s, use_agg, write_csv, write_table)
@@ -153,8 +154,14 @@ def run(args) -> int:
 
 
 def _speed(args, text, option):
-    """A speed option in rad/s (None when not given)."""
-    return None if text is None else float(to_rad_s(parse_number(text, option), args.speed_unit))
+    """A speed option in rad/s (None when not given), of magnitude at most 1e30 rad/s as every
+    speed (``--mcs 1e308`` made the API 617 probe limit 0 m and failed every probe)."""
+    if text is None:
+        return None
+    value = float(to_rad_s(parse_number(text, option), args.speed_unit))
+    if not abs(value) <= LARGEST:
+        raise InputError(f"{option} {text}: expected a speed of magnitude at most {LARGEST:g} rad/s")
+    return value
 
 
 def _check_options(args):

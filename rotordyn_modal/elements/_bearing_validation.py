@@ -18,7 +18,7 @@ from ..model._table import LARGEST, Table, magnitude_problem, semidefinite_probl
 from .bearings import BearingCoefficients, JournalData, local_to_model
 from ..model.components import Bearing, Pedestal, input_keys, is_finite_number
 from ..errors import ModelError
-from ..model.flexible import station_z
+from ..model.flexible import POSITION_ROUND_OFF, station_z
 from ..model.geometry import shift_matrix, transverse_axes
 
 __all__ = ["bearings", "check_frame", "journal_load_shares", "LONGEST_JOURNAL", "LONG_JOURNAL"]
@@ -138,7 +138,15 @@ def _on_spin_axis(table: Table, rotor, e: np.ndarray) -> np.ndarray:
         raise table.error("position", table.data["position"],
                           f"a point on the spin axis of rotor {rotor.name!r} (the line through its "
                           f"center_of_mass {_fmt(centre)} along spin_axis); this point is {off:.4g} m off it")
-    return centre + along * e
+    snapped = centre + along * e
+    # the place along the axis, measured from a centre far from the origin, may be lost to round-off
+    moved = abs(float((snapped - position) @ e))
+    if moved > POSITION_ROUND_OFF:
+        raise table.error("position", table.data["position"],
+                          f"a point whose place along rotor {rotor.name!r}'s axis double precision keeps: it is "
+                          f"{abs(along):.3g} m from the rotor's center_of_mass {_fmt(centre)}, and measured from "
+                          f"there round-off moves it {moved:.2g} m (give positions near the machine, in metres)")
+    return snapped
 
 
 def _check_keys_of_type(table: Table, kind: str) -> None:
@@ -384,7 +392,17 @@ def _check_tilt_support(rotor: str, mates, tables, e) -> None:
         table = tables[mates[0].name]
         raise table.error("moment_stiffness", "<missing>", f"a tilt stiffness [N m/rad]: rotor {rotor!r} "
                           "sits on bearings at a single point of its axis, so nothing holds it in tilt "
-                          "(add a second bearing elsewhere on the axis, or moment_stiffness)")
+                          f"(add a second bearing elsewhere on the axis, or moment_stiffness){_far_hint(mates)}")
+
+
+def _far_hint(mates) -> str:
+    """Why bearings written apart may be one point: far from the origin, round-off."""
+    far = max(float(np.abs(b.position).max()) for b in mates)
+    spacing = float(np.spacing(far))
+    if spacing <= POSITION_ROUND_OFF:
+        return ""
+    return (f"; at {far:.3g} m from the origin double precision rounds positions to {spacing:.2g} m: "
+            "give positions near the machine, in metres")
 
 
 def _check_held(rotor, mates, tables, e) -> None:

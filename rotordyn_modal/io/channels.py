@@ -93,6 +93,8 @@ def read_mapping(path, model) -> ChannelMap:
     if missing:
         raise InputError(f"{path}: mapping table lacks the column(s) {', '.join(sorted(missing))}: "
                          "expected name,node,direction[,sign]")
+    if table.empty:   # a header alone: every channel was then 'not in the mapping table' of the data file
+        raise InputError(f"{path}: mapping table has no rows: expected one row name,node,direction per channel")
     sensors, excitations = {s.name for s in model.sensors}, {x.name for x in model.excitations}
     outputs, inputs = {}, {}
     given = {}          # name -> (line, key) of its first row
@@ -132,6 +134,20 @@ def _check_one_node(given, name, key, line, path, both):
 _LARGEST_NODE = 2**31 - 1
 
 
+#: directions as other tools' channel tables write them (LMS, m+p, Siemens: ``+Z``, ``Y-``, ``-RX``):
+#: the UFF codes +-1 .. +-6
+_LETTERS = {f"{a}{axis}{b}": sign * code for code, axis in enumerate(("X", "Y", "Z", "RX", "RY", "RZ"), start=1)
+            for sign, (a, b) in ((1, ("", "")), (1, ("+", "")), (1, ("", "+")), (-1, ("-", "")), (-1, ("", "-")))}
+
+
+def _is_number(value) -> bool:
+    try:
+        float(value)
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
 def _mapping_row(row, has_sign, path, line):
     """``((node, direction), sign)`` of one row of a mapping table, or a refusal naming the line."""
     def whole(name):
@@ -141,10 +157,14 @@ def _mapping_row(row, has_sign, path, line):
         except (TypeError, ValueError):
             number = float("nan")
         if not np.isfinite(number) or number != int(number):
-            raise InputError(f"{path}: line {line}: {name} = {value!r}: expected a whole number")
+            raise InputError(f"{path}: line {line}: {name} = {value!r}: expected a whole number"
+                             + (" or X, Y, Z, RX, RY, RZ with a sign (+Z, Y-)" if name == "direction" else ""))
         return int(number)
 
-    node, direction = whole("node"), whole("direction")
+    node = whole("node")
+    direction = _LETTERS.get(str(row.direction).strip().upper().replace(" ", "")) if not _is_number(row.direction) \
+        else None
+    direction = whole("direction") if direction is None else direction
     if not abs(node) <= _LARGEST_NODE:
         raise InputError(f"{path}: line {line}: node = {row.node!r}: expected a UFF node number of at most "
                          f"{_LARGEST_NODE} (its 10-character field)")
@@ -184,8 +204,8 @@ def assemble(records, model, quantity, source) -> list[FRFResult]:
     outs, ins = np.asarray(records["output"], dtype=str), np.asarray(records["input"], dtype=str)
     unknown = sorted(set(outs) - set(sensors)) + sorted(set(ins) - set(excitations))
     if unknown:
-        raise InputError(f"{source}: channel(s) {', '.join(unknown)} are not sensors ({', '.join(sensors)}) "
-                         f"or excitations ({', '.join(excitations)}) of the model")
+        raise InputError(f"{source}: channel(s) {visible_names(unknown)} are not sensors ({visible_names(sensors)}) "
+                         f"or excitations ({visible_names(excitations)}) of the model")
     if len(outs) == 0:
         raise InputError(f"{source}: no FRF found in the file")
     speeds = np.asarray(records["speed_rpm"], dtype=float)
@@ -218,6 +238,9 @@ def _check_lines(records, coherence, source):
     freq = np.asarray(records["frequency_hz"], dtype=float)
     if np.any(bad := ~(freq >= 0)):
         raise InputError(f"{source}: a frequency line of {freq[np.argmax(bad)]:g} Hz: expected frequencies >= 0 Hz")
+    if np.any(bad := ~(freq <= _LARGEST_VALUE)):   # 2e40 Hz was read, drawn and fitted
+        raise InputError(f"{source}: a frequency line of {freq[np.argmax(bad)]:g} Hz: expected frequencies of at "
+                         f"most {_LARGEST_VALUE:g} Hz")
     size = np.abs(np.asarray(records["value"], dtype=complex))
     if np.any(bad := ~(size <= _LARGEST_VALUE)):
         raise InputError(f"{source}: an FRF value of magnitude {size[np.argmax(bad)]:g} (SI units) at "

@@ -77,8 +77,33 @@ def read_csv_table(data: bytes, path, what: str, **options):
         table = pd.read_csv(io.StringIO(text), sep=separator, dtype=str, keep_default_na=False, **options)
     except (OSError, ValueError) as error:
         raise InputError(f"{path}: cannot read {what} ({' '.join(str(error).split())})") from None
+    _check_columns_once(header, separator, path)
     table.columns = [str(c).strip() for c in table.columns]
-    return table, decimal
+    return _without_trailing_empty_rows(table), decimal
+
+
+def _check_columns_once(header: str, separator: str, path) -> None:
+    """Refuse a header that names a column twice: pandas renamed the second ``frequency_hz.1``
+    and it was left unread without a word, whatever it held."""
+    import csv
+
+    names = [name.strip() for name in next(csv.reader([header.strip("\r\n")], delimiter=separator), [])]
+    seen = {}
+    for index, name in enumerate(names):
+        if name and name.lower() in seen:
+            raise InputError(f"{path}: column {name!r} is named twice in the header (columns {seen[name.lower()] + 1} "
+                             f"and {index + 1}): expected each column once")
+        seen[name.lower()] = index
+
+
+def _without_trailing_empty_rows(table):
+    """The table without the rows of empty cells at its end (a spreadsheet's export: ``,,,,``),
+    which were read as a line of no frequency and no channel."""
+    empty = (table.apply(lambda column: column.astype(str).str.strip()) == "").all(axis=1).to_numpy()
+    keep = len(empty)
+    while keep and empty[keep - 1]:
+        keep -= 1
+    return table.iloc[:keep]
 
 
 def numbers(table, name, path, decimal: str = ".", first_line: int = 2):

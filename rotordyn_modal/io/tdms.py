@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from ..model._table import LARGEST, visible, visible_names
 from .unit_labels import quantity_of
 
 __all__ = ["read_tdms_records", "SI_UNITS", "declared_units"]
@@ -72,8 +73,18 @@ def read_tdms_records(path, group: str | None = None, channels=None, units=None,
     names = list(available) if channels is None else [channels] if isinstance(channels, str) else list(channels)
     missing = [n for n in names if n not in available]
     if missing or not names:
-        raise InputError(f"{path}: group {chosen.name!r} has no channel {', '.join(missing) or '(none)'}; its channels: "
-                         f"{', '.join(available) or 'none'}")
+        raise InputError(f"{path}: group {chosen.name!r} has no channel {visible_names(missing) or '(none)'}; its "
+                         f"channels: {visible_names(available) or 'none'}")
+    twice = [n for i, n in enumerate(names) if n in names[:i]]
+    if twice:   # the same samples read as two channels, without a word
+        raise InputError(f"{path}: channels = {visible_names(names)}: expected each channel once ({visible(twice[0])} "
+                         "is asked for twice)")
+    try:
+        given, speed = speed, float(speed)
+    except (TypeError, ValueError):
+        given, speed = speed, float("nan")
+    if not np.isfinite(speed) or abs(speed) > LARGEST:
+        raise InputError(f"{path}: speed = {given!r}: expected a finite speed [rad/s] of magnitude at most {LARGEST:g}")
     signals, quantities, steps = [], [], set()
     for name in names:
         channel = available[name]
@@ -91,6 +102,10 @@ def read_tdms_records(path, group: str | None = None, channels=None, units=None,
     if len(steps) != 1 or len(lengths) != 1 or not min(steps) > 0:
         raise InputError(f"{path}: channels of group {chosen.name!r} have sampling intervals {sorted(steps)} s and "
                          f"lengths {sorted(lengths)}: one record needs one interval (> 0) and one length")
+    step = steps.copy().pop()
+    if not (np.isfinite(1.0 / step) and step <= LARGEST):   # 1e-320 s read as an infinite sampling rate
+        raise InputError(f"{path}: channels of group {chosen.name!r} have the sampling interval {step:g} s: expected "
+                         f"an interval whose rate 1 / interval is finite, at most {LARGEST:g} s")
     if min(lengths) < 2:
         raise InputError(f"{path}: the channels of group {chosen.name!r} hold {min(lengths)} sample(s): expected a "
                          "time record of at least 2 samples")
@@ -127,6 +142,10 @@ def _samples(channel, path) -> np.ndarray:
     if not np.all(np.isfinite(data)):
         bad = int(np.argmax(~np.isfinite(data)))
         raise InputError(f"{path}: channel {channel.name!r} sample {bad} is {data[bad]}: expected finite samples")
+    if np.any(np.abs(data) > LARGEST):   # 1e300 was read, its spectra infinite
+        bad = int(np.argmax(np.abs(data) > LARGEST))
+        raise InputError(f"{path}: channel {channel.name!r} sample {bad} is {data[bad]:g}: expected samples of "
+                         f"magnitude at most {LARGEST:g}")
     return data
 
 

@@ -374,6 +374,16 @@ def _check_set(s, path):
     data = np.asarray(s["data"])
     if len(data) != len(np.asarray(s["x"])) or not np.all(np.isfinite(data)):
         raise InputError(f"{where}: {len(data)} values for {len(np.asarray(s['x']))} frequencies, or non-finite values")
+    kind = int(s.get("ord_data_type", 5))
+    if kind in _REAL_ORDINATES:
+        # a magnitude-only export was read as an FRF of phase 0 everywhere (drawn, fitted)
+        raise InputError(f"{where}: ordinate data type {kind} ({_REAL_ORDINATES[kind]}): expected complex values "
+                         "(5 or 6): an FRF has a magnitude and a phase, and real values (a magnitude-only export) "
+                         "would be read as a phase of 0 at every line")
+
+
+#: dataset 58 record 7 ordinate data types of real values
+_REAL_ORDINATES = {2: "real, single precision", 4: "real, double precision"}
 
 
 def _lookup(table, node, direction, what, path):

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import unicodedata
 from collections import deque
 from typing import Any, Mapping
 
@@ -198,11 +199,19 @@ def _spin_axis_and_name(top: _Table, data) -> tuple[np.ndarray, str]:
 def _named_tables(source: str, data, key: str) -> dict[str, _Table]:
     """The tables of an array, by their unique ``name``."""
     tables: dict[str, _Table] = {}
+    normal: dict[str, str] = {}      # NFC form -> the name as written
     for index, raw in enumerate(data.get(key, [])):
         label = f"{key}[{index}]"
         name = _Table(source, label, raw).text("name", required=True)
         if name in tables:
             raise _Table(source, label, raw).error("name", name, f"a name unique among the [[{key}]]")
+        twin = normal.get(unicodedata.normalize("NFC", name))
+        if twin is not None:   # 'café' typed precomposed and decomposed: two names that read the same
+            codes = [text.encode("unicode_escape").decode() for text in (twin, name)]
+            raise _Table(source, label, raw).error("name", name, f"a name unique among the [[{key}]]: it reads as "
+                                                   f"{visible(twin)} ({codes[0]} against {codes[1]}: the same "
+                                                   "letters written with other Unicode code points)")
+        normal[unicodedata.normalize("NFC", name)] = name
         tables[name] = _Table(source, f"{key}.{visible(name)}", raw)
     return tables
 

@@ -26,11 +26,15 @@ from .geometry import shift_matrices, transverse_axes
 
 __all__ = ["Material", "Layer", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
            "mass_properties", "mesh", "default_element_length", "station_z", "SHAFT_KEYS",
-           "STATION_TOLERANCE", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies"]
+           "STATION_TOLERANCE", "POSITION_ROUND_OFF", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies"]
 
 #: [m]: a station closer than this to a node is at that node; a point this far off the shaft's
 #: axis or beyond its ends (plus the same fraction of the shaft's length) is off the shaft
 STATION_TOLERANCE = 1e-6
+#: [m] largest round-off of a point given in the model file (double precision's spacing at its
+#: coordinates): beyond it (coordinates over about 8e6 m) points along a shaft, or a bearing's
+#: place along a rigid rotor's axis, are no longer resolved to a small part of the stations' tolerance
+POSITION_ROUND_OFF = 1e-9
 #: default element length: the shaft's length over this (see :func:`default_element_length`)
 DEFAULT_ELEMENTS = 20
 #: [m] shortest section (stations closer than :data:`STATION_TOLERANCE` share a node)
@@ -328,6 +332,7 @@ def shaft(rotor: Table, known, spin_axis: np.ndarray) -> Shaft:
     start = rotor.vector3("start", required=True)
     shear = rotor.text("shear", default="cowper", choices=_SHEAR)
     length = sum(s.length for s in sections)
+    _check_resolved(rotor, start, length)
     element_length = rotor.number("element_length", positive=True)
     longest = element_length if element_length is not None else default_element_length(sections)
     count = sum(s.elements if s.elements is not None else math.ceil(s.length / longest - 1e-9) for s in sections)
@@ -356,6 +361,20 @@ def shaft(rotor: Table, known, spin_axis: np.ndarray) -> Shaft:
     return Shaft(start=start, axis=np.asarray(spin_axis, dtype=float), sections=sections, disks=tuple(disks),
                  point_masses=tuple(points), shear=shear,
                  element_length=element_length if element_length is not None else default_element_length(sections))
+
+
+def _check_resolved(rotor: Table, start: np.ndarray, length: float) -> None:
+    """Refuse a ``start`` [m] so far from the origin that double precision cannot place points
+    along the shaft (``start + z e``, ``length`` [m] long) to :data:`POSITION_ROUND_OFF`: at
+    ``start = [1e29, 0, 0]`` every station of a 0.45 m shaft was the same point, and the refusal
+    spoke of bearings at a single point."""
+    far = float(np.abs(start).max()) + length
+    spacing = float(np.spacing(far))
+    if spacing > POSITION_ROUND_OFF:
+        raise rotor.error("start", rotor.data["start"], f"a start near the machine (coordinates in metres, within "
+                          f"about 8e+06 m of the origin): {far:.3g} m from it double precision rounds points to "
+                          f"{spacing:.2g} m, so the points along the {length:.6g} m shaft cannot be placed to "
+                          f"{POSITION_ROUND_OFF:g} m")
 
 
 def _dense_size(nodes: int) -> str:

@@ -320,7 +320,19 @@ def _impulse_velocity(model, system, kn, y0, name, size, mode):
     jump = np.zeros(n)
     k = n if mode == _kernels.FREE else n - 1
     jump[:k] = np.linalg.solve(M[:k, :k], force[:k])
+    fastest = float(np.abs(jump).max(initial=0.0))
+    if not fastest <= _FASTEST_JUMP:
+        # 1e15 N s on the gear machine (7e12 m/s) ran for minutes without an end, 1e308 ended in
+        # a ZeroDivisionError inside the integrator
+        raise InputError(f"impulse_size = {size:g} (excitation {excitation.name!r}): expected an impulse that a "
+                         f"hammer or shaker gives: it would start the machine at {fastest:.3g} m/s or rad/s, more "
+                         f"than {_FASTEST_JUMP:g}")
     return jump
+
+
+#: the fastest velocity jump an impulse may give a coordinate [m/s or rad/s]: faster than a
+#: projectile, no blow of a hammer or shaker
+_FASTEST_JUMP = 1e4
 
 
 def _fastest_rate(model, speed, final_speed):

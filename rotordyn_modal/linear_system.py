@@ -16,7 +16,8 @@ from __future__ import annotations
 import numpy as np
 
 from .assembly import Matrices, bearing_motion, body_inertias, constant_matrices, constant_stiffness_damping, \
-    dependent_bearing_matrices, excitation_columns, mass_matrix, rigid_mass_matrix, sensor_rows, weight_force
+    dependent_bearing_matrices, excitation_columns, mass_diagonal, mass_matrix, rigid_mass_matrix, sensor_rows, \
+    weight_force
 from .elements.bearings import evaluate
 from .elements._bearing_validation import LONG_JOURNAL
 from .model._table import visible
@@ -498,7 +499,7 @@ def support_spreads(model) -> list:
     supports that some other stiffness of the machine holds against are listed.
     """
     with np.errstate(all="ignore"):
-        mass = np.diagonal(mass_matrix(model)).copy()
+        mass = mass_diagonal(model)
         parts = [(where, key, value, _scale(K, mass)) for where, key, value, K in _stiffness_pieces(model)]
     parts = [p for p in parts if np.isfinite(p[3][0]) and p[3][0] > 0]
     softest = sorted((p[3][0], p[0]) for p in parts)     # a few steps per support, not all pairs
@@ -526,11 +527,11 @@ def _stiffness_pieces(model):
     n x n matrix per support): the flexible shafts' bending (one piece), each bearing's
     translational and tilt stiffness (a speed table at its largest), each mount, pedestal and
     gear mesh; ``value`` is the largest coefficient [N/m or N m/rad]."""
-    from .assembly import mesh_row, shaft_stiffness, suspension_block, pedestal_piece
+    from .assembly import mesh_row, shaft_stiffness_diagonal, suspension_block, pedestal_piece
 
     n = model.dofs.n
     if any(r.flexible is not None for r in model.rotors):
-        yield "shaft", "bending", 0.0, np.diagonal(shaft_stiffness(model))
+        yield "shaft", "bending", 0.0, shaft_stiffness_diagonal(model)
     for bearing in model.bearings:
         kind = bearing.coefficients.kind
         if kind == "journal":

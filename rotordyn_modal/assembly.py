@@ -48,7 +48,7 @@ __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_s
            "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "flexible_rotor_matrices", "dependent_bearing_matrices", "bearing_coefficients",
            "pedestal_mass", "pedestal_stiffness_damping", "mesh_matrices", "sensor_rows", "point_rows", "excitation_columns", "generalized_force", "weights", "pedestal_weights",
            "weight_force", "SPARSE_DOF", "is_large", "sparse_constant_matrices", "sparse_bearing_matrices",
-           "sparse_frame_block", "loss_block", "mass_diagonal", "shaft_stiffness_diagonal"]
+           "sparse_frame_block", "sparse_rotor_body", "loss_block", "mass_diagonal", "shaft_stiffness_diagonal"]
 
 #: models of more generalized coordinates (a flexible rotor of some 600 nodes and more; 2,500
 #: coordinates are 50 MB per dense ``n x n`` matrix) keep ``M, C, G, K`` sparse where they are
@@ -671,6 +671,14 @@ def sparse_frame_block(model, block6: np.ndarray):
     out = _Triplets(model.dofs.n)
     k = model.dofs.n_frame
     out.add(range(k), range(k), np.asarray(block6)[:k, :k])
+    return out.tocsr()
+
+
+def sparse_rotor_body(model, rotor: str, body6):
+    """:func:`add_rotor_body`'s terms (``T_j^T X T_j - T_S^T X T_S``) of a rotor on bearings as a
+    ``scipy.sparse`` CSR matrix (n, n) (empty for a rotor without bearings)."""
+    out = _Triplets(model.dofs.n)
+    _add_rotor_body_sparse(out, model, rotor, body6)
     return out.tocsr()
 
 

@@ -666,8 +666,8 @@ def sparse_bearing_matrices(model, speed: float | None = None, dependent_only: b
 
 
 def sparse_frame_block(model, block6: np.ndarray):
-    """:func:`~rotordyn_modal.model.dofs.frame_block` of one (6, 6) block as a ``scipy.sparse``
-    CSR matrix (n, n)."""
+    """:func:`~rotordyn_modal.model.dofs.frame_block` of one (6, 6) block (real or complex) as a
+    ``scipy.sparse`` CSR matrix (n, n)."""
     out = _Triplets(model.dofs.n)
     k = model.dofs.n_frame
     out.add(range(k), range(k), np.asarray(block6)[:k, :k])
@@ -712,7 +712,7 @@ class _Triplets:
         """Add ``block`` (len(rows), len(cols)) at ``rows`` x ``cols`` (ranges, slices or index arrays)."""
         rows, cols = (np.arange(x.start, x.stop) if isinstance(x, slice) else np.asarray(x, dtype=int)
                       for x in (rows, cols))
-        block = np.asarray(block, dtype=float)
+        block = np.asarray(block)                    # real, or complex (a Maxwell branch's stiffness)
         if rows.size and cols.size:
             self.parts.append((np.repeat(rows, len(cols)), np.tile(cols, len(rows)), block.reshape(-1)))
 

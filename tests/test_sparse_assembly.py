@@ -8,6 +8,7 @@ and its results, array sizes counted by tracemalloc in units of one dense ``n x 
 from __future__ import annotations
 
 import glob
+import tomllib
 import tracemalloc
 import warnings
 
@@ -132,3 +133,24 @@ def test_frf_unbalance_and_lowest_modes_of_a_large_model_stay_below_dense_matric
     peaks = [_peak(call) / unit for call in (lambda: rdm.frf(model, 300.0, freqs),
                                              lambda: rdm.unbalance_response(model, speeds), lowest)]
     assert peaks[0] < 0.5 and peaks[1] < 0.5 and peaks[2] < 6.0, peaks
+
+
+@pytest.mark.parametrize("name", ["rubber_mounts", "journal_rotor", "flexible_pump_on_mounts"])
+def test_sparse_frfs_with_losses_branches_and_speed_dependent_bearings_equal_the_dense_solves(name, monkeypatch):
+    """The sparse FRF route (forced on small models) adds the loss factors (given to every mount
+    of the flexible pump), the Maxwell branches (rubber mounts) and the speed-dependent bearings
+    (journals) as the dense ``Z(w)`` has them: the same receptances to 1e-9 as the dense direct
+    solves."""
+    with open(f"examples/{name}.toml", "rb") as file:
+        data = tomllib.load(file)
+    if name == "flexible_pump_on_mounts":
+        for suspension in data["suspensions"]:
+            suspension["loss_factor"] = 0.15
+    model = rdm.Model.from_dict(data)
+    assert name != "flexible_pump_on_mounts" or all(s.loss_factor for s in model.suspensions)
+    freqs, speed = np.linspace(2.0, 300.0, 7), 300.0
+    dense = rdm.frf(model, speed, freqs, engine="direct").H
+    monkeypatch.setattr(frf_module, "SPARSE_FRF_DOF", 0)
+    monkeypatch.setattr(frf_module, "dynamic_stiffness", None)          # no dense Z on this route
+    sparse = rdm.frf(model, speed, freqs, engine="direct").H
+    assert np.abs(sparse - dense).max() <= 1e-9 * np.abs(dense).max()

@@ -17,7 +17,7 @@ import pytest
 
 import rotordyn_modal as rdm
 from rotordyn_modal import assembly, linear_system
-from rotordyn_modal.analysis import _stack, _whirl
+from rotordyn_modal.analysis import _lowest, _stack, _whirl
 from rotordyn_modal.analysis import frf as frf_module
 
 from test_flexible_large import _on_bearings
@@ -82,6 +82,7 @@ def test_a_large_model_gives_the_dense_routes_roots_frfs_and_unbalance_without_i
 
     model = _on_bearings(40, sensors=True)
     dense, dense_results = sweep(model, True), results(model)
+    mass = assembly.constant_matrices(model).M
     monkeypatch.setattr(assembly, "SPARSE_DOF", 100, raising=False)
     monkeypatch.setattr(frf_module, "SPARSE_FRF_DOF", 100)
     model = _on_bearings(40, sensors=True)
@@ -97,6 +98,14 @@ def test_a_large_model_gives_the_dense_routes_roots_frfs_and_unbalance_without_i
     assert np.abs(sparse.whirl_ratios - dense.whirl_ratios).max() <= 1e-9
     for a, b in zip(results(model), dense_results):
         assert np.abs(a - b).max() <= 1e-9 * np.abs(b).max()
+    # the shapes weighted for tracking (without M's Cholesky factor) keep the products x^H M y
+    stack = _stack.Stack([model])
+    _, shapes, _ = _lowest.lowest_roots(stack, speeds[1:3], 3)
+    weighted = stack.weighted(shapes, np.zeros(2, int))
+    products = np.einsum("sai,ij,sbj->sab", shapes.conj(), mass, shapes)
+    norms = np.sqrt(np.einsum("saa->sa", products).real)
+    assert np.allclose(np.einsum("sai,sbi->sab", weighted.conj(), weighted),
+                       products / (norms[:, :, None] * norms[:, None, :]), rtol=0, atol=1e-9)
 
 
 def _peak(call) -> float:

@@ -47,7 +47,20 @@ __all__ = ["Matrices", "matrices", "rigid_mass_matrix", "body_inertias", "loss_s
            "mass_matrix", "gyroscopic_matrix", "constant_matrices", "constant_stiffness_damping", "bearing_matrices", "bearing_motion", "frame_block",
            "add_rotor_body", "add_rotor_bodies", "rotor_gyroscopic", "rotor_matrices", "flexible_rotor_matrices", "dependent_bearing_matrices", "bearing_coefficients",
            "pedestal_mass", "pedestal_stiffness_damping", "mesh_matrices", "sensor_rows", "point_rows", "excitation_columns", "generalized_force", "weights", "pedestal_weights",
-           "weight_force"]
+           "weight_force", "SPARSE_DOF", "is_large", "sparse_constant_matrices", "sparse_bearing_matrices",
+           "sparse_frame_block", "sparse_rotor_body", "loss_block", "mass_diagonal", "shaft_stiffness_diagonal"]
+
+#: models of more generalized coordinates (a flexible rotor of some 600 nodes and more; 2,500
+#: coordinates are 50 MB per dense ``n x n`` matrix) keep ``M, C, G, K`` sparse where they are
+#: used (:func:`sparse_constant_matrices`: FRFs and unbalance responses, the mass check, the
+#: support spreads; docs/theory.md §17, "Large models: what grows with n"); smaller models
+#: assemble them dense, as always
+SPARSE_DOF = 2500
+
+
+def is_large(model) -> bool:
+    """True when ``model`` has more than :data:`SPARSE_DOF` coordinates (its matrices kept sparse)."""
+    return model.dofs.n > SPARSE_DOF
 
 
 class Matrices(NamedTuple):
@@ -196,13 +209,19 @@ def loss_stiffness(model) -> np.ndarray:
     -------
     ndarray, shape (n, n) [N/m, ...]
     """
+    return frame_block(model, loss_block(model))
+
+
+def loss_block(model) -> np.ndarray:
+    """``sum_i eta_i B K_i B^T`` on the stator's six motions about the reference point, (6, 6)
+    [N/m, ...] (:func:`loss_stiffness` places it in ``q``)."""
     reference = model.reference_point
     total = np.zeros((6, 6))
     for suspension in model.suspensions:
         if suspension.loss_factor:
             shift = shift_matrix(reference, suspension.position)
             total += suspension.loss_factor * (shift @ suspension.stiffness_matrix @ shift.T)
-    return frame_block(model, total)
+    return total
 
 
 def rotor_gyroscopic(model, rotor) -> np.ndarray:
@@ -615,6 +634,213 @@ def constant_stiffness_damping(model):
         k_m, c_m = mesh_matrices(model)
         K, C = K + k_m, C + c_m
     return K, C
+
+
+def sparse_constant_matrices(model) -> Matrices:
+    """:func:`constant_matrices` as ``scipy.sparse`` CSR matrices, assembled block by block from
+    the same element pieces without any dense ``n x n`` array (a large model's: a flexible rotor
+    couples each node to its neighbours, the casing's six motions and a rotor's axial coordinate
+    only, so ``nnz`` grows as ``n``, the dense arrays as ``n^2``). Equal to the dense matrices to
+    round-off (the pieces summed in another order).
+
+    Returns
+    -------
+    Matrices
+        Each ``scipy.sparse.csr_matrix`` of shape (n, n).
+    """
+    K, C = _sparse_stiffness_damping(model)
+    return Matrices(M=_sparse_mass(model), C=C, G=_sparse_gyroscopic(model), K=K)
+
+
+def sparse_bearing_matrices(model, speed: float | None = None, dependent_only: bool = False):
+    """:func:`bearing_matrices` (at one reference ``speed`` [rad/s]) as ``scipy.sparse`` CSR
+    matrices, each bearing's block at the coordinates that move it.
+
+    Returns
+    -------
+    K, C : scipy.sparse.csr_matrix, shape (n, n) each
+    """
+    K, C = _Triplets(model.dofs.n), _Triplets(model.dofs.n)
+    _add_bearings(model, K, C, speed, constant_only=False, dependent_only=dependent_only)
+    return K.tocsr(), C.tocsr()
+
+
+def sparse_frame_block(model, block6: np.ndarray):
+    """:func:`~rotordyn_modal.model.dofs.frame_block` of one (6, 6) block (real or complex) as a
+    ``scipy.sparse`` CSR matrix (n, n)."""
+    out = _Triplets(model.dofs.n)
+    k = model.dofs.n_frame
+    out.add(range(k), range(k), np.asarray(block6)[:k, :k])
+    return out.tocsr()
+
+
+def sparse_rotor_body(model, rotor: str, body6):
+    """:func:`add_rotor_body`'s terms (``T_j^T X T_j - T_S^T X T_S``) of a rotor on bearings as a
+    ``scipy.sparse`` CSR matrix (n, n) (empty for a rotor without bearings)."""
+    out = _Triplets(model.dofs.n)
+    _add_rotor_body_sparse(out, model, rotor, body6)
+    return out.tocsr()
+
+
+def mass_diagonal(model) -> np.ndarray:
+    """The diagonal of :func:`mass_matrix`, (n,) [kg, kg m^2] (from the sparse matrix above
+    :data:`SPARSE_DOF` coordinates)."""
+    if is_large(model):
+        return _sparse_mass(model).diagonal()
+    return np.diagonal(mass_matrix(model)).copy()
+
+
+def shaft_stiffness_diagonal(model) -> np.ndarray:
+    """The diagonal of :func:`shaft_stiffness`, (n,) [N/m, N m/rad] (from the sparse matrix
+    above :data:`SPARSE_DOF` coordinates)."""
+    if is_large(model):
+        K = _Triplets(model.dofs.n)
+        _add_shafts(model, K)
+        return K.tocsr().diagonal()
+    return np.diagonal(shaft_stiffness(model))
+
+
+class _Triplets:
+    """Entries of an ``n x n`` matrix gathered block by block (row indices, column indices and a
+    dense block each), summed into a CSR matrix at the end: never a dense ``n x n`` array."""
+
+    def __init__(self, n: int):
+        self.n = n
+        self.parts = []
+
+    def add(self, rows, cols, block) -> None:
+        """Add ``block`` (len(rows), len(cols)) at ``rows`` x ``cols`` (ranges, slices or index arrays)."""
+        rows, cols = (np.arange(x.start, x.stop) if isinstance(x, slice) else np.asarray(x, dtype=int)
+                      for x in (rows, cols))
+        block = np.asarray(block)                    # real, or complex (a Maxwell branch's stiffness)
+        if rows.size and cols.size:
+            self.parts.append((np.repeat(rows, len(cols)), np.tile(cols, len(rows)), block.reshape(-1)))
+
+    def add_sparse(self, matrix) -> None:
+        """Add a ``scipy.sparse`` matrix of shape (n, n)."""
+        coo = matrix.tocoo()
+        self.parts.append((coo.row, coo.col, coo.data))
+
+    def tocsr(self):
+        """The sum, ``scipy.sparse.csr_matrix`` (n, n) (duplicates summed, zeros left out)."""
+        import scipy.sparse
+
+        if not self.parts:
+            return scipy.sparse.csr_matrix((self.n, self.n))
+        rows, cols, data = (np.concatenate(x) for x in zip(*self.parts))
+        keep = data != 0.0
+        out = scipy.sparse.coo_matrix((data[keep], (rows[keep], cols[keep])), shape=(self.n, self.n)).tocsr()
+        out.eliminate_zeros()
+        return out
+
+
+def _add_rotor_body_sparse(out: _Triplets, model, rotor: str, body6) -> None:
+    """:func:`add_rotor_body` into triplets: a rotor on bearings' coupling and own blocks."""
+    layout = model.dofs
+    if not layout.on_bearings(rotor):
+        return
+    own = layout.slices[layout.rotors.index(rotor)]
+    moves = layout.local_relative_motion(rotor, layout.reference_point)     # (6, k_j)
+    body6 = np.asarray(body6, dtype=float)
+    k = layout.n_frame
+    if k:
+        out.add(range(k), own, body6[:k, :] @ moves)
+        out.add(own, range(k), moves.T @ body6[:, :k])
+    out.add(own, own, moves.T @ body6 @ moves)
+
+
+def _sparse_mass(model):
+    """:func:`mass_matrix` as a CSR matrix (n, n)."""
+    layout, reference = model.dofs, model.reference_point
+    out = _Triplets(layout.n)
+    bodies = body_inertias(model)
+    first_rotor = len(bodies) - len(model.rotors)
+    rigid = bodies[:first_rotor] + [b for r, b in zip(model.rotors, bodies[first_rotor:]) if r.flexible is None]
+    k = layout.n_frame
+    out.add(range(k), range(k), sum((rigid_mass_matrix(m, J, c, reference) for m, c, J in rigid),
+                                    np.zeros((6, 6)))[:k, :k])
+    for rotor, (m, c, J) in zip(model.rotors, bodies[first_rotor:]):
+        if rotor.flexible is not None:
+            parts = flexible_rotor_matrices(model, rotor, kinds=("M",))
+            out.add_sparse(parts.motion.T @ parts.M @ parts.motion)
+        else:
+            _add_rotor_body_sparse(out, model, rotor.name, rigid_mass_matrix(m, J, c, reference))
+    for bearing in model.bearings:
+        if bearing.pedestal is not None:
+            motion = layout.pedestal_motion(bearing.name, bearing.position)          # (3, n)
+            used = np.flatnonzero(np.any(motion != 0, axis=0))
+            out.add(used, used, bearing.pedestal.mass * (motion[:, used].T @ motion[:, used]))
+    mass = out.tocsr()
+    return (0.5 * (mass + mass.T)).tocsr()
+
+
+def _sparse_gyroscopic(model):
+    """:func:`gyroscopic_matrix` as a CSR matrix (n, n)."""
+    out = _Triplets(model.dofs.n)
+    polar_momentum = sum(r.polar_inertia * r.speed_ratio for r in model.rotors if r.flexible is None)
+    k = model.dofs.n_frame
+    stator = np.zeros((6, 6))
+    stator[3:, 3:] = -polar_momentum * skew(model.spin_axis)
+    out.add(range(k), range(k), stator[:k, :k])
+    for rotor in model.rotors:
+        if rotor.flexible is not None:
+            parts = flexible_rotor_matrices(model, rotor, kinds=("G",))
+            out.add_sparse(rotor.speed_ratio * (parts.motion.T @ parts.G @ parts.motion))
+        else:
+            _add_rotor_body_sparse(out, model, rotor.name, rotor_gyroscopic(model, rotor))
+    return out.tocsr()
+
+
+def _add_shafts(model, K: _Triplets) -> None:
+    """The flexible rotors' bending stiffness (:func:`shaft_stiffness`) into triplets."""
+    for rotor in model.rotors:
+        if rotor.flexible is not None:
+            parts = flexible_rotor_matrices(model, rotor, kinds=("K",))
+            piece = parts.relative.T @ parts.K @ parts.relative
+            K.add_sparse(0.5 * (piece + piece.T))
+
+
+def _add_bearings(model, K: _Triplets, C: _Triplets, speed, constant_only: bool, dependent_only: bool) -> None:
+    """:func:`bearing_matrices` into triplets, each bearing's block at the coordinates that move it."""
+    for bearing in model.bearings:
+        dependent = bearing.coefficients.kind != "constant"
+        if (dependent and constant_only) or (not dependent and dependent_only):
+            continue
+        if dependent and speed is None:
+            raise InputError(f"{model.source}: [bearings.{bearing.name}] has speed-dependent "
+                             "coefficients: give the speed (matrices(speed=...))")
+        k6, c6 = bearing_coefficients(model, bearing, [0.0 if speed is None else float(speed)])
+        rows, moves = bearing_motion(model, bearing)
+        used = np.any(moves != 0, axis=0)
+        index, part = np.arange(rows.start, rows.stop)[used], moves[:, used]
+        K.add(index, index, part.T @ k6[0] @ part)
+        C.add(index, index, part.T @ c6[0] @ part)
+
+
+def _sparse_stiffness_damping(model):
+    """:func:`constant_stiffness_damping` as CSR matrices (n, n) each."""
+    layout = model.dofs
+    K, C = _Triplets(layout.n), _Triplets(layout.n)
+    k = layout.n_frame
+    K.add(range(k), range(k), _suspension_sum(model, "stiffness_matrix")[:k, :k])
+    C.add(range(k), range(k), _suspension_sum(model, "damping_matrix")[:k, :k])
+    _add_shafts(model, K)
+    _add_bearings(model, K, C, None, constant_only=True, dependent_only=False)
+    lateral = transverse_axes(model.spin_axis).T                                    # (3, 2)
+    for bearing in model.bearings:
+        if bearing.pedestal is not None:
+            rows = layout.pedestal(bearing.name)
+            K.add(rows, rows, lateral.T @ bearing.pedestal.stiffness @ lateral)
+            C.add(rows, rows, lateral.T @ bearing.pedestal.damping @ lateral)
+    for t in model.transmissions:
+        if t.mesh_stiffness is None and t.mesh_damping is None:
+            continue
+        w = mesh_row(model, t)
+        used = np.flatnonzero(w[0])
+        ww = w[:, used].T @ w[:, used]
+        K.add(used, used, (t.mesh_stiffness or 0.0) * ww)
+        C.add(used, used, (t.mesh_damping or 0.0) * ww)
+    return K.tocsr(), C.tocsr()
 
 
 def sensor_rows(model, names=None, rotor_motions=None) -> np.ndarray:

@@ -16,7 +16,8 @@ from __future__ import annotations
 import numpy as np
 
 from .assembly import Matrices, bearing_motion, body_inertias, constant_matrices, constant_stiffness_damping, \
-    dependent_bearing_matrices, excitation_columns, mass_matrix, rigid_mass_matrix, sensor_rows, weight_force
+    dependent_bearing_matrices, excitation_columns, is_large, mass_diagonal, mass_matrix, rigid_mass_matrix, \
+    sensor_rows, sparse_constant_matrices, weight_force
 from .elements.bearings import evaluate
 from .elements._bearing_validation import LONG_JOURNAL
 from .model._table import visible
@@ -46,6 +47,31 @@ def _mass_inverse(M: np.ndarray, model) -> np.ndarray:
                          "masses and inertias (with their arms to the reference point) that leave the "
                          "mass matrix invertible in double precision; they span too many orders of magnitude")
     return inverse
+
+
+def _mass_factor(M, model):
+    """A sparse LU factorisation of a large model's mass matrix ``M`` (``scipy.sparse``), with the
+    check of :func:`_mass_inverse` (``|M^-1 M - I|`` below 1e-3) made a block of columns at a time
+    (never an ``n x n`` array), or a :class:`ModelError`."""
+    import scipy.sparse.linalg
+
+    n = M.shape[0]
+    residual = np.inf
+    try:
+        factor = scipy.sparse.linalg.splu(M.tocsc())
+        residual, step = 0.0, max(1, (1 << 24) // (8 * n))
+        for start in range(0, n, step):
+            stop = min(n, start + step)
+            part = factor.solve(M[:, start:stop].toarray())
+            part[np.arange(start, stop), np.arange(stop - start)] -= 1.0
+            residual = max(residual, float(np.abs(part).max()))
+    except RuntimeError:          # SuperLU: "Factor is exactly singular"
+        factor = None
+    if not residual < 1e-3:
+        raise ModelError(model.source, "[stator], [[rotors]] mass and inertia", "<mass matrix>",
+                         "masses and inertias (with their arms to the reference point) that leave the "
+                         "mass matrix invertible in double precision; they span too many orders of magnitude")
+    return factor
 
 
 def checked_mass_inverse(model) -> np.ndarray:
@@ -211,6 +237,12 @@ def _low_mode_lines(model) -> list[str]:
 class SpeedLinearForm:
     """The state matrix ``A(Omega) = A0 + Omega A1 (+ A_b(Omega))`` with M and its inverse.
 
+    A model of more than :data:`~rotordyn_modal.assembly.SPARSE_DOF` coordinates keeps its
+    matrices sparse (``sparse``) and its mass matrix as a sparse LU factorisation: the dense
+    ``matrices`` and ``mass_inverse`` are made only where an analysis asks for them (the state
+    matrices of every root, python-control), never by the lowest modes, FRFs or unbalance
+    responses (docs/theory.md §17, "Large models: what grows with n").
+
     Parameters
     ----------
     model : Model
@@ -222,30 +254,64 @@ class SpeedLinearForm:
     Attributes
     ----------
     matrices : Matrices
-        ``M, C, G, K`` of the parts that do not depend on speed.
+        ``M, C, G, K`` of the parts that do not depend on speed, dense (n, n) each (of a large
+        model made from ``sparse`` on first use).
+    sparse : Matrices or None
+        The same as ``scipy.sparse`` CSR matrices for a large model, else None.
     n_dof : int
         Number of generalized coordinates n.
     A0, A1 : ndarray, shape (n_states, n_states)
     mass_inverse : ndarray, shape (n, n)
+        (Of a large model made on first use from the factorisation.)
     speed_dependent : bool
         True when bearing coefficients depend on speed (then A is not linear in speed).
     """
 
     def __init__(self, model, like: "SpeedLinearForm | None" = None):
         self.model = model
-        if like is not None and same_inertia(like.model, model):
+        self.sparse = self._dense = self._inverse = self.mass_factor = None
+        if like is not None and same_inertia(like.model, model) and like.sparse is not None:
+            self.sparse = sparse_constant_matrices(model)._replace(M=like.sparse.M, G=like.sparse.G)
+            self.mass_factor = like.mass_factor
+        elif like is not None and same_inertia(like.model, model):
             K, C = constant_stiffness_damping(model)
-            self.matrices = Matrices(M=like.matrices.M, C=C, G=like.matrices.G, K=K)
-            m_inv = like.mass_inverse
+            self._dense = Matrices(M=like.matrices.M, C=C, G=like.matrices.G, K=K)
+            self._inverse = like.mass_inverse
+        elif is_large(model):
+            self.sparse = sparse_constant_matrices(model)
+            self.mass_factor = _mass_factor(self.sparse.M, model)
         else:
-            self.matrices = constant_matrices(model)
-            m_inv = _mass_inverse(self.matrices.M, model)
-        self.n_dof = self.matrices.M.shape[0]
-        self.mass_inverse = m_inv
+            self._dense = constant_matrices(model)
+            self._inverse = _mass_inverse(self._dense.M, model)
+        self.n_dof = model.dofs.n if self._dense is None else self._dense.M.shape[0]
         self.branch_stiffness, self.branch_times = maxwell_branches(model)
         self._states = None        # (A0, A1, branch state names), made on first use
-        self._dependent = _dependent_bearings(model, m_inv)
+        self._dependent = _dependent_bearings(model, self._inverse_columns)
         self.speed_dependent = bool(self._dependent)
+
+    @property
+    def matrices(self) -> Matrices:
+        """``M, C, G, K`` dense (n, n) each; a large model's made from its sparse ones on first use."""
+        if self._dense is None:
+            self._dense = Matrices(*(matrix.toarray() for matrix in self.sparse))
+        return self._dense
+
+    @property
+    def mass_inverse(self) -> np.ndarray:
+        """``M^-1`` (n, n); a large model's solved from its factorisation on first use."""
+        if self._inverse is None:
+            self._inverse = self.mass_factor.solve(np.eye(self.n_dof))
+        return self._inverse
+
+    def _inverse_columns(self, rows) -> np.ndarray:
+        """The columns ``rows`` (a slice or indices) of ``M^-1``, (n, k), without the whole inverse
+        of a large model."""
+        if self._inverse is not None:
+            return self._inverse[:, rows]
+        index = np.arange(self.n_dof)[rows]
+        unit = np.zeros((self.n_dof, len(index)))
+        unit[index, np.arange(len(index))] = 1.0
+        return self.mass_factor.solve(unit)
 
     @property
     def A0(self) -> np.ndarray:
@@ -329,8 +395,12 @@ class SpeedLinearForm:
         -------
         ndarray of bool, shape (n, n)
         """
-        M, C, G, K = self.matrices
-        nonzero = (M != 0) | (C != 0) | (G != 0) | (K != 0)
+        if self.sparse is not None:       # a large model's, without its dense matrices
+            M, C, G, K = self.sparse
+            nonzero = ((abs(M) + abs(C) + abs(G) + abs(K)) != 0).toarray()
+        else:
+            M, C, G, K = self.matrices
+            nonzero = (M != 0) | (C != 0) | (G != 0) | (K != 0)
         for rows, *_ in self._dependent:
             nonzero[rows, rows] = True
         return nonzero
@@ -342,15 +412,16 @@ class SpeedLinearForm:
             yield rows, left, moves, k, c
 
 
-def _dependent_bearings(model, mass_inverse):
+def _dependent_bearings(model, inverse_columns):
     """``(rows, M^-1[:, rows] E^T, E, coefficients, speed ratio, name)`` of each bearing
-    whose coefficients depend on speed; empty when none does."""
+    whose coefficients depend on speed; empty when none does (``inverse_columns(rows)``:
+    those columns of ``M^-1``)."""
     terms = []
     for bearing in model.bearings:
         if bearing.coefficients.kind == "constant":
             continue
         rows, moves = bearing_motion(model, bearing)
-        left = mass_inverse[:, rows] @ moves.T
+        left = inverse_columns(rows) @ moves.T
         terms.append((rows, left, moves, bearing.coefficients,
                       model.rotor(bearing.rotor).speed_ratio, f"{model.source}: [bearings.{bearing.name}]"))
     return terms
@@ -498,7 +569,7 @@ def support_spreads(model) -> list:
     supports that some other stiffness of the machine holds against are listed.
     """
     with np.errstate(all="ignore"):
-        mass = np.diagonal(mass_matrix(model)).copy()
+        mass = mass_diagonal(model)
         parts = [(where, key, value, _scale(K, mass)) for where, key, value, K in _stiffness_pieces(model)]
     parts = [p for p in parts if np.isfinite(p[3][0]) and p[3][0] > 0]
     softest = sorted((p[3][0], p[0]) for p in parts)     # a few steps per support, not all pairs
@@ -526,11 +597,11 @@ def _stiffness_pieces(model):
     n x n matrix per support): the flexible shafts' bending (one piece), each bearing's
     translational and tilt stiffness (a speed table at its largest), each mount, pedestal and
     gear mesh; ``value`` is the largest coefficient [N/m or N m/rad]."""
-    from .assembly import mesh_row, shaft_stiffness, suspension_block, pedestal_piece
+    from .assembly import mesh_row, shaft_stiffness_diagonal, suspension_block, pedestal_piece
 
     n = model.dofs.n
     if any(r.flexible is not None for r in model.rotors):
-        yield "shaft", "bending", 0.0, np.diagonal(shaft_stiffness(model))
+        yield "shaft", "bending", 0.0, shaft_stiffness_diagonal(model)
     for bearing in model.bearings:
         kind = bearing.coefficients.kind
         if kind == "journal":

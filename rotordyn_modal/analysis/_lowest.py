@@ -132,6 +132,9 @@ def _basis(stack, speed):
     speed): the square roots of their eigenvalues (n,) [rad/s], the symmetric stiffness (n, n,
     ``scipy.sparse`` CSR: a large model's is sparse, and only its departures from K are used),
     and the mass-orthonormal modes (n, n), ascending."""
+    sparse = stack.sparse_constant
+    if sparse is not None:       # a large model's: dense only for the eigh, from its sparse K and M
+        return _sparse_basis(stack, sparse, float(np.ravel(speed)[0]))
     _, stiffness = stack.damping_stiffness(np.zeros(1, int), speed)
     K = stiffness[0] if stiffness.ndim == 3 else stiffness
     K = K + K.T
@@ -141,6 +144,23 @@ def _basis(stack, speed):
     # overwritten (K is exactly symmetric: its transpose is the Fortran-ordered array LAPACK
     # takes, not copied again) and a Fortran copy of M: the modes are the only n x n array left
     values, vectors = scipy.linalg.eigh(K.T, np.asfortranarray(stack.M[0]), overwrite_a=True, overwrite_b=True)
+    return np.sqrt(np.maximum(values, 0.0)), symmetric, vectors
+
+
+def _sparse_basis(stack, sparse, speed: float):
+    """:func:`_basis` of a large model from its sparse matrices (``sparse``: M, C, G, K as
+    ``scipy.sparse``): the symmetric stiffness at ``speed`` [rad/s] summed sparse, and the dense
+    K and M made for the eigh alone (overwritten by it, in their own Fortran order: both are
+    exactly symmetric), so that the modes, LAPACK's work space and these two are the only n x n
+    arrays (the model's own dense matrices and M's inverse are never made)."""
+    from ..assembly import sparse_bearing_matrices
+
+    K = sparse.K
+    if stack.dependent:
+        K = K + sparse_bearing_matrices(stack.models[0], speed, dependent_only=True)[0]
+    symmetric = ((K + K.T) * 0.5).tocsr()
+    values, vectors = scipy.linalg.eigh(symmetric.toarray().T, sparse.M.toarray().T, overwrite_a=True,
+                                        overwrite_b=True)
     return np.sqrt(np.maximum(values, 0.0)), symmetric, vectors
 
 
@@ -191,7 +211,7 @@ class _Bound:
         # K's departure from K_0, sparse (K_0 dense where a caller gives it so)
         offset = scipy.sparse.csr_matrix(pencils.K) - scipy.sparse.csr_matrix(symmetric)
         offset.eliminate_zeros()
-        self.local = np.unique(np.concatenate([*np.nonzero(pencils.C), *offset.nonzero(),
+        self.local = np.unique(np.concatenate([*_nonzero(pencils.C), *offset.nonzero(),
                                                pencils.rows, pencils.cols])).astype(int)
         self.damping_norms, self.stiffness_norms = _local_norms(pencils, offset, self.local)
         del offset
@@ -256,14 +276,13 @@ def _local_norms(pencils, offset, local):
     count = len(pencils.speeds)
     if not len(local):
         return np.zeros(count), np.zeros(count)
-    block = np.ix_(local, local)
     place = np.full(offset.shape[0], -1)
     place[local] = np.arange(len(local))
     at = place[pencils.rows] * len(local) + place[pencils.cols]        # the bearings' entries in the block
     offset = offset[local][:, local].toarray()                            # (|L|, |L|)
     out = np.empty((2, count))
     for part in _batches.chunk_slices(count, 16 * len(local) ** 2):
-        for i, (constant, entries) in enumerate(((pencils.C[block], pencils.cb), (offset, pencils.kb))):
+        for i, (constant, entries) in enumerate(((_block(pencils.C, local), pencils.cb), (offset, pencils.kb))):
             matrices = np.repeat(constant.reshape(1, -1), part.stop - part.start, axis=0)
             np.add.at(matrices, (slice(None), at), entries[part])
             # 2-norms of small blocks; Frobenius norms (larger, as cheap as the entries) of large ones
@@ -297,8 +316,11 @@ def _projected_starts(pencils, basis, want, index=None):
     starts = np.empty((S, want), complex)
     vectors = np.empty((S, want, n), complex)
     Wt = basis.T
-    damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
-    D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
+    if scipy.sparse.issparse(pencils.M):     # a large model's: products with its sparse matrices
+        D0, K0, Gr = pencils.projected(index[0], basis)
+    else:
+        damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
+        D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
     # the bearings' changes from the first speed, projected entry by entry
     left, right = basis[pencils.rows].T, basis[pencils.cols]
     for part in _batches.chunk_slices(S, 64 * m * m):
@@ -367,16 +389,22 @@ class _Pencils:
     speeds : ndarray, shape (S,) [rad/s]
     """
 
+    #: the constant matrices dense even where the model keeps them sparse (a subclass whose own
+    #: terms are dense: ``_lowest_branches``)
+    dense_constant = False
+
     def __init__(self, stack, speeds):
         form = stack.forms[0]
         self.speeds = speeds
-        self.M, self.C, self.G, self.K = form.matrices.M, form.matrices.C, stack.G[0], form.matrices.K
-        n = len(self.M)
+        if stack.sparse_constant is not None and not self.dense_constant:   # a large model's, kept sparse (CSR)
+            self.M, self.C, self.G, self.K = stack.sparse_constant
+        else:
+            self.M, self.C, self.G, self.K = form.matrices.M, form.matrices.C, stack.G[0], form.matrices.K
+        n = self.M.shape[0]
         self.rows, self.cols, self.kb, self.cb = self._speed_entries(stack, speeds)
-        # the sparse LU's pattern: every entry of any of them
-        pattern = (self.M != 0) | (self.C != 0) | (self.G != 0) | (self.K != 0)
-        pattern[self.rows, self.cols] = True
-        cols, rows = np.nonzero(pattern.T)                # column by column: compressed-column order
+        # the sparse LU's pattern: every entry of any of them, column by column (compressed-column order)
+        cols, rows = _pattern(self.M, self.C, self.G, self.K, self.rows, self.cols)
+        self._values = None       # the matrices' entries on the pattern, made on first use
         self.pattern = rows, cols
         self.indptr = np.concatenate([[0], np.cumsum(np.bincount(cols, minlength=n))]).astype(np.int32)
         self.indices = rows.astype(np.int32)
@@ -386,11 +414,11 @@ class _Pencils:
         self.scatter[np.arange(len(self.rows)), self.rows] = 1.0
         self.band = _band(rows, cols, n)
         # omega_max^2: the largest ratio of the stiffness's diagonal (with the bearings' at any speed) to the mass's
-        diagonal = np.abs(np.diagonal(self.K)).copy()
+        diagonal = np.abs(_diagonal(self.K)).copy()
         on = self.rows == self.cols
         if on.any():
-            np.maximum.at(diagonal, self.rows[on], np.abs(np.diagonal(self.K)[self.rows[on]] + self.kb[:, on]).max(axis=0))
-        mass = np.diagonal(self.M)
+            np.maximum.at(diagonal, self.rows[on], np.abs(_diagonal(self.K)[self.rows[on]] + self.kb[:, on]).max(axis=0))
+        mass = _diagonal(self.M)
         self.scale = float(np.max(diagonal / np.where(mass > 0, mass, np.inf)))
         # the products Q'(s) x: sparse (a dense complex product of n x n per root cost more than the solves)
         self.sparse = [scipy.sparse.csr_matrix(matrix) for matrix in (self.M, self.C, self.G)]
@@ -410,6 +438,18 @@ class _Pencils:
         rational stiffness in ``_lowest_branches``."""
         return 0.0
 
+    def projected(self, first: int, basis):
+        """``W^T (C + Omega G + C_b) W``, ``W^T (K + K_b) W`` at the speed ``first`` and ``W^T G W``
+        of a basis ``W`` (n, m), (m, m) each, by products with the sparse matrices (a large model's)."""
+        Wt = basis.T
+        damping = Wt @ ((self.C + self.speeds[first] * self.G) @ basis)
+        stiffness, gyroscopic = Wt @ (self.K @ basis), Wt @ (self.G @ basis)
+        if len(self.rows):
+            left, right = basis[self.rows].T, basis[self.cols]
+            damping = damping + (left * self.cb[first]) @ right
+            stiffness = stiffness + (left * self.kb[first]) @ right
+        return damping, stiffness, gyroscopic
+
     def dense(self, index):
         """``C + Omega G + C_b`` and ``K + K_b`` of the speeds ``index`` (P,), (P, n, n) each."""
         damping = self.C + self.speeds[index, None, None] * self.G
@@ -428,7 +468,7 @@ class _Pencils:
         """``Q(lam_p)^-1 rhs_p`` for every row: batched dense up to ``_DENSE_DOF`` coordinates; a
         banded LU each where the pencils are banded (a shaft on the ground: its elements couple
         neighbouring nodes), in threads; else a sparse LU each (SuperLU)."""
-        n = len(self.M)
+        n = self.M.shape[0]
         if n <= _DENSE_DOF:
             damping, stiffness = self.dense(index)
             Q = (lam[:, None, None] ** 2) * self.M + lam[:, None, None] * damping + stiffness
@@ -445,9 +485,12 @@ class _Pencils:
 
     def _entries(self, index, lam):
         """The pencils' entries on the pattern, (P, nnz) complex."""
-        rows, cols = self.pattern
+        if self._values is None:
+            rows, cols = self.pattern
+            self._values = tuple(_entries_at(matrix, rows, cols) for matrix in (self.M, self.C, self.G, self.K))
+        M, C, G, K = self._values
         s, speed = lam[:, None], self.speeds[index, None]
-        data = s * s * self.M[rows, cols] + s * (self.C[rows, cols] + speed * self.G[rows, cols]) + self.K[rows, cols]
+        data = s * s * M + s * (C + speed * G) + K
         data[:, self.bearing_at] += s * self.cb[index] + self.kb[index]
         return data
 
@@ -455,7 +498,7 @@ class _Pencils:
         """:meth:`solve` by LAPACK's banded LU with partial pivoting (``zgbsv``), one row at a
         time, and a Schur complement for the border (a casing's coordinates), batched."""
         band = self.band
-        n, k = len(self.M), len(band.order) - band.size
+        n, k = self.M.shape[0], len(band.order) - band.size
         size, width = band.size, 2 * band.lower + band.upper + 1
         out = np.empty(rhs.shape, complex)
         for part in _batches.chunk_slices(len(lam), 16 * n * (width + 3 * k + 2), budget=2**24):
@@ -542,6 +585,48 @@ class _Band(typing.NamedTuple):
     inside: np.ndarray         # (nnz,) bool: the entry is in the band
     right: np.ndarray          # (nnz,) bool: in a border column
     below: np.ndarray          # (nnz,) bool: in a border row, a band column
+
+
+def _pattern(M, C, G, K, bearing_rows, bearing_cols):
+    """Where any of ``M, C, G, K`` (dense, or ``scipy.sparse`` for a large model) or a bearing
+    entry is nonzero: ``(cols, rows)`` (nnz,) each, column by column, rows ascending in each."""
+    if scipy.sparse.issparse(M):
+        n = M.shape[0]
+        found = (abs(M) + abs(C) + abs(G) + abs(K)).tocoo()
+        keys = np.unique(np.concatenate([found.col[found.data != 0].astype(np.int64) * n + found.row[found.data != 0],
+                                         bearing_cols.astype(np.int64) * n + bearing_rows]))
+        return keys // n, keys % n
+    pattern = (M != 0) | (C != 0) | (G != 0) | (K != 0)
+    pattern[bearing_rows, bearing_cols] = True
+    return np.nonzero(pattern.T)
+
+
+def _entries_at(matrix, rows, cols) -> np.ndarray:
+    """``matrix[rows, cols]`` (nnz,) of a dense or ``scipy.sparse`` matrix."""
+    if scipy.sparse.issparse(matrix):
+        return np.asarray(matrix.tocsr()[rows, cols]).reshape(-1)
+    return matrix[rows, cols]
+
+
+def _diagonal(matrix) -> np.ndarray:
+    """The diagonal (n,) of a dense or ``scipy.sparse`` matrix."""
+    return matrix.diagonal() if scipy.sparse.issparse(matrix) else np.diagonal(matrix)
+
+
+def _nonzero(matrix):
+    """``numpy.nonzero`` of a dense or ``scipy.sparse`` matrix: (rows, cols)."""
+    if scipy.sparse.issparse(matrix):
+        coo = matrix.tocoo()
+        keep = coo.data != 0
+        return coo.row[keep], coo.col[keep]
+    return np.nonzero(matrix)
+
+
+def _block(matrix, local) -> np.ndarray:
+    """``matrix[local][:, local]`` dense (|L|, |L|) of a dense or ``scipy.sparse`` matrix."""
+    if scipy.sparse.issparse(matrix):
+        return matrix.tocsr()[local][:, local].toarray()
+    return matrix[np.ix_(local, local)]
 
 
 def _bearing_entries(model, speeds):
@@ -649,7 +734,7 @@ def _roundoff(pencils, index, lam, x):
     s, a = np.abs(lam)[:, None], np.abs(x)
     speeds = np.abs(pencils.speeds[index])[:, None]
     M, C, G = (abs(matrix) for matrix in pencils.sparse)
-    K = scipy.sparse.csr_matrix(np.abs(pencils.K))          # sparse: a dense |K| product per root costs n^2
+    K = scipy.sparse.csr_matrix(abs(pencils.K))          # sparse: a dense |K| product per root costs n^2
     terms = s * s * (M @ a.T).T + s * ((C @ a.T).T + speeds * (G @ a.T).T) + (K @ a.T).T
     if len(pencils.rows):
         np.add.at(terms, (slice(None), pencils.rows), (s * np.abs(pencils.cb[index]) + np.abs(pencils.kb[index]))

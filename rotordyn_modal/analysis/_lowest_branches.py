@@ -242,6 +242,10 @@ class RationalPencils(_lowest._Pencils):
     speeds : ndarray, shape (S,) [rad/s]
     """
 
+    #: the branches' blocks and the projected starts work on dense matrices (a large model with
+    #: branches is not kept sparse on this route yet)
+    dense_constant = True
+
     def __init__(self, stack, speeds):
         self.terms = rational_terms(stack)
         super().__init__(stack, speeds)

@@ -47,14 +47,17 @@ class Stack:
         if len(shapes) != 1:
             raise ValueError(f"models of different structure cannot be stacked: {sorted(shapes)}")
         #: every variant has the first one's mass matrix (and whirl forms): the single model's products apply
-        self.shared_mass = all(f.matrices.M is first.matrices.M for f in self.forms)
+        self.shared_mass = len(self.forms) == 1 or all(f.matrices.M is first.matrices.M for f in self.forms)
         self.shared_whirl = all(same_inertia(self.models[0], m) for m in self.models[1:])
         # the whirl forms (3 n x n) and M's Cholesky factor, made on first use: the lowest modes'
         # route needs neither until its roots are found (its largest arrays are freed by then)
         self._whirl = None
         self._factor = None
         self._whirl_stacked = None     # the forms side by side for whirl ratios, made on first use
-        self.M, self.C, self.G, self.K = (_stacked(parts) for parts in zip(*(f.matrices for f in self.forms)))
+        # the constant parts stacked, made on first use: a large model's lowest modes and critical
+        # speeds work on its sparse matrices (``sparse_constant``) and may never need them dense
+        self._stacked_parts = None
+        self._weighting = None   # how shapes are mass-weighted: see _modal_weighting
         self._state = None       # A0, A1 stacked, made on first use
         self.dependent = any(f.speed_dependent for f in self.forms)
         self.branch_stiffness = _stacked([f.branch_stiffness for f in self.forms])   # (V, n_b, n, n)
@@ -64,6 +67,45 @@ class Stack:
 
     def __len__(self) -> int:
         return len(self.forms)
+
+    def _constant_part(self, i: int) -> np.ndarray:
+        """The forms' ``(M, C, G, K)[i]`` stacked (V, n, n), made on first use (a large model's
+        from its sparse matrix, that part alone)."""
+        if self._stacked_parts is None:
+            self._stacked_parts = [None] * 4
+        if self._stacked_parts[i] is None:
+            sparse = self.sparse_constant
+            if sparse is not None:
+                self._stacked_parts[i] = sparse[i].toarray()[None]
+            else:
+                self._stacked_parts = [_stacked(parts) for parts in zip(*(f.matrices for f in self.forms))]
+        return self._stacked_parts[i]
+
+    @property
+    def M(self) -> np.ndarray:
+        """The forms' mass matrices stacked (V, n, n), made on first use."""
+        return self._constant_part(0)
+
+    @property
+    def C(self) -> np.ndarray:
+        """The forms' constant damping stacked (V, n, n), made on first use."""
+        return self._constant_part(1)
+
+    @property
+    def G(self) -> np.ndarray:
+        """The forms' gyroscopic matrices stacked (V, n, n), made on first use."""
+        return self._constant_part(2)
+
+    @property
+    def K(self) -> np.ndarray:
+        """The forms' constant stiffness stacked (V, n, n), made on first use."""
+        return self._constant_part(3)
+
+    @property
+    def sparse_constant(self):
+        """The first form's ``M, C, G, K`` as ``scipy.sparse`` matrices where the model is large
+        (:attr:`SpeedLinearForm.sparse`), else None."""
+        return self.forms[0].sparse if len(self.forms) == 1 else None
 
     @property
     def whirl(self) -> _whirl.WhirlForms:
@@ -178,9 +220,37 @@ class Stack:
         eigenvalues, shapes = _eigensolve.upper_shapes(matrices, self.n_dof)
         return eigenvalues, _eigensolve.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
 
+    def _modal_weighting(self):
+        """``(Phi, M)`` where a large model's shapes are weighted by its lowest modes' basis (all
+        ``n`` undamped modes ``Phi``, mass-orthonormal, kept by the lowest modes' route; ``M``
+        sparse): the factor ``F = M Phi`` has ``F F^T = M`` as the Cholesky factor has, without
+        the dense M and its factor (2 n x n); else None. Chosen once, so that :meth:`weighted`
+        and :meth:`unweighted` use the same factor."""
+        if self._weighting is None:
+            basis = self.__dict__.get("_lowest_basis")
+            sparse = self.sparse_constant
+            self._weighting = (basis["basis"][1], sparse.M) if sparse is not None and basis else False
+        return self._weighting or None
+
+    def unweighted(self, weighted_rows) -> np.ndarray:
+        """``w F^T`` of rows ``w`` (P, n) of weighted shapes (``F`` the factor of :meth:`weighted`,
+        ``F F^T = M``): ``M x`` for ``w = F^T x``, (P, n)."""
+        modal = self._modal_weighting()
+        if modal is None:
+            return _vectors.real_product(weighted_rows, self.factor[0].T)
+        modes, mass = modal
+        return (mass @ _vectors.real_product(weighted_rows, modes.T).T).T
+
     def weighted(self, shapes, variants):
         """Mass-weighted unit shapes (see :func:`_vectors.mass_normalized`) of rows of variants."""
         out = np.empty(shapes.shape, dtype=complex)
+        modal = self._modal_weighting()
+        if modal is not None:          # a large model's: F^T x = Phi^T M x
+            modes, mass = modal
+            flat, into = shapes.reshape(-1, shapes.shape[-1]), out.reshape(-1, shapes.shape[-1])
+            for part in _batches.chunk_slices(len(flat), 64 * flat.shape[1]):
+                into[part] = _vectors.unit_rows(_vectors.real_product((mass @ flat[part].T).T, modes))
+            return out
         # in parts: the real and imaginary parts and their products are copies of the shapes
         for variant, part in _variant_parts(variants, 64 * shapes[0].size):
             factor = self.factor[0 if self.shared_mass else variant]                   # real: L^H = L^T
@@ -195,7 +265,9 @@ class Stack:
             speeds = np.broadcast_to(speeds, shapes.shape[:-2])
         # in parts: the products with the three forms are three times the shapes, twice over
         if self._whirl_stacked is None:
-            if self.shared_whirl and self.n_dof > _pencils.SPARSE_SHAPES_DOF:    # sparse: 3 n x n fewer
+            if self.sparse_constant is not None and self._whirl is None:     # a large model's: never dense
+                self._whirl_stacked = [_whirl.sparse_stacked_forms(_whirl.sparse_whirl_forms(self.models[0]))]
+            elif self.shared_whirl and self.n_dof > _pencils.SPARSE_SHAPES_DOF:    # sparse: 3 n x n fewer
                 self._whirl_stacked = [_whirl.sparse_stacked_forms(_whirl.WhirlForms(*(f[0] for f in self.whirl)))]
             else:
                 self._whirl_stacked = _whirl.stacked_forms(self.whirl)

@@ -14,7 +14,8 @@ from ..assembly import _add_sparse, add_rotor_bodies, body_inertias
 from ..model.dofs import frame_block
 from ..model.geometry import shift_matrices, skew
 
-__all__ = ["WHIRL_TOLERANCE", "WhirlForms", "quadratic_forms", "rotor_whirl_forms", "stacked_forms", "whirl_forms", "whirl_labels", "whirl_ratios"]
+__all__ = ["WHIRL_TOLERANCE", "WhirlForms", "quadratic_forms", "rotor_whirl_forms", "stacked_forms", "whirl_forms",
+           "sparse_whirl_forms", "whirl_labels", "whirl_ratios"]
 
 
 #: |whirl ratio| below this counts as no whirl (a straight-line orbit): for an elliptic
@@ -125,6 +126,35 @@ def whirl_forms(model) -> WhirlForms:
     return WhirlForms(*parts)
 
 
+def sparse_whirl_forms(model) -> WhirlForms:
+    """:func:`whirl_forms` as ``scipy.sparse`` CSR matrices (n, n) each, summed from the same
+    bodies' pieces without a dense ``n x n`` array (a large model's: docs/theory.md §17). Equal to
+    the dense forms to round-off."""
+    from ..assembly import sparse_frame_block, sparse_rotor_body
+
+    forms = _bodies_forms(model)                                          # (3, B, 6, 6)
+    first_rotor = forms.shape[1] - len(model.rotors)
+    flexible = [j for j, rotor in enumerate(model.rotors) if rotor.flexible is not None]
+    if flexible:
+        forms = np.delete(forms, [first_rotor + j for j in flexible], axis=1)
+    parts = [sparse_frame_block(model, block) for block in forms.sum(axis=1)]
+    rigid = [rotor for rotor in model.rotors if rotor.flexible is None]
+    for j, rotor in enumerate(rigid):
+        if model.dofs.on_bearings(rotor.name):
+            parts = [part + sparse_rotor_body(model, rotor.name, forms[d, first_rotor + j])
+                     for d, part in enumerate(parts)]
+    for j in flexible:
+        parts = [part + piece for part, piece in zip(parts, _node_pieces(model, model.rotors[j]))]
+    if model.dofs.pedestals:
+        X, _ = _directions(tuple(float(x) for x in model.spin_axis))
+        for bearing in model.bearings:
+            if bearing.pedestal is not None:
+                motion = scipy.sparse.csr_matrix(model.dofs.pedestal_motion(bearing.name, bearing.position))
+                parts = [part + bearing.pedestal.mass * (motion.T @ scipy.sparse.csr_matrix(x) @ motion)
+                         for part, x in zip(parts, X)]
+    return WhirlForms(*(part.tocsr() for part in parts))
+
+
 def _pedestal_forms(model) -> np.ndarray:
     """The whirl forms of the bearings' pedestals, point masses moving with their translation
     ``T_p`` (:meth:`Dofs.pedestal_motion`): ``sum_p m_p T_p^T X T_p``, shape (3, n, n)."""
@@ -141,8 +171,16 @@ def _node_forms(model, rotor, out=None) -> np.ndarray:
     """The whirl forms of a flexible rotor, each node a rigid body (its share of the mass matrix
     lumped: the row sums of the translations, the rotations' own block) moving as the node:
     ``sum_i T_i^T X_i T_i``, shape (3, n, n) (added to ``out`` where given, and returned)."""
-    import scipy.sparse
+    pieces = _node_pieces(model, rotor)
+    if out is None:
+        out = np.zeros((len(pieces), model.dofs.n, model.dofs.n))
+    for d, piece in enumerate(pieces):
+        _add_sparse(out[d], piece)
+    return out
 
+
+def _node_pieces(model, rotor) -> list:
+    """:func:`_node_forms` as three ``scipy.sparse`` matrices (n, n)."""
     from ..assembly import flexible_rotor_matrices
 
     shaft = rotor.flexible
@@ -164,12 +202,8 @@ def _node_forms(model, rotor, out=None) -> np.ndarray:
     X, products = _directions(tuple(float(x) for x in model.spin_axis))
     forms = _bodies_quadratic(masses, second, X, skew(masses[:, None] * arms), products)    # (3, N, 6, 6)
     motions = _node_motions_at_reference(model, shaft, parts.relative)                       # (6 N, n)
-    if out is None:
-        out = np.zeros((len(forms), model.dofs.n, model.dofs.n))
-    for d, form in enumerate(forms):
-        # sum_i T_i^T X_i T_i = T^T blockdiag(X_i) T, sparse: a node moves with a few coordinates
-        _add_sparse(out[d], motions.T @ (scipy.sparse.block_diag(form, format="csr") @ motions))
-    return out
+    # sum_i T_i^T X_i T_i = T^T blockdiag(X_i) T, sparse: a node moves with a few coordinates
+    return [motions.T @ (scipy.sparse.block_diag(form, format="csr") @ motions) for form in forms]
 
 
 def _node_motions_at_reference(model, shaft, relative):

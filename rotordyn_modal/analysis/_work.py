@@ -76,7 +76,14 @@ def _undamped_frequencies(model, speed: float) -> np.ndarray | None:
 
     from ..errors import ModelError
 
+    from ..assembly import is_large, sparse_bearing_matrices, sparse_constant_matrices
+
     try:
+        if is_large(model):        # the diagonals alone, from the sparse matrices (never n x n)
+            M, _, _, K = sparse_constant_matrices(model)
+            if model.speed_dependent:
+                K = K + sparse_bearing_matrices(model, speed, dependent_only=True)[0]
+            return np.sqrt(np.clip(K.diagonal() / M.diagonal(), 0.0, None))
         M, _, _, K = model.matrices(speed)
     except (InputError, ModelError):
         return None

@@ -1105,7 +1105,7 @@ def _ritz_picked(stack, values, shapes, weighted, brackets, rows, x):
     theta, coefficients, mass = _pencils.projected_roots(basis, _basis_products(stack, basis), x)
     theta = np.where(theta.imag > 0, theta, np.nan)                                     # upper roots only
     # mass-weighted correlation with the reference: psi^H L^T W y, with M = L L^T
-    left = _vectors.real_product(weighted[v, k, mode].conj(), stack.factor[0].T)       # (P, n)
+    left = stack.unweighted(weighted[v, k, mode].conj())                                # (P, n)
     along = np.einsum("pr,prj->pj", np.einsum("pn,pnr->pr", left, basis), coefficients)
     norms = np.einsum("prj,prs,psj->pj", coefficients.conj(), mass, coefficients).real
     with np.errstate(all="ignore"):

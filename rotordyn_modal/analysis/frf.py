@@ -30,10 +30,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..assembly import constant_matrices, dependent_bearing_matrices, excitation_columns, \
-    loss_stiffness, sensor_rows
+    loss_block, loss_stiffness, sensor_rows, sparse_bearing_matrices, sparse_constant_matrices, sparse_frame_block
 from ..errors import InputError
 from ..model._table import visible_names
-from ..elements.mounts import has_frequency_dependence, maxwell_stiffness
+from ..elements.mounts import has_frequency_dependence, maxwell_frame_stiffness, maxwell_stiffness
 from . import _arguments, _batches
 
 __all__ = ["FRFResult", "frf", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]
@@ -48,7 +48,8 @@ _MAX_CONDITION = 1e8
 _SOLVE_PART_BYTES = 16 * 2**20
 #: models of more coordinates (a long flexible rotor: its pencils are banded) take the direct
 #: engine with a sparse LU per frequency (SuperLU, O(nnz) memory) instead of the modal
-#: superposition (a dense eigen-decomposition of 2n states) and the dense solves (O(n^3) each)
+#: superposition (a dense eigen-decomposition of 2n states) and the dense solves (O(n^3) each);
+#: their M, C, G, K are assembled sparse (``assembly.sparse_constant_matrices``), never n x n
 SPARSE_FRF_DOF = 2500
 
 
@@ -193,14 +194,20 @@ def _broadcast(values, shape):
 
 
 class _StiffnessTerms:
-    """The parts of ``Z(w)`` that do not depend on frequency, assembled once."""
+    """The parts of ``Z(w)`` that do not depend on frequency, assembled once (``sparse``: as
+    ``scipy.sparse`` matrices, for :func:`_sparse_response`; :meth:`at` takes the dense ones)."""
 
-    def __init__(self, model):
+    def __init__(self, model, sparse: bool = False):
         self.model = model
-        self.matrices = constant_matrices(model)
-        # without loss factors a zero: adding it keeps Z's numbers (signed zeros included) as the
-        # zero matrix would, without assembling that matrix
-        self.loss = loss_stiffness(model) if any(s.loss_factor for s in model.suspensions) else 0.0
+        lossy = any(s.loss_factor for s in model.suspensions)
+        if sparse:
+            self.matrices = sparse_constant_matrices(model)
+            self.loss = sparse_frame_block(model, loss_block(model)) if lossy else 0.0
+        else:
+            self.matrices = constant_matrices(model)
+            # without loss factors a zero: adding it keeps Z's numbers (signed zeros included) as the
+            # zero matrix would, without assembling that matrix
+            self.loss = loss_stiffness(model) if lossy else 0.0
         self.frequency_dependent = has_frequency_dependence(model)
         self.speed_dependent = model.speed_dependent
 
@@ -245,10 +252,10 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     -------
     ndarray, shape (n_freq, n_dof, k), complex [m, rad]
     """
-    terms = _StiffnessTerms(model)
     w = np.atleast_1d(np.asarray(omega, dtype=float))
     speeds = _broadcast(speed, w.shape)
-    n = terms.matrices.M.shape[0]
+    n = model.dofs.n
+    terms = _StiffnessTerms(model, sparse=n > SPARSE_FRF_DOF)
     rhs = np.asarray(forces, dtype=complex)
     if rhs.shape != (len(w),) + rhs.shape[-2:]:
         rhs = np.broadcast_to(rhs, (len(w),) + rhs.shape[-2:])
@@ -267,9 +274,11 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
 
 
 def _sparse_response(terms, speeds, w, rhs) -> np.ndarray:
-    """:func:`dof_response` of a large model: ``Z(w_f)`` assembled sparse (the constant matrices'
-    nonzero entries; a speed-dependent bearing's or a Maxwell branch's terms added at their
-    frequency) and solved by a sparse LU each (SuperLU), one frequency at a time.
+    """:func:`dof_response` of a large model: ``Z(w_f)`` summed from the sparse constant matrices
+    (``terms.matrices``, ``scipy.sparse``; a speed-dependent bearing's block and the Maxwell
+    branches' casing block added at their speed and frequency) and solved by a sparse LU each
+    (SuperLU), one frequency at a time, every right-hand side of that frequency in one solve:
+    memory ``O(nnz)`` per frequency and the response itself (F, n, k), no ``n x n`` array.
 
     Returns
     -------
@@ -278,19 +287,19 @@ def _sparse_response(terms, speeds, w, rhs) -> np.ndarray:
     import scipy.sparse
     import scipy.sparse.linalg
 
-    M, C, G, K = (scipy.sparse.csc_matrix(matrix) for matrix in terms.matrices)
-    loss = scipy.sparse.csc_matrix(terms.loss) if np.ndim(terms.loss) else None
+    M, C, G, K = terms.matrices
+    loss = terms.loss if scipy.sparse.issparse(terms.loss) else None
     out = np.empty(rhs.shape, dtype=complex)
     for f, (speed, omega) in enumerate(zip(speeds, w)):
         stiffness, damping = K, C
         if terms.speed_dependent:
-            k_b, c_b = dependent_bearing_matrices(terms.model, [speed])
-            stiffness, damping = K + scipy.sparse.csc_matrix(k_b[0]), C + scipy.sparse.csc_matrix(c_b[0])
+            k_b, c_b = sparse_bearing_matrices(terms.model, speed, dependent_only=True)
+            stiffness, damping = K + k_b, C + c_b
         Z = (stiffness - omega ** 2 * M) + 1j * (omega * (damping + speed * G))
         if loss is not None:
             Z = Z + 1j * loss
         if terms.frequency_dependent:
-            Z = Z + scipy.sparse.csc_matrix(maxwell_stiffness(terms.model, [omega])[0])
+            Z = Z + sparse_frame_block(terms.model, maxwell_frame_stiffness(terms.model, [omega])[0])
         out[f] = scipy.sparse.linalg.splu(scipy.sparse.csc_matrix(Z)).solve(np.ascontiguousarray(rhs[f]))
     return out
 

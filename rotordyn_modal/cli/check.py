@@ -40,10 +40,10 @@ def run(args) -> int:
 
 def summary(model, system: str = "si") -> str:
     """The model in a few lines, its quantities in the units of ``system`` ('si' or 'us')."""
-    from ..assembly import constant_matrices
+    from ..assembly import constant_matrices, is_large, sparse_constant_matrices
 
     u = _Units(system)
-    K = constant_matrices(model).K
+    K = sparse_constant_matrices(model).K if is_large(model) else constant_matrices(model).K   # large: sparse
     lines = [f"{model.source}: valid model {model.name!r}",
              f"  spin axis {np.round(model.spin_axis, 6).tolist()}, reference rotor {model.reference_rotor!r}",
              f"  total mass {u(model.total_mass, 'mass'):.6g} {u.label('mass')}, matrices about "
@@ -96,10 +96,10 @@ def _sparse_rank(model, K) -> int:
     import scipy.sparse
     import scipy.sparse.linalg
 
-    from ..assembly import mass_matrix
+    from ..assembly import is_large, mass_matrix, sparse_constant_matrices
 
     stiffness = scipy.sparse.csc_matrix(0.5 * (K + K.T))
-    mass = scipy.sparse.csc_matrix(mass_matrix(model))
+    mass = scipy.sparse.csc_matrix(sparse_constant_matrices(model).M if is_large(model) else mass_matrix(model))
     diagonal = mass.diagonal()
     largest = float(np.max(np.abs(stiffness.diagonal()) / np.where(diagonal > 0, diagonal, np.inf)))
     values = scipy.sparse.linalg.eigsh(stiffness, k=min(12, K.shape[0] - 2), M=mass, sigma=-1e-12 * largest,

@@ -78,6 +78,17 @@ def maxwell_stiffness(model, omega) -> np.ndarray | float:
     return np.einsum("fb,bij->fij", factor, stiffness)
 
 
+def maxwell_frame_stiffness(model, omega) -> np.ndarray:
+    """:func:`maxwell_stiffness` on the stator's six motions alone, (n_freq, 6, 6) complex
+    [N/m, ...] (zeros without branches): what a large model adds to its sparse ``Z(w)``, placed by
+    :func:`~rotordyn_modal.assembly.sparse_frame_block`, without an ``n x n`` array per branch."""
+    w = np.asarray(omega, dtype=float)
+    out = np.zeros((len(w), 6, 6), dtype=complex)
+    for _, _, shift, k_b, tau in _each_branch(model):
+        out += (1j * w * tau / (1 + 1j * w * tau))[:, None, None] * (shift @ k_b @ shift.T)
+    return out
+
+
 def with_branch_states(model, a, b, mass_inverse):
     """Add the Maxwell branches to a ``2n``-state model as 6 first-order states each.
 

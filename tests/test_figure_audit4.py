@@ -75,3 +75,83 @@ def test_orbit_axis_says_that_e_is_the_spin_axis(pump):
     labels = [ax.get_ylabel() for ax in fig.axes if ax.get_visible()]
     assert labels and all("e × " in label and "e: spin axis" in label for label in labels), labels
     plt.close(fig)
+
+
+# -- Campbell: order labels beside their own lines, naming only neighbouring lines ---------------
+
+_ORDER_WORDS = r"(?P<orders>\d+(?:\.\d+)?X(?:, \d+(?:\.\d+)?X)*|\d+(?:\.\d+)?\u2013\d+(?:\.\d+)?X) (?P<source>.+)"
+
+
+def _named_orders(words):
+    """Orders a label's prefix names: '1X, 2X' -> [1, 2]; a range '2–4X' -> [2, 3, 4]."""
+    if "\u2013" in words:
+        first, last = (float(w) for w in words.rstrip("X").split("\u2013"))
+        return list(np.arange(first, last + 0.5))
+    return [float(w.rstrip("X")) for w in words.split(", ")]
+
+
+def _order_lines_drawn(ax):
+    """{slope [Hz per rpm]: display segment (origin, far end inside the axes)} of the straight
+    lines through the origin that the figure draws."""
+    lines = {}
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    for line in ax.get_lines():
+        x, y = (np.asarray(v, float) for v in line.get_data())
+        if len(x) > 2 and x[0] == 0 and y[0] == 0 and y[-1] > 0 and np.allclose(y, y[-1] / x[-1] * x, rtol=1e-9):
+            slope = y[-1] / x[-1]
+            far = min(x1, y1 / slope)
+            lines[round(slope, 9)] = ax.transData.transform([(0.0, 0.0), (far, slope * far)])
+    return lines
+
+
+def _distance(segment, point):
+    a, b = segment
+    t = np.clip(np.dot(point - a, b - a) / np.dot(b - a, b - a), 0.0, 1.0)
+    return float(np.hypot(*(a + t * (b - a) - point)))
+
+
+@pytest.mark.parametrize("model", ["gear_machine.toml", "rubber_mounts.toml"])
+def test_order_labels_name_neighbouring_lines_beside_their_own(model):
+    """gear_machine and rubber_mounts, 0-12000 rpm, orders 1-4: the motor's and the gear
+    mesh's steep lines had no label (no room between their exits at the top edge), and
+    '2X, 3X, 4X fan' stood beside the fan's 2X line only, the motor's lines running between
+    the lines it named. On the drawn figure (lines through the origin, label window extents):
+    the lines a label names are neighbours (no other order line between them); each label lies
+    inside the axes, overlaps no other label, and the order line nearest its centre is one it
+    names; the motor's lines 2X-4X (between the mesh's and the fan's, no room for a flat
+    label at their exits) are named, along their lines."""
+    import re
+
+    import matplotlib.pyplot as plt
+
+    result = rdm.campbell(rdm.load_model(EXAMPLES / model), rdm.rpm(np.linspace(0, 12000, 25)), orders=(1, 2, 3, 4))
+    fig = result.plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    frame = ax.get_window_extent(renderer)
+    lines = _order_lines_drawn(ax)
+    multiplier = dict(zip(result.sources.names, result.sources.multipliers))
+    assert len(lines) == 4 * len(multiplier)
+    texts = [t for t in ax.texts if t.get_visible() and t.get_text()]
+    boxes = [t.get_window_extent(renderer) for t in texts]
+    for i, a in enumerate(boxes):
+        assert not any(a.overlaps(b) for b in boxes[i + 1:]), texts[i].get_text()
+    named = set()
+    slopes = sorted(lines)
+    for text, box in zip(texts, boxes):
+        match = re.fullmatch(_ORDER_WORDS, text.get_text())
+        if match is None or match["source"] not in multiplier:
+            continue
+        mine = {round(o * abs(multiplier[match["source"]]) / 60.0, 9) for o in _named_orders(match["orders"])}
+        assert mine <= set(lines), text.get_text()
+        named |= mine
+        assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1, text.get_text()
+        centre = np.array([(box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2])
+        nearest = min(lines, key=lambda s: _distance(lines[s], centre))
+        assert nearest in mine, (text.get_text(), nearest)
+        between = [s for s in slopes if min(mine) < s < max(mine) and s not in mine]
+        assert not between, (text.get_text(), between)
+    motor = {round(o * abs(multiplier["motor"]) / 60.0, 9) for o in (2, 3, 4)}
+    assert motor <= named, sorted(motor - named)
+    plt.close(fig)

@@ -10,7 +10,9 @@ the candidates:
   the axes, then beside the line farther back (down from the top edge where the exits there
   are crowded; the line nearest the label at its height is its own); a line whose label is
   left out keeps its colour; labels of one source whose exits are closer than a label's width
-  are merged first (``1X, 2X fan``);
+  and have no other source's exit between them are merged first (``1X, 2X fan``); with
+  ``along``, a top-edge label with no such box is written along its line, turned to its slope
+  (:func:`_along_the_line`);
 - labels of points without a leader line (Campbell mode ends and critical speeds, stability
   thresholds): a few boxes touching the point's marker;
 - labels of points with a leader line (:func:`place_point_labels`, unbalance peaks): a grid
@@ -25,6 +27,7 @@ zooming, panning and resizing.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -64,6 +67,10 @@ class EdgeLabel:
     #: the line (or merged lines) as drawn inside the axes: polylines of points (u, v), from the
     #: exit down (empty where not known: then no label slides down along it)
     paths: tuple = ()
+    #: the label's text angle [degrees]: 0 (flat), or along its line where no flat box was free
+    angle: float = 0.0
+    #: ... and its font size [points] there (None: the caller's)
+    fontsize: float | None = None
 
     @property
     def text(self) -> str:
@@ -145,13 +152,15 @@ def text_size(fig, text, fontsize, renderer):
     return extent.width, extent.height
 
 
-def edge_label_boxes(ax, labels, fontsize, renderer, placed, curves=None):
+def edge_label_boxes(ax, labels, fontsize, renderer, placed, curves=None, along=False):
     """Boxes (axes fraction) of the :class:`EdgeLabel` s that find room, merged where close.
 
     ``placed`` holds the boxes (left, bottom, right, top in axes fraction) taken already;
     the new ones are appended to it. With ``curves`` (a :class:`CurveMap` in axes fraction)
     a label takes the first of its boxes that no curve crosses (but near its own exits) or
-    is left out.
+    is left out. With ``along`` too, a top-edge label that found no flat box is written along
+    its own line (its ``angle``), beside it just under the top edge or farther down
+    (:func:`_along_the_line`); the caller turns its text by that angle.
 
     Returns
     -------
@@ -185,7 +194,117 @@ def edge_label_boxes(ax, labels, fontsize, renderer, placed, curves=None):
             box = first_free_box(boxes, placed, (pad_u, pad_v), frame)
         if box is not None:
             taken.append((label, box))
+    if along and curves is not None:
+        missing = sorted([label for label in merged if label.edge == "top" and label.paths
+                          and all(label is not t for t, _ in taken)], key=lambda lab: lab.direction * lab.u)
+        for label in missing:
+            members = [m for m in labels if m.edge == "top" and m.suffix == label.suffix
+                       and label.u - 1e-12 <= m.u <= label.u + label.spread + 1e-12]
+            others = [o for o in labels if all(o is not m for m in members)]
+            found = _along_the_line(ax, dataclasses.replace(label, prefix=_short_orders(label.prefix)), others,
+                                    fontsize, renderer, placed, curves, frame, (pad_u, pad_v))
+            # else each of its lines on its own
+            singles = [] if found is not None or len(members) < 2 else \
+                [_along_the_line(ax, m, others + [o for o in members if o is not m], fontsize, renderer, placed,
+                                 curves, frame, (pad_u, pad_v)) for m in members]
+            taken += [item for item in [found] + singles if item is not None]
     return taken
+
+
+def _short_orders(prefix: str) -> str:
+    """``'1X, 2X, 3X, 4X'`` -> ``'1\u20134X'`` (an en dash): three or more consecutive whole
+    orders written as a range; other prefixes as they are."""
+    parts = prefix.split(", ")
+    try:
+        orders = [float(part.rstrip("X")) for part in parts]
+    except ValueError:
+        return prefix
+    whole = all(o == int(o) for o in orders)
+    if len(orders) >= 3 and whole and all(b - a == 1 for a, b in zip(orders, orders[1:])):
+        return f"{orders[0]:g}\u2013{orders[-1]:g}X"
+    return prefix
+
+
+#: a label written along its line slides down from the top edge to this height (axes fraction);
+#: where its font finds no room there, it tries this one
+_LOWEST_ALONG, _SMALLER_ALONG = 0.3, "xx-small"
+
+
+def _along_the_line(ax, label, others, fontsize, renderer, placed, curves, frame, pad):
+    """``(label turned along its line, box)`` or None: the text parallel to its line (or to the
+    outermost of its merged lines on either side), slid down from the top edge to
+    :data:`_LOWEST_ALONG`, right of the line first, then left, in ``fontsize`` then
+    :data:`_SMALLER_ALONG`; the first place where the box around the turned text lies half
+    ``pad`` clear of the line (so no curve runs through it, not even its own), inside ``frame``,
+    clear of ``placed`` and of every curve, and where its centre is nearer its own lines than
+    any of ``others``'.
+
+    The box (left, bottom, right, top; axes fraction) is drawn with the text's lower-left
+    corner there (``ha='left', va='bottom'``, turned by the label's ``angle`` [degrees])."""
+    extent = ax.get_window_extent(renderer)
+    size = np.array([max(extent.width, 1.0), max(extent.height, 1.0)])
+    gap = 0.5 * float(np.mean(np.asarray(pad) * size))
+    others = [np.asarray(o.paths[0], float) * size for o in others if o.paths]
+    own = [np.asarray(path, float) * size for path in label.paths]
+    sides = []
+    for side in (1.0, -1.0):
+        line = max(own, key=lambda p: side * p[0, 0])       # the outermost of its lines on that side
+        down = (line[1] - line[0]) / np.hypot(*(line[1] - line[0]))
+        normal = np.array([down[1], -down[0]])
+        sides.append((line, down, normal if normal[0] * side > 0 else -normal))
+    along = -sides[0][1] if sides[0][1][0] < 0 else sides[0][1]      # the text reads left to right
+    angle = float(np.degrees(np.arctan2(along[1], along[0])))
+    lowest = (1.0 - _LOWEST_ALONG) * size[1] / max(abs(sides[0][1][1]), 1e-9)
+    for font in dict.fromkeys((fontsize, _SMALLER_ALONG)):
+        length, height = text_size(ax.figure, label.text, font, renderer)
+        steps = np.arange(0.0, lowest, gap)
+        # (steps, sides, 4 corners, 2): down the line, each step right of it, then left
+        candidates = np.stack([_beside(line[0], down, normal, steps, length, height, gap)
+                               for line, down, normal in sides], axis=1).reshape(-1, 4, 2)
+        boxes = [tuple(b) for b in np.concatenate([candidates.min(axis=1) / size, candidates.max(axis=1) / size],
+                                                  axis=1)]
+        for k in np.nonzero(_inside_and_clear(boxes, placed, pad, frame, ()))[0]:
+            if not curves.free(boxes[k]):
+                continue
+            centre = candidates[k].mean(axis=0)
+            mine = min(_distance_to(path, centre) for path in own)
+            if all(mine < _distance_to(path, centre) for path in others):
+                placed.append(boxes[k])
+                return dataclasses.replace(label, angle=angle, fontsize=font_points(font)), boxes[k]
+    return None
+
+
+def font_points(font) -> float:
+    """Size [points] of a font size given as points or a name ('x-small')."""
+    from matplotlib.font_manager import FontProperties
+
+    return float(FontProperties(size=font).get_size_in_points())
+
+
+def _beside(point, down, normal, steps, length, height, gap):
+    """Corners (S, 4, 2) [pixels] of a text ``length`` x ``height`` parallel to the straight line
+    through ``point`` along ``down`` (unit vector), beginning ``steps`` (S,) down from ``point``,
+    ``gap`` from the line on the side of ``normal``, each then moved along x until the line
+    runs ``gap`` clear of the box around it."""
+    start = point + steps[:, None] * down + gap * normal
+    corners = np.stack([start, start + length * down, start + length * down + height * normal,
+                        start + height * normal], axis=1)
+    heights = np.stack([corners[..., 1].min(axis=1), corners[..., 1].max(axis=1)], axis=1)
+    x = point[0] + (heights - point[1]) * down[0] / (down[1] if down[1] else -1e-12)
+    if normal[0] > 0:
+        shift = np.maximum(x.max(axis=1) + gap - corners[..., 0].min(axis=1), 0.0)
+    else:
+        shift = np.minimum(x.min(axis=1) - gap - corners[..., 0].max(axis=1), 0.0)
+    corners[..., 0] += shift[:, None]
+    return corners
+
+
+def _distance_to(path, point) -> float:
+    """Distance [pixels] from ``point`` to the polyline ``path`` (n, 2)."""
+    a, b = path[:-1], path[1:]
+    ab = b - a
+    t = np.clip(np.einsum("ij,ij->i", point - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-12), 0.0, 1.0)
+    return float(np.min(np.hypot(*(a + t[:, None] * ab - point).T)))
 
 
 def nearest_own_exit(box, label, others) -> bool:
@@ -577,7 +696,10 @@ def _merge_close(labels, size):
         if last is not None and last.edge == label.edge and last.suffix == label.suffix:
             along = 0 if label.edge == "top" else 1
             start = (last.u, last.v)[along]
-            if (label.u, label.v)[along] - (start + last.spread) < size(last.text)[along]:
+            # never across another source's line: the label would stand beside lines it does not name
+            between = any(o.edge == label.edge and o.suffix != label.suffix
+                          and start < (o.u, o.v)[along] < (label.u, label.v)[along] for o in labels)
+            if not between and (label.u, label.v)[along] - (start + last.spread) < size(last.text)[along]:
                 spread = (label.u, label.v)[along] - start
                 merged[-1] = EdgeLabel(_join(last.prefix, label.prefix), last.suffix, last.color, last.edge,
                                        last.u, last.v, last.direction, spread, paths=last.paths + label.paths)

@@ -7,7 +7,7 @@ import numpy as np
 from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
-                      set_if_changed, text_size)
+                      font_points, set_if_changed, text_size)
 from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -342,13 +342,14 @@ class _CampbellLabels:
         bottom, top = ax.get_ylim()
         exits = exits_of_orders(self.result.orders, self.lines, ax.get_xlim(), top, self.per_x, bottom,
                                 lambda x, f: tuple(self.to_axes((x, f))))
-        taken = edge_label_boxes(ax, exits, _FONT, renderer, placed, self.curves)
+        taken = edge_label_boxes(ax, exits, _FONT, renderer, placed, self.curves, along=True)
         for text, item in zip(self.order_texts, taken + [None] * (len(self.order_texts) - len(taken))):
             if item is None:
                 set_if_changed(text, visible=False)
                 continue
             label, (left, low, _, _) = item
-            set_if_changed(text, text=label.text, color=label.color, position=(left, low), visible=True)
+            set_if_changed(text, text=label.text, color=label.color, position=(left, low), rotation=label.angle,
+                           fontsize=label.fontsize or font_points(_FONT), visible=True)
 
     # -- modes ---------------------------------------------------------------------------
     def _place_modes(self, renderer, placed, markers):

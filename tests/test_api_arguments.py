@@ -45,7 +45,7 @@ _CASES = {
                              "element 1 is nan"),
     "critical_speeds: decreasing": (lambda m: rdm.critical_speeds(m, [0.0, 3.0, 1.0]), "speeds = [0.0, 3.0, 1.0]",
                                     "strictly increasing"),
-    "critical_speeds: 2-D": (lambda m: rdm.critical_speeds(m, np.zeros((2, 2))), "speeds = array(", "shape (2, 2)"),
+    "critical_speeds: 2-D": (lambda m: rdm.critical_speeds(m, np.zeros((2, 2))), "speeds = [[0.0, 0.0], [0.0, 0.0]]", "shape (2, 2)"),
     "critical_speeds: string": (lambda m: rdm.critical_speeds(m, "0:100:3"), "speeds = '0:100:3'", "finite numbers"),
     "critical_speeds: negative order": (lambda m: rdm.critical_speeds(m, SPEEDS, orders=(1, -2)), "orders = (1, -2)",
                                         "numbers > 0"),

@@ -117,3 +117,31 @@ def test_pencil_entries_are_the_pencils_written_out():
         M, C, G, K = model.matrices(speeds[index[p]])
         Q = lam[p] ** 2 * M + lam[p] * (C + speeds[index[p]] * G) + K
         assert np.allclose(got[p], Q[rows, cols], rtol=1e-13, atol=1e-13 * np.abs(Q).max())
+
+
+def test_stack_assembles_each_shafts_node_motions_once(monkeypatch):
+    """A Stack of a model with a flexible rotor (its M, C, G, K and whirl forms) assembles the
+    nodes' motions over the coordinates once, not once per matrix; the matrices and whirl forms
+    equal those made from a fresh model each time."""
+    from rotordyn_modal import assembly
+    from rotordyn_modal.analysis import _whirl
+
+    model = rdm.Model.from_dict(read_ross_rotor(SPEED_TABLES))
+    plain, calls = assembly._node_relative, []
+
+    def counting(*args):
+        calls.append(1)
+        return plain(*args)
+
+    monkeypatch.setattr(assembly, "_node_relative", counting)
+    stack = Stack([model])
+    whirl = stack.whirl
+    assert len(calls) == 1
+    def fresh():
+        return rdm.Model.from_dict(read_ross_rotor(SPEED_TABLES))
+
+    assert np.array_equal(stack.M[0], assembly.mass_matrix(fresh()))
+    assert np.array_equal(stack.G[0], assembly.gyroscopic_matrix(fresh()))
+    assert np.array_equal(stack.K[0], assembly.constant_stiffness_damping(fresh())[0])
+    for got, made in zip(whirl, _whirl.whirl_forms(fresh())):
+        assert np.array_equal(got[0], made)

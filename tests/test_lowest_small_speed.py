@@ -21,8 +21,9 @@ def _lowest_by_scipy(model, speeds, count):
     """The ``count`` lowest-frequency roots with Im > 0 of the state matrix (built here from
     ``model.matrices(speed)``) at each speed, (S, count)."""
     out = []
+    constant = None if model.speed_dependent else model.matrices()
     for speed in speeds:
-        M, C, G, K = model.matrices(speed)
+        M, C, G, K = constant if constant is not None else model.matrices(speed)
         n = len(M)
         A = np.block([[np.zeros((n, n)), np.eye(n)],
                       [-np.linalg.solve(M, K), -np.linalg.solve(M, C + speed * G)]])

@@ -10,9 +10,16 @@ For the two-rotor gear machine (examples/gear_machine.toml) it times
 for 10,001 speeds (the sweep) and for 201 speeds (the call a parameter study makes per
 variant, where refining the critical speeds weighs most). The two are timed alternately,
 ``--repeat`` times, and the ratio of each pair is reported as min/median/max, so that load
-from other processes hits both alike. ``ROTORDYN_MODAL_THREADS=1`` measures one core. Run::
+from other processes hits both alike. ``ROTORDYN_MODAL_THREADS=1`` measures one core.
 
-    python benchmarks/bench_campbell.py [--repeat 15]
+One rigid rotor (``--one-rotor``, the default part too): a rotor on two damped bearings to the
+ground (4 coordinates) and the same kind of rotor on bearings in a casing on six mounts
+(``_machines.gear_chain(1)``, 11 coordinates), 201 speeds: ``rdm.campbell(model, speeds,
+orders=(1,))`` against the obvious loop, ``scipy.linalg.eig`` of each speed's state matrix
+(built in the timed call), alternately; the ratio loop / campbell of each pair as
+min/median/max (above 1: the package is faster). Run::
+
+    python benchmarks/bench_campbell.py [--repeat 15] [--part all|gear|one-rotor]
 """
 
 from __future__ import annotations
@@ -48,10 +55,48 @@ def _report(label, times, target):
           f"  (target <= {target})")
 
 
+def _loop(model, speeds):
+    """The obvious loop: ``scipy.linalg.eig`` (eigenvalues and eigenvectors) of each speed's state matrix."""
+    for a in state_matrices(model, speeds):
+        scipy.linalg.eig(a)
+
+
+def one_rotor_models():
+    """A rigid rotor on two damped bearings to the ground (4 coordinates), and a rigid rotor on
+    bearings in a casing on six mounts (``_machines.gear_chain(1)``, 11 coordinates)."""
+    from _machines import gear_chain
+
+    bare = rdm.Model.from_dict({
+        "name": "rigid rotor on two bearings",
+        "rotors": [{"name": "rotor", "mass": 30.0, "center_of_mass": [0.0, 0.0, 0.0],
+                    "polar_inertia": 0.4, "diametral_inertia": 0.9, "speed_ratio": 1.0}],
+        "bearings": [{"name": f"brg-{side}", "rotor": "rotor", "position": [x, 0.0, 0.0], "stiffness": 1e6,
+                      "damping": 100.0} for side, x in (("A", -0.25), ("B", 0.25))]})
+    return {"rotor on two bearings": bare, "rotor on bearings in a casing on mounts": gear_chain(1)}
+
+
+def one_rotor(repeat: int) -> None:
+    """rdm.campbell of one rigid rotor against the scipy.linalg.eig loop, 201 speeds."""
+    speeds = rdm.rpm(np.linspace(0.0, 3000.0, 201))
+    for name, model in one_rotor_models().items():
+        rdm.campbell(model, speeds)                                    # warm caches and threads
+        times = _pairs(lambda: rdm.campbell(model, speeds, orders=(1,)), lambda: _loop(model, speeds), repeat)
+        ratio = times[1] / times[0]
+        print(f"one rotor, {name} ({model.dofs.n} coordinates), 201 speeds: rdm.campbell "
+              f"{np.median(times[0]) * 1e3:7.2f} ms, scipy.linalg.eig loop {np.median(times[1]) * 1e3:7.2f} ms; "
+              f"loop / campbell min {ratio.min():.2f} median {np.median(ratio):.2f} max {ratio.max():.2f}  (target > 1)")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=15)
+    parser.add_argument("--part", choices=("all", "gear", "one-rotor"), default="all",
+                        help="the gear machine against the floor, one rigid rotor against the loop, or both")
     args = parser.parse_args()
+    if args.part in ("all", "one-rotor"):
+        one_rotor(args.repeat)
+    if args.part == "one-rotor":
+        return
     model = rdm.load_model(MODEL)
     for count, target in ((201, 1.5), (10001, 1.5)):
         speeds = rdm.rpm(np.linspace(0.0, 3000.0 if count == 201 else 12000.0, count))

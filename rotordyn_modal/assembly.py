@@ -378,9 +378,24 @@ def flexible_rotor_matrices(model, rotor, kinds=("M", "K", "G")) -> FlexiblePart
     -------
     FlexibleParts
     """
-    import scipy.sparse
-
     from .model.flexible import node_matrices
+
+    shaft = rotor.flexible
+    # the nodes' motions, made once per model and rotor and kept on the model (as its coordinates
+    # are): the mass, gyroscopic and stiffness matrices and the whirl forms each read them, and
+    # their sparse assembly was a third of a small model's set-up made four times over
+    made = model.__dict__.setdefault("_node_motions", {})
+    if made.get(rotor.name, (None,))[0] is not shaft:
+        made[rotor.name] = (shaft, *_node_motions(model, rotor))
+    _, motion, relative = made[rotor.name]
+    matrices = dict(zip(kinds, node_matrices(shaft, shaft.mesh, kinds)))
+    return FlexibleParts(M=matrices.get("M"), K=matrices.get("K"), G=matrices.get("G"), motion=motion,
+                         relative=relative)
+
+
+def _node_motions(model, rotor):
+    """``T_f`` and ``N E_j`` of :func:`flexible_rotor_matrices` (6 N, n) each, sparse (CSR)."""
+    import scipy.sparse
 
     shaft = rotor.flexible
     layout = model.dofs
@@ -393,9 +408,7 @@ def flexible_rotor_matrices(model, rotor, kinds=("M", "K", "G")) -> FlexiblePart
         frame = np.zeros((6 * len(points), layout.n))
         frame[:, :k] = shift_matrices(layout.reference_point, points).transpose(0, 2, 1).reshape(-1, 6)[:, :k]
         motion = (relative + scipy.sparse.csr_matrix(frame)).tocsr()
-    matrices = dict(zip(kinds, node_matrices(shaft, shaft.mesh, kinds)))
-    return FlexibleParts(M=matrices.get("M"), K=matrices.get("K"), G=matrices.get("G"), motion=motion,
-                         relative=relative)
+    return motion, relative
 
 
 def _node_relative(shaft, own: slice, n: int):

@@ -501,6 +501,17 @@ def bearing_matrices(model, speed: float | None = None, constant_only: bool = Fa
     """
     n = model.dofs.n
     K, C = np.zeros((n, n)), np.zeros((n, n))
+    for rows, moves, k6, c6 in _bearings_at(model, speed, constant_only, dependent_only):
+        rows, moves = _moved(rows, moves)
+        K[rows] += moves.T @ k6[0] @ moves
+        C[rows] += moves.T @ c6[0] @ moves
+    return K, C
+
+
+def _bearings_at(model, speed, constant_only: bool, dependent_only: bool):
+    """Each bearing selected by ``constant_only``/``dependent_only`` (see :func:`bearing_matrices`):
+    its block of ``q`` (a slice), its motion (6, k) and its 6x6 stiffness and damping at ``speed``
+    [rad/s] (1, 6, 6) each; a speed-dependent one without a speed is refused."""
     for bearing in model.bearings:
         dependent = bearing.coefficients.kind != "constant"
         if (dependent and constant_only) or (not dependent and dependent_only):
@@ -510,10 +521,7 @@ def bearing_matrices(model, speed: float | None = None, constant_only: bool = Fa
                              "coefficients: give the speed (matrices(speed=...))")
         k6, c6 = bearing_coefficients(model, bearing, [0.0 if speed is None else float(speed)])
         rows, moves = bearing_motion(model, bearing)
-        rows, moves = _moved(rows, moves)
-        K[rows] += moves.T @ k6[0] @ moves
-        C[rows] += moves.T @ c6[0] @ moves
-    return K, C
+        yield rows, moves, k6, c6
 
 
 def _moved(rows: slice, moves: np.ndarray):
@@ -815,15 +823,7 @@ def _add_shafts(model, K: _Triplets) -> None:
 
 def _add_bearings(model, K: _Triplets, C: _Triplets, speed, constant_only: bool, dependent_only: bool) -> None:
     """:func:`bearing_matrices` into triplets, each bearing's block at the coordinates that move it."""
-    for bearing in model.bearings:
-        dependent = bearing.coefficients.kind != "constant"
-        if (dependent and constant_only) or (not dependent and dependent_only):
-            continue
-        if dependent and speed is None:
-            raise InputError(f"{model.source}: [bearings.{bearing.name}] has speed-dependent "
-                             "coefficients: give the speed (matrices(speed=...))")
-        k6, c6 = bearing_coefficients(model, bearing, [0.0 if speed is None else float(speed)])
-        rows, moves = bearing_motion(model, bearing)
+    for rows, moves, k6, c6 in _bearings_at(model, speed, constant_only, dependent_only):
         used = np.any(moves != 0, axis=0)
         index, part = np.arange(rows.start, rows.stop)[used], moves[:, used]
         K.add(index, index, part.T @ k6[0] @ part)

@@ -394,6 +394,19 @@ def test_cli_checks_and_conventions(tmp_path, capsys):
                                                           rel=1e-8)
 
 
+@pytest.mark.parametrize("top, warned", [("1000", True), ("1500", False)])
+def test_a_sweep_stopping_below_the_mcs_is_warned_of(tmp_path, capsys, top, warned):
+    """The API probe limits are judged from --min-speed to --mcs on the swept speeds: a sweep that
+    stops below the MCS leaves the speeds above it unchecked, which one warning line says (exit 0)."""
+    path = _write(tmp_path, _casing_model())
+    code = main(["unbalance", str(path), "--speeds", f"200:{top}:41", "--mcs", "1500", "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 0
+    lines = [line for line in err.splitlines() if "stops below --mcs 1500" in line]
+    assert len(lines) == (1 if warned else 0)
+    assert not warned or lines[0].startswith("rotordyn-modal unbalance: warning: --speeds 200:1000:41")
+
+
 @pytest.mark.parametrize("options, words", [
     (["--iso-group", "2"], "--iso-group/--iso-support"),
     (["--api-unbalance"], "--api-unbalance"),

@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import sys
+import warnings
+
+import numpy as np
 
 from ..errors import InputError
 from ..model._table import LARGEST
@@ -34,8 +37,9 @@ Standards (docs/standards.md): --mcs (maximum continuous speed of the reference 
 gives each proximity probe (measure = "relative") the API 617 limit
 A1 = 25.4 um sqrt(12000/N), at most 25.4 um peak-to-peak (N the probe's rotor's MCS in
 rpm), checked on the probe's peak-to-peak displacement over the speeds from --min-speed
-(default 0) to --mcs; --iso-group 1|2 with --iso-support rigid|flexible evaluates the RMS
-vibration velocity of every stator (casing) sensor in the ISO 20816-3 zones A-D over the
+(default 0) to --mcs (a sweep stopping below --mcs, or below --trip-speed, is
+warned of: the speeds above it go unchecked); --iso-group 1|2 with --iso-support
+rigid|flexible evaluates the RMS vibration velocity of every stator (casing) sensor in the ISO 20816-3 zones A-D over the
 same speeds (the whole sweep without --mcs). The checks table (output, check, speed_rpm,
 value, amplitude, limit, verdict, zone; values in m and m/s) is printed and written by
 --checks FILE.csv; --plot draws the probe limits and a velocity panel with the zones.
@@ -129,6 +133,7 @@ def run(args) -> int:
                          "separation margin is a percentage of it)")
     mcs, min_speed = _check_options(args)
     check_operating_speed(speeds_option(args), operating)     # before anything is computed or written
+    _warn_below_checked_speeds(speeds_option(args), mcs, args)
     if args.api_unbalance:
         result = api_unbalance_response(model, speeds_option(args), mcs, outputs=sensor_names(args, model),
                                         quantity=args.quantity, amplitude=args.amplitude)
@@ -162,6 +167,20 @@ def _speed(args, text, option):
     if not abs(value) <= LARGEST:
         raise InputError(f"{option} {text}: expected a speed of magnitude at most {LARGEST:g} rad/s")
     return value
+
+
+def _warn_below_checked_speeds(speeds, mcs, args):
+    """One warning line where the sweep ``speeds`` [rad/s] (N,) stops below the top of the API
+    checks' speeds (``--mcs``, or ``--trip-speed`` for the clearances): the probe limits and
+    clearances are judged on the swept speeds only, and the speeds above them go unchecked."""
+    trip = _speed(args, args.trip_speed, "--trip-speed")
+    top, option, text = (trip, "--trip-speed", args.trip_speed) if trip is not None else (mcs, "--mcs", args.mcs)
+    if top is None:
+        return
+    reached = float(np.max(np.abs(speeds)))
+    if reached < top * (1.0 - 1e-12):
+        warnings.warn(f"--speeds {args.speeds} stops below {option} {text}: the API checks judge the swept "
+                      f"speeds only, those above {reached / top:.0%} of {option} go unchecked (sweep up to it)")
 
 
 def _check_options(args):

@@ -469,11 +469,11 @@ class _Pencils:
         banded LU each where the pencils are banded (a shaft on the ground: its elements couple
         neighbouring nodes), in threads; else a sparse LU each (SuperLU)."""
         n = self.M.shape[0]
-        if n <= _DENSE_DOF:
+        if n <= _DENSE_DOF:         # from the entries: a subclass's own terms (_lowest_branches) included
             rows, cols = self.pattern
             Q = np.zeros((len(lam), n * n), complex)
             Q[:, rows * n + cols] = self._entries(index, lam)
-            return np.linalg.solve(Q.reshape(-1, n, n), rhs[..., None])[..., 0]
+            return _pencils._solve(Q.reshape(-1, n, n), rhs[..., None])[..., 0]
         if self.band is not None:
             width = 2 * self.band.lower + self.band.upper + 1
             return _batches._threaded(self._banded_solve, index, lam, rhs, item_bytes=16 * n * (width + 2))
@@ -954,13 +954,6 @@ _NAMED = 5
 _BRANCHES = "the mounts' frequency-dependent (Maxwell) branches add states the reduced basis does not hold"
 
 
-def _refuse_long_branches(stack, speeds, what):
-    """:func:`_refuse_long_full` of every root of every speed of a model with frequency-dependent
-    branches (:func:`roots_below` called directly: the commands route such models to
-    :mod:`._lowest_branches`)."""
-    _refuse_long_full(stack, speeds, len(speeds), what, _BRANCHES, "use fewer speeds")
-
-
 def _full_lowest(stack, speeds, count):
     """The full eigen-solve of some speeds, their ``count`` lowest oscillating roots."""
     lam, phi = stack.solve(stack.sweep(speeds)[0], np.zeros(len(speeds), int))
@@ -1016,7 +1009,7 @@ def roots_below(stack, speeds, limit: float, count: int | None = None):
             reduced = _reduced_below(stack, speeds, limit, count)
     if reduced is None:             # a small model, branches, or a basis of every mode: every root of every speed
         if stack.branch_times.shape[1]:
-            _refuse_long_branches(stack, speeds, "modes below a frequency")
+            _refuse_long_full(stack, speeds, len(speeds), "modes below a frequency", _BRANCHES, "use fewer speeds")
         elif stack.n_dof >= DENSE_BELOW:
             _refuse_long_full(stack, speeds, len(speeds), "modes below a frequency",
                               "a basis for the frequency would hold every mode",

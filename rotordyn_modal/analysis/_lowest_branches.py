@@ -26,7 +26,7 @@ import warnings
 
 import numpy as np
 
-from . import _batches, _lowest, _pencils, _vectors
+from . import _batches, _lowest, _vectors
 from .modal import OVERDAMPED_LIMIT, is_oscillating
 
 __all__ = ["lowest_roots", "roots_below", "roots_near", "largest_factor", "rational_terms"]
@@ -311,18 +311,6 @@ class RationalPencils(_lowest._Pencils):
         for t, (at, values) in enumerate(zip(self.term_at, self.term_values)):
             data[:, at] += factors[:, t, None] * values
         return data
-
-    def solve(self, index, lam, rhs):
-        """``T(lam_p)^-1 rhs_p``: small pencils dense and batched (from their entries), larger ones as
-        :meth:`._lowest._Pencils.solve` (banded or sparse LU of :meth:`_entries`)."""
-        n = len(self.M)
-        if n > _lowest._DENSE_DOF:
-            return super().solve(index, lam, rhs)
-        rows, cols = self.pattern
-        Q = np.zeros((len(lam), n, n), complex)
-        Q[:, rows, cols] = self._entries(index, lam)
-        return _pencils._solve(Q, rhs[..., None])[..., 0]
-
 
 class _RationalBound(_lowest._Bound):
     """:class:`._lowest._Bound` with the branches' stiffness in the departure from ``K_0`` (the

@@ -11,9 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import scipy.linalg
 
 import rotordyn_modal as rdm
+from rotordyn_modal.analysis.modal import is_oscillating
 from rotordyn_modal.analysis.tracking import track_modes
+from rotordyn_modal.linear_system import state_matrices
 from reference_model import random_description
 
 MS, JX, JT_S = 60.0, 1.2, 0.6
@@ -191,3 +194,51 @@ def test_through_a_point_of_undefined_shapes_modes_are_matched_to_their_last_sur
     order = track_modes(lam, shapes)
     assert order[3].tolist() == [1, 0]
     assert order[:2].tolist() == [[0, 1], [0, 1]]
+
+
+def test_a_real_pair_turning_complex_takes_no_mode_and_no_other_real_root():
+    """Two real roots (-3.02, -2.98) meet into a pair that does not oscillate (-3 + 0.01i);
+    the place it leaves in the kept half (one of each pair, the smaller half of the real
+    roots) takes the next real root, -60. Beside them two well separated modes and their real
+    partners (-4.5, -4), whose shapes are the modes' own (as a Maxwell branch's relaxation
+    root carries its mode's motion). Every mode keeps its root (its shape and eigenvalue do not
+    change); the partners keep theirs; the label whose root left takes the newcomer."""
+    a, b, c, d = np.eye(4, dtype=complex)
+    mode_a, mode_b = -0.5 + 10j, -0.8 + 15j
+    before = [-4.5, -4.0, -3.02, -2.98, mode_a, mode_b]
+    after = [-60.0, -4.5, -4.0, -3.0 + 0.01j, mode_a, mode_b]       # sorted as the kept half is
+    lam = np.array([before, before, after, after], dtype=complex)
+    shapes = np.array([[b, a, c, d, a, b]] * 2 + [[d, b, a, (c + d) / np.sqrt(2.0), a, b]] * 2)
+    order = track_modes(lam, shapes)
+    tracked = lam[np.arange(4)[:, None], order]
+    assert (tracked[:, 4] == mode_a).all() and (tracked[:, 5] == mode_b).all()
+    assert (tracked[:, 0] == -4.5).all() and (tracked[:, 1] == -4.0).all()
+    assert sorted(tracked[2:, 2:4].ravel().tolist(), key=abs) == [-3.0 + 0.01j] * 2 + [-60.0] * 2
+
+
+def _followed(model, rpm, roots):
+    """``roots`` (m,) at ``rpm[0]`` followed over the fine grid ``rpm`` by the nearest root of
+    scipy's eigenvalues of the state matrix, each step unambiguous (the nearest root 100
+    times nearer than the next). Returns (len(rpm), m)."""
+    path = [np.asarray(roots)]
+    for matrix in state_matrices(model, rpm[1:] * np.pi / 30.0):
+        roots = scipy.linalg.eigvals(matrix)
+        gaps = np.abs(path[-1][:, None] - roots[None, :])
+        nearest = np.sort(gaps, axis=1)
+        assert np.all(nearest[:, 0] < 0.01 * nearest[:, 1])
+        path.append(roots[gaps.argmin(axis=1)])
+    return np.array(path)
+
+
+def test_modes_keep_their_roots_where_the_kept_real_roots_change(examples_dir):
+    """rubber_mounts.toml: between 9,150 and 9,200 rpm two real roots at -38.6 1/s meet into
+    a pair that does not oscillate, and a real root at -492.7 1/s enters the kept half. Each
+    mode (well apart, 9.7 to 29.6 Hz, barely moving) is what it was: its tracked eigenvalues
+    are those of the root followed by nearest distance over a grid ten times finer."""
+    model = rdm.load_model(examples_dir / "rubber_mounts.toml")
+    rpm = np.linspace(9000.0, 9400.0, 9)
+    lam = rdm.campbell(model, rpm * np.pi / 30.0, critical=False).eigenvalues
+    modes = np.nonzero(is_oscillating(lam[0]))[0]
+    assert len(modes) == 6
+    truth = _followed(model, np.linspace(9000.0, 9400.0, 81), lam[0, modes])[::10]
+    np.testing.assert_allclose(lam[:, modes], truth, rtol=1e-9)

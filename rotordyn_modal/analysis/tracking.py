@@ -8,7 +8,11 @@ zero-speed double roots of a symmetric machine, coarse steps through a
 veering) are solved one by one with an optimal assignment against the last
 unambiguous shape of each mode and a linear extrapolation of its eigenvalue,
 so a mode keeps its label through crossings and through points where its
-shape is not defined.
+shape is not defined. Before that assignment, each root that plainly continues
+a mode (the one root of its nature, mode, overdamped pair or real root, of a
+sure MAC with it, and near its extrapolated eigenvalue) keeps it: where the set
+of kept roots changes (two real roots meeting into a pair, a root entering or
+leaving the kept half), only the roots left over are assigned.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ from scipy.optimize import linear_sum_assignment
 from ._batches import chunk_slices
 
 from ._vectors import mac_matrix
+from .modal import is_oscillating
 
 __all__ = ["track_modes", "track_modes_many"]
 
@@ -139,7 +144,11 @@ def _confident_steps(correlation, best, steps):
 
 
 def _ambiguous_step(k, order, eigenvalues, shapes, last_good):
-    """Optimal assignment at speed k against each mode's last sure shape and trend."""
+    """Optimal assignment at speed k against each mode's last sure shape and trend.
+
+    The roots that plainly continue a mode (:func:`_kept_in_place`) keep it first; the others
+    are assigned among themselves: where the set of roots changes (two real roots meeting into
+    a pair, a root entering or leaving the kept half), only they take the place left."""
     n = eigenvalues.shape[1]
     labels = np.arange(n)
     reference = shapes[last_good, order[last_good, labels]]  # (n, d)
@@ -152,9 +161,59 @@ def _ambiguous_step(k, order, eigenvalues, shapes, last_good):
     scale = _EIGEN_WEIGHT_RELATIVE * np.maximum(np.abs(predicted), np.abs(eigenvalues[k]).max() * 1e-3 + 1e-300)
     distance = np.abs(predicted[:, None] - eigenvalues[k][None, :]) / scale[:, None]
     cost = (1.0 - correlation) + distance
-    rows, columns = linear_sum_assignment(cost)
     assigned = np.empty(n, dtype=int)
-    assigned[rows] = columns
+    kept_rows, kept_columns = _kept_in_place(previous, eigenvalues[k], correlation, predicted)
+    assigned[kept_rows] = kept_columns
+    free_rows = np.setdiff1d(labels, kept_rows)
+    free_columns = np.setdiff1d(labels, kept_columns)
+    rows, columns = linear_sum_assignment(cost[np.ix_(free_rows, free_columns)])
+    assigned[free_rows[rows]] = free_columns[columns]
     local = mac_matrix(shapes[k - 1, order[k - 1]], shapes[k, assigned])
     sure = np.diagonal(local) > _CONFIDENT_MAC
     return assigned, sure
+
+
+#: a root continues a mode plainly where its MAC with the mode's shapes is at least this ...
+_KEPT_MAC = 0.99
+#: ... and it lies within this fraction of |lambda| of the mode's extrapolated eigenvalue
+_KEPT_DISTANCE = 0.1
+
+
+def _kept_in_place(previous, current, correlation, predicted):
+    """The labels (rows) whose mode plainly continues in one root (columns) at the next speed.
+
+    A root continues a label's mode when, of the roots of the label's nature (:func:`_nature`),
+    it alone has a MAC of at least ``_KEPT_MAC`` with the label's last sure shape; when, of the
+    labels of its nature, that label alone has; and when it lies within ``_KEPT_DISTANCE``
+    times ``|predicted|`` of the label's extrapolated eigenvalue. These are kept before the
+    optimal assignment of the others, which weighs each eigenvalue distance relative to its own
+    label's |lambda|: where a root enters the kept half (a real root taking the place two real
+    roots meeting into a pair left), handing it to the label that lost its root can cost more
+    than moving a chain of labels each by one, modes included, however sure each mode's MAC
+    with itself.
+
+    Parameters
+    ----------
+    previous, current : ndarray, shape (n,), complex [1/s]
+        Each label's root at the speed before; the roots at the speed.
+    correlation : ndarray, shape (n, n)
+        MAC of each label's last sure shape (rows) with the roots at the speed (columns).
+    predicted : ndarray, shape (n,), complex [1/s]
+        Each label's extrapolated eigenvalue at the speed.
+
+    Returns
+    -------
+    rows, columns : ndarray of int, shape (p,)
+    """
+    sure = (correlation >= _KEPT_MAC) & (_nature(previous)[:, None] == _nature(current)[None, :])
+    alone = sure & (sure.sum(axis=1) == 1)[:, None] & (sure.sum(axis=0) == 1)[None, :]
+    near = np.abs(current[None, :] - predicted[:, None]) <= _KEPT_DISTANCE * np.abs(predicted)[:, None]
+    return np.nonzero(alone & near)
+
+
+def _nature(values):
+    """0 for real roots, 1 for pairs that do not oscillate (overdamped), 2 for modes
+    (:func:`.modal.is_oscillating`); ``values`` (n,) complex. Where two real roots meet into a
+    pair, or a mode becomes overdamped, the root changes its nature: it is never kept in place
+    (:func:`_kept_in_place`) but assigned."""
+    return np.where(is_oscillating(values), 2, (values.imag != 0).astype(int))

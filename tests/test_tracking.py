@@ -242,3 +242,44 @@ def test_modes_keep_their_roots_where_the_kept_real_roots_change(examples_dir):
     assert len(modes) == 6
     truth = _followed(model, np.linspace(9000.0, 9400.0, 81), lam[0, modes])[::10]
     np.testing.assert_allclose(lam[:, modes], truth, rtol=1e-9)
+
+
+def test_a_far_root_of_a_modes_shape_does_not_take_its_label_when_its_root_turns_overdamped():
+    """Two roots of one shape: a mode of |lambda| = 10 1/s whose damping ratio rises through
+    the overdamped limit (0.985, 0.988, 0.991: from speed 2 on a pair that does not
+    oscillate), and an overdamped pair of |lambda| = 40 1/s whose damping falls below it
+    (0.995, 0.993, 0.985). At speed 2 the one mode of that shape lies four times farther out
+    than the label's root; each label keeps the root of its own |lambda|."""
+    def root(size, zeta):
+        return size * (-zeta + 1j * np.sqrt(1.0 - zeta**2))
+
+    a, b = np.eye(2, dtype=complex)
+    lam = np.array([[root(10.0, z10), root(40.0, z40), 30j] for z10, z40 in
+                    ((0.985, 0.995), (0.988, 0.993), (0.991, 0.985), (0.994, 0.98))])
+    shapes = np.array([[a, a, b]] * 4)
+    order = track_modes(lam, shapes)
+    tracked = lam[np.arange(4)[:, None], order]
+    np.testing.assert_allclose(np.abs(tracked), [[10.0, 40.0, 30.0]] * 4)
+
+
+def _nearly(a, b):
+    """A unit shape of MAC 1 / (1 + 0.05**2) = 0.9975 with ``a``."""
+    return (a + 0.05 * b) / np.sqrt(1.0 + 0.05**2)
+
+
+@pytest.mark.parametrize("case", ["two labels, one root of their shape", "one label, two roots of its shape"])
+def test_roots_of_nearly_one_shape_are_matched_once_each(case):
+    """Where two labels share a shape (MAC 0.9975) and one root of it follows them, or one
+    label and two roots of its shape, no label is kept on a root that another could take: each
+    speed's order is a permutation, and each label keeps the root nearest its own."""
+    a, b, c = np.eye(3, dtype=complex)
+    if case == "two labels, one root of their shape":
+        before, after = [10j, 10.3j, 20j], [10.1j, 10.25j, 20j]
+        shapes = [[a, _nearly(a, b), c], [a, c / 1j, _nearly(c, b)]]
+    else:
+        before, after = [10j, 10.3j, 20j], [10.1j, 10.25j, 20j]
+        shapes = [[a, b, c], [a, _nearly(a, b), c]]
+    lam = np.array([before, before, after]) - 0.1
+    order = track_modes(lam, np.array([shapes[0], shapes[0], shapes[1]]))
+    assert all(sorted(row) == [0, 1, 2] for row in order.tolist())
+    np.testing.assert_array_equal(lam[np.arange(3)[:, None], order][2], lam[2])

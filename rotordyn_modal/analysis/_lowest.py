@@ -117,13 +117,13 @@ def _reduced_roots(stack, speeds, count, progress=False):
     size = min(n, max(_needed_size(bound, rho, size), want))
     _, attached = bound.shares(size, rho)
     if _arnoldi.takes(size + attached.shape[1], n):     # the undamped modes crowd above the wanted roots
-        return _arnoldi.lowest(pencils, count, _refined, _distinct, progress)
+        values, shapes, ok = _arnoldi.lowest(pencils, count, _refined, _distinct, progress)
+        return (*_by_frequency(values, shapes, count), ok)
     starts, vectors = _projected_starts(pencils, np.hstack([modes[:, :size], attached]), want)
     values, shapes, ok = _refined(pencils, starts, vectors)
     ok &= _distinct(values) & _unmissed(starts, values, count)
     # Newton may reorder roots of close frequency: by frequency again
-    order = np.argsort(frequency_key(values), axis=1, kind="stable")
-    values, shapes = np.take_along_axis(values, order, 1), np.take_along_axis(shapes, order[..., None], 1)
+    values, shapes = _by_frequency(values, shapes, count)
     return values, shapes, ok & _basis_suffices(values, bound, size, attached.shape[1], rho)
 
 
@@ -343,6 +343,43 @@ def frequency_key(lam):
     """The sort key of roots ``lam`` (any shape) by frequency: ``Im lam`` of the oscillating roots,
     ``inf`` for the others (pushed to the end)."""
     return np.where(is_oscillating(lam), lam.imag, np.inf)
+
+
+#: roots whose frequencies differ by at most this times their modulus are of one frequency for the
+#: choice of the lowest (the accuracy promised: an undamped cross-coupled model's pairs ``-a + ib``,
+#: ``a + ib`` are equal to round-off)
+_TIE = 1e-9
+
+
+def lowest_order(lam, count=None):
+    """Where the roots of each row of ``lam`` (S, m) stand by frequency (:func:`frequency_key`, a
+    stable sort), (S, m); where the ``count``-th place falls inside a group of roots of one
+    frequency (within ``_TIE``), that group by decreasing real part, so that the first ``count``
+    keep its least stable roots: an undamped cross-coupled model has pairs ``-a + ib``, ``a + ib``
+    of one frequency, and keeping the stable one of a split pair would hide the unstable one."""
+    key = frequency_key(lam)
+    order = np.argsort(key, axis=-1, kind="stable")
+    if count is None or not 0 < count < lam.shape[-1]:
+        return order
+    key, values = np.take_along_axis(key, order, -1), np.take_along_axis(lam, order, -1)
+    with np.errstate(invalid="ignore"):
+        tied = np.abs(np.diff(key, axis=-1)) <= _TIE * np.abs(values[:, 1:])        # (S, m - 1): j, j + 1
+    for row in np.nonzero(tied[:, count - 1])[0]:
+        first, last = count - 1, count
+        while first > 0 and tied[row, first - 1]:
+            first -= 1
+        while last + 1 < lam.shape[-1] and tied[row, last]:
+            last += 1
+        group = order[row, first:last + 1]
+        order[row, first:last + 1] = group[np.argsort(-lam[row, group].real, kind="stable")]
+    return order
+
+
+def _by_frequency(values, shapes, count=None):
+    """Roots (S, k) and shapes (S, k, n) in the order of :func:`lowest_order` (``count``: the place
+    of the cut)."""
+    order = lowest_order(values, count)
+    return np.take_along_axis(values, order, 1), np.take_along_axis(shapes, order[..., None], 1)
 
 
 def _projected_roots(A, damping, stiffness, want):
@@ -963,7 +1000,7 @@ def _full_lowest(stack, speeds, count):
 def lowest_of(lam, phi, count):
     """The ``count`` lowest oscillating roots (then the others) of full eigen-solves, by speed:
     ``lam`` (N, m), ``phi`` (N, m, n) -> (N, count), (N, count, n)."""
-    order = np.argsort(frequency_key(lam), axis=-1, kind="stable")[:, :count]
+    order = lowest_order(lam, count)[:, :count]
     rows = np.arange(len(lam))[:, None]
     return lam[rows, order], phi[rows, order]
 
@@ -1022,7 +1059,7 @@ def roots_below(stack, speeds, limit: float, count: int | None = None):
         _refuse_long_full(stack, speeds[full], len(speeds), "modes below a frequency", _UNSERVED)
         warnings.warn(f"modes below a frequency: {int(full.sum())} of {len(speeds)} speeds solved whole (the "
                       "reduced basis could not be shown to hold every root below it there)", stacklevel=3)
-        lam, phi = _full_lowest(stack, speeds[full], stack.forms[0].n_states)
+        lam, phi = _by_frequency(*_full_lowest(stack, speeds[full], stack.forms[0].n_states), count)
         if _wanted(lam, limit, count).sum(axis=1).max(initial=0) > values.shape[1]:
             # more roots below the limit than columns (a root the basis missed): every speed whole
             _refuse_long_full(stack, speeds, len(speeds), "modes below a frequency",
@@ -1045,6 +1082,7 @@ def _wanted(values, limit, count):
 def _cut_below(values, shapes, limit, count):
     """Roots (S, k) and shapes by frequency cut to the most wanted at any speed: the roots, the
     shapes and which are wanted."""
+    values, shapes = _by_frequency(values, shapes, count)
     wanted = _wanted(values, limit, count)
     k = int(wanted.sum(axis=1).max(initial=0))
     return values[:, :k], shapes[:, :k], wanted[:, :k]
@@ -1072,8 +1110,7 @@ def _reduced_below(stack, speeds, limit, count):
     starts, vectors = _starts_below(pencils, basis, limit, count, int(below.sum(axis=1).max(initial=0)) + 3)
     values, shapes, ok = _refined(pencils, starts, vectors)
     ok &= _distinct(values) & _unmissed_below(starts, values, limit, count)
-    order = np.argsort(frequency_key(values), axis=1, kind="stable")
-    values, shapes = np.take_along_axis(values, order, 1), np.take_along_axis(shapes, order[..., None], 1)
+    values, shapes = _by_frequency(values, shapes, count)
     # the bound at the wanted roots (a missed one lies below the limit, :func:`_unmissed_below`)
     wanted = _wanted(values, limit, count)
     return values, shapes, ok & _basis_suffices(np.where(wanted, values, 0), bound, size, attached.shape[1], rho)
@@ -1148,7 +1185,7 @@ def _lowest_of_upper(stack, speeds, count, upper, whole):
     (S, m) and their shapes (S, count, n) by inverse iteration on the pencil; the speeds ``whole``
     (S,), and those where the roots kept are not all modes or one lies within ``_CLOSE`` of another,
     solved whole (:func:`_full_lowest`)."""
-    order = np.argsort(frequency_key(upper), axis=-1, kind="stable")[:, :count]
+    order = lowest_order(upper, count)[:, :count]
     lam = np.take_along_axis(upper, order, axis=1)
     whole |= ~is_oscillating(lam).all(axis=1) | _close(lam, upper, order)
     shapes = np.empty(lam.shape + (stack.n_dof,), complex)

@@ -198,3 +198,29 @@ def test_mode_numbers_after_a_lowest_sweep_come_from_the_lowest_roots(monkeypatc
     numbers = mode_numbers._solved_numbers(model, speeds[[p for p, _ in wanted]],
                                            np.array([dense[p][j] for p, j in wanted]), lowest=12)
     assert list(numbers) == [j + 1 for _, j in wanted]
+
+
+def test_the_modes_below_a_frequency_of_a_crowded_chain_take_arnoldi(monkeypatch):
+    """``campbell(max_frequency=F)`` of the 24-rotor chain (its basis would hold every mode): by
+    Arnoldi, not the full eigen-solve of every speed. Below 700 and 1,000 rad/s (9 and 19 or 20 roots;
+    with ``modes=5``, the lowest 5 of them) the roots are scipy's roots of the full state matrix
+    below F, as many and each to 1e-9 relative; the roots found are doubled from 12 until they pass F."""
+    def refused(*args, **kwargs):
+        raise AssertionError("a speed was solved whole")
+
+    monkeypatch.setattr(_lowest, "_full_lowest", refused)
+    model = _chain(24)
+    stack = lowest_stack(model)
+    speeds = rdm.rpm(np.array([0.0, 1500.0, 3000.0]))
+    dense = [_dense_lowest(stack, speed, stack.n_dof) for speed in speeds]
+    for limit, count in ((700.0, None), (1000.0, None), (1000.0, 5)):
+        values, _, wanted, full = _lowest.roots_below(stack, speeds, limit, count)
+        assert not full.any()
+        for p in range(len(speeds)):
+            expected = dense[p][dense[p].imag <= limit][:count]
+            got = values[p][wanted[p]]
+            assert len(got) == len(expected) == (count or len(expected)) and len(expected) >= 5
+            assert np.max(np.abs(got - expected) / np.abs(expected)) < 1e-9
+    result = rdm.campbell(model, speeds, critical=False, max_frequency=700.0 / (2 * np.pi))
+    assert np.allclose(np.sort(result.frequencies_hz[0][np.isfinite(result.frequencies_hz[0])]),
+                       np.sort(dense[0][dense[0].imag <= 700.0].imag) / (2 * np.pi), rtol=1e-9)

@@ -1091,7 +1091,9 @@ def _cut_below(values, shapes, limit, count):
 def _reduced_below(stack, speeds, limit, count):
     """:func:`_reduced_roots` for the roots below ``limit`` [rad/s] (at most ``count``): roots (S, k)
     by frequency, the wanted ones first, shapes (S, k, n) and whether the speed passed every check;
-    None where the basis would hold every mode (the full eigen-solve costs less)."""
+    by shift-invert Arnoldi (:func:`._arnoldi.below`) where the basis would be too large
+    (:func:`._arnoldi.takes`); None where the basis would hold every mode of a model below that
+    route's size (the full eigen-solve costs less)."""
     n = stack.n_dof
     pencils = _Pencils(stack, speeds)
     bound = _stack_bound(stack, pencils)
@@ -1103,9 +1105,12 @@ def _reduced_below(stack, speeds, limit, count):
     below = _wanted(starts, limit, count)
     rho = _MARGIN * max(limit, np.max(np.abs(starts), where=below, initial=0.0))
     size = min(n, _needed_size(bound, rho, size))
+    attached = bound.shares(size, rho)[1] if size < n else np.zeros((n, 0))
+    if _arnoldi.takes(size + attached.shape[1], n):     # the undamped modes crowd above the limit
+        values, shapes, ok = _arnoldi.below(pencils, limit, count, _refined, _distinct)
+        return (*_by_frequency(values, shapes, count), ok)
     if size >= n:
         return None
-    _, attached = bound.shares(size, rho)
     basis = np.hstack([modes[:, :size], attached])
     starts, vectors = _starts_below(pencils, basis, limit, count, int(below.sum(axis=1).max(initial=0)) + 3)
     values, shapes, ok = _refined(pencils, starts, vectors)

@@ -224,3 +224,39 @@ def test_the_modes_below_a_frequency_of_a_crowded_chain_take_arnoldi(monkeypatch
     result = rdm.campbell(model, speeds, critical=False, max_frequency=700.0 / (2 * np.pi))
     assert np.allclose(np.sort(result.frequencies_hz[0][np.isfinite(result.frequencies_hz[0])]),
                        np.sort(dense[0][dense[0].imag <= 700.0].imag) / (2 * np.pi), rtol=1e-9)
+
+
+def test_a_crowded_chain_is_told_before_the_dense_set_up(monkeypatch):
+    """The cheap test (``_lowest._crowded``: one mode from the middle of the spectrum by inertia
+    counts and sparse Lanczos, a lower bound of the completeness bound) sends the 24-rotor chain to
+    Arnoldi without the reduced route's ``eigh`` of every mode, and says so only where that route's
+    own rule (the bound from every mode) does too; the flexible shaft of 124 coordinates is not told
+    crowded (its set-up decides, as before). Its 12 lowest roots are still scipy's to 1e-9."""
+    from rotordyn_modal.analysis._lowest import _MARGIN, _Pencils, _crowded, _needed_size, _projected_starts, _stack_bound
+
+    speeds = rdm.rpm(np.array([0.0, 3000.0]))
+    for model, crowded in ((_chain(24), True), (_on_bearings(30), False)):
+        stack = lowest_stack(model)
+        pencils = _Pencils(stack, speeds)
+        assert _crowded(stack, pencils, count=12) == crowded
+        assert _crowded(stack, pencils, limit=700.0) == crowded
+        if not crowded:
+            continue
+        # the reduced route's own rule from every undamped mode
+        bound = _stack_bound(stack, pencils)
+        n = stack.n_dof
+        rho = _MARGIN * np.max(np.abs(_projected_starts(pencils, bound.modes[:, :36], 13)[0]))
+        size = min(n, max(_needed_size(bound, rho, 36), 13))
+        attached = bound.shares(size, rho)[1] if size < n else np.zeros((n, 0))
+        assert _arnoldi.takes(size + attached.shape[1], n)
+
+    def refused(*args, **kwargs):
+        raise AssertionError("the dense set-up was made")
+
+    monkeypatch.setattr(_lowest, "_basis", refused)
+    stack = lowest_stack(_chain(24))
+    lam, _, full = _lowest.lowest_roots(stack, speeds, 12)
+    assert not full.any()
+    for p, speed in enumerate(speeds):
+        dense = _dense_lowest(stack, speed, 12)
+        assert np.max(np.abs(lam[p] - dense) / np.abs(dense)) < 1e-9

@@ -14,7 +14,7 @@ import scipy.linalg
 from threadpoolctl import threadpool_limits
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _arnoldi, _lowest
+from rotordyn_modal.analysis import _arnoldi, _lowest, _lowest_bound
 from rotordyn_modal.analysis.campbell import lowest_stack
 
 from test_flexible_large import _on_bearings
@@ -227,12 +227,13 @@ def test_the_modes_below_a_frequency_of_a_crowded_chain_take_arnoldi(monkeypatch
 
 
 def test_a_crowded_chain_is_told_before_the_dense_set_up(monkeypatch):
-    """The cheap test (``_lowest._crowded``: one mode from the middle of the spectrum by inertia
+    """The cheap test (``_lowest_route._crowded``: one mode from the middle of the spectrum by inertia
     counts and sparse Lanczos, a lower bound of the completeness bound) sends the 24-rotor chain to
-    Arnoldi without the reduced route's ``eigh`` of every mode, and says so only where that route's
-    own rule (the bound from every mode) does too; the flexible shaft of 124 coordinates is not told
+    Arnoldi without the reduced route's ``eigh`` of every mode (``_lowest_bound._basis``), and says
+    so only where that route's own rule (the bound from every mode) does too; the flexible shaft of 124 coordinates is not told
     crowded (its set-up decides, as before). Its 12 lowest roots are still scipy's to 1e-9."""
-    from rotordyn_modal.analysis._lowest import _MARGIN, _Pencils, _crowded, _needed_size, _projected_starts, _stack_bound
+    from rotordyn_modal.analysis._lowest import _MARGIN, _Pencils, _needed_size, _projected_starts, _stack_bound
+    from rotordyn_modal.analysis._lowest_route import _crowded
 
     speeds = rdm.rpm(np.array([0.0, 3000.0]))
     for model, crowded in ((_chain(24), True), (_on_bearings(30), False)):
@@ -253,7 +254,7 @@ def test_a_crowded_chain_is_told_before_the_dense_set_up(monkeypatch):
     def refused(*args, **kwargs):
         raise AssertionError("the dense set-up was made")
 
-    monkeypatch.setattr(_lowest, "_basis", refused)
+    monkeypatch.setattr(_lowest_bound, "_basis", refused)
     stack = lowest_stack(_chain(24))
     lam, _, full = _lowest.lowest_roots(stack, speeds, 12)
     assert not full.any()

@@ -63,14 +63,14 @@ def lowest(pencils, count: int, refine, distinct, progress: bool = False):
 
     Parameters
     ----------
-    pencils : _lowest._Pencils
+    pencils : _lowest_pencils._Pencils
         The sweep's pencils: ``M, C, G, K`` (n, n, dense or sparse), ``speeds`` (S,) [rad/s], the
         speed-dependent bearings' entries ``rows, cols`` (nb,) and ``kb, cb`` (S, nb).
     count : int
         Modes wanted (>= 1).
     refine : callable
         ``refine(pencils, starts (S, k), vectors (S, k, n)) -> roots, unit shapes, ok (S,)``
-        (:func:`._lowest._refined`).
+        (:func:`._lowest_newton._refined`).
     distinct : callable
         ``distinct(roots (S, k)) -> (S,)`` the roots are distinct modes (:func:`._lowest._distinct`).
     progress : bool

@@ -17,7 +17,7 @@ import scipy.linalg
 from threadpoolctl import threadpool_limits
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _lowest, _lowest_branches
+from rotordyn_modal.analysis import _lowest, _lowest_bound, _lowest_branches
 from rotordyn_modal.analysis._stack import Stack
 from rotordyn_modal.analysis.modal import OVERDAMPED_LIMIT, is_oscillating
 from rotordyn_modal.cli.main import main
@@ -220,7 +220,7 @@ def test_the_bound_bounds_the_roots_outside_the_basis(pump, below, speed):
     stack = Stack([pump])
     n = stack.n_dof
     pencils = _lowest_branches.RationalPencils(stack, speeds)
-    omegas, symmetric, modes = _lowest._basis(stack, speeds[:1])
+    omegas, symmetric, modes = _lowest_bound._basis(stack, speeds[:1])
     bound = _lowest_branches._RationalBound(pencils, omegas, modes, symmetric)
     M = pump.matrices()[0]
     tight = []

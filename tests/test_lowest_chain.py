@@ -14,7 +14,7 @@ import scipy.linalg
 from threadpoolctl import threadpool_limits
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _arnoldi, _lowest
+from rotordyn_modal.analysis import _arnoldi, _lowest, _lowest_bound
 from rotordyn_modal.analysis.campbell import lowest_stack
 
 from test_flexible_large import _on_bearings
@@ -198,3 +198,66 @@ def test_mode_numbers_after_a_lowest_sweep_come_from_the_lowest_roots(monkeypatc
     numbers = mode_numbers._solved_numbers(model, speeds[[p for p, _ in wanted]],
                                            np.array([dense[p][j] for p, j in wanted]), lowest=12)
     assert list(numbers) == [j + 1 for _, j in wanted]
+
+
+def test_the_modes_below_a_frequency_of_a_crowded_chain_take_arnoldi(monkeypatch):
+    """``campbell(max_frequency=F)`` of the 24-rotor chain (its basis would hold every mode): by
+    Arnoldi, not the full eigen-solve of every speed. Below 700 and 1,000 rad/s (9 and 19 or 20 roots;
+    with ``modes=5``, the lowest 5 of them) the roots are scipy's roots of the full state matrix
+    below F, as many and each to 1e-9 relative; the roots found are doubled from 12 until they pass F."""
+    def refused(*args, **kwargs):
+        raise AssertionError("a speed was solved whole")
+
+    monkeypatch.setattr(_lowest, "_full_lowest", refused)
+    model = _chain(24)
+    stack = lowest_stack(model)
+    speeds = rdm.rpm(np.array([0.0, 1500.0, 3000.0]))
+    dense = [_dense_lowest(stack, speed, stack.n_dof) for speed in speeds]
+    for limit, count in ((700.0, None), (1000.0, None), (1000.0, 5)):
+        values, _, wanted, full = _lowest.roots_below(stack, speeds, limit, count)
+        assert not full.any()
+        for p in range(len(speeds)):
+            expected = dense[p][dense[p].imag <= limit][:count]
+            got = values[p][wanted[p]]
+            assert len(got) == len(expected) == (count or len(expected)) and len(expected) >= 5
+            assert np.max(np.abs(got - expected) / np.abs(expected)) < 1e-9
+    result = rdm.campbell(model, speeds, critical=False, max_frequency=700.0 / (2 * np.pi))
+    assert np.allclose(np.sort(result.frequencies_hz[0][np.isfinite(result.frequencies_hz[0])]),
+                       np.sort(dense[0][dense[0].imag <= 700.0].imag) / (2 * np.pi), rtol=1e-9)
+
+
+def test_a_crowded_chain_is_told_before_the_dense_set_up(monkeypatch):
+    """The cheap test (``_lowest_route._crowded``: one mode from the middle of the spectrum by inertia
+    counts and sparse Lanczos, a lower bound of the completeness bound) sends the 24-rotor chain to
+    Arnoldi without the reduced route's ``eigh`` of every mode (``_lowest_bound._basis``), and says
+    so only where that route's own rule (the bound from every mode) does too; the flexible shaft of 124 coordinates is not told
+    crowded (its set-up decides, as before). Its 12 lowest roots are still scipy's to 1e-9."""
+    from rotordyn_modal.analysis._lowest import _MARGIN, _Pencils, _needed_size, _projected_starts, _stack_bound
+    from rotordyn_modal.analysis._lowest_route import _crowded
+
+    speeds = rdm.rpm(np.array([0.0, 3000.0]))
+    for model, crowded in ((_chain(24), True), (_on_bearings(30), False)):
+        stack = lowest_stack(model)
+        pencils = _Pencils(stack, speeds)
+        assert _crowded(stack, pencils, count=12) == crowded
+        assert _crowded(stack, pencils, limit=700.0) == crowded
+        if not crowded:
+            continue
+        # the reduced route's own rule from every undamped mode
+        bound = _stack_bound(stack, pencils)
+        n = stack.n_dof
+        rho = _MARGIN * np.max(np.abs(_projected_starts(pencils, bound.modes[:, :36], 13)[0]))
+        size = min(n, max(_needed_size(bound, rho, 36), 13))
+        attached = bound.shares(size, rho)[1] if size < n else np.zeros((n, 0))
+        assert _arnoldi.takes(size + attached.shape[1], n)
+
+    def refused(*args, **kwargs):
+        raise AssertionError("the dense set-up was made")
+
+    monkeypatch.setattr(_lowest_bound, "_basis", refused)
+    stack = lowest_stack(_chain(24))
+    lam, _, full = _lowest.lowest_roots(stack, speeds, 12)
+    assert not full.any()
+    for p, speed in enumerate(speeds):
+        dense = _dense_lowest(stack, speed, 12)
+        assert np.max(np.abs(lam[p] - dense) / np.abs(dense)) < 1e-9

@@ -140,11 +140,11 @@ def test_command_line_critical_speeds_lowest(tmp_path):
 
 
 def test_speeds_the_bound_cannot_serve_are_solved_whole(monkeypatch):
-    from rotordyn_modal.analysis import _lowest
+    from rotordyn_modal.analysis import _lowest, _lowest_bound
 
     model = rdm.Model.from_dict(_damped_machine(0.05, 1.0, 100.0, 1.0))
     speeds = np.linspace(0.0, 1500.0, 3)
-    monkeypatch.setattr(_lowest, "_SHARE", 1e-30)                # no basis short of every mode passes
+    monkeypatch.setattr(_lowest_bound, "_SHARE", 1e-30)                # no basis short of every mode passes
     monkeypatch.setattr(_lowest, "_needed_size", lambda *args: 0)
     with pytest.warns(UserWarning, match="3 of 3 speeds solved whole"):
         result = rdm.campbell(model, speeds, critical=False, modes=5)
@@ -168,13 +168,13 @@ def test_completeness_bound_bounds_the_roots_outside_the_basis(damping, speeds):
     """theory section 17: every root up to rho has at most the bound's share of its mass-norm
     outside the basis of m undamped modes and k attachment directions (checked on scipy's roots
     and shapes, for several m and k)."""
-    from rotordyn_modal.analysis import _lowest
+    from rotordyn_modal.analysis import _lowest, _lowest_bound
     from rotordyn_modal.analysis._stack import Stack
 
     model = rdm.Model.from_dict(_damped_machine(0.05, 1.0, damping, 1.0))
     speeds = np.array(speeds)
     pencils = _lowest._Pencils(Stack([model]), speeds)
-    omegas, symmetric, modes = _lowest._basis(Stack([model]), speeds[:1])
+    omegas, symmetric, modes = _lowest_bound._basis(Stack([model]), speeds[:1])
     bound = _lowest._Bound(pencils, omegas, modes, symmetric)
     M = model.matrices()[0]
     tight = []

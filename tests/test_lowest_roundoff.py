@@ -3,7 +3,7 @@ the full model's eigenvalues to 1e-9 relative).
 
 A low mode beside stiff elements (a shaft of short elements on soft supports) makes the products
 ``K x`` of its smooth shape cancel to a small part of their terms: Newton's iteration on the double
-pencil then stalls (``_lowest._stagnant``) or converges to a nearby pencil's root, measured 2.5e-7 to
+pencil then stalls (``_lowest_newton._stagnant``) or converges to a nearby pencil's root, measured 2.5e-7 to
 5.9e-7 off on the model below. The truth here is an independent solve: Newton's iteration on the
 *linearised* pencil ``(A - s B) z = 0`` of the model's own ``M, C, G, K`` (``2n`` states, dense
 LAPACK solves of the bordered system), its residual in numpy's extended precision, the root's
@@ -20,7 +20,7 @@ import pytest
 from threadpoolctl import threadpool_limits
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _lowest
+from rotordyn_modal.analysis import _lowest_newton
 
 EXTENDED = np.finfo(np.longdouble).eps < 1e-18
 needs_extended = pytest.mark.skipif(not EXTENDED, reason="numpy has no extended precision here")
@@ -85,16 +85,16 @@ def _errors(model, values, shapes):
 
 
 def _counting_stagnation(monkeypatch):
-    """Count the roots ``_lowest._stagnant`` ends (the round-off stop rule fires)."""
+    """Count the roots ``_lowest_newton._stagnant`` ends (the round-off stop rule fires)."""
     fired = [0]
-    original = _lowest._stagnant
+    original = _lowest_newton._stagnant
 
     def counted(*args):
         out = original(*args)
         fired[0] += int(np.count_nonzero(out))
         return out
 
-    monkeypatch.setattr(_lowest, "_stagnant", counted)
+    monkeypatch.setattr(_lowest_newton, "_stagnant", counted)
     return fired
 
 
@@ -114,7 +114,7 @@ def test_roots_stalled_at_round_off_are_the_full_models_to_1e_9(monkeypatch):
 def test_without_extended_precision_the_accuracy_reached_is_warned_of(monkeypatch):
     """Where the residual cannot be computed beyond double precision, the polish cannot reach 1e-9:
     a warning names the accuracy, and that figure is not below the roots' actual errors."""
-    monkeypatch.setattr(_lowest, "_EXTENDED", np.float64)
+    monkeypatch.setattr(_lowest_newton, "_EXTENDED", np.float64)
     model = _soft_shaft()
     with pytest.warns(UserWarning, match=r"exact only to about .* relative, not 1e-9") as caught:
         result = rdm.campbell(model, SPEEDS, modes=4, critical=False)
@@ -129,15 +129,15 @@ def test_without_extended_precision_the_accuracy_reached_is_warned_of(monkeypatc
 def test_polishing_every_root_of_speed_dependent_bearings_keeps_the_full_models_roots(monkeypatch):
     """Every root polished (journal bearings: the residual carries their speed-dependent entries,
     stiffness and damping); each stays the full model's to 1e-9."""
-    monkeypatch.setattr(_lowest, "_CERTAIN", 0.0)
+    monkeypatch.setattr(_lowest_newton, "_CERTAIN", 0.0)
     polished = [0]
-    original = _lowest._polished
+    original = _lowest_newton._polished
 
     def counted(pencils, index, lam, x):
         polished[0] += len(lam)
         return original(pencils, index, lam, x)
 
-    monkeypatch.setattr(_lowest, "_polished", counted)
+    monkeypatch.setattr(_lowest_newton, "_polished", counted)
     model = rdm.load_model("examples/compressor_on_journals.toml")
     with warnings.catch_warnings():
         warnings.simplefilter("error")                  # no speed solved whole: the polished roots serve

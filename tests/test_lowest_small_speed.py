@@ -10,7 +10,7 @@ import scipy.linalg
 from hypothesis import given, settings, strategies as st
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _lowest
+from rotordyn_modal.analysis import _lowest, _lowest_pencils
 from rotordyn_modal.analysis._stack import Stack
 from rotordyn_modal.io.ross_file import read_ross_rotor
 
@@ -42,7 +42,7 @@ def _by_frequency(values):
 def _counted_solves(monkeypatch):
     """Calls of the banded LU and the sizes of numpy's dense solves from now on."""
     calls = {"banded": 0, "dense": []}
-    banded, dense = _lowest._zgbsv, np.linalg.solve
+    banded, dense = _lowest_pencils._zgbsv, np.linalg.solve
 
     def counting_banded(*args, **kwargs):
         calls["banded"] += 1
@@ -52,7 +52,7 @@ def _counted_solves(monkeypatch):
         calls["dense"].append(np.shape(a))
         return dense(a, b)
 
-    monkeypatch.setattr(_lowest, "_zgbsv", counting_banded)
+    monkeypatch.setattr(_lowest_pencils, "_zgbsv", counting_banded)
     monkeypatch.setattr(np.linalg, "solve", recording_dense)
     return calls
 

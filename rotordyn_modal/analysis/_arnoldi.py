@@ -32,7 +32,7 @@ import scipy.sparse.linalg
 
 from .modal import is_oscillating
 
-__all__ = ["MIN_DOF", "SHARE", "count_below", "lowest", "takes"]
+__all__ = ["MIN_DOF", "SHARE", "below", "count_below", "lowest", "takes"]
 
 #: the rule: Arnoldi where the reduced basis (modes and attachment directions) would hold more
 #: than this share of the coordinates ...
@@ -43,6 +43,9 @@ MIN_DOF = 100
 #: roots asked of ARPACK beyond the ``count + 1`` wanted, per conjugate pair (doubled while the
 #: count disagrees, up to ``_TRIES`` times)
 _EXTRA, _TRIES = 6, 4
+#: roots first asked for at each speed for the modes below a frequency without a count (doubled until
+#: the highest lies above the frequency)
+_FIRST = 12
 #: ARPACK's tolerance on the shifted inverse's Ritz values (the roots are refined by Newton after)
 _TOLERANCE = 1e-10
 
@@ -60,14 +63,14 @@ def lowest(pencils, count: int, refine, distinct, progress: bool = False):
 
     Parameters
     ----------
-    pencils : _lowest._Pencils
+    pencils : _lowest_pencils._Pencils
         The sweep's pencils: ``M, C, G, K`` (n, n, dense or sparse), ``speeds`` (S,) [rad/s], the
         speed-dependent bearings' entries ``rows, cols`` (nb,) and ``kb, cb`` (S, nb).
     count : int
         Modes wanted (>= 1).
     refine : callable
         ``refine(pencils, starts (S, k), vectors (S, k, n)) -> roots, unit shapes, ok (S,)``
-        (:func:`._lowest._refined`).
+        (:func:`._lowest_newton._refined`).
     distinct : callable
         ``distinct(roots (S, k)) -> (S,)`` the roots are distinct modes (:func:`._lowest._distinct`).
     progress : bool
@@ -97,6 +100,71 @@ def lowest(pencils, count: int, refine, distinct, progress: bool = False):
         if found is not None:
             starts[p], vectors[p], reach[p] = found
             ok[p] = True
+    return _refined_found(pencils, starts, vectors, reach, ok, refine, distinct)
+
+
+def below(pencils, limit: float, count, refine, distinct):
+    """The oscillating roots of frequency ``Im s`` up to ``limit`` of every speed of ``pencils`` (at
+    most ``count``, the lowest) and the next, counted complete (:func:`count_below`) and refined on
+    the full pencil: the modes below a frequency on this route (``--max-frequency``).
+
+    At each speed, ARPACK is asked for the lowest roots until the highest found lies above
+    ``limit`` (their number doubled, from ``count + 1`` or ``_FIRST``), the count by inertia
+    placed above it; every speed then takes the most any speed needs (its roots below the limit
+    and one more), the later ones fillers exact as the others.
+
+    Parameters
+    ----------
+    pencils, refine, distinct
+        As :func:`lowest`.
+    limit : float
+        Highest frequency wanted [rad/s].
+    count : int or None
+        At most this many roots below the limit per speed.
+
+    Returns
+    -------
+    roots : ndarray, shape (S, k), complex [1/s]
+        By frequency; nan at a speed left to the full eigen-solve.
+    shapes : ndarray, shape (S, k, n), complex, unit norm
+    ok : ndarray of bool, shape (S,)
+    """
+    parts = _Parts(pencils)
+    S, n = len(pencils.speeds), parts.n
+    most = n - 2                              # ARPACK finds fewer than n pairs
+    want = min(most, _FIRST if count is None else count + 1)
+    found = [None] * S
+    for p in range(S):
+        while True:
+            roots = _counted_roots(parts, p, want)
+            if roots is not None and (roots[0][-1].imag > limit or (count is not None and want > count)):
+                found[p] = roots
+                break
+            if roots is None or want >= most:
+                break
+            want = min(most, 2 * want)
+    ok = np.array([roots is not None for roots in found], bool)
+    below_limit = [int(np.sum(roots[0].imag <= limit)) for roots in found if roots is not None]
+    k = min(most, max(below_limit, default=0) + 1)
+    if count is not None:
+        k = min(k, count + 1)
+    starts = np.full((S, k), np.nan + 0j)
+    vectors = np.zeros((S, k, n), complex)
+    reach = np.full((S, k), np.inf)
+    for p in np.nonzero(ok)[0]:
+        roots = found[p] if len(found[p][0]) >= k else _counted_roots(parts, p, k)
+        if roots is None:
+            ok[p] = False
+            continue
+        starts[p], vectors[p], reach[p] = (part[:k] for part in roots)
+    return _refined_found(pencils, starts, vectors, reach, ok, refine, distinct)
+
+
+def _refined_found(pencils, starts, vectors, reach, ok, refine, distinct):
+    """The roots found by ARPACK (S, k) at the speeds ``ok`` (S,), with their shapes (S, k, n) and
+    distances to the nearest other root (S, k), refined by ``refine``: roots by frequency, unit shapes
+    and whether each speed's refined roots are distinct and Newton reached the root its start
+    stands for (S,)."""
     values, shapes = starts.copy(), vectors.copy()
     if ok.any():
         sure = np.nonzero(ok)[0]

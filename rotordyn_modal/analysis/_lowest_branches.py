@@ -155,8 +155,7 @@ def _reduced_roots(stack, speeds, count):
     values, shapes, ok, modal = _refined_modes(stack, pencils, starts, vectors)
     ok &= np.isfinite(starts).all(axis=1) & (modal.all(axis=1) | complete)
     ok &= _lowest._unmissed(starts, values, count)
-    order = np.argsort(_lowest.frequency_key(values), axis=1, kind="stable")
-    values, shapes = np.take_along_axis(values, order, 1), np.take_along_axis(shapes, order[..., None], 1)
+    values, shapes = _lowest._by_frequency(values, shapes, count)
     return values, shapes, ok & _lowest._basis_suffices(np.where(modal, values, 0), bound, size,
                                                         attached.shape[1], rho)
 

@@ -1,0 +1,325 @@
+"""The full pencils of a lowest-modes sweep and their solves (``docs/theory.md`` section 17, step 3).
+
+:class:`_Pencils`: ``Q(s) = s^2 M + s (C + Omega G + C_b(Omega)) + K + K_b(Omega)`` of every speed of
+a sweep, the constant matrices once and the speed-dependent bearings' few entries per speed, each
+pencil's entries on one pattern as one product, and ``Q(s)^-1 b`` batched: dense up to
+``_DENSE_DOF`` coordinates, a banded LU with a border (a casing's coordinates) by Schur complement
+where the pencils are banded (:func:`_band`), SuperLU otherwise. Dense and ``scipy.sparse``
+matrices are served alike (:func:`_nonzero`, :func:`_block`, :func:`_diagonal`).
+"""
+
+from __future__ import annotations
+
+import typing
+
+import numpy as np
+import scipy.sparse
+import scipy.sparse.linalg
+from scipy.linalg.lapack import zgbsv as _zgbsv
+
+from . import _batches, _pencils
+
+__all__: list[str] = []
+
+#: pencils up to this many coordinates are solved dense and batched, larger banded ones by a banded
+#: LU each (measured, 2,613 pencils: 36 coordinates dense 120 ms, banded 124 ms; 44 coordinates 221
+#: against 120 ms)
+_DENSE_DOF = 36
+
+#: a banded LU is taken where the band storage (2 kl + ku + 1 rows) is at most this part of n,
+#: with at most ``_BORDER`` coordinates set apart as a border (a casing's six motions, mounts)
+_BAND_SHARE, _BORDER = 2, 12
+
+
+class _Pencils:
+    """The full pencils ``Q(s) = s^2 M + s (C + Omega G + C_b(Omega)) + K + K_b(Omega)`` of every
+    speed of a sweep: the constant matrices (n, n) and the speed-dependent bearings' few
+    entries (S, nb), evaluated once for the sweep.
+
+    Parameters
+    ----------
+    stack : Stack
+        One model.
+    speeds : ndarray, shape (S,) [rad/s]
+    """
+
+    #: the constant matrices dense even where the model keeps them sparse (a subclass whose own
+    #: terms are dense: ``_lowest_branches``)
+    dense_constant = False
+
+    def __init__(self, stack, speeds):
+        form = stack.forms[0]
+        self.speeds = speeds
+        if stack.sparse_constant is not None and not self.dense_constant:   # a large model's, kept sparse (CSR)
+            self.M, self.C, self.G, self.K = stack.sparse_constant
+        else:
+            self.M, self.C, self.G, self.K = form.matrices.M, form.matrices.C, stack.G[0], form.matrices.K
+        n = self.M.shape[0]
+        self.rows, self.cols, self.kb, self.cb = self._speed_entries(stack, speeds)
+        # the sparse LU's pattern: every entry of any of them, column by column (compressed-column order)
+        cols, rows = _pattern(self.M, self.C, self.G, self.K, self.rows, self.cols)
+        self._values = None       # the matrices' entries on the pattern, made on first use
+        self.pattern = rows, cols
+        self.indptr = np.concatenate([[0], np.cumsum(np.bincount(cols, minlength=n))]).astype(np.int32)
+        self.indices = rows.astype(np.int32)
+        # each bearing entry's place on the pattern (its keys col * n + row ascend)
+        self.bearing_at = np.searchsorted(cols * n + rows, self.cols * n + self.rows)
+        self.scatter = np.zeros((len(self.rows), n))
+        self.scatter[np.arange(len(self.rows)), self.rows] = 1.0
+        self.band = _band(rows, cols, n)
+        # omega_max^2: the largest ratio of the stiffness's diagonal (with the bearings' at any speed) to the mass's
+        diagonal = np.abs(_diagonal(self.K)).copy()
+        on = self.rows == self.cols
+        if on.any():
+            np.maximum.at(diagonal, self.rows[on], np.abs(_diagonal(self.K)[self.rows[on]] + self.kb[:, on]).max(axis=0))
+        mass = _diagonal(self.M)
+        self.scale = float(np.max(diagonal / np.where(mass > 0, mass, np.inf)))
+        # the products Q'(s) x: sparse (a dense complex product of n x n per root cost more than the solves)
+        self.sparse = [scipy.sparse.csr_matrix(matrix) for matrix in (self.M, self.C, self.G)]
+
+    def _speed_entries(self, stack, speeds):
+        """The entries of K and C that change with the speed (the bearings'): rows (nb,), columns
+        (nb,), stiffness and damping (S, nb) each; a subclass adds entries of its own to the
+        pattern and the completeness bound's coordinates (``_lowest_branches``)."""
+        if stack.dependent:
+            return _bearing_entries(stack.models[0], speeds)
+        return np.zeros(0, int), np.zeros(0, int), np.zeros((len(speeds), 0)), np.zeros((len(speeds), 0))
+
+    def more_terms(self, index, lam, x, precision=float, magnitude=False):
+        """The pencil's terms beyond ``s^2 M + s (C + Omega G + C_b) + K + K_b`` times ``x`` (P, n)
+        at roots ``lam`` (P,) in ``precision`` (with ``magnitude``: their entries' moduli times
+        ``x``), for the residuals and the round-off estimate: none here (0); the Maxwell branches'
+        rational stiffness in ``_lowest_branches``."""
+        return 0.0
+
+    def projected(self, first: int, basis):
+        """``W^T (C + Omega G + C_b) W``, ``W^T (K + K_b) W`` at the speed ``first`` and ``W^T G W``
+        of a basis ``W`` (n, m), (m, m) each, by products with the sparse matrices (a large model's)."""
+        Wt = basis.T
+        damping = Wt @ ((self.C + self.speeds[first] * self.G) @ basis)
+        stiffness, gyroscopic = Wt @ (self.K @ basis), Wt @ (self.G @ basis)
+        if len(self.rows):
+            left, right = basis[self.rows].T, basis[self.cols]
+            damping = damping + (left * self.cb[first]) @ right
+            stiffness = stiffness + (left * self.kb[first]) @ right
+        return damping, stiffness, gyroscopic
+
+    def dense(self, index):
+        """``C + Omega G + C_b`` and ``K + K_b`` of the speeds ``index`` (P,), (P, n, n) each."""
+        damping = self.C + self.speeds[index, None, None] * self.G
+        stiffness = np.array(np.broadcast_to(self.K, damping.shape))
+        damping[:, self.rows, self.cols] += self.cb[index]
+        stiffness[:, self.rows, self.cols] += self.kb[index]
+        return damping, stiffness
+
+    def derivative_times(self, index, lam, x):
+        """``Q'(lam_p) x_p = (2 lam_p M + C + Omega G + C_b) x_p`` (P, n)."""
+        M, C, G = self.sparse
+        out = 2 * lam[:, None] * (M @ x.T).T + (C @ x.T).T + self.speeds[index, None] * (G @ x.T).T
+        return out + (self.cb[index] * x[:, self.cols]) @ self.scatter
+
+    def solve(self, index, lam, rhs):
+        """``Q(lam_p)^-1 rhs_p`` for every row: batched dense up to ``_DENSE_DOF`` coordinates; a
+        banded LU each where the pencils are banded (a shaft on the ground: its elements couple
+        neighbouring nodes), in threads; else a sparse LU each (SuperLU)."""
+        n = self.M.shape[0]
+        if n <= _DENSE_DOF:         # from the entries: a subclass's own terms (_lowest_branches) included
+            rows, cols = self.pattern
+            Q = np.zeros((len(lam), n * n), complex)
+            Q[:, rows * n + cols] = self._entries(index, lam)
+            return _pencils._solve(Q.reshape(-1, n, n), rhs[..., None])[..., 0]
+        if self.band is not None:
+            width = 2 * self.band.lower + self.band.upper + 1
+            return _batches._threaded(self._banded_solve, index, lam, rhs, item_bytes=16 * n * (width + 2))
+        out = np.empty(rhs.shape, complex)
+        for p in range(len(lam)):
+            Q = scipy.sparse.csc_matrix((self._entries(index[p:p + 1], lam[p:p + 1])[0], self.indices, self.indptr),
+                                        shape=(n, n))
+            out[p] = scipy.sparse.linalg.splu(Q).solve(rhs[p])
+        return out
+
+    @property
+    def values(self) -> np.ndarray:
+        """M, C, G and K on the pattern (nnz, 4), made on first use: every row's entries are one
+        product with them (:meth:`_entries`)."""
+        if self._values is None:
+            rows, cols = self.pattern
+            self._values = np.ascontiguousarray(np.stack(
+                [_entries_at(matrix, rows, cols) for matrix in (self.M, self.C, self.G, self.K)], axis=-1))
+        return self._values
+
+    def _entries(self, index, lam):
+        """The pencils' entries on the pattern, (P, nnz) complex: the coefficients ``s^2, s, s Omega, 1``
+        of each row (real and imaginary parts, (P, 4, 2)) times the pattern's M, C, G and K (nnz, 4),
+        one product (a quarter of the time of the terms summed as complex arrays)."""
+        s = lam
+        coefficients = np.empty((len(s), 4, 2))
+        for term, value in enumerate((s * s, s, s * self.speeds[index])):
+            coefficients[:, term, 0], coefficients[:, term, 1] = value.real, value.imag
+        coefficients[:, 3] = (1.0, 0.0)
+        data = np.matmul(self.values, coefficients).view(complex)[..., 0]      # (P, nnz, 2) as complex
+        data[:, self.bearing_at] += s[:, None] * self.cb[index] + self.kb[index]
+        return data
+
+    def _banded_solve(self, index, lam, rhs):
+        """:meth:`solve` by LAPACK's banded LU with partial pivoting (``zgbsv``), one row at a
+        time, and a Schur complement for the border (a casing's coordinates), batched."""
+        band = self.band
+        n, k = self.M.shape[0], len(band.order) - band.size
+        size, width = band.size, 2 * band.lower + band.upper + 1
+        out = np.empty(rhs.shape, complex)
+        for part in _batches.chunk_slices(len(lam), 16 * n * (width + 3 * k + 2), budget=2**24):
+            data = self._entries(index[part], lam[part])
+            count = len(data)
+            # LAPACK's band storage A(i, j) -> ab[kl + ku + i - j, j], Fortran order: ab.T in C order
+            ab = np.zeros((count, size, width), complex)
+            ab[:, band.cols[band.inside], band.rows[band.inside]] = data[:, band.inside]
+            # the border's columns (every row) and rows (the band's columns), (P, n, k) and (P, k, size)
+            columns, rows = np.zeros((count, n, k), complex), np.zeros((count, k, size), complex)
+            columns[:, band.place_rows[band.right], band.cols[band.right] - size] = data[:, band.right]
+            rows[:, band.place_rows[band.below] - size, band.cols[band.below]] = data[:, band.below]
+            b = rhs[part][:, band.order]
+            # B^-1 [b_1, E]: one banded solve with k + 1 right-hand sides each
+            y = np.empty((count, k + 1, size), complex)
+            y[:, 0], y[:, 1:] = b[:, :size], np.swapaxes(columns[:, :size], 1, 2)
+            for p in range(count):
+                _, _, x, info = _zgbsv(band.lower, band.upper, ab[p].T, y[p].T, overwrite_ab=1, overwrite_b=1)
+                y[p] = x.T if info == 0 else np.nan
+            solution = np.empty((count, n), complex)
+            solution[:, :size] = y[:, 0]
+            if k:
+                schur = columns[:, size:] - rows @ np.swapaxes(y[:, 1:], 1, 2)                 # (P, k, k)
+                border = _pencils._solve(schur, (b[:, size:] - np.einsum("pki,pi->pk", rows, y[:, 0]))[..., None])[..., 0]
+                solution[:, size:] = border
+                solution[:, :size] -= np.einsum("pki,pk->pi", y[:, 1:], border)
+            out[part][:, band.order] = solution
+        return out
+
+
+def _band(rows, cols, n):
+    """The band of a pattern ``(rows, cols)`` (nnz,) each: a border of at most ``_BORDER``
+    coordinates (a casing's, coupled to distant nodes) set apart, the others in their own order
+    or reverse Cuthill-McKee's, whichever is narrower: ``_Band``, or None where the band is too
+    wide to pay."""
+    border = []
+    for _ in range(_BORDER + 1):
+        best = _narrowest(rows, cols, n, border)
+        if (2 * best.lower + best.upper + 1) * _BAND_SHARE <= n:
+            return best
+        if len(border) == _BORDER:
+            return None
+        # the coordinate coupled farthest in the band's order goes to the border
+        keep = np.isin(rows, border, invert=True) & np.isin(cols, border, invert=True)
+        where = best.place_rows[keep], best.cols[keep]
+        reach = np.zeros(n)
+        np.maximum.at(reach, best.order[where[0]], np.abs(where[0] - where[1]))
+        reach[border] = -1.0
+        border.append(int(np.argmax(reach)))
+    return None
+
+
+def _narrowest(rows, cols, n, border):
+    """:func:`_band` with the coordinates ``border`` set apart (last)."""
+    import scipy.sparse.csgraph
+
+    inner = np.setdiff1d(np.arange(n), border)
+    keep = np.isin(rows, inner) & np.isin(cols, inner)
+    graph = scipy.sparse.csr_matrix((np.ones(int(keep.sum())), (rows[keep], cols[keep])), shape=(n, n))
+    graph = (graph + graph.T)[inner][:, inner]
+    best = None
+    for order in (inner, inner[scipy.sparse.csgraph.reverse_cuthill_mckee(graph.tocsr(), symmetric_mode=True)]):
+        order = np.concatenate([order, np.asarray(border, int)])
+        place = np.empty(n, int)
+        place[order] = np.arange(n)
+        i, j = place[rows], place[cols]
+        size = len(inner)
+        inside = (i < size) & (j < size)
+        lower = int(max(0, np.max(i - j, where=inside, initial=0)))
+        upper = int(max(0, np.max(j - i, where=inside, initial=0)))
+        if best is None or lower + upper < best.lower + best.upper:
+            best = _Band(lower, upper, order, size, i, j, lower + upper + i - j, inside, j >= size, (i >= size) & (j < size))
+    return best
+
+
+class _Band(typing.NamedTuple):
+    lower: int
+    upper: int
+    order: np.ndarray          # (n,) the band's coordinates, then the border's: q[order]
+    size: int                  # coordinates in the band
+    place_rows: np.ndarray     # (nnz,) each entry's row in that order
+    cols: np.ndarray           # (nnz,) each entry's column in that order
+    rows: np.ndarray           # (nnz,) each entry's row in LAPACK's band storage
+    inside: np.ndarray         # (nnz,) bool: the entry is in the band
+    right: np.ndarray          # (nnz,) bool: in a border column
+    below: np.ndarray          # (nnz,) bool: in a border row, a band column
+
+
+def _pattern(M, C, G, K, bearing_rows, bearing_cols):
+    """Where any of ``M, C, G, K`` (dense, or ``scipy.sparse`` for a large model) or a bearing
+    entry is nonzero: ``(cols, rows)`` (nnz,) each, column by column, rows ascending in each."""
+    if scipy.sparse.issparse(M):
+        n = M.shape[0]
+        found = (abs(M) + abs(C) + abs(G) + abs(K)).tocoo()
+        keys = np.unique(np.concatenate([found.col[found.data != 0].astype(np.int64) * n + found.row[found.data != 0],
+                                         bearing_cols.astype(np.int64) * n + bearing_rows]))
+        return keys // n, keys % n
+    pattern = (M != 0) | (C != 0) | (G != 0) | (K != 0)
+    pattern[bearing_rows, bearing_cols] = True
+    return np.nonzero(pattern.T)
+
+
+def _entries_at(matrix, rows, cols) -> np.ndarray:
+    """``matrix[rows, cols]`` (nnz,) of a dense or ``scipy.sparse`` matrix."""
+    if scipy.sparse.issparse(matrix):
+        return np.asarray(matrix.tocsr()[rows, cols]).reshape(-1)
+    return matrix[rows, cols]
+
+
+def _diagonal(matrix) -> np.ndarray:
+    """The diagonal (n,) of a dense or ``scipy.sparse`` matrix."""
+    return matrix.diagonal() if scipy.sparse.issparse(matrix) else np.diagonal(matrix)
+
+
+def _nonzero(matrix):
+    """``numpy.nonzero`` of a dense or ``scipy.sparse`` matrix: (rows, cols)."""
+    if scipy.sparse.issparse(matrix):
+        coo = matrix.tocoo()
+        keep = coo.data != 0
+        return coo.row[keep], coo.col[keep]
+    return np.nonzero(matrix)
+
+
+def _block(matrix, local) -> np.ndarray:
+    """``matrix[local][:, local]`` dense (|L|, |L|) of a dense or ``scipy.sparse`` matrix."""
+    if scipy.sparse.issparse(matrix):
+        return matrix.tocsr()[local][:, local].toarray()
+    return matrix[np.ix_(local, local)]
+
+
+def _bearing_entries(model, speeds):
+    """The speed-dependent bearings' entries of K and C: positions (nb,), (nb,) and values
+    (S, nb), (S, nb) at every speed (the rows and columns a bearing's relative motion touches)."""
+    from ..assembly import bearing_coefficients, bearing_motion
+
+    n = model.dofs.n
+    keys, stiffness, damping = [], [], []
+    for bearing in model.bearings:
+        if bearing.coefficients.kind == "constant":
+            continue
+        k6, c6 = bearing_coefficients(model, bearing, speeds)
+        where, moves = bearing_motion(model, bearing)
+        used = np.nonzero(np.any(moves != 0, axis=0))[0]
+        part = moves[:, used]
+        index = np.arange(n)[where][used]
+        keys.append((index[:, None] * n + index[None, :]).reshape(-1))
+        stiffness.append((part.T @ k6 @ part).reshape(len(speeds), -1))
+        damping.append((part.T @ c6 @ part).reshape(len(speeds), -1))
+    if not keys:
+        return np.zeros(0, int), np.zeros(0, int), np.zeros((len(speeds), 0)), np.zeros((len(speeds), 0))
+    unique, inverse = np.unique(np.concatenate(keys), return_inverse=True)
+    kb, cb = np.zeros((len(speeds), len(unique))), np.zeros((len(speeds), len(unique)))
+    np.add.at(kb, (slice(None), inverse), np.hstack(stiffness))
+    np.add.at(cb, (slice(None), inverse), np.hstack(damping))
+    # the entries some speed's coefficients make nonzero (a bearing's tilt coordinates carry none)
+    used = np.any(kb != 0, axis=0) | np.any(cb != 0, axis=0)
+    return unique[used] // n, unique[used] % n, kb[:, used], cb[:, used]

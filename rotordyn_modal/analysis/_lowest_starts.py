@@ -1,0 +1,157 @@
+"""The starts of the lowest modes' Newton iteration, and which roots are the lowest
+(``docs/theory.md`` section 17, step 2 and "Ties").
+
+:func:`_projected_starts`: the lowest roots of the projected pencils ``W^T Q(s) W`` of every speed
+(one batched ``eigvals``, the wanted roots' vectors by one inverse-iteration step each);
+:func:`frequency_key` and :func:`lowest_order`: roots by frequency, the modes first, and at a tie
+across the ``count``-th place the least stable kept.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import scipy.sparse
+
+from . import _batches, _pencils, _vectors
+from .modal import is_oscillating
+
+__all__ = ["frequency_key", "lowest_order"]
+
+
+def _projected_starts(pencils, basis, want, index=None):
+    """The ``want`` lowest-frequency oscillating roots of the projected pencils at every speed
+    (or at the speeds ``index``) (S, want) and their vectors in full coordinates (S, want, n)."""
+    n, m = basis.shape
+    index = np.arange(len(pencils.speeds)) if index is None else index
+    speeds, cb, kb = pencils.speeds[index], pencils.cb[index], pencils.kb[index]
+    S = len(speeds)
+    starts = np.empty((S, want), complex)
+    vectors = np.empty((S, want, n), complex)
+    Wt = basis.T
+    if scipy.sparse.issparse(pencils.M):     # a large model's: products with its sparse matrices
+        D0, K0, Gr = pencils.projected(index[0], basis)
+    else:
+        damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
+        D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
+    # the bearings' changes from the first speed, projected entry by entry
+    left, right = basis[pencils.rows].T, basis[pencils.cols]
+    for part in _batches.chunk_slices(S, 64 * m * m):
+        D = D0 + (speeds[part] - speeds[0])[:, None, None] * Gr                  # (P, m, m)
+        Kr = np.broadcast_to(K0, D.shape)
+        if len(pencils.rows):
+            D = D + (left[None] * (cb[part] - cb[:1])[:, None, :]) @ right
+            Kr = Kr + (left[None] * (kb[part] - kb[:1])[:, None, :]) @ right
+        A = np.zeros((len(D), 2 * m, 2 * m))
+        A[:, :m, m:] = np.eye(m)
+        A[:, m:, :m] = -Kr              # the basis is mass-orthonormal: W^T M W = I
+        A[:, m:, m:] = -D
+        lam, shapes = _projected_roots(A, D, Kr, want)
+        starts[part] = lam
+        vectors[part] = _vectors.unit_rows(shapes @ Wt)
+    return starts, vectors
+
+
+def frequency_key(lam):
+    """The sort key of roots ``lam`` (any shape) by frequency: ``Im lam`` of the oscillating roots,
+    ``inf`` for the others (pushed to the end)."""
+    return np.where(is_oscillating(lam), lam.imag, np.inf)
+
+
+#: roots whose frequencies differ by at most this times their modulus are of one frequency for the
+#: choice of the lowest (the accuracy promised: an undamped cross-coupled model's pairs ``-a + ib``,
+#: ``a + ib`` are equal to round-off)
+_TIE = 1e-9
+
+
+def lowest_order(lam, count=None):
+    """Where the roots of each row of ``lam`` (S, m) stand by frequency (:func:`frequency_key`, a
+    stable sort), (S, m); where the ``count``-th place falls inside a group of roots of one
+    frequency (within ``_TIE``), that group by decreasing real part, so that the first ``count``
+    keep its least stable roots: an undamped cross-coupled model has pairs ``-a + ib``, ``a + ib``
+    of one frequency, and keeping the stable one of a split pair would hide the unstable one."""
+    key = frequency_key(lam)
+    order = np.argsort(key, axis=-1, kind="stable")
+    if count is None or not 0 < count < lam.shape[-1]:
+        return order
+    key, values = np.take_along_axis(key, order, -1), np.take_along_axis(lam, order, -1)
+    with np.errstate(invalid="ignore"):
+        tied = np.abs(np.diff(key, axis=-1)) <= _TIE * np.abs(values[:, 1:])        # (S, m - 1): j, j + 1
+    for row in np.nonzero(tied[:, count - 1])[0]:
+        first, last = count - 1, count
+        while first > 0 and tied[row, first - 1]:
+            first -= 1
+        while last + 1 < lam.shape[-1] and tied[row, last]:
+            last += 1
+        group = order[row, first:last + 1]
+        order[row, first:last + 1] = group[np.argsort(-lam[row, group].real, kind="stable")]
+    return order
+
+
+def _by_frequency(values, shapes, count=None):
+    """Roots (S, k) and shapes (S, k, n) in the order of :func:`lowest_order` (``count``: the place
+    of the cut)."""
+    order = lowest_order(values, count)
+    return np.take_along_axis(values, order, 1), np.take_along_axis(shapes, order[..., None], 1)
+
+
+def _projected_roots(A, damping, stiffness, want):
+    """The ``want`` lowest-frequency oscillating roots (P, want) of the projected state matrices
+    ``A`` (P, 2 m, 2 m) and their shapes (P, want, m): the roots by a batched ``eigvals``, the shapes
+    by one inverse-iteration step each on the projected pencils (``damping``, ``stiffness`` (P, m, m),
+    unit mass); a speed where a root picked is not a mode or lies within ``_CLOSE`` of another
+    takes ``eig``'s roots and eigenvectors. Threads, one BLAS thread each (BLAS's own threads on
+    top oversubscribe the cores)."""
+    m = damping.shape[-1]
+    lam = _batches._threaded(np.linalg.eigvals, A, item_bytes=24 * (2 * m) ** 2)
+    order = _lowest_order(lam, want)
+    picked = np.take_along_axis(lam, order, axis=1)
+    whole = ~is_oscillating(picked).all(axis=1) | _close(picked, lam, order)
+    shapes = np.empty(picked.shape + (m,), complex)
+    if whole.any():
+        values, vectors = np.linalg.eig(A[whole])
+        order = _lowest_order(values, want)
+        rows = np.arange(len(values))[:, None]
+        picked[whole], shapes[whole] = values[rows, order], vectors[rows, :m, order]
+    sure = np.nonzero(~whole)[0]
+    if len(sure):
+        part = functools.partial(_pencil_shapes_part, np.eye(m))
+        shapes[sure] = _batches._threaded(part, stiffness[sure], picked[sure], damping[sure],
+                                          item_bytes=48 * want * m * m)
+    return picked, shapes
+
+
+def _lowest_order(lam, want):
+    """Where the ``want`` lowest-frequency oscillating roots of each row of ``lam`` are (P, want):
+    the oscillating roots by frequency, the others pushed to the end."""
+    return np.argsort(frequency_key(lam), axis=-1)[:, :want]
+
+
+
+#: a wanted root closer than this times |lam| to another root (or to its conjugate) takes its
+#: shape from the full eigen-solve: one inverse-iteration step leaves an error of about its
+#: shift (1e-13 |lam|) over that gap
+_CLOSE = 1e-4
+
+
+def _pencil_shapes_part(M, stiffness, lam, damping):
+    """:func:`_pencil_shapes` of some speeds: ``stiffness`` (n, n), or (P, n, n) per speed."""
+    shapes = _pencils.pencil_shapes(M, damping, stiffness, lam).reshape(-1, M.shape[-1])
+    # the phase of eig's state eigenvectors [phi, lam phi]: their largest entry real (up to its
+    # sign, which eig leaves open)
+    roots = lam.reshape(-1, 1)
+    largest = np.take_along_axis(shapes, np.abs(shapes).argmax(axis=-1)[:, None], axis=-1)
+    largest = np.where(np.abs(roots) > 1.0, roots * largest, largest)
+    shapes *= largest.conj() / np.abs(largest)
+    return shapes.reshape(lam.shape + (M.shape[-1],))
+
+
+def _close(lam, upper, order):
+    """(S,) a root of ``lam`` (S, k) lies within ``_CLOSE`` times its modulus of another root of
+    ``upper`` (S, m), the upper roots it was picked from (at ``order`` (S, k)), or of its own
+    conjugate."""
+    distance = np.abs(lam[:, :, None] - upper[:, None, :])
+    np.put_along_axis(distance, order[:, :, None], np.inf, axis=-1)          # itself
+    nearest = np.minimum(distance.min(axis=-1), 2 * np.abs(lam.imag))
+    return (nearest <= _CLOSE * np.abs(lam)).any(axis=1)

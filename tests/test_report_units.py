@@ -315,3 +315,25 @@ def test_the_level1_station_names_the_unit_of_its_offset(pages):
         page, figures = pages["flexible"][units]
         assert f"Stations: {named};" in page
         assert any(f"Q at {named}\n" in text for text in figures), units
+
+
+def test_a_section_not_evaluated_names_the_model_file_not_its_path():
+    """The UCS map of a model without bearings is refused by the analysis with the model file's
+    path; the report gives the file's name, as its Model section does (a report sent to a client
+    does not carry the directories of the machine that wrote it)."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    import importlib
+
+    from rotordyn_modal.io import load_model
+
+    collect = importlib.import_module("rotordyn_modal.report.collect")     # the module, not the function
+    path = ROOT / "examples" / "counter_rotating.toml"
+    data = SimpleNamespace(model=load_model(path), skipped={}, results={},
+                           inputs=SimpleNamespace(stiffness=np.array([1e6, 1e8]), range=(300.0, 314.0)))
+    collect._ucs(data)
+    reason = data.skipped["ucs"]
+    assert reason.startswith("counter_rotating.toml: ") and "[[bearings]]" in reason
+    assert str(path.parent) not in reason

@@ -262,7 +262,7 @@ def _static(data):
     try:
         data.results["static"] = static(data.model, speed=data.inputs.mcs)
     except InputError as error:
-        data.skipped["static"] = str(error)
+        data.skipped["static"] = _reason(error, data.model)
         return
     for check in data.results["static"].stress_checks():
         _stress_criterion(data, check)
@@ -534,7 +534,14 @@ def _ucs(data):
     try:
         data.results["ucs"] = ucs_map(data.model, data.inputs.stiffness, modes=4, operating=data.inputs.range)
     except InputError as error:
-        data.skipped["ucs"] = str(error)
+        data.skipped["ucs"] = _reason(error, data.model)
+
+
+def _reason(error, model) -> str:
+    """Why an analysis is not evaluated: the refusal's message with the model file named as the
+    Model section names it (its name, not the path of the machine that ran the report)."""
+    source = str(getattr(model, "source", "") or "")
+    return str(error).replace(source, Path(source).name) if source else str(error)
 
 
 def _probe_limits(data):

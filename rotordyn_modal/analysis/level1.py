@@ -28,7 +28,7 @@ from ..errors import InputError
 from ..linear_system import speed_linear_form
 from ..model._table import LARGEST
 from ..model.geometry import transverse_axes
-from ..units import to_system
+from ..units import to_system, unit_label
 from . import _arguments, _eigensolve, _vectors, _whirl
 from .modal import is_oscillating, modal_quantities
 from .tracking import track_modes
@@ -96,6 +96,12 @@ class Station:
         if units == "si" or self.offset == 0:
             return str(self)
         return f"{self.rotor}@{to_system(self.offset, 'length', units):g}"
+
+    def named(self, units: str = "si") -> str:
+        """:meth:`label` with the offset's unit, as figures and reports print it: ``ROTOR`` at the
+        centre of mass, ``fan@-0.1 m``, ``fan@-3.93701 in`` (``label`` stays the form ``--station``
+        reads)."""
+        return self.label(units) + (f" {unit_label('length', units)}" if self.offset else "")
 
 
 def anticipated_cross_coupling(power, speed, diameter, height, density_ratio=1.0, machine: str = "compressor"):

@@ -65,7 +65,7 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     top.xaxis.get_major_formatter().set_scientific(False)
     top.set_xlabel(f"Q [{prefix}{unit}]")
     ax.grid(True, alpha=0.3)
-    stations = ", ".join(s.label(units) for s in result.stations)
+    stations = ", ".join(s.named(units) for s in result.stations)
     heading = title or (f"API 617 Level I: {result.title}" if result.title else "API 617 Level I")
     # the verdict (with the CSR a line of some 150 characters) wrapped to the figure's width
     ax.set_title(f"{textwrap.shorten(heading, 80)}\nat {result.speed * 30 / np.pi:.6g} rpm, Q at {stations}\n"

@@ -21,7 +21,7 @@ import numpy as np
 from ..errors import InputError
 from ..units import check_system, unit_scale
 
-__all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "Criterion", "ReportInputs", "ReportData", "collect",
+__all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "CRITERION_SOURCES", "Criterion", "ReportInputs", "ReportData", "collect",
            "separation_margins", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
 
 #: section id -> heading
@@ -66,6 +66,25 @@ def shown_scale(kind: str, system: str = "si") -> tuple:
     return SHOWN_UNITS[kind][check_system(system)]
 
 
+#: where each criterion's rule comes from, by the beginning of its name (first match): the
+#: standard, edition and clause as far as checked, and the page of the docs that writes the rule
+#: out with its public sources and what stays unverified (no quantity with a unit: the text is
+#: the same in every unit system)
+CRITERION_SOURCES = (
+    ("Shaft stress", "the material's allowable_stress of the model file; von Mises stress, docs/static.md (Stress)"),
+    ("API 684 separation margin", "API 617 / API RP 684 (2nd ed.) SP6.8.2.1 and SP6.8.2.10 as ROSS cites them "
+                                  "(clauses not verified); docs/standards.md"),
+    ("API 617 probe vibration limit", "API 617 (9th ed.) 6.8.2.10 as ROSS cites it; docs/standards.md"),
+    ("API 617 clearance", "API 617 (9th ed.) 6.8.2.10 and 6.8.2.11 as ROSS PR 1377 implements them; "
+                          "docs/standards.md"),
+    ("API 617 Level I: critical speed ratio", "API 617 (7th ed.) Level I chart, its line as ROSS implements it "
+                                              "(unverified against the standard); docs/standards.md"),
+    ("API 617 Level I", "API 617 (7th ed., kept in the 8th) Level I, API RP 684 (2nd ed.) SP6.8.5, as ROSS "
+                        "implements it (unverified against the standard); docs/level1_and_ucs.md"),
+    ("ISO 20816-3", "ISO 20816-3 zone boundaries (those of ISO 10816-3:2009 Annex A); docs/standards.md"),
+)
+
+
 @dataclass(frozen=True)
 class Criterion:
     """One line of the summary: a criterion, its value, limit and verdict.
@@ -90,6 +109,11 @@ class Criterion:
         """A criterion whose fields named in ``quantities`` are written from their SI values."""
         made = cls(name, value, limit, verdict, section, why, tuple(quantities))
         return made.in_system("si")
+
+    @property
+    def source(self) -> str:
+        """Where the criterion's rule comes from (:data:`CRITERION_SOURCES`)."""
+        return next((text for start, text in CRITERION_SOURCES if self.name.startswith(start)), "")
 
     def in_system(self, system: str) -> "Criterion":
         """This criterion with its quantities written in ``system`` ('si' or 'us'); the verdict
@@ -238,7 +262,7 @@ def _static(data):
     try:
         data.results["static"] = static(data.model, speed=data.inputs.mcs)
     except InputError as error:
-        data.skipped["static"] = str(error)
+        data.skipped["static"] = _reason(error, data.model)
         return
     for check in data.results["static"].stress_checks():
         _stress_criterion(data, check)
@@ -510,7 +534,14 @@ def _ucs(data):
     try:
         data.results["ucs"] = ucs_map(data.model, data.inputs.stiffness, modes=4, operating=data.inputs.range)
     except InputError as error:
-        data.skipped["ucs"] = str(error)
+        data.skipped["ucs"] = _reason(error, data.model)
+
+
+def _reason(error, model) -> str:
+    """Why an analysis is not evaluated: the refusal's message with the model file named as the
+    Model section names it (its name, not the path of the machine that ran the report)."""
+    source = str(getattr(model, "source", "") or "")
+    return str(error).replace(source, Path(source).name) if source else str(error)
 
 
 def _probe_limits(data):

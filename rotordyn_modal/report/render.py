@@ -25,7 +25,7 @@ table { border-collapse: collapse; margin: 0.6em 0; font-size: 12px; }
 th, td { border: 1px solid #bbc; padding: 2px 6px; text-align: right; }
 th { background: #eef; } td.text, th.text { text-align: left; }
 .pass { background: #d8f3d8; } .fail { background: #f8d0d0; font-weight: bold; }
-.not-evaluated { background: #eee; color: #555; }
+.not-evaluated { background: #eee; color: #555; } td.nowrap { white-space: nowrap; }
 figure { margin: 1em 0; } figure img { max-width: 100%; height: auto; border: 1px solid #ddd; }
 figcaption { font-size: 12px; color: #444; }
 code, .mono { font-family: "DejaVu Sans Mono", monospace; font-size: 12px; word-break: break-all; }
@@ -116,9 +116,11 @@ def _g(value, digits=4) -> str:
 
 def _summary(data, units) -> str:
     shown = [c.in_system(units) for c in data.criteria]
-    rows = [[(f'<a href="#{c.section}">{escape(c.name)}</a>', "text"), c.value, c.limit, _verdict_cell(c.verdict),
-             c.why] for c in shown]
-    headers = [("criterion", True), ("value", False), ("limit", False), ("verdict", True), ("note", True)]
+    # a value and its limit each on one line: "25.4 µm pk-pk" broken after the number reads as two values
+    rows = [[(f'<a href="#{c.section}">{escape(c.name)}</a>', "text"), (escape(c.value), "nowrap"),
+             (escape(c.limit), "nowrap"), _verdict_cell(c.verdict), c.why, c.source] for c in shown]
+    headers = [("criterion", True), ("value", False), ("limit", False), ("verdict", True), ("note", True),
+               ("source of the rule", True)]
     warn = "".join(f"<li>{escape(w)}</li>" for w in data.warnings)
     return _table(rows, headers) + (f'<p class="note">Warnings of the analyses:</p><ul class="note">{warn}</ul>'
                                     if warn else "")
@@ -366,10 +368,11 @@ def _unbalance(data, units) -> str:
     response, checks = data.results.get("unbalance"), data.results.get("checks")
     if response is None:
         return _heading("unbalance") + _skipped(data, "unbalance")
-    amount = "6350 W/N g mm" if units == "si" else "4 W/N oz in, W in lb,"   # the same amount (API 617)
+    # the same amount (API 617): 4 oz in/lb = 6350 g mm/kg
+    amount = "6350 W/N g mm (W in kg" if units == "si" else "4 W/N oz in (W in lb"
+    amount += ", N the MCS in rpm; api-static at the centre of mass, api-couple at the outermost bearings)"
     what = ("the model's [[unbalances]]" if data.inputs.standard == "iso" else
-            f"the API 617/684 unbalance cases Ua = 2 Ur, Ur = {amount} (api-static at the centre of mass, api-couple at "
-            "the outermost bearings), each case on its own")
+            f"the API 617/684 unbalance cases Ua = 2 Ur, Ur = {amount}, each case on its own")
     parts = [_heading("unbalance"), f"<p>Response to {escape(what)}.</p>",
              _figure(response.plot(amplitude="pk-pk", checks=checks, peaks=data.results.get("margins"), **_units(units)),
                      "Figure: unbalance response, amplitude peak-to-peak and phase against speed; the largest peaks "
@@ -478,8 +481,8 @@ def _runs_table(runs, judged, units) -> str:
 
 
 def _station(station, units) -> str:
-    """``ROTOR@OFFSET`` with the offset in the length unit of ``units``."""
-    return station.label(units) if hasattr(station, "label") else str(station)
+    """``ROTOR@OFFSET UNIT``: the offset in the length unit of ``units``, named (m or in)."""
+    return station.named(units) if hasattr(station, "named") else str(station)
 
 
 def _iso(data, units) -> str:

@@ -22,9 +22,10 @@ from .elements.bearings import evaluate
 from .elements._bearing_validation import LONG_JOURNAL
 from .model._table import visible
 from .errors import InputError, ModelError
+from .model.dofs import frame_block
 from .model.geometry import shift_matrix
 from .units import to_system, unit_label
-from .elements.mounts import maxwell_branches, with_branch_states
+from .elements.mounts import maxwell_branch_blocks, with_branch_states
 
 __all__ = ["SpeedLinearForm", "speed_linear_form", "checked_mass_inverse", "implausible", "SAG_LIMIT",
            "stiffness_spread_lines", "support_spreads", "SPREAD_WARN_DIGITS", "SPREAD_REFUSE_DIGITS",
@@ -284,7 +285,10 @@ class SpeedLinearForm:
             self._dense = constant_matrices(model)
             self._inverse = _mass_inverse(self._dense.M, model)
         self.n_dof = model.dofs.n if self._dense is None else self._dense.M.shape[0]
-        self.branch_stiffness, self.branch_times = maxwell_branches(model)
+        # the Maxwell branches as 6x6 blocks on the stator's motion: their n x n arrays
+        # (``branch_stiffness``) are made only where an analysis asks for them
+        self.branch_blocks, self.branch_times = maxwell_branch_blocks(model)
+        self._branch_stiffness = None
         self._states = None        # (A0, A1, branch state names), made on first use
         self._dependent = _dependent_bearings(model, self._inverse_columns)
         self.speed_dependent = bool(self._dependent)
@@ -295,6 +299,14 @@ class SpeedLinearForm:
         if self._dense is None:
             self._dense = Matrices(*(matrix.toarray() for matrix in self.sparse))
         return self._dense
+
+    @property
+    def branch_stiffness(self) -> np.ndarray:
+        """The Maxwell branches' stiffness ``B_SP K_b B_SP^T`` on the stator's coordinates,
+        (n_branches, n, n) [N/m, ...], made from ``branch_blocks`` (n_branches, 6, 6) on first use."""
+        if self._branch_stiffness is None:
+            self._branch_stiffness = frame_block(self.model, self.branch_blocks)
+        return self._branch_stiffness
 
     @property
     def mass_inverse(self) -> np.ndarray:

@@ -60,8 +60,8 @@ class Stack:
         self._weighting = None   # how shapes are mass-weighted: see _modal_weighting
         self._state = None       # A0, A1 stacked, made on first use
         self.dependent = any(f.speed_dependent for f in self.forms)
-        self.branch_stiffness = _stacked([f.branch_stiffness for f in self.forms])   # (V, n_b, n, n)
         self.branch_times = _stacked([f.branch_times for f in self.forms])           # (V, n_b)
+        self._branch_stiffness = None     # (V, n_b, n, n), made on first use (see branch_stiffness)
         self._layouts = {}       # variant -> (SparseLayout or None, its constant entries)
         self._sparse_matrices = {}   # 0 -> the first variant's sparse M, C, G, K (or None)
 
@@ -100,6 +100,20 @@ class Stack:
     def K(self) -> np.ndarray:
         """The forms' constant stiffness stacked (V, n, n), made on first use."""
         return self._constant_part(3)
+
+    @property
+    def branch_stiffness(self) -> np.ndarray:
+        """The forms' Maxwell branches' stiffness stacked (V, n_b, n, n), made on first use (the
+        rational pencil of the lowest modes takes each branch's 6x6 block, ``branch_blocks``)."""
+        if self._branch_stiffness is None:
+            self._branch_stiffness = _stacked([f.branch_stiffness for f in self.forms])
+        return self._branch_stiffness
+
+    def branch_blocks(self, variant: int = 0):
+        """A variant's Maxwell branches on the stator's ``k`` coordinates (the model's first):
+        stiffness (n_b, k, k) [N/m, ...] and relaxation times (n_b,) [s]."""
+        k = self.models[variant].dofs.n_frame
+        return self.forms[variant].branch_blocks[:, :k, :k], self.branch_times[variant]
 
     @property
     def sparse_constant(self):

@@ -163,3 +163,26 @@ def test_sparse_frfs_with_losses_branches_and_speed_dependent_bearings_equal_the
     monkeypatch.setattr(frf_module, "dynamic_stiffness", None)          # no dense Z on this route
     sparse = rdm.frf(model, speed, freqs, engine="direct").H
     assert np.abs(sparse - dense).max() <= 1e-9 * np.abs(dense).max()
+
+
+def test_the_lowest_routes_undamped_modes_weight_a_large_models_shapes(monkeypatch):
+    """``Stack.undamped_modes``: None until the lowest modes' route ran on the stack, then its
+    basis's every undamped mode, mass-orthonormal (``Phi^T M Phi = I`` with the dense assembly's
+    M); a large model's shapes are then weighted by it (``F^T x``, ``F = M Phi``), never by M's
+    Cholesky factor, with the same products ``x^H M y`` (issue 28 item 4: the weighting asked the
+    lowest route's cache by its attribute name)."""
+    monkeypatch.setattr(assembly, "SPARSE_DOF", 100, raising=False)
+    model = _on_bearings(40)
+    mass = assembly.constant_matrices(model).M
+    stack = _stack.Stack([model])
+    assert stack.undamped_modes is None
+    _, shapes, _ = _lowest.lowest_roots(stack, np.array([100.0, 300.0]), 3)
+    modes = stack.undamped_modes
+    assert modes.shape == (model.dofs.n, model.dofs.n)
+    assert np.abs(modes.T @ mass @ modes - np.eye(model.dofs.n)).max() <= 1e-9
+    monkeypatch.setattr(_stack.Stack, "factor", property(lambda self: pytest.fail("M's Cholesky factor")))
+    weighted = stack.weighted(shapes, np.zeros(2, int))
+    products = np.einsum("sai,ij,sbj->sab", shapes.conj(), mass, shapes)
+    norms = np.sqrt(np.einsum("saa->sa", products).real)
+    assert np.allclose(np.einsum("sai,sbi->sab", weighted.conj(), weighted),
+                       products / (norms[:, :, None] * norms[:, None, :]), rtol=0, atol=1e-9)

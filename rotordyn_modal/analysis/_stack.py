@@ -58,6 +58,10 @@ class Stack:
         # speeds work on its sparse matrices (``sparse_constant``) and may never need them dense
         self._stacked_parts = None
         self._weighting = None   # how shapes are mass-weighted: see _modal_weighting
+        #: the lowest modes' route's basis, kept for its later sweeps of this stack (the critical
+        #: speeds' sub-sweeps): ``{"basis": (omegas, modes, K_0), "products": ...}`` once that route
+        #: ran (``_lowest._stack_bound``), else None; see :attr:`undamped_modes`
+        self.lowest_basis = None
         self._state = None       # A0, A1 stacked, made on first use
         self.dependent = any(f.speed_dependent for f in self.forms)
         self.branch_times = _stacked([f.branch_times for f in self.forms])           # (V, n_b)
@@ -234,16 +238,21 @@ class Stack:
         eigenvalues, shapes = _eigensolve.upper_shapes(matrices, self.n_dof)
         return eigenvalues, _eigensolve.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
 
+    @property
+    def undamped_modes(self):
+        """Every undamped mode of the symmetric stiffness and the mass, mass-orthonormal (n, n),
+        where the lowest modes' route has found them for this stack (:attr:`lowest_basis`), else None."""
+        return None if self.lowest_basis is None else self.lowest_basis["basis"][1]
+
     def _modal_weighting(self):
         """``(Phi, M)`` where a large model's shapes are weighted by its lowest modes' basis (all
-        ``n`` undamped modes ``Phi``, mass-orthonormal, kept by the lowest modes' route; ``M``
-        sparse): the factor ``F = M Phi`` has ``F F^T = M`` as the Cholesky factor has, without
-        the dense M and its factor (2 n x n); else None. Chosen once, so that :meth:`weighted`
-        and :meth:`unweighted` use the same factor."""
+        ``n`` undamped modes ``Phi``, :attr:`undamped_modes`; ``M`` sparse): the factor
+        ``F = M Phi`` has ``F F^T = M`` as the Cholesky factor has, without the dense M and its
+        factor (2 n x n); else None. Chosen once, so that :meth:`weighted` and :meth:`unweighted`
+        use the same factor."""
         if self._weighting is None:
-            basis = self.__dict__.get("_lowest_basis")
-            sparse = self.sparse_constant
-            self._weighting = (basis["basis"][1], sparse.M) if sparse is not None and basis else False
+            modes, sparse = self.undamped_modes, self.sparse_constant
+            self._weighting = (modes, sparse.M) if sparse is not None and modes is not None else False
         return self._weighting or None
 
     def unweighted(self, weighted_rows) -> np.ndarray:

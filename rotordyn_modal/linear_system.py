@@ -399,14 +399,21 @@ class SpeedLinearForm:
             return self.matrices.C
         return self.matrices.C + dependent_bearing_matrices(self.model, speeds)[1]
 
-    def pattern(self) -> np.ndarray:
+    def pattern(self, sparse: bool = False):
         """Where ``M``, ``C(Omega)``, ``G`` and ``K(Omega)`` may be nonzero at any speed: the
         constant parts' nonzero entries and each speed-dependent bearing's rotor block.
 
+        Parameters
+        ----------
+        sparse : bool
+            As a ``scipy.sparse`` matrix (a large model's: no ``n x n`` array).
+
         Returns
         -------
-        ndarray of bool, shape (n, n)
+        ndarray of bool, shape (n, n), or scipy.sparse.csc_matrix of bool (n, n)
         """
+        if sparse and self.sparse is not None:
+            return self._sparse_pattern()
         if self.sparse is not None:       # a large model's, without its dense matrices
             M, C, G, K = self.sparse
             nonzero = ((abs(M) + abs(C) + abs(G) + abs(K)) != 0).toarray()
@@ -416,6 +423,25 @@ class SpeedLinearForm:
         for rows, *_ in self._dependent:
             nonzero[rows, rows] = True
         return nonzero
+
+    def _sparse_pattern(self):
+        """:meth:`pattern` of a large model as a ``scipy.sparse.csc_matrix`` of bool (n, n)."""
+        import scipy.sparse
+
+        M, C, G, K = self.sparse
+        found = (abs(M) + abs(C) + abs(G) + abs(K)).tocoo()
+        keep = found.data != 0
+        rows, cols = [found.row[keep]], [found.col[keep]]
+        for where, _, moves, *_ in self._dependent:
+            # the coordinates the bearing's relative motion touches (not its rotor's every one)
+            block = np.arange(self.n_dof)[where][np.any(moves != 0, axis=0)]
+            rows.append(np.repeat(block, len(block)))
+            cols.append(np.tile(block, len(block)))
+        rows, cols = np.concatenate(rows), np.concatenate(cols)
+        pattern = scipy.sparse.csc_matrix((np.ones(len(rows), bool), (rows, cols)), shape=(self.n_dof, self.n_dof))
+        pattern.sum_duplicates()
+        pattern.sort_indices()
+        return pattern
 
     def _bearing_terms(self, speeds):
         """Per speed-dependent bearing: rotor rows, ``M^-1 E^T``, E, K_b(N), C_b(N)."""

@@ -126,7 +126,7 @@ def roots_near(stack, x, centers, count: int):
     most = stack.forms[0].n_states // 2
     lam, shapes, _, every, top = _lowest_past(stack, x, min(count, most), centers.imag, most)
     radius = np.where(every, np.inf, np.maximum(top - centers.imag, 0.0))
-    return lam, resolve_repeated(lam, shapes, stack.whirl, np.zeros(len(x), int)), radius
+    return lam, resolve_repeated(lam, shapes, stack.repeated_forms, np.zeros(len(x), int)), radius
 
 
 #: why a speed is left to the full eigen-solve, for the refusal's message

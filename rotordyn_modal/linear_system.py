@@ -266,6 +266,11 @@ class SpeedLinearForm:
         (Of a large model made on first use from the factorisation.)
     speed_dependent : bool
         True when bearing coefficients depend on speed (then A is not linear in speed).
+    branch_blocks : ndarray, shape (n_branches, 6, 6)
+        The mounts' Maxwell branches' stiffness at the reference point [N/m, ...] (the stator's
+        six motions; ``branch_stiffness`` (n_branches, n, n) places them, made on first use).
+    branch_times : ndarray, shape (n_branches,)
+        Their relaxation times [s].
     """
 
     def __init__(self, model, like: "SpeedLinearForm | None" = None):

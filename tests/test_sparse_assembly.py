@@ -239,3 +239,18 @@ def test_critical_speeds_of_a_large_model_are_refined_on_its_sparse_pencils(make
     assert np.abs(sparse.speeds - dense.speeds).max() <= 1e-9 * dense.speeds.max()
     assert np.abs(sparse.frequencies_hz - dense.frequencies_hz).max() <= 1e-9 * dense.frequencies_hz.max()
     assert np.abs(sparse.whirl_ratios - dense.whirl_ratios).max() <= 1e-9
+
+
+def test_the_crossings_memory_estimate_of_a_large_lowest_sweep_bounds_its_measured_peak():
+    """``critical-speeds shaft2000.toml --speeds 0:6000:11 --lowest 6`` (the 4 m shaft of 2,000
+    elements, 8,004 coordinates kept sparse; benchmarks/README.md, "Sparse Maxwell branches and
+    crossings"): its sweep peaked at 2.149 GB of RSS (the basis's eigh), and its 4 crossings are
+    refined on the sparse pencils. The estimate that decides whether they may be refined bounds
+    that peak within a factor 2; it counted the dense matrices, refinement and state eigen-solver
+    the route no longer makes and refused them for 28.9 GiB with 16.1 GiB at hand."""
+    from rotordyn_modal.analysis import campbell as campbell_module
+
+    measured = 2_149_164 * 1024.0
+    needed = campbell_module.memory_estimate(8004, 16008, 11, 1, True, 4, 7, sparse=True)
+    assert measured <= needed <= 2 * measured
+    assert campbell_module.memory_estimate(8004, 16008, 11, 1, True, 4, 7) > 8 * measured      # dense: as before

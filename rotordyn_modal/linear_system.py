@@ -22,9 +22,10 @@ from .elements.bearings import evaluate
 from .elements._bearing_validation import LONG_JOURNAL
 from .model._table import visible
 from .errors import InputError, ModelError
+from .model.dofs import frame_block
 from .model.geometry import shift_matrix
 from .units import to_system, unit_label
-from .elements.mounts import maxwell_branches, with_branch_states
+from .elements.mounts import maxwell_branch_blocks, with_branch_states
 
 __all__ = ["SpeedLinearForm", "speed_linear_form", "checked_mass_inverse", "implausible", "SAG_LIMIT",
            "stiffness_spread_lines", "support_spreads", "SPREAD_WARN_DIGITS", "SPREAD_REFUSE_DIGITS",
@@ -265,6 +266,11 @@ class SpeedLinearForm:
         (Of a large model made on first use from the factorisation.)
     speed_dependent : bool
         True when bearing coefficients depend on speed (then A is not linear in speed).
+    branch_blocks : ndarray, shape (n_branches, 6, 6)
+        The mounts' Maxwell branches' stiffness at the reference point [N/m, ...] (the stator's
+        six motions; ``branch_stiffness`` (n_branches, n, n) places them, made on first use).
+    branch_times : ndarray, shape (n_branches,)
+        Their relaxation times [s].
     """
 
     def __init__(self, model, like: "SpeedLinearForm | None" = None):
@@ -284,7 +290,10 @@ class SpeedLinearForm:
             self._dense = constant_matrices(model)
             self._inverse = _mass_inverse(self._dense.M, model)
         self.n_dof = model.dofs.n if self._dense is None else self._dense.M.shape[0]
-        self.branch_stiffness, self.branch_times = maxwell_branches(model)
+        # the Maxwell branches as 6x6 blocks on the stator's motion: their n x n arrays
+        # (``branch_stiffness``) are made only where an analysis asks for them
+        self.branch_blocks, self.branch_times = maxwell_branch_blocks(model)
+        self._branch_stiffness = None
         self._states = None        # (A0, A1, branch state names), made on first use
         self._dependent = _dependent_bearings(model, self._inverse_columns)
         self.speed_dependent = bool(self._dependent)
@@ -295,6 +304,14 @@ class SpeedLinearForm:
         if self._dense is None:
             self._dense = Matrices(*(matrix.toarray() for matrix in self.sparse))
         return self._dense
+
+    @property
+    def branch_stiffness(self) -> np.ndarray:
+        """The Maxwell branches' stiffness ``B_SP K_b B_SP^T`` on the stator's coordinates,
+        (n_branches, n, n) [N/m, ...], made from ``branch_blocks`` (n_branches, 6, 6) on first use."""
+        if self._branch_stiffness is None:
+            self._branch_stiffness = frame_block(self.model, self.branch_blocks)
+        return self._branch_stiffness
 
     @property
     def mass_inverse(self) -> np.ndarray:
@@ -387,14 +404,21 @@ class SpeedLinearForm:
             return self.matrices.C
         return self.matrices.C + dependent_bearing_matrices(self.model, speeds)[1]
 
-    def pattern(self) -> np.ndarray:
+    def pattern(self, sparse: bool = False):
         """Where ``M``, ``C(Omega)``, ``G`` and ``K(Omega)`` may be nonzero at any speed: the
         constant parts' nonzero entries and each speed-dependent bearing's rotor block.
 
+        Parameters
+        ----------
+        sparse : bool
+            As a ``scipy.sparse`` matrix (a large model's: no ``n x n`` array).
+
         Returns
         -------
-        ndarray of bool, shape (n, n)
+        ndarray of bool, shape (n, n), or scipy.sparse.csc_matrix of bool (n, n)
         """
+        if sparse and self.sparse is not None:
+            return self._sparse_pattern()
         if self.sparse is not None:       # a large model's, without its dense matrices
             M, C, G, K = self.sparse
             nonzero = ((abs(M) + abs(C) + abs(G) + abs(K)) != 0).toarray()
@@ -404,6 +428,25 @@ class SpeedLinearForm:
         for rows, *_ in self._dependent:
             nonzero[rows, rows] = True
         return nonzero
+
+    def _sparse_pattern(self):
+        """:meth:`pattern` of a large model as a ``scipy.sparse.csc_matrix`` of bool (n, n)."""
+        import scipy.sparse
+
+        M, C, G, K = self.sparse
+        found = (abs(M) + abs(C) + abs(G) + abs(K)).tocoo()
+        keep = found.data != 0
+        rows, cols = [found.row[keep]], [found.col[keep]]
+        for where, _, moves, *_ in self._dependent:
+            # the coordinates the bearing's relative motion touches (not its rotor's every one)
+            block = np.arange(self.n_dof)[where][np.any(moves != 0, axis=0)]
+            rows.append(np.repeat(block, len(block)))
+            cols.append(np.tile(block, len(block)))
+        rows, cols = np.concatenate(rows), np.concatenate(cols)
+        pattern = scipy.sparse.csc_matrix((np.ones(len(rows), bool), (rows, cols)), shape=(self.n_dof, self.n_dof))
+        pattern.sum_duplicates()
+        pattern.sort_indices()
+        return pattern
 
     def _bearing_terms(self, speeds):
         """Per speed-dependent bearing: rotor rows, ``M^-1 E^T``, E, K_b(N), C_b(N)."""

@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.linalg
+import scipy.sparse
 from threadpoolctl import threadpool_limits
 
 import rotordyn_modal as rdm
@@ -296,3 +297,41 @@ def test_over_the_memory_refused_even_with_allow_long(monkeypatch, tmp_path, cap
     error = capsys.readouterr().err
     assert "Maxwell" in error and "memory" in error and error.count("\n") == 1
     assert not out.exists()
+
+
+def test_a_large_model_with_branches_keeps_its_matrices_sparse(pump, monkeypatch, full_solves):
+    """Above ``assembly.SPARSE_DOF`` (put at 50 here: the pump's 68 coordinates) the rational pencil
+    works on the model's sparse M, C, G, K and each branch's 6x6 block: the 10 lowest roots are the
+    dense route's to 1e-9 and the state matrix's (with the branches' states) to 1e-9, and neither
+    they nor the sweep around them form the model's dense matrices or any branch's n x n array
+    (issue 28 item 4)."""
+    from rotordyn_modal import assembly, linear_system
+    from rotordyn_modal.elements import mounts
+
+    speeds = np.array([0.0, 3000.0, 6000.0]) * np.pi / 30
+    dense, _, _ = _lowest_branches.lowest_roots(Stack([pump]), speeds, 10)
+    truth = _true_roots(state_matrices(pump, speeds[-1:])[0], 10)
+
+    def refuse(*args, **kwargs):
+        pytest.fail("a dense n x n matrix of the model was formed")
+
+    monkeypatch.setattr(assembly, "SPARSE_DOF", 50)
+    for name in ("matrices", "mass_inverse"):
+        monkeypatch.setattr(linear_system.SpeedLinearForm, name, property(refuse))
+    for module in (mounts, linear_system):            # the branches' n x n arrays
+        monkeypatch.setattr(module, "frame_block", refuse, raising=False)
+    monkeypatch.setattr(Stack, "_constant_part", refuse)
+    monkeypatch.setattr(Stack, "factor", property(refuse))
+    stack = Stack([pump])
+    assert stack.sparse_constant is not None
+    pencils = _lowest_branches.RationalPencils(stack, speeds)
+    assert all(scipy.sparse.issparse(matrix) for matrix in (pencils.M, pencils.C, pencils.G, pencils.K))
+    values, _, full = _lowest_branches.lowest_roots(stack, speeds, 10)
+    assert full_solves == [] and not full.any()
+    assert np.max(np.abs(values - dense) / np.abs(dense)) <= 1e-9
+    truth = truth[np.argsort(truth.imag)]
+    assert np.max(np.abs(values[-1] - truth) / np.abs(truth)) <= 1e-9
+    result = rdm.campbell(pump, speeds, modes=10, critical=False)      # tracked, weighted, whirl ratios
+    assert full_solves == []
+    tracked = np.take_along_axis(result.eigenvalues, np.argsort(result.eigenvalues.imag, axis=1), axis=1)
+    assert np.max(np.abs(tracked - dense) / np.abs(dense)) <= 1e-9

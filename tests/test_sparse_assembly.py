@@ -19,6 +19,7 @@ import rotordyn_modal as rdm
 from rotordyn_modal import assembly, linear_system
 from rotordyn_modal.analysis import _lowest, _stack, _whirl
 from rotordyn_modal.analysis import frf as frf_module
+from rotordyn_modal.elements import mounts
 
 from test_flexible_large import _on_bearings
 from test_pedestals_meshes import _flexible_on_pedestals, _geared
@@ -46,13 +47,14 @@ def test_sparse_matrices_and_whirl_forms_equal_the_dense_ones():
             assert np.abs(sparse.toarray() - dense).max() <= 1e-15 * max(np.abs(dense).max(), 1e-300), model.source
 
 
-def _no_dense(monkeypatch):
-    """Make every way to the model's dense matrices, mass inverse and whirl forms fail."""
+def _no_dense(monkeypatch, threshold=100):
+    """Make every way to the model's dense matrices, mass inverse, whirl forms and Maxwell
+    branches' ``n x n`` arrays fail (models above ``threshold`` coordinates kept sparse)."""
     def refuse(*args, **kwargs):
         pytest.fail("a dense n x n matrix of the model was formed")
 
-    monkeypatch.setattr(assembly, "SPARSE_DOF", 100, raising=False)
-    monkeypatch.setattr(frf_module, "SPARSE_FRF_DOF", 100)
+    monkeypatch.setattr(assembly, "SPARSE_DOF", threshold, raising=False)
+    monkeypatch.setattr(frf_module, "SPARSE_FRF_DOF", threshold)
     for module in (assembly, frf_module, linear_system):
         monkeypatch.setattr(module, "constant_matrices", refuse)
     monkeypatch.setattr(linear_system, "_mass_inverse", refuse)
@@ -60,13 +62,17 @@ def _no_dense(monkeypatch):
     if isinstance(getattr(linear_system.SpeedLinearForm, "matrices", None), property):   # made on first use
         monkeypatch.setattr(linear_system.SpeedLinearForm, "matrices", property(refuse))
     monkeypatch.setattr(_stack.Stack, "factor", property(refuse))
+    monkeypatch.setattr(_stack.Stack, "_constant_part", refuse)       # the stack's dense M, C, G, K
+    for module in (mounts, linear_system):                              # a Maxwell branch's n x n array
+        monkeypatch.setattr(module, "frame_block", refuse, raising=False)
 
 
 def test_a_large_model_gives_the_dense_routes_roots_frfs_and_unbalance_without_its_dense_matrices(monkeypatch):
     """A shaft of 40 elements (164 coordinates) with the threshold put at 100: its 6 lowest roots,
     whirl ratios and critical speeds, FRFs and unbalance response are the dense route's to 1e-9;
-    the lowest modes' sweep, the FRFs and the unbalance response never form its dense M, C, G, K,
-    mass inverse, whirl forms or M's Cholesky factor."""
+    the lowest modes' sweep, its critical speeds (their refinement's sparse LUs, repeated roots'
+    whirl forms), the FRFs and the unbalance response never form its dense M, C, G, K, mass
+    inverse, whirl forms or M's Cholesky factor."""
     speeds = np.linspace(50.0, 600.0, 6)
 
     def sweep(model, critical):
@@ -83,17 +89,14 @@ def test_a_large_model_gives_the_dense_routes_roots_frfs_and_unbalance_without_i
     model = _on_bearings(40, sensors=True)
     dense, dense_results = sweep(model, True), results(model)
     mass = assembly.constant_matrices(model).M
-    monkeypatch.setattr(assembly, "SPARSE_DOF", 100, raising=False)
-    monkeypatch.setattr(frf_module, "SPARSE_FRF_DOF", 100)
-    model = _on_bearings(40, sensors=True)
-    assert model.dofs.n > 100
-    crossings = sweep(model, True).critical
-    assert len(dense.critical) > 3 and len(crossings) == len(dense.critical)
-    assert np.allclose(crossings.speeds, dense.critical.speeds, rtol=1e-9, atol=0)
     _no_dense(monkeypatch)
     model = _on_bearings(40, sensors=True)
+    assert model.dofs.n > 100
     assert linear_system.speed_linear_form(model).sparse is not None
-    sparse = sweep(model, False)
+    sparse = sweep(model, True)
+    crossings = sparse.critical
+    assert len(dense.critical) > 3 and len(crossings) == len(dense.critical)
+    assert np.allclose(crossings.speeds, dense.critical.speeds, rtol=1e-9, atol=0)
     assert np.abs(sparse.eigenvalues - dense.eigenvalues).max() <= 1e-9 * np.abs(dense.eigenvalues).max()
     assert np.abs(sparse.whirl_ratios - dense.whirl_ratios).max() <= 1e-9
     for a, b in zip(results(model), dense_results):
@@ -163,3 +166,91 @@ def test_sparse_frfs_with_losses_branches_and_speed_dependent_bearings_equal_the
     monkeypatch.setattr(frf_module, "dynamic_stiffness", None)          # no dense Z on this route
     sparse = rdm.frf(model, speed, freqs, engine="direct").H
     assert np.abs(sparse - dense).max() <= 1e-9 * np.abs(dense).max()
+
+
+def test_the_lowest_routes_undamped_modes_weight_a_large_models_shapes(monkeypatch):
+    """``Stack.undamped_modes``: None until the lowest modes' route ran on the stack, then its
+    basis's every undamped mode, mass-orthonormal (``Phi^T M Phi = I`` with the dense assembly's
+    M); a large model's shapes are then weighted by it (``F^T x``, ``F = M Phi``), never by M's
+    Cholesky factor, with the same products ``x^H M y`` (issue 28 item 4: the weighting asked the
+    lowest route's cache by its attribute name)."""
+    monkeypatch.setattr(assembly, "SPARSE_DOF", 100, raising=False)
+    model = _on_bearings(40)
+    mass = assembly.constant_matrices(model).M
+    stack = _stack.Stack([model])
+    assert stack.undamped_modes is None
+    _, shapes, _ = _lowest.lowest_roots(stack, np.array([100.0, 300.0]), 3)
+    modes = stack.undamped_modes
+    assert modes.shape == (model.dofs.n, model.dofs.n)
+    assert np.abs(modes.T @ mass @ modes - np.eye(model.dofs.n)).max() <= 1e-9
+    monkeypatch.setattr(_stack.Stack, "factor", property(lambda self: pytest.fail("M's Cholesky factor")))
+    weighted = stack.weighted(shapes, np.zeros(2, int))
+    products = np.einsum("sai,ij,sbj->sab", shapes.conj(), mass, shapes)
+    norms = np.sqrt(np.einsum("saa->sa", products).real)
+    assert np.allclose(np.einsum("sai,sbi->sab", weighted.conj(), weighted),
+                       products / (norms[:, :, None] * norms[:, None, :]), rtol=0, atol=1e-9)
+
+
+def _journals():
+    """examples/compressor_on_journals.toml meshed at 8 cm (133 coordinates): speed-dependent bearings."""
+    with open("examples/compressor_on_journals.toml", "rb") as file:
+        data = tomllib.load(file)
+    data["rotors"][0]["element_length"] = 0.08
+    return rdm.Model.from_dict(data)
+
+
+def _on_maxwell_mounts():
+    """examples/flexible_pump_on_mounts.toml (68 coordinates) with two Maxwell branches on each mount."""
+    with open("examples/flexible_pump_on_mounts.toml", "rb") as file:
+        data = tomllib.load(file)
+    for mount in data["suspensions"]:
+        k = np.asarray(mount["stiffness"])
+        mount["maxwell_stiffness"] = [(0.5 * k).tolist(), k.tolist()]
+        mount["maxwell_time"] = [0.02, 0.001]
+    return rdm.Model.from_dict(data)
+
+
+@pytest.mark.parametrize("make, rpm, modes, threshold", [
+    (_journals, (1000.0, 12000.0, 5), 4, 100), (_on_maxwell_mounts, (0.0, 6000.0, 4), 8, 50)],
+    ids=["journal bearings", "maxwell mounts"])
+def test_critical_speeds_of_a_large_model_are_refined_on_its_sparse_pencils(make, rpm, modes, threshold,
+                                                                            monkeypatch):
+    """Above the threshold (lowered) the crossings of the lowest modes are refined on the sparse
+    pencils (SuperLU of speed-dependent journal bearings' pencils at each trial speed; the Maxwell
+    branches' rational pencil, its shapes at the roots by its banded LU): the critical speeds, their
+    frequencies and whirl ratios are the dense route's to 1e-9, and no dense n x n matrix of the
+    model is formed (issue 28 item 4)."""
+    from rotordyn_modal.analysis import _pencils
+
+    speeds = np.linspace(*rpm) * np.pi / 30
+
+    def crossings(model):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return rdm.campbell(model, speeds, modes=modes, orders=(1,), critical=True).critical
+
+    dense = crossings(make())
+    monkeypatch.setattr(_pencils, "SPARSE_DOF", 0)       # the pencils' sparse LU at these sizes
+    _no_dense(monkeypatch, threshold)
+    model = make()
+    assert model.dofs.n > threshold
+    sparse = crossings(model)
+    assert len(dense) >= 2 and len(sparse) == len(dense) and list(sparse.mode) == list(dense.mode)
+    assert np.abs(sparse.speeds - dense.speeds).max() <= 1e-9 * dense.speeds.max()
+    assert np.abs(sparse.frequencies_hz - dense.frequencies_hz).max() <= 1e-9 * dense.frequencies_hz.max()
+    assert np.abs(sparse.whirl_ratios - dense.whirl_ratios).max() <= 1e-9
+
+
+def test_the_crossings_memory_estimate_of_a_large_lowest_sweep_bounds_its_measured_peak():
+    """``critical-speeds shaft2000.toml --speeds 0:6000:11 --lowest 6`` (the 4 m shaft of 2,000
+    elements, 8,004 coordinates kept sparse; benchmarks/README.md, "Sparse Maxwell branches and
+    crossings"): its sweep peaked at 2.149 GB of RSS (the basis's eigh), and its 4 crossings are
+    refined on the sparse pencils. The estimate that decides whether they may be refined bounds
+    that peak within a factor 2; it counted the dense matrices, refinement and state eigen-solver
+    the route no longer makes and refused them for 28.9 GiB with 16.1 GiB at hand."""
+    from rotordyn_modal.analysis import campbell as campbell_module
+
+    measured = 2_149_164 * 1024.0
+    needed = campbell_module.memory_estimate(8004, 16008, 11, 1, True, 4, 7, sparse=True)
+    assert measured <= needed <= 2 * measured
+    assert campbell_module.memory_estimate(8004, 16008, 11, 1, True, 4, 7) > 8 * measured      # dense: as before

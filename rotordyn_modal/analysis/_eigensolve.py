@@ -197,11 +197,14 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
 def _whirling_pairs(shapes, rows, first, forms, variants):
     """The pairs ``(rows, first)`` of :func:`resolve_repeated` whose shapes span a plane and
     whirl, and their extreme-whirl combinations (P, n, 2)."""
-    if variants is not None:
+    import scipy.sparse
+
+    sparse = scipy.sparse.issparse(forms.total)       # one large model's forms (n, n), scipy.sparse
+    if variants is not None and not sparse:
         forms = _whirl.WhirlForms(*(f[variants[rows]] for f in forms))
     basis = np.stack([shapes[rows, first], shapes[rows, first + 1]], axis=-1)  # (P, n, 2)
     rule = "pia,pij,pjb->pab" if forms.total.ndim == 3 else "pia,ij,pjb->pab"
-    total = np.einsum(rule, basis.conj(), forms.total, basis)
+    total = _sparse_form(forms.total, basis) if sparse else np.einsum(rule, basis.conj(), forms.total, basis)
     # the two shapes must span a plane (two inverse iterations could give one direction)
     spans = np.abs(np.linalg.det(total)) > 1e-6 * np.abs(total[:, 0, 0] * total[:, 1, 1])
     rows, first, basis, total = rows[spans], first[spans], basis[spans], total[spans]
@@ -209,10 +212,17 @@ def _whirling_pairs(shapes, rows, first, forms, variants):
         forms = _whirl.WhirlForms(*(f[spans] for f in forms))
     if not rows.size:
         return rows, first, np.zeros((0, shapes.shape[-1], 2), dtype=complex)
-    momentum = -1j * np.einsum(rule, basis.conj(), forms.W, basis)
+    momentum = -1j * (_sparse_form(forms.W, basis) if sparse else np.einsum(rule, basis.conj(), forms.W, basis))
     mu, resolved = _extreme_whirl(basis, total, momentum)
     whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
     return rows[whirling], first[whirling], resolved[whirling]
+
+
+def _sparse_form(form, basis):
+    """``basis_p^H form basis_p`` (P, 2, 2) of a ``scipy.sparse`` form (n, n) and pairs (P, n, 2)."""
+    count, n, _ = basis.shape
+    product = (form @ basis.transpose(1, 0, 2).reshape(n, 2 * count)).reshape(n, count, 2).transpose(1, 0, 2)
+    return np.einsum("pia,pib->pab", basis.conj(), product)
 
 
 def _repeated_pairs(lam):

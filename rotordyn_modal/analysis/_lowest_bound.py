@@ -72,10 +72,10 @@ def _stack_bound(stack, pencils, kind=None):
     reuse the sweep's basis (any speed's basis serves, :class:`_Bound` measures the stiffness's
     departure from it) and its speed-independent products, an ``eigh`` and ``n^3`` products fewer
     each. ``kind``: the bound's class (default :class:`_Bound`)."""
-    cached = stack.__dict__.get("_lowest_basis")
+    cached = stack.lowest_basis
     if cached is None:
         omegas, symmetric, modes = _basis(stack, pencils.speeds[:1])
-        cached = stack.__dict__["_lowest_basis"] = {"basis": (omegas, modes, symmetric)}
+        cached = stack.lowest_basis = {"basis": (omegas, modes, symmetric)}
     bound = (kind or _Bound)(pencils, *cached["basis"], products=cached.get("products"))
     cached["products"] = bound.products
     return bound

@@ -25,6 +25,7 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+import scipy.sparse
 
 from . import _batches, _lowest, _vectors
 from .modal import OVERDAMPED_LIMIT, is_oscillating
@@ -125,7 +126,7 @@ def roots_near(stack, x, centers, count: int):
     most = stack.forms[0].n_states // 2
     lam, shapes, _, every, top = _lowest_past(stack, x, min(count, most), centers.imag, most)
     radius = np.where(every, np.inf, np.maximum(top - centers.imag, 0.0))
-    return lam, resolve_repeated(lam, shapes, stack.whirl, np.zeros(len(x), int)), radius
+    return lam, resolve_repeated(lam, shapes, stack.repeated_forms, np.zeros(len(x), int)), radius
 
 
 #: why a speed is left to the full eigen-solve, for the refusal's message
@@ -189,7 +190,7 @@ def rational_terms(stack):
         ``tau_t`` [s]; the coordinates (c,) where ``K_t`` has entries; ``K_t[c, c]`` (c, c)
         [N/m, ...]; ``U_t`` (c, r_t) [N/m, ...] and ``V_t`` (c, r_t) [1] (``K_t[c, c] = U_t V_t^T``).
     """
-    stiffness, times = stack.branch_stiffness[0], stack.branch_times[0]
+    stiffness, times = stack.branch_blocks(0)       # on the stator's coordinates, the model's first
     terms = []
     for tau in np.unique(times):
         total = stiffness[times == tau].sum(axis=0)
@@ -241,14 +242,10 @@ class RationalPencils(_lowest._Pencils):
     speeds : ndarray, shape (S,) [rad/s]
     """
 
-    #: the branches' blocks and the projected starts work on dense matrices (a large model with
-    #: branches is not kept sparse on this route yet)
-    dense_constant = True
-
     def __init__(self, stack, speeds):
         self.terms = rational_terms(stack)
         super().__init__(stack, speeds)
-        n = len(self.M)
+        n = self.M.shape[0]
         rows, cols = self.pattern
         keys = cols * n + rows
         self.term_at, self.term_values = [], []
@@ -257,10 +254,10 @@ class RationalPencils(_lowest._Pencils):
             self.term_at.append(np.searchsorted(keys, where[j] * n + where[i]))
             self.term_values.append(block[i, j])
         # the highest mode's scale with the branches' stiffness at its largest (``K + sum K_b``)
-        stiffest = np.abs(np.diagonal(self.K)).copy()
+        stiffest = np.abs(_lowest._diagonal(self.K)).copy()
         for _, where, block, _, _ in self.terms:
             stiffest[where] += np.abs(np.diagonal(block))
-        mass = np.diagonal(self.M)
+        mass = _lowest._diagonal(self.M)
         self.scale = max(self.scale, float(np.max(stiffest / np.where(mass > 0, mass, np.inf))))
 
     def _speed_entries(self, stack, speeds):
@@ -338,8 +335,11 @@ def _projected_starts(pencils, basis, want, index=None):
     index = np.arange(len(pencils.speeds)) if index is None else index
     speeds, cb, kb = pencils.speeds[index], pencils.cb[index], pencils.kb[index]
     Wt = basis.T
-    damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
-    D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
+    if scipy.sparse.issparse(pencils.M):     # a large model's: products with its sparse matrices
+        D0, K0, Gr = pencils.projected(index[0], basis)
+    else:
+        damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
+        D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
     left, right = basis[pencils.rows].T, basis[pencils.cols]
     ranks = [term[3].shape[1] for term in pencils.terms]
     size = 2 * m + sum(ranks)

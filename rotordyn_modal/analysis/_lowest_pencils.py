@@ -43,14 +43,10 @@ class _Pencils:
     speeds : ndarray, shape (S,) [rad/s]
     """
 
-    #: the constant matrices dense even where the model keeps them sparse (a subclass whose own
-    #: terms are dense: ``_lowest_branches``)
-    dense_constant = False
-
     def __init__(self, stack, speeds):
         form = stack.forms[0]
         self.speeds = speeds
-        if stack.sparse_constant is not None and not self.dense_constant:   # a large model's, kept sparse (CSR)
+        if stack.sparse_constant is not None:     # a large model's, kept sparse (CSR)
             self.M, self.C, self.G, self.K = stack.sparse_constant
         else:
             self.M, self.C, self.G, self.K = form.matrices.M, form.matrices.C, stack.G[0], form.matrices.K

@@ -149,19 +149,28 @@ class SparseLayout(NamedTuple):
 
 
 def sparse_layout(pattern) -> SparseLayout | None:
-    """The layout of the pencils whose possible nonzeros are ``pattern`` (n, n) bool, or None
-    where they are better factored dense (see ``SPARSE_DOF``).
+    """The layout of the pencils whose possible nonzeros are ``pattern`` (n, n) bool (an array, or
+    a ``scipy.sparse`` matrix: a large model's), or None where they are better factored dense
+    (see ``SPARSE_DOF``).
 
     The fill-reducing order is SuperLU's minimum-degree ordering of ``A^T + A`` (it suits these
     structurally symmetric pencils: a tenth of COLAMD's fill at 506 coordinates), found once
     from the pattern: every factorisation of the model's pencils then skips it (at 406
     coordinates it was half of each factorisation's time, at 2,006 four fifths)."""
+    import scipy.sparse
     from scipy.sparse.linalg import splu
 
-    n = len(pattern)
-    if n < SPARSE_DOF or np.count_nonzero(pattern) > SPARSE_DENSITY * n * n:
-        return None
-    cols, rows = np.nonzero(pattern.T)                        # column by column, rows ascending
+    n = pattern.shape[0]
+    if scipy.sparse.issparse(pattern):
+        pattern = scipy.sparse.csc_matrix(pattern != 0)
+        pattern.sort_indices()
+        if n < SPARSE_DOF or pattern.nnz > SPARSE_DENSITY * n * n:
+            return None
+        cols, rows = np.repeat(np.arange(n), np.diff(pattern.indptr)), pattern.indices.astype(np.int64)
+    else:
+        if n < SPARSE_DOF or np.count_nonzero(pattern) > SPARSE_DENSITY * n * n:
+            return None
+        cols, rows = np.nonzero(pattern.T)                    # column by column, rows ascending
     layout = SparseLayout(rows.astype(np.int32), cols, np.searchsorted(cols, np.arange(n + 1)).astype(np.int32),
                           *(np.zeros(0, dtype=np.int32) for _ in range(4)))
     # the ordering depends on the pattern alone: any regular matrix of it gives it

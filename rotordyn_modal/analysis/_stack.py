@@ -54,14 +54,19 @@ class Stack:
         self._whirl = None
         self._factor = None
         self._whirl_stacked = None     # the forms side by side for whirl ratios, made on first use
+        self._whirl_sparse = None      # a large model's forms, sparse, made on first use
         # the constant parts stacked, made on first use: a large model's lowest modes and critical
         # speeds work on its sparse matrices (``sparse_constant``) and may never need them dense
         self._stacked_parts = None
         self._weighting = None   # how shapes are mass-weighted: see _modal_weighting
+        #: the lowest modes' route's basis, kept for its later sweeps of this stack (the critical
+        #: speeds' sub-sweeps): ``{"basis": (omegas, modes, K_0), "products": ...}`` once that route
+        #: ran (``_lowest._stack_bound``), else None; see :attr:`undamped_modes`
+        self.lowest_basis = None
         self._state = None       # A0, A1 stacked, made on first use
         self.dependent = any(f.speed_dependent for f in self.forms)
-        self.branch_stiffness = _stacked([f.branch_stiffness for f in self.forms])   # (V, n_b, n, n)
         self.branch_times = _stacked([f.branch_times for f in self.forms])           # (V, n_b)
+        self._branch_stiffness = None     # (V, n_b, n, n), made on first use (see branch_stiffness)
         self._layouts = {}       # variant -> (SparseLayout or None, its constant entries)
         self._sparse_matrices = {}   # 0 -> the first variant's sparse M, C, G, K (or None)
 
@@ -102,6 +107,20 @@ class Stack:
         return self._constant_part(3)
 
     @property
+    def branch_stiffness(self) -> np.ndarray:
+        """The forms' Maxwell branches' stiffness stacked (V, n_b, n, n), made on first use (the
+        rational pencil of the lowest modes takes each branch's 6x6 block, ``branch_blocks``)."""
+        if self._branch_stiffness is None:
+            self._branch_stiffness = _stacked([f.branch_stiffness for f in self.forms])
+        return self._branch_stiffness
+
+    def branch_blocks(self, variant: int = 0):
+        """A variant's Maxwell branches on the stator's ``k`` coordinates (the model's first):
+        stiffness (n_b, k, k) [N/m, ...] and relaxation times (n_b,) [s]."""
+        k = self.models[variant].dofs.n_frame
+        return self.forms[variant].branch_blocks[:, :k, :k], self.branch_times[variant]
+
+    @property
     def sparse_constant(self):
         """The first form's ``M, C, G, K`` as ``scipy.sparse`` matrices where the model is large
         (:attr:`SpeedLinearForm.sparse`), else None."""
@@ -115,6 +134,21 @@ class Stack:
             whirl += [whirl[0] if same_inertia(self.models[0], m) else _whirl.whirl_forms(m) for m in self.models[1:]]
             self._whirl = _whirl.WhirlForms(*(_stacked(parts) for parts in zip(*whirl)))
         return self._whirl
+
+    @property
+    def repeated_forms(self) -> _whirl.WhirlForms:
+        """The whirl forms that tell a repeated root's two shapes apart
+        (:func:`_eigensolve.resolve_repeated`): :attr:`whirl`, or a large model's forms as
+        ``scipy.sparse`` matrices (n, n) each where its dense ones are not made (3 n x n fewer)."""
+        if self.sparse_constant is not None and self._whirl is None:
+            return self._sparse_whirl()
+        return self.whirl
+
+    def _sparse_whirl(self) -> _whirl.WhirlForms:
+        """A large model's whirl forms as ``scipy.sparse`` CSR matrices (n, n) each, made once."""
+        if self._whirl_sparse is None:
+            self._whirl_sparse = _whirl.sparse_whirl_forms(self.models[0])
+        return self._whirl_sparse
 
     @property
     def factor(self) -> np.ndarray:
@@ -188,6 +222,12 @@ class Stack:
         (nnz,), computed once (the layout comes from the variant's own matrices, so that a study's
         variant and the single analysis of its model factor the very same matrices)."""
         if variant not in self._layouts:
+            sparse = self.sparse_constant
+            if sparse is not None:        # a large model's: from its sparse matrices, never n x n
+                layout = _pencils.sparse_layout(self.forms[variant].pattern(sparse=True))
+                entries = None if layout is None else tuple(_sparse_entries(matrix, layout) for matrix in sparse)
+                self._layouts[variant] = layout, entries
+                return self._layouts[variant]
             layout = _pencils.sparse_layout(self.forms[variant].pattern())
             entries = None
             if layout is not None:
@@ -220,16 +260,21 @@ class Stack:
         eigenvalues, shapes = _eigensolve.upper_shapes(matrices, self.n_dof)
         return eigenvalues, _eigensolve.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
 
+    @property
+    def undamped_modes(self):
+        """Every undamped mode of the symmetric stiffness and the mass, mass-orthonormal (n, n),
+        where the lowest modes' route has found them for this stack (:attr:`lowest_basis`), else None."""
+        return None if self.lowest_basis is None else self.lowest_basis["basis"][1]
+
     def _modal_weighting(self):
         """``(Phi, M)`` where a large model's shapes are weighted by its lowest modes' basis (all
-        ``n`` undamped modes ``Phi``, mass-orthonormal, kept by the lowest modes' route; ``M``
-        sparse): the factor ``F = M Phi`` has ``F F^T = M`` as the Cholesky factor has, without
-        the dense M and its factor (2 n x n); else None. Chosen once, so that :meth:`weighted`
-        and :meth:`unweighted` use the same factor."""
+        ``n`` undamped modes ``Phi``, :attr:`undamped_modes`; ``M`` sparse): the factor
+        ``F = M Phi`` has ``F F^T = M`` as the Cholesky factor has, without the dense M and its
+        factor (2 n x n); else None. Chosen once, so that :meth:`weighted` and :meth:`unweighted`
+        use the same factor."""
         if self._weighting is None:
-            basis = self.__dict__.get("_lowest_basis")
-            sparse = self.sparse_constant
-            self._weighting = (basis["basis"][1], sparse.M) if sparse is not None and basis else False
+            modes, sparse = self.undamped_modes, self.sparse_constant
+            self._weighting = (modes, sparse.M) if sparse is not None and modes is not None else False
         return self._weighting or None
 
     def unweighted(self, weighted_rows) -> np.ndarray:
@@ -266,7 +311,7 @@ class Stack:
         # in parts: the products with the three forms are three times the shapes, twice over
         if self._whirl_stacked is None:
             if self.sparse_constant is not None and self._whirl is None:     # a large model's: never dense
-                self._whirl_stacked = [_whirl.sparse_stacked_forms(_whirl.sparse_whirl_forms(self.models[0]))]
+                self._whirl_stacked = [_whirl.sparse_stacked_forms(self._sparse_whirl())]
             elif self.shared_whirl and self.n_dof > _pencils.SPARSE_SHAPES_DOF:    # sparse: 3 n x n fewer
                 self._whirl_stacked = [_whirl.sparse_stacked_forms(_whirl.WhirlForms(*(f[0] for f in self.whirl)))]
             else:
@@ -282,7 +327,11 @@ class Stack:
         several copies)."""
         out = np.empty((len(x), self.n_dof), dtype=complex)
         dense = np.arange(len(x))
-        if self.n_dof > _pencils.SPARSE_SHAPES_DOF and not self.branch_times.shape[-1]:
+        if self.sparse_constant is not None and self.branch_times.shape[-1]:
+            # a large model's rational pencil (Maxwell branches): a banded or sparse LU each
+            return _rational_shapes(self, x, lam)
+        large = self.n_dof > _pencils.SPARSE_SHAPES_DOF or self.sparse_constant is not None
+        if large and not self.branch_times.shape[-1]:
             sparse = np.array([self.sparse_layout(v) is not None for v in variants], dtype=bool)
             if sparse.any():            # a large sparse model: a sparse LU each, never n x n per row
                 rows = np.nonzero(sparse)[0]
@@ -333,6 +382,10 @@ class Pencils:
         stack = self.stack
         variant, speed = self.variants[row], self.speeds[row]
         layout, (mass, damping, gyroscopic, stiffness) = stack.sparse_entries(variant)
+        if stack.dependent and stack.sparse_constant is not None:     # a large model's: its bearings sparse
+            k_b, c_b = _sparse_bearings(stack, speed)
+            return (layout, mass, damping + speed * gyroscopic + _sparse_entries(c_b, layout),
+                    stiffness + _sparse_entries(k_b, layout))
         if stack.dependent:
             damping, stiffness = (matrix[0][layout.rows, layout.cols]
                                   for matrix in stack.damping_stiffness(np.array([variant]), np.array([speed])))
@@ -373,6 +426,15 @@ class Pencils:
                 m_phi, c_phi, g_phi, k_phi = (_vectors.real_product(vectors, matrix[0].T)
                                               for matrix in (stack.M, stack.C, stack.G, stack.K))
             return np.array((m_phi, c_phi + speeds * g_phi, k_phi))
+        if stack.dependent and stack.sparse_constant is not None:      # a large model's: sparse, row by row
+            M, C, G, K = stack.sparse_constant
+            columns = vectors.T
+            out = np.array(((M @ columns).T, (C @ columns).T + speeds * (G @ columns).T, (K @ columns).T))
+            for i, speed in enumerate(self.speeds[rows]):
+                k_b, c_b = _sparse_bearings(stack, speed)
+                out[1, i] += c_b @ vectors[i]
+                out[2, i] += k_b @ vectors[i]
+            return out
         if stack.dependent:
             variants = self.variants[rows]
             damping, stiffness = stack.damping_stiffness(variants, self.speeds[rows])
@@ -386,6 +448,32 @@ class Pencils:
         out = _row_products(matrices, vectors)
         out[1] += speeds * out[3]                                                        # C phi + Omega G phi
         return out[:3]
+
+
+def _sparse_entries(matrix, layout) -> np.ndarray:
+    """A ``scipy.sparse`` matrix's entries at the layout's places (nnz,)."""
+    return np.asarray(matrix.tocsr()[layout.rows, layout.cols]).reshape(-1)
+
+
+def _sparse_bearings(stack, speed: float):
+    """The speed-dependent bearings' stiffness and damping of a large one-model stack at ``speed``
+    [rad/s], ``scipy.sparse`` (n, n) each."""
+    from ..assembly import sparse_bearing_matrices
+
+    return sparse_bearing_matrices(stack.models[0], float(speed), dependent_only=True)
+
+
+def _rational_shapes(stack, x, lam) -> np.ndarray:
+    """:meth:`Stack.shapes_at` of a large one-model stack with Maxwell branches: the same shifted
+    inverse-iteration step from the same start on the rational pencil ``T(s)``
+    (:class:`._lowest_branches.RationalPencils`: its banded or sparse LU), (P, n) unit rows."""
+    from ._lowest_branches import RationalPencils
+
+    n = stack.n_dof
+    shifted = _pencils.shifted_roots(lam)
+    start = np.repeat(_pencils._start_vectors(1, n)[0][None].astype(complex), len(x), axis=0)
+    pencils = RationalPencils(stack, np.asarray(x, dtype=float))
+    return _vectors.unit_rows(pencils.solve(np.arange(len(x)), shifted, start))
 
 
 def _row_products(matrices, vectors):

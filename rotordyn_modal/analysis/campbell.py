@@ -474,7 +474,8 @@ _BASE_BYTES = 256 * 2**20
 _CROSSING_BYTES = 4096
 
 
-def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossings=0, roots=None) -> float:
+def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossings=0, roots=None,
+                    sparse=False) -> float:
     """Peak memory of :func:`campbell_many` [bytes], estimated from the sizes alone.
 
     The sweep keeps two sets of unit shapes (plain and mass-weighted: ``2 V N m n`` complex
@@ -502,6 +503,11 @@ def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossi
         (``campbell(modes=N)`` or ``max_frequency``), whose brackets are swept again by the
         lowest modes' route (no eigen-solution of the state matrices) where the model has
         ``_lowest.DENSE_BELOW`` coordinates or more.
+    sparse : bool
+        With ``roots``: a large model whose matrices are kept sparse (``assembly.SPARSE_DOF``),
+        whose crossings are refined on its sparse pencils (a part of ``_batches.CHUNK_BYTES`` at a
+        time) beside the lowest modes' basis (every undamped mode, one n x n array), never its
+        dense matrices.
 
     Returns
     -------
@@ -510,18 +516,21 @@ def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossi
     from ._lowest import DENSE_BELOW
 
     lowest = roots is not None and n_dof >= DENSE_BELOW
+    sparse = sparse and lowest
     roots = n_states - n_states // 2 if roots is None else roots
     per_speed = variants * roots * n_dof * 16.0                        # one set of shapes at one speed
     one_speed = 72.0 * variants * n_states ** 2                        # the eigen-solver's work for one speed
     solver = max(min(_batches.CHUNK_BYTES, n_speeds * one_speed), one_speed)
+    if sparse:                            # the lowest modes' basis: eigh of K_0 and M, its work and modes
+        solver = 4 * 8.0 * variants * n_dof ** 2
     small = 16.0 * 12 * variants * n_speeds * roots                    # eigenvalues and their quantities
     work = solver + per_speed * n_speeds                                # while solving: the shapes so far
     after = 2 * per_speed * n_speeds                                    # shapes and weighted shapes
     if critical:
-        refine = max(_batches.CHUNK_BYTES, 64.0 * n_dof ** 2)
+        refine = _batches.CHUNK_BYTES if sparse else max(_batches.CHUNK_BYTES, 64.0 * n_dof ** 2)
         sub = _SUB_DEPTH * 2 * _SUB_SPEEDS * roots * n_dof * 16.0 + (0.0 if lowest else one_speed / variants)
         after += max(refine, sub) + _CROSSING_BYTES * crossings
-    matrices = 24 * 8.0 * variants * n_dof ** 2
+    matrices = (8.0 if sparse else 24 * 8.0) * variants * n_dof ** 2
     return _BASE_BYTES + matrices + small + max(work, after)
 
 
@@ -578,7 +587,8 @@ def _refuse_crossings(stack, n_speeds, crossings, roots=None):
     """Refuse, before refining them, crossings that would not fit beside the sweep's arrays
     (``roots`` kept per speed: a sweep of the lowest modes, see :func:`memory_estimate`)."""
     n_dof, n_states = _sizes(stack)
-    needed = memory_estimate(n_dof, n_states, n_speeds, len(stack), True, crossings, roots)
+    needed = memory_estimate(n_dof, n_states, n_speeds, len(stack), True, crossings, roots,
+                             sparse=stack.sparse_constant is not None)
     if needed < _CHECKED_BYTES:
         return
     advice = "ask for fewer excitation orders (--orders) or a narrower speed range"

@@ -1302,7 +1302,7 @@ def _roots_near(stack, variants, x, centers, shapes=False, count=None):
         radius[failed] = np.inf if kept == nearest.shape[1] else \
             np.take_along_axis(distance, nearest[:, kept:kept + 1], axis=1)[:, 0]
     lam = np.where(lam.imag < 0, np.nan, lam)          # the lower roots are not candidates
-    return lam, _eigensolve.resolve_repeated(lam, phi, stack.whirl, variants), radius
+    return lam, _eigensolve.resolve_repeated(lam, phi, stack.repeated_forms, variants), radius
 
 
 def _candidates(stack, values, variants, x, centers, shapes=False, count=None):

@@ -16,7 +16,7 @@ import numpy as np
 from ..model.dofs import frame_block
 from ..model.geometry import shift_matrix
 
-__all__ = ["branch_count", "has_frequency_dependence", "maxwell_stiffness", "maxwell_branches"]
+__all__ = ["branch_count", "has_frequency_dependence", "maxwell_stiffness", "maxwell_branches", "maxwell_branch_blocks"]
 
 
 def has_frequency_dependence(model) -> bool:
@@ -40,11 +40,25 @@ def maxwell_branches(model):
         ``B_SP K_b B_SP^T`` on the stator's coordinates of the generalized space.
     times : ndarray, shape (n_branches,) [s]
     """
+    blocks, times = maxwell_branch_blocks(model)
+    return frame_block(model, blocks), times
+
+
+def maxwell_branch_blocks(model):
+    """:func:`maxwell_branches` as 6x6 blocks at the reference point (the stator's motion), without
+    the ``n x n`` array of each branch (a large model's: docs/theory.md section 17).
+
+    Returns
+    -------
+    blocks : ndarray, shape (n_branches, 6, 6) [N/m, ...]
+        ``B_SP K_b B_SP^T``; :func:`~rotordyn_modal.model.dofs.frame_block` places each.
+    times : ndarray, shape (n_branches,) [s]
+    """
     stiffness, times = [], []
     for _, _, shift, k_b, tau in _each_branch(model):
         stiffness.append(shift @ k_b @ shift.T)
         times.append(tau)
-    return frame_block(model, np.array(stiffness).reshape(-1, 6, 6)), np.array(times)
+    return np.array(stiffness).reshape(-1, 6, 6), np.array(times)
 
 
 def _each_branch(model):

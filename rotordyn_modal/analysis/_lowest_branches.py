@@ -27,7 +27,7 @@ import warnings
 import numpy as np
 import scipy.sparse
 
-from . import _batches, _lowest, _vectors
+from . import _batches, _lowest, _lowest_pencils, _vectors
 from .modal import OVERDAMPED_LIMIT, is_oscillating
 
 __all__ = ["lowest_roots", "roots_below", "roots_near", "largest_factor", "rational_terms"]
@@ -254,10 +254,10 @@ class RationalPencils(_lowest._Pencils):
             self.term_at.append(np.searchsorted(keys, where[j] * n + where[i]))
             self.term_values.append(block[i, j])
         # the highest mode's scale with the branches' stiffness at its largest (``K + sum K_b``)
-        stiffest = np.abs(_lowest._diagonal(self.K)).copy()
+        stiffest = np.abs(_lowest_pencils._diagonal(self.K)).copy()
         for _, where, block, _, _ in self.terms:
             stiffest[where] += np.abs(np.diagonal(block))
-        mass = _lowest._diagonal(self.M)
+        mass = _lowest_pencils._diagonal(self.M)
         self.scale = max(self.scale, float(np.max(stiffest / np.where(mass > 0, mass, np.inf))))
 
     def _speed_entries(self, stack, speeds):

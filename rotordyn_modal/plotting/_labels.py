@@ -540,16 +540,18 @@ class CurveMap:
         j1 = min(int(np.ceil((hi[1] - self.origin[1]) / self.cell)), rows)
         if i1 <= i0 or j1 <= j0:
             return True
-        x = self.origin[0] + (np.arange(i0, i1) + 0.5) * self.cell
-        y = self.origin[1] + (np.arange(j0, j1) + 0.5) * self.cell
-        centres = np.stack(np.meshgrid(x, y), axis=-1)                  # (rows, columns, 2)
+        t = self.table
+        if not t[j1, i1] - t[j0, i1] - t[j1, i0] + t[j0, i0]:
+            return True
+        rows_marked, columns_marked = np.nonzero(self.grid[j0:j1, i0:i1])
+        centres = np.column_stack([self.origin[0] + (columns_marked + i0 + 0.5) * self.cell,
+                                   self.origin[1] + (rows_marked + j0 + 0.5) * self.cell])
         edges = np.roll(corners, -1, axis=0) - corners
         area = np.sum(corners[:, 0] * np.roll(corners[:, 1], -1) - np.roll(corners[:, 0], -1) * corners[:, 1])
         outward = np.sign(area) * np.column_stack([edges[:, 1], -edges[:, 0]])
         outward /= np.maximum(np.hypot(outward[:, 0], outward[:, 1]), 1e-300)[:, None]
-        beyond = np.einsum("rcd,ed->rce", centres, outward) - np.einsum("ed,ed->e", corners, outward)
-        inside = np.all(beyond <= self.cell, axis=-1)
-        return not np.any(self.grid[j0:j1, i0:i1] & inside)
+        beyond = centres @ outward.T - np.sum(corners * outward, axis=1)
+        return not np.any(np.all(beyond <= self.cell, axis=1))
 
     def crossings(self, start, end, keep=None) -> int:
         """How many curves the segment ``start -> end`` crosses (runs of marked cells along it),

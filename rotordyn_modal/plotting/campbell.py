@@ -375,7 +375,7 @@ class _CampbellLabels:
         obstacles = [(b.x0, b.y0, b.x1, b.y1) for b in obstacles]
         bottom = frame.y1 + 2 * gap
         shown = 0
-        right_of = fig.bbox.x0 + gap
+        right_of = max(frame.x0, fig.bbox.x0 + gap)
         for members in sorted(unnamed, key=lambda group: group[0].u):
             text = self.key_texts[shown]
             words = _short_orders(", ".join(sorted((m.prefix for m in members), key=lambda p: float(p.rstrip("X"))))) \

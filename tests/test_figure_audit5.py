@@ -129,3 +129,98 @@ def test_every_order_line_is_named_beside_itself(model):
         named |= mine
     assert named == set(lines), sorted(set(lines) - named)
     plt.close(fig)
+
+
+# -- one panel of FRFs: a wide legend above the panel, not beside it -----------------------------
+
+def _single_panel_frfs():
+    """motor_pump_on_mounts' 8 FRFs (4 sensors x 2 excitations, names of 25 characters, '(= ...)'
+    notes); motor_fan_minimal's 12 mount forces (equal by symmetry: the notes come at the
+    first drawing)."""
+    pump = rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml")
+    yield "pump", rdm.frf(pump, rdm.rpm(3000), np.geomspace(1.0, 1500.0, 60))
+    minimal = rdm.load_model(EXAMPLES / "motor_fan_minimal.toml")
+    yield "minimal", rdm.force_frf(minimal, 0.0, np.linspace(1.0, 100.0, 300), where="suspensions")
+
+
+def test_one_panel_of_frfs_keeps_the_width_its_legend_above():
+    """The single-panel FRF figure kept its legend beside the panel whatever its width: the
+    panels took 52 % of the figure (motor_pump_on_mounts, 8 FRFs). On the drawn figure: each
+    panel is at least 80 % as wide as the figure; the legend lies inside the figure, overlaps
+    no panel and not the title, and names every curve."""
+    import matplotlib.pyplot as plt
+
+    for name, result in _single_panel_frfs():
+        fig = result.plot()
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        axes = [ax for ax in fig.axes if ax.get_visible()]
+        assert len(axes) == 2, name
+        for ax in axes:
+            assert ax.bbox.width >= 0.8 * fig.bbox.width, (name, ax.bbox.width / fig.bbox.width)
+        legend = axes[0].get_legend()
+        box = legend.get_window_extent(renderer)
+        frame = fig.bbox
+        assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1, name
+        assert not any(box.overlaps(ax.bbox) for ax in axes), name
+        title = axes[0].title.get_window_extent(renderer)
+        assert not box.overlaps(title), name
+        named = {t.get_text() for t in legend.get_texts()}
+        curves = [line.get_label() for line in axes[0].get_lines() if not line.get_label().startswith("_")]
+        assert len(curves) >= 8 and set(curves) <= named, (name, set(curves) - named)
+        plt.close(fig)
+
+
+# -- unbalance peaks: leader lines that cross each other -----------------------------------------
+
+def test_unbalance_peak_leaders_do_not_cross_each_other():
+    """motor_pump_on_mounts, 0-6000 rpm (the command line's figure: sensor panels by kind): the
+    casing panel's 'AF 9.7 at 320 rpm' and 'AF 13.7 at 260 rpm' had leader lines crossing each
+    other, each label seeming to point at the other's peak. On the drawn figure: no two leader
+    lines of one panel cross (exact segment intersection), and each leader ends at a peak
+    marker of the speed its label reads."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.cli.unbalance import sensor_groups
+
+    pump = rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml")
+    result = rdm.unbalance_response(pump, rdm.rpm(np.linspace(0.0, 6000.0, 301)))
+    fig = result.plot(peaks=result.peaks(None), groups=sensor_groups(pump))
+    fig.canvas.draw()
+    total = 0
+    for ax in fig.axes:
+        labels = [t for t in ax.texts if t.get_visible() and t.get_text().startswith("AF ")]
+        segments = []
+        for label in labels:
+            start = label.arrow_patch.get_path().vertices[0]
+            anchor = ax.transData.transform(label.xy)
+            assert f"at {label.xy[0]:.0f} rpm" in label.get_text(), (label.get_text(), label.xy)
+            segments.append((start, anchor))
+        total += len(segments)
+        for i, (a, b) in enumerate(segments):
+            for c, d in segments[i + 1:]:
+                def side(p, q, r):
+                    return np.sign((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]))
+                assert not (side(a, b, c) * side(a, b, d) < 0 and side(c, d, a) * side(c, d, b) < 0), \
+                    [t.get_text() for t in labels]
+    assert total >= 3
+    plt.close(fig)
+
+
+def test_orbit_tick_labels_do_not_run_into_each_other():
+    """motor_pump_on_mounts, 0-6000 rpm: the motor's orbit (8 nm) had nine tick labels across
+    ('-0.0075-0.0050-0.0025 0.0000 ...' printed over each other). On the drawn figure no two
+    tick labels of an axis overlap."""
+    import matplotlib.pyplot as plt
+
+    pump = rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml")
+    fig = rdm.unbalance_response(pump, rdm.rpm(np.linspace(0.0, 6000.0, 61))).plot_orbits()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        for ticks in (ax.get_xticklabels(), ax.get_yticklabels()):
+            boxes = [t.get_window_extent(renderer) for t in ticks if t.get_visible() and t.get_text()]
+            assert len(boxes) >= 3
+            for i, a in enumerate(boxes):
+                assert not any(a.overlaps(b) for b in boxes[i + 1:]), [t.get_text() for t in ticks]
+    plt.close(fig)

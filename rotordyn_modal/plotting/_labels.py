@@ -1002,8 +1002,8 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     """Annotate points of ``ax`` in the order given, each label inside the axes and apart.
 
     Each label takes the free box (:func:`first_free_box`: inside the axes, clear of every
-    label placed before and of every anchor, its leader line crossing no label and no leader
-    line crossing it, and no curve of the axes running through it but within
+    label placed before and of every anchor, its leader line crossing no label and no other
+    leader line, and no leader line crossing it, and no curve of the axes running through it but within
     :data:`ANCHOR_POINTS` of its own anchor: :class:`CurveMap`) of a grid around its anchor
     (:func:`boxes_around`) that costs least: its distance plus :data:`_CROSSING_COST` label
     heights for each curve its leader line crosses; a leader line joins the box's point
@@ -1079,7 +1079,7 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
 
     def clear(box):
         return curves.free(box, square) and not crosses_any([(nearest_in(box, point), point)], labels) \
-            and not crosses_any(leaders, [box]) \
+            and not crosses_any(leaders, [box]) and not crosses_segments(nearest_in(box, point), point, leaders) \
             and (crossing or (not curves.crossings(nearest_in(box, point), point, square)
                               and np.hypot(*np.subtract(nearest_in(box, point), point)) <= _LONGEST_LEADER * h))
 

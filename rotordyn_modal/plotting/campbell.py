@@ -49,8 +49,10 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     last point when the curve leaves through the top or bottom or ends before the right edge.
     Each rotor's (and gear mesh's) excitation orders are straight lines, labelled inside the
     axes where they leave them, apart from each other, or beside the line farther down where
-    the exits are crowded (close orders of one source share a label, a label with no room is
-    left out: its line keeps its source's colour); critical
+    the exits are crowded, or written along its line (its turned outline clear of every curve
+    and label); close orders of one source share a label; lines with no room inside the axes
+    get a key above the top edge joined to their exit by a leader line (with no room there
+    either, the line keeps its source's colour unnamed); critical
     speeds are marked and labelled with their speed where a label finds room clear of the
     other labels, markers and curves, beside the marker or nearby with a leader line (every
     critical speed is in the result's table). No curve runs through a label but at its own

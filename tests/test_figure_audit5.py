@@ -224,3 +224,27 @@ def test_orbit_tick_labels_do_not_run_into_each_other():
             for i, a in enumerate(boxes):
                 assert not any(a.overlaps(b) for b in boxes[i + 1:]), [t.get_text() for t in ticks]
     plt.close(fig)
+
+
+def test_a_log_frequency_axis_of_under_two_decades_reads_between_them():
+    """gear_machine's FRF from 1 to 60 Hz (the help's example) had two labelled frequencies,
+    '10^0' and '10^1': the peaks at 14 and 26 Hz could not be read off. On the drawn figure the
+    frequency axis labels at least four frequencies inside its range, as plain numbers, no two
+    labels overlapping."""
+    import matplotlib.pyplot as plt
+
+    gear = rdm.load_model(EXAMPLES / "gear_machine.toml")
+    fig = rdm.frf(gear, rdm.rpm(3000), np.linspace(1.0, 60.0, 120), outputs=["acc-top-z"],
+                  inputs=["hammer-z"]).plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[-1]
+    lo, hi = ax.get_xlim()
+    labels = [t for t in ax.get_xticklabels(which="both")
+              if t.get_visible() and t.get_text() and lo <= t.get_position()[0] <= hi]
+    texts = [t.get_text() for t in labels]
+    assert len(labels) >= 4 and all(re.fullmatch(r"\d+(\.\d+)?", text) for text in texts), texts
+    boxes = [t.get_window_extent(renderer) for t in labels]
+    for i, a in enumerate(boxes):
+        assert not any(a.overlaps(b) for b in boxes[i + 1:]), texts
+    plt.close(fig)

@@ -350,13 +350,17 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0):
 def _frequency_scale(ax, frequencies):
     """A logarithmic frequency axis (shared by the phase panel) when the frequencies [Hz], all
     > 0, span more than :data:`~rotordyn_modal.plotting.campbell.LOG_SPAN` times (mount modes at
-    5 Hz beside bearing modes at 1 kHz), else linear."""
+    5 Hz beside bearing modes at 1 kHz), else linear; its ticks read as plain numbers (1, 10,
+    100), and between the decades too where it spans less than two (1-60 Hz read '10^0, 10^1'
+    only)."""
+    from ._style import plain_log_ticks
     from .campbell import LOG_SPAN
 
     f = np.asarray(frequencies, float)
     f = f[np.isfinite(f)]
     if f.size and f.min() > 0 and f.max() > LOG_SPAN * f.min():
         ax.set_xscale("log")
+        plain_log_ticks(ax.xaxis)
 
 
 def plot_overlay(models, measured, title: str | None = None, units: str = "si", input_kinds=None):

@@ -1003,7 +1003,7 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
 
     Each label takes the free box (:func:`first_free_box`: inside the axes, clear of every
     label placed before and of every anchor, its leader line crossing no label and no other
-    leader line, and no leader line crossing it, and no curve of the axes running through it but within
+    leader line (with ``crossing``: where some box allows), and no leader line crossing it, and no curve of the axes running through it but within
     :data:`ANCHOR_POINTS` of its own anchor: :class:`CurveMap`) of a grid around its anchor
     (:func:`boxes_around`) that costs least: its distance plus :data:`_CROSSING_COST` label
     heights for each curve its leader line crosses; a leader line joins the box's point
@@ -1077,9 +1077,10 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
     labels, leaders = drawn
     square = anchor_box(*point, keep)
 
-    def clear(box):
+    def clear(box, apart=True):
         return curves.free(box, square) and not crosses_any([(nearest_in(box, point), point)], labels) \
-            and not crosses_any(leaders, [box]) and not crosses_segments(nearest_in(box, point), point, leaders) \
+            and not crosses_any(leaders, [box]) \
+            and not (apart and crosses_segments(nearest_in(box, point), point, leaders)) \
             and (crossing or (not curves.crossings(nearest_in(box, point), point, square)
                               and np.hypot(*np.subtract(nearest_in(box, point), point)) <= _LONGEST_LEADER * h))
 
@@ -1087,12 +1088,18 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
         return box_distance(box, *point) + _CROSSING_COST * h * curves.crossings(nearest_in(box, point), point, square)
 
     gap, frame = room
-    box = first_free_box(candidates, placed, (gap, gap), frame, allowed=clear, cost=cost,
-                         bound=lambda box: box_distance(box, *point))
-    if box is not None and cost(box) > max(_MOST_COST * h, box_distance(box, *point)):
-        placed.pop()            # far, its leader across curves: left out
-        return None
-    return box
+    # a leader crossing another leader makes each label seem to point at the other's point:
+    # where leaders may cross curves (every label must be written: a map's crossings), they may
+    # cross each other too where no box avoids it; else the label is left out
+    for apart in (True, False) if crossing else (True,):
+        box = first_free_box(candidates, placed, (gap, gap), frame, allowed=lambda b: clear(b, apart), cost=cost,
+                             bound=lambda box: box_distance(box, *point))
+        if box is not None and cost(box) > max(_MOST_COST * h, box_distance(box, *point)):
+            placed.pop()            # far, its leader across curves: left out
+            box = None
+        if box is not None:
+            return box
+    return None
 
 
 def nearest_in(box, point):

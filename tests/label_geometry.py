@@ -117,3 +117,53 @@ def segment_crossings(start, end, segments, anchor=None, radius=0.0):
     if anchor is not None:
         points = points[np.hypot(*(points - np.asarray(anchor, float)).T) > radius]
     return points
+
+
+def outline(text, renderer):
+    """Corners (4, 2) [display pixels] of the turned text's own rectangle: its unturned width
+    and height (a copy at angle 0) turned by its angle and fitted into its box as drawn."""
+    from matplotlib.text import Text
+
+    box = Text.get_window_extent(text, renderer)
+    flat = Text(0, 0, text.get_text(), fontproperties=text.get_fontproperties())
+    flat.set_figure(text.figure)
+    unturned = flat.get_window_extent(renderer)
+    angle = np.radians(text.get_rotation())
+    along, across = np.array([np.cos(angle), np.sin(angle)]), np.array([-np.sin(angle), np.cos(angle)])
+    corners = np.array([(0.0, 0.0), unturned.width * along, unturned.width * along + unturned.height * across,
+                        unturned.height * across])
+    corners += np.array([box.x0, box.y0]) - corners.min(axis=0)
+    assert abs(corners[:, 0].max() - box.x1) < 1.0 and abs(corners[:, 1].max() - box.y1) < 1.0
+    return corners
+
+
+def outlines_overlap(a, b) -> bool:
+    """Whether two convex polygons (n, 2) overlap (separating axes of both's edges)."""
+    for polygon in (a, b):
+        edges = np.roll(polygon, -1, axis=0) - polygon
+        for nx, ny in np.column_stack([-edges[:, 1], edges[:, 0]]):
+            pa, pb = a @ (nx, ny), b @ (nx, ny)
+            if pa.max() <= pb.min() or pb.max() <= pa.min():
+                return False
+    return True
+
+
+def outline_crossings(text, renderer, segments, anchors=(), radius=0.0, inset=0.5):
+    """:func:`crossings` of ``segments`` through the text's own (turned) rectangle
+    (:func:`outline`), reckoned in the text's frame (along and across its lines); points in
+    that frame. For an unturned text the same as through its glyph box."""
+    from matplotlib.transforms import Bbox
+
+    corners = outline(text, renderer)
+    origin = corners[0]
+    along = (corners[1] - origin) / np.hypot(*(corners[1] - origin))
+    across = np.array([-along[1], along[0]])
+    turn = np.column_stack([along, across])                     # display -> text frame: (p - origin) @ turn
+
+    def local(points):
+        return (np.asarray(points, float).reshape(-1, 2) - origin) @ turn
+
+    width, height = np.hypot(*(corners[1] - origin)), np.hypot(*(corners[3] - origin))
+    moved = np.hstack([local(segments[:, :2]), local(segments[:, 2:])]) if len(segments) else segments
+    return crossings(Bbox([[0.0, 0.0], [width, height]]), moved, local(anchors) if len(anchors) else (),
+                     radius, inset)

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
+from label_geometry import outline, outlines_overlap
 
 matplotlib.use("Agg")
 
@@ -133,10 +134,12 @@ def test_order_labels_name_neighbouring_lines_beside_their_own(model):
     lines = _order_lines_drawn(ax)
     multiplier = dict(zip(result.sources.names, result.sources.multipliers))
     assert len(lines) == 4 * len(multiplier)
-    texts = [t for t in ax.texts if t.get_visible() and t.get_text()]
+    # keys above the axes (lines with no room inside them) are checked in test_figure_audit5
+    texts = [t for t in ax.texts if t.get_visible() and t.get_text() and t.get_gid() != "order-key"]
     boxes = [t.get_window_extent(renderer) for t in texts]
-    for i, a in enumerate(boxes):
-        assert not any(a.overlaps(b) for b in boxes[i + 1:]), texts[i].get_text()
+    outlines = [outline(t, renderer) for t in texts]     # labels along steep lines: the turned texts
+    for i, a in enumerate(outlines):
+        assert not any(outlines_overlap(a, b) for b in outlines[i + 1:]), texts[i].get_text()
     named = set()
     slopes = sorted(lines)
     for text, box in zip(texts, boxes):

@@ -195,6 +195,7 @@ def edge_label_boxes(ax, labels, fontsize, renderer, placed, curves=None, along=
         if box is not None:
             taken.append((label, box))
     if along and curves is not None:
+        turned = {}             # the turned labels' outlines (by their boxes in ``placed``)
         missing = sorted([label for label in merged if label.edge == "top" and label.paths
                           and all(label is not t for t, _ in taken)], key=lambda lab: lab.direction * lab.u)
         for label in missing:
@@ -202,11 +203,11 @@ def edge_label_boxes(ax, labels, fontsize, renderer, placed, curves=None, along=
                        and label.u - 1e-12 <= m.u <= label.u + label.spread + 1e-12]
             others = [o for o in labels if all(o is not m for m in members)]
             found = _along_the_line(ax, dataclasses.replace(label, prefix=_short_orders(label.prefix)), others,
-                                    fontsize, renderer, placed, curves, frame, (pad_u, pad_v))
+                                    fontsize, renderer, placed, curves, frame, (pad_u, pad_v), turned)
             # else each of its lines on its own
             singles = [] if found is not None or len(members) < 2 else \
                 [_along_the_line(ax, m, others + [o for o in members if o is not m], fontsize, renderer, placed,
-                                 curves, frame, (pad_u, pad_v)) for m in members]
+                                 curves, frame, (pad_u, pad_v), turned) for m in members]
             taken += [item for item in [found] + singles if item is not None]
     return taken
 
@@ -230,20 +231,25 @@ def _short_orders(prefix: str) -> str:
 _LOWEST_ALONG, _SMALLER_ALONG = 0.3, "xx-small"
 
 
-def _along_the_line(ax, label, others, fontsize, renderer, placed, curves, frame, pad):
+def _along_the_line(ax, label, others, fontsize, renderer, placed, curves, frame, pad, turned=None):
     """``(label turned along its line, box)`` or None: the text parallel to its line (or to the
     outermost of its merged lines on either side), slid down from the top edge to
     :data:`_LOWEST_ALONG`, right of the line first, then left, in ``fontsize`` then
-    :data:`_SMALLER_ALONG`; the first place where the box around the turned text lies half
-    ``pad`` clear of the line (so no curve runs through it, not even its own), inside ``frame``,
-    clear of ``placed`` and of every curve, and where its centre is nearer its own lines than
-    any of ``others``'.
+    :data:`_SMALLER_ALONG`; the first place where the turned text itself (its rotated outline,
+    not the box around it) lies half ``pad`` and a cell of ``curves`` clear of the line (so no
+    curve runs through it, not even its own), inside ``frame``, ``pad`` clear of ``placed``
+    (boxes, or the outlines in ``turned`` of the labels turned before) and of every curve,
+    and where its centre is nearer its own lines than any of ``others``'.
 
-    The box (left, bottom, right, top; axes fraction) is drawn with the text's lower-left
-    corner there (``ha='left', va='bottom'``, turned by the label's ``angle`` [degrees])."""
+    The box (left, bottom, right, top; axes fraction) around the turned text is drawn with the
+    text's lower-left corner there (``ha='left', va='bottom'``, turned by the label's ``angle``
+    [degrees]); it is appended to ``placed`` and its outline (4, 2) [axes fraction] to
+    ``turned`` (a dict: box -> outline)."""
     extent = ax.get_window_extent(renderer)
     size = np.array([max(extent.width, 1.0), max(extent.height, 1.0)])
     gap = 0.5 * float(np.mean(np.asarray(pad) * size))
+    offset = gap + curves.cell          # the own line's marked cells lie up to a cell from it
+    turned = {} if turned is None else turned
     others = [np.asarray(o.paths[0], float) * size for o in others if o.paths]
     own = [np.asarray(path, float) * size for path in label.paths]
     sides = []
@@ -255,23 +261,58 @@ def _along_the_line(ax, label, others, fontsize, renderer, placed, curves, frame
     along = -sides[0][1] if sides[0][1][0] < 0 else sides[0][1]      # the text reads left to right
     angle = float(np.degrees(np.arctan2(along[1], along[0])))
     lowest = (1.0 - _LOWEST_ALONG) * size[1] / max(abs(sides[0][1][1]), 1e-9)
+    inner = np.asarray(frame, float) * np.tile(size, 2)
+    obstacles = np.array([turned[tuple(b)] * size if tuple(b) in turned else _box_corners(np.asarray(b) * np.tile(size, 2))
+                          for b in placed], float).reshape(-1, 4, 2)
     for font in dict.fromkeys((fontsize, _SMALLER_ALONG)):
         length, height = text_size(ax.figure, label.text, font, renderer)
         steps = np.arange(0.0, lowest, gap)
         # (steps, sides, 4 corners, 2): down the line, each step right of it, then left
-        candidates = np.stack([_beside(line[0], down, normal, steps, length, height, gap)
+        candidates = np.stack([_parallel(line[0], down, normal, steps, length, height, offset)
                                for line, down, normal in sides], axis=1).reshape(-1, 4, 2)
-        boxes = [tuple(b) for b in np.concatenate([candidates.min(axis=1) / size, candidates.max(axis=1) / size],
-                                                  axis=1)]
-        for k in np.nonzero(_inside_and_clear(boxes, placed, pad, frame, ()))[0]:
-            if not curves.free(boxes[k]):
+        ok = np.all((candidates[..., 0] >= inner[0]) & (candidates[..., 0] <= inner[2])
+                    & (candidates[..., 1] >= inner[1]) & (candidates[..., 1] <= inner[3]), axis=1)
+        ok &= outlines_apart(candidates, obstacles, 2.0 * gap)
+        for k in np.nonzero(ok)[0]:
+            if not curves.free_outline(candidates[k] / size):
                 continue
             centre = candidates[k].mean(axis=0)
             mine = min(_distance_to(path, centre) for path in own)
             if all(mine < _distance_to(path, centre) for path in others):
-                placed.append(boxes[k])
-                return dataclasses.replace(label, angle=angle, fontsize=font_points(font)), boxes[k]
+                box = tuple(float(c) for c in np.concatenate([candidates[k].min(axis=0), candidates[k].max(axis=0)])
+                            / np.tile(size, 2))
+                placed.append(box)
+                turned[box] = candidates[k] / size
+                return dataclasses.replace(label, angle=angle, fontsize=font_points(font)), box
     return None
+
+
+def _box_corners(box):
+    """Corners (4, 2) of ``box`` (left, bottom, right, top), counter-clockwise."""
+    return np.array([(box[0], box[1]), (box[2], box[1]), (box[2], box[3]), (box[0], box[3])], float)
+
+
+def outlines_apart(candidates, obstacles, gap=0.0):
+    """Mask (K,): whether each of ``candidates`` (K, 4, 2), rectangles (turned or not, corners in
+    order), lies at least ``gap`` apart from every one of ``obstacles`` (M, 4, 2) (one unit, e.g.
+    pixels): separating axes, the rectangles' edge directions."""
+    candidates = np.asarray(candidates, float).reshape(-1, 4, 2)
+    obstacles = np.asarray(obstacles, float).reshape(-1, 4, 2)
+    if not len(obstacles) or not len(candidates):
+        return np.ones(len(candidates), bool)
+
+    def axes_of(rects):                     # (N, 2, 2): the two edge directions' normals
+        edges = np.stack([rects[:, 1] - rects[:, 0], rects[:, 2] - rects[:, 1]], axis=1)
+        lengths = np.maximum(np.hypot(edges[..., 0], edges[..., 1]), 1e-300)
+        return np.stack([-edges[..., 1], edges[..., 0]], axis=-1) / lengths[..., None]
+
+    k, m = len(candidates), len(obstacles)
+    axes = np.concatenate([np.broadcast_to(axes_of(candidates)[:, None], (k, m, 2, 2)),
+                           np.broadcast_to(axes_of(obstacles)[None], (k, m, 2, 2))], axis=2)    # (K, M, 4, 2)
+    a = np.einsum("kcd,kmad->kmac", candidates, axes)          # (K, M, 4 axes, 4 corners)
+    b = np.einsum("mcd,kmad->kmac", obstacles, axes)
+    apart = (a.max(axis=3) + gap <= b.min(axis=3)) | (b.max(axis=3) + gap <= a.min(axis=3))
+    return np.all(np.any(apart, axis=2), axis=1)
 
 
 def font_points(font) -> float:
@@ -281,22 +322,13 @@ def font_points(font) -> float:
     return float(FontProperties(size=font).get_size_in_points())
 
 
-def _beside(point, down, normal, steps, length, height, gap):
+def _parallel(point, down, normal, steps, length, height, gap):
     """Corners (S, 4, 2) [pixels] of a text ``length`` x ``height`` parallel to the straight line
     through ``point`` along ``down`` (unit vector), beginning ``steps`` (S,) down from ``point``,
-    ``gap`` from the line on the side of ``normal``, each then moved along x until the line
-    runs ``gap`` clear of the box around it."""
+    ``gap`` from the line on the side of ``normal``."""
     start = point + steps[:, None] * down + gap * normal
-    corners = np.stack([start, start + length * down, start + length * down + height * normal,
-                        start + height * normal], axis=1)
-    heights = np.stack([corners[..., 1].min(axis=1), corners[..., 1].max(axis=1)], axis=1)
-    x = point[0] + (heights - point[1]) * down[0] / (down[1] if down[1] else -1e-12)
-    if normal[0] > 0:
-        shift = np.maximum(x.max(axis=1) + gap - corners[..., 0].min(axis=1), 0.0)
-    else:
-        shift = np.minimum(x.min(axis=1) - gap - corners[..., 0].max(axis=1), 0.0)
-    corners[..., 0] += shift[:, None]
-    return corners
+    return np.stack([start, start + length * down, start + length * down + height * normal,
+                     start + height * normal], axis=1)
 
 
 def _distance_to(path, point) -> float:
@@ -494,6 +526,32 @@ class CurveMap:
             if inside[0] < inside[2] and inside[1] < inside[3]:
                 crossed -= self._cells(inside)
         return crossed == 0
+
+    def free_outline(self, corners) -> bool:
+        """Whether no curve runs through the convex polygon ``corners`` (n, 2) (a turned
+        label's outline, corners in order; in the map's units), nor within a cell of it."""
+        corners = np.asarray(corners, float)
+        if self.units == "axes":
+            corners = np.asarray(self.origin) + corners * np.asarray(self.size)
+        rows, columns = self.grid.shape
+        lo, hi = corners.min(axis=0) - self.cell, corners.max(axis=0) + self.cell
+        i0, j0 = (max(int(np.floor((lo[d] - self.origin[d]) / self.cell)), 0) for d in (0, 1))
+        i1 = min(int(np.ceil((hi[0] - self.origin[0]) / self.cell)), columns)
+        j1 = min(int(np.ceil((hi[1] - self.origin[1]) / self.cell)), rows)
+        if i1 <= i0 or j1 <= j0:
+            return True
+        t = self.table
+        if not t[j1, i1] - t[j0, i1] - t[j1, i0] + t[j0, i0]:
+            return True
+        rows_marked, columns_marked = np.nonzero(self.grid[j0:j1, i0:i1])
+        centres = np.column_stack([self.origin[0] + (columns_marked + i0 + 0.5) * self.cell,
+                                   self.origin[1] + (rows_marked + j0 + 0.5) * self.cell])
+        edges = np.roll(corners, -1, axis=0) - corners
+        area = np.sum(corners[:, 0] * np.roll(corners[:, 1], -1) - np.roll(corners[:, 0], -1) * corners[:, 1])
+        outward = np.sign(area) * np.column_stack([edges[:, 1], -edges[:, 0]])
+        outward /= np.maximum(np.hypot(outward[:, 0], outward[:, 1]), 1e-300)[:, None]
+        beyond = centres @ outward.T - np.sum(corners * outward, axis=1)
+        return not np.any(np.all(beyond <= self.cell, axis=1))
 
     def crossings(self, start, end, keep=None) -> int:
         """How many curves the segment ``start -> end`` crosses (runs of marked cells along it),
@@ -944,8 +1002,8 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     """Annotate points of ``ax`` in the order given, each label inside the axes and apart.
 
     Each label takes the free box (:func:`first_free_box`: inside the axes, clear of every
-    label placed before and of every anchor, its leader line crossing no label and no leader
-    line crossing it, and no curve of the axes running through it but within
+    label placed before and of every anchor, its leader line crossing no label and no other
+    leader line (with ``crossing``: where some box allows), and no leader line crossing it, and no curve of the axes running through it but within
     :data:`ANCHOR_POINTS` of its own anchor: :class:`CurveMap`) of a grid around its anchor
     (:func:`boxes_around`) that costs least: its distance plus :data:`_CROSSING_COST` label
     heights for each curve its leader line crosses; a leader line joins the box's point
@@ -1019,9 +1077,10 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
     labels, leaders = drawn
     square = anchor_box(*point, keep)
 
-    def clear(box):
+    def clear(box, apart=True):
         return curves.free(box, square) and not crosses_any([(nearest_in(box, point), point)], labels) \
             and not crosses_any(leaders, [box]) \
+            and not (apart and crosses_segments(nearest_in(box, point), point, leaders)) \
             and (crossing or (not curves.crossings(nearest_in(box, point), point, square)
                               and np.hypot(*np.subtract(nearest_in(box, point), point)) <= _LONGEST_LEADER * h))
 
@@ -1029,12 +1088,18 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
         return box_distance(box, *point) + _CROSSING_COST * h * curves.crossings(nearest_in(box, point), point, square)
 
     gap, frame = room
-    box = first_free_box(candidates, placed, (gap, gap), frame, allowed=clear, cost=cost,
-                         bound=lambda box: box_distance(box, *point))
-    if box is not None and cost(box) > max(_MOST_COST * h, box_distance(box, *point)):
-        placed.pop()            # far, its leader across curves: left out
-        return None
-    return box
+    # a leader crossing another leader makes each label seem to point at the other's point:
+    # where leaders may cross curves (every label must be written: a map's crossings), they may
+    # cross each other too where no box avoids it; else the label is left out
+    for apart in (True, False) if crossing else (True,):
+        box = first_free_box(candidates, placed, (gap, gap), frame, allowed=lambda b: clear(b, apart), cost=cost,
+                             bound=lambda box: box_distance(box, *point))
+        if box is not None and cost(box) > max(_MOST_COST * h, box_distance(box, *point)):
+            placed.pop()            # far, its leader across curves: left out
+            box = None
+        if box is not None:
+            return box
+    return None
 
 
 def nearest_in(box, point):

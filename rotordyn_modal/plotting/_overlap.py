@@ -75,14 +75,16 @@ def show_overlaps(ax, lines):
     found = []
     for k, line in enumerate(lines):
         stretches = _stretches(groups[k], points[k], ax.figure.dpi / 72.0)
-        for start, stop, members in stretches:
+        for start, stop, members, along, long_ in stretches:
             rank = members.index(k)
-            found += [Overlap(line, lines[m], start, stop) for m in members[:rank]]
+            if long_:
+                found += [Overlap(line, lines[m], start, stop) for m in members[:rank]]
             x, y = np.asarray(line.get_xdata()), np.asarray(line.get_ydata())
             ax.plot(x[start:stop + 1], y[start:stop + 1], color=line.get_color(), lw=line.get_linewidth(),
-                    ls=_dashes(rank, len(members), line.get_linewidth()), zorder=line.get_zorder() + _OVER,
-                    label="_overlap")
-        if stretches and all(members.index(k) for _, _, members in stretches) and _covered(stretches, points[k]):
+                    ls=_dashes(rank, len(members), line.get_linewidth(), along / (ax.figure.dpi / 72.0)),
+                    zorder=line.get_zorder() + _OVER, label="_overlap")
+        long_ = [s for s in stretches if s[4]]         # its dashes as its own style: as the legend names it
+        if long_ and all(s[2].index(k) for s in stretches) and _covered(long_, points[k]):
             line.set_linestyle(_dashes(1, 2, line.get_linewidth()))    # the legend shows its dashes
     return found
 
@@ -162,38 +164,63 @@ def _slope(p):
 
 
 def _stretches(masks, points, pixels_per_point):
-    """``[(start, stop, members), ...]``: runs of points where the curve's group (``masks``, one
-    bit per curve) holds others and stays the same, at least :data:`_SHORTEST_POINTS` long
-    along the curve; members in drawing order."""
-    found = []
+    """``[(start, stop, members, along, long), ...]``: the stretches where the curve's group
+    (``masks``, one bit per curve) holds others and stays the same, members in drawing order;
+    ``along`` [pixels]: how far along the curve the stretch begins from the start of its run
+    (below); ``long``: whether the stretch is at least :data:`_SHORTEST_POINTS` long itself.
+
+    A run of points where the group holds others, at least :data:`_SHORTEST_POINTS` long
+    along the curve, is cut where the group changes, and each piece is a stretch however short:
+    a third curve grazing the group, or the members passing in and out of a line width of each
+    other, cut it into pieces whose lengths the display's geometry decides (the figure's size,
+    a legend's place); pieces too short once left out left the curves there hidden under the
+    one drawn last. A run shorter than that is a crossing: no stretch."""
     shared = (masks & (masks - 1)) != 0           # more than one bit: other curves
-    n = len(masks)
-    i = 0
-    while i < n:
-        if not shared[i]:
-            i += 1
+    with np.errstate(invalid="ignore"):
+        lengths = np.hypot(*np.diff(points, axis=0).T)
+    lengths = np.where(np.isfinite(lengths), lengths, 0.0)
+    shortest = _SHORTEST_POINTS * pixels_per_point
+    found = []
+    for start, stop in _runs(shared):
+        if stop == start or lengths[start:stop].sum() < shortest:
             continue
-        j = i
-        while j + 1 < n and shared[j + 1] and masks[j + 1] == masks[i]:
-            j += 1
-        steps = np.diff(points[i:j + 1], axis=0)
-        if j > i and np.nansum(np.hypot(steps[:, 0], steps[:, 1])) >= _SHORTEST_POINTS * pixels_per_point:
-            found.append((i, j, [b for b in range(int(masks[i]).bit_length()) if int(masks[i]) >> b & 1]))
-        i = j + 1
+        i = start
+        while i <= stop:
+            j = i
+            while j + 1 <= stop and masks[j + 1] == masks[i]:
+                j += 1
+            stretch = (i, min(j + 1, stop))          # to the next piece's first point: no gap between
+            if stretch[1] > stretch[0]:
+                found.append((*stretch, _bits(masks[i]), float(lengths[start:i].sum()),
+                              bool(lengths[stretch[0]:stretch[1]].sum() >= shortest)))
+            i = j + 1
     return found
+
+
+def _runs(flags):
+    """``[(start, stop), ...]`` (inclusive) of the runs of True in ``flags``."""
+    edges = np.diff(np.concatenate([[0], np.asarray(flags, np.int8), [0]]))
+    return list(zip(np.nonzero(edges == 1)[0].tolist(), (np.nonzero(edges == -1)[0] - 1).tolist()))
+
+
+def _bits(mask: int) -> list:
+    """The curves (bit numbers) of ``mask``, in order."""
+    return [b for b in range(int(mask).bit_length()) if int(mask) >> b & 1]
 
 
 def _covered(stretches, points):
     """Whether ``stretches`` together span every drawn point of the curve."""
     inside = np.zeros(len(points), bool)
-    for start, stop, _ in stretches:
+    for start, stop, *_ in stretches:
         inside[start:stop + 1] = True
     return bool(np.all(inside | ~np.all(np.isfinite(points), axis=1)))
 
 
-def _dashes(rank, members, width):
+def _dashes(rank, members, width, along=0.0):
     """Line style of the ``rank``-th of ``members`` curves lying on each other: dashes of
     :data:`DASH_POINTS` with ``members - 1`` dashes' gaps, shifted to the rank's turn (a
-    pattern in points, matplotlib scales it by the line width)."""
+    pattern in points, matplotlib scales it by the line width); ``along`` [points]: where
+    the stretch begins along its run, so that the turns go on across the run's stretches."""
     dash = DASH_POINTS / max(width, 1e-3)
-    return ((members - rank) % members * dash, (dash, (members - 1) * dash))
+    return (((members - rank) % members * dash + along / max(width, 1e-3)) % (members * dash),
+            (dash, (members - 1) * dash))

@@ -7,7 +7,7 @@ import numpy as np
 from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
-                      font_points, set_if_changed, text_size)
+                      font_points, set_if_changed, text_size, _short_orders)
 from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -49,8 +49,10 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     last point when the curve leaves through the top or bottom or ends before the right edge.
     Each rotor's (and gear mesh's) excitation orders are straight lines, labelled inside the
     axes where they leave them, apart from each other, or beside the line farther down where
-    the exits are crowded (close orders of one source share a label, a label with no room is
-    left out: its line keeps its source's colour); critical
+    the exits are crowded, or written along its line (its turned outline clear of every curve
+    and label); close orders of one source share a label; lines with no room inside the axes
+    get a key above the top edge joined to their exit by a leader line (with no room there
+    either, the line keeps its source's colour unnamed); critical
     speeds are marked and labelled with their speed where a label finds room clear of the
     other labels, markers and curves, beside the marker or nearby with a leader line (every
     critical speed is in the result's table). No curve runs through a label but at its own
@@ -298,6 +300,12 @@ class _CampbellLabels:
         self.lines, self.per_x, self.by_whirl = lines, per_x, by_whirl
         self.critical = critical
         self.order_texts = [self._text("") for _ in range(len(lines) * len(result.orders))]
+        # keys above the top edge of the lines that find no room inside the axes (outside the layout)
+        self.key_texts = [self._text("", gid="order-key", clip_on=False) for _ in self.order_texts]
+        self.key_leaders = [ax.plot([], [], linewidth=0.6, transform=ax.transAxes, clip_on=False, visible=False,
+                                    gid="order-key-leader")[0] for _ in self.order_texts]
+        for artist in self.key_texts + self.key_leaders:
+            artist.set_in_layout(False)
         self.modes = [m for m in range(freqs.shape[1]) if np.isfinite(freqs[:, m]).any()]
         # beside the right edge from the start, so that the layout leaves them room
         self.mode_texts = [self._text(f"mode {result.modes[m]}", gid="mode-label", va="center", visible=True,
@@ -328,7 +336,8 @@ class _CampbellLabels:
         self.to_u, self.to_v = 1.0 / max(box.width, 1.0), 1.0 / max(box.height, 1.0)
         self.points = renderer.points_to_pixels(1.0)
         self.to_axes = (ax.transData + ax.transAxes.inverted()).transform
-        self.curves = CurveMap(ax, renderer, skip=self.leaders + self.critical_leaders, units="axes")
+        self.curves = CurveMap(ax, renderer, skip=self.leaders + self.critical_leaders + self.key_leaders,
+                               units="axes")
         self.leader_lines = []          # (start, end) of the leader lines drawn inside the axes
         placed = []
         self._place_orders(renderer, placed)
@@ -350,6 +359,57 @@ class _CampbellLabels:
             label, (left, low, _, _) = item
             set_if_changed(text, text=label.text, color=label.color, position=(left, low), rotation=label.angle,
                            fontsize=label.fontsize or font_points(_FONT), visible=True)
+        self._place_keys(renderer, _unnamed(exits, [label for label, _ in taken]))
+
+    def _place_keys(self, renderer, unnamed):
+        """Keys of the top-edge lines ``unnamed`` inside the axes (lists of one source's
+        neighbouring :class:`EdgeLabel` s): flat, in a row just above the axes' top edge, each
+        as near above its lines' exits as the other keys, the title, the tick labels and the
+        figure's edge let it be, joined to the exit of its line nearest it by a leader line;
+        a key with no such room is left out."""
+        ax, fig = self.ax, self.ax.figure
+        frame = ax.get_window_extent(renderer)
+        gap = _PAD_POINTS * self.points
+        obstacles = [artist.get_window_extent(renderer) for artist in
+                     [ax.title, ax._left_title, ax._right_title] + ax.get_xticklabels() + ax.get_yticklabels()
+                     + [t for t in self.mode_texts if t.get_visible()]
+                     if artist.get_visible() and artist.get_text()]
+        obstacles = [(b.x0, b.y0, b.x1, b.y1) for b in obstacles]
+        bottom = frame.y1 + 2 * gap
+        shown = 0
+        right_of = max(frame.x0, fig.bbox.x0 + gap)
+        for members in sorted(unnamed, key=lambda group: group[0].u):
+            text = self.key_texts[shown]
+            words = _short_orders(", ".join(sorted((m.prefix for m in members), key=lambda p: float(p.rstrip("X"))))) \
+                if all(m.prefix.rstrip("X").replace(".", "", 1).isdigit() for m in members) \
+                else ", ".join(m.prefix for m in members)
+            words = f"{words} {members[0].suffix}"
+            w, h = self._size(words, _FONT, renderer)
+            exits = [frame.x0 + m.u * frame.width for m in members]
+            middle = 0.5 * (min(exits) + max(exits))
+            box = None
+            for left in middle - w / 2 + np.arange(0.0, 6.0) * w / 2:
+                left = max(left, right_of)
+                trial = (left, bottom, left + w, bottom + h)
+                if trial[2] <= fig.bbox.x1 - gap and trial[3] <= fig.bbox.y1 - gap / 2 \
+                        and not any(_overlap(trial, o, gap) for o in obstacles):
+                    box = trial
+                    break
+            if box is None:
+                continue
+            obstacles.append(box)
+            right_of = box[2] + gap
+            start = min(max(middle, box[0]), box[2])
+            end = min(exits, key=lambda e: abs(e - start))
+            set_if_changed(self.key_leaders[shown], xdata=[(end - frame.x0) / frame.width, (start - frame.x0) / frame.width],
+                           ydata=[1.0, (bottom - frame.y0) / frame.height], color=members[0].color, visible=True)
+            set_if_changed(text, text=words, color=members[0].color, position=((box[0] - frame.x0) / frame.width,
+                                                                               (bottom - frame.y0) / frame.height),
+                           rotation=0.0, fontsize=font_points(_FONT), visible=True)
+            shown += 1
+        for text, leader in zip(self.key_texts[shown:], self.key_leaders[shown:]):
+            set_if_changed(text, visible=False)
+            set_if_changed(leader, visible=False)
 
     # -- modes ---------------------------------------------------------------------------
     def _place_modes(self, renderer, placed, markers):
@@ -536,6 +596,30 @@ class _CampbellLabels:
                 set_if_changed(text, visible=False)
                 continue
             set_if_changed(text, position=(box[0], box[1]), va="bottom", ha="left", clip_on=True, visible=True)
+
+
+def _overlap(a, b, gap) -> bool:
+    """Whether the boxes ``a`` and ``b`` (x0, y0, x1, y1) come closer than ``gap``."""
+    return a[0] < b[2] + gap and b[0] < a[2] + gap and a[1] < b[3] + gap and b[1] < a[3] + gap
+
+
+def _unnamed(exits, taken):
+    """The top-edge exits (:class:`EdgeLabel`) that no label of ``taken`` names, in groups of one
+    source's neighbours (no other line's exit between them)."""
+    def named(exit_):
+        return any(t.edge == exit_.edge and t.suffix == exit_.suffix and t.u - 1e-12 <= exit_.u <= t.u + t.spread + 1e-12
+                   and (t.prefix == exit_.prefix or not t.prefix.endswith("X") or t.spread or "," in t.prefix
+                        or "\u2013" in t.prefix) for t in taken)
+    tops = sorted([e for e in exits if e.edge == "top"], key=lambda e: e.u)
+    groups = []
+    for exit_ in tops:
+        if named(exit_):
+            groups.append(None)
+        elif groups and groups[-1] is not None and groups[-1][-1].suffix == exit_.suffix:
+            groups[-1].append(exit_)
+        else:
+            groups.append([exit_])
+    return [group for group in groups if group is not None]
 
 
 def _contains(box, point) -> bool:

@@ -71,12 +71,13 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None, units:
     mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '') if units == 'si' else scale.label(pairs)}]")
     phase.set_xlabel("Frequency [Hz]")
     mag.set_title(title or default)
-    # beside, off the curves, whatever its width: the overlaps of curves lying on each other are
-    # found at the first drawing, on this layout (see docs/figures.md, "FRF and unbalance legends")
-    legends = [_Legend(mag, "small", "model (line), measured (dots)" if measured is not None else None,
-                       always_beside=True)]
-    _place_legends([(fig, legends)])
-    _show_frf_overlaps(fig, [mag, phase] if measured is None else [mag], result, [(fig, legends)], [0.0])
+    # beside, off the curves, or above the panel where wider than a fifth of the figure (as the
+    # groups' legends); the overlaps of curves lying on each other are found at the first
+    # drawing, on this layout, and their notes may take the legend above then (see
+    # docs/figures.md, "FRF and unbalance legends")
+    legends = [_Legend(mag, "small", "model (line), measured (dots)" if measured is not None else None)]
+    above = _place_legends([(fig, legends)])
+    _show_frf_overlaps(fig, [mag, phase] if measured is None else [mag], result, [(fig, legends)], above)
     return fig
 
 
@@ -240,7 +241,6 @@ class _Legend:
     fontsize: str = "small"
     title: str | None = None
     beside: float = 1.01
-    always_beside: bool = False
 
 
 def _place_legends(placed, renderer=None, above=False) -> list:
@@ -254,8 +254,7 @@ def _place_legends(placed, renderer=None, above=False) -> list:
     narrow = not above
     for holder, legends in placed:
         for legend, box in ((legend, _legend_beside(legend)) for legend in legends):
-            narrow = narrow and (box is None or legend.always_beside
-                                 or box.get_window_extent(renderer).width <= _LEGEND_SHARE * holder.bbox.width)
+            narrow = narrow and (box is None or box.get_window_extent(renderer).width <= _LEGEND_SHARE * holder.bbox.width)
     if narrow:
         return [0.0] * len(placed)
     return [sum(_legend_above(legend, _ABOVE_SHARE * holder.bbox.width, renderer) for legend in legends)
@@ -351,13 +350,17 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0):
 def _frequency_scale(ax, frequencies):
     """A logarithmic frequency axis (shared by the phase panel) when the frequencies [Hz], all
     > 0, span more than :data:`~rotordyn_modal.plotting.campbell.LOG_SPAN` times (mount modes at
-    5 Hz beside bearing modes at 1 kHz), else linear."""
+    5 Hz beside bearing modes at 1 kHz), else linear; its ticks read as plain numbers (1, 10,
+    100), and between the decades too where it spans less than two (1-60 Hz read '10^0, 10^1'
+    only)."""
+    from ._style import plain_log_ticks
     from .campbell import LOG_SPAN
 
     f = np.asarray(frequencies, float)
     f = f[np.isfinite(f)]
     if f.size and f.min() > 0 and f.max() > LOG_SPAN * f.min():
         ax.set_xscale("log")
+        plain_log_ticks(ax.xaxis)
 
 
 def plot_overlay(models, measured, title: str | None = None, units: str = "si", input_kinds=None):

@@ -50,6 +50,8 @@ def plot_orbits(result, speeds=None, source=None, title: str | None = None, unit
 
 def _draw_orbit(ax, result, p, s, chosen, scale, unit):
     """The orbit of pair ``p`` excited by source ``s`` at the sweep points ``chosen``."""
+    from matplotlib.ticker import MaxNLocator
+
     pair = result.orbit_pairs[p]
     phase = np.linspace(0, 2 * np.pi, 181)
     for n, k in enumerate(chosen):
@@ -61,6 +63,8 @@ def _draw_orbit(ax, result, p, s, chosen, scale, unit):
         ax.annotate("", xy=(path[0, 12], path[1, 12]), xytext=(path[0, 6], path[1, 6]),
                     arrowprops={"arrowstyle": "->", "color": colour})
     ax.set_aspect("equal", adjustable="datalim")
+    # at most six ticks across: labels like '-0.0075' (orbits of nanometres) ran into each other
+    ax.xaxis.set_major_locator(MaxNLocator(nbins=5))
     ax.axhline(0, color="0.8", lw=0.6)
     ax.axvline(0, color="0.8", lw=0.6)
     ax.set_xlabel(f"{pair[0]} [{unit}]")

@@ -136,3 +136,13 @@ def test_the_readme_commands_on_the_short_model_print_what_it_says(capsys):
     assert main(modes.split() + ["--out", "-"]) == 0
     rows = capsys.readouterr().out.strip().splitlines()
     assert rows[0].startswith("mode,frequency_hz") and [r.split(",")[0] for r in rows[1:]] == list("123456")
+
+
+def test_every_path_the_pages_name_is_in_the_repository():
+    """A reader can open each file a page names (no path outside the repository, such as the
+    project's shared specification beside it)."""
+    pattern = re.compile(r"(?<![\w/.])((?:\.\./)*(?:docs|examples|notebooks|benchmarks|tests|rotordyn_modal|shared)"
+                         r"/[\w./-]*\w)")
+    missing = [(page.name, path) for page in PAGES for path in pattern.findall(page.read_text(encoding="utf-8"))
+               if "*" not in path and path != "tests/test_x.py" and not (ROOT / path).exists()]
+    assert not missing

@@ -225,3 +225,24 @@ def test_a_number_equal_at_both_grid_speeds_is_not_trusted_between_them():
     model = SimpleNamespace(dofs=SimpleNamespace(n=3))     # (no root is solved: the lines tell every side)
     assert list(numbers_at_crossings(model, grid, values, np.array([1.5]), np.ones(1, dtype=int),
                                      np.array([-0.01 + 10j]))) == [1]
+
+
+@pytest.mark.parametrize("example, speeds", [("journal_rotor.toml", (500.0, 20000.0, 20)),
+                                             ("unstable_cross_coupled.toml", (0.0, 20000.0, 101))])
+def test_the_stability_figure_names_the_threshold_mode_by_its_number_in_modes_too(examples_dir, example, speeds):
+    """The figure's threshold label gives the legend's (tracked) label and the number ``modes
+    --speed`` gives the mode there: that of the root on the boundary (zero real part) in
+    ``modal`` at the threshold speed."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(examples_dir / example)
+    result = rdm.stability(model, rdm.rpm(np.linspace(*speeds)))
+    fig = result.plot()
+    labels = [t.get_text() for t in fig.axes[0].texts if t.get_gid() == "threshold-label"]
+    plt.close(fig)
+    assert len(labels) == 1 == len(result.thresholds)
+    found = re.search(r"mode (\d+) \(no\. (\d+) there\) becomes unstable", labels[0].replace("\n", " "))
+    assert found, labels
+    modes = rdm.modal(model, result.thresholds[0]).to_dataframe()
+    on_boundary = int(modes["mode"].to_numpy()[np.argmin(np.abs(modes.real_part.to_numpy()))])
+    assert int(found.group(2)) == on_boundary != int(found.group(1)) == result.threshold_modes[0]

@@ -5,12 +5,16 @@ the same kinds everywhere, and every sub-command has ``--verbose``. The old spel
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
 from rotordyn_modal.cli.commands import SUBCOMMANDS
 from rotordyn_modal.cli.main import build_parser, main
+
+ROOT = Path(__file__).resolve().parent.parent
 
 
 def _csv(tmp_path, name, argv):
@@ -34,8 +38,11 @@ def test_unbalance_sensor_equals_the_old_output(tmp_path, examples_dir):
     assert {line.split(",")[1] for line in new.splitlines()[1:]} == {"acc-top-z"}
 
 
-@pytest.mark.parametrize("command, new, old", [("fit", "--freq-band", "--band"), ("study", "--speed-band", "--band")])
+@pytest.mark.parametrize("command, new, old", [("fit", "--freq-band", "--band"), ("study", "--speed-band", "--band"),
+                                               ("ucs-map", "--lowest", "--modes"), ("level1", "--mcs", "--speed")])
 def test_bands_say_what_they_hold_and_keep_the_old_spelling(command, new, old):
+    """A band says what it holds; the N lowest modes are --lowest N (as in campbell), the maximum
+    continuous speed --mcs (as in unbalance and report): one option, both spellings."""
     parser = build_parser()
     sub = parser._subparsers._group_actions[0].choices[command]
     assert sub._option_string_actions[new] is sub._option_string_actions[old]
@@ -62,9 +69,28 @@ def test_frf_forces_all_on_the_command_line(tmp_path, examples_dir):
 
 
 @pytest.mark.parametrize("module", SUBCOMMANDS, ids=lambda m: m.NAME)
-def test_every_sub_command_has_verbose(module):
+def test_every_sub_command_has_verbose_and_quiet(module):
     sub = build_parser()._subparsers._group_actions[0].choices[module.NAME]
-    assert "--verbose" in sub._option_string_actions
+    assert "--verbose" in sub._option_string_actions and "--quiet" in sub._option_string_actions
+
+
+def test_check_quiet_says_valid_by_its_exit_code_alone(tmp_path, examples_dir, capsys):
+    assert main(["check", str(examples_dir / "motor_fan_minimal.toml"), "--quiet"]) == 0
+    assert capsys.readouterr() == ("", "")
+    bad = tmp_path / "bad.toml"
+    bad.write_text((examples_dir / "motor_fan_minimal.toml").read_text().replace("mass = 120.0", "mass = -120.0"))
+    assert main(["check", str(bad), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "mass" in err and "bad.toml" in err
+
+
+def test_import_ross_quiet_writes_the_same_model_without_its_summary(tmp_path, capsys):
+    ross = ROOT / "tests" / "data" / "ross" / "rotor_example.toml"
+    assert main(["import-ross", str(ross), "--out", str(tmp_path / "a.toml")]) == 0
+    assert "shaft sections" in capsys.readouterr().err
+    assert main(["import-ross", str(ross), "--out", str(tmp_path / "b.toml"), "--quiet"]) == 0
+    assert capsys.readouterr() == ("", "")
+    assert (tmp_path / "a.toml").read_text().replace("a.toml", "b.toml") == (tmp_path / "b.toml").read_text()
 
 
 def test_verbose_reports_the_peak_memory_once(examples_dir, capsys):

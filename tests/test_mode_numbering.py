@@ -75,6 +75,27 @@ def test_the_mode_stability_names_is_the_one_modes_lists_and_draws(examples_dir,
         assert abs(table.loc[int(tracked)].real_part) > 1e-3 * omega
 
 
+def test_the_least_damped_mode_of_a_stable_sweep_is_the_one_modes_lists(examples_dir, capsys):
+    """The fan on bearings is stable from 0 to 9000 rpm; the summary names the least damped mode
+    and its number in ``modes --speed S``: there that mode has the printed frequency, whirl and log
+    decrement, and no mode at S has a smaller log decrement."""
+    path = examples_dir / "fan_on_bearings.toml"
+    _, err = _cli(["stability", path, "--speeds", "0:9000:19", "--out", "-"], capsys)
+    found = re.search(r"stable over the range; least damped: mode \d+ at ([0-9.e+]+) rpm: log decrement ([0-9.e+-]+), "
+                      r"([0-9.e+]+) Hz, (\w+) whirl \(mode (\d+) of modes --speed ([0-9.e+]+)\)", err)
+    assert found, err
+    speed, log_dec, frequency, whirl, number, again = found.groups()
+    assert float(again) == float(speed)
+    table = _modes_table(path, again, capsys)
+    row = table.loc[int(number)]
+    assert row.frequency_hz == pytest.approx(float(frequency), rel=1e-4) and row.whirl == whirl
+    assert row.log_decrement == pytest.approx(float(log_dec), rel=1e-3)
+    assert row.log_decrement == table.log_decrement.min()
+    model = rdm.load_model(path)            # modes --shape N draws it
+    shape = mode_shape_3d(rdm.modal(model, rdm.rpm(float(again))), model, int(number))
+    assert shape.frequency_hz == pytest.approx(row.frequency_hz, rel=1e-9)
+
+
 def test_the_stability_tables_mode_at_speed_is_the_modes_number(examples_dir, capsys):
     """Every row of the stability CSV: the mode ``modes --speed SPEED`` numbers mode_at_speed has
     the row's frequency and real part."""
@@ -95,20 +116,24 @@ def test_the_stability_tables_mode_at_speed_is_the_modes_number(examples_dir, ca
     assert checked == 5 * 6
 
 
-def test_critical_speeds_name_the_mode_modes_lists(examples_dir, capsys):
+@pytest.mark.parametrize("example, speeds, some_differ", [
+    ("fan_on_bearings.toml", "0:12000:121", True),
+    ("unstable_cross_coupled.toml", "0:20000:101", False),
+])
+def test_critical_speeds_name_the_mode_modes_lists(examples_dir, capsys, example, speeds, some_differ):
     """At each critical speed, the mode ``modes --speed`` numbers mode_at_speed has its frequency
-    on the order line (order x the source rotor's speed ratio x speed); on this fan, tracked
-    labels and those numbers differ for some rows."""
-    path = examples_dir / "fan_on_bearings.toml"
+    on the order line (order x the source rotor's speed ratio x speed) and the row's whirl; on
+    the fan, tracked labels and those numbers differ for some rows."""
+    path = examples_dir / example
     model = rdm.load_model(path)
     ratios = {rotor.name: abs(rotor.speed_ratio) for rotor in model.rotors}
-    out, _ = _cli(["critical-speeds", path, "--speeds", "0:12000:121", "--orders", "1,2", "--out", "-"], capsys)
+    out, _ = _cli(["critical-speeds", path, "--speeds", speeds, "--orders", "1,2", "--out", "-"], capsys)
     table = pd.read_csv(io.StringIO(out))
     assert list(table.columns)[:6] == ["source", "order", "mode", "speed_rpm", "frequency_hz", "whirl"]
     assert table.columns[-1] == "mode_at_speed"
     rows = table[table.source.isin(list(ratios))]
     differs = rows["mode"] != rows.mode_at_speed
-    assert len(rows) >= 5 and differs.any()
+    assert len(rows) >= 5 and differs.any() == some_differ
     for _, row in rows[differs | (np.arange(len(rows)) % 4 == 0)].iterrows():   # a quarter of the others
         modes = _modes_table(path, f"{row.speed_rpm:.10g}", capsys)
         listed = modes.loc[int(row.mode_at_speed)]
@@ -200,3 +225,24 @@ def test_a_number_equal_at_both_grid_speeds_is_not_trusted_between_them():
     model = SimpleNamespace(dofs=SimpleNamespace(n=3))     # (no root is solved: the lines tell every side)
     assert list(numbers_at_crossings(model, grid, values, np.array([1.5]), np.ones(1, dtype=int),
                                      np.array([-0.01 + 10j]))) == [1]
+
+
+@pytest.mark.parametrize("example, speeds", [("journal_rotor.toml", (500.0, 20000.0, 20)),
+                                             ("unstable_cross_coupled.toml", (0.0, 20000.0, 101))])
+def test_the_stability_figure_names_the_threshold_mode_by_its_number_in_modes_too(examples_dir, example, speeds):
+    """The figure's threshold label gives the legend's (tracked) label and the number ``modes
+    --speed`` gives the mode there: that of the root on the boundary (zero real part) in
+    ``modal`` at the threshold speed."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(examples_dir / example)
+    result = rdm.stability(model, rdm.rpm(np.linspace(*speeds)))
+    fig = result.plot()
+    labels = [t.get_text() for t in fig.axes[0].texts if t.get_gid() == "threshold-label"]
+    plt.close(fig)
+    assert len(labels) == 1 == len(result.thresholds)
+    found = re.search(r"mode (\d+) \(no\. (\d+) there\) becomes unstable", labels[0].replace("\n", " "))
+    assert found, labels
+    modes = rdm.modal(model, result.thresholds[0]).to_dataframe()
+    on_boundary = int(modes["mode"].to_numpy()[np.argmin(np.abs(modes.real_part.to_numpy()))])
+    assert int(found.group(2)) == on_boundary != int(found.group(1)) == result.threshold_modes[0]

@@ -157,3 +157,18 @@ def test_unreachable_scheduler_exit_2(tmp_path, examples_dir, capsys, monkeypatc
     code = main(["study", str(examples_dir / "gear_machine.toml"), "--spec", str(spec),
                  "--out", str(tmp_path / "r.nc"), "--scheduler", "tcp://127.0.0.1:9", "--quiet"])
     assert code == 2 and "cannot connect" in capsys.readouterr().err
+
+
+def test_without_xarray_a_study_is_refused_in_one_line_naming_the_extra(tmp_path, examples_dir, capsys, monkeypatch):
+    """As for the other extras (tdms, ema, interactive, fast): exit code 2 and one line saying
+    what to install, before any work; in Python still an ImportError."""
+    monkeypatch.setitem(sys.modules, "xarray", None)        # `import xarray` raises ImportError
+    spec = tmp_path / "s.study.toml"
+    write_study(spec)
+    model = examples_dir / "gear_machine.toml"
+    assert main(["study", str(model), "--spec", str(spec), "--out", str(tmp_path / "r.nc")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("rotordyn-modal study: error: ")
+    assert "pip install 'rotordyn_modal[study]'" in err and not (tmp_path / "r.nc").exists()
+    with pytest.raises(ImportError, match=r"rotordyn_modal\[study\]"):
+        rdm.study(rdm.load_model(model), spec)

@@ -37,11 +37,11 @@ refused alike before its work, naming the speeds (mounts with Maxwell branches a
 their rational stiffness, docs/theory.md section 17). On a terminal, bars show the progress of the
 eigen-solutions and of the critical speeds' refinement.
 
-example:
+examples:
   rotordyn-modal campbell examples/gear_machine.toml --speeds 0:12000:241 --plot campbell.png
-  rotordyn-modal campbell examples/motor_pump_on_mounts.toml --speeds 0:3600:181 --orders 1,2 \
+  rotordyn-modal campbell examples/motor_pump_on_mounts.toml --speeds 0:3600:181 --orders 1,2 \\
       --freq-range 0:40 --plot mounts.png
-  rotordyn-modal campbell examples/compressor_rotor.toml --speeds 0:12000:201 --orders 1,2 \
+  rotordyn-modal campbell examples/compressor_rotor.toml --speeds 0:12000:201 --orders 1,2 \\
       --max-frequency 450 --plot compressor.png"""
 
 #: what to do about work over the CPU-time limit
@@ -102,7 +102,8 @@ def _add_frequency_axis(parser):
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--freq-range", metavar="LO:HI",
                        help="frequency axis of the figure from LO to HI [Hz] (default: from the modes)")
-    group.add_argument("--freq-max", metavar="HZ", help="frequency axis of the figure up to HZ [Hz]")
+    group.add_argument("--freq-max", metavar="HZ", help="frequency axis of the figure up to HZ [Hz]: the figure "
+                       "only (--max-frequency HZ leaves out the modes above HZ from the solution and the table)")
     parser.add_argument("--freq-scale", choices=["auto", "linear", "log"], default="auto", type=str.lower,
                         help="frequency axis of the figure: 'auto' (default) is logarithmic when the modes "
                              "at one speed span more than 30x, else linear")

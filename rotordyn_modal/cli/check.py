@@ -27,6 +27,9 @@ each, as every command does (docs/model-file.md, "Warnings")."""
 
 def add_arguments(parser):
     add_model_argument(parser)
+    parser.add_argument("--quiet", action="store_true",
+                        help="print no summary: the exit code says whether the model is valid (warnings and "
+                             "errors still go to stderr)")
 
 
 def run(args) -> int:
@@ -34,7 +37,8 @@ def run(args) -> int:
 
     model = open_model(args)
     speed_linear_form(model)  # refuses a mass matrix that rounding leaves singular, as every analysis would
-    print(summary(model, args.units))
+    if not args.quiet:
+        print(summary(model, args.units))
     return 0
 
 

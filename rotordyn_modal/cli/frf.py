@@ -46,7 +46,8 @@ def add_arguments(parser):
                         help=f"excitation name(s), {NAME_LIST_HELP} (default all; --input is the same)")
     parser.add_argument("--sensor", "--output", dest="output", metavar="NAME[,NAME]",
                         help=f"sensor name(s), {NAME_LIST_HELP} (default all; --output is the same)")
-    parser.add_argument("--quantity", choices=["receptance", "mobility", "accelerance"], default="receptance")
+    parser.add_argument("--quantity", choices=["receptance", "mobility", "accelerance"], default="receptance",
+                        help="displacement, velocity or acceleration per unit force (default receptance)")
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="forces per unit input instead of sensor motion (all: the three kinds)")
     add_input_file(parser, "--measured", metavar="FILE", help="measured FRFs (.uff/.unv or .csv) to draw under the model")

@@ -33,6 +33,7 @@ def add_arguments(parser):
     add_output_file(parser, "--out", required=True, metavar="MODEL.toml",
                     help="model file to write ('-': standard output)")
     parser.add_argument("--name", help="the rotor's name (default: the ROSS file's stem)")
+    parser.add_argument("--quiet", action="store_true", help="no summary line on stderr")
 
 
 def run(args) -> int:
@@ -48,6 +49,7 @@ def run(args) -> int:
     else:
         write_model_file(description, args.out, inputs=[args.ross_file])
     rotor = description["rotors"][0]
-    print(f"{args.out}: rotor {rotor['name']!r}, {len(rotor['shaft'])} shaft sections, "
-          f"{len(rotor.get('disks', []))} disks, {len(description['bearings'])} bearings", file=sys.stderr)
+    if not args.quiet:
+        print(f"{args.out}: rotor {rotor['name']!r}, {len(rotor['shaft'])} shaft sections, "
+              f"{len(rotor.get('disks', []))} disks, {len(description['bearings'])} bearings", file=sys.stderr)
     return 0

@@ -62,7 +62,9 @@ examples:
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--speed", required=True, help="maximum continuous speed of the reference rotor")
+    parser.add_argument("--speed", "--mcs", dest="speed", required=True,
+                        help="maximum continuous speed of the reference rotor (--mcs, as in 'report' and "
+                             "'unbalance', is the same)")
     add_speed_unit(parser)
     add_stage_arguments(parser)
     parser.add_argument("--factor", default="10", help="the sweep reaches FACTOR x Qa (default 10)")

@@ -50,7 +50,7 @@ carry, is integrated as its linear model instead (said once on stderr; docs/simu
 the spinning machine (M q'' + (C + w G) q' + K q = unbalance forces, w the drive speed), the
 unbalances as rotating forces (with their angular-acceleration part on a ramp). It keeps the
 undamped modes below 4 times the fastest spin frequency (at least the 6 lowest) plus the
-static deflections under the unbalances and weights; --modes-below F [Hz] sets that limit,
+static deflections under the unbalances and weights; --modes-below HZ sets that limit,
 'all' keeps every mode (the linear model exactly, slower). --free-spin is refused with such
 a model (exit 2); a plain journal bearing (type = 'journal') keeps its film's nonlinear force
 on the linear structure (oil whirl and whip of flexible rotors; the basis then also holds the
@@ -101,9 +101,9 @@ def add_arguments(parser):
     parser.add_argument("--atol", default="1e-12", help="absolute tolerance of the integrator (default 1e-12)")
     parser.add_argument("--backend", choices=["auto", "numba", "numpy"], default="auto",
                         help="right-hand side: numba-compiled when installed (auto), or plain numpy")
-    parser.add_argument("--sensor", help="sensor of the run-up figures (default: the first)")
-    parser.add_argument("--modes-below", metavar="F", help="flexible rotors: the linear time model keeps the "
-                        "modes below F [Hz] (default: 4 times the fastest spin frequency, at least the 6 "
+    parser.add_argument("--sensor", metavar="NAME", help="sensor of the run-up figures (default: the first)")
+    parser.add_argument("--modes-below", metavar="HZ", help="flexible rotors: the linear time model keeps the "
+                        "modes below HZ [Hz] (default: 4 times the fastest spin frequency, at least the 6 "
                         "lowest), or 'all'")
     add_outputs(parser)
 

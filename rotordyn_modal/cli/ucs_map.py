@@ -1,4 +1,4 @@
-"""``ucs-map MODEL --stiffness 1e5:1e9:41 [--modes 4] [--bearings NAME,...]``."""
+"""``ucs-map MODEL --stiffness 1e5:1e9:41 [--lowest 4] [--bearings NAME,...]``."""
 
 from __future__ import annotations
 
@@ -43,7 +43,8 @@ def add_arguments(parser):
     parser.add_argument("--stiffness", required=True,
                         help="START:STOP:N radial stiffness values [N/m; lbf/in with --units us], log-spaced, "
                              "e.g. 1e5:1e9:41")
-    parser.add_argument("--modes", default="4", help="number of forward critical speeds per stiffness (default 4)")
+    parser.add_argument("--lowest", "--modes", dest="modes", metavar="N", default="4",
+                        help="the N lowest forward critical speeds at each stiffness (default 4; --modes is the same)")
     parser.add_argument("--bearings", metavar="NAME,...",
                         help=f"the bearings whose stiffness is swept, {NAME_LIST_HELP} (default all)")
     parser.add_argument("--speeds", help="START:STOP:N speeds at which the speed-dependent bearings' stiffness "
@@ -89,9 +90,9 @@ def _modes(text):
     try:
         value = int(text)
     except ValueError:
-        raise InputError(f"--modes {text!r}: expected a whole number from 1 to 1000") from None
+        raise InputError(f"--lowest {text!r}: expected a whole number from 1 to 1000") from None
     if not 1 <= value <= 1000:
-        raise InputError(f"--modes {text!r}: expected a whole number from 1 to 1000")
+        raise InputError(f"--lowest {text!r}: expected a whole number from 1 to 1000")
     return value
 
 

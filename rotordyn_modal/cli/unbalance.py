@@ -92,7 +92,8 @@ def add_arguments(parser):
     add_speed_unit(parser)
     parser.add_argument("--sensor", "--output", dest="output", metavar="NAME[,NAME]",
                         help=f"sensor name(s), {NAME_LIST_HELP} (default all; --output is the same)")
-    parser.add_argument("--quantity", choices=["displacement", "velocity", "acceleration"], default="displacement")
+    parser.add_argument("--quantity", choices=["displacement", "velocity", "acceleration"], default="displacement",
+                        help="what the sensors read (default displacement)")
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="add force rows after the sensors' (default none)")
     parser.add_argument("--operating-speed", help="operating speed (same unit as --speeds, in the direction of spin of the sweep) for the separation margin")

@@ -245,11 +245,16 @@ def _draw_thresholds(top, bottom, result, scale, speed_unit):
 
     unit = {"rpm": "rpm", "rad/s": "rad/s", "hz": "Hz"}[speed_unit]
     items = []
-    for speed, mode, onset in zip(result.thresholds, result.threshold_modes, result.threshold_onsets):
+    at_speed = getattr(result, "threshold_modes_at_speed", None)
+    at_speed = np.zeros(len(result.thresholds), dtype=int) if at_speed is None else at_speed
+    for speed, mode, number, onset in zip(result.thresholds, result.threshold_modes, at_speed,
+                                          result.threshold_onsets):
         colour = "tab:red" if onset else "tab:green"
         for axis in (top, bottom):
             axis.axvline(speed * scale, color=colour, linewidth=1.2, alpha=0.9, gid="threshold")
-        items.append((speed * scale, (f"{speed * scale:,.0f} {unit}:", f"mode {mode}",
+        # the legend's label is tracked over the sweep; 'modes --speed' there numbers it by frequency
+        name = f"mode {mode}" if number <= 0 or number == mode else f"mode {mode} (no. {number} there)"
+        items.append((speed * scale, (f"{speed * scale:,.0f} {unit}:", name,
                                       "becomes unstable" if onset else "stable again"), colour))
     if not items:
         return

@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
 from .definition import Parameter, StudyDefinition, StudyError, parse_study, read_study
 from .results import StudyResult, load_study
 from .sampling import sample_variants
@@ -112,13 +113,18 @@ def _outputs_text(definition, shapes) -> str:
     return f"{definition.source} ({parts} per variant)"
 
 
+class _MissingExtra(InputError, ImportError):
+    """An optional dependency not installed: an ImportError in Python; on the command line one
+    line and exit code 2, as for the other extras (tdms, ema, interactive, fast)."""
+
+
 def _require_xarray():
     """Fail before any work when the results' data set cannot be built."""
     try:
         import xarray  # noqa: F401
     except ImportError:
-        raise ImportError("parameter studies store their results as an xarray.Dataset: "
-                          "pip install 'rotordyn_modal[study]' (or xarray)") from None
+        raise _MissingExtra("parameter studies store their results as an xarray.Dataset: "
+                            "pip install 'rotordyn_modal[study]' (or xarray)") from None
 
 
 def _definition(spec, model) -> StudyDefinition:

@@ -1,8 +1,8 @@
 """CSV tables as other tools and spreadsheets write them: the text's encoding (UTF-8 with or
 without a byte-order mark, UTF-16, else Latin-1), the separator (``,``, ``;`` or a tab, read
 from the header line), decimal commas (``1,5`` beside a ``;`` or tab separator), comment lines
-(``# ...``) before the header, and header names in any case with a unit in brackets
-(``Frequency [kHz]``, ``phase (rad)``).
+(``# ...``) before the header, header names in any case with a unit in brackets
+(``Frequency [kHz]``, ``phase (rad)``), and cells padded with spaces (`` 1.0 ``, `` f [Hz] ``).
 """
 
 from __future__ import annotations
@@ -38,8 +38,9 @@ def _text(data: bytes) -> str:
 
 
 def read_csv_table(data: bytes, path, what: str, **options):
-    """A CSV table of ``data`` (a file's bytes): its cells as text (names stay as written:
-    ``01``, ``NA``), the header names stripped, and the decimal mark of its numbers.
+    """A CSV table of ``data`` (a file's bytes): its cells as text without the spaces around them
+    (names stay as written otherwise: ``01``, ``NA``), the header names stripped, and the decimal
+    mark of its numbers.
 
     Parameters
     ----------
@@ -79,6 +80,8 @@ def read_csv_table(data: bytes, path, what: str, **options):
         raise InputError(f"{path}: cannot read {what} ({' '.join(str(error).split())})") from None
     _check_columns_once(header, separator, path)
     table.columns = [str(c).strip() for c in table.columns]
+    # cells padded to line up in a text editor or exported so (`` 1.0 ``, `` acc-top-z ``)
+    table = table.apply(lambda column: column.map(lambda cell: cell.strip() if isinstance(cell, str) else cell))
     return _without_trailing_empty_rows(table), decimal
 
 

@@ -128,7 +128,8 @@ def read_csv(path, model) -> list[FRFResult]:
 
 
 #: header names of the CSV columns -> the column
-_ALIASES = {"frequency": "frequency_hz", "freq": "frequency_hz", "freq_hz": "frequency_hz",
+_ALIASES = {"frequency": "frequency_hz", "freq": "frequency_hz", "freq_hz": "frequency_hz", "f": "frequency_hz",
+            "f_hz": "frequency_hz",
             "speed": "speed_rpm", "rpm": "speed_rpm", "phase": "phase_deg", "mag": "magnitude",
             "imaginary": "imag", "re": "real", "im": "imag"}
 #: units a header may give its column, and the factor to the column's own unit

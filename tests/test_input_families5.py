@@ -260,3 +260,68 @@ def test_an_option_of_no_effect_or_no_machine_is_refused(tmp_path, capsys, argv,
     err = _one_line_error(capsys, *words)
     assert "None" not in err and "rad/s (" not in err and " = " not in err.partition("error: ")[2][:20]
     assert not out.exists()
+
+
+# ----------------------------------------------------------------------- CSV of spreadsheets, UFF abscissae
+def _semicolon_csv(tmp_path, quoting=0):
+    plain = tmp_path / "plain.csv"
+    assert main(["frf", str(GEAR), "--speed", "600", "--freqs", "2:40:5", "--out", str(plain), "--quiet"]) == 0
+    table = pd.read_csv(plain)[["speed_rpm", "frequency_hz", "output", "input", "real", "imag"]]
+    return plain, table.to_csv(index=False, sep=";", float_format="%.12g", quoting=quoting).replace(".", ",")
+
+
+@pytest.mark.parametrize("prefix, quoting", [("sep=;\n", 0), ("", 1)], ids=["excel-sep-line", "quoted-decimal-commas"])
+def test_a_spreadsheets_csv_reads_as_the_plain_one(tmp_path, prefix, quoting):
+    """Excel's first line ``sep=;`` was read as the header ('found sep=, unnamed:_1'); cells
+    quoted as ``"11,5"`` beside ``;`` were refused ('line 3 = '11,5': expected a number')."""
+    plain, text = _semicolon_csv(tmp_path, quoting=quoting)
+    assert quoting == 0 or '"11,5"' in text
+    path = tmp_path / "excel.csv"
+    path.write_text(prefix + text)
+    model = rdm.load_model(GEAR)
+    [expected], [found] = read_measured(plain, model), read_measured(path, model)
+    np.testing.assert_allclose(found.H, expected.H, rtol=1e-9)
+    assert found.speed == pytest.approx(rdm.rpm(600), rel=1e-12)
+
+
+@pytest.mark.parametrize("label, per_hz", [("rad/s", 2 * math.pi), ("CPM", 60.0), ("kHz", 1e-3)],
+                         ids=["rad-per-s", "cpm", "khz"])
+def test_a_uff_frequency_axis_in_other_units_reads_in_hz(tmp_path, label, per_hz):
+    """An abscissa of data type 18 labelled ``rad/s`` (angular frequency) was refused: 'expected
+    Hz'; each is the frequency times 2 pi (rad/s), 60 (cycles per minute), 1/1000 (kHz)."""
+    pyuff = pytest.importorskip("pyuff")
+    model = rdm.load_model(GEAR)
+    freqs = np.linspace(2, 40, 5)
+    exact = rdm.frf(model, 0.0, freqs)
+    path = tmp_path / "f.uff"
+    sets = [pyuff.prepare_58(func_type=4, rsp_node=node, rsp_dir=3 if i == 0 else 2, ref_node=101 + j,
+                             ref_dir=3 if j == 0 else 2, x=freqs * per_hz, data=exact.H[i, j], id1="x", binary=1,
+                             abscissa_spec_data_type=18, abscissa_axis_units_lab=label, ordinate_spec_data_type=8,
+                             ordinate_axis_units_lab="m", orddenom_spec_data_type=13, orddenom_axis_units_lab="N")
+            for i, node in enumerate((1, 2)) for j in range(2)]
+    pyuff.UFF(str(path)).write_sets(sets, mode="add")
+    [found] = read_measured(path, model)
+    np.testing.assert_allclose(found.frequencies_hz, freqs, rtol=1e-12)
+    np.testing.assert_allclose(found.H, exact.H, rtol=1e-12)
+
+
+# ----------------------------------------------------------------------- file options
+@pytest.mark.parametrize("argv, option", [
+    (["check", "-"], "MODEL -"),
+    (["frf", str(GEAR), "--freqs", "2:40:3", "--measured", "-"], "--measured -"),
+    (["modes", str(GEAR), "--shape", "1", "--outline", "-", "--plot", "{tmp}/s.png"], "--outline -"),
+], ids=["model", "measured", "outline"])
+def test_standard_input_as_an_input_file_is_refused_by_its_option(tmp_path, capsys, argv, option):
+    """``-`` read as a file named '-': '-: <file> = '-': expected an existing model file (no such
+    file)'."""
+    assert main([a.replace("{tmp}", str(tmp_path)) for a in argv]) == 2
+    _one_line_error(capsys, f"{option}: expected a file name", "standard input is not read")
+
+
+def test_a_header_of_control_characters_is_shown_escaped(tmp_path, capsys):
+    """A file of three NUL bytes printed them raw in 'found ...' (invisible on a terminal)."""
+    path = tmp_path / "nul.csv"
+    path.write_bytes(b"\x00\x00\x00\n")
+    assert main(["frf", str(GEAR), "--freqs", "2:40:3", "--measured", str(path), "--out", "-", "--quiet"]) == 2
+    err = _one_line_error(capsys, "nul.csv", "found '\\x00\\x00\\x00'")
+    assert "\x00" not in err

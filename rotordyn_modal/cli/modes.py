@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
+from ..model._table import visible_names
 from ._common import (add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
                       add_speed_unit, check_extra_output, open_model, save_figure, speed_value, use_agg,
                       write_table)
@@ -220,7 +221,7 @@ def _read_outline(path):
         raise InputError(f"{path}: cannot read the outline ({' '.join(str(error).split())})") from None
     if not {"x", "y", "z"} <= set(table.columns):
         raise InputError(f"{path}: the outline needs the columns x,y,z (metres, model axes); found "
-                         f"{','.join(map(str, table.columns))}")
+                         f"{visible_names(map(str, table.columns))}")
     try:
         points = table[["x", "y", "z"]].to_numpy(dtype=float)
     except ValueError:

@@ -1,8 +1,9 @@
 """CSV tables as other tools and spreadsheets write them: the text's encoding (UTF-8 with or
 without a byte-order mark, UTF-16, else Latin-1), the separator (``,``, ``;`` or a tab, read
-from the header line), decimal commas (``1,5`` beside a ``;`` or tab separator), comment lines
-(``# ...``) before the header, header names in any case with a unit in brackets
-(``Frequency [kHz]``, ``phase (rad)``), and cells padded with spaces (`` 1.0 ``, `` f [Hz] ``).
+from the header line or from Excel's ``sep=;`` line before it), decimal commas (``1,5`` beside a
+``;`` or tab separator, quoted or not), comment lines (``# ...``) before the header, header
+names in any case with a unit in brackets (``Frequency [kHz]``, ``phase (rad)``), and cells
+padded with spaces (`` 1.0 ``, `` f [Hz] ``).
 """
 
 from __future__ import annotations
@@ -15,6 +16,8 @@ from ..errors import InputError
 __all__ = ["read_csv_table", "numbers", "split_header"]
 
 _SEPARATORS = (",", ";", "\t")
+#: the first line Excel writes to name the separator (``sep=;``)
+_SEPARATOR_LINE = re.compile(r"^\s*sep=([,;\t])\s*$")
 #: cells that say "no value" (NaN), as pandas reads them by default
 _EMPTY = ["", "nan", "-nan", "na", "n/a", "#n/a", "#na", "null", "none", "<na>"]
 #: ``name [unit]`` or ``name (unit)``: a header cell with its unit
@@ -69,11 +72,13 @@ def read_csv_table(data: bytes, path, what: str, **options):
     start = 0
     while start < len(lines) and lines[start].lstrip().startswith("#"):   # a tool's comment lines
         start += 1
+    declared = _SEPARATOR_LINE.match(lines[start]) if start < len(lines) else None
+    start += declared is not None      # Excel's "sep=;" line names the separator (it was read as the header)
     text = "".join(lines[start:])
     header = lines[start] if start < len(lines) else ""
-    separator = max(_SEPARATORS, key=lambda s: (header.count(s), s == ","))
+    separator = declared.group(1) if declared else max(_SEPARATORS, key=lambda s: (header.count(s), s == ","))
     body = "".join(lines[start + 1:start + 200])
-    decimal = "," if separator != "," and re.search(r"(^|[;\t])\s*[-+]?\d+,\d+\s*([;\t]|$)", body, re.M) else "."
+    decimal = "," if separator != "," and re.search(r'(^|[;\t])\s*"?[-+]?\d+,\d+"?\s*([;\t]|$)', body, re.M) else "."
     try:
         table = pd.read_csv(io.StringIO(text), sep=separator, dtype=str, keep_default_na=False, **options)
     except (OSError, ValueError) as error:

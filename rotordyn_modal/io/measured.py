@@ -31,6 +31,7 @@ import numpy as np
 
 from ..analysis.frf import FRFResult
 from ..errors import InputError
+from ..model._table import visible_names
 from .channels import ChannelMap, assemble, default_mapping, read_mapping
 
 __all__ = ["read_measured", "read_csv", "write_csv", "read_mapping", "default_mapping", "ChannelMap"]
@@ -102,7 +103,7 @@ def read_csv(path, model) -> list[FRFResult]:
     if not needed <= set(table.columns) or not ({"real", "imag"} <= set(table.columns)
                                                 or {"magnitude", "phase_deg"} <= set(table.columns)):
         raise InputError(f"{path}: expected the columns speed_rpm,frequency_hz,output,input,real,imag"
-                         f"[,coherence] (or magnitude,phase_deg); found {','.join(map(str, table.columns))}")
+                         f"[,coherence] (or magnitude,phase_deg); found {visible_names(map(str, table.columns))}")
     column = {name: numbers(table, name, path, decimal) * scales.get(name, 1.0) for name in
               ("speed_rpm", "frequency_hz", "real", "imag", "magnitude", "phase_deg", "coherence")
               if name in table.columns}

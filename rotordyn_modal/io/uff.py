@@ -353,6 +353,10 @@ def _latin1(path, mtime_ns, size):
         return handle.read()
 
 
+#: frequency units of no dimension the unit parser reads: angular frequency, cycles per minute -> Hz
+_FREQUENCY_WORDS = {"rad/s": 1.0 / (2.0 * np.pi), "rad/sec": 1.0 / (2.0 * np.pi), "cpm": 1.0 / 60.0}
+
+
 def _abscissa_factor(s, expected, path):
     """Factor of the abscissa to s (time) or Hz (frequency), from its data type and unit label."""
     kind = int(s.get("abscissa_spec_data_type", expected))
@@ -363,6 +367,8 @@ def _abscissa_factor(s, expected, path):
     label = _label_text(s, "abscissa_axis_units_lab", path)
     if is_none(label):
         return 1.0
+    if expected == _FREQUENCY and label.strip().lower() in _FREQUENCY_WORDS:   # was refused: 'expected Hz'
+        return _FREQUENCY_WORDS[label.strip().lower()]
     parsed = parse_unit(label)
     if parsed is None or parsed[1] != ((0, 0, 1) if expected == _TIME else (0, 0, -1)):
         raise InputError(f"{where}: abscissa unit {label!r}: expected {unit} (data type {name})")

@@ -117,7 +117,10 @@ def gas_density(args):
 def run(args) -> int:
     from ..analysis.level1 import Station, level1
 
-    stations = [Station.parse(text) for text in args.station]
+    try:
+        stations = [Station.parse(text) for text in args.station]
+    except InputError as error:     # "station 'fan@': ..." said of the option
+        raise InputError(f"--{error}") from None
     if args.units != "si":      # ROTOR@OFFSET: the offset in in
         stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", args.units)) for s in stations]
     speed = speed_value(args.speed, args.speed_unit, "--speed")

@@ -90,8 +90,11 @@ def run(args) -> int:
     speed = None if args.speed is None else speed_value(args.speed, args.speed_unit, "--speed")
     forces = [_force(text, args.units) for text in args.force or ()] + \
         [_moment(text, args.units) for text in args.moment or ()]
-    result = static(model, speed=speed, forces=forces, power=_power(args.power, args.units), units=args.units,
-                    allowable_stress=_allowable(args.allowable_stress, args.units))
+    try:
+        result = static(model, speed=speed, forces=forces, power=_power(args.power, args.units), units=args.units,
+                        allowable_stress=_allowable(args.allowable_stress, args.units))
+    except InputError as error:
+        raise InputError(_as_typed(str(error), args)) from None
     table = _in_units(result.to_dataframe(), args.units)
     if args.out:
         write_table(table, args) if args.out == "-" else write_table(table, _quietly(args))
@@ -101,6 +104,21 @@ def run(args) -> int:
         use_agg()
         save_figure(result.plot_shafts(units=args.units), args)
     return 0
+
+
+def _as_typed(message: str, args) -> str:
+    """A refusal of ``rdm.static``'s ``forces[i] ...`` or ``power: ...`` said of the option typed:
+    ``--force nobody:0,0,0:0,0,1: expected 'stator' or ...`` (it read ``forces[0] body = 'nobody'``)."""
+    import re
+
+    given = [("--force", text) for text in args.force or ()] + [("--moment", text) for text in args.moment or ()]
+    found = re.match(r"forces\[(\d+)\][^:]*: ", message)
+    if found and int(found.group(1)) < len(given):
+        option, text = given[int(found.group(1))]
+        return f"{option} {text}: {message[found.end():]}"
+    if message.startswith("power: ") and args.power:
+        return f"--power {' '.join(args.power)}: {message.removeprefix('power: ')}"
+    return message
 
 
 def _allowable(text, system: str = "si"):

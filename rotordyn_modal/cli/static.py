@@ -112,10 +112,13 @@ def _as_typed(message: str, args) -> str:
     import re
 
     given = [("--force", text) for text in args.force or ()] + [("--moment", text) for text in args.moment or ()]
-    found = re.match(r"forces\[(\d+)\][^:]*: ", message)
+    found = re.match(r"forces\[(\d+)\]", message)
     if found and int(found.group(1)) < len(given):
         option, text = given[int(found.group(1))]
-        return f"{option} {text}: {message[found.end():]}"
+        tail = message[found.end():]         # " body = 'nobody': expected ...", " = (...): ...", ": ..."
+        if tail.startswith(" = "):
+            tail = ": " + tail.partition(": ")[2]
+        return f"{option} {text}:{tail}" if tail.startswith(" ") else f"{option} {text}{tail}"
     if message.startswith("power: ") and args.power:
         return f"--power {' '.join(args.power)}: {message.removeprefix('power: ')}"
     return message

@@ -63,6 +63,10 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
         raise InputError(f"{path}: measured data file not found" if not path.exists() else
                          f"{path}: expected a measured data file, not a "
                          f"{'folder' if path.is_dir() else 'pipe or device (its size is not known before reading)'}")
+    try:
+        open(path, "rb").close()
+    except OSError as error:   # a file without read permission: PermissionError, exit 1
+        raise InputError(f"{path}: cannot read the measured-data file ({error.strerror or error})") from None
     if path.suffix.lower() == ".csv":
         return read_csv(path, model)
     if path.suffix.lower() in (".uff", ".unv", ".uf"):

@@ -217,8 +217,11 @@ def _check_complete(path):
     from .limits import check_size
 
     check_size(path, "measured", "measured-data file")
-    with open(path, "rb") as handle:
-        head = handle.read(4096)
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(4096)
+    except OSError as error:   # missing, a folder, no read permission: PermissionError out of the API
+        raise InputError(f"{path}: cannot read the Universal File ({error.strerror or error})") from None
     if b"\0" in head or b"58b" in head.lower():
         return  # binary 58b sets: pyuff checks their byte counts
     with open(path, encoding="latin-1") as handle:

@@ -142,8 +142,8 @@ def test_a_level1_station_off_a_rigid_rotor_is_refused_naming_its_extent(capsys,
     (["unbalance", str(FAN), "--speeds", "100:3000:3", "--mcs", "1e308"], ["--mcs 1e308", "at most 1e+30 rad/s"]),
     (["simulate", str(GEAR), "--duration", "0.05", "--impulse", "hammer-z", "--impulse-size", "1e15",
       "--backend", "numpy"],
-     ["impulse_size = 1e+15", "'hammer-z'", "2.39e+13 m/s"]),
-    (["campbell", str(GEAR), "--speeds", "0:3000:3", "--orders", "-1"], ["orders = (-1.0,)", "numbers > 0"]),
+     ["--impulse-size 1e15", "'hammer-z'", "2.39e+13 m/s"]),         # the options as typed (round 5)
+    (["campbell", str(GEAR), "--speeds", "0:3000:3", "--orders", "-1"], ["--orders -1", "numbers > 0"]),
     (["frf", str(GEAR), "--freqs", "2:40:3", "--sensor", "acc-top-z,acc-top-z"], ["--sensor", "given twice"]),
 ], ids=["mcs", "impulse", "orders", "sensor-twice"])
 def test_an_option_of_no_machine_is_refused_in_one_line(tmp_path, capsys, argv, words):

@@ -86,7 +86,7 @@ def test_a_duration_of_more_periods_than_the_count_limit_is_refused_at_once(exam
                  "--out", str(out)])
     err = capsys.readouterr().err.strip()
     assert code == 2 and not out.exists()
-    assert err.count("\n") == 0 and "duration = 1000000000.0 s" in err and "periods of the fastest motion" in err
+    assert err.count("\n") == 0 and "--duration 1e9:" in err and "periods of the fastest motion" in err
     assert "ROTORDYN_MODAL_MAX_POINTS" in err and " Hz)" in err
     assert time.perf_counter() - start < 30
 

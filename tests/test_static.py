@@ -404,10 +404,11 @@ def test_static_command_writes_its_tables(tmp_path, examples_dir, capsys):
 
 
 @pytest.mark.parametrize("options, message", [
-    (["--force", "nobody:0,0,0:1,0,0"], "forces[0] body = 'nobody': expected 'stator' or the name of a rotor"),
+    (["--force", "nobody:0,0,0:1,0,0"], "--force nobody:0,0,0:1,0,0: body = 'nobody': expected 'stator' or the name "
+                                        "of a rotor"),      # the options as typed (round 5)
     (["--force", "stator:0,0:1,0,0"], "--force 'stator:0,0:1,0,0': expected 3 comma-separated numbers"),
-    (["--power", "1000"], "power = 1000.0: expected a speed"),
-    (["--speed", "3000", "--power", "motor->pump=10"], "power: unknown transmission 'motor->pump'"),
+    (["--power", "1000"], "--power 1000: expected a speed"),
+    (["--speed", "3000", "--power", "motor->pump=10"], "--power motor->pump=10: unknown transmission 'motor->pump'"),
     (["--moment", "fan"], "--moment 'fan': expected BODY:MX,MY,MZ"),
 ])
 def test_static_command_refuses_bad_input_in_one_line(options, message, examples_dir, capsys):

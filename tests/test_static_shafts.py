@@ -290,7 +290,7 @@ def test_static_warns_and_refuses_off_the_shaft_in_the_unit_system(units, unit, 
     assert main(["--units", units, "static", str(path), "--quiet", "--force", force]) == 2
     err = capsys.readouterr().err
     point = f"[{shown(1.2)}, 0, 0]" + ("" if units == "si" else " in")
-    assert f"forces[0] point = {point}: expected a point along rotor s's shaft, {ends} (a load" in err
+    assert f"--force {force}: point = {point}: expected a point along rotor s's shaft, {ends} (a load" in err
 
 
 def test_a_given_force_beyond_a_flexible_shaft_is_refused():

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ._arguments import _shown
 from .frf import frf
 
 __all__ = ["FitResult", "fit"]
@@ -257,6 +258,44 @@ def fit(model, measured, params, bounds=None, band_hz=None, weighting: str = "co
     return _result(model, keys, best, costs, problem.n_points, lower, upper)
 
 
+#: what a fit can scale, said in every refusal of a key
+FITTABLE = ("a key of a magnitude of the dynamics (a mass, inertia, stiffness or damping such as "
+            "suspensions.NAME.stiffness, a transmission's ratio, a journal bearing's viscosity or geometry, a "
+            "shaft's diameter or modulus) or 'gain'")
+_PLACE = "places or orients a part: no magnitude a factor can scale"
+#: fields a factor cannot fit, and why: scaling a direction leaves it the same after normalising
+#: (a fit of spin_axis ran to its end and said the data did not determine it)
+_NOT_SCALED = {**dict.fromkeys(("spin_axis", "center_of_mass", "position", "axes", "direction", "load_direction",
+                                "start", "axial_position", "axial_offset", "coupling_position", "gravity",
+                                "phase_deg", "pressure_angle"), _PLACE),
+               "driver_teeth": "counts teeth: a whole number, no magnitude a factor can scale",
+               "speeds_rpm": "is the speeds of a bearing's table, not a property of the machine",
+               "element_length": "sets the mesh of a shaft, not a property of the machine",
+               **dict.fromkeys(("radial_clearance", "allowable_stress", "grade", "service_speed_rpm"),
+                               "enters no FRF")}
+
+
+def _unfittable(model, key: str) -> str:
+    """Why ``key`` cannot be fitted ('' when it can): a text or boolean, a place or direction, a
+    count, a value that enters no FRF (an unbalance, a clearance)."""
+    import re
+
+    value = model.get(key)
+    field = re.sub(r"\[.*$", "", key.rpartition(".")[2])
+    flat = np.ravel(np.asarray(value, dtype=object))
+    if any(isinstance(v, (str, bool, np.bool_)) or v is None for v in flat):
+        return "it holds no number (a fitted value is scaled)"
+    if field in _NOT_SCALED:
+        return f"{field} {_NOT_SCALED[field]}"
+    if key.startswith("unbalances."):
+        return "an unbalance enters no FRF"
+    try:
+        np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return "it holds no number or array of numbers (a fitted value is scaled)"
+    return ""
+
+
 def _check_params(model, params):
     keys = [params] if isinstance(params, str) else list(params)
     if not keys:
@@ -266,11 +305,9 @@ def _check_params(model, params):
     for key in keys:
         if key == "gain":
             continue
-        try:
-            value = np.asarray(model.get(key), dtype=float)
-        except (TypeError, ValueError):
-            raise InputError(f"fit: {key} = {model.get(key)!r}: expected a key holding a number or an "
-                             "array of numbers (a fitted value is scaled)") from None
+        if (why := _unfittable(model, key)):
+            raise InputError(f"fit: {key} = {_shown(model.get(key))}: {why}; expected {FITTABLE}")
+        value = np.asarray(model.get(key), dtype=float)
         if not np.all(value >= 0) or not np.any(value > 0):
             raise InputError(f"fit: {key} = {model.get(key)!r}: a fitted value must be > 0 at the start "
                              "(the fit scales it by a positive factor)")

@@ -378,9 +378,10 @@ def _checked(speed, qa, factor, steps_per_qa) -> float:
     if not (np.isfinite(qa) and 0 < qa <= LARGEST / 1000):   # swept to factor x Qa: products stay finite
         raise InputError(f"qa = {qa!r}: expected the anticipated cross-coupling > 0 and at most "
                          f"{LARGEST / 1000:g} [N/m]")
-    if not (np.isfinite(factor) and 1 <= factor <= 1000) or not 1 <= int(steps_per_qa) <= 1000:
-        raise InputError(f"factor = {factor!r}, steps_per_qa = {steps_per_qa!r}: expected a factor from 1 to 1000 "
-                         "and 1 to 1000 steps per Qa")
+    if not (np.isfinite(factor) and 1 <= factor <= 1000):
+        raise InputError(f"factor = {factor!r}: expected a factor from 1 to 1000 (the sweep reaches factor x Qa)")
+    if not 1 <= int(steps_per_qa) <= 1000:
+        raise InputError(f"steps_per_qa = {steps_per_qa!r}: expected 1 to 1000 steps per Qa")
     return speed
 
 

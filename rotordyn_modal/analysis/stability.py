@@ -467,10 +467,31 @@ def stability_map(model, speeds, key: str, values=None, scale=None, progress=Fal
     model.get(key)  # refuse an unknown key before any work
     results = []
     for value in _progress(list(grid), progress, f"map over {key}"):
-        variant = model.with_values({key: value}) if values is not None else model.scaled({key: value})
+        variant = _map_variant(model, key, value, scaled=values is None)
         results.append(stability(variant, speeds, modes=modes, max_frequency=max_frequency))
     return StabilityMap(key=key, mode_of_variation="values" if values is not None else "scale",
                         values=grid, speeds=np.asarray(results[0].speeds), results=tuple(results))
+
+
+def _map_variant(model, key: str, value: float, scaled: bool):
+    """The model with ``key`` set to ``value`` (or multiplied by it, ``scaled``); a refusal says
+    that the value refused is the map's, not the file's: ``[bearings.DE] viscosity = 0.0 (the map's
+    scale 0 x the file's 0.02)`` (it read as if the model file held 0)."""
+    import re
+
+    from ..errors import ModelError
+    from ._arguments import _shown
+
+    try:
+        return model.scaled({key: value}) if scaled else model.with_values({key: value})
+    except ModelError as error:
+        how = (f"the map's scale {value:g} x the file's {_shown(model.get(key))}" if scaled else
+               f"a value of the map; the file's is {_shown(model.get(key))}")
+        field = re.sub(r"\[.*$", "", key.rpartition(".")[2])
+        if not error.where.endswith(f" {field}"):       # another key refuses the change it makes
+            how = f"with {key} {'scaled by' if scaled else 'set to'} {value:g}, {how}"
+        raise InputError(f"{error.source}: {error.where} = {_shown(error.value)} ({how}): "
+                         f"expected {error.expected}") from None
 
 
 def threshold_speeds(form, speeds, eigenvalues, roundoff=None, largest=None):

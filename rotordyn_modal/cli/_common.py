@@ -11,6 +11,7 @@ from .._limits import count_problem
 from ..errors import InputError
 from ..io import atomic_write, check_not_input, load_model
 from ..io.atomic import after_commit, check_writable
+from ..model._table import LARGEST
 from ..units import SPEED_UNITS
 from ..units import speed_to_rad_s as to_rad_s
 
@@ -50,14 +51,64 @@ def _negative_number(text: str) -> bool:
     return True
 
 
-def parse_number(text: str, option: str) -> float:
+def parse_number(text: str, option: str, largest: float | None = LARGEST) -> float:
+    """A number given to ``option``: finite, of magnitude at most ``largest`` (None: any), as every
+    number of a model (1e30: beyond it products with the model's numbers overflow)."""
     try:
         value = float(text)
     except ValueError:
         raise InputError(f"{option} {text!r}: expected a number") from None
     if not math.isfinite(value):
         raise InputError(f"{option} {text!r}: expected a finite number")
+    if largest is not None and abs(value) > largest:
+        raise InputError(f"{option} {text!r}: expected a number of magnitude at most {largest:g}")
     return value
+
+
+def speed_value(text, unit: str, option: str, largest: float = LARGEST) -> float:
+    """A speed option given in ``unit`` (``--speed 3000``) in rad/s, of magnitude at most
+    ``largest`` rad/s; refused as typed, with the limit in the unit typed (``--speed 1e308:
+    expected a speed of magnitude at most 9.549e+30 rpm``, not the rad/s it converts to)."""
+    value = parse_number(text, option, largest=None)
+    return float(check_speeds(np.array([value]), text, unit, option, largest)[0])
+
+
+def check_speeds(values, text, unit: str, option: str, largest: float = LARGEST) -> np.ndarray:
+    """``values`` (speeds in ``unit``, as ``option`` gave them in ``text``) in rad/s; refused in
+    one line when one is beyond ``largest`` rad/s."""
+    speeds = np.asarray(to_rad_s(np.asarray(values, dtype=float), unit), dtype=float)
+    if speeds.size and not np.abs(speeds).max() <= largest:
+        limit = largest / float(to_rad_s(1.0, unit))
+        also = "" if unit == "rad/s" else f" (at most {largest:g} rad/s)"
+        raise InputError(f"{option} {text}: expected {'a speed' if speeds.size == 1 else 'speeds'} of magnitude "
+                         f"at most {limit:.4g} {unit}{also}")
+    return speeds
+
+
+def options_as_typed(message: str, args, names: dict) -> str:
+    """``message`` of a Python entry point that names its argument (``duration = -1.0: expected
+    ...``), as the command line's option typed (``--duration -1: expected ...``).
+
+    Parameters
+    ----------
+    message : str
+    args : argparse.Namespace
+        The options as typed (strings; a list for an option given several times).
+    names : dict
+        Argument name -> option (``{"duration": "--duration"}``); an option not given is skipped.
+    """
+    for name, option in names.items():
+        head = f"{name} = "
+        if not message.startswith(head) or ": " not in message[len(head):]:
+            continue
+        typed = getattr(args, option.lstrip("-").replace("-", "_"), None)
+        if typed is None:
+            continue
+        typed = " ".join(map(str, typed)) if isinstance(typed, (list, tuple)) else str(typed)
+        value, rest = message[len(head):].split(": ", 1)
+        context = value[value.find(" ("):] if " (" in value else ""     # "(excitation 'hammer-z')" stays
+        return f"{option} {typed}{context}: {rest}"
+    return message
 
 
 def parse_count(text, option: str, of: str = "") -> int:
@@ -71,13 +122,14 @@ def parse_count(text, option: str, of: str = "") -> int:
     return value
 
 
-def parse_range(text: str, option: str) -> np.ndarray:
-    """``START:STOP:N`` -> N points from START to STOP, both included."""
+def parse_range(text: str, option: str, largest: float | None = LARGEST) -> np.ndarray:
+    """``START:STOP:N`` -> N points from START to STOP, both included (each end of magnitude at most
+    ``largest``, see :func:`parse_number`)."""
     parts = text.split(":")
     if len(parts) != 3:
         raise InputError(f"{option} {text!r}: expected START:STOP:N (N points, both ends included), "
                          "e.g. 0:12000:241")
-    start, stop = parse_number(parts[0], option), parse_number(parts[1], option)
+    start, stop = parse_number(parts[0], option, largest), parse_number(parts[1], option, largest)
     try:
         count = int(parts[2])
     except ValueError:
@@ -92,7 +144,7 @@ def parse_range(text: str, option: str) -> np.ndarray:
 
 
 def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=("LO", "HI"),
-               example="0:40", wording="rule") -> tuple[float, float]:
+               example="0:40", wording="rule", largest: float | None = LARGEST) -> tuple[float, float]:
     """``LO:HI`` -> (LO, HI): the one parser of the band options (``--freq-range``, ``--operating``,
     ``--speed-band``, ``--freq-band``), so that each refuses the same inputs the same way.
 
@@ -116,6 +168,8 @@ def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=(
         How a band out of order or below ``low`` is refused: "rule" echoes the value quoted and
         names the rule (``expected 0 <= LO < HI [Hz]``); "form" echoes it as typed and names the
         form first (``expected LOW:HIGH in Hz with 0 <= LOW < HIGH``), the wording ``fit`` has used.
+    largest : float or None
+        The largest magnitude of LO and HI (None: any finite number).
 
     Returns
     -------
@@ -125,8 +179,8 @@ def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=(
     Raises
     ------
     InputError
-        Not exactly one ':' (an empty value too), a side that is not a finite number, LO >= HI,
-        or LO below ``low``.
+        Not exactly one ':' (an empty value too), a side that is not a finite number or beyond
+        ``largest``, LO >= HI, or LO below ``low``.
     """
     lo, hi = names
     shown = repr(text) if wording == "rule" else text
@@ -143,6 +197,8 @@ def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=(
         if not math.isfinite(values[-1]):
             raise InputError(f"{option} {shown}: expected {lo}:{hi} [{unit}] of two finite numbers, "
                              f"e.g. {example}")
+    if largest is not None and max(map(abs, values)) > largest:
+        raise InputError(f"{option} {shown}: expected {lo} and {hi} of magnitude at most {largest:g} [{unit}]")
     low_value, high_value = values
     rule = f"{lo} < {hi}" if low is None else f"{low:g} {'<' if low_open else '<='} {lo} < {hi}"
     if not (low_value < high_value and (low is None or low_value > low or (low_value == low and not low_open))):
@@ -333,6 +389,9 @@ def check_files(args) -> None:
         for dest, option in getattr(args, "file_options", {}).get(role, ()):
             if getattr(args, dest, None) == "":   # an empty variable in a script: never "not given"
                 raise InputError(f"{option} '': expected a file name")
+            if role == "input" and getattr(args, dest, None) == "-":   # was 'no such file' of a file named '-'
+                raise InputError(f"{option} -: expected a file name (standard input is not read: save it to a "
+                                 "file and name that)")
     inputs, outputs = _given(args, "input"), _given(args, "output")
     for option, path in inputs + outputs:
         if "\0" in str(path):
@@ -385,7 +444,8 @@ def add_allow_long(parser):
 
 
 def speeds_option(args) -> np.ndarray:
-    return to_rad_s(parse_range(args.speeds, "--speeds"), args.speed_unit)
+    """``--speeds START:STOP:N`` in rad/s (refused beyond 1e30 rad/s, said in --speed-unit)."""
+    return check_speeds(parse_range(args.speeds, "--speeds", largest=None), args.speeds, args.speed_unit, "--speeds")
 
 
 def lowest_option(text, model):

@@ -9,6 +9,8 @@ from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed
 from ._units import NOTHING_TO_CONVERT
 
 NAME = "campbell"
+#: the Python arguments the options set, as messages name them (``main`` says the option as typed)
+API_NAMES = {"orders": "--orders", "speeds": "--speeds"}
 HELP = "Campbell diagram: modes tracked across speeds"
 UNITS_HELP = NOTHING_TO_CONVERT   # --units (docs/units.md)
 DESCRIPTION = """Natural frequencies, damping and whirl of every mode over a speed range, each mode

@@ -9,6 +9,8 @@ from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed
 from ._units import NOTHING_TO_CONVERT
 
 NAME = "critical-speeds"
+#: the Python arguments the options set, as messages name them (``main`` says the option as typed)
+API_NAMES = {"orders": "--orders", "speeds": "--speeds"}
 HELP = "crossings of natural frequencies with every rotor's and gear mesh's excitation orders"
 UNITS_HELP = NOTHING_TO_CONVERT   # --units (docs/units.md)
 DESCRIPTION = """Critical speeds: where a tracked natural frequency equals an excitation order of a

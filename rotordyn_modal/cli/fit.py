@@ -13,6 +13,8 @@ from ._common import (add_input_file, add_model_argument, add_output_file, check
 from ._units import ENVIRONMENT, key_unit, key_value_in
 
 NAME = "fit"
+#: the Python arguments the options set, as messages name them (``main`` says the option as typed)
+API_NAMES = {"starts": "--starts"}
 HELP = "identify model parameters (mount stiffness, damping, ...) from measured FRFs"
 UNITS_HELP = ("unit system of what is printed and drawn: si (default) or us (the parameters' start and fitted "
               "values in lb, lbf/in, lbf s/in, lb in², in ..., with a unit column; the --plot FRFs in in/lbf, "

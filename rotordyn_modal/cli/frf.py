@@ -7,9 +7,11 @@ import numpy as np
 from ..errors import InputError
 from ..units import FRF_OUTPUT_KINDS, ratio_scale
 from ._common import (NAME_LIST_HELP, add_input_file, add_model_argument, add_outputs, add_speed_unit, open_model,
-                      parse_names, parse_number, parse_range, save_figure, to_rad_s, use_agg, write_table)
+                      parse_names, parse_range, save_figure, speed_value, use_agg, write_table)
 
 NAME = "frf"
+#: the Python arguments the options set, as messages name them (``main`` says the option as typed)
+API_NAMES = {"speed": "--speed"}
 HELP = "frequency response from excitations to sensors (or forces), over measured data"
 DESCRIPTION = """Frequency response functions at one speed of the reference rotor, from the
 [[excitations]] to the [[sensors]]: receptance [m/N], mobility [m/s/N] or accelerance
@@ -71,7 +73,7 @@ def run(args) -> int:
     model = open_model(args)
     if args.forces and args.out and args.out.lower().endswith((".uff", ".unv")):
         raise InputError(f"--out {args.out}: force FRFs are written as CSV only")
-    speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
+    speed = speed_value(args.speed, args.speed_unit, "--speed")
     freqs = parse_range(args.freqs, "--freqs")
     if freqs.min() < 0:
         raise InputError(f"--freqs {args.freqs}: frequencies must be >= 0 Hz")

@@ -8,12 +8,19 @@ import sys
 import numpy as np
 
 from ..errors import InputError
-from ..units import from_system, speed_to_rad_s, unit_scale
+from ..model._table import LARGEST
+from ..units import from_system, unit_scale
 from ._units import convert_table, kinds_by_ending
 from ._common import (add_model_argument, add_output_file, add_outputs, add_speed_unit, check_extra_output,
-                      open_model, parse_count, parse_list, parse_number, save_figure, use_agg, write_table)
+                      open_model, parse_count, parse_list, parse_number, save_figure, speed_value, use_agg,
+                      write_table)
 
 NAME = "level1"
+#: the largest anticipated cross-coupling [N/m] (``analysis.level1`` sweeps to 1000 Qa: products stay finite)
+LARGEST_QA = LARGEST / 1000
+#: the Python arguments the options set, as messages name them (``main`` says the option as typed)
+API_NAMES = {"speed": "--speed", "qa": "--qa", "power": "--power", "diameter": "--impeller-diameter",
+             "height": "--restriction-height", "density_ratio": "--density-ratio", "factor": "--factor"}
 HELP = "API 617 Level I stability screening: log decrement against applied cross-coupling"
 DESCRIPTION = """API 617 Level I stability screening. A cross-coupled stiffness Q (k_ab = +Q,
 k_ba = -Q in the radial axes a, b = spin axis x a: destabilising for forward whirl) acts between
@@ -112,10 +119,13 @@ def gas_density(args):
 def run(args) -> int:
     from ..analysis.level1 import Station, level1
 
-    stations = [Station.parse(text) for text in args.station]
+    try:
+        stations = [Station.parse(text) for text in args.station]
+    except InputError as error:     # "station 'fan@': ..." said of the option
+        raise InputError(f"--{error}") from None
     if args.units != "si":      # ROTOR@OFFSET: the offset in in
         stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", args.units)) for s in stations]
-    speed = float(speed_to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
+    speed = speed_value(args.speed, args.speed_unit, "--speed")
     qa, shares = anticipated(args, len(stations), speed)
     factor = parse_number(args.factor, "--factor")
     forward = None if args.forward_mode is None else parse_count(args.forward_mode, "--forward-mode")
@@ -168,6 +178,10 @@ def anticipated(args, count, speed):
     if args.qa is not None:
         if any(o is not None for o in stage_options) or args.density_ratio is not None:
             raise InputError("--qa and the stage data (--power, --impeller-diameter, ...) both given: give one")
+        if args.operating_speed is not None:   # was taken without a word, even 'nan'
+            raise InputError(f"--operating-speed {args.operating_speed}: expected the stage data (--power, "
+                             "--impeller-diameter, --restriction-height) too: it is N_r of their formula, and --qa "
+                             "gives Qa without it")
         values = from_system(parse_list(args.qa, "--qa"), "stiffness", args.units)
         if not np.all(values > 0):
             raise InputError(f"--qa {args.qa!r}: expected values > 0 [N/m]")
@@ -182,8 +196,15 @@ def anticipated(args, count, speed):
         (power, diameter, height, ratio), ("--power", "--impeller-diameter", "--restriction-height",
                                            "--density-ratio")))
     operating = speed if args.operating_speed is None else \
-        float(speed_to_rad_s(parse_number(args.operating_speed, "--operating-speed"), args.speed_unit))
+        speed_value(args.operating_speed, args.speed_unit, "--operating-speed")
+    if operating == 0:      # the API's 'speed = 0.0' named neither option
+        raise InputError(f"--operating-speed {args.operating_speed}: expected a speed other than 0 (Qa is power / "
+                         "speed)")
     q = anticipated_cross_coupling(power, abs(operating), diameter, height, ratio, machine=args.machine)
+    if not np.all(q <= LARGEST_QA):      # 'qa = 7.2e+305' named no option the user gave
+        raise InputError(f"--power {args.power}, --impeller-diameter {args.impeller_diameter}, --restriction-height "
+                         f"{args.restriction_height}: give Qa = {q.max():.4g} N/m: expected at most {LARGEST_QA:g} "
+                         "N/m (check their units: W, m, m)")
     return _spread(q, count, "the stages")
 
 

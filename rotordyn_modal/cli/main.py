@@ -10,7 +10,7 @@ import sys
 import warnings
 
 from ..errors import InputError, OutputWriteError
-from ._common import VALUE_OPTIONS, check_files, file_options, join_negative_values
+from ._common import VALUE_OPTIONS, check_files, file_options, join_negative_values, options_as_typed
 
 PROGRAM = "rotordyn-modal"
 
@@ -40,7 +40,8 @@ def build_parser() -> argparse.ArgumentParser:
             add_verbose(sub)
         if "--units" not in sub._option_string_actions:  # --units before or after the sub-command's name
             add_units_option(sub, suppress=True, help=getattr(module, "UNITS_HELP", None))
-        sub.set_defaults(handler=module.run, file_options=file_options(sub))
+        # API_NAMES: the Python arguments the command's options set, named as the options in messages
+        sub.set_defaults(handler=module.run, file_options=file_options(sub), api_names=getattr(module, "API_NAMES", {}))
     return parser
 
 
@@ -67,8 +68,9 @@ def main(argv=None) -> int:
                 code = int(args.handler(args) or 0)
             report_peak_memory(args)
             return code
-    except InputError as error:
-        print(f"{PROGRAM} {args.command}: error: {_one_line(error)}", file=sys.stderr)
+    except InputError as error:   # "duration = -1.0: ..." of the Python API reads "--duration -1: ..."
+        message = options_as_typed(_one_line(error), args, getattr(args, "api_names", {}))
+        print(f"{PROGRAM} {args.command}: error: {message}", file=sys.stderr)
         return 2
     except OutputWriteError as error:  # full disk, size limit: the machine's failure, not the input's
         print(f"{PROGRAM} {args.command}: error: {_one_line(error)}", file=sys.stderr)

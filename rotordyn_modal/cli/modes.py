@@ -5,11 +5,14 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
+from ..model._table import visible_names
 from ._common import (add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
-                      add_speed_unit, check_extra_output, open_model, parse_number, save_figure,
-                      to_rad_s, use_agg, write_table)
+                      add_speed_unit, check_extra_output, open_model, save_figure, speed_value, use_agg,
+                      write_table)
 
 NAME = "modes"
+#: the Python arguments the options set, as messages name them (``main`` says the option as typed)
+API_NAMES = {"speed": "--speed"}
 HELP = "modal analysis at one speed"
 DESCRIPTION = """Eigenvalues of the machine at one speed of the reference rotor: damped natural
 frequency, damping ratio, log decrement and whirl direction of every oscillating mode. Roots
@@ -84,7 +87,7 @@ def run(args) -> int:
     _check_shape_options(args)
     wanted = _mode_list(args.modes) if args.modes is not None else None
     model = open_model(args)
-    speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
+    speed = speed_value(args.speed, args.speed_unit, "--speed")
     # every root is one dense eigen-solution of the state matrix: a long flexible rotor's takes hours
     refuse_long_work(model, [speed], critical=False,
                      advice="ask for the lowest modes only (campbell --lowest N --speeds S:S:1)")
@@ -218,7 +221,7 @@ def _read_outline(path):
         raise InputError(f"{path}: cannot read the outline ({' '.join(str(error).split())})") from None
     if not {"x", "y", "z"} <= set(table.columns):
         raise InputError(f"{path}: the outline needs the columns x,y,z (metres, model axes); found "
-                         f"{','.join(map(str, table.columns))}")
+                         f"{visible_names(map(str, table.columns))}")
     try:
         points = table[["x", "y", "z"]].to_numpy(dtype=float)
     except ValueError:

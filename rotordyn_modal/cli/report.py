@@ -12,14 +12,18 @@ from pathlib import Path
 
 
 from ..errors import InputError
+from ..model._table import SMALLEST_POSITIVE
 from ..io import atomic_write
 from ..units import from_system
 from ._common import add_model_argument, add_output_file, add_speed_unit, check_ending, check_extra_output, \
-    open_model, parse_number, to_rad_s
+    open_model, speed_value
 from .level1 import add_stage_arguments, anticipated, gas_density
 from .ucs_map import _operating, _stiffness
 
 NAME = "report"
+#: the Python arguments the options set, as messages name them (``main`` says the option as typed)
+API_NAMES = {"qa": "--qa", "power": "--power", "diameter": "--impeller-diameter", "height": "--restriction-height",
+             "density_ratio": "--density-ratio"}
 HELP = "one self-contained HTML report against API 617, API 684 or ISO: figures, tables, verdicts"
 DESCRIPTION = """A rotordynamic report in one HTML file (figures embedded as PNG; print it to PDF
 from a browser, or --pdf with Chromium): a summary of the criteria (value, limit, verdict: pass,
@@ -115,9 +119,10 @@ def _inputs(args):
     from ..analysis.level1 import Station
     from ..report import ReportInputs
 
-    mcs = float(to_rad_s(parse_number(args.mcs, "--mcs"), args.speed_unit))
-    if not mcs > 0:
-        raise InputError(f"--mcs {args.mcs}: expected a maximum continuous speed > 0")
+    mcs = speed_value(args.mcs, args.speed_unit, "--mcs")
+    if not mcs >= SMALLEST_POSITIVE:   # 1e-300 rpm: every swept speed 0 to round-off
+        raise InputError(f"--mcs {args.mcs}: expected a maximum continuous speed > 0 (at least "
+                         f"{SMALLEST_POSITIVE:g} rad/s)")
     operating = _operating(args, low_open=True) if args.operating is not None else None
     if operating is not None and operating[1] > mcs * (1 + 1e-12):
         raise InputError(f"--operating {args.operating}: expected HI at most --mcs {args.mcs} (the maximum "

@@ -10,9 +10,12 @@ from .._limits import count_problem
 from ..errors import InputError
 from ..units import to_system
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
-                      save_figure, show_progress, to_rad_s, use_agg, write_table)
+                      save_figure, show_progress, speed_value, use_agg, write_table)
 
 NAME = "simulate"
+#: the Python arguments the options set, as messages name them (``main`` says the option as typed)
+API_NAMES = {"duration": "--duration", "rtol": "--rtol", "atol": "--atol", "impulse_size": "--impulse-size",
+             "speed": "--speed", "final_speed": "--ramp", "samples": "--samples"}
 HELP = ("nonlinear large-rotation time simulation (constant speed, run-up ramp or free spin), rotors on bearings; "
         "flexible rotors, pedestals and gear meshes in the linear time model")
 DESCRIPTION = """Integrate the machine's nonlinear equations of motion in time: the stator as a rigid
@@ -111,10 +114,11 @@ def add_arguments(parser):
 def run(args) -> int:
     from ..analysis.campbell import campbell
     from ..simulation import simulate
+    from ..simulation.simulate import _LARGEST_SPEED as LARGEST_SPEED
 
     model = open_model(args)
-    speed = float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
-    final = float(to_rad_s(parse_number(args.ramp, "--ramp"), args.speed_unit)) if args.ramp is not None else None
+    speed = speed_value(args.speed, args.speed_unit, "--speed", largest=LARGEST_SPEED)
+    final = speed_value(args.ramp, args.speed_unit, "--ramp", largest=LARGEST_SPEED) if args.ramp is not None else None
     if args.samples is not None and args.samples < 2:
         raise InputError(f"--samples {args.samples}: expected a whole number >= 2")
     if args.samples is not None and (problem := count_problem(args.samples, "samples")):

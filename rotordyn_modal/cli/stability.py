@@ -12,6 +12,8 @@ from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed
 from ._units import NOTHING_TO_CONVERT
 
 NAME = "stability"
+#: the Python arguments the options set, as messages name them (``main`` says the option as typed)
+API_NAMES = {"speeds": "--speeds"}
 HELP = "stability over speed, or a map over speed and one model parameter"
 UNITS_HELP = (NOTHING_TO_CONVERT + "; --vary's values and the 'value' column are the model key's, in the "
               "model file's SI unit")   # --units (docs/units.md)

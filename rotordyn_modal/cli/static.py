@@ -8,10 +8,12 @@ import numpy as np
 from ..errors import InputError
 from ..units import from_system, unit_label, unit_scale
 from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number, print_table,
-                      save_figure, to_rad_s, use_agg, write_table)
+                      save_figure, speed_value, use_agg, write_table)
 from ._units import convert_table, kinds_by_ending
 
 NAME = "static"
+#: the Python arguments the options set, as messages name them (``main`` says the option as typed)
+API_NAMES = {"power": "--power", "speed": "--speed"}
 HELP = "static displacement and support reactions under gravity, given forces and transmitted power"
 DESCRIPTION = """Static analysis: the machine under its weight (the model's gravity), the forces
 and moments given here, and the tooth (gear) or strand (belt) forces of the power each
@@ -85,11 +87,14 @@ def run(args) -> int:
     if args.plot and not any(r.flexible is not None for r in model.rotors):
         raise InputError(f"--plot {args.plot}: the model has no flexible rotor (one with a shaft): the figure "
                          "draws the sag, shear force and bending moment along flexible shafts")
-    speed = None if args.speed is None else float(to_rad_s(parse_number(args.speed, "--speed"), args.speed_unit))
+    speed = None if args.speed is None else speed_value(args.speed, args.speed_unit, "--speed")
     forces = [_force(text, args.units) for text in args.force or ()] + \
         [_moment(text, args.units) for text in args.moment or ()]
-    result = static(model, speed=speed, forces=forces, power=_power(args.power, args.units), units=args.units,
-                    allowable_stress=_allowable(args.allowable_stress, args.units))
+    try:
+        result = static(model, speed=speed, forces=forces, power=_power(args.power, args.units), units=args.units,
+                        allowable_stress=_allowable(args.allowable_stress, args.units))
+    except InputError as error:
+        raise InputError(_as_typed(str(error), args)) from None
     table = _in_units(result.to_dataframe(), args.units)
     if args.out:
         write_table(table, args) if args.out == "-" else write_table(table, _quietly(args))
@@ -99,6 +104,24 @@ def run(args) -> int:
         use_agg()
         save_figure(result.plot_shafts(units=args.units), args)
     return 0
+
+
+def _as_typed(message: str, args) -> str:
+    """A refusal of ``rdm.static``'s ``forces[i] ...`` or ``power: ...`` said of the option typed:
+    ``--force nobody:0,0,0:0,0,1: expected 'stator' or ...`` (it read ``forces[0] body = 'nobody'``)."""
+    import re
+
+    given = [("--force", text) for text in args.force or ()] + [("--moment", text) for text in args.moment or ()]
+    found = re.match(r"forces\[(\d+)\]", message)
+    if found and int(found.group(1)) < len(given):
+        option, text = given[int(found.group(1))]
+        tail = message[found.end():]         # " body = 'nobody': expected ...", " = (...): ...", ": ..."
+        if tail.startswith(" = "):
+            tail = ": " + tail.partition(": ")[2]
+        return f"{option} {text}:{tail}" if tail.startswith(" ") else f"{option} {text}{tail}"
+    if message.startswith("power: ") and args.power:
+        return f"--power {' '.join(args.power)}: {message.removeprefix('power: ')}"
+    return message
 
 
 def _allowable(text, system: str = "si"):

@@ -7,9 +7,9 @@ import sys
 import numpy as np
 
 from ..errors import InputError
-from ._common import (NAME_LIST_HELP, add_model_argument, add_outputs, add_speed_unit, open_model, parse_band,
-                      parse_names, parse_range, save_figure, use_agg, write_table)
-from ..units import from_system, speed_to_rad_s, to_system, unit_label
+from ._common import (NAME_LIST_HELP, add_model_argument, add_outputs, add_speed_unit, check_speeds, open_model,
+                      parse_band, parse_names, parse_range, save_figure, use_agg, write_table)
+from ..units import from_system, to_system, unit_label
 from ._units import convert_table, kinds_by_ending
 
 NAME = "ucs-map"
@@ -59,7 +59,8 @@ def run(args) -> int:
 
     stiffness = _stiffness(args.stiffness, args.units)
     modes = _modes(args.modes)
-    speeds = speed_to_rad_s(parse_range(args.speeds, "--speeds"), args.speed_unit) if args.speeds else None
+    speeds = check_speeds(parse_range(args.speeds, "--speeds", largest=None), args.speeds, args.speed_unit,
+                          "--speeds") if args.speeds else None
     operating = _operating(args) if args.operating is not None else None
     model = open_model(args)
     bearings = parse_names(args.bearings, "--bearings", [b.name for b in model.bearings])
@@ -98,8 +99,9 @@ def _modes(text):
 
 def _operating(args, low_open=False):
     """--operating LO:HI [--speed-unit] -> (low, high) [rad/s]; LO > 0 with ``low_open``."""
-    band = parse_band(args.operating, "--operating", args.speed_unit, low_open=low_open, example="1000:3000")
-    return tuple(speed_to_rad_s(np.array(band), args.speed_unit))
+    band = parse_band(args.operating, "--operating", args.speed_unit, low_open=low_open, example="1000:3000",
+                      largest=None)
+    return tuple(check_speeds(np.array(band), args.operating, args.speed_unit, "--operating"))
 
 
 def _print_crossings(result, system="si"):

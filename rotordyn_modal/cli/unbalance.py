@@ -8,14 +8,16 @@ import warnings
 import numpy as np
 
 from ..errors import InputError
-from ..model._table import LARGEST
+from ..model._table import SMALLEST_POSITIVE
 from ._common import (NAME_LIST_HELP, add_model_argument, add_output_file, add_outputs, add_speed_unit, check_ending,
-                      check_extra_output, open_model, parse_number, print_table, save_figure, speeds_option,
-                      speeds_text, to_rad_s, use_agg, write_csv, write_table)
+                      check_extra_output, open_model, print_table, save_figure, speeds_option,
+                      speed_value, speeds_text, use_agg, write_csv, write_table)
 from ._units import convert_table
 from .frf import sensor_names
 
 NAME = "unbalance"
+#: the Python arguments the options set, as messages name them (``main`` says the option as typed)
+API_NAMES = {"speeds": "--speeds"}
 HELP = "steady unbalance response vs speed, each rotor's harmonic at its own spin frequency"
 DESCRIPTION = """Response of the sensors to the model's [[unbalances]] over a speed sweep. Every
 rotor's unbalances excite at that rotor's own spin frequency (|speed ratio| x speed,
@@ -133,7 +135,11 @@ def run(args) -> int:
         raise InputError(f"--operating-speed {args.operating_speed}: expected a speed other than 0 (the "
                          "separation margin is a percentage of it)")
     mcs, min_speed = _check_options(args)
-    check_operating_speed(speeds_option(args), operating)     # before anything is computed or written
+    try:                                                        # before anything is computed or written
+        check_operating_speed(speeds_option(args), operating)
+    except InputError as error:    # 'operating speed -0.10472 rad/s (-1 rpm)': said as typed
+        raise InputError(f"--operating-speed {args.operating_speed} {args.speed_unit}: "
+                         f"{str(error).partition(': ')[2]}") from None
     _warn_below_checked_speeds(speeds_option(args), mcs, args)
     if args.api_unbalance:
         result = api_unbalance_response(model, speeds_option(args), mcs, outputs=sensor_names(args, model),
@@ -164,10 +170,7 @@ def _speed(args, text, option):
     speed (``--mcs 1e308`` made the API 617 probe limit 0 m and failed every probe)."""
     if text is None:
         return None
-    value = float(to_rad_s(parse_number(text, option), args.speed_unit))
-    if not abs(value) <= LARGEST:
-        raise InputError(f"{option} {text}: expected a speed of magnitude at most {LARGEST:g} rad/s")
-    return value
+    return speed_value(text, args.speed_unit, option)
 
 
 def _warn_below_checked_speeds(speeds, mcs, args):
@@ -187,8 +190,9 @@ def _warn_below_checked_speeds(speeds, mcs, args):
 def _check_options(args):
     """``(mcs, min_speed)`` [rad/s] of the standards' checks, the options checked together."""
     mcs, min_speed = _speed(args, args.mcs, "--mcs"), _speed(args, args.min_speed, "--min-speed")
-    if mcs is not None and not mcs > 0:
-        raise InputError(f"--mcs {args.mcs}: expected a maximum continuous speed > 0")
+    if mcs is not None and not mcs >= SMALLEST_POSITIVE:   # 1e-300 rpm: every swept speed 0 to round-off
+        raise InputError(f"--mcs {args.mcs}: expected a maximum continuous speed > 0 (at least "
+                         f"{SMALLEST_POSITIVE:g} rad/s)")
     if min_speed is not None and not min_speed >= 0:
         raise InputError(f"--min-speed {args.min_speed}: expected a speed >= 0")
     if min_speed is not None and mcs is None and args.iso_group is None:
@@ -199,13 +203,14 @@ def _check_options(args):
         raise InputError(f"--min-speed {args.min_speed}: expected at most --mcs {args.mcs} (the checked speeds "
                          "run from one to the other)")
     trip = _speed(args, args.trip_speed, "--trip-speed")
+    given = "" if mcs is None else f" {args.mcs}"      # not 'at least --mcs None' when it is not given
     if trip is not None and (mcs is None or not trip >= mcs):
-        raise InputError(f"--trip-speed {args.trip_speed}: expected --mcs too and a trip speed at least --mcs "
-                         f"{args.mcs} (the clearance check's speeds run up to it)")
+        raise InputError(f"--trip-speed {args.trip_speed}: expected --mcs too and a trip speed at least --mcs"
+                         f"{given} (the clearance check's speeds run up to it)")
     operating = _speed(args, args.min_operating_speed, "--min-operating-speed")
     if operating is not None and not (mcs is not None and 0 <= operating <= mcs):
         raise InputError(f"--min-operating-speed {args.min_operating_speed}: expected --mcs too and a speed >= 0 "
-                         f"and at most --mcs {args.mcs} (the scale factor's probe amplitudes run from one to the other)")
+                         f"and at most --mcs{given} (the scale factor's probe amplitudes run from one to the other)")
     if args.api_unbalance and mcs is None:
         raise InputError("--api-unbalance: expected --mcs too (the API amount 2 x 6350 W/N needs the maximum "
                          "continuous speed N)")

@@ -1,8 +1,9 @@
 """CSV tables as other tools and spreadsheets write them: the text's encoding (UTF-8 with or
 without a byte-order mark, UTF-16, else Latin-1), the separator (``,``, ``;`` or a tab, read
-from the header line), decimal commas (``1,5`` beside a ``;`` or tab separator), comment lines
-(``# ...``) before the header, and header names in any case with a unit in brackets
-(``Frequency [kHz]``, ``phase (rad)``).
+from the header line or from Excel's ``sep=;`` line before it), decimal commas (``1,5`` beside a
+``;`` or tab separator, quoted or not), comment lines (``# ...``) before the header, header
+names in any case with a unit in brackets (``Frequency [kHz]``, ``phase (rad)``), and cells
+padded with spaces (`` 1.0 ``, `` f [Hz] ``).
 """
 
 from __future__ import annotations
@@ -15,6 +16,8 @@ from ..errors import InputError
 __all__ = ["read_csv_table", "numbers", "split_header"]
 
 _SEPARATORS = (",", ";", "\t")
+#: the first line Excel writes to name the separator (``sep=;``)
+_SEPARATOR_LINE = re.compile(r"^\s*sep=([,;\t])\s*$")
 #: cells that say "no value" (NaN), as pandas reads them by default
 _EMPTY = ["", "nan", "-nan", "na", "n/a", "#n/a", "#na", "null", "none", "<na>"]
 #: ``name [unit]`` or ``name (unit)``: a header cell with its unit
@@ -38,8 +41,9 @@ def _text(data: bytes) -> str:
 
 
 def read_csv_table(data: bytes, path, what: str, **options):
-    """A CSV table of ``data`` (a file's bytes): its cells as text (names stay as written:
-    ``01``, ``NA``), the header names stripped, and the decimal mark of its numbers.
+    """A CSV table of ``data`` (a file's bytes): its cells as text without the spaces around them
+    (names stay as written otherwise: ``01``, ``NA``), the header names stripped, and the decimal
+    mark of its numbers.
 
     Parameters
     ----------
@@ -68,17 +72,21 @@ def read_csv_table(data: bytes, path, what: str, **options):
     start = 0
     while start < len(lines) and lines[start].lstrip().startswith("#"):   # a tool's comment lines
         start += 1
+    declared = _SEPARATOR_LINE.match(lines[start]) if start < len(lines) else None
+    start += declared is not None      # Excel's "sep=;" line names the separator (it was read as the header)
     text = "".join(lines[start:])
     header = lines[start] if start < len(lines) else ""
-    separator = max(_SEPARATORS, key=lambda s: (header.count(s), s == ","))
+    separator = declared.group(1) if declared else max(_SEPARATORS, key=lambda s: (header.count(s), s == ","))
     body = "".join(lines[start + 1:start + 200])
-    decimal = "," if separator != "," and re.search(r"(^|[;\t])\s*[-+]?\d+,\d+\s*([;\t]|$)", body, re.M) else "."
+    decimal = "," if separator != "," and re.search(r'(^|[;\t])\s*"?[-+]?\d+,\d+"?\s*([;\t]|$)', body, re.M) else "."
     try:
         table = pd.read_csv(io.StringIO(text), sep=separator, dtype=str, keep_default_na=False, **options)
     except (OSError, ValueError) as error:
         raise InputError(f"{path}: cannot read {what} ({' '.join(str(error).split())})") from None
     _check_columns_once(header, separator, path)
     table.columns = [str(c).strip() for c in table.columns]
+    # cells padded to line up in a text editor or exported so (`` 1.0 ``, `` acc-top-z ``)
+    table = table.apply(lambda column: column.map(lambda cell: cell.strip() if isinstance(cell, str) else cell))
     return _without_trailing_empty_rows(table), decimal
 
 

@@ -31,6 +31,7 @@ import numpy as np
 
 from ..analysis.frf import FRFResult
 from ..errors import InputError
+from ..model._table import visible_names
 from .channels import ChannelMap, assemble, default_mapping, read_mapping
 
 __all__ = ["read_measured", "read_csv", "write_csv", "read_mapping", "default_mapping", "ChannelMap"]
@@ -62,6 +63,10 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
         raise InputError(f"{path}: measured data file not found" if not path.exists() else
                          f"{path}: expected a measured data file, not a "
                          f"{'folder' if path.is_dir() else 'pipe or device (its size is not known before reading)'}")
+    try:
+        open(path, "rb").close()
+    except OSError as error:   # a file without read permission: PermissionError, exit 1
+        raise InputError(f"{path}: cannot read the measured-data file ({error.strerror or error})") from None
     if path.suffix.lower() == ".csv":
         return read_csv(path, model)
     if path.suffix.lower() in (".uff", ".unv", ".uf"):
@@ -102,7 +107,7 @@ def read_csv(path, model) -> list[FRFResult]:
     if not needed <= set(table.columns) or not ({"real", "imag"} <= set(table.columns)
                                                 or {"magnitude", "phase_deg"} <= set(table.columns)):
         raise InputError(f"{path}: expected the columns speed_rpm,frequency_hz,output,input,real,imag"
-                         f"[,coherence] (or magnitude,phase_deg); found {','.join(map(str, table.columns))}")
+                         f"[,coherence] (or magnitude,phase_deg); found {visible_names(map(str, table.columns))}")
     column = {name: numbers(table, name, path, decimal) * scales.get(name, 1.0) for name in
               ("speed_rpm", "frequency_hz", "real", "imag", "magnitude", "phase_deg", "coherence")
               if name in table.columns}
@@ -128,7 +133,8 @@ def read_csv(path, model) -> list[FRFResult]:
 
 
 #: header names of the CSV columns -> the column
-_ALIASES = {"frequency": "frequency_hz", "freq": "frequency_hz", "freq_hz": "frequency_hz",
+_ALIASES = {"frequency": "frequency_hz", "freq": "frequency_hz", "freq_hz": "frequency_hz", "f": "frequency_hz",
+            "f_hz": "frequency_hz",
             "speed": "speed_rpm", "rpm": "speed_rpm", "phase": "phase_deg", "mag": "magnitude",
             "imaginary": "imag", "re": "real", "im": "imag"}
 #: units a header may give its column, and the factor to the column's own unit

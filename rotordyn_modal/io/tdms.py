@@ -7,8 +7,8 @@ the factor to SI: ``N``, ``kN``, ``lbf`` (force), ``m``, ``mm``, ``um`` (displac
 ``bar`` (pressure), read by :mod:`.unit_labels`; ``units`` declares others or overrides,
 e.g. ``units={"V": ("acceleration", 9.80665 / 0.1)}`` (quantity and factor to SI). A unit that
 is neither (``V``, ``C``, ``°``) is refused. The interval is in the unit of ``wf_xunit_string``
-(``s``, ``ms``; seconds without one). Refused too: text or complex samples, a NaN or infinite
-sample, a channel of fewer than 2 samples, a declared unit of no time-record quantity or of a
+(``s``, ``ms``, ``us``, ``min``, ``h``: a time unit of :mod:`.unit_labels`; seconds without one).
+Refused too: text or complex samples, a NaN or infinite sample, a channel of fewer than 2 samples, a declared unit of no time-record quantity or of a
 factor 0.
 """
 
@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..model._table import LARGEST, visible, visible_names
+from ..model._table import LARGEST, line_break_problem, visible, visible_names
 from .unit_labels import quantity_of
 
 __all__ = ["read_tdms_records", "SI_UNITS", "declared_units"]
@@ -75,6 +75,9 @@ def read_tdms_records(path, group: str | None = None, channels=None, units=None,
     if missing or not names:
         raise InputError(f"{path}: group {chosen.name!r} has no channel {visible_names(missing) or '(none)'}; its "
                          f"channels: {visible_names(available) or 'none'}")
+    broken = next((n for n in names if line_break_problem(n)), None)
+    if broken is not None:   # a tab or line break splits the spectra's tables and figure legends
+        raise InputError(f"{path}: channel name {broken!r}: expected {line_break_problem(broken)}")
     twice = [n for i, n in enumerate(names) if n in names[:i]]
     if twice:   # the same samples read as two channels, without a word
         raise InputError(f"{path}: channels = {visible_names(names)}: expected each channel once ({visible(twice[0])} "
@@ -164,7 +167,7 @@ def _increment(channel, path) -> float:
     parsed = parse_unit(unit)
     if parsed is None or parsed[1] != (0, 0, 1):
         raise InputError(f"{path}: channel {channel.name!r} has the time unit wf_xunit_string = {unit!r}: expected "
-                         "s or ms (a time record)")
+                         "a unit of time such as s, ms, us, min or h (a time record)")
     return step * parsed[0]
 
 

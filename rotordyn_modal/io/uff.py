@@ -217,8 +217,11 @@ def _check_complete(path):
     from .limits import check_size
 
     check_size(path, "measured", "measured-data file")
-    with open(path, "rb") as handle:
-        head = handle.read(4096)
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(4096)
+    except OSError as error:   # missing, a folder, no read permission: PermissionError out of the API
+        raise InputError(f"{path}: cannot read the Universal File ({error.strerror or error})") from None
     if b"\0" in head or b"58b" in head.lower():
         return  # binary 58b sets: pyuff checks their byte counts
     with open(path, encoding="latin-1") as handle:
@@ -353,6 +356,10 @@ def _latin1(path, mtime_ns, size):
         return handle.read()
 
 
+#: frequency units of no dimension the unit parser reads: angular frequency, cycles per minute -> Hz
+_FREQUENCY_WORDS = {"rad/s": 1.0 / (2.0 * np.pi), "rad/sec": 1.0 / (2.0 * np.pi), "cpm": 1.0 / 60.0}
+
+
 def _abscissa_factor(s, expected, path):
     """Factor of the abscissa to s (time) or Hz (frequency), from its data type and unit label."""
     kind = int(s.get("abscissa_spec_data_type", expected))
@@ -363,6 +370,8 @@ def _abscissa_factor(s, expected, path):
     label = _label_text(s, "abscissa_axis_units_lab", path)
     if is_none(label):
         return 1.0
+    if expected == _FREQUENCY and label.strip().lower() in _FREQUENCY_WORDS:   # was refused: 'expected Hz'
+        return _FREQUENCY_WORDS[label.strip().lower()]
     parsed = parse_unit(label)
     if parsed is None or parsed[1] != ((0, 0, 1) if expected == _TIME else (0, 0, -1)):
         raise InputError(f"{where}: abscissa unit {label!r}: expected {unit} (data type {name})")

@@ -5,7 +5,8 @@ A label is read as a product of known units with integer powers: ``*`` (or ``·`
 multiplies, ``/`` divides (left to right: ``m/s/s`` is m s^-2), ``^n``, ``**n``, ``²``, ``³`` or
 digits right after a unit (``m/s2``) raise to a power, ``1`` and parentheses group. Known units
 (any case where that is unambiguous): length ``m``, ``cm``, ``mm``, ``um``/``µm``, ``in``,
-``mil``, ``ft``; time ``s``, ``ms``; frequency ``Hz``, ``kHz``; velocity ``ips`` (in/s); acceleration of gravity ``g`` (standard,
+``mil``, ``ft``; time ``s`` (``sec``), ``ms``, ``us``/``µs``, ``ns``, ``min``, ``h``; frequency ``Hz``,
+``kHz``; velocity ``ips`` (in/s); acceleration of gravity ``g`` (standard,
 9.80665 m/s^2); force ``N``, ``mN``, ``kN``, ``lbf``; mass ``kg``; pressure ``Pa``, ``hPa``, ``kPa``,
 ``MPa``, ``bar``, ``mbar``, ``psi``. A label of other units (``V``, ``mV/g``, ``dB``) is not
 understood, never guessed.
@@ -35,7 +36,8 @@ _UNITS = {
     "m": (1.0, _LENGTH), "cm": (1e-2, _LENGTH), "mm": (1e-3, _LENGTH), "um": (1e-6, _LENGTH),
     "µm": (1e-6, _LENGTH), "μm": (1e-6, _LENGTH), "in": (_INCH, _LENGTH), "mil": (1e-3 * _INCH, _LENGTH),
     "mils": (1e-3 * _INCH, _LENGTH), "ft": (12 * _INCH, _LENGTH),
-    "s": (1.0, _TIME), "ms": (1e-3, _TIME), "Hz": (1.0, (0, 0, -1)), "kHz": (1e3, (0, 0, -1)),
+    "s": (1.0, _TIME), "sec": (1.0, _TIME), "ms": (1e-3, _TIME), "us": (1e-6, _TIME), "µs": (1e-6, _TIME),
+    "μs": (1e-6, _TIME), "ns": (1e-9, _TIME), "min": (60.0, _TIME), "h": (3600.0, _TIME), "Hz": (1.0, (0, 0, -1)), "kHz": (1e3, (0, 0, -1)),
     "ips": (_INCH, (1, 0, -1)),
     "g": (STANDARD_GRAVITY, _ACCELERATION), "gn": (STANDARD_GRAVITY, _ACCELERATION),
     "N": (1.0, _FORCE), "mN": (1e-3, _FORCE), "kN": (1e3, _FORCE), "lbf": (_POUND_FORCE, _FORCE),

@@ -10,7 +10,7 @@ from .components import is_finite_number
 from ..errors import ModelError
 
 __all__ = ["Table", "unknown_key", "shape_text", "LARGEST", "SMALLEST_POSITIVE", "magnitude_problem", "non_number",
-           "visible", "visible_names", "semidefinite_problem", "plain"]
+           "visible", "visible_names", "semidefinite_problem", "plain", "line_break_problem"]
 
 #: largest magnitude of a number in a model description (SI units): no machine needs more, and
 #: products of two such numbers (stiffness over mass, squared frequencies) stay far from overflow
@@ -71,6 +71,8 @@ class Table:
         value = self.data[key]
         if not isinstance(value, str) or not value.strip():
             raise self.error(key, value, "a non-empty string")
+        if (problem := line_break_problem(value)):
+            raise self.error(key, value, problem)
         if choices is not None and value not in choices:
             raise self.error(key, value, "one of " + ", ".join(repr(c) for c in choices))
         return value
@@ -206,6 +208,19 @@ def visible(name) -> str:
     when it holds a comma (``'acc, top'``), which would read as two names in a list."""
     text = str(name)
     return text if text and text.isprintable() and text.strip() == text and "," not in text else repr(text)
+
+
+def line_break_problem(text) -> str:
+    """'' for a name or word that prints on one line; else what was expected: no control character
+    (a tab, a line break, a NUL: category Cc) and no Unicode line or paragraph separator. Such a
+    name breaks a table's columns or a message's one line, and reads as another name."""
+    import unicodedata
+
+    bad = [c for c in str(text) if unicodedata.category(c) in ("Cc", "Zl", "Zp")]
+    if not bad:
+        return ""
+    return f"a text without control characters (it holds {', '.join(dict.fromkeys(repr(c) for c in bad))}: " \
+           "a tab or a line break would split the tables and messages that print it)"
 
 
 def visible_names(names) -> str:

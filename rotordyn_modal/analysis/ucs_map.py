@@ -308,8 +308,8 @@ def _synchronous_roots(M, G, K, forms) -> _Roots:
     Kw = W.conj().T @ K @ W          # (s, n, n): matrix products, not a three-operand einsum (n^4 per speed)
     Bw = W.conj().T @ B @ W
     R = np.linalg.cholesky(0.5 * (Kw + Kw.conj().swapaxes(-1, -2)))
-    X = np.linalg.solve(R, np.broadcast_to(Bw, Kw.shape))             # R^-1 Bw
-    H = np.linalg.solve(R, X.conj().swapaxes(-1, -2))                # R^-1 Bw R^-H (Bw Hermitian)
+    Ri = np.linalg.inv(R)                    # one factorisation; the products below are cheaper than solves
+    H = Ri @ Bw @ Ri.conj().swapaxes(-1, -2)                         # R^-1 Bw R^-H
     nu, y = np.linalg.eigh(0.5 * (H + H.conj().swapaxes(-1, -2)))
     with np.errstate(divide="ignore", invalid="ignore"):
         omega = np.where(nu > 0, 1 / np.sqrt(np.where(nu > 0, nu, 1.0)), np.inf)
@@ -317,7 +317,7 @@ def _synchronous_roots(M, G, K, forms) -> _Roots:
     order = np.argsort(omega, axis=-1)
     omega, signed, nu = (np.take_along_axis(x, order, axis=-1) for x in (omega, signed, nu))
     y = np.take_along_axis(y, order[:, None, :], axis=-1)
-    shapes = (W @ np.linalg.solve(R.conj().swapaxes(-1, -2), y)).swapaxes(-1, -2)   # (s, m, n)
+    shapes = (W @ (Ri.conj().swapaxes(-1, -2) @ y)).swapaxes(-1, -2)                 # (s, m, n)
     finite = np.isfinite(omega)
     lam = 1j * np.where(finite, omega, 0.0)
     shapes = _eigensolve.resolve_repeated(lam, shapes, forms)

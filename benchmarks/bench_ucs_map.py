@@ -14,7 +14,7 @@ Times, each repeat:
 Prints each time's min/median over the repeats and the ratios loop/ucs_map, loop/batched and
 threaded/batched (min/median/max over the repeats). Run::
 
-    python benchmarks/bench_ucs_map.py [--repeat 5] [--model examples/compressor_on_journals.toml]
+    python benchmarks/bench_ucs_map.py [--repeat 3] [--model examples/compressor_on_journals.toml]
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ def _one_thread(function):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--model", default=str(EXAMPLE))
     args = parser.parse_args(argv)
     model = load_model(args.model)

@@ -39,7 +39,7 @@ from ..elements.bearings import evaluate
 from ..errors import InputError
 from ..model._table import visible_names
 from ..model.geometry import skew
-from . import _eigensolve, _vectors, _whirl
+from . import _batches, _eigensolve, _vectors, _whirl
 from .tracking import track_modes
 
 __all__ = ["UcsMap", "BearingCurve", "Crossing", "ucs_map", "forward_critical_speeds"]
@@ -222,6 +222,12 @@ def ucs_map(model, stiffness, modes: int = 4, bearings=None, speeds=None, operat
     chosen = _chosen_bearings(model, bearings)
     stiffness = _check_stiffness(stiffness)
     modes = _check_modes(modes)
+    # BLAS's own threads only wait for a core on a shared machine: 53 states, 9x faster on one
+    with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+        return _ucs_map(model, chosen, stiffness, modes, speeds, operating)
+
+
+def _ucs_map(model, chosen, stiffness, modes, speeds, operating) -> UcsMap:
     parts = _Pencil(model, chosen)
     constants = _constant_values(chosen)
     grid = np.union1d(stiffness, constants)           # the constant bearings' stiffness followed too
@@ -302,8 +308,8 @@ def _synchronous_roots(M, G, K, forms) -> _Roots:
     Kw = W.conj().T @ K @ W          # (s, n, n): matrix products, not a three-operand einsum (n^4 per speed)
     Bw = W.conj().T @ B @ W
     R = np.linalg.cholesky(0.5 * (Kw + Kw.conj().swapaxes(-1, -2)))
-    X = np.linalg.solve(R, np.broadcast_to(Bw, Kw.shape))             # R^-1 Bw
-    H = np.linalg.solve(R, X.conj().swapaxes(-1, -2))                # R^-1 Bw R^-H (Bw Hermitian)
+    Ri = np.linalg.inv(R)                    # one factorisation; the products below are cheaper than solves
+    H = Ri @ Bw @ Ri.conj().swapaxes(-1, -2)                         # R^-1 Bw R^-H
     nu, y = np.linalg.eigh(0.5 * (H + H.conj().swapaxes(-1, -2)))
     with np.errstate(divide="ignore", invalid="ignore"):
         omega = np.where(nu > 0, 1 / np.sqrt(np.where(nu > 0, nu, 1.0)), np.inf)
@@ -311,7 +317,7 @@ def _synchronous_roots(M, G, K, forms) -> _Roots:
     order = np.argsort(omega, axis=-1)
     omega, signed, nu = (np.take_along_axis(x, order, axis=-1) for x in (omega, signed, nu))
     y = np.take_along_axis(y, order[:, None, :], axis=-1)
-    shapes = np.einsum("ij,sjm->smi", W, np.linalg.solve(R.conj().swapaxes(-1, -2), y))
+    shapes = (W @ (Ri.conj().swapaxes(-1, -2) @ y)).swapaxes(-1, -2)                 # (s, m, n)
     finite = np.isfinite(omega)
     lam = 1j * np.where(finite, omega, 0.0)
     shapes = _eigensolve.resolve_repeated(lam, shapes, forms)
@@ -636,29 +642,92 @@ def _matched(parts, roots, reference):
 
 def _curve_crossings(parts, curve, axis, speeds, values, grid, followed):
     """Sign changes of ``critical(K(s)) - s`` of each shown mode along a bearing curve (the mode
-    found at each point by its shape at the nearest grid stiffness), refined by Brent's method
-    on the curve as drawn (its stiffness interpolated linearly between its points), the mode
-    followed inside the bracket by its shape at the bracket's start."""
+    found at each point by its shape at the nearest grid stiffness), refined on the curve as
+    drawn (its stiffness interpolated linearly between its points), the mode followed inside the
+    bracket by its shape at the bracket's start: all brackets together (:func:`_refined`)."""
     roots = parts.roots(values)
     nearest = np.abs(np.log(values)[:, None] - np.log(grid)[None, :]).argmin(axis=-1)
     at, index = _matched(parts, roots, followed.weighted[nearest])                    # (S, L)
-    out = []
+    brackets = []
     for j in range(at.shape[1]):
         gap = at[:, j] - speeds
-        for i in np.nonzero(np.isfinite(gap[:-1]) & np.isfinite(gap[1:]) & (np.sign(gap[:-1]) != np.sign(gap[1:])))[0]:
-            shape = parts.weighted(roots.shapes[i, index[i, j]])[None, None]
-
-            def along(s, i=i, shape=shape):
-                t = (s - speeds[i]) / (speeds[i + 1] - speeds[i])
-                return _matched(parts, parts.roots([(1 - t) * values[i] + t * values[i + 1]]), shape)[0][0, 0] - s
-            try:
-                s = brentq(along, speeds[i], speeds[i + 1], xtol=1e-10 * speeds[i + 1])
-            except ValueError:       # the mode is lost in between (nan): the grid point
-                s = speeds[i]
-            t = (s - speeds[i]) / (speeds[i + 1] - speeds[i])
-            out.append(Crossing(curve.name, axis, j + 1, float((1 - t) * values[i] + t * values[i + 1]), float(s),
-                                followed.names[j]))
+        brackets += [(i, j) for i in np.nonzero(np.isfinite(gap[:-1]) & np.isfinite(gap[1:])
+                                                & (np.sign(gap[:-1]) != np.sign(gap[1:])))[0]]
+    if not brackets:
+        return []
+    starts, modes = (np.array(x, dtype=int) for x in zip(*brackets))
+    shapes = parts.weighted(roots.shapes[starts, index[starts, modes]])               # (P, n)
+    found = _refined(parts, speeds, values, starts, shapes)
+    out = []
+    for i, j, s in zip(starts, modes, found):
+        t = (s - speeds[i]) / (speeds[i + 1] - speeds[i])
+        out.append(Crossing(curve.name, axis, int(j) + 1, float((1 - t) * values[i] + t * values[i + 1]), float(s),
+                            followed.names[j]))
     return out
+
+
+#: relative step (of the speed) at which the vectorised regula falsi of :func:`_refined` stops,
+#: and its most iterations
+_REFINE_RTOL = 1e-13
+_REFINE_STEPS = 60
+
+
+def _along(parts, speeds, values, starts, shapes, s):
+    """``critical(K(s)) - s`` (P,) [rad/s] of each bracket's mode (its shape ``shapes`` (P, n))
+    at reference speeds ``s`` (P,) inside the brackets ``speeds[starts]``, ``speeds[starts + 1]``,
+    the stiffness interpolated linearly: one batched solve; nan where the mode is lost."""
+    low, high = speeds[starts], speeds[starts + 1]
+    t = (s - low) / (high - low)
+    roots = parts.roots((1 - t) * values[starts] + t * values[starts + 1])
+    return _matched(parts, roots, shapes[:, None])[0][:, 0] - s
+
+
+def _refined(parts, speeds, values, starts, shapes):
+    """The crossing speed (P,) [rad/s] in each bracket ``speeds[starts]``, ``speeds[starts + 1]``:
+    the Illinois regula falsi on all brackets at once, one batched eigen-solve per step (the
+    tracked mode's critical speed is smooth in the stiffness: superlinear), converged to
+    ``_REFINE_RTOL``. A bracket whose mode is lost (nan) or whose ends do not change sign is left
+    to Brent's method one solve at a time, as before (the bracket's start if that fails too)."""
+    a, b = speeds[starts].astype(float), speeds[starts + 1].astype(float)
+    fa, fb = np.split(_along(parts, speeds, values, np.r_[starts, starts], np.r_[shapes, shapes], np.r_[a, b]), 2)
+    active = np.isfinite(fa) & np.isfinite(fb) & (np.sign(fa) != np.sign(fb))
+    slow = ~active
+    done = active & ((fa == 0) | (fb == 0))
+    best = np.where(fa == 0, a, b)
+    active &= ~done
+    for _ in range(_REFINE_STEPS):
+        if not active.any():
+            break
+        p = np.nonzero(active)[0]
+        c = b[p] - fb[p] * (b[p] - a[p]) / (fb[p] - fa[p])
+        fc = _along(parts, speeds, values, starts[p], shapes[p], c)
+        lost = ~np.isfinite(fc)
+        slow[p[lost]], active[p[lost]] = True, False
+        keep = ~lost
+        p, c, fc = p[keep], c[keep], fc[keep]
+        flip = np.sign(fc) != np.sign(fb[p])
+        a[p] = np.where(flip, b[p], a[p])
+        fa[p] = np.where(flip, fb[p], 0.5 * fa[p])            # Illinois: halve the kept end's value
+        step = np.abs(c - b[p])
+        b[p], fb[p] = c, fc
+        best[p] = c
+        finished = (fc == 0) | (step <= _REFINE_RTOL * np.abs(c))
+        active[p[finished]] = False
+    slow |= active                                              # not converged: Brent's method
+    for q in np.nonzero(slow)[0]:
+        best[q] = _brent(parts, speeds, values, starts[q], shapes[q])
+    return best
+
+
+def _brent(parts, speeds, values, i, shape):
+    """One bracket's crossing by Brent's method, one solve per evaluation (the bracket's start
+    where the mode is lost)."""
+    def along(s):
+        return _along(parts, speeds, values, np.array([i]), shape[None], np.array([s]))[0]
+    try:
+        return brentq(along, speeds[i], speeds[i + 1], xtol=1e-10 * speeds[i + 1])
+    except ValueError:       # the mode is lost in between (nan): the grid point
+        return speeds[i]
 
 
 def _rigid_support(parts, model, chosen, modes, supports_fixed=False):

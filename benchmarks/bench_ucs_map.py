@@ -1,0 +1,83 @@
+"""Cost of the undamped critical speed map on journal bearings (``examples/compressor_on_journals.toml``).
+
+Times, each repeat:
+
+- ``ucs_map`` as the report calls it (41 stiffness values 1e5 to 1e10 N/m, 4 modes): the map, the
+  four journal-bearing stiffness curves (~200 points each) and their crossings with the modes;
+- ``loop``: the obvious alternative for the curve points, a plain loop of the same eigen-solves,
+  one ``_Pencil.roots([k])`` per curve point (no matching, no refinement: a lower bound of that
+  approach);
+- ``batched``: the same points in one batched ``_Pencil.roots`` call (what ``ucs_map`` does);
+- ``threaded``: that batched call with BLAS's own threads (what ``ucs_map`` did before it asked
+  for one BLAS thread; on a shared machine those threads mostly wait for a core).
+
+Prints each time's min/median over the repeats and the ratios loop/ucs_map, loop/batched and
+threaded/batched (min/median/max over the repeats). Run::
+
+    python benchmarks/bench_ucs_map.py [--repeat 3] [--model examples/compressor_on_journals.toml]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+
+from rotordyn_modal.analysis import _batches
+from rotordyn_modal.analysis.ucs_map import _chosen_bearings, _Pencil, ucs_map
+from rotordyn_modal.io import load_model
+
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "compressor_on_journals.toml"
+STIFFNESS = np.geomspace(1e5, 1e10, 41)
+
+
+def _timed(function) -> float:
+    start = time.perf_counter()
+    function()
+    return time.perf_counter() - start
+
+
+def curve_points(result) -> np.ndarray:
+    """Every positive point (N/m) of the speed-dependent bearings' Kxx and Kyy curves."""
+    values = [v[v > 0] for c in result.curves if not c.constant for v in (c.kxx, c.kyy)]
+    return np.concatenate(values) if values else np.zeros(0)
+
+
+def _one_thread(function):
+    def run():
+        with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
+            function()
+    return run
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--model", default=str(EXAMPLE))
+    args = parser.parse_args(argv)
+    model = load_model(args.model)
+    result = ucs_map(model, STIFFNESS, modes=4)
+    parts = _Pencil(model, _chosen_bearings(model, None))
+    points = curve_points(result)
+    print(f"{Path(args.model).name}: {parts.M.shape[0]} coordinates, {len(points)} curve points, "
+          f"{len(result.crossings)} crossings")
+    cases = {"ucs_map": lambda: ucs_map(model, STIFFNESS, modes=4),
+             "loop": _one_thread(lambda: [parts.roots([k]) for k in points]),
+             "batched": _one_thread(lambda: parts.roots(points)),
+             "threaded": lambda: parts.roots(points)}
+    times = {name: [] for name in cases}
+    for _ in range(max(1, args.repeat)):
+        for name, function in cases.items():
+            times[name].append(_timed(function))
+    times = {name: np.array(t) for name, t in times.items()}
+    for name, t in times.items():
+        print(f"{name:9s} min {t.min():8.3f} s  median {np.median(t):8.3f} s")
+    for top, bottom in (("loop", "ucs_map"), ("loop", "batched"), ("threaded", "batched")):
+        ratio = times[top] / times[bottom]
+        print(f"{top}/{bottom}: min {ratio.min():.2f}  median {np.median(ratio):.2f}  max {ratio.max():.2f}")
+
+
+if __name__ == "__main__":
+    main()

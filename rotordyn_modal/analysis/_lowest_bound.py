@@ -172,15 +172,21 @@ def _gyro_rows(G, modes):
     return out
 
 
+def local_entries(pencils, n: int, local) -> np.ndarray:
+    """Where the bearings' entries (``pencils.rows``, ``pencils.cols``) fall in the flattened
+    block of the coordinates ``local`` of an (n, n) matrix: (nb,) int."""
+    place = np.full(n, -1)
+    place[local] = np.arange(len(local))
+    return place[pencils.rows] * len(local) + place[pencils.cols]
+
+
 def _local_norms(pencils, offset, local):
     """2-norms of the damping ``C + C_b`` and of ``K + K_b - K_0`` on the coordinates ``local``
     at every speed, (S,) each (zeros without such coordinates)."""
     count = len(pencils.speeds)
     if not len(local):
         return np.zeros(count), np.zeros(count)
-    place = np.full(offset.shape[0], -1)
-    place[local] = np.arange(len(local))
-    at = place[pencils.rows] * len(local) + place[pencils.cols]        # the bearings' entries in the block
+    at = local_entries(pencils, offset.shape[0], local)
     offset = offset[local][:, local].toarray()                            # (|L|, |L|)
     out = np.empty((2, count))
     for part in _batches.chunk_slices(count, 16 * len(local) ** 2):

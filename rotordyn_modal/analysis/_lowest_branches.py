@@ -25,9 +25,8 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-import scipy.sparse
 
-from . import _batches, _lowest, _lowest_pencils, _vectors
+from . import _batches, _lowest, _lowest_pencils, _lowest_starts, _vectors
 from .modal import OVERDAMPED_LIMIT, is_oscillating
 
 __all__ = ["lowest_roots", "roots_below", "roots_near", "largest_factor", "rational_terms"]
@@ -335,11 +334,7 @@ def _projected_starts(pencils, basis, want, index=None):
     index = np.arange(len(pencils.speeds)) if index is None else index
     speeds, cb, kb = pencils.speeds[index], pencils.cb[index], pencils.kb[index]
     Wt = basis.T
-    if scipy.sparse.issparse(pencils.M):     # a large model's: products with its sparse matrices
-        D0, K0, Gr = pencils.projected(index[0], basis)
-    else:
-        damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
-        D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
+    D0, K0, Gr = _lowest_starts.projected_first(pencils, index, basis)
     left, right = basis[pencils.rows].T, basis[pencils.cols]
     ranks = [term[3].shape[1] for term in pencils.terms]
     size = 2 * m + sum(ranks)

@@ -94,9 +94,7 @@ def _local_largest(pencils, offset, local):
     count = len(pencils.speeds)
     if not len(local):
         return np.zeros(count), np.zeros(count)
-    place = np.full(offset.shape[0], -1)
-    place[local] = np.arange(len(local))
-    at = place[pencils.rows] * len(local) + place[pencils.cols]        # the bearings' entries in the block
+    at = _lowest_bound.local_entries(pencils, offset.shape[0], local)
     out = []
     for constant, entries in ((_block(pencils.C, local), pencils.cb),
                               (offset[local][:, local].toarray(), pencils.kb)):

@@ -30,11 +30,7 @@ def _projected_starts(pencils, basis, want, index=None):
     starts = np.empty((S, want), complex)
     vectors = np.empty((S, want, n), complex)
     Wt = basis.T
-    if scipy.sparse.issparse(pencils.M):     # a large model's: products with its sparse matrices
-        D0, K0, Gr = pencils.projected(index[0], basis)
-    else:
-        damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
-        D0, K0, Gr = Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
+    D0, K0, Gr = projected_first(pencils, index, basis)
     # the bearings' changes from the first speed, projected entry by entry
     left, right = basis[pencils.rows].T, basis[pencils.cols]
     for part in _batches.chunk_slices(S, 64 * m * m):
@@ -155,3 +151,14 @@ def _close(lam, upper, order):
     np.put_along_axis(distance, order[:, :, None], np.inf, axis=-1)          # itself
     nearest = np.minimum(distance.min(axis=-1), 2 * np.abs(lam.imag))
     return (nearest <= _CLOSE * np.abs(lam)).any(axis=1)
+
+
+def projected_first(pencils, index, basis):
+    """The damping, stiffness and gyroscopic matrices at the first speed of ``index`` projected
+    on ``basis`` (n, m): ``W^T D W``, ``W^T K W``, ``W^T G W``, (m, m) each (a large model's by
+    products with its sparse matrices)."""
+    if scipy.sparse.issparse(pencils.M):
+        return pencils.projected(index[0], basis)
+    damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
+    Wt = basis.T
+    return Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis

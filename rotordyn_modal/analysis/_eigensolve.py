@@ -222,8 +222,9 @@ def _repeated_pairs(lam):
     close = np.abs(lam[..., 1:] - lam[..., :-1]) <= REPEATED_TOLERANCE * scale  # (N, m-1), numpy.diff
     if not close.any():                    # the usual case: no repeated eigenvalue at all
         return close.nonzero()
-    padded = np.pad(close, ((0, 0), (1, 1)))
-    pair = close & ~padded[:, :-2] & ~padded[:, 2:]
+    pair = close.copy()                    # not part of three equal: its neighbours not close
+    pair[:, 1:] &= ~close[:, :-1]
+    pair[:, :-1] &= ~close[:, 1:]
     pair &= lam[:, :-1] != 0                        # not zero roots (made exact, _roots.snapped)
     return pair.nonzero()
 

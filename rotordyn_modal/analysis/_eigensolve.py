@@ -197,19 +197,19 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
 def _whirling_pairs(shapes, rows, first, forms, variants):
     """The pairs ``(rows, first)`` of :func:`resolve_repeated` whose shapes span a plane and
     whirl, and their extreme-whirl combinations (P, n, 2)."""
-    if variants is not None:
-        forms = _whirl.WhirlForms(*(f[variants[rows]] for f in forms))
+    # each pair's own forms where they are per variant (or already per pair): the two used, not N
+    which = variants[rows] if variants is not None else np.arange(len(rows)) if forms.total.ndim == 3 else None
+    total_form = forms.total if which is None else forms.total[which]
     basis = np.stack([shapes[rows, first], shapes[rows, first + 1]], axis=-1)  # (P, n, 2)
-    rule = "pia,pij,pjb->pab" if forms.total.ndim == 3 else "pia,ij,pjb->pab"
-    total = np.einsum(rule, basis.conj(), forms.total, basis)
+    rule = "pia,pij,pjb->pab" if total_form.ndim == 3 else "pia,ij,pjb->pab"
+    total = np.einsum(rule, basis.conj(), total_form, basis)
     # the two shapes must span a plane (two inverse iterations could give one direction)
     spans = np.abs(np.linalg.det(total)) > 1e-6 * np.abs(total[:, 0, 0] * total[:, 1, 1])
     rows, first, basis, total = rows[spans], first[spans], basis[spans], total[spans]
-    if forms.total.ndim == 3:
-        forms = _whirl.WhirlForms(*(f[spans] for f in forms))
     if not rows.size:
         return rows, first, np.zeros((0, shapes.shape[-1], 2), dtype=complex)
-    momentum = -1j * np.einsum(rule, basis.conj(), forms.W, basis)
+    W = forms.W if which is None else forms.W[which[spans]]
+    momentum = -1j * np.einsum(rule, basis.conj(), W, basis)
     mu, resolved = _extreme_whirl(basis, total, momentum)
     whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
     return rows[whirling], first[whirling], resolved[whirling]

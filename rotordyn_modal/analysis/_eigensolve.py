@@ -12,7 +12,7 @@ import functools
 
 import numpy as np
 
-from . import _batches, _roots, _vectors, _whirl
+from . import _batches, _roots, _vectors
 
 __all__ = ["REPEATED_TOLERANCE", "eigenvalues_of", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
            "upper_indices", "upper_shapes"]

@@ -12,14 +12,16 @@ variant, where refining the critical speeds weighs most). The two are timed alte
 ``--repeat`` times, and the ratio of each pair is reported as min/median/max, so that load
 from other processes hits both alike. ``ROTORDYN_MODAL_THREADS=1`` measures one core.
 
-One rigid rotor (``--one-rotor``, the default part too): a rotor on two damped bearings to the
-ground (4 coordinates) and the same kind of rotor on bearings in a casing on six mounts
-(``_machines.gear_chain(1)``, 11 coordinates), 201 speeds: ``rdm.campbell(model, speeds,
-orders=(1,))`` against the obvious loop, ``scipy.linalg.eig`` of each speed's state matrix
-(built in the timed call), alternately; the ratio loop / campbell of each pair as
-min/median/max (above 1: the package is faster). Run::
+One rigid rotor (``--part one-rotor``, the default part too): a rotor on two damped bearings to
+the ground (4 coordinates) and the same kind of rotor on bearings in a casing on six mounts
+(``_machines.gear_chain(1)``, 11 coordinates), at 201 and 1001 speeds (``--one-rotor-speeds``):
+``rdm.campbell(model, speeds, orders=(1,))`` (the critical speeds of 1X refined too) against the
+obvious loop, ``scipy.linalg.eig`` of each speed's state matrix (built in the timed call),
+alternately; the ratio loop / campbell of each pair as min/median/max (above 1: the package is
+faster). Run::
 
     python benchmarks/bench_campbell.py [--repeat 15] [--part all|gear|one-rotor]
+        [--one-rotor-speeds 201 1001]
 """
 
 from __future__ import annotations
@@ -75,16 +77,23 @@ def one_rotor_models():
     return {"rotor on two bearings": bare, "rotor on bearings in a casing on mounts": gear_chain(1)}
 
 
-def one_rotor(repeat: int) -> None:
-    """rdm.campbell of one rigid rotor against the scipy.linalg.eig loop, 201 speeds."""
-    speeds = rdm.rpm(np.linspace(0.0, 3000.0, 201))
-    for name, model in one_rotor_models().items():
-        rdm.campbell(model, speeds)                                    # warm caches and threads
-        times = _pairs(lambda: rdm.campbell(model, speeds, orders=(1,)), lambda: _loop(model, speeds), repeat)
-        ratio = times[1] / times[0]
-        print(f"one rotor, {name} ({model.dofs.n} coordinates), 201 speeds: rdm.campbell "
-              f"{np.median(times[0]) * 1e3:7.2f} ms, scipy.linalg.eig loop {np.median(times[1]) * 1e3:7.2f} ms; "
-              f"loop / campbell min {ratio.min():.2f} median {np.median(ratio):.2f} max {ratio.max():.2f}  (target > 1)")
+def one_rotor(repeat: int, counts=(201, 1001)) -> None:
+    """rdm.campbell of one rigid rotor against the scipy.linalg.eig loop, at ``counts`` speeds."""
+    for count in counts:
+        speeds = rdm.rpm(np.linspace(0.0, 3000.0, count))
+        for name, model in one_rotor_models().items():
+            _one_rotor_pairs(name, model, speeds, repeat)
+
+
+def _one_rotor_pairs(name, model, speeds, repeat) -> None:
+    """Time rdm.campbell and the loop alternately over ``speeds``; print their ratio's spread."""
+    rdm.campbell(model, speeds)                                        # warm caches and threads
+    times = _pairs(lambda: rdm.campbell(model, speeds, orders=(1,)), lambda: _loop(model, speeds), repeat)
+    ratio = times[1] / times[0]
+    print(f"one rotor, {name} ({model.dofs.n} coordinates), {len(speeds)} speeds: rdm.campbell "
+          f"{np.median(times[0]) * 1e3:7.2f} ms, scipy.linalg.eig loop {np.median(times[1]) * 1e3:7.2f} ms; "
+          f"loop / campbell min {ratio.min():.2f} median {np.median(ratio):.2f} max {ratio.max():.2f}  (target > 1)",
+          flush=True)
 
 
 def main() -> None:
@@ -92,9 +101,11 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=15)
     parser.add_argument("--part", choices=("all", "gear", "one-rotor"), default="all",
                         help="the gear machine against the floor, one rigid rotor against the loop, or both")
+    parser.add_argument("--one-rotor-speeds", type=int, nargs="+", default=[201, 1001],
+                        help="speeds of the one-rotor sweeps (default 201 1001)")
     args = parser.parse_args()
     if args.part in ("all", "one-rotor"):
-        one_rotor(args.repeat)
+        one_rotor(args.repeat, args.one_rotor_speeds)
     if args.part == "one-rotor":
         return
     model = rdm.load_model(MODEL)

@@ -12,7 +12,7 @@ import functools
 
 import numpy as np
 
-from . import _batches, _roots, _vectors, _whirl
+from . import _batches, _roots, _vectors
 
 __all__ = ["REPEATED_TOLERANCE", "eigenvalues_of", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
            "upper_indices", "upper_shapes"]
@@ -200,19 +200,20 @@ def _whirling_pairs(shapes, rows, first, forms, variants):
     import scipy.sparse
 
     sparse = scipy.sparse.issparse(forms.total)       # one large model's forms (n, n), scipy.sparse
-    if variants is not None and not sparse:
-        forms = _whirl.WhirlForms(*(f[variants[rows]] for f in forms))
+    # each pair's own forms where they are per variant (or already per pair): the two used, not N
+    which = (None if sparse else variants[rows] if variants is not None
+             else np.arange(len(rows)) if forms.total.ndim == 3 else None)
+    total_form = forms.total if which is None else forms.total[which]
     basis = np.stack([shapes[rows, first], shapes[rows, first + 1]], axis=-1)  # (P, n, 2)
-    rule = "pia,pij,pjb->pab" if forms.total.ndim == 3 else "pia,ij,pjb->pab"
-    total = _sparse_form(forms.total, basis) if sparse else np.einsum(rule, basis.conj(), forms.total, basis)
+    rule = "pia,pij,pjb->pab" if total_form.ndim == 3 else "pia,ij,pjb->pab"
+    total = _sparse_form(total_form, basis) if sparse else np.einsum(rule, basis.conj(), total_form, basis)
     # the two shapes must span a plane (two inverse iterations could give one direction)
     spans = np.abs(np.linalg.det(total)) > 1e-6 * np.abs(total[:, 0, 0] * total[:, 1, 1])
     rows, first, basis, total = rows[spans], first[spans], basis[spans], total[spans]
-    if forms.total.ndim == 3:
-        forms = _whirl.WhirlForms(*(f[spans] for f in forms))
     if not rows.size:
         return rows, first, np.zeros((0, shapes.shape[-1], 2), dtype=complex)
-    momentum = -1j * (_sparse_form(forms.W, basis) if sparse else np.einsum(rule, basis.conj(), forms.W, basis))
+    W = forms.W if which is None else forms.W[which[spans]]
+    momentum = -1j * (_sparse_form(W, basis) if sparse else np.einsum(rule, basis.conj(), W, basis))
     mu, resolved = _extreme_whirl(basis, total, momentum)
     whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
     return rows[whirling], first[whirling], resolved[whirling]
@@ -232,8 +233,9 @@ def _repeated_pairs(lam):
     close = np.abs(lam[..., 1:] - lam[..., :-1]) <= REPEATED_TOLERANCE * scale  # (N, m-1), numpy.diff
     if not close.any():                    # the usual case: no repeated eigenvalue at all
         return close.nonzero()
-    padded = np.pad(close, ((0, 0), (1, 1)))
-    pair = close & ~padded[:, :-2] & ~padded[:, 2:]
+    pair = close.copy()                    # not part of three equal: its neighbours not close
+    pair[:, 1:] &= ~close[:, :-1]
+    pair[:, :-1] &= ~close[:, 1:]
     pair &= lam[:, :-1] != 0                        # not zero roots (made exact, _roots.snapped)
     return pair.nonzero()
 

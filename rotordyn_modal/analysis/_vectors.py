@@ -6,12 +6,24 @@ import numpy as np
 
 __all__ = ["mac_matrix", "mass_normalized", "real_product", "row_norms", "unit_rows"]
 
+#: shapes of at most this many coordinates are multiplied by a real matrix as complex rows
+#: (see :func:`real_product`)
+_SMALL_DOF = 24
+
 
 def real_product(shapes, matrix) -> np.ndarray:
     """``shapes @ matrix`` for complex shapes (..., m, n) and a real matrix (n, p) or (..., n, p),
     as real products of the real and imaginary parts (half the work of a complex product;
-    one matrix product over all shapes when the matrix is shared)."""
+    one matrix product over all shapes when the matrix is shared). Shapes of at most
+    ``_SMALL_DOF`` coordinates take one complex product per row of shapes instead: the shared
+    real product of a small matrix is a tall, thin one, which BLAS computes slowly and shares
+    between threads of its own (that wait for a core on a shared machine: measured 10 to 50
+    times the per-row products for a sweep of 11 coordinates)."""
     if np.iscomplexobj(matrix):
+        return shapes @ matrix
+    if shapes.shape[-1] <= _SMALL_DOF:
+        if shapes.ndim == 1 or (shapes.ndim == 2 and matrix.ndim == 2):
+            return (shapes[..., None, :] @ matrix)[..., 0, :]      # each row a product of its own
         return shapes @ matrix
     parts = np.empty((2,) + shapes.shape, dtype=shapes.real.dtype)   # contiguous, (2, ..., m, n)
     parts[0], parts[1] = shapes.real, shapes.imag

@@ -246,3 +246,31 @@ def test_the_stability_figure_names_the_threshold_mode_by_its_number_in_modes_to
     modes = rdm.modal(model, result.thresholds[0]).to_dataframe()
     on_boundary = int(modes["mode"].to_numpy()[np.argmin(np.abs(modes.real_part.to_numpy()))])
     assert int(found.group(2)) == on_boundary != int(found.group(1)) == result.threshold_modes[0]
+
+
+@pytest.mark.parametrize("example, speeds", [
+    ("unstable_cross_coupled.toml", (0.0, 20000.0, 101)),
+    ("fan_on_bearings.toml", (0.0, 12000.0, 121)),
+])
+def test_the_python_critical_speeds_table_gives_mode_at_speed(examples_dir, capsys, example, speeds):
+    """``rdm.critical_speeds(...).to_dataframe()`` has the command line's ``mode_at_speed``: each
+    row's number is the place (1-based) of the root of ``rdm.modal(model, row's speed)`` with the
+    row's frequency (and damping ratio, for ties; found so, independently of the numbering code);
+    the CSV's column is the Python one."""
+    path = examples_dir / example
+    model = rdm.load_model(path)
+    table = rdm.critical_speeds(model, rdm.rpm(np.linspace(*speeds)), orders=(1, 2)).to_dataframe()
+    assert table.columns[-1] == "mode_at_speed" and len(table) >= 5
+    for row in table.itertuples():
+        result = rdm.modal(model, rdm.rpm(row.speed_rpm))
+        modes = result.oscillatory                                   # modal's modes 1, 2, ... in order
+        frequencies, zeta = result.frequencies_hz[modes], result.damping_ratios[modes]
+        # a tie in frequency (the isotropic rotor's forward and backward whirl) told by the damping ratio
+        place = np.flatnonzero(np.isclose(frequencies, row.frequency_hz, rtol=1e-6, atol=0)
+                               & np.isclose(zeta, row.damping_ratio, rtol=1e-6, atol=1e-9))
+        assert len(place) == 1 and row.mode_at_speed == place[0] + 1, (row, frequencies, zeta)
+    low, high, count = speeds
+    out, _ = _cli(["critical-speeds", path, "--speeds", f"{low:g}:{high:g}:{count}", "--orders", "1,2",
+                   "--out", "-"], capsys)
+    np.testing.assert_array_equal(pd.read_csv(io.StringIO(out))["mode_at_speed"].to_numpy(),
+                                  table["mode_at_speed"].to_numpy())

@@ -16,7 +16,7 @@ from ..errors import InputError
 from . import _arguments, _batches, _whirl
 from ._stack import Stack
 from .critical_speeds import (_SUB_DEPTH, _SUB_SPEEDS, JUMP_TOLERANCE, CriticalSpeeds, ExcitationSources,
-                              _critical_table, _find_critical_speeds, _warn_of_jumps, excitation_sources,
+                              _critical_table, _find_critical_speeds, _warn_of_jumps, _with_sweep, excitation_sources,
                               off_order_line)
 from .modal import is_oscillating, modal_quantities
 from .mode_numbers import numbers_at_speed
@@ -380,7 +380,8 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
     return CampbellResult(
         speeds=speeds, eigenvalues=values[0], frequencies_hz=freq[0], damping_ratios=zeta[0],
         log_decrements=log_dec[0], whirl_ratios=ratios[0], whirl=_whirl.whirl_labels(ratios)[0], shapes=shapes[0],
-        modes=np.arange(1, values.shape[-1] + 1), sources=sources[0], critical=tables[0],
+        modes=np.arange(1, values.shape[-1] + 1), sources=sources[0],
+        critical=_with_sweep(tables[0], model, speeds, values[0]),
         orders=tuple(float(o) for o in orders))
 
 
@@ -463,7 +464,8 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     return [CampbellResult(
         speeds=speeds, eigenvalues=values[v], frequencies_hz=freq[v], damping_ratios=zeta[v],
         log_decrements=log_dec[v], whirl_ratios=ratios[v], whirl=labels[v], shapes=shapes[v],
-        modes=np.arange(1, m + 1), sources=sources[v], critical=tables[v],
+        modes=np.arange(1, m + 1), sources=sources[v],
+        critical=_with_sweep(tables[v], stack.models[v], speeds, values[v]),
         orders=tuple(float(o) for o in orders)) for v in range(count)]
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import functools
 import warnings
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -70,6 +71,12 @@ class CriticalSpeeds:
     frequencies_hz : ndarray [Hz]
     whirl : ndarray of str
     whirl_ratios, damping_ratios : ndarray
+    mode_at_speed : ndarray of int
+        The number ``modal(model, speed)`` (and ``modes --speed SPEED_RPM``) gives the
+        crossing's mode at its critical speed: the mode whose shapes ``modes --shape`` draws,
+        with the row's frequency (0 where the root is not a mode there); see
+        :mod:`.mode_numbers`. Computed on first use from the sweep the crossings were found on
+        (None for a table not made by a sweep).
     """
 
     source: np.ndarray
@@ -80,6 +87,10 @@ class CriticalSpeeds:
     whirl: np.ndarray
     whirl_ratios: np.ndarray
     damping_ratios: np.ndarray
+    #: the sweep the crossings were found on, for ``mode_at_speed``: (model, speeds (N,) [rad/s],
+    #: tracked eigenvalues (N, m) [1/s]); no field, so that code copying a table row by row
+    #: over its fields (``dataclasses.fields``) is unchanged
+    _sweep = None
 
     @property
     def speeds_rpm(self) -> np.ndarray:
@@ -88,16 +99,45 @@ class CriticalSpeeds:
     def __len__(self) -> int:
         return len(self.speeds)
 
+    @functools.cached_property
+    def mode_at_speed(self) -> np.ndarray | None:
+        """(n_crossings,) int: the number ``modal`` gives each crossing's mode at its critical
+        speed (see the class's attributes); None for a table not made by a sweep."""
+        from .mode_numbers import numbers_at_crossings
+
+        if not len(self):
+            return np.zeros(0, dtype=int)
+        if self._sweep is None:
+            return None
+        model, sweep_speeds, sweep_eigenvalues = self._sweep
+        zeta = np.asarray(self.damping_ratios, dtype=float)
+        imag = 2 * np.pi * np.asarray(self.frequencies_hz, dtype=float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            eigenvalues = -zeta * imag / np.sqrt(1 - zeta**2) + 1j * imag
+        return numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, self.speeds, self.mode, eigenvalues)
+
     def to_dataframe(self):
-        """Table with the command line's columns (``pandas.DataFrame``)."""
+        """Table with the command line's columns (``pandas.DataFrame``): ``source, order, mode,
+        speed_rpm, frequency_hz, whirl, whirl_ratio, damping_ratio, mode_at_speed`` (``mode`` the
+        tracked label, ``mode_at_speed`` the number ``modal(model, speed)`` gives that mode at
+        the row's speed, 0 where it is not a mode there; empty for a table not made by a sweep)."""
         import pandas as pd
 
+        numbers = self.mode_at_speed
         return pd.DataFrame({
             "source": self.source, "order": self.order, "mode": self.mode,
             "speed_rpm": self.speeds_rpm, "frequency_hz": self.frequencies_hz,
             "whirl": self.whirl, "whirl_ratio": self.whirl_ratios,
             "damping_ratio": self.damping_ratios,
+            "mode_at_speed": pd.array([pd.NA] * len(self), dtype="Int64") if numbers is None else numbers,
         })
+
+
+def _with_sweep(table: CriticalSpeeds, model, speeds, eigenvalues) -> CriticalSpeeds:
+    """``table`` knowing the sweep it was found on (its ``mode_at_speed``): ``model``, the
+    sweep's ``speeds`` (N,) [rad/s] and tracked ``eigenvalues`` (N, m) [1/s]."""
+    object.__setattr__(table, "_sweep", (model, speeds, eigenvalues))     # the table was just made
+    return table
 
 
 #: a critical speed's natural frequency off its order line by more than this (relative) is a jump

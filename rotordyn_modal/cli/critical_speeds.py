@@ -60,26 +60,11 @@ def run(args) -> int:
                          "N, --max-frequency HZ), fewer excitation orders (--orders) or fewer speeds (--speeds)",
                          memory=True)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), modes=modes, max_frequency=limit)
-    write_table(undamped_zeros(_with_modes_at_speed(result.critical.to_dataframe(), model, result), model), args,
+    # the table's mode_at_speed: the number 'modes --speed' gives each crossing's mode there
+    write_table(undamped_zeros(result.critical.to_dataframe(), model), args,
                 empty=f"no critical speed {speeds_text(args)} (orders {args.orders})")
     if args.plot:
         use_agg()
         save_figure(result.plot(title=model.name or None, speed_unit=args.speed_unit), args)
     return 0
 
-
-def _with_modes_at_speed(table, model, result):
-    """The table with ``mode_at_speed``: the number ``modes --speed`` gives each crossing's mode
-    at its critical speed (docs/model-file.md, mode numbers)."""
-    import numpy as np
-
-    from ..analysis.mode_numbers import numbers_at_crossings
-
-    critical = result.critical
-    zeta = np.asarray(critical.damping_ratios, dtype=float)
-    imag = 2 * np.pi * np.asarray(critical.frequencies_hz, dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        eigenvalues = -zeta * imag / np.sqrt(1 - zeta**2) + 1j * imag
-    table["mode_at_speed"] = numbers_at_crossings(model, result.speeds, result.eigenvalues,
-                                                  critical.speeds, critical.mode, eigenvalues)
-    return table

@@ -495,25 +495,44 @@ def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, s
     factor = convention_factor * scale
     colours = _draw_sensor_panel(mag, phase, result, rows, x, factor)
     plain_log_ticks(mag.yaxis)
+    top, above = _drawn_top(mag), []
     if checks is not None:
-        _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor, units)
+        top, above = _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor, units, top)
+    _fit_top(mag, top, _HEADROOM if peaks is None else _LABEL_HEADROOM)
+    _mark_limits_above(mag, above)
     mag.set_ylabel(f"Amplitude, {words} [{unit}]")
     mag.set_title(name, fontsize="medium")
     if peaks is None:
         return mag, []
     chosen = _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30, speed_unit, factor)
-    low, high = mag.get_ylim()
-    mag.set_ylim(low, high * max(_HEADROOM, (high / low) ** _LABEL_ROOM))
     return mag, chosen
+
+
+def _fit_top(ax, top, share):
+    """End the log axis ``ax`` above ``top`` (the largest value drawn) by ``share`` of its height."""
+    low = ax.get_ylim()[0]
+    if np.isfinite(top) and top > low > 0:
+        ax.set_ylim(low, top * (top / low) ** (share / (1 - share)))
+
+
+def _drawn_top(ax) -> float:
+    """The largest value of the curves drawn in ``ax`` (0 when none)."""
+    values = [np.nanmax(np.asarray(line.get_ydata(), float), initial=0.0) for line in ax.get_lines()
+              if np.any(np.isfinite(np.asarray(line.get_ydata(), float)))]
+    return max(values, default=0.0)
 
 
 #: API 684: a peak with an amplification factor below 2.5 is critically damped (no margin required)
 _AF_MARKED = 2.5
 #: peaks below this share of their own curve's largest amplitude are not marked
 _PEAK_SHARE = 0.05
-#: room above the curves for the peaks' labels (factor on the log axis's top): at least ten, and a
-#: quarter of the axis' height (the curves' decades to this power)
-_HEADROOM, _LABEL_ROOM = 10.0, 1.0 / 3.0
+#: share of the amplitude axis' height above the largest value drawn: without peak labels, and
+#: with them (room for a label above the highest peak; the others find room beside or below theirs)
+_HEADROOM, _LABEL_HEADROOM = 0.04, 0.12
+#: a probe limit at most this factor above the largest curve is drawn as a line (the axis reaching
+#: it); one further above is marked at the axis' top edge and named in the legend, the axis
+#: fitting the curves
+_LIMIT_REACH = 10.0
 #: at most this many peaks are labelled per panel, the largest
 _LABELLED = 6
 #: peaks of one source closer than this share of the sweep are one peak (seen by several sensors)
@@ -673,19 +692,34 @@ def _force_panels(result, forces):
     return panels
 
 
-def _draw_probe_limits(ax, checks, names, x, factor, units="si"):
+def _draw_probe_limits(ax, checks, names, x, factor, units="si", top=np.inf):
     """The API 617 limit of the panel's probes (peak-to-peak, drawn in the panel's convention)
-    over the checked speeds: one dashed line per distinct limit."""
+    over the checked speeds: one dashed line per distinct limit up to :data:`_LIMIT_REACH` times
+    the curves' largest value ``top``; returns ``(top, [(speeds, label), ...])``: the largest
+    value drawn, and the limits further above (for :func:`_mark_limits_above`)."""
     limits = sorted({float(limit) for name, limit in zip(checks.probes, checks.probe_limits)
                      if name in names and np.isfinite(limit)})
     span = np.where(checks.checked, 1.0, np.nan)
+    above, reach = [], top * _LIMIT_REACH if top > 0 else np.inf
     for limit in limits:
-        ax.plot(x, limit * factor / 2 * span, color="k", ls="--", lw=1.2,
-                label=f"API 617 probe limit {limit * 1e6:.1f} µm pk-pk" if units == "si" else
-                f"API 617 probe limit {limit * unit_scale('displacement', units)[0]:.2f} mil pk-pk")
-    if limits:
-        low, high = ax.get_ylim()                 # the curves' range is fixed: make room for the limit
-        ax.set_ylim(low, max(high, 2 * max(limits) * factor / 2))
+        label = (f"API 617 probe limit {limit * 1e6:.1f} µm pk-pk" if units == "si" else
+                 f"API 617 probe limit {limit * unit_scale('displacement', units)[0]:.2f} mil pk-pk")
+        if limit * factor / 2 > reach:
+            above.append((x[checks.checked], f"{label} (above the axis)"))
+            continue
+        ax.plot(x, limit * factor / 2 * span, color="k", ls="--", lw=1.2, label=label)
+        top = max(top, limit * factor / 2)
+    return top, above
+
+
+def _mark_limits_above(ax, above):
+    """Each limit above the axis: upward arrows on the top edge over its checked speeds, named
+    in the legend."""
+    for speeds, label in above:
+        ax.plot([], [], color="k", ls="--", lw=1.2, marker="^", ms=6, label=label)      # its legend entry
+        for speed in speeds[[0, -1]] if len(speeds) else []:
+            ax.annotate("", (speed, 1.0), xycoords=ax.get_xaxis_transform(), xytext=(0, -18),
+                        textcoords="offset points", arrowprops={"arrowstyle": "-|>", "color": "k", "lw": 1.2})
 
 
 #: colours of the ISO 20816-3 zones A, B, C, D

@@ -63,16 +63,17 @@ def readable_scale(kind: str, largest: float, system: str = "si") -> tuple:
 
 
 def plain_log_ticks(axis):
-    """Label a log ``axis`` (``ax.yaxis``) with plain decimals (0.01, 1, 100) where every decade
-    in view lies from 0.001 to 100,000, else all its ticks as powers of ten (one format per
-    axis): the decades read in the axis' own unit."""
+    """Label a log ``axis`` (``ax.yaxis``) with plain decimals (0.0001, 0.01, 1, 100) where every
+    decade in view lies from 0.000001 to 100,000, else all its ticks as powers of ten (one
+    format per axis): the decades read in the axis' own unit."""
     formatter = _plain_log_formatter()
     axis.set_major_formatter(formatter())
     axis.set_minor_formatter(formatter(labelOnlyBase=False, minor_thresholds=(2, 0.4)))
 
 
-#: tick values written as plain decimals on log axes (beyond: powers of ten)
-_PLAIN_LOW, _PLAIN_HIGH = 1e-3, 1e6
+#: tick values written as plain decimals on log axes (beyond: powers of ten, then on the whole
+#: axis); down to a millionth: an unbalance panel's six decades below its largest curve
+_PLAIN_LOW, _PLAIN_HIGH = 1e-6, 1e6
 
 
 @functools.cache

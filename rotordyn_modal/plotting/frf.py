@@ -480,14 +480,14 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
     if peaks is not None and marked:
         # the peaks' labels placed on the axes as drawn
         renderer = laid_out_renderer(fig) if widened else fig.canvas.get_renderer()
-        for ax, chosen in marked:
-            _label_peaks(ax, chosen, renderer)
+        for ax, chosen, top in marked:
+            _label_peaks(ax, chosen, renderer, top)
     return fig
 
 
 def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, speed_unit, units="si"):
     """One group of sensors' amplitude (``convention``: factor on 0-peak, its words) and phase
-    panels, with the probe limits of ``checks``; returns ``(mag, peaks to label)``."""
+    panels, with the probe limits of ``checks``; returns ``(mag, peaks to label, largest value drawn)``."""
     from ._style import plain_log_ticks, readable_scale, speed_scale
 
     convention_factor, words = convention
@@ -499,14 +499,14 @@ def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, s
     top, above = _drawn_top(mag), []
     if checks is not None:
         top, above = _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor, units, top)
-    _fit_top(mag, top, _HEADROOM if peaks is None else _LABEL_HEADROOM)
+    _fit_top(mag, top, _HEADROOM if peaks is None else _LABEL_HEADROOMS[0])
     _mark_limits_above(mag, above)
     mag.set_ylabel(f"Amplitude, {words} [{unit}]")
     mag.set_title(name, fontsize="medium")
     if peaks is None:
-        return mag, []
+        return mag, [], top
     chosen = _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30, speed_unit, factor)
-    return mag, chosen
+    return mag, chosen, top
 
 
 def _fit_top(ax, top, share):
@@ -528,8 +528,9 @@ _AF_MARKED = 2.5
 #: peaks below this share of their own curve's largest amplitude are not marked
 _PEAK_SHARE = 0.05
 #: share of the amplitude axis' height above the largest value drawn: without peak labels, and
-#: with them (room for a label above the highest peak; the others find room beside or below theirs)
-_HEADROOM, _LABEL_HEADROOM = 0.04, 0.12
+#: with them the least that labels as many peaks as the largest of these would (room for the
+#: labels above the highest peaks; the others find room beside or below theirs)
+_HEADROOM, _LABEL_HEADROOMS = 0.04, (0.12, 0.2, 0.3)
 #: a probe limit at most this factor above the largest curve is drawn as a line (the axis reaching
 #: it); one further above is marked at the axis' top edge and named in the legend, the axis
 #: fitting the curves
@@ -798,12 +799,27 @@ def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=
     return kept[:_LABELLED]
 
 
-def _label_peaks(ax, chosen, renderer):
-    """Label the chosen peaks where there is room; mark those labelled."""
+def _label_peaks(ax, chosen, renderer, top=np.nan):
+    """Label the chosen peaks where there is room, the axis ending above ``top`` (the largest
+    value drawn) by the least of :data:`_LABEL_HEADROOMS` that labels the most; mark those
+    labelled."""
     from ._labels import place_point_labels
 
-    drawn = place_point_labels(ax, [(c[0], c[1]) for c in chosen], [c[2] for c in chosen],
-                               [c[3] for c in chosen], renderer=renderer, crossing=False)
+    def place(share):
+        _fit_top(ax, top, share)
+        return place_point_labels(ax, [(c[0], c[1]) for c in chosen], [c[2] for c in chosen],
+                                  [c[3] for c in chosen], renderer=renderer, crossing=False)
+
+    counts = {}
+    for share in _LABEL_HEADROOMS:
+        drawn = place(share)
+        counts[share] = len(drawn)
+        if len(drawn) == len(chosen) or not np.isfinite(top):
+            break
+        for label in drawn:
+            label.remove()
+    else:
+        drawn = place(min(counts, key=lambda share: (-counts[share], share)))
     for label in drawn:
         ax.plot(*label.xy, "v", color=label.get_color(), mec="k", mew=0.5, ms=5, label="_peak")
 

@@ -435,8 +435,8 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
     checks : UnbalanceChecks, optional
         ``result.checks(...)``: the API 617 probe limit drawn (dashed, over the checked
         speeds) on the panels of its probes (up to :data:`_LIMIT_REACH` times their largest
-        curve; further above, arrows on the top edge and named in the legend), and a panel of the casing sensors' RMS vibration
-        velocity with the ISO 20816-3 zones A-D as bands.
+        curve; further above, arrows on the top edge and named in the legend), and a panel
+        of the casing sensors' RMS vibration velocity with the ISO 20816-3 zones A-D as bands.
     units : {'si', 'us'}
         Unit system of the amplitude axes: SI (m, m/s, m/s², N; mm/s RMS for the zones) or US
         customary (mil, in/s, g, lbf; in/s RMS), see docs/units.md.

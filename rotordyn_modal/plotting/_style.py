@@ -63,15 +63,17 @@ def readable_scale(kind: str, largest: float, system: str = "si") -> tuple:
 
 
 def plain_log_ticks(axis):
-    """Label a log ``axis`` (``ax.yaxis``) with plain decimals (0.01, 1, 100) from 0.001 to
-    100,000 and powers of ten beyond: the decades read in the axis' own unit."""
+    """Label a log ``axis`` (``ax.yaxis``) with plain decimals (0.0001, 0.01, 1, 100) where every
+    decade in view lies from 0.000001 to 100,000, else all its ticks as powers of ten (one
+    format per axis): the decades read in the axis' own unit."""
     formatter = _plain_log_formatter()
     axis.set_major_formatter(formatter())
     axis.set_minor_formatter(formatter(labelOnlyBase=False, minor_thresholds=(2, 0.4)))
 
 
-#: tick values written as plain decimals on log axes (beyond: powers of ten)
-_PLAIN_LOW, _PLAIN_HIGH = 1e-3, 1e6
+#: tick values written as plain decimals on log axes (beyond: powers of ten, then on the whole
+#: axis); down to a millionth: an unbalance panel's six decades below its largest curve
+_PLAIN_LOW, _PLAIN_HIGH = 1e-6, 1e6
 
 
 @functools.cache
@@ -81,9 +83,18 @@ def _plain_log_formatter():
     from matplotlib.ticker import LogFormatterSciNotation
 
     class PlainLogFormatter(LogFormatterSciNotation):
+        plain = True
+
+        def set_locs(self, locs=None):
+            # one format per axis: plain only when every decade in view is in the plain range
+            super().set_locs(locs)
+            low, high = sorted(self.axis.get_view_interval()) if self.axis is not None else (1.0, 1.0)
+            self.plain = low > 0 and _PLAIN_LOW * (1 - 1e-9) <= 10 ** np.ceil(np.log10(low) - 1e-9) \
+                and 10 ** np.floor(np.log10(high) + 1e-9) < _PLAIN_HIGH
+
         def __call__(self, x, pos=None):
             text = super().__call__(x, pos)
-            if not text or not _PLAIN_LOW * (1 - 1e-9) <= abs(x) < _PLAIN_HIGH:
+            if not text or not self.plain or not _PLAIN_LOW * (1 - 1e-9) <= abs(x) < _PLAIN_HIGH:
                 return text
             return np.format_float_positional(float(f"{x:.6g}"), trim="-")
 

@@ -434,8 +434,9 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
         Convention of the amplitudes drawn (the axis labels say which).
     checks : UnbalanceChecks, optional
         ``result.checks(...)``: the API 617 probe limit drawn (dashed, over the checked
-        speeds) on the panels of its probes, and a panel of the casing sensors' RMS vibration
-        velocity with the ISO 20816-3 zones A-D as bands.
+        speeds) on the panels of its probes (up to :data:`_LIMIT_REACH` times their largest
+        curve; further above, arrows on the top edge and named in the legend), and a panel
+        of the casing sensors' RMS vibration velocity with the ISO 20816-3 zones A-D as bands.
     units : {'si', 'us'}
         Unit system of the amplitude axes: SI (m, m/s, m/s², N; mm/s RMS for the zones) or US
         customary (mil, in/s, g, lbf; in/s RMS), see docs/units.md.
@@ -479,14 +480,14 @@ def plot_unbalance(result, outputs=None, speed_unit: str = "rpm", peaks=None, ti
     if peaks is not None and marked:
         # the peaks' labels placed on the axes as drawn
         renderer = laid_out_renderer(fig) if widened else fig.canvas.get_renderer()
-        for ax, chosen in marked:
-            _label_peaks(ax, chosen, renderer)
+        for ax, chosen, top in marked:
+            _label_peaks(ax, chosen, renderer, top)
     return fig
 
 
 def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, speed_unit, units="si"):
     """One group of sensors' amplitude (``convention``: factor on 0-peak, its words) and phase
-    panels, with the probe limits of ``checks``; returns ``(mag, peaks to label)``."""
+    panels, with the probe limits of ``checks``; returns ``(mag, peaks to label, largest value drawn)``."""
     from ._style import plain_log_ticks, readable_scale, speed_scale
 
     convention_factor, words = convention
@@ -495,25 +496,45 @@ def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, s
     factor = convention_factor * scale
     colours = _draw_sensor_panel(mag, phase, result, rows, x, factor)
     plain_log_ticks(mag.yaxis)
+    top, above = _drawn_top(mag), []
     if checks is not None:
-        _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor, units)
+        top, above = _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor, units, top)
+    _fit_top(mag, top, _HEADROOM if peaks is None else _LABEL_HEADROOMS[0])
+    _mark_limits_above(mag, above)
     mag.set_ylabel(f"Amplitude, {words} [{unit}]")
     mag.set_title(name, fontsize="medium")
     if peaks is None:
-        return mag, []
+        return mag, [], top
     chosen = _marked_peaks(peaks, result, rows, colours, speed_scale(speed_unit) * np.pi / 30, speed_unit, factor)
-    low, high = mag.get_ylim()
-    mag.set_ylim(low, high * max(_HEADROOM, (high / low) ** _LABEL_ROOM))
-    return mag, chosen
+    return mag, chosen, top
+
+
+def _fit_top(ax, top, share):
+    """End the log axis ``ax`` above ``top`` (the largest value drawn) by ``share`` of its height."""
+    low = ax.get_ylim()[0]
+    if np.isfinite(top) and top > low > 0:
+        ax.set_ylim(low, top * (top / low) ** (share / (1 - share)))
+
+
+def _drawn_top(ax) -> float:
+    """The largest value of the curves drawn in ``ax`` (0 when none)."""
+    values = [np.nanmax(np.asarray(line.get_ydata(), float), initial=0.0) for line in ax.get_lines()
+              if np.any(np.isfinite(np.asarray(line.get_ydata(), float)))]
+    return max(values, default=0.0)
 
 
 #: API 684: a peak with an amplification factor below 2.5 is critically damped (no margin required)
 _AF_MARKED = 2.5
 #: peaks below this share of their own curve's largest amplitude are not marked
 _PEAK_SHARE = 0.05
-#: room above the curves for the peaks' labels (factor on the log axis's top): at least ten, and a
-#: quarter of the axis' height (the curves' decades to this power)
-_HEADROOM, _LABEL_ROOM = 10.0, 1.0 / 3.0
+#: share of the amplitude axis' height above the largest value drawn: without peak labels, and
+#: with them the least that labels as many peaks as the largest of these would (room for the
+#: labels above the highest peaks; the others find room beside or below theirs)
+_HEADROOM, _LABEL_HEADROOMS = 0.04, (0.12, 0.2, 0.3)
+#: a probe limit at most this factor above the largest curve is drawn as a line (the axis reaching
+#: it); one further above is marked at the axis' top edge and named in the legend, the axis
+#: fitting the curves
+_LIMIT_REACH = 10.0
 #: at most this many peaks are labelled per panel, the largest
 _LABELLED = 6
 #: peaks of one source closer than this share of the sweep are one peak (seen by several sensors)
@@ -673,19 +694,34 @@ def _force_panels(result, forces):
     return panels
 
 
-def _draw_probe_limits(ax, checks, names, x, factor, units="si"):
+def _draw_probe_limits(ax, checks, names, x, factor, units="si", top=np.inf):
     """The API 617 limit of the panel's probes (peak-to-peak, drawn in the panel's convention)
-    over the checked speeds: one dashed line per distinct limit."""
+    over the checked speeds: one dashed line per distinct limit up to :data:`_LIMIT_REACH` times
+    the curves' largest value ``top``; returns ``(top, [(speeds, label), ...])``: the largest
+    value drawn, and the limits further above (for :func:`_mark_limits_above`)."""
     limits = sorted({float(limit) for name, limit in zip(checks.probes, checks.probe_limits)
                      if name in names and np.isfinite(limit)})
     span = np.where(checks.checked, 1.0, np.nan)
+    above, reach = [], top * _LIMIT_REACH if top > 0 else np.inf
     for limit in limits:
-        ax.plot(x, limit * factor / 2 * span, color="k", ls="--", lw=1.2,
-                label=f"API 617 probe limit {limit * 1e6:.1f} µm pk-pk" if units == "si" else
-                f"API 617 probe limit {limit * unit_scale('displacement', units)[0]:.2f} mil pk-pk")
-    if limits:
-        low, high = ax.get_ylim()                 # the curves' range is fixed: make room for the limit
-        ax.set_ylim(low, max(high, 2 * max(limits) * factor / 2))
+        label = (f"API 617 probe limit {limit * 1e6:.1f} µm pk-pk" if units == "si" else
+                 f"API 617 probe limit {limit * unit_scale('displacement', units)[0]:.2f} mil pk-pk")
+        if limit * factor / 2 > reach:
+            above.append((x[checks.checked], f"{label} (above the axis)"))
+            continue
+        ax.plot(x, limit * factor / 2 * span, color="k", ls="--", lw=1.2, label=label)
+        top = max(top, limit * factor / 2)
+    return top, above
+
+
+def _mark_limits_above(ax, above):
+    """Each limit above the axis: upward arrows on the top edge over its checked speeds, named
+    in the legend."""
+    for speeds, label in above:
+        ax.plot([], [], color="k", ls="--", lw=1.2, marker="^", ms=6, label=label)      # its legend entry
+        for speed in speeds[[0, -1]] if len(speeds) else []:
+            ax.annotate("", (speed, 1.0), xycoords=ax.get_xaxis_transform(), xytext=(0, -18),
+                        textcoords="offset points", arrowprops={"arrowstyle": "-|>", "color": "k", "lw": 1.2})
 
 
 #: colours of the ISO 20816-3 zones A, B, C, D
@@ -763,12 +799,27 @@ def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=
     return kept[:_LABELLED]
 
 
-def _label_peaks(ax, chosen, renderer):
-    """Label the chosen peaks where there is room; mark those labelled."""
+def _label_peaks(ax, chosen, renderer, top=np.nan):
+    """Label the chosen peaks where there is room, the axis ending above ``top`` (the largest
+    value drawn) by the least of :data:`_LABEL_HEADROOMS` that labels the most; mark those
+    labelled."""
     from ._labels import place_point_labels
 
-    drawn = place_point_labels(ax, [(c[0], c[1]) for c in chosen], [c[2] for c in chosen],
-                               [c[3] for c in chosen], renderer=renderer, crossing=False)
+    def place(share):
+        _fit_top(ax, top, share)
+        return place_point_labels(ax, [(c[0], c[1]) for c in chosen], [c[2] for c in chosen],
+                                  [c[3] for c in chosen], renderer=renderer, crossing=False)
+
+    counts = {}
+    for share in _LABEL_HEADROOMS:
+        drawn = place(share)
+        counts[share] = len(drawn)
+        if len(drawn) == len(chosen) or not np.isfinite(top):
+            break
+        for label in drawn:
+            label.remove()
+    else:
+        drawn = place(min(counts, key=lambda share: (-counts[share], share)))
     for label in drawn:
         ax.plot(*label.xy, "v", color=label.get_color(), mec="k", mew=0.5, ms=5, label="_peak")
 

@@ -92,7 +92,7 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     if color_by:
         _draw_coloured(ax, fig, x, freqs, result, color_by)
     else:
-        _draw_by_whirl(ax, x, freqs, result)
+        _show_coincident(fig, ax, _draw_by_whirl(ax, x, freqs, result))
     _mark_unstable(ax, x, freqs, result.eigenvalues)
     lines = _order_lines(result, sources)
     _draw_orders(ax, result, x, lines)
@@ -175,7 +175,9 @@ def _checked_range(freq_range):
 
 
 def _draw_by_whirl(ax, x, freqs, result):
-    drawn = set()
+    """Each mode's curve, one line per whirl direction (NaN elsewhere); returns the lines in
+    drawing order."""
+    drawn, curves = set(), []
     for m in range(len(result.modes)):
         f = freqs[:, m]
         for whirl, style in WHIRL_STYLE.items():
@@ -186,7 +188,22 @@ def _draw_by_whirl(ax, x, freqs, result):
             if whirl in drawn:
                 kwargs.pop("label")
             drawn.add(whirl)
-            ax.plot(x, np.where(mask, f, np.nan), linewidth=1.6, **kwargs)
+            curves += ax.plot(x, np.where(mask, f, np.nan), linewidth=1.6, **kwargs)
+    return curves
+
+
+def _show_coincident(fig, ax, curves):
+    """Mode curves that lie on each other (an isotropic rotor's forward and backward modes at
+    low speed) drawn there in turn, dashes of each in its own colour
+    (:func:`._overlap.show_overlaps`), on the layout of the figure's first drawing: every curve
+    shows, at its true values. Only on a figure with constrained layout (the one
+    :func:`plot_campbell` makes); curves apart are drawn as before."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    from ._overlap import at_first_layout, show_overlaps
+
+    if isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine) and len(curves) > 1:
+        at_first_layout(fig, lambda: bool(show_overlaps(ax, curves)) and False)
 
 
 def _with_neighbours(mask):

@@ -34,6 +34,9 @@ _NUMBER_GAP_POINTS = 4.0
 #: a leader line crossing a curve costs as much as this many label heights farther away; a
 #: label costing more than :data:`_MOST_COST` label heights (distance and crossings) is left out
 _CROSSING_COST, _MOST_COST = 2.0, 12.0
+#: size of a critical speed's circle [points]; circles whose centres lie within each other's
+#: circle (closer than half this) read as one double circle and share one label
+_MARKER_POINTS = 6
 
 
 def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None = None,
@@ -283,7 +286,7 @@ def _draw_critical(ax, result, scale, sources):
     keep = np.array([sources is None or s in sources for s in critical.source], dtype=bool)
     speeds, freqs = critical.speeds[keep] * scale, critical.frequencies_hz[keep]
     speeds, freqs = _distinct_points(speeds, freqs)
-    ax.plot(speeds, freqs, "o", markersize=6, markerfacecolor="none", markeredgecolor="k",
+    ax.plot(speeds, freqs, "o", markersize=_MARKER_POINTS, markerfacecolor="none", markeredgecolor="k",
             label="critical speed", zorder=3)
     return speeds, freqs
 
@@ -329,8 +332,9 @@ class _CampbellLabels:
                                       x=1.02, clip_on=False) for m in self.modes]
         self.leaders = [ax.plot([], [], linewidth=0.6, transform=ax.transAxes, clip_on=False,
                                 gid=f"mode-leader {result.modes[m]}")[0] for m in self.modes]
-        self.critical_texts = [self._text(_speed_text(s), gid="critical-label", fontsize="xx-small")
-                               for s in critical[0]] if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
+        self.critical_words = [_speed_text(s) for s in critical[0]]
+        self.critical_texts = [self._text(w, gid="critical-label", fontsize="xx-small") for w in self.critical_words] \
+            if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
         self.critical_leaders = [ax.plot([], [], linewidth=0.5, color="k", transform=ax.transAxes, visible=False,
                                          gid="critical-leader")[0] for _ in self.critical_texts]
 
@@ -594,10 +598,15 @@ class _CampbellLabels:
             return
         radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
         gap = (_NUMBER_GAP_POINTS * self.points * self.to_u, 0.5 * self.points * self.to_v)
-        order = np.argsort(self.critical[0], kind="stable")
-        for j in order:
+        for group in self._critical_groups():
+            j = group[0]
             text = self.critical_texts[j]
+            for k in group[1:]:
+                set_if_changed(self.critical_texts[k], visible=False)
+                set_if_changed(self.critical_leaders[k], visible=False)
+            set_if_changed(text, text="/".join(self.critical_words[k] for k in group))
             u, v = self.to_axes((self.critical[0][j], self.critical[1][j]))
+            own = [self.to_axes((self.critical[0][k], self.critical[1][k])) for k in group]
             w, h = self._size(text.get_text(), "xx-small", renderer)
             w, h = w * self.to_u, h * self.to_v
             corners = [(u + radius_u, v - radius_v - h * 0.5), (u + radius_u, v + radius_v - h * 0.5),
@@ -607,12 +616,28 @@ class _CampbellLabels:
             box = leader = None
             if 0 <= u <= 1 and 0 <= v <= 1:
                 box, leader = self._label_box((u, v), [(a, b, a + w, b + h) for a, b in corners], gap, placed,
-                                              [m for m in markers if not _contains(m, (u, v))], (radius_u, radius_v))
+                                              [m for m in markers if not any(_contains(m, p) for p in own)],
+                                              (radius_u, radius_v))
             self._show_leader(self.critical_leaders[j], leader, "k")
             if box is None:
                 set_if_changed(text, visible=False)
                 continue
             set_if_changed(text, position=(box[0], box[1]), va="bottom", ha="left", clip_on=True, visible=True)
+
+    def _critical_groups(self):
+        """The critical speeds' indices in groups whose circles read as one (centres closer than
+        half :data:`_MARKER_POINTS`; a chain of such neighbours is one group), each in order of
+        speed: one label names the group ('2842/2855'), so that two labels never print over
+        each other at one place."""
+        points = np.array([self.to_axes((s, f)) for s, f in zip(*self.critical)]) \
+            / np.array([self.to_u, self.to_v])
+        groups = []
+        for j in np.argsort(self.critical[0], kind="stable"):
+            near = [g for g in groups if any(np.hypot(*(points[j] - points[k])) < 0.5 * _MARKER_POINTS * self.points
+                                             for k in g)]
+            merged = [int(j)] + [k for g in near for k in g]
+            groups = [g for g in groups if g not in near] + [sorted(merged, key=lambda k: self.critical[0][k])]
+        return sorted(groups, key=lambda g: self.critical[0][g[0]])
 
 
 def _overlap(a, b, gap) -> bool:

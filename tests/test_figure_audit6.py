@@ -122,14 +122,16 @@ def test_runup_critical_line_between_tracks_is_labelled(monkeypatch):
     from rotordyn_modal.plotting.simulation import plot_runup
     from rotordyn_modal.simulation import runup
 
+    from rotordyn_modal.analysis.critical_speeds import CriticalSpeeds
+
     speeds = rdm.rpm(np.linspace(0.0, 4000.0, 41))
     line = 2067.0
-    # two tracks crossing the line at a third and two thirds of the panel's height: gaps of a
-    # third of it, shorter than a one-line label, longer than a two-line one
-    level = np.where(np.abs(speeds * 30 / np.pi - line) < 400.0, 1.0, 0.0)
-    tracks = {"shaft": runup.OrderTrack(speeds, 1.0 + 0.0 * speeds, 0.0 * speeds + 10.0 * level, "probe"),
-              "fan": runup.OrderTrack(speeds, 2.0 + 0.0 * speeds, 0.0 * speeds - 10.0 * level, "probe")}
-    tracks["shaft"] = runup.OrderTrack(speeds, 1.0 + 0.0 * speeds, tracks["shaft"].phase_deg, "probe")
+    # one track rising across the panel, one flat: at the line they lie at a third and two thirds
+    # of the panel's height, gaps shorter than the one-line label (two fifths of the height)
+    rising = 3.0 * np.linspace(0.0, 1.0, len(speeds)) ** 1.6
+    flat = np.full(len(speeds), 2.0)
+    tracks = {"shaft": runup.OrderTrack(speeds, 1e-6 * rising, 100.0 * rising, "probe", "shaft", 1.0),
+              "fan": runup.OrderTrack(speeds, 1e-6 * flat, 100.0 * flat, "probe", "fan", 1.0)}
     fall = runup.Waterfall(speeds, np.linspace(0.0, 200.0, 41), np.full((len(speeds), 41), 1e-9), "probe")
     monkeypatch.setattr(runup, "order_track", lambda *args, rotor=None, **kwargs: tracks[rotor])
     monkeypatch.setattr(runup, "waterfall", lambda *args, **kwargs: fall)
@@ -137,11 +139,9 @@ def test_runup_critical_line_between_tracks_is_labelled(monkeypatch):
     result = types.SimpleNamespace(drive_speed=np.linspace(speeds[0], speeds[-1], 4000),
                                    rotor_names=["shaft", "fan"], model_name="test",
                                    sensor=lambda name: 1e-6 * np.sin(3000 * t))
-    critical = rdm.campbell(rdm.load_model(EXAMPLES / "gear_machine.toml"), rdm.rpm([0.0, 100.0])).critical
-    from dataclasses import fields, replace
-
-    critical = replace(critical, **{f.name: getattr(critical, f.name)[:1] for f in fields(critical)})
-    critical = replace(critical, speeds=np.array([rdm.rpm(line)]), source=np.array(["fan"]))
+    at = rdm.rpm(np.array([line]))
+    critical = CriticalSpeeds(np.array(["fan"]), np.ones(1), np.array([3]), at, at / (2 * np.pi),
+                              np.array(["forward"]), np.ones(1), np.full(1, 0.01))
     fig = plot_runup(result, "probe", critical=critical)
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()

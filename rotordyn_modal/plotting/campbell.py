@@ -93,7 +93,7 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     scale = speed_scale(speed_unit)
     x = result.speeds * scale
     if color_by:
-        _draw_coloured(ax, fig, x, freqs, result, color_by)
+        _show_coincident_coloured(fig, ax, *_draw_coloured(ax, fig, x, freqs, result, color_by))
     else:
         _show_coincident(fig, ax, _draw_by_whirl(ax, x, freqs, result))
     _mark_unstable(ax, x, freqs, result.eigenvalues)
@@ -218,6 +218,8 @@ def _with_neighbours(mask):
 
 
 def _draw_coloured(ax, fig, x, freqs, result, quantity):
+    """Each mode's curve coloured by ``quantity`` along it; returns ``(x, freqs, collections)``
+    (one LineCollection per mode)."""
     from matplotlib.collections import LineCollection
 
     values = {"log_decrement": result.log_decrements, "damping_ratio": result.damping_ratios}[quantity]
@@ -226,13 +228,71 @@ def _draw_coloured(ax, fig, x, freqs, result, quantity):
     import matplotlib.colors as mcolors
 
     norm = mcolors.Normalize(*norm_range)
+    collections = []
     for m in range(len(result.modes)):
         points = np.stack([x, freqs[:, m]], axis=1)
         segments = np.stack([points[:-1], points[1:]], axis=1)
         lines = LineCollection(segments, cmap="viridis", norm=norm, linewidth=2.0)
         lines.set_array(0.5 * (values[:-1, m] + values[1:, m]))
         ax.add_collection(lines)
+        collections.append(lines)
     fig.colorbar(lines, ax=ax, label=quantity.replace("_", " ") + " (red band: unstable)")
+    return x, freqs, collections
+
+
+def _show_coincident_coloured(fig, ax, x, freqs, collections):
+    """Coloured mode curves that lie on each other drawn there in turn (as
+    :func:`_show_coincident`), each dash in its curve's colour at that speed: the stretches are
+    found on an invisible stand-in line of each curve, and each dashed stretch drawn is redrawn
+    as segments coloured as the curve's, the dashes' phase carried from segment to segment."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    from ._overlap import at_first_layout, show_overlaps
+
+    if not isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine) or len(collections) < 2:
+        return
+    width = collections[0].get_linewidth()[0]
+    stand_ins, lines = {}, []
+    for m, collection in enumerate(collections):
+        lines += ax.plot(x, freqs[:, m], color=f"#{m + 1:06x}", linewidth=width, visible=False, label="_nolegend_")
+        stand_ins[lines[-1].get_color()] = collection
+
+    def show():
+        before = set(ax.get_lines())
+        show_overlaps(ax, lines)
+        for dashed in [line for line in ax.get_lines() if line not in before]:
+            _recolour(ax, dashed, stand_ins[dashed.get_color()])
+        return False
+
+    at_first_layout(fig, show)
+
+
+def _recolour(ax, dashed, collection):
+    """Replace the dashed single-colour line ``dashed`` (a stretch of ``collection``'s curve) by
+    its segments in the collection's colours, each segment's dashes starting where the previous
+    one's ended (the dash pattern of one line along the stretch)."""
+    from matplotlib.collections import LineCollection
+
+    offset, (on, off) = dashed._unscaled_dash_pattern       # as set: in line widths
+    width = dashed.get_linewidth()
+    points = np.column_stack([dashed.get_xdata(), dashed.get_ydata()]).astype(float)
+    shown = dashed.get_transform().transform(points) / (ax.figure.dpi / 72.0)        # [points]
+    along = np.concatenate([[0.0], np.cumsum(np.nan_to_num(np.hypot(*np.diff(shown, axis=0).T)))])
+    colours = collection.get_colors() if len(collection.get_array()) == 0 else \
+        collection.to_rgba(collection.get_array())
+    first = _first_segment(collection, points[0])
+    segments = np.stack([points[:-1], points[1:]], axis=1)
+    pieces = LineCollection(segments, colors=colours[first:first + len(segments)], linewidth=width,
+                            linestyles=[(offset + a / width, (on, off)) for a in along[:-1]],
+                            zorder=dashed.get_zorder())
+    ax.add_collection(pieces, autolim=False)
+    dashed.remove()
+
+
+def _first_segment(collection, point):
+    """Index of the segment of ``collection`` starting at ``point`` (data)."""
+    starts = np.array([s[0] for s in collection.get_segments()])
+    return int(np.argmin(np.nan_to_num(np.hypot(*(starts - point).T), nan=np.inf)))
 
 
 def _mark_unstable(ax, x, freqs, eigenvalues):
@@ -604,7 +664,7 @@ class _CampbellLabels:
             for k in group[1:]:
                 set_if_changed(self.critical_texts[k], visible=False)
                 set_if_changed(self.critical_leaders[k], visible=False)
-            set_if_changed(text, text="/".join(self.critical_words[k] for k in group))
+            set_if_changed(text, text="/".join(dict.fromkeys(self.critical_words[k] for k in group)))
             u, v = self.to_axes((self.critical[0][j], self.critical[1][j]))
             own = [self.to_axes((self.critical[0][k], self.critical[1][k])) for k in group]
             w, h = self._size(text.get_text(), "xx-small", renderer)

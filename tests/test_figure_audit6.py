@@ -152,3 +152,27 @@ def test_runup_critical_line_between_tracks_is_labelled(monkeypatch):
     lines = [c for c in ax.get_lines() if c.get_label() == "_critical"]
     assert len(crossings(glyph_box(text, renderer), curve_segments(ax, skip=lines))) == 0
     plt.close(fig)
+
+
+def test_coincident_coloured_modes_all_show():
+    """Coloured by log decrement, the cross-coupled rotor's modes 2, 3 and 4 lie on each other at
+    10 Hz over the whole sweep with log decrements 0.40, 0.15, 0.65 (speed-independent): the
+    last drawn hid the others. Along the drawn line, pixels of each mode's own colour (the
+    colour map at its log decrement) show in every stretch."""
+    result = rdm.campbell(rdm.load_model(EXAMPLES / "unstable_cross_coupled.toml"),
+                          rdm.rpm(np.linspace(0.0, 20000.0, 41)))
+    fig = result.plot(color_by="log_decrement")
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    columns = [int(np.nonzero(result.modes == m)[0][0]) for m in (2, 3, 4)]
+    f, delta = result.frequencies_hz, result.log_decrements
+    assert np.ptp(f[:, columns]) < 0.05 and np.all(np.ptp(delta[:, columns], axis=0) < 1e-6)
+    finite = delta[np.isfinite(delta) & result.oscillatory]
+    norm = matplotlib.colors.Normalize(finite.min(), finite.max())
+    colours = [matplotlib.colormaps["viridis"](norm(delta[0, c])) for c in columns]
+    image = _pixels(fig)
+    for rpm in (5000.0, 10000.0, 15000.0):
+        x, y = ax.transData.transform((rpm, f[0, columns[0]]))
+        window = image[int(image.shape[0] - y) - 3:int(image.shape[0] - y) + 4, int(x) - 15:int(x) + 16]
+        for mode, colour in zip((2, 3, 4), colours):
+            assert _near(window, colour[:3], tolerance=30.0).sum() >= 6, (rpm, mode)

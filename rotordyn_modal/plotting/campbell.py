@@ -393,8 +393,8 @@ class _CampbellLabels:
         self.leaders = [ax.plot([], [], linewidth=0.6, transform=ax.transAxes, clip_on=False,
                                 gid=f"mode-leader {result.modes[m]}")[0] for m in self.modes]
         self.critical_words = [_speed_text(s) for s in critical[0]]
-        self.critical_texts = [self._text(w, gid="critical-label", fontsize="xx-small") for w in self.critical_words] \
-            if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
+        self.critical_texts = [self._text(w, gid="critical-label", fontsize="xx-small")
+                               for w in self.critical_words] if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
         self.critical_leaders = [ax.plot([], [], linewidth=0.5, color="k", transform=ax.transAxes, visible=False,
                                          gid="critical-leader")[0] for _ in self.critical_texts]
 
@@ -685,18 +685,19 @@ class _CampbellLabels:
             set_if_changed(text, position=(box[0], box[1]), va="bottom", ha="left", clip_on=True, visible=True)
 
     def _critical_groups(self):
-        """The critical speeds' indices in groups whose circles read as one (centres closer than
-        half :data:`_MARKER_POINTS`; a chain of such neighbours is one group), each in order of
-        speed: one label names the group ('2842/2855'), so that two labels never print over
-        each other at one place."""
+        """The critical speeds' indices in groups whose circles read as one (each centre closer
+        than half :data:`_MARKER_POINTS` to the group's first, in order of speed; not a chain,
+        so that a group stays within one circle), each in order of speed: one label names the
+        group ('2842/2855'), so that two labels never print over each other at one place."""
         points = np.array([self.to_axes((s, f)) for s, f in zip(*self.critical)]) \
             / np.array([self.to_u, self.to_v])
-        groups = []
+        groups, within = [], 0.5 * _MARKER_POINTS * self.points
         for j in np.argsort(self.critical[0], kind="stable"):
-            near = [g for g in groups if any(np.hypot(*(points[j] - points[k])) < 0.5 * _MARKER_POINTS * self.points
-                                             for k in g)]
-            merged = [int(j)] + [k for g in near for k in g]
-            groups = [g for g in groups if g not in near] + [sorted(merged, key=lambda k: self.critical[0][k])]
+            home = next((g for g in groups if np.hypot(*(points[j] - points[g[0]])) < within), None)
+            if home is None:
+                groups.append([int(j)])
+            else:
+                home.append(int(j))
         return sorted(groups, key=lambda g: self.critical[0][g[0]])
 
 

@@ -236,8 +236,8 @@ def _label_critical_lines(axes, critical, renderer):
     for wrap, maps in ((False, data), (True, curves), (True, data)):
         still = []
         for k in missing:
-            text = texts[k].replace(f", {critical.speeds[k] * rpm:.0f} rpm", f"\n{critical.speeds[k] * rpm:.0f} rpm") \
-                if wrap else texts[k]
+            speed = f"{critical.speeds[k] * rpm:.0f} rpm"
+            text = texts[k].replace(f", {speed}", f"\n{speed}") if wrap else texts[k]
             label = _first_room(axes, critical.speeds[k] * rpm, text, placed, renderer, maps)
             if label is None:
                 still.append(k)

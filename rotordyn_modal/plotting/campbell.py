@@ -47,6 +47,8 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     Tracked modes are drawn solid blue where they whirl forward, dashed red
     backward and dotted grey without whirl; where a mode is unstable (real part > 0) a
     broad red band lies under its curve, with a red triangle where it becomes unstable.
+    Curves that lie on each other (closer than a line width) are drawn there in turn, in short
+    dashes of each one's colour, at their true values (on the figure this function makes).
     Each mode is labelled where its curve leaves the axes: beside the right edge, in the
     curves' order, joined to its curve by a leader line; inside the axes next to the curve's
     last point when the curve leaves through the top or bottom or ends before the right edge.
@@ -58,7 +60,8 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     either, the line keeps its source's colour unnamed); critical
     speeds are marked and labelled with their speed where a label finds room clear of the
     other labels, markers and curves, beside the marker or nearby with a leader line (every
-    critical speed is in the result's table). No curve runs through a label but at its own
+    critical speed is in the result's table); circles that read as one share a label
+    ('2842/2855'). No curve runs through a label but at its own
     anchor (:class:`~rotordyn_modal.plotting._labels.CurveMap`). The labels are placed again
     whenever the figure is drawn, so they follow zooming and resizing.
 

@@ -211,7 +211,8 @@ def _waterfall_limit(fall, critical) -> float:
 
 def _label_critical_lines(axes, critical, renderer):
     """Label each critical-speed line ('mode 4, 1X fan, 1412 rpm', vertical, at the top of the
-    line) in the first of ``axes`` where it overlaps no other label; returns the labels."""
+    line) in the first of ``axes`` where it overlaps no other label, in two lines where one
+    finds no room; returns the labels."""
     from ._labels import CurveMap
 
     rpm = 30.0 / np.pi

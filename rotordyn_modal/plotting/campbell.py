@@ -34,6 +34,9 @@ _NUMBER_GAP_POINTS = 4.0
 #: a leader line crossing a curve costs as much as this many label heights farther away; a
 #: label costing more than :data:`_MOST_COST` label heights (distance and crossings) is left out
 _CROSSING_COST, _MOST_COST = 2.0, 12.0
+#: size of a critical speed's circle [points]; circles whose centres lie within each other's
+#: circle (closer than half this) read as one double circle and share one label
+_MARKER_POINTS = 6
 
 
 def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None = None,
@@ -44,6 +47,8 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     Tracked modes are drawn solid blue where they whirl forward, dashed red
     backward and dotted grey without whirl; where a mode is unstable (real part > 0) a
     broad red band lies under its curve, with a red triangle where it becomes unstable.
+    Curves that lie on each other (closer than a line width) are drawn there in turn, in short
+    dashes of each one's colour, at their true values (on the figure this function makes).
     Each mode is labelled where its curve leaves the axes: beside the right edge, in the
     curves' order, joined to its curve by a leader line; inside the axes next to the curve's
     last point when the curve leaves through the top or bottom or ends before the right edge.
@@ -55,7 +60,8 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     either, the line keeps its source's colour unnamed); critical
     speeds are marked and labelled with their speed where a label finds room clear of the
     other labels, markers and curves, beside the marker or nearby with a leader line (every
-    critical speed is in the result's table). No curve runs through a label but at its own
+    critical speed is in the result's table); circles that read as one share a label
+    ('2842/2855'). No curve runs through a label but at its own
     anchor (:class:`~rotordyn_modal.plotting._labels.CurveMap`). The labels are placed again
     whenever the figure is drawn, so they follow zooming and resizing.
 
@@ -90,9 +96,9 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     scale = speed_scale(speed_unit)
     x = result.speeds * scale
     if color_by:
-        _draw_coloured(ax, fig, x, freqs, result, color_by)
+        _show_coincident_coloured(fig, ax, *_draw_coloured(ax, fig, x, freqs, result, color_by))
     else:
-        _draw_by_whirl(ax, x, freqs, result)
+        _show_coincident(fig, ax, _draw_by_whirl(ax, x, freqs, result))
     _mark_unstable(ax, x, freqs, result.eigenvalues)
     lines = _order_lines(result, sources)
     _draw_orders(ax, result, x, lines)
@@ -175,7 +181,9 @@ def _checked_range(freq_range):
 
 
 def _draw_by_whirl(ax, x, freqs, result):
-    drawn = set()
+    """Each mode's curve, one line per whirl direction (NaN elsewhere); returns the lines in
+    drawing order."""
+    drawn, curves = set(), []
     for m in range(len(result.modes)):
         f = freqs[:, m]
         for whirl, style in WHIRL_STYLE.items():
@@ -186,7 +194,22 @@ def _draw_by_whirl(ax, x, freqs, result):
             if whirl in drawn:
                 kwargs.pop("label")
             drawn.add(whirl)
-            ax.plot(x, np.where(mask, f, np.nan), linewidth=1.6, **kwargs)
+            curves += ax.plot(x, np.where(mask, f, np.nan), linewidth=1.6, **kwargs)
+    return curves
+
+
+def _show_coincident(fig, ax, curves):
+    """Mode curves that lie on each other (an isotropic rotor's forward and backward modes at
+    low speed) drawn there in turn, dashes of each in its own colour
+    (:func:`._overlap.show_overlaps`), on the layout of the figure's first drawing: every curve
+    shows, at its true values. Only on a figure with constrained layout (the one
+    :func:`plot_campbell` makes); curves apart are drawn as before."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    from ._overlap import at_first_layout, show_overlaps
+
+    if isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine) and len(curves) > 1:
+        at_first_layout(fig, lambda: bool(show_overlaps(ax, curves)) and False)
 
 
 def _with_neighbours(mask):
@@ -198,6 +221,8 @@ def _with_neighbours(mask):
 
 
 def _draw_coloured(ax, fig, x, freqs, result, quantity):
+    """Each mode's curve coloured by ``quantity`` along it; returns ``(x, freqs, collections)``
+    (one LineCollection per mode)."""
     from matplotlib.collections import LineCollection
 
     values = {"log_decrement": result.log_decrements, "damping_ratio": result.damping_ratios}[quantity]
@@ -206,13 +231,71 @@ def _draw_coloured(ax, fig, x, freqs, result, quantity):
     import matplotlib.colors as mcolors
 
     norm = mcolors.Normalize(*norm_range)
+    collections = []
     for m in range(len(result.modes)):
         points = np.stack([x, freqs[:, m]], axis=1)
         segments = np.stack([points[:-1], points[1:]], axis=1)
         lines = LineCollection(segments, cmap="viridis", norm=norm, linewidth=2.0)
         lines.set_array(0.5 * (values[:-1, m] + values[1:, m]))
         ax.add_collection(lines)
+        collections.append(lines)
     fig.colorbar(lines, ax=ax, label=quantity.replace("_", " ") + " (red band: unstable)")
+    return x, freqs, collections
+
+
+def _show_coincident_coloured(fig, ax, x, freqs, collections):
+    """Coloured mode curves that lie on each other drawn there in turn (as
+    :func:`_show_coincident`), each dash in its curve's colour at that speed: the stretches are
+    found on an invisible stand-in line of each curve, and each dashed stretch drawn is redrawn
+    as segments coloured as the curve's, the dashes' phase carried from segment to segment."""
+    from matplotlib.layout_engine import ConstrainedLayoutEngine
+
+    from ._overlap import at_first_layout, show_overlaps
+
+    if not isinstance(fig.get_layout_engine(), ConstrainedLayoutEngine) or len(collections) < 2:
+        return
+    width = collections[0].get_linewidth()[0]
+    stand_ins, lines = {}, []
+    for m, collection in enumerate(collections):
+        lines += ax.plot(x, freqs[:, m], color=f"#{m + 1:06x}", linewidth=width, visible=False, label="_nolegend_")
+        stand_ins[lines[-1].get_color()] = collection
+
+    def show():
+        before = set(ax.get_lines())
+        show_overlaps(ax, lines)
+        for dashed in [line for line in ax.get_lines() if line not in before]:
+            _recolour(ax, dashed, stand_ins[dashed.get_color()])
+        return False
+
+    at_first_layout(fig, show)
+
+
+def _recolour(ax, dashed, collection):
+    """Replace the dashed single-colour line ``dashed`` (a stretch of ``collection``'s curve) by
+    its segments in the collection's colours, each segment's dashes starting where the previous
+    one's ended (the dash pattern of one line along the stretch)."""
+    from matplotlib.collections import LineCollection
+
+    offset, (on, off) = dashed._unscaled_dash_pattern       # as set: in line widths
+    width = dashed.get_linewidth()
+    points = np.column_stack([dashed.get_xdata(), dashed.get_ydata()]).astype(float)
+    shown = dashed.get_transform().transform(points) / (ax.figure.dpi / 72.0)        # [points]
+    along = np.concatenate([[0.0], np.cumsum(np.nan_to_num(np.hypot(*np.diff(shown, axis=0).T)))])
+    colours = collection.get_colors() if len(collection.get_array()) == 0 else \
+        collection.to_rgba(collection.get_array())
+    first = _first_segment(collection, points[0])
+    segments = np.stack([points[:-1], points[1:]], axis=1)
+    pieces = LineCollection(segments, colors=colours[first:first + len(segments)], linewidth=width,
+                            linestyles=[(offset + a / width, (on, off)) for a in along[:-1]],
+                            zorder=dashed.get_zorder())
+    ax.add_collection(pieces, autolim=False)
+    dashed.remove()
+
+
+def _first_segment(collection, point):
+    """Index of the segment of ``collection`` starting at ``point`` (data)."""
+    starts = np.array([s[0] for s in collection.get_segments()])
+    return int(np.argmin(np.nan_to_num(np.hypot(*(starts - point).T), nan=np.inf)))
 
 
 def _mark_unstable(ax, x, freqs, eigenvalues):
@@ -266,7 +349,7 @@ def _draw_critical(ax, result, scale, sources):
     keep = np.array([sources is None or s in sources for s in critical.source], dtype=bool)
     speeds, freqs = critical.speeds[keep] * scale, critical.frequencies_hz[keep]
     speeds, freqs = _distinct_points(speeds, freqs)
-    ax.plot(speeds, freqs, "o", markersize=6, markerfacecolor="none", markeredgecolor="k",
+    ax.plot(speeds, freqs, "o", markersize=_MARKER_POINTS, markerfacecolor="none", markeredgecolor="k",
             label="critical speed", zorder=3)
     return speeds, freqs
 
@@ -312,8 +395,9 @@ class _CampbellLabels:
                                       x=1.02, clip_on=False) for m in self.modes]
         self.leaders = [ax.plot([], [], linewidth=0.6, transform=ax.transAxes, clip_on=False,
                                 gid=f"mode-leader {result.modes[m]}")[0] for m in self.modes]
-        self.critical_texts = [self._text(_speed_text(s), gid="critical-label", fontsize="xx-small")
-                               for s in critical[0]] if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
+        self.critical_words = [_speed_text(s) for s in critical[0]]
+        self.critical_texts = [self._text(w, gid="critical-label", fontsize="xx-small")
+                               for w in self.critical_words] if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
         self.critical_leaders = [ax.plot([], [], linewidth=0.5, color="k", transform=ax.transAxes, visible=False,
                                          gid="critical-leader")[0] for _ in self.critical_texts]
 
@@ -577,10 +661,15 @@ class _CampbellLabels:
             return
         radius_u, radius_v = 4 * self.points * self.to_u, 4 * self.points * self.to_v
         gap = (_NUMBER_GAP_POINTS * self.points * self.to_u, 0.5 * self.points * self.to_v)
-        order = np.argsort(self.critical[0], kind="stable")
-        for j in order:
+        for group in self._critical_groups():
+            j = group[0]
             text = self.critical_texts[j]
+            for k in group[1:]:
+                set_if_changed(self.critical_texts[k], visible=False)
+                set_if_changed(self.critical_leaders[k], visible=False)
+            set_if_changed(text, text="/".join(dict.fromkeys(self.critical_words[k] for k in group)))
             u, v = self.to_axes((self.critical[0][j], self.critical[1][j]))
+            own = [self.to_axes((self.critical[0][k], self.critical[1][k])) for k in group]
             w, h = self._size(text.get_text(), "xx-small", renderer)
             w, h = w * self.to_u, h * self.to_v
             corners = [(u + radius_u, v - radius_v - h * 0.5), (u + radius_u, v + radius_v - h * 0.5),
@@ -590,12 +679,29 @@ class _CampbellLabels:
             box = leader = None
             if 0 <= u <= 1 and 0 <= v <= 1:
                 box, leader = self._label_box((u, v), [(a, b, a + w, b + h) for a, b in corners], gap, placed,
-                                              [m for m in markers if not _contains(m, (u, v))], (radius_u, radius_v))
+                                              [m for m in markers if not any(_contains(m, p) for p in own)],
+                                              (radius_u, radius_v))
             self._show_leader(self.critical_leaders[j], leader, "k")
             if box is None:
                 set_if_changed(text, visible=False)
                 continue
             set_if_changed(text, position=(box[0], box[1]), va="bottom", ha="left", clip_on=True, visible=True)
+
+    def _critical_groups(self):
+        """The critical speeds' indices in groups whose circles read as one (each centre closer
+        than half :data:`_MARKER_POINTS` to the group's first, in order of speed; not a chain,
+        so that a group stays within one circle), each in order of speed: one label names the
+        group ('2842/2855'), so that two labels never print over each other at one place."""
+        points = np.array([self.to_axes((s, f)) for s, f in zip(*self.critical)]) \
+            / np.array([self.to_u, self.to_v])
+        groups, within = [], 0.5 * _MARKER_POINTS * self.points
+        for j in np.argsort(self.critical[0], kind="stable"):
+            home = next((g for g in groups if np.hypot(*(points[j] - points[g[0]])) < within), None)
+            if home is None:
+                groups.append([int(j)])
+            else:
+                home.append(int(j))
+        return sorted(groups, key=lambda g: self.critical[0][g[0]])
 
 
 def _overlap(a, b, gap) -> bool:

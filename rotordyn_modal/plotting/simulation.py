@@ -211,7 +211,8 @@ def _waterfall_limit(fall, critical) -> float:
 
 def _label_critical_lines(axes, critical, renderer):
     """Label each critical-speed line ('mode 4, 1X fan, 1412 rpm', vertical, at the top of the
-    line) in the first of ``axes`` where it overlaps no other label; returns the labels."""
+    line) in the first of ``axes`` where it overlaps no other label, in two lines where one
+    finds no room; returns the labels."""
     from ._labels import CurveMap
 
     rpm = 30.0 / np.pi
@@ -230,10 +231,20 @@ def _label_critical_lines(axes, critical, renderer):
             missing.append(k)
         else:
             labels.append(label)
-    for k in missing:
-        label = _first_room(axes, critical.speeds[k] * rpm, texts[k], placed, renderer, data)
-        if label is not None:
-            labels.append(label)
+    # then the label in two lines (half as long: the line at 2067 rpm of the gear machine's run-up,
+    # between tracks that leave a shorter gap than its label in every panel), clear of the
+    # curves, then of the signal and the tracks
+    for wrap, maps in ((False, data), (True, curves), (True, data)):
+        still = []
+        for k in missing:
+            speed = f"{critical.speeds[k] * rpm:.0f} rpm"
+            text = texts[k].replace(f", {speed}", f"\n{speed}") if wrap else texts[k]
+            label = _first_room(axes, critical.speeds[k] * rpm, text, placed, renderer, maps)
+            if label is None:
+                still.append(k)
+            else:
+                labels.append(label)
+        missing = still
     return labels
 
 

@@ -34,6 +34,7 @@ import numpy as np
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import campbell as campbell_module
+from rotordyn_modal.analysis import _crossing_brackets
 from rotordyn_modal.analysis import critical_speeds as critical_module
 from rotordyn_modal.linear_system import speed_linear_form
 
@@ -54,8 +55,8 @@ def _among_close_roots(model) -> tuple[int, int]:
     values, _, _ = campbell_module.solve_sweeps(stack, SPEEDS)
     sources = [critical_module.excitation_sources(model)]
     brackets = critical_module._crossing_brackets(SPEEDS, values, sources, ORDERS,
-                                                  critical_module.is_oscillating(values))
-    return len(brackets.k), int((~critical_module._isolated(brackets)).sum())
+                                                  _crossing_brackets.is_oscillating(values))
+    return len(brackets.k), int((~_crossing_brackets._isolated(brackets)).sum())
 
 
 def _timed(function) -> float:

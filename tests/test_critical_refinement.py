@@ -14,7 +14,8 @@ import scipy.linalg
 from scipy.optimize import brentq
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _eigensolve, _pencils, _vectors, _whirl
+from rotordyn_modal.analysis import (_crossing_brackets, _crossing_refinement, _crossing_roots, _eigensolve, _pencils,
+                                     _vectors, _whirl)
 from rotordyn_modal.analysis.critical_speeds import excitation_sources
 from rotordyn_modal.analysis.modal import is_oscillating, modal_quantities
 from rotordyn_modal.linear_system import speed_linear_form
@@ -87,10 +88,8 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, path, exampl
     fails, or (as large models first try) picked among the Ritz pairs of the sweep's shapes at
     the bracket's ends and refined on the (sparse) pencil; each forced here for the examples' few
     coordinates. (Dense Ritz pairs: test_crossings_among_close_roots_are_refined_without_a_shift_invert_call_each.)"""
-    from rotordyn_modal.analysis import critical_speeds as critical_module
-
     if path != "joint-newton":
-        monkeypatch.setattr(critical_module, "_NEWTON_DOF", 0)
+        monkeypatch.setattr(_crossing_refinement, "_NEWTON_DOF", 0)
     if path == "lu-factors" or path.startswith("sparse"):
         monkeypatch.setattr(_pencils, "BATCHED_DOF", 0)
     if path.startswith("sparse"):
@@ -104,12 +103,12 @@ def test_batched_refinement_equals_brents_method_per_crossing(name, path, exampl
 
         monkeypatch.setattr(scipy.sparse.linalg, "eigs", no_convergence)
     if path == "two-nearest-roots":
-        monkeypatch.setattr(critical_module, "_NEAREST_ROOTS", 2)
+        monkeypatch.setattr(_crossing_roots, "_NEAREST_ROOTS", 2)
     if path in ("nearest-roots", "sparse-nearest-roots", "two-nearest-roots", "arnoldi-fails", "sparse-ritz"):
         monkeypatch.setattr(_pencils, "NEAREST_ROOTS_DOF", 0)
-        monkeypatch.setattr(critical_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
+        monkeypatch.setattr(_crossing_brackets, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
     if path != "sparse-ritz":
-        monkeypatch.setattr(critical_module, "_RITZ_ROOTS", 0)
+        monkeypatch.setattr(_crossing_roots, "_RITZ_ROOTS", 0)
     model = rdm.load_model(examples_dir / f"{name}.toml")
     top = 50.0 if name.startswith("spring_block") else rdm.rpm(12000.0)
     orders = (1, 2)
@@ -137,8 +136,6 @@ def test_pencil_iteration_equals_all_eigenvalues_of_the_state_matrix(seed, path,
     path checked against Brent's method above) gives the same critical speeds."""
     from reference_bearings import random_bearing_description
 
-    from rotordyn_modal.analysis import critical_speeds as critical_module
-
     rng = np.random.default_rng(seed)
     data = random_bearing_description(rng, n_rotors=6)
     data["transmissions"] = []
@@ -146,14 +143,14 @@ def test_pencil_iteration_equals_all_eigenvalues_of_the_state_matrix(seed, path,
         rotor["speed_ratio"] = 1.0 if j == 0 else float(rng.choice([-1, 1]) * rng.uniform(0.3, 2.0))
     model = rdm.Model.from_dict(data)
     if path != "joint-newton":
-        monkeypatch.setattr(critical_module, "_NEWTON_DOF", 0)
+        monkeypatch.setattr(_crossing_refinement, "_NEWTON_DOF", 0)
     if path == "lu-factors":
         monkeypatch.setattr(_pencils, "BATCHED_DOF", 0)
     speeds = np.linspace(0.0, 3000.0, 41)
     newton = rdm.campbell(model, speeds, orders=(1, 2)).critical
-    isolated = critical_module._isolated
+    isolated = _crossing_brackets._isolated
     used = []
-    monkeypatch.setattr(critical_module, "_isolated", lambda *a: used.append(isolated(*a)) or np.zeros_like(used[-1]))
+    monkeypatch.setattr(_crossing_brackets, "_isolated", lambda *a: used.append(isolated(*a)) or np.zeros_like(used[-1]))
     full = rdm.campbell(model, speeds, orders=(1, 2)).critical
     assert len(full) == len(newton) > 0 and used[0].sum() > 0.25 * len(used[0])
     assert list(newton.source) == list(full.source) and list(newton.mode) == list(full.mode)
@@ -172,8 +169,6 @@ def test_modes_in_clusters_of_roots_take_more_roots_than_the_nearest(monkeypatch
     nearest roots miss the mode: 13 of its 4,000 critical speeds were another mode's.)"""
     from reference_bearings import random_bearing_description
 
-    from rotordyn_modal.analysis import critical_speeds as critical_module
-
     rng = np.random.default_rng(5)
     data = random_bearing_description(rng, n_rotors=6)
     data["transmissions"] = []
@@ -181,13 +176,13 @@ def test_modes_in_clusters_of_roots_take_more_roots_than_the_nearest(monkeypatch
         rotor["speed_ratio"] = 1.0 if j == 0 else float(rng.choice([-1, 1]) * rng.uniform(0.3, 2.0))
     model = rdm.Model.from_dict(data)
     speeds = np.linspace(0.0, 3000.0, 41)
-    monkeypatch.setattr(critical_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
+    monkeypatch.setattr(_crossing_brackets, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
     full = rdm.campbell(model, speeds, orders=(1, 2)).critical
     counts = []
-    roots_near = critical_module._roots_near
-    monkeypatch.setattr(critical_module, "_roots_near",
+    roots_near = _crossing_roots._roots_near
+    monkeypatch.setattr(_crossing_roots, "_roots_near",
                         lambda *args: counts.append(args[5] if len(args) > 5 else None) or roots_near(*args))
-    monkeypatch.setattr(critical_module, "_NEAREST_ROOTS", 2)
+    monkeypatch.setattr(_crossing_roots, "_NEAREST_ROOTS", 2)
     monkeypatch.setattr(_pencils, "NEAREST_ROOTS_DOF", 0)
     few = rdm.campbell(model, speeds, orders=(1, 2)).critical
     assert 8 in counts
@@ -212,7 +207,6 @@ def test_large_model_paths_equal_all_eigenvalues_of_the_state_matrix(n_rotors, s
     checked against Brent's method above)."""
     from reference_bearings import random_bearing_description
 
-    from rotordyn_modal.analysis import critical_speeds as critical_module
     from rotordyn_modal.analysis._stack import Stack
 
     rng = np.random.default_rng(5)
@@ -226,7 +220,7 @@ def test_large_model_paths_equal_all_eigenvalues_of_the_state_matrix(n_rotors, s
     speeds = np.linspace(0.0, 3000.0, 21)
     large = rdm.campbell(model, speeds).critical
     monkeypatch.setattr(_pencils, "NEAREST_ROOTS_DOF", 10**9)
-    monkeypatch.setattr(critical_module, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
+    monkeypatch.setattr(_crossing_brackets, "_isolated", lambda brackets: np.zeros(len(brackets.k), bool))
     full = rdm.campbell(model, speeds).critical
     assert len(full) == len(large) > 1000
     large, full = _by_crossing(large), _by_crossing(full)
@@ -393,13 +387,11 @@ def test_crossings_that_newton_fails_are_refined_by_the_secant(failure, monkeypa
     Newton's roots: every row equals, bit for bit, the row of the path that refined it."""
     from reference_bearings import random_bearing_description
 
-    from rotordyn_modal.analysis import critical_speeds as critical_module
-
     model = rdm.Model.from_dict(random_bearing_description(np.random.default_rng(1), n_rotors=3, stator=True))
     speeds = np.linspace(0.0, 3000.0, 21)
     newton = _by_crossing(rdm.campbell(model, speeds, orders=(1, 2)).critical)
     with monkeypatch.context() as patch:
-        patch.setattr(critical_module, "_NEWTON_DOF", 0)
+        patch.setattr(_crossing_refinement, "_NEWTON_DOF", 0)
         secant = _by_crossing(rdm.campbell(model, speeds, orders=(1, 2)).critical)
     assert not np.array_equal(newton.speeds, secant.speeds)           # the paths' round-off differs
     threshold = speeds[4]              # a grid speed: every bracket lies on one side of it

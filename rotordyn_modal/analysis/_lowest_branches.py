@@ -109,7 +109,7 @@ def _lowest_past(stack, speeds, count, above, most):
 
 def roots_near(stack, x, centers, count: int):
     """The modes to pick a tracked mode from at trial speeds ``x`` (R,) of a critical speed's
-    refinement, as ``critical_speeds._roots_near`` returns them: the lowest ``count`` modes, twice as
+    refinement, as ``_crossing_roots._roots_near`` returns them: the lowest ``count`` modes, twice as
     many until the highest lies above every center (R,), or every mode is among them.
 
     Returns

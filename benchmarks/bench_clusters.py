@@ -56,7 +56,7 @@ def _among_close_roots(model) -> tuple[int, int]:
     sources = [critical_module.excitation_sources(model)]
     brackets = critical_module._crossing_brackets(SPEEDS, values, sources, ORDERS,
                                                   _crossing_brackets.is_oscillating(values))
-    return len(brackets.k), int((~_crossing_brackets._isolated(brackets)).sum())
+    return len(brackets.k), int((~brackets.isolated).sum())
 
 
 def _timed(function) -> float:

@@ -258,9 +258,12 @@ def test_a_sweep_outside_the_table_is_refused_with_the_range():
 
 @pytest.mark.parametrize("low, high, refused", [
     (1000.0, 6000.0, False),                                       # the table's own ends: inside
+    (1000.0 * (1 - 1e-14), 6000.0 * (1 + 1e-14), False),           # its ends to round-off: inside
     (1000.0, 6000.0 * (1 + 1e-9), True), (1000.0 * (1 - 1e-9), 6000.0, True)])
 def test_the_table_range_ends_exactly_at_its_first_and_last_speeds(low, high, refused):
-    """Coefficients are never extrapolated, not even a hair beyond the table."""
+    """Coefficients are never extrapolated, not even a hair (1e-9) beyond the table; a speed
+    within round-off of an end (rpm and rad/s converted on another route, a table read from ROSS
+    in rad/s) is that end."""
     table = _table_model([1e6, 2e6], [1000.0, 6000.0])
     speeds = rdm.rpm(np.linspace(low, high, 4))
     if refused:

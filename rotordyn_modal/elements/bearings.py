@@ -145,9 +145,17 @@ def evaluate(coefficients: BearingCoefficients, own_speeds, where: str = "bearin
     return stiffness, damping
 
 
+#: how far (relative to the table's largest end speed) a speed may lie beyond a coefficient
+#: table's end and still be its end: round-off of unit conversions, never a real extrapolation
+_TABLE_END_ROUNDOFF = 1e-12
+
+
 def _interpolate(coefficients: BearingCoefficients, speeds: np.ndarray, where: str):
     table = coefficients.speeds
-    outside = (speeds < table[0]) | (speeds > table[-1])
+    # a speed typed as the table's end can differ from it in the last bits (rpm and rad/s
+    # converted on different routes, a ROSS table stored in rad/s): that is the end
+    roundoff = _TABLE_END_ROUNDOFF * np.max(np.abs(table[[0, -1]]))
+    outside = (speeds < table[0] - roundoff) | (speeds > table[-1] + roundoff)
     if np.any(outside):
         bad = speeds[outside]
         raise InputError(
@@ -155,6 +163,7 @@ def _interpolate(coefficients: BearingCoefficients, speeds: np.ndarray, where: s
             f"the coefficient table's speeds_rpm range {_rpm(table[0])} .. {_rpm(table[-1])} rpm "
             "(own speed of the carried rotor, signed about spin_axis): extend the table or the "
             "sweep's range")
+    speeds = np.clip(speeds, table[0], table[-1])
     right = np.clip(np.searchsorted(table, speeds, side="right"), 1, len(table) - 1)
     left = right - 1
     t = ((speeds - table[left]) / (table[right] - table[left]))[:, None, None]

@@ -167,3 +167,32 @@ def outline_crossings(text, renderer, segments, anchors=(), radius=0.0, inset=0.
     moved = np.hstack([local(segments[:, :2]), local(segments[:, 2:])]) if len(segments) else segments
     return crossings(Bbox([[0.0, 0.0], [width, height]]), moved, local(anchors) if len(anchors) else (),
                      radius, inset)
+
+
+def named_orders(words):
+    """Orders a Campbell label's prefix names: '1X, 2X' -> [1, 2]; a range '2–4X' -> [2, 3, 4]."""
+    if "\u2013" in words:
+        first, last = (float(w) for w in words.rstrip("X").split("\u2013"))
+        return list(np.arange(first, last + 0.5))
+    return [float(w.rstrip("X")) for w in words.split(", ")]
+
+
+def order_lines(ax) -> dict:
+    """{slope [Hz per rpm]: (display segment from the origin to the far end inside the axes,
+    the line)} of the straight lines through the origin that the figure draws."""
+    lines = {}
+    (_, x1), (_, y1) = ax.get_xlim(), ax.get_ylim()
+    for line in ax.get_lines():
+        x, y = (np.asarray(v, float) for v in line.get_data())
+        if len(x) > 2 and x[0] == 0 and y[0] == 0 and y[-1] > 0 and np.allclose(y, y[-1] / x[-1] * x, rtol=1e-9):
+            slope = y[-1] / x[-1]
+            far = min(x1, y1 / slope)
+            lines[round(slope, 9)] = (ax.transData.transform([(0.0, 0.0), (far, slope * far)]), line)
+    return lines
+
+
+def point_segment_distance(segment, point) -> float:
+    """Display distance of ``point`` (2,) from ``segment`` ((2,), (2,))."""
+    a, b = segment
+    t = np.clip(np.dot(point - a, b - a) / np.dot(b - a, b - a), 0.0, 1.0)
+    return float(np.hypot(*(a + t * (b - a) - point)))

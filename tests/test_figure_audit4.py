@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
-from label_geometry import outline, outlines_overlap
+from label_geometry import named_orders, order_lines, outline, outlines_overlap, point_segment_distance
 
 matplotlib.use("Agg")
 
@@ -83,34 +83,6 @@ def test_orbit_axis_says_that_e_is_the_spin_axis(pump):
 _ORDER_WORDS = r"(?P<orders>\d+(?:\.\d+)?X(?:, \d+(?:\.\d+)?X)*|\d+(?:\.\d+)?\u2013\d+(?:\.\d+)?X) (?P<source>.+)"
 
 
-def _named_orders(words):
-    """Orders a label's prefix names: '1X, 2X' -> [1, 2]; a range '2–4X' -> [2, 3, 4]."""
-    if "\u2013" in words:
-        first, last = (float(w) for w in words.rstrip("X").split("\u2013"))
-        return list(np.arange(first, last + 0.5))
-    return [float(w.rstrip("X")) for w in words.split(", ")]
-
-
-def _order_lines_drawn(ax):
-    """{slope [Hz per rpm]: display segment (origin, far end inside the axes)} of the straight
-    lines through the origin that the figure draws."""
-    lines = {}
-    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
-    for line in ax.get_lines():
-        x, y = (np.asarray(v, float) for v in line.get_data())
-        if len(x) > 2 and x[0] == 0 and y[0] == 0 and y[-1] > 0 and np.allclose(y, y[-1] / x[-1] * x, rtol=1e-9):
-            slope = y[-1] / x[-1]
-            far = min(x1, y1 / slope)
-            lines[round(slope, 9)] = ax.transData.transform([(0.0, 0.0), (far, slope * far)])
-    return lines
-
-
-def _distance(segment, point):
-    a, b = segment
-    t = np.clip(np.dot(point - a, b - a) / np.dot(b - a, b - a), 0.0, 1.0)
-    return float(np.hypot(*(a + t * (b - a) - point)))
-
-
 @pytest.mark.parametrize("model", ["gear_machine.toml", "rubber_mounts.toml"])
 def test_order_labels_name_neighbouring_lines_beside_their_own(model):
     """gear_machine and rubber_mounts, 0-12000 rpm, orders 1-4: the motor's and the gear
@@ -131,7 +103,7 @@ def test_order_labels_name_neighbouring_lines_beside_their_own(model):
     renderer = fig.canvas.get_renderer()
     ax = fig.axes[0]
     frame = ax.get_window_extent(renderer)
-    lines = _order_lines_drawn(ax)
+    lines = {slope: segment for slope, (segment, _) in order_lines(ax).items()}
     multiplier = dict(zip(result.sources.names, result.sources.multipliers))
     assert len(lines) == 4 * len(multiplier)
     # keys above the axes (lines with no room inside them) are checked in test_figure_audit5
@@ -146,12 +118,12 @@ def test_order_labels_name_neighbouring_lines_beside_their_own(model):
         match = re.fullmatch(_ORDER_WORDS, text.get_text())
         if match is None or match["source"] not in multiplier:
             continue
-        mine = {round(o * abs(multiplier[match["source"]]) / 60.0, 9) for o in _named_orders(match["orders"])}
+        mine = {round(o * abs(multiplier[match["source"]]) / 60.0, 9) for o in named_orders(match["orders"])}
         assert mine <= set(lines), text.get_text()
         named |= mine
         assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1, text.get_text()
         centre = np.array([(box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2])
-        nearest = min(lines, key=lambda s: _distance(lines[s], centre))
+        nearest = min(lines, key=lambda s: point_segment_distance(lines[s], centre))
         assert nearest in mine, (text.get_text(), nearest)
         between = [s for s in slopes if min(mine) < s < max(mine) and s not in mine]
         assert not between, (text.get_text(), between)

@@ -20,21 +20,14 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
-from label_geometry import curve_segments, outline, outlines_overlap
+from label_geometry import (curve_segments, named_orders, order_lines, outline, outlines_overlap,
+                            point_segment_distance)
 
 matplotlib.use("Agg")
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 _ORDER_WORDS = r"(?P<orders>\d+(?:\.\d+)?X(?:, \d+(?:\.\d+)?X)*|\d+(?:\.\d+)?\u2013\d+(?:\.\d+)?X) (?P<source>.+)"
-
-
-def _named_orders(words):
-    """Orders a label's prefix names: '1X, 2X' -> [1, 2]; a range '2–4X' -> [2, 3, 4]."""
-    if "\u2013" in words:
-        first, last = (float(w) for w in words.rstrip("X").split("\u2013"))
-        return list(np.arange(first, last + 0.5))
-    return [float(w.rstrip("X")) for w in words.split(", ")]
 
 
 def _curve_through(polygon, segments) -> bool:
@@ -55,25 +48,6 @@ def _curve_through(polygon, segments) -> bool:
     return bool(np.any((low < high) & ~parallel_out))
 
 
-def _order_lines(ax):
-    """{slope [Hz per rpm]: (display segment from the origin to the far end inside the axes, line)}."""
-    lines = {}
-    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
-    for line in ax.get_lines():
-        x, y = (np.asarray(v, float) for v in line.get_data())
-        if len(x) > 2 and x[0] == 0 and y[0] == 0 and y[-1] > 0 and np.allclose(y, y[-1] / x[-1] * x, rtol=1e-9):
-            slope = y[-1] / x[-1]
-            far = min(x1, y1 / slope)
-            lines[round(slope, 9)] = (ax.transData.transform([(0.0, 0.0), (far, slope * far)]), line)
-    return lines
-
-
-def _distance(segment, point):
-    a, b = segment
-    t = np.clip(np.dot(point - a, b - a) / np.dot(b - a, b - a), 0.0, 1.0)
-    return float(np.hypot(*(a + t * (b - a) - point)))
-
-
 @pytest.mark.parametrize("model", ["gear_machine.toml", "rubber_mounts.toml"])
 def test_every_order_line_is_named_beside_itself(model):
     """gear_machine and rubber_mounts, 0-12000 rpm, orders 1-4 (12 order lines: the mesh's
@@ -92,7 +66,7 @@ def test_every_order_line_is_named_beside_itself(model):
     renderer = fig.canvas.get_renderer()
     ax = fig.axes[0]
     frame = ax.get_window_extent(renderer)
-    lines = _order_lines(ax)
+    lines = order_lines(ax)
     multiplier = dict(zip(result.sources.names, result.sources.multipliers))
     assert len(lines) == 4 * len(multiplier)
     texts = [t for t in ax.texts if t.get_visible() and t.get_text()]
@@ -108,12 +82,12 @@ def test_every_order_line_is_named_beside_itself(model):
         match = re.fullmatch(_ORDER_WORDS, text.get_text())
         if match is None or match["source"] not in multiplier:
             continue
-        mine = {round(o * abs(multiplier[match["source"]]) / 60.0, 9) for o in _named_orders(match["orders"])}
+        mine = {round(o * abs(multiplier[match["source"]]) / 60.0, 9) for o in named_orders(match["orders"])}
         assert mine <= set(lines), text.get_text()
         if np.all((corners >= (frame.x0, frame.y0)) & (corners <= (frame.x1, frame.y1))):
             assert not _curve_through(corners, segments), text.get_text()
             centre = corners.mean(axis=0)
-            nearest = min(lines, key=lambda s: _distance(lines[s][0], centre))
+            nearest = min(lines, key=lambda s: point_segment_distance(lines[s][0], centre))
             assert nearest in mine, (text.get_text(), nearest, mine)
         else:                               # a key above the axes, joined to its line's exit
             box = text.get_window_extent(renderer)

@@ -7,7 +7,7 @@ import numpy as np
 from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
-                      font_points, set_if_changed, text_size, _short_orders)
+                      font_points, set_if_changed, text_size, _overlap, _short_orders)
 from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -476,7 +476,7 @@ class _CampbellLabels:
                 left = max(left, right_of)
                 trial = (left, bottom, left + w, bottom + h)
                 if trial[2] <= fig.bbox.x1 - gap and trial[3] <= fig.bbox.y1 - gap / 2 \
-                        and not any(_overlap(trial, o, gap) for o in obstacles):
+                        and not any(_overlap(trial, o, gap, gap) for o in obstacles):
                     box = trial
                     break
             if box is None:
@@ -702,11 +702,6 @@ class _CampbellLabels:
             else:
                 home.append(int(j))
         return sorted(groups, key=lambda g: self.critical[0][g[0]])
-
-
-def _overlap(a, b, gap) -> bool:
-    """Whether the boxes ``a`` and ``b`` (x0, y0, x1, y1) come closer than ``gap``."""
-    return a[0] < b[2] + gap and b[0] < a[2] + gap and a[1] < b[3] + gap and b[1] < a[3] + gap
 
 
 def _unnamed(exits, taken):

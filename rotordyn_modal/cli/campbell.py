@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
+from ._common import (IN_SPEED_UNIT, add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
                       save_figure, show_progress, speeds_option, speeds_text, use_agg,
                       undamped_zeros, write_table)
@@ -53,9 +53,10 @@ LONG_ADVICE = ("ask for the lowest modes only (--lowest N, --max-frequency HZ), 
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--speeds", required=True, help="START:STOP:N speeds of the reference rotor")
+    parser.add_argument("--speeds", required=True, metavar="START:STOP:N",
+                        help=f"speeds of the reference rotor {IN_SPEED_UNIT}")
     add_speed_unit(parser)
-    parser.add_argument("--orders", default="1", help="excitation orders drawn and marked (default 1), e.g. 1,2")
+    parser.add_argument("--orders", default="1", metavar="ORDER[,ORDER]", help="excitation orders drawn and marked (default 1), e.g. 1,2")
     parser.add_argument("--no-critical", action="store_true",
                         help="do not find the critical speeds (the orders are still drawn): large machines "
                              "cross the orders of every rotor and gear mesh many thousand times")

@@ -107,7 +107,7 @@ def add_arguments(parser):
     parser.add_argument("--mcs", metavar="SPEED", help="maximum continuous speed of the reference rotor (same "
                         "unit as --speeds): API 617 probe limits, top of the checked speeds")
     parser.add_argument("--min-speed", metavar="SPEED", help="bottom of the checked speeds of --mcs's and --iso-group's "
-                        "checks, with one of them (default 0)")
+                        "checks, with one of them (same unit as --speeds; default 0)")
     parser.add_argument("--trip-speed", metavar="SPEED", help="top of the speeds of the clearance check (same "
                         "unit as --speeds; default --mcs)")
     parser.add_argument("--min-operating-speed", metavar="SPEED", help="minimum allowable speed (same unit as "

@@ -193,8 +193,8 @@ def parse_range(text: str, option: str, largest: float | None = LARGEST) -> np.n
 
 def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=("LO", "HI"),
                example="0:40", wording="rule", largest: float | None = LARGEST) -> tuple[float, float]:
-    """``LO:HI`` -> (LO, HI): the one parser of the band options (``--freq-range``, ``--operating``,
-    ``--speed-band``, ``--freq-band``), so that each refuses the same inputs the same way.
+    """``LO:HI`` -> (LO, HI): the one parser of the band options (``--freq-range``,
+    ``--operating-range``, ``--freq-band``), so that each refuses the same inputs the same way.
 
     Parameters
     ----------
@@ -209,13 +209,13 @@ def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=(
     low_open : bool
         LO must be greater than ``low`` (True) or may equal it (False).
     names : (str, str)
-        How LO and HI are spelled in the option's ``--help`` (``("LOW", "HIGH")``).
+        How LO and HI are spelled in the option's ``--help`` (every band's is ``LO:HI``).
     example : str
         A valid value, shown when the form is wrong.
     wording : {"rule", "form"}
         How a band out of order or below ``low`` is refused: "rule" echoes the value quoted and
         names the rule (``expected 0 <= LO < HI [Hz]``); "form" echoes it as typed and names the
-        form first (``expected LOW:HIGH in Hz with 0 <= LOW < HIGH``), the wording ``fit`` has used.
+        form first (``expected LO:HI in Hz with 0 <= LO < HI``), the wording ``fit`` has used.
     largest : float or None
         The largest magnitude of LO and HI (None: any finite number).
 

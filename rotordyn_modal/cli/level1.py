@@ -88,13 +88,14 @@ def add_stage_arguments(parser, required: bool = True, speed_option: str = "--mc
     ``report``, where they are optional and the analysis speed is ``--mcs``)."""
     parser.add_argument("--station", action="append", required=required, metavar="ROTOR[@OFFSET]",
                         help="where Q acts (repeat for several stations)")
-    parser.add_argument("--qa", help="anticipated cross-coupling [N/m; lbf/in with --units us], or one per "
+    parser.add_argument("--qa", metavar="Q[,Q]", help="anticipated cross-coupling [N/m; lbf/in with --units us], or one per "
                                      "station (comma list)")
-    parser.add_argument("--power", help="rated power of each stage [W; hp] (comma list)")
-    parser.add_argument("--impeller-diameter", help="impeller (or blade pitch) diameter of each stage [m; in]")
-    parser.add_argument("--restriction-height", help="smaller of diffuser and impeller discharge width "
-                                                     "(turbines: effective blade height) of each stage [m; in]")
-    parser.add_argument("--density-ratio", help="discharge over suction density of each stage (default 1)")
+    parser.add_argument("--power", metavar="P[,P]", help="rated power of each stage [W; hp] (comma list)")
+    parser.add_argument("--impeller-diameter", metavar="D[,D]", help="impeller (or blade pitch) diameter of each stage [m; in]")
+    parser.add_argument("--restriction-height", metavar="H[,H]",
+                        help="smaller of diffuser and impeller discharge width (turbines: effective blade height) "
+                             "of each stage [m; in]")
+    parser.add_argument("--density-ratio", metavar="R[,R]", help="discharge over suction density of each stage (default 1)")
     parser.add_argument("--machine", choices=["compressor", "turbine"], default="compressor",
                         help="B = 3 (compressor) or 1.5 (turbine, no density ratio)")
     parser.add_argument("--operating-speed", metavar="SPEED",

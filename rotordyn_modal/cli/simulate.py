@@ -86,7 +86,7 @@ examples:
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--duration", required=True, help="simulated time [s]")
+    parser.add_argument("--duration", required=True, metavar="T", help="simulated time [s]")
     parser.add_argument("--speed", default="0", metavar="SPEED",
                         help=f"reference rotor speed at t = 0 {IN_SPEED_UNIT} (default 0)")
     add_speed_unit(parser)
@@ -100,11 +100,11 @@ def add_arguments(parser):
     parser.add_argument("--excitation", dest="impulse", metavar="NAME",
                         help="hit this [[excitations]] entry at t = 0 with an impulse of --impulse-size")
     add_alias(parser, "--excitation", "--impulse")
-    parser.add_argument("--impulse-size", default="1", help="impulse [N s] (N m s for a moment), default 1")
+    parser.add_argument("--impulse-size", default="1", metavar="J", help="impulse [N s] (N m s for a moment), default 1")
     parser.add_argument("--samples", type=int, metavar="N", help="number of output times (default: 20 per period of the "
                         "fastest spin or natural frequency)")
-    parser.add_argument("--rtol", default="1e-9", help="relative tolerance of the integrator (default 1e-9)")
-    parser.add_argument("--atol", default="1e-12", help="absolute tolerance of the integrator (default 1e-12)")
+    parser.add_argument("--rtol", default="1e-9", metavar="R", help="relative tolerance of the integrator (default 1e-9)")
+    parser.add_argument("--atol", default="1e-12", metavar="A", help="absolute tolerance of the integrator (default 1e-12)")
     parser.add_argument("--backend", choices=["auto", "numba", "numpy"], default="auto",
                         help="right-hand side: numba-compiled when installed (auto), or plain numpy")
     parser.add_argument("--sensor", metavar="NAME", help="sensor of the run-up figures (default: the first)")

@@ -127,6 +127,7 @@ def add_alias(parser, new: str, *old: str) -> None:
         alias = copy.copy(action)
         alias.option_strings, alias.help, alias.default = [spelling], argparse.SUPPRESS, argparse.SUPPRESS
         alias.alias_of = new
+        alias.__dict__.pop("file_role", None)    # a file option is checked once, by its shown spelling
         group._add_action(alias)
 
 

@@ -204,3 +204,18 @@ def test_the_docs_and_helps_show_no_earlier_spelling():
         seen += 1
         found += [(where, command, w) for w in words if w.split("=")[0].strip("[(") in hidden]
     assert seen >= 100 and found == []
+
+
+def test_a_hidden_spelling_of_a_file_option_is_one_file_option():
+    """An earlier spelling of a file option reads the same file, and the file is checked once
+    (listed twice, an output would be 'the same file' as itself)."""
+    from rotordyn_modal.cli._common import add_alias, add_input_file, add_output_file, file_options
+
+    parser = argparse.ArgumentParser()
+    add_input_file(parser, "--measured", metavar="FILE")
+    add_output_file(parser, "--out", metavar="FILE.csv")
+    add_alias(parser, "--measured", "--data")
+    add_alias(parser, "--out", "--output-file")
+    assert file_options(parser) == {"input": [("measured", "--measured")], "output": [("out", "--out")]}
+    assert vars(parser.parse_args(["--data", "m.uff", "--output-file", "t.csv"])) == {"measured": "m.uff",
+                                                                                      "out": "t.csv"}

@@ -131,13 +131,14 @@ def _drawn(fig):
 
 
 def _labels(ax):
-    """Visible texts of the diagram: (kind, text artist), kind 'mode', 'critical' or 'order'."""
+    """Visible texts of the diagram: (kind, text artist), kind 'mode', 'critical', 'key', 'note'
+    (of the critical speeds left unlabelled) or 'order'."""
     out = []
     for t in ax.texts:
         if not t.get_visible() or not t.get_text():
             continue
         kind = "mode" if MODE_LABEL.match(t.get_text()) else "critical" if t.get_gid() == "critical-label" \
-            else "key" if t.get_gid() == "order-key" else "order"
+            else "key" if t.get_gid() == "order-key" else "note" if t.get_gid() == "critical-note" else "order"
         out.append((kind, t))
     return out
 
@@ -247,6 +248,8 @@ def _check_no_curve_through_a_label(result, ax, labels, anchors, renderer):
             points = anchors[t]
         elif kind == "mode":
             points = _last_points_inside(result, ax, int(MODE_LABEL.match(t.get_text()).group(1)))
+        elif kind == "note":        # no anchor: no curve through it at all
+            points = []
         else:
             points = [p for line in ax.get_lines() if line.get_color() == t.get_color() and len(line.get_xdata()) > 2
                       for p in _exits(line, frame)]

@@ -285,7 +285,9 @@ def _recolour(ax, dashed, collection):
     one's ended (the dash pattern of one line along the stretch)."""
     from matplotlib.collections import LineCollection
 
-    offset, (on, off) = dashed._unscaled_dash_pattern       # as set: in line widths
+    from ._overlap import dash_pattern
+
+    offset, (on, off) = dash_pattern(dashed)       # as set: in line widths
     width = dashed.get_linewidth()
     points = np.column_stack([dashed.get_xdata(), dashed.get_ydata()]).astype(float)
     shown = dashed.get_transform().transform(points) / (ax.figure.dpi / 72.0)        # [points]
@@ -302,8 +304,9 @@ def _recolour(ax, dashed, collection):
 
 
 def _first_segment(collection, point):
-    """Index of the segment of ``collection`` starting at ``point`` (data)."""
-    starts = np.array([s[0] for s in collection.get_segments()])
+    """Index of the segment of ``collection`` starting at ``point`` (data); a segment not drawn
+    (a mode above ``max_frequency`` there: NaN ends, an empty segment) starts nowhere."""
+    starts = np.array([s[0] if len(s) else (np.nan, np.nan) for s in collection.get_segments()], float)
     return int(np.argmin(np.nan_to_num(np.hypot(*(starts - point).T), nan=np.inf)))
 
 

@@ -24,7 +24,7 @@ from label_geometry import curve_segments, outline_crossings
 matplotlib.use("Agg")
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-COUNT = re.compile(r"^(\d+) of (\d+) critical speeds labelled; all in the table / CSV")
+COUNT = re.compile(r"^(\d+) of (\d+) critical speeds labelled \(all in the critical-speeds table\)")
 
 
 def _words(value):

@@ -722,7 +722,7 @@ class _CampbellLabels:
     def _note_texts(self, left):
         """The note's wordings, longest first: the count, then the speeds left unlabelled by mode."""
         total = len(self._in_view())
-        head = f"{total - len(left)} of {total} critical speeds labelled; all in the table / CSV"
+        head = f"{total - len(left)} of {total} critical speeds labelled (all in the critical-speeds table)"
         if len(left) > _MAX_LISTED:
             return [head]
         by_mode = {}

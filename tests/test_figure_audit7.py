@@ -99,3 +99,93 @@ def test_measured_phase_lies_on_its_model_line(gear_frf):
         assert np.all(difference <= 2.0 + 1e-9), (colour, x[difference > 2.0 + 1e-9])
         near_180 += np.sum(np.abs(on_line) > 175.0)
     assert near_180 >= 20
+
+
+def _simulation(n=400, kinetic=None, potential=None, moving=True):
+    """A stand-in for a SimulationResult of two rotors over 0.2 s (``n`` samples): the energies
+    given [J], the stator's and rotors' motion zero unless ``moving``."""
+    import types
+
+    t = np.linspace(0.0, 0.2, n)
+    wave = np.sin(2 * np.pi * 50.0 * t)
+    kinetic = np.zeros(n) if kinetic is None else kinetic
+    potential = np.zeros(n) if potential is None else potential
+    centres = np.zeros((n, 2, 3))
+    displacement = np.zeros((n, 3))
+    if moving:
+        centres[:, 0, 1], centres[:, 0, 2] = 1e-5 * wave, 1e-5 * np.cos(2 * np.pi * 50.0 * t)
+        displacement[:, 2] = 1e-6 * wave
+    return types.SimpleNamespace(time=t, rotor_names=["upper", "lower"], rotor_centers=centres,
+                                 displacement=displacement, gamma=np.zeros((n, 3)),
+                                 rotor_tilts=np.zeros((n, 2, 3)), spin_speed=np.full(n, 314.0),
+                                 kinetic_energy=kinetic, total_energy=kinetic + potential,
+                                 elastic_energy=potential, gravity_energy=np.zeros(n), model_name="test")
+
+
+def _pixels(fig):
+    """The rendered image ``(rows, columns, 3)`` [0-255], row 0 at the top."""
+    fig.canvas.draw()
+    return np.asarray(fig.canvas.buffer_rgba())[:, :, :3].astype(float)
+
+
+def _near(pixels, colour, tolerance=60.0):
+    """Whether each pixel is within ``tolerance`` (RGB distance) of ``colour``."""
+    rgb = 255.0 * np.asarray(matplotlib.colors.to_rgb(colour))
+    return np.linalg.norm(pixels - rgb, axis=-1) < tolerance
+
+
+def test_total_energy_shows_where_it_lies_on_the_potential_energy():
+    """A rotor on journal bearings at constant speed: the kinetic energy stays constant, the
+    total energy equals the potential energy. The total (dashed) was drawn under the
+    potential's line and hidden there (journal_rotor.toml, --speed 3000 --duration 0.2): along
+    the potential's curve the total's colour shows."""
+    from rotordyn_modal.plotting.simulation import plot_simulation
+
+    t = np.linspace(0.0, 0.2, 400)
+    potential = -0.002 * (1.0 - np.cos(2 * np.pi * 50.0 * t))
+    fig = plot_simulation(_simulation(potential=potential))
+    ax, = [a for a in fig.axes if a.get_title() == "Energy"]
+    total = [line for line in ax.get_lines() if "total" in line.get_label()][0]
+    image = _pixels(fig)
+    height = image.shape[0]
+    shown = 0
+    for k in range(20, 400, 40):
+        x, y = ax.transData.transform((t[k], potential[k]))
+        window = image[int(height - y) - 3:int(height - y) + 4, int(x) - 12:int(x) + 13]
+        shown += _near(window, total.get_color()).sum() >= 4
+    assert shown >= 8, shown
+
+
+def test_motion_that_is_zero_throughout_is_shown_and_named():
+    """A machine that does not move (counter_rotating.toml run up: balanced, no stator motion):
+    each rotor's path of no length is drawn as a point (rings of their own sizes, both
+    visible at one place) named 'no motion'; the stator's rotation and translations, zero
+    throughout, lie on each other on the zero line and each legend entry says so. Before, the
+    path panel was empty and the four zero curves showed as one."""
+    from rotordyn_modal.plotting.simulation import plot_simulation
+
+    fig = plot_simulation(_simulation(moving=False))
+    fig.canvas.draw()
+    paths, frame = fig.axes[0], fig.axes[1]
+    drawn = [line for line in paths.get_lines() if line.get_visible()]
+    assert len(drawn) == 2
+    sizes = set()
+    for line in drawn:
+        assert line.get_marker() not in (None, "None", "", " ") and "no motion" in line.get_label()
+        sizes.add(line.get_markersize())
+    assert len(sizes) == 2                                 # one ring does not hide the other
+    named = [text.get_text() for text in frame.get_legend().get_texts()]
+    assert len(named) == 4 and all("0 throughout" in name for name in named), named
+
+
+def test_motion_that_is_not_zero_is_not_called_zero():
+    """The same figure for a machine that moves: its paths are lines, no legend says '0
+    throughout' of a curve that is not (the stator's u_z moves, its rotation does not)."""
+    from rotordyn_modal.plotting.simulation import plot_simulation
+
+    fig = plot_simulation(_simulation(moving=True))
+    paths, frame = fig.axes[0], fig.axes[1]
+    moving = [line for line in paths.get_lines() if "upper" in line.get_label()][0]
+    assert moving.get_linestyle() == "-" and "no motion" not in moving.get_label()
+    named = {text.get_text().split(" [")[0].split(":")[0]: text.get_text() for text in frame.get_legend().get_texts()}
+    assert "0 throughout" not in named["u_z"] and "0 throughout" in named["u_x"], named

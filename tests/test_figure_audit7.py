@@ -189,3 +189,65 @@ def test_motion_that_is_not_zero_is_not_called_zero():
     assert moving.get_linestyle() == "-" and "no motion" not in moving.get_label()
     named = {text.get_text().split(" [")[0].split(":")[0]: text.get_text() for text in frame.get_legend().get_texts()}
     assert "0 throughout" not in named["u_z"] and "0 throughout" in named["u_x"], named
+
+
+_TOLERANCE = {"seed": 3, "samples": 6, "design": "latin-hypercube",
+              "parameters": [{"key": "suspensions.mount-FL.stiffness", "apply": "scale", "distribution": "uniform",
+                              "low": 0.85, "high": 1.15}],
+              "analyses": {"campbell": {"speeds_rpm": "0:6000:7", "orders": [1]}}}
+
+
+@pytest.fixture(scope="module")
+def tolerance_study():
+    """The gear machine under a +-15 % tolerance of one mount (6 variants, 7 speeds): a
+    Campbell sweep and no critical-speed analysis."""
+    return rdm.study(rdm.load_model(EXAMPLES / "gear_machine.toml"), _TOLERANCE)
+
+
+def _legend_colours(ax):
+    """{label: RGB} of each legend entry as drawn: a line's colour, a filled patch's face, an
+    unfilled (hatched) patch's edge."""
+    colours = {}
+    for handle, text in zip(ax.get_legend().legend_handles, ax.get_legend().get_texts()):
+        if hasattr(handle, "get_facecolor") and not hasattr(handle, "get_xdata"):
+            face = handle.get_facecolor()
+            colour = face if face[3] > 0 else handle.get_edgecolor()
+        else:
+            colour = handle.get_color()
+        colours[text.get_text()] = matplotlib.colors.to_hex(colour, keep_alpha=False)
+    return colours
+
+
+def test_study_operating_band_is_not_coloured_as_a_mode(tolerance_study):
+    """`study --plot` with an operating band: the band was shaded in orange, mode 2's colour (its
+    median line and its 5-95 % band), so the band read as a mode's band. Every legend entry
+    has a colour of its own."""
+    fig = tolerance_study.plot_campbell(band_rpm=(3400.0, 3700.0))
+    colours = _legend_colours(fig.axes[0])
+    assert "operating band" in colours and "mode 2" in colours
+    assert len(set(colours.values())) == len(colours), colours
+
+
+def test_study_figure_of_an_analysis_not_run_is_one_clear_line(tolerance_study, tmp_path, capsys):
+    """A figure of an analysis the study file does not run: the histograms of a study without
+    critical speeds failed with 'KeyError: No variable named critical_speed' (exit 1) after
+    the whole study was computed; the function refuses it in words, and the command before
+    any work (exit 2, no results, no checkpoint)."""
+    import json
+
+    from rotordyn_modal.cli.main import main
+    from rotordyn_modal.errors import InputError
+
+    with pytest.raises(InputError, match="critical_speeds"):
+        tolerance_study.plot_critical_histograms()
+    spec = tmp_path / "tolerance.study.toml"
+    spec.write_text("\n".join([
+        "seed = 3", "samples = 6", "[[parameters]]", 'key = "suspensions.mount-FL.stiffness"', 'apply = "scale"',
+        'distribution = "uniform"', "low = 0.85", "high = 1.15", "[analyses.campbell]",
+        f"speeds_rpm = {json.dumps('0:6000:7')}"]))
+    out = tmp_path / "r.nc"
+    code = main(["study", str(EXAMPLES / "gear_machine.toml"), "--spec", str(spec), "--out", str(out),
+                 "--plot-histogram", str(tmp_path / "h.png"), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2 and "--plot-histogram" in err and "critical_speeds" in err and len(err.splitlines()) == 1, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["tolerance.study.toml"]

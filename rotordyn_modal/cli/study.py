@@ -94,6 +94,7 @@ def run(args) -> int:
     _check_options(args)
     model = load_model(args.model)
     definition = read_study(args.spec, model)
+    _check_figures(args, definition)
     band = definition.operating_band_rpm if args.band is None else \
         parse_band(args.band, "--speed-band", "rpm", low=None, names=("LOW", "HIGH"), example="2700:3300")
     folder = checkpoint_folder(args.out)  # both follow links: one lock and checkpoint however
@@ -111,6 +112,19 @@ def run(args) -> int:
         except (OutputError, OutputWriteError) as error:
             raise _kept_chunks(error, folder) from None
     return 0
+
+
+#: the analysis each figure draws
+_FIGURE_ANALYSES = {"plot": "campbell", "plot_histogram": "critical_speeds", "plot_map": "stability"}
+
+
+def _check_figures(args, definition):
+    """Refuse, before the work, a figure of an analysis the study file does not run (it failed
+    once the study was computed, with an internal error)."""
+    for option, analysis in _FIGURE_ANALYSES.items():
+        if getattr(args, option) and analysis not in definition.analyses:
+            raise InputError(f"--{option.replace('_', '-')} draws the '{analysis}' analysis, which {args.spec} "
+                             f"does not run (add [analyses.{analysis}], docs/study-file.md)")
 
 
 def _compute(model, definition, args, folder):

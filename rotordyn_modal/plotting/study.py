@@ -12,9 +12,29 @@ from ._style import new_figure, speed_label, speed_scale
 __all__ = ["plot_study_campbell", "plot_critical_histograms", "plot_study_stability_map", "plot_sensitivity"]
 
 
+#: the figure each analysis of a study file draws: a figure asked of a study without its analysis
+#: is refused with this line (the command checks it before the work)
+FIGURE_ANALYSES = {"plot_study_campbell": ("campbell", "frequency_hz"),
+                   "plot_critical_histograms": ("critical_speeds", "critical_speed"),
+                   "plot_study_stability_map": ("stability", "instability_speed")}
+
+
+def _needs(result, figure):
+    """Refuse (InputError) to draw ``figure`` of a study that did not run its analysis."""
+    from ..errors import InputError
+
+    analysis, variable = FIGURE_ANALYSES[figure]
+    if variable not in result.dataset:
+        raise InputError(f"{figure}: the study has no '{analysis}' analysis (add [analyses.{analysis}] "
+                         f"to the study file, docs/study-file.md)")
+
+
 def _band(ax, band_rpm, scale_rpm, label="operating band"):
+    """The operating band, hatched grey: a band filled in orange took mode 2's colour (its
+    percentile band) and read as one of the modes' bands."""
     if band_rpm is not None:
-        ax.axvspan(band_rpm[0] * scale_rpm, band_rpm[1] * scale_rpm, color="tab:orange", alpha=0.2, label=label)
+        ax.axvspan(band_rpm[0] * scale_rpm, band_rpm[1] * scale_rpm, facecolor=(0.75, 0.75, 0.75, 0.25),
+                   edgecolor="0.55", hatch="//", linewidth=0.0, label=label, zorder=0.5)
 
 
 def plot_study_campbell(result, percentiles=(5.0, 95.0), band_rpm=None, speed_unit: str = "rpm",
@@ -37,6 +57,7 @@ def plot_study_campbell(result, percentiles=(5.0, 95.0), band_rpm=None, speed_un
     -------
     matplotlib.figure.Figure
     """
+    _needs(result, "plot_study_campbell")
     ds = result.dataset
     fig, ax = new_figure(ax)
     x = ds["speed"].values * speed_scale(speed_unit)
@@ -119,6 +140,7 @@ def plot_critical_histograms(result, band_rpm=None, bins: int = 25, max_crossing
     import matplotlib.pyplot as plt
     from matplotlib.ticker import MaxNLocator
 
+    _needs(result, "plot_critical_histograms")
     ds = result.dataset
     speeds = np.abs(ds["critical_speed"].values[~result.failed]) * 30 / np.pi  # (variant, crossing) rpm
     present = np.isfinite(speeds).mean(axis=0) >= min_fraction
@@ -144,7 +166,7 @@ def plot_critical_histograms(result, band_rpm=None, bins: int = 25, max_crossing
     for ax in axes.flat:            # counts: whole numbers (a few variants got ticks at 0.5)
         ax.yaxis.set_major_locator(MaxNLocator(integer=True))
     fig.suptitle(title or f"Critical speeds over {int((~result.failed).sum())} variants"
-                 + ("" if band_rpm is None else " (shaded: operating band)"))
+                 + ("" if band_rpm is None else " (hatched: operating band)"))
     return fig
 
 
@@ -183,6 +205,7 @@ def plot_study_stability_map(result, x: str | None = None, y: str | None = None,
     """
     from ..errors import InputError
 
+    _needs(result, "plot_study_stability_map")
     ds = result.dataset
     scales = scales or {}
     grid = [str(p) for p, g in zip(ds["parameter"].values, ds["parameter_is_grid"].values) if g]

@@ -251,3 +251,29 @@ def test_study_figure_of_an_analysis_not_run_is_one_clear_line(tolerance_study, 
     err = capsys.readouterr().err
     assert code == 2 and "--plot-histogram" in err and "critical_speeds" in err and len(err.splitlines()) == 1, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["tolerance.study.toml"]
+
+
+def test_study_map_axis_of_set_values_names_its_unit(tmp_path, monkeypatch):
+    """`study --plot-map` over a grid of values set on a key (bearing damping [N s/m]): the axis
+    named the key without its unit in SI (only --units us named one); a factor (apply =
+    'scale') stays a bare name."""
+    import matplotlib.figure
+
+    from rotordyn_modal.cli.main import main
+
+    spec = tmp_path / "map.study.toml"
+    spec.write_text("\n".join([
+        "[[parameters]]", 'name = "damping"',
+        'keys = ["suspensions.bearing-A.damping[1]", "suspensions.bearing-A.damping[2]",',
+        '        "suspensions.bearing-B.damping[1]", "suspensions.bearing-B.damping[2]"]', "values = [200.0, 400.0]",
+        "[[parameters]]", 'name = "cross-coupling factor"',
+        'keys = ["suspensions.bearing-A.stiffness[1][2]", "suspensions.bearing-B.stiffness[1][2]"]',
+        "scale = [0.5, 1.0]", "[analyses.stability]", 'speeds_rpm = "0:30000:4"']))
+    drawn = []
+    save = matplotlib.figure.Figure.savefig
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig",
+                        lambda fig, *a, **k: (drawn.append((fig.axes[0].get_xlabel(), fig.axes[0].get_ylabel())),
+                                              save(fig, *a, **k))[1])
+    code = main(["study", str(EXAMPLES / "unstable_cross_coupled.toml"), "--spec", str(spec),
+                 "--out", str(tmp_path / "map.nc"), "--plot-map", str(tmp_path / "map.png"), "--quiet"])
+    assert code == 0 and drawn == [("damping [N s/m]", "cross-coupling factor")], drawn

@@ -108,7 +108,8 @@ def run(args) -> int:
                 _write(result, args, folder, kinds)
                 if not args.quiet:
                     _report(result, band, kinds)
-                _plots(result, args, band, kinds)
+                # the map's axes name a set value's unit in SI too
+                _plots(result, args, band, _Kinds(_column_kinds(result, definition, model, "us"), args.units))
         except (OutputError, OutputWriteError) as error:
             raise _kept_chunks(error, folder) from None
     return 0

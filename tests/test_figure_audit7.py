@@ -277,3 +277,39 @@ def test_study_map_axis_of_set_values_names_its_unit(tmp_path, monkeypatch):
     code = main(["study", str(EXAMPLES / "unstable_cross_coupled.toml"), "--spec", str(spec),
                  "--out", str(tmp_path / "map.nc"), "--plot-map", str(tmp_path / "map.png"), "--quiet"])
     assert code == 0 and drawn == [("damping [N s/m]", "cross-coupling factor")], drawn
+
+
+def test_runup_waterfall_legend_hides_no_critical_speed(monkeypatch):
+    """The waterfall's legend ('critical speeds (Campbell)') stood in the upper right corner,
+    where the highest critical speeds' circles lie (fan_on_bearings.toml run up to 9000 rpm:
+    mode 12 at 131 Hz and 7885 rpm under the legend's box). No circle's centre lies in a
+    legend's box."""
+    import types
+
+    from rotordyn_modal.analysis.critical_speeds import CriticalSpeeds
+    from rotordyn_modal.plotting.simulation import plot_runup
+    from rotordyn_modal.simulation import runup
+
+    speeds = rdm.rpm(np.linspace(0.0, 9000.0, 31))
+    track = runup.OrderTrack(speeds, 1e-6 * np.ones(31), np.zeros(31), "probe", "fan", 1.0)
+    fall = runup.Waterfall(speeds, np.linspace(0.0, 200.0, 41), np.full((31, 41), 1e-9), "probe")
+    monkeypatch.setattr(runup, "order_track", lambda *args, **kwargs: track)
+    monkeypatch.setattr(runup, "waterfall", lambda *args, **kwargs: fall)
+    t = np.linspace(0.0, 1.0, 500)
+    result = types.SimpleNamespace(drive_speed=np.linspace(speeds[0], speeds[-1], 500), rotor_names=["fan"],
+                                   model_name="test", sensor=lambda name: 1e-6 * np.sin(3000 * t))
+    at = rdm.rpm(np.array([1000.0, 7885.0, 8500.0]))
+    hz = np.array([10.0, 131.0, 170.0])
+    critical = CriticalSpeeds(np.array(["fan"] * 3), np.ones(3), np.arange(1, 4), at, hz,
+                              np.array(["forward"] * 3), np.ones(3), np.full(3, 0.01))
+    fig = plot_runup(result, "probe", critical=critical)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax, = [a for a in fig.axes if a.get_title() == "Waterfall"]
+    circles, = [line for line in ax.get_lines() if line.get_marker() == "o"]
+    centres = ax.transData.transform(np.column_stack([circles.get_xdata(), circles.get_ydata()]))
+    inside = ax.get_window_extent(renderer)
+    assert all(inside.contains(*c) for c in centres)               # all three drawn in the panel
+    for legend in [a.get_legend() for a in fig.axes if a.get_legend()] + fig.legends:
+        box = legend.get_window_extent(renderer)
+        assert not any(box.contains(*c) for c in centres), legend.get_texts()[0].get_text()

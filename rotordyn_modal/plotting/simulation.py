@@ -203,9 +203,9 @@ def _draw_waterfall(fig, ax, fall, result, critical, sensor, shown=(1e6, "µm"))
     ax.set(xlabel="Frequency [Hz]", ylabel="Speed of the reference rotor [rpm]", title="Waterfall",
            xlim=(0, _waterfall_limit(fall, critical)))
     if critical is not None and len(critical):
-        ax.plot(critical.frequencies_hz, critical.speeds * rpm, "o", mfc="none", color="tab:red",
-                label="critical speeds (Campbell)")
-        ax.legend(fontsize="small", loc="upper right")
+        points = ax.plot(critical.frequencies_hz, critical.speeds * rpm, "o", mfc="none", color="tab:red",
+                         label="critical speeds (Campbell)")
+        _legend_below(ax, points)     # inside, its box hid the highest critical speeds' circles
 
 
 def _waterfall_limit(fall, critical) -> float:

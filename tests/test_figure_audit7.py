@@ -313,3 +313,29 @@ def test_runup_waterfall_legend_hides_no_critical_speed(monkeypatch):
     for legend in [a.get_legend() for a in fig.axes if a.get_legend()] + fig.legends:
         box = legend.get_window_extent(renderer)
         assert not any(box.contains(*c) for c in centres), legend.get_texts()[0].get_text()
+
+
+def test_sensitivity_first_order_marks_are_told_from_the_error_bars():
+    """The Sobol chart (`study --plot-sensitivity`, mount_sobol.study.toml) marked S1 with a black
+    '|' on the black line of ST's standard error, where it read as the error bar's end. The S1
+    marks differ from the error bars in colour, and the legend names both."""
+    import pandas as pd
+    from matplotlib.container import ErrorbarContainer
+
+    from rotordyn_modal.plotting.study import plot_sensitivity
+
+    table = pd.DataFrame({"output": ["f1", "f1", "f2", "f2"], "parameter": ["mass", "mounts"] * 2,
+                          "S1": [0.12, 0.40, 0.05, 0.70], "ST": [0.10, 0.45, 0.06, 0.75],
+                          "S1_se": [0.02] * 4, "ST_se": [0.03] * 4})
+    fig = plot_sensitivity(table)
+    ax = fig.axes[0]
+    marks = [line for line in ax.get_lines() if line.get_linestyle() in ("None", "", " ") and len(line.get_xdata()) == 2]
+    assert len(marks) == 2 and all(np.allclose(np.sort(m.get_xdata()), np.sort(table[table.parameter == p].S1))
+                                   for m, p in zip(marks, ("mass", "mounts")))
+    bars = [c for c in ax.containers if isinstance(c, ErrorbarContainer)]
+    error_colours = {matplotlib.colors.to_hex(c.lines[2][0].get_color()[0]) for c in bars}
+    assert len(bars) == 2 and error_colours
+    for mark in marks:
+        assert matplotlib.colors.to_hex(mark.get_color()) not in error_colours
+    named = " ".join(t.get_text() for t in ax.get_legend().get_texts())
+    assert "S1" in named and "standard error" in named, named

@@ -236,6 +236,23 @@ def plot_study_stability_map(result, x: str | None = None, y: str | None = None,
     return fig
 
 
+#: colour of the sensitivity bars' standard errors (grey: apart from the black S1 diamonds)
+_ERROR_COLOUR = "0.45"
+
+
+def _index_keys(column, table):
+    """Legend entries of the sensitivity chart's marks: the S1 diamond, the standard error."""
+    from matplotlib.lines import Line2D
+
+    keys = []
+    if column == "ST":
+        keys.append(Line2D([], [], ls="none", marker="D", color="k", markeredgecolor="w", markersize=4.5,
+                           label="first order index S1"))
+    if f"{column}_se" in table:
+        keys.append(Line2D([], [], color=_ERROR_COLOUR, lw=1.0, label="\u00b1 standard error"))
+    return keys
+
+
 def plot_sensitivity(table, outputs=None, max_outputs: int = 6, ax=None, title: str | None = None):
     """Bar chart of sensitivity indices, grouped by output.
 
@@ -263,16 +280,20 @@ def plot_sensitivity(table, outputs=None, max_outputs: int = 6, ax=None, title: 
         rows = table[table["parameter"] == parameter].set_index("output").reindex(names)
         position = np.arange(len(names)) + j * height
         error = rows[f"{column}_se"].values if f"{column}_se" in rows else None
-        ax.barh(position, rows[column].values, height=height, xerr=error, label=parameter)
-        if column == "ST":
-            ax.plot(rows["S1"].values, position, "k|", markersize=8)
+        ax.barh(position, rows[column].values, height=height, xerr=error, label=parameter,
+                error_kw={"ecolor": _ERROR_COLOUR, "elinewidth": 1.0})
+        if column == "ST":      # a diamond: a black '|' on the black error bar read as its end
+            ax.plot(rows["S1"].values, position, "D", color="k", markeredgecolor="w", markersize=4.5,
+                    gid="first-order")
     ax.set_yticks(np.arange(len(names)) + 0.4 - height / 2, names, fontsize="small")
     ax.invert_yaxis()
     ax.axvline(0.0, color="k", linewidth=0.8)
-    ax.set_xlabel({"ST": "total Sobol index ST (| marks first order S1)",
+    ax.set_xlabel({"ST": "total Sobol index ST (\u25c6 first order index S1)",
                    "SRC": "standardised regression coefficient"}[column])
     ax.set_title(title or "Sensitivity of each output to each parameter")
+    handles, _ = ax.get_legend_handles_labels()
+    handles += _index_keys(column, table)
     # below the axes: inside ('best') it covered the longest bars
-    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1 if len(names) > 2 else -0.25),
-              ncols=2, frameon=False)
+    ax.legend(handles=handles, fontsize="x-small", loc="upper center",
+              bbox_to_anchor=(0.5, -0.1 if len(names) > 2 else -0.25), ncols=2, frameon=False)
     return fig

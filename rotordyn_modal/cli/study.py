@@ -68,9 +68,9 @@ def add_arguments(parser):
                         help="operating speed band [rpm]: report P(critical speed inside) (default: the study "
                              "file's; --band is the same)")
     add_output_file(parser, "--table", metavar="FILE.csv", help="write the per-variant table as CSV")
-    add_output_file(parser, "--plot", metavar="FILE.png", help="Campbell diagram with tolerance bands")
-    add_output_file(parser, "--plot-histogram", metavar="FILE.png", help="histograms of the critical speeds")
-    add_output_file(parser, "--plot-map", metavar="FILE.png", help="stability map over a two-parameter grid")
+    add_output_file(parser, "--plot", metavar="FILE.png", help="Campbell diagram with tolerance bands (needs [analyses.campbell])")
+    add_output_file(parser, "--plot-histogram", metavar="FILE.png", help="histograms of the critical speeds (needs [analyses.critical_speeds])")
+    add_output_file(parser, "--plot-map", metavar="FILE.png", help="stability map over a two-parameter grid (needs [analyses.stability])")
     add_output_file(parser, "--plot-sensitivity", metavar="FILE.png", help="sensitivity bar chart")
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no summary on the terminal")
     add_verbose(parser, "also: each chunk as it is computed or resumed, checkpoint files discarded, peak memory")

@@ -69,9 +69,9 @@ def add_arguments(parser):
                              "file's operating_band_rpm)")
     add_alias(parser, "--operating-range", "--speed-band", "--band")
     add_output_file(parser, "--table", metavar="FILE.csv", help="write the per-variant table as CSV")
-    add_output_file(parser, "--plot", metavar="FILE.png", help="Campbell diagram with tolerance bands")
-    add_output_file(parser, "--plot-histogram", metavar="FILE.png", help="histograms of the critical speeds")
-    add_output_file(parser, "--plot-map", metavar="FILE.png", help="stability map over a two-parameter grid")
+    add_output_file(parser, "--plot", metavar="FILE.png", help="Campbell diagram with tolerance bands (needs [analyses.campbell])")
+    add_output_file(parser, "--plot-histogram", metavar="FILE.png", help="histograms of the critical speeds (needs [analyses.critical_speeds])")
+    add_output_file(parser, "--plot-map", metavar="FILE.png", help="stability map over a two-parameter grid (needs [analyses.stability])")
     add_output_file(parser, "--plot-sensitivity", metavar="FILE.png", help="sensitivity bar chart")
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no summary on the terminal")
     add_verbose(parser, "also: each chunk as it is computed or resumed, checkpoint files discarded, peak memory")
@@ -95,6 +95,7 @@ def run(args) -> int:
     _check_options(args)
     model = load_model(args.model)
     definition = read_study(args.spec, model)
+    _check_figures(args, definition)
     band = definition.operating_band_rpm if args.band is None else \
         parse_band(args.band, as_typed(args, "--operating-range"), "rpm", low=None, example="2700:3300")
     folder = checkpoint_folder(args.out)  # both follow links: one lock and checkpoint however
@@ -108,10 +109,24 @@ def run(args) -> int:
                 _write(result, args, folder, kinds)
                 if not args.quiet:
                     _report(result, band, kinds)
-                _plots(result, args, band, kinds)
+                # the map's axes name a set value's unit in SI too
+                _plots(result, args, band, _Kinds(_column_kinds(result, definition, model, "us"), args.units))
         except (OutputError, OutputWriteError) as error:
             raise _kept_chunks(error, folder) from None
     return 0
+
+
+#: the analysis each figure draws
+_FIGURE_ANALYSES = {"plot": "campbell", "plot_histogram": "critical_speeds", "plot_map": "stability"}
+
+
+def _check_figures(args, definition):
+    """Refuse, before the work, a figure of an analysis the study file does not run (it failed
+    once the study was computed, with an internal error)."""
+    for option, analysis in _FIGURE_ANALYSES.items():
+        if getattr(args, option) and analysis not in definition.analyses:
+            raise InputError(f"--{option.replace('_', '-')} draws the '{analysis}' analysis, which {args.spec} "
+                             f"does not run (add [analyses.{analysis}], docs/study-file.md)")
 
 
 def _compute(model, definition, args, folder):

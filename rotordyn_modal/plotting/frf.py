@@ -340,11 +340,47 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0):
         if measured is not None and o in measured.outputs and i in measured.inputs:
             hm = measured.H[measured.outputs.index(o), measured.inputs.index(i)] * factor
             mag.semilogy(measured.frequencies_hz, np.abs(hm), ".", ms=2.5, color=colour, alpha=0.5)
-            phase.plot(measured.frequencies_hz, np.degrees(np.angle(hm)), ".", ms=2.5, color=colour, alpha=0.5)
+            phase.plot(measured.frequencies_hz, _phase_beside(np.degrees(np.angle(hm)), measured.frequencies_hz,
+                                                               phase_values, result.frequencies_hz),
+                       ".", ms=2.5, color=colour, alpha=0.5)
         mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=name)
-        phase.plot(result.frequencies_hz, phase_values, color=colour, ls=style, lw=0.9)
+        phase.plot(*_broken_at_wraps(result.frequencies_hz, phase_values), color=colour, ls=style, lw=0.9)
     _limit_range(mag)
     _frequency_scale(mag, result.frequencies_hz)
+
+
+#: degrees a measured phase may stand beyond +-180 to lie beside its model line (the phase
+#: panel's limits leave this room)
+_PHASE_MARGIN = 30.0
+
+
+def _broken_at_wraps(frequencies, degrees):
+    """``(frequencies, degrees)`` with a NaN point between neighbours whose phases [deg] differ by
+    more than 180 (the phase wraps from -180 to 180 there): the line is broken at a wrap
+    instead of running across the panel, where it read as a curve of its own."""
+    degrees = np.asarray(degrees, float)
+    wraps = np.nonzero(np.abs(np.diff(degrees)) > 180.0)[0] + 1
+    return (np.insert(np.asarray(frequencies, float), wraps, np.nan), np.insert(degrees, wraps, np.nan))
+
+
+def _phase_beside(degrees, frequencies, model_degrees, model_frequencies):
+    """Measured phases [deg] each turned by whole turns to lie within 180 deg of the model's
+    phase at the nearest model frequency (as drawn where that is NaN: round-off): a measurement
+    that agrees with the model stays on its line where the phase is near +-180 deg, where
+    the noise otherwise throws half the dots to the panel's other edge."""
+    model = np.asarray(model_degrees, float)
+    f = np.asarray(model_frequencies, float)
+    if not np.isfinite(model).any() or f.size == 0:
+        return degrees
+    order = np.argsort(f)
+    nearest = order[np.clip(np.searchsorted(f[order], frequencies), 0, len(f) - 1)]
+    before = order[np.clip(np.searchsorted(f[order], frequencies) - 1, 0, len(f) - 1)]
+    nearest = np.where(np.abs(f[before] - frequencies) < np.abs(f[nearest] - frequencies), before, nearest)
+    reference = model[nearest]
+    turns = np.where(np.isfinite(reference), np.round((reference - degrees) / 360.0), 0.0)
+    turned = degrees + 360.0 * turns
+    # a dot far from its line (a measured resonance off the model's) keeps its place in the panel
+    return np.where(np.abs(turned) <= 180.0 + _PHASE_MARGIN, turned, degrees)
 
 
 def _frequency_scale(ax, frequencies):

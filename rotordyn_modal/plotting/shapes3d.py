@@ -933,11 +933,22 @@ def _title(view):
             f"ζ = {view.damping_ratio:.4f}, {whirl}, {rpm:.0f} rpm")
 
 
+def _displaced_kinds(view):
+    """``[(colour, words), ...]``: the colours the displaced bodies are drawn in, each once, with
+    what it marks (the stator and its brackets; the rotors), in the order of the bodies."""
+    words = {"tab:blue": "stator", "tab:orange": "rotors"}
+    colours = [_BODY_COLOURS[body.kind] for body in view.outline.bodies]
+    if len(view.outline.brackets):
+        colours.append("tab:blue")
+    return [(colour, words[colour]) for colour in dict.fromkeys(colours)]
+
+
 def _legend(ax, view, orbits):
     from matplotlib.lines import Line2D
 
-    handles = [Line2D([], [], color="0.55", linestyle="--", label="at rest"),
-               Line2D([], [], color="tab:blue", label="displaced (exaggerated)")]
+    handles = [Line2D([], [], color="0.55", linestyle="--", label="at rest")]
+    handles += [Line2D([], [], color=colour, label=f"{words} displaced (exaggerated)")
+                for colour, words in _displaced_kinds(view)]
     if orbits:
         handles.append(Line2D([], [], color="tab:red", marker=">", label="orbit; arrow: direction of motion"))
     if view.speed != 0 and any(b.kind in ("rotor", "shaft") for b in view.outline.bodies):

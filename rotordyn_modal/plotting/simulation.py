@@ -43,8 +43,12 @@ def _draw_paths(ax, result, scale=None):
     or None: µm, mm or m, whichever writes them without an offset multiplier)."""
     paths = [result.rotor_centers[:, j] - result.rotor_centers[0, j] for j in range(len(result.rotor_names))]
     factor, unit = scale or _length_unit(max([float(np.abs(p[:, 1:]).max(initial=0.0)) for p in paths] or [0.0]))
-    for name, path in zip(result.rotor_names, paths):
-        ax.plot(path[:, 1] * factor, path[:, 2] * factor, lw=0.8, label=name)
+    for k, (name, path) in enumerate(zip(result.rotor_names, paths)):
+        if np.ptp(path[:, 1:], axis=0).any():
+            ax.plot(path[:, 1] * factor, path[:, 2] * factor, lw=0.8, label=name)
+        else:   # a path of no length draws nothing: its point, rings of growing size (rotors at one place)
+            ax.plot(path[:1, 1] * factor, path[:1, 2] * factor, "o", fillstyle="none", ms=6 + 4 * k,
+                    label=f"{name} (no motion)")
     ax.set(xlabel=f"y displacement of the rotor centre [{unit}]", ylabel=f"z displacement [{unit}]",
            title="Path of the rotors' centres (y-z)")
     ax.set_aspect("equal", adjustable="datalim")
@@ -64,7 +68,8 @@ def _draw_frame_motion(ax, result, scale=None):
     t = result.time
     lines = []
     if result.displacement.any() or not result.rotor_tilts.any():
-        lines += ax.plot(t, np.degrees(np.linalg.norm(result.gamma, axis=1)), label="|γ| transverse rotation [deg]")
+        gamma = np.degrees(np.linalg.norm(result.gamma, axis=1))
+        lines += ax.plot(t, gamma, label=_zero_note("|γ| transverse rotation [deg]", gamma))
     for j, name in enumerate(result.rotor_names):
         if result.rotor_tilts[:, j].any():
             lines += ax.plot(t, np.degrees(np.linalg.norm(result.rotor_tilts[:, j], axis=1)), lw=0.8,
@@ -75,9 +80,15 @@ def _draw_frame_motion(ax, result, scale=None):
         factor, unit = scale or _length_unit(float(np.abs(result.displacement).max(initial=0.0)))
         for k, axis in enumerate("xyz"):
             lines += right.plot(t, result.displacement[:, k] * factor, lw=0.8, ls="--", color=f"C{k + 1 + len(lines)}",
-                                label=f"u_{axis} [{unit}]")
+                                label=_zero_note(f"u_{axis} [{unit}]", result.displacement[:, k]))
         right.set_ylabel(f"Translation [{unit}]")
     _legend_below(ax, lines)
+
+
+def _zero_note(label, values):
+    """``label``, saying '0 throughout' where ``values`` are all zero: such curves lie on each
+    other along the zero line, where only the last drawn shows."""
+    return f"{label}: 0 throughout" if not np.any(values) else label
 
 
 def _draw_spin(ax, result):
@@ -91,9 +102,10 @@ def _draw_energy(ax, result):
     t = result.time
     potential = result.elastic_energy + result.gravity_energy
     ax.plot(t, result.kinetic_energy - result.kinetic_energy[0], label="1: change of kinetic energy")
-    ax.plot(t, result.total_energy - result.total_energy[0], ls="--", label="2: change of total energy")  # over 1 when 3 is 0
+    # dashed and on top: it lies on 1 where 3 stays 0, on 3 where 1 does (a rotor at constant speed)
+    ax.plot(t, result.total_energy - result.total_energy[0], ls="--", label="2: change of total energy", zorder=2.5)
     ax.plot(t, potential - potential[0], label="3: change of potential energy")
-    ax.set(xlabel="Time [s]", ylabel="[J]", title="Energy")
+    ax.set(xlabel="Time [s]", ylabel="Energy change [J]", title="Energy")
     _legend_below(ax, ax.get_lines())
 
 
@@ -191,9 +203,9 @@ def _draw_waterfall(fig, ax, fall, result, critical, sensor, shown=(1e6, "µm"))
     ax.set(xlabel="Frequency [Hz]", ylabel="Speed of the reference rotor [rpm]", title="Waterfall",
            xlim=(0, _waterfall_limit(fall, critical)))
     if critical is not None and len(critical):
-        ax.plot(critical.frequencies_hz, critical.speeds * rpm, "o", mfc="none", color="tab:red",
-                label="critical speeds (Campbell)")
-        ax.legend(fontsize="small", loc="upper right")
+        points = ax.plot(critical.frequencies_hz, critical.speeds * rpm, "o", mfc="none", color="tab:red",
+                         label="critical speeds (Campbell)")
+        _legend_below(ax, points)     # inside, its box hid the highest critical speeds' circles
 
 
 def _waterfall_limit(fall, critical) -> float:

@@ -12,9 +12,29 @@ from ._style import new_figure, speed_label, speed_scale
 __all__ = ["plot_study_campbell", "plot_critical_histograms", "plot_study_stability_map", "plot_sensitivity"]
 
 
+#: the figure each analysis of a study file draws: a figure asked of a study without its analysis
+#: is refused with this line (the command checks it before the work)
+FIGURE_ANALYSES = {"plot_study_campbell": ("campbell", "frequency_hz"),
+                   "plot_critical_histograms": ("critical_speeds", "critical_speed"),
+                   "plot_study_stability_map": ("stability", "instability_speed")}
+
+
+def _needs(result, figure):
+    """Refuse (InputError) to draw ``figure`` of a study that did not run its analysis."""
+    from ..errors import InputError
+
+    analysis, variable = FIGURE_ANALYSES[figure]
+    if variable not in result.dataset:
+        raise InputError(f"{figure}: the study has no '{analysis}' analysis (add [analyses.{analysis}] "
+                         f"to the study file, docs/study-file.md)")
+
+
 def _band(ax, band_rpm, scale_rpm, label="operating band"):
+    """The operating band, hatched grey: a band filled in orange took mode 2's colour (its
+    percentile band) and read as one of the modes' bands."""
     if band_rpm is not None:
-        ax.axvspan(band_rpm[0] * scale_rpm, band_rpm[1] * scale_rpm, color="tab:orange", alpha=0.2, label=label)
+        ax.axvspan(band_rpm[0] * scale_rpm, band_rpm[1] * scale_rpm, facecolor=(0.75, 0.75, 0.75, 0.25),
+                   edgecolor="0.55", hatch="//", linewidth=0.0, label=label, zorder=0.5)
 
 
 def plot_study_campbell(result, percentiles=(5.0, 95.0), band_rpm=None, speed_unit: str = "rpm",
@@ -37,6 +57,7 @@ def plot_study_campbell(result, percentiles=(5.0, 95.0), band_rpm=None, speed_un
     -------
     matplotlib.figure.Figure
     """
+    _needs(result, "plot_study_campbell")
     ds = result.dataset
     fig, ax = new_figure(ax)
     x = ds["speed"].values * speed_scale(speed_unit)
@@ -119,6 +140,7 @@ def plot_critical_histograms(result, band_rpm=None, bins: int = 25, max_crossing
     import matplotlib.pyplot as plt
     from matplotlib.ticker import MaxNLocator
 
+    _needs(result, "plot_critical_histograms")
     ds = result.dataset
     speeds = np.abs(ds["critical_speed"].values[~result.failed]) * 30 / np.pi  # (variant, crossing) rpm
     present = np.isfinite(speeds).mean(axis=0) >= min_fraction
@@ -144,7 +166,7 @@ def plot_critical_histograms(result, band_rpm=None, bins: int = 25, max_crossing
     for ax in axes.flat:            # counts: whole numbers (a few variants got ticks at 0.5)
         ax.yaxis.set_major_locator(MaxNLocator(integer=True))
     fig.suptitle(title or f"Critical speeds over {int((~result.failed).sum())} variants"
-                 + ("" if band_rpm is None else " (shaded: operating band)"))
+                 + ("" if band_rpm is None else " (hatched: operating band)"))
     return fig
 
 
@@ -183,6 +205,7 @@ def plot_study_stability_map(result, x: str | None = None, y: str | None = None,
     """
     from ..errors import InputError
 
+    _needs(result, "plot_study_stability_map")
     ds = result.dataset
     scales = scales or {}
     grid = [str(p) for p, g in zip(ds["parameter"].values, ds["parameter_is_grid"].values) if g]
@@ -213,6 +236,23 @@ def plot_study_stability_map(result, x: str | None = None, y: str | None = None,
     return fig
 
 
+#: colour of the sensitivity bars' standard errors (grey: apart from the black S1 diamonds)
+_ERROR_COLOUR = "0.45"
+
+
+def _index_keys(column, table):
+    """Legend entries of the sensitivity chart's marks: the S1 diamond, the standard error."""
+    from matplotlib.lines import Line2D
+
+    keys = []
+    if column == "ST":
+        keys.append(Line2D([], [], ls="none", marker="D", color="k", markeredgecolor="w", markersize=4.5,
+                           label="first order index S1"))
+    if f"{column}_se" in table:
+        keys.append(Line2D([], [], color=_ERROR_COLOUR, lw=1.0, label="\u00b1 standard error"))
+    return keys
+
+
 def plot_sensitivity(table, outputs=None, max_outputs: int = 6, ax=None, title: str | None = None):
     """Bar chart of sensitivity indices, grouped by output.
 
@@ -240,16 +280,20 @@ def plot_sensitivity(table, outputs=None, max_outputs: int = 6, ax=None, title: 
         rows = table[table["parameter"] == parameter].set_index("output").reindex(names)
         position = np.arange(len(names)) + j * height
         error = rows[f"{column}_se"].values if f"{column}_se" in rows else None
-        ax.barh(position, rows[column].values, height=height, xerr=error, label=parameter)
-        if column == "ST":
-            ax.plot(rows["S1"].values, position, "k|", markersize=8)
+        ax.barh(position, rows[column].values, height=height, xerr=error, label=parameter,
+                error_kw={"ecolor": _ERROR_COLOUR, "elinewidth": 1.0})
+        if column == "ST":      # a diamond: a black '|' on the black error bar read as its end
+            ax.plot(rows["S1"].values, position, "D", color="k", markeredgecolor="w", markersize=4.5,
+                    gid="first-order")
     ax.set_yticks(np.arange(len(names)) + 0.4 - height / 2, names, fontsize="small")
     ax.invert_yaxis()
     ax.axvline(0.0, color="k", linewidth=0.8)
-    ax.set_xlabel({"ST": "total Sobol index ST (| marks first order S1)",
+    ax.set_xlabel({"ST": "total Sobol index ST (\u25c6 first order index S1)",
                    "SRC": "standardised regression coefficient"}[column])
     ax.set_title(title or "Sensitivity of each output to each parameter")
+    handles, _ = ax.get_legend_handles_labels()
+    handles += _index_keys(column, table)
     # below the axes: inside ('best') it covered the longest bars
-    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1 if len(names) > 2 else -0.25),
-              ncols=2, frameon=False)
+    ax.legend(handles=handles, fontsize="x-small", loc="upper center",
+              bbox_to_anchor=(0.5, -0.1 if len(names) > 2 else -0.25), ncols=2, frameon=False)
     return fig

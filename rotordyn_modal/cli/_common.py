@@ -20,7 +20,7 @@ from ..units import speed_to_rad_s as to_rad_s
 #: options that take a value which may start with '-' (a negative speed or range)
 VALUE_OPTIONS = ("--speed", "--speeds", "--values", "--scale", "--freqs", "--orders", "--impulse",
                  "--ramp", "--duration", "--power", "--freq-range", "--operating-range", "--operating",
-                 "--speed-band", "--freq-band", "--band")
+                 "--speed-band", "--freq-band", "--band", "--transmitted-power", "--rated-power")
 
 
 def join_negative_values(argv, options):
@@ -322,6 +322,17 @@ def parse_names(text, option: str, known=None) -> list[str] | None:
 
         raise InputError(f"{option} {text!r}: expected each name once ({visible(twice[0])} is given twice)")
     return names
+
+
+def check_known(names, text, option: str, what: str, known) -> None:
+    """Refuse a name of ``names`` (from ``option``'s value ``text``) that is not in ``known``,
+    naming the option as typed and the model's names (``--sensor x: unknown sensor 'x': the
+    model's sensors are a, b``); ``names`` None (not given) passes."""
+    missing = [n for n in names or () if n not in known]
+    if missing:
+        listed = ", ".join(known) or "none defined"
+        raise InputError(f"{option} {text}: unknown {what} {', '.join(map(repr, missing))}: the model's {what}s "
+                         f"are {listed}")
 
 
 def _list_items(text: str, option: str) -> list[tuple[str, bool]]:

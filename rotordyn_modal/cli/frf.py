@@ -2,27 +2,36 @@
 
 from __future__ import annotations
 
+import argparse
+
 import numpy as np
 
 from ..errors import InputError
 from ..units import FRF_OUTPUT_KINDS, ratio_scale
 from ._common import (IN_SPEED_UNIT, NAME_LIST_HELP, add_alias, add_input_file, add_model_argument, add_outputs,
-                      add_speed_unit, as_typed, open_model, parse_names, parse_range, save_figure, speed_value,
+                      add_speed_unit, as_typed, check_known, open_model, parse_names, parse_range, save_figure, speed_value,
                       use_agg, write_table)
 
 NAME = "frf"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
 API_NAMES = {"speed": "--speed"}
 HELP = "frequency response from excitations to sensors (or forces), over measured data"
+#: --quantity's words (``frf`` and ``unbalance``): the motion a sensor reads -> the FRF of that
+#: motion per unit force, either word accepted by both commands (docs/frf-and-measurement.md)
+QUANTITIES = {"displacement": "receptance", "velocity": "mobility", "acceleration": "accelerance"}
+QUANTITY_METAVAR = "displacement|velocity|acceleration"
+QUANTITY_HELP = "(or the FRF's name of it: receptance, mobility, accelerance)"
 DESCRIPTION = """Frequency response functions at one speed of the reference rotor, from the
-[[excitations]] to the [[sensors]]: receptance [m/N], mobility [m/s/N] or accelerance
-[m/s^2/N] (with --units us: in/lbf, in/s/lbf, g/lbf, and a last column unit; docs/units.md).
+[[excitations]] to the [[sensors]]: --quantity displacement (receptance [m/N]), velocity
+(mobility [m/s/N]) or acceleration (accelerance [m/s^2/N]) per unit force, either word (with
+--units us: in/lbf, in/s/lbf, g/lbf, and a last column unit; docs/units.md).
 Viscous models use modal superposition, models with loss factors or Maxwell
-branches a direct solve at every frequency. --forces suspensions gives the force each
-suspension passes to the ground per unit input (transmissibility), --forces bearings the
-force each [[bearings]] entry passes to the stator (or the ground) at its point and each
-rigidly attached rotor at its centre of mass (docs/theory.md §13), --forces rotors the total
-force each rotor passes to the stator. --measured FILE (UFF 58/58b
+branches a direct solve at every frequency. --force-outputs replaces the sensors by forces:
+--force-outputs suspensions gives the force each suspension passes to the ground per unit input
+(transmissibility), --force-outputs bearings the force each [[bearings]] entry passes to the
+stator (or the ground) at its point and each rigidly attached rotor at its centre of mass
+(docs/theory.md §13), --force-outputs rotors the total force each rotor passes to the stator
+(the unbalance command adds such rows after its sensors). --measured FILE (UFF 58/58b
 .uff/.unv, or CSV) draws the measurement of the same speed under the model in --plot.
 --plot draws up to 12 FRFs in one magnitude and phase panel; more (or forces beside
 moments) in groups, one per force item (else per input), each with its legend.
@@ -32,12 +41,13 @@ excitation along no model axis needs --mapping, as UFF 58 directions are axis co
 UFF files are read in their own units (g, mm/s, lbf, dataset 164 factors) and converted to SI.
 
 CSV columns: frequency_hz,output,input,real,imag,magnitude,phase_deg,speed_rpm,quantity (then unit
-with --units us): the file reads back as --measured data of its speed, quantity and units.
+with --units us; quantity is receptance, mobility, accelerance or force): the file reads back as
+--measured data of its speed, quantity and units.
 
 examples:
   rotordyn-modal frf examples/gear_machine.toml --speed 3000 --freqs 1:60:600 \\
-      --excitation hammer-z --sensor acc-top-z --quantity accelerance --plot frf.png
-  rotordyn-modal frf examples/gear_machine.toml --speed 0 --freqs 1:60:300 --forces suspensions"""
+      --excitation hammer-z --sensor acc-top-z --quantity acceleration --plot frf.png
+  rotordyn-modal frf examples/gear_machine.toml --speed 0 --freqs 1:60:300 --force-outputs suspensions"""
 
 
 def add_arguments(parser):
@@ -52,23 +62,44 @@ def add_arguments(parser):
     parser.add_argument("--sensor", dest="output", metavar="NAME[,NAME]",
                         help=f"sensor name(s), {NAME_LIST_HELP} (default all)")
     add_alias(parser, "--sensor", "--output")
-    parser.add_argument("--quantity", choices=["receptance", "mobility", "accelerance"], default="receptance",
-                        help="displacement, velocity or acceleration per unit force (default receptance)")
-    parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
-                        help="forces per unit input instead of sensor motion (all: the three kinds)")
+    parser.add_argument("--quantity", type=quantity_type(frf_names=True), default="receptance",
+                        metavar=QUANTITY_METAVAR, help="the sensors' motion per unit force (default displacement) "
+                        + QUANTITY_HELP)
+    parser.add_argument("--force-outputs", dest="forces", choices=["suspensions", "bearings", "rotors", "all"],
+                        help="forces per unit input instead of the sensors (all: the three kinds)")
+    add_alias(parser, "--force-outputs", "--forces")
     add_input_file(parser, "--measured", metavar="FILE", help="measured FRFs (.uff/.unv or .csv) to draw under the model")
     add_input_file(parser, "--mapping", metavar="FILE.csv", help="UFF node/direction to channel table: name,node,direction[,sign]")
     add_outputs(parser, out_endings=(".csv", ".uff", ".unv"))
 
 
+def quantity_type(frf_names: bool):
+    """argparse type of ``--quantity``: a word of :data:`QUANTITIES` (either side) as the
+    command's Python API names it, the FRF's (receptance ...) or the motion's (displacement ...)."""
+    def quantity(text: str) -> str:
+        for motion, frf_name in QUANTITIES.items():
+            if text in (motion, frf_name):
+                return frf_name if frf_names else motion
+        raise argparse.ArgumentTypeError(f"{text!r}: expected displacement, velocity or acceleration "
+                                         f"{QUANTITY_HELP}")
+    return quantity
+
+
 def sensor_names(args, model):
-    """The sensors named by --sensor (None: all), a name holding commas given whole or quoted."""
-    return parse_names(args.output, as_typed(args, "--sensor"), [s.name for s in model.sensors])
+    """The sensors named by --sensor (None: all), a name holding commas given whole or quoted;
+    an unknown one refused naming the option as typed."""
+    known, option = [s.name for s in model.sensors], as_typed(args, "--sensor")
+    names = parse_names(args.output, option, known)
+    check_known(names, args.output, option, "sensor", known)
+    return names
 
 
 def excitation_names(args, model):
-    """The excitations named by --excitation (None: all)."""
-    return parse_names(args.input, as_typed(args, "--excitation"), [x.name for x in model.excitations])
+    """The excitations named by --excitation (None: all); an unknown one refused naming the option."""
+    known, option = [x.name for x in model.excitations], as_typed(args, "--excitation")
+    names = parse_names(args.input, option, known)
+    check_known(names, args.input, option, "excitation", known)
+    return names
 
 
 def run(args) -> int:

@@ -1,4 +1,4 @@
-"""``level1 MODEL --mcs SPEED --station ROTOR[@OFFSET] (--qa N/m | --power W ...)``."""
+"""``level1 MODEL --mcs SPEED --station ROTOR[@OFFSET] (--qa N/m | --rated-power W ...)``."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ NAME = "level1"
 #: the largest anticipated cross-coupling [N/m] (``analysis.level1`` sweeps to 1000 Qa: products stay finite)
 LARGEST_QA = LARGEST / 1000
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
-API_NAMES = {"speed": "--mcs", "qa": "--qa", "power": "--power", "diameter": "--impeller-diameter",
+API_NAMES = {"speed": "--mcs", "qa": "--qa", "power": "--rated-power", "diameter": "--impeller-diameter",
              "height": "--restriction-height", "density_ratio": "--density-ratio", "factor": "--factor"}
 HELP = "API 617 Level I stability screening: log decrement against applied cross-coupling"
 DESCRIPTION = """API 617 Level I stability screening. A cross-coupled stiffness Q (k_ab = +Q,
@@ -35,7 +35,7 @@ governing one bold) and the CSV (columns per mode) show every followed mode. Qa 
 (--qa, N/m) or is the API anticipated cross-coupling summed over the stages:
   qa = B T / (D H) (rho_d / rho_s),  T = P / Omega_r  (= B 9.55 P / (D H N_r) with P in W,
   D and H in m, N_r in rpm, q in N/m; B = 3 compressors, 1.5 turbines without density ratio)
-with one --power, --impeller-diameter, --restriction-height and --density-ratio per stage
+with one --rated-power, --impeller-diameter, --restriction-height and --density-ratio per stage
 (comma lists) and N_r = --operating-speed (default --mcs). Criteria: log decrement at Qa
 >= 0.1 and Q0/Qa >= 2.0 (Q0 where the log decrement reaches 0); otherwise Level II is required.
 With one station all of Q acts there; with one station per stage each takes its stage's share.
@@ -52,7 +52,7 @@ against the average density: above the dividing line (Region B: CSR 2.5 up to 16
 then 2.69 - 0.0115 rho to 2.0 at 60 kg/m^3, as ROSS implements it) with Q0/Qa below 10, Level
 II is required too. --csr-plot FILE draws the chart. docs/standards.md gives the line's source.
 
-With --units us, --qa is in lbf/in, --power in hp, the diameter, height and OFFSET in in, the
+With --units us, --qa is in lbf/in, --rated-power in hp, the diameter, height and OFFSET in in, the
 gas density in lb/ft^3; the table's
 first column is then q_lbf_per_in and Q is printed and drawn in lbf/in (the formula is the same
 physics: its inputs are converted to SI, docs/units.md).
@@ -64,7 +64,7 @@ decrement at Qa), then log_decrement_mode_N,frequency_hz_mode_N for each followe
 examples:
   rotordyn-modal level1 examples/journal_rotor.toml --mcs 4000 --station rotor --qa 2e5 --plot l1.png
   rotordyn-modal level1 examples/fan_on_bearings.toml --mcs 3000 --station fan@-0.1 \\
-      --power 15e3 --impeller-diameter 0.5 --restriction-height 0.03 --density-ratio 1.05"""
+      --rated-power 15e3 --impeller-diameter 0.5 --restriction-height 0.03 --density-ratio 1.05"""
 
 
 def add_arguments(parser):
@@ -90,7 +90,8 @@ def add_stage_arguments(parser, required: bool = True, speed_option: str = "--mc
                         help="where Q acts (repeat for several stations)")
     parser.add_argument("--qa", metavar="Q[,Q]", help="anticipated cross-coupling [N/m; lbf/in with --units us], or one per "
                                      "station (comma list)")
-    parser.add_argument("--power", metavar="P[,P]", help="rated power of each stage [W; hp] (comma list)")
+    parser.add_argument("--rated-power", metavar="P[,P]", help="rated power of each stage [W; hp] (comma list)")
+    add_alias(parser, "--rated-power", "--power")
     parser.add_argument("--impeller-diameter", metavar="D[,D]", help="impeller (or blade pitch) diameter of each stage [m; in]")
     parser.add_argument("--restriction-height", metavar="H[,H]",
                         help="smaller of diffuser and impeller discharge width (turbines: effective blade height) "
@@ -177,12 +178,13 @@ def anticipated(args, count, speed):
     """(Qa [N/m], shares per station) from --qa or the stage data."""
     from ..analysis.level1 import anticipated_cross_coupling
 
-    stage_options = (args.power, args.impeller_diameter, args.restriction_height)
+    stage_options = (args.rated_power, args.impeller_diameter, args.restriction_height)
+    power_option = as_typed(args, "--rated-power")
     if args.qa is not None:
         if any(o is not None for o in stage_options) or args.density_ratio is not None:
-            raise InputError("--qa and the stage data (--power, --impeller-diameter, ...) both given: give one")
+            raise InputError(f"--qa and the stage data ({power_option}, --impeller-diameter, ...) both given: give one")
         if args.operating_speed is not None:   # was taken without a word, even 'nan'
-            raise InputError(f"--operating-speed {args.operating_speed}: expected the stage data (--power, "
+            raise InputError(f"--operating-speed {args.operating_speed}: expected the stage data ({power_option}, "
                              "--impeller-diameter, --restriction-height) too: it is N_r of their formula, and --qa "
                              "gives Qa without it")
         values = from_system(parse_list(args.qa, "--qa"), "stiffness", args.units)
@@ -190,13 +192,14 @@ def anticipated(args, count, speed):
             raise InputError(f"--qa {args.qa!r}: expected values > 0 [N/m]")
         return _spread(values, count, "--qa")
     if any(o is None for o in stage_options):
-        raise InputError("give --qa N/m, or --power, --impeller-diameter and --restriction-height (one per stage)")
+        raise InputError("give --qa N/m, or --rated-power, --impeller-diameter and --restriction-height (one per "
+                         "stage)")
     power, diameter, height = (from_system(parse_list(o, name), kind, args.units) for o, name, kind in zip(
-        stage_options, ("--power", "--impeller-diameter", "--restriction-height"), ("power", "length", "length")))
+        stage_options, (power_option, "--impeller-diameter", "--restriction-height"), ("power", "length", "length")))
     ratio = parse_list(args.density_ratio, "--density-ratio") if args.density_ratio else np.ones(1)
     stages = max(len(power), len(diameter), len(height), len(ratio))
     power, diameter, height, ratio = (_per_stage(v, stages, name) for v, name in zip(
-        (power, diameter, height, ratio), ("--power", "--impeller-diameter", "--restriction-height",
+        (power, diameter, height, ratio), (power_option, "--impeller-diameter", "--restriction-height",
                                            "--density-ratio")))
     operating = speed if args.operating_speed is None else \
         speed_value(args.operating_speed, args.speed_unit, "--operating-speed")
@@ -205,7 +208,7 @@ def anticipated(args, count, speed):
                          "speed)")
     q = anticipated_cross_coupling(power, abs(operating), diameter, height, ratio, machine=args.machine)
     if not np.all(q <= LARGEST_QA):      # 'qa = 7.2e+305' named no option the user gave
-        raise InputError(f"--power {args.power}, --impeller-diameter {args.impeller_diameter}, --restriction-height "
+        raise InputError(f"{power_option} {args.rated_power}, --impeller-diameter {args.impeller_diameter}, --restriction-height "
                          f"{args.restriction_height}: give Qa = {q.max():.4g} N/m: expected at most {LARGEST_QA:g} "
                          "N/m (check their units: W, m, m)")
     return _spread(q, count, "the stages")

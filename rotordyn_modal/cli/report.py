@@ -22,7 +22,7 @@ from .ucs_map import _operating, _stiffness
 
 NAME = "report"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
-API_NAMES = {"qa": "--qa", "power": "--power", "diameter": "--impeller-diameter", "height": "--restriction-height",
+API_NAMES = {"qa": "--qa", "power": "--rated-power", "diameter": "--impeller-diameter", "height": "--restriction-height",
              "density_ratio": "--density-ratio"}
 HELP = "one self-contained HTML report against API 617, API 684 or ISO: figures, tables, verdicts"
 DESCRIPTION = """A rotordynamic report in one HTML file (figures embedded as PNG; print it to PDF
@@ -49,7 +49,7 @@ lists what each section holds and where its numbers come from. With --units us (
 ROTORDYN_MODAL_UNITS=us) every table, figure and criterion shows US customary units: vibration
 in mil, casing velocity in in/s RMS, static displacement in in, forces in lbf, stiffness and Q
 in lbf/in, masses in lb (docs/units.md); the verdicts are the same. The options are then read in
-US units too, as by 'level1' and 'ucs-map': --qa and --stiffness in lbf/in, --power in hp, the
+US units too, as by 'level1' and 'ucs-map': --qa and --stiffness in lbf/in, --rated-power in hp, the
 impeller diameter, restriction height and station OFFSET in in, --gas-density in lb/ft^3.
 
 examples:
@@ -147,7 +147,7 @@ def _inputs(args):
             stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", units)) for s in stations]
         qa, shares = anticipated(args, len(stations), mcs)
         level1 = {"stations": stations, "qa": qa, "shares": shares, "gas_density": gas_density(args)}
-    elif any(getattr(args, o) is not None for o in ("qa", "power", "impeller_diameter", "restriction_height",
+    elif any(getattr(args, o) is not None for o in ("qa", "rated_power", "impeller_diameter", "restriction_height",
                                                     "gas_density")):
         raise InputError("--qa or stage data given without --station: name where the cross-coupling acts")
     return ReportInputs(standard=args.standard, mcs=mcs, operating=operating, points=points,

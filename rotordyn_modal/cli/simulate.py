@@ -9,7 +9,7 @@ import numpy as np
 from .._limits import count_problem
 from ..errors import InputError
 from ..units import to_system
-from ._common import (IN_SPEED_UNIT, add_alias, as_typed, add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
+from ._common import (IN_SPEED_UNIT, add_alias, as_typed, add_model_argument, check_known, add_outputs, add_speed_unit, open_model, parse_number,
                       save_figure, show_progress, speed_value, use_agg, write_table)
 
 NAME = "simulate"
@@ -128,9 +128,11 @@ def run(args) -> int:
         raise InputError(f"--samples {args.samples}: expected a whole number >= 2")
     if args.samples is not None and (problem := count_problem(args.samples, "samples")):
         raise InputError(f"--samples {args.samples}: expected {problem}")
-    if args.sensor is not None and args.sensor not in [s.name for s in model.sensors]:
-        known = ", ".join(s.name for s in model.sensors) or "none defined"
-        raise InputError(f"--sensor {args.sensor!r}: unknown sensor; the model's sensors are {known}")
+    if args.sensor is not None:
+        check_known([args.sensor], args.sensor, "--sensor", "sensor", [s.name for s in model.sensors])
+    if args.impulse is not None:     # before the kernel's compilation, naming the option as typed
+        check_known([args.impulse], args.impulse, as_typed(args, "--excitation"), "excitation",
+                    [x.name for x in model.excitations])
     drive = "ramp" if final is not None else ("free" if args.free_spin else "constant")
     result = simulate(model, parse_number(args.duration, "--duration"), speed, drive=drive, final_speed=final,
                       initial=args.initial, impulse=args.impulse, impulse_size=parse_number(args.impulse_size, "--impulse-size"),

@@ -1,4 +1,4 @@
-"""``static MODEL [--speed S] [--power W] [--force BODY:X,Y,Z:FX,FY,FZ] [--allowable-stress PA]
+"""``static MODEL [--speed S] [--transmitted-power W] [--force BODY:X,Y,Z:FX,FY,FZ] [--allowable-stress PA]
 [--out FILE.csv]``."""
 
 from __future__ import annotations
@@ -7,13 +7,13 @@ import numpy as np
 
 from ..errors import InputError
 from ..units import from_system, unit_label, unit_scale
-from ._common import (IN_SPEED_UNIT, add_model_argument, add_outputs, add_speed_unit, open_model, parse_number, print_table,
+from ._common import (IN_SPEED_UNIT, add_alias, add_model_argument, add_outputs, as_typed, add_speed_unit, open_model, parse_number, print_table,
                       save_figure, speed_value, use_agg, write_table)
 from ._units import convert_table, kinds_by_ending
 
 NAME = "static"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
-API_NAMES = {"power": "--power", "speed": "--speed"}
+API_NAMES = {"power": "--transmitted-power", "speed": "--speed"}
 HELP = "static displacement and support reactions under gravity, given forces and transmitted power"
 DESCRIPTION = """Static analysis: the machine under its weight (the model's gravity), the forces
 and moments given here, and the tooth (gear) or strand (belt) forces of the power each
@@ -39,11 +39,11 @@ shaft (Pa; psi with --units us). The summary gives the largest von Mises stress,
 verdict (pass when it is at most the allowable stress; 'not evaluated' without one).
 
 BODY is 'stator' or a rotor's name; points and vectors are in model axes, SI units (m, N, N m;
-with --units us: in, lbf, lbf in, and --power in hp; the tables then in in, lbf, lbf in, their
+with --units us: in, lbf, lbf in, and --transmitted-power in hp; the tables then in in, lbf, lbf in, their
 columns named x_in, Fx_lbf, Mx_lbfin, ux_in; docs/units.md).
-A moment acts on the body as a whole (--moment BODY:MX,MY,MZ). --power W is the power every
-transmission carries from its driver to its driven rotor (negative: the other way);
---power DRIVER->DRIVEN=W names one transmission (repeat the option for others).
+A moment acts on the body as a whole (--moment BODY:MX,MY,MZ). --transmitted-power W is the
+power every transmission carries from its driver to its driven rotor (negative: the other way);
+--transmitted-power DRIVER->DRIVEN=W names one transmission (repeat the option for others).
 
 CSV columns: table,kind,name,body,x_m,y_m,z_m,Fx_N,Fy_N,Fz_N,Mx_Nm,My_Nm,Mz_Nm,ux_m,uy_m,uz_m,rx_rad,ry_rad,rz_rad,on,eccentricity,attitude_deg
 ('table' is load, displacement or reaction and each row fills the columns of its table; 'name'
@@ -57,7 +57,7 @@ utilization von_mises / allowable, empty without an allowable stress; docs/stati
 
 examples:
   rotordyn-modal static examples/motor_pump_on_mounts.toml
-  rotordyn-modal static examples/gear_machine.toml --speed 3000 --power 15000 --out static.csv
+  rotordyn-modal static examples/gear_machine.toml --speed 3000 --transmitted-power 15000 --out static.csv
   rotordyn-modal static examples/journal_rotor.toml --speed 6000 --force rotor:0,0,0:0,0,-200
   rotordyn-modal static examples/flexible_pump_on_mounts.toml --plot shaft.png
   rotordyn-modal static examples/flexible_pump_on_mounts.toml --allowable-stress 120e6"""
@@ -68,9 +68,10 @@ def add_arguments(parser):
     parser.add_argument("--speed", metavar="SPEED",
                         help=f"reference rotor speed of the operating point {IN_SPEED_UNIT} (default: at rest)")
     add_speed_unit(parser)
-    parser.add_argument("--power", action="append", metavar="W|DRIVER->DRIVEN=W",
-                        help="power [W; hp with --units us] each transmission carries (repeat with "
-                             "DRIVER->DRIVEN=W for each one)")
+    parser.add_argument("--transmitted-power", action="append", metavar="W|DRIVER->DRIVEN=W",
+                        help="power [W; hp with --units us] each transmission (gear mesh, belt) carries "
+                             "(repeat with DRIVER->DRIVEN=W for each one)")
+    add_alias(parser, "--transmitted-power", "--power")
     parser.add_argument("--force", action="append", metavar="BODY:X,Y,Z:FX,FY,FZ",
                         help="a static force [N; lbf] at a point [m; in] of the stator or a rotor (repeat for more)")
     parser.add_argument("--moment", action="append", metavar="BODY:MX,MY,MZ",
@@ -92,7 +93,8 @@ def run(args) -> int:
     forces = [_force(text, args.units) for text in args.force or ()] + \
         [_moment(text, args.units) for text in args.moment or ()]
     try:
-        result = static(model, speed=speed, forces=forces, power=_power(args.power, args.units), units=args.units,
+        power = _power(args.transmitted_power, args.units, as_typed(args, "--transmitted-power"))
+        result = static(model, speed=speed, forces=forces, power=power, units=args.units,
                         allowable_stress=_allowable(args.allowable_stress, args.units))
     except InputError as error:
         raise InputError(_as_typed(str(error), args)) from None
@@ -120,8 +122,9 @@ def _as_typed(message: str, args) -> str:
         if tail.startswith(" = "):
             tail = ": " + tail.partition(": ")[2]
         return f"{option} {text}:{tail}" if tail.startswith(" ") else f"{option} {text}{tail}"
-    if message.startswith("power: ") and args.power:
-        return f"--power {' '.join(args.power)}: {message.removeprefix('power: ')}"
+    if message.startswith("power: ") and args.transmitted_power:
+        return f"{as_typed(args, '--transmitted-power')} {' '.join(args.transmitted_power)}: " \
+               f"{message.removeprefix('power: ')}"
     return message
 
 
@@ -229,33 +232,33 @@ def _moment(text: str, system: str = "si") -> tuple:
     return {"body": body, "moment": list(from_system(_vector(rest, "--moment", text), "moment", system))}
 
 
-def _power(values, system: str = "si"):
-    """``--power`` values [W, or hp in US units]: one number for every transmission, or
-    ``DRIVER->DRIVEN=W`` each; returned in W."""
+def _power(values, system: str = "si", option: str = "--transmitted-power"):
+    """``--transmitted-power`` values [W, or hp in US units]: one number for every transmission, or
+    ``DRIVER->DRIVEN=W`` each; returned in W (``option``: as typed, for messages)."""
     if not values:
         return None
-    given = _power_numbers(values)
+    given = _power_numbers(values, option)
     if system == "si":
         return given
     return from_system(given, "power", system) if not isinstance(given, dict) else \
         {label: from_system(value, "power", system) for label, value in given.items()}
 
 
-def _power_numbers(values):
-    """The numbers of the ``--power`` values as given (one number, or a dict by transmission)."""
+def _power_numbers(values, option: str = "--transmitted-power"):
+    """The numbers of the ``--transmitted-power`` values as given (one number, or a dict by transmission)."""
     named = [v for v in values if "=" in v]
     if not named:
         if len(values) > 1:
-            raise InputError(f"--power {values[1]!r}: one power for every transmission is given once; name each "
+            raise InputError(f"{option} {values[1]!r}: one power for every transmission is given once; name each "
                              "transmission (DRIVER->DRIVEN=W) to give several")
-        return parse_number(values[0], "--power")
+        return parse_number(values[0], option)
     if len(named) != len(values):
-        raise InputError(f"--power {next(v for v in values if '=' not in v)!r}: expected DRIVER->DRIVEN=W like the "
-                         "other --power options")
+        raise InputError(f"{option} {next(v for v in values if '=' not in v)!r}: expected DRIVER->DRIVEN=W like "
+                         f"the other {option} options")
     out = {}
     for text in named:
         label, _, number = text.rpartition("=")
         if label in out:
-            raise InputError(f"--power {text!r}: the transmission {label!r} is given twice")
-        out[label] = parse_number(number, "--power")
+            raise InputError(f"{option} {text!r}: the transmission {label!r} is given twice")
+        out[label] = parse_number(number, option)
     return out

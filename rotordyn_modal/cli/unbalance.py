@@ -13,7 +13,7 @@ from ._common import (IN_SPEED_UNIT, add_alias, NAME_LIST_HELP, add_model_argume
                       check_extra_output, open_model, print_table, save_figure, speeds_option,
                       speed_value, speeds_text, use_agg, write_csv, write_table)
 from ._units import convert_table
-from .frf import sensor_names
+from .frf import QUANTITY_HELP, QUANTITY_METAVAR, quantity_type, sensor_names
 
 NAME = "unbalance"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
@@ -96,8 +96,9 @@ def add_arguments(parser):
     parser.add_argument("--sensor", dest="output", metavar="NAME[,NAME]",
                         help=f"sensor name(s), {NAME_LIST_HELP} (default all)")
     add_alias(parser, "--sensor", "--output")
-    parser.add_argument("--quantity", choices=["displacement", "velocity", "acceleration"], default="displacement",
-                        help="what the sensors read (default displacement)")
+    parser.add_argument("--quantity", type=quantity_type(frf_names=False), default="displacement",
+                        metavar=QUANTITY_METAVAR, help="what the sensors read (default displacement) "
+                        + QUANTITY_HELP)
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="add force rows after the sensors' (default none)")
     parser.add_argument("--operating-speed", metavar="SPEED", help="operating speed (same unit as --speeds, in the direction of spin of the sweep) for the separation margin")

@@ -97,7 +97,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         Show a progress bar (simulated time).
     modes_below : float, optional
         Only with a flexible rotor: the basis of the linear time model keeps the undamped modes
-        at rest below this [rad/s] (default: 4 times the fastest spin, at least the 12 lowest),
+        (bearings' stiffness at the start ``speed``) below this [rad/s] (default: 4 times the
+        fastest spin), at least the 6 lowest (:data:`rotordyn_modal.simulation.flexible.LOWEST`),
         plus the static deflections under the unbalances, weights and impulse; ``math.inf``
         keeps every mode (the linear model exactly, slower).
 

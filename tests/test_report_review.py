@@ -119,3 +119,88 @@ def test_us_level1_section_states_the_gas_density_in_us_units(model, monkeypatch
     for text in (html, *texts):
         assert "kg/m³" not in text.replace("[kg/m³]", "")               # the chart's second axis says both
         assert density in " ".join(text.split())
+
+
+def _cells(html):
+    """(headers, rows of cell texts) of the one table in ``html``."""
+    import re
+
+    headers = [re.sub(r"<[^>]+>", "", h) for h in re.findall(r"<th[^>]*>(.*?)</th>", html)]
+    rows = [[re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<td[^>]*>(.*?)</td>", row)]
+            for row in re.findall(r"<tr>(.*?)</tr>", html)[1:]]
+    return headers, rows
+
+
+def test_margins_table_names_the_source_of_each_peak():
+    """Two rotors' peaks at one sensor (an ISO report: the model's unbalances, no API case) are told
+    apart by their source, as the figure labels them '(1X motor)', '(1X fan)'; the table had only the
+    output, and two rows at one sensor near one speed could not be traced to their curves."""
+    import pandas as pd
+
+    from rotordyn_modal.report.render import margins_table
+
+    margins = pd.DataFrame({"output": ["acc", "acc"], "source": ["motor", "fan"], "speed_rpm": [1421.76, 1457.28],
+                            "amplitude": [1e-5, 2e-6], "amplification_factor": [17.0, 7.8],
+                            "separation_margin_pct": [60.5, 59.5], "required_margin_pct": [15.9, 14.3],
+                            "verdict": ["pass", "pass"]})
+    headers, rows = _cells(margins_table(margins))
+    assert headers[:3] == ["output", "source (1X of)", "peak speed [rpm]"]
+    assert [(r[1], r[2], r[3]) for r in rows] == [("motor", "1421.76", "20"), ("fan", "1457.28", "4")]  # µm pk-pk
+    with_cases = margins.assign(case=["api-static:motor", "api-couple:fan"])
+    headers, rows = _cells(margins_table(with_cases, amplitude="peak"))
+    assert headers[:2] == ["output", "case"] and [r[1] for r in rows] == ["api-static:motor", "api-couple:fan"]
+    assert "amplitude, 0-peak [µm]" in headers and [r[3] for r in rows] == ["10", "2"]
+
+
+def test_probe_limit_table_has_no_empty_zone_column():
+    """The API probe-limit table showed an ISO 'zone' column empty on every row; the ISO table keeps it."""
+    import pandas as pd
+
+    from rotordyn_modal.report.render import _check_table
+
+    probes = pd.DataFrame({"output": ["DE-x"], "check": ["API 617 probe limit"], "speed_rpm": [5980.8],
+                           "value": [1.447e-6], "amplitude": ["peak-to-peak"], "limit": [25.4e-6],
+                           "verdict": ["pass"], "zone": [""]})
+    headers, rows = _cells(_check_table(probes, 1e6, "µm pk-pk"))
+    assert headers == ["output", "speed [rpm]", "value [µm pk-pk]", "limit [µm pk-pk]", "verdict"]
+    assert rows == [["DE-x", "5980.8", "1.447", "25.4", "pass"]]
+    casing = probes.assign(check="ISO 20816-3", zone="A", value=0.9e-3, limit=4.5e-3)
+    headers, rows = _cells(_check_table(casing, 1e3, "mm/s RMS"))
+    assert "zone" in headers and rows[0][headers.index("zone")] == "A"
+
+
+def test_unbalance_figure_names_absolute_rotor_sensors_as_such(tmp_path, monkeypatch):
+    """Two absolute sensors at one point of a rotor see an orbit but are no proximity probes: the
+    report's figure titled their panel 'probe pairs' under a section that says 'No proximity probe
+    (measure = "relative") in the model' (examples/spring_block_rotor.toml); it names them as the
+    `unbalance` command does, by what they measure."""
+    from rigid_two_forward import MODEL
+
+    from rotordyn_modal.report import render
+
+    sensors = "".join(f"""
+[[sensors]]
+name = "{name}"
+rotor = "rotor"
+position = [0.0, 0.0, 0.0]
+direction = {direction}
+""" for name, direction in (("centre-y", [0.0, 1.0, 0.0]), ("centre-z", [0.0, 0.0, 1.0])))
+    path = tmp_path / "rotor.toml"
+    path.write_text(MODEL + sensors, encoding="utf-8")
+    model = load_model(path)
+    data = report_collect.ReportData(ReportInputs("api684", MCS, points=21), model, {}, ("unbalance",))
+    report_collect._unbalance(data)
+    assert data.results["unbalance"].orbit_pairs                         # the two sensors see an orbit
+    titles = []
+
+    def fake(fig, dpi=110):
+        import matplotlib.pyplot as plt
+
+        titles.extend(ax.get_title() for ax in fig.axes)
+        plt.close(fig)
+        return "data:image/png;base64,"
+
+    monkeypatch.setattr(render, "figure_png", fake)
+    html = render._unbalance(data, "si")
+    assert "No proximity probe" in html
+    assert "rotor points, absolute" in titles and "probe pairs" not in titles

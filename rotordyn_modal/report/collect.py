@@ -19,9 +19,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..unbalance_standards import amplitude_factor
 from ..units import check_system, unit_scale
 
-__all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "CRITERION_SOURCES", "Criterion", "ReportInputs", "ReportData", "collect",
+__all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "AMPLITUDE_WORDS", "from_pkpk", "CRITERION_SOURCES", "Criterion", "ReportInputs", "ReportData", "collect",
            "separation_margins", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
 
 #: section id -> heading
@@ -66,6 +67,17 @@ def shown_scale(kind: str, system: str = "si") -> tuple:
     return SHOWN_UNITS[kind][check_system(system)]
 
 
+#: the report's amplitude conventions (``ReportInputs.amplitude``, ``--amplitude``) as written after
+#: a unit: ``12.7 µm 0-peak``, ``25.4 µm pk-pk``, ``8.98 µm RMS``
+AMPLITUDE_WORDS = {"peak": "0-peak", "pk-pk": "pk-pk", "rms": "RMS"}
+
+
+def from_pkpk(amplitude: str) -> float:
+    """Factor from a peak-to-peak amplitude (the API probe limits and clearances are judged
+    peak-to-peak) to the convention ``amplitude`` ('peak', 'pk-pk', 'rms'): 1/2, 1, 1/(2 sqrt 2)."""
+    return amplitude_factor(amplitude) / amplitude_factor("pk-pk")
+
+
 #: where each criterion's rule comes from, by the beginning of its name (first match): the
 #: standard, edition and clause as far as checked, and the page of the docs that writes the rule
 #: out with its public sources and what stays unverified (no quantity with a unit: the text is
@@ -92,8 +104,9 @@ class Criterion:
     ``verdict`` is 'pass', 'fail' or 'not evaluated'; ``why`` says why not evaluated (or which
     item governs); ``section`` the id of the section that holds its numbers. ``value``,
     ``limit`` and ``why`` are the SI text; ``quantities`` holds, for those with a unit,
-    ``(field, template, kind, si_values)``: the text is ``template.format(*numbers, unit=label)``
-    with the numbers in the unit of a system (:meth:`in_system`).
+    ``(field, template, kind, si_values)``: the text is ``template.format(*numbers, unit=label,
+    amplitude=words)`` with the numbers in the unit of a system and, for kind 'vibration' (whose
+    SI values are peak-to-peak), in an amplitude convention (:meth:`in_system`).
     """
 
     name: str
@@ -115,11 +128,15 @@ class Criterion:
         """Where the criterion's rule comes from (:data:`CRITERION_SOURCES`)."""
         return next((text for start, text in CRITERION_SOURCES if self.name.startswith(start)), "")
 
-    def in_system(self, system: str) -> "Criterion":
-        """This criterion with its quantities written in ``system`` ('si' or 'us'); the verdict
-        is the same (judged in SI)."""
-        texts = {field: template.format(*(v * shown_scale(kind, system)[0] for v in values),
-                                        unit=shown_scale(kind, system)[1])
+    def in_system(self, system: str, amplitude: str = "pk-pk") -> "Criterion":
+        """This criterion with its quantities written in ``system`` ('si' or 'us'), its
+        vibration amplitudes in the convention ``amplitude`` ('peak', 'pk-pk', 'rms'; the words
+        :data:`AMPLITUDE_WORDS` after the unit); the verdict is the same (judged in SI, pk-pk)."""
+        def scale(kind):
+            return shown_scale(kind, system)[0] * (from_pkpk(amplitude) if kind == "vibration" else 1.0)
+
+        texts = {field: template.format(*(v * scale(kind) for v in values), unit=shown_scale(kind, system)[1],
+                                        amplitude=AMPLITUDE_WORDS[amplitude])
                  for field, template, kind, values in self.quantities}
         return replace(self, **texts)
 
@@ -138,6 +155,10 @@ class ReportInputs:
     points : int
         Speeds of the sweeps, from 2 % of the MCS to 1.5 MCS (journal bearings have no film at rest).
     iso_group, iso_support : ISO 20816-3 class (both or neither).
+    amplitude : {'pk-pk', 'peak', 'rms'}
+        Convention of every vibration amplitude shown (tables, figure, summary; default
+        peak-to-peak, as probes are read and the API limits are written); the ISO zones judge
+        the RMS velocity whatever it is.
     level1 : dict, optional
         ``{"stations": [Station], "qa": float [N/m], "shares": array or None}``, and optionally
         ``"gas_density"``: the average, or suction and discharge densities [kg/m^3] (adds the
@@ -157,6 +178,7 @@ class ReportInputs:
     level1: dict | None = None
     stiffness: np.ndarray = field(default_factory=lambda: np.geomspace(1e5, 1e10, 41))
     command: str = ""
+    amplitude: str = "pk-pk"
 
     @property
     def speeds(self) -> np.ndarray:
@@ -222,6 +244,7 @@ def collect(model, inputs: ReportInputs) -> ReportData:
         raise InputError(f"standard {inputs.standard!r}: expected one of {', '.join(STANDARDS)}")
     if not (np.isfinite(inputs.mcs) and inputs.mcs > 0):
         raise InputError(f"maximum continuous speed {inputs.mcs!r} rad/s: expected a speed > 0")
+    amplitude_factor(inputs.amplitude)                 # refuses an unknown convention by name
     low, high = inputs.range
     if not 0 < low <= high:
         raise InputError(f"operating range {low!r}:{high!r} rad/s: expected 0 < low <= high")
@@ -344,7 +367,8 @@ def _campbell(data):
     data.criteria.append(Criterion(
         name, f"{worst.separation_margin_pct:.1f} % (AF {worst.amplification_factor:.2f})",
         f">= {worst.required_margin_pct:.1f} %", verdict, "campbell",
-        f"governing peak: {worst.output} at {worst.speed_rpm:.0f} rpm" + _case(worst) + note))
+        f"governing peak: {worst.output} at {worst.speed_rpm:.0f} rpm" + (_case(worst) or f", 1X {worst.source}")
+        + note))
 
 
 #: the separation margin's criterion (in an ISO report informative: ISO sets no margin)
@@ -563,8 +587,8 @@ def _probe_limits(data):
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
     data.criteria.append(Criterion.of("API 617 probe vibration limit", verdict, "unbalance",
                                       f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm" + _case(worst),
-                                      quantities=[("value", "{0:.3g} {unit} pk-pk", "vibration", (worst.value,)),
-                                                  ("limit", "<= {0:.3g} {unit} pk-pk", "vibration", (worst.limit,))]))
+                                      quantities=[("value", "{0:.3g} {unit} {amplitude}", "vibration", (worst.value,)),
+                                                  ("limit", "<= {0:.3g} {unit} {amplitude}", "vibration", (worst.limit,))]))
 
 
 def _clearance(data):
@@ -584,8 +608,8 @@ def _clearance(data):
     data.criteria.append(Criterion.of(
         CLEARANCE_CHECK, verdict, "unbalance",
         f"governing: {worst.clearance} at {worst.speed_rpm:.0f} rpm" + _case(worst) + f", ratio {worst.ratio:.3g}",
-        quantities=[("value", "{0:.3g} {unit} pk-pk", "vibration", (worst.value,)),
-                    ("limit", "<= {0:.3g} {unit} pk-pk", "vibration", (worst.limit,))]))
+        quantities=[("value", "{0:.3g} {unit} {amplitude}", "vibration", (worst.value,)),
+                    ("limit", "<= {0:.3g} {unit} {amplitude}", "vibration", (worst.limit,))]))
 
 
 def _level1(data):

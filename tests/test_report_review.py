@@ -204,3 +204,44 @@ direction = {direction}
     html = render._unbalance(data, "si")
     assert "No proximity probe" in html
     assert "rotor points, absolute" in titles and "probe pairs" not in titles
+
+
+SOFT_ROTOR = """
+name = "rigid rotor on soft bearings"
+spin_axis = [1.0, 0.0, 0.0]
+
+[[rotors]]
+name = "rotor"
+mass = 5.0
+center_of_mass = [0.0, 0.0, 0.0]
+polar_inertia = 1.0e-9
+diametral_inertia = 5.0
+speed_ratio = 1.0
+""" + "".join(f"""
+[[bearings]]
+name = "{name}"
+rotor = "rotor"
+position = [{x}, 0.0, 0.0]
+stiffness = 2.0e3
+""" for name, x in (("A", 0.25), ("B", -0.25)))
+
+
+def test_ucs_map_reaches_the_bearings_own_stiffness(tmp_path):
+    """A rotor on bearings of 2e3 N/m (examples/spring_block_rotor.toml) had a UCS map from 1e5 to
+    1e10 N/m: its bearings' line lay off the map, with no crossing to say where the machine is. The
+    default range is widened by whole decades to reach them, and the crossings are the closed
+    forms of a rigid rotor on two springs k at +-a: sqrt(2 k / m) and sqrt(2 k a^2 / Id)."""
+    path = tmp_path / "soft.toml"
+    path.write_text(SOFT_ROTOR, encoding="utf-8")
+    data = report_collect.ReportData(ReportInputs("api684", MCS), load_model(path), {}, ("ucs",))
+    report_collect._ucs(data)
+    result = data.results["ucs"]
+    assert result.stiffness[0] <= 2e2 and result.stiffness[-1] >= 1e10        # one decade beyond, default kept
+    assert np.allclose(np.diff(np.log10(result.stiffness)), 1 / 8)            # 8 points a decade
+    speeds = sorted({round(c.speed, 6) for c in result.crossings})
+    k, m, a, inertia = 2e3, 5.0, 0.25, 5.0
+    np.testing.assert_allclose(speeds, [np.sqrt(2 * k * a ** 2 / inertia), np.sqrt(2 * k / m)], rtol=1e-6)
+    given = report_collect.ReportData(ReportInputs("api684", MCS, stiffness=np.geomspace(1e5, 1e10, 11)),
+                                      load_model(path), {}, ("ucs",))
+    report_collect._ucs(given)
+    assert given.results["ucs"].stiffness[0] == 1e5 and given.results["ucs"].stiffness[-1] == 1e10   # as asked

@@ -75,7 +75,8 @@ def add_arguments(parser):
     parser.add_argument("--points", default="151", help="speeds of the sweeps (default 151)")
     parser.add_argument("--stiffness",
                         help="START:STOP:N bearing stiffness of the UCS map [N/m; lbf/in with --units us], "
-                             "log-spaced (default 1e5:1e10:41 N/m)")
+                             "log-spaced (default 1e5:1e10:41 N/m, widened by decades to reach the bearings' "
+                             "own stiffness)")
     parser.add_argument("--iso-group", type=int, choices=[1, 2],
                         help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
     parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
@@ -157,7 +158,7 @@ def _inputs(args):
         raise InputError("--qa or stage data given without --station: name where the cross-coupling acts")
     return ReportInputs(standard=args.standard, mcs=mcs, operating=operating, points=points,
                         iso_group=args.iso_group, iso_support=args.iso_support, level1=level1,
-                        stiffness=_stiffness(args.stiffness or "1e5:1e10:41", units if args.stiffness else "si"),
+                        stiffness=_stiffness(args.stiffness, units) if args.stiffness else None,
                         command=_command_line(), amplitude=args.amplitude)
 
 

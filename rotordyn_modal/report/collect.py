@@ -23,7 +23,7 @@ from ..unbalance_standards import amplitude_factor
 from ..units import check_system, unit_scale
 
 __all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "AMPLITUDE_WORDS", "from_pkpk", "CRITERION_SOURCES", "Criterion", "ReportInputs", "ReportData", "collect",
-           "separation_margins", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
+           "separation_margins", "ucs_stiffness", "UCS_STIFFNESS", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
 
 #: section id -> heading
 SECTIONS = {"model": "Model", "static": "Static loads and sag", "campbell": "Campbell diagram and critical speeds",
@@ -163,8 +163,9 @@ class ReportInputs:
         ``{"stations": [Station], "qa": float [N/m], "shares": array or None}``, and optionally
         ``"gas_density"``: the average, or suction and discharge densities [kg/m^3] (adds the
         critical speed ratio criterion).
-    stiffness : ndarray [N/m]
-        Bearing stiffness values of the UCS map.
+    stiffness : ndarray [N/m], optional
+        Bearing stiffness values of the UCS map; default (None) :data:`UCS_STIFFNESS`, widened by
+        whole decades to reach the chosen bearings' own stiffness where it lies outside.
     command : str
         The command line that produced the report.
     """
@@ -176,7 +177,7 @@ class ReportInputs:
     iso_group: int | None = None
     iso_support: str | None = None
     level1: dict | None = None
-    stiffness: np.ndarray = field(default_factory=lambda: np.geomspace(1e5, 1e10, 41))
+    stiffness: np.ndarray | None = None
     command: str = ""
     amplitude: str = "pk-pk"
 
@@ -552,13 +553,66 @@ def _unbalance(data):
                                                                               min_operating=inputs.range[0])
 
 
+#: the UCS map's default stiffness [N/m]: 1e5 to 1e10 N/m, 8 points a decade
+UCS_STIFFNESS = np.geomspace(1e5, 1e10, 41)
+
+
 def _ucs(data):
     from ..analysis.ucs_map import ucs_map
 
+    given = data.inputs.stiffness
     try:
-        data.results["ucs"] = ucs_map(data.model, data.inputs.stiffness, modes=4, operating=data.inputs.range)
+        result = ucs_map(data.model, UCS_STIFFNESS if given is None else given, modes=4, operating=data.inputs.range)
+        wider = None if given is not None else ucs_stiffness(result, data.inputs.range)
+        if wider is not None:       # the bearings' own stiffness off the default map: where the machine is
+            result = ucs_map(data.model, wider, modes=4, operating=data.inputs.range)
     except InputError as error:
         data.skipped["ucs"] = _reason(error, data.model)
+        return
+    data.results["ucs"] = result
+
+
+def ucs_stiffness(result, operating):
+    """The UCS map's stiffness [N/m] widened to the bearings' own, or None where it reaches them.
+
+    The bearings' own radial stiffness (``Kxx`` and ``Kyy``; of a speed-dependent bearing at
+    the map's speeds within ``operating`` [rad/s], else at the one nearest it) lying outside the
+    map's range would leave the map without the crossings that locate the machine
+    (examples/spring_block_rotor.toml: 2e3 N/m against 1e5 to 1e10 N/m). The range is then
+    widened to one decade beyond them (whole decades, 8 points a decade, inside
+    ``ucs_map.STIFFNESS_RANGE``).
+
+    Parameters
+    ----------
+    result : UcsMap
+    operating : (float, float) [rad/s]
+
+    Returns
+    -------
+    ndarray [N/m] or None
+    """
+    from ..analysis.ucs_map import STIFFNESS_RANGE
+
+    own = [np.concatenate([c.kxx, c.kyy]) if c.constant else _in_range(c, operating) for c in result.curves]
+    own = np.concatenate(own) if own else np.zeros(0)
+    own = own[np.isfinite(own) & (own > 0)]
+    low, high = float(result.stiffness[0]), float(result.stiffness[-1])
+    if not own.size or (own.min() >= low and own.max() <= high):
+        return None
+    first = max(min(np.log10(low), np.floor(np.log10(own.min())) - 1), np.log10(STIFFNESS_RANGE[0]))
+    last = min(max(np.log10(high), np.ceil(np.log10(own.max())) + 1), np.log10(STIFFNESS_RANGE[1]))
+    return np.logspace(first, last, int(round(8 * (last - first))) + 1)
+
+
+def _in_range(curve, operating) -> np.ndarray:
+    """A speed-dependent bearing's ``Kxx`` and ``Kyy`` [N/m] at its speeds within ``operating``
+    (the nearest one when none is)."""
+    speeds = np.abs(np.asarray(curve.speeds, dtype=float))
+    inside = (speeds >= operating[0] * (1 - 1e-12)) & (speeds <= operating[1] * (1 + 1e-12))
+    if not inside.any():
+        inside = np.abs(speeds - 0.5 * (operating[0] + operating[1])) == np.min(
+            np.abs(speeds - 0.5 * (operating[0] + operating[1])))
+    return np.concatenate([np.asarray(curve.kxx)[inside], np.asarray(curve.kyy)[inside]])
 
 
 def _reason(error, model) -> str:

@@ -15,7 +15,8 @@ import numpy as np
 from ..analysis.unbalance_checks import sensor_groups
 from ..unbalance_standards import amplitude_factor, amplitude_label
 from ..units import check_system
-from .collect import AMPLITUDE_WORDS, LOWEST_MODES, MODE_WINDOW, MOST_MODES, SECTIONS, from_pkpk, shown_scale
+from .collect import (AMPLITUDE_WORDS, LOWEST_MODES, MODE_WINDOW, MOST_MODES, SECTIONS, UCS_STIFFNESS, from_pkpk,
+                      shown_scale)
 
 __all__ = ["render_html", "figure_png", "margins_table"]
 
@@ -379,11 +380,15 @@ def _ucs(data, units) -> str:
     if result is None:
         return _heading("ucs") + _skipped(data, "ucs")
     factor, unit = shown_scale("stiffness", units)
-    stiffness = data.inputs.stiffness * factor
+    stiffness = result.stiffness * factor
+    default = UCS_STIFFNESS * factor
+    widened = (f", widened from the default {default[0]:.3g} to {default[-1]:.3g} {unit} to reach the bearings' own "
+               "stiffness" if data.inputs.stiffness is None and len(result.stiffness) != len(UCS_STIFFNESS) else "")
     return _heading("ucs") + _figure(
         result.plot(**_units(units)), f"Figure: undamped critical speed map, forward critical speeds against the "
-        f"bearings' radial stiffness ({stiffness[0]:.3g} to {stiffness[-1]:.3g} {unit}), the bearings' own stiffness over speed "
-        "drawn on it, the operating range as a band (docs/level1_and_ucs.md).", "Undamped critical speed map")
+        f"bearings' radial stiffness ({stiffness[0]:.3g} to {stiffness[-1]:.3g} {unit}{widened}), the bearings' own "
+        "stiffness over speed drawn on it, the operating range as a band (docs/level1_and_ucs.md).",
+        "Undamped critical speed map")
 
 
 def _unbalance(data, units) -> str:

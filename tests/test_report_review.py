@@ -245,3 +245,16 @@ def test_ucs_map_reaches_the_bearings_own_stiffness(tmp_path):
                                       load_model(path), {}, ("ucs",))
     report_collect._ucs(given)
     assert given.results["ucs"].stiffness[0] == 1e5 and given.results["ucs"].stiffness[-1] == 1e10   # as asked
+
+
+def test_stress_of_an_unloaded_shaft_names_no_station():
+    """A flexible shaft without static load (examples/compressor_rotor.toml has no gravity) has 0 MPa
+    everywhere: the summary said '0 MPa at n0', a place that governs nothing; it says why it is 0."""
+    from types import SimpleNamespace
+
+    data = report_collect.ReportData(ReportInputs("api684", MCS), None, {}, ("static",))
+    for stress, allowable, verdict in ((0.0, None, "not evaluated"), (0.0, 2e8, "pass"), (5e7, 2e8, "pass")):
+        check = SimpleNamespace(rotor="shaft", label="n3", von_mises=stress, allowable=allowable, verdict=verdict,
+                                utilization=stress / (allowable or 1.0))
+        report_collect._stress_criterion(data, check)
+    assert [c.value for c in data.criteria] == ["0 MPa (no static load)", "0 MPa (no static load)", "50 MPa at n3"]

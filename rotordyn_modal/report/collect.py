@@ -296,7 +296,8 @@ def _stress_criterion(data, check):
     """A flexible shaft's largest von Mises stress under its static loads against its material's
     ``allowable_stress`` (docs/static.md)."""
     name = f"Shaft stress, {check.rotor} (von Mises, static)"
-    where = f"at {check.label}"
+    # a shaft with no static load (no gravity, force or torque) is 0 everywhere: no place governs
+    where = f"at {check.label}" if check.von_mises > 0 else "(no static load)"
     if check.verdict == "not evaluated":
         data.criteria.append(Criterion.of(
             name, "not evaluated", "static", "no allowable_stress given for the shaft's material "

@@ -183,11 +183,13 @@ def _static(data, units) -> str:
             else [[] for _ in range(len(reactions))])
     rrows = [[r.support, r.kind, r.body, r.on, *(_g(v) for v in values), *extra]
              for r, values, extra in zip(reactions.itertuples(), forces, film)]
+    gravity = bool(np.any(np.asarray(data.model.gravity, dtype=float)))
+    under = "Under the model's gravity at" if gravity else "At"
     return "\n".join([
         _heading("static"),
-        f"<p>Under the model's gravity at the MCS ({data.inputs.mcs * 30 / np.pi:.6g} rpm), bearings at their "
-        "stiffness at that speed (docs/static.md).</p>",
-        *([] if np.any(np.asarray(data.model.gravity, dtype=float)) else [_NO_GRAVITY]),
+        f"<p>{under} the MCS "
+        f"({data.inputs.mcs * 30 / np.pi:.6g} rpm), bearings at their stiffness at that speed (docs/static.md).</p>",
+        *([] if gravity else [_NO_GRAVITY]),
         "<h3>Static displacement (sag)</h3>",
         _table(rows, [("body", True), ("point", True), *((f"u_{a} [{sag_unit}]", False) for a in "xyz")]),
         *([_JOURNAL_NOTE] if journals else []),

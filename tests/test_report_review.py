@@ -258,3 +258,28 @@ def test_stress_of_an_unloaded_shaft_names_no_station():
                                 utilization=stress / (allowable or 1.0))
         report_collect._stress_criterion(data, check)
     assert [c.value for c in data.criteria] == ["0 MPa (no static load)", "0 MPa (no static load)", "50 MPa at n3"]
+
+
+def test_mode_shape_figure_of_one_mode_keeps_its_title_inside(model, monkeypatch):
+    """One mode near the range (examples/rubber_mounts.toml at 3000 rpm) makes a figure one panel
+    (3.2 in) wide: its title on one line ran off both sides ('apes at the MCS, 3000 rpm (|shape|, no')."""
+    from rotordyn_modal.analysis.modal import modal
+    from rotordyn_modal.report import render
+
+    mcs = 12345.6 * np.pi / 30                                   # a long speed: the widest title line
+    shapes = report_collect.ModeShapes(modal(model, mcs), (1,), ("one of the lowest",), (mcs, mcs))
+    data = report_collect.ReportData(ReportInputs("api684", mcs), model, {}, ("modes",), results={"modes": shapes})
+    boxes = []
+
+    def fake(fig, dpi=110):
+        import matplotlib.pyplot as plt
+
+        fig.canvas.draw()
+        boxes.append((fig._suptitle.get_window_extent(), fig.bbox))
+        plt.close(fig)
+        return "data:image/png;base64,"
+
+    monkeypatch.setattr(render, "figure_png", fake)
+    render._modes(data, "si")
+    (title, figure), = boxes
+    assert figure.x0 <= title.x0 and title.x1 <= figure.x1, (title, figure)

@@ -361,7 +361,8 @@ def _modes(data, units) -> str:
         what = "deflected shaft lines along the axis (both planes at phase 0, the orbits' largest excursion shaded)"
     else:
         # two panels a row when the machine has many coordinates: their labels stay readable
-        fig = result.plot(title=f"Mode shapes at the MCS, {mcs:.6g} rpm (|shape|, normalised)", modes=numbers,
+        # two lines: one mode's panel is 3.2 in wide, and the title on one line ran off both its sides
+        fig = result.plot(title=f"Mode shapes at the MCS\n{mcs:.6g} rpm, |shape| normalised", modes=numbers,
                           columns=3 if len(result.dof_names) <= 6 else 2)
         what = "each coordinate's share of the mode (|shape|, normalised)"
     return "\n".join([

@@ -283,3 +283,29 @@ def test_mode_shape_figure_of_one_mode_keeps_its_title_inside(model, monkeypatch
     render._modes(data, "si")
     (title, figure), = boxes
     assert figure.x0 <= title.x0 and title.x1 <= figure.x1, (title, figure)
+
+
+def test_campbell_axis_ends_above_the_highest_mode_a_1x_line_can_cross():
+    """Modes at 5.5 to 16 Hz and one at 300 Hz, the 1X line reaching 93.75 Hz
+    (examples/motor_pump_on_mounts.toml at an MCS of 3000 rpm): the axis went to 1.4 x 93.75 Hz,
+    the crossings in its bottom eighth with their labels on each other; it ends 1.4 x above the
+    highest mode below that reach, which every crossing lies under, and the 300 Hz mode, crossed by
+    no 1X line, stays above it."""
+    from types import SimpleNamespace
+
+    from rotordyn_modal.report.render import campbell_top
+
+    speeds = np.linspace(0.02, 1.5, 31) * 1.25 * 3000 * np.pi / 30 / 1.25      # the pump's 1X at 1.25 x speed
+    modes = np.array([5.45, 5.95, 8.63, 10.97, 12.03, 15.8, 15.84, 300.0])
+    frequencies = np.tile(modes, (len(speeds), 1))
+    frequencies[:, 6] = np.linspace(15.7, 15.84, len(speeds))                   # one mode moving with speed
+    result = SimpleNamespace(oscillatory=np.ones_like(frequencies, dtype=bool), frequencies_hz=frequencies,
+                             orders=np.array([1.0]), speeds=speeds, sources=SimpleNamespace(multipliers=(1.0, 1.25)))
+    reach = 1.25 * speeds[-1] / (2 * np.pi)
+    assert reach == pytest.approx(93.75)
+    top = campbell_top(result)
+    assert top == pytest.approx(1.4 * 15.84, rel=1e-12)
+    assert top < 1.4 * reach and top < 300.0
+    # a mode between: the axis reaches it and no further
+    frequencies[:, 5] = 50.0
+    assert campbell_top(result) == pytest.approx(1.4 * 50.0, rel=1e-12)

@@ -258,19 +258,30 @@ _ABOVE_ORDERS = 1.4
 def campbell_top(result):
     """Top of the report's Campbell frequency axis [Hz], or None (the whole diagram).
 
-    :data:`_ABOVE_ORDERS` times the highest frequency an order line reaches in the sweep (the largest order times
-    the largest source multiplier times the largest speed), at least 1.4 times the lowest
-    mode; None where no mode lies above it. Modes higher up are crossed by no order line, and
-    on an axis reaching them (bearing modes at 1 kHz over mount modes at 5 Hz) the crossings
-    fill the bottom few per cent.
+    :data:`_ABOVE_ORDERS` times the highest frequency an order line reaches in the sweep
+    (:func:`_order_reach`), at least 1.4 times the lowest mode; lowered, where no mode lies
+    between, to :data:`_ABOVE_ORDERS` times the highest frequency of the modes below it (every
+    mode an order line can cross, whole); None where no mode lies above. Modes higher up are
+    crossed by no order line, and on an axis reaching them (bearing modes at 1 kHz over mount
+    modes at 5 Hz) the crossings fill the bottom few per cent; so they did below an empty band
+    up to the 1X lines' reach (examples/motor_pump_on_mounts.toml: modes up to 16 Hz, the axis
+    to 131 Hz, the critical speeds' labels on each other).
     """
     freqs = np.where(result.oscillatory, result.frequencies_hz, np.nan)
     if not np.isfinite(freqs).any() or not len(result.sources.multipliers):
         return None
-    lines = float(np.max(np.abs(result.orders)) * np.max(np.abs(result.sources.multipliers))
-                  * np.max(np.abs(result.speeds)) / (2 * np.pi))
-    top = max(_ABOVE_ORDERS * lines, 1.4 * float(np.nanmin(freqs)))
+    top = max(_ABOVE_ORDERS * _order_reach(result), 1.4 * float(np.nanmin(freqs)))
+    below = np.min(np.where(np.isfinite(freqs), freqs, np.inf), axis=0) < top    # the modes the axis shows
+    highest = float(np.nanmax(freqs[:, below]))
+    top = min(top, max(_ABOVE_ORDERS * highest, 1.4 * float(np.nanmin(freqs))))
     return top if float(np.nanmax(freqs)) > top else None
+
+
+def _order_reach(result) -> float:
+    """The highest frequency an order line reaches in the sweep [Hz]: the largest order times
+    the largest source multiplier times the largest speed."""
+    return float(np.max(np.abs(result.orders)) * np.max(np.abs(result.sources.multipliers))
+                 * np.max(np.abs(result.speeds)) / (2 * np.pi))
 
 
 def _campbell(data, units) -> str:
@@ -291,8 +302,8 @@ def _campbell(data, units) -> str:
              _figure(result.plot(title=data.model_info["name"], freq_range=None if top is None else (None, top)),
                      f"Figure: Campbell diagram, natural frequencies against the reference rotor's speed "
                      f"with the 1X lines; critical speeds marked. Operating range {low:.6g} to {high:.6g} rpm."
-                     + (f" Frequencies up to {top:.4g} Hz, {_ABOVE_ORDERS:g} times the highest 1X line's: the {above} "
-                        "modes above are crossed by no 1X line in the sweep." if above else ""),
+                     + (f" Frequencies up to {top:.4g} Hz: the {above} modes above are crossed by no 1X line in "
+                        f"the sweep (the highest reaches {_order_reach(result):.4g} Hz)." if above else ""),
                      "Campbell diagram"),
              "<h3>Critical speeds (1X crossings)</h3>",
              _table(rows, [("source", True), ("order [-]", False), ("mode", True), ("speed [rpm]", False),

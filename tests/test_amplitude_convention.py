@@ -215,3 +215,15 @@ def test_report_refuses_an_unknown_convention_by_name(model_path, tmp_path, caps
     err = capsys.readouterr().err
     assert exit_.value.code == 2 and "--amplitude" in err and "'p2p'" in err and len(err.splitlines()) == 1
     assert not (tmp_path / "r.html").exists()
+
+
+def test_report_judges_no_peak_of_a_round_off_curve(collected):
+    """The API couple case of a symmetric rotor is a pure tilt: at the centre of mass the probe sees
+    nothing (exactly 0; computed, round-off of 1e-21 m beside the static case's 6e-5 m). Its
+    'peaks' got an amplification factor and a separation-margin verdict ('fail') in the report;
+    only the static case's resonance is judged."""
+    response = collected.results["unbalance"]
+    couple = list(response.sources).index("api-couple:shaft")
+    assert response.amplitude[0, couple].max() < 1e-12 * response.amplitude.max()        # zero to round-off
+    margins = collected.results["margins"]
+    assert list(margins["case"]) == ["api-static:shaft"]

@@ -309,3 +309,15 @@ def test_campbell_axis_ends_above_the_highest_mode_a_1x_line_can_cross():
     # a mode between: the axis reaches it and no further
     frequencies[:, 5] = 50.0
     assert campbell_top(result) == pytest.approx(1.4 * 50.0, rel=1e-12)
+
+
+def test_clearance_scale_factor_note_is_said_once():
+    """The clearance table's 'scale factor' cell repeated '(Amax at 9968 rpm, the sweep's speed
+    nearest the operating speeds)' on every row (examples/compressor_rotor.toml, MCS alone): four
+    lines a row. Each cell says how (short), the parenthesis stands once under the table."""
+    from rotordyn_modal.report.render import _scaling_notes
+
+    where = " (Amax at 9968 rpm, the sweep's speed nearest the operating speeds)"
+    how, notes = _scaling_notes(["Avl/Amax capped at 6" + where, "Avl/Amax" + where, "unscaled: no probe on rotor r"])
+    assert how == ["Avl/Amax capped at 6", "Avl/Amax", "unscaled: no probe on rotor r"]
+    assert notes.count("Amax at 9968 rpm") == 1 and "nearest the operating speeds." in notes

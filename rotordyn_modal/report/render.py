@@ -450,10 +450,11 @@ def _clearance_table(data, units) -> str:
     table = check.to_dataframe()
     radial = dict(zip(check.names, check.radial_clearances))
     has_case = "case" in table
+    how, notes = _scaling_notes(table["scaling"])
     rows = [[r.clearance, r.rotor, *([r.case] if has_case else []), _g(radial[r.clearance] * factor),
-             _g(r.speed_rpm, 6), _g(r.response * amplitude), _g(r.scale_factor, 3), r.scaling,
+             _g(r.speed_rpm, 6), _g(r.response * amplitude), _g(r.scale_factor, 3), scaled,
              _g(r.value * amplitude), _g(r.limit * amplitude), _g(r.ratio, 3), _verdict_cell(r.verdict)]
-            for r in table.itertuples()]
+            for r, scaled in zip(table.itertuples(), how)]
     shown = "" if chosen == "pk-pk" else f" (shown {amplitude_label(chosen)}: x {from_pkpk(chosen):.4g})"
     return heading + (
         "<p>At each station the rotor's motion relative to the casing (which holds the seal): its peak-to-peak "
@@ -465,7 +466,17 @@ def _clearance_table(data, units) -> str:
                       (f"radial clearance [{unit}]", False), ("speed [rpm]", False),
                       (f"response [{words}]", False), ("Scc [-]", False), ("scale factor", True),
                       (f"value = Scc x response [{words}]", False),
-                      (f"limit [{words}]", False), ("ratio [-]", False), ("verdict", True)])
+                      (f"limit [{words}]", False), ("ratio [-]", False), ("verdict", True)]) + notes
+
+
+def _scaling_notes(scaling):
+    """How each row's scale factor was found, short (``Avl/Amax capped at 6``), and its
+    parenthesis (``Amax at 9968 rpm, the sweep's speed nearest the operating speeds``), the same
+    for every row, said once under the table: on every row it made each row four lines high."""
+    parts = [str(text).partition(" (") for text in scaling]
+    notes = list(dict.fromkeys(tail.rstrip(")") for _, sep, tail in parts if sep))
+    text = "".join(f'<p class="note">Scale factor: {escape(note)}.</p>' for note in notes)
+    return [head for head, _, _ in parts], text
 
 
 def _check_table(table, scale, unit) -> str:

@@ -227,3 +227,23 @@ def test_report_judges_no_peak_of_a_round_off_curve(collected):
     assert response.amplitude[0, couple].max() < 1e-12 * response.amplitude.max()        # zero to round-off
     margins = collected.results["margins"]
     assert list(margins["case"]) == ["api-static:shaft"]
+
+
+@pytest.mark.parametrize("amplitude, shown", [("peak", "12.7 µm 0-peak (25.4 µm pk-pk)"),
+                                              ("rms", "8.98 µm RMS (25.4 µm pk-pk)"),
+                                              ("pk-pk", "25.4 µm pk-pk")])
+def test_figure_names_the_probe_limit_in_its_convention(amplitude, shown, model_path):
+    """The probe-limit line of an RMS figure is drawn at 25.4 µm / (2 sqrt 2) = 8.98 µm; its legend
+    said '25.4 µm pk-pk' beside an axis in µm RMS. It names the drawn value in the axis's
+    convention, the rule's pk-pk value after it."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(model_path)
+    result = rdm.unbalance_response(model, rdm.rpm(np.linspace(100.0, 8000.0, 41)), amplitude=amplitude)
+    fig = result.plot(checks=result.checks(model, mcs=rdm.rpm(3000.0)))
+    labels = [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
+    limit = [text for text in labels if text.startswith("API 617 probe limit")]
+    plt.close(fig)
+    assert limit and limit[0].removesuffix(" (above the axis)") == f"API 617 probe limit {shown}"
+    factor = CONVENTIONS[amplitude][0]
+    assert f"{25.4 * factor / 2:.3g}" in limit[0]                          # the value drawn, by the exact factor

@@ -131,13 +131,14 @@ def _drawn(fig):
 
 
 def _labels(ax):
-    """Visible texts of the diagram: (kind, text artist), kind 'mode', 'critical' or 'order'."""
+    """Visible texts of the diagram: (kind, text artist), kind 'mode', 'critical', 'key', 'note'
+    (of the critical speeds left unlabelled) or 'order'."""
     out = []
     for t in ax.texts:
         if not t.get_visible() or not t.get_text():
             continue
         kind = "mode" if MODE_LABEL.match(t.get_text()) else "critical" if t.get_gid() == "critical-label" \
-            else "key" if t.get_gid() == "order-key" else "order"
+            else "key" if t.get_gid() == "order-key" else "note" if t.get_gid() == "critical-note" else "order"
         out.append((kind, t))
     return out
 
@@ -247,6 +248,8 @@ def _check_no_curve_through_a_label(result, ax, labels, anchors, renderer):
             points = anchors[t]
         elif kind == "mode":
             points = _last_points_inside(result, ax, int(MODE_LABEL.match(t.get_text()).group(1)))
+        elif kind == "note":        # no anchor: no curve through it at all
+            points = []
         else:
             points = [p for line in ax.get_lines() if line.get_color() == t.get_color() and len(line.get_xdata()) > 2
                       for p in _exits(line, frame)]
@@ -543,4 +546,32 @@ def test_coinciding_order_lines_share_one_label_in_the_colour_drawn_on_top():
                               9), axis=0)
     assert len(distinct) == len(both) < len(table.speeds_rpm)   # every point of the table, each once
     assert 0 < len(critical) <= len(distinct)
+    plt.close(fig)
+
+
+def test_coloured_curves_of_modes_above_max_frequency_part_of_the_sweep():
+    """compressor_rotor up to 450 Hz coloured by log decrement: mode 7 lies below 450 Hz only
+    up to ~3000 rpm (NaN beyond, its coloured segments there empty), and modes 1 and 2 lie on
+    each other at 95 Hz; drawing the figure re-coloured the pair's dashes by looking for the
+    segment starting at the stretch's first point and failed with IndexError on the empty
+    segments. Both modes of the pair show their colour (the colour map at their log decrement)."""
+    import matplotlib.pyplot as plt
+
+    result = rdm.campbell(rdm.load_model(EXAMPLES / "compressor_rotor.toml"), rdm.rpm(np.linspace(0.0, 12000.0, 21)),
+                          orders=(1,), max_frequency=450.0)
+    assert np.isnan(result.frequencies_hz).any()
+    fig = result.plot(color_by="log_decrement")
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    pair = [int(np.nonzero(result.modes == m)[0][0]) for m in (1, 2)]
+    delta = result.log_decrements
+    finite = delta[np.isfinite(delta) & result.oscillatory]
+    norm = matplotlib.colors.Normalize(finite.min(), finite.max())
+    image = np.asarray(fig.canvas.buffer_rgba())[:, :, :3].astype(float)
+    k = int(np.argmin(np.abs(result.speeds_rpm - 10000.0)))
+    x, y = ax.transData.transform((result.speeds_rpm[k], result.frequencies_hz[k, pair[0]]))
+    window = image[int(image.shape[0] - y) - 3:int(image.shape[0] - y) + 4, int(x) - 15:int(x) + 16]
+    for m in pair:
+        colour = 255.0 * np.asarray(matplotlib.colormaps["viridis"](norm(delta[k, m]))[:3])
+        assert (np.linalg.norm(window - colour, axis=-1) < 30.0).sum() >= 6, result.modes[m]
     plt.close(fig)

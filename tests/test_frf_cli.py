@@ -174,7 +174,7 @@ def test_fit_that_cannot_converge_says_why(tmp_path, capsys):
 
 @pytest.mark.parametrize("args,message", [
     (["--params", "suspensions.nope.stiffness"], "nope"),
-    (["--params", "gain", "--band", "40:2"], "--freq-band 40:2: expected LOW:HIGH"),
+    (["--params", "gain", "--freq-band", "40:2"], "--freq-band 40:2: expected LO:HI"),
     (["--params", "gain", "--bound-factor", "0.5"], "--bound-factor 0.5: expected a number > 1"),
 ])
 def test_fit_bad_options_exit_2(tmp_path, capsys, args, message):
@@ -189,7 +189,7 @@ def test_frf_measured_missing_channel_exit_2(tmp_path, capsys):
     res = rdm.frf(model, 0.0, np.linspace(2, 40, 50), outputs=["acc-top-z"])
     path = tmp_path / "one.uff"
     write_uff58([res], path, default_mapping(model))
-    code = main(["frf", EXAMPLE, "--freqs", "2:40:20", "--measured", str(path), "--output", "acc-side-y",
+    code = main(["frf", EXAMPLE, "--freqs", "2:40:20", "--measured", str(path), "--sensor", "acc-side-y",
                  "--quiet"])
     assert code == 2
     assert "no channel acc-side-y (--sensor) in the file at this speed; it has acc-top-z" in capsys.readouterr().err
@@ -209,7 +209,7 @@ def test_fit_band_without_measured_lines_names_the_file_and_its_lines(tmp_path, 
     meas = _measured(tmp_path)
     out = tmp_path / "fitted.toml"
     code = main(["fit", str(EXAMPLE), "--measured", str(meas), "--params", "suspensions.mount-FL.stiffness",
-                 "--band", "5000:6000", "--out", str(out), "--quiet"])
+                 "--freq-band", "5000:6000", "--out", str(out), "--quiet"])
     err = capsys.readouterr().err.strip()
     assert code == 2 and not out.exists() and err.count("\n") == 0
     assert f"{meas}: --freq-band 5000:6000" in err

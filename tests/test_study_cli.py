@@ -133,7 +133,7 @@ def test_help_lists_the_options(capsys):
     with pytest.raises(SystemExit):
         main(["study", "--help"])
     text = capsys.readouterr().out
-    for option in ("--spec", "--workers", "--scheduler", "--out", "--band", "--restart"):
+    for option in ("--spec", "--workers", "--scheduler", "--out", "--operating-range", "--restart"):
         assert option in text
 
 

@@ -244,6 +244,42 @@ def test_modes_keep_their_roots_where_the_kept_real_roots_change(examples_dir):
     np.testing.assert_allclose(lam[:, modes], truth, rtol=1e-9)
 
 
+def _continued(model, rpm, roots):
+    """``roots`` (m,) at ``rpm[0]`` continued over the fine grid ``rpm``: at each speed each
+    takes a root of scipy's eigenvalues of the state matrix (all of them, both halves), the
+    assignment of least total distance (roots of one value, a relaxation root -1/tau as many
+    times as the branches, are interchangeable). Returns (len(rpm), m)."""
+    from scipy.optimize import linear_sum_assignment
+
+    path = [np.asarray(roots)]
+    for matrix in state_matrices(model, rpm[1:] * np.pi / 30.0):
+        roots = scipy.linalg.eigvals(matrix)
+        rows, columns = linear_sum_assignment(np.abs(path[-1][:, None] - roots[None, :]))
+        path.append(roots[columns[np.argsort(rows)]])
+    return np.array(path)
+
+
+def test_real_roots_keep_their_tracks_where_the_kept_real_roots_change(examples_dir):
+    """rubber_mounts.toml, 9,000-9,400 rpm: the mounts' Maxwell branches give a relaxation root
+    -1/tau = -50 1/s eighteen times (as many as the branches' states: six with a motion, as any
+    basis of their eigenspace, twelve without); between 9,150 and 9,200 rpm two real roots at
+    -38.6 1/s meet into a pair that does not oscillate and a real root at -492.7 1/s enters the
+    kept half. Each label's root is the one continued by least distance over a grid 25 times
+    finer, but for the two that meet (one of them continues in the pair's other half, not
+    kept): the newcomer took a -50 1/s label, and a -50 1/s root the label of -38.64 1/s."""
+    model = rdm.load_model(examples_dir / "rubber_mounts.toml")
+    tau = np.concatenate([np.ravel(mount.maxwell_time) for mount in model.suspensions
+                          if mount.maxwell_time is not None]).astype(float)
+    rpm = np.linspace(9000.0, 9400.0, 9)
+    lam = rdm.campbell(model, rpm * np.pi / 30.0, critical=False).eigenvalues
+    assert np.sum(np.abs(lam[0] + 1.0 / tau.max()) < 1e-9) == 18
+    truth = _continued(model, np.linspace(9000.0, 9400.0, 201), lam[0])[::25]
+    meeting = (truth[0].imag == 0) & (np.abs(truth[-1].imag) > 1e-9 * np.abs(truth[-1]))     # not round-off
+    assert meeting.sum() == 2
+    np.testing.assert_allclose(lam[:, ~meeting], truth[:, ~meeting], rtol=1e-9, atol=1e-9)
+    assert sorted(lam[-1, meeting], key=abs)[-1] == pytest.approx(-492.74, abs=0.01)
+
+
 def test_a_far_root_of_a_modes_shape_does_not_take_its_label_when_its_root_turns_overdamped():
     """Two roots of one shape: a mode of |lambda| = 10 1/s whose damping ratio rises through
     the overdamped limit (0.985, 0.988, 0.991: from speed 2 on a pair that does not

@@ -10,9 +10,11 @@ unambiguous shape of each mode and a linear extrapolation of its eigenvalue,
 so a mode keeps its label through crossings and through points where its
 shape is not defined. Before that assignment, each root that plainly continues
 a mode (the one root of its nature, mode, overdamped pair or real root, of a
-sure MAC with it, and near its extrapolated eigenvalue) keeps it: where the set
-of kept roots changes (two real roots meeting into a pair, a root entering or
-leaving the kept half), only the roots left over are assigned.
+sure MAC with it, and near its extrapolated eigenvalue) keeps it, and so does
+each root that stands still (a relaxation root of Maxwell branches, many times
+over, its shapes any basis of its eigenspace): where the set of kept roots
+changes (two real roots meeting into a pair, a root entering or leaving the
+kept half), only the roots left over are assigned.
 """
 
 from __future__ import annotations
@@ -168,6 +170,7 @@ def _ambiguous_step(k, order, eigenvalues, shapes, last_good):
     free_columns = np.setdiff1d(labels, kept_columns)
     rows, columns = linear_sum_assignment(cost[np.ix_(free_rows, free_columns)])
     assigned[free_rows[rows]] = free_columns[columns]
+    _keep_still(assigned, previous, eigenvalues[k], predicted, free_rows)
     local = mac_matrix(shapes[k - 1, order[k - 1]], shapes[k, assigned])
     sure = np.diagonal(local) > _CONFIDENT_MAC
     return assigned, sure
@@ -209,6 +212,54 @@ def _kept_in_place(previous, current, correlation, predicted):
     alone = sure & (sure.sum(axis=1) == 1)[:, None] & (sure.sum(axis=0) == 1)[None, :]
     near = np.abs(current[None, :] - predicted[:, None]) <= _KEPT_DISTANCE * np.abs(predicted)[:, None]
     return np.nonzero(alone & near)
+
+
+#: a root that moved less than this fraction of the speed's largest |lambda| has not moved
+#: (round-off of one eigen-solution)
+_STILL = 1e-9
+
+
+def _keep_still(assigned, previous, current, predicted, rows):
+    """Give back, in ``assigned`` (each label's root at the speed, changed in place), each label
+    of ``rows`` whose root stands still a root at that same value.
+
+    A label stands still where its extrapolated eigenvalue is its root at the speed before
+    (the root did not move over the last two steps), both to :data:`_STILL` of the largest
+    |lambda|. Where the assignment gave it a root elsewhere while a root of its nature at its
+    value went to a label that does not stand at that value, the two labels exchange their
+    roots. Such roots are a relaxation root of rubber mounts' Maxwell branches, -1/tau, as many
+    times as the branches' states: their shapes are any basis of their eigenspace, or none,
+    and say nothing, and the assignment, weighing each eigenvalue distance relative to its own
+    label's |lambda|, could hand a root entering the kept half (two real roots meeting into a
+    pair) to one of their labels and one of them to the label that lost its root.
+
+    Parameters
+    ----------
+    assigned : ndarray of int, shape (n,)
+        Each label's root (column) at the speed.
+    previous, current, predicted : ndarray, shape (n,), complex [1/s]
+        As for :func:`_kept_in_place`.
+    rows : ndarray of int
+        The labels assigned (not kept in place).
+    """
+    tolerance = _STILL * max(np.abs(current).max(), np.abs(previous).max())
+    still = [int(r) for r in rows if abs(previous[r] - predicted[r]) <= tolerance]
+    if not still:
+        return
+    nature_before, nature_now = _nature(previous), _nature(current)
+
+    def at_value(label, column):
+        return abs(current[column] - previous[label]) <= tolerance and nature_before[label] == nature_now[column]
+
+    holder = {int(c): int(r) for r, c in zip(rows, assigned[rows])}
+    for label in still:
+        if at_value(label, assigned[label]):
+            continue
+        for column, other in holder.items():
+            if other != label and at_value(label, column) and not (other in still and at_value(other, column)):
+                holder[column], holder[int(assigned[label])] = label, other
+                assigned[label], assigned[other] = column, assigned[label]
+                break
 
 
 def _nature(values):

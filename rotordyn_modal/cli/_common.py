@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import argparse
+import copy
 import math
 import sys
 
@@ -17,8 +19,8 @@ from ..units import speed_to_rad_s as to_rad_s
 
 #: options that take a value which may start with '-' (a negative speed or range)
 VALUE_OPTIONS = ("--speed", "--speeds", "--values", "--scale", "--freqs", "--orders", "--impulse",
-                 "--ramp", "--duration", "--power", "--freq-range", "--operating", "--speed-band",
-                 "--freq-band", "--band")
+                 "--ramp", "--duration", "--power", "--freq-range", "--operating-range", "--operating",
+                 "--speed-band", "--freq-band", "--band")
 
 
 def join_negative_values(argv, options):
@@ -107,8 +109,55 @@ def options_as_typed(message: str, args, names: dict) -> str:
         typed = " ".join(map(str, typed)) if isinstance(typed, (list, tuple)) else str(typed)
         value, rest = message[len(head):].split(": ", 1)
         context = value[value.find(" ("):] if " (" in value else ""     # "(excitation 'hammer-z')" stays
-        return f"{option} {typed}{context}: {rest}"
+        return f"{as_typed(args, option)} {typed}{context}: {rest}"
     return message
+
+
+def add_alias(parser, new: str, *old: str) -> None:
+    """Keep ``old``, earlier spellings of the option ``new`` (declared before), working where
+    scripts use them: the same destination, type, choices and value, hidden from ``--help``
+    (which, as the docs, shows ``new`` alone). Two spellings together are refused in one line
+    (one option given twice); a required ``new`` is satisfied by any. Messages name the
+    spelling typed (:func:`as_typed`); each hidden action's ``alias_of`` is ``new``."""
+    action = parser._option_string_actions[new]
+    group = parser.add_mutually_exclusive_group(required=action.required)
+    group._group_actions.append(action)      # argparse adds no existing action to a group
+    action.required = False
+    for spelling in old:
+        alias = copy.copy(action)
+        alias.option_strings, alias.help, alias.default = [spelling], argparse.SUPPRESS, argparse.SUPPRESS
+        alias.alias_of = new
+        alias.__dict__.pop("file_role", None)    # a file option is checked once, by its shown spelling
+        group._add_action(alias)
+
+
+def aliases(parser) -> dict:
+    """``{old: new}``: the hidden earlier spellings of a sub-command's options (:func:`add_alias`)."""
+    return {a.option_strings[0]: a.alias_of for a in parser._actions if getattr(a, "alias_of", None)}
+
+
+def typed_spellings(parser, argv) -> dict:
+    """``{new: old}`` for each option of ``parser`` given on the command line ``argv`` by an
+    earlier spelling (``--band 2:40`` for ``--freq-band``; also ``--band=2:40`` and a unique
+    abbreviation, as argparse reads them)."""
+    known = aliases(parser)
+    spelled = {}
+    for token in argv:
+        if not token.startswith("--") or token == "--":
+            continue
+        name = token.split("=", 1)[0]
+        if name not in parser._option_string_actions:
+            matches = [s for s in parser._option_string_actions if s.startswith(name)]
+            name = matches[0] if len(matches) == 1 else name
+        if name in known:
+            spelled[known[name]] = name
+    return spelled
+
+
+def as_typed(args, option: str) -> str:
+    """``option`` as the user spelled it: its earlier spelling when that was typed (``--band``
+    for ``--freq-band``), else ``option``."""
+    return getattr(args, "spelled", {}).get(option, option)
 
 
 def parse_count(text, option: str, of: str = "") -> int:
@@ -145,8 +194,8 @@ def parse_range(text: str, option: str, largest: float | None = LARGEST) -> np.n
 
 def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=("LO", "HI"),
                example="0:40", wording="rule", largest: float | None = LARGEST) -> tuple[float, float]:
-    """``LO:HI`` -> (LO, HI): the one parser of the band options (``--freq-range``, ``--operating``,
-    ``--speed-band``, ``--freq-band``), so that each refuses the same inputs the same way.
+    """``LO:HI`` -> (LO, HI): the one parser of the band options (``--freq-range``,
+    ``--operating-range``, ``--freq-band``), so that each refuses the same inputs the same way.
 
     Parameters
     ----------
@@ -161,13 +210,13 @@ def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=(
     low_open : bool
         LO must be greater than ``low`` (True) or may equal it (False).
     names : (str, str)
-        How LO and HI are spelled in the option's ``--help`` (``("LOW", "HIGH")``).
+        How LO and HI are spelled in the option's ``--help`` (every band's is ``LO:HI``).
     example : str
         A valid value, shown when the form is wrong.
     wording : {"rule", "form"}
         How a band out of order or below ``low`` is refused: "rule" echoes the value quoted and
         names the rule (``expected 0 <= LO < HI [Hz]``); "form" echoes it as typed and names the
-        form first (``expected LOW:HIGH in Hz with 0 <= LOW < HIGH``), the wording ``fit`` has used.
+        form first (``expected LO:HI in Hz with 0 <= LO < HI``), the wording ``fit`` has used.
     largest : float or None
         The largest magnitude of LO and HI (None: any finite number).
 
@@ -418,9 +467,13 @@ def add_model_argument(parser):
     add_input_file(parser, "model", metavar="MODEL", help="model file (TOML), see docs/model-file.md")
 
 
+#: the unit of a speed option, in its --help
+IN_SPEED_UNIT = "[rpm, or --speed-unit]"
+
+
 def add_speed_unit(parser):
     parser.add_argument("--speed-unit", choices=sorted(SPEED_UNITS), default="rpm", type=str.lower,
-                        help="unit of --speed/--speeds (default rpm)")
+                        help="unit of the speed options (default rpm)")
 
 
 def add_outputs(parser, table: bool = True, plot: bool = True, out_endings=(".csv",)):

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
+from ._common import (IN_SPEED_UNIT, add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
                       save_figure, show_progress, speeds_option, speeds_text, use_agg,
                       undamped_zeros, write_table)
@@ -16,7 +16,8 @@ UNITS_HELP = NOTHING_TO_CONVERT   # --units (docs/units.md)
 DESCRIPTION = """Natural frequencies, damping and whirl of every mode over a speed range, each mode
 tracked by its shape so that it keeps its label where frequencies cross. The figure
 shows forward (solid blue) and backward (dashed red) whirl, every rotor's and gear
-mesh's excitation orders, and the critical speeds; unstable stretches lie on a red band,
+mesh's excitation orders, and the critical speeds (where crossings crowd, a note says how
+many are labelled and lists the others by mode); unstable stretches lie on a red band,
 a red triangle where a mode becomes unstable. Its speed axis is in --speed-unit; its
 frequency axis is logarithmic when the modes at one speed span more than 30x (e.g. mount
 modes at 5 Hz and bearing modes at 1 kHz), else linear (--freq-scale); --freq-range or
@@ -53,9 +54,10 @@ LONG_ADVICE = ("ask for the lowest modes only (--lowest N, --max-frequency HZ), 
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--speeds", required=True, help="START:STOP:N speeds of the reference rotor")
+    parser.add_argument("--speeds", required=True, metavar="START:STOP:N",
+                        help=f"speeds of the reference rotor {IN_SPEED_UNIT}")
     add_speed_unit(parser)
-    parser.add_argument("--orders", default="1", help="excitation orders drawn and marked (default 1), e.g. 1,2")
+    parser.add_argument("--orders", default="1", metavar="ORDER[,ORDER]", help="excitation orders drawn and marked (default 1), e.g. 1,2")
     parser.add_argument("--no-critical", action="store_true",
                         help="do not find the critical speeds (the orders are still drawn): large machines "
                              "cross the orders of every rotor and gear mesh many thousand times")

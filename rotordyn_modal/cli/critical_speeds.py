@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
+from ._common import (IN_SPEED_UNIT, add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
                       save_figure, show_progress, speeds_option, speeds_text, use_agg,
                       undamped_zeros, write_table)
@@ -34,9 +34,10 @@ example:
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--speeds", required=True, help="START:STOP:N search grid of reference speeds")
+    parser.add_argument("--speeds", required=True, metavar="START:STOP:N",
+                        help=f"search grid of reference speeds {IN_SPEED_UNIT}")
     add_speed_unit(parser)
-    parser.add_argument("--orders", default="1", help="comma-separated excitation orders (default 1)")
+    parser.add_argument("--orders", default="1", metavar="ORDER[,ORDER]", help="comma-separated excitation orders (default 1)")
     parser.add_argument("--lowest", metavar="N",
                         help="only the crossings of the N lowest-frequency modes at each speed, each mode the "
                              "full model's root to round-off, without solving for every root (see campbell "

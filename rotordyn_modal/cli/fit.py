@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..io import save_model
-from ._common import (add_input_file, add_model_argument, add_output_file, check_ending, check_output_options,
+from ._common import (add_alias, as_typed, add_input_file, add_model_argument, add_output_file, check_ending, check_output_options,
                       check_outputs, load_model, parse_band, parse_list, parse_names, save_figure, show_progress, use_agg)
 from ._units import ENVIRONMENT, key_unit, key_value_in
 
@@ -41,14 +41,14 @@ def add_arguments(parser):
     add_model_argument(parser)
     add_input_file(parser, "--measured", required=True, metavar="FILE", help="measured FRFs (.uff/.unv or .csv)")
     add_input_file(parser, "--mapping", metavar="FILE.csv", help="UFF node/direction to channel table")
-    parser.add_argument("--params", required=True,
+    parser.add_argument("--params", required=True, metavar="KEY[,KEY]",
                         help="dotted keys (or 'gain'), comma-separated; a key whose names hold ',' is given as "
                              "it is, or quoted (\"a,b\"), or with its commas escaped (a\\,b)")
     add_output_file(parser, "--out", required=True, metavar="FITTED.toml", help="fitted model file to write")
-    parser.add_argument("--freq-band", "--band", dest="band", metavar="LOW:HIGH",
-                        help="frequency band of the measured FRFs used [Hz] (--band is the same)")
-    parser.add_argument("--bound-factor", default="100", help="each parameter within start/F .. start*F (default 100)")
-    parser.add_argument("--starts", type=int, default=3, help="starting points (default 3)")
+    parser.add_argument("--freq-band", dest="band", metavar="LO:HI", help="frequency band of the measured FRFs used [Hz]")
+    add_alias(parser, "--freq-band", "--band")
+    parser.add_argument("--bound-factor", default="100", metavar="F", help="each parameter within start/F .. start*F (default 100)")
+    parser.add_argument("--starts", type=int, default=3, metavar="N", help="starting points (default 3)")
     parser.add_argument("--no-coherence", action="store_true", help="do not weight by coherence")
     add_output_file(parser, "--plot", metavar="FILE.png|FILE.svg|FILE.pdf",
                         help="overlay of the fitted model on the measurement at every speed")
@@ -63,7 +63,7 @@ def run(args) -> int:
     check_output_options(args)
     model = load_model(args.model)
     params = parse_names(args.params, "--params", lambda key: key == "gain" or _is_key(model, key))
-    band = parse_band(args.band, "--freq-band", "Hz", names=("LOW", "HIGH"), example="2:40", wording="form") \
+    band = parse_band(args.band, as_typed(args, "--freq-band"), "Hz", example="2:40", wording="form") \
         if args.band is not None else None
     factor = float(parse_list(args.bound_factor, "--bound-factor")[0])
     if not factor > 1:
@@ -72,7 +72,7 @@ def run(args) -> int:
     if band is not None and not any(((m.frequencies_hz >= band[0]) & (m.frequencies_hz <= band[1])).any()
                                     for m in measured):
         lines = np.concatenate([m.frequencies_hz for m in measured])
-        raise InputError(f"{args.measured}: --freq-band {args.band}: expected a band that holds measured frequency "
+        raise InputError(f"{args.measured}: {as_typed(args, '--freq-band')} {args.band}: expected a band that holds measured frequency "
                          f"lines (the file's lines run from {lines.min():.6g} to {lines.max():.6g} Hz)")
     result = fit(model, measured, params, bounds={p: (1 / factor, factor) for p in params}, band_hz=band,
                  weighting="none" if args.no_coherence else "coherence", starts=args.starts,

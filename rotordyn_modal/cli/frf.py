@@ -6,8 +6,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..units import FRF_OUTPUT_KINDS, ratio_scale
-from ._common import (NAME_LIST_HELP, add_input_file, add_model_argument, add_outputs, add_speed_unit, open_model,
-                      parse_names, parse_range, save_figure, speed_value, use_agg, write_table)
+from ._common import (IN_SPEED_UNIT, NAME_LIST_HELP, add_alias, add_input_file, add_model_argument, add_outputs,
+                      add_speed_unit, as_typed, open_model, parse_names, parse_range, save_figure, speed_value,
+                      use_agg, write_table)
 
 NAME = "frf"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
@@ -41,13 +42,16 @@ examples:
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--speed", default="0", help="reference rotor speed (default 0; negative reverses the spin)")
+    parser.add_argument("--speed", default="0", metavar="SPEED",
+                        help=f"reference rotor speed {IN_SPEED_UNIT} (default 0; negative reverses the spin)")
     add_speed_unit(parser)
-    parser.add_argument("--freqs", required=True, help="START:STOP:N frequencies [Hz]")
-    parser.add_argument("--excitation", "--input", dest="input", metavar="NAME[,NAME]",
-                        help=f"excitation name(s), {NAME_LIST_HELP} (default all; --input is the same)")
-    parser.add_argument("--sensor", "--output", dest="output", metavar="NAME[,NAME]",
-                        help=f"sensor name(s), {NAME_LIST_HELP} (default all; --output is the same)")
+    parser.add_argument("--freqs", required=True, metavar="START:STOP:N", help="frequencies [Hz]")
+    parser.add_argument("--excitation", dest="input", metavar="NAME[,NAME]",
+                        help=f"excitation name(s), {NAME_LIST_HELP} (default all)")
+    add_alias(parser, "--excitation", "--input")
+    parser.add_argument("--sensor", dest="output", metavar="NAME[,NAME]",
+                        help=f"sensor name(s), {NAME_LIST_HELP} (default all)")
+    add_alias(parser, "--sensor", "--output")
     parser.add_argument("--quantity", choices=["receptance", "mobility", "accelerance"], default="receptance",
                         help="displacement, velocity or acceleration per unit force (default receptance)")
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
@@ -59,12 +63,12 @@ def add_arguments(parser):
 
 def sensor_names(args, model):
     """The sensors named by --sensor (None: all), a name holding commas given whole or quoted."""
-    return parse_names(args.output, "--sensor", [s.name for s in model.sensors])
+    return parse_names(args.output, as_typed(args, "--sensor"), [s.name for s in model.sensors])
 
 
 def excitation_names(args, model):
     """The excitations named by --excitation (None: all)."""
-    return parse_names(args.input, "--excitation", [x.name for x in model.excitations])
+    return parse_names(args.input, as_typed(args, "--excitation"), [x.name for x in model.excitations])
 
 
 def run(args) -> int:
@@ -155,8 +159,8 @@ def _measured_at(args, model, speed):
     if best.quantity != args.quantity and not args.forces:
         raise InputError(f"--measured {args.measured}: the file holds {best.quantity}, the model is asked for "
                          f"{args.quantity}: give --quantity {best.quantity}")
-    for option, wanted, present in (("--sensor", sensor_names(args, model), best.outputs),
-                                    ("--excitation", excitation_names(args, model), best.inputs)):
+    for option, wanted, present in ((as_typed(args, "--sensor"), sensor_names(args, model), best.outputs),
+                                    (as_typed(args, "--excitation"), excitation_names(args, model), best.inputs)):
         missing = [n for n in (wanted or []) if n not in present]
         if missing and not args.forces:
             raise InputError(f"--measured {args.measured}: no channel {', '.join(missing)} ({option}) in the "

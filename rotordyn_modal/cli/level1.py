@@ -1,4 +1,4 @@
-"""``level1 MODEL --speed MCS --station ROTOR[@OFFSET] (--qa N/m | --power W ...)``."""
+"""``level1 MODEL --mcs SPEED --station ROTOR[@OFFSET] (--qa N/m | --power W ...)``."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from ..errors import InputError
 from ..model._table import LARGEST
 from ..units import from_system, unit_scale
 from ._units import convert_table, kinds_by_ending
-from ._common import (add_model_argument, add_output_file, add_outputs, add_speed_unit, check_extra_output,
+from ._common import (IN_SPEED_UNIT, add_alias, as_typed, add_model_argument, add_output_file, add_outputs, add_speed_unit, check_extra_output,
                       open_model, parse_count, parse_list, parse_number, save_figure, speed_value, use_agg,
                       write_table)
 
@@ -19,12 +19,12 @@ NAME = "level1"
 #: the largest anticipated cross-coupling [N/m] (``analysis.level1`` sweeps to 1000 Qa: products stay finite)
 LARGEST_QA = LARGEST / 1000
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
-API_NAMES = {"speed": "--speed", "qa": "--qa", "power": "--power", "diameter": "--impeller-diameter",
+API_NAMES = {"speed": "--mcs", "qa": "--qa", "power": "--power", "diameter": "--impeller-diameter",
              "height": "--restriction-height", "density_ratio": "--density-ratio", "factor": "--factor"}
 HELP = "API 617 Level I stability screening: log decrement against applied cross-coupling"
 DESCRIPTION = """API 617 Level I stability screening. A cross-coupled stiffness Q (k_ab = +Q,
 k_ba = -Q in the radial axes a, b = spin axis x a: destabilising for forward whirl) acts between
-each --station's rotor and the stator, Q swept from 0 to --factor x Qa (API: 10); at --speed
+each --station's rotor and the stator, Q swept from 0 to --factor x Qa (API: 10); at --mcs
 (the maximum continuous speed) the log decrement of each of the rotor's first three forward
 modes by frequency (whirling with the rotor's spin at the station, relative to the stator;
 those there are) is followed by its shape, and the least stable is judged: the log decrement
@@ -36,7 +36,7 @@ governing one bold) and the CSV (columns per mode) show every followed mode. Qa 
   qa = B T / (D H) (rho_d / rho_s),  T = P / Omega_r  (= B 9.55 P / (D H N_r) with P in W,
   D and H in m, N_r in rpm, q in N/m; B = 3 compressors, 1.5 turbines without density ratio)
 with one --power, --impeller-diameter, --restriction-height and --density-ratio per stage
-(comma lists) and N_r = --operating-speed (default --speed). Criteria: log decrement at Qa
+(comma lists) and N_r = --operating-speed (default --mcs). Criteria: log decrement at Qa
 >= 0.1 and Q0/Qa >= 2.0 (Q0 where the log decrement reaches 0); otherwise Level II is required.
 With one station all of Q acts there; with one station per stage each takes its stage's share.
 A station is ROTOR (its centre of mass: a rigid rotor's) or ROTOR@OFFSET (m along spin_axis
@@ -62,41 +62,44 @@ decrement at Qa), then log_decrement_mode_N,frequency_hz_mode_N for each followe
 (modes numbering) when several are followed
 
 examples:
-  rotordyn-modal level1 examples/journal_rotor.toml --speed 4000 --station rotor --qa 2e5 --plot l1.png
-  rotordyn-modal level1 examples/fan_on_bearings.toml --speed 3000 --station fan@-0.1 \\
+  rotordyn-modal level1 examples/journal_rotor.toml --mcs 4000 --station rotor --qa 2e5 --plot l1.png
+  rotordyn-modal level1 examples/fan_on_bearings.toml --mcs 3000 --station fan@-0.1 \\
       --power 15e3 --impeller-diameter 0.5 --restriction-height 0.03 --density-ratio 1.05"""
 
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--speed", "--mcs", dest="speed", required=True,
-                        help="maximum continuous speed of the reference rotor (--mcs, as in 'report' and "
-                             "'unbalance', is the same)")
+    parser.add_argument("--mcs", required=True, metavar="SPEED",
+                        help=f"maximum continuous speed of the reference rotor {IN_SPEED_UNIT}, where the screening "
+                             "is made")
+    add_alias(parser, "--mcs", "--speed")
     add_speed_unit(parser)
     add_stage_arguments(parser)
     parser.add_argument("--factor", default="10", help="the sweep reaches FACTOR x Qa (default 10)")
     parser.add_argument("--forward-mode", metavar="N",
                         help="follow the N-th forward mode alone (default: the first three, the least stable judged)")
-    add_output_file(parser, "--csr-plot", metavar="FILE", help="draw the CSR against gas density chart (needs "
-                                                               "--gas-density; .png, .svg or .pdf)")
+    add_output_file(parser, "--csr-plot", metavar="FILE.png|FILE.svg|FILE.pdf",
+                    help="draw the CSR against gas density chart (needs --gas-density)")
     add_outputs(parser)
 
 
-def add_stage_arguments(parser, required: bool = True, speed_option: str = "--speed"):
+def add_stage_arguments(parser, required: bool = True, speed_option: str = "--mcs"):
     """--station, --qa and the stage data of the API anticipated cross-coupling (also used by
     ``report``, where they are optional and the analysis speed is ``--mcs``)."""
     parser.add_argument("--station", action="append", required=required, metavar="ROTOR[@OFFSET]",
                         help="where Q acts (repeat for several stations)")
-    parser.add_argument("--qa", help="anticipated cross-coupling [N/m; lbf/in with --units us], or one per "
+    parser.add_argument("--qa", metavar="Q[,Q]", help="anticipated cross-coupling [N/m; lbf/in with --units us], or one per "
                                      "station (comma list)")
-    parser.add_argument("--power", help="rated power of each stage [W; hp] (comma list)")
-    parser.add_argument("--impeller-diameter", help="impeller (or blade pitch) diameter of each stage [m; in]")
-    parser.add_argument("--restriction-height", help="smaller of diffuser and impeller discharge width "
-                                                     "(turbines: effective blade height) of each stage [m; in]")
-    parser.add_argument("--density-ratio", help="discharge over suction density of each stage (default 1)")
+    parser.add_argument("--power", metavar="P[,P]", help="rated power of each stage [W; hp] (comma list)")
+    parser.add_argument("--impeller-diameter", metavar="D[,D]", help="impeller (or blade pitch) diameter of each stage [m; in]")
+    parser.add_argument("--restriction-height", metavar="H[,H]",
+                        help="smaller of diffuser and impeller discharge width (turbines: effective blade height) "
+                             "of each stage [m; in]")
+    parser.add_argument("--density-ratio", metavar="R[,R]", help="discharge over suction density of each stage (default 1)")
     parser.add_argument("--machine", choices=["compressor", "turbine"], default="compressor",
                         help="B = 3 (compressor) or 1.5 (turbine, no density ratio)")
-    parser.add_argument("--operating-speed", help=f"normal operating speed N_r of the formula (default {speed_option})")
+    parser.add_argument("--operating-speed", metavar="SPEED",
+                        help=f"normal operating speed N_r of the formula {IN_SPEED_UNIT} (default {speed_option})")
     parser.add_argument("--gas-density", metavar="RHO[,RHO_DISCHARGE]",
                         help="average gas density, or suction and discharge densities [kg/m^3; lb/ft^3 with --units "
                              "us]: adds the critical speed ratio chart (compressors)")
@@ -125,7 +128,7 @@ def run(args) -> int:
         raise InputError(f"--{error}") from None
     if args.units != "si":      # ROTOR@OFFSET: the offset in in
         stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", args.units)) for s in stations]
-    speed = speed_value(args.speed, args.speed_unit, "--speed")
+    speed = speed_value(args.mcs, args.speed_unit, as_typed(args, "--mcs"))
     qa, shares = anticipated(args, len(stations), speed)
     factor = parse_number(args.factor, "--factor")
     forward = None if args.forward_mode is None else parse_count(args.forward_mode, "--forward-mode")

@@ -10,13 +10,16 @@ import sys
 import warnings
 
 from ..errors import InputError, OutputWriteError
-from ._common import VALUE_OPTIONS, check_files, file_options, join_negative_values, options_as_typed
+from ._common import (VALUE_OPTIONS, check_files, file_options, join_negative_values, options_as_typed,
+                      typed_spellings)
 
 PROGRAM = "rotordyn-modal"
 
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # usage errors: one line (no usage block before it), exit 2
+        if message.startswith("one of the arguments ") and " " not in message[21:-12]:  # a required option
+            message = f"the following arguments are required: {message[21:-12]}"     # and its hidden alias
         self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 
 
@@ -59,6 +62,8 @@ def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     args = parser.parse_args(join_negative_values(argv, VALUE_OPTIONS))
+    # an option's earlier spelling (--band for --freq-band), so that messages say it as typed
+    args.spelled = typed_spellings(parser._subparsers._group_actions[0].choices[args.command], argv)
     try:
         with _signals_as_interrupts(), _warnings_as_lines(args.command):
             args.units = resolve_units(args.units)

@@ -15,7 +15,7 @@ from ..errors import InputError
 from ..model._table import SMALLEST_POSITIVE
 from ..io import atomic_write
 from ..units import from_system
-from ._common import add_model_argument, add_output_file, add_speed_unit, check_ending, check_extra_output, \
+from ._common import IN_SPEED_UNIT, add_alias, add_model_argument, add_output_file, as_typed, add_speed_unit, check_ending, check_extra_output, \
     open_model, speed_value
 from .level1 import add_stage_arguments, anticipated, gas_density
 from .ucs_map import _operating, _stiffness
@@ -44,7 +44,7 @@ shapes at the MCS of the modes whose 1X critical speed or frequency lies within 
   iso     the response to the model's [[unbalances]] (amounts or ISO 21940-11 grades) and the
           ISO 20816-3 zones of the casing sensors (--iso-group and --iso-support)
 The sweeps run from 2 % of --mcs to 1.5 x --mcs (--points speeds); the operating range
-(--operating LO:HI, default the MCS alone) measures the separation margins. docs/report.md
+(--operating-range LO:HI, default the MCS alone) measures the separation margins. docs/report.md
 lists what each section holds and where its numbers come from. With --units us (or
 ROTORDYN_MODAL_UNITS=us) every table, figure and criterion shows US customary units: vibration
 in mil, casing velocity in in/s RMS, static displacement in in, forces in lbf, stiffness and Q
@@ -59,7 +59,7 @@ casing velocities are RMS whatever it is (the zones are RMS).
 
 examples:
   rotordyn-modal report examples/journal_rotor.toml --standard api617 --mcs 6000 \\
-      --operating 4000:6000 --station rotor --qa 2e5 --out report.html
+      --operating-range 4000:6000 --station rotor --qa 2e5 --out report.html
   rotordyn-modal report examples/motor_pump_on_mounts.toml --standard iso --mcs 3000 \\
       --iso-group 2 --iso-support flexible --out report.html --pdf report.pdf"""
 
@@ -69,14 +69,15 @@ def add_arguments(parser):
     parser.add_argument("--standard", required=True, choices=["api617", "api684", "iso"],
                         help="which criteria and sections")
     parser.add_argument("--mcs", required=True, metavar="SPEED",
-                        help="maximum continuous speed of the reference rotor")
-    parser.add_argument("--operating", metavar="LO:HI", help="operating speed range (default: the MCS alone)")
+                        help=f"maximum continuous speed of the reference rotor {IN_SPEED_UNIT}")
+    parser.add_argument("--operating-range", dest="operating", metavar="LO:HI",
+                        help=f"operating speed range {IN_SPEED_UNIT} (default: the MCS alone)")
+    add_alias(parser, "--operating-range", "--operating")
     add_speed_unit(parser)
-    parser.add_argument("--points", default="151", help="speeds of the sweeps (default 151)")
-    parser.add_argument("--stiffness",
-                        help="START:STOP:N bearing stiffness of the UCS map [N/m; lbf/in with --units us], "
-                             "log-spaced (default 1e5:1e10:41 N/m, widened by decades to reach the bearings' "
-                             "own stiffness)")
+    parser.add_argument("--points", default="151", metavar="N", help="speeds of the sweeps (default 151)")
+    parser.add_argument("--stiffness", metavar="START:STOP:N",
+                        help="bearing stiffness of the UCS map [N/m; lbf/in with --units us], log-spaced "
+                             "(default 1e5:1e10:41 N/m, widened by decades to reach the bearings' own stiffness)")
     parser.add_argument("--iso-group", type=int, choices=[1, 2],
                         help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
     parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
@@ -134,7 +135,8 @@ def _inputs(args):
                          f"{SMALLEST_POSITIVE:g} rad/s)")
     operating = _operating(args, low_open=True) if args.operating is not None else None
     if operating is not None and operating[1] > mcs * (1 + 1e-12):
-        raise InputError(f"--operating {args.operating}: expected HI at most --mcs {args.mcs} (the maximum "
+        raise InputError(f"{as_typed(args, '--operating-range')} {args.operating}: expected HI at most --mcs "
+                         f"{args.mcs} (the maximum "
                          "continuous speed is the top of the operating range)")
     try:
         points = int(args.points)

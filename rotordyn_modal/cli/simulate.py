@@ -9,7 +9,7 @@ import numpy as np
 from .._limits import count_problem
 from ..errors import InputError
 from ..units import to_system
-from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
+from ._common import (IN_SPEED_UNIT, add_alias, as_typed, add_model_argument, add_outputs, add_speed_unit, open_model, parse_number,
                       save_figure, show_progress, speed_value, use_agg, write_table)
 
 NAME = "simulate"
@@ -53,7 +53,7 @@ carry, is integrated as its linear model instead (said once on stderr; docs/simu
 the spinning machine (M q'' + (C + w G) q' + K q = unbalance forces, w the drive speed), the
 unbalances as rotating forces (with their angular-acceleration part on a ramp). It keeps the
 undamped modes below 4 times the fastest spin frequency (at least the 6 lowest) plus the
-static deflections under the unbalances and weights; --modes-below HZ sets that limit,
+static deflections under the unbalances and weights; --max-frequency HZ sets that limit,
 'all' keeps every mode (the linear model exactly, slower). --free-spin is refused with such
 a model (exit 2); a plain journal bearing (type = 'journal') keeps its film's nonlinear force
 on the linear structure (oil whirl and whip of flexible rotors; the basis then also holds the
@@ -77,7 +77,7 @@ examples:
   rotordyn-modal simulate examples/gear_machine.toml --speed 0 --ramp 4000 --duration 3 \\
       --sensor acc-top-z --plot runup.png --out runup.csv
   rotordyn-modal simulate examples/gear_machine.toml --speed 3000 --duration 0.5 \\
-      --impulse hammer-z --impulse-size 0.5
+      --excitation hammer-z --impulse-size 0.5
   rotordyn-modal simulate examples/fan_on_bearings.toml --speed 0 --ramp 9000 --duration 3 \\
       --samples 30001 --sensor probe-DE-x --plot fan_runup.png
   rotordyn-modal simulate examples/compressor_rotor.toml --speed 3000 --ramp 9000 --duration 2 \\
@@ -86,28 +86,33 @@ examples:
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--duration", required=True, help="simulated time [s]")
-    parser.add_argument("--speed", default="0", help="reference rotor speed at t = 0 (default 0)")
+    parser.add_argument("--duration", required=True, metavar="T", help="simulated time [s]")
+    parser.add_argument("--speed", default="0", metavar="SPEED",
+                        help=f"reference rotor speed at t = 0 {IN_SPEED_UNIT} (default 0)")
     add_speed_unit(parser)
     drive = parser.add_mutually_exclusive_group()
-    drive.add_argument("--ramp", metavar="STOP", help="run-up: speed at the end of --duration (same unit)")
+    drive.add_argument("--ramp", metavar="SPEED", help="run-up: speed at the end of --duration (unit of --speed)")
     drive.add_argument("--free-spin", action="store_true", help="no drive torque: the spin is free")
     parser.add_argument("--initial", choices=["rest", "equilibrium"], default="rest",
                         help="initial state of the stator, at rest with the rotors spinning at --speed: "
                         "'rest' undeformed (springs unstretched, default), 'equilibrium' in static "
                         "equilibrium under gravity")
-    parser.add_argument("--impulse", metavar="EXCITATION", help="hit this [[excitations]] entry at t = 0")
-    parser.add_argument("--impulse-size", default="1", help="impulse [N s] (N m s for a moment), default 1")
-    parser.add_argument("--samples", type=int, help="number of output times (default: 20 per period of the "
+    parser.add_argument("--excitation", dest="impulse", metavar="NAME",
+                        help="hit this [[excitations]] entry at t = 0 with an impulse of --impulse-size")
+    add_alias(parser, "--excitation", "--impulse")
+    parser.add_argument("--impulse-size", default="1", metavar="J", help="impulse [N s] (N m s for a moment), default 1")
+    parser.add_argument("--samples", type=int, metavar="N", help="number of output times (default: 20 per period of the "
                         "fastest spin or natural frequency)")
-    parser.add_argument("--rtol", default="1e-9", help="relative tolerance of the integrator (default 1e-9)")
-    parser.add_argument("--atol", default="1e-12", help="absolute tolerance of the integrator (default 1e-12)")
+    parser.add_argument("--rtol", default="1e-9", metavar="R", help="relative tolerance of the integrator (default 1e-9)")
+    parser.add_argument("--atol", default="1e-12", metavar="A", help="absolute tolerance of the integrator (default 1e-12)")
     parser.add_argument("--backend", choices=["auto", "numba", "numpy"], default="auto",
                         help="right-hand side: numba-compiled when installed (auto), or plain numpy")
     parser.add_argument("--sensor", metavar="NAME", help="sensor of the run-up figures (default: the first)")
-    parser.add_argument("--modes-below", metavar="HZ", help="flexible rotors: the linear time model keeps the "
-                        "modes below HZ [Hz] (default: 4 times the fastest spin frequency, at least the 6 "
-                        "lowest), or 'all'")
+    parser.add_argument("--max-frequency", dest="modes_below", metavar="HZ",
+                        help="flexible rotors: the linear time model keeps the modes (undamped, at the start "
+                             "speed) below HZ [Hz] (default: 4 times the fastest spin frequency), at least the 6 "
+                             "lowest; or 'all'")
+    add_alias(parser, "--max-frequency", "--modes-below")
     add_outputs(parser)
 
 
@@ -131,7 +136,7 @@ def run(args) -> int:
                       initial=args.initial, impulse=args.impulse, impulse_size=parse_number(args.impulse_size, "--impulse-size"),
                       samples=args.samples, rtol=parse_number(args.rtol, "--rtol"),
                       atol=parse_number(args.atol, "--atol"), backend=args.backend, progress=show_progress(args),
-                      modes_below=_modes_below(args.modes_below))
+                      modes_below=_modes_below(args.modes_below, as_typed(args, "--max-frequency")))
     if args.out or not args.quiet:
         write_table(_in_units(result.to_dataframe(), result, args.units), args)
     if not args.quiet:
@@ -178,15 +183,15 @@ def _in_units(table, result, system):
     return table.rename(columns=names)
 
 
-def _modes_below(text):
-    """``--modes-below``: a frequency [Hz] > 0 to rad/s, 'all' (every mode), or None."""
+def _modes_below(text, option="--max-frequency"):
+    """``--max-frequency``: a frequency [Hz] > 0 to rad/s, 'all' (every mode), or None."""
     if text is None:
         return None
     if text.strip().lower() == "all":
         return float("inf")
-    value = parse_number(text, "--modes-below")
+    value = parse_number(text, option)
     if not np.isfinite(value) or value <= 0:
-        raise InputError(f"--modes-below {text}: expected a frequency [Hz] > 0, or 'all'")
+        raise InputError(f"{option} {text}: expected a frequency [Hz] > 0, or 'all'")
     return 2 * np.pi * value
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
-from ._common import (add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
+from ._common import (IN_SPEED_UNIT, add_allow_long, add_model_argument, add_outputs, add_speed_unit, lowest_option,
                       max_frequency_option, open_model, parse_list,
                       parse_range, save_figure, show_progress, speeds_option, speeds_text,
                       use_agg, write_table)
@@ -57,7 +57,8 @@ examples:
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--speeds", required=True, help="START:STOP:N speeds of the reference rotor")
+    parser.add_argument("--speeds", required=True, metavar="START:STOP:N",
+                        help=f"speeds of the reference rotor {IN_SPEED_UNIT}")
     add_speed_unit(parser)
     parser.add_argument("--lowest", metavar="N",
                         help="only the N lowest-frequency modes of each speed, each the full model's root to "
@@ -71,8 +72,8 @@ def add_arguments(parser):
                              "frequency'")
     parser.add_argument("--vary", metavar="KEY", help="dotted key of the parameter of a map")
     group = parser.add_mutually_exclusive_group()
-    group.add_argument("--values", help="values to set KEY to: START:STOP:N or a list")
-    group.add_argument("--scale", help="factors to multiply KEY by: START:STOP:N or a list")
+    group.add_argument("--values", metavar="START:STOP:N|LIST", help="values to set KEY to: a range or a comma list")
+    group.add_argument("--scale", metavar="START:STOP:N|LIST", help="factors to multiply KEY by: a range or a comma list")
     add_allow_long(parser)
     add_outputs(parser)
 

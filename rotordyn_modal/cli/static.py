@@ -7,7 +7,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..units import from_system, unit_label, unit_scale
-from ._common import (add_model_argument, add_outputs, add_speed_unit, open_model, parse_number, print_table,
+from ._common import (IN_SPEED_UNIT, add_model_argument, add_outputs, add_speed_unit, open_model, parse_number, print_table,
                       save_figure, speed_value, use_agg, write_table)
 from ._units import convert_table, kinds_by_ending
 
@@ -65,7 +65,8 @@ examples:
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--speed", help="reference rotor speed of the operating point (default: at rest)")
+    parser.add_argument("--speed", metavar="SPEED",
+                        help=f"reference rotor speed of the operating point {IN_SPEED_UNIT} (default: at rest)")
     add_speed_unit(parser)
     parser.add_argument("--power", action="append", metavar="W|DRIVER->DRIVEN=W",
                         help="power [W; hp with --units us] each transmission carries (repeat with "

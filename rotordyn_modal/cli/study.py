@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, OutputError, OutputWriteError
-from ._common import (add_input_file, add_model_argument, add_output_file, check_outputs, parse_band, print_table,
+from ._common import (add_alias, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, parse_band, print_table,
                       show_progress, use_agg)
 from ._resources import add_verbose
 from ._units import ENVIRONMENT, key_kind
@@ -48,7 +48,7 @@ file's numbers, the model file and RESULTS.nc stay SI; speeds stay rpm (rad/s in
 
 examples:
   rotordyn-modal study examples/gear_machine.toml --spec examples/mount_tolerance.study.toml \\
-      --out tolerance.nc --workers 2 --speed-band 3400:3700 --plot campbell.png
+      --out tolerance.nc --workers 2 --operating-range 3400:3700 --plot campbell.png
   rotordyn-modal study examples/unstable_cross_coupled.toml \\
       --spec examples/stability_map.study.toml --out map.nc --plot-map map.png"""
 
@@ -64,9 +64,10 @@ def add_arguments(parser):
     parser.add_argument("--chunk-size", type=int, metavar="N", help="variants per chunk (default: chosen)")
     parser.add_argument("--restart", action="store_true",
                         help="discard the finished chunks of an earlier run instead of resuming")
-    parser.add_argument("--speed-band", "--band", dest="band", metavar="LOW:HIGH",
-                        help="operating speed band [rpm]: report P(critical speed inside) (default: the study "
-                             "file's; --band is the same)")
+    parser.add_argument("--operating-range", dest="band", metavar="LO:HI",
+                        help="operating speed range [rpm]: report P(critical speed inside) (default: the study "
+                             "file's operating_band_rpm)")
+    add_alias(parser, "--operating-range", "--speed-band", "--band")
     add_output_file(parser, "--table", metavar="FILE.csv", help="write the per-variant table as CSV")
     add_output_file(parser, "--plot", metavar="FILE.png", help="Campbell diagram with tolerance bands")
     add_output_file(parser, "--plot-histogram", metavar="FILE.png", help="histograms of the critical speeds")
@@ -95,7 +96,7 @@ def run(args) -> int:
     model = load_model(args.model)
     definition = read_study(args.spec, model)
     band = definition.operating_band_rpm if args.band is None else \
-        parse_band(args.band, "--speed-band", "rpm", low=None, names=("LOW", "HIGH"), example="2700:3300")
+        parse_band(args.band, as_typed(args, "--operating-range"), "rpm", low=None, example="2700:3300")
     folder = checkpoint_folder(args.out)  # both follow links: one lock and checkpoint however
     with ResultsLock(args.out):  # the file is named
         if args.restart and folder.exists():

@@ -1,4 +1,4 @@
-"""``ucs-map MODEL --stiffness 1e5:1e9:41 [--lowest 4] [--bearings NAME,...]``."""
+"""``ucs-map MODEL --stiffness 1e5:1e9:41 [--lowest 4] [--bearings NAME[,NAME]]``."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import sys
 import numpy as np
 
 from ..errors import InputError
-from ._common import (NAME_LIST_HELP, add_model_argument, add_outputs, add_speed_unit, check_speeds, open_model,
+from ._common import (IN_SPEED_UNIT, add_alias, as_typed, NAME_LIST_HELP, add_model_argument, add_outputs, add_speed_unit, check_speeds, open_model,
                       parse_band, parse_names, parse_range, save_figure, use_agg, write_table)
 from ..units import from_system, to_system, unit_label
 from ._units import convert_table, kinds_by_ending
@@ -24,7 +24,7 @@ being a forward crossing), named by the body and motion with most of its kinetic
 pump conical"), against the stiffness on log-log axes, each chosen bearing's own Kxx and Kyy
 over speed over them (tables and journal bearings; constant ones as vertical lines), their
 crossings marked, the rigid-support asymptotes (the chosen bearings radially rigid) beyond the
-sweep's last stiffness, and --operating as a band. Bearings not chosen keep their coefficients, which must be constant.
+sweep's last stiffness, and --operating-range as a band. Bearings not chosen keep their coefficients, which must be constant.
 docs/level1_and_ucs.md gives the definitions.
 
 CSV columns: stiffness_n_per_m,mode,name,speed_rpm,frequency_hz (stiffness_lbf_per_in with --units us;
@@ -35,21 +35,24 @@ numbers and names as on the figure).
 examples:
   rotordyn-modal ucs-map examples/journal_rotor.toml --stiffness 1e5:1e10:51 --plot ucs.png
   rotordyn-modal ucs-map examples/fan_on_bearings.toml --stiffness 1e5:1e9:41 \\
-      --bearings fan-DE,fan-NDE --operating 1000:3000 --out ucs.csv"""
+      --bearings fan-DE,fan-NDE --operating-range 1000:3000 --out ucs.csv"""
 
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--stiffness", required=True,
-                        help="START:STOP:N radial stiffness values [N/m; lbf/in with --units us], log-spaced, "
-                             "e.g. 1e5:1e9:41")
-    parser.add_argument("--lowest", "--modes", dest="modes", metavar="N", default="4",
-                        help="the N lowest forward critical speeds at each stiffness (default 4; --modes is the same)")
-    parser.add_argument("--bearings", metavar="NAME,...",
+    parser.add_argument("--stiffness", required=True, metavar="START:STOP:N",
+                        help="radial stiffness values [N/m; lbf/in with --units us], log-spaced, e.g. 1e5:1e9:41")
+    parser.add_argument("--lowest", dest="modes", metavar="N", default="4",
+                        help="the N lowest forward critical speeds at each stiffness (default 4)")
+    add_alias(parser, "--lowest", "--modes")
+    parser.add_argument("--bearings", metavar="NAME[,NAME]",
                         help=f"the bearings whose stiffness is swept, {NAME_LIST_HELP} (default all)")
-    parser.add_argument("--speeds", help="START:STOP:N speeds at which the speed-dependent bearings' stiffness "
-                                         "is drawn (default: over the map's speeds)")
-    parser.add_argument("--operating", metavar="LO:HI", help="operating speed range, drawn as a band")
+    parser.add_argument("--speeds", metavar="START:STOP:N",
+                        help=f"speeds {IN_SPEED_UNIT} at which the speed-dependent bearings' stiffness is drawn "
+                             "(default: over the map's speeds)")
+    parser.add_argument("--operating-range", dest="operating", metavar="LO:HI",
+                        help=f"operating speed range {IN_SPEED_UNIT}, drawn as a band")
+    add_alias(parser, "--operating-range", "--operating")
     add_speed_unit(parser)
     add_outputs(parser)
 
@@ -58,7 +61,7 @@ def run(args) -> int:
     from ..analysis.ucs_map import ucs_map
 
     stiffness = _stiffness(args.stiffness, args.units)
-    modes = _modes(args.modes)
+    modes = _modes(args.modes, as_typed(args, "--lowest"))
     speeds = check_speeds(parse_range(args.speeds, "--speeds", largest=None), args.speeds, args.speed_unit,
                           "--speeds") if args.speeds else None
     operating = _operating(args) if args.operating is not None else None
@@ -87,21 +90,22 @@ def _stiffness(text, system="si"):
     return from_system(np.geomspace(linear[0], linear[-1], len(linear)), "stiffness", system)
 
 
-def _modes(text):
+def _modes(text, option="--lowest"):
     try:
         value = int(text)
     except ValueError:
-        raise InputError(f"--lowest {text!r}: expected a whole number from 1 to 1000") from None
+        raise InputError(f"{option} {text!r}: expected a whole number from 1 to 1000") from None
     if not 1 <= value <= 1000:
-        raise InputError(f"--lowest {text!r}: expected a whole number from 1 to 1000")
+        raise InputError(f"{option} {text!r}: expected a whole number from 1 to 1000")
     return value
 
 
 def _operating(args, low_open=False):
-    """--operating LO:HI [--speed-unit] -> (low, high) [rad/s]; LO > 0 with ``low_open``."""
-    band = parse_band(args.operating, "--operating", args.speed_unit, low_open=low_open, example="1000:3000",
+    """--operating-range LO:HI [--speed-unit] -> (low, high) [rad/s]; LO > 0 with ``low_open``."""
+    option = as_typed(args, "--operating-range")
+    band = parse_band(args.operating, option, args.speed_unit, low_open=low_open, example="1000:3000",
                       largest=None)
-    return tuple(check_speeds(np.array(band), args.operating, args.speed_unit, "--operating"))
+    return tuple(check_speeds(np.array(band), args.operating, args.speed_unit, option))
 
 
 def _print_crossings(result, system="si"):

@@ -10,7 +10,7 @@ import numpy as np
 from ..errors import InputError
 from ..model._table import SMALLEST_POSITIVE
 from ..unbalance_standards import amplitude_label, one_convention
-from ._common import (NAME_LIST_HELP, add_model_argument, add_output_file, add_outputs, add_speed_unit, check_ending,
+from ._common import (IN_SPEED_UNIT, add_alias, NAME_LIST_HELP, add_model_argument, add_output_file, add_outputs, add_speed_unit, check_ending,
                       check_extra_output, open_model, print_table, save_figure, speeds_option,
                       speed_value, speeds_text, use_agg, write_csv, write_table)
 from ._units import convert_table
@@ -94,22 +94,24 @@ examples:
 
 def add_arguments(parser):
     add_model_argument(parser)
-    parser.add_argument("--speeds", required=True, help="START:STOP:N speeds of the reference rotor")
+    parser.add_argument("--speeds", required=True, metavar="START:STOP:N",
+                        help=f"speeds of the reference rotor {IN_SPEED_UNIT}")
     add_speed_unit(parser)
-    parser.add_argument("--sensor", "--output", dest="output", metavar="NAME[,NAME]",
-                        help=f"sensor name(s), {NAME_LIST_HELP} (default all; --output is the same)")
+    parser.add_argument("--sensor", dest="output", metavar="NAME[,NAME]",
+                        help=f"sensor name(s), {NAME_LIST_HELP} (default all)")
+    add_alias(parser, "--sensor", "--output")
     parser.add_argument("--quantity", choices=["displacement", "velocity", "acceleration"], default="displacement",
                         help="what the sensors read (default displacement)")
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="add force rows after the sensors' (default none)")
-    parser.add_argument("--operating-speed", help="operating speed (same unit as --speeds, in the direction of spin of the sweep) for the separation margin")
+    parser.add_argument("--operating-speed", metavar="SPEED", help="operating speed (same unit as --speeds, in the direction of spin of the sweep) for the separation margin")
     parser.add_argument("--amplitude", choices=["peak", "pk-pk", "rms"], default="peak",
                         help="amplitude convention of the peaks table, the figure and the CSV's added column: "
                              "0-peak (default, as the CSV's amplitude column), peak-to-peak or RMS")
     parser.add_argument("--mcs", metavar="SPEED", help="maximum continuous speed of the reference rotor (same "
                         "unit as --speeds): API 617 probe limits, top of the checked speeds")
     parser.add_argument("--min-speed", metavar="SPEED", help="bottom of the checked speeds of --mcs's and --iso-group's "
-                        "checks, with one of them (default 0)")
+                        "checks, with one of them (same unit as --speeds; default 0)")
     parser.add_argument("--trip-speed", metavar="SPEED", help="top of the speeds of the clearance check (same "
                         "unit as --speeds; default --mcs)")
     parser.add_argument("--min-operating-speed", metavar="SPEED", help="minimum allowable speed (same unit as "
@@ -122,8 +124,8 @@ def add_arguments(parser):
                         help="replace the model's unbalances by the API 617/684 cases (needs --mcs)")
     add_output_file(parser, "--checks", metavar="FILE.csv", help="write the table of the standards' checks")
     add_output_file(parser, "--orbits", metavar="FILE.csv", help="write the orbits of the probe pairs")
-    add_output_file(parser, "--orbit-plot", metavar="FILE",
-                    help="draw the orbits of the probe pairs (.png, .svg, .pdf)")
+    add_output_file(parser, "--orbit-plot", metavar="FILE.png|FILE.svg|FILE.pdf",
+                    help="draw the orbits of the probe pairs")
     add_outputs(parser)
 
 

@@ -13,6 +13,7 @@ drawing does anyway (its save, its display), instead of laying the figure out on
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,6 +28,15 @@ _OVER = 0.5
 #: axes with more curves than this are left as drawn (one bit per curve in a group's mask; the
 #: work grows with the cube of the count)
 MOST_CURVES = 32
+
+
+#: the dash pattern of each dashed stretch drawn, as set (matplotlib keeps it only privately)
+_PATTERNS = weakref.WeakKeyDictionary()
+
+
+def dash_pattern(line):
+    """``(offset, (on, off))`` [line widths] of a dashed stretch :func:`show_overlaps` drew."""
+    return _PATTERNS[line]
 
 
 @dataclass(frozen=True)
@@ -80,9 +90,10 @@ def show_overlaps(ax, lines):
             if long_:
                 found += [Overlap(line, lines[m], start, stop) for m in members[:rank]]
             x, y = np.asarray(line.get_xdata()), np.asarray(line.get_ydata())
-            ax.plot(x[start:stop + 1], y[start:stop + 1], color=line.get_color(), lw=line.get_linewidth(),
-                    ls=_dashes(rank, len(members), line.get_linewidth(), along / (ax.figure.dpi / 72.0)),
-                    zorder=line.get_zorder() + _OVER, label="_overlap")
+            pattern = _dashes(rank, len(members), line.get_linewidth(), along / (ax.figure.dpi / 72.0))
+            dashed, = ax.plot(x[start:stop + 1], y[start:stop + 1], color=line.get_color(), lw=line.get_linewidth(),
+                              ls=pattern, zorder=line.get_zorder() + _OVER, label="_overlap")
+            _PATTERNS[dashed] = pattern
         long_ = [s for s in stretches if s[4]]         # its dashes as its own style: as the legend names it
         if long_ and all(s[2].index(k) for s in stretches) and _covered(long_, points[k]):
             line.set_linestyle(_dashes(1, 2, line.get_linewidth()))    # the legend shows its dashes

@@ -34,6 +34,12 @@ _NUMBER_GAP_POINTS = 4.0
 #: a leader line crossing a curve costs as much as this many label heights farther away; a
 #: label costing more than :data:`_MOST_COST` label heights (distance and crossings) is left out
 _CROSSING_COST, _MOST_COST = 2.0, 12.0
+#: the note of the critical speeds left unlabelled lists them by mode up to this many (else counts them)
+_MAX_LISTED = 60
+#: lengths of the note's lines tried [characters], longest first (fewest lines)
+_NOTE_WIDTHS = (160, 110, 80, 50)
+#: the speed unit as the note writes it
+_UNIT_WORDS = {"rpm": "rpm", "rad/s": "rad/s", "hz": "Hz"}
 #: size of a critical speed's circle [points]; circles whose centres lie within each other's
 #: circle (closer than half this) read as one double circle and share one label
 _MARKER_POINTS = 6
@@ -61,7 +67,9 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     speeds are marked and labelled with their speed where a label finds room clear of the
     other labels, markers and curves, beside the marker or nearby with a leader line (every
     critical speed is in the result's table); circles that read as one share a label
-    ('2842/2855'). No curve runs through a label but at its own
+    ('2842/2855'). Where some critical speeds inside the axes find no label, a note in a free
+    place inside the axes says how many are labelled and lists the others by mode ('mode 3:
+    177, 257'; the count alone, or in the legend, where the list finds no room). No curve runs through a label but at its own
     anchor (:class:`~rotordyn_modal.plotting._labels.CurveMap`). The labels are placed again
     whenever the figure is drawn, so they follow zooming and resizing.
 
@@ -113,8 +121,9 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     if axis_scale == "log":
         ax.grid(True, which="minor", alpha=0.1)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), fontsize="small", ncols=4, frameon=False)
-    labels = _CampbellLabels(ax, x, freqs, result, lines, 1 / (2 * np.pi * scale), critical,
+    labels = _CampbellLabels(ax, x, freqs, result, lines, 1 / (2 * np.pi * scale), critical[:2],
                              annotate_critical, color_by is None)
+    labels.critical_modes, labels.speed_unit = critical[2], _UNIT_WORDS[speed_unit]
     ax.add_artist(draw_time_layout(labels.place))
     return fig
 
@@ -276,7 +285,9 @@ def _recolour(ax, dashed, collection):
     one's ended (the dash pattern of one line along the stretch)."""
     from matplotlib.collections import LineCollection
 
-    offset, (on, off) = dashed._unscaled_dash_pattern       # as set: in line widths
+    from ._overlap import dash_pattern
+
+    offset, (on, off) = dash_pattern(dashed)       # as set: in line widths
     width = dashed.get_linewidth()
     points = np.column_stack([dashed.get_xdata(), dashed.get_ydata()]).astype(float)
     shown = dashed.get_transform().transform(points) / (ax.figure.dpi / 72.0)        # [points]
@@ -293,8 +304,9 @@ def _recolour(ax, dashed, collection):
 
 
 def _first_segment(collection, point):
-    """Index of the segment of ``collection`` starting at ``point`` (data)."""
-    starts = np.array([s[0] for s in collection.get_segments()])
+    """Index of the segment of ``collection`` starting at ``point`` (data); a segment not drawn
+    (a mode above ``max_frequency`` there: NaN ends, an empty segment) starts nowhere."""
+    starts = np.array([s[0] if len(s) else (np.nan, np.nan) for s in collection.get_segments()], float)
     return int(np.argmin(np.nan_to_num(np.hypot(*(starts - point).T), nan=np.inf)))
 
 
@@ -345,25 +357,26 @@ def _draw_critical(ax, result, scale, sources):
     """Markers of the critical speeds drawn; returns their (speeds in the axis' unit, Hz)."""
     critical = result.critical
     if not len(critical):
-        return np.empty(0), np.empty(0)
+        return np.empty(0), np.empty(0), np.empty(0)
     keep = np.array([sources is None or s in sources for s in critical.source], dtype=bool)
     speeds, freqs = critical.speeds[keep] * scale, critical.frequencies_hz[keep]
-    speeds, freqs = _distinct_points(speeds, freqs)
+    first = _distinct_points(speeds, freqs)
+    speeds, freqs = speeds[first], freqs[first]
     ax.plot(speeds, freqs, "o", markersize=_MARKER_POINTS, markerfacecolor="none", markeredgecolor="k",
             label="critical speed", zorder=3)
-    return speeds, freqs
+    return speeds, freqs, np.asarray(critical.mode)[keep][first]
 
 
 def _distinct_points(speeds, freqs):
-    """The points ``(speed, frequency)`` once each (to 1e-9 of the largest), in their order: where
-    the coinciding order lines of two sources cross a mode there is one circle and one label."""
+    """Indices of the points ``(speed, frequency)`` once each (to 1e-9 of the largest), in their
+    order: where the coinciding order lines of two sources cross a mode there is one circle and
+    one label."""
     if not len(speeds):
-        return speeds, freqs
+        return np.arange(0)
     points = np.column_stack([speeds, freqs])
     size = np.where(np.abs(points).max(axis=0) > 0, np.abs(points).max(axis=0), 1.0)
     _, first = np.unique(np.round(points / size, 9), axis=0, return_index=True)
-    first = np.sort(first)
-    return speeds[first], freqs[first]
+    return np.sort(first)
 
 
 def _speed_text(value: float) -> str:
@@ -400,6 +413,10 @@ class _CampbellLabels:
                                for w in self.critical_words] if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
         self.critical_leaders = [ax.plot([], [], linewidth=0.5, color="k", transform=ax.transAxes, visible=False,
                                          gid="critical-leader")[0] for _ in self.critical_texts]
+        self.critical_modes, self.speed_unit = np.zeros(len(critical[0]), int), "rpm"
+        # the note of the critical speeds left unlabelled (shown only when some are)
+        self.critical_note = self._text("", gid="critical-note", fontsize="xx-small") \
+            if annotate and len(critical[0]) else None
 
     def _text(self, text, gid=None, va="bottom", fontsize=_FONT, visible=False, x=0.5, clip_on=True):
         return self.ax.text(x, 0.5, text, transform=self.ax.transAxes, fontsize=fontsize, ha="left", va=va,
@@ -428,6 +445,7 @@ class _CampbellLabels:
         markers = self._marker_boxes()
         self._place_modes(renderer, placed, markers)
         self._place_critical(renderer, placed, markers)
+        self._place_note(renderer, placed, markers)
 
     # -- order lines ---------------------------------------------------------------------
     def _place_orders(self, renderer, placed):
@@ -687,6 +705,70 @@ class _CampbellLabels:
                 continue
             set_if_changed(text, position=(box[0], box[1]), va="bottom", ha="left", clip_on=True, visible=True)
 
+    def _in_view(self):
+        """Indices of the critical speeds whose markers lie inside the axes."""
+        return [k for k, point in enumerate(zip(*self.critical))
+                if all(0 <= c <= 1 for c in self.to_axes(point))]
+
+    def _unlabelled_critical(self):
+        """Indices of the critical speeds inside the axes whose speed no visible label reads."""
+        named = set()
+        if self.critical_texts:
+            for group in self._critical_groups():
+                if self.critical_texts[group[0]].get_visible():
+                    named.update(group)
+        return [k for k in self._in_view() if k not in named]
+
+    def _note_texts(self, left):
+        """The note's wordings, longest first: the count, then the speeds left unlabelled by mode."""
+        total = len(self._in_view())
+        head = f"{total - len(left)} of {total} critical speeds labelled (all in the critical-speeds table)"
+        if len(left) > _MAX_LISTED:
+            return [head]
+        by_mode = {}
+        for k in sorted(left, key=lambda k: (self.critical_modes[k], self.critical[0][k])):
+            by_mode.setdefault(self.critical_modes[k], []).append(self.critical_words[k])
+        entries = [f"mode {mode}: {', '.join(words)}" for mode, words in by_mode.items()]
+        lead = f"{head}; the others [{self.speed_unit}]"
+        return [_wrapped([lead] + entries, width) for width in _NOTE_WIDTHS] + [head]
+
+    def _place_note(self, renderer, placed, markers):
+        """Where some critical speeds find no label: a note inside the axes, clear of the
+        curves, labels and markers, as near the unlabelled markers as it fits, saying how many
+        are labelled and listing the others by mode ('mode 3: 177, 257'); with no room for
+        the list, the count only; with no room for that, the count in the legend."""
+        note = self.critical_note
+        if note is None:
+            return
+        left = self._unlabelled_critical()
+        legend = self.ax.get_legend()
+        entry = next((t for t in (legend.get_texts() if legend else [])
+                      if t.get_text().startswith("critical speed")), None)
+        if entry is not None:
+            set_if_changed(entry, text="critical speed")
+        if not left:
+            set_if_changed(note, visible=False)
+            return
+        centre = np.mean([self.to_axes((self.critical[0][k], self.critical[1][k])) for k in left], axis=0)
+        margin_u, margin_v = self.points * self.to_u, self.points * self.to_v
+        frame = (margin_u, margin_v, 1 - margin_u, 1 - margin_v)
+        gap = (_PAD_POINTS * self.points * self.to_u, _PAD_POINTS * self.points * self.to_v)
+        for words in self._note_texts(left):
+            w, h = self._size(words, "xx-small", renderer)
+            w, h = w * self.to_u, h * self.to_v
+            lefts, bottoms = np.arange(frame[0], frame[2] - w, 0.02), np.arange(frame[1], frame[3] - h, 0.02)
+            boxes = [(a, b, a + w, b + h) for a in lefts for b in bottoms]
+            boxes.sort(key=lambda box: np.hypot((box[0] + box[2]) / 2 - centre[0], (box[1] + box[3]) / 2 - centre[1]))
+            box = first_free_box(boxes, placed, gap, frame, obstacles=markers,
+                                 allowed=lambda box: self.curves.free(box) and not crosses_any(self.leader_lines, [box]))
+            if box is not None:
+                set_if_changed(note, text=words, position=(box[0], box[1]), va="bottom", ha="left",
+                               clip_on=True, visible=True)
+                return
+        set_if_changed(note, visible=False)
+        if entry is not None:
+            set_if_changed(entry, text=f"critical speed ({self._note_texts(left)[-1]})")
+
     def _critical_groups(self):
         """The critical speeds' indices in groups whose circles read as one (each centre closer
         than half :data:`_MARKER_POINTS` to the group's first, in order of speed; not a chain,
@@ -721,6 +803,18 @@ def _unnamed(exits, taken):
         else:
             groups.append([exit_])
     return [group for group in groups if group is not None]
+
+
+def _wrapped(entries, width):
+    """``entries`` joined by '; ' into lines of at most ``width`` characters (an entry longer
+    than that on a line of its own), the first entry followed by ':'."""
+    lines = [entries[0] + ":"]
+    for entry in entries[1:]:
+        if len(lines) > 1 and len(lines[-1]) + 2 + len(entry) <= width:
+            lines[-1] += "; " + entry
+        else:
+            lines.append(entry)
+    return "\n".join(lines)
 
 
 def _contains(box, point) -> bool:

@@ -17,7 +17,7 @@ __all__ = ["BALANCE_GRADES", "balance_grade", "permissible_unbalance", "api_unba
            "API_SI_CONSTANT", "API_US_CONSTANT", "API_ANALYSIS_MULTIPLE", "api_analysis_unbalance",
            "API_SCALE_CAP", "api_scale_factor", "api_probe_limit", "ISO_20816_3_ZONES",
            "iso_zone_boundaries", "iso_zones", "AMPLITUDES", "amplitude_factor", "amplitude_label",
-           "amplitude_column"]
+           "amplitude_column", "one_convention"]
 
 #: ISO 21940-11 balance quality grades G [mm/s] (G0.4 ... G4000)
 BALANCE_GRADES = (0.4, 1.0, 2.5, 6.3, 16.0, 40.0, 100.0, 250.0, 630.0, 1600.0, 4000.0)
@@ -190,3 +190,31 @@ def amplitude_column(amplitude: str) -> str:
     """Table column of an amplitude in that convention: ``amplitude_0pk``, ``amplitude_pkpk``,
     ``amplitude_rms``."""
     return "amplitude_" + _convention(amplitude)[2]
+
+
+def one_convention(table, amplitude: str):
+    """A table of 0-peak amplitudes with its amplitudes in ``amplitude`` alone.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        With the 0-peak column ``amplitude`` (and possibly a column of another convention,
+        ``amplitude_pkpk`` or ``amplitude_rms``, after it).
+    amplitude : {'peak', 'pk-pk', 'rms'}
+
+    Returns
+    -------
+    pandas.DataFrame
+        A copy whose ``amplitude`` column is replaced, in its place, by
+        :func:`amplitude_column` (``amplitude_0pk``, ``amplitude_pkpk`` or ``amplitude_rms``:
+        the name says the convention) holding ``amplitude`` x :func:`amplitude_factor`; the
+        other conventions' columns dropped.
+    """
+    factor, column = amplitude_factor(amplitude), amplitude_column(amplitude)
+    others = [c for c in ("amplitude_0pk", "amplitude_pkpk", "amplitude_rms") if c in table.columns]
+    out = table.drop(columns=others)
+    position = list(out.columns).index("amplitude")
+    values = out["amplitude"].to_numpy(dtype=float) * factor
+    out = out.drop(columns=["amplitude"])
+    out.insert(position, column, values)
+    return out

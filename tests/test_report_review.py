@@ -119,3 +119,205 @@ def test_us_level1_section_states_the_gas_density_in_us_units(model, monkeypatch
     for text in (html, *texts):
         assert "kg/m³" not in text.replace("[kg/m³]", "")               # the chart's second axis says both
         assert density in " ".join(text.split())
+
+
+def _cells(html):
+    """(headers, rows of cell texts) of the one table in ``html``."""
+    import re
+
+    headers = [re.sub(r"<[^>]+>", "", h) for h in re.findall(r"<th[^>]*>(.*?)</th>", html)]
+    rows = [[re.sub(r"<[^>]+>", "", c) for c in re.findall(r"<td[^>]*>(.*?)</td>", row)]
+            for row in re.findall(r"<tr>(.*?)</tr>", html)[1:]]
+    return headers, rows
+
+
+def test_margins_table_names_the_source_of_each_peak():
+    """Two rotors' peaks at one sensor (an ISO report: the model's unbalances, no API case) are told
+    apart by their source, as the figure labels them '(1X motor)', '(1X fan)'; the table had only the
+    output, and two rows at one sensor near one speed could not be traced to their curves."""
+    import pandas as pd
+
+    from rotordyn_modal.report.render import margins_table
+
+    margins = pd.DataFrame({"output": ["acc", "acc"], "source": ["motor", "fan"], "speed_rpm": [1421.76, 1457.28],
+                            "amplitude": [1e-5, 2e-6], "amplification_factor": [17.0, 7.8],
+                            "separation_margin_pct": [60.5, 59.5], "required_margin_pct": [15.9, 14.3],
+                            "verdict": ["pass", "pass"]})
+    headers, rows = _cells(margins_table(margins))
+    assert headers[:3] == ["output", "source (1X of)", "peak speed [rpm]"]
+    assert [(r[1], r[2], r[3]) for r in rows] == [("motor", "1421.76", "20"), ("fan", "1457.28", "4")]  # µm pk-pk
+    with_cases = margins.assign(case=["api-static:motor", "api-couple:fan"])
+    headers, rows = _cells(margins_table(with_cases, amplitude="peak"))
+    assert headers[:2] == ["output", "case"] and [r[1] for r in rows] == ["api-static:motor", "api-couple:fan"]
+    assert "amplitude, 0-peak [µm]" in headers and [r[3] for r in rows] == ["10", "2"]
+
+
+def test_probe_limit_table_has_no_empty_zone_column():
+    """The API probe-limit table showed an ISO 'zone' column empty on every row; the ISO table keeps it."""
+    import pandas as pd
+
+    from rotordyn_modal.report.render import _check_table
+
+    probes = pd.DataFrame({"output": ["DE-x"], "check": ["API 617 probe limit"], "speed_rpm": [5980.8],
+                           "value": [1.447e-6], "amplitude": ["peak-to-peak"], "limit": [25.4e-6],
+                           "verdict": ["pass"], "zone": [""]})
+    headers, rows = _cells(_check_table(probes, 1e6, "µm pk-pk"))
+    assert headers == ["output", "speed [rpm]", "value [µm pk-pk]", "limit [µm pk-pk]", "verdict"]
+    assert rows == [["DE-x", "5980.8", "1.447", "25.4", "pass"]]
+    casing = probes.assign(check="ISO 20816-3", zone="A", value=0.9e-3, limit=4.5e-3)
+    headers, rows = _cells(_check_table(casing, 1e3, "mm/s RMS"))
+    assert "zone" in headers and rows[0][headers.index("zone")] == "A"
+
+
+def test_unbalance_figure_names_absolute_rotor_sensors_as_such(tmp_path, monkeypatch):
+    """Two absolute sensors at one point of a rotor see an orbit but are no proximity probes: the
+    report's figure titled their panel 'probe pairs' under a section that says 'No proximity probe
+    (measure = "relative") in the model' (examples/spring_block_rotor.toml); it names them as the
+    `unbalance` command does, by what they measure."""
+    from rigid_two_forward import MODEL
+
+    from rotordyn_modal.report import render
+
+    sensors = "".join(f"""
+[[sensors]]
+name = "{name}"
+rotor = "rotor"
+position = [0.0, 0.0, 0.0]
+direction = {direction}
+""" for name, direction in (("centre-y", [0.0, 1.0, 0.0]), ("centre-z", [0.0, 0.0, 1.0])))
+    path = tmp_path / "rotor.toml"
+    path.write_text(MODEL + sensors, encoding="utf-8")
+    model = load_model(path)
+    data = report_collect.ReportData(ReportInputs("api684", MCS, points=21), model, {}, ("unbalance",))
+    report_collect._unbalance(data)
+    assert data.results["unbalance"].orbit_pairs                         # the two sensors see an orbit
+    titles = []
+
+    def fake(fig, dpi=110):
+        import matplotlib.pyplot as plt
+
+        titles.extend(ax.get_title() for ax in fig.axes)
+        plt.close(fig)
+        return "data:image/png;base64,"
+
+    monkeypatch.setattr(render, "figure_png", fake)
+    html = render._unbalance(data, "si")
+    assert "No proximity probe" in html
+    assert "rotor points, absolute" in titles and "probe pairs" not in titles
+
+
+SOFT_ROTOR = """
+name = "rigid rotor on soft bearings"
+spin_axis = [1.0, 0.0, 0.0]
+
+[[rotors]]
+name = "rotor"
+mass = 5.0
+center_of_mass = [0.0, 0.0, 0.0]
+polar_inertia = 1.0e-9
+diametral_inertia = 5.0
+speed_ratio = 1.0
+""" + "".join(f"""
+[[bearings]]
+name = "{name}"
+rotor = "rotor"
+position = [{x}, 0.0, 0.0]
+stiffness = 2.0e3
+""" for name, x in (("A", 0.25), ("B", -0.25)))
+
+
+def test_ucs_map_reaches_the_bearings_own_stiffness(tmp_path):
+    """A rotor on bearings of 2e3 N/m (examples/spring_block_rotor.toml) had a UCS map from 1e5 to
+    1e10 N/m: its bearings' line lay off the map, with no crossing to say where the machine is. The
+    default range is widened by whole decades to reach them, and the crossings are the closed
+    forms of a rigid rotor on two springs k at +-a: sqrt(2 k / m) and sqrt(2 k a^2 / Id)."""
+    path = tmp_path / "soft.toml"
+    path.write_text(SOFT_ROTOR, encoding="utf-8")
+    data = report_collect.ReportData(ReportInputs("api684", MCS), load_model(path), {}, ("ucs",))
+    report_collect._ucs(data)
+    result = data.results["ucs"]
+    assert result.stiffness[0] <= 2e2 and result.stiffness[-1] >= 1e10        # one decade beyond, default kept
+    assert np.allclose(np.diff(np.log10(result.stiffness)), 1 / 8)            # 8 points a decade
+    speeds = sorted({round(c.speed, 6) for c in result.crossings})
+    k, m, a, inertia = 2e3, 5.0, 0.25, 5.0
+    np.testing.assert_allclose(speeds, [np.sqrt(2 * k * a ** 2 / inertia), np.sqrt(2 * k / m)], rtol=1e-6)
+    given = report_collect.ReportData(ReportInputs("api684", MCS, stiffness=np.geomspace(1e5, 1e10, 11)),
+                                      load_model(path), {}, ("ucs",))
+    report_collect._ucs(given)
+    assert given.results["ucs"].stiffness[0] == 1e5 and given.results["ucs"].stiffness[-1] == 1e10   # as asked
+
+
+def test_stress_of_an_unloaded_shaft_names_no_station():
+    """A flexible shaft without static load (examples/compressor_rotor.toml has no gravity) has 0 MPa
+    everywhere: the summary said '0 MPa at n0', a place that governs nothing; it says why it is 0."""
+    from types import SimpleNamespace
+
+    data = report_collect.ReportData(ReportInputs("api684", MCS), None, {}, ("static",))
+    for stress, allowable, verdict in ((0.0, None, "not evaluated"), (0.0, 2e8, "pass"), (5e7, 2e8, "pass")):
+        check = SimpleNamespace(rotor="shaft", label="n3", von_mises=stress, allowable=allowable, verdict=verdict,
+                                utilization=stress / (allowable or 1.0))
+        report_collect._stress_criterion(data, check)
+    assert [c.value for c in data.criteria] == ["0 MPa (no static load)", "0 MPa (no static load)", "50 MPa at n3"]
+
+
+def test_mode_shape_figure_of_one_mode_keeps_its_title_inside(model, monkeypatch):
+    """One mode near the range (examples/rubber_mounts.toml at 3000 rpm) makes a figure one panel
+    (3.2 in) wide: its title on one line ran off both sides ('apes at the MCS, 3000 rpm (|shape|, no')."""
+    from rotordyn_modal.analysis.modal import modal
+    from rotordyn_modal.report import render
+
+    mcs = 12345.6 * np.pi / 30                                   # a long speed: the widest title line
+    shapes = report_collect.ModeShapes(modal(model, mcs), (1,), ("one of the lowest",), (mcs, mcs))
+    data = report_collect.ReportData(ReportInputs("api684", mcs), model, {}, ("modes",), results={"modes": shapes})
+    boxes = []
+
+    def fake(fig, dpi=110):
+        import matplotlib.pyplot as plt
+
+        fig.canvas.draw()
+        boxes.append((fig._suptitle.get_window_extent(), fig.bbox))
+        plt.close(fig)
+        return "data:image/png;base64,"
+
+    monkeypatch.setattr(render, "figure_png", fake)
+    render._modes(data, "si")
+    (title, figure), = boxes
+    assert figure.x0 <= title.x0 and title.x1 <= figure.x1, (title, figure)
+
+
+def test_campbell_axis_ends_above_the_highest_mode_a_1x_line_can_cross():
+    """Modes at 5.5 to 16 Hz and one at 300 Hz, the 1X line reaching 93.75 Hz
+    (examples/motor_pump_on_mounts.toml at an MCS of 3000 rpm): the axis went to 1.4 x 93.75 Hz,
+    the crossings in its bottom eighth with their labels on each other; it ends 1.4 x above the
+    highest mode below that reach, which every crossing lies under, and the 300 Hz mode, crossed by
+    no 1X line, stays above it."""
+    from types import SimpleNamespace
+
+    from rotordyn_modal.report.render import campbell_top
+
+    speeds = np.linspace(0.02, 1.5, 31) * 1.25 * 3000 * np.pi / 30 / 1.25      # the pump's 1X at 1.25 x speed
+    modes = np.array([5.45, 5.95, 8.63, 10.97, 12.03, 15.8, 15.84, 300.0])
+    frequencies = np.tile(modes, (len(speeds), 1))
+    frequencies[:, 6] = np.linspace(15.7, 15.84, len(speeds))                   # one mode moving with speed
+    result = SimpleNamespace(oscillatory=np.ones_like(frequencies, dtype=bool), frequencies_hz=frequencies,
+                             orders=np.array([1.0]), speeds=speeds, sources=SimpleNamespace(multipliers=(1.0, 1.25)))
+    reach = 1.25 * speeds[-1] / (2 * np.pi)
+    assert reach == pytest.approx(93.75)
+    top = campbell_top(result)
+    assert top == pytest.approx(1.4 * 15.84, rel=1e-12)
+    assert top < 1.4 * reach and top < 300.0
+    # a mode between: the axis reaches it and no further
+    frequencies[:, 5] = 50.0
+    assert campbell_top(result) == pytest.approx(1.4 * 50.0, rel=1e-12)
+
+
+def test_clearance_scale_factor_note_is_said_once():
+    """The clearance table's 'scale factor' cell repeated '(Amax at 9968 rpm, the sweep's speed
+    nearest the operating speeds)' on every row (examples/compressor_rotor.toml, MCS alone): four
+    lines a row. Each cell says how (short), the parenthesis stands once under the table."""
+    from rotordyn_modal.report.render import _scaling_notes
+
+    where = " (Amax at 9968 rpm, the sweep's speed nearest the operating speeds)"
+    how, notes = _scaling_notes(["Avl/Amax capped at 6" + where, "Avl/Amax" + where, "unscaled: no probe on rotor r"])
+    assert how == ["Avl/Amax capped at 6", "Avl/Amax", "unscaled: no probe on rotor r"]
+    assert notes.count("Amax at 9968 rpm") == 1 and "nearest the operating speeds." in notes

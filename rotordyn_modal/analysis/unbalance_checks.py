@@ -26,7 +26,7 @@ from ..errors import InputError
 from ..model import Model
 from ..unbalance_standards import api_analysis_unbalance, api_probe_limit, iso_zone_boundaries, iso_zones
 
-__all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases"]
+__all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "sensor_groups"]
 
 _ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
@@ -237,3 +237,15 @@ def _couple_unbalances(model, rotor, n_rpm):
     amount = api_analysis_unbalance(rotor.mass / 2, n_rpm)
     return [{"rotor": rotor.name, "amount": amount, "phase_deg": phase, "axial_offset": offset}
             for phase, offset in ((0.0, offsets[0]), (180.0, offsets[-1]))]
+
+
+def sensor_groups(model) -> dict:
+    """Panel title of each sensor of ``model`` in the unbalance figure (``UnbalanceResult.plot(groups=...)``):
+    what the checks judge it as, shaft probes (measure 'relative': API 617 probe limits), rotor
+    points (absolute) or stator (casing) sensors (ISO 20816-3 zones); ``{name: title}``."""
+    def title(sensor):
+        if sensor.rotor is None:
+            return "stator (casing) sensors, absolute"
+        return "shaft relative to the stator (probes)" if sensor.measure == "relative" else \
+            "rotor points, absolute"
+    return {s.name: title(s) for s in model.sensors}

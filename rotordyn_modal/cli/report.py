@@ -51,6 +51,11 @@ in mil, casing velocity in in/s RMS, static displacement in in, forces in lbf, s
 in lbf/in, masses in lb (docs/units.md); the verdicts are the same. The options are then read in
 US units too, as by 'level1' and 'ucs-map': --qa and --stiffness in lbf/in, --rated-power in hp, the
 impeller diameter, restriction height and station OFFSET in in, --gas-density in lb/ft^3.
+Amplitudes (--amplitude pk-pk|peak|rms, default pk-pk): one convention for every vibration
+amplitude of the report, the AF table, the unbalance figure, the probe-limit and clearance
+tables and the summary alike (the API limits, written peak-to-peak, converted exactly: 0-peak =
+pk-pk / 2, RMS = pk-pk / (2 sqrt 2)); the page says which under its title. The ISO 20816-3
+casing velocities are RMS whatever it is (the zones are RMS).
 
 examples:
   rotordyn-modal report examples/journal_rotor.toml --standard api617 --mcs 6000 \\
@@ -72,10 +77,13 @@ def add_arguments(parser):
     parser.add_argument("--points", default="151", metavar="N", help="speeds of the sweeps (default 151)")
     parser.add_argument("--stiffness", metavar="START:STOP:N",
                         help="bearing stiffness of the UCS map [N/m; lbf/in with --units us], log-spaced "
-                             "(default 1e5:1e10:41 N/m)")
+                             "(default 1e5:1e10:41 N/m, widened by decades to reach the bearings' own stiffness)")
     parser.add_argument("--iso-group", type=int, choices=[1, 2],
                         help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
     parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
+    parser.add_argument("--amplitude", choices=["peak", "pk-pk", "rms"], default="pk-pk",
+                        help="convention of every vibration amplitude in the report: 0-peak, peak-to-peak "
+                             "(default: probes are read and the API limits written so) or RMS")
     add_stage_arguments(parser, required=False, speed_option="--mcs")
     add_output_file(parser, "--out", required=True, metavar="FILE.html", help="the report")
     parser.set_defaults(out_endings=(".html", ".htm"))
@@ -104,7 +112,7 @@ def run(args) -> int:
     if args.pdf:
         _print_pdf(html, args.pdf)
     if not args.quiet:
-        for c in (c.in_system(units) for c in data.criteria):
+        for c in (c.in_system(units, inputs.amplitude) for c in data.criteria):
             print(_terminal_line(c), file=sys.stderr)
     return 0
 
@@ -152,8 +160,8 @@ def _inputs(args):
         raise InputError("--qa or stage data given without --station: name where the cross-coupling acts")
     return ReportInputs(standard=args.standard, mcs=mcs, operating=operating, points=points,
                         iso_group=args.iso_group, iso_support=args.iso_support, level1=level1,
-                        stiffness=_stiffness(args.stiffness or "1e5:1e10:41", units if args.stiffness else "si"),
-                        command=_command_line())
+                        stiffness=_stiffness(args.stiffness, units) if args.stiffness else None,
+                        command=_command_line(), amplitude=args.amplitude)
 
 
 def _command_line() -> str:

@@ -9,6 +9,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model._table import SMALLEST_POSITIVE
+from ..unbalance_standards import amplitude_label, one_convention
 from ._common import (IN_SPEED_UNIT, add_alias, NAME_LIST_HELP, add_model_argument, add_output_file, add_outputs, add_speed_unit, check_ending,
                       check_extra_output, open_model, print_table, save_figure, speeds_option,
                       speed_value, speeds_text, use_agg, write_csv, write_table)
@@ -30,10 +31,13 @@ and each rigidly attached rotor's at its centre of mass), rotors (each rotor's t
 on the stator) or all (suspensions, bearings and rotors). Peaks get the API 684
 amplification factor and, with --operating-speed, the separation margin.
 
-Amplitudes: the CSV's amplitude column is 0-peak (amplitude x cos(...)) whatever is asked;
---amplitude pk-pk or rms adds the column amplitude_pkpk or amplitude_rms after phase_deg
-(and at the end of the peaks table) and draws the figure's amplitudes that way (the axis
-label says which: 0-peak, peak-to-peak or RMS).
+Amplitudes (--amplitude peak|pk-pk|rms, default peak: 0-peak): one choice for the printed
+peaks table, the CSV and the figure. The peaks table (AF and separation margins) holds the
+peak's amplitude in that convention only, its column named by it (amplitude_0pk,
+amplitude_pkpk or amplitude_rms); the figure draws it (the axis label says which: 0-peak,
+peak-to-peak or RMS); the CSV adds the column amplitude_pkpk or amplitude_rms after
+phase_deg. The CSV's amplitude column stays 0-peak (amplitude x cos(...)) whatever is asked:
+its columns are the command's fixed contract, which scripts read by name.
 
 Standards (docs/standards.md): --mcs (maximum continuous speed of the reference rotor)
 gives each proximity probe (measure = "relative") the API 617 limit
@@ -103,8 +107,8 @@ def add_arguments(parser):
                         help="add force rows after the sensors' (default none)")
     parser.add_argument("--operating-speed", metavar="SPEED", help="operating speed (same unit as --speeds, in the direction of spin of the sweep) for the separation margin")
     parser.add_argument("--amplitude", choices=["peak", "pk-pk", "rms"], default="peak",
-                        help="amplitude convention of the added column and the figure: 0-peak (default, "
-                             "the amplitude column), peak-to-peak or RMS")
+                        help="amplitude convention of the peaks table, the figure and the CSV's added column: "
+                             "0-peak (default, as the CSV's amplitude column), peak-to-peak or RMS")
     parser.add_argument("--mcs", metavar="SPEED", help="maximum continuous speed of the reference rotor (same "
                         "unit as --speeds): API 617 probe limits, top of the checked speeds")
     parser.add_argument("--min-speed", metavar="SPEED", help="bottom of the checked speeds of --mcs's and --iso-group's "
@@ -156,8 +160,9 @@ def run(args) -> int:
     write_table(in_units(result.to_dataframe(forces=args.forces), result, args.units), args)
     peaks = result.peaks(operating)
     if not args.quiet:
-        print("\npeaks (API 684):", file=sys.stderr)
-        print_table(in_units(peaks, result, args.units), empty=f"no resonance peak {speeds_text(args)}")
+        print(f"\npeaks (API 684; amplitude {amplitude_label(args.amplitude)}):", file=sys.stderr)
+        print_table(in_units(one_convention(peaks, args.amplitude), result, args.units),
+                    empty=f"no resonance peak {speeds_text(args)}")
     checks = _write_checks(result, model, mcs, min_speed, args)
     _print_clearances(result, model, mcs, min_speed, args)
     if args.plot:
@@ -263,7 +268,7 @@ def _print_clearances(result, model, mcs, min_speed, args):
 
 
 #: columns of the response and peaks tables whose unit is the row's (a sensor's or a force's)
-_AMPLITUDE_COLUMNS = {"amplitude": "row", "amplitude_pkpk": "row", "amplitude_rms": "row"}
+_AMPLITUDE_COLUMNS = {"amplitude": "row", "amplitude_0pk": "row", "amplitude_pkpk": "row", "amplitude_rms": "row"}
 
 
 def in_units(table, result, system: str):
@@ -279,13 +284,11 @@ def in_units(table, result, system: str):
 
 
 def sensor_groups(model) -> dict:
-    """Panel title of each sensor: shaft probes (relative), rotor points, stator points."""
-    def title(sensor):
-        if sensor.rotor is None:
-            return "stator (casing) sensors, absolute"
-        return "shaft relative to the stator (probes)" if sensor.measure == "relative" else \
-            "rotor points, absolute"
-    return {s.name: title(s) for s in model.sensors}
+    """Panel title of each sensor (:func:`rotordyn_modal.analysis.unbalance_checks.sensor_groups`,
+    which the report's figure uses too)."""
+    from ..analysis.unbalance_checks import sensor_groups as groups
+
+    return groups(model)
 
 
 def _write_orbits(result, args):

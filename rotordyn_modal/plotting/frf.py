@@ -534,7 +534,8 @@ def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, s
     plain_log_ticks(mag.yaxis)
     top, above = _drawn_top(mag), []
     if checks is not None:
-        top, above = _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor, units, top)
+        top, above = _draw_probe_limits(mag, checks, [result.outputs[i] for i in rows], x, factor, units, top,
+                                        convention=convention)
     _fit_top(mag, top, _HEADROOM if peaks is None else _LABEL_HEADROOMS[0])
     _mark_limits_above(mag, above)
     mag.set_ylabel(f"Amplitude, {words} [{unit}]")
@@ -730,7 +731,7 @@ def _force_panels(result, forces):
     return panels
 
 
-def _draw_probe_limits(ax, checks, names, x, factor, units="si", top=np.inf):
+def _draw_probe_limits(ax, checks, names, x, factor, units="si", top=np.inf, convention=(2.0, "peak-to-peak")):
     """The API 617 limit of the panel's probes (peak-to-peak, drawn in the panel's convention)
     over the checked speeds: one dashed line per distinct limit up to :data:`_LIMIT_REACH` times
     the curves' largest value ``top``; returns ``(top, [(speeds, label), ...])``: the largest
@@ -742,12 +743,22 @@ def _draw_probe_limits(ax, checks, names, x, factor, units="si", top=np.inf):
     for limit in limits:
         label = (f"API 617 probe limit {limit * 1e6:.1f} µm pk-pk" if units == "si" else
                  f"API 617 probe limit {limit * unit_scale('displacement', units)[0]:.2f} mil pk-pk")
+        if convention[0] != 2.0:     # drawn in the panel's convention: its number first, the rule's after it
+            label = _limit_in_convention(label, limit * convention[0] / 2, convention[1], units)
         if limit * factor / 2 > reach:
             above.append((x[checks.checked], f"{label} (above the axis)"))
             continue
         ax.plot(x, limit * factor / 2 * span, color="k", ls="--", lw=1.2, label=label)
         top = max(top, limit * factor / 2)
     return top, above
+
+
+def _limit_in_convention(label, drawn, words, units):
+    """``label`` of a pk-pk limit drawn as ``drawn`` [m] in the convention ``words`` ('0-peak',
+    'RMS'): ``API 617 probe limit 8.98 µm RMS (25.4 µm pk-pk)``."""
+    scale, unit = (1e6, "µm") if units == "si" else unit_scale("displacement", units)
+    rule = label.removeprefix("API 617 probe limit ")
+    return f"API 617 probe limit {drawn * scale:.3g} {unit} {words} ({rule})"
 
 
 def _mark_limits_above(ax, above):

@@ -19,10 +19,11 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..unbalance_standards import amplitude_factor
 from ..units import check_system, unit_scale
 
-__all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "CRITERION_SOURCES", "Criterion", "ReportInputs", "ReportData", "collect",
-           "separation_margins", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
+__all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "AMPLITUDE_WORDS", "from_pkpk", "CRITERION_SOURCES", "Criterion", "ReportInputs", "ReportData", "collect",
+           "separation_margins", "ucs_stiffness", "UCS_STIFFNESS", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
 
 #: section id -> heading
 SECTIONS = {"model": "Model", "static": "Static loads and sag", "campbell": "Campbell diagram and critical speeds",
@@ -66,6 +67,17 @@ def shown_scale(kind: str, system: str = "si") -> tuple:
     return SHOWN_UNITS[kind][check_system(system)]
 
 
+#: the report's amplitude conventions (``ReportInputs.amplitude``, ``--amplitude``) as written after
+#: a unit: ``12.7 µm 0-peak``, ``25.4 µm pk-pk``, ``8.98 µm RMS``
+AMPLITUDE_WORDS = {"peak": "0-peak", "pk-pk": "pk-pk", "rms": "RMS"}
+
+
+def from_pkpk(amplitude: str) -> float:
+    """Factor from a peak-to-peak amplitude (the API probe limits and clearances are judged
+    peak-to-peak) to the convention ``amplitude`` ('peak', 'pk-pk', 'rms'): 1/2, 1, 1/(2 sqrt 2)."""
+    return amplitude_factor(amplitude) / amplitude_factor("pk-pk")
+
+
 #: where each criterion's rule comes from, by the beginning of its name (first match): the
 #: standard, edition and clause as far as checked, and the page of the docs that writes the rule
 #: out with its public sources and what stays unverified (no quantity with a unit: the text is
@@ -92,8 +104,9 @@ class Criterion:
     ``verdict`` is 'pass', 'fail' or 'not evaluated'; ``why`` says why not evaluated (or which
     item governs); ``section`` the id of the section that holds its numbers. ``value``,
     ``limit`` and ``why`` are the SI text; ``quantities`` holds, for those with a unit,
-    ``(field, template, kind, si_values)``: the text is ``template.format(*numbers, unit=label)``
-    with the numbers in the unit of a system (:meth:`in_system`).
+    ``(field, template, kind, si_values)``: the text is ``template.format(*numbers, unit=label,
+    amplitude=words)`` with the numbers in the unit of a system and, for kind 'vibration' (whose
+    SI values are peak-to-peak), in an amplitude convention (:meth:`in_system`).
     """
 
     name: str
@@ -115,11 +128,15 @@ class Criterion:
         """Where the criterion's rule comes from (:data:`CRITERION_SOURCES`)."""
         return next((text for start, text in CRITERION_SOURCES if self.name.startswith(start)), "")
 
-    def in_system(self, system: str) -> "Criterion":
-        """This criterion with its quantities written in ``system`` ('si' or 'us'); the verdict
-        is the same (judged in SI)."""
-        texts = {field: template.format(*(v * shown_scale(kind, system)[0] for v in values),
-                                        unit=shown_scale(kind, system)[1])
+    def in_system(self, system: str, amplitude: str = "pk-pk") -> "Criterion":
+        """This criterion with its quantities written in ``system`` ('si' or 'us'), its
+        vibration amplitudes in the convention ``amplitude`` ('peak', 'pk-pk', 'rms'; the words
+        :data:`AMPLITUDE_WORDS` after the unit); the verdict is the same (judged in SI, pk-pk)."""
+        def scale(kind):
+            return shown_scale(kind, system)[0] * (from_pkpk(amplitude) if kind == "vibration" else 1.0)
+
+        texts = {field: template.format(*(v * scale(kind) for v in values), unit=shown_scale(kind, system)[1],
+                                        amplitude=AMPLITUDE_WORDS[amplitude])
                  for field, template, kind, values in self.quantities}
         return replace(self, **texts)
 
@@ -138,12 +155,17 @@ class ReportInputs:
     points : int
         Speeds of the sweeps, from 2 % of the MCS to 1.5 MCS (journal bearings have no film at rest).
     iso_group, iso_support : ISO 20816-3 class (both or neither).
+    amplitude : {'pk-pk', 'peak', 'rms'}
+        Convention of every vibration amplitude shown (tables, figure, summary; default
+        peak-to-peak, as probes are read and the API limits are written); the ISO zones judge
+        the RMS velocity whatever it is.
     level1 : dict, optional
         ``{"stations": [Station], "qa": float [N/m], "shares": array or None}``, and optionally
         ``"gas_density"``: the average, or suction and discharge densities [kg/m^3] (adds the
         critical speed ratio criterion).
-    stiffness : ndarray [N/m]
-        Bearing stiffness values of the UCS map.
+    stiffness : ndarray [N/m], optional
+        Bearing stiffness values of the UCS map; default (None) :data:`UCS_STIFFNESS`, widened by
+        whole decades to reach the chosen bearings' own stiffness where it lies outside.
     command : str
         The command line that produced the report.
     """
@@ -155,8 +177,9 @@ class ReportInputs:
     iso_group: int | None = None
     iso_support: str | None = None
     level1: dict | None = None
-    stiffness: np.ndarray = field(default_factory=lambda: np.geomspace(1e5, 1e10, 41))
+    stiffness: np.ndarray | None = None
     command: str = ""
+    amplitude: str = "pk-pk"
 
     @property
     def speeds(self) -> np.ndarray:
@@ -222,6 +245,7 @@ def collect(model, inputs: ReportInputs) -> ReportData:
         raise InputError(f"standard {inputs.standard!r}: expected one of {', '.join(STANDARDS)}")
     if not (np.isfinite(inputs.mcs) and inputs.mcs > 0):
         raise InputError(f"maximum continuous speed {inputs.mcs!r} rad/s: expected a speed > 0")
+    amplitude_factor(inputs.amplitude)                 # refuses an unknown convention by name
     low, high = inputs.range
     if not 0 < low <= high:
         raise InputError(f"operating range {low!r}:{high!r} rad/s: expected 0 < low <= high")
@@ -272,7 +296,8 @@ def _stress_criterion(data, check):
     """A flexible shaft's largest von Mises stress under its static loads against its material's
     ``allowable_stress`` (docs/static.md)."""
     name = f"Shaft stress, {check.rotor} (von Mises, static)"
-    where = f"at {check.label}"
+    # a shaft with no static load (no gravity, force or torque) is 0 everywhere: no place governs
+    where = f"at {check.label}" if check.von_mises > 0 else "(no static load)"
     if check.verdict == "not evaluated":
         data.criteria.append(Criterion.of(
             name, "not evaluated", "static", "no allowable_stress given for the shaft's material "
@@ -344,7 +369,8 @@ def _campbell(data):
     data.criteria.append(Criterion(
         name, f"{worst.separation_margin_pct:.1f} % (AF {worst.amplification_factor:.2f})",
         f">= {worst.required_margin_pct:.1f} %", verdict, "campbell",
-        f"governing peak: {worst.output} at {worst.speed_rpm:.0f} rpm" + _case(worst) + note))
+        f"governing peak: {worst.output} at {worst.speed_rpm:.0f} rpm" + (_case(worst) or f", 1X {worst.source}")
+        + note))
 
 
 #: the separation margin's criterion (in an ISO report informative: ISO sets no margin)
@@ -355,11 +381,18 @@ def _case(row) -> str:
     return f", case {row.case}" if "case" in row.index and row.case else ""
 
 
+#: a response peak below this share of the response's largest amplitude is round-off, not a resonance
+ROUND_OFF_AMPLITUDE = 1e-9
+
+
 def separation_margins(response, operating, outputs=None):
     """API 684 peaks of ``response`` with their separation margin from the operating range.
 
     A peak below the range is measured from its low end, above from its high end
-    (``UnbalanceResult.peaks`` at that end); inside it the margin is 0.
+    (``UnbalanceResult.peaks`` at that end); inside it the margin is 0. A peak of a curve at
+    round-off (amplitude below :data:`ROUND_OFF_AMPLITUDE` times the response's largest, every
+    sensor and source: a couple case seen at the centre of mass of a symmetric rotor, 1e-21 m
+    beside 6e-5 m) is no resonance of the machine and is left out.
 
     Parameters
     ----------
@@ -387,6 +420,8 @@ def separation_margins(response, operating, outputs=None):
     table["required_margin_pct"] = np.where(speed > high, above["required_margin_pct"], below["required_margin_pct"])
     if outputs is not None:
         table = table[table["output"].isin(list(outputs))].reset_index(drop=True)
+    largest = float(np.max(response.amplitude, initial=0.0))
+    table = table[table["amplitude"] > ROUND_OFF_AMPLITUDE * largest].reset_index(drop=True)
     required = table["required_margin_pct"].to_numpy(dtype=float)
     table["verdict"] = np.where(np.isnan(required), "not evaluated",
                                 np.where(table["separation_margin_pct"] >= required, "pass", "fail"))
@@ -528,13 +563,66 @@ def _unbalance(data):
                                                                               min_operating=inputs.range[0])
 
 
+#: the UCS map's default stiffness [N/m]: 1e5 to 1e10 N/m, 8 points a decade
+UCS_STIFFNESS = np.geomspace(1e5, 1e10, 41)
+
+
 def _ucs(data):
     from ..analysis.ucs_map import ucs_map
 
+    given = data.inputs.stiffness
     try:
-        data.results["ucs"] = ucs_map(data.model, data.inputs.stiffness, modes=4, operating=data.inputs.range)
+        result = ucs_map(data.model, UCS_STIFFNESS if given is None else given, modes=4, operating=data.inputs.range)
+        wider = None if given is not None else ucs_stiffness(result, data.inputs.range)
+        if wider is not None:       # the bearings' own stiffness off the default map: where the machine is
+            result = ucs_map(data.model, wider, modes=4, operating=data.inputs.range)
     except InputError as error:
         data.skipped["ucs"] = _reason(error, data.model)
+        return
+    data.results["ucs"] = result
+
+
+def ucs_stiffness(result, operating):
+    """The UCS map's stiffness [N/m] widened to the bearings' own, or None where it reaches them.
+
+    The bearings' own radial stiffness (``Kxx`` and ``Kyy``; of a speed-dependent bearing at
+    the map's speeds within ``operating`` [rad/s], else at the one nearest it) lying outside the
+    map's range would leave the map without the crossings that locate the machine
+    (examples/spring_block_rotor.toml: 2e3 N/m against 1e5 to 1e10 N/m). The range is then
+    widened to one decade beyond them (whole decades, 8 points a decade, inside
+    ``ucs_map.STIFFNESS_RANGE``).
+
+    Parameters
+    ----------
+    result : UcsMap
+    operating : (float, float) [rad/s]
+
+    Returns
+    -------
+    ndarray [N/m] or None
+    """
+    from ..analysis.ucs_map import STIFFNESS_RANGE
+
+    own = [np.concatenate([c.kxx, c.kyy]) if c.constant else _in_range(c, operating) for c in result.curves]
+    own = np.concatenate(own) if own else np.zeros(0)
+    own = own[np.isfinite(own) & (own > 0)]
+    low, high = float(result.stiffness[0]), float(result.stiffness[-1])
+    if not own.size or (own.min() >= low and own.max() <= high):
+        return None
+    first = max(min(np.log10(low), np.floor(np.log10(own.min())) - 1), np.log10(STIFFNESS_RANGE[0]))
+    last = min(max(np.log10(high), np.ceil(np.log10(own.max())) + 1), np.log10(STIFFNESS_RANGE[1]))
+    return np.logspace(first, last, int(round(8 * (last - first))) + 1)
+
+
+def _in_range(curve, operating) -> np.ndarray:
+    """A speed-dependent bearing's ``Kxx`` and ``Kyy`` [N/m] at its speeds within ``operating``
+    (the nearest one when none is)."""
+    speeds = np.abs(np.asarray(curve.speeds, dtype=float))
+    inside = (speeds >= operating[0] * (1 - 1e-12)) & (speeds <= operating[1] * (1 + 1e-12))
+    if not inside.any():
+        inside = np.abs(speeds - 0.5 * (operating[0] + operating[1])) == np.min(
+            np.abs(speeds - 0.5 * (operating[0] + operating[1])))
+    return np.concatenate([np.asarray(curve.kxx)[inside], np.asarray(curve.kyy)[inside]])
 
 
 def _reason(error, model) -> str:
@@ -563,8 +651,8 @@ def _probe_limits(data):
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
     data.criteria.append(Criterion.of("API 617 probe vibration limit", verdict, "unbalance",
                                       f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm" + _case(worst),
-                                      quantities=[("value", "{0:.3g} {unit} pk-pk", "vibration", (worst.value,)),
-                                                  ("limit", "<= {0:.3g} {unit} pk-pk", "vibration", (worst.limit,))]))
+                                      quantities=[("value", "{0:.3g} {unit} {amplitude}", "vibration", (worst.value,)),
+                                                  ("limit", "<= {0:.3g} {unit} {amplitude}", "vibration", (worst.limit,))]))
 
 
 def _clearance(data):
@@ -584,8 +672,8 @@ def _clearance(data):
     data.criteria.append(Criterion.of(
         CLEARANCE_CHECK, verdict, "unbalance",
         f"governing: {worst.clearance} at {worst.speed_rpm:.0f} rpm" + _case(worst) + f", ratio {worst.ratio:.3g}",
-        quantities=[("value", "{0:.3g} {unit} pk-pk", "vibration", (worst.value,)),
-                    ("limit", "<= {0:.3g} {unit} pk-pk", "vibration", (worst.limit,))]))
+        quantities=[("value", "{0:.3g} {unit} {amplitude}", "vibration", (worst.value,)),
+                    ("limit", "<= {0:.3g} {unit} {amplitude}", "vibration", (worst.limit,))]))
 
 
 def _level1(data):

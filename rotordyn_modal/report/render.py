@@ -12,10 +12,13 @@ from string import Template
 
 import numpy as np
 
+from ..analysis.unbalance_checks import sensor_groups
+from ..unbalance_standards import amplitude_factor, amplitude_label
 from ..units import check_system
-from .collect import LOWEST_MODES, MODE_WINDOW, MOST_MODES, SECTIONS, shown_scale
+from .collect import (AMPLITUDE_WORDS, LOWEST_MODES, MODE_WINDOW, MOST_MODES, SECTIONS, UCS_STIFFNESS, from_pkpk,
+                      shown_scale)
 
-__all__ = ["render_html", "figure_png"]
+__all__ = ["render_html", "figure_png", "margins_table"]
 
 _CSS = """
 body { font-family: "DejaVu Sans", Arial, sans-serif; margin: 2em auto; max-width: 1100px; color: #222;
@@ -40,6 +43,7 @@ _PAGE = Template("""<!DOCTYPE html>
 <body>
 <h1>$title</h1>
 <p>Rotordynamic report to <b>$standard</b> &mdash; rotordyn_modal $version, $date.</p>
+<p>$conventions</p>
 <nav><h2 id="contents">Contents</h2><ol>$toc</ol></nav>
 <h2 id="summary">Summary of the criteria</h2>
 $summary
@@ -74,7 +78,17 @@ def render_html(data, date: str | None = None, units: str = "si") -> str:
         version=escape(info["version"]),
         date=escape(date or datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")),
         toc='<li><a href="#summary">Summary of the criteria</a></li>' + toc,
-        summary=_summary(data, units), sections=body)
+        summary=_summary(data, units), sections=body, conventions=_conventions(data))
+
+
+def _conventions(data) -> str:
+    """The sentence under the title that says the amplitude convention of the whole report."""
+    chosen = data.inputs.amplitude
+    words = amplitude_label(chosen)
+    note = "" if chosen == "pk-pk" else (f" (the API limits, written peak-to-peak, are shown {words} too: "
+                                         f"x {from_pkpk(chosen):.4g})")
+    return escape(f"Vibration amplitudes are {words} throughout: tables, figures and summary{note}; "
+                  "the ISO 20816-3 casing velocities RMS, as the zones are defined (docs/report.md).")
 
 
 # -- pieces ---------------------------------------------------------------------------------
@@ -115,7 +129,7 @@ def _g(value, digits=4) -> str:
 
 
 def _summary(data, units) -> str:
-    shown = [c.in_system(units) for c in data.criteria]
+    shown = [c.in_system(units, data.inputs.amplitude) for c in data.criteria]
     # a value and its limit each on one line: "25.4 µm pk-pk" broken after the number reads as two values
     rows = [[(f'<a href="#{c.section}">{escape(c.name)}</a>', "text"), (escape(c.value), "nowrap"),
              (escape(c.limit), "nowrap"), _verdict_cell(c.verdict), c.why, c.source] for c in shown]
@@ -169,11 +183,13 @@ def _static(data, units) -> str:
             else [[] for _ in range(len(reactions))])
     rrows = [[r.support, r.kind, r.body, r.on, *(_g(v) for v in values), *extra]
              for r, values, extra in zip(reactions.itertuples(), forces, film)]
+    gravity = bool(np.any(np.asarray(data.model.gravity, dtype=float)))
+    under = "Under the model's gravity at" if gravity else "At"
     return "\n".join([
         _heading("static"),
-        f"<p>Under the model's gravity at the MCS ({data.inputs.mcs * 30 / np.pi:.6g} rpm), bearings at their "
-        "stiffness at that speed (docs/static.md).</p>",
-        *([] if np.any(np.asarray(data.model.gravity, dtype=float)) else [_NO_GRAVITY]),
+        f"<p>{under} the MCS "
+        f"({data.inputs.mcs * 30 / np.pi:.6g} rpm), bearings at their stiffness at that speed (docs/static.md).</p>",
+        *([] if gravity else [_NO_GRAVITY]),
         "<h3>Static displacement (sag)</h3>",
         _table(rows, [("body", True), ("point", True), *((f"u_{a} [{sag_unit}]", False) for a in "xyz")]),
         *([_JOURNAL_NOTE] if journals else []),
@@ -242,19 +258,30 @@ _ABOVE_ORDERS = 1.4
 def campbell_top(result):
     """Top of the report's Campbell frequency axis [Hz], or None (the whole diagram).
 
-    :data:`_ABOVE_ORDERS` times the highest frequency an order line reaches in the sweep (the largest order times
-    the largest source multiplier times the largest speed), at least 1.4 times the lowest
-    mode; None where no mode lies above it. Modes higher up are crossed by no order line, and
-    on an axis reaching them (bearing modes at 1 kHz over mount modes at 5 Hz) the crossings
-    fill the bottom few per cent.
+    :data:`_ABOVE_ORDERS` times the highest frequency an order line reaches in the sweep
+    (:func:`_order_reach`), at least 1.4 times the lowest mode; lowered, where no mode lies
+    between, to :data:`_ABOVE_ORDERS` times the highest frequency of the modes below it (every
+    mode an order line can cross, whole); None where no mode lies above. Modes higher up are
+    crossed by no order line, and on an axis reaching them (bearing modes at 1 kHz over mount
+    modes at 5 Hz) the crossings fill the bottom few per cent; so they did below an empty band
+    up to the 1X lines' reach (examples/motor_pump_on_mounts.toml: modes up to 16 Hz, the axis
+    to 131 Hz, the critical speeds' labels on each other).
     """
     freqs = np.where(result.oscillatory, result.frequencies_hz, np.nan)
     if not np.isfinite(freqs).any() or not len(result.sources.multipliers):
         return None
-    lines = float(np.max(np.abs(result.orders)) * np.max(np.abs(result.sources.multipliers))
-                  * np.max(np.abs(result.speeds)) / (2 * np.pi))
-    top = max(_ABOVE_ORDERS * lines, 1.4 * float(np.nanmin(freqs)))
+    top = max(_ABOVE_ORDERS * _order_reach(result), 1.4 * float(np.nanmin(freqs)))
+    below = np.min(np.where(np.isfinite(freqs), freqs, np.inf), axis=0) < top    # the modes the axis shows
+    highest = float(np.nanmax(freqs[:, below]))
+    top = min(top, max(_ABOVE_ORDERS * highest, 1.4 * float(np.nanmin(freqs))))
     return top if float(np.nanmax(freqs)) > top else None
+
+
+def _order_reach(result) -> float:
+    """The highest frequency an order line reaches in the sweep [Hz]: the largest order times
+    the largest source multiplier times the largest speed."""
+    return float(np.max(np.abs(result.orders)) * np.max(np.abs(result.sources.multipliers))
+                 * np.max(np.abs(result.speeds)) / (2 * np.pi))
 
 
 def _campbell(data, units) -> str:
@@ -275,8 +302,8 @@ def _campbell(data, units) -> str:
              _figure(result.plot(title=data.model_info["name"], freq_range=None if top is None else (None, top)),
                      f"Figure: Campbell diagram, natural frequencies against the reference rotor's speed "
                      f"with the 1X lines; critical speeds marked. Operating range {low:.6g} to {high:.6g} rpm."
-                     + (f" Frequencies up to {top:.4g} Hz, {_ABOVE_ORDERS:g} times the highest 1X line's: the {above} "
-                        "modes above are crossed by no 1X line in the sweep." if above else ""),
+                     + (f" Frequencies up to {top:.4g} Hz: the {above} modes above are crossed by no 1X line in "
+                        f"the sweep (the highest reaches {_order_reach(result):.4g} Hz)." if above else ""),
                      "Campbell diagram"),
              "<h3>Critical speeds (1X crossings)</h3>",
              _table(rows, [("source", True), ("order [-]", False), ("mode", True), ("speed [rpm]", False),
@@ -294,16 +321,25 @@ def _campbell(data, units) -> str:
     elif margins.empty:
         parts.append("<p>No resonance peak in the sweep.</p>")
     else:
-        has_case = "case" in margins
-        to_vibration, vibration = shown_scale("vibration", units)
-        mrows = [[r.output, *([r.case] if has_case else []), _g(r.speed_rpm, 6), _g(r.amplitude * to_vibration),
-                  _g(r.amplification_factor, 3), _g(r.separation_margin_pct, 3), _g(r.required_margin_pct, 3),
-                  _verdict_cell(r.verdict)] for r in margins.itertuples()]
-        parts.append(_table(mrows, [("output", True), *([("case", True)] if has_case else []),
-                                    ("peak speed [rpm]", False), (f"amplitude, 0-peak [{vibration}]", False),
-                                    ("AF [-]", False), ("separation margin [%]", False),
-                                    ("required margin [%]", False), ("verdict", True)]))
+        parts.append(margins_table(margins, units, data.inputs.amplitude))
     return "\n".join(parts)
+
+
+def margins_table(margins, units: str = "si", amplitude: str = "pk-pk") -> str:
+    """The table of the API 684 peaks (``collect.separation_margins``: 0-peak amplitudes in m),
+    one row per peak, its amplitude in the convention ``amplitude``. Each row names what excites
+    it: its API case, or without cases its source (the rotor whose 1X it is: two rotors' peaks at
+    one sensor are told apart, as the figure's labels tell them)."""
+    has_case = "case" in margins
+    to_vibration, vibration = shown_scale("vibration", units)
+    to_vibration *= amplitude_factor(amplitude)                     # the table holds 0-peak amplitudes
+    rows = [[r.output, r.case if has_case else r.source, _g(r.speed_rpm, 6), _g(r.amplitude * to_vibration),
+             _g(r.amplification_factor, 3), _g(r.separation_margin_pct, 3), _g(r.required_margin_pct, 3),
+             _verdict_cell(r.verdict)] for r in margins.itertuples()]
+    return _table(rows, [("output", True), ("case" if has_case else "source (1X of)", True),
+                         ("peak speed [rpm]", False), (f"amplitude, {amplitude_label(amplitude)} [{vibration}]", False),
+                         ("AF [-]", False), ("separation margin [%]", False), ("required margin [%]", False),
+                         ("verdict", True)])
 
 
 #: a damping ratio or log decrement below this is the round-off of an undamped mode
@@ -336,7 +372,8 @@ def _modes(data, units) -> str:
         what = "deflected shaft lines along the axis (both planes at phase 0, the orbits' largest excursion shaded)"
     else:
         # two panels a row when the machine has many coordinates: their labels stay readable
-        fig = result.plot(title=f"Mode shapes at the MCS, {mcs:.6g} rpm (|shape|, normalised)", modes=numbers,
+        # two lines: one mode's panel is 3.2 in wide, and the title on one line ran off both its sides
+        fig = result.plot(title=f"Mode shapes at the MCS\n{mcs:.6g} rpm, |shape| normalised", modes=numbers,
                           columns=3 if len(result.dof_names) <= 6 else 2)
         what = "each coordinate's share of the mode (|shape|, normalised)"
     return "\n".join([
@@ -357,25 +394,31 @@ def _ucs(data, units) -> str:
     if result is None:
         return _heading("ucs") + _skipped(data, "ucs")
     factor, unit = shown_scale("stiffness", units)
-    stiffness = data.inputs.stiffness * factor
+    stiffness = result.stiffness * factor
+    default = UCS_STIFFNESS * factor
+    widened = (f", widened from the default {default[0]:.3g} to {default[-1]:.3g} {unit} to reach the bearings' own "
+               "stiffness" if data.inputs.stiffness is None and len(result.stiffness) != len(UCS_STIFFNESS) else "")
     return _heading("ucs") + _figure(
         result.plot(**_units(units)), f"Figure: undamped critical speed map, forward critical speeds against the "
-        f"bearings' radial stiffness ({stiffness[0]:.3g} to {stiffness[-1]:.3g} {unit}), the bearings' own stiffness over speed "
-        "drawn on it, the operating range as a band (docs/level1_and_ucs.md).", "Undamped critical speed map")
+        f"bearings' radial stiffness ({stiffness[0]:.3g} to {stiffness[-1]:.3g} {unit}{widened}), the bearings' own "
+        "stiffness over speed drawn on it, the operating range as a band (docs/level1_and_ucs.md).",
+        "Undamped critical speed map")
 
 
 def _unbalance(data, units) -> str:
     response, checks = data.results.get("unbalance"), data.results.get("checks")
     if response is None:
         return _heading("unbalance") + _skipped(data, "unbalance")
+    chosen = data.inputs.amplitude
     # the same amount (API 617): 4 oz in/lb = 6350 g mm/kg
     amount = "6350 W/N g mm (W in kg" if units == "si" else "4 W/N oz in (W in lb"
     amount += ", N the MCS in rpm; api-static at the centre of mass, api-couple at the outermost bearings)"
     what = ("the model's [[unbalances]]" if data.inputs.standard == "iso" else
             f"the API 617/684 unbalance cases Ua = 2 Ur, Ur = {amount}, each case on its own")
     parts = [_heading("unbalance"), f"<p>Response to {escape(what)}.</p>",
-             _figure(response.plot(amplitude="pk-pk", checks=checks, peaks=data.results.get("margins"), **_units(units)),
-                     "Figure: unbalance response, amplitude peak-to-peak and phase against speed; the largest peaks "
+             _figure(response.plot(amplitude=chosen, checks=checks, peaks=data.results.get("margins"),
+                                   groups=sensor_groups(data.model), **_units(units)),
+                     f"Figure: unbalance response, amplitude {amplitude_label(chosen)} and phase against speed; the largest peaks "
                      "with their AF and separation margin from the operating range (the table of section "
                      "Campbell diagram and critical speeds); API 617 probe limits (informative in an ISO report) "
                      "and the ISO zones where checked.", "Unbalance response")]
@@ -383,10 +426,12 @@ def _unbalance(data, units) -> str:
     table = table[table["check"] == "API 617 probe limit"]
     if data.inputs.standard != "iso":
         factor, unit = shown_scale("vibration", units)
+        shown = "" if chosen == "pk-pk" else f"; shown {amplitude_label(chosen)} below (x {from_pkpk(chosen):.4g})"
         parts.append(f"<h3>API 617 probe vibration limit</h3><p>A1 = {25.4e-6 * factor:.3g} {unit} sqrt(12000/N), "
                      f"at most {25.4e-6 * factor:.3g} {unit} peak-to-peak, N the probe's rotor's MCS [rpm]; largest "
-                     "over 0 to MCS.</p>")
-        parts.append(_check_table(table, factor, f"{unit} pk-pk") if not table.empty else
+                     f"over 0 to MCS{shown}.</p>")
+        parts.append(_check_table(table, factor * from_pkpk(chosen), f"{unit} {AMPLITUDE_WORDS[chosen]}")
+                     if not table.empty else
                      "<p>No proximity probe (measure = \"relative\") in the model.</p>")
         parts.append(_clearance_table(data, units))
     return "\n".join(parts)
@@ -400,32 +445,50 @@ def _clearance_table(data, units) -> str:
         return heading + ("<p>No close-clearance station ([[rotors.clearances]]) in the model: not evaluated.</p>"
                           if not data.model.clearances else "")
     factor, unit = shown_scale("vibration", units)
+    chosen = data.inputs.amplitude
+    amplitude, words = factor * from_pkpk(chosen), f"{unit} {AMPLITUDE_WORDS[chosen]}"   # judged pk-pk
     table = check.to_dataframe()
     radial = dict(zip(check.names, check.radial_clearances))
     has_case = "case" in table
+    how, notes = _scaling_notes(table["scaling"])
     rows = [[r.clearance, r.rotor, *([r.case] if has_case else []), _g(radial[r.clearance] * factor),
-             _g(r.speed_rpm, 6), _g(r.response * factor), _g(r.scale_factor, 3), r.scaling,
-             _g(r.value * factor), _g(r.limit * factor), _g(r.ratio, 3), _verdict_cell(r.verdict)]
-            for r in table.itertuples()]
+             _g(r.speed_rpm, 6), _g(r.response * amplitude), _g(r.scale_factor, 3), scaled,
+             _g(r.value * amplitude), _g(r.limit * amplitude), _g(r.ratio, 3), _verdict_cell(r.verdict)]
+            for r, scaled in zip(table.itertuples(), how)]
+    shown = "" if chosen == "pk-pk" else f" (shown {amplitude_label(chosen)}: x {from_pkpk(chosen):.4g})"
     return heading + (
         "<p>At each station the rotor's motion relative to the casing (which holds the seal): its peak-to-peak "
         "response, twice the orbit's semi-major axis, scaled by the API 617 factor Scc = Avl/Amax (at most 6; "
         "Avl the probe limit A1 of the station's rotor, Amax the largest peak-to-peak amplitude at its probes over "
         "the operating range; 1 without a probe), largest over 0 to MCS, against 75 % of the minimum diametral "
-        "running clearance (0.75 x 2 x the radial clearance), each API case on its own (docs/standards.md).</p>"
+        f"running clearance (0.75 x 2 x the radial clearance){shown}, each API case on its own (docs/standards.md).</p>"
     ) + _table(rows, [("clearance", True), ("rotor", True), *([("case", True)] if has_case else []),
                       (f"radial clearance [{unit}]", False), ("speed [rpm]", False),
-                      (f"response [{unit} pk-pk]", False), ("Scc [-]", False), ("scale factor", True),
-                      (f"value = Scc x response [{unit} pk-pk]", False),
-                      (f"limit [{unit} pk-pk]", False), ("ratio [-]", False), ("verdict", True)])
+                      (f"response [{words}]", False), ("Scc [-]", False), ("scale factor", True),
+                      (f"value = Scc x response [{words}]", False),
+                      (f"limit [{words}]", False), ("ratio [-]", False), ("verdict", True)]) + notes
+
+
+def _scaling_notes(scaling):
+    """How each row's scale factor was found, short (``Avl/Amax capped at 6``), and its
+    parenthesis (``Amax at 9968 rpm, the sweep's speed nearest the operating speeds``), the same
+    for every row, said once under the table: on every row it made each row four lines high."""
+    parts = [str(text).partition(" (") for text in scaling]
+    notes = list(dict.fromkeys(tail.rstrip(")") for _, sep, tail in parts if sep))
+    text = "".join(f'<p class="note">Scale factor: {escape(note)}.</p>' for note in notes)
+    return [head for head, _, _ in parts], text
 
 
 def _check_table(table, scale, unit) -> str:
+    """The API probe limits or the ISO zones, one row per output (and case); the zone column only
+    where a row has a zone (the ISO checks: an API probe's is empty)."""
     has_case = "case" in table
+    zoned = bool((table["zone"].fillna("").astype(str) != "").any())
     rows = [[r.output, *([r.case] if has_case else []), _g(r.speed_rpm, 6), _g(r.value * scale),
-             _g(r.limit * scale), r.zone, _verdict_cell(r.verdict)] for r in table.itertuples()]
+             _g(r.limit * scale), *([r.zone] if zoned else []), _verdict_cell(r.verdict)] for r in table.itertuples()]
     return _table(rows, [("output", True), *([("case", True)] if has_case else []), ("speed [rpm]", False),
-                         (f"value [{unit}]", False), (f"limit [{unit}]", False), ("zone", True), ("verdict", True)])
+                         (f"value [{unit}]", False), (f"limit [{unit}]", False), *([("zone", True)] if zoned else []),
+                         ("verdict", True)])
 
 
 def _level1(data, units) -> str:

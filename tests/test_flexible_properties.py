@@ -181,3 +181,29 @@ def test_moving_and_turning_the_model_axes_changes_no_root(data, speed, shift, t
     for moved in (_moved(data, shift=shift), _moved(data, turn=turn)):
         np.testing.assert_allclose(_roots(rdm.Model.from_dict(moved), speed), roots, rtol=1e-8,
                                    atol=1e-10 * np.abs(roots).max())
+
+
+def _overhung(gap):
+    """A shaft of 0.4 m on bearings at 0.1 m and at ``gap`` [m] before its end, a disk at 0.15 m."""
+    steel = {"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "shear_modulus": 8.12e10}
+    return rdm.Model.from_dict({
+        "spin_axis": [1.0, 0.0, 0.0], "materials": [steel],
+        "rotors": [{"name": "s", "speed_ratio": 1.0, "start": [0.0, 0.0, 0.0], "shear": "none",
+                    "shaft": [{"length": 0.4, "outer_diameter": 0.06, "material": "steel", "elements": 6}],
+                    "disks": [{"name": "d", "axial_position": 0.15, "mass": 10.0, "polar_inertia": 0.01,
+                               "diametral_inertia": 0.03}]}],
+        "bearings": [{"name": "a", "rotor": "s", "axial_position": 0.1, "stiffness": [3e6, 8e7]},
+                     {"name": "b", "rotor": "s", "axial_position": 0.4 - gap, "stiffness": [1e7, 6e7]}]})
+
+
+@pytest.mark.xfail(strict=True, reason="known defect (docs/verification.md, 'Gaps left'): a station a few "
+                   "microns from another (above the 1e-6 m merge of model/flexible.py) makes an element whose "
+                   "stiffness ~ E I / h^3 (K up to 1e22 against 1e11) swamps the others in round-off: the "
+                   "lowest frequencies move by 5 % for a 4 um shift of a bearing")
+def test_a_bearing_microns_from_the_shaft_end_moves_no_frequency_beyond_its_shift():
+    """Moving a bearing 4 um (1e-5 of the shaft) changes the frequencies by about that much (the
+    measured trend: 3e-3 for 1 mm, 3e-4 for 0.1 mm, linear in the shift), so well within 1e-3;
+    a mesh that cannot carry the short element must merge the stations or refuse them by name."""
+    reference = np.sort(rdm.modal(_overhung(0.0), 1500.0).eigenvalues.imag)[:6]
+    shifted = np.sort(rdm.modal(_overhung(4e-6), 1500.0).eigenvalues.imag)[:6]
+    np.testing.assert_allclose(shifted, reference, rtol=1e-3)

@@ -54,12 +54,12 @@ def _unit(v):
 
 @st.composite
 def rotations(draw):
+    """A random proper rotation (3, 3), from a quaternion."""
+    from scipy.spatial.transform import Rotation
+
     q = np.array(draw(st.lists(st.floats(-1, 1, **finite), min_size=4, max_size=4)))
     assume(np.linalg.norm(q) > 0.1)
-    w, x, y, z = q / np.linalg.norm(q)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    return Rotation.from_quat(q).as_matrix()
 
 
 def _radial_axes(e, turn):

@@ -154,3 +154,40 @@ def test_the_followed_mode_is_the_rotors_not_a_casing_mode_on_soft_mounts():
     result = level1(model, rdm.rpm(3000), ["r"], qa=1e4)
     wn, zeta = np.sqrt(2 * K / MASS), 2 * C / (2 * np.sqrt(2 * K * MASS))
     assert result.frequencies_hz[0] == pytest.approx(wn * np.sqrt(1 - zeta**2) / (2 * np.pi), rel=1e-2)
+
+
+def test_a_flexible_rotors_station_equals_the_same_stiffness_given_as_a_bearing_there():
+    """A flexible shaft with an impeller disk between damped anisotropic bearings, Q at
+    the impeller (its offset from the shaft's computed centre of mass): every point of the sweep's
+    followed mode equals ``modal`` of the model carrying that Q as an extra bearing at the
+    impeller's axial position (stiffness [[0, q], [-q, 0]] in the bearings' radial axes), by
+    frequency and log decrement; a station 0.1 m off the impeller gives another answer (the
+    station reaches its own node of the mesh)."""
+    steel = {"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "shear_modulus": 8.12e10}
+
+    def model(extra=()):
+        return rdm.Model.from_dict({
+            "spin_axis": [1.0, 0.0, 0.0], "materials": [steel],
+            "rotors": [{"name": "s", "speed_ratio": 1.0, "start": [0.0, 0.0, 0.0],
+                        "shaft": [{"length": 0.8, "outer_diameter": 0.05, "material": "steel", "elements": 8}],
+                        "disks": [{"name": "imp", "axial_position": 0.5, "mass": 12.0, "polar_inertia": 0.06,
+                                   "diametral_inertia": 0.035}]}],
+            "bearings": [{"name": "A", "rotor": "s", "axial_position": 0.05, "stiffness": [2e7, 3e7],
+                          "damping": [2e3, 2.5e3]},
+                         {"name": "B", "rotor": "s", "axial_position": 0.75, "stiffness": 2.5e7, "damping": 2e3},
+                         *extra]})
+
+    base, speed = model(), rdm.rpm(6000)
+    centre = base.rotors[0].center_of_mass[0]
+    sweep = dict(qa=2e4, factor=4.0, steps_per_qa=2)            # Q = 0, 1e4, ..., 8e4 N/m
+    result = level1(base, speed, [Station("s", 0.5 - centre)], **sweep)
+    other = level1(base, speed, [Station("s", 0.4 - centre)], **sweep)
+    assert abs(other.log_decrements[-1] / result.log_decrements[-1] - 1) > 1e-3
+    for i in (0, 4, 8):
+        q = result.cross_coupling[i]
+        roots = modal(model([{"name": "Q", "rotor": "s", "axial_position": 0.5, "stiffness": [[0.0, q], [-q, 0.0]]}]),
+                      speed)
+        nearest = int(np.argmin(np.abs(roots.frequencies_hz - result.frequencies_hz[i])))
+        assert roots.frequencies_hz[nearest] == pytest.approx(result.frequencies_hz[i], rel=1e-9)
+        assert roots.log_decrements[nearest] == pytest.approx(result.log_decrements[i], rel=1e-8)
+        assert roots.whirl[nearest] == "forward"

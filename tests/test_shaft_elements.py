@@ -205,6 +205,123 @@ def test_spinning_shaft_forward_and_backward_whirl():
         assert ratio == pytest.approx(-1j * direction, abs=1e-8)
 
 
+def timoshenko_free_free(count, L, d, bore, material, kappa, upper):
+    """The lowest ``count`` elastic roots omega [rad/s] below ``upper`` of the free-free
+    Timoshenko beam's exact frequency equation (Huang 1961): with c = rho A w^2 / (kappa G A),
+    w = sum of cosh(a z), sinh(a z), cos(b z), sin(b z) where a^2 and -b^2 are the roots x of
+    kappa G A E I x^2 + (kappa G A rho I + rho A E I) w^2 x + rho A w^2 (rho I w^2 - kappa G A) = 0,
+    and psi' = w'' + c w term by term; free ends: E I psi' = 0 and kappa G A (w' - psi) = 0 at
+    z = 0 and L (the shear rows divided by c, which vanishes with w). Below the cut-off
+    rho I w^2 < kappa G A."""
+    A, I = area(d, bore), second_moment(d, bore)
+    kga, ei, rho = kappa * material.shear_modulus * A, material.young_modulus * I, material.density
+
+    def det(w):
+        w2 = w * w
+        p, q, r = kga * ei, (kga * rho * I + rho * A * ei) * w2, rho * A * w2 * (rho * I * w2 - kga)
+        root = math.sqrt(q * q - 4 * p * r)
+        a, b = math.sqrt((-q + root) / (2 * p)), math.sqrt((q + root) / (2 * p))
+        c = rho * A * w2 / kga
+
+        def rows(z):          # [psi', (w' - psi) / c] of cosh, sinh, cos, sin
+            return [[(a * a + c) * math.cosh(a * z), (a * a + c) * math.sinh(a * z),
+                     (c - b * b) * math.cos(b * z), (c - b * b) * math.sin(b * z)],
+                    [-math.sinh(a * z) / a, -math.cosh(a * z) / a, -math.sin(b * z) / b, math.cos(b * z) / b]]
+        return np.linalg.det(np.array(rows(0.0) + rows(L)))
+
+    grid = np.linspace(upper * 1e-3, upper, 4000)
+    values = [det(w) for w in grid]
+    roots = [brentq(det, grid[i], grid[i + 1], xtol=1e-14 * upper, rtol=1e-15)
+             for i in range(len(grid) - 1) if values[i] * values[i + 1] < 0]
+    return np.array(roots[:count])
+
+
+def test_timoshenko_free_free_exact():
+    """Free-free Timoshenko: for a stubby hollow shaft (L/d = 4) the elements (Cowper,
+    Hutchinson) converge to the roots of the exact frequency equation above from above, within
+    the bound of the simply supported tests, (k h)^4 / 1000 + 0.15 (k h)^2 (k r)^2 with
+    k = beta_n / L (beta_n L the Euler-Bernoulli roots of cos cosh = 1)."""
+    L, d, bore, n = 0.4, 0.1, 0.04, 40
+    eb = [euler_bernoulli(beta / L, d, bore) for beta in (4.7300407449, 7.8532046241)]
+    nu = STEEL.young_modulus / (2 * STEEL.shear_modulus) - 1
+    for shear, coefficient in (("cowper", cowper_hollow), ("hutchinson", hutchinson_hollow)):
+        exact = timoshenko_free_free(3, L, d, bore, STEEL, coefficient(nu, bore / d), 1.5 * eb[1])
+        assert exact[0] < 0.92 * eb[0]                    # shear and rotary inertia: 8 % and more
+        got = free_free_frequencies([L / n] * n, [d] * n, [bore] * n, STEEL, shear, count=len(exact))
+        k = np.array([4.7300407449, 7.8532046241, 10.9956078380])[:len(exact)] / L
+        kh = k * L / n
+        bound = kh ** 4 / 1000 + 0.15 * kh ** 2 * (k * math.sqrt(second_moment(d, bore) / area(d, bore))) ** 2
+        error = got / exact - 1
+        assert np.all(error > 0) and np.all(error < bound), (shear, error, bound)
+
+
+def test_timoshenko_free_free_equation_is_euler_bernoulli_without_shear_and_rotary_inertia():
+    """The frequency equation above reduces to cos(bL) cosh(bL) = 1 (4.7300407449,
+    7.8532046241) as kappa G A -> inf and rho I -> 0: a material of huge G on a very slender
+    shaft (L / d = 2000: the rotary inertia's share (k r)^2 ~ 1e-6 ... 4e-6 of the frequency
+    squared) gives the Euler-Bernoulli frequencies to 1e-5; a check of the equation, which the
+    test above trusts."""
+    from rotordyn_modal.elements.shaft import Material
+
+    L, d = 100.0, 0.05
+    stiff = Material("stiff", STEEL.density, STEEL.young_modulus, STEEL.shear_modulus * 1e8)
+    eb = [euler_bernoulli(beta / L, d) for beta in (4.7300407449, 7.8532046241)]
+    got = timoshenko_free_free(2, L, d, 0.0, stiff, 1.0, 1.2 * eb[1])
+    np.testing.assert_allclose(got, eb, rtol=1e-5)
+    assert np.all(got < eb)
+
+
+def timoshenko_spinning(k, omega_spin, d, material, kappa):
+    """Forward and backward whirl [rad/s] of a simply supported spinning Timoshenko shaft in
+    the mode w = W sin(k z), psi = Psi cos(k z) (complex r = u_a + i u_b ~ e^{i w t}): the
+    root w > 0 and the magnitude of the root w < 0 of
+    det [[kGA k^2 - rho A w^2, -kGA k], [-kGA k, EI k^2 + kGA - rho I w^2 + 2 rho I Omega w]] = 0
+    (I_p = 2 I), the lowest branch; as kGA -> inf this is the Rayleigh shaft's
+    (rho A + rho I k^2) w^2 - 2 rho I k^2 Omega w - E I k^4 = 0 (rayleigh_spinning)."""
+    A, I = area(d), second_moment(d)
+    kga, ei, rho = kappa * material.shear_modulus * A, material.young_modulus * I, material.density
+
+    def det(w):
+        return ((kga * k * k - rho * A * w * w) * (ei * k * k + kga - rho * I * w * w + 2 * rho * I * omega_spin * w)
+                - (kga * k) ** 2)
+
+    forward, backward = rayleigh_spinning(k, omega_spin, d, material)    # bounds: shear lowers both
+    return (brentq(det, 0.0, forward * (1 + 1e-9), xtol=1e-13 * forward, rtol=1e-15),
+            -brentq(det, -backward * (1 + 1e-9), 0.0, xtol=1e-13 * forward, rtol=1e-15))
+
+
+@pytest.mark.parametrize("shear", ["cowper", "hutchinson"])
+def test_spinning_timoshenko_shaft_forward_and_backward_whirl(shear):
+    """The spinning test above with shear deformation (L/d = 3.75, fast: shear lowers the first
+    mode by 5 %, the gyroscopic moments split it by 6 %): forward and backward whirl of the
+    first two modes against the Timoshenko closed form, within the bound of the simply
+    supported Timoshenko test; purely imaginary eigenvalues."""
+    n, L, d, spin = 24, 0.3, 0.08, 10000.0
+    nu = STEEL.young_modulus / (2 * STEEL.shear_modulus) - 1
+    kappa = (cowper_hollow if shear == "cowper" else hutchinson_hollow)(nu, 0.0)
+    M, K, G = uniform(n, L, d, shear=shear)
+    keep = np.array([i for i in lateral_dofs(n + 1) if i not in (0, 1, 6 * n, 6 * n + 1)])
+    M, K, G = (X[np.ix_(keep, keep)] for X in (M, K, G))
+    size = keep.size
+    A = np.block([[np.zeros((size, size)), np.eye(size)],
+                  [-np.linalg.solve(M, K), -np.linalg.solve(M, spin * G)]])
+    values = np.linalg.eigvals(A)
+    assert np.max(np.abs(values.real)) < 1e-9 * np.max(np.abs(values))
+    freqs = np.sort(values.imag[values.imag > 0])[:4]
+    expected, bounds = [], []
+    r = math.sqrt(second_moment(d) / area(d))
+    for mode in (1, 2):
+        k = mode * math.pi / L
+        forward, backward = timoshenko_spinning(k, spin, d, STEEL, kappa)
+        expected += [backward, forward]
+        kh = k * L / n
+        bounds += [kh ** 4 / 1000 + 0.15 * kh ** 2 * (k * r) ** 2] * 2
+    rayleigh = rayleigh_spinning(math.pi / L, spin, d)
+    assert expected[1] < 0.95 * rayleigh[0] and expected[0] < 0.95 * expected[1]
+    error = freqs / np.array(expected) - 1
+    assert np.all(error > 0) and np.all(error < np.array(bounds)), (error, bounds)
+
+
 # ---------------------------------------------------------------------------------------------
 # rigid-body invariants and symmetry
 

@@ -246,3 +246,56 @@ def test_figure_writes_every_crossing_and_name_clear_of_curves_markers_and_each_
         for b in boxes[i + 1:]:
             assert not a.overlaps(b), "two labels overlap"
     plt.close(fig)
+
+
+# -- flexible rotors (issue 29: "where rotors are flexible, every item covers them") ----------------
+STEEL = {"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "shear_modulus": 8.12e10}
+
+
+def _flexible_shaft(stiffness, length=1.0, diameter=0.05, elements=8, disk=True):
+    """A uniform Rayleigh shaft (no shear deformation) along x on two isotropic bearings at its
+    ends, with a disk at 0.4 of its length (or bare)."""
+    rotor = {"name": "s", "speed_ratio": 1.0, "start": [0.0, 0.0, 0.0], "shear": "none",
+             "shaft": [{"length": length, "outer_diameter": diameter, "material": "steel", "elements": elements}]}
+    if disk:
+        rotor["disks"] = [{"name": "d", "axial_position": 0.4 * length, "mass": 5.0, "polar_inertia": 0.03,
+                           "diametral_inertia": 0.016}]
+    return rdm.Model.from_dict({
+        "spin_axis": [1.0, 0.0, 0.0], "materials": [STEEL], "rotors": [rotor],
+        "bearings": [{"name": name, "rotor": "s", "axial_position": z, "stiffness": stiffness}
+                     for name, z in (("a", 0.0), ("b", length))]})
+
+
+def test_flexible_rotor_map_at_the_bearing_stiffness_equals_critical_speeds():
+    """A flexible shaft with a disk on two constant bearings: the map's critical speeds at the
+    bearings' own stiffness are the forward order-1 critical speeds of ``critical_speeds`` (a
+    sweep of the damped-model machinery: the pencil's roots crossing the order line, refined),
+    three bending-mode crossings, to 1e-9."""
+    k0 = 3e6
+    model = _flexible_shaft(k0)
+    result = ucs_map(model, [k0 / 10, k0, k0 * 10], modes=3)
+    table = rdm.critical_speeds(model, rdm.rpm(np.linspace(0, 30000, 31)), orders=(1,))
+    forward = np.sort(table.speeds[(table.order == 1) & (table.whirl == "forward")])
+    assert len(forward) == 3 and np.all(np.isfinite(result.speeds[1]))
+    np.testing.assert_allclose(result.speeds[1], forward, rtol=1e-9)
+
+
+def test_flexible_rotor_rigid_support_asymptote_is_the_pinned_spinning_shaft():
+    """A bare uniform Rayleigh shaft on end bearings whose stiffness grows: the map reaches the
+    pinned-pinned shaft's forward synchronous critical speeds, whose closed form (mode sin(k z),
+    k = j pi / L; the whirl equation (rho A + rho I k^2) w^2 - 2 rho I k^2 Omega w - E I k^4 = 0
+    at w = Omega) is w^2 = E I k^4 / (rho A - rho I k^2). The finite elements lie above it by
+    less than (k h)^4 / 1000 (docs/theory.md §15), and the map at 1e14 N/m is at the asymptote
+    within the bearings' compliance: below the mode's modal stiffness E I k^4 L / 2 over 1e14
+    (1e-6, 1.5e-5 and 8e-5 for the three modes)."""
+    length, diameter, elements = 0.6, 0.08, 12
+    model = _flexible_shaft(1e7, length, diameter, elements, disk=False)
+    result = ucs_map(model, np.geomspace(1e5, 1e14, 10), modes=3)
+    area, second = np.pi / 4 * diameter**2, np.pi / 64 * diameter**4
+    k = np.arange(1, 4) * np.pi / length
+    exact = np.sqrt(STEEL["young_modulus"] * second * k**4 / (STEEL["density"] * (area - second * k**2)))
+    error = result.rigid_speeds[:3] / exact - 1
+    assert np.all(error > 0) and np.all(error < (k * length / elements) ** 4 / 1000), error
+    modal_stiffness = STEEL["young_modulus"] * second * k**4 * length / 2
+    assert np.all(np.abs(result.speeds[-1] / result.rigid_speeds[:3] - 1) < modal_stiffness / 1e14)
+    assert np.all(result.speeds[0] < 0.5 * result.rigid_speeds[:3])        # far from it at 1e5 N/m

@@ -200,23 +200,38 @@ def _whirling_pairs(shapes, rows, first, forms, variants):
     import scipy.sparse
 
     sparse = scipy.sparse.issparse(forms.total)       # one large model's forms (n, n), scipy.sparse
-    # each pair's own forms where they are per variant (or already per pair): the two used, not N
-    which = (None if sparse else variants[rows] if variants is not None
-             else np.arange(len(rows)) if forms.total.ndim == 3 else None)
-    total_form = forms.total if which is None else forms.total[which]
+    which = None if sparse else _form_rows(forms.total, rows, variants)
     basis = np.stack([shapes[rows, first], shapes[rows, first + 1]], axis=-1)  # (P, n, 2)
-    rule = "pia,pij,pjb->pab" if total_form.ndim == 3 else "pia,ij,pjb->pab"
-    total = _sparse_form(total_form, basis) if sparse else np.einsum(rule, basis.conj(), total_form, basis)
+    total = _sparse_form(forms.total, basis) if sparse else _pair_form(forms.total, which, basis)
     # the two shapes must span a plane (two inverse iterations could give one direction)
     spans = np.abs(np.linalg.det(total)) > 1e-6 * np.abs(total[:, 0, 0] * total[:, 1, 1])
     rows, first, basis, total = rows[spans], first[spans], basis[spans], total[spans]
     if not rows.size:
         return rows, first, np.zeros((0, shapes.shape[-1], 2), dtype=complex)
-    W = forms.W if which is None else forms.W[which[spans]]
-    momentum = -1j * (_sparse_form(W, basis) if sparse else np.einsum(rule, basis.conj(), W, basis))
+    which = which if which is None else which[spans]
+    momentum = -1j * (_sparse_form(forms.W, basis) if sparse else _pair_form(forms.W, which, basis))
     mu, resolved = _extreme_whirl(basis, total, momentum)
     whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
     return rows[whirling], first[whirling], resolved[whirling]
+
+
+def _form_rows(form, rows, variants):
+    """Which of the stacked forms ``form`` (V, n, n) each pair ``rows`` takes (P,): its variant's,
+    or its own where the forms are per pair; None where one (n, n) form serves every pair (a 2-D
+    form, or a stack of one variant's)."""
+    if form.ndim == 2 or (variants is not None and len(form) == 1):
+        return None
+    return variants[rows] if variants is not None else np.arange(len(rows))
+
+
+def _pair_form(form, which, basis):
+    """``basis_p^H form_p basis_p`` (P, 2, 2) of dense forms (n, n) or (V, n, n) (``form[which]``
+    for pair ``p``) and pairs (P, n, 2): two matrix products per pair (BLAS), each pair's bits
+    its own."""
+    one = form if which is None else form[which]
+    if one.ndim == 3 and which is None:       # a stack of one variant's forms
+        one = one[0]
+    return (np.conj(np.swapaxes(basis, -1, -2)) @ one) @ basis
 
 
 def _sparse_form(form, basis):

@@ -91,24 +91,29 @@ def _balanced_norms(matrices) -> np.ndarray:
     diagonal = np.einsum("pii->pi", squares).copy()
     np.einsum("pii->pi", squares)[...] = 0.0             # the off-diagonal part
     log_d = np.zeros(squares.shape[:-1])      # log2 of D's entries: b_ij = a_ij d_j / d_i
-    active = np.arange(len(squares))
+    active = None                             # the matrices still moving: all, until some stop
     part, d2 = squares, np.ones(squares.shape[:-1])
     # few numpy calls per sweep (a small stack's sweeps cost their calls, not their arithmetic);
-    # the matrices still moving are taken apart only when some stop
+    # the matrices still moving are taken apart only when some stop (a matrix whose step is
+    # zero keeps its D: its next step would be zero again)
     with np.errstate(divide="ignore", invalid="ignore"):
         for _ in range(_BALANCE_SWEEPS):
             columns = ((1.0 / d2)[:, None, :] @ part)[:, 0] * d2      # sum_i a_ij^2 d_j^2 / d_i^2
             rows = (part @ d2[:, :, None])[..., 0] / d2
             step = np.trunc(0.25 * np.log2(rows / columns))
-            step[~np.isfinite(step)] = 0.0
+            np.copyto(step, 0.0, where=~np.isfinite(step))
             moving = step.any(axis=-1)
             if not moving.all():
                 if not moving.any():
                     break
-                active, step = active[moving], step[moving]
-                part = squares[active]
-            log_d[active] += step
-            d2 = np.exp2(2.0 * log_d[active])
+                active = moving.nonzero()[0] if active is None else active[moving]
+                step, part = step[moving], squares[active]
+            if active is None:
+                log_d += step
+                d2 = np.exp2(2.0 * log_d)
+            else:
+                log_d[active] += step
+                d2 = np.exp2(2.0 * log_d[active])
     d2 = np.exp2(2.0 * log_d)
     off_squares = (((1.0 / d2)[:, None, :] @ squares) @ d2[:, :, None])[:, 0, 0]
     return np.sqrt(off_squares + diagonal.sum(axis=-1))

@@ -122,3 +122,60 @@ def test_whirling_pairs_of_a_shared_form_a_variants_and_a_stack_of_one_are_alike
     ratios = np.einsum("pmi,ij,pmj->pm", one.conj(), -1j * skew, one).real / \
         np.einsum("pmi,ij,pmj->pm", one.conj(), total, one).real
     assert np.allclose(np.sort(ratios, axis=1), [[-1.0, 1.0]] * pairs, rtol=0, atol=1e-12)
+
+
+def _state_matrices(rng, count, n):
+    """State matrices ``[[0, I], [-M^-1 K, -M^-1 C]]`` of random machines, badly scaled (stiffnesses
+    over ten decades), some with a free direction (a zero root; without damping there a double
+    one, split by round-off into a pair near ``+-sqrt(noise)``) or overdamped (real roots)."""
+    out = []
+    for p in range(count):
+        scale = 10.0 ** rng.uniform(-5, 5, n)
+        k = rng.standard_normal((n, n))
+        k = (k @ k.T + n * np.eye(n)) * np.sqrt(np.outer(scale, scale))
+        c = np.diag(rng.uniform(0, 1, n) * np.sqrt(np.diag(k))) * (10.0 ** rng.uniform(-2, 2))
+        if p % 3 == 0:                                      # a free direction
+            free = rng.integers(n)
+            k[free, :], k[:, free] = 0.0, 0.0
+            if p % 2 == 0:
+                c[free, :], c[:, free] = 0.0, 0.0
+        mass = np.diag(rng.uniform(0.5, 2.0, n))
+        inverse = np.linalg.inv(mass)
+        out.append(np.block([[np.zeros((n, n)), np.eye(n)], [-inverse @ k, -inverse @ c]]))
+    return np.array(out)
+
+
+def test_the_balancing_never_raises_the_frobenius_norm():
+    """The bound of ``deciding_round_off``: the balanced norm is at most the plain one, on badly
+    scaled random matrices and state matrices alike."""
+    from rotordyn_modal.analysis import _roots
+
+    rng = np.random.default_rng(11)
+    scales = 10.0 ** rng.uniform(-8, 8, size=(40, 1, 9))
+    plain = rng.standard_normal((40, 9, 9)) * scales * np.swapaxes(1.0 / scales, 1, 2)
+    plain[rng.random(plain.shape) < 0.3] = 0.0
+    for matrices in (plain, _state_matrices(rng, 30, 5)):
+        norms = np.linalg.norm(matrices, axis=(1, 2))
+        assert np.all(_roots.balanced_norm(matrices) <= norms * (1 + 1e-12))
+
+
+def test_roots_snapped_with_the_deciding_round_off_are_those_snapped_with_the_round_off():
+    """Where a root lies within the bound (a zero root, a split double zero root, a real root's
+    round-off) the deciding round-off is the round-off itself; every root is snapped to the same
+    bits as with the round-off of every matrix."""
+    from rotordyn_modal.analysis import _roots
+
+    rng = np.random.default_rng(12)
+    n = 4
+    matrices = _state_matrices(rng, 60, n)
+    values, vectors = np.linalg.eig(matrices)
+    exact = _roots.round_off(matrices)
+    deciding = _roots.deciding_round_off(values, matrices)
+    assert np.all(deciding >= exact)
+    near = (np.abs(values) <= _roots.zero_floor(deciding[:, None])).any(axis=1)
+    assert near.sum() >= 10                                   # the free directions' roots
+    assert np.array_equal(deciding[near], exact[near])
+    assert (deciding > exact).sum() >= 10                   # the others take the bound
+    assert np.array_equal(_roots.snapped(values, deciding, matrices, vectors, n),
+                          _roots.snapped(values, exact, matrices, vectors, n))
+    assert np.array_equal(_roots.snapped(values, deciding), _roots.snapped(values, exact))

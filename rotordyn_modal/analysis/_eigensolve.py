@@ -40,7 +40,7 @@ def upper_shapes(matrices: np.ndarray, n: int):
 
 def _upper_part(matrices: np.ndarray, n: int):
     values, vectors = np.linalg.eig(matrices)
-    values = _roots.snapped(values, _roots.round_off(matrices), matrices, vectors, n)
+    values = _roots.snapped(values, _roots.deciding_round_off(values, matrices), matrices, vectors, n)
     index, eigenvalues = upper_indices(values)
     # advanced indices apart put their axes first: shapes[r, k, j] = vectors[r, j, index[r, k]]
     shapes = vectors[np.arange(len(vectors))[:, None], :n, index]
@@ -55,7 +55,8 @@ def eigenvalues_of(matrices: np.ndarray) -> np.ndarray:
 
 
 def _snapped_eigenvalues(matrices: np.ndarray) -> np.ndarray:
-    return _roots.snapped(np.linalg.eigvals(matrices), _roots.round_off(matrices))
+    values = np.linalg.eigvals(matrices)
+    return _roots.snapped(values, _roots.deciding_round_off(values, matrices))
 
 
 def upper_eigenvalues(matrices: np.ndarray):
@@ -80,7 +81,7 @@ def upper_eigenvalues(matrices: np.ndarray):
 
 def _upper_eigenvalues_part(matrices: np.ndarray):
     values = np.linalg.eigvals(matrices)
-    noise = _roots.round_off(matrices)
+    noise = _roots.deciding_round_off(values, matrices)      # decides `needed` as the round-off would
     magnitude, floor = np.abs(values), noise[:, None]
     needed = ((magnitude > floor) & (magnitude <= _roots.zero_floor(floor))).any(axis=-1)
     return upper_indices(_roots.snapped(values, noise))[1], needed

@@ -18,7 +18,8 @@ the ground (4 coordinates) and the same kind of rotor on bearings in a casing on
 ``rdm.campbell(model, speeds, orders=(1,))`` (the critical speeds of 1X refined too) against the
 obvious loop, ``scipy.linalg.eig`` of each speed's state matrix (built in the timed call),
 alternately; the ratio loop / campbell of each pair as min/median/max (above 1: the package is
-faster). Run::
+faster), of the wall times and, on a second line, of the CPU times (``time.process_time``: the
+load of other processes shows in the wall times far more than in these). Run::
 
     python benchmarks/bench_campbell.py [--repeat 15] [--part all|gear|one-rotor]
         [--one-rotor-speeds 201 1001]

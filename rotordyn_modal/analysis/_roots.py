@@ -57,11 +57,12 @@ def deciding_round_off(values, matrices) -> np.ndarray:
     its roots ``values``; elsewhere ``BACKWARD_FACTOR eps ||A||_F`` (1 + 1e-8), an upper bound
     of it, with which :func:`snapped` gives the same bits.
 
-    The balancing never raises the Frobenius norm (:func:`balanced_norm`: each sweep moves every
-    index ``k`` by a factor ``y_k = 16^s`` of its squares between 1 and ``r_k / c_k``, its row
-    and column sums of squares, so ``c_k y_k + r_k / y_k <= r_k + c_k``, and with
-    ``y_j^(1/2) / y_i^(1/2) <= (y_j + 1 / y_i) / 2`` the off-diagonal sum of squares does not
-    grow), so ``round_off <= U``, the bound (its 1e-8 covers the rounding of both norms). A
+    The balancing never raises the Frobenius norm (:func:`balanced_norm`: each sweep scales the
+    squares of every index ``k``'s row by ``1 / sqrt(y_k)`` and of its column by ``sqrt(y_k)``,
+    ``y_k = 16^s`` between 1 and ``r_k / c_k``, its off-diagonal row and column sums of
+    squares, so ``c_k y_k + r_k / y_k <= r_k + c_k``, and with ``sqrt(y_j / y_i) <= (y_j + 1 /
+    y_i) / 2`` the off-diagonal sum of squares does not grow; ``docs/theory.md`` section 8), so
+    ``round_off <= U``, the bound (its 1e-8 covers the rounding of both norms). A
     root whose ``|Im lam|`` is 0 or above ``U`` and whose ``|lam|`` is above ``zero_floor(U)``
     is snapped alike by every noise up to ``U``: only matrices with a root within those bounds
     (a zero root, a real root split by round-off) are balanced. For the roots of a sweep's

@@ -227,12 +227,16 @@ def _form_rows(form, rows, variants):
 
 def _pair_form(form, which, basis):
     """``basis_p^H form_p basis_p`` (P, 2, 2) of dense forms (n, n) or (V, n, n) (``form[which]``
-    for pair ``p``) and pairs (P, n, 2): two matrix products per pair (BLAS), each pair's bits
-    its own."""
+    for pair ``p``) and pairs (P, n, 2), each pair's bits its own. One three-operand ``einsum``:
+    the shared (n, n) form gives the bits of its copies per pair (tested), without the copies.
+    (Two matrix products would cost a fifth, but give other bits, and where the solver's pair
+    is already nearly the extreme-whirl pair, as a flexible rotor's at rest, those bits turn
+    the resolved shapes' phases.)"""
     one = form if which is None else form[which]
     if one.ndim == 3 and which is None:       # a stack of one variant's forms
         one = one[0]
-    return (np.conj(np.swapaxes(basis, -1, -2)) @ one) @ basis
+    rule = "pia,pij,pjb->pab" if one.ndim == 3 else "pia,ij,pjb->pab"
+    return np.einsum(rule, basis.conj(), one, basis)
 
 
 def _sparse_form(form, basis):

@@ -176,6 +176,8 @@ def test_roots_snapped_with_the_deciding_round_off_are_those_snapped_with_the_ro
     assert near.sum() >= 10                                   # the free directions' roots
     assert np.array_equal(deciding[near], exact[near])
     assert (deciding > exact).sum() >= 10                   # the others take the bound
+    for p in (int(np.argmax(near)), int(np.argmin(near))):   # one matrix alone: the same number
+        assert _roots.deciding_round_off(values[p], matrices[p]) == deciding[p]
     assert np.array_equal(_roots.snapped(values, deciding, matrices, vectors, n),
                           _roots.snapped(values, exact, matrices, vectors, n))
     assert np.array_equal(_roots.snapped(values, deciding), _roots.snapped(values, exact))

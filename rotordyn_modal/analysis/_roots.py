@@ -81,7 +81,7 @@ def deciding_round_off(values, matrices) -> np.ndarray:
     """
     matrices = np.asarray(matrices, dtype=float)
     bound = BACKWARD_FACTOR * np.finfo(float).eps * np.sqrt(np.einsum("...ij,...ij->...", matrices, matrices))
-    bound = bound * (1.0 + _BOUND_SLACK)
+    bound = np.asarray(bound * (1.0 + _BOUND_SLACK))       # an array also for one matrix
     values = np.asarray(values)
     limit = bound[..., None]
     imaginary = np.abs(values.imag)

@@ -18,7 +18,8 @@ the ground (4 coordinates) and the same kind of rotor on bearings in a casing on
 ``rdm.campbell(model, speeds, orders=(1,))`` (the critical speeds of 1X refined too) against the
 obvious loop, ``scipy.linalg.eig`` of each speed's state matrix (built in the timed call),
 alternately; the ratio loop / campbell of each pair as min/median/max (above 1: the package is
-faster). Run::
+faster), of the wall times and, on a second line, of the CPU times (``time.process_time``: the
+load of other processes shows in the wall times far more than in these). Run::
 
     python benchmarks/bench_campbell.py [--repeat 15] [--part all|gear|one-rotor]
         [--one-rotor-speeds 201 1001]
@@ -39,14 +40,17 @@ from rotordyn_modal.linear_system import state_matrices
 MODEL = Path(__file__).resolve().parent.parent / "examples" / "gear_machine.toml"
 
 
-def _pairs(first, second, repeat):
-    """Wall times of ``first()`` and ``second()`` called alternately, ``repeat`` times each."""
+def _pairs(first, second, repeat, cpu=None):
+    """Wall times of ``first()`` and ``second()`` called alternately, ``repeat`` times each
+    (2, repeat) [s]; their CPU times (``time.process_time``) into ``cpu`` (2, repeat) when given."""
     times = np.zeros((2, repeat))
     for i in range(repeat):
         for j, function in enumerate((first, second)):
-            start = time.perf_counter()
+            start, start_cpu = time.perf_counter(), time.process_time()
             function()
             times[j, i] = time.perf_counter() - start
+            if cpu is not None:
+                cpu[j, i] = time.process_time() - start_cpu
     return times
 
 
@@ -88,12 +92,18 @@ def one_rotor(repeat: int, counts=(201, 1001)) -> None:
 def _one_rotor_pairs(name, model, speeds, repeat) -> None:
     """Time rdm.campbell and the loop alternately over ``speeds``; print their ratio's spread."""
     rdm.campbell(model, speeds)                                        # warm caches and threads
-    times = _pairs(lambda: rdm.campbell(model, speeds, orders=(1,)), lambda: _loop(model, speeds), repeat)
+    cpu = np.zeros((2, repeat))
+    times = _pairs(lambda: rdm.campbell(model, speeds, orders=(1,)), lambda: _loop(model, speeds), repeat, cpu)
     ratio = times[1] / times[0]
     print(f"one rotor, {name} ({model.dofs.n} coordinates), {len(speeds)} speeds: rdm.campbell "
           f"{np.median(times[0]) * 1e3:7.2f} ms, scipy.linalg.eig loop {np.median(times[1]) * 1e3:7.2f} ms; "
           f"loop / campbell min {ratio.min():.2f} median {np.median(ratio):.2f} max {ratio.max():.2f}  (target > 1)",
           flush=True)
+    # CPU time (time.process_time: the threads of a threaded eigen-solve add up) says less of the load
+    ratio = cpu[1] / np.maximum(cpu[0], 1e-9)
+    print(f"    CPU: rdm.campbell min {cpu[0].min() * 1e3:.2f} median {np.median(cpu[0]) * 1e3:.2f} ms, loop min "
+          f"{cpu[1].min() * 1e3:.2f} median {np.median(cpu[1]) * 1e3:.2f} ms; loop / campbell min {ratio.min():.2f} "
+          f"median {np.median(ratio):.2f} max {ratio.max():.2f}", flush=True)
 
 
 def main() -> None:

@@ -76,16 +76,19 @@ def _refined_part(stack, speeds, values, weighted, brackets, shapes):
     """:func:`_refine_parts` of one part: the crossings of isolated modes of small pencils by
     :func:`_joint_newton`, the others (and any it leaves) by :func:`_refine_together` and
     :func:`_shapes_at`."""
-    newton = _by_newton(stack, speeds, brackets, shapes)
+    starts = _starts(speeds, brackets)               # once for both routes
+    newton = _by_newton(stack, brackets, shapes, starts)
     rows = newton.nonzero()[0]
     if len(rows):
-        found = _joint_newton(stack, speeds, brackets if newton.all() else brackets.subset(rows), shapes)
-        if found[-1].all() and newton.all():         # the usual case for small models: all done
+        every = newton.all()
+        found = _joint_newton(stack, speeds, brackets if every else brackets.subset(rows), shapes,
+                              starts if every else starts.subset(rows))
+        if found[-1].all() and every:                # the usual case for small models: all done
             return found
         newton[rows] = found[-1]
     rest = (~newton).nonzero()[0]
     mine = brackets.subset(rest)
-    roots, lam, sure, iterates = _refine_together(stack, speeds, values, weighted, mine, shapes)
+    roots, lam, sure, iterates = _refine_together(stack, speeds, values, weighted, mine, shapes, starts.subset(rest))
     lam, phi = _shapes_at(stack, speeds, values, weighted, mine, roots, lam, sure, iterates)
     count = len(brackets.k)
     out = (np.empty(count), np.empty(count, dtype=complex), np.empty((count, stack.n_dof), dtype=complex),
@@ -107,18 +110,18 @@ _NEWTON_DOF = 48
 _NEWTON_STEPS = 12
 
 
-def _by_newton(stack, speeds, brackets, shapes):
+def _by_newton(stack, brackets, shapes, starts):
     """Crossings that :func:`_joint_newton` refines: isolated modes (:func:`_isolated`) of
     pencils of at most ``_NEWTON_DOF`` coordinates with constant coefficients, strictly between
-    two speeds of the sweep on one side of zero."""
+    two speeds of the sweep on one side of zero (``starts``: :func:`_starts` of ``brackets``)."""
     count = len(brackets.k)
     if shapes is None or stack.dependent or stack.branch_times.shape[-1] or stack.n_dof > _NEWTON_DOF:
         return np.zeros(count, dtype=bool)
-    a, b, ga, gb = _ends_and_gaps(speeds, brackets)
+    a, b, ga, gb = starts.a, starts.b, starts.ga, starts.gb
     return brackets.isolated & (ga != 0) & (gb != 0) & ((a >= 0) | (b <= 0))
 
 
-def _joint_newton(stack, speeds, brackets, shapes):
+def _joint_newton(stack, speeds, brackets, shapes, starts=None):
     """Roots of ``g(Omega) = Im lam(Omega) - slope |Omega|`` in every bracket by Newton's method
     on the tracked mode's eigenpair and the speed together (:func:`_pencils.speed_newton_step`),
     all crossings in one batch.
@@ -142,6 +145,8 @@ def _joint_newton(stack, speeds, brackets, shapes):
     are its own whatever the others are (a study's variant equals its model's own analysis bit
     for bit).
 
+    ``starts``, :func:`_starts` of ``brackets``, where the caller has it.
+
     Returns
     -------
     roots : ndarray (P,) [rad/s]
@@ -152,8 +157,8 @@ def _joint_newton(stack, speeds, brackets, shapes):
     """
     k, slope = brackets.k, brackets.slope
     count = len(k)
-    a, b, ga, gb = _ends_and_gaps(speeds, brackets)
-    x = _cubic_start(speeds, brackets, a, b, ga, gb)
+    a, b, _, _, x = _starts(speeds, brackets) if starts is None else starts
+    x = x.copy()                                     # stepped in place
     every = np.arange(count)
     lam = _cubic_value(speeds, brackets, every, x)
     phi = shapes[brackets.variant, np.where(x - a <= b - x, k, k + 1), brackets.mode]    # unit: c = phi
@@ -183,7 +188,7 @@ def _joint_newton(stack, speeds, brackets, shapes):
     return x, lam, _vectors.unit_rows(phi), done
 
 
-def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
+def _refine_together(stack, speeds, values, weighted, brackets, shapes=None, starts=None):
     """Roots of ``g(Omega) = Im lam(Omega) - slope |Omega|`` in every bracket, iterated together.
 
     The first point is the root of the cubic through the sweep's four nearest points of g
@@ -200,6 +205,8 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     as described in :func:`_tracked`, and then followed on the pencil where the next point is
     near enough (:func:`_followed`).
 
+    ``starts``, :func:`_starts` of ``brackets``, where the caller has it.
+
     Returns
     -------
     roots : ndarray (P,) [rad/s]
@@ -212,8 +219,8 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
     """
     slope = brackets.slope
     count = len(brackets.k)
-    a, b, ga, gb = _ends_and_gaps(speeds, brackets)
-    x = _cubic_start(speeds, brackets, a, b, ga, gb)
+    a, b, ga, gb, x = _starts(speeds, brackets) if starts is None else starts
+    a, b, ga, gb, x = a.copy(), b.copy(), ga.copy(), gb.copy(), x.copy()     # the brackets shrink in place
     iterates = _Iterates.start(stack, brackets, shapes)
     previous = np.full((2, count), np.nan)          # the last point evaluated and its g
     state = _Bracket(a, b, ga, gb, np.zeros(count, dtype=int), np.full((2, count), np.inf))
@@ -240,6 +247,26 @@ def _refine_together(stack, speeds, values, weighted, brackets, shapes=None):
         roots[i], lam[i], sure[i] = x_i, lam_x, sure_x
         x[i] = _advance(state, previous, done, i, x_i, gx)
     return roots, lam, sure, iterates
+
+
+class _Starts(NamedTuple):
+    """Each bracket's ends, ``g`` there (:func:`_ends_and_gaps`) and the cubic's root
+    (:func:`_cubic_start`), each (P,): what both routes of :func:`_refined_part` start from."""
+
+    a: np.ndarray
+    b: np.ndarray
+    ga: np.ndarray
+    gb: np.ndarray
+    x: np.ndarray
+
+    def subset(self, rows):
+        return _Starts(*(column[rows] for column in self))
+
+
+def _starts(speeds, brackets) -> _Starts:
+    """:class:`_Starts` of ``brackets``."""
+    a, b, ga, gb = _ends_and_gaps(speeds, brackets)
+    return _Starts(a, b, ga, gb, _cubic_start(speeds, brackets, a, b, ga, gb))
 
 
 def _ends_and_gaps(speeds, brackets):

@@ -259,7 +259,7 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
         Distance from each eigenvalue to the nearest other root (of those at hand) [1/s].
     """
     expected = _interpolated(brackets, rows, x)
-    lam, phi, radius = _candidates(stack, values, brackets.variant[rows], x, expected)
+    lam, phi, radius, paired = _candidates_of(stack, values, brackets, rows, x, expected)
     distance = np.abs(lam - expected[:, None])
     nearest, second = np.argsort(distance, axis=1)[:, :2].T
     every = np.arange(len(x))
@@ -268,7 +268,9 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
     known = np.zeros(len(x), dtype=bool)
     if phi is not None:
         shapes, known = phi[every, nearest], np.ones(len(x), dtype=bool)
-    unsure = distance[every, second] <= 4 * distance[every, nearest] + 2 * brackets.spread[rows]
+    unsure = _unsure(distance, nearest, second, brackets.spread[rows])
+    if paired is not None:                    # identified below
+        unsure[paired[0]] = False
     if unsure.any():
         mine = brackets.subset(rows[unsure])
         if phi is None:
@@ -277,6 +279,11 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
             picked[unsure], shapes[unsure] = _identified(stack, speeds, values, weighted, mine, x[unsure],
                                                          lam[unsure], phi[unsure], radius[unsure])
         known |= unsure
+    if paired is not None:                    # rows whose shapes came with their roots: identified by them
+        at, lam_at, phi_at, radius_at = paired
+        mine = brackets.subset(rows[at])
+        picked[at], shapes[at] = _identified(stack, speeds, values, weighted, mine, x[at], lam_at, phi_at, radius_at)
+        known[at] = unsure[at] = True
     scale = np.nanmax(np.abs(lam), axis=1)
     if lam.shape[1] < values.shape[-1]:       # a few roots only: the largest is the sweep's
         scale = np.maximum(scale, np.abs(values[brackets.variant[rows], brackets.k[rows]]).max(axis=1))
@@ -284,6 +291,73 @@ def _tracked(stack, speeds, values, weighted, brackets, rows, x):
     known &= unsure | ~repeated            # a repeated root's shape is told by the MAC (_modes_at)
     gap = np.sort(np.abs(lam - picked[:, None]), axis=1)[:, 1]
     return picked, ~unsure & ~repeated, shapes, known, gap
+
+
+def _unsure(distance, nearest, second, spread):
+    """Rows (P,) whose nearest root to the interpolation (``distance`` (P, j), the columns
+    ``nearest`` and ``second`` (P,)) is not told apart from the next by distance alone."""
+    every = np.arange(len(distance))
+    return distance[every, second] <= 4 * distance[every, nearest] + 2 * spread
+
+
+def _candidates_of(stack, values, brackets, rows, x, expected):
+    """:func:`_tracked`'s roots at ``x``: :func:`_candidates` (no shapes where they are all the
+    roots of a small model, found by ``eigvals``), and the rows whose mode is a repeated root at
+    both ends of its bracket (:func:`_repeated_at_ends`) solved with their shapes at once and
+    kept apart, where they are not told apart by distance: their mode is identified by its shape
+    (:func:`_identified`, as :func:`_modes_at` would after an ``eigvals`` of the same matrices).
+
+    Returns
+    -------
+    lam (P, j), phi (P, j, n) or None, radius (P,) : as :func:`_candidates` for every row;
+    paired : None, or (rows (Q,) of those kept apart, and their roots (Q, j), shapes
+    (Q, j, n) and radii (Q,)), whose ``lam`` rows are these roots
+    """
+    variants = brackets.variant[rows]
+    paired = _repeated_at_ends(values, brackets, rows) if _without_shapes(stack, values) else None
+    if paired is None or not paired.any():
+        return (*_candidates(stack, values, variants, x, expected), None)
+    at = paired.nonzero()[0]
+    lam_at, phi_at, radius_at = _candidates(stack, values, variants[at], x[at], expected[at], True)
+    distance = np.abs(lam_at - expected[at, None])
+    nearest, second = np.argsort(distance, axis=1)[:, :2].T
+    told = ~_unsure(distance, nearest, second, brackets.spread[rows[at]])
+    if told.any():                            # told apart by distance after all: as every other row
+        paired[at[told]] = False
+        at, lam_at, phi_at, radius_at = at[~told], lam_at[~told], phi_at[~told], radius_at[~told]
+    rest = (~paired).nonzero()[0]
+    lam = np.empty((len(x), lam_at.shape[1]), dtype=complex)
+    radius = np.full(len(x), np.inf)
+    if len(rest):
+        lam[rest], _, radius[rest] = _candidates(stack, values, variants[rest], x[rest], expected[rest])
+    if not len(at):
+        return lam, None, radius, None
+    lam[at], radius[at] = lam_at, radius_at
+    return lam, None, radius, (at, lam_at, phi_at, radius_at)
+
+
+def _without_shapes(stack, values) -> bool:
+    """Whether :func:`_candidates` without shapes gives every root of a small model, without
+    their shapes (``eigvals``)."""
+    lowest_branches = (len(stack) == 1 and stack.branch_times.shape[-1]
+                       and values.shape[-1] < stack.forms[0].n_states // 2)
+    return not lowest_branches and (stack.n_dof <= max(_pencils.NEAREST_ROOTS_DOF, _NEAREST_ROOTS)
+                                    or bool(stack.branch_times.shape[-1]))
+
+
+def _repeated_at_ends(values, brackets, rows):
+    """(P,) bool: the tracked mode of each crossing ``rows`` is a repeated root (another within
+    ``_eigensolve.REPEATED_TOLERANCE`` of the largest root, as :func:`_tracked` tests) at both
+    ends of its bracket in the sweep's roots ``values`` (V, N, m): its eigenvalue inside the
+    bracket is then almost surely repeated too, and identified by its shape."""
+    v, k, mode = brackets.variant[rows], brackets.k[rows], brackets.mode[rows]
+    ends = values[v[:, None], k[:, None] + np.arange(2)]                              # (P, 2, m)
+    own = ends[np.arange(len(rows)), :, mode]                                           # (P, 2)
+    apart = np.abs(ends - own[..., None])
+    apart[np.arange(len(rows)), :, mode] = np.inf
+    apart[np.isnan(apart)] = np.inf
+    scale = np.abs(np.where(np.isnan(ends), 0, ends)).max(axis=-1)
+    return (apart.min(axis=-1) <= _eigensolve.REPEATED_TOLERANCE * scale).all(axis=1)
 
 
 #: roots nearest the interpolation that a large model's crossing first picks its mode from

@@ -40,7 +40,7 @@ def upper_shapes(matrices: np.ndarray, n: int):
 
 def _upper_part(matrices: np.ndarray, n: int):
     values, vectors = np.linalg.eig(matrices)
-    values = _roots.snapped(values, _roots.round_off(matrices), matrices, vectors, n)
+    values = _roots.snapped(values, _roots.deciding_round_off(values, matrices), matrices, vectors, n)
     index, eigenvalues = upper_indices(values)
     # advanced indices apart put their axes first: shapes[r, k, j] = vectors[r, j, index[r, k]]
     shapes = vectors[np.arange(len(vectors))[:, None], :n, index]
@@ -55,7 +55,8 @@ def eigenvalues_of(matrices: np.ndarray) -> np.ndarray:
 
 
 def _snapped_eigenvalues(matrices: np.ndarray) -> np.ndarray:
-    return _roots.snapped(np.linalg.eigvals(matrices), _roots.round_off(matrices))
+    values = np.linalg.eigvals(matrices)
+    return _roots.snapped(values, _roots.deciding_round_off(values, matrices))
 
 
 def upper_eigenvalues(matrices: np.ndarray):
@@ -80,7 +81,7 @@ def upper_eigenvalues(matrices: np.ndarray):
 
 def _upper_eigenvalues_part(matrices: np.ndarray):
     values = np.linalg.eigvals(matrices)
-    noise = _roots.round_off(matrices)
+    noise = _roots.deciding_round_off(values, matrices)      # decides `needed` as the round-off would
     magnitude, floor = np.abs(values), noise[:, None]
     needed = ((magnitude > floor) & (magnitude <= _roots.zero_floor(floor))).any(axis=-1)
     return upper_indices(_roots.snapped(values, noise))[1], needed
@@ -200,23 +201,42 @@ def _whirling_pairs(shapes, rows, first, forms, variants):
     import scipy.sparse
 
     sparse = scipy.sparse.issparse(forms.total)       # one large model's forms (n, n), scipy.sparse
-    # each pair's own forms where they are per variant (or already per pair): the two used, not N
-    which = (None if sparse else variants[rows] if variants is not None
-             else np.arange(len(rows)) if forms.total.ndim == 3 else None)
-    total_form = forms.total if which is None else forms.total[which]
+    which = None if sparse else _form_rows(forms.total, rows, variants)
     basis = np.stack([shapes[rows, first], shapes[rows, first + 1]], axis=-1)  # (P, n, 2)
-    rule = "pia,pij,pjb->pab" if total_form.ndim == 3 else "pia,ij,pjb->pab"
-    total = _sparse_form(total_form, basis) if sparse else np.einsum(rule, basis.conj(), total_form, basis)
+    total = _sparse_form(forms.total, basis) if sparse else _pair_form(forms.total, which, basis)
     # the two shapes must span a plane (two inverse iterations could give one direction)
     spans = np.abs(np.linalg.det(total)) > 1e-6 * np.abs(total[:, 0, 0] * total[:, 1, 1])
     rows, first, basis, total = rows[spans], first[spans], basis[spans], total[spans]
     if not rows.size:
         return rows, first, np.zeros((0, shapes.shape[-1], 2), dtype=complex)
-    W = forms.W if which is None else forms.W[which[spans]]
-    momentum = -1j * (_sparse_form(W, basis) if sparse else np.einsum(rule, basis.conj(), W, basis))
+    which = which if which is None else which[spans]
+    momentum = -1j * (_sparse_form(forms.W, basis) if sparse else _pair_form(forms.W, which, basis))
     mu, resolved = _extreme_whirl(basis, total, momentum)
     whirling = np.abs(mu[:, 1] - mu[:, 0]) > 1e-6
     return rows[whirling], first[whirling], resolved[whirling]
+
+
+def _form_rows(form, rows, variants):
+    """Which of the stacked forms ``form`` (V, n, n) each pair ``rows`` takes (P,): its variant's,
+    or its own where the forms are per pair; None where one (n, n) form serves every pair (a 2-D
+    form, or a stack of one variant's)."""
+    if form.ndim == 2 or (variants is not None and len(form) == 1):
+        return None
+    return variants[rows] if variants is not None else np.arange(len(rows))
+
+
+def _pair_form(form, which, basis):
+    """``basis_p^H form_p basis_p`` (P, 2, 2) of dense forms (n, n) or (V, n, n) (``form[which]``
+    for pair ``p``) and pairs (P, n, 2), each pair's bits its own. One three-operand ``einsum``:
+    the shared (n, n) form gives the bits of its copies per pair (tested), without the copies.
+    (Two matrix products would cost a fifth, but give other bits, and where the solver's pair
+    is already nearly the extreme-whirl pair, as a flexible rotor's at rest, those bits turn
+    the resolved shapes' phases.)"""
+    one = form if which is None else form[which]
+    if one.ndim == 3 and which is None:       # a stack of one variant's forms
+        one = one[0]
+    rule = "pia,pij,pjb->pab" if one.ndim == 3 else "pia,ij,pjb->pab"
+    return np.einsum(rule, basis.conj(), one, basis)
 
 
 def _sparse_form(form, basis):

@@ -61,7 +61,9 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     Curves that lie on each other (closer than a line width) are drawn there in turn, in short
     dashes of each one's colour, at their true values (on the figure this function makes).
     Each mode is labelled where its curve leaves the axes: beside the right edge, in the
-    curves' order, joined to its curve by a leader line; inside the axes next to the curve's
+    curves' order, joined to its curve by a leader line (curves whose ends crowd share one
+    label, 'modes 11, 12', with a leader to each, where separate labels would not fit or would
+    stand far from their curves); inside the axes next to the curve's
     last point when the curve leaves through the top or bottom or ends before the right edge.
     Each rotor's (and gear mesh's) excitation orders are straight lines, labelled inside the
     axes where they leave them, apart from each other, or beside the line farther down where

@@ -196,3 +196,19 @@ def point_segment_distance(segment, point) -> float:
     a, b = segment
     t = np.clip(np.dot(point - a, b - a) / np.dot(b - a, b - a), 0.0, 1.0)
     return float(np.hypot(*(a + t * (b - a) - point)))
+
+
+def named_modes(words):
+    """Mode numbers a Campbell mode label names: 'mode 7' -> [7]; a label shared by curves
+    whose ends crowd, 'modes 3, 7\u20139' -> [3, 7, 8, 9] (an en dash: a range); [] for any
+    other text."""
+    import re
+
+    found = re.fullmatch(r"modes? (\d+(?:\u2013\d+)?(?:, \d+(?:\u2013\d+)?)*)", words)
+    if not found:
+        return []
+    numbers = []
+    for part in found.group(1).split(", "):
+        first, _, last = part.partition("\u2013")
+        numbers += list(range(int(first), int(last or first) + 1))
+    return numbers

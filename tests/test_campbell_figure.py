@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
-from label_geometry import clip_segments, curve_segments, glyph_box, outline_crossings
+from label_geometry import clip_segments, curve_segments, glyph_box, named_modes, outline_crossings
 
 matplotlib.use("Agg")
 
@@ -137,7 +137,8 @@ def _labels(ax):
     for t in ax.texts:
         if not t.get_visible() or not t.get_text():
             continue
-        kind = "mode" if MODE_LABEL.match(t.get_text()) else "critical" if t.get_gid() == "critical-label" \
+        kind = "mode" if MODE_LABEL.match(t.get_text()) or named_modes(t.get_text()) and t.get_gid() == "mode-label" \
+            else "critical" if t.get_gid() == "critical-label" \
             else "key" if t.get_gid() == "order-key" else "note" if t.get_gid() == "critical-note" else "order"
         out.append((kind, t))
     return out
@@ -148,9 +149,10 @@ def _leader(ax, label):
     return leaders[0] if leaders else None
 
 
-def _pointed_height(ax, text, renderer):
-    """Display height a mode label points at: its leader's start on the curve, or its own centre."""
-    label = int(MODE_LABEL.match(text.get_text()).group(1))
+def _pointed_height(ax, text, renderer, label=None):
+    """Display height a mode label points at: its leader's start on the curve, or its own centre
+    (``label``: which of the modes a shared label names, 'modes 7, 8')."""
+    label = int(MODE_LABEL.match(text.get_text()).group(1)) if label is None else label
     leader = _leader(ax, label)
     if leader is not None:
         return ax.transAxes.transform((leader.get_xdata()[0], leader.get_ydata()[0]))[1]
@@ -180,12 +182,16 @@ def _check_labels(result, fig, ax, renderer):
             assert not box_a.overlaps(box_b), (a.get_text(), b.get_text())
     ends = _curve_ends(result, ax)
     for kind, t in labels:
-        label = int(MODE_LABEL.match(t.get_text()).group(1)) if kind == "mode" else None
-        if label not in ends:   # not a mode label, or its curve ends inside the axes: labelled there
-            continue
-        height = _pointed_height(ax, t, renderer)
-        nearest = min(abs(end - height) for end in ends.values())
-        assert abs(ends[label] - height) < 0.5 and abs(ends[label] - height) == nearest, (t.get_text(), height, ends)
+        for label in named_modes(t.get_text()) if kind == "mode" else []:
+            if label not in ends:   # its curve ends inside the axes: labelled there
+                continue
+            height = _pointed_height(ax, t, renderer, label)
+            nearest = min(abs(end - height) for end in ends.values())
+            assert abs(ends[label] - height) < 0.5 and abs(ends[label] - height) == nearest, (t.get_text(), height, ends)
+            if len(named_modes(t.get_text())) > 1:      # a shared label: each curve's leader ends at it
+                box, leader = t.get_window_extent(renderer), _leader(ax, label)
+                end = leader.get_transform().transform((leader.get_xdata()[-1], leader.get_ydata()[-1]))
+                assert box.y0 <= end[1] <= box.y1 and box.x0 - 3 * fig.dpi / 72 <= end[0] <= box.x0, (t.get_text(), label)
     points = fig.dpi / 72
     markers = [line for line in ax.get_lines() if line.get_label() == "critical speed"]
     anchors = {}
@@ -247,7 +253,7 @@ def _check_no_curve_through_a_label(result, ax, labels, anchors, renderer):
         if kind == "critical":
             points = anchors[t]
         elif kind == "mode":
-            points = _last_points_inside(result, ax, int(MODE_LABEL.match(t.get_text()).group(1)))
+            points = [p for label in named_modes(t.get_text()) for p in _last_points_inside(result, ax, label)]
         elif kind == "note":        # no anchor: no curve through it at all
             points = []
         else:

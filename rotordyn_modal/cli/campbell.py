@@ -17,7 +17,8 @@ DESCRIPTION = """Natural frequencies, damping and whirl of every mode over a spe
 tracked by its shape so that it keeps its label where frequencies cross. The figure
 shows forward (solid blue) and backward (dashed red) whirl, every rotor's and gear
 mesh's excitation orders, and the critical speeds (where crossings crowd, a note says how
-many are labelled and lists the others by mode); unstable stretches lie on a red band,
+many are labelled and lists the others by mode; where the curves' ends crowd, one label
+beside the right edge names several, 'modes 11, 12'); unstable stretches lie on a red band,
 a red triangle where a mode becomes unstable. Its speed axis is in --speed-unit; its
 frequency axis is logarithmic when the modes at one speed span more than 30x (e.g. mount
 modes at 5 Hz and bearing modes at 1 kHz), else linear (--freq-scale); --freq-range or

@@ -40,6 +40,11 @@ _MAX_LISTED = 60
 _NOTE_WIDTHS = (160, 110, 80, 50)
 #: the speed unit as the note writes it
 _UNIT_WORDS = {"rpm": "rpm", "rad/s": "rad/s", "hz": "Hz"}
+#: right-edge mode labels stand at most this many label heights from their curves' ends (curves
+#: whose ends crowd share a label where they would stand farther)
+_MOST_SHIFT = 4.0
+#: colour of a right-edge label naming curves of different whirl (its leaders have their colours)
+_SHARED_COLOUR = "0.15"
 #: size of a critical speed's circle [points]; circles whose centres lie within each other's
 #: circle (closer than half this) read as one double circle and share one label
 _MARKER_POINTS = 6
@@ -56,7 +61,9 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     Curves that lie on each other (closer than a line width) are drawn there in turn, in short
     dashes of each one's colour, at their true values (on the figure this function makes).
     Each mode is labelled where its curve leaves the axes: beside the right edge, in the
-    curves' order, joined to its curve by a leader line; inside the axes next to the curve's
+    curves' order, joined to its curve by a leader line (curves whose ends crowd share one
+    label, 'modes 11, 12', with a leader to each, where separate labels would not fit or would
+    stand far from their curves); inside the axes next to the curve's
     last point when the curve leaves through the top or bottom or ends before the right edge.
     Each rotor's (and gear mesh's) excitation orders are straight lines, labelled inside the
     axes where they leave them, apart from each other, or beside the line farther down where
@@ -408,6 +415,7 @@ class _CampbellLabels:
                                       x=1.02, clip_on=False) for m in self.modes]
         self.leaders = [ax.plot([], [], linewidth=0.6, transform=ax.transAxes, clip_on=False,
                                 gid=f"mode-leader {result.modes[m]}")[0] for m in self.modes]
+        self._reserve_shared_words()
         self.critical_words = [_speed_text(s) for s in critical[0]]
         self.critical_texts = [self._text(w, gid="critical-label", fontsize="xx-small")
                                for w in self.critical_words] if annotate and len(critical[0]) <= _MAX_CRITICAL_LABELS else []
@@ -417,6 +425,26 @@ class _CampbellLabels:
         # the note of the critical speeds left unlabelled (shown only when some are)
         self.critical_note = self._text("", gid="critical-note", fontsize="xx-small") \
             if annotate and len(critical[0]) else None
+
+    def _reserve_shared_words(self):
+        """The right-edge labels' words as :meth:`_beside` would share them at the axes' size
+        before the layout: the constrained layout of the first drawing leaves room beside the
+        axes for the widest label ('modes 21, 22' is wider than any 'mode 66')."""
+        ax, fig = self.ax, self.ax.figure
+        self.to_axes = (ax.transData + ax.transAxes.inverted()).transform
+        ends = [self._visible_end(m) for m in self.modes]
+        beside = [i for i, end in enumerate(ends) if end is not None and end[0] == "right"]
+        if len(beside) < 2:
+            return
+        to_v = 1.0 / max(ax.get_position().height * fig.bbox.height, 1.0)
+        renderer = fig.canvas.get_renderer() if hasattr(fig.canvas, "get_renderer") else None
+        height = text_size(fig, "mode 1", _FONT, renderer)[1] if renderer is not None \
+            else 1.4 * font_points(_FONT) * fig.dpi / 72.0
+        groups, _ = _grouped_beside([ends[i][1] for i in beside], height * to_v, fig.dpi / 72.0 * to_v)
+        for group in groups:
+            if len(group) > 1:
+                self.mode_texts[beside[group[0]]].set_text(
+                    _mode_words([self.result.modes[self.modes[beside[g]]] for g in group]))
 
     def _text(self, text, gid=None, va="bottom", fontsize=_FONT, visible=False, x=0.5, clip_on=True):
         return self.ax.text(x, 0.5, text, transform=self.ax.transAxes, fontsize=fontsize, ha="left", va=va,
@@ -515,6 +543,8 @@ class _CampbellLabels:
 
     # -- modes ---------------------------------------------------------------------------
     def _place_modes(self, renderer, placed, markers):
+        for text, m in zip(self.mode_texts, self.modes):      # a label shared at the last drawing
+            set_if_changed(text, text=f"mode {self.result.modes[m]}")
         ends = [self._visible_end(m) for m in self.modes]
         beside = [i for i, end in enumerate(ends) if end is not None and end[0] == "right"]
         inside = [i for i, end in enumerate(ends) if end is not None and end[0] == "inside"]
@@ -552,31 +582,29 @@ class _CampbellLabels:
         return WHIRL_STYLE.get(str(self.result.whirl[k, m]), WHIRL_STYLE["none"])["color"]
 
     def _beside(self, renderer, indices, ends):
-        """Labels beside the right edge, in their curves' order, each joined by a leader line."""
+        """Labels beside the right edge, in their curves' order, each joined to its curve by a
+        leader line. Where the labels would not fit the axes' height, or would stand more than
+        :data:`_MOST_SHIFT` label heights from their curves, curves whose ends lie close share one
+        label ('modes 7, 8'; :func:`_grouped_beside`) with a leader line to each of them: every
+        mode keeps its number on the figure."""
         if not indices:
             return
-        heights = [self._size(self.mode_texts[i].get_text(), _FONT, renderer)[1] * self.to_v
-                   for i in indices]
+        height = max(self._size(self.mode_texts[i].get_text(), _FONT, renderer)[1] for i in indices) * self.to_v
         gap = self.points * self.to_v
-        room = int(1.0 / (max(heights) + gap))
-        if len(indices) > room:        # more labels than the axes are tall: every k-th, in curve order
-            by_height = sorted(indices, key=lambda i: ends[i][1])
-            kept = set(by_height[::-(-len(indices) // max(room, 1))])
-            for i in set(indices) - kept:
-                set_if_changed(self.mode_texts[i], visible=False)
-                set_if_changed(self.leaders[i], visible=False)
-            heights = [h for i, h in zip(indices, heights) if i in kept]
-            indices = [i for i in indices if i in kept]
-        targets = [ends[i][1] for i in indices]
-        centres = column_positions(targets, heights, 0.0, 1.0, gap=gap)
+        groups, centres = _grouped_beside([ends[i][1] for i in indices], height, gap)
         stub, leader = _STUB_POINTS * self.points * self.to_u, _LEADER_POINTS * self.points * self.to_u
         pad = _PAD_POINTS * self.points * self.to_u
-        for i, target, centre in zip(indices, targets, centres):
-            colour = self._colour(self.modes[i], ends[i][2])
-            set_if_changed(self.leaders[i], xdata=[1.0, 1.0 + stub, 1.0 + leader],
-                           ydata=[target, target, centre], color=colour, visible=True)
-            set_if_changed(self.mode_texts[i], position=(1.0 + leader + pad, centre), va="center", ha="left",
-                           color=colour, visible=True, clip_on=False)
+        for group, centre in zip(groups, centres):
+            members = [indices[g] for g in group]
+            colours = [self._colour(self.modes[i], ends[i][2]) for i in members]
+            for i, colour in zip(members, colours):
+                set_if_changed(self.leaders[i], xdata=[1.0, 1.0 + stub, 1.0 + leader],
+                               ydata=[ends[i][1], ends[i][1], centre], color=colour, visible=True)
+                set_if_changed(self.mode_texts[i], visible=False)
+            words = _mode_words([self.result.modes[self.modes[i]] for i in members])
+            set_if_changed(self.mode_texts[members[0]], text=words, position=(1.0 + leader + pad, centre),
+                           va="center", ha="left", color=colours[0] if len(set(colours)) == 1 else _SHARED_COLOUR,
+                           visible=True, clip_on=False)
 
     def _inside(self, renderer, indices, ends, placed, markers):
         """Labels of curves that end inside the axes: next to the curve's last point, else
@@ -784,6 +812,71 @@ class _CampbellLabels:
             else:
                 home.append(int(j))
         return sorted(groups, key=lambda g: self.critical[0][g[0]])
+
+
+def _grouped_beside(targets, height, gap):
+    """The right-edge labels of curves ending at ``targets``: groups of curves that share a label
+    and the labels' centres (axes fraction).
+
+    Each curve has its own label where all fit the axes' height within :data:`_MOST_SHIFT`
+    label heights of their curves' ends
+    (:func:`~rotordyn_modal.plotting._labels.column_positions`). Else, one merge at a time until
+    they do, the two neighbouring labels of the column's crowd (the labels stacked edge to edge
+    around the one farthest from its curves) whose curves' ends span least share one label,
+    centred on that span: curves whose ends lie on each other first, and only where labels crowd.
+
+    Parameters
+    ----------
+    targets : sequence of float, length n >= 1
+        Heights where the curves meet the right edge (axes fraction).
+    height, gap : float
+        A label's height and the space kept between labels (axes fraction).
+
+    Returns
+    -------
+    groups : list of list of int
+        Indices into ``targets`` of each label's curves, labels from the bottom up, each
+        group's curves from the bottom up.
+    centres : ndarray, shape (len(groups),)
+        The labels' centres (axes fraction).
+    """
+    targets = np.asarray(targets, float)
+    groups = [[int(k)] for k in np.argsort(targets, kind="stable")]
+    pitch = height + gap
+    while True:
+        low, high = np.array([targets[g[0]] for g in groups]), np.array([targets[g[-1]] for g in groups])
+        wanted = 0.5 * (low + high)
+        centres = column_positions(wanted, [height] * len(groups), 0.0, 1.0, gap=gap)
+        shift = np.abs(centres - wanted)
+        if len(groups) == 1 or (len(groups) * pitch <= 1.0 and shift.max() <= _MOST_SHIFT * pitch):
+            return groups, centres
+        first, last = 0, len(groups) - 1
+        if len(groups) * pitch <= 1.0:          # the crowd around the label farthest from its curves
+            first = last = int(np.argmax(shift))
+            while first > 0 and centres[first] - centres[first - 1] <= pitch * (1 + 1e-9):
+                first -= 1
+            while last < len(groups) - 1 and centres[last + 1] - centres[last] <= pitch * (1 + 1e-9):
+                last += 1
+            if first == last:                   # alone, pushed by the axes' ends: with a neighbour
+                first, last = (first, last + 1) if last + 1 < len(groups) else (first - 1, last)
+        j = first + int(np.argmin(high[first + 1:last + 1] - low[first:last]))
+        groups[j:j + 2] = [groups[j] + groups[j + 1]]
+
+
+def _mode_words(numbers):
+    """A right-edge label's words: 'mode 7', 'modes 7, 8', 'modes 3, 7–9' (three or more
+    consecutive numbers as a range, with an en dash)."""
+    numbers = sorted(int(n) for n in numbers)
+    if len(numbers) == 1:
+        return f"mode {numbers[0]}"
+    runs = [[numbers[0]]]
+    for n in numbers[1:]:
+        if n == runs[-1][-1] + 1:
+            runs[-1].append(n)
+        else:
+            runs.append([n])
+    parts = [f"{r[0]}\u2013{r[-1]}" if len(r) >= 3 else ", ".join(map(str, r)) for r in runs]
+    return "modes " + ", ".join(parts)
 
 
 def _unnamed(exits, taken):

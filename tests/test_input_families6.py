@@ -1,0 +1,124 @@
+"""A sixth round of inputs of the families a reviewer tries (after ``test_input_families.py`` to
+``test_input_families5.py``): flexible rotors at scales decades apart (a shaft on soft bearings
+in a casing on mounts), every file-valued option given a file it cannot use, and measured files
+as other tools write them (a Universal File with a byte-order mark, a CSV of a header alone).
+Each case through the command line in this process (exit 2 with one line naming the option or
+file) or through the reader the command line calls."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.cli import main
+from rotordyn_modal.errors import InputError
+from rotordyn_modal.io.measured import read_measured
+from test_input_families import _one_line_error
+
+ROOT = Path(__file__).resolve().parent.parent
+GEAR = ROOT / "examples" / "gear_machine.toml"
+MAPPING = "name,node,direction\nacc-top-z,1,3\nacc-side-y,2,2\nhammer-z,101,3\nshaker-y,102,2\n"
+
+
+@pytest.fixture(scope="module")
+def measured(tmp_path_factory):
+    """The gear machine's FRFs at 600 rpm, 2 to 40 Hz in 5 lines, as ``frf --out`` writes them
+    in CSV and in UFF 58 (read only: each test writes its own files)."""
+    folder = tmp_path_factory.mktemp("measured")
+    for name in ("g.csv", "g.uff"):
+        assert main(["frf", str(GEAR), "--speed", "600", "--freqs", "2:40:5", "--out", str(folder / name),
+                     "--quiet"]) == 0
+    return folder
+
+
+# ----------------------------------------------------------------------- file-valued options
+@pytest.mark.parametrize("argv", [
+    ["frf", GEAR, "--speed", "600", "--freqs", "2:40:5", "--measured", "{csv}", "--mapping", "{tmp}/missing.csv"],
+    ["frf", GEAR, "--speed", "600", "--freqs", "2:40:5", "--mapping", "{tmp}/map.csv", "--out", "{tmp}/f.csv"],
+    ["fit", GEAR, "--measured", "{csv}", "--mapping", "{tmp}/missing.csv", "--params",
+     "suspensions.mount-FL.damping", "--out", "{tmp}/fit.toml"],
+], ids=["frf-csv-missing-table", "frf-no-uff", "fit-csv-missing-table"])
+def test_a_mapping_beside_no_universal_file_is_refused(tmp_path, capsys, measured, argv):
+    """A mapping table places a Universal File's channels: beside a CSV (read or written) it was
+    passed over without a word, even a table that does not exist (exit 0, a fitted model
+    written)."""
+    (tmp_path / "map.csv").write_text(MAPPING)
+    argv = [str(a).replace("{csv}", str(measured / "g.csv")).replace("{tmp}", str(tmp_path)) for a in argv]
+    assert main(argv + ["--quiet"]) == 2
+    _one_line_error(capsys, "--mapping", "Universal File")
+    assert not any(p.suffix in (".toml", ".csv") and p.name != "map.csv" for p in tmp_path.iterdir())
+
+
+def test_a_mapping_beside_a_universal_file_written_is_used(tmp_path, measured):
+    """The table still places the channels of a UFF written beside a CSV read."""
+    (tmp_path / "map.csv").write_text(MAPPING.replace("acc-top-z,1,3", "acc-top-z,7,3"))
+    out = tmp_path / "f.uff"
+    assert main(["frf", str(GEAR), "--speed", "600", "--freqs", "2:40:5", "--measured", str(measured / "g.csv"),
+                 "--mapping", str(tmp_path / "map.csv"), "--out", str(out), "--quiet"]) == 0
+    assert "acc-top-z         7   3" in out.read_text()
+
+
+def test_the_reader_refuses_a_missing_mapping_beside_a_csv(tmp_path, measured):
+    model = rdm.load_model(GEAR)
+    with pytest.raises(InputError, match="missing.csv"):
+        read_measured(measured / "g.csv", model, tmp_path / "missing.csv")
+
+
+# ----------------------------------------------------------------------- other tools' files
+def test_a_universal_file_with_a_byte_order_mark_reads_as_without(tmp_path, measured):
+    """Windows tools write a UTF-8 byte-order mark before the first ``    -1``: the file was
+    refused as 'incomplete ... not closed by a -1 line (from line 77)'."""
+    model = rdm.load_model(GEAR)
+    path = tmp_path / "bom.uff"
+    path.write_bytes(b"\xef\xbb\xbf" + (measured / "g.uff").read_bytes())
+    plain, marked = read_measured(measured / "g.uff", model)[0], read_measured(path, model)[0]
+    assert marked.outputs == plain.outputs and marked.inputs == plain.inputs
+    np.testing.assert_array_equal(marked.frequencies_hz, plain.frequencies_hz)
+    np.testing.assert_array_equal(marked.H, plain.H)
+
+
+def test_a_measured_csv_of_a_header_alone_is_refused_as_such(tmp_path, capsys, measured):
+    """It was refused as "quantity column holds []", a column no line filled."""
+    path = tmp_path / "header.csv"
+    path.write_text((measured / "g.csv").read_text().splitlines()[0] + "\n")
+    assert main(["frf", str(GEAR), "--speed", "600", "--freqs", "2:40:5", "--measured", str(path), "--quiet"]) == 2
+    _one_line_error(capsys, str(path), "no data line")
+
+
+# ----------------------------------------------------------------------- scales decades apart
+def _shaft_in_casing(bearing_stiffness: float) -> dict:
+    """A uniform steel shaft (1 m, 50 mm, Euler-Bernoulli) on a bearing at each end in a 50 kg
+    casing on four mounts of 1e5 N/m each way, under gravity."""
+    return {
+        "spin_axis": [1.0, 0.0, 0.0], "gravity": [0.0, 0.0, -9.81],
+        "stator": {"mass": 50.0, "center_of_mass": [0.0, 0.0, 0.0], "inertia": [2.0, 3.0, 3.0]},
+        "materials": [{"name": "steel", "density": 7800.0, "young_modulus": 2e11, "poisson_ratio": 0.3}],
+        "rotors": [{"name": "shaft", "start": [-0.5, 0.0, 0.0], "shear": "none",
+                    "shaft": [{"length": 1.0, "outer_diameter": 0.05, "material": "steel", "elements": 10}]}],
+        "bearings": [{"name": n, "rotor": "shaft", "axial_position": z, "stiffness": bearing_stiffness}
+                     for n, z in (("a", 0.0), ("b", 1.0))],
+        "suspensions": [{"name": f"m{i}", "position": [x, y, 0.0], "stiffness": [1e5, 1e5, 1e5]}
+                        for i, (x, y) in enumerate(((0.4, 0.3), (0.4, -0.3), (-0.4, 0.3), (-0.4, -0.3)))]}
+
+
+@pytest.mark.parametrize("bearing_stiffness", [100.0, 10.0])
+def test_a_stiff_shaft_on_soft_bearings_in_a_casing_stands_under_gravity(bearing_stiffness):
+    """Bearings of 100 N/m under a shaft whose elements are 1e9 N/m stiff: the static stiffness's
+    smallest scaled singular values are 3e-13 of its largest, which a fixed 1e-12 cut-off took for
+    free motions ('no suspension or bearing holds ...: the machine would not stand still'); they
+    hold 3 more digits than round-off. The sag is the closed form: the casing ``(M + m) g / 4 k_m``,
+    the shaft's ends ``w L / 2 k`` below it, its middle ``5 w L^4 / 384 E I`` further (exact at
+    the nodes of cubic elements)."""
+    model = rdm.Model.from_dict(_shaft_in_casing(bearing_stiffness))
+    q = rdm.static(model).coordinates
+    names = list(model.dofs.names)
+    area, second = math.pi * 0.05**2 / 4, math.pi * 0.05**4 / 64
+    w = 7800.0 * area * 9.81                            # [N/m] the shaft's weight per length
+    ends = -w / (2 * bearing_stiffness)
+    assert q[names.index("stator.uz")] == pytest.approx(-(50.0 + 7800.0 * area) * 9.81 / 4e5, rel=1e-12)
+    assert q[names.index("shaft.n0.uz")] == pytest.approx(ends, rel=1e-5)
+    assert q[names.index("shaft.n5.uz")] == pytest.approx(ends - 5 * w / (384 * 2e11 * second), rel=1e-5)

@@ -122,3 +122,42 @@ def test_a_stiff_shaft_on_soft_bearings_in_a_casing_stands_under_gravity(bearing
     assert q[names.index("stator.uz")] == pytest.approx(-(50.0 + 7800.0 * area) * 9.81 / 4e5, rel=1e-12)
     assert q[names.index("shaft.n0.uz")] == pytest.approx(ends, rel=1e-5)
     assert q[names.index("shaft.n5.uz")] == pytest.approx(ends - 5 * w / (384 * 2e11 * second), rel=1e-5)
+
+
+OVERDAMPED = """spin_axis = [1.0, 0.0, 0.0]
+[[rotors]]
+name = "r"
+mass = 10.0
+center_of_mass = [0.0, 0.0, 0.0]
+polar_inertia = 0.05
+diametral_inertia = 0.5
+speed_ratio = 1.0
+[[bearings]]
+name = "a"
+rotor = "r"
+position = [-0.2, 0.0, 0.0]
+stiffness = 1.0e3
+damping = 1.0e3
+[[bearings]]
+name = "b"
+rotor = "r"
+position = [0.2, 0.0, 0.0]
+stiffness = 1.0e3
+damping = 1.0e3
+"""
+
+
+def test_level1_of_a_root_that_does_not_oscillate_at_zero_names_no_mode(tmp_path, capsys):
+    """A rotor of 10 kg on bearings of 2 x 1e3 N/m and 2 x 1e3 N s/m (damping ratio 7): at Q = 0
+    its cylindrical roots are real, and ``level1`` printed 'mode 0 (0 Hz at Q = 0) followed', a
+    mode no table has (and counted the modes before a root that is none as its number). The
+    cross-coupling makes ``m r'' + c r' + k r - i Q r = 0`` whirl; it loses stability where
+    ``k = m w^2`` and ``Q = c w``: ``Q0 = c sqrt(k / m)``."""
+    path = tmp_path / "overdamped.toml"
+    path.write_text(OVERDAMPED)
+    result = rdm.level1(rdm.load_model(path), rdm.rpm(3000.0), ["r"], 1e4, factor=3, steps_per_qa=4)
+    assert result.q0 == pytest.approx(2e3 * math.sqrt(2e3 / 10.0), rel=1e-9)
+    assert result.mode == 0 and result.frequencies_hz[0] == 0.0
+    assert main(["level1", str(path), "--speed", "3000", "--station", "r", "--qa", "1e4", "--factor", "3"]) == 0
+    err = capsys.readouterr().err
+    assert "a root that does not oscillate at Q = 0 followed" in err and "mode 0" not in err, err

@@ -208,16 +208,19 @@ def static_solution(stiffness: np.ndarray, load: np.ndarray):
     held = size > 0
     if np.any(np.abs(load[~held]) > 1e-9 * np.abs(load).max()):
         return None
-    scaled = stiffness[np.ix_(held, held)] / np.outer(size[held], size[held])
+    # D^-1/2 K D^-1/2, unit diagonal (K / (size_i size_j) made it 1 / K_ii: the stiffest
+    # coordinates, a shaft's, looked like the free ones beside soft bearings)
+    root = np.sqrt(size[held])
+    scaled = stiffness[np.ix_(held, held)] / np.outer(root, root)
     u, values, vt = np.linalg.svd(scaled)
-    right = load[held] / size[held]
+    right = load[held] / root
     # zero to round-off (numpy's matrix_rank tolerance): a fixed 1e-12 took a shaft on soft
     # bearings (100 N/m under a stiff shaft, 3e-13 of the largest, 8 digits sure) for free
     kept = values > len(values) * np.finfo(float).eps * values[0]
     if np.linalg.norm(u[:, ~kept].T @ right) > 1e-6 * np.linalg.norm(right):
         return None
     x = np.zeros(len(load))
-    x[held] = (vt[kept].T @ ((u[:, kept].T @ right) / values[kept])) / size[held]
+    x[held] = (vt[kept].T @ ((u[:, kept].T @ right) / values[kept])) / root
     return x
 
 

@@ -161,3 +161,21 @@ def test_level1_of_a_root_that_does_not_oscillate_at_zero_names_no_mode(tmp_path
     assert main(["level1", str(path), "--speed", "3000", "--station", "r", "--qa", "1e4", "--factor", "3"]) == 0
     err = capsys.readouterr().err
     assert "a root that does not oscillate at Q = 0 followed" in err and "mode 0" not in err, err
+
+
+def test_a_soft_axial_bearing_beside_stiff_radial_ones_holds_the_rotor(tmp_path):
+    """A rigid rotor (10 kg, diametral inertia 0.5) on two radial bearings of 1e8 N/m 0.4 m apart,
+    one of them also axial with 1e-6 N/m: refused as 'nothing holds its translation along the y
+    axis', which 2e8 N/m hold. The bearings' stiffness was scaled ``K_ij / (s_i s_j)``, a unit
+    diagonal's inverse, so the stiffest motion read as the free one. Its roots are the closed
+    forms ``sqrt(k / m)``: axial ``sqrt(1e-6 / 10)``, lateral ``sqrt(2e8 / 10)``, tilt
+    ``sqrt(1e8 * 2 * 0.2^2 / 0.5)`` [rad/s]; an axial force F moves it ``F / k_axial``."""
+    path = tmp_path / "axial.toml"
+    path.write_text(OVERDAMPED.replace("stiffness = 1.0e3", "stiffness = 1.0e8").replace("damping = 1.0e3", "")
+                    + "axial_stiffness = 1.0e-6\n")
+    model = rdm.load_model(path)
+    roots = np.sort(rdm.modal(model, 0.0).eigenvalues.imag)
+    expected = np.sqrt([1e-6 / 10, 1e8 * 2 * 0.04 / 0.5, 1e8 * 2 * 0.04 / 0.5, 2e8 / 10, 2e8 / 10])
+    np.testing.assert_allclose(roots, expected, rtol=1e-9)
+    q = rdm.static(model, forces=[("r", [0.0, 0.0, 0.0], [1e-3, 0.0, 0.0])]).coordinates
+    assert q[list(model.dofs.names).index("r.ux")] == pytest.approx(1e-3 / 1e-6, rel=1e-9)

@@ -179,3 +179,26 @@ def test_a_soft_axial_bearing_beside_stiff_radial_ones_holds_the_rotor(tmp_path)
     np.testing.assert_allclose(roots, expected, rtol=1e-9)
     q = rdm.static(model, forces=[("r", [0.0, 0.0, 0.0], [1e-3, 0.0, 0.0])]).coordinates
     assert q[list(model.dofs.names).index("r.ux")] == pytest.approx(1e-3 / 1e-6, rel=1e-9)
+
+
+# ----------------------------------------------------------------------- flexible rotors' keys
+COMPRESSOR = ROOT / "examples" / "compressor_rotor.toml"
+
+
+@pytest.mark.parametrize("old, new, words", [
+    ("poisson_ratio = 0.3", "shear_modulus = 1.0e30",
+     ["[materials.steel] shear_modulus = 1e+30", "above -1"]),
+    ("outer_diameter = 0.11\nmaterial", "outer_diameter = 0.11\ninner_diameter = 0.10999999999999989\nmaterial",
+     ["[rotors.compressor.shaft.1] inner_diameter = 0.10999999999999989", "at least 1e-06 m below"]),
+], ids=["shear-modulus-rounding-nu-to-minus-one", "wall-of-round-off"])
+def test_a_material_or_bore_of_no_shaft_is_refused_by_its_key(tmp_path, capsys, old, new, words):
+    """``shear_modulus = 1e30`` beside E = 2.11e11: Poisson's ratio ``E / 2G - 1`` rounds to -1, the
+    shear coefficient to 0, and every analysis ended in ZeroDivisionError (exit 1). A bore of the
+    outer diameter less round-off (a wall of 5e-17 m) was refused as '[stator], [[rotors]] mass and
+    inertia = <mass matrix>', naming neither the key nor the rotor."""
+    text = COMPRESSOR.read_text()
+    assert old in text
+    path = tmp_path / "m.toml"
+    path.write_text(text.replace(old, new, 1))
+    assert main(["modes", str(path), "--speed", "3000", "--quiet"]) == 2
+    _one_line_error(capsys, str(path), *words)

@@ -246,6 +246,13 @@ def _tube(table: Table) -> tuple:
         raise table.error("inner_diameter", table.data["inner_diameter"],
                           f"an inner diameter below the outer diameter {table.data['outer_diameter']!r} "
                           "at both ends of the section")
+    if min(outer[0] - inner[0], outer[1] - inner[1]) < THINNEST:
+        # a wall of 1e-16 m (a bore typed as the outer diameter times 1 - 1e-15) has a mass matrix
+        # no solver inverts: it was refused as '[stator], [[rotors]] mass and inertia', no key named
+        raise table.error("inner_diameter", table.data["inner_diameter"],
+                          f"a bore at least {THINNEST:g} m below the outer diameter "
+                          f"{table.data['outer_diameter']!r} at both ends (a tube wall thicker than "
+                          f"{THINNEST / 2:g} m)")
     return outer, inner
 
 

@@ -597,7 +597,8 @@ def stiffness_spread_lines(model) -> list[str]:
                              f"a support stiffness that leaves the low modes a digit in double precision: "
                              f"{10 ** digits:.1e} times the scale of what it holds, at most about "
                              f"{rigid * 10 ** (SPREAD_REFUSE_DIGITS - 1):.1g} {unit}; {rigid * 1e3:.1g}–"
-                             f"{rigid * 1e4:.1g} {unit} already acts as rigid (docs/theory.md §8, stiffness spread)")
+                             f"{rigid * 1e4:.1g} {unit} already acts as rigid (docs/theory.md §8, stiffness spread); "
+                             "or else a mass or inertia where it acts far too small (the scale is stiffness over mass)")
         found.append((digits, f"{said}: the low modes lose about {digits:.0f} of 16 significant digits; "
                               f"{rigid * 1e3:.1g}–{rigid * 1e4:.1g} {unit} already acts as rigid "
                               "(docs/theory.md §8)"))

@@ -223,3 +223,15 @@ def test_check_counts_a_slender_shafts_bending_as_held(tmp_path, capsys):
     assert len(squares) == 93 and squares.min() > 0 and math.sqrt(squares.min()) == pytest.approx(0.0114, rel=0.02)
     assert main(["check", str(path)]) == 0
     assert "note:" not in capsys.readouterr().out
+
+
+def test_a_pedestal_of_no_mass_is_refused_pointing_at_the_mass(tmp_path, capsys):
+    """``pedestal_mass = 1e-30`` under the pump's inboard bearing: refused as the bearing's 1e8 N/m
+    being far too stiff ('at most about 9e-13 N/m'), the mass it acts on not mentioned."""
+    text = (ROOT / "examples" / "flexible_pump_on_mounts.toml").read_text()
+    old = 'name = "pump-IB"                  # inboard, next to the impeller\n'
+    assert old in text
+    path = tmp_path / "pedestal.toml"
+    path.write_text(text.replace(old, old + "pedestal_mass = 1.0e-30\npedestal_stiffness = 1.0e7\n"))
+    assert main(["check", str(path)]) == 2
+    _one_line_error(capsys, "[bearings.pump-IB]", "a mass or inertia where it acts far too small")

@@ -235,3 +235,19 @@ def test_a_pedestal_of_no_mass_is_refused_pointing_at_the_mass(tmp_path, capsys)
     path.write_text(text.replace(old, old + "pedestal_mass = 1.0e-30\npedestal_stiffness = 1.0e7\n"))
     assert main(["check", str(path)]) == 2
     _one_line_error(capsys, "[bearings.pump-IB]", "a mass or inertia where it acts far too small")
+
+
+def test_an_unbalance_offset_off_the_shaft_is_refused_in_its_own_terms(tmp_path, capsys):
+    """``axial_offset = 0.65`` on the compressor (centre of mass 0.583 m from the start of its
+    1.2 m shaft) lands at 1.233 m: refused as 'expected an axial position on the shaft, from 0 to
+    its length 1.2 m (measured from the rotor's start)', which 0.65 is. The range of an offset
+    runs from minus the centre's distance to the shaft's length less it."""
+    text = COMPRESSOR.read_text()
+    old = "amount = 2.0e-4\naxial_position = 0.30\n"
+    assert old in text
+    path = tmp_path / "offset.toml"
+    path.write_text(text.replace(old, "amount = 2.0e-4\naxial_offset = 0.65\n", 1))
+    centre = rdm.load_model(COMPRESSOR).rotor("compressor").center_of_mass[0]
+    assert main(["check", str(path)]) == 2
+    _one_line_error(capsys, "[unbalances[0]] axial_offset = 0.65", f"from {-centre:.6g} to {1.2 - centre:.6g} m",
+                    "centre of mass")

@@ -640,6 +640,21 @@ def _scale(diagonal: np.ndarray, mass: np.ndarray):
     return float(ratio[at]), at
 
 
+def _key_of(block: np.ndarray, key: str, spin_axis) -> tuple:
+    """``(key, value)`` a bearing's 3x3 translational ``block`` (model axes) is named by: its
+    ``axial_stiffness`` where that is its largest coefficient (a stiff axial bearing beside soft
+    radial ones was named ``stiffness = '2e+08'``, its radial stiffness being 1e-10), else ``key``
+    with the largest coefficient."""
+    largest = float(np.abs(block).max())
+    if key == "stiffness":
+        e = np.asarray(spin_axis, dtype=float)
+        axial = abs(float(e @ block @ e))
+        radial = block - np.outer(e, e) * float(e @ block @ e)
+        if axial > float(np.abs(radial).max()):
+            return "axial_stiffness", axial
+    return key, largest
+
+
 def _stiffness_pieces(model):
     """``(where, key, value, d)`` of each stiffness of the machine, ``d`` (n,) the diagonal of its
     ``K`` in ``q`` (only diagonals: a machine of thousands of coordinates and bearings builds no
@@ -663,7 +678,7 @@ def _stiffness_pieces(model):
             piece[block, block] = k6s[np.argmax(np.abs(k6s[:, block, block]).max(axis=(1, 2)))][block, block]
             d = np.zeros(n)
             d[rows] = np.einsum("ji,jk,ki->i", moves, piece, moves)
-            yield f"[bearings.{visible(bearing.name)}]", key, float(np.abs(piece).max()), d
+            yield f"[bearings.{visible(bearing.name)}]", *_key_of(piece[block, block], key, model.spin_axis), d
         if bearing.pedestal is not None:
             yield f"[bearings.{visible(bearing.name)}]", "pedestal_stiffness", \
                 float(np.abs(bearing.pedestal.stiffness).max()), pedestal_piece(model, bearing)

@@ -251,3 +251,15 @@ def test_an_unbalance_offset_off_the_shaft_is_refused_in_its_own_terms(tmp_path,
     assert main(["check", str(path)]) == 2
     _one_line_error(capsys, "[unbalances[0]] axial_offset = 0.65", f"from {-centre:.6g} to {1.2 - centre:.6g} m",
                     "centre of mass")
+
+
+def test_a_stiff_axial_bearing_beside_soft_radial_ones_is_named_by_its_key(tmp_path, capsys):
+    """The compressor's bearings made 1e-10 N/m radially, the thrust bearing kept at 2e8 N/m:
+    refused first as 'nothing holds its translation along the x axis' (the axis 2e8 N/m hold),
+    then, by the stiffness spread, as 'stiffness = '2e+08'', a value the file gives as
+    axial_stiffness."""
+    text = COMPRESSOR.read_text().replace("stiffness = 5.0e7", "stiffness = 1.0e-10")
+    path = tmp_path / "soft.toml"
+    path.write_text(text)
+    assert main(["check", str(path)]) == 2
+    _one_line_error(capsys, "[bearings.right] axial_stiffness = '2e+08'", "stiffness spread")

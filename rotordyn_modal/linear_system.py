@@ -208,14 +208,19 @@ def static_solution(stiffness: np.ndarray, load: np.ndarray):
     held = size > 0
     if np.any(np.abs(load[~held]) > 1e-9 * np.abs(load).max()):
         return None
-    scaled = stiffness[np.ix_(held, held)] / np.outer(size[held], size[held])
+    # D^-1/2 K D^-1/2, unit diagonal (K / (size_i size_j) made it 1 / K_ii: the stiffest
+    # coordinates, a shaft's, looked like the free ones beside soft bearings)
+    root = np.sqrt(size[held])
+    scaled = stiffness[np.ix_(held, held)] / np.outer(root, root)
     u, values, vt = np.linalg.svd(scaled)
-    right = load[held] / size[held]
-    kept = values > 1e-12 * values[0]
+    right = load[held] / root
+    # zero to round-off (numpy's matrix_rank tolerance): a fixed 1e-12 took a shaft on soft
+    # bearings (100 N/m under a stiff shaft, 3e-13 of the largest, 8 digits sure) for free
+    kept = values > len(values) * np.finfo(float).eps * values[0]
     if np.linalg.norm(u[:, ~kept].T @ right) > 1e-6 * np.linalg.norm(right):
         return None
     x = np.zeros(len(load))
-    x[held] = (vt[kept].T @ ((u[:, kept].T @ right) / values[kept])) / size[held]
+    x[held] = (vt[kept].T @ ((u[:, kept].T @ right) / values[kept])) / root
     return x
 
 
@@ -592,7 +597,8 @@ def stiffness_spread_lines(model) -> list[str]:
                              f"a support stiffness that leaves the low modes a digit in double precision: "
                              f"{10 ** digits:.1e} times the scale of what it holds, at most about "
                              f"{rigid * 10 ** (SPREAD_REFUSE_DIGITS - 1):.1g} {unit}; {rigid * 1e3:.1g}–"
-                             f"{rigid * 1e4:.1g} {unit} already acts as rigid (docs/theory.md §8, stiffness spread)")
+                             f"{rigid * 1e4:.1g} {unit} already acts as rigid (docs/theory.md §8, stiffness spread); "
+                             "or else a mass or inertia where it acts far too small (the scale is stiffness over mass)")
         found.append((digits, f"{said}: the low modes lose about {digits:.0f} of 16 significant digits; "
                               f"{rigid * 1e3:.1g}–{rigid * 1e4:.1g} {unit} already acts as rigid "
                               "(docs/theory.md §8)"))
@@ -634,6 +640,21 @@ def _scale(diagonal: np.ndarray, mass: np.ndarray):
     return float(ratio[at]), at
 
 
+def _key_of(block: np.ndarray, key: str, spin_axis) -> tuple:
+    """``(key, value)`` a bearing's 3x3 translational ``block`` (model axes) is named by: its
+    ``axial_stiffness`` where that is its largest coefficient (a stiff axial bearing beside soft
+    radial ones was named ``stiffness = '2e+08'``, its radial stiffness being 1e-10), else ``key``
+    with the largest coefficient."""
+    largest = float(np.abs(block).max())
+    if key == "stiffness":
+        e = np.asarray(spin_axis, dtype=float)
+        axial = abs(float(e @ block @ e))
+        radial = block - np.outer(e, e) * float(e @ block @ e)
+        if axial > float(np.abs(radial).max()):
+            return "axial_stiffness", axial
+    return key, largest
+
+
 def _stiffness_pieces(model):
     """``(where, key, value, d)`` of each stiffness of the machine, ``d`` (n,) the diagonal of its
     ``K`` in ``q`` (only diagonals: a machine of thousands of coordinates and bearings builds no
@@ -657,7 +678,7 @@ def _stiffness_pieces(model):
             piece[block, block] = k6s[np.argmax(np.abs(k6s[:, block, block]).max(axis=(1, 2)))][block, block]
             d = np.zeros(n)
             d[rows] = np.einsum("ji,jk,ki->i", moves, piece, moves)
-            yield f"[bearings.{visible(bearing.name)}]", key, float(np.abs(piece).max()), d
+            yield f"[bearings.{visible(bearing.name)}]", *_key_of(piece[block, block], key, model.spin_axis), d
         if bearing.pedestal is not None:
             yield f"[bearings.{visible(bearing.name)}]", "pedestal_stiffness", \
                 float(np.abs(bearing.pedestal.stiffness).max()), pedestal_piece(model, bearing)

@@ -161,7 +161,9 @@ class Level1Result:
         Of the followed mode (tracked from Q = 0 by its shape); with several swept, the one of
         the lowest log decrement at Qa.
     mode : int
-        That mode's number at Q = 0 among the modes (``modes --speed`` numbering).
+        That mode's number at Q = 0 among the modes (``modes --speed`` numbering); 0 when its
+        root is no mode at Q = 0 (real or overdamped, on soft, heavily damped bearings: the
+        cross-coupling makes it whirl), see :attr:`mode_label`.
     qa : float [N/m]
     q0 : float [N/m]
         Where the log decrement reaches 0 (root-found; with several modes swept, the smallest
@@ -191,6 +193,12 @@ class Level1Result:
     csr: "CsrScreening | None" = None
     forward_mode: int = 1
     swept: tuple = ()
+
+    @property
+    def mode_label(self) -> str:
+        """``'mode N'``, or, when the followed root is no mode at Q = 0 (:attr:`mode` 0), what it
+        is there: ``'a root that does not oscillate at Q = 0'``."""
+        return f"mode {self.mode}" if self.mode else "a root that does not oscillate at Q = 0"
 
     @property
     def governs_q0(self) -> "Level1Result | None":
@@ -259,15 +267,17 @@ class Level1Result:
     def to_dataframe(self):
         """Table ``q_n_per_m, q_over_qa, log_decrement, frequency_hz`` (the judged mode), then
         ``log_decrement_mode_N, frequency_hz_mode_N`` for each swept mode ``N`` (``modes``
-        numbering) when more than one was swept."""
+        numbering) when more than one was swept (``..._forward_K``, its rank among the forward
+        modes, for a root that is no mode at Q = 0: two such would share ``mode_0``)."""
         import pandas as pd
 
         columns = {"q_n_per_m": self.cross_coupling, "q_over_qa": self.cross_coupling / self.qa,
                    "log_decrement": self.log_decrements, "frequency_hz": self.frequencies_hz}
         if len(self.swept) > 1:
             for run in self.swept:
-                columns[f"log_decrement_mode_{run.mode}"] = run.log_decrements
-                columns[f"frequency_hz_mode_{run.mode}"] = run.frequencies_hz
+                name = f"mode_{run.mode}" if run.mode else f"forward_{run.forward_mode}"
+                columns[f"log_decrement_{name}"] = run.log_decrements
+                columns[f"frequency_hz_{name}"] = run.frequencies_hz
         return pd.DataFrame(columns)
 
     def plot(self, **kwargs):
@@ -340,9 +350,13 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
         label = int(np.nonzero(order[1] == forward[number - 1])[0][0])
         followed = lam[np.arange(len(grid)), order[:, label]]
         freq, _, log_dec = modal_quantities(followed)
+        start = lam[0, order[0, label]]
+        # its number among the modes at Q = 0; a root no mode there has none (the count of the
+        # modes before it would name another mode)
+        mode = int(is_oscillating(lam[0])[:order[0, label] + 1].sum()) if is_oscillating(start) else 0
         runs.append(Level1Result(
             speed=speed, stations=stations, shares=shares, cross_coupling=grid, log_decrements=log_dec,
-            frequencies_hz=freq, mode=int(is_oscillating(lam[0])[:order[0, label] + 1].sum()), qa=float(qa),
+            frequencies_hz=freq, mode=mode, qa=float(qa),
             q0=_zero_crossing(base, unit, form.n_dof, grid, followed, log_dec),
             log_decrement_at_qa=float(log_dec[steps]), title=model.name, forward_mode=int(number)))
     judged = least_stable(runs) if forward_mode is None else replace(runs[0], swept=tuple(runs))

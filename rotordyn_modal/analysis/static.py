@@ -674,9 +674,9 @@ def _solve(model, stiffness, load) -> np.ndarray:
 def _free_motion(model, stiffness, load) -> str:
     """The coordinates of the free motion that the load pushes most, in words."""
     size = np.sqrt(np.linalg.norm(stiffness, axis=0) * np.linalg.norm(stiffness, axis=1))
-    scaled_size = np.where(size > 0, size, 1.0)
+    scaled_size = np.sqrt(np.where(size > 0, size, 1.0))       # D^-1/2 K D^-1/2, as static_solution
     u, values, vt = np.linalg.svd(stiffness / np.outer(scaled_size, scaled_size))
-    free = ~(values > 1e-12 * values[0]) if values[0] > 0 else np.ones(len(values), bool)
+    free = ~(values > len(values) * np.finfo(float).eps * values[0]) if values[0] > 0 else np.ones(len(values), bool)
     pushes = np.abs(u[:, free].T @ (load / scaled_size))
     motion = np.abs(vt[free][int(np.argmax(pushes))] / scaled_size)
     names = [model.dofs.names[i] for i in np.argsort(-motion) if motion[i] > 0.1 * motion.max()]

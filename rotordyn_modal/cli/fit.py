@@ -57,7 +57,7 @@ def add_arguments(parser):
 
 def run(args) -> int:
     from ..analysis.fit import fit
-    from ..io.measured import read_measured
+    from ..io.measured import check_mapping_used, read_measured
     check_outputs(args, args.out)
     check_ending(args.out, (".toml",), "--out")
     check_output_options(args)
@@ -68,6 +68,7 @@ def run(args) -> int:
     factor = float(parse_list(args.bound_factor, "--bound-factor")[0])
     if not factor > 1:
         raise InputError(f"--bound-factor {args.bound_factor}: expected a number > 1")
+    check_mapping_used(args.mapping, args.measured)
     measured = read_measured(args.measured, model, args.mapping)
     if band is not None and not any(((m.frequencies_hz >= band[0]) & (m.frequencies_hz <= band[1])).any()
                                     for m in measured):

@@ -105,9 +105,11 @@ def excitation_names(args, model):
 def run(args) -> int:
     from ..analysis.forces import force_frf
     from ..analysis.frf import frf
+    from ..io.measured import check_mapping_used
     model = open_model(args)
     if args.forces and args.out and args.out.lower().endswith((".uff", ".unv")):
         raise InputError(f"--out {args.out}: force FRFs are written as CSV only")
+    check_mapping_used(args.mapping, args.measured, args.out)
     speed = speed_value(args.speed, args.speed_unit, "--speed")
     freqs = parse_range(args.freqs, "--freqs")
     if freqs.min() < 0:

@@ -148,7 +148,7 @@ def run(args) -> int:
         if len(result.swept) > 1:
             for run in result.swept:
                 print(_mode_line(run, result, scale, unit), file=sys.stderr)
-        followed = (f"mode {result.mode} ({result.frequencies_hz[0]:.5g} Hz at Q = 0) "
+        followed = (_at_zero(result, "{} ({:.5g} Hz at Q = 0) ", " ")
                     + ("followed" if len(result.swept) <= 1 else "the least stable"))
         print(f"Qa = {result.qa * scale:.6g} {unit} at {where}; {followed}; "
               + (f"Q0 = {result.q0 * scale:.6g} {unit}; " if np.isfinite(result.q0) else
@@ -164,12 +164,18 @@ def run(args) -> int:
     return 0
 
 
+def _at_zero(run, form: str, after: str) -> str:
+    """The followed mode at Q = 0 by ``form`` (its label and frequency [Hz]), or, for a root
+    that is no mode there (0 Hz, no number), its label and ``after``."""
+    return form.format(run.mode_label, run.frequencies_hz[0]) if run.mode else run.mode_label + after
+
+
 def _mode_line(run, result, scale, unit) -> str:
     """``forward mode 2: mode 7, 57.7 Hz at Q = 0, log dec at Qa 0.255, Q0 = ... (governs ...)``."""
-    governs = [what for what, yes in (("log dec at Qa", run.mode == result.mode),
+    governs = [what for what, yes in (("log dec at Qa", run.forward_mode == result.forward_mode),
                                       ("Q0", result.governs_q0 is run)) if yes]
     q0 = f"Q0 = {run.q0 * scale:.6g} {unit}" if np.isfinite(run.q0) else "Q0 beyond the sweep"
-    return (f"forward mode {run.forward_mode}: mode {run.mode}, {run.frequencies_hz[0]:.5g} Hz at Q = 0, "
+    return (f"forward mode {run.forward_mode}: {_at_zero(run, '{}, {:.5g} Hz at Q = 0, ', ', ')}"
             f"log dec at Qa {run.log_decrement_at_qa:.3g}, {q0}" + (f" (governs {' and '.join(governs)})"
                                                                      if governs else ""))
 

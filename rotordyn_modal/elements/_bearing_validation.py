@@ -444,7 +444,10 @@ def _free_motion(stiffness: np.ndarray):
     size = np.sqrt(np.linalg.norm(stiffness, axis=0) * np.linalg.norm(stiffness, axis=1))
     if not (size > 0).all():
         return np.eye(len(size))[np.flatnonzero(~(size > 0))[0]]
-    _, values, vt = np.linalg.svd(stiffness / np.outer(size, size))
+    # D^-1/2 K D^-1/2 (unit diagonal): K / (size_i size_j) made the diagonal 1 / K_ii, so that a
+    # stiff axial bearing beside soft radial ones read as the free motion (and a soft one as held)
+    root = np.sqrt(size)
+    _, values, vt = np.linalg.svd(stiffness / np.outer(root, root))
     return None if values[-1] > 1e-12 * values[0] else vt[-1]
 
 

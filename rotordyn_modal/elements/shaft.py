@@ -152,6 +152,11 @@ def material_problem(density, young_modulus, shear_modulus=None, poisson_ratio=N
         return ("shear_modulus", shear_modulus,
                 f"a shear modulus >= young_modulus / 3 = {young_modulus / 3.0:.6g} Pa (Poisson's ratio "
                 f"young_modulus / (2 shear_modulus) - 1 = {nu:.4g} must not exceed 0.5)")
+    if not nu > -1.0:   # a shear modulus so large that 1 + nu rounds to 0: the shear coefficient is 0
+        return ("shear_modulus", shear_modulus,
+                f"a shear modulus that leaves Poisson's ratio young_modulus / (2 shear_modulus) - 1 above -1 "
+                f"(here {young_modulus:.6g} / (2 x {shear_modulus:.6g}) rounds it to -1; solids have G below "
+                f"about young_modulus = {young_modulus:.6g} Pa)")
     return None
 
 

@@ -34,7 +34,8 @@ from ..errors import InputError
 from ..model._table import visible_names
 from .channels import ChannelMap, assemble, default_mapping, read_mapping
 
-__all__ = ["read_measured", "read_csv", "write_csv", "read_mapping", "default_mapping", "ChannelMap"]
+__all__ = ["read_measured", "read_csv", "write_csv", "read_mapping", "default_mapping", "ChannelMap",
+           "check_mapping_used"]
 
 _QUANTITIES = ("receptance", "mobility", "accelerance")
 
@@ -68,8 +69,10 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
     except OSError as error:   # a file without read permission: PermissionError, exit 1
         raise InputError(f"{path}: cannot read the measured-data file ({error.strerror or error})") from None
     if path.suffix.lower() == ".csv":
+        if mapping is not None and not isinstance(mapping, ChannelMap):
+            read_mapping(mapping, model)   # a missing or broken table named is refused, never passed over
         return read_csv(path, model)
-    if path.suffix.lower() in (".uff", ".unv", ".uf"):
+    if path.suffix.lower() in UFF_ENDINGS:
         from .uff import read_uff58
 
         if mapping is None or isinstance(mapping, ChannelMap):
@@ -79,6 +82,30 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
         return read_uff58(path, model, channel_map)
     raise InputError(f"{path}: unknown measured data format {path.suffix!r}: expected .uff/.unv "
                      "(UFF 58/58b) or .csv")
+
+
+#: endings of the Universal Files a mapping table places the channels of
+UFF_ENDINGS = (".uff", ".unv", ".uf")
+
+
+def check_mapping_used(mapping, measured=None, out=None) -> None:
+    """Refuse a mapping table (the command line's ``--mapping``) where no Universal File is read
+    (``measured``) or written (``out``): a CSV names its channels, so the table would be passed
+    over without a word (a missing or empty one included).
+
+    Parameters
+    ----------
+    mapping, measured, out : str, path-like or None
+        The files named (None: not given).
+
+    Raises
+    ------
+    InputError
+    """
+    if mapping is None or any(str(p).lower().endswith(UFF_ENDINGS) for p in (measured, out) if p):
+        return
+    raise InputError(f"--mapping {mapping}: expected it only beside a Universal File (--measured or --out "
+                     "FILE.uff): it places a UFF file's channels, and a CSV names its own (leave --mapping out)")
 
 
 def _check_column(table, column, name, path, valid, expected) -> None:
@@ -108,6 +135,8 @@ def read_csv(path, model) -> list[FRFResult]:
                                                 or {"magnitude", "phase_deg"} <= set(table.columns)):
         raise InputError(f"{path}: expected the columns speed_rpm,frequency_hz,output,input,real,imag"
                          f"[,coherence] (or magnitude,phase_deg); found {visible_names(map(str, table.columns))}")
+    if table.empty:   # was refused as "quantity column holds []", of a column no line filled
+        raise InputError(f"{path}: a header and no data line: expected a line per frequency and channel pair")
     column = {name: numbers(table, name, path, decimal) * scales.get(name, 1.0) for name in
               ("speed_rpm", "frequency_hz", "real", "imag", "magnitude", "phase_deg", "coherence")
               if name in table.columns}

@@ -212,6 +212,10 @@ def read_uff58(path, model, mapping):
     return assemble(records, model, quantity, str(path))
 
 
+#: the UTF-8 byte order mark as read in Latin-1
+_BOM_LATIN1 = "\ufeff".encode("utf-8").decode("latin-1")
+
+
 def _check_complete(path):
     """Refuse a truncated or padded ASCII file: datasets sit between pairs of ``-1`` lines."""
     from .limits import check_size
@@ -225,7 +229,8 @@ def _check_complete(path):
     if b"\0" in head or b"58b" in head.lower():
         return  # binary 58b sets: pyuff checks their byte counts
     with open(path, encoding="latin-1") as handle:
-        lines = handle.read().splitlines()
+        # a UTF-8 byte order mark (Windows tools write one) before the first '    -1': pyuff reads past it
+        lines = handle.read().removeprefix(_BOM_LATIN1).splitlines()
     marks = [k for k, line in enumerate(lines) if line.strip() == "-1" and line.startswith("    -1")]
     tail = [line for line in lines[(marks[-1] + 1 if marks else 0):] if line.strip()]
     if len(marks) % 2 or tail:

@@ -331,7 +331,7 @@ def _flexible_unbalance(table: _Table, unbalance: Unbalance, rotors) -> Unbalanc
         _, z = _flexible.station_z(table, shaft, rotor.name, key="axial_position")
     else:
         z = centre + unbalance.axial_offset
-        _flexible._check_on_shaft(table, "axial_offset", z, shaft.length)
+        _flexible._check_on_shaft(table, "axial_offset", z, shaft.length, centre=centre)
     return dataclasses.replace(unbalance, axial_offset=z - centre)
 
 

@@ -246,6 +246,13 @@ def _tube(table: Table) -> tuple:
         raise table.error("inner_diameter", table.data["inner_diameter"],
                           f"an inner diameter below the outer diameter {table.data['outer_diameter']!r} "
                           "at both ends of the section")
+    if min(outer[0] - inner[0], outer[1] - inner[1]) < THINNEST:
+        # a wall of 1e-16 m (a bore typed as the outer diameter times 1 - 1e-15) has a mass matrix
+        # no solver inverts: it was refused as '[stator], [[rotors]] mass and inertia', no key named
+        raise table.error("inner_diameter", table.data["inner_diameter"],
+                          f"a bore at least {THINNEST:g} m below the outer diameter "
+                          f"{table.data['outer_diameter']!r} at both ends (a tube wall thicker than "
+                          f"{THINNEST / 2:g} m)")
     return outer, inner
 
 
@@ -383,9 +390,16 @@ def _dense_size(nodes: int) -> str:
             "of the machine")
 
 
-def _check_on_shaft(table: Table, key: str, z: float, length: float) -> None:
+def _check_on_shaft(table: Table, key: str, z: float, length: float, centre: float | None = None) -> None:
+    """Refuse a station ``z`` [m from the start] off the shaft; ``centre`` [m from the start]: the
+    key's value is an offset from the centre of mass there (``axial_offset``), and its range is
+    said as such."""
     slack = STATION_TOLERANCE * (1.0 + length)
     if not -slack <= z <= length + slack:
+        if centre is not None:   # 'from 0 to 1.2 m from the start' misread an offset from the centre
+            raise table.error(key, table.data.get(key, z), f"an offset that stays on the shaft: from {-centre:.6g} "
+                              f"to {length - centre:.6g} m (measured from the rotor's centre of mass, "
+                              f"{centre:.6g} m from its start along its {length:g} m)")
         raise table.error(key, table.data.get(key, z), f"an axial position on the shaft, from 0 to its length "
                           f"{length:g} m (measured from the rotor's start)")
 

@@ -333,8 +333,9 @@ def _weight_share(bearing, table: Table, mates, rotor, e, tables) -> float:
     """Fraction of the rotor's weight this bearing carries.
 
     One or two bearings: the lever rule, exact whatever their stiffness (statics alone fixes
-    the split). More bearings (statically indeterminate): the rigid rotor on its bearings as
-    springs, :func:`journal_load_shares`, when every one is a plain journal bearing without
+    the split). More bearings (statically indeterminate; a flexible rotor's are taken by
+    :func:`_continuous_beam_load` before this): the rigid rotor on its bearings as springs,
+    :func:`journal_load_shares`, when every one is a plain journal bearing without
     ``moment_stiffness``; otherwise the split depends on stiffnesses given at speed, and the
     load must be given.
     """

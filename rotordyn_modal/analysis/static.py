@@ -13,7 +13,8 @@ frequency, bearings at the operating speed) is solved for the generalized coordi
   a plain journal bearing holds its journal with the light-load film (a spring of
   ``k = pi viscosity |speed| D L**3 / (8 c**3)`` turned by 90 degrees, the short bearing's
   limit at small eccentricity), which splits a rotor's loads among three or more journal
-  bearings as the validation splits their weight (``_bearing_validation.journal_load_shares``);
+  bearings as the validation splits a rigid rotor's weight (``_bearing_validation.journal_load_shares``;
+  a flexible rotor's journal loads are its continuous beam on rigid supports, ``continuous_beam_loads``);
   each journal's eccentricity at its load is reported from the full short-bearing solution;
 * each rotor's spin is held at its speed by a drive or a load outside the model (a coupling):
   the moment about its spin axis of the loads on it is taken there (a ``coupling`` load), not

@@ -11,17 +11,19 @@ on a stator that is not there).
 from __future__ import annotations
 
 import dataclasses
+import warnings
 
 import numpy as np
 
 from ..model._table import LARGEST, Table, magnitude_problem, semidefinite_problem, visible
 from .bearings import BearingCoefficients, JournalData, local_to_model
 from ..model.components import Bearing, Pedestal, input_keys, is_finite_number
-from ..errors import ModelError
-from ..model.flexible import POSITION_ROUND_OFF, station_z
+from ..errors import ModelError, ModelWarning
+from ..model.flexible import POSITION_ROUND_OFF, lateral_basis, node_matrices, station_z, with_mesh
 from ..model.geometry import shift_matrix, transverse_axes
 
-__all__ = ["bearings", "check_frame", "journal_load_shares", "LONGEST_JOURNAL", "LONG_JOURNAL"]
+__all__ = ["bearings", "check_frame", "journal_load_shares", "continuous_beam_loads", "LONGEST_JOURNAL",
+           "LONG_JOURNAL"]
 
 _ON_AXIS_TOLERANCE = 1e-6  # m, plus the same fraction of the distance along the axis
 _AXES_TOLERANCE = 1e-6
@@ -263,6 +265,7 @@ def _with_journal_load(bearing: Bearing, tables, every, rotors, e, gravity) -> B
                           f"short-bearing (Ocvirk) theory, which holds for L/D up to about {LONG_JOURNAL:g} "
                           "(docs/model-file.md)")
     load_vector = _static_load(bearing, tables, every, rotors[bearing.rotor], e, gravity)
+    _warn_hold_down(table, load_vector, gravity, e)
     x = load_vector / np.linalg.norm(load_vector)
     journal = JournalData(
         diameter=diameter, length=length,
@@ -289,8 +292,27 @@ def _static_load(bearing, tables, every, rotor, e, gravity) -> np.ndarray:
     if not np.linalg.norm(weight) > 0:
         raise table.error("load", "<missing>", "a static load [N] > 0 (without it the load is the "
                           "rotor's weight share, but gravity has no component normal to spin_axis)")
-    share = _weight_share(bearing, table, [b for b in every if b.rotor == bearing.rotor], rotor, e, tables)
+    mates = [b for b in every if b.rotor == bearing.rotor]
+    if rotor.flexible is not None and len(mates) > 2:
+        return _continuous_beam_load(bearing, table, mates, rotor, gravity, tables)
+    share = _weight_share(bearing, table, mates, rotor, e, tables)
     return share * weight
+
+
+def _warn_hold_down(table: Table, load, gravity, e) -> None:
+    """One line when a weight share pushes the journal against gravity: the film then holds the
+    shaft down, at a load whose coefficients describe a journal lifted to the top of its
+    bearing, which the statics alone does not vouch for."""
+    if "load" in table.data:
+        return
+    down = _normal_part(gravity, e)
+    if not float(np.asarray(load) @ down) < 0.0:
+        return
+    warnings.warn(f"{table.source}: [{table.label}] load: the rotor's weight gives this journal "
+                  f"{-float(np.linalg.norm(load)):.4g} N (it holds the shaft down, against gravity); its "
+                  f"coefficients are those of a {float(np.linalg.norm(load)):.4g} N load lifting the journal "
+                  "to the top of its film (give load and load_direction if that is not meant)",
+                  ModelWarning, stacklevel=2)
 
 
 def _load_direction(table: Table, e):
@@ -311,8 +333,9 @@ def _weight_share(bearing, table: Table, mates, rotor, e, tables) -> float:
     """Fraction of the rotor's weight this bearing carries.
 
     One or two bearings: the lever rule, exact whatever their stiffness (statics alone fixes
-    the split). More bearings (statically indeterminate): the rigid rotor on its bearings as
-    springs, :func:`journal_load_shares`, when every one is a plain journal bearing without
+    the split). More bearings (statically indeterminate; a flexible rotor's are taken by
+    :func:`_continuous_beam_load` before this): the rigid rotor on its bearings as springs,
+    :func:`journal_load_shares`, when every one is a plain journal bearing without
     ``moment_stiffness``; otherwise the split depends on stiffnesses given at speed, and the
     load must be given.
     """
@@ -373,6 +396,78 @@ def journal_load_shares(weights, stations) -> np.ndarray:
         return k / total
     u, theta = second / determinant, -first / determinant
     return k * (u + theta * s)
+
+
+def _continuous_beam_load(bearing, table: Table, mates, rotor, gravity, tables) -> np.ndarray:
+    """The load vector [N] on ``bearing``, one of three or more on a flexible rotor: the reaction
+    of the shaft under its weight on rigid supports at the journals (:func:`continuous_beam_loads`)."""
+    if not all(b.type == "journal" and b.moment_stiffness is None for b in mates):
+        raise table.error("load", "<missing>", f"a static load [N]: rotor {rotor.name!r} has "
+                          f"{len(mates)} bearings, so its weight split is statically indeterminate, "
+                          "and not all are plain journal bearings without moment_stiffness (docs/static.md)")
+    shaft = rotor.flexible
+    loads = continuous_beam_loads(shaft, [shaft.z_of(b.position) for b in mates], gravity,
+                                  [_film_weight(tables[b.name]) for b in mates])
+    load = loads[[b.name for b in mates].index(bearing.name)]
+    weight = rotor.mass * np.linalg.norm(_normal_part(gravity, shaft.axis))
+    if not np.linalg.norm(load) > _LEAST_SHARE * weight:
+        raise table.error("load", "<missing>", f"a static load [N]: this bearing carries none of rotor "
+                          f"{rotor.name!r}'s weight (the shaft on rigid supports at its journals puts none on it)")
+    return load
+
+
+def continuous_beam_loads(shaft, stations, gravity, weights=None) -> np.ndarray:
+    """The loads a flexible shaft puts on rigid supports at ``stations`` under its weight: the
+    statically indeterminate continuous beam, solved on the shaft's finite elements.
+
+    The supports hold the two translations normal to the axis at their nodes and nothing else
+    (no tilt, like a short journal). The weight is the consistent load ``M g`` of the shaft,
+    its disks and point masses; with cubic beam elements the reactions of point loads at nodes
+    and of a uniform section's own weight are those of the beam theory exactly.
+
+    Parameters
+    ----------
+    shaft : Shaft
+        A validated shaft (:class:`rotordyn_modal.model.flexible.Shaft`), meshed or not.
+    stations : sequence of float, shape (N,)
+        Axial positions of the supports from the shaft's start [m], N >= 2.
+    gravity : array_like, shape (3,)
+        [m/s^2], model axes.
+    weights : sequence of float, shape (N,), optional
+        How supports at one node share its reaction (default: equally).
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+        The force of the shaft on each support [N], model axes, normal to the axis (their sum is
+        the weight's part normal to the axis; a component against gravity: the support holds
+        the shaft down).
+    """
+    import scipy.sparse.linalg
+
+    z = np.asarray(stations, dtype=float)
+    meshed = with_mesh(shaft, z)
+    mesh = meshed.mesh
+    M, K = node_matrices(meshed, mesh, kinds=("M", "K"))
+    T = lateral_basis(meshed)                                    # (6 N, 4 N)
+    g = np.zeros(6 * mesh.n_nodes)
+    g.reshape(-1, 6)[:, :3] = np.asarray(gravity, dtype=float)
+    force = T.T @ (M @ g)
+    stiffness = (T.T @ K @ T).tocsc()
+    nodes = np.array([mesh.node(s) for s in z])
+    held = np.unique(np.concatenate([4 * nodes, 4 * nodes + 1]))
+    free = np.setdiff1d(np.arange(4 * mesh.n_nodes), held)
+    q = np.zeros(4 * mesh.n_nodes)
+    q[free] = scipy.sparse.linalg.spsolve(stiffness[free][:, free], force[free])
+    on_support = force - stiffness @ q                           # the shaft's push on each held coordinate
+    share = np.ones(len(z)) if weights is None else np.asarray(weights, dtype=float)
+    a, b = transverse_axes(shaft.axis)                          # lateral_basis's a, b
+    out = np.zeros((len(z), 3))
+    for i, node in enumerate(nodes):
+        together = share[nodes == node]
+        fraction = share[i] / together.sum()
+        out[i] = fraction * (on_support[4 * node] * a + on_support[4 * node + 1] * b)
+    return out
 
 
 def _film_weight(table: Table) -> float:

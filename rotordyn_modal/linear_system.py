@@ -134,7 +134,15 @@ def implausible(model, units: str = "si") -> list[str]:
             lines.append(f"{model.source}: [bearings.{visible(b.name)}] length = {journal.length:g}: "
                          f"L/D = {journal.length / journal.diameter:.3g} is beyond {LONG_JOURNAL:g}, where "
                          "short-bearing (Ocvirk) theory stops matching measurements: its coefficients are rough")
-    return lines + _material_lines(model) + stiffness_spread_lines(model)
+    return lines + _merge_lines(model) + _material_lines(model) + stiffness_spread_lines(model)
+
+
+def _merge_lines(model) -> list[str]:
+    """A line for each station of a flexible rotor moved to another's node (model/flexible.py)."""
+    from .model.flexible import merge_lines
+
+    return [line for rotor in model.rotors if rotor.flexible is not None
+            for line in merge_lines(model.source, rotor.name, rotor.flexible)]
 
 
 def _material_lines(model) -> list[str]:

@@ -108,6 +108,9 @@ def implausible(model, units: str = "si") -> list[str]:
       (unrestrained directions, frequency zero, are not counted: ``check`` notes them).
     * A journal bearing longer than :data:`~rotordyn_modal.elements._bearing_validation.LONG_JOURNAL`
       diameters (short-bearing theory loses accuracy there).
+    * A station of a flexible rotor placed at another's node, closer than
+      :data:`~rotordyn_modal.model.flexible.MERGE_FRACTION` of its section's element length to it
+      (:func:`~rotordyn_modal.model.flexible.merge_lines`).
 
     Parameters
     ----------

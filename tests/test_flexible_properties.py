@@ -35,8 +35,8 @@ SETTINGS = settings(max_examples=8, deadline=None, derandomize=True,
                     suppress_health_check=[HealthCheck.too_slow])
 finite = dict(allow_nan=False, allow_infinity=False)
 #: [m] section lengths and stations are whole multiples of it: two marks of the mesh are one node or
-#: at least 1 cm apart (stations microns apart make elements whose stiffness, ~ E I / h^3, swamps
-#: the rest in round-off: docs/verification.md, "Gaps left")
+#: at least 1 cm apart (stations microns apart would make elements whose stiffness, ~ E I / h^3, swamps
+#: the rest in round-off; the mesh merges those closer than 1e-3 of an element: docs/theory.md §16)
 GRID = 0.01
 
 
@@ -221,8 +221,8 @@ def test_a_bearing_microns_from_the_shaft_end_moves_no_frequency_beyond_its_shif
 def test_stations_two_thousandths_of_an_element_apart_keep_their_node_and_their_physics():
     """A disk 2e-3 element lengths from a bearing is not merged with it (a node of its own): its
     shift from the bearing's place changes the frequencies as the physics does, i.e. as a shift
-    50 times larger scaled down (linear in the shift: the quadratic part of the larger shift is
-    about 1 % of it), to the round-off of a 500 times shorter element (measured ~3 %)."""
+    50 times larger scaled down (linear in the shift), to the larger shift's quadratic part and
+    the round-off of a 500 times shorter element (measured: within 7 % of the largest change)."""
     at_bearing = _overhung(0.0, disk=0.1)
     assert at_bearing.rotors[0].flexible.mesh.n_nodes == 8      # the 7 of the six elements and the bearing's (the disk on it)
     small, large = 2e-3 * ELEMENT, 0.1 * ELEMENT

@@ -6,7 +6,9 @@ A rotor with a ``shaft`` is flexible. Its shaft runs from ``start`` along ``+spi
 wherever a section ends and wherever a disk, point mass, bearing, unbalance, sensor or
 excitation sits; between them elements no longer than ``element_length``
 (:func:`default_element_length` when not given) or, for a section with ``elements = n``,
-that section cut into ``n`` equal elements (and at its stations).
+that section cut into ``n`` equal elements (and at its stations). A station closer than
+:data:`MERGE_FRACTION` of its section's element length to another mark shares its node
+(:attr:`Mesh.merged`, named by :func:`merge_lines`).
 
 Its mass, centre of mass and inertias are those of the element mass matrices, the disks and the
 point masses for a rigid motion (the elements reproduce a rigid motion's kinetic energy
@@ -35,7 +37,7 @@ STATION_TOLERANCE = 1e-6
 #: mesh (the shaft's ends, a section's end, another station, a cut between equal elements) is
 #: placed at that mark's node (and named by a warning, :func:`merge_lines`): a shorter element,
 #: of length h beside elements of length H, would raise the stiffness by (H/h)^3 and cost the
-#: low modes that many digits in round-off (docs/theory.md §15, "Stations close together")
+#: low modes that many digits in round-off (docs/theory.md §16, "Stations close together")
 MERGE_FRACTION = 1e-3
 #: [m] largest round-off of a point given in the model file (double precision's spacing at its
 #: coordinates): beyond it (coordinates over about 8e6 m) points along a shaft, or a bearing's

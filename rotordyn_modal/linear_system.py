@@ -108,6 +108,9 @@ def implausible(model, units: str = "si") -> list[str]:
       (unrestrained directions, frequency zero, are not counted: ``check`` notes them).
     * A journal bearing longer than :data:`~rotordyn_modal.elements._bearing_validation.LONG_JOURNAL`
       diameters (short-bearing theory loses accuracy there).
+    * A station of a flexible rotor placed at another's node, closer than
+      :data:`~rotordyn_modal.model.flexible.MERGE_FRACTION` of its section's element length to it
+      (:func:`~rotordyn_modal.model.flexible.merge_lines`).
 
     Parameters
     ----------
@@ -134,7 +137,15 @@ def implausible(model, units: str = "si") -> list[str]:
             lines.append(f"{model.source}: [bearings.{visible(b.name)}] length = {journal.length:g}: "
                          f"L/D = {journal.length / journal.diameter:.3g} is beyond {LONG_JOURNAL:g}, where "
                          "short-bearing (Ocvirk) theory stops matching measurements: its coefficients are rough")
-    return lines + _material_lines(model) + stiffness_spread_lines(model)
+    return lines + _merge_lines(model) + _material_lines(model) + stiffness_spread_lines(model)
+
+
+def _merge_lines(model) -> list[str]:
+    """A line for each station of a flexible rotor moved to another's node (model/flexible.py)."""
+    from .model.flexible import merge_lines
+
+    return [line for rotor in model.rotors if rotor.flexible is not None
+            for line in merge_lines(model.source, rotor.name, rotor.flexible)]
 
 
 def _material_lines(model) -> list[str]:

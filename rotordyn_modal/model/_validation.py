@@ -350,14 +350,17 @@ def _meshed(top: _Table, rotors, bearings, unbalances, sensors, excitations, cle
                 "shaft", "[[rotors.shaft]]", "[[bearings]] carrying this rotor: a flexible rotor needs bearings "
                 "(one welded to the stator would be a rigid part of it; give it no shaft, or bearings)")
         centre = shaft.z_of(rotor.center_of_mass)
-        stations = [shaft.z_of(b.position) for b in mine]
-        stations += [centre + u.axial_offset for u in unbalances if u.rotor == rotor.name]
-        stations += [shaft.z_of(x.position) for x in (*sensors, *excitations)
+        # (label, z): a station moved to another's node is named in a warning (flexible.merge_lines)
+        stations = [(f"bearing {visible(b.name)!r}", shaft.z_of(b.position)) for b in mine]
+        stations += [(f"unbalance {i}", centre + u.axial_offset) for i, u in enumerate(unbalances)
+                     if u.rotor == rotor.name]
+        stations += [(f"{kind} {visible(x.name)!r}", shaft.z_of(x.position))
+                     for kind, group in (("sensor", sensors), ("excitation", excitations)) for x in group
                      if x.rotor == rotor.name and x.position is not None]
-        stations += [c.axial_position for c in clearances if c.rotor == rotor.name]
-        stations += [rotor.coupling_position] if rotor.coupling_position is not None else []
-        stations += [shaft.z_of(_gear_plane(t, rotors)) for t in transmissions
-                     if rotor.name in (t.driver, t.driven) and _has_mesh(t)]
+        stations += [(f"clearance {visible(c.name)!r}", c.axial_position) for c in clearances if c.rotor == rotor.name]
+        stations += [("coupling_position", rotor.coupling_position)] if rotor.coupling_position is not None else []
+        stations += [(f"the gear mesh {visible(t.driver)} -> {visible(t.driven)}", shaft.z_of(_gear_plane(t, rotors)))
+                     for t in transmissions if rotor.name in (t.driver, t.driven) and _has_mesh(t)]
         meshed = _flexible.with_mesh(shaft, stations)
         if meshed.mesh.n_nodes > _flexible.MAX_NODES:
             raise _Table(top.source, f"rotors.{visible(rotor.name)}", {}).error(

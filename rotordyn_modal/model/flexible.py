@@ -6,7 +6,9 @@ A rotor with a ``shaft`` is flexible. Its shaft runs from ``start`` along ``+spi
 wherever a section ends and wherever a disk, point mass, bearing, unbalance, sensor or
 excitation sits; between them elements no longer than ``element_length``
 (:func:`default_element_length` when not given) or, for a section with ``elements = n``,
-that section cut into ``n`` equal elements (and at its stations).
+that section cut into ``n`` equal elements (and at its stations). A station closer than
+:data:`MERGE_FRACTION` of its section's element length to another mark shares its node
+(:attr:`Mesh.merged`, named by :func:`merge_lines`).
 
 Its mass, centre of mass and inertias are those of the element mass matrices, the disks and the
 point masses for a rigid motion (the elements reproduce a rigid motion's kinetic energy
@@ -26,11 +28,17 @@ from .geometry import shift_matrices, transverse_axes
 
 __all__ = ["Material", "Layer", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
            "mass_properties", "mesh", "default_element_length", "station_z", "SHAFT_KEYS",
-           "STATION_TOLERANCE", "POSITION_ROUND_OFF", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies"]
+           "STATION_TOLERANCE", "MERGE_FRACTION", "POSITION_ROUND_OFF", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies"]
 
 #: [m]: a station closer than this to a node is at that node; a point this far off the shaft's
 #: axis or beyond its ends (plus the same fraction of the shaft's length) is off the shaft
 STATION_TOLERANCE = 1e-6
+#: a station closer than this fraction of its section's element length to another mark of the
+#: mesh (the shaft's ends, a section's end, another station, a cut between equal elements) is
+#: placed at that mark's node (and named by a warning, :func:`merge_lines`): a shorter element,
+#: of length h beside elements of length H, would raise the stiffness by (H/h)^3 and cost the
+#: low modes that many digits in round-off (docs/theory.md §16, "Stations close together")
+MERGE_FRACTION = 1e-3
 #: [m] largest round-off of a point given in the model file (double precision's spacing at its
 #: coordinates): beyond it (coordinates over about 8e6 m) points along a shaft, or a bearing's
 #: place along a rigid rotor's axis, are no longer resolved to a small part of the stations' tolerance
@@ -119,6 +127,9 @@ class Mesh:
 
     z: np.ndarray
     elements: tuple
+    #: each named station placed at a node over :data:`STATION_TOLERANCE` from where it was given:
+    #: ``(label, z [m], node's z [m], element length [m] of its section)``
+    merged: tuple = field(default=(), compare=False)
 
     @property
     def n_nodes(self) -> int:
@@ -448,17 +459,33 @@ def _fmt(values) -> str:
 
 
 # ----------------------------------------------------------------------------------------
-def mesh(shaft: Shaft, stations) -> Mesh:
+def mesh(shaft: Shaft, stations, fraction: float = MERGE_FRACTION) -> Mesh:
     """The nodes and elements of ``shaft`` with a node at every station ``z`` [m] of ``stations``
-    (disks and point masses are added here)."""
+    (disks and point masses are added here).
+
+    Parameters
+    ----------
+    shaft : Shaft
+    stations : sequence of float or of (str, float)
+        Each station's ``z`` [m], or ``(label, z)`` (a label such as ``"bearing 'b2'"`` names it
+        in :attr:`Mesh.merged` when it is moved to a node).
+    fraction : float
+        Marks (stations, section ends, cuts) closer than ``fraction`` times their section's element
+        length (:func:`section_element_length`), and at least :data:`STATION_TOLERANCE`, share a
+        node (0: :data:`STATION_TOLERANCE` only, as for the mass properties, where elements of
+        any length are exact).
+    """
     ends = shaft.ends
     length = shaft.length
-    points = np.concatenate([np.asarray(list(stations), dtype=float).reshape(-1),
-                             [d.z for d in shaft.disks], [p.z for p in shaft.point_masses]])
-    tolerance = STATION_TOLERANCE
-    nodes, elements = [0.0], []
+    named = [item if isinstance(item, tuple) else (None, item) for item in stations]
+    named += [(f"disk {visible(d.name)!r}", d.z) for d in shaft.disks]
+    named += [(f"point mass {visible(p.name)!r}", p.z) for p in shaft.point_masses]
+    points = np.array([float(z) for _, z in named], dtype=float).reshape(-1)
+    nodes, elements, spacing = [0.0], [], []
     for index, section in enumerate(shaft.sections):
         left, right = ends[index], ends[index + 1]
+        h = section_element_length(shaft, index)
+        tolerance = max(STATION_TOLERANCE, fraction * h)
         if section.elements is not None:
             cuts = list(np.linspace(left, right, section.elements + 1)[1:-1])
         else:
@@ -466,6 +493,7 @@ def mesh(shaft: Shaft, stations) -> Mesh:
         inside = [p for p in points if left + tolerance < p < right - tolerance]
         marks = _merged(sorted([left, right, *cuts, *inside]), tolerance)
         marks[0], marks[-1] = left, right
+        spacing.append((left, right, h))
         for a, b in zip(marks[:-1], marks[1:]):
             count = 1 if section.elements is not None else max(1, math.ceil((b - a) / shaft.element_length - 1e-9))
             for k in range(count):
@@ -476,7 +504,55 @@ def mesh(shaft: Shaft, stations) -> Mesh:
                                  _diameters(section.inner, section.length, left, z0, z1)))
                 nodes.append(z1)
     nodes[-1] = length
-    return Mesh(z=np.array(nodes), elements=tuple(elements))
+    z = np.array(nodes)
+    return Mesh(z=z, elements=tuple(elements), merged=_moved_stations(named, z, spacing))
+
+
+def section_element_length(shaft: Shaft, index: int) -> float:
+    """The length [m] of section ``index``'s elements before stations cut them: its length over its
+    ``elements``, or over as many as ``element_length`` asks."""
+    section = shaft.sections[index]
+    count = section.elements if section.elements is not None else \
+        max(1, math.ceil(section.length / shaft.element_length - 1e-9))
+    return section.length / count
+
+
+def _moved_stations(named, z, spacing) -> tuple:
+    """The labelled stations of ``named`` ((label or None, z [m]) pairs) over
+    :data:`STATION_TOLERANCE` from their node (the nearest of ``z``), as :attr:`Mesh.merged`;
+    ``spacing`` each section's (left, right, element length) [m]."""
+    out = []
+    for label, position in named:
+        node = float(z[int(np.argmin(np.abs(z - position)))])
+        if label is None or abs(position - node) <= STATION_TOLERANCE:
+            continue
+        h = next((h for left, right, h in spacing if left <= position <= right), spacing[-1][2])
+        there = [other for other, at in named if other is not None and abs(at - node) <= STATION_TOLERANCE]
+        out.append((label, float(position), node, h, there[0] if there else None))
+    return tuple(out)
+
+
+def merge_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
+    """One warning line per station of ``shaft``'s mesh placed at the node of another mark
+    (:attr:`Mesh.merged`), naming it, its distance and where it now is."""
+    lines = []
+    joints = shaft.ends
+    for label, position, node, h, other in shaft.mesh.merged if shaft.mesh is not None else ():
+        joint = int(np.argmin(np.abs(joints - node)))
+        at_joint = abs(joints[joint] - node) <= STATION_TOLERANCE
+        if at_joint and joint in (0, len(joints) - 1):
+            end = "start" if joint == 0 else "end"
+            where, placed = f"the shaft's {end}", f"at the {end}"
+        elif other is not None:
+            where, placed = f"{other} at {node:.7g} m", "at its node"
+        elif at_joint:
+            where, placed = f"the joint of sections {joint - 1} and {joint} at {node:.7g} m", "there"
+        else:
+            where, placed = f"the mesh's node at {node:.7g} m", "there"
+        lines.append(f"{source}: [rotors.{visible(rotor)}] {label} at {position:.7g} m is {abs(position - node):.2g} m "
+                     f"from {where}: placed {placed} (closer than {MERGE_FRACTION:g} of the element length "
+                     f"{h:.4g} m; a shorter element would swamp the shaft's stiffness in round-off)")
+    return lines
 
 
 def _merged(values, tolerance):
@@ -615,7 +691,7 @@ def mass_properties(shaft: Shaft):
     """
     # one element per section: a rigid motion's kinetic energy is exact on any mesh
     shaft = replace(shaft, sections=tuple(replace(s, elements=1) for s in shaft.sections))
-    coarse = mesh(shaft, [])
+    coarse = mesh(shaft, [], fraction=0.0)
     (M,) = node_matrices(shaft, coarse, kinds=("M",))
     R = rigid_motion(shaft.point(coarse.z), shaft.start)
     M6 = R.T @ M @ R
@@ -632,7 +708,7 @@ def mass_properties(shaft: Shaft):
 
 
 def with_mesh(shaft: Shaft, stations) -> Shaft:
-    """``shaft`` with its mesh (a node at each station ``z``)."""
+    """``shaft`` with its mesh (a node at each station: ``z`` [m] or ``(label, z)``, :func:`mesh`)."""
     return replace(shaft, mesh=mesh(shaft, stations))
 
 

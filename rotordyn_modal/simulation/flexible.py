@@ -439,7 +439,9 @@ def _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend="a
         solver = ode(_right_hand_side(system, speed, accel))
     else:
         films = system.films.arguments() if journals else ()
-        solver = ode(compiled).set_f_params(*_packed(system, speed, accel), *films)
+        arguments = (*_packed(system, speed, accel), *films)
+        compiled(times[0], y0, *arguments)      # compiled from Python, not inside the Fortran callback
+        solver = ode(compiled).set_f_params(*arguments)
     solver.set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
     solver.set_initial_value(y0, times[0])
     states = np.empty((len(times), len(y0)))

@@ -226,8 +226,12 @@ def _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar):
 
     import warnings
 
+    arguments = pack(system, *extra)
+    # compiled (or loaded from numba's cache) here, from Python, not on the first call from
+    # inside the Fortran integrator's callback (docs/DEVELOPING.md, "numba's cache")
+    kn.rhs_flat(times[0], y0, *arguments)
     solver = ode(kn.rhs_flat).set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
-    solver.set_initial_value(y0, times[0]).set_f_params(*pack(system, *extra))
+    solver.set_initial_value(y0, times[0]).set_f_params(*arguments)
     states = np.empty((len(times), len(y0)))
     states[0] = y0
     for i in range(1, len(times)):

@@ -8,6 +8,7 @@ file) or through the reader the command line calls."""
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -287,3 +288,33 @@ def test_a_long_modes_solve_is_announced_with_its_estimate_before_it_starts(caps
     monkeypatch.setenv(_work.ENVIRONMENT, str(3 * random / 60))           # above the random matrix's
     assert main(["modes", str(COMPRESSOR), "--speed", "3000"]) == 2
     _one_line_error(capsys, "more than the limit", "--allow-long", str(COMPRESSOR))
+
+
+def test_level1_figure_and_report_name_a_root_that_does_not_oscillate_and_bold_one_curve(tmp_path):
+    """The figure's legend and the report's Level I section printed 'mode 0' for the overdamped
+    root of ``test_level1_of_a_root_that_does_not_oscillate_at_zero_names_no_mode``, and chose the
+    bold (judged) curve by ``mode``: two followed roots of mode 0 were both drawn bold. The
+    judged root is the one of the result's forward rank, whatever its mode number."""
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from rotordyn_modal.report.render import _level1
+
+    path = tmp_path / "overdamped.toml"
+    path.write_text(OVERDAMPED)
+    one = rdm.level1(rdm.load_model(path), rdm.rpm(3000.0), ["r"], 1e4, factor=3, steps_per_qa=4)
+    assert one.mode == 0
+    other = replace(one, forward_mode=2, log_decrements=one.log_decrements + 0.5, swept=())
+    result = replace(one, swept=(replace(one, swept=()), other))
+    figure = result.plot()
+    lines = [line for line in figure.axes[0].get_lines() if "forward" in str(line.get_label())]
+    assert len(lines) == 2
+    assert [line.get_linewidth() > 1.5 for line in lines] == [True, False]   # forward 1 judged, alone bold
+    assert not any("mode 0" in str(line.get_label()) for line in lines)
+    html = _level1(SimpleNamespace(results={"level1": result}), "si")
+    assert "mode 0" not in html and "does not oscillate at Q = 0" in html
+    table = html.split("Forward modes swept")[1]
+    assert len(re.findall(r"log decrement at Qa(?! \[)", table)) == 1, table   # one row governs it

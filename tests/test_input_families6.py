@@ -318,3 +318,20 @@ def test_level1_figure_and_report_name_a_root_that_does_not_oscillate_and_bold_o
     assert "mode 0" not in html and "does not oscillate at Q = 0" in html
     table = html.split("Forward modes swept")[1]
     assert len(re.findall(r"log decrement at Qa(?! \[)", table)) == 1, table   # one row governs it
+
+
+def test_a_cross_spectrum_of_a_pair_without_its_frf_is_refused_by_name(tmp_path, capsys, measured):
+    """A dataset 58 of function type 3 (a cross-spectrum) in place of a pair's FRF was skipped
+    without a word and the pair read as NaN: refused in one line naming the dataset."""
+    import pyuff
+
+    sets = pyuff.UFF(str(measured / "g.uff")).read_sets()
+    sets = [sets] if isinstance(sets, dict) else list(sets)
+    frfs = [k for k, s in enumerate(sets) if s["type"] == 58 and s["func_type"] == 4]
+    sets[frfs[1]]["func_type"] = 3
+    path = tmp_path / "spectrum.uff"
+    pyuff.UFF(str(path)).write_sets(sets, mode="overwrite")
+    (tmp_path / "spectrum.csv").write_text(MAPPING)
+    assert main(["frf", str(GEAR), "--speed", "600", "--freqs", "2:40:5", "--measured", str(path),
+                 "--mapping", str(tmp_path / "spectrum.csv"), "--out", str(tmp_path / "f.csv")]) == 2
+    _one_line_error(capsys, str(path), f"dataset {frfs[1] + 1} (", "function type 3 (cross-spectrum) is not an FRF")

@@ -335,3 +335,19 @@ def test_a_cross_spectrum_of_a_pair_without_its_frf_is_refused_by_name(tmp_path,
     assert main(["frf", str(GEAR), "--speed", "600", "--freqs", "2:40:5", "--measured", str(path),
                  "--mapping", str(tmp_path / "spectrum.csv"), "--out", str(tmp_path / "f.csv")]) == 2
     _one_line_error(capsys, str(path), f"dataset {frfs[1] + 1} (", "function type 3 (cross-spectrum) is not an FRF")
+
+
+def test_a_shafts_bending_puts_no_stiffness_on_its_rigid_axial_coordinate():
+    """The axial coordinate moves every node of the shaft alike: a rigid translation of the free
+    shaft strains no element, so its row and column of the shafts' stiffness are zero in exact
+    arithmetic (round-off had left ~4e-6 N/m, above an axial_stiffness of 1e-6 N/m); the rest is
+    the sum of the elements' (not touched)."""
+    from rotordyn_modal.assembly import shaft_stiffness, sparse_constant_matrices
+
+    model = rdm.load_model(ROOT / "examples" / "compressor_rotor.toml")
+    axial = model.dofs.names.index("compressor.ux")
+    K = shaft_stiffness(model)
+    assert np.all(K[axial] == 0.0) and np.all(K[:, axial] == 0.0)
+    assert np.abs(K).max() > 1e9                                          # the bending is there
+    assert model.matrices(0.0).K[axial, axial] == 2.0e8                  # the thrust bearing's alone
+    assert sparse_constant_matrices(model)[3].toarray()[axial, axial] == 2.0e8

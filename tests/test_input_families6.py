@@ -8,6 +8,7 @@ file) or through the reader the command line calls."""
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -263,3 +264,90 @@ def test_a_stiff_axial_bearing_beside_soft_radial_ones_is_named_by_its_key(tmp_p
     path.write_text(text)
     assert main(["check", str(path)]) == 2
     _one_line_error(capsys, "[bearings.right] axial_stiffness = '2e+08'", "stiffness spread")
+
+
+# ----------------------------------------------------------------------- a long modes solve
+COMPRESSOR = ROOT / "examples" / "compressor_rotor.toml"
+
+
+def test_a_long_modes_solve_is_announced_with_its_estimate_before_it_starts(capsys, monkeypatch):
+    """``modes`` on a 513-node shaft (4,114 states) ran over 10 minutes without a word: LAPACK's
+    one call shows no progress, so the estimate is said on stderr before it starts. The solve is
+    the state matrix's, measured 8x the calibrated random matrix's (the estimate had been 4.6 s
+    of 38 s on 1,018 states): a limit between the two is refused."""
+    from rotordyn_modal.analysis import _cost, _work
+    from rotordyn_modal.cli import modes
+
+    monkeypatch.setattr(_work, "_timed_eig", lambda size: 1.0)            # 1 s at the smallest size
+    monkeypatch.setattr(modes, "_NOTICE_SECONDS", 1e-9)
+    n_states = 2 * rdm.load_model(COMPRESSOR).dofs.n
+    random = (n_states / _cost._SMALLEST) ** _cost._EXPONENT                # the random matrix's [s]
+    assert main(["modes", str(COMPRESSOR), "--speed", "3000", "--out", "-"]) == 0
+    err = capsys.readouterr().err
+    assert f"one eigen-solution of {n_states:,} states" in err and "--lowest N" in err, err
+    monkeypatch.setenv(_work.ENVIRONMENT, str(3 * random / 60))           # above the random matrix's
+    assert main(["modes", str(COMPRESSOR), "--speed", "3000"]) == 2
+    _one_line_error(capsys, "more than the limit", "--allow-long", str(COMPRESSOR))
+
+
+def test_level1_figure_and_report_name_a_root_that_does_not_oscillate_and_bold_one_curve(tmp_path):
+    """The figure's legend and the report's Level I section printed 'mode 0' for the overdamped
+    root of ``test_level1_of_a_root_that_does_not_oscillate_at_zero_names_no_mode``, and chose the
+    bold (judged) curve by ``mode``: two followed roots of mode 0 were both drawn bold. The
+    judged root is the one of the result's forward rank, whatever its mode number."""
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from rotordyn_modal.report.render import _level1
+
+    path = tmp_path / "overdamped.toml"
+    path.write_text(OVERDAMPED)
+    one = rdm.level1(rdm.load_model(path), rdm.rpm(3000.0), ["r"], 1e4, factor=3, steps_per_qa=4)
+    assert one.mode == 0
+    other = replace(one, forward_mode=2, log_decrements=one.log_decrements + 0.5, swept=())
+    result = replace(one, swept=(replace(one, swept=()), other))
+    figure = result.plot()
+    lines = [line for line in figure.axes[0].get_lines() if "forward" in str(line.get_label())]
+    assert len(lines) == 2
+    assert [line.get_linewidth() > 1.5 for line in lines] == [True, False]   # forward 1 judged, alone bold
+    assert not any("mode 0" in str(line.get_label()) for line in lines)
+    html = _level1(SimpleNamespace(results={"level1": result}), "si")
+    assert "mode 0" not in html and "does not oscillate at Q = 0" in html
+    table = html.split("Forward modes swept")[1]
+    assert len(re.findall(r"log decrement at Qa(?! \[)", table)) == 1, table   # one row governs it
+
+
+def test_a_cross_spectrum_of_a_pair_without_its_frf_is_refused_by_name(tmp_path, capsys, measured):
+    """A dataset 58 of function type 3 (a cross-spectrum) in place of a pair's FRF was skipped
+    without a word and the pair read as NaN: refused in one line naming the dataset."""
+    import pyuff
+
+    sets = pyuff.UFF(str(measured / "g.uff")).read_sets()
+    sets = [sets] if isinstance(sets, dict) else list(sets)
+    frfs = [k for k, s in enumerate(sets) if s["type"] == 58 and s["func_type"] == 4]
+    sets[frfs[1]]["func_type"] = 3
+    path = tmp_path / "spectrum.uff"
+    pyuff.UFF(str(path)).write_sets(sets, mode="overwrite")
+    (tmp_path / "spectrum.csv").write_text(MAPPING)
+    assert main(["frf", str(GEAR), "--speed", "600", "--freqs", "2:40:5", "--measured", str(path),
+                 "--mapping", str(tmp_path / "spectrum.csv"), "--out", str(tmp_path / "f.csv")]) == 2
+    _one_line_error(capsys, str(path), f"dataset {frfs[1] + 1} (", "function type 3 (cross-spectrum) is not an FRF")
+
+
+def test_a_shafts_bending_puts_no_stiffness_on_its_rigid_axial_coordinate():
+    """The axial coordinate moves every node of the shaft alike: a rigid translation of the free
+    shaft strains no element, so its row and column of the shafts' stiffness are zero in exact
+    arithmetic (round-off had left ~4e-6 N/m, above an axial_stiffness of 1e-6 N/m); the rest is
+    the sum of the elements' (not touched)."""
+    from rotordyn_modal.assembly import shaft_stiffness, sparse_constant_matrices
+
+    model = rdm.load_model(ROOT / "examples" / "compressor_rotor.toml")
+    axial = model.dofs.names.index("compressor.ux")
+    K = shaft_stiffness(model)
+    assert np.all(K[axial] == 0.0) and np.all(K[:, axial] == 0.0)
+    assert np.abs(K).max() > 1e9                                          # the bending is there
+    assert model.matrices(0.0).K[axial, axial] == 2.0e8                  # the thrust bearing's alone
+    assert sparse_constant_matrices(model)[3].toarray()[axial, axial] == 2.0e8

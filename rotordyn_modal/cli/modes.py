@@ -18,7 +18,10 @@ DESCRIPTION = """Eigenvalues of the machine at one speed of the reference rotor:
 frequency, damping ratio, log decrement and whirl direction of every oscillating mode. Roots
 that are not modes (real roots: relaxations of rubber mounts, directions without suspension;
 overdamped pairs) are counted on a line of their own. Numbers within the eigen-solve's round-off
-print as 0 (docs/theory.md section 8).
+print as 0 (docs/theory.md section 8). A solve estimated over 20 s of CPU time (a flexible
+rotor of hundreds of nodes) is announced on stderr with its estimate before it starts, and one
+over the limit of CPU time (30 min, ROTORDYN_MODAL_MAX_CPU_MINUTES) is refused unless
+--allow-long; campbell --lowest N --speeds S:S:1 gives the lowest modes of such a model faster.
 --plot draws the modes' participation bars (--modes, default every mode, or modes 1-12 where
 there are more than 24), or, on a machine with a flexible rotor, its deflected shaft lines as
 --plot-shaft does (hundreds of coordinates make unreadable bars); with --shape MODE the 3D mode shape of that mode
@@ -53,6 +56,16 @@ _ANIMATION_ENDINGS = (".gif", ".html", ".mp4")
 _MOST_PANELS = 24
 #: modes drawn by --plot's bars without --modes when the table has more than _MOST_PANELS
 _DEFAULT_BARS = 12
+
+
+#: how to get a large model's modes faster (said when the solve is long or refused)
+_ADVICE = "ask for the lowest modes only (campbell --lowest N --speeds S:S:1)"
+#: a solve estimated to take more CPU seconds than this is announced on stderr before it starts
+_NOTICE_SECONDS = 20.0
+#: the state matrix's eigen-solution costs this many times the calibrated random matrix's
+#: (:func:`..analysis._cost.eig_seconds`): 8.3 measured on a 250-element shaft (1,018 states:
+#: ``modal`` 38 s of CPU time, the estimate 4.6 s; 93 % of it in ``scipy.linalg.eig``)
+_STATE_MATRIX_FACTOR = 8.0
 
 
 def add_arguments(parser):
@@ -90,8 +103,8 @@ def run(args) -> int:
     model = open_model(args)
     speed = speed_value(args.speed, args.speed_unit, "--speed")
     # every root is one dense eigen-solution of the state matrix: a long flexible rotor's takes hours
-    refuse_long_work(model, [speed], critical=False,
-                     advice="ask for the lowest modes only (campbell --lowest N --speeds S:S:1)")
+    refuse_long_work(model, [speed], critical=False, advice=_ADVICE)
+    _announce_long_solve(model, speed, args)
     result = modal(model, speed)
     outline = _read_outline(args.outline) if args.outline else None
     view = None
@@ -121,6 +134,27 @@ def run(args) -> int:
             else:
                 save_figure(_bars(result, wanted, args) if view is None else view.plot(units=args.units), args)
     return 0
+
+
+def _announce_long_solve(model, speed, args):
+    """Before a long eigen-solution (estimated over :data:`_NOTICE_SECONDS` of CPU time), one
+    line on stderr with its estimate, since LAPACK's single call can show no progress; refuse it
+    (exit 2) where that estimate exceeds the limit of CPU time and --allow-long was not given."""
+    from ..analysis import _cost, _work
+
+    n_states = _work._n_states(model)
+    if _STATE_MATRIX_FACTOR * _cost._PESSIMISTIC * n_states ** 3 <= _NOTICE_SECONDS:
+        return                                          # small: no timing at all
+    seconds = _STATE_MATRIX_FACTOR * _work.eig_seconds(n_states)
+    text = (f"one eigen-solution of {n_states:,} states ({model.dofs.n:,} coordinates) with every root: "
+            f"about {_cost.duration(seconds)} of CPU time")
+    limit = _cost.limit_seconds()
+    if seconds > limit and not _cost.long_work_is_allowed():
+        where = f"{model.source}: " if getattr(model, "source", None) else ""
+        raise InputError(f"{where}{text}, more than the limit of {_cost.duration(limit)}: {_ADVICE}, or add "
+                         f"--allow-long ({_cost.ENVIRONMENT} sets the limit)")
+    if seconds > _NOTICE_SECONDS and not args.quiet:
+        print(f"{NAME}: {text} (LAPACK shows no progress; {_ADVICE})", file=sys.stderr, flush=True)
 
 
 def _bars(result, wanted, args):

@@ -191,6 +191,7 @@ def read_uff58(path, model, mapping):
     if len(quantities) != 1:
         raise InputError(f"{path}: the FRFs hold {', '.join(quantities)}: expected one quantity in a file")
     quantity = quantities[0]
+    _refuse_lone_spectra(sets, frfs, path)
     coherence = {_key(s): np.real(np.asarray(s["data"])) for s in sets if s.get("func_type") == _COHERENCE}
     parts = []
     for s, (_, factor) in zip(frfs, read):
@@ -210,6 +211,23 @@ def read_uff58(path, model, mapping):
     if not coherence:
         records["coherence"] = None
     return assemble(records, model, quantity, str(path))
+
+
+#: dataset 58 function types that hold a pair's spectrum, not its FRF
+_SPECTRA = {2: "auto-spectrum", 3: "cross-spectrum"}
+
+
+def _refuse_lone_spectra(sets, frfs, path):
+    """Refuse a spectrum (function type 2 or 3) of a response/reference pair that has no FRF in
+    the file: it was skipped without a word and the pair read as NaN. Beside its pair's FRF (as
+    analysers export both) it is extra data and is left unread."""
+    pairs = {_key(s) for s in frfs}
+    for s in sets:
+        kind = int(s.get("func_type", -1))
+        if kind in _SPECTRA and _key(s) not in pairs:
+            raise InputError(f"{path}: dataset {s.get('_dataset', '?')} ({s.get('rsp_node')}:{s.get('rsp_dir')} / "
+                             f"{s.get('ref_node')}:{s.get('ref_dir')}): function type {kind} ({_SPECTRA[kind]}) is "
+                             "not an FRF (function type 4), and the file has no FRF of that pair: export the FRF")
 
 
 #: the UTF-8 byte order mark as read in Latin-1
@@ -249,12 +267,16 @@ def _read_sets(path):
         if 58 not in types:
             raise InputError(f"{path}: no dataset 58/58b (FRF) in the file; datasets found: "
                              f"{sorted(set(int(t) for t in types)) or 'none'}")
-        sets = uff.read_sets([i for i, t in enumerate(types) if t == 58])
+        index = [i for i, t in enumerate(types) if t == 58]
+        sets = uff.read_sets(index)
     except InputError:
         raise
     except Exception as error:  # pyuff raises many kinds on a broken file
         raise InputError(f"{path}: not a readable Universal File ({type(error).__name__}: {error})") from None
-    return [sets] if isinstance(sets, dict) else list(sets)
+    sets = [sets] if isinstance(sets, dict) else list(sets)
+    for number, s in zip(index, sets):
+        s["_dataset"] = number + 1                      # its place among the file's datasets, for messages
+    return sets
 
 
 def _file_units(path):

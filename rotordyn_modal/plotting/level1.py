@@ -94,12 +94,12 @@ def _curves(ax, result, x):
     others = iter(["tab:orange", "tab:purple", "tab:brown", "tab:olive", "tab:cyan"])
     governs_q0 = result.governs_q0
     for run in runs:
-        judged = run.mode == result.mode
+        judged = run.forward_mode == result.forward_mode     # unique per followed root (mode may be 0)
         governs = [what for what, yes in (("log dec at Qa", judged and len(runs) > 1),
                                           ("Q0", governs_q0 is run and len(runs) > 1)) if yes]
         ax.plot(x, run.log_decrements, color="tab:blue" if judged else next(others, "0.5"),
                 linewidth=2.0 if judged else 1.3, linestyle="-" if judged else "--", zorder=3 if judged else 2,
-                label=f"mode {run.mode} (forward {run.forward_mode}), {run.frequencies_hz[0]:.4g} Hz at Q = 0"
+                label=f"{run.mode_label} (forward {run.forward_mode}), {run.frequencies_hz[0]:.4g} Hz at Q = 0"
                       + (f": governs {' and '.join(governs)}" if governs else ""))
 
 

@@ -514,11 +514,11 @@ def _level1(data, units) -> str:
         _heading("level1"),
         f"<p>Stations: {escape(', '.join(_station(s, units) for s in result.stations))}; at the MCS the "
         f"rotor's forward modes at the station ({len(runs)} followed) are swept and the least stable is judged: "
-        f"mode {result.mode} (docs/report.md). {escape(result.verdict(units))}.</p>",
+        f"{result.mode_label} (docs/report.md). {escape(result.verdict(units))}.</p>",
         _table(rows, [("quantity", True), ("value", False), ("criterion", False)]),
         _runs_table(runs, result, units),
         _figure(result.plot(**_units(units)), f"Figure: log decrement of each swept forward mode against the "
-                f"applied cross-coupling Q, mode {result.mode} (bold), the least stable at Qa; Q0 the smallest of "
+                f"applied cross-coupling Q, {result.mode_label} (bold), the least stable at Qa; Q0 the smallest of "
                 "the swept modes' (API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")]
         + ([] if csr is None else [_figure(csr.plot(verdict=result.verdict().rpartition(": ")[2], **_units(units)),
                                            "Figure: critical speed ratio against average gas density, the dividing "
@@ -532,10 +532,10 @@ def _runs_table(runs, judged, units) -> str:
     factor, unit = shown_scale("stiffness", units)
     rows = []
     for run in runs:
-        governs = [what for what, yes in (("log decrement at Qa", run.mode == judged.mode),
+        governs = [what for what, yes in (("log decrement at Qa", run.forward_mode == judged.forward_mode),
                                           ("Q0", np.isfinite(judged.q0) and run.q0 == judged.q0)) if yes]
         beyond = f"> {run.cross_coupling[-1] / run.qa:.3g}"
-        rows.append([str(run.mode), _g(run.frequencies_hz[0], 5), _g(run.log_decrement_at_qa, 3),
+        rows.append([str(run.mode) if run.mode else "none (no oscillation at Q = 0)", _g(run.frequencies_hz[0], 5), _g(run.log_decrement_at_qa, 3),
                      _g(run.q0 * factor) if np.isfinite(run.q0) else "beyond the sweep",
                      f"{run.ratio:.3g}" if np.isfinite(run.q0) else beyond, ", ".join(governs)])
     return ("<h3>Forward modes swept</h3>"

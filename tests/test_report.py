@@ -299,27 +299,38 @@ def _chromium(*args, folder):
                           capture_output=True, text=True, timeout=120)
 
 
-@pytest.mark.skipif(_BROWSER is None, reason="no chromium on the PATH: the real-browser check of the report "
-                                             "needs headless Chromium (apt-get install chromium)")
-@pytest.mark.parametrize("name", [DRAWN])
-def test_a_real_browser_renders_the_report_with_every_image(name, reports):
+#: why the real-browser check is skipped (tests/test_report_browser_all.py says the same)
+NO_BROWSER = ("no chromium on the PATH: the real-browser check of the report needs headless Chromium "
+              "(apt-get install chromium)")
+
+
+def assert_a_real_browser_renders(report):
+    """Headless Chromium opens ``report``: every image decoded (``naturalWidth > 0``), as many as
+    the HTML holds, nothing wider than a 1280-pixel window (no sideways scroll), not blank."""
     from matplotlib.image import imread
 
     with tempfile.TemporaryDirectory() as folder:
         page = Path(folder) / "page.html"
-        page.write_text(reports[name].read_text(encoding="utf-8").replace("</body>", _PROBE + "</body>"),
+        page.write_text(report.read_text(encoding="utf-8").replace("</body>", _PROBE + "</body>"),
                         encoding="utf-8")
-        dom = _chromium("--virtual-time-budget=5000", "--window-size=1280,3000", "--dump-dom", page.as_uri(),
-                       folder=folder).stdout
+        shot = Path(folder) / "shot.png"          # one launch: the DOM after load, and the screenshot
+        dom = _chromium("--virtual-time-budget=5000", "--window-size=1280,3000", f"--screenshot={shot}",
+                        "--dump-dom", page.as_uri(), folder=folder).stdout
         found = re.search(r'data-broken="(\d+)" data-images="(\d+)" data-overflow="(-?\d+)"', dom)
         assert found, dom[:300]
-        assert int(found.group(1)) == 0 and int(found.group(2)) == len(_page(reports[name]).images)
+        assert int(found.group(1)) == 0 and int(found.group(2)) == len(_page(report).images)
         assert int(found.group(3)) <= 0                  # nothing wider than the window: no sideways scroll
-        shot = Path(folder) / "shot.png"
-        _chromium(f"--screenshot={shot}", "--window-size=1280,3000", reports[name].as_uri(), folder=folder)
         pixels = imread(shot)
         assert pixels.shape[0] == 3000 and pixels.shape[1] == 1280
         assert pixels[..., :3].std() > 0.05          # not a blank page
+
+
+@pytest.mark.skipif(_BROWSER is None, reason=NO_BROWSER)
+@pytest.mark.parametrize("name", [DRAWN])
+def test_a_real_browser_renders_the_report_with_every_image(name, reports):
+    """The journal rotor's report, every figure drawn; every other example's report:
+    tests/test_report_browser_all.py."""
+    assert_a_real_browser_renders(reports[name])
 
 
 @pytest.mark.parametrize("name", ["spring_block_rotor", "motor_pump_on_mounts"])

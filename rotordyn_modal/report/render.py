@@ -53,10 +53,21 @@ $sections
 
 
 def figure_png(fig, dpi: int = 110) -> str:
-    """A ``data:image/png;base64,...`` URI of a matplotlib figure (the figure is closed)."""
+    """A ``data:image/png;base64,...`` URI of a matplotlib figure (the figure is closed).
+
+    A figure with a layout engine (constrained layout) is laid out once, at ``dpi``, and then
+    saved without its engine: ``savefig`` alone lays it out twice (a draw to lay it out, then
+    the draw that renders, laying it out again), and the layout is most of a figure's cost.
+    The second layout moves nothing once the first has run: the PNG is the same, byte for byte
+    (tests/test_report_browser_all.py compares them).
+    """
     import matplotlib.pyplot as plt
 
     buffer = io.BytesIO()
+    if fig.get_layout_engine() is not None:
+        fig.set_dpi(dpi)
+        fig.draw_without_rendering()
+        fig.set_layout_engine("none")
     fig.savefig(buffer, format="png", dpi=dpi)
     plt.close(fig)
     return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")

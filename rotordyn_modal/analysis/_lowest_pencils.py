@@ -10,12 +10,14 @@ matrices are served alike (:func:`_nonzero`, :func:`_block`, :func:`_diagonal`).
 
 from __future__ import annotations
 
+import ctypes
+import functools
 import typing
 
 import numpy as np
 import scipy.sparse
 import scipy.sparse.linalg
-from scipy.linalg.lapack import zgbsv as _zgbsv
+from scipy.linalg.lapack import zgbsv as _scipy_zgbsv
 
 from . import _batches, _pencils
 
@@ -241,6 +243,51 @@ class _Pencils:
             self._layout = (layout, bearing_in, flat[self.bearing_at[bearing_in]],
                             np.ascontiguousarray(self.values[outside]), bearing_out, place[self.bearing_at[bearing_out]])
         return self._layout
+
+
+@functools.lru_cache(maxsize=1)
+def _lapack_zgbsv():
+    """LAPACK's ``zgbsv`` as a ``ctypes`` function (its pointer from ``scipy.linalg.cython_lapack``;
+    ``ctypes`` releases the GIL during the call), or None where it cannot be had."""
+    try:
+        from scipy.linalg import cython_lapack
+
+        capsule = cython_lapack.__pyx_capi__["zgbsv"]
+        name = ctypes.PYFUNCTYPE(ctypes.c_char_p, ctypes.py_object)(("PyCapsule_GetName", ctypes.pythonapi))
+        pointer = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object, ctypes.c_char_p)(
+            ("PyCapsule_GetPointer", ctypes.pythonapi))
+        address = pointer(capsule, name(capsule))
+    except (ImportError, AttributeError, KeyError, ValueError, OSError):   # pragma: no cover
+        return None
+    return ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * 10))(address) if address else None
+
+
+class _Zgbsv:
+    """LAPACK's ``zgbsv`` called as scipy's wrapper is, ``(kl, ku, ab, b, overwrite_ab, overwrite_b) ->
+    (lu, pivots, x, info)``, through ``ctypes`` where both arrays are overwritten in place (complex,
+    Fortran-ordered, as :meth:`_Pencils._banded_solve` gives them): ``ctypes`` lets other threads run
+    during the call, scipy's wrapper holds the GIL (the threads sharing a sweep's banded solves
+    waited for each other: measured, a second thread ran only after the first's 3,000 solves).
+    Other arrays, or where the routine cannot be had from ``scipy.linalg.cython_lapack``: scipy's."""
+
+    def __call__(self, kl, ku, ab, b, overwrite_ab=0, overwrite_b=0):
+        function = _lapack_zgbsv()
+        if (function is None or not (overwrite_ab and overwrite_b) or ab.dtype != complex or b.dtype != complex
+                or ab.ndim != 2 or b.ndim != 2 or not (ab.flags.f_contiguous and b.flags.f_contiguous)
+                or ab.shape[0] != 2 * kl + ku + 1 or ab.shape[1] != b.shape[0] or not ab.flags.writeable
+                or not b.flags.writeable):
+            return _scipy_zgbsv(kl, ku, ab, b, overwrite_ab=overwrite_ab, overwrite_b=overwrite_b)
+        n = ab.shape[1]
+        pivots, info = np.empty(n, np.int32), ctypes.c_int(0)
+        byref, integer = ctypes.byref, ctypes.c_int
+        function(byref(integer(n)), byref(integer(kl)), byref(integer(ku)), byref(integer(b.shape[1])),
+                 ab.ctypes.data, byref(integer(ab.shape[0])), pivots.ctypes.data, b.ctypes.data, byref(integer(n)),
+                 byref(info))
+        pivots -= 1                     # 0-based, as scipy's
+        return ab, pivots, b, info.value
+
+
+_zgbsv = _Zgbsv()
 
 
 def _coefficients(lam, speeds):

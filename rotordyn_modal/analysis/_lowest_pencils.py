@@ -279,15 +279,21 @@ class _Zgbsv:
             return _scipy_zgbsv(kl, ku, ab, b, overwrite_ab=overwrite_ab, overwrite_b=overwrite_b)
         n = ab.shape[1]
         pivots, info = np.empty(n, np.int32), ctypes.c_int(0)
-        byref, integer = ctypes.byref, ctypes.c_int
-        function(byref(integer(n)), byref(integer(kl)), byref(integer(ku)), byref(integer(b.shape[1])),
-                 ab.ctypes.data, byref(integer(ab.shape[0])), pivots.ctypes.data, b.ctypes.data, byref(integer(n)),
-                 byref(info))
+        sizes = _sizes(n, kl, ku, b.shape[1], ab.shape[0])
+        function(sizes[0], sizes[1], sizes[2], sizes[3], ab.ctypes.data, sizes[4], pivots.ctypes.data, b.ctypes.data,
+                 sizes[0], ctypes.byref(info))
         pivots -= 1                     # 0-based, as scipy's
         return ab, pivots, b, info.value
 
 
 _zgbsv = _Zgbsv()
+
+
+@functools.lru_cache(maxsize=64)
+def _sizes(*values):
+    """``ctypes`` references to the integers ``values`` (read only by LAPACK), made once for each
+    set of a sweep's sizes (their making cost a tenth of a small solve)."""
+    return tuple(ctypes.byref(ctypes.c_int(int(value))) for value in values)
 
 
 def _coefficients(lam, speeds):

@@ -10,12 +10,14 @@ matrices are served alike (:func:`_nonzero`, :func:`_block`, :func:`_diagonal`).
 
 from __future__ import annotations
 
+import ctypes
+import functools
 import typing
 
 import numpy as np
 import scipy.sparse
 import scipy.sparse.linalg
-from scipy.linalg.lapack import zgbsv as _zgbsv
+from scipy.linalg.lapack import zgbsv as _scipy_zgbsv
 
 from . import _batches, _pencils
 
@@ -55,13 +57,12 @@ class _Pencils:
         # the sparse LU's pattern: every entry of any of them, column by column (compressed-column order)
         cols, rows = _pattern(self.M, self.C, self.G, self.K, self.rows, self.cols)
         self._values = None       # the matrices' entries on the pattern, made on first use
+        self._layout = None       # the same in band storage (:meth:`_band_layout`), made on first use
         self.pattern = rows, cols
         self.indptr = np.concatenate([[0], np.cumsum(np.bincount(cols, minlength=n))]).astype(np.int32)
         self.indices = rows.astype(np.int32)
         # each bearing entry's place on the pattern (its keys col * n + row ascend)
         self.bearing_at = np.searchsorted(cols * n + rows, self.cols * n + self.rows)
-        self.scatter = np.zeros((len(self.rows), n))
-        self.scatter[np.arange(len(self.rows)), self.rows] = 1.0
         self.band = _band(rows, cols, n)
         # omega_max^2: the largest ratio of the stiffness's diagonal (with the bearings' at any speed) to the mass's
         diagonal = np.abs(_diagonal(self.K)).copy()
@@ -72,6 +73,10 @@ class _Pencils:
         self.scale = float(np.max(diagonal / np.where(mass > 0, mass, np.inf)))
         # the products Q'(s) x: sparse (a dense complex product of n x n per root cost more than the solves)
         self.sparse = [scipy.sparse.csr_matrix(matrix) for matrix in (self.M, self.C, self.G)]
+        self._stacked = scipy.sparse.vstack(self.sparse, format="csr")
+        # each bearing entry's row, (n, nb): the bearings' terms of the rows' products, scattered
+        self.scatter = scipy.sparse.csr_matrix((np.ones(len(self.rows)), (self.rows, np.arange(len(self.rows)))),
+                                               shape=(n, len(self.rows)))
 
     def _speed_entries(self, stack, speeds):
         """The entries of K and C that change with the speed (the bearings'): rows (nb,), columns
@@ -110,9 +115,14 @@ class _Pencils:
 
     def derivative_times(self, index, lam, x):
         """``Q'(lam_p) x_p = (2 lam_p M + C + Omega G + C_b) x_p`` (P, n)."""
-        M, C, G = self.sparse
-        out = 2 * lam[:, None] * (M @ x.T).T + (C @ x.T).T + self.speeds[index, None] * (G @ x.T).T
-        return out + (self.cb[index] * x[:, self.cols]) @ self.scatter
+        n = x.shape[1]
+        # one sparse product of [M; C; G] with every row (a column each), and the bearings' damping
+        # scattered by a sparse product (a dense (nb, n) one cost as much as the rest together)
+        products = self._stacked @ np.ascontiguousarray(x.T)                     # (3 n, P)
+        out = 2 * lam * products[:n] + products[n:2 * n] + self.speeds[index] * products[2 * n:]
+        if len(self.rows):
+            out += self.scatter @ (self.cb[index] * x[:, self.cols]).T
+        return out.T
 
     def solve(self, index, lam, rhs):
         """``Q(lam_p)^-1 rhs_p`` for every row: batched dense up to ``_DENSE_DOF`` coordinates; a
@@ -148,39 +158,38 @@ class _Pencils:
         """The pencils' entries on the pattern, (P, nnz) complex: the coefficients ``s^2, s, s Omega, 1``
         of each row (real and imaginary parts, (P, 4, 2)) times the pattern's M, C, G and K (nnz, 4),
         one product (a quarter of the time of the terms summed as complex arrays)."""
-        s = lam
-        coefficients = np.empty((len(s), 4, 2))
-        for term, value in enumerate((s * s, s, s * self.speeds[index])):
-            coefficients[:, term, 0], coefficients[:, term, 1] = value.real, value.imag
-        coefficients[:, 3] = (1.0, 0.0)
-        data = np.matmul(self.values, coefficients).view(complex)[..., 0]      # (P, nnz, 2) as complex
-        data[:, self.bearing_at] += s[:, None] * self.cb[index] + self.kb[index]
+        data = np.matmul(self.values, _coefficients(lam, self.speeds[index])).view(complex)[..., 0]  # (P, nnz)
+        data[:, self.bearing_at] += lam[:, None] * self.cb[index] + self.kb[index]
         return data
 
     def _banded_solve(self, index, lam, rhs):
         """:meth:`solve` by LAPACK's banded LU with partial pivoting (``zgbsv``), one row at a
-        time, and a Schur complement for the border (a casing's coordinates), batched."""
+        time, and a Schur complement for the border (a casing's coordinates), batched. The band
+        storage of a chunk of rows is one product (:meth:`_band_storage`), not a scatter of the
+        pattern's entries (which cost a third of the solve)."""
         band = self.band
         n, k = self.M.shape[0], len(band.order) - band.size
         size, width = band.size, 2 * band.lower + band.upper + 1
         out = np.empty(rhs.shape, complex)
         for part in _batches.chunk_slices(len(lam), 16 * n * (width + 3 * k + 2), budget=2**24):
-            data = self._entries(index[part], lam[part])
-            count = len(data)
-            # LAPACK's band storage A(i, j) -> ab[kl + ku + i - j, j], Fortran order: ab.T in C order
-            ab = np.zeros((count, size, width), complex)
-            ab[:, band.cols[band.inside], band.rows[band.inside]] = data[:, band.inside]
-            # the border's columns (every row) and rows (the band's columns), (P, n, k) and (P, k, size)
-            columns, rows = np.zeros((count, n, k), complex), np.zeros((count, k, size), complex)
-            columns[:, band.place_rows[band.right], band.cols[band.right] - size] = data[:, band.right]
-            rows[:, band.place_rows[band.below] - size, band.cols[band.below]] = data[:, band.below]
+            ab, border = self._band_storage(index[part], lam[part])
+            count = len(ab)
             b = rhs[part][:, band.order]
             # B^-1 [b_1, E]: one banded solve with k + 1 right-hand sides each
             y = np.empty((count, k + 1, size), complex)
-            y[:, 0], y[:, 1:] = b[:, :size], np.swapaxes(columns[:, :size], 1, 2)
+            y[:, 0] = b[:, :size]
+            if k:
+                # the border's columns (every row) and rows (the band's columns), (P, n, k) and (P, k, size)
+                columns, rows = np.zeros((count, n, k), complex), np.zeros((count, k, size), complex)
+                columns[:, band.place_rows[band.right], band.cols[band.right] - size] = border[:, :band.right.sum()]
+                rows[:, band.place_rows[band.below] - size, band.cols[band.below]] = border[:, band.right.sum():]
+                y[:, 1:] = np.swapaxes(columns[:, :size], 1, 2)
+            lower, upper = band.lower, band.upper
             for p in range(count):
-                _, _, x, info = _zgbsv(band.lower, band.upper, ab[p].T, y[p].T, overwrite_ab=1, overwrite_b=1)
-                y[p] = x.T if info == 0 else np.nan
+                # ab[p].T and y[p].T are Fortran-ordered views: LAPACK works on them in place
+                info = _zgbsv(lower, upper, ab[p].T, y[p].T, overwrite_ab=1, overwrite_b=1)[3]
+                if info != 0:
+                    y[p] = np.nan
             solution = np.empty((count, n), complex)
             solution[:, :size] = y[:, 0]
             if k:
@@ -190,6 +199,112 @@ class _Pencils:
                 solution[:, :size] -= np.einsum("pki,pk->pi", y[:, 1:], border)
             out[part][:, band.order] = solution
         return out
+
+    def _band_storage(self, index, lam):
+        """LAPACK's band storage of the pencils of rows ``index``, ``lam`` (P,): (P, size, width)
+        complex, C-ordered (each ``[p].T`` is the Fortran array ``zgbsv`` takes), and the border's
+        entries (P, right + below) (the entries in its columns, then in its rows, in the pattern's
+        order). The band's entries are the coefficients ``s^2, s, s Omega, 1`` times M, C, G and K
+        laid out in band storage once (:meth:`_band_layout`): one product, as :meth:`_entries`; a
+        subclass with terms of its own (``_lowest_branches``) scatters its entries instead."""
+        band = self.band
+        size, width = band.size, 2 * band.lower + band.upper + 1
+        if type(self)._entries is not __class__._entries:      # a subclass's own terms (``__class__``: _Pencils)
+            data = self._entries(index, lam)
+            ab = np.zeros((len(lam), size, width), complex)
+            ab[:, band.cols[band.inside], band.rows[band.inside]] = data[:, band.inside]
+            return ab, np.hstack([data[:, band.right], data[:, band.below]])
+        layout, bearing_in, at_in, outside, bearing_out, at_out = self._band_layout()
+        coefficients = _coefficients(lam, self.speeds[index])
+        ab = np.matmul(layout, coefficients).view(complex)[..., 0]                 # (P, size * width)
+        speed_part = lam[:, None] * self.cb[index] + self.kb[index]
+        ab[:, at_in] += speed_part[:, bearing_in]
+        border = np.matmul(outside, coefficients).view(complex)[..., 0]
+        border[:, at_out] += speed_part[:, bearing_out]
+        return ab.reshape(len(lam), size, width), border
+
+    def _band_layout(self):
+        """M, C, G and K in LAPACK's band storage, (size * width, 4), zero off the pattern; the
+        bearing entries in the band (which, where in it) and the border's entries (right, then
+        below: their M, C, G, K (e, 4) and which bearing entries fall where among them). Made on
+        first use."""
+        if self._layout is None:
+            band = self.band
+            width = 2 * band.lower + band.upper + 1
+            flat = np.full(len(band.inside), -1)
+            flat[band.inside] = band.cols[band.inside] * width + band.rows[band.inside]
+            layout = np.zeros((band.size * width, 4))
+            layout[flat[band.inside]] = self.values[band.inside]
+            outside = np.concatenate([np.nonzero(band.right)[0], np.nonzero(band.below)[0]])
+            place = np.full(len(band.inside), -1)
+            place[outside] = np.arange(len(outside))
+            bearing_in = np.nonzero(band.inside[self.bearing_at])[0]
+            bearing_out = np.nonzero(~band.inside[self.bearing_at])[0]
+            self._layout = (layout, bearing_in, flat[self.bearing_at[bearing_in]],
+                            np.ascontiguousarray(self.values[outside]), bearing_out, place[self.bearing_at[bearing_out]])
+        return self._layout
+
+
+@functools.lru_cache(maxsize=1)
+def _lapack_zgbsv():
+    """LAPACK's ``zgbsv`` as a ``ctypes`` function (its pointer from ``scipy.linalg.cython_lapack``;
+    ``ctypes`` releases the GIL during the call), or None where it cannot be had."""
+    try:
+        from scipy.linalg import cython_lapack
+
+        capsule = cython_lapack.__pyx_capi__["zgbsv"]
+        name = ctypes.PYFUNCTYPE(ctypes.c_char_p, ctypes.py_object)(("PyCapsule_GetName", ctypes.pythonapi))
+        pointer = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object, ctypes.c_char_p)(
+            ("PyCapsule_GetPointer", ctypes.pythonapi))
+        address = pointer(capsule, name(capsule))
+    except (ImportError, AttributeError, KeyError, ValueError, OSError):   # pragma: no cover
+        return None
+    return ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * 10))(address) if address else None
+
+
+class _Zgbsv:
+    """LAPACK's ``zgbsv`` called as scipy's wrapper is, ``(kl, ku, ab, b, overwrite_ab, overwrite_b) ->
+    (lu, pivots, x, info)``, through ``ctypes`` where both arrays are overwritten in place (complex,
+    Fortran-ordered, as :meth:`_Pencils._banded_solve` gives them): ``ctypes`` lets other threads run
+    during the call, scipy's wrapper holds the GIL (the threads sharing a sweep's banded solves
+    waited for each other: measured, a second thread ran only after the first's 3,000 solves).
+    Other arrays, or where the routine cannot be had from ``scipy.linalg.cython_lapack``: scipy's."""
+
+    def __call__(self, kl, ku, ab, b, overwrite_ab=0, overwrite_b=0):
+        function = _lapack_zgbsv()
+        if (function is None or not (overwrite_ab and overwrite_b) or ab.dtype != complex or b.dtype != complex
+                or ab.ndim != 2 or b.ndim != 2 or not (ab.flags.f_contiguous and b.flags.f_contiguous)
+                or ab.shape[0] != 2 * kl + ku + 1 or ab.shape[1] != b.shape[0] or not ab.flags.writeable
+                or not b.flags.writeable):
+            return _scipy_zgbsv(kl, ku, ab, b, overwrite_ab=overwrite_ab, overwrite_b=overwrite_b)
+        n = ab.shape[1]
+        pivots, info = np.empty(n, np.int32), ctypes.c_int(0)
+        sizes = _sizes(n, kl, ku, b.shape[1], ab.shape[0])
+        function(sizes[0], sizes[1], sizes[2], sizes[3], ab.ctypes.data, sizes[4], pivots.ctypes.data, b.ctypes.data,
+                 sizes[0], ctypes.byref(info))
+        pivots -= 1                     # 0-based, as scipy's
+        return ab, pivots, b, info.value
+
+
+_zgbsv = _Zgbsv()
+
+
+@functools.lru_cache(maxsize=64)
+def _sizes(*values):
+    """``ctypes`` references to the integers ``values`` (read only by LAPACK), made once for each
+    set of a sweep's sizes (their making cost a tenth of a small solve)."""
+    return tuple(ctypes.byref(ctypes.c_int(int(value))) for value in values)
+
+
+def _coefficients(lam, speeds):
+    """The pencil's coefficients ``s^2, s, s Omega, 1`` of roots ``lam`` at ``speeds`` (P,) each, as
+    real and imaginary parts (P, 4, 2): the entries of M, C, G and K (e, 4) times them are the
+    pencil's (P, e, 2), read as complex."""
+    coefficients = np.empty((len(lam), 4, 2))
+    for term, value in enumerate((lam * lam, lam, lam * speeds)):
+        coefficients[:, term, 0], coefficients[:, term, 1] = value.real, value.imag
+    coefficients[:, 3] = (1.0, 0.0)
+    return coefficients
 
 
 def _band(rows, cols, n):

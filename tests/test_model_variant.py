@@ -68,6 +68,9 @@ def _reference(model, changes):
 
 
 @pytest.mark.parametrize("name", EXAMPLES)
+# random variants are often implausible (a journal moved past the centre of mass holds the shaft
+# down): their warnings are right and are not what this test compares
+@pytest.mark.filterwarnings("ignore::rotordyn_modal.errors.ModelWarning")
 def test_variants_equal_the_models_built_from_their_descriptions(name, examples_dir):
     model = rdm.load_model(examples_dir / name)
     original = model.to_dict()

@@ -18,7 +18,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..analysis.unbalance import ROUND_OFF_AMPLITUDE as _ROUND_OFF_AMPLITUDE
 from ..errors import InputError
 from ..unbalance_standards import amplitude_factor
 from ..units import check_system, unit_scale
@@ -382,17 +381,12 @@ def _case(row) -> str:
     return f", case {row.case}" if "case" in row.index and row.case else ""
 
 
-#: a response peak below this share of the response's largest amplitude is round-off, not a
-#: resonance: ``UnbalanceResult.peaks`` leaves it out (the rule is kept there, in one place)
-ROUND_OFF_AMPLITUDE = _ROUND_OFF_AMPLITUDE
-
-
 def separation_margins(response, operating, outputs=None):
     """API 684 peaks of ``response`` with their separation margin from the operating range.
 
     A peak below the range is measured from its low end, above from its high end
     (``UnbalanceResult.peaks`` at that end); inside it the margin is 0. A peak of a curve at
-    round-off (amplitude below :data:`ROUND_OFF_AMPLITUDE` times the response's largest, every
+    round-off (amplitude below :data:`..analysis.unbalance.ROUND_OFF_AMPLITUDE` times the response's largest, every
     sensor and source: a couple case seen at the centre of mass of a symmetric rotor, 1e-21 m
     beside 6e-5 m) is no resonance of the machine and is left out.
 

@@ -87,8 +87,9 @@ def test_a_fast_maxwell_branch_hides_no_mount_mode(fast_branch, examples_dir, tm
 def test_modes_lists_the_mount_modes_and_counts_the_other_roots(fast_branch, capsys):
     table, err = _csv(["modes", fast_branch, "--speed", "1000", "--out", "-"], capsys)
     assert list(table["mode"]) == [1, 2, 3, 4, 5, 6]
-    # 60 states: 6 modes and 24 real roots (relaxations of the branches) in the upper half
-    assert "24 real roots" in err and "not listed as modes" in err
+    # 60 states: 6 modes, their conjugates and 48 real roots (relaxations of the branches), of which
+    # the 24 nearest zero are in the kept half (every real root counted: tests/test_real_root_count.py)
+    assert "48 real roots" in err and "the 24 nearest zero kept" in err and "not listed as modes" in err
 
 
 def test_the_fast_branch_keeps_the_critical_speeds_of_the_mount_modes(fast_branch, capsys):

@@ -13,7 +13,7 @@ import pytest
 import rotordyn_modal as rdm
 from rotordyn_modal.cli import main
 
-# critically overdamped in every direction (c^2 > 4 k m): six real roots, no mode
+# critically overdamped in every direction (c^2 > 4 k m): twelve real roots (six kept), no mode
 _OVERDAMPED = """
 name = "a rotor in an overdamped block"
 spin_axis = [1.0, 0.0, 0.0]
@@ -61,7 +61,8 @@ def test_no_critical_speed_is_a_sentence_and_the_csv_keeps_its_header(examples_d
 
 def test_no_mode_is_a_sentence_with_the_roots_counted(overdamped, capsys):
     out = _run(["modes", overdamped, "--speed", "0"], capsys)
-    assert out.strip() == "no oscillating modes at 0 rpm: 6 real roots (relaxation, rigid-body)"
+    assert out.strip() == ("no oscillating modes at 0 rpm: 12 real roots (relaxation, rigid-body; the 6 nearest zero "
+                           "kept as the result's half, docs/theory.md section 8)")
     out = _run(["campbell", overdamped, "--speeds", "0:100:3"], capsys)
     assert out.strip().startswith("no oscillating modes between 0 and 100 rpm")
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import os
+import sys
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -84,7 +85,8 @@ def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
     if threads > 1 and count * item_bytes >= _THREAD_BYTES:
         pieces = max(pieces, min(count, threads))
     if pieces == 1:
-        return function(*batches)
+        with one_blas_thread(item_bytes):        # as estimated (analysis/_cost.py), on a shared machine too
+            return function(*batches)
     parts = [np.array_split(batch, pieces) for batch in batches]
     if threads > 1:
         if _POOL is None or _POOL._max_workers != threads:
@@ -92,7 +94,8 @@ def _threaded(function, *batches: np.ndarray, item_bytes: int = 0):
         with one_blas_thread(item_bytes):
             results = list(_POOL.map(function, *parts))
     else:
-        results = [function(*part) for part in zip(*parts)]
+        with one_blas_thread(item_bytes):
+            results = [function(*part) for part in zip(*parts)]
     return concatenated(results)
 
 
@@ -115,12 +118,14 @@ def one_blas_thread(item_bytes: int):
     start BLAS threads, and asking threadpoolctl costs about a millisecond: skipped there."""
     if item_bytes < _BLAS_THREADED_BYTES:
         return contextlib.nullcontext()
-    controller = _blas_controller()
+    # made again once scipy.linalg has loaded its own BLAS library, which a controller made
+    # before would not know (modal's scipy.linalg.eig ran with OpenBLAS's threads)
+    controller = _blas_controller("scipy.linalg" in sys.modules)
     return contextlib.nullcontext() if controller is None else controller.limit(limits=1, user_api="blas")
 
 
-@functools.lru_cache(maxsize=1)
-def _blas_controller():
+@functools.lru_cache(maxsize=2)
+def _blas_controller(scipy_linalg_loaded: bool):
     try:
         from threadpoolctl import ThreadpoolController
     except ImportError:  # pragma: no cover

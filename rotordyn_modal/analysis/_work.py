@@ -5,10 +5,9 @@ first eigen-solution, and the refusal of work above a limit, with the estimate.
 The estimate adds three parts (``docs/theory.md``, "How long a sweep takes"):
 
 - the sweep: one dense eigen-solution with vectors per speed (and per value of a map),
-  ``t_eig(n_states)``: a random matrix of an eighth of the model's states (at least
-  ``_cost._SMALLEST``) is solved once, timed in CPU seconds with one BLAS thread, and scaled by
-  ``(n_states / size) ** _cost._EXPONENT`` (LAPACK runs larger matrices faster per operation: 2.5-2.8
-  measured between 250 and 4,000 states);
+  ``t_eig(n_states)`` (:func:`._cost.eig_seconds`): a random matrix of the model's states, or of
+  ``_cost._CALIBRATION_STATES`` for larger models, is solved, timed in CPU seconds with one BLAS
+  thread (as every dense eigen-solution runs), and scaled by the cube of the size;
 - the critical speeds: the crossings expected (every oscillating mode of the undamped machine
   at rest, frequency ``w``, with every source's order line ``slope |Omega|`` that reaches ``w``
   inside the speed range) times the cost of one crossing, ``_COORDINATE_SECONDS`` per
@@ -17,7 +16,8 @@ The estimate adds three parts (``docs/theory.md``, "How long a sweep takes"):
   factorisation of the pencil per crossing where the pencil is factored dense (below
   ``_pencils.SPARSE_DOF`` coordinates);
 - the numbers ``modes --speed`` gives the critical speeds' modes (``critical-speeds``' column
-  ``mode_at_speed``): the roots solved at a share ``_NUMBERS_SHARE`` of the crossings.
+  ``mode_at_speed``): the roots solved at a share ``_NUMBERS_SHARE`` of the crossings, each the
+  eigenvalues alone (``_cost.EIGVALS_SHARE`` of a solution with vectors).
 
 Small models are passed by a bound of the same terms with a pessimistic eigen-solution and no
 measurement at all (:func:`_quick_bound`). The limit is ``DEFAULT_MINUTES`` of CPU time; the
@@ -50,8 +50,6 @@ _FACTOR_SHARE = 1 / 75
 #: on the 126-coordinate chain, 0.53 on the 406-coordinate one; 0.16 on a grid 6 times finer,
 #: none on the bundled examples)
 _NUMBERS_SHARE = 0.5
-#: the eigenvalues alone cost about this share of an eigen-solution with vectors
-_EIGVALS_SHARE = 0.4
 #: models up to this many coordinates get their undamped frequencies by a dense symmetric
 #: eigen-solution; larger ones from the diagonals of K and M (an uncoupled estimate)
 _DENSE_FREQUENCIES_DOF = 1200
@@ -63,7 +61,7 @@ _timed_eig = _cost._timed_eig
 
 def eig_seconds(n_states: int) -> float:
     """CPU seconds of one dense eigen-solution (with vectors) of ``n_states`` states on this
-    machine: a timed solution of an eighth of the size, scaled by ``_cost._EXPONENT``."""
+    machine, one BLAS thread (:func:`._cost.eig_seconds`, timed by :data:`_timed_eig`)."""
     return _cost.eig_seconds(n_states, _timed_eig)
 
 
@@ -147,7 +145,8 @@ class Work:
     def text(self) -> str:
         """``about 9.6 h of CPU time (11 eigen-solutions of 4,012 states: 12 min; about 1,000,000
         crossings to refine: 9.4 h)``."""
-        parts = [f"{self.solutions:,} eigen-solutions of {self.n_states:,} states: {_duration(self.sweep_seconds)}"]
+        parts = [f"{self.solutions:,} eigen-solution{'s' if self.solutions != 1 else ''} of {self.n_states:,} "
+                 f"states: {_duration(self.sweep_seconds)}"]
         if self.crossings:
             parts.append(f"about {self.crossings:,} crossings to refine: {_duration(self.crossing_seconds)}")
         if self.numbers_seconds:
@@ -183,7 +182,7 @@ def estimate(model, speeds, orders=(), critical=True, numbers=False, solutions=N
     crossings = expected_crossings(model, speeds, orders) if critical else 0
     per = _crossing_seconds(n_dof, n_states, eig)
     return Work(n_dof, n_states, solutions, crossings, solutions * eig, crossings * per,
-                crossings * _NUMBERS_SHARE * _EIGVALS_SHARE * eig if numbers else 0.0)
+                crossings * _NUMBERS_SHARE * _cost.EIGVALS_SHARE * eig if numbers else 0.0)
 
 
 def _quick_bound(model, speeds, orders, critical, numbers, solutions) -> float:
@@ -194,7 +193,7 @@ def _quick_bound(model, speeds, orders, critical, numbers, solutions) -> float:
     eig = _PESSIMISTIC * n_states ** 3
     lines = len(_line_slopes(model, orders)) if critical else 0
     crossings = 2 * n_dof * lines
-    numbers_seconds = crossings * _NUMBERS_SHARE * _EIGVALS_SHARE * eig if numbers else 0.0
+    numbers_seconds = crossings * _NUMBERS_SHARE * _cost.EIGVALS_SHARE * eig if numbers else 0.0
     return solutions * eig + crossings * 3 * _crossing_seconds(n_dof, n_states, eig) + numbers_seconds
 
 

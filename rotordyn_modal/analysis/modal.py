@@ -10,7 +10,7 @@ import scipy.linalg
 
 from ..model.geometry import point_motion_row
 from ..linear_system import speed_linear_form
-from . import _arguments, _eigensolve, _roots, _whirl
+from . import _arguments, _batches, _eigensolve, _roots, _whirl
 
 __all__ = ["ModalResult", "modal", "mac", "modal_quantities", "is_oscillating", "OVERDAMPED_LIMIT",
            "strain_energy_fractions", "BENDING_FRACTION"]
@@ -125,6 +125,11 @@ class ModalResult:
     energy_fractions : ndarray, shape (n_roots, n_parts), optional
         Each root's strain energy ``1/2 Re(phi^H K_part phi)`` in each part over the sum of all
         parts (rows sum to 1; nan where the shape strains nothing).
+    state_real_roots : int, optional
+        Real roots of the whole state matrix (round-off-split pairs counted as the real roots
+        they are, docs/theory.md section 8); ``eigenvalues`` keeps the half of them nearest zero
+        (:attr:`real_roots`), as it keeps one root of each pair. None where not known (a result
+        not solved from a state matrix).
     """
 
     speed: float
@@ -146,6 +151,7 @@ class ModalResult:
     dofs: Any = None
     energy_parts: tuple = ()
     energy_fractions: np.ndarray | None = None
+    state_real_roots: int | None = None
 
     @property
     def kinds(self) -> np.ndarray:
@@ -290,6 +296,31 @@ class ModalResult:
         return mode_shape_3d(self, model, mode, scale=scale, outline=outline).animate(path, **kwargs)
 
 
+def _rotor_whirl_ratios(model, shapes, speed) -> np.ndarray:
+    """Each rotor's own whirl ratio of every shape (m, n) -> (m, R). A rotor's whirl forms read
+    the coordinates its motion moves with (the frame's and its own) alone, so each is made and
+    taken on those columns of the shapes: made over all n, a chain of 500 rigid rotors (2,006
+    coordinates) took 500 products of (4,012 x 2,006) by (2,006 x 6,018), longer than its
+    eigen-solution, and a chain of 100 rotors 2.6 s of CPU time to make its forms alone."""
+    out = np.zeros((len(shapes), len(model.rotors)))
+    bodies = None
+    for k, rotor in enumerate(model.rotors):
+        if rotor.flexible is not None:
+            forms = _whirl.rotor_whirl_forms(model, rotor.name)
+            used = np.flatnonzero(np.any([(f != 0).any(axis=0) | (f != 0).any(axis=1) for f in forms], axis=0))
+            own = _whirl.WhirlForms(*(f[np.ix_(used, used)] for f in forms))
+        else:                                   # _whirl.rotor_whirl_forms on the columns it reads
+            if bodies is None:
+                bodies = _whirl._bodies_forms(model)
+            body = bodies[:, bodies.shape[1] - len(model.rotors) + k]                 # (3, 6, 6)
+            motion = model.dofs.body_motion(rotor.name)
+            used = np.flatnonzero((motion != 0).any(axis=0))
+            motion = motion[:, used]
+            own = _whirl.WhirlForms(*(motion.T @ body[d] @ motion for d in range(len(body))))
+        out[:, k] = _whirl.whirl_ratios(shapes[None][..., used], own, np.array([speed]))[0]
+    return out
+
+
 def modal(model, speed: float = 0.0) -> ModalResult:
     """Modal analysis at one speed.
 
@@ -306,10 +337,14 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     speed = _arguments.speed(speed)
     form = speed_linear_form(model)
     matrix = form.at(speed)
-    values, vectors = scipy.linalg.eig(matrix)
+    # one BLAS thread, as every dense eigen-solution runs and as its estimate times it
+    # (analysis/_cost.py): OpenBLAS's own threads cost 6-20 times the CPU on a shared machine
+    with _batches.one_blas_thread(72 * matrix.shape[-1] ** 2):
+        values, vectors = scipy.linalg.eig(matrix)
     n = form.n_dof
     noise = float(_roots.round_off(matrix))
-    upper = _eigensolve.select_upper(_roots.snapped(values, noise, matrix, vectors, n))
+    snapped = _roots.snapped(values, noise, matrix, vectors, n)
+    upper = _eigensolve.select_upper(snapped)
     # the LAPACK vectors of the chosen eigenvalues (nearest match; values are identical)
     index = [int(np.argmin(np.abs(values - lam))) for lam in upper]
     index = _unique_indices(index, values, upper)
@@ -319,9 +354,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     oscillatory = is_oscillating(upper)
     ratio_noise = _roots.whirl_round_off(upper, values, noise, _eigensolve.REPEATED_TOLERANCE * np.abs(upper).max())
     ratios = np.where(oscillatory, _whirl.whirl_ratios(shapes[None], forms, np.array([speed]))[0], 0.0)
-    rotor_ratios = np.array([_whirl.whirl_ratios(shapes[None], _whirl.rotor_whirl_forms(model, r.name),
-                                                 np.array([speed]))[0] for r in model.rotors]).reshape(
-        len(model.rotors), len(upper)).T * oscillatory[:, None]
+    rotor_ratios = _rotor_whirl_ratios(model, shapes, speed) * oscillatory[:, None]
     freq, zeta, log_dec = modal_quantities(upper)
     layout = model.dofs
     # the split is a flexible rotor's question (and costs a rigid machine's small modal analysis
@@ -336,7 +369,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
         rotor_whirl_ratios=rotor_ratios,
         body_motions=np.array([layout.frame_motion()] + [layout.body_motion(r.name) for r in model.rotors]),
         round_off=noise, whirl_round_off=ratio_noise, dofs=layout if layout.shafts else None,
-        energy_parts=parts, energy_fractions=fractions,
+        energy_parts=parts, energy_fractions=fractions, state_real_roots=int((snapped.imag == 0).sum()),
     )
 
 

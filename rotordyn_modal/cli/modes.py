@@ -17,8 +17,9 @@ HELP = "modal analysis at one speed"
 DESCRIPTION = """Eigenvalues of the machine at one speed of the reference rotor: damped natural
 frequency, damping ratio, log decrement and whirl direction of every oscillating mode. Roots
 that are not modes (real roots: relaxations of rubber mounts, directions without suspension;
-overdamped pairs) are counted on a line of their own. Numbers within the eigen-solve's round-off
-print as 0 (docs/theory.md section 8). A solve estimated over 20 s of CPU time (a flexible
+overdamped pairs) are counted on a line of their own: every real root of the state matrix,
+and how many of them (the half nearest zero) the result keeps beside one root of each pair.
+Numbers within the eigen-solve's round-off print as 0 (docs/theory.md section 8). A solve estimated over 20 s of CPU time (a flexible
 rotor of hundreds of nodes) is announced on stderr with its estimate before it starts, and one
 over the limit of CPU time (30 min, ROTORDYN_MODAL_MAX_CPU_MINUTES) is refused unless
 --allow-long; campbell --lowest N --speeds S:S:1 gives the lowest modes of such a model faster.
@@ -62,10 +63,6 @@ _DEFAULT_BARS = 12
 _ADVICE = "ask for the lowest modes only (campbell --lowest N --speeds S:S:1)"
 #: a solve estimated to take more CPU seconds than this is announced on stderr before it starts
 _NOTICE_SECONDS = 20.0
-#: the state matrix's eigen-solution costs this many times the calibrated random matrix's
-#: (:func:`..analysis._cost.eig_seconds`): 8.3 measured on a 250-element shaft (1,018 states:
-#: ``modal`` 38 s of CPU time, the estimate 4.6 s; 93 % of it in ``scipy.linalg.eig``)
-_STATE_MATRIX_FACTOR = 8.0
 
 
 def add_arguments(parser):
@@ -102,9 +99,10 @@ def run(args) -> int:
     wanted = _mode_list(args.modes) if args.modes is not None else None
     model = open_model(args)
     speed = speed_value(args.speed, args.speed_unit, "--speed")
-    # every root is one dense eigen-solution of the state matrix: a long flexible rotor's takes hours
-    refuse_long_work(model, [speed], critical=False, advice=_ADVICE)
-    _announce_long_solve(model, speed, args)
+    # every root is one dense eigen-solution of the state matrix: a long flexible rotor's takes hours;
+    # the estimate is the sweeps' (analysis/_cost.py), modal's solve run with one BLAS thread as theirs
+    work = refuse_long_work(model, [speed], critical=False, advice=_ADVICE)
+    _announce_long_solve(model, work, args)
     result = modal(model, speed)
     outline = _read_outline(args.outline) if args.outline else None
     view = None
@@ -136,25 +134,26 @@ def run(args) -> int:
     return 0
 
 
-def _announce_long_solve(model, speed, args):
+def _announce_long_solve(model, work, args):
     """Before a long eigen-solution (estimated over :data:`_NOTICE_SECONDS` of CPU time), one
-    line on stderr with its estimate, since LAPACK's single call can show no progress; refuse it
-    (exit 2) where that estimate exceeds the limit of CPU time and --allow-long was not given."""
+    line on stderr with its estimate, since LAPACK's single call can show no progress. The
+    estimate is :func:`..analysis._work.refuse_long_work`'s (``work``, None where it made none),
+    which refused the solve before where it exceeds the limit of CPU time."""
     from ..analysis import _cost, _work
 
+    if args.quiet:
+        return
     n_states = _work._n_states(model)
-    if _STATE_MATRIX_FACTOR * _cost._PESSIMISTIC * n_states ** 3 <= _NOTICE_SECONDS:
-        return                                          # small: no timing at all
-    seconds = _STATE_MATRIX_FACTOR * _work.eig_seconds(n_states)
-    text = (f"one eigen-solution of {n_states:,} states ({model.dofs.n:,} coordinates) with every root: "
-            f"about {_cost.duration(seconds)} of CPU time")
-    limit = _cost.limit_seconds()
-    if seconds > limit and not _cost.long_work_is_allowed():
-        where = f"{model.source}: " if getattr(model, "source", None) else ""
-        raise InputError(f"{where}{text}, more than the limit of {_cost.duration(limit)}: {_ADVICE}, or add "
-                         f"--allow-long ({_cost.ENVIRONMENT} sets the limit)")
-    if seconds > _NOTICE_SECONDS and not args.quiet:
-        print(f"{NAME}: {text} (LAPACK shows no progress; {_ADVICE})", file=sys.stderr, flush=True)
+    if work is None:
+        if _cost._PESSIMISTIC * n_states ** 3 <= _NOTICE_SECONDS:
+            return                                          # small: no timing at all
+        seconds = _work.eig_seconds(n_states)
+    else:
+        seconds = work.sweep_seconds
+    if seconds > _NOTICE_SECONDS:
+        print(f"{NAME}: one eigen-solution of {n_states:,} states ({model.dofs.n:,} coordinates) with every root: "
+              f"about {_cost.duration(seconds)} of CPU time (LAPACK shows no progress; {_ADVICE})",
+              file=sys.stderr, flush=True)
 
 
 def _bars(result, wanted, args):
@@ -209,13 +208,20 @@ def _mode_list(text: str) -> list[int]:
 
 
 def _not_listed(result) -> str:
-    """The roots that are not modes, counted: ``24 real roots (relaxation, rigid-body) and 1
-    overdamped root pair (damping ratio > 0.99)``; empty when every root is a mode."""
+    """The roots that are not modes, counted: ``48 real roots (relaxation, rigid-body; the 24 nearest
+    zero kept as the result's half, docs/theory.md section 8) and 1 overdamped root pair (damping
+    ratio > 0.99)``; empty when every root is a mode. Every real root of the state matrix is
+    counted: the result keeps one root of each conjugate pair, and of the real roots, which have
+    no partner, the half nearest zero."""
     from ..analysis.modal import OVERDAMPED_LIMIT
 
     parts = []
-    if real := int(result.real_roots.sum()):
-        parts.append(f"{real} real root{'s' if real > 1 else ''} (relaxation, rigid-body)")
+    kept = int(result.real_roots.sum())
+    real = kept if result.state_real_roots is None else result.state_real_roots
+    if real:
+        why = (f"; the {kept} nearest zero kept as the result's half, docs/theory.md section 8"
+               if 0 < kept < real else "")
+        parts.append(f"{real} real root{'s' if real > 1 else ''} (relaxation, rigid-body{why})")
     if overdamped := int(result.overdamped.sum()):
         parts.append(f"{overdamped} overdamped root pair{'s' if overdamped > 1 else ''} "
                      f"(damping ratio > {OVERDAMPED_LIMIT})")

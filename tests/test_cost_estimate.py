@@ -140,6 +140,7 @@ def test_a_sweep_is_refused_exactly_where_its_estimate_crosses_the_limit(fan, ca
     assert code == 2 and len(err) == 1, err
     assert f"about {_cost.duration(estimate)} of CPU time (31 eigen-solutions of 32 states" in err[0]
     assert "--allow-long" in err[0] and _work.ENVIRONMENT in err[0]
+    assert "--lowest N" in err[0] and "leave out the critical speeds" not in err[0]   # --no-critical is given
     assert _exit(capsys, argv + ["--allow-long"])[0] == 0
     _limit(monkeypatch, 1.02 * estimate)
     code, err = _exit(capsys, argv)

@@ -23,7 +23,7 @@ import pytest
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _cost, _eigensolve, _work
 from rotordyn_modal.cli import main
-from rotordyn_modal.cli.campbell import LONG_ADVICE
+from rotordyn_modal.cli.campbell import NO_CRITICAL_ADVICE
 from rotordyn_modal.errors import InputError
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -168,7 +168,7 @@ def test_python_and_the_command_line_allow_long_work_by_one_switch(examples_dir,
     model, speeds = rdm.load_model(path), np.array([0.0, 500.0])
     command = ["campbell", path, "--speeds", "0:500:2", "--speed-unit", "rad/s", "--no-critical", "--quiet",
                "--out", "-"]
-    routes = [(lambda: _work.refuse_long_work(model, speeds, critical=False, advice=LONG_ADVICE, memory=True), []),
+    routes = [(lambda: _work.refuse_long_work(model, speeds, critical=False, advice=NO_CRITICAL_ADVICE, memory=True), []),
               (lambda: rdm.campbell(model, speeds, critical=False, modes=4), ["--lowest", "4"])]
     monkeypatch.setenv(_work.ENVIRONMENT, "1e-9")
     for analysis, options in routes:

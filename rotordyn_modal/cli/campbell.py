@@ -51,6 +51,8 @@ examples:
 #: what to do about work over the CPU-time limit
 LONG_ADVICE = ("ask for the lowest modes only (--lowest N, --max-frequency HZ), fewer excitation orders (--orders) "
                "or fewer speeds (--speeds), or leave out the critical speeds (--no-critical)")
+#: the same for a diagram already without its critical speeds (--no-critical)
+NO_CRITICAL_ADVICE = "ask for the lowest modes only (--lowest N, --max-frequency HZ) or fewer speeds (--speeds)"
 
 
 def add_arguments(parser):
@@ -88,8 +90,9 @@ def run(args) -> int:
     speeds, orders = speeds_option(args), tuple(parse_list(args.orders, "--orders"))
     lowest, limit = lowest_option(args.lowest, model), max_frequency_option(args.max_frequency)
     if lowest is None and limit is None:
-        refuse_long_work(model, speeds, orders, critical=not args.no_critical, advice=LONG_ADVICE,
-                         memory=True)
+        # without critical speeds, what is left to advise is the lowest modes and fewer speeds
+        refuse_long_work(model, speeds, orders, critical=not args.no_critical, memory=True,
+                         advice=NO_CRITICAL_ADVICE if args.no_critical else LONG_ADVICE)
     result = campbell(model, speeds, orders=orders, progress=show_progress(args), critical=not args.no_critical,
                       modes=lowest, max_frequency=limit)
     empty = (f"no oscillating modes {speeds_text(args)}: {result.eigenvalues.shape[1]} roots at each speed, all "

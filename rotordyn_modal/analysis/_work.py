@@ -8,6 +8,8 @@ The estimate adds three parts (``docs/theory.md``, "How long a sweep takes"):
   ``t_eig(n_states)`` (:func:`._cost.eig_seconds`): a random matrix of the model's states, or of
   ``_cost._CALIBRATION_STATES`` for larger models, is solved, timed in CPU seconds with one BLAS
   thread (as every dense eigen-solution runs), and scaled by the cube of the size;
+- the brackets the critical speeds sweep again (those crowded with crossings among close roots:
+  ``_SUB_SPEEDS - 2`` more eigen-solutions each, :func:`swept_again`);
 - the critical speeds: the crossings expected (every oscillating mode of the undamped machine
   at rest, frequency ``w``, with every source's order line ``slope |Omega|`` that reaches ``w``
   inside the speed range) times the cost of one crossing, ``_COORDINATE_SECONDS`` per
@@ -39,7 +41,7 @@ from ._cost import _PESSIMISTIC, DEFAULT_MINUTES, ENVIRONMENT, limit_seconds
 from ._cost import duration as _duration
 
 __all__ = ["ENVIRONMENT", "DEFAULT_MINUTES", "Work", "limit_seconds", "eig_seconds", "expected_crossings",
-           "estimate", "refuse_long_work"]
+           "swept_again", "estimate", "refuse_long_work"]
 
 #: CPU seconds per coordinate of one crossing's refinement (measured on the gear chains of
 #: tests/test_large_machine_cli.py: 126, 406 and 2,006 coordinates; 2 cores shared by several jobs)
@@ -103,16 +105,18 @@ def _line_slopes(model, orders) -> np.ndarray:
     return (np.abs(np.asarray(orders, dtype=float))[:, None] * multipliers[None, :]).ravel()
 
 
-def expected_crossings(model, speeds, orders) -> int:
+def expected_crossings(model, speeds, orders, frequencies=False) -> int:
     """Crossings of the undamped machine's frequencies at rest with every order line over
     ``speeds`` [rad/s]: a line of slope ``s`` meets a frequency ``w`` once on each side of zero
     where ``s |Omega|`` passes ``w`` inside that side's range of speeds (the matrices taken at
-    the middle speed of the range; every mode with every line where they cannot be had)."""
+    the middle speed of the range; every mode with every line where they cannot be had).
+    ``frequencies``: :func:`_undamped_frequencies` where the caller has them."""
     slopes = _line_slopes(model, orders)
     if not len(slopes) or not len(orders):
         return 0
     speeds = np.asarray(speeds, dtype=float)
-    frequencies = _undamped_frequencies(model, float(speeds[len(speeds) // 2]))
+    if frequencies is False:
+        frequencies = _undamped_frequencies(model, float(speeds[len(speeds) // 2]))
     if frequencies is None:
         return 2 * model.dofs.n * len(slopes)
     frequencies = np.sort(frequencies[frequencies > 0])
@@ -123,6 +127,33 @@ def expected_crossings(model, speeds, orders) -> int:
         low, high = slopes * side.min(), slopes * side.max()
         count += int((np.searchsorted(frequencies, high) - np.searchsorted(frequencies, low)).sum())
     return count
+
+
+def swept_again(model, speeds, orders, frequencies=False) -> int:
+    """Eigen-solutions of the brackets the critical speeds would sweep again: a bracket of the
+    grid ``speeds`` [rad/s] that holds at least ``critical_speeds._CROWDED`` crossings among
+    close roots is swept again at ``_SUB_SPEEDS`` speeds, ``_SUB_SPEEDS - 2`` more solutions of
+    every root (:func:`.critical_speeds._crowded`); counted here from the crossings each bracket
+    is expected to hold (as :func:`expected_crossings`), every one taken as among close roots
+    (a bound: isolated modes' crossings are refined alone). Deeper sweeps, and those of a jump,
+    are not counted. ``frequencies``: :func:`_undamped_frequencies` where the caller has them."""
+    from .critical_speeds import _CROWDED, _SUB_SPEEDS
+
+    slopes = _line_slopes(model, orders)
+    speeds = np.asarray(speeds, dtype=float)
+    if len(speeds) < 2 or not len(slopes) or not len(orders):
+        return 0
+    if frequencies is False:
+        frequencies = _undamped_frequencies(model, float(speeds[len(speeds) // 2]))
+    if frequencies is None:
+        return (len(speeds) - 1) * (_SUB_SPEEDS - 2)
+    frequencies = np.sort(frequencies[frequencies > 0])
+    a, b = np.abs(speeds[:-1]), np.abs(speeds[1:])
+    low = np.where(speeds[:-1] * speeds[1:] < 0, 0.0, np.minimum(a, b))      # a bracket across zero
+    high = np.maximum(a, b)
+    counts = (np.searchsorted(frequencies, slopes[:, None] * high[None])
+              - np.searchsorted(frequencies, slopes[:, None] * low[None])).sum(axis=0)
+    return int((counts >= _CROWDED).sum()) * (_SUB_SPEEDS - 2)
 
 
 @dataclass(frozen=True)
@@ -137,6 +168,8 @@ class Work:
     sweep_seconds: float
     crossing_seconds: float
     numbers_seconds: float = 0.0
+    swept_again: int = 0
+    """Eigen-solutions of the brackets swept again (:func:`swept_again`), in ``sweep_seconds``"""
 
     @property
     def seconds(self) -> float:
@@ -145,8 +178,9 @@ class Work:
     def text(self) -> str:
         """``about 9.6 h of CPU time (11 eigen-solutions of 4,012 states: 12 min; about 1,000,000
         crossings to refine: 9.4 h)``."""
+        again = f" and {self.swept_again:,} more in brackets swept again" if self.swept_again else ""
         parts = [f"{self.solutions:,} eigen-solution{'s' if self.solutions != 1 else ''} of {self.n_states:,} "
-                 f"states: {_duration(self.sweep_seconds)}"]
+                 f"states{again}: {_duration(self.sweep_seconds)}"]
         if self.crossings:
             parts.append(f"about {self.crossings:,} crossings to refine: {_duration(self.crossing_seconds)}")
         if self.numbers_seconds:
@@ -179,10 +213,15 @@ def estimate(model, speeds, orders=(), critical=True, numbers=False, solutions=N
     n_states = _n_states(model)
     eig = eig_seconds(n_states)
     solutions = len(speeds) if solutions is None else solutions
-    crossings = expected_crossings(model, speeds, orders) if critical else 0
+    crossings = again = 0
+    if critical:
+        speeds = np.asarray(speeds, dtype=float)
+        frequencies = _undamped_frequencies(model, float(speeds[len(speeds) // 2])) if len(speeds) else None
+        crossings = expected_crossings(model, speeds, orders, frequencies)
+        again = swept_again(model, speeds, orders, frequencies)
     per = _crossing_seconds(n_dof, n_states, eig)
-    return Work(n_dof, n_states, solutions, crossings, solutions * eig, crossings * per,
-                crossings * _NUMBERS_SHARE * _cost.EIGVALS_SHARE * eig if numbers else 0.0)
+    return Work(n_dof, n_states, solutions, crossings, (solutions + again) * eig, crossings * per,
+                crossings * _NUMBERS_SHARE * _cost.EIGVALS_SHARE * eig if numbers else 0.0, again)
 
 
 def _quick_bound(model, speeds, orders, critical, numbers, solutions) -> float:
@@ -194,7 +233,11 @@ def _quick_bound(model, speeds, orders, critical, numbers, solutions) -> float:
     lines = len(_line_slopes(model, orders)) if critical else 0
     crossings = 2 * n_dof * lines
     numbers_seconds = crossings * _NUMBERS_SHARE * _cost.EIGVALS_SHARE * eig if numbers else 0.0
-    return solutions * eig + crossings * 3 * _crossing_seconds(n_dof, n_states, eig) + numbers_seconds
+    from .critical_speeds import _SUB_SPEEDS
+
+    again = (_SUB_SPEEDS - 2) * max(len(speeds) - 1, 0) if lines else 0      # every bracket swept again
+    return ((solutions + again) * eig + crossings * 3 * _crossing_seconds(n_dof, n_states, eig)
+            + numbers_seconds)
 
 
 def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, solutions=None,

@@ -400,30 +400,40 @@ def journal_load_shares(weights, stations) -> np.ndarray:
 
 def _continuous_beam_load(bearing, table: Table, mates, rotor, gravity, tables) -> np.ndarray:
     """The load vector [N] on ``bearing``, one of three or more on a flexible rotor: the reaction
-    of the shaft under its weight on rigid supports at the journals (:func:`continuous_beam_loads`)."""
+    of the shaft under its weight on supports at the journals (:func:`continuous_beam_loads`),
+    rigid where the journal stands on the stator or the ground, elastic with the pedestal's
+    stiffness where it stands on a pedestal (the film taken as rigid in both; the pedestal's own
+    weight is carried by its springs, not by the journal, but settles the support)."""
     if not all(b.type == "journal" and b.moment_stiffness is None for b in mates):
         raise table.error("load", "<missing>", f"a static load [N]: rotor {rotor.name!r} has "
                           f"{len(mates)} bearings, so its weight split is statically indeterminate, "
                           "and not all are plain journal bearings without moment_stiffness (docs/static.md)")
     shaft = rotor.flexible
     loads = continuous_beam_loads(shaft, [shaft.z_of(b.position) for b in mates], gravity,
-                                  [_film_weight(tables[b.name]) for b in mates])
+                                  [_film_weight(tables[b.name]) for b in mates],
+                                  [None if b.pedestal is None else b.pedestal.stiffness for b in mates],
+                                  [None if b.pedestal is None else b.pedestal.mass * np.asarray(gravity, dtype=float)
+                                   for b in mates])
     load = loads[[b.name for b in mates].index(bearing.name)]
     weight = rotor.mass * np.linalg.norm(_normal_part(gravity, shaft.axis))
     if not np.linalg.norm(load) > _LEAST_SHARE * weight:
         raise table.error("load", "<missing>", f"a static load [N]: this bearing carries none of rotor "
-                          f"{rotor.name!r}'s weight (the shaft on rigid supports at its journals puts none on it)")
+                          f"{rotor.name!r}'s weight (the shaft on its journals' supports puts none on it)")
     return load
 
 
-def continuous_beam_loads(shaft, stations, gravity, weights=None) -> np.ndarray:
-    """The loads a flexible shaft puts on rigid supports at ``stations`` under its weight: the
+def continuous_beam_loads(shaft, stations, gravity, weights=None, supports=None, pedestal_loads=None) -> np.ndarray:
+    """The loads a flexible shaft puts on supports at ``stations`` under its weight: the
     statically indeterminate continuous beam, solved on the shaft's finite elements.
 
-    The supports hold the two translations normal to the axis at their nodes and nothing else
-    (no tilt, like a short journal). The weight is the consistent load ``M g`` of the shaft,
-    its disks and point masses; with cubic beam elements the reactions of point loads at nodes
-    and of a uniform section's own weight are those of the beam theory exactly.
+    A support holds the two translations normal to the axis at its node and nothing else (no
+    tilt, like a short journal): rigidly, or through a spring (a journal on a pedestal, the film
+    taken as rigid: the pedestal's ``pedestal_stiffness``), which the pedestal's own weight loads
+    too: the pedestal settles by ``k^-1 (R + m_p g)`` under the journal's load ``R`` and its
+    weight, a settlement of the support that moves every reaction. The weight is the consistent load
+    ``M g`` of the shaft, its disks and point masses; with cubic beam elements the reactions of
+    point loads at nodes and of a uniform section's own weight are those of the beam theory
+    exactly (on elastic supports too: the springs act at nodes).
 
     Parameters
     ----------
@@ -434,7 +444,15 @@ def continuous_beam_loads(shaft, stations, gravity, weights=None) -> np.ndarray:
     gravity : array_like, shape (3,)
         [m/s^2], model axes.
     weights : sequence of float, shape (N,), optional
-        How supports at one node share its reaction (default: equally).
+        How rigid supports at one node share its reaction (default: equally).
+    supports : sequence of (ndarray, shape (3, 3), or None), shape (N,), optional
+        Each support's stiffness [N/m], model axes, symmetric, acting on the node's translation
+        normal to the axis (its part along the axis is ignored); None: rigid (the default for
+        every support). At a node held rigidly by one support, its springs carry nothing (their
+        pedestals hang on the shaft there).
+    pedestal_loads : sequence of (array_like, shape (3,), or None), shape (N,), optional
+        The weight [N], model axes, of each elastic support's pedestal (its part normal to the
+        axis counts): a load on the spring, not on the support (None or omitted: none).
 
     Returns
     -------
@@ -446,6 +464,7 @@ def continuous_beam_loads(shaft, stations, gravity, weights=None) -> np.ndarray:
     import scipy.sparse.linalg
 
     z = np.asarray(stations, dtype=float)
+    springs = [None] * len(z) if supports is None else list(supports)
     meshed = with_mesh(shaft, z)
     mesh = meshed.mesh
     M, K = node_matrices(meshed, mesh, kinds=("M", "K"))
@@ -453,21 +472,43 @@ def continuous_beam_loads(shaft, stations, gravity, weights=None) -> np.ndarray:
     g = np.zeros(6 * mesh.n_nodes)
     g.reshape(-1, 6)[:, :3] = np.asarray(gravity, dtype=float)
     force = T.T @ (M @ g)
-    stiffness = (T.T @ K @ T).tocsc()
+    a, b = transverse_axes(shaft.axis)                          # lateral_basis's a, b
+    ab = np.array([a, b])                                       # (2, 3)
     nodes = np.array([mesh.node(s) for s in z])
-    held = np.unique(np.concatenate([4 * nodes, 4 * nodes + 1]))
+    settling = [np.zeros(2) if w is None else ab @ np.asarray(w, dtype=float)
+                for w in ([None] * len(z) if pedestal_loads is None else pedestal_loads)]
+    for node, spring, weight in zip(nodes, springs, settling):
+        if spring is not None:
+            force[[4 * node, 4 * node + 1]] += weight           # on the pedestal, which moves with the node
+    rigid = np.array([k is None for k in springs])
+    lateral = [ab @ np.asarray(k, dtype=float) @ ab.T if k is not None else None for k in springs]
+    stiffness = (T.T @ K @ T + _support_springs(nodes, lateral, 4 * mesh.n_nodes)).tocsc()
+    held = np.unique(np.concatenate([4 * nodes[rigid], 4 * nodes[rigid] + 1])).astype(int)
     free = np.setdiff1d(np.arange(4 * mesh.n_nodes), held)
     q = np.zeros(4 * mesh.n_nodes)
     q[free] = scipy.sparse.linalg.spsolve(stiffness[free][:, free], force[free])
-    on_support = force - stiffness @ q                           # the shaft's push on each held coordinate
+    on_support = force - stiffness @ q                           # the rigid supports' share of each held coordinate
     share = np.ones(len(z)) if weights is None else np.asarray(weights, dtype=float)
-    a, b = transverse_axes(shaft.axis)                          # lateral_basis's a, b
     out = np.zeros((len(z), 3))
     for i, node in enumerate(nodes):
-        together = share[nodes == node]
-        fraction = share[i] / together.sum()
-        out[i] = fraction * (on_support[4 * node] * a + on_support[4 * node + 1] * b)
+        if rigid[i]:
+            together = share[(nodes == node) & rigid]
+            out[i] = share[i] / together.sum() * (on_support[4 * node] * a + on_support[4 * node + 1] * b)
+        else:      # the spring's k u less the pedestal's weight (at a node held rigidly: the weight, hung on the shaft)
+            out[i] = (lateral[i] @ q[[4 * node, 4 * node + 1]] - settling[i]) @ ab
     return out
+
+
+def _support_springs(nodes, lateral, size: int):
+    """The elastic supports' stiffness on the shaft's lateral coordinates, sparse (size, size):
+    each 2x2 ``lateral`` [N/m] (None: a rigid support, nothing added) at its node's two
+    translations (coordinates ``4 node``, ``4 node + 1``)."""
+    import scipy.sparse
+
+    added = [(4 * node + i, 4 * node + j, k[i, j]) for node, k in zip(nodes, lateral) if k is not None
+             for i in range(2) for j in range(2)]
+    rows, columns, values = zip(*added) if added else ((), (), ())
+    return scipy.sparse.coo_matrix((values, (rows, columns)), shape=(size, size))
 
 
 def _film_weight(table: Table) -> float:

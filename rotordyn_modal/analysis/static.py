@@ -14,7 +14,8 @@ frequency, bearings at the operating speed) is solved for the generalized coordi
   ``k = pi viscosity |speed| D L**3 / (8 c**3)`` turned by 90 degrees, the short bearing's
   limit at small eccentricity), which splits a rotor's loads among three or more journal
   bearings as the validation splits a rigid rotor's weight (``_bearing_validation.journal_load_shares``;
-  a flexible rotor's journal loads are its continuous beam on rigid supports, ``continuous_beam_loads``);
+  a flexible rotor's journal loads are its continuous beam on the journals, rigid or on their
+  pedestals' springs, ``continuous_beam_loads``);
   each journal's eccentricity at its load is reported from the full short-bearing solution;
 * each rotor's spin is held at its speed by a drive or a load outside the model (a coupling):
   the moment about its spin axis of the loads on it is taken there (a ``coupling`` load), not

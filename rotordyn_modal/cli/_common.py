@@ -193,7 +193,8 @@ def parse_range(text: str, option: str, largest: float | None = LARGEST) -> np.n
 
 
 def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=("LO", "HI"),
-               example="0:40", wording="rule", largest: float | None = LARGEST) -> tuple[float, float]:
+               example="0:40", wording="rule", largest: float | None = LARGEST,
+               single: bool = False) -> tuple[float, float]:
     """``LO:HI`` -> (LO, HI): the one parser of the band options (``--freq-range``,
     ``--operating-range``, ``--freq-band``), so that each refuses the same inputs the same way.
 
@@ -219,11 +220,13 @@ def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=(
         form first (``expected LO:HI in Hz with 0 <= LO < HI``), the wording ``fit`` has used.
     largest : float or None
         The largest magnitude of LO and HI (None: any finite number).
+    single : bool
+        LO may equal HI (a band of one value: an operating range that is one rated speed).
 
     Returns
     -------
     (float, float)
-        LO < HI, in ``unit``.
+        LO < HI (LO <= HI with ``single``), in ``unit``.
 
     Raises
     ------
@@ -249,8 +252,9 @@ def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=(
     if largest is not None and max(map(abs, values)) > largest:
         raise InputError(f"{option} {shown}: expected {lo} and {hi} of magnitude at most {largest:g} [{unit}]")
     low_value, high_value = values
-    rule = f"{lo} < {hi}" if low is None else f"{low:g} {'<' if low_open else '<='} {lo} < {hi}"
-    if not (low_value < high_value and (low is None or low_value > low or (low_value == low and not low_open))):
+    order = f"{lo} {'<=' if single else '<'} {hi}"
+    rule = order if low is None else f"{low:g} {'<' if low_open else '<='} {order}"
+    if not ((low_value <= high_value if single else low_value < high_value) and (low is None or low_value > low or (low_value == low and not low_open))):
         raise InputError(f"{option} {shown}: expected {rule} [{unit}]" if wording == "rule" else
                          f"{option} {shown}: expected {lo}:{hi} in {unit} with {rule}")
     return low_value, high_value

@@ -26,7 +26,8 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     ``Kyy`` dashed; a constant bearing as vertical lines, bearings of equal stiffness named
     together), with its crossings with the modes marked and their speeds written beside them
     (every one, clear of the curves and of each other); the operating speed range is a grey
-    band. The legend stands below the axes.
+    band, a single operating speed (``LO = HI``) a dashed line named beside it and in the legend.
+    The legend stands below the axes.
 
     Parameters
     ----------
@@ -61,9 +62,7 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     _draw_asymptotes(ax, result, rigid, scale)
     _draw_bearings(ax, result, (scale, unit))
     crossings = _draw_crossings(ax, result, limits, scale)
-    if result.operating is not None:
-        low, high = (s * 30 / np.pi for s in result.operating)
-        ax.axhspan(low, high, color="0.6", alpha=0.25, zorder=0.5, label="operating range")
+    operating = _draw_operating(ax, result.operating, k[0])
     ax.grid(True, which="both", alpha=0.25)
     ax.set_xlabel(f"Bearing radial stiffness, each chosen bearing [{unit}]")
     ax.set_ylabel("Undamped critical speed (forward, 1X of the reference rotor) [rpm]")
@@ -71,8 +70,29 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
                            else "Undamped critical speed map"), fontsize="medium")
     # below the axes: inside, it covered curves and the labels placed among them
     ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1), ncols=3, frameon=False)
-    _place_labels(ax, inside + crossings)
+    _place_labels(ax, inside + crossings + operating)
     return fig
+
+
+#: an operating range narrower than this ratio of its speeds (a single rated speed, LO = HI) is
+#: drawn as a line: a band so thin would not show on the log axis
+THINNEST_BAND = 1.01
+
+
+def _draw_operating(ax, operating, left) -> list:
+    """The operating speed range [rad/s] as a grey band, or a single speed (a range of zero width,
+    or too thin to show) as a dashed line named in the legend and, where it finds room, beside
+    the line (returned as (x, y, text, colour) for :func:`_place_labels`, at the axis's ``left``)."""
+    if operating is None:
+        return []
+    low, high = (s * 30 / np.pi for s in operating)
+    if high > low * THINNEST_BAND:
+        ax.axhspan(low, high, color="0.6", alpha=0.25, zorder=0.5, label="operating range")
+        return []
+    speed = np.sqrt(low * high)
+    text = f"operating speed {low:.0f} rpm" if high == low else f"operating speed {low:.0f} to {high:.0f} rpm"
+    ax.axhline(speed, color="0.35", linestyle="--", linewidth=1.2, zorder=0.6, label=text)
+    return [(left, speed, text, "0.25")]
 
 
 def _place_labels(ax, labels):

@@ -141,3 +141,47 @@ def test_static_tends_to_the_model_loads_with_the_pedestal_as_the_films_stiffen(
         differences.append(np.abs(reactions[:, 2] - loads).max())
     assert differences[1] < 1e-5 * loads.sum()
     assert 50.0 < differences[0] / differences[1] < 200.0
+
+
+def _rigid(pedestals=("j1",), loads=None):
+    """A 50 kg rigid rotor on three journals at -0.4, 0.1 and 0.4 m from its centre of mass."""
+    bearings = []
+    for i, s in enumerate((-0.4, 0.1, 0.4)):
+        bearing = {"name": f"j{i}", "rotor": "r", "position": [s, 0.0, 0.0], "type": "journal", "length": 0.02,
+                   "diameter": 0.05, "clearance": 5e-5, "viscosity": 0.02}
+        if f"j{i}" in pedestals:
+            bearing.update(pedestal_mass=PEDESTAL, pedestal_stiffness=2e6)
+        if loads is not None:
+            bearing["load"] = loads[i]
+        bearings.append(bearing)
+    return rdm.Model.from_dict({
+        "gravity": [0.0, 0.0, -G],
+        "rotors": [{"name": "r", "mass": 50.0, "center_of_mass": [0.0, 0.0, 0.0], "polar_inertia": 0.5,
+                    "diametral_inertia": 2.0, "speed_ratio": 1.0}],
+        "bearings": bearings})
+
+
+def test_a_rigid_rotor_with_a_journal_on_a_pedestal_says_its_split_depends_on_speed():
+    """The films in series with the pedestal: rdm.static's split moves with speed (here the middle
+    journal carries 127 N at 1,000 rpm, 80 N at 3,000 rpm, against the films' 160 N without the
+    pedestal), so no model load holds; one line says so, naming the rotor and the pedestal's journal."""
+    middle = []
+    with pytest.warns(ModelWarning) as caught:
+        model = _rigid()
+    for rpm in (1000.0, 3000.0):
+        reactions = [r.force for r in rdm.static(model, speed=rdm.rpm(rpm)).reactions if r.kind == "bearing"]
+        middle.append(np.linalg.norm(reactions[1]))
+    assert middle[0] - middle[1] > 0.1 * middle[0]
+    lines = [str(w.message) for w in caught if "changes with speed" in str(w.message)]
+    assert len(lines) == 1 and "\n" not in lines[0]
+    assert "rotor 'r' is rigid on 3 journal bearings and 'j1' stands on a pedestal" in lines[0]
+    assert "give each journal's load" in lines[0]
+
+
+@pytest.mark.parametrize("pedestals, loads", [((), None), (("j1",), [180.0, 150.0, 160.0])])
+def test_no_such_line_without_a_pedestal_or_with_every_load_given(pedestals, loads):
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ModelWarning)
+        _rigid(pedestals, loads)

@@ -351,6 +351,7 @@ def _weight_share(bearing, table: Table, mates, rotor, e, tables) -> float:
                                      [(np.asarray(b.position) - np.asarray(rotor.center_of_mass)) @ e
                                       for b in mates])
         share = shares[[b.name for b in mates].index(bearing.name)]
+        _warn_pedestal_split(bearing, table, mates, rotor, tables)
     else:
         centre = np.asarray(rotor.center_of_mass)
         s_self, s_other = ((np.asarray(b.position) - centre) @ e for b in
@@ -361,6 +362,24 @@ def _weight_share(bearing, table: Table, mates, rotor, e, tables) -> float:
                           f"{rotor.name!r}'s weight (" + ("its centre of mass is at the other bearing)"
                                                           if len(mates) == 2 else "its share on the films is 0)"))
     return float(share)
+
+
+def _warn_pedestal_split(bearing, table: Table, mates, rotor, tables) -> None:
+    """One line, once per rotor (at its first journal without a given ``load``), when a rigid
+    rotor on three or more journals has one on a pedestal: the films in series with the
+    pedestal's springs split its weight as their stiffness does, which the film's grows with
+    speed and the pedestal's does not, so no split holds at every speed (docs/static.md)."""
+    on_pedestals = [b.name for b in mates if b.pedestal is not None]
+    unloaded = [b.name for b in mates if "load" not in tables[b.name].data]
+    if not on_pedestals or not unloaded or bearing.name != unloaded[0]:
+        return
+    which = (f"{on_pedestals[0]!r} stands on a pedestal" if len(on_pedestals) == 1
+             else f"{', '.join(map(repr, on_pedestals))} stand on pedestals")
+    warnings.warn(f"{table.source}: [{table.label}] load: rotor {rotor.name!r} is rigid on {len(mates)} journal "
+                  f"bearings and {which}, so the split of its weight changes with speed (the films in series "
+                  "with the pedestals' springs); the journals' loads are the films' split without the pedestals "
+                  "(give each journal's load, e.g. from rdm.static at the operating speed)",
+                  ModelWarning, stacklevel=2)
 
 
 def journal_load_shares(weights, stations) -> np.ndarray:

@@ -73,7 +73,7 @@ def test_a_range_is_still_a_band_and_no_line():
 
 def test_a_reversed_or_negative_operating_range_is_refused_in_python():
     model = _model()
-    for operating in ((rdm.rpm(3000.0), rdm.rpm(2000.0)), (-1.0, 10.0), (1.0, 2.0, 3.0), (np.nan, 1.0)):
+    for operating in ((rdm.rpm(3000.0), rdm.rpm(2000.0)), (-1.0, 10.0), (1.0, 2.0, 3.0), (np.nan, 1.0), (0.0, 0.0)):
         with pytest.raises(rdm.InputError, match="operating = "):
             ucs_map(model, STIFFNESS, modes=2, operating=operating)
 
@@ -87,6 +87,9 @@ def test_command_line_takes_one_rated_speed(tmp_path, capsys):
     assert main(base + ["--operating-range", "3000:2000"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--operating-range '3000:2000': expected 0 <= LO <= HI [rpm]" in err[0]
+    assert main(base + ["--operating-range", "0:0"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--operating-range '0:0': expected HI > 0 [rpm]" in err[0]
 
 
 @pytest.mark.parametrize("operating, drawn", [(None, "the operating speed (3000 rpm) as a dashed line"),

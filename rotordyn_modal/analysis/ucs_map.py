@@ -206,7 +206,7 @@ def ucs_map(model, stiffness, modes: int = 4, bearings=None, speeds=None, operat
         Reference speeds at which the speed-dependent bearings' own stiffness is drawn (default:
         over the map's critical speeds, a table's rows limiting it).
     operating : (float, float) [rad/s], optional
-        Operating speed range, 0 <= low <= high (drawn as a band; low = high, one rated speed, as
+        Operating speed range, 0 <= low <= high, high > 0 (drawn as a band; low = high, one rated speed, as
         a line).
 
     Returns
@@ -246,13 +246,13 @@ def _ucs_map(model, chosen, stiffness, modes, speeds, operating) -> UcsMap:
 
 
 def _check_operating(operating):
-    """``operating`` as (low, high) [rad/s], 0 <= low <= high (None stays None)."""
+    """``operating`` as (low, high) [rad/s], 0 <= low <= high, high > 0 (None stays None)."""
     if operating is None:
         return None
     band = _arguments.values(operating, "operating", "rad/s", non_negative=True)
-    if band.shape != (2,) or not band[0] <= band[1]:
+    if band.shape != (2,) or not band[0] <= band[1] or not band[1] > 0:
         raise InputError(f"operating = {_arguments._shown(operating)}: expected (low, high) [rad/s] with "
-                         "0 <= low <= high (low = high: one rated speed)")
+                         "0 <= low <= high and high > 0 (low = high: one rated speed)")
     return tuple(float(s) for s in band)
 
 

@@ -104,10 +104,12 @@ def _modes(text, option="--lowest"):
 
 def _operating(args, low_open=False):
     """--operating-range LO:HI [--speed-unit] -> (low, high) [rad/s], LO <= HI (LO = HI: one rated
-    speed); LO > 0 with ``low_open``."""
+    speed), HI > 0; LO > 0 with ``low_open``."""
     option = as_typed(args, "--operating-range")
     band = parse_band(args.operating, option, args.speed_unit, low_open=low_open, example="1000:3000",
                       largest=None, single=True)
+    if not band[1] > 0:
+        raise InputError(f"{option} {args.operating!r}: expected HI > 0 [{args.speed_unit}]")
     return tuple(check_speeds(np.array(band), args.operating, args.speed_unit, option))
 
 

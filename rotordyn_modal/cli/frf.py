@@ -6,6 +6,7 @@ import argparse
 
 import numpy as np
 
+from ..analysis.spectra import QUANTITY_OF_RESPONSE
 from ..errors import InputError
 from ..units import FRF_OUTPUT_KINDS, ratio_scale
 from ._common import (IN_SPEED_UNIT, NAME_LIST_HELP, add_alias, add_input_file, add_model_argument, add_outputs,
@@ -16,9 +17,10 @@ NAME = "frf"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
 API_NAMES = {"speed": "--speed"}
 HELP = "frequency response from excitations to sensors (or forces), over measured data"
-#: --quantity's words (``frf`` and ``unbalance``): the motion a sensor reads -> the FRF of that
-#: motion per unit force, either word accepted by both commands (docs/frf-and-measurement.md)
-QUANTITIES = {"displacement": "receptance", "velocity": "mobility", "acceleration": "accelerance"}
+#: --quantity's words (``frf`` and ``unbalance``, and the study file's ``quantity``): the motion a
+#: sensor reads -> the FRF of that motion per unit force, either word accepted by both commands
+#: (docs/frf-and-measurement.md); one table, :data:`~rotordyn_modal.analysis.spectra.QUANTITY_OF_RESPONSE`
+QUANTITIES = QUANTITY_OF_RESPONSE
 QUANTITY_METAVAR = "displacement|velocity|acceleration"
 QUANTITY_HELP = "(or the FRF's name of it: receptance, mobility, accelerance)"
 DESCRIPTION = """Frequency response functions at one speed of the reference rotor, from the

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..analysis.spectra import QUANTITY_OF_RESPONSE
 from ..errors import InputError
 from .channels import assemble
 from .unit_labels import is_none, parse_unit, quantity_of
@@ -61,7 +62,7 @@ _EXPONENTS = {0: ((0, 0), (0, 0)), 8: ((1, 0), (0, 0)), 9: ((0, 1), (1, 1)), 11:
 _PART_NAMES = {"ordinate": "ordinate", "orddenom": "denominator"}
 _FRF_ORDINATES = (0, 1, 8, 11, 12)
 _FORCE_DENOMINATORS = (0, 1, 9, 13)
-_FRF_OF = {"displacement": "receptance", "velocity": "mobility", "acceleration": "accelerance"}
+_FRF_OF = QUANTITY_OF_RESPONSE
 
 
 def write_uff58(results, path, mapping, binary: bool | None = None, inputs=()) -> None:

@@ -273,6 +273,15 @@ NAME_LIST_HELP = ("comma-separated; a name holding ',' is given whole, or quoted
                   "commas escaped (a\\,b)")
 
 
+def add_sensor_argument(parser) -> None:
+    """``--sensor NAME[,NAME]`` (the sensors of ``frf`` and ``unbalance``, default all; read as
+    ``args.output`` by :func:`parse_names`), with its earlier spelling ``--output`` kept hidden
+    (:func:`add_alias`)."""
+    parser.add_argument("--sensor", dest="output", metavar="NAME[,NAME]",
+                        help=f"sensor name(s), {NAME_LIST_HELP} (default all)")
+    add_alias(parser, "--sensor", "--output")
+
+
 def parse_names(text, option: str, known=None) -> list[str] | None:
     """The names of a comma-separated list option (``--sensor a,b``), where a name may itself
     hold commas (model names are any text).

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -317,6 +318,9 @@ def _column_kinds(result, definition, model, system):
     quantity = definition.analyses.get("unbalance", {}).get("quantity")
     if quantity:
         kinds |= {column: quantity for column in result.scalar_outputs() if column.startswith("unbalance_peak_amplitude")}
+    # the force rows of [analyses.unbalance] forces: force_peak_amplitude[mount-FL:Fx,fan] (N), ...:Mx (N m)
+    kinds |= {column: "moment" if re.search(r":M[xyz],", column) else "force"
+              for column in result.scalar_outputs() if column.startswith("force_peak_amplitude[")}
     return _Kinds(kinds, system)
 
 
@@ -353,7 +357,7 @@ def _summary_in_units(table, kinds):
     return table
 
 
-_SPEEDS = ("critical_speed", "threshold_speed", "instability_speed", "unbalance_peak_speed")
+_SPEEDS = ("critical_speed", "threshold_speed", "instability_speed", "unbalance_peak_speed", "force_peak_speed")
 
 
 def _in_rpm(table):

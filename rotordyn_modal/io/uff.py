@@ -171,6 +171,12 @@ def read_uff58(path, model, mapping):
     e.g. ``m/s^2`` over ``N``, ``g/lbf``, ``(1/N)*(m/s²)``; see :mod:`.unit_labels`), or, where
     the labels are ``NONE``, from its specific data types with the dataset 164 unit factors.
 
+    The FRFs (function type 4) and the coherence of their pairs (6) are read; the file's other
+    dataset 58 sets (time records, PSDs, auto- and cross-spectra beside their pair's FRF, ...) are
+    skipped with one warning naming their places, function types and nodes. A file without an FRF
+    is refused naming what it holds (with time records: how FRFs are computed from them), and so
+    is an auto- or cross-spectrum of a pair without its FRF.
+
     Parameters
     ----------
     path : path-like
@@ -183,17 +189,18 @@ def read_uff58(path, model, mapping):
     """
     sets = _read_sets(path)
     units = _file_units(path)
-    frfs = [s for s in sets if s.get("func_type") == _FRF]
+    frfs = [s for s in sets if _function_type(s) == _FRF]
     if not frfs:
-        kinds = sorted({int(s.get("func_type", -1)) for s in sets})
-        raise InputError(f"{path}: no FRF (dataset 58, function type 4) in the file; function types found: {kinds}")
+        raise InputError(_no_frf_line(path, sets))
     read = [_frf_units(s, units, path) for s in frfs]
     quantities = sorted({q for q, _ in read})
     if len(quantities) != 1:
         raise InputError(f"{path}: the FRFs hold {', '.join(quantities)}: expected one quantity in a file")
     quantity = quantities[0]
     _refuse_lone_spectra(sets, frfs, path)
-    coherence = {_key(s): np.real(np.asarray(s["data"])) for s in sets if s.get("func_type") == _COHERENCE}
+    pairs = {_key(s) for s in frfs}
+    coherence = {_key(s): np.real(np.asarray(s["data"])) for s in sets if _is_frf_coherence(s, pairs)}
+    skipped = [s for s in sets if _function_type(s) != _FRF and not _is_frf_coherence(s, pairs)]
     parts = []
     for s, (_, factor) in zip(frfs, read):
         _check_set(s, path)
@@ -211,17 +218,51 @@ def read_uff58(path, model, mapping):
     records = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
     if not coherence:
         records["coherence"] = None
-    return assemble(records, model, quantity, str(path))
+    result = assemble(records, model, quantity, str(path))
+    if skipped:       # warned once the FRFs are read: a refused file gets its one error line alone
+        import warnings
+
+        warnings.warn(_skipped_frf_line(path, len(frfs), bool(coherence), skipped), stacklevel=3)
+    return result
 
 
 #: dataset 58 function types that hold a pair's spectrum, not its FRF
 _SPECTRA = {2: "auto-spectrum", 3: "cross-spectrum"}
 
 
+def _is_frf_coherence(s, pairs) -> bool:
+    """A coherence set (function type 6) of a pair, speed included, whose FRF the file holds."""
+    return _function_type(s) == _COHERENCE and _key(s) in pairs
+
+
+def _no_frf_line(path, sets) -> str:
+    """The line refusing a file of dataset 58 sets none of which is an FRF: what it holds, and,
+    where it holds time records, how FRFs are computed from them."""
+    kinds = sorted({_function_type(s) for s in sets})
+    line = (f"{path}: no FRF (dataset 58, function type 4) in the file; function types found: {kinds}: "
+            f"{_by_function(sets)}")
+    if any(_is_time_record(s) for s in sets):
+        line += (": time records are no FRFs; compute the FRFs from them in Python, rdm.estimate_frf("
+                 "rdm.read_uff_time_records(FILE, mapping, speed), inputs, outputs, estimator='H1' or 'H2'), and write "
+                 "them with rdm.write_measured_csv(frfs, FILE.csv) for --measured (docs/frf-and-measurement.md, "
+                 "'From time records')")
+    return line
+
+
+def _skipped_frf_line(path, count: int, with_coherence: bool, skipped) -> str:
+    """One line naming the dataset 58 sets an FRF file holds beside its FRFs and their coherence."""
+    frfs = "the FRF" if count == 1 else f"the {count} FRFs"
+    read = f"{frfs} (dataset 58, function type 4){' and their coherence' if with_coherence else ''}"
+    note = "only FRFs and the coherence of an FRF's pair are read"
+    if any(_is_time_record(s) for s in skipped):
+        note += "; FRFs are computed from time records by rdm.estimate_frf"
+    return _skipped_line(path, read, "FRF", skipped, note)
+
+
 def _refuse_lone_spectra(sets, frfs, path):
     """Refuse a spectrum (function type 2 or 3) of a response/reference pair that has no FRF in
     the file: it was skipped without a word and the pair read as NaN. Beside its pair's FRF (as
-    analysers export both) it is extra data and is left unread."""
+    analysers export both) it is extra data, left unread and named in the reader's warning."""
     pairs = {_key(s) for s in frfs}
     for s in sets:
         kind = int(s.get("func_type", -1))
@@ -683,7 +724,10 @@ def read_uff_time_records(path, mapping=None, speed: float = 0.0, units=None):
     if skipped:
         import warnings
 
-        warnings.warn(_skipped_line(path, len(found), skipped), stacklevel=2)
+        records = "the time record" if len(found) == 1 else f"the {len(found)} time records"
+        warnings.warn(_skipped_line(path, f"{records} (dataset 58, function type 1)", "time record", skipped,
+                                    "spectra and FRFs are computed from the time records: rdm.estimate_frf"),
+                      stacklevel=2)
     file_units = _units(sets, path)
     rate, channels = None, []
     for s in found:
@@ -791,12 +835,25 @@ def _holdings(sets, types) -> str:
     return f"no dataset 58 at all; datasets found: {named or 'none'}"
 
 
-def _skipped_line(path, count: int, skipped) -> str:
-    """One line naming the dataset 58 sets a time-record file holds beside its time records."""
-    records = "the time record" if count == 1 else f"the {count} time records"
-    return (f"{path}: read {records} (dataset 58, function type 1) and skipped {len(skipped)} dataset 58 "
-            f"{'set' if len(skipped) == 1 else 'sets'} of no time record: {_by_function(skipped)} (spectra and "
-            "FRFs are computed from the time records: rdm.estimate_frf)")
+def _skipped_line(path, read: str, kind: str, skipped, note: str) -> str:
+    """One line naming the dataset 58 sets a reader skipped beside those it read (the time records'
+    and the FRFs' readers).
+
+    Parameters
+    ----------
+    path : path-like
+    read : str
+        What was read, ``'the 2 time records (dataset 58, function type 1)'``.
+    kind : str
+        What the skipped sets are not, ``'time record'``.
+    skipped : list of dict
+        The skipped sets (pyuff's, with their places ``_dataset``).
+    note : str
+        Why they were skipped, in parentheses at the end.
+    """
+    sets = "set" if len(skipped) == 1 else "sets"
+    return (f"{path}: read {read} and skipped {len(skipped)} dataset 58 {sets} of no {kind}: "
+            f"{_by_function(skipped)} ({note})")
 
 
 def _samples(s, path) -> np.ndarray:

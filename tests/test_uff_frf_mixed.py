@@ -181,3 +181,25 @@ def test_the_advice_of_the_refusal_gives_a_file_frf_reads(tmp_path, time_file):
     rdm.write_measured_csv([frfs], tmp_path / "frf.csv")
     assert main(["frf", str(GEAR), *FRF_ARGS, "--quantity", "accelerance", "--measured", str(tmp_path / "frf.csv"),
                  "--out", str(tmp_path / "model.csv"), "--quiet"]) == 0
+
+
+@pytest.mark.parametrize("reader", ["time records", "FRFs"])
+def test_a_refused_mixed_file_draws_its_error_alone(tmp_path, frf_file, reader):
+    """The warning naming the skipped sets comes once the file is read: a file refused for what its
+    read sets hold (a time record or an FRF in volts) gets its one error line and no warning beside it
+    (the time-record reader warned first, then refused: two lines on the command line)."""
+    forces, responses = _impact_records()
+    sets = pyuff.UFF(str(frf_file)).read_sets()
+    frfs = [sets] if isinstance(sets, dict) else list(sets)
+    if reader == "time records":
+        responses[0]["ordinate_axis_units_lab"] = "V"
+    else:
+        frfs[0]["ordinate_axis_units_lab"] = "V"
+    path = _write(tmp_path / "mixed.uff", [forces[0], responses[0], *frfs])
+    read = {"time records": rdm.read_uff_time_records,
+            "FRFs": lambda p: read_measured(p, rdm.load_model(GEAR))}[reader]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with pytest.raises(InputError, match="ordinate unit 'V' is not understood"):
+            read(path)
+    assert [str(w.message) for w in caught] == []

@@ -721,13 +721,6 @@ def read_uff_time_records(path, mapping=None, speed: float = 0.0, units=None):
     found, skipped = _time_sets(sets)
     if not found:
         raise InputError(f"{path}: no time record (dataset 58, function type 1) in the file; {_holdings(sets, types)}")
-    if skipped:
-        import warnings
-
-        records = "the time record" if len(found) == 1 else f"the {len(found)} time records"
-        warnings.warn(_skipped_line(path, f"{records} (dataset 58, function type 1)", "time record", skipped,
-                                    "spectra and FRFs are computed from the time records: rdm.estimate_frf"),
-                      stacklevel=2)
     file_units = _units(sets, path)
     rate, channels = None, []
     for s in found:
@@ -746,6 +739,13 @@ def read_uff_time_records(path, mapping=None, speed: float = 0.0, units=None):
         label = f"{len(channels) + 1} ({entity!r}, {str(s.get('id1', '')).strip()!r})"     # for messages
         channels.append((key, quantity, _samples(s, path) * float(factor), label))
     names, quantities, signals = _arrange(channels, mapping, path)
+    if skipped:       # warned once the records are read: a refused file gets its one error line alone
+        import warnings
+
+        records = "the time record" if len(found) == 1 else f"the {len(found)} time records"
+        warnings.warn(_skipped_line(path, f"{records} (dataset 58, function type 1)", "time record", skipped,
+                                    "spectra and FRFs are computed from the time records: rdm.estimate_frf"),
+                      stacklevel=2)
     return TimeRecords(signals=signals, sampling_rate_hz=float(rate), channels=tuple(names),
                        quantities=tuple(quantities), speed=float(speed))
 

@@ -152,7 +152,8 @@ def test_a_file_of_time_records_alone_is_refused_saying_how_to_get_frfs(time_fil
     assert "\n" not in message and str(time_file) in message
     assert "no FRF (dataset 58, function type 4) in the file" in message
     assert "function type 1 (time response): datasets 1, 2, 3, 4 at 101:+3, 1:+3" in message
-    for words in ("rdm.estimate_frf(rdm.read_uff_time_records(FILE, mapping, speed)", "rdm.write_measured_csv"):
+    for words in ("frf = rdm.estimate_frf(rdm.read_uff_time_records(FILE, mapping, speed)",
+                  "rdm.write_measured_csv([frf], FILE.csv)"):
         assert words in message, (words, message)
 
 
@@ -174,11 +175,11 @@ def test_the_advice_of_the_refusal_gives_a_file_frf_reads(tmp_path, time_file):
     model = rdm.load_model(GEAR)
     records = rdm.read_uff_time_records(time_file, default_mapping(model), speed=rdm.rpm(600.0))
     assert records.channels == ("hammer-z", "acc-top-z")
-    frfs = rdm.estimate_frf(records, ["hammer-z"], ["acc-top-z"], estimator="H1")
+    frf = rdm.estimate_frf(records, ["hammer-z"], ["acc-top-z"], estimator="H1")
     force, response = records.signals[0]
     expected = np.fft.rfft(response) / np.fft.rfft(force)
-    np.testing.assert_allclose(frfs.H[0, 0], expected[1:], rtol=1e-9)
-    rdm.write_measured_csv([frfs], tmp_path / "frf.csv")
+    np.testing.assert_allclose(frf.H[0, 0], expected[1:], rtol=1e-9)
+    rdm.write_measured_csv([frf], tmp_path / "frf.csv")
     assert main(["frf", str(GEAR), *FRF_ARGS, "--quantity", "accelerance", "--measured", str(tmp_path / "frf.csv"),
                  "--out", str(tmp_path / "model.csv"), "--quiet"]) == 0
 

@@ -242,9 +242,9 @@ def _no_frf_line(path, sets) -> str:
     line = (f"{path}: no FRF (dataset 58, function type 4) in the file; function types found: {kinds}: "
             f"{_by_function(sets)}")
     if any(_is_time_record(s) for s in sets):
-        line += (": time records are no FRFs; compute the FRFs from them in Python, rdm.estimate_frf("
+        line += (": time records are no FRFs; compute the FRFs from them in Python, frf = rdm.estimate_frf("
                  "rdm.read_uff_time_records(FILE, mapping, speed), inputs, outputs, estimator='H1' or 'H2'), and write "
-                 "them with rdm.write_measured_csv(frfs, FILE.csv) for --measured (docs/frf-and-measurement.md, "
+                 "them with rdm.write_measured_csv([frf], FILE.csv) for --measured (docs/frf-and-measurement.md, "
                  "'From time records')")
     return line
 

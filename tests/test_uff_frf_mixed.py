@@ -5,7 +5,8 @@ cross-spectra beside the FRFs and coherence. ``read_measured`` (``frf --measured
 warning (they were skipped without a word); a file of time records alone is refused in one line
 that says what it holds and how FRFs are computed from it (it was refused as 'function types
 found: [1]'), and following that advice gives a file ``frf --measured`` reads. A spectrum of a pair
-without its FRF is still refused (``tests/test_input_families6.py``)."""
+without its FRF is still refused (``tests/test_input_families6.py``), while auto-spectra (one
+channel's power, never an FRF's pair) beside FRFs are skipped and named."""
 
 from __future__ import annotations
 
@@ -74,8 +75,8 @@ def frf_file(tmp_path_factory):
 def analyser_export(frf_file, tmp_path_factory):
     """Time records first (datasets 1-4: two hits of hammer and response, as a recorder interleaves
     them), then the four FRFs (5-8), then a cross-spectrum of a pair whose FRF is there (9), a
-    coherence of a pair that has none (10) and a PSD (11). (An auto-spectrum, of a pair that is
-    never an FRF's, is refused as a spectrum in place of an FRF: ``tests/test_input_families6.py``.)"""
+    coherence of a pair that has none (10) and a PSD (11). (Auto-spectra beside the FRFs:
+    ``test_auto_spectra_beside_the_frfs_are_skipped_and_named``.)"""
     forces, responses = _impact_records()
     sets = pyuff.UFF(str(frf_file)).read_sets()
     frfs = [sets] if isinstance(sets, dict) else list(sets)
@@ -204,3 +205,33 @@ def test_a_refused_mixed_file_draws_its_error_alone(tmp_path, frf_file, reader):
         with pytest.raises(InputError, match="ordinate unit 'V' is not understood"):
             read(path)
     assert [str(w.message) for w in caught] == []
+
+
+def test_auto_spectra_beside_the_frfs_are_skipped_and_named(frf_file, tmp_path):
+    """An analyser exports the FRFs with the auto-spectra of the hammer and of each response they
+    were computed from (function type 2, each channel referred to itself). The FRFs are read bit
+    for bit as from the file of FRFs alone, and the two auto-spectra are named in the one warning
+    (the reader refused the whole file as 'a spectrum of a pair without its FRF')."""
+    model = rdm.load_model(GEAR)
+    plain, = read_measured(frf_file, model)
+    sets = pyuff.UFF(str(frf_file)).read_sets()
+    frfs = [sets] if isinstance(sets, dict) else list(sets)
+    power = np.abs(np.random.default_rng(2).normal(size=5)) + 0j
+    autos = [_spectrum(2, 101, 3, 101, 3, power, ordinate=13, denominator=13),
+             _spectrum(2, 1, 3, 1, 3, power, ordinate=12, denominator=12)]
+    path = _write(tmp_path / "autos.uff", [*frfs, *autos])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mixed, = read_measured(path, model)
+    np.testing.assert_array_equal(mixed.H, plain.H)
+    assert len(caught) == 1, [str(w.message) for w in caught]
+    line = str(caught[0].message)
+    assert "skipped 2 dataset 58 sets" in line and "function type 2 (auto-spectrum): datasets 5, 6" in line, line
+
+
+def test_auto_spectra_alone_are_refused_naming_what_the_file_holds(tmp_path):
+    """Auto-spectra without any FRF: no FRF to read, refused in one line naming the function type."""
+    power = np.abs(np.random.default_rng(3).normal(size=5)) + 0j
+    path = _write(tmp_path / "only_autos.uff", [_spectrum(2, 1, 3, 1, 3, power, ordinate=12, denominator=12)])
+    with pytest.raises(InputError, match=r"no FRF .*function type 2 \(auto-spectrum\)"):
+        read_measured(path, rdm.load_model(GEAR))

@@ -172,10 +172,10 @@ def read_uff58(path, model, mapping):
     the labels are ``NONE``, from its specific data types with the dataset 164 unit factors.
 
     The FRFs (function type 4) and the coherence of their pairs (6) are read; the file's other
-    dataset 58 sets (time records, PSDs, auto- and cross-spectra beside their pair's FRF, ...) are
-    skipped with one warning naming their places, function types and nodes. A file without an FRF
-    is refused naming what it holds (with time records: how FRFs are computed from them), and so
-    is an auto- or cross-spectrum of a pair without its FRF.
+    dataset 58 sets (time records, PSDs, auto-spectra, cross-spectra beside their pair's FRF, ...)
+    are skipped with one warning naming their places, function types and nodes. A file without an
+    FRF is refused naming what it holds (with time records: how FRFs are computed from them), and
+    so is a cross-spectrum of a pair without its FRF.
 
     Parameters
     ----------
@@ -260,13 +260,17 @@ def _skipped_frf_line(path, count: int, with_coherence: bool, skipped) -> str:
 
 
 def _refuse_lone_spectra(sets, frfs, path):
-    """Refuse a spectrum (function type 2 or 3) of a response/reference pair that has no FRF in
-    the file: it was skipped without a word and the pair read as NaN. Beside its pair's FRF (as
-    analysers export both) it is extra data, left unread and named in the reader's warning."""
+    """Refuse a cross-spectrum (function type 3) of a response/reference pair that has no FRF in
+    the file: it was skipped without a word and the pair read as NaN, and a cross-spectrum in
+    place of an FRF is most likely the wrong export. Beside its pair's FRF (as analysers export
+    both) it is extra data, left unread and named in the reader's warning. An auto-spectrum
+    (function type 2) is one channel's power, never an FRF's pair: beside FRFs (the force's and
+    the responses' auto-spectra, from which an analyser computed them) it is skipped and named
+    alike; a file of spectra without any FRF is refused by ``_no_frf_line``."""
     pairs = {_key(s) for s in frfs}
     for s in sets:
         kind = int(s.get("func_type", -1))
-        if kind in _SPECTRA and _key(s) not in pairs:
+        if kind == 3 and _key(s) not in pairs:
             raise InputError(f"{path}: dataset {s.get('_dataset', '?')} ({s.get('rsp_node')}:{s.get('rsp_dir')} / "
                              f"{s.get('ref_node')}:{s.get('ref_dir')}): function type {kind} ({_SPECTRA[kind]}) is "
                              "not an FRF (function type 4), and the file has no FRF of that pair: export the FRF")

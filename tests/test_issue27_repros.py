@@ -7,7 +7,10 @@ an engineer reads") found still wrong on re-running them, each as the issue word
   were stored in LAPACK's real eigenvector array);
 * §1.8, a study worker killed from outside (what the out-of-memory killer does): the study
   computed the chunks left, wrote its results, and then never ended (the broken pool waited
-  for its other worker, which ignores SIGTERM so that the study's parent stops it).
+  for its other worker, which ignores SIGTERM so that the study's parent stops it);
+* §1.1, a free direction's double zero root split by round-off: the gear machine on one vertical
+  spring listed an undamped "mode 1" at 5e-8 Hz on this machine's OpenBLAS (the zero-root test
+  allowed the stiffness rows one round-off, not what the damping rows carry into them).
 """
 
 from __future__ import annotations
@@ -153,3 +156,31 @@ def test_a_study_whose_worker_is_killed_ends_with_its_results(tmp_path):
     lines = err.strip().splitlines()
     assert len(lines) == 1 and "warning: a worker process died" in lines[0], err
     assert out.exists() and not (tmp_path / "r.nc.partial").exists()
+
+
+# ------------------------------------------------------------------------- §1.1: a free direction
+@pytest.mark.parametrize("seed", range(5))
+def test_a_free_directions_split_pair_is_a_zero_root_whatever_the_perturbation(seed):
+    """Two coordinates, M = I: the first free (no stiffness, no damping), the second on a spring
+    k and a damper c. A perturbation E of the state matrix of the size of the solve's round-off
+    (what LAPACK may add) splits the first's double zero root into a pair near sqrt(||E||); the
+    second's damping carries E into the stiffness rows, ``||A_vq phi|| ~ c ||E||`` (here 1000
+    round-offs), so a bound of one round-off made the pair an undamped "mode" (on this machine's
+    OpenBLAS, tests/test_root_scales.py's gear machine on one spring). The pair is a zero root
+    and the second coordinate's two real roots are not."""
+    from rotordyn_modal.analysis import _roots
+
+    k, c = 1.0e4, 1.0e3
+    a = np.zeros((4, 4))
+    a[0, 2] = a[1, 3] = 1.0
+    a[3, 1], a[3, 3] = -k, -c
+    rng = np.random.default_rng(seed)
+    e = rng.standard_normal((4, 4))
+    perturbed = a + float(_roots.round_off(a)) * e / np.linalg.norm(e)
+    noise = np.asarray(_roots.round_off(perturbed))
+    values, vectors = scipy.linalg.eig(perturbed)
+    small = np.abs(values) < 1.0
+    assert small.sum() == 2 and np.all(np.abs(values[small]) > noise)     # the split pair, above the round-off
+    zero = _roots.zero_roots(values, noise, perturbed, vectors, 2)
+    assert zero[small].all() and not zero[~small].any()
+    np.testing.assert_allclose(np.sort(values[~small].real), np.sort(_real_roots(1.0, c, k)), rtol=1e-9)

@@ -225,6 +225,22 @@ def _workers(args, attempt: int = 1) -> int:
     return workers if attempt == 1 else max(1, workers // 2)
 
 
+def _broken_pool():
+    from concurrent.futures.process import BrokenProcessPool
+
+    return BrokenProcessPool
+
+
+def _end_workers(pool):
+    """Kill the workers a broken ``pool`` still has (SIGKILL). They ignore SIGTERM, left to the
+    study's parent (``worker_initializer``), so the pool's own SIGTERM leaves them running: a
+    worker busy when another died then waits forever to send a result (over a pipe's 64 kB)
+    that no one reads, and the pool waits for it, so the study never ended once its results
+    were written."""
+    for worker in list((getattr(pool, "_processes", None) or {}).values()):
+        worker.kill()
+
+
 class _executor:
     """Context manager: None, a process pool, or a dask.distributed executor."""
 
@@ -256,6 +272,8 @@ class _executor:
 
     def __exit__(self, kind, value, traceback):
         if self.pool is not None:
+            if kind is not None and issubclass(kind, _broken_pool()):
+                _end_workers(self.pool)
             self.pool.shutdown(wait=kind is None, cancel_futures=True)
         if self.client is not None:
             self.client.close()

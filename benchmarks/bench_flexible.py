@@ -32,9 +32,12 @@ min / median / max, their CPU ratio, the peak traced memory of one more run of e
 relative difference of the N lowest roots from the dense floor's, and at the end the growth
 exponent of each (the log-log slope of CPU time against the model's coordinates, between
 consecutive sizes and by least squares over all). The dense floor's cost per speed is the same at
-every speed, so above ``--dense-speeds`` speeds (default 201) it is timed on that many of the
-speeds, evenly picked, and its time scaled by (speeds / dense speeds) -- a chunked dense solve
-(chunks of that many speeds) -- and the output says so; its peak memory is that of one chunk.
+every speed, so above ``--dense-speeds`` speeds (default 201; one number, or one per size) it is
+timed on that many of the speeds, evenly picked, and its time scaled by (speeds / dense speeds) --
+a chunked dense solve (chunks of that many speeds) -- and the output says so; its peak memory is
+that of one chunk, printed beside the size of the stack of all speeds' state matrices that one
+batched eig of every speed would hold. Run it with ``OPENBLAS_NUM_THREADS=1`` on a shared machine:
+CPU time is then the work (BLAS threads waiting for a core spin, and count).
 
 Usage::
 
@@ -43,7 +46,7 @@ Usage::
     python benchmarks/bench_flexible.py --long 500,1000 [--speeds 11] [--repeat 3] [--dense-nodes 1100]
                                         [--cases matrices,check,campbell,critical,frf,unbalance]
     python benchmarks/bench_flexible.py --coordinates 20,100,400 [--in-casing none|gear] [--speeds 201]
-                                        [--modes 12] [--repeat 3] [--dense-speeds 201]
+                                        [--modes 12] [--repeat 3] [--dense-speeds 201[,201,21]]
 """
 
 from __future__ import annotations
@@ -221,19 +224,24 @@ def _slopes(sizes, times):
 def _coordinates(args):
     """The ``--coordinates`` benchmark (see the module docstring)."""
     speeds = np.linspace(0.0, 1500.0, args.speeds)
-    picked = np.unique(np.round(np.linspace(0, args.speeds - 1, min(args.dense_speeds, args.speeds))).astype(int))
-    scale = args.speeds / len(picked)
+    sizes_asked = [int(x) for x in args.coordinates.split(",")]
+    chunks = [int(x) for x in str(args.dense_speeds).split(",")]
+    chunks = chunks + chunks[-1:] * (len(sizes_asked) - len(chunks))
     casing = {"none": "alone (grounded)", "gear": "in the gear machine's casing"}[args.in_casing]
     print(f"fan shaft {casing}; {args.speeds} speeds 0-1500 rad/s, lowest {args.modes}, {args.repeat} repeats; "
-          + (f"dense floor timed on {len(picked)} of the speeds and scaled x{scale:.3g} (its cost per speed is "
-             f"constant: a chunked dense solve), its peak memory one chunk's" if scale != 1 else
-             "dense floor on every speed"))
-    print(f"{'rotor n':>7s} {'model n':>7s} | {'dense wall/cpu [s] med':>22s} | {'lowest wall [s] min/med/max':>27s} "
-          f"{'cpu med':>7s} | {'cpu ratio min/med/max':>21s} | {'peak MB dense/low':>17s} | {'max rel diff':>12s}")
+          "times: wall and CPU [s], ratio = dense CPU / lowest CPU. 'dense on' = the speeds the dense floor was "
+          "timed on (evenly picked; below all speeds its time is scaled by speeds / that, its cost per speed being "
+          "constant: a dense solve in chunks of that many speeds, whose peak memory is one chunk's); 'batch MB' = "
+          "the stack of all speeds' state matrices one batched eig of every speed holds (computed)")
+    print(f"{'rotor n':>7s} {'model n':>7s} {'dense on':>8s} | {'dense wall/cpu [s] med':>22s} | "
+          f"{'lowest wall [s] min/med/max':>27s} {'cpu med':>7s} | {'cpu ratio min/med/max':>21s} | "
+          f"{'peak MB dense/low':>17s} {'batch MB':>8s} | {'max rel diff':>12s}")
     sizes, dense_cpu, low_cpu = [], [], []
-    for coordinates in (int(x) for x in args.coordinates.split(",")):
+    for coordinates, chunk in zip(sizes_asked, chunks):
         model = _fan_model(coordinates, args.in_casing)
         n = model.dofs.n
+        picked = np.unique(np.round(np.linspace(0, args.speeds - 1, min(chunk, args.speeds))).astype(int))
+        scale = args.speeds / len(picked)
         d_wall, d_cpu, l_wall, l_cpu = [], [], [], []
         for _ in range(args.repeat):
             reference, wall, cpu = _cpu_timed(lambda: _dense(model, speeds[picked], args.modes))
@@ -251,9 +259,10 @@ def _coordinates(args):
         sizes.append(n)
         dense_cpu.append(np.median(d_cpu))
         low_cpu.append(np.median(l_cpu))
-        print(f"{coordinates:7d} {n:7d} | {np.median(d_wall):10.2f}/{np.median(d_cpu):<11.2f} | {_stats(l_wall):>27s} "
-              f"{np.median(l_cpu):7.2f} | {min(ratios):6.1f}/{np.median(ratios):6.1f}/{max(ratios):6.1f} | "
-              f"{m_dense / 2**20:8.0f}/{m_low / 2**20:<8.0f} | {diff:12.1e}", flush=True)
+        batch = args.speeds * (2 * n) ** 2 * 8 / 2**20
+        print(f"{coordinates:7d} {n:7d} {len(picked):8d} | {np.median(d_wall):10.2f}/{np.median(d_cpu):<11.2f} | "
+              f"{_stats(l_wall):>27s} {np.median(l_cpu):7.2f} | {min(ratios):6.1f}/{np.median(ratios):6.1f}/"
+              f"{max(ratios):6.1f} | {m_dense / 2**20:8.0f}/{m_low / 2**20:<8.0f} {batch:8.0f} | {diff:12.1e}", flush=True)
     if len(sizes) > 1:
         for what, times in (("dense floor", dense_cpu), (f"lowest {args.modes}", low_cpu)):
             pairs, fit = _slopes(sizes, times)
@@ -306,9 +315,9 @@ def main(argv=None):
                                               "(multiples of 4, e.g. 20,100,400): see the docstring")
     parser.add_argument("--in-casing", choices=("none", "gear"), default="none",
                         help="with --coordinates: the shaft alone (none) or in the gear machine's casing (gear)")
-    parser.add_argument("--dense-speeds", type=int, default=201,
+    parser.add_argument("--dense-speeds", default="201",
                         help="with --coordinates: time the dense floor on at most this many of the speeds and "
-                             "scale its time to all of them")
+                             "scale its time to all of them (one number, or one per size: 201,201,21)")
     parser.add_argument("--cases", help="with --long: only the cases whose name holds one of these words "
                                         "(comma-separated: matrices, check, campbell, critical, frf, unbalance)")
     args = parser.parse_args(argv)

@@ -8,7 +8,9 @@ excitation sits; between them elements no longer than ``element_length``
 (:func:`default_element_length` when not given) or, for a section with ``elements = n``,
 that section cut into ``n`` equal elements (and at its stations). A station closer than
 :data:`MERGE_FRACTION` of its section's element length to another mark shares its node
-(:attr:`Mesh.merged`, named by :func:`merge_lines`).
+(:attr:`Mesh.merged`, named by :func:`merge_lines`); a section shorter than that fraction of a
+neighbouring section's element length makes no element: its ends share one node and it is lumped
+there as a rigid piece (:func:`short_runs`, :attr:`Mesh.absorbed`, named by :func:`merge_lines`).
 
 Its mass, centre of mass and inertias are those of the element mass matrices, the disks and the
 point masses for a rigid motion (the elements reproduce a rigid motion's kinetic energy
@@ -597,7 +599,9 @@ def _moved_stations(named, z, spacing) -> tuple:
 
 def merge_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     """One warning line per station of ``shaft``'s mesh placed at the node of another mark
-    (:attr:`Mesh.merged`), naming it, its distance and where it now is."""
+    (:attr:`Mesh.merged`), naming it, its distance and where it now is, and one per run of
+    sections too short for an element (:attr:`Mesh.absorbed`), naming it, its length, the
+    neighbouring element length and the node its ends share."""
     lines = []
     joints = shaft.ends
     for label, position, node, h, other in shaft.mesh.merged if shaft.mesh is not None else ():

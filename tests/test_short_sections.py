@@ -172,3 +172,8 @@ def test_a_bearing_on_an_absorbed_section_is_at_its_joint():
     assert np.abs(mesh.z - joint).min() < 1e-12
     assert np.abs(mesh.z - 0.40005).min() > 2e-5
     assert [label for label, *_ in mesh.merged] == ["bearing 'b'"]
+    from rotordyn_modal.model.flexible import merge_lines
+
+    (line,) = [x for x in merge_lines("f.toml", "s", model.rotors[0].flexible) if "bearing 'b'" in x]
+    assert "bearing 'b' at 0.40005 m is 2.5e-05 m from the mesh's node at 0.400025 m: placed there (on shaft.1, " \
+           "too short for an element of its own;" in line, line

@@ -616,9 +616,14 @@ def merge_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
             where, placed = f"the joint of sections {joint - 1} and {joint} at {node:.7g} m", "there"
         else:
             where, placed = f"the mesh's node at {node:.7g} m", "there"
+        piece = next(((first, last) for first, last, _, _ in shaft.mesh.absorbed
+                      if joints[first] - STATION_TOLERANCE <= position <= joints[last + 1] + STATION_TOLERANCE), None)
+        why = (f"closer than {MERGE_FRACTION:g} of the element length {h:.4g} m" if piece is None else
+               f"on shaft.{piece[0]}" + (f" to shaft.{piece[1]}" if piece[1] != piece[0] else "")
+               + ", too short for an element of its own")
         lines.append(f"{source}: [rotors.{visible(rotor)}] {label} at {position:.7g} m is {abs(position - node):.2g} m "
-                     f"from {where}: placed {placed} (closer than {MERGE_FRACTION:g} of the element length "
-                     f"{h:.4g} m; a shorter element would swamp the shaft's stiffness in round-off)")
+                     f"from {where}: placed {placed} ({why}; a shorter element would swamp the shaft's stiffness "
+                     "in round-off)")
     for first, last, at, h in shaft.mesh.absorbed if shaft.mesh is not None else ():
         size = sum(s.length for s in shaft.sections[first:last + 1])
         which = f"shaft.{first}" if first == last else f"shaft.{first} to shaft.{last}"

@@ -263,7 +263,7 @@ def _coordinates(args):
         print(f"{coordinates:7d} {n:7d} {len(picked):8d} | {np.median(d_wall):10.2f}/{np.median(d_cpu):<11.2f} | "
               f"{_stats(l_wall):>27s} {np.median(l_cpu):7.2f} | {min(ratios):6.1f}/{np.median(ratios):6.1f}/"
               f"{max(ratios):6.1f} | {m_dense / 2**20:8.0f}/{m_low / 2**20:<8.0f} {batch:8.0f} | {diff:12.1e}", flush=True)
-    if len(sizes) > 1:
+    if len(set(sizes)) == len(sizes) > 1:
         for what, times in (("dense floor", dense_cpu), (f"lowest {args.modes}", low_cpu)):
             pairs, fit = _slopes(sizes, times)
             steps = ", ".join(f"{a}->{b}: n^{p:.2f}" for a, b, p in zip(sizes[:-1], sizes[1:], pairs))

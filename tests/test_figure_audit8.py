@@ -76,3 +76,43 @@ def test_a_followed_mode_that_crosses_zero_is_seen_crossing_it():
                                 & (points[:, 0] >= frame.x0) & (points[:, 0] <= frame.x1), 1]
                 seen.append(inside.size and inside.max() - zero >= 8 and zero - inside.min() >= 8)
         assert any(seen), f"{run.mode_label}: its crossing of zero is not seen in any panel"
+
+
+def test_order_labels_on_a_log_axis_stand_nearest_their_own_lines():
+    """flexible_pump_on_mounts, 0-3600 rpm, orders 1 and 2: its shaft modes reach 100 kHz, so the
+    logarithmic frequency axis squeezes the four order lines into its bottom third, 20 pixels
+    apart at the right edge (each a constant ratio above the next). '1X pump', stepped down
+    from its exit to find room, stood under the 1X motor line, nearer it than its own. On the
+    drawn figure (each order line through its own transform, the labels' turned outlines):
+    every order line is named by a label inside the axes, clear of every curve, whose centre
+    lies nearer one of the lines it names than any other order line."""
+    import re
+
+    from label_geometry import named_orders, order_curves, outline, outline_crossings, point_segments_distance
+
+    sweep = rdm.campbell(rdm.load_model(EXAMPLES / "flexible_pump_on_mounts.toml"),
+                         rdm.rpm(np.linspace(0.0, 3600.0, 37)), orders=(1, 2))
+    fig = sweep.plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    assert ax.get_yscale() == "log"
+    lines = order_curves(ax)
+    multiplier = dict(zip(sweep.sources.names, sweep.sources.multipliers))
+    assert len(lines) == 2 * len(multiplier)
+    segments = curve_segments(ax)
+    frame = ax.get_window_extent()
+    named = set()
+    for text in ax.texts:
+        match = re.fullmatch(r"(?P<orders>\d+X(?:, \d+X)*) (?P<source>\S+)", text.get_text())
+        if not text.get_visible() or match is None or match["source"] not in multiplier:
+            continue
+        corners = outline(text, renderer)
+        assert np.all((corners >= (frame.x0, frame.y0)) & (corners <= (frame.x1, frame.y1))), text.get_text()
+        mine = {round(o * abs(multiplier[match["source"]]) / 60.0, 9) for o in named_orders(match["orders"])}
+        centre = corners.mean(axis=0)
+        nearest = min(lines, key=lambda slope: point_segments_distance(lines[slope], centre))
+        assert nearest in mine, f"{text.get_text()!r} stands nearest the line of {nearest * 60:g} Hz per rpm/60"
+        assert not len(outline_crossings(text, renderer, segments)), f"a curve runs through {text.get_text()!r}"
+        named |= mine
+    assert named == set(lines), sorted(set(lines) - named)

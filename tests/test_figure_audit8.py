@@ -116,3 +116,47 @@ def test_order_labels_on_a_log_axis_stand_nearest_their_own_lines():
         assert not len(outline_crossings(text, renderer, segments)), f"a curve runs through {text.get_text()!r}"
         named |= mine
     assert named == set(lines), sorted(set(lines) - named)
+
+
+def _named_in(text, label) -> bool:
+    """Whether a note's ``text`` names mode ``label`` ('modes 1-56, 59-68 reach ...')."""
+    import re
+
+    for first, last in re.findall(r"(\d+)(?:-(\d+))?", text.split(":")[0] if ":" in text else text.split(" reach")[0]):
+        if int(first) <= label <= int(last or first):
+            return True
+    return False
+
+
+def test_every_mode_the_stability_legend_names_is_seen_or_said_in_each_panel():
+    """``stability flexible_pump_on_mounts.toml --speeds 0:3600:37``: the legend names seven modes
+    in colour; in the log decrement panel, scaled by bearing modes' 1e-3, the shaft modes'
+    log decrements (1e-8 to 6e-6) lay on the zero line, their colours seen nowhere and no note
+    saying so. On the drawn figure, in each panel, each mode the legend names is either drawn
+    (found by its data: the result's real parts or log decrements) at least 2 pixels from the
+    zero line somewhere inside the panel, or named by a note beside the panel."""
+    import re
+
+    model = rdm.load_model(EXAMPLES / "flexible_pump_on_mounts.toml")
+    result = rdm.stability(model, rdm.rpm(np.linspace(0.0, 3600.0, 13)))
+    fig = result.plot()
+    fig.canvas.draw()
+    top, bottom = fig.axes[:2]
+    named = [int(re.fullmatch(r"mode (\d+)", t.get_text())[1]) for t in top.get_legend().get_texts()
+             if re.fullmatch(r"mode \d+", t.get_text())]
+    assert len(named) >= 5
+    for ax, values in ((top, result.real_parts), (bottom, result.log_decrements)):
+        frame = ax.get_window_extent()
+        zero = ax.transData.transform((0.0, 0.0))[1]
+        notes = [t.get_text().replace("\n", " ") for t in ax.texts if t.get_position()[0] > 1.0]
+        for label in named:
+            column = values[:, list(result.modes).index(label)]
+            seen = False
+            for line in ax.get_lines():
+                y = np.asarray(line.get_ydata(), float)
+                if y.shape == column.shape and np.allclose(y, column, equal_nan=True, rtol=1e-12, atol=0.0):
+                    pixels = line.get_transform().transform(np.column_stack([line.get_xdata(), y]))[:, 1]
+                    inside = pixels[(pixels >= frame.y0) & (pixels <= frame.y1)]
+                    seen |= bool(inside.size and np.abs(inside - zero).max() >= 2.0)
+            assert seen or any(_named_in(note, label) for note in notes), \
+                f"mode {label} is in the legend but neither seen nor named in the panel {ax.get_ylabel()!r}"

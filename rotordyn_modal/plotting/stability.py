@@ -74,6 +74,7 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
         axis.grid(True, alpha=0.3)
         _note_cut_off(axis, result.modes, values, unit)
     _note_on_zero(top, result, shown)
+    _note_flat(bottom, result, log_dec, shown)
     top.set_xlim(x.min(), x.max() if x.max() > x.min() else x.min() + 1)
     top.set_ylabel("Real part of eigenvalue [1/s]\n(> 0: unstable)")
     bottom.set_ylabel("Log decrement [-]\n(< 0: unstable)")
@@ -223,6 +224,35 @@ def _note_on_zero(ax, result, shown):
             f"at every speed, drawn on zero over one another")
     ax.text(1.02, 0.45, textwrap.fill(note, 30), transform=ax.transAxes, fontsize="x-small", ha="left", va="top",
             color="0.3", gid="zero-note", clip_on=False)
+
+
+#: a coloured mode whose log decrement stays within this fraction of the panel's height of zero
+#: lies on the zero line: named in a note
+_ON_ZERO = 0.01
+
+
+def _note_flat(ax, result, log_dec, shown):
+    """Name the coloured modes whose log decrement is not round-off but stays so small that its
+    curve lies on the zero line of the panel (``ax``) at every speed, with how small it is: the
+    flexible pump's 61-69 kHz shaft modes have log decrements of 1e-8 to 6e-6 beside bearing
+    modes of 1e-3, and their colours were in the legend but nowhere on the figure (beside the
+    panel, at its top; the note of the roots cut off is at its bottom)."""
+    import textwrap
+
+    low, high = ax.get_ylim()
+    reach = _ON_ZERO * (high - low)
+    significant = result.significant_real_parts
+    modes = np.isfinite(log_dec)
+    flat = [m for m in shown if modes[:, m].any() and np.any(significant[modes[:, m], m] != 0)
+            and np.nanmax(np.abs(log_dec[:, m])) < reach]
+    if not flat:
+        return
+    largest = max(np.nanmax(np.abs(log_dec[:, m])) for m in flat)
+    names = _label_list(sorted(result.modes[flat]))
+    note = (f"mode{'s' if len(flat) > 1 else ''} {names}: log decrement {largest:.1e} or less at every speed, "
+            f"on the zero line")
+    ax.text(1.02, 1.0, textwrap.fill(note, 30), transform=ax.transAxes, fontsize="x-small", ha="left", va="top",
+            color="0.3", gid="flat-note", clip_on=False)
 
 
 def _label_list(labels) -> str:

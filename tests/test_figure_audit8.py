@@ -160,3 +160,20 @@ def test_every_mode_the_stability_legend_names_is_seen_or_said_in_each_panel():
                     seen |= bool(inside.size and np.abs(inside - zero).max() >= 2.0)
             assert seen or any(_named_in(note, label) for note in notes), \
                 f"mode {label} is in the legend but neither seen nor named in the panel {ax.get_ylabel()!r}"
+
+
+@pytest.mark.parametrize("color_by", [None, "log_decrement"])
+def test_a_long_model_name_as_campbell_title_stays_inside_the_figure(color_by):
+    """``campbell flexible_pump_on_mounts.toml --color-by log_decrement``: the model's name (80
+    characters) is the title, centred over an axes that the colour bar narrows, and it ran off
+    the figure's left edge ('otor and belt-driven pump ...'). On the drawn figure the title's
+    glyphs lie inside the figure and it reads the whole name (its lines joined)."""
+    model = rdm.load_model(EXAMPLES / "flexible_pump_on_mounts.toml")
+    sweep = rdm.campbell(model, rdm.rpm(np.linspace(0.0, 3600.0, 5)), orders=(1,))
+    fig = sweep.plot(color_by=color_by, title=model.name)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    title = fig.axes[0].title
+    box = glyph_box(title, renderer)
+    assert " ".join(title.get_text().split()) == " ".join(model.name.split())
+    assert fig.bbox.x0 <= box.x0 and box.x1 <= fig.bbox.x1 and box.y1 <= fig.bbox.y1, (box, fig.bbox)

@@ -8,7 +8,7 @@ from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
                       font_points, set_if_changed, text_size, _overlap, _short_orders)
-from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
+from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
 
@@ -123,7 +123,8 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     ax.set_xlim(x.min(), x.max() if x.max() > x.min() else x.min() + 1)
     ax.set_xlabel(speed_label(speed_unit))
     ax.set_ylabel("Damped natural frequency [Hz]" + (" (log scale)" if axis_scale == "log" else ""))
-    ax.set_title(title or "Campbell diagram")
+    # centred over an axes that a colour bar narrows: no wider than the axes' own share
+    ax.set_title(fitted_title(fig, title or "Campbell diagram", 0.65 if color_by else 0.85))
     ax.grid(True, which="major", alpha=0.3)
     if axis_scale == "log":
         ax.grid(True, which="minor", alpha=0.1)

@@ -177,3 +177,17 @@ def test_a_long_model_name_as_campbell_title_stays_inside_the_figure(color_by):
     box = glyph_box(title, renderer)
     assert " ".join(title.get_text().split()) == " ".join(model.name.split())
     assert fig.bbox.x0 <= box.x0 and box.x1 <= fig.bbox.x1 and box.y1 <= fig.bbox.y1, (box, fig.bbox)
+
+
+def test_the_shear_force_is_the_derivative_along_the_shafts_own_axis():
+    """``static flexible_pump_on_mounts.toml --plot``: the pump's shaft runs along x ('position
+    along x [m]', planes x-y and x-z in the legend) and the title read 'V = dM/dz', z being on
+    this figure the transverse axis of the x-z plane. The title's derivative is along the axis
+    the abscissa names."""
+    import re
+
+    static = rdm.static(rdm.load_model(EXAMPLES / "flexible_pump_on_mounts.toml"))
+    fig = static.plot_shafts()
+    along = re.search(r"position along (\w+)", fig.axes[-1].get_xlabel() or fig.axes[2].get_xlabel())[1]
+    derivative = re.search(r"V = dM/d(\w+)", fig.get_suptitle())[1]
+    assert derivative == along == "x"

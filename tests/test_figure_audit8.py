@@ -191,3 +191,41 @@ def test_the_shear_force_is_the_derivative_along_the_shafts_own_axis():
     along = re.search(r"position along (\w+)", fig.axes[-1].get_xlabel() or fig.axes[2].get_xlabel())[1]
     derivative = re.search(r"V = dM/d(\w+)", fig.get_suptitle())[1]
     assert derivative == along == "x"
+
+
+def test_ucs_map_names_moved_apart_are_joined_to_their_curves():
+    """``ucs-map flexible_pump_on_mounts.toml --stiffness 1e5:1e10:41``: four modes end within 12 %
+    of the axis' height at the sweep's last stiffness; their names beside the right edge were
+    moved apart, '5 pump axial' 45 pixels above its curve with nothing joining them; and the
+    title (the model's 80-character name) ran off both sides of the figure. On the drawn figure:
+    every name beside the right edge either stands at its curve's end (its centre within half
+    its height of it) or has a drawn leader line from its curve's end at the edge; the title
+    lies inside the figure."""
+    model = rdm.load_model(EXAMPLES / "flexible_pump_on_mounts.toml")
+    result = rdm.ucs_map(model, np.geomspace(1e5, 1e10, 21))
+    fig = result.plot(title=f"Undamped critical speed map: {model.name}")
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    frame = ax.get_window_extent()
+    title = glyph_box(ax.title, renderer)
+    assert fig.bbox.x0 <= title.x0 and title.x1 <= fig.bbox.x1, (title, fig.bbox)
+    rpm = result.mode_speeds * 30 / np.pi
+    checked = moved = 0
+    for j, name in enumerate(result.mode_names):
+        if not np.isfinite(rpm[-1, j]):
+            continue
+        text = next(t for t in ax.texts if t.get_text() == f"{j + 1} {name}")
+        box = glyph_box(text, renderer)
+        assert box.x0 >= frame.x1, text.get_text()
+        end = ax.transData.transform((result.stiffness[-1], rpm[-1, j]))[1]
+        checked += 1
+        if abs(0.5 * (box.y0 + box.y1) - end) <= 0.5 * box.height:
+            continue
+        moved += 1
+        arrow = getattr(text, "arrow_patch", None)
+        assert arrow is not None and arrow.get_visible(), f"{text.get_text()!r} stands off its curve, no leader"
+        points = arrow.get_path().vertices
+        assert np.min(np.hypot(points[:, 0] - frame.x1, points[:, 1] - end)) < 1.5, text.get_text()
+        assert np.min(np.hypot(points[:, 0] - box.x0, points[:, 1] - 0.5 * (box.y0 + box.y1))) < 0.5 * box.height + 2
+    assert checked >= 4 and moved >= 1

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..units import unit_scale
-from ._style import new_figure
+from ._style import fitted_title, new_figure
 
 __all__ = ["plot_ucs_map"]
 
@@ -67,8 +67,8 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     ax.grid(True, which="both", alpha=0.25)
     ax.set_xlabel(f"Bearing radial stiffness, each chosen bearing [{unit}]")
     ax.set_ylabel("Undamped critical speed (forward, 1X of the reference rotor) [rpm]")
-    ax.set_title(title or (f"Undamped critical speed map: {result.title}" if result.title
-                           else "Undamped critical speed map"), fontsize="medium")
+    ax.set_title(fitted_title(fig, title or (f"Undamped critical speed map: {result.title}" if result.title
+                                             else "Undamped critical speed map"), 0.8, "medium"), fontsize="medium")
     # below the axes: inside, it covered curves and the labels placed among them
     ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1), ncols=3, frameon=False)
     _place_labels(ax, inside + crossings)
@@ -133,6 +133,8 @@ def _draw_ends(ax, k, rpm, colour) -> list:
 
 #: the least distance between two names at the right edge [axes fraction]
 _NAME_APART = 0.035
+#: the names stand this far right of the right edge, their leaders between [axes fraction]
+_NAME_OFFSET = 0.03
 
 
 def _label_right_ends(ax, k, rpm, names, limits) -> list:
@@ -152,13 +154,18 @@ def _label_right_ends(ax, k, rpm, names, limits) -> list:
         elif limits[0] <= rpm[last, j] <= limits[1]:
             ends.append([np.log(rpm[last, j] / limits[0]) / np.log(limits[1] / limits[0]), text, colour])
     ends.sort(key=lambda e: e[0])
+    heights = [e[0] for e in ends]                    # where each curve meets the right edge
     for i in range(1, len(ends)):                     # upwards apart, then back under the top
         ends[i][0] = max(ends[i][0], ends[i - 1][0] + _NAME_APART)
     shift = max(0.0, ends[-1][0] - 1.0) if ends else 0.0
-    for place, text, colour in ends:
-        ax.annotate(text, (1.0, place - shift), xycoords="axes fraction", xytext=(4, 0),
-                    textcoords="offset points", color=colour, fontsize="small", va="center", ha="left",
-                    annotation_clip=False)
+    for (place, text, colour), height in zip(ends, heights):
+        # joined to its curve's end by a leader: a name moved apart from crowded ends stood
+        # half a label's height or more off its curve, with nothing saying which it named
+        ax.annotate(text, (1.0, height), xycoords="axes fraction", xytext=(1.0 + _NAME_OFFSET, place - shift),
+                    textcoords="axes fraction", color=colour, fontsize="small", va="center", ha="left",
+                    annotation_clip=False, gid="ucs-end-name",
+                    arrowprops={"arrowstyle": "-", "color": colour, "linewidth": 0.7, "shrinkA": 0, "shrinkB": 0,
+                                "relpos": (0.0, 0.5)})
     return inside
 
 

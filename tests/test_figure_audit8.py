@@ -258,3 +258,44 @@ def test_the_real_part_panel_is_scaled_to_the_damped_modes_beside_an_undamped_on
     assert high <= 0.2 * (high - low), (low, high)
     damped = np.where(significant < 0, significant, -np.inf).max(axis=1)          # per speed
     assert np.all(damped >= low) and np.all(-damped >= 0.1 * (high - low)), (damped, low, high)
+
+
+def test_a_critical_speed_leader_ends_at_its_own_circle_through_no_other():
+    """counter_rotating, 0-6000 rpm, orders 1 and 2: the gear mesh's lines cross modes 1 and 2
+    (11.3 and 12.3 Hz) at 11-24 rpm, four circles in two pairs 13 pixels apart, one above the
+    other. The label '11/21.9' (mode 1's pair) stood above both, its leader running through
+    mode 2's circles and ending as near them as its own. On the drawn figure: each leader line of
+    a critical-speed label (found by its start on the label's glyph box) ends nearer a circle of
+    a speed the label reads than any other circle, and passes no other circle's centre closer
+    than the circle's radius plus a pixel."""
+    model = rdm.load_model(EXAMPLES / "counter_rotating.toml")
+    sweep = rdm.campbell(model, rdm.rpm(np.linspace(0.0, 6000.0, 121)), orders=(1, 2))
+    fig = sweep.plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    speeds = sweep.critical.speeds * 30 / np.pi
+    centres = ax.transData.transform(np.column_stack([speeds, sweep.critical.frequencies_hz]))
+    radius = 0.5 * 6 * fig.dpi / 72                 # the circles' markersize: 6 points across
+    labels = [(t, glyph_box(t, renderer)) for t in ax.texts
+              if t.get_visible() and t.get_text() and all(w.replace(".", "", 1).isdigit() for w in t.get_text().split("/"))]
+    checked = 0
+    for line in ax.get_lines():
+        x, y = line.get_data()
+        if not line.get_visible() or len(x) != 2 or line.get_linestyle() in ("None", ""):
+            continue
+        start, end = line.get_transform().transform(np.column_stack([x, y]))
+        owner = [(t, b) for t, b in labels if b.x0 - 1.5 <= start[0] <= b.x1 + 1.5 and b.y0 - 1.5 <= start[1] <= b.y1 + 1.5]
+        if len(owner) != 1:
+            continue
+        words = [float(w) for w in owner[0][0].get_text().split("/")]
+        mine = np.array([any(abs(s - w) <= max(0.06, 0.0051 * w) for w in words) for s in speeds])
+        assert mine.any(), owner[0][0].get_text()
+        distance = np.hypot(*(centres - end).T)
+        assert mine[np.argmin(distance)], f"{owner[0][0].get_text()!r}: its leader ends nearest another circle"
+        d = end - start
+        t = np.clip(((centres - start) @ d) / (d @ d), 0.0, 1.0)
+        passing = np.hypot(*(start + t[:, None] * d - centres).T)
+        assert np.all(passing[~mine] > radius + 1.0), f"{owner[0][0].get_text()!r}: its leader runs through a circle"
+        checked += 1
+    assert checked >= 5

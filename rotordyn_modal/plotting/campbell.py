@@ -636,7 +636,8 @@ class _CampbellLabels:
         and of every curve (but within :data:`ANCHOR_POINTS` of the anchor); else the box of a
         grid around the anchor (:func:`boxes_around`) so clear whose distance plus its leader
         line's crossings of curves costs least (at most :data:`_MOST_COST` label heights), the
-        leader crossing no label and ending ``clear`` (u, v) short of the anchor.
+        leader crossing no label nor any of the ``markers`` and ending ``clear`` (u, v) short of
+        the anchor.
         """
         u, v = anchor
         keep = (u - ANCHOR_POINTS * self.points * self.to_u, v - ANCHOR_POINTS * self.points * self.to_v,
@@ -659,9 +660,12 @@ class _CampbellLabels:
         others = list(placed)
 
         def leader_clear(box):
+            # nor through another marker: its end would touch that circle as much as its own
+            # (counter_rotating's '11/21.9' reached mode 1's circles through mode 2's)
             start = nearest_in(box, anchor)
             return free(box) and not crosses_any([(start, anchor)], others) \
-                and not crosses_segments(start, anchor, self.leader_lines)
+                and not crosses_segments(start, anchor, self.leader_lines) \
+                and not crosses_any([(start, anchor)], markers)
 
         def cost(box):
             start = nearest_in(box, anchor)

@@ -299,3 +299,20 @@ def test_a_critical_speed_leader_ends_at_its_own_circle_through_no_other():
         assert np.all(passing[~mine] > radius + 1.0), f"{owner[0][0].get_text()!r}: its leader runs through a circle"
         checked += 1
     assert checked >= 5
+
+
+def test_a_time_history_panel_titled_translation_draws_one():
+    """``simulate spring_block_rotor.toml --free-spin --plot``: the rotor sits in its block of
+    springs on the ground (no stator), so the panel draws the rotor's tilt only, and its title
+    read 'Transverse rotation and translation'. On the drawn figure: a panel whose title names a
+    translation has an axis whose label names it, with curves on it."""
+    model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
+    result = rdm.simulate(model, 0.05, 50.0, drive="free", samples=50, backend="numpy")
+    fig = result.plot()
+    fig.canvas.draw()
+    titled = [ax for ax in fig.axes if "translation" in ax.get_title().lower()]
+    for ax in titled:
+        twins = [other for other in fig.axes if other is not ax and other.bbox.bounds == ax.bbox.bounds]
+        drawn = [other for other in twins if "Translation" in other.get_ylabel() and other.get_lines()]
+        assert drawn, f"{ax.get_title()!r} draws no translation"
+    assert any("rotation" in ax.get_title().lower() for ax in fig.axes)

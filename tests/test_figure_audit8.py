@@ -316,3 +316,31 @@ def test_a_time_history_panel_titled_translation_draws_one():
         drawn = [other for other in twins if "Translation" in other.get_ylabel() and other.get_lines()]
         assert drawn, f"{ax.get_title()!r} draws no translation"
     assert any("rotation" in ax.get_title().lower() for ax in fig.axes)
+
+
+def test_an_undamped_machine_coloured_by_log_decrement_reads_zero_not_noise():
+    """``campbell spring_block_rotor.toml --color-by log_decrement``: the machine has no damping,
+    its log decrements are round-off (+-2e-15), and the colour bar ran from -2e-15 to 3e-15
+    ('1e-15' over it), the curves speckled over the whole colour map, half of it below zero:
+    damping that varies and is negative, to a reader. On the drawn figure (every root's real
+    part within 1e-12 of its size, checked first): the colour bar's scale holds no negative
+    log decrement, spans a readable range (at least 0.01, no multiplier over it), and every
+    curve is drawn in the colour of 0."""
+    model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
+    sweep = rdm.campbell(model, rdm.rpm(np.linspace(0.0, 3000.0, 13)))
+    roots = sweep.eigenvalues[np.isfinite(sweep.eigenvalues)]
+    assert np.all(np.abs(roots.real) <= 1e-12 * np.abs(roots))
+    fig = sweep.plot(color_by="log_decrement")
+    fig.canvas.draw()
+    colourbar = fig.axes[-1]
+    low, high = colourbar.get_ylim()
+    assert low >= 0.0 and high - low >= 0.01, (low, high)
+    assert colourbar.yaxis.get_offset_text().get_text() == ""
+    from matplotlib.collections import LineCollection
+
+    coloured = [c for c in fig.axes[0].collections if isinstance(c, LineCollection) and c.get_array() is not None]
+    assert coloured
+    zero = np.asarray(coloured[0].cmap(coloured[0].norm(0.0)))
+    for collection in coloured:
+        colours = collection.get_colors()
+        assert np.allclose(colours[:, :3], zero[:3], atol=1e-6), "a curve of an undamped mode is not the colour of 0"

@@ -243,8 +243,14 @@ def _draw_coloured(ax, fig, x, freqs, result, quantity):
     from matplotlib.collections import LineCollection
 
     values = {"log_decrement": result.log_decrements, "damping_ratio": result.damping_ratios}[quantity]
+    # an undamped mode's log decrement is round-off (+-2e-15 on the spring-block rotor): 0, as the
+    # red band reads it (:func:`_mark_unstable`); its noise spread over the whole colour map read
+    # as damping varying along the curves, half of it below zero
+    values = np.where(np.abs(result.eigenvalues.real) <= _MARGINAL * np.abs(result.eigenvalues), 0.0, values)
     finite = values[np.isfinite(values) & result.oscillatory]
     norm_range = (finite.min(), finite.max()) if finite.size else (0, 1)
+    if norm_range[1] <= norm_range[0]:                  # one value (0: an undamped machine)
+        norm_range = (norm_range[0], norm_range[0] + max(abs(norm_range[0]), 0.1))
     import matplotlib.colors as mcolors
 
     norm = mcolors.Normalize(*norm_range)

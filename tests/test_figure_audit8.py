@@ -344,3 +344,28 @@ def test_an_undamped_machine_coloured_by_log_decrement_reads_zero_not_noise():
     for collection in coloured:
         colours = collection.get_colors()
         assert np.allclose(colours[:, :3], zero[:3], atol=1e-6), "a curve of an undamped mode is not the colour of 0"
+
+
+def test_the_largest_peak_of_an_unbalance_panel_is_labelled_first():
+    """``unbalance gear_machine.toml --speeds 0:6000:301 --operating-speed 3000 --plot``: of the
+    headroom above the curves that it tries, the figure kept the one that labelled the most
+    peaks, three smaller ones, and left the panel's highest peak unlabelled (acc-side-y, 1X fan,
+    AF 21.6 at 1400 rpm, 25 um; at the headroom chosen its two-line label found no room). Drawn
+    at the command line's resolution (150 dpi): among the peaks of the result's table that the
+    figure labels at all (AF >= 2.5, the label reading 'AF ... at N rpm'), the one of the largest
+    amplitude has its label."""
+    import re
+
+    model = rdm.load_model(EXAMPLES / "gear_machine.toml")
+    response = rdm.unbalance_response(model, rdm.rpm(np.linspace(0.0, 6000.0, 301)))
+    peaks = response.peaks(rdm.rpm(3000.0))
+    fig = response.plot(peaks=peaks)
+    fig.set_dpi(150)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    labelled = {(int(m[2]), m[3]) for m in
+                (re.match(r"AF ([\d.]+) at (\d+) rpm \(1X (\w+)\)", t.get_text()) for t in ax.texts) if m}
+    assert labelled, "no peak is labelled"
+    eligible = peaks[(peaks.amplification_factor >= 2.5) & np.isfinite(peaks.amplification_factor)]
+    largest = eligible.loc[eligible.amplitude.idxmax()]
+    assert (round(largest.speed_rpm), largest.source) in labelled, (largest.to_dict(), labelled)

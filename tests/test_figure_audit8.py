@@ -260,16 +260,19 @@ def test_the_real_part_panel_is_scaled_to_the_damped_modes_beside_an_undamped_on
     assert np.all(damped >= low) and np.all(-damped >= 0.1 * (high - low)), (damped, low, high)
 
 
-def test_a_critical_speed_leader_ends_at_its_own_circle_through_no_other():
+@pytest.mark.parametrize("example, top_rpm", [("counter_rotating", 6000.0), ("rubber_mounts", 6000.0)])
+def test_a_critical_speed_leader_ends_at_its_own_circle_through_no_other(example, top_rpm):
     """counter_rotating, 0-6000 rpm, orders 1 and 2: the gear mesh's lines cross modes 1 and 2
     (11.3 and 12.3 Hz) at 11-24 rpm, four circles in two pairs 13 pixels apart, one above the
     other. The label '11/21.9' (mode 1's pair) stood above both, its leader running through
     mode 2's circles and ending as near them as its own. On the drawn figure: each leader line of
     a critical-speed label (found by its start on the label's glyph box) ends nearer a circle of
     a speed the label reads than any other circle, and passes no other circle's centre closer
-    than the circle's radius plus a pixel."""
-    model = rdm.load_model(EXAMPLES / "counter_rotating.toml")
-    sweep = rdm.campbell(model, rdm.rpm(np.linspace(0.0, 6000.0, 121)), orders=(1, 2))
+    than the circle's radius plus a pixel. rubber_mounts: mode 6's crossings with the mesh's 2X
+    and 1X lines, 38.6 and 77.2 rpm, are circles 5 pixels apart, overlapping; '38.6' had a
+    label of its own whose leader ended on the 77.2 circle."""
+    model = rdm.load_model(EXAMPLES / f"{example}.toml")
+    sweep = rdm.campbell(model, rdm.rpm(np.linspace(0.0, top_rpm, 121)), orders=(1, 2))
     fig = sweep.plot()
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()

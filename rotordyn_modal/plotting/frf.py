@@ -603,7 +603,8 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0):
             colour, style = f"C{m % 10}", styles[j % len(styles)]
             amplitude = np.where(result.amplitude[i, j] > 0, result.amplitude[i, j] * factor, np.nan)
             mag.semilogy(x, amplitude, color=colour, ls=style, label=f"{result.outputs[i]}: 1X {s}")
-            phase.plot(x, result.phase_deg[i, j], color=colour, ls=style, lw=0.9)
+            # broken where the phase wraps: a line from -180 to 180 deg read as a curve of its own
+            phase.plot(*_broken_at_wraps(x, result.phase_deg[i, j]), color=colour, ls=style, lw=0.9)
             colours[i, j] = colour
     _limit_range(mag)
     phase.set_yticks([-180, -90, 0, 90, 180])

@@ -400,3 +400,25 @@ def test_unbalance_phase_lines_do_not_jump_across_the_panel():
             assert any(np.allclose(y[np.isfinite(y)], row) for row in values)
             drawn += 1
     assert drawn >= 1
+
+
+def test_ucs_map_bearing_curves_outside_the_axes_say_so_in_the_legend():
+    """``ucs-map journal_rotor.toml`` over stiffnesses the journal bearings never reach (here
+    1e9-1e12 N/m; the same with --units us and 1e5:1e10 lbf/in): the legend listed 'DE, NDE Kxx'
+    and 'Kyy' (1e7 N/m, left of the axis) though neither was drawn anywhere in the axes. On the
+    drawn figure: each legend entry of a bearing's stiffness either has its line running inside
+    the axes or says that it lies outside them."""
+    model = rdm.load_model(EXAMPLES / "journal_rotor.toml")
+    result = rdm.ucs_map(model, np.geomspace(1e9, 1e12, 11))
+    fig = result.plot()
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    frame = ax.get_window_extent()
+    entries = [line for line in ax.get_lines() if " K" in line.get_label() and not line.get_label().startswith("_")]
+    assert entries
+    for line in entries:
+        with np.errstate(all="ignore"):
+            points = line.get_transform().transform(np.column_stack(line.get_data()))
+        inside = np.any((points[:, 0] >= frame.x0) & (points[:, 0] <= frame.x1)
+                        & (points[:, 1] >= frame.y0) & (points[:, 1] <= frame.y1))
+        assert inside or "outside the axes" in line.get_label(), line.get_label()

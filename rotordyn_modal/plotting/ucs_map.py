@@ -209,17 +209,29 @@ def _draw_bearings(ax, result, units=(1.0, "N/m")):
             same.append(curve.name)
         else:
             drawn.append((curve, [curve.name]))
+    (k0, k1), (n0, n1) = sorted(ax.get_xlim()), sorted(ax.get_ylim())
+
+    def where(k, rpm):
+        # a curve the axes do not show keeps its legend entry, saying so (journal bearings of
+        # 1e7 N/m beside a sweep from 1e9 N/m: two entries drawn nowhere)
+        if np.any((k >= k0) & (k <= k1) & (rpm >= n0) & (rpm <= n1)):
+            return ""
+        side = ", to the left" if np.nanmax(k) < k0 else ", to the right" if np.nanmin(k) > k1 else ""
+        return f" (outside the axes{side})"
+
     for curve, names in drawn:
         colour = next(colours)
         rpm = curve.speeds * 30 / np.pi
-        ax.plot(curve.kxx * scale, rpm, color=colour, linewidth=1.3, label=f"{', '.join(names)} Kxx")
+        ax.plot(curve.kxx * scale, rpm, color=colour, linewidth=1.3,
+                label=f"{', '.join(names)} Kxx{where(curve.kxx * scale, rpm)}")
         ax.plot(curve.kyy * scale, rpm, color=colour, linewidth=1.3, linestyle="--",
-                label=f"{', '.join(names)} Kyy")
+                label=f"{', '.join(names)} Kyy{where(curve.kyy * scale, rpm)}")
     for value, owners in sorted(vertical.items()):
         names = list(dict.fromkeys(name for name, _ in owners))
         axes = "/".join(sorted({axis for _, axis in owners}))
+        outside = "" if k0 <= value * scale <= k1 else " (outside the axes)"
         ax.axvline(value * scale, color=next(colours), linewidth=1.3, linestyle="-.",
-                   label=f"{', '.join(names)} K{axes} = {value * scale:.3g} {unit}")
+                   label=f"{', '.join(names)} K{axes} = {value * scale:.3g} {unit}{outside}")
 
 
 def _equal(a, b) -> bool:

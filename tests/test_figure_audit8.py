@@ -422,3 +422,29 @@ def test_ucs_map_bearing_curves_outside_the_axes_say_so_in_the_legend():
         inside = np.any((points[:, 0] >= frame.x0) & (points[:, 0] <= frame.x1)
                         & (points[:, 1] >= frame.y0) & (points[:, 1] <= frame.y1))
         assert inside or "outside the axes" in line.get_label(), line.get_label()
+
+
+def test_a_sensitivity_bar_too_short_to_see_says_so_in_the_legend():
+    """``study gear_machine.toml --spec mount_sobol.study.toml --plot-sensitivity``: the fan's
+    diametral inertia has total Sobol indices of 6e-5 at most beside the mounts' 0.8, bars of no
+    pixel, and the legend showed its orange entry over a chart with no orange on it. Drawn from
+    a given table (the plotting computes nothing): a parameter whose every bar is shorter than a
+    pixel of the drawn axis has a legend entry that says it is not seen; the others' entries are
+    their names."""
+    import pandas as pd
+
+    from rotordyn_modal.plotting.study import plot_sensitivity
+
+    rows = []
+    for k, output in enumerate(["f1", "f2", "f3"]):
+        for parameter, st in (("mass", 0.1 + 0.1 * k), ("inertia", 3e-5 * (k + 1)), ("mounts", 0.8 - 0.1 * k)):
+            rows.append({"output": output, "parameter": parameter, "S1": 0.9 * st, "ST": st, "ST_se": 0.1 * st})
+    fig = plot_sensitivity(pd.DataFrame(rows))
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    pixels = abs(ax.transData.transform((1.0, 0.0))[0] - ax.transData.transform((0.0, 0.0))[0])
+    texts = {t.get_text() for t in ax.get_legend().get_texts()}
+    for parameter in ("mass", "inertia", "mounts"):
+        longest = max(r["ST"] for r in rows if r["parameter"] == parameter) * pixels
+        entry = next(t for t in texts if t.split(" (")[0] == parameter)
+        assert (longest < 1.0) == ("not seen" in entry or "no bar seen" in entry), (parameter, longest, entry)

@@ -1,0 +1,208 @@
+"""A seventh round of inputs of the families a reviewer tries (after ``test_input_families.py`` to
+``test_input_families6.py``): combinations of elements not tried together (two flexible rotors
+on one belt), rotors written by hand in ROSS's file format (a material given by E and
+Poisson's ratio, a coefficient table without its speeds, diameters in mm), and what the
+terminal prints of a sweep. Each case through the command line in this process or through the
+reader the command line calls."""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.cli import main
+from rotordyn_modal.io.ross_file import read_ross_rotor
+from test_input_families import _one_line_error
+
+ROOT = Path(__file__).resolve().parent.parent
+ROSS = ROOT / "tests" / "data" / "ross"
+
+#: two flexible rotors on the ground, the second driven by a belt from the first
+TWO_SHAFTS = """
+name = "two flexible rotors on one belt"
+spin_axis = [1.0, 0.0, 0.0]
+reference_rotor = "motor"
+
+[[materials]]
+name = "steel"
+density = 7810.0
+young_modulus = 2.11e11
+poisson_ratio = 0.3
+
+[[rotors]]
+name = "motor"
+start = [0.0, 0.2, 0.0]
+element_length = 0.1
+[[rotors.shaft]]
+length = 0.4
+outer_diameter = 0.05
+material = "steel"
+
+[[rotors]]
+name = "pump"
+start = [0.0, -0.2, 0.0]
+element_length = 0.1
+[[rotors.shaft]]
+length = 0.6
+outer_diameter = 0.04
+material = "steel"
+
+[[transmissions]]
+type = "belt"
+driver = "motor"
+driven = "pump"
+ratio = 0.5
+
+[[bearings]]
+name = "m1"
+rotor = "motor"
+axial_position = 0.0
+stiffness = 1.0e7
+[[bearings]]
+name = "m2"
+rotor = "motor"
+axial_position = 0.4
+stiffness = 1.0e7
+[[bearings]]
+name = "p1"
+rotor = "pump"
+axial_position = 0.0
+stiffness = 1.0e7
+[[bearings]]
+name = "p2"
+rotor = "pump"
+axial_position = 0.6
+stiffness = 1.0e7
+"""
+
+
+# ----------------------------------------------------------------------- combinations
+def test_check_lists_the_coordinates_of_two_flexible_rotors(tmp_path, capsys):
+    """Two flexible rotors in one model: ``check`` ended in IndexError (exit 1) collapsing the
+    second shaft's node coordinates at indices the first collapse had shifted."""
+    model_file = tmp_path / "two.toml"
+    model_file.write_text(TWO_SHAFTS)
+    assert main(["check", str(model_file)]) == 0
+    out = capsys.readouterr().out
+    [line] = [line for line in out.splitlines() if line.strip().startswith("coordinates")]
+    # 0.4 m in elements of at most 0.1 m: 5 nodes; 0.6 m: 7 nodes; 4 coordinates each
+    assert line.strip() == ("coordinates (48): motor.n0.uy ... motor.n4.rz (5 nodes x 4), "
+                            "pump.n0.uy ... pump.n6.rz (7 nodes x 4)")
+
+
+# ----------------------------------------------------------------------- ROSS files by hand
+def _ross_text(**replace) -> str:
+    text = (ROSS / "rotor_example.toml").read_text()
+    for old, new in replace.values():
+        assert old in text
+        text = text.replace(old, new)
+    return text
+
+
+_G = "G_s = 81200000000.0"
+_E = "E = 211000000000.0"
+
+
+@pytest.mark.parametrize("edit", [
+    {"g": (_G, f"Poisson = {211e9 / (2 * 81.2e9) - 1!r}")},
+    {"e": (_E, f"Poisson = {211e9 / (2 * 81.2e9) - 1!r}")},
+    {"g": (_G, f"{_G}\nPoisson = {211e9 / (2 * 81.2e9) - 1!r}")},
+], ids=["E-and-Poisson", "G-and-Poisson", "all-three-agreeing"])
+def test_a_ross_material_of_any_two_elastic_constants_is_the_same_rotor(tmp_path, edit):
+    """ROSS's ``Material`` takes any two of E, G_s and Poisson (it computes the third); a rotor
+    written by hand with E and Poisson's ratio was refused ('G_s = <missing>'). The same steel
+    given either way is the same rotor: the same lowest frequencies at rest."""
+    hand = tmp_path / "hand.toml"
+    hand.write_text(_ross_text(**edit))
+
+    def lowest(path):
+        model = rdm.Model.from_dict(read_ross_rotor(path))
+        return np.sort(rdm.modal(model, 0.0).frequencies_hz)[:6]
+
+    np.testing.assert_allclose(lowest(hand), lowest(ROSS / "rotor_example.toml"), rtol=1e-9)
+
+
+@pytest.mark.parametrize("edit, words", [
+    ({"g": (_G + "\n", "")}, ["G_s or Poisson", "<missing>", "gives E"]),
+    ({"g": (_G, f"{_G}\nPoisson = 0.3")}, ["Poisson = 0.3", "0.299261"]),
+], ids=["one-constant", "three-that-disagree"])
+def test_a_ross_material_that_is_no_material_is_refused_by_name(tmp_path, capsys, edit, words):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(_ross_text(**edit))
+    out = tmp_path / "m.toml"
+    assert main(["import-ross", str(bad), "--out", str(out)]) == 2
+    _one_line_error(capsys, "bad.toml", "ShaftElement_Shaft Element 0.material", *words)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("speeds, words", [
+    (None, ["speed, which the table lacks", "expected 1 value,"]),
+    ("[ 0.0, 400.0, 800.0, 1200.0,]", ["expected 4 values", "speed = [0.0, 400.0, 800.0, 1200.0] [rad/s]"]),
+], ids=["no-speeds", "one-speed-short"])
+def test_a_ross_table_whose_speeds_miss_is_named_by_its_speeds(tmp_path, capsys, speeds, words):
+    """Coefficient lists of 5 values beside no ``speed`` list were refused as 'mxx = [0, ...]:
+    expected 1 values (one per speed of the table)', naming neither the speeds nor their lack."""
+    text = (ROSS / "speed_tables.toml").read_text()
+    line = "speed = [ 0.0, 400.0, 800.0, 1200.0, 1600.0,]\n"
+    assert line in text
+    text = text.replace(line, "" if speeds is None else f"speed = {speeds}\n", 1)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text)
+    assert main(["import-ross", str(bad), "--out", str(tmp_path / "m.toml")]) == 2
+    _one_line_error(capsys, "bad.toml", "[BearingElement_Bearing 0]", *words)
+
+
+def _in_mm(text: str) -> str:
+    """The ROSS file with every length and diameter in mm, as a hand-written file may have them."""
+    return re.sub(r"^(L|odl|odr) = ([0-9.e]+)$", lambda m: f"{m.group(1)} = {float(m.group(2)) * 1000!r}",
+                  text, flags=re.M)
+
+
+@pytest.mark.parametrize("edit, words", [
+    (_in_mm, ["[rotors.mm.shaft.", "outer_diameter = 50", "mm typed for m"]),
+    (lambda t: t.replace(_E, "E = 211.0"), ["[materials.Steel] young_modulus = 211", "GPa"]),
+], ids=["diameters-in-mm", "modulus-in-GPa"])
+def test_import_ross_says_what_check_would_warn_about(tmp_path, capsys, edit, words):
+    """A ROSS rotor in mm (a shaft 1.5 km long and 50 m thick, 2.3e10 kg) or with E in GPa was
+    written without a word (exit 0); ``check`` of the written file warned of the modulus only,
+    and of the diameters nothing at all."""
+    source = tmp_path / "mm.toml"
+    source.write_text(edit((ROSS / "rotor_example.toml").read_text()))
+    out = tmp_path / "m.toml"
+    assert main(["import-ross", str(source), "--out", str(out), "--quiet"]) == 0
+    err = capsys.readouterr().err
+    assert "import-ross: warning: " in err and all(word in err for word in words), err
+    assert main(["check", str(out), "--quiet"]) == 0
+    err = capsys.readouterr().err
+    assert "check: warning: " in err and all(word in err for word in words), err
+
+
+def test_a_shaft_of_plausible_diameters_draws_no_size_warning(tmp_path, capsys):
+    """ROSS's own rotors (diameters of centimetres) and the flexible examples stay quiet."""
+    out = tmp_path / "m.toml"
+    assert main(["import-ross", str(ROSS / "rotor_example.toml"), "--out", str(out), "--quiet"]) == 0
+    assert main(["check", str(ROOT / "examples" / "flexible_pump_on_mounts.toml"), "--quiet"]) == 0
+    assert "thick" not in capsys.readouterr().err
+
+
+# ----------------------------------------------------------------------- what a sweep prints
+def test_campbell_prints_an_undamped_modes_damping_as_zero(capsys):
+    """The compressor's axial mode (its thrust bearing has stiffness and no damping, and the
+    axial motion couples to nothing that damps) is undamped: ``stability`` and
+    ``critical-speeds`` print its damping ratio 0, ``campbell`` printed -3.9e-15 and a real part
+    of 4.6e-12 (read as unstable)."""
+    model = ROOT / "examples" / "compressor_rotor.toml"
+    assert main(["campbell", str(model), "--speeds", "0:1000:2", "--lowest", "4"]) == 0
+    header, *lines = capsys.readouterr().out.splitlines()
+    columns = header.split()
+    rows = [dict(zip(columns, line.split())) for line in lines]
+    axial = [row for row in rows if row["whirl"] == "none"]
+    assert len(axial) == 2, rows                     # at 0 and at 1000 rpm
+    for row in axial:
+        assert math.isclose(float(row["frequency_hz"]), 185.245, rel_tol=1e-5)
+        assert (row["damping_ratio"], row["log_decrement"], row["real_part"]) == ("0", "0", "0"), row

@@ -206,3 +206,22 @@ def test_campbell_prints_an_undamped_modes_damping_as_zero(capsys):
     for row in axial:
         assert math.isclose(float(row["frequency_hz"]), 185.245, rel_tol=1e-5)
         assert (row["damping_ratio"], row["log_decrement"], row["real_part"]) == ("0", "0", "0"), row
+
+
+# ----------------------------------------------------------------------- numbers at the edges
+def test_a_power_at_a_speed_of_no_machine_is_refused_before_the_forces_overflow(tmp_path, capsys):
+    """``static --speed 1e-300 --transmitted-power 15000``: the torque power / speed, 1.4e305 N m,
+    overflowed the tooth forces (numpy's 'overflow encountered' warnings) and a CSV of inf and
+    nan was written (exit 0)."""
+    out = tmp_path / "s.csv"
+    assert main(["static", str(ROOT / "examples" / "gear_machine.toml"), "--speed", "1e-300",
+                 "--transmitted-power", "15000", "--out", str(out), "--quiet"]) == 2
+    _one_line_error(capsys, "--transmitted-power 15000", "torque", "1e+30 N m")
+    assert not out.exists()
+    # at an engineer's speed the same power gives the torque power / speed, 47.7 N m at 3000 rpm
+    from rotordyn_modal.analysis.static import transmission_torques
+
+    model = rdm.load_model(ROOT / "examples" / "gear_machine.toml")
+    torques = transmission_torques(model, 3000 * math.pi / 30, 15000.0)
+    assert torques and all(math.isclose(t, 15000.0 / (3000 * math.pi / 30 * abs(model.speed_ratios[k.split("->")[0]])))
+                           for k, t in torques.items())

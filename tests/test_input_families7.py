@@ -225,3 +225,32 @@ def test_a_power_at_a_speed_of_no_machine_is_refused_before_the_forces_overflow(
     torques = transmission_torques(model, 3000 * math.pi / 30, 15000.0)
     assert torques and all(math.isclose(t, 15000.0 / (3000 * math.pi / 30 * abs(model.speed_ratios[k.split("->")[0]])))
                            for k, t in torques.items())
+
+
+_STAGE = ["--rated-power", "5e5", "--impeller-diameter", "0.3", "--restriction-height", "0.02"]
+
+
+@pytest.mark.parametrize("operating, words", [
+    ("1e-300", ["at --operating-speed 1e-300", "Qa = inf", "1e+27"]),
+    ("1e-20", ["at --operating-speed 1e-20", "Qa = 2.387e+29"]),
+    ("-3000", ["--operating-speed -3000", "sense of --mcs 3000"]),
+], ids=["overflow", "beyond-every-machine", "against-the-mcs"])
+def test_a_level1_operating_speed_of_no_machine_is_refused_by_name(capsys, operating, words):
+    """N_r of the API's Qa = B C P / (D H N_r): at 1e-300 rpm numpy's 'overflow encountered in
+    divide' came on a line before the refusal, and that refusal (as at 1e-20 rpm) named the stage
+    data but not the speed that made Qa so large; -3000 rpm beside --mcs 3000 was taken as 3000
+    (exit 0)."""
+    argv = ["level1", str(ROOT / "examples" / "fan_on_bearings.toml"), "--mcs", "3000", "--station", "fan",
+            *_STAGE, "--operating-speed", operating, "--quiet"]
+    assert main(argv) == 2
+    _one_line_error(capsys, *words)
+
+
+def test_a_level1_operating_speed_of_the_mcs_sense_keeps_the_apis_qa(capsys):
+    """Qa = 3 (P / Omega) / (D H) at N_r = 2900 rpm: 3 x 5e5 / (2900 pi / 30) / (0.3 x 0.02)."""
+    argv = ["level1", str(ROOT / "examples" / "fan_on_bearings.toml"), "--mcs", "3000", "--station", "fan",
+            *_STAGE, "--operating-speed", "2900", "--factor", "2"]
+    assert main(argv) == 0
+    qa = 3 * 5e5 / (2900 * math.pi / 30) / (0.3 * 0.02)
+    [line] = [line for line in capsys.readouterr().err.splitlines() if line.startswith("Qa = ")]
+    assert math.isclose(float(line.split()[2]), qa, rel_tol=1e-5), (line, qa)

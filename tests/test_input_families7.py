@@ -254,3 +254,13 @@ def test_a_level1_operating_speed_of_the_mcs_sense_keeps_the_apis_qa(capsys):
     qa = 3 * 5e5 / (2900 * math.pi / 30) / (0.3 * 0.02)
     [line] = [line for line in capsys.readouterr().err.splitlines() if line.startswith("Qa = ")]
     assert math.isclose(float(line.split()[2]), qa, rel_tol=1e-5), (line, qa)
+
+
+# ----------------------------------------------------------------------- other tools' files
+@pytest.mark.parametrize("command", [["check"], ["modes", "--speed", "1000"]])
+def test_a_ross_file_given_as_a_model_names_the_command_that_reads_it(capsys, command):
+    """A ROSS user's first try, ``check rotor.toml`` on ROSS's own file, was refused by its first
+    key ('ross_version = 3.1.0: expected one of the keys name, spin_axis, ...')."""
+    ross = ROSS / "rotor_example.toml"
+    assert main([command[0], str(ross), *command[1:]]) == 2
+    _one_line_error(capsys, "rotor_example.toml", "ROSS", f"import-ross {ross}")

@@ -264,3 +264,35 @@ def test_a_ross_file_given_as_a_model_names_the_command_that_reads_it(capsys, co
     ross = ROSS / "rotor_example.toml"
     assert main([command[0], str(ross), *command[1:]]) == 2
     _one_line_error(capsys, "rotor_example.toml", "ROSS", f"import-ross {ross}")
+
+
+# ----------------------------------------------------------------------- report options
+@pytest.mark.parametrize("standard, extra, words", [
+    ("api684", ["--station", "nobody", "--qa", "1e5"], ["--station:", "api684", "Level I", "api617"]),
+    ("iso", ["--station", "fan", "--qa", "1e5"], ["--station:", "iso", "Level I"]),
+    ("api684", ["--machine", "turbine"], ["--machine:", "api684"]),
+    ("api617", ["--iso-group", "1", "--iso-support", "rigid"], ["--iso-group:", "api617", "ISO 20816-3"]),
+    ("api617", ["--operating-speed", "nan"], ["--operating-speed given without --station"]),
+    ("api617", ["--density-ratio", "-4"], ["--density-ratio given without --station"]),
+], ids=["level1-in-api684", "level1-in-iso", "machine-in-api684", "iso-in-api617", "operating-speed-alone",
+        "density-ratio-alone"])
+def test_a_report_option_its_standard_does_not_use_is_refused(tmp_path, capsys, standard, extra, words):
+    """Each was dropped without a word (exit 0, the report written without it): a Level I
+    station on a rotor the model lacks under --standard api684, ISO classes in an API 617
+    report, Level I stage data without a station (--qa alone was refused)."""
+    out = tmp_path / "r.html"
+    assert main(["report", str(ROOT / "examples" / "fan_on_bearings.toml"), "--standard", standard, "--mcs", "3000",
+                 *extra, "--out", str(out)]) == 2
+    _one_line_error(capsys, *words)
+    assert not out.exists()
+
+
+def test_a_level1_station_on_a_machine_without_rotors_says_so(tmp_path, capsys):
+    """A casing on mounts alone: the refusal ended in "the model's rotors are " and nothing."""
+    model = tmp_path / "block.toml"
+    model.write_text('name = "block"\n[stator]\nmass = 50.0\ninertia = [2.0, 3.0, 4.0]\n'
+                     + "".join(f'[[suspensions]]\nname = "{n}"\nposition = [{x}, {y}, 0.0]\nstiffness = [1e5, 1e5, 2e5]\n'
+                               for n, x, y in (("a", 0.3, 0.2), ("b", -0.3, 0.2), ("c", 0.0, -0.3))))
+    assert main(["level1", str(model), "--mcs", "3000", "--station", "stator", "--qa", "1e5"]) == 2
+    err = _one_line_error(capsys, "no rotor 'stator'", "no [[rotors]]")
+    assert not err.rstrip().endswith("are"), err

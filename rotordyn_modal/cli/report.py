@@ -147,6 +147,7 @@ def _inputs(args):
     if (args.iso_group is None) != (args.iso_support is None):
         raise InputError("--iso-group/--iso-support: expected both (ISO 20816-3 machine group 1 or 2 and "
                          "support rigid or flexible) or neither")
+    _check_sections(args)
     units = getattr(args, "units", None) or "si"
     level1 = None
     if args.station:
@@ -155,13 +156,41 @@ def _inputs(args):
             stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", units)) for s in stations]
         qa, shares = anticipated(args, len(stations), mcs)
         level1 = {"stations": stations, "qa": qa, "shares": shares, "gas_density": gas_density(args)}
-    elif any(getattr(args, o) is not None for o in ("qa", "rated_power", "impeller_diameter", "restriction_height",
-                                                    "gas_density")):
-        raise InputError("--qa or stage data given without --station: name where the cross-coupling acts")
+    elif _level1_options(args):
+        raise InputError(f"{_level1_options(args)[0]} given without --station: name where the cross-coupling acts "
+                         "(with --qa or the stage data)")
     return ReportInputs(standard=args.standard, mcs=mcs, operating=operating, points=points,
                         iso_group=args.iso_group, iso_support=args.iso_support, level1=level1,
                         stiffness=_stiffness(args.stiffness, units) if args.stiffness else None,
                         command=_command_line(), amplitude=args.amplitude)
+
+
+#: the Level I options of ``report`` (besides --station) and their ``args`` names
+_LEVEL1_OPTIONS = (("--qa", "qa"), ("--rated-power", "rated_power"), ("--impeller-diameter", "impeller_diameter"),
+                   ("--restriction-height", "restriction_height"), ("--density-ratio", "density_ratio"),
+                   ("--operating-speed", "operating_speed"), ("--gas-density", "gas_density"))
+
+
+def _level1_options(args) -> list[str]:
+    """The Level I options given (as typed; ``--machine`` when not its default), --station aside."""
+    given = [as_typed(args, option) for option, name in _LEVEL1_OPTIONS if getattr(args, name) is not None]
+    return given + (["--machine"] if args.machine != "compressor" else [])
+
+
+def _check_sections(args):
+    """Refuse an option whose section ``--standard`` does not have: it was dropped without a
+    word (``--standard api684 --station nobody --qa 1e5``, ``--standard api617 --iso-group 1``).
+    ``--stiffness`` is left alone: scripts give it to every standard (the iso report has no map)."""
+    from ..report.collect import STANDARDS
+
+    sections = STANDARDS[args.standard]
+    for section, options, where in (
+            ("level1", (["--station"] if args.station else []) + _level1_options(args),
+             "API 617 Level I stability, in --standard api617"),
+            ("iso", ["--iso-group"] if args.iso_group is not None else [], "ISO 20816-3 zones, in --standard iso")):
+        if options and section not in sections:
+            raise InputError(f"{options[0]}: --standard {args.standard} has no section it serves ({where}): "
+                             "drop it or choose that standard")
 
 
 def _command_line() -> str:

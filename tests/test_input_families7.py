@@ -296,3 +296,26 @@ def test_a_level1_station_on_a_machine_without_rotors_says_so(tmp_path, capsys):
     assert main(["level1", str(model), "--mcs", "3000", "--station", "stator", "--qa", "1e5"]) == 2
     err = _one_line_error(capsys, "no rotor 'stator'", "no [[rotors]]")
     assert not err.rstrip().endswith("are"), err
+
+
+# ----------------------------------------------------------------------- '-' as an output
+@pytest.mark.parametrize("argv, option", [
+    (["unbalance", "FAN", "--speeds", "100:3000:3", "--mcs", "3000", "--checks", "-", "--quiet"], "--checks"),
+    (["unbalance", "FAN", "--speeds", "100:3000:3", "--orbits", "-", "--quiet"], "--orbits"),
+    (["report", "FAN", "--standard", "api684", "--mcs", "3000", "--out", "-"], "--out"),
+    (["report", "FAN", "--standard", "api684", "--mcs", "3000", "--out", "r.html", "--pdf", "-"], "--pdf"),
+    (["fit", "GEAR", "--measured", "g.csv", "--params", "suspensions.mount-FL.stiffness", "--out", "-"], "--out"),
+], ids=["unbalance-checks", "unbalance-orbits", "report-out", "report-pdf", "fit-out"])
+def test_an_output_never_written_to_standard_output_refuses_a_dash(tmp_path, monkeypatch, capsys, argv, option):
+    """``-`` is standard output for the tables of --out; these outputs are files only, and each
+    wrote a file named '-' in the working folder (exit 0; ``fit`` said 'fitted model written to -')."""
+    monkeypatch.chdir(tmp_path)
+    examples = ROOT / "examples"
+    if "GEAR" in argv:
+        assert main(["frf", str(examples / "gear_machine.toml"), "--freqs", "2:40:5", "--out", "g.csv", "--quiet"]) == 0
+    argv = [{"FAN": str(examples / "fan_on_bearings.toml"), "GEAR": str(examples / "gear_machine.toml")}.get(a, a)
+            for a in argv]
+    capsys.readouterr()
+    assert main(argv) == 2
+    _one_line_error(capsys, f"{option} -", "give a file name")
+    assert not (tmp_path / "-").exists()

@@ -59,7 +59,7 @@ def run(args) -> int:
     from ..analysis.fit import fit
     from ..io.measured import check_mapping_used, read_measured
     check_outputs(args, args.out)
-    check_ending(args.out, (".toml",), "--out")
+    check_ending(args.out, (".toml",), "--out", stdout=False)
     check_output_options(args)
     model = load_model(args.model)
     params = parse_names(args.params, "--params", lambda key: key == "gain" or _is_key(model, key))

@@ -94,7 +94,8 @@ def add_arguments(parser):
 def run(args) -> int:
     from ..report import collect, render_html
 
-    check_ending(args.pdf, (".pdf",), "--pdf")
+    check_ending(args.out, (".html", ".htm"), "--out", stdout=False)
+    check_ending(args.pdf, (".pdf",), "--pdf", stdout=False)
     check_extra_output(args, args.pdf, "--pdf")
     if args.pdf and _browser() is None:
         raise InputError(f"--pdf {args.pdf}: no Chromium on the PATH to print the report (open the HTML "

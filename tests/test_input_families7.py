@@ -319,3 +319,18 @@ def test_an_output_never_written_to_standard_output_refuses_a_dash(tmp_path, mon
     assert main(argv) == 2
     _one_line_error(capsys, f"{option} -", "give a file name")
     assert not (tmp_path / "-").exists()
+
+
+def test_bearings_twelve_decades_apart_are_not_said_to_hold_nothing(tmp_path, capsys):
+    """ROSS's rotor on 1e13 N/m at one end and 10 N/m at the other: its tilt is held (10 N/m on
+    a 1.5 m arm), too softly beside the other bearing for double precision to keep, and was
+    refused as 'nothing holds its tilt about the x axis'."""
+    text = (ROSS / "rotor_example.toml").read_text()
+    first, second = text.split('["BearingElement_Bearing 1"]')
+    first = first.replace("kxx = [ 1000000.0,]", "kxx = [ 1e13,]").replace("kyy = [ 800000.0,]", "kyy = [ 1e13,]")
+    second = second.replace("kxx = [ 1000000.0,]", "kxx = [ 10.0,]", 1).replace("kyy = [ 800000.0,]", "kyy = [ 10.0,]", 1)
+    bad = tmp_path / "spread.toml"
+    bad.write_text(first + '["BearingElement_Bearing 1"]' + second)
+    assert main(["import-ross", str(bad), "--out", str(tmp_path / "m.toml")]) == 2
+    err = _one_line_error(capsys, "spread.toml", "tilt about the x axis", "held only", "10 to 1e+13 N/m")
+    assert "nothing holds" not in err

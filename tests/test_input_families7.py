@@ -334,3 +334,17 @@ def test_bearings_twelve_decades_apart_are_not_said_to_hold_nothing(tmp_path, ca
     assert main(["import-ross", str(bad), "--out", str(tmp_path / "m.toml")]) == 2
     err = _one_line_error(capsys, "spread.toml", "tilt about the x axis", "held only", "10 to 1e+13 N/m")
     assert "nothing holds" not in err
+
+
+def test_a_report_whose_sweep_leaves_a_speed_table_names_mcs(tmp_path, capsys):
+    """The report sweeps 2 % of --mcs to 1.5 x --mcs, and no option moves that range: a bearing
+    tabulated to 15,279 rpm (ROSS's 1600 rad/s) under --mcs 12000 was refused as '... outside the
+    coefficient table's speeds_rpm range ...: extend the table or the sweep's range'."""
+    from rotordyn_modal.io.ross_file import write_model_file
+
+    model = tmp_path / "tables.toml"
+    write_model_file(read_ross_rotor(ROSS / "speed_tables.toml"), model)
+    out = tmp_path / "r.html"
+    assert main(["report", str(model), "--standard", "api684", "--mcs", "12000", "--out", str(out)]) == 2
+    _one_line_error(capsys, "--mcs 12000", "1.5 x", "240 .. 18000 rpm", "speeds_rpm 0 .. 15278.9 rpm")
+    assert not out.exists()

@@ -102,6 +102,7 @@ def run(args) -> int:
                          "in a browser and print it instead)")
     inputs = _inputs(args)
     model = open_model(args)
+    _check_tables(model, inputs, args)
     import matplotlib
 
     matplotlib.use("Agg")
@@ -192,6 +193,30 @@ def _check_sections(args):
         if options and section not in sections:
             raise InputError(f"{options[0]}: --standard {args.standard} has no section it serves ({where}): "
                              "drop it or choose that standard")
+
+
+def _check_tables(model, inputs, args):
+    """Refuse, before the work and naming --mcs, a speed table that the report's sweeps (2 % of
+    --mcs to 1.5 x --mcs, no option of the report moves them) leave: the table's own refusal
+    ended in 'extend the table or the sweep's range'."""
+    import math
+
+    import numpy as np
+
+    ends = np.array([inputs.speeds[0], inputs.speeds[-1]])
+    for bearing in model.bearings:
+        table = bearing.coefficients.speeds
+        if bearing.coefficients.kind != "table" or table is None:
+            continue
+        own = model.speed_ratios[bearing.rotor] * ends
+        slack = 1e-12 * np.max(np.abs(table[[0, -1]]))      # as the table's own check (round-off)
+        if own.min() < table[0] - slack or own.max() > table[-1] + slack:
+            rpm = 30.0 / math.pi
+            raise InputError(
+                f"{as_typed(args, '--mcs')} {args.mcs}: the report sweeps the reference speed from 2 % of it to "
+                f"1.5 x it, {ends[0] * rpm:.6g} .. {ends[1] * rpm:.6g} rpm, where rotor {bearing.rotor!r} turns at "
+                f"{own.min() * rpm:.6g} .. {own.max() * rpm:.6g} rpm: expected within [bearings.{bearing.name}] "
+                f"speeds_rpm {table[0] * rpm:.6g} .. {table[-1] * rpm:.6g} rpm (extend the table, or a lower --mcs)")
 
 
 def _command_line() -> str:

@@ -348,3 +348,22 @@ def test_a_report_whose_sweep_leaves_a_speed_table_names_mcs(tmp_path, capsys):
     assert main(["report", str(model), "--standard", "api684", "--mcs", "12000", "--out", str(out)]) == 2
     _one_line_error(capsys, "--mcs 12000", "1.5 x", "240 .. 18000 rpm", "speeds_rpm 0 .. 15278.9 rpm")
     assert not out.exists()
+
+
+@pytest.mark.parametrize("ending", [".txt", ".tsv"])
+def test_a_tab_separated_text_export_reads_as_the_csv(tmp_path, ending):
+    """Test rigs and spreadsheets export a tab-separated table as .txt or .tsv: the same table as
+    the CSV ``frf --out`` writes was refused as 'unknown measured data format'."""
+    import pandas as pd
+    from rotordyn_modal.io.measured import read_measured
+
+    gear = ROOT / "examples" / "gear_machine.toml"
+    csv = tmp_path / "g.csv"
+    assert main(["frf", str(gear), "--speed", "600", "--freqs", "2:40:5", "--out", str(csv), "--quiet"]) == 0
+    text = tmp_path / f"g{ending}"
+    pd.read_csv(csv, dtype=str, keep_default_na=False).to_csv(text, sep="\t", index=False)
+    model = rdm.load_model(gear)
+    [a], [b] = read_measured(csv, model), read_measured(text, model)
+    assert (a.inputs, a.outputs, a.speed) == (b.inputs, b.outputs, b.speed)
+    np.testing.assert_array_equal(a.frequencies_hz, b.frequencies_hz)
+    np.testing.assert_array_equal(a.H, b.H)

@@ -367,3 +367,18 @@ def test_a_tab_separated_text_export_reads_as_the_csv(tmp_path, ending):
     assert (a.inputs, a.outputs, a.speed) == (b.inputs, b.outputs, b.speed)
     np.testing.assert_array_equal(a.frequencies_hz, b.frequencies_hz)
     np.testing.assert_array_equal(a.H, b.H)
+
+
+def test_a_rotor_named_stator_is_refused(tmp_path, capsys):
+    """``import-ross --name stator`` (or a rotor table so named) made a model whose rotor the
+    options and tables could not tell from the casing: ``static --force stator:0,0,0.75:100,0,0``
+    put the 100 N on the (absent) casing, the shaft took none and the balance line said 'sum of
+    forces 100 N' (exit 0)."""
+    out = tmp_path / "m.toml"
+    assert main(["import-ross", str(ROSS / "rotor_example.toml"), "--out", str(out), "--name", "stator"]) == 2
+    _one_line_error(capsys, "[rotors[0]] name", "'stator'", "casing")
+    assert not out.exists()
+    model_file = tmp_path / "two.toml"
+    model_file.write_text(TWO_SHAFTS.replace('"motor"', '"stator"'))
+    assert main(["check", str(model_file)]) == 2
+    _one_line_error(capsys, "two.toml", "name = 'stator'")

@@ -382,3 +382,20 @@ def test_a_rotor_named_stator_is_refused(tmp_path, capsys):
     model_file.write_text(TWO_SHAFTS.replace('"motor"', '"stator"'))
     assert main(["check", str(model_file)]) == 2
     _one_line_error(capsys, "two.toml", "name = 'stator'")
+
+
+def test_campbell_prints_a_planar_modes_whirl_ratio_as_zero(tmp_path, capsys):
+    """ROSS's rotor at rest on bearings of 1e6 N/m along x and 8e5 N/m along y: without spin its
+    modes move in the x or the y plane alone (whirl ratio exactly 0, whirl 'none'); ``campbell``
+    printed -1.6e-11 and 1.1e-11 at 0 rpm."""
+    from rotordyn_modal.io.ross_file import write_model_file
+
+    model = tmp_path / "rotor.toml"
+    write_model_file(read_ross_rotor(ROSS / "rotor_example.toml"), model)
+    assert main(["campbell", str(model), "--speeds", "0:1000:2", "--lowest", "4"]) == 0
+    header, *lines = capsys.readouterr().out.splitlines()
+    rows = [dict(zip(header.split(), line.split())) for line in lines]
+    at_rest = [row for row in rows if row["speed_rpm"] == "0"]
+    assert len(at_rest) == 4 and all((row["whirl"], row["whirl_ratio"]) == ("none", "0") for row in at_rest), rows
+    spinning = [row for row in rows if row["speed_rpm"] == "1000"]
+    assert all(abs(float(row["whirl_ratio"])) > 0.05 for row in spinning), rows   # not zeroed where it whirls

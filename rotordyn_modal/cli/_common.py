@@ -580,13 +580,18 @@ def check_output_options(args):
     check_ending(out, getattr(args, "out_endings", None), "--out")
 
 
-def check_ending(path, endings, option: str):
+def check_ending(path, endings, option: str, stdout: bool = True):
     """Refuse an output whose file ending is not one of the formats written (``-``: standard output;
-    a pipe or device without an ending, where CSV is one of them, is written as CSV)."""
+    a pipe or device without an ending, where CSV is one of them, is written as CSV). With
+    ``stdout=False`` the output is never written to standard output, and ``-`` (which would make a
+    file named '-') is refused."""
     from pathlib import Path
 
     from ..io.atomic import _is_special
 
+    if path == "-" and not stdout:
+        raise InputError(f"{option} -: expected a file ending in {' or '.join(endings)} ('-', standard output, "
+                         f"is not where {option} writes: give a file name)")
     if path and path != "-" and endings and not Path(path).suffix and ".csv" in endings and _is_special(path):
         return   # a pipe or device without an ending (a shell's >(gzip > f.gz), /dev/stdout): CSV, as '-'
     if path and path != "-" and endings and Path(path).suffix.lower() not in endings:

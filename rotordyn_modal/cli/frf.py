@@ -68,7 +68,7 @@ def add_arguments(parser):
     parser.add_argument("--force-outputs", dest="forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="forces per unit input instead of the sensors (all: the three kinds)")
     add_alias(parser, "--force-outputs", "--forces")
-    add_input_file(parser, "--measured", metavar="FILE", help="measured FRFs (.uff/.unv or .csv) to draw under the model")
+    add_input_file(parser, "--measured", metavar="FILE", help="measured FRFs (.uff/.unv, or a .csv table; .txt and .tsv read as CSV) to draw under the model")
     add_input_file(parser, "--mapping", metavar="FILE.csv", help="UFF node/direction to channel table: name,node,direction[,sign]")
     add_outputs(parser, out_endings=(".csv", ".uff", ".unv"))
 

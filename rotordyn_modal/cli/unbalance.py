@@ -131,8 +131,8 @@ def add_arguments(parser):
 def run(args) -> int:
     from ..analysis.unbalance import api_unbalance_response, check_operating_speed, unbalance_response
     check_extra_output(args, args.orbits, "--orbits")
-    check_ending(args.orbits, (".csv",), "--orbits")
-    check_ending(args.checks, (".csv",), "--checks")
+    check_ending(args.orbits, (".csv",), "--orbits", stdout=False)
+    check_ending(args.checks, (".csv",), "--checks", stdout=False)
     check_extra_output(args, args.orbit_plot, "--orbit-plot", figure=True)
     model = open_model(args)
     operating = _speed(args, args.operating_speed, "--operating-speed")

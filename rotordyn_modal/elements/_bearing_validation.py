@@ -580,7 +580,8 @@ def _check_held(rotor, mates, tables, e) -> None:
                     for s, b in zip(moved, mates))
         free = _free_motion(motions.T @ total @ motions)
         if free is not None:
-            raise _not_held(rotor, mates, tables, motions, free, row if rows > 1 else None)
+            raise _not_held(rotor, mates, tables, motions, free, row if rows > 1 else None,
+                            _held_fraction(motions.T @ total @ motions))
 
 
 def _relative_motions(e: np.ndarray, axial: bool) -> np.ndarray:
@@ -606,9 +607,22 @@ def _free_motion(stiffness: np.ndarray):
     return None if values[-1] > 1e-12 * values[0] else vt[-1]
 
 
-def _not_held(rotor, mates, tables, motions: np.ndarray, free: np.ndarray, row) -> ModelError:
+def _held_fraction(stiffness: np.ndarray) -> float:
+    """The smallest over the largest singular value of ``stiffness`` scaled as :func:`_free_motion`
+    scales it: 0 where a motion is free, a tiny positive number where soft bearings hold it
+    beside bearings stiffer by twelve decades and more."""
+    size = np.sqrt(np.linalg.norm(stiffness, axis=0) * np.linalg.norm(stiffness, axis=1))
+    if not (size > 0).all():
+        return 0.0
+    root = np.sqrt(size)
+    values = np.linalg.svd(stiffness / np.outer(root, root), compute_uv=False)
+    return float(values[-1] / values[0])
+
+
+def _not_held(rotor, mates, tables, motions: np.ndarray, free: np.ndarray, row, fraction: float = 0.0) -> ModelError:
     """The refusal of a rotor that its bearings leave free in ``motions @ free`` (a tilt
-    when the free motion turns the rotor at all, about some point of its axis)."""
+    when the free motion turns the rotor at all, about some point of its axis); ``fraction``
+    (:func:`_held_fraction`) above round-off says that it is held, too softly to be kept."""
     tilt = np.abs(free[-2:]).max() > 1e-8
     axis = motions[3:, -2:] @ free[-2:] if tilt else motions[:3, :-2] @ free[:-2]
     axis = axis / np.linalg.norm(axis)
@@ -617,6 +631,13 @@ def _not_held(rotor, mates, tables, motions: np.ndarray, free: np.ndarray, row) 
     table = tables[bearing.name]
     where = f" at speeds_rpm[{row}]" if row is not None else ""
     what = f"its {'tilt about' if tilt else 'translation along'} {_axis_text(axis)}"
+    if fraction > 1e-15:   # held, by bearings twelve decades softer than others: not 'nothing holds'
+        stiffness = [float(np.abs(b.coefficients.stiffness).max()) for b in mates]
+        return table.error(key, table.data.get(key, "<missing>"),
+                           f"bearings that hold rotor {rotor.name!r} in each of its motions within what double "
+                           f"precision keeps: {what}{where} is held only {fraction:.3g} as stiffly as its stiffest "
+                           f"motion (their stiffness, moved to its centre of mass, scaled), below 1e-12: bearings "
+                           f"of {min(stiffness):.3g} to {max(stiffness):.3g} N/m on one rotor (a value in other units?)")
     return table.error(key, table.data.get(key, "<missing>"),
                        f"bearings that together hold rotor {rotor.name!r} in each of its motions: nothing "
                        f"holds {what}{where} (their stiffness, moved to its centre of mass, is singular; "

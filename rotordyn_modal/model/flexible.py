@@ -597,6 +597,28 @@ def _moved_stations(named, z, spacing) -> tuple:
     return tuple(out)
 
 
+#: [m] outer diameter of a shaft section or layer above which a model draws a warning: no
+#: machine's shaft is this thick (kilns and tube mills reach ~6 m), while a shaft of 10 to
+#: 1000 mm typed in mm for m lands here
+PLAUSIBLE_SHAFT_DIAMETER = 10.0
+
+
+def size_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
+    """One warning line for ``shaft`` when a section (or layer) is thicker than
+    :data:`PLAUSIBLE_SHAFT_DIAMETER`, most likely a diameter in mm typed for m: the thickest
+    named, with the count of the others."""
+    thick = [(max(tube.outer), where) for i, section in enumerate(shaft.sections)
+             for where, tube in ((f"shaft.{i}", section), *((f"shaft.{i}.layers.{k}", layer)
+                                                          for k, layer in enumerate(section.layers)))
+             if max(tube.outer) > PLAUSIBLE_SHAFT_DIAMETER]
+    if not thick:
+        return []
+    diameter, where = max(thick)
+    others = f" (and {len(thick) - 1} other tubes over it)" if len(thick) > 1 else ""
+    return [f"{source}: [rotors.{visible(rotor)}.{where}] outer_diameter = {diameter:g}{others}: a shaft over "
+            f"{PLAUSIBLE_SHAFT_DIAMETER:g} m thick; a diameter in mm typed for m? (model files are SI)"]
+
+
 def merge_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     """One warning line per station of ``shaft``'s mesh placed at the node of another mark
     (:attr:`Mesh.merged`), naming it, its distance and where it now is, and one per run of

@@ -141,11 +141,15 @@ def implausible(model, units: str = "si") -> list[str]:
 
 
 def _merge_lines(model) -> list[str]:
-    """A line for each station of a flexible rotor moved to another's node (model/flexible.py)."""
+    """A line for each flexible rotor's section thicker than any shaft and each station moved to
+    another's node (model/flexible.py)."""
     from .model.flexible import merge_lines
 
+    from .model.flexible import size_lines
+
     return [line for rotor in model.rotors if rotor.flexible is not None
-            for line in merge_lines(model.source, rotor.name, rotor.flexible)]
+            for line in (*size_lines(model.source, rotor.name, rotor.flexible),
+                         *merge_lines(model.source, rotor.name, rotor.flexible))]
 
 
 def _material_lines(model) -> list[str]:

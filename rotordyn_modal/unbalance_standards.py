@@ -16,7 +16,7 @@ import numpy as np
 __all__ = ["BALANCE_GRADES", "balance_grade", "permissible_unbalance", "api_unbalance",
            "API_SI_CONSTANT", "API_US_CONSTANT", "API_ANALYSIS_MULTIPLE", "api_analysis_unbalance",
            "API_SCALE_CAP", "api_scale_factor", "api_probe_limit", "ISO_20816_3_ZONES",
-           "iso_zone_boundaries", "iso_zones", "AMPLITUDES", "amplitude_factor", "amplitude_label",
+           "iso_zone_boundaries", "iso_zones", "AMPLITUDES", "AMPLITUDE_WORDS", "amplitude_factor", "amplitude_label",
            "amplitude_column", "one_convention"]
 
 #: ISO 21940-11 balance quality grades G [mm/s] (G0.4 ... G4000)
@@ -41,12 +41,15 @@ ISO_20816_3_ZONES = {
 }
 
 #: amplitude conventions of a harmonic ``A cos(w t + phi)``: factor on the 0-peak amplitude A,
-#: words for labels, suffix for table columns
+#: words for labels, suffix for table columns, word written after a unit (``25.4 µm pk-pk``)
 AMPLITUDES = {
-    "peak": (1.0, "0-peak", "0pk"),
-    "pk-pk": (2.0, "peak-to-peak", "pkpk"),
-    "rms": (1.0 / math.sqrt(2.0), "RMS", "rms"),
+    "peak": (1.0, "0-peak", "0pk", "0-peak"),
+    "pk-pk": (2.0, "peak-to-peak", "pkpk", "pk-pk"),
+    "rms": (1.0 / math.sqrt(2.0), "RMS", "rms", "RMS"),
 }
+#: each convention as written after a unit: ``12.7 µm 0-peak``, ``25.4 µm pk-pk``, ``8.98 µm RMS``
+#: (the report's ``--amplitude``)
+AMPLITUDE_WORDS = {name: convention[3] for name, convention in AMPLITUDES.items()}
 
 
 def balance_grade(value) -> float | None:

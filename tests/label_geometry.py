@@ -212,3 +212,31 @@ def named_modes(words):
         first, _, last = part.partition("\u2013")
         numbers += list(range(int(first), int(last or first) + 1))
     return numbers
+
+
+def order_curves(ax) -> dict:
+    """{slope [Hz per unit of speed]: display segments (n, 4) of the line as drawn, clipped to
+    the axes} of the straight lines through the origin (the order lines) that ``ax`` draws; on
+    a logarithmic frequency axis too, where :func:`order_lines`' straight display segment from
+    the origin does not exist (each drawn point through the line's own transform)."""
+    frame = ax.get_window_extent()
+    curves = {}
+    for line in ax.get_lines():
+        x, y = (np.asarray(v, float) for v in line.get_data())
+        if len(x) > 2 and x[0] == 0 and y[0] == 0 and y[-1] > 0 and np.allclose(y, y[-1] / x[-1] * x, rtol=1e-9):
+            with np.errstate(all="ignore"):
+                points = line.get_transform().transform(np.column_stack([x, y]))
+            segments = np.hstack([points[:-1], points[1:]])
+            segments = segments[np.all(np.isfinite(segments), axis=1)]
+            curves[round(y[-1] / x[-1], 9)] = clip_segments(segments, (frame.x0, frame.y0, frame.x1, frame.y1))
+    return curves
+
+
+def point_segments_distance(segments, point) -> float:
+    """Display distance of ``point`` (2,) from the nearest of ``segments`` (n, 4) (inf for none)."""
+    if not len(segments):
+        return float("inf")
+    a, b = segments[:, :2], segments[:, 2:]
+    d = b - a
+    t = np.clip(np.einsum("ij,ij->i", point - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300), 0.0, 1.0)
+    return float(np.min(np.hypot(*(a + t[:, None] * d - point).T)))

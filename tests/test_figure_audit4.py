@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
-from label_geometry import named_orders, order_lines, outline, outlines_overlap, point_segment_distance
+from campbell_orders import drawn_campbell
+from label_geometry import outline, outlines_overlap, point_segment_distance
 
 matplotlib.use("Agg")
 
@@ -80,9 +81,6 @@ def test_orbit_axis_says_that_e_is_the_spin_axis(pump):
 
 # -- Campbell: order labels beside their own lines, naming only neighbouring lines ---------------
 
-_ORDER_WORDS = r"(?P<orders>\d+(?:\.\d+)?X(?:, \d+(?:\.\d+)?X)*|\d+(?:\.\d+)?\u2013\d+(?:\.\d+)?X) (?P<source>.+)"
-
-
 @pytest.mark.parametrize("model", ["gear_machine.toml", "rubber_mounts.toml"])
 def test_order_labels_name_neighbouring_lines_beside_their_own(model):
     """gear_machine and rubber_mounts, 0-12000 rpm, orders 1-4: the motor's and the gear
@@ -93,19 +91,11 @@ def test_order_labels_name_neighbouring_lines_beside_their_own(model):
     inside the axes, overlaps no other label, and the order line nearest its centre is one it
     names; the motor's lines 2X-4X (between the mesh's and the fan's, no room for a flat
     label at their exits) are named, along their lines."""
-    import re
-
     import matplotlib.pyplot as plt
 
-    result = rdm.campbell(rdm.load_model(EXAMPLES / model), rdm.rpm(np.linspace(0, 12000, 25)), orders=(1, 2, 3, 4))
-    fig = result.plot()
-    fig.canvas.draw()
-    renderer = fig.canvas.get_renderer()
-    ax = fig.axes[0]
-    frame = ax.get_window_extent(renderer)
-    lines = {slope: segment for slope, (segment, _) in order_lines(ax).items()}
-    multiplier = dict(zip(result.sources.names, result.sources.multipliers))
-    assert len(lines) == 4 * len(multiplier)
+    drawn = drawn_campbell(model)
+    fig, ax, renderer, frame = drawn.fig, drawn.ax, drawn.renderer, drawn.frame
+    lines = {slope: segment for slope, (segment, _) in drawn.lines.items()}
     # keys above the axes (lines with no room inside them) are checked in test_figure_audit5
     texts = [t for t in ax.texts if t.get_visible() and t.get_text() and t.get_gid() != "order-key"]
     boxes = [t.get_window_extent(renderer) for t in texts]
@@ -115,11 +105,9 @@ def test_order_labels_name_neighbouring_lines_beside_their_own(model):
     named = set()
     slopes = sorted(lines)
     for text, box in zip(texts, boxes):
-        match = re.fullmatch(_ORDER_WORDS, text.get_text())
-        if match is None or match["source"] not in multiplier:
+        mine = drawn.named_slopes(text.get_text())
+        if mine is None:
             continue
-        mine = {round(o * abs(multiplier[match["source"]]) / 60.0, 9) for o in named_orders(match["orders"])}
-        assert mine <= set(lines), text.get_text()
         named |= mine
         assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1, text.get_text()
         centre = np.array([(box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2])
@@ -127,6 +115,6 @@ def test_order_labels_name_neighbouring_lines_beside_their_own(model):
         assert nearest in mine, (text.get_text(), nearest)
         between = [s for s in slopes if min(mine) < s < max(mine) and s not in mine]
         assert not between, (text.get_text(), between)
-    motor = {round(o * abs(multiplier["motor"]) / 60.0, 9) for o in (2, 3, 4)}
+    motor = {drawn.slope("motor", o) for o in (2, 3, 4)}
     assert motor <= named, sorted(motor - named)
     plt.close(fig)

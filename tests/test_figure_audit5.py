@@ -20,14 +20,12 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
-from label_geometry import (curve_segments, named_orders, order_lines, outline, outlines_overlap,
-                            point_segment_distance)
+from campbell_orders import drawn_campbell
+from label_geometry import curve_segments, outline, outlines_overlap, point_segment_distance
 
 matplotlib.use("Agg")
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-
-_ORDER_WORDS = r"(?P<orders>\d+(?:\.\d+)?X(?:, \d+(?:\.\d+)?X)*|\d+(?:\.\d+)?\u2013\d+(?:\.\d+)?X) (?P<source>.+)"
 
 
 def _curve_through(polygon, segments) -> bool:
@@ -60,15 +58,8 @@ def test_every_order_line_is_named_beside_itself(model):
     outlines."""
     import matplotlib.pyplot as plt
 
-    result = rdm.campbell(rdm.load_model(EXAMPLES / model), rdm.rpm(np.linspace(0, 12000, 25)), orders=(1, 2, 3, 4))
-    fig = result.plot()
-    fig.canvas.draw()
-    renderer = fig.canvas.get_renderer()
-    ax = fig.axes[0]
-    frame = ax.get_window_extent(renderer)
-    lines = order_lines(ax)
-    multiplier = dict(zip(result.sources.names, result.sources.multipliers))
-    assert len(lines) == 4 * len(multiplier)
+    drawn = drawn_campbell(model)
+    fig, ax, renderer, frame, lines = drawn.fig, drawn.ax, drawn.renderer, drawn.frame, drawn.lines
     texts = [t for t in ax.texts if t.get_visible() and t.get_text()]
     outlines = [outline(t, renderer) for t in texts]
     for i, a in enumerate(outlines):
@@ -79,11 +70,9 @@ def test_every_order_line_is_named_beside_itself(model):
     title = ax.title.get_window_extent(renderer)
     named = set()
     for text, corners in zip(texts, outlines):
-        match = re.fullmatch(_ORDER_WORDS, text.get_text())
-        if match is None or match["source"] not in multiplier:
+        mine = drawn.named_slopes(text.get_text())
+        if mine is None:
             continue
-        mine = {round(o * abs(multiplier[match["source"]]) / 60.0, 9) for o in named_orders(match["orders"])}
-        assert mine <= set(lines), text.get_text()
         if np.all((corners >= (frame.x0, frame.y0)) & (corners <= (frame.x1, frame.y1))):
             assert not _curve_through(corners, segments), text.get_text()
             centre = corners.mean(axis=0)

@@ -189,7 +189,9 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
     rows, first, resolved = found[0] if len(found) == 1 else _batches.concatenated(found)
     if not rows.size:
         return shapes
-    out = shapes.copy()
+    # complex: LAPACK gives real vectors when every root is real (an overdamped machine), and
+    # their pairs' combinations are complex (numpy's ComplexWarning, the imaginary parts lost)
+    out = shapes.astype(np.result_type(shapes.dtype, resolved.dtype))
     out[rows, first] = resolved[:, :, 0]
     out[rows, first + 1] = resolved[:, :, 1]
     return out

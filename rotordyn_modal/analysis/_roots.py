@@ -197,8 +197,9 @@ def zero_roots(values, noise, matrices=None, vectors=None, n: int | None = None)
     """Which roots are zero roots (directions without suspension) to round-off.
 
     ``|lam| <= noise``; or ``|lam| <= sqrt(noise)`` (the split of a double zero root) where the
-    shape is in the null space of the stiffness: ``||A_vq phi|| <= noise ||phi||``, with
-    ``A_vq = -M^-1 K`` the rows ``v'`` and columns ``q`` of the state matrix. Without the
+    shape is in the null space of the stiffness to round-off: ``||A_vq phi||`` within
+    :func:`_free_bound` ``||x||``, with ``A_vq = -M^-1 K`` the rows ``v'`` and columns ``q`` of
+    the state matrix, ``phi`` the ``q`` part of the eigenvector ``x``. Without the
     eigenvectors every root below ``sqrt(noise)`` is one. (A slow mode of a rotor, such as the
     backward conical whirl of a fast rotor on soft bearings, has ``K phi != 0`` and stays a mode.)
 
@@ -229,12 +230,32 @@ def zero_roots(values, noise, matrices=None, vectors=None, n: int | None = None)
     flat_matrices = np.asarray(matrices).reshape((-1,) + np.shape(matrices)[-2:])
     flat_vectors = np.asarray(vectors).reshape((-1,) + np.shape(vectors)[-2:])
     r, k = rows[split], np.nonzero(split.reshape(-1, values.shape[-1]))[1]
-    phi = flat_vectors[r, :n, k]                                                     # (P, n)
-    residual = np.linalg.norm(np.einsum("pij,pj->pi", flat_matrices[r, n:2 * n, :n], phi), axis=-1)
-    free = residual <= np.broadcast_to(noise, values.shape)[split] * np.linalg.norm(phi, axis=-1)
+    state = flat_vectors[r, :, k]                                                    # (P, n_s)
+    residual = np.linalg.norm(np.einsum("pij,pj->pi", flat_matrices[r, n:2 * n, :n], state[:, :n]), axis=-1)
+    free = residual <= _free_bound(values[split], np.broadcast_to(noise, values.shape)[split],
+                                   flat_matrices, r, n) * np.linalg.norm(state, axis=-1)
     out = zero.copy()
     out[split] = free
     return out
+
+
+def _free_bound(values, noise, matrices, rows, n: int) -> np.ndarray:
+    """How large ``||A_vq x_q|| / ||x||`` can be for a free, undamped direction's root ``lam``
+    (values, (P,)) of the solve of ``matrices[rows]`` with round-off ``noise`` (P,) [1/s^2].
+
+    An eigenpair of ``A + E`` (``||E|| <= noise``): the ``q`` rows give ``x_v = lam x_q - (E x)_q``
+    and the ``v`` rows ``A_vq x_q = lam x_v - A_vv x_v - (E x)_v``, so for a direction that
+    neither stiffness, damping nor the gyroscopic terms load (``A_vq phi = A_vv phi = 0``)
+    ``||A_vq x_q|| <= (|lam|^2 + noise (1 + |lam| + ||A_vv||)) ||x||``: round-off reaches the
+    stiffness rows through the damping rows too (``A_vv (E x)_q``). A slow mode that the
+    gyroscopic or damping terms load has ``||A_vq x_q|| ~ |lam| ||A_vv x_q||``, above this
+    wherever ``|lam|`` is above its own round-off. ``||A_vv||_2`` is bounded by
+    ``sqrt(||A_vv||_1 ||A_vv||_inf)`` (exact for a rotor's gyroscopic block), one per matrix."""
+    unique, which = np.unique(rows, return_inverse=True)
+    blocks = (np.abs(matrices[i, n:2 * n, n:2 * n]) for i in unique)
+    damping = np.array([np.sqrt(b.sum(axis=0).max() * b.sum(axis=1).max()) for b in blocks])[which]
+    size = np.abs(values)
+    return size * size + noise * (1.0 + size + damping)
 
 
 def whirl_round_off(eigenvalues, every, noise, repeated: float) -> np.ndarray:

@@ -97,13 +97,36 @@ class CampbellResult:
             "mode_at_speed": pd.array(numbers_at_speed(self.eigenvalues).ravel(), dtype="Int64"),
         })
         table.loc[table["mode_at_speed"] == 0, "mode_at_speed"] = pd.NA
-        return table[keep].reset_index(drop=True)
+        table = table[keep].reset_index(drop=True)
+        table.attrs["round_off"] = _round_off_columns(self.eigenvalues.ravel()[keep])
+        return table
 
     def plot(self, **kwargs):
         """Campbell diagram; see :func:`rotordyn_modal.plotting.plot_campbell`."""
         from ..plotting import plot_campbell
 
         return plot_campbell(self, **kwargs)
+
+
+#: relative round-off of a sweep's root, ``|lam|`` times it (as ``stability``'s verdict takes it)
+ROUND_OFF_RELATIVE = 1e-10
+#: what round-off can move a sweep's whirl ratio by, at most (a shape is known to about the
+#: eigen-solve's noise over the gap to the next root): a ratio of -2e-15 on a casing without
+#: rotors, or -2.5e-10 on a rotor at rest on anisotropic bearings, is a planar mode's 0
+WHIRL_ROUND_OFF = 1e-9
+
+
+def _round_off_columns(eigenvalues) -> dict:
+    """What round-off can move each damping column of the roots ``eigenvalues`` (shape (m,))
+    by, row by row: ``ROUND_OFF_RELATIVE |lam|`` on the real part, and the whirl ratio by
+    :data:`WHIRL_ROUND_OFF`. The terminal prints those
+    within it as 0 (``cli._common.print_table``): a damping ratio of -3.9e-15 on an undamped
+    axial mode must not read as unstable; the CSV keeps every digit."""
+    lam = np.asarray(eigenvalues, dtype=complex)
+    tolerance = ROUND_OFF_RELATIVE * np.abs(lam)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return {"real_part": tolerance, "damping_ratio": np.full(len(lam), ROUND_OFF_RELATIVE),
+                "log_decrement": 2 * np.pi * tolerance / lam.imag, "whirl_ratio": np.full(len(lam), WHIRL_ROUND_OFF)}
 
 
 # ----------------------------------------------------------------------------------------

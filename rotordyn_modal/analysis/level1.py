@@ -413,7 +413,9 @@ def _check_stations(model, stations):
     names = [r.name for r in model.rotors]
     for station in stations:
         if station.rotor not in names:
-            raise InputError(f"station {station}: no rotor {station.rotor!r}: the model's rotors are {', '.join(names)}")
+            known = f"the model's rotors are {', '.join(names)}" if names else \
+                "the model has no [[rotors]]: a Level I analysis needs a rotor in bearings"
+            raise InputError(f"station {station}: no rotor {station.rotor!r}: {known}")
         if not model.dofs.on_bearings(station.rotor):
             raise InputError(f"station {station}: rotor {station.rotor!r} has no bearings (it is rigidly attached to "
                              "the stator): cross-coupling needs a rotor moving in its bearings")

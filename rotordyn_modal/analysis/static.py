@@ -14,7 +14,8 @@ frequency, bearings at the operating speed) is solved for the generalized coordi
   ``k = pi viscosity |speed| D L**3 / (8 c**3)`` turned by 90 degrees, the short bearing's
   limit at small eccentricity), which splits a rotor's loads among three or more journal
   bearings as the validation splits a rigid rotor's weight (``_bearing_validation.journal_load_shares``;
-  a flexible rotor's journal loads are its continuous beam on rigid supports, ``continuous_beam_loads``);
+  a flexible rotor's journal loads are its continuous beam on the journals, rigid or on their
+  pedestals' springs, ``continuous_beam_loads``);
   each journal's eccentricity at its load is reported from the full short-bearing solution;
 * each rotor's spin is held at its speed by a drive or a load outside the model (a coupling):
   the moment about its spin axis of the loads on it is taken there (a ``coupling`` load), not
@@ -47,7 +48,7 @@ from ..assembly import (bearing_motion, generalized_force, pedestal_stiffness_da
 from ..elements.bearings import evaluate
 from ..errors import InputError, ModelWarning
 from ..linear_system import static_solution
-from ..model._table import visible
+from ..model._table import LARGEST, visible
 from ..model.dofs import frame_block
 from ..model.flexible import STATION_TOLERANCE
 from ..model.geometry import shift_matrix, skew, transverse_axes
@@ -511,8 +512,14 @@ def transmission_torques(model, speed, power) -> dict:
     if speed is None or speed == 0:
         raise InputError(f"power = {power!r}: expected a speed (not zero) as well: the torque a power "
                          "gives is power / speed")
-    return {label: p / abs(model.speed_ratios[label.split("->")[0]] * speed)
-            for label, p in powers.items() if p}
+    torques = {label: p / abs(model.speed_ratios[label.split("->")[0]] * speed)
+               for label, p in powers.items() if p}
+    for label, torque in torques.items():      # a tiny speed: a torque no machine carries, forces overflow
+        if not abs(torque) <= LARGEST:
+            raise InputError(f"power: expected a power and speed whose torque power / speed is at most "
+                             f"{LARGEST:g} N m (on the driver of {visible(label)} it is {abs(torque):.3g} N m "
+                             f"at {abs(speed):.3g} rad/s)")
+    return torques
 
 
 def _torques(model, speed, torques, power) -> dict:

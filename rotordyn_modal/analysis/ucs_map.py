@@ -39,7 +39,7 @@ from ..elements.bearings import evaluate
 from ..errors import InputError
 from ..model._table import visible_names
 from ..model.geometry import skew
-from . import _batches, _eigensolve, _vectors, _whirl
+from . import _arguments, _batches, _eigensolve, _vectors, _whirl
 from .tracking import track_modes
 
 __all__ = ["UcsMap", "BearingCurve", "Crossing", "ucs_map", "forward_critical_speeds"]
@@ -117,7 +117,7 @@ class UcsMap:
         without axial stiffness is then rigidly attached to the stator, as in a model without
         its bearings.
     operating : (float, float) [rad/s] or None
-        Operating speed range, drawn as a band.
+        Operating speed range, drawn as a band (low = high: one rated speed, drawn as a line).
     title : str
     mode_speeds : ndarray, shape (K, L) [rad/s]
         The modes drawn on the map, each followed over the stiffness by its shape:
@@ -206,7 +206,8 @@ def ucs_map(model, stiffness, modes: int = 4, bearings=None, speeds=None, operat
         Reference speeds at which the speed-dependent bearings' own stiffness is drawn (default:
         over the map's critical speeds, a table's rows limiting it).
     operating : (float, float) [rad/s], optional
-        Operating speed range (drawn as a band).
+        Operating speed range, 0 <= low <= high, high > 0 (drawn as a band; low = high, one rated speed, as
+        a line).
 
     Returns
     -------
@@ -215,13 +216,14 @@ def ucs_map(model, stiffness, modes: int = 4, bearings=None, speeds=None, operat
     Raises
     ------
     InputError
-        No bearing, an unknown name, a bad stiffness list or mode count, an unchosen bearing
+        No bearing, an unknown name, a bad stiffness list, mode count or operating range, an unchosen bearing
         whose coefficients depend on speed, or a chosen speed table whose axial or tilt
         coefficients change over speed.
     """
     chosen = _chosen_bearings(model, bearings)
     stiffness = _check_stiffness(stiffness)
     modes = _check_modes(modes)
+    operating = _check_operating(operating)
     # BLAS's own threads only wait for a core on a shared machine: 53 states, 9x faster on one
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
         return _ucs_map(model, chosen, stiffness, modes, speeds, operating)
@@ -239,8 +241,19 @@ def _ucs_map(model, chosen, stiffness, modes, speeds, operating) -> UcsMap:
     crossings = _constant_crossings(curves, grid, followed) + _curve_crossings_all(parts, curves, grid, followed)
     return UcsMap(stiffness=stiffness, speeds=found, bearings=tuple(b.name for b in chosen), curves=curves,
                   crossings=tuple(crossings), rigid_speeds=_rigid_support(parts, model, chosen, modes),
-                  operating=None if operating is None else tuple(float(s) for s in operating),
+                  operating=operating,
                   title=model.name, mode_speeds=followed.speeds[mine], mode_names=followed.names)
+
+
+def _check_operating(operating):
+    """``operating`` as (low, high) [rad/s], 0 <= low <= high, high > 0 (None stays None)."""
+    if operating is None:
+        return None
+    band = _arguments.values(operating, "operating", "rad/s", non_negative=True)
+    if band.shape != (2,) or not band[0] <= band[1] or not band[1] > 0:
+        raise InputError(f"operating = {_arguments._shown(operating)}: expected (low, high) [rad/s] with "
+                         "0 <= low <= high and high > 0 (low = high: one rated speed)")
+    return tuple(float(s) for s in band)
 
 
 class _Pencil:

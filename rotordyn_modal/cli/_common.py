@@ -193,7 +193,8 @@ def parse_range(text: str, option: str, largest: float | None = LARGEST) -> np.n
 
 
 def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=("LO", "HI"),
-               example="0:40", wording="rule", largest: float | None = LARGEST) -> tuple[float, float]:
+               example="0:40", wording="rule", largest: float | None = LARGEST,
+               single: bool = False) -> tuple[float, float]:
     """``LO:HI`` -> (LO, HI): the one parser of the band options (``--freq-range``,
     ``--operating-range``, ``--freq-band``), so that each refuses the same inputs the same way.
 
@@ -219,11 +220,13 @@ def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=(
         form first (``expected LO:HI in Hz with 0 <= LO < HI``), the wording ``fit`` has used.
     largest : float or None
         The largest magnitude of LO and HI (None: any finite number).
+    single : bool
+        LO may equal HI (a band of one value: an operating range that is one rated speed).
 
     Returns
     -------
     (float, float)
-        LO < HI, in ``unit``.
+        LO < HI (LO <= HI with ``single``), in ``unit``.
 
     Raises
     ------
@@ -249,8 +252,9 @@ def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=(
     if largest is not None and max(map(abs, values)) > largest:
         raise InputError(f"{option} {shown}: expected {lo} and {hi} of magnitude at most {largest:g} [{unit}]")
     low_value, high_value = values
-    rule = f"{lo} < {hi}" if low is None else f"{low:g} {'<' if low_open else '<='} {lo} < {hi}"
-    if not (low_value < high_value and (low is None or low_value > low or (low_value == low and not low_open))):
+    order = f"{lo} {'<=' if single else '<'} {hi}"
+    rule = order if low is None else f"{low:g} {'<' if low_open else '<='} {order}"
+    if not ((low_value <= high_value if single else low_value < high_value) and (low is None or low_value > low or (low_value == low and not low_open))):
         raise InputError(f"{option} {shown}: expected {rule} [{unit}]" if wording == "rule" else
                          f"{option} {shown}: expected {lo}:{hi} in {unit} with {rule}")
     return low_value, high_value
@@ -267,6 +271,15 @@ def parse_list(text: str, option: str) -> np.ndarray:
 #: how a name holding ',' is written in a list option (the help texts and messages say it)
 NAME_LIST_HELP = ("comma-separated; a name holding ',' is given whole, or quoted (\"a,b\"), or with its "
                   "commas escaped (a\\,b)")
+
+
+def add_sensor_argument(parser) -> None:
+    """``--sensor NAME[,NAME]`` (the sensors of ``frf`` and ``unbalance``, default all; read as
+    ``args.output`` by :func:`parse_names`), with its earlier spelling ``--output`` kept hidden
+    (:func:`add_alias`)."""
+    parser.add_argument("--sensor", dest="output", metavar="NAME[,NAME]",
+                        help=f"sensor name(s), {NAME_LIST_HELP} (default all)")
+    add_alias(parser, "--sensor", "--output")
 
 
 def parse_names(text, option: str, known=None) -> list[str] | None:
@@ -567,13 +580,18 @@ def check_output_options(args):
     check_ending(out, getattr(args, "out_endings", None), "--out")
 
 
-def check_ending(path, endings, option: str):
+def check_ending(path, endings, option: str, stdout: bool = True):
     """Refuse an output whose file ending is not one of the formats written (``-``: standard output;
-    a pipe or device without an ending, where CSV is one of them, is written as CSV)."""
+    a pipe or device without an ending, where CSV is one of them, is written as CSV). With
+    ``stdout=False`` the output is never written to standard output, and ``-`` (which would make a
+    file named '-') is refused."""
     from pathlib import Path
 
     from ..io.atomic import _is_special
 
+    if path == "-" and not stdout:
+        raise InputError(f"{option} -: expected a file ending in {' or '.join(endings)} ('-', standard output, "
+                         f"is not where {option} writes: give a file name)")
     if path and path != "-" and endings and not Path(path).suffix and ".csv" in endings and _is_special(path):
         return   # a pipe or device without an ending (a shell's >(gzip > f.gz), /dev/stdout): CSV, as '-'
     if path and path != "-" and endings and Path(path).suffix.lower() not in endings:

@@ -156,14 +156,14 @@ def _grade_lines(model, units=_Units()) -> list[str]:
 def _coordinate_names(model) -> list[str]:
     """The coordinates' names, a flexible rotor's node coordinates as one range."""
     names = list(model.dofs.names)
+    ranges = []
     for rotor in model.rotors:
         shaft = model.dofs.shaft(rotor.name)
-        if shaft is None:
-            continue
-        own = model.dofs.slices[model.dofs.rotors.index(rotor.name)]
-        nodes = 4 * shaft.mesh.n_nodes
-        names[own.start:own.start + nodes] = [f"{names[own.start]} ... {names[own.start + nodes - 1]} "
-                                              f"({shaft.mesh.n_nodes} nodes x 4)"]
+        if shaft is not None:
+            ranges.append((model.dofs.slices[model.dofs.rotors.index(rotor.name)].start, shaft.mesh.n_nodes))
+    for start, count in sorted(ranges, reverse=True):   # from the last: earlier indices stay valid
+        names[start:start + 4 * count] = [f"{names[start]} ... {names[start + 4 * count - 1]} "
+                                          f"({count} nodes x 4)"]
     return names
 
 

@@ -39,7 +39,7 @@ example:
 
 def add_arguments(parser):
     add_model_argument(parser)
-    add_input_file(parser, "--measured", required=True, metavar="FILE", help="measured FRFs (.uff/.unv or .csv)")
+    add_input_file(parser, "--measured", required=True, metavar="FILE", help="measured FRFs (.uff/.unv, or a .csv table; .txt and .tsv read as CSV)")
     add_input_file(parser, "--mapping", metavar="FILE.csv", help="UFF node/direction to channel table")
     parser.add_argument("--params", required=True, metavar="KEY[,KEY]",
                         help="dotted keys (or 'gain'), comma-separated; a key whose names hold ',' is given as "
@@ -59,7 +59,7 @@ def run(args) -> int:
     from ..analysis.fit import fit
     from ..io.measured import check_mapping_used, read_measured
     check_outputs(args, args.out)
-    check_ending(args.out, (".toml",), "--out")
+    check_ending(args.out, (".toml",), "--out", stdout=False)
     check_output_options(args)
     model = load_model(args.model)
     params = parse_names(args.params, "--params", lambda key: key == "gain" or _is_key(model, key))

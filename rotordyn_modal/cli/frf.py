@@ -6,19 +6,21 @@ import argparse
 
 import numpy as np
 
+from ..analysis.spectra import QUANTITY_OF_RESPONSE
 from ..errors import InputError
 from ..units import FRF_OUTPUT_KINDS, ratio_scale
 from ._common import (IN_SPEED_UNIT, NAME_LIST_HELP, add_alias, add_input_file, add_model_argument, add_outputs,
-                      add_speed_unit, as_typed, check_known, open_model, parse_names, parse_range, save_figure, speed_value,
-                      use_agg, write_table)
+                      add_sensor_argument, add_speed_unit, as_typed, check_known, open_model, parse_names, parse_range,
+                      save_figure, speed_value, use_agg, write_table)
 
 NAME = "frf"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
 API_NAMES = {"speed": "--speed"}
 HELP = "frequency response from excitations to sensors (or forces), over measured data"
-#: --quantity's words (``frf`` and ``unbalance``): the motion a sensor reads -> the FRF of that
-#: motion per unit force, either word accepted by both commands (docs/frf-and-measurement.md)
-QUANTITIES = {"displacement": "receptance", "velocity": "mobility", "acceleration": "accelerance"}
+#: --quantity's words (``frf`` and ``unbalance``, and the study file's ``quantity``): the motion a
+#: sensor reads -> the FRF of that motion per unit force, either word accepted by both commands
+#: (docs/frf-and-measurement.md); one table, :data:`~rotordyn_modal.analysis.spectra.QUANTITY_OF_RESPONSE`
+QUANTITIES = QUANTITY_OF_RESPONSE
 QUANTITY_METAVAR = "displacement|velocity|acceleration"
 QUANTITY_HELP = "(or the FRF's name of it: receptance, mobility, accelerance)"
 DESCRIPTION = """Frequency response functions at one speed of the reference rotor, from the
@@ -59,16 +61,14 @@ def add_arguments(parser):
     parser.add_argument("--excitation", dest="input", metavar="NAME[,NAME]",
                         help=f"excitation name(s), {NAME_LIST_HELP} (default all)")
     add_alias(parser, "--excitation", "--input")
-    parser.add_argument("--sensor", dest="output", metavar="NAME[,NAME]",
-                        help=f"sensor name(s), {NAME_LIST_HELP} (default all)")
-    add_alias(parser, "--sensor", "--output")
+    add_sensor_argument(parser)
     parser.add_argument("--quantity", type=quantity_type(frf_names=True), default="receptance",
                         metavar=QUANTITY_METAVAR, help="the sensors' motion per unit force (default displacement) "
                         + QUANTITY_HELP)
     parser.add_argument("--force-outputs", dest="forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="forces per unit input instead of the sensors (all: the three kinds)")
     add_alias(parser, "--force-outputs", "--forces")
-    add_input_file(parser, "--measured", metavar="FILE", help="measured FRFs (.uff/.unv or .csv) to draw under the model")
+    add_input_file(parser, "--measured", metavar="FILE", help="measured FRFs (.uff/.unv, or a .csv table; .txt and .tsv read as CSV) to draw under the model")
     add_input_file(parser, "--mapping", metavar="FILE.csv", help="UFF node/direction to channel table: name,node,direction[,sign]")
     add_outputs(parser, out_endings=(".csv", ".uff", ".unv"))
 

@@ -212,11 +212,16 @@ def anticipated(args, count, speed):
     if operating == 0:      # the API's 'speed = 0.0' named neither option
         raise InputError(f"--operating-speed {args.operating_speed}: expected a speed other than 0 (Qa is power / "
                          "speed)")
-    q = anticipated_cross_coupling(power, abs(operating), diameter, height, ratio, machine=args.machine)
+    if operating * speed < 0:   # -3000 beside --speed 3000 was taken as +3000 without a word
+        raise InputError(f"--operating-speed {args.operating_speed}: expected a speed of the sense of "
+                         f"{as_typed(args, '--mcs')} {args.mcs} (the machine runs one way; N_r is its speed)")
+    with np.errstate(over="ignore"):    # a tiny speed: Qa overflows, refused below by the options given
+        q = anticipated_cross_coupling(power, abs(operating), diameter, height, ratio, machine=args.machine)
     if not np.all(q <= LARGEST_QA):      # 'qa = 7.2e+305' named no option the user gave
+        at = "" if args.operating_speed is None else f" at --operating-speed {args.operating_speed}"
         raise InputError(f"{power_option} {args.rated_power}, --impeller-diameter {args.impeller_diameter}, --restriction-height "
-                         f"{args.restriction_height}: give Qa = {q.max():.4g} N/m: expected at most {LARGEST_QA:g} "
-                         "N/m (check their units: W, m, m)")
+                         f"{args.restriction_height}{at}: give Qa = {q.max():.4g} N/m: expected at most {LARGEST_QA:g} "
+                         "N/m (check their units: W, m, m, and the speed's)")
     return _spread(q, count, "the stages")
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 
 from ..errors import InputError
-from ..model._table import visible_names
+from ..io.outline import read_outline
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
                       add_speed_unit, check_extra_output, open_model, save_figure, speed_value, use_agg,
                       write_table)
@@ -29,8 +29,10 @@ there are more than 24), or, on a machine with a flexible rotor, its deflected s
 (the machine at rest and displaced, whirl orbits, top/front/side views) and with --animate MODE
 an animation of it (--plot FILE.gif, FILE.html or FILE.mp4; MP4 needs ffmpeg). MODE is the
 'mode' column of the table. --outline FILE.csv draws the stator as polylines (columns x,y,z
-in metres, model axes; an empty row starts a new line) instead of its inertia-equivalent box;
-a flexible rotor is drawn as its deflected line through its nodes, with its disks.
+in metres, model axes; an empty row starts a new line; ',', ';' or tab separators and decimal
+commas as spreadsheets write them, a length unit in the header: x [mm]) instead of its
+inertia-equivalent box; a flexible rotor is drawn as its deflected line through its nodes,
+with its disks.
 --plot-shaft FILE.png draws the modes as deflected shaft lines along the spin axis, one panel
 per mode (--modes, default 1-6): each rotor's displacement in both transverse planes (solid
 and dashed, phase 0), the band of its whirl orbits, its bearings (triangles), disks (bars)
@@ -99,12 +101,12 @@ def run(args) -> int:
     wanted = _mode_list(args.modes) if args.modes is not None else None
     model = open_model(args)
     speed = speed_value(args.speed, args.speed_unit, "--speed")
+    outline = read_outline(args.outline) if args.outline else None   # refused before the solve
     # every root is one dense eigen-solution of the state matrix: a long flexible rotor's takes hours;
     # the estimate is the sweeps' (analysis/_cost.py), modal's solve run with one BLAS thread as theirs
     work = refuse_long_work(model, [speed], critical=False, advice=_ADVICE)
     _announce_long_solve(model, work, args)
     result = modal(model, speed)
-    outline = _read_outline(args.outline) if args.outline else None
     view = None
     if args.shape is not None or args.animate is not None:
         from ..analysis.mode_shapes import mode_shape_3d
@@ -243,32 +245,3 @@ def _check_shape_options(args):
         raise InputError("--modes chooses the panels of --plot-shaft FILE.png or --plot FILE.png (the bars): "
                          "give one of them")
     check_extra_output(args, args.plot_shaft, "--plot-shaft", figure=True)
-
-
-def _read_outline(path):
-    """Polylines ``x,y,z`` [m]; empty rows (NaN) separate the lines."""
-    import pandas as pd
-
-    import io
-
-    from ..analysis.mode_shapes import _outline_body
-    from ..io.limits import read_limited
-
-    try:
-        table = pd.read_csv(io.BytesIO(read_limited(path, "model", "stator outline")), skip_blank_lines=False)
-    except InputError:
-        raise
-    except (OSError, ValueError) as error:
-        raise InputError(f"{path}: cannot read the outline ({' '.join(str(error).split())})") from None
-    if not {"x", "y", "z"} <= set(table.columns):
-        raise InputError(f"{path}: the outline needs the columns x,y,z (metres, model axes); found "
-                         f"{visible_names(map(str, table.columns))}")
-    try:
-        points = table[["x", "y", "z"]].to_numpy(dtype=float)
-    except ValueError:
-        raise InputError(f"{path}: the outline's x,y,z must be numbers (an empty row starts a new line)") from None
-    try:
-        _outline_body(points)
-    except InputError as error:   # the same rule, said with the file's name
-        raise InputError(f"{path}: {error}") from None
-    return points

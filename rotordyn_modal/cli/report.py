@@ -94,13 +94,15 @@ def add_arguments(parser):
 def run(args) -> int:
     from ..report import collect, render_html
 
-    check_ending(args.pdf, (".pdf",), "--pdf")
+    check_ending(args.out, (".html", ".htm"), "--out", stdout=False)
+    check_ending(args.pdf, (".pdf",), "--pdf", stdout=False)
     check_extra_output(args, args.pdf, "--pdf")
     if args.pdf and _browser() is None:
         raise InputError(f"--pdf {args.pdf}: no Chromium on the PATH to print the report (open the HTML "
                          "in a browser and print it instead)")
     inputs = _inputs(args)
     model = open_model(args)
+    _check_tables(model, inputs, args)
     import matplotlib
 
     matplotlib.use("Agg")
@@ -147,6 +149,7 @@ def _inputs(args):
     if (args.iso_group is None) != (args.iso_support is None):
         raise InputError("--iso-group/--iso-support: expected both (ISO 20816-3 machine group 1 or 2 and "
                          "support rigid or flexible) or neither")
+    _check_sections(args)
     units = getattr(args, "units", None) or "si"
     level1 = None
     if args.station:
@@ -155,13 +158,65 @@ def _inputs(args):
             stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", units)) for s in stations]
         qa, shares = anticipated(args, len(stations), mcs)
         level1 = {"stations": stations, "qa": qa, "shares": shares, "gas_density": gas_density(args)}
-    elif any(getattr(args, o) is not None for o in ("qa", "rated_power", "impeller_diameter", "restriction_height",
-                                                    "gas_density")):
-        raise InputError("--qa or stage data given without --station: name where the cross-coupling acts")
+    elif _level1_options(args):
+        raise InputError(f"{_level1_options(args)[0]} given without --station: name where the cross-coupling acts "
+                         "(with --qa or the stage data)")
     return ReportInputs(standard=args.standard, mcs=mcs, operating=operating, points=points,
                         iso_group=args.iso_group, iso_support=args.iso_support, level1=level1,
                         stiffness=_stiffness(args.stiffness, units) if args.stiffness else None,
                         command=_command_line(), amplitude=args.amplitude)
+
+
+#: the Level I options of ``report`` (besides --station) and their ``args`` names
+_LEVEL1_OPTIONS = (("--qa", "qa"), ("--rated-power", "rated_power"), ("--impeller-diameter", "impeller_diameter"),
+                   ("--restriction-height", "restriction_height"), ("--density-ratio", "density_ratio"),
+                   ("--operating-speed", "operating_speed"), ("--gas-density", "gas_density"))
+
+
+def _level1_options(args) -> list[str]:
+    """The Level I options given (as typed; ``--machine`` when not its default), --station aside."""
+    given = [as_typed(args, option) for option, name in _LEVEL1_OPTIONS if getattr(args, name) is not None]
+    return given + (["--machine"] if args.machine != "compressor" else [])
+
+
+def _check_sections(args):
+    """Refuse an option whose section ``--standard`` does not have: it was dropped without a
+    word (``--standard api684 --station nobody --qa 1e5``, ``--standard api617 --iso-group 1``).
+    ``--stiffness`` is left alone: scripts give it to every standard (the iso report has no map)."""
+    from ..report.collect import STANDARDS
+
+    sections = STANDARDS[args.standard]
+    for section, options, where in (
+            ("level1", (["--station"] if args.station else []) + _level1_options(args),
+             "API 617 Level I stability, in --standard api617"),
+            ("iso", ["--iso-group"] if args.iso_group is not None else [], "ISO 20816-3 zones, in --standard iso")):
+        if options and section not in sections:
+            raise InputError(f"{options[0]}: --standard {args.standard} has no section it serves ({where}): "
+                             "drop it or choose that standard")
+
+
+def _check_tables(model, inputs, args):
+    """Refuse, before the work and naming --mcs, a speed table that the report's sweeps (2 % of
+    --mcs to 1.5 x --mcs, no option of the report moves them) leave: the table's own refusal
+    ended in 'extend the table or the sweep's range'."""
+    import math
+
+    import numpy as np
+
+    ends = np.array([inputs.speeds[0], inputs.speeds[-1]])
+    for bearing in model.bearings:
+        table = bearing.coefficients.speeds
+        if bearing.coefficients.kind != "table" or table is None:
+            continue
+        own = model.speed_ratios[bearing.rotor] * ends
+        slack = 1e-12 * np.max(np.abs(table[[0, -1]]))      # as the table's own check (round-off)
+        if own.min() < table[0] - slack or own.max() > table[-1] + slack:
+            rpm = 30.0 / math.pi
+            raise InputError(
+                f"{as_typed(args, '--mcs')} {args.mcs}: the report sweeps the reference speed from 2 % of it to "
+                f"1.5 x it, {ends[0] * rpm:.6g} .. {ends[1] * rpm:.6g} rpm, where rotor {bearing.rotor!r} turns at "
+                f"{own.min() * rpm:.6g} .. {own.max() * rpm:.6g} rpm: expected within [bearings.{bearing.name}] "
+                f"speeds_rpm {table[0] * rpm:.6g} .. {table[-1] * rpm:.6g} rpm (extend the table, or a lower --mcs)")
 
 
 def _command_line() -> str:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -224,6 +225,22 @@ def _workers(args, attempt: int = 1) -> int:
     return workers if attempt == 1 else max(1, workers // 2)
 
 
+def _broken_pool():
+    from concurrent.futures.process import BrokenProcessPool
+
+    return BrokenProcessPool
+
+
+def _end_workers(pool):
+    """Kill the workers a broken ``pool`` still has (SIGKILL). They ignore SIGTERM, left to the
+    study's parent (``worker_initializer``), so the pool's own SIGTERM leaves them running: a
+    worker busy when another died then waits forever to send a result (over a pipe's 64 kB)
+    that no one reads, and the pool waits for it, so the study never ended once its results
+    were written."""
+    for worker in list((getattr(pool, "_processes", None) or {}).values()):
+        worker.kill()
+
+
 class _executor:
     """Context manager: None, a process pool, or a dask.distributed executor."""
 
@@ -255,6 +272,8 @@ class _executor:
 
     def __exit__(self, kind, value, traceback):
         if self.pool is not None:
+            if kind is not None and issubclass(kind, _broken_pool()):
+                _end_workers(self.pool)
             self.pool.shutdown(wait=kind is None, cancel_futures=True)
         if self.client is not None:
             self.client.close()
@@ -317,6 +336,9 @@ def _column_kinds(result, definition, model, system):
     quantity = definition.analyses.get("unbalance", {}).get("quantity")
     if quantity:
         kinds |= {column: quantity for column in result.scalar_outputs() if column.startswith("unbalance_peak_amplitude")}
+    # the force rows of [analyses.unbalance] forces: force_peak_amplitude[mount-FL:Fx,fan] (N), ...:Mx (N m)
+    kinds |= {column: "moment" if re.search(r":M[xyz],", column) else "force"
+              for column in result.scalar_outputs() if column.startswith("force_peak_amplitude[")}
     return _Kinds(kinds, system)
 
 
@@ -353,7 +375,7 @@ def _summary_in_units(table, kinds):
     return table
 
 
-_SPEEDS = ("critical_speed", "threshold_speed", "instability_speed", "unbalance_peak_speed")
+_SPEEDS = ("critical_speed", "threshold_speed", "instability_speed", "unbalance_peak_speed", "force_peak_speed")
 
 
 def _in_rpm(table):

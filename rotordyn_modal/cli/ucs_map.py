@@ -24,7 +24,8 @@ being a forward crossing), named by the body and motion with most of its kinetic
 pump conical"), against the stiffness on log-log axes, each chosen bearing's own Kxx and Kyy
 over speed over them (tables and journal bearings; constant ones as vertical lines), their
 crossings marked, the rigid-support asymptotes (the chosen bearings radially rigid) beyond the
-sweep's last stiffness, and --operating-range as a band. Bearings not chosen keep their coefficients, which must be constant.
+sweep's last stiffness, and --operating-range as a band (a single rated speed, LO = HI, as a
+dashed line). Bearings not chosen keep their coefficients, which must be constant.
 docs/level1_and_ucs.md gives the definitions.
 
 CSV columns: stiffness_n_per_m,mode,name,speed_rpm,frequency_hz (stiffness_lbf_per_in with --units us;
@@ -51,7 +52,8 @@ def add_arguments(parser):
                         help=f"speeds {IN_SPEED_UNIT} at which the speed-dependent bearings' stiffness is drawn "
                              "(default: over the map's speeds)")
     parser.add_argument("--operating-range", dest="operating", metavar="LO:HI",
-                        help=f"operating speed range {IN_SPEED_UNIT}, drawn as a band")
+                        help=f"operating speed range {IN_SPEED_UNIT}, drawn as a band (LO = HI: one rated "
+                             "speed, drawn as a line)")
     add_alias(parser, "--operating-range", "--operating")
     add_speed_unit(parser)
     add_outputs(parser)
@@ -101,10 +103,13 @@ def _modes(text, option="--lowest"):
 
 
 def _operating(args, low_open=False):
-    """--operating-range LO:HI [--speed-unit] -> (low, high) [rad/s]; LO > 0 with ``low_open``."""
+    """--operating-range LO:HI [--speed-unit] -> (low, high) [rad/s], LO <= HI (LO = HI: one rated
+    speed), HI > 0; LO > 0 with ``low_open``."""
     option = as_typed(args, "--operating-range")
     band = parse_band(args.operating, option, args.speed_unit, low_open=low_open, example="1000:3000",
-                      largest=None)
+                      largest=None, single=True)
+    if not band[1] > 0:
+        raise InputError(f"{option} {args.operating!r}: expected HI > 0 [{args.speed_unit}]")
     return tuple(check_speeds(np.array(band), args.operating, args.speed_unit, option))
 
 

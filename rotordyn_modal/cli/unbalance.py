@@ -10,7 +10,7 @@ import numpy as np
 from ..errors import InputError
 from ..model._table import SMALLEST_POSITIVE
 from ..unbalance_standards import amplitude_label, one_convention
-from ._common import (IN_SPEED_UNIT, add_alias, NAME_LIST_HELP, add_model_argument, add_output_file, add_outputs, add_speed_unit, check_ending,
+from ._common import (IN_SPEED_UNIT, add_model_argument, add_output_file, add_outputs, add_sensor_argument, add_speed_unit, check_ending,
                       check_extra_output, open_model, print_table, save_figure, speeds_option,
                       speed_value, speeds_text, use_agg, write_csv, write_table)
 from ._units import convert_table
@@ -97,9 +97,7 @@ def add_arguments(parser):
     parser.add_argument("--speeds", required=True, metavar="START:STOP:N",
                         help=f"speeds of the reference rotor {IN_SPEED_UNIT}")
     add_speed_unit(parser)
-    parser.add_argument("--sensor", dest="output", metavar="NAME[,NAME]",
-                        help=f"sensor name(s), {NAME_LIST_HELP} (default all)")
-    add_alias(parser, "--sensor", "--output")
+    add_sensor_argument(parser)
     parser.add_argument("--quantity", type=quantity_type(frf_names=False), default="displacement",
                         metavar=QUANTITY_METAVAR, help="what the sensors read (default displacement) "
                         + QUANTITY_HELP)
@@ -133,8 +131,8 @@ def add_arguments(parser):
 def run(args) -> int:
     from ..analysis.unbalance import api_unbalance_response, check_operating_speed, unbalance_response
     check_extra_output(args, args.orbits, "--orbits")
-    check_ending(args.orbits, (".csv",), "--orbits")
-    check_ending(args.checks, (".csv",), "--checks")
+    check_ending(args.orbits, (".csv",), "--orbits", stdout=False)
+    check_ending(args.checks, (".csv",), "--checks", stdout=False)
     check_extra_output(args, args.orbit_plot, "--orbit-plot", figure=True)
     model = open_model(args)
     operating = _speed(args, args.operating_speed, "--operating-speed")

@@ -351,6 +351,7 @@ def _weight_share(bearing, table: Table, mates, rotor, e, tables) -> float:
                                      [(np.asarray(b.position) - np.asarray(rotor.center_of_mass)) @ e
                                       for b in mates])
         share = shares[[b.name for b in mates].index(bearing.name)]
+        _warn_pedestal_split(bearing, table, mates, rotor, tables)
     else:
         centre = np.asarray(rotor.center_of_mass)
         s_self, s_other = ((np.asarray(b.position) - centre) @ e for b in
@@ -361,6 +362,24 @@ def _weight_share(bearing, table: Table, mates, rotor, e, tables) -> float:
                           f"{rotor.name!r}'s weight (" + ("its centre of mass is at the other bearing)"
                                                           if len(mates) == 2 else "its share on the films is 0)"))
     return float(share)
+
+
+def _warn_pedestal_split(bearing, table: Table, mates, rotor, tables) -> None:
+    """One line, once per rotor (at its first journal without a given ``load``), when a rigid
+    rotor on three or more journals has one on a pedestal: the films in series with the
+    pedestal's springs split its weight as their stiffness does, which the film's grows with
+    speed and the pedestal's does not, so no split holds at every speed (docs/static.md)."""
+    on_pedestals = [b.name for b in mates if b.pedestal is not None]
+    unloaded = [b.name for b in mates if "load" not in tables[b.name].data]
+    if not on_pedestals or not unloaded or bearing.name != unloaded[0]:
+        return
+    which = (f"{on_pedestals[0]!r} stands on a pedestal" if len(on_pedestals) == 1
+             else f"{', '.join(map(repr, on_pedestals))} stand on pedestals")
+    warnings.warn(f"{table.source}: [{table.label}] load: rotor {rotor.name!r} is rigid on {len(mates)} journal "
+                  f"bearings and {which}, so the split of its weight changes with speed (the films in series "
+                  "with the pedestals' springs); the journals' loads are the films' split without the pedestals "
+                  "(give each journal's load, e.g. from rdm.static at the operating speed)",
+                  ModelWarning, stacklevel=2)
 
 
 def journal_load_shares(weights, stations) -> np.ndarray:
@@ -400,30 +419,40 @@ def journal_load_shares(weights, stations) -> np.ndarray:
 
 def _continuous_beam_load(bearing, table: Table, mates, rotor, gravity, tables) -> np.ndarray:
     """The load vector [N] on ``bearing``, one of three or more on a flexible rotor: the reaction
-    of the shaft under its weight on rigid supports at the journals (:func:`continuous_beam_loads`)."""
+    of the shaft under its weight on supports at the journals (:func:`continuous_beam_loads`),
+    rigid where the journal stands on the stator or the ground, elastic with the pedestal's
+    stiffness where it stands on a pedestal (the film taken as rigid in both; the pedestal's own
+    weight is carried by its springs, not by the journal, but settles the support)."""
     if not all(b.type == "journal" and b.moment_stiffness is None for b in mates):
         raise table.error("load", "<missing>", f"a static load [N]: rotor {rotor.name!r} has "
                           f"{len(mates)} bearings, so its weight split is statically indeterminate, "
                           "and not all are plain journal bearings without moment_stiffness (docs/static.md)")
     shaft = rotor.flexible
     loads = continuous_beam_loads(shaft, [shaft.z_of(b.position) for b in mates], gravity,
-                                  [_film_weight(tables[b.name]) for b in mates])
+                                  [_film_weight(tables[b.name]) for b in mates],
+                                  [None if b.pedestal is None else b.pedestal.stiffness for b in mates],
+                                  [None if b.pedestal is None else b.pedestal.mass * np.asarray(gravity, dtype=float)
+                                   for b in mates])
     load = loads[[b.name for b in mates].index(bearing.name)]
     weight = rotor.mass * np.linalg.norm(_normal_part(gravity, shaft.axis))
     if not np.linalg.norm(load) > _LEAST_SHARE * weight:
         raise table.error("load", "<missing>", f"a static load [N]: this bearing carries none of rotor "
-                          f"{rotor.name!r}'s weight (the shaft on rigid supports at its journals puts none on it)")
+                          f"{rotor.name!r}'s weight (the shaft on its journals' supports puts none on it)")
     return load
 
 
-def continuous_beam_loads(shaft, stations, gravity, weights=None) -> np.ndarray:
-    """The loads a flexible shaft puts on rigid supports at ``stations`` under its weight: the
+def continuous_beam_loads(shaft, stations, gravity, weights=None, supports=None, pedestal_loads=None) -> np.ndarray:
+    """The loads a flexible shaft puts on supports at ``stations`` under its weight: the
     statically indeterminate continuous beam, solved on the shaft's finite elements.
 
-    The supports hold the two translations normal to the axis at their nodes and nothing else
-    (no tilt, like a short journal). The weight is the consistent load ``M g`` of the shaft,
-    its disks and point masses; with cubic beam elements the reactions of point loads at nodes
-    and of a uniform section's own weight are those of the beam theory exactly.
+    A support holds the two translations normal to the axis at its node and nothing else (no
+    tilt, like a short journal): rigidly, or through a spring (a journal on a pedestal, the film
+    taken as rigid: the pedestal's ``pedestal_stiffness``), which the pedestal's own weight loads
+    too: the pedestal settles by ``k^-1 (R + m_p g)`` under the journal's load ``R`` and its
+    weight, a settlement of the support that moves every reaction. The weight is the consistent load
+    ``M g`` of the shaft, its disks and point masses; with cubic beam elements the reactions of
+    point loads at nodes and of a uniform section's own weight are those of the beam theory
+    exactly (on elastic supports too: the springs act at nodes).
 
     Parameters
     ----------
@@ -434,7 +463,15 @@ def continuous_beam_loads(shaft, stations, gravity, weights=None) -> np.ndarray:
     gravity : array_like, shape (3,)
         [m/s^2], model axes.
     weights : sequence of float, shape (N,), optional
-        How supports at one node share its reaction (default: equally).
+        How rigid supports at one node share its reaction (default: equally).
+    supports : sequence of (ndarray, shape (3, 3), or None), shape (N,), optional
+        Each support's stiffness [N/m], model axes, symmetric, acting on the node's translation
+        normal to the axis (its part along the axis is ignored); None: rigid (the default for
+        every support). At a node held rigidly by one support, its springs carry nothing (their
+        pedestals hang on the shaft there).
+    pedestal_loads : sequence of (array_like, shape (3,), or None), shape (N,), optional
+        The weight [N], model axes, of each elastic support's pedestal (its part normal to the
+        axis counts): a load on the spring, not on the support (None or omitted: none).
 
     Returns
     -------
@@ -446,6 +483,7 @@ def continuous_beam_loads(shaft, stations, gravity, weights=None) -> np.ndarray:
     import scipy.sparse.linalg
 
     z = np.asarray(stations, dtype=float)
+    springs = [None] * len(z) if supports is None else list(supports)
     meshed = with_mesh(shaft, z)
     mesh = meshed.mesh
     M, K = node_matrices(meshed, mesh, kinds=("M", "K"))
@@ -453,21 +491,43 @@ def continuous_beam_loads(shaft, stations, gravity, weights=None) -> np.ndarray:
     g = np.zeros(6 * mesh.n_nodes)
     g.reshape(-1, 6)[:, :3] = np.asarray(gravity, dtype=float)
     force = T.T @ (M @ g)
-    stiffness = (T.T @ K @ T).tocsc()
+    a, b = transverse_axes(shaft.axis)                          # lateral_basis's a, b
+    ab = np.array([a, b])                                       # (2, 3)
     nodes = np.array([mesh.node(s) for s in z])
-    held = np.unique(np.concatenate([4 * nodes, 4 * nodes + 1]))
+    settling = [np.zeros(2) if w is None else ab @ np.asarray(w, dtype=float)
+                for w in ([None] * len(z) if pedestal_loads is None else pedestal_loads)]
+    for node, spring, weight in zip(nodes, springs, settling):
+        if spring is not None:
+            force[[4 * node, 4 * node + 1]] += weight           # on the pedestal, which moves with the node
+    rigid = np.array([k is None for k in springs])
+    lateral = [ab @ np.asarray(k, dtype=float) @ ab.T if k is not None else None for k in springs]
+    stiffness = (T.T @ K @ T + _support_springs(nodes, lateral, 4 * mesh.n_nodes)).tocsc()
+    held = np.unique(np.concatenate([4 * nodes[rigid], 4 * nodes[rigid] + 1])).astype(int)
     free = np.setdiff1d(np.arange(4 * mesh.n_nodes), held)
     q = np.zeros(4 * mesh.n_nodes)
     q[free] = scipy.sparse.linalg.spsolve(stiffness[free][:, free], force[free])
-    on_support = force - stiffness @ q                           # the shaft's push on each held coordinate
+    on_support = force - stiffness @ q                           # the rigid supports' share of each held coordinate
     share = np.ones(len(z)) if weights is None else np.asarray(weights, dtype=float)
-    a, b = transverse_axes(shaft.axis)                          # lateral_basis's a, b
     out = np.zeros((len(z), 3))
     for i, node in enumerate(nodes):
-        together = share[nodes == node]
-        fraction = share[i] / together.sum()
-        out[i] = fraction * (on_support[4 * node] * a + on_support[4 * node + 1] * b)
+        if rigid[i]:
+            together = share[(nodes == node) & rigid]
+            out[i] = share[i] / together.sum() * (on_support[4 * node] * a + on_support[4 * node + 1] * b)
+        else:      # the spring's k u less the pedestal's weight (at a node held rigidly: the weight, hung on the shaft)
+            out[i] = (lateral[i] @ q[[4 * node, 4 * node + 1]] - settling[i]) @ ab
     return out
+
+
+def _support_springs(nodes, lateral, size: int):
+    """The elastic supports' stiffness on the shaft's lateral coordinates, sparse (size, size):
+    each 2x2 ``lateral`` [N/m] (None: a rigid support, nothing added) at its node's two
+    translations (coordinates ``4 node``, ``4 node + 1``)."""
+    import scipy.sparse
+
+    added = [(4 * node + i, 4 * node + j, k[i, j]) for node, k in zip(nodes, lateral) if k is not None
+             for i in range(2) for j in range(2)]
+    rows, columns, values = zip(*added) if added else ((), (), ())
+    return scipy.sparse.coo_matrix((values, (rows, columns)), shape=(size, size))
 
 
 def _film_weight(table: Table) -> float:
@@ -520,7 +580,8 @@ def _check_held(rotor, mates, tables, e) -> None:
                     for s, b in zip(moved, mates))
         free = _free_motion(motions.T @ total @ motions)
         if free is not None:
-            raise _not_held(rotor, mates, tables, motions, free, row if rows > 1 else None)
+            raise _not_held(rotor, mates, tables, motions, free, row if rows > 1 else None,
+                            _held_fraction(motions.T @ total @ motions))
 
 
 def _relative_motions(e: np.ndarray, axial: bool) -> np.ndarray:
@@ -546,9 +607,22 @@ def _free_motion(stiffness: np.ndarray):
     return None if values[-1] > 1e-12 * values[0] else vt[-1]
 
 
-def _not_held(rotor, mates, tables, motions: np.ndarray, free: np.ndarray, row) -> ModelError:
+def _held_fraction(stiffness: np.ndarray) -> float:
+    """The smallest over the largest singular value of ``stiffness`` scaled as :func:`_free_motion`
+    scales it: 0 where a motion is free, a tiny positive number where soft bearings hold it
+    beside bearings stiffer by twelve decades and more."""
+    size = np.sqrt(np.linalg.norm(stiffness, axis=0) * np.linalg.norm(stiffness, axis=1))
+    if not (size > 0).all():
+        return 0.0
+    root = np.sqrt(size)
+    values = np.linalg.svd(stiffness / np.outer(root, root), compute_uv=False)
+    return float(values[-1] / values[0])
+
+
+def _not_held(rotor, mates, tables, motions: np.ndarray, free: np.ndarray, row, fraction: float = 0.0) -> ModelError:
     """The refusal of a rotor that its bearings leave free in ``motions @ free`` (a tilt
-    when the free motion turns the rotor at all, about some point of its axis)."""
+    when the free motion turns the rotor at all, about some point of its axis); ``fraction``
+    (:func:`_held_fraction`) above round-off says that it is held, too softly to be kept."""
     tilt = np.abs(free[-2:]).max() > 1e-8
     axis = motions[3:, -2:] @ free[-2:] if tilt else motions[:3, :-2] @ free[:-2]
     axis = axis / np.linalg.norm(axis)
@@ -557,6 +631,13 @@ def _not_held(rotor, mates, tables, motions: np.ndarray, free: np.ndarray, row) 
     table = tables[bearing.name]
     where = f" at speeds_rpm[{row}]" if row is not None else ""
     what = f"its {'tilt about' if tilt else 'translation along'} {_axis_text(axis)}"
+    if fraction > 1e-15:   # held, by bearings twelve decades softer than others: not 'nothing holds'
+        stiffness = [float(np.abs(b.coefficients.stiffness).max()) for b in mates]
+        return table.error(key, table.data.get(key, "<missing>"),
+                           f"bearings that hold rotor {rotor.name!r} in each of its motions within what double "
+                           f"precision keeps: {what}{where} is held only {fraction:.3g} as stiffly as its stiffest "
+                           f"motion (their stiffness, moved to its centre of mass, scaled), below 1e-12: bearings "
+                           f"of {min(stiffness):.3g} to {max(stiffness):.3g} N/m on one rotor (a value in other units?)")
     return table.error(key, table.data.get(key, "<missing>"),
                        f"bearings that together hold rotor {rotor.name!r} in each of its motions: nothing "
                        f"holds {what}{where} (their stiffness, moved to its centre of mass, is singular; "

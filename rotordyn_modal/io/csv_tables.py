@@ -3,7 +3,8 @@ without a byte-order mark, UTF-16, else Latin-1), the separator (``,``, ``;`` or
 from the header line or from Excel's ``sep=;`` line before it), decimal commas (``1,5`` beside a
 ``;`` or tab separator, quoted or not), comment lines (``# ...``) before the header, header
 names in any case with a unit in brackets (``Frequency [kHz]``, ``phase (rad)``), and cells
-padded with spaces (`` 1.0 ``, `` f [Hz] ``).
+padded with spaces (`` 1.0 ``, `` f [Hz] ``). Messages name the file's own lines, counting the
+comment and ``sep=`` lines before the header.
 """
 
 from __future__ import annotations
@@ -40,10 +41,11 @@ def _text(data: bytes) -> str:
         return data.decode("latin-1")
 
 
-def read_csv_table(data: bytes, path, what: str, **options):
+def read_csv_table(data: bytes, path, what: str, text_only: bool = False, **options):
     """A CSV table of ``data`` (a file's bytes): its cells as text without the spaces around them
     (names stay as written otherwise: ``01``, ``NA``), the header names stripped, and the decimal
-    mark of its numbers.
+    mark of its numbers. ``table.attrs['first_line']`` is the file's line of the first row
+    (:func:`numbers` names lines by it).
 
     Parameters
     ----------
@@ -52,6 +54,10 @@ def read_csv_table(data: bytes, path, what: str, **options):
         Named in messages.
     what : str
         Completes the message "cannot read ..." ('as CSV', 'the mapping table').
+    text_only : bool
+        Refuse text holding control characters other than tabs and line breaks (a binary file
+        read as Latin-1) as "cannot read ...", naming the line; else such a header is read and
+        shown escaped by the caller's message about its columns.
     **options
         More arguments of ``pandas.read_csv`` (``skip_blank_lines``).
 
@@ -68,6 +74,8 @@ def read_csv_table(data: bytes, path, what: str, **options):
     import pandas as pd
 
     text = _text(data)
+    if text_only:
+        _check_text(text, path, what)
     lines = text.splitlines(keepends=True)
     start = 0
     while start < len(lines) and lines[start].lstrip().startswith("#"):   # a tool's comment lines
@@ -81,13 +89,28 @@ def read_csv_table(data: bytes, path, what: str, **options):
     decimal = "," if separator != "," and re.search(r'(^|[;\t])\s*"?[-+]?\d+,\d+"?\s*([;\t]|$)', body, re.M) else "."
     try:
         table = pd.read_csv(io.StringIO(text), sep=separator, dtype=str, keep_default_na=False, **options)
-    except (OSError, ValueError) as error:
-        raise InputError(f"{path}: cannot read {what} ({' '.join(str(error).split())})") from None
+    except (OSError, ValueError) as error:   # pandas counts the lines from the header: the file's lines
+        said = re.sub(r"\bline (\d+)", lambda m: f"line {int(m.group(1)) + start}", " ".join(str(error).split()))
+        raise InputError(f"{path}: cannot read {what} ({said})") from None
     _check_columns_once(header, separator, path)
     table.columns = [str(c).strip() for c in table.columns]
     # cells padded to line up in a text editor or exported so (`` 1.0 ``, `` acc-top-z ``)
     table = table.apply(lambda column: column.map(lambda cell: cell.strip() if isinstance(cell, str) else cell))
-    return _without_trailing_empty_rows(table), decimal
+    table = _without_trailing_empty_rows(table)
+    table.attrs["first_line"] = start + 2
+    return table, decimal
+
+
+#: control characters no text table holds (tab, line feed, carriage return and form feed may)
+_CONTROL = re.compile(r"[\x00-\x08\x0b\x0e-\x1f\x7f]")
+
+
+def _check_text(text: str, path, what: str) -> None:
+    """Refuse text with a control character: a binary file, which Latin-1 reads as characters."""
+    found = _CONTROL.search(text)
+    if found:
+        line = text.count("\n", 0, found.start()) + 1
+        raise InputError(f"{path}: cannot read {what} (no text: control character {found.group()!r} on line {line})")
 
 
 def _check_columns_once(header: str, separator: str, path) -> None:
@@ -114,9 +137,10 @@ def _without_trailing_empty_rows(table):
     return table.iloc[:keep]
 
 
-def numbers(table, name, path, decimal: str = ".", first_line: int = 2):
+def numbers(table, name, path, decimal: str = ".", first_line: int | None = None):
     """A column of text cells (:func:`read_csv_table`) as floats; an empty cell is NaN, a cell that
-    is no number is refused naming its line (``first_line``: the file's line of the first row).
+    is no number is refused naming its line (``first_line``: the file's line of the first row;
+    by default the table's ``attrs['first_line']``, else 2).
 
     Returns
     -------
@@ -131,6 +155,7 @@ def numbers(table, name, path, decimal: str = ".", first_line: int = 2):
     bad = np.isnan(values) & ~cells.str.lower().isin(_EMPTY).to_numpy()
     if bad.any():
         row = int(np.argmax(bad))
+        first_line = table.attrs.get("first_line", 2) if first_line is None else first_line
         raise InputError(f"{path}: column {name} line {row + first_line} = {cells.iloc[row][:40]!r}: expected a number")
     return values
 

@@ -68,7 +68,7 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
         open(path, "rb").close()
     except OSError as error:   # a file without read permission: PermissionError, exit 1
         raise InputError(f"{path}: cannot read the measured-data file ({error.strerror or error})") from None
-    if path.suffix.lower() == ".csv":
+    if path.suffix.lower() in TABLE_ENDINGS:
         if mapping is not None and not isinstance(mapping, ChannelMap):
             read_mapping(mapping, model)   # a missing or broken table named is refused, never passed over
         return read_csv(path, model)
@@ -81,11 +81,14 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
             channel_map = read_mapping(mapping, model)
         return read_uff58(path, model, channel_map)
     raise InputError(f"{path}: unknown measured data format {path.suffix!r}: expected .uff/.unv "
-                     "(UFF 58/58b) or .csv")
+                     "(UFF 58/58b) or a text table .csv (also .txt or .tsv, as other tools export it)")
 
 
 #: endings of the Universal Files a mapping table places the channels of
 UFF_ENDINGS = (".uff", ".unv", ".uf")
+#: endings of a measured FRF table read as CSV (``,``, ``;`` or tab separated: :mod:`.csv_tables`);
+#: test rigs and spreadsheets export tab-separated text as .txt or .tsv
+TABLE_ENDINGS = (".csv", ".txt", ".tsv")
 
 
 def check_mapping_used(mapping, measured=None, out=None) -> None:

@@ -57,10 +57,20 @@ def load_model(path, units: str = "si") -> Model:
     from ..linear_system import implausible
 
     data = read_toml(path, "model file")
+    _not_a_ross_file(data, path)
     model = Model.from_dict(data, source=str(path))
     for line in implausible(model, units):
         warnings.warn(line, ModelWarning, stacklevel=2)
     return model
+
+
+def _not_a_ross_file(data: dict, path) -> None:
+    """Refuse a rotor saved by ROSS given where a model file is expected, with the command that
+    reads it (it was refused by its first key, 'ross_version = 3.1.0: unknown key')."""
+    if "ross_version" in data or any(str(key).startswith("ShaftElement_") for key in data):
+        raise ModelError(str(path), "<file>", "a rotor saved by ROSS (ross_version, ShaftElement_... tables)",
+                         f"a model file: read it into one first, rotordyn-modal import-ross {path} --out "
+                         "MODEL.toml (docs/ross.md)")
 
 
 def read_toml(path, what: str, error=ModelError) -> dict:

@@ -16,9 +16,10 @@ shaft ``-K u``). The shaft starts at the origin (ROSS's node 0).
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
-from ..errors import ModelError
+from ..errors import ModelError, ModelWarning
 from .atomic import atomic_write, check_not_input
 from .model_file import read_toml
 
@@ -100,14 +101,23 @@ def check_description(description: dict, source) -> None:
     ModelError
         Naming the ROSS file and the model file's key (section ``k`` is ROSS's shaft element
         starting at node ``k``; disks and bearings keep ROSS's tags).
+
+    Warns
+    -----
+    ModelWarning
+        What is legal but probably not meant, as ``check`` says it of the model file
+        (:func:`rotordyn_modal.linear_system.implausible`: a modulus or a diameter in other units).
     """
+    from ..linear_system import implausible
     from ..model.machine import Model
 
     try:
-        Model.from_dict(description, source=str(source))
+        model = Model.from_dict(description, source=str(source))
     except ModelError as error:
         raise ModelError(str(source), f"{error.where} (in the model file it makes)", error.value,
                          error.expected) from None
+    for line in implausible(model):   # what `check` would warn about, said before it is written
+        warnings.warn(line, ModelWarning, stacklevel=2)
 
 
 def write_model_file(description: dict, path, inputs=()) -> None:
@@ -271,8 +281,7 @@ def _material(source: str, key: str, table, materials: dict) -> str:
     if not isinstance(table, dict):
         raise ModelError(source, f"[{key}] material", table, "a table with name, rho, E and G_s")
     where = f"{key}.material"
-    found = {"density": _get(source, where, table, "rho"), "young_modulus": _get(source, where, table, "E"),
-             "shear_modulus": _get(source, where, table, "G_s")}
+    found = {"density": _get(source, where, table, "rho"), **_elastic(source, where, table)}
     base = str(table.get("name", "material"))
     name, count = base, 1
     while name in materials and {k: v for k, v in materials[name].items() if k != "name"} != found:
@@ -280,6 +289,26 @@ def _material(source: str, key: str, table, materials: dict) -> str:
         name = f"{base}-{count}"  # a name ROSS gave two different materials
     materials.setdefault(name, {"name": name, **found})
     return name
+
+
+def _elastic(source: str, where: str, table: dict) -> dict:
+    """The material's elastic constants as the model file's keys: ROSS's ``Material`` takes
+    two of ``E``, ``G_s`` and ``Poisson`` and computes the third (``Rotor.save`` writes ``E``
+    and ``G_s``; a file written by hand may give ``Poisson``); all three must agree."""
+    given = [name for name in ("E", "G_s", "Poisson") if name in table]
+    e, g, nu = (_get(source, where, table, name, math.nan) for name in ("E", "G_s", "Poisson"))
+    if len(given) < 2:
+        missing = " or ".join(name for name in ("E", "G_s", "Poisson") if name not in given)
+        raise ModelError(source, f"[{where}] {missing}", "<missing>", "two of E, G_s and Poisson (ROSS's "
+                         f"Material computes the third); the table gives {', '.join(given) or 'none of them'}")
+    if len(given) == 3 and not math.isclose(e / (2.0 * g) - 1.0, nu, rel_tol=1e-6, abs_tol=1e-9):
+        raise ModelError(source, f"[{where}] Poisson", nu, f"E / (2 G_s) - 1 = {e / (2.0 * g) - 1.0:.9g} "
+                         "of the table's E and G_s (or give two of the three)")
+    if "E" not in given:   # ROSS: E = G_s (2 (1 + Poisson))
+        return {"young_modulus": g * 2.0 * (1.0 + nu), "shear_modulus": g}
+    if "G_s" not in given:
+        return {"young_modulus": e, "poisson_ratio": nu}
+    return {"young_modulus": e, "shear_modulus": g}
 
 
 # --------------------------------------------------------------------------- disks, bearings
@@ -345,23 +374,26 @@ def _coefficient_tables(source: str, key: str, table: dict) -> tuple[list, dict]
     if any(b <= a for a, b in zip(speeds, speeds[1:])):
         raise ModelError(source, f"[{key}] {axes[0]}", axis, "strictly increasing speeds [rad/s]")
     count = len(speeds) or 1
+    axis_text = f"[{key}] {axes[0]} = {axis!r} [rad/s]" if axes else f"[{key}] speed, which the table lacks"
     for name in _MASS_COEFFICIENTS:
-        if any(v != 0.0 for v in _values(source, key, table, name, count)):
+        if any(v != 0.0 for v in _values(source, key, table, name, count, axis_text)):
             raise ModelError(source, f"[{key}] {name}", table[name], "0: bearing mass coefficients are not modelled")
-    values = {name: _values(source, key, table, name, count) for name in _COEFFICIENTS}
+    values = {name: _values(source, key, table, name, count, axis_text) for name in _COEFFICIENTS}
     if count > 1 and all(len(set(v)) == 1 for v in values.values()):
         return [], {name: v[:1] for name, v in values.items()}  # constant over the table
     return (speeds if count > 1 else []), values
 
 
-def _values(source: str, key: str, table: dict, name: str, count: int) -> list:
-    """A coefficient as ``count`` numbers (ROSS defaults: kyy = kxx, cyy = cxx, others 0)."""
+def _values(source: str, key: str, table: dict, name: str, count: int, axis_text: str) -> list:
+    """A coefficient as ``count`` numbers (ROSS defaults: kyy = kxx, cyy = cxx, others 0);
+    ``axis_text`` names the table's speeds in the message of a count that differs."""
     default = {"kyy": "kxx", "cyy": "cxx", "myy": "mxx"}.get(name)
     value = table.get(name, table.get(default, 0.0) if default else 0.0)
     if not isinstance(value, list):
         value = [value] * count
     if len(value) != count:
-        raise ModelError(source, f"[{key}] {name}", value, f"{count} values (one per speed of the table)")
+        many = "1 value" if count == 1 else f"{count} values"
+        raise ModelError(source, f"[{key}] {name}", value, f"{many}, one per speed of {axis_text}")
     return [_number(source, f"[{key}] {name}", v) for v in value]
 
 

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..analysis.spectra import QUANTITY_OF_RESPONSE
 from ..errors import InputError
 from .channels import assemble
 from .unit_labels import is_none, parse_unit, quantity_of
@@ -61,7 +62,7 @@ _EXPONENTS = {0: ((0, 0), (0, 0)), 8: ((1, 0), (0, 0)), 9: ((0, 1), (1, 1)), 11:
 _PART_NAMES = {"ordinate": "ordinate", "orddenom": "denominator"}
 _FRF_ORDINATES = (0, 1, 8, 11, 12)
 _FORCE_DENOMINATORS = (0, 1, 9, 13)
-_FRF_OF = {"displacement": "receptance", "velocity": "mobility", "acceleration": "accelerance"}
+_FRF_OF = QUANTITY_OF_RESPONSE
 
 
 def write_uff58(results, path, mapping, binary: bool | None = None, inputs=()) -> None:
@@ -170,6 +171,12 @@ def read_uff58(path, model, mapping):
     e.g. ``m/s^2`` over ``N``, ``g/lbf``, ``(1/N)*(m/s²)``; see :mod:`.unit_labels`), or, where
     the labels are ``NONE``, from its specific data types with the dataset 164 unit factors.
 
+    The FRFs (function type 4) and the coherence of their pairs (6) are read; the file's other
+    dataset 58 sets (time records, PSDs, auto-spectra, cross-spectra beside their pair's FRF, ...)
+    are skipped with one warning naming their places, function types and nodes. A file without an
+    FRF is refused naming what it holds (with time records: how FRFs are computed from them), and
+    so is a cross-spectrum of a pair without its FRF.
+
     Parameters
     ----------
     path : path-like
@@ -182,17 +189,18 @@ def read_uff58(path, model, mapping):
     """
     sets = _read_sets(path)
     units = _file_units(path)
-    frfs = [s for s in sets if s.get("func_type") == _FRF]
+    frfs = [s for s in sets if _function_type(s) == _FRF]
     if not frfs:
-        kinds = sorted({int(s.get("func_type", -1)) for s in sets})
-        raise InputError(f"{path}: no FRF (dataset 58, function type 4) in the file; function types found: {kinds}")
+        raise InputError(_no_frf_line(path, sets))
     read = [_frf_units(s, units, path) for s in frfs]
     quantities = sorted({q for q, _ in read})
     if len(quantities) != 1:
         raise InputError(f"{path}: the FRFs hold {', '.join(quantities)}: expected one quantity in a file")
     quantity = quantities[0]
     _refuse_lone_spectra(sets, frfs, path)
-    coherence = {_key(s): np.real(np.asarray(s["data"])) for s in sets if s.get("func_type") == _COHERENCE}
+    pairs = {_key(s) for s in frfs}
+    coherence = {_key(s): np.real(np.asarray(s["data"])) for s in sets if _is_frf_coherence(s, pairs)}
+    skipped = [s for s in sets if _function_type(s) != _FRF and not _is_frf_coherence(s, pairs)]
     parts = []
     for s, (_, factor) in zip(frfs, read):
         _check_set(s, path)
@@ -210,21 +218,59 @@ def read_uff58(path, model, mapping):
     records = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
     if not coherence:
         records["coherence"] = None
-    return assemble(records, model, quantity, str(path))
+    result = assemble(records, model, quantity, str(path))
+    if skipped:       # warned once the FRFs are read: a refused file gets its one error line alone
+        import warnings
+
+        warnings.warn(_skipped_frf_line(path, len(frfs), bool(coherence), skipped), stacklevel=3)
+    return result
 
 
 #: dataset 58 function types that hold a pair's spectrum, not its FRF
 _SPECTRA = {2: "auto-spectrum", 3: "cross-spectrum"}
 
 
+def _is_frf_coherence(s, pairs) -> bool:
+    """A coherence set (function type 6) of a pair, speed included, whose FRF the file holds."""
+    return _function_type(s) == _COHERENCE and _key(s) in pairs
+
+
+def _no_frf_line(path, sets) -> str:
+    """The line refusing a file of dataset 58 sets none of which is an FRF: what it holds, and,
+    where it holds time records, how FRFs are computed from them."""
+    kinds = sorted({_function_type(s) for s in sets})
+    line = (f"{path}: no FRF (dataset 58, function type 4) in the file; function types found: {kinds}: "
+            f"{_by_function(sets)}")
+    if any(_is_time_record(s) for s in sets):
+        line += (": time records are no FRFs; compute the FRFs from them in Python, frf = rdm.estimate_frf("
+                 "rdm.read_uff_time_records(FILE, mapping, speed), inputs, outputs, estimator='H1' or 'H2'), and write "
+                 "them with rdm.write_measured_csv([frf], FILE.csv) for --measured (docs/frf-and-measurement.md, "
+                 "'From time records')")
+    return line
+
+
+def _skipped_frf_line(path, count: int, with_coherence: bool, skipped) -> str:
+    """One line naming the dataset 58 sets an FRF file holds beside its FRFs and their coherence."""
+    frfs = "the FRF" if count == 1 else f"the {count} FRFs"
+    read = f"{frfs} (dataset 58, function type 4){' and their coherence' if with_coherence else ''}"
+    note = "only FRFs and the coherence of an FRF's pair are read"
+    if any(_is_time_record(s) for s in skipped):
+        note += "; FRFs are computed from time records by rdm.estimate_frf"
+    return _skipped_line(path, read, "FRF", skipped, note)
+
+
 def _refuse_lone_spectra(sets, frfs, path):
-    """Refuse a spectrum (function type 2 or 3) of a response/reference pair that has no FRF in
-    the file: it was skipped without a word and the pair read as NaN. Beside its pair's FRF (as
-    analysers export both) it is extra data and is left unread."""
+    """Refuse a cross-spectrum (function type 3) of a response/reference pair that has no FRF in
+    the file: it was skipped without a word and the pair read as NaN, and a cross-spectrum in
+    place of an FRF is most likely the wrong export. Beside its pair's FRF (as analysers export
+    both) it is extra data, left unread and named in the reader's warning. An auto-spectrum
+    (function type 2) is one channel's power, never an FRF's pair: beside FRFs (the force's and
+    the responses' auto-spectra, from which an analyser computed them) it is skipped and named
+    alike; a file of spectra without any FRF is refused by ``_no_frf_line``."""
     pairs = {_key(s) for s in frfs}
     for s in sets:
         kind = int(s.get("func_type", -1))
-        if kind in _SPECTRA and _key(s) not in pairs:
+        if kind == 3 and _key(s) not in pairs:
             raise InputError(f"{path}: dataset {s.get('_dataset', '?')} ({s.get('rsp_node')}:{s.get('rsp_dir')} / "
                              f"{s.get('ref_node')}:{s.get('ref_dir')}): function type {kind} ({_SPECTRA[kind]}) is "
                              "not an FRF (function type 4), and the file has no FRF of that pair: export the FRF")
@@ -633,6 +679,12 @@ def _system(systems, number, node, path):
 def read_uff_time_records(path, mapping=None, speed: float = 0.0, units=None):
     """Time records (dataset 58/58b, function type 1) of a Universal File.
 
+    A time record is a set of function type 1 (time response), or of type 0 (general or unknown)
+    over an abscissa of data type 17 (time). The file's other dataset 58 sets (auto- and
+    cross-spectra, FRFs, coherence, PSDs, ..., as analysers export beside the time data) are
+    skipped with one warning naming their places in the file, function types and nodes; a file
+    without a time record is refused, naming what it holds.
+
     Each set is a channel: its response node and direction, force or response, and entity name
     (record 6: a recorder that numbers no nodes names its channels). When every channel appears equally
     often, its k-th set belongs to record k (e.g. one record per hit). When some channel appears
@@ -670,11 +722,9 @@ def read_uff_time_records(path, mapping=None, speed: float = 0.0, units=None):
 
     declared = declared_units(units, path)
     sets, types = _all_sets(path)
-    found = [s for s in sets if s["type"] == 58 and int(s.get("func_type", -1)) == 1]
+    found, skipped = _time_sets(sets)
     if not found:
-        kinds = sorted({int(s.get("func_type", -1)) for s in sets if s["type"] == 58})
-        raise InputError(f"{path}: no time record (dataset 58, function type 1) in the file; "
-                         f"dataset 58 function types found: {kinds or 'none'}")
+        raise InputError(f"{path}: no time record (dataset 58, function type 1) in the file; {_holdings(sets, types)}")
     file_units = _units(sets, path)
     rate, channels = None, []
     for s in found:
@@ -693,8 +743,121 @@ def read_uff_time_records(path, mapping=None, speed: float = 0.0, units=None):
         label = f"{len(channels) + 1} ({entity!r}, {str(s.get('id1', '')).strip()!r})"     # for messages
         channels.append((key, quantity, _samples(s, path) * float(factor), label))
     names, quantities, signals = _arrange(channels, mapping, path)
+    if skipped:       # warned once the records are read: a refused file gets its one error line alone
+        import warnings
+
+        records = "the time record" if len(found) == 1 else f"the {len(found)} time records"
+        warnings.warn(_skipped_line(path, f"{records} (dataset 58, function type 1)", "time record", skipped,
+                                    "spectra and FRFs are computed from the time records: rdm.estimate_frf"),
+                      stacklevel=2)
     return TimeRecords(signals=signals, sampling_rate_hz=float(rate), channels=tuple(names),
                        quantities=tuple(quantities), speed=float(speed))
+
+
+#: dataset 58 function types (record 6), for messages
+_FUNCTION_NAMES = {0: "general or unknown", 1: "time response", 2: "auto-spectrum", 3: "cross-spectrum",
+                   4: "FRF", 5: "transmissibility", 6: "coherence", 7: "auto-correlation", 8: "cross-correlation",
+                   9: "power spectral density", 10: "energy spectral density", 11: "probability density function",
+                   12: "spectrum", 13: "cumulative frequency distribution", 14: "peaks valley",
+                   15: "stress/cycles", 16: "strain/cycles", 17: "orbit", 18: "mode indicator function",
+                   19: "force pattern", 20: "partial power", 21: "partial coherence", 22: "eigenvalue",
+                   23: "eigenvector", 24: "shock response spectrum", 25: "finite impulse response filter",
+                   26: "multiple coherence", 27: "order function", 28: "phase compensation"}
+#: datasets other than 58 by number, for messages
+_DATASET_NAMES = {15: "nodes", 18: "coordinate systems", 82: "trace lines", 151: "header", 164: "units",
+                  2411: "nodes", 2412: "elements", 2414: "analysis results", 2420: "coordinate systems",
+                  2467: "groups", 55: "data at nodes"}
+
+
+def _function_type(s) -> int:
+    return int(s.get("func_type", -1))
+
+
+def _is_time_record(s) -> bool:
+    """A dataset 58 of samples in time: function type 1 (time response), or 0 (general or unknown)
+    over an abscissa of data type 17 (time)."""
+    kind = _function_type(s)
+    return kind == 1 or (kind == 0 and int(s.get("abscissa_spec_data_type", 0)) == _TIME)
+
+
+def _time_sets(sets) -> tuple:
+    """``(time records, other 58 sets)`` of a file's datasets, each 58 set given its place among
+    the file's datasets (``_dataset``, from 1) for messages."""
+    records, others = [], []
+    for place, s in enumerate(sets, start=1):
+        if s["type"] != 58:
+            continue
+        s.setdefault("_dataset", place)
+        (records if _is_time_record(s) else others).append(s)
+    return records, others
+
+
+def _function_words(kind: int) -> str:
+    """``'function type 2 (auto-spectrum)'``."""
+    return f"function type {kind} ({_FUNCTION_NAMES.get(kind, 'not a UFF function type')})"
+
+
+def _nodes(s) -> str:
+    """``'1:+3'`` (response), or ``'1:+3 / 101:+3'`` when a reference other than the response is given."""
+    rsp = (int(s.get("rsp_node", 0)), int(s.get("rsp_dir", 0)))
+    ref = (int(s.get("ref_node", 0)), int(s.get("ref_dir", 0)))
+    text = f"{rsp[0]}:{rsp[1]:+d}"
+    return text if ref in ((0, 0), rsp) else f"{text} / {ref[0]}:{ref[1]:+d}"
+
+
+def _listed(items, most: int = 4) -> str:
+    """Items joined by ', ', the first ``most`` of a longer list and how many in all."""
+    items = list(items)
+    shown = ", ".join(items[:most])
+    return shown if len(items) <= most else f"{shown}, ... ({len(items)} in all)"
+
+
+def _by_function(sets) -> str:
+    """The sets grouped by function type: ``auto-spectra (function type 2): datasets 5, 6 at 1:+3, 2:+3``."""
+    groups = {}
+    for s in sets:
+        groups.setdefault(_function_type(s), []).append(s)
+    parts = []
+    for kind, group in groups.items():
+        places = _listed(str(s["_dataset"]) for s in group)
+        nodes = _listed(dict.fromkeys(_nodes(s) for s in group))
+        word = "dataset" if len(group) == 1 else "datasets"
+        parts.append(f"{_function_words(kind)}: {word} {places} at {nodes}")
+    return "; ".join(parts)
+
+
+def _holdings(sets, types) -> str:
+    """What a file without a time record holds, for the message that refuses it."""
+    others = _time_sets(sets)[1]
+    if others:
+        kinds = sorted({_function_type(s) for s in others})
+        advice = " (FRFs are read by rotordyn_modal.io.measured.read_measured, frf --measured)" \
+            if _FRF in kinds else ""
+        return f"dataset 58 function types found: {kinds}: {_by_function(others)}{advice}"
+    found = sorted(set(types))
+    named = ", ".join(f"{t} ({_DATASET_NAMES[t]})" if t in _DATASET_NAMES else str(t) for t in found)
+    return f"no dataset 58 at all; datasets found: {named or 'none'}"
+
+
+def _skipped_line(path, read: str, kind: str, skipped, note: str) -> str:
+    """One line naming the dataset 58 sets a reader skipped beside those it read (the time records'
+    and the FRFs' readers).
+
+    Parameters
+    ----------
+    path : path-like
+    read : str
+        What was read, ``'the 2 time records (dataset 58, function type 1)'``.
+    kind : str
+        What the skipped sets are not, ``'time record'``.
+    skipped : list of dict
+        The skipped sets (pyuff's, with their places ``_dataset``).
+    note : str
+        Why they were skipped, in parentheses at the end.
+    """
+    sets = "set" if len(skipped) == 1 else "sets"
+    return (f"{path}: read {read} and skipped {len(skipped)} dataset 58 {sets} of no {kind}: "
+            f"{_by_function(skipped)} ({note})")
 
 
 def _samples(s, path) -> np.ndarray:

@@ -205,6 +205,9 @@ def _named_tables(source: str, data, key: str) -> dict[str, _Table]:
         name = _Table(source, label, raw).text("name", required=True)
         if name in tables:
             raise _Table(source, label, raw).error("name", name, f"a name unique among the [[{key}]]")
+        if key == "rotors" and name == "stator":   # --force stator:..., the tables' body column: the casing
+            raise _Table(source, label, raw).error("name", name, "a rotor name other than 'stator', which names "
+                                                   "the casing in options (--force stator:...) and tables")
         twin = normal.get(unicodedata.normalize("NFC", name))
         if twin is not None:   # 'café' typed precomposed and decomposed: two names that read the same
             codes = [text.encode("unicode_escape").decode() for text in (twin, name)]

@@ -8,7 +8,9 @@ excitation sits; between them elements no longer than ``element_length``
 (:func:`default_element_length` when not given) or, for a section with ``elements = n``,
 that section cut into ``n`` equal elements (and at its stations). A station closer than
 :data:`MERGE_FRACTION` of its section's element length to another mark shares its node
-(:attr:`Mesh.merged`, named by :func:`merge_lines`).
+(:attr:`Mesh.merged`, named by :func:`merge_lines`); a section shorter than that fraction of a
+neighbouring section's element length makes no element: its ends share one node and it is lumped
+there as a rigid piece (:func:`short_runs`, :attr:`Mesh.absorbed`, named by :func:`merge_lines`).
 
 Its mass, centre of mass and inertias are those of the element mass matrices, the disks and the
 point masses for a rigid motion (the elements reproduce a rigid motion's kinetic energy
@@ -28,7 +30,7 @@ from .geometry import shift_matrices, transverse_axes
 
 __all__ = ["Material", "Layer", "Section", "Disk", "PointMass", "Shaft", "Mesh", "materials", "shaft",
            "mass_properties", "mesh", "default_element_length", "station_z", "SHAFT_KEYS",
-           "STATION_TOLERANCE", "MERGE_FRACTION", "POSITION_ROUND_OFF", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies"]
+           "STATION_TOLERANCE", "MERGE_FRACTION", "short_runs", "POSITION_ROUND_OFF", "DEFAULT_ELEMENTS", "MAX_NODES", "node_matrices", "lateral_basis", "bending_frequencies"]
 
 #: [m]: a station closer than this to a node is at that node; a point this far off the shaft's
 #: axis or beyond its ends (plus the same fraction of the shaft's length) is off the shaft
@@ -130,6 +132,10 @@ class Mesh:
     #: each named station placed at a node over :data:`STATION_TOLERANCE` from where it was given:
     #: ``(label, z [m], node's z [m], element length [m] of its section)``
     merged: tuple = field(default=(), compare=False)
+    #: each run of sections too short for an element of their own (:func:`short_runs`), lumped as a
+    #: rigid piece at one node: ``(first section, last section, joint z [m], neighbouring element
+    #: length [m])``
+    absorbed: tuple = field(default=(), compare=False)
 
     @property
     def n_nodes(self) -> int:
@@ -473,17 +479,33 @@ def mesh(shaft: Shaft, stations, fraction: float = MERGE_FRACTION) -> Mesh:
         Marks (stations, section ends, cuts) closer than ``fraction`` times their section's element
         length (:func:`section_element_length`), and at least :data:`STATION_TOLERANCE`, share a
         node (0: :data:`STATION_TOLERANCE` only, as for the mass properties, where elements of
-        any length are exact).
+        any length are exact). A section shorter than ``fraction`` times a neighbouring section's
+        element length (:func:`short_runs`) makes no element: its two ends share one node, at
+        its middle, which the neighbours' elements reach, and its mass and inertia are lumped
+        there as a rigid piece (:attr:`Mesh.absorbed`).
     """
     ends = shaft.ends
     length = shaft.length
     named = [item if isinstance(item, tuple) else (None, item) for item in stations]
     named += [(f"disk {visible(d.name)!r}", d.z) for d in shaft.disks]
     named += [(f"point mass {visible(p.name)!r}", p.z) for p in shaft.point_masses]
+    runs = short_runs(shaft, fraction)
+    lefts, rights = list(ends[:-1]), list(ends[1:])        # what each section is meshed over
+    absorbed = set()
     points = np.array([float(z) for _, z in named], dtype=float).reshape(-1)
+    for first, last, at, _ in runs:
+        absorbed.update(range(first, last + 1))
+        if first > 0:
+            rights[first - 1] = at
+        if last + 1 < len(shaft.sections):
+            lefts[last + 1] = at
+        # a station on the absorbed piece is at its joint (a node there, never one microns away)
+        points = np.where((points >= ends[first]) & (points <= ends[last + 1]), at, points)
     nodes, elements, spacing = [0.0], [], []
     for index, section in enumerate(shaft.sections):
-        left, right = ends[index], ends[index + 1]
+        if index in absorbed:
+            continue
+        start, left, right = ends[index], lefts[index], rights[index]
         h = section_element_length(shaft, index)
         tolerance = max(STATION_TOLERANCE, fraction * h)
         if section.elements is not None:
@@ -495,17 +517,60 @@ def mesh(shaft: Shaft, stations, fraction: float = MERGE_FRACTION) -> Mesh:
         marks[0], marks[-1] = left, right
         spacing.append((left, right, h))
         for a, b in zip(marks[:-1], marks[1:]):
-            count = 1 if section.elements is not None else max(1, math.ceil((b - a) / shaft.element_length - 1e-9))
+            # the reach over an absorbed neighbour adds no element: a stretch of two element lengths
+            # stays two elements when it reaches 10 um further
+            reach = (max(start - left, 0.0) if a == left else 0.0) + (max(right - ends[index + 1], 0.0) if b == right else 0.0)
+            count = 1 if section.elements is not None else \
+                max(1, math.ceil((b - a - reach) / shaft.element_length - 1e-9))
             for k in range(count):
                 z0, z1 = a + (b - a) * k / count, a + (b - a) * (k + 1) / count
                 if k == count - 1:
                     z1 = b
-                elements.append((len(nodes) - 1, index, z1 - z0, _diameters(section.outer, section.length, left, z0, z1),
-                                 _diameters(section.inner, section.length, left, z0, z1)))
+                elements.append((len(nodes) - 1, index, z1 - z0, _diameters(section.outer, section.length, start, z0, z1),
+                                 _diameters(section.inner, section.length, start, z0, z1)))
                 nodes.append(z1)
     nodes[-1] = length
     z = np.array(nodes)
-    return Mesh(z=z, elements=tuple(elements), merged=_moved_stations(named, z, spacing))
+    return Mesh(z=z, elements=tuple(elements), merged=_moved_stations(named, z, spacing), absorbed=tuple(runs))
+
+
+def short_runs(shaft: Shaft, fraction: float = MERGE_FRACTION) -> list:
+    """The runs of consecutive sections each shorter than ``fraction`` times a neighbouring
+    section's element length (:func:`section_element_length`): such a section would make an
+    element of length ``h`` beside elements of length ``H``, ``(H/h)^3`` stiffer, and cost the low
+    modes that many digits in round-off (docs/theory.md §16, "Sections shorter than a
+    thousandth of an element").
+
+    Returns
+    -------
+    list of (int, int, float, float)
+        ``(first, last, z, H)``: the sections ``first .. last`` (inclusive), the joint ``z`` [m]
+        their ends share (the run's middle, or the shaft's end a run reaches), the longest
+        neighbouring element length ``H`` [m].
+    """
+    count = len(shaft.sections)
+    if fraction <= 0.0 or count < 2:
+        return []
+    h = [section_element_length(shaft, i) for i in range(count)]
+    ends = shaft.ends
+    short = [shaft.sections[i].length < fraction * max(h[j] for j in (i - 1, i + 1) if 0 <= j < count)
+             for i in range(count)]
+    runs, i = [], 0
+    while i < count:
+        if not short[i]:
+            i += 1
+            continue
+        first = i
+        while i + 1 < count and short[i + 1]:
+            i += 1
+        last = i
+        i += 1
+        if first == 0 and last == count - 1:
+            continue                                   # nothing to join it to
+        neighbours = [h[j] for j in (first - 1, last + 1) if 0 <= j < count]
+        at = 0.0 if first == 0 else shaft.length if last == count - 1 else 0.5 * (ends[first] + ends[last + 1])
+        runs.append((first, last, float(at), max(neighbours)))
+    return runs
 
 
 def section_element_length(shaft: Shaft, index: int) -> float:
@@ -532,9 +597,33 @@ def _moved_stations(named, z, spacing) -> tuple:
     return tuple(out)
 
 
+#: [m] outer diameter of a shaft section or layer above which a model draws a warning: no
+#: machine's shaft is this thick (kilns and tube mills reach ~6 m), while a shaft of 10 to
+#: 1000 mm typed in mm for m lands here
+PLAUSIBLE_SHAFT_DIAMETER = 10.0
+
+
+def size_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
+    """One warning line for ``shaft`` when a section (or layer) is thicker than
+    :data:`PLAUSIBLE_SHAFT_DIAMETER`, most likely a diameter in mm typed for m: the thickest
+    named, with the count of the others."""
+    thick = [(max(tube.outer), where) for i, section in enumerate(shaft.sections)
+             for where, tube in ((f"shaft.{i}", section), *((f"shaft.{i}.layers.{k}", layer)
+                                                          for k, layer in enumerate(section.layers)))
+             if max(tube.outer) > PLAUSIBLE_SHAFT_DIAMETER]
+    if not thick:
+        return []
+    diameter, where = max(thick)
+    others = f" (and {len(thick) - 1} other tubes over it)" if len(thick) > 1 else ""
+    return [f"{source}: [rotors.{visible(rotor)}.{where}] outer_diameter = {diameter:g}{others}: a shaft over "
+            f"{PLAUSIBLE_SHAFT_DIAMETER:g} m thick; a diameter in mm typed for m? (model files are SI)"]
+
+
 def merge_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
     """One warning line per station of ``shaft``'s mesh placed at the node of another mark
-    (:attr:`Mesh.merged`), naming it, its distance and where it now is."""
+    (:attr:`Mesh.merged`), naming it, its distance and where it now is, and one per run of
+    sections too short for an element (:attr:`Mesh.absorbed`), naming it, its length, the
+    neighbouring element length and the node its ends share."""
     lines = []
     joints = shaft.ends
     for label, position, node, h, other in shaft.mesh.merged if shaft.mesh is not None else ():
@@ -549,9 +638,22 @@ def merge_lines(source: str, rotor: str, shaft: Shaft) -> list[str]:
             where, placed = f"the joint of sections {joint - 1} and {joint} at {node:.7g} m", "there"
         else:
             where, placed = f"the mesh's node at {node:.7g} m", "there"
+        piece = next(((first, last) for first, last, _, _ in shaft.mesh.absorbed
+                      if joints[first] - STATION_TOLERANCE <= position <= joints[last + 1] + STATION_TOLERANCE), None)
+        why = (f"closer than {MERGE_FRACTION:g} of the element length {h:.4g} m" if piece is None else
+               f"on shaft.{piece[0]}" + (f" to shaft.{piece[1]}" if piece[1] != piece[0] else "")
+               + ", too short for an element of its own")
         lines.append(f"{source}: [rotors.{visible(rotor)}] {label} at {position:.7g} m is {abs(position - node):.2g} m "
-                     f"from {where}: placed {placed} (closer than {MERGE_FRACTION:g} of the element length "
-                     f"{h:.4g} m; a shorter element would swamp the shaft's stiffness in round-off)")
+                     f"from {where}: placed {placed} ({why}; a shorter element would swamp the shaft's stiffness "
+                     "in round-off)")
+    for first, last, at, h in shaft.mesh.absorbed if shaft.mesh is not None else ():
+        size = sum(s.length for s in shaft.sections[first:last + 1])
+        which = f"shaft.{first}" if first == last else f"shaft.{first} to shaft.{last}"
+        lines.append(f"{source}: [rotors.{visible(rotor)}.{which}] length = {size:.3g} m is shorter than "
+                     f"{MERGE_FRACTION:g} of the neighbouring element length {h:.4g} m: it makes no element "
+                     f"(one would swamp the shaft's stiffness in round-off); its ends share the node at "
+                     f"{at:.7g} m and its mass and inertia are lumped there as a rigid piece (merge it into a "
+                     "neighbouring section to silence this)")
     return lines
 
 
@@ -649,6 +751,14 @@ def _node_matrices(shaft: Shaft, mesh: Mesh, kinds):
         _add_block(parts.get("G"), i + 3, -disk.polar_inertia * skew)
     for point in shaft.point_masses:
         _add_block(parts.get("M"), 6 * mesh.node(point.z), point.mass * eye)
+    for first, last, at, _ in mesh.absorbed:
+        i = 6 * mesh.node(at)
+        for kind, block in zip("MG", _rigid_piece(shaft, first, last, at)):
+            if kind in parts:
+                rows, cols = np.meshgrid(i + np.arange(6), i + np.arange(6), indexing="ij")
+                parts[kind][0].append(rows.ravel())
+                parts[kind][1].append(cols.ravel())
+                parts[kind][2].append(block.ravel())
     out = {}
     for kind, (r, c, data) in parts.items():
         matrix = scipy.sparse.csr_matrix((np.concatenate(data), (np.concatenate(r), np.concatenate(c))),
@@ -658,6 +768,32 @@ def _node_matrices(shaft: Shaft, mesh: Mesh, kinds):
             array.flags.writeable = False
         out[kind] = matrix
     return tuple(out[k] for k in kinds)
+
+
+def _rigid_piece(shaft: Shaft, first: int, last: int, at: float):
+    """Mass and gyroscopic matrices (6 x 6 each, model axes, on ``[u, theta]`` of the node at
+    ``at`` [m]) lumped there for the sections ``first .. last`` absorbed (:func:`short_runs`):
+    those sections as a rigid piece moving with the node, less the neighbouring sections'
+    elements' reach over them (the neighbours' end diameters from their ends to ``at``), so that
+    the shaft's mass, centre of mass, inertias and spin moment stay those of its sections
+    exactly (:func:`mass_properties`); the piece's stiffness is dropped (a rigid piece)."""
+    ends = shaft.ends
+    parts = [(+1.0, i, ends[i], ends[i + 1]) for i in range(first, last + 1)]
+    if first > 0 and at > ends[first]:
+        parts.append((-1.0, first - 1, ends[first], at))
+    if last + 1 < len(shaft.sections) and at < ends[last + 1]:
+        parts.append((-1.0, last + 1, at, ends[last + 1]))
+    M6, G6 = np.zeros((6, 6)), np.zeros((6, 6))
+    for sign, i, z0, z1 in parts:
+        section = shaft.sections[i]
+        element = (0, i, z1 - z0, _diameters(section.outer, section.length, ends[i], z0, z1),
+                   _diameters(section.inner, section.length, ends[i], z0, z1))
+        M, G = _node_matrices(replace(shaft, disks=(), point_masses=(), mesh=None),
+                              Mesh(z=np.array([z0, z1]), elements=(element,)), ("M", "G"))
+        R = rigid_motion(shaft.point(np.array([z0, z1])), shaft.point(at))
+        M6 += sign * (R.T @ (M @ R))
+        G6 += sign * (R.T @ (G @ R))
+    return M6, G6
 
 
 def _add_block(part, start: int, block) -> None:

@@ -168,6 +168,7 @@ def edge_label_boxes(ax, labels, fontsize, renderer, placed, curves=None, along=
     """
     box = ax.get_window_extent(renderer)
     to_u, to_v = 1.0 / max(box.width, 1.0), 1.0 / max(box.height, 1.0)
+    pixels = (box.width, box.height)
     points = renderer.points_to_pixels(1.0)
 
     def size(text):
@@ -189,18 +190,22 @@ def edge_label_boxes(ax, labels, fontsize, renderer, placed, curves=None, along=
             keep = (label.u - anchor_u, label.v - anchor_v, label.u + along_u + anchor_u, label.v + along_v + anchor_v)
             others = [other for other in merged if other is not label]
             box = first_free_box(boxes, placed, (pad_u, pad_v), frame,
-                                 allowed=lambda b, k=keep, lab=label: curves.free(b, k) and nearest_own_exit(b, lab, others))
+                                 allowed=lambda b, k=keep, lab=label: curves.free(b, k)
+                                 and nearest_own_exit(b, lab, others, pixels))
         else:
             box = first_free_box(boxes, placed, (pad_u, pad_v), frame)
         if box is not None:
             taken.append((label, box))
     if along and curves is not None:
         turned = {}             # the turned labels' outlines (by their boxes in ``placed``)
-        missing = sorted([label for label in merged if label.edge == "top" and label.paths
-                          and all(label is not t for t, _ in taken)], key=lambda lab: lab.direction * lab.u)
+        # top-edge labels first (by their exits along the edge), then those of the side edges
+        missing = sorted([label for label in merged if label.paths and all(label is not t for t, _ in taken)],
+                         key=lambda lab: (lab.edge != "top", lab.direction * lab.u, -lab.v))
         for label in missing:
-            members = [m for m in labels if m.edge == "top" and m.suffix == label.suffix
-                       and label.u - 1e-12 <= m.u <= label.u + label.spread + 1e-12]
+            along_v = label.edge != "top"
+            members = [m for m in labels if m.edge == label.edge and m.suffix == label.suffix
+                       and (label.v, label.u)[not along_v] - 1e-12 <= (m.v, m.u)[not along_v]
+                       <= (label.v, label.u)[not along_v] + label.spread + 1e-12]
             others = [o for o in labels if all(o is not m for m in members)]
             found = _along_the_line(ax, dataclasses.replace(label, prefix=_short_orders(label.prefix)), others,
                                     fontsize, renderer, placed, curves, frame, (pad_u, pad_v), turned)
@@ -339,13 +344,22 @@ def _distance_to(path, point) -> float:
     return float(np.min(np.hypot(*(a + t[:, None] * ab - point).T)))
 
 
-def nearest_own_exit(box, label, others) -> bool:
+def nearest_own_exit(box, label, others, size=(1.0, 1.0)) -> bool:
     """Whether a top-edge label's ``box`` lies no farther from its own exits along the edge than
     from any other line's exit (as near: lines leaving together), so that a label slid along its
-    row cannot read as another line's. Labels at the right and left edges always do (they step
-    away from their exit only by fractions of their height)."""
+    row cannot read as another line's. A label at the right or left edge: whether its box's
+    centre lies no farther from its own lines (``paths``) than from any other label's, measured
+    in pixels (``size``: the axes' width and height [pixels]); a step away from its exit put
+    '1X pump' under the 1X motor line where a logarithmic axis squeezed the order lines 20 pixels
+    apart."""
     if label.edge != "top":
-        return True
+        if not label.paths:
+            return True
+        scale = np.asarray(size, float)
+        centre = np.array([0.5 * (box[0] + box[2]), 0.5 * (box[1] + box[3])]) * scale
+        own = min(_distance_to(np.asarray(path, float) * scale, centre) for path in label.paths if len(path) > 1)
+        return all(own <= _distance_to(np.asarray(path, float) * scale, centre)
+                   for other in others for path in other.paths if len(path) > 1)
     if label.paths and box[1] < 1.0 - _ROWS * (box[3] - box[1]) * 1.5:
         own = _gap_at_height(box, label.paths)
         return own < np.inf and all(own <= _gap_at_height(box, o.paths) for o in others)

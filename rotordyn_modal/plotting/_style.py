@@ -99,3 +99,20 @@ def _plain_log_formatter():
             return np.format_float_positional(float(f"{x:.6g}"), trim="-")
 
     return PlainLogFormatter
+
+
+def fitted_title(fig, text: str, share: float, fontsize="large") -> str:
+    """``text`` wrapped onto lines no wider than ``share`` of the figure's width, drawn at
+    ``fontsize``: an axes' title is centred over the axes, so a long model name over an axes
+    narrowed by a colour bar ran off the figure's left edge."""
+    import textwrap
+
+    from ._labels import text_size
+
+    lines = text.split("\n")
+    width = max(text_size(fig, line, fontsize, fig.canvas.get_renderer())[0] for line in lines)
+    allowed = share * fig.bbox.width
+    if width <= allowed:
+        return text
+    characters = max(int(max(len(line) for line in lines) * allowed / width), 20)
+    return "\n".join(textwrap.fill(line, characters) for line in lines)

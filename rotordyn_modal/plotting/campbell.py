@@ -8,7 +8,7 @@ from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
                       font_points, set_if_changed, text_size, _overlap, _short_orders)
-from ._style import WHIRL_STYLE, new_figure, speed_label, speed_scale
+from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
 
@@ -123,7 +123,8 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     ax.set_xlim(x.min(), x.max() if x.max() > x.min() else x.min() + 1)
     ax.set_xlabel(speed_label(speed_unit))
     ax.set_ylabel("Damped natural frequency [Hz]" + (" (log scale)" if axis_scale == "log" else ""))
-    ax.set_title(title or "Campbell diagram")
+    # centred over an axes that a colour bar narrows: no wider than the axes' own share
+    ax.set_title(fitted_title(fig, title or "Campbell diagram", 0.65 if color_by else 0.85))
     ax.grid(True, which="major", alpha=0.3)
     if axis_scale == "log":
         ax.grid(True, which="minor", alpha=0.1)
@@ -242,8 +243,14 @@ def _draw_coloured(ax, fig, x, freqs, result, quantity):
     from matplotlib.collections import LineCollection
 
     values = {"log_decrement": result.log_decrements, "damping_ratio": result.damping_ratios}[quantity]
+    # an undamped mode's log decrement is round-off (+-2e-15 on the spring-block rotor): 0, as the
+    # red band reads it (:func:`_mark_unstable`); its noise spread over the whole colour map read
+    # as damping varying along the curves, half of it below zero
+    values = np.where(np.abs(result.eigenvalues.real) <= _MARGINAL * np.abs(result.eigenvalues), 0.0, values)
     finite = values[np.isfinite(values) & result.oscillatory]
     norm_range = (finite.min(), finite.max()) if finite.size else (0, 1)
+    if norm_range[1] <= norm_range[0]:                  # one value (0: an undamped machine)
+        norm_range = (norm_range[0], norm_range[0] + max(abs(norm_range[0]), 0.1))
     import matplotlib.colors as mcolors
 
     norm = mcolors.Normalize(*norm_range)
@@ -635,7 +642,8 @@ class _CampbellLabels:
         and of every curve (but within :data:`ANCHOR_POINTS` of the anchor); else the box of a
         grid around the anchor (:func:`boxes_around`) so clear whose distance plus its leader
         line's crossings of curves costs least (at most :data:`_MOST_COST` label heights), the
-        leader crossing no label and ending ``clear`` (u, v) short of the anchor.
+        leader crossing no label nor any of the ``markers`` and ending ``clear`` (u, v) short of
+        the anchor.
         """
         u, v = anchor
         keep = (u - ANCHOR_POINTS * self.points * self.to_u, v - ANCHOR_POINTS * self.points * self.to_v,
@@ -658,9 +666,12 @@ class _CampbellLabels:
         others = list(placed)
 
         def leader_clear(box):
+            # nor through another marker: its end would touch that circle as much as its own
+            # (counter_rotating's '11/21.9' reached mode 1's circles through mode 2's)
             start = nearest_in(box, anchor)
             return free(box) and not crosses_any([(start, anchor)], others) \
-                and not crosses_segments(start, anchor, self.leader_lines)
+                and not crosses_segments(start, anchor, self.leader_lines) \
+                and not crosses_any([(start, anchor)], markers)
 
         def cost(box):
             start = nearest_in(box, anchor)
@@ -724,9 +735,11 @@ class _CampbellLabels:
                        (u + radius_u, v - h / 2), (u - radius_u - w, v - h / 2)]
             box = leader = None
             if 0 <= u <= 1 and 0 <= v <= 1:
+                # every other group's circle is an obstacle, one overlapping its own too (rubber_mounts'
+                # 38.6 and 77.2 rpm, 5 pixels apart: the first's leader ended on the second's circle)
+                mine = {(a - radius_u, b - radius_v, a + radius_u, b + radius_v) for a, b in own}
                 box, leader = self._label_box((u, v), [(a, b, a + w, b + h) for a, b in corners], gap, placed,
-                                              [m for m in markers if not any(_contains(m, p) for p in own)],
-                                              (radius_u, radius_v))
+                                              [m for m in markers if m not in mine], (radius_u, radius_v))
             self._show_leader(self.critical_leaders[j], leader, "k")
             if box is None:
                 set_if_changed(text, visible=False)
@@ -909,6 +922,3 @@ def _wrapped(entries, width):
             lines.append(entry)
     return "\n".join(lines)
 
-
-def _contains(box, point) -> bool:
-    return box[0] <= point[0] <= box[2] and box[1] <= point[1] <= box[3]

@@ -38,7 +38,14 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     """
     LOG_DEC_CRITERION, RATIO_CRITERION = result.log_decrement_criterion, result.ratio_criterion
     scale, unit = unit_scale("stiffness", units)
-    fig, ax = new_figure(ax, figsize=(8.0, 5.5))
+    flat = _flattened(result) if ax is None else []
+    if flat:
+        import matplotlib.pyplot as plt
+
+        fig, (ax, detail) = plt.subplots(2, 1, figsize=(8.0, 7.5), layout="constrained", sharex=True,
+                                         gridspec_kw={"height_ratios": [2.4, 1.0]})
+    else:
+        fig, ax = new_figure(ax, figsize=(8.0, 5.5))
     x = result.cross_coupling / result.qa
     _curves(ax, result, x)
     ax.axhline(0.0, color="k", linewidth=0.8)
@@ -72,7 +79,57 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
                  f"{textwrap.fill(result.verdict(units), 80)}",
                  fontsize="medium", color="tab:red" if result.level2_required else "darkgreen")
     ax.legend(fontsize="x-small", loc="best", framealpha=0.85)
+    if flat:
+        _detail(detail, x, flat, RATIO_CRITERION)
     return fig
+
+
+#: a followed mode whose log decrement stays this close to zero, as a fraction of the panel's
+#: height, is drawn again in a panel of its own under the first (its curve and where it crosses
+#: zero are not seen on the scale of a mode that dives to -2.5)
+_FLAT = 0.05
+
+
+def _flattened(result):
+    """The followed modes (``result.swept``) whose log decrements lie within :data:`_FLAT` of
+    the panel's height of zero: their curves would lie on the zero line."""
+    low, high = _range(result)
+    span = high - low
+    flat = []
+    for run in result.swept or (result,):
+        values = run.log_decrements[np.isfinite(run.log_decrements)]
+        if values.size and np.abs(values).max() < _FLAT * span:
+            flat.append(run)
+    return flat
+
+
+def _detail(ax, x, flat, ratio_criterion):
+    """The panel under the first: every followed mode's curve again, its y axis over the
+    ``flat`` modes' log decrements and zero (where each crosses zero is seen; the legend gives
+    its Q0 / Qa), the lines of ``Qa`` and of the ratio criterion."""
+    lines = _mode_lines(ax.figure.axes[0])
+    for line in lines:
+        ax.plot(line.get_xdata(), line.get_ydata(), color=line.get_color(), linewidth=line.get_linewidth(),
+                linestyle=line.get_linestyle(), zorder=line.get_zorder())
+    ax.axhline(0.0, color="k", linewidth=0.8)
+    ax.axvline(1.0, color="0.4", linestyle=":", linewidth=1.0)
+    ax.axvline(ratio_criterion, color="tab:red", linestyle=":", linewidth=1.0)
+    values = np.concatenate([run.log_decrements for run in flat])
+    values = values[np.isfinite(values)]
+    low, high = min(values.min(), 0.0), max(values.max(), 0.0)
+    span = high - low if high > low else 1.0
+    ax.set_ylim(low - 0.12 * span, high + 0.12 * span)
+    ax.set_xlim(0.0, x[-1])
+    names = ", ".join(run.mode_label for run in flat)
+    ax.set_ylabel(f"Log decrement [-]\n(near zero: {names})", fontsize="small")
+    ax.set_xlabel(ax.figure.axes[0].get_xlabel())
+    ax.figure.axes[0].set_xlabel("")
+    ax.grid(True, alpha=0.3)
+
+
+def _mode_lines(ax):
+    """The followed modes' curves of the first panel, in the order drawn (``result.swept``'s)."""
+    return [line for line in ax.get_lines() if "(forward " in str(line.get_label())]
 
 
 #: SI prefixes of the top axis' unit, so that its ticks read below 1000 without a floating
@@ -100,19 +157,26 @@ def _curves(ax, result, x):
         ax.plot(x, run.log_decrements, color="tab:blue" if judged else next(others, "0.5"),
                 linewidth=2.0 if judged else 1.3, linestyle="-" if judged else "--", zorder=3 if judged else 2,
                 label=f"{run.mode_label} (forward {run.forward_mode}), {run.frequencies_hz[0]:.4g} Hz at Q = 0"
-                      + (f": governs {' and '.join(governs)}" if governs else ""))
+                      + (f": governs {' and '.join(governs)}" if governs else "")
+                      + (f"; Q0/Qa = {run.q0 / result.qa:.3g}" if np.isfinite(run.q0) and "Q0" not in governs
+                         and len(runs) > 1 else ""))
 
 
 def _limits(ax, result):
     """x from 0 to the sweep's end; y over the curves, zero and the criterion, with a margin."""
     x = result.cross_coupling / result.qa
     ax.set_xlim(0.0, x[-1])
+    ax.set_ylim(*_range(result))
+
+
+def _range(result):
+    """(low, high) of the first panel's y axis: the curves, zero and the criterion, with a margin."""
     values = np.concatenate([r.log_decrements for r in result.swept or (result,)])
     values = values[np.isfinite(values)]
     low = min(values.min(initial=0.0), 0.0)
     high = max(values.max(initial=0.0), 0.12)
     span = high - low
-    ax.set_ylim(low - 0.08 * span, high + 0.08 * span)
+    return low - 0.08 * span, high + 0.08 * span
 
 
 def plot_csr_chart(screening, title: str | None = None, ax=None, units: str = "si", verdict: str | None = None):

@@ -62,8 +62,11 @@ def plot_shaft_statics(shafts, title: str | None = None, units: str = "si"):
     for column, shaft in zip(axes.T, shafts):
         _column(column, shaft, scales)
     _legend(fig, shafts)
+    # the derivative along the shaft's own axis (dM/dz read as the transverse z of the x-z plane)
+    along = {shaft.axis_names[2] for shaft in shafts}
+    along = along.pop() if len(along) == 1 else "s"
     fig.suptitle(title or "Static sag, shear force and bending moment along the shaft\n"
-                 "(V = dM/dz: force of the part before the cut on the part beyond; M sagging positive)",
+                 f"(V = dM/d{along}: force of the part before the cut on the part beyond; M sagging positive)",
                  fontsize="medium")
     _clear_notes(fig)
     return fig

@@ -466,7 +466,7 @@ class _ArrowLabels:
         obstacles = [] if legend is None else [tuple(legend.get_window_extent(renderer).extents)]
         placed, leaders = [], []
         edges, hulls = self._bodies()
-        clear, crossings = _preferences(segments, edges, hulls, pad)
+        clear, crossings = _preferences(segments, edges, hulls, pad, self._drawn())
         ends = self._ends(segments)
         sizes = [(e.width, e.height) for e in (text.get_window_extent(renderer) for text in self.texts)]
         boxes, lines = [None] * len(self.texts), [None] * len(self.texts)
@@ -544,6 +544,19 @@ class _ArrowLabels:
                 space.add_box(box)
             spaces.append(space)
         return spaces
+
+    def _drawn(self):
+        """Every other line the 3D view draws, in display pixels, (n, 4): the orbits and their
+        arrows, the springs, the ground bars, the spin arcs and arrows, the brackets (the bodies'
+        edges and the sensors' arrows are :meth:`_bodies`' and ``segments``)."""
+        pieces = [_segments(self._project(np.column_stack([np.asarray(c, float) for c in line.get_data_3d()])))
+                  for line in self.ax.get_lines() if hasattr(line, "get_data_3d")
+                  and not str(line.get_gid()).startswith(("displaced:", "undeformed:"))]
+        for collection in self.ax.collections:
+            if str(collection.get_gid()).startswith(("orbit-arrow:", "spin-arrow:")):
+                for segment in getattr(collection, "_segments3d", ()):
+                    pieces.append(_segments(self._project(np.asarray(segment, float).reshape(-1, 3))))
+        return np.concatenate(pieces or [np.empty((0, 4))])
 
     def _bodies(self):
         """The bodies as drawn now, in display pixels: their edges' segments ``(displaced, at rest)``,
@@ -791,11 +804,13 @@ def _crosses_arrows(box, segments, pad):
     return False
 
 
-def _preferences(segments, edges, hulls, pad):
+def _preferences(segments, edges, hulls, pad, drawn=np.empty((0, 4))):
     """Tests a name's box must pass, the strictest first: clear of every arrow, of the bodies'
-    edges (displaced and at rest) and of their filled outlines; then of the edges only; then of
-    the displaced edges; then of the arrows only. And the cost of a box where none passes but the
-    last: the body edges through it (a displaced one counts twice: drawn solid)."""
+    edges (displaced and at rest), of their filled outlines and of every other line ``drawn``
+    (n, 4) [pixels] (orbits, springs, spin arcs: a name's white background hid a piece of an
+    orbit); then of the arrows and edges only; then of the displaced edges; then of the arrows
+    only. And the cost of a box where none passes but the last: the body edges through it (a
+    displaced one counts twice: drawn solid)."""
     from ._labels import crosses_any
 
     displaced, at_rest = edges
@@ -812,7 +827,7 @@ def _preferences(segments, edges, hulls, pad):
 
     # the cheapest test first (the outlines: a few corners each), the arrows' last (one call each)
     return [lambda b: not any(_box_meets_polygon(b, hull) for hull in hulls) and clear_of(displaced, b)
-            and clear_of(at_rest, b) and arrows(b),
+            and clear_of(at_rest, b) and arrows(b) and clear_of(drawn, b),
             lambda b: arrows(b) and clear_of(displaced, b) and clear_of(at_rest, b),
             lambda b: arrows(b) and clear_of(displaced, b),
             arrows], crossings

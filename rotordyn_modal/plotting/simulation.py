@@ -74,8 +74,11 @@ def _draw_frame_motion(ax, result, scale=None):
         if result.rotor_tilts[:, j].any():
             lines += ax.plot(t, np.degrees(np.linalg.norm(result.rotor_tilts[:, j], axis=1)), lw=0.8,
                              label=f"|γ| {name} in its bearings [deg]")
-    ax.set(xlabel="Time [s]", ylabel="Rotation [deg]", title="Transverse rotation and translation")
-    if result.displacement.any() or not result.rotor_tilts.any():
+    translation = bool(result.displacement.any() or not result.rotor_tilts.any())
+    # the title names what the panel draws (a machine without a stator: rotations only)
+    ax.set(xlabel="Time [s]", ylabel="Rotation [deg]",
+           title="Transverse rotation and translation" if translation else "Transverse rotation")
+    if translation:
         right = ax.twinx()       # lengths on an axis of their own
         factor, unit = scale or _length_unit(float(np.abs(result.displacement).max(initial=0.0)))
         for k, axis in enumerate("xyz"):

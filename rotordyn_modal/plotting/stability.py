@@ -63,8 +63,8 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     relevant = modes_that_matter(log_dec)
     size = np.abs(result.eigenvalues[np.isfinite(result.eigenvalues)])
     largest = size.max() if size.size and size.max() > 0 else 1.0
-    top.set_ylim(*zero_centred_limits(*_real_part_span(real, log_dec, relevant), _NOISE * largest,
-                                      tiny=_ROUND_OFF * largest))
+    top.set_ylim(*zero_centred_limits(*_real_part_span(real, log_dec, relevant, result.significant_real_parts),
+                                      _NOISE * largest, tiny=_ROUND_OFF * largest))
     bottom.set_ylim(*zero_centred_limits(*_log_decrement_span(log_dec, relevant), 1e-3))
     shown = [m for m in relevant + [m for m in _by_damping(log_dec) if m not in relevant]
              if _within(real[:, m], top.get_ylim()) or _within(log_dec[:, m], bottom.get_ylim())][:_LEGEND]
@@ -74,6 +74,7 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
         axis.grid(True, alpha=0.3)
         _note_cut_off(axis, result.modes, values, unit)
     _note_on_zero(top, result, shown)
+    _note_flat(bottom, result, log_dec, shown)
     top.set_xlim(x.min(), x.max() if x.max() > x.min() else x.min() + 1)
     top.set_ylabel("Real part of eigenvalue [1/s]\n(> 0: unstable)")
     bottom.set_ylabel("Log decrement [-]\n(< 0: unstable)")
@@ -130,13 +131,20 @@ def _nan(function, values):
     return float(function(finite)) if finite.size else np.nan
 
 
-def _real_part_span(real, log_dec, relevant):
+def _real_part_span(real, log_dec, relevant, significant=None):
     """(lowest, highest) real part to show [1/s]: the modes that matter, but no lower than
     :data:`_REACH` times the least-damped mode's lowest real part over the speeds; any
-    positive real part (a root that diverges) always."""
+    positive real part (a root that diverges) always. With ``significant`` (the real parts
+    with round-off set to 0, shape of ``real``), the least-damped mode is the least damped of
+    those whose real part is not round-off, where some is: an undamped axial mode (real part 0)
+    beside bending modes at -0.0016 to -0.5 1/s left the panel the round-off floor's height,
+    +26 1/s, every damped mode flat on zero (compressor_rotor)."""
     modes = np.where(np.isfinite(log_dec), real, np.nan)
     chosen = modes[:, relevant] if relevant else real
-    least = np.array([_nan(np.max, row) for row in modes])
+    damped = modes if significant is None else np.where(np.asarray(significant) != 0, modes, np.nan)
+    if not np.isfinite(damped).any():
+        damped = modes
+    least = np.array([_nan(np.max, row) for row in damped])
     # NaN where there is no mode (none below max_frequency): no warning
     lowest = _nan(np.max, [_nan(np.min, chosen), _REACH * _nan(np.min, least)])
     highest = _nan(np.max, [_nan(np.max, chosen), max(_nan(np.max, real), 0.0)])
@@ -223,6 +231,37 @@ def _note_on_zero(ax, result, shown):
             f"at every speed, drawn on zero over one another")
     ax.text(1.02, 0.45, textwrap.fill(note, 30), transform=ax.transAxes, fontsize="x-small", ha="left", va="top",
             color="0.3", gid="zero-note", clip_on=False)
+
+
+#: a coloured mode whose log decrement stays within this fraction of the panel's height of zero
+#: lies on the zero line: named in a note
+_ON_ZERO = 0.01
+
+
+def _note_flat(ax, result, log_dec, shown):
+    """Name the coloured modes whose log decrement stays so small that its curve lies on the zero
+    line of the panel (``ax``) at every speed, with how small it is (but those the note of
+    undamped modes names, :func:`_note_on_zero`): the
+    flexible pump's 61-69 kHz shaft modes have log decrements of 1e-8 to 6e-6 beside bearing
+    modes of 1e-3, and their colours were in the legend but nowhere on the figure (beside the
+    panel, at its top; the note of the roots cut off is at its bottom)."""
+    import textwrap
+
+    low, high = ax.get_ylim()
+    reach = _ON_ZERO * (high - low)
+    significant = result.significant_real_parts
+    modes = np.isfinite(log_dec)
+    undamped = [m for m in shown if modes[:, m].any() and np.all(significant[modes[:, m], m] == 0)]
+    named = undamped if len(undamped) > 1 else []           # by _note_on_zero
+    flat = [m for m in shown if modes[:, m].any() and m not in named and np.nanmax(np.abs(log_dec[:, m])) < reach]
+    if len(flat) < 2:                   # one curve on zero shows, drawn over the zero line
+        return
+    largest = max(np.nanmax(np.abs(log_dec[:, m])) for m in flat)
+    names = _label_list(sorted(result.modes[flat]))
+    note = (f"mode{'s' if len(flat) > 1 else ''} {names}: log decrement {largest:.1e} or less at every speed, "
+            f"on the zero line")
+    ax.text(1.02, 1.0, textwrap.fill(note, 30), transform=ax.transAxes, fontsize="x-small", ha="left", va="top",
+            color="0.3", gid="flat-note", clip_on=False)
 
 
 def _label_list(labels) -> str:

@@ -253,6 +253,10 @@ def _index_keys(column, table):
     return keys
 
 
+#: bars shorter than this share of the chart's longest are not seen (a pixel or two)
+_UNSEEN = 0.01
+
+
 def plot_sensitivity(table, outputs=None, max_outputs: int = 6, ax=None, title: str | None = None):
     """Bar chart of sensitivity indices, grouped by output.
 
@@ -276,11 +280,17 @@ def plot_sensitivity(table, outputs=None, max_outputs: int = 6, ax=None, title: 
     column = "ST" if "ST" in table else "SRC"
     fig, ax = new_figure(ax, figsize=(8.0, 1.2 + 0.5 * len(names) * max(1, len(parameters)) ** 0.5))
     height = 0.8 / max(1, len(parameters))
+    shown = table[table["output"].isin(names)]
+    span = float(np.nanmax(np.abs(shown[column].to_numpy(float)), initial=0.0))
     for j, parameter in enumerate(parameters):
         rows = table[table["parameter"] == parameter].set_index("output").reindex(names)
         position = np.arange(len(names)) + j * height
         error = rows[f"{column}_se"].values if f"{column}_se" in rows else None
-        ax.barh(position, rows[column].values, height=height, xerr=error, label=parameter,
+        # a parameter whose bars are too short to be seen says so in its legend entry (the fan's
+        # inertia in mount_sobol: a colour in the legend, no bar of it on the chart)
+        largest = float(np.nanmax(np.abs(rows[column].to_numpy(float)), initial=0.0))
+        note = f" ({column} {largest:.1g} or less: no bar seen)" if largest < _UNSEEN * span else ""
+        ax.barh(position, rows[column].values, height=height, xerr=error, label=f"{parameter}{note}",
                 error_kw={"ecolor": _ERROR_COLOUR, "elinewidth": 1.0})
         if column == "ST":      # a diamond: a black '|' on the black error bar read as its end
             ax.plot(rows["S1"].values, position, "D", color="k", markeredgecolor="w", markersize=4.5,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..units import unit_scale
-from ._style import new_figure
+from ._style import fitted_title, new_figure
 
 __all__ = ["plot_ucs_map"]
 
@@ -26,7 +26,8 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     ``Kyy`` dashed; a constant bearing as vertical lines, bearings of equal stiffness named
     together), with its crossings with the modes marked and their speeds written beside them
     (every one, clear of the curves and of each other); the operating speed range is a grey
-    band. The legend stands below the axes.
+    band, a single operating speed (``LO = HI``) a dashed line named beside it and in the legend.
+    The legend stands below the axes.
 
     Parameters
     ----------
@@ -61,18 +62,37 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     _draw_asymptotes(ax, result, rigid, scale)
     _draw_bearings(ax, result, (scale, unit))
     crossings = _draw_crossings(ax, result, limits, scale)
-    if result.operating is not None:
-        low, high = (s * 30 / np.pi for s in result.operating)
-        ax.axhspan(low, high, color="0.6", alpha=0.25, zorder=0.5, label="operating range")
+    operating = _draw_operating(ax, result.operating, k[0])
     ax.grid(True, which="both", alpha=0.25)
     ax.set_xlabel(f"Bearing radial stiffness, each chosen bearing [{unit}]")
     ax.set_ylabel("Undamped critical speed (forward, 1X of the reference rotor) [rpm]")
-    ax.set_title(title or (f"Undamped critical speed map: {result.title}" if result.title
-                           else "Undamped critical speed map"), fontsize="medium")
+    ax.set_title(fitted_title(fig, title or (f"Undamped critical speed map: {result.title}" if result.title
+                                             else "Undamped critical speed map"), 0.8, "medium"), fontsize="medium")
     # below the axes: inside, it covered curves and the labels placed among them
     ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.1), ncols=3, frameon=False)
-    _place_labels(ax, inside + crossings)
+    _place_labels(ax, inside + crossings + operating)
     return fig
+
+
+#: an operating range narrower than this ratio of its speeds (a single rated speed, LO = HI) is
+#: drawn as a line: a band so thin would not show on the log axis
+THINNEST_BAND = 1.01
+
+
+def _draw_operating(ax, operating, left) -> list:
+    """The operating speed range [rad/s] as a grey band, or a single speed (a range of zero width,
+    or too thin to show) as a dashed line named in the legend and, where it finds room, beside
+    the line (returned as (x, y, text, colour) for :func:`_place_labels`, at the axis's ``left``)."""
+    if operating is None:
+        return []
+    low, high = (s * 30 / np.pi for s in operating)
+    if high > low * THINNEST_BAND:
+        ax.axhspan(low, high, color="0.6", alpha=0.25, zorder=0.5, label="operating range")
+        return []
+    speed = np.sqrt(low * high)
+    text = f"operating speed {low:.0f} rpm" if high == low else f"operating speed {low:.0f} to {high:.0f} rpm"
+    ax.axhline(speed, color="0.35", linestyle="--", linewidth=1.2, zorder=0.6, label=text)
+    return [(left, speed, text, "0.25")]
 
 
 def _place_labels(ax, labels):
@@ -133,6 +153,8 @@ def _draw_ends(ax, k, rpm, colour) -> list:
 
 #: the least distance between two names at the right edge [axes fraction]
 _NAME_APART = 0.035
+#: the names stand this far right of the right edge, their leaders between [axes fraction]
+_NAME_OFFSET = 0.03
 
 
 def _label_right_ends(ax, k, rpm, names, limits) -> list:
@@ -152,13 +174,18 @@ def _label_right_ends(ax, k, rpm, names, limits) -> list:
         elif limits[0] <= rpm[last, j] <= limits[1]:
             ends.append([np.log(rpm[last, j] / limits[0]) / np.log(limits[1] / limits[0]), text, colour])
     ends.sort(key=lambda e: e[0])
+    heights = [e[0] for e in ends]                    # where each curve meets the right edge
     for i in range(1, len(ends)):                     # upwards apart, then back under the top
         ends[i][0] = max(ends[i][0], ends[i - 1][0] + _NAME_APART)
     shift = max(0.0, ends[-1][0] - 1.0) if ends else 0.0
-    for place, text, colour in ends:
-        ax.annotate(text, (1.0, place - shift), xycoords="axes fraction", xytext=(4, 0),
-                    textcoords="offset points", color=colour, fontsize="small", va="center", ha="left",
-                    annotation_clip=False)
+    for (place, text, colour), height in zip(ends, heights):
+        # joined to its curve's end by a leader: a name moved apart from crowded ends stood
+        # half a label's height or more off its curve, with nothing saying which it named
+        ax.annotate(text, (1.0, height), xycoords="axes fraction", xytext=(1.0 + _NAME_OFFSET, place - shift),
+                    textcoords="axes fraction", color=colour, fontsize="small", va="center", ha="left",
+                    annotation_clip=False, gid="ucs-end-name",
+                    arrowprops={"arrowstyle": "-", "color": colour, "linewidth": 0.7, "shrinkA": 0, "shrinkB": 0,
+                                "relpos": (0.0, 0.5)})
     return inside
 
 
@@ -202,17 +229,29 @@ def _draw_bearings(ax, result, units=(1.0, "N/m")):
             same.append(curve.name)
         else:
             drawn.append((curve, [curve.name]))
+    (k0, k1), (n0, n1) = sorted(ax.get_xlim()), sorted(ax.get_ylim())
+
+    def where(k, rpm):
+        # a curve the axes do not show keeps its legend entry, saying so (journal bearings of
+        # 1e7 N/m beside a sweep from 1e9 N/m: two entries drawn nowhere)
+        if np.any((k >= k0) & (k <= k1) & (rpm >= n0) & (rpm <= n1)):
+            return ""
+        side = ", to the left" if np.nanmax(k) < k0 else ", to the right" if np.nanmin(k) > k1 else ""
+        return f" (outside the axes{side})"
+
     for curve, names in drawn:
         colour = next(colours)
         rpm = curve.speeds * 30 / np.pi
-        ax.plot(curve.kxx * scale, rpm, color=colour, linewidth=1.3, label=f"{', '.join(names)} Kxx")
+        ax.plot(curve.kxx * scale, rpm, color=colour, linewidth=1.3,
+                label=f"{', '.join(names)} Kxx{where(curve.kxx * scale, rpm)}")
         ax.plot(curve.kyy * scale, rpm, color=colour, linewidth=1.3, linestyle="--",
-                label=f"{', '.join(names)} Kyy")
+                label=f"{', '.join(names)} Kyy{where(curve.kyy * scale, rpm)}")
     for value, owners in sorted(vertical.items()):
         names = list(dict.fromkeys(name for name, _ in owners))
         axes = "/".join(sorted({axis for _, axis in owners}))
+        outside = "" if k0 <= value * scale <= k1 else " (outside the axes)"
         ax.axvline(value * scale, color=next(colours), linewidth=1.3, linestyle="-.",
-                   label=f"{', '.join(names)} K{axes} = {value * scale:.3g} {unit}")
+                   label=f"{', '.join(names)} K{axes} = {value * scale:.3g} {unit}{outside}")
 
 
 def _equal(a, b) -> bool:

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..unbalance_standards import amplitude_factor
+from ..unbalance_standards import AMPLITUDE_WORDS, amplitude_factor
 from ..units import check_system, unit_scale
 
 __all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "AMPLITUDE_WORDS", "from_pkpk", "CRITERION_SOURCES", "Criterion", "ReportInputs", "ReportData", "collect",
@@ -65,11 +65,6 @@ def shown_scale(kind: str, system: str = "si") -> tuple:
     """``(factor, label)``: an SI value of report kind ``kind`` (:data:`SHOWN_UNITS`) times
     ``factor`` is the number the report shows in ``label``, the unit of ``system``."""
     return SHOWN_UNITS[kind][check_system(system)]
-
-
-#: the report's amplitude conventions (``ReportInputs.amplitude``, ``--amplitude``) as written after
-#: a unit: ``12.7 µm 0-peak``, ``25.4 µm pk-pk``, ``8.98 µm RMS``
-AMPLITUDE_WORDS = {"peak": "0-peak", "pk-pk": "pk-pk", "rms": "RMS"}
 
 
 def from_pkpk(amplitude: str) -> float:

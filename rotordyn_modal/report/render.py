@@ -158,7 +158,7 @@ def _model(data, units) -> str:
     facts = [("model", info["name"]), ("model file", info["file"]), ("SHA-256 of the model file", info["sha256"]),
              ("rotordyn_modal version", info["version"]), ("command", inputs.command or "(Python call)"),
              ("maximum continuous speed [rpm]", f"{inputs.mcs * 30 / np.pi:.6g}"),
-             ("operating range [rpm]", f"{low:.6g} to {high:.6g}"),
+             ("operating range [rpm]", f"{low:.6g} to {high:.6g}" if high > low else f"{low:.6g} (one speed)"),
              ("speeds analysed [rpm]", f"{inputs.speeds[0] * 30 / np.pi:.6g} to {inputs.speeds[-1] * 30 / np.pi:.6g}"
                                        f" ({inputs.points} points)"),
              (f"stator (casing) mass [{mass}]",
@@ -412,8 +412,21 @@ def _ucs(data, units) -> str:
     return _heading("ucs") + _figure(
         result.plot(**_units(units)), f"Figure: undamped critical speed map, forward critical speeds against the "
         f"bearings' radial stiffness ({stiffness[0]:.3g} to {stiffness[-1]:.3g} {unit}{widened}), the bearings' own "
-        "stiffness over speed drawn on it, the operating range as a band (docs/level1_and_ucs.md).",
+        f"stiffness over speed drawn on it, {_operating_drawn(data.inputs.range)} (docs/level1_and_ucs.md).",
         "Undamped critical speed map")
+
+
+def _operating_drawn(operating) -> str:
+    """How the UCS map draws the operating range [rad/s]: a band, or one speed's dashed line where
+    the band would be too thin to show (:data:`rotordyn_modal.plotting.ucs_map.THINNEST_BAND`:
+    a single rated speed, the MCS alone by default)."""
+    from ..plotting.ucs_map import THINNEST_BAND
+
+    low, high = (s * 30 / np.pi for s in operating)
+    if high > low * THINNEST_BAND:
+        return "the operating range as a band"
+    return f"the operating speed ({low:.6g} rpm) as a dashed line" if high == low else \
+        f"the operating range ({low:.6g} to {high:.6g} rpm) as a dashed line"
 
 
 def _unbalance(data, units) -> str:

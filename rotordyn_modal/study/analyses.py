@@ -100,12 +100,34 @@ def _parse_unbalance(table, where, source):
     if operating is not None and (not isinstance(operating, (int, float)) or isinstance(operating, bool)
                                   or not math.isfinite(operating) or operating == 0):
         raise _error(source, f"{where} operating_speed_rpm", operating, "a finite non-zero speed in rpm")
-    quantity = table.get("quantity", "displacement")
-    if quantity not in ("displacement", "velocity", "acceleration"):
-        raise _error(source, f"{where} quantity", quantity, "displacement, velocity or acceleration")
     return {"speeds": _speeds(table.get("speeds_rpm"), f"{where} speeds_rpm", source),
-            "outputs": outputs, "quantity": quantity,
+            "outputs": outputs, "quantity": _motion(table.get("quantity", "displacement"), f"{where} quantity", source),
+            "forces": _forces(table.get("forces"), f"{where} forces", source),
             "operating_speed": None if operating is None else float(operating) * _RPM}
+
+
+def _motion(value, where, source) -> str:
+    """What the sensors read, in the words of the command line's ``--quantity``: the motion
+    (displacement, velocity, acceleration) or the FRF's name of it (receptance, mobility,
+    accelerance), either word the same; returned as the motion."""
+    from ..analysis.spectra import QUANTITY_OF_RESPONSE
+
+    for motion, frf_name in QUANTITY_OF_RESPONSE.items():
+        if isinstance(value, str) and value in (motion, frf_name):
+            return motion
+    raise _error(source, where, value, "displacement, velocity or acceleration (or the FRF's name of it: "
+                 "receptance, mobility, accelerance)")
+
+
+def _forces(value, where, source):
+    """Force rows added after the sensors' (the command line's ``unbalance --forces``): None,
+    or 'suspensions', 'bearings', 'rotors', 'all'."""
+    from ..analysis.unbalance import FORCE_CHOICES
+
+    choices = [c for c in FORCE_CHOICES if c is not None]
+    if value is not None and (not isinstance(value, str) or value not in choices):
+        raise _error(source, where, value, "one of " + ", ".join(choices) + " (force rows added after the sensors')")
+    return value
 
 
 # ---------------------------------------------------------------------------- campbell
@@ -237,28 +259,69 @@ def _describe_unbalance(model, options):
     coords = {"output": ("output", np.array(outputs, dtype=str), {}),
               "unbalance_source": ("unbalance_source", np.array(sources, dtype=str), {})}
     dims = ("output", "unbalance_source")
-    names = ("unbalance_peak_amplitude", "unbalance_peak_speed", "amplification_factor",
-             "separation_margin_pct", "required_margin_pct")
-    return {name: dims for name in names}, coords, (tuple(outputs), tuple(sources))
+    variables = {name: dims for name in _UNBALANCE_VARIABLES}
+    forces = ()
+    if options.get("forces"):
+        forces = tuple(_force_rows(_response(model, options, options["speeds"][:1], []), options["forces"])[0])
+        coords["force_output"] = ("force_output", np.array(forces, dtype=str), {})
+        variables |= {name: ("force_output", "unbalance_source") for name in _FORCE_VARIABLES}
+    return variables, coords, (tuple(outputs), tuple(sources), forces)
+
+
+#: per (output, unbalance_source): the sensors' peaks
+_UNBALANCE_VARIABLES = ("unbalance_peak_amplitude", "unbalance_peak_speed", "amplification_factor",
+                        "separation_margin_pct", "required_margin_pct")
+#: per (force_output, unbalance_source), with ``forces``: the force rows' peaks [N, N m; rad/s]
+_FORCE_VARIABLES = ("force_peak_amplitude", "force_peak_speed")
+
+
+def _response(model, options, speeds, outputs):
+    from ..analysis.unbalance import unbalance_response
+
+    return unbalance_response(model, speeds, outputs=list(outputs), quantity=options["quantity"])
 
 
 def _run_unbalance(model, options, layout, cache):
-    from ..analysis.unbalance import amplification_factors, required_separation_margin, unbalance_response
+    from ..analysis.unbalance import amplification_factors, required_separation_margin
 
-    outputs, sources = layout
-    result = unbalance_response(model, options["speeds"], outputs=list(outputs), quantity=options["quantity"])
-    out = {name: np.full((len(outputs), len(sources)), np.nan) for name in
-           ("unbalance_peak_amplitude", "unbalance_peak_speed", "amplification_factor",
-            "separation_margin_pct", "required_margin_pct")}
-    operating = options["operating_speed"]
+    outputs, sources, forces = layout
+    result = _response(model, options, options["speeds"], outputs)
+    out = _peaks_of(outputs, sources, result.outputs, result.amplitude, result, options, amplification_factors,
+                    required_separation_margin)
+    if forces:
+        names, amplitude = _force_rows(result, options["forces"])
+        found = _peaks_of(forces, sources, names, amplitude, result, options, amplification_factors,
+                          required_separation_margin)
+        out |= {"force_peak_amplitude": found["unbalance_peak_amplitude"],
+                "force_peak_speed": found["unbalance_peak_speed"]}
+    return out
+
+
+def _peaks_of(rows, sources, names, amplitude, result, options, factors, required):
+    """The peak variables of :data:`_UNBALANCE_VARIABLES`, shape (len(rows), len(sources)), of
+    the amplitude curves ``amplitude`` (len(names), n_sources, N) named ``names``; NaN for a row
+    or source the variant lacks."""
+    out = {name: np.full((len(rows), len(sources)), np.nan) for name in _UNBALANCE_VARIABLES}
+    index = {name: r for r, name in enumerate(names)}
     for j, source in enumerate(sources):
         if source not in result.sources:
             continue
         k = result.sources.index(source)
-        for i in range(len(outputs)):
-            _unbalance_peak(out, i, j, options["speeds"], result.amplitude[i, k], operating,
-                            amplification_factors, required_separation_margin)
+        for i, name in enumerate(rows):
+            if name in index:
+                _unbalance_peak(out, i, j, options["speeds"], amplitude[index[name], k], options["operating_speed"],
+                                factors, required)
     return out
+
+
+def _force_rows(result, forces):
+    """Names (``NAME:Fx`` ... ``NAME:Mz``) and 0-peak amplitudes [N, N m], shape (rows, n_sources,
+    N), of the force rows ``result.to_dataframe(forces=forces)`` adds after the sensors'."""
+    table = result.to_dataframe(forces=forces, amplitude="peak")
+    rows = table.iloc[len(result.outputs) * len(result.sources) * len(result.speeds):]   # after the sensors'
+    names = list(dict.fromkeys(rows["output"]))
+    shape = (len(names), len(result.sources), len(result.speeds))
+    return names, rows["amplitude"].to_numpy(dtype=float).reshape(shape)
 
 
 def _unbalance_peak(out, i, j, speeds, amplitude, operating, factors, required):
@@ -287,7 +350,7 @@ ANALYSES = {
                                 _describe_critical, _run_critical),
     "stability": Analysis("stability", ("speeds_rpm",), _parse_stability, _describe_stability,
                           _run_stability),
-    "unbalance": Analysis("unbalance", ("speeds_rpm", "outputs", "operating_speed_rpm", "quantity"),
+    "unbalance": Analysis("unbalance", ("speeds_rpm", "outputs", "operating_speed_rpm", "quantity", "forces"),
                           _parse_unbalance, _describe_unbalance, _run_unbalance),
 }
 

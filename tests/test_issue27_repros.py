@@ -79,7 +79,10 @@ def test_an_overdamped_machine_lists_no_mode_and_no_numpy_warning(overdamped, ca
     """``modes --speed 0``: one sentence on stdout, nothing on stderr, exit 0."""
     assert main(["modes", str(overdamped), "--speed", "0"]) == 0
     out, err = capsys.readouterr()
-    assert out.strip() == "no oscillating modes at 0 rpm: 4 real roots (relaxation, rigid-body)"
+    # four coordinates (bounce and tilt, y and z), each overdamped: 8 real roots of the state matrix,
+    # the 4 nearest zero kept (one of each coordinate's pair; the count since scale27)
+    assert out.strip() == ("no oscillating modes at 0 rpm: 8 real roots (relaxation, rigid-body; the 4 nearest "
+                           "zero kept as the result's half, docs/theory.md section 8)")
     assert err == ""
 
 

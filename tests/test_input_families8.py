@@ -1,0 +1,88 @@
+"""An eighth round of inputs of the families a reviewer tries (after ``test_input_families.py`` to
+``test_input_families7.py``): lists with an empty item (``--orders 1,,2``), numbers written with
+Python's digit separators (``5_0``, which ``int`` and ``float`` read as 50), the maximum
+continuous speed that ``level1`` and ``report`` check the same way, and the implausible-value
+warnings (their hint, and what a study says of them). Each case through the command line in
+this process; every refusal comes before the work, so the file costs seconds."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from rotordyn_modal.cli import main
+from test_input_families import _one_line_error
+
+ROOT = Path(__file__).resolve().parent.parent
+FAN = str(ROOT / "examples" / "fan_on_bearings.toml")
+MINIMAL = str(ROOT / "examples" / "motor_fan_minimal.toml")
+_STAGE = ["--rated-power", "5e5", "--impeller-diameter", "0.3", "--restriction-height", "0.02"]
+
+
+# ----------------------------------------------------------------------- empty list items
+@pytest.mark.parametrize("argv, option, value", [
+    (["campbell", MINIMAL, "--speeds", "0:100:2", "--orders", "1,,2"], "--orders", "1,,2"),
+    (["critical-speeds", MINIMAL, "--speeds", "0:100:2", "--orders", "1,2,"], "--orders", "1,2,"),
+    (["frf", FAN, "--speed", "1000", "--freqs", "1:2:2", "--sensor", "probe-DE-x,,acc-fan-z"],
+     "--sensor", "probe-DE-x,,acc-fan-z"),
+    (["level1", FAN, "--mcs", "3000", "--station", "fan", "--rated-power", "5e5,,5e5", "--impeller-diameter",
+      "0.3", "--restriction-height", "0.02", "--quiet"], "--rated-power", "5e5,,5e5"),
+], ids=["orders", "orders-trailing", "sensor", "rated-power"])
+def test_an_empty_list_item_is_refused_not_dropped(capsys, argv, option, value):
+    """``--orders 1,,2`` ran orders 1 and 2 and ``--sensor a,,b`` sensors a and b: an item left
+    out by mistake (a number or a name deleted) went unsaid."""
+    assert main(argv) == 2
+    _one_line_error(capsys, option, value, "an empty item between commas")
+
+
+# ----------------------------------------------------------------------- digit separators
+@pytest.mark.parametrize("argv, option, value", [
+    (["campbell", MINIMAL, "--speeds", "0:100:5_0"], "--speeds", "5_0"),
+    (["campbell", MINIMAL, "--speeds", "0:100:2", "--lowest", "1_0"], "--lowest", "1_0"),
+    (["stability", MINIMAL, "--speeds", "0:100:2", "--lowest", "0_1"], "--lowest", "0_1"),
+    (["modes", MINIMAL, "--speed", "1_000"], "--speed", "1_000"),
+    (["campbell", MINIMAL, "--speeds", "0:1_00:2"], "--speeds", "1_00"),
+    (["campbell", MINIMAL, "--speeds", "0:100:2", "--orders", "1,1_0"], "--orders", "1_0"),
+    (["campbell", MINIMAL, "--speeds", "0:100:2", "--freq-range", "0:1_0"], "--freq-range", "1_0"),
+    (["ucs-map", FAN, "--stiffness", "1e6:1e8:3", "--lowest", "2_0"], "--lowest", "2_0"),
+    (["report", FAN, "--standard", "iso", "--mcs", "3000", "--iso-group", "2", "--iso-support", "rigid",
+      "--points", "1_51", "--out", "r.html"], "--points", "1_51"),
+], ids=["range-count", "lowest", "lowest-stability", "speed", "range-end", "list", "band", "ucs-lowest",
+        "points"])
+def test_a_number_with_digit_separators_is_refused(tmp_path, monkeypatch, capsys, argv, option, value):
+    """Python's ``int('5_0')`` is 50 and ``float('1_0')`` 10.0: ``--speeds 0:3000:5_0`` ran 50
+    speeds, a typo (a shifted key) read as a number nobody typed."""
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    _one_line_error(capsys, option, value)
+    assert not (tmp_path / "r.html").exists()
+
+
+def test_a_range_count_with_digit_separators_says_what_a_count_is(capsys):
+    assert main(["campbell", MINIMAL, "--speeds", "0:3000:5_0"]) == 2
+    _one_line_error(capsys, "--speeds '0:3000:5_0'", "whole number", "like 50")
+
+
+@pytest.mark.parametrize("option", ["--workers", "--chunk-size"])
+def test_a_study_count_with_digit_separators_is_refused(tmp_path, capsys, option):
+    study = str(ROOT / "examples" / "mount_tolerance.study.toml")
+    with pytest.raises(SystemExit) as exit_:
+        main(["study", study, "--out", str(tmp_path / "r.nc"), option, "2_0"])
+    assert exit_.value.code == 2
+    _one_line_error(capsys, option, "2_0")
+    assert not (tmp_path / "r.nc").exists()
+
+
+# ----------------------------------------------------------------------- --mcs of level1 and report
+@pytest.mark.parametrize("command", ["level1", "report"])
+@pytest.mark.parametrize("mcs", ["1e-300", "0"])
+def test_level1_and_report_refuse_a_vanishing_mcs_alike(tmp_path, monkeypatch, capsys, command, mcs):
+    """``level1 --mcs 1e-300`` ran (Qa from the API's power / speed, every speed of the sweep 0 to
+    round-off) where ``report`` refused it: the two now share one check and one message."""
+    monkeypatch.chdir(tmp_path)
+    extra = ["--standard", "api617", "--out", "r.html"] if command == "report" else ["--quiet"]
+    argv = [command, FAN, "--mcs", mcs, "--station", "fan", "--qa", "2e5", *extra]
+    assert main(argv) == 2
+    _one_line_error(capsys, f"--mcs {mcs}", "expected a maximum continuous speed", "1e-30 rad/s")
+

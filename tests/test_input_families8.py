@@ -86,3 +86,33 @@ def test_level1_and_report_refuse_a_vanishing_mcs_alike(tmp_path, monkeypatch, c
     assert main(argv) == 2
     _one_line_error(capsys, f"--mcs {mcs}", "expected a maximum continuous speed", "1e-30 rad/s")
 
+
+# ----------------------------------------------------------------------- the hint of a sag or a low mount mode
+def _in_grams(gravity: bool) -> str:
+    """``motor_fan_minimal.toml`` with every mass typed in g where kg is meant (1000 times too
+    heavy), under gravity or not."""
+    text = Path(MINIMAL).read_text()
+    for old, new in (("mass = 120.0", "mass = 120000.0"), ("mass = 18.0", "mass = 18000.0"),
+                     ("mass = 6.0", "mass = 6000.0")):
+        assert old in text
+        text = text.replace(old, new, 1)
+    if gravity:
+        text = text.replace('reference_rotor = "motor"', 'reference_rotor = "motor"\ngravity = [0.0, 0.0, -9.81]', 1)
+    return text
+
+
+@pytest.mark.parametrize("gravity, words", [
+    (True, ["would sag"]),          # 144 t on 4 x 3e5 N/m: m g / k = 1.18 m
+    (False, ["lowest mode on its suspensions"]),
+], ids=["sag", "low-mode"])
+def test_a_mass_in_grams_is_named_beside_a_stiffness_in_n_per_mm(tmp_path, capsys, gravity, words):
+    """Masses 1000 times too large sag the machine 1000 times too far and lower its mount modes
+    sqrt(1000) times, as stiffnesses 1000 times too small do: the hint named the stiffness only
+    (a 5000 "kg" disk meant in g was told to look at its mounts)."""
+    assert 144000 * 9.81 / (4 * 3.0e5) > 1.0
+    path = tmp_path / "grams.toml"
+    path.write_text(_in_grams(gravity))
+    assert main(["check", str(path)]) == 0
+    err = capsys.readouterr().err
+    [line] = [line for line in err.splitlines() if words[0] in line]
+    assert "a stiffness in N/mm given as N/m" in line and "a mass in g given as kg" in line, line

@@ -116,3 +116,52 @@ def test_a_mass_in_grams_is_named_beside_a_stiffness_in_n_per_mm(tmp_path, capsy
     err = capsys.readouterr().err
     [line] = [line for line in err.splitlines() if words[0] in line]
     assert "a stiffness in N/mm given as N/m" in line and "a mass in g given as kg" in line, line
+
+
+# ----------------------------------------------------------------------- a study's implausible variants
+_SKID_MASSES = [120.0, 120000.0, 150.0, 60000.0, 100.0]     # kg; 120000 and 60000: g typed as kg
+
+
+def _mass_study(tmp_path) -> Path:
+    spec = tmp_path / "skid.study.toml"
+    spec.write_text('[[parameters]]\nname = "skid mass"\nkeys = ["stator.mass"]\n'
+                    f"values = {_SKID_MASSES}\n\n[analyses.modes]\nspeed_rpm = 0.0\n")
+    return spec
+
+
+def _check_warns(tmp_path, capsys, mass: float) -> bool:
+    """Whether ``check`` warns of the model with the skid's mass ``mass``: the oracle the study's
+    count must agree with, variant by variant."""
+    path = tmp_path / f"skid-{mass:g}.toml"
+    path.write_text(Path(MINIMAL).read_text().replace("mass = 120.0", f"mass = {mass!r}", 1))
+    capsys.readouterr()
+    assert main(["check", str(path)]) == 0
+    return "warning:" in capsys.readouterr().err
+
+
+def test_a_study_says_how_many_variants_are_implausible(tmp_path, capsys):
+    """A study ran every variant without the warnings ``check`` gives of its model (a 35 µm pump
+    shaft ran with '0 failed'): now one line at the end counts them and quotes the first."""
+    warned = [i for i, mass in enumerate(_SKID_MASSES) if _check_warns(tmp_path, capsys, mass)]
+    assert warned == [1, 3]          # the two skids of 60 t and 120 t only
+    out = tmp_path / "skid.nc"
+    assert main(["study", MINIMAL, "--spec", str(_mass_study(tmp_path)), "--out", str(out)]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if "variants" in line and "warning" in line]
+    assert len(lines) == 1, lines
+    assert f"{len(warned)} of {len(_SKID_MASSES)} variants" in lines[0] and f"variant {warned[0]}:" in lines[0]
+    assert "lowest mode on its suspensions" in lines[0], lines[0]
+
+
+def test_a_study_without_implausible_variants_says_nothing_of_them(tmp_path):
+    import warnings
+
+    import rotordyn_modal as rdm
+    from rotordyn_modal.study import ImplausibleVariants, parse_study
+
+    model = rdm.load_model(MINIMAL)
+    spec = parse_study({"parameters": [{"name": "m", "keys": ["stator.mass"], "values": [100.0, 150.0]}],
+                        "analyses": {"modes": {"speed_rpm": 0.0}}}, model=model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ImplausibleVariants)
+        result = rdm.study(model, spec)
+    assert result.n_variants == 2 and not int(result.failed.sum())

@@ -74,6 +74,24 @@ def test_a_study_count_with_digit_separators_is_refused(tmp_path, capsys, option
     assert not (tmp_path / "r.nc").exists()
 
 
+@pytest.mark.parametrize("argv, option, value", [
+    (["modes", MINIMAL, "--speed", "0", "--shape", "1_0", "--plot", "x.png"], "--shape", "1_0"),
+    (["modes", MINIMAL, "--speed", "0", "--animate", "1", "--frames", "3_6", "--plot", "x.gif"], "--frames", "3_6"),
+    (["unbalance", MINIMAL, "--speeds", "0:100:2", "--iso-group", "0_1"], "--iso-group", "0_1"),
+    (["simulate", MINIMAL, "--speed", "100", "--duration", "0.1", "--samples", "1_0", "--out", "x.csv"],
+     "--samples", "1_0"),
+], ids=["shape", "frames", "iso-group", "samples"])
+def test_a_counted_option_with_digit_separators_is_refused(tmp_path, monkeypatch, capsys, argv, option, value):
+    """The options argparse read with ``int`` (``--shape 1_0`` drew mode 10, ``--iso-group 0_1``
+    was group 1) read whole numbers as typed."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as exit_:
+        main(argv)
+    assert exit_.value.code == 2
+    _one_line_error(capsys, option, value, "whole number")
+    assert not list(tmp_path.iterdir())
+
+
 # ----------------------------------------------------------------------- --mcs of level1 and report
 @pytest.mark.parametrize("command", ["level1", "report"])
 @pytest.mark.parametrize("mcs", ["1e-300", "0"])

@@ -71,6 +71,9 @@ def whole_number(text) -> int:
     return int(stripped)
 
 
+whole_number.__name__ = "whole number"     # argparse's 'argument --shape: invalid whole number value: '1_0''
+
+
 def parse_number(text: str, option: str, largest: float | None = LARGEST) -> float:
     """A number given to ``option``: finite, of magnitude at most ``largest`` (None: any), as every
     number of a model (1e30: beyond it products with the model's numbers overflow). Python's

@@ -77,7 +77,7 @@ def add_arguments(parser):
     parser.add_argument("--stiffness", metavar="START:STOP:N",
                         help="bearing stiffness of the UCS map [N/m; lbf/in with --units us], log-spaced "
                              "(default 1e5:1e10:41 N/m, widened by decades to reach the bearings' own stiffness)")
-    parser.add_argument("--iso-group", type=int, choices=[1, 2],
+    parser.add_argument("--iso-group", type=whole_number, choices=[1, 2],
                         help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
     parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
     parser.add_argument("--amplitude", choices=["peak", "pk-pk", "rms"], default="pk-pk",

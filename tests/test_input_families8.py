@@ -183,3 +183,22 @@ def test_a_study_without_implausible_variants_says_nothing_of_them(tmp_path):
         warnings.simplefilter("error", ImplausibleVariants)
         result = rdm.study(model, spec)
     assert result.n_variants == 2 and not int(result.failed.sum())
+
+
+@pytest.mark.parametrize("where, grid", [("campbell", "0:3000:5_0"), ("campbell", "0:3_000:50"), ("values", "1:2:1_0")])
+def test_a_study_files_range_with_digit_separators_is_refused(where, grid):
+    """``speeds_rpm = "0:3000:5_0"`` in a study file ran 50 speeds, as ``--speeds`` did."""
+    import rotordyn_modal as rdm
+    from rotordyn_modal.study import StudyError, parse_study
+
+    model = rdm.load_model(MINIMAL)
+    spec = {"parameters": [{"name": "m", "keys": ["stator.mass"], "values": [100.0, 150.0]}],
+            "analyses": {"campbell": {"speeds_rpm": "0:100:3"}}}
+    if where == "campbell":
+        spec["analyses"]["campbell"]["speeds_rpm"] = grid
+    else:
+        spec["parameters"][0]["scale"] = grid
+        del spec["parameters"][0]["values"]
+    with pytest.raises(StudyError, match="START:STOP:N") as error:
+        parse_study(spec, model=model)
+    assert grid in str(error.value) and len(str(error.value).splitlines()) == 1

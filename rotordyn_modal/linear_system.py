@@ -91,10 +91,11 @@ def checked_mass_inverse(model) -> np.ndarray:
 #: static sag [m] of a suspension point under the machine's weight above which a model draws a
 #: warning: rubber mounts and steel springs deflect millimetres to a few centimetres (a 1.6 Hz
 #: mount mode already sags 0.1 m, since f = sqrt(g / sag) / (2 pi)); metres mean a stiffness in
-#: N/mm given as N/m
+#: N/mm given as N/m or a mass in g given as kg (either makes the sag 1000 times too large)
 SAG_LIMIT = 0.1
 #: lowest natural frequency [Hz] of the machine on its suspensions below which a model without
-#: gravity draws a warning (a stiffness 1000 times too small puts a 10 Hz mount mode at 0.3 Hz)
+#: gravity draws a warning (a stiffness 1000 times too small, or a mass 1000 times too large, puts a
+#: 10 Hz mount mode at 0.3 Hz)
 LOWEST_MOUNT_FREQUENCY = 0.5
 
 
@@ -201,7 +202,7 @@ def _sag_line(model, units: str = "si") -> str:
     return (f"{model.source}: under gravity the machine would sag {to_system(drops[worst], 'length', units):.3g} "
             f"{length} at [suspensions.{visible(model.suspensions[worst].name)}] (static deflection on its "
             f"suspensions; mounts deflect millimetres, over {to_system(SAG_LIMIT, 'length', units):.3g} {length} "
-            "is unlikely): is a stiffness in N/mm given as N/m?")
+            "is unlikely): is a stiffness in N/mm given as N/m, or a mass in g given as kg?")
 
 
 def static_solution(stiffness: np.ndarray, load: np.ndarray):
@@ -252,7 +253,7 @@ def _low_mode_lines(model) -> list[str]:
     if not lowest < LOWEST_MOUNT_FREQUENCY:
         return []
     return [f"{model.source}: the machine's lowest mode on its suspensions is at {lowest:.3g} Hz, below "
-            f"{LOWEST_MOUNT_FREQUENCY:g} Hz (a stiffness in N/mm given as N/m puts modes 32 times too low)"]
+            f"{LOWEST_MOUNT_FREQUENCY:g} Hz (a stiffness in N/mm given as N/m, or a mass in g given as kg, puts modes 32 times too low)"]
 
 
 class SpeedLinearForm:

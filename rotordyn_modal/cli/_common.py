@@ -13,7 +13,7 @@ from .._limits import count_problem
 from ..errors import InputError
 from ..io import atomic_write, check_not_input, load_model
 from ..io.atomic import after_commit, check_writable
-from ..model._table import LARGEST
+from ..model._table import LARGEST, SMALLEST_POSITIVE
 from ..units import SPEED_UNITS
 from ..units import speed_to_rad_s as to_rad_s
 
@@ -53,11 +53,33 @@ def _negative_number(text: str) -> bool:
     return True
 
 
+def _plain_float(text: str) -> float:
+    """``float(text)`` without Python's digit separators: ``1_0`` is no number on a command line
+    (Python reads it as 10), so it raises ValueError as ``x`` does."""
+    if "_" in str(text):
+        raise ValueError(text)
+    return float(text)
+
+
+def whole_number(text) -> int:
+    """``text`` as an int: digits only, an optional sign and white space around them; raises
+    ValueError for anything else, ``5_0`` included (Python's ``int`` reads it as 50)."""
+    stripped = str(text).strip()
+    digits = stripped[1:] if stripped[:1] in "+-" else stripped
+    if not (digits.isascii() and digits.isdigit()):
+        raise ValueError(text)
+    return int(stripped)
+
+
+whole_number.__name__ = "whole number"     # argparse's 'argument --shape: invalid whole number value: '1_0''
+
+
 def parse_number(text: str, option: str, largest: float | None = LARGEST) -> float:
     """A number given to ``option``: finite, of magnitude at most ``largest`` (None: any), as every
-    number of a model (1e30: beyond it products with the model's numbers overflow)."""
+    number of a model (1e30: beyond it products with the model's numbers overflow). Python's
+    digit separators (``1_0``) are refused, not read as 10."""
     try:
-        value = float(text)
+        value = _plain_float(text)
     except ValueError:
         raise InputError(f"{option} {text!r}: expected a number") from None
     if not math.isfinite(value):
@@ -73,6 +95,21 @@ def speed_value(text, unit: str, option: str, largest: float = LARGEST) -> float
     expected a speed of magnitude at most 9.549e+30 rpm``, not the rad/s it converts to)."""
     value = parse_number(text, option, largest=None)
     return float(check_speeds(np.array([value]), text, unit, option, largest)[0])
+
+
+def mcs_option(args, signed: bool = False) -> float:
+    """``--mcs SPEED`` (in ``args.speed_unit``) in rad/s: the one check of the maximum continuous
+    speed that ``level1`` and ``report`` share. Refused in one line when its magnitude is below
+    ``SMALLEST_POSITIVE`` rad/s (1e-300 rpm: every speed derived from it is 0 to round-off) or,
+    unless ``signed`` (``level1``: a machine may run either way), when it is negative."""
+    option = as_typed(args, "--mcs")
+    speed = speed_value(args.mcs, args.speed_unit, option)
+    size = abs(speed) if signed else speed
+    if not size >= SMALLEST_POSITIVE:
+        rule = "other than 0 (of magnitude" if signed else "> 0 (at"
+        raise InputError(f"{option} {args.mcs}: expected a maximum continuous speed {rule} least "
+                         f"{SMALLEST_POSITIVE:g} rad/s)")
+    return speed
 
 
 def check_speeds(values, text, unit: str, option: str, largest: float = LARGEST) -> np.ndarray:
@@ -163,7 +200,7 @@ def as_typed(args, option: str) -> str:
 def parse_count(text, option: str, of: str = "") -> int:
     """A whole number >= 1 given to ``option`` (``of``: what it counts, named in the message)."""
     try:
-        value = int(text)
+        value = whole_number(text)
     except ValueError:
         value = 0
     if value < 1:
@@ -180,9 +217,10 @@ def parse_range(text: str, option: str, largest: float | None = LARGEST) -> np.n
                          "e.g. 0:12000:241")
     start, stop = parse_number(parts[0], option, largest), parse_number(parts[1], option, largest)
     try:
-        count = int(parts[2])
+        count = whole_number(parts[2])
     except ValueError:
-        raise InputError(f"{option} {text!r}: N = {parts[2]!r} must be a whole number >= 1") from None
+        raise InputError(f"{option} {text!r}: N = {parts[2]!r} must be a whole number >= 1 "
+                         "(the number of points, like 50)") from None
     if count < 1 or (count == 1 and start != stop):
         raise InputError(f"{option} {text!r}: N must be >= 2 for a range (or START = STOP with N = 1)")
     if count > 1 and not stop > start:
@@ -242,7 +280,7 @@ def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=(
     values = []
     for part in parts:
         try:
-            values.append(float(part))
+            values.append(_plain_float(part))
         except ValueError:
             raise InputError(f"{option} {shown}: expected {lo}:{hi} [{unit}] of two numbers, e.g. {example} "
                              f"({part!r} is not a number)") from None
@@ -261,11 +299,14 @@ def parse_band(text, option: str, unit: str, *, low=0.0, low_open=False, names=(
 
 
 def parse_list(text: str, option: str) -> np.ndarray:
-    """``1,2,0.5`` -> array."""
-    values = [parse_number(item.strip(), option) for item in text.split(",") if item.strip()]
-    if not values:
+    """``1,2,0.5`` -> array; an empty item (``1,,2``, ``1,2,``) is refused, not dropped."""
+    items = [item.strip() for item in text.split(",")]
+    if not any(items):
         raise InputError(f"{option} {text!r}: expected a comma-separated list of numbers")
-    return np.array(values)
+    if not all(items):
+        raise InputError(f"{option} {text!r}: expected a comma-separated list of numbers, found an empty "
+                         "item between commas")
+    return np.array([parse_number(item, option) for item in items])
 
 
 #: how a name holding ',' is written in a list option (the help texts and messages say it)
@@ -326,9 +367,10 @@ def parse_names(text, option: str, known=None) -> list[str] | None:
             plain = []
         if item is not None:
             names.append(item)
-    names = [n for n in names if n]
-    if not names:
+    if not any(names):
         raise InputError(f"{option} {text!r}: expected one or more names, {NAME_LIST_HELP}")
+    if not all(names):      # --sensor a,,b: a name left out by mistake, not to be dropped in silence
+        raise InputError(f"{option} {text!r}: expected one or more names, found an empty item between commas")
     twice = [n for i, n in enumerate(names) if n in names[:i]]
     if twice:   # --sensor a,a wrote every FRF twice: a file the package then refused to read
         from ..model._table import visible

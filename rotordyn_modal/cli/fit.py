@@ -9,7 +9,7 @@ import numpy as np
 from ..errors import InputError
 from ..io import save_model
 from ._common import (add_alias, as_typed, add_input_file, add_model_argument, add_output_file, check_ending, check_output_options,
-                      check_outputs, load_model, parse_band, parse_list, parse_names, save_figure, show_progress, use_agg)
+                      check_outputs, load_model, parse_band, parse_list, parse_names, save_figure, show_progress, use_agg, whole_number)
 from ._units import ENVIRONMENT, key_unit, key_value_in
 
 NAME = "fit"
@@ -48,7 +48,7 @@ def add_arguments(parser):
     parser.add_argument("--freq-band", dest="band", metavar="LO:HI", help="frequency band of the measured FRFs used [Hz]")
     add_alias(parser, "--freq-band", "--band")
     parser.add_argument("--bound-factor", default="100", metavar="F", help="each parameter within start/F .. start*F (default 100)")
-    parser.add_argument("--starts", type=int, default=3, metavar="N", help="starting points (default 3)")
+    parser.add_argument("--starts", type=whole_number, default=3, metavar="N", help="starting points (default 3)")
     parser.add_argument("--no-coherence", action="store_true", help="do not weight by coherence")
     add_output_file(parser, "--plot", metavar="FILE.png|FILE.svg|FILE.pdf",
                         help="overlay of the fitted model on the measurement at every speed")

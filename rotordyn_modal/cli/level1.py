@@ -12,7 +12,7 @@ from ..model._table import LARGEST
 from ..units import from_system, unit_scale
 from ._units import convert_table, kinds_by_ending
 from ._common import (IN_SPEED_UNIT, add_alias, as_typed, add_model_argument, add_output_file, add_outputs, add_speed_unit, check_extra_output,
-                      open_model, parse_count, parse_list, parse_number, save_figure, speed_value, use_agg,
+                      mcs_option, open_model, parse_count, parse_list, parse_number, save_figure, speed_value, use_agg,
                       write_table)
 
 NAME = "level1"
@@ -129,7 +129,7 @@ def run(args) -> int:
         raise InputError(f"--{error}") from None
     if args.units != "si":      # ROTOR@OFFSET: the offset in in
         stations = [dataclasses.replace(s, offset=from_system(s.offset, "length", args.units)) for s in stations]
-    speed = speed_value(args.mcs, args.speed_unit, as_typed(args, "--mcs"))
+    speed = mcs_option(args, signed=True)    # the check report makes (there > 0)
     qa, shares = anticipated(args, len(stations), speed)
     factor = parse_number(args.factor, "--factor")
     forward = None if args.forward_mode is None else parse_count(args.forward_mode, "--forward-mode")

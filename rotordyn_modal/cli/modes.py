@@ -8,7 +8,7 @@ from ..errors import InputError
 from ..io.outline import read_outline
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
                       add_speed_unit, check_extra_output, open_model, save_figure, speed_value, use_agg,
-                      write_table)
+                      whole_number, write_table)
 
 NAME = "modes"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
@@ -73,11 +73,11 @@ def add_arguments(parser):
                         help=f"reference rotor speed {IN_SPEED_UNIT} (default 0; negative reverses the spin)")
     add_speed_unit(parser)
     shape = parser.add_mutually_exclusive_group()
-    shape.add_argument("--shape", type=int, metavar="MODE", help="draw the 3D shape of this mode to --plot")
-    shape.add_argument("--animate", type=int, metavar="MODE",
+    shape.add_argument("--shape", type=whole_number, metavar="MODE", help="draw the 3D shape of this mode to --plot")
+    shape.add_argument("--animate", type=whole_number, metavar="MODE",
                        help="animate this mode to --plot FILE.gif|FILE.html|FILE.mp4")
     add_input_file(parser, "--outline", metavar="FILE.csv", help="stator outline as polylines x,y,z [m]")
-    parser.add_argument("--frames", type=int, default=36, metavar="N", help="frames per period of --animate (default 36)")
+    parser.add_argument("--frames", type=whole_number, default=36, metavar="N", help="frames per period of --animate (default 36)")
     add_output_file(parser, "--plot-shaft", metavar="FILE.png|FILE.svg|FILE.pdf",
                     help="draw the modes as deflected shaft lines along the axis to this file")
     parser.add_argument("--modes", metavar="LIST",

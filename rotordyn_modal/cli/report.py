@@ -12,11 +12,10 @@ from pathlib import Path
 
 
 from ..errors import InputError
-from ..model._table import SMALLEST_POSITIVE
 from ..io import atomic_write
 from ..units import from_system
 from ._common import IN_SPEED_UNIT, add_alias, add_model_argument, add_output_file, as_typed, add_speed_unit, check_ending, check_extra_output, \
-    open_model, speed_value
+    mcs_option, open_model, whole_number
 from .level1 import add_stage_arguments, anticipated, gas_density
 from .ucs_map import _operating, _stiffness
 
@@ -78,7 +77,7 @@ def add_arguments(parser):
     parser.add_argument("--stiffness", metavar="START:STOP:N",
                         help="bearing stiffness of the UCS map [N/m; lbf/in with --units us], log-spaced "
                              "(default 1e5:1e10:41 N/m, widened by decades to reach the bearings' own stiffness)")
-    parser.add_argument("--iso-group", type=int, choices=[1, 2],
+    parser.add_argument("--iso-group", type=whole_number, choices=[1, 2],
                         help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
     parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
     parser.add_argument("--amplitude", choices=["peak", "pk-pk", "rms"], default="pk-pk",
@@ -131,17 +130,14 @@ def _inputs(args):
     from ..analysis.level1 import Station
     from ..report import ReportInputs
 
-    mcs = speed_value(args.mcs, args.speed_unit, "--mcs")
-    if not mcs >= SMALLEST_POSITIVE:   # 1e-300 rpm: every swept speed 0 to round-off
-        raise InputError(f"--mcs {args.mcs}: expected a maximum continuous speed > 0 (at least "
-                         f"{SMALLEST_POSITIVE:g} rad/s)")
+    mcs = mcs_option(args)      # 1e-300 rpm: every swept speed 0 to round-off (level1 checks the same)
     operating = _operating(args, low_open=True) if args.operating is not None else None
     if operating is not None and operating[1] > mcs * (1 + 1e-12):
         raise InputError(f"{as_typed(args, '--operating-range')} {args.operating}: expected HI at most --mcs "
                          f"{args.mcs} (the maximum "
                          "continuous speed is the top of the operating range)")
     try:
-        points = int(args.points)
+        points = whole_number(args.points)
     except ValueError:
         points = 0
     if not 5 <= points <= 5001:

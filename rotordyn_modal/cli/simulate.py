@@ -10,7 +10,7 @@ from .._limits import count_problem
 from ..errors import InputError
 from ..units import to_system
 from ._common import (IN_SPEED_UNIT, add_alias, as_typed, add_model_argument, check_known, add_outputs, add_speed_unit, open_model, parse_number,
-                      save_figure, show_progress, speed_value, use_agg, write_table)
+                      save_figure, show_progress, speed_value, use_agg, whole_number, write_table)
 
 NAME = "simulate"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
@@ -101,7 +101,7 @@ def add_arguments(parser):
                         help="hit this [[excitations]] entry at t = 0 with an impulse of --impulse-size")
     add_alias(parser, "--excitation", "--impulse")
     parser.add_argument("--impulse-size", default="1", metavar="J", help="impulse [N s] (N m s for a moment), default 1")
-    parser.add_argument("--samples", type=int, metavar="N", help="number of output times (default: 20 per period of the "
+    parser.add_argument("--samples", type=whole_number, metavar="N", help="number of output times (default: 20 per period of the "
                         "fastest spin or natural frequency)")
     parser.add_argument("--rtol", default="1e-9", metavar="R", help="relative tolerance of the integrator (default 1e-9)")
     parser.add_argument("--atol", default="1e-12", metavar="A", help="absolute tolerance of the integrator (default 1e-12)")

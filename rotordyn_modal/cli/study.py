@@ -11,7 +11,7 @@ import numpy as np
 
 from ..errors import InputError, OutputError, OutputWriteError
 from ._common import (add_alias, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, parse_band, print_table,
-                      show_progress, use_agg)
+                      show_progress, use_agg, whole_number)
 from ._resources import add_verbose
 from ._units import ENVIRONMENT, key_kind
 from ..units import to_system, unit_label
@@ -59,10 +59,10 @@ def add_arguments(parser):
     add_input_file(parser, "--spec", required=True, metavar="STUDY.toml", help="study file (docs/study-file.md)")
     add_output_file(parser, "--out", required=True, metavar="RESULTS.nc", help="netCDF file of the results")
     where = parser.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, metavar="N", help="run on a local pool of N processes")
+    where.add_argument("--workers", type=whole_number, metavar="N", help="run on a local pool of N processes")
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run on a dask.distributed cluster (e.g. tcp://10.0.0.5:8786)")
-    parser.add_argument("--chunk-size", type=int, metavar="N", help="variants per chunk (default: chosen)")
+    parser.add_argument("--chunk-size", type=whole_number, metavar="N", help="variants per chunk (default: chosen)")
     parser.add_argument("--restart", action="store_true",
                         help="discard the finished chunks of an earlier run instead of resuming")
     parser.add_argument("--operating-range", dest="band", metavar="LO:HI",

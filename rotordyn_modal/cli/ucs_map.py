@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._common import (IN_SPEED_UNIT, add_alias, as_typed, NAME_LIST_HELP, add_model_argument, add_outputs, add_speed_unit, check_speeds, open_model,
-                      parse_band, parse_names, parse_range, save_figure, use_agg, write_table)
+                      parse_band, parse_names, parse_range, save_figure, use_agg, whole_number, write_table)
 from ..units import from_system, to_system, unit_label
 from ._units import convert_table, kinds_by_ending
 
@@ -94,7 +94,7 @@ def _stiffness(text, system="si"):
 
 def _modes(text, option="--lowest"):
     try:
-        value = int(text)
+        value = whole_number(text)
     except ValueError:
         raise InputError(f"{option} {text!r}: expected a whole number from 1 to 1000") from None
     if not 1 <= value <= 1000:

@@ -12,7 +12,7 @@ from ..model._table import SMALLEST_POSITIVE
 from ..unbalance_standards import amplitude_label, one_convention
 from ._common import (IN_SPEED_UNIT, add_model_argument, add_output_file, add_outputs, add_sensor_argument, add_speed_unit, check_ending,
                       check_extra_output, open_model, print_table, save_figure, speeds_option,
-                      speed_value, speeds_text, use_agg, write_csv, write_table)
+                      speed_value, speeds_text, use_agg, whole_number, write_csv, write_table)
 from ._units import convert_table
 from .frf import QUANTITY_HELP, QUANTITY_METAVAR, quantity_type, sensor_names
 
@@ -116,7 +116,7 @@ def add_arguments(parser):
     parser.add_argument("--min-operating-speed", metavar="SPEED", help="minimum allowable speed (same unit as "
                         "--speeds): bottom of the probe amplitudes of the clearance check's scale factor "
                         "Scc = Avl/Amax (default --min-speed)")
-    parser.add_argument("--iso-group", type=int, choices=[1, 2],
+    parser.add_argument("--iso-group", type=whole_number, choices=[1, 2],
                         help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
     parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
     parser.add_argument("--api-unbalance", action="store_true",

@@ -20,16 +20,17 @@ from __future__ import annotations
 import dataclasses
 import sys
 import types
+import warnings
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, ModelWarning
 from .definition import Parameter, StudyDefinition, StudyError, parse_study, read_study
 from .results import StudyResult, load_study
 from .sampling import sample_variants
 
-__all__ = ["study", "StudyResult", "StudyDefinition", "StudyError", "Parameter", "read_study",
+__all__ = ["study", "StudyResult", "StudyDefinition", "StudyError", "Parameter", "read_study", "ImplausibleVariants",
            "parse_study", "load_study", "sample_variants", "checkpoint_folder"]
 
 
@@ -72,6 +73,13 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     StudyResult
         One data set over (variant, speed, mode, ...); failed variants are NaN
         with their reason in ``error``.
+
+    Warns
+    -----
+    ImplausibleVariants
+        Once, when some variants' models are legal but probably not meant (what ``check`` warns
+        of, :func:`~rotordyn_modal.linear_system.implausible`: a 35 µm shaft, a sag of metres):
+        how many, and the first one's warning. The results are the same either way.
     """
     from .analyses import describe
     from .execution import Checkpoint, check_disk, check_memory, default_chunk_size, execute, fingerprint, make_tasks
@@ -99,11 +107,45 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     store = None
     if checkpoint is not None:
         store = Checkpoint(checkpoint, fingerprint(model.to_dict(), definition.raw, size, values), definition.seed)
-    assembly = Assembly(len(values), shapes)
-    _, resumed = execute(tasks, executor, store, progress, len(values), sink=assembly.add)
+    assembly, tally = Assembly(len(values), shapes), _Implausible()
+
+    def sink(chunk):
+        tally.add(chunk)
+        assembly.add(chunk)
+
+    _, resumed = execute(tasks, executor, store, progress, len(values), sink=sink)
     dataset = build_dataset(assembly, values, definition, variables, coords, model,
                             attrs={"chunk_size": size})
+    if tally.count:
+        warnings.warn(tally.line(len(values)), ImplausibleVariants, stacklevel=2)
     return StudyResult(dataset, resumed_chunks=resumed)
+
+
+class ImplausibleVariants(ModelWarning):
+    """Some variants of a study are legal but probably not meant (one warning for them all)."""
+
+
+class _Implausible:
+    """The variants whose model draws a warning (chunk key ``warning``), counted as chunks come."""
+
+    def __init__(self):
+        self.count, self.first = 0, None
+
+    def add(self, chunk: dict) -> None:
+        """Count one chunk's warned variants; keep the lowest-numbered one's warning. A chunk
+        resumed from a checkpoint written before chunks held warnings counts none."""
+        texts = chunk.get("warning")
+        rows = [] if texts is None else [i for i, text in enumerate(texts.tolist()) if text]
+        self.count += len(rows)
+        if rows and (self.first is None or int(chunk["start"]) + rows[0] < self.first[0]):
+            self.first = (int(chunk["start"]) + rows[0], texts[rows[0]])
+
+    def line(self, n_variants: int) -> str:
+        """``K of N variants are legal but probably not meant (...); the first, variant I: TEXT``."""
+        variant, text = self.first
+        return (f"{self.count} of {n_variants} variant{'s' * (n_variants != 1)} "
+                f"{'is' if self.count == 1 else 'are'} legal but probably not meant (a model warning, as "
+                f"check gives); the first, variant {variant}: {text}")
 
 
 def _outputs_text(definition, shapes) -> str:

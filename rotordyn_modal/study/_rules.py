@@ -36,6 +36,8 @@ def grid_values(value, where, source) -> np.ndarray:
     if isinstance(value, str):
         parts = value.split(":")
         try:
+            if "_" in value:    # Python reads '0:3000:5_0' as 50 points (digit separators), a typo as a count
+                raise ValueError(value)
             start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
         except (ValueError, IndexError):
             raise StudyError(source, where, value, "a list of numbers or 'START:STOP:N'") from None

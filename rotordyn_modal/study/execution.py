@@ -108,24 +108,42 @@ def run_chunk(task: ChunkTask) -> dict:
     Returns
     -------
     dict
-        ``index``, ``start``, ``error`` (ndarray of str, '' where it worked) and
-        each output variable stacked over the chunk's variants.
+        ``index``, ``start``, ``error`` (ndarray of str, '' where it worked),
+        ``warning`` (ndarray of str: the first line :func:`~rotordyn_modal.linear_system.implausible`
+        says of the variant's model, as ``check`` would warn; '' for none) and each output
+        variable stacked over the chunk's variants.
     """
     context = limit_threads() if task.single_thread else contextlib.nullcontext()
     n = len(task.values)
     out = {name: np.full((n,) + shape, np.nan) for name, shape in task.shapes.items()}
-    errors = [""] * n
+    errors, warned = [""] * n, [""] * n
     with context:
         base = _base_model(task)
         models = [_try(variant_model, errors, row, task.model_data, task.model_source, task.keys, task.applies,
                        values, base) for row, values in enumerate(task.values)]
         built = [row for row, model in enumerate(models) if model is not None]
+        for row in built:
+            warned[row] = first_implausible(models[row])
         caches = dict(zip(built, batch_caches([models[row] for row in built], task.analyses)))
         for row in built:
             analysed = _try(run_analyses, errors, row, models[row], task.analyses, task.layouts, caches[row])
             for name, array in (analysed or {}).items():
                 out[name][row] = array
-    return {"index": task.index, "start": task.start, "error": np.array(errors, dtype=str), **out}
+    return {"index": task.index, "start": task.start, "error": np.array(errors, dtype=str),
+            "warning": np.array(warned, dtype=str), **out}
+
+
+def first_implausible(model) -> str:
+    """The first warning ``load_model`` would give of ``model`` (legal but probably not meant:
+    :func:`~rotordyn_modal.linear_system.implausible`), or '' (none, or a check that fails: the
+    analyses then say what is wrong)."""
+    from ..linear_system import implausible
+
+    try:
+        lines = implausible(model)
+    except Exception:  # noqa: BLE001 - a warning only; the variant's analyses refuse what is wrong
+        return ""
+    return lines[0] if lines else ""
 
 
 def _base_model(task: ChunkTask):

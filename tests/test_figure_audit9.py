@@ -1,0 +1,77 @@
+"""Figures of the ninth audit (issue 27, section 3: figures that cannot mislead), measured on the
+drawn figure (``fig.canvas.draw()``, glyph boxes, the curves as drawn: ``tests/label_geometry.py``),
+independent of the code that places things.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from label_geometry import glyph_box, order_curves, point_segments_distance
+
+matplotlib.use("Agg")
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def _jumping_machine():
+    """Five random rotors on bearings in a casing (``test_critical_refinement``'s clustered
+    machine, smaller): on 21 speeds without sub-sweeps, one critical speed (r2's 1X near
+    2618 rpm) is a jump of its tracked mode between close roots, 34 Hz where the 1X line is
+    far above."""
+    from reference_bearings import random_bearing_description
+
+    rng = np.random.default_rng(5)
+    data = random_bearing_description(rng, n_rotors=5)
+    data["transmissions"] = []
+    for j, rotor in enumerate(data["rotors"]):
+        rotor["speed_ratio"] = 1.0 if j == 0 else float(rng.choice([-1, 1]) * rng.uniform(0.3, 2.0))
+    return rdm.Model.from_dict(data)
+
+
+def test_a_jump_critical_speed_is_drawn_on_its_order_line_and_marked_uncertain(monkeypatch):
+    """A red-team reviewer saw a 'jump' critical speed (a crossing where the tracked mode jumped
+    between close roots; the terminal warns of it) drawn as a circle at 2.4 Hz, off every curve.
+    Every critical-speed marker of the drawn figure lies on an excitation order line (a
+    crossing lies on it by definition; a jump's true crossing lies on it at that speed), within
+    a pixel; the jump's marker is not the crossings' circle, has a legend entry of its own, and
+    its label ends in '?'."""
+    from rotordyn_modal.analysis import critical_speeds as critical_module
+    from rotordyn_modal.plotting.campbell import plot_campbell
+
+    monkeypatch.setattr(critical_module, "_SUB_DEPTH", 0)
+    model = _jumping_machine()
+    with pytest.warns(UserWarning, match="jumps of a tracked mode"):
+        result = rdm.campbell(model, np.linspace(0.0, 3000.0, 21))
+    rpm = 60 / (2 * np.pi)
+    multiplier = dict(zip(result.sources.names, result.sources.multipliers))
+    line_hz = np.array([o * multiplier[s] for s, o in zip(result.critical.source, result.critical.order)]) \
+        * np.abs(result.critical.speeds) / (2 * np.pi)
+    jump = np.abs(result.critical.frequencies_hz - line_hz) > 1e-3 * line_hz     # outside: the table itself
+    assert jump.sum() == 1
+    fig = plot_campbell(result)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    markers = [line for line in ax.get_lines() if line.get_marker() in ("o", "D")
+               and line.get_linestyle() in ("None", "", " ")]
+    lines = np.concatenate(list(order_curves(ax).values()))
+    drawn = 0
+    for marker in markers:
+        points = marker.get_transform().transform(np.column_stack(marker.get_data()))
+        for point in points:
+            drawn += 1
+            assert point_segments_distance(lines, point) < 1.0, f"a critical-speed marker at {point} is off every order line"
+    assert drawn > 0
+    speed = result.critical.speeds[jump][0] * rpm
+    uncertain = [m for m in markers if np.any(np.isclose(m.get_xdata(), speed, rtol=1e-9))]
+    assert len(uncertain) == 1 and uncertain[0].get_marker() != "o"
+    entries = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert uncertain[0].get_label() in entries and uncertain[0].get_label() != "critical speed"
+    words = [w for t in ax.texts if t.get_gid() == "critical-label" for w in t.get_text().split("/")]
+    assert f"{speed:.0f}?" in words

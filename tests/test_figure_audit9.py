@@ -75,3 +75,31 @@ def test_a_jump_critical_speed_is_drawn_on_its_order_line_and_marked_uncertain(m
     assert uncertain[0].get_label() in entries and uncertain[0].get_label() != "critical speed"
     words = [w for t in ax.texts if t.get_gid() == "critical-label" for w in t.get_text().split("/")]
     assert f"{speed:.0f}?" in words
+
+
+def test_a_sweep_without_critical_speeds_says_so_in_the_axes():
+    """``critical-speeds journal_rotor.toml --speeds 100:500:11 --plot``: the terminal says 'no
+    critical speed between 100 and 500 rpm'; the figure drew the curves and said nothing. Now
+    one line inside the axes says it, crossed by no curve; a sweep whose critical speeds were
+    left out (critical=False; fan_on_bearings, whose 1X line crosses modes) says no such thing."""
+    from label_geometry import crossings, curve_segments
+    from rotordyn_modal.plotting.campbell import plot_campbell
+
+    model = rdm.load_model(EXAMPLES / "journal_rotor.toml")
+    result = rdm.campbell(model, rdm.rpm(np.linspace(100.0, 500.0, 11)))
+    assert not len(result.critical)
+    fig = plot_campbell(result)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    notes = [t for t in ax.texts if t.get_visible() and "no critical speed between 100 and 500 rpm" in t.get_text()]
+    assert len(notes) == 1
+    box, frame = glyph_box(notes[0], renderer), ax.get_window_extent()
+    assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
+    assert not len(crossings(box, curve_segments(ax)))
+    fan = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+    assert len(rdm.campbell(fan, rdm.rpm(np.linspace(0.0, 6000.0, 13))).critical)
+    skipped = rdm.campbell(fan, rdm.rpm(np.linspace(0.0, 6000.0, 13)), critical=False)
+    fig = plot_campbell(skipped)
+    fig.canvas.draw()
+    assert not any("no critical speed" in t.get_text() for t in fig.axes[0].texts if t.get_visible())

@@ -134,6 +134,10 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
                              annotate_critical, color_by is None)
     labels.critical_modes, labels.speed_unit = critical[2], _UNIT_WORDS[speed_unit]
     labels.mark_uncertain(critical[3])
+    if annotate_critical and not len(result.critical) and lines and not _crosses(result, lines, freqs):
+        labels.none_note = labels._text(f"no critical speed between {_speed_text(x.min())} and "
+                                        f"{_speed_text(x.max())} {_UNIT_WORDS[speed_unit]}", gid="no-critical-note",
+                                        fontsize="x-small")
     ax.add_artist(draw_time_layout(labels.place))
     return fig
 
@@ -402,6 +406,19 @@ def _draw_critical(ax, result, scale, sources):
     return speeds, freqs, np.asarray(critical.mode)[keep][first], uncertain
 
 
+def _crosses(result, lines, freqs):
+    """Whether some order line drawn meets some mode's curve in the sweep: the difference of
+    the two changes sign (or is 0) between neighbouring speeds where the mode is drawn."""
+    speeds = np.abs(result.speeds)[:, None]
+    for _, multiplier, _ in lines:
+        for order in result.orders:
+            gap = freqs - order * multiplier * speeds / (2 * np.pi)
+            with np.errstate(invalid="ignore"):
+                if np.any(gap[:-1] * gap[1:] <= 0) or np.any(gap == 0):
+                    return True
+    return False
+
+
 def _distinct_points(speeds, freqs):
     """Indices of the points ``(speed, frequency)`` once each (to 1e-9 of the largest), in their
     order: where the coinciding order lines of two sources cross a mode there is one circle and
@@ -453,6 +470,7 @@ class _CampbellLabels:
         # the note of the critical speeds left unlabelled (shown only when some are)
         self.critical_note = self._text("", gid="critical-note", fontsize="xx-small") \
             if annotate and len(critical[0]) else None
+        self.none_note = None           # the note of a sweep with no critical speed (see plot_campbell)
 
     def mark_uncertain(self, uncertain):
         """Suffix '?' to the words of the critical speeds that are jumps, not crossings."""
@@ -509,6 +527,7 @@ class _CampbellLabels:
         self._place_modes(renderer, placed, markers)
         self._place_critical(renderer, placed, markers)
         self._place_note(renderer, placed, markers)
+        self._place_none_note(renderer, placed, markers)
 
     # -- order lines ---------------------------------------------------------------------
     def _place_orders(self, renderer, placed):
@@ -837,6 +856,27 @@ class _CampbellLabels:
         set_if_changed(note, visible=False)
         if entry is not None:
             set_if_changed(entry, text=f"critical speed ({self._note_texts(left)[-1]})")
+
+    def _place_none_note(self, renderer, placed, markers):
+        """Where the sweep has no critical speed (no order line crosses a mode): the note
+        saying so, near the top of the axes, clear of the curves and labels (at the top left
+        where no place is clear)."""
+        note = self.none_note
+        if note is None:
+            return
+        margin_u, margin_v = 2 * self.points * self.to_u, 2 * self.points * self.to_v
+        frame = (margin_u, margin_v, 1 - margin_u, 1 - margin_v)
+        gap = (_PAD_POINTS * self.points * self.to_u, _PAD_POINTS * self.points * self.to_v)
+        w, h = self._size(note.get_text(), "x-small", renderer)
+        w, h = w * self.to_u, h * self.to_v
+        lefts, bottoms = np.arange(frame[0], frame[2] - w, 0.02), np.arange(frame[1], frame[3] - h, 0.02)
+        boxes = sorted(((a, b, a + w, b + h) for a in lefts for b in bottoms),
+                       key=lambda box: np.hypot((box[0] + box[2]) / 2 - 0.5, box[3] - 0.97))
+        box = first_free_box(boxes, placed, gap, frame, obstacles=markers,
+                             allowed=lambda box: self.curves.free(box) and not crosses_any(self.leader_lines, [box]))
+        left, bottom = (box[0], box[1]) if box is not None else (frame[0], frame[3] - h)
+        placed.append((left, bottom, left + w, bottom + h))
+        set_if_changed(note, position=(left, bottom), va="bottom", ha="left", clip_on=True, visible=True)
 
     def _critical_groups(self):
         """The critical speeds' indices in groups whose circles read as one (each centre closer

@@ -5,7 +5,6 @@ independent of the code that places things.
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
 
 import matplotlib
@@ -103,3 +102,96 @@ def test_a_sweep_without_critical_speeds_says_so_in_the_axes():
     fig = plot_campbell(skipped)
     fig.canvas.draw()
     assert not any("no critical speed" in t.get_text() for t in fig.axes[0].texts if t.get_visible())
+
+
+_SIDE_BY_SIDE = """
+name = "two flexible rotors side by side"
+spin_axis = [1.0, 0.0, 0.0]
+reference_rotor = "motor"
+
+[[materials]]
+name = "steel"
+density = 7810.0
+young_modulus = 2.11e11
+poisson_ratio = 0.3
+
+[[rotors]]
+name = "motor"
+start = [0.1, 0.10, 0.18]
+[[rotors.shaft]]
+length = 0.4
+outer_diameter = 0.05
+material = "steel"
+[[rotors.disks]]
+name = "core"
+axial_position = 0.2
+mass = 6.0
+polar_inertia = 0.012
+diametral_inertia = 0.04
+
+[[rotors]]
+name = "pump"
+start = [0.0, -0.12, 0.18]
+element_length = 0.05
+speed_ratio = -1.0
+[[rotors.shaft]]
+length = 0.45
+outer_diameter = 0.035
+material = "steel"
+[[rotors.disks]]
+name = "gear"
+axial_position = 0.30
+mass = 1.5
+polar_inertia = 0.004
+diametral_inertia = 0.0025
+
+[[bearings]]
+name = "motor-DE"
+rotor = "motor"
+position = [0.40, 0.10, 0.18]
+stiffness = 1.0e8
+[[bearings]]
+name = "motor-NDE"
+rotor = "motor"
+position = [0.18, 0.10, 0.18]
+stiffness = 1.0e8
+[[bearings]]
+name = "pump-IB"
+rotor = "pump"
+axial_position = 0.12
+stiffness = 2.0e7
+[[bearings]]
+name = "pump-OB"
+rotor = "pump"
+axial_position = 0.40
+stiffness = 2.0e7
+"""
+
+
+def test_shaft_line_names_at_one_axial_position_stand_apart(tmp_path):
+    """``modes --plot-shaft`` of two flexible rotors side by side (a red-team reviewer's motor
+    and pump: the disks 'core' and 'gear', the bearings 'motor-DE' and 'pump-OB' at the same
+    axial position): their names printed over each other. On the drawn figure no two names'
+    glyph boxes overlap in any panel, and each name still spans or nearly touches its own
+    position (within one of its widths)."""
+    from matplotlib.text import Text
+    from rotordyn_modal.analysis.mode_shapes import shaft_lines
+    from rotordyn_modal.plotting.shaft_modes import plot_shaft_modes
+
+    path = tmp_path / "side_by_side.toml"
+    path.write_text(_SIDE_BY_SIDE)
+    model = rdm.load_model(path)
+    result = rdm.modal(model, rdm.rpm(3000.0))
+    fig = plot_shaft_modes([shaft_lines(result, model, k) for k in (1, 2)])
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        names = [t for t in ax.texts if t.get_visible() and t.get_text()]
+        assert {"core", "gear", "motor-DE", "pump-OB"} <= {t.get_text() for t in names}
+        boxes = [Text.get_window_extent(t, renderer) for t in names]
+        for i, a in enumerate(boxes):
+            for b, other in zip(boxes[i + 1:], names[i + 1:]):
+                assert not a.overlaps(b), f"{names[i].get_text()!r} prints over {other.get_text()!r}"
+        for name, box in zip(names, boxes):
+            anchor = ax.transData.transform(name.xy)[0]
+            assert box.x0 - box.width <= anchor <= box.x1 + box.width, name.get_text()

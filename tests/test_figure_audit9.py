@@ -195,3 +195,33 @@ def test_shaft_line_names_at_one_axial_position_stand_apart(tmp_path):
         for name, box in zip(names, boxes):
             anchor = ax.transData.transform(name.xy)[0]
             assert box.x0 - box.width <= anchor <= box.x1 + box.width, name.get_text()
+
+
+def test_an_frf_antiresonance_is_not_clipped_without_a_word():
+    """``frf fan_on_bearings.toml --speed 3000 --freqs 1:200:800 --plot``: the magnitude axis
+    stopped six decades below its top, and acc-motor-y / hammer-z's antiresonance near 120 Hz
+    (6.3 decades below the top, 4.7 below its own peak: a real one) ran out of the axes without
+    a word. On the drawn figure every model curve's lowest value (from the result's own H) lies
+    inside its magnitude axis, or a mark on the bottom edge in its colour stands at each
+    stretch below it."""
+    from rotordyn_modal.plotting.frf import plot_frf
+
+    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+    result = rdm.frf(model, rdm.rpm(3000.0), np.linspace(1.0, 200.0, 800))
+    fig = plot_frf(result)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    bottom = ax.get_ylim()[0]
+    assert np.abs(result.H).min() < 1e-6 * np.abs(result.H).max()       # deeper than six decades
+    marks = [line for line in ax.get_lines() if line.get_linestyle() in ("None", "", " ")]
+    for line in ax.get_lines():
+        if line in marks or "(round-off" in line.get_label():
+            continue
+        x, y = (np.asarray(v, float) for v in line.get_data())
+        below = np.concatenate(([0], (y < bottom).astype(int), [0]))
+        edges = np.flatnonzero(np.diff(below))
+        for start, stop in zip(edges[::2], edges[1::2]):          # each stretch below the axis
+            assert any(m.get_color() == line.get_color() and x[start] <= m.get_xdata()[0] <= x[stop - 1]
+                       and np.isclose(m.get_ydata()[0], bottom) for m in marks), line.get_label()
+        if line.get_label().startswith("acc-motor-y / hammer-z"):
+            assert y.min() >= bottom, "the antiresonance near 120 Hz is clipped"

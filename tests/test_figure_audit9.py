@@ -225,3 +225,39 @@ def test_an_frf_antiresonance_is_not_clipped_without_a_word():
                        and np.isclose(m.get_ydata()[0], bottom) for m in marks), line.get_label()
         if line.get_label().startswith("acc-motor-y / hammer-z"):
             assert y.min() >= bottom, "the antiresonance near 120 Hz is clipped"
+
+
+def test_a_curve_running_below_the_frf_axis_is_marked_where_it_does():
+    """The fit overlay at 2400 rpm (test_frf's example, accelerance): acc-top-z / shaker-y, the
+    gyroscopic cross-coupling, rises from far below the others at low frequencies (more than
+    eight decades below the top: the axis does not follow it). Each stretch of it below the
+    axis has a caret in its colour on the bottom edge within the stretch, and a visible note
+    in the axes names the clipping; the 0 rpm panel (nothing below) has neither."""
+    from test_frf import EXAMPLE, FREQS
+    from rotordyn_modal.analysis.frf import frf
+    from rotordyn_modal.plotting.frf import plot_overlay
+
+    model = rdm.load_model(EXAMPLE)
+    models = [frf(model, s, FREQS[1:], quantity="accelerance") for s in (0.0, rdm.rpm(2400))]
+    fig = plot_overlay(models, models)
+    fig.canvas.draw()
+    magnitudes = [ax for ax in fig.axes if ax.get_yscale() == "log"]
+    found = []
+    for ax in magnitudes:
+        bottom = ax.get_ylim()[0]
+        marks = [line for line in ax.get_lines() if line.get_linestyle() in ("None", "", " ")
+                 and line.get_marker() not in (".",)]
+        notes = [t for t in ax.texts if t.get_visible() and "below the axis" in t.get_text()]
+        stretches = 0
+        for line in ax.get_lines():
+            if line.get_linestyle() in ("None", "", " ") or "(round-off" in line.get_label():
+                continue
+            x, y = (np.asarray(v, float) for v in line.get_data())
+            edges = np.flatnonzero(np.diff(np.concatenate(([0], (y < bottom).astype(int), [0]))))
+            for start, stop in zip(edges[::2], edges[1::2]):
+                stretches += 1
+                assert any(m.get_color() == line.get_color() and x[start] <= m.get_xdata()[0] <= x[stop - 1]
+                           and np.isclose(m.get_ydata()[0], bottom) for m in marks), line.get_label()
+        assert bool(notes) == bool(stretches) and len(marks) == stretches
+        found.append(stretches)
+    assert found[0] == 0 and found[1] >= 1

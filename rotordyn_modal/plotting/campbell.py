@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from ..analysis.critical_speeds import JUMP_TOLERANCE, off_order_line
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
                       font_points, set_if_changed, text_size, _overlap, _short_orders)
@@ -116,7 +117,7 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
         _show_coincident(fig, ax, _draw_by_whirl(ax, x, freqs, result))
     _mark_unstable(ax, x, freqs, result.eigenvalues)
     lines = _order_lines(result, sources)
-    _draw_orders(ax, result, x, lines)
+    _draw_orders(ax, result, scale, lines, axis_scale == "log")
     critical = _draw_critical(ax, result, scale, sources)
     ax.set_yscale(axis_scale)
     ax.set_ylim(bottom, top)
@@ -132,6 +133,11 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     labels = _CampbellLabels(ax, x, freqs, result, lines, 1 / (2 * np.pi * scale), critical[:2],
                              annotate_critical, color_by is None)
     labels.critical_modes, labels.speed_unit = critical[2], _UNIT_WORDS[speed_unit]
+    labels.mark_uncertain(critical[3])
+    if annotate_critical and not len(result.critical) and lines and not _crosses(result, lines, freqs):
+        labels.none_note = labels._text(f"no critical speed between {_speed_text(x.min())} and "
+                                        f"{_speed_text(x.max())} {_UNIT_WORDS[speed_unit]}", gid="no-critical-note",
+                                        fontsize="x-small")
     ax.add_artist(draw_time_layout(labels.place))
     return fig
 
@@ -359,26 +365,58 @@ def _order_lines(result, sources):
             if sources is None or name in sources]
 
 
-def _draw_orders(ax, result, x, lines):
-    """Straight order lines (labelled by :class:`_CampbellLabels` when the figure is drawn)."""
-    speeds_abs = np.abs(result.speeds)
+def _draw_orders(ax, result, scale, lines, dense):
+    """Straight order lines (labelled by :class:`_CampbellLabels` when the figure is drawn),
+    through the sweep's speeds; with ``dense`` (a logarithmic frequency axis) and 1025 more
+    across its range: there a line through the sweep's points alone is a polygon of chords (drawn straight in
+    display space), up to tens of pixels off the true line and the critical speeds on it, and
+    it starts at the first speed above zero."""
+    speeds = np.union1d(result.speeds, np.linspace(result.speeds.min(), result.speeds.max(), 1025)) \
+        if dense else result.speeds
     for _, multiplier, color in lines:
         for order in result.orders:
-            ax.plot(x, order * multiplier * speeds_abs / (2 * np.pi), color=color, linewidth=0.9, alpha=0.8)
+            ax.plot(speeds * scale, order * multiplier * np.abs(speeds) / (2 * np.pi), color=color, linewidth=0.9, alpha=0.8)
 
 
 def _draw_critical(ax, result, scale, sources):
-    """Markers of the critical speeds drawn; returns their (speeds in the axis' unit, Hz)."""
+    """Markers of the critical speeds drawn; returns their (speeds in the axis' unit, Hz, modes,
+    uncertain), ``uncertain`` True where a row is a jump of its tracked mode, not a crossing.
+
+    A jump (its frequency off its order line by more than
+    :data:`~rotordyn_modal.analysis.critical_speeds.JUMP_TOLERANCE`, warned of by the analysis)
+    has a frequency on no curve of the figure: it is drawn as a grey diamond on its order line at
+    its speed (where the crossing it stands for lies), with its own legend entry."""
     critical = result.critical
     if not len(critical):
-        return np.empty(0), np.empty(0), np.empty(0)
+        return np.empty(0), np.empty(0), np.empty(0), np.zeros(0, bool)
     keep = np.array([sources is None or s in sources for s in critical.source], dtype=bool)
-    speeds, freqs = critical.speeds[keep] * scale, critical.frequencies_hz[keep]
+    uncertain = off_order_line(critical, result.sources)[keep] > JUMP_TOLERANCE
+    multiplier = dict(zip(result.sources.names, result.sources.multipliers))
+    on_line = np.array([order * multiplier[name] for name, order in zip(critical.source, critical.order)],
+                       dtype=float) * np.abs(critical.speeds) / (2 * np.pi)
+    speeds, freqs = critical.speeds[keep] * scale, np.where(uncertain, on_line[keep], critical.frequencies_hz[keep])
     first = _distinct_points(speeds, freqs)
-    speeds, freqs = speeds[first], freqs[first]
-    ax.plot(speeds, freqs, "o", markersize=_MARKER_POINTS, markerfacecolor="none", markeredgecolor="k",
-            label="critical speed", zorder=3)
-    return speeds, freqs, np.asarray(critical.mode)[keep][first]
+    speeds, freqs, uncertain = speeds[first], freqs[first], uncertain[first]
+    ax.plot(speeds[~uncertain], freqs[~uncertain], "o", markersize=_MARKER_POINTS, markerfacecolor="none",
+            markeredgecolor="k", label="critical speed", zorder=3)
+    if uncertain.any():
+        ax.plot(speeds[uncertain], freqs[uncertain], "D", markersize=0.8 * _MARKER_POINTS, markerfacecolor="none",
+                markeredgecolor="0.4", zorder=3, gid="critical-uncertain",
+                label="critical speed? (mode jumped)")
+    return speeds, freqs, np.asarray(critical.mode)[keep][first], uncertain
+
+
+def _crosses(result, lines, freqs):
+    """Whether some order line drawn meets some mode's curve in the sweep: the difference of
+    the two changes sign (or is 0) between neighbouring speeds where the mode is drawn."""
+    speeds = np.abs(result.speeds)[:, None]
+    for _, multiplier, _ in lines:
+        for order in result.orders:
+            gap = freqs - order * multiplier * speeds / (2 * np.pi)
+            with np.errstate(invalid="ignore"):
+                if np.any(gap[:-1] * gap[1:] <= 0) or np.any(gap == 0):
+                    return True
+    return False
 
 
 def _distinct_points(speeds, freqs):
@@ -432,6 +470,14 @@ class _CampbellLabels:
         # the note of the critical speeds left unlabelled (shown only when some are)
         self.critical_note = self._text("", gid="critical-note", fontsize="xx-small") \
             if annotate and len(critical[0]) else None
+        self.none_note = None           # the note of a sweep with no critical speed (see plot_campbell)
+
+    def mark_uncertain(self, uncertain):
+        """Suffix '?' to the words of the critical speeds that are jumps, not crossings."""
+        for k in np.flatnonzero(uncertain):
+            self.critical_words[k] += "?"
+            if k < len(self.critical_texts):
+                self.critical_texts[k].set_text(self.critical_words[k])
 
     def _reserve_shared_words(self):
         """The right-edge labels' words as :meth:`_beside` would share them at the axes' size
@@ -481,6 +527,7 @@ class _CampbellLabels:
         self._place_modes(renderer, placed, markers)
         self._place_critical(renderer, placed, markers)
         self._place_note(renderer, placed, markers)
+        self._place_none_note(renderer, placed, markers)
 
     # -- order lines ---------------------------------------------------------------------
     def _place_orders(self, renderer, placed):
@@ -809,6 +856,27 @@ class _CampbellLabels:
         set_if_changed(note, visible=False)
         if entry is not None:
             set_if_changed(entry, text=f"critical speed ({self._note_texts(left)[-1]})")
+
+    def _place_none_note(self, renderer, placed, markers):
+        """Where the sweep has no critical speed (no order line crosses a mode): the note
+        saying so, near the top of the axes, clear of the curves and labels (at the top left
+        where no place is clear)."""
+        note = self.none_note
+        if note is None:
+            return
+        margin_u, margin_v = 2 * self.points * self.to_u, 2 * self.points * self.to_v
+        frame = (margin_u, margin_v, 1 - margin_u, 1 - margin_v)
+        gap = (_PAD_POINTS * self.points * self.to_u, _PAD_POINTS * self.points * self.to_v)
+        w, h = self._size(note.get_text(), "x-small", renderer)
+        w, h = w * self.to_u, h * self.to_v
+        lefts, bottoms = np.arange(frame[0], frame[2] - w, 0.02), np.arange(frame[1], frame[3] - h, 0.02)
+        boxes = sorted(((a, b, a + w, b + h) for a in lefts for b in bottoms),
+                       key=lambda box: np.hypot((box[0] + box[2]) / 2 - 0.5, box[3] - 0.97))
+        box = first_free_box(boxes, placed, gap, frame, obstacles=markers,
+                             allowed=lambda box: self.curves.free(box) and not crosses_any(self.leader_lines, [box]))
+        left, bottom = (box[0], box[1]) if box is not None else (frame[0], frame[3] - h)
+        placed.append((left, bottom, left + w, bottom + h))
+        set_if_changed(note, position=(left, bottom), va="bottom", ha="left", clip_on=True, visible=True)
 
     def _critical_groups(self):
         """The critical speeds' indices in groups whose circles read as one (each centre closer

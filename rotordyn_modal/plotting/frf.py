@@ -880,9 +880,52 @@ _DYNAMIC_RANGE = 1e-6
 
 
 def _limit_range(ax):
-    """Keep the magnitude axis to six decades below the largest value drawn."""
+    """Keep the magnitude axis to six decades below the largest value drawn, or deeper, down
+    to :data:`_DEEPEST` of it, where a curve of the model (not round-off) reaches there (a
+    genuine antiresonance is drawn whole); where a curve still runs below the axis, mark
+    each stretch below it (:func:`_mark_clipped`)."""
     values = [np.nanmax(line.get_ydata()) for line in ax.get_lines() if len(line.get_ydata())]
     if values and np.isfinite(max(values)) and max(values) > 0:
         top = max(values)
         low = ax.get_ylim()[0]
-        ax.set_ylim(max(low, _DYNAMIC_RANGE * top), ax.get_ylim()[1])
+        lowest = [np.nanmin(np.where(y > 0, y, np.nan)) for y in (np.asarray(line.get_ydata(), float)
+                  for line in _model_lines(ax)) if np.any(y > 0)]
+        floor = min([_DYNAMIC_RANGE * top] + [_MARGIN * v for v in lowest if v >= _DEEPEST * top])
+        ax.set_ylim(max(low, floor, _DEEPEST * _MARGIN * top), ax.get_ylim()[1])
+        _mark_clipped(ax)
+
+
+#: the magnitude axis reaches down to this fraction of the largest value at most, for a
+#: model curve's antiresonance (eight decades)
+_DEEPEST = 1e-8
+#: room below a curve's lowest value (a factor on the magnitude)
+_MARGIN = 0.7
+
+
+def _model_lines(ax):
+    """The model's curves on a magnitude panel: lines with a line style, not round-off, not marks."""
+    return [line for line in ax.get_lines() if line.get_linestyle() not in ("None", "", " ")
+            and "(round-off" not in str(line.get_label()) and len(line.get_ydata())]
+
+
+def _mark_clipped(ax):
+    """A caret in the curve's colour on the bottom edge at the lowest point of each stretch of a
+    model curve below the axis, and a note in the axes' lower right corner, '▼ below the axis
+    (clipped at 1.5e-07)' (the legend names the curves only)."""
+    bottom = ax.get_ylim()[0]
+    first = True
+    for line in _model_lines(ax):
+        x, y = (np.asarray(v, float) for v in line.get_data())
+        below = np.isfinite(y) & (y < bottom)
+        if not below.any():
+            continue
+        edges = np.flatnonzero(np.diff(np.concatenate(([0], below.astype(int), [0]))))
+        for start, stop in zip(edges[::2], edges[1::2]):
+            k = start + int(np.argmin(y[start:stop]))
+            ax.plot([x[k]], [bottom], marker=7, linestyle="none", ms=6, color=line.get_color(), clip_on=False,
+                    gid="clipped", label="_clipped")
+            if first:
+                ax.text(0.995, 0.01, f"\u25bc below the axis (clipped at {bottom:.1e})", transform=ax.transAxes,
+                        ha="right", va="bottom", fontsize="xx-small", color="0.25", gid="clipped-note",
+                        bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8})
+            first = False

@@ -5,7 +5,8 @@ lines; nothing is computed here). In each panel every rotor has its colour: the 
 solid, the plane ``b`` dashed (both at phase 0, the drawing's ``Re(u)``), the band of its whirl
 orbits' largest excursion shaded, the undeformed axis thin grey, its nodes as ticks on the
 axis, its bearings as triangles below, its disks as bars across the axis (height growing with
-the disk's mass). Every artist carries a gid (``line-a:ROTOR``, ``bearing:ROTOR:NAME``,
+the disk's mass); the names of disks and bearings in the rotor's colour (darkened), names at one
+axial position (two rotors side by side) moved apart along the axis when the figure is drawn. Every artist carries a gid (``line-a:ROTOR``, ``bearing:ROTOR:NAME``,
 ``disk:ROTOR:NAME``, ``nodes:ROTOR``, ...) so tests can find it.
 """
 
@@ -14,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..units import unit_scale
+from ._labels import column_positions, draw_time_layout
 
 __all__ = ["plot_shaft_modes"]
 
@@ -79,7 +81,7 @@ def _panel(ax, view, colours, relative, factor=1.0):
     # relative motions share the absolute lines' factor (the casing may carry most of the mode):
     # drawn with the largest of the panel at 1
     largest = max(float(np.abs(line.relative).max(initial=0.0)) for line in view.lines) if relative else 1.0
-    disk_names, top = [], 1.0
+    disk_names, bearing_names, top = [], [], 1.0
     for line in view.lines:
         c = colours[line.rotor]
         u = line.relative / (largest or 1.0) if relative else line.displacement
@@ -97,20 +99,26 @@ def _panel(ax, view, colours, relative, factor=1.0):
             half = _DISK_HALF[0] + (_DISK_HALF[1] - _DISK_HALF[0]) * (mass / heaviest) ** (1 / 3)
             ax.plot([position, position], [-half, half], color=c, linewidth=4.5, alpha=0.45,
                     solid_capstyle="butt", gid=f"disk:{line.rotor}:{name}")
-            disk_names.append((name, position))
+            disk_names.append((name, position, c))
         top = max(top, float(reach.max(initial=0.0)), float(np.abs(u.real).max(initial=0.0)))
         for name, position in line.bearings:
             position = position * factor
             ax.plot([position], [_BEARING_Y], linestyle="none", marker="^", markersize=8, color=c,
                     markeredgecolor="k", markeredgewidth=0.6, gid=f"bearing:{line.rotor}:{name}")
-            ax.annotate(name, (position, _BEARING_Y), xytext=(0, -9), textcoords="offset points", ha="center",
-                        va="top", fontsize="xx-small", color="0.25", annotation_clip=False)
+            bearing_names.append(ax.annotate(name, (position, _BEARING_Y), xytext=(0, -9), textcoords="offset points",
+                                             ha="center", va="top", fontsize="xx-small", color=_darker(c),
+                                             annotation_clip=False, gid=f"bearing-name:{line.rotor}:{name}"))
     # the disks' names in a strip above every line and band (a name on the lines hides them),
     # each straight above its disk's bar
     name_y = top + 0.08
-    for name, position in disk_names:
-        ax.annotate(name, (position, name_y), xytext=(0, 0), textcoords="offset points", ha="center",
-                    va="bottom", fontsize="xx-small", color="0.25", gid=f"disk-name:{name}")
+    names = [ax.annotate(name, (position, name_y), xytext=(0, 0), textcoords="offset points", ha="center",
+                         va="bottom", fontsize="xx-small", color=_darker(c), gid=f"disk-name:{name}")
+             for name, position, c in disk_names]
+    # names at one axial position (two rotors' disks or bearings side by side) move apart
+    # along the axis each time the panel is drawn, in the order of their positions
+    for row in (names, bearing_names):
+        if len(row) > 1:
+            ax.add_artist(draw_time_layout(lambda renderer, row=row: _spread(ax, row, renderer)))
     ax.set_ylim(-1.6, name_y + 0.3 if disk_names else max(1.25, top + 0.1))
     ax.axhline(0.0, color="0.85", linewidth=0.5, zorder=0)
     whirl = f"{view.whirl} whirl" if view.whirl != "none" else "no whirl"
@@ -119,6 +127,30 @@ def _panel(ax, view, colours, relative, factor=1.0):
     zeta = view.damping_ratio if abs(view.damping_ratio) >= 5e-4 else 0.0      # never "-0.000"
     ax.set_title(f"mode {view.mode}: {view.frequency_hz:.2f} Hz, ζ = {zeta:.3f}, {whirl}", fontsize="small")
     ax.tick_params(labelsize="small")
+
+
+def _darker(colour):
+    """A rotor's colour, darkened for small text on white (its name reads as the rotor's)."""
+    from matplotlib.colors import to_rgb
+
+    return tuple(0.6 * c for c in to_rgb(colour))
+
+
+def _spread(ax, names, renderer):
+    """Move the names of one row (annotations centred above or below their positions) apart
+    along the axis, each as near its own position as the others leave room for
+    (:func:`~rotordyn_modal.plotting._labels.column_positions`), 3 points between neighbours."""
+    from matplotlib.text import Text
+
+    per_point = renderer.points_to_pixels(1.0)
+    anchors = np.array([ax.transData.transform(name.xy)[0] for name in names])
+    widths = np.array([Text.get_window_extent(name, renderer).width for name in names])
+    frame = ax.get_window_extent(renderer)
+    centres = column_positions(anchors, widths, frame.x0, frame.x1, gap=3.0 * per_point)
+    for name, centre, anchor in zip(names, centres, anchors):
+        offset = ((centre - anchor) / per_point, name.xyann[1])
+        if not np.allclose(offset, name.xyann):
+            name.xyann = offset
 
 
 def _excursion(u):

@@ -76,6 +76,16 @@ class CampbellResult:
         see :func:`rotordyn_modal.analysis.modal.is_oscillating`)."""
         return is_oscillating(self.eigenvalues)
 
+    @property
+    def critical_jumps(self) -> np.ndarray:
+        """(len(critical),) bool: the critical speed is a jump of its tracked mode between close
+        roots inside a bracket, not a crossing (its frequency off its order line by more than
+        :data:`~rotordyn_modal.analysis.critical_speeds.JUMP_TOLERANCE`; warned of by the
+        analysis). The figure draws such a row on its order line, marked as uncertain."""
+        if not len(self.critical):
+            return np.zeros(0, dtype=bool)
+        return off_order_line(self.critical, self.sources) > JUMP_TOLERANCE
+
     def to_dataframe(self, oscillatory_only: bool = True):
         """Long table ``speed_rpm, mode, frequency_hz, damping_ratio, log_decrement, whirl, whirl_ratio,
         real_part, mode_at_speed`` (``mode`` the tracked label, ``mode_at_speed`` the number

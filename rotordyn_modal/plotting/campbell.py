@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..analysis.critical_speeds import JUMP_TOLERANCE, off_order_line
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
                       font_points, set_if_changed, text_size, _overlap, _short_orders)
@@ -382,15 +381,14 @@ def _draw_critical(ax, result, scale, sources):
     """Markers of the critical speeds drawn; returns their (speeds in the axis' unit, Hz, modes,
     uncertain), ``uncertain`` True where a row is a jump of its tracked mode, not a crossing.
 
-    A jump (its frequency off its order line by more than
-    :data:`~rotordyn_modal.analysis.critical_speeds.JUMP_TOLERANCE`, warned of by the analysis)
-    has a frequency on no curve of the figure: it is drawn as a grey diamond on its order line at
+    A jump (:attr:`~rotordyn_modal.analysis.campbell.CampbellResult.critical_jumps`, warned of by
+    the analysis) has a frequency on no curve of the figure: it is drawn as a grey diamond on its order line at
     its speed (where the crossing it stands for lies), with its own legend entry."""
     critical = result.critical
     if not len(critical):
         return np.empty(0), np.empty(0), np.empty(0), np.zeros(0, bool)
     keep = np.array([sources is None or s in sources for s in critical.source], dtype=bool)
-    uncertain = off_order_line(critical, result.sources)[keep] > JUMP_TOLERANCE
+    uncertain = result.critical_jumps[keep]
     multiplier = dict(zip(result.sources.names, result.sources.multipliers))
     on_line = np.array([order * multiplier[name] for name, order in zip(critical.source, critical.order)],
                        dtype=float) * np.abs(critical.speeds) / (2 * np.pi)

@@ -12,6 +12,7 @@ within nine speeds of 2.1 rad/s (between the anchors 0, 4 and 8)."""
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 
 import warnings
@@ -44,8 +45,17 @@ def _dense_roots(model, speed):
     n = len(M)
     A = np.block([[np.zeros((n, n)), np.eye(n)],
                   [-np.linalg.solve(M, K), -np.linalg.solve(M, C + speed * G)]])
-    roots = scipy.linalg.eigvals(A)
+    with _one_blas_thread():          # BLAS's own threads only wait for a core on a loaded machine
+        roots = scipy.linalg.eigvals(A)
     return roots[roots.imag > 0]
+
+
+def _one_blas_thread():
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover
+        return contextlib.nullcontext()
+    return threadpool_limits(limits=1, user_api="blas")
 
 
 @pytest.fixture(scope="module")

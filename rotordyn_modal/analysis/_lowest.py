@@ -151,7 +151,10 @@ def _swept(pencils, basis, want):
                                                             shapes[anchors], ok[anchors])
     rows = between[sure]
     if len(rows):
-        values[rows], shapes[rows], ok[rows] = _continued(pencils, guesses[sure], vectors[sure], rows)
+        if not sure.all():
+            guesses, vectors = guesses[sure], vectors[sure]
+        values[rows], shapes[rows], ok[rows] = _continued(pencils, guesses, vectors, rows)
+        del vectors
     rows = between[~sure]
     if len(rows):
         again, vectors = _projected_starts(pencils, basis, want, rows)

@@ -56,7 +56,7 @@ def _continued(pencils, guesses, vectors, rows):
     for the others (and everywhere the pencils are not banded without a border)."""
     S, k, n = vectors.shape
     index = np.repeat(np.asarray(rows), k)
-    lam, x = guesses.reshape(-1).copy(), vectors.reshape(-1, n).copy()
+    lam, x = guesses.reshape(-1), vectors.reshape(-1, n)          # read only: the chord's results are new arrays
     chord = pencils.newton_chord(index, lam, x, x.conj())
     if chord is None:
         return _refined(pencils, guesses, vectors, rows)

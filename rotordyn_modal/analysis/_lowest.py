@@ -37,9 +37,10 @@ import scipy.linalg
 
 from . import _arnoldi, _batches, _cost, _eigensolve, _lowest_bound, _lowest_route, _roots
 from ._lowest_bound import _FEW, _MARGIN, _Bound, _stack_bound  # noqa: F401 (_Bound: for _lowest_branches)
-from ._lowest_newton import _refined, _speeds_named
+from ._lowest_newton import _continued, _refined, _speeds_named
 from ._lowest_pencils import _Pencils
-from ._lowest_starts import _by_frequency, _close, _pencil_shapes_part, _projected_starts, frequency_key, lowest_order
+from ._lowest_starts import (_anchors, _by_frequency, _close, _continuation_guesses, _pencil_shapes_part,
+                             _projected_starts, frequency_key, lowest_order)
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]
@@ -119,12 +120,46 @@ def _reduced_roots(stack, speeds, count, progress=False):
     if _arnoldi.takes(size + attached.shape[1], n):     # the undamped modes crowd above the wanted roots
         values, shapes, ok = _arnoldi.lowest(pencils, count, _refined, _distinct, progress)
         return (*_by_frequency(values, shapes, count), ok)
-    starts, vectors = _projected_starts(pencils, np.hstack([modes[:, :size], attached]), want)
-    values, shapes, ok = _refined(pencils, starts, vectors)
+    starts, values, shapes, ok = _swept(pencils, np.hstack([modes[:, :size], attached]), want)
     ok &= _distinct(values) & _unmissed(starts, values, count)
     # Newton may reorder roots of close frequency: by frequency again
     values, shapes = _by_frequency(values, shapes, count)
     return values, shapes, ok & _basis_suffices(values, bound, size, attached.shape[1], rho)
+
+
+def _swept(pencils, basis, want):
+    """The projected roots of every speed (S, want), by frequency, and their full roots (S, want) in
+    their order, unit shapes (S, want, n) and whether each speed's converged (S,).
+
+    The anchors (every ``_STRIDE``-th speed and the last, :func:`._lowest_starts._anchors`) start
+    Newton's iteration from their projected roots and vectors; the speeds between them from
+    their projected roots corrected by the anchors' projection errors
+    (:func:`._lowest_starts._continuation_guesses`), one factorisation per root
+    (:func:`._lowest_newton._continued`); a speed whose roots cannot all be matched to the
+    anchors' takes its projected vectors and Newton's iteration as an anchor does. The checks
+    on the result (:func:`_distinct`, :func:`_unmissed`, :func:`_basis_suffices`) are the same for
+    every speed: the starts only decide how fast Newton's iteration gets there."""
+    count = len(pencils.speeds)
+    anchors = _anchors(count)
+    at = np.zeros(count, bool)
+    at[anchors] = True
+    starts, shapes = _projected_starts(pencils, basis, want, vectors_at=at)
+    values = np.empty(starts.shape, complex)
+    ok = np.zeros(count, bool)
+    values[anchors], shapes[anchors], ok[anchors] = _refined(pencils, starts[anchors], shapes[anchors], anchors)
+    between, guesses, vectors, sure = _continuation_guesses(starts, pencils.speeds, anchors, values[anchors],
+                                                            shapes[anchors], ok[anchors])
+    rows = between[sure]
+    if len(rows):
+        if not sure.all():
+            guesses, vectors = guesses[sure], vectors[sure]
+        values[rows], shapes[rows], ok[rows] = _continued(pencils, guesses, vectors, rows)
+        del vectors
+    rows = between[~sure]
+    if len(rows):
+        again, vectors = _projected_starts(pencils, basis, want, rows)
+        values[rows], shapes[rows], ok[rows] = _refined(pencils, again, vectors, rows)
+    return starts, values, shapes, ok
 
 
 def _needed_size(bound, rho, size):
@@ -205,7 +240,7 @@ def _refuse_long_full(stack, speeds, total: int, what: str, why: str, advice: st
     n_states, count = stack.forms[0].n_states, len(speeds)
     named = _speeds_named(speeds)
     source = getattr(stack.models[0], "source", None)
-    head = (f"{source + ': ' if source else ''}{what}: the full eigen-solve of {count:,} of {total:,} speeds "
+    head = (f"{f'{source}: ' if source else ''}{what}: the full eigen-solve of {count:,} of {total:,} speeds "
             f"({named}; {why})")
     advice = advice or "leave those speeds out of the sweep"
     solutions = f"{count:,} eigen-solution{'s' if count > 1 else ''} of {n_states:,} states"

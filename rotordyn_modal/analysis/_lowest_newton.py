@@ -34,15 +34,49 @@ _STEP = 1e-11
 _ASYMPTOTIC, _LEFT = 1e-5, 1e-13
 
 
-def _refined(pencils, starts, vectors):
+def _refined(pencils, starts, vectors, rows=None):
     """Newton's iteration on the full quadratic pencil from every start, batched over speeds
     and roots: ``u = Q(s)^-1 Q'(s) x``, ``s <- s - (c^H x)/(c^H u)``, ``x <- u / (c^H u)``
-    (``c`` the start vector, fixing the scale). Returns the roots (S, k), unit shapes (S, k, n)
-    and whether every root of a speed converged (S,)."""
+    (``c`` the start vector, fixing the scale). ``rows`` (S,): the speeds (of ``pencils``) of the
+    starts' rows, default all. Returns the roots (S, k), unit shapes (S, k, n) and whether every
+    root of a speed converged (S,)."""
     S, k, n = vectors.shape
-    lam = starts.reshape(-1).copy()
-    x = vectors.reshape(-1, n).copy()
-    index = np.repeat(np.arange(S), k)
+    index = np.repeat(np.arange(S) if rows is None else np.asarray(rows), k)
+    lam, x, ok = _newton(pencils, index, starts.reshape(-1).copy(), vectors.reshape(-1, n).copy())
+    lam, x = _certain(pencils, index, lam, x, ok)
+    return lam.reshape(S, k), _vectors.unit_rows(x.reshape(S, k, n)), ok.reshape(S, k).all(axis=1)
+
+
+def _continued(pencils, guesses, vectors, rows):
+    """:func:`_refined` from starts close to their roots (a few 1e-9 relative, from the
+    neighbouring speeds: ``_lowest_starts._continuation_guesses``) at the speeds ``rows`` (S,): one
+    factorisation per root, a Newton step and a chord step (``_Pencils.newton_chord``), where the
+    chord step shows the root at round-off (the same rule as :func:`_newton`'s on its steps: at most
+    ``_STEP``, or the error it leaves, ``second^2 / first``, at most ``_LEFT``); Newton's iteration
+    for the others (and everywhere the pencils are not banded without a border)."""
+    S, k, n = vectors.shape
+    index = np.repeat(np.asarray(rows), k)
+    lam, x = guesses.reshape(-1), vectors.reshape(-1, n)          # read only: the chord's results are new arrays
+    chord = pencils.newton_chord(index, lam, x, x.conj())
+    if chord is None:
+        return _refined(pencils, guesses, vectors, rows)
+    lam, x, first, second = chord
+    with np.errstate(divide="ignore", invalid="ignore"):
+        done = np.isfinite(lam) & ((second <= _STEP) | ((second <= _ASYMPTOTIC) & (second ** 2 / first <= _LEFT)))
+    ok = done.copy()
+    rest = np.nonzero(~done)[0]
+    if len(rest):
+        start = np.where(np.isfinite(lam[rest]), lam[rest], guesses.reshape(-1)[rest])
+        again = np.where(np.isfinite(lam[rest])[:, None], x[rest], vectors.reshape(-1, n)[rest])
+        lam[rest], x[rest], ok[rest] = _newton(pencils, index[rest], start, again)
+    lam, x = _certain(pencils, index, lam, x, ok)
+    return lam.reshape(S, k), _vectors.unit_rows(x.reshape(S, k, n)), ok.reshape(S, k).all(axis=1)
+
+
+def _newton(pencils, index, lam, x):
+    """:func:`_refined`'s iteration on roots ``lam`` (P,) with vectors ``x`` (P, n) at the speeds
+    ``index`` (P,), both overwritten: the roots, their vectors (scaled by ``c^H x = c^H x_0``) and
+    whether each converged (P,)."""
     c = x.conj()
     done = np.zeros(len(lam), bool)
     last = np.full(len(lam), np.inf)          # the previous relative step (none yet)
@@ -64,14 +98,18 @@ def _refined(pencils, starts, vectors):
         done[todo] = (relative <= _STEP) | ((relative <= _ASYMPTOTIC) & (left <= _LEFT)) \
             | _stagnant(relative, last[todo], pencils.scale / np.abs(lam[todo]) ** 2)
         last[todo] = relative
-    ok = done & np.isfinite(lam)
-    # Newton's steps on the double pencil cannot show its round-off (they converge to a nearby
-    # pencil's root): where the shape's round-off exceeds _CERTAIN, the root is polished
+    return lam, x, done & np.isfinite(lam)
+
+
+def _certain(pencils, index, lam, x, ok):
+    """The converged roots (``ok``) whose double-precision round-off exceeds ``_CERTAIN``
+    polished (:func:`_polished`): Newton's steps on the double pencil cannot show its round-off
+    (they converge to a nearby pencil's root). Returns ``lam`` (P,), ``x`` (P, n)."""
     polish = np.nonzero(ok)[0]
     polish = polish[_roundoff(pencils, index[polish], lam[polish], x[polish]) > _CERTAIN]
     if len(polish):
         lam[polish], x[polish] = _polished(pencils, index[polish], lam[polish], x[polish])
-    return lam.reshape(S, k), _vectors.unit_rows(x.reshape(S, k, n)), ok.reshape(S, k).all(axis=1)
+    return lam, x
 
 
 #: a step of at most this many ``eps (omega_max / |lam|)^2`` (``omega_max^2`` the largest ratio

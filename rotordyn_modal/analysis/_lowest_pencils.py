@@ -74,6 +74,7 @@ class _Pencils:
         # the products Q'(s) x: sparse (a dense complex product of n x n per root cost more than the solves)
         self.sparse = [scipy.sparse.csr_matrix(matrix) for matrix in (self.M, self.C, self.G)]
         self._stacked = scipy.sparse.vstack(self.sparse, format="csr")
+        self._stiffness = None        # K as CSR, made on first use (:meth:`residual_times`)
         # each bearing entry's row, (n, nb): the bearings' terms of the rows' products, scattered
         self.scatter = scipy.sparse.csr_matrix((np.ones(len(self.rows)), (self.rows, np.arange(len(self.rows)))),
                                                shape=(n, len(self.rows)))
@@ -143,6 +144,87 @@ class _Pencils:
                                         shape=(n, n))
             out[p] = scipy.sparse.linalg.splu(Q).solve(rhs[p])
         return out
+
+    def newton_chord(self, index, lam, x, c):
+        """One Newton step and one chord step (the same factorisation) from roots ``lam`` (P,) with
+        vectors ``x`` (P, n), the scale fixed by ``c`` (P, n) as in ``_lowest_newton._refined``.
+
+        The Newton step: ``u = Q(s_0)^-1 Q'(s_0) x_0``, ``s_1 = s_0 - c^H x_0 / c^H u``,
+        ``x_1 = u / c^H u``. The chord step is Newton's step on the bordered system
+        ``Q(s) x = 0``, ``c^H x = c^H x_0`` with its Jacobian kept from ``s_0``: ``z = Q(s_0)^-1 Q(s_1) x_1``
+        (the residual, one back-substitution), ``ds = -c^H z / c^H u``, ``s_2 = s_1 + ds``,
+        ``x_2 = x_1 - z - ds u``. Its length is the error ``s_1`` left, and the error ``s_2`` leaves is
+        about its square over the first step's (linear convergence at a rate of about the start's
+        error): a root's accuracy told after one factorisation, not two. Where the pencils are
+        banded without a border (a shaft on the ground); None otherwise.
+
+        Returns
+        -------
+        lam : ndarray, shape (P,), complex; x : ndarray, shape (P, n), complex
+        first, second : ndarray, shape (P,)
+            The two steps' lengths relative to ``|s_2|`` (nan where a pencil was singular).
+        """
+        band = self.band
+        n = self.M.shape[0]
+        if n <= _DENSE_DOF or band is None or band.size != n or _lapack("zgbtrf") is None \
+                or _lapack("zgbtrs") is None:
+            return None
+        width = 2 * band.lower + band.upper + 1
+        return _batches._threaded(self._banded_chord, index, lam, x, c, item_bytes=16 * n * (width + 4))
+
+    def _banded_chord(self, index, lam, x, c):
+        """:meth:`newton_chord` of some rows: band storage in chunks, ``zgbtrf`` once per row and
+        ``zgbtrs`` twice."""
+        band = self.band
+        n = self.M.shape[0]
+        width = 2 * band.lower + band.upper + 1
+        lam_out, x_out = np.empty(len(lam), complex), np.empty(x.shape, complex)
+        first, second = np.empty(len(lam)), np.empty(len(lam))
+        for part in _batches.chunk_slices(len(lam), 16 * n * (width + 4), budget=2**24):
+            rows, s0, x0, cc = index[part], lam[part], x[part], c[part]
+            ab, _ = self._band_storage(rows, s0)
+            pivots = np.empty((len(s0), n), np.int32)
+            factored = np.ones(len(s0), bool)
+            for p in range(len(s0)):
+                factored[p] = _gbtrf(band.lower, band.upper, ab[p].T, pivots[p]) == 0
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+                u = self._chord_solve(ab, pivots, factored, self.derivative_times(rows, s0, x0))
+                cu = np.einsum("pi,pi->p", cc, u)
+                step = np.einsum("pi,pi->p", cc, x0) / cu
+                s1, x1 = s0 - step, u / cu[:, None]
+                z = self._chord_solve(ab, pivots, factored, self.residual_times(rows, s1, x1))
+                ds = -np.einsum("pi,pi->p", cc, z) / cu
+                s2 = s1 + ds
+                lam_out[part], x_out[part] = s2, x1 - z - ds[:, None] * u
+                first[part], second[part] = np.abs(step) / np.abs(s2), np.abs(ds) / np.abs(s2)
+        return lam_out, x_out, first, second
+
+    def _chord_solve(self, ab, pivots, factored, rhs):
+        """``Q^-1 rhs`` (P, n) from the banded LU factors ``ab`` (P, size, width) and ``pivots``
+        (P, n) of ``zgbtrf``; nan where a pencil was singular (``factored`` False)."""
+        band = self.band
+        y = np.ascontiguousarray(rhs[:, band.order])
+        for p in range(len(y)):
+            if factored[p]:
+                _gbtrs(band.lower, band.upper, ab[p].T, pivots[p], y[p])
+            else:
+                y[p] = np.nan
+        out = np.empty(y.shape, complex)
+        out[:, band.order] = y
+        return out
+
+    def residual_times(self, index, lam, x):
+        """``Q(lam_p) x_p`` (P, n) in double precision (``_lowest_newton._residuals`` is the
+        extended-precision one of the polish)."""
+        n = x.shape[1]
+        if self._stiffness is None:
+            self._stiffness = scipy.sparse.csr_matrix(self.K)
+        products = self._stacked @ np.ascontiguousarray(x.T)                     # (3 n, P)
+        out = lam * (lam * products[:n] + products[n:2 * n] + self.speeds[index] * products[2 * n:])
+        out += self._stiffness @ np.ascontiguousarray(x.T)
+        if len(self.rows):
+            out += self.scatter @ ((lam[:, None] * self.cb[index] + self.kb[index]) * x[:, self.cols]).T
+        return out.T + self.more_terms(index, lam, x)
 
     @property
     def values(self) -> np.ndarray:
@@ -287,6 +369,47 @@ class _Zgbsv:
 
 
 _zgbsv = _Zgbsv()
+
+
+@functools.lru_cache(maxsize=4)
+def _lapack(name: str):
+    """LAPACK's ``zgbtrf`` or ``zgbtrs`` as a ``ctypes`` function (its pointer from
+    ``scipy.linalg.cython_lapack``; ``ctypes`` releases the GIL during the call), or None."""
+    try:
+        from scipy.linalg import cython_lapack
+
+        capsule = cython_lapack.__pyx_capi__[name]
+        get_name = ctypes.PYFUNCTYPE(ctypes.c_char_p, ctypes.py_object)(("PyCapsule_GetName", ctypes.pythonapi))
+        pointer = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object, ctypes.c_char_p)(
+            ("PyCapsule_GetPointer", ctypes.pythonapi))
+        address = pointer(capsule, get_name(capsule))
+    except (ImportError, AttributeError, KeyError, ValueError, OSError):   # pragma: no cover
+        return None
+    arguments = {"zgbtrf": 8, "zgbtrs": 11}[name]
+    return ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * arguments))(address) if address else None
+
+
+_NO_TRANSPOSE = ctypes.c_char(b"N")
+
+
+def _gbtrf(kl: int, ku: int, ab, pivots) -> int:
+    """LAPACK's banded LU ``zgbtrf`` in place: ``ab`` (2 kl + ku + 1, n) complex, Fortran-ordered
+    (a row of :meth:`_Pencils._band_storage`, transposed), ``pivots`` (n,) int32 (1-based, as
+    ``zgbtrs`` takes them); LAPACK's ``info`` (0: factored, > 0: singular)."""
+    n, info = ab.shape[1], ctypes.c_int(0)
+    sizes = _sizes(n, kl, ku, ab.shape[0])
+    _lapack("zgbtrf")(sizes[0], sizes[0], sizes[1], sizes[2], ab.ctypes.data, sizes[3], pivots.ctypes.data,
+                      ctypes.byref(info))
+    return info.value
+
+
+def _gbtrs(kl: int, ku: int, ab, pivots, b) -> None:
+    """``zgbtrs``: ``b`` (n,) complex, contiguous, overwritten by the solution of the system whose
+    factors :func:`_gbtrf` left in ``ab`` and ``pivots``."""
+    n, info = ab.shape[1], ctypes.c_int(0)
+    sizes = _sizes(n, kl, ku, 1, ab.shape[0])
+    _lapack("zgbtrs")(ctypes.byref(_NO_TRANSPOSE), sizes[0], sizes[1], sizes[2], sizes[3], ab.ctypes.data,
+                      sizes[4], pivots.ctypes.data, b.ctypes.data, sizes[0], ctypes.byref(info))
 
 
 @functools.lru_cache(maxsize=64)

@@ -146,20 +146,45 @@ def _swept(pencils, basis, want):
     starts, shapes = _projected_starts(pencils, basis, want, vectors_at=at)
     values = np.empty(starts.shape, complex)
     ok = np.zeros(count, bool)
-    values[anchors], shapes[anchors], ok[anchors] = _refined(pencils, starts[anchors], shapes[anchors], anchors)
+    _refine_into(_refined, pencils, starts, shapes, anchors, (values, shapes, ok), by_speed=True)
     between, guesses, vectors, sure = _continuation_guesses(starts, pencils.speeds, anchors, values[anchors],
                                                             shapes[anchors], ok[anchors])
     rows = between[sure]
     if len(rows):
         if not sure.all():
             guesses, vectors = guesses[sure], vectors[sure]
-        values[rows], shapes[rows], ok[rows] = _continued(pencils, guesses, vectors, rows)
+        _refine_into(_continued, pencils, guesses, vectors, rows, (values, shapes, ok))
         del vectors
     rows = between[~sure]
     if len(rows):
         again, vectors = _projected_starts(pencils, basis, want, rows)
-        values[rows], shapes[rows], ok[rows] = _refined(pencils, again, vectors, rows)
+        _refine_into(_refined, pencils, again, vectors, rows, (values, shapes, ok))
     return starts, values, shapes, ok
+
+
+#: Newton's iteration holds about this many complex vectors of ``n`` per root at once (the vectors,
+#: their products with ``Q'``, the solves, the round-off's terms, :mod:`._lowest_newton`; measured
+#: 19-28 at 400 coordinates)
+_NEWTON_VECTORS = 24
+#: the work memory of one part of the speeds refined together [bytes]: the speeds are refined in
+#: parts of at most this much, so the peak memory of a sweep does not grow with its speeds beyond
+#: the result's own arrays (issue 28: 884 MB at 1,001 speeds and 400 coordinates before)
+_NEWTON_BYTES = 32 * 2**20
+
+
+def _refine_into(refine, pencils, starts, vectors, rows, out, by_speed=False):
+    """``refine(pencils, starts, vectors, rows)`` (:func:`._lowest_newton._refined` or
+    ``_continued``) of the speeds ``rows`` (R,) in parts of at most ``_NEWTON_BYTES`` of work,
+    written into ``out`` = (values (S, k), shapes (S, k, n), ok (S,)) at those rows. ``starts``
+    (R, k) and ``vectors`` (R, k, n) are by row of ``rows``, or with ``by_speed`` (S, k) and
+    (S, k, n) by speed (read at ``rows`` before they are written). Each root's iteration is its
+    own (batched, not coupled), so the parts give the roots of one call bit for bit."""
+    values, shapes, ok = out
+    k, n = vectors.shape[1:]
+    for part in _batches.chunk_slices(len(rows), 16 * _NEWTON_VECTORS * k * n, budget=_NEWTON_BYTES):
+        at = rows[part]
+        take = at if by_speed else part
+        values[at], shapes[at], ok[at] = refine(pencils, starts[take], vectors[take], at)
 
 
 def _needed_size(bound, rho, size):
@@ -388,7 +413,9 @@ def _reduced_below(stack, speeds, limit, count):
         return None
     basis = np.hstack([modes[:, :size], attached])
     starts, vectors = _starts_below(pencils, basis, limit, count, int(below.sum(axis=1).max(initial=0)) + 3)
-    values, shapes, ok = _refined(pencils, starts, vectors)
+    values, shapes, ok = np.empty(starts.shape, complex), np.empty(vectors.shape, complex), np.zeros(len(starts), bool)
+    _refine_into(_refined, pencils, starts, vectors, np.arange(len(starts)), (values, shapes, ok))
+    del vectors
     ok &= _distinct(values) & _unmissed_below(starts, values, limit, count)
     values, shapes = _by_frequency(values, shapes, count)
     # the bound at the wanted roots (a missed one lies below the limit, :func:`_unmissed_below`)

@@ -486,7 +486,8 @@ def _row_products(matrices, vectors):
 def _variant_parts(variants, item_bytes: int):
     """Parts of rows for products with one variant's matrix: ``(variant, slice)`` for each run of
     consecutive rows of one variant, cut as that variant's rows alone would be (in parts of
-    bounded memory, :func:`_batches.chunk_slices`).
+    bounded memory, ``_batches._PART_BYTES``: a sweep's peak memory does not grow with its speeds
+    beyond the shapes themselves).
 
     A matrix product over many rows may give a row bits that depend on its place among them
     (the BLAS kernels block the rows, and the last block of a product can be summed another
@@ -504,7 +505,7 @@ def _variant_parts(variants, item_bytes: int):
     ends = [0, *(np.flatnonzero(variants[1:] != variants[:-1]) + 1).tolist(), len(variants)]
     return [(int(variants[start]), slice(start + part.start, start + part.stop))
             for start, stop in zip(ends[:-1], ends[1:]) if stop > start
-            for part in _batches.chunk_slices(stop - start, item_bytes)]
+            for part in _batches.chunk_slices(stop - start, item_bytes, budget=_batches._PART_BYTES)]
 
 
 def _stacked(arrays) -> np.ndarray:

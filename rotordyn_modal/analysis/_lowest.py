@@ -55,7 +55,7 @@ _SAME = 1e-8
 DENSE_BELOW = 38
 
 
-def lowest_roots(stack, speeds, count: int, progress: bool = False):
+def lowest_roots(stack, speeds, count: int, progress: bool = False, what: str = "speeds"):
     """The ``count`` lowest-frequency oscillating roots of a one-model stack at every speed.
 
     Parameters
@@ -67,6 +67,9 @@ def lowest_roots(stack, speeds, count: int, progress: bool = False):
         Modes wanted per speed (>= 1).
     progress : bool
         A progress bar over the speeds where they are solved by shift-invert Arnoldi.
+    what : str
+        What ``speeds`` are, in the fallback's warning ("2 of 11 speeds solved whole"; the
+        critical speeds' sub-sweeps say "speeds of the critical speeds' finer sweeps").
 
     Returns
     -------
@@ -92,7 +95,7 @@ def lowest_roots(stack, speeds, count: int, progress: bool = False):
     full = ~ok
     if full.any():
         _refuse_long_full(stack, speeds[full], len(speeds), "lowest modes", _UNSERVED)
-        warnings.warn(f"lowest modes: {int(full.sum())} of {len(speeds)} speeds solved whole (the reduced basis "
+        warnings.warn(f"lowest modes: {int(full.sum())} of {len(speeds)} {what} solved whole (the reduced basis "
                       "could not be shown to hold every root below the wanted ones there)", stacklevel=3)
         lam, phi = _full_lowest(stack, speeds[full], count)
         out_values[full], out_shapes[full] = lam, phi

@@ -40,7 +40,7 @@ _RANK = 1e-12
 _ROUNDOFF = 64 * np.finfo(float).eps
 
 
-def lowest_roots(stack, speeds, count: int):
+def lowest_roots(stack, speeds, count: int, what: str = "speeds"):
     """The ``count`` lowest-frequency oscillating roots of a one-model stack with Maxwell branches
     (``stack.branch_times`` not empty) at every speed, each the full model's root to round-off.
 
@@ -50,6 +50,8 @@ def lowest_roots(stack, speeds, count: int):
     speeds : ndarray, shape (S,) [rad/s]
     count : int
         Modes wanted per speed (>= 1).
+    what : str
+        What ``speeds`` are, in the fallback's warning (as :func:`._lowest.lowest_roots`).
 
     Returns
     -------
@@ -68,7 +70,7 @@ def lowest_roots(stack, speeds, count: int):
     full = ~ok
     if full.any():
         _lowest._refuse_long_full(stack, speeds[full], len(speeds), "lowest modes", _UNSERVED, "use fewer speeds")
-        warnings.warn(f"lowest modes: {int(full.sum())} of {len(speeds)} speeds solved whole (the reduced basis "
+        warnings.warn(f"lowest modes: {int(full.sum())} of {len(speeds)} {what} solved whole (the reduced basis "
                       "could not be shown to hold every root below the wanted ones there)", stacklevel=3)
         out_values[full], out_shapes[full] = _lowest._full_lowest(stack, speeds[full], count)
     return out_values, out_shapes, full

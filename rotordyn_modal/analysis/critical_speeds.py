@@ -401,6 +401,10 @@ def _crossings_in(single, v, ends, end_values, end_shapes, end_weighted, sources
     return found._replace(variant=np.full(len(found.roots), v))
 
 
+#: what a finer sweep's speeds are, in the lowest modes' fallback warning (not the user's sweep)
+_SUB_SWEEP_SPEEDS = "speeds of a bracket swept again finer for the critical speeds"
+
+
 def _sub_sweep(single, speeds, columns):
     """The roots (S, m) and unit shapes (S, m, n) of a bracket swept again at ``speeds``: every
     root, or, where the sweep has fewer ``columns`` than roots (a sweep of the lowest modes
@@ -413,10 +417,10 @@ def _sub_sweep(single, speeds, columns):
 
     lowest = columns < single.forms[0].n_states // 2
     if lowest and single.branch_times.shape[-1]:       # Maxwell branches: the rational pencil's lowest roots
-        lam, phi, _ = _lowest_branches.lowest_roots(single, speeds, columns)
+        lam, phi, _ = _lowest_branches.lowest_roots(single, speeds, columns, what=_SUB_SWEEP_SPEEDS)
         return lam, phi
     if lowest and single.n_dof >= DENSE_BELOW:
-        lam, phi, _ = lowest_roots(single, speeds, columns)
+        lam, phi, _ = lowest_roots(single, speeds, columns, what=_SUB_SWEEP_SPEEDS)
         return lam, phi
     lam, phi = single.solve(single.sweep(speeds)[0], np.zeros(len(speeds), dtype=int))
     if lam.shape[-1] > columns:                  # a sweep of the lowest modes only: the same roots inside

@@ -204,7 +204,8 @@ def _numbers_among_lowest(model, speeds, eigenvalues, count):
     from ._lowest import lowest_roots
     from ._stack import Stack
 
-    roots, _, _ = lowest_roots(Stack([model]), np.asarray(speeds, dtype=float), count)
+    roots, _, _ = lowest_roots(Stack([model]), np.asarray(speeds, dtype=float), count,
+                               what="speeds at which the mode numbers of modes --speed are found")
     out = np.zeros(len(speeds), dtype=int)
     for p, (row, lam) in enumerate(zip(roots, eigenvalues)):
         gaps = np.abs(row - lam)

@@ -8,10 +8,9 @@ import warnings
 import numpy as np
 
 from ..errors import InputError
-from ..model._table import SMALLEST_POSITIVE
 from ..unbalance_standards import amplitude_label, one_convention
 from ._common import (IN_SPEED_UNIT, add_model_argument, add_output_file, add_outputs, add_sensor_argument, add_speed_unit, check_ending,
-                      check_extra_output, open_model, print_table, save_figure, speeds_option,
+                      check_extra_output, mcs_option, open_model, print_table, save_figure, speeds_option,
                       speed_value, speeds_text, use_agg, whole_number, write_csv, write_table)
 from ._units import convert_table
 from .frf import QUANTITY_HELP, QUANTITY_METAVAR, quantity_type, sensor_names
@@ -195,10 +194,8 @@ def _warn_below_checked_speeds(speeds, mcs, args):
 
 def _check_options(args):
     """``(mcs, min_speed)`` [rad/s] of the standards' checks, the options checked together."""
-    mcs, min_speed = _speed(args, args.mcs, "--mcs"), _speed(args, args.min_speed, "--min-speed")
-    if mcs is not None and not mcs >= SMALLEST_POSITIVE:   # 1e-300 rpm: every swept speed 0 to round-off
-        raise InputError(f"--mcs {args.mcs}: expected a maximum continuous speed > 0 (at least "
-                         f"{SMALLEST_POSITIVE:g} rad/s)")
+    mcs = None if args.mcs is None else mcs_option(args)      # the one check level1 and report share
+    min_speed = _speed(args, args.min_speed, "--min-speed")
     if min_speed is not None and not min_speed >= 0:
         raise InputError(f"--min-speed {args.min_speed}: expected a speed >= 0")
     if min_speed is not None and mcs is None and args.iso_group is None:

@@ -94,8 +94,10 @@ def test_time_record_from_catman_reads_as_pyuff_does():
 @pytest.mark.parametrize("name,reader,message", [
     ("non_ascii_header.uff", "time", "no time record (dataset 58, function type 1) in the file; "
                                      "dataset 58 function types found: [4]"),
-    ("testlab_151_164_18_15_82.uff", "frf", "no dataset 58/58b (FRF) in the file; datasets found: [15, 18, 82, 151, 164]"),
-    ("time-history-not-all-columns-filled.uff", "nodes", "no node coordinates (dataset 15 or 2411)"),
+    ("testlab_151_164_18_15_82.uff", "frf", "no dataset 58/58b (FRF) in the file; datasets found: 15 (nodes), 18 (coordinate systems), "
+     "82 (trace lines), 151 (header), 164 (units)"),
+    ("time-history-not-all-columns-filled.uff", "nodes", "no node coordinates (dataset 15 or 2411) in the file; "
+                                                         "datasets found: 58 (function data)"),
 ])
 def test_files_that_do_not_fit_are_refused(name, reader, message):
     model = rdm.load_model(EXAMPLE)

@@ -312,7 +312,7 @@ def _read_sets(path):
         types = list(uff.get_set_types())
         if 58 not in types:
             raise InputError(f"{path}: no dataset 58/58b (FRF) in the file; datasets found: "
-                             f"{sorted(set(int(t) for t in types)) or 'none'}")
+                             f"{_datasets_named(int(t) for t in types)}")
         index = [i for i, t in enumerate(types) if t == 58]
         sets = uff.read_sets(index)
     except InputError:
@@ -622,7 +622,7 @@ def read_uff_nodes(path) -> NodeTable:
     nodes = [s for s in sets if s["type"] in (15, 2411)]
     if not nodes:
         raise InputError(f"{path}: no node coordinates (dataset 15 or 2411) in the file; datasets found: "
-                         f"{sorted(set(types)) or 'none'}")
+                         f"{_datasets_named(int(t) for t in types)}")
     units = _units(sets, path)
     systems = _coordinate_systems(sets, path)
     numbers, coordinates, axes = [], [], []
@@ -766,7 +766,7 @@ _FUNCTION_NAMES = {0: "general or unknown", 1: "time response", 2: "auto-spectru
 #: datasets other than 58 by number, for messages
 _DATASET_NAMES = {15: "nodes", 18: "coordinate systems", 82: "trace lines", 151: "header", 164: "units",
                   2411: "nodes", 2412: "elements", 2414: "analysis results", 2420: "coordinate systems",
-                  2467: "groups", 55: "data at nodes"}
+                  2467: "groups", 55: "data at nodes", 58: "function data"}
 
 
 def _function_type(s) -> int:
@@ -834,9 +834,13 @@ def _holdings(sets, types) -> str:
         advice = " (FRFs are read by rotordyn_modal.io.measured.read_measured, frf --measured)" \
             if _FRF in kinds else ""
         return f"dataset 58 function types found: {kinds}: {_by_function(others)}{advice}"
+    return f"no dataset 58 at all; datasets found: {_datasets_named(types)}"
+
+
+def _datasets_named(types) -> str:
+    """The dataset numbers of a file, each with its name where known: ``15 (nodes), 164 (units)``."""
     found = sorted(set(types))
-    named = ", ".join(f"{t} ({_DATASET_NAMES[t]})" if t in _DATASET_NAMES else str(t) for t in found)
-    return f"no dataset 58 at all; datasets found: {named or 'none'}"
+    return ", ".join(f"{t} ({_DATASET_NAMES[t]})" if t in _DATASET_NAMES else str(t) for t in found) or "none"
 
 
 def _skipped_line(path, read: str, kind: str, skipped, note: str) -> str:

@@ -202,3 +202,16 @@ def test_a_study_files_range_with_digit_separators_is_refused(where, grid):
     with pytest.raises(StudyError, match="START:STOP:N") as error:
         parse_study(spec, model=model)
     assert grid in str(error.value) and len(str(error.value).splitlines()) == 1
+
+
+@pytest.mark.parametrize("argv, option, value", [
+    (["modes", MINIMAL, "--speed", "\uff15\uff10\uff10"], "--speed", "\uff15\uff10\uff10"),           # full-width 500
+    (["campbell", MINIMAL, "--speeds", "0:\u0661\u0660\u0660:2"], "--speeds", "\u0661\u0660\u0660"),  # Arabic-Indic 100
+    (["campbell", MINIMAL, "--speeds", "0:100:2", "--freq-range", "0:\uff11\uff10"], "--freq-range", "\uff11\uff10"),
+], ids=["speed-fullwidth", "range-arabic-indic", "band-fullwidth"])
+def test_a_number_in_another_scripts_digits_is_refused(tmp_path, monkeypatch, capsys, argv, option, value):
+    """Python's ``float('５００')`` is 500.0: a number pasted from a document set in another script
+    was read as digits nobody typed on the command line; refused as no number, like ``1_0``."""
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    _one_line_error(capsys, option)

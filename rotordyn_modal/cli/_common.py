@@ -54,9 +54,10 @@ def _negative_number(text: str) -> bool:
 
 
 def _plain_float(text: str) -> float:
-    """``float(text)`` without Python's digit separators: ``1_0`` is no number on a command line
-    (Python reads it as 10), so it raises ValueError as ``x`` does."""
-    if "_" in str(text):
+    """``float(text)`` without Python's digit separators and other scripts' digits: ``1_0`` and
+    ``５０`` (full-width) are no numbers on a command line (Python reads them as 10 and 50), so
+    they raise ValueError as ``x`` does."""
+    if "_" in str(text) or not str(text).isascii():
         raise ValueError(text)
     return float(text)
 

@@ -327,23 +327,6 @@ class _Pencils:
         return self._layout
 
 
-@functools.lru_cache(maxsize=1)
-def _lapack_zgbsv():
-    """LAPACK's ``zgbsv`` as a ``ctypes`` function (its pointer from ``scipy.linalg.cython_lapack``;
-    ``ctypes`` releases the GIL during the call), or None where it cannot be had."""
-    try:
-        from scipy.linalg import cython_lapack
-
-        capsule = cython_lapack.__pyx_capi__["zgbsv"]
-        name = ctypes.PYFUNCTYPE(ctypes.c_char_p, ctypes.py_object)(("PyCapsule_GetName", ctypes.pythonapi))
-        pointer = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object, ctypes.c_char_p)(
-            ("PyCapsule_GetPointer", ctypes.pythonapi))
-        address = pointer(capsule, name(capsule))
-    except (ImportError, AttributeError, KeyError, ValueError, OSError):   # pragma: no cover
-        return None
-    return ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * 10))(address) if address else None
-
-
 class _Zgbsv:
     """LAPACK's ``zgbsv`` called as scipy's wrapper is, ``(kl, ku, ab, b, overwrite_ab, overwrite_b) ->
     (lu, pivots, x, info)``, through ``ctypes`` where both arrays are overwritten in place (complex,
@@ -353,7 +336,7 @@ class _Zgbsv:
     Other arrays, or where the routine cannot be had from ``scipy.linalg.cython_lapack``: scipy's."""
 
     def __call__(self, kl, ku, ab, b, overwrite_ab=0, overwrite_b=0):
-        function = _lapack_zgbsv()
+        function = _lapack("zgbsv")
         if (function is None or not (overwrite_ab and overwrite_b) or ab.dtype != complex or b.dtype != complex
                 or ab.ndim != 2 or b.ndim != 2 or not (ab.flags.f_contiguous and b.flags.f_contiguous)
                 or ab.shape[0] != 2 * kl + ku + 1 or ab.shape[1] != b.shape[0] or not ab.flags.writeable
@@ -373,8 +356,9 @@ _zgbsv = _Zgbsv()
 
 @functools.lru_cache(maxsize=4)
 def _lapack(name: str):
-    """LAPACK's ``zgbtrf`` or ``zgbtrs`` as a ``ctypes`` function (its pointer from
-    ``scipy.linalg.cython_lapack``; ``ctypes`` releases the GIL during the call), or None."""
+    """LAPACK's ``zgbsv``, ``zgbtrf`` or ``zgbtrs`` as a ``ctypes`` function (its pointer from
+    ``scipy.linalg.cython_lapack``; ``ctypes`` releases the GIL during the call), or None where it
+    cannot be had."""
     try:
         from scipy.linalg import cython_lapack
 
@@ -385,7 +369,7 @@ def _lapack(name: str):
         address = pointer(capsule, get_name(capsule))
     except (ImportError, AttributeError, KeyError, ValueError, OSError):   # pragma: no cover
         return None
-    arguments = {"zgbtrf": 8, "zgbtrs": 11}[name]
+    arguments = {"zgbsv": 10, "zgbtrf": 8, "zgbtrs": 11}[name]
     return ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * arguments))(address) if address else None
 
 

@@ -269,7 +269,7 @@ def _refuse_lone_spectra(sets, frfs, path):
     alike; a file of spectra without any FRF is refused by ``_no_frf_line``."""
     pairs = {_key(s) for s in frfs}
     for s in sets:
-        kind = int(s.get("func_type", -1))
+        kind = _function_type(s)
         if kind == 3 and _key(s) not in pairs:
             raise InputError(f"{path}: dataset {s.get('_dataset', '?')} ({s.get('rsp_node')}:{s.get('rsp_dir')} / "
                              f"{s.get('ref_node')}:{s.get('ref_dir')}): function type {kind} ({_SPECTRA[kind]}) is "

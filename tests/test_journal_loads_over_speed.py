@@ -35,8 +35,20 @@ def _offset(load2, speed, length):
 
 def _independent(speed, stations, lengths, mass, pedestals):
     """The loads (N, 2) in (y, z) by scipy's hybrid root-finder on the compatibility and balance
-    equations, the films' offsets from short_journal_bearing's eccentricity and attitude angle.
+    equations, the films' offsets from short_journal_bearing's eccentricity and attitude angle,
+    continued in speed from 10,000 rpm (light load) down to ``speed`` when it is lower.
     ``pedestals``: None or (k (2, 2), m_p) per journal."""
+    n = len(stations)
+    weight = mass * G * np.array([0.0, -1.0])
+    start = np.concatenate([np.outer(journal_load_shares(np.asarray(lengths)**3, stations), weight).ravel(),
+                            np.zeros(4)])
+    top = np.sign(speed) * max(abs(speed), rdm.rpm(10000.0))
+    for step in np.geomspace(top, speed, 12):
+        start = _root(step, stations, lengths, mass, pedestals, start)
+    return start[:2 * n].reshape(n, 2)
+
+
+def _root(speed, stations, lengths, mass, pedestals, start):
     n = len(stations)
     weight = mass * G * np.array([0.0, -1.0])
 
@@ -53,11 +65,9 @@ def _independent(speed, stations, lengths, mass, pedestals):
         rows.append((stations @ loads) / (mass * G))
         return np.concatenate(rows)
 
-    start = np.concatenate([np.outer(journal_load_shares(np.asarray(lengths)**3, stations), weight).ravel(),
-                            np.zeros(4)])
     solution = scipy.optimize.root(residual, start, method="hybr", options={"xtol": 1e-14})
-    assert solution.success and np.max(np.abs(residual(solution.x))) < 1e-11
-    return solution.x[:2 * n].reshape(n, 2)
+    assert np.max(np.abs(residual(solution.x))) < 1e-11     # (hybr may report xtol unreachable at round-off)
+    return solution.x
 
 
 def _solve(speeds, stations, lengths, mass, pedestals):
@@ -86,7 +96,7 @@ def test_the_film_offsets_jacobian_is_the_inverse_of_its_stiffness():
             np.testing.assert_allclose(slope, compliance[:, column], rtol=1e-6, atol=1e-6 * np.abs(compliance).max())
 
 
-@pytest.mark.parametrize("rpm", [1000.0, 3000.0, 10000.0, -3000.0])
+@pytest.mark.parametrize("rpm", [30.0, 200.0, 1000.0, 3000.0, 10000.0, -3000.0])
 def test_the_loads_equal_an_independent_root_finder(rpm):
     """Three journals of different lengths at -0.4, 0.1, 0.4 m; the middle one on an anisotropic
     6 kg pedestal, the last on an isotropic 4 kg one."""

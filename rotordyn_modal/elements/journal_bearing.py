@@ -335,20 +335,47 @@ def rigid_rotor_journal_loads(speed, *, stations, weight, spin_axis, diameter, l
     total = np.array([np.linalg.norm(weight), 0.0])
     light = np.pi * films[3] * np.abs(speed)[:, None] * films[0] * films[1]**3 / (8 * films[2]**3)   # (S, N)
     turn = np.sign(speed)[:, None, None, None] * np.array([[0.0, -1.0], [1.0, 0.0]])            # R(+-90 deg)
-    loads = _newton_step(np.zeros((len(speed), n, 2)), turn / light[..., None, None], soft, s, settle, total,
+    state = _newton_step(np.zeros((len(speed), n, 2)), turn / light[..., None, None], soft, s, settle, total,
                          np.zeros((len(speed), n, 2)))
+    done = np.zeros(len(speed), dtype=bool)
     for _ in range(iterations):
+        loads = state[:, :2 * n].reshape(-1, n, 2)
         offset, compliance = _film_offset(loads, speed, films, total[0])
-        step = _newton_step(loads, compliance, soft, s, settle, total, offset) - loads
-        loads = loads + step
-        if not np.all(np.isfinite(loads)):
-            break
-        if np.max(np.abs(step)) <= 1e-13 * total[0]:
-            return loads @ plane
-    bad = int(np.argmax(np.max(np.abs(step), axis=(1, 2)) if np.all(np.isfinite(step)) else ~np.isfinite(step).all(axis=(1, 2))))
+        step = _newton_step(loads, compliance, soft, s, settle, total, offset) - state
+        done |= np.max(np.abs(step[:, :2 * n]), axis=1) <= 1e-13 * total[0]
+        if done.all():
+            return state[:, :2 * n].reshape(-1, n, 2) @ plane
+        state = _damped(state, np.where(done[:, None], 0.0, step), offset, speed, films, soft, s, settle, total[0])
+    bad = int(np.flatnonzero(~done)[0])
     raise InputError(f"journal loads: no static equilibrium of the rigid rotor on its films and pedestals found at "
                      f"{to_rpm(float(speed[bad])):.6g} rpm (the films cannot carry the rotor there: start the sweep "
                      "higher, or give each journal's load)")
+
+
+def _misfit(state, offset, soft, s, settle, clearance):
+    """The journals' compatibility misfit (12.16) in clearances, squared and summed: (S,)."""
+    n = len(s)
+    loads, u, theta = state[:, :2 * n].reshape(-1, n, 2), state[:, 2 * n:2 * n + 2], state[:, 2 * n + 2:]
+    gap = (offset + np.einsum("nij,snj->sni", soft, loads) + settle - u[:, None] - s[None, :, None] * theta[:, None])
+    return np.sum((gap / clearance[:, None])**2, axis=(1, 2))
+
+
+def _damped(state, step, offset, speed, films, soft, s, settle, scale, halvings: int = 40):
+    """``state + a step``, ``a`` halved (per speed) from 1 until the compatibility misfit falls:
+    the films' offset saturates at the clearance, where a full Newton step from a light-load
+    guess overshoots. The balance equations, linear, hold along the whole step."""
+    n = len(s)
+    before = _misfit(state, offset, soft, s, settle, films[2])
+    length = np.ones(len(state))
+    for _ in range(halvings):
+        trial = state + length[:, None] * step
+        trial_offset = _film_offset(trial[:, :2 * n].reshape(-1, n, 2), speed, films, scale)[0]
+        after = _misfit(trial, trial_offset, soft, s, settle, films[2])
+        worse = ~(after <= (1 - 1e-4 * length) * before) & (before > 0)
+        if not worse.any():
+            break
+        length = np.where(worse, 0.5 * length, length)
+    return state + length[:, None] * step
 
 
 def _film_offset(loads, speed, films, scale):
@@ -372,7 +399,7 @@ def _film_offset(loads, speed, films, scale):
 
 
 def _newton_step(loads, compliance, soft, s, settle, total, offset):
-    """The loads (S, N, 2) of one Newton step on the journals' equations, the films linearised
+    """The state (S, 2N + 4): loads, ``u``, ``theta``, of one Newton step on the journals' equations, the films linearised
     about ``loads``: ``d(F_new) ~ offset + compliance (F_new - loads)``; ``soft`` (N, 2, 2) the
     pedestals' compliance, ``settle`` (N, 2) their settlement under their own weight."""
     count, n = loads.shape[:2]
@@ -389,7 +416,7 @@ def _newton_step(loads, compliance, soft, s, settle, total, offset):
         matrix[:, 2 * n + 2:, rows] = s[i] * eye
         right[:, rows] = np.einsum("sij,sj->si", compliance[:, i], loads[:, i]) - offset[:, i] - settle[i]
     right[:, 2 * n:2 * n + 2] = total
-    return np.linalg.solve(matrix, right[..., None])[:, :2 * n, 0].reshape(count, n, 2)
+    return np.linalg.solve(matrix, right[..., None])[..., 0]
 
 
 class JournalLoadOverSpeed:

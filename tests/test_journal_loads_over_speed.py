@@ -198,3 +198,22 @@ def _mixed():
     data["bearings"][1].update(pedestal_mass=6.0, pedestal_stiffness=2e6)
     data["bearings"][0]["load"] = 200.0
     return rdm.Model.from_dict(data)
+
+
+def test_check_says_the_films_split_is_not_the_analyses_load(tmp_path, capsys):
+    """`check` prints each journal's load on the films alone and says the analyses solve it at each
+    speed with the pedestals (one journal on a pedestal); without a pedestal it says nothing more."""
+    from rotordyn_modal.cli import main
+
+    journal = 'type = "journal"\nlength = 0.02\ndiameter = 0.05\nclearance = 5e-5\nviscosity = 0.02\n'
+    rotor = ('spin_axis = [1.0, 0.0, 0.0]\ngravity = [0.0, 0.0, -9.81]\n[[rotors]]\nname = "r"\nmass = 50.0\n'
+             'center_of_mass = [0.0, 0.0, 0.0]\npolar_inertia = 0.5\ndiametral_inertia = 2.0\nspeed_ratio = 1.0\n')
+    for pedestal, said in (("pedestal_mass = 6.0\npedestal_stiffness = 2e6\n", True), ("", False)):
+        bearings = "".join(f'[[bearings]]\nname = "j{i}"\nrotor = "r"\nposition = [{s}, 0.0, 0.0]\n{journal}'
+                           + (pedestal if i == 1 else "") for i, s in enumerate((-0.4, 0.1, 0.4)))
+        path = tmp_path / f"m{int(said)}.toml"
+        path.write_text(rotor + bearings)
+        assert main(["check", str(path)]) == 0
+        out = capsys.readouterr().out
+        assert ("analyses solve it at each speed with the pedestals" in out) is said
+        assert out.count("static load") == 3

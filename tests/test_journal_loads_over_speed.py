@@ -217,3 +217,26 @@ def test_check_says_the_films_split_is_not_the_analyses_load(tmp_path, capsys):
         out = capsys.readouterr().out
         assert ("analyses solve it at each speed with the pedestals" in out) is said
         assert out.count("static load") == 3
+
+
+@pytest.mark.parametrize("rpm", [1000.0, 3000.0])
+def test_the_time_models_static_equilibrium_carries_the_same_loads(tmp_path, rpm):
+    """simulate (its linear time model keeps each journal's film force whole, a function of the
+    journal's position: it takes no static load) settles, without unbalance, where the rotor on its
+    nonlinear films and its pedestal stands: the bearings' forces at the end equal the loads solved
+    here (at 1,000 rpm the outer films run at eccentricity 0.62)."""
+    import pandas as pd
+    import tomli_w
+
+    from rotordyn_modal.cli import main
+
+    path, out = tmp_path / "m.toml", tmp_path / "run.csv"
+    path.write_text(tomli_w.dumps(_rigid().to_dict()))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["simulate", str(path), "--speed", str(rpm), "--duration", "0.3", "--out", str(out), "--quiet"]) == 0
+    last = pd.read_csv(out).iloc[-1]
+    forces = np.array([[last[f"j{i}_Fy"], last[f"j{i}_Fz"]] for i in range(3)])
+    expected = _solve(rdm.rpm([rpm]), np.array([-0.4, 0.1, 0.4]), [0.02] * 3, 50.0,
+                      [None, (np.eye(2) * 2e6, 6.0), None])[0]
+    np.testing.assert_allclose(forces, expected, rtol=0, atol=1e-7 * 50 * G)

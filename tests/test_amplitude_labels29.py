@@ -60,3 +60,22 @@ def test_the_run_up_figure_says_and_draws_0_peak(units, scale):
     assert colour_bar and "amplitude, 0-peak [" in colour_bar[0].get_ylabel()
     image = figure.axes[3].collections[0].get_array()
     assert np.max(image) == pytest.approx(amplitude * scale, rel=0.2)      # Hann window: within its scalloping loss
+
+
+def test_a_studys_unbalance_peak_amplitudes_say_0_peak(examples_dir):
+    """The study's netCDF variables of unbalance and force peak amplitudes carry the attribute
+    amplitude = '0-peak', and hold the 0-peak response's largest value."""
+    import rotordyn_modal as rdm
+
+    gear = rdm.load_model(examples_dir / "gear_machine.toml")
+    spec = {"seed": 1, "samples": 2, "design": "monte-carlo",
+            "parameters": [{"key": "suspensions.mount-FL.stiffness", "apply": "scale", "distribution": "uniform",
+                            "low": 0.9, "high": 1.1}],
+            "analyses": {"unbalance": {"speeds_rpm": "500:4000:8", "forces": "suspensions"}}}
+    ds = rdm.study(gear, spec).dataset
+    assert ds["unbalance_peak_amplitude"].attrs["amplitude"] == "0-peak"
+    assert ds["force_peak_amplitude"].attrs["amplitude"] == "0-peak"
+    factor = ds["sample_value"].values[0, 0]
+    response = rdm.unbalance_response(gear.scaled({"suspensions.mount-FL.stiffness": factor}),
+                                      rdm.rpm(np.linspace(500, 4000, 8)))
+    np.testing.assert_allclose(np.nanmax(ds["unbalance_peak_amplitude"].values[0]), response.amplitude.max(), rtol=1e-12)

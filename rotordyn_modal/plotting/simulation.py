@@ -157,7 +157,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
         amplitude_ax.plot(track.speeds * rpm, track.amplitude * scale, ".-", ms=3, label=f"1X {rotor}")
         phase_ax.plot(track.speeds * rpm, np.degrees(np.unwrap(np.radians(track.phase_deg))), ".-", ms=3,
                       label=f"1X {rotor}")
-    amplitude_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X amplitude [{unit}]",
+    amplitude_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X amplitude, 0-peak [{unit}]",
                      title="Order-tracked amplitude")
     phase_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X phase, unwrapped [deg]",
                  title="Order-tracked phase")
@@ -202,7 +202,7 @@ def _draw_waterfall(fig, ax, fall, result, critical, sensor, shown=(1e6, "µm"))
     top = np.nanmax(values) if values.size and np.nanmax(values) > 0 else 1.0
     image = ax.pcolormesh(fall.frequencies_hz, fall.speeds * rpm, np.maximum(values, top * _WATERFALL_FLOOR),
                           shading="nearest", cmap="viridis", norm=LogNorm(top * _WATERFALL_FLOOR, top))
-    fig.colorbar(image, ax=ax, label=f"{sensor}, amplitude [{shown[1]}]")
+    fig.colorbar(image, ax=ax, label=f"{sensor}, amplitude, 0-peak [{shown[1]}]")
     ax.set(xlabel="Frequency [Hz]", ylabel="Speed of the reference rotor [rpm]", title="Waterfall",
            xlim=(0, _waterfall_limit(fall, critical)))
     if critical is not None and len(critical):

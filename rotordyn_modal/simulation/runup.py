@@ -20,7 +20,7 @@ class OrderTrack:
     speeds : ndarray, shape (K,)
         Reference rotor's mean speed over each window [rad/s].
     amplitude : ndarray, shape (K,)
-        Amplitude of the order [m].
+        Amplitude of the order, 0-peak [m] (the signal's units).
     phase_deg : ndarray, shape (K,)
         Phase of the order relative to the rotor's angle [deg] (signal ~ A cos(k phi + phase)).
     sensor, rotor : str
@@ -51,7 +51,7 @@ class Waterfall:
         Reference rotor's mean speed over each segment [rad/s].
     frequencies_hz : ndarray, shape (F,) [Hz]
     amplitude : ndarray, shape (K, F)
-        Amplitude spectrum (Hann window, amplitude-corrected) [m].
+        Amplitude spectrum (Hann window, amplitude-corrected), 0-peak [m] (the signal's units).
     sensor : str
     """
 

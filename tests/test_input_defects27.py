@@ -27,3 +27,124 @@ def test_an_iso_report_refuses_the_stiffness_of_a_map_it_does_not_draw(tmp_path,
                  "flexible", "--stiffness", "1e5:1e10:9", "--out", str(out)]) == 2
     _one_line_error(capsys, "--stiffness 1e5:1e10:9", "--standard iso", "undamped critical speed map", "api684")
     assert not out.exists()
+
+
+# ----------------------------------------------------------------------- UTF-16 without a byte-order mark
+GEAR = ROOT / "examples" / "gear_machine.toml"
+NO_MARK = ["utf-16-le", "utf-16-be"]
+
+
+def _wide(path: Path, text: str, encoding: str) -> Path:
+    """``text`` written to ``path`` in ``encoding`` (no byte-order mark: 'utf-16-le' writes none)."""
+    path.write_bytes(text.encode(encoding))
+    assert not path.read_bytes().startswith((b"\xff\xfe", b"\xfe\xff"))
+    return path
+
+
+@pytest.mark.parametrize("encoding", NO_MARK)
+def test_a_model_file_in_utf16_without_a_mark_reads_as_its_utf8_text(tmp_path, capsys, encoding):
+    """Read as UTF-8 it was 'Invalid statement (line 1, column 1)' or a NUL-laden key: what
+    some Windows programs write. The model is the one its UTF-8 text
+    gives, key for key, and the command line runs on it."""
+    import rotordyn_modal as rdm
+
+    text = (ROOT / "examples" / "fan_on_bearings.toml").read_text(encoding="utf-8")
+    utf8, wide = tmp_path / "utf8.toml", _wide(tmp_path / "wide.toml", text, encoding)
+    utf8.write_text(text, encoding="utf-8")
+    assert rdm.load_model(wide).to_dict() == rdm.load_model(utf8).to_dict()
+    assert main(["modes", str(wide), "--speed", "1000"]) == 0
+    from_wide = capsys.readouterr().out
+    assert main(["modes", str(utf8), "--speed", "1000"]) == 0
+    assert from_wide == capsys.readouterr().out and from_wide
+
+
+def test_a_ross_file_in_utf16_without_a_mark_reads_as_its_utf8_text(tmp_path):
+    """The ROSS reader reads TOML through the same function as the model file."""
+    from rotordyn_modal.io.ross_file import read_ross_rotor
+
+    source = ROOT / "tests" / "data" / "ross" / "rotor_example.toml"
+    wide = _wide(tmp_path / "rotor_example.toml", source.read_text(encoding="utf-8"), "utf-16-le")
+    assert read_ross_rotor(wide) == read_ross_rotor(source)
+
+
+@pytest.mark.parametrize("encoding", NO_MARK)
+def test_a_measured_csv_in_utf16_without_a_mark_reads_as_its_utf8_text(tmp_path, encoding):
+    """Read as UTF-8 (every other byte a NUL) its header named no column."""
+    import numpy as np
+
+    import rotordyn_modal as rdm
+    from rotordyn_modal.io.measured import read_measured, write_csv
+
+    model = rdm.load_model(GEAR)
+    exact = rdm.frf(model, rdm.rpm(1200), np.linspace(2, 40, 5), quantity="accelerance")
+    utf8 = tmp_path / "utf8.csv"
+    write_csv([exact], utf8)
+    wide = _wide(tmp_path / "wide.csv", utf8.read_text(encoding="utf-8").replace(",", "\t"), encoding)
+    [back], [same] = read_measured(wide, model), read_measured(utf8, model)
+    assert back.outputs == same.outputs and back.inputs == same.inputs and back.quantity == same.quantity
+    np.testing.assert_array_equal(back.H, same.H)
+    np.testing.assert_allclose(back.H, exact.H, rtol=1e-12)
+
+
+@pytest.mark.parametrize("encoding", NO_MARK)
+def test_a_mapping_table_in_utf16_without_a_mark_reads_as_its_utf8_text(tmp_path, encoding):
+    import rotordyn_modal as rdm
+    from rotordyn_modal.io.channels import read_mapping
+
+    model = rdm.load_model(GEAR)
+    text = "Name;Node;Direction;Sign\nacc-top-z;7;3;1\nhammer-z;12;-3;-1\n"
+    utf8 = tmp_path / "map8.csv"
+    utf8.write_text(text, encoding="utf-8")
+    back, same = read_mapping(_wide(tmp_path / "map.csv", text, encoding), model), read_mapping(utf8, model)
+    assert (back.outputs, back.inputs) == (same.outputs, same.inputs)
+    assert back.outputs == {(7, 3): ("acc-top-z", 1.0)} and back.inputs == {(12, -3): ("hammer-z", -1.0)}
+
+
+@pytest.mark.parametrize("encoding", NO_MARK)
+def test_an_outline_in_utf16_without_a_mark_reads_as_its_utf8_text(tmp_path, encoding):
+    import numpy as np
+
+    from rotordyn_modal.io.outline import read_outline
+
+    text = "# Gehäuse – Umriss\nX [mm]\tY [mm]\tZ [mm]\n0\t0\t0\n100\t0\t0\n\n0\t50\t0\n0\t50\t200\n"
+    utf8 = tmp_path / "o8.csv"
+    utf8.write_text(text, encoding="utf-8")
+    back = read_outline(_wide(tmp_path / "o.csv", text, encoding))
+    np.testing.assert_array_equal(back, read_outline(utf8))
+    np.testing.assert_allclose(back[1], [0.1, 0.0, 0.0], rtol=1e-15)
+
+
+@pytest.mark.parametrize("kind", ["model", "csv"])
+def test_utf16_without_a_mark_that_is_no_utf16_is_one_line(tmp_path, capsys, kind):
+    """Its last byte cut off (an odd count of bytes): refused on one line saying what it looks
+    like, not read as Latin-1 garbage or TOML's 'Invalid statement'."""
+    if kind == "model":
+        text = (ROOT / "examples" / "fan_on_bearings.toml").read_text(encoding="utf-8")
+        path = tmp_path / "cut.toml"
+        path.write_bytes(text.encode("utf-16-le")[:-1])
+        argv = ["check", str(path)]
+    else:
+        path = tmp_path / "cut.csv"
+        path.write_bytes("x,y,z\n0,0,0\n1,0,0\n".encode("utf-16-le")[:-1])
+        argv = ["modes", str(GEAR), "--speed", "100", "--shape", "1", "--plot", str(tmp_path / "s.png"),
+                "--outline", str(path), "--quiet"]
+    assert main(argv) == 2
+    _one_line_error(capsys, str(path), "UTF-16", "without a byte-order mark")
+
+
+@pytest.mark.parametrize("encoding", ["utf-16-le", "utf-16-be", "utf-16"])
+def test_a_universal_file_in_utf16_is_refused_on_one_line(tmp_path, capsys, encoding):
+    """pyuff reads ASCII: such a file was taken for binary 58b sets and failed inside pyuff."""
+    import rotordyn_modal as rdm
+    from rotordyn_modal.io.measured import default_mapping
+    from rotordyn_modal.io.uff import write_uff58
+    import numpy as np
+
+    model = rdm.load_model(GEAR)
+    ascii_file = tmp_path / "a.uff"
+    write_uff58([rdm.frf(model, 0.0, np.linspace(2, 40, 5))], ascii_file, default_mapping(model))
+    wide = tmp_path / "w.uff"
+    wide.write_bytes(ascii_file.read_text(encoding="latin-1").encode(encoding))
+    assert main(["frf", str(GEAR), "--freqs", "2:40:5", "--measured", str(wide), "--plot",
+                 str(tmp_path / "f.png"), "--quiet"]) == 2
+    _one_line_error(capsys, str(wide), "UTF-16", "expected ASCII")

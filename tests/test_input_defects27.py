@@ -148,3 +148,60 @@ def test_a_universal_file_in_utf16_is_refused_on_one_line(tmp_path, capsys, enco
     assert main(["frf", str(GEAR), "--freqs", "2:40:5", "--measured", str(wide), "--plot",
                  str(tmp_path / "f.png"), "--quiet"]) == 2
     _one_line_error(capsys, str(wide), "UTF-16", "expected ASCII")
+
+
+# ----------------------------------------------------------------------- ROSS rotors on one bearing
+ROSS = ROOT / "tests" / "data" / "ross"
+
+
+def _ross_variant(tmp_path, case: str) -> Path:
+    """ROSS's rotor_example (bearings at nodes 0 and 6) with its bearings changed: ``one`` (Bearing
+    1 removed), ``one-node`` (Bearing 1 moved to node 0), ``none``. ROSS 3.1 builds and solves
+    each (``Rotor(shaft, disks, bearings)`` then ``run_modal``; its modes leave the rigid-body
+    roots at zero frequency out)."""
+    import tomllib
+
+    import tomli_w
+
+    data = tomllib.loads((ROSS / "rotor_example.toml").read_text(encoding="utf-8"))
+    if case == "one":
+        del data["BearingElement_Bearing 1"]
+    elif case == "one-node":
+        data["BearingElement_Bearing 1"]["n"] = 0
+    else:
+        del data["BearingElement_Bearing 0"], data["BearingElement_Bearing 1"]
+    path = tmp_path / f"{case}.toml"
+    path.write_bytes(tomli_w.dumps(data).encode())
+    return path
+
+
+@pytest.mark.parametrize("case", ["one", "one-node", "none"])
+def test_a_ross_rotor_on_bearings_at_fewer_than_two_nodes_is_refused_in_rosss_words(tmp_path, capsys, case):
+    """Free to tilt (ROSS's bearings hold translations only) or free-free: no model of this
+    package. The refusal named the model file's ``moment_stiffness`` (which a ROSS file cannot
+    give) or said 'a flexible rotor needs bearings ... give it no shaft'; it now names the
+    ROSS elements and what to do in ROSS, and writes nothing."""
+    path, out = _ross_variant(tmp_path, case), tmp_path / "m.toml"
+    assert main(["import-ross", str(path), "--out", str(out)]) == 2
+    err = _one_line_error(capsys, str(path), "BearingElement or SealElement at two nodes or more",
+                          "free-free" if case == "none" else "free to tilt")
+    assert "in the model file it makes" not in err
+    assert not out.exists()
+
+
+def test_a_ross_rotor_on_one_bearing_given_a_moment_stiffness_in_python_is_a_model(tmp_path):
+    """What the refusal offers: read in Python, the one bearing given a moment stiffness, the
+    rotor is held (its bending modes on that support; the bearing's translation stiffness as
+    ROSS's file gives it)."""
+    import numpy as np
+
+    import rotordyn_modal as rdm
+    from rotordyn_modal.io.ross_file import read_ross_rotor
+
+    description = read_ross_rotor(_ross_variant(tmp_path, "one"))
+    [bearing] = description["bearings"]
+    assert bearing["stiffness"] == [1e6, 8e5]
+    bearing["moment_stiffness"] = 1e5
+    model = rdm.Model.from_dict(description)
+    roots = rdm.modal(model, 0.0).eigenvalues
+    assert np.all(np.abs(np.asarray(roots).real) <= 1e-9 * np.abs(roots)) and np.min(np.abs(roots)) > 1.0

@@ -205,3 +205,48 @@ def test_a_ross_rotor_on_one_bearing_given_a_moment_stiffness_in_python_is_a_mod
     model = rdm.Model.from_dict(description)
     roots = rdm.modal(model, 0.0).eigenvalues
     assert np.all(np.abs(np.asarray(roots).real) <= 1e-9 * np.abs(roots)) and np.min(np.abs(roots)) > 1.0
+
+
+# ----------------------------------------------------------------------- the flexible pump's belt
+FLEXIBLE_PUMP = ROOT / "examples" / "flexible_pump_on_mounts.toml"
+
+
+def test_the_flexible_pumps_belt_passes_a_power_at_its_pulley_without_a_warning(capsys):
+    """``static --speed 3000 --transmitted-power 5000`` on the example: refused for a missing
+    ``driver_radius``, and with one the belt acted at the motor's centre of mass, off the pump's
+    shaft (a warning). The pull is torque / driver radius, P / (w r) with w = 3000 rpm, in the
+    plane of the pump's pulley (start x = -0.50 m plus its axial position 0.42 m)."""
+    import math
+
+    assert main(["static", str(FLEXIBLE_PUMP), "--speed", "3000", "--transmitted-power", "5000"]) == 0
+    assert capsys.readouterr().err == ""
+    import rotordyn_modal as rdm
+
+    result = rdm.static(rdm.load_model(FLEXIBLE_PUMP), speed=rdm.rpm(3000), power=5000.0)
+    belt = [load for load in result.loads if load.kind == "belt"]
+    assert {load.body for load in belt} == {"motor", "pump"}
+    pull = 5000.0 / (3000 * math.pi / 30) / 0.10
+    for load in belt:
+        assert load.point[0] == pytest.approx(-0.50 + 0.42, abs=1e-15)
+        assert math.hypot(*load.force) == pytest.approx(pull, rel=1e-12)
+
+
+def test_the_flexible_pumps_belt_position_changes_no_matrix(tmp_path):
+    """The belt's ``position`` and ``driver_radius`` serve the static loads only: the model's
+    M, C, G, K, bit for bit, are those of the file without them (modes, campbell, unbalance and
+    frf read nothing else of a belt)."""
+    import numpy as np
+
+    import rotordyn_modal as rdm
+
+    text = FLEXIBLE_PUMP.read_text(encoding="utf-8")
+    lines = [line for line in text.splitlines(keepends=True)
+             if not line.startswith(("position = [-0.08", "driver_radius = 0.10"))]
+    assert len(lines) == len(text.splitlines()) - 2
+    bare = tmp_path / "bare.toml"
+    bare.write_text("".join(lines), encoding="utf-8")
+    given, without = rdm.load_model(FLEXIBLE_PUMP).matrices(), rdm.load_model(bare).matrices()
+    for name in "MCGK":
+        a, b = getattr(given, name), getattr(without, name)
+        a, b = (a.toarray(), b.toarray()) if hasattr(a, "toarray") else (a, b)
+        assert np.array_equal(a, b), name

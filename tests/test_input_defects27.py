@@ -250,3 +250,73 @@ def test_the_flexible_pumps_belt_position_changes_no_matrix(tmp_path):
         a, b = getattr(given, name), getattr(without, name)
         a, b = (a.toarray(), b.toarray()) if hasattr(a, "toarray") else (a, b)
         assert np.array_equal(a, b), name
+
+
+# ----------------------------------------------------------------------- a refusal without moot warnings
+_EXTREME = """gravity = [0.0, 0.0, -9.81]
+[stator]
+mass = 1e-30
+inertia = [1.0, 1.0, 1.0]
+[[rotors]]
+name = "r"
+mass = 1e30
+center_of_mass = [0.0, 0.0, 0.0]
+polar_inertia = 0.05
+diametral_inertia = 0.05
+[[bearings]]
+name = "a"
+rotor = "r"
+position = [0.2, 0.0, 0.0]
+stiffness = 1e6
+[[bearings]]
+name = "b"
+rotor = "r"
+position = [-0.2, 0.0, 0.0]
+stiffness = 1e6
+[[suspensions]]
+name = "s"
+position = [0.0, 0.0, 0.0]
+stiffness = [1e5, 1e5, 1e5, 1e3, 1e3, 1e3]
+"""
+
+
+@pytest.mark.parametrize("argv", [["check"], ["modes", "--speed", "1000"], ["campbell", "--speeds", "0:1000:3"],
+                                  ["stability", "--speeds", "0:1000:3"], ["simulate", "--duration", "0.01"]],
+                         ids=["check", "modes", "campbell", "stability", "simulate"])
+def test_a_model_every_analysis_refuses_reads_as_one_line(tmp_path, capsys, argv):
+    """A stator of 1e-30 kg under a rotor of 1e30 kg on bearings: its mass matrix is singular in
+    double precision, and every analysis refuses it; the refusal was preceded by a true but moot
+    line (the machine would sag 9.8e25 m under gravity): two lines on stderr."""
+    model = tmp_path / "extreme.toml"
+    model.write_text(_EXTREME)
+    assert main([argv[0], str(model), *argv[1:]]) == 2
+    err = _one_line_error(capsys, str(model), "mass matrix invertible")
+    assert "sag" not in err
+
+
+def test_a_command_that_needs_no_mass_matrix_still_says_the_warning(tmp_path, capsys):
+    """``static`` solves K x = f without the mass matrix: it runs on that model, and the sag
+    warning, true and not moot there, is said."""
+    model = tmp_path / "extreme.toml"
+    model.write_text(_EXTREME)
+    assert main(["static", str(model), "--quiet"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and ": warning: " in err[0] and "sag 9.81e+25 m" in err[0], err
+
+
+def test_a_warning_of_a_model_the_analyses_take_comes_before_the_work(tmp_path, capsys, monkeypatch):
+    """The warnings of a model whose mass matrix is fine are said at once, before the analysis
+    runs (a long sweep does not hold them back to its end)."""
+    import rotordyn_modal.analysis.modal as modal
+
+    model = tmp_path / "heavy.toml"
+    model.write_text(_EXTREME.replace("mass = 1e-30", "mass = 10.0").replace("mass = 1e30", "mass = 1e5"))
+    before, analysis = [], modal.modal
+
+    def watched(*args, **kwargs):       # stderr as the analysis starts
+        before.append(capsys.readouterr().err)
+        return analysis(*args, **kwargs)
+
+    monkeypatch.setattr(modal, "modal", watched)
+    assert main(["modes", str(model), "--speed", "1000", "--quiet"]) == 0
+    assert before and ": warning: " in before[0] and "would sag" in before[0], before

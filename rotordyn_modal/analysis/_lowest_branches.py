@@ -22,6 +22,7 @@ limits as before.
 
 from __future__ import annotations
 
+import functools
 import warnings
 
 import numpy as np
@@ -153,13 +154,34 @@ def _reduced_roots(stack, speeds, count):
     complete = size >= n
     want = count if complete else want
     _, attached = bound.shares(size, rho)
-    starts, vectors = _projected_starts(pencils, np.hstack([modes[:, :size], attached]), want)
-    values, shapes, ok, modal = _refined_modes(stack, pencils, starts, vectors)
+    basis = np.hstack([modes[:, :size], attached])
+    starts, values, shapes, ok, modal = _swept(stack, pencils, basis, want, complete)
     ok &= np.isfinite(starts).all(axis=1) & (modal.all(axis=1) | complete)
     ok &= _lowest._unmissed(starts, values, count)
     values, shapes = _lowest._by_frequency(values, shapes, count)
     return values, shapes, ok & _lowest._basis_suffices(np.where(modal, values, 0), bound, size,
                                                         attached.shape[1], rho)
+
+
+def _swept(stack, pencils, basis, want, complete):
+    """The ``want`` lowest projected roots of every speed (S, want), their full roots (S, want) in
+    their order, unit shapes (S, want, n), whether each speed's converged to distinct modes (S,)
+    and which starts were modes (S, want). Where every start is a mode and the basis is not
+    ``complete``, the anchors are refined from their starts and the speeds between continued from
+    the anchors' roots (:func:`._lowest._continued_sweep`, in parts of bounded memory); else every
+    speed from its starts (:func:`_refined_modes`: the relaxation roots kept as they are)."""
+    count = len(pencils.speeds)
+    if not complete:
+        anchors, at = _lowest._anchored(count)
+        starts, vectors = _projected_starts(pencils, basis, want, vectors_at=at)
+        modal = is_oscillating(starts)
+        if modal.all():
+            restart = functools.partial(_projected_starts, pencils, basis, want)
+            values, shapes, ok = _lowest._continued_sweep(pencils, starts, vectors, anchors, restart)
+            return starts, values, shapes, ok & _lowest._distinct(values), modal
+        del vectors
+    starts, vectors = _projected_starts(pencils, basis, want)
+    return (starts, *_refined_modes(stack, pencils, starts, vectors))
 
 
 def _refined_modes(stack, pencils, starts, vectors):
@@ -325,10 +347,11 @@ class _RationalBound(_lowest._Bound):
         return super().shares(size, rho, directions, vectors)
 
 
-def _projected_starts(pencils, basis, want, index=None):
+def _projected_starts(pencils, basis, want, index=None, vectors_at=None):
     """The ``want`` lowest-frequency roots (oscillating first) of the projected rational pencils at
     every speed (or at the speeds ``index``), (S, want), and their vectors in full coordinates
-    (S, want, n) (the modes, then the real roots; nan past the roots there are): eigenvalues and
+    (S, want, n) (the modes, then the real roots; nan past the roots there are; with ``vectors_at``
+    (S,) bool, at those speeds only, zero elsewhere, as :func:`._lowest_starts._projected_starts`): eigenvalues and
     eigenvectors of the projected state matrices with each term's states kept whole,
     ``y = [p, p', z_t]``, ``tau_t z_t' = V_t^T E W p - z_t`` and the force
     ``-W^T E^T U_t (V_t^T E W p - z_t)`` (exact for the projected pencil ``W^T T(s) W``)."""
@@ -368,6 +391,8 @@ def _projected_starts(pencils, basis, want, index=None):
         order = np.argsort(key, axis=-1, kind="stable")[:, :want]
         rows, k = np.arange(len(values))[:, None], order.shape[1]
         starts[part, :k] = np.where(np.isnan(key[rows, order]), np.nan, values[rows, order])
-        vectors[part, :k] = _vectors.unit_rows(np.swapaxes(states, 1, 2)[rows, order, :m] @ Wt)
-        starts[part, k:], vectors[part, k:] = np.nan, 0.0
+        starts[part, k:], vectors[part] = np.nan, 0.0
+        wanted = slice(None) if vectors_at is None else vectors_at[part]
+        chosen = np.swapaxes(states[wanted], 1, 2)
+        vectors[part][wanted, :k] = _vectors.unit_rows(chosen[np.arange(len(chosen))[:, None], order[wanted], :m] @ Wt)
     return starts, vectors

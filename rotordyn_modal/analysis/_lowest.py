@@ -381,8 +381,8 @@ def _wanted(values, limit, count):
 
 def _cut_below(values, shapes, limit, count):
     """Roots (S, k) and shapes by frequency cut to the most wanted at any speed: the roots, the
-    shapes and which are wanted."""
-    values, shapes = _by_frequency(values, shapes, count)
+    shapes and which are wanted (``shapes`` reordered over itself)."""
+    values, shapes = _by_frequency_over(values, shapes, count)
     wanted = _wanted(values, limit, count)
     k = int(wanted.sum(axis=1).max(initial=0))
     return values[:, :k], shapes[:, :k], wanted[:, :k]
@@ -421,7 +421,7 @@ def _reduced_below(stack, speeds, limit, count):
                                           functools.partial(_projected_starts, pencils, basis, starts.shape[1]))
     del vectors
     ok &= _distinct(values) & _unmissed_below(starts, values, limit, count)
-    values, shapes = _by_frequency(values, shapes, count)
+    values, shapes = _by_frequency_over(values, shapes, count)
     # the bound at the wanted roots (a missed one lies below the limit, :func:`_unmissed_below`)
     wanted = _wanted(values, limit, count)
     return values, shapes, ok & _basis_suffices(np.where(wanted, values, 0), bound, size, attached.shape[1], rho)
@@ -451,6 +451,16 @@ def _unmissed_below(starts, values, limit, count):
         top = np.minimum(top, np.sort(frequency_key(values), axis=1)[:, count - 1])
     moved = np.max(np.abs(starts - values), axis=1)
     return starts[:, -1].imag - moved > top
+
+
+def _by_frequency_over(values, shapes, count=None):
+    """:func:`._lowest_starts._by_frequency` with ``shapes`` (S, k, n) reordered over itself, a part
+    of the speeds at a time: no second copy of every speed's shapes. Returns the roots (S, k) by
+    frequency and ``shapes``."""
+    order = lowest_order(values, count)
+    for part in _batches.chunk_slices(len(order), shapes[:1].nbytes, budget=_NEWTON_BYTES):
+        shapes[part] = np.take_along_axis(shapes[part], order[part, :, None], 1)
+    return np.take_along_axis(values, order, 1), shapes
 
 
 def _anchored(count: int):

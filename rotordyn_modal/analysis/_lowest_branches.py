@@ -64,10 +64,12 @@ def lowest_roots(stack, speeds, count: int, what: str = "speeds"):
     """
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
         values, shapes, ok = _reduced_roots(stack, speeds, count)
-    out_values = np.full((len(speeds), count), np.nan + 0j)
-    out_shapes = np.zeros((len(speeds), count, stack.n_dof), dtype=complex)
-    k = min(count, values.shape[1])
-    out_values[:, :k], out_shapes[:, :k] = values[:, :k], shapes[:, :k]
+    if values.shape[1] >= count:            # the first count columns (no copy of every speed's shapes)
+        out_values, out_shapes = values[:, :count], shapes[:, :count]
+    else:
+        out_values = np.full((len(speeds), count), np.nan + 0j)
+        out_shapes = np.zeros((len(speeds), count, stack.n_dof), dtype=complex)
+        out_values[:, :values.shape[1]], out_shapes[:, :values.shape[1]] = values, shapes
     full = ~ok
     if full.any():
         _lowest._refuse_long_full(stack, speeds[full], len(speeds), "lowest modes", _UNSERVED, "use fewer speeds")
@@ -158,7 +160,7 @@ def _reduced_roots(stack, speeds, count):
     starts, values, shapes, ok, modal = _swept(stack, pencils, basis, want, complete)
     ok &= np.isfinite(starts).all(axis=1) & (modal.all(axis=1) | complete)
     ok &= _lowest._unmissed(starts, values, count)
-    values, shapes = _lowest._by_frequency(values, shapes, count)
+    values, shapes = _lowest._by_frequency_over(values, shapes, count)
     return values, shapes, ok & _lowest._basis_suffices(np.where(modal, values, 0), bound, size,
                                                         attached.shape[1], rho)
 
@@ -375,7 +377,8 @@ def _projected_starts(pencils, basis, want, index=None, vectors_at=None):
         at += r
     starts = np.empty((len(speeds), want), complex)
     vectors = np.empty((len(speeds), want, n), complex)
-    for part in _batches.chunk_slices(len(speeds), 64 * size * size):
+    # the eigenvectors of every state matrix: in parts of _PART_BYTES, not of every speed at once
+    for part in _batches.chunk_slices(len(speeds), 64 * size * size, budget=_batches._PART_BYTES):
         D = D0 + (speeds[part] - speeds[0])[:, None, None] * Gr
         Kr = np.broadcast_to(K0, D.shape)
         if len(pencils.rows):

@@ -171,3 +171,69 @@ def test_the_run_up_figure_draws_no_unknown_phase_and_says_so():
     assert not np.any(np.isfinite(y[below])) and np.all(np.isfinite(y[above]))
     entries = [t.get_text() for t in phase_ax.get_legend().get_texts()]
     assert any(e.startswith("1X a") and "phase unknown" in e for e in entries), entries
+
+
+# -- 3. the report's unbalance figure: the casing panel's peaks are labelled too --------------
+
+def _report_unbalance_figure(monkeypatch, points=61):
+    """The unbalance figure of ``report examples/motor_pump_on_mounts.toml --standard api684
+    --mcs 3000`` (only the sections it needs: the Campbell section computes the peaks), drawn by
+    the report's own renderer (not rasterised)."""
+    import dataclasses
+    import importlib
+
+    from rotordyn_modal.report import ReportInputs, collect, render
+
+    collect_module = importlib.import_module("rotordyn_modal.report.collect")
+
+    monkeypatch.setitem(collect_module.STANDARDS, "api684", ("campbell", "unbalance"))
+    model = rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml")
+    data = collect(model, ReportInputs("api684", rdm.rpm(3000.0), points=points))
+    figures = []
+    monkeypatch.setattr(render, "figure_png", lambda fig, dpi=110: figures.append(fig) or "data:image/png;base64,")
+    render.render_html(dataclasses.replace(data, sections=("unbalance",)))
+    assert len(figures) == 1
+    return figures[0]
+
+
+def test_the_report_labels_the_casing_panels_peaks(monkeypatch):
+    """The report's unbalance figure of the motor and pump on mounts (API 684) labelled the probes'
+    peaks with their AF and left the casing sensors' panel without one (the report passed the
+    probes' peaks only). On the drawn figure: the casing panel's highest peak (the largest value
+    of its curves as drawn, an interior maximum whose amplitude falls to peak / sqrt(2) on both
+    sides with an amplification factor N / (N2 - N1) of at least 2.5, API 684's threshold,
+    interpolated on the drawn curve) carries a label reading its speed, and every AF label of
+    the panel lies inside it, apart from the others, no curve through its glyphs but near its
+    own peak."""
+    import re
+
+    fig = _report_unbalance_figure(monkeypatch)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    casing, = [ax for ax in fig.axes if "casing" in ax.get_title()]
+    curves = [line for line in casing.get_lines() if not line.get_label().startswith("_")
+              and line.get_linestyle() not in ("None", "")]
+    best = max(curves, key=lambda line: np.nanmax(line.get_ydata()))
+    x, y = np.asarray(best.get_xdata(), float), np.asarray(best.get_ydata(), float)
+    k = int(np.nanargmax(y))
+    assert 0 < k < len(y) - 1
+    half = y[k] / np.sqrt(2.0)
+    left = np.nonzero(y[:k] < half)[0][-1]
+    right = k + np.nonzero(y[k:] < half)[0][0]
+    n1 = np.interp(half, [y[left], y[left + 1]], [x[left], x[left + 1]])
+    n2 = np.interp(half, [y[right], y[right - 1]], [x[right], x[right - 1]])
+    assert x[k] / (n2 - n1) >= 2.5
+    labels = [t for t in casing.texts if t.get_visible() and t.get_text().startswith("AF ")]
+    speeds = [float(re.match(r"AF [\d.]+ at (\d+) rpm", t.get_text())[1]) for t in labels]
+    assert any(abs(s - x[k]) <= 0.5 for s in speeds), (x[k], [t.get_text() for t in labels])
+    boxes = [glyph_box(t, renderer) for t in labels]
+    frame = casing.get_window_extent(renderer)
+    segments = curve_segments(casing)
+    radius = 12.0 * fig.dpi / 72.0                          # a label may touch its own peak's curves
+    for text, box in zip(labels, boxes):
+        assert frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
+        anchor = casing.transData.transform(text.xy)
+        assert not len(crossings(box, segments, [anchor], radius)), text.get_text()
+    for i, a in enumerate(boxes):
+        assert not any(a.overlaps(b) for b in boxes[i + 1:])
+    matplotlib.pyplot.close(fig)

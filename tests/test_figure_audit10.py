@@ -10,7 +10,6 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-import pytest
 
 import rotordyn_modal as rdm
 from label_geometry import crossings, curve_segments, glyph_box

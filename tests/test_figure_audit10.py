@@ -280,3 +280,53 @@ def test_the_3d_view_projects_no_uninitialised_padding(monkeypatch):
         own = points[collection.get_gid().split(":", 1)[1]]
         assert all(np.min(np.abs(own - vertex).sum(axis=1)) <= 1e-12 * (1 + np.abs(own).max()) for vertex in faces)
     plt.close(fig)
+
+
+# -- 5. an FRF over decades computed at evenly spaced frequencies --------------------------------
+
+def test_sparse_frequencies_on_a_log_axis_are_shown_as_the_points_they_are():
+    """``frf examples/motor_pump_on_mounts.toml --speed 3000 --freqs 1:2000:800 --plot``: the
+    frequencies are 2.5 Hz apart and the axis is logarithmic (modes from 5 Hz to 1.2 kHz), so the
+    mounts' six modes (5-16 Hz) are drawn through eight points joined by straight chords that
+    read as the curve (a resonance's peak cut off between two points, nothing said). On the
+    drawn figure: every computed point on a line at least 15 pixels along the axis from its
+    neighbour is drawn
+    as a marker of that line, such points lie around each mount mode (their natural frequencies
+    from ``rdm.modal``), and the legend says what the dots are."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml")
+    result = rdm.frf(model, rdm.rpm(3000.0), np.linspace(1.0, 2000.0, 800))
+    fig = result.plot()
+    fig.canvas.draw()
+    mag = fig.axes[0]
+    assert mag.get_xscale() == "log"
+    mounts = rdm.modal(model, rdm.rpm(3000.0)).frequencies_hz
+    mounts = mounts[mounts < 20.0]
+    assert len(mounts) == 6
+    lines = [line for line in mag.get_lines() if not line.get_label().startswith("_")]
+    assert lines
+    for line in lines:
+        x = np.asarray(line.get_xdata(), float)
+        pixels = line.get_transform().transform(np.column_stack([x, np.asarray(line.get_ydata(), float)]))
+        gap = np.diff(pixels[:, 0])                       # along the frequency axis
+        wide = np.zeros(len(x), bool)
+        wide[:-1] |= gap >= 15.0
+        wide[1:] |= gap >= 15.0
+        assert wide.sum() >= 6
+        for f in mounts:                                   # the points around each mount mode
+            k = np.searchsorted(x, f)
+            assert wide[k - 1] and wide[k], f
+        every = line.get_markevery()
+        marked = np.zeros(len(x), bool)
+        if line.get_marker() not in (None, "None", "", " "):
+            if every is None:
+                marked[:] = True
+            elif np.asarray(every).dtype == bool:
+                marked = np.asarray(every, bool)
+            else:
+                marked[np.asarray(every, int)] = True
+        assert np.all(marked[wide]), line.get_label()
+    title = mag.get_legend().get_title().get_text()
+    assert "dots" in title and "computed" in title, title
+    plt.close(fig)

@@ -69,14 +69,13 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None, units:
     fig, mag, phase = _bode_axes(figsize=(9.5, 6.0))
     _draw_frfs(mag, phase, result, measured, pairs, lambda o, i: f"{o} / {i}", scale)
     mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '') if units == 'si' else scale.label(pairs)}]")
-    phase.set_xlabel("Frequency [Hz]")
+    phase.set_xlabel(frequency_label(result.frequencies_hz, measured))
     mag.set_title(title or default)
     # beside, off the curves, or above the panel where wider than a fifth of the figure (as the
     # groups' legends); the overlaps of curves lying on each other are found at the first
     # drawing, on this layout, and their notes may take the legend above then (see
     # docs/figures.md, "FRF and unbalance legends")
-    legends = [_Legend(mag, "small", "model (line), measured (dots)" if measured is not None
-                       else sparse_note(result.frequencies_hz))]
+    legends = [_Legend(mag, "small", "model (line), measured (dots)" if measured is not None else None)]
     above = _place_legends([(fig, legends)])
     _show_frf_overlaps(fig, [mag, phase] if measured is None else [mag], result, [(fig, legends)], above)
     return fig
@@ -163,11 +162,10 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
             ax.set_ylabel(f"|H| [{unit}]")
         phase.set_yticks([-180, -90, 0, 90, 180])
         phase.set_ylabel("Phase [deg]")
-        phase.set_xlabel("Frequency [Hz]")
+        phase.set_xlabel(frequency_label(result.frequencies_hz, measured))
         axes[0].set_title(name, fontsize="medium")
         drawn.extend(axes if measured is None else axes[:-1])   # measured dots share no samples
-        placed.append((block, [_Legend(ax, "x-small", "line: model, dots: measured" if measured is not None
-                                       else sparse_note(result.frequencies_hz))
+        placed.append((block, [_Legend(ax, "x-small", "line: model, dots: measured" if measured is not None else None)
                                for ax in axes[:-1]]))
     fig.suptitle(title)
     height = fig.get_figheight()
@@ -327,7 +325,7 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0, 
     (``scale(o, i)``: the factor on the SI FRF, default 1; ``first``: the number of the first
     pair's style, so that a phase panel shared with another magnitude panel's curves gives
     every curve a style of its own; ``samples``: without measured dots, the computed
-    frequencies dotted where sparse on a logarithmic axis, :func:`sparse_note`). An FRF below :data:`_DYNAMIC_RANGE`
+    frequencies dotted where sparse on a logarithmic axis, :func:`frequency_label`). An FRF below :data:`_DYNAMIC_RANGE`
     of the largest everywhere (zero but for round-off, by symmetry) is named so in the legend
     and has no phase drawn (the phase of round-off is noise)."""
     largest = max((float(np.max(np.abs(result.H[result.outputs.index(o), result.inputs.index(i)])))
@@ -361,16 +359,15 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0, 
 _SPARSE_RATIO = 10.0 ** (1.0 / 30.0)
 
 
-def sparse_note(frequencies):
-    """The legend title saying that dots are the computed frequencies where they stand sparser
-    than :data:`_SPARSE_RATIO` on the logarithmic axis (an evenly spaced grid over decades), or
-    None."""
-    sparse = _sparse_on_log(frequencies)
+def frequency_label(frequencies, measured=None) -> str:
+    """The frequency axis' label: where the model lines are dotted (:func:`_sparse_on_log`,
+    no measured dots), it says what the dots are (in the label, where the legend's size and the
+    panels' layout stay as they are)."""
+    sparse = None if measured is not None else _sparse_on_log(frequencies)
     if sparse is None:
-        return None
-    f = np.asarray(frequencies, float)
-    return (f"dots: the frequencies computed, sparse up to {f[sparse].max():.3g} Hz:\n"
-            "the lines between them are chords (a peak may lie between)")
+        return "Frequency [Hz]"
+    top = np.asarray(frequencies, float)[sparse].max()
+    return f"Frequency [Hz]  (dots: the frequencies computed, sparse up to {top:.3g} Hz: chords between them)"
 
 
 def _sparse_on_log(frequencies):

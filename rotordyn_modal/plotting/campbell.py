@@ -133,7 +133,8 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
                              annotate_critical, color_by is None)
     labels.critical_modes, labels.speed_unit = critical[2], _UNIT_WORDS[speed_unit]
     labels.mark_uncertain(critical[3])
-    if annotate_critical and not len(result.critical) and lines and not _crosses(result, lines, freqs):
+    if annotate_critical and not len(result.critical) and lines \
+            and not result.order_crossings[_drawn_sources(result, lines)].any():
         labels.none_note = labels._text(f"no critical speed between {_speed_text(x.min())} and "
                                         f"{_speed_text(x.max())} {_UNIT_WORDS[speed_unit]}", gid="no-critical-note",
                                         fontsize="x-small")
@@ -364,17 +365,25 @@ def _order_lines(result, sources):
             if sources is None or name in sources]
 
 
+def _drawn_sources(result, lines):
+    """Indices into ``result.sources`` of the sources of ``lines`` (:func:`_order_lines`)."""
+    drawn = {name for name, _, _ in lines}
+    return [s for s, name in enumerate(result.sources.names) if name in drawn]
+
+
 def _draw_orders(ax, result, scale, lines, dense):
-    """Straight order lines (labelled by :class:`_CampbellLabels` when the figure is drawn),
-    through the sweep's speeds; with ``dense`` (a logarithmic frequency axis) and 1025 more
+    """Straight order lines (:meth:`~rotordyn_modal.analysis.campbell.CampbellResult.order_frequencies`;
+    labelled by :class:`_CampbellLabels` when the figure is drawn), through the sweep's speeds;
+    with ``dense`` (a logarithmic frequency axis) and 1025 more
     across its range: there a line through the sweep's points alone is a polygon of chords (drawn straight in
     display space), up to tens of pixels off the true line and the critical speeds on it, and
     it starts at the first speed above zero."""
     speeds = np.union1d(result.speeds, np.linspace(result.speeds.min(), result.speeds.max(), 1025)) \
         if dense else result.speeds
-    for _, multiplier, color in lines:
-        for order in result.orders:
-            ax.plot(speeds * scale, order * multiplier * np.abs(speeds) / (2 * np.pi), color=color, linewidth=0.9, alpha=0.8)
+    frequencies = result.order_frequencies(speeds)
+    for (_, _, color), s in zip(lines, _drawn_sources(result, lines)):
+        for o in range(len(result.orders)):
+            ax.plot(speeds * scale, frequencies[s, o], color=color, linewidth=0.9, alpha=0.8)
 
 
 def _draw_critical(ax, result, scale, sources):
@@ -389,9 +398,7 @@ def _draw_critical(ax, result, scale, sources):
         return np.empty(0), np.empty(0), np.empty(0), np.zeros(0, bool)
     keep = np.array([sources is None or s in sources for s in critical.source], dtype=bool)
     uncertain = result.critical_jumps[keep]
-    multiplier = dict(zip(result.sources.names, result.sources.multipliers))
-    on_line = np.array([order * multiplier[name] for name, order in zip(critical.source, critical.order)],
-                       dtype=float) * np.abs(critical.speeds) / (2 * np.pi)
+    on_line = result.critical_line_frequencies
     speeds, freqs = critical.speeds[keep] * scale, np.where(uncertain, on_line[keep], critical.frequencies_hz[keep])
     first = _distinct_points(speeds, freqs)
     speeds, freqs, uncertain = speeds[first], freqs[first], uncertain[first]
@@ -402,19 +409,6 @@ def _draw_critical(ax, result, scale, sources):
                 markeredgecolor="0.4", zorder=3, gid="critical-uncertain",
                 label="critical speed? (mode jumped)")
     return speeds, freqs, np.asarray(critical.mode)[keep][first], uncertain
-
-
-def _crosses(result, lines, freqs):
-    """Whether some order line drawn meets some mode's curve in the sweep: the difference of
-    the two changes sign (or is 0) between neighbouring speeds where the mode is drawn."""
-    speeds = np.abs(result.speeds)[:, None]
-    for _, multiplier, _ in lines:
-        for order in result.orders:
-            gap = freqs - order * multiplier * speeds / (2 * np.pi)
-            with np.errstate(invalid="ignore"):
-                if np.any(gap[:-1] * gap[1:] <= 0) or np.any(gap == 0):
-                    return True
-    return False
 
 
 def _distinct_points(speeds, freqs):

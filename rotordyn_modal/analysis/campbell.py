@@ -171,6 +171,43 @@ class CampbellResult:
                                        np.asarray(critical.frequencies_hz, dtype=float)[mine]))
         return curves
 
+    @property
+    def unstable(self) -> np.ndarray:
+        """(N, n_modes) bool: the root is a mode (``oscillatory``) growing in time, its real part
+        above :data:`ROUND_OFF_RELATIVE` times its size (an undamped mode's round-off is no
+        instability)."""
+        lam = self.eigenvalues
+        return (lam.real > ROUND_OFF_RELATIVE * np.abs(lam)) \
+            & np.isfinite(np.where(self.oscillatory, self.frequencies_hz, np.nan))
+
+    def instability_onsets(self) -> list:
+        """Where each mode becomes unstable: between two neighbouring speeds of the sweep where
+        it is a mode, stable (:attr:`unstable` False) at the first and unstable at the second,
+        the speed and frequency interpolated linearly to the real part's zero.
+
+        Returns
+        -------
+        list of (speeds, frequencies), one per mode (column of ``eigenvalues``)
+            ``speeds`` ndarray, shape (K_m,) [rad/s]; ``frequencies`` ndarray, shape (K_m,) [Hz].
+        """
+        unstable, real = self.unstable, self.eigenvalues.real
+        frequencies = np.where(self.oscillatory, self.frequencies_hz, np.nan)
+        onsets = []
+        for m in range(unstable.shape[1]):
+            f, r = frequencies[:, m], real[:, m]
+            k = np.nonzero(~unstable[:-1, m] & unstable[1:, m] & np.isfinite(f[:-1]))[0]
+            t = -r[k] / (r[k + 1] - r[k])
+            onsets.append((self.speeds[k] + t * (self.speeds[k + 1] - self.speeds[k]), f[k] + t * (f[k + 1] - f[k])))
+        return onsets
+
+    def settled(self, quantity: str) -> np.ndarray:
+        """The damping ``quantity`` ('log_decrement' or 'damping_ratio'), shape (N, n_modes), 0
+        where the real part is within :data:`ROUND_OFF_RELATIVE` of the root's size (an undamped
+        mode's round-off, +-2e-15 on the spring-block rotor, neither damped nor unstable)."""
+        values = {"log_decrement": self.log_decrements, "damping_ratio": self.damping_ratios}[quantity]
+        lam = self.eigenvalues
+        return np.where(np.abs(lam.real) <= ROUND_OFF_RELATIVE * np.abs(lam), 0.0, values)
+
     def to_dataframe(self, oscillatory_only: bool = True):
         """Long table ``speed_rpm, mode, frequency_hz, damping_ratio, log_decrement, whirl, whirl_ratio,
         real_part, mode_at_speed`` (``mode`` the tracked label, ``mode_at_speed`` the number

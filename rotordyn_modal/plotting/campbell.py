@@ -25,8 +25,6 @@ _FONT = "x-small"
 _MAX_CRITICAL_LABELS = 200
 #: leader lines of the mode labels beside the axes: horizontal stub, then slanted to the label [points]
 _STUB_POINTS, _LEADER_POINTS, _PAD_POINTS = 2.0, 10.0, 2.0
-#: a real part above this fraction of its root's size is instability (damping ratio < -1e-10)
-_MARGINAL = 1e-10
 _UNSTABLE = {"color": "red", "alpha": 0.35, "linewidth": 7.0, "solid_capstyle": "butt"}
 #: critical speeds' labels side by side keep this far apart [points], more than a digit's width,
 #: so that two numbers never read as one ('1157' beside '2313' read '11572313')
@@ -114,7 +112,7 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
         _show_coincident_coloured(fig, ax, *_draw_coloured(ax, fig, x, freqs, result, color_by))
     else:
         _show_coincident(fig, ax, _draw_by_whirl(ax, x, freqs, result))
-    _mark_unstable(ax, x, freqs, result.eigenvalues)
+    _mark_unstable(ax, x, freqs, result, scale)
     lines = _order_lines(result, sources)
     _draw_orders(ax, result, scale, lines, axis_scale == "log")
     critical = _draw_critical(ax, result, scale, sources)
@@ -248,11 +246,10 @@ def _draw_coloured(ax, fig, x, freqs, result, quantity):
     (one LineCollection per mode)."""
     from matplotlib.collections import LineCollection
 
-    values = {"log_decrement": result.log_decrements, "damping_ratio": result.damping_ratios}[quantity]
     # an undamped mode's log decrement is round-off (+-2e-15 on the spring-block rotor): 0, as the
     # red band reads it (:func:`_mark_unstable`); its noise spread over the whole colour map read
     # as damping varying along the curves, half of it below zero
-    values = np.where(np.abs(result.eigenvalues.real) <= _MARGINAL * np.abs(result.eigenvalues), 0.0, values)
+    values = result.settled(quantity)
     finite = values[np.isfinite(values) & result.oscillatory]
     norm_range = (finite.min(), finite.max()) if finite.size else (0, 1)
     if norm_range[1] <= norm_range[0]:                  # one value (0: an undamped machine)
@@ -330,27 +327,22 @@ def _first_segment(collection, point):
     return int(np.argmin(np.nan_to_num(np.hypot(*(starts - point).T), nan=np.inf)))
 
 
-def _mark_unstable(ax, x, freqs, eigenvalues):
-    """A broad red band under each mode where its real part is > 0; a triangle at each onset.
-
-    A real part within :data:`_MARGINAL` of the root's size is round-off of an undamped mode,
-    not instability. The onset's speed and frequency are interpolated linearly between the
-    two speeds where the real part changes sign from <= 0 to > 0.
-    """
-    real_parts = eigenvalues.real
-    unstable = (real_parts > _MARGINAL * np.abs(eigenvalues)) & np.isfinite(freqs)
+def _mark_unstable(ax, x, freqs, result, scale):
+    """A broad red band under each mode where it is unstable
+    (:attr:`~rotordyn_modal.analysis.campbell.CampbellResult.unstable`); a triangle at each onset
+    (:meth:`~rotordyn_modal.analysis.campbell.CampbellResult.instability_onsets`)."""
+    unstable = result.unstable
     if not unstable.any():
         return
     band_label, onset_label = "unstable (real part > 0)", "becomes unstable"
+    onsets = result.instability_onsets()
     for m in np.nonzero(unstable.any(axis=0))[0]:
-        f, r = freqs[:, m], real_parts[:, m]
-        ax.plot(x, np.where(_with_neighbours(unstable[:, m]), f, np.nan), label=band_label, zorder=1.5,
+        ax.plot(x, np.where(_with_neighbours(unstable[:, m]), freqs[:, m], np.nan), label=band_label, zorder=1.5,
                 **_UNSTABLE)
         band_label = None
-        k = np.nonzero(~unstable[:-1, m] & unstable[1:, m] & np.isfinite(f[:-1]))[0]
-        if k.size:
-            t = -r[k] / (r[k + 1] - r[k])
-            ax.plot(x[k] + t * (x[k + 1] - x[k]), f[k] + t * (f[k + 1] - f[k]), "^", color="red",
+        speeds, frequencies = onsets[m]
+        if speeds.size:
+            ax.plot(speeds * scale, frequencies, "^", color="red",
                     markersize=8, markeredgecolor="k", label=onset_label, zorder=3.5)
             onset_label = None
 

@@ -108,6 +108,23 @@ class CampbellResult:
                 lines[s, o] = order * multiplier * np.abs(speeds) / (2 * np.pi)
         return lines
 
+    def order_slopes(self, scale: float = 1.0) -> np.ndarray:
+        """The slope of each order line of :meth:`order_frequencies` (the line is
+        ``slope * |speed|``): ``order * multiplier / (2 pi scale)``.
+
+        Parameters
+        ----------
+        scale : float
+            Units of the speed per rad/s (1: rad/s; ``30 / pi``: rpm).
+
+        Returns
+        -------
+        ndarray, shape (n_sources, n_orders) [Hz per unit of the speed]
+        """
+        per_speed = 1 / (2 * np.pi * scale)
+        return np.array([[order * multiplier * per_speed for order in self.orders]
+                         for multiplier in self.sources.multipliers], dtype=float).reshape(-1, len(self.orders))
+
     @property
     def order_crossings(self) -> np.ndarray:
         """(n_sources, n_orders) bool: the order line (as :meth:`order_frequencies`) meets some

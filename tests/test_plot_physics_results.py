@@ -90,3 +90,21 @@ def test_instability_of_a_hand_made_sweep():
     assert not undamped.unstable.any() and not len(undamped.instability_onsets()[0][0])
     assert np.all(undamped.settled("log_decrement") == 0) and np.all(undamped.settled("damping_ratio") == 0)
     assert result.settled("log_decrement")[0, 0] == pytest.approx(2 * np.pi * 2 / (2 * np.pi * 10), rel=1e-15)
+
+
+def test_study_frequency_bands_are_percentiles_over_the_variants_that_succeeded():
+    xr = pytest.importorskip("xarray")
+    from rotordyn_modal.study.results import StudyResult
+
+    # 5 variants (the last failed), 2 speeds, 2 modes; mode 2 no mode anywhere (0); variant 2's mode 1 no
+    # mode at speed 1 (0): left out there
+    f = np.zeros((5, 2, 2))
+    f[:, 0, 0] = [1.0, 2.0, 3.0, 4.0, 99.0]
+    f[:, 1, 0] = [10.0, 20.0, 0.0, 40.0, 99.0]
+    ds = xr.Dataset({"frequency_hz": (("variant", "speed", "mode"), f),
+                     "failed": (("variant",), np.array([0, 0, 0, 0, 1], bool))})
+    low, median, high = StudyResult(ds).frequency_bands((0.0, 100.0))
+    assert median[0].tolist() == [2.5, 20.0] and low[0].tolist() == [1.0, 10.0] and high[0].tolist() == [4.0, 40.0]
+    assert np.isnan(median[1]).all() and low.shape == (2, 2)
+    low, _, high = StudyResult(ds).frequency_bands((25.0, 75.0))       # linear interpolation between ranks
+    assert low[0].tolist() == [1.75, 15.0] and high[0].tolist() == [3.25, 30.0]

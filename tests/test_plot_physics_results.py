@@ -108,3 +108,10 @@ def test_study_frequency_bands_are_percentiles_over_the_variants_that_succeeded(
     assert np.isnan(median[1]).all() and low.shape == (2, 2)
     low, _, high = StudyResult(ds).frequency_bands((25.0, 75.0))       # linear interpolation between ranks
     assert low[0].tolist() == [1.75, 15.0] and high[0].tolist() == [3.25, 30.0]
+
+
+def test_the_force_panel_reads_the_vector_amplitude_from_the_result():
+    from rotordyn_modal.analysis.unbalance import UnbalanceResult
+
+    components = np.array([[3.0 + 0j], [4j], [0.0]])
+    assert UnbalanceResult.vector_amplitude(components) == pytest.approx([5.0], rel=1e-15)

@@ -287,6 +287,12 @@ class UnbalanceResult:
             "precession": precession_labels(ratio[p, s, k]), "precession_ratio": ratio[p, s, k],
         })
 
+    @staticmethod
+    def vector_amplitude(components) -> np.ndarray:
+        """:func:`vector_amplitude`: ``sqrt(sum_k |c_k|^2)`` over the first axis (the figure's
+        force panels read it here: no import of this module by the figures)."""
+        return vector_amplitude(components)
+
     def orbit_path(self, pair: int, source: int, index: int, points: int = 181) -> np.ndarray:
         """The orbit of probe pair ``pair`` excited by source ``source`` at the sweep's speed
         ``index`` over one period: ``Re(D exp(i phi))`` at ``points`` phases ``phi`` from 0 to

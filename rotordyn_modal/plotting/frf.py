@@ -808,7 +808,6 @@ def _draw_zone_panel(ax, checks, x, units="si"):
 
 
 def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak", units="si"):
-    from ..analysis.unbalance import vector_amplitude
     from ._style import plain_log_ticks
 
     scale, unit = unit_scale("force", units)
@@ -816,7 +815,7 @@ def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak", 
     styles = ["-", "--", ":", "-."]
     for m, name in enumerate(names):
         for j, s in enumerate(result.sources):
-            size = vector_amplitude(values[m, :3, j])
+            size = result.vector_amplitude(values[m, :3, j])
             ax.semilogy(x, np.where(size > 0, size * factor, np.nan), color=f"C{m % 10}", ls=styles[j % len(styles)],
                         label=f"{name}: 1X {s}")
     _limit_range(ax)

@@ -855,7 +855,7 @@ def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak", 
     styles = ["-", "--", ":", "-."]
     for m, name in enumerate(names):
         for j, s in enumerate(result.sources):
-            size = np.sqrt(np.sum(np.abs(values[m, :3, j]) ** 2, axis=0))
+            size = result.vector_amplitude(values[m, :3, j])
             ax.semilogy(x, np.where(size > 0, size * factor, np.nan), color=f"C{m % 10}", ls=styles[j % len(styles)],
                         label=f"{name}: 1X {s}")
     _limit_range(ax)

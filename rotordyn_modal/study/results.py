@@ -283,6 +283,30 @@ class StudyResult:
             rows.append(row)
         return pd.DataFrame(rows)
 
+    def frequency_bands(self, percentiles=(5.0, 95.0)):
+        """Each tracked mode's damped natural frequency over the variants that succeeded, at every
+        speed of the ``campbell`` analysis: its lower percentile, median and upper percentile
+        (a variant where the root is no mode there, frequency 0, left out).
+
+        Parameters
+        ----------
+        percentiles : (float, float)
+            The lower and upper percentile [percent].
+
+        Returns
+        -------
+        low, median, high : ndarray, shape (n_modes, N) [Hz]
+            NaN where no variant has the mode at that speed (all NaN for a mode no variant has).
+        """
+        freq = self.dataset["frequency_hz"].values[~self.failed]      # (variant, speed, mode)
+        freq = np.where(freq > 0, freq, np.nan)
+        bands = np.full((3, freq.shape[2], freq.shape[1]), np.nan)
+        for m in range(freq.shape[2]):
+            column = freq[:, :, m]
+            if np.isfinite(column).any():
+                bands[:, m] = np.nanpercentile(column, [percentiles[0], 50.0, percentiles[1]], axis=0)
+        return bands[0], bands[1], bands[2]
+
     def probability_in_band(self, low: float, high: float, sources=None, orders=None, modes=None) -> dict:
         """Probability that a critical speed falls inside an operating band.
 

@@ -241,7 +241,7 @@ def _relabel_by_frequency(order, values, speeds):
 def _progress(items, enabled, description):
     if not enabled:
         return items
-    from tqdm.auto import tqdm
+    from .._progress import tqdm
 
     return tqdm(items, desc=description, unit="chunk", leave=False)
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._blas import one_blas_thread
 from .assembly import Matrices, bearing_motion, body_inertias, constant_matrices, constant_stiffness_damping, \
     dependent_bearing_matrices, excitation_columns, is_large, mass_diagonal, mass_matrix, rigid_mass_matrix, \
     sensor_rows, sparse_constant_matrices, weight_force
@@ -39,8 +40,9 @@ def _mass_inverse(M: np.ndarray, model) -> np.ndarray:
     """The inverse of the mass matrix, or a :class:`ModelError` when rounding leaves it singular
     (masses and inertias, with their arms, many orders of magnitude apart)."""
     try:
-        inverse = np.linalg.inv(M)
-        residual = np.abs(inverse @ M - np.eye(M.shape[0])).max()
+        with one_blas_thread(72 * M.size):          # faster than BLAS's threads (rotordyn_modal/_blas.py)
+            inverse = np.linalg.inv(M)
+            residual = np.abs(inverse @ M - np.eye(M.shape[0])).max()
     except np.linalg.LinAlgError:
         inverse, residual = None, np.inf
     if not residual < 1e-3:
@@ -373,14 +375,16 @@ class SpeedLinearForm:
         states each after ``q, q'``."""
         if self._states is None:
             M, C, G, K = self.matrices
-            n, m_inv = self.n_dof, self.mass_inverse
-            A0 = np.zeros((2 * n, 2 * n))
-            A0[:n, n:] = np.eye(n)
-            A0[n:, :n] = -m_inv @ K
-            A0[n:, n:] = -m_inv @ C
-            A1 = np.zeros((2 * n, 2 * n))
-            A1[n:, n:] = -m_inv @ G
-            A0, _, names = with_branch_states(self.model, A0, np.zeros((2 * n, 0)), m_inv)
+            n = self.n_dof
+            with one_blas_thread(72 * n * n):       # as the solves that follow (rotordyn_modal/_blas.py)
+                m_inv = self.mass_inverse
+                A0 = np.zeros((2 * n, 2 * n))
+                A0[:n, n:] = np.eye(n)
+                A0[n:, :n] = -m_inv @ K
+                A0[n:, n:] = -m_inv @ C
+                A1 = np.zeros((2 * n, 2 * n))
+                A1[n:, n:] = -m_inv @ G
+                A0, _, names = with_branch_states(self.model, A0, np.zeros((2 * n, 0)), m_inv)
             extra = A0.shape[0] - A1.shape[0]
             if extra:
                 A1 = np.pad(A1, ((0, extra), (0, extra)))

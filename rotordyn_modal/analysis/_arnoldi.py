@@ -92,7 +92,7 @@ def lowest(pencils, count: int, refine, distinct, progress: bool = False):
     ok = np.zeros(S, bool)
     speeds = range(S)
     if progress:
-        from tqdm.auto import tqdm
+        from .._progress import tqdm
 
         speeds = tqdm(speeds, desc="lowest modes (Arnoldi)", unit="speed", leave=False)
     reach = np.full((S, want), np.inf)

@@ -394,7 +394,7 @@ def _relabel_by_frequency(order, values, speeds):
 def _progress(items, enabled, description):
     if not enabled:
         return items
-    from tqdm.auto import tqdm
+    from .._progress import tqdm
 
     return tqdm(items, desc=description, unit="chunk", leave=False)
 
@@ -567,7 +567,7 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
         speeds=speeds, eigenvalues=values[0], frequencies_hz=freq[0], damping_ratios=zeta[0],
         log_decrements=log_dec[0], whirl_ratios=ratios[0], whirl=_whirl.whirl_labels(ratios)[0], shapes=shapes[0],
         modes=np.arange(1, values.shape[-1] + 1), sources=sources[0],
-        critical=_with_sweep(tables[0], model, speeds, values[0]),
+        critical=_with_sweep(tables[0], model, speeds, values[0], progress),
         orders=tuple(float(o) for o in orders))
 
 
@@ -655,7 +655,7 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
         speeds=speeds, eigenvalues=values[v], frequencies_hz=freq[v], damping_ratios=zeta[v],
         log_decrements=log_dec[v], whirl_ratios=ratios[v], whirl=labels[v], shapes=shapes[v],
         modes=np.arange(1, m + 1), sources=sources[v],
-        critical=_with_sweep(tables[v], stack.models[v], speeds, values[v]),
+        critical=_with_sweep(tables[v], stack.models[v], speeds, values[v], progress),
         orders=tuple(float(o) for o in orders)) for v in range(count)]
 
 

@@ -95,3 +95,56 @@ def test_an_output_pipe_nothing_reads_is_refused_after_a_wait(tmp_path, capsys, 
     code = _main_or_hang([a.format(fifo=fifo) for a in argv], fifo, reading=False)
     assert code == 2
     _one_line_error(capsys, str(fifo), "nothing reads from", "nothing was written")
+
+
+# ----------------------------------------------------------------------- a Maxwell branch far faster than the modes
+def _rubber(tmp_path, times: str, slow_only: bool = False) -> Path:
+    """``rubber_mounts.toml`` with other relaxation times of its mounts' two Maxwell branches, or
+    (``slow_only``) with the first branch alone."""
+    text = (ROOT / "examples" / "rubber_mounts.toml").read_text()
+    old_k = "maxwell_stiffness = [[6.0e4, 4.5e4, 1.2e5], [3.0e4, 2.0e4, 6.0e4]]"
+    assert "maxwell_time = [0.02, 0.002]" in text and old_k in text
+    if slow_only:
+        text = text.replace("maxwell_time = [0.02, 0.002]", "maxwell_time = [0.02]").replace(
+            old_k, "maxwell_stiffness = [[6.0e4, 4.5e4, 1.2e5]]")
+    else:
+        text = text.replace("maxwell_time = [0.02, 0.002]", f"maxwell_time = {times}")
+    path = tmp_path / f"rubber{len(list(tmp_path.iterdir()))}.toml"
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("tau", ["1e-14", "1e-15", "1e-20"])
+def test_a_maxwell_branch_too_fast_for_double_precision_is_refused(tmp_path, capsys, tau):
+    """A branch of 1e-14 s relaxes at once: at the mount modes it is a damper of 5e-10 N s/m, so the
+    six modes are those without it (the first branch alone). ``modes`` put them 17 % off (1e-14 s),
+    listed four of six (1e-15 s) or none (1e-20 s), exit 0 without a word."""
+    path = _rubber(tmp_path, f"[0.02, {tau}]")
+    assert main(["modes", str(path), "--speed", "1000"]) == 2
+    _one_line_error(capsys, "[suspensions.mount-FL] maxwell_time[1]", f"'{tau}'", "acts only as a damper")
+    import rotordyn_modal as rdm
+
+    with pytest.raises(rdm.InputError, match=r"maxwell_time\[1\]"):
+        rdm.load_model(path)
+
+
+def test_a_fast_maxwell_branch_kept_is_named_and_its_modes_are_the_slow_branchs(tmp_path, capsys):
+    """A branch of 1e-10 s is kept, with a warning of the digits it costs; the mount modes are those
+    of the mounts without it to 1e-5 (7e-7 measured)."""
+    import warnings
+
+    import numpy as np
+
+    import rotordyn_modal as rdm
+
+    path = _rubber(tmp_path, "[0.02, 1e-10]")
+    assert main(["check", str(path)]) == 0
+    [line] = [x for x in capsys.readouterr().err.splitlines() if "warning" in x]
+    assert "maxwell_time[1] = 1e-10" in line and "lose about 8 of 16" in line and "(and 3 other branches)" in line
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fast = rdm.modal(rdm.load_model(path), rdm.rpm(1000))
+    slow = rdm.modal(rdm.load_model(_rubber(tmp_path, "", slow_only=True)), rdm.rpm(1000))
+    assert fast.oscillatory.sum() == slow.oscillatory.sum() == 6
+    np.testing.assert_allclose(np.sort(fast.frequencies_hz[fast.oscillatory]),
+                               np.sort(slow.frequencies_hz[slow.oscillatory]), rtol=1e-5)

@@ -148,3 +148,15 @@ def test_a_fast_maxwell_branch_kept_is_named_and_its_modes_are_the_slow_branchs(
     assert fast.oscillatory.sum() == slow.oscillatory.sum() == 6
     np.testing.assert_allclose(np.sort(fast.frequencies_hz[fast.oscillatory]),
                                np.sort(slow.frequencies_hz[slow.oscillatory]), rtol=1e-5)
+
+
+# ----------------------------------------------------------------------- a Level I station given twice
+@pytest.mark.parametrize("first, second", [("compressor@0.3", "compressor@0.3"), ("compressor", "compressor@0")],
+                         ids=["same-offset", "centre-and-zero"])
+def test_a_level1_station_given_twice_is_refused(capsys, first, second):
+    """``--station c@0.3 --station c@0.3 --qa 1e5,1e5`` ran (both shares at one node: one station
+    of 2e5 N/m), the second stage's place mistyped without a word."""
+    compressor = str(ROOT / "examples" / "compressor_rotor.toml")
+    argv = ["level1", compressor, "--mcs", "9000", "--station", first, "--station", second, "--qa", "1e5,1e5", "--quiet"]
+    assert main(argv) == 2
+    _one_line_error(capsys, f"station {first}", "given twice", "stations 1 and 2")

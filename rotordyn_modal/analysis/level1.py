@@ -420,6 +420,21 @@ def _check_stations(model, stations):
             raise InputError(f"station {station}: rotor {station.rotor!r} has no bearings (it is rigidly attached to "
                              "the stator): cross-coupling needs a rotor moving in its bearings")
         _check_on_shaft(model, station)
+    _check_distinct(stations)
+
+
+def _check_distinct(stations):
+    """No station given twice (``--station c@0.3 --station c@0.3``, or ``c`` and ``c@0``): both
+    shares then act at one point, as one station taking their sum, and the typo of a second
+    stage's place went unsaid."""
+    seen = {}
+    for i, station in enumerate(stations):
+        key = (station.rotor, float(station.offset))
+        if key in seen:
+            raise InputError(f"station {station}: given twice (stations {seen[key] + 1} and {i + 1}, the same point of "
+                             f"rotor {station.rotor!r}): expected each stage at its own station (one station takes "
+                             "all of Q)")
+        seen[key] = i
 
 
 def _check_on_shaft(model, station):

@@ -160,3 +160,45 @@ def test_a_level1_station_given_twice_is_refused(capsys, first, second):
     argv = ["level1", compressor, "--mcs", "9000", "--station", first, "--station", second, "--qa", "1e5,1e5", "--quiet"]
     assert main(argv) == 2
     _one_line_error(capsys, f"station {first}", "given twice", "stations 1 and 2")
+
+
+# ----------------------------------------------------------------------- ucs_map's speeds and stiffness
+@pytest.fixture
+def speed_tables(tmp_path) -> Path:
+    """ROSS's rotor of two bearings with coefficient tables over 0 to 1600 rad/s, as a model file."""
+    out = tmp_path / "speed_tables_model.toml"
+    assert main(["import-ross", str(ROSS / "speed_tables.toml"), "--out", str(out), "--quiet"]) == 0
+    return out
+
+
+@pytest.mark.parametrize("speeds, words", [
+    ([float("nan")], "finite numbers"), ([], "non-empty"), ([[100.0]], "1-D"), ("fast", "non-empty"),
+    ([-300.0, 0.0], "at least one speed > 0"),
+], ids=["nan", "empty", "2-d", "text", "none-positive"])
+def test_ucs_map_refuses_speeds_that_draw_no_curve(speed_tables, speeds, words):
+    """``speeds=[nan]``, ``[]`` or ``[-300, 0]`` drew the tabulated bearings' curves empty, without a
+    word (``'fast'`` raised numpy's ValueError)."""
+    import rotordyn_modal as rdm
+
+    model = rdm.load_model(speed_tables)
+    with pytest.raises(rdm.InputError, match="speeds") as error:
+        rdm.ucs_map(model, [1e6, 1e7, 1e8], speeds=speeds)
+    assert words in str(error.value) and len(str(error.value).splitlines()) == 1
+
+
+def test_ucs_map_refuses_a_stiffness_given_as_the_command_lines_text():
+    import rotordyn_modal as rdm
+
+    model = rdm.load_model(FAN)
+    with pytest.raises(rdm.InputError, match=r"stiffness = '1e6:1e8:3': expected an array"):
+        rdm.ucs_map(model, "1e6:1e8:3")
+
+
+def test_ucs_map_speeds_of_no_positive_speed_is_refused_by_the_option(speed_tables, tmp_path, capsys):
+    """``ucs-map --speeds 0:0:1 --plot u.png`` failed with numpy's 'zero-size array to reduction
+    operation' (exit 1)."""
+    capsys.readouterr()
+    argv = ["ucs-map", str(speed_tables), "--stiffness", "1e5:1e9:5", "--speeds", "0:0:1", "--plot", str(tmp_path / "u.png")]
+    assert main(argv) == 2
+    _one_line_error(capsys, "--speeds '0:0:1'", "expected a speed > 0 [rpm]")
+    assert not (tmp_path / "u.png").exists()

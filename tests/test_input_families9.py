@@ -202,3 +202,42 @@ def test_ucs_map_speeds_of_no_positive_speed_is_refused_by_the_option(speed_tabl
     assert main(argv) == 2
     _one_line_error(capsys, "--speeds '0:0:1'", "expected a speed > 0 [rpm]")
     assert not (tmp_path / "u.png").exists()
+
+
+# ----------------------------------------------------------------------- level1's arguments in Python
+@pytest.fixture(scope="module")
+def compressor():
+    import rotordyn_modal as rdm
+
+    return rdm.load_model(ROOT / "examples" / "compressor_rotor.toml")
+
+
+def test_level1_takes_one_station_name_as_one_station(compressor):
+    """``level1(model, speed, 'compressor', qa)`` was read as the stations 'c', 'o', 'm', ...
+    ("station c: no rotor 'c'"); one name is one station, as ``['compressor']``."""
+    import numpy as np
+
+    import rotordyn_modal as rdm
+
+    speed = rdm.rpm(9000)
+    one = rdm.level1(compressor, speed, "compressor", 1e5)
+    listed = rdm.level1(compressor, speed, ["compressor"], 1e5)
+    np.testing.assert_array_equal(one.to_dataframe().to_numpy(), listed.to_dataframe().to_numpy())
+
+
+@pytest.mark.parametrize("change, words", [
+    ({"qa": [1e5, 1e5]}, "qa = [100000.0, 100000.0]: expected the anticipated cross-coupling, one number"),
+    ({"qa": "1e5"}, "qa = '1e5'"),
+    ({"factor": "10"}, "factor = '10'"),
+    ({"steps_per_qa": 2.5}, "steps_per_qa = 2.5: expected a whole number"),
+    ({"forward_mode": True}, "forward_mode = True: expected a whole number >= 1"),
+], ids=["qa-list", "qa-text", "factor-text", "steps-fraction", "forward-bool"])
+def test_level1_refuses_an_argument_of_no_meaning_by_name(compressor, change, words):
+    """``qa=[1e5, 1e5]`` raised numpy's 'truth value of an array' ValueError, ``qa='1e5'`` a
+    TypeError; ``steps_per_qa=2.5`` ran 2 steps and ``forward_mode=True`` mode 1."""
+    import rotordyn_modal as rdm
+
+    arguments = {"qa": 1e5, **change}
+    with pytest.raises(rdm.InputError) as error:
+        rdm.level1(compressor, rdm.rpm(9000), ["compressor"], **arguments)
+    assert words in str(error.value), str(error.value)

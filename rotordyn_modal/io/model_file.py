@@ -96,12 +96,16 @@ def read_toml(path, what: str, error=ModelError) -> dict:
     path = Path(path)
     source = str(path)
     try:
-        text = read_limited(path, "model", what).decode("utf-8")
+        data = read_limited(path, "model", what)
+        text = data.decode("utf-8")
     except FileNotFoundError:
         raise error(source, "<file>", source, f"an existing {what} (no such file)") from None
     except IsADirectoryError:
         raise error(source, "<file>", source, f"a {what}, not a folder") from None
     except UnicodeDecodeError as problem:
+        if data[:2] in (b"\xff\xfe", b"\xfe\xff"):   # Windows' "Unicode" (Notepad, PowerShell's >)
+            raise error(source, "<file>", f"UTF-16 text (byte-order mark {data[:2].hex(' ').upper()})",
+                        "UTF-8 text (TOML): save the file as UTF-8") from None
         raise error(source, "<file>", f"byte {problem.start}", "UTF-8 text (TOML)") from None
     except OSError as problem:
         raise error(source, "<file>", source, f"a readable file ({problem.strerror})") from None

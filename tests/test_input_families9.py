@@ -263,3 +263,18 @@ def test_a_toml_file_saved_as_utf16_is_named_as_such(tmp_path, capsys, argv, sou
     assert code == 2
     _one_line_error(capsys, str(path), "UTF-16 text (byte-order mark FF FE)", "save the file as UTF-8")
     assert not out.exists()
+
+
+# ----------------------------------------------------------------------- an output name ending in '/'
+@pytest.mark.parametrize("argv, option", [
+    (["static", str(ROOT / "examples" / "compressor_rotor.toml"), "--out", "{name}.csv/", "--quiet"], "--out"),
+    (["import-ross", str(ROSS / "rotor_example.toml"), "--out", "{name}.toml/", "--quiet"], "--out"),
+    (["modes", FAN, "--speed", "0", "--plot", "{name}.png/", "--quiet"], "--plot"),
+], ids=["static-out", "import-ross-out", "modes-plot"])
+def test_an_output_name_ending_in_a_slash_is_refused(tmp_path, monkeypatch, capsys, argv, option):
+    """``static m.toml --out results.csv/`` (a folder meant, or a slip of the tab key) wrote a file
+    named results.csv (Path drops the '/'), exit 0."""
+    monkeypatch.chdir(tmp_path)
+    assert main([a.format(name="results") for a in argv]) == 2
+    _one_line_error(capsys, option, "results.", "ending in '/' is a folder")
+    assert not list(tmp_path.iterdir())

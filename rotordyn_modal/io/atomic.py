@@ -166,6 +166,9 @@ def check_writable(path) -> None:
             raise _cannot(shown, error) from None
     if path.is_dir():
         raise OutputError(f"cannot write {shown}: it is a folder")
+    if str(shown).endswith((os.sep, "/")):   # 'out.csv/' names a folder: Path drops the '/' and wrote a file
+        raise OutputError(f"cannot write {shown}: a name ending in '/' is a folder, not a file (give the file's "
+                          "name, without the '/')")
     if _is_special(path):
         return
     if not path.parent.exists():

@@ -278,3 +278,13 @@ def test_an_output_name_ending_in_a_slash_is_refused(tmp_path, monkeypatch, caps
     assert main([a.format(name="results") for a in argv]) == 2
     _one_line_error(capsys, option, "results.", "ending in '/' is a folder")
     assert not list(tmp_path.iterdir())
+
+
+# ----------------------------------------------------------------------- a study file given as the model
+@pytest.mark.parametrize("command", [["check"], ["modes", "--speed", "1000"]])
+def test_a_study_file_given_as_a_model_names_the_command_that_runs_it(capsys, command):
+    """``check mount_tolerance.study.toml`` was refused as "seed = 2026: unknown key" (a ROSS file
+    there already names ``import-ross``)."""
+    study = str(ROOT / "examples" / "mount_tolerance.study.toml")
+    assert main([command[0], study, *command[1:]]) == 2
+    _one_line_error(capsys, "a study file", f"rotordyn-modal study MODEL --spec {study}")

@@ -71,6 +71,10 @@ def _not_a_ross_file(data: dict, path) -> None:
         raise ModelError(str(path), "<file>", "a rotor saved by ROSS (ross_version, ShaftElement_... tables)",
                          f"a model file: read it into one first, rotordyn-modal import-ross {path} --out "
                          "MODEL.toml (docs/ross.md)")
+    if "parameters" in data and not {"rotors", "stator"} & set(data):   # a study file given as the model
+        raise ModelError(str(path), "<file>", "a study file ([[parameters]], no [[rotors]] or [stator])",
+                         f"a model file: a study runs as rotordyn-modal study MODEL --spec {path} --out "
+                         "RESULTS.nc (docs/study-file.md)")
 
 
 def read_toml(path, what: str, error=ModelError) -> dict:

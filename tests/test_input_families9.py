@@ -288,3 +288,55 @@ def test_a_study_file_given_as_a_model_names_the_command_that_runs_it(capsys, co
     study = str(ROOT / "examples" / "mount_tolerance.study.toml")
     assert main([command[0], study, *command[1:]]) == 2
     _one_line_error(capsys, "a study file", f"rotordyn-modal study MODEL --spec {study}")
+
+
+# ----------------------------------------------------------------------- a probe along the axis of a rotor held radially only
+_AXIAL_PROBE = """
+[[sensors]]
+name = "probe-axial"
+rotor = "{rotor}"
+{where}
+direction = [1.0, 0.0, 0.0]
+measure = "relative"
+"""
+
+
+def _with_axial_probe(tmp_path, source: Path, rotor: str, where: str, drop: str = "") -> Path:
+    text = Path(source).read_text()
+    if drop:
+        assert drop in text
+        text = text.replace(drop, "")
+    path = tmp_path / "axial_probe.toml"
+    path.write_text(text + _AXIAL_PROBE.format(rotor=rotor, where=where))
+    return path
+
+
+@pytest.mark.parametrize("source, rotor, where, drop", [
+    (ROOT / "examples" / "compressor_rotor.toml", "compressor", "axial_position = 0.3",
+     "axial_stiffness = 2.0e8           # the thrust bearing"),
+    (ROOT / "examples" / "journal_rotor.toml", "rotor", "position = [0.0, 0.0, 0.0]", ""),
+], ids=["flexible", "rigid"])
+def test_a_relative_probe_along_the_axis_of_a_rotor_without_axial_coordinate_is_refused(tmp_path, capsys, source,
+                                                                                          rotor, where, drop):
+    """A rotor no bearing holds axially follows the stator along its axis (it has no axial
+    coordinate): a relative probe along that axis read exact zeros (``frf``: magnitude 0 at every
+    frequency), exit 0."""
+    path = _with_axial_probe(tmp_path, source, rotor, where, drop)
+    assert main(["check", str(path)]) == 2
+    _one_line_error(capsys, "[sensors.probe-axial] direction", "no axial coordinate", "reads 0")
+
+
+def test_a_relative_probe_along_the_axis_of_a_thrust_held_rotor_reads_its_axial_motion(tmp_path):
+    """With its thrust bearing (axial_stiffness 2e8 N/m) the compressor's probe reads the rotor's
+    axial motion: at 0 Hz under a unit axial force, 1 / 2e8 m/N (the rotor on the ground)."""
+    import numpy as np
+
+    import rotordyn_modal as rdm
+
+    path = _with_axial_probe(tmp_path, ROOT / "examples" / "compressor_rotor.toml", "compressor", "axial_position = 0.3")
+    text = path.read_text() + ('[[excitations]]\nname = "push"\nrotor = "compressor"\naxial_position = 0.3\n'
+                               'direction = [1.0, 0.0, 0.0]\n')
+    path.write_text(text)
+    model = rdm.load_model(path)
+    result = rdm.frf(model, 0.0, np.array([0.0]), outputs=["probe-axial"], inputs=["push"])
+    assert abs(result.H[0, 0, 0]) == pytest.approx(1 / 2.0e8, rel=1e-9)

@@ -138,8 +138,23 @@ def implausible(model, units: str = "si") -> list[str]:
             lines.append(f"{model.source}: [bearings.{visible(b.name)}] length = {journal.length:g}: "
                          f"L/D = {journal.length / journal.diameter:.3g} is beyond {LONG_JOURNAL:g}, where "
                          "short-bearing (Ocvirk) theory stops matching measurements: its coefficients are rough")
-    return lines + _merge_lines(model) + _material_lines(model) + stiffness_spread_lines(model) \
-        + maxwell_spread_lines(model)
+    return lines + _merge_lines(model) + _material_lines(model) + _clearance_lines(model) \
+        + stiffness_spread_lines(model) + maxwell_spread_lines(model)
+
+
+#: the largest radial running clearance [m] of a close-clearance station that draws no warning:
+#: seals and impeller eyes run 0.1 to 2 mm
+CLEARANCE_WARN = 0.01
+
+
+def _clearance_lines(model) -> list[str]:
+    """A line for each ``[[rotors.clearances]]`` radial clearance over :data:`CLEARANCE_WARN`: a
+    value in mm typed for m (0.25 for 0.25 mm) makes the API clearance check pass at any
+    vibration (75 % of a diametral clearance of 0.5 m)."""
+    return [f"{model.source}: [rotors.{visible(c.rotor)}.clearances.{visible(c.name)}] radial_clearance = "
+            f"{c.radial_clearance:g}: over {CLEARANCE_WARN:g} m, no close clearance (seals run 0.1 to 2 mm), and "
+            "the clearance check passes any vibration against it; a value in mm typed for m? (model files are SI)"
+            for c in getattr(model, "clearances", ()) if c.radial_clearance > CLEARANCE_WARN]
 
 
 def _merge_lines(model) -> list[str]:

@@ -340,3 +340,19 @@ def test_a_relative_probe_along_the_axis_of_a_thrust_held_rotor_reads_its_axial_
     model = rdm.load_model(path)
     result = rdm.frf(model, 0.0, np.array([0.0]), outputs=["probe-axial"], inputs=["push"])
     assert abs(result.H[0, 0, 0]) == pytest.approx(1 / 2.0e8, rel=1e-9)
+
+
+# ----------------------------------------------------------------------- a clearance in mm typed for m
+def test_a_clearance_in_mm_typed_for_m_draws_one_warning(tmp_path, capsys):
+    """``radial_clearance = 0.25`` (0.25 mm meant) loaded without a word, and the API 617 clearance
+    check then passed any vibration against 75 % of a 0.5 m diametral clearance."""
+    text = (ROOT / "examples" / "compressor_rotor.toml").read_text()
+    assert "radial_clearance = 0.25e-3" in text
+    path = tmp_path / "mm.toml"
+    path.write_text(text.replace("radial_clearance = 0.25e-3", "radial_clearance = 0.25", 1))
+    assert main(["check", str(path)]) == 0
+    warnings = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(warnings) == 1 and "radial_clearance = 0.25: over 0.01 m" in warnings[0], warnings
+    assert "a value in mm typed for m?" in warnings[0]
+    assert main(["check", str(ROOT / "examples" / "compressor_rotor.toml")]) == 0
+    assert "warning" not in capsys.readouterr().err

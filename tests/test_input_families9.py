@@ -356,3 +356,43 @@ def test_a_clearance_in_mm_typed_for_m_draws_one_warning(tmp_path, capsys):
     assert "a value in mm typed for m?" in warnings[0]
     assert main(["check", str(ROOT / "examples" / "compressor_rotor.toml")]) == 0
     assert "warning" not in capsys.readouterr().err
+
+
+# ----------------------------------------------------------------------- file arguments of the Python API
+@pytest.mark.parametrize("reader", ["load_model", "read_ross_rotor", "read_measured", "load_study"])
+@pytest.mark.parametrize("path", [None, 5, b"model.toml", ""], ids=["none", "number", "bytes", "empty"])
+def test_a_file_argument_that_is_no_file_name_raises_input_error(reader, path):
+    """``rdm.load_model(None)`` (or a number, bytes) raised TypeError inside ``open``; ``''`` was
+    refused as the folder '.'."""
+    import rotordyn_modal as rdm
+    from rotordyn_modal.io.ross_file import read_ross_rotor
+
+    call = {"load_model": rdm.load_model, "read_ross_rotor": read_ross_rotor, "load_study": rdm.load_study,
+            "read_measured": lambda p: rdm.read_measured(p, rdm.load_model(FAN))}[reader]
+    with pytest.raises(rdm.InputError, match="expected the name of a file"):
+        call(path)
+
+
+@pytest.mark.parametrize("content", ["missing", "folder", "empty", "garbage", "model", "other-netcdf"])
+def test_load_study_of_a_file_that_holds_no_study_raises_input_error(tmp_path, content):
+    """``rdm.load_study`` let FileNotFoundError, IsADirectoryError, numpy's 'cannot mmap an empty
+    file' ValueError and scipy's multi-line 'is not a valid NetCDF 3 file' TypeError through."""
+    import numpy as np
+    import xarray as xr
+
+    import rotordyn_modal as rdm
+
+    path = tmp_path / "results.nc"
+    if content == "folder":
+        path.mkdir()
+    elif content == "empty":
+        path.write_bytes(b"")
+    elif content == "garbage":
+        path.write_bytes(bytes(range(256)) * 8)
+    elif content == "model":
+        path.write_text(Path(FAN).read_text())
+    elif content == "other-netcdf":
+        xr.Dataset({"a": ("x", np.arange(3.0))}).to_netcdf(path, engine="scipy")
+    with pytest.raises(rdm.InputError, match="results") as error:
+        rdm.load_study(path)
+    assert str(path) in str(error.value) and len(str(error.value).splitlines()) == 1

@@ -18,7 +18,8 @@ from pathlib import Path
 from .._limits import environment_number
 from ..errors import InputError
 
-__all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "PIPE_WAIT_S", "check_size", "limit_bytes", "read_limited"]
+__all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "PIPE_WAIT_S", "check_size", "limit_bytes", "read_limited",
+           "input_path"]
 
 #: default limit of model and study files [MB]; environment: ROTORDYN_MODAL_MAX_MODEL_MB
 MODEL_FILE_MB = 10
@@ -29,6 +30,17 @@ PIPE_WAIT_S = 5.0
 
 _LIMITS = {"model": ("ROTORDYN_MODAL_MAX_MODEL_MB", MODEL_FILE_MB),
            "measured": ("ROTORDYN_MODAL_MAX_MEASURED_MB", MEASURED_FILE_MB)}
+
+
+def input_path(path, what: str) -> Path:
+    """``path`` as a :class:`~pathlib.Path` when it is a file's name (``str`` or path-like), else
+    :class:`InputError` naming ``what`` (``None``, a number, bytes or a dict raised ``TypeError``
+    in ``open``; ``''`` read the current folder, said to be a folder named '.')."""
+    if isinstance(path, (str, os.PathLike)) and not isinstance(path, bytes):
+        text = os.fspath(path)
+        if isinstance(text, str) and text.strip():
+            return Path(text)
+    raise InputError(f"{what} = {path!r}: expected the name of a file (a str or path-like, not empty)")
 
 
 def limit_bytes(kind: str) -> tuple[int, str]:

@@ -10,7 +10,7 @@ from ..errors import ModelError, ModelWarning
 from ..model._table import LARGEST
 from ..model.machine import Model
 from .atomic import atomic_write, check_not_input
-from .limits import read_limited
+from .limits import input_path, read_limited
 
 __all__ = ["load_model", "save_model", "read_toml", "MAX_NESTING"]
 
@@ -97,7 +97,7 @@ def read_toml(path, what: str, error=ModelError) -> dict:
         The file does not exist, is a folder, is not readable UTF-8 text, is not TOML,
         or nests arrays and tables more than :data:`MAX_NESTING` deep.
     """
-    path = Path(path)
+    path = input_path(path, what)
     source = str(path)
     try:
         data = read_limited(path, "model", what)

@@ -220,8 +220,8 @@ def test_level1_takes_one_station_name_as_one_station(compressor):
     import rotordyn_modal as rdm
 
     speed = rdm.rpm(9000)
-    one = rdm.level1(compressor, speed, "compressor", 1e5)
-    listed = rdm.level1(compressor, speed, ["compressor"], 1e5)
+    one = rdm.level1(compressor, speed, "compressor", 1e5, factor=1.0, steps_per_qa=2, forward_mode=1)
+    listed = rdm.level1(compressor, speed, ["compressor"], 1e5, factor=1.0, steps_per_qa=2, forward_mode=1)
     np.testing.assert_array_equal(one.to_dataframe().to_numpy(), listed.to_dataframe().to_numpy())
 
 

@@ -25,7 +25,6 @@ direction (signed).
 from __future__ import annotations
 
 import os
-from pathlib import Path
 
 import numpy as np
 

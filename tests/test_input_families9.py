@@ -243,28 +243,6 @@ def test_level1_refuses_an_argument_of_no_meaning_by_name(compressor, change, wo
     assert words in str(error.value), str(error.value)
 
 
-# ----------------------------------------------------------------------- a TOML file saved as UTF-16
-@pytest.mark.parametrize("argv, source", [
-    (["check", "{path}"], FAN),
-    (["import-ross", "{path}", "--out", "{out}"], str(ROSS / "rotor_example.toml")),
-    (["study", FAN, "--spec", "{path}", "--out", "{out}"], str(ROOT / "examples" / "mount_tolerance.study.toml")),
-], ids=["model", "ross", "spec"])
-def test_a_toml_file_saved_as_utf16_is_named_as_such(tmp_path, capsys, argv, source):
-    """A model saved by Notepad as "Unicode" (UTF-16, FF FE) was refused as "'byte 0': expected
-    UTF-8 text", which names no cause; the CSV readers read such a file."""
-    path = tmp_path / "utf16.toml"
-    path.write_text(Path(source).read_text(), encoding="utf-16")
-    out = tmp_path / ("o.nc" if argv[0] == "study" else "o.toml")
-    argv = [a.format(path=path, out=out) for a in argv]
-    try:
-        code = main(argv)
-    except SystemExit as exit_:
-        code = exit_.code
-    assert code == 2
-    _one_line_error(capsys, str(path), "UTF-16 text (byte-order mark FF FE)", "save the file as UTF-8")
-    assert not out.exists()
-
-
 # ----------------------------------------------------------------------- an output name ending in '/'
 @pytest.mark.parametrize("argv, option", [
     (["static", str(ROOT / "examples" / "compressor_rotor.toml"), "--out", "{name}.csv/", "--quiet"], "--out"),

@@ -210,13 +210,15 @@ _REORDER_BYTES = 16 * 2**20
 
 
 def _reordered(shapes, order):
-    """``shapes[v, k, order[v, k]]`` for shapes (V, N, m, n), written over ``shapes`` itself a
-    part of the speeds at a time: a reordered copy of the whole would double the sweep's
-    largest arrays (two of them at once for a 100-rotor machine: 420 MB at 51 speeds)."""
+    """``shapes[v, k, order[v, k]]`` for shapes (V, N, m, n) and ``order`` (V, N, c), ``c <= m``,
+    written over the first ``c`` columns of ``shapes`` itself a part of the speeds at a time (a
+    view of them): a reordered copy of the whole would double the sweep's largest arrays (two of
+    them at once for a 100-rotor machine: 420 MB at 51 speeds)."""
     variants = np.arange(len(order))[:, None, None]
+    columns = order.shape[-1]
     for part in _batches.chunk_slices(order.shape[1], shapes[:, 0].nbytes, budget=_REORDER_BYTES):
-        shapes[:, part] = shapes[variants, np.arange(part.start, part.stop)[None, :, None], order[:, part]]
-    return shapes
+        shapes[:, part, :columns] = shapes[variants, np.arange(part.start, part.stop)[None, :, None], order[:, part]]
+    return shapes[:, :, :columns]
 
 
 def _variant_rows(count, per):
@@ -432,7 +434,11 @@ def _columns_wanted(values, shapes, weighted, wanted):
     """The tracked columns (1, N, k) wanted at some speed; the others (roots above the limit at
     every speed: fillers of :func:`._lowest.roots_below`) left out."""
     keep = wanted[0].any(axis=0)
-    return values[..., keep], shapes[:, :, keep], weighted[:, :, keep], wanted[..., keep]
+    if keep.all():
+        return values, shapes, weighted, wanted
+    # the shapes kept written over their first columns (views): no second copy of every speed's
+    columns = np.broadcast_to(np.nonzero(keep)[0], shapes.shape[:2] + (int(keep.sum()),))
+    return values[..., keep], _reordered(shapes, columns), _reordered(weighted, columns), wanted[..., keep]
 
 
 def _near(wanted):

@@ -11,6 +11,7 @@ from ..model._table import LARGEST
 from ..model.machine import Model
 from .atomic import atomic_write, check_not_input
 from .limits import input_path, read_limited
+from .text import decode_text
 
 __all__ = ["load_model", "save_model", "read_toml", "MAX_NESTING"]
 
@@ -20,7 +21,6 @@ __all__ = ["load_model", "save_model", "read_toml", "MAX_NESTING"]
 MAX_NESTING = 32
 #: an integer beyond this cannot become a float (it is refused as any number beyond LARGEST)
 _LARGEST_INTEGER = 10**308
-_BOM = "\ufeff"
 
 
 def load_model(path, units: str = "si") -> Model:
@@ -80,7 +80,8 @@ def _not_a_ross_file(data: dict, path) -> None:
 def read_toml(path, what: str, error=ModelError) -> dict:
     """The tables of a TOML file (a model or study file), or one line saying why not.
 
-    A UTF-8 byte-order mark (what some Windows editors write) is skipped.
+    A byte-order mark (UTF-8's, what some Windows editors write; UTF-16's or UTF-32's) is
+    skipped, and UTF-16 without one is read as UTF-16 (:func:`.text.decode_text`).
 
     Parameters
     ----------
@@ -100,22 +101,19 @@ def read_toml(path, what: str, error=ModelError) -> dict:
     path = input_path(path, what)
     source = str(path)
     try:
-        data = read_limited(path, "model", what)
-        text = data.decode("utf-8")
+        text = decode_text(read_limited(path, "model", what), fallback=None)
     except FileNotFoundError:
         raise error(source, "<file>", source, f"an existing {what} (no such file)") from None
     except IsADirectoryError:
         raise error(source, "<file>", source, f"a {what}, not a folder") from None
-    except UnicodeDecodeError as problem:
-        if data[:2] in (b"\xff\xfe", b"\xfe\xff"):   # Windows' "Unicode" (Notepad, PowerShell's >)
-            raise error(source, "<file>", f"UTF-16 text (byte-order mark {data[:2].hex(' ').upper()})",
-                        "UTF-8 text (TOML): save the file as UTF-8") from None
-        raise error(source, "<file>", f"byte {problem.start}", "UTF-8 text (TOML)") from None
+    except UnicodeDecodeError as problem:    # no UTF-8, or UTF-16 without a mark that is no UTF-16
+        said = f": {problem.reason}" if problem.encoding.startswith("utf-16") else ""
+        raise error(source, "<file>", f"byte {problem.start}", f"UTF-8 text (TOML){said}") from None
     except OSError as problem:
         raise error(source, "<file>", source, f"a readable file ({problem.strerror})") from None
     nested = f"TOML with arrays and tables nested at most {MAX_NESTING} deep"
     try:
-        data = tomllib.loads(text.removeprefix(_BOM))
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as problem:
         raise error(source, "<file>", str(problem), "valid TOML") from None
     except RecursionError:

@@ -127,6 +127,9 @@ def build_dataset(chunks, values, definition, variables, coords, model, attrs=No
     for name, unit in _UNITS.items():
         if name in ds:
             ds[name].attrs["units"] = unit
+    for name in ("unbalance_peak_amplitude", "force_peak_amplitude"):
+        if name in ds:       # unbalance --amplitude's default: x(t) = amplitude cos(...) (docs/standards.md)
+            ds[name].attrs["amplitude"] = "0-peak"
     return ds
 
 

@@ -10,7 +10,7 @@ from ..errors import ModelError, ModelWarning
 from ..model._table import LARGEST
 from ..model.machine import Model
 from .atomic import atomic_write, check_not_input
-from .limits import read_limited
+from .limits import input_path, read_limited
 from .text import decode_text
 
 __all__ = ["load_model", "save_model", "read_toml", "MAX_NESTING"]
@@ -71,6 +71,10 @@ def _not_a_ross_file(data: dict, path) -> None:
         raise ModelError(str(path), "<file>", "a rotor saved by ROSS (ross_version, ShaftElement_... tables)",
                          f"a model file: read it into one first, rotordyn-modal import-ross {path} --out "
                          "MODEL.toml (docs/ross.md)")
+    if "parameters" in data and not {"rotors", "stator"} & set(data):   # a study file given as the model
+        raise ModelError(str(path), "<file>", "a study file ([[parameters]], no [[rotors]] or [stator])",
+                         f"a model file: a study runs as rotordyn-modal study MODEL --spec {path} --out "
+                         "RESULTS.nc (docs/study-file.md)")
 
 
 def read_toml(path, what: str, error=ModelError) -> dict:
@@ -94,7 +98,7 @@ def read_toml(path, what: str, error=ModelError) -> dict:
         The file does not exist, is a folder, is not readable UTF-8 text, is not TOML,
         or nests arrays and tables more than :data:`MAX_NESTING` deep.
     """
-    path = Path(path)
+    path = input_path(path, what)
     source = str(path)
     try:
         text = decode_text(read_limited(path, "model", what), fallback=None)

@@ -543,5 +543,21 @@ def load_study(path) -> StudyResult:
     """
     import xarray as xr
 
-    with xr.open_dataset(path, engine="scipy") as ds:
-        return StudyResult(ds.load())
+    from ..errors import InputError
+    from ..io.limits import input_path
+
+    path = input_path(path, "study results file")
+    if not path.exists() or path.is_dir():
+        raise InputError(f"{path}: expected a study results file (.nc), "
+                         f"{'not a folder' if path.is_dir() else 'no such file'}")
+    try:
+        with xr.open_dataset(path, engine="scipy") as ds:
+            result = StudyResult(ds.load())
+    except (OSError, ValueError, TypeError) as error:   # empty, no NetCDF 3, unreadable: numpy's and scipy's words
+        reason = " ".join(str(error).split())[:160]
+        raise InputError(f"{path}: expected a study's results, a NetCDF file written by StudyResult.save or the "
+                         f"study command ({reason})") from None
+    if "variant" not in result.dataset.sizes or "failed" not in result.dataset:
+        raise InputError(f"{path}: a NetCDF file but no study's results (no 'variant' dimension or 'failed' "
+                         "variable): expected a file written by StudyResult.save or the study command")
+    return result

@@ -251,7 +251,25 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     Returns
     -------
     ndarray, shape (n_freq, n_dof, k), complex [m, rad]
+
+    Raises
+    ------
+    ModelError
+        A system found singular, of a model whose mass matrix rounding leaves singular (the
+        check every analysis makes, made here only when a solve fails: it costs as much as a
+        small model's solves).
     """
+    try:
+        return _dof_response(model, speed, omega, forces)
+    except (np.linalg.LinAlgError, RuntimeError):     # RuntimeError: SuperLU's "exactly singular"
+        from ..linear_system import speed_linear_form
+
+        speed_linear_form(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
+        raise
+
+
+def _dof_response(model, speed, omega, forces) -> np.ndarray:
+    """:func:`dof_response` without the mass matrix's check."""
     w = np.atleast_1d(np.asarray(omega, dtype=float))
     speeds = _broadcast(speed, w.shape)
     n = model.dofs.n

@@ -413,3 +413,22 @@ def test_degenerate_models_read_as_one_line_in_every_command(tmp_path, capsys, c
     for command in _COMMANDS:
         assert main(_argv(tmp_path, command, model)) == 2, command
         assert _one_line_error(capsys) == refusal.replace("check", command.split()[0], 1), command
+
+
+def test_an_unbalance_response_singular_at_round_off_is_one_line_naming_where(tmp_path, capsys):
+    """A rotor of 1e-30 kg with Jp = Jd on bearings of 4e-13 N/m (legal, with the warning that the
+    low modes lose 15 of 16 digits): at a synchronous frequency its tilt block
+    ``[[k - w^2 Jd, w^2 Jp], [w^2 Jp, k - w^2 Jd]]`` has the determinant ``k (k - 2 w^2 Jd)``,
+    zero to round-off, and the direct solve ended in 'failed: LinAlgError: Singular matrix'
+    (exit 1). Now one refusal names the frequency and speed: an unbalance's, so f = rpm / 60."""
+    import re
+
+    model = tmp_path / "light_rotor.toml"
+    model.write_text(variant(stator_mass="100.0", stator_inertia="[10.0, 10.0, 10.0]", rotor_mass="1e-30",
+                             bearing="4e-13"))
+    assert main(_argv(tmp_path, "unbalance", model)) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 2 and ": warning: " in err[0] and "lose about 15 of 16" in err[0], err
+    found = re.search(r"singular in double precision at ([0-9.e+]+) Hz, reference speed ([0-9.e+]+) rpm", err[1])
+    assert err[1].startswith("rotordyn-modal unbalance: error: ") and found, err
+    assert float(found[1]) == pytest.approx(float(found[2]) / 60, rel=1e-5)

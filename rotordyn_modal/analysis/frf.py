@@ -258,6 +258,9 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
         A system found singular, of a model whose mass matrix rounding leaves singular (the
         check every analysis makes, made here only when a solve fails: it costs as much as a
         small model's solves).
+    InputError
+        A system found singular otherwise (an undamped resonance at round-off), naming the first
+        such frequency and speed.
     """
     try:
         return _dof_response(model, speed, omega, forces)
@@ -265,7 +268,25 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
         from ..linear_system import speed_linear_form
 
         speed_linear_form(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
-        raise
+        raise _singular(model, speed, omega) from None
+
+
+def _singular(model, speed, omega) -> InputError:
+    """The refusal of a dynamic stiffness singular in double precision (a mass matrix the
+    analyses take): the first such frequency and speed named, found one system at a time."""
+    w = np.atleast_1d(np.asarray(omega, dtype=float))
+    speeds = _broadcast(speed, w.shape)
+    at = ""
+    for s, f in zip(speeds, w):
+        try:
+            _dof_response(model, s, f, np.zeros((model.dofs.n, 1)))
+        except (np.linalg.LinAlgError, RuntimeError):
+            at = f" at {f / (2 * np.pi):.6g} Hz, reference speed {s * 30 / np.pi:.6g} rpm"
+            break
+    return InputError(f"{model.source}: the dynamic stiffness K - w^2 M + i w (C + Omega G) is singular in "
+                      f"double precision{at}: an undamped resonance there, or stiffnesses and masses many "
+                      "orders of magnitude apart (the model's warnings say where); add damping or move the "
+                      "frequencies")
 
 
 def _dof_response(model, speed, omega, forces) -> np.ndarray:

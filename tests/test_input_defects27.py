@@ -432,3 +432,17 @@ def test_an_unbalance_response_singular_at_round_off_is_one_line_naming_where(tm
     found = re.search(r"singular in double precision at ([0-9.e+]+) Hz, reference speed ([0-9.e+]+) rpm", err[1])
     assert err[1].startswith("rotordyn-modal unbalance: error: ") and found, err
     assert float(found[1]) == pytest.approx(float(found[2]) / 60, rel=1e-5)
+
+
+def test_an_frf_of_that_model_with_a_loss_factor_is_refused_not_made_up(tmp_path, capsys):
+    """With a loss factor on its mount the FRF takes the direct engine, which made no mass check:
+    exit 0 and numbers solved from a mass matrix rounding had left singular (about 1e-4 m/N at
+    90 degrees from 50 to 100 Hz: ten times the mount's own static compliance, 1e-5 m/N, though
+    bearings of 1e6 N/m to a rotor of 1e30 kg hold the stator too). Now the line of ``modes``."""
+    model = tmp_path / "lossy.toml"
+    model.write_text(variant(mount="[1e5, 1e5, 1e5, 1e3, 1e3, 1e3]\nloss_factor = 0.1"))
+    assert main(["modes", str(model), "--speed", "1000", "--quiet"]) == 2
+    refusal = _one_line_error(capsys, "mass matrix invertible")
+    out = tmp_path / "frf.csv"
+    assert main(["frf", str(model), "--freqs", "1:100:3", "--out", str(out), "--quiet"]) == 2
+    assert _one_line_error(capsys) == refusal.replace("modes", "frf", 1) and not out.exists()

@@ -360,7 +360,10 @@ def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str 
         Displacement [m/N], velocity [m/s/N] or acceleration [m/s^2/N] per force.
     engine : {'auto', 'modal', 'direct'}
         'auto' takes 'modal' for viscous models and 'direct' otherwise; 'modal'
-        on a model with loss factors or Maxwell branches is refused.
+        on a model with loss factors or Maxwell branches is refused. 'auto' and 'modal' refuse
+        a model whose mass matrix rounding leaves singular (as every analysis does); 'direct'
+        named leaves that check to the caller (``fit`` makes it once, not at each evaluation)
+        and refuses such a model only where a solve fails.
 
     Returns
     -------
@@ -394,6 +397,10 @@ def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str 
     omega = 2 * np.pi * f
     H = _modal_receptance(model, speed, omega, rows, columns) if used == "modal" else None
     if H is None:
+        if engine == "auto":   # the modal engine's state form makes the check itself; engine='direct'
+            from ..linear_system import speed_linear_form       # named: the caller's (fit's, made once)
+
+            speed_linear_form(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
         used = "direct"
         H = np.einsum("sd,fdi->sif", rows, dof_response(model, speed, omega, columns))
     H = H * (1j * omega) ** QUANTITIES[quantity]

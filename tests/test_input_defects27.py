@@ -446,3 +446,20 @@ def test_an_frf_of_that_model_with_a_loss_factor_is_refused_not_made_up(tmp_path
     out = tmp_path / "frf.csv"
     assert main(["frf", str(model), "--freqs", "1:100:3", "--out", str(out), "--quiet"]) == 2
     assert _one_line_error(capsys) == refusal.replace("modes", "frf", 1) and not out.exists()
+
+
+def test_an_api_unbalance_case_of_a_rotor_of_no_mass_names_the_rotors_mass(tmp_path, capsys):
+    """API 684's unbalance of a 1e-30 kg rotor at 1000 rpm, 2 x 6350 g mm x m [kg] / N [rpm],
+    is 1.27e-35 kg m: below what a model holds, and the report refused it as '[unbalances[0]]
+    amount = 1.27e-35', an amount the file does not have (its unbalance is 1e-4 kg m). Now the
+    line names the rotor's mass, the speed and the case's amount."""
+    model = tmp_path / "light_rotor.toml"
+    model.write_text(variant(stator_mass="100.0", stator_inertia="[10.0, 10.0, 10.0]", rotor_mass="1e-30",
+                             bearing="4e-13"))
+    out = tmp_path / "r.html"
+    assert main(["report", str(model), "--standard", "api684", "--mcs", "1000", "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    amount = 2 * 6350 * 1e-30 / 1000 * 1e-6        # g mm -> kg m
+    assert len(err) == 2 and ": warning: " in err[0] and not out.exists(), err
+    assert "[rotors.r] mass = 1e-30" in err[1] and "1000 rpm" in err[1] and f"{amount:.3g} kg m" in err[1], err
+    assert "[unbalances" not in err[1]

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from degenerate_models import EXTREME as _EXTREME, INSTRUMENTS, variant
 from rotordyn_modal.cli import main
 from test_input_families import _one_line_error
 
@@ -253,31 +254,6 @@ def test_the_flexible_pumps_belt_position_changes_no_matrix(tmp_path):
 
 
 # ----------------------------------------------------------------------- a refusal without moot warnings
-_EXTREME = """gravity = [0.0, 0.0, -9.81]
-[stator]
-mass = 1e-30
-inertia = [1.0, 1.0, 1.0]
-[[rotors]]
-name = "r"
-mass = 1e30
-center_of_mass = [0.0, 0.0, 0.0]
-polar_inertia = 0.05
-diametral_inertia = 0.05
-[[bearings]]
-name = "a"
-rotor = "r"
-position = [0.2, 0.0, 0.0]
-stiffness = 1e6
-[[bearings]]
-name = "b"
-rotor = "r"
-position = [-0.2, 0.0, 0.0]
-stiffness = 1e6
-[[suspensions]]
-name = "s"
-position = [0.0, 0.0, 0.0]
-stiffness = [1e5, 1e5, 1e5, 1e3, 1e3, 1e3]
-"""
 
 
 @pytest.mark.parametrize("argv", [["check"], ["modes", "--speed", "1000"], ["campbell", "--speeds", "0:1000:3"],
@@ -320,3 +296,170 @@ def test_a_warning_of_a_model_the_analyses_take_comes_before_the_work(tmp_path, 
     monkeypatch.setattr(modal, "modal", watched)
     assert main(["modes", str(model), "--speed", "1000", "--quiet"]) == 0
     assert before and ": warning: " in before[0] and "would sag" in before[0], before
+
+
+# ----------------------------------------------------------------------- every sub-command on that model
+def _measured(tmp_path) -> str:
+    """An FRF file of the instrumented model with sane masses (what ``fit`` is given)."""
+    sane = tmp_path / "sane.toml"
+    sane.write_text(variant(stator_mass="100.0", rotor_mass="10.0"))
+    out = tmp_path / "measured.csv"
+    assert main(["frf", str(sane), "--freqs", "1:100:5", "--out", str(out), "--quiet"]) == 0
+    return str(out)
+
+
+def _study(tmp_path) -> str:
+    spec = tmp_path / "tiny.study.toml"
+    spec.write_text('seed = 1\nsamples = 2\ndesign = "latin-hypercube"\n[[parameters]]\n'
+                    'key = "suspensions.s.stiffness"\napply = "scale"\ndistribution = "uniform"\nlow = 0.9\n'
+                    'high = 1.1\n[analyses.campbell]\nspeeds_rpm = "0:1000:3"\norders = [1]\n')
+    return str(spec)
+
+
+#: each sub-command's arguments after the model ({tmp}: the test's folder)
+_COMMANDS = {
+    "check": [], "modes": ["--speed", "1000"], "campbell": ["--speeds", "0:1000:3"],
+    "critical-speeds": ["--speeds", "0:1000:5"], "stability": ["--speeds", "0:1000:3"],
+    "ucs-map": ["--stiffness", "1e5:1e9:5"], "level1": ["--mcs", "1000", "--station", "r", "--qa", "1e5"],
+    "simulate": ["--duration", "0.01", "--speed", "1000"], "frf": ["--freqs", "1:100:5"],
+    "frf --force-outputs": ["--freqs", "1:100:5", "--force-outputs", "all"],
+    "unbalance": ["--speeds", "100:1000:5"],
+    "report": ["--standard", "api684", "--mcs", "1000", "--out", "{tmp}/r.html"],
+    "study": ["--spec", "{spec}", "--out", "{tmp}/s.nc"],
+    "fit": ["--measured", "{measured}", "--params", "suspensions.s.stiffness", "--out", "{tmp}/f.toml"],
+}
+
+
+def _argv(tmp_path, command: str, model) -> list:
+    words = {"tmp": str(tmp_path)}
+    if command == "study":
+        words["spec"] = _study(tmp_path)
+    if command == "fit":
+        words["measured"] = _measured(tmp_path)
+    return [command.split()[0], str(model), *(a.format(**words) for a in _COMMANDS[command]), "--quiet"]
+
+
+@pytest.mark.parametrize("command", ["ucs-map", "unbalance", "fit", "study", "frf --force-outputs"])
+def test_every_command_refuses_that_model_with_the_line_of_modes(tmp_path, capsys, command):
+    """``ucs-map`` skipped the mass check and failed in its Cholesky factorisation ('failed:
+    LinAlgError: Matrix is not positive definite', exit 1); ``unbalance``, ``fit`` and ``frf
+    --force-outputs`` (direct solves, no state matrix) failed with 'LinAlgError: Singular matrix';
+    ``study`` refused it with the sag warning above (two lines). Now each says the line ``modes``
+    says (``study`` within its own: the analyses of its file), exit 2, and writes nothing."""
+    model = tmp_path / "extreme.toml"
+    model.write_text(_EXTREME + INSTRUMENTS)
+    argv = _argv(tmp_path, command, model)
+    assert main(["modes", str(model), "--speed", "1000", "--quiet"]) == 2
+    refusal = _one_line_error(capsys, "mass matrix invertible")
+    assert main(argv) == 2
+    name, said = command.split()[0], _one_line_error(capsys)
+    if name == "study":     # the study file names the analyses the model cannot run, and why
+        assert said.startswith(f"rotordyn-modal study: error: {argv[3]}: [analyses]") and \
+            said.endswith(f"({refusal.split(': error: ', 1)[1]})"), said
+    else:
+        assert said == refusal.replace("modes", name, 1)
+    assert not [p.name for p in tmp_path.iterdir() if p.suffix in (".html", ".nc")] and \
+        not (tmp_path / "f.toml").exists()
+
+
+def test_a_stator_of_no_mass_under_a_rotor_is_refused_by_ucs_map_as_by_modes(tmp_path, capsys):
+    """A stator of 1e-30 kg under a rotor of 10 kg (no warning): the rotor's mass in the
+    stator's rows leaves the stator's own lost, and ``ucs-map`` ended in 'failed: LinAlgError'
+    (exit 1) where every analysis refuses the model."""
+    model = tmp_path / "light_stator.toml"
+    model.write_text(variant(rotor_mass="10.0"))
+    assert main(["modes", str(model), "--speed", "1000", "--quiet"]) == 2
+    refusal = _one_line_error(capsys, "mass matrix invertible")
+    assert main(_argv(tmp_path, "ucs-map", model)) == 2
+    assert _one_line_error(capsys) == refusal.replace("modes", "ucs-map", 1)
+
+
+def test_the_python_ucs_map_refuses_that_model_with_the_model_error(tmp_path):
+    """The check is made by the analysis itself, not by the command line."""
+    import numpy as np
+
+    import rotordyn_modal as rdm
+    from rotordyn_modal.errors import ModelError, ModelWarning
+
+    model = tmp_path / "extreme.toml"
+    model.write_text(_EXTREME)
+    with pytest.warns(ModelWarning):
+        machine = rdm.load_model(model)
+    with pytest.raises(ModelError, match="mass matrix invertible"):
+        rdm.ucs_map(machine, np.geomspace(1e5, 1e9, 5))
+
+
+#: degenerate models of the same family that a model check refuses when read: (changes, words)
+_FAMILY = {
+    "rotor-of-no-mass-on-stiff-bearings": ({"stator_mass": "100.0", "rotor_mass": "1e-30", "bearing": "1e12"},
+                                           ["[bearings.a] stiffness", "1e+12"]),
+    "casing-without-inertia-about-z": ({"stator_mass": "100.0", "rotor_mass": "10.0",
+                                        "stator_inertia": "[10.0, 10.0, 1e-40]"}, ["[stator] inertia", "1e-40"]),
+    "rigid-bearings-on-soft-mounts": ({"stator_mass": "100.0", "rotor_mass": "10.0", "bearing": "1e30",
+                                       "mount": "[1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3]"},
+                                      ["[bearings.a] stiffness", "1e+30"]),
+}
+
+
+@pytest.mark.parametrize("case", list(_FAMILY))
+def test_degenerate_models_read_as_one_line_in_every_command(tmp_path, capsys, case):
+    """A guard (these pass on main): each model is refused when read, by every sub-command, in
+    the one line ``check`` gives."""
+    changes, words = _FAMILY[case]
+    model = tmp_path / f"{case}.toml"
+    model.write_text(variant(**changes))
+    assert main(["check", str(model)]) == 2
+    refusal = _one_line_error(capsys, str(model), *words)
+    for command in _COMMANDS:
+        assert main(_argv(tmp_path, command, model)) == 2, command
+        assert _one_line_error(capsys) == refusal.replace("check", command.split()[0], 1), command
+
+
+def test_an_unbalance_response_singular_at_round_off_is_one_line_naming_where(tmp_path, capsys):
+    """A rotor of 1e-30 kg with Jp = Jd on bearings of 4e-13 N/m (legal, with the warning that the
+    low modes lose 15 of 16 digits): at a synchronous frequency its tilt block
+    ``[[k - w^2 Jd, w^2 Jp], [w^2 Jp, k - w^2 Jd]]`` has the determinant ``k (k - 2 w^2 Jd)``,
+    zero to round-off, and the direct solve ended in 'failed: LinAlgError: Singular matrix'
+    (exit 1). Now one refusal names the frequency and speed: an unbalance's, so f = rpm / 60."""
+    import re
+
+    model = tmp_path / "light_rotor.toml"
+    model.write_text(variant(stator_mass="100.0", stator_inertia="[10.0, 10.0, 10.0]", rotor_mass="1e-30",
+                             bearing="4e-13"))
+    assert main(_argv(tmp_path, "unbalance", model)) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 2 and ": warning: " in err[0] and "lose about 15 of 16" in err[0], err
+    found = re.search(r"singular in double precision at ([0-9.e+]+) Hz, reference speed ([0-9.e+]+) rpm", err[1])
+    assert err[1].startswith("rotordyn-modal unbalance: error: ") and found, err
+    assert float(found[1]) == pytest.approx(float(found[2]) / 60, rel=1e-5)
+
+
+def test_an_frf_of_that_model_with_a_loss_factor_is_refused_not_made_up(tmp_path, capsys):
+    """With a loss factor on its mount the FRF takes the direct engine, which made no mass check:
+    exit 0 and numbers solved from a mass matrix rounding had left singular (about 1e-4 m/N at
+    90 degrees from 50 to 100 Hz: ten times the mount's own static compliance, 1e-5 m/N, though
+    bearings of 1e6 N/m to a rotor of 1e30 kg hold the stator too). Now the line of ``modes``."""
+    model = tmp_path / "lossy.toml"
+    model.write_text(variant(mount="[1e5, 1e5, 1e5, 1e3, 1e3, 1e3]\nloss_factor = 0.1"))
+    assert main(["modes", str(model), "--speed", "1000", "--quiet"]) == 2
+    refusal = _one_line_error(capsys, "mass matrix invertible")
+    out = tmp_path / "frf.csv"
+    assert main(["frf", str(model), "--freqs", "1:100:3", "--out", str(out), "--quiet"]) == 2
+    assert _one_line_error(capsys) == refusal.replace("modes", "frf", 1) and not out.exists()
+
+
+def test_an_api_unbalance_case_of_a_rotor_of_no_mass_names_the_rotors_mass(tmp_path, capsys):
+    """API 684's unbalance of a 1e-30 kg rotor at 1000 rpm, 2 x 6350 g mm x m [kg] / N [rpm],
+    is 1.27e-35 kg m: below what a model holds, and the report refused it as '[unbalances[0]]
+    amount = 1.27e-35', an amount the file does not have (its unbalance is 1e-4 kg m). Now the
+    line names the rotor's mass, the speed and the case's amount."""
+    model = tmp_path / "light_rotor.toml"
+    model.write_text(variant(stator_mass="100.0", stator_inertia="[10.0, 10.0, 10.0]", rotor_mass="1e-30",
+                             bearing="4e-13"))
+    out = tmp_path / "r.html"
+    assert main(["report", str(model), "--standard", "api684", "--mcs", "1000", "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    amount = 2 * 6350 * 1e-30 / 1000 * 1e-6        # g mm -> kg m
+    assert len(err) == 2 and ": warning: " in err[0] and not out.exists(), err
+    assert "[rotors.r] mass = 1e-30" in err[1] and "1000 rpm" in err[1] and f"{amount:.3g} kg m" in err[1], err
+    assert "[unbalances" not in err[1]

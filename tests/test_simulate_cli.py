@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pandas as pd
 
+from degenerate_models import EXTREME
 from rotordyn_modal.cli import main
 
 
@@ -104,31 +105,7 @@ def test_model_every_analysis_refuses_is_refused_by_simulate_too(tmp_path, capsy
     with the same line and exit 2 (it once swallowed the refusal and died in the integrator with a
     ZeroDivisionError, exit 1)."""
     model = tmp_path / "extreme.toml"
-    model.write_text("""gravity = [0.0, 0.0, -9.81]
-[stator]
-mass = 1e-30
-inertia = [1.0, 1.0, 1.0]
-[[rotors]]
-name = "r"
-mass = 1e30
-center_of_mass = [0.0, 0.0, 0.0]
-polar_inertia = 0.05
-diametral_inertia = 0.05
-[[bearings]]
-name = "a"
-rotor = "r"
-position = [0.2, 0.0, 0.0]
-stiffness = 1e6
-[[bearings]]
-name = "b"
-rotor = "r"
-position = [-0.2, 0.0, 0.0]
-stiffness = 1e6
-[[suspensions]]
-name = "s"
-position = [0.0, 0.0, 0.0]
-stiffness = [1e5, 1e5, 1e5, 1e3, 1e3, 1e3]
-""")
+    model.write_text(EXTREME)
     def errors():   # the line of the refusal (a 1e30 kg rotor on 1e5 N/m mounts also draws a sag warning)
         return [line for line in capsys.readouterr().err.splitlines() if ": warning: " not in line]
 

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..linear_system import speed_linear_form
 from ._arguments import _shown
 from .frf import frf
 
@@ -225,6 +226,7 @@ def fit(model, measured, params, bounds=None, band_hz=None, weighting: str = "co
 
     measured = [measured] if not isinstance(measured, (list, tuple)) else list(measured)
     keys = _check_params(model, params)
+    speed_linear_form(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
     if weighting not in ("coherence", "none"):
         raise InputError(f"weighting {weighting!r}: expected 'coherence' or 'none'")
     if starts < 1:

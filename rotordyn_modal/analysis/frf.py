@@ -251,7 +251,46 @@ def dof_response(model, speed: float, omega, forces) -> np.ndarray:
     Returns
     -------
     ndarray, shape (n_freq, n_dof, k), complex [m, rad]
+
+    Raises
+    ------
+    ModelError
+        A system found singular, of a model whose mass matrix rounding leaves singular (the
+        check every analysis makes, made here only when a solve fails: it costs as much as a
+        small model's solves).
+    InputError
+        A system found singular otherwise (an undamped resonance at round-off), naming the first
+        such frequency and speed.
     """
+    try:
+        return _dof_response(model, speed, omega, forces)
+    except (np.linalg.LinAlgError, RuntimeError):     # RuntimeError: SuperLU's "exactly singular"
+        from ..linear_system import speed_linear_form
+
+        speed_linear_form(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
+        raise _singular(model, speed, omega) from None
+
+
+def _singular(model, speed, omega) -> InputError:
+    """The refusal of a dynamic stiffness singular in double precision (a mass matrix the
+    analyses take): the first such frequency and speed named, found one system at a time."""
+    w = np.atleast_1d(np.asarray(omega, dtype=float))
+    speeds = _broadcast(speed, w.shape)
+    at = ""
+    for s, f in zip(speeds, w):
+        try:
+            _dof_response(model, s, f, np.zeros((model.dofs.n, 1)))
+        except (np.linalg.LinAlgError, RuntimeError):
+            at = f" at {f / (2 * np.pi):.6g} Hz, reference speed {s * 30 / np.pi:.6g} rpm"
+            break
+    return InputError(f"{model.source}: the dynamic stiffness K - w^2 M + i w (C + Omega G) is singular in "
+                      f"double precision{at}: an undamped resonance there, or stiffnesses and masses many "
+                      "orders of magnitude apart (the model's warnings say where); add damping or move the "
+                      "frequencies")
+
+
+def _dof_response(model, speed, omega, forces) -> np.ndarray:
+    """:func:`dof_response` without the mass matrix's check."""
     w = np.atleast_1d(np.asarray(omega, dtype=float))
     speeds = _broadcast(speed, w.shape)
     n = model.dofs.n
@@ -321,7 +360,10 @@ def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str 
         Displacement [m/N], velocity [m/s/N] or acceleration [m/s^2/N] per force.
     engine : {'auto', 'modal', 'direct'}
         'auto' takes 'modal' for viscous models and 'direct' otherwise; 'modal'
-        on a model with loss factors or Maxwell branches is refused.
+        on a model with loss factors or Maxwell branches is refused. 'auto' and 'modal' refuse
+        a model whose mass matrix rounding leaves singular (as every analysis does); 'direct'
+        named leaves that check to the caller (``fit`` makes it once, not at each evaluation)
+        and refuses such a model only where a solve fails.
 
     Returns
     -------
@@ -355,6 +397,10 @@ def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str 
     omega = 2 * np.pi * f
     H = _modal_receptance(model, speed, omega, rows, columns) if used == "modal" else None
     if H is None:
+        if engine == "auto":   # the modal engine's state form makes the check itself; engine='direct'
+            from ..linear_system import speed_linear_form       # named: the caller's (fit's, made once)
+
+            speed_linear_form(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
         used = "direct"
         H = np.einsum("sd,fdi->sif", rows, dof_response(model, speed, omega, columns))
     H = H * (1j * omega) ** QUANTITIES[quantity]

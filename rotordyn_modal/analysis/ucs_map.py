@@ -37,6 +37,7 @@ from scipy.optimize import brentq
 from ..assembly import bearing_motion, body_inertias, constant_stiffness_damping, gyroscopic_matrix, mass_matrix
 from ..elements.bearings import evaluate
 from ..errors import InputError
+from ..linear_system import checked_mass_inverse
 from ..model._table import visible_names
 from ..model.geometry import skew
 from . import _arguments, _batches, _eigensolve, _vectors, _whirl
@@ -219,6 +220,9 @@ def ucs_map(model, stiffness, modes: int = 4, bearings=None, speeds=None, operat
         No bearing, an unknown name, a bad stiffness list, mode count or operating range, an unchosen bearing
         whose coefficients depend on speed, or a chosen speed table whose axial or tilt
         coefficients change over speed.
+    ModelError
+        Masses and inertias so many orders of magnitude apart that rounding leaves the mass
+        matrix singular (every analysis refuses such a model).
     """
     chosen = _chosen_bearings(model, bearings)
     stiffness = _check_stiffness(stiffness)
@@ -275,6 +279,7 @@ class _Pencil:
     stiffness ``k`` (isotropic), and the forward critical speeds of any ``k``."""
 
     def __init__(self, model, chosen):
+        checked_mass_inverse(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
         self.model = model
         self.M = mass_matrix(model)
         self.G = gyroscopic_matrix(model)

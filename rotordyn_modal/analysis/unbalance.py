@@ -27,6 +27,7 @@ import numpy as np
 
 from ..assembly import generalized_force, point_rows, sensor_rows
 from ..errors import InputError
+from ..linear_system import speed_linear_form
 from ..model.components import Sensor
 from ..model.geometry import cross, shift_matrices, transverse_axes
 from ..unbalance_standards import amplitude_column, amplitude_factor
@@ -534,6 +535,7 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     if not model.unbalances:
         raise InputError(f"{model.source}: the model has no [[unbalances]]: nothing excites an unbalance response")
     speeds = _arguments.speeds(speeds, increasing=False)
+    speed_linear_form(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
     sources, w, rotor_forces = unbalance_forces(model, speeds)
     n_src, n = len(sources), len(speeds)
     # (n_src * N,): sources one after another (one source: the speeds themselves, read only)

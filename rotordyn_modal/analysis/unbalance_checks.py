@@ -218,12 +218,26 @@ def api_unbalance_cases(model, mcs: float):
         n = abs(rotor.speed_ratio) * mcs * 30 / np.pi
         if n == 0:
             continue
-        static = [{"rotor": rotor.name, "amount": api_analysis_unbalance(rotor.mass, n)}]
+        static = [{"rotor": rotor.name, "amount": _api_amount(model, rotor, rotor.mass, n)}]
         cases.append((f"api-static:{rotor.name}", static))
         couple = _couple_unbalances(model, rotor, n)
         if couple:
             cases.append((f"api-couple:{rotor.name}", couple))
     return [(name, Model.from_dict({**data, "unbalances": tables}, model.source)) for name, tables in cases]
+
+
+def _api_amount(model, rotor, mass, n_rpm) -> float:
+    """``api_analysis_unbalance(mass, n_rpm)`` [kg m], or an :class:`InputError` where it is below
+    the smallest amount a model holds (``_table.SMALLEST_POSITIVE``): a rotor of almost no mass,
+    whose case the model would refuse naming an amount its file does not hold."""
+    from ..model._table import SMALLEST_POSITIVE, visible
+
+    amount = api_analysis_unbalance(mass, n_rpm)
+    if not amount >= SMALLEST_POSITIVE:
+        raise InputError(f"{model.source}: [rotors.{visible(rotor.name)}] mass = {rotor.mass!r}: the API unbalance "
+                         f"case of this rotor at {n_rpm:.6g} rpm would be {amount:.3g} kg m, below the smallest "
+                         f"amount a model holds ({SMALLEST_POSITIVE:g} kg m): expected a rotor mass that makes one")
+    return amount
 
 
 def _couple_unbalances(model, rotor, n_rpm):
@@ -234,7 +248,7 @@ def _couple_unbalances(model, rotor, n_rpm):
     offsets = sorted({float((np.asarray(b.position, dtype=float) - centre) @ e) for b in model.bearings_of(rotor.name)})
     if len(offsets) < 2:
         return []
-    amount = api_analysis_unbalance(rotor.mass / 2, n_rpm)
+    amount = _api_amount(model, rotor, rotor.mass / 2, n_rpm)
     return [{"rotor": rotor.name, "amount": amount, "phase_deg": phase, "axial_offset": offset}
             for phase, offset in ((0.0, offsets[0]), (180.0, offsets[-1]))]
 

@@ -9,7 +9,7 @@ import numpy as np
 from ..errors import InputError
 from ..io import save_model
 from ._common import (add_alias, as_typed, add_input_file, add_model_argument, add_output_file, check_ending, check_output_options,
-                      check_outputs, load_model, parse_band, parse_list, parse_names, save_figure, show_progress, use_agg, whole_number)
+                      check_outputs, open_model, parse_band, parse_list, parse_names, save_figure, show_progress, use_agg, whole_number)
 from ._units import ENVIRONMENT, key_unit, key_value_in
 
 NAME = "fit"
@@ -61,7 +61,7 @@ def run(args) -> int:
     check_outputs(args, args.out)
     check_ending(args.out, (".toml",), "--out", stdout=False)
     check_output_options(args)
-    model = load_model(args.model)
+    model = open_model(args)   # its warnings held when every analysis refuses it: one line
     params = parse_names(args.params, "--params", lambda key: key == "gain" or _is_key(model, key))
     band = parse_band(args.band, as_typed(args, "--freq-band"), "Hz", example="2:40", wording="form") \
         if args.band is not None else None

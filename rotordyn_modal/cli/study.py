@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, OutputError, OutputWriteError
-from ._common import (add_alias, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, parse_band, print_table,
+from ._common import (add_alias, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, open_model, parse_band, print_table,
                       show_progress, use_agg, whole_number)
 from ._resources import add_verbose
 from ._units import ENVIRONMENT, key_kind
@@ -88,13 +88,12 @@ _PLOTS = (("plot", "plot_campbell"), ("plot_histogram", "plot_critical_histogram
 
 
 def run(args) -> int:
-    from ..io import load_model
     from ..io.atomic import outputs_together
     from ..study import checkpoint_folder, read_study
     from ..study.execution import ResultsLock, remove_checkpoint
 
     _check_options(args)
-    model = load_model(args.model)
+    model = open_model(args)   # its warnings held when every analysis refuses it: one line
     definition = read_study(args.spec, model)
     _check_figures(args, definition)
     band = definition.operating_band_rpm if args.band is None else \

@@ -114,6 +114,14 @@ def test_points_at_a_phase_are_rest_plus_the_real_part_of_the_turned_motion(gear
         np.testing.assert_allclose(point, arrow.point + motion.real * cos - motion.imag * sin, rtol=1e-12, atol=1e-15)
     for bracket, rest_b, motion in zip(view.brackets_at_phase(phi), view.outline.brackets, view.bracket_motion):
         np.testing.assert_allclose(bracket, rest_b + motion.real * cos - motion.imag * sin, rtol=1e-12, atol=1e-15)
+    # the orbits: rest + Re(d) cos - Im(d) sin, from where the point is drawn at phase 0
+    points, motions = view.orbit_points()
+    paths = view.orbit_paths(phases)
+    assert paths.shape == (len(points), len(phases), 3) and len(points)
+    for path, p, d in zip(paths, points, motions):
+        np.testing.assert_allclose(path, p + np.outer(np.cos(phases), d.real) - np.outer(np.sin(phases), d.imag),
+                                   rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(view.orbit_directions(), -motions.imag, rtol=0, atol=0)
     # half a period later every point is as far the other way
     for now, later, body in zip(view.at_phase(phi), view.at_phase(phi + np.pi), view.outline.bodies):
         np.testing.assert_allclose(now + later, 2 * body.vertices, rtol=1e-12, atol=1e-12)
@@ -134,7 +142,7 @@ def test_the_figures_read_the_moved_quantities_and_compute_none():
     assert {"gamma_deg", "rotor_tilts_deg", "unwrapped_phase_deg"} <= simulation
     shapes = _calls(PLOTTING / "shapes3d.py")
     assert not {"real", "exp", "bracket_motion", "spring_motion", "arrow_motion"} & shapes
-    assert {"brackets_at_phase", "springs_at_phase", "arrows_at_phase", "whirl_orbit", "whirl_direction"} <= shapes
+    assert {"brackets_at_phase", "springs_at_phase", "arrows_at_phase", "orbit_paths", "orbit_directions"} <= shapes
     interactive = _calls(PLOTTING / "interactive.py")
     assert "mode_curves" in interactive
 

@@ -403,6 +403,19 @@ class ModeShape3D:
             motions.append(motion[0])
         return np.asarray(points, float).reshape(-1, 3), np.asarray(motions, complex).reshape(-1, 3)
 
+    def orbit_paths(self, phases) -> np.ndarray:
+        """The whirl orbits of :meth:`orbit_points` over ``phases`` [rad], shape (P, F, 3) [m]
+        (:func:`whirl_orbit`; ``phases[0] = 0`` puts each path's first point where the mode is
+        drawn at phase 0)."""
+        points, motions = self.orbit_points()
+        return np.asarray([whirl_orbit(p, d, phases) for p, d in zip(points, motions)], float) \
+            .reshape(len(points), len(phases), 3)
+
+    def orbit_directions(self) -> np.ndarray:
+        """Velocity of each of :meth:`orbit_points` along its orbit at phase 0 per radian of
+        phase [m/rad], shape (P, 3) (:func:`whirl_direction`)."""
+        return whirl_direction(self.orbit_points()[1])
+
     def plot(self, **kwargs):
         """The 3D figure; see :func:`rotordyn_modal.plotting.plot_mode_shape`."""
         from ..plotting.shapes3d import plot_mode_shape

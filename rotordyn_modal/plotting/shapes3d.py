@@ -338,16 +338,12 @@ def _ground(ax, flat, spring, size):
 
 def _draw_orbits(ax, flat, view):
     """Each orbit over one period, and an arrow along the motion where the drawing stands (phase 0)."""
-    from ..analysis.mode_shapes import displaced, whirl_direction, whirl_orbit
-
-    points, motions = view.orbit_points()
-    phases = np.linspace(0, 2 * np.pi, 73)
-    for k, (p, d) in enumerate(zip(points, motions)):
-        _polyline(ax, flat, whirl_orbit(p, d, phases), f"orbit:{k}", color="tab:red", linewidth=0.9)
-        velocity = whirl_direction(d)
-        if np.linalg.norm(velocity) > 0.05 * np.linalg.norm(np.abs(d)):
-            _arrow(ax, flat, displaced(p, d, 0.0), 0.8 * velocity, f"orbit-arrow:{k}", "tab:red", head=0.5,
-                   width=1.4)
+    _, motions = view.orbit_points()
+    paths = view.orbit_paths(np.linspace(0, 2 * np.pi, 73))
+    for k, (path, velocity, d) in enumerate(zip(paths, view.orbit_directions(), motions)):
+        _polyline(ax, flat, path, f"orbit:{k}", color="tab:red", linewidth=0.9)
+        if np.linalg.norm(velocity) > 0.05 * np.linalg.norm(np.abs(d)):   # an orbit that is no line
+            _arrow(ax, flat, path[0], 0.8 * velocity, f"orbit-arrow:{k}", "tab:red", head=0.5, width=1.4)
 
 
 def _draw_spin(ax, flat, view):

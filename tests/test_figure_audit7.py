@@ -116,8 +116,9 @@ def _simulation(n=400, kinetic=None, potential=None, moving=True):
         centres[:, 0, 1], centres[:, 0, 2] = 1e-5 * wave, 1e-5 * np.cos(2 * np.pi * 50.0 * t)
         displacement[:, 2] = 1e-6 * wave
     return types.SimpleNamespace(time=t, rotor_names=["upper", "lower"], rotor_centers=centres,
-                                 displacement=displacement, gamma=np.zeros((n, 3)),
-                                 rotor_tilts=np.zeros((n, 2, 3)), spin_speed=np.full(n, 314.0),
+                                 displacement=displacement, gamma=np.zeros((n, 3)), gamma_deg=np.zeros(n),
+                                 rotor_tilts=np.zeros((n, 2, 3)), rotor_tilts_deg=np.zeros((n, 2)),
+                                 spin_speed=np.full(n, 314.0),
                                  kinetic_energy=kinetic, total_energy=kinetic + potential,
                                  elastic_energy=potential, gravity_energy=np.zeros(n), model_name="test")
 

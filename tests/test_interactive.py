@@ -27,9 +27,15 @@ def test_campbell_hover_holds_mode_whirl_damping_and_critical_sources(gear):
     modes = [t for t in fig.data if t.name.startswith("mode ")]
     first = modes[0]
     m = list(res.modes).index(int(first.name.split()[1]))
-    drawn = ~np.isnan(np.asarray(first.y, float))
-    np.testing.assert_allclose(np.asarray(first.y, float)[drawn], res.frequencies_hz[drawn, m])
-    np.testing.assert_allclose(np.asarray(first.customdata)[drawn, 0].astype(float), res.damping_ratios[drawn, m])
+    from rotordyn_modal.plotting._style import speed_scale
+
+    # at the sweep's speeds (the curve also passes through its critical speeds, between them)
+    sweep = np.isin(np.asarray(first.x, float), res.speeds * speed_scale("rpm"))
+    assert sweep.sum() == len(res.speeds)
+    y, custom = np.asarray(first.y, float)[sweep], np.asarray(first.customdata)[sweep]
+    drawn = ~np.isnan(y)
+    np.testing.assert_allclose(y[drawn], res.frequencies_hz[drawn, m])
+    np.testing.assert_allclose(custom[drawn, 0].astype(float), res.damping_ratios[drawn, m])
     assert "whirl" in first.hovertemplate and "damping ratio" in first.hovertemplate
     critical, = [t for t in fig.data if t.name == "critical speeds"]
     np.testing.assert_allclose(np.asarray(critical.x, float), res.critical.speeds * 30 / np.pi)

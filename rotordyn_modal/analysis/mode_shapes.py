@@ -15,7 +15,10 @@ The geometry (:class:`MachineOutline`, model axes [m]) is made of
 
 :func:`mode_shape_3d` gives every one of those points its complex displacement in one mode,
 ``scale * shape_at(point)``: the drawn position at phase ``phi`` is
-``x + Re(d exp(i phi))``, and ``phi`` from 0 to 2 pi traces each point's whirl orbit.
+``x + Re(d exp(i phi))`` (:func:`displaced`; :meth:`ModeShape3D.at_phase` and its siblings for
+the brackets, springs and arrows), and ``phi`` from 0 to 2 pi traces each point's whirl orbit
+(:func:`whirl_orbit`, :meth:`ModeShape3D.orbit_points`): the figures
+(:mod:`rotordyn_modal.plotting.shapes3d`) draw these positions and compute none.
 Every body's motion at a point comes from :func:`_point_motion`, the one place that knows how
 a body moves in a mode.
 """
@@ -30,7 +33,7 @@ from ..errors import InputError
 from ..model._table import LARGEST
 
 __all__ = ["MachineOutline", "Body", "Spring", "Arrow", "machine_outline", "ModeShape3D", "mode_shape_3d",
-           "mode_index", "ShaftLine", "ShaftLines", "shaft_lines"]
+           "mode_index", "displaced", "whirl_orbit", "whirl_direction", "ShaftLine", "ShaftLines", "shaft_lines"]
 
 #: segments of a rotor's circles
 _CIRCLE = 24
@@ -355,8 +358,63 @@ class ModeShape3D:
 
     def at_phase(self, phase: float):
         """Displaced vertices of every body at ``phase`` [rad]: list of (n_vertices, 3) [m]."""
-        turn = np.exp(1j * phase)
-        return [b.vertices + np.real(d * turn) for b, d in zip(self.outline.bodies, self.body_motion)]
+        return [displaced(b.vertices, d, phase) for b, d in zip(self.outline.bodies, self.body_motion)]
+
+    def brackets_at_phase(self, phase: float) -> list:
+        """Displaced brackets at ``phase`` [rad]: list of (2, 3) [m], one per ``outline.brackets``."""
+        return [displaced(bracket, d, phase) for bracket, d in zip(self.outline.brackets, self.bracket_motion)]
+
+    def springs_at_phase(self, phase: float) -> list:
+        """Displaced ends of every spring at ``phase`` [rad]: list of ``(a, b)``, each shape (3,)
+        [m], one per ``outline.springs`` (a ground end does not move)."""
+        return [(displaced(s.point_a, d[0], phase), displaced(s.point_b, d[1], phase))
+                for s, d in zip(self.outline.springs, self.spring_motion)]
+
+    def arrows_at_phase(self, phase: float) -> np.ndarray:
+        """Displaced point of every sensor and excitation at ``phase`` [rad], shape (n_arrows, 3) [m]."""
+        points = [displaced(a.point, d, phase) for a, d in zip(self.outline.arrows, self.arrow_motion)]
+        return np.asarray(points, float).reshape(-1, 3)
+
+    def orbit_points(self):
+        """The points whose whirl orbits the figures trace, and their complex displacements: each
+        rotor's axis ends (its cylinder's two centres), a shaft line's two ends, the stator box's
+        centre (the mean of its corners' motions: a rigid body's motion is linear in the point),
+        the springs' ends on the machine.
+
+        Returns
+        -------
+        points : ndarray, shape (P, 3) [m]
+        motions : ndarray of complex, shape (P, 3) [m]
+        """
+        points, motions = [], []
+        for body, motion in zip(self.outline.bodies, self.body_motion):
+            if body.kind == "rotor":
+                points.extend(body.vertices[-2:])
+                motions.extend(motion[-2:])
+            elif body.kind == "shaft":                  # the line's two ends
+                ends = [body.faces[0][0], body.faces[0][-1]]
+                points.extend(body.vertices[ends])
+                motions.extend(motion[ends])
+            elif body.kind == "stator":
+                points.append(body.vertices.mean(axis=0))
+                motions.append(motion.mean(axis=0))
+        for spring, motion in zip(self.outline.springs, self.spring_motion):
+            points.append(spring.point_a)
+            motions.append(motion[0])
+        return np.asarray(points, float).reshape(-1, 3), np.asarray(motions, complex).reshape(-1, 3)
+
+    def orbit_paths(self, phases) -> np.ndarray:
+        """The whirl orbits of :meth:`orbit_points` over ``phases`` [rad], shape (P, F, 3) [m]
+        (:func:`whirl_orbit`; ``phases[0] = 0`` puts each path's first point where the mode is
+        drawn at phase 0)."""
+        points, motions = self.orbit_points()
+        return np.asarray([whirl_orbit(p, d, phases) for p, d in zip(points, motions)], float) \
+            .reshape(len(points), len(phases), 3)
+
+    def orbit_directions(self) -> np.ndarray:
+        """Velocity of each of :meth:`orbit_points` along its orbit at phase 0 per radian of
+        phase [m/rad], shape (P, 3) (:func:`whirl_direction`)."""
+        return whirl_direction(self.orbit_points()[1])
 
     def plot(self, **kwargs):
         """The 3D figure; see :func:`rotordyn_modal.plotting.plot_mode_shape`."""
@@ -369,6 +427,52 @@ class ModeShape3D:
         from ..plotting.shapes3d import animate_mode_shape
 
         return animate_mode_shape(self, path, **kwargs)
+
+
+def displaced(points, motion, phase: float) -> np.ndarray:
+    """Points moved by their complex displacement in a mode at one phase:
+    ``points + Re(motion exp(i phase))`` [m].
+
+    Parameters
+    ----------
+    points : array_like, shape (..., 3)
+        Positions at rest [m].
+    motion : array_like of complex, shape (..., 3)
+        Their complex displacements [m] (broadcast against ``points``).
+    phase : float
+        Phase of the motion [rad] (0: ``Re(motion)``).
+
+    Returns
+    -------
+    ndarray, shape of ``points + motion``
+    """
+    return points + np.real(motion * np.exp(1j * phase))
+
+
+def whirl_orbit(point, motion, phases) -> np.ndarray:
+    """The orbit a point traces in a mode: ``point + Re(motion exp(i phi))`` at each ``phi``.
+
+    Parameters
+    ----------
+    point : array_like, shape (3,)
+        Position at rest [m].
+    motion : array_like of complex, shape (3,)
+        Its complex displacement [m].
+    phases : array_like, shape (P,)
+        Phases [rad] (0 to 2 pi: one period).
+
+    Returns
+    -------
+    ndarray, shape (P, 3) [m]
+    """
+    return point + np.real(motion[None, :] * np.exp(1j * np.asarray(phases))[:, None])
+
+
+def whirl_direction(motion) -> np.ndarray:
+    """Velocity of a point along its orbit at phase 0 per radian of phase,
+    ``d/dphi Re(motion exp(i phi)) = Re(i motion)`` [m/rad], shape of ``motion``: the direction
+    it whirls from where it is drawn at phase 0."""
+    return np.real(1j * np.asarray(motion))
 
 
 def mode_index(result, mode: int) -> int:

@@ -44,16 +44,15 @@ def campbell_figure(result, speed_unit: str = "rpm", title: str | None = None):
     scale = speed_scale(speed_unit)
     x = result.speeds * scale
     fig = go.Figure()
-    for m, label in enumerate(result.modes):
-        f = np.where(result.oscillatory[:, m], result.frequencies_hz[:, m], np.nan)
+    for m, (label, curve) in enumerate(zip(result.modes, result.mode_curves())):
+        speeds, f, index = curve
+        custom = _curve_data(result, m, speeds, index)
         for whirl, colour in _WHIRL_COLOURS.items():
-            at = result.whirl[:, m] == whirl
+            at = _curve_mask(result.whirl[:, m] == whirl, speeds, index, result.speeds)
             if not at.any():
                 continue
-            custom = np.column_stack([result.damping_ratios[:, m], result.log_decrements[:, m],
-                                      result.whirl_ratios[:, m]])
             fig.add_trace(go.Scatter(
-                x=x, y=np.where(at, f, np.nan), mode="lines", line={"color": colour, "width": 2},
+                x=speeds * scale, y=np.where(at, f, np.nan), mode="lines", line={"color": colour, "width": 2},
                 name=f"mode {label} ({whirl})", legendgroup=f"mode {label}", customdata=custom,
                 hovertemplate=(f"mode {label}, {whirl} whirl<br>speed %{{x:.0f}} {speed_unit}<br>"
                                "%{y:.3f} Hz<br>damping ratio %{customdata[0]:.4f}<br>"
@@ -67,6 +66,30 @@ def campbell_figure(result, speed_unit: str = "rpm", title: str | None = None):
                       yaxis_title="Damped natural frequency [Hz]", yaxis_range=[0, top], hovermode="closest",
                       template="plotly_white")
     return fig
+
+
+def _inserted(speeds, index, sweep):
+    """Which points of a curve (``CampbellResult.mode_curves``) are no speed of the sweep: its
+    critical speeds, shape (K_m,) bool."""
+    return speeds != sweep[index]
+
+
+def _curve_mask(mask, speeds, index, sweep):
+    """``mask`` (over the sweep's speeds, shape (N,)) on a curve's points: a point of the sweep
+    keeps its own; a critical speed inserted between two of them belongs to either neighbour's
+    piece, so a whirl's line reaches it from each side."""
+    after = mask[np.minimum(index + 1, len(mask) - 1)]
+    return np.where(_inserted(speeds, index, sweep), mask[index] | after, mask[index])
+
+
+def _curve_data(result, m, speeds, index):
+    """Hover data of mode ``m``'s curve points, shape (K_m, 3): damping ratio, log decrement
+    and whirl ratio at the sweep's speeds, NaN at the inserted critical speeds (their circles
+    carry their own)."""
+    custom = np.column_stack([result.damping_ratios[index, m], result.log_decrements[index, m],
+                              result.whirl_ratios[index, m]]).astype(float)
+    custom[_inserted(speeds, index, result.speeds)] = np.nan
+    return custom
 
 
 def _orders(go, fig, result, x, top, unit):

@@ -266,7 +266,6 @@ def _draw_static(ax, flat, view, orbits):
 def _draw_displaced(ax, flat, view, phase):
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    turn = np.exp(1j * phase)
     for body, points in zip(view.outline.bodies, view.at_phase(phase)):
         colour = _BODY_COLOURS[body.kind]
         _polyline(ax, flat, _edges(body, points), f"displaced:{body.name}", color=colour,
@@ -276,11 +275,9 @@ def _draw_displaced(ax, flat, view, phase):
                                      alpha=0.15 if body.kind == "stator" else 0.35, edgecolor="none")
             faces.set_gid(f"displaced-faces:{body.name}")
             ax.add_collection3d(faces, autolim=False)
-    for k, (bracket, motion) in enumerate(zip(view.outline.brackets, view.bracket_motion)):
-        _polyline(ax, flat, bracket + np.real(motion * turn), f"displaced-bracket:{k}", color="tab:blue",
-                  linewidth=1.4)
-    for spring, motion in zip(view.outline.springs, view.spring_motion):
-        a, b = spring.point_a + np.real(motion[0] * turn), spring.point_b + np.real(motion[1] * turn)
+    for k, bracket in enumerate(view.brackets_at_phase(phase)):
+        _polyline(ax, flat, bracket, f"displaced-bracket:{k}", color="tab:blue", linewidth=1.4)
+    for spring, (a, b) in zip(view.outline.springs, view.springs_at_phase(phase)):
         _polyline(ax, flat, _zigzag(a, b, view.outline.size), f"displaced-spring:{spring.name}", color="0.2",
                   linewidth=1.0)
     for arrow, (tail, tip) in zip(view.outline.arrows, _arrow_segments(view, phase)):
@@ -305,10 +302,8 @@ def _padded_faces(points, faces):
 def _arrow_segments(view, phase):
     """Tail and tip [m] of each sensor's and excitation's arrow at ``phase`` [rad], shape (n, 2, 3):
     a sensor's arrow starts at its point, an excitation's ends there."""
-    turn = np.exp(1j * phase)
     segments = []
-    for arrow, motion in zip(view.outline.arrows, view.arrow_motion):
-        start = arrow.point + np.real(motion * turn)
+    for arrow, start in zip(view.outline.arrows, view.arrows_at_phase(phase)):
         d = 0.12 * view.outline.size * arrow.direction / np.linalg.norm(arrow.direction)
         segments.append((start - d, start) if arrow.kind == "excitation" else (start, start + d))
     return np.asarray(segments, float).reshape(-1, 2, 3)
@@ -341,36 +336,14 @@ def _ground(ax, flat, spring, size):
     _polyline(ax, flat, np.array([p - side, p + side]), f"ground:{spring.name}", color="k", linewidth=2.5)
 
 
-def _orbit_points(view):
-    """Points whose orbits are traced: each body's centre, the springs' machine ends."""
-    points, motions = [], []
-    for body, motion in zip(view.outline.bodies, view.body_motion):
-        if body.kind == "rotor":
-            points.extend(body.vertices[-2:])
-            motions.extend(motion[-2:])
-        elif body.kind == "shaft":                  # the line's two ends
-            ends = [body.faces[0][0], body.faces[0][-1]]
-            points.extend(body.vertices[ends])
-            motions.extend(motion[ends])
-        elif body.kind == "stator":
-            points.append(body.vertices.mean(axis=0))
-            motions.append(motion.mean(axis=0))
-    for spring, motion in zip(view.outline.springs, view.spring_motion):
-        points.append(spring.point_a)
-        motions.append(motion[0])
-    return np.asarray(points, float).reshape(-1, 3), np.asarray(motions, complex).reshape(-1, 3)
-
-
 def _draw_orbits(ax, flat, view):
     """Each orbit over one period, and an arrow along the motion where the drawing stands (phase 0)."""
-    points, motions = _orbit_points(view)
-    phases = np.linspace(0, 2 * np.pi, 73)
-    for k, (p, d) in enumerate(zip(points, motions)):
-        orbit = p + np.real(d[None, :] * np.exp(1j * phases)[:, None])
-        _polyline(ax, flat, orbit, f"orbit:{k}", color="tab:red", linewidth=0.9)
-        velocity = np.real(1j * d)            # d/dphi of Re(d e^{i phi}) at phi = 0
-        if np.linalg.norm(velocity) > 0.05 * np.linalg.norm(np.abs(d)):
-            _arrow(ax, flat, p + np.real(d), 0.8 * velocity, f"orbit-arrow:{k}", "tab:red", head=0.5, width=1.4)
+    _, motions = view.orbit_points()
+    paths = view.orbit_paths(np.linspace(0, 2 * np.pi, 73))
+    for k, (path, velocity, d) in enumerate(zip(paths, view.orbit_directions(), motions)):
+        _polyline(ax, flat, path, f"orbit:{k}", color="tab:red", linewidth=0.9)
+        if np.linalg.norm(velocity) > 0.05 * np.linalg.norm(np.abs(d)):   # an orbit that is no line
+            _arrow(ax, flat, path[0], 0.8 * velocity, f"orbit-arrow:{k}", "tab:red", head=0.5, width=1.4)
 
 
 def _draw_spin(ax, flat, view):

@@ -74,7 +74,7 @@ def _draw_frame_motion(ax, result, scale=None):
     t = result.time
     lines = []
     if result.displacement.any() or not result.rotor_tilts.any():
-        gamma = np.degrees(np.linalg.norm(result.gamma, axis=1))
+        gamma = result.gamma_deg
         lines += ax.plot(t, gamma, label=_zero_note("|γ| transverse rotation [deg]", gamma))
     lines += _draw_tilts(ax, result, every=False)
     translation = bool(result.displacement.any() or not result.rotor_tilts.any())
@@ -99,8 +99,9 @@ def _draw_tilts(ax, result, every):
     """Each rotor on bearings' tilt in them [deg] against time: the rotors that tilt, or
     ``every`` rotor (a tilt zero throughout said so in its legend entry); returns the lines."""
     lines = []
+    tilts = result.rotor_tilts_deg
     for j, name in enumerate(result.rotor_names):
-        tilt = np.degrees(np.linalg.norm(result.rotor_tilts[:, j], axis=1))
+        tilt = tilts[:, j]
         if every or tilt.any():
             lines += ax.plot(result.time, tilt, lw=0.8, label=_zero_note(f"|γ| {name} in its bearings [deg]", tilt))
     return lines
@@ -224,7 +225,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     for rotor in result.rotor_names:
         track = order_track(result, sensor, rotor=rotor)
         amplitude_ax.plot(track.speeds * rpm, track.amplitude * scale, ".-", ms=3, label=f"1X {rotor}")
-        drawn = phase_ax.plot(track.speeds * rpm, _unwrapped_deg(track.phase_deg), ".-", ms=3, label=f"1X {rotor}")
+        drawn = phase_ax.plot(track.speeds * rpm, track.unwrapped_phase_deg, ".-", ms=3, label=f"1X {rotor}")
         notes += _unknown_phase_note(track, result.rotor_names, drawn[0].get_color())
     amplitude_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X amplitude, 0-peak [{unit}]",
                      title="Order-tracked amplitude")
@@ -247,16 +248,6 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
                 axis.axvline(speed * rpm, color="tab:red", lw=0.7, ls="--", label="_critical")
         _label_critical_lines([amplitude_ax, phase_ax, axes[0, 0]], critical, laid_out_renderer(fig))
     return fig
-
-
-def _unwrapped_deg(phase_deg):
-    """The phase [deg] unwrapped over its known (finite) samples, NaN where unknown: the line
-    breaks there."""
-    phase = np.asarray(phase_deg, dtype=float)
-    out = np.full(phase.shape, np.nan)
-    known = np.isfinite(phase)
-    out[known] = np.degrees(np.unwrap(np.radians(phase[known])))
-    return out
 
 
 def _unknown_phase_note(track, rotors, color):
@@ -400,8 +391,3 @@ def _rotor_orders(critical, rotor_names):
     keep = np.isin(critical.source, rotor_names)
     return replace(critical, **{f.name: getattr(critical, f.name)[keep] for f in fields(critical)})
 
-
-def _highest(result, critical):
-    spin = np.abs(result.drive_speed).max() * np.abs(result.speed_ratios).max() / (2 * np.pi)
-    natural = critical.frequencies_hz.max() if critical is not None and len(critical) else 0.0
-    return max(spin, natural, 1.0)

@@ -103,6 +103,33 @@ class SimulationResult:
         """Kinetic + elastic + gravity energy [J], shape (N,)."""
         return self.kinetic_energy + self.elastic_energy + self.gravity_energy
 
+    @property
+    def gamma_deg(self) -> np.ndarray:
+        """Size of the stator's transverse rotation, ``|gamma|`` [deg], shape (N,): the angle its
+        spin axis is tilted by (zero without a stator)."""
+        return np.degrees(np.linalg.norm(self.gamma, axis=1))
+
+    @property
+    def rotor_tilts_deg(self) -> np.ndarray:
+        """Size of each rotor's tilt in its bearings, ``|gamma_j|`` [deg], shape (N, n_rotors)
+        (zero for a rotor without bearings)."""
+        return np.degrees(np.linalg.norm(self.rotor_tilts, axis=2))
+
+    @property
+    def spin_frequencies_hz(self) -> np.ndarray:
+        """Each rotor's spin frequency relative to the stator, ``r_j * drive_speed / (2 pi)``
+        [Hz], shape (N, n_rotors) (signed: negative where it turns against the reference)."""
+        return np.asarray(self.drive_speed, dtype=float)[:, None] * np.asarray(self.speed_ratios, dtype=float) \
+            / (2 * np.pi)
+
+    @property
+    def highest_spin_frequency_hz(self) -> float:
+        """The fastest any rotor spins during the run, ``max |r_j| * max |drive_speed| / (2 pi)``
+        [Hz] (0 for an empty record)."""
+        if not np.size(self.drive_speed) or not np.size(self.speed_ratios):
+            return 0.0
+        return float(np.abs(self.drive_speed).max() * np.abs(self.speed_ratios).max() / (2 * np.pi))
+
     def sensor(self, name: str) -> np.ndarray:
         """Signal of the sensor ``name`` [m], shape (N,)."""
         from ..errors import InputError

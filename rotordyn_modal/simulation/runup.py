@@ -45,6 +45,18 @@ class OrderTrack:
         """Where the phase is known, shape (K,) bool: not NaN."""
         return np.isfinite(self.phase_deg)
 
+    @property
+    def unwrapped_phase_deg(self) -> np.ndarray:
+        """``phase_deg`` unwrapped [deg], shape (K,): over the known (finite) samples, taken in
+        order, each step between neighbours brought within 180 deg by whole turns (the first
+        known sample kept); NaN where the phase is unknown (a line drawn through it breaks
+        there)."""
+        phase = np.asarray(self.phase_deg, dtype=float)
+        out = np.full(phase.shape, np.nan)
+        known = np.isfinite(phase)
+        out[known] = np.degrees(np.unwrap(np.radians(phase[known])))
+        return out
+
     def to_dataframe(self):
         import pandas as pd
 

@@ -188,6 +188,43 @@ class CampbellResult:
                                        np.asarray(critical.frequencies_hz, dtype=float)[mine]))
         return curves
 
+    def whirl_changes(self) -> list:
+        """Where each mode's whirl label changes between two neighbouring speeds of the sweep
+        where it is a mode: the speed where its whirl ratio, interpolated linearly between
+        them, passes ``-WHIRL_TOLERANCE`` or ``+WHIRL_TOLERANCE`` (a ratio going from -0.03 to
+        +0.41 over a step of 100 rpm changes at 6.5 and 7.0 rpm: backward, none, forward).
+
+        The labels at the sweep's speeds are :attr:`whirl` (at rest, relative to the spin axis
+        ``+e``: the limit of the whirl at small positive speeds, as the ratio is continuous in
+        the speed); between them only the sweep's ratios are known, and the label changes
+        where the straight line between them changes it, not over the whole step
+        (docs/theory.md section 9).
+
+        Returns
+        -------
+        list of (speeds, whirl), one per mode (column of ``eigenvalues``)
+            ``speeds`` ndarray, shape (K_m,) [rad/s], increasing; ``whirl`` ndarray of str,
+            shape (K_m,): the label from that speed on.
+        """
+        tolerance = _whirl.WHIRL_TOLERANCE
+        codes = (self.whirl_ratios > tolerance).astype(int) - (self.whirl_ratios < -tolerance)
+        names = {-1: "backward", 0: "none", 1: "forward"}
+        mode = self.oscillatory
+        changes = []
+        for m in range(codes.shape[1]):
+            at, after = [], []
+            for k in np.flatnonzero((codes[:-1, m] != codes[1:, m]) & mode[:-1, m] & mode[1:, m]):
+                a, b = self.whirl_ratios[k, m], self.whirl_ratios[k + 1, m]
+                step = 1 if codes[k + 1, m] > codes[k, m] else -1
+                for code in range(codes[k, m], codes[k + 1, m], step):
+                    # the boundary between codes c and c + step: -tol between -1 and 0, +tol between 0 and 1
+                    level = -tolerance if min(code, code + step) == -1 else tolerance
+                    t = (level - a) / (b - a)
+                    at.append(self.speeds[k] + t * (self.speeds[k + 1] - self.speeds[k]))
+                    after.append(names[code + step])
+            changes.append((np.asarray(at, dtype=float), np.asarray(after, dtype=str)))
+        return changes
+
     @property
     def unstable(self) -> np.ndarray:
         """(N, n_modes) bool: the root is a mode (``oscillatory``) growing in time, its real part

@@ -1,0 +1,165 @@
+"""Figures of the eleventh audit (issue 27, section 3: figures that cannot mislead): where the
+Campbell diagram changes a mode's whirl style (checked against the whirl ratio of modal analyses
+at speeds between the sweep's), and what the stability figure's legend and axes show.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+
+matplotlib.use("Agg")
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+TOLERANCE = 1e-3          # |whirl ratio| of 'no whirl' (docs/theory.md section 9)
+COLOURS = {"forward": "tab:blue", "backward": "tab:red", "none": "0.45"}
+
+
+@pytest.fixture(scope="module")
+def motor_pump():
+    model = rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml")
+    return model, rdm.campbell(model, rdm.rpm(np.linspace(0.0, 3600.0, 37)), orders=(1,), critical=False)
+
+
+def _stretches(ax, result, mode, whirl):
+    """The speed intervals [rpm] over which ``mode``'s (1-based) curve is drawn in ``whirl``'s
+    style: the segments of the lines of that colour that pass through the mode's own points at
+    the sweep's speeds."""
+    import matplotlib.colors as mcolors
+
+    f = np.where(result.oscillatory[:, mode - 1], result.frequencies_hz[:, mode - 1], np.nan)
+    rpm = result.speeds_rpm
+    out = []
+    for line in ax.get_lines():
+        if not mcolors.same_color(line.get_color(), COLOURS[whirl]):
+            continue
+        x, y = (np.asarray(v, dtype=float) for v in line.get_data())
+        if len(x) < len(rpm):
+            continue
+        at = np.argmin(np.abs(x[:, None] - rpm[None, :]), axis=0)
+        if not np.allclose(x[at], rpm):
+            continue
+        if not np.any(y[at] == f):                    # another mode's line
+            continue
+        drawn = np.isfinite(y[:-1]) & np.isfinite(y[1:])
+        out += [(x[i], x[i + 1]) for i in np.flatnonzero(drawn)]
+    return out
+
+
+def _true_change(model, f0, low, high, level):
+    """The speed [rpm] between ``low`` and ``high`` where the whirl ratio of the mode near ``f0``
+    [Hz] passes ``level``, by bisection on modal analyses (independent of the sweep)."""
+    def ratio(rpm):
+        r = rdm.modal(model, rdm.rpm(rpm))
+        modes = np.flatnonzero(r.oscillatory)
+        return r.whirl_ratios[modes[np.argmin(np.abs(r.frequencies_hz[modes] - f0))]] - level
+
+    a, b = low, high
+    fa = ratio(a)
+    assert fa * ratio(b) < 0
+    for _ in range(14):
+        c = 0.5 * (a + b)
+        fc = ratio(c)
+        a, b, fa = (c, b, fc) if fa * fc > 0 else (a, c, fa)
+    return 0.5 * (a + b)
+
+
+def test_a_mode_that_whirls_backward_at_rest_changes_style_where_its_whirl_changes(motor_pump):
+    """``campbell motor_pump_on_mounts --speeds 0:3600:37``: mode 10 (775 Hz) whirls backward at
+    rest (ratio -0.07 about the spin axis: the machine has no mirror plane, its damping is not
+    proportional) and forward from about 31 rpm on (the gyroscopic moments). The figure drew the
+    whole first step, 0-100 rpm, in both styles, the dashed red over the blue: a backward stub 3x
+    longer than the backward stretch. Now the red ends, and the blue starts, at the speed where the
+    whirl ratio passes -1e-3 and +1e-3 (found here by bisection on `modal`), within 3 rpm: the
+    backward whirl at rest is not hidden either."""
+    model, result = motor_pump
+    assert result.whirl[0, 9] == "backward" and result.whirl[1, 9] == "forward"
+    fig = result.plot()
+    ax = fig.axes[0]
+    f0 = result.frequencies_hz[0, 9]
+    backward_end = _true_change(model, f0, 0.0, 100.0, -TOLERANCE)
+    forward_start = _true_change(model, f0, 0.0, 100.0, TOLERANCE)
+    assert 25.0 < backward_end < forward_start < 40.0
+    red = [s for s in _stretches(ax, result, 10, "backward") if s[0] < 100.0]
+    blue = [s for s in _stretches(ax, result, 10, "forward") if s[0] < 100.0]
+    assert red and min(a for a, _ in red) == 0.0              # drawn backward from rest ...
+    assert abs(max(b for _, b in red) - backward_end) < 3.0     # ... to where it stops whirling backward
+    assert abs(min(a for a, _ in blue) - forward_start) < 3.0   # and forward from where it does
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+
+
+def test_a_near_planar_mode_gaining_whirl_changes_label_once_where_the_threshold_says(motor_pump):
+    """Mode 7 (529 Hz) of the motor pump: 'none' up to 1,500 rpm, 'backward' from 1,600 rpm. That
+    is physics, not noise: its whirl ratio falls linearly with speed (2.3e-4 at rest, -2.6e-3 at
+    3,600 rpm, second differences below 0.2 % of the first), so the label changes once, where
+    the ratio passes -1e-3 (a minor/major axis ratio of 5e-4). The figure changes the curve's
+    style at that speed (the straight line through the two neighbouring ratios) and its legend
+    says what 'no whirl' means; it drew both styles over the whole step."""
+    model, result = motor_pump
+    ratio = result.whirl_ratios[:, 6]
+    first, second = np.diff(ratio), np.diff(ratio, 2)
+    assert np.all(first < 0) and np.abs(second).max() < 2e-3 * np.abs(first).max()   # smooth: physics
+    labels = result.whirl[:, 6]
+    changes = np.flatnonzero(labels[1:] != labels[:-1])
+    assert len(changes) == 1 and labels[0] == "none" and labels[-1] == "backward"
+    k = changes[0]
+    rpm = result.speeds_rpm
+    expected = rpm[k] + (-TOLERANCE - ratio[k]) / (ratio[k + 1] - ratio[k]) * (rpm[k + 1] - rpm[k])
+    fig = result.plot()
+    ax = fig.axes[0]
+    grey, red = _stretches(ax, result, 7, "none"), _stretches(ax, result, 7, "backward")
+    assert max(b for _, b in grey) == pytest.approx(expected, abs=1e-6)
+    assert min(a for a, _ in red) == pytest.approx(expected, abs=1e-6)
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any("no whirl" in t and "0.001" in t for t in legend), legend
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+
+
+def test_whirl_changes_against_hand_made_ratios(motor_pump):
+    """`CampbellResult.whirl_changes` on made-up ratios over speeds 0, 10, 20, 30 rad/s: -0.03 to
+    +0.41 (backward, none from 10 (0.029/0.44) rad/s, forward from 10 (0.031/0.44)), +0.41 to
+    +0.0005 (none from 10 + 10 (0.409/0.4095)), +0.0005 to -0.0005 (no change); a step where the
+    root is no mode has no change."""
+    _, result = motor_pump
+    speeds = np.array([0.0, 10.0, 20.0, 30.0])
+    ratios = np.array([[-0.03, 0.5], [0.41, -0.5], [0.0005, 0.5], [-0.0005, -0.5]])
+    values = np.array([[1j * 100.0, 1j * 200.0]] * 4)
+    values[2, 1] = -5.0                                      # a real root: not a mode at 20 rad/s
+    codes = (ratios > TOLERANCE).astype(int) - (ratios < -TOLERANCE)
+    whirl = np.array(["backward", "none", "forward"])[codes + 1]
+    made = dataclasses.replace(result, speeds=speeds, eigenvalues=values, frequencies_hz=values.imag / (2 * np.pi),
+                               whirl_ratios=ratios, whirl=whirl, modes=np.array([1, 2]),
+                               shapes=np.zeros((4, 2, 1), complex))
+    (at, after), (at2, after2) = made.whirl_changes()
+    np.testing.assert_allclose(at, [10 * 0.029 / 0.44, 10 * 0.031 / 0.44, 10 + 10 * 0.409 / 0.4095], rtol=1e-12)
+    assert list(after) == ["none", "forward", "none"]
+    np.testing.assert_allclose(at2, [10 * 0.499 / 1.0, 10 * 0.501 / 1.0], rtol=1e-12)
+    assert list(after2) == ["none", "backward"]
+
+
+def test_a_circulatory_machine_keeps_its_whirl_at_rest():
+    """``unstable_cross_coupled.toml``: its supports' stiffness [[k, q], [-q, k]] makes modes 3
+    and 5 circular backward orbits at rest (ratio -1 about the spin axis), and they stay backward:
+    drawn backward from 0 rpm, and never forward."""
+    model = rdm.load_model(EXAMPLES / "unstable_cross_coupled.toml")
+    result = rdm.campbell(model, rdm.rpm(np.linspace(0.0, 1000.0, 11)), orders=(1,), critical=False)
+    fig = result.plot()
+    ax = fig.axes[0]
+    for mode in (3, 5):
+        assert result.whirl_ratios[0, mode - 1] == pytest.approx(-1.0, abs=1e-9)
+        red = _stretches(ax, result, mode, "backward")
+        assert min(a for a, _ in red) == 0.0 and max(b for _, b in red) == 1000.0
+        assert not _stretches(ax, result, mode, "forward")
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)

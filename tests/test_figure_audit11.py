@@ -163,3 +163,68 @@ def test_a_circulatory_machine_keeps_its_whirl_at_rest():
     import matplotlib.pyplot as plt
 
     plt.close(fig)
+
+
+# -- stability: the legend says what each panel draws; the axes fit the modes near the speeds ------
+
+@pytest.fixture(scope="module")
+def flexible_pump_stability():
+    model = rdm.load_model(EXAMPLES / "flexible_pump_on_mounts.toml")
+    return rdm.stability(model, rdm.rpm(np.linspace(0.0, 6000.0, 13)))
+
+
+def test_the_stability_legend_marks_the_modes_a_panel_does_not_draw(flexible_pump_stability):
+    """``stability flexible_pump_on_mounts --speeds 0:6000:61``: the legend (the top panel's)
+    listed modes 49, 50, 56, 59, 60, whose real parts all lay below the top panel's axis, as if it
+    drew them. Now every coloured mode whose values in a panel all lie beyond its axis says so in its
+    entry ('(bottom: above the axis)'), the panel's note of the roots beyond it names it too, and
+    every entry without such a mark is drawn inside both panels."""
+    import matplotlib.pyplot as plt
+
+    result = flexible_pump_stability
+    fig = result.plot()
+    top, bottom = fig.axes[:2]
+    entries = [t for t in top.get_legend_handles_labels()[1] if t.startswith("mode ")]
+    assert entries
+    notes = {ax: " ".join(t.get_text() for t in ax.texts if t.get_gid() == "cut-off-note").replace("\n", " ")
+             for ax in (top, bottom)}
+    for entry in entries:
+        mode = int(entry.split()[1])
+        column = list(result.modes).index(mode)
+        for name, ax, values in (("top", top, result.real_parts[:, column]),
+                                 ("bottom", bottom, result.log_decrements[:, column])):
+            low, high = ax.get_ylim()
+            values = values[np.isfinite(values)]
+            inside = np.any((values >= low) & (values <= high))
+            if inside:
+                assert f"{name}:" not in entry, entry
+            else:
+                side = "below" if np.all(values < low) else "above"
+                assert f"{name}: {side} the axis" in entry, entry
+                assert side in notes[ax], notes[ax]
+    plt.close(fig)
+
+
+def test_the_stability_axes_fit_the_modes_near_the_running_speed(flexible_pump_stability):
+    """The flexible pump's 69 kHz shaft modes (log decrement 5e-9, 690 times the top running
+    frequency of 100 Hz) scaled both panels: every mode below 1 kHz lay off the axes. Now the
+    least damped mode below a decade above the top speed (1 kHz), at each speed, lies inside both
+    panels and reaches a tenth of each panel's height from zero; and a note names the least damped
+    mode of all (mode and log decrement, found here from the result) as not scaled to."""
+    import matplotlib.pyplot as plt
+
+    result = flexible_pump_stability
+    log_dec = np.where(np.isfinite(result.log_decrements), result.log_decrements, np.inf)
+    near = np.nanmin(np.where(np.isfinite(log_dec), result.frequencies_hz, np.nan), axis=0) <= 1000.0
+    least = np.argmin(np.where(near[None, :], log_dec, np.inf), axis=1)
+    rows = np.arange(len(least))
+    fig = result.plot()
+    for ax, values in zip(fig.axes[:2], (result.real_parts[rows, least], result.log_decrements[rows, least])):
+        low, high = ax.get_ylim()
+        assert low <= values.min() and values.max() <= high
+        assert np.abs(values).max() >= (high - low) / 10, (np.abs(values).max(), low, high)
+    k, m = np.unravel_index(np.argmin(log_dec), log_dec.shape)
+    assert not near[m]
+    note = " ".join(t.get_text() for t in fig.axes[0].texts if t.get_gid() == "far-note").replace("\n", " ")
+    assert f"mode {result.modes[m]}," in note and f"{log_dec[k, m]:.2g}" in note, note
+    plt.close(fig)

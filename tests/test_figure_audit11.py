@@ -145,6 +145,16 @@ def test_whirl_changes_against_hand_made_ratios(motor_pump):
     assert list(after) == ["none", "forward", "none"]
     np.testing.assert_allclose(at2, [10 * 0.499 / 1.0, 10 * 0.501 / 1.0], rtol=1e-12)
     assert list(after2) == ["none", "backward"]
+    # through zero speed: ratios relative to the spin, -0.5 at -10 rad/s (+0.5 about +e: the spin is
+    # -e there) and +0.1 at +30 rad/s. About +e the ratio goes from 0.5 to 0.1, 0.4 at rest: the
+    # label is backward up to zero speed and forward from it (a circulatory machine's whirl), not
+    # 'none' between -0.5 and 0.1 of the spin-relative ratios (at 23.3 and 23.4 rad/s)
+    through = dataclasses.replace(made, speeds=np.array([-10.0, 30.0]), eigenvalues=values[:2, :1],
+                                  frequencies_hz=values[:2, :1].imag / (2 * np.pi),
+                                  whirl_ratios=np.array([[-0.5], [0.1]]), whirl=np.array([["backward"], ["forward"]]),
+                                  modes=np.array([1]), shapes=np.zeros((2, 1, 1), complex))
+    (at3, after3), = through.whirl_changes()
+    assert list(at3) == [0.0] and list(after3) == ["forward"]
 
 
 def test_a_circulatory_machine_keeps_its_whirl_at_rest():

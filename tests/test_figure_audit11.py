@@ -237,4 +237,11 @@ def test_the_stability_axes_fit_the_modes_near_the_running_speed(flexible_pump_s
     assert not near[m]
     note = " ".join(t.get_text() for t in fig.axes[0].texts if t.get_gid() == "far-note").replace("\n", " ")
     assert f"mode {result.modes[m]}," in note and f"{log_dec[k, m]:.2g}" in note, note
+    fig.canvas.draw()                       # the notes and the legend: inside the figure, apart
+    renderer = fig.canvas.get_renderer()
+    boxes = [t.get_window_extent(renderer) for ax in fig.axes for t in ax.texts if t.get_text()]
+    boxes += [ax.get_legend().get_window_extent(renderer) for ax in fig.axes if ax.get_legend()]
+    for i, box in enumerate(boxes):
+        assert fig.bbox.x0 <= box.x0 and box.x1 <= fig.bbox.x1 and fig.bbox.y0 <= box.y0 and box.y1 <= fig.bbox.y1
+        assert not any(box.overlaps(other) for other in boxes[i + 1:])
     plt.close(fig)

@@ -48,8 +48,12 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     range (its lowest real part, its highest log decrement over the speeds), and keep zero
     well inside; a note beside each panel names the roots that reach beyond it and how far
     (overdamped roots of journal bearings reach real parts of -10,000 1/s and log
-    decrements of 1,000). Each threshold speed is a labelled vertical line: red where a mode
-    becomes unstable with rising speed, green where it becomes stable again.
+    decrements of 1,000). A coloured mode that a panel does not show says so in its legend
+    entry. Where a mode far above the running speed is less damped than every mode near it,
+    the figure is scaled to the modes near it (:func:`near_operating_range`), and a note names
+    the far ones and the least damped of them. Each threshold speed is a labelled vertical
+    line: red where a mode becomes unstable with rising speed, green where it becomes stable
+    again.
 
     Parameters
     ----------

@@ -146,9 +146,10 @@ def test_every_mode_the_stability_legend_names_is_seen_or_said_in_each_panel(exa
     fig = result.plot()
     fig.canvas.draw()
     top, bottom = fig.axes[:2]
-    named = [int(re.fullmatch(r"mode (\d+)", t.get_text())[1]) for t in top.get_legend().get_texts()
-             if re.fullmatch(r"mode \d+", t.get_text())]
-    assert len(named) >= 5
+    # an entry may say that a panel does not draw it: 'mode 31 (top: below the axis)'
+    named = [int(re.fullmatch(r"mode (\d+)( \(.*\))?", t.get_text())[1]) for t in top.get_legend().get_texts()
+             if re.fullmatch(r"mode \d+( \(.*\))?", t.get_text())]
+    assert len(named) >= 4          # (the flexible pump's: 4 since its axes fit the modes below 600 Hz)
     for ax, values in ((top, result.real_parts), (bottom, result.log_decrements)):
         frame = ax.get_window_extent()
         zero = ax.transData.transform((0.0, 0.0))[1]

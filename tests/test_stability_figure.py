@@ -187,12 +187,15 @@ def test_a_fast_shaft_mode_does_not_flatten_the_least_damped_modes_onto_zero(exa
     """The flexible pump's 69 kHz shaft modes set the round-off floor of the real-part panel to
     1e-4 |s| = 43 1/s, so the panel reached +58 1/s though no real part is positive, and its least
     damped modes (real parts about -5e-4 1/s) lay on the zero line. The floor is for real parts
-    spanning round-off only: the panel now shows the least damped mode's real parts apart from zero."""
+    spanning round-off only: the panel now shows the least damped mode's real parts apart from zero.
+    (The axes are scaled to the modes within a decade of the top running speed, 100 Hz, since
+    test_figure_audit11: the least damped of those, the 69 kHz modes being named in a note.)"""
     model = rdm.load_model(examples_dir / "flexible_pump_on_mounts.toml")
     result = rdm.stability(model, rdm.rpm(np.linspace(0.0, 6000.0, 4)))
     top = result.plot().axes[0]
     bottom, upper = top.get_ylim()
-    least = np.nanargmax(np.nanmax(result.real_parts, axis=0))
+    near = np.nanmin(result.frequencies_hz, axis=0) <= 1000.0
+    least = np.nanargmax(np.where(near, np.nanmax(result.real_parts, axis=0), -np.inf))
     real = result.real_parts[:, least]
     assert np.all(real < 0) and np.all((real > bottom) & (real < upper))
     assert upper - bottom < 20 * np.abs(real).max()          # the mode spans a visible part of the panel

@@ -188,6 +188,54 @@ class CampbellResult:
                                        np.asarray(critical.frequencies_hz, dtype=float)[mine]))
         return curves
 
+    def whirl_changes(self) -> list:
+        """Where each mode's whirl label changes between two neighbouring speeds of the sweep
+        where it is a mode: the speed where its whirl ratio, interpolated linearly between
+        them, passes ``-WHIRL_TOLERANCE`` or ``+WHIRL_TOLERANCE`` (a ratio going from -0.03 to
+        +0.41 over a step of 100 rpm changes at 6.6 and 7.0 rpm: backward, none, forward).
+
+        The labels at the sweep's speeds are :attr:`whirl` (at rest, relative to the spin axis
+        ``+e``: the limit of the whirl at small positive speeds, as the ratio is continuous in
+        the speed); between them only the sweep's ratios are known, and the label changes
+        where the straight line between them changes it, not over the whole step
+        (docs/theory.md section 9). What is interpolated is the ratio about ``+e``, continuous
+        through zero speed; the label is relative to the spin, which reverses there: a step
+        through zero speed changes the label at zero where the whirl about ``+e`` is not 0.
+
+        Returns
+        -------
+        list of (speeds, whirl), one per mode (column of ``eigenvalues``)
+            ``speeds`` ndarray, shape (K_m,) [rad/s], increasing; ``whirl`` ndarray of str,
+            shape (K_m,): the label from that speed on.
+        """
+        codes = _whirl_codes(self.whirl_ratios)
+        sign = np.where(self.speeds < 0, -1.0, 1.0)
+        about_axis = self.whirl_ratios * sign[:, None]            # the ratio about +e
+        mode = self.oscillatory
+        changes = []
+        for m in range(codes.shape[1]):
+            at, after = [], []
+            through = (self.speeds[:-1] < 0) & (self.speeds[1:] > 0)
+            for k in np.flatnonzero(((codes[:-1, m] != codes[1:, m]) | through) & mode[:-1, m] & mode[1:, m]):
+                s0, s1, e0, e1 = self.speeds[k], self.speeds[k + 1], about_axis[k, m], about_axis[k + 1, m]
+                if s0 < 0 < s1:                      # the spin reverses inside the step
+                    e_zero = e0 + (0 - s0) / (s1 - s0) * (e1 - e0)
+                    pieces = [(s0, 0.0, -e0, -e_zero), (0.0, s1, e_zero, e1)]
+                else:
+                    pieces = [(s0, s1, e0 * sign[k], e1 * sign[k])]
+                previous = codes[k, m]
+                for start, stop, a, b in pieces:
+                    first = int(_whirl_codes(a))
+                    if first != previous:            # at zero speed: the spin's direction flips
+                        at.append(start)
+                        after.append(_WHIRL_NAMES[first])
+                    for speed, code in _level_crossings(start, stop, a, b):
+                        at.append(speed)
+                        after.append(_WHIRL_NAMES[code])
+                    previous = int(_whirl_codes(b))
+            changes.append((np.asarray(at, dtype=float), np.asarray(after, dtype=str)))
+        return changes
+
     @property
     def unstable(self) -> np.ndarray:
         """(N, n_modes) bool: the root is a mode (``oscillatory``) growing in time, its real part
@@ -255,6 +303,30 @@ class CampbellResult:
         from ..plotting import plot_campbell
 
         return plot_campbell(self, **kwargs)
+
+
+_WHIRL_NAMES = {-1: "backward", 0: "none", 1: "forward"}
+
+
+def _whirl_codes(ratios):
+    """-1, 0, +1 for backward, none, forward (:func:`._whirl.whirl_labels`), same shape."""
+    ratios = np.asarray(ratios)
+    return (ratios > _whirl.WHIRL_TOLERANCE).astype(int) - (ratios < -_whirl.WHIRL_TOLERANCE)
+
+
+def _level_crossings(s0, s1, a, b) -> list:
+    """Where the ratio going linearly from ``a`` at speed ``s0`` to ``b`` at ``s1`` changes its
+    whirl code (it passes -WHIRL_TOLERANCE or +WHIRL_TOLERANCE): [(speed, code after), ...] in
+    order of speed."""
+    tolerance = _whirl.WHIRL_TOLERANCE
+    start, stop = int(_whirl_codes(a)), int(_whirl_codes(b))
+    step = 1 if stop > start else -1
+    out = []
+    for code in range(start, stop, step):
+        # the boundary between codes c and c + step: -tol between -1 and 0, +tol between 0 and 1
+        level = -tolerance if min(code, code + step) == -1 else tolerance
+        out.append((s0 + (level - a) / (b - a) * (s1 - s0), code + step))
+    return out
 
 
 def _with_points(speeds, frequencies, at, values):

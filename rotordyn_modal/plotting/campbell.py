@@ -108,7 +108,7 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     fig, ax = new_figure(ax)
     scale = speed_scale(speed_unit)
     x = result.speeds * scale
-    curves = _Curves(result, scale, axis_scale == "log")
+    curves = _Curves(result, scale, axis_scale == "log", whirl=not color_by)
     if color_by:
         _show_coincident_coloured(fig, ax, curves, _draw_coloured(ax, fig, curves, result, color_by))
     else:
@@ -207,7 +207,10 @@ class _Curves:
     """The modes' curves as drawn, on one set of speeds: the sweep's with every mode's critical
     speeds among them (:meth:`~rotordyn_modal.analysis.campbell.CampbellResult.mode_curves`), so
     that each curve passes through its critical speeds' markers and curves lying on each other
-    share their samples (:func:`._overlap.show_overlaps`).
+    share their samples (:func:`._overlap.show_overlaps`); drawn by whirl (``whirl=True``), the
+    speeds where a mode's whirl label changes too
+    (:meth:`~rotordyn_modal.analysis.campbell.CampbellResult.whirl_changes`), so that a curve
+    changes its style there, not over the whole step of the sweep.
 
     At another mode's critical speed a curve has its point on its chord as drawn (straight in
     display space: linear in frequency, or geometric on a logarithmic axis): it is drawn as
@@ -223,13 +226,21 @@ class _Curves:
         The sweep's speed at or before each point.
     inserted : ndarray of bool, shape (K,)
         The point is no speed of the sweep.
+    speeds : ndarray, shape (K,)
+        Speeds [rad/s]; ``sweep`` the sweep's, shape (N,).
+    changes : list or None
+        ``result.whirl_changes()`` (``whirl=True``).
     """
 
-    def __init__(self, result, scale, log):
+    def __init__(self, result, scale, log, whirl=False):
         sweep = result.speeds
         frequencies = np.where(result.oscillatory, result.frequencies_hz, np.nan)
         curves = result.mode_curves()
-        speeds = np.union1d(sweep, np.concatenate([c[0] for c in curves] + [sweep]))
+        self.sweep = sweep
+        self.changes = result.whirl_changes() if whirl else None
+        extra = [c[0] for c in self.changes] if whirl else []
+        speeds = np.union1d(sweep, np.concatenate([c[0] for c in curves] + extra + [sweep]))
+        self.speeds = speeds
         self.index = np.searchsorted(sweep, speeds, side="right") - 1
         self.inserted = speeds != sweep[self.index]
         self.x = speeds * scale
@@ -251,6 +262,18 @@ class _Curves:
         after = mask[np.minimum(self.index + 1, len(mask) - 1)]
         return np.where(self.inserted, mask[self.index] & after, mask[self.index])
 
+    def segment_whirl(self, whirl, m):
+        """The whirl label of each segment between the points of mode ``m`` (shape (K - 1,)):
+        that of the sweep's speed at its start (``whirl``, shape (N, n_modes)), changed at the
+        speeds of ``result.whirl_changes()`` (made with ``whirl=True``), which are points."""
+        k = self.index[:-1]
+        labels = np.asarray(whirl)[k, m].astype(object)
+        middle = 0.5 * (self.speeds[:-1] + self.speeds[1:])
+        for at, name in zip(*self.changes[m]):
+            step = np.searchsorted(self.sweep, at, side="right") - 1
+            labels[(middle > at) & (k == step)] = name
+        return labels
+
     def segment_values(self, values):
         """Each segment between the points: the mean of ``values`` (shape (N,)) at the ends of the
         sweep's segment it lies on."""
@@ -261,18 +284,25 @@ class _Curves:
 def _draw_by_whirl(ax, curves, result):
     """Each mode's curve, one line per whirl direction (NaN elsewhere); returns the lines in
     drawing order."""
+    from ..analysis._whirl import WHIRL_TOLERANCE
+
     drawn, lines = set(), []
     for m in range(len(result.modes)):
+        segments = curves.segment_whirl(result.whirl, m)
         for whirl, style in WHIRL_STYLE.items():
-            mask = _with_neighbours(result.whirl[:, m] == whirl)
+            mine = segments == whirl
+            mask = np.zeros(len(curves.x), dtype=bool)
+            mask[:-1] |= mine
+            mask[1:] |= mine
             if not mask.any():
                 continue
             kwargs = dict(style)
             if whirl in drawn:
                 kwargs.pop("label")
+            elif whirl == "none":     # the label is a threshold on a continuous ratio: say which
+                kwargs["label"] = f"no whirl (|whirl ratio| \u2264 {WHIRL_TOLERANCE:g})"
             drawn.add(whirl)
-            lines += ax.plot(curves.x, np.where(curves.mask(mask), curves.f[:, m], np.nan), linewidth=1.6,
-                             **kwargs)
+            lines += ax.plot(curves.x, np.where(mask, curves.f[:, m], np.nan), linewidth=1.6, **kwargs)
     return lines
 
 

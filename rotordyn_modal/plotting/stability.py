@@ -26,6 +26,14 @@ _NOISE = 1e-4
 #: takes the height _NOISE of it)
 _ROUND_OFF = 1e-9
 _STYLES = ("-", "--", ":", "-.")
+#: where a mode far above the running speed is less damped than every mode near it, the axes are
+#: scaled to the modes that come below this many times the sweep's highest running frequency at
+#: some speed (a decade: the running speed's first ten orders, and the modes that oil whirl,
+#: internal damping and cross-coupling destabilise, which lie below or near it), and to every
+#: mode unstable somewhere; the others are grey lines, named in a note with the least damped of
+#: them (the flexible pump's 69 kHz shaft modes, log decrement 5e-9, 690 times its top speed,
+#: scaled the figure so that every mode below 1 kHz lay off its axes)
+_DECADE = 10.0
 
 
 def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
@@ -40,8 +48,12 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     range (its lowest real part, its highest log decrement over the speeds), and keep zero
     well inside; a note beside each panel names the roots that reach beyond it and how far
     (overdamped roots of journal bearings reach real parts of -10,000 1/s and log
-    decrements of 1,000). Each threshold speed is a labelled vertical line: red where a mode
-    becomes unstable with rising speed, green where it becomes stable again.
+    decrements of 1,000). A coloured mode that a panel does not show says so in its legend
+    entry. Where a mode far above the running speed is less damped than every mode near it,
+    the figure is scaled to the modes near it (:func:`near_operating_range`), and a note names
+    the far ones and the least damped of them. Each threshold speed is a labelled vertical
+    line: red where a mode becomes unstable with rising speed, green where it becomes stable
+    again.
 
     Parameters
     ----------
@@ -60,19 +72,24 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     x = result.speeds * scale
     real = np.where(np.isfinite(result.real_parts), result.real_parts, np.nan)
     log_dec = np.where(np.isfinite(result.log_decrements), result.log_decrements, np.nan)
-    relevant = modes_that_matter(log_dec)
+    near = near_operating_range(result)
+    focus = np.where(near, log_dec, np.nan)
+    relevant = modes_that_matter(focus)
     size = np.abs(result.eigenvalues[np.isfinite(result.eigenvalues)])
     largest = size.max() if size.size and size.max() > 0 else 1.0
-    top.set_ylim(*zero_centred_limits(*_real_part_span(real, log_dec, relevant, result.significant_real_parts),
+    top.set_ylim(*zero_centred_limits(*_real_part_span(np.where(near, real, np.nan), focus, relevant,
+                                                       result.significant_real_parts),
                                       _NOISE * largest, tiny=_ROUND_OFF * largest))
-    bottom.set_ylim(*zero_centred_limits(*_log_decrement_span(log_dec, relevant), 1e-3))
-    shown = [m for m in relevant + [m for m in _by_damping(log_dec) if m not in relevant]
+    bottom.set_ylim(*zero_centred_limits(*_log_decrement_span(focus, relevant), 1e-3))
+    shown = [m for m in relevant + [m for m in _by_damping(focus) if m not in relevant]
              if _within(real[:, m], top.get_ylim()) or _within(log_dec[:, m], bottom.get_ylim())][:_LEGEND]
-    _draw_modes(top, bottom, x, result, real, log_dec, shown)
+    _draw_modes(top, bottom, x, result, real, log_dec, shown, others="other roots (more damped)" if near.all()
+                else "other roots")
     for axis, values, unit in ((top, real, "1/s"), (bottom, log_dec, "")):
         axis.axhline(0.0, color="k", linewidth=0.8, zorder=1.2)   # under the curves (undamped modes lie on it)
         axis.grid(True, alpha=0.3)
         _note_cut_off(axis, result.modes, values, unit)
+    _note_far(top, result, log_dec, near, speed_unit)
     _note_on_zero(top, result, shown)
     _note_flat(bottom, result, log_dec, shown)
     top.set_xlim(x.min(), x.max() if x.max() > x.min() else x.min() + 1)
@@ -84,6 +101,25 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
         top.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     _draw_thresholds(top, bottom, result, scale, speed_unit)
     return fig
+
+
+def near_operating_range(result) -> np.ndarray:
+    """(n_modes,) bool: the modes the stability figure is scaled to.
+
+    Those whose frequency comes below :data:`_DECADE` times the sweep's highest running
+    frequency (``max |speeds| / 2 pi``) at some speed, and every mode unstable somewhere (a real
+    part above its round-off), where a mode far above is less damped than every mode near
+    (it would set the axes); else, and where no mode is near, every mode."""
+    log_dec = np.asarray(result.log_decrements, dtype=float)
+    frequencies = np.where(np.isfinite(log_dec), result.frequencies_hz, np.nan)
+    limit = _DECADE * np.abs(np.asarray(result.speeds, dtype=float)).max(initial=0.0) / (2 * np.pi)
+    with np.errstate(invalid="ignore"):
+        near = np.any(frequencies <= limit, axis=0) | np.any(result.significant_real_parts > 0, axis=0)
+    lowest = np.where(np.isfinite(log_dec), log_dec, np.inf).min(axis=0)
+    modes = np.isfinite(lowest)
+    if not (near & modes).any() or not (~near & modes).any() or lowest[~near].min() >= lowest[near].min():
+        return np.ones(len(near), dtype=bool)
+    return near
 
 
 def modes_that_matter(log_decrements):
@@ -178,20 +214,60 @@ def zero_centred_limits(lowest, highest, floor, tiny=None):
     return -below, above
 
 
-def _draw_modes(top, bottom, x, result, real, log_dec, relevant):
+def _draw_modes(top, bottom, x, result, real, log_dec, relevant, others="other roots (more damped)"):
+    """The coloured modes ``relevant`` (columns) in both panels, the other roots grey (legend
+    entry ``others``). The legend is the top panel's: a coloured mode that one panel does not
+    show (all its values beyond that panel's axis) says so in its entry, as the panel's note of
+    the roots beyond it does."""
     import matplotlib.pyplot as plt
 
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for rank, m in enumerate(relevant):
         style = {"color": colours[rank % len(colours)], "linestyle": _STYLES[(rank // len(colours)) % len(_STYLES)],
                  "linewidth": 1.7}
-        top.plot(x, real[:, m], label=f"mode {result.modes[m]}", gid=f"mode {result.modes[m]}", **style)
+        off = [f"{name}: {side} the axis" for name, axis, values in (("top", top, real[:, m]),
+                                                                      ("bottom", bottom, log_dec[:, m]))
+               for side in [_beyond(values, axis.get_ylim())] if side]
+        label = f"mode {result.modes[m]}" + (f" ({'; '.join(off)})" if off else "")
+        top.plot(x, real[:, m], label=label, gid=f"mode {result.modes[m]}", **style)
         bottom.plot(x, log_dec[:, m], gid=f"mode {result.modes[m]}", **style)
-    others = [m for m in range(real.shape[1]) if m not in relevant]
-    for i, m in enumerate(others):
+    rest = [m for m in range(real.shape[1]) if m not in relevant]
+    for i, m in enumerate(rest):
         kwargs = {"color": "0.72", "linewidth": 0.8, "zorder": 1.5}
-        top.plot(x, real[:, m], label="other roots (more damped)" if i == 0 else None, **kwargs)
+        top.plot(x, real[:, m], label=others if i == 0 else None, **kwargs)
         bottom.plot(x, log_dec[:, m], **kwargs)
+
+
+def _beyond(values, limits):
+    """'below' or 'above' where every finite value lies below or above ``limits`` (and some is
+    finite), else ''."""
+    finite = np.asarray(values, dtype=float)
+    finite = finite[np.isfinite(finite)]
+    if not finite.size or _within(finite, limits):
+        return ""
+    return "below" if np.all(finite < limits[0]) else "above" if np.all(finite > limits[1]) else ""
+
+
+def _note_far(ax, result, log_dec, near, speed_unit):
+    """Name the modes the axes are not scaled to (far above the running speed, stable:
+    :func:`near_operating_range`), how far they lie, and the least damped of them with its log
+    decrement, speed and frequency (beside the panel, under the legend)."""
+    import textwrap
+
+    far = ~near & np.isfinite(log_dec).any(axis=0)
+    if not far.any():
+        return
+    limit = _DECADE * np.abs(np.asarray(result.speeds, dtype=float)).max() / (2 * np.pi)
+    values = np.where(far[None, :], log_dec, np.inf)
+    k, m = np.unravel_index(np.argmin(values), values.shape)
+    unit = {"rpm": "rpm", "rad/s": "rad/s", "hz": "Hz"}[speed_unit]
+    speed = float(result.speeds[k]) * speed_scale(speed_unit)
+    note = (f"mode{'s' if far.sum() > 1 else ''} {_label_list(result.modes[far])} above {limit:,.0f} Hz "
+            f"({_DECADE:g}x the top running speed): not scaled to; least damped of them: mode "
+            f"{result.modes[m]}, log decrement {log_dec[k, m]:.2g} at {speed:,.0f} {unit}, "
+            f"{result.frequencies_hz[k, m]:,.0f} Hz")
+    ax.text(1.02, 0.64, textwrap.fill(note, 30), transform=ax.transAxes, fontsize="x-small", ha="left", va="top",
+            color="0.3", gid="far-note", clip_on=False)
 
 
 def _note_cut_off(ax, labels, values, unit):

@@ -197,3 +197,46 @@ def _local_norms(pencils, offset, local):
             order = 2 if len(local) <= _EXACT_NORMS else "fro"
             out[i, part] = np.linalg.norm(matrices.reshape(-1, len(local), len(local)), order, axis=(1, 2))
     return out[0], out[1]
+
+
+def _gershgorin_count(centers, radii, limit):
+    """At most how many eigenvalues ``s`` with ``0 < Im s < limit`` a real matrix similar to
+    ``diag(centers) + F`` has, from its Gershgorin discs (``docs/theory.md`` section 17, "Speeds
+    between anchors"): centers ``lam_i + F_ii`` and radii ``sum_{l != i} |F_il|``.
+
+    Every eigenvalue lies in a disc, and a connected part of the discs' union made of ``c`` discs
+    holds exactly ``c`` eigenvalues (Gershgorin's theorem, by continuity from ``diag(centers)``).
+    A part lying wholly at or above ``limit`` or wholly in the lower half-plane counts none; a part
+    in the upper half-plane counts its ``c``; a part reaching the real axis holds conjugate pairs
+    and real roots (the matrix is real, the discs symmetric to round-off) and counts its centers
+    with ``Im >= 0``, at least as many as its roots above the axis. Damped roots beyond the modes
+    (damping ratio above 0.99) are counted like modes: the count can only be too high.
+
+    Parameters
+    ----------
+    centers : ndarray, shape (J, p), complex [1/s]
+    radii : ndarray, shape (J, p) [1/s]
+    limit : ndarray, shape (J,) [rad/s]
+
+    Returns
+    -------
+    ndarray of int, shape (J,)
+    """
+    from scipy.sparse.csgraph import connected_components
+
+    counts = np.zeros(len(centers), int)
+    for j, (c, r) in enumerate(zip(centers, radii)):
+        if not (np.isfinite(c).all() and np.isfinite(r).all()):
+            counts[j] = np.iinfo(int).max
+            continue
+        touching = np.abs(c[:, None] - c[None, :]) <= r[:, None] + r[None, :]
+        parts, label = connected_components(scipy.sparse.csr_matrix(touching), directed=False)
+        low = np.full(parts, np.inf)
+        high = np.full(parts, -np.inf)
+        np.minimum.at(low, label, c.imag - r)
+        np.maximum.at(high, label, c.imag + r)
+        size = np.bincount(label, minlength=parts)
+        upper = np.bincount(label, weights=c.imag >= 0, minlength=parts).astype(int)
+        counted = (low < limit[j]) & (high > 0)
+        counts[j] = int(np.where(low > 0, size, upper)[counted].sum())
+    return counts

@@ -257,3 +257,189 @@ def projected_first(pencils, index, basis):
     damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
     Wt = basis.T
     return Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
+
+
+#: the interpolation's nodes: this many anchors around a speed between two (cubic in the speed)
+_NODES = 4
+
+
+class _Expansions:
+    """The projected pencils' eigen-decompositions at the anchors, and what they tell of the speeds
+    between them (``docs/theory.md`` section 17, "Speeds between anchors").
+
+    At each anchor ``a`` the projected state matrix ``A_a`` (``2m`` square) is solved by ``eig``:
+    its roots ``Lambda``, unit eigenvectors ``V``; the ``want`` lowest oscillating roots and their
+    vectors start Newton's iteration there (``starts`` (A, want), ``vectors`` (A, want, n)). At a
+    speed ``j`` between anchors, ``V^-1 A_j V = Lambda + F_j`` with
+    ``F_j = R_a - V^-1 [0; I] (dK V_top + dD V_bottom)``: ``dD = dOmega W^T G W + W^T dC_b W``,
+    ``dK = W^T dK_b W`` (the bearings' entries, a product of rank at most their number) and
+    ``R_a = V^-1 A_a V - Lambda`` (the decomposition's own error). Per speed between, with ``a`` the
+    nearer anchor: the Gershgorin discs of ``Lambda + F_j`` (``centers``, ``radii``, (J, 2m)), and,
+    for each root ``k`` followed from ``a``, the second-order change of the projected root,
+    ``F_kk + sum_l F_kl F_lk / (lambda_k - lambda_l)`` at the speed (``changes`` (J, want)) and at the
+    ``_NODES`` anchors around it (``node_changes`` (J, q, want)), with the projected roots it
+    predicts there (``predicted``) to find the root at those anchors.
+
+    Attributes
+    ----------
+    between : ndarray of int, shape (J,)
+    near : ndarray of int, shape (J,)
+        The nearer anchor (a place in ``anchors``).
+    nodes : ndarray of int, shape (J, q); weights : ndarray, shape (J, q)
+        The anchors around each speed (places in ``anchors``) and the Lagrange weights of the
+        speed among theirs.
+    roots : ndarray, shape (A, 2m), complex; order : ndarray of int, shape (A, want)
+        Every projected root of each anchor, and where its ``want`` starts are among them.
+    """
+
+    def __init__(self, pencils, basis, anchors, want):
+        speeds = pencils.speeds
+        n, m = basis.shape
+        count, two = len(anchors), 2 * basis.shape[1]
+        between = np.setdiff1d(np.arange(len(speeds)), anchors)
+        right = np.searchsorted(anchors, between)
+        left = right - 1
+        span = speeds[anchors[right]] - speeds[anchors[left]]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(span != 0, (speeds[between] - speeds[anchors[left]]) / span, 0.5)
+        self.anchors, self.between, self.near = anchors, between, np.where(t < 0.5, left, right)
+        q = min(_NODES, count)
+        first = np.clip(left - (q // 2 - 1), 0, count - q)
+        self.nodes = first[:, None] + np.arange(q)
+        at = speeds[anchors[self.nodes]]                                     # (J, q)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            self.weights = np.ones(at.shape)
+            for r in range(q):
+                other = np.arange(q) != r
+                self.weights[:, r] = np.prod((speeds[between][:, None] - at[:, other]) / (at[:, [r]] - at[:, other]),
+                                             axis=1)
+        self.starts = np.empty((count, want), complex)
+        self.vectors = np.empty((count, want, n), complex)
+        self.roots = np.empty((count, two), complex)
+        self.order = np.empty((count, want), int)
+        J = len(between)
+        self.centers, self.radii = np.full((J, two), np.nan + 0j), np.full((J, two), np.nan)
+        self.changes = np.full((J, want), np.nan + 0j)
+        self.node_changes = np.full((J, q, want), np.nan + 0j)
+        self.predicted = np.full((J, q, want), np.nan + 0j)
+        self._solve(pencils, basis, anchors, want)
+
+    def _solve(self, pencils, basis, anchors, want):
+        """``eig`` at the anchors, a part of them at a time, and the speeds nearer each."""
+        m = basis.shape[1]
+        D0, K0, Gr = projected_first(pencils, anchors, basis)
+        left, right = basis[pencils.rows].T, basis[pencils.cols]
+        for part in _batches.chunk_slices(len(anchors), 16 * 8 * (2 * m) ** 2):
+            index = anchors[part]
+            A = _state_matrices(pencils, index, anchors[0], D0, K0, Gr, left, right)
+            lam, V = _batches._threaded(np.linalg.eig, A, item_bytes=48 * (2 * m) ** 2)
+            order = _lowest_order(lam, want)
+            rows = np.arange(len(lam))[:, None]
+            self.roots[part], self.order[part], self.starts[part] = lam, order, lam[rows, order]
+            shapes = np.take_along_axis(V, order[:, None, :], axis=2)[:, :m]       # (P, m, want)
+            self.vectors[part] = _vectors.unit_rows(np.swapaxes(shapes, 1, 2) @ basis.T)
+            try:
+                inverse = np.linalg.inv(V)
+            except np.linalg.LinAlgError:        # a defective anchor: the speeds near it take their own roots
+                continue
+            residual = inverse @ (A @ V)
+            residual[:, np.arange(2 * m), np.arange(2 * m)] -= lam
+            lower = inverse[:, :, m:]                                               # V^-1 [0; I], (P, 2m, m)
+            factors = (residual, lower @ Gr @ V[:, m:], lower @ left, right @ V[:, :m], right @ V[:, m:])
+            for place in range(part.start, part.stop):
+                self._near(pencils, anchors, place, lam[place - part.start], order[place - part.start],
+                           [f[place - part.start] for f in factors])
+
+    def _near(self, pencils, anchors, place, lam, order, factors):
+        """The discs and the roots' changes at the speeds nearer the anchor ``place`` and at their
+        nodes, from that anchor's decomposition."""
+        rows = np.nonzero(self.near == place)[0]
+        if not len(rows):
+            return
+        nodes = np.unique(self.nodes[rows])
+        at = np.concatenate([self.between[rows], anchors[nodes]])
+        F = _changed(pencils, at, anchors[place], factors)                         # (X, 2m, 2m)
+        diagonal = np.einsum("xii->xi", F)
+        self.centers[rows] = lam + diagonal[:len(rows)]
+        self.radii[rows] = np.abs(F[:len(rows)]).sum(axis=2) - np.abs(diagonal[:len(rows)])
+        gaps = lam[order][:, None] - lam[None, :]                                   # (want, 2m)
+        gaps[np.arange(len(order)), order] = np.inf
+        change = diagonal[:, order] + np.sum(F[:, order, :] * np.swapaxes(F[:, :, order], 1, 2) / gaps, axis=2)
+        self.changes[rows] = change[:len(rows)]
+        where = np.searchsorted(nodes, self.nodes[rows])                            # (R, q)
+        self.node_changes[rows] = change[len(rows):][where]
+        self.predicted[rows] = lam[order] + self.node_changes[rows]
+
+
+def _state_matrices(pencils, index, base, D0, K0, Gr, left, right):
+    """The projected state matrices ``[[0, I], [-W^T K W, -W^T D W]]`` at the speeds ``index`` (P, 2m, 2m)
+    from the projected pencil at the speed ``base`` (``D0``, ``K0``), ``W^T G W`` and the bearings'
+    entries' rows of the basis (``left`` (m, e), ``right`` (e, m)), as :func:`_projected_starts`."""
+    m = D0.shape[0]
+    D = D0 + (pencils.speeds[index] - pencils.speeds[base])[:, None, None] * Gr
+    Kr = np.broadcast_to(K0, D.shape)
+    if len(pencils.rows):
+        D = D + (left[None] * (pencils.cb[index] - pencils.cb[base])[:, None, :]) @ right
+        Kr = Kr + (left[None] * (pencils.kb[index] - pencils.kb[base])[:, None, :]) @ right
+    A = np.zeros((len(D), 2 * m, 2 * m))
+    A[:, :m, m:] = np.eye(m)
+    A[:, m:, :m] = -Kr
+    A[:, m:, m:] = -D
+    return A
+
+
+def _changed(pencils, at, anchor, factors):
+    """``F = V^-1 A_j V - Lambda`` at the speeds ``at`` (X,) from the anchor's decomposition:
+    ``factors`` = (``R_a``, ``V^-1 [0; I] W^T G W V_bottom``, ``V^-1 [0; I] W^T`` at the bearings'
+    rows (2m, e), ``W`` at their columns times ``V_top`` and ``V_bottom`` (e, 2m) each). (X, 2m, 2m)."""
+    residual, gyroscopic, lower, stiff, damp = factors
+    F = residual - (pencils.speeds[at] - pencils.speeds[anchor])[:, None, None] * gyroscopic
+    if len(pencils.rows):
+        dk = (pencils.kb[at] - pencils.kb[anchor])[:, :, None]
+        dc = (pencils.cb[at] - pencils.cb[anchor])[:, :, None]
+        F = F - lower @ (dk * stiff + dc * damp)
+    return F
+
+
+def _expansion_guesses(expansions, anchors, values, shapes, ok):
+    """Newton's starts at the speeds between anchors from the anchors' refined roots and the
+    projected roots' changes (:class:`_Expansions`): for each root followed from the nearer
+    anchor, ``g = root - change`` at the ``_NODES`` anchors around the speed, interpolated in the
+    speed (Lagrange, cubic), plus the change at the speed; its vector the nearer anchor's shape.
+    The root at another anchor is the one whose projected root is nearest the predicted one (at
+    most ``_MATCH`` of the distance to the next nearest, among that anchor's starts, one to one);
+    a speed where a root cannot be found so, or an anchor around it failed, is not ``sure``.
+
+    Parameters
+    ----------
+    expansions : _Expansions
+    anchors : ndarray of int, shape (A,)
+    values : ndarray, shape (S, want), complex; shapes : ndarray, shape (S, want, n), complex
+        Refined at the anchors (in their starts' order).
+    ok : ndarray of bool, shape (S,)
+
+    Returns
+    -------
+    guesses : ndarray, shape (J, want), complex; vectors : ndarray, shape (J, want, n), complex
+    sure : ndarray of bool, shape (J,)
+    """
+    ex = expansions
+    J, q, want = ex.predicted.shape
+    roots = ex.roots[ex.nodes]                                                   # (J, q, 2m)
+    distance = np.abs(ex.predicted[..., None] - roots[:, :, None, :])            # (J, q, want, 2m)
+    nearest = np.argmin(distance, axis=3)
+    ordered = np.sort(distance, axis=3)
+    second = ordered[..., 1] if distance.shape[3] > 1 else np.full(nearest.shape, np.inf)
+    place = np.full(ex.roots.shape, -1)
+    np.put_along_axis(place, ex.order, np.arange(want)[None], axis=1)
+    found = np.take_along_axis(place[ex.nodes], nearest, axis=2)                 # (J, q, want)
+    own = ex.nodes == ex.near[:, None]
+    found = np.where(own[..., None], np.arange(want), found)
+    with np.errstate(invalid="ignore"):
+        clear = own[..., None] | (ordered[..., 0] <= _MATCH * second)
+    distinct = (np.sort(found, axis=2)[..., 1:] != np.sort(found, axis=2)[..., :-1]).all(axis=(1, 2))
+    sure = (found >= 0).all(axis=(1, 2)) & clear.all(axis=(1, 2)) & distinct & ok[anchors[ex.nodes]].all(axis=1)
+    refined = values[anchors[ex.nodes][..., None], np.maximum(found, 0)]       # (J, q, want)
+    guesses = np.einsum("jq,jqk->jk", ex.weights, refined - ex.node_changes) + ex.changes
+    sure &= np.isfinite(guesses).all(axis=1)
+    return guesses, shapes[anchors[ex.near]], sure

@@ -39,7 +39,7 @@ from . import _arnoldi, _batches, _cost, _eigensolve, _lowest_bound, _lowest_rou
 from ._lowest_bound import _FEW, _MARGIN, _Bound, _stack_bound  # noqa: F401 (_Bound: for _lowest_branches)
 from ._lowest_newton import _continued, _refined, _speeds_named
 from ._lowest_pencils import _Pencils
-from ._lowest_starts import (_anchors, _by_frequency, _close, _Expansions, _expansion_guesses, _pencil_shapes_part,
+from ._lowest_starts import (_SOLVED, _anchors, _by_frequency, _close, _Expansions, _expansion_guesses, _pencil_shapes_part,
                              _projected_starts, frequency_key, lowest_order)
 from .modal import is_oscillating
 
@@ -148,46 +148,53 @@ def _swept(pencils, basis, want, count):
     solves its projected pencil (:func:`._lowest_starts._projected_starts`) and is refined and
     checked as an anchor."""
     speeds = len(pencils.speeds)
-    anchors = _anchors(speeds)
-    expansions = _Expansions(pencils, basis, anchors, want)
+    grid = _anchors(speeds)
+    solved = np.unique(np.append(grid[::_SOLVED], grid[-1]))
+    levels = [(np.setdiff1d(grid, solved), solved), (np.setdiff1d(np.arange(speeds), grid), grid)]
+    expansions = _Expansions(pencils, basis, solved, want, levels)
     values = np.empty((speeds, want), complex)
     shapes = np.empty((speeds, want, pencils.M.shape[0]), complex)
     ok, unmissed = np.zeros(speeds, bool), np.zeros(speeds, bool)
-    _refine_into(_refined, pencils, expansions.starts, expansions.vectors, anchors, (values, shapes, ok))
-    unmissed[anchors] = _unmissed(expansions.starts, values[anchors], count)
-    between = expansions.between
-    guesses, vectors, sure = _expansion_guesses(expansions, anchors, values, shapes, ok)
-    rows = between[sure]
-    if len(rows):
-        _refine_into(_continued, pencils, guesses[sure], vectors[sure], rows, (values, shapes, ok))
-        moved = np.max(np.abs(expansions.starts - values[anchors]), axis=1)
-        unmissed[rows] = _certified(expansions, values, moved, count)[sure]
-    del vectors
-    # the speeds not carried over, and those whose discs show nothing: their own projected roots
-    rows = between[~sure | (~unmissed[between] & ok[between])]
-    if len(rows):
-        again, vectors = _projected_starts(pencils, basis, want, rows)
-        _refine_into(_refined, pencils, again, vectors, rows, (values, shapes, ok))
-        unmissed[rows] = _unmissed(again, values[rows], count)
+    _refine_into(_refined, pencils, expansions.starts, expansions.vectors, solved, (values, shapes, ok))
+    unmissed[solved] = _unmissed(expansions.starts, values[solved], count)
+    moved = np.max(np.abs(expansions.starts - values[solved]), axis=1)      # the projection's error there
+    first = 0
+    for part, _ in levels:
+        places = first + np.arange(len(part))
+        first += len(part)
+        guesses, vectors, sure = _expansion_guesses(expansions, places, values, shapes, ok)
+        rows = part[sure]
+        if len(rows):
+            _refine_into(_continued, pencils, guesses[sure], vectors[sure], rows, (values, shapes, ok))
+            unmissed[rows] = _certified(expansions, places[sure], values, moved, count)
+        del vectors
+        # the speeds not carried over, and those whose discs show nothing: their own projected roots
+        rows = part[~sure | (~unmissed[part] & ok[part])]
+        if len(rows):
+            again, vectors = _projected_starts(pencils, basis, want, rows)
+            _refine_into(_refined, pencils, again, vectors, rows, (values, shapes, ok))
+            unmissed[rows] = _unmissed(again, values[rows], count)
+            del vectors
     return values, shapes, ok, unmissed
 
 
-def _certified(expansions, values, moved, count):
-    """(J,) at the speeds between anchors: the projected pencil has at most ``count`` roots with
-    ``0 < Im s < T``, ``T`` the ``count``-th root found (``values`` (S, k)) plus twice the larger
-    projection error (``moved`` (A,), the largest move from projected to full root) of the two
-    anchors around the speed, by the Gershgorin discs of the nearer anchor's eigenbasis
-    (:func:`._lowest_bound._gershgorin_count`). The ``count`` roots found below ``T`` stand for
-    ``count`` of them, so a projected root that could stand for one more root below the
-    ``count``-th found would be one too many: :func:`_unmissed`'s meaning, without that root."""
-    between = expansions.between
+def _certified(expansions, places, values, moved, count):
+    """(R,) at the speeds ``expansions.between[places]``: the projected pencil has at most
+    ``count`` roots with ``0 < Im s < T``, ``T`` the ``count``-th root found (``values`` (S, k)) plus
+    twice the larger projection error (``moved`` (A,), the largest move from projected to full root
+    at each anchor) of the two anchors around the speed, by the Gershgorin discs of the nearer
+    anchor's eigenbasis (:func:`._lowest_bound._gershgorin_count`). The ``count`` roots found below
+    ``T`` stand for ``count`` of them, so a projected root that could stand for one more root below
+    the ``count``-th found would be one too many: :func:`_unmissed`'s meaning, without that root."""
+    between = expansions.between[places]
     if values.shape[1] <= count:        # a basis of every mode: the projected pencil is the full one
         return np.ones(len(between), bool)
-    right = np.searchsorted(expansions.anchors, between)
+    right = np.clip(np.searchsorted(expansions.solved, between), 1, len(moved) - 1)
     error = 2 * np.maximum(moved[right - 1], moved[right])
     found = np.sort(values[between].imag, axis=1)[:, count - 1]
     with np.errstate(invalid="ignore"):
-        return _lowest_bound._gershgorin_count(expansions.centers, expansions.radii, found + error) <= count
+        return _lowest_bound._gershgorin_count(expansions.centers[places], expansions.radii[places],
+                                               found + error) <= count
 
 
 #: Newton's iteration holds about this many complex vectors of ``n`` per root at once (the vectors,

@@ -135,6 +135,10 @@ _MATCH = 0.5
 _STRIDE = 4
 
 
+#: every this many anchors (and the last) solve their projected pencils whole (``eig``, :class:`_Expansions`)
+_SOLVED = 2
+
+
 def _anchors(count: int) -> np.ndarray:
     """The anchors (A,) of ``count`` speeds: every ``_STRIDE``-th and the last."""
     return np.unique(np.append(np.arange(0, count, _STRIDE), count - 1))
@@ -259,84 +263,87 @@ def projected_first(pencils, index, basis):
     return Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
 
 
-#: the interpolation's nodes: this many anchors around a speed between two (cubic in the speed)
+#: the interpolation's nodes: this many refined speeds around a speed between anchors (cubic in the speed)
 _NODES = 4
 
 
 class _Expansions:
-    """The projected pencils' eigen-decompositions at the anchors, and what they tell of the speeds
-    between them (``docs/theory.md`` section 17, "Speeds between anchors").
+    """The projected pencils' eigen-decompositions at some anchors, and what they tell of the other
+    speeds (``docs/theory.md`` section 17, "Speeds between anchors").
 
-    At each anchor ``a`` the projected state matrix ``A_a`` (``2m`` square) is solved by ``eig``:
-    its roots ``Lambda``, unit eigenvectors ``V``; the ``want`` lowest oscillating roots and their
-    vectors start Newton's iteration there (``starts`` (A, want), ``vectors`` (A, want, n)). At a
-    speed ``j`` between anchors, ``V^-1 A_j V = Lambda + F_j`` with
+    At each anchor ``a`` (``solved``) the projected state matrix ``A_a`` (``2m`` square) is solved by
+    ``eig``: its roots ``Lambda``, unit eigenvectors ``V``; the ``want`` lowest oscillating roots and
+    their vectors start Newton's iteration there (``starts`` (A, want), ``vectors`` (A, want, n)). At
+    another speed ``j``, ``V^-1 A_j V = Lambda + F_j`` with
     ``F_j = R_a - V^-1 [0; I] (dK V_top + dD V_bottom)``: ``dD = dOmega W^T G W + W^T dC_b W``,
-    ``dK = W^T dK_b W`` (the bearings' entries, a product of rank at most their number) and
-    ``R_a = V^-1 A_a V - Lambda`` (the decomposition's own error). Per speed between, with ``a`` the
-    nearer anchor: the Gershgorin discs of ``Lambda + F_j`` (``centers``, ``radii``, (J, 2m)), and,
-    for each root ``k`` followed from ``a``, the second-order change of the projected root,
-    ``F_kk + sum_l F_kl F_lk / (lambda_k - lambda_l)`` at the speed (``changes`` (J, want)) and at the
-    ``_NODES`` anchors around it (``node_changes`` (J, q, want)), with the projected roots it
-    predicts there (``predicted``) to find the root at those anchors.
+    ``dK = W^T dK_b W`` (the bearings' entries: a product of rank at most their number) and
+    ``R_a = V^-1 A_a V - Lambda`` (the decomposition's own error). For each speed ``j`` of ``levels``,
+    with ``a`` the nearer anchor: the Gershgorin discs of ``Lambda + F_j`` (``centers``, ``radii``,
+    (J, 2m)), and for each root ``k`` followed from ``a`` the second-order change of its projected
+    root, ``F_kk + sum_l F_kl F_lk / (lambda_k - lambda_l)``, at the speed (``changes`` (J, want)) and
+    at the ``_NODES`` refined speeds around it (``node_changes`` (J, q, want)).
+
+    Parameters
+    ----------
+    pencils : _Pencils
+    basis : ndarray, shape (n, m)
+    solved : ndarray of int, shape (A,)
+        The anchors, ascending (the first speed and the last among them).
+    want : int
+    levels : list of (ndarray of int, ndarray of int)
+        The other speeds, in the order they are refined, each part with the refined speeds its
+        nodes are taken from (ascending).
 
     Attributes
     ----------
     between : ndarray of int, shape (J,)
+        The speeds of ``levels``, in turn.
     near : ndarray of int, shape (J,)
-        The nearer anchor (a place in ``anchors``).
+        The nearer anchor (a place in ``solved``).
     nodes : ndarray of int, shape (J, q); weights : ndarray, shape (J, q)
-        The anchors around each speed (places in ``anchors``) and the Lagrange weights of the
-        speed among theirs.
-    roots : ndarray, shape (A, 2m), complex; order : ndarray of int, shape (A, want)
-        Every projected root of each anchor, and where its ``want`` starts are among them.
+        The refined speeds around each speed and the Lagrange weights of the speed among theirs.
     """
 
-    def __init__(self, pencils, basis, anchors, want):
+    def __init__(self, pencils, basis, solved, want, levels):
         speeds = pencils.speeds
         n, m = basis.shape
-        count, two = len(anchors), 2 * basis.shape[1]
-        between = np.setdiff1d(np.arange(len(speeds)), anchors)
-        right = np.searchsorted(anchors, between)
+        count, two = len(solved), 2 * basis.shape[1]
+        self.solved, self.speeds = solved, speeds
+        self.between = np.concatenate([part for part, _ in levels]).astype(int)
+        right = np.clip(np.searchsorted(solved, self.between), 1, count - 1)
         left = right - 1
-        span = speeds[anchors[right]] - speeds[anchors[left]]
+        span = speeds[solved[right]] - speeds[solved[left]]
         with np.errstate(divide="ignore", invalid="ignore"):
-            t = np.where(span != 0, (speeds[between] - speeds[anchors[left]]) / span, 0.5)
-        self.anchors, self.between, self.near = anchors, between, np.where(t < 0.5, left, right)
-        q = min(_NODES, count)
-        first = np.clip(left - (q // 2 - 1), 0, count - q)
-        self.nodes = first[:, None] + np.arange(q)
-        at = speeds[anchors[self.nodes]]                                     # (J, q)
+            t = np.where(span != 0, (speeds[self.between] - speeds[solved[left]]) / span, 0.5)
+        self.near = np.where(t < 0.5, left, right)
+        self.nodes = np.concatenate([_around(grid, part) for part, grid in levels]).reshape(len(self.between), -1)
+        at = speeds[self.nodes]                                                      # (J, q)
+        q = self.nodes.shape[1]
         with np.errstate(divide="ignore", invalid="ignore"):
             self.weights = np.ones(at.shape)
             for r in range(q):
                 other = np.arange(q) != r
-                self.weights[:, r] = np.prod((speeds[between][:, None] - at[:, other]) / (at[:, [r]] - at[:, other]),
-                                             axis=1)
+                self.weights[:, r] = np.prod((speeds[self.between][:, None] - at[:, other])
+                                             / (at[:, [r]] - at[:, other]), axis=1)
         self.starts = np.empty((count, want), complex)
         self.vectors = np.empty((count, want, n), complex)
-        self.roots = np.empty((count, two), complex)
-        self.order = np.empty((count, want), int)
-        J = len(between)
+        J = len(self.between)
         self.centers, self.radii = np.full((J, two), np.nan + 0j), np.full((J, two), np.nan)
         self.changes = np.full((J, want), np.nan + 0j)
         self.node_changes = np.full((J, q, want), np.nan + 0j)
-        self.predicted = np.full((J, q, want), np.nan + 0j)
-        self._solve(pencils, basis, anchors, want)
+        self._solve(pencils, basis, want)
 
-    def _solve(self, pencils, basis, anchors, want):
+    def _solve(self, pencils, basis, want):
         """``eig`` at the anchors, a part of them at a time, and the speeds nearer each."""
-        m = basis.shape[1]
-        D0, K0, Gr = projected_first(pencils, anchors, basis)
+        m, solved = basis.shape[1], self.solved
+        D0, K0, Gr = projected_first(pencils, solved, basis)
         left, right = basis[pencils.rows].T, basis[pencils.cols]
-        for part in _batches.chunk_slices(len(anchors), 16 * 8 * (2 * m) ** 2):
-            index = anchors[part]
-            A = _state_matrices(pencils, index, anchors[0], D0, K0, Gr, left, right)
+        for part in _batches.chunk_slices(len(solved), 16 * 8 * (2 * m) ** 2):
+            A = _state_matrices(pencils, solved[part], solved[0], D0, K0, Gr, left, right)
             lam, V = _batches._threaded(np.linalg.eig, A, item_bytes=48 * (2 * m) ** 2)
             order = _lowest_order(lam, want)
-            rows = np.arange(len(lam))[:, None]
-            self.roots[part], self.order[part], self.starts[part] = lam, order, lam[rows, order]
-            shapes = np.take_along_axis(V, order[:, None, :], axis=2)[:, :m]       # (P, m, want)
+            self.starts[part] = np.take_along_axis(lam, order, axis=1)
+            shapes = np.take_along_axis(V, order[:, None, :], axis=2)[:, :m]           # (P, m, want)
             self.vectors[part] = _vectors.unit_rows(np.swapaxes(shapes, 1, 2) @ basis.T)
             try:
                 inverse = np.linalg.inv(V)
@@ -347,18 +354,17 @@ class _Expansions:
             lower = inverse[:, :, m:]                                               # V^-1 [0; I], (P, 2m, m)
             factors = (residual, lower @ Gr @ V[:, m:], lower @ left, right @ V[:, :m], right @ V[:, m:])
             for place in range(part.start, part.stop):
-                self._near(pencils, anchors, place, lam[place - part.start], order[place - part.start],
+                self._near(pencils, place, lam[place - part.start], order[place - part.start],
                            [f[place - part.start] for f in factors])
 
-    def _near(self, pencils, anchors, place, lam, order, factors):
+    def _near(self, pencils, place, lam, order, factors):
         """The discs and the roots' changes at the speeds nearer the anchor ``place`` and at their
         nodes, from that anchor's decomposition."""
         rows = np.nonzero(self.near == place)[0]
         if not len(rows):
             return
         nodes = np.unique(self.nodes[rows])
-        at = np.concatenate([self.between[rows], anchors[nodes]])
-        F = _changed(pencils, at, anchors[place], factors)                         # (X, 2m, 2m)
+        F = _changed(pencils, np.concatenate([self.between[rows], nodes]), self.solved[place], factors)
         diagonal = np.einsum("xii->xi", F)
         self.centers[rows] = lam + diagonal[:len(rows)]
         self.radii[rows] = np.abs(F[:len(rows)]).sum(axis=2) - np.abs(diagonal[:len(rows)])
@@ -366,9 +372,15 @@ class _Expansions:
         gaps[np.arange(len(order)), order] = np.inf
         change = diagonal[:, order] + np.sum(F[:, order, :] * np.swapaxes(F[:, :, order], 1, 2) / gaps, axis=2)
         self.changes[rows] = change[:len(rows)]
-        where = np.searchsorted(nodes, self.nodes[rows])                            # (R, q)
-        self.node_changes[rows] = change[len(rows):][where]
-        self.predicted[rows] = lam[order] + self.node_changes[rows]
+        self.node_changes[rows] = change[len(rows):][np.searchsorted(nodes, self.nodes[rows])]
+
+
+def _around(grid, speeds):
+    """The ``_NODES`` speeds of ``grid`` (ascending, G,) around each of ``speeds`` (J,): two on each
+    side where there are, (J, min(_NODES, G))."""
+    q = min(_NODES, len(grid))
+    first = np.clip(np.searchsorted(grid, speeds) - q // 2, 0, len(grid) - q)
+    return grid[first[:, None] + np.arange(q)]
 
 
 def _state_matrices(pencils, index, base, D0, K0, Gr, left, right):
@@ -401,45 +413,47 @@ def _changed(pencils, at, anchor, factors):
     return F
 
 
-def _expansion_guesses(expansions, anchors, values, shapes, ok):
-    """Newton's starts at the speeds between anchors from the anchors' refined roots and the
-    projected roots' changes (:class:`_Expansions`): for each root followed from the nearer
-    anchor, ``g = root - change`` at the ``_NODES`` anchors around the speed, interpolated in the
-    speed (Lagrange, cubic), plus the change at the speed; its vector the nearer anchor's shape.
-    The root at another anchor is the one whose projected root is nearest the predicted one (at
-    most ``_MATCH`` of the distance to the next nearest, among that anchor's starts, one to one);
-    a speed where a root cannot be found so, or an anchor around it failed, is not ``sure``.
+def _expansion_guesses(expansions, rows, values, shapes, ok):
+    """Newton's starts at the speeds ``expansions.between[rows]`` from the refined roots of their
+    nodes and the projected roots' changes (:class:`_Expansions`): for each root followed from the
+    nearer anchor, ``g = root - change`` at the ``_NODES`` refined speeds around the speed,
+    interpolated in the speed (Lagrange, cubic), plus the change at the speed; its vector the
+    nearest node's shape. The root at a node is the one nearest the anchor's root plus the change
+    to the node (at most ``_MATCH`` of the distance to the next nearest, one to one); a speed where
+    a root cannot be found so, or a node failed, is not ``sure``.
 
     Parameters
     ----------
     expansions : _Expansions
-    anchors : ndarray of int, shape (A,)
+    rows : ndarray of int, shape (R,)
+        Places in ``expansions.between``.
     values : ndarray, shape (S, want), complex; shapes : ndarray, shape (S, want, n), complex
-        Refined at the anchors (in their starts' order).
+        Refined at the nodes of ``rows``, the anchors' in their starts' order.
     ok : ndarray of bool, shape (S,)
 
     Returns
     -------
-    guesses : ndarray, shape (J, want), complex; vectors : ndarray, shape (J, want, n), complex
-    sure : ndarray of bool, shape (J,)
+    guesses : ndarray, shape (R, want), complex; vectors : ndarray, shape (R, want, n), complex
+    sure : ndarray of bool, shape (R,)
     """
     ex = expansions
-    J, q, want = ex.predicted.shape
-    roots = ex.roots[ex.nodes]                                                   # (J, q, 2m)
-    distance = np.abs(ex.predicted[..., None] - roots[:, :, None, :])            # (J, q, want, 2m)
-    nearest = np.argmin(distance, axis=3)
+    nodes, changes = ex.nodes[rows], ex.node_changes[rows]                         # (R, q), (R, q, want)
+    R, q, want = changes.shape
+    anchor = ex.solved[ex.near[rows]]
+    predicted = values[anchor][:, None, :] + changes                                 # the roots at the nodes
+    distance = np.abs(predicted[..., None] - values[nodes][:, :, None, :])          # (R, q, want, want)
+    found = np.argmin(distance, axis=3)
     ordered = np.sort(distance, axis=3)
-    second = ordered[..., 1] if distance.shape[3] > 1 else np.full(nearest.shape, np.inf)
-    place = np.full(ex.roots.shape, -1)
-    np.put_along_axis(place, ex.order, np.arange(want)[None], axis=1)
-    found = np.take_along_axis(place[ex.nodes], nearest, axis=2)                 # (J, q, want)
-    own = ex.nodes == ex.near[:, None]
+    second = ordered[..., 1] if want > 1 else np.full(found.shape, np.inf)
+    own = nodes == anchor[:, None]
     found = np.where(own[..., None], np.arange(want), found)
     with np.errstate(invalid="ignore"):
         clear = own[..., None] | (ordered[..., 0] <= _MATCH * second)
-    distinct = (np.sort(found, axis=2)[..., 1:] != np.sort(found, axis=2)[..., :-1]).all(axis=(1, 2))
-    sure = (found >= 0).all(axis=(1, 2)) & clear.all(axis=(1, 2)) & distinct & ok[anchors[ex.nodes]].all(axis=1)
-    refined = values[anchors[ex.nodes][..., None], np.maximum(found, 0)]       # (J, q, want)
-    guesses = np.einsum("jq,jqk->jk", ex.weights, refined - ex.node_changes) + ex.changes
+    ranked = np.sort(found, axis=2)
+    sure = clear.all(axis=(1, 2)) & (ranked[..., 1:] != ranked[..., :-1]).all(axis=(1, 2)) & ok[nodes].all(axis=1)
+    guesses = np.einsum("jq,jqk->jk", ex.weights[rows], values[nodes[..., None], found] - changes) + ex.changes[rows]
     sure &= np.isfinite(guesses).all(axis=1)
-    return guesses, shapes[anchors[ex.near]], sure
+    speeds = ex.speeds
+    closest = np.argmin(np.abs(speeds[nodes] - speeds[ex.between[rows]][:, None]), axis=1)
+    at = np.arange(R)
+    return guesses, shapes[nodes[at, closest][:, None], found[at, closest]], sure

@@ -39,8 +39,8 @@ from . import _arnoldi, _batches, _cost, _eigensolve, _lowest_bound, _lowest_rou
 from ._lowest_bound import _FEW, _MARGIN, _Bound, _stack_bound  # noqa: F401 (_Bound: for _lowest_branches)
 from ._lowest_newton import _continued, _refined, _speeds_named
 from ._lowest_pencils import _Pencils
-from ._lowest_starts import (_SOLVED, _anchors, _by_frequency, _close, _Expansions, _expansion_guesses, _pencil_shapes_part,
-                             _projected_starts, frequency_key, lowest_order)
+from ._lowest_starts import (_SOLVED, _anchors, _by_frequency, _close, _Expansions, _expansion_guesses,
+                             _pencil_shapes_part, _projected_guesses, _projected_starts, frequency_key, lowest_order)
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]
@@ -159,14 +159,18 @@ def _swept(pencils, basis, want, count):
     unmissed[solved] = _unmissed(expansions.starts, values[solved], count)
     moved = np.max(np.abs(expansions.starts - values[solved]), axis=1)      # the projection's error there
     first = 0
-    for part, _ in levels:
+    for level, (part, _) in enumerate(levels):
         places = first + np.arange(len(part))
         first += len(part)
-        guesses, vectors, sure = _expansion_guesses(expansions, places, values, shapes, ok)
+        if level == 0:          # the anchors between the solved ones: their projected roots, the solved ones' errors
+            guesses, vectors, sure, projected = _projected_guesses(expansions, places, values, shapes, ok)
+        else:
+            guesses, vectors, sure = _expansion_guesses(expansions, places, values, shapes, ok)
         rows = part[sure]
         if len(rows):
             _refine_into(_continued, pencils, guesses[sure], vectors[sure], rows, (values, shapes, ok))
-            unmissed[rows] = _certified(expansions, places[sure], values, moved, count)
+            unmissed[rows] = _unmissed(projected[sure], values[rows], count) if level == 0 \
+                else _certified(expansions, places[sure], values, moved, count)
         del vectors
         # the speeds not carried over, and those whose discs show nothing: their own projected roots
         rows = part[~sure | (~unmissed[part] & ok[part])]

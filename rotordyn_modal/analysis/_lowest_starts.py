@@ -316,9 +316,9 @@ class _Expansions:
         with np.errstate(divide="ignore", invalid="ignore"):
             t = np.where(span != 0, (speeds[self.between] - speeds[solved[left]]) / span, 0.5)
         self.near = np.where(t < 0.5, left, right)
-        self.nodes = np.concatenate([_around(grid, part) for part, grid in levels]).reshape(len(self.between), -1)
+        q = min([_NODES] + [len(grid) for _, grid in levels])
+        self.nodes = np.concatenate([_around(grid, part, q) for part, grid in levels]).reshape(len(self.between), q)
         at = speeds[self.nodes]                                                      # (J, q)
-        q = self.nodes.shape[1]
         with np.errstate(divide="ignore", invalid="ignore"):
             self.weights = np.ones(at.shape)
             for r in range(q):
@@ -338,6 +338,7 @@ class _Expansions:
         m, solved = basis.shape[1], self.solved
         D0, K0, Gr = projected_first(pencils, solved, basis)
         left, right = basis[pencils.rows].T, basis[pencils.cols]
+        self.pencils, self.first = pencils, (D0, K0, Gr, left, right)
         for part in _batches.chunk_slices(len(solved), 16 * 8 * (2 * m) ** 2):
             A = _state_matrices(pencils, solved[part], solved[0], D0, K0, Gr, left, right)
             lam, V = _batches._threaded(np.linalg.eig, A, item_bytes=48 * (2 * m) ** 2)
@@ -375,10 +376,9 @@ class _Expansions:
         self.node_changes[rows] = change[len(rows):][np.searchsorted(nodes, self.nodes[rows])]
 
 
-def _around(grid, speeds):
-    """The ``_NODES`` speeds of ``grid`` (ascending, G,) around each of ``speeds`` (J,): two on each
-    side where there are, (J, min(_NODES, G))."""
-    q = min(_NODES, len(grid))
+def _around(grid, speeds, q):
+    """The ``q`` speeds of ``grid`` (ascending, G >= q) around each of ``speeds`` (J,): half on each
+    side where there are, (J, q)."""
     first = np.clip(np.searchsorted(grid, speeds) - q // 2, 0, len(grid) - q)
     return grid[first[:, None] + np.arange(q)]
 
@@ -413,14 +413,49 @@ def _changed(pencils, at, anchor, factors):
     return F
 
 
+def _at_nodes(expansions, rows, values, ok):
+    """Where each root followed from the nearer anchor is among the refined roots of the nodes of
+    the speeds ``expansions.between[rows]``: the one nearest the anchor's root plus its change to
+    the node (at most ``_MATCH`` of the distance to the next nearest, one to one), (R, q, want); and
+    whether every root of a speed is found so at nodes that converged (``ok`` (S,)), (R,)."""
+    ex = expansions
+    nodes, changes = ex.nodes[rows], ex.node_changes[rows]                         # (R, q), (R, q, want)
+    want = changes.shape[2]
+    anchor = ex.solved[ex.near[rows]]
+    predicted = values[anchor][:, None, :] + changes                                 # the roots at the nodes
+    distance = np.abs(predicted[..., None] - values[nodes][:, :, None, :])          # (R, q, want, want)
+    found = np.argmin(distance, axis=3)
+    ordered = np.sort(distance, axis=3)
+    second = ordered[..., 1] if want > 1 else np.full(found.shape, np.inf)
+    own = nodes == anchor[:, None]
+    found = np.where(own[..., None], np.arange(want), found)
+    with np.errstate(invalid="ignore"):
+        clear = own[..., None] | (ordered[..., 0] <= _MATCH * second)
+    ranked = np.sort(found, axis=2)
+    sure = clear.all(axis=(1, 2)) & (ranked[..., 1:] != ranked[..., :-1]).all(axis=(1, 2)) & ok[nodes].all(axis=1)
+    return found, sure
+
+
+def _nearest_shapes(expansions, rows, shapes, found, which=None):
+    """The shapes (R, k, n) of the nearest node of each speed ``expansions.between[rows]``: of its
+    roots ``found`` (R, q, want) (of the anchor's roots ``which`` (R, k), default all)."""
+    ex = expansions
+    nodes = ex.nodes[rows]
+    closest = np.argmin(np.abs(ex.speeds[nodes] - ex.speeds[ex.between[rows]][:, None]), axis=1)
+    at = np.arange(len(rows))
+    place = found[at, closest]                                                      # (R, want)
+    if which is not None:
+        place = np.take_along_axis(place, which, axis=1)
+    return shapes[nodes[at, closest][:, None], place]
+
+
 def _expansion_guesses(expansions, rows, values, shapes, ok):
     """Newton's starts at the speeds ``expansions.between[rows]`` from the refined roots of their
     nodes and the projected roots' changes (:class:`_Expansions`): for each root followed from the
-    nearer anchor, ``g = root - change`` at the ``_NODES`` refined speeds around the speed,
-    interpolated in the speed (Lagrange, cubic), plus the change at the speed; its vector the
-    nearest node's shape. The root at a node is the one nearest the anchor's root plus the change
-    to the node (at most ``_MATCH`` of the distance to the next nearest, one to one); a speed where
-    a root cannot be found so, or a node failed, is not ``sure``.
+    nearer anchor, ``g = root - change`` at the ``_NODES`` refined speeds around the speed
+    (:func:`_at_nodes`), interpolated in the speed (Lagrange, cubic), plus the change at the speed;
+    its vector the nearest node's shape. A speed where a root cannot be followed to every node, or
+    a node failed, is not ``sure``.
 
     Parameters
     ----------
@@ -437,23 +472,45 @@ def _expansion_guesses(expansions, rows, values, shapes, ok):
     sure : ndarray of bool, shape (R,)
     """
     ex = expansions
-    nodes, changes = ex.nodes[rows], ex.node_changes[rows]                         # (R, q), (R, q, want)
-    R, q, want = changes.shape
-    anchor = ex.solved[ex.near[rows]]
-    predicted = values[anchor][:, None, :] + changes                                 # the roots at the nodes
-    distance = np.abs(predicted[..., None] - values[nodes][:, :, None, :])          # (R, q, want, want)
-    found = np.argmin(distance, axis=3)
-    ordered = np.sort(distance, axis=3)
-    second = ordered[..., 1] if want > 1 else np.full(found.shape, np.inf)
-    own = nodes == anchor[:, None]
-    found = np.where(own[..., None], np.arange(want), found)
-    with np.errstate(invalid="ignore"):
-        clear = own[..., None] | (ordered[..., 0] <= _MATCH * second)
-    ranked = np.sort(found, axis=2)
-    sure = clear.all(axis=(1, 2)) & (ranked[..., 1:] != ranked[..., :-1]).all(axis=(1, 2)) & ok[nodes].all(axis=1)
+    found, sure = _at_nodes(ex, rows, values, ok)
+    nodes, changes = ex.nodes[rows], ex.node_changes[rows]
     guesses = np.einsum("jq,jqk->jk", ex.weights[rows], values[nodes[..., None], found] - changes) + ex.changes[rows]
     sure &= np.isfinite(guesses).all(axis=1)
-    speeds = ex.speeds
-    closest = np.argmin(np.abs(speeds[nodes] - speeds[ex.between[rows]][:, None]), axis=1)
-    at = np.arange(R)
-    return guesses, shapes[nodes[at, closest][:, None], found[at, closest]], sure
+    return guesses, _nearest_shapes(ex, rows, shapes, found), sure
+
+
+def _projected_guesses(expansions, rows, values, shapes, ok):
+    """Newton's starts at the speeds ``expansions.between[rows]`` whose nodes are anchors (solved
+    whole): their own projected roots (the ``want`` lowest of one batched ``eigvals``), each plus its
+    projection error at the nodes (refined less projected root), interpolated in the speed: the
+    projected root's root at the nearer anchor is the one whose root plus change to the speed is
+    nearest it (``_MATCH``, one to one), followed to the other nodes by :func:`_at_nodes`.
+
+    Returns
+    -------
+    guesses : ndarray, shape (R, want), complex; vectors : ndarray, shape (R, want, n), complex
+    sure : ndarray of bool, shape (R,)
+    projected : ndarray, shape (R, want), complex
+        The projected roots, by frequency (the starts of :func:`._lowest._unmissed`).
+    """
+    ex = expansions
+    found, sure = _at_nodes(ex, rows, values, ok)
+    want = found.shape[2]
+    A = _state_matrices(ex.pencils, ex.between[rows], ex.solved[0], *ex.first)
+    lam = _batches._threaded(np.linalg.eigvals, A, item_bytes=24 * A.shape[-1] ** 2)
+    projected = np.take_along_axis(lam, _lowest_order(lam, want), axis=1)
+    predicted = ex.starts[ex.near[rows]] + ex.changes[rows]                        # the anchor's roots, carried
+    distance = np.abs(projected[:, :, None] - predicted[:, None, :])              # (R, want, want)
+    which = np.argmin(distance, axis=2)
+    ordered = np.sort(distance, axis=2)
+    second = ordered[..., 1] if want > 1 else np.full(which.shape, np.inf)
+    ranked = np.sort(which, axis=1)
+    with np.errstate(invalid="ignore"):
+        sure &= (ordered[..., 0] <= _MATCH * second).all(axis=1) & (ranked[:, 1:] != ranked[:, :-1]).all(axis=1)
+    nodes = ex.nodes[rows]
+    place = np.searchsorted(ex.solved, nodes)                                       # the nodes are anchors
+    error = values[nodes[..., None], found] - ex.starts[place[..., None], found]    # (R, q, want)
+    carried = np.einsum("jq,jqk->jk", ex.weights[rows], error)
+    guesses = projected + np.take_along_axis(carried, which, axis=1)
+    sure &= np.isfinite(guesses).all(axis=1)
+    return guesses, _nearest_shapes(ex, rows, shapes, found, which), sure, projected

@@ -222,21 +222,23 @@ def _gershgorin_count(centers, radii, limit):
     -------
     ndarray of int, shape (J,)
     """
-    from scipy.sparse.csgraph import connected_components
-
-    counts = np.zeros(len(centers), int)
-    for j, (c, r) in enumerate(zip(centers, radii)):
-        if not (np.isfinite(c).all() and np.isfinite(r).all()):
-            counts[j] = np.iinfo(int).max
-            continue
-        touching = np.abs(c[:, None] - c[None, :]) <= r[:, None] + r[None, :]
-        parts, label = connected_components(scipy.sparse.csr_matrix(touching), directed=False)
-        low = np.full(parts, np.inf)
-        high = np.full(parts, -np.inf)
-        np.minimum.at(low, label, c.imag - r)
-        np.maximum.at(high, label, c.imag + r)
-        size = np.bincount(label, minlength=parts)
-        upper = np.bincount(label, weights=c.imag >= 0, minlength=parts).astype(int)
-        counted = (low < limit[j]) & (high > 0)
-        counts[j] = int(np.where(low > 0, size, upper)[counted].sum())
-    return counts
+    J, p = centers.shape
+    finite = np.isfinite(centers).all(axis=1) & np.isfinite(radii).all(axis=1)
+    c, r = np.where(finite[:, None], centers, 0), np.where(finite[:, None], radii, 0.0)
+    touching = np.abs(c[:, :, None] - c[:, None, :]) <= r[:, :, None] + r[:, None, :]        # (J, p, p)
+    # the connected parts: each disc labelled by the least disc it reaches
+    label = np.broadcast_to(np.arange(p), (J, p))
+    while True:
+        joined = np.where(touching, label[:, None, :], p).min(axis=2)
+        if np.array_equal(joined, label):
+            break
+        label = joined
+    flat = (label + p * np.arange(J)[:, None]).ravel()
+    low, high = np.full(J * p, np.inf), np.full(J * p, -np.inf)
+    np.minimum.at(low, flat, (c.imag - r).ravel())
+    np.maximum.at(high, flat, (c.imag + r).ravel())
+    size = np.bincount(flat, minlength=J * p)
+    upper = np.bincount(flat, weights=(c.imag >= 0).ravel(), minlength=J * p).astype(int)
+    counted = (size > 0) & (low < np.repeat(limit, p)) & (high > 0)
+    counts = np.where(counted, np.where(low > 0, size, upper), 0).reshape(J, p).sum(axis=1)
+    return np.where(finite, counts, np.iinfo(int).max)

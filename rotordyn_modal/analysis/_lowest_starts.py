@@ -350,30 +350,42 @@ class _Expansions:
                 inverse = np.linalg.inv(V)
             except np.linalg.LinAlgError:        # a defective anchor: the speeds near it take their own roots
                 continue
-            residual = inverse @ (A @ V)
-            residual[:, np.arange(2 * m), np.arange(2 * m)] -= lam
+            # the decomposition's own error R_a = V^-1 (A V - V Lambda): each row's sum of moduli at most
+            # |V^-1| |A V - V Lambda| summed (added to the discs' radii)
+            error = np.abs(A @ V - V * lam[:, None, :]).sum(axis=2)
+            error = np.einsum("pij,pj->pi", np.abs(inverse), error)
             lower = inverse[:, :, m:]                                               # V^-1 [0; I], (P, 2m, m)
-            factors = (residual, lower @ Gr @ V[:, m:], lower @ left, right @ V[:, :m], right @ V[:, m:])
+            factors = (lower @ Gr @ V[:, m:], lower @ left, right @ V[:, :m], right @ V[:, m:])
             for place in range(part.start, part.stop):
-                self._near(pencils, place, lam[place - part.start], order[place - part.start],
-                           [f[place - part.start] for f in factors])
+                at = place - part.start
+                self._near(pencils, place, lam[at], order[at], error[at], [f[at] for f in factors])
 
-    def _near(self, pencils, place, lam, order, factors):
+    def _near(self, pencils, place, lam, order, error, factors):
         """The discs and the roots' changes at the speeds nearer the anchor ``place`` and at their
-        nodes, from that anchor's decomposition."""
+        nodes, from that anchor's decomposition (``error`` (2m,): its rows' error)."""
         rows = np.nonzero(self.near == place)[0]
         if not len(rows):
             return
-        nodes = np.unique(self.nodes[rows])
-        F = _changed(pencils, np.concatenate([self.between[rows], nodes]), self.solved[place], factors)
+        anchor = self.solved[place]
+        F = _changed(pencils, self.between[rows], anchor, factors)                  # (R, 2m, 2m)
         diagonal = np.einsum("xii->xi", F)
-        self.centers[rows] = lam + diagonal[:len(rows)]
-        self.radii[rows] = np.abs(F[:len(rows)]).sum(axis=2) - np.abs(diagonal[:len(rows)])
+        self.centers[rows] = lam + diagonal
+        self.radii[rows] = np.abs(F).sum(axis=2) - np.abs(diagonal) + error
         gaps = lam[order][:, None] - lam[None, :]                                   # (want, 2m)
         gaps[np.arange(len(order)), order] = np.inf
-        change = diagonal[:, order] + np.sum(F[:, order, :] * np.swapaxes(F[:, :, order], 1, 2) / gaps, axis=2)
-        self.changes[rows] = change[:len(rows)]
-        self.node_changes[rows] = change[len(rows):][np.searchsorted(nodes, self.nodes[rows])]
+        self.changes[rows] = _second_order(F[:, order, :], np.swapaxes(F[:, :, order], 1, 2), order, gaps)
+        nodes = np.unique(self.nodes[rows])
+        along, across = _changed(pencils, nodes, anchor, factors, order)           # F's rows and columns of the roots
+        change = _second_order(along, across, order, gaps)
+        self.node_changes[rows] = change[np.searchsorted(nodes, self.nodes[rows])]
+
+
+def _second_order(along, across, order, gaps):
+    """The second-order changes ``F_kk + sum_l F_kl F_lk / (lambda_k - lambda_l)`` (X, want) of the
+    roots ``order`` (want,) from ``F``'s rows ``along`` and columns ``across`` (transposed) at them,
+    (X, want, 2m) each, and the roots' gaps (want, 2m), ``inf`` at the root itself."""
+    own = np.take_along_axis(along, order[None, :, None], axis=2)[..., 0]
+    return own + np.sum(along * across / gaps, axis=2)
 
 
 def _around(grid, speeds, q):
@@ -400,17 +412,25 @@ def _state_matrices(pencils, index, base, D0, K0, Gr, left, right):
     return A
 
 
-def _changed(pencils, at, anchor, factors):
-    """``F = V^-1 A_j V - Lambda`` at the speeds ``at`` (X,) from the anchor's decomposition:
-    ``factors`` = (``R_a``, ``V^-1 [0; I] W^T G W V_bottom``, ``V^-1 [0; I] W^T`` at the bearings'
-    rows (2m, e), ``W`` at their columns times ``V_top`` and ``V_bottom`` (e, 2m) each). (X, 2m, 2m)."""
-    residual, gyroscopic, lower, stiff, damp = factors
-    F = residual - (pencils.speeds[at] - pencils.speeds[anchor])[:, None, None] * gyroscopic
+def _changed(pencils, at, anchor, factors, order=None):
+    """``F = V^-1 (A_j - A_a) V`` at the speeds ``at`` (X,) from the anchor's decomposition:
+    ``factors`` = (``V^-1 [0; I] W^T G W V_bottom``, ``V^-1 [0; I] W^T`` at the bearings' rows (2m, e),
+    ``W`` at their columns times ``V_top`` and ``V_bottom`` (e, 2m) each). (X, 2m, 2m); with ``order``
+    (k,) its rows and columns (transposed) at those roots only, (X, k, 2m) each."""
+    gyroscopic, lower, stiff, damp = factors
+    step = (pencils.speeds[at] - pencils.speeds[anchor])[:, None, None]
+    dk = (pencils.kb[at] - pencils.kb[anchor])[:, :, None]
+    dc = (pencils.cb[at] - pencils.cb[anchor])[:, :, None]
+    if order is None:
+        F = -step * gyroscopic
+        if len(pencils.rows):
+            F -= lower @ (dk * stiff + dc * damp)
+        return F
+    along, across = -step * gyroscopic[order], -step * gyroscopic[:, order].T
     if len(pencils.rows):
-        dk = (pencils.kb[at] - pencils.kb[anchor])[:, :, None]
-        dc = (pencils.cb[at] - pencils.cb[anchor])[:, :, None]
-        F = F - lower @ (dk * stiff + dc * damp)
-    return F
+        along = along - lower[order] @ (dk * stiff + dc * damp)
+        across = across - np.swapaxes(lower @ (dk * stiff[:, order] + dc * damp[:, order]), 1, 2)
+    return along, across
 
 
 def _at_nodes(expansions, rows, values, ok):

@@ -168,7 +168,9 @@ def _swept(pencils, basis, want, count):
             guesses, vectors, sure = _expansion_guesses(expansions, places, values, shapes, ok)
         rows = part[sure]
         if len(rows):
-            _refine_into(_continued, pencils, guesses[sure], vectors[sure], rows, (values, shapes, ok))
+            if not sure.all():
+                guesses, vectors = guesses[sure], vectors[sure]
+            _refine_into(_continued, pencils, guesses, vectors, rows, (values, shapes, ok))
             unmissed[rows] = _unmissed(projected[sure], values[rows], count) if level == 0 \
                 else _certified(expansions, places[sure], values, moved, count)
         del vectors

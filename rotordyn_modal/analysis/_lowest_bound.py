@@ -222,6 +222,15 @@ def _gershgorin_count(centers, radii, limit):
     -------
     ndarray of int, shape (J,)
     """
+    counts = np.empty(len(centers), int)
+    # a part of the speeds at a time: their discs' (p, p) contacts
+    for part in _batches.chunk_slices(len(centers), 40 * centers.shape[1] ** 2, budget=_batches._PART_BYTES):
+        counts[part] = _counted(centers[part], radii[part], limit[part])
+    return counts
+
+
+def _counted(centers, radii, limit):
+    """:func:`_gershgorin_count` of some speeds."""
     J, p = centers.shape
     finite = np.isfinite(centers).all(axis=1) & np.isfinite(radii).all(axis=1)
     c, r = np.where(finite[:, None], centers, 0), np.where(finite[:, None], radii, 0.0)

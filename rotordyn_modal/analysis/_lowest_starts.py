@@ -339,7 +339,8 @@ class _Expansions:
         D0, K0, Gr = projected_first(pencils, solved, basis)
         left, right = basis[pencils.rows].T, basis[pencils.cols]
         self.pencils, self.first = pencils, (D0, K0, Gr, left, right)
-        for part in _batches.chunk_slices(len(solved), 16 * 8 * (2 * m) ** 2):
+        # a part of the anchors at a time: their state matrices, eigenvectors, inverses and products
+        for part in _batches.chunk_slices(len(solved), 16 * 8 * (2 * m) ** 2, budget=_batches._PART_BYTES):
             A = _state_matrices(pencils, solved[part], solved[0], D0, K0, Gr, left, right)
             lam, V = _batches._threaded(np.linalg.eig, A, item_bytes=48 * (2 * m) ** 2)
             order = _lowest_order(lam, want)
@@ -492,11 +493,18 @@ def _expansion_guesses(expansions, rows, values, shapes, ok):
     sure : ndarray of bool, shape (R,)
     """
     ex = expansions
-    found, sure = _at_nodes(ex, rows, values, ok)
-    nodes, changes = ex.nodes[rows], ex.node_changes[rows]
-    guesses = np.einsum("jq,jqk->jk", ex.weights[rows], values[nodes[..., None], found] - changes) + ex.changes[rows]
+    want = values.shape[1]
+    guesses, sure = np.empty((len(rows), want), complex), np.empty(len(rows), bool)
+    vectors = np.empty((len(rows), want, shapes.shape[2]), complex)
+    for part in _batches.chunk_slices(len(rows), 64 * ex.nodes.shape[1] * want * want, budget=_batches._PART_BYTES):
+        at = rows[part]
+        found, sure[part] = _at_nodes(ex, at, values, ok)
+        nodes, changes = ex.nodes[at], ex.node_changes[at]
+        guesses[part] = np.einsum("jq,jqk->jk", ex.weights[at], values[nodes[..., None], found] - changes) \
+            + ex.changes[at]
+        vectors[part] = _nearest_shapes(ex, at, shapes, found)
     sure &= np.isfinite(guesses).all(axis=1)
-    return guesses, _nearest_shapes(ex, rows, shapes, found), sure
+    return guesses, vectors, sure
 
 
 def _projected_guesses(expansions, rows, values, shapes, ok):

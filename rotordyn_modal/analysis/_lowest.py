@@ -5,9 +5,10 @@ Three steps (``docs/theory.md``, "The lowest modes only"):
 1. a speed-independent basis: the ``m`` lowest undamped modes of the symmetric parts of the
    stiffness and mass at the sweep's first speed, mass-orthonormal, and ``k`` attachment
    directions (the static response to forces where the bearings act, outside those modes);
-2. the projected pencils (``(m + k)`` square) of every speed, solved in one batched
-   ``numpy.linalg.eigvals`` of their state matrices, the wanted roots' vectors by inverse
-   iteration: starts for the wanted roots;
+2. the projected pencils (``(m + k)`` square) of the anchors (every fourth speed), solved by a
+   batched ``eig`` (``eigvals`` at every second one): starts for the wanted roots; the speeds between
+   take their starts from the anchors' roots carried over in an anchor's eigenbasis, and their
+   completeness from its Gershgorin discs (:func:`_swept`);
 3. each start refined to the full model's root by Newton's iteration on the full quadratic
    pencil ``Q(s) = s^2 M + s (C + Omega G) + K`` (a banded LU per root and iteration where the
    pencils are banded, with a casing's coordinates as a border; batched dense LU for small

@@ -24,10 +24,17 @@ of the process) of
 Ratios are measured / estimated (1: the estimate is right; above 1: it is low). The machine is
 shared: each line is one measurement (``--repeat`` more for min/median/max).
 
+With ``--blas N,N,...`` it measures instead the dense steps around the solves that
+``rotordyn_modal/_blas.py`` holds to one thread (``inv(M)``, the check ``inv(M) @ M`` and the
+state matrices' products, ``cholesky(M)``) on a symmetric positive definite matrix of each size:
+with BLAS's own threads and with one, alternated in this one process, ``--repeat`` times; the
+ratios threaded / one thread of wall and CPU time, min/median/max.
+
 Usage::
 
     python benchmarks/bench_cost_estimate.py [--kinds chain,shaft] [--states 500,1000,2000,4000]
                                              [--repeat 1] [--threaded-up-to 1000]
+    python benchmarks/bench_cost_estimate.py --blas 406,1000,2006 --repeat 5
 """
 
 from __future__ import annotations
@@ -70,6 +77,37 @@ def _stats(values) -> str:
     return f"{values.min():.2f}/{np.median(values):.2f}/{values.max():.2f}"
 
 
+def _clocks(function) -> tuple:
+    """(wall, CPU) seconds of ``function()``."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    function()
+    return time.perf_counter() - wall, time.process_time() - cpu
+
+
+def blas_threads(sizes, repeat: int) -> None:
+    """Print, for each size and step, one thread's wall time and the ratios threaded / one thread
+    (wall and CPU, min/median/max of ``repeat`` alternated pairs)."""
+    print(f"{'size':>5s} {'step':12s} {'one thread':>11s}   threaded / one thread: wall, CPU (min/median/max)")
+    for n in sizes:
+        rng = np.random.default_rng(n)
+        a = rng.standard_normal((n, n))
+        mass = a @ a.T + n * np.eye(n)
+        inverse = np.linalg.inv(mass)
+        steps = {"inv(M)": lambda: np.linalg.inv(mass), "inv(M) @ M": lambda: inverse @ mass,
+                 "cholesky(M)": lambda: np.linalg.cholesky(mass)}
+        for name, step in steps.items():
+            step()
+            walls, cpus, one = [], [], []
+            for _ in range(repeat):
+                threaded = _clocks(step)
+                with one_blas_thread(72 * n * n):
+                    single = _clocks(step)
+                walls.append(threaded[0] / single[0])
+                cpus.append(threaded[1] / max(single[1], 1e-9))
+                one.append(single[0])
+            print(f"{n:5d} {name:12s} {1e3 * np.median(one):8.1f} ms   {_stats(walls)}, {_stats(cpus)}", flush=True)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--kinds", default="chain,shaft")
@@ -77,7 +115,12 @@ def main(argv=None):
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--threaded-up-to", type=int, default=1000,
                         help="largest state matrix also solved with BLAS's own threads")
+    parser.add_argument("--blas", default="", metavar="N,N",
+                        help="measure the dense steps held to one BLAS thread at these sizes instead")
     args = parser.parse_args(argv)
+    if args.blas:
+        blas_threads([int(s) for s in args.blas.split(",")], args.repeat)
+        return
     print(f"{'machine':6s} {'states':>6s} {'est eig':>8s} {'eig':>8s} {'ratio':>6s} {'est vals':>8s} {'eigvals':>8s} "
           f"{'ratio':>6s} {'modal':>8s} {'ratio':>6s} {'threads':>8s} {'ratio':>6s}   [CPU s]")
     for kind in args.kinds.split(","):

@@ -19,6 +19,9 @@ diametral inertia, node positions), the lateral modes of ``run_modal(speed, spar
 * ``tapered_hollow``: hollow and tapered (conical, hollow) elements (Cowper's shear coefficient:
   ROSS's ``"hutchinson"`` is not Hutchinson's, ``docs/ross.md``), two disks, cross-coupled
   damped bearings at overhung positions;
+* ``bearing_and_seal``: an overhung rotor on one bearing, held in tilt by a seal at another node
+  (ROSS's bearings and seals hold translations only: a rotor on bearings at one node is free to
+  tilt, which ROSS solves and this package refuses, docs/ross.md);
 * ``speed_tables``: an Euler-Bernoulli shaft (``shear_effects=False``) with an overhung disk on
   bearings whose coefficients are tables over speed, linear in speed (so ROSS's PCHIP
   interpolation and this package's linear interpolation give the same coefficient at every
@@ -115,6 +118,19 @@ def speed_tables():
     return rs.Rotor(shaft, disks, bearings)
 
 
+def bearing_and_seal():
+    """One bearing: an overhung rotor held by one BearingElement and, at another node, one
+    SealElement (cross-coupled, damped): the seal is the second support that holds it in tilt
+    (ROSS's bearings and seals hold translations only)."""
+    steel = rs.Material(name="steel_s", rho=7810.0, E=2.11e11, G_s=8.12e10)
+    shaft = [rs.ShaftElement(0.12, 0.0, 0.045, material=steel, shear_method_calc="cowper") for _ in range(7)]
+    disks = [rs.DiskElement(n=7, m=9.0, Id=0.04, Ip=0.07), rs.DiskElement(n=3, m=2.5, Id=0.006, Ip=0.01)]
+    bearings = [rs.BearingElement(n=1, kxx=3.0e7, kyy=2.5e7, cxx=800.0, cyy=900.0, tag="bearing"),
+                rs.SealElement(n=5, kxx=4.0e6, kyy=4.0e6, kxy=6.0e5, kyx=-6.0e5, cxx=300.0, cyy=300.0,
+                               tag="seal")]
+    return rs.Rotor(shaft, disks, bearings)
+
+
 #: name: (builder, speeds [rad/s] of run_modal, unbalance node, unbalance speeds [rad/s])
 ROTORS = {
     "rotor_example": (rs.rotor_example, [0.0, 300.0, 1000.0, 3000.0],
@@ -126,6 +142,7 @@ ROTORS = {
                            26, [w * np.pi / 30 for w in (6000.0, 8000.0, 10000.0)]),
     "tapered_hollow": (tapered_hollow, [0.0, 500.0, 1500.0, 3000.0], 3, [100.0, 400.0, 900.0, 1500.0]),
     "speed_tables": (speed_tables, [0.0, 400.0, 1000.0, 1600.0], 10, [100.0, 300.0, 700.0, 1200.0]),
+    "bearing_and_seal": (bearing_and_seal, [0.0, 500.0, 1500.0, 3000.0], 7, [100.0, 400.0, 900.0, 1500.0]),
 }
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._blas import one_blas_thread
 from .assembly import Matrices, bearing_motion, body_inertias, constant_matrices, constant_stiffness_damping, \
     dependent_bearing_matrices, excitation_columns, is_large, mass_diagonal, mass_matrix, rigid_mass_matrix, \
     sensor_rows, sparse_constant_matrices, weight_force
@@ -28,7 +29,7 @@ from .units import to_system, unit_label
 from .elements.mounts import maxwell_branch_blocks, with_branch_states
 
 __all__ = ["SpeedLinearForm", "speed_linear_form", "checked_mass_inverse", "implausible", "SAG_LIMIT",
-           "stiffness_spread_lines", "support_spreads", "SPREAD_WARN_DIGITS", "SPREAD_REFUSE_DIGITS",
+           "stiffness_spread_lines", "support_spreads", "maxwell_spread_lines", "MAXWELL_REFUSE_DIGITS", "SPREAD_WARN_DIGITS", "SPREAD_REFUSE_DIGITS",
            "LOWEST_MOUNT_FREQUENCY", "same_inertia", "state_matrices", "state_space", "static_solution"]
 
 _QUANTITY_ORDER = {"displacement": 0, "receptance": 0, "velocity": 1, "mobility": 1,
@@ -39,8 +40,9 @@ def _mass_inverse(M: np.ndarray, model) -> np.ndarray:
     """The inverse of the mass matrix, or a :class:`ModelError` when rounding leaves it singular
     (masses and inertias, with their arms, many orders of magnitude apart)."""
     try:
-        inverse = np.linalg.inv(M)
-        residual = np.abs(inverse @ M - np.eye(M.shape[0])).max()
+        with one_blas_thread(72 * M.size):          # faster than BLAS's threads (rotordyn_modal/_blas.py)
+            inverse = np.linalg.inv(M)
+            residual = np.abs(inverse @ M - np.eye(M.shape[0])).max()
     except np.linalg.LinAlgError:
         inverse, residual = None, np.inf
     if not residual < 1e-3:
@@ -138,7 +140,23 @@ def implausible(model, units: str = "si") -> list[str]:
             lines.append(f"{model.source}: [bearings.{visible(b.name)}] length = {journal.length:g}: "
                          f"L/D = {journal.length / journal.diameter:.3g} is beyond {LONG_JOURNAL:g}, where "
                          "short-bearing (Ocvirk) theory stops matching measurements: its coefficients are rough")
-    return lines + _merge_lines(model) + _material_lines(model) + stiffness_spread_lines(model)
+    return lines + _merge_lines(model) + _material_lines(model) + _clearance_lines(model) \
+        + stiffness_spread_lines(model) + maxwell_spread_lines(model)
+
+
+#: the largest radial running clearance [m] of a close-clearance station that draws no warning:
+#: seals and impeller eyes run 0.1 to 2 mm
+CLEARANCE_WARN = 0.01
+
+
+def _clearance_lines(model) -> list[str]:
+    """A line for each ``[[rotors.clearances]]`` radial clearance over :data:`CLEARANCE_WARN`: a
+    value in mm typed for m (0.25 for 0.25 mm) makes the API clearance check pass at any
+    vibration (75 % of a diametral clearance of 0.5 m)."""
+    return [f"{model.source}: [rotors.{visible(c.rotor)}.clearances.{visible(c.name)}] radial_clearance = "
+            f"{c.radial_clearance:g}: over {CLEARANCE_WARN:g} m, no close clearance (seals run 0.1 to 2 mm), and "
+            "the clearance check passes any vibration against it; a value in mm typed for m? (model files are SI)"
+            for c in getattr(model, "clearances", ()) if c.radial_clearance > CLEARANCE_WARN]
 
 
 def _merge_lines(model) -> list[str]:
@@ -373,14 +391,16 @@ class SpeedLinearForm:
         states each after ``q, q'``."""
         if self._states is None:
             M, C, G, K = self.matrices
-            n, m_inv = self.n_dof, self.mass_inverse
-            A0 = np.zeros((2 * n, 2 * n))
-            A0[:n, n:] = np.eye(n)
-            A0[n:, :n] = -m_inv @ K
-            A0[n:, n:] = -m_inv @ C
-            A1 = np.zeros((2 * n, 2 * n))
-            A1[n:, n:] = -m_inv @ G
-            A0, _, names = with_branch_states(self.model, A0, np.zeros((2 * n, 0)), m_inv)
+            n = self.n_dof
+            with one_blas_thread(72 * n * n):       # as the solves that follow (rotordyn_modal/_blas.py)
+                m_inv = self.mass_inverse
+                A0 = np.zeros((2 * n, 2 * n))
+                A0[:n, n:] = np.eye(n)
+                A0[n:, :n] = -m_inv @ K
+                A0[n:, n:] = -m_inv @ C
+                A1 = np.zeros((2 * n, 2 * n))
+                A1[n:, n:] = -m_inv @ G
+                A0, _, names = with_branch_states(self.model, A0, np.zeros((2 * n, 0)), m_inv)
             extra = A0.shape[0] - A1.shape[0]
             if extra:
                 A1 = np.pad(A1, ((0, extra), (0, extra)))
@@ -623,6 +643,64 @@ def stiffness_spread_lines(model) -> list[str]:
     digits, line = max(found, key=lambda f: f[0])      # one line: the worst support, the others counted
     more = len(found) - 1
     return [line + (f" (and {more} other support{'s' if more > 1 else ''})" if more else "")]
+
+
+#: digits ``log10(1 / (tau w_h))`` of a Maxwell branch's relaxation rate over the machine's slowest
+#: stiffness scale from which it is refused: measured on ``rubber_mounts.toml`` and a flexible
+#: rotor in a casing, the low modes then keep less than a digit (17 % off at 1e-14 s, modes lost
+#: at 1e-15 s), where the estimate still says 12 of 16 are lost (docs/theory.md §8)
+MAXWELL_REFUSE_DIGITS = 12.0
+
+
+def maxwell_spread_lines(model) -> list[str]:
+    """The warning about a mount's Maxwell branch far faster than the machine's modes, one line
+    (the worst branch, the others counted), or none.
+
+    A branch of relaxation time ``tau`` adds the real root ``-1/tau`` to the state matrix; next to
+    the slowest stiffness scale of the machine ``w_h = sqrt(lam_h)`` [rad/s] (the softest of the
+    scales of :func:`support_spreads`) the low modes lose about ``log10(1 / (tau w_h))`` digits
+    (measured: one or two more). A branch that fast relaxes at once: at the modes' frequencies it
+    acts only as a damper ``k_b tau`` (``k_b`` its stiffness), so the warning says so.
+
+    Raises
+    ------
+    ModelError
+        A branch of at least :data:`MAXWELL_REFUSE_DIGITS` digits: the low modes keep no digit
+        (they came out 17 % off, or vanished, without a word).
+    """
+    branches = [(s, i, float(tau)) for s in model.suspensions if s.maxwell_time is not None
+                for i, tau in enumerate(np.ravel(s.maxwell_time))]
+    if not branches:
+        return []
+    with np.errstate(all="ignore"):
+        mass = mass_diagonal(model)
+        scales = [_scale(d, mass)[0] for _, _, _, d in _stiffness_pieces(model)]
+    scales = [lam for lam in scales if np.isfinite(lam) and lam > 0]
+    if not scales:
+        return []
+    slowest = float(np.sqrt(min(scales)))                 # [rad/s]
+    found = []
+    for suspension, i, tau in branches:
+        digits = float(np.log10(1.0 / (tau * slowest)))
+        if not digits > SPREAD_WARN_DIGITS:
+            continue
+        damper = float(np.abs(np.asarray(suspension.maxwell_stiffness_matrix[i])).max()) * tau
+        where, key = f"[suspensions.{visible(suspension.name)}]", f"maxwell_time[{i}]"
+        rate = (f"its relaxation rate 1/tau = {1.0 / tau:.3g} 1/s is {10 ** digits:.1e} times the machine's "
+                f"slowest stiffness scale ({slowest:.3g} rad/s)")
+        acts = (f"a branch this fast relaxes at once and acts only as a damper of maxwell_stiffness x tau = "
+                f"{damper:.2g} N s/m (leave it out, or add that to damping)")
+        if digits >= MAXWELL_REFUSE_DIGITS:
+            raise ModelError(model.source, f"{where} {key}", f"{tau:.3g}",
+                             f"a relaxation time that leaves the low modes a digit in double precision, at least "
+                             f"about {10 ** -(MAXWELL_REFUSE_DIGITS - 1) / slowest:.1g} s: {rate}; {acts}")
+        found.append((digits, f"{model.source}: {where} {key} = {tau:.3g}: {rate}: the low modes lose about "
+                              f"{digits:.0f} of 16 significant digits; {acts} (docs/theory.md §8)"))
+    if not found:
+        return []
+    digits, line = max(found, key=lambda f: f[0])
+    more = len(found) - 1
+    return [line + (f" (and {more} other branch{'es' if more > 1 else ''})" if more else "")]
 
 
 def support_spreads(model) -> list:

@@ -111,11 +111,25 @@ def test_the_figure_draws_the_results_numbers_in_rpm_and_hz():
                     if np.all(np.isfinite(y)) and np.allclose(y[positive] / rpm[positive], y[-1] / rpm[-1], rtol=1e-12))
     expected = sorted(order * m / 60.0 for m in result.sources.multipliers for order in result.orders)
     np.testing.assert_allclose(slopes, expected, rtol=1e-12)
+    # the mode curves: the sweep's points, and between them the critical speeds of their mode
+    # (test_campbell_result_lines.py), drawn without a break from each speed to the next
+    curves = [_at_sweep(x, y, rpm) for x, y, label in lines if label != "critical speed" and len(x) >= len(rpm)]
+    curves = [curve for curve in curves if curve is not None]
     for mode in range(result.frequencies_hz.shape[1]):
         f = np.where(result.oscillatory[:, mode], result.frequencies_hz[:, mode], np.nan)
         for k in np.nonzero(np.isfinite(f[:-1]) & np.isfinite(f[1:]))[0]:
-            assert any(y[k] == f[k] and y[k + 1] == f[k + 1] for _, y in curves), (mode + 1, k)
+            assert any(y[k] == f[k] and y[k + 1] == f[k + 1] and np.all(np.isfinite(between[k]))
+                       for y, between in curves), (mode + 1, k)
     plt.close(fig)
+
+
+def _at_sweep(x, y, rpm):
+    """A drawn line's values at the sweep's speeds ``rpm`` (shape (N,)) and, for each of its
+    N - 1 intervals, the values drawn inside it (None where the line misses a speed of the sweep)."""
+    at = np.argmin(np.abs(x[:, None] - rpm[None, :]), axis=0)
+    if not np.allclose(x[at], rpm, rtol=1e-12, atol=1e-9):
+        return None
+    return y[at], [y[at[k] + 1:at[k + 1]] for k in range(len(rpm) - 1)]
 
 
 # -- every label of the figure: inside, apart, on (or pointing to) its own curve ---------------
@@ -266,11 +280,20 @@ def _check_no_curve_through_a_label(result, ax, labels, anchors, renderer):
 def _last_points_inside(result, ax, label):
     """The display point of mode ``label``'s last sample inside the axes (where its label sits)."""
     m = list(result.modes).index(label)
-    x = np.asarray(ax.lines[0].get_xdata(), float)
+    x = _sweep_x(result, ax)
     f = np.where(result.oscillatory[:, m], result.frequencies_hz[:, m], np.nan)
     (lo, hi), (bottom, top) = sorted(ax.get_xlim()), sorted(ax.get_ylim())
     view = np.isfinite(f) & (x >= lo) & (x <= hi) & (f >= bottom) & (f <= top)
     return ax.transData.transform(np.column_stack([x[view], f[view]]))[-1:] if view.any() else []
+
+
+def _sweep_x(result, ax):
+    """The sweep's speeds in the unit of the axes' speed axis (the mode curves' points hold
+    their critical speeds too)."""
+    from rotordyn_modal.plotting._style import speed_label, speed_scale
+
+    unit = next(u for u in ("rpm", "rad/s", "hz") if speed_label(u) == ax.get_xlabel())
+    return result.speeds * speed_scale(unit)
 
 
 def _exits(line, frame):
@@ -290,9 +313,8 @@ def _exits(line, frame):
 def _curve_ends(result, ax):
     """{mode label: display height where its curve meets the right edge of the axes} (modes
     inside the frequency limits there), from the result's own numbers."""
-    unit_x = ax.lines[0].get_xdata()
     x_right = ax.get_xlim()[1]
-    speeds = np.asarray(unit_x, float)
+    speeds = _sweep_x(result, ax)
     ends = {}
     (bottom, top) = ax.get_ylim()
     for m, label in enumerate(result.modes):

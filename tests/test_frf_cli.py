@@ -235,7 +235,7 @@ def test_unbalance_orbits_written_and_drawn_as_the_python_result_gives_them(tmp_
         np.testing.assert_allclose(table[column], expected[column], rtol=1e-9, atol=1e-300)
     assert table.pair.tolist() == expected.pair.tolist() and table.precession.tolist() == expected.precession.tolist()
     assert figure.read_bytes()[:4] == b"\x89PNG"
-    assert "largest orbit of each probe pair:" in err
+    assert "largest orbit of each probe pair (major, minor: semi-axes, 0-peak):" in err
     largest = expected.loc[expected.groupby(["pair", "source"])["major"].idxmax()]
     for major in largest.major:
         assert f"{major:.6g}" in printed

@@ -59,7 +59,8 @@ def report(request, tmp_path_factory):
     name = request.param
     standard, options = EXAMPLES[name]
     out = tmp_path_factory.mktemp(name) / "report.html"
-    assert main(["report", str(ROOT / "examples" / f"{name}.toml"), "--standard", standard, *options, *CHEAP,
+    cheap = CHEAP if standard != "iso" else CHEAP[:2]       # the ISO report has no UCS map: no --stiffness
+    assert main(["report", str(ROOT / "examples" / f"{name}.toml"), "--standard", standard, *options, *cheap,
                  "--out", str(out), "--quiet"]) == 0
     return name, out
 

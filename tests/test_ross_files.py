@@ -27,7 +27,7 @@ from rotordyn_modal.errors import ModelError
 from rotordyn_modal.io.ross_file import read_ross_rotor
 
 DATA = Path(__file__).parent / "data" / "ross"
-ROTORS = ["rotor_example", "compressor_example", "tapered_hollow", "speed_tables"]
+ROTORS = ["rotor_example", "compressor_example", "tapered_hollow", "speed_tables", "bearing_and_seal"]
 
 # 5-point Gauss-Legendre on [0, 1]: exact for the polynomials (degree <= 9) of a frustum's slices
 _X, _W = np.polynomial.legendre.leggauss(5)

@@ -162,9 +162,9 @@ def test_runup_figure_in_mil(fan_run):
     result, _ = fan_run
     si, us = (plot_runup(result, "probe-DE-x", segments=2, units=u) for u in ("si", "us"))
     labels = lambda fig: [ax.get_ylabel() for ax in fig.axes]   # noqa: E731
-    assert labels(si)[:2] == ["probe-DE-x [µm]", "probe-DE-x, 1X amplitude [µm]"]
-    assert labels(us)[:2] == ["probe-DE-x [mil]", "probe-DE-x, 1X amplitude [mil]"]
-    assert labels(us)[-1] == "probe-DE-x, amplitude [mil]" and labels(si)[-1] == "probe-DE-x, amplitude [µm]"
+    assert labels(si)[:2] == ["probe-DE-x [µm]", "probe-DE-x, 1X amplitude, 0-peak [µm]"]
+    assert labels(us)[:2] == ["probe-DE-x [mil]", "probe-DE-x, 1X amplitude, 0-peak [mil]"]
+    assert labels(us)[-1] == "probe-DE-x, amplitude, 0-peak [mil]" and labels(si)[-1] == "probe-DE-x, amplitude, 0-peak [µm]"
     signal = us.axes[0].get_lines()[0].get_ydata()
     np.testing.assert_allclose(signal * IN / 1000, result.sensor("probe-DE-x"), rtol=1e-12, atol=1e-300)
     np.testing.assert_allclose(signal * IN / 1000, si.axes[0].get_lines()[0].get_ydata() * 1e-6, rtol=1e-12,

@@ -30,6 +30,7 @@ import numpy as np
 import scipy.sparse
 import scipy.sparse.linalg
 
+from . import _batches
 from .modal import is_oscillating
 
 __all__ = ["MIN_DOF", "SHARE", "below", "count_below", "lowest", "takes"]
@@ -91,7 +92,7 @@ def lowest(pencils, count: int, refine, distinct, progress: bool = False):
     ok = np.zeros(S, bool)
     speeds = range(S)
     if progress:
-        from tqdm.auto import tqdm
+        from .._progress import tqdm
 
         speeds = tqdm(speeds, desc="lowest modes (Arnoldi)", unit="speed", leave=False)
     reach = np.full((S, want), np.inf)
@@ -153,6 +154,7 @@ def below(pencils, limit: float, count, refine, distinct):
     reach = np.full((S, k), np.inf)
     for p in np.nonzero(ok)[0]:
         roots = found[p] if len(found[p][0]) >= k else _counted_roots(parts, p, k)
+        found[p] = None                 # its shapes are copied below: not held twice
         if roots is None:
             ok[p] = False
             continue
@@ -160,22 +162,30 @@ def below(pencils, limit: float, count, refine, distinct):
     return _refined_found(pencils, starts, vectors, reach, ok, refine, distinct)
 
 
+#: complex vectors of ``n`` Newton's iteration holds per root at once (``_lowest._NEWTON_VECTORS``):
+#: the speeds are refined in parts of ``_batches._PART_BYTES`` of that work
+_NEWTON_VECTORS = 24
+
+
 def _refined_found(pencils, starts, vectors, reach, ok, refine, distinct):
     """The roots found by ARPACK (S, k) at the speeds ``ok`` (S,), with their shapes (S, k, n) and
-    distances to the nearest other root (S, k), refined by ``refine``: roots by frequency, unit shapes
+    distances to the nearest other root (S, k), refined by ``refine`` in parts of bounded memory
+    (each root's iteration is its own): roots by frequency, unit shapes (written over ``vectors``)
     and whether each speed's refined roots are distinct and Newton reached the root its start
     stands for (S,)."""
-    values, shapes = starts.copy(), vectors.copy()
-    if ok.any():
-        sure = np.nonzero(ok)[0]
-        refined, unit, converged = refine(_speeds_of(pencils, sure), starts[sure], vectors[sure])
+    values = starts.copy()
+    sure = np.nonzero(ok)[0]
+    k, n = vectors.shape[1:]
+    for part in _batches.chunk_slices(len(sure), 16 * _NEWTON_VECTORS * k * n, budget=_batches._PART_BYTES):
+        rows = sure[part]
+        refined, unit, converged = refine(_speeds_of(pencils, rows), starts[rows], vectors[rows])
         # Newton reached the root its start stands for (nearer it than half the way to another root)
-        own = np.all(np.abs(refined - starts[sure]) < 0.5 * reach[sure], axis=1)
-        ok[sure] = converged & own & distinct(refined)
+        own = np.all(np.abs(refined - starts[rows]) < 0.5 * reach[rows], axis=1)
+        ok[rows] = converged & own & distinct(refined)
         order = np.argsort(np.where(is_oscillating(refined), refined.imag, np.inf), axis=1, kind="stable")
-        values[sure] = np.take_along_axis(refined, order, 1)
-        shapes[sure] = np.take_along_axis(unit, order[..., None], 1)
-    return values, shapes, ok
+        values[rows] = np.take_along_axis(refined, order, 1)
+        vectors[rows] = np.take_along_axis(unit, order[..., None], 1)
+    return values, vectors, ok
 
 
 def _speeds_of(pencils, index):

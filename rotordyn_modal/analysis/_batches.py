@@ -1,16 +1,16 @@
 """Batches of small dense problems: chunks of bounded memory, thread pools (numpy releases
-the GIL), and BLAS held to one thread where its own threads would wait for a core."""
+the GIL), and BLAS held to one thread where its own threads would wait for a core
+(:func:`one_blas_thread`, from :mod:`rotordyn_modal._blas`, which the lower floors use too)."""
 
 from __future__ import annotations
 
-import contextlib
-import functools
 import os
-import sys
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from .._blas import BLAS_THREADED_BYTES as _BLAS_THREADED_BYTES  # noqa: F401 - the callers name it here
+from .._blas import one_blas_thread
 from .._limits import environment_number
 
 __all__ = ["CHUNK_BYTES", "chunk_slices", "concatenated", "one_blas_thread"]
@@ -105,32 +105,6 @@ def concatenated(results):
     if isinstance(results[0], tuple):
         return tuple(np.concatenate(column) for column in zip(*results))
     return np.concatenate(results)
-
-
-#: items (matrices) whose work exceeds this may make BLAS start threads of its own [bytes]
-_BLAS_THREADED_BYTES = 72 * 48 * 48
-
-
-def one_blas_thread(item_bytes: int):
-    """One BLAS/LAPACK thread each while our own threads share the cores (through
-    threadpoolctl when installed): BLAS's own threads on top of ours would oversubscribe
-    the cores, which slows large eigenproblems several times over. Small matrices never
-    start BLAS threads, and asking threadpoolctl costs about a millisecond: skipped there."""
-    if item_bytes < _BLAS_THREADED_BYTES:
-        return contextlib.nullcontext()
-    # made again once scipy.linalg has loaded its own BLAS library, which a controller made
-    # before would not know (modal's scipy.linalg.eig ran with OpenBLAS's threads)
-    controller = _blas_controller("scipy.linalg" in sys.modules)
-    return contextlib.nullcontext() if controller is None else controller.limit(limits=1, user_api="blas")
-
-
-@functools.lru_cache(maxsize=2)
-def _blas_controller(scipy_linalg_loaded: bool):
-    try:
-        from threadpoolctl import ThreadpoolController
-    except ImportError:  # pragma: no cover
-        return None
-    return ThreadpoolController()
 
 
 #: rows of pencils built together: their real and imaginary planes stay in the cache [bytes]

@@ -32,7 +32,7 @@ def _progress_bar(enabled, total):
     if not enabled:
         yield
         return
-    from tqdm.auto import tqdm
+    from .._progress import tqdm
 
     with tqdm(total=total, desc="critical speeds", unit="crossing", leave=False) as bar:
         token = _PROGRESS.set(_Progress(bar))

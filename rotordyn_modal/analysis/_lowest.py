@@ -420,8 +420,8 @@ def _wanted(values, limit, count):
 
 def _cut_below(values, shapes, limit, count):
     """Roots (S, k) and shapes by frequency cut to the most wanted at any speed: the roots, the
-    shapes and which are wanted."""
-    values, shapes = _by_frequency(values, shapes, count)
+    shapes and which are wanted (``shapes`` reordered over itself)."""
+    values, shapes = _by_frequency_over(values, shapes, count)
     wanted = _wanted(values, limit, count)
     k = int(wanted.sum(axis=1).max(initial=0))
     return values[:, :k], shapes[:, :k], wanted[:, :k]
@@ -454,25 +454,27 @@ def _reduced_below(stack, speeds, limit, count):
     if size >= n:
         return None
     basis = np.hstack([modes[:, :size], attached])
-    starts, vectors = _starts_below(pencils, basis, limit, count, int(below.sum(axis=1).max(initial=0)) + 3)
-    values, shapes, ok = np.empty(starts.shape, complex), np.empty(vectors.shape, complex), np.zeros(len(starts), bool)
-    _refine_into(_refined, pencils, starts, vectors, np.arange(len(starts)), (values, shapes, ok))
+    anchors, at = _anchored(len(speeds))
+    starts, vectors = _starts_below(pencils, basis, limit, count, int(below.sum(axis=1).max(initial=0)) + 3, at)
+    values, shapes, ok = _continued_sweep(pencils, starts, vectors, anchors,
+                                          functools.partial(_projected_starts, pencils, basis, starts.shape[1]))
     del vectors
     ok &= _distinct(values) & _unmissed_below(starts, values, limit, count)
-    values, shapes = _by_frequency(values, shapes, count)
+    values, shapes = _by_frequency_over(values, shapes, count)
     # the bound at the wanted roots (a missed one lies below the limit, :func:`_unmissed_below`)
     wanted = _wanted(values, limit, count)
     return values, shapes, ok & _basis_suffices(np.where(wanted, values, 0), bound, size, attached.shape[1], rho)
 
 
-def _starts_below(pencils, basis, limit, count, want):
+def _starts_below(pencils, basis, limit, count, want, vectors_at=None):
     """The projected roots of every speed up to the first above ``limit`` (or past the ``count``-th),
-    the same number at every speed (the most any speed needs): starts (S, k) and vectors (S, k, n).
+    the same number at every speed (the most any speed needs): starts (S, k) and vectors (S, k, n)
+    (with ``vectors_at`` (S,) bool, at those speeds only: :func:`._lowest_starts._projected_starts`).
     ``want`` is a first guess of ``k``, doubled until every speed has a start above the limit."""
     most = basis.shape[1]
     while True:
         want = min(want, most)
-        starts, vectors = _projected_starts(pencils, basis, want)
+        starts, vectors = _projected_starts(pencils, basis, want, vectors_at=vectors_at)
         needed = _wanted(starts, limit, count).sum(axis=1) + 1
         if needed.max() <= want or want == most:
             k = int(min(needed.max(), want))
@@ -488,6 +490,96 @@ def _unmissed_below(starts, values, limit, count):
         top = np.minimum(top, np.sort(frequency_key(values), axis=1)[:, count - 1])
     moved = np.max(np.abs(starts - values), axis=1)
     return starts[:, -1].imag - moved > top
+
+
+def _by_frequency_over(values, shapes, count=None):
+    """:func:`._lowest_starts._by_frequency` with ``shapes`` (S, k, n) reordered over itself, a part
+    of the speeds at a time: no second copy of every speed's shapes. Returns the roots (S, k) by
+    frequency and ``shapes``."""
+    order = lowest_order(values, count)
+    for part in _batches.chunk_slices(len(order), shapes[:1].nbytes, budget=_NEWTON_BYTES):
+        shapes[part] = np.take_along_axis(shapes[part], order[part, :, None], 1)
+    return np.take_along_axis(values, order, 1), shapes
+
+
+def _anchored(count: int):
+    """The anchors (A,) of ``count`` speeds (:func:`._lowest_starts._anchors`) and where they are
+    (count,) bool: the speeds whose projected vectors start Newton's iteration."""
+    anchors = _anchors(count)
+    at = np.zeros(count, bool)
+    at[anchors] = True
+    return anchors, at
+
+
+def _continued_sweep(pencils, starts, vectors, anchors, restart):
+    """The full roots of projected starts at every speed: the anchors refined from their starts,
+    the speeds between them continued from the anchors' roots (``docs/theory.md`` section 17, step
+    3a), in parts of bounded memory (:func:`_refine_into`); the route of :func:`_reduced_below` and
+    of the Maxwell branches' rational pencil (:mod:`._lowest_branches`).
+
+    Parameters
+    ----------
+    pencils : _Pencils
+        The sweep's full pencils (or :class:`._lowest_branches.RationalPencils`).
+    starts : ndarray, shape (S, k), complex [1/s]
+        The projected roots of every speed, by frequency.
+    vectors : ndarray, shape (S, k, n), complex
+        Their vectors in full coordinates at the ``anchors`` (any values elsewhere); overwritten by
+        the shapes.
+    anchors : ndarray of int, shape (A,)
+        :func:`_anchored`.
+    restart : callable
+        ``restart(rows) -> (starts (R, k), vectors (R, k, n))``: the projected starts with their
+        vectors at the speeds ``rows``, for those that cannot be continued (a root that cannot be
+        followed between the anchors, or an anchor that failed).
+
+    Returns
+    -------
+    values : ndarray, shape (S, k), complex [1/s]
+        The full roots, in their starts' order.
+    shapes : ndarray, shape (S, k, n), complex
+        ``vectors``, the unit shapes.
+    ok : ndarray of bool, shape (S,)
+        Every root of the speed converged.
+    """
+    values = np.empty(starts.shape, complex)
+    ok = np.zeros(len(starts), bool)
+    out = (values, vectors, ok)
+    _refine_into(_refined, pencils, starts, vectors, anchors, out, by_speed=True)
+    k = starts.shape[1]
+    # the anchors' shapes by their place (A, k, 1): the continued speeds' vectors are gathered part by
+    # part (:class:`_Gathered`), not copied for every speed at once
+    places = np.arange(len(anchors) * k).reshape(len(anchors), k, 1)
+    between, guesses, nearer, sure = _continuation_guesses(starts, pencils.speeds, anchors, values[anchors],
+                                                           places, ok[anchors])
+    rows = between[sure]
+    if len(rows):
+        _refine_into(_continued, pencils, guesses[sure], _Gathered(vectors, anchors, nearer[sure, :, 0]), rows, out)
+    rows = between[~sure]
+    n = vectors.shape[2]
+    for part in _batches.chunk_slices(len(rows), 16 * _NEWTON_VECTORS * k * n, budget=_NEWTON_BYTES):
+        again, again_vectors = restart(rows[part])
+        _refine_into(_refined, pencils, again, again_vectors, rows[part], out)
+    return values, vectors, ok
+
+
+class _Gathered:
+    """The anchors' shapes at given places, read part by part: ``self[part]`` is
+    ``shapes[anchors[p // k], p % k]`` for the places ``p`` of the rows ``part`` (R, k, n); shape
+    (J, k, n). The Newton starts of the continued speeds (:func:`_continued_sweep`) without a copy
+    of every speed's vectors at once."""
+
+    def __init__(self, shapes, anchors, places):
+        self.shapes, self.anchors, self.places = shapes, anchors, places
+        self.shape = places.shape + shapes.shape[2:]
+
+    def __len__(self):
+        return len(self.places)
+
+    def __getitem__(self, part):
+        places = self.places[part]
+        k = self.shapes.shape[1]
+        return self.shapes[self.anchors[places // k], places % k]
 
 
 def _dense_lowest(stack, speeds, count):

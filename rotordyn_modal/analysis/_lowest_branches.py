@@ -22,6 +22,7 @@ limits as before.
 
 from __future__ import annotations
 
+import functools
 import warnings
 
 import numpy as np
@@ -63,10 +64,12 @@ def lowest_roots(stack, speeds, count: int, what: str = "speeds"):
     """
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
         values, shapes, ok = _reduced_roots(stack, speeds, count)
-    out_values = np.full((len(speeds), count), np.nan + 0j)
-    out_shapes = np.zeros((len(speeds), count, stack.n_dof), dtype=complex)
-    k = min(count, values.shape[1])
-    out_values[:, :k], out_shapes[:, :k] = values[:, :k], shapes[:, :k]
+    if values.shape[1] >= count:            # the first count columns (no copy of every speed's shapes)
+        out_values, out_shapes = values[:, :count], shapes[:, :count]
+    else:
+        out_values = np.full((len(speeds), count), np.nan + 0j)
+        out_shapes = np.zeros((len(speeds), count, stack.n_dof), dtype=complex)
+        out_values[:, :values.shape[1]], out_shapes[:, :values.shape[1]] = values, shapes
     full = ~ok
     if full.any():
         _lowest._refuse_long_full(stack, speeds[full], len(speeds), "lowest modes", _UNSERVED, "use fewer speeds")
@@ -153,13 +156,34 @@ def _reduced_roots(stack, speeds, count):
     complete = size >= n
     want = count if complete else want
     _, attached = bound.shares(size, rho)
-    starts, vectors = _projected_starts(pencils, np.hstack([modes[:, :size], attached]), want)
-    values, shapes, ok, modal = _refined_modes(stack, pencils, starts, vectors)
+    basis = np.hstack([modes[:, :size], attached])
+    starts, values, shapes, ok, modal = _swept(stack, pencils, basis, want, complete)
     ok &= np.isfinite(starts).all(axis=1) & (modal.all(axis=1) | complete)
     ok &= _lowest._unmissed(starts, values, count)
-    values, shapes = _lowest._by_frequency(values, shapes, count)
+    values, shapes = _lowest._by_frequency_over(values, shapes, count)
     return values, shapes, ok & _lowest._basis_suffices(np.where(modal, values, 0), bound, size,
                                                         attached.shape[1], rho)
+
+
+def _swept(stack, pencils, basis, want, complete):
+    """The ``want`` lowest projected roots of every speed (S, want), their full roots (S, want) in
+    their order, unit shapes (S, want, n), whether each speed's converged to distinct modes (S,)
+    and which starts were modes (S, want). Where every start is a mode and the basis is not
+    ``complete``, the anchors are refined from their starts and the speeds between continued from
+    the anchors' roots (:func:`._lowest._continued_sweep`, in parts of bounded memory); else every
+    speed from its starts (:func:`_refined_modes`: the relaxation roots kept as they are)."""
+    count = len(pencils.speeds)
+    if not complete:
+        anchors, at = _lowest._anchored(count)
+        starts, vectors = _projected_starts(pencils, basis, want, vectors_at=at)
+        modal = is_oscillating(starts)
+        if modal.all():
+            restart = functools.partial(_projected_starts, pencils, basis, want)
+            values, shapes, ok = _lowest._continued_sweep(pencils, starts, vectors, anchors, restart)
+            return starts, values, shapes, ok & _lowest._distinct(values), modal
+        del vectors
+    starts, vectors = _projected_starts(pencils, basis, want)
+    return (starts, *_refined_modes(stack, pencils, starts, vectors))
 
 
 def _refined_modes(stack, pencils, starts, vectors):
@@ -325,10 +349,11 @@ class _RationalBound(_lowest._Bound):
         return super().shares(size, rho, directions, vectors)
 
 
-def _projected_starts(pencils, basis, want, index=None):
+def _projected_starts(pencils, basis, want, index=None, vectors_at=None):
     """The ``want`` lowest-frequency roots (oscillating first) of the projected rational pencils at
     every speed (or at the speeds ``index``), (S, want), and their vectors in full coordinates
-    (S, want, n) (the modes, then the real roots; nan past the roots there are): eigenvalues and
+    (S, want, n) (the modes, then the real roots; nan past the roots there are; with ``vectors_at``
+    (S,) bool, at those speeds only, zero elsewhere, as :func:`._lowest_starts._projected_starts`): eigenvalues and
     eigenvectors of the projected state matrices with each term's states kept whole,
     ``y = [p, p', z_t]``, ``tau_t z_t' = V_t^T E W p - z_t`` and the force
     ``-W^T E^T U_t (V_t^T E W p - z_t)`` (exact for the projected pencil ``W^T T(s) W``)."""
@@ -352,7 +377,8 @@ def _projected_starts(pencils, basis, want, index=None):
         at += r
     starts = np.empty((len(speeds), want), complex)
     vectors = np.empty((len(speeds), want, n), complex)
-    for part in _batches.chunk_slices(len(speeds), 64 * size * size):
+    # the eigenvectors of every state matrix: in parts of _PART_BYTES, not of every speed at once
+    for part in _batches.chunk_slices(len(speeds), 64 * size * size, budget=_batches._PART_BYTES):
         D = D0 + (speeds[part] - speeds[0])[:, None, None] * Gr
         Kr = np.broadcast_to(K0, D.shape)
         if len(pencils.rows):
@@ -368,6 +394,8 @@ def _projected_starts(pencils, basis, want, index=None):
         order = np.argsort(key, axis=-1, kind="stable")[:, :want]
         rows, k = np.arange(len(values))[:, None], order.shape[1]
         starts[part, :k] = np.where(np.isnan(key[rows, order]), np.nan, values[rows, order])
-        vectors[part, :k] = _vectors.unit_rows(np.swapaxes(states, 1, 2)[rows, order, :m] @ Wt)
-        starts[part, k:], vectors[part, k:] = np.nan, 0.0
+        starts[part, k:], vectors[part] = np.nan, 0.0
+        wanted = slice(None) if vectors_at is None else vectors_at[part]
+        chosen = np.swapaxes(states[wanted], 1, 2)
+        vectors[part][wanted, :k] = _vectors.unit_rows(chosen[np.arange(len(chosen))[:, None], order[wanted], :m] @ Wt)
     return starts, vectors

@@ -86,6 +86,145 @@ class CampbellResult:
             return np.zeros(0, dtype=bool)
         return off_order_line(self.critical, self.sources) > JUMP_TOLERANCE
 
+    def order_frequencies(self, speeds=None) -> np.ndarray:
+        """Excitation frequency of every source's every order: ``order * multiplier * |Omega| / 2 pi``.
+
+        Parameters
+        ----------
+        speeds : array_like, shape (K,), optional
+            Reference speeds [rad/s] (default: the sweep's ``speeds``); negative speeds
+            (reversed spin) excite at the frequency of their magnitude.
+
+        Returns
+        -------
+        ndarray, shape (n_sources, n_orders, K) [Hz]
+            Row ``[s, o]`` is the line of source ``sources.names[s]`` (multiplier
+            ``sources.multipliers[s]``) and order ``orders[o]``.
+        """
+        speeds = self.speeds if speeds is None else np.asarray(speeds, dtype=float)
+        lines = np.empty((len(self.sources.names), len(self.orders), len(speeds)))
+        for s, multiplier in enumerate(self.sources.multipliers):
+            for o, order in enumerate(self.orders):
+                lines[s, o] = order * multiplier * np.abs(speeds) / (2 * np.pi)
+        return lines
+
+    def order_slopes(self, scale: float = 1.0) -> np.ndarray:
+        """The slope of each order line of :meth:`order_frequencies` (the line is
+        ``slope * |speed|``): ``order * multiplier / (2 pi scale)``.
+
+        Parameters
+        ----------
+        scale : float
+            Units of the speed per rad/s (1: rad/s; ``30 / pi``: rpm).
+
+        Returns
+        -------
+        ndarray, shape (n_sources, n_orders) [Hz per unit of the speed]
+        """
+        per_speed = 1 / (2 * np.pi * scale)
+        return np.array([[order * multiplier * per_speed for order in self.orders]
+                         for multiplier in self.sources.multipliers], dtype=float).reshape(-1, len(self.orders))
+
+    @property
+    def order_crossings(self) -> np.ndarray:
+        """(n_sources, n_orders) bool: the order line (as :meth:`order_frequencies`) meets some
+        mode's curve in the sweep: the difference of the mode's frequency and the line's changes
+        sign (or is 0) between neighbouring speeds where the root is a mode (``oscillatory``).
+        Where none does, the sweep has no critical speed of that line (the figure says so)."""
+        frequencies = np.where(self.oscillatory, self.frequencies_hz, np.nan)
+        lines = self.order_frequencies()
+        crossings = np.zeros(lines.shape[:2], dtype=bool)
+        for s, o in np.ndindex(*crossings.shape):
+            gap = frequencies - lines[s, o][:, None]
+            with np.errstate(invalid="ignore"):
+                crossings[s, o] = np.any(gap[:-1] * gap[1:] <= 0) or np.any(gap == 0)
+        return crossings
+
+    @property
+    def crosses_orders(self) -> bool:
+        """Whether some order line meets some mode's curve in the sweep (any of
+        :attr:`order_crossings`)."""
+        return bool(self.order_crossings.any())
+
+    @property
+    def critical_line_frequencies(self) -> np.ndarray:
+        """(len(critical),) [Hz]: the excitation frequency of each critical speed's source and
+        order at its speed, ``order * multiplier * |speed| / 2 pi``: its own frequency to round-off
+        at a crossing; where the row is a jump (:attr:`critical_jumps`), where the crossing it
+        stands for lies (the figure draws it there)."""
+        critical = self.critical
+        multiplier = dict(zip(self.sources.names, self.sources.multipliers))
+        return np.array([order * multiplier[name] for name, order in zip(critical.source, critical.order)],
+                        dtype=float) * np.abs(critical.speeds) / (2 * np.pi)
+
+    def mode_curves(self) -> list:
+        """Each tracked mode's curve over the sweep with its critical speeds inserted at their
+        refined (speed, frequency), so that a curve drawn through its points (straight between
+        them) passes through its critical speeds' markers however sparse the sweep.
+
+        A critical speed that is a jump (:attr:`critical_jumps`: its frequency on no curve) or
+        that lies at a speed of the sweep is not inserted.
+
+        Returns
+        -------
+        list of (speeds, frequencies, index), one per mode (column of ``eigenvalues``)
+            ``speeds`` ndarray, shape (K_m,) [rad/s], increasing: the sweep's ``speeds`` with
+            the mode's critical speeds among them; ``frequencies`` ndarray, shape (K_m,) [Hz]:
+            ``frequencies_hz`` where the root is a mode (``oscillatory``), NaN elsewhere, the
+            critical speeds' own frequencies at theirs; ``index`` ndarray of int, shape (K_m,):
+            the sweep's speed at or before each point (an inserted point lies between
+            ``index`` and ``index + 1``).
+        """
+        frequencies = np.where(self.oscillatory, self.frequencies_hz, np.nan)
+        critical, jumps = self.critical, self.critical_jumps
+        rows = np.asarray(critical.mode, dtype=int) - 1 if len(critical) else np.zeros(0, int)
+        curves = []
+        for m in range(frequencies.shape[1]):
+            mine = np.flatnonzero((rows == m) & ~jumps)
+            at = np.asarray(critical.speeds, dtype=float)[mine]
+            mine = mine[~np.isin(at, self.speeds)]
+            mine = mine[np.unique(np.asarray(critical.speeds, dtype=float)[mine], return_index=True)[1]]
+            curves.append(_with_points(self.speeds, frequencies[:, m], np.asarray(critical.speeds, dtype=float)[mine],
+                                       np.asarray(critical.frequencies_hz, dtype=float)[mine]))
+        return curves
+
+    @property
+    def unstable(self) -> np.ndarray:
+        """(N, n_modes) bool: the root is a mode (``oscillatory``) growing in time, its real part
+        above :data:`ROUND_OFF_RELATIVE` times its size (an undamped mode's round-off is no
+        instability)."""
+        lam = self.eigenvalues
+        return (lam.real > ROUND_OFF_RELATIVE * np.abs(lam)) \
+            & np.isfinite(np.where(self.oscillatory, self.frequencies_hz, np.nan))
+
+    def instability_onsets(self) -> list:
+        """Where each mode becomes unstable: between two neighbouring speeds of the sweep where
+        it is a mode, stable (:attr:`unstable` False) at the first and unstable at the second,
+        the speed and frequency interpolated linearly to the real part's zero.
+
+        Returns
+        -------
+        list of (speeds, frequencies), one per mode (column of ``eigenvalues``)
+            ``speeds`` ndarray, shape (K_m,) [rad/s]; ``frequencies`` ndarray, shape (K_m,) [Hz].
+        """
+        unstable, real = self.unstable, self.eigenvalues.real
+        frequencies = np.where(self.oscillatory, self.frequencies_hz, np.nan)
+        onsets = []
+        for m in range(unstable.shape[1]):
+            f, r = frequencies[:, m], real[:, m]
+            k = np.nonzero(~unstable[:-1, m] & unstable[1:, m] & np.isfinite(f[:-1]))[0]
+            t = -r[k] / (r[k + 1] - r[k])
+            onsets.append((self.speeds[k] + t * (self.speeds[k + 1] - self.speeds[k]), f[k] + t * (f[k + 1] - f[k])))
+        return onsets
+
+    def settled(self, quantity: str) -> np.ndarray:
+        """The damping ``quantity`` ('log_decrement' or 'damping_ratio'), shape (N, n_modes), 0
+        where the real part is within :data:`ROUND_OFF_RELATIVE` of the root's size (an undamped
+        mode's round-off, +-2e-15 on the spring-block rotor, neither damped nor unstable)."""
+        values = {"log_decrement": self.log_decrements, "damping_ratio": self.damping_ratios}[quantity]
+        lam = self.eigenvalues
+        return np.where(np.abs(lam.real) <= ROUND_OFF_RELATIVE * np.abs(lam), 0.0, values)
+
     def to_dataframe(self, oscillatory_only: bool = True):
         """Long table ``speed_rpm, mode, frequency_hz, damping_ratio, log_decrement, whirl, whirl_ratio,
         real_part, mode_at_speed`` (``mode`` the tracked label, ``mode_at_speed`` the number
@@ -116,6 +255,18 @@ class CampbellResult:
         from ..plotting import plot_campbell
 
         return plot_campbell(self, **kwargs)
+
+
+def _with_points(speeds, frequencies, at, values):
+    """A curve (``speeds``, ``frequencies``, shape (N,), ``speeds`` increasing) with the points
+    (``at``, ``values``), shape (C,), inserted in order of speed; returns ``(speeds, frequencies,
+    index)`` (shape (N + C,)), ``index`` the sweep's speed at or before each point."""
+    index = np.arange(len(speeds))
+    if not len(at):
+        return speeds, frequencies, index
+    where = np.searchsorted(speeds, at)
+    return (np.insert(speeds, where, at), np.insert(frequencies, where, values),
+            np.insert(index, where, np.maximum(where - 1, 0)))
 
 
 #: relative round-off of a sweep's root, ``|lam|`` times it (as ``stability``'s verdict takes it)
@@ -210,13 +361,15 @@ _REORDER_BYTES = 16 * 2**20
 
 
 def _reordered(shapes, order):
-    """``shapes[v, k, order[v, k]]`` for shapes (V, N, m, n), written over ``shapes`` itself a
-    part of the speeds at a time: a reordered copy of the whole would double the sweep's
-    largest arrays (two of them at once for a 100-rotor machine: 420 MB at 51 speeds)."""
+    """``shapes[v, k, order[v, k]]`` for shapes (V, N, m, n) and ``order`` (V, N, c), ``c <= m``,
+    written over the first ``c`` columns of ``shapes`` itself a part of the speeds at a time (a
+    view of them): a reordered copy of the whole would double the sweep's largest arrays (two of
+    them at once for a 100-rotor machine: 420 MB at 51 speeds)."""
     variants = np.arange(len(order))[:, None, None]
+    columns = order.shape[-1]
     for part in _batches.chunk_slices(order.shape[1], shapes[:, 0].nbytes, budget=_REORDER_BYTES):
-        shapes[:, part] = shapes[variants, np.arange(part.start, part.stop)[None, :, None], order[:, part]]
-    return shapes
+        shapes[:, part, :columns] = shapes[variants, np.arange(part.start, part.stop)[None, :, None], order[:, part]]
+    return shapes[:, :, :columns]
 
 
 def _variant_rows(count, per):
@@ -241,7 +394,7 @@ def _relabel_by_frequency(order, values, speeds):
 def _progress(items, enabled, description):
     if not enabled:
         return items
-    from tqdm.auto import tqdm
+    from .._progress import tqdm
 
     return tqdm(items, desc=description, unit="chunk", leave=False)
 
@@ -414,7 +567,7 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
         speeds=speeds, eigenvalues=values[0], frequencies_hz=freq[0], damping_ratios=zeta[0],
         log_decrements=log_dec[0], whirl_ratios=ratios[0], whirl=_whirl.whirl_labels(ratios)[0], shapes=shapes[0],
         modes=np.arange(1, values.shape[-1] + 1), sources=sources[0],
-        critical=_with_sweep(tables[0], model, speeds, values[0]),
+        critical=_with_sweep(tables[0], model, speeds, values[0], progress),
         orders=tuple(float(o) for o in orders))
 
 
@@ -432,7 +585,11 @@ def _columns_wanted(values, shapes, weighted, wanted):
     """The tracked columns (1, N, k) wanted at some speed; the others (roots above the limit at
     every speed: fillers of :func:`._lowest.roots_below`) left out."""
     keep = wanted[0].any(axis=0)
-    return values[..., keep], shapes[:, :, keep], weighted[:, :, keep], wanted[..., keep]
+    if keep.all():
+        return values, shapes, weighted, wanted
+    # the shapes kept written over their first columns (views): no second copy of every speed's
+    columns = np.broadcast_to(np.nonzero(keep)[0], shapes.shape[:2] + (int(keep.sum()),))
+    return values[..., keep], _reordered(shapes, columns), _reordered(weighted, columns), wanted[..., keep]
 
 
 def _near(wanted):
@@ -498,7 +655,7 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
         speeds=speeds, eigenvalues=values[v], frequencies_hz=freq[v], damping_ratios=zeta[v],
         log_decrements=log_dec[v], whirl_ratios=ratios[v], whirl=labels[v], shapes=shapes[v],
         modes=np.arange(1, m + 1), sources=sources[v],
-        critical=_with_sweep(tables[v], stack.models[v], speeds, values[v]),
+        critical=_with_sweep(tables[v], stack.models[v], speeds, values[v], progress),
         orders=tuple(float(o) for o in orders)) for v in range(count)]
 
 

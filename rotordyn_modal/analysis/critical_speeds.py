@@ -92,6 +92,8 @@ class CriticalSpeeds:
     #: tracked eigenvalues (N, m) [1/s]); no field, so that code copying a table row by row
     #: over its fields (``dataclasses.fields``) is unchanged
     _sweep = None
+    #: whether working out ``mode_at_speed`` shows a bar (the sweep's ``progress``)
+    _progress = False
 
     @property
     def speeds_rpm(self) -> np.ndarray:
@@ -115,7 +117,8 @@ class CriticalSpeeds:
         imag = 2 * np.pi * np.asarray(self.frequencies_hz, dtype=float)
         with np.errstate(divide="ignore", invalid="ignore"):
             eigenvalues = -zeta * imag / np.sqrt(1 - zeta**2) + 1j * imag
-        return numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, self.speeds, self.mode, eigenvalues)
+        return numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, self.speeds, self.mode, eigenvalues,
+                                    progress=self._progress)
 
     def to_dataframe(self):
         """Table with the command line's columns (``pandas.DataFrame``): ``source, order, mode,
@@ -134,10 +137,12 @@ class CriticalSpeeds:
         })
 
 
-def _with_sweep(table: CriticalSpeeds, model, speeds, eigenvalues) -> CriticalSpeeds:
+def _with_sweep(table: CriticalSpeeds, model, speeds, eigenvalues, progress=False) -> CriticalSpeeds:
     """``table`` knowing the sweep it was found on (its ``mode_at_speed``): ``model``, the
-    sweep's ``speeds`` (N,) [rad/s] and tracked ``eigenvalues`` (N, m) [1/s]."""
+    sweep's ``speeds`` (N,) [rad/s] and tracked ``eigenvalues`` (N, m) [1/s]; ``progress``: a bar
+    over the mode numbers solved, as over the sweep's other work."""
     object.__setattr__(table, "_sweep", (model, speeds, eigenvalues))     # the table was just made
+    object.__setattr__(table, "_progress", bool(progress))
     return table
 
 

@@ -240,7 +240,7 @@ def fit(model, measured, params, bounds=None, band_hz=None, weighting: str = "co
     points = [np.zeros(len(keys))] + [rng.uniform(lower, upper) for _ in range(starts - 1)]
     outcomes = []
     if progress:
-        from tqdm.auto import tqdm
+        from .._progress import tqdm
 
         problem.bar = tqdm(desc="fit (model evaluations)", unit="eval")
     try:

@@ -325,7 +325,13 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
         Its ``swept`` holds the result of each followed mode.
     """
     speed = _checked(speed, qa, factor, steps_per_qa)
+    if forward_mode is not None and (isinstance(forward_mode, (bool, np.bool_)) or not isinstance(
+            forward_mode, (int, np.integer)) or forward_mode < 1):     # before the work (True was mode 1)
+        raise InputError(f"forward_mode = {forward_mode!r}: expected a whole number >= 1 (or None: the first "
+                         f"{FORWARD_MODES}, the least stable judged)")
     csr = None if gas_density is None else _gas_densities(gas_density)
+    if isinstance(stations, (str, Station)):   # one station ('fan' was read as the stations 'f', 'a', 'n')
+        stations = (stations,)
     stations = tuple(s if isinstance(s, Station) else Station.parse(s) for s in stations)
     shares = _shares(shares, len(stations))
     _check_stations(model, stations)
@@ -384,11 +390,23 @@ def least_stable(runs) -> Level1Result:
     return replace(judged, q0=float(q0), swept=tuple(runs))
 
 
+def _real(value, name: str, expected: str) -> float:
+    """``value`` as a float when it is one real number (not a bool, a text or an array: ``qa=[1e5,
+    1e5]`` and ``qa='1e5'`` raised numpy's ValueError and TypeError)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InputError(f"{name} = {value!r}: expected {expected}")
+    return float(value)
+
+
 def _checked(speed, qa, factor, steps_per_qa) -> float:
     """The speed [rad/s] after checking the numeric arguments of :func:`level1`."""
     speed = _arguments.speed(speed)
     if speed == 0:
         raise InputError("speed = 0: a Level I analysis runs at the maximum continuous speed (not 0)")
+    qa = _real(qa, "qa", "the anticipated cross-coupling, one number [N/m] (the stages' sum; shares= splits it)")
+    factor = _real(factor, "factor", "a factor from 1 to 1000 (the sweep reaches factor x Qa)")
+    if isinstance(steps_per_qa, bool) or not isinstance(steps_per_qa, (int, np.integer)):
+        raise InputError(f"steps_per_qa = {steps_per_qa!r}: expected a whole number of steps per Qa, 1 to 1000")
     if not (np.isfinite(qa) and 0 < qa <= LARGEST / 1000):   # swept to factor x Qa: products stay finite
         raise InputError(f"qa = {qa!r}: expected the anticipated cross-coupling > 0 and at most "
                          f"{LARGEST / 1000:g} [N/m]")
@@ -420,6 +438,21 @@ def _check_stations(model, stations):
             raise InputError(f"station {station}: rotor {station.rotor!r} has no bearings (it is rigidly attached to "
                              "the stator): cross-coupling needs a rotor moving in its bearings")
         _check_on_shaft(model, station)
+    _check_distinct(stations)
+
+
+def _check_distinct(stations):
+    """No station given twice (``--station c@0.3 --station c@0.3``, or ``c`` and ``c@0``): both
+    shares then act at one point, as one station taking their sum, and the typo of a second
+    stage's place went unsaid."""
+    seen = {}
+    for i, station in enumerate(stations):
+        key = (station.rotor, float(station.offset))
+        if key in seen:
+            raise InputError(f"station {station}: given twice (stations {seen[key] + 1} and {i + 1}, the same point of "
+                             f"rotor {station.rotor!r}): expected each stage at its own station (one station takes "
+                             "all of Q)")
+        seen[key] = i
 
 
 def _check_on_shaft(model, station):

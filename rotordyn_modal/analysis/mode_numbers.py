@@ -49,7 +49,8 @@ def number_of_root(roots, eigenvalue) -> int:
     return int(numbers_at_speed(roots)[int(np.argmin(np.abs(roots - eigenvalue)))])
 
 
-def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, eigenvalues) -> np.ndarray:
+def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, eigenvalues,
+                         progress=False) -> np.ndarray:
     """The number ``modes --speed`` gives tracked modes at speeds between a sweep's speeds.
 
     The number is one more than the count of the other roots below the mode's own eigenvalue at
@@ -70,6 +71,9 @@ def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, 
         Tracked labels (1-based columns of ``sweep_eigenvalues``).
     eigenvalues : ndarray, shape (P,), complex [1/s]
         The mode's eigenvalue at each speed.
+    progress : bool
+        A bar (tqdm) over the crossings whose roots are solved (eigenvalues of the state matrix at
+        each: about an hour for 20,000 crossings of 800 states).
 
     Returns
     -------
@@ -95,7 +99,8 @@ def numbers_at_crossings(model, sweep_speeds, sweep_eigenvalues, speeds, modes, 
         out[rest[known]] = counted[known]
         rest = rest[~known]
     if len(rest):
-        out[rest] = _solved_numbers(model, speeds[rest], eigenvalues[rest], values.shape[-1] if partial else None)
+        out[rest] = _solved_numbers(model, speeds[rest], eigenvalues[rest], values.shape[-1] if partial else None,
+                                    progress)
     return out
 
 
@@ -173,7 +178,7 @@ def _interpolated_roots(sweep_speeds, values, speeds, k):
     return estimate, margin, oscillating.all(axis=1), ~oscillating.any(axis=1)
 
 
-def _solved_numbers(model, speeds, eigenvalues, lowest=None):
+def _solved_numbers(model, speeds, eigenvalues, lowest=None, progress=False):
     """The numbers by the roots solved at each speed (all speeds in one batch, in parts). After a
     sweep of the ``lowest`` lowest roots of a model of at least ``_arnoldi.MIN_DOF`` coordinates,
     by the ``lowest + 1`` lowest roots at each speed (:func:`_numbers_among_lowest`) first: every
@@ -189,11 +194,27 @@ def _solved_numbers(model, speeds, eigenvalues, lowest=None):
         return out
     form = speed_linear_form(model)
     size = form.n_states
-    for part in _batches.chunk_slices(len(todo), 32 * size * size):
-        rows = todo[part]
-        roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(form.at(speeds[rows])))
-        out[rows] = [number_of_root(row, lam) for row, lam in zip(roots, eigenvalues[rows])]
+    bar = _bar(progress, len(todo))
+    try:
+        for part in _batches.chunk_slices(len(todo), 32 * size * size):
+            rows = todo[part]
+            roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(form.at(speeds[rows])))
+            out[rows] = [number_of_root(row, lam) for row, lam in zip(roots, eigenvalues[rows])]
+            if bar is not None:
+                bar.update(len(rows))
+    finally:
+        if bar is not None:
+            bar.close()
     return out
+
+
+def _bar(enabled, total):
+    """A bar over ``total`` crossings whose roots are solved, where ``enabled``; else None."""
+    if not enabled or not total:
+        return None
+    from .._progress import tqdm
+
+    return tqdm(total=total, desc="mode numbers", unit="crossing", leave=False)
 
 
 def _numbers_among_lowest(model, speeds, eigenvalues, count):

@@ -518,6 +518,33 @@ class ShaftLine:
     disks: tuple = ()
     whirl: str = "none"
 
+    @property
+    def excursion(self) -> np.ndarray:
+        """(n,) [as ``displacement``]: each point's largest distance from the axis over a period,
+        the semi-major axis of its orbit ``Re(u exp(i phi))`` (:func:`orbit_excursion`)."""
+        return orbit_excursion(self.displacement)
+
+    @property
+    def relative_excursion(self) -> np.ndarray:
+        """(n,) [as ``relative``]: :attr:`excursion` of the motion relative to the stator."""
+        return orbit_excursion(self.relative)
+
+
+def orbit_excursion(u) -> np.ndarray:
+    """Largest distance from the axis over a period of the orbit ``Re(u exp(i phi))``: its
+    semi-major axis ``sqrt((|u_a|^2 + |u_b|^2 + |u_a^2 + u_b^2|) / 2)``.
+
+    Parameters
+    ----------
+    u : ndarray, shape (2, n), complex
+        ``(u_a, u_b)`` at each point.
+
+    Returns
+    -------
+    ndarray, shape (n,) [as ``u``]
+    """
+    return np.sqrt(0.5 * (np.abs(u[0]) ** 2 + np.abs(u[1]) ** 2 + np.abs(u[0] ** 2 + u[1] ** 2)))
+
 
 @dataclass(frozen=True)
 class ShaftLines:

@@ -224,6 +224,7 @@ def ucs_map(model, stiffness, modes: int = 4, bearings=None, speeds=None, operat
     stiffness = _check_stiffness(stiffness)
     modes = _check_modes(modes)
     operating = _check_operating(operating)
+    speeds = _check_speeds(speeds)
     # BLAS's own threads only wait for a core on a shared machine: 53 states, 9x faster on one
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
         return _ucs_map(model, chosen, stiffness, modes, speeds, operating)
@@ -243,6 +244,19 @@ def _ucs_map(model, chosen, stiffness, modes, speeds, operating) -> UcsMap:
                   crossings=tuple(crossings), rigid_speeds=_rigid_support(parts, model, chosen, modes),
                   operating=operating,
                   title=model.name, mode_speeds=followed.speeds[mine], mode_names=followed.names)
+
+
+def _check_speeds(speeds):
+    """``speeds`` as a 1-D array of finite numbers [rad/s] with one > 0 at least (None stays None):
+    NaN, an empty list or only speeds <= 0 drew no curve of a speed-dependent bearing without a
+    word (its curve is drawn at the positive ones)."""
+    if speeds is None:
+        return None
+    grid = _arguments.values(speeds, "speeds", "rad/s")
+    if not (grid > 0).any():
+        raise InputError(f"speeds = {_arguments._shown(speeds)}: expected at least one speed > 0 [rad/s] (the "
+                         "speed-dependent bearings' stiffness is drawn at positive reference speeds)")
+    return grid
 
 
 def _check_operating(operating):
@@ -382,8 +396,12 @@ STIFFNESS_RANGE = (1e-3, 1e16)
 
 
 def _check_stiffness(stiffness) -> np.ndarray:
-    values = np.atleast_1d(np.asarray(stiffness, dtype=float))
     low, high = STIFFNESS_RANGE
+    try:
+        values = np.atleast_1d(np.asarray(stiffness, dtype=float))
+    except (TypeError, ValueError):   # '1e6:1e8:3' (the command line's form) raised numpy's ValueError
+        raise InputError(f"stiffness = {_arguments._shown(stiffness)}: expected an array of increasing values from "
+                         f"{low:g} to {high:g} N/m (e.g. numpy.geomspace(1e5, 1e9, 41))") from None
     if values.ndim != 1 or not len(values) or not np.all((values >= low) & (values <= high)) \
             or not np.all(np.diff(values) > 0):
         raise InputError(f"stiffness {np.array2string(values, threshold=6)}: expected increasing values from "

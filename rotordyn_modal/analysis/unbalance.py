@@ -287,6 +287,25 @@ class UnbalanceResult:
             "precession": precession_labels(ratio[p, s, k]), "precession_ratio": ratio[p, s, k],
         })
 
+    @staticmethod
+    def vector_amplitude(components) -> np.ndarray:
+        """:func:`vector_amplitude`: ``sqrt(sum_k |c_k|^2)`` over the first axis (the figure's
+        force panels read it here: no import of this module by the figures)."""
+        return vector_amplitude(components)
+
+    def orbit_path(self, pair: int, source: int, index: int, points: int = 181) -> np.ndarray:
+        """The orbit of probe pair ``pair`` excited by source ``source`` at the sweep's speed
+        ``index`` over one period: ``Re(D exp(i phi))`` at ``points`` phases ``phi`` from 0 to
+        2 pi (``phi = 0`` the keyphasor's instant, ``t = 0``), ``D = orbit_planes[pair, source, index]``.
+
+        Returns
+        -------
+        ndarray, shape (2, points) [output unit]
+            The first probe's direction, then ``e x u``.
+        """
+        phase = np.linspace(0, 2 * np.pi, points)
+        return np.real(self.orbit_planes[pair, source, index][:, None] * np.exp(1j * phase))
+
     def plot_orbits(self, speeds=None, **kwargs):
         """Orbits of the probe pairs at a few speeds; see :func:`rotordyn_modal.plotting.plot_orbits`."""
         from ..plotting.orbits import plot_orbits
@@ -369,6 +388,22 @@ class UnbalanceResult:
         from ..plotting.frf import plot_unbalance
 
         return plot_unbalance(self, outputs=outputs, **kwargs)
+
+
+def vector_amplitude(components) -> np.ndarray:
+    """The amplitude of a harmonic vector from its components' complex amplitudes,
+    ``sqrt(sum_k |c_k|^2)`` (the figures' "vector amplitude, |F|" of a force).
+
+    Parameters
+    ----------
+    components : ndarray, shape (k, ...), complex
+        The components (``Fx, Fy, Fz``, say) along the first axis.
+
+    Returns
+    -------
+    ndarray, shape (...) [as ``components``]
+    """
+    return np.sqrt(np.sum(np.abs(components) ** 2, axis=0))
 
 
 def _with_convention(table, amplitude: str, after: str | None = "phase_deg"):

@@ -596,9 +596,46 @@ def speeds_text(args) -> str:
 
 
 def open_model(args):
-    """Check the output options (before any work), then load and validate the model."""
+    """Check the output options (before any work), then load and validate the model.
+
+    The model's warnings (legal but implausible: a sag of metres, a mode below 0.5 Hz) are said
+    at once, unless the model's mass matrix is one that rounding leaves singular, which every
+    analysis refuses: then they wait in ``args.held_warnings`` and ``main`` says them only if the
+    command does not end in a refusal (``static`` needs no mass matrix), so that a refused model
+    reads as one line, not a true but moot warning above it."""
+    import warnings
+
     check_output_options(args)
-    return load_model(args.model, units=getattr(args, "units", None) or "si")   # its warnings' unit system
+    with warnings.catch_warnings(record=True) as held:
+        warnings.simplefilter("always")
+        model = load_model(args.model, units=getattr(args, "units", None) or "si")   # its warnings' unit system
+    if held and _mass_refused(model):
+        args.held_warnings = held
+    else:
+        say_warnings(held)
+    return model
+
+
+def _mass_refused(model) -> bool:
+    """True when the analyses refuse ``model``'s mass matrix (``speed_linear_form``'s check, as
+    ``check`` and every analysis make it)."""
+    from ..errors import ModelError
+    from ..linear_system import speed_linear_form
+
+    try:
+        speed_linear_form(model)
+    except ModelError:
+        return True
+    return False
+
+
+def say_warnings(held) -> None:
+    """Warn again each of ``held`` (``warnings.catch_warnings(record=True)``'s records), through the
+    filters and the one-line printer in force."""
+    import warnings
+
+    for record in held:
+        warnings.warn_explicit(record.message, record.category, record.filename, record.lineno)
 
 
 def check_output_options(args):

@@ -228,7 +228,9 @@ def _coefficient_text(coefficients, spin_axis, u=_Units()) -> str:
         m = u.label("length")
         return (f"plain journal D {u(j.diameter, 'length'):g} {m} x L {u(j.length, 'length'):g} {m}, clearance "
                 f"{u(j.clearance, 'length'):g} {m}, viscosity {u(j.viscosity, 'viscosity'):g} "
-                f"{u.label('viscosity')}, static load {u(j.load, 'force'):.4g} {u.label('force')}")
+                f"{u.label('viscosity')}, static load {u(j.load, 'force'):.4g} {u.label('force')}"
+                + ("" if j.load_over_speed is None else
+                   " on the films alone; analyses solve it at each speed with the pedestals (docs/static.md)"))
     # the translational stiffness in the plane normal to the spin axis (whatever the axial one)
     plane = transverse_axes(spin_axis)                                          # (2, 3), orthonormal
     radial = np.linalg.eigvals(plane @ coefficients.stiffness[0][:3, :3] @ plane.T)

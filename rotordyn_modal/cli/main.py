@@ -11,7 +11,7 @@ import warnings
 
 from ..errors import InputError, OutputWriteError
 from ._common import (VALUE_OPTIONS, check_files, file_options, join_negative_values, options_as_typed,
-                      typed_spellings)
+                      say_warnings, typed_spellings)
 
 PROGRAM = "rotordyn-modal"
 
@@ -69,8 +69,15 @@ def main(argv=None) -> int:
             args.units = resolve_units(args.units)
             check_files(args)
             # --allow-long: the one switch every check of the CPU time reads (analysis/_cost.py)
-            with verbose_log(args), outputs_together(), long_work_allowed(getattr(args, "allow_long", False)):
-                code = int(args.handler(args) or 0)
+            try:
+                with verbose_log(args), outputs_together(), long_work_allowed(getattr(args, "allow_long", False)):
+                    code = int(args.handler(args) or 0)
+            except InputError:
+                raise                 # the model's warnings held by open_model are moot: one line
+            except BaseException:
+                say_warnings(getattr(args, "held_warnings", ()))
+                raise
+            say_warnings(getattr(args, "held_warnings", ()))
             report_peak_memory(args)
             return code
     except InputError as error:   # "duration = -1.0: ..." of the Python API reads "--duration -1: ..."

@@ -75,7 +75,7 @@ def add_arguments(parser):
     add_speed_unit(parser)
     parser.add_argument("--points", default="151", metavar="N", help="speeds of the sweeps (default 151)")
     parser.add_argument("--stiffness", metavar="START:STOP:N",
-                        help="bearing stiffness of the UCS map [N/m; lbf/in with --units us], log-spaced "
+                        help="bearing stiffness of the UCS map (api617, api684) [N/m; lbf/in with --units us], log-spaced "
                              "(default 1e5:1e10:41 N/m, widened by decades to reach the bearings' own stiffness)")
     parser.add_argument("--iso-group", type=whole_number, choices=[1, 2],
                         help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
@@ -177,14 +177,16 @@ def _level1_options(args) -> list[str]:
 
 def _check_sections(args):
     """Refuse an option whose section ``--standard`` does not have: it was dropped without a
-    word (``--standard api684 --station nobody --qa 1e5``, ``--standard api617 --iso-group 1``).
-    ``--stiffness`` is left alone: scripts give it to every standard (the iso report has no map)."""
+    word (``--standard api684 --station nobody --qa 1e5``, ``--standard api617 --iso-group 1``,
+    ``--standard iso --stiffness 1e5:1e10:9``: the ISO report has no undamped critical speed map)."""
     from ..report.collect import STANDARDS
 
     sections = STANDARDS[args.standard]
     for section, options, where in (
             ("level1", (["--station"] if args.station else []) + _level1_options(args),
              "API 617 Level I stability, in --standard api617"),
+            ("ucs", [f"--stiffness {args.stiffness}"] if args.stiffness is not None else [],
+             "the undamped critical speed map, in --standard api617 or api684"),
             ("iso", ["--iso-group"] if args.iso_group is not None else [], "ISO 20816-3 zones, in --standard iso")):
         if options and section not in sections:
             raise InputError(f"{options[0]}: --standard {args.standard} has no section it serves ({where}): "

@@ -108,12 +108,12 @@ def run(args) -> int:
                 result = _compute(model, definition, args, folder)
                 kinds = _column_kinds(result, definition, model, args.units)
                 _write(result, args, folder, kinds)
-                if not args.quiet:
-                    _report(result, band, kinds)
                 # the map's axes name a set value's unit in SI too
                 _plots(result, args, band, _Kinds(_column_kinds(result, definition, model, "us"), args.units))
         except (OutputError, OutputWriteError) as error:
             raise _kept_chunks(error, folder) from None
+    if not args.quiet:            # once the outputs are in place: a reader that closes the pipe
+        _report(result, band, kinds)          # early (`| head`) no longer loses the results
     return 0
 
 

@@ -66,6 +66,9 @@ def run(args) -> int:
     modes = _modes(args.modes, as_typed(args, "--lowest"))
     speeds = check_speeds(parse_range(args.speeds, "--speeds", largest=None), args.speeds, args.speed_unit,
                           "--speeds") if args.speeds else None
+    if speeds is not None and not (speeds > 0).any():   # the curves are drawn at positive speeds only
+        raise InputError(f"{as_typed(args, '--speeds')} {args.speeds!r}: expected a speed > 0 [{args.speed_unit}] "
+                         "(the speed-dependent bearings' stiffness is drawn at positive speeds)")
     operating = _operating(args) if args.operating is not None else None
     model = open_model(args)
     bearings = parse_names(args.bearings, "--bearings", [b.name for b in model.bearings])

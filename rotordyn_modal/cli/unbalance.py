@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 
 from ..errors import InputError
-from ..unbalance_standards import amplitude_label, one_convention
+from ..unbalance_standards import amplitude_column, amplitude_label, one_convention
 from ._common import (IN_SPEED_UNIT, add_model_argument, add_output_file, add_outputs, add_sensor_argument, add_speed_unit, check_ending,
                       check_extra_output, mcs_option, open_model, print_table, save_figure, speeds_option,
                       speed_value, speeds_text, use_agg, whole_number, write_csv, write_table)
@@ -154,6 +154,8 @@ def run(args) -> int:
     if (args.orbits or args.orbit_plot) and not result.orbit_pairs:
         raise InputError(f"{model.source}: --orbits/--orbit-plot need a probe pair among the outputs: two "
                          "sensors at one point of the same body, directions normal to spin_axis")
+    if not args.quiet and args.out != "-":
+        print(_response_heading(args.amplitude), file=sys.stderr)
     write_table(in_units(result.to_dataframe(forces=args.forces), result, args.units), args)
     peaks = result.peaks(operating)
     if not args.quiet:
@@ -286,11 +288,19 @@ def sensor_groups(model) -> dict:
     return groups(model)
 
 
+def _response_heading(amplitude: str) -> str:
+    """The line over the printed response table: the convention of each amplitude column (the
+    CSV's ``amplitude`` is 0-peak whatever ``--amplitude`` asks, docs/standards.md)."""
+    extra = "" if amplitude == "peak" else \
+        f", {amplitude_column(amplitude).replace('_0pk', '')} {amplitude_label(amplitude)}"
+    return f"unbalance response (amplitude 0-peak{extra}; x(t) = amplitude cos(2 pi frequency t + phase)):"
+
+
 def _write_orbits(result, args):
     if result.orbit_pairs and not args.quiet:
         table = result.orbits()
         largest = table.loc[table.groupby(["pair", "source"])["major"].idxmax()]
-        print("\nlargest orbit of each probe pair:", file=sys.stderr)
+        print("\nlargest orbit of each probe pair (major, minor: semi-axes, 0-peak):", file=sys.stderr)
         print_table(_orbits_in_units(largest, result, args.units))
     if args.orbits:
         write_csv(_orbits_in_units(result.orbits(), result, args.units), args.orbits)

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..model._table import LARGEST, Table, magnitude_problem, semidefinite_problem, visible
 from .bearings import BearingCoefficients, JournalData, local_to_model
+from .journal_bearing import JournalLoadOverSpeed
 from ..model.components import Bearing, Pedestal, input_keys, is_finite_number
 from ..errors import ModelError, ModelWarning
 from ..model.flexible import POSITION_ROUND_OFF, lateral_basis, node_matrices, station_z, with_mesh
@@ -59,6 +60,7 @@ def bearings(tables: dict, rotors, spin_axis: np.ndarray, gravity: np.ndarray) -
     by_name = {r.name: r for r in rotors}
     parsed = [_bearing(table, by_name, spin_axis) for table in tables.values()]
     parsed = [_with_journal_load(b, tables, parsed, by_name, spin_axis, gravity) for b in parsed]
+    parsed = _with_loads_over_speed(parsed, tables, by_name, spin_axis, gravity)
     for rotor in dict.fromkeys(b.rotor for b in parsed):
         mates = [b for b in parsed if b.rotor == rotor]
         _check_tilt_support(rotor, mates, tables, spin_axis)
@@ -364,11 +366,53 @@ def _weight_share(bearing, table: Table, mates, rotor, e, tables) -> float:
     return float(share)
 
 
+def _splits_over_speed(mates, rotor, tables) -> bool:
+    """True for a rigid rotor on three or more plain journals, one at least on a pedestal, none
+    with a given ``load``: its journals' loads are solved at each speed
+    (:func:`_with_loads_over_speed`)."""
+    return (rotor.flexible is None and len(mates) > 2 and any(b.pedestal is not None for b in mates)
+            and all(b.type == "journal" and b.moment_stiffness is None and "load" not in tables[b.name].data
+                    for b in mates))
+
+
+def _with_loads_over_speed(parsed, tables, rotors, e, gravity) -> list:
+    """The bearings, each journal of a rotor that :func:`_splits_over_speed` names given its
+    load over speed: the rigid rotor's static equilibrium on its nonlinear films and its
+    pedestals' springs at each speed (:func:`~rotordyn_modal.elements.journal_bearing.
+    rigid_rotor_journal_loads`, one solver shared by the rotor's journals)."""
+    out = list(parsed)
+    for name in dict.fromkeys(b.rotor for b in parsed):
+        rotor = rotors[name]
+        mates = [b for b in parsed if b.rotor == name]
+        if not _splits_over_speed(mates, rotor, tables):
+            continue
+        journals = [b.coefficients.journal for b in mates]
+        solver = dict(
+            stations=[float((np.asarray(b.position) - np.asarray(rotor.center_of_mass)) @ e) for b in mates],
+            weight=rotor.mass * _normal_part(gravity, e), spin_axis=e,
+            diameter=[j.diameter for j in journals], length=[j.length for j in journals],
+            clearance=[j.clearance for j in journals], viscosity=[j.viscosity for j in journals],
+            pedestal_stiffness=[None if b.pedestal is None else b.pedestal.stiffness for b in mates],
+            pedestal_weight=[None if b.pedestal is None else b.pedestal.mass * np.asarray(gravity, dtype=float)
+                             for b in mates],
+            cache={})
+        for index, (bearing, journal) in enumerate(zip(mates, journals)):
+            journal = dataclasses.replace(journal, load_over_speed=JournalLoadOverSpeed(index, solver))
+            coefficients = dataclasses.replace(bearing.coefficients, journal=journal)
+            place = next(i for i, b in enumerate(out) if b is bearing)
+            out[place] = dataclasses.replace(bearing, coefficients=coefficients)
+    return out
+
+
 def _warn_pedestal_split(bearing, table: Table, mates, rotor, tables) -> None:
     """One line, once per rotor (at its first journal without a given ``load``), when a rigid
-    rotor on three or more journals has one on a pedestal: the films in series with the
-    pedestal's springs split its weight as their stiffness does, which the film's grows with
-    speed and the pedestal's does not, so no split holds at every speed (docs/static.md)."""
+    rotor on three or more journals has one on a pedestal and some journals' ``load`` given:
+    the films in series with the pedestal's springs split its weight as their stiffness does,
+    which the film's grows with speed and the pedestal's does not, so no split holds at every
+    speed; with no load given the split is solved at each speed instead
+    (:func:`_with_loads_over_speed`, docs/static.md)."""
+    if _splits_over_speed(mates, rotor, tables):
+        return
     on_pedestals = [b.name for b in mates if b.pedestal is not None]
     unloaded = [b.name for b in mates if "load" not in tables[b.name].data]
     if not on_pedestals or not unloaded or bearing.name != unloaded[0]:

@@ -49,6 +49,12 @@ class JournalData:
         Rows ``x, y, e``: ``x`` the unit direction in which the load pushes the
         journal (normal to the spin axis), ``y = e x x``, ``e`` the spin axis. The
         film coefficients are computed in ``(x, y)``.
+    load_over_speed : callable or None
+        For a journal of a rigid rotor on three or more journals with pedestals, whose load moves
+        with speed: own speeds (S,) [rad/s] to the load vectors (S, 3) [N], model axes
+        (:class:`~rotordyn_modal.elements.journal_bearing.JournalLoadOverSpeed`); the film's
+        coefficients then follow that load and its direction at each speed, ``load`` and ``axes``
+        being the light-load films' split. None: ``load`` and ``axes`` at every speed.
     """
 
     diameter: float
@@ -57,6 +63,7 @@ class JournalData:
     viscosity: float
     load: float
     axes: np.ndarray
+    load_over_speed: object = None
 
 
 @dataclass(frozen=True)
@@ -176,6 +183,8 @@ def _journal_film(journal: JournalData, speeds: np.ndarray, where: str):
     """Radial film coefficients of a journal bearing, (N, 6, 6) each in model axes."""
     from .journal_bearing import short_journal_bearing
 
+    if journal.load_over_speed is not None:
+        return _journal_film_over_speed(journal, speeds, where)
     try:
         film = short_journal_bearing(speeds, diameter=journal.diameter, length=journal.length,
                                      clearance=journal.clearance, viscosity=journal.viscosity,
@@ -184,6 +193,28 @@ def _journal_film(journal: JournalData, speeds: np.ndarray, where: str):
         raise InputError(f"{where}: {error}") from None
     _warn_high_eccentricity(film, speeds, journal, where)
     return _embed_radial(film.stiffness, journal.axes), _embed_radial(film.damping, journal.axes)
+
+
+def _journal_film_over_speed(journal: JournalData, speeds: np.ndarray, where: str):
+    """The film's coefficients (N, 6, 6) at the load and load direction of each speed."""
+    from .journal_bearing import short_journal_bearing
+
+    try:
+        vectors = journal.load_over_speed(speeds)                                   # (N, 3)
+        load = np.linalg.norm(vectors, axis=-1)
+        film = short_journal_bearing(speeds, diameter=journal.diameter, length=journal.length,
+                                     clearance=journal.clearance, viscosity=journal.viscosity, load=load)
+    except InputError as error:
+        raise InputError(f"{where}: {error}") from None
+    _warn_high_eccentricity(film, speeds, journal, where)
+    x = vectors / load[:, None]
+    radial = np.stack([x, np.cross(journal.axes[2], x)], 1)                         # (N, 2, 3)
+    out = []
+    for local in (film.stiffness, film.damping):
+        model = np.zeros(local.shape[:-2] + (6, 6))
+        model[:, :3, :3] = np.swapaxes(radial, 1, 2) @ local @ radial
+        out.append(model)
+    return tuple(out)
 
 
 def _warn_high_eccentricity(film, speeds: np.ndarray, journal: JournalData, where: str) -> None:

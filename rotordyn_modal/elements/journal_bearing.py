@@ -14,7 +14,7 @@ import numpy as np
 from ..errors import InputError
 from ..units import to_rpm
 
-__all__ = ["JournalBearing", "short_journal_bearing", "THINNEST_FILM"]
+__all__ = ["JournalBearing", "short_journal_bearing", "THINNEST_FILM", "rigid_rotor_journal_loads", "JournalLoadOverSpeed"]
 
 _PI2 = np.pi**2
 _A = 16.0 - _PI2  # recurring constant of the load capacity
@@ -72,8 +72,10 @@ def short_journal_bearing(speed, *, diameter, length, clearance, viscosity, load
         Journal diameter, bearing length and radial clearance [m].
     viscosity : float
         Dynamic viscosity of the oil [Pa s].
-    load : float
-        Magnitude of the static load on the journal [N].
+    load : float or array_like, shape (N,)
+        Magnitude of the static load on the journal [N]; one per speed where it changes with
+        speed (a rigid rotor on three or more journals with pedestals,
+        :func:`rigid_rotor_journal_loads`).
 
     Returns
     -------
@@ -98,9 +100,9 @@ def short_journal_bearing(speed, *, diameter, length, clearance, viscosity, load
     True
     """
     data = {name: _positive(name, value) for name, value in
-            dict(diameter=diameter, length=length, clearance=clearance, viscosity=viscosity,
-                 load=load).items()}
+            dict(diameter=diameter, length=length, clearance=clearance, viscosity=viscosity).items()}
     speed = _speeds(speed)
+    data["load"] = _positive("load", load) if np.ndim(load) == 0 else _loads(load, speed.shape)
     sigma = (data["viscosity"] * np.abs(speed) * data["diameter"] * data["length"]**3
              / (8.0 * data["load"] * data["clearance"]**2))
     eps, film = _eccentricity(sigma)
@@ -108,10 +110,12 @@ def short_journal_bearing(speed, *, diameter, length, clearance, viscosity, load
     # y -> -y for the journal turning the other way flips the off-diagonal terms
     mirror = np.where(speed[..., None, None] < 0, np.array([[1.0, -1.0], [-1.0, 1.0]]), 1.0)
     scale = data["load"] / data["clearance"]
+    if np.ndim(scale):
+        scale = scale[..., None, None]
     with np.errstate(all="ignore"):
         k, c = _dimensionless_coefficients(eps, film)
         stiffness = scale * mirror * k
-        damping = (scale / np.abs(speed))[..., None, None] * mirror * c
+        damping = scale / np.abs(speed)[..., None, None] * mirror * c
     _check_finite(speed, stiffness, damping, sigma)
     return JournalBearing(
         stiffness=stiffness,
@@ -131,6 +135,15 @@ def _positive(name: str, value) -> float:
     if np.ndim(value) != 0 or not (np.isfinite(number) and number > 0):
         raise InputError(f"short journal bearing: {name} = {value!r}: expected a finite number > 0")
     return number
+
+
+def _loads(load, shape) -> np.ndarray:
+    """Loads [N], one per speed, or InputError unless each is a finite number > 0."""
+    values = np.asarray(load, dtype=float)
+    if values.shape != shape or not (np.all(np.isfinite(values)) and np.all(values > 0)):
+        raise InputError(f"short journal bearing: load = {np.asarray(load).tolist()!r}: expected a "
+                         f"finite number > 0, or one per speed (shape {shape})")
+    return values
 
 
 def _speeds(speed) -> np.ndarray:
@@ -160,7 +173,7 @@ def _check_film(speed, eps, film, sigma, load, clearance) -> None:
             "molecules, for the film theory to mean anything")
         raise InputError(
             f"short journal bearing: at speed {rpm:.6g} rpm the oil film cannot carry the load of "
-            f"{load:g} N: eccentricity {eps.flat[first]:.17g} ({limit}; Ocvirk load number "
+            f"{float(np.broadcast_to(load, speed.shape).flat[first]):g} N: eccentricity {eps.flat[first]:.17g} ({limit}; Ocvirk load number "
             f"{sigma.flat[first]:.3g}); raise the speed (start the sweep higher), the viscosity or "
             "the bearing length, or reduce the clearance or the load")
 
@@ -252,3 +265,187 @@ def _dimensionless_coefficients(eps, film):
 def _matrix(xx, xy, yx, yy):
     """Stack four arrays of one shape into 2x2 matrices, shape (..., 2, 2)."""
     return np.stack([np.stack([xx, xy], -1), np.stack([yx, yy], -1)], -2)
+
+
+def rigid_rotor_journal_loads(speed, *, stations, weight, spin_axis, diameter, length, clearance, viscosity,
+                              pedestal_stiffness=None, pedestal_weight=None, iterations: int = 60) -> np.ndarray:
+    """Static load on each journal of a rigid rotor on three or more plain short journal bearings,
+    some on pedestals, at each speed: the statically indeterminate split solved by Newton.
+
+    A journal carrying the load ``F`` (a vector normal to the spin axis) sits at the film's offset
+    ``d(F) = c eps (cos phi x + sin phi e x x)`` from its bearing's centre (``x = F / |F|``,
+    ``eps`` and ``phi`` the short-bearing eccentricity and attitude angle of ``|F|`` at that
+    speed); a pedestal of stiffness ``K_p`` settles by ``K_p^-1 (F + m_p g)`` under the journal's
+    load and its own weight. The rigid rotor moves by ``u + s theta`` at the station ``s`` from its
+    centre of mass. Unknowns ``F_i, u, theta``; equations (docs/theory.md §12, "A rigid rotor on
+    three or more journals")::
+
+        d_i(F_i) + K_p,i^-1 (F_i + m_p,i g) - u - s_i theta = 0      (each journal)
+        sum F_i = W,   sum s_i F_i = 0                              (force and moment balance)
+
+    The Jacobian of ``d_i`` is the inverse of the film's stiffness ``K`` of that load (a small
+    journal motion ``delta`` changes the film force by ``K delta``), so Newton's matrix is built
+    from the same coefficients the analyses use. The start is the light-load solution (each film a
+    spring ``pi mu |speed| D L**3 / (8 c**3)`` turned by 90 degrees), the split ``rdm.static`` gives.
+
+    Parameters
+    ----------
+    speed : array_like, shape (S,)
+        The rotor's own speed [rad/s], signed about ``spin_axis``, nonzero.
+    stations : array_like, shape (N,)
+        Each journal's axial position from the rotor's centre of mass [m].
+    weight : array_like, shape (3,)
+        The rotor's weight normal to the spin axis, model axes [N], nonzero.
+    spin_axis : array_like, shape (3,)
+    diameter, length, clearance, viscosity : array_like, shape (N,)
+        Each journal's data [m, m, m, Pa s].
+    pedestal_stiffness : sequence of (ndarray, shape (3, 3), or None), length N, optional
+        Model axes, positive definite normal to the spin axis [N/m]; None: the journal's bearing
+        is held rigidly.
+    pedestal_weight : sequence of (ndarray, shape (3,), or None), length N, optional
+        Each pedestal's weight, model axes [N] (its part normal to the spin axis counts).
+    iterations : int
+        Newton steps at most.
+
+    Returns
+    -------
+    ndarray, shape (S, N, 3)
+        The force each journal puts on its bearing [N], model axes (normal to the spin axis).
+
+    Raises
+    ------
+    InputError
+        A zero or non-finite speed, or no equilibrium found in ``iterations`` steps.
+    """
+    speed = _speeds(np.atleast_1d(speed))
+    e = np.asarray(spin_axis, dtype=float) / np.linalg.norm(spin_axis)
+    weight = np.asarray(weight, dtype=float)
+    weight = weight - (weight @ e) * e
+    plane = np.array([weight / np.linalg.norm(weight), np.cross(e, weight / np.linalg.norm(weight))])
+    films = np.array([diameter, length, clearance, viscosity], dtype=float)          # (4, N)
+    s = np.asarray(stations, dtype=float)
+    n = len(s)
+    soft = np.zeros((n, 2, 2))
+    settle = np.zeros((n, 2))
+    for i in range(n):
+        if pedestal_stiffness is not None and pedestal_stiffness[i] is not None:
+            soft[i] = np.linalg.inv(plane @ np.asarray(pedestal_stiffness[i], dtype=float) @ plane.T)
+            if pedestal_weight is not None and pedestal_weight[i] is not None:
+                settle[i] = soft[i] @ (plane @ np.asarray(pedestal_weight[i], dtype=float))
+    total = np.array([np.linalg.norm(weight), 0.0])
+    light = np.pi * films[3] * np.abs(speed)[:, None] * films[0] * films[1]**3 / (8 * films[2]**3)   # (S, N)
+    turn = np.sign(speed)[:, None, None, None] * np.array([[0.0, -1.0], [1.0, 0.0]])            # R(+-90 deg)
+    state = _newton_step(np.zeros((len(speed), n, 2)), turn / light[..., None, None], soft, s, settle, total,
+                         np.zeros((len(speed), n, 2)))
+    done = np.zeros(len(speed), dtype=bool)
+    for _ in range(iterations):
+        loads = state[:, :2 * n].reshape(-1, n, 2)
+        offset, compliance = _film_offset(loads, speed, films, total[0])
+        step = _newton_step(loads, compliance, soft, s, settle, total, offset) - state
+        done |= np.max(np.abs(step[:, :2 * n]), axis=1) <= 1e-13 * total[0]
+        if done.all():
+            return state[:, :2 * n].reshape(-1, n, 2) @ plane
+        state = _damped(state, np.where(done[:, None], 0.0, step), offset, speed, films, soft, s, settle, total[0])
+    bad = int(np.flatnonzero(~done)[0])
+    raise InputError(f"journal loads: no static equilibrium of the rigid rotor on its films and pedestals found at "
+                     f"{to_rpm(float(speed[bad])):.6g} rpm (the films cannot carry the rotor there: start the sweep "
+                     "higher, or give each journal's load)")
+
+
+def _misfit(state, offset, soft, s, settle, clearance):
+    """The journals' compatibility misfit (12.16) in clearances, squared and summed: (S,)."""
+    n = len(s)
+    loads, u, theta = state[:, :2 * n].reshape(-1, n, 2), state[:, 2 * n:2 * n + 2], state[:, 2 * n + 2:]
+    gap = (offset + np.einsum("nij,snj->sni", soft, loads) + settle - u[:, None] - s[None, :, None] * theta[:, None])
+    return np.sum((gap / clearance[:, None])**2, axis=(1, 2))
+
+
+def _damped(state, step, offset, speed, films, soft, s, settle, scale, halvings: int = 40):
+    """``state + a step``, ``a`` halved (per speed) from 1 until the compatibility misfit falls:
+    the films' offset saturates at the clearance, where a full Newton step from a light-load
+    guess overshoots. The balance equations, linear, hold along the whole step."""
+    n = len(s)
+    before = _misfit(state, offset, soft, s, settle, films[2])
+    length = np.ones(len(state))
+    for _ in range(halvings):
+        trial = state + length[:, None] * step
+        trial_offset = _film_offset(trial[:, :2 * n].reshape(-1, n, 2), speed, films, scale)[0]
+        after = _misfit(trial, trial_offset, soft, s, settle, films[2])
+        worse = ~(after <= (1 - 1e-4 * length) * before) & (before > 0)
+        if not worse.any():
+            break
+        length = np.where(worse, 0.5 * length, length)
+    return state + length[:, None] * step
+
+
+def _film_offset(loads, speed, films, scale):
+    """Each journal's offset from its bearing's centre (S, N, 2) and the film's compliance
+    ``K^-1`` (S, N, 2, 2), in the plane's axes, under the loads (S, N, 2)."""
+    magnitude = np.linalg.norm(loads, axis=-1)
+    safe = np.maximum(magnitude, 1e-12 * scale)
+    x = np.where(magnitude[..., None] > 0, loads / safe[..., None], [1.0, 0.0])
+    y = np.stack([-x[..., 1], x[..., 0]], -1)
+    diameter, length, clearance, viscosity = films
+    sigma = viscosity * np.abs(speed)[:, None] * diameter * length**3 / (8.0 * safe * clearance**2)
+    eps, film = _eccentricity(sigma)
+    phi = np.sign(speed)[:, None] * np.arctan2(np.pi * np.sqrt(film), 4.0 * eps)
+    offset = (clearance * eps)[..., None] * (np.cos(phi)[..., None] * x + np.sin(phi)[..., None] * y)
+    mirror = np.where(speed[:, None, None, None] < 0, np.array([[1.0, -1.0], [-1.0, 1.0]]), 1.0)
+    with np.errstate(all="ignore"):
+        local = (safe / clearance)[..., None, None] * mirror * _dimensionless_coefficients(eps, film)[0]
+    frame = np.stack([x, y], -1)                                   # columns x, y
+    stiffness = frame @ local @ np.swapaxes(frame, -1, -2)
+    return offset, np.linalg.inv(stiffness)
+
+
+def _newton_step(loads, compliance, soft, s, settle, total, offset):
+    """The state (S, 2N + 4): loads, ``u``, ``theta``, of one Newton step on the journals' equations, the films linearised
+    about ``loads``: ``d(F_new) ~ offset + compliance (F_new - loads)``; ``soft`` (N, 2, 2) the
+    pedestals' compliance, ``settle`` (N, 2) their settlement under their own weight."""
+    count, n = loads.shape[:2]
+    size = 2 * n + 4
+    matrix = np.zeros((count, size, size))
+    right = np.zeros((count, size))
+    eye = np.eye(2)
+    for i in range(n):
+        rows = slice(2 * i, 2 * i + 2)
+        matrix[:, rows, rows] = compliance[:, i] + soft[i]
+        matrix[:, rows, 2 * n:2 * n + 2] = -eye
+        matrix[:, rows, 2 * n + 2:] = -s[i] * eye
+        matrix[:, 2 * n:2 * n + 2, rows] = eye
+        matrix[:, 2 * n + 2:, rows] = s[i] * eye
+        right[:, rows] = np.einsum("sij,sj->si", compliance[:, i], loads[:, i]) - offset[:, i] - settle[i]
+    right[:, 2 * n:2 * n + 2] = total
+    return np.linalg.solve(matrix, right[..., None])[..., 0]
+
+
+class JournalLoadOverSpeed:
+    """The static load of one journal of a rigid rotor on three or more journals, some on
+    pedestals, at any speed (:func:`rigid_rotor_journal_loads`; the rotor's journals share one
+    solver, which keeps the last few sweeps' solutions).
+
+    Parameters
+    ----------
+    index : int
+        The journal's place among the rotor's journals.
+    solver : dict
+        The keyword arguments of :func:`rigid_rotor_journal_loads` but ``speed``, and a
+        ``"cache"`` dict shared by the rotor's journals.
+    """
+
+    _KEEP = 8   # sweeps remembered per rotor
+
+    def __init__(self, index: int, solver: dict):
+        self.index, self.solver = index, solver
+
+    def __call__(self, speeds) -> np.ndarray:
+        """The force [N] this journal puts on its bearing at each own speed (S,) [rad/s], (S, 3)."""
+        speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+        cache = self.solver["cache"]
+        key = speeds.tobytes()
+        if key not in cache:
+            if len(cache) >= self._KEEP:
+                cache.pop(next(iter(cache)))
+            arguments = {name: value for name, value in self.solver.items() if name != "cache"}
+            cache[key] = rigid_rotor_journal_loads(speeds, **arguments)
+        return cache[key][:, self.index]

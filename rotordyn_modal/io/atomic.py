@@ -16,6 +16,7 @@ import os
 import socket
 import stat
 import tempfile
+import time
 from pathlib import Path
 
 from ..errors import InputError, OutputError, OutputWriteError
@@ -96,6 +97,32 @@ def _cannot(path, error: OSError, batch=None):
     return OutputWriteError(message, error.errno)
 
 
+def _open_in_place(path: Path, mode: str, kwargs: dict, shown):
+    """``open(path, mode)`` of a device or pipe; a named pipe (FIFO) is opened without waiting
+    for a reader, retried for :data:`~rotordyn_modal.io.limits.PIPE_WAIT_S` until a program
+    reads it (``>(gzip > c.gz)`` and a reader started before or just after are written; a FIFO
+    nothing reads was waited for forever, as ``open`` does)."""
+    from .limits import PIPE_WAIT_S
+
+    if not stat.S_ISFIFO(os.stat(path).st_mode):
+        return open(path, mode, **kwargs)
+    deadline = time.monotonic() + PIPE_WAIT_S
+    while True:
+        try:
+            fd = os.open(path, os.O_WRONLY | os.O_NONBLOCK)
+            break
+        except OSError as error:
+            if error.errno != errno.ENXIO:
+                raise
+            if time.monotonic() > deadline:
+                raise OutputError(f"cannot write {shown}: a pipe nothing reads from within {PIPE_WAIT_S:g} s "
+                                  f"(start the program that reads it first, or give a file; "
+                                  f"{_what_was_written(_BATCH[0])})") from None
+            time.sleep(0.02)
+    os.set_blocking(fd, True)
+    return os.fdopen(fd, mode, **kwargs)
+
+
 def _is_special(path: Path) -> bool:
     """True for an existing target that is not a regular file (a device such as
     ``/dev/null`` or ``/dev/full``, a FIFO): written in place, never renamed over."""
@@ -139,6 +166,9 @@ def check_writable(path) -> None:
             raise _cannot(shown, error) from None
     if path.is_dir():
         raise OutputError(f"cannot write {shown}: it is a folder")
+    if str(shown).endswith((os.sep, "/")):   # 'out.csv/' names a folder: Path drops the '/' and wrote a file
+        raise OutputError(f"cannot write {shown}: a name ending in '/' is a folder, not a file (give the file's "
+                          "name, without the '/')")
     if _is_special(path):
         return
     if not path.parent.exists():
@@ -339,7 +369,7 @@ def _in_place(path: Path, mode, kwargs, shown):
         if mode is None:
             yield str(path)
         else:
-            with open(path, mode, **kwargs) as handle:
+            with _open_in_place(path, mode, kwargs, shown) as handle:
                 yield handle
     except OutputWriteError:
         raise

@@ -1,5 +1,5 @@
 """CSV tables as other tools and spreadsheets write them: the text's encoding (UTF-8 with or
-without a byte-order mark, UTF-16, else Latin-1), the separator (``,``, ``;`` or a tab, read
+without a byte-order mark, UTF-16 with or without one, else Latin-1: :mod:`.text`), the separator (``,``, ``;`` or a tab, read
 from the header line or from Excel's ``sep=;`` line before it), decimal commas (``1,5`` beside a
 ``;`` or tab separator, quoted or not), comment lines (``# ...``) before the header, header
 names in any case with a unit in brackets (``Frequency [kHz]``, ``phase (rad)``), and cells
@@ -13,6 +13,7 @@ import io
 import re
 
 from ..errors import InputError
+from .text import decode_text
 
 __all__ = ["read_csv_table", "numbers", "split_header"]
 
@@ -23,22 +24,6 @@ _SEPARATOR_LINE = re.compile(r"^\s*sep=([,;\t])\s*$")
 _EMPTY = ["", "nan", "-nan", "na", "n/a", "#n/a", "#na", "null", "none", "<na>"]
 #: ``name [unit]`` or ``name (unit)``: a header cell with its unit
 _HEADER = re.compile(r"^(?P<name>.*?)\s*(?:\[(?P<bracket>[^\]]*)\]|\((?P<paren>[^)]*)\))\s*$")
-
-
-def _text(data: bytes) -> str:
-    """The bytes of a file as text: a byte-order mark says UTF-8, UTF-16 or UTF-32; else UTF-8,
-    else Latin-1 (a spreadsheet's 8-bit export; every byte is a character)."""
-    for mark, encoding in ((b"\xef\xbb\xbf", "utf-8-sig"), (b"\xff\xfe\x00\x00", "utf-32"),
-                           (b"\x00\x00\xfe\xff", "utf-32"), (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16")):
-        if data.startswith(mark):
-            try:
-                return data.decode(encoding)
-            except UnicodeDecodeError:
-                break
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError:
-        return data.decode("latin-1")
 
 
 def read_csv_table(data: bytes, path, what: str, text_only: bool = False, **options):
@@ -73,7 +58,11 @@ def read_csv_table(data: bytes, path, what: str, text_only: bool = False, **opti
     """
     import pandas as pd
 
-    text = _text(data)
+    try:
+        text = decode_text(data)
+    except UnicodeDecodeError as problem:   # UTF-16 without a mark that is no UTF-16
+        raise InputError(f"{path}: cannot read {what} (byte {problem.start}: {problem.reason}): "
+                         "expected text in UTF-8 or whole UTF-16") from None
     if text_only:
         _check_text(text, path, what)
     lines = text.splitlines(keepends=True)

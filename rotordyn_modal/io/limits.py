@@ -11,20 +11,36 @@ from __future__ import annotations
 
 import math
 import os
+import select
+import stat
 from pathlib import Path
 
 from .._limits import environment_number
 from ..errors import InputError
 
-__all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "check_size", "limit_bytes", "read_limited"]
+__all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "PIPE_WAIT_S", "check_size", "limit_bytes", "read_limited",
+           "input_path"]
 
 #: default limit of model and study files [MB]; environment: ROTORDYN_MODAL_MAX_MODEL_MB
 MODEL_FILE_MB = 10
 #: default limit of measured-data files read whole [MB]; environment: ROTORDYN_MODAL_MAX_MEASURED_MB
 MEASURED_FILE_MB = 512
+#: how long a named pipe (FIFO) given as an input is waited for, until a program writes to it [s]
+PIPE_WAIT_S = 5.0
 
 _LIMITS = {"model": ("ROTORDYN_MODAL_MAX_MODEL_MB", MODEL_FILE_MB),
            "measured": ("ROTORDYN_MODAL_MAX_MEASURED_MB", MEASURED_FILE_MB)}
+
+
+def input_path(path, what: str) -> Path:
+    """``path`` as a :class:`~pathlib.Path` when it is a file's name (``str`` or path-like), else
+    :class:`InputError` naming ``what`` (``None``, a number, bytes or a dict raised ``TypeError``
+    in ``open``; ``''`` read the current folder, said to be a folder named '.')."""
+    if isinstance(path, (str, os.PathLike)) and not isinstance(path, bytes):
+        text = os.fspath(path)
+        if isinstance(text, str) and text.strip():
+            return Path(text)
+    raise InputError(f"{what} = {path!r}: expected the name of a file (a str or path-like, not empty)")
 
 
 def limit_bytes(kind: str) -> tuple[int, str]:
@@ -77,17 +93,43 @@ def read_limited(path, kind: str, what: str) -> bytes:
     ------
     InputError
         The file is larger than the limit (a regular file before a byte is read).
+        A pipe that nothing writes to within :data:`PIPE_WAIT_S` (opening it would wait forever).
     OSError
         As ``open`` raises it (missing file, folder, permission): the caller names it.
     """
     check_size(path, kind, what)
     limit, variable = limit_bytes(kind)
-    with open(path, "rb") as handle:
+    with _open_input(path, what) as handle:
         data = _read_at_most(handle, limit + 1)
     if len(data) > limit:
         raise InputError(f"{path}: a {what} of more than the limit of {limit / 2**20:g} MB is not read "
                          f"(set {variable} to a number of MB to allow it)")
     return data
+
+
+def _open_input(path, what: str):
+    """``open(path, 'rb')``; a named pipe (FIFO) is opened without waiting for a writer, then
+    waited for :data:`PIPE_WAIT_S` until a program writes to it or closes it (``<(cat m.toml)``
+    and a writer started before or just after are read whole; a FIFO nothing writes to was
+    waited for forever, as ``open`` does)."""
+    try:
+        is_pipe = stat.S_ISFIFO(os.stat(path).st_mode)
+    except (OSError, ValueError):
+        is_pipe = False
+    if not is_pipe:
+        return open(path, "rb")
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        poller = select.poll()
+        poller.register(fd, select.POLLIN | select.POLLHUP)
+        if not poller.poll(PIPE_WAIT_S * 1000.0):
+            raise InputError(f"{path}: a pipe nothing writes to: no byte of the {what} came within {PIPE_WAIT_S:g} s "
+                             "(start the program that writes into it first, or give a file)")
+        os.set_blocking(fd, True)
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
 
 
 #: bytes of one read of a pipe or device, whose size ``stat`` does not tell

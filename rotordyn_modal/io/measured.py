@@ -25,7 +25,6 @@ direction (signed).
 from __future__ import annotations
 
 import os
-from pathlib import Path
 
 import numpy as np
 
@@ -56,7 +55,9 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
     list of FRFResult
         One per speed, sorted by speed; ``engine='measured'``.
     """
-    path = Path(path)
+    from .limits import input_path
+
+    path = input_path(path, "measured-data file")
     if not path.is_file():
         if path.is_symlink() and not path.exists():
             raise InputError(f"{path}: a symbolic link that leads to no file (to {os.readlink(path)}, a missing file "

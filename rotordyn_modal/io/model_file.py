@@ -10,7 +10,8 @@ from ..errors import ModelError, ModelWarning
 from ..model._table import LARGEST
 from ..model.machine import Model
 from .atomic import atomic_write, check_not_input
-from .limits import read_limited
+from .limits import input_path, read_limited
+from .text import decode_text
 
 __all__ = ["load_model", "save_model", "read_toml", "MAX_NESTING"]
 
@@ -20,7 +21,6 @@ __all__ = ["load_model", "save_model", "read_toml", "MAX_NESTING"]
 MAX_NESTING = 32
 #: an integer beyond this cannot become a float (it is refused as any number beyond LARGEST)
 _LARGEST_INTEGER = 10**308
-_BOM = "\ufeff"
 
 
 def load_model(path, units: str = "si") -> Model:
@@ -71,12 +71,17 @@ def _not_a_ross_file(data: dict, path) -> None:
         raise ModelError(str(path), "<file>", "a rotor saved by ROSS (ross_version, ShaftElement_... tables)",
                          f"a model file: read it into one first, rotordyn-modal import-ross {path} --out "
                          "MODEL.toml (docs/ross.md)")
+    if "parameters" in data and not {"rotors", "stator"} & set(data):   # a study file given as the model
+        raise ModelError(str(path), "<file>", "a study file ([[parameters]], no [[rotors]] or [stator])",
+                         f"a model file: a study runs as rotordyn-modal study MODEL --spec {path} --out "
+                         "RESULTS.nc (docs/study-file.md)")
 
 
 def read_toml(path, what: str, error=ModelError) -> dict:
     """The tables of a TOML file (a model or study file), or one line saying why not.
 
-    A UTF-8 byte-order mark (what some Windows editors write) is skipped.
+    A byte-order mark (UTF-8's, what some Windows editors write; UTF-16's or UTF-32's) is
+    skipped, and UTF-16 without one is read as UTF-16 (:func:`.text.decode_text`).
 
     Parameters
     ----------
@@ -93,21 +98,22 @@ def read_toml(path, what: str, error=ModelError) -> dict:
         The file does not exist, is a folder, is not readable UTF-8 text, is not TOML,
         or nests arrays and tables more than :data:`MAX_NESTING` deep.
     """
-    path = Path(path)
+    path = input_path(path, what)
     source = str(path)
     try:
-        text = read_limited(path, "model", what).decode("utf-8")
+        text = decode_text(read_limited(path, "model", what), fallback=None)
     except FileNotFoundError:
         raise error(source, "<file>", source, f"an existing {what} (no such file)") from None
     except IsADirectoryError:
         raise error(source, "<file>", source, f"a {what}, not a folder") from None
-    except UnicodeDecodeError as problem:
-        raise error(source, "<file>", f"byte {problem.start}", "UTF-8 text (TOML)") from None
+    except UnicodeDecodeError as problem:    # no UTF-8, or UTF-16 without a mark that is no UTF-16
+        said = f": {problem.reason}" if problem.encoding.startswith("utf-16") else ""
+        raise error(source, "<file>", f"byte {problem.start}", f"UTF-8 text (TOML){said}") from None
     except OSError as problem:
         raise error(source, "<file>", source, f"a readable file ({problem.strerror})") from None
     nested = f"TOML with arrays and tables nested at most {MAX_NESTING} deep"
     try:
-        data = tomllib.loads(text.removeprefix(_BOM))
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as problem:
         raise error(source, "<file>", str(problem), "valid TOML") from None
     except RecursionError:

@@ -111,6 +111,7 @@ def check_description(description: dict, source) -> None:
     from ..linear_system import implausible
     from ..model.machine import Model
 
+    _check_support_points(description, source)
     try:
         model = Model.from_dict(description, source=str(source))
     except ModelError as error:
@@ -118,6 +119,31 @@ def check_description(description: dict, source) -> None:
                          error.expected) from None
     for line in implausible(model):   # what `check` would warn about, said before it is written
         warnings.warn(line, ModelWarning, stacklevel=2)
+
+
+def _check_support_points(description: dict, source) -> None:
+    """Refuse, in ROSS's words, a rotor on bearings and seals at fewer than two nodes. ROSS's
+    bearings and seals hold translations only, so such a rotor is free to tilt (without bearings,
+    free-free); ROSS solves it and leaves the rigid-body roots at zero frequency out of its
+    modes, while a model of this package holds every motion of a rotor on bearings (the model's
+    refusal named a ``moment_stiffness`` that a ROSS file cannot give). A rotor on one bearing
+    and a seal at another node is held and read."""
+    bearings = description.get("bearings", [])
+    nodes = sorted({b["axial_position"] for b in bearings})
+    if len(nodes) >= 2:
+        return
+    how = ("give it a BearingElement or SealElement at two nodes or more in ROSS and save it again, or read it "
+           "in Python (rotordyn_modal.io.ross_file.read_ross_rotor) and add a bearing, or a moment_stiffness, "
+           "before Model.from_dict (docs/ross.md)")
+    if not bearings:
+        raise ModelError(str(source), "<file>", "no BearingElement or SealElement tables",
+                         "bearings at two nodes of the shaft or more: ROSS solves a rotor without bearings free-free "
+                         f"(its rigid-body roots at zero frequency left out), which this package does not model; {how}")
+    names = ", ".join(repr(b["name"]) for b in bearings)
+    raise ModelError(str(source), "bearings", f"{names}, all at z = {nodes[0]:g} m",
+                     "bearings or seals at two nodes of the shaft or more: ROSS's bearings hold translations only, "
+                     "so on one node the rotor is free to tilt (ROSS leaves the tilt's roots at zero frequency "
+                     f"out of its modes), which this package does not model; {how}")
 
 
 def write_model_file(description: dict, path, inputs=()) -> None:

@@ -280,6 +280,22 @@ def _refuse_lone_spectra(sets, frfs, path):
 _BOM_LATIN1 = "\ufeff".encode("utf-8").decode("latin-1")
 
 
+def _not_wide_text(head: bytes, path) -> None:
+    """Refuse a Universal File saved as UTF-16 or UTF-32 text (with a byte-order mark or, UTF-16,
+    without one: :func:`.text.utf16_without_mark`): pyuff reads ASCII only, and such a file was
+    taken for binary 58b sets and failed inside pyuff."""
+    from .text import UTF16_WITHOUT_MARK, marked_encoding, utf16_without_mark
+
+    if (marked := marked_encoding(head)) in ("utf-16", "utf-32"):
+        said = f"it is {marked.upper()} text (a byte-order mark)"
+    elif utf16_without_mark(head):
+        said = UTF16_WITHOUT_MARK
+    else:
+        return
+    raise InputError(f"{path}: cannot read the Universal File: {said}: expected ASCII text (save it as ASCII "
+                     "or UTF-8)")
+
+
 def _check_complete(path):
     """Refuse a truncated or padded ASCII file: datasets sit between pairs of ``-1`` lines."""
     from .limits import check_size
@@ -290,6 +306,7 @@ def _check_complete(path):
             head = handle.read(4096)
     except OSError as error:   # missing, a folder, no read permission: PermissionError out of the API
         raise InputError(f"{path}: cannot read the Universal File ({error.strerror or error})") from None
+    _not_wide_text(head, path)
     if b"\0" in head or b"58b" in head.lower():
         return  # binary 58b sets: pyuff checks their byte counts
     with open(path, encoding="latin-1") as handle:

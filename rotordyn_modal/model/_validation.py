@@ -99,6 +99,7 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
     sensors = [reuse.part("sensors", i, t.data, names_kept and reuse.same_carriers(bearings) and not shafts)
                or _sensor(t, rotor_tables, on_bearings, shafts)
                for i, t in enumerate(_named_tables(source, data, "sensors").values())]
+    _no_axial_probe_reading_zero(_named_tables(source, data, "sensors"), sensors, bearings, spin_axis)
     excitations = [reuse.part("excitations", i, t.data, names_kept and not shafts)
                    or _excitation(t, rotor_tables, shafts)
                    for i, t in enumerate(_named_tables(source, data, "excitations").values())]
@@ -611,6 +612,22 @@ def _sensor(table: _Table, rotor_names, on_bearings, shafts=None) -> Sensor:
     position = _station(table, rotor, shafts, required=True)
     return Sensor(name=table.data["name"], position=position,
                   direction=direction / np.linalg.norm(direction), rotor=rotor, measure=measure)
+
+
+def _no_axial_probe_reading_zero(tables: dict, sensors, bearings, spin_axis) -> None:
+    """Refuse a relative sensor along the spin axis of a rotor no bearing holds axially: such a
+    rotor follows the stator along its axis (it has no axial coordinate), so the probe read 0 at
+    every frequency and speed (FRFs and unbalance responses of exact zeros, without a word)."""
+    e = np.asarray(spin_axis, dtype=float) / np.linalg.norm(spin_axis)
+    held = {b.rotor for b in bearings if b.coefficients.axial}
+    for table, sensor in zip(tables.values(), sensors):
+        if sensor.measure == "relative" and sensor.rotor not in held \
+                and abs(float(np.dot(sensor.direction, e))) > 1.0 - 1e-9:
+            raise table.error("direction", table.data["direction"],
+                              f"a direction across the spin axis: rotor {sensor.rotor!r} has no axial coordinate (no "
+                              "bearing of it gives axial_stiffness), it follows the stator along the axis, so a "
+                              "relative sensor along it reads 0; give a bearing axial_stiffness, or measure "
+                              "= 'absolute'")
 
 
 def _station(table: _Table, rotor, shafts, required: bool):

@@ -856,17 +856,17 @@ def _overlap(a, b, gap_u, gap_v):
     return a[0] < b[2] + gap_u and b[0] < a[2] + gap_u and a[1] < b[3] + gap_v and b[1] < a[3] + gap_v
 
 
-def exits_of_orders(orders, lines, x_limits, top, per_x, bottom=0.0, to_axes=None):
-    """:class:`EdgeLabel` of every order line ``f = order multiplier |x| per_x``.
+def exits_of_orders(orders, lines, slopes, x_limits, top, bottom=0.0, to_axes=None):
+    """:class:`EdgeLabel` of every order line ``f = slope |x|``.
 
-    ``lines`` is a list of (name, multiplier, colour), one per source; ``per_x`` turns a
-    plotted speed into Hz per unit of order and multiplier; ``bottom`` and ``to_axes`` as
+    ``lines`` is a list of (name, multiplier, colour), one per source; ``slopes[i][o]`` the
+    slope of line ``i``'s order ``orders[o]`` [Hz per unit of the plotted speed]; ``bottom`` and ``to_axes`` as
     for :func:`line_exit`. Lines of several sources that coincide (twin rotors at one speed,
     a rotor's 2X on another's 1X) get one label naming them all, in the colour of the one
     drawn last (on top, the one seen): ``1X upper, lower``, ``2X motor = 1X fan``.
     """
     labels = []
-    for slope, members in _coinciding_orders(orders, lines, per_x):
+    for slope, members in _coinciding_orders(orders, lines, slopes):
         exit_ = line_exit(slope, x_limits, top, bottom, to_axes)
         if exit_ is not None:
             path = _line_path(slope, x_limits, top, bottom, to_axes, exit_[3])
@@ -906,13 +906,13 @@ def _down_from_top(path):
     return tuple((float(u), v) for u, v in zip(_u_at_heights(path, heights), heights) if np.isfinite(u))
 
 
-def _coinciding_orders(orders, lines, per_x):
+def _coinciding_orders(orders, lines, slopes):
     """``[(slope, [(order, name, colour), ...]), ...]``: the order lines in the order they are
     drawn (source by source, order by order), those of one slope (to 1e-9) together."""
     groups = []
-    for name, multiplier, color in lines:
-        for order in orders:
-            slope = float(np.abs(order * multiplier * per_x))
+    for (name, _, color), line_slopes in zip(lines, slopes):
+        for order, slope in zip(orders, line_slopes):
+            slope = float(np.abs(slope))
             same = [g for g in groups if np.isclose(g[0], slope, rtol=1e-9, atol=0.0)]
             if same:
                 same[0][1].append((order, name, color))

@@ -25,8 +25,6 @@ _FONT = "x-small"
 _MAX_CRITICAL_LABELS = 200
 #: leader lines of the mode labels beside the axes: horizontal stub, then slanted to the label [points]
 _STUB_POINTS, _LEADER_POINTS, _PAD_POINTS = 2.0, 10.0, 2.0
-#: a real part above this fraction of its root's size is instability (damping ratio < -1e-10)
-_MARGINAL = 1e-10
 _UNSTABLE = {"color": "red", "alpha": 0.35, "linewidth": 7.0, "solid_capstyle": "butt"}
 #: critical speeds' labels side by side keep this far apart [points], more than a digit's width,
 #: so that two numbers never read as one ('1157' beside '2313' read '11572313')
@@ -110,11 +108,12 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     fig, ax = new_figure(ax)
     scale = speed_scale(speed_unit)
     x = result.speeds * scale
+    curves = _Curves(result, scale, axis_scale == "log")
     if color_by:
-        _show_coincident_coloured(fig, ax, *_draw_coloured(ax, fig, x, freqs, result, color_by))
+        _show_coincident_coloured(fig, ax, curves, _draw_coloured(ax, fig, curves, result, color_by))
     else:
-        _show_coincident(fig, ax, _draw_by_whirl(ax, x, freqs, result))
-    _mark_unstable(ax, x, freqs, result.eigenvalues)
+        _show_coincident(fig, ax, _draw_by_whirl(ax, curves, result))
+    _mark_unstable(ax, curves, result, scale)
     lines = _order_lines(result, sources)
     _draw_orders(ax, result, scale, lines, axis_scale == "log")
     critical = _draw_critical(ax, result, scale, sources)
@@ -129,11 +128,13 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     if axis_scale == "log":
         ax.grid(True, which="minor", alpha=0.1)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), fontsize="small", ncols=4, frameon=False)
-    labels = _CampbellLabels(ax, x, freqs, result, lines, 1 / (2 * np.pi * scale), critical[:2],
-                             annotate_critical, color_by is None)
+    slopes = result.order_slopes(scale)[_drawn_sources(result, lines)]      # [Hz per unit of the axis]
+    labels = _CampbellLabels(ax, curves, freqs, result, lines, slopes, critical[:2], annotate_critical,
+                             color_by is None)
     labels.critical_modes, labels.speed_unit = critical[2], _UNIT_WORDS[speed_unit]
     labels.mark_uncertain(critical[3])
-    if annotate_critical and not len(result.critical) and lines and not _crosses(result, lines, freqs):
+    if annotate_critical and not len(result.critical) and lines \
+            and not result.order_crossings[_drawn_sources(result, lines)].any():
         labels.none_note = labels._text(f"no critical speed between {_speed_text(x.min())} and "
                                         f"{_speed_text(x.max())} {_UNIT_WORDS[speed_unit]}", gid="no-critical-note",
                                         fontsize="x-small")
@@ -202,12 +203,66 @@ def _checked_range(freq_range):
     return low, high
 
 
-def _draw_by_whirl(ax, x, freqs, result):
+class _Curves:
+    """The modes' curves as drawn, on one set of speeds: the sweep's with every mode's critical
+    speeds among them (:meth:`~rotordyn_modal.analysis.campbell.CampbellResult.mode_curves`), so
+    that each curve passes through its critical speeds' markers and curves lying on each other
+    share their samples (:func:`._overlap.show_overlaps`).
+
+    At another mode's critical speed a curve has its point on its chord as drawn (straight in
+    display space: linear in frequency, or geometric on a logarithmic axis): it is drawn as
+    without that point.
+
+    Attributes
+    ----------
+    x : ndarray, shape (K,)
+        Speeds [axis unit].
+    f : ndarray, shape (K, n_modes)
+        Frequencies [Hz] (NaN where no mode).
+    index : ndarray of int, shape (K,)
+        The sweep's speed at or before each point.
+    inserted : ndarray of bool, shape (K,)
+        The point is no speed of the sweep.
+    """
+
+    def __init__(self, result, scale, log):
+        sweep = result.speeds
+        frequencies = np.where(result.oscillatory, result.frequencies_hz, np.nan)
+        curves = result.mode_curves()
+        speeds = np.union1d(sweep, np.concatenate([c[0] for c in curves] + [sweep]))
+        self.index = np.searchsorted(sweep, speeds, side="right") - 1
+        self.inserted = speeds != sweep[self.index]
+        self.x = speeds * scale
+        self.f = frequencies[self.index]
+        if self.inserted.any():
+            k = self.index[self.inserted]
+            after = np.minimum(k + 1, len(sweep) - 1)
+            t = ((speeds[self.inserted] - sweep[k]) / (sweep[after] - sweep[k]))[:, None]
+            low, high = frequencies[k], frequencies[after]
+            with np.errstate(all="ignore"):
+                self.f[self.inserted] = low * (high / low) ** t if log else low + t * (high - low)
+            for m, (at, values, _) in enumerate(curves):
+                own = at != sweep[np.searchsorted(sweep, at, side="right") - 1]
+                self.f[np.searchsorted(speeds, at[own]), m] = values[own]
+
+    def mask(self, mask):
+        """``mask`` (shape (N,), over the sweep's speeds) on the points: an inserted point where
+        both its neighbours of the sweep are (the segment it splits is drawn)."""
+        after = mask[np.minimum(self.index + 1, len(mask) - 1)]
+        return np.where(self.inserted, mask[self.index] & after, mask[self.index])
+
+    def segment_values(self, values):
+        """Each segment between the points: the mean of ``values`` (shape (N,)) at the ends of the
+        sweep's segment it lies on."""
+        k = np.minimum(self.index[:-1], len(values) - 2)
+        return 0.5 * (values[k] + values[k + 1])
+
+
+def _draw_by_whirl(ax, curves, result):
     """Each mode's curve, one line per whirl direction (NaN elsewhere); returns the lines in
     drawing order."""
-    drawn, curves = set(), []
+    drawn, lines = set(), []
     for m in range(len(result.modes)):
-        f = freqs[:, m]
         for whirl, style in WHIRL_STYLE.items():
             mask = _with_neighbours(result.whirl[:, m] == whirl)
             if not mask.any():
@@ -216,8 +271,9 @@ def _draw_by_whirl(ax, x, freqs, result):
             if whirl in drawn:
                 kwargs.pop("label")
             drawn.add(whirl)
-            curves += ax.plot(x, np.where(mask, f, np.nan), linewidth=1.6, **kwargs)
-    return curves
+            lines += ax.plot(curves.x, np.where(curves.mask(mask), curves.f[:, m], np.nan), linewidth=1.6,
+                             **kwargs)
+    return lines
 
 
 def _show_coincident(fig, ax, curves):
@@ -242,16 +298,15 @@ def _with_neighbours(mask):
     return out
 
 
-def _draw_coloured(ax, fig, x, freqs, result, quantity):
-    """Each mode's curve coloured by ``quantity`` along it; returns ``(x, freqs, collections)``
-    (one LineCollection per mode)."""
+def _draw_coloured(ax, fig, curves, result, quantity):
+    """Each mode's curve coloured by ``quantity`` along it; returns the collections (one
+    LineCollection per mode)."""
     from matplotlib.collections import LineCollection
 
-    values = {"log_decrement": result.log_decrements, "damping_ratio": result.damping_ratios}[quantity]
     # an undamped mode's log decrement is round-off (+-2e-15 on the spring-block rotor): 0, as the
     # red band reads it (:func:`_mark_unstable`); its noise spread over the whole colour map read
     # as damping varying along the curves, half of it below zero
-    values = np.where(np.abs(result.eigenvalues.real) <= _MARGINAL * np.abs(result.eigenvalues), 0.0, values)
+    values = result.settled(quantity)
     finite = values[np.isfinite(values) & result.oscillatory]
     norm_range = (finite.min(), finite.max()) if finite.size else (0, 1)
     if norm_range[1] <= norm_range[0]:                  # one value (0: an undamped machine)
@@ -261,17 +316,17 @@ def _draw_coloured(ax, fig, x, freqs, result, quantity):
     norm = mcolors.Normalize(*norm_range)
     collections = []
     for m in range(len(result.modes)):
-        points = np.stack([x, freqs[:, m]], axis=1)
+        points = np.stack([curves.x, curves.f[:, m]], axis=1)
         segments = np.stack([points[:-1], points[1:]], axis=1)
         lines = LineCollection(segments, cmap="viridis", norm=norm, linewidth=2.0)
-        lines.set_array(0.5 * (values[:-1, m] + values[1:, m]))
+        lines.set_array(curves.segment_values(values[:, m]))
         ax.add_collection(lines)
         collections.append(lines)
     fig.colorbar(lines, ax=ax, label=quantity.replace("_", " ") + " (red band: unstable)")
-    return x, freqs, collections
+    return collections
 
 
-def _show_coincident_coloured(fig, ax, x, freqs, collections):
+def _show_coincident_coloured(fig, ax, curves, collections):
     """Coloured mode curves that lie on each other drawn there in turn (as
     :func:`_show_coincident`), each dash in its curve's colour at that speed: the stretches are
     found on an invisible stand-in line of each curve, and each dashed stretch drawn is redrawn
@@ -285,7 +340,7 @@ def _show_coincident_coloured(fig, ax, x, freqs, collections):
     width = collections[0].get_linewidth()[0]
     stand_ins, lines = {}, []
     for m, collection in enumerate(collections):
-        lines += ax.plot(x, freqs[:, m], color=f"#{m + 1:06x}", linewidth=width, visible=False, label="_nolegend_")
+        lines += ax.plot(curves.x, curves.f[:, m], color=f"#{m + 1:06x}", linewidth=width, visible=False, label="_nolegend_")
         stand_ins[lines[-1].get_color()] = collection
 
     def show():
@@ -329,27 +384,23 @@ def _first_segment(collection, point):
     return int(np.argmin(np.nan_to_num(np.hypot(*(starts - point).T), nan=np.inf)))
 
 
-def _mark_unstable(ax, x, freqs, eigenvalues):
-    """A broad red band under each mode where its real part is > 0; a triangle at each onset.
-
-    A real part within :data:`_MARGINAL` of the root's size is round-off of an undamped mode,
-    not instability. The onset's speed and frequency are interpolated linearly between the
-    two speeds where the real part changes sign from <= 0 to > 0.
-    """
-    real_parts = eigenvalues.real
-    unstable = (real_parts > _MARGINAL * np.abs(eigenvalues)) & np.isfinite(freqs)
+def _mark_unstable(ax, curves, result, scale):
+    """A broad red band under each mode where it is unstable
+    (:attr:`~rotordyn_modal.analysis.campbell.CampbellResult.unstable`); a triangle at each onset
+    (:meth:`~rotordyn_modal.analysis.campbell.CampbellResult.instability_onsets`)."""
+    unstable = result.unstable
     if not unstable.any():
         return
     band_label, onset_label = "unstable (real part > 0)", "becomes unstable"
+    onsets = result.instability_onsets()
     for m in np.nonzero(unstable.any(axis=0))[0]:
-        f, r = freqs[:, m], real_parts[:, m]
-        ax.plot(x, np.where(_with_neighbours(unstable[:, m]), f, np.nan), label=band_label, zorder=1.5,
+        ax.plot(curves.x, np.where(curves.mask(_with_neighbours(unstable[:, m])), curves.f[:, m], np.nan),
+                label=band_label, zorder=1.5,
                 **_UNSTABLE)
         band_label = None
-        k = np.nonzero(~unstable[:-1, m] & unstable[1:, m] & np.isfinite(f[:-1]))[0]
-        if k.size:
-            t = -r[k] / (r[k + 1] - r[k])
-            ax.plot(x[k] + t * (x[k + 1] - x[k]), f[k] + t * (f[k + 1] - f[k]), "^", color="red",
+        speeds, frequencies = onsets[m]
+        if speeds.size:
+            ax.plot(speeds * scale, frequencies, "^", color="red",
                     markersize=8, markeredgecolor="k", label=onset_label, zorder=3.5)
             onset_label = None
 
@@ -364,17 +415,25 @@ def _order_lines(result, sources):
             if sources is None or name in sources]
 
 
+def _drawn_sources(result, lines):
+    """Indices into ``result.sources`` of the sources of ``lines`` (:func:`_order_lines`)."""
+    drawn = {name for name, _, _ in lines}
+    return [s for s, name in enumerate(result.sources.names) if name in drawn]
+
+
 def _draw_orders(ax, result, scale, lines, dense):
-    """Straight order lines (labelled by :class:`_CampbellLabels` when the figure is drawn),
-    through the sweep's speeds; with ``dense`` (a logarithmic frequency axis) and 1025 more
+    """Straight order lines (:meth:`~rotordyn_modal.analysis.campbell.CampbellResult.order_frequencies`;
+    labelled by :class:`_CampbellLabels` when the figure is drawn), through the sweep's speeds;
+    with ``dense`` (a logarithmic frequency axis) and 1025 more
     across its range: there a line through the sweep's points alone is a polygon of chords (drawn straight in
     display space), up to tens of pixels off the true line and the critical speeds on it, and
     it starts at the first speed above zero."""
     speeds = np.union1d(result.speeds, np.linspace(result.speeds.min(), result.speeds.max(), 1025)) \
         if dense else result.speeds
-    for _, multiplier, color in lines:
-        for order in result.orders:
-            ax.plot(speeds * scale, order * multiplier * np.abs(speeds) / (2 * np.pi), color=color, linewidth=0.9, alpha=0.8)
+    frequencies = result.order_frequencies(speeds)
+    for (_, _, color), s in zip(lines, _drawn_sources(result, lines)):
+        for o in range(len(result.orders)):
+            ax.plot(speeds * scale, frequencies[s, o], color=color, linewidth=0.9, alpha=0.8)
 
 
 def _draw_critical(ax, result, scale, sources):
@@ -389,9 +448,7 @@ def _draw_critical(ax, result, scale, sources):
         return np.empty(0), np.empty(0), np.empty(0), np.zeros(0, bool)
     keep = np.array([sources is None or s in sources for s in critical.source], dtype=bool)
     uncertain = result.critical_jumps[keep]
-    multiplier = dict(zip(result.sources.names, result.sources.multipliers))
-    on_line = np.array([order * multiplier[name] for name, order in zip(critical.source, critical.order)],
-                       dtype=float) * np.abs(critical.speeds) / (2 * np.pi)
+    on_line = result.critical_line_frequencies
     speeds, freqs = critical.speeds[keep] * scale, np.where(uncertain, on_line[keep], critical.frequencies_hz[keep])
     first = _distinct_points(speeds, freqs)
     speeds, freqs, uncertain = speeds[first], freqs[first], uncertain[first]
@@ -402,19 +459,6 @@ def _draw_critical(ax, result, scale, sources):
                 markeredgecolor="0.4", zorder=3, gid="critical-uncertain",
                 label="critical speed? (mode jumped)")
     return speeds, freqs, np.asarray(critical.mode)[keep][first], uncertain
-
-
-def _crosses(result, lines, freqs):
-    """Whether some order line drawn meets some mode's curve in the sweep: the difference of
-    the two changes sign (or is 0) between neighbouring speeds where the mode is drawn."""
-    speeds = np.abs(result.speeds)[:, None]
-    for _, multiplier, _ in lines:
-        for order in result.orders:
-            gap = freqs - order * multiplier * speeds / (2 * np.pi)
-            with np.errstate(invalid="ignore"):
-                if np.any(gap[:-1] * gap[1:] <= 0) or np.any(gap == 0):
-                    return True
-    return False
 
 
 def _distinct_points(speeds, freqs):
@@ -441,9 +485,9 @@ class _CampbellLabels:
     and shows or hides them for the axes' current limits and size.
     """
 
-    def __init__(self, ax, x, freqs, result, lines, per_x, critical, annotate, by_whirl):
-        self.ax, self.x, self.freqs, self.result = ax, x, freqs, result
-        self.lines, self.per_x, self.by_whirl = lines, per_x, by_whirl
+    def __init__(self, ax, curves, freqs, result, lines, slopes, critical, annotate, by_whirl):
+        self.ax, self.curves_drawn, self.freqs, self.result = ax, curves, freqs, result
+        self.lines, self.slopes, self.by_whirl = lines, slopes, by_whirl
         self.critical = critical
         self.order_texts = [self._text("") for _ in range(len(lines) * len(result.orders))]
         # keys above the top edge of the lines that find no room inside the axes (outside the layout)
@@ -531,7 +575,7 @@ class _CampbellLabels:
     def _place_orders(self, renderer, placed):
         ax = self.ax
         bottom, top = ax.get_ylim()
-        exits = exits_of_orders(self.result.orders, self.lines, ax.get_xlim(), top, self.per_x, bottom,
+        exits = exits_of_orders(self.result.orders, self.lines, self.slopes, ax.get_xlim(), top, bottom,
                                 lambda x, f: tuple(self.to_axes((x, f))))
         taken = edge_label_boxes(ax, exits, _FONT, renderer, placed, self.curves, along=True)
         for text, item in zip(self.order_texts, taken + [None] * (len(self.order_texts) - len(taken))):
@@ -608,10 +652,10 @@ class _CampbellLabels:
         self._inside(renderer, inside, ends, placed, markers)
 
     def _visible_end(self, m):
-        """('right', v, k) where mode ``m``'s curve meets the right edge at height ``v`` (axes
-        fraction), ('inside', (u, v), k) at its last point inside the axes, or None; ``k`` is
-        the sample index nearest that end."""
-        x, f = self.x, self.freqs[:, m]
+        """('right', v, k) where mode ``m``'s curve (as drawn) meets the right edge at height
+        ``v`` (axes fraction), ('inside', (u, v), k) at its last point inside the axes, or None;
+        ``k`` is the sweep's speed at or before that end."""
+        x, f, index = self.curves_drawn.x, self.curves_drawn.f[:, m], self.curves_drawn.index
         (lo, hi), (bottom, top) = sorted(self.ax.get_xlim()), sorted(self.ax.get_ylim())
         finite = np.isfinite(f)
         k = int(np.searchsorted(x, hi, side="right")) - 1
@@ -621,12 +665,12 @@ class _CampbellLabels:
             else:
                 edge = f[k] if np.isclose(x[k], hi, rtol=0, atol=1e-9 * max(hi - lo, 1e-300)) else None
             if edge is not None and bottom <= edge <= top:
-                return "right", float(self.to_axes((hi, edge))[1]), k
+                return "right", float(self.to_axes((hi, edge))[1]), int(index[k])
         view = finite & (x >= lo) & (x <= hi) & (f >= bottom) & (f <= top)
         if not view.any():
             return None
         k = int(np.nonzero(view)[0][-1])
-        return "inside", tuple(float(c) for c in self.to_axes((x[k], f[k]))), k
+        return "inside", tuple(float(c) for c in self.to_axes((x[k], f[k]))), int(index[k])
 
     def _colour(self, m, k):
         if not self.by_whirl:

@@ -69,7 +69,7 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None, units:
     fig, mag, phase = _bode_axes(figsize=(9.5, 6.0))
     _draw_frfs(mag, phase, result, measured, pairs, lambda o, i: f"{o} / {i}", scale)
     mag.set_ylabel(f"|H| [{_UNITS.get(result.quantity, '') if units == 'si' else scale.label(pairs)}]")
-    phase.set_xlabel("Frequency [Hz]")
+    phase.set_xlabel(frequency_label(result.frequencies_hz, measured))
     mag.set_title(title or default)
     # beside, off the curves, or above the panel where wider than a fifth of the figure (as the
     # groups' legends); the overlaps of curves lying on each other are found at the first
@@ -162,7 +162,7 @@ def _plot_frf_groups(result, measured, groups, title, scale=None):
             ax.set_ylabel(f"|H| [{unit}]")
         phase.set_yticks([-180, -90, 0, 90, 180])
         phase.set_ylabel("Phase [deg]")
-        phase.set_xlabel("Frequency [Hz]")
+        phase.set_xlabel(frequency_label(result.frequencies_hz, measured))
         axes[0].set_title(name, fontsize="medium")
         drawn.extend(axes if measured is None else axes[:-1])   # measured dots share no samples
         placed.append((block, [_Legend(ax, "x-small", "line: model, dots: measured" if measured is not None else None)
@@ -320,11 +320,12 @@ def _show_frf_overlaps(fig, axes, result, placed, above):
     at_first_layout(fig, partial(_notes_and_legends, fig, axes, (result.frequencies_hz, "hz"), placed, above))
 
 
-def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0):
+def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0, samples=True):
     """Each pair's model line (and measured dots, same colour) on ``mag`` (log) and ``phase``
     (``scale(o, i)``: the factor on the SI FRF, default 1; ``first``: the number of the first
     pair's style, so that a phase panel shared with another magnitude panel's curves gives
-    every curve a style of its own). An FRF below :data:`_DYNAMIC_RANGE`
+    every curve a style of its own; ``samples``: without measured dots, the computed
+    frequencies dotted where sparse on a logarithmic axis, :func:`frequency_label`). An FRF below :data:`_DYNAMIC_RANGE`
     of the largest everywhere (zero but for round-off, by symmetry) is named so in the legend
     and has no phase drawn (the phase of round-off is noise)."""
     largest = max((float(np.max(np.abs(result.H[result.outputs.index(o), result.inputs.index(i)])))
@@ -343,10 +344,49 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0):
             phase.plot(measured.frequencies_hz, _phase_beside(np.degrees(np.angle(hm)), measured.frequencies_hz,
                                                                phase_values, result.frequencies_hz),
                        ".", ms=2.5, color=colour, alpha=0.5)
-        mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=name)
+        sparse = _sparse_on_log(result.frequencies_hz) if measured is None and samples else None
+        mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=name,
+                     **({} if sparse is None else {"marker": ".", "ms": 3, "markevery": sparse}))
         phase.plot(*_broken_at_wraps(result.frequencies_hz, phase_values), color=colour, ls=style, lw=0.9)
     _limit_range(mag)
     _frequency_scale(mag, result.frequencies_hz)
+
+
+#: on a logarithmic frequency axis, computed frequencies farther apart than this ratio (30 per
+#: decade: about 10 pixels of a figure's decade) are dotted: the line between them is a chord,
+#: which may cut a resonance's peak (an evenly spaced grid over decades: the mounts' modes at
+#: 5-15 Hz drawn through points 2.5 Hz apart)
+_SPARSE_RATIO = 10.0 ** (1.0 / 30.0)
+
+
+def frequency_label(frequencies, measured=None) -> str:
+    """The frequency axis' label: where the model lines are dotted (:func:`_sparse_on_log`,
+    no measured dots), it says what the dots are (in the label, where the legend's size and the
+    panels' layout stay as they are)."""
+    sparse = None if measured is not None else _sparse_on_log(frequencies)
+    if sparse is None:
+        return "Frequency [Hz]"
+    top = np.asarray(frequencies, float)[sparse].max()
+    return f"Frequency [Hz]  (dots: the frequencies computed, sparse up to {top:.3g} Hz: chords between them)"
+
+
+def _sparse_on_log(frequencies):
+    """Which of ``frequencies`` [Hz] to dot, shape (F,) bool: those next to a neighbour more than
+    :data:`_SPARSE_RATIO` times away, where the axis is logarithmic (:func:`_frequency_scale`);
+    None where none is (or the axis is linear)."""
+    from .campbell import LOG_SPAN
+
+    f = np.asarray(frequencies, float)
+    if f.size < 2 or not np.all(np.isfinite(f)) or f.min() <= 0 or f.max() <= LOG_SPAN * f.min():
+        return None
+    low, high = np.minimum(f[:-1], f[1:]), np.maximum(f[:-1], f[1:])
+    apart = high > _SPARSE_RATIO * low
+    if not apart.any():
+        return None
+    dots = np.zeros(f.size, bool)
+    dots[:-1] |= apart
+    dots[1:] |= apart
+    return dots
 
 
 #: degrees a measured phase may stand beyond +-180 to lie beside its model line (the phase
@@ -425,7 +465,7 @@ def plot_overlay(models, measured, title: str | None = None, units: str = "si", 
     unit = _UNITS.get(models[0].quantity, "") if units == "si" else scale.label(pairs)
     for block, model, meas in zip(blocks, models, measured):
         mag, phase = block.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [2, 1]})
-        _draw_frfs(mag, phase, model, meas, pairs, lambda o, i: f"{o} / {i}", scale)
+        _draw_frfs(mag, phase, model, meas, pairs, lambda o, i: f"{o} / {i}", scale, samples=False)
         mag.set_ylabel(f"|H| [{unit}]")
         mag.set_title(f"at {model.speed * 30 / np.pi:.0f} rpm", fontsize="medium")
         mag.legend(fontsize="x-small", title="model (line), measured (dots)", title_fontsize="x-small",
@@ -815,7 +855,7 @@ def _draw_force_panel(ax, result, names, values, x, factor=1.0, words="0-peak", 
     styles = ["-", "--", ":", "-."]
     for m, name in enumerate(names):
         for j, s in enumerate(result.sources):
-            size = np.sqrt(np.sum(np.abs(values[m, :3, j]) ** 2, axis=0))
+            size = result.vector_amplitude(values[m, :3, j])
             ax.semilogy(x, np.where(size > 0, size * factor, np.nan), color=f"C{m % 10}", ls=styles[j % len(styles)],
                         label=f"{name}: 1X {s}")
     _limit_range(ax)

@@ -70,9 +70,10 @@ def campbell_figure(result, speed_unit: str = "rpm", title: str | None = None):
 
 
 def _orders(go, fig, result, x, top, unit):
-    for i, (name, multiplier) in enumerate(zip(result.sources.names, result.sources.multipliers)):
-        for order in result.orders:
-            f = order * multiplier * np.abs(result.speeds) / (2 * np.pi)
+    lines = result.order_frequencies()
+    for i, name in enumerate(result.sources.names):
+        for o, order in enumerate(result.orders):
+            f = lines[i, o]
             fig.add_trace(go.Scatter(
                 x=x, y=np.where(f <= top, f, np.nan), mode="lines", name=f"{order:g}X {name}",
                 line={"color": _ORDER_COLOURS[i % len(_ORDER_COLOURS)], "width": 1, "dash": "dot"},

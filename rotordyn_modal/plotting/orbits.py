@@ -53,10 +53,8 @@ def _draw_orbit(ax, result, p, s, chosen, scale, unit):
     from matplotlib.ticker import MaxNLocator
 
     pair = result.orbit_pairs[p]
-    phase = np.linspace(0, 2 * np.pi, 181)
     for n, k in enumerate(chosen):
-        plane = result.orbit_planes[p, s, k] * scale
-        path = np.real(plane[:, None] * np.exp(1j * phase))
+        path = result.orbit_path(p, s, k) * scale
         colour = f"C{n % 10}"
         ax.plot(path[0], path[1], color=colour, label=f"{result.speeds[k] * 30 / np.pi:.0f} rpm")
         ax.plot(path[0, 0], path[1, 0], "o", color=colour, ms=5)      # keyphasor: t = 0

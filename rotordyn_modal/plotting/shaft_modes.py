@@ -87,7 +87,7 @@ def _panel(ax, view, colours, relative, factor=1.0):
         u = line.relative / (largest or 1.0) if relative else line.displacement
         z = line.position * factor
         ax.plot([z[0], z[-1]], [0.0, 0.0], color="0.6", linewidth=0.8, gid=f"axis:{line.rotor}")
-        reach = _excursion(u)
+        reach = line.relative_excursion / (largest or 1.0) if relative else line.excursion
         ax.fill_between(z, -reach, reach, color=c, alpha=0.12, linewidth=0, gid=f"envelope:{line.rotor}")
         ax.plot(z, u[0].real, color=c, linewidth=1.6, gid=f"line-a:{line.rotor}")
         ax.plot(z, u[1].real, color=c, linewidth=1.3, linestyle="--", gid=f"line-b:{line.rotor}")
@@ -151,12 +151,6 @@ def _spread(ax, names, renderer):
         offset = ((centre - anchor) / per_point, name.xyann[1])
         if not np.allclose(offset, name.xyann):
             name.xyann = offset
-
-
-def _excursion(u):
-    """Largest distance from the axis over a period of the orbit ``Re(u exp(i phi))``: its
-    semi-major axis ``sqrt((|u_a|^2 + |u_b|^2 + |u_a^2 + u_b^2|) / 2)``."""
-    return np.sqrt(0.5 * (np.abs(u[0]) ** 2 + np.abs(u[1]) ** 2 + np.abs(u[0] ** 2 + u[1] ** 2)))
 
 
 def _legend(fig, view, colours, columns):

@@ -272,7 +272,7 @@ def _draw_displaced(ax, flat, view, phase):
         _polyline(ax, flat, _edges(body, points), f"displaced:{body.name}", color=colour,
                   linewidth=2.2 if body.kind == "shaft" else 1.4)
         if body.kind not in ("outline", "shaft", "rod"):
-            faces = Poly3DCollection([points[list(face)] for face in body.faces], facecolor=colour,
+            faces = Poly3DCollection(_padded_faces(points, body.faces), facecolor=colour,
                                      alpha=0.15 if body.kind == "stator" else 0.35, edgecolor="none")
             faces.set_gid(f"displaced-faces:{body.name}")
             ax.add_collection3d(faces, autolim=False)
@@ -285,6 +285,21 @@ def _draw_displaced(ax, flat, view, phase):
                   linewidth=1.0)
     for arrow, (tail, tip) in zip(view.outline.arrows, _arrow_segments(view, phase)):
         _arrow(ax, [], tail, tip - tail, f"displaced-arrow:{arrow.name}", _ARROW_COLOURS[arrow.kind])
+
+
+def _padded_faces(points, faces):
+    """The polygons ``faces`` (vertex indices) of ``points`` (n, 3) [m] as one array (F, V, 3), a
+    shorter polygon's last vertex repeated up to the longest's V (a repeated vertex draws
+    nothing).
+
+    Given polygons of different lengths (a cylinder's quadrilateral sides and its many-sided
+    ends), mplot3d's ``Poly3DCollection`` pads them itself into an array made by ``np.empty``:
+    the padding holds whatever that memory held before, and its projection (``np.dot`` of the
+    view matrix with every vertex, padding included, under ``errstate`` for invalid values and
+    division only) raised 'RuntimeWarning: overflow encountered in dot' where a previous
+    computation had left huge numbers there (issue 27: seen in one run of the suite only)."""
+    longest = max(len(face) for face in faces)
+    return np.stack([points[list(face) + [face[-1]] * (longest - len(face))] for face in faces])
 
 
 def _arrow_segments(view, phase):

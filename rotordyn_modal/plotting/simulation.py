@@ -35,6 +35,7 @@ def plot_simulation(result, title: str | None = None, units: str = "si"):
     _draw_spin(axes[1, 0], result)
     _draw_energy(axes[1, 1], result)
     fig.suptitle(title or result.model_name or "Simulation")
+    _place_notes(fig)
     return fig
 
 
@@ -64,16 +65,18 @@ def _length_unit(largest):
 
 def _draw_frame_motion(ax, result, scale=None):
     """The stator's (or carrier's) transverse rotation and translation (``scale``: (factor,
-    unit), or None: µm, mm or m by the largest), and each rotor on bearings' tilt in them."""
+    unit), or None: µm, mm or m by the largest), and each rotor on bearings' tilt in them.
+    Without a stator the bearings stand on the ground, which does not move: the panel draws the
+    rotors' tilts alone and says so in a line inside it (:func:`_draw_ground`)."""
+    if getattr(result, "frame", "stator") == "ground":
+        _draw_ground(ax, result)
+        return
     t = result.time
     lines = []
     if result.displacement.any() or not result.rotor_tilts.any():
         gamma = np.degrees(np.linalg.norm(result.gamma, axis=1))
         lines += ax.plot(t, gamma, label=_zero_note("|γ| transverse rotation [deg]", gamma))
-    for j, name in enumerate(result.rotor_names):
-        if result.rotor_tilts[:, j].any():
-            lines += ax.plot(t, np.degrees(np.linalg.norm(result.rotor_tilts[:, j], axis=1)), lw=0.8,
-                             label=f"|γ| {name} in its bearings [deg]")
+    lines += _draw_tilts(ax, result, every=False)
     translation = bool(result.displacement.any() or not result.rotor_tilts.any())
     # the title names what the panel draws (a machine without a stator: rotations only)
     ax.set(xlabel="Time [s]", ylabel="Rotation [deg]",
@@ -88,6 +91,63 @@ def _draw_frame_motion(ax, result, scale=None):
     _legend_below(ax, lines)
 
 
+#: the line inside the time-history panel of a machine whose bearings stand on the ground
+GROUND_NOTE = "ground (no stator): fixed"
+
+
+def _draw_tilts(ax, result, every):
+    """Each rotor on bearings' tilt in them [deg] against time: the rotors that tilt, or
+    ``every`` rotor (a tilt zero throughout said so in its legend entry); returns the lines."""
+    lines = []
+    for j, name in enumerate(result.rotor_names):
+        tilt = np.degrees(np.linalg.norm(result.rotor_tilts[:, j], axis=1))
+        if every or tilt.any():
+            lines += ax.plot(result.time, tilt, lw=0.8, label=_zero_note(f"|γ| {name} in its bearings [deg]", tilt))
+    return lines
+
+
+def _draw_ground(ax, result):
+    """The panel of a machine without a stator: its frame is the ground, fixed (its rotation
+    and translation, zero by definition, are not drawn); each rotor's tilt in its bearings, and
+    :data:`GROUND_NOTE` inside the axes."""
+    lines = _draw_tilts(ax, result, every=True)
+    ax.set(xlabel="Time [s]", ylabel="Rotation [deg]", title="Transverse rotation of the rotors in their bearings")
+    _note(ax, GROUND_NOTE)
+    _legend_below(ax, lines)
+
+
+def _note(ax, text):
+    """A line of text inside ``ax`` (``gid='panel-note'``), placed clear of the curves by
+    :func:`_place_notes` once the figure is laid out."""
+    ax.text(0.02, 0.97, text, transform=ax.transAxes, ha="left", va="top", fontsize="small",
+            gid="panel-note", bbox={"boxstyle": "round,pad=0.3", "fc": "white", "ec": "0.6"})
+
+
+def _place_notes(fig):
+    """Move each panel's note (:func:`_note`) to the first corner of its axes where no curve runs
+    under it (upper left, upper right, lower left, lower right); where every corner is crossed,
+    raise the top of the axes by the note's height and keep it in the upper left."""
+    from ._labels import CurveMap, laid_out_renderer
+
+    noted = [(ax, t) for ax in fig.axes for t in ax.texts if t.get_gid() == "panel-note"]
+    if not noted:
+        return
+    renderer = laid_out_renderer(fig)
+    for ax, note in noted:
+        curves = CurveMap(ax, renderer)
+        for x, y, ha, va in ((0.02, 0.97, "left", "top"), (0.98, 0.97, "right", "top"),
+                             (0.02, 0.03, "left", "bottom"), (0.98, 0.03, "right", "bottom")):
+            note.set(x=x, y=y, ha=ha, va=va)
+            box = note.get_window_extent(renderer)
+            if curves.free((box.x0, box.y0, box.x1, box.y1)):
+                break
+        else:
+            note.set(x=0.02, y=0.97, ha="left", va="top")
+            low, high = ax.get_ylim()
+            share = min((note.get_window_extent(renderer).height + 12.0) / ax.get_window_extent(renderer).height, 0.5)
+            ax.set_ylim(low, high + (high - low) * share / (1.0 - share))
+
+
 def _zero_note(label, values):
     """``label``, saying '0 throughout' where ``values`` are all zero: such curves lie on each
     other along the zero line, where only the last drawn shows."""
@@ -95,9 +155,17 @@ def _zero_note(label, values):
 
 
 def _draw_spin(ax, result):
-    ax.plot(result.time, result.spin_speed - result.spin_speed[0])
+    """The reference rotor's axial angular velocity less its start; where that is zero
+    throughout, a line inside the panel says so, and why where the cause is known (an ideal
+    drive on the fixed ground: no roll of a stator adds to the held speed)."""
+    deviation = result.spin_speed - result.spin_speed[0]
+    ax.plot(result.time, deviation)
     ax.set(xlabel="Time [s]", ylabel="ω_φ − ω_φ(0) [rad/s]",
            title=f"Axial angular velocity deviation (ω_φ(0) = {result.spin_speed[0]:.4g} rad/s)")
+    if not np.any(deviation):
+        held = getattr(result, "frame", "stator") == "ground" and getattr(result, "drive", "") == "constant"
+        _note(ax, "0 throughout: the drive holds the speed, on the fixed ground (no stator)" if held
+              else "0 throughout")
 
 
 def _draw_energy(ax, result):
@@ -152,12 +220,13 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     ax.plot(result.drive_speed * rpm, result.sensor(sensor) * scale, lw=0.5)
     ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor} [{unit}]", title="Sensor during the run-up")
     amplitude_ax, phase_ax = axes[0, 1], axes[1, 0]
+    notes = []
     for rotor in result.rotor_names:
         track = order_track(result, sensor, rotor=rotor)
         amplitude_ax.plot(track.speeds * rpm, track.amplitude * scale, ".-", ms=3, label=f"1X {rotor}")
-        phase_ax.plot(track.speeds * rpm, np.degrees(np.unwrap(np.radians(track.phase_deg))), ".-", ms=3,
-                      label=f"1X {rotor}")
-    amplitude_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X amplitude [{unit}]",
+        drawn = phase_ax.plot(track.speeds * rpm, _unwrapped_deg(track.phase_deg), ".-", ms=3, label=f"1X {rotor}")
+        notes += _unknown_phase_note(track, result.rotor_names, drawn[0].get_color())
+    amplitude_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X amplitude, 0-peak [{unit}]",
                      title="Order-tracked amplitude")
     phase_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X phase, unwrapped [deg]",
                  title="Order-tracked phase")
@@ -167,7 +236,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     for axis in (amplitude_ax, phase_ax):
         # below the axes: placed 'best' inside, the critical speeds' lines drawn after it (which
         # cross every place) drove it onto the tracks
-        _legend_below(axis, axis.get_lines())
+        _legend_below(axis, axis.get_lines() + (notes if axis is phase_ax else []))
         axis.set_xlim(axes[0, 0].get_xlim())            # the run's speeds, as the signal's panel
     _draw_waterfall(fig, axes[1, 1], waterfall(result, sensor, segments=segments), result, critical, sensor,
                     (scale, unit))
@@ -178,6 +247,32 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
                 axis.axvline(speed * rpm, color="tab:red", lw=0.7, ls="--", label="_critical")
         _label_critical_lines([amplitude_ax, phase_ax, axes[0, 0]], critical, laid_out_renderer(fig))
     return fig
+
+
+def _unwrapped_deg(phase_deg):
+    """The phase [deg] unwrapped over its known (finite) samples, NaN where unknown: the line
+    breaks there."""
+    phase = np.asarray(phase_deg, dtype=float)
+    out = np.full(phase.shape, np.nan)
+    known = np.isfinite(phase)
+    out[known] = np.degrees(np.unwrap(np.radians(phase[known])))
+    return out
+
+
+def _unknown_phase_note(track, rotors, color):
+    """A legend entry (a handle of no line) saying at how many speeds the track's phase is not
+    drawn and why (the other rotors' same order leaks through the window: ``OrderTrack``),
+    or no entry where every phase is known."""
+    from matplotlib.lines import Line2D
+
+    unknown = int(np.count_nonzero(~np.isfinite(track.phase_deg)))
+    if not unknown:
+        return []
+    others = ", ".join(f"{track.order:g}X {name}" for name in rotors if name != track.rotor)
+    where = "throughout" if unknown == len(track.phase_deg) else f"at {unknown} of {len(track.phase_deg)} speeds"
+    text = (f"{track.order:g}X {track.rotor}: phase unknown {where}, not drawn:\n"
+            f"its amplitude is under 2x the leakage of {others}")
+    return [Line2D([], [], ls="none", marker="x", color=color, label=text)]
 
 
 def _span(ax) -> float:
@@ -202,7 +297,7 @@ def _draw_waterfall(fig, ax, fall, result, critical, sensor, shown=(1e6, "µm"))
     top = np.nanmax(values) if values.size and np.nanmax(values) > 0 else 1.0
     image = ax.pcolormesh(fall.frequencies_hz, fall.speeds * rpm, np.maximum(values, top * _WATERFALL_FLOOR),
                           shading="nearest", cmap="viridis", norm=LogNorm(top * _WATERFALL_FLOOR, top))
-    fig.colorbar(image, ax=ax, label=f"{sensor}, amplitude [{shown[1]}]")
+    fig.colorbar(image, ax=ax, label=f"{sensor}, amplitude, 0-peak [{shown[1]}]")
     ax.set(xlabel="Frequency [Hz]", ylabel="Speed of the reference rotor [rpm]", title="Waterfall",
            xlim=(0, _waterfall_limit(fall, critical)))
     if critical is not None and len(critical):

@@ -63,12 +63,12 @@ def plot_study_campbell(result, percentiles=(5.0, 95.0), band_rpm=None, speed_un
     x = ds["speed"].values * speed_scale(speed_unit)
     freq = ds["frequency_hz"].values[~result.failed]  # (variant, speed, mode)
     freq = np.where(freq > 0, freq, np.nan)
+    bands = result.frequency_bands(percentiles)
     colors = [f"C{i}" for i in range(10)]
     for m, label in enumerate(ds["mode"].values):
-        column = freq[:, :, m]
-        if not np.isfinite(column).any():
+        low, mid, high = (band[m] for band in bands)
+        if not np.isfinite(freq[:, :, m]).any():
             continue
-        low, mid, high = np.nanpercentile(column, [percentiles[0], 50.0, percentiles[1]], axis=0)
         ax.fill_between(x, low, high, color=colors[m % 10], alpha=0.25, linewidth=0)
         ax.plot(x, mid, color=colors[m % 10], label=f"mode {label}")
     top = 1.1 * (np.nanmax(freq) if np.isfinite(freq).any() else 1.0)

@@ -346,7 +346,10 @@ def _campbell(data):
         data.criteria.append(Criterion(name, "", "", "not evaluated", "campbell",
                                        data.skipped.get("unbalance", "")))
         return
-    table = separation_margins(response, data.inputs.range, _peak_outputs(data.model, response))
+    # every sensor's peaks label the unbalance figure's panels (the casing's too, as the CLI's
+    # figure does); the margin is judged on the probes' (_peak_outputs)
+    data.results["peaks"] = every = separation_margins(response, data.inputs.range)
+    table = every[every["output"].isin(_peak_outputs(data.model, response))].reset_index(drop=True)
     data.results["margins"] = table
     if table.empty:
         data.criteria.append(Criterion(name, "no resonance peak", "", "pass", "campbell",

@@ -440,11 +440,11 @@ def _unbalance(data, units) -> str:
     what = ("the model's [[unbalances]]" if data.inputs.standard == "iso" else
             f"the API 617/684 unbalance cases Ua = 2 Ur, Ur = {amount}, each case on its own")
     parts = [_heading("unbalance"), f"<p>Response to {escape(what)}.</p>",
-             _figure(response.plot(amplitude=chosen, checks=checks, peaks=data.results.get("margins"),
+             _figure(response.plot(amplitude=chosen, checks=checks, peaks=data.results.get("peaks", data.results.get("margins")),
                                    groups=sensor_groups(data.model), **_units(units)),
                      f"Figure: unbalance response, amplitude {amplitude_label(chosen)} and phase against speed; the largest peaks "
-                     "with their AF and separation margin from the operating range (the table of section "
-                     "Campbell diagram and critical speeds); API 617 probe limits (informative in an ISO report) "
+                     "of every panel with their AF and separation margin from the operating range (the probes' peaks "
+                     "are judged in the table of section Campbell diagram and critical speeds); API 617 probe limits (informative in an ISO report) "
                      "and the ISO zones where checked.", "Unbalance response")]
     table = checks.to_dataframe()
     table = table[table["check"] == "API 617 probe limit"]

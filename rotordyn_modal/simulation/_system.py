@@ -272,7 +272,7 @@ def progress_bar(total, progress):
     """A tqdm bar over ``total`` simulated seconds, or None when not asked for."""
     if not progress:
         return None
-    from tqdm.auto import tqdm
+    from .._progress import tqdm
 
     return tqdm(total=float(total), unit="s", desc="simulate", bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s")
 

@@ -621,4 +621,5 @@ def _result(model, system, times, states, speed, accel, drive):
         sensors=eta @ (sensor_rows(model) @ V).T, kinetic_energy=0.5 * np.einsum("ni,ni->n", deta, deta),
         elastic_energy=elastic, gravity_energy=-eta @ system.gravity, states=np.hstack([eta @ V.T, deta @ V.T]),
         sensor_names=[s.name for s in model.sensors], rotor_names=[rotor.name for rotor in model.rotors],
-        bearing_names=[b.name for b in model.bearings], speed_ratios=ratios, drive=drive, model_name=model.name)
+        bearing_names=[b.name for b in model.bearings], speed_ratios=ratios, drive=drive, model_name=model.name,
+        frame=layout.frame)

@@ -59,6 +59,10 @@ class SimulationResult:
     drive : str
         ``'constant'``, ``'ramp'`` or ``'free'``.
     model_name : str
+    frame : str
+        What the bearings and suspensions stand on (``model.dofs.frame``): ``'stator'``, the
+        massless ``'frame'`` of a machine with neither stator nor bearings, or ``'ground'``
+        (bearings without a ``[stator]``: ``displacement`` and ``gamma`` are zero by definition).
 
     A model with a flexible rotor is simulated as its linear model
     (:mod:`rotordyn_modal.simulation.flexible`): then ``states`` are ``[q, dq/dt]`` in the
@@ -92,6 +96,7 @@ class SimulationResult:
     speed_ratios: np.ndarray
     drive: str
     model_name: str = ""
+    frame: str = "stator"
 
     @property
     def total_energy(self) -> np.ndarray:
@@ -203,7 +208,15 @@ class SimulationResult:
             elastic_energy=elastic, gravity_energy=weight, states=np.asarray(states),
             sensor_names=[s.name for s in model.sensors], rotor_names=[r.name for r in model.rotors],
             bearing_names=[b.name for b in model.bearings], speed_ratios=ratios, drive=drive,
-            model_name=model.name)
+            model_name=model.name, frame=_frame_name(model, frame))
+
+
+def _frame_name(model, moves) -> str:
+    """``model.dofs.frame`` of the simulated machine: 'stator', 'frame' (massless) or 'ground'
+    (``moves``: whether the frame has coordinates)."""
+    if not moves:
+        return "ground"
+    return "stator" if model.stator is not None else "frame"
 
 
 def _relative_motions(system, q):

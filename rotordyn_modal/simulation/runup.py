@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["OrderTrack", "Waterfall", "order_track", "waterfall"]
+__all__ = ["OrderTrack", "Waterfall", "leakage_floor", "order_track", "waterfall"]
 
 
 @dataclass
@@ -20,11 +20,16 @@ class OrderTrack:
     speeds : ndarray, shape (K,)
         Reference rotor's mean speed over each window [rad/s].
     amplitude : ndarray, shape (K,)
-        Amplitude of the order [m].
+        Amplitude of the order, 0-peak [m] (the signal's units).
     phase_deg : ndarray, shape (K,)
-        Phase of the order relative to the rotor's angle [deg] (signal ~ A cos(k phi + phase)).
+        Phase of the order relative to the rotor's angle [deg] (signal ~ A cos(k phi + phase));
+        NaN where the phase is unknown: the amplitude is below twice ``leakage_floor``.
     sensor, rotor : str
     order : float
+    leakage_floor : ndarray, shape (K,), optional
+        The most the same order of the other rotors can add to this order's complex amplitude
+        through the window [m] (:func:`leakage_floor`); zeros with one rotor, None for a track
+        built by hand.
     """
 
     speeds: np.ndarray
@@ -33,12 +38,21 @@ class OrderTrack:
     sensor: str
     rotor: str
     order: float
+    leakage_floor: np.ndarray | None = None
+
+    @property
+    def phase_known(self) -> np.ndarray:
+        """Where the phase is known, shape (K,) bool: not NaN."""
+        return np.isfinite(self.phase_deg)
 
     def to_dataframe(self):
         import pandas as pd
 
-        return pd.DataFrame({"speed_rpm": self.speeds * 30 / np.pi, "sensor": self.sensor, "rotor": self.rotor,
-                             "order": self.order, "amplitude": self.amplitude, "phase_deg": self.phase_deg})
+        columns = {"speed_rpm": self.speeds * 30 / np.pi, "sensor": self.sensor, "rotor": self.rotor,
+                   "order": self.order, "amplitude": self.amplitude, "phase_deg": self.phase_deg}
+        if self.leakage_floor is not None:
+            columns["leakage_floor"] = self.leakage_floor
+        return pd.DataFrame(columns)
 
 
 @dataclass
@@ -51,7 +65,7 @@ class Waterfall:
         Reference rotor's mean speed over each segment [rad/s].
     frequencies_hz : ndarray, shape (F,) [Hz]
     amplitude : ndarray, shape (K, F)
-        Amplitude spectrum (Hann window, amplitude-corrected) [m].
+        Amplitude spectrum (Hann window, amplitude-corrected), 0-peak [m] (the signal's units).
     sensor : str
     """
 
@@ -67,6 +81,12 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=4) -> OrderTr
     Over consecutive windows of ``revolutions`` turns of the rotor (counted as travelled, so a
     run-down through zero speed works), the complex amplitude
     ``c = 2 <s(t) exp(-i k phi(t))>`` (time average) gives ``s ~ |c| cos(k phi + arg c)``.
+
+    The window passes some of every other frequency: the same order ``k`` of another rotor
+    (``A_j cos(k phi_j + theta_j)``, at another speed) adds at most ``A_j L_j`` to ``c``, ``L_j``
+    the window's response to it (:func:`leakage_floor`). Where ``|c|`` is below twice that
+    floor the order's own amplitude may be below the leakage, whose phase then rules
+    (the phase turns with the other rotor's angle): there the phase is unknown, NaN.
 
     Parameters
     ----------
@@ -85,22 +105,83 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=4) -> OrderTr
     """
     signal = result.sensor(sensor)
     index = _rotor_index(result, rotor)
-    angle = result.rotor_angles[:, index]
-    turns = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(angle)))]) / (2 * np.pi)  # travelled, any direction
+    angles = np.asarray(result.rotor_angles, dtype=float)
+    windows = _windows(result.time, angles[:, index], revolutions)
+    values = np.array([_demodulated(signal[w], order * angles[w, index], result.time[w]) for w in windows],
+                      dtype=complex)
+    speeds = np.array([np.trapezoid(result.drive_speed[w], result.time[w]) / np.ptp(result.time[w]) for w in windows])
+    middles = np.array([result.time[w].mean() for w in windows])
+    others = _other_orders(result, index)
+    neighbours = np.zeros((len(windows), len(others)))
+    for k, j in enumerate(others):        # each other rotor's order through its own windows, at these times
+        own = _windows(result.time, angles[:, j], revolutions)
+        if own:
+            found = [abs(_demodulated(signal[w], order * angles[w, j], result.time[w])) for w in own]
+            neighbours[:, k] = np.interp(middles, [result.time[w].mean() for w in own], found)
+    floors = np.array([leakage_floor(order * angles[w, index], order * angles[w][:, others], neighbours[i], result.time[w])
+                       for i, w in enumerate(windows)])
+    amplitude = np.abs(values)
+    phase = np.where(amplitude >= 2.0 * floors, np.degrees(np.angle(values)), np.nan)
+    return OrderTrack(speeds=speeds, amplitude=amplitude, phase_deg=phase, sensor=sensor,
+                      rotor=result.rotor_names[index], order=float(order), leakage_floor=floors.reshape(-1))
+
+
+def _windows(time, angle, revolutions) -> list:
+    """The windows of ``revolutions`` turns of ``angle`` [rad] (travelled, any direction), as
+    boolean masks of the samples, those of at least 8 samples."""
+    turns = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(angle)))]) / (2 * np.pi)
     edges = np.arange(0.0, turns[-1] + 1e-12, revolutions)
-    speeds, values = [], []
-    for start, stop in zip(edges[:-1], edges[1:]):
-        window = (turns >= start) & (turns <= stop)
-        if window.sum() < 8:
-            continue
-        t = result.time[window]
-        demodulated = signal[window] * np.exp(-1j * order * angle[window])
-        span = t[-1] - t[0]
-        values.append(2 * np.trapezoid(demodulated, t) / span)
-        speeds.append(np.trapezoid(result.drive_speed[window], t) / span)
-    values = np.array(values, dtype=complex)
-    return OrderTrack(speeds=np.array(speeds), amplitude=np.abs(values), phase_deg=np.degrees(np.angle(values)),
-                      sensor=sensor, rotor=result.rotor_names[index], order=float(order))
+    windows = [(turns >= start) & (turns <= stop) for start, stop in zip(edges[:-1], edges[1:])]
+    return [w for w in windows if w.sum() >= 8]
+
+
+def _demodulated(signal, phase, t) -> complex:
+    """``2 <s exp(-i phase)>`` over the window's times ``t`` (trapezoid rule) [unit of s]."""
+    return 2 * np.trapezoid(signal * np.exp(-1j * phase), t) / (t[-1] - t[0])
+
+
+def leakage_floor(phase, others, amplitudes, t) -> float:
+    """The most the other rotors' order adds to one window's demodulated amplitude [unit of the
+    amplitudes].
+
+    A component ``A cos(psi + theta)`` (``psi = k phi_j``, one column of ``others``) adds to
+    ``c = 2 <s exp(-i k phi)>`` the amount ``A/T (exp(i theta) I_- + exp(-i theta) I_+)``,
+    ``I_-+ = integral of exp(i (psi -+ k phi)) dt`` over the window of length ``T``: at most
+    ``A L``, ``L = (|I_-| + |I_+|) / T`` (a rectangular window of ``R`` turns at a steady
+    speed: ``L = |sinc(R (rho - 1))| + |sinc(R (rho + 1))|``, ``rho`` the speed ratio, about
+    0.26 for the fan's 1.6:1 belt and four turns).
+
+    Parameters
+    ----------
+    phase : ndarray, shape (P,)
+        ``k phi`` of the tracked rotor over the window's samples [rad].
+    others : ndarray, shape (P, J)
+        ``k phi_j`` of the other rotors whose order is at another frequency [rad].
+    amplitudes : ndarray, shape (J,)
+        Their orders' amplitudes ``A_j`` (as tracked through their own windows).
+    t : ndarray, shape (P,)
+        Times [s].
+
+    Returns
+    -------
+    float
+        ``sum_j A_j L_j``; 0 without other rotors.
+    """
+    span = t[-1] - t[0]
+    floor = 0.0
+    for psi, size in zip(np.asarray(others, dtype=float).T, amplitudes):
+        response = (abs(np.trapezoid(np.exp(1j * (psi - phase)), t)) + abs(np.trapezoid(np.exp(1j * (psi + phase)), t))) / span
+        floor += response * size
+    return float(floor)
+
+
+def _other_orders(result, index) -> np.ndarray:
+    """Indices of the rotors whose order lies at another frequency than rotor ``index``'s: a
+    rotor turning as fast (either way) has the same order line, which no window tells apart."""
+    ratios = np.asarray(result.speed_ratios, dtype=float)
+    own = abs(ratios[index])
+    return np.array([j for j in range(len(ratios)) if j != index and abs(abs(ratios[j]) - own) > 1e-9 * max(own, 1.0)],
+                    dtype=int)
 
 
 def waterfall(result, sensor, segments=60) -> Waterfall:

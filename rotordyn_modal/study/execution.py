@@ -763,6 +763,6 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
 def _bar(enabled, total, initial):
     if not enabled:
         return None
-    from tqdm.auto import tqdm
+    from .._progress import tqdm
 
     return tqdm(total=total, initial=initial, desc="study", unit="variant")

@@ -127,6 +127,9 @@ def build_dataset(chunks, values, definition, variables, coords, model, attrs=No
     for name, unit in _UNITS.items():
         if name in ds:
             ds[name].attrs["units"] = unit
+    for name in ("unbalance_peak_amplitude", "force_peak_amplitude"):
+        if name in ds:       # unbalance --amplitude's default: x(t) = amplitude cos(...) (docs/standards.md)
+            ds[name].attrs["amplitude"] = "0-peak"
     return ds
 
 
@@ -279,6 +282,30 @@ class StudyResult:
                     row[f"p{q:g}_low"], row[f"p{q:g}_high"] = percentile_interval(x, q, confidence)
             rows.append(row)
         return pd.DataFrame(rows)
+
+    def frequency_bands(self, percentiles=(5.0, 95.0)):
+        """Each tracked mode's damped natural frequency over the variants that succeeded, at every
+        speed of the ``campbell`` analysis: its lower percentile, median and upper percentile
+        (a variant where the root is no mode there, frequency 0, left out).
+
+        Parameters
+        ----------
+        percentiles : (float, float)
+            The lower and upper percentile [percent].
+
+        Returns
+        -------
+        low, median, high : ndarray, shape (n_modes, N) [Hz]
+            NaN where no variant has the mode at that speed (all NaN for a mode no variant has).
+        """
+        freq = self.dataset["frequency_hz"].values[~self.failed]      # (variant, speed, mode)
+        freq = np.where(freq > 0, freq, np.nan)
+        bands = np.full((3, freq.shape[2], freq.shape[1]), np.nan)
+        for m in range(freq.shape[2]):
+            column = freq[:, :, m]
+            if np.isfinite(column).any():
+                bands[:, m] = np.nanpercentile(column, [percentiles[0], 50.0, percentiles[1]], axis=0)
+        return bands[0], bands[1], bands[2]
 
     def probability_in_band(self, low: float, high: float, sources=None, orders=None, modes=None) -> dict:
         """Probability that a critical speed falls inside an operating band.
@@ -516,5 +543,21 @@ def load_study(path) -> StudyResult:
     """
     import xarray as xr
 
-    with xr.open_dataset(path, engine="scipy") as ds:
-        return StudyResult(ds.load())
+    from ..errors import InputError
+    from ..io.limits import input_path
+
+    path = input_path(path, "study results file")
+    if not path.exists() or path.is_dir():
+        raise InputError(f"{path}: expected a study results file (.nc), "
+                         f"{'not a folder' if path.is_dir() else 'no such file'}")
+    try:
+        with xr.open_dataset(path, engine="scipy") as ds:
+            result = StudyResult(ds.load())
+    except (OSError, ValueError, TypeError) as error:   # empty, no NetCDF 3, unreadable: numpy's and scipy's words
+        reason = " ".join(str(error).split())[:160]
+        raise InputError(f"{path}: expected a study's results, a NetCDF file written by StudyResult.save or the "
+                         f"study command ({reason})") from None
+    if "variant" not in result.dataset.sizes or "failed" not in result.dataset:
+        raise InputError(f"{path}: a NetCDF file but no study's results (no 'variant' dimension or 'failed' "
+                         "variable): expected a file written by StudyResult.save or the study command")
+    return result

@@ -40,8 +40,9 @@ from . import _arnoldi, _batches, _cost, _eigensolve, _lowest_bound, _lowest_rou
 from ._lowest_bound import _FEW, _MARGIN, _Bound, _stack_bound  # noqa: F401 (_Bound: for _lowest_branches)
 from ._lowest_newton import _continued, _refined, _speeds_named
 from ._lowest_pencils import _Pencils
-from ._lowest_starts import (_SOLVED, _anchors, _by_frequency, _close, _Expansions, _expansion_guesses,
-                             _pencil_shapes_part, _projected_guesses, _projected_starts, frequency_key, lowest_order)
+from ._lowest_starts import (_SOLVED, _anchors, _by_frequency, _close, _continuation_guesses, _Expansions,
+                             _expansion_guesses, _pencil_shapes_part, _projected_guesses, _projected_starts, frequency_key,
+                             lowest_order)
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]

@@ -5,9 +5,10 @@ Three steps (``docs/theory.md``, "The lowest modes only"):
 1. a speed-independent basis: the ``m`` lowest undamped modes of the symmetric parts of the
    stiffness and mass at the sweep's first speed, mass-orthonormal, and ``k`` attachment
    directions (the static response to forces where the bearings act, outside those modes);
-2. the projected pencils (``(m + k)`` square) of every speed, solved in one batched
-   ``numpy.linalg.eigvals`` of their state matrices, the wanted roots' vectors by inverse
-   iteration: starts for the wanted roots;
+2. the projected pencils (``(m + k)`` square) of the anchors (every fourth speed), solved by a
+   batched ``eig`` (``eigvals`` at every second one): starts for the wanted roots; the speeds between
+   take their starts from the anchors' roots carried over in an anchor's eigenbasis, and their
+   completeness from its Gershgorin discs (:func:`_swept`);
 3. each start refined to the full model's root by Newton's iteration on the full quadratic
    pencil ``Q(s) = s^2 M + s (C + Omega G) + K`` (a banded LU per root and iteration where the
    pencils are banded, with a casing's coordinates as a border; batched dense LU for small
@@ -39,8 +40,9 @@ from . import _arnoldi, _batches, _cost, _eigensolve, _lowest_bound, _lowest_rou
 from ._lowest_bound import _FEW, _MARGIN, _Bound, _stack_bound  # noqa: F401 (_Bound: for _lowest_branches)
 from ._lowest_newton import _continued, _refined, _speeds_named
 from ._lowest_pencils import _Pencils
-from ._lowest_starts import (_anchors, _by_frequency, _close, _continuation_guesses, _pencil_shapes_part,
-                             _projected_starts, frequency_key, lowest_order)
+from ._lowest_starts import (_SOLVED, _anchors, _by_frequency, _close, _continuation_guesses, _Expansions,
+                             _expansion_guesses, _pencil_shapes_part, _projected_guesses, _projected_starts, frequency_key,
+                             lowest_order)
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]
@@ -123,46 +125,84 @@ def _reduced_roots(stack, speeds, count, progress=False):
     if _arnoldi.takes(size + attached.shape[1], n):     # the undamped modes crowd above the wanted roots
         values, shapes, ok = _arnoldi.lowest(pencils, count, _refined, _distinct, progress)
         return (*_by_frequency(values, shapes, count), ok)
-    starts, values, shapes, ok = _swept(pencils, np.hstack([modes[:, :size], attached]), want)
-    ok &= _distinct(values) & _unmissed(starts, values, count)
+    values, shapes, ok, unmissed = _swept(pencils, np.hstack([modes[:, :size], attached]), want, count)
+    ok &= _distinct(values) & unmissed
     # Newton may reorder roots of close frequency: by frequency again
     values, shapes = _by_frequency(values, shapes, count)
     return values, shapes, ok & _basis_suffices(values, bound, size, attached.shape[1], rho)
 
 
-def _swept(pencils, basis, want):
-    """The projected roots of every speed (S, want), by frequency, and their full roots (S, want) in
-    their order, unit shapes (S, want, n) and whether each speed's converged (S,).
+def _swept(pencils, basis, want, count):
+    """The full roots (S, want) of every speed from the projected pencils, unit shapes (S, want, n),
+    whether each speed's converged (S,) and whether no projected root left unrefined can stand for
+    a root below the ``count``-th found (S,, :func:`_unmissed` or its certificate between anchors).
 
-    The anchors (every ``_STRIDE``-th speed and the last, :func:`._lowest_starts._anchors`) start
-    Newton's iteration from their projected roots and vectors; the speeds between them from
-    their projected roots corrected by the anchors' projection errors
-    (:func:`._lowest_starts._continuation_guesses`), one factorisation per root
-    (:func:`._lowest_newton._continued`); a speed whose roots cannot all be matched to the
-    anchors' takes its projected vectors and Newton's iteration as an anchor does. The checks
-    on the result (:func:`_distinct`, :func:`_unmissed`, :func:`_basis_suffices`) are the same for
-    every speed: the starts only decide how fast Newton's iteration gets there."""
-    count = len(pencils.speeds)
-    anchors = _anchors(count)
-    at = np.zeros(count, bool)
-    at[anchors] = True
-    starts, shapes = _projected_starts(pencils, basis, want, vectors_at=at)
-    values = np.empty(starts.shape, complex)
-    ok = np.zeros(count, bool)
-    _refine_into(_refined, pencils, starts, shapes, anchors, (values, shapes, ok), by_speed=True)
-    between, guesses, vectors, sure = _continuation_guesses(starts, pencils.speeds, anchors, values[anchors],
-                                                            shapes[anchors], ok[anchors])
-    rows = between[sure]
-    if len(rows):
-        if not sure.all():
-            guesses, vectors = guesses[sure], vectors[sure]
-        _refine_into(_continued, pencils, guesses, vectors, rows, (values, shapes, ok))
+    The anchors (every ``_STRIDE``-th speed and the last, :func:`._lowest_starts._anchors`) solve
+    their projected pencils whole (``eig``, :class:`._lowest_starts._Expansions`) and start Newton's
+    iteration from the lowest roots and vectors; :func:`_unmissed` checks them. The speeds between
+    solve no projected pencil: their starts are the anchors' refined roots carried over by the
+    projected roots' second-order changes in the nearer anchor's eigenbasis
+    (:func:`._lowest_starts._expansion_guesses`), one factorisation per root
+    (:func:`._lowest_newton._continued`), and the Gershgorin discs of that eigenbasis show that
+    the projected pencil has no more than ``count`` roots below the ``count``-th found plus the
+    projection's error (:func:`_certified`), the check :func:`_unmissed` makes where the projected
+    roots are known. A speed whose roots cannot be carried over, or whose discs do not show it,
+    solves its projected pencil (:func:`._lowest_starts._projected_starts`) and is refined and
+    checked as an anchor."""
+    speeds = len(pencils.speeds)
+    grid = _anchors(speeds)
+    solved = np.unique(np.append(grid[::_SOLVED], grid[-1]))
+    levels = [(np.setdiff1d(grid, solved), solved), (np.setdiff1d(np.arange(speeds), grid), grid)]
+    expansions = _Expansions(pencils, basis, solved, want, levels)
+    values = np.empty((speeds, want), complex)
+    shapes = np.empty((speeds, want, pencils.M.shape[0]), complex)
+    ok, unmissed = np.zeros(speeds, bool), np.zeros(speeds, bool)
+    _refine_into(_refined, pencils, expansions.starts, expansions.vectors, solved, (values, shapes, ok))
+    unmissed[solved] = _unmissed(expansions.starts, values[solved], count)
+    moved = np.max(np.abs(expansions.starts - values[solved]), axis=1)      # the projection's error there
+    first = 0
+    for level, (part, _) in enumerate(levels):
+        places = first + np.arange(len(part))
+        first += len(part)
+        if level == 0:          # the anchors between the solved ones: their projected roots, the solved ones' errors
+            guesses, vectors, sure, projected = _projected_guesses(expansions, places, values, shapes, ok)
+        else:
+            guesses, vectors, sure = _expansion_guesses(expansions, places, values, shapes, ok)
+        rows = part[sure]
+        if len(rows):
+            if not sure.all():
+                guesses, vectors = guesses[sure], vectors[sure]
+            _refine_into(_continued, pencils, guesses, vectors, rows, (values, shapes, ok))
+            unmissed[rows] = _unmissed(projected[sure], values[rows], count) if level == 0 \
+                else _certified(expansions, places[sure], values, moved, count)
         del vectors
-    rows = between[~sure]
-    if len(rows):
-        again, vectors = _projected_starts(pencils, basis, want, rows)
-        _refine_into(_refined, pencils, again, vectors, rows, (values, shapes, ok))
-    return starts, values, shapes, ok
+        # the speeds not carried over, and those whose discs show nothing: their own projected roots
+        rows = part[~sure | (~unmissed[part] & ok[part])]
+        if len(rows):
+            again, vectors = _projected_starts(pencils, basis, want, rows)
+            _refine_into(_refined, pencils, again, vectors, rows, (values, shapes, ok))
+            unmissed[rows] = _unmissed(again, values[rows], count)
+            del vectors
+    return values, shapes, ok, unmissed
+
+
+def _certified(expansions, places, values, moved, count):
+    """(R,) at the speeds ``expansions.between[places]``: the projected pencil has at most
+    ``count`` roots with ``0 < Im s < T``, ``T`` the ``count``-th root found (``values`` (S, k)) plus
+    twice the larger projection error (``moved`` (A,), the largest move from projected to full root
+    at each anchor) of the two anchors around the speed, by the Gershgorin discs of the nearer
+    anchor's eigenbasis (:func:`._lowest_bound._gershgorin_count`). The ``count`` roots found below
+    ``T`` stand for ``count`` of them, so a projected root that could stand for one more root below
+    the ``count``-th found would be one too many: :func:`_unmissed`'s meaning, without that root."""
+    between = expansions.between[places]
+    if values.shape[1] <= count:        # a basis of every mode: the projected pencil is the full one
+        return np.ones(len(between), bool)
+    right = np.clip(np.searchsorted(expansions.solved, between), 1, len(moved) - 1)
+    error = 2 * np.maximum(moved[right - 1], moved[right])
+    found = np.sort(values[between].imag, axis=1)[:, count - 1]
+    with np.errstate(invalid="ignore"):
+        return _lowest_bound._gershgorin_count(expansions.centers[places], expansions.radii[places],
+                                               found + error) <= count
 
 
 #: Newton's iteration holds about this many complex vectors of ``n`` per root at once (the vectors,

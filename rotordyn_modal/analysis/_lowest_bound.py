@@ -197,3 +197,57 @@ def _local_norms(pencils, offset, local):
             order = 2 if len(local) <= _EXACT_NORMS else "fro"
             out[i, part] = np.linalg.norm(matrices.reshape(-1, len(local), len(local)), order, axis=(1, 2))
     return out[0], out[1]
+
+
+def _gershgorin_count(centers, radii, limit):
+    """At most how many eigenvalues ``s`` with ``0 < Im s < limit`` a real matrix similar to
+    ``diag(centers) + F`` has, from its Gershgorin discs (``docs/theory.md`` section 17, "Speeds
+    between anchors"): centers ``lam_i + F_ii`` and radii ``sum_{l != i} |F_il|``.
+
+    Every eigenvalue lies in a disc, and a connected part of the discs' union made of ``c`` discs
+    holds exactly ``c`` eigenvalues (Gershgorin's theorem, by continuity from ``diag(centers)``).
+    A part lying wholly at or above ``limit`` or wholly in the lower half-plane counts none; a part
+    in the upper half-plane counts its ``c``; a part reaching the real axis holds conjugate pairs
+    and real roots (the matrix is real, the discs symmetric to round-off) and counts its centers
+    with ``Im >= 0``, at least as many as its roots above the axis. Damped roots beyond the modes
+    (damping ratio above 0.99) are counted like modes: the count can only be too high.
+
+    Parameters
+    ----------
+    centers : ndarray, shape (J, p), complex [1/s]
+    radii : ndarray, shape (J, p) [1/s]
+    limit : ndarray, shape (J,) [rad/s]
+
+    Returns
+    -------
+    ndarray of int, shape (J,)
+    """
+    counts = np.empty(len(centers), int)
+    # a part of the speeds at a time: their discs' (p, p) contacts
+    for part in _batches.chunk_slices(len(centers), 40 * centers.shape[1] ** 2, budget=_batches._PART_BYTES):
+        counts[part] = _counted(centers[part], radii[part], limit[part])
+    return counts
+
+
+def _counted(centers, radii, limit):
+    """:func:`_gershgorin_count` of some speeds."""
+    J, p = centers.shape
+    finite = np.isfinite(centers).all(axis=1) & np.isfinite(radii).all(axis=1)
+    c, r = np.where(finite[:, None], centers, 0), np.where(finite[:, None], radii, 0.0)
+    touching = np.abs(c[:, :, None] - c[:, None, :]) <= r[:, :, None] + r[:, None, :]        # (J, p, p)
+    # the connected parts: each disc labelled by the least disc it reaches
+    label = np.broadcast_to(np.arange(p), (J, p))
+    while True:
+        joined = np.where(touching, label[:, None, :], p).min(axis=2)
+        if np.array_equal(joined, label):
+            break
+        label = joined
+    flat = (label + p * np.arange(J)[:, None]).ravel()
+    low, high = np.full(J * p, np.inf), np.full(J * p, -np.inf)
+    np.minimum.at(low, flat, (c.imag - r).ravel())
+    np.maximum.at(high, flat, (c.imag + r).ravel())
+    size = np.bincount(flat, minlength=J * p)
+    upper = np.bincount(flat, weights=(c.imag >= 0).ravel(), minlength=J * p).astype(int)
+    counted = (size > 0) & (low < np.repeat(limit, p)) & (high > 0)
+    counts = np.where(counted, np.where(low > 0, size, upper), 0).reshape(J, p).sum(axis=1)
+    return np.where(finite, counts, np.iinfo(int).max)

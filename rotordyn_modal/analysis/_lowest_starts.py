@@ -24,7 +24,7 @@ def _projected_starts(pencils, basis, want, index=None, vectors_at=None):
     """The ``want`` lowest-frequency oscillating roots of the projected pencils at every speed
     (or at the speeds ``index``) (S, want) and their vectors in full coordinates (S, want, n);
     with ``vectors_at`` (S,) bool, the vectors of those speeds only (zero elsewhere: the speeds
-    whose Newton starts come from their neighbours, :func:`_continuation_guesses`)."""
+    whose Newton starts come from their neighbours)."""
     n, m = basis.shape
     index = np.arange(len(pencils.speeds)) if index is None else index
     speeds, cb, kb = pencils.speeds[index], pencils.cb[index], pencils.kb[index]
@@ -133,6 +133,10 @@ _MATCH = 0.5
 
 #: every this many speeds (and the last), an anchor: its Newton starts are the projected roots
 _STRIDE = 4
+
+
+#: every this many anchors (and the last) solve their projected pencils whole (``eig``, :class:`_Expansions`)
+_SOLVED = 2
 
 
 def _anchors(count: int) -> np.ndarray:
@@ -257,3 +261,284 @@ def projected_first(pencils, index, basis):
     damping0, stiffness0 = (matrix[0] for matrix in pencils.dense(index[:1]))
     Wt = basis.T
     return Wt @ damping0 @ basis, Wt @ stiffness0 @ basis, Wt @ pencils.G @ basis
+
+
+#: the interpolation's nodes: this many refined speeds around a speed between anchors (cubic in the speed)
+_NODES = 4
+
+
+class _Expansions:
+    """The projected pencils' eigen-decompositions at some anchors, and what they tell of the other
+    speeds (``docs/theory.md`` section 17, "Speeds between anchors").
+
+    At each anchor ``a`` (``solved``) the projected state matrix ``A_a`` (``2m`` square) is solved by
+    ``eig``: its roots ``Lambda``, unit eigenvectors ``V``; the ``want`` lowest oscillating roots and
+    their vectors start Newton's iteration there (``starts`` (A, want), ``vectors`` (A, want, n)). At
+    another speed ``j``, ``V^-1 A_j V = Lambda + F_j`` with
+    ``F_j = -V^-1 [0; I] (dK V_top + dD V_bottom)``: ``dD = dOmega W^T G W + W^T dC_b W``,
+    ``dK = W^T dK_b W`` (the bearings' entries: a product of rank at most their number). For each
+    speed ``j`` of ``levels``, with ``a`` the nearer anchor: the Gershgorin discs of ``Lambda + F_j``
+    (``centers``, ``radii``, (J, 2m); each radius plus its row's share of the decomposition's own
+    error ``V^-1 A_a V - Lambda``, at most ``|V^-1| |A_a V - V Lambda|`` summed), and for each root ``k`` followed from ``a`` the second-order change of its projected
+    root, ``F_kk + sum_l F_kl F_lk / (lambda_k - lambda_l)``, at the speed (``changes`` (J, want)) and
+    at the ``_NODES`` refined speeds around it (``node_changes`` (J, q, want)).
+
+    Parameters
+    ----------
+    pencils : _Pencils
+    basis : ndarray, shape (n, m)
+    solved : ndarray of int, shape (A,)
+        The anchors, ascending (the first speed and the last among them).
+    want : int
+    levels : list of (ndarray of int, ndarray of int)
+        The other speeds, in the order they are refined, each part with the refined speeds its
+        nodes are taken from (ascending).
+
+    Attributes
+    ----------
+    between : ndarray of int, shape (J,)
+        The speeds of ``levels``, in turn.
+    near : ndarray of int, shape (J,)
+        The nearer anchor (a place in ``solved``).
+    nodes : ndarray of int, shape (J, q); weights : ndarray, shape (J, q)
+        The refined speeds around each speed and the Lagrange weights of the speed among theirs.
+    """
+
+    def __init__(self, pencils, basis, solved, want, levels):
+        speeds = pencils.speeds
+        n, m = basis.shape
+        count, two = len(solved), 2 * basis.shape[1]
+        self.solved, self.speeds = solved, speeds
+        self.between = np.concatenate([part for part, _ in levels]).astype(int)
+        right = np.clip(np.searchsorted(solved, self.between), 1, count - 1)
+        left = right - 1
+        span = speeds[solved[right]] - speeds[solved[left]]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(span != 0, (speeds[self.between] - speeds[solved[left]]) / span, 0.5)
+        self.near = np.where(t < 0.5, left, right)
+        q = min([_NODES] + [len(grid) for _, grid in levels])
+        self.nodes = np.concatenate([_around(grid, part, q) for part, grid in levels]).reshape(len(self.between), q)
+        at = speeds[self.nodes]                                                      # (J, q)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            self.weights = np.ones(at.shape)
+            for r in range(q):
+                other = np.arange(q) != r
+                self.weights[:, r] = np.prod((speeds[self.between][:, None] - at[:, other])
+                                             / (at[:, [r]] - at[:, other]), axis=1)
+        self.starts = np.empty((count, want), complex)
+        self.vectors = np.empty((count, want, n), complex)
+        J = len(self.between)
+        self.centers, self.radii = np.full((J, two), np.nan + 0j), np.full((J, two), np.nan)
+        self.changes = np.full((J, want), np.nan + 0j)
+        self.node_changes = np.full((J, q, want), np.nan + 0j)
+        self._solve(pencils, basis, want)
+
+    def _solve(self, pencils, basis, want):
+        """``eig`` at the anchors, a part of them at a time, and the speeds nearer each."""
+        m, solved = basis.shape[1], self.solved
+        D0, K0, Gr = projected_first(pencils, solved, basis)
+        left, right = basis[pencils.rows].T, basis[pencils.cols]
+        self.pencils, self.first = pencils, (D0, K0, Gr, left, right)
+        # a part of the anchors at a time: their state matrices, eigenvectors, inverses and products
+        for part in _batches.chunk_slices(len(solved), 16 * 8 * (2 * m) ** 2, budget=_batches._PART_BYTES):
+            A = _state_matrices(pencils, solved[part], solved[0], D0, K0, Gr, left, right)
+            lam, V = _batches._threaded(np.linalg.eig, A, item_bytes=48 * (2 * m) ** 2)
+            order = _lowest_order(lam, want)
+            self.starts[part] = np.take_along_axis(lam, order, axis=1)
+            shapes = np.take_along_axis(V, order[:, None, :], axis=2)[:, :m]           # (P, m, want)
+            self.vectors[part] = _vectors.unit_rows(np.swapaxes(shapes, 1, 2) @ basis.T)
+            try:
+                inverse = np.linalg.inv(V)
+            except np.linalg.LinAlgError:        # a defective anchor: the speeds near it take their own roots
+                continue
+            # the decomposition's own error R_a = V^-1 (A V - V Lambda): each row's sum of moduli at most
+            # |V^-1| |A V - V Lambda| summed (added to the discs' radii)
+            error = np.abs(A @ V - V * lam[:, None, :]).sum(axis=2)
+            error = np.einsum("pij,pj->pi", np.abs(inverse), error)
+            lower = inverse[:, :, m:]                                               # V^-1 [0; I], (P, 2m, m)
+            factors = (lower @ Gr @ V[:, m:], lower @ left, right @ V[:, :m], right @ V[:, m:])
+            for place in range(part.start, part.stop):
+                at = place - part.start
+                self._near(pencils, place, lam[at], order[at], error[at], [f[at] for f in factors])
+
+    def _near(self, pencils, place, lam, order, error, factors):
+        """The discs and the roots' changes at the speeds nearer the anchor ``place`` and at their
+        nodes, from that anchor's decomposition (``error`` (2m,): its rows' error)."""
+        rows = np.nonzero(self.near == place)[0]
+        if not len(rows):
+            return
+        anchor = self.solved[place]
+        F = _changed(pencils, self.between[rows], anchor, factors)                  # (R, 2m, 2m)
+        diagonal = np.einsum("xii->xi", F)
+        self.centers[rows] = lam + diagonal
+        self.radii[rows] = np.abs(F).sum(axis=2) - np.abs(diagonal) + error
+        gaps = lam[order][:, None] - lam[None, :]                                   # (want, 2m)
+        gaps[np.arange(len(order)), order] = np.inf
+        self.changes[rows] = _second_order(F[:, order, :], np.swapaxes(F[:, :, order], 1, 2), order, gaps)
+        nodes = np.unique(self.nodes[rows])
+        along, across = _changed(pencils, nodes, anchor, factors, order)           # F's rows and columns of the roots
+        change = _second_order(along, across, order, gaps)
+        self.node_changes[rows] = change[np.searchsorted(nodes, self.nodes[rows])]
+
+
+def _second_order(along, across, order, gaps):
+    """The second-order changes ``F_kk + sum_l F_kl F_lk / (lambda_k - lambda_l)`` (X, want) of the
+    roots ``order`` (want,) from ``F``'s rows ``along`` and columns ``across`` (transposed) at them,
+    (X, want, 2m) each, and the roots' gaps (want, 2m), ``inf`` at the root itself."""
+    own = np.take_along_axis(along, order[None, :, None], axis=2)[..., 0]
+    return own + np.sum(along * across / gaps, axis=2)
+
+
+def _around(grid, speeds, q):
+    """The ``q`` speeds of ``grid`` (ascending, G >= q) around each of ``speeds`` (J,): half on each
+    side where there are, (J, q)."""
+    first = np.clip(np.searchsorted(grid, speeds) - q // 2, 0, len(grid) - q)
+    return grid[first[:, None] + np.arange(q)]
+
+
+def _state_matrices(pencils, index, base, D0, K0, Gr, left, right):
+    """The projected state matrices ``[[0, I], [-W^T K W, -W^T D W]]`` at the speeds ``index`` (P, 2m, 2m)
+    from the projected pencil at the speed ``base`` (``D0``, ``K0``), ``W^T G W`` and the bearings'
+    entries' rows of the basis (``left`` (m, e), ``right`` (e, m)), as :func:`_projected_starts`."""
+    m = D0.shape[0]
+    D = D0 + (pencils.speeds[index] - pencils.speeds[base])[:, None, None] * Gr
+    Kr = np.broadcast_to(K0, D.shape)
+    if len(pencils.rows):
+        D = D + (left[None] * (pencils.cb[index] - pencils.cb[base])[:, None, :]) @ right
+        Kr = Kr + (left[None] * (pencils.kb[index] - pencils.kb[base])[:, None, :]) @ right
+    A = np.zeros((len(D), 2 * m, 2 * m))
+    A[:, :m, m:] = np.eye(m)
+    A[:, m:, :m] = -Kr
+    A[:, m:, m:] = -D
+    return A
+
+
+def _changed(pencils, at, anchor, factors, order=None):
+    """``F = V^-1 (A_j - A_a) V`` at the speeds ``at`` (X,) from the anchor's decomposition:
+    ``factors`` = (``V^-1 [0; I] W^T G W V_bottom``, ``V^-1 [0; I] W^T`` at the bearings' rows (2m, e),
+    ``W`` at their columns times ``V_top`` and ``V_bottom`` (e, 2m) each). (X, 2m, 2m); with ``order``
+    (k,) its rows and columns (transposed) at those roots only, (X, k, 2m) each."""
+    gyroscopic, lower, stiff, damp = factors
+    step = (pencils.speeds[at] - pencils.speeds[anchor])[:, None, None]
+    dk = (pencils.kb[at] - pencils.kb[anchor])[:, :, None]
+    dc = (pencils.cb[at] - pencils.cb[anchor])[:, :, None]
+    if order is None:
+        F = -step * gyroscopic
+        if len(pencils.rows):
+            F -= lower @ (dk * stiff + dc * damp)
+        return F
+    along, across = -step * gyroscopic[order], -step * gyroscopic[:, order].T
+    if len(pencils.rows):
+        along = along - lower[order] @ (dk * stiff + dc * damp)
+        across = across - np.swapaxes(lower @ (dk * stiff[:, order] + dc * damp[:, order]), 1, 2)
+    return along, across
+
+
+def _at_nodes(expansions, rows, values, ok):
+    """Where each root followed from the nearer anchor is among the refined roots of the nodes of
+    the speeds ``expansions.between[rows]``: the one nearest the anchor's root plus its change to
+    the node (at most ``_MATCH`` of the distance to the next nearest, one to one), (R, q, want); and
+    whether every root of a speed is found so at nodes that converged (``ok`` (S,)), (R,)."""
+    ex = expansions
+    nodes, changes = ex.nodes[rows], ex.node_changes[rows]                         # (R, q), (R, q, want)
+    want = changes.shape[2]
+    anchor = ex.solved[ex.near[rows]]
+    predicted = values[anchor][:, None, :] + changes                                 # the roots at the nodes
+    distance = np.abs(predicted[..., None] - values[nodes][:, :, None, :])          # (R, q, want, want)
+    found = np.argmin(distance, axis=3)
+    ordered = np.sort(distance, axis=3)
+    second = ordered[..., 1] if want > 1 else np.full(found.shape, np.inf)
+    own = nodes == anchor[:, None]
+    found = np.where(own[..., None], np.arange(want), found)
+    with np.errstate(invalid="ignore"):
+        clear = own[..., None] | (ordered[..., 0] <= _MATCH * second)
+    ranked = np.sort(found, axis=2)
+    sure = clear.all(axis=(1, 2)) & (ranked[..., 1:] != ranked[..., :-1]).all(axis=(1, 2)) & ok[nodes].all(axis=1)
+    return found, sure
+
+
+def _nearest_shapes(expansions, rows, shapes, found, which=None):
+    """The shapes (R, k, n) of the nearest node of each speed ``expansions.between[rows]``: of its
+    roots ``found`` (R, q, want) (of the anchor's roots ``which`` (R, k), default all)."""
+    ex = expansions
+    nodes = ex.nodes[rows]
+    closest = np.argmin(np.abs(ex.speeds[nodes] - ex.speeds[ex.between[rows]][:, None]), axis=1)
+    at = np.arange(len(rows))
+    place = found[at, closest]                                                      # (R, want)
+    if which is not None:
+        place = np.take_along_axis(place, which, axis=1)
+    return shapes[nodes[at, closest][:, None], place]
+
+
+def _expansion_guesses(expansions, rows, values, shapes, ok):
+    """Newton's starts at the speeds ``expansions.between[rows]`` from the refined roots of their
+    nodes and the projected roots' changes (:class:`_Expansions`): for each root followed from the
+    nearer anchor, ``g = root - change`` at the ``_NODES`` refined speeds around the speed
+    (:func:`_at_nodes`), interpolated in the speed (Lagrange, cubic), plus the change at the speed;
+    its vector the nearest node's shape. A speed where a root cannot be followed to every node, or
+    a node failed, is not ``sure``.
+
+    Parameters
+    ----------
+    expansions : _Expansions
+    rows : ndarray of int, shape (R,)
+        Places in ``expansions.between``.
+    values : ndarray, shape (S, want), complex; shapes : ndarray, shape (S, want, n), complex
+        Refined at the nodes of ``rows``, the anchors' in their starts' order.
+    ok : ndarray of bool, shape (S,)
+
+    Returns
+    -------
+    guesses : ndarray, shape (R, want), complex; vectors : ndarray, shape (R, want, n), complex
+    sure : ndarray of bool, shape (R,)
+    """
+    ex = expansions
+    want = values.shape[1]
+    guesses, sure = np.empty((len(rows), want), complex), np.empty(len(rows), bool)
+    vectors = np.empty((len(rows), want, shapes.shape[2]), complex)
+    for part in _batches.chunk_slices(len(rows), 64 * ex.nodes.shape[1] * want * want, budget=_batches._PART_BYTES):
+        at = rows[part]
+        found, sure[part] = _at_nodes(ex, at, values, ok)
+        nodes, changes = ex.nodes[at], ex.node_changes[at]
+        guesses[part] = np.einsum("jq,jqk->jk", ex.weights[at], values[nodes[..., None], found] - changes) \
+            + ex.changes[at]
+        vectors[part] = _nearest_shapes(ex, at, shapes, found)
+    sure &= np.isfinite(guesses).all(axis=1)
+    return guesses, vectors, sure
+
+
+def _projected_guesses(expansions, rows, values, shapes, ok):
+    """Newton's starts at the speeds ``expansions.between[rows]`` whose nodes are anchors (solved
+    whole): their own projected roots (the ``want`` lowest of one batched ``eigvals``), each plus its
+    projection error at the nodes (refined less projected root), interpolated in the speed: the
+    projected root's root at the nearer anchor is the one whose root plus change to the speed is
+    nearest it (``_MATCH``, one to one), followed to the other nodes by :func:`_at_nodes`.
+
+    Returns
+    -------
+    guesses : ndarray, shape (R, want), complex; vectors : ndarray, shape (R, want, n), complex
+    sure : ndarray of bool, shape (R,)
+    projected : ndarray, shape (R, want), complex
+        The projected roots, by frequency (the starts of :func:`._lowest._unmissed`).
+    """
+    ex = expansions
+    found, sure = _at_nodes(ex, rows, values, ok)
+    want = found.shape[2]
+    A = _state_matrices(ex.pencils, ex.between[rows], ex.solved[0], *ex.first)
+    lam = _batches._threaded(np.linalg.eigvals, A, item_bytes=24 * A.shape[-1] ** 2)
+    projected = np.take_along_axis(lam, _lowest_order(lam, want), axis=1)
+    predicted = ex.starts[ex.near[rows]] + ex.changes[rows]                        # the anchor's roots, carried
+    distance = np.abs(projected[:, :, None] - predicted[:, None, :])              # (R, want, want)
+    which = np.argmin(distance, axis=2)
+    ordered = np.sort(distance, axis=2)
+    second = ordered[..., 1] if want > 1 else np.full(which.shape, np.inf)
+    ranked = np.sort(which, axis=1)
+    with np.errstate(invalid="ignore"):
+        sure &= (ordered[..., 0] <= _MATCH * second).all(axis=1) & (ranked[:, 1:] != ranked[:, :-1]).all(axis=1)
+    nodes = ex.nodes[rows]
+    place = np.searchsorted(ex.solved, nodes)                                       # the nodes are anchors
+    error = values[nodes[..., None], found] - ex.starts[place[..., None], found]    # (R, q, want)
+    carried = np.einsum("jq,jqk->jk", ex.weights[rows], error)
+    guesses = projected + np.take_along_axis(carried, which, axis=1)
+    sure &= np.isfinite(guesses).all(axis=1)
+    return guesses, _nearest_shapes(ex, rows, shapes, found, which), sure, projected

@@ -28,6 +28,10 @@ def _plotly():
 def campbell_figure(result, speed_unit: str = "rpm", title: str | None = None):
     """Campbell diagram with hover: mode, frequency, whirl, damping; critical speeds with source and order.
 
+    The curves are those of the matplotlib figure: each passes through its critical speeds
+    (``CampbellResult.mode_curves()``) and changes its whirl style at the speeds of
+    ``CampbellResult.whirl_changes()``; hover data at those inserted points is NaN.
+
     Parameters
     ----------
     result : CampbellResult

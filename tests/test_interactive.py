@@ -99,3 +99,81 @@ def test_missing_ipywidgets_is_named(without_module, gear):
     without_module("ipywidgets")
     with pytest.raises(InputError, match=r"the tuning widget needs ipywidgets: pip install 'rotordyn_modal\[interactive\]'"):
         tuner.widget()
+
+
+@pytest.fixture(scope="module")
+def motor_pump_figure():
+    """``campbell motor_pump_on_mounts --speeds 0:3600:37 --orders 1`` and its plotly figure."""
+    res = rdm.campbell(rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml"),
+                       rdm.rpm(np.linspace(0.0, 3600.0, 37)), orders=(1,))
+    return res, campbell_figure(res)
+
+
+def _mode_traces(fig, label):
+    """Mode ``label``'s traces: {whirl: (x [rpm], y [Hz])}, all on the same points."""
+    out = {}
+    for t in fig.data:
+        if t.name.startswith(f"mode {label} ("):
+            out[t.name.split("(")[1].rstrip(")")] = (np.asarray(t.x, float), np.asarray(t.y, float))
+    xs = [x for x, _ in out.values()]
+    assert all(np.array_equal(x, xs[0]) for x in xs)
+    return out
+
+
+def test_campbell_changes_style_at_the_whirl_ratio_threshold(motor_pump_figure):
+    """Mode 7 (529 Hz) of the motor pump: 'none' up to 1,500 rpm, 'backward' from 1,600 rpm; its
+    whirl ratio falls smoothly (2.3e-4 at rest, -2.6e-3 at 3,600 rpm) and passes -1e-3 between
+    them. The plotly figure styled each sample by its own label, so neither style drew that step
+    (a gap in the curve); now the grey line ends and the red starts at the speed where the ratio,
+    straight between the two samples, passes -1e-3 (written out here), as the matplotlib figure
+    does (``CampbellResult.whirl_changes``)."""
+    res, fig = motor_pump_figure
+    m = 6
+    label = res.modes[m]
+    ratio, rpm = res.whirl_ratios[:, m], res.speeds_rpm
+    k = int(np.flatnonzero(res.whirl[1:, m] != res.whirl[:-1, m])[0])
+    assert (res.whirl[k, m], res.whirl[k + 1, m]) == ("none", "backward")
+    expected = rpm[k] + (-1e-3 - ratio[k]) / (ratio[k + 1] - ratio[k]) * (rpm[k + 1] - rpm[k])
+    assert rpm[k] < expected < rpm[k + 1]
+    traces = _mode_traces(fig, label)
+    assert set(traces) == {"none", "backward"}
+    grey_x, grey_y = traces["none"]
+    red_x, red_y = traces["backward"]
+    assert grey_x[np.isfinite(grey_y)].max() == pytest.approx(expected, abs=1e-6)
+    assert red_x[np.isfinite(red_y)].min() == pytest.approx(expected, abs=1e-6)
+    assert expected == pytest.approx(res.whirl_changes()[m][0][0] * 30 / np.pi, abs=1e-9)
+    # the change point lies on the curve: between the samples' frequencies, straight
+    at = np.flatnonzero(np.isclose(grey_x, expected, rtol=0, atol=1e-6))[0]
+    f = res.frequencies_hz[:, m]
+    t = (expected - rpm[k]) / (rpm[k + 1] - rpm[k])
+    assert grey_y[at] == pytest.approx(f[k] + t * (f[k + 1] - f[k]), rel=1e-12)
+
+
+def test_campbell_draws_each_step_in_one_style_changing_where_whirl_changes_says(motor_pump_figure):
+    """For every mode of the motor pump (modes backward at rest turning forward within 35 rpm,
+    modes gaining whirl with speed): each segment between two points of a curve over a step of
+    the sweep where the root is a mode at both ends is drawn in exactly one style (no gap, no
+    two styles over each other), that of the sweep's label at the step's ends unless the label
+    changes in the step; and the points where two styles meet are the speeds of
+    ``whirl_changes`` (the matplotlib figure's)."""
+    res, fig = motor_pump_figure
+    rpm = 30 / np.pi
+    changes = res.whirl_changes()
+    checked = 0
+    for m, label in enumerate(res.modes):
+        traces = _mode_traces(fig, label)
+        x = next(iter(traces.values()))[0]
+        drawn = {w: np.isfinite(y[:-1]) & np.isfinite(y[1:]) for w, (_, y) in traces.items()}
+        count = sum(drawn.values())
+        k = np.searchsorted(res.speeds_rpm, 0.5 * (x[:-1] + x[1:])) - 1
+        mode = res.oscillatory[k, m] & res.oscillatory[k + 1, m]
+        assert np.array_equal(count, mode.astype(int)), label
+        steady = mode & (res.whirl[k, m] == res.whirl[k + 1, m]) \
+            & ~np.isin(k, np.searchsorted(res.speeds, changes[m][0], side="right") - 1)
+        for whirl, d in drawn.items():
+            assert np.all(d[steady] == (res.whirl[k[steady], m] == whirl)), (label, whirl)
+        meet = [xi for i, xi in enumerate(x)
+                if sum(bool(np.isfinite(y[i])) for _, y in traces.values()) > 1]
+        np.testing.assert_allclose(meet, changes[m][0] * rpm, rtol=1e-12, atol=0)
+        checked += len(meet)
+    assert checked >= 12

@@ -28,6 +28,10 @@ def _plotly():
 def campbell_figure(result, speed_unit: str = "rpm", title: str | None = None):
     """Campbell diagram with hover: mode, frequency, whirl, damping; critical speeds with source and order.
 
+    The curves are those of the matplotlib figure: each passes through its critical speeds
+    (``CampbellResult.mode_curves()``) and changes its whirl style at the speeds of
+    ``CampbellResult.whirl_changes()``; hover data at those inserted points is NaN.
+
     Parameters
     ----------
     result : CampbellResult
@@ -44,11 +48,13 @@ def campbell_figure(result, speed_unit: str = "rpm", title: str | None = None):
     scale = speed_scale(speed_unit)
     x = result.speeds * scale
     fig = go.Figure()
+    changes = result.whirl_changes()
     for m, (label, curve) in enumerate(zip(result.modes, result.mode_curves())):
-        speeds, f, index = curve
+        speeds, f, index = _with_changes(curve, changes[m][0], result.speeds)
         custom = _curve_data(result, m, speeds, index)
+        segments = _segment_whirl(result, m, speeds, index, changes[m])
         for whirl, colour in _WHIRL_COLOURS.items():
-            at = _curve_mask(result.whirl[:, m] == whirl, speeds, index, result.speeds)
+            at = _ends(segments == whirl)
             if not at.any():
                 continue
             fig.add_trace(go.Scatter(
@@ -74,12 +80,45 @@ def _inserted(speeds, index, sweep):
     return speeds != sweep[index]
 
 
-def _curve_mask(mask, speeds, index, sweep):
-    """``mask`` (over the sweep's speeds, shape (N,)) on a curve's points: a point of the sweep
-    keeps its own; a critical speed inserted between two of them belongs to either neighbour's
-    piece, so a whirl's line reaches it from each side."""
-    after = mask[np.minimum(index + 1, len(mask) - 1)]
-    return np.where(_inserted(speeds, index, sweep), mask[index] | after, mask[index])
+def _with_changes(curve, at, sweep):
+    """A mode's curve (``CampbellResult.mode_curves``) with the speeds where its whirl label
+    changes (``CampbellResult.whirl_changes``, ``at`` [rad/s], shape (C,)) among its points, each
+    on the curve as drawn (straight between its points), so that the style changes there.
+
+    Returns
+    -------
+    speeds, frequencies, index : ndarray, shape (K_m + C',)
+        As ``mode_curves`` (C' of the changes are new points).
+    """
+    speeds, f, _ = curve
+    new = np.setdiff1d(np.asarray(at, dtype=float), speeds)
+    speeds = np.concatenate([speeds, new])
+    f = np.concatenate([f, np.interp(new, curve[0], f)])
+    order = np.argsort(speeds, kind="stable")
+    speeds, f = speeds[order], f[order]
+    return speeds, f, np.searchsorted(sweep, speeds, side="right") - 1
+
+
+def _segment_whirl(result, m, speeds, index, changes):
+    """The whirl label of each segment between mode ``m``'s points (shape (K - 1,)): that of
+    the sweep's speed at its start, changed from each speed of ``changes`` (one mode's
+    ``CampbellResult.whirl_changes()``, which are points) on, as the matplotlib figure does."""
+    k = index[:-1]
+    labels = np.asarray(result.whirl)[k, m].astype(object)
+    middle = 0.5 * (speeds[:-1] + speeds[1:])
+    for at, name in zip(*changes):
+        step = np.searchsorted(result.speeds, at, side="right") - 1
+        labels[(middle > at) & (k == step)] = name
+    return labels
+
+
+def _ends(segments):
+    """The points at either end of the segments ``segments`` (shape (K - 1,) bool) picks, shape
+    (K,): a whirl's line is drawn over those segments and meets the next one's at a change."""
+    at = np.zeros(len(segments) + 1, dtype=bool)
+    at[:-1] |= segments
+    at[1:] |= segments
+    return at
 
 
 def _curve_data(result, m, speeds, index):

@@ -62,7 +62,10 @@ def _mass_factor(M, model):
     residual = np.inf
     try:
         factor = scipy.sparse.linalg.splu(M.tocsc())
-        residual, step = 0.0, max(1, (1 << 24) // (8 * n))
+        # blocks of at most 16 MB and an eighth of the columns: the check's peak stays a small
+        # part of one dense n x n array whatever the size (the FRF and unbalance routes of a large
+        # model hold less than half of one)
+        residual, step = 0.0, max(1, min((1 << 24) // (8 * n), -(-n // 8)))
         for start in range(0, n, step):
             stop = min(n, start + step)
             part = factor.solve(M[:, start:stop].toarray())

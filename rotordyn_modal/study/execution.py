@@ -378,6 +378,10 @@ class Checkpoint:
                     "n": int(len(chunk["error"])), **_digest(payload)}
         _atomic_bytes(path.with_suffix(".json"), json.dumps(manifest).encode())
 
+    def saved(self) -> int:
+        """The chunk files in the folder (those :meth:`each_done` reads; some may not check out)."""
+        return sum(1 for _ in self.folder.glob("chunk-*.npz"))
+
     def remove(self) -> None:
         remove_checkpoint(self.folder)
 
@@ -727,7 +731,8 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
     kept = {} if sink is None else None
     resumed = set()
     if checkpoint is not None:
-        for index, chunk in checkpoint.each_done(tasks):  # checked (and let go) before the pool starts
+        saved = _saved_bar(progress, checkpoint.each_done(tasks), checkpoint.saved(), "study: checking saved chunks")
+        for index, chunk in saved:  # checked (and let go) before the pool starts
             resumed.add(index)
             if kept is not None:
                 kept[index] = chunk
@@ -737,7 +742,8 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
     try:
         computed = mapper(run_chunk, todo)  # a pool's workers start here, before memory fills
         if sink is not None and resumed:
-            for index, chunk in checkpoint.each_done(tasks, resumed):
+            for index, chunk in _saved_bar(progress, checkpoint.each_done(tasks, resumed), len(resumed),
+                                           "study: reading saved chunks"):
                 sink(chunk)
         for task in tasks:
             if task.index in resumed:
@@ -758,6 +764,18 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
         if bar is not None:
             bar.close()
     return ([kept[task.index] for task in tasks] if kept is not None else []), len(resumed)
+
+
+def _saved_bar(enabled, chunks, total: int, description: str):
+    """``chunks`` (the ``(index, chunk)`` pairs of :meth:`Checkpoint.each_done`) as they come, with
+    a bar over them where ``enabled`` (``total`` chunk files; gone when done): a resumed study reads
+    and checks every saved chunk twice, before the work and again into the results (measured 33 s
+    for 439 chunks of 30,000 variants, with no sign of progress before)."""
+    if not enabled or not total:
+        return chunks
+    from .._progress import tqdm
+
+    return tqdm(chunks, total=total, desc=description, unit="chunk", leave=False)
 
 
 def _bar(enabled, total, initial):

@@ -731,20 +731,22 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
     kept = {} if sink is None else None
     resumed = set()
     if checkpoint is not None:
-        saved = _saved_bar(progress, checkpoint.each_done(tasks), checkpoint.saved(), "study: checking saved chunks")
+        saved = _saved_bar(progress, checkpoint.each_done(tasks), checkpoint.saved(), "checking saved chunks")
         for index, chunk in saved:  # checked (and let go) before the pool starts
             resumed.add(index)
             if kept is not None:
                 kept[index] = chunk
     todo = [task for task in tasks if task.index not in resumed]
-    bar = _bar(progress, total, sum(len(t.values) for t in tasks if t.index in resumed))
     mapper = map if executor is None else executor.map
+    bar = None
     try:
         computed = mapper(run_chunk, todo)  # a pool's workers start here, before memory fills
         if sink is not None and resumed:
             for index, chunk in _saved_bar(progress, checkpoint.each_done(tasks, resumed), len(resumed),
-                                           "study: reading saved chunks"):
+                                           "reading saved chunks"):
                 sink(chunk)
+        # after the saved chunks' own bar: one bar on the terminal at a time
+        bar = _bar(progress, total, sum(len(t.values) for t in tasks if t.index in resumed))
         for task in tasks:
             if task.index in resumed:
                 _LOG.info("chunk %d resumed (variants %d-%d)", task.index, task.start,

@@ -471,7 +471,8 @@ def write_netcdf(dataset, path, progress: bool = False) -> None:
         Dims ``variant`` first where present.
     path : str
     progress : bool
-        A bar over the variants written ("study: writing"; 1.17 GB took about 20 s).
+        A bar over the variants written where they take more than one block ("writing results";
+        1.17 GB took about 20 s).
     """
     n = dataset.sizes["variant"]
     template = _template(dataset)
@@ -488,7 +489,7 @@ def write_netcdf(dataset, path, progress: bool = False) -> None:
         handle.seek(start)
         handle.truncate()
         step = max(1, _BLOCK_BYTES // layout["size"])
-        bar = _writing_bar(progress, n)
+        bar = _writing_bar(progress and n > step, n)       # more than one block: long enough to show
         try:
             for first in range(0, n, step):
                 handle.write(_records(dataset, layout, written, first, min(n, first + step)).tobytes())
@@ -507,7 +508,7 @@ def _writing_bar(enabled: bool, total: int):
         return None
     from .._progress import tqdm
 
-    return tqdm(total=total, desc="study: writing", unit="variant", leave=False)
+    return tqdm(total=total, desc="writing results", unit="variant", leave=False)
 
 
 def _template(dataset):

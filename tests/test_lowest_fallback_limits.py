@@ -76,7 +76,7 @@ def test_a_fallback_that_cannot_fit_is_refused_even_with_allow_long(monkeypatch,
     from rotordyn_modal.analysis._cost import long_work_allowed
 
     monkeypatch.setattr(_lowest, "_CHECKED_BYTES", 0)   # the check's floor: measured from any size
-    monkeypatch.setenv("ROTORDYN_MODAL_MEMORY_GB", "0.001")
+    monkeypatch.setenv("ROTORDYN_MODAL_MEMORY_GB", "0.0001")
     with long_work_allowed(), pytest.raises(InputError) as refused:
         rdm.campbell(rdm.load_model(COMPRESSOR), SPEEDS, critical=False, modes=4)
     line = str(refused.value)

@@ -96,10 +96,10 @@ def lowest_roots(stack, speeds, count: int, progress: bool = False, what: str = 
     out_values[:, :k], out_shapes[:, :k] = values[:, :k], shapes[:, :k]
     full = ~ok
     if full.any():
-        _refuse_long_full(stack, speeds[full], len(speeds), "lowest modes", _UNSERVED)
+        _refuse_long_full(stack, speeds[full], len(speeds), "lowest modes", _UNSERVED, modes=count)
         warnings.warn(f"lowest modes: {int(full.sum())} of {len(speeds)} {what} solved whole (the reduced basis "
                       "could not be shown to hold every root below the wanted ones there)", stacklevel=3)
-        lam, phi = _full_lowest(stack, speeds[full], count)
+        lam, phi = _full_lowest(stack, speeds[full], count, progress)
         out_values[full], out_shapes[full] = lam, phi
     return out_values, out_shapes, full
 
@@ -286,13 +286,18 @@ _UNSERVED = ("the reduced basis could not be shown to hold every root there; an 
 _CHECKED_BYTES = 2**30
 
 
-def _refuse_long_full(stack, speeds, total: int, what: str, why: str, advice: str = "") -> None:
+def _refuse_long_full(stack, speeds, total: int, what: str, why: str, advice: str = "",
+                      modes: int | None = None) -> None:
     """Refuse, before it, the full eigen-solve of ``speeds`` [rad/s] (of ``total``) where its
     arrays would not fit in the memory at hand, or where it is estimated to take longer than the
     limit of CPU time (``_cost``, lifted by ``--allow-long``): one line naming the speeds, the
     size, the estimate and the way out (``advice``, default: leave those speeds out). A long
     flexible rotor's full solve is a dense eigen-solution of thousands of states per speed
     (minutes each, GB of memory).
+
+    The memory is :func:`_full_lowest`'s: one part's eigen-solutions (:func:`_full_bytes`) and the
+    ``modes`` roots and shapes kept of every speed (default: every root, as the modes below a
+    frequency keep them).
 
     Raises
     ------
@@ -312,9 +317,8 @@ def _refuse_long_full(stack, speeds, total: int, what: str, why: str, advice: st
             f"({named}; {why})")
     advice = advice or "leave those speeds out of the sweep"
     solutions = f"{count:,} eigen-solution{'s' if count > 1 else ''} of {n_states:,} states"
-    # the state matrices, one part's eigen-solution and the shapes kept
-    needed = 8.0 * count * n_states ** 2 + max(_batches.CHUNK_BYTES, 72.0 * n_states ** 2) \
-        + 16.0 * count * n_states * stack.n_dof
+    kept = n_states // 2 if modes is None else min(int(modes), n_states // 2)
+    needed = _full_bytes(n_states, count) + 16.0 * count * kept * (stack.n_dof + 1)
     if needed >= _CHECKED_BYTES:
         problem = memory_problem(needed, f"{head}, {solutions},", advice)
         if problem:
@@ -327,14 +331,81 @@ def _refuse_long_full(stack, speeds, total: int, what: str, why: str, advice: st
                          f"{advice}, or add --allow-long ({_cost.ENVIRONMENT} sets the limit)")
 
 
+#: the work memory of one speed's full eigen-solution per squared state [bytes]: its state matrix,
+#: ``eig``'s copy, vectors and values, the complex shapes (as a sweep's chunks count it,
+#: :func:`.campbell.solve_sweeps`)
+_FULL_ITEM = 72
+#: a bar over the full eigen-solves moves in at least this many steps (the parts change no number:
+#: each speed's eigen-solution is its own)
+_FULL_STEPS = 20
+
+
+def _full_parts(n_states: int, count: int, progress: bool = False) -> list:
+    """The parts (slices) of ``count`` speeds whose full eigen-solutions of ``n_states`` states are
+    solved together: at most ``_batches.CHUNK_BYTES`` of work each (one speed where its own is
+    more), and, with a progress bar, at most a ``_FULL_STEPS``-th of the speeds."""
+    largest = -(-count // _FULL_STEPS) if progress else None
+    return _batches.chunk_slices(count, _FULL_ITEM * n_states ** 2, largest=largest)
+
+
+def _full_bytes(n_states: int, count: int) -> float:
+    """The work memory [bytes] of the largest part of :func:`_full_parts` (``count`` speeds of
+    ``n_states`` states): what :func:`_full_lowest` holds beside the roots it keeps."""
+    largest = max(part.stop - part.start for part in _full_parts(n_states, max(count, 1)))
+    return float(_FULL_ITEM) * largest * n_states ** 2
+
+
 #: why a model with frequency-dependent branches is solved whole, for the refusal's message
 _BRANCHES = "the mounts' frequency-dependent (Maxwell) branches add states the reduced basis does not hold"
 
 
-def _full_lowest(stack, speeds, count):
-    """The full eigen-solve of some speeds, their ``count`` lowest oscillating roots."""
-    lam, phi = stack.solve(stack.sweep(speeds)[0], np.zeros(len(speeds), int))
-    return lowest_of(lam, phi, count)
+def _full_lowest(stack, speeds, count, progress=False):
+    """The full eigen-solve of some speeds, their ``count`` lowest oscillating roots.
+
+    The speeds are solved in parts (:func:`_full_parts`: about ``_batches.CHUNK_BYTES`` of work,
+    one speed at a time where a speed's own is more), and each part's roots and shapes are cut to
+    the ``count`` lowest before the next part: the memory is one part's eigen-solutions and the
+    roots kept, not every root and shape of every speed (11 speeds of a 2,006-coordinate machine
+    had taken 2.45 GB after 2 minutes, the state matrices of every speed at once).
+
+    Parameters
+    ----------
+    stack : Stack
+        One model.
+    speeds : ndarray, shape (S,) [rad/s]
+    count : int
+        Roots kept per speed (every root where it is more).
+    progress : bool
+        A progress bar over the speeds ("lowest modes (full eigen-solve)").
+
+    Returns
+    -------
+    eigenvalues : ndarray, shape (S, k), complex [1/s]
+        ``k = min(count, n_states / 2)``, the lowest oscillating first (:func:`lowest_of`).
+    shapes : ndarray, shape (S, k, n), complex, unit norm
+    """
+    n_states = stack.forms[0].n_states
+    k = min(int(count), n_states // 2)
+    values = np.empty((len(speeds), k), complex)
+    shapes = np.empty((len(speeds), k, stack.n_dof), complex)
+    parts = _full_parts(n_states, len(speeds), progress)
+    bar = None
+    if progress:
+        from .._progress import tqdm
+
+        bar = tqdm(total=len(speeds), desc="lowest modes (full eigen-solve)", unit="speed", leave=False)
+    try:
+        for part in parts:
+            chunk = speeds[part]
+            lam, phi = stack.solve(stack.sweep(chunk)[0], np.zeros(len(chunk), int))
+            values[part], shapes[part] = lowest_of(lam, phi, k)
+            del lam, phi
+            if bar is not None:
+                bar.update(len(chunk))
+    finally:
+        if bar is not None:
+            bar.close()
+    return values, shapes
 
 
 def lowest_of(lam, phi, count):

@@ -286,7 +286,7 @@ def _write(result, args, folder, kinds=None):
     from ..io.atomic import after_commit
     from ..study.execution import remove_checkpoint
 
-    result.save(args.out)
+    result.save(args.out, progress=show_progress(args))
     after_commit(lambda: remove_checkpoint(folder))
     if args.table:
         with atomic_write(args.table, "w", newline="") as handle:

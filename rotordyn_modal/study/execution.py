@@ -378,6 +378,10 @@ class Checkpoint:
                     "n": int(len(chunk["error"])), **_digest(payload)}
         _atomic_bytes(path.with_suffix(".json"), json.dumps(manifest).encode())
 
+    def saved(self) -> int:
+        """The chunk files in the folder (those :meth:`each_done` reads; some may not check out)."""
+        return sum(1 for _ in self.folder.glob("chunk-*.npz"))
+
     def remove(self) -> None:
         remove_checkpoint(self.folder)
 
@@ -727,18 +731,22 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
     kept = {} if sink is None else None
     resumed = set()
     if checkpoint is not None:
-        for index, chunk in checkpoint.each_done(tasks):  # checked (and let go) before the pool starts
+        saved = _saved_bar(progress, checkpoint.each_done(tasks), checkpoint.saved(), "checking saved chunks")
+        for index, chunk in saved:  # checked (and let go) before the pool starts
             resumed.add(index)
             if kept is not None:
                 kept[index] = chunk
     todo = [task for task in tasks if task.index not in resumed]
-    bar = _bar(progress, total, sum(len(t.values) for t in tasks if t.index in resumed))
     mapper = map if executor is None else executor.map
+    bar = None
     try:
         computed = mapper(run_chunk, todo)  # a pool's workers start here, before memory fills
         if sink is not None and resumed:
-            for index, chunk in checkpoint.each_done(tasks, resumed):
+            for index, chunk in _saved_bar(progress, checkpoint.each_done(tasks, resumed), len(resumed),
+                                           "reading saved chunks"):
                 sink(chunk)
+        # after the saved chunks' own bar: one bar on the terminal at a time
+        bar = _bar(progress, total, sum(len(t.values) for t in tasks if t.index in resumed))
         for task in tasks:
             if task.index in resumed:
                 _LOG.info("chunk %d resumed (variants %d-%d)", task.index, task.start,
@@ -758,6 +766,18 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
         if bar is not None:
             bar.close()
     return ([kept[task.index] for task in tasks] if kept is not None else []), len(resumed)
+
+
+def _saved_bar(enabled, chunks, total: int, description: str):
+    """``chunks`` (the ``(index, chunk)`` pairs of :meth:`Checkpoint.each_done`) as they come, with
+    a bar over them where ``enabled`` (``total`` chunk files; gone when done): a resumed study reads
+    and checks every saved chunk twice, before the work and again into the results (measured 33 s
+    for 439 chunks of 30,000 variants, with no sign of progress before)."""
+    if not enabled or not total:
+        return chunks
+    from .._progress import tqdm
+
+    return tqdm(chunks, total=total, desc=description, unit="chunk", leave=False)
 
 
 def _bar(enabled, total, initial):

@@ -1,0 +1,99 @@
+"""More progress bars on a real pseudo-terminal (issue 27 §1.9: long work shows its progress):
+the lowest modes' full-solve fallback, and a study's resume (the saved chunks checked, then read)
+and its results file being written. The terminal and its reading are those of
+``tests/test_progress_terminal.py``."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+
+import rotordyn_modal as rdm
+
+from test_progress_terminal import EXAMPLES, STUDY, _drawings, _environment, _on_terminal
+
+COMPRESSOR = EXAMPLES / "compressor_rotor.toml"     # axisymmetric: double roots at rest, solved whole
+
+
+def test_the_full_solve_fallback_shows_its_bar(tmp_path):
+    """``campbell --lowest`` with a speed left to the full eigen-solve (0 rpm) draws the fallback's
+    bar over the speeds solved whole, whole drawings within the width."""
+    code, text = _on_terminal(["campbell", str(COMPRESSOR), "--speeds", "0:3000:3", "--lowest", "4",
+                               "--out", str(tmp_path / "c.csv")], 100, 40)
+    assert code == 0, text
+    assert "1 of 3 speeds solved whole" in text, text
+    drawings = _drawings(text, "lowest modes (full eigen-solve):")
+    assert drawings, text
+    assert all(drawing.endswith("]") and len(drawing) <= 99 for drawing in drawings), drawings
+    assert "/1 " in drawings[0], drawings
+
+
+def _study(tmp_path):
+    spec = tmp_path / "three.study.toml"
+    spec.write_text(STUDY)
+    out = tmp_path / "out.nc"
+    argv = ["study", str(EXAMPLES / "gear_machine.toml"), "--spec", str(spec), "--out", str(out),
+            "--workers", "1", "--chunk-size", "1"]
+    return spec, out, argv
+
+
+def test_the_results_file_is_written_with_a_bar(tmp_path, monkeypatch):
+    """A results file of more than one block is written with a bar over the variants (here on a
+    pseudo-terminal as this process's stderr, blocks of one variant); the file reads back whole."""
+    import io
+    import os
+    import pty
+
+    from rotordyn_modal.study import results
+
+    spec, _, _ = _study(tmp_path)
+    result = rdm.study(rdm.load_model(EXAMPLES / "gear_machine.toml"), spec, chunk_size=1)
+    monkeypatch.setattr(results, "_BLOCK_BYTES", 1)                      # one variant a block
+    master, slave = pty.openpty()
+    terminal = io.TextIOWrapper(os.fdopen(slave, "wb", buffering=0), encoding="utf-8", write_through=True)
+    monkeypatch.setattr(sys, "stderr", terminal)
+    try:
+        result.save(tmp_path / "out.nc", progress=True)
+        terminal.flush()
+        text = os.read(master, 65536).decode("utf-8", "replace")
+    finally:
+        terminal.close()
+        os.close(master)
+    drawings = _drawings(text, "writing results:")
+    assert drawings and all(drawing.endswith("]") for drawing in drawings), text
+    assert "/3 " in drawings[0], drawings
+    written = rdm.load_study(tmp_path / "out.nc")
+    np.testing.assert_array_equal(written.dataset["modal_frequency_hz"].values,
+                                  result.dataset["modal_frequency_hz"].values)
+
+
+def test_a_resumed_study_shows_its_saved_chunks_checked_and_read(tmp_path):
+    """A study resumed from three saved chunks draws a bar while it checks them and another while
+    it reads them into the results; the results equal those computed afresh."""
+    spec, out, argv = _study(tmp_path)
+    model = rdm.load_model(EXAMPLES / "gear_machine.toml")
+    fresh = rdm.study(model, spec, checkpoint=tmp_path / "out.nc.partial", chunk_size=1)
+    assert len(list((tmp_path / "out.nc.partial").glob("chunk-*.npz"))) == 3
+    code, text = _on_terminal(argv, 100, 40)
+    assert code == 0, text
+    for description in ("checking saved chunks:", "reading saved chunks:"):
+        drawings = _drawings(text, description)
+        assert drawings and all(drawing.endswith("]") for drawing in drawings), (description, text)
+        assert "/3 " in drawings[0], drawings
+    resumed = rdm.load_study(out)
+    for name in fresh.dataset.data_vars:
+        if fresh.dataset[name].dtype.kind in "fc":
+            np.testing.assert_array_equal(resumed.dataset[name].values, fresh.dataset[name].values)
+
+
+def test_no_resume_or_writing_bar_where_stderr_is_no_terminal(tmp_path):
+    """With stderr sent to a file, a resumed study writes no bar and no carriage return there."""
+    spec, _, argv = _study(tmp_path)
+    rdm.study(rdm.load_model(EXAMPLES / "gear_machine.toml"), spec, checkpoint=tmp_path / "out.nc.partial",
+              chunk_size=1)
+    result = subprocess.run([sys.executable, "-m", "rotordyn_modal", *argv], capture_output=True, text=True,
+                            env=_environment(), timeout=180)
+    assert result.returncode == 0, result.stderr
+    assert "saved chunks" not in result.stderr and "\r" not in result.stderr, result.stderr

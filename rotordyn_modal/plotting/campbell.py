@@ -523,11 +523,7 @@ def _legend_under(fig, ax):
     if count < 2:
         return legend
     renderer = fig.canvas.get_renderer() if hasattr(fig.canvas, "get_renderer") else fig._get_renderer()
-    engine = fig.get_layout_engine()
-    if engine is not None:
-        legend.set_in_layout(False)
-        engine.execute(fig)
-    width = ax.get_window_extent(renderer).width              # [px]
+    width = _width_without(legend, renderer)
     for rows in range(1, count + 1):
         columns = -(-count // rows)
         if rows > 1 and columns == -(-count // (rows - 1)):
@@ -536,6 +532,32 @@ def _legend_under(fig, ax):
         if columns == 1 or legend.get_window_extent(renderer).width <= width:
             return legend
     return legend
+
+
+def _width_without(legend, renderer):
+    """Width [px] of ``legend``'s axes as the figure's layout engine lays it out without the
+    legend (the axes' own width when the figure has no engine). The axes of the figure are
+    put back where they were, and a subclass's first-layout work waits for the first draw,
+    so that the figure's first draw lays it out as before."""
+    root = legend.axes.figure.get_figure(root=True)
+    engine = root.get_layout_engine()
+    if engine is None:
+        return legend.axes.get_window_extent(renderer).width
+    axes, figures = [], [root]
+    while figures:
+        figure = figures.pop()
+        axes += figure.axes
+        figures += figure.subfigs
+    kept = [(a, a.get_position(original=True), a.get_position()) for a in axes]
+    legend.set_in_layout(False)
+    # matplotlib's own layout, not a subclass's first-layout work (_overlap.at_first_layout)
+    plain = next(cls for cls in type(engine).__mro__ if cls.__module__.startswith("matplotlib."))
+    plain.execute(engine, root)
+    width = legend.axes.get_window_extent(renderer).width
+    for a, original, active in kept:
+        a._set_position(original, which="original")
+        a._set_position(active, which="active")
+    return width
 
 
 class _CampbellLabels:

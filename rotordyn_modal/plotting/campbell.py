@@ -127,7 +127,7 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     ax.grid(True, which="major", alpha=0.3)
     if axis_scale == "log":
         ax.grid(True, which="minor", alpha=0.1)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.11), fontsize="small", ncols=4, frameon=False)
+    _legend_under(fig, ax)
     slopes = result.order_slopes(scale)[_drawn_sources(result, lines)]      # [Hz per unit of the axis]
     labels = _CampbellLabels(ax, curves, freqs, result, lines, slopes, critical[:2], annotate_critical,
                              color_by is None)
@@ -506,6 +506,58 @@ def _distinct_points(speeds, freqs):
 def _speed_text(value: float) -> str:
     """A critical speed's label: whole units from 100 on, three digits below."""
     return f"{value:.0f}" if abs(value) >= 100 else f"{value:.3g}"
+
+
+def _legend_under(fig, ax):
+    """The legend under ``ax``, in as few rows as keep it no wider than the axes.
+
+    The axes' width is the one the figure's layout engine (constrained layout) gives it
+    without the legend; one row when that fits, else the fewest rows that do (columns of
+    equal height: 2 x 2 for four entries), else one column. So panels side by side keep
+    their width and each legend stays under its own axes. Chosen once, when drawn: a
+    resized figure keeps the columns.
+    """
+    kwargs = dict(loc="upper center", bbox_to_anchor=(0.5, -0.11), fontsize="small", frameon=False)
+    count = len(ax.get_legend_handles_labels()[1])
+    legend = ax.legend(ncols=max(count, 1), **kwargs)
+    if count < 2:
+        return legend
+    renderer = fig.canvas.get_renderer() if hasattr(fig.canvas, "get_renderer") else fig._get_renderer()
+    width = _width_without(legend, renderer)
+    for rows in range(1, count + 1):
+        columns = -(-count // rows)
+        if rows > 1 and columns == -(-count // (rows - 1)):
+            continue                                           # the same columns as one row fewer
+        legend = ax.legend(ncols=columns, **kwargs)
+        if columns == 1 or legend.get_window_extent(renderer).width <= width:
+            return legend
+    return legend
+
+
+def _width_without(legend, renderer):
+    """Width [px] of ``legend``'s axes as the figure's layout engine lays it out without the
+    legend (the axes' own width when the figure has no engine). The axes of the figure are
+    put back where they were, and a subclass's first-layout work waits for the first draw,
+    so that the figure's first draw lays it out as before."""
+    root = legend.axes.figure.get_figure(root=True)
+    engine = root.get_layout_engine()
+    if engine is None:
+        return legend.axes.get_window_extent(renderer).width
+    axes, figures = [], [root]
+    while figures:
+        figure = figures.pop()
+        axes += figure.axes
+        figures += figure.subfigs
+    kept = [(a, a.get_position(original=True), a.get_position()) for a in axes]
+    legend.set_in_layout(False)
+    # matplotlib's own layout, not a subclass's first-layout work (_overlap.at_first_layout)
+    plain = next(cls for cls in type(engine).__mro__ if cls.__module__.startswith("matplotlib."))
+    plain.execute(engine, root)
+    width = legend.axes.get_window_extent(renderer).width
+    for a, original, active in kept:
+        a._set_position(original, which="original")
+        a._set_position(active, which="active")
+    return width
 
 
 class _CampbellLabels:

@@ -1,0 +1,80 @@
+"""Small input defects (input27f): each case failed on main before its fix.
+
+1. ``ucs-map --operating-range`` outside a chosen bearing's speed table is refused, as
+   ``report`` refuses it (one check, ``elements.bearings.table_left``).
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.errors import InputError
+
+TABLE_MODEL = """name = "table rotor"
+[[rotors]]
+name = "r"
+mass = 20.0
+center_of_mass = [0.0, 0.0, 0.0]
+polar_inertia = 0.1
+diametral_inertia = 1.0
+speed_ratio = 1.0
+
+[[bearings]]
+name = "A"
+rotor = "r"
+position = [0.3, 0.0, 0.0]
+speeds_rpm = [{first}, 3000.0, 5000.0]
+stiffness = [1e6, 2e6, 3e6]
+damping = [100.0, 100.0, 100.0]
+
+[[bearings]]
+name = "B"
+rotor = "r"
+position = [-0.3, 0.0, 0.0]
+stiffness = 2e6
+"""
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "rotordyn_modal", *map(str, args)], capture_output=True, text=True,
+                          timeout=300)
+
+
+def _table_model(tmp_path, first=1000.0):
+    path = tmp_path / "table.toml"
+    path.write_text(TABLE_MODEL.format(first=first), encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("band", ["6000:8000", "500:3000", "0:3000"])
+def test_ucs_map_operating_range_outside_a_speed_table_is_refused(tmp_path, band):
+    """The table holds 1000 .. 5000 rpm: a band above or below it drew the band where the
+    bearing's curve has no point, without a word (exit 0)."""
+    path = _table_model(tmp_path)
+    done = _cli("ucs-map", path, "--stiffness", "1e5:1e8:4", "--operating-range", band, "--out", tmp_path / "u.csv")
+    assert done.returncode == 2, done.stderr
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and f"--operating-range {band}" in lines[0] and "[bearings.A]" in lines[0]
+    assert "1000 .. 5000 rpm" in lines[0]
+    assert not (tmp_path / "u.csv").exists()
+
+
+def test_ucs_map_operating_range_inside_the_table_runs(tmp_path):
+    path = _table_model(tmp_path)
+    done = _cli("ucs-map", path, "--stiffness", "1e5:1e8:4", "--operating-range", "1000:5000", "--out",
+                tmp_path / "u.csv")
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "u.csv").is_file()
+
+
+def test_ucs_map_api_operating_range_outside_a_speed_table_is_refused(tmp_path):
+    model = rdm.load_model(_table_model(tmp_path))
+    with pytest.raises(InputError, match=r"^operating = .*\[bearings\.A\] speeds_rpm 1000 \.\. 5000 rpm"):
+        rdm.ucs_map(model, [1e6, 1e7], operating=(rdm.rpm(6000), rdm.rpm(8000)))
+    result = rdm.ucs_map(model, [1e6, 1e7], operating=(rdm.rpm(1000), rdm.rpm(5000)))
+    assert np.isfinite(result.speeds[:, 0]).all()

@@ -78,3 +78,60 @@ def test_ucs_map_api_operating_range_outside_a_speed_table_is_refused(tmp_path):
         rdm.ucs_map(model, [1e6, 1e7], operating=(rdm.rpm(6000), rdm.rpm(8000)))
     result = rdm.ucs_map(model, [1e6, 1e7], operating=(rdm.rpm(1000), rdm.rpm(5000)))
     assert np.isfinite(result.speeds[:, 0]).all()
+
+
+FLEXIBLE_MODEL = """name = "flexible shaft on a table"
+spin_axis = [1.0, 0.0, 0.0]
+
+[[materials]]
+name = "steel"
+density = 7810.0
+young_modulus = 2.11e11
+poisson_ratio = 0.3
+
+[[rotors]]
+name = "r"
+start = [0.0, 0.0, 0.0]
+
+[[rotors.shaft]]
+length = 1.0
+outer_diameter = 0.05
+material = "steel"
+
+[[bearings]]
+name = "A"
+rotor = "r"
+axial_position = 0.05
+{bearing_a}
+
+[[bearings]]
+name = "B"
+rotor = "r"
+axial_position = 0.95
+stiffness = 2e6
+"""
+
+
+def _rest_line(tmp_path, name, bearing_a):
+    path = tmp_path / f"{name}.toml"
+    path.write_text(FLEXIBLE_MODEL.format(bearing_a=bearing_a), encoding="utf-8")
+    done = _cli("check", path)
+    assert done.returncode == 0, done.stderr
+    return next(line for line in done.stdout.splitlines() if "at rest:" in line)
+
+
+@pytest.mark.parametrize("first", [1000.0, 0.0])
+def test_check_names_the_table_row_it_takes_for_the_bearings_at_rest(tmp_path, first):
+    """2. A table starting at 1000 rpm: 'at rest ... on its bearings' used its first row (the
+    stiffness of 1000 rpm) without saying so. The line now names that row's speed; the
+    frequencies are those of the same shaft on a constant bearing of that row's stiffness (an
+    independent build), and a table starting at 0 rpm says nothing more."""
+    table = _rest_line(tmp_path, "table", f"axial_stiffness = [1e8, 1e8, 1e8]\nspeeds_rpm = [{first}, 3000.0, 6000.0]\n"
+                                          "stiffness = [2e6, 4e7, 8e7]")
+    constant = _rest_line(tmp_path, "constant", "axial_stiffness = 1e8\nstiffness = 2e6")
+    named = "[bearings.A] at its table's first row, 1000 rpm"
+    if first:
+        assert f"(stator held; {named})" in table
+        assert table.replace(f"; {named}", "") == constant
+    else:
+        assert table == constant and "first row" not in table

@@ -2,6 +2,8 @@
 
 1. ``ucs-map --operating-range`` outside a chosen bearing's speed table is refused, as
    ``report`` refuses it (one check, ``elements.bearings.table_left``).
+2. ``check``'s frequencies 'at rest ... on its bearings' name the speed of a table's first row.
+3. An unbalance whose eccentricity no rotor can have is refused when the model is read.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
+from degenerate_models import variant
 from rotordyn_modal.errors import InputError
 
 TABLE_MODEL = """name = "table rotor"
@@ -135,3 +138,61 @@ def test_check_names_the_table_row_it_takes_for_the_bearings_at_rest(tmp_path, f
         assert table.replace(f"; {named}", "") == constant
     else:
         assert table == constant and "first row" not in table
+
+
+def _rigid_rotor(mass, polar, unbalance):
+    return f"""[[rotors]]
+name = "r"
+mass = {mass}
+center_of_mass = [0.0, 0.0, 0.0]
+polar_inertia = {polar}
+diametral_inertia = {polar}
+[[bearings]]
+name = "a"
+rotor = "r"
+position = [0.2, 0.0, 0.0]
+stiffness = 1e6
+[[bearings]]
+name = "b"
+rotor = "r"
+position = [-0.2, 0.0, 0.0]
+stiffness = 1e6
+[[unbalances]]
+rotor = "r"
+{unbalance}
+"""
+
+
+def test_simulate_refuses_an_unbalance_of_absurd_eccentricity_in_one_line(tmp_path):
+    """3. 1e-4 kg m on a rotor of 1e-30 kg (eccentricity 1e26 m): ``simulate`` failed at t = 0
+    with 'step size too small', exit 1. Now the model is refused, naming the unbalance."""
+    path = tmp_path / "light.toml"
+    path.write_text(variant(stator_mass="100.0", stator_inertia="[10.0, 10.0, 10.0]", rotor_mass="1e-30",
+                            bearing="4e-13"), encoding="utf-8")
+    done = _cli("simulate", path, "--speed", "1000", "--duration", "0.001", "--out", tmp_path / "s.csv")
+    assert done.returncode == 2, done.stderr
+    line = done.stderr.strip().splitlines()[-1]
+    assert "error: " in line and "[unbalances[0]] amount = 0.0001" in line and "1e+26 m" in line
+    assert "Traceback" not in done.stderr and not (tmp_path / "s.csv").exists()
+
+
+@pytest.mark.parametrize("mass, polar, unbalance, refused", [
+    (10.0, 0.05, "amount = 10.0", False),          # e = 1 m: the floor, kept
+    (10.0, 0.05, "amount = 10.01", True),          # e = 1.001 m > max(1 m, sqrt(0.005) m)
+    (10.0, 90.0, "amount = 29.9", False),          # radius of gyration 3 m: e = 2.99 m kept
+    (10.0, 90.0, "amount = 30.1", True),
+    (10.0, 0.05, 'grade = "G4000"\nservice_speed_rpm = 1.0', True),   # G / Omega = 38 m
+    (10.0, 0.05, 'grade = "G4000"\nservice_speed_rpm = 100.0', False),  # 0.38 m (a slow diesel crank)
+], ids=["floor", "above-floor", "gyration", "above-gyration", "grade-refused", "grade-kept"])
+def test_the_eccentricity_bound_is_the_larger_of_one_metre_and_the_radius_of_gyration(
+        tmp_path, mass, polar, unbalance, refused):
+    """e = amount / m <= sqrt(Jp / m) for any mass of the rotor at any radius (Cauchy-Schwarz);
+    1 m at least. A graded unbalance is named by its grade."""
+    path = tmp_path / "rotor.toml"
+    path.write_text(_rigid_rotor(mass, polar, unbalance), encoding="utf-8")
+    if not refused:
+        assert rdm.load_model(path).unbalances[0].amount > 0
+        return
+    key = "grade" if "grade" in unbalance else "amount"
+    with pytest.raises(InputError, match=rf"\[unbalances\[0\]\] {key} = .*eccentricity"):
+        rdm.load_model(path)

@@ -4,6 +4,7 @@
    ``report`` refuses it (one check, ``elements.bearings.table_left``).
 2. ``check``'s frequencies 'at rest ... on its bearings' name the speed of a table's first row.
 3. An unbalance whose eccentricity no rotor can have is refused when the model is read.
+4. ``simulate`` estimates its CPU time before the integration and refuses it over the limit.
 """
 
 from __future__ import annotations
@@ -196,3 +197,49 @@ def test_the_eccentricity_bound_is_the_larger_of_one_metre_and_the_radius_of_gyr
     key = "grade" if "grade" in unbalance else "amount"
     with pytest.raises(InputError, match=rf"\[unbalances\[0\]\] {key} = .*eccentricity"):
         rdm.load_model(path)
+
+
+def _stiff_casing(tmp_path):
+    """A casing of inertia [10, 10, 1.1e-11] kg m^2 about a 10 kg rotor: loadable, with a 13.7 MHz
+    mode about z that the explicit integrator must follow (about 25 s of CPU per simulated ms)."""
+    path = tmp_path / "stiff.toml"
+    path.write_text(variant(stator_mass="100.0", rotor_mass="10.0", stator_inertia="[10.0, 10.0, 1.1e-11]"),
+                    encoding="utf-8")
+    return path
+
+
+def test_simulate_refuses_a_run_over_the_cpu_limit_before_the_work(tmp_path, monkeypatch):
+    """4. 0.01 s of that casing took minutes without a word (the 1e6-periods limit passes it).
+    Now the estimate (2,000,001 output times x 14 evaluations x microseconds) exceeds a limit of 6 s:
+    one line naming --duration, the estimate and --allow-long, at once, no output."""
+    monkeypatch.setenv("ROTORDYN_MODAL_MAX_CPU_MINUTES", "0.1")
+    out = tmp_path / "s.csv"
+    done = subprocess.run([sys.executable, "-m", "rotordyn_modal", "simulate", str(_stiff_casing(tmp_path)),
+                           "--speed", "100", "--duration", "0.01", "--out", str(out)],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 2, done.stderr
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("rotordyn-modal simulate: error: --duration 0.01: "), lines
+    assert "more than the limit of 6 s" in lines[0] and "--allow-long" in lines[0] and "1.37e+05 periods" in lines[0] and "2,000,001 output times" in lines[0]
+    assert not out.exists()
+
+
+def test_the_cpu_estimate_of_simulate_errs_low_and_allow_long_runs_it(tmp_path, monkeypatch):
+    """The same casing for 0.02 ms (5,463 output times, 20 a period of its 13.7 MHz mode) under a
+    limit of 60 us: refused by the API with the estimate; inside ``long_work_allowed`` it runs,
+    and its CPU time is at least the estimate (a low bound, so that nothing the limit lets
+    through is refused)."""
+    import re
+    import time
+
+    model = rdm.load_model(_stiff_casing(tmp_path))
+    monkeypatch.setenv("ROTORDYN_MODAL_MAX_CPU_MINUTES", "1e-6")
+    with pytest.raises(InputError, match=r"^duration = 2e-05 s: this simulation would take at least") as refused:
+        rdm.simulate(model, 2e-5, speed=100.0)
+    estimate = float(re.search(r"at least ([0-9.e+-]+) s of CPU", str(refused.value))[1])
+    assert "5,463 output times" in str(refused.value)   # int(20 x 273.15 + 1)
+    start = time.process_time()
+    with rdm.long_work_allowed():
+        result = rdm.simulate(model, 2e-5, speed=100.0)
+    assert np.isfinite(result.states).all()
+    assert time.process_time() - start >= estimate

@@ -61,14 +61,16 @@ direction = [0.0, 0.0, -1.0]
 def variant(**changes: str) -> str:
     """``EXTREME`` with its instruments and the new value of each line named in ``changes``:
     ``stator_mass``, ``stator_inertia``, ``rotor_mass``, ``rotor_inertia`` (polar and diametral),
-    ``bearing`` (both bearings' stiffness), ``mount`` (the suspension's six numbers); e.g.
-    ``variant(stator_mass="100.0", rotor_mass="1e-30")``."""
+    ``bearing`` (both bearings' stiffness), ``mount`` (the suspension's six numbers), ``unbalance``
+    (its amount: 1e-4 kg m is refused on a rotor of 1e-30 kg, an eccentricity of 1e26 m); e.g.
+    ``variant(stator_mass="100.0", rotor_mass="1e-30", unbalance="1e-16")``."""
     text = EXTREME + INSTRUMENTS
     lines = {"stator_mass": ("mass = 1e-30", "mass = {}"),
              "stator_inertia": ("inertia = [1.0, 1.0, 1.0]", "inertia = {}"),
              "rotor_mass": ("mass = 1e30", "mass = {}"),
              "bearing": ("stiffness = 1e6", "stiffness = {}"),
-             "mount": ("stiffness = [1e5, 1e5, 1e5, 1e3, 1e3, 1e3]", "stiffness = {}")}
+             "mount": ("stiffness = [1e5, 1e5, 1e5, 1e3, 1e3, 1e3]", "stiffness = {}"),
+             "unbalance": ("amount = 1e-4", "amount = {}")}
     for key, value in changes.items():
         if key == "rotor_inertia":
             text = text.replace("polar_inertia = 0.05", f"polar_inertia = {value}")

@@ -391,7 +391,8 @@ def test_the_python_ucs_map_refuses_that_model_with_the_model_error(tmp_path):
 
 #: degenerate models of the same family that a model check refuses when read: (changes, words)
 _FAMILY = {
-    "rotor-of-no-mass-on-stiff-bearings": ({"stator_mass": "100.0", "rotor_mass": "1e-30", "bearing": "1e12"},
+    "rotor-of-no-mass-on-stiff-bearings": ({"stator_mass": "100.0", "rotor_mass": "1e-30", "bearing": "1e12",
+                                             "unbalance": "1e-16"},
                                            ["[bearings.a] stiffness", "1e+12"]),
     "casing-without-inertia-about-z": ({"stator_mass": "100.0", "rotor_mass": "10.0",
                                         "stator_inertia": "[10.0, 10.0, 1e-40]"}, ["[stator] inertia", "1e-40"]),
@@ -425,7 +426,7 @@ def test_an_unbalance_response_singular_at_round_off_is_one_line_naming_where(tm
 
     model = tmp_path / "light_rotor.toml"
     model.write_text(variant(stator_mass="100.0", stator_inertia="[10.0, 10.0, 10.0]", rotor_mass="1e-30",
-                             bearing="4e-13"))
+                             bearing="4e-13", unbalance="1e-16"))
     assert main(_argv(tmp_path, "unbalance", model)) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 2 and ": warning: " in err[0] and "lose about 15 of 16" in err[0], err
@@ -451,11 +452,11 @@ def test_an_frf_of_that_model_with_a_loss_factor_is_refused_not_made_up(tmp_path
 def test_an_api_unbalance_case_of_a_rotor_of_no_mass_names_the_rotors_mass(tmp_path, capsys):
     """API 684's unbalance of a 1e-30 kg rotor at 1000 rpm, 2 x 6350 g mm x m [kg] / N [rpm],
     is 1.27e-35 kg m: below what a model holds, and the report refused it as '[unbalances[0]]
-    amount = 1.27e-35', an amount the file does not have (its unbalance is 1e-4 kg m). Now the
+    amount = 1.27e-35', an amount the file does not have (its unbalance is 1e-16 kg m). Now the
     line names the rotor's mass, the speed and the case's amount."""
     model = tmp_path / "light_rotor.toml"
     model.write_text(variant(stator_mass="100.0", stator_inertia="[10.0, 10.0, 10.0]", rotor_mass="1e-30",
-                             bearing="4e-13"))
+                             bearing="4e-13", unbalance="1e-16"))
     out = tmp_path / "r.html"
     assert main(["report", str(model), "--standard", "api684", "--mcs", "1000", "--out", str(out), "--quiet"]) == 2
     err = capsys.readouterr().err.strip().splitlines()

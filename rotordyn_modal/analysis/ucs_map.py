@@ -35,7 +35,7 @@ import scipy.linalg
 from scipy.optimize import brentq
 
 from ..assembly import bearing_motion, body_inertias, constant_stiffness_damping, gyroscopic_matrix, mass_matrix
-from ..elements.bearings import evaluate
+from ..elements.bearings import evaluate, table_left
 from ..errors import InputError
 from ..linear_system import checked_mass_inverse
 from ..model._table import visible_names
@@ -228,6 +228,7 @@ def ucs_map(model, stiffness, modes: int = 4, bearings=None, speeds=None, operat
     stiffness = _check_stiffness(stiffness)
     modes = _check_modes(modes)
     operating = _check_operating(operating)
+    check_operating_tables(model, operating, chosen)
     speeds = _check_speeds(speeds)
     # BLAS's own threads only wait for a core on a shared machine: 53 states, 9x faster on one
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
@@ -272,6 +273,32 @@ def _check_operating(operating):
         raise InputError(f"operating = {_arguments._shown(operating)}: expected (low, high) [rad/s] with "
                          "0 <= low <= high and high > 0 (low = high: one rated speed)")
     return tuple(float(s) for s in band)
+
+
+def check_operating_tables(model, operating, bearings, named=None) -> None:
+    """Refuse an operating range that takes a chosen bearing's rotor outside its speed table.
+
+    Its curve on the map ends at the table's rows, so the band would lie where no coefficient
+    is known: ``report`` refuses the same case (``elements.bearings.table_left``, one check).
+
+    Parameters
+    ----------
+    model : Model
+    operating : (float, float) [rad/s] or None
+    bearings : sequence of Bearing
+        The chosen bearings.
+    named : str, optional
+        The range as the caller typed it (``--operating-range 6000:8000``); default
+        ``operating = (low, high)``.
+    """
+    if operating is None or (left := table_left(model, operating, bearings)) is None:
+        return
+    bearing, own = left
+    table, rpm = bearing.coefficients.speeds, 30.0 / np.pi
+    named = named or f"operating = {_arguments._shown(tuple(operating))}"
+    raise InputError(f"{named}: rotor {bearing.rotor!r} turns at {own.min() * rpm:.6g} .. {own.max() * rpm:.6g} rpm "
+                     f"there: expected within [bearings.{bearing.name}] speeds_rpm {table[0] * rpm:.6g} .. "
+                     f"{table[-1] * rpm:.6g} rpm (extend the table, or an operating range within it)")
 
 
 class _Pencil:

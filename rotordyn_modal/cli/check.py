@@ -15,7 +15,7 @@ lb in², oz in, reyn) its masses, rotors with their speed ratios,
 suspensions, bearings and generalized coordinates; for each flexible rotor (one with a shaft) its
 mesh (nodes, elements), mass, centre of mass, polar and diametral inertia computed from its shaft,
 disks and point masses, and its first bending natural frequency at rest, free-free and on its
-bearings (the stator held still; tabulated bearings at their first row; not with journal bearings,
+bearings (the stator held still; tabulated bearings at their first row, its speed named when not 0; not with journal bearings,
 which hold nothing at rest): the lowest mode with the share of its strain energy in the shaft, and
 the lowest mode with most of its strain energy in the shaft.
 Exit code 0 when the model is valid, 2 (with one message naming the
@@ -185,8 +185,8 @@ def _flexible_lines(model, u=_Units()) -> list[str]:
         elif not lowest > 0:
             held = "on its bearings: the bearings leave it free at rest"
         else:
-            held = (f"on its bearings (stator held) lowest mode {lowest:.6g} Hz ({share:.0%} of its strain energy "
-                    f"in the shaft), first mostly bending (over 50 % in the shaft) {bending:.6g} Hz")
+            held = (f"on its bearings (stator held{_first_rows(bearings)}) lowest mode {lowest:.6g} Hz ({share:.0%} of its "
+                    f"strain energy in the shaft), first mostly bending (over 50 % in the shaft) {bending:.6g} Hz")
         m, kg, inertia = u.label("length"), u.label("mass"), u.label("inertia")
         lines += [f"  flexible rotor {rotor.name}: shaft {u(shaft.length, 'length'):.6g} {m} from "
                   f"{np.round(u(shaft.start, 'length'), 6).tolist()} {m}, "
@@ -198,6 +198,14 @@ def _flexible_lines(model, u=_Units()) -> list[str]:
                   f"{u(rotor.diametral_inertia, 'inertia'):.6g} {inertia}",
                   f"    at rest: first bending frequency free-free {free:.6g} Hz; {held}"]
     return lines
+
+
+def _first_rows(bearings) -> str:
+    """``; [bearings.A] at its table's first row, 1000 rpm`` for each speed table that does not
+    start at rest (the stiffness of that row stands for the bearing at rest), else empty."""
+    rows = [f"[bearings.{b.name}] at its table's first row, {b.coefficients.speeds[0] * 30 / np.pi:.6g} rpm"
+            for b in bearings if b.coefficients.kind == "table" and b.coefficients.speeds[0] != 0]
+    return "; " + "; ".join(rows) if rows else ""
 
 
 def _bearing_lines(model, u=_Units()) -> list[str]:

@@ -199,22 +199,19 @@ def _check_tables(model, inputs, args):
     ended in 'extend the table or the sweep's range'."""
     import math
 
-    import numpy as np
+    from ..elements.bearings import table_left
 
-    ends = np.array([inputs.speeds[0], inputs.speeds[-1]])
-    for bearing in model.bearings:
-        table = bearing.coefficients.speeds
-        if bearing.coefficients.kind != "table" or table is None:
-            continue
-        own = model.speed_ratios[bearing.rotor] * ends
-        slack = 1e-12 * np.max(np.abs(table[[0, -1]]))      # as the table's own check (round-off)
-        if own.min() < table[0] - slack or own.max() > table[-1] + slack:
-            rpm = 30.0 / math.pi
-            raise InputError(
-                f"{as_typed(args, '--mcs')} {args.mcs}: the report sweeps the reference speed from 2 % of it to "
-                f"1.5 x it, {ends[0] * rpm:.6g} .. {ends[1] * rpm:.6g} rpm, where rotor {bearing.rotor!r} turns at "
-                f"{own.min() * rpm:.6g} .. {own.max() * rpm:.6g} rpm: expected within [bearings.{bearing.name}] "
-                f"speeds_rpm {table[0] * rpm:.6g} .. {table[-1] * rpm:.6g} rpm (extend the table, or a lower --mcs)")
+    ends = [inputs.speeds[0], inputs.speeds[-1]]
+    left = table_left(model, ends)
+    if left is None:
+        return
+    bearing, own = left
+    table, rpm = bearing.coefficients.speeds, 30.0 / math.pi
+    raise InputError(
+        f"{as_typed(args, '--mcs')} {args.mcs}: the report sweeps the reference speed from 2 % of it to "
+        f"1.5 x it, {ends[0] * rpm:.6g} .. {ends[1] * rpm:.6g} rpm, where rotor {bearing.rotor!r} turns at "
+        f"{own.min() * rpm:.6g} .. {own.max() * rpm:.6g} rpm: expected within [bearings.{bearing.name}] "
+        f"speeds_rpm {table[0] * rpm:.6g} .. {table[-1] * rpm:.6g} rpm (extend the table, or a lower --mcs)")
 
 
 def _command_line() -> str:

@@ -9,7 +9,7 @@ import numpy as np
 from .._limits import count_problem
 from ..errors import InputError
 from ..units import to_system
-from ._common import (IN_SPEED_UNIT, add_alias, as_typed, add_model_argument, check_known, add_outputs, add_speed_unit, open_model, parse_number,
+from ._common import (IN_SPEED_UNIT, add_alias, add_allow_long, as_typed, add_model_argument, check_known, add_outputs, add_speed_unit, open_model, parse_number,
                       save_figure, show_progress, speed_value, use_agg, whole_number, write_table)
 
 NAME = "simulate"
@@ -43,7 +43,10 @@ stator and of each rotor in its bearings, axial angular velocity, energy terms) 
 --ramp, the run-up figures: the sensor's signal, its order-tracked (1X) amplitude and phase
 (unwrapped) for every rotor, and a waterfall (log colour scale, frequencies up to its
 content), with the Campbell diagram's critical speeds overlaid and labelled (mode, order,
-rpm). With numba the first run compiles the kernels (~20 s, said on stderr).
+rpm). With numba the first run compiles the kernels (~20 s, said on stderr). A run of the
+nonlinear model estimated to take more than 30 minutes of CPU time (the integrator's steps follow
+the fastest motion: a stiff mode of a light part makes them many) is refused before it starts,
+with the estimate (--allow-long runs it anyway, ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit).
 
 A model with a flexible rotor ([[rotors.shaft]]), with bearing pedestals (pedestal_mass) or
 with gear mesh stiffness (mesh_stiffness, mesh_damping), which the nonlinear model cannot
@@ -113,6 +116,7 @@ def add_arguments(parser):
                              "speed) below HZ [Hz] (default: 4 times the fastest spin frequency), at least the 6 "
                              "lowest; or 'all'")
     add_alias(parser, "--max-frequency", "--modes-below")
+    add_allow_long(parser)
     add_outputs(parser)
 
 

@@ -60,7 +60,7 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
-    from ..analysis.ucs_map import ucs_map
+    from ..analysis.ucs_map import check_operating_tables, ucs_map
 
     stiffness = _stiffness(args.stiffness, args.units)
     modes = _modes(args.modes, as_typed(args, "--lowest"))
@@ -72,6 +72,8 @@ def run(args) -> int:
     operating = _operating(args) if args.operating is not None else None
     model = open_model(args)
     bearings = parse_names(args.bearings, "--bearings", [b.name for b in model.bearings])
+    check_operating_tables(model, operating, [b for b in model.bearings if bearings is None or b.name in bearings],
+                           f"{as_typed(args, '--operating-range')} {args.operating}")
     result = ucs_map(model, stiffness, modes=modes, bearings=bearings, speeds=speeds, operating=operating)
     table = result.modes_dataframe()      # the figure's followed modes: one numbering
     write_table(convert_table(table, kinds_by_ending(table.columns), args.units), args)

@@ -30,7 +30,7 @@ from ..errors import InputError, ModelWarning
 HIGH_ECCENTRICITY = 0.9
 _WARNED: set = set()   # the bearings already warned about in this process
 
-__all__ = ["BearingCoefficients", "JournalData", "evaluate", "local_to_model", "is_speed_dependent"]
+__all__ = ["BearingCoefficients", "JournalData", "evaluate", "local_to_model", "is_speed_dependent", "table_left"]
 
 
 @dataclass(frozen=True)
@@ -157,12 +157,48 @@ def evaluate(coefficients: BearingCoefficients, own_speeds, where: str = "bearin
 _TABLE_END_ROUNDOFF = 1e-12
 
 
-def _interpolate(coefficients: BearingCoefficients, speeds: np.ndarray, where: str):
-    table = coefficients.speeds
+def _outside(table: np.ndarray, speeds: np.ndarray) -> np.ndarray:
+    """Which own speeds [rad/s] lie outside the speed table ``table`` [rad/s] (its ends widened
+    by round-off)."""
     # a speed typed as the table's end can differ from it in the last bits (rpm and rad/s
     # converted on different routes, a ROSS table stored in rad/s): that is the end
     roundoff = _TABLE_END_ROUNDOFF * np.max(np.abs(table[[0, -1]]))
-    outside = (speeds < table[0] - roundoff) | (speeds > table[-1] + roundoff)
+    return (speeds < table[0] - roundoff) | (speeds > table[-1] + roundoff)
+
+
+def table_left(model, reference_speeds, bearings=None):
+    """The first bearing whose speed table the reference speeds take its rotor out of.
+
+    The check :func:`evaluate` makes, made before the work by the commands whose range of speeds
+    is fixed by an option (``report --mcs``, ``ucs-map --operating-range``), each naming it.
+
+    Parameters
+    ----------
+    model : Model
+    reference_speeds : array_like, shape (N,) [rad/s]
+        Speeds of the reference rotor; each rotor turns at its speed ratio times them.
+    bearings : sequence of Bearing, optional
+        The bearings checked (default all the model's).
+
+    Returns
+    -------
+    (Bearing, ndarray of shape (N,) [rad/s]) or None
+        The bearing and its rotor's own speeds, or None when every table holds them.
+    """
+    speeds = np.atleast_1d(np.asarray(reference_speeds, dtype=float))
+    for bearing in model.bearings if bearings is None else bearings:
+        table = bearing.coefficients.speeds
+        if bearing.coefficients.kind != "table" or table is None:
+            continue
+        own = model.speed_ratios[bearing.rotor] * speeds
+        if _outside(table, own).any():
+            return bearing, own
+    return None
+
+
+def _interpolate(coefficients: BearingCoefficients, speeds: np.ndarray, where: str):
+    table = coefficients.speeds
+    outside = _outside(table, speeds)
     if np.any(outside):
         bad = speeds[outside]
         raise InputError(

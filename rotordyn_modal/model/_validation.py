@@ -90,6 +90,7 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
                   or _unbalance(t, rotor_tables, rotors)
                   for i, t in enumerate(unbalance_tables)]
     unbalances = [_flexible_unbalance(t, u, rotors) for t, u in zip(unbalance_tables, unbalances)]
+    _check_eccentricities(unbalance_tables, unbalances, rotors)
     gravity = top.vector3("gravity", default=[0.0, 0.0, 0.0])
     bearing_tables = _named_tables(source, data, "bearings")
     bearings = reuse.bearings(data, rotors, spin_axis, gravity)
@@ -596,6 +597,32 @@ def _graded_unbalance(table: _Table, rotor, common) -> Unbalance:
         raise table.error("grade", table.data["grade"], "a grade, mass and service_speed_rpm whose "
                           "amount G m / Omega [kg m] is " + problem)
     return Unbalance(amount=amount, grade=grade, service_speed_rpm=speed, mass=mass, **common)
+
+
+#: [m] the eccentricity (amount / rotor mass) no unbalance exceeds whatever the rotor's inertia
+#: says: no machine's centre of mass runs a metre off its spin axis
+ECCENTRICITY_FLOOR = 1.0
+
+
+def _check_eccentricities(tables, unbalances, rotors) -> None:
+    """Refuse an unbalance whose eccentricity ``e = amount / m`` (``m`` the rotor's mass) no
+    rotor can have: a mass ``m_u <= m`` at radius ``r`` is part of the rotor, so ``m_u r^2 <=
+    J_p`` and ``e = m_u r / m <= sqrt(m_u) sqrt(m_u r^2) / m <= sqrt(J_p / m)``, the polar radius
+    of gyration (Cauchy-Schwarz). The bound taken is that radius or :data:`ECCENTRICITY_FLOOR`,
+    whichever is larger, so a model whose inertia is not the whole rotor's keeps working. Above
+    it (1e-4 kg m on a rotor of 1e-30 kg: 1e26 m) ``simulate`` failed at t = 0 ("step size too
+    small") and every response was the rotor thrown metres off its bearings."""
+    by_name = {r.name: r for r in rotors}
+    for table, unbalance in zip(tables, unbalances):
+        rotor = by_name[unbalance.rotor]
+        eccentricity = unbalance.amount / rotor.mass
+        bound = max(ECCENTRICITY_FLOOR, math.sqrt(rotor.polar_inertia / rotor.mass))
+        if eccentricity > bound:
+            key = "grade" if unbalance.grade is not None else "amount"
+            raise table.error(key, table.data[key], f"an unbalance whose eccentricity amount / rotor mass is at "
+                              f"most {bound:.4g} m (the larger of 1 m and the polar radius of gyration sqrt(Jp / m) "
+                              f"of rotor {unbalance.rotor!r}); here {unbalance.amount:.4g} kg m / {rotor.mass:.4g} kg "
+                              f"= {eccentricity:.4g} m")
 
 
 def _sensor(table: _Table, rotor_names, on_bearings, shafts=None) -> Sensor:

@@ -150,6 +150,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         y0[n:] += _impulse_velocity(model, system, kn, y0, impulse, impulse_size, mode)
     times = np.linspace(0.0, duration, samples or _default_samples(rate, duration))
     extra = (mode, accel, 0.0, duration)
+    _check_cpu_time(kn, system, extra, y0, duration, rate, len(times))     # before the integration
     states = _integrate(kn, system, extra, y0, times, rtol, atol, progress, model)
     if drive == "free":
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
@@ -170,6 +171,57 @@ def _simulate_flexible(model, duration, speed, drive, final_speed, initial, impu
                            impulse=impulse, impulse_size=_finite(impulse_size, "impulse size"), samples=samples, rtol=rtol, atol=atol,
                            unbalance_phases_deg=phases, modes_below=modes_below, progress=progress,
                            backend=backend)
+
+
+#: right-hand side evaluations the compiled path takes at least per output time:
+#: ``scipy.integrate.ode`` starts DOP853 again at each (the initial step's 2 evaluations and one
+#: step's 12). The default output times, 20 a period of the fastest motion, so make the cost of a
+#: stiff mode: a casing of inertia [10, 10, 1.1e-11] kg m^2 (a 13.7 MHz mode) took about 18
+#: evaluations an output time, 25 s of CPU per simulated ms, whereas DOP853 alone (``solve_ivp``,
+#: the mode not excited) took 26 evaluations for 0.1 ms
+_EVALUATIONS_PER_SAMPLE = 14
+#: right-hand side calls timed for the estimate (the best of three runs of this many)
+_TIMED_CALLS = 200
+
+
+def _check_cpu_time(kn, system, extra, y0, duration, rate, samples):
+    """Refuse, before the integration, a run estimated to take more CPU time than the limit of
+    every analysis (``analysis._cost``: ``ROTORDYN_MODAL_MAX_CPU_MINUTES``, ``--allow-long``).
+
+    The output times (by default 20 a period of the fastest motion, ``rate`` [rad/s]: the highest
+    natural frequency at the start speed, or the spin) each cost the compiled path at least
+    :data:`_EVALUATIONS_PER_SAMPLE` evaluations of the right-hand side, each timed here on the
+    model: a low bound (measured 0.75 of the CPU time taken, the integrator's own steps aside),
+    so that only what would surely exceed the limit is refused. The numpy path (``solve_ivp``,
+    output times from its dense output) is not estimated."""
+    import time
+
+    from ..analysis._cost import ENVIRONMENT, duration as _duration, limit_seconds, long_work_is_allowed
+
+    if long_work_is_allowed():
+        return
+    limit = limit_seconds()
+    periods = duration * rate / (2 * np.pi)
+    evaluations = samples * _EVALUATIONS_PER_SAMPLE
+    if getattr(kn, "rhs_flat", None) is None or evaluations * 1e-2 <= limit:   # short even at 10 ms each
+        return
+    from ._fast import pack
+
+    call, arguments = kn.rhs_flat, pack(system, *extra)
+    call(0.0, y0, *arguments)
+    best = np.inf
+    for _ in range(3):
+        start = time.process_time()
+        for _ in range(_TIMED_CALLS):
+            call(0.0, y0, *arguments)
+        best = min(best, (time.process_time() - start) / _TIMED_CALLS)
+    seconds = evaluations * best
+    if seconds > limit:
+        raise InputError(f"duration = {duration!r} s: this simulation would take at least {_duration(seconds)} of CPU "
+                         f"time, more than the limit of {_duration(limit)} ({periods:.3g} periods of the fastest "
+                         f"motion, {rate / (2 * np.pi):.4g} Hz; {samples:,} output times, at least {evaluations:.3g} "
+                         f"evaluations of {best * 1e6:.2g} us): a shorter duration or fewer samples, or add "
+                         f"--allow-long ({ENVIRONMENT} sets the limit)")
 
 
 def _integrate(kn, system, extra, y0, times, rtol, atol, progress, model=None):

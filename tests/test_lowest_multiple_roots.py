@@ -118,3 +118,20 @@ def test_a_double_root_with_one_shape_twice_is_not_accepted():
     independent = np.array([[x, y, z]])
     assert not _lowest._distinct(values, parallel).any()
     assert _lowest._distinct(values, independent).all()
+
+
+def test_the_modes_below_a_frequency_show_the_fallback_bar(tmp_path):
+    """``campbell --lowest 4 --max-frequency`` at rest leaves 0 rpm to the full eigen-solve (the
+    4th root is half of a double root, the 5th refined its other half: no projected root above
+    them shows the 4th is the last below). On a pseudo-terminal that fallback draws its bar, whole
+    drawings within the width (on main ``roots_below`` took no ``progress``: no bar)."""
+    from test_progress_terminal import EXAMPLES, _drawings, _on_terminal
+
+    code, text = _on_terminal(["campbell", str(EXAMPLES / "compressor_rotor.toml"), "--speeds", "0:3000:3",
+                               "--lowest", "4", "--max-frequency", "500", "--out", str(tmp_path / "c.csv")], 100, 40)
+    assert code == 0, text
+    assert "1 of 3 speeds solved whole" in text, text
+    drawings = _drawings(text, "lowest modes (full eigen-solve):")
+    assert drawings, text
+    assert all(drawing.endswith("]") and len(drawing) <= 99 for drawing in drawings), drawings
+    assert "/1 " in drawings[0], drawings

@@ -46,6 +46,19 @@ def test_an_axisymmetric_rotor_at_rest_is_not_solved_whole():
     assert np.max(np.abs(values - reference) / np.abs(reference)) < 1e-9
 
 
+def test_a_double_root_at_rest_whirls_as_in_the_full_solve():
+    """The double roots' two shapes at rest are their backward and forward whirl combinations (whirl
+    ratio -1 and +1), as the full sweep's eigen-solve makes them: not any basis of their plane."""
+    model = _model()
+    speeds = rdm.rpm(np.array([0.0, 1500.0]))
+    columns = ["speed_rpm", "mode_at_speed", "whirl"]
+    lowest = rdm.campbell(model, speeds, critical=False, modes=5).to_dataframe()
+    full = rdm.campbell(model, speeds, critical=False).to_dataframe()
+    full = full[full["mode_at_speed"] <= 5]
+    assert lowest[columns].reset_index(drop=True).equals(full[columns].reset_index(drop=True))
+    assert np.allclose(np.abs(lowest["whirl_ratio"][lowest["speed_rpm"] == 0].to_numpy()[[0, 1, 3, 4]]), 1.0)
+
+
 def _newton_from(model, speed, root, vectors):
     """Newton's iteration on the full pencil from ``root`` [1/s] with each of ``vectors`` (g, n):
     the refined roots (1, g) and unit shapes (1, g, n)."""

@@ -95,6 +95,7 @@ def lowest_roots(stack, speeds, count: int, progress: bool = False, what: str = 
     k = min(count, values.shape[1])
     out_values[:, :k], out_shapes[:, :k] = values[:, :k], shapes[:, :k]
     full = ~ok
+    _by_whirl(stack, out_values, out_shapes, ok)
     if full.any():
         _refuse_long_full(stack, speeds[full], len(speeds), "lowest modes", _UNSERVED, modes=count)
         warnings.warn(f"lowest modes: {int(full.sum())} of {len(speeds)} {what} solved whole (the reduced basis "
@@ -243,6 +244,20 @@ def _needed_size(bound, rho, size):
         if np.all(shares <= _lowest_bound._SHARE) and m + directions.shape[1] < best_total:
             best, best_total = int(m), int(m) + directions.shape[1]
     return best
+
+
+def _by_whirl(stack, values, shapes, rows):
+    """A double root's two shapes (any basis of its plane, as Newton's iteration left them) made its
+    backward and forward whirl combinations at the speeds ``rows`` (S,) bool, written over
+    ``shapes`` (S, k, n): as the full eigen-solve gives them (:func:`._eigensolve.resolve_repeated`),
+    so an axisymmetric rotor at rest has the same whirl either way. ``values`` (S, k) by frequency."""
+    from ._eigensolve import _repeated_pairs, resolve_repeated
+
+    rows = np.nonzero(rows)[0]
+    rows = np.unique(rows[_repeated_pairs(values[rows])[0]]) if len(rows) else rows
+    if len(rows):
+        shapes[rows] = resolve_repeated(values[rows], shapes[rows], stack.repeated_forms,
+                                        np.zeros(len(rows), int))
 
 
 def _distinct(values, shapes=None):
@@ -505,6 +520,7 @@ def roots_below(stack, speeds, limit: float, count: int | None = None, progress:
         return _cut_below(values, shapes, limit, count) + (np.ones(len(speeds), bool),)
     values, shapes, ok = reduced
     full = ~ok
+    _by_whirl(stack, values, shapes, ok)
     if full.any():
         _refuse_long_full(stack, speeds[full], len(speeds), "modes below a frequency", _UNSERVED)
         warnings.warn(f"modes below a frequency: {int(full.sum())} of {len(speeds)} speeds solved whole (the "

@@ -73,7 +73,7 @@ def lowest(pencils, count: int, refine, distinct, progress: bool = False):
         ``refine(pencils, starts (S, k), vectors (S, k, n)) -> roots, unit shapes, ok (S,)``
         (:func:`._lowest_newton._refined`).
     distinct : callable
-        ``distinct(roots (S, k)) -> (S,)`` the roots are distinct modes (:func:`._lowest._distinct`).
+        ``distinct(roots (S, k), shapes (S, k, n)) -> (S,)`` the roots are distinct modes (:func:`._lowest._distinct`).
     progress : bool
         A progress bar over the speeds.
 
@@ -181,7 +181,7 @@ def _refined_found(pencils, starts, vectors, reach, ok, refine, distinct):
         refined, unit, converged = refine(_speeds_of(pencils, rows), starts[rows], vectors[rows])
         # Newton reached the root its start stands for (nearer it than half the way to another root)
         own = np.all(np.abs(refined - starts[rows]) < 0.5 * reach[rows], axis=1)
-        ok[rows] = converged & own & distinct(refined)
+        ok[rows] = converged & own & distinct(refined, unit)
         order = np.argsort(np.where(is_oscillating(refined), refined.imag, np.inf), axis=1, kind="stable")
         values[rows] = np.take_along_axis(refined, order, 1)
         vectors[rows] = np.take_along_axis(unit, order[..., None], 1)

@@ -95,6 +95,7 @@ def lowest_roots(stack, speeds, count: int, progress: bool = False, what: str = 
     k = min(count, values.shape[1])
     out_values[:, :k], out_shapes[:, :k] = values[:, :k], shapes[:, :k]
     full = ~ok
+    _by_whirl(stack, out_values, out_shapes, ok)
     if full.any():
         _refuse_long_full(stack, speeds[full], len(speeds), "lowest modes", _UNSERVED, modes=count)
         warnings.warn(f"lowest modes: {int(full.sum())} of {len(speeds)} {what} solved whole (the reduced basis "
@@ -126,7 +127,7 @@ def _reduced_roots(stack, speeds, count, progress=False):
         values, shapes, ok = _arnoldi.lowest(pencils, count, _refined, _distinct, progress)
         return (*_by_frequency(values, shapes, count), ok)
     values, shapes, ok, unmissed = _swept(pencils, np.hstack([modes[:, :size], attached]), want, count)
-    ok &= _distinct(values) & unmissed
+    ok &= _distinct(values, shapes) & unmissed
     # Newton may reorder roots of close frequency: by frequency again
     values, shapes = _by_frequency(values, shapes, count)
     return values, shapes, ok & _basis_suffices(values, bound, size, attached.shape[1], rho)
@@ -245,13 +246,63 @@ def _needed_size(bound, rho, size):
     return best
 
 
-def _distinct(values):
-    """(S,) no two refined roots of a speed are one root, and all are modes."""
+def _by_whirl(stack, values, shapes, rows):
+    """A double root's two shapes (any basis of its plane, as Newton's iteration left them) made its
+    backward and forward whirl combinations at the speeds ``rows`` (S,) bool, written over
+    ``shapes`` (S, k, n): as the full eigen-solve gives them (:func:`._eigensolve.resolve_repeated`),
+    so an axisymmetric rotor at rest has the same whirl either way. ``values`` (S, k) by frequency."""
+    from ._eigensolve import _repeated_pairs, resolve_repeated
+
+    rows = np.nonzero(rows)[0]
+    rows = np.unique(rows[_repeated_pairs(values[rows])[0]]) if len(rows) else rows
+    if len(rows):
+        shapes[rows] = resolve_repeated(values[rows], shapes[rows], stack.repeated_forms,
+                                        np.zeros(len(rows), int))
+
+
+def _distinct(values, shapes=None):
+    """(S,) no two refined roots of a speed are one root, and all are modes.
+
+    Roots within ``_SAME`` of each other (relative) are one root reached twice, unless ``shapes``
+    (S, k, n) is given and their shapes are independent: ``g`` coinciding roots whose ``g`` unit
+    shapes have numerical rank ``g`` (:func:`_independent`) are a root of multiplicity ``g`` (an
+    axisymmetric rotor at rest), not one simple root found by ``g`` starts (``docs/theory.md``
+    section 17, "Multiple roots")."""
     lam = values
     gaps = np.abs(lam[:, :, None] - lam[:, None, :])
     same = gaps <= _SAME * np.abs(lam[:, :, None])
     np.einsum("sii->si", same)[...] = False
-    return ~same.any(axis=(1, 2)) & is_oscillating(lam).all(axis=1)
+    apart = ~same.any(axis=(1, 2))
+    if shapes is not None:
+        for s in np.nonzero(~apart)[0]:
+            apart[s] = all(_independent(shapes[s, group]) for group in _groups(same[s]))
+    return apart & is_oscillating(lam).all(axis=1)
+
+
+#: coinciding roots' unit shapes are independent where their smallest singular value exceeds this
+#: times their largest: one simple root's shapes differ by its shape's error, about the square root
+#: of the root's (``_SAME``; a root is stationary in its shape, docs/theory.md section 17)
+_RANK = np.sqrt(_SAME)
+
+
+def _groups(same):
+    """The groups (lists of indices) of more than one root joined by ``same`` (k, k) bool."""
+    left, groups = set(np.nonzero(same.any(axis=1))[0].tolist()), []
+    while left:
+        group, new = set(), {left.pop()}
+        while new:
+            group |= new
+            new = set(np.nonzero(same[sorted(new)].any(axis=0))[0].tolist()) - group
+        left -= group
+        groups.append(sorted(group))
+    return groups
+
+
+def _independent(shapes):
+    """The ``g`` shapes (g, n) have numerical rank ``g``: their smallest singular value exceeds
+    ``_RANK`` times their largest (scale-free: the shapes need not be unit)."""
+    sigma = np.linalg.svd(np.asarray(shapes), compute_uv=False)
+    return bool(np.isfinite(sigma).all() and sigma[-1] > _RANK * sigma[0])
 
 
 def _unmissed(starts, values, count):
@@ -419,7 +470,7 @@ def lowest_of(lam, phi, count):
 # ----------------------------------------------------------------------------------------
 # The modes below a frequency (campbell(max_frequency=F), campbell --max-frequency F)
 
-def roots_below(stack, speeds, limit: float, count: int | None = None):
+def roots_below(stack, speeds, limit: float, count: int | None = None, progress: bool = False):
     """Every oscillating root of frequency ``Im lam`` at most ``limit`` at every speed (the lowest
     ``count`` of them where ``count`` is given), each the full model's root to round-off.
 
@@ -438,6 +489,9 @@ def roots_below(stack, speeds, limit: float, count: int | None = None):
         Highest frequency wanted, ``Im lam`` [rad/s] (> 0).
     count : int, optional
         At most this many roots per speed (the lowest).
+    progress : bool
+        A progress bar over the speeds solved whole (:func:`_full_lowest`), as in
+        :func:`lowest_roots`.
 
     Returns
     -------
@@ -466,16 +520,17 @@ def roots_below(stack, speeds, limit: float, count: int | None = None):
         return _cut_below(values, shapes, limit, count) + (np.ones(len(speeds), bool),)
     values, shapes, ok = reduced
     full = ~ok
+    _by_whirl(stack, values, shapes, ok)
     if full.any():
         _refuse_long_full(stack, speeds[full], len(speeds), "modes below a frequency", _UNSERVED)
         warnings.warn(f"modes below a frequency: {int(full.sum())} of {len(speeds)} speeds solved whole (the "
                       "reduced basis could not be shown to hold every root below it there)", stacklevel=3)
-        lam, phi = _by_frequency(*_full_lowest(stack, speeds[full], stack.forms[0].n_states), count)
+        lam, phi = _by_frequency(*_full_lowest(stack, speeds[full], stack.forms[0].n_states, progress), count)
         if _wanted(lam, limit, count).sum(axis=1).max(initial=0) > values.shape[1]:
             # more roots below the limit than columns (a root the basis missed): every speed whole
             _refuse_long_full(stack, speeds, len(speeds), "modes below a frequency",
                               "the reduced basis missed a root below it", "use fewer speeds")
-            values, shapes = _full_lowest(stack, speeds, stack.forms[0].n_states)
+            values, shapes = _full_lowest(stack, speeds, stack.forms[0].n_states, progress)
             return _cut_below(values, shapes, limit, count) + (np.ones(len(speeds), bool),)
         k = values.shape[1]
         values[full], shapes[full] = lam[:, :k], phi[:, :k]
@@ -531,7 +586,7 @@ def _reduced_below(stack, speeds, limit, count):
     values, shapes, ok = _continued_sweep(pencils, starts, vectors, anchors,
                                           functools.partial(_projected_starts, pencils, basis, starts.shape[1]))
     del vectors
-    ok &= _distinct(values) & _unmissed_below(starts, values, limit, count)
+    ok &= _distinct(values, shapes) & _unmissed_below(starts, values, limit, count)
     values, shapes = _by_frequency_over(values, shapes, count)
     # the bound at the wanted roots (a missed one lies below the limit, :func:`_unmissed_below`)
     wanted = _wanted(values, limit, count)

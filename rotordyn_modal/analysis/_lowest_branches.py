@@ -180,7 +180,7 @@ def _swept(stack, pencils, basis, want, complete):
         if modal.all():
             restart = functools.partial(_projected_starts, pencils, basis, want)
             values, shapes, ok = _lowest._continued_sweep(pencils, starts, vectors, anchors, restart)
-            return starts, values, shapes, ok & _lowest._distinct(values), modal
+            return starts, values, shapes, ok & _lowest._distinct(values, shapes), modal
         del vectors
     starts, vectors = _projected_starts(pencils, basis, want)
     return (starts, *_refined_modes(stack, pencils, starts, vectors))
@@ -201,7 +201,7 @@ def _refined_modes(stack, pencils, starts, vectors):
         part = pencils if len(rows) == len(starts) else RationalPencils(stack, pencils.speeds[rows])
         refined, refined_shapes, converged = _lowest._refined(part, starts[rows, :k], vectors[rows, :k])
         values[rows, :k], shapes[rows, :k] = refined, refined_shapes
-        ok[rows] = converged & _lowest._distinct(refined)
+        ok[rows] = converged & _lowest._distinct(refined, refined_shapes)
     return values, shapes, ok, modal
 
 

@@ -593,8 +593,10 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
         wanted = None
         if limit is not None:
-            below = _lowest_branches.roots_below if stack.branch_times.shape[1] else _lowest.roots_below
-            values, shapes, wanted, _ = below(stack, speeds, limit, count)
+            if stack.branch_times.shape[1]:
+                values, shapes, wanted, _ = _lowest_branches.roots_below(stack, speeds, limit, count)
+            else:
+                values, shapes, wanted, _ = _lowest.roots_below(stack, speeds, limit, count, progress)
             if not values.shape[-1]:
                 return _no_modes(model, speeds, orders, stack.n_dof)
         elif stack.branch_times.shape[1]:          # Maxwell branches: the rational pencil (theory section 17)

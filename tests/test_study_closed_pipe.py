@@ -11,23 +11,8 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-from pathlib import Path
 
-import rotordyn_modal
-
-PACKAGE_ROOT = Path(rotordyn_modal.__file__).resolve().parent.parent
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-STUDY = """samples = 3
-seed = 1
-[[parameters]]
-key = "suspensions.mount-FL.stiffness"
-apply = "scale"
-distribution = "uniform"
-low = 0.9
-high = 1.1
-[analyses.modes]
-speed_rpm = 1000.0
-"""
+from test_progress_terminal import EXAMPLES, PACKAGE_ROOT, STUDY  # the same study of three variants
 
 
 def test_a_closed_pipe_on_stdout_loses_no_results(tmp_path):

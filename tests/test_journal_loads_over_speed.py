@@ -16,6 +16,8 @@ from rotordyn_modal.elements.bearings import evaluate
 from rotordyn_modal.elements.journal_bearing import rigid_rotor_journal_loads, short_journal_bearing
 from rotordyn_modal.errors import ModelWarning
 
+from test_journal_loads_pedestals import _rigid  # the 50 kg rotor on three journals, the middle one on a pedestal
+
 G = 9.81
 E = np.array([1.0, 0.0, 0.0])              # spin axis
 DOWN = np.array([0.0, 0.0, -1.0])
@@ -144,22 +146,6 @@ def test_pedestals_much_stiffer_than_the_films_give_the_films_split():
     loads = _solve(rdm.rpm([1e6]), stations, lengths, mass, pedestals)[0]
     shares = journal_load_shares(np.asarray(lengths)**3, stations)
     np.testing.assert_allclose(np.linalg.norm(loads, axis=1), shares * mass * G, rtol=1e-5)
-
-
-def _rigid(pedestals=("j1",), loads=None):
-    bearings = []
-    for i, s in enumerate((-0.4, 0.1, 0.4)):
-        bearing = {"name": f"j{i}", "rotor": "r", "position": [s, 0.0, 0.0], "type": "journal", "length": 0.02, **FILM}
-        if f"j{i}" in pedestals:
-            bearing.update(pedestal_mass=6.0, pedestal_stiffness=2e6)
-        if loads is not None:
-            bearing["load"] = loads[i]
-        bearings.append(bearing)
-    return rdm.Model.from_dict({
-        "gravity": [0.0, 0.0, -G],
-        "rotors": [{"name": "r", "mass": 50.0, "center_of_mass": [0.0, 0.0, 0.0], "polar_inertia": 0.5,
-                    "diametral_inertia": 2.0, "speed_ratio": 1.0}],
-        "bearings": bearings})
 
 
 def test_the_model_gives_each_journal_the_coefficients_of_its_load_at_each_speed():

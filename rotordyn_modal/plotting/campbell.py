@@ -264,21 +264,50 @@ class _Curves:
 
     def segment_whirl(self, whirl, m):
         """The whirl label of each segment between the points of mode ``m`` (shape (K - 1,)):
-        that of the sweep's speed at its start (``whirl``, shape (N, n_modes)), changed at the
-        speeds of ``result.whirl_changes()`` (made with ``whirl=True``), which are points."""
-        k = self.index[:-1]
-        labels = np.asarray(whirl)[k, m].astype(object)
-        middle = 0.5 * (self.speeds[:-1] + self.speeds[1:])
-        for at, name in zip(*self.changes[m]):
-            step = np.searchsorted(self.sweep, at, side="right") - 1
-            labels[(middle > at) & (k == step)] = name
-        return labels
+        :func:`segment_whirl` with ``result.whirl_changes()`` (made with ``whirl=True``)."""
+        return segment_whirl(np.asarray(whirl)[:, m], self.sweep, self.speeds, self.index, self.changes[m])
 
     def segment_values(self, values):
         """Each segment between the points: the mean of ``values`` (shape (N,)) at the ends of the
         sweep's segment it lies on."""
         k = np.minimum(self.index[:-1], len(values) - 2)
         return 0.5 * (values[k] + values[k + 1])
+
+
+def segment_whirl(whirl, sweep, speeds, index, changes):
+    """The whirl label of each segment between a mode's drawn points, shape (K - 1,): that of the
+    sweep's speed at its start, changed from each speed of ``changes`` on (the mode's
+    :meth:`~rotordyn_modal.analysis.campbell.CampbellResult.whirl_changes`, which are points).
+
+    Parameters
+    ----------
+    whirl : array_like of str, shape (N,)
+        The mode's label at each speed of the sweep.
+    sweep : ndarray, shape (N,)
+        The sweep's speeds [rad/s], increasing.
+    speeds : ndarray, shape (K,)
+        The points drawn [rad/s], increasing, every change's speed among them.
+    index : ndarray of int, shape (K,)
+        The sweep's speed at or before each point.
+    changes : (ndarray, ndarray)
+        Speeds [rad/s] and the labels from them on.
+    """
+    k = index[:-1]
+    labels = np.asarray(whirl)[k].astype(object)
+    middle = 0.5 * (speeds[:-1] + speeds[1:])
+    for at, name in zip(*changes):
+        step = np.searchsorted(sweep, at, side="right") - 1
+        labels[(middle > at) & (k == step)] = name
+    return labels
+
+
+def segment_ends(segments):
+    """The points at either end of the segments ``segments`` (shape (K - 1,) bool) picks, shape
+    (K,): a whirl's line is drawn over those segments and meets the next one's at a change."""
+    at = np.zeros(len(segments) + 1, dtype=bool)
+    at[:-1] |= segments
+    at[1:] |= segments
+    return at
 
 
 def _draw_by_whirl(ax, curves, result):
@@ -290,10 +319,7 @@ def _draw_by_whirl(ax, curves, result):
     for m in range(len(result.modes)):
         segments = curves.segment_whirl(result.whirl, m)
         for whirl, style in WHIRL_STYLE.items():
-            mine = segments == whirl
-            mask = np.zeros(len(curves.x), dtype=bool)
-            mask[:-1] |= mine
-            mask[1:] |= mine
+            mask = segment_ends(segments == whirl)
             if not mask.any():
                 continue
             kwargs = dict(style)

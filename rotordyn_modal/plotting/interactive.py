@@ -43,6 +43,7 @@ def campbell_figure(result, speed_unit: str = "rpm", title: str | None = None):
     plotly.graph_objects.Figure
     """
     from ._style import speed_label, speed_scale
+    from .campbell import segment_ends, segment_whirl
 
     go = _plotly()
     scale = speed_scale(speed_unit)
@@ -52,9 +53,9 @@ def campbell_figure(result, speed_unit: str = "rpm", title: str | None = None):
     for m, (label, curve) in enumerate(zip(result.modes, result.mode_curves())):
         speeds, f, index = _with_changes(curve, changes[m][0], result.speeds)
         custom = _curve_data(result, m, speeds, index)
-        segments = _segment_whirl(result, m, speeds, index, changes[m])
+        segments = segment_whirl(np.asarray(result.whirl)[:, m], result.speeds, speeds, index, changes[m])
         for whirl, colour in _WHIRL_COLOURS.items():
-            at = _ends(segments == whirl)
+            at = segment_ends(segments == whirl)
             if not at.any():
                 continue
             fig.add_trace(go.Scatter(
@@ -97,28 +98,6 @@ def _with_changes(curve, at, sweep):
     order = np.argsort(speeds, kind="stable")
     speeds, f = speeds[order], f[order]
     return speeds, f, np.searchsorted(sweep, speeds, side="right") - 1
-
-
-def _segment_whirl(result, m, speeds, index, changes):
-    """The whirl label of each segment between mode ``m``'s points (shape (K - 1,)): that of
-    the sweep's speed at its start, changed from each speed of ``changes`` (one mode's
-    ``CampbellResult.whirl_changes()``, which are points) on, as the matplotlib figure does."""
-    k = index[:-1]
-    labels = np.asarray(result.whirl)[k, m].astype(object)
-    middle = 0.5 * (speeds[:-1] + speeds[1:])
-    for at, name in zip(*changes):
-        step = np.searchsorted(result.speeds, at, side="right") - 1
-        labels[(middle > at) & (k == step)] = name
-    return labels
-
-
-def _ends(segments):
-    """The points at either end of the segments ``segments`` (shape (K - 1,) bool) picks, shape
-    (K,): a whirl's line is drawn over those segments and meets the next one's at a change."""
-    at = np.zeros(len(segments) + 1, dtype=bool)
-    at[:-1] |= segments
-    at[1:] |= segments
-    return at
 
 
 def _curve_data(result, m, speeds, index):

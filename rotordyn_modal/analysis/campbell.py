@@ -212,10 +212,10 @@ class CampbellResult:
         sign = np.where(self.speeds < 0, -1.0, 1.0)
         about_axis = self.whirl_ratios * sign[:, None]            # the ratio about +e
         mode = self.oscillatory
+        through = (self.speeds[:-1] < 0) & (self.speeds[1:] > 0)    # the steps through zero speed
         changes = []
         for m in range(codes.shape[1]):
             at, after = [], []
-            through = (self.speeds[:-1] < 0) & (self.speeds[1:] > 0)
             for k in np.flatnonzero(((codes[:-1, m] != codes[1:, m]) | through) & mode[:-1, m] & mode[1:, m]):
                 s0, s1, e0, e1 = self.speeds[k], self.speeds[k + 1], about_axis[k, m], about_axis[k + 1, m]
                 if s0 < 0 < s1:                      # the spin reverses inside the step

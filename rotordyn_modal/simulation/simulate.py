@@ -138,6 +138,9 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     span = [speed] if final_speed is None else [speed, final_speed]
     check_table_speeds(model, span, "the simulation's speeds " + " .. ".join(f"{v:.6g}" for v in span) + " rad/s")
     kn = kernels(backend)
+    extra = (mode, accel, 0.0, duration)
+    count = samples or _default_samples(rate, duration)
+    _check_cpu_time(kn, system, extra, duration, rate, count, timed=False)   # before compiling anything
     announce_compilation(kn)
     n = system.n_dof
     y0 = np.zeros(2 * n)
@@ -148,9 +151,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     y0[2 * n - 1] = speed
     if impulse is not None:
         y0[n:] += _impulse_velocity(model, system, kn, y0, impulse, impulse_size, mode)
-    times = np.linspace(0.0, duration, samples or _default_samples(rate, duration))
-    extra = (mode, accel, 0.0, duration)
-    _check_cpu_time(kn, system, extra, y0, duration, rate, len(times))     # before the integration
+    times = np.linspace(0.0, duration, count)
+    _check_cpu_time(kn, system, extra, duration, rate, count, y0=y0)     # before the integration
     states = _integrate(kn, system, extra, y0, times, rtol, atol, progress, model)
     if drive == "free":
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
@@ -184,44 +186,69 @@ _EVALUATIONS_PER_SAMPLE = 14
 _TIMED_CALLS = 200
 
 
-def _check_cpu_time(kn, system, extra, y0, duration, rate, samples):
+def _check_cpu_time(kn, system, extra, duration, rate, samples, y0=None, timed=True):
     """Refuse, before the integration, a run estimated to take more CPU time than the limit of
     every analysis (``analysis._cost``: ``ROTORDYN_MODAL_MAX_CPU_MINUTES``, ``--allow-long``).
 
     The output times (by default 20 a period of the fastest motion, ``rate`` [rad/s]: the highest
     natural frequency at the start speed, or the spin) each cost the compiled path at least
-    :data:`_EVALUATIONS_PER_SAMPLE` evaluations of the right-hand side, each timed here on the
-    model: a low bound (measured 0.75 of the CPU time taken, the integrator's own steps aside),
-    so that only what would surely exceed the limit is refused. The numpy path (``solve_ivp``,
-    output times from its dense output) is not estimated."""
-    import time
-
-    from ..analysis._cost import ENVIRONMENT, duration as _duration, limit_seconds, long_work_is_allowed
+    :data:`_EVALUATIONS_PER_SAMPLE` evaluations of the right-hand side. With ``timed`` each
+    evaluation is timed on the model's state ``y0`` (shape (2 n_dof,)), which compiles the
+    kernel on a fresh machine (~20 s); without it, each costs at least the Python call of a
+    function that does nothing with the same arguments, so that a run far over the limit is
+    refused before that compilation. Both are low bounds (the timed one measured 0.75 of the CPU
+    time taken, the integrator's own steps aside), so that only what would surely exceed the
+    limit is refused. The numpy path (``solve_ivp``, output times from its dense output) is not
+    estimated."""
+    from ..analysis._cost import limit_seconds, long_work_is_allowed
 
     if long_work_is_allowed():
         return
     limit = limit_seconds()
-    periods = duration * rate / (2 * np.pi)
     evaluations = samples * _EVALUATIONS_PER_SAMPLE
     if getattr(kn, "rhs_flat", None) is None or evaluations * 1e-2 <= limit:   # short even at 10 ms each
         return
     from ._fast import pack
 
-    call, arguments = kn.rhs_flat, pack(system, *extra)
-    call(0.0, y0, *arguments)
+    arguments = pack(system, *extra)
+    if timed:
+        each, what = _seconds_per_call(kn.rhs_flat, y0, arguments), "evaluations of {} us"
+    else:
+        each = _seconds_per_call(_does_nothing, np.zeros(2 * system.n_dof), arguments)
+        what = "evaluations of more than the {} us of the call alone"
+    if evaluations * each > limit:
+        raise InputError(_too_long(duration, rate, samples, evaluations, each, what, limit))
+
+
+def _does_nothing(t, y, floats, ints):
+    return y
+
+
+def _seconds_per_call(call, y, arguments) -> float:
+    """CPU time of one ``call(0.0, y, *arguments)`` [s]: the best of three runs of
+    :data:`_TIMED_CALLS` calls, after one call (which compiles a numba kernel)."""
+    import time
+
+    call(0.0, y, *arguments)
     best = np.inf
     for _ in range(3):
         start = time.process_time()
         for _ in range(_TIMED_CALLS):
-            call(0.0, y0, *arguments)
+            call(0.0, y, *arguments)
         best = min(best, (time.process_time() - start) / _TIMED_CALLS)
-    seconds = evaluations * best
-    if seconds > limit:
-        raise InputError(f"duration = {duration!r} s: this simulation would take at least {_duration(seconds)} of CPU "
-                         f"time, more than the limit of {_duration(limit)} ({periods:.3g} periods of the fastest "
-                         f"motion, {rate / (2 * np.pi):.4g} Hz; {samples:,} output times, at least {evaluations:.3g} "
-                         f"evaluations of {best * 1e6:.2g} us): a shorter duration or fewer samples, or add "
-                         f"--allow-long ({ENVIRONMENT} sets the limit)")
+    return best
+
+
+def _too_long(duration, rate, samples, evaluations, each, what, limit) -> str:
+    """The one line refusing a simulation over the CPU limit ``limit`` [s]."""
+    from ..analysis._cost import ENVIRONMENT, duration as _duration
+
+    periods = duration * rate / (2 * np.pi)
+    return (f"duration = {duration!r} s: this simulation would take at least {_duration(evaluations * each)} of CPU "
+            f"time, more than the limit of {_duration(limit)} ({periods:.3g} periods of the fastest "
+            f"motion, {rate / (2 * np.pi):.4g} Hz; {samples:,} output times, at least {evaluations:.3g} "
+            f"{what.format(f'{each * 1e6:.2g}')}): a shorter duration or fewer samples, or add "
+            f"--allow-long ({ENVIRONMENT} sets the limit)")
 
 
 def _integrate(kn, system, extra, y0, times, rtol, atol, progress, model=None):

@@ -17,6 +17,13 @@ frequency, bearings at the operating speed) is solved for the generalized coordi
   a flexible rotor's journal loads are its continuous beam on the journals, rigid or on their
   pedestals' springs, ``continuous_beam_loads``);
   each journal's eccentricity at its load is reported from the full short-bearing solution;
+  a journal whose load the model solves at each speed (a rigid rotor on three or more journals,
+  some on pedestals: ``JournalData.load_over_speed``) stands instead on its **loaded film**, the
+  secant of the short bearing at its load (the spring that moves the journal to the film's
+  offset ``c eps (cos phi x + sin phi e x x)`` under that load), iterated until the loads it
+  carries are those it was drawn at: under the weights alone the rotor's solved loads
+  (``journal_bearing.rigid_rotor_journal_loads``), so that ``static`` and the analyses stand the
+  rotor on the same films (:func:`_loaded_films`);
 * each rotor's spin is held at its speed by a drive or a load outside the model (a coupling):
   the moment about its spin axis of the loads on it is taken there (a ``coupling`` load), not
   by its bearings.
@@ -382,9 +389,8 @@ def static(model, speed=None, forces=None, torques=None, power=None, units: str 
         raise InputError(f"allowable_stress = {allowable_stress!r}: expected a stress > 0 [Pa]")
     loads = _loads(model, speed, forces, _torques(model, speed, torques, power), units)
     loads += _couplings(model, loads)
-    stiffness, supports = _stiffness(model, speed)
     load_vector = _load_vector(model, loads)
-    q = _solve(model, stiffness, load_vector)
+    stiffness, supports, q = _loaded_films(model, speed, load_vector)
     reactions = tuple(_reaction(model, speed, q, *support) for support in supports) + _axial_holds(model, loads)
     reactions += _pedestal_reactions(model, q, reactions, loads)
     return StaticResult(model=model, speed=speed, coordinates=q, loads=tuple(loads), reactions=reactions,
@@ -624,9 +630,85 @@ def _couplings(model, loads) -> list:
 
 
 # -- stiffness and solution --------------------------------------------------------------
-def _stiffness(model, speed):
+#: secant steps at most of the loaded films (under the weights alone the first is the last)
+LOADED_FILM_STEPS = 100
+
+
+def _loaded_films(model, speed, load_vector):
+    """``(K, supports, q)`` of the static solution, the journals whose load the model solves at
+    each speed standing on their loaded film (:func:`_secant_film`): drawn at the model's loads at
+    this speed, then at the loads the solution puts on them until these repeat (to 1e-12 of the
+    largest); a journal's film is a secant, so the loads it is drawn at and those it carries agree
+    only at the films' nonlinear equilibrium. Other journals stand on their light-load film."""
+    journals = [b for b in model.bearings if _loaded_film(b)]
+    loads = {b.name: _model_load(model, b, speed) for b in journals}
+    for _ in range(LOADED_FILM_STEPS):
+        stiffness, supports = _stiffness(model, speed, loads)
+        q = _solve(model, stiffness, load_vector)
+        if not journals:
+            return stiffness, supports, q
+        carried = {b.name: _journal_load(model, b, q, k6) for kind, b, k6 in supports
+                   if kind == "bearing" and b.name in loads}
+        scale = max(max(np.linalg.norm(f) for f in carried.values()), max(np.linalg.norm(f) for f in loads.values()))
+        if all(np.linalg.norm(carried[n] - loads[n]) <= 1e-12 * scale for n in loads):
+            return stiffness, supports, q
+        loads = carried
+    raise InputError(f"{model.source}: the journals {', '.join(visible(b.name) for b in journals)} on their loaded "
+                     f"films: no static equilibrium found in {LOADED_FILM_STEPS} secant steps at "
+                     f"{abs(speed) * 30 / np.pi:.6g} rpm (give each journal's load)")
+
+
+def _loaded_film(bearing) -> bool:
+    """A journal bearing whose static load the model solves at each speed."""
+    journal = bearing.coefficients.journal if bearing.coefficients.kind == "journal" else None
+    return journal is not None and journal.load_over_speed is not None
+
+
+def _model_load(model, bearing, speed) -> np.ndarray:
+    """The load [N] (3,) the model gives ``bearing``'s journal at the reference ``speed``."""
+    own = 0.0 if speed is None else model.speed_ratios[bearing.rotor] * speed
+    if own == 0:
+        _bearing_stiffness(model, bearing, speed)        # the refusal of a film at rest
+    return np.asarray(bearing.coefficients.journal.load_over_speed(np.array([own]))[0], dtype=float)
+
+
+def _journal_load(model, bearing, q, k6) -> np.ndarray:
+    """The force [N] (3,) the journal puts on its bearing in ``q``, normal to the spin axis."""
+    rows, moves = bearing_motion(model, bearing)
+    force = k6[:3] @ (moves @ q[rows])
+    e = model.spin_axis
+    return force - (force @ e) * e
+
+
+def _secant_film(journal, own: float, load, spin_axis) -> np.ndarray:
+    """The 3x3 stiffness [N/m] (model axes, normal to ``spin_axis``) of a journal's loaded film:
+    the spring that holds the journal at the short bearing's offset ``d = c eps (cos phi x + sin
+    phi e x x)`` under ``load`` (``x`` along it, ``eps`` and ``phi`` the eccentricity and signed
+    attitude angle of its magnitude at the own speed), ``a (I - e e^T) + b [e]x`` with ``a = F.d /
+    |d|^2``, ``b = e.(d x F) / |d|^2`` (``K d = F``); a journal carrying nothing stands on its
+    light-load film."""
+    from ..elements.journal_bearing import short_journal_bearing
+
+    e = np.asarray(spin_axis, dtype=float)
+    force = np.asarray(load, dtype=float)
+    force = force - (force @ e) * e
+    magnitude = float(np.linalg.norm(force))
+    if not magnitude > 0:
+        light = np.pi * journal.viscosity * abs(own) * journal.diameter * journal.length**3 / (8 * journal.clearance**3)
+        return -np.sign(own) * light * skew(e)
+    film = short_journal_bearing([own], diameter=journal.diameter, length=journal.length,
+                                 clearance=journal.clearance, viscosity=journal.viscosity, load=magnitude)
+    x = force / magnitude
+    phi = float(film.attitude_angle[0])
+    offset = journal.clearance * float(film.eccentricity[0]) * (np.cos(phi) * x + np.sin(phi) * np.cross(e, x))
+    square = float(offset @ offset)
+    return (force @ offset) / square * (np.eye(3) - np.outer(e, e)) + (e @ np.cross(offset, force)) / square * skew(e)
+
+
+def _stiffness(model, speed, loaded=None):
     """The static stiffness ``K`` (n, n) and each support as ``(kind, item, k6)``: its 6x6
-    stiffness at its point (model axes)."""
+    stiffness at its point (model axes); ``loaded`` maps a journal bearing's name to the load [N]
+    (3,) whose loaded film (:func:`_secant_film`) it stands on."""
     reference = model.reference_point
     supports, total = [], np.zeros((6, 6))
     for s in model.suspensions:
@@ -637,7 +719,7 @@ def _stiffness(model, speed):
     if any(r.flexible is not None for r in model.rotors):
         stiffness += shaft_stiffness(model)
     for b in model.bearings:
-        k6 = _bearing_stiffness(model, b, speed)
+        k6 = _bearing_stiffness(model, b, speed, (loaded or {}).get(b.name))
         rows, moves = bearing_motion(model, b)
         stiffness[rows, rows] += moves.T @ k6 @ moves
         supports.append(("bearing", b, k6))
@@ -646,8 +728,9 @@ def _stiffness(model, speed):
     return stiffness, supports
 
 
-def _bearing_stiffness(model, bearing, speed) -> np.ndarray:
-    """A bearing's static 6x6 stiffness at the operating speed (journals: the light-load film)."""
+def _bearing_stiffness(model, bearing, speed, load=None) -> np.ndarray:
+    """A bearing's static 6x6 stiffness at the operating speed (journals: the light-load film, or
+    with ``load`` [N] (3,) the loaded film at that load, :func:`_secant_film`)."""
     coefficients = bearing.coefficients
     where = f"{model.source}: [bearings.{visible(bearing.name)}]"
     if coefficients.kind != "constant" and speed is None:
@@ -660,8 +743,14 @@ def _bearing_stiffness(model, bearing, speed) -> np.ndarray:
     if own == 0:
         raise InputError(f"{where}: a journal bearing at speed 0 has no oil film to stand on: give a speed "
                          "other than 0")
-    film = np.pi * journal.viscosity * abs(own) * journal.diameter * journal.length**3 / (8 * journal.clearance**3)
     k6 = coefficients.stiffness[0].copy()
+    if load is not None:
+        try:
+            k6[:3, :3] += _secant_film(journal, own, load, model.spin_axis)
+        except InputError as error:
+            raise InputError(f"{where} under its static load: {error}") from None
+        return k6
+    film = np.pi * journal.viscosity * abs(own) * journal.diameter * journal.length**3 / (8 * journal.clearance**3)
     # the film holds the journal at 90 degrees to its offset: force -k R(-phi) e, phi = sign(own) pi / 2
     k6[:3, :3] += -np.sign(own) * film * skew(model.spin_axis)
     return k6

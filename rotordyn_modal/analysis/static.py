@@ -17,8 +17,8 @@ frequency, bearings at the operating speed) is solved for the generalized coordi
   a flexible rotor's journal loads are its continuous beam on the journals, rigid or on their
   pedestals' springs, ``continuous_beam_loads``);
   each journal's eccentricity at its load is reported from the full short-bearing solution;
-  a journal whose load the model solves at each speed (a rigid rotor on three or more journals,
-  some on pedestals: ``JournalData.load_over_speed``) stands instead on its **loaded film**, the
+  a journal whose load the model solves at each speed (a rigid or flexible rotor on three or more
+  journals, some on pedestals: ``JournalData.load_over_speed``) stands instead on its **loaded film**, the
   secant of the short bearing at its load (the spring that moves the journal to the film's
   offset ``c eps (cos phi x + sin phi e x x)`` under that load), iterated until the loads it
   carries are those it was drawn at: under the weights alone the rotor's solved loads

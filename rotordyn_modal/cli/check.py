@@ -215,7 +215,8 @@ def _bearing_lines(model, u=_Units()) -> list[str]:
     lines = [f"  bearings ({len(model.bearings)}, to {where}):"]
     for b in model.bearings:
         lines.append(f"    {b.name:<16} rotor {b.rotor!r} at {np.round(u(b.position, 'length'), 4).tolist()} "
-                     f"{u.label('length')}, " + _coefficient_text(b.coefficients, model.spin_axis, u)
+                     f"{u.label('length')}, " + _coefficient_text(b.coefficients, model.spin_axis, u,
+                                                                   model.rotor(b.rotor).flexible is None)
                      + _pedestal_text(b, model.spin_axis, u))
     return lines
 
@@ -230,7 +231,7 @@ def _pedestal_text(bearing, spin_axis, u=_Units()) -> str:
             f"{np.array2string(u(values, 'stiffness'), precision=4)} {u.label('stiffness')}")
 
 
-def _coefficient_text(coefficients, spin_axis, u=_Units()) -> str:
+def _coefficient_text(coefficients, spin_axis, u=_Units(), rigid: bool = True) -> str:
     if coefficients.kind == "journal":
         j = coefficients.journal
         m = u.label("length")
@@ -238,7 +239,10 @@ def _coefficient_text(coefficients, spin_axis, u=_Units()) -> str:
                 f"{u(j.clearance, 'length'):g} {m}, viscosity {u(j.viscosity, 'viscosity'):g} "
                 f"{u.label('viscosity')}, static load {u(j.load, 'force'):.4g} {u.label('force')}"
                 + ("" if j.load_over_speed is None else
-                   " on the films alone; analyses solve it at each speed with the pedestals (docs/static.md)"))
+                   " on the films alone; analyses solve it at each speed with the pedestals (docs/static.md)"
+                   if rigid else
+                   " on rigid films and the pedestals (its high-speed limit); analyses solve it at each speed "
+                   "with the pedestals on the films (docs/static.md)"))
     # the translational stiffness in the plane normal to the spin axis (whatever the axial one)
     plane = transverse_axes(spin_axis)                                          # (2, 3), orthonormal
     radial = np.linalg.eigvals(plane @ coefficients.stiffness[0][:3, :3] @ plane.T)

@@ -22,8 +22,8 @@ its centre of mass and at each mount and of each rotor relative to the stator (a
 mass and at each bearing, and each bearing's pedestal), and the force and moment of every mount,
 bearing and pedestal on the body it carries (a pedestal's weight is a load), with the balance of all of them (zero to round-off). Rubber mounts stand on their
 static stiffness (Maxwell branches add nothing at zero frequency); bearings on their stiffness at
-the operating speed, journal bearings on their light-load film (those of a rigid rotor on three or
-more journals with pedestals, whose loads the analyses solve at each speed, on their loaded film:
+the operating speed, journal bearings on their light-load film (those of a rotor on three or more
+journals with pedestals, whose loads the analyses solve at each speed, on their loaded film:
 the same loads), with each journal's eccentricity at its load (docs/static.md).
 
 A flexible rotor's shaft bends under its weight, distributed along it, and the loads on it;

@@ -367,19 +367,20 @@ def _weight_share(bearing, table: Table, mates, rotor, e, tables) -> float:
 
 
 def _splits_over_speed(mates, rotor, tables) -> bool:
-    """True for a rigid rotor on three or more plain journals, one at least on a pedestal, none
-    with a given ``load``: its journals' loads are solved at each speed
+    """True for a rotor (rigid or flexible) on three or more plain journals, one at least on a
+    pedestal, none with a given ``load``: its journals' loads are solved at each speed
     (:func:`_with_loads_over_speed`)."""
-    return (rotor.flexible is None and len(mates) > 2 and any(b.pedestal is not None for b in mates)
+    return (len(mates) > 2 and any(b.pedestal is not None for b in mates)
             and all(b.type == "journal" and b.moment_stiffness is None and "load" not in tables[b.name].data
                     for b in mates))
 
 
 def _with_loads_over_speed(parsed, tables, rotors, e, gravity) -> list:
     """The bearings, each journal of a rotor that :func:`_splits_over_speed` names given its
-    load over speed: the rigid rotor's static equilibrium on its nonlinear films and its
-    pedestals' springs at each speed (:func:`~rotordyn_modal.elements.journal_bearing.
-    rigid_rotor_journal_loads`, one solver shared by the rotor's journals)."""
+    load over speed: the rotor's static equilibrium on its nonlinear films and its pedestals'
+    springs at each speed (:func:`~rotordyn_modal.elements.journal_bearing.
+    rigid_rotor_journal_loads`, one solver shared by the rotor's journals; a flexible rotor's
+    with its shaft's flexibility and sag on two journals, :func:`shaft_flexibility`)."""
     out = list(parsed)
     for name in dict.fromkeys(b.rotor for b in parsed):
         rotor = rotors[name]
@@ -396,6 +397,9 @@ def _with_loads_over_speed(parsed, tables, rotors, e, gravity) -> list:
             pedestal_weight=[None if b.pedestal is None else b.pedestal.mass * np.asarray(gravity, dtype=float)
                              for b in mates],
             cache={})
+        if rotor.flexible is not None:
+            solver["flexibility"], solver["sag"] = shaft_flexibility(
+                rotor.flexible, [rotor.flexible.z_of(b.position) for b in mates], gravity)
         for index, (bearing, journal) in enumerate(zip(mates, journals)):
             journal = dataclasses.replace(journal, load_over_speed=JournalLoadOverSpeed(index, solver))
             coefficients = dataclasses.replace(bearing.coefficients, journal=journal)
@@ -560,6 +564,57 @@ def continuous_beam_loads(shaft, stations, gravity, weights=None, supports=None,
         else:      # the spring's k u less the pedestal's weight (at a node held rigidly: the weight, hung on the shaft)
             out[i] = (lateral[i] @ q[[4 * node, 4 * node + 1]] - settling[i]) @ ab
     return out
+
+
+def shaft_flexibility(shaft, stations, gravity):
+    """A flexible shaft held rigidly at two of its journals (the first and the last along it): its
+    deflection at every journal under a unit force at each (its flexibility) and under its weight
+    (its sag), the journals holding the two translations normal to the axis and not the tilt.
+
+    For loads in balance with the weight the free shaft bends as the shaft held there does (the
+    two held journals' reactions being their loads), up to a rigid motion: what
+    :func:`~rotordyn_modal.elements.journal_bearing.rigid_rotor_journal_loads` adds to a rigid
+    rotor's journals. The weight is the consistent load ``M g`` of the shaft, its disks and point
+    masses (as :func:`continuous_beam_loads`).
+
+    Parameters
+    ----------
+    shaft : Shaft
+    stations : sequence of float, shape (N,)
+        The journals' axial positions from the shaft's start [m], at two nodes at least.
+    gravity : array_like, shape (3,) [m/s^2]
+
+    Returns
+    -------
+    flexibility : ndarray, shape (N, N) [m/N]
+        ``phi_ik``: the deflection at journal ``i`` along a unit force at journal ``k`` (an
+        axisymmetric shaft bends alike in every plane through its axis).
+    sag : ndarray, shape (N, 3) [m]
+        The deflection at each journal under the weight, model axes.
+    """
+    import scipy.sparse.linalg
+
+    z = np.asarray(stations, dtype=float)
+    meshed = with_mesh(shaft, z)
+    mesh = meshed.mesh
+    M, K = node_matrices(meshed, mesh, kinds=("M", "K"))
+    T = lateral_basis(meshed)                                    # (6 N, 4 N)
+    g = np.zeros(6 * mesh.n_nodes)
+    g.reshape(-1, 6)[:, :3] = np.asarray(gravity, dtype=float)
+    a, b = transverse_axes(shaft.axis)
+    nodes = np.array([mesh.node(s) for s in z])
+    held = np.array([nodes[int(np.argmin(z))], nodes[int(np.argmax(z))]])
+    held = np.concatenate([4 * held, 4 * held + 1])
+    free = np.setdiff1d(np.arange(4 * mesh.n_nodes), held)
+    loads = np.zeros((4 * mesh.n_nodes, len(z) + 1))
+    loads[4 * nodes, np.arange(len(z))] = 1.0                    # a unit force along a at each journal
+    loads[:, -1] = T.T @ (M @ g)
+    stiffness = (T.T @ K @ T).tocsc()[free][:, free]
+    solved = np.zeros_like(loads)
+    solved[free] = scipy.sparse.linalg.splu(stiffness).solve(loads[free])
+    flexibility = solved[4 * nodes, :-1]
+    sag = np.outer(solved[4 * nodes, -1], a) + np.outer(solved[4 * nodes + 1, -1], b)
+    return flexibility, sag
 
 
 def _support_springs(nodes, lateral, size: int):

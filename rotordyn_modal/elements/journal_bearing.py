@@ -74,7 +74,7 @@ def short_journal_bearing(speed, *, diameter, length, clearance, viscosity, load
         Dynamic viscosity of the oil [Pa s].
     load : float or array_like, shape (N,)
         Magnitude of the static load on the journal [N]; one per speed where it changes with
-        speed (a rigid rotor on three or more journals with pedestals,
+        speed (a rotor on three or more journals with pedestals,
         :func:`rigid_rotor_journal_loads`).
 
     Returns
@@ -268,9 +268,11 @@ def _matrix(xx, xy, yx, yy):
 
 
 def rigid_rotor_journal_loads(speed, *, stations, weight, spin_axis, diameter, length, clearance, viscosity,
-                              pedestal_stiffness=None, pedestal_weight=None, iterations: int = 60) -> np.ndarray:
+                              pedestal_stiffness=None, pedestal_weight=None, flexibility=None, sag=None,
+                              iterations: int = 60) -> np.ndarray:
     """Static load on each journal of a rigid rotor on three or more plain short journal bearings,
-    some on pedestals, at each speed: the statically indeterminate split solved by Newton.
+    some on pedestals, at each speed: the statically indeterminate split solved by Newton (a
+    flexible rotor's too, given its shaft's ``flexibility`` and ``sag``).
 
     A journal carrying the load ``F`` (a vector normal to the spin axis) sits at the film's offset
     ``d(F) = c eps (cos phi x + sin phi e x x)`` from its bearing's centre (``x = F / |F|``,
@@ -282,6 +284,12 @@ def rigid_rotor_journal_loads(speed, *, stations, weight, spin_axis, diameter, l
 
         d_i(F_i) + K_p,i^-1 (F_i + m_p,i g) - u - s_i theta = 0      (each journal)
         sum F_i = W,   sum s_i F_i = 0                              (force and moment balance)
+
+    A flexible rotor's journal ``i`` moves by ``u + s_i theta + w_i - sum_k phi_ik F_k`` instead:
+    ``w_i`` the shaft's sag under its weight and ``phi`` its flexibility, both on two of its
+    journals held rigidly (the reference line ``u + s theta``; for loads in balance the free shaft
+    bends as the shaft held there does, its two reactions being those journals' loads), so the
+    journal's equation gains ``sum_k phi_ik F_k - w_i`` and Newton's matrix ``phi``.
 
     The Jacobian of ``d_i`` is the inverse of the film's stiffness ``K`` of that load (a small
     journal motion ``delta`` changes the film force by ``K delta``), so Newton's matrix is built
@@ -304,6 +312,13 @@ def rigid_rotor_journal_loads(speed, *, stations, weight, spin_axis, diameter, l
         is held rigidly.
     pedestal_weight : sequence of (ndarray, shape (3,), or None), length N, optional
         Each pedestal's weight, model axes [N] (its part normal to the spin axis counts).
+    flexibility : array_like, shape (N, N), optional
+        A flexible rotor's: ``phi_ik`` [m/N], the shaft's deflection at journal ``i`` under a unit
+        force at journal ``k``, the shaft held at two of its journals (an axisymmetric shaft: the
+        same along any direction normal to the axis). None: a rigid rotor.
+    sag : array_like, shape (N, 3), optional
+        With ``flexibility``: the shaft's deflection [m] at each journal under its weight, held the
+        same way, model axes.
     iterations : int
         Newton steps at most.
 
@@ -332,45 +347,50 @@ def rigid_rotor_journal_loads(speed, *, stations, weight, spin_axis, diameter, l
             soft[i] = np.linalg.inv(plane @ np.asarray(pedestal_stiffness[i], dtype=float) @ plane.T)
             if pedestal_weight is not None and pedestal_weight[i] is not None:
                 settle[i] = soft[i] @ (plane @ np.asarray(pedestal_weight[i], dtype=float))
+    phi = np.zeros((n, n)) if flexibility is None else np.asarray(flexibility, dtype=float)
+    if sag is not None:
+        settle = settle - np.asarray(sag, dtype=float) @ plane.T      # the shaft's own sag: a settlement the other way
     total = np.array([np.linalg.norm(weight), 0.0])
     light = np.pi * films[3] * np.abs(speed)[:, None] * films[0] * films[1]**3 / (8 * films[2]**3)   # (S, N)
     turn = np.sign(speed)[:, None, None, None] * np.array([[0.0, -1.0], [1.0, 0.0]])            # R(+-90 deg)
     state = _newton_step(np.zeros((len(speed), n, 2)), turn / light[..., None, None], soft, s, settle, total,
-                         np.zeros((len(speed), n, 2)))
+                         np.zeros((len(speed), n, 2)), phi)
     done = np.zeros(len(speed), dtype=bool)
     for _ in range(iterations):
         loads = state[:, :2 * n].reshape(-1, n, 2)
         offset, compliance = _film_offset(loads, speed, films, total[0])
-        step = _newton_step(loads, compliance, soft, s, settle, total, offset) - state
+        step = _newton_step(loads, compliance, soft, s, settle, total, offset, phi) - state
         done |= np.max(np.abs(step[:, :2 * n]), axis=1) <= 1e-13 * total[0]
         if done.all():
             return state[:, :2 * n].reshape(-1, n, 2) @ plane
-        state = _damped(state, np.where(done[:, None], 0.0, step), offset, speed, films, soft, s, settle, total[0])
+        state = _damped(state, np.where(done[:, None], 0.0, step), offset, speed, films, soft, s, settle, total[0],
+                        phi)
     bad = int(np.flatnonzero(~done)[0])
     raise InputError(f"journal loads: no static equilibrium of the rigid rotor on its films and pedestals found at "
                      f"{to_rpm(float(speed[bad])):.6g} rpm (the films cannot carry the rotor there: start the sweep "
                      "higher, or give each journal's load)")
 
 
-def _misfit(state, offset, soft, s, settle, clearance):
+def _misfit(state, offset, soft, s, settle, clearance, phi):
     """The journals' compatibility misfit (12.16) in clearances, squared and summed: (S,)."""
     n = len(s)
     loads, u, theta = state[:, :2 * n].reshape(-1, n, 2), state[:, 2 * n:2 * n + 2], state[:, 2 * n + 2:]
-    gap = (offset + np.einsum("nij,snj->sni", soft, loads) + settle - u[:, None] - s[None, :, None] * theta[:, None])
+    gap = (offset + np.einsum("nij,snj->sni", soft, loads) + np.einsum("nk,skj->snj", phi, loads) + settle
+           - u[:, None] - s[None, :, None] * theta[:, None])
     return np.sum((gap / clearance[:, None])**2, axis=(1, 2))
 
 
-def _damped(state, step, offset, speed, films, soft, s, settle, scale, halvings: int = 40):
+def _damped(state, step, offset, speed, films, soft, s, settle, scale, phi, halvings: int = 40):
     """``state + a step``, ``a`` halved (per speed) from 1 until the compatibility misfit falls:
     the films' offset saturates at the clearance, where a full Newton step from a light-load
     guess overshoots. The balance equations, linear, hold along the whole step."""
     n = len(s)
-    before = _misfit(state, offset, soft, s, settle, films[2])
+    before = _misfit(state, offset, soft, s, settle, films[2], phi)
     length = np.ones(len(state))
     for _ in range(halvings):
         trial = state + length[:, None] * step
         trial_offset = _film_offset(trial[:, :2 * n].reshape(-1, n, 2), speed, films, scale)[0]
-        after = _misfit(trial, trial_offset, soft, s, settle, films[2])
+        after = _misfit(trial, trial_offset, soft, s, settle, films[2], phi)
         worse = ~(after <= (1 - 1e-4 * length) * before) & (before > 0)
         if not worse.any():
             break
@@ -398,10 +418,11 @@ def _film_offset(loads, speed, films, scale):
     return offset, np.linalg.inv(stiffness)
 
 
-def _newton_step(loads, compliance, soft, s, settle, total, offset):
+def _newton_step(loads, compliance, soft, s, settle, total, offset, phi):
     """The state (S, 2N + 4): loads, ``u``, ``theta``, of one Newton step on the journals' equations, the films linearised
     about ``loads``: ``d(F_new) ~ offset + compliance (F_new - loads)``; ``soft`` (N, 2, 2) the
-    pedestals' compliance, ``settle`` (N, 2) their settlement under their own weight."""
+    pedestals' compliance, ``settle`` (N, 2) their settlement under their own weight (less a
+    flexible shaft's sag), ``phi`` (N, N) the shaft's flexibility (zeros: a rigid rotor)."""
     count, n = loads.shape[:2]
     size = 2 * n + 4
     matrix = np.zeros((count, size, size))
@@ -409,7 +430,9 @@ def _newton_step(loads, compliance, soft, s, settle, total, offset):
     eye = np.eye(2)
     for i in range(n):
         rows = slice(2 * i, 2 * i + 2)
-        matrix[:, rows, rows] = compliance[:, i] + soft[i]
+        for k in range(n):
+            matrix[:, rows, 2 * k:2 * k + 2] = phi[i, k] * eye
+        matrix[:, rows, rows] += compliance[:, i] + soft[i]
         matrix[:, rows, 2 * n:2 * n + 2] = -eye
         matrix[:, rows, 2 * n + 2:] = -s[i] * eye
         matrix[:, 2 * n:2 * n + 2, rows] = eye
@@ -420,7 +443,7 @@ def _newton_step(loads, compliance, soft, s, settle, total, offset):
 
 
 class JournalLoadOverSpeed:
-    """The static load of one journal of a rigid rotor on three or more journals, some on
+    """The static load of one journal of a rotor (rigid or flexible) on three or more journals, some on
     pedestals, at any speed (:func:`rigid_rotor_journal_loads`; the rotor's journals share one
     solver, which keeps the last few sweeps' solutions).
 

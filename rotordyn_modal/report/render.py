@@ -220,7 +220,9 @@ _JOURNAL_NOTE = ('<p class="note">At a journal bearing the displacement above is
                  "linear film (the load over the film's stiffness, across the load: the film holds the journal at "
                  "90&deg; to its offset); the journal's position at its load is its eccentricity ratio (of the "
                  "radial clearance) and attitude angle (from the load, in the sense of rotation) in the reactions "
-                 "table, from the full short-bearing solution (docs/static.md).</p>")
+                 "table, from the full short-bearing solution. A journal whose load the analyses solve at each "
+                 "speed (a rotor on three or more journals with pedestals) stands on its loaded film instead: its "
+                 "displacement is the film's offset at that load (docs/static.md).</p>")
 
 
 def _shaft_statics(result, units) -> list:

@@ -219,11 +219,42 @@ def read_uff58(path, model, mapping):
     if not coherence:
         records["coherence"] = None
     result = assemble(records, model, quantity, str(path))
+    _warn_named_otherwise(frfs, quantity, path)
     if skipped:       # warned once the FRFs are read: a refused file gets its one error line alone
         import warnings
 
         warnings.warn(_skipped_frf_line(path, len(frfs), bool(coherence), skipped), stacklevel=3)
     return result
+
+
+#: words of an ordinate's axis label (record 9, free text) that name an FRF's quantity
+_NAMED = {"receptance": "receptance", "compliance": "receptance", "dynamic compliance": "receptance",
+          "mobility": "mobility", "accelerance": "accelerance", "inertance": "accelerance"}
+
+
+def _warn_named_otherwise(frfs, quantity, path) -> None:
+    """One warning where FRFs' axis labels (record 9, free text: ``Receptance``) name another
+    quantity than their unit labels give (``(m/s)/N``, a mobility): the unit decides, as it is the
+    field that gives the unit, and the user is told."""
+    import re
+    import warnings
+
+    words = "|".join(sorted(_NAMED, key=len, reverse=True))
+    named = {}
+    for s in frfs:
+        found = re.search(rf"\b({words})\b", str(s.get("ordinate_axis_lab", "")).strip().lower())
+        if found and _NAMED[found.group(1)] != quantity:
+            named.setdefault(str(s.get("ordinate_axis_lab")).strip(), []).append(s)
+    for label, sets in named.items():
+        unit = _label_text(sets[0], "ordinate_axis_units_lab", path)
+        kind = int(sets[0].get("ordinate_spec_data_type", 0))
+        field, said = (("data type", f"the ordinate data type {kind} ({_type_name(kind)})") if is_none(unit)
+                       else ("unit", f"the unit {unit!r}"))
+        where = "the FRF" if len(sets) == len(frfs) == 1 else f"{len(sets)} of the {len(frfs)} FRFs"
+        verb = "has" if len(sets) == 1 else "have"
+        warnings.warn(f"{path}: {where} ({_listed(dict.fromkeys(_nodes(s) for s in sets))}) {verb} the axis label "
+                      f"{label!r} but {said}, a {quantity}: read as {quantity}, as the {field} says (the axis label "
+                      "is free text)", stacklevel=4)
 
 
 #: dataset 58 function types that hold a pair's spectrum, not its FRF
@@ -339,7 +370,85 @@ def _read_sets(path):
     sets = [sets] if isinstance(sets, dict) else list(sets)
     for number, s in zip(index, sets):
         s["_dataset"] = number + 1                      # its place among the file's datasets, for messages
+        _as_the_header_says(uff, number, s, path)
     return sets
+
+
+def _as_the_header_says(uff, number, s, path) -> None:
+    """A dataset 58's abscissa and values made what its header says (in place), where pyuff reads
+    otherwise.
+
+    - Record 7 gives the count of values (``num_pts``); pyuff returns every number of the data
+      lines, so an ASCII writer's zeros filling the last line (tools write 6 numbers a line)
+      became extra frequency lines or samples of value 0 (a 1600-line FRF read as 1602 lines up
+      to 800.5 Hz; a 4096-sample record as 4098 samples). The values beyond the count are dropped,
+      with a warning when they are not all zero; a dataset holding fewer values than its count
+      (a file cut short) is read as it is, with a warning.
+    - Binary 58b with an uneven abscissa and double-precision ordinates (record 7 types 4 and 6):
+      the UFF definition stores each abscissa value in single precision (4 bytes) before its
+      8- or 16-byte ordinate; pyuff reads 8 bytes there, so the whole record was misread. The
+      values are decoded again from the file, the abscissa's width told by record 1's byte count
+      (4 bytes as the definition says, or 8 as pyuff writes).
+
+    Parameters
+    ----------
+    uff : pyuff.UFF
+        The file, read (its datasets' places).
+    number : int
+        The dataset's place among the file's datasets (from 0).
+    s : dict
+        The dataset as pyuff read it; ``x`` and ``data`` are replaced.
+    path : path-like
+    """
+    import warnings
+
+    if s.get("data") is None:
+        return
+    if int(s.get("binary", 0)) and int(s.get("abscissa_spacing", 1)) == 0 and int(s.get("ord_data_type", 0)) in (4, 6):
+        s["x"], s["data"] = _uneven_double_values(uff, number, s, path)
+    data, x = np.asarray(s["data"]), np.asarray(s["x"])
+    count = int(s.get("num_pts", len(data)))
+    where = f"{path}: dataset {number + 1} ({_nodes(s)}, {_function_words(_function_type(s))})"
+    if len(data) > count >= 0:
+        if np.any(data[count:] != 0):
+            warnings.warn(f"{where} holds {len(data)} values where its header (record 7) gives {count}: read the "
+                          f"first {count}", stacklevel=4)
+        s["data"], s["x"] = data[:count], x[:count]
+    elif len(data) < count:
+        warnings.warn(f"{where} holds {len(data)} of the {count} values its header (record 7) gives (the file is "
+                      f"cut short): read the {len(data)}", stacklevel=4)
+
+
+def _uneven_double_values(uff, number, s, path):
+    """``(x, data)`` of a binary 58b of uneven abscissa and double-precision ordinates, decoded
+    from the file: per value an abscissa of 4 bytes (the UFF definition) or 8 (as pyuff writes
+    it), told by the byte count of record 1, then 1 or 2 doubles."""
+    count, size = int(s.get("num_pts", 0)), int(s.get("n_bytes", 0))
+    parts = 1 if int(s["ord_data_type"]) == 4 else 2
+    order = "<" if int(s.get("byte_ordering", 1)) == 1 else ">"
+    sizes = {width: count * (width + 8 * parts) for width in (4, 8)}
+    where = f"{path}: dataset {number + 1} ({_nodes(s)})"
+    try:
+        start, end = (int(v) for v in uff._block_ind[number])
+        with open(path, "rb") as handle:
+            handle.seek(start)
+            block = handle.read(end - start + 1)
+    except (AttributeError, IndexError, OSError, TypeError, ValueError) as error:
+        raise InputError(f"{where}: cannot read its binary values again ({type(error).__name__}: {error})") from None
+    body = b"".join(block.splitlines(True)[13:])
+    # record 1's count tells the width; pyuff writes num_pts x 8 there whatever the layout, so
+    # then the data's own length does (4 bytes a value more than a line end or two)
+    width = next((w for w, n in sizes.items() if n == size), None) if count > 0 else None
+    if width is None and count > 0:
+        width = next((w for w in (8, 4) if len(body) >= sizes[w]), None)
+    if width is None or len(body) < sizes[width]:
+        raise InputError(f"{where}: binary 58b of {count} uneven abscissa values and double-precision ordinates "
+                         f"in {len(body)} bytes (record 1 says {size}): expected {sizes[4]} bytes (4-byte abscissa "
+                         f"values, as the UFF definition says) or {sizes[8]}")
+    fields = [("x", f"{order}f{width}"), ("re", f"{order}f8")] + ([("im", f"{order}f8")] if parts == 2 else [])
+    values = np.frombuffer(body, dtype=np.dtype(fields), count=count)
+    data = values["re"] if parts == 1 else values["re"] + 1j * values["im"]
+    return values["x"].astype(float), data.astype(complex if parts == 2 else float)
 
 
 def _file_units(path):
@@ -560,8 +669,10 @@ def _all_sets(path):
     except Exception as error:  # pyuff raises many kinds on a broken file
         raise InputError(f"{path}: not a readable Universal File ({type(error).__name__}: {error})") from None
     sets = [sets] if isinstance(sets, dict) else list(sets)
-    for s, t in zip(sets, types):
+    for number, (s, t) in enumerate(zip(sets, types)):
         s.setdefault("type", t)
+        if t == 58:
+            _as_the_header_says(uff, number, s, path)
     return sets, types
 
 
@@ -958,6 +1069,11 @@ def _time_quantity(s, units, path):
         raise InputError(f"{where}: ordinate data type {kind} ({_type_name(kind)}): expected 8 (displacement), "
                          "11 (velocity), 12 (acceleration), 9/13 (force), 15/21 (pressure), or 0/1 "
                          "(unknown/general) with a unit label")
+    label = _label_text(s, "ordinate_axis_units_lab", path)
+    if not is_none(label) and parse_unit(label) is None:   # a voltage, a level: the caller knows its factor
+        raise InputError(f"{where}: ordinate unit {label!r} is not understood: expected units such as m, mm, um, m/s, "
+                         "mm/s, in/s, m/s^2, g, N, lbf, Pa, or declare it: read_uff_time_records(..., units="
+                         f"{{{label!r}: (quantity, factor to SI)}}), e.g. a voltage with its sensor's sensitivity")
     quantity, factor, label = _measure(s, "ordinate", units, abs(direction) > 3, path, where)
     if kind in _SPECIFIC and quantity != _SPECIFIC[kind]:
         raise InputError(f"{where}: ordinate data type {kind} ({_type_name(kind)}) but unit {label!r} is "

@@ -1,0 +1,183 @@
+"""Universal Files of other tools beyond pyuff's test data (tests/data/uff/README.md): the test
+files of UFFFiles.jl and of the MATLAB readuff/writeuff. Every expected value is read here from
+the file's text or bytes with the UFF layout (fixed-width fields, 13 characters a number), or
+follows from the unit definitions, never from the reader under test."""
+
+from __future__ import annotations
+
+import struct
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.errors import InputError
+from rotordyn_modal.io.channels import ChannelMap
+from rotordyn_modal.io.measured import read_measured
+from rotordyn_modal.io.uff import read_uff58, read_uff_time_records, write_uff58
+
+DATA = Path(__file__).resolve().parent / "data" / "uff"
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "gear_machine.toml"
+
+
+@pytest.fixture(scope="module")
+def model():
+    return rdm.load_model(EXAMPLE)
+
+
+def _numbers(path, width=13):
+    """Every number of a one-dataset ASCII file's data lines (after its 13 header lines), read by
+    fixed width as the UFF layout gives them."""
+    lines = path.read_text(encoding="latin-1").splitlines()[13:-1]
+    return np.array([float(line[k:k + width]) for line in lines for k in range(0, len(line.rstrip()), width)])
+
+
+def _mapping(response, reference):
+    return ChannelMap({response: ("acc-top-z", 1.0)}, {reference: ("hammer-z", 1.0)})
+
+
+def test_an_frf_reads_the_lines_its_header_counts_not_the_zeros_filling_its_last_line(model):
+    """UFFFiles.jl's dataset58_FRF.unv (an excerpt of 40 lines): record 7 counts 40 complex values
+    at 0.5 Hz; the writer filled its last line of 6 numbers with four zeros. pyuff returns them as
+    two more lines, 20 and 20.5 Hz, of value 0."""
+    path = DATA / "ufffiles_frf_filled_excerpt.unv"
+    numbers = _numbers(path)
+    assert len(numbers) == 84 and np.all(numbers[80:] == 0)
+    with pytest.warns(UserWarning, match="axis label 'Receptance' but the unit '\\(m/s\\)/N', a mobility: read as "
+                                         "mobility, as the unit says"):
+        res, = read_uff58(path, model, _mapping((0, 0), (0, 0)))
+    np.testing.assert_array_equal(res.frequencies_hz, 0.5 * np.arange(40))
+    np.testing.assert_allclose(res.H[0, 0], numbers[0:80:2] + 1j * numbers[1:80:2], rtol=1e-6)
+    assert res.quantity == "mobility"
+
+
+def test_a_time_record_reads_the_samples_its_header_counts(model):
+    """UFFFiles.jl's dataset58_time.unv (an excerpt of 64 samples, force in N): its last line of 6
+    filled with two zeros."""
+    path = DATA / "ufffiles_time_filled_excerpt.unv"
+    numbers = _numbers(path)
+    assert len(numbers) == 66
+    records = read_uff_time_records(path)
+    assert records.signals.shape == (1, 1, 64) and records.quantities == ("force",)
+    np.testing.assert_allclose(records.signals[0, 0], numbers[:64], rtol=1e-6)
+    # the header's interval, 4.88281E-04 s, to its 6 digits
+    assert records.sampling_rate_hz == pytest.approx(1 / 4.88281e-4, rel=1e-12)
+
+
+def test_values_beyond_the_count_that_are_not_fill_are_named(tmp_path):
+    text = (DATA / "ufffiles_time_filled_excerpt.unv").read_text()
+    path = tmp_path / "extra.unv"
+    path.write_text(text.replace("  0.00000E+00  0.00000E+00\n    -1", "  1.00000E+00  0.00000E+00\n    -1"))
+    with pytest.warns(UserWarning, match="dataset 1 .* holds 66 values where its header \\(record 7\\) gives 64: "
+                                         "read the first 64"):
+        records = read_uff_time_records(path)
+    assert records.signals.shape == (1, 1, 64)
+
+
+def test_a_dataset_holding_fewer_values_than_its_count_is_read_with_a_warning():
+    """pyuff's dataset_milestone_in_header.uff: record 7 counts 2,508,876 samples, the file holds 42
+    (pyuff's test data keep the start of a longer recording)."""
+    path = DATA / "dataset_milestone_in_header.uff"
+    with pytest.warns(UserWarning, match="holds 42 of the 2508876 values its header \\(record 7\\) gives \\(the file "
+                                         "is cut short\\): read the 42"):
+        records = read_uff_time_records(path)
+    assert records.signals.shape == (1, 1, 42)
+
+
+def _binary_body(path):
+    raw = path.read_bytes()
+    return raw[len(b"\n".join(raw.split(b"\n", 13)[:13])) + 1:]
+
+
+def test_binary_uneven_double_precision_reads_as_the_same_ascii_file(model):
+    """UFFFiles.jl's dataset58_case8 (20 lines): complex doubles over an uneven abscissa, ASCII and
+    binary 58b. The UFF definition stores such an abscissa in single precision (4 bytes before
+    the two 8-byte doubles; record 1 counts 20 x 20 = 400 bytes); pyuff read 8 bytes there and
+    the binary file came out as other numbers (a frequency below 0: refused)."""
+    ascii_path = DATA / "ufffiles_uneven_double_excerpt_ascii.unv"
+    binary_path = DATA / "ufffiles_uneven_double_excerpt_binary.unv"
+    lines = ascii_path.read_text().splitlines()[13:-1]
+    x = np.array([float(line[:13]) for line in lines])
+    values = np.array([float(line[13:33]) + 1j * float(line[33:53]) for line in lines])
+    body = _binary_body(binary_path)
+    assert struct.unpack("<f", body[:4])[0] == pytest.approx(x[0], rel=1e-7)   # the definition's layout
+    mapping = _mapping((1, 1), (22, 1))
+    for path in (ascii_path, binary_path):
+        res, = read_uff58(path, model, mapping)
+        assert res.quantity == "accelerance"
+        np.testing.assert_allclose(res.frequencies_hz, x, rtol=6e-6)       # ASCII abscissa: 6 digits (E13.5)
+        np.testing.assert_allclose(res.H[0, 0], values, rtol=1e-11)         # E20.12: 12 digits
+
+
+@pytest.mark.parametrize("binary", [True, False])
+def test_uneven_frequencies_written_here_read_back(model, tmp_path, binary):
+    """pyuff writes 58b with 8-byte abscissa values and a byte count of num_pts x 8: still read
+    back (the data's length tells the width)."""
+    freqs = np.array([1.0, 2.5, 3.0, 7.25, 11.0])
+    res = rdm.frf(model, 0.0, freqs, quantity="accelerance")
+    path = tmp_path / "uneven.uff"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        write_uff58([res], path, rdm.io.measured.default_mapping(model), binary=binary)
+    back, = read_measured(path, model)
+    np.testing.assert_array_equal(back.frequencies_hz, freqs)
+    np.testing.assert_allclose(back.H, res.H, rtol=1e-11)
+
+
+def test_inch_pound_units_of_dataset_164_are_converted(model):
+    """UFFFiles.jl's dataset151_164_58_55.unv: dataset 164 says inch and pound-force (factors
+    39.37... and 0.2248...), the FRF (accelerance, 12 over 13, no labels) is in in/s^2/lbf:
+    times 0.0254 / (0.45359237 x 9.80665)."""
+    path = DATA / "ufffiles_units_inch_pound.unv"
+    lines = path.read_text().splitlines()
+    start = lines.index("    58" + " " * 74) + 12         # the 13 header lines begin with the "-1" before it
+    numbers = np.array([float(line[k:k + 13]) for line in lines[start:start + 4]
+                        for k in range(0, len(line.rstrip()), 13)])
+    assert len(numbers) == 20
+    res, = read_uff58(path, model, _mapping((1, 1), (22, 1)))
+    factor = 0.0254 / (0.45359237 * 9.80665)
+    np.testing.assert_allclose(res.H[0, 0], (numbers[0::2] + 1j * numbers[1::2]) * factor, rtol=1e-14)
+    np.testing.assert_array_equal(res.frequencies_hz, 0.25 * np.arange(10))
+
+
+def test_a_universal_file_of_another_ending_is_read(model, tmp_path):
+    """readuff's UFF58B.FRF: a 58b FRF (velocity over a reference, 1601 lines of 12.5 Hz) saved
+    as .FRF, read by its content (the '-1' and dataset number opening it), also with --mapping."""
+    from rotordyn_modal.cli.main import main
+
+    path = DATA / "murmlgrmpf_UFF58B.FRF"
+    body = _binary_body(path)
+    values = np.frombuffer(body[:1601 * 8], dtype="<f4").astype(float)
+    table = tmp_path / "map.csv"
+    table.write_text("name,node,direction\nacc-top-z,192,0\nhammer-z,0,0\n")
+    res, = read_measured(path, model, table)
+    assert res.quantity == "mobility"
+    np.testing.assert_array_equal(res.frequencies_hz, 12.5 * np.arange(1601))
+    np.testing.assert_array_equal(res.H[0, 0], values[0::2] + 1j * values[1::2])
+    out = tmp_path / "frf.csv"
+    code = main(["frf", str(EXAMPLE), "--speed", "0", "--freqs", "10:1000:5", "--measured", str(path), "--mapping",
+                 str(table), "--quantity", "mobility", "--input", "hammer-z", "--output", "acc-top-z", "--quiet",
+                 "--out", str(out)])
+    assert code == 0 and out.exists()
+
+
+def test_a_tdms_file_given_for_frfs_is_told_where_time_records_go(model):
+    path = Path(__file__).resolve().parent / "data" / "tdms" / "good_tdms_2.tdms"
+    with pytest.raises(InputError, match="holds time records, not FRFs: read them with rdm.read_tdms_records"):
+        read_measured(path, model)
+
+
+def test_a_record_in_volts_is_refused_with_how_to_declare_it():
+    """UFFFiles.jl's dataset58_nospacing.uff (a DT9837-A recorder, numbers written without a space
+    between them): a time record of unit '(V^2)'. What a volt measures is the sensor's: refused,
+    saying how to declare it; declared, it reads."""
+    path = DATA / "ufffiles_nospacing_volts.uff"
+    with pytest.raises(InputError, match="ordinate unit '\\(V\\^2\\)' is not understood: .*or declare it: "
+                                         "read_uff_time_records\\(\\.\\.\\., units=\\{'\\(V\\^2\\)': "):
+        read_uff_time_records(path)
+    numbers = _numbers(path)
+    records = read_uff_time_records(path, units={"(V^2)": ("acceleration", 98.0665)})
+    np.testing.assert_allclose(records.signals[0, 0], numbers * 98.0665, rtol=1e-12)
+    assert records.sampling_rate_hz == pytest.approx(1 / 4.99942e-4, rel=1e-12)

@@ -181,3 +181,14 @@ def test_a_record_in_volts_is_refused_with_how_to_declare_it():
     records = read_uff_time_records(path, units={"(V^2)": ("acceleration", 98.0665)})
     np.testing.assert_allclose(records.signals[0, 0], numbers * 98.0665, rtol=1e-12)
     assert records.sampling_rate_hz == pytest.approx(1 / 4.99942e-4, rel=1e-12)
+
+
+def test_frfs_told_apart_only_by_their_entity_names_are_refused_naming_them(model, tmp_path):
+    """The tool of dataset58_FRF.unv numbers no nodes: node 0 direction 0, the point in the entity
+    name ('.1.Z-'). Two such FRFs in one file cannot be placed by a mapping of nodes."""
+    text = (DATA / "ufffiles_frf_filled_excerpt.unv").read_text()
+    path = tmp_path / "two.unv"
+    path.write_text(text + text.replace(".1.Z-", ".2.Z-"))
+    with pytest.raises(InputError, match="the FRFs of datasets 1 and 2 are both 0:\\+0 and differ only by their entity "
+                                         "names \\('.1.Z- / .56.Z' and '.2.Z- / .56.Z'\\)"):
+        read_uff58(path, model, _mapping((0, 0), (0, 0)))

@@ -198,6 +198,7 @@ def read_uff58(path, model, mapping):
         raise InputError(f"{path}: the FRFs hold {', '.join(quantities)}: expected one quantity in a file")
     quantity = quantities[0]
     _refuse_lone_spectra(sets, frfs, path)
+    _refuse_named_apart(frfs, path)
     pairs = {_key(s) for s in frfs}
     coherence = {_key(s): np.real(np.asarray(s["data"])) for s in sets if _is_frf_coherence(s, pairs)}
     skipped = [s for s in sets if _function_type(s) != _FRF and not _is_frf_coherence(s, pairs)]
@@ -225,6 +226,23 @@ def read_uff58(path, model, mapping):
 
         warnings.warn(_skipped_frf_line(path, len(frfs), bool(coherence), skipped), stacklevel=3)
     return result
+
+
+def _refuse_named_apart(frfs, path) -> None:
+    """Refuse FRFs of one response and reference node and direction (and speed) that only their
+    entity names (record 6) tell apart, as tools write that number no nodes (node 0 direction 0,
+    the point in the name: ``.1.Z-``): a mapping table places channels by node and direction, so
+    which is which cannot be told (read as one pair, they were refused as a duplicated channel)."""
+    seen = {}
+    for s in frfs:
+        names = (str(s.get("rsp_ent_name", "")).strip(), str(s.get("ref_ent_name", "")).strip())
+        first = seen.setdefault(_key(s), (s, names))
+        if first[1] != names:
+            other = first[0]
+            raise InputError(f"{path}: the FRFs of datasets {other.get('_dataset', '?')} and {s.get('_dataset', '?')} "
+                             f"are both {_nodes(s)} and differ only by their entity names ({' / '.join(first[1])!r} "
+                             f"and {' / '.join(names)!r}): a mapping table places channels by node and direction; "
+                             "export the FRFs with node numbers and directions")
 
 
 #: words of an ordinate's axis label (record 9, free text) that name an FRF's quantity

@@ -192,3 +192,42 @@ def test_frfs_told_apart_only_by_their_entity_names_are_refused_naming_them(mode
     with pytest.raises(InputError, match="the FRFs of datasets 1 and 2 are both 0:\\+0 and differ only by their entity "
                                          "names \\('.1.Z- / .56.Z' and '.2.Z- / .56.Z'\\)"):
         read_uff58(path, model, _mapping((0, 0), (0, 0)))
+
+
+@pytest.mark.parametrize("kind,label,value,rpm", [
+    (19, "NONE", 1500.0, 1500.0),                  # rpm
+    (19, "rad/s", 100.0, 100.0 * 30.0 / np.pi),
+    (0, "Hz", 20.0, 1200.0),                       # revolutions per second
+    (0, "1/min", 900.0, 900.0),
+])
+def test_the_speed_is_read_in_the_unit_of_the_z_axis(model, tmp_path, kind, label, value, rpm):
+    import pyuff
+
+    res = rdm.frf(model, 0.0, np.linspace(1.0, 40.0, 40), quantity="accelerance")
+    path = tmp_path / "z.uff"
+    write_uff58([res], path, rdm.io.measured.default_mapping(model))
+    sets = pyuff.UFF(str(path)).read_sets()
+    for s in sets:
+        s.update(z_axis_spec_data_type=kind, z_axis_axis_units_lab=label, z_axis_value=value)
+    path.unlink()
+    pyuff.UFF(str(path)).write_sets(sets, mode="add")
+    back, = read_measured(path, model)
+    assert back.speed * 30.0 / np.pi == pytest.approx(rpm, rel=1e-12)
+
+
+@pytest.mark.parametrize("kind,label", [(17, "s"), (20, "NONE"), (0, "s")])
+def test_a_z_axis_of_no_speed_is_not_read_as_rpm(model, tmp_path, kind, label):
+    """A run-up waterfall's FRFs carry their time (data type 17) or order (20) in the z-axis: 2.5 s
+    was read as 2.5 rpm."""
+    import pyuff
+
+    res = rdm.frf(model, 0.0, np.linspace(1.0, 40.0, 40), quantity="accelerance")
+    path = tmp_path / "z.uff"
+    write_uff58([res], path, rdm.io.measured.default_mapping(model))
+    sets = pyuff.UFF(str(path)).read_sets()
+    for s in sets:
+        s.update(z_axis_spec_data_type=kind, z_axis_axis_units_lab=label, z_axis_value=2.5)
+    path.unlink()
+    pyuff.UFF(str(path)).write_sets(sets, mode="add")
+    with pytest.raises(InputError, match="z-axis"):
+        read_measured(path, model)

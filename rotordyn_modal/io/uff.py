@@ -212,7 +212,7 @@ def read_uff58(path, model, mapping):
         if coh is not None and len(coh) != len(x):
             raise InputError(f"{path}: coherence of the FRF {s['rsp_node']}:{s['rsp_dir']} / {s['ref_node']}:"
                              f"{s['ref_dir']} has {len(coh)} values for {len(x)} frequencies: expected one per frequency")
-        parts.append({"speed_rpm": np.full(len(x), round(float(s.get("z_axis_value", 0.0)), 9)),
+        parts.append({"speed_rpm": np.full(len(x), _speed_rpm(s, path)),
                       "frequency_hz": x, "output": np.full(len(x), out), "input": np.full(len(x), inp),
                       "value": np.asarray(s["data"], complex) * (factor * out_sign * in_sign),
                       "coherence": np.full(len(x), np.nan) if coh is None else coh})
@@ -226,6 +226,37 @@ def read_uff58(path, model, mapping):
 
         warnings.warn(_skipped_frf_line(path, len(frfs), bool(coherence), skipped), stacklevel=3)
     return result
+
+
+#: z-axis unit labels of a rotational speed -> factor to rpm
+_SPEED_UNITS = {"rpm": 1.0, "1/min": 1.0, "rev/min": 1.0, "r/min": 1.0, "u/min": 1.0, "hz": 60.0, "1/s": 60.0,
+                "rev/s": 60.0, "rps": 60.0, "rad/s": 30.0 / np.pi, "rad/sec": 30.0 / np.pi}
+_RPM = 19
+
+
+def _speed_rpm(s, path) -> float:
+    """An FRF set's spin speed [rpm] from its z-axis (record 11): data type 19 (rpm), or 0/1
+    (unknown/general, as ``write_uff58`` writes it), in rpm or in the unit its label gives
+    (``1/min``, ``Hz``, ``rad/s``). A z-axis of another data type (time 17 of a run-up waterfall,
+    order 20, ...) says no speed: 0 is taken as none; another value is refused, not read as rpm."""
+    value = float(s.get("z_axis_value", 0.0))
+    kind = int(s.get("z_axis_spec_data_type", 0))
+    label = _label_text(s, "z_axis_axis_units_lab", path)
+    where = f"{path}: FRF {s['rsp_node']}:{s['rsp_dir']} / {s['ref_node']}:{s['ref_dir']}"
+    if kind not in (0, 1, _RPM):
+        if value == 0.0:
+            return 0.0
+        raise InputError(f"{where}: z-axis value {value:g} of data type {kind} ({_type_name(kind)}, unit {label!r}) "
+                         "is no spin speed: expected the speed in the z-axis, data type 19 (rpm) or 0, one speed per "
+                         "FRF set")
+    if is_none(label):
+        factor = 1.0
+    elif label.strip().lower() in _SPEED_UNITS:
+        factor = _SPEED_UNITS[label.strip().lower()]
+    else:
+        raise InputError(f"{where}: z-axis unit {label!r} (data type {kind}, {_type_name(kind)}): expected a spin "
+                         f"speed in {', '.join(_SPEED_UNITS)}")
+    return round(value * factor, 9)
 
 
 def _refuse_named_apart(frfs, path) -> None:

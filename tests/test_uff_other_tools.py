@@ -231,3 +231,20 @@ def test_a_z_axis_of_no_speed_is_not_read_as_rpm(model, tmp_path, kind, label):
     pyuff.UFF(str(path)).write_sets(sets, mode="add")
     with pytest.raises(InputError, match="z-axis"):
         read_measured(path, model)
+
+
+def test_bytes_after_a_binary_sets_values_are_no_value(tmp_path):
+    """Exporters write line ends between a 58b set's values and its closing '-1' (pyuff issues 38
+    and 88, the latter a Simcenter Test.Lab 2021 file); 8 bytes of them are one more double to
+    pyuff (2.95e-260 here). Record 7's count delimits the values: pyuff's binary8byte.uff with 8
+    such bytes reads as the file without them, without a word."""
+    raw = (DATA / "binary8byte.uff").read_bytes()
+    assert raw.endswith(b"    -1\r\n")
+    path = tmp_path / "trailing.uff"
+    path.write_bytes(raw[:-8] + b"\r\n" * 4 + b"    -1\r\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        records = read_uff_time_records(path)
+    plain = read_uff_time_records(DATA / "binary8byte.uff")
+    assert records.signals.shape == plain.signals.shape == (1, 1, 250)
+    np.testing.assert_array_equal(records.signals, plain.signals)

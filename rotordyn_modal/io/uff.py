@@ -430,9 +430,10 @@ def _as_the_header_says(uff, number, s, path) -> None:
     - Record 7 gives the count of values (``num_pts``); pyuff returns every number of the data
       lines, so an ASCII writer's zeros filling the last line (tools write 6 numbers a line)
       became extra frequency lines or samples of value 0 (a 1600-line FRF read as 1602 lines up
-      to 800.5 Hz; a 4096-sample record as 4098 samples). The values beyond the count are dropped,
-      with a warning when they are not all zero; a dataset holding fewer values than its count
-      (a file cut short) is read as it is, with a warning.
+      to 800.5 Hz; a 4096-sample record as 4098 samples), and the bytes of a binary set's
+      trailing line end values. The values beyond the count are dropped, in ASCII with a warning
+      when they are not all zero; a dataset holding fewer values than its count (a file cut
+      short) is read as it is, with a warning.
     - Binary 58b with an uneven abscissa and double-precision ordinates (record 7 types 4 and 6):
       the UFF definition stores each abscissa value in single precision (4 bytes) before its
       8- or 16-byte ordinate; pyuff reads 8 bytes there, so the whole record was misread. The
@@ -459,7 +460,9 @@ def _as_the_header_says(uff, number, s, path) -> None:
     count = int(s.get("num_pts", len(data)))
     where = f"{path}: dataset {number + 1} ({_nodes(s)}, {_function_words(_function_type(s))})"
     if len(data) > count >= 0:
-        if np.any(data[count:] != 0):
+        # binary: record 1's byte count delimits the values, and bytes after them (a line end before
+        # the closing '-1', as Simcenter Test.Lab writes) are no values; ASCII: zeros fill the last line
+        if not int(s.get("binary", 0)) and np.any(data[count:] != 0):
             warnings.warn(f"{where} holds {len(data)} values where its header (record 7) gives {count}: read the "
                           f"first {count}", stacklevel=4)
         s["data"], s["x"] = data[:count], x[:count]

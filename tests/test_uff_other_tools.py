@@ -248,3 +248,25 @@ def test_bytes_after_a_binary_sets_values_are_no_value(tmp_path):
     plain = read_uff_time_records(DATA / "binary8byte.uff")
     assert records.signals.shape == plain.signals.shape == (1, 1, 250)
     np.testing.assert_array_equal(records.signals, plain.signals)
+
+
+def test_a_double_precision_set_whose_last_line_is_padded_with_blanks(model, tmp_path):
+    """UFFFiles.jl's dataset58_case7_ascii.unv (an excerpt of 9 lines): complex doubles, 4E20.12 a
+    line, even abscissa. Read as it is, and with its last, short line padded to 80 columns with
+    blanks, as Fortran writers and DataPhysics SignalStar write their last lines (pyuff issue 20):
+    pyuff refused that ('Error when reading data-set(s)'); the file is read from a copy without
+    the blanks, the values being the text's."""
+    path = DATA / "ufffiles_even_double_excerpt.unv"
+    numbers = _numbers(path, width=20)
+    assert len(numbers) == 18
+    expected = numbers[0::2] + 1j * numbers[1::2]
+    padded = tmp_path / "padded.unv"
+    lines = path.read_text().split("\n")
+    lines[-3] = lines[-3].ljust(80)
+    padded.write_text("\n".join(lines))
+    before = padded.read_bytes()
+    for source in (path, padded):
+        res, = read_uff58(source, model, _mapping((1, 1), (22, 1)))
+        np.testing.assert_array_equal(res.H[0, 0], expected)
+        np.testing.assert_array_equal(res.frequencies_hz, 0.25 * np.arange(9))
+    assert padded.read_bytes() == before          # read from a copy: the file is left as it was

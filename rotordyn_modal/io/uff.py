@@ -401,26 +401,67 @@ def _check_complete(path):
 
 
 def _read_sets(path):
-    import pyuff
-
     _check_complete(path)
-    try:
-        uff = pyuff.UFF(str(path))
-        types = list(uff.get_set_types())
-        if 58 not in types:
-            raise InputError(f"{path}: no dataset 58/58b (FRF) in the file; datasets found: "
-                             f"{_datasets_named(int(t) for t in types)}")
-        index = [i for i, t in enumerate(types) if t == 58]
-        sets = uff.read_sets(index)
-    except InputError:
-        raise
-    except Exception as error:  # pyuff raises many kinds on a broken file
-        raise InputError(f"{path}: not a readable Universal File ({type(error).__name__}: {error})") from None
-    sets = [sets] if isinstance(sets, dict) else list(sets)
+    uff, types, index, sets = _pyuff_read(path, 58)
+    if 58 not in types:
+        raise InputError(f"{path}: no dataset 58/58b (FRF) in the file; datasets found: "
+                         f"{_datasets_named(int(t) for t in types)}")
     for number, s in zip(index, sets):
         s["_dataset"] = number + 1                      # its place among the file's datasets, for messages
         _as_the_header_says(uff, number, s, path)
     return sets
+
+
+def _pyuff_read(path, kind=None):
+    """``(uff, types, index, sets)``: the file's datasets as pyuff reads them, every one or those of
+    dataset number ``kind`` (their places ``index``, from 0).
+
+    pyuff refuses an ASCII file whose lines end in blanks where it reads fixed-width numbers (the
+    last, short line of a double-precision dataset 58 padded to 80 columns, as Fortran writers and
+    DataPhysics SignalStar do, pyuff issue 20): such a file is read again from a copy without the
+    blanks at the ends of its lines (in a temporary folder; the file itself is never changed).
+    Whatever pyuff raises on a file it cannot read is one ``InputError`` naming the file.
+    """
+    import tempfile
+    from pathlib import Path
+
+    import pyuff
+
+    def read(name):
+        uff = pyuff.UFF(name)
+        types = [int(t) for t in uff.get_set_types()]
+        index = [i for i, t in enumerate(types) if kind is None or t == kind]
+        with contextlib.redirect_stdout(io.StringIO()):    # pyuff prints some datasets (2467) as it reads
+            sets = uff.read_sets(index) if index else []
+        return uff, types, index, [sets] if isinstance(sets, dict) else list(sets)
+
+    try:
+        return read(str(path))
+    except Exception as error:  # pyuff raises many kinds on a broken file
+        first = error
+    stripped = _without_trailing_blanks(path)
+    if stripped is not None:
+        with tempfile.TemporaryDirectory() as folder:
+            copy = Path(folder) / "stripped.uff"
+            copy.write_bytes(stripped)
+            try:
+                return read(str(copy))
+            except Exception:   # the blanks were not the trouble: the first error is the file's
+                pass
+    raise InputError(f"{path}: not a readable Universal File ({type(first).__name__}: {first})") from None
+
+
+def _without_trailing_blanks(path):
+    """The bytes of an ASCII Universal File with the blanks at the ends of its lines removed, or
+    None for a file with binary sets (58b) or without such blanks."""
+    import re
+
+    with open(path, "rb") as handle:
+        data = handle.read()
+    if b"\0" in data or re.search(rb"(?m)^\s*58b", data):
+        return None
+    stripped = re.sub(rb"[ \t]+(?=\r?\n|\Z)", b"", data)
+    return None if stripped == data else stripped
 
 
 def _as_the_header_says(uff, number, s, path) -> None:
@@ -710,17 +751,8 @@ def read_uff_info(path) -> dict:
 
 
 def _all_sets(path):
-    import pyuff
-
     _check_complete(path)
-    try:
-        uff = pyuff.UFF(str(path))
-        types = [int(t) for t in uff.get_set_types()]
-        with contextlib.redirect_stdout(io.StringIO()):    # pyuff prints some datasets (2467) as it reads
-            sets = uff.read_sets() if types else []
-    except Exception as error:  # pyuff raises many kinds on a broken file
-        raise InputError(f"{path}: not a readable Universal File ({type(error).__name__}: {error})") from None
-    sets = [sets] if isinstance(sets, dict) else list(sets)
+    uff, types, _, sets = _pyuff_read(path)
     for number, (s, t) in enumerate(zip(sets, types)):
         s.setdefault("type", t)
         if t == 58:

@@ -545,11 +545,8 @@ def _uneven_double_values(uff, number, s, path):
 
 
 def _file_units(path):
-    import pyuff
-
-    uff = pyuff.UFF(str(path))
-    types = [int(t) for t in uff.get_set_types()]
-    return _units([{**uff.read_sets(types.index(164)), "type": 164}], path) if 164 in types else UffUnits()
+    sets = _pyuff_read(path, 164)[3]
+    return _units([{**sets[0], "type": 164}], path) if sets else UffUnits()
 
 
 def _key(s):

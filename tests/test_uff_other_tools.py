@@ -270,3 +270,13 @@ def test_a_double_precision_set_whose_last_line_is_padded_with_blanks(model, tmp
         np.testing.assert_array_equal(res.H[0, 0], expected)
         np.testing.assert_array_equal(res.frequencies_hz, 0.25 * np.arange(9))
     assert padded.read_bytes() == before          # read from a copy: the file is left as it was
+
+
+def test_a_universal_file_saved_as_txt_is_read_as_one(model, tmp_path):
+    """Users rename a .unv to .txt to attach it to a message (OpenModal issues 14 and 17): its
+    content, the '-1' and '58' opening it, says what it is; it was read as a CSV table and refused."""
+    path = tmp_path / "1m.txt"
+    path.write_bytes((DATA / "ufffiles_units_inch_pound.unv").read_bytes())
+    res, = read_measured(path, model, ChannelMap({(1, 1): ("acc-top-z", 1.0)}, {(22, 1): ("hammer-z", 1.0)}))
+    direct, = read_uff58(DATA / "ufffiles_units_inch_pound.unv", model, _mapping((1, 1), (22, 1)))
+    np.testing.assert_array_equal(res.H, direct.H)

@@ -69,10 +69,6 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
         open(path, "rb").close()
     except OSError as error:   # a file without read permission: PermissionError, exit 1
         raise InputError(f"{path}: cannot read the measured-data file ({error.strerror or error})") from None
-    if path.suffix.lower() in TABLE_ENDINGS:
-        if mapping is not None and not isinstance(mapping, ChannelMap):
-            read_mapping(mapping, model)   # a missing or broken table named is refused, never passed over
-        return read_csv(path, model)
     if is_universal_file(path):
         from .uff import read_uff58
 
@@ -81,6 +77,10 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
         else:
             channel_map = read_mapping(mapping, model)
         return read_uff58(path, model, channel_map)
+    if path.suffix.lower() in TABLE_ENDINGS:
+        if mapping is not None and not isinstance(mapping, ChannelMap):
+            read_mapping(mapping, model)   # a missing or broken table named is refused, never passed over
+        return read_csv(path, model)
     time_records = (f": a {path.suffix} file holds time records, not FRFs: read them with rdm.read_tdms_records "
                     "and compute the FRFs with rdm.estimate_frf (docs/frf-and-measurement.md, 'From time records')"
                     if path.suffix.lower() == ".tdms" else "")
@@ -95,9 +95,9 @@ UFF_ENDINGS = (".uff", ".unv", ".uf")
 
 def is_universal_file(path) -> bool:
     """True for a Universal File: one of :data:`UFF_ENDINGS`, or a file of another ending (tools
-    write ``.ufb``, ``.bunv``, ``.frf``, ``.58``, ...) whose first line, after blank lines and a
-    byte-order mark, is the ``-1`` that opens a dataset, followed by a dataset number (``58``,
-    ``58b``, ``151``).
+    write ``.ufb``, ``.bunv``, ``.frf``, ``.58``, ...; a ``.txt`` as users rename a ``.unv`` to attach
+    it to a message) whose first line, after blank lines and a byte-order mark, is the ``-1`` that
+    opens a dataset, followed by a dataset number (``58``, ``58b``, ``151``): no table's header.
 
     Parameters
     ----------
@@ -113,7 +113,7 @@ def is_universal_file(path) -> bool:
     path = Path(path)
     if path.suffix.lower() in UFF_ENDINGS:
         return True
-    if path.suffix.lower() in TABLE_ENDINGS or not path.is_file():   # never opens a pipe (it could wait)
+    if not path.is_file():   # never opens a pipe (it could wait)
         return False
     try:
         with open(path, "rb") as handle:

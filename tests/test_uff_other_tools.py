@@ -215,7 +215,7 @@ def test_the_speed_is_read_in_the_unit_of_the_z_axis(model, tmp_path, kind, labe
     assert back.speed * 30.0 / np.pi == pytest.approx(rpm, rel=1e-12)
 
 
-@pytest.mark.parametrize("kind,label", [(17, "s"), (20, "NONE"), (0, "s")])
+@pytest.mark.parametrize("kind,label", [(17, "s"), (17, "NONE"), (20, "NONE"), (0, "s")])
 def test_a_z_axis_of_no_speed_is_not_read_as_rpm(model, tmp_path, kind, label):
     """A run-up waterfall's FRFs carry their time (data type 17) or order (20) in the z-axis: 2.5 s
     was read as 2.5 rpm."""

@@ -34,7 +34,7 @@ from ..model._table import visible_names
 from .channels import ChannelMap, assemble, default_mapping, read_mapping
 
 __all__ = ["read_measured", "read_csv", "write_csv", "read_mapping", "default_mapping", "ChannelMap",
-           "check_mapping_used"]
+           "check_mapping_used", "is_universal_file"]
 
 _QUANTITIES = ("receptance", "mobility", "accelerance")
 
@@ -69,11 +69,7 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
         open(path, "rb").close()
     except OSError as error:   # a file without read permission: PermissionError, exit 1
         raise InputError(f"{path}: cannot read the measured-data file ({error.strerror or error})") from None
-    if path.suffix.lower() in TABLE_ENDINGS:
-        if mapping is not None and not isinstance(mapping, ChannelMap):
-            read_mapping(mapping, model)   # a missing or broken table named is refused, never passed over
-        return read_csv(path, model)
-    if path.suffix.lower() in UFF_ENDINGS:
+    if is_universal_file(path):
         from .uff import read_uff58
 
         if mapping is None or isinstance(mapping, ChannelMap):
@@ -81,12 +77,51 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
         else:
             channel_map = read_mapping(mapping, model)
         return read_uff58(path, model, channel_map)
+    if path.suffix.lower() in TABLE_ENDINGS:
+        if mapping is not None and not isinstance(mapping, ChannelMap):
+            read_mapping(mapping, model)   # a missing or broken table named is refused, never passed over
+        return read_csv(path, model)
+    time_records = (f": a {path.suffix} file holds time records, not FRFs: read them with rdm.read_tdms_records "
+                    "and compute the FRFs with rdm.estimate_frf (docs/frf-and-measurement.md, 'From time records')"
+                    if path.suffix.lower() == ".tdms" else "")
     raise InputError(f"{path}: unknown measured data format {path.suffix!r}: expected .uff/.unv "
-                     "(UFF 58/58b) or a text table .csv (also .txt or .tsv, as other tools export it)")
+                     "(UFF 58/58b) or a text table .csv (also .txt or .tsv, as other tools export it)"
+                     f"{time_records}")
 
 
 #: endings of the Universal Files a mapping table places the channels of
 UFF_ENDINGS = (".uff", ".unv", ".uf")
+
+
+def is_universal_file(path) -> bool:
+    """True for a Universal File: one of :data:`UFF_ENDINGS`, or a file of another ending (tools
+    write ``.ufb``, ``.bunv``, ``.frf``, ``.58``, ...; a ``.txt`` as users rename a ``.unv`` to attach
+    it to a message) whose first line, after blank lines and a byte-order mark, is the ``-1`` that
+    opens a dataset, followed by a dataset number (``58``, ``58b``, ``151``): no table's header.
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    bool
+    """
+    import re
+    from pathlib import Path
+
+    path = Path(path)
+    if path.suffix.lower() in UFF_ENDINGS:
+        return True
+    if not path.is_file():   # never opens a pipe (it could wait)
+        return False
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(512)
+    except OSError:
+        return False
+    lines = [line.strip() for line in head.removeprefix(b"\xef\xbb\xbf").splitlines() if line.strip()]
+    return len(lines) >= 2 and lines[0] == b"-1" and re.fullmatch(rb"\d{1,6}b?(\s.*)?", lines[1]) is not None
 #: endings of a measured FRF table read as CSV (``,``, ``;`` or tab separated: :mod:`.csv_tables`);
 #: test rigs and spreadsheets export tab-separated text as .txt or .tsv
 TABLE_ENDINGS = (".csv", ".txt", ".tsv")
@@ -106,7 +141,8 @@ def check_mapping_used(mapping, measured=None, out=None) -> None:
     ------
     InputError
     """
-    if mapping is None or any(str(p).lower().endswith(UFF_ENDINGS) for p in (measured, out) if p):
+    if mapping is None or (out and str(out).lower().endswith(UFF_ENDINGS)) or (measured and
+                                                                                is_universal_file(measured)):
         return
     raise InputError(f"--mapping {mapping}: expected it only beside a Universal File (--measured or --out "
                      "FILE.uff): it places a UFF file's channels, and a CSV names its own (leave --mapping out)")

@@ -172,9 +172,24 @@ def _increment(channel, path) -> float:
 
 
 def _group(tdms, name, path):
+    """The group asked for; without a name the file's only group, or its only group holding a
+    waveform (a channel of 2 samples or more) beside groups of single values (NI InsightCM writes
+    a ``Static`` group of one temperature beside its ``Waveform`` group), with a warning naming
+    the others."""
     groups = {g.name: g for g in tdms.groups()}
     if name is None and len(groups) == 1:
         return next(iter(groups.values()))
+    waveforms = [g for g in groups.values() if any(len(c) >= 2 for c in g.channels())]
+    if name is None and len(waveforms) == 1:
+        import warnings
+
+        def held(group):
+            return ", ".join(f"channel {c.name!r}: {len(c)} samples" for c in group.channels()) or "no channel"
+
+        others = ", ".join(f"{g!r} ({held(groups[g])})" for g in groups if g != waveforms[0].name)
+        warnings.warn(f"{path}: read group {waveforms[0].name!r}, the only one holding waveforms; skipped the groups "
+                      f"of fewer than 2 samples a channel: {others}", stacklevel=3)
+        return waveforms[0]
     if name not in groups:
         raise InputError(f"{path}: {'no group ' + repr(name) if name else 'several groups'}: give group= one of "
                          f"{', '.join(groups) or 'none'}")

@@ -198,6 +198,7 @@ def read_uff58(path, model, mapping):
         raise InputError(f"{path}: the FRFs hold {', '.join(quantities)}: expected one quantity in a file")
     quantity = quantities[0]
     _refuse_lone_spectra(sets, frfs, path)
+    _refuse_named_apart(frfs, path)
     pairs = {_key(s) for s in frfs}
     coherence = {_key(s): np.real(np.asarray(s["data"])) for s in sets if _is_frf_coherence(s, pairs)}
     skipped = [s for s in sets if _function_type(s) != _FRF and not _is_frf_coherence(s, pairs)]
@@ -211,7 +212,7 @@ def read_uff58(path, model, mapping):
         if coh is not None and len(coh) != len(x):
             raise InputError(f"{path}: coherence of the FRF {s['rsp_node']}:{s['rsp_dir']} / {s['ref_node']}:"
                              f"{s['ref_dir']} has {len(coh)} values for {len(x)} frequencies: expected one per frequency")
-        parts.append({"speed_rpm": np.full(len(x), round(float(s.get("z_axis_value", 0.0)), 9)),
+        parts.append({"speed_rpm": np.full(len(x), _speed_rpm(s, path)),
                       "frequency_hz": x, "output": np.full(len(x), out), "input": np.full(len(x), inp),
                       "value": np.asarray(s["data"], complex) * (factor * out_sign * in_sign),
                       "coherence": np.full(len(x), np.nan) if coh is None else coh})
@@ -219,11 +220,90 @@ def read_uff58(path, model, mapping):
     if not coherence:
         records["coherence"] = None
     result = assemble(records, model, quantity, str(path))
+    _warn_named_otherwise(frfs, quantity, path)
     if skipped:       # warned once the FRFs are read: a refused file gets its one error line alone
         import warnings
 
         warnings.warn(_skipped_frf_line(path, len(frfs), bool(coherence), skipped), stacklevel=3)
     return result
+
+
+#: z-axis unit labels of a rotational speed -> factor to rpm
+_SPEED_UNITS = {"rpm": 1.0, "1/min": 1.0, "rev/min": 1.0, "r/min": 1.0, "u/min": 1.0, "hz": 60.0, "1/s": 60.0,
+                "rev/s": 60.0, "rps": 60.0, "rad/s": 30.0 / np.pi, "rad/sec": 30.0 / np.pi}
+_RPM = 19
+
+
+def _speed_rpm(s, path) -> float:
+    """An FRF set's spin speed [rpm] from its z-axis (record 11): data type 19 (rpm), or 0/1
+    (unknown/general, as ``write_uff58`` writes it), in rpm or in the unit its label gives
+    (``1/min``, ``Hz``, ``rad/s``). A z-axis of another data type (time 17 of a run-up waterfall,
+    order 20, ...) says no speed: 0 is taken as none; another value is refused, not read as rpm."""
+    value = float(s.get("z_axis_value", 0.0))
+    kind = int(s.get("z_axis_spec_data_type", 0))
+    label = _label_text(s, "z_axis_axis_units_lab", path)
+    where = f"{path}: FRF {s['rsp_node']}:{s['rsp_dir']} / {s['ref_node']}:{s['ref_dir']}"
+    if kind not in (0, 1, _RPM):
+        if value == 0.0:
+            return 0.0
+        raise InputError(f"{where}: z-axis value {value:g} of data type {kind} ({_type_name(kind)}, unit {label!r}) "
+                         "is no spin speed: expected the speed in the z-axis, data type 19 (rpm) or 0, one speed per "
+                         "FRF set")
+    if is_none(label):
+        factor = 1.0
+    elif label.strip().lower() in _SPEED_UNITS:
+        factor = _SPEED_UNITS[label.strip().lower()]
+    else:
+        raise InputError(f"{where}: z-axis unit {label!r} (data type {kind}, {_type_name(kind)}): expected a spin "
+                         f"speed in {', '.join(_SPEED_UNITS)}")
+    return round(value * factor, 9)
+
+
+def _refuse_named_apart(frfs, path) -> None:
+    """Refuse FRFs of one response and reference node and direction (and speed) that only their
+    entity names (record 6) tell apart, as tools write that number no nodes (node 0 direction 0,
+    the point in the name: ``.1.Z-``): a mapping table places channels by node and direction, so
+    which is which cannot be told (read as one pair, they were refused as a duplicated channel)."""
+    seen = {}
+    for s in frfs:
+        names = (str(s.get("rsp_ent_name", "")).strip(), str(s.get("ref_ent_name", "")).strip())
+        first = seen.setdefault(_key(s), (s, names))
+        if first[1] != names:
+            other = first[0]
+            raise InputError(f"{path}: the FRFs of datasets {other.get('_dataset', '?')} and {s.get('_dataset', '?')} "
+                             f"are both {_nodes(s)} and differ only by their entity names ({' / '.join(first[1])!r} "
+                             f"and {' / '.join(names)!r}): a mapping table places channels by node and direction; "
+                             "export the FRFs with node numbers and directions")
+
+
+#: words of an ordinate's axis label (record 9, free text) that name an FRF's quantity
+_NAMED = {"receptance": "receptance", "compliance": "receptance", "dynamic compliance": "receptance",
+          "mobility": "mobility", "accelerance": "accelerance", "inertance": "accelerance"}
+
+
+def _warn_named_otherwise(frfs, quantity, path) -> None:
+    """One warning where FRFs' axis labels (record 9, free text: ``Receptance``) name another
+    quantity than their unit labels give (``(m/s)/N``, a mobility): the unit decides, as it is the
+    field that gives the unit, and the user is told."""
+    import re
+    import warnings
+
+    words = "|".join(sorted(_NAMED, key=len, reverse=True))
+    named = {}
+    for s in frfs:
+        found = re.search(rf"\b({words})\b", str(s.get("ordinate_axis_lab", "")).strip().lower())
+        if found and _NAMED[found.group(1)] != quantity:
+            named.setdefault(str(s.get("ordinate_axis_lab")).strip(), []).append(s)
+    for label, sets in named.items():
+        unit = _label_text(sets[0], "ordinate_axis_units_lab", path)
+        kind = int(sets[0].get("ordinate_spec_data_type", 0))
+        field, said = (("data type", f"the ordinate data type {kind} ({_type_name(kind)})") if is_none(unit)
+                       else ("unit", f"the unit {unit!r}"))
+        where = "the FRF" if len(sets) == len(frfs) == 1 else f"{len(sets)} of the {len(frfs)} FRFs"
+        verb = "has" if len(sets) == 1 else "have"
+        warnings.warn(f"{path}: {where} ({_listed(dict.fromkeys(_nodes(s) for s in sets))}) {verb} the axis label "
+                      f"{label!r} but {said}, a {quantity}: read as {quantity}, as the {field} says (the axis label "
+                      "is free text)", stacklevel=4)
 
 
 #: dataset 58 function types that hold a pair's spectrum, not its FRF
@@ -321,33 +401,152 @@ def _check_complete(path):
 
 
 def _read_sets(path):
-    import pyuff
-
     _check_complete(path)
-    try:
-        uff = pyuff.UFF(str(path))
-        types = list(uff.get_set_types())
-        if 58 not in types:
-            raise InputError(f"{path}: no dataset 58/58b (FRF) in the file; datasets found: "
-                             f"{_datasets_named(int(t) for t in types)}")
-        index = [i for i, t in enumerate(types) if t == 58]
-        sets = uff.read_sets(index)
-    except InputError:
-        raise
-    except Exception as error:  # pyuff raises many kinds on a broken file
-        raise InputError(f"{path}: not a readable Universal File ({type(error).__name__}: {error})") from None
-    sets = [sets] if isinstance(sets, dict) else list(sets)
+    uff, types, index, sets = _pyuff_read(path, 58)
+    if 58 not in types:
+        raise InputError(f"{path}: no dataset 58/58b (FRF) in the file; datasets found: "
+                         f"{_datasets_named(int(t) for t in types)}")
     for number, s in zip(index, sets):
         s["_dataset"] = number + 1                      # its place among the file's datasets, for messages
+        _as_the_header_says(uff, number, s, path)
     return sets
 
 
-def _file_units(path):
+def _pyuff_read(path, kind=None):
+    """``(uff, types, index, sets)``: the file's datasets as pyuff reads them, every one or those of
+    dataset number ``kind`` (their places ``index``, from 0).
+
+    pyuff refuses an ASCII file whose lines end in blanks where it reads fixed-width numbers (the
+    last, short line of a double-precision dataset 58 padded to 80 columns, as Fortran writers and
+    DataPhysics SignalStar do, pyuff issue 20): such a file is read again from a copy without the
+    blanks at the ends of its lines (in a temporary folder; the file itself is never changed).
+    Whatever pyuff raises on a file it cannot read is one ``InputError`` naming the file.
+    """
+    import tempfile
+    from pathlib import Path
+
     import pyuff
 
-    uff = pyuff.UFF(str(path))
-    types = [int(t) for t in uff.get_set_types()]
-    return _units([{**uff.read_sets(types.index(164)), "type": 164}], path) if 164 in types else UffUnits()
+    def read(name):
+        uff = pyuff.UFF(name)
+        types = [int(t) for t in uff.get_set_types()]
+        index = [i for i, t in enumerate(types) if kind is None or t == kind]
+        with contextlib.redirect_stdout(io.StringIO()):    # pyuff prints some datasets (2467) as it reads
+            sets = uff.read_sets(index) if index else []
+        return uff, types, index, [sets] if isinstance(sets, dict) else list(sets)
+
+    try:
+        return read(str(path))
+    except Exception as error:  # pyuff raises many kinds on a broken file
+        first = error
+    stripped = _without_trailing_blanks(path)
+    if stripped is not None:
+        with tempfile.TemporaryDirectory() as folder:
+            copy = Path(folder) / "stripped.uff"
+            copy.write_bytes(stripped)
+            try:
+                return read(str(copy))
+            except Exception:   # the blanks were not the trouble: the first error is the file's
+                pass
+    raise InputError(f"{path}: not a readable Universal File ({type(first).__name__}: {first})") from None
+
+
+def _without_trailing_blanks(path):
+    """The bytes of an ASCII Universal File with the blanks at the ends of its lines removed, or
+    None for a file with binary sets (58b) or without such blanks."""
+    import re
+
+    with open(path, "rb") as handle:
+        data = handle.read()
+    if b"\0" in data or re.search(rb"(?m)^\s*58b", data):
+        return None
+    stripped = re.sub(rb"[ \t]+(?=\r?\n|\Z)", b"", data)
+    return None if stripped == data else stripped
+
+
+def _as_the_header_says(uff, number, s, path) -> None:
+    """A dataset 58's abscissa and values made what its header says (in place), where pyuff reads
+    otherwise.
+
+    - Record 7 gives the count of values (``num_pts``); pyuff returns every number of the data
+      lines, so an ASCII writer's zeros filling the last line (tools write 6 numbers a line)
+      became extra frequency lines or samples of value 0 (a 1600-line FRF read as 1602 lines up
+      to 800.5 Hz; a 4096-sample record as 4098 samples), and the bytes of a binary set's
+      trailing line end values. The values beyond the count are dropped, in ASCII with a warning
+      when they are not all zero; a dataset holding fewer values than its count (a file cut
+      short) is read as it is, with a warning.
+    - Binary 58b with an uneven abscissa and double-precision ordinates (record 7 types 4 and 6):
+      the UFF definition stores each abscissa value in single precision (4 bytes) before its
+      8- or 16-byte ordinate; pyuff reads 8 bytes there, so the whole record was misread. The
+      values are decoded again from the file, the abscissa's width told by record 1's byte count
+      (4 bytes as the definition says, or 8 as pyuff writes).
+
+    Parameters
+    ----------
+    uff : pyuff.UFF
+        The file, read (its datasets' places).
+    number : int
+        The dataset's place among the file's datasets (from 0).
+    s : dict
+        The dataset as pyuff read it; ``x`` and ``data`` are replaced.
+    path : path-like
+    """
+    import warnings
+
+    if s.get("data") is None:
+        return
+    if int(s.get("binary", 0)) and int(s.get("abscissa_spacing", 1)) == 0 and int(s.get("ord_data_type", 0)) in (4, 6):
+        s["x"], s["data"] = _uneven_double_values(uff, number, s, path)
+    data, x = np.asarray(s["data"]), np.asarray(s["x"])
+    count = int(s.get("num_pts", len(data)))
+    where = f"{path}: dataset {number + 1} ({_nodes(s)}, {_function_words(_function_type(s))})"
+    if len(data) > count >= 0:
+        # binary: record 1's byte count delimits the values, and bytes after them (a line end before
+        # the closing '-1', as Simcenter Test.Lab writes) are no values; ASCII: zeros fill the last line
+        if not int(s.get("binary", 0)) and np.any(data[count:] != 0):
+            warnings.warn(f"{where} holds {len(data)} values where its header (record 7) gives {count}: read the "
+                          f"first {count}", stacklevel=4)
+        s["data"], s["x"] = data[:count], x[:count]
+    elif len(data) < count:
+        warnings.warn(f"{where} holds {len(data)} of the {count} values its header (record 7) gives (the file is "
+                      f"cut short): read the {len(data)}", stacklevel=4)
+
+
+def _uneven_double_values(uff, number, s, path):
+    """``(x, data)`` of a binary 58b of uneven abscissa and double-precision ordinates, decoded
+    from the file: per value an abscissa of 4 bytes (the UFF definition) or 8 (as pyuff writes
+    it), told by the byte count of record 1, then 1 or 2 doubles."""
+    count, size = int(s.get("num_pts", 0)), int(s.get("n_bytes", 0))
+    parts = 1 if int(s["ord_data_type"]) == 4 else 2
+    order = "<" if int(s.get("byte_ordering", 1)) == 1 else ">"
+    sizes = {width: count * (width + 8 * parts) for width in (4, 8)}
+    where = f"{path}: dataset {number + 1} ({_nodes(s)})"
+    try:
+        start, end = (int(v) for v in uff._block_ind[number])
+        with open(path, "rb") as handle:
+            handle.seek(start)
+            block = handle.read(end - start + 1)
+    except (AttributeError, IndexError, OSError, TypeError, ValueError) as error:
+        raise InputError(f"{where}: cannot read its binary values again ({type(error).__name__}: {error})") from None
+    body = b"".join(block.splitlines(True)[13:])
+    # record 1's count tells the width; pyuff writes num_pts x 8 there whatever the layout, so
+    # then the data's own length does (4 bytes a value more than a line end or two)
+    width = next((w for w, n in sizes.items() if n == size), None) if count > 0 else None
+    if width is None and count > 0:
+        width = next((w for w in (8, 4) if len(body) >= sizes[w]), None)
+    if width is None or len(body) < sizes[width]:
+        raise InputError(f"{where}: binary 58b of {count} uneven abscissa values and double-precision ordinates "
+                         f"in {len(body)} bytes (record 1 says {size}): expected {sizes[4]} bytes (4-byte abscissa "
+                         f"values, as the UFF definition says) or {sizes[8]}")
+    fields = [("x", f"{order}f{width}"), ("re", f"{order}f8")] + ([("im", f"{order}f8")] if parts == 2 else [])
+    values = np.frombuffer(body, dtype=np.dtype(fields), count=count)
+    data = values["re"] if parts == 1 else values["re"] + 1j * values["im"]
+    return values["x"].astype(float), data.astype(complex if parts == 2 else float)
+
+
+def _file_units(path):
+    sets = _pyuff_read(path, 164)[3]
+    return _units([{**sets[0], "type": 164}], path) if sets else UffUnits()
 
 
 def _key(s):
@@ -549,19 +748,12 @@ def read_uff_info(path) -> dict:
 
 
 def _all_sets(path):
-    import pyuff
-
     _check_complete(path)
-    try:
-        uff = pyuff.UFF(str(path))
-        types = [int(t) for t in uff.get_set_types()]
-        with contextlib.redirect_stdout(io.StringIO()):    # pyuff prints some datasets (2467) as it reads
-            sets = uff.read_sets() if types else []
-    except Exception as error:  # pyuff raises many kinds on a broken file
-        raise InputError(f"{path}: not a readable Universal File ({type(error).__name__}: {error})") from None
-    sets = [sets] if isinstance(sets, dict) else list(sets)
-    for s, t in zip(sets, types):
+    uff, types, _, sets = _pyuff_read(path)
+    for number, (s, t) in enumerate(zip(sets, types)):
         s.setdefault("type", t)
+        if t == 58:
+            _as_the_header_says(uff, number, s, path)
     return sets, types
 
 
@@ -958,6 +1150,11 @@ def _time_quantity(s, units, path):
         raise InputError(f"{where}: ordinate data type {kind} ({_type_name(kind)}): expected 8 (displacement), "
                          "11 (velocity), 12 (acceleration), 9/13 (force), 15/21 (pressure), or 0/1 "
                          "(unknown/general) with a unit label")
+    label = _label_text(s, "ordinate_axis_units_lab", path)
+    if not is_none(label) and parse_unit(label) is None:   # a voltage, a level: the caller knows its factor
+        raise InputError(f"{where}: ordinate unit {label!r} is not understood: expected units such as m, mm, um, m/s, "
+                         "mm/s, in/s, m/s^2, g, N, lbf, Pa, or declare it: read_uff_time_records(..., units="
+                         f"{{{label!r}: (quantity, factor to SI)}}), e.g. a voltage with its sensor's sensitivity")
     quantity, factor, label = _measure(s, "ordinate", units, abs(direction) > 3, path, where)
     if kind in _SPECIFIC and quantity != _SPECIFIC[kind]:
         raise InputError(f"{where}: ordinate data type {kind} ({_type_name(kind)}) but unit {label!r} is "

@@ -221,17 +221,18 @@ def test_writes_never_over_an_input(tmp_path, model):
     assert path.read_text() == "keep"
 
 
-def test_frequencies_that_ascii_would_round_go_binary(tmp_path, model):
-    """E13.5 keeps 6 digits: 37/199 Hz steps would move by up to 5e-5 Hz in ASCII."""
+def test_a_step_the_uff_header_rounds_is_said(tmp_path, model):
+    """Evenly spaced frequencies are UFF even data: record 7 holds the first frequency and the step
+    in E13.5 (6 digits), in ASCII and in 58b alike (its header is ASCII too): 37/199 Hz steps move
+    the last line by 7e-5 Hz, said in a warning. (58b used to write each frequency as an 8-byte
+    double, a layout the UFF definition does not have: other tools read other numbers.)"""
     res = rdm.frf(model, rdm.rpm(2400), np.linspace(3.0, 40.0, 200))
-    auto, ascii_ = tmp_path / "auto.uff", tmp_path / "ascii.uff"
-    write_uff58([res], auto, default_mapping(model))
-    back, = read_measured(auto, model)
-    np.testing.assert_array_equal(back.frequencies_hz, res.frequencies_hz)
-    with pytest.warns(UserWarning, match="keeps frequencies and speeds to 6 significant digits only"):
-        write_uff58([res], ascii_, default_mapping(model), binary=False)
-    rounded, = read_measured(ascii_, model)
-    assert 0 < np.abs(rounded.frequencies_hz - res.frequencies_hz).max() <= 5e-6 * 40
+    for binary in (None, False, True):
+        path = tmp_path / f"{binary}.uff"
+        with pytest.warns(UserWarning, match="holds the first frequency and the step to 6 digits"):
+            write_uff58([res], path, default_mapping(model), binary=binary)
+        rounded, = read_measured(path, model)
+        assert 0 < np.abs(rounded.frequencies_hz - res.frequencies_hz).max() <= 5e-6 * 40
 
 
 def test_written_uff_says_hz_and_keeps_long_channel_names(tmp_path, model):

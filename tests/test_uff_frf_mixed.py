@@ -88,11 +88,20 @@ def analyser_export(frf_file, tmp_path_factory):
     return _write(tmp_path_factory.mktemp("mixed") / "export.uff", sets)
 
 
-def test_the_frfs_are_read_and_the_other_sets_named_in_one_warning(frf_file, analyser_export):
+def _alone(frf_file, tmp_path):
+    """The FRFs of ``frf_file`` read from a file of them alone, written by pyuff as the exports
+    here are (pyuff's ASCII holds 12 digits, ``frf --out`` 13)."""
+    sets = pyuff.UFF(str(frf_file)).read_sets()
+    plain, = read_measured(_write(tmp_path / "alone.uff", [sets] if isinstance(sets, dict) else list(sets)),
+                           rdm.load_model(GEAR))
+    return plain
+
+
+def test_the_frfs_are_read_and_the_other_sets_named_in_one_warning(frf_file, analyser_export, tmp_path):
     """The FRFs read from the export are those of the file of FRFs alone, bit for bit; one warning
     line names the 7 sets skipped by their places in the file, function types and nodes."""
     model = rdm.load_model(GEAR)
-    plain, = read_measured(frf_file, model)
+    plain = _alone(frf_file, tmp_path)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         mixed, = read_measured(analyser_export, model)
@@ -213,7 +222,7 @@ def test_auto_spectra_beside_the_frfs_are_skipped_and_named(frf_file, tmp_path):
     for bit as from the file of FRFs alone, and the two auto-spectra are named in the one warning
     (the reader refused the whole file as 'a spectrum of a pair without its FRF')."""
     model = rdm.load_model(GEAR)
-    plain, = read_measured(frf_file, model)
+    plain = _alone(frf_file, tmp_path)
     sets = pyuff.UFF(str(frf_file)).read_sets()
     frfs = [sets] if isinstance(sets, dict) else list(sets)
     power = np.abs(np.random.default_rng(2).normal(size=5)) + 0j

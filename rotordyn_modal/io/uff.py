@@ -66,11 +66,19 @@ _FRF_OF = QUANTITY_OF_RESPONSE
 
 
 def write_uff58(results, path, mapping, binary: bool | None = None, inputs=()) -> None:
-    """Write FRF sets (one per speed) as UFF 58 (ASCII) or 58b (binary), atomically.
+    """Write FRF sets (one per speed) as UFF dataset 58 (ASCII) or 58b (binary), atomically,
+    as the Universal File definition lays them out.
 
-    ASCII dataset 58 holds the values to 12 significant digits but an uneven abscissa
-    (and the speed) only to 6 (format E13.5); with ``binary=None`` the file is ASCII when
-    every frequency line survives that, else 58b (doubles throughout).
+    Frequencies of a constant step (each within 1e-12 of the largest frequency of
+    ``f0 + k * step``) are *even* data: record 7 holds the first frequency and the step (E13.5,
+    6 significant digits), no abscissa values are written. Other frequencies are *uneven*: each
+    line's abscissa is written before its values, in E13.5 (ASCII) or in 4 bytes (binary 58b:
+    the definition stores an uneven abscissa in single precision). Ordinates are complex
+    doubles (coherence real doubles): E20.12 (13 significant digits) in ASCII, 8 bytes in
+    binary. The speed is record 7's z value [rpm] (E13.5) with an rpm z-axis (record 11, type
+    19). What the layout cannot keep is said in one warning: a step or first frequency of more
+    than 6 digits (the largest move of a frequency read back), uneven frequencies of more digits
+    than E13.5 or 4 bytes hold, a speed of more than 6 digits.
 
     Parameters
     ----------
@@ -79,28 +87,78 @@ def write_uff58(results, path, mapping, binary: bool | None = None, inputs=()) -
     mapping : ChannelMap
         Node and direction of every sensor and excitation.
     binary : bool or None
-        58b when True, ASCII 58 when False (a warning if frequencies lose digits), automatic when None.
+        58b when True; ASCII 58 when False or None (every reader, pyuff too, reads ASCII; pyuff
+        2.5 misreads the 4-byte abscissa of a definition-conforming uneven 58b).
     inputs : iterable of path-like
         Files that must not be overwritten.
     """
-    import pyuff
-
     from .atomic import atomic_write, check_not_input
 
     check_not_input(path, inputs)
-    lossless = all(_survives_ascii(res.frequencies_hz) and _survives_ascii([res.speed * 30 / np.pi])
-                   for res in results)
-    if binary is None:
-        binary = not lossless
-    elif not binary and not lossless:
-        import warnings
-
-        warnings.warn(f"{path}: ASCII UFF 58 keeps frequencies and speeds to 6 significant digits only; "
-                      "binary=True (58b) keeps them exactly", stacklevel=2)
     _check_writable_channels(results, mapping, path)
-    sets = [d for res in results for d in _datasets(res, mapping, binary)]
-    with atomic_write(path, None) as temporary:
-        pyuff.UFF(temporary).write_sets(sets, mode="add")
+    binary = bool(binary)
+    chunks = []
+    for res in results:
+        grid = _even_grid(res.frequencies_hz)
+        _warn_abscissa_loss(res.frequencies_hz, grid, binary, path)
+        _warn_speed_loss(res.speed * 30 / np.pi, path)
+        chunks.extend(_datasets(res, mapping, binary, grid))
+    with atomic_write(path, "wb") as handle:
+        handle.write(b"".join(chunks))
+
+
+def _even_grid(frequencies):
+    """``(first, step)`` [Hz] of frequencies of a constant step (each within 1e-12 of the largest
+    frequency of ``first + k * step``; at least two), else None (uneven)."""
+    x = np.asarray(frequencies, dtype=float)
+    if len(x) < 2:
+        return None
+    step = (x[-1] - x[0]) / (len(x) - 1)
+    if not step > 0:
+        return None
+    grid = x[0] + step * np.arange(len(x))
+    return (float(x[0]), float(step)) if np.max(np.abs(grid - x)) <= 1e-12 * np.max(np.abs(x)) else None
+
+
+def _e13(value) -> float:
+    """``value`` as a Universal File's E13.5 field reads back."""
+    return float(f"{value:13.5E}")
+
+
+def _warn_abscissa_loss(frequencies, grid, binary, path) -> None:
+    """One warning when the frequencies read back from the layout differ from ``frequencies``
+    by more than round-off (1e-12 of the largest), naming the largest move [Hz]."""
+    import warnings
+
+    x = np.asarray(frequencies, dtype=float)
+    scale = 1e-12 * np.max(np.abs(x)) if len(x) else 0.0
+    if grid is not None:
+        first, step = grid
+        back = _e13(first) + _e13(step) * np.arange(len(x))
+        move = float(np.max(np.abs(back - x)))
+        if move > scale:
+            warnings.warn(f"{path}: frequencies {first:.12g} to {x[-1]:.12g} Hz in a step of {step:.12g} Hz: a UFF 58 "
+                          f"header (record 7, E13.5) holds the first frequency and the step to 6 digits "
+                          f"({_e13(first):.5E}, {_e13(step):.5E}), so the frequencies read back move by up to "
+                          f"{move:.2g} Hz; a step and first frequency of 6 digits (e.g. 0.5 Hz) keep them, "
+                          "and so does CSV", stacklevel=3)
+        return
+    back = x.astype(np.float32).astype(float) if binary else np.array([_e13(v) for v in x])
+    moved = np.abs(back - x) > scale
+    if np.any(moved):
+        kept = "4 bytes (single precision, about 7 digits)" if binary else "E13.5 (6 digits)"
+        warnings.warn(f"{path}: {int(moved.sum())} of {len(x)} frequencies are uneven and have more digits than the "
+                      f"UFF 58 abscissa holds, {kept}: read back they move by up to "
+                      f"{float(np.max(np.abs(back - x))):.2g} Hz; frequencies of a constant step keep them (even "
+                      "data), and so does CSV", stacklevel=3)
+
+
+def _warn_speed_loss(rpm, path) -> None:
+    import warnings
+
+    if abs(_e13(rpm) - rpm) > 1e-9 * max(abs(rpm), 1.0):
+        warnings.warn(f"{path}: speed {rpm:.12g} rpm: a UFF 58 z-axis value (record 7, E13.5) holds 6 digits: read "
+                      f"back as {_e13(rpm):.6g} rpm", stacklevel=3)
 
 
 def _check_writable_channels(results, mapping, path):
@@ -129,35 +187,101 @@ def _entity(name):
     return name if len(name) <= 10 else "NONE"
 
 
-def _datasets(res, mapping, binary):
-    import pyuff
-
+def _datasets(res, mapping, binary, grid):
+    """The bytes of the FRF sets (function type 4) of one result, each followed by its
+    coherence (type 6) when the result has one."""
     rpm = res.speed * 30 / np.pi
     for a, out in enumerate(res.outputs):
         for b, inp in enumerate(res.inputs):
             rsp_node, rsp_dir, rsp_sign = mapping.node_of(out)
             ref_node, ref_dir, ref_sign = mapping.node_of(inp)
             both = f"{out} / {inp}"
-            names = dict(id1=both, id2="NONE") if len(both) <= 80 else dict(id1=out, id2=inp)
-            common = dict(binary=int(binary), rsp_node=rsp_node, rsp_dir=rsp_dir, ref_node=ref_node,
-                          ref_dir=ref_dir, rsp_ent_name=_entity(out), ref_ent_name=_entity(inp),
-                          abscissa_spec_data_type=_FREQUENCY, abscissa_axis_units_lab="Hz",
-                          x=np.asarray(res.frequencies_hz, float), z_axis_value=float(rpm),
-                          id4=f"{rpm:.6g} rpm"[:80], **names)
-            frf = res.H[a, b] * rsp_sign * ref_sign
-            yield pyuff.prepare_58(func_type=_FRF, ordinate_spec_data_type=_TYPE_OF[res.quantity],
-                                   ordinate_len_unit_exp=1, ordinate_axis_units_lab=_label(res.quantity),
-                                   orddenom_spec_data_type=_FORCE, orddenom_force_unit_exp=1,
-                                   orddenom_axis_units_lab="N", data=np.asarray(frf, complex), **common)
+            names = (both, "NONE") if len(both) <= 80 else (out, inp)
+            dof = (rsp_node, rsp_dir, _entity(out), ref_node, ref_dir, _entity(inp))
+            frf = np.asarray(res.H[a, b] * rsp_sign * ref_sign, complex)
+            ordinate = (_TYPE_OF[res.quantity], 1, 0, "m", _label(res.quantity))
+            yield _dataset(_FRF, names, dof, ordinate, (_FORCE, 0, 1, "N"), res.frequencies_hz, frf, rpm, grid,
+                           binary)
             if res.coherence is not None:
-                yield pyuff.prepare_58(func_type=_COHERENCE, ordinate_spec_data_type=0,
-                                       orddenom_spec_data_type=0,
-                                       data=np.asarray(res.coherence[a, b], float), **common)
+                yield _dataset(_COHERENCE, names, dof, (0, 0, 0, "", "NONE"), (0, 0, 0, "NONE"), res.frequencies_hz,
+                               np.asarray(res.coherence[a, b], float), rpm, grid, binary)
 
 
-def _survives_ascii(values) -> bool:
-    values = np.asarray(values, dtype=float)
-    return bool(np.all(np.array([float(f"{v:13.5e}") for v in values]) == values))
+def _dataset(function, names, dof, ordinate, denominator, x, values, rpm, grid, binary) -> bytes:
+    """One dataset 58 (ASCII) or 58b (binary) as the Universal File definition lays it out.
+
+    Parameters
+    ----------
+    function : int
+        Function type (4 FRF, 6 coherence).
+    names : (str, str)
+        ID lines 1 and 2.
+    dof : tuple
+        Response node, direction, entity name; reference node, direction, entity name.
+    ordinate : (int, int, int, str, str)
+        Specific data type, length and force unit exponents, (unused), unit label.
+    denominator : (int, int, int, str)
+        Specific data type, length and force unit exponents, unit label.
+    x : array (n,)
+        Frequencies [Hz].
+    values : array (n,), complex or real
+    rpm : float
+        Speed [rpm], the z-axis value.
+    grid : (float, float) or None
+        First frequency and step [Hz] of even data; None: uneven.
+    binary : bool
+    """
+    values = np.asarray(values)
+    complex_ = np.iscomplexobj(values)
+    count, even = len(values), grid is not None
+    first, step = grid if even else (0.0, 0.0)
+    rsp_node, rsp_dir, rsp_name, ref_node, ref_dir, ref_name = dof
+    data = _data_binary(x, values, even) if binary else _data_ascii(x, values, even)
+    ident = (f"{58:6d}b{1:6d}{2:6d}{11:12d}{len(data):12d}{0:6d}{0:6d}{0:12d}{0:12d}" if binary else f"{58:6d}")
+    lines = [f"{-1:6d}", ident, *(f"{text:<80s}" for text in (*names, "NONE", f"{rpm:.6g} rpm"[:80], "NONE")),
+             f"{function:5d}{0:10d}{0:5d}{0:10d} {rsp_name:<10s}{rsp_node:10d}{rsp_dir:4d} {ref_name:<10s}{ref_node:10d}"
+             f"{ref_dir:4d}",
+             f"{6 if complex_ else 4:10d}{count:10d}{int(even):10d}{first:13.5E}{step:13.5E}{rpm:13.5E}",
+             _axis(_FREQUENCY, 0, 0, "Hz"), _axis(ordinate[0], ordinate[1], ordinate[2], ordinate[4]),
+             _axis(*denominator), _axis(_RPM, 0, 0, "rpm")]
+    return ("\n".join(lines) + "\n").encode("utf-8") + data + f"{-1:6d}\n".encode()
+
+
+def _axis(kind, length, force, unit) -> str:
+    """Records 8 to 11: specific data type, unit exponents (length, force, temperature), axis
+    label (NONE) and unit label."""
+    return f"{kind:10d}{length:5d}{force:5d}{0:5d} {'NONE':<20s} {unit:<20s}"
+
+
+def _data_binary(x, values, even) -> bytes:
+    """Record 12 of a 58b, little-endian IEEE 754 (record 1: byte order 1, format 2): ordinate
+    doubles (real and imaginary parts), each line of uneven data led by its abscissa in 4 bytes."""
+    fields = [("re", "<f8")] + ([("im", "<f8")] if np.iscomplexobj(values) else [])
+    if not even:
+        fields.insert(0, ("x", "<f4"))
+    rows = np.zeros(len(values), dtype=np.dtype(fields))
+    rows["re"] = np.real(values)
+    if np.iscomplexobj(values):
+        rows["im"] = np.imag(values)
+    if not even:
+        rows["x"] = np.asarray(x, dtype=float)
+    return rows.tobytes()
+
+
+def _data_ascii(x, values, even) -> bytes:
+    """Record 12 of an ASCII 58 of double-precision ordinates: even 4E20.12 (cases 5 and 7),
+    uneven E13.5,2E20.12 a line (complex, case 8) or 2(E13.5,E20.12) (real, case 6)."""
+    values = np.asarray(values)
+    parts = [np.real(values), np.imag(values)] if np.iscomplexobj(values) else [np.real(values)]
+    if even:
+        numbers = np.column_stack(parts).ravel()
+        fields, per_line = ["%20.12E" % v for v in numbers], 4
+    else:
+        columns = [np.asarray(x, dtype=float), *parts]
+        fields = [("%13.5E" if k == 0 else "%20.12E") % v for row in zip(*columns) for k, v in enumerate(row)]
+        per_line = 3 if len(parts) == 2 else 4
+    lines = ["".join(fields[k:k + per_line]) for k in range(0, len(fields), per_line)]
+    return ("\n".join(lines) + "\n").encode() if lines else b""
 
 
 def _label(quantity):

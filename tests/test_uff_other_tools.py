@@ -111,19 +111,38 @@ def test_binary_uneven_double_precision_reads_as_the_same_ascii_file(model):
         np.testing.assert_allclose(res.H[0, 0], values, rtol=1e-11)         # E20.12: 12 digits
 
 
-@pytest.mark.parametrize("binary", [True, False])
-def test_uneven_frequencies_written_here_read_back(model, tmp_path, binary):
-    """pyuff writes 58b with 8-byte abscissa values and a byte count of num_pts x 8: still read
-    back (the data's length tells the width)."""
+@pytest.mark.parametrize("writer", ["ours-binary", "ours-ascii", "pyuff-binary"])
+def test_uneven_frequencies_written_here_read_back(model, tmp_path, writer):
+    """Uneven frequencies (single-precision numbers) written here (58b: a 4-byte abscissa as the
+    UFF definition says, record 1 counting 20 bytes a line; ASCII: E13.5) and by pyuff's writer
+    (58b with 8-byte abscissa values and a byte count of num_pts x 8) read back: the data's
+    length tells the width."""
+    import pyuff
+
     freqs = np.array([1.0, 2.5, 3.0, 7.25, 11.0])
     res = rdm.frf(model, 0.0, freqs, quantity="accelerance")
     path = tmp_path / "uneven.uff"
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        write_uff58([res], path, rdm.io.measured.default_mapping(model), binary=binary)
+    mapping = rdm.io.measured.default_mapping(model)
+    if writer == "pyuff-binary":
+        sets = []
+        for a, out in enumerate(res.outputs):
+            for b, inp in enumerate(res.inputs):
+                (rsp_node, rsp_dir, rsp_sign), (ref_node, ref_dir, ref_sign) = mapping.node_of(out), mapping.node_of(inp)
+                sets.append(pyuff.prepare_58(binary=1, func_type=4, rsp_node=rsp_node, rsp_dir=rsp_dir,
+                                             ref_node=ref_node, ref_dir=ref_dir, ordinate_spec_data_type=12,
+                                             ordinate_axis_units_lab="m/s^2", orddenom_spec_data_type=13,
+                                             orddenom_axis_units_lab="N", abscissa_spec_data_type=18,
+                                             abscissa_axis_units_lab="Hz", x=freqs,
+                                             data=res.H[a, b] * rsp_sign * ref_sign))
+        pyuff.UFF(str(path)).write_sets(sets, mode="add")
+        assert str(8 * len(freqs)).encode() in path.read_bytes()[:200]        # pyuff's byte count
+    else:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            write_uff58([res], path, mapping, binary=writer == "ours-binary")
     back, = read_measured(path, model)
     np.testing.assert_array_equal(back.frequencies_hz, freqs)
-    np.testing.assert_allclose(back.H, res.H, rtol=1e-11)
+    np.testing.assert_allclose(back.H, res.H, rtol=1e-12 if writer == "ours-ascii" else 0)
 
 
 def test_inch_pound_units_of_dataset_164_are_converted(model):

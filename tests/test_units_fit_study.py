@@ -75,14 +75,15 @@ def test_the_fields_of_the_other_tables_have_their_us_unit(field, unit):
 
 # -- fit ------------------------------------------------------------------------------------------
 def _fit_inputs(tmp_path):
-    """The gear machine's receptance to its hammer at 30 lines (the truth), and a start with the
-    front-left mount 1.5 x too stiff and the casing 10 % too heavy (SI model file)."""
+    """The gear machine's receptance to its hammer at 39 lines of 1 Hz (the truth: a UFF header
+    keeps that step exactly), and a start with the front-left mount 1.5 x too stiff and the
+    casing 10 % too heavy (SI model file)."""
     from rotordyn_modal.analysis.frf import FRFResult
     from rotordyn_modal.io.measured import default_mapping
     from rotordyn_modal.io.uff import write_uff58
 
     true = rdm.load_model(ROOT / "examples" / "gear_machine.toml")
-    res = rdm.frf(true, rdm.rpm(3000), np.linspace(2, 40, 30), inputs=["hammer-z"])
+    res = rdm.frf(true, rdm.rpm(3000), np.linspace(2, 40, 39), inputs=["hammer-z"])
     measured = tmp_path / "measured.uff"
     write_uff58([FRFResult(**{**res.__dict__, "coherence": np.full(res.H.shape, 0.99)})], measured,
                 default_mapping(true))
@@ -134,7 +135,7 @@ def test_fit_prints_and_draws_in_us_units_and_writes_the_si_model(tmp_path, caps
     (fig,) = figures
     magnitude = fig.axes[0]
     assert magnitude.get_ylabel() == "|H| [in/lbf]"
-    si = rdm.frf(fitted, rdm.rpm(3000), np.linspace(2, 40, 30), inputs=["hammer-z"])
+    si = rdm.frf(fitted, rdm.rpm(3000), np.linspace(2, 40, 39), inputs=["hammer-z"])
     drawn = [line.get_ydata() for line in magnitude.get_lines() if line.get_linestyle() == "-" and len(line.get_ydata())]
     np.testing.assert_allclose(drawn, np.abs(si.H[:, 0, :]) * LBF / INCH, rtol=1e-9)
     plt.close("all")

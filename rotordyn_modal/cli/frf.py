@@ -37,9 +37,11 @@ stator (or the ground) at its point and each rigidly attached rotor at its centr
 .uff/.unv, or CSV) draws the measurement of the same speed under the model in --plot.
 --plot draws up to 12 FRFs in one magnitude and phase panel; more (or forces beside
 moments) in groups, one per force item (else per input), each with its legend.
---out FILE.uff (or .unv) writes UFF 58 (58b when ASCII would round the frequencies) instead of CSV (nodes from --mapping, or the default
+--out FILE.uff (or .unv) writes ASCII UFF 58 instead of CSV (nodes from --mapping, or the default
 mapping: sensor k is node k, excitation k is node 100 + k, direction the model axis; a sensor or
-excitation along no model axis needs --mapping, as UFF 58 directions are axis codes only). Measured
+excitation along no model axis needs --mapping, as UFF 58 directions are axis codes only; frequencies of
+a constant step are even data, the first frequency and the step kept to 6 digits: a step of more
+says how far the frequencies move, e.g. 1:60:591 keeps 0.1 Hz exactly, 1:60:600 not). Measured
 UFF files are read in their own units (g, mm/s, lbf, dataset 164 factors) and converted to SI.
 
 CSV columns: frequency_hz,output,input,real,imag,magnitude,phase_deg,speed_rpm,quantity (then unit

@@ -1,25 +1,23 @@
-"""Universal Files (UFF) through ``pyuff``: FRFs and coherence (dataset 58/58b) written and read;
+"""Universal Files (UFF): FRFs and coherence (dataset 58/58b) written and read;
 time records (58, function type 1), header (151), units (164), coordinate systems (18, 2420)
-and node coordinates (15, 2411) read.
+and node coordinates (15, 2411) read (through ``pyuff``).
 
-Written: function type 4 (FRF), abscissa frequency (type 18, label ``Hz``), ordinate
-displacement (8), velocity (11) or acceleration (12) over excitation force (13), SI unit
-labels, spin speed in the z-axis value [rpm]; coherence as function type 6 next to each FRF.
-Channel names: ID line 1 (``output / input``, or the output there and the input in ID line 2
-when both do not fit 80 characters); record 6's entity names (10 characters) hold a name that
-fits, else ``NONE``. Directions are UFF codes +-1..+-6 (X, Y, Z, RX, RY, RZ) of the node's
-coordinate system: a channel along no model axis is refused unless a mapping table names its
-node and direction.
+Written (here, as the UFF definition lays dataset 58/58b out; pyuff's writer puts 8-byte
+abscissa values and a wrong byte count into 58b): function type 4 (FRF), abscissa frequency
+(type 18, label ``Hz``), ordinate displacement (8), velocity (11) or acceleration (12) over
+excitation force (13), SI unit labels, spin speed in the z-axis value [rpm] (z-axis type 19,
+label ``rpm``); coherence as function type 6 next to each FRF. Evenly spaced frequencies are
+even data (record 7: first frequency and step, E13.5), others uneven (an abscissa per line: E13.5
+in ASCII, 4 bytes in 58b); ordinates doubles (E20.12 in ASCII). Channel names: ID line 1
+(``output / input``, or the output there and the input in ID line 2 when both do not fit 80
+characters); record 6's entity names (10 characters) hold a name that fits, else ``NONE``.
+Directions are UFF codes +-1..+-6 (X, Y, Z, RX, RY, RZ) of the node's coordinate system: a
+channel along no model axis is refused unless a mapping table names its node and direction.
 
 Read: FRFs and time records as other tools write them, converted to SI with their unit labels
 (:mod:`.unit_labels`: ``g``, ``mm/s``, ``um``, ``lbf``, ``(1/N)*(m/s²)``, ...) or, without a
 label, with the dataset 164 factors (a label contradicting a 164 of other than SI units is
 refused); node coordinates with the 164 length factor.
-
-``pyuff`` pitfalls handled here: ``write_sets(mode='overwrite')`` corrupts a
-file that starts with a binary 58b set, so every file is written new (a
-temporary file, mode 'add', then renamed); ``orddenom_spec_data_type`` has no
-default, so it is always given.
 """
 
 from __future__ import annotations

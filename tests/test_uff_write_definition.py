@@ -254,3 +254,21 @@ def test_units_names_and_entity_fields(model, tmp_path):
     assert {d["abscissa"][0] for d in frfs} == {18} and {d["abscissa"][5] for d in frfs} == {"Hz"}
     assert {d["ordinate"][5] for d in frfs} == {"m/s^2"} and {d["denominator"][5] for d in frfs} == {"N"}
     assert any(d["id1"].startswith("accelerometer-top-z / ") and d["rsp_ent"] == "NONE" for d in frfs)
+
+
+def test_a_moment_excitation_is_written_in_newton_metres(model, tmp_path):
+    """An excitation of kind moment about -Y is reference direction -5 (a rotation); dataset 58's
+    excitation force (13) along a rotation is a moment: unit label N*m, length and force exponents
+    1 and 1 (Addendum A), not N. Read back as written."""
+    data = model.to_dict()
+    data["excitations"][1].update(kind="moment", direction=[0.0, -1.0, 0.0])
+    moment = rdm.Model.from_dict(data)
+    path = tmp_path / "moment.uff"
+    res = _written(moment, path, EVEN, True)
+    frfs = [d for d in _decode(path) if d["func"] == 4]
+    assert {d["ref_dir"] for d in frfs} == {3, -5}
+    for d in frfs:
+        expected = [13, 1, 1, 0, "NONE", "N*m"] if d["ref_dir"] == -5 else [13, 0, 1, 0, "NONE", "N"]
+        assert d["denominator"] == expected
+    back, = read_measured(path, moment)
+    np.testing.assert_array_equal(back.H, res.H)

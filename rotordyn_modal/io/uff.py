@@ -5,7 +5,8 @@ and node coordinates (15, 2411) read (through ``pyuff``).
 Written (here, as the UFF definition lays dataset 58/58b out; pyuff's writer puts 8-byte
 abscissa values and a wrong byte count into 58b): function type 4 (FRF), abscissa frequency
 (type 18, label ``Hz``), ordinate displacement (8), velocity (11) or acceleration (12) over
-excitation force (13), SI unit labels, spin speed in the z-axis value [rpm] (z-axis type 19,
+excitation force (13; a moment, label ``N*m``, where the reference direction is a rotation), SI
+unit labels, spin speed in the z-axis value [rpm] (z-axis type 19,
 label ``rpm``); coherence as function type 6 next to each FRF. Evenly spaced frequencies are
 even data (record 7: first frequency and step, E13.5), others uneven (an abscissa per line: E13.5
 in ASCII, 4 bytes in 58b); ordinates doubles (E20.12 in ASCII). Channel names: ID line 1
@@ -198,8 +199,9 @@ def _datasets(res, mapping, binary, grid):
             dof = (rsp_node, rsp_dir, _entity(out), ref_node, ref_dir, _entity(inp))
             frf = np.asarray(res.H[a, b] * rsp_sign * ref_sign, complex)
             ordinate = (_TYPE_OF[res.quantity], 1, 0, "m", _label(res.quantity))
-            yield _dataset(_FRF, names, dof, ordinate, (_FORCE, 0, 1, "N"), res.frequencies_hz, frf, rpm, grid,
-                           binary)
+            # excitation force 13 along a rotation (codes 4-6) is a moment: N*m (Addendum A: length and force 1)
+            denominator = (_FORCE, 1, 1, "N*m") if abs(int(ref_dir)) > 3 else (_FORCE, 0, 1, "N")
+            yield _dataset(_FRF, names, dof, ordinate, denominator, res.frequencies_hz, frf, rpm, grid, binary)
             if res.coherence is not None:
                 yield _dataset(_COHERENCE, names, dof, (0, 0, 0, "", "NONE"), (0, 0, 0, "NONE"), res.frequencies_hz,
                                np.asarray(res.coherence[a, b], float), rpm, grid, binary)

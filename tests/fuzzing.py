@@ -476,11 +476,31 @@ def _measured_sets():
 
 
 def _uff_sets(binary: bool):
+    """The FRF and coherence sets of ``_measured_sets`` as pyuff dictionaries (written by pyuff
+    after mutation: ``write_uff58`` writes bytes, not dictionaries)."""
+    import numpy as np
+    import pyuff
+
     from rotordyn_modal.io.measured import default_mapping
-    from rotordyn_modal.io.uff import _datasets
+    from rotordyn_modal.io.uff import _TYPE_OF, _label
 
     model, res = _measured_sets()
-    return list(_datasets(res, default_mapping(model), binary))
+    mapping, rpm = default_mapping(model), res.speed * 30 / np.pi
+    sets = []
+    for a, out in enumerate(res.outputs):
+        for b, inp in enumerate(res.inputs):
+            (rsp_node, rsp_dir, rsp_sign), (ref_node, ref_dir, ref_sign) = mapping.node_of(out), mapping.node_of(inp)
+            common = dict(binary=int(binary), rsp_node=rsp_node, rsp_dir=rsp_dir, ref_node=ref_node, ref_dir=ref_dir,
+                          abscissa_spec_data_type=18, abscissa_axis_units_lab="Hz",
+                          x=np.asarray(res.frequencies_hz, float), z_axis_value=float(rpm), id1=f"{out} / {inp}")
+            sets.append(pyuff.prepare_58(func_type=4, ordinate_spec_data_type=_TYPE_OF[res.quantity],
+                                         ordinate_len_unit_exp=1, ordinate_axis_units_lab=_label(res.quantity),
+                                         orddenom_spec_data_type=13, orddenom_force_unit_exp=1,
+                                         orddenom_axis_units_lab="N",
+                                         data=np.asarray(res.H[a, b] * rsp_sign * ref_sign, complex), **common))
+            sets.append(pyuff.prepare_58(func_type=6, ordinate_spec_data_type=0, orddenom_spec_data_type=0,
+                                         data=np.asarray(res.coherence[a, b], float), **common))
+    return sets
 
 
 _UFF_FIELDS = {

@@ -60,7 +60,7 @@ def test_a_mapping_beside_a_universal_file_written_is_used(tmp_path, measured):
     out = tmp_path / "f.uff"
     assert main(["frf", str(GEAR), "--speed", "600", "--freqs", "2:40:5", "--measured", str(measured / "g.csv"),
                  "--mapping", str(tmp_path / "map.csv"), "--out", str(out), "--quiet"]) == 0
-    assert "acc-top-z         7   3" in out.read_text()
+    assert " acc-top-z          7   3" in out.read_text()     # record 6: entity name (10A1), node (I10), direction
 
 
 def test_the_reader_refuses_a_missing_mapping_beside_a_csv(tmp_path, measured):

@@ -182,8 +182,9 @@ def _check_writable_channels(results, mapping, path):
 
 
 def _entity(name):
-    """Record 6 holds 10 characters of an entity name: longer names are 'NONE' there (ID lines 1-2 hold them)."""
-    return name if len(name) <= 10 else "NONE"
+    """Record 6 holds 10 characters (bytes) of an entity name: longer names are 'NONE' there (ID
+    lines 1-2 hold them)."""
+    return name if len(name.encode("utf-8")) <= 10 else "NONE"
 
 
 def _datasets(res, mapping, binary, grid):
@@ -195,15 +196,15 @@ def _datasets(res, mapping, binary, grid):
             rsp_node, rsp_dir, rsp_sign = mapping.node_of(out)
             ref_node, ref_dir, ref_sign = mapping.node_of(inp)
             both = f"{out} / {inp}"
-            names = (both, "NONE") if len(both) <= 80 else (out, inp)
+            names = (both, "NONE") if len(both.encode("utf-8")) <= 80 else (out, inp)
             dof = (rsp_node, rsp_dir, _entity(out), ref_node, ref_dir, _entity(inp))
             frf = np.asarray(res.H[a, b] * rsp_sign * ref_sign, complex)
-            ordinate = (_TYPE_OF[res.quantity], 1, 0, "m", _label(res.quantity))
+            ordinate = (_TYPE_OF[res.quantity], 1, 0, _label(res.quantity))
             # excitation force 13 along a rotation (codes 4-6) is a moment: N*m (Addendum A: length and force 1)
             denominator = (_FORCE, 1, 1, "N*m") if abs(int(ref_dir)) > 3 else (_FORCE, 0, 1, "N")
             yield _dataset(_FRF, names, dof, ordinate, denominator, res.frequencies_hz, frf, rpm, grid, binary)
             if res.coherence is not None:
-                yield _dataset(_COHERENCE, names, dof, (0, 0, 0, "", "NONE"), (0, 0, 0, "NONE"), res.frequencies_hz,
+                yield _dataset(_COHERENCE, names, dof, (0, 0, 0, "NONE"), (0, 0, 0, "NONE"), res.frequencies_hz,
                                np.asarray(res.coherence[a, b], float), rpm, grid, binary)
 
 
@@ -218,10 +219,8 @@ def _dataset(function, names, dof, ordinate, denominator, x, values, rpm, grid, 
         ID lines 1 and 2.
     dof : tuple
         Response node, direction, entity name; reference node, direction, entity name.
-    ordinate : (int, int, int, str, str)
-        Specific data type, length and force unit exponents, (unused), unit label.
-    denominator : (int, int, int, str)
-        Specific data type, length and force unit exponents, unit label.
+    ordinate, denominator : (int, int, int, str)
+        Records 9 and 10: specific data type, length and force unit exponents, unit label.
     x : array (n,)
         Frequencies [Hz].
     values : array (n,), complex or real
@@ -242,8 +241,7 @@ def _dataset(function, names, dof, ordinate, denominator, x, values, rpm, grid, 
              f"{function:5d}{0:10d}{0:5d}{0:10d} {rsp_name:<10s}{rsp_node:10d}{rsp_dir:4d} {ref_name:<10s}{ref_node:10d}"
              f"{ref_dir:4d}",
              f"{6 if complex_ else 4:10d}{count:10d}{int(even):10d}{first:13.5E}{step:13.5E}{rpm:13.5E}",
-             _axis(_FREQUENCY, 0, 0, "Hz"), _axis(ordinate[0], ordinate[1], ordinate[2], ordinate[4]),
-             _axis(*denominator), _axis(_RPM, 0, 0, "rpm")]
+             _axis(_FREQUENCY, 0, 0, "Hz"), _axis(*ordinate), _axis(*denominator), _axis(_RPM, 0, 0, "rpm")]
     return ("\n".join(lines) + "\n").encode("utf-8") + data + f"{-1:6d}\n".encode()
 
 

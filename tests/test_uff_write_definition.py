@@ -272,3 +272,16 @@ def test_a_moment_excitation_is_written_in_newton_metres(model, tmp_path):
         assert d["denominator"] == expected
     back, = read_measured(path, moment)
     np.testing.assert_array_equal(back.H, res.H)
+
+
+def test_a_step_within_round_off_is_even_data(model, tmp_path):
+    """Frequencies summed step by step (0.1 Hz added 399 times: round-off of some 1e-14 Hz, not
+    a linspace) are even data of step 0.1 Hz, without a warning."""
+    freqs = np.cumsum(np.full(400, 0.1))
+    assert np.any(freqs != 0.1 * np.arange(1, 401)) and np.max(np.abs(freqs - 0.1 * np.arange(1, 401))) < 1e-12
+    path = tmp_path / "summed.uff"
+    _written(model, path, freqs, False)
+    sets = _decode(path)
+    assert all(d["even"] == 1 and d["xmin"] == 0.1 and d["dx"] == 0.1 for d in sets)
+    back, = read_measured(path, model)
+    np.testing.assert_allclose(back.frequencies_hz, freqs, rtol=1e-13)

@@ -104,3 +104,58 @@ def test_the_whirl_forms_of_a_flexible_rotor_count_no_negative_motion():
     for form in (forms.N, forms.total):
         values = np.linalg.eigvalsh(0.5 * (form + form.T))
         assert values.min() >= -1e-12 * values.max()
+
+
+_EXAMPLES = __import__("pathlib").Path(__file__).resolve().parent.parent / "examples"
+
+
+@pytest.mark.parametrize("old, new, table", [
+    ('name = "motor-DE"', 'name = "fan"', "[bearings.fan]"),             # a bearing called as a rotor
+    ('name = "motor-DE"', 'name = "mount-FL"', "[bearings.mount-FL]"),   # ... as a suspension
+    ('name = "mount-RR"', 'name = "motor"', "[suspensions.motor]"),      # a suspension called as a rotor
+    ('name = "acc-fan-z"', 'name = "mount-FL:Fz"', "[sensors.mount-FL:Fz]"),   # a sensor as a force row
+], ids=["bearing-rotor", "bearing-suspension", "suspension-rotor", "sensor-force-row"])
+def test_two_items_whose_force_rows_would_share_a_name_are_refused(tmp_path, capsys, old, new, table):
+    """``frf``/``unbalance --forces all`` name force rows NAME:Fx ... NAME:Mz by suspension, bearing
+    and rotor, in the sensors' output column. On main a bearing called as its rotor gave two
+    different series both ``fan:Fx`` (exit 0); now the model is refused naming the table."""
+    text = (_EXAMPLES / "fan_on_bearings.toml").read_text(encoding="utf-8")
+    assert text.count(old) == 1
+    path = tmp_path / "m.toml"
+    path.write_text(text.replace(old, new), encoding="utf-8")
+    out = tmp_path / "f.csv"
+    code = main(["frf", str(path), "--freqs", "1:50:3", "--excitation", "hammer-z", "--forces", "all", "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    if code == 0:      # what main did: the rows of two items under one name
+        rows = pd.read_csv(out)
+        assert not rows.groupby(["output", "frequency_hz"]).size().gt(1).any(), "two force series share a name"
+    assert code == 2 and len(err) == 1 and table in err[0] and "name" in err[0], err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("length", [200, 250])
+def test_an_output_whose_name_is_near_the_longest_allowed_is_written(tmp_path, capsys, length):
+    """A file name of 200-250 bytes is valid (the limit is 255), but the temporary written beside it
+    and renamed into place (``.NAME.rdm-tmp.PID-HOST.XXXXXXXX.csv``) was 40 bytes longer: on main
+    ``modes --out`` refused such a name as "File name too long" after the work."""
+    model = _EXAMPLES / "gear_machine.toml"
+    out = tmp_path / ("m" * (length - len(".csv")) + ".csv")
+    assert main(["modes", str(model), "--speed", "100", "--out", str(out)]) == 0, capsys.readouterr().err
+    rows = pd.read_csv(out)
+    assert list(rows["mode"]) == list(range(1, len(rows) + 1)) and len(rows) == 6
+    assert sorted(p.name for p in tmp_path.iterdir()) == [out.name]      # no temporary left
+
+
+def test_a_long_named_outputs_temporary_left_by_a_killed_run_is_removed(tmp_path):
+    """The next write of the same long name finds the temporary a killed process left (its name
+    shortened the same way in every process) and removes it."""
+    from rotordyn_modal.io import atomic
+
+    out = tmp_path / ("n" * 246 + ".csv")
+    dead = 2 ** 22 + 12345              # above Linux's largest process id: never alive
+    left = tmp_path / f".{atomic._temporary_stem(out)}.{atomic._MARK}.{dead}-{atomic._host()}.abcdefgh.csv"
+    left.write_text("partial")
+    assert len(left.name.encode()) <= 255
+    with atomic.atomic_write(out) as handle:
+        handle.write("whole\n")
+    assert out.read_text() == "whole\n" and not left.exists()

@@ -159,3 +159,50 @@ def test_a_long_named_outputs_temporary_left_by_a_killed_run_is_removed(tmp_path
     with atomic.atomic_write(out) as handle:
         handle.write("whole\n")
     assert out.read_text() == "whole\n" and not left.exists()
+
+
+def _python(code, timeout=60):
+    """Run ``code`` in a fresh interpreter with this checkout first on the path; (exit code, output).
+    A reader that hangs fails the test by its timeout instead of hanging the suite."""
+    import os
+    import subprocess
+    import sys
+
+    root = str(_EXAMPLES.parent)
+    env = {**os.environ, "PYTHONPATH": root + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    try:
+        done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout,
+                              env=env, cwd=root)
+    except subprocess.TimeoutExpired:
+        return None, "timed out"
+    return done.returncode, done.stdout + done.stderr
+
+
+@pytest.mark.parametrize("reader", ["read_uff_info", "read_uff_nodes", "read_uff_time_records", "read_tdms_records"])
+@pytest.mark.parametrize("device", ["/dev/zero", "fifo"])
+def test_the_apis_measured_file_readers_refuse_a_device_or_pipe_at_once(tmp_path, reader, device):
+    """On main ``rdm.read_uff_info('/dev/zero')`` (and the UFF node and time-record readers) read
+    for ever, and ``read_tdms_records`` of a named pipe no program writes to waited for ever; the
+    command line refuses these (``read_measured``), the API now does too, with the CLI's words."""
+    import os
+
+    path = device
+    if device == "fifo":
+        path = str(tmp_path / ("record.tdms" if "tdms" in reader else "record.uff"))
+        os.mkfifo(path)
+    code = (f"import rotordyn_modal as rdm\ntry:\n    rdm.{reader}({path!r})\nexcept rdm.InputError as e:\n"
+            f"    print('REFUSED', e)\n")
+    status, output = _python(code)
+    assert status == 0 and output.startswith(f"REFUSED {path}: expected a "), output
+    assert "not a pipe or device" in output
+
+
+def test_an_empty_tdms_file_says_it_has_no_group(tmp_path):
+    """On main: "several groups: give group= one of none" for a file of no group at all."""
+    import rotordyn_modal as rdm
+
+    path = tmp_path / "empty.tdms"
+    path.write_bytes(b"")
+    with pytest.raises(rdm.InputError) as refused:
+        rdm.read_tdms_records(path)
+    assert "no group of channels in the file" in str(refused.value) and "several" not in str(refused.value)

@@ -301,6 +301,10 @@ def _check_complete(path):
     from .limits import check_size
 
     check_size(path, "measured", "measured-data file")
+    if os.path.exists(path) and not os.path.isdir(path) and not os.path.isfile(path):
+        # pyuff reads a device or pipe to its end: /dev/zero never ended (rdm.read_uff_info hung)
+        raise InputError(f"{path}: expected a Universal File, not a pipe or device (its size is not known "
+                         "before reading)")
     try:
         with open(path, "rb") as handle:
             head = handle.read(4096)

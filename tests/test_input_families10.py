@@ -206,3 +206,34 @@ def test_an_empty_tdms_file_says_it_has_no_group(tmp_path):
     with pytest.raises(rdm.InputError) as refused:
         rdm.read_tdms_records(path)
     assert "no group of channels in the file" in str(refused.value) and "several" not in str(refused.value)
+
+
+def _frf_csv_and_uff(tmp_path):
+    """A measured FRF of the gear machine written by ``frf --out`` as CSV and as UFF."""
+    model = str(_EXAMPLES / "gear_machine.toml")
+    for ending in ("csv", "uff"):
+        assert main(["frf", model, "--freqs", "1:50:20", "--sensor", "acc-top-z", "--excitation", "hammer-z",
+                     "--out", str(tmp_path / f"m.{ending}"), "--quiet"]) == 0
+    return model
+
+
+@pytest.mark.parametrize("source, name, words", [
+    ("m.uff", "frf.csv", "begins as a Universal File"),              # a UFF export saved as .csv
+    ("m.uff", "frf.txt", "begins as a Universal File"),
+    ("tdms", "rec.csv", "a TDMS file (it begins with 'TDSm')"),      # a TDMS recording given as FRFs
+    ("tdms", "rec.uff", "a TDMS file (it begins with 'TDSm')"),
+], ids=["uff-as-csv", "uff-as-txt", "tdms-as-csv", "tdms-as-uff"])
+def test_a_measured_file_of_another_format_with_the_wrong_ending_is_named_as_what_it_is(
+        tmp_path, capsys, source, name, words):
+    """On main: "found -1" (a Universal File read as CSV), "cannot read as CSV (Error tokenizing data.
+    C error: ...)" and "no dataset 58/58b (FRF) in the file; datasets found: none" (TDMS): the format
+    the file is in was never said."""
+    model = _frf_csv_and_uff(tmp_path)
+    capsys.readouterr()
+    data = (_EXAMPLES.parent / "tests" / "data" / "tdms" / "good_tdms_2.tdms").read_bytes() if source == "tdms" \
+        else (tmp_path / source).read_bytes()
+    (tmp_path / name).write_bytes(data)
+    code = main(["frf", model, "--freqs", "1:50:20", "--sensor", "acc-top-z", "--excitation", "hammer-z",
+                 "--measured", str(tmp_path / name)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and name in err[0] and words in err[0], err

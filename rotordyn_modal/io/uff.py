@@ -280,6 +280,13 @@ def _refuse_lone_spectra(sets, frfs, path):
 _BOM_LATIN1 = "\ufeff".encode("utf-8").decode("latin-1")
 
 
+#: the first bytes of every TDMS file (a segment's lead-in)
+TDMS_MAGIC = b"TDSm"
+#: what a TDMS file given as a Universal File or a CSV table of FRFs is
+TDMS_WORDS = ("a TDMS file (it begins with 'TDSm'), not a Universal File or a table of FRFs: read its time "
+              "records with rdm.read_tdms_records (and estimate FRFs from them with rdm.estimate_frf)")
+
+
 def _not_wide_text(head: bytes, path) -> None:
     """Refuse a Universal File saved as UTF-16 or UTF-32 text (with a byte-order mark or, UTF-16,
     without one: :func:`.text.utf16_without_mark`): pyuff reads ASCII only, and such a file was
@@ -311,6 +318,8 @@ def _check_complete(path):
     except OSError as error:   # missing, a folder, no read permission: PermissionError out of the API
         raise InputError(f"{path}: cannot read the Universal File ({error.strerror or error})") from None
     _not_wide_text(head, path)
+    if head[:4] == TDMS_MAGIC:     # was "no dataset 58/58b (FRF) in the file; datasets found: none"
+        raise InputError(f"{path}: {TDMS_WORDS}")
     if b"\0" in head or b"58b" in head.lower():
         return  # binary 58b sets: pyuff checks their byte counts
     with open(path, encoding="latin-1") as handle:

@@ -237,3 +237,20 @@ def test_a_measured_file_of_another_format_with_the_wrong_ending_is_named_as_wha
                  "--measured", str(tmp_path / name)])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and name in err[0] and words in err[0], err
+
+
+def test_the_apis_writers_refuse_an_empty_name_and_a_missing_mapping_in_their_words(tmp_path):
+    """On main ``rdm.save_model(model, '')`` said "cannot write : it is a folder" (``Path('')`` is the
+    current folder) and ``rdm.write_uff58(results, path, None)`` failed with AttributeError
+    "'NoneType' object has no attribute 'oblique'"; nothing is written either way."""
+    import rotordyn_modal as rdm
+
+    model = rdm.load_model(_EXAMPLES / "gear_machine.toml")
+    for write in (lambda: rdm.save_model(model, ""), lambda: rdm.write_measured_csv([], "")):
+        with pytest.raises(rdm.InputError, match="an empty file name"):
+            write()
+    result = rdm.frf(model, 0.0, np.linspace(1.0, 50.0, 5))
+    out = tmp_path / "f.uff"
+    with pytest.raises(rdm.InputError, match="mapping = None: expected a ChannelMap"):
+        rdm.write_uff58([result], out, None)
+    assert not out.exists()

@@ -180,6 +180,8 @@ def check_writable(path) -> None:
     ------
     OutputError
     """
+    if not os.fspath(path):     # Path('') is '.': "cannot write : it is a folder"
+        raise OutputError("'' (an empty file name): expected the name of the file to write")
     shown, path = path, real_target(path)
     if Path(shown).is_symlink():
         try:

@@ -86,7 +86,11 @@ def write_uff58(results, path, mapping, binary: bool | None = None, inputs=()) -
     import pyuff
 
     from .atomic import atomic_write, check_not_input
+    from .channels import ChannelMap
 
+    if not isinstance(mapping, ChannelMap):     # None failed inside as "'NoneType' object has no attribute 'oblique'"
+        raise InputError(f"{path}: mapping = {mapping!r}: expected a ChannelMap, the node and direction of every "
+                         "channel (rotordyn_modal.io.channels.default_mapping(model), or read_mapping(FILE, model))")
     check_not_input(path, inputs)
     lossless = all(_survives_ascii(res.frequencies_hz) and _survives_ascii([res.speed * 30 / np.pi])
                    for res in results)

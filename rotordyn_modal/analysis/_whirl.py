@@ -196,14 +196,39 @@ def _node_pieces(model, rotor) -> list:
     rows, cols = np.broadcast_arrays(start + np.arange(3)[:, None], start + np.arange(3))
     inertias = np.asarray(M[rows.ravel(), cols.ravel()]).reshape(count, 3, 3)
     arms = points - model.reference_point
-    traces = inertias.trace(axis1=1, axis2=2)
-    second = (0.5 * traces[:, None, None] * np.eye(3) - inertias
+    second = (_particles_second_moments(inertias)
               + masses[:, None, None] * arms[:, :, None] * arms[:, None, :])
     X, products = _directions(tuple(float(x) for x in model.spin_axis))
     forms = _bodies_quadratic(masses, second, X, skew(masses[:, None] * arms), products)    # (3, N, 6, 6)
     motions = _node_motions_at_reference(model, shaft, parts.relative)                       # (6 N, n)
     # sum_i T_i^T X_i T_i = T^T blockdiag(X_i) T, sparse: a node moves with a few coordinates
     return [motions.T @ (scipy.sparse.block_diag(form, format="csr") @ motions) for form in forms]
+
+
+def _particles_second_moments(inertias) -> np.ndarray:
+    """``sum_p m r r^T`` about each node, ``(tr J / 2) I - J``, of the node inertias ``J`` (N, 3, 3)
+    read from the consistent mass matrix's rotation blocks, made positive semidefinite.
+
+    Those blocks are no rigid body's inertia: the consistent mass puts most of an element's rotary
+    inertia into the couplings of its nodes, so that an element shorter than about its diameter
+    (``l^2 < 21 I / A`` for Euler-Bernoulli: the diagonal's ``4 rho I l / 30`` beside the torsion's
+    ``rho J_p l / 3``) leaves a node's diametral inertia below half its polar one, against the
+    triangle inequality of every body. Taken as they are, the axial second moment ``J_d - J_p / 2`` is
+    negative, the mean square motion normal to the spin axis (the whirl form ``N``) is indefinite,
+    and a short solid rotor's conical modes (the node tilts) read as no whirl (``N < 0``) or as a
+    ratio of round-off. A node is a slice of the shaft: its particles' second moments are kept
+    where they are a body's, and their negative part (a particle cannot have a negative square) is
+    dropped elsewhere (the slice then lies in its plane: its tilt moves its particles along the
+    axis only, which the whirl does not count, docs/theory.md section 9)."""
+    traces = inertias.trace(axis1=1, axis2=2)
+    second = 0.5 * traces[:, None, None] * np.eye(3) - inertias
+    second = 0.5 * (second + np.swapaxes(second, 1, 2))
+    scale = np.abs(second).max(axis=(1, 2), initial=0.0)
+    bad = np.linalg.eigvalsh(second)[:, 0] < -1e-12 * scale if len(second) else np.zeros(0, dtype=bool)
+    if bad.any():
+        values, vectors = np.linalg.eigh(second[bad])
+        second[bad] = (vectors * np.maximum(values, 0.0)[:, None, :]) @ np.swapaxes(vectors, 1, 2)
+    return second
 
 
 def _node_motions_at_reference(model, shaft, relative):

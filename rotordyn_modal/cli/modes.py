@@ -8,7 +8,7 @@ from ..errors import InputError
 from ..io.outline import read_outline
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
                       add_speed_unit, check_extra_output, open_model, save_figure, speed_value, use_agg,
-                      whole_number, write_table)
+                      undamped_zeros, whole_number, write_table)
 
 NAME = "modes"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
@@ -115,7 +115,7 @@ def run(args) -> int:
         view = mode_shape_3d(result, model, mode, outline=outline)
     if args.plot_shaft or (args.plot and view is None):
         _check_modes(result, wanted, args)
-    table = result.to_dataframe()
+    table = undamped_zeros(result.to_dataframe(), model, speed)
     counts = _not_listed(result)
     write_table(table, args, empty=f"no oscillating modes at {args.speed} {args.speed_unit}: {counts}")
     if counts and len(table) and not args.quiet:

@@ -139,8 +139,32 @@ def _host() -> str:
 
 
 def _temporary_prefix(path: Path) -> str:
-    """Name of this process's temporary files beside ``path``: ``.NAME.rdm-tmp.PID-HOST.``."""
-    return f".{path.name}.{_MARK}.{os.getpid()}-{_host()}."
+    """Name of this process's temporary files beside ``path``: ``.NAME.rdm-tmp.PID-HOST.``
+    (NAME shortened by :func:`_temporary_stem` where the whole would be too long a file name)."""
+    return f".{_temporary_stem(path)}.{_MARK}.{os.getpid()}-{_host()}."
+
+
+#: the longest file name (bytes) of the file systems written to (ext4, XFS, btrfs, tmpfs, NTFS)
+_NAME_MAX = 255
+#: bytes of a temporary's name beside its NAME: dots, the mark, a process id of up to 10 digits,
+#: the host's 8 digits, ``mkstemp``'s 8 random letters
+_TEMPORARY_EXTRA = len(f"..{_MARK}.-.") + 10 + 8 + 8
+
+
+def _temporary_stem(path: Path) -> str:
+    """The NAME of ``path``'s temporary files: its own name, or where that would make a temporary's
+    name longer than a file name may be (an output named with 220 of the 255 bytes allowed was
+    refused as "File name too long" although it is a valid name), the name's start and 16 hex
+    digits of its hash (``NAME~0123456789abcdef``). The same for every process (its budget takes a
+    process id of 10 digits), so that :func:`remove_stale_temporaries` finds another's files."""
+    name = path.name
+    suffix = max(len(os.fsencode(path.suffix or ".tmp")), len(".probe"))
+    budget = _NAME_MAX - _TEMPORARY_EXTRA - suffix
+    encoded = os.fsencode(name)
+    if len(encoded) <= budget:
+        return name
+    digest = hashlib.sha1(encoded).hexdigest()[:16]
+    return f"{encoded[:max(budget - 17, 0)].decode('utf-8', errors='ignore')}~{digest}"
 
 
 def check_writable(path) -> None:
@@ -156,6 +180,8 @@ def check_writable(path) -> None:
     ------
     OutputError
     """
+    if not os.fspath(path):     # Path('') is '.': "cannot write : it is a folder"
+        raise OutputError("'' (an empty file name): expected the name of the file to write")
     shown, path = path, real_target(path)
     if Path(shown).is_symlink():
         try:
@@ -198,11 +224,12 @@ def remove_stale_temporaries(path) -> list:
     removed = []
     host = _host()
     try:
-        candidates = list(path.parent.glob(f".{_glob_escape(path.name)}.{_MARK}.*"))
+        stem = _temporary_stem(path)
+        candidates = list(path.parent.glob(f".{_glob_escape(stem)}.{_MARK}.*"))
     except OSError:
         return removed
     for candidate in candidates:
-        owner = candidate.name[len(path.name) + len(_MARK) + 3:].split(".", 1)[0]
+        owner = candidate.name[len(stem) + len(_MARK) + 3:].split(".", 1)[0]
         pid, _, where = owner.partition("-")
         if where == host and pid.isdigit() and int(pid) != os.getpid() and not pid_alive(int(pid)):
             with contextlib.suppress(OSError):

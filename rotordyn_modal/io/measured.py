@@ -161,6 +161,14 @@ def _check_column(table, column, name, path, valid, expected) -> None:
                          f"row(s)): expected {expected}")
 
 
+def _universal_hint(table) -> str:
+    """What to add to a CSV refusal whose header is a Universal File's first line (``    -1``):
+    such a file named .csv or .txt was refused as "found -1", naming no format."""
+    if [str(c).strip() for c in table.columns] == ["-1"]:
+        return " (the file begins as a Universal File, '    -1': name it .uff or .unv to read it as one)"
+    return ""
+
+
 def read_csv(path, model) -> list[FRFResult]:
     """Read the plain CSV layout (see the module docstring): also with ``;`` or tabs between the
     cells and decimal commas, header names in any case with their units (``Frequency [kHz]``,
@@ -168,13 +176,19 @@ def read_csv(path, model) -> list[FRFResult]:
     from .csv_tables import numbers, read_csv_table
     from .limits import read_limited
 
-    table, decimal = read_csv_table(read_limited(path, "measured", "measured-data file"), path, "as CSV")
+    from .uff import TDMS_MAGIC, TDMS_WORDS
+
+    data = read_limited(path, "measured", "measured-data file")
+    if data[:4] == TDMS_MAGIC:     # was "cannot read as CSV (Error tokenizing data ...)"
+        raise InputError(f"{path}: {TDMS_WORDS}")
+    table, decimal = read_csv_table(data, path, "as CSV")
     table, scales, value_unit = _canonical_columns(table, path)
     needed = {"frequency_hz", "output", "input"}
     if not needed <= set(table.columns) or not ({"real", "imag"} <= set(table.columns)
                                                 or {"magnitude", "phase_deg"} <= set(table.columns)):
         raise InputError(f"{path}: expected the columns speed_rpm,frequency_hz,output,input,real,imag"
-                         f"[,coherence] (or magnitude,phase_deg); found {visible_names(map(str, table.columns))}")
+                         f"[,coherence] (or magnitude,phase_deg); found {visible_names(map(str, table.columns))}"
+                         f"{_universal_hint(table)}")
     if table.empty:   # was refused as "quantity column holds []", of a column no line filled
         raise InputError(f"{path}: a header and no data line: expected a line per frequency and channel pair")
     column = {name: numbers(table, name, path, decimal) * scales.get(name, 1.0) for name in

@@ -14,6 +14,8 @@ factor 0.
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from ..errors import InputError
@@ -36,6 +38,9 @@ def _tdms_file(path):
     from .limits import check_size
 
     check_size(path, "measured", "measured-data file")
+    if os.path.exists(path) and not os.path.isdir(path) and not os.path.isfile(path):
+        # a pipe no program writes to blocked the open for ever (rdm.read_tdms_records hung)
+        raise InputError(f"{path}: expected a TDMS file, not a pipe or device (its size is not known before reading)")
     try:
         return TdmsFile.read(str(path))
     except FileNotFoundError:
@@ -179,6 +184,8 @@ def _group(tdms, name, path):
     groups = {g.name: g for g in tdms.groups()}
     if name is None and len(groups) == 1:
         return next(iter(groups.values()))
+    if not groups:     # an empty file (or /dev/null) was "several groups: give group= one of none"
+        raise InputError(f"{path}: no group of channels in the file: expected a TDMS file holding a time record")
     waveforms = [g for g in groups.values() if any(len(c) >= 2 for c in g.channels())]
     if name is None and len(waveforms) == 1:
         import warnings
@@ -192,5 +199,5 @@ def _group(tdms, name, path):
         return waveforms[0]
     if name not in groups:
         raise InputError(f"{path}: {'no group ' + repr(name) if name else 'several groups'}: give group= one of "
-                         f"{', '.join(groups) or 'none'}")
+                         f"{', '.join(groups)}")
     return groups[name]

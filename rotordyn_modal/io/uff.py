@@ -92,7 +92,11 @@ def write_uff58(results, path, mapping, binary: bool | None = None, inputs=()) -
         Files that must not be overwritten.
     """
     from .atomic import atomic_write, check_not_input
+    from .channels import ChannelMap
 
+    if not isinstance(mapping, ChannelMap):     # None failed inside as "'NoneType' object has no attribute 'oblique'"
+        raise InputError(f"{path}: mapping = {mapping!r}: expected a ChannelMap, the node and direction of every "
+                         "channel (rotordyn_modal.io.channels.default_mapping(model), or read_mapping(FILE, model))")
     check_not_input(path, inputs)
     _check_writable_channels(results, mapping, path)
     binary = bool(binary)
@@ -482,6 +486,13 @@ def _refuse_lone_spectra(sets, frfs, path):
 _BOM_LATIN1 = "\ufeff".encode("utf-8").decode("latin-1")
 
 
+#: the first bytes of every TDMS file (a segment's lead-in)
+TDMS_MAGIC = b"TDSm"
+#: what a TDMS file given as a Universal File or a CSV table of FRFs is
+TDMS_WORDS = ("a TDMS file (it begins with 'TDSm'), not a Universal File or a table of FRFs: read its time "
+              "records with rdm.read_tdms_records (and estimate FRFs from them with rdm.estimate_frf)")
+
+
 def _not_wide_text(head: bytes, path) -> None:
     """Refuse a Universal File saved as UTF-16 or UTF-32 text (with a byte-order mark or, UTF-16,
     without one: :func:`.text.utf16_without_mark`): pyuff reads ASCII only, and such a file was
@@ -503,12 +514,18 @@ def _check_complete(path):
     from .limits import check_size
 
     check_size(path, "measured", "measured-data file")
+    if os.path.exists(path) and not os.path.isdir(path) and not os.path.isfile(path):
+        # pyuff reads a device or pipe to its end: /dev/zero never ended (rdm.read_uff_info hung)
+        raise InputError(f"{path}: expected a Universal File, not a pipe or device (its size is not known "
+                         "before reading)")
     try:
         with open(path, "rb") as handle:
             head = handle.read(4096)
     except OSError as error:   # missing, a folder, no read permission: PermissionError out of the API
         raise InputError(f"{path}: cannot read the Universal File ({error.strerror or error})") from None
     _not_wide_text(head, path)
+    if head[:4] == TDMS_MAGIC:     # was "no dataset 58/58b (FRF) in the file; datasets found: none"
+        raise InputError(f"{path}: {TDMS_WORDS}")
     if b"\0" in head or b"58b" in head.lower():
         return  # binary 58b sets: pyuff checks their byte counts
     with open(path, encoding="latin-1") as handle:

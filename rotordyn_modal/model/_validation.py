@@ -93,6 +93,7 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
     _check_eccentricities(unbalance_tables, unbalances, rotors)
     gravity = top.vector3("gravity", default=[0.0, 0.0, 0.0])
     bearing_tables = _named_tables(source, data, "bearings")
+    _check_force_names(source, data, rotor_tables, bearing_tables)
     bearings = reuse.bearings(data, rotors, spin_axis, gravity)
     if bearings is None:
         bearings = _bearing_validation.bearings(bearing_tables, rotors, spin_axis, gravity)
@@ -219,6 +220,33 @@ def _named_tables(source: str, data, key: str) -> dict[str, _Table]:
         normal[unicodedata.normalize("NFC", name)] = name
         tables[name] = _Table(source, f"{key}.{visible(name)}", raw)
     return tables
+
+
+#: the components of a force row's name, ``NAME:Fx`` ... ``NAME:Mz`` (``analysis.forces``)
+_FORCE_COMPONENTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+
+
+def _check_force_names(source: str, data, rotor_tables, bearing_tables) -> None:
+    """The force rows of ``frf``/``unbalance --forces`` are named ``NAME:Fx`` ... ``NAME:Mz`` by
+    suspension, bearing and rotor alike, in the same ``output`` column as the sensors: a bearing
+    called as its rotor or as a suspension gave two different forces one name (``--forces all``:
+    two series ``fan:Fx``), and a sensor called ``mount-FL:Fz`` would read as that force. So these
+    names are unique across the three arrays, and no sensor takes a force row's name."""
+    owners: dict[str, str] = {}
+    for key, tables in (("rotors", rotor_tables), ("suspensions", _named_tables(source, data, "suspensions")),
+                        ("bearings", bearing_tables)):
+        for name, table in tables.items():
+            other = owners.get(unicodedata.normalize("NFC", name))
+            if other is not None:
+                raise table.error("name", name, f"a name that no [[{other}]] table has: the force rows of "
+                                  f"--forces (NAME:Fx ... NAME:Mz) would give the {key[:-1]}'s force and the "
+                                  f"{other[:-1]}'s the same name (rename one)")
+            owners[unicodedata.normalize("NFC", name)] = key
+    for name, table in _named_tables(source, data, "sensors").items():
+        item, _, component = unicodedata.normalize("NFC", name).rpartition(":")
+        if component in _FORCE_COMPONENTS and item in owners:
+            raise table.error("name", name, f"a sensor name other than a force row's of --forces (the "
+                              f"{owners[item][:-1]} {visible(item)}'s {component}; rename the sensor)")
 
 
 def _indexed_tables(source: str, data, key: str) -> list[_Table]:

@@ -95,3 +95,23 @@ def test_an_impulse_of_a_mode_that_is_not_stiff_adds_no_steps(monkeypatch):
     assert kick == pytest.approx(_fewest_evaluations(model, 1e-4) / 12, rel=2e-3)
     assert 0 < hammer < 1e-3 * kick
     assert _fewest_steps(model, SPEED, 1e-4, None) == 0.0
+
+
+def test_the_numpy_path_counts_its_output_times_and_errs_low(examples_dir, monkeypatch):
+    """Without an impulse the numpy path's output times cost no evaluation of the integrator
+    (``solve_ivp`` interpolates them) but each one's derived outputs (forces, energies: an
+    assembly and a solve in Python): 3,001 of them over 0.02 s of the spring block are refused
+    under a limit of 0.06 s, and the run's CPU time inside ``long_work_allowed`` is at least the
+    estimate. (The estimate had no numpy path: nothing was refused.)"""
+    model = rdm.load_model(examples_dir / "spring_block_rotor.toml")
+    monkeypatch.setenv("ROTORDYN_MODAL_MAX_CPU_MINUTES", "1e-3")
+    with pytest.raises(InputError, match=r"^duration = 0.02 s: this simulation would take at least") as refused:
+        rdm.simulate(model, 0.02, speed=50.0, samples=3001, backend="numpy")
+    line = str(refused.value)
+    assert re.search(r"3,001 output times of [0-9.e+]+ us each", line) and "integrator steps" not in line
+    estimate = float(re.search(r"at least ([0-9.e+-]+) s of CPU", line)[1])
+    start = time.process_time()
+    with rdm.long_work_allowed():
+        result = rdm.simulate(model, 0.02, speed=50.0, samples=3001, backend="numpy")
+    assert len(result.time) == 3001
+    assert time.process_time() - start >= estimate

@@ -114,6 +114,14 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     -------
     SimulationResult
 
+    Raises
+    ------
+    InputError
+        Bad arguments, a model the time simulation does not take, or a run whose CPU time,
+        estimated from below before the work, exceeds the limit of every analysis
+        (``ROTORDYN_MODAL_MAX_CPU_MINUTES``; ``rdm.long_work_allowed()`` lifts it; docs/simulate.md,
+        "The CPU time limit").
+
     Examples
     --------
     >>> import rotordyn_modal as rdm

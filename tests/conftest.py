@@ -11,13 +11,22 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import pytest  # noqa: E402
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
 
 
 @pytest.fixture(autouse=True)
 def _close_figures():
     yield
     plt.close("all")
+
+
+@pytest.fixture(autouse=True)
+def _in_the_repository(monkeypatch):
+    """Every test starts in the repository's root, whatever folder pytest was started from: many
+    name bundled files relative to it (``"examples/gear_machine.toml"``, ``"tests/data/..."``). A
+    test that needs another folder changes to it with its own ``monkeypatch.chdir``."""
+    monkeypatch.chdir(ROOT)
 
 
 @pytest.fixture

@@ -33,7 +33,10 @@ def pump():
     """examples/flexible_pump_on_mounts.toml (a flexible pump shaft on bearings in a casing, 68
     coordinates) with two Maxwell branches on each of its four mounts, as stiff as the mounts'
     static stiffness at high frequency, relaxing at 8 Hz and 160 Hz (48 branch states)."""
-    data = read_toml("examples/flexible_pump_on_mounts.toml", "model")
+    from pathlib import Path
+
+    # a module's fixture is made before the autouse fixture that starts each test in the repository
+    data = read_toml(Path(__file__).resolve().parent.parent / "examples" / "flexible_pump_on_mounts.toml", "model")
     for mount in data["suspensions"]:
         k = np.asarray(mount["stiffness"])
         mount["maxwell_stiffness"] = [(0.5 * k).tolist(), k.tolist()]

@@ -4,6 +4,8 @@ against the exact definitions (1 in = 0.0254 m, 1 lbf = 4.4482216152605 N)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -13,13 +15,16 @@ from rotordyn_modal.cli import main
 from rotordyn_modal.io.model_file import load_model
 from rotordyn_modal.units import from_system, to_system
 
+#: the examples, named whole: a module's fixture is made before the autouse fixture (conftest.py)
+#: that starts each test in the repository's root
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 IN = 0.0254                  # m, exact (NIST SP 811)
 LBF = 4.4482216152605        # N, exact: 0.45359237 kg * 9.80665 m/s^2
 
 
 @pytest.fixture(scope="module")
 def compressor():
-    model = load_model("examples/compressor_rotor.toml")
+    model = load_model(EXAMPLES / "compressor_rotor.toml")
     return model, modal(model, 3000 * np.pi / 30)
 
 
@@ -102,7 +107,7 @@ def fan_run():
     """A short run of the fan on its bearings (sensors, two rotors, four bearings), its SI table."""
     from rotordyn_modal.simulation import simulate
 
-    model = load_model("examples/fan_on_bearings.toml")
+    model = load_model(EXAMPLES / "fan_on_bearings.toml")
     result = simulate(model, 0.02, 3000 * np.pi / 30, samples=41, backend="numpy")
     return result, result.to_dataframe()
 

@@ -33,7 +33,7 @@ import numpy as np
 from ..errors import InputError
 from ..linear_system import speed_linear_form
 from ._arguments import _shown
-from .frf import frf
+from .frf import frf_of_checked_model
 
 __all__ = ["FitResult", "fit"]
 
@@ -176,8 +176,8 @@ class _Problem:
         gain = _gain(self.keys, logs)
         parts = []
         for (res, f, H, valid, _), w in zip(self.sets, self.weights):
-            Hm = frf(model, res.speed, f, inputs=list(res.inputs), outputs=list(res.outputs),
-                     quantity=res.quantity, engine="direct").H * gain
+            Hm = frf_of_checked_model(model, res.speed, f, inputs=list(res.inputs), outputs=list(res.outputs),
+                                      quantity=res.quantity).H * gain
             r = (w * (Hm - H))[valid]
             parts += [r.real, r.imag]
         result = np.concatenate(parts)

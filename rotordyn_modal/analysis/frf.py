@@ -36,7 +36,7 @@ from ..model._table import visible_names
 from ..elements.mounts import has_frequency_dependence, maxwell_frame_stiffness, maxwell_stiffness
 from . import _arguments, _batches
 
-__all__ = ["FRFResult", "frf", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]
+__all__ = ["FRFResult", "frf", "frf_of_checked_model", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]
 
 #: quantity -> power of (i w) applied to the receptance
 QUANTITIES = {"receptance": 0, "mobility": 1, "accelerance": 2}
@@ -360,10 +360,10 @@ def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str 
         Displacement [m/N], velocity [m/s/N] or acceleration [m/s^2/N] per force.
     engine : {'auto', 'modal', 'direct'}
         'auto' takes 'modal' for viscous models and 'direct' otherwise; 'modal'
-        on a model with loss factors or Maxwell branches is refused. 'auto' and 'modal' refuse
-        a model whose mass matrix rounding leaves singular (as every analysis does); 'direct'
-        named leaves that check to the caller (``fit`` makes it once, not at each evaluation)
-        and refuses such a model only where a solve fails.
+        on a model with loss factors or Maxwell branches is refused. Every engine refuses a
+        model whose mass matrix rounding leaves singular (a ``ModelError``, the line of every
+        analysis), before any solve: the direct solves of such a model can succeed and give
+        numbers of no meaning (a stator of 1e-30 kg under a rotor of 10 kg).
 
     Returns
     -------
@@ -381,6 +381,19 @@ def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str 
     >>> round(float(res.H[0, 0, 0].real), 12)   # static compliance 1/k
     0.00125
     """
+    return _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine)
+
+
+def frf_of_checked_model(model, speed: float, freqs_hz, inputs=None, outputs=None,
+                         quantity: str = "receptance") -> FRFResult:
+    """:func:`frf` by the direct engine, without the mass matrix's check, for a caller that made
+    it once on a model whose masses its variants keep (``fit``: at each evaluation the check
+    would cost as much as a small model's solves). Arguments and result as :func:`frf`'s."""
+    return _frf(model, speed, freqs_hz, inputs, outputs, quantity, "direct", mass_checked=True)
+
+
+def _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine, mass_checked=False) -> FRFResult:
+    """:func:`frf`; ``mass_checked``: the caller has refused a singular mass matrix already."""
     if quantity not in QUANTITIES:
         raise InputError(f"quantity {quantity!r}: expected one of {', '.join(QUANTITIES)}")
     if engine not in ("auto", "modal", "direct"):
@@ -397,8 +410,8 @@ def frf(model, speed: float, freqs_hz, inputs=None, outputs=None, quantity: str 
     omega = 2 * np.pi * f
     H = _modal_receptance(model, speed, omega, rows, columns) if used == "modal" else None
     if H is None:
-        if engine == "auto":   # the modal engine's state form makes the check itself; engine='direct'
-            from ..linear_system import speed_linear_form       # named: the caller's (fit's, made once)
+        if not mass_checked:   # the modal engine's state form made the check, if it was tried
+            from ..linear_system import speed_linear_form
 
             speed_linear_form(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
         used = "direct"

@@ -363,7 +363,6 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     from ._system import check_duration, default_samples
 
     refuse(model, drive)
-    notice_once(linear_only(model) or "a flexible rotor")
     accel = 0.0 if drive == "constant" else (final_speed - speed) / duration
     fastest = max(abs(speed), abs(final_speed or 0.0)) * max(abs(r.speed_ratio) for r in model.rotors)
     cutoff = CUTOFF_FACTOR * fastest if modes_below is None else _cutoff(modes_below)
@@ -392,6 +391,7 @@ def simulate_linear(model, duration, speed, *, drive, final_speed, initial, impu
     if kick is not None:
         y0[system.size:] = kick @ system.V          # V^T M V = I: the velocity jump M^-1 Q, reduced
     times = np.linspace(0.0, duration, samples or default_samples(rate, duration))
+    notice_once(linear_only(model) or "a flexible rotor")    # after every refusal: a refusal is one line
     try:
         states = _integrate(system, speed, accel, y0, times, rtol, atol, progress, backend)
     except RuntimeError as error:

@@ -114,6 +114,14 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     -------
     SimulationResult
 
+    Raises
+    ------
+    InputError
+        Bad arguments, a model the time simulation does not take, or a run whose CPU time,
+        estimated from below before the work, exceeds the limit of every analysis
+        (``ROTORDYN_MODAL_MAX_CPU_MINUTES``; ``rdm.long_work_allowed()`` lifts it; docs/simulate.md,
+        "The CPU time limit").
+
     Examples
     --------
     >>> import rotordyn_modal as rdm
@@ -140,7 +148,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     kn = kernels(backend)
     extra = (mode, accel, 0.0, duration)
     count = samples or _default_samples(rate, duration)
-    _check_cpu_time(kn, system, extra, duration, rate, count, timed=False)   # before compiling anything
+    steps = _fewest_steps(model, speed, duration, impulse)
+    _check_cpu_time(kn, system, extra, duration, rate, count, steps)   # before compiling anything
     announce_compilation(kn)
     n = system.n_dof
     y0 = np.zeros(2 * n)
@@ -152,7 +161,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     if impulse is not None:
         y0[n:] += _impulse_velocity(model, system, kn, y0, impulse, impulse_size, mode)
     times = np.linspace(0.0, duration, count)
-    _check_cpu_time(kn, system, extra, duration, rate, count, y0=y0)     # before the integration
+    _check_cpu_time(kn, system, extra, duration, rate, count, steps, y0=y0)     # before the integration
     states = _integrate(kn, system, extra, y0, times, rtol, atol, progress, model)
     if drive == "free":
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
@@ -182,42 +191,107 @@ def _simulate_flexible(model, duration, speed, drive, final_speed, initial, impu
 #: evaluations an output time, 25 s of CPU per simulated ms, whereas DOP853 alone (``solve_ivp``,
 #: the mode not excited) took 26 evaluations for 0.1 ms
 _EVALUATIONS_PER_SAMPLE = 14
+#: right-hand side evaluations of one DOP853 step (12 stages, the first the last one's)
+_EVALUATIONS_PER_STEP = 12
+#: DOP853's region of absolute stability (``|R(z)| <= 1``, ``R`` the polynomial of its
+#: coefficients, ``scipy.integrate._ivp.dop853_coefficients``) reaches ``|z| = 5.96`` on the imaginary
+#: axis and at most 6.77 (at 120 degrees): a step ``h`` that follows a motion of rate ``|lambda|`` keeps
+#: ``h |lambda|`` about that, whatever the tolerances, once the motion is above round-off. Twice that
+#: here, for a low bound: measured on an oscillator of 1e4 or 1e6 rad/s excited from 1 down to 1e-20 of
+#: a slow one's amplitude, damping ratio 0 to 0.7, rtol 1e-9 to 0.1, ``solve_ivp`` took 1.24 to 19
+#: times the steps of ``h |lambda| = 6.77``
+_STEP_REACH = 2 * 6.77
+#: a mode whose share of the impulse's initial state is below this (relative to the largest
+#: share) is taken as round-off of the eigen-decomposition, not as excited
+_EXCITED_SHARE = 1e-9
 #: right-hand side calls timed for the estimate (the best of three runs of this many)
 _TIMED_CALLS = 200
+#: output times whose derived outputs (``sample_outputs``) are timed, for the numpy path
+_TIMED_SAMPLES = 20
 
 
-def _check_cpu_time(kn, system, extra, duration, rate, samples, y0=None, timed=True):
-    """Refuse, before the integration, a run estimated to take more CPU time than the limit of
-    every analysis (``analysis._cost``: ``ROTORDYN_MODAL_MAX_CPU_MINUTES``, ``--allow-long``).
+def _fewest_steps(model, speed, duration, impulse) -> float:
+    """A low bound of DOP853's steps over ``duration`` [s]: the fastest mode an impulse through
+    ``impulse`` (an excitation's name, or None: no bound, 0) excites, of the linear model at
+    ``speed`` [rad/s] (its roots ``lambda_k`` and shapes ``v_k``; the impulse's velocity jump
+    ``M^-1 b`` as ``sum_k c_k v_k``), with a share ``|c_k| max|v_k|`` of at least
+    :data:`_EXCITED_SHARE` of the largest, needs ``duration |lambda_k| /`` :data:`_STEP_REACH` steps
+    at least: the explicit integrator's stability, whatever the tolerances and the output times.
+    0 where the decomposition cannot be made (the estimate then rests on the output times)."""
+    if impulse is None:
+        return 0.0
+    import scipy.linalg
 
-    The output times (by default 20 a period of the fastest motion, ``rate`` [rad/s]: the highest
-    natural frequency at the start speed, or the spin) each cost the compiled path at least
-    :data:`_EVALUATIONS_PER_SAMPLE` evaluations of the right-hand side. With ``timed`` each
-    evaluation is timed on the model's state ``y0`` (shape (2 n_dof,)), which compiles the
-    kernel on a fresh machine (~20 s); without it, each costs at least the Python call of a
-    function that does nothing with the same arguments, so that a run far over the limit is
-    refused before that compilation. Both are low bounds (the timed one measured 0.75 of the CPU
-    time taken, the integrator's own steps aside), so that only what would surely exceed the
-    limit is refused. The numpy path (``solve_ivp``, output times from its dense output) is not
-    estimated."""
+    from ..assembly import _select, excitation_columns
+    from ..linear_system import speed_linear_form
+
+    _select(model.excitations, [impulse], "excitation")      # an unknown name: the line of the impulse's own check
+    try:
+        form = speed_linear_form(model)
+        n = form.n_dof
+        state = np.zeros(form.n_states)
+        state[n:2 * n] = form.mass_inverse @ excitation_columns(model, [impulse])[:, 0]
+        roots, shapes = scipy.linalg.eig(form.at(float(speed)))
+        shares = np.abs(np.linalg.solve(shapes, state)) * np.abs(shapes).max(axis=0)
+    except Exception:   # noqa: BLE001 - no bound from the modes: the estimate rests on the output times
+        return 0.0
+    if not np.all(np.isfinite(shares)) or not shares.max(initial=0.0) > 0.0:
+        return 0.0
+    excited = shares >= _EXCITED_SHARE * shares.max()
+    return float(duration * np.abs(roots[excited]).max() / _STEP_REACH)
+
+
+def _check_cpu_time(kn, system, extra, duration, rate, samples, steps=0.0, y0=None):
+    """Refuse, before the work, a run estimated to take more CPU time than the limit of every
+    analysis (``analysis._cost``: ``ROTORDYN_MODAL_MAX_CPU_MINUTES``, ``--allow-long``).
+
+    Evaluations of the right-hand side, at least: on the compiled path
+    :data:`_EVALUATIONS_PER_SAMPLE` an output time (by default 20 a period of the fastest motion,
+    ``rate`` [rad/s]: the highest natural frequency at the start speed, or the spin), and
+    :data:`_EVALUATIONS_PER_STEP` a step of the ``steps`` that the fastest excited motion makes
+    the integrator take at least (:func:`_fewest_steps`), the larger of the two; on the numpy path
+    (``solve_ivp``: the output times from its steps' dense output, no evaluation of their own)
+    those of the ``steps``, at least one, plus the derived outputs of each output time
+    (``sample_outputs``, an ``assemble`` and a solve each, in Python: timed, measured as 1.7 to 2.1
+    right-hand side evaluations on spring_block_rotor, gear_machine, fan_on_bearings and
+    motor_fan_minimal; their runs of 0.02 s at the default 201 output times took 0.8 to 3.0
+    evaluations an output time, all of them the steps'). ``y0`` None: the check before any compilation:
+    the numpy path timed whole, the compiled path at least the Python call of a function that does
+    nothing with the same arguments, so that a run far over the limit is refused before the
+    kernel's compilation (~20 s on a fresh machine); with the state ``y0`` (shape (2 n_dof,)), the
+    compiled right-hand side timed on it. All are low bounds (the timed compiled one measured 0.75
+    of the CPU time taken, the integrator's own steps aside), so that only what would surely
+    exceed the limit is refused."""
     from ..analysis._cost import limit_seconds, long_work_is_allowed
 
     if long_work_is_allowed():
         return
     limit = limit_seconds()
-    evaluations = samples * _EVALUATIONS_PER_SAMPLE
-    if getattr(kn, "rhs_flat", None) is None or evaluations * 1e-2 <= limit:   # short even at 10 ms each
-        return
-    from ._fast import pack
-
-    arguments = pack(system, *extra)
-    if timed:
-        each, what = _seconds_per_call(kn.rhs_flat, y0, arguments), "evaluations of {} us"
+    compiled = getattr(kn, "rhs_flat", None) is not None
+    if compiled:
+        evaluations = max(samples * _EVALUATIONS_PER_SAMPLE, _EVALUATIONS_PER_STEP * steps)
     else:
-        each = _seconds_per_call(_does_nothing, np.zeros(2 * system.n_dof), arguments)
-        what = "evaluations of more than the {} us of the call alone"
-    if evaluations * each > limit:
-        raise InputError(_too_long(duration, rate, samples, evaluations, each, what, limit))
+        evaluations = _EVALUATIONS_PER_STEP * max(steps, 1.0)
+    if (evaluations + samples) * 1e-2 <= limit or (y0 is not None and not compiled):   # short even at 10 ms each
+        return
+    zeros = np.zeros(2 * system.n_dof)
+    if compiled:
+        from ._fast import pack
+
+        arguments, outputs, each_output = pack(system, *extra), "", 0.0
+        if y0 is not None:
+            each, what = _seconds_per_call(kn.rhs_flat, y0, arguments), "evaluations of {} us"
+        else:
+            each = _seconds_per_call(_does_nothing, zeros, arguments)
+            what = "evaluations of more than the {} us of the call alone"
+    else:
+        arguments = system.kernel_arguments() + extra
+        each, what = _seconds_per_call(kn.rhs, zeros, arguments), "evaluations of {} us"
+        each_output = _seconds_per_output(kn, zeros, arguments)
+        outputs = f" of {each_output * 1e6:.2g} us each"
+    seconds = evaluations * each + samples * each_output
+    if seconds > limit:
+        raise InputError(_too_long(duration, rate, samples, evaluations, each, what, limit, steps, seconds, outputs))
 
 
 def _does_nothing(t, y, floats, ints):
@@ -239,16 +313,33 @@ def _seconds_per_call(call, y, arguments) -> float:
     return best
 
 
-def _too_long(duration, rate, samples, evaluations, each, what, limit) -> str:
-    """The one line refusing a simulation over the CPU limit ``limit`` [s]."""
+def _seconds_per_output(kn, y, arguments) -> float:
+    """CPU time of the derived outputs of one output time on the numpy path [s]
+    (``kn.sample_outputs`` of :data:`_TIMED_SAMPLES` copies of the state ``y``, the best of three)."""
+    import time
+
+    times, states = np.zeros(_TIMED_SAMPLES), np.tile(y, (_TIMED_SAMPLES, 1))
+    best = np.inf
+    for _ in range(3):
+        start = time.process_time()
+        kn.sample_outputs(times, states, *arguments)
+        best = min(best, (time.process_time() - start) / _TIMED_SAMPLES)
+    return best
+
+
+def _too_long(duration, rate, samples, evaluations, each, what, limit, steps, seconds, outputs="") -> str:
+    """The one line refusing a simulation over the CPU limit ``limit`` [s]: ``seconds`` [s] estimated
+    from ``evaluations`` of ``each`` [s] (``steps`` of them the fewest the fastest excited motion
+    needs) and ``samples`` output times (``outputs``: what each costs, where it is counted)."""
     from ..analysis._cost import ENVIRONMENT, duration as _duration
 
     periods = duration * rate / (2 * np.pi)
-    return (f"duration = {duration!r} s: this simulation would take at least {_duration(evaluations * each)} of CPU "
+    stepped = f", at least {steps:.3g} integrator steps for the fastest mode the impulse excites" if steps else ""
+    return (f"duration = {duration!r} s: this simulation would take at least {_duration(seconds)} of CPU "
             f"time, more than the limit of {_duration(limit)} ({periods:.3g} periods of the fastest "
-            f"motion, {rate / (2 * np.pi):.4g} Hz; {samples:,} output times, at least {evaluations:.3g} "
-            f"{what.format(f'{each * 1e6:.2g}')}): a shorter duration or fewer samples, or add "
-            f"--allow-long ({ENVIRONMENT} sets the limit)")
+            f"motion, {rate / (2 * np.pi):.4g} Hz; {samples:,} output times{outputs}{stepped}, at least "
+            f"{evaluations:.3g} {what.format(f'{each * 1e6:.2g}')}): a shorter duration or fewer samples, or "
+            f"add --allow-long ({ENVIRONMENT} sets the limit)")
 
 
 def _integrate(kn, system, extra, y0, times, rtol, atol, progress, model=None):

@@ -127,3 +127,37 @@ def test_cut_peaks_of_a_single_mode_against_its_closed_form():
     # |H(i w_d)| = 1 / |k - m w_d^2 + i c w_d| (the closed form of the single mode)
     expected = 1.0 / abs(k - m * wd ** 2 + 1j * c * wd)
     assert abs(h[0]) == pytest.approx(expected, rel=1e-6)
+
+
+def test_force_frfs_mark_the_resonances_their_lines_cut(pump):
+    """`frf --force-outputs suspensions` (the help's example) draws the mounts' forces through
+    the same 2.5 Hz grid: each mount force whose value at a damped natural frequency (`modal`;
+    `force_frf` at that frequency alone) is more than sqrt(2) times both grid values around it
+    is given by `cut_peaks`, and no other; the figure marks each (an open diamond at that
+    height); the CSV's numbers are those of the grid alone."""
+    import matplotlib.pyplot as plt
+
+    model, speed = pump
+    f = np.linspace(1.0, 2000.0, 800)
+    result = rdm.force_frf(model, speed, f, inputs=["hammer-z"], where="suspensions")
+    roots = rdm.modal(model, speed)
+    fd = roots.frequencies_hz[roots.oscillatory]
+    fd = fd[(fd > f[0]) & (fd < f[-1])]
+    at = rdm.force_frf(model, speed, fd, inputs=["hammer-z"], where="suspensions")
+    k = np.searchsorted(f, fd)
+    total = 0
+    for o, name in enumerate(result.outputs):
+        h = np.abs(result.H[o, 0])
+        if h.max() == 0:
+            continue
+        expected = fd[np.abs(at.H[o, 0]) > np.sqrt(2) * np.maximum(h[k - 1], h[k])]
+        found, values = result.cut_peaks(name, "hammer-z")
+        np.testing.assert_allclose(np.sort(found), np.sort(expected), rtol=1e-9)
+        np.testing.assert_allclose(np.abs(values), np.abs(at.H[o, 0][np.isin(fd, expected)]), rtol=1e-6)
+        total += len(found)
+    assert total >= 10
+    fig = result.plot()
+    fig.canvas.draw()
+    marks = sum(len(_marks(ax)) for ax in fig.axes)
+    assert marks == total
+    plt.close(fig)

@@ -134,3 +134,19 @@ def test_level_crossings_with_levels_that_change_over_the_step(a, b, level_a, le
     codes = [code(a, level_a)] + [c for _, c in sorted(crossings)]
     assert codes[-1] == code(b, level_b)
     assert all(abs(q - p) == 1 for p, q in zip(codes, codes[1:]))
+
+
+def test_the_critical_speed_table_labels_whirl_as_modes_does(fast_branch):
+    """`critical-speeds` on the same machine (0:3000:31, 1X): each crossing's whirl equals
+    `modes`' label of the root at that speed and frequency (`modal` at the crossing's speed). On
+    main 5 of the 16 crossings read forward or backward where `modes` says none."""
+    model, _ = fast_branch
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        table = rdm.campbell(model, rdm.rpm(np.linspace(0.0, 3000.0, 31)), orders=(1,)).critical
+    assert len(table.speeds) >= 10
+    for speed, f, whirl in zip(table.speeds, table.frequencies_hz, table.whirl):
+        r = rdm.modal(model, speed)
+        i = int(np.argmin(np.where(r.oscillatory, np.abs(r.frequencies_hz - f), np.inf)))
+        assert abs(r.frequencies_hz[i] - f) < 1e-3 * f
+        assert whirl == r.whirl[i], (speed * 30 / np.pi, f)

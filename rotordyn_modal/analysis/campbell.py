@@ -756,7 +756,8 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     sources = [excitation_sources(model) for model in stack.models]
     if critical:
         tables = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes, oscillating,
-                                       progress, lambda crossings: _refuse_crossings(stack, len(speeds), crossings))
+                                       progress, lambda crossings: _refuse_crossings(stack, len(speeds), crossings),
+                                       whirl_noise=noise)
     else:
         tables = [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
     del weighted

@@ -94,7 +94,7 @@ def _leakage(ratio=RATIO, turns=TURNS):
     return abs(_sinc(turns * (ratio - 1.0))) + abs(_sinc(turns * (ratio + 1.0)))
 
 
-def _two_orders(speed, duration=8.0, step=2e-4, theta=0.7):
+def _two_orders(speed, duration=8.0, step=2e-4, theta=0.7, ratio=RATIO):
     """A sensor reading ``A(t) cos(phi + theta) + cos(RATIO phi + 0.3)``: rotor 'a' (ratio 1) of
     amplitude ``A(t) = 10**(-2 + 3 t / duration)`` (0.01 to 10) and rotor 'b' of amplitude 1;
     ``speed(t)`` [rad/s] and its angle given in closed form as a pair of functions."""
@@ -102,9 +102,9 @@ def _two_orders(speed, duration=8.0, step=2e-4, theta=0.7):
     t = np.arange(0.0, duration, step)
     phi = angle(t)
     strong = lambda time: 10.0 ** (-2.0 + 3.0 * time / duration)     # noqa: E731
-    signal = strong(t) * np.cos(phi + theta) + np.cos(RATIO * phi + 0.3)
-    result = types.SimpleNamespace(time=t, drive_speed=omega(t), rotor_angles=np.column_stack([phi, RATIO * phi]),
-                                   speed_ratios=np.array([1.0, RATIO]), rotor_names=["a", "b"], model_name="two orders",
+    signal = strong(t) * np.cos(phi + theta) + np.cos(ratio * phi + 0.3)
+    result = types.SimpleNamespace(time=t, drive_speed=omega(t), rotor_angles=np.column_stack([phi, ratio * phi]),
+                                   speed_ratios=np.array([1.0, ratio]), rotor_names=["a", "b"], model_name="two orders",
                                    sensor_names=["s"], sensor=lambda name: signal)
     return result, strong
 
@@ -125,7 +125,7 @@ def test_a_weak_order_under_the_leakage_of_a_strong_one_has_no_phase():
     result, strong = _two_orders(speed)
     floor = _leakage()
     assert 0.25 < floor < 0.27
-    track = order_track(result, "s", rotor="a")
+    track = order_track(result, "s", rotor="a", revolutions=TURNS)
     period = 2 * np.pi * TURNS / 300.0
     middle = (np.arange(len(track.amplitude)) + 0.5) * period                 # the windows' middles [s]
     low, high = strong(middle - period / 2), strong(middle + period / 2)
@@ -142,7 +142,7 @@ def test_a_weak_order_under_the_leakage_of_a_strong_one_has_no_phase():
     weak = high < 0.2
     assert weak.sum() >= 10
     np.testing.assert_allclose(track.leakage_floor[weak], floor, rtol=0.155 * 0.2 + 0.01)
-    other = order_track(result, "s", rotor="b")
+    other = order_track(result, "s", rotor="b", revolutions=TURNS)
     middle_b = (np.arange(len(other.amplitude)) + 0.5) * period / RATIO
     assert np.all(np.isfinite(other.phase_deg[strong(middle_b + period / RATIO / 2) < 1.5]))
 
@@ -151,20 +151,23 @@ def test_the_run_up_figure_draws_no_unknown_phase_and_says_so():
     """The run-up figure of the two orders on a ramp of 300 to 540 rad/s (about 1 % of speed
     change per window: the steady closed form holds): the phase panel draws no point of rotor
     'a''s 1X at the speeds where its amplitude A is below the floor F, draws every one where
-    A > 3 F, and its legend says that a's phase is unknown at some speeds."""
+    A > 3 F, and its legend says that a's phase is unknown at some speeds. The second rotor
+    turns 0.7 times as fast: no window of 4 to 8 turns nulls its 1X (the figure's windows are
+    the least leaking of those, 7 turns: F = |sinc(2.1)| + |sinc(11.9)| = 0.055)."""
     from rotordyn_modal.plotting.simulation import plot_runup
 
     rate = 30.0
     speed = (lambda t: 300.0 + rate * t, lambda t: 300.0 * t + 0.5 * rate * t ** 2)
-    result, strong = _two_orders(speed)
-    floor = _leakage()
+    result, strong = _two_orders(speed, ratio=0.7)
+    floor = _leakage(0.7, 7)
+    assert 0.05 < floor < 0.06
     fig = plot_runup(result, "s")
     fig.canvas.draw()
     phase_ax, = [ax for ax in fig.axes if "phase" in ax.get_ylabel()]
     line, = [line for line in phase_ax.get_lines() if line.get_label() == "1X a"]
     x, y = np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)
     when = (x * np.pi / 30.0 - 300.0) / rate                  # the ramp's time at each point's speed
-    half = np.pi * TURNS / (x * np.pi / 30.0)                 # half a window [s]
+    half = np.pi * 7 / (x * np.pi / 30.0)                     # half a window [s]
     below, above = strong(when + half) < floor, strong(when - half) > 3.0 * floor
     assert below.sum() >= 5 and above.sum() >= 5
     assert not np.any(np.isfinite(y[below])) and np.all(np.isfinite(y[above]))

@@ -139,7 +139,7 @@ def test_whirl_changes_against_hand_made_ratios(motor_pump):
     whirl = np.array(["backward", "none", "forward"])[codes + 1]
     made = dataclasses.replace(result, speeds=speeds, eigenvalues=values, frequencies_hz=values.imag / (2 * np.pi),
                                whirl_ratios=ratios, whirl=whirl, modes=np.array([1, 2]),
-                               shapes=np.zeros((4, 2, 1), complex))
+                               shapes=np.zeros((4, 2, 1), complex), whirl_round_off=None)
     (at, after), (at2, after2) = made.whirl_changes()
     np.testing.assert_allclose(at, [10 * 0.029 / 0.44, 10 * 0.031 / 0.44, 10 + 10 * 0.409 / 0.4095], rtol=1e-12)
     assert list(after) == ["none", "forward", "none"]

@@ -15,10 +15,10 @@ import numpy as np
 from . import _batches, _roots, _vectors
 
 __all__ = ["REPEATED_TOLERANCE", "eigenvalues_of", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
-           "upper_indices", "upper_shapes"]
+           "upper_indices", "upper_shapes", "ratio_round_off"]
 
 
-def upper_shapes(matrices: np.ndarray, n: int):
+def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False):
     """Upper eigenvalues (see :func:`upper_indices`) and unit-norm displacement shapes of a
     stack of state matrices: ``numpy.linalg.eig`` in threads and parts of bounded memory, each
     part's eigenvectors reduced to its shapes at once (the parts' results are a quarter of
@@ -29,21 +29,53 @@ def upper_shapes(matrices: np.ndarray, n: int):
     matrices : ndarray, shape (R, n_states, n_states)
     n : int
         Number of generalized coordinates (the displacement rows of the eigenvectors).
+    whirl_noise : bool
+        Also return how far round-off can move each shape's whirl ratio, as ``modal`` takes
+        it (:func:`ratio_round_off`).
 
     Returns
     -------
-    eigenvalues : ndarray, shape (R, m), complex; shapes : ndarray, shape (R, m, n), complex
+    eigenvalues : ndarray, shape (R, m), complex; shapes : ndarray, shape (R, m, n), complex;
+    with ``whirl_noise`` also noise : ndarray, shape (R, m)
     """
     size = matrices.shape[-1]
-    return _batches._threaded(functools.partial(_upper_part, n=n), matrices, item_bytes=72 * size * size)
+    return _batches._threaded(functools.partial(_upper_part, n=n, whirl_noise=whirl_noise), matrices,
+                              item_bytes=72 * size * size)
 
 
-def _upper_part(matrices: np.ndarray, n: int):
+def ratio_round_off(upper, every, matrices) -> np.ndarray:
+    """How far round-off can move the whirl ratio of each root's shape (:func:`._roots.whirl_round_off`),
+    with the round-off of each solve (:func:`._roots.round_off` of its matrix) and its repeated
+    roots (within :data:`REPEATED_TOLERANCE` of its largest root) as ``modal`` takes them.
+
+    Parameters
+    ----------
+    upper : ndarray, shape (R, m), complex
+        The roots whose shapes are used.
+    every : ndarray, shape (R, M), complex
+        All roots of each solve.
+    matrices : ndarray, shape (R, n_s, n_s)
+        The state matrices solved.
+
+    Returns
+    -------
+    ndarray, shape (R, m)
+    """
+    noise = _roots.round_off(matrices)
+    repeated = REPEATED_TOLERANCE * np.abs(upper).max(axis=-1, initial=0.0)
+    return np.stack([_roots.whirl_round_off(u, e, z, r) for u, e, z, r in zip(upper, every, noise, repeated)]) \
+        if len(upper) else np.zeros(upper.shape)
+
+
+def _upper_part(matrices: np.ndarray, n: int, whirl_noise: bool = False):
     values, vectors = np.linalg.eig(matrices)
+    every = values
     values = _roots.snapped(values, _roots.deciding_round_off(values, matrices), matrices, vectors, n)
     index, eigenvalues = upper_indices(values)
     # advanced indices apart put their axes first: shapes[r, k, j] = vectors[r, j, index[r, k]]
     shapes = vectors[np.arange(len(vectors))[:, None], :n, index]
+    if whirl_noise:
+        return eigenvalues, _vectors.unit_rows(shapes), ratio_round_off(eigenvalues, every, matrices)
     return eigenvalues, _vectors.unit_rows(shapes)
 
 

@@ -267,26 +267,26 @@ def whirl_round_off(eigenvalues, every, noise, repeated: float) -> np.ndarray:
 
     Parameters
     ----------
-    eigenvalues : ndarray, shape (m,), complex
+    eigenvalues : ndarray, shape (..., m), complex
         The roots whose shapes are used.
-    every : ndarray, shape (M,), complex
+    every : ndarray, shape (..., M), complex
         All roots of the solve (both halves).
-    noise : float
+    noise : float or ndarray, shape (...)
         :func:`round_off` of the solve [1/s].
-    repeated : float
+    repeated : float or ndarray, shape (...)
         Distance below which two roots are one repeated root [1/s] (as
         ``_eigensolve.resolve_repeated`` decides).
 
     Returns
     -------
-    ndarray, shape (m,)
+    ndarray, shape (..., m)
     """
     lam = np.asarray(eigenvalues, dtype=complex)
-    distance = np.abs(lam[:, None] - np.asarray(every, dtype=complex)[None, :])
-    distance[distance <= repeated] = np.inf
-    gap = distance.min(axis=1, initial=np.inf)
+    distance = np.abs(lam[..., :, None] - np.asarray(every, dtype=complex)[..., None, :])
+    distance[distance <= np.asarray(repeated, dtype=float)[..., None, None]] = np.inf
+    gap = distance.min(axis=-1, initial=np.inf)
     with np.errstate(divide="ignore"):
-        return np.where(gap > 0, noise / gap, np.inf)
+        return np.where(gap > 0, np.asarray(noise, dtype=float)[..., None] / gap, np.inf)
 
 
 def at_round_off(values, noise) -> np.ndarray:

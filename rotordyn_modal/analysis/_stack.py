@@ -246,20 +246,25 @@ class Stack:
         return self._sparse_matrices[0]
 
     # -- eigen-solutions -----------------------------------------------------------------
-    def solve(self, matrices, variants):
+    def solve(self, matrices, variants, whirl_noise=False):
         """Upper eigenvalues and unit-norm shapes of state matrices of the given variants.
 
         Parameters
         ----------
         matrices : ndarray, shape (R, n_s, n_s)
         variants : ndarray of int, shape (R,)
+        whirl_noise : bool
+            Also return how far round-off can move each shape's whirl ratio
+            (:func:`._eigensolve.ratio_round_off`).
 
         Returns
         -------
-        eigenvalues : ndarray (R, m), complex; shapes : ndarray (R, m, n), complex
+        eigenvalues : ndarray (R, m), complex; shapes : ndarray (R, m, n), complex; with
+        ``whirl_noise`` also noise : ndarray (R, m)
         """
-        eigenvalues, shapes = _eigensolve.upper_shapes(matrices, self.n_dof)
-        return eigenvalues, _eigensolve.resolve_repeated(eigenvalues, shapes, self.whirl, variants)
+        solved = _eigensolve.upper_shapes(matrices, self.n_dof, whirl_noise)
+        eigenvalues, shapes = solved[:2]
+        return (eigenvalues, _eigensolve.resolve_repeated(eigenvalues, shapes, self.whirl, variants)) + solved[2:]
 
     @property
     def undamped_modes(self):

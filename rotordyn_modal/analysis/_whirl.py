@@ -15,7 +15,7 @@ from ..model.dofs import frame_block
 from ..model.geometry import shift_matrices, skew
 
 __all__ = ["WHIRL_TOLERANCE", "WhirlForms", "quadratic_forms", "rotor_whirl_forms", "stacked_forms", "whirl_forms",
-           "sparse_whirl_forms", "whirl_labels", "whirl_ratios"]
+           "sparse_whirl_forms", "whirl_codes", "whirl_labels", "whirl_ratios"]
 
 
 #: |whirl ratio| below this counts as no whirl (a straight-line orbit): for an elliptic
@@ -347,7 +347,28 @@ def quadratic_forms(shapes, stacked) -> np.ndarray:
 _WHIRL_NAMES = np.array(["backward", "none", "forward"])
 
 
-def whirl_labels(ratios) -> np.ndarray:
-    """'forward', 'backward' or 'none' from whirl ratios (array of str)."""
+def whirl_codes(ratios, round_off=None) -> np.ndarray:
+    """-1, 0, +1 for backward, none, forward from whirl ratios (same shape, int).
+
+    A ratio is no whirl where its size is at most :data:`WHIRL_TOLERANCE` or at most
+    ``round_off``, how far round-off can move it (:func:`._roots.whirl_round_off`: a shape
+    beside a nearly repeated root is known only to the eigen-solve's noise over the gap): the
+    one rule of ``modes``' table and the Campbell diagram.
+
+    Parameters
+    ----------
+    ratios : array_like, shape (...)
+    round_off : array_like, shape (...), optional
+        What round-off can move each ratio by (default 0).
+    """
     ratios = np.asarray(ratios)
-    return _WHIRL_NAMES[(ratios > WHIRL_TOLERANCE).astype(np.intp) - (ratios < -WHIRL_TOLERANCE) + 1]
+    if round_off is None:
+        return (ratios > WHIRL_TOLERANCE).astype(np.intp) - (ratios < -WHIRL_TOLERANCE)
+    level = np.maximum(WHIRL_TOLERANCE, round_off)
+    return (ratios > level).astype(np.intp) - (ratios < -level)
+
+
+def whirl_labels(ratios, round_off=None) -> np.ndarray:
+    """'forward', 'backward' or 'none' from whirl ratios (array of str), by :func:`whirl_codes`
+    (``round_off`` as there)."""
+    return _WHIRL_NAMES[whirl_codes(ratios, round_off) + 1]

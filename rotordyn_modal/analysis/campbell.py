@@ -51,6 +51,10 @@ class CampbellResult:
     critical : CriticalSpeeds
         Crossings with the orders in ``orders``.
     orders : tuple of float
+    whirl_round_off : ndarray, shape (N, n_modes), optional
+        How far round-off can move each whirl ratio (:func:`._roots.whirl_round_off`, as
+        ``modal`` takes it): within it the label is 'none', as in ``modes``' table. None (the
+        lowest modes' route, which does not solve for every root) counts as 0.
     """
 
     speeds: np.ndarray
@@ -65,6 +69,7 @@ class CampbellResult:
     sources: ExcitationSources
     critical: CriticalSpeeds
     orders: tuple = field(default=(1.0,))
+    whirl_round_off: np.ndarray | None = None
 
     @property
     def speeds_rpm(self) -> np.ndarray:
@@ -208,7 +213,8 @@ class CampbellResult:
             ``speeds`` ndarray, shape (K_m,) [rad/s], increasing; ``whirl`` ndarray of str,
             shape (K_m,): the label from that speed on.
         """
-        codes = _whirl_codes(self.whirl_ratios)
+        levels = self._whirl_levels()
+        codes = _whirl_codes(self.whirl_ratios, levels)
         sign = np.where(self.speeds < 0, -1.0, 1.0)
         about_axis = self.whirl_ratios * sign[:, None]            # the ratio about +e
         mode = self.oscillatory
@@ -218,23 +224,39 @@ class CampbellResult:
             at, after = [], []
             for k in np.flatnonzero(((codes[:-1, m] != codes[1:, m]) | through) & mode[:-1, m] & mode[1:, m]):
                 s0, s1, e0, e1 = self.speeds[k], self.speeds[k + 1], about_axis[k, m], about_axis[k + 1, m]
+                t0, t1 = levels[k, m], levels[k + 1, m]
                 if s0 < 0 < s1:                      # the spin reverses inside the step
                     e_zero = e0 + (0 - s0) / (s1 - s0) * (e1 - e0)
-                    pieces = [(s0, 0.0, -e0, -e_zero), (0.0, s1, e_zero, e1)]
+                    t_zero = t0 + (0 - s0) / (s1 - s0) * (t1 - t0)
+                    pieces = [(s0, 0.0, -e0, -e_zero, t0, t_zero), (0.0, s1, e_zero, e1, t_zero, t1)]
                 else:
-                    pieces = [(s0, s1, e0 * sign[k], e1 * sign[k])]
+                    pieces = [(s0, s1, e0 * sign[k], e1 * sign[k], t0, t1)]
                 previous = codes[k, m]
-                for start, stop, a, b in pieces:
-                    first = int(_whirl_codes(a))
+                for start, stop, a, b, level_a, level_b in pieces:
+                    first = int(_whirl_codes(a, level_a))
                     if first != previous:            # at zero speed: the spin's direction flips
                         at.append(start)
                         after.append(_WHIRL_NAMES[first])
-                    for speed, code in _level_crossings(start, stop, a, b):
+                    for speed, code in _level_crossings(start, stop, a, b, level_a, level_b):
                         at.append(speed)
                         after.append(_WHIRL_NAMES[code])
-                    previous = int(_whirl_codes(b))
+                    previous = int(_whirl_codes(b, level_b))
             changes.append((np.asarray(at, dtype=float), np.asarray(after, dtype=str)))
         return changes
+
+    @property
+    def whirl_none_by_round_off(self) -> bool:
+        """Some mode has no whirl only because its ratio, larger than ``WHIRL_TOLERANCE``, lies
+        within its round-off (:attr:`whirl_round_off`; ``modes``' rule)."""
+        ratios = np.abs(self.whirl_ratios)
+        return bool(np.any(self.oscillatory & (ratios > _whirl.WHIRL_TOLERANCE) & (ratios <= self._whirl_levels())))
+
+    def _whirl_levels(self) -> np.ndarray:
+        """(N, n_modes): the size a whirl ratio must exceed to be a whirl, ``WHIRL_TOLERANCE`` or
+        its round-off (:attr:`whirl_round_off`) where that is larger (:func:`._whirl.whirl_codes`)."""
+        if self.whirl_round_off is None:
+            return np.full(self.whirl_ratios.shape, _whirl.WHIRL_TOLERANCE)
+        return np.maximum(_whirl.WHIRL_TOLERANCE, self.whirl_round_off)
 
     @property
     def unstable(self) -> np.ndarray:
@@ -308,24 +330,27 @@ class CampbellResult:
 _WHIRL_NAMES = {-1: "backward", 0: "none", 1: "forward"}
 
 
-def _whirl_codes(ratios):
-    """-1, 0, +1 for backward, none, forward (:func:`._whirl.whirl_labels`), same shape."""
-    ratios = np.asarray(ratios)
-    return (ratios > _whirl.WHIRL_TOLERANCE).astype(int) - (ratios < -_whirl.WHIRL_TOLERANCE)
+def _whirl_codes(ratios, levels=_whirl.WHIRL_TOLERANCE):
+    """-1, 0, +1 for backward, none, forward (:func:`._whirl.whirl_codes`: a whirl where the
+    size of the ratio exceeds ``levels``, ``WHIRL_TOLERANCE`` or its round-off), same shape."""
+    return _whirl.whirl_codes(ratios, levels)
 
 
-def _level_crossings(s0, s1, a, b) -> list:
+def _level_crossings(s0, s1, a, b, level_a=_whirl.WHIRL_TOLERANCE, level_b=_whirl.WHIRL_TOLERANCE) -> list:
     """Where the ratio going linearly from ``a`` at speed ``s0`` to ``b`` at ``s1`` changes its
-    whirl code (it passes -WHIRL_TOLERANCE or +WHIRL_TOLERANCE): [(speed, code after), ...] in
-    order of speed."""
-    tolerance = _whirl.WHIRL_TOLERANCE
-    start, stop = int(_whirl_codes(a)), int(_whirl_codes(b))
+    whirl code: where it passes minus or plus the level, itself linear from ``level_a`` to
+    ``level_b`` (``WHIRL_TOLERANCE`` or the ratio's round-off, :func:`._whirl.whirl_codes`):
+    [(speed, code after), ...] in order of speed. The codes at the ends are those of ``a`` and
+    ``b`` at their own levels; each of ``ratio - level`` and ``ratio + level`` is linear, so it
+    changes sign once at most and the codes run monotonically from the one to the other."""
+    start, stop = int(_whirl_codes(a, level_a)), int(_whirl_codes(b, level_b))
     step = 1 if stop > start else -1
     out = []
     for code in range(start, stop, step):
-        # the boundary between codes c and c + step: -tol between -1 and 0, +tol between 0 and 1
-        level = -tolerance if min(code, code + step) == -1 else tolerance
-        out.append((s0 + (level - a) / (b - a) * (s1 - s0), code + step))
+        # the boundary between codes c and c + step: -level between -1 and 0, +level between 0 and 1
+        side = -1.0 if min(code, code + step) == -1 else 1.0
+        # a + (b - a) x = side (level_a + (level_b - level_a) x)
+        out.append((s0 + (side * level_a - a) / ((b - a) - side * (level_b - level_a)) * (s1 - s0), code + step))
     return out
 
 
@@ -363,7 +388,7 @@ def _round_off_columns(eigenvalues) -> dict:
 
 
 # ----------------------------------------------------------------------------------------
-def solve_sweep(model, speeds, progress=False):
+def solve_sweep(model, speeds, progress=False, whirl_noise=False):
     """Eigenvalues and unit mass-weighted shapes at every speed, tracked.
 
     Parameters
@@ -372,23 +397,29 @@ def solve_sweep(model, speeds, progress=False):
     speeds : ndarray, shape (N,) [rad/s]
     progress : bool
         Show a progress bar.
+    whirl_noise : bool
+        Also return how far round-off can move each shape's whirl ratio (as ``modal`` takes it).
 
     Returns
     -------
     eigenvalues : ndarray, shape (N, m), complex, tracked columns
     shapes : ndarray, shape (N, m, n), complex, unit norm
     weighted : ndarray, shape (N, m, n), complex, unit mass-weighted
+    noise : ndarray, shape (N, m), with ``whirl_noise`` only
     """
-    values, shapes, weighted = solve_sweeps(Stack([model]), speeds, progress)
-    return values[0], shapes[0], weighted[0]
+    return tuple(part[0] for part in solve_sweeps(Stack([model]), speeds, progress, whirl_noise))
 
 
-def solve_sweeps(stack, speeds, progress=False):
+def solve_sweeps(stack, speeds, progress=False, whirl_noise=False):
     """:func:`solve_sweep` for every model of a :class:`~._stack.Stack` at once.
+
+    ``whirl_noise``: also return how far round-off can move each shape's whirl ratio, tracked
+    as the roots are (:func:`._eigensolve.ratio_round_off`, as ``modal`` takes it).
 
     Returns
     -------
-    eigenvalues : ndarray, shape (V, N, m); shapes, weighted : ndarray, shape (V, N, m, n)
+    eigenvalues : ndarray, shape (V, N, m); shapes, weighted : ndarray, shape (V, N, m, n);
+    with ``whirl_noise`` also noise : ndarray, shape (V, N, m)
     """
     speeds = np.asarray(speeds, dtype=float)
     count = len(stack)
@@ -398,28 +429,35 @@ def solve_sweeps(stack, speeds, progress=False):
     if progress and len(speeds) * count * 72 * size * size > _PROGRESS_BYTES:
         largest = min(_CHUNK, -(-len(speeds) // _PROGRESS_STEPS))     # the bar moves (the same numbers)
     chunks = _batches.chunk_slices(len(speeds), count * 72 * size * size, largest=largest)
-    values = shapes = None
+    values = shapes = noise = None
     for part in _progress(chunks, progress, "eigen-solve"):
         chunk = speeds[part]
         matrices = stack.sweep(chunk)
-        lam, phi = stack.solve(matrices.reshape((-1,) + matrices.shape[-2:]), _variant_rows(count, len(chunk)))
+        solved = stack.solve(matrices.reshape((-1,) + matrices.shape[-2:]), _variant_rows(count, len(chunk)),
+                             whirl_noise)
         del matrices
-        lam, phi = lam.reshape(count, len(chunk), -1), phi.reshape((count, len(chunk)) + phi.shape[-2:])
+        lam, phi = solved[0].reshape(count, len(chunk), -1), solved[1].reshape((count, len(chunk)) + solved[1].shape[-2:])
         if len(chunks) == 1:
             values, shapes = lam, phi
+            noise = solved[2].reshape(lam.shape) if whirl_noise else None
         else:                       # each part into its place: no list of parts joined at the end (twice the shapes)
             if values is None:
                 values = np.empty((count, len(speeds)) + lam.shape[2:], dtype=lam.dtype)
                 shapes = np.empty((count, len(speeds)) + phi.shape[2:], dtype=phi.dtype)
+                noise = np.empty(values.shape) if whirl_noise else None
             values[:, part], shapes[:, part] = lam, phi
-        del lam, phi
+            if whirl_noise:
+                noise[:, part] = solved[2].reshape(lam.shape)
+        del lam, phi, solved
     flat = shapes.reshape((-1,) + shapes.shape[-2:])
     weighted = stack.weighted(flat, _variant_rows(count, len(speeds))).reshape(shapes.shape)
     order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
+    extra = (noise,) if whirl_noise else ()
     if (order == np.arange(order.shape[-1])).all():     # every root keeps its place: nothing to reorder
-        return values, shapes, weighted
+        return (values, shapes, weighted) + extra
     variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
-    return values[variants, rows, order], _reordered(shapes, order), _reordered(weighted, order)
+    extra = (noise[variants, rows, order],) if whirl_noise else ()
+    return (values[variants, rows, order], _reordered(shapes, order), _reordered(weighted, order)) + extra
 
 
 #: a sweep of more work than this [bytes] shown by a progress bar is solved in at least
@@ -707,7 +745,7 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     stack = Stack(models)
     critical = bool(critical) and len(orders) > 0
     _refuse_what_cannot_fit(stack, len(speeds), critical)
-    values, shapes, weighted = solve_sweeps(stack, speeds, progress)
+    values, shapes, weighted, noise = solve_sweeps(stack, speeds, progress, whirl_noise=True)
     count, n_speeds, m = values.shape
     every = _variant_rows(count, n_speeds)
     ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every,
@@ -718,19 +756,21 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     sources = [excitation_sources(model) for model in stack.models]
     if critical:
         tables = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes, oscillating,
-                                       progress, lambda crossings: _refuse_crossings(stack, len(speeds), crossings))
+                                       progress, lambda crossings: _refuse_crossings(stack, len(speeds), crossings),
+                                       whirl_noise=noise)
     else:
         tables = [_critical_table([], [], [], [], [], [], [], []) for _ in range(count)]
     del weighted
     for table, source, model in zip(tables, sources, stack.models):
         _warn_of_jumps(table, source, model)
-    labels = _whirl.whirl_labels(ratios)
+    noise = np.where(oscillating, noise, 0.0)
+    labels = _whirl.whirl_labels(ratios, noise)          # modal's rule: within round-off no whirl
     return [CampbellResult(
         speeds=speeds, eigenvalues=values[v], frequencies_hz=freq[v], damping_ratios=zeta[v],
         log_decrements=log_dec[v], whirl_ratios=ratios[v], whirl=labels[v], shapes=shapes[v],
         modes=np.arange(1, m + 1), sources=sources[v],
         critical=_with_sweep(tables[v], stack.models[v], speeds, values[v], progress),
-        orders=tuple(float(o) for o in orders)) for v in range(count)]
+        orders=tuple(float(o) for o in orders), whirl_round_off=noise[v]) for v in range(count)]
 
 
 #: memory of the interpreter and the package's imports [bytes]

@@ -178,13 +178,15 @@ def _warn_of_jumps(table, sources, model):
 
 
 def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shapes=None, oscillating=None,
-                          progress=False, check=None) -> list:
+                          progress=False, check=None, whirl_noise=None) -> list:
     """Every crossing of every mode with every source's order lines, for every variant,
     refined together. ``shapes`` (V, N, m, n), the sweep's unit shapes, start the cheap
     evaluation of isolated modes (:func:`_Iterates`); ``progress`` shows a bar over the
     crossings; ``check``, when given, is called with the number of crossings before they are
-    refined (it may refuse them: see :func:`.campbell.campbell`). Returns one
-    :class:`CriticalSpeeds` per variant."""
+    refined (it may refuse them: see :func:`.campbell.campbell`); ``whirl_noise`` (V, N, m),
+    where given, how far round-off moves the sweep's whirl ratios: a crossing's whirl is no
+    whirl within the larger of its two neighbouring speeds' (``modes``' rule,
+    :func:`._whirl.whirl_codes`). Returns one :class:`CriticalSpeeds` per variant."""
     brackets = _crossing_brackets(speeds, values, sources, orders, oscillating)
     count = len(stack)
     if not len(brackets.k):
@@ -197,7 +199,7 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shap
     ratios = found.ratio
     zeta = damping_ratios(found.lam)
     names = np.asarray(sources[0].names, dtype=str)[found.source]
-    labels = _whirl.whirl_labels(ratios)
+    labels = _whirl.whirl_labels(ratios, None if whirl_noise is None else _crossing_noise(whirl_noise, speeds, found))
     roots, lam = found.roots, found.lam
     tables = []
     for v in range(count):
@@ -209,6 +211,14 @@ def _find_critical_speeds(stack, speeds, values, weighted, sources, orders, shap
                                       roots[order], lam.imag[order] / (2 * np.pi), labels[order].astype(object),
                                       ratios[order], zeta[order]))
     return tables
+
+
+def _crossing_noise(noise, speeds, found) -> np.ndarray:
+    """How far round-off moves each crossing's whirl ratio: the larger of the sweep's at the two
+    speeds around it (``noise`` (V, N, m); the crossing's own solve is no full eigen-solve)."""
+    k = np.clip(np.searchsorted(speeds, found.roots) - 1, 0, max(len(speeds) - 2, 0))
+    upper = np.minimum(k + 1, len(speeds) - 1)
+    return np.maximum(noise[found.variant, k, found.mode], noise[found.variant, upper, found.mode])
 
 
 class _Found(NamedTuple):

@@ -420,10 +420,45 @@ def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensi
         raise InputError(f"where {where!r}: expected 'suspensions', 'bearings', 'rotors' or 'all'")
     speed = _arguments.speed(speed)
     f = _check_frequencies(freqs_hz)
-    omega = 2 * np.pi * f
     columns = excitation_columns(model, inputs)
     if columns.shape[1] == 0:
         raise InputError(f"{model.source}: the model has no [[excitations]]: a force FRF needs one")
+    H, items = _force_frf(model, speed, f, columns, where)
+    outputs = tuple(f"{item.name}:{c}" for item in items for c in COMPONENTS)
+    peaks = _resonances(model, speed, f)
+    peak_H = None if peaks is None else _force_frf(model, speed, peaks, columns, where)[0] if len(peaks) \
+        else np.zeros(H.shape[:2] + (0,), complex)
+    return FRFResult(H=H, frequencies_hz=f, speed=float(speed), inputs=_names(model.excitations, inputs),
+                     outputs=outputs, quantity="force", engine="direct", resonances_hz=peaks, resonance_H=peak_H)
+
+
+#: the largest state matrix whose roots a force FRF solves to mark the resonances its frequencies
+#: cut (:func:`.frf.unresolved_resonances`; the dense eigen-solve's cost grows as its cube)
+_RESONANCE_STATES = 1200
+
+
+def _resonances(model, speed, f):
+    """The damped natural frequencies [Hz] within ``f`` that no frequency of ``f`` resolves
+    (:func:`.frf.unresolved_resonances`), from the roots of the state matrix at ``speed``; None
+    where the model has loss factors (no state form) or more than :data:`_RESONANCE_STATES`
+    states (the figure then marks none)."""
+    from ..linear_system import speed_linear_form
+    from .frf import choose_engine, unresolved_resonances
+
+    if choose_engine(model) != "modal" or len(f) < 2:
+        return None
+    form = speed_linear_form(model)
+    if form.n_states > _RESONANCE_STATES:
+        return None
+    with _batches.one_blas_thread(72 * form.n_states ** 2):
+        roots = np.linalg.eigvals(form.at(float(speed)))
+    return unresolved_resonances(roots, f)
+
+
+def _force_frf(model, speed, f, columns, where):
+    """The force FRFs (6 n_items, n_inputs, len(f)) of ``where`` at frequencies ``f`` [Hz] and their
+    items (:func:`force_frf`)."""
+    omega = 2 * np.pi * np.asarray(f, dtype=float)
     q = dof_response(model, speed, omega, columns)
     if where == "suspensions":
         forces, items = suspension_forces(model, omega, q), model.suspensions
@@ -435,10 +470,7 @@ def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensi
         forces = np.concatenate([suspension_forces(model, omega, q), bearing_point_forces(model, speed, omega, q),
                                  bearing_forces(model, speed, omega, q)])
         items = list(model.suspensions) + list(model.bearings) + list(model.rotors)
-    H = np.moveaxis(forces, 1, -1).reshape(len(items) * 6, q.shape[-1], len(f))
-    outputs = tuple(f"{item.name}:{c}" for item in items for c in COMPONENTS)
-    return FRFResult(H=H, frequencies_hz=f, speed=float(speed), inputs=_names(model.excitations, inputs),
-                     outputs=outputs, quantity="force", engine="direct")
+    return np.moveaxis(forces, 1, -1).reshape(len(items) * 6, q.shape[-1], len(omega)), items
 
 
 def _bearing_items(model, speed, omega, q):

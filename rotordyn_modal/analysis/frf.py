@@ -72,6 +72,12 @@ class FRFResult:
         'modal' or 'direct'.
     coherence : ndarray, shape like H, or None
         Measured coherence (None for a model).
+    resonances_hz : ndarray, shape (P,), or None
+        The damped natural frequencies [Hz] within the computed ones that no computed frequency
+        resolves (:func:`unresolved_resonances`); None where unknown (the direct engine, measured
+        or selected data).
+    resonance_H : ndarray, shape (n_outputs, n_inputs, P), complex, or None
+        The response at those frequencies.
     """
 
     H: np.ndarray
@@ -82,6 +88,8 @@ class FRFResult:
     quantity: str = "receptance"
     engine: str = "direct"
     coherence: np.ndarray | None = None
+    resonances_hz: np.ndarray | None = None
+    resonance_H: np.ndarray | None = None
 
     @property
     def omega(self) -> np.ndarray:
@@ -109,9 +117,30 @@ class FRFResult:
         o = _positions(self.outputs, outputs, "output")
         i = _positions(self.inputs, inputs, "input")
         coh = None if self.coherence is None else self.coherence[np.ix_(o, i)]
+        peaks = None if self.resonance_H is None else self.resonance_H[np.ix_(o, i)]
         return FRFResult(self.H[np.ix_(o, i)], self.frequencies_hz, self.speed,
                          tuple(self.inputs[k] for k in i), tuple(self.outputs[k] for k in o),
-                         self.quantity, self.engine, coh)
+                         self.quantity, self.engine, coh, self.resonances_hz, peaks)
+
+    def cut_peaks(self, output: str, input: str):
+        """The resonances of one FRF that the line drawn through the computed frequencies cuts:
+        those of :attr:`resonances_hz` where the response is more than sqrt(2) (3 dB) times that at
+        both computed frequencies around it (a straight line between them, on any axis whose
+        scale is monotonic, lies below the larger of the two).
+
+        Returns
+        -------
+        frequencies : ndarray, shape (K,) [Hz]; H : ndarray, shape (K,), complex
+        """
+        if self.resonances_hz is None or not len(self.resonances_hz):
+            return np.zeros(0), np.zeros(0, complex)
+        o, i = self.outputs.index(output), self.inputs.index(input)
+        order = np.argsort(self.frequencies_hz)
+        f, h = self.frequencies_hz[order], np.abs(self.H[o, i, order])
+        where = np.clip(np.searchsorted(f, self.resonances_hz), 1, len(f) - 1)
+        around = np.maximum(h[where - 1], h[where])
+        cut = np.abs(self.resonance_H[o, i]) > np.sqrt(2.0) * around
+        return self.resonances_hz[cut], self.resonance_H[o, i, cut]
 
     def to_dataframe(self):
         """Long table ``frequency_hz,output,input,real,imag,magnitude,phase_deg[,coherence]``."""
@@ -408,7 +437,12 @@ def _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine, mass_checked
         raise InputError("engine 'modal' needs a viscous model: this one has loss factors or Maxwell branches")
     used = natural if engine == "auto" else engine
     omega = 2 * np.pi * f
-    H = _modal_receptance(model, speed, omega, rows, columns) if used == "modal" else None
+    terms = _modal_terms(model, speed, rows, columns) if used == "modal" else None
+    H = None if terms is None else _modal_sum(terms, omega)
+    peaks = peak_H = None
+    if H is not None:                  # the resonances no computed frequency resolves, at their own frequency
+        peaks = unresolved_resonances(terms[0], f)
+        peak_H = _modal_sum(terms, 2 * np.pi * peaks) * (2j * np.pi * peaks) ** QUANTITIES[quantity]
     if H is None:
         if not mass_checked:   # the modal engine's state form made the check, if it was tried
             from ..linear_system import speed_linear_form
@@ -418,7 +452,8 @@ def _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine, mass_checked
         H = np.einsum("sd,fdi->sif", rows, dof_response(model, speed, omega, columns))
     H = H * (1j * omega) ** QUANTITIES[quantity]
     return FRFResult(H=H, frequencies_hz=f, speed=float(speed), inputs=_names(model.excitations, inputs),
-                     outputs=_names(model.sensors, outputs), quantity=quantity, engine=used)
+                     outputs=_names(model.sensors, outputs), quantity=quantity, engine=used,
+                     resonances_hz=peaks, resonance_H=peak_H)
 
 
 def _check_channels(model, rows, columns):
@@ -428,8 +463,39 @@ def _check_channels(model, rows, columns):
                              "sensor and one excitation (see docs/model-file.md)")
 
 
-def _modal_receptance(model, speed, omega, rows, columns):
-    """Receptance by modal superposition; None when the eigenvectors are ill conditioned."""
+def unresolved_resonances(eigenvalues, frequencies_hz) -> np.ndarray:
+    """The damped natural frequencies [Hz] of the roots ``eigenvalues`` (all of a state matrix,
+    [1/s]) that lie within the computed ``frequencies_hz`` but have no computed frequency within
+    a quarter of their half-power bandwidth ``|Re lam| / pi`` [Hz]: there a single mode's
+    response falls to about 0.9 of its peak (``1 / sqrt(1 + (2 d / B)^2)`` at a distance ``d``),
+    and farther the line drawn between the computed frequencies may cut the resonance's peak.
+
+    Returns
+    -------
+    ndarray, shape (P,) [Hz], increasing
+    """
+    f = np.sort(np.asarray(frequencies_hz, dtype=float))
+    lam = np.asarray(eigenvalues, dtype=complex)
+    lam = lam[(lam.imag > 0) & (lam.real < 0)]
+    fd, bandwidth = lam.imag / (2 * np.pi), -lam.real / np.pi
+    inside = (fd > f[0]) & (fd < f[-1]) if f.size > 1 else np.zeros(fd.shape, bool)
+    fd, bandwidth = fd[inside], bandwidth[inside]
+    where = np.clip(np.searchsorted(f, fd), 1, max(f.size - 1, 1))
+    nearest = np.minimum(np.abs(f[where] - fd), np.abs(fd - f[where - 1])) if f.size > 1 else np.zeros(0)
+    return np.sort(fd[4 * nearest > bandwidth])
+
+
+def _modal_sum(terms, omega):
+    """The receptance (n_s, n_e, n_f) of modal ``terms`` (:func:`_modal_terms`) at ``omega`` [rad/s]."""
+    values, left, right = terms
+    poles = 1.0 / (1j * omega[None, :] - values[:, None])   # (2n, n_f)
+    return np.einsum("sk,ki,kf->sif", left, right, poles)
+
+
+def _modal_terms(model, speed, rows, columns):
+    """``(eigenvalues, left, right)`` of the modal superposition of the receptance from
+    ``columns`` to ``rows``: ``H = sum_k left[:, k] right[k] / (i w - lam_k)``; None when the
+    eigenvectors are ill conditioned."""
     import scipy.linalg
 
     from ..linear_system import speed_linear_form
@@ -448,5 +514,4 @@ def _modal_receptance(model, speed, omega, rows, columns):
     b[n:2 * n] = form.mass_inverse @ columns
     left = rows @ vectors[:n]                      # (n_s, 2n)
     right = scipy.linalg.lu_solve(factors, b, check_finite=False)   # V^-1 B, (2n, n_e)
-    poles = 1.0 / (1j * omega[None, :] - values[:, None])   # (2n, n_f)
-    return np.einsum("sk,ki,kf->sif", left, right, poles)
+    return values, left, right

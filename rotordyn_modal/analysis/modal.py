@@ -363,7 +363,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     return ModalResult(
         speed=float(speed), eigenvalues=upper, frequencies_hz=freq, damping_ratios=zeta,
         log_decrements=log_dec, whirl_ratios=ratios,
-        whirl=_whirl.whirl_labels(np.where(np.abs(ratios) <= ratio_noise, 0.0, ratios)),
+        whirl=_whirl.whirl_labels(ratios, ratio_noise),
         shapes=shapes, reference_point=np.asarray(model.reference_point), oscillatory=oscillatory,
         dof_names=layout.names, rotor_names=tuple(r.name for r in model.rotors),
         rotor_whirl_ratios=rotor_ratios,

@@ -306,7 +306,7 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
         if modes is not None or max_frequency is not None:
             return _stability_lowest(stack, speeds, modes, max_frequency)
     form = speed_linear_form(model)
-    eigenvalues, shapes, _ = solve_sweep(model, speeds, progress)
+    eigenvalues, shapes, _, noise = solve_sweep(model, speeds, progress, whirl_noise=True)
     ratios = np.where(is_oscillating(eigenvalues),
                       _whirl.whirl_ratios(shapes, _whirl.whirl_forms(model), speeds), 0.0)
     freq, zeta, log_dec = modal_quantities(eigenvalues)
@@ -315,7 +315,7 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
     crossing = _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes)
     return StabilityResult(
         speeds=speeds, eigenvalues=eigenvalues, real_parts=eigenvalues.real, damping_ratios=zeta,
-        log_decrements=log_dec, frequencies_hz=freq, whirl=_whirl.whirl_labels(ratios),
+        log_decrements=log_dec, frequencies_hz=freq, whirl=_whirl.whirl_labels(ratios, noise),
         modes=np.arange(1, eigenvalues.shape[1] + 1), thresholds=thresholds,
         threshold_modes=threshold_modes, threshold_onsets=onsets, roundoff=roundoff, **crossing,
     )

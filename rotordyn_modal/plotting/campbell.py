@@ -326,7 +326,8 @@ def _draw_by_whirl(ax, curves, result):
             if whirl in drawn:
                 kwargs.pop("label")
             elif whirl == "none":     # the label is a threshold on a continuous ratio: say which
-                kwargs["label"] = f"no whirl (|whirl ratio| \u2264 {WHIRL_TOLERANCE:g})"
+                kwargs["label"] = f"no whirl (|whirl ratio| \u2264 {WHIRL_TOLERANCE:g}" \
+                    + (" or within its round-off)" if result.whirl_none_by_round_off else ")")
             drawn.add(whirl)
             lines += ax.plot(curves.x, np.where(mask, curves.f[:, m], np.nan), linewidth=1.6, **kwargs)
     return lines

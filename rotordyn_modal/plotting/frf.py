@@ -267,12 +267,20 @@ def _renderer(fig):
     return get() if get is not None else fig._get_renderer()
 
 
+def _legend_entries(ax):
+    """``(handles, labels)`` of the legend of ``ax``: its named artists, then the entries that
+    are no artist of it (``ax._legend_extra``: what a panel's marks mean, :func:`_draw_frfs`)."""
+    handles, labels = ax.get_legend_handles_labels()
+    extra = getattr(ax, "_legend_extra", [])
+    return handles + extra, labels + [h.get_label() for h in extra]
+
+
 def _legend_beside(legend):
     """``legend`` beside its panel's top right (None when the panel has no named curve)."""
     if not legend.ax.get_legend_handles_labels()[0]:
         return None
-    return legend.ax.legend(fontsize=legend.fontsize, title=legend.title, title_fontsize=legend.fontsize,
-                            loc="upper left", bbox_to_anchor=(legend.beside, 1.0))
+    return legend.ax.legend(*_legend_entries(legend.ax), fontsize=legend.fontsize, title=legend.title,
+                            title_fontsize=legend.fontsize, loc="upper left", bbox_to_anchor=(legend.beside, 1.0))
 
 
 def _legend_above(legend, width, renderer) -> float:
@@ -281,13 +289,14 @@ def _legend_above(legend, width, renderer) -> float:
     from matplotlib.transforms import offset_copy
 
     ax = legend.ax
-    count = len(ax.get_legend_handles_labels()[0])
-    if not count:
+    if not ax.get_legend_handles_labels()[0]:
         return 0.0
+    entries = _legend_entries(ax)
+    count = len(entries[0])
     above = offset_copy(ax.transAxes, fig=ax.get_figure(root=True), y=_ABOVE_GAP, units="points")
 
     def drawn(columns):
-        box = ax.legend(fontsize=legend.fontsize, title=legend.title, title_fontsize=legend.fontsize,
+        box = ax.legend(*entries, fontsize=legend.fontsize, title=legend.title, title_fontsize=legend.fontsize,
                         loc="lower center", bbox_to_anchor=(0.5, 1.0), bbox_transform=above, ncols=columns)
         return box.get_window_extent(renderer)
 
@@ -330,6 +339,7 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0, 
     and has no phase drawn (the phase of round-off is noise)."""
     largest = max((float(np.max(np.abs(result.H[result.outputs.index(o), result.inputs.index(i)])))
                    for o, i in pairs), default=0.0)
+    cut = 0
     for n, (o, i) in enumerate(pairs, start=first):
         colour = f"C{n % 10}"
         style = "-" if n < 10 else "--"
@@ -348,8 +358,29 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0, 
         mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=name,
                      **({} if sparse is None else {"marker": ".", "ms": 3, "markevery": sparse}))
         phase.plot(*_broken_at_wraps(result.frequencies_hz, phase_values), color=colour, ls=style, lw=0.9)
+        cut += _mark_cut_peaks(mag, result, o, i, factor, colour)
+    if cut:                           # one legend entry (no line of the axes) says what the marks are
+        from matplotlib.lines import Line2D
+
+        mag._legend_extra = [Line2D([], [], linestyle="none", label="peak between computed frequencies", **_CUT_PEAK)]
     _limit_range(mag)
     _frequency_scale(mag, result.frequencies_hz)
+
+
+#: the mark of a resonance's peak that the line between two computed frequencies cuts
+_CUT_PEAK = {"marker": "D", "ms": 4.5, "mfc": "none", "mew": 1.0, "color": "0.2"}
+
+
+def _mark_cut_peaks(mag, result, o, i, factor, colour) -> int:
+    """An open diamond in the curve's colour at the height of each resonance of FRF ``(o, i)``
+    that its line cuts (:meth:`~rotordyn_modal.analysis.frf.FRFResult.cut_peaks`: more than 3 dB
+    above both computed frequencies around it), on a dense-looking stretch as on a sparse one;
+    returns how many."""
+    at, h = result.cut_peaks(o, i)
+    if len(at):
+        mag.plot(at, np.abs(h) * abs(factor), linestyle="none", gid="cut-peak", label="_cut-peak",
+                 **dict(_CUT_PEAK, color=colour))
+    return len(at)
 
 
 #: on a logarithmic frequency axis, computed frequencies farther apart than this ratio (30 per
@@ -468,8 +499,8 @@ def plot_overlay(models, measured, title: str | None = None, units: str = "si", 
         _draw_frfs(mag, phase, model, meas, pairs, lambda o, i: f"{o} / {i}", scale, samples=False)
         mag.set_ylabel(f"|H| [{unit}]")
         mag.set_title(f"at {model.speed * 30 / np.pi:.0f} rpm", fontsize="medium")
-        mag.legend(fontsize="x-small", title="model (line), measured (dots)", title_fontsize="x-small",
-                   loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        mag.legend(*_legend_entries(mag), fontsize="x-small", title="model (line), measured (dots)",
+                   title_fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
         phase.set_yticks([-180, -90, 0, 90, 180])
         phase.set_ylabel("Phase [deg]")
         phase.set_xlabel("Frequency [Hz]")
@@ -662,7 +693,8 @@ def _show_overlaps(axes, x, speed_unit):
     changed = False
     for ax in axes:
         named = any(not line.get_label().startswith("_") for line in ax.get_lines())   # a legend's panel
-        curves = [line for line in ax.get_lines() if not (named and line.get_label().startswith("_"))]
+        curves = [line for line in ax.get_lines() if not (named and line.get_label().startswith("_"))
+                  and line.get_gid() != "cut-peak"]
         names = {line: line.get_label() for line in curves}
         notes = {}
         for overlap in show_overlaps(ax, curves):

@@ -327,7 +327,7 @@ def _label_critical_lines(axes, critical, renderer):
     texts = {k: f"mode {critical.mode[k]}, {critical.order[k]:g}X {critical.source[k]}, {critical.speeds[k] * rpm:.0f} rpm"
              for k in range(len(critical.speeds))}
     for k in np.argsort(critical.speeds):
-        label = _first_room(axes, critical.speeds[k] * rpm, texts[k], placed, renderer, curves)
+        label = _first_room(axes, critical.speeds[k] * rpm, texts[k], placed, renderer, curves, across=False)
         if label is None:
             missing.append(k)
         else:
@@ -340,7 +340,7 @@ def _label_critical_lines(axes, critical, renderer):
         for k in missing:
             speed = f"{critical.speeds[k] * rpm:.0f} rpm"
             text = texts[k].replace(f", {speed}", f"\n{speed}") if wrap else texts[k]
-            label = _first_room(axes, critical.speeds[k] * rpm, text, placed, renderer, maps)
+            label = _first_room(axes, critical.speeds[k] * rpm, text, placed, renderer, maps, across=maps is data)
             if label is None:
                 still.append(k)
             else:
@@ -349,20 +349,23 @@ def _label_critical_lines(axes, critical, renderer):
     return labels
 
 
-def _first_room(axes, x, text, placed, renderer, curves):
-    """The label of the line at ``x`` [rpm] in the first of ``axes`` with room for it, or None."""
+def _first_room(axes, x, text, placed, renderer, curves, across=False):
+    """The label of the line at ``x`` [rpm] in the first of ``axes`` with room for it, or None
+    (``across``: it may lie across other critical lines, see :func:`_vertical_label`)."""
     for ax in axes:
-        label = _vertical_label(ax, x, text, placed[id(ax)], renderer, curves[id(ax)])
+        label = _vertical_label(ax, x, text, placed[id(ax)], renderer, curves[id(ax)], across)
         if label is not None:
             return label
     return None
 
 
-def _vertical_label(ax, x, text, placed, renderer, curves=None):
+def _vertical_label(ax, x, text, placed, renderer, curves=None, across=False):
     """A vertical label just right (else left) of the line at ``x``, at the top of the axes (else
     at the bottom, else at three heights between), inside the axes, clear of the boxes in ``placed`` (display
     units, updated) and of every curve of ``curves`` (a CurveMap) but its own line; None where
-    there is no room."""
+    there is no room. A label placed ``across`` other critical lines (where they crowd closer
+    than its width) hides them behind an opaque box: seen through its box they struck its text
+    out (the fan's run-up: 'mode 1, 1X fan, 798 rpm' under the lines at 866 and 880 rpm)."""
     frame = ax.get_window_extent(renderer)
     pad = 2.0 * ax.figure.dpi / 72.0
     line_x = ax.transData.transform((x, 0.0))[0]
@@ -373,7 +376,7 @@ def _vertical_label(ax, x, text, placed, renderer, curves=None):
         label = ax.annotate(text, (x, y), xycoords=("data", "axes fraction"), xytext=(shift * 2, rise),
                             textcoords="offset points", rotation=90, ha=ha, va=va, fontsize="x-small",
                             color="tab:red", bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none",
-                                                   "alpha": 0.7})
+                                                   "alpha": 1.0 if across else 0.7})
         box = label.get_window_extent(renderer)
         inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
         clear = curves is None or curves.free((box.x0, box.y0, box.x1, box.y1), keep=own)

@@ -165,7 +165,7 @@ class SimulationResult:
         columns["total_energy_j"] = self.total_energy
         return pd.DataFrame(columns)
 
-    def order_track(self, sensor: str, order: float = 1.0, rotor: str | None = None, revolutions: int = 4):
+    def order_track(self, sensor: str, order: float = 1.0, rotor: str | None = None, revolutions: int | None = None):
         """Order-tracked amplitude and phase of a sensor; see :func:`order_track`."""
         from .runup import order_track
 

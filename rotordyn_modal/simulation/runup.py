@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["OrderTrack", "Waterfall", "leakage_floor", "order_track", "waterfall"]
+__all__ = ["OrderTrack", "Waterfall", "leakage_floor", "order_track", "waterfall", "window_turns"]
 
 
 @dataclass
@@ -87,7 +87,7 @@ class Waterfall:
     sensor: str
 
 
-def order_track(result, sensor, order=1.0, rotor=None, revolutions=4) -> OrderTrack:
+def order_track(result, sensor, order=1.0, rotor=None, revolutions=None) -> OrderTrack:
     """Order tracking by demodulation with the rotor's own angle.
 
     Over consecutive windows of ``revolutions`` turns of the rotor (counted as travelled, so a
@@ -108,8 +108,9 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=4) -> OrderTr
         Multiple ``k`` of the rotor's angle.
     rotor : str, optional
         Rotor whose angle is tracked (default: the reference rotor, the first with ratio 1).
-    revolutions : int
-        Turns per window.
+    revolutions : int, optional
+        Turns per window (default :func:`window_turns`: 4 on one rotor; with other rotors the
+        length from 4 to 8 turns that passes least of their same order, none where it can).
 
     Returns
     -------
@@ -117,6 +118,8 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=4) -> OrderTr
     """
     signal = result.sensor(sensor)
     index = _rotor_index(result, rotor)
+    if revolutions is None:
+        revolutions = window_turns(result.speed_ratios, index)
     angles = np.asarray(result.rotor_angles, dtype=float)
     windows = _windows(result.time, angles[:, index], revolutions)
     values = np.array([_demodulated(signal[w], order * angles[w, index], result.time[w]) for w in windows],
@@ -136,6 +139,42 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=4) -> OrderTr
     phase = np.where(amplitude >= 2.0 * floors, np.degrees(np.angle(values)), np.nan)
     return OrderTrack(speeds=speeds, amplitude=amplitude, phase_deg=phase, sensor=sensor,
                       rotor=result.rotor_names[index], order=float(order), leakage_floor=floors.reshape(-1))
+
+
+#: the shortest and longest order-tracking windows :func:`window_turns` chooses from [turns]
+SHORTEST_WINDOW, LONGEST_WINDOW = 4, 8
+
+
+def window_turns(speed_ratios, index) -> int:
+    """The window length [whole turns of rotor ``index``] that passes least of the same order of
+    the other rotors: over ``R`` turns at a steady speed the window's response to a rotor
+    turning ``rho`` times as fast is ``|sinc(R (rho - 1))| + |sinc(R (rho + 1))|``
+    (:func:`leakage_floor`), 0 where both ``R (rho -+ 1)`` are whole numbers. The ``R`` from
+    :data:`SHORTEST_WINDOW` to :data:`LONGEST_WINDOW` whose largest response over the other
+    rotors is least (within 1e-9, the shortest); :data:`SHORTEST_WINDOW` without other rotors
+    at another speed. The fan's 1.6:1 belt: 8 turns of the motor (3 and 13 cycles of the
+    difference and sum: a null) where 4 passed 0.26 of the fan's 1X, 5 of the fan.
+
+    Parameters
+    ----------
+    speed_ratios : array_like, shape (R_rotors,)
+        Each rotor's speed over the reference rotor's.
+    index : int
+        The tracked rotor.
+
+    Returns
+    -------
+    int
+    """
+    ratios = np.asarray(speed_ratios, dtype=float)
+    own = abs(ratios[index])
+    rho = np.array([abs(ratios[j]) / own for j in range(len(ratios))
+                    if j != index and abs(abs(ratios[j]) - own) > 1e-9 * max(own, 1.0)])
+    if not rho.size or own == 0:
+        return SHORTEST_WINDOW
+    turns = np.arange(SHORTEST_WINDOW, LONGEST_WINDOW + 1)
+    response = (np.abs(np.sinc(turns[:, None] * (rho[None] - 1))) + np.abs(np.sinc(turns[:, None] * (rho[None] + 1)))).max(axis=1)
+    return int(turns[np.flatnonzero(response <= response.min() + 1e-9)[0]])
 
 
 def _windows(time, angle, revolutions) -> list:

@@ -147,11 +147,96 @@ def _reduced_roots(stack, speeds, count, progress=False):
     if _arnoldi.takes(size + attached.shape[1], n):     # the undamped modes crowd above the wanted roots
         values, shapes, ok = _arnoldi.lowest(pencils, count, _refined, _distinct, progress)
         return (*_by_frequency(values, shapes, count), ok)
-    values, shapes, ok, unmissed = _swept(pencils, np.hstack([modes[:, :size], attached]), want, count)
+    basis = np.hstack([modes[:, :size], attached])
+    values, shapes, ok, unmissed = _swept(pencils, basis, want, count)
     ok &= _distinct(values, shapes) & unmissed
     # Newton may reorder roots of close frequency: by frequency again
     values, shapes = _by_frequency_over(values, shapes, count)
-    return values, shapes, ok & _basis_suffices(values, bound, size, attached.shape[1], rho)
+    ok &= _basis_suffices(values, bound, size, attached.shape[1], rho)
+    _cut_in_a_multiple_root(stack, pencils, bound, (values, shapes, ok), count)
+    return values, shapes, ok
+
+
+#: the most roots of one multiple root across the cut refined beyond the ``count + 1``
+_MULTIPLE_EXTRA = 4
+
+
+def _cut_in_a_multiple_root(stack, pencils, bound, out, count):
+    """The speeds that failed a check because the cut falls inside a multiple root, refined again
+    with more starts, written into ``out`` = (values (S, k), shapes (S, k, n), ok (S,)), ``k =
+    count + 1``, by frequency.
+
+    An axisymmetric rotor at rest has double roots: where the ``count``-th and the ``count +
+    1``-th root are one of them, the highest start (the root's other half) is not above the
+    ``count``-th root found, so :func:`_unmissed` cannot show that no root was missed below it, and
+    the speed was solved whole (issue 28). Refined from ``k + e`` projected starts (``e`` up to
+    ``_MULTIPLE_EXTRA``, the fewest that leave a start above the multiple root), the speed passes
+    the same checks with the cut above the whole multiple root: its roots distinct or independent
+    (:func:`_distinct`), no root missed below the multiple root's top (:func:`_unmissed`), the
+    basis (made for the ``k + e`` roots, :func:`_basis_for`, from ``bound``) sufficing. The multiple root's shapes across
+    the cut, where it is a double root, are its backward and forward whirl combinations, backward
+    first (:func:`._eigensolve.resolve_repeated`): the root kept below the cut is the backward one,
+    the lower of the two as soon as the rotor turns (``docs/theory.md`` section 17, "Multiple
+    roots"); the full eigen-solve, before, kept either.
+    """
+    from ._eigensolve import resolve_repeated
+
+    values, shapes, ok = out
+    k = values.shape[1]
+    if k <= count or ok.all():
+        return
+    with np.errstate(invalid="ignore"):
+        cut = np.abs(values[:, count] - values[:, count - 1]) <= _SAME * np.abs(values[:, count - 1])
+    rows = np.nonzero(~ok & cut)[0]
+    n = len(bound.omegas)
+    for extra in range(1, _MULTIPLE_EXTRA + 1):
+        if not len(rows) or k + extra > n:
+            return
+        want = k + extra
+        basis, suffices = _basis_for(pencils, bound, want, rows)
+        starts, vectors = _projected_starts(pencils, basis, want, rows)
+        found, found_shapes, converged = _refined(pencils, starts, vectors, rows)
+        top = _top_of_group(found, count)                              # (R,) the multiple root's last place
+        above = top + 1 < want                                          # a start above it was refined
+        unmissed = np.zeros(len(rows), bool)
+        for place in np.unique(top[above]):                            # nothing missed below its top
+            at = above & (top == place)
+            unmissed[at] = _unmissed(starts[at], found[at], int(place) + 1)
+        padded = np.full((len(values), want), np.nan + 0j)               # the bound is of every speed
+        padded[rows] = found
+        passed = converged & unmissed & _distinct(found, found_shapes) & suffices(padded)[rows]
+        found, found_shapes = _by_frequency_over(found, found_shapes, count)
+        pair = slice(count - 1, count + 1)
+        found_shapes[:, pair] = resolve_repeated(found[:, pair], found_shapes[:, pair], stack.repeated_forms,
+                                                 np.zeros(len(rows), int))
+        done = rows[passed]
+        values[done], shapes[done], ok[done] = found[passed, :k], found_shapes[passed, :k], True
+        rows = rows[~passed & ~above]                                   # more starts may reach above it
+
+
+def _basis_for(pencils, bound, want, rows):
+    """The reduced basis (n, m) for the ``want`` lowest roots at the speeds ``rows``, sized as
+    :func:`_reduced_roots` sizes it, and its check (roots (S, want), NaN at the other speeds ->
+    (S,) bool, :func:`_basis_suffices`)."""
+    n = len(bound.omegas)
+    size = min(n, max(3 * want, want + 10))
+    rho = _MARGIN * np.max(np.abs(_projected_starts(pencils, bound.modes[:, :size], want, rows)[0]))
+    size = min(n, max(_needed_size(bound, rho, size), want))
+    _, attached = bound.shares(size, rho)
+    return (np.hstack([bound.modes[:, :size], attached]),
+            lambda found: _basis_suffices(found, bound, size, attached.shape[1], rho))
+
+
+def _top_of_group(values, count):
+    """(R,) the last place (0-based) of the group of roots of ``values`` (R, k), by frequency,
+    that coincide (within ``_SAME``) with the ``count``-th, counting on from it."""
+    key = np.sort(values.imag, axis=1)
+    top = np.full(len(values), count - 1)
+    for j in range(count, values.shape[1]):
+        with np.errstate(invalid="ignore"):
+            joined = (top == j - 1) & (np.abs(key[:, j] - key[:, count - 1]) <= _SAME * np.abs(key[:, count - 1]))
+        top[joined] = j
+    return top
 
 
 def _swept(pencils, basis, want, count):

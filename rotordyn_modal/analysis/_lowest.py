@@ -265,36 +265,43 @@ def _swept(pencils, basis, want, count):
     unmissed[solved] = _unmissed(expansions.starts, values[solved], count)
     moved = np.max(np.abs(expansions.starts - values[solved]), axis=1)      # the projection's error there
     first = 0
-    for level, (whole, _) in enumerate(levels):
-        # a part of the level's speeds at a time (each speed's starts are its own): their starts'
-        # vectors are not held for every speed at once (62 MB at 400 coordinates, 1,001 speeds)
-        for chunk in _batches.chunk_slices(len(whole), 16 * want * shapes.shape[2], budget=_LEVEL_BYTES):
-            part, places = whole[chunk], first + np.arange(chunk.start, chunk.stop)
-            if level == 0:          # the anchors between the solved ones: their projected roots, the solved ones' errors
-                guesses, vectors, sure, projected = _projected_guesses(expansions, places, values, shapes, ok)
-            else:
-                guesses, vectors, sure = _expansion_guesses(expansions, places, values, shapes, ok)
-            rows = part[sure]
-            if len(rows):
-                if not sure.all():
-                    guesses, vectors = guesses[sure], vectors[sure]
-                _refine_into(_continued, pencils, guesses, vectors, rows, (values, shapes, ok))
-                unmissed[rows] = _unmissed(projected[sure], values[rows], count) if level == 0 \
-                    else _certified(expansions, places[sure], values, moved, count)
+    for level, (part, _) in _level_parts(levels, 16 * want * shapes.shape[2]):
+        places = first + np.arange(len(part))
+        first += len(part)
+        if level == 0:          # the anchors between the solved ones: their projected roots, the solved ones' errors
+            guesses, vectors, sure, projected = _projected_guesses(expansions, places, values, shapes, ok)
+        else:
+            guesses, vectors, sure = _expansion_guesses(expansions, places, values, shapes, ok)
+        rows = part[sure]
+        if len(rows):
+            if not sure.all():
+                guesses, vectors = guesses[sure], vectors[sure]
+            _refine_into(_continued, pencils, guesses, vectors, rows, (values, shapes, ok))
+            unmissed[rows] = _unmissed(projected[sure], values[rows], count) if level == 0 \
+                else _certified(expansions, places[sure], values, moved, count)
+        del vectors
+        # the speeds not carried over, and those whose discs show nothing: their own projected roots
+        rows = part[~sure | (~unmissed[part] & ok[part])]
+        if len(rows):
+            again, vectors = _projected_starts(pencils, basis, want, rows)
+            _refine_into(_refined, pencils, again, vectors, rows, (values, shapes, ok))
+            unmissed[rows] = _unmissed(again, values[rows], count)
             del vectors
-            # the speeds not carried over, and those whose discs show nothing: their own projected roots
-            rows = part[~sure | (~unmissed[part] & ok[part])]
-            if len(rows):
-                again, vectors = _projected_starts(pencils, basis, want, rows)
-                _refine_into(_refined, pencils, again, vectors, rows, (values, shapes, ok))
-                unmissed[rows] = _unmissed(again, values[rows], count)
-                del vectors
-        first += len(whole)
     return values, shapes, ok, unmissed
 
 
 #: the starts' vectors of the speeds between anchors made at once (:func:`_swept`) [bytes]
 _LEVEL_BYTES = 16 * 2**20
+
+
+def _level_parts(levels, item_bytes):
+    """``(level, (part, nodes))`` of :func:`_swept`'s ``levels``, in turn, each level's speeds a
+    part of at most ``_LEVEL_BYTES`` of ``item_bytes`` each at a time (each speed's starts are its
+    own, so the parts change no number): their starts' vectors are not held for every speed of a
+    level at once (62 MB at 400 coordinates and 1,001 speeds)."""
+    for level, (part, nodes) in enumerate(levels):
+        for chunk in _batches.chunk_slices(len(part), item_bytes, budget=_LEVEL_BYTES):
+            yield level, (part[chunk], nodes)
 
 
 def _certified(expansions, places, values, moved, count):

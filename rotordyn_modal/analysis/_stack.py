@@ -291,6 +291,8 @@ class Stack:
         """Mass-weighted unit shapes (see :func:`_vectors.mass_normalized`) of rows of variants,
         one product per part of :meth:`weighted_parts`."""
         out = np.empty(shapes.shape, dtype=complex)
+        if not out.size:                # no shapes (and no parts of zero width to cut)
+            return out
         parts = self.weighted_parts(shapes.shape, variants)
         modal = self._modal_weighting()
         if modal is not None:          # a large model's: F^T x = Phi^T M x

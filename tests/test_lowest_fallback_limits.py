@@ -22,6 +22,14 @@ ENVIRONMENT = "ROTORDYN_MODAL_MAX_CPU_MINUTES"
 SPEEDS = np.array([0.0, 500.0])                         # [rad/s]: speed 0 is left to the full solve
 
 
+@pytest.fixture(autouse=True)
+def cut_in_a_double_root_left_whole(monkeypatch):
+    """The speed left to the full solve: the cut inside a double root at rest, as before its own
+    refinement (``_lowest._cut_in_a_multiple_root``, tests/test_lowest_cut_in_double_root.py)
+    serves it; these tests are of the fallback's limits, whatever the speed it serves."""
+    monkeypatch.setattr(_lowest, "_cut_in_a_multiple_root", lambda *args: None)
+
+
 @pytest.fixture
 def no_full_solve(monkeypatch):
     """A full eigen-solve is a failure: the refusal comes before it."""

@@ -89,11 +89,7 @@ def lowest_roots(stack, speeds, count: int, progress: bool = False, what: str = 
     # eigen-solves and banded solves run in threads of their own
     with _batches.one_blas_thread(_batches._BLAS_THREADED_BYTES):
         values, shapes, ok = _reduced_roots(stack, speeds, count, progress)
-    n = stack.n_dof
-    out_values = np.full((len(speeds), count), np.nan + 0j)
-    out_shapes = np.zeros((len(speeds), count, n), dtype=complex)
-    k = min(count, values.shape[1])
-    out_values[:, :k], out_shapes[:, :k] = values[:, :k], shapes[:, :k]
+    out_values, out_shapes = _first_columns(values, shapes, count)
     full = ~ok
     _by_whirl(stack, out_values, out_shapes, ok)
     if full.any():
@@ -103,6 +99,31 @@ def lowest_roots(stack, speeds, count: int, progress: bool = False, what: str = 
         lam, phi = _full_lowest(stack, speeds[full], count, progress)
         out_values[full], out_shapes[full] = lam, phi
     return out_values, out_shapes, full
+
+
+#: the largest part of a sweep's shapes copied at once where they are moved within their own
+#: memory (:func:`_first_columns`) [bytes]
+_MOVE_BYTES = 8 * 2**20
+
+
+def _first_columns(values, shapes, count):
+    """The first ``count`` roots (S, count) and shapes (S, count, n) of each speed of ``values``
+    (S, k) and ``shapes`` (S, k, n); NaN and zero shapes where fewer than ``count`` were found.
+    Where ``k >= count`` the shapes are written over the front of ``shapes``' own memory, a part of
+    the speeds at a time (each speed's goes no further than its own began, so no speed is written
+    over before it is moved), and returned as a view of it: not a second copy of every speed's
+    shapes (issue 28: 77 MB for the lowest 12 of 400 coordinates at 1,001 speeds)."""
+    speeds, k, n = shapes.shape
+    out_values = np.full((speeds, count), np.nan + 0j)
+    out_values[:, :min(count, k)] = values[:, :count]
+    if k < count or not shapes.flags.c_contiguous:
+        out_shapes = np.zeros((speeds, count, n), dtype=complex)
+        out_shapes[:, :k] = shapes[:, :count]
+        return out_values, out_shapes
+    front = shapes.reshape(-1)[:speeds * count * n].reshape(speeds, count, n)
+    for part in _batches.chunk_slices(speeds, 16 * count * n, budget=_MOVE_BYTES):
+        front[part] = shapes[part, :count]             # numpy buffers a copy where the two overlap
+    return out_values, front
 
 
 def _reduced_roots(stack, speeds, count, progress=False):
@@ -126,11 +147,93 @@ def _reduced_roots(stack, speeds, count, progress=False):
     if _arnoldi.takes(size + attached.shape[1], n):     # the undamped modes crowd above the wanted roots
         values, shapes, ok = _arnoldi.lowest(pencils, count, _refined, _distinct, progress)
         return (*_by_frequency(values, shapes, count), ok)
-    values, shapes, ok, unmissed = _swept(pencils, np.hstack([modes[:, :size], attached]), want, count)
+    basis = np.hstack([modes[:, :size], attached])
+    values, shapes, ok, unmissed = _swept(pencils, basis, want, count)
     ok &= _distinct(values, shapes) & unmissed
     # Newton may reorder roots of close frequency: by frequency again
-    values, shapes = _by_frequency(values, shapes, count)
-    return values, shapes, ok & _basis_suffices(values, bound, size, attached.shape[1], rho)
+    values, shapes = _by_frequency_over(values, shapes, count)
+    ok &= _basis_suffices(values, bound, size, attached.shape[1], rho)
+    _cut_in_a_multiple_root(stack, pencils, bound, (values, shapes, ok), count)
+    return values, shapes, ok
+
+
+#: the most roots of one multiple root across the cut refined beyond the ``count + 1``
+_MULTIPLE_EXTRA = 4
+
+
+def _cut_in_a_multiple_root(stack, pencils, bound, out, count):
+    """The speeds that failed a check because the cut falls inside a multiple root, refined again
+    with more starts, written into ``out`` = (values (S, k), shapes (S, k, n), ok (S,)), ``k =
+    count + 1``, by frequency.
+
+    An axisymmetric rotor at rest has double roots: where the ``count``-th and the ``count +
+    1``-th root are one of them, the highest start (the root's other half) is not above the
+    ``count``-th root found, so :func:`_unmissed` cannot show that no root was missed below it, and
+    the speed was solved whole (issue 28). Refined from ``k + e`` projected starts (``e`` up to
+    ``_MULTIPLE_EXTRA``, the fewest that leave a start above the multiple root), the speed passes
+    the same checks with the cut above the whole multiple root: its roots distinct or independent
+    (:func:`_distinct`), no root missed below the multiple root's top (:func:`_unmissed`), the
+    basis (made for the ``k + e`` roots, :func:`_basis_for`, from ``bound``) sufficing. The multiple root's shapes across
+    the cut, where it is a double root, are its backward and forward whirl combinations, backward
+    first (:func:`._eigensolve.resolve_repeated`): the root kept below the cut is the backward one,
+    the lower of the two as soon as the rotor turns (``docs/theory.md`` section 17, "Multiple
+    roots"); the full eigen-solve, before, kept either.
+    """
+    values, shapes, ok = out
+    k = values.shape[1]
+    if k <= count or ok.all():
+        return
+    with np.errstate(invalid="ignore"):
+        cut = np.abs(values[:, count] - values[:, count - 1]) <= _SAME * np.abs(values[:, count - 1])
+    rows = np.nonzero(~ok & cut)[0]
+    n = len(bound.omegas)
+    for extra in range(1, _MULTIPLE_EXTRA + 1):
+        if not len(rows) or k + extra > n:
+            return
+        want = k + extra
+        basis, suffices = _basis_for(pencils, bound, want, rows)
+        starts, vectors = _projected_starts(pencils, basis, want, rows)
+        found, found_shapes, converged = _refined(pencils, starts, vectors, rows)
+        top = _top_of_group(found, count)                              # (R,) the multiple root's last place
+        above = top + 1 < want                                          # a start above it was refined
+        unmissed = np.zeros(len(rows), bool)
+        for place in np.unique(top[above]):                            # nothing missed below its top
+            at = above & (top == place)
+            unmissed[at] = _unmissed(starts[at], found[at], int(place) + 1)
+        padded = np.full((len(values), want), np.nan + 0j)               # the bound is of every speed
+        padded[rows] = found
+        passed = converged & unmissed & _distinct(found, found_shapes) & suffices(padded)[rows]
+        found, found_shapes = _by_frequency_over(found, found_shapes, count)
+        # the multiple root across the cut by whirl, backward first, before the cut keeps its lower part
+        _by_whirl(stack, found, found_shapes, np.ones(len(rows), bool))
+        done = rows[passed]
+        values[done], shapes[done], ok[done] = found[passed, :k], found_shapes[passed, :k], True
+        rows = rows[~passed & ~above]                                   # more starts may reach above it
+
+
+def _basis_for(pencils, bound, want, rows):
+    """The reduced basis (n, m) for the ``want`` lowest roots at the speeds ``rows``, sized as
+    :func:`_reduced_roots` sizes it, and its check (roots (S, want), NaN at the other speeds ->
+    (S,) bool, :func:`_basis_suffices`)."""
+    n = len(bound.omegas)
+    size = min(n, max(3 * want, want + 10))
+    rho = _MARGIN * np.max(np.abs(_projected_starts(pencils, bound.modes[:, :size], want, rows)[0]))
+    size = min(n, max(_needed_size(bound, rho, size), want))
+    _, attached = bound.shares(size, rho)
+    return (np.hstack([bound.modes[:, :size], attached]),
+            lambda found: _basis_suffices(found, bound, size, attached.shape[1], rho))
+
+
+def _top_of_group(values, count):
+    """(R,) the last place (0-based) of the group of roots of ``values`` (R, k), by frequency,
+    that coincide (within ``_SAME``) with the ``count``-th, counting on from it."""
+    key = np.sort(values.imag, axis=1)
+    top = np.full(len(values), count - 1)
+    for j in range(count, values.shape[1]):
+        with np.errstate(invalid="ignore"):
+            joined = (top == j - 1) & (np.abs(key[:, j] - key[:, count - 1]) <= _SAME * np.abs(key[:, count - 1]))
+        top[joined] = j
+    return top
 
 
 def _swept(pencils, basis, want, count):
@@ -162,7 +265,7 @@ def _swept(pencils, basis, want, count):
     unmissed[solved] = _unmissed(expansions.starts, values[solved], count)
     moved = np.max(np.abs(expansions.starts - values[solved]), axis=1)      # the projection's error there
     first = 0
-    for level, (part, _) in enumerate(levels):
+    for level, (part, _) in _level_parts(levels, 16 * want * shapes.shape[2]):
         places = first + np.arange(len(part))
         first += len(part)
         if level == 0:          # the anchors between the solved ones: their projected roots, the solved ones' errors
@@ -185,6 +288,20 @@ def _swept(pencils, basis, want, count):
             unmissed[rows] = _unmissed(again, values[rows], count)
             del vectors
     return values, shapes, ok, unmissed
+
+
+#: the starts' vectors of the speeds between anchors made at once (:func:`_swept`) [bytes]
+_LEVEL_BYTES = 16 * 2**20
+
+
+def _level_parts(levels, item_bytes):
+    """``(level, (part, nodes))`` of :func:`_swept`'s ``levels``, in turn, each level's speeds a
+    part of at most ``_LEVEL_BYTES`` of ``item_bytes`` each at a time (each speed's starts are its
+    own, so the parts change no number): their starts' vectors are not held for every speed of a
+    level at once (62 MB at 400 coordinates and 1,001 speeds)."""
+    for level, (part, nodes) in enumerate(levels):
+        for chunk in _batches.chunk_slices(len(part), item_bytes, budget=_LEVEL_BYTES):
+            yield level, (part[chunk], nodes)
 
 
 def _certified(expansions, places, values, moved, count):
@@ -253,11 +370,61 @@ def _by_whirl(stack, values, shapes, rows):
     so an axisymmetric rotor at rest has the same whirl either way. ``values`` (S, k) by frequency."""
     from ._eigensolve import _repeated_pairs, resolve_repeated
 
-    rows = np.nonzero(rows)[0]
-    rows = np.unique(rows[_repeated_pairs(values[rows])[0]]) if len(rows) else rows
+    every = np.nonzero(rows)[0]
+    rows = np.unique(every[_repeated_pairs(values[every])[0]]) if len(every) else every
     if len(rows):
         shapes[rows] = resolve_repeated(values[rows], shapes[rows], stack.repeated_forms,
                                         np.zeros(len(rows), int))
+    _by_whirl_in_groups(stack, values, shapes, every)
+
+
+def _by_whirl_in_groups(stack, values, shapes, rows):
+    """The shapes of each root of multiplicity three or more (adjacent coinciding roots of
+    ``values`` (S, k), by frequency, within ``_eigensolve.REPEATED_TOLERANCE`` of the speed's
+    largest |lambda|) at the speeds ``rows`` (R,) made the whirl-sorted combinations of their
+    eigenspace, backward first, written over ``shapes`` (S, k, n): ``-i Phi^H W Phi v = mu Phi^H
+    T Phi v`` (``T`` the total form), as :func:`._eigensolve.resolve_repeated` makes a pair's
+    (which leaves groups of three or more as they are). Two identical rotors at rest have four
+    roots of each double root's value: any basis of them came out of Newton's iteration, whirl
+    ratios anywhere in ``[-1, 1]``; now two of ratio -1 and two of +1. Groups whose shapes do not
+    span their space or do not whirl keep their shapes."""
+    from ._eigensolve import REPEATED_TOLERANCE, _extreme_whirl
+
+    forms = stack.repeated_forms
+    for s in rows:
+        lam = values[s]
+        with np.errstate(invalid="ignore"):
+            close = np.abs(np.diff(lam)) <= REPEATED_TOLERANCE * (np.nanmax(np.abs(lam)) + 1e-300)
+        for start, stop in _runs(close):
+            if stop - start < 3 or lam[start] == 0:
+                continue
+            basis = shapes[s, start:stop].T                                    # (n, g)
+            total, momentum = (basis.conj().T @ _dense(form, basis) for form in (forms.total, forms.W))
+            spread = np.linalg.eigvalsh(0.5 * (total + total.conj().T))
+            if not spread[0] > 1e-6 * spread[-1]:
+                continue
+            mu, resolved = _extreme_whirl(basis[None], total[None], -1j * momentum[None])
+            if mu[0, -1] - mu[0, 0] > 1e-6:
+                shapes[s, start:stop] = resolved[0].T
+
+
+def _runs(close):
+    """``(start, stop)`` of each run of roots joined by ``close`` (k - 1,) bool: roots
+    ``start:stop``, at least two."""
+    runs, j = [], 0
+    while j < len(close):
+        if close[j]:
+            start = j
+            while j < len(close) and close[j]:
+                j += 1
+            runs.append((start, j + 1))
+        j += 1
+    return runs
+
+
+def _dense(form, basis):
+    """``form @ basis`` (n, g) of a whirl form (n, n), (1, n, n) or ``scipy.sparse``."""
+    return (form[0] if getattr(form, "ndim", 2) == 3 else form) @ basis
 
 
 def _distinct(values, shapes=None):

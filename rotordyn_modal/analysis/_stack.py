@@ -293,20 +293,39 @@ class Stack:
         return (mass @ _vectors.real_product(weighted_rows, modes.T).T).T
 
     def weighted(self, shapes, variants):
-        """Mass-weighted unit shapes (see :func:`_vectors.mass_normalized`) of rows of variants."""
+        """Mass-weighted unit shapes (see :func:`_vectors.mass_normalized`) of rows of variants,
+        one product per part of :meth:`weighted_parts`."""
         out = np.empty(shapes.shape, dtype=complex)
+        if not out.size:                # no shapes (and no parts of zero width to cut)
+            return out
+        parts = self.weighted_parts(shapes.shape, variants)
         modal = self._modal_weighting()
         if modal is not None:          # a large model's: F^T x = Phi^T M x
             modes, mass = modal
             flat, into = shapes.reshape(-1, shapes.shape[-1]), out.reshape(-1, shapes.shape[-1])
-            for part in _batches.chunk_slices(len(flat), 64 * flat.shape[1]):
+            for _, part in parts:
                 into[part] = _vectors.unit_rows(_vectors.real_product((mass @ flat[part].T).T, modes))
             return out
         # in parts: the real and imaginary parts and their products are copies of the shapes
-        for variant, part in _variant_parts(variants, 64 * shapes[0].size):
+        width = int(np.prod(shapes.shape[1:-1], dtype=int))
+        for variant, part in parts:
+            rows = slice(part.start // width, part.stop // width)
             factor = self.factor[0 if self.shared_mass else variant]                   # real: L^H = L^T
-            out[part] = _vectors.unit_rows(_vectors.real_product(shapes[part], factor))
+            out[rows] = _vectors.unit_rows(_vectors.real_product(shapes[rows], factor))
         return out
+
+    def weighted_parts(self, shape, variants) -> list:
+        """The parts :meth:`weighted` multiplies as one product each, of shapes of ``shape``
+        (R, ..., n) of rows of ``variants`` (R,): ``(variant, slice)``, the slice over the rows of
+        the shapes flattened to (-1, n). A part computed alone (:meth:`weighted` of just its rows,
+        of their shape) is one product of the same size: the same bits as in the whole
+        (:class:`._weighted_rows.WeightedRows` computes a sweep's a part at a time)."""
+        n = shape[-1]
+        width = int(np.prod(shape[1:-1], dtype=int))
+        if self._modal_weighting() is not None:
+            return [(0, part) for part in _batches.chunk_slices(shape[0] * width, 64 * n)]
+        return [(variant, slice(part.start * width, part.stop * width))
+                for variant, part in _variant_parts(variants, 64 * width * n)]
 
     def whirl_ratios(self, shapes, variants, speeds):
         """Whirl ratios (see :func:`_whirl.whirl_ratios`) of shapes (R, m, n) of rows of variants."""

@@ -20,6 +20,7 @@ from .critical_speeds import (_SUB_DEPTH, _SUB_SPEEDS, JUMP_TOLERANCE, CriticalS
                               off_order_line)
 from .modal import is_oscillating, modal_quantities
 from .mode_numbers import numbers_at_speed
+from ._weighted_rows import WeightedRows
 from .tracking import track_modes_many
 
 __all__ = ["CampbellResult", "CriticalSpeeds", "ExcitationSources", "campbell", "campbell_many",
@@ -643,11 +644,13 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
             values, shapes, _ = _lowest.lowest_roots(stack, speeds, count, progress)
         values, shapes = values[None], shapes[None]
         every = _variant_rows(1, len(speeds))
-        weighted = stack.weighted(shapes.reshape((-1,) + shapes.shape[-2:]), every).reshape(shapes.shape)
+        # read by part where tracking and the critical speeds compare shapes: not a second copy of all
+        weighted = WeightedRows(stack, shapes, one_thread=True)
     order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
     rows = np.zeros((1, 1, 1), int), np.arange(len(speeds))[None, :, None]
     values = values[rows + (order,)]
-    shapes, weighted = _reordered(shapes, order), _reordered(weighted, order)
+    shapes = _reordered(shapes, order)
+    weighted = weighted.reordered(order, shapes)
     if wanted is not None:
         wanted = wanted[None][rows + (order,)]
         values, shapes, weighted, wanted = _columns_wanted(values, shapes, weighted, wanted)
@@ -701,7 +704,8 @@ def _columns_wanted(values, shapes, weighted, wanted):
         return values, shapes, weighted, wanted
     # the shapes kept written over their first columns (views): no second copy of every speed's
     columns = np.broadcast_to(np.nonzero(keep)[0], shapes.shape[:2] + (int(keep.sum()),))
-    return values[..., keep], _reordered(shapes, columns), _reordered(weighted, columns), wanted[..., keep]
+    shapes = _reordered(shapes, columns)
+    return values[..., keep], shapes, weighted.reordered(columns, shapes), wanted[..., keep]
 
 
 def _near(wanted):

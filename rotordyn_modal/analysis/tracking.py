@@ -85,7 +85,7 @@ def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
         sure_step = confident[:, event]
         last_good[sure_step] = k
         for v in np.nonzero(~sure_step)[0]:
-            order[v, k], sure = _ambiguous_step(k, order[v], eigenvalues[v], shapes[v], last_good[v])
+            order[v, k], sure = _ambiguous_step(k, order[v], eigenvalues[v], _of_variant(shapes, v), last_good[v])
             last_good[v, sure] = k
         previous = k
     order[:, previous + 1:] = order[:, previous, None]
@@ -93,8 +93,9 @@ def track_modes_many(eigenvalues: np.ndarray, shapes: np.ndarray) -> np.ndarray:
 
 
 #: the largest part of the MAC matrices between neighbouring speeds (and their complex
-#: products) computed at once [bytes]
-_MAC_BYTES = 64 * 2**20
+#: products, and the weighted shapes of a :class:`._weighted_rows.WeightedRows` read for them)
+#: computed at once [bytes]; each step's MAC is its own: the parts change no number
+_MAC_BYTES = 8 * 2**20
 
 
 def _steps(shapes):
@@ -116,8 +117,9 @@ def _steps(shapes):
     best = np.empty((variants, count - 1, n), dtype=int)
     kept = np.empty((variants, count - 1), dtype=bool)
     confident = np.zeros((variants, count - 1), dtype=bool)
-    for part in chunk_slices(count - 1, variants * (40 * n * n + 16 * n * d), budget=_MAC_BYTES):
-        correlation = mac_matrix(shapes[:, part.start:part.stop], shapes[:, part.start + 1:part.stop + 1])
+    for part in chunk_slices(count - 1, variants * (40 * n * n + 32 * n * d), budget=_MAC_BYTES):
+        both = shapes[:, part.start:part.stop + 1]          # a view, or the weighted rows computed once
+        correlation = mac_matrix(both[:, :-1], both[:, 1:])
         mine = best[:, part] = correlation.argmax(axis=-1)
         kept[:, part] = (mine == np.arange(n)).all(axis=-1) & \
             (np.diagonal(correlation, axis1=-2, axis2=-1) > _CONFIDENT_MAC).all(axis=-1)
@@ -125,6 +127,12 @@ def _steps(shapes):
         if len(events):
             confident[:, part.start + events] = _confident_steps(correlation, mine, events)
     return best, kept, confident
+
+
+def _of_variant(shapes, v):
+    """``shapes[v]`` of shapes (V, N, n, d): the array's view, or a :class:`._weighted_rows.WeightedRows`'
+    variant read by part (not every speed's weighted shapes at once)."""
+    return shapes[v] if isinstance(shapes, np.ndarray) else shapes.variant(v)
 
 
 def _confident_steps(correlation, best, steps):

@@ -143,7 +143,7 @@ def _compute(model, definition, args, folder):
         try:
             with _executor(args, attempt) as executor:
                 return study(model, definition, executor=executor, checkpoint=folder,
-                             chunk_size=args.chunk_size, progress=show_progress(args))
+                             chunk_size=args.chunk_size, progress=show_progress(args), out=args.out)
         except _killed_worker(args) as error:
             died = error.allowed_failures + 1
             raise OutputWriteError(f"every dask worker that ran one chunk died ({died} worker{'s' * (died > 1)}: "
@@ -280,13 +280,13 @@ class _executor:
 
 
 def _write(result, args, folder, kinds=None):
-    """The results and the table (its columns in the unit system of ``kinds``,
-    :func:`_column_kinds`); the checkpoint goes once they are in place."""
+    """The table (its columns in the unit system of ``kinds``, :func:`_column_kinds`); the
+    results file is written by the study itself, chunk by chunk; the checkpoint goes once they
+    are in place."""
     from ..io import atomic_write
     from ..io.atomic import after_commit
     from ..study.execution import remove_checkpoint
 
-    result.save(args.out, progress=show_progress(args))
     after_commit(lambda: remove_checkpoint(folder))
     if args.table:
         with atomic_write(args.table, "w", newline="") as handle:
@@ -299,8 +299,8 @@ def _report(result, band, kinds=None):
           + (f", {result.resumed_chunks} chunks resumed from an earlier run" if result.resumed_chunks else ""),
           file=sys.stderr)
     if failed:
-        reasons = result.dataset["error"].values[result.failed]
-        print(f"first failure: {reasons[0]}", file=sys.stderr)
+        first = int(np.flatnonzero(result.failed)[0])         # one text read, not every variant's
+        print(f"first failure: {result.dataset['error'][first].values}", file=sys.stderr)
     table = result.summary()
     if len(table):
         table = _summary_in_units(_in_rpm(table), kinds)

@@ -104,7 +104,7 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     size = chunk_size or definition.chunk_size or default_chunk_size(len(values), executor)
     per_variant = variant_bytes(shapes, values.shape[1])
     streamed = out is not None and not _device(out)
-    held = held_bytes(variables, shapes, values.shape[1]) if streamed else per_variant
+    held = held_bytes(variables, shapes, values.shape[1]) if streamed else None     # None: all of it
     check_memory(len(values), per_variant, size, definition, _outputs_text(shapes), held=held)
     if checkpoint is not None:
         check_disk(checkpoint, len(values), per_variant, definition, _outputs_text(shapes))

@@ -319,14 +319,27 @@ class StudyResult:
         low, median, high : ndarray, shape (n_modes, N) [Hz]
             NaN where no variant has the mode at that speed (all NaN for a mode no variant has).
         """
-        freq = self.dataset["frequency_hz"].values[~self.failed]      # (variant, speed, mode)
-        freq = np.where(freq > 0, freq, np.nan)
-        bands = np.full((3, freq.shape[2], freq.shape[1]), np.nan)
-        for m in range(freq.shape[2]):
-            column = freq[:, :, m]
+        bands = np.full((3, self.dataset.sizes["mode"], self.dataset.sizes["speed"]), np.nan)
+        for m, column in enumerate(self.mode_frequencies()):
             if np.isfinite(column).any():
                 bands[:, m] = np.nanpercentile(column, [percentiles[0], 50.0, percentiles[1]], axis=0)
         return bands[0], bands[1], bands[2]
+
+    def mode_frequencies(self):
+        """Each tracked mode's damped natural frequency at every speed of the ``campbell`` analysis
+        over the variants that succeeded, one mode at a time (memory holds one mode's, read from
+        the results file where the data set reads one).
+
+        Yields
+        ------
+        ndarray, shape (n_succeeded, N) [Hz]
+            NaN where the root is no mode (frequency 0) or does not exist.
+        """
+        ok = ~self.failed
+        frequency = self.dataset["frequency_hz"]                      # (variant, speed, mode)
+        for m in range(self.dataset.sizes["mode"]):
+            column = frequency[:, :, m].values[ok]
+            yield np.where(column > 0, column, np.nan)
 
     def probability_in_band(self, low: float, high: float, sources=None, orders=None, modes=None) -> dict:
         """Probability that a critical speed falls inside an operating band.

@@ -37,8 +37,10 @@ Failed variants (a model that validation refuses, a solver error) are recorded w
 their reason and do not stop the study. A worker process the system kills (out of
 memory) is replaced once by a fresh pool of half the workers; on dask the scheduler
 computes a lost worker's chunk again elsewhere, and a chunk whose workers all died stops
-the study with one line (its finished chunks kept: run again). A study whose results
-cannot fit in memory is refused before any work, with the estimate (docs/study-file.md).
+the study with one line (its finished chunks kept: run again). Each chunk goes into
+RESULTS.nc as it comes (a temporary file renamed at the end): memory holds a chunk and a few
+numbers per variant, not the results. A study that cannot fit in memory or on the disk is
+refused before any work, in one line with the estimate (docs/study-file.md).
 
 With --units us the --table CSV and the --plot-map axes give a parameter that sets a key (apply
 = "value", a values grid) in the US unit of the key's quantity (lbf/in, lbf s/in, lb, lb in², in,

@@ -161,11 +161,18 @@ class _Run:
 
     def to_file(self, out) -> StudyResult:
         """The results written to ``out`` chunk by chunk (:class:`~.results.ResultsWriter`), whole
-        or not at all; the result reads the file."""
-        from ..io import atomic_write
-        from .results import NewEncoding, ResultsWriter
+        or not at all. The result holds the per-variant numbers in memory (assembled as the chunks
+        come) and reads the variables over speeds from the file as they are used
+        (:class:`~.results.FileRecords`)."""
+        from xarray.core.indexing import LazilyIndexedArray
 
-        template = self._dataset([_empty_chunk(self.described[1], self.described[2])], self.values[:1])
+        from ..io import atomic_write
+        from ..io.atomic import real_target
+        from .results import Assembly, NewEncoding, ResultsWriter, file_records, sweep_variables
+
+        _, variables, coords, _, _ = self.described
+        sweeps = sweep_variables(variables)
+        template = self._dataset([_empty_chunk(variables, coords)], self.values[:1])
         with atomic_write(out, None) as temporary:
             try:
                 writer = ResultsWriter(temporary, template, self.values, self.progress)
@@ -173,25 +180,29 @@ class _Run:
                 result = self.in_memory()
                 result.save(temporary, progress=self.progress)
                 return result
+            small = Assembly(len(self.values), {name: tuple(len(coords[d][1]) for d in dims)
+                                                for name, dims in variables.items() if name not in sweeps})
             try:
-                resumed = self._execute(writer)
+                resumed = self._execute(_Both(writer, small))
                 writer.finish()
             finally:
                 writer.close()
-        return StudyResult(_open_lazily(temporary, out), resumed_chunks=resumed)
+            small.arrays = small.arrays or {}
+            for name in sweeps:          # opened before the rename: the descriptor follows the file
+                small.arrays[name] = LazilyIndexedArray(file_records(temporary, real_target(out), len(writer.prefix),
+                                                                    writer.layout, name, len(self.values)))
+        return StudyResult(self._dataset(small, self.values), resumed_chunks=resumed)
 
 
-def _open_lazily(temporary, out):
-    """The data set of a results file, read as it is used (its variables mapped; a variable or a
-    slice of it is copied when read): the temporary file where its rename waits for other outputs
-    (:func:`~rotordyn_modal.io.atomic.outputs_together`: xarray keeps it open, which follows the
-    rename), else the file ``out`` names."""
-    import xarray as xr
+class _Both:
+    """Hands each chunk to the results file and to the numbers kept in memory."""
 
-    from ..io.atomic import real_target
+    def __init__(self, *targets):
+        self.targets = targets
 
-    path = temporary if os.path.exists(temporary) else str(real_target(out))
-    return xr.open_dataset(path, engine="scipy")
+    def add(self, chunk: dict) -> None:
+        for target in self.targets:
+            target.add(chunk)
 
 
 def _empty_chunk(variables, coords) -> dict:

@@ -9,11 +9,13 @@ no extra engine), which opens without this package (``xarray.open_dataset``,
 from __future__ import annotations
 
 import json
+import os
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["StudyResult", "Assembly", "ResultsWriter", "held_bytes", "build_dataset", "load_study", "percentile_interval", "variant_bytes"]
+__all__ = ["StudyResult", "Assembly", "ResultsWriter", "FileRecords", "sweep_variables", "held_bytes", "build_dataset", "load_study", "percentile_interval", "variant_bytes"]
 
 #: dimensions too long to spread into columns of the per-variant table
 _SWEEP_DIMS = ("speed", "stability_speed")
@@ -534,6 +536,103 @@ def write_netcdf(dataset, path, progress: bool = False) -> None:
                 bar.close()
         handle.seek(4)
         handle.write(np.array(n, ">i4").tobytes())  # numrecs
+
+
+def sweep_variables(variables) -> list:
+    """The output variables with a speed dimension (the large ones: Campbell curves, stability
+    roots), read from the results file as they are used rather than held in memory."""
+    return [name for name, dims in variables.items() if any(d in _SWEEP_DIMS for d in dims)]
+
+
+def file_records(*args):
+    """A :class:`FileRecords` that is an xarray backend array (xarray imported here, when a study
+    writes its file: the package imports without it)."""
+    from xarray.backends import BackendArray
+
+    global _FileRecordsArray
+    if _FileRecordsArray is None:
+        _FileRecordsArray = type("_FileRecordsArray", (FileRecords, BackendArray), {"__module__": __name__})
+    return _FileRecordsArray(*args)
+
+
+_FileRecordsArray = None
+
+
+class FileRecords:
+    """One record variable of a study's results file, read as it is used (an xarray backend
+    array): a block of records at a time through one file descriptor (``os.pread``), never
+    mapped, so that memory and address space hold what is asked for, not the file.
+
+    Parameters
+    ----------
+    path : str
+        The file (a temporary one may be renamed: the descriptor opened here follows it).
+    reopen : str
+        The file's final name, for messages.
+    begin : int
+        Byte offset of the first record.
+    layout : dict
+        :func:`_record_layout` of the file.
+    name : str
+        The variable.
+    n : int
+        Records (variants).
+    """
+
+    def __init__(self, path, reopen, begin: int, layout: dict, name: str, n: int):
+        _, self.offset, disk, shape, self.count = next(f for f in layout["fields"] if f[0] == name)
+        self.disk, self.dtype = disk, disk.newbyteorder("=")
+        self.shape = (n,) + tuple(shape)
+        self.record, self.begin, self.reopen = layout["size"], begin, str(reopen)
+        self._fd = os.open(path, os.O_RDONLY)
+        self._closer = weakref.finalize(self, os.close, self._fd)
+
+    @property
+    def ndim(self) -> int:
+        return len(self.shape)
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape))
+
+    def __len__(self) -> int:
+        return self.shape[0]
+
+    def get_duck_array(self, dtype=None):
+        """Every value (xarray's backend arrays' method)."""
+        from xarray.core import indexing
+
+        return self[indexing.BasicIndexer((slice(None),) * self.ndim)]
+
+    def __getitem__(self, key):
+        from xarray.core import indexing
+
+        return indexing.explicit_indexing_adapter(key, self.shape, indexing.IndexingSupport.BASIC, self._read)
+
+    def _read(self, key: tuple) -> np.ndarray:
+        """The values of a basic key (ints and slices), read a block of records at a time (each
+        block's part taken at once: memory holds the answer and one block)."""
+        first, rest = key[0], (slice(None),) + tuple(key[1:])
+        rows = np.arange(self.shape[0])[first if isinstance(first, slice) else slice(first, first + 1)]
+        tail = np.empty((0,) + self.shape[1:], self.dtype)[rest].shape[1:]
+        out = np.empty((len(rows),) + tail, self.dtype)
+        step = max(1, _BLOCK_BYTES // self.record)
+        if len(rows):
+            for start in range(int(rows.min()), int(rows.max()) + 1, step):
+                stop = min(int(rows.max()) + 1, start + step)
+                chosen = np.flatnonzero((rows >= start) & (rows < stop))
+                if len(chosen):
+                    out[chosen] = self._block(start, stop)[rows[chosen] - start][rest]
+        return out if isinstance(first, slice) else out[0]
+
+    def _block(self, start: int, stop: int) -> np.ndarray:
+        """Records start..stop-1 of the variable, shape (stop - start, ...)."""
+        size = (stop - start) * self.record
+        data = os.pread(self._fd, size, self.begin + start * self.record)
+        if len(data) != size:
+            raise OSError(f"{self.reopen}: the results file ends before its records do")
+        fields = np.frombuffer(data, np.uint8).reshape(stop - start, self.record)[:, self.offset:self.offset + self.count]
+        return np.ascontiguousarray(fields).view(self.disk).reshape((stop - start,) + self.shape[1:]).astype(self.dtype)
 
 
 class NewEncoding(Exception):

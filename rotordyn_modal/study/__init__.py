@@ -18,7 +18,6 @@ The study file is described in ``docs/study-file.md``. This module is callable:
 from __future__ import annotations
 
 import dataclasses
-import os
 import sys
 import types
 import warnings

@@ -189,3 +189,28 @@ def test_a_study_that_cannot_fit_on_the_disk_is_refused_in_one_line_naming_its_k
     assert code == 2 and err.count("\n") == 1, err
     assert err.startswith(f"rotordyn-modal study: error: {spec}: samples = 200: 200 variants x 38.6 kB"), err
     assert "more than the 0.001 GB free there" in err, err
+
+
+def test_the_curves_read_from_the_file_are_those_load_study_reads(tmp_path, monkeypatch):
+    """The result of a study written to its file reads its curves from the file as asked for
+    (blocks of a few variants here): any selection, a pickled copy and the Campbell band equal
+    those of the data set ``load_study`` reads whole."""
+    import pickle
+
+    import rotordyn_modal as rdm
+    from rotordyn_modal.study import results
+
+    monkeypatch.setattr(results, "_BLOCK_BYTES", 5000)
+    model = rdm.load_model(EXAMPLE)
+    spec = {"seed": 2, "samples": 23, "parameters": [
+        {"key": "stator.mass", "distribution": "uniform", "low": 140.0, "high": 160.0}],
+        "analyses": {"campbell": {"speeds_rpm": "0:3000:9"}}}
+    streamed = rdm.study(model, spec, chunk_size=4, out=tmp_path / "r.nc")
+    whole = rdm.load_study(tmp_path / "r.nc")
+    curves, expected = streamed.dataset["frequency_hz"], whole.dataset["frequency_hz"].values
+    for key in (np.s_[:], np.s_[5], np.s_[-1], np.s_[2:19:3, ::2, 1], np.s_[::-4, 3], np.s_[[7, 0, 22]]):
+        np.testing.assert_array_equal(curves[key].values, expected[key])
+    copy = pickle.loads(pickle.dumps(streamed))
+    np.testing.assert_array_equal(copy.dataset["damping_ratio"].values, whole.dataset["damping_ratio"].values)
+    for mine, theirs in zip(streamed.frequency_bands(), whole.frequency_bands()):
+        np.testing.assert_array_equal(mine, theirs)

@@ -568,7 +568,7 @@ class FileRecords:
     path : str
         The file (a temporary one may be renamed: the descriptor opened here follows it).
     reopen : str
-        The file's final name, for messages.
+        The file's final name (messages; opened again by a pickled copy).
     begin : int
         Byte offset of the first record.
     layout : dict
@@ -585,6 +585,16 @@ class FileRecords:
         self.shape = (n,) + tuple(shape)
         self.record, self.begin, self.reopen = layout["size"], begin, str(reopen)
         self._fd = os.open(path, os.O_RDONLY)
+        self._closer = weakref.finalize(self, os.close, self._fd)
+
+    def __getstate__(self):          # a pickle (a worker's copy) opens the file by its final name
+        state = dict(self.__dict__)
+        state.pop("_fd"), state.pop("_closer")
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self._fd = os.open(self.reopen, os.O_RDONLY)
         self._closer = weakref.finalize(self, os.close, self._fd)
 
     @property

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, OutputError, OutputWriteError
-from ._common import (add_alias, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, open_model, parse_band, print_table,
+from ._common import (add_alias, add_allow_long, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, open_model, parse_band, print_table,
                       show_progress, use_agg, whole_number)
 from ._resources import add_verbose
 from ._units import ENVIRONMENT, key_kind
@@ -40,7 +40,9 @@ computes a lost worker's chunk again elsewhere, and a chunk whose workers all di
 the study with one line (its finished chunks kept: run again). Each chunk goes into
 RESULTS.nc as it comes (a temporary file renamed at the end): memory holds a chunk and a few
 numbers per variant, not the results. A study that cannot fit in memory or on the disk is
-refused before any work, in one line with the estimate (docs/study-file.md).
+refused before any work, in one line with the estimate (docs/study-file.md); so is one
+estimated to take more CPU time than the limit (30 min; ROTORDYN_MODAL_MAX_CPU_MINUTES),
+unless --allow-long is given.
 
 With --units us the --table CSV and the --plot-map axes give a parameter that sets a key (apply
 = "value", a values grid) in the US unit of the key's quantity (lbf/in, lbf s/in, lb, lb in², in,
@@ -76,6 +78,7 @@ def add_arguments(parser):
     add_output_file(parser, "--plot-histogram", metavar="FILE.png", help="histograms of the critical speeds (needs [analyses.critical_speeds])")
     add_output_file(parser, "--plot-map", metavar="FILE.png", help="stability map over a two-parameter grid (needs [analyses.stability])")
     add_output_file(parser, "--plot-sensitivity", metavar="FILE.png", help="sensitivity bar chart")
+    add_allow_long(parser)
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no summary on the terminal")
     add_verbose(parser, "also: each chunk as it is computed or resumed, checkpoint files discarded, peak memory")
 

@@ -88,7 +88,8 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
         how many, and the first one's warning. The results are the same either way.
     """
     from .analyses import describe
-    from .execution import Checkpoint, check_disk, check_memory, default_chunk_size, fingerprint, make_tasks
+    from .execution import (Checkpoint, check_cpu_time, check_disk, check_memory, default_chunk_size, fingerprint,
+                            make_tasks)
     from .results import held_bytes, variant_bytes
 
     _require_xarray()
@@ -107,6 +108,7 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     check_memory(len(values), per_variant, size, definition, _outputs_text(shapes), held=held)
     if checkpoint is not None:
         check_disk(checkpoint, len(values), per_variant, definition, _outputs_text(shapes))
+    check_cpu_time(model, definition, len(values))
     base = {"keys": tuple(p.keys for p in definition.parameters),
             "applies": tuple(p.apply for p in definition.parameters),
             "model_data": model.to_dict(), "model_source": model.source, "analyses": definition.analyses,

@@ -26,7 +26,8 @@ from ..errors import InputError, OutputError
 from .analyses import batch_caches, run_analyses
 
 __all__ = ["ChunkTask", "run_chunk", "make_tasks", "execute", "Checkpoint", "finished_chunks", "ResultsLock", "limit_threads",
-           "worker_initializer", "default_chunk_size", "remove_checkpoint", "check_memory"]
+           "worker_initializer", "default_chunk_size", "remove_checkpoint", "check_memory", "check_disk",
+           "check_cpu_time"]
 
 
 @dataclass(frozen=True)
@@ -555,6 +556,57 @@ def check_disk(folder, n_variants: int, per_variant: int, definition, outputs: s
                          f"about {needed / 1e9:.4g} GB on the disk of {folder} (the checkpoint and the results file, "
                          f"each {n_variants * per_variant / 1e9:.4g} GB), more than the {free / 1e9:.4g} GB free "
                          f"there: run fewer variants (about {fit:,} fit), free space, or give an --out on a larger disk")
+
+
+def check_cpu_time(model, definition, n_variants: int) -> None:
+    """Refuse, before any work, a study estimated to take more CPU time than the limit the other
+    commands keep (``ROTORDYN_MODAL_MAX_CPU_MINUTES``, 30 min by default), unless long work is
+    allowed (``--allow-long``, :func:`rotordyn_modal.long_work_allowed`): its variants times the
+    estimate of one variant's eigen-solutions and crossings on the base model
+    (:func:`rotordyn_modal.analysis._work.estimate`; the Campbell sweep and its critical speeds,
+    the stability map's speeds, the modes' one speed; the unbalance responses are not counted).
+
+    Raises
+    ------
+    InputError
+        ``STUDY: samples = N: N variants x about X s of CPU time each (MODEL: ...) = about Y h of
+        CPU time, more than the limit of 30 min: ADVICE``, one line.
+    """
+    from ..analysis import _cost, _work
+
+    if _cost.long_work_is_allowed() or n_variants == 0:
+        return
+    limit = _cost.limit_seconds()
+    if limit == float("inf"):
+        return
+    runs = _variant_runs(definition.analyses)
+    if not runs or n_variants * sum(_work._quick_bound(model, *run) for run in runs) <= limit:
+        return
+    works = [_work.estimate(model, *run) for run in runs]
+    each = sum(work.seconds for work in works)
+    if n_variants * each <= limit:
+        return
+    largest = max(works, key=lambda work: work.seconds)
+    fit = int(limit // max(each, 1e-12))
+    raise InputError(f"{_where(definition)}{n_variants:,} variants x {largest.text().replace(' of CPU time', '')} each "
+                     f"({model.source} as the study's base model) = about {_cost.duration(n_variants * each)} of CPU "
+                     f"time, more than the limit of {_cost.duration(limit)}: run fewer variants (about {fit:,} fit), "
+                     f"or add --allow-long ({_cost.ENVIRONMENT} sets the limit)")
+
+
+def _variant_runs(analyses) -> list:
+    """The eigen-solutions of one variant's analyses, as arguments of ``_work.estimate`` after the
+    model: (speeds, orders, critical, numbers, solutions)."""
+    runs = []
+    if "campbell" in analyses or "critical_speeds" in analyses:  # one sweep, shared, with its crossings
+        options = analyses.get("campbell") or analyses["critical_speeds"]
+        runs.append((options["speeds"], options["orders"], True, False, len(options["speeds"])))
+    if "stability" in analyses:
+        speeds = analyses["stability"]["speeds"]
+        runs.append((speeds, (), False, False, len(speeds)))
+    if "modes" in analyses:
+        runs.append((np.array([analyses["modes"]["speed"]]), (), False, False, 1))
+    return runs
 
 
 # ---------------------------------------------------------------------------- one writer

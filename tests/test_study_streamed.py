@@ -218,21 +218,21 @@ def test_the_curves_read_from_the_file_are_those_load_study_reads(tmp_path, monk
 
 def test_a_study_over_the_cpu_time_limit_is_refused_before_any_work_unless_allowed(tmp_path, monkeypatch, capsys):
     """200 variants of a 201-speed Campbell diagram and its crossings, about 2 s of CPU time by
-    the estimate the other commands use, under a limit of 0.6 s: one line naming the study file,
+    the estimate the other commands use, under a limit of 0.06 s: one line naming the study file,
     ``samples = 200``, the estimate and the limit, nothing computed; ``--allow-long`` runs it."""
     from rotordyn_modal.cli import main
     from rotordyn_modal.study import execution
 
     spec = tmp_path / "s.toml"
     spec.write_text(SPEC.format(samples=200))
-    monkeypatch.setenv("ROTORDYN_MODAL_MAX_CPU_MINUTES", "0.01")
+    monkeypatch.setenv("ROTORDYN_MODAL_MAX_CPU_MINUTES", "0.001")
     monkeypatch.setattr(execution, "run_chunk", lambda task: pytest.fail("a chunk was computed"))
     argv = ["study", EXAMPLE, "--spec", str(spec), "--out", str(tmp_path / "r.nc"), "--quiet"]
     code = main(argv)
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1, err
     assert err.startswith(f"rotordyn-modal study: error: {spec}: samples = 200: 200 variants x about "), err
-    assert "201 eigen-solutions of 12 states" in err and "more than the limit of 0.6 s" in err, err
+    assert "201 eigen-solutions of 12 states" in err and "more than the limit of 0.06 s" in err, err
     assert "--allow-long" in err and sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
     monkeypatch.setattr(execution, "run_chunk", _stand_in)
     assert main(argv + ["--allow-long"]) == 0

@@ -49,7 +49,7 @@ def _refined(pencils, starts, vectors, rows=None):
 
 def _continued(pencils, guesses, vectors, rows):
     """:func:`_refined` from starts close to their roots (a few 1e-9 relative, from the
-    neighbouring speeds: ``_lowest_starts._expansion_guesses``, ``_projected_guesses``) at the speeds ``rows`` (S,): one
+    neighbouring speeds: ``_lowest_starts._expansion_guesses``) at the speeds ``rows`` (S,): one
     factorisation per root, a Newton step and a chord step (``_Pencils.newton_chord``), where the
     chord step shows the root at round-off (the same rule as :func:`_newton`'s on its steps: at most
     ``_STEP``, or the error it leaves, ``second^2 / first``, at most ``_LEFT``); Newton's iteration

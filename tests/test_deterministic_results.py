@@ -180,3 +180,28 @@ def test_a_repeated_run_gives_the_same_bits(one_thread):
     """This process's runs, twice, give the fresh process's digests and warnings."""
     for _ in range(2):
         assert {key: list(value) for key, value in _all_runs().items()} == one_thread
+
+
+def _other_lanczos():
+    """An ``eigsh`` without a start vector: ARPACK's random start sequence runs on."""
+    import scipy.sparse
+    import scipy.sparse.linalg
+
+    matrix = scipy.sparse.diags([np.full(39, -1.0), np.full(40, 2.0), np.full(39, -1.0)], [-1, 0, 1]).tocsc()
+    scipy.sparse.linalg.eigsh(matrix, k=3, sigma=-1e-3, which="LM")
+
+
+def test_the_route_tests_lanczos_modes_do_not_depend_on_earlier_solves():
+    """The cheap route test's undamped modes (``_lowest_route._cheap_modes``) of the 100-coordinate
+    shaft, made twice on fresh stacks with another Lanczos solve between: the same bits (main:
+    ARPACK's default start, drawn from a sequence that runs on in the process, gave other last bits
+    and signs)."""
+    from rotordyn_modal.analysis import _lowest_route
+
+    model, speeds = _shaft(100), np.linspace(0, 1500, 31)
+    made = []
+    for _ in range(2):
+        stack = Stack([model])
+        made.append(_lowest_route._cheap_modes(stack, _Pencils(stack, speeds), 12)[2])
+        _other_lanczos()
+    assert np.array_equal(made[0], made[1])

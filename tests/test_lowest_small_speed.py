@@ -42,19 +42,25 @@ def _by_frequency(values):
 
 
 def _counted_solves(monkeypatch):
-    """Calls of the banded LU and the sizes of numpy's dense solves from now on."""
+    """Banded LUs (``zgbsv``, row by row or a chunk's rows in one loop) and the sizes of numpy's
+    dense solves from now on."""
     calls = {"banded": 0, "dense": []}
-    banded, dense = _lowest_pencils._zgbsv, np.linalg.solve
+    banded, rows, dense = _lowest_pencils._zgbsv, _lowest_pencils._solved_rows, np.linalg.solve
 
     def counting_banded(*args, **kwargs):
         calls["banded"] += 1
         return banded(*args, **kwargs)
+
+    def counting_rows(kl, ku, ab, y):
+        calls["banded"] += len(ab)
+        return rows(kl, ku, ab, y)
 
     def recording_dense(a, b):
         calls["dense"].append(np.shape(a))
         return dense(a, b)
 
     monkeypatch.setattr(_lowest_pencils, "_zgbsv", counting_banded)
+    monkeypatch.setattr(_lowest_pencils, "_solved_rows", counting_rows)
     monkeypatch.setattr(np.linalg, "solve", recording_dense)
     return calls
 

@@ -100,18 +100,63 @@ def test_results_three_times_larger_than_the_spare_memory_would_need_are_written
 
 
 def test_a_study_that_cannot_fit_is_refused_before_any_work_with_the_estimate(tmp_path):
-    samples, speeds = 200_000, 201
+    """Written to its file chunk by chunk, a study still reads some numbers of every variant
+    whole afterwards (here one parameter and one mode's 201 frequencies for the Campbell band,
+    three copies: 4.8 kB a variant): a million variants under a 2 GiB limit are refused before
+    any work, in one line naming the study file, its key and value, the estimate and the limit."""
+    samples, speeds = 1_000_000, 201
     spec = tmp_path / "s.toml"
     spec.write_text(SPEC.format(samples=samples, speeds=speeds))
     code, text = _run_limited(["study", EXAMPLE, "--spec", str(spec), "--out", str(tmp_path / "r.nc")],
                               headroom=2**31, stand_in=False)
     lines = text.strip().splitlines()
     assert code == 2 and len(lines) == 1, text
-    assert "200,000 variants" in lines[0] and "ulimit -v" in lines[0]
-    estimate = float(re.search(r"= ([0-9.]+) GB of results", lines[0]).group(1)) * 1e9
+    assert lines[0].startswith(f"rotordyn-modal study: error: {spec}: samples = {samples}: 1,000,000 variants"), lines[0]
+    assert "ulimit -v" in lines[0] and "GB left" in lines[0]
+    estimate = float(re.search(r"need about ([0-9.]+) GB of memory", lines[0]).group(1)) * 1e9
+    held = samples * 3 * 8 * (1 + speeds)          # the parameter and one mode's band, three copies
+    assert held <= estimate <= held + 2**28
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+def test_results_held_in_memory_that_cannot_fit_are_refused_before_any_work_with_the_estimate(tmp_path):
+    """``rdm.study`` without a file holds the results in memory: 200,000 variants x 201 speeds
+    x 6 modes x 4 quantities (1.9 GB) under a 2 GiB limit are refused before any work with
+    the estimate of the results."""
+    samples, speeds = 200_000, 201
+    spec = tmp_path / "s.toml"
+    spec.write_text(SPEC.format(samples=samples, speeds=speeds))
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # pragma: no cover - the child
+        code = 99
+        try:
+            os.close(read)
+            import xarray  # noqa: F401
+
+            import rotordyn_modal as rdm
+            from rotordyn_modal.errors import InputError
+
+            model = rdm.load_model(EXAMPLE)
+            limit = _vm_size() + 2**31
+            resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+            try:
+                rdm.study(model, str(spec))
+            except InputError as error:
+                os.write(write, str(error).encode())
+                code = 2
+        finally:
+            os._exit(code)
+    os.close(write)
+    with os.fdopen(read) as pipe:
+        text = pipe.read()
+    _, status = os.waitpid(pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 2 and "\n" not in text, text
+    assert text.startswith(f"{spec}: samples = {samples}: 200,000 variants x "), text
+    assert "ulimit -v" in text and "out=" in text
+    estimate = float(re.search(r"= ([0-9.]+) GB of results", text).group(1)) * 1e9
     campbell = samples * speeds * MODES * 4 * 8  # frequency, damping, real part, whirl ratio
     assert campbell <= estimate <= 1.05 * campbell
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
 
 
 def test_the_file_written_a_block_at_a_time_is_the_one_xarray_writes(tmp_path, monkeypatch):

@@ -40,9 +40,9 @@ from . import _arnoldi, _batches, _cost, _eigensolve, _lowest_bound, _lowest_rou
 from ._lowest_bound import _FEW, _MARGIN, _Bound, _stack_bound  # noqa: F401 (_Bound: for _lowest_branches)
 from ._lowest_newton import _continued, _refined, _speeds_named
 from ._lowest_pencils import _Pencils
-from ._lowest_starts import (_SOLVED, _anchors, _by_frequency, _close, _continuation_guesses, _Expansions,
-                             _expansion_guesses, _pencil_shapes_part, _projected_guesses, _projected_starts, frequency_key,
-                             lowest_order)
+from ._lowest_starts import (_NODES, _SOLVED, _anchors, _by_frequency, _close, _continuation_guesses, _Expansions,
+                             _expansion_guesses, _pencil_shapes_part, _projected_guesses, _projected_starts,
+                             frequency_key, lowest_order)
 from .modal import is_oscillating
 
 __all__ = ["lowest_roots"]
@@ -241,11 +241,13 @@ def _swept(pencils, basis, want, count):
     whether each speed's converged (S,) and whether no projected root left unrefined can stand for
     a root below the ``count``-th found (S,, :func:`_unmissed` or its certificate between anchors).
 
-    The anchors (every ``_STRIDE``-th speed and the last, :func:`._lowest_starts._anchors`) solve
-    their projected pencils whole (``eig``, :class:`._lowest_starts._Expansions`) and start Newton's
-    iteration from the lowest roots and vectors; :func:`_unmissed` checks them. The speeds between
-    solve no projected pencil: their starts are the anchors' refined roots carried over by the
-    projected roots' second-order changes in the nearer anchor's eigenbasis
+    The solved anchors (every ``_SOLVED``-th of the anchors, every ``_STRIDE``-th speed and the
+    last, :func:`._lowest_starts._anchors`) solve their projected pencils whole (``eig``,
+    :class:`._lowest_starts._Expansions`) and start Newton's iteration from the lowest roots and
+    vectors; :func:`_unmissed` checks them. The other speeds solve no projected pencil, the other
+    anchors first (from the solved ones), then the rest (from every anchor): their starts are the
+    nodes' refined roots carried over by the projected roots' second-order changes in the nearer
+    solved anchor's eigenbasis, their vectors the nodes' shapes interpolated
     (:func:`._lowest_starts._expansion_guesses`), one factorisation per root
     (:func:`._lowest_newton._continued`), and the Gershgorin discs of that eigenbasis show that
     the projected pencil has no more than ``count`` roots below the ``count``-th found plus the
@@ -264,11 +266,14 @@ def _swept(pencils, basis, want, count):
     _refine_into(_refined, pencils, expansions.starts, expansions.vectors, solved, (values, shapes, ok))
     unmissed[solved] = _unmissed(expansions.starts, values[solved], count)
     moved = np.max(np.abs(expansions.starts - values[solved]), axis=1)      # the projection's error there
+    # the anchors between the solved ones are carried over like the other speeds where the solved
+    # anchors give a cubic in the speed; fewer (a coarse sweep) take their own projected roots
+    projected_level = 0 if len(solved) < _NODES else -1
     first = 0
     for level, (part, _) in _level_parts(levels, 16 * want * shapes.shape[2]):
         places = first + np.arange(len(part))
         first += len(part)
-        if level == 0:          # the anchors between the solved ones: their projected roots, the solved ones' errors
+        if level == projected_level:
             guesses, vectors, sure, projected = _projected_guesses(expansions, places, values, shapes, ok)
         else:
             guesses, vectors, sure = _expansion_guesses(expansions, places, values, shapes, ok)
@@ -277,7 +282,7 @@ def _swept(pencils, basis, want, count):
             if not sure.all():
                 guesses, vectors = guesses[sure], vectors[sure]
             _refine_into(_continued, pencils, guesses, vectors, rows, (values, shapes, ok))
-            unmissed[rows] = _unmissed(projected[sure], values[rows], count) if level == 0 \
+            unmissed[rows] = _unmissed(projected[sure], values[rows], count) if level == projected_level \
                 else _certified(expansions, places[sure], values, moved, count)
         del vectors
         # the speeds not carried over, and those whose discs show nothing: their own projected roots

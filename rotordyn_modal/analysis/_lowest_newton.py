@@ -49,7 +49,7 @@ def _refined(pencils, starts, vectors, rows=None):
 
 def _continued(pencils, guesses, vectors, rows):
     """:func:`_refined` from starts close to their roots (a few 1e-9 relative, from the
-    neighbouring speeds: ``_lowest_starts._expansion_guesses``, ``_projected_guesses``) at the speeds ``rows`` (S,): one
+    neighbouring speeds: ``_lowest_starts._expansion_guesses``) at the speeds ``rows`` (S,): one
     factorisation per root, a Newton step and a chord step (``_Pencils.newton_chord``), where the
     chord step shows the root at round-off (the same rule as :func:`_newton`'s on its steps: at most
     ``_STEP``, or the error it leaves, ``second^2 / first``, at most ``_LEFT``); Newton's iteration
@@ -145,11 +145,16 @@ def _roundoff(pencils, index, lam, x):
     itself, for the root's own shape (a low mode's smooth shape against stiff elements: the
     products cancel to a small part of their terms). Measured against extended-precision roots, the
     error of Newton's root on the double pencil was 0.01 to 0.35 times it."""
-    s, a = np.abs(lam)[:, None], np.abs(x)
-    speeds = np.abs(pencils.speeds[index])[:, None]
-    M, C, G = (abs(matrix) for matrix in pencils.sparse)
-    K = scipy.sparse.csr_matrix(abs(pencils.K))          # sparse: a dense |K| product per root costs n^2
-    terms = s * s * (M @ a.T).T + s * ((C @ a.T).T + speeds * (G @ a.T).T) + (K @ a.T).T
+    s, a = np.abs(lam), np.abs(x)
+    speeds = np.abs(pencils.speeds[index])
+    magnitudes = pencils.__dict__.get("_magnitudes")
+    if magnitudes is None:      # |M|, |C|, |G|, |K| stacked, sparse (a dense |K| product per root costs n^2): made once
+        magnitudes = pencils.__dict__["_magnitudes"] = scipy.sparse.vstack(
+            [abs(matrix) for matrix in pencils.sparse] + [scipy.sparse.csr_matrix(abs(pencils.K))], format="csr")
+    n = x.shape[1]
+    products = magnitudes @ np.ascontiguousarray(a.T)                                     # (4 n, P)
+    terms = (s * (s * products[:n] + products[n:2 * n] + speeds * products[2 * n:3 * n]) + products[3 * n:]).T
+    s = s[:, None]
     if len(pencils.rows):
         np.add.at(terms, (slice(None), pencils.rows), (s * np.abs(pencils.cb[index]) + np.abs(pencils.kb[index]))
                   * a[:, pencils.cols])

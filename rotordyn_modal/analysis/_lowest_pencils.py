@@ -184,9 +184,7 @@ class _Pencils:
             rows, s0, x0, cc = index[part], lam[part], x[part], c[part]
             ab, _ = self._band_storage(rows, s0)
             pivots = np.empty((len(s0), n), np.int32)
-            factored = np.ones(len(s0), bool)
-            for p in range(len(s0)):
-                factored[p] = _gbtrf(band.lower, band.upper, ab[p].T, pivots[p]) == 0
+            factored = _factored(band.lower, band.upper, ab, pivots)
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
                 u = self._chord_solve(ab, pivots, factored, self.derivative_times(rows, s0, x0))
                 cu = np.einsum("pi,pi->p", cc, u)
@@ -204,11 +202,8 @@ class _Pencils:
         (P, n) of ``zgbtrf``; nan where a pencil was singular (``factored`` False)."""
         band = self.band
         y = np.ascontiguousarray(rhs[:, band.order])
-        for p in range(len(y)):
-            if factored[p]:
-                _gbtrs(band.lower, band.upper, ab[p].T, pivots[p], y[p])
-            else:
-                y[p] = np.nan
+        _back_solved(band.lower, band.upper, ab, pivots, y)
+        y[~factored] = np.nan
         out = np.empty(y.shape, complex)
         out[:, band.order] = y
         return out
@@ -266,12 +261,7 @@ class _Pencils:
                 columns[:, band.place_rows[band.right], band.cols[band.right] - size] = border[:, :band.right.sum()]
                 rows[:, band.place_rows[band.below] - size, band.cols[band.below]] = border[:, band.right.sum():]
                 y[:, 1:] = np.swapaxes(columns[:, :size], 1, 2)
-            lower, upper = band.lower, band.upper
-            for p in range(count):
-                # ab[p].T and y[p].T are Fortran-ordered views: LAPACK works on them in place
-                info = _zgbsv(lower, upper, ab[p].T, y[p].T, overwrite_ab=1, overwrite_b=1)[3]
-                if info != 0:
-                    y[p] = np.nan
+            y[_solved_rows(band.lower, band.upper, ab, y) != 0] = np.nan
             solution = np.empty((count, n), complex)
             solution[:, :size] = y[:, 0]
             if k:
@@ -374,6 +364,82 @@ def _lapack(name: str):
 
 
 _NO_TRANSPOSE = ctypes.c_char(b"N")
+
+
+def _rows_at(array, shape):
+    """The address of ``array[0]`` and the step between its rows, where ``array`` (P, ...) holds
+    C-ordered rows of ``shape`` one after the other at a fixed step (each row's transpose the
+    Fortran array LAPACK takes), else None."""
+    if array.shape[1:] != shape or array.dtype not in (np.complex128, np.int32) or len(array) == 0:
+        return None
+    item = array.itemsize
+    inner = [item]
+    for size in reversed(shape[1:]):
+        inner.insert(0, inner[0] * size)
+    if tuple(array.strides[1:]) != tuple(inner) or array.strides[0] < inner[0] * shape[0]:
+        return None
+    return array.ctypes.data, array.strides[0]
+
+
+def _factored(kl: int, ku: int, ab, pivots) -> np.ndarray:
+    """``zgbtrf`` of every row of ``ab`` (P, n, 2 kl + ku + 1) in place (each ``ab[p].T`` LAPACK's
+    band storage), ``pivots`` (P, n) int32 filled: (P,) True where factored (False where singular).
+    One loop over raw addresses: the rows' views and ``ctypes`` objects of :func:`_gbtrf` cost a
+    fifth of each factorisation (measured at 224 coordinates, bandwidth 7)."""
+    P, n, width = ab.shape
+    where, pivot_at = _rows_at(ab, (n, width)), _rows_at(pivots, (n,))
+    if where is None or pivot_at is None:
+        return np.array([_gbtrf(kl, ku, ab[p].T, pivots[p]) == 0 for p in range(P)], bool)
+    function, sizes = _lapack("zgbtrf"), _sizes(n, kl, ku, width)
+    info = ctypes.c_int(0)
+    status = ctypes.byref(info)
+    (start, step), (pivot_start, pivot_step) = where, pivot_at
+    out = np.empty(P, bool)
+    for p in range(P):
+        function(sizes[0], sizes[0], sizes[1], sizes[2], start + p * step, sizes[3], pivot_start + p * pivot_step,
+                 status)
+        out[p] = info.value == 0
+    return out
+
+
+def _back_solved(kl: int, ku: int, ab, pivots, y) -> None:
+    """``zgbtrs`` of every row: ``y`` (P, n) overwritten by the solutions of the systems whose
+    factors :func:`_factored` left in ``ab`` (P, n, width) and ``pivots`` (P, n) (rows that were
+    not factored give what LAPACK gives: the caller marks them)."""
+    P, n, width = ab.shape
+    where, pivot_at, rhs_at = _rows_at(ab, (n, width)), _rows_at(pivots, (n,)), _rows_at(y, (n,))
+    if where is None or pivot_at is None or rhs_at is None:
+        for p in range(P):
+            _gbtrs(kl, ku, ab[p].T, pivots[p], y[p])
+        return
+    function, sizes = _lapack("zgbtrs"), _sizes(n, kl, ku, 1, width)
+    info = ctypes.c_int(0)
+    status, transpose = ctypes.byref(info), ctypes.byref(_NO_TRANSPOSE)
+    (start, step), (pivot_start, pivot_step), (rhs_start, rhs_step) = where, pivot_at, rhs_at
+    for p in range(P):
+        function(transpose, sizes[0], sizes[1], sizes[2], sizes[3], start + p * step, sizes[4],
+                 pivot_start + p * pivot_step, rhs_start + p * rhs_step, sizes[0], status)
+
+
+def _solved_rows(kl: int, ku: int, ab, y) -> np.ndarray:
+    """``zgbsv`` of every row: ``ab`` (P, size, width) factored in place, ``y`` (P, r, size)
+    overwritten by the solutions (each ``y[p].T`` the Fortran right-hand sides); LAPACK's ``info``
+    (P,) (0: solved). One loop over raw addresses where the arrays allow, else :data:`_zgbsv` per row."""
+    P, n, width = ab.shape
+    function = _lapack("zgbsv")
+    where, rhs_at = _rows_at(ab, (n, width)), _rows_at(y, y.shape[1:])
+    if function is None or where is None or rhs_at is None or y.shape[2] != n:
+        return np.array([_zgbsv(kl, ku, ab[p].T, y[p].T, overwrite_ab=1, overwrite_b=1)[3] for p in range(P)])
+    sizes = _sizes(n, kl, ku, y.shape[1], width)
+    pivots, info = np.empty(n, np.int32), ctypes.c_int(0)
+    status, pivot_at = ctypes.byref(info), pivots.ctypes.data
+    (start, step), (rhs_start, rhs_step) = where, rhs_at
+    out = np.empty(P, int)
+    for p in range(P):
+        function(sizes[0], sizes[1], sizes[2], sizes[3], start + p * step, sizes[4], pivot_at, rhs_start + p * rhs_step,
+                 sizes[0], status)
+        out[p] = info.value
+    return out
 
 
 def _gbtrf(kl: int, ku: int, ab, pivots) -> int:

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, OutputError, OutputWriteError
-from ._common import (add_alias, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, open_model, parse_band, print_table,
+from ._common import (add_alias, add_allow_long, as_typed, add_input_file, add_model_argument, add_output_file, check_outputs, open_model, parse_band, print_table,
                       show_progress, use_agg, whole_number)
 from ._resources import add_verbose
 from ._units import ENVIRONMENT, key_kind
@@ -37,8 +37,12 @@ Failed variants (a model that validation refuses, a solver error) are recorded w
 their reason and do not stop the study. A worker process the system kills (out of
 memory) is replaced once by a fresh pool of half the workers; on dask the scheduler
 computes a lost worker's chunk again elsewhere, and a chunk whose workers all died stops
-the study with one line (its finished chunks kept: run again). A study whose results
-cannot fit in memory is refused before any work, with the estimate (docs/study-file.md).
+the study with one line (its finished chunks kept: run again). Each chunk goes into
+RESULTS.nc as it comes (a temporary file renamed at the end): memory holds a chunk and a few
+numbers per variant, not the results. A study that cannot fit in memory or on the disk is
+refused before any work, in one line with the estimate (docs/study-file.md); so is one
+estimated to take more CPU time than the limit (30 min; ROTORDYN_MODAL_MAX_CPU_MINUTES),
+unless --allow-long is given.
 
 With --units us the --table CSV and the --plot-map axes give a parameter that sets a key (apply
 = "value", a values grid) in the US unit of the key's quantity (lbf/in, lbf s/in, lb, lb in², in,
@@ -74,6 +78,7 @@ def add_arguments(parser):
     add_output_file(parser, "--plot-histogram", metavar="FILE.png", help="histograms of the critical speeds (needs [analyses.critical_speeds])")
     add_output_file(parser, "--plot-map", metavar="FILE.png", help="stability map over a two-parameter grid (needs [analyses.stability])")
     add_output_file(parser, "--plot-sensitivity", metavar="FILE.png", help="sensitivity bar chart")
+    add_allow_long(parser)
     parser.add_argument("--quiet", action="store_true", help="no progress bar, no summary on the terminal")
     add_verbose(parser, "also: each chunk as it is computed or resumed, checkpoint files discarded, peak memory")
 
@@ -143,7 +148,7 @@ def _compute(model, definition, args, folder):
         try:
             with _executor(args, attempt) as executor:
                 return study(model, definition, executor=executor, checkpoint=folder,
-                             chunk_size=args.chunk_size, progress=show_progress(args))
+                             chunk_size=args.chunk_size, progress=show_progress(args), out=args.out)
         except _killed_worker(args) as error:
             died = error.allowed_failures + 1
             raise OutputWriteError(f"every dask worker that ran one chunk died ({died} worker{'s' * (died > 1)}: "
@@ -280,13 +285,13 @@ class _executor:
 
 
 def _write(result, args, folder, kinds=None):
-    """The results and the table (its columns in the unit system of ``kinds``,
-    :func:`_column_kinds`); the checkpoint goes once they are in place."""
+    """The table (its columns in the unit system of ``kinds``, :func:`_column_kinds`); the
+    results file is written by the study itself, chunk by chunk; the checkpoint goes once they
+    are in place."""
     from ..io import atomic_write
     from ..io.atomic import after_commit
     from ..study.execution import remove_checkpoint
 
-    result.save(args.out, progress=show_progress(args))
     after_commit(lambda: remove_checkpoint(folder))
     if args.table:
         with atomic_write(args.table, "w", newline="") as handle:
@@ -299,8 +304,8 @@ def _report(result, band, kinds=None):
           + (f", {result.resumed_chunks} chunks resumed from an earlier run" if result.resumed_chunks else ""),
           file=sys.stderr)
     if failed:
-        reasons = result.dataset["error"].values[result.failed]
-        print(f"first failure: {reasons[0]}", file=sys.stderr)
+        first = int(np.flatnonzero(result.failed)[0])         # one text read, not every variant's
+        print(f"first failure: {result.dataset['error'][first].values}", file=sys.stderr)
     table = result.summary()
     if len(table):
         table = _summary_in_units(_in_rpm(table), kinds)

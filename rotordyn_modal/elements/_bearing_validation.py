@@ -532,12 +532,7 @@ def continuous_beam_loads(shaft, stations, gravity, weights=None, supports=None,
 
     z = np.asarray(stations, dtype=float)
     springs = [None] * len(z) if supports is None else list(supports)
-    meshed = with_mesh(shaft, z)
-    mesh = meshed.mesh
-    M, K = node_matrices(meshed, mesh, kinds=("M", "K"))
-    T = lateral_basis(meshed)                                    # (6 N, 4 N)
-    g = np.zeros(6 * mesh.n_nodes)
-    g.reshape(-1, 6)[:, :3] = np.asarray(gravity, dtype=float)
+    mesh, M, K, T, g = _lateral_shaft(shaft, z, gravity)
     force = T.T @ (M @ g)
     a, b = transverse_axes(shaft.axis)                          # lateral_basis's a, b
     ab = np.array([a, b])                                       # (2, 3)
@@ -564,6 +559,19 @@ def continuous_beam_loads(shaft, stations, gravity, weights=None, supports=None,
         else:      # the spring's k u less the pedestal's weight (at a node held rigidly: the weight, hung on the shaft)
             out[i] = (lateral[i] @ q[[4 * node, 4 * node + 1]] - settling[i]) @ ab
     return out
+
+
+def _lateral_shaft(shaft, stations, gravity):
+    """The shaft meshed with a node at each of ``stations`` [m]: ``(mesh, M, K, T, g)``, its
+    node mass and stiffness matrices (6 N, 6 N), the lateral basis ``T`` (6 N, 4 N) and gravity
+    ``g`` [m/s^2] (6 N,) at every node's translations."""
+    meshed = with_mesh(shaft, stations)
+    mesh = meshed.mesh
+    M, K = node_matrices(meshed, mesh, kinds=("M", "K"))
+    T = lateral_basis(meshed)
+    g = np.zeros(6 * mesh.n_nodes)
+    g.reshape(-1, 6)[:, :3] = np.asarray(gravity, dtype=float)
+    return mesh, M, K, T, g
 
 
 def shaft_flexibility(shaft, stations, gravity):
@@ -595,12 +603,7 @@ def shaft_flexibility(shaft, stations, gravity):
     import scipy.sparse.linalg
 
     z = np.asarray(stations, dtype=float)
-    meshed = with_mesh(shaft, z)
-    mesh = meshed.mesh
-    M, K = node_matrices(meshed, mesh, kinds=("M", "K"))
-    T = lateral_basis(meshed)                                    # (6 N, 4 N)
-    g = np.zeros(6 * mesh.n_nodes)
-    g.reshape(-1, 6)[:, :3] = np.asarray(gravity, dtype=float)
+    mesh, M, K, T, g = _lateral_shaft(shaft, z, gravity)
     a, b = transverse_axes(shaft.axis)
     nodes = np.array([mesh.node(s) for s in z])
     held = np.array([nodes[int(np.argmin(z))], nodes[int(np.argmax(z))]])

@@ -61,17 +61,17 @@ def plot_study_campbell(result, percentiles=(5.0, 95.0), band_rpm=None, speed_un
     ds = result.dataset
     fig, ax = new_figure(ax)
     x = ds["speed"].values * speed_scale(speed_unit)
-    freq = ds["frequency_hz"].values[~result.failed]  # (variant, speed, mode)
-    freq = np.where(freq > 0, freq, np.nan)
+    highest = [np.nanmax(column) if np.isfinite(column).any() else np.nan       # one mode at a time
+               for column in result.mode_frequencies()]
     bands = result.frequency_bands(percentiles)
     colors = [f"C{i}" for i in range(10)]
     for m, label in enumerate(ds["mode"].values):
         low, mid, high = (band[m] for band in bands)
-        if not np.isfinite(freq[:, :, m]).any():
+        if not np.isfinite(highest[m]):
             continue
         ax.fill_between(x, low, high, color=colors[m % 10], alpha=0.25, linewidth=0)
         ax.plot(x, mid, color=colors[m % 10], label=f"mode {label}")
-    top = 1.1 * (np.nanmax(freq) if np.isfinite(freq).any() else 1.0)
+    top = 1.1 * (np.nanmax(highest) if np.isfinite(highest).any() else 1.0)
     if "excitation" in ds.coords:
         _excitation_lines(ax, x, np.abs(ds["speed"].values), ds["excitation"].values, ds["excitation_slope"].values, top)
     _band(ax, band_rpm, speed_scale(speed_unit) * np.pi / 30)

@@ -44,7 +44,7 @@ def checkpoint_folder(out) -> Path:
 
 
 def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = None,
-          progress: bool = False) -> StudyResult:
+          progress: bool = False, out=None) -> StudyResult:
     """Run a parameter study: every variant through the study's analyses.
 
     Parameters
@@ -67,6 +67,12 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
         chosen from the number of variants and workers).
     progress : bool
         Show a progress bar (tqdm) over variants.
+    out : path-like, optional
+        The netCDF file of the results (``.nc``), written whole or not at all: each chunk goes
+        into it as it comes (a temporary file beside it, renamed at the end), so that memory
+        holds a chunk, not the results. The result then reads its data set from the file as it
+        is used (``xarray``'s lazy loading); the file is the one :meth:`StudyResult.save` writes.
+        A device (``/dev/null``) is written once the results are assembled in memory.
 
     Returns
     -------
@@ -82,8 +88,9 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
         how many, and the first one's warning. The results are the same either way.
     """
     from .analyses import describe
-    from .execution import Checkpoint, check_disk, check_memory, default_chunk_size, execute, fingerprint, make_tasks
-    from .results import Assembly, build_dataset, variant_bytes
+    from .execution import (Checkpoint, check_cpu_time, check_disk, check_memory, default_chunk_size, fingerprint,
+                            make_tasks)
+    from .results import held_bytes, variant_bytes
 
     _require_xarray()
     definition = _definition(spec, model)
@@ -96,9 +103,12 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
     size = chunk_size or definition.chunk_size or default_chunk_size(len(values), executor)
     per_variant = variant_bytes(shapes, values.shape[1])
-    check_memory(len(values), per_variant, size, _outputs_text(definition, shapes))
+    streamed = out is not None and not _device(out)
+    held = held_bytes(variables, shapes, values.shape[1]) if streamed else None     # None: all of it
+    check_memory(len(values), per_variant, size, definition, _outputs_text(shapes), held=held)
     if checkpoint is not None:
-        check_disk(checkpoint, len(values), per_variant, _outputs_text(definition, shapes))
+        check_disk(checkpoint, len(values), per_variant, definition, _outputs_text(shapes))
+    check_cpu_time(model, definition, len(values))
     base = {"keys": tuple(p.keys for p in definition.parameters),
             "applies": tuple(p.apply for p in definition.parameters),
             "model_data": model.to_dict(), "model_source": model.source, "analyses": definition.analyses,
@@ -107,18 +117,107 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     store = None
     if checkpoint is not None:
         store = Checkpoint(checkpoint, fingerprint(model.to_dict(), definition.raw, size, values), definition.seed)
-    assembly, tally = Assembly(len(values), shapes), _Implausible()
+    run = _Run(tasks, executor, store, progress, values, (definition, variables, coords, model, size))
+    result = run.to_file(out) if streamed else run.in_memory()
+    if out is not None and not streamed:
+        result.save(out, progress=progress)
+    if run.tally.count:
+        warnings.warn(run.tally.line(len(values)), ImplausibleVariants, stacklevel=2)
+    return result
 
-    def sink(chunk):
-        tally.add(chunk)
-        assembly.add(chunk)
 
-    _, resumed = execute(tasks, executor, store, progress, len(values), sink=sink)
-    dataset = build_dataset(assembly, values, definition, variables, coords, model,
-                            attrs={"chunk_size": size})
-    if tally.count:
-        warnings.warn(tally.line(len(values)), ImplausibleVariants, stacklevel=2)
-    return StudyResult(dataset, resumed_chunks=resumed)
+class _Run:
+    """The chunks of a study run and handed to where its results are assembled."""
+
+    def __init__(self, tasks, executor, store, progress, values, described):
+        self.tasks, self.executor, self.store, self.progress = tasks, executor, store, progress
+        self.values, self.described = values, described
+        self.tally = _Implausible()
+
+    def _execute(self, target) -> int:
+        """Run the chunks into ``target`` (``add(chunk)``); the chunks resumed."""
+        from .execution import execute
+
+        def sink(chunk):
+            self.tally.add(chunk)
+            target.add(chunk)
+
+        return execute(self.tasks, self.executor, self.store, self.progress, len(self.values), sink=sink)[1]
+
+    def _dataset(self, chunks, values):
+        from .results import build_dataset
+
+        definition, variables, coords, model, size = self.described
+        return build_dataset(chunks, values, definition, variables, coords, model, attrs={"chunk_size": size})
+
+    def in_memory(self) -> StudyResult:
+        """The results assembled in memory (:class:`~.results.Assembly`)."""
+        from .results import Assembly
+
+        _, variables, coords, _, _ = self.described
+        shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
+        assembly = Assembly(len(self.values), shapes)
+        resumed = self._execute(assembly)
+        return StudyResult(self._dataset(assembly, self.values), resumed_chunks=resumed)
+
+    def to_file(self, out) -> StudyResult:
+        """The results written to ``out`` chunk by chunk (:class:`~.results.ResultsWriter`), whole
+        or not at all. The result holds the per-variant numbers in memory (assembled as the chunks
+        come) and reads the variables over speeds from the file as they are used
+        (:class:`~.results.FileRecords`)."""
+        from xarray.core.indexing import LazilyIndexedArray
+
+        from ..io import atomic_write
+        from ..io.atomic import real_target
+        from .results import Assembly, NewEncoding, ResultsWriter, file_records, sweep_variables
+
+        _, variables, coords, _, _ = self.described
+        sweeps = sweep_variables(variables)
+        template = self._dataset([_empty_chunk(variables, coords)], self.values[:1])
+        with atomic_write(out, None) as temporary:
+            try:
+                writer = ResultsWriter(temporary, template, self.values, self.progress)
+            except NewEncoding:  # pragma: no cover - an xarray that lays records out otherwise
+                result = self.in_memory()
+                result.save(temporary, progress=self.progress)
+                return result
+            small = Assembly(len(self.values), {name: tuple(len(coords[d][1]) for d in dims)
+                                                for name, dims in variables.items() if name not in sweeps})
+            try:
+                resumed = self._execute(_Both(writer, small))
+                writer.finish()
+            finally:
+                writer.close()
+            small.arrays = small.arrays or {}
+            for name in sweeps:          # opened before the rename: the descriptor follows the file
+                small.arrays[name] = LazilyIndexedArray(file_records(temporary, real_target(out), len(writer.prefix),
+                                                                    writer.layout, name, len(self.values)))
+        return StudyResult(self._dataset(small, self.values), resumed_chunks=resumed)
+
+
+class _Both:
+    """Hands each chunk to the results file and to the numbers kept in memory."""
+
+    def __init__(self, *targets):
+        self.targets = targets
+
+    def add(self, chunk: dict) -> None:
+        for target in self.targets:
+            target.add(chunk)
+
+
+def _empty_chunk(variables, coords) -> dict:
+    """A chunk of one variant that did not fail, every output NaN (the results file's header)."""
+    shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
+    return {"start": 0, "error": np.array([""], dtype=str),
+            **{name: np.full((1,) + shape, np.nan) for name, shape in shapes.items()}}
+
+
+def _device(out) -> bool:
+    """Whether ``out`` names a device or a pipe (written in place, never replaced)."""
+    from ..io.atomic import _is_special, real_target
+
+    return _is_special(real_target(out))
 
 
 class ImplausibleVariants(ModelWarning):
@@ -148,11 +247,11 @@ class _Implausible:
                 f"check gives); the first, variant {variant}: {text}")
 
 
-def _outputs_text(definition, shapes) -> str:
-    """The study file and its largest outputs per variant, for the memory estimate's message."""
+def _outputs_text(shapes) -> str:
+    """The study's largest outputs per variant, for the estimates' messages."""
     largest = sorted(shapes.items(), key=lambda item: -int(np.prod(item[1])))[:2]
     parts = ", ".join(f"{name} {' x '.join(map(str, shape)) or '1'}" for name, shape in largest)
-    return f"{definition.source} ({parts} per variant)"
+    return f"{parts} per variant"
 
 
 class _MissingExtra(InputError, ImportError):
@@ -180,9 +279,9 @@ def _definition(spec, model) -> StudyDefinition:
 class _CallableModule(types.ModuleType):
     """``rdm.study(...)`` calls :func:`study`; submodules import as usual."""
 
-    def __call__(self, model, spec, executor=None, checkpoint=None, chunk_size=None, progress=False):
+    def __call__(self, model, spec, executor=None, checkpoint=None, chunk_size=None, progress=False, out=None):
         return study(model, spec, executor=executor, checkpoint=checkpoint, chunk_size=chunk_size,
-                     progress=progress)
+                     progress=progress, out=out)
 
 
 sys.modules[__name__].__class__ = _CallableModule

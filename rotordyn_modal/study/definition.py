@@ -226,10 +226,17 @@ def _check_variant_count(parameters, samples, design, source):
     if random:
         count *= samples * (random + 2 if design == "saltelli" else 1)
     if problem := count_problem(count, "variants"):
-        if random:
-            raise StudyError(source, "samples", samples, "a study of " + problem)
-        grids = " x ".join(str(len(p.grid)) for p in parameters if p.is_grid)
-        raise StudyError(source, "[[parameters]] grids", f"{grids} points", "a study of " + problem)
+        raise StudyError(source, *count_key(parameters, samples), "a study of " + problem)
+
+
+def count_key(parameters, samples) -> tuple:
+    """The key of a study file that sets its number of variants, and its value, for a message:
+    ``('samples', N)`` where some parameter is a distribution, else ``('[[parameters]] grids',
+    '3 x 4 points')``."""
+    if any(not p.is_grid for p in parameters):
+        return "samples", samples
+    grids = " x ".join(str(len(p.grid)) for p in parameters if p.is_grid)
+    return "[[parameters]] grids", f"{grids} points"
 
 
 def _is_int(value) -> bool:

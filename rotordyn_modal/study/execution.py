@@ -21,12 +21,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .._limits import memory_room
+from .._limits import MEMORY_ENVIRONMENT, memory_room
 from ..errors import InputError, OutputError
 from .analyses import batch_caches, run_analyses
 
 __all__ = ["ChunkTask", "run_chunk", "make_tasks", "execute", "Checkpoint", "finished_chunks", "ResultsLock", "limit_threads",
-           "worker_initializer", "default_chunk_size", "remove_checkpoint", "check_memory"]
+           "worker_initializer", "default_chunk_size", "remove_checkpoint", "check_memory", "check_disk",
+           "check_cpu_time"]
 
 
 @dataclass(frozen=True)
@@ -470,35 +471,63 @@ def _atomic_bytes(path: Path, payload: bytes) -> None:
 
 
 # ---------------------------------------------------------------------------- memory
-def check_memory(n_variants: int, per_variant: int, chunk_size: int, what: str) -> None:
+def check_memory(n_variants: int, per_variant: int, chunk_size: int, definition, outputs: str,
+                 held: int | None = None) -> None:
     """Refuse, before any work, a study whose results cannot fit in memory.
 
-    The results are held once (:class:`~rotordyn_modal.study.results.Assembly`) and written
-    a block at a time; a chunk is held a few times more while it is saved.
+    Assembled in memory (:class:`~rotordyn_modal.study.results.Assembly`), the results are held
+    once and written a block at a time; written to their file chunk by chunk
+    (:class:`~rotordyn_modal.study.results.ResultsWriter`), only ``held`` bytes per variant stay
+    (:func:`~rotordyn_modal.study.results.held_bytes`). A chunk is held a few times more while
+    it is saved.
 
     Parameters
     ----------
     n_variants, per_variant : int
         Variants, and bytes of one variant's results.
     chunk_size : int
-    what : str
-        What the results are, for the message (the study file, its outputs).
+    definition : StudyDefinition
+        The study (its file and the key that sets the number of variants, for the message).
+    outputs : str
+        The largest outputs per variant, for the message ('frequency_hz 201 x 6, ... per variant').
+    held : int, optional
+        Bytes per variant kept in memory (default ``per_variant``: the results in memory).
 
     Raises
     ------
     InputError
+        ``STUDY: samples = N: N variants x X kB (...) = Y GB of results need about Z GB of memory,
+        more than the W GB left (LIMIT): ADVICE``, one line.
     """
+    streamed = held is not None
+    held = per_variant if held is None else held
+    needed = n_variants * held + 4 * chunk_size * per_variant + 2**26
+    available, limit = memory_room()
+    if needed <= available:
+        return
     results = n_variants * per_variant
-    needed = results + 4 * chunk_size * per_variant + 2**26
-    available = memory_room()
-    if needed > available[0]:
-        raise InputError(f"{what}: {n_variants:,} variants x {per_variant / 1e3:.4g} kB = {results / 1e9:.4g} GB "
-                         f"of results need about {needed / 1e9:.4g} GB of memory; only "
-                         f"{max(available[0], 0) / 1e9:.4g} GB is left ({available[1]}): run fewer variants (or fewer speeds), or split the "
-                         "study into several")
+    if streamed:
+        what = (f"{n_variants:,} variants need about {needed / 1e9:.4g} GB of memory ({held:,} bytes each of "
+                f"numbers read whole after the run; their {results / 1e9:.4g} GB of results go to the file chunk "
+                f"by chunk)")
+    else:
+        what = (f"{n_variants:,} variants x {per_variant / 1e3:.4g} kB ({outputs}) = {results / 1e9:.4g} GB "
+                f"of results need about {needed / 1e9:.4g} GB of memory")
+    fit = int(max(available - 4 * chunk_size * per_variant - 2**26, 0) // max(held, 1))
+    raise InputError(f"{_where(definition)}{what}, more than the {max(available, 0) / 1e9:.4g} GB left ({limit}): "
+                     f"run fewer variants (about {fit:,} fit){'' if streamed else ', write the results to a file as they come (out=)'}, "
+                     f"or split the study into several ({MEMORY_ENVIRONMENT} sets the memory to count on)")
 
 
-def check_disk(folder, n_variants: int, per_variant: int, what: str) -> None:
+def _where(definition) -> str:
+    """``'STUDY: samples = 1000000: '``: the study file and the key that sets its variants."""
+    from .definition import count_key
+
+    key, value = count_key(definition.parameters, definition.samples)
+    return f"{definition.source}: {key} = {value!r}: "
+
+
+def check_disk(folder, n_variants: int, per_variant: int, definition, outputs: str) -> None:
     """Refuse, before any work, a study whose checkpoint and results file cannot fit on the
     disk of its checkpoint ``folder``: both hold the results (the checkpoint is removed only
     once the results file is written); chunks already saved there count as room.
@@ -506,6 +535,8 @@ def check_disk(folder, n_variants: int, per_variant: int, what: str) -> None:
     Raises
     ------
     InputError
+        ``STUDY: samples = N: N variants x X kB (...) need about Y GB on the disk of FOLDER (...),
+        more than the Z GB free there: ADVICE``, one line.
     """
     import shutil
 
@@ -520,9 +551,62 @@ def check_disk(folder, n_variants: int, per_variant: int, what: str) -> None:
     saved = sum(p.stat().st_size for p in folder.glob("chunk-*.npz")) if folder.is_dir() else 0
     needed = 2 * n_variants * per_variant - saved
     if needed > free:
-        raise InputError(f"{what}: {n_variants:,} variants need about {needed / 1e9:.4g} GB on the disk of "
-                         f"{folder} (the checkpoint and the results file, each {n_variants * per_variant / 1e9:.4g} "
-                         f"GB); it has {free / 1e9:.4g} GB free: free space, or give an --out on a larger disk")
+        fit = int(max(free + saved, 0) // max(2 * per_variant, 1))
+        raise InputError(f"{_where(definition)}{n_variants:,} variants x {per_variant / 1e3:.4g} kB ({outputs}) need "
+                         f"about {needed / 1e9:.4g} GB on the disk of {folder} (the checkpoint and the results file, "
+                         f"each {n_variants * per_variant / 1e9:.4g} GB), more than the {free / 1e9:.4g} GB free "
+                         f"there: run fewer variants (about {fit:,} fit), free space, or give an --out on a larger disk")
+
+
+def check_cpu_time(model, definition, n_variants: int) -> None:
+    """Refuse, before any work, a study estimated to take more CPU time than the limit the other
+    commands keep (``ROTORDYN_MODAL_MAX_CPU_MINUTES``, 30 min by default), unless long work is
+    allowed (``--allow-long``, :func:`rotordyn_modal.long_work_allowed`): its variants times the
+    estimate of one variant's eigen-solutions and crossings on the base model
+    (:func:`rotordyn_modal.analysis._work.estimate`; the Campbell sweep and its critical speeds,
+    the stability map's speeds, the modes' one speed; the unbalance responses are not counted).
+
+    Raises
+    ------
+    InputError
+        ``STUDY: samples = N: N variants x about X s of CPU time each (MODEL: ...) = about Y h of
+        CPU time, more than the limit of 30 min: ADVICE``, one line.
+    """
+    from ..analysis import _cost, _work
+
+    if _cost.long_work_is_allowed() or n_variants == 0:
+        return
+    limit = _cost.limit_seconds()
+    if limit == float("inf"):
+        return
+    runs = _variant_runs(definition.analyses)
+    if not runs or n_variants * sum(_work._quick_bound(model, *run) for run in runs) <= limit:
+        return
+    works = [_work.estimate(model, *run) for run in runs]
+    each = sum(work.seconds for work in works)
+    if n_variants * each <= limit:
+        return
+    largest = max(works, key=lambda work: work.seconds)
+    fit = int(limit // max(each, 1e-12))
+    raise InputError(f"{_where(definition)}{n_variants:,} variants x {largest.text().replace(' of CPU time', '')} each "
+                     f"({model.source} as the study's base model) = about {_cost.duration(n_variants * each)} of CPU "
+                     f"time, more than the limit of {_cost.duration(limit)}: run fewer variants (about {fit:,} fit), "
+                     f"or add --allow-long ({_cost.ENVIRONMENT} sets the limit)")
+
+
+def _variant_runs(analyses) -> list:
+    """The eigen-solutions of one variant's analyses, as arguments of ``_work.estimate`` after the
+    model: (speeds, orders, critical, numbers, solutions)."""
+    runs = []
+    if "campbell" in analyses or "critical_speeds" in analyses:  # one sweep, shared, with its crossings
+        options = analyses.get("campbell") or analyses["critical_speeds"]
+        runs.append((options["speeds"], options["orders"], True, False, len(options["speeds"])))
+    if "stability" in analyses:
+        speeds = analyses["stability"]["speeds"]
+        runs.append((speeds, (), False, False, len(speeds)))
+    if "modes" in analyses:
+        runs.append((np.array([analyses["modes"]["speed"]]), (), False, False, 1))
+    return runs
 
 
 # ---------------------------------------------------------------------------- one writer
@@ -719,7 +803,8 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
         Number of variants (for the bar).
     sink : callable, optional
         Given every chunk (resumed or computed) as it comes, which is then let go: memory
-        holds one chunk at a time (per worker), not all of them.
+        holds one chunk at a time (per worker), not all of them. The saved chunks come first,
+        each read once, before the pool's workers start.
 
     Returns
     -------
@@ -731,20 +816,18 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
     kept = {} if sink is None else None
     resumed = set()
     if checkpoint is not None:
-        saved = _saved_bar(progress, checkpoint.each_done(tasks), checkpoint.saved(), "checking saved chunks")
-        for index, chunk in saved:  # checked (and let go) before the pool starts
+        saved = _saved_bar(progress, checkpoint.each_done(tasks), checkpoint.saved(), "reading saved chunks")
+        for index, chunk in saved:  # each read once: checked, handed on and let go before the pool starts
             resumed.add(index)
             if kept is not None:
                 kept[index] = chunk
+            else:
+                sink(chunk)
     todo = [task for task in tasks if task.index not in resumed]
     mapper = map if executor is None else executor.map
     bar = None
     try:
-        computed = mapper(run_chunk, todo)  # a pool's workers start here, before memory fills
-        if sink is not None and resumed:
-            for index, chunk in _saved_bar(progress, checkpoint.each_done(tasks, resumed), len(resumed),
-                                           "reading saved chunks"):
-                sink(chunk)
+        computed = mapper(run_chunk, todo)
         # after the saved chunks' own bar: one bar on the terminal at a time
         bar = _bar(progress, total, sum(len(t.values) for t in tasks if t.index in resumed))
         for task in tasks:
@@ -771,8 +854,8 @@ def execute(tasks, executor=None, checkpoint: Checkpoint | None = None, progress
 def _saved_bar(enabled, chunks, total: int, description: str):
     """``chunks`` (the ``(index, chunk)`` pairs of :meth:`Checkpoint.each_done`) as they come, with
     a bar over them where ``enabled`` (``total`` chunk files; gone when done): a resumed study reads
-    and checks every saved chunk twice, before the work and again into the results (measured 33 s
-    for 439 chunks of 30,000 variants, with no sign of progress before)."""
+    and checks every saved chunk before the work (each once; it was twice, 33 s for 439 chunks of
+    30,000 variants, with no sign of progress)."""
     if not enabled or not total:
         return chunks
     from .._progress import tqdm

@@ -9,11 +9,13 @@ no extra engine), which opens without this package (``xarray.open_dataset``,
 from __future__ import annotations
 
 import json
+import os
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["StudyResult", "Assembly", "build_dataset", "load_study", "percentile_interval", "variant_bytes"]
+__all__ = ["StudyResult", "Assembly", "ResultsWriter", "FileRecords", "sweep_variables", "held_bytes", "build_dataset", "load_study", "percentile_interval", "variant_bytes"]
 
 #: dimensions too long to spread into columns of the per-variant table
 _SWEEP_DIMS = ("speed", "stability_speed")
@@ -30,6 +32,27 @@ def variant_bytes(shapes, n_parameters: int) -> int:
     n_parameters : int
     """
     return 8 * (sum(int(np.prod(shape)) for shape in shapes.values()) + n_parameters) + 1 + 4
+
+
+def held_bytes(variables, shapes, n_parameters: int) -> int:
+    """Bytes per variant that stay in memory when the results go to their file chunk by chunk
+    (:class:`ResultsWriter`): what is read whole afterwards, the per-variant numbers (outputs
+    without a speed dimension and the parameter values, read for the summary and the table,
+    about three copies at a time) and one mode's frequencies at every speed (the Campbell
+    figure's band, three copies), and the failure flags.
+
+    Parameters
+    ----------
+    variables : dict
+        Output variable -> dims after ``variant``.
+    shapes : dict
+        Output variable -> shape per variant.
+    n_parameters : int
+    """
+    numbers = sum(int(np.prod(shapes[name])) for name, dims in variables.items()
+                  if not any(d in _SWEEP_DIMS for d in dims))
+    speeds = shapes["frequency_hz"][0] if "frequency_hz" in shapes else 0
+    return 3 * 8 * (numbers + n_parameters) + 3 * 8 * speeds + 2
 
 
 class Assembly:
@@ -298,14 +321,27 @@ class StudyResult:
         low, median, high : ndarray, shape (n_modes, N) [Hz]
             NaN where no variant has the mode at that speed (all NaN for a mode no variant has).
         """
-        freq = self.dataset["frequency_hz"].values[~self.failed]      # (variant, speed, mode)
-        freq = np.where(freq > 0, freq, np.nan)
-        bands = np.full((3, freq.shape[2], freq.shape[1]), np.nan)
-        for m in range(freq.shape[2]):
-            column = freq[:, :, m]
+        bands = np.full((3, self.dataset.sizes["mode"], self.dataset.sizes["speed"]), np.nan)
+        for m, column in enumerate(self.mode_frequencies()):
             if np.isfinite(column).any():
                 bands[:, m] = np.nanpercentile(column, [percentiles[0], 50.0, percentiles[1]], axis=0)
         return bands[0], bands[1], bands[2]
+
+    def mode_frequencies(self):
+        """Each tracked mode's damped natural frequency at every speed of the ``campbell`` analysis
+        over the variants that succeeded, one mode at a time (memory holds one mode's, read from
+        the results file where the data set reads one).
+
+        Yields
+        ------
+        ndarray, shape (n_succeeded, N) [Hz]
+            NaN where the root is no mode (frequency 0) or does not exist.
+        """
+        ok = ~self.failed
+        frequency = self.dataset["frequency_hz"]                      # (variant, speed, mode)
+        for m in range(self.dataset.sizes["mode"]):
+            column = frequency[:, :, m].values[ok]
+            yield np.where(column > 0, column, np.nan)
 
     def probability_in_band(self, low: float, high: float, sources=None, orders=None, modes=None) -> dict:
         """Probability that a critical speed falls inside an operating band.
@@ -502,6 +538,273 @@ def write_netcdf(dataset, path, progress: bool = False) -> None:
         handle.write(np.array(n, ">i4").tobytes())  # numrecs
 
 
+def sweep_variables(variables) -> list:
+    """The output variables with a speed dimension (the large ones: Campbell curves, stability
+    roots), read from the results file as they are used rather than held in memory."""
+    return [name for name, dims in variables.items() if any(d in _SWEEP_DIMS for d in dims)]
+
+
+def file_records(*args):
+    """A :class:`FileRecords` that is an xarray backend array (xarray imported here, when a study
+    writes its file: the package imports without it)."""
+    from xarray.backends import BackendArray
+
+    global _FileRecordsArray
+    if _FileRecordsArray is None:
+        _FileRecordsArray = type("_FileRecordsArray", (FileRecords, BackendArray), {"__module__": __name__})
+    return _FileRecordsArray(*args)
+
+
+_FileRecordsArray = None
+
+
+class FileRecords:
+    """One record variable of a study's results file, read as it is used (an xarray backend
+    array): a block of records at a time through one file descriptor (``os.pread``), never
+    mapped, so that memory and address space hold what is asked for, not the file.
+
+    Parameters
+    ----------
+    path : str
+        The file (a temporary one may be renamed: the descriptor opened here follows it).
+    reopen : str
+        The file's final name (messages; opened again by a pickled copy).
+    begin : int
+        Byte offset of the first record.
+    layout : dict
+        :func:`_record_layout` of the file.
+    name : str
+        The variable.
+    n : int
+        Records (variants).
+    """
+
+    def __init__(self, path, reopen, begin: int, layout: dict, name: str, n: int):
+        _, self.offset, disk, shape, self.count = next(f for f in layout["fields"] if f[0] == name)
+        self.disk, self.dtype = disk, disk.newbyteorder("=")
+        self.shape = (n,) + tuple(shape)
+        self.record, self.begin, self.reopen = layout["size"], begin, str(reopen)
+        self._fd = os.open(path, os.O_RDONLY)
+        self._closer = weakref.finalize(self, os.close, self._fd)
+
+    def __getstate__(self):          # a pickle (a worker's copy) opens the file by its final name
+        state = dict(self.__dict__)
+        state.pop("_fd"), state.pop("_closer")
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self._fd = os.open(self.reopen, os.O_RDONLY)
+        self._closer = weakref.finalize(self, os.close, self._fd)
+
+    @property
+    def ndim(self) -> int:
+        return len(self.shape)
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape))
+
+    def __len__(self) -> int:
+        return self.shape[0]
+
+    def get_duck_array(self, dtype=None):
+        """Every value (xarray's backend arrays' method)."""
+        from xarray.core import indexing
+
+        return self[indexing.BasicIndexer((slice(None),) * self.ndim)]
+
+    def __getitem__(self, key):
+        from xarray.core import indexing
+
+        return indexing.explicit_indexing_adapter(key, self.shape, indexing.IndexingSupport.BASIC, self._read)
+
+    def _read(self, key: tuple) -> np.ndarray:
+        """The values of a basic key (ints and slices), read a block of records at a time (each
+        block's part taken at once: memory holds the answer and one block)."""
+        first, rest = key[0], (slice(None),) + tuple(key[1:])
+        rows = np.arange(self.shape[0])[first if isinstance(first, slice) else slice(first, first + 1)]
+        tail = np.empty((0,) + self.shape[1:], self.dtype)[rest].shape[1:]
+        out = np.empty((len(rows),) + tail, self.dtype)
+        step = max(1, _BLOCK_BYTES // self.record)
+        if len(rows):
+            for start in range(int(rows.min()), int(rows.max()) + 1, step):
+                stop = min(int(rows.max()) + 1, start + step)
+                chosen = np.flatnonzero((rows >= start) & (rows < stop))
+                if len(chosen):
+                    out[chosen] = self._block(start, stop)[rows[chosen] - start][rest]
+        return out if isinstance(first, slice) else out[0]
+
+    def _block(self, start: int, stop: int) -> np.ndarray:
+        """Records start..stop-1 of the variable, shape (stop - start, ...)."""
+        size = (stop - start) * self.record
+        data = os.pread(self._fd, size, self.begin + start * self.record)
+        if len(data) != size:
+            raise OSError(f"{self.reopen}: the results file ends before its records do")
+        fields = np.frombuffer(data, np.uint8).reshape(stop - start, self.record)[:, self.offset:self.offset + self.count]
+        return np.ascontiguousarray(fields).view(self.disk).reshape((stop - start,) + self.shape[1:]).astype(self.dtype)
+
+
+class NewEncoding(Exception):
+    """xarray lays a record out otherwise than :func:`_record_block` does (a version with a new
+    encoding): the results are then assembled in memory and written by xarray."""
+
+
+class ResultsWriter:
+    """A study's results written to their netCDF file chunk by chunk as the chunks come, in any
+    order, each into its own records: memory holds one chunk, never the results. The file is
+    byte for byte the one :func:`write_netcdf` writes of the whole data set.
+
+    The header (the text width of ``error`` included) is written for variants that do not fail;
+    the failures' texts are kept (variant -> text) and, when some are wider, :meth:`finish`
+    widens the records in place, from the last block to the first (one more pass over the file,
+    only then).
+
+    Parameters
+    ----------
+    path : str
+        The file (a temporary one, renamed by the caller once finished).
+    template : xarray.Dataset
+        One variant's data set (:func:`build_dataset` of one chunk of one variant): its header is
+        the file's.
+    values : ndarray, shape (n_variants, n_parameters)
+        Every variant's parameter values (``sample_value``).
+    progress : bool
+        A bar while the records are widened (more than one block).
+
+    Raises
+    ------
+    NewEncoding
+        Before anything is written to ``path``, when xarray's record is not laid out as here.
+    """
+
+    def __init__(self, path, template, values, progress: bool = False):
+        self.path, self.template, self.values, self.progress = str(path), template, values, progress
+        self.n = len(values)
+        self.failures = {}
+        self.filled = 0
+        self.prefix, self.first, self.layout = _header(template)
+        self.handle = open(self.path, "w+b")
+        self.handle.write(self.prefix)
+
+    def add(self, chunk: dict) -> None:
+        """Write one chunk (``start``, ``error`` and the variables) into its records."""
+        start, errors = int(chunk["start"]), chunk["error"]
+        rows = len(errors)
+        failed = errors != ""
+        self.failures.update({start + i: str(errors[i]) for i in np.flatnonzero(failed)})
+        plain = np.zeros(rows, dtype="U1")     # the texts go in once the file's width is known
+
+        def column(name):
+            if name == "sample_value":
+                return self.values[start:start + rows]
+            if name == "variant":
+                return np.arange(start, start + rows)
+            if name == "error":
+                return plain
+            if name == "failed":
+                return failed.astype(np.int8)
+            return chunk[name]
+
+        block = _record_block(column, self.layout, self.first, rows)
+        self.handle.seek(len(self.prefix) + start * self.layout["size"])
+        self.handle.write(block.tobytes())
+        self.filled += rows
+
+    def finish(self) -> None:
+        """The failures' texts and the number of records written; the file closed."""
+        assert self.filled == self.n, "every variant's chunk is written"
+        try:
+            if self.failures:
+                self._widen()
+            self.handle.seek(4)
+            self.handle.write(np.array(self.n, ">i4").tobytes())  # numrecs
+            self.handle.flush()
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        self.handle.close()
+
+    def _widen(self) -> None:
+        """Rewrite the records with the failures' texts in the width of the longest (in place,
+        from the last block: a record only grows) and the header of that width."""
+        longest = max(self.failures.values(), key=lambda text: len(text.encode("utf-8")))
+        template = self.template.copy()
+        template["error"] = template["error"].copy(data=np.array([longest], dtype=str))
+        prefix, first, layout = _header(template)
+        size = self.layout["size"]
+        assert len(prefix) >= len(self.prefix) and layout["size"] >= size, "records only grow"
+        offsets = {name: (offset, count) for name, offset, _, _, count in self.layout["fields"]}
+        step = max(1, _BLOCK_BYTES // layout["size"])
+        starts = list(range(0, self.n, step))
+        bar = _writing_bar(self.progress and len(starts) > 1, self.n)
+        try:
+            for start in reversed(starts):
+                rows = min(self.n, start + step) - start
+                self.handle.seek(len(self.prefix) + start * size)
+                records = np.frombuffer(self.handle.read(rows * size), np.uint8).reshape(rows, size)
+
+                texts = np.array([self.failures.get(i, "") for i in range(start, start + rows)], dtype=str)
+                block = _moved(records, offsets, layout, first, texts)
+                self.handle.seek(len(prefix) + start * layout["size"])
+                self.handle.write(block.tobytes())
+                if bar is not None:
+                    bar.update(rows)
+        finally:
+            if bar is not None:
+                bar.close()
+        self.handle.seek(0)
+        self.handle.write(prefix)
+        self.prefix, self.first, self.layout = prefix, first, layout
+
+
+def _moved(records, offsets, layout, first_record: bytes, texts) -> np.ndarray:
+    """Records laid out anew: each variable's bytes copied from ``records`` (at ``offsets``:
+    name -> (offset, bytes) there) to its place in ``layout``, the ``error`` texts written.
+
+    Parameters
+    ----------
+    records : ndarray of uint8, shape (rows, old record size)
+    offsets : dict
+    layout : dict
+        :func:`_record_layout` of the new records.
+    first_record : bytes
+        A record of the new layout (its padding is copied).
+    texts : ndarray of str, shape (rows,)
+    """
+    rows = len(records)
+    block = np.empty((rows, layout["size"]), np.uint8)
+    block[:] = np.frombuffer(first_record, np.uint8)
+    for name, offset, _, shape, count in layout["fields"]:
+        if name == "error":
+            encoded = np.char.encode(texts, "utf-8").astype(f"S{shape[-1]}")
+            block[:, offset:offset + count] = np.ascontiguousarray(encoded).view(np.uint8).reshape(rows, count)
+        else:
+            old, size = offsets[name]
+            block[:, offset:offset + count] = records[:, old:old + size]
+    return block
+
+
+def _header(template):
+    """What xarray writes of a one-variant data set: the bytes before the records (header and
+    fixed variables), the record, and :func:`_record_layout`.
+
+    Raises
+    ------
+    NewEncoding
+        When :func:`_record_block` does not lay the record out byte for byte as xarray did.
+    """
+    import io
+
+    written = bytes(template.to_netcdf(None, engine="scipy", format="NETCDF3_64BIT", unlimited_dims=["variant"]))
+    layout = _record_layout(io.BytesIO(written))
+    prefix, first = written[:-layout["size"]], written[-layout["size"]:]
+    if _records(template, layout, first, 0, 1).tobytes() != first:  # pragma: no cover - a new encoding
+        raise NewEncoding
+    return prefix, first, layout
+
+
 def _writing_bar(enabled: bool, total: int):
     """A bar over the ``total`` variants written (gone when done), or None."""
     if not enabled:
@@ -522,8 +825,9 @@ def _template(dataset):
 
 
 def _record_layout(path) -> dict:
-    """The record variables of a netCDF 3 file in the order of its records: name, byte
-    offset in a record, on-disk dtype and shape per record; ``size`` of a record [bytes]."""
+    """The record variables of a netCDF 3 file (a path or a file object) in the order of its
+    records: name, byte offset in a record, on-disk dtype and shape per record; ``size`` of a
+    record [bytes]."""
     from scipy.io import netcdf_file
 
     with netcdf_file(path, "r", mmap=False) as nc:
@@ -537,16 +841,35 @@ def _record_layout(path) -> dict:
 
 
 def _records(dataset, layout, first_record: bytes, start: int, stop: int) -> np.ndarray:
-    """(stop - start, record size) bytes of variants start..stop-1, padding as in ``first_record``."""
-    block = np.empty((stop - start, layout["size"]), np.uint8)
+    """(stop - start, record size) bytes of variants start..stop-1 of ``dataset``, padding as in
+    ``first_record`` (a variable read a block at a time: a data set that reads its file lazily
+    loads the block only)."""
+    return _record_block(lambda name: dataset[name][start:stop].values, layout, first_record, stop - start)
+
+
+def _record_block(column, layout, first_record: bytes, rows: int) -> np.ndarray:
+    """(rows, record size) bytes of ``rows`` consecutive variants, padding as in ``first_record``.
+
+    Parameters
+    ----------
+    column : callable
+        ``column(name)`` -> the values of the record variable ``name`` over the rows, shape
+        (rows, ...) (text as str).
+    layout : dict
+        :func:`_record_layout` of the file.
+    first_record : bytes
+        A record as the netCDF writer laid it out (its padding bytes are copied).
+    rows : int
+    """
+    block = np.empty((rows, layout["size"]), np.uint8)
     block[:] = np.frombuffer(first_record, np.uint8)
     for name, offset, dtype, shape, count in layout["fields"]:
-        values = dataset[name].values[start:stop]
+        values = np.asarray(column(name))
         if dtype.kind == "S":  # text as characters: UTF-8, padded with NUL to the width
-            values = np.char.encode(values, "utf-8").astype(f"S{shape[-1]}")
+            values = np.char.encode(values.astype(str), "utf-8").astype(f"S{shape[-1]}")
         else:
             values = values.astype(dtype.newbyteorder(">"))
-        block[:, offset:offset + count] = np.ascontiguousarray(values).view(np.uint8).reshape(stop - start, count)
+        block[:, offset:offset + count] = np.ascontiguousarray(values).view(np.uint8).reshape(rows, count)
     return block
 
 

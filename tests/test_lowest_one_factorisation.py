@@ -1,0 +1,101 @@
+"""The speeds between solved anchors on one factorisation a root (``docs/theory.md`` section 17,
+step 3a): ROSS's ``compressor_example`` at 201 speeds, ``campbell(modes=12)``.
+
+The start vectors are the nodes' shapes turned to one phase and interpolated in the speed, so
+every carried-over root passes the chord step's test (no Newton's iteration after it), and the
+anchors between the solved ones are carried over like the other speeds (no projected pencil of
+their own) where four solved anchors give the cubic. Truth from outside the code: scipy's
+eigenvalues of the full state matrix built here from ``model.matrices(speed)``."""
+
+from __future__ import annotations
+
+import contextlib
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+import rotordyn_modal as rdm
+from rotordyn_modal.analysis import _lowest, _lowest_newton
+from rotordyn_modal.io.ross_file import read_ross_rotor
+
+DATA = Path(__file__).parent / "data" / "ross"
+#: the span of the file's ROSS reference speeds [rad/s] (6,000-10,000 rpm) at 201 speeds, as bench_ross.py sweeps it
+SPEEDS = np.linspace(628.3185307179587, 1047.1975511965977, 201)
+
+
+def _one_blas_thread():
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover
+        return contextlib.nullcontext()
+    return threadpool_limits(limits=1, user_api="blas")
+
+
+@pytest.fixture(scope="module")
+def sweep():
+    """The model, ``campbell(modes=12)`` of 201 speeds, the speeds (rows) and roots given to the
+    one-factorisation refinement, the roots given to Newton's iteration, and the warnings."""
+    path = DATA / "compressor_example.toml"
+    model = rdm.Model.from_dict(read_ross_rotor(path), source=path)
+    continued, newton, projected = _lowest._continued, _lowest_newton._newton, _lowest._projected_guesses
+    chord, iterated = [], []
+
+    def recording_continued(pencils, guesses, vectors, rows):
+        chord.append(np.array(rows))
+        return continued(pencils, guesses, vectors, rows)
+
+    def recording_newton(pencils, index, lam, x):
+        iterated.append(np.array(index))
+        return newton(pencils, index, lam, x)
+
+    def refused(*args, **kwargs):
+        raise AssertionError("an anchor between solved ones took its own projected roots")
+
+    _lowest._continued, _lowest_newton._newton, _lowest._projected_guesses = \
+        recording_continued, recording_newton, refused
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = rdm.campbell(model, SPEEDS, critical=False, modes=12)
+    finally:
+        _lowest._continued, _lowest_newton._newton, _lowest._projected_guesses = continued, newton, projected
+    return model, result, chord, iterated, [str(warning.message) for warning in caught]
+
+
+def test_the_carried_over_roots_take_one_factorisation(sweep):
+    """Every speed but the solved anchors (every eighth and the last) is carried over, the anchors
+    between the solved ones included, and at most 1 % of their 2,275 roots go on to Newton's
+    iteration after the chord step (measured: 4, at anchors carried four speeds; with the nearest
+    node's shape as the start vector 327, 14 %): Newton's iteration serves the 26 solved anchors'
+    13 roots and those few."""
+    _, _, chord, iterated, caught = sweep
+    assert not [message for message in caught if "solved whole" in message]
+    solved = set(range(0, 201, 8)) | {200}
+    carried = np.concatenate(chord)
+    assert sorted(carried.tolist()) == sorted(set(range(201)) - solved)
+    newton_speeds = np.concatenate(iterated)
+    assert set(newton_speeds.tolist()) >= solved
+    assert np.sum(np.isin(newton_speeds, list(solved))) == 13 * len(solved)
+    assert len(newton_speeds) - 13 * len(solved) <= 0.01 * 13 * len(carried)
+
+
+@pytest.mark.parametrize("row", [0, 3, 4, 13, 100, 196, 199, 200])
+def test_the_lowest_twelve_are_the_full_models_to_1e_9(sweep, row):
+    """At solved anchors (0, 200), anchors carried over (4, 100, 196) and other speeds (3, 13, 199):
+    the 12 roots are the 12 lowest of scipy's eigenvalues of the full state matrix, each to 1e-9."""
+    model, result, _, _, _ = sweep
+    speed = SPEEDS[row]
+    M, C, G, K = model.matrices(speed)
+    n = len(M)
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C + speed * G)]])
+    with _one_blas_thread():          # BLAS's own threads only wait for a core on a loaded machine
+        roots = scipy.linalg.eigvals(A)
+    roots = roots[roots.imag > 0]
+    expected = np.sort(roots[np.argsort(roots.imag)[:12]].imag)
+    got = result.eigenvalues[row]
+    nearest = roots[np.argmin(np.abs(got[:, None] - roots[None, :]), axis=1)]
+    assert np.max(np.abs(got - nearest) / np.abs(nearest)) < 1e-9
+    assert np.allclose(np.sort(got.imag), expected, rtol=1e-9, atol=0)

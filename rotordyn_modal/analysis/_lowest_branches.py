@@ -361,7 +361,8 @@ def _projected_starts(pencils, basis, want, index=None, vectors_at=None):
     index = np.arange(len(pencils.speeds)) if index is None else index
     speeds, cb, kb = pencils.speeds[index], pencils.cb[index], pencils.kb[index]
     Wt = basis.T
-    D0, K0, Gr = _lowest_starts.projected_first(pencils, index, basis)
+    # from the sweep's first speed: each speed's projected pencil its own whichever speeds are asked with it
+    D0, K0, Gr = _lowest_starts.projected_first(pencils, _lowest_starts._FIRST, basis)
     left, right = basis[pencils.rows].T, basis[pencils.cols]
     ranks = [term[3].shape[1] for term in pencils.terms]
     size = 2 * m + sum(ranks)
@@ -379,11 +380,11 @@ def _projected_starts(pencils, basis, want, index=None, vectors_at=None):
     vectors = np.empty((len(speeds), want, n), complex)
     # the eigenvectors of every state matrix: in parts of _PART_BYTES, not of every speed at once
     for part in _batches.chunk_slices(len(speeds), 64 * size * size, budget=_batches._PART_BYTES):
-        D = D0 + (speeds[part] - speeds[0])[:, None, None] * Gr
+        D = D0 + (speeds[part] - pencils.speeds[0])[:, None, None] * Gr
         Kr = np.broadcast_to(K0, D.shape)
         if len(pencils.rows):
-            D = D + (left[None] * (cb[part] - cb[:1])[:, None, :]) @ right
-            Kr = Kr + (left[None] * (kb[part] - kb[:1])[:, None, :]) @ right
+            D = D + (left[None] * (cb[part] - pencils.cb[:1])[:, None, :]) @ right
+            Kr = Kr + (left[None] * (kb[part] - pencils.kb[:1])[:, None, :]) @ right
         A = np.repeat(constant[None], len(D), axis=0)
         A[:, m:2 * m, :m] -= Kr             # the basis is mass-orthonormal: W^T M W = I
         A[:, m:2 * m, m:2 * m] = -D

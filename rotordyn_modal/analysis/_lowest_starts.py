@@ -20,6 +20,10 @@ from .modal import is_oscillating
 __all__ = ["frequency_key", "lowest_order"]
 
 
+#: the speed the projected pencils are taken from (:func:`_projected_starts`): the sweep's first
+_FIRST = np.zeros(1, int)
+
+
 def _projected_starts(pencils, basis, want, index=None, vectors_at=None):
     """The ``want`` lowest-frequency oscillating roots of the projected pencils at every speed
     (or at the speeds ``index``) (S, want) and their vectors in full coordinates (S, want, n);
@@ -32,15 +36,17 @@ def _projected_starts(pencils, basis, want, index=None, vectors_at=None):
     starts = np.empty((S, want), complex)
     vectors = np.empty((S, want, n), complex)
     Wt = basis.T
-    D0, K0, Gr = projected_first(pencils, index, basis)
+    # from the sweep's first speed, not the first asked: a speed's projected pencil (to its last bit)
+    # is its own whichever speeds are asked with it (the parts of a sweep, its restarts)
+    D0, K0, Gr = projected_first(pencils, _FIRST, basis)
     # the bearings' changes from the first speed, projected entry by entry
     left, right = basis[pencils.rows].T, basis[pencils.cols]
     for part in _batches.chunk_slices(S, 64 * m * m):
-        D = D0 + (speeds[part] - speeds[0])[:, None, None] * Gr                  # (P, m, m)
+        D = D0 + (speeds[part] - pencils.speeds[0])[:, None, None] * Gr            # (P, m, m)
         Kr = np.broadcast_to(K0, D.shape)
         if len(pencils.rows):
-            D = D + (left[None] * (cb[part] - cb[:1])[:, None, :]) @ right
-            Kr = Kr + (left[None] * (kb[part] - kb[:1])[:, None, :]) @ right
+            D = D + (left[None] * (cb[part] - pencils.cb[:1])[:, None, :]) @ right
+            Kr = Kr + (left[None] * (kb[part] - pencils.kb[:1])[:, None, :]) @ right
         A = np.zeros((len(D), 2 * m, 2 * m))
         A[:, :m, m:] = np.eye(m)
         A[:, m:, :m] = -Kr              # the basis is mass-orthonormal: W^T M W = I

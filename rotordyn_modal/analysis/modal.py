@@ -343,7 +343,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
         values, vectors = scipy.linalg.eig(matrix)
     n = form.n_dof
     noise = float(_roots.round_off(matrix))
-    snapped = _roots.snapped(values, noise, matrix, vectors, n)
+    snapped = _roots.snapped(values, noise, matrix, vectors, n, form.matrices.M)
     upper = _eigensolve.select_upper(snapped)
     # the LAPACK vectors of the chosen eigenvalues (nearest match; values are identical)
     index = [int(np.argmin(np.abs(values - lam))) for lam in upper]

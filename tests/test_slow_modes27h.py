@@ -7,9 +7,11 @@ root (here the forward conical whirl, 180 rad/s at 100 rad/s), in ``modes``, ``c
 
 from __future__ import annotations
 
+import io
 import itertools
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import rotordyn_modal as rdm
@@ -78,7 +80,7 @@ def test_modes_keep_the_cylindrical_pair_at_any_scale(tmp_path, mass, stiffness)
         result = rdm.modal(model, speed)
         listed = result.eigenvalues[result.oscillatory].imag
         assert _count_near(listed, _cylindrical(mass, stiffness)) == 2, (speed, listed)
-        forward, backward = _conical(mass, stiffness, speed)
+        forward = _conical(mass, stiffness, speed)[0]
         assert _count_near(listed, forward) == (2 if speed == 0 else 1), (speed, listed)
 
 
@@ -99,9 +101,6 @@ def test_the_command_line_lists_the_slow_pair(tmp_path, capsys):
     _, path = _load(tmp_path, 1e6, 1e-6)
     assert main(["modes", str(path), "--speed", "100", "--speed-unit", "rad/s", "--out", "-"]) == 0
     out = capsys.readouterr().out
-    import io
-
-    import pandas as pd
     table = pd.read_csv(io.StringIO(out))
     hz = table["frequency_hz"].to_numpy(dtype=float)
     assert _count_near(hz, _cylindrical(1e6, 1e-6) / (2 * np.pi)) == 2, out
@@ -141,9 +140,6 @@ def test_a_critical_speed_on_a_very_slow_mode(tmp_path, capsys):
     assert _count_near(heavy, expected) == 2, critical
     rpm = expected * 60 / (2 * np.pi)
     assert main(["critical-speeds", str(path), "--speeds", f"0:{3 * rpm / 1.41421356}:31", "--out", "-"]) == 0
-    import io
-
-    import pandas as pd
     table = pd.read_csv(io.StringIO(capsys.readouterr().out))
     table = table[table["source"] == "heavy"]
     assert _count_near(table["speed_rpm"].to_numpy(dtype=float), rpm) == 2, table

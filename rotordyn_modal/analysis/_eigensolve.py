@@ -18,7 +18,7 @@ __all__ = ["REPEATED_TOLERANCE", "eigenvalues_of", "resolve_repeated", "select_u
            "upper_indices", "upper_shapes", "ratio_round_off"]
 
 
-def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False):
+def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False, mass=None):
     """Upper eigenvalues (see :func:`upper_indices`) and unit-norm displacement shapes of a
     stack of state matrices: ``numpy.linalg.eig`` in threads and parts of bounded memory, each
     part's eigenvectors reduced to its shapes at once (the parts' results are a quarter of
@@ -32,6 +32,9 @@ def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False):
     whirl_noise : bool
         Also return how far round-off can move each shape's whirl ratio, as ``modal`` takes
         it (:func:`ratio_round_off`).
+    mass : ndarray, shape (n, n) or (R, n, n), optional
+        The mass matrix of the machine (of each matrix): a slow root is then a zero root only
+        where its shape is free to round-off (:func:`._roots.zero_roots`).
 
     Returns
     -------
@@ -39,7 +42,10 @@ def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False):
     with ``whirl_noise`` also noise : ndarray, shape (R, m)
     """
     size = matrices.shape[-1]
-    return _batches._threaded(functools.partial(_upper_part, n=n, whirl_noise=whirl_noise), matrices,
+    if mass is not None and np.ndim(mass) == 3:              # one mass matrix per state matrix
+        return _batches._threaded(functools.partial(_upper_part, n=n, whirl_noise=whirl_noise), matrices,
+                                  np.asarray(mass, dtype=float), item_bytes=72 * size * size)
+    return _batches._threaded(functools.partial(_upper_part, n=n, whirl_noise=whirl_noise, mass=mass), matrices,
                               item_bytes=72 * size * size)
 
 
@@ -67,10 +73,10 @@ def ratio_round_off(upper, every, matrices) -> np.ndarray:
         if len(upper) else np.zeros(upper.shape)
 
 
-def _upper_part(matrices: np.ndarray, n: int, whirl_noise: bool = False):
+def _upper_part(matrices: np.ndarray, mass=None, n: int = 0, whirl_noise: bool = False):
     values, vectors = np.linalg.eig(matrices)
     every = values
-    values = _roots.snapped(values, _roots.deciding_round_off(values, matrices), matrices, vectors, n)
+    values = _roots.snapped(values, _roots.deciding_round_off(values, matrices), matrices, vectors, n, mass)
     index, eigenvalues = upper_indices(values)
     # advanced indices apart put their axes first: shapes[r, k, j] = vectors[r, j, index[r, k]]
     shapes = vectors[np.arange(len(vectors))[:, None], :n, index]
@@ -177,7 +183,7 @@ def solve_batch(form, speeds, forms=None):
         Unit-norm displacement parts of the state eigenvectors.
     """
     speeds = np.asarray(speeds, dtype=float)
-    eigenvalues, shapes = upper_shapes(form.at(speeds), form.n_dof)
+    eigenvalues, shapes = upper_shapes(form.at(speeds), form.n_dof, mass=form.matrices.M)
     if forms is not None:
         shapes = resolve_repeated(eigenvalues, shapes, forms)
     return eigenvalues, shapes

@@ -21,7 +21,7 @@ import numpy as np
 
 from . import _batches
 
-__all__ = ["BACKWARD_FACTOR", "round_off", "deciding_round_off", "conservative", "balanced_norm", "snapped", "zero_roots", "zero_floor", "whirl_round_off", "at_round_off"]
+__all__ = ["BACKWARD_FACTOR", "round_off", "deciding_round_off", "conservative", "balanced_norm", "snapped", "zero_roots", "zero_floor", "FREE_LOADING", "whirl_round_off", "at_round_off"]
 
 #: the backward error of a dense eigen-solve taken as this many ``eps ||B||_F``, ``B`` the
 #: balanced matrix (LAPACK's bound grows slowly with the size; measured errors are a few eps ||B||)
@@ -171,7 +171,7 @@ def zero_floor(noise) -> np.ndarray:
     return np.maximum(noise, np.sqrt(noise))
 
 
-def snapped(values, noise, matrices=None, vectors=None, n: int | None = None) -> np.ndarray:
+def snapped(values, noise, matrices=None, vectors=None, n: int | None = None, mass=None) -> np.ndarray:
     """Eigenvalues with their round-off removed: zero roots (:func:`zero_roots`) made exactly 0
     and imaginary parts within ``noise`` made exactly 0.
 
@@ -181,7 +181,7 @@ def snapped(values, noise, matrices=None, vectors=None, n: int | None = None) ->
         All roots of each solve.
     noise : ndarray, shape (...) [1/s]
         :func:`round_off` of each solve.
-    matrices, vectors, n : optional
+    matrices, vectors, n, mass : optional
         See :func:`zero_roots`.
 
     Returns
@@ -190,18 +190,33 @@ def snapped(values, noise, matrices=None, vectors=None, n: int | None = None) ->
     """
     values = np.asarray(values, dtype=complex)
     out = np.where(np.abs(values.imag) <= np.asarray(noise, dtype=float)[..., None], values.real + 0j, values)
-    return np.where(zero_roots(values, noise, matrices, vectors, n), 0j, out)
+    return np.where(zero_roots(values, noise, matrices, vectors, n, mass), 0j, out)
 
 
-def zero_roots(values, noise, matrices=None, vectors=None, n: int | None = None) -> np.ndarray:
+def zero_roots(values, noise, matrices=None, vectors=None, n: int | None = None, mass=None) -> np.ndarray:
     """Which roots are zero roots (directions without suspension) to round-off.
 
     ``|lam| <= noise``; or ``|lam| <= sqrt(noise)`` (the split of a double zero root) where the
-    shape is in the null space of the stiffness to round-off: ``||A_vq phi||`` within
-    :func:`_free_bound` ``||x||``, with ``A_vq = -M^-1 K`` the rows ``v'`` and columns ``q`` of
-    the state matrix, ``phi`` the ``q`` part of the eigenvector ``x``. Without the
-    eigenvectors every root below ``sqrt(noise)`` is one. (A slow mode of a rotor, such as the
-    backward conical whirl of a fast rotor on soft bearings, has ``K phi != 0`` and stays a mode.)
+    shape is a free direction to round-off. Two tests, both on the mode's own numbers:
+
+    - ``||A_vq phi||`` within :func:`_free_bound` ``||x||``, with ``A_vq = -M^-1 K`` the rows
+      ``v'`` and columns ``q`` of the state matrix, ``phi`` the ``q`` part of the eigenvector
+      ``x`` (the shape is not loaded beyond what its own root ``lam`` explains);
+    - with ``mass`` given: the shape's own stiffness and damping (gyroscopic) terms
+      ``phi^H K phi = -phi^H M A_vq phi`` (with the Maxwell branches' states) and
+      ``lam phi^H (C + Omega G) phi = -phi^H M A_vv x_v`` are each within the round-off of
+      forming them from ``M`` and the state matrix, :data:`FREE_LOADING` ``eps ||M|| ||A_..||
+      ||phi|| ||x_.||`` (:func:`_loaded`). A free direction's shape ``phi0`` has ``K phi0 = 0``
+      and ``(C + Omega G) phi0 = 0``, so round-off in its eigenvector enters these forms to second
+      order only, while its root is the square root of the solve's round-off; a slow mode's root is
+      made by its own stiffness (``lam^2 m = -k - lam (c + Omega g)``), whatever the other roots
+      of the machine. The first test alone calls every undamped, non-gyroscopic root below
+      ``sqrt(noise)`` free (its residual is exactly ``|lam|^2``): a rotor of 1e6 kg on 1e-6 N/m
+      bearings spinning at 100 rad/s lost its cylindrical pair (1.4e-6 1/s) that way.
+
+    Without the eigenvectors every root below ``sqrt(noise)`` is one. (A slow mode of a rotor,
+    such as the backward conical whirl of a fast rotor on soft bearings, has ``K phi != 0`` and
+    stays a mode.)
 
     Parameters
     ----------
@@ -213,6 +228,8 @@ def zero_roots(values, noise, matrices=None, vectors=None, n: int | None = None)
         Their eigenvectors (columns).
     n : int, optional
         Number of generalized coordinates (``q`` is the first ``n`` states, ``v`` the next ``n``).
+    mass : ndarray, shape (n, n) or (..., n, n), optional
+        The mass matrix of each solve [kg, kg m^2]; without it only the first test is made.
 
     Returns
     -------
@@ -234,9 +251,48 @@ def zero_roots(values, noise, matrices=None, vectors=None, n: int | None = None)
     residual = np.linalg.norm(np.einsum("pij,pj->pi", flat_matrices[r, n:2 * n, :n], state[:, :n]), axis=-1)
     free = residual <= _free_bound(values[split], np.broadcast_to(noise, values.shape)[split],
                                    flat_matrices, r, n) * np.linalg.norm(state, axis=-1)
+    if mass is not None and free.any():
+        masses = np.asarray(mass, dtype=float)
+        masses = masses.reshape((-1,) + masses.shape[-2:])
+        which = r[free] if len(masses) > 1 else np.zeros(int(free.sum()), dtype=int)
+        free[free] = ~_loaded(flat_matrices[r[free]], masses[which], state[free], n)
     out = zero.copy()
     out[split] = free
     return out
+
+
+#: how many times the round-off of forming a shape's stiffness or damping term it may reach and
+#: still be a free direction's (measured: up to 1e3 for the free directions of the gear machine,
+#: the pumps and a casing without mounts, from a K that the assembly leaves singular only to
+#: round-off; a slow mode's own stiffness is above 1e6 of it)
+FREE_LOADING = 1e4
+
+
+def _loaded(matrices, masses, states, n: int) -> np.ndarray:
+    """(P,) bool: the shape of each candidate is loaded by the model's own stiffness or damping
+    beyond round-off (:func:`zero_roots`).
+
+    Parameters
+    ----------
+    matrices : ndarray, shape (P, n_s, n_s)
+        The state matrix of each candidate.
+    masses : ndarray, shape (P, n, n)
+    states : ndarray, shape (P, n_s), complex
+        The candidates' eigenvectors.
+    n : int
+    """
+    eps = np.finfo(float).eps
+    phi, velocity, branches = states[:, :n], states[:, n:2 * n], states[:, 2 * n:]
+    weighted = np.einsum("pij,pj->pi", masses, phi).conj()                          # (M phi)^H
+    rows = matrices[:, n:2 * n]
+    stiffness = np.abs(np.einsum("pi,pij,pj->p", weighted, rows[:, :, :n], phi)
+                       + np.einsum("pi,pij,pj->p", weighted, rows[:, :, 2 * n:], branches))
+    damping = np.abs(np.einsum("pi,pij,pj->p", weighted, rows[:, :, n:2 * n], velocity))
+    size = eps * np.linalg.norm(masses, axis=(-2, -1)) * np.linalg.norm(phi, axis=-1)
+    stiffness_noise = size * (np.linalg.norm(rows[:, :, :n], axis=(-2, -1)) * np.linalg.norm(phi, axis=-1)
+                              + np.linalg.norm(rows[:, :, 2 * n:], axis=(-2, -1)) * np.linalg.norm(branches, axis=-1))
+    damping_noise = size * np.linalg.norm(rows[:, :, n:2 * n], axis=(-2, -1)) * np.linalg.norm(velocity, axis=-1)
+    return (stiffness > FREE_LOADING * stiffness_noise) | (damping > FREE_LOADING * damping_noise)
 
 
 def _free_bound(values, noise, matrices, rows, n: int) -> np.ndarray:

@@ -262,7 +262,9 @@ class Stack:
         eigenvalues : ndarray (R, m), complex; shapes : ndarray (R, m, n), complex; with
         ``whirl_noise`` also noise : ndarray (R, m)
         """
-        solved = _eigensolve.upper_shapes(matrices, self.n_dof, whirl_noise)
+        variants = np.asarray(variants)
+        mass = self.M[0] if len(self.M) == 1 else self.M[variants]
+        solved = _eigensolve.upper_shapes(matrices, self.n_dof, whirl_noise, mass)
         eigenvalues, shapes = solved[:2]
         return (eigenvalues, _eigensolve.resolve_repeated(eigenvalues, shapes, self.whirl, variants)) + solved[2:]
 

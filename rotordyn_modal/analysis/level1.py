@@ -313,8 +313,9 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
         moves) while the next goes unstable. ``K``: follow the ``K``-th forward mode alone.
         Forward means whirling with the stations' rotor's spin in its motion relative to the
         stator at the (first) station, where the cross-coupling acts, in a mode of the rotor in
-        its bearings; judged at the sweep's first Q > 0 (0.1 Qa), where Q has split the rotor's
-        forward and backward modes of one frequency, and followed from there to Q = 0 and up.
+        its bearings; judged at a small Q (:func:`_small_q`, the first point of the sweep with as
+        many forward modes as at 0.1 Qa), where Q has split the rotor's forward and backward modes
+        of one frequency, and followed from there to Q = 0 and up (docs/level1_and_ucs.md).
     gas_density : float or (float, float), optional [kg/m^3]
         The average gas density, or the suction and discharge densities (averaged): adds the
         critical speed ratio criterion (:func:`csr_screening`) to the verdict.
@@ -340,21 +341,31 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     form = speed_linear_form(model)
     base = form.at(speed)
     unit = _unit_state_matrix(model, form, stations, shares, speed)
-    lam, shapes = _eigensolve.upper_shapes(base + grid[:, None, None] * unit, form.n_dof)
+    # the modes are followed over a sweep of the machine's own Q scale besides Qa's grid: chosen
+    # at a Q far below anything that moves them (not at Qa / 10, which for a large Qa is a
+    # machine of other modes: Q0 must not depend on Qa), followed up through Qa's grid
+    sweep, at_grid = _sweep_grid(grid, _small_q(base, unit, form.n_dof))
+    lam, shapes = _eigensolve.upper_shapes(base + sweep[:, None, None] * unit, form.n_dof)
     shapes = _eigensolve.resolve_repeated(lam, shapes, _whirl.whirl_forms(model))
     order = track_modes(lam, _vectors.mass_normalized(shapes, form.matrices.M))
-    # chosen at the first Q > 0: there Q has split a forward and backward pair of one frequency
-    # (a rotor's cylindrical modes), which at Q = 0 the solver may return as any two mixtures
-    forward = _forward_modes(model, lam[1], shapes[1], form.matrices.M, stations[0],
-                             np.sign(speed) * _spin_sign(model, stations))
+    # chosen at the first Q > 0 where Q has split a forward and backward pair of one frequency
+    # (a rotor's cylindrical modes, which at Q = 0 the solver may return as any two mixtures, and
+    # which a casing's anisotropy keeps planar until Q outweighs it): the first point of the sweep
+    # with as many forward modes as Qa's first grid point has (a small Q where the machine is
+    # isotropic enough; never above Qa / 10)
+    spin = np.sign(speed) * _spin_sign(model, stations)
+    pick = _pick_index(model, lam, shapes, form.matrices.M, stations[0], spin, at_grid[1], forward_mode)
+    forward = _forward_modes(model, lam[pick], shapes[pick], form.matrices.M, stations[0], spin)
     numbers = [forward_mode] if forward_mode is not None else range(1, max(1, min(FORWARD_MODES, len(forward))) + 1)
     runs = []
     for number in numbers:
         if not 1 <= number <= len(forward):
             raise InputError(f"forward mode {number}: there are {len(forward)} modes of rotor {stations[0].rotor!r} "
                              f"whirling forward at station {stations[0]} at this speed")
-        label = int(np.nonzero(order[1] == forward[number - 1])[0][0])
-        followed = lam[np.arange(len(grid)), order[:, label]]
+        label = int(np.nonzero(order[pick] == forward[number - 1])[0][0])
+        followed_sweep = lam[np.arange(len(sweep)), order[:, label]]
+        _, _, log_dec_sweep = modal_quantities(followed_sweep)
+        followed = followed_sweep[at_grid]
         freq, _, log_dec = modal_quantities(followed)
         start = lam[0, order[0, label]]
         # its number among the modes at Q = 0; a root no mode there has none (the count of the
@@ -363,7 +374,7 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
         runs.append(Level1Result(
             speed=speed, stations=stations, shares=shares, cross_coupling=grid, log_decrements=log_dec,
             frequencies_hz=freq, mode=mode, qa=float(qa),
-            q0=_zero_crossing(base, unit, form.n_dof, grid, followed, log_dec),
+            q0=_zero_crossing(base, unit, form.n_dof, sweep, followed_sweep, log_dec_sweep),
             log_decrement_at_qa=float(log_dec[steps]), title=model.name, forward_mode=int(number)))
     judged = least_stable(runs) if forward_mode is None else replace(runs[0], swept=tuple(runs))
     return replace(judged, csr=None if csr is None else csr_screening(model, speed, csr))
@@ -561,6 +572,44 @@ def _forward_modes(model, lam, shapes, M, station, spin) -> np.ndarray:
 #: a mode is one of the station's rotor in its bearings when the station's motion relative to the
 #: stator is at least this part (squared amplitude, mass-normalised shapes) of the largest
 _ROTOR_SHARE = 1e-2
+
+
+#: the Q at which the modes are chosen, as a part of the machine's own stiffness scale (:func:`_small_q`)
+_SMALL_Q = 1e-9
+#: points per decade of the machine's sweep below and between Qa's grid points
+_DECADE_POINTS = 10
+
+
+def _small_q(base, unit, n: int) -> float:
+    """A Q [N/m] that splits a forward and backward pair but moves no mode: :data:`_SMALL_Q` of the
+    Q at which the cross-coupling's state rows are as large as the stiffness's
+    (``||A_vq(0)|| / ||A_vq per unit Q||``, both ``M^-1`` times a stiffness)."""
+    per_unit = np.linalg.norm(unit[n:2 * n, :n])
+    return _SMALL_Q * float(np.linalg.norm(base[n:2 * n, :n]) / per_unit) if per_unit > 0 else 0.0
+
+
+def _pick_index(model, lam, shapes, M, station, spin, last: int, forward_mode) -> int:
+    """The first index of the sweep (1 to ``last``, Qa's first grid point) where the station's
+    rotor has as many forward modes (:func:`_forward_modes`, at most :data:`FORWARD_MODES`, or
+    ``forward_mode``) as at ``last``."""
+    wanted = forward_mode if forward_mode is not None else FORWARD_MODES
+    target = min(wanted, len(_forward_modes(model, lam[last], shapes[last], M, station, spin)))
+    for index in range(1, last):
+        if len(_forward_modes(model, lam[index], shapes[index], M, station, spin)) >= max(target, 1):
+            return index
+    return last
+
+
+def _sweep_grid(grid, small: float):
+    """The sweep's Q [N/m]: Qa's ``grid`` (0 first) with, where ``small`` is below its first
+    Q > 0, the geometric points from ``small`` up to it (:data:`_DECADE_POINTS` per decade);
+    and the index of each grid point in it."""
+    if not 0 < small < grid[1]:
+        return grid, np.arange(len(grid))
+    count = int(np.ceil(_DECADE_POINTS * np.log10(grid[1] / small)))
+    extra = np.geomspace(small, grid[1], count + 1)[:-1]
+    sweep = np.concatenate([grid[:1], extra, grid[1:]])
+    return sweep, np.concatenate([[0], np.arange(len(grid) - 1) + 1 + len(extra)])
 
 
 def _zero_crossing(base, unit, n, grid, followed, log_dec) -> float:

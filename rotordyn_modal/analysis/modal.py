@@ -233,8 +233,11 @@ class ModalResult:
             "real_part": self.eigenvalues.real[keep] + 0.0,
         })
         if "shaft" in self.energy_parts:          # a flexible rotor: where each mode stores its strain energy
+            # a mode that strains nothing to round-off (a free machine's rigid-body motion) has no
+            # fractions: 0 in every column, its kind 'none' (cli modes says so in a line)
+            fractions = np.nan_to_num(self.energy_fractions[keep], nan=0.0)
             for i, part in enumerate(self.energy_parts):
-                table[_ENERGY_COLUMNS[part]] = self.energy_fractions[keep, i] + 0.0
+                table[_ENERGY_COLUMNS[part]] = fractions[:, i] + 0.0
             table["kind"] = self.kinds[keep]
         table.attrs["round_off"] = self._round_off_columns(keep)
         return table
@@ -343,7 +346,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
         values, vectors = scipy.linalg.eig(matrix)
     n = form.n_dof
     noise = float(_roots.round_off(matrix))
-    snapped = _roots.snapped(values, noise, matrix, vectors, n)
+    snapped = _roots.snapped(values, noise, matrix, vectors, n, form.matrices.M)
     upper = _eigensolve.select_upper(snapped)
     # the LAPACK vectors of the chosen eigenvalues (nearest match; values are identical)
     index = [int(np.argmin(np.abs(values - lam))) for lam in upper]
@@ -409,6 +412,7 @@ def strain_energy_fractions(model, speed: float, shapes, eigenvalues):
 
     stiffness = stiffness_parts(model, speed)
     energies = {part: _energies(shapes, K) for part, K in stiffness.items()}
+    bounds = {part: _energy_bounds(shapes, K) for part, K in stiffness.items()}
     branches, times = maxwell_branches(model)
     if len(times):
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -417,9 +421,16 @@ def strain_energy_fractions(model, speed: float, shapes, eigenvalues):
         stretch = np.where(np.isfinite(stretch), stretch, 0.0)
         energies["mounts"] = energies["mounts"] + np.einsum(
             "mb,mb->m", stretch, np.stack([_energies(shapes, K) for K in branches], axis=1))
+        bounds["mounts"] = bounds["mounts"] + np.einsum(
+            "mb,mb->m", stretch, np.stack([_energy_bounds(shapes, K) for K in branches], axis=1))
     if not energies:
         return (), np.zeros((len(eigenvalues), 0))
     table = np.stack(list(energies.values()), axis=1)
+    # a part's energy within the round-off of its product is none (a rigid-body mode's energy in
+    # a stiff shaft came out as -2e-5 of the whole, and a shaft of 1000 m across balanced its
+    # bearings' energy to a total of round-off: nan)
+    table = np.where(np.abs(table) <= ENERGY_ROUND_OFF * np.finfo(float).eps
+                     * np.stack(list(bounds.values()), axis=1), 0.0, table)
     total = table.sum(axis=1)
     strained = total > 1e-12 * np.abs(table).sum(axis=1)       # not a shape of zeros
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -430,6 +441,22 @@ def strain_energy_fractions(model, speed: float, shapes, eigenvalues):
 def _energies(shapes, K):
     """``1/2 Re(phi^H K phi)`` of each shape, (n_roots,)."""
     return 0.5 * _quadratic(shapes, K)
+
+
+#: a part's strain energy is none where it is within this many ``eps`` of ``1/2 |phi|^T |K| |phi|``,
+#: what rounding can make of a product that is zero (measured: up to 0.1 of it for rigid-body modes
+#: of a 2 mm shaft and a 1000 m disk; a strained part has 1e11 of it and more)
+ENERGY_ROUND_OFF = 1e3
+
+
+def _energy_bounds(shapes, K):
+    """``1/2 |phi|^T |K| |phi|`` of each shape, (n_roots,): the scale of the rounding of
+    :func:`_energies`."""
+    if hasattr(K, "multiply"):                    # scipy.sparse
+        K = abs(K)
+    else:
+        K = np.abs(K)
+    return 0.5 * _quadratic(np.abs(shapes).astype(complex), K)
 
 
 def _quadratic(shapes, A):

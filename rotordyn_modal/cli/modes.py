@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+import numpy as np
 
 from ..errors import InputError
 from ..io.outline import read_outline
@@ -120,6 +121,10 @@ def run(args) -> int:
     write_table(table, args, empty=f"no oscillating modes at {args.speed} {args.speed_unit}: {counts}")
     if counts and len(table) and not args.quiet:
         print(f"{counts} not listed as modes (docs/model-file.md, roots that are not modes)", file=sys.stderr)
+    unstrained = _unstrained(result)
+    if unstrained and not args.quiet:
+        print(f"mode{'s' if len(unstrained) > 1 else ''} {', '.join(map(str, unstrained))} strain nothing to "
+              "round-off (a rigid-body motion): no energy fractions, printed as 0 with kind none", file=sys.stderr)
     if args.plot_shaft:
         _plot_shaft(result, model, wanted, args)
     if args.plot:
@@ -207,6 +212,15 @@ def _mode_list(text: str) -> list[int]:
     if len(out) > _MOST_PANELS:
         raise InputError(f"--modes {text!r}: at most {_MOST_PANELS} modes in one figure")
     return out
+
+
+def _unstrained(result) -> list:
+    """The numbers of the listed modes whose strain energy is round-off in every part (their
+    fractions are undefined: nan in the result, 0 in the table)."""
+    if result.energy_fractions is None or not result.energy_parts:
+        return []
+    rows = result.energy_fractions[result.oscillatory]
+    return [int(i) + 1 for i in np.nonzero(~np.isfinite(rows).all(axis=1))[0]]
 
 
 def _not_listed(result) -> str:

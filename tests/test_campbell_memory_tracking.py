@@ -22,24 +22,9 @@ import pytest
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _batches, _lowest, campbell, tracking
 
+from shaft_models import fan_shaft
+
 MIB = 2**20
-
-
-def _shaft(coordinates):
-    """A steel shaft (0.8 m, 40 mm) with a wheel in its middle on two bearings: ``coordinates``
-    lateral coordinates (4 per node), as benchmarks/bench_flexible.py's fan shaft."""
-    elements = coordinates // 4 - 1
-    return rdm.Model.from_dict({
-        "name": "shaft", "spin_axis": [1.0, 0.0, 0.0],
-        "materials": [{"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "poisson_ratio": 0.3}],
-        "rotors": [{"name": "fan", "start": [0.0, 0.0, 0.0], "speed_ratio": 1.0,
-                    "shaft": [{"length": 0.4, "outer_diameter": 0.04, "material": "steel", "elements": elements // 2},
-                              {"length": 0.4, "outer_diameter": 0.04, "material": "steel",
-                               "elements": elements - elements // 2}],
-                    "disks": [{"name": "wheel", "axial_position": 0.4, "mass": 4.0, "polar_inertia": 0.25,
-                               "diametral_inertia": 0.13}]}],
-        "bearings": [{"name": name, "rotor": "fan", "axial_position": z, "stiffness": 2e7, "damping": 500.0}
-                     for name, z in (("A", 0.0), ("B", 0.8))]})
 
 
 def _peak(model, speeds, modes):
@@ -68,7 +53,7 @@ def small_parts(monkeypatch):
 
 
 def test_the_peak_grows_with_the_speeds_by_the_shapes_kept(small_parts):
-    model = _shaft(100)
+    model = fan_shaft(100)
     modes = 12
     assert model.dofs.n > _lowest.DENSE_BELOW                  # the reduced basis and Newton's route
     rdm.campbell(model, np.linspace(0.0, 1500.0, 5), critical=False, modes=modes)        # set-up outside
@@ -94,7 +79,7 @@ def test_weighted_rows_read_as_the_whole_array_bit_for_bit(small_parts):
     computing parts of about 1 MB (many parts) and keeping one of them at a time."""
     from rotordyn_modal.analysis._weighted_rows import WeightedRows
 
-    model = _shaft(100)
+    model = fan_shaft(100)
     stack = campbell.lowest_stack(model)
     speeds = np.linspace(0.0, 1500.0, 301)
     values, shapes, _ = _lowest.lowest_roots(stack, speeds, 12)

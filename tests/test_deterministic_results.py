@@ -35,6 +35,8 @@ from rotordyn_modal.analysis import _lowest_starts
 from rotordyn_modal.analysis._lowest_pencils import _Pencils
 from rotordyn_modal.analysis._stack import Stack
 
+from shaft_models import fan_shaft
+
 ROOT = Path(__file__).resolve().parents[1]
 RPM = np.pi / 30
 
@@ -46,28 +48,11 @@ PARTS = [("_batches", "_PART_BYTES"), ("_batches", "_THREAD_BYTES"), ("_lowest",
          ("campbell", "_REORDER_BYTES"), ("tracking", "_MAC_BYTES"), ("mode_numbers", "_PART_BYTES")]
 
 
-def _shaft(coordinates):
-    """A steel shaft (0.8 m, 40 mm) with a wheel in its middle on two bearings: ``coordinates``
-    lateral coordinates, as benchmarks/bench_flexible.py's fan shaft."""
-    elements = coordinates // 4 - 1
-    return rdm.Model.from_dict({
-        "name": "shaft", "spin_axis": [1.0, 0.0, 0.0],
-        "materials": [{"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "poisson_ratio": 0.3}],
-        "rotors": [{"name": "fan", "start": [0.0, 0.0, 0.0], "speed_ratio": 1.0,
-                    "shaft": [{"length": 0.4, "outer_diameter": 0.04, "material": "steel", "elements": elements // 2},
-                              {"length": 0.4, "outer_diameter": 0.04, "material": "steel",
-                               "elements": elements - elements // 2}],
-                    "disks": [{"name": "wheel", "axial_position": 0.4, "mass": 4.0, "polar_inertia": 0.25,
-                               "diametral_inertia": 0.13}]}],
-        "bearings": [{"name": name, "rotor": "fan", "axial_position": z, "stiffness": 2e7, "damping": 500.0}
-                     for name, z in (("A", 0.0), ("B", 0.8))]})
-
-
 def _cases():
     """(name, model, speeds [rad/s], keywords of campbell)."""
     compressor = rdm.load_model(ROOT / "examples" / "compressor_rotor.toml")
     pump = rdm.load_model(ROOT / "examples" / "flexible_pump_on_mounts.toml")
-    shaft = _shaft(100)
+    shaft = fan_shaft(100)
     return [("compressor", compressor, np.linspace(0, 12000, 61) * RPM, {"modes": 6}),
             ("compressor", compressor, np.linspace(0, 12000, 61) * RPM, {"max_frequency": 500.0}),
             ("pump", pump, np.linspace(0, 6000, 31) * RPM, {"modes": 8}),
@@ -198,7 +183,7 @@ def test_the_route_tests_lanczos_modes_do_not_depend_on_earlier_solves():
     and signs)."""
     from rotordyn_modal.analysis import _lowest_route
 
-    model, speeds = _shaft(100), np.linspace(0, 1500, 31)
+    model, speeds = fan_shaft(100), np.linspace(0, 1500, 31)
     made = []
     for _ in range(2):
         stack = Stack([model])

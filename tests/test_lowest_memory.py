@@ -21,25 +21,10 @@ import numpy as np
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _batches, _lowest
 
+from shaft_models import fan_shaft
+
 _SMALL = 256 * 2**10           # [bytes] the parts' budget in this test
 _HUGE = 2**40                  # [bytes] no parts at all
-
-
-def _shaft(coordinates=60):
-    """A uniform steel shaft (0.8 m, 40 mm) with a 4 kg wheel at mid-span on two damped bearings,
-    ``coordinates`` lateral coordinates (4 per node): above ``_lowest.DENSE_BELOW``, so the lowest
-    roots are the reduced basis's, refined by Newton's iteration."""
-    elements = coordinates // 4 - 1
-    section = {"length": 0.4, "outer_diameter": 0.04, "material": "steel"}
-    return rdm.Model.from_dict({
-        "name": "shaft", "spin_axis": [1.0, 0.0, 0.0],
-        "materials": [{"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "poisson_ratio": 0.3}],
-        "rotors": [{"name": "fan", "start": [0.0, 0.0, 0.0], "speed_ratio": 1.0,
-                    "shaft": [dict(section, elements=elements // 2), dict(section, elements=elements - elements // 2)],
-                    "disks": [{"name": "wheel", "axial_position": 0.4, "mass": 4.0, "polar_inertia": 0.25,
-                               "diametral_inertia": 0.13}]}],
-        "bearings": [{"name": name, "rotor": "fan", "axial_position": z, "stiffness": 2e7, "damping": 500.0}
-                     for name, z in (("A", 0.0), ("B", 0.8))]})
 
 
 def _budgets(monkeypatch, size):
@@ -66,7 +51,7 @@ def _traced(model, count):
 
 
 def test_peak_memory_grows_with_the_speeds_only_by_the_result(monkeypatch):
-    model = _shaft()
+    model = fan_shaft()
     _budgets(monkeypatch, _SMALL)
     _campbell(model, 11)                                # caches (the basis's forms) made before measuring
     peak_1, result_1 = _traced(model, 300)
@@ -77,7 +62,7 @@ def test_peak_memory_grows_with_the_speeds_only_by_the_result(monkeypatch):
 
 
 def test_parts_give_the_unparted_sweep_bit_for_bit(monkeypatch):
-    model = _shaft()
+    model = fan_shaft()
     _budgets(monkeypatch, _HUGE)
     whole = _campbell(model, 301)
     _budgets(monkeypatch, _SMALL)

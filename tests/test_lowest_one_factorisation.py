@@ -15,11 +15,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import scipy.linalg
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _lowest, _lowest_newton
 from rotordyn_modal.io.ross_file import read_ross_rotor
+
+from shaft_models import assert_lowest_are_the_full_models
 
 DATA = Path(__file__).parent / "data" / "ross"
 #: the span of the file's ROSS reference speeds [rad/s] (6,000-10,000 rpm) at 201 speeds, as bench_ross.py sweeps it
@@ -87,15 +88,5 @@ def test_the_lowest_twelve_are_the_full_models_to_1e_9(sweep, row):
     """At solved anchors (0, 200), anchors carried over (4, 100, 196) and other speeds (3, 13, 199):
     the 12 roots are the 12 lowest of scipy's eigenvalues of the full state matrix, each to 1e-9."""
     model, result, _, _, _ = sweep
-    speed = SPEEDS[row]
-    M, C, G, K = model.matrices(speed)
-    n = len(M)
-    A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C + speed * G)]])
-    with _one_blas_thread():          # BLAS's own threads only wait for a core on a loaded machine
-        roots = scipy.linalg.eigvals(A)
-    roots = roots[roots.imag > 0]
-    expected = np.sort(roots[np.argsort(roots.imag)[:12]].imag)
-    got = result.eigenvalues[row]
-    nearest = roots[np.argmin(np.abs(got[:, None] - roots[None, :]), axis=1)]
-    assert np.max(np.abs(got - nearest) / np.abs(nearest)) < 1e-9
-    assert np.allclose(np.sort(got.imag), expected, rtol=1e-9, atol=0)
+    # BLAS's own threads only wait for a core on a loaded machine
+    assert_lowest_are_the_full_models(model, SPEEDS[row], result.eigenvalues[row], blas_context=_one_blas_thread)

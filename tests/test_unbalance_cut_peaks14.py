@@ -138,3 +138,19 @@ def test_api_cases_share_the_machine_s_critical_speeds(pump):
         mine = api.resonance_speeds[k][np.isfinite(api.resonance_speeds[k])]
         theirs = coarse.resonance_speeds[coarse.sources.index(rotor)]
         assert np.array_equal(mine, theirs[np.isfinite(theirs)]), case
+
+
+def test_the_peaks_table_reports_a_cut_peak_at_its_damped_critical_speed(pump):
+    """API 684's amplification factor of the 327 rpm mode: the coarse sweep's table within 1 % of
+    the fine sweep's (half-power points of a curve that resolves the peak), and at its speed."""
+    _, coarse, fine = pump
+    def row(result):
+        table = result.peaks()
+        table = table[(table.output == "acc-motor-DE-y") & (table.source == "motor")
+                      & (table.speed_rpm > 300) & (table.speed_rpm < 350)]
+        assert len(table) == 1
+        return table.iloc[0]
+    mine, truth = row(coarse), row(fine)
+    assert abs(mine.speed_rpm - truth.speed_rpm) < 1.0
+    assert abs(mine.amplitude / truth.amplitude - 1) < 0.01
+    assert abs(mine.amplification_factor / truth.amplification_factor - 1) < 0.01

@@ -366,7 +366,10 @@ class UnbalanceResult:
         pandas.DataFrame
             ``output, source, speed_rpm, amplitude (0-peak), amplification_factor,
             separation_margin_pct, required_margin_pct`` [, ``amplitude_pkpk`` | ``amplitude_rms``].
-            A peak of a curve at round-off (amplitude at most :data:`ROUND_OFF_AMPLITUDE` times
+            A peak that the line through the swept speeds cuts (:meth:`cut_peaks`) is reported at
+            its damped critical speed, with the response there and ``AF = |speed| / band``, the
+            mode's half-power band in speed (the swept points around it would give a lower peak
+            and a wider band). A peak of a curve at round-off (amplitude at most :data:`ROUND_OFF_AMPLITUDE` times
             the largest of the response, every output and source: an API couple case seen at
             the centre of mass of a symmetric rotor, 3.5e-21 m beside 1e-5 m) is no resonance
             and is left out.
@@ -378,7 +381,7 @@ class UnbalanceResult:
         rows = []
         for i, out in enumerate(self.outputs):
             for j, src in enumerate(self.sources):
-                for peak in amplification_factors(self.speeds, self.amplitude[i, j]):
+                for peak in self._resolved_peaks(out, src):
                     speed, amp, af = peak
                     margin = np.nan if operating_speed is None else \
                         100 * abs(operating_speed - speed) / abs(operating_speed)
@@ -394,6 +397,32 @@ class UnbalanceResult:
         largest = float(np.max(self.amplitude, initial=0.0))
         table = table[table["amplitude"] > ROUND_OFF_AMPLITUDE * largest].reset_index(drop=True)
         return self._with_cases(_with_convention(table, amplitude or self.amplitude_kind, after=None))
+
+    def _resolved_peaks(self, output: str, source: str):
+        """:func:`amplification_factors` of one curve, a peak that the swept speeds cut
+        (:meth:`cut_peaks`) reported at its damped critical speed, with the response there and
+        ``AF = |speed| / band`` (the mode's half-power band in speed): one between the two swept
+        speeds around a swept peak replaces it, one elsewhere (the swept curve showing no peak)
+        is added; ``[(speed [rad/s], amplitude, AF), ...]`` by speed."""
+        o, j = self.outputs.index(output), self.sources.index(source)
+        found = amplification_factors(self.speeds, self.amplitude[o, j])
+        at, response, band = self.cut_peaks(output, source)
+        if not len(at):
+            return found
+        x = np.sort(self.speeds)
+        out = []
+        for speed, amp, af in found:
+            k = int(np.searchsorted(x, speed))
+            lo, hi = x[max(k - 1, 0)], x[min(k + 1, len(x) - 1)]
+            inside = (at > lo) & (at < hi)
+            if inside.any():
+                m = np.flatnonzero(inside)[np.argmax(np.abs(response[inside]))]
+                speed, amp, af = float(at[m]), float(abs(response[m])), float(abs(at[m]) / band[m])
+                at, response, band = np.delete(at, np.flatnonzero(inside)), \
+                    np.delete(response, np.flatnonzero(inside)), np.delete(band, np.flatnonzero(inside))
+            out.append((speed, amp, af))
+        out += [(float(a), float(abs(r)), float(abs(a) / b)) for a, r, b in zip(at, response, band)]
+        return sorted(out, key=lambda peak: peak[0])
 
     def _with_cases(self, table):
         """A table of the cases' response: ``source`` the case's rotor, the case in a last column."""

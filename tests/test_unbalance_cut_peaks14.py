@@ -154,3 +154,17 @@ def test_the_peaks_table_reports_a_cut_peak_at_its_damped_critical_speed(pump):
     assert abs(mine.speed_rpm - truth.speed_rpm) < 1.0
     assert abs(mine.amplitude / truth.amplitude - 1) < 0.01
     assert abs(mine.amplification_factor / truth.amplification_factor - 1) < 0.01
+
+
+def test_an_undamped_mode_gets_no_mark_of_infinite_height():
+    """spring_block_rotor has undamped modes (real parts at round-off): the response there has no
+    finite peak, so no damped critical speed is looked for; the report's AF stays that of the
+    swept curve (3.80 on main), not |speed| / a band of 1e-15 rpm (5.6e16)."""
+    from rotordyn_modal.analysis.unbalance import api_unbalance_response
+
+    model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
+    result = api_unbalance_response(model, rdm.rpm(np.linspace(0.0, 3600.0, 61)), rdm.rpm(3000.0))
+    bands = result.resonance_bands[np.isfinite(result.resonance_bands)]
+    speeds = result.resonance_speeds[np.isfinite(result.resonance_speeds)]
+    assert np.all(bands > 1e-6 * np.abs(speeds))
+    assert np.all(result.peaks()["amplification_factor"].dropna() < 1e3)

@@ -23,6 +23,8 @@ __all__ = ["unresolved_criticals"]
 #: the roots are looked for when the sweep's eigen-solutions cost at most this many
 #: ``N n_states^3`` (about a second of one core)
 _WORK = 3e9
+#: a root damped less than this ratio (an undamped mode at round-off) has no finite peak: not looked for
+_LEAST_DAMPING = 1e-8
 #: a bracket is halved until its width is below this share of its mode's half-power band
 _BRACKET_SHARE = 1.0 / 64
 #: at most this many halvings
@@ -61,10 +63,10 @@ def unresolved_criticals(model, speeds, ratios):
 
 
 def _oscillating_roots(form, speeds):
-    """The roots with ``Im > 0`` and ``Re < 0`` of the state matrix at each of ``speeds`` (S,),
-    sorted by frequency, NaN after the last: shape (S, m), complex [1/s]."""
+    """The roots with ``Im > 0`` and ``-Re > _LEAST_DAMPING |lam|`` of the state matrix at each of
+    ``speeds`` (S,), sorted by frequency, NaN after the last: shape (S, m), complex [1/s]."""
     values = eigenvalues_of(form.at(np.asarray(speeds, dtype=float)))
-    keep = (values.imag > 0) & (values.real < 0)
+    keep = (values.imag > 0) & (values.real < -_LEAST_DAMPING * np.abs(values))
     key = np.where(keep, values.imag, np.inf)
     order = np.argsort(key, axis=1)
     values = np.take_along_axis(np.where(keep, values, np.nan + 0j), order, axis=1)
@@ -94,6 +96,8 @@ def _source_criticals(form, x, roots, ratio):
             break
         mid = 0.5 * (lo + hi)
         at = _oscillating_roots(form, mid[open_])
+        if not at.shape[1]:                  # no oscillating root there: the brackets stay as they are
+            break
         rows = np.flatnonzero(open_)
         column = np.minimum(m[open_], at.shape[1] - 1)
         root = at[np.arange(rows.size), column]

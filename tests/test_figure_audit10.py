@@ -218,16 +218,24 @@ def test_the_report_labels_the_casing_panels_peaks(monkeypatch):
     best = max(curves, key=lambda line: np.nanmax(line.get_ydata()))
     x, y = np.asarray(best.get_xdata(), float), np.asarray(best.get_ydata(), float)
     k = int(np.nanargmax(y))
-    assert 0 < k < len(y) - 1
-    half = y[k] / np.sqrt(2.0)
-    left = np.nonzero(y[:k] < half)[0][-1]
-    right = k + np.nonzero(y[k:] < half)[0][0]
-    n1 = np.interp(half, [y[left], y[left + 1]], [x[left], x[left + 1]])
-    n2 = np.interp(half, [y[right], y[right - 1]], [x[right], x[right - 1]])
-    assert x[k] / (n2 - n1) >= 2.5
+    # a peak the swept speeds cut is drawn at its true height by a mark (test_unbalance_cut_peaks14):
+    # the highest of those, where above every curve, is the panel's highest peak
+    marks = [p for line in casing.get_lines() if line.get_gid() == "cut-peak" for p in zip(*line.get_data())]
+    highest = max(marks, key=lambda p: p[1], default=(np.nan, -np.inf))
+    if highest[1] > y[k]:
+        target = float(highest[0])
+    else:
+        assert 0 < k < len(y) - 1
+        half = y[k] / np.sqrt(2.0)
+        left = np.nonzero(y[:k] < half)[0][-1]
+        right = k + np.nonzero(y[k:] < half)[0][0]
+        n1 = np.interp(half, [y[left], y[left + 1]], [x[left], x[left + 1]])
+        n2 = np.interp(half, [y[right], y[right - 1]], [x[right], x[right - 1]])
+        assert x[k] / (n2 - n1) >= 2.5
+        target = x[k]
     labels = [t for t in casing.texts if t.get_visible() and t.get_text().startswith("AF ")]
     speeds = [float(re.match(r"AF [\d.]+ at (\d+) rpm", t.get_text())[1]) for t in labels]
-    assert any(abs(s - x[k]) <= 0.5 for s in speeds), (x[k], [t.get_text() for t in labels])
+    assert any(abs(s - target) <= 0.5 for s in speeds), (target, [t.get_text() for t in labels])
     boxes = [glyph_box(t, renderer) for t in labels]
     frame = casing.get_window_extent(renderer)
     segments = curve_segments(casing)

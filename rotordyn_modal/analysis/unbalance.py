@@ -177,6 +177,15 @@ class UnbalanceResult:
         :func:`api_unbalance_response`) the rotor
         of each source, the sources then being the cases: the tables' ``source`` is the
         rotor and a last column ``case`` names the case.
+    resonance_speeds : ndarray, shape (n_sources, P), or None
+        Each source's damped critical speeds [rad/s] within the sweep that no swept speed
+        resolves (none within a quarter of the mode's half-power band in speed), NaN after
+        its last (:func:`~rotordyn_modal.analysis.unbalance_peaks.unresolved_criticals`);
+        None where not computed (loss factors, a large model).
+    resonance_bands : ndarray, shape (n_sources, P), or None
+        The half-power band in speed [rad/s] of the mode there.
+    resonance_response : ndarray, shape (n_outputs, n_sources, P), complex, or None
+        The response at those speeds.
     """
 
     speeds: np.ndarray
@@ -199,6 +208,9 @@ class UnbalanceResult:
     case_rotors: tuple = ()
     clearance_names: tuple = ()
     clearance_planes: np.ndarray | None = None
+    resonance_speeds: np.ndarray | None = None
+    resonance_bands: np.ndarray | None = None
+    resonance_response: np.ndarray | None = None
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -313,6 +325,30 @@ class UnbalanceResult:
 
         return plot_orbits(self, speeds=speeds, **kwargs)
 
+    def cut_peaks(self, output: str, source: str):
+        """The damped critical speeds of one output's curve of one source that the line drawn
+        through the swept speeds cuts: those of :attr:`resonance_speeds` where the amplitude is
+        more than sqrt(2) (3 dB) times that at both swept speeds around it (of the same
+        direction of spin).
+
+        Returns
+        -------
+        speeds : ndarray, shape (K,) [rad/s]; response : ndarray, shape (K,), complex;
+        bands : ndarray, shape (K,) [rad/s] (the mode's half-power band in speed)
+        """
+        if self.resonance_speeds is None:
+            return np.zeros(0), np.zeros(0, complex), np.zeros(0)
+        o, j = self.outputs.index(output), self.sources.index(source)
+        at = self.resonance_speeds[j]
+        known = np.isfinite(at)
+        at, value, band = at[known], self.resonance_response[o, j, known], self.resonance_bands[j, known]
+        order = np.argsort(self.speeds)
+        x, y = self.speeds[order], self.amplitude[o, j, order]
+        where = np.clip(np.searchsorted(x, at), 1, max(len(x) - 1, 1))
+        around = np.maximum(y[where - 1], y[where])
+        cut = np.abs(value) > np.sqrt(2.0) * around
+        return at[cut], value[cut], band[cut]
+
     def peaks(self, operating_speed: float | None = None, amplitude: str | None = None):
         """Peaks of each sensor's amplitude vs speed with API 684 figures.
 
@@ -330,7 +366,10 @@ class UnbalanceResult:
         pandas.DataFrame
             ``output, source, speed_rpm, amplitude (0-peak), amplification_factor,
             separation_margin_pct, required_margin_pct`` [, ``amplitude_pkpk`` | ``amplitude_rms``].
-            A peak of a curve at round-off (amplitude at most :data:`ROUND_OFF_AMPLITUDE` times
+            A peak that the line through the swept speeds cuts (:meth:`cut_peaks`) is reported at
+            its damped critical speed, with the response there and ``AF = |speed| / band``, the
+            mode's half-power band in speed (the swept points around it would give a lower peak
+            and a wider band). A peak of a curve at round-off (amplitude at most :data:`ROUND_OFF_AMPLITUDE` times
             the largest of the response, every output and source: an API couple case seen at
             the centre of mass of a symmetric rotor, 3.5e-21 m beside 1e-5 m) is no resonance
             and is left out.
@@ -342,7 +381,7 @@ class UnbalanceResult:
         rows = []
         for i, out in enumerate(self.outputs):
             for j, src in enumerate(self.sources):
-                for peak in amplification_factors(self.speeds, self.amplitude[i, j]):
+                for peak in self._resolved_peaks(out, src):
                     speed, amp, af = peak
                     margin = np.nan if operating_speed is None else \
                         100 * abs(operating_speed - speed) / abs(operating_speed)
@@ -358,6 +397,32 @@ class UnbalanceResult:
         largest = float(np.max(self.amplitude, initial=0.0))
         table = table[table["amplitude"] > ROUND_OFF_AMPLITUDE * largest].reset_index(drop=True)
         return self._with_cases(_with_convention(table, amplitude or self.amplitude_kind, after=None))
+
+    def _resolved_peaks(self, output: str, source: str):
+        """:func:`amplification_factors` of one curve, a peak that the swept speeds cut
+        (:meth:`cut_peaks`) reported at its damped critical speed, with the response there and
+        ``AF = |speed| / band`` (the mode's half-power band in speed): one between the two swept
+        speeds around a swept peak replaces it, one elsewhere (the swept curve showing no peak)
+        is added; ``[(speed [rad/s], amplitude, AF), ...]`` by speed."""
+        o, j = self.outputs.index(output), self.sources.index(source)
+        found = amplification_factors(self.speeds, self.amplitude[o, j])
+        at, response, band = self.cut_peaks(output, source)
+        if not len(at):
+            return found
+        x = np.sort(self.speeds)
+        out = []
+        for speed, amp, af in found:
+            k = int(np.searchsorted(x, speed))
+            lo, hi = x[max(k - 1, 0)], x[min(k + 1, len(x) - 1)]
+            inside = (at > lo) & (at < hi)
+            if inside.any():
+                m = np.flatnonzero(inside)[np.argmax(np.abs(response[inside]))]
+                speed, amp, af = float(at[m]), float(abs(response[m])), float(abs(at[m]) / band[m])
+                at, response, band = np.delete(at, np.flatnonzero(inside)), \
+                    np.delete(response, np.flatnonzero(inside)), np.delete(band, np.flatnonzero(inside))
+            out.append((speed, amp, af))
+        out += [(float(a), float(abs(r)), float(abs(a) / b)) for a, r, b in zip(at, response, band)]
+        return sorted(out, key=lambda peak: peak[0])
 
     def _with_cases(self, table):
         """A table of the cases' response: ``source`` the case's rotor, the case in a last column."""
@@ -508,7 +573,8 @@ def required_separation_margin(af: float, position: str = "below") -> float:
 
 
 def unbalance_response(model, speeds, outputs=None, quantity: str = "displacement",
-                       progress: bool = False, amplitude: str = "peak") -> UnbalanceResult:
+                       progress: bool = False, amplitude: str = "peak", resonances: bool = True,
+                       _criticals=None) -> UnbalanceResult:
     """Steady response to the model's ``[[unbalances]]`` over a speed sweep.
 
     Parameters
@@ -524,6 +590,11 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     amplitude : {'peak', 'pk-pk', 'rms'}
         Amplitude convention of the result's tables and figure (``amplitude_kind``); the
         response itself is the same.
+    resonances : bool
+        Find the damped critical speeds that no swept speed resolves and the response there
+        (``resonance_speeds``, ``resonance_response``: the figure marks the peaks its line cuts,
+        :meth:`UnbalanceResult.cut_peaks`); False leaves them None (a study's variants: the
+        eigen-solutions cost more than the response).
 
     Returns
     -------
@@ -536,17 +607,9 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         raise InputError(f"{model.source}: the model has no [[unbalances]]: nothing excites an unbalance response")
     speeds = _arguments.speeds(speeds, increasing=False)
     speed_linear_form(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
-    sources, w, rotor_forces = unbalance_forces(model, speeds)
+    sources, w, response, (rotor_forces, speed_all, omega, q, shifts, motions) = \
+        _sensor_response(model, speeds, outputs, quantity)
     n_src, n = len(sources), len(speeds)
-    # (n_src * N,): sources one after another (one source: the speeds themselves, read only)
-    speed_all, omega = (np.tile(speeds, n_src) if n_src > 1 else speeds), w.ravel()
-    # every rotor's B_SR and motion T_j, found once for its unbalance force and its bearing force
-    shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
-    motions = model.dofs.motions([(r.name, False) for r in model.rotors])
-    q = _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions)
-    # (i w)^0 is 1 + 0i: that scalar, not an array of it
-    factor = (1j * w) ** _ORDER[quantity] if _ORDER[quantity] else 1.0 + 0.0j
-    response = (sensor_rows(model, outputs, motions) @ q[..., 0].T).reshape(-1, n_src, n) * factor
     names = tuple(s.name for s in model.sensors) if outputs is None else \
         ((outputs,) if isinstance(outputs, str) else tuple(outputs))
     by_name = {s.name: s for s in model.sensors}
@@ -567,7 +630,54 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         amplitude_kind=amplitude,
         clearance_names=tuple(c.name for c in model.clearances),
         clearance_planes=_clearance_planes(model, q, motions, n_src, n),
+        **_unresolved_fields(model, speeds, outputs, quantity, ratios, len(names), resonances, _criticals),
     )
+
+
+def _sensor_response(model, speeds, outputs, quantity):
+    """``(sources, w, response, (rotor_forces, speed_all, omega, q, shifts, motions))``: the sources, their
+    circular frequencies ``w`` (n_src, N) [rad/s], the sensors' complex amplitudes ``response``
+    (n_outputs, n_src, N) and what the forces are computed from (``q`` (n_src N, n_dof, 1))."""
+    sources, w, rotor_forces = unbalance_forces(model, speeds)
+    n_src, n = len(sources), len(speeds)
+    # (n_src * N,): sources one after another (one source: the speeds themselves, read only)
+    speed_all, omega = (np.tile(speeds, n_src) if n_src > 1 else speeds), w.ravel()
+    # every rotor's B_SR and motion T_j, found once for its unbalance force and its bearing force
+    shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
+    motions = model.dofs.motions([(r.name, False) for r in model.rotors])
+    q = _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions)
+    # (i w)^0 is 1 + 0i: that scalar, not an array of it
+    factor = (1j * w) ** _ORDER[quantity] if _ORDER[quantity] else 1.0 + 0.0j
+    response = (sensor_rows(model, outputs, motions) @ q[..., 0].T).reshape(-1, n_src, n) * factor
+    return sources, w, response, (rotor_forces, speed_all, omega, q, shifts, motions)
+
+
+def _unresolved_fields(model, speeds, outputs, quantity, ratios, n_outputs, wanted=True, found=None) -> dict:
+    """``resonance_speeds``, ``resonance_bands`` (n_src, P) [rad/s] and ``resonance_response``
+    (n_outputs, n_src, P) of :class:`UnbalanceResult`: each source's damped critical speeds
+    that no swept speed resolves (:func:`.unbalance_peaks.unresolved_criticals`) and the
+    response there, NaN after a source's last; None each where not computed or not
+    ``wanted``. ``found``: those speeds already found (:func:`api_unbalance_response`'s cases,
+    one machine)."""
+    from .unbalance_peaks import unresolved_criticals
+
+    if wanted and found is None:
+        found = unresolved_criticals(model, speeds, ratios)
+    if not wanted or found is None:
+        return {"resonance_speeds": None, "resonance_bands": None, "resonance_response": None}
+    width = max(len(c) for c, _ in found)
+    at = np.full((len(found), width), np.nan)
+    bands = np.full((len(found), width), np.nan)
+    for j, (critical, band) in enumerate(found):
+        at[j, :len(critical)], bands[j, :len(band)] = critical, band
+    values = np.full((n_outputs, len(found), width), np.nan + 0j)
+    every = np.concatenate([c for c, _ in found])
+    if every.size:
+        response = _sensor_response(model, every, outputs, quantity)[2]          # (n_out, n_src, sum P)
+        start = np.cumsum([0] + [len(c) for c, _ in found])
+        for j in range(len(found)):
+            values[:, j, :start[j + 1] - start[j]] = response[:, j, start[j]:start[j + 1]]
+    return {"resonance_speeds": at, "resonance_bands": bands, "resonance_response": values}
 
 
 def _clearance_planes(model, q, motions, n_src, n):
@@ -634,9 +744,16 @@ def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: st
     -------
     UnbalanceResult
     """
+    from .unbalance_peaks import unresolved_criticals
+
     cases = api_unbalance_cases(model, mcs)
-    results = [unbalance_response(case, speeds, outputs=outputs, quantity=quantity, amplitude=amplitude)
-               for _, case in cases]
+    # one machine: its damped critical speeds found once, for each case's rotor
+    rotors = [case.unbalances[0].rotor for _, case in cases]
+    found = unresolved_criticals(model, _arguments.speeds(speeds, increasing=False),
+                                 [model.rotor(r).speed_ratio for r in rotors])
+    results = [unbalance_response(case, speeds, outputs=outputs, quantity=quantity, amplitude=amplitude,
+                                  resonances=found is not None, _criticals=None if found is None else [found[k]])
+               for k, (_, case) in enumerate(cases)]
     first = results[0]
 
     def joined(name, axis):
@@ -648,4 +765,22 @@ def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: st
         frequencies_hz=joined("frequencies_hz", 0), response=joined("response", 1),
         ground_forces=joined("ground_forces", 2), bearing_forces=joined("bearing_forces", 2),
         bearing_point_forces=joined("bearing_point_forces", 2), orbit_planes=joined("orbit_planes", 1),
-        spin_signs=joined("spin_signs", 0), clearance_planes=joined("clearance_planes", 1))
+        spin_signs=joined("spin_signs", 0), clearance_planes=joined("clearance_planes", 1),
+        **_joined_resonances(results))
+
+
+def _joined_resonances(results) -> dict:
+    """The resonance fields of :class:`UnbalanceResult` of ``results`` (one source each) as
+    one result's, each source's padded with NaN to the longest."""
+    names = ("resonance_speeds", "resonance_bands", "resonance_response")
+    if any(r.resonance_speeds is None for r in results):
+        return dict.fromkeys(names)
+    width = max(r.resonance_speeds.shape[1] for r in results)
+
+    def padded(array):
+        extra = [(0, 0)] * (array.ndim - 1) + [(0, width - array.shape[-1])]
+        return np.pad(array, extra, constant_values=np.nan)
+
+    return {"resonance_speeds": np.concatenate([padded(r.resonance_speeds) for r in results], axis=0),
+            "resonance_bands": np.concatenate([padded(r.resonance_bands) for r in results], axis=0),
+            "resonance_response": np.concatenate([padded(r.resonance_response) for r in results], axis=1)}

@@ -48,6 +48,10 @@ _SHARED_COLOUR = "0.15"
 _MARKER_POINTS = 6
 
 
+#: the critical-speed note keeps at least this many points off the axes' spines
+_NOTE_MARGIN_POINTS = 4.0
+
+
 def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None = None,
                   sources=None, annotate_critical: bool = True, title: str | None = None,
                   freq_range=None, freq_scale: str = "auto"):
@@ -996,7 +1000,12 @@ class _CampbellLabels:
             w, h = self._size(words, "xx-small", renderer)
             w, h = w * self.to_u, h * self.to_v
             lefts, bottoms = np.arange(frame[0], frame[2] - w, 0.02), np.arange(frame[1], frame[3] - h, 0.02)
-            boxes = [(a, b, a + w, b + h) for a in lefts for b in bottoms]
+            # the grid's first row and column kept _NOTE_MARGIN_POINTS off the spines (1 pt read as
+            # touching the left spine on the flexible pump's Campbell); the others as they were
+            lefts = np.maximum(lefts, _NOTE_MARGIN_POINTS * margin_u)
+            bottoms = np.maximum(bottoms, _NOTE_MARGIN_POINTS * margin_v)
+            boxes = [(a, b, a + w, b + h) for a in lefts for b in bottoms
+                     if a + w <= 1 - _NOTE_MARGIN_POINTS * margin_u and b + h <= 1 - _NOTE_MARGIN_POINTS * margin_v]
             boxes.sort(key=lambda box: np.hypot((box[0] + box[2]) / 2 - centre[0], (box[1] + box[3]) / 2 - centre[1]))
             box = first_free_box(boxes, placed, gap, frame, obstacles=markers,
                                  allowed=lambda box: self.curves.free(box) and not crosses_any(self.leader_lines, [box]))

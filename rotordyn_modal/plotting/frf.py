@@ -601,7 +601,7 @@ def _sensor_pair(mag, phase, result, name, rows, x, convention, peaks, checks, s
     largest = convention_factor * float(np.nanmax(result.amplitude[rows], initial=0.0))
     scale, unit = readable_scale(result.quantity, largest, units)
     factor = convention_factor * scale
-    colours = _draw_sensor_panel(mag, phase, result, rows, x, factor)
+    colours = _draw_sensor_panel(mag, phase, result, rows, x, factor, speed_scale(speed_unit))
     plain_log_ticks(mag.yaxis)
     top, above = _drawn_top(mag), []
     if checks is not None:
@@ -664,10 +664,11 @@ def _sensor_panels(result, outputs, groups):
     return list(panels.items())
 
 
-def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0):
-    """Each sensor and source: amplitude (0-peak times ``factor``) on a log axis, phase; returns
-    the colour of each (i, j)."""
-    colours = {}
+def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0, to_unit=1.0):
+    """Each sensor and source: amplitude (0-peak times ``factor``) on a log axis, phase, over
+    ``x`` (the speeds times ``to_unit``, the axis' unit per rad/s), the peaks the lines cut
+    marked; returns the colour of each (i, j)."""
+    colours, cut = {}, 0
     styles = ["-", "--", ":", "-."]
     for m, i in enumerate(rows):
         for j, s in enumerate(result.sources):
@@ -677,10 +678,28 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0):
             # broken where the phase wraps: a line from -180 to 180 deg read as a curve of its own
             phase.plot(*_broken_at_wraps(x, result.phase_deg[i, j]), color=colour, ls=style, lw=0.9)
             colours[i, j] = colour
+            cut += _mark_cut_speed_peaks(mag, result, i, j, to_unit, factor, colour)
+    if cut:                           # one legend entry (no line of the axes) says what the marks are
+        from matplotlib.lines import Line2D
+
+        mag._legend_extra = [Line2D([], [], linestyle="none", label="response at a damped critical speed\n"
+                                    "between swept speeds", **_CUT_PEAK)]
     _limit_range(mag)
     phase.set_yticks([-180, -90, 0, 90, 180])
     phase.set_ylabel("Phase [deg]")
     return colours
+
+
+def _mark_cut_speed_peaks(mag, result, i, j, to_unit, factor, colour) -> int:
+    """An open diamond in the curve's colour at the response at each damped critical speed of
+    output ``i`` and source ``j`` that the line through the swept speeds cuts
+    (:meth:`~rotordyn_modal.analysis.unbalance.UnbalanceResult.cut_peaks`), ``to_unit`` the
+    axis' speed unit per rad/s; returns how many."""
+    at, response, _ = result.cut_peaks(result.outputs[i], result.sources[j])
+    if len(at):
+        mag.plot(at * to_unit, np.abs(response) * factor, linestyle="none", gid="cut-peak", label="_cut-peak",
+                 **dict(_CUT_PEAK, color=colour))
+    return len(at)
 
 
 def _show_overlaps(axes, x, speed_unit):

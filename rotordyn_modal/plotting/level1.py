@@ -39,6 +39,7 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     LOG_DEC_CRITERION, RATIO_CRITERION = result.log_decrement_criterion, result.ratio_criterion
     scale, unit = unit_scale("stiffness", units)
     flat = _flattened(result) if ax is None else []
+    own = ax is None                    # the figure is this function's: its legend goes below it
     if flat:
         import matplotlib.pyplot as plt
 
@@ -78,7 +79,11 @@ def plot_level1(result, title: str | None = None, ax=None, units: str = "si"):
     ax.set_title(f"{textwrap.shorten(heading, 80)}\nat {result.speed * 30 / np.pi:.6g} rpm, Q at {stations}\n"
                  f"{textwrap.fill(result.verdict(units), 80)}",
                  fontsize="medium", color="tab:red" if result.level2_required else "darkgreen")
-    ax.legend(fontsize="x-small", loc="best", framealpha=0.85)
+    if own:    # below the figure: inside the axes the legend hid the criterion lines it names
+        fig.legend(*ax.get_legend_handles_labels(), fontsize="x-small", loc="outside lower center", ncols=2,
+                   frameon=False)
+    else:
+        ax.legend(fontsize="x-small", loc="best", framealpha=0.85)
     if flat:
         _detail(detail, x, flat, RATIO_CRITERION)
     return fig

@@ -346,7 +346,60 @@ def _label_critical_lines(axes, critical, renderer):
             else:
                 labels.append(label)
         missing = still
+    if missing:
+        labels.append(_unlabelled_note(axes, critical, sorted(missing, key=lambda k: critical.speeds[k]),
+                                       placed, renderer, data))
     return labels
+
+
+#: the note of the unlabelled critical speeds: entries per line, and its distance from the spines [pt]
+_NOTE_ENTRIES, _NOTE_MARGIN = 3, 4.0
+
+
+def _unlabelled_note(axes, critical, missing, placed, renderer, maps):
+    """A note listing the critical speeds ``missing`` (indices) whose lines found no room for a
+    label ('no room to label [rpm]: mode 3, 1X pump: 412; ...'), inside the first of ``axes``
+    where it lies clear of the labels ``placed``, of the signal and the tracks (``maps``: the
+    critical lines may pass behind its opaque box) and :data:`_NOTE_MARGIN` off the spines,
+    trying the top, the bottom and the middle from left to right; where none has room, at the
+    top left of the first axes. Returns the note."""
+    rpm = 30.0 / np.pi
+    entries = [f"mode {critical.mode[k]}, {critical.order[k]:g}X {critical.source[k]}: {critical.speeds[k] * rpm:.0f}"
+               for k in missing]
+    rows = ["; ".join(entries[i:i + _NOTE_ENTRIES]) for i in range(0, len(entries), _NOTE_ENTRIES)]
+    text = "critical speeds with no room for a label [rpm]:\n" + "\n".join(rows)
+    style = {"fontsize": "xx-small", "color": "tab:red", "ha": "left", "va": "bottom", "zorder": 5,
+             "bbox": {"boxstyle": "square,pad=0.2", "fc": "white", "ec": "tab:red", "lw": 0.5}}
+    for ax in axes:
+        frame = ax.get_window_extent(renderer)
+        margin = _NOTE_MARGIN * ax.figure.dpi / 72.0
+        note = ax.text(0.0, 0.0, text, transform=None, **style)
+        box = note.get_window_extent(renderer)
+        w, h = box.width, box.height
+        for v in (frame.y1 - margin - h, frame.y0 + margin, frame.y0 + (frame.height - h) / 2):
+            for u in np.linspace(frame.x0 + margin, frame.x1 - margin - w, 12):
+                candidate = (u, v, u + w, v + h)
+                if u < frame.x0 + margin or v < frame.y0 + margin:
+                    continue
+                if maps[id(ax)].free(candidate) and not any(
+                        u < b.x1 and b.x0 < u + w and v < b.y1 and b.y0 < v + h for b in placed[id(ax)]):
+                    note.remove()
+                    return _note_at(ax, text, style, (u, v), (w, h), placed[id(ax)])
+        note.remove()
+    ax = axes[0]
+    frame = ax.get_window_extent(renderer)
+    margin = _NOTE_MARGIN * ax.figure.dpi / 72.0
+    return ax.text(margin / frame.width, 1 - margin / frame.height, text, transform=ax.transAxes,
+                   **dict(style, va="top"))
+
+
+def _note_at(ax, text, style, corner, size, placed):
+    """The note drawn at its lower left ``corner`` (display units) in axes fraction; its box added to ``placed``."""
+    from matplotlib.transforms import Bbox
+
+    frame = ax.transAxes.inverted().transform([corner])[0]
+    placed.append(Bbox.from_bounds(corner[0], corner[1], *size))
+    return ax.text(frame[0], frame[1], text, transform=ax.transAxes, gid="unlabelled-critical", **style)
 
 
 def _first_room(axes, x, text, placed, renderer, curves, across=False):

@@ -278,7 +278,7 @@ _FORCE_VARIABLES = ("force_peak_amplitude", "force_peak_speed")
 def _response(model, options, speeds, outputs):
     from ..analysis.unbalance import unbalance_response
 
-    return unbalance_response(model, speeds, outputs=list(outputs), quantity=options["quantity"])
+    return unbalance_response(model, speeds, outputs=list(outputs), quantity=options["quantity"], resonances=False)
 
 
 def _run_unbalance(model, options, layout, cache):

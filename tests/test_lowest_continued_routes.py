@@ -21,7 +21,8 @@ import numpy as np
 import pytest
 from test_lowest_branches import _true_roots, pump  # noqa: F401 (pump: a fixture)
 from test_lowest_continuation import SPEEDS, _dense_roots, _model
-from test_lowest_memory import _SMALL, _budgets, _shaft
+from shaft_models import fan_shaft as _shaft
+from test_lowest_memory import _SMALL, _budgets
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _lowest, _lowest_branches

@@ -177,8 +177,8 @@ def test_figures_say_the_us_unit():
     result = rdm.unbalance_response(model, np.linspace(100, 900, 9), amplitude="pk-pk")
     checks = result.checks(model, mcs=314.0, iso_group=2, iso_support="flexible")
     labels = lambda fig: " ".join(ax.get_ylabel() + " " + ax.get_xlabel() for ax in fig.axes)   # noqa: E731
-    texts = lambda fig: " ".join(t.get_text() for ax in fig.axes if ax.get_legend()        # noqa: E731
-                                 for t in ax.get_legend().get_texts())
+    texts = lambda fig: " ".join(t.get_text() for legend in [ax.get_legend() for ax in fig.axes] + fig.legends  # noqa: E731
+                                 if legend for t in legend.get_texts())          # the axes' and the figure's legends
     us = result.plot(forces="bearings", checks=checks, units="us")
     assert "peak-to-peak [mil]" in labels(us) and "[lbf]" in labels(us) and "RMS [in/s]" in labels(us)
     assert "mil pk-pk" in texts(us) and "[m]" not in labels(us) and "[N]" not in labels(us)

@@ -354,7 +354,7 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     # with as many forward modes as Qa's first grid point has (a small Q where the machine is
     # isotropic enough; never above Qa / 10)
     spin = np.sign(speed) * _spin_sign(model, stations)
-    pick = _pick_index(model, lam, shapes, form.matrices.M, stations[0], spin, at_grid[1], forward_mode)
+    pick = _pick_index(model, lam, shapes, form.matrices.M, stations[0], spin, at_grid[1], forward_mode, order)
     forward = _forward_modes(model, lam[pick], shapes[pick], form.matrices.M, stations[0], spin)
     numbers = [forward_mode] if forward_mode is not None else range(1, max(1, min(FORWARD_MODES, len(forward))) + 1)
     runs = []
@@ -544,14 +544,15 @@ def _unit_state_matrix(model, form, stations, shares, speed):
     return unit
 
 
-def _forward_modes(model, lam, shapes, M, station, spin) -> np.ndarray:
+def _forward_modes(model, lam, shapes, M, station, spin, among_all=False) -> np.ndarray:
     """Indices among ``lam`` (one Q), lowest frequency first, of the modes of the stations'
     rotor whirling forward: its motion relative to the stator at ``station`` turns with the
     rotor's spin ``spin`` (+-1), ``-2 spin Im(conj(U_a) U_b) / (|U_a|^2 + |U_b|^2) > 1e-3`` for the
     radial amplitudes ``U_a, U_b`` of the orbit ``Re(U e^{i w t})``, and is a mode of the rotor in
     its bearings: ``|U|^2`` at least :data:`_ROTOR_SHARE` of the largest among the modes, the
     shapes mass-normalised (a casing's mode on soft mounts barely moves the rotor in its
-    bearings, and cross-coupling there cannot reach it)."""
+    bearings, and cross-coupling there cannot reach it); with ``among_all``, the
+    largest among every root, real ones too (an overdamped rotor's roots at a small Q)"""
     layout = model.dofs
     rows = layout.slices[layout.rotors.index(station.rotor)]
     moves = layout.local_relative_motion(station.rotor, station.point(model))[:3]
@@ -561,7 +562,7 @@ def _forward_modes(model, lam, shapes, M, station, spin) -> np.ndarray:
     u_a, u_b = motion @ a, motion @ b
     size = np.abs(u_a) ** 2 + np.abs(u_b) ** 2
     oscillating = is_oscillating(lam)
-    largest = size[oscillating].max(initial=0.0)
+    largest = (size if among_all else size[oscillating]).max(initial=0.0)
     ratio = np.zeros(len(lam))
     np.divide(-2 * spin * np.imag(np.conj(u_a) * u_b), size, out=ratio, where=size > 0)
     candidates = np.nonzero(oscillating & (ratio > _whirl.WHIRL_TOLERANCE) & (size >= _ROTOR_SHARE * largest)
@@ -588,16 +589,26 @@ def _small_q(base, unit, n: int) -> float:
     return _SMALL_Q * float(np.linalg.norm(base[n:2 * n, :n]) / per_unit) if per_unit > 0 else 0.0
 
 
-def _pick_index(model, lam, shapes, M, station, spin, last: int, forward_mode) -> int:
+def _pick_index(model, lam, shapes, M, station, spin, last: int, forward_mode, order) -> int:
     """The first index of the sweep (1 to ``last``, Qa's first grid point) where the station's
     rotor has as many forward modes (:func:`_forward_modes`, at most :data:`FORWARD_MODES`, or
-    ``forward_mode``) as at ``last``."""
+    ``forward_mode``) as at ``last``, each of them (followed by ``order``, (n_q, n_roots)) a mode
+    at Q = 0 too; else ``last``: a rotor whose roots at Q = 0 do not oscillate (overdamped) has no
+    forward modes until Q makes them whirl, and is followed from there, as chosen at ``last``."""
     wanted = forward_mode if forward_mode is not None else FORWARD_MODES
     target = min(wanted, len(_forward_modes(model, lam[last], shapes[last], M, station, spin)))
     for index in range(1, last):
-        if len(_forward_modes(model, lam[index], shapes[index], M, station, spin)) >= max(target, 1):
+        forward = _forward_modes(model, lam[index], shapes[index], M, station, spin, among_all=True)
+        if len(forward) >= max(target, 1) and _modes_at_rest(lam, order, index, forward[:max(target, 1)]):
             return index
     return last
+
+
+def _modes_at_rest(lam, order, index, roots) -> bool:
+    """Whether each of ``roots`` (indices among ``lam[index]``), followed to Q = 0 by ``order``, is
+    a mode there (:func:`~rotordyn_modal.analysis.modal.is_oscillating`)."""
+    labels = [int(np.nonzero(order[index] == root)[0][0]) for root in roots]
+    return bool(np.all(is_oscillating(lam[0, order[0, labels]])))
 
 
 def _sweep_grid(grid, small: float):

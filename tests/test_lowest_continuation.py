@@ -12,7 +12,6 @@ within nine speeds of 2.1 rad/s (between the anchors 0, 4 and 8)."""
 
 from __future__ import annotations
 
-import contextlib
 from pathlib import Path
 
 import warnings
@@ -23,6 +22,8 @@ import scipy.linalg
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _lowest
+
+from shaft_models import one_blas_thread as _one_blas_thread
 
 DATA = Path(__file__).parent / "data" / "ross"
 
@@ -48,14 +49,6 @@ def _dense_roots(model, speed):
     with _one_blas_thread():          # BLAS's own threads only wait for a core on a loaded machine
         roots = scipy.linalg.eigvals(A)
     return roots[roots.imag > 0]
-
-
-def _one_blas_thread():
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # pragma: no cover
-        return contextlib.nullcontext()
-    return threadpool_limits(limits=1, user_api="blas")
 
 
 @pytest.fixture(scope="module")

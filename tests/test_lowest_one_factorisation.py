@@ -9,7 +9,6 @@ eigenvalues of the full state matrix built here from ``model.matrices(speed)``."
 
 from __future__ import annotations
 
-import contextlib
 import warnings
 from pathlib import Path
 
@@ -25,14 +24,6 @@ from shaft_models import assert_lowest_are_the_full_models
 DATA = Path(__file__).parent / "data" / "ross"
 #: the span of the file's ROSS reference speeds [rad/s] (6,000-10,000 rpm) at 201 speeds, as bench_ross.py sweeps it
 SPEEDS = np.linspace(628.3185307179587, 1047.1975511965977, 201)
-
-
-def _one_blas_thread():
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # pragma: no cover
-        return contextlib.nullcontext()
-    return threadpool_limits(limits=1, user_api="blas")
 
 
 @pytest.fixture(scope="module")
@@ -88,5 +79,4 @@ def test_the_lowest_twelve_are_the_full_models_to_1e_9(sweep, row):
     """At solved anchors (0, 200), anchors carried over (4, 100, 196) and other speeds (3, 13, 199):
     the 12 roots are the 12 lowest of scipy's eigenvalues of the full state matrix, each to 1e-9."""
     model, result, _, _, _ = sweep
-    # BLAS's own threads only wait for a core on a loaded machine
-    assert_lowest_are_the_full_models(model, SPEEDS[row], result.eigenvalues[row], blas_context=_one_blas_thread)
+    assert_lowest_are_the_full_models(model, SPEEDS[row], result.eigenvalues[row])

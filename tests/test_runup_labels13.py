@@ -17,9 +17,9 @@ import numpy as np
 matplotlib.use("Agg")
 
 
-def _crowded_runup():
-    """A two-rotor run-up (300 to 540 rad/s in 8 s, rotor 'b' at 0.625) and six critical speeds of
-    rotor 'a', 20 rpm apart near 3,500 rpm and two more near 4,600 rpm."""
+def crowded_runup(rpm):
+    """A two-rotor run-up (300 to 540 rad/s in 8 s, rotor 'b' at 0.625) and critical speeds of
+    rotor 'a' at ``rpm`` (n,) [rpm]: ``(result, critical)``."""
     from rotordyn_modal.analysis.critical_speeds import _critical_table
 
     t = np.arange(0.0, 8.0, 2e-4)
@@ -28,11 +28,15 @@ def _crowded_runup():
     result = types.SimpleNamespace(time=t, drive_speed=omega, rotor_angles=np.column_stack([phi, 0.625 * phi]),
                                    speed_ratios=np.array([1.0, 0.625]), rotor_names=["a", "b"],
                                    model_name="crowded", sensor_names=["s"], sensor=lambda name: signal)
-    rpm = np.array([3500.0, 3520.0, 3540.0, 3560.0, 3580.0, 3600.0, 4600.0, 4630.0])
     n = len(rpm)
     critical = _critical_table(["a"] * n, np.ones(n), np.arange(1, n + 1), rpm * np.pi / 30.0,
                                rpm / 60.0, ["forward"] * n, np.full(n, 0.5), np.full(n, 0.01))
     return result, critical
+
+
+def _crowded_runup():
+    """Six critical speeds of rotor 'a', 20 rpm apart near 3,500 rpm, and two more near 4,600 rpm."""
+    return crowded_runup(np.array([3500.0, 3520.0, 3540.0, 3560.0, 3580.0, 3600.0, 4600.0, 4630.0]))
 
 
 def test_a_label_across_other_critical_lines_hides_them():

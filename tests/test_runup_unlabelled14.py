@@ -7,30 +7,19 @@ or by the note, and the note lies inside its axes, off the spines, over no label
 
 from __future__ import annotations
 
-import types
-
 import matplotlib
 import numpy as np
+
+from test_runup_labels13 import crowded_runup
 
 matplotlib.use("Agg")
 
 
 def _crowded_runup():
-    """A two-rotor run-up (300 to 540 rad/s in 8 s) and 14 critical speeds of rotor 'a', twelve
-    10 rpm apart from 3,500 rpm, two near 4,600 rpm."""
-    from rotordyn_modal.analysis.critical_speeds import _critical_table
-
-    t = np.arange(0.0, 8.0, 2e-4)
-    omega, phi = 300.0 + 30.0 * t, 300.0 * t + 15.0 * t ** 2
-    signal = np.cos(phi + 0.7) + 0.5 * np.cos(0.625 * phi)
-    result = types.SimpleNamespace(time=t, drive_speed=omega, rotor_angles=np.column_stack([phi, 0.625 * phi]),
-                                   speed_ratios=np.array([1.0, 0.625]), rotor_names=["a", "b"],
-                                   model_name="crowded", sensor_names=["s"], sensor=lambda name: signal)
+    """14 critical speeds of rotor 'a' in test_runup_labels13's run-up: twelve 10 rpm apart from
+    3,500 rpm, two near 4,600 rpm."""
     rpm = np.concatenate([3500.0 + 10.0 * np.arange(12), [4600.0, 4630.0]])
-    n = len(rpm)
-    critical = _critical_table(["a"] * n, np.ones(n), np.arange(1, n + 1), rpm * np.pi / 30.0,
-                               rpm / 60.0, ["forward"] * n, np.full(n, 0.5), np.full(n, 0.01))
-    return result, critical, rpm
+    return (*crowded_runup(rpm), rpm)
 
 
 def test_every_critical_speed_is_labelled_or_listed():

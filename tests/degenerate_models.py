@@ -12,11 +12,9 @@ bearing at x = 0.2 m) an unbalance, two sensors and an excitation, for ``frf``, 
 
 from __future__ import annotations
 
-EXTREME = """gravity = [0.0, 0.0, -9.81]
-[stator]
-mass = 1e-30
-inertia = [1.0, 1.0, 1.0]
-[[rotors]]
+#: a rigid rotor ``r`` (1e30 kg, polar and diametral inertia 0.05 kg m^2) on two bearings of 1e6 N/m
+#: at x = +-0.2 m: ``EXTREME``'s rotor, alone for a machine without a stator
+ROTOR_ON_BEARINGS = """[[rotors]]
 name = "r"
 mass = 1e30
 center_of_mass = [0.0, 0.0, 0.0]
@@ -32,7 +30,13 @@ name = "b"
 rotor = "r"
 position = [-0.2, 0.0, 0.0]
 stiffness = 1e6
-[[suspensions]]
+"""
+
+EXTREME = """gravity = [0.0, 0.0, -9.81]
+[stator]
+mass = 1e-30
+inertia = [1.0, 1.0, 1.0]
+""" + ROTOR_ON_BEARINGS + """[[suspensions]]
 name = "s"
 position = [0.0, 0.0, 0.0]
 stiffness = [1e5, 1e5, 1e5, 1e3, 1e3, 1e3]

@@ -21,6 +21,7 @@ from rotordyn_modal.analysis import campbell as campbell_module
 from rotordyn_modal.analysis import critical_speeds as critical_module
 from rotordyn_modal.cli import main
 from test_large_machine_cli import chained_gear_toml
+from recorded_bars import RecordedBars
 
 GIB = 2**30
 
@@ -130,31 +131,6 @@ def test_no_critical_gives_the_same_sweep(examples_dir, tmp_path):
     assert with_critical.read_text() == without.read_text()
 
 
-class _Bars:
-    """tqdm.auto.tqdm replaced by a recorder of every bar's description, total and count."""
-
-    def __init__(self, monkeypatch):
-        import tqdm.auto
-
-        self.made = []
-        real = tqdm.auto.tqdm
-        bars = self
-
-        class Recorded(real):
-            def __init__(self, *args, **kwargs):
-                kwargs["disable"] = True
-                super().__init__(*args, **kwargs)
-                self.counted, self.steps = 0, []
-                bars.made.append((kwargs.get("desc"), self))
-
-            def update(self, n=1):
-                self.counted += n
-                self.steps.append(n)
-                return super().update(n)
-
-        monkeypatch.setattr(tqdm.auto, "tqdm", Recorded)
-
-
 def test_the_refinement_shows_its_progress_over_every_crossing(tmp_path, monkeypatch):
     """A bar over the sweep's crossings when asked, advanced as parts end (brackets crowded
     with crossings, swept again, by their share) up to the number of crossings; no bar when not
@@ -163,7 +139,7 @@ def test_the_refinement_shows_its_progress_over_every_crossing(tmp_path, monkeyp
     path.write_text(chained_gear_toml(40, 4))
     model = rdm.load_model(path)
     speeds = rdm.rpm(np.linspace(0, 6000, 31))
-    bars = _Bars(monkeypatch)
+    bars = RecordedBars(monkeypatch)
     crowded = []
     real_crowded = critical_module._crowded
     monkeypatch.setattr(critical_module, "_crowded", lambda *a: crowded.append(real_crowded(*a)) or crowded[-1])

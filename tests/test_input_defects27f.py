@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
-from degenerate_models import variant
+from degenerate_models import ROTOR_ON_BEARINGS, variant
 from rotordyn_modal.errors import InputError
 
 TABLE_MODEL = """name = "table rotor"
@@ -143,26 +143,12 @@ def test_check_names_the_table_row_it_takes_for_the_bearings_at_rest(tmp_path, f
 
 
 def _rigid_rotor(mass, polar, unbalance):
-    return f"""[[rotors]]
-name = "r"
-mass = {mass}
-center_of_mass = [0.0, 0.0, 0.0]
-polar_inertia = {polar}
-diametral_inertia = {polar}
-[[bearings]]
-name = "a"
-rotor = "r"
-position = [0.2, 0.0, 0.0]
-stiffness = 1e6
-[[bearings]]
-name = "b"
-rotor = "r"
-position = [-0.2, 0.0, 0.0]
-stiffness = 1e6
-[[unbalances]]
-rotor = "r"
-{unbalance}
-"""
+    """``ROTOR_ON_BEARINGS`` of ``mass`` [kg] and polar and diametral inertia ``polar`` [kg m^2],
+    with an unbalance given by the lines ``unbalance``."""
+    rotor = (ROTOR_ON_BEARINGS.replace("mass = 1e30", f"mass = {mass}")
+             .replace("polar_inertia = 0.05", f"polar_inertia = {polar}")
+             .replace("diametral_inertia = 0.05", f"diametral_inertia = {polar}"))
+    return rotor + f'[[unbalances]]\nrotor = "r"\n{unbalance}\n'
 
 
 def test_simulate_refuses_an_unbalance_of_absurd_eccentricity_in_one_line(tmp_path):

@@ -14,33 +14,7 @@ import numpy as np
 
 import rotordyn_modal as rdm
 from rotordyn_modal.analysis import mode_numbers
-
-
-class _Bars:
-    """tqdm.auto.tqdm replaced by a recorder of every bar's description, total and count."""
-
-    def __init__(self, monkeypatch):
-        import tqdm.auto
-
-        self.made = []
-        real = tqdm.auto.tqdm
-        bars = self
-
-        class Recorded(real):
-            def __init__(self, *args, **kwargs):
-                kwargs["disable"] = True
-                super().__init__(*args, **kwargs)
-                self.counted = 0
-                bars.made.append((kwargs.get("desc"), kwargs.get("total"), self))
-
-            def update(self, n=1):
-                self.counted += n
-                return super().update(n)
-
-        monkeypatch.setattr(tqdm.auto, "tqdm", Recorded)
-
-    def named(self, description):
-        return [(total, bar.counted) for desc, total, bar in self.made if desc == description]
+from recorded_bars import RecordedBars
 
 
 def _none_told(monkeypatch):
@@ -59,7 +33,7 @@ def test_the_solved_mode_numbers_show_a_bar_over_every_crossing(examples_dir, mo
     speeds = rdm.rpm(np.linspace(0.0, 6000.0, 31))
     _none_told(monkeypatch)
     quiet = rdm.campbell(model, speeds).critical.mode_at_speed
-    bars = _Bars(monkeypatch)
+    bars = RecordedBars(monkeypatch)
     shown = rdm.campbell(model, speeds, progress=True).critical
     assert len(shown) > 5
     numbers = shown.mode_at_speed
@@ -70,6 +44,6 @@ def test_the_solved_mode_numbers_show_a_bar_over_every_crossing(examples_dir, mo
 def test_no_bar_unless_asked(examples_dir, monkeypatch):
     model = rdm.load_model(examples_dir / "gear_machine.toml")
     _none_told(monkeypatch)
-    bars = _Bars(monkeypatch)
+    bars = RecordedBars(monkeypatch)
     assert len(rdm.campbell(model, rdm.rpm(np.linspace(0.0, 6000.0, 31))).critical.mode_at_speed)
     assert bars.made == []

@@ -428,10 +428,9 @@ def _newton_step(loads, compliance, soft, s, settle, total, offset, phi):
     matrix = np.zeros((count, size, size))
     right = np.zeros((count, size))
     eye = np.eye(2)
+    matrix[:, :2 * n, :2 * n] = np.kron(phi, eye)                 # the shaft's flexibility, each direction alike
     for i in range(n):
         rows = slice(2 * i, 2 * i + 2)
-        for k in range(n):
-            matrix[:, rows, 2 * k:2 * k + 2] = phi[i, k] * eye
         matrix[:, rows, rows] += compliance[:, i] + soft[i]
         matrix[:, rows, 2 * n:2 * n + 2] = -eye
         matrix[:, rows, 2 * n + 2:] = -s[i] * eye

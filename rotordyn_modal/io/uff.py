@@ -313,8 +313,7 @@ def read_uff58(path, model, mapping):
     -------
     list of FRFResult
     """
-    sets = _read_sets(path)
-    units = _file_units(path)
+    sets, units = _read_sets(path)
     frfs = [s for s in sets if _function_type(s) == _FRF]
     if not frfs:
         raise InputError(_no_frf_line(path, sets))
@@ -540,20 +539,25 @@ def _check_complete(path):
 
 
 def _read_sets(path):
+    """``(sets, units)``: the file's datasets 58 and its units (dataset 164), in one read."""
     _check_complete(path)
-    uff, types, index, sets = _pyuff_read(path, 58)
+    uff, types, index, sets = _pyuff_read(path, (58, 164))
     if 58 not in types:
         raise InputError(f"{path}: no dataset 58/58b (FRF) in the file; datasets found: "
                          f"{_datasets_named(int(t) for t in types)}")
+    units = _units([{**s, "type": 164} for number, s in zip(index, sets) if types[number] == 164], path)
+    frfs = []
     for number, s in zip(index, sets):
-        s["_dataset"] = number + 1                      # its place among the file's datasets, for messages
-        _as_the_header_says(uff, number, s, path)
-    return sets
+        if types[number] == 58:
+            s["_dataset"] = number + 1                  # its place among the file's datasets, for messages
+            _as_the_header_says(uff, number, s, path)
+            frfs.append(s)
+    return frfs, units
 
 
-def _pyuff_read(path, kind=None):
-    """``(uff, types, index, sets)``: the file's datasets as pyuff reads them, every one or those of
-    dataset number ``kind`` (their places ``index``, from 0).
+def _pyuff_read(path, kinds=None):
+    """``(uff, types, index, sets)``: the file's datasets as pyuff reads them, every one or those
+    whose dataset number is one of ``kinds`` (their places ``index``, from 0).
 
     pyuff refuses an ASCII file whose lines end in blanks where it reads fixed-width numbers (the
     last, short line of a double-precision dataset 58 padded to 80 columns, as Fortran writers and
@@ -569,7 +573,7 @@ def _pyuff_read(path, kind=None):
     def read(name):
         uff = pyuff.UFF(name)
         types = [int(t) for t in uff.get_set_types()]
-        index = [i for i, t in enumerate(types) if kind is None or t == kind]
+        index = [i for i, t in enumerate(types) if kinds is None or t in kinds]
         with contextlib.redirect_stdout(io.StringIO()):    # pyuff prints some datasets (2467) as it reads
             sets = uff.read_sets(index) if index else []
         return uff, types, index, [sets] if isinstance(sets, dict) else list(sets)
@@ -681,11 +685,6 @@ def _uneven_double_values(uff, number, s, path):
     values = np.frombuffer(body, dtype=np.dtype(fields), count=count)
     data = values["re"] if parts == 1 else values["re"] + 1j * values["im"]
     return values["x"].astype(float), data.astype(complex if parts == 2 else float)
-
-
-def _file_units(path):
-    sets = _pyuff_read(path, 164)[3]
-    return _units([{**sets[0], "type": 164}], path) if sets else UffUnits()
 
 
 def _key(s):

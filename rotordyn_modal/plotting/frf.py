@@ -340,6 +340,7 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0, 
     largest = max((float(np.max(np.abs(result.H[result.outputs.index(o), result.inputs.index(i)])))
                    for o, i in pairs), default=0.0)
     cut = 0
+    sparse = _sparse_on_log(result.frequencies_hz) if measured is None and samples else None
     for n, (o, i) in enumerate(pairs, start=first):
         colour = f"C{n % 10}"
         style = "-" if n < 10 else "--"
@@ -354,7 +355,6 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0, 
             phase.plot(measured.frequencies_hz, _phase_beside(np.degrees(np.angle(hm)), measured.frequencies_hz,
                                                                phase_values, result.frequencies_hz),
                        ".", ms=2.5, color=colour, alpha=0.5)
-        sparse = _sparse_on_log(result.frequencies_hz) if measured is None and samples else None
         mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=name,
                      **({} if sparse is None else {"marker": ".", "ms": 3, "markevery": sparse}))
         phase.plot(*_broken_at_wraps(result.frequencies_hz, phase_values), color=colour, ls=style, lw=0.9)
@@ -405,7 +405,7 @@ def _sparse_on_log(frequencies):
     """Which of ``frequencies`` [Hz] to dot, shape (F,) bool: those next to a neighbour more than
     :data:`_SPARSE_RATIO` times away, where the axis is logarithmic (:func:`_frequency_scale`);
     None where none is (or the axis is linear)."""
-    from .campbell import LOG_SPAN
+    from .campbell import LOG_SPAN, segment_ends
 
     f = np.asarray(frequencies, float)
     if f.size < 2 or not np.all(np.isfinite(f)) or f.min() <= 0 or f.max() <= LOG_SPAN * f.min():
@@ -414,10 +414,7 @@ def _sparse_on_log(frequencies):
     apart = high > _SPARSE_RATIO * low
     if not apart.any():
         return None
-    dots = np.zeros(f.size, bool)
-    dots[:-1] |= apart
-    dots[1:] |= apart
-    return dots
+    return segment_ends(apart)
 
 
 #: degrees a measured phase may stand beyond +-180 to lie beside its model line (the phase

@@ -53,7 +53,7 @@ class OrderTrack:
         there)."""
         phase = np.asarray(self.phase_deg, dtype=float)
         out = np.full(phase.shape, np.nan)
-        known = np.isfinite(phase)
+        known = self.phase_known
         out[known] = np.degrees(np.unwrap(np.radians(phase[known])))
         return out
 
@@ -126,7 +126,7 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=None) -> Orde
                       dtype=complex)
     speeds = np.array([np.trapezoid(result.drive_speed[w], result.time[w]) / np.ptp(result.time[w]) for w in windows])
     middles = np.array([result.time[w].mean() for w in windows])
-    others = _other_orders(result, index)
+    others = _other_orders(result.speed_ratios, index)
     neighbours = np.zeros((len(windows), len(others)))
     for k, j in enumerate(others):        # each other rotor's order through its own windows, at these times
         own = _windows(result.time, angles[:, j], revolutions)
@@ -168,10 +168,10 @@ def window_turns(speed_ratios, index) -> int:
     """
     ratios = np.asarray(speed_ratios, dtype=float)
     own = abs(ratios[index])
-    rho = np.array([abs(ratios[j]) / own for j in range(len(ratios))
-                    if j != index and abs(abs(ratios[j]) - own) > 1e-9 * max(own, 1.0)])
-    if not rho.size or own == 0:
+    others = _other_orders(ratios, index)
+    if not others.size or own == 0:
         return SHORTEST_WINDOW
+    rho = np.abs(ratios[others]) / own
     turns = np.arange(SHORTEST_WINDOW, LONGEST_WINDOW + 1)
     response = (np.abs(np.sinc(turns[:, None] * (rho[None] - 1))) + np.abs(np.sinc(turns[:, None] * (rho[None] + 1)))).max(axis=1)
     return int(turns[np.flatnonzero(response <= response.min() + 1e-9)[0]])
@@ -226,10 +226,11 @@ def leakage_floor(phase, others, amplitudes, t) -> float:
     return float(floor)
 
 
-def _other_orders(result, index) -> np.ndarray:
-    """Indices of the rotors whose order lies at another frequency than rotor ``index``'s: a
-    rotor turning as fast (either way) has the same order line, which no window tells apart."""
-    ratios = np.asarray(result.speed_ratios, dtype=float)
+def _other_orders(speed_ratios, index) -> np.ndarray:
+    """Indices of the rotors (``speed_ratios``, shape (R,)) whose order lies at another frequency
+    than rotor ``index``'s: a rotor turning as fast (either way) has the same order line, which no
+    window tells apart."""
+    ratios = np.asarray(speed_ratios, dtype=float)
     own = abs(ratios[index])
     return np.array([j for j in range(len(ratios)) if j != index and abs(abs(ratios[j]) - own) > 1e-9 * max(own, 1.0)],
                     dtype=int)

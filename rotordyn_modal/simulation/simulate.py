@@ -217,7 +217,8 @@ def _fewest_steps(model, speed, duration, impulse) -> float:
     ``M^-1 b`` as ``sum_k c_k v_k``), with a share ``|c_k| max|v_k|`` of at least
     :data:`_EXCITED_SHARE` of the largest, needs ``duration |lambda_k| /`` :data:`_STEP_REACH` steps
     at least: the explicit integrator's stability, whatever the tolerances and the output times.
-    0 where the decomposition cannot be made (the estimate then rests on the output times)."""
+    0 where the decomposition cannot be made (the estimate then rests on the output times), and
+    where no CPU limit is in force (:func:`_check_cpu_time` would not read it)."""
     if impulse is None:
         return 0.0
     import scipy.linalg
@@ -226,6 +227,10 @@ def _fewest_steps(model, speed, duration, impulse) -> float:
     from ..linear_system import speed_linear_form
 
     _select(model.excitations, [impulse], "excitation")      # an unknown name: the line of the impulse's own check
+    from ..analysis._cost import limit_seconds, long_work_is_allowed
+
+    if long_work_is_allowed() or not np.isfinite(limit_seconds()):
+        return 0.0                                            # no limit to check it against: no eigen-solve
     try:
         form = speed_linear_form(model)
         n = form.n_dof

@@ -215,7 +215,7 @@ class CampbellResult:
             shape (K_m,): the label from that speed on.
         """
         levels = self._whirl_levels()
-        codes = _whirl_codes(self.whirl_ratios, levels)
+        codes = _whirl.whirl_codes(self.whirl_ratios, levels)
         sign = np.where(self.speeds < 0, -1.0, 1.0)
         about_axis = self.whirl_ratios * sign[:, None]            # the ratio about +e
         mode = self.oscillatory
@@ -234,14 +234,14 @@ class CampbellResult:
                     pieces = [(s0, s1, e0 * sign[k], e1 * sign[k], t0, t1)]
                 previous = codes[k, m]
                 for start, stop, a, b, level_a, level_b in pieces:
-                    first = int(_whirl_codes(a, level_a))
+                    first = int(_whirl.whirl_codes(a, level_a))
                     if first != previous:            # at zero speed: the spin's direction flips
                         at.append(start)
-                        after.append(_WHIRL_NAMES[first])
+                        after.append(str(_whirl._WHIRL_NAMES[first + 1]))
                     for speed, code in _level_crossings(start, stop, a, b, level_a, level_b):
                         at.append(speed)
-                        after.append(_WHIRL_NAMES[code])
-                    previous = int(_whirl_codes(b, level_b))
+                        after.append(str(_whirl._WHIRL_NAMES[code + 1]))
+                    previous = int(_whirl.whirl_codes(b, level_b))
             changes.append((np.asarray(at, dtype=float), np.asarray(after, dtype=str)))
         return changes
 
@@ -328,15 +328,6 @@ class CampbellResult:
         return plot_campbell(self, **kwargs)
 
 
-_WHIRL_NAMES = {-1: "backward", 0: "none", 1: "forward"}
-
-
-def _whirl_codes(ratios, levels=_whirl.WHIRL_TOLERANCE):
-    """-1, 0, +1 for backward, none, forward (:func:`._whirl.whirl_codes`: a whirl where the
-    size of the ratio exceeds ``levels``, ``WHIRL_TOLERANCE`` or its round-off), same shape."""
-    return _whirl.whirl_codes(ratios, levels)
-
-
 def _level_crossings(s0, s1, a, b, level_a=_whirl.WHIRL_TOLERANCE, level_b=_whirl.WHIRL_TOLERANCE) -> list:
     """Where the ratio going linearly from ``a`` at speed ``s0`` to ``b`` at ``s1`` changes its
     whirl code: where it passes minus or plus the level, itself linear from ``level_a`` to
@@ -344,7 +335,7 @@ def _level_crossings(s0, s1, a, b, level_a=_whirl.WHIRL_TOLERANCE, level_b=_whir
     [(speed, code after), ...] in order of speed. The codes at the ends are those of ``a`` and
     ``b`` at their own levels; each of ``ratio - level`` and ``ratio + level`` is linear, so it
     changes sign once at most and the codes run monotonically from the one to the other."""
-    start, stop = int(_whirl_codes(a, level_a)), int(_whirl_codes(b, level_b))
+    start, stop = int(_whirl.whirl_codes(a, level_a)), int(_whirl.whirl_codes(b, level_b))
     step = 1 if stop > start else -1
     out = []
     for code in range(start, stop, step):

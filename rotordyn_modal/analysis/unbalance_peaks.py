@@ -59,7 +59,8 @@ def unresolved_criticals(model, speeds, ratios):
     if x.size * float(form.n_states) ** 3 > _WORK:
         return None
     roots = _oscillating_roots(form, x)
-    return [_source_criticals(form, x, roots, abs(float(r))) for r in ratios]
+    found = {r: _source_criticals(form, x, roots, r) for r in {abs(float(r)) for r in ratios}}   # once a ratio
+    return [found[abs(float(r))] for r in ratios]
 
 
 def _oscillating_roots(form, speeds):

@@ -22,11 +22,10 @@ from ..elements import _bearing_validation
 from ..elements._mount_validation import suspension as _suspension
 from . import flexible as _flexible
 from .geometry import gear_mesh
-from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, plain, semidefinite_problem, visible, \
-    visible_names
+from ._table import SMALLEST_POSITIVE, Table as _Table, magnitude_problem, plain, visible, visible_names
 from .components import (
-    ARRAY_TABLES, TOP_LEVEL_KEYS, Clearance, Excitation, Rotor, Sensor, Stator, Suspension, Transmission,
-    Unbalance, input_keys, is_finite_number,
+    ARRAY_TABLES, TOP_LEVEL_KEYS, Clearance, Excitation, Rotor, Sensor, Stator, Transmission,
+    Unbalance, input_keys,
 )
 
 _RATIO_TOLERANCE = 1e-9
@@ -80,8 +79,8 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
     rotors = [reuse.rotor(i, t.data, ratios[name], flexible_kept or "shaft" not in t.data)
               or _rotor(t, ratios[name], materials, spin_axis)
               for i, (name, t) in enumerate(rotor_tables.items())]
-    suspensions = [_suspension(t, reuse.earlier("suspensions", i))
-                   for i, t in enumerate(_named_tables(source, data, "suspensions").values())]
+    suspension_tables = _named_tables(source, data, "suspensions")
+    suspensions = [_suspension(t, reuse.earlier("suspensions", i)) for i, t in enumerate(suspension_tables.values())]
     shafts = {r.name: r.flexible for r in rotors if r.flexible is not None}
     unbalance_tables = _indexed_tables(source, data, "unbalances")
     # an unbalance given by a balance grade follows its rotor's mass: earlier only with the same rotors
@@ -93,15 +92,16 @@ def validate(data: dict[str, Any], source: str, previous=None) -> dict[str, Any]
     _check_eccentricities(unbalance_tables, unbalances, rotors)
     gravity = top.vector3("gravity", default=[0.0, 0.0, 0.0])
     bearing_tables = _named_tables(source, data, "bearings")
-    _check_force_names(source, data, rotor_tables, bearing_tables)
+    sensor_tables = _named_tables(source, data, "sensors")
+    _check_force_names(rotor_tables, suspension_tables, bearing_tables, sensor_tables)
     bearings = reuse.bearings(data, rotors, spin_axis, gravity)
     if bearings is None:
         bearings = _bearing_validation.bearings(bearing_tables, rotors, spin_axis, gravity)
     on_bearings = {b.rotor for b in bearings}
     sensors = [reuse.part("sensors", i, t.data, names_kept and reuse.same_carriers(bearings) and not shafts)
                or _sensor(t, rotor_tables, on_bearings, shafts)
-               for i, t in enumerate(_named_tables(source, data, "sensors").values())]
-    _no_axial_probe_reading_zero(_named_tables(source, data, "sensors"), sensors, bearings, spin_axis)
+               for i, t in enumerate(sensor_tables.values())]
+    _no_axial_probe_reading_zero(sensor_tables, sensors, bearings, spin_axis)
     excitations = [reuse.part("excitations", i, t.data, names_kept and not shafts)
                    or _excitation(t, rotor_tables, shafts)
                    for i, t in enumerate(_named_tables(source, data, "excitations").values())]
@@ -226,15 +226,14 @@ def _named_tables(source: str, data, key: str) -> dict[str, _Table]:
 _FORCE_COMPONENTS = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 
 
-def _check_force_names(source: str, data, rotor_tables, bearing_tables) -> None:
+def _check_force_names(rotor_tables, suspension_tables, bearing_tables, sensor_tables) -> None:
     """The force rows of ``frf``/``unbalance --forces`` are named ``NAME:Fx`` ... ``NAME:Mz`` by
     suspension, bearing and rotor alike, in the same ``output`` column as the sensors: a bearing
     called as its rotor or as a suspension gave two different forces one name (``--forces all``:
     two series ``fan:Fx``), and a sensor called ``mount-FL:Fz`` would read as that force. So these
     names are unique across the three arrays, and no sensor takes a force row's name."""
     owners: dict[str, str] = {}
-    for key, tables in (("rotors", rotor_tables), ("suspensions", _named_tables(source, data, "suspensions")),
-                        ("bearings", bearing_tables)):
+    for key, tables in (("rotors", rotor_tables), ("suspensions", suspension_tables), ("bearings", bearing_tables)):
         for name, table in tables.items():
             other = owners.get(unicodedata.normalize("NFC", name))
             if other is not None:
@@ -242,7 +241,7 @@ def _check_force_names(source: str, data, rotor_tables, bearing_tables) -> None:
                                   f"--forces (NAME:Fx ... NAME:Mz) would give the {key[:-1]}'s force and the "
                                   f"{other[:-1]}'s the same name (rename one)")
             owners[unicodedata.normalize("NFC", name)] = key
-    for name, table in _named_tables(source, data, "sensors").items():
+    for name, table in sensor_tables.items():
         item, _, component = unicodedata.normalize("NFC", name).rpartition(":")
         if component in _FORCE_COMPONENTS and item in owners:
             raise table.error("name", name, f"a sensor name other than a force row's of --forces (the "

@@ -250,3 +250,14 @@ def test_the_artemis_suite_layout(model, tmp_path):
     # s0: node 3000105's X; s1: minus node 3000153's Z; s2: node 3000201's Y (complex pairs 1, 3, 2)
     np.testing.assert_array_equal(read.shapes[:, :, 0], [[0.5 + 0.01j, -0.1 + 0.02j, -0.4 + 0.02j],
                                                          [-0.1 + 0.002j, -0.25 - 0.01j, 0.05]])
+
+
+def test_a_measured_mode_the_sensors_do_not_see_is_paired_by_frequency(model):
+    """Mode 2 of the ARTeMIS-layout file is zero at nodes 3 (Y) and 4: its MAC is 0/0, reported
+    nan with a warning (scipy's assignment refused the nan before)."""
+    channels = ChannelMap({(3, 2): ("s1", 1.0), (4, 1): ("s0", 1.0)}, {})
+    read = rdm.read_uff_modes(DATA / "artemis_layout_modes.uff", model, channels)
+    with pytest.warns(UserWarning, match=r"measured mode 2 is zero at every sensor \(s1, s0\): paired by frequency"):
+        table = rdm.correlate_modes(model, read)
+    assert list(table["measured_mode"]) == [1, 2]
+    assert np.isfinite(table["mac"][0]) and np.isnan(table["mac"][1])

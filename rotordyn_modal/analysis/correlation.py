@@ -201,8 +201,8 @@ def correlate(model, measured, identification: str = "auto") -> Correlation:
 
 def correlate_modes(model, measured, speed: float = 0.0, model_modes=None):
     """Measured mode shapes (e.g. a Universal File's dataset 55, as modal analysis programs
-    export them: ``rdm.read_uff_modes``) against the model's modes at ``speed``, at the sensors: the MAC-paired natural-frequency
-    table of :func:`pair_modes`.
+    export them: ``rdm.read_uff_modes``) against the model's modes at ``speed``, at the sensors:
+    the MAC-paired natural-frequency table of :func:`pair_modes`.
 
     Parameters
     ----------

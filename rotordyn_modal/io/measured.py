@@ -169,6 +169,34 @@ def _universal_hint(table) -> str:
     return ""
 
 
+#: cells of the row of display formats Simcenter Testlab writes under the units row of a text export
+_DISPLAY_FORMATS = {"linear", "log", "phase", "real", "imaginary", "db", "amplitude", "magnitude"}
+
+
+def _refuse_testlab_layout(data: bytes, path) -> None:
+    """Refuse, on one line, a Simcenter Testlab text export of FRFs: metadata lines, a row of
+    units (``Hz  g/N  °`` for each FRF), a row of display formats (``Linear  Log  Phase``), then
+    the numbers. It names no output and input channel in its columns (was "cannot read as CSV
+    (Error tokenizing data ...)"), so it cannot be placed on the model's sensors and excitations."""
+    import re
+
+    from .text import decode_text
+
+    lines = decode_text(data[:65536]).splitlines()[:200]
+    for k in range(len(lines) - 1):
+        formats = [c.strip() for c in re.split(r"[\t;]", lines[k + 1]) if c.strip()]
+        units = [c.strip() for c in re.split(r"[\t;]", lines[k]) if c.strip()]
+        if (len(formats) >= 2 and all(f.lower() in _DISPLAY_FORMATS for f in formats) and units
+                and units[0].lower() in ("hz", "khz", "s")):
+            functions = max(1, sum(u.lower() in ("hz", "khz", "s") for u in units))
+            raise InputError(f"{path}: line {k + 1}: units {', '.join(units)} over display formats "
+                             f"{', '.join(formats)} (line {k + 2}), as Simcenter Testlab's text export writes them: "
+                             f"its columns name no output and input channel of its {functions} function(s), so they "
+                             "cannot be placed on the model's sensors and excitations; export the FRFs as UFF 58 "
+                             "(nodes and directions, placed by --mapping), or write the columns frequency_hz,output,"
+                             "input,magnitude [unit],phase_deg, one line per frequency and channel pair")
+
+
 def read_csv(path, model) -> list[FRFResult]:
     """Read the plain CSV layout (see the module docstring): also with ``;`` or tabs between the
     cells and decimal commas, header names in any case with their units (``Frequency [kHz]``,
@@ -181,6 +209,7 @@ def read_csv(path, model) -> list[FRFResult]:
     data = read_limited(path, "measured", "measured-data file")
     if data[:4] == TDMS_MAGIC:     # was "cannot read as CSV (Error tokenizing data ...)"
         raise InputError(f"{path}: {TDMS_WORDS}")
+    _refuse_testlab_layout(data, path)
     table, decimal = read_csv_table(data, path, "as CSV")
     table, scales, value_unit = _canonical_columns(table, path)
     needed = {"frequency_hz", "output", "input"}

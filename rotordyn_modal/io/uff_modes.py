@@ -89,13 +89,23 @@ def read_uff_modes(path, model, mapping=None):
         read_mapping(mapping, model) if mapping is not None else default_mapping(model))
     sets = [_mode(block, start, path) for block, start in _blocks(path)]
     if not sets:
-        raise InputError(f"{path}: no dataset 55 (mode shapes, data at nodes) in the file")
+        raise InputError(f"{path}: no dataset 55 (mode shapes, data at nodes) in the file; {_holds(path)}")
     sets.sort(key=lambda s: s["frequency_hz"])
     outputs, shapes = _at_sensors(sets, channels, path)
     return MeasuredModes(frequencies_hz=np.array([s["frequency_hz"] for s in sets]),
                          damping_ratios=np.array([s["damping"] for s in sets]),
                          poles=np.array([s["pole"] for s in sets]), shapes=shapes[:, :, None],
                          outputs=tuple(outputs), inputs=("uff-55",), method="uff-55")
+
+
+def _holds(path) -> str:
+    """What a file without dataset 55 holds: ``datasets found: 58 (function data), ...``, and
+    where FRFs are read (``frf --measured``)."""
+    from .uff import _datasets_named, _pyuff_read
+
+    types = _pyuff_read(path, kinds=())[1]
+    hint = " (FRFs and time records: frf --measured, rdm.read_measured)" if 58 in types else ""
+    return f"datasets found: {_datasets_named(types)}{hint}"
 
 
 def _blocks(path):

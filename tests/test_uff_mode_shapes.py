@@ -262,3 +262,14 @@ def test_a_measured_mode_the_sensors_do_not_see_is_paired_by_frequency(model):
         table = rdm.correlate_modes(model, read)
     assert list(table["measured_mode"]) == [1, 2]
     assert np.isfinite(table["mac"][0]) and np.isnan(table["mac"][1])
+
+
+def test_pyuffs_record10_file_with_touching_fields(model):
+    """pyuff's 'uff55 sample_test record10.uff' (MIT, tests/data/uff/README.md): an OMA export
+    whose E13.6 fields touch (``4.111111E+03-3.111111E+03``) and whose ID line 5 is I-DEAS Test's
+    4I10; values from its text."""
+    channels = ChannelMap({(111111, 2): ("acc-top-z", 1.0), (60101, -3): ("acc-side-y", 1.0)}, {})
+    read = rdm.read_uff_modes(DATA / "pyuff_uff55_record10.uff", model, channels)
+    assert read.poles[0] == complex(-1.111111e-01, 4.111111e01)
+    assert read.frequencies_hz[0] == pytest.approx(4.111111e01 / (2 * np.pi), rel=1e-15)
+    np.testing.assert_array_equal(read.shapes[0, :, 0], [1.111111e-01 + 9.111111e-02j, 4.111111e-02 + 1.111111e-02j])

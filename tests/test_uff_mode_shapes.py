@@ -273,3 +273,9 @@ def test_pyuffs_record10_file_with_touching_fields(model):
     assert read.poles[0] == complex(-1.111111e-01, 4.111111e01)
     assert read.frequencies_hz[0] == pytest.approx(4.111111e01 / (2 * np.pi), rel=1e-15)
     np.testing.assert_array_equal(read.shapes[0, :, 0], [1.111111e-01 + 9.111111e-02j, 4.111111e-02 + 1.111111e-02j])
+
+
+def test_mode_shapes_given_as_frfs_say_where_they_are_read(model):
+    with pytest.raises(InputError, match=r"no dataset 58/58b \(FRF\) in the file; datasets found: 55 \(data at "
+                                         r"nodes\) \(mode shapes: modes --measured, rdm.read_uff_modes\)"):
+        rdm.read_measured(DATA / "artemis_layout_modes.uff", model)

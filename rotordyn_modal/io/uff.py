@@ -548,8 +548,9 @@ def _read_sets(path):
     _check_complete(path)
     uff, types, index, sets = _pyuff_read(path, (58, 164))
     if 58 not in types:
+        modes = " (mode shapes: modes --measured, rdm.read_uff_modes)" if 55 in types else ""
         raise InputError(f"{path}: no dataset 58/58b (FRF) in the file; datasets found: "
-                         f"{_datasets_named(int(t) for t in types)}")
+                         f"{_datasets_named(int(t) for t in types)}{modes}")
     units = _units([{**s, "type": 164} for number, s in zip(index, sets) if types[number] == 164], path)
     frfs = []
     for number, s in zip(index, sets):

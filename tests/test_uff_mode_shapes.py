@@ -279,3 +279,11 @@ def test_mode_shapes_given_as_frfs_say_where_they_are_read(model):
     with pytest.raises(InputError, match=r"no dataset 58/58b \(FRF\) in the file; datasets found: 55 \(data at "
                                          r"nodes\) \(mode shapes: modes --measured, rdm.read_uff_modes\)"):
         rdm.read_measured(DATA / "artemis_layout_modes.uff", model)
+
+
+def test_a_sensor_mapped_to_direction_0_reads_no_component(model):
+    """Direction 0 (a channel without direction, which FRF files use) names no value of a node:
+    the sensor is not measured (index -1 would have read its last value, RZ or Z)."""
+    channels = ChannelMap({(1, 0): ("acc-top-z", 1.0), (2, 1): ("s0", 1.0), (3, 1): ("s1", 1.0)}, {})
+    read = rdm.read_uff_modes(DATA / "artemis_layout_modes.uff", model, channels)
+    assert read.outputs == ("s0", "s1")

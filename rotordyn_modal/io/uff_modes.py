@@ -258,8 +258,9 @@ def _at_sensors(sets, channels, path):
     values there (n_modes, n_sensors); the mapping's sign and the direction's sign applied."""
     outputs, columns = [], []
     for (node, code), (name, sign) in channels.outputs.items():
-        component = abs(int(code)) - 1
-        if any(node in s["nodes"] and component < len(s["nodes"][node]) for s in sets) and name not in outputs:
+        component = abs(int(code)) - 1     # direction 0 (a scalar channel of the FRFs' tables): no component
+        if component >= 0 and any(node in s["nodes"] and component < len(s["nodes"][node]) for s in sets) \
+                and name not in outputs:
             outputs.append(name)
             columns.append((node, component, float(np.sign(code)) * sign))
     if not outputs:

@@ -55,11 +55,12 @@ _API = {
     # model versus measurement
     "read_measured": "io.measured", "write_measured_csv": "io.measured", "write_uff58": "io.uff",
     "read_uff_info": "io.uff", "read_uff_nodes": "io.uff", "read_uff_time_records": "io.uff",
-    "place_channels": "io.uff", "read_tdms_records": "io.tdms",
+    "place_channels": "io.uff", "read_tdms_records": "io.tdms", "read_uff_modes": "io.uff_modes",
     "TimeRecords": "analysis.spectra", "estimate_frf": "analysis.spectra",
     "identify_modes": "analysis.identification", "MeasuredModes": "analysis.identification",
     "StabilizationChart": "analysis.identification",
     "correlate": "analysis.correlation", "Correlation": "analysis.correlation",
+    "correlate_modes": "analysis.correlation",
     "fit": "analysis.fit", "FitResult": "analysis.fit",
     "stator_motion": "analysis.experimental", "RigidBodyMotion": "analysis.experimental",
     # large rotations and time simulation

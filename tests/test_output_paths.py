@@ -36,7 +36,7 @@ REQUIRED = {"campbell": ["--speeds", "0:100:3"], "critical-speeds": ["--speeds",
 FILE_OPTIONS = {
     "check": (["MODEL"], []),
     "static": (["MODEL"], ["--out", "--plot"]),
-    "modes": (["MODEL", "--outline"], ["--out", "--plot", "--plot-shaft"]),
+    "modes": (["MODEL", "--outline", "--measured", "--mapping"], ["--out", "--plot", "--plot-shaft"]),
     "campbell": (["MODEL"], ["--out", "--plot"]),
     "critical-speeds": (["MODEL"], ["--out", "--plot"]),
     "stability": (["MODEL"], ["--out", "--plot"]),

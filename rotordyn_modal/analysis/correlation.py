@@ -25,7 +25,7 @@ from ..errors import InputError
 from .identification import MeasuredModes, fit_measured_modes, identify_modes
 
 __all__ = ["Correlation", "correlate", "frac", "csac", "csf", "fit_measured_modes", "MeasuredModes",
-           "pair_modes"]
+           "pair_modes", "correlate_modes", "check_mode_sensors"]
 
 
 def _pairs(model_frf, measured):
@@ -93,10 +93,12 @@ def pair_modes(model_modes, measured_modes, sensor_rows, excitation_index=None):
     if len(measured_shapes) and len(osc):
         from scipy.optimize import linear_sum_assignment
 
-        macs = mac(measured_shapes, model_shapes)
+        with np.errstate(invalid="ignore"):
+            macs = mac(measured_shapes, model_shapes)    # nan for a shape zero at every sensor (0/0)
         f_meas = measured_modes.frequencies_hz[:, None]
         distance = np.abs(model_modes.frequencies_hz[osc][None, :] - f_meas) / f_meas
-        pairs = dict(zip(*linear_sum_assignment((1 - macs) + distance)))
+        # a shape the sensors do not see agrees with none: paired by frequency, its MAC reported nan
+        pairs = dict(zip(*linear_sum_assignment((1 - np.nan_to_num(macs, nan=0.0)) + distance)))
         for i, row in enumerate(macs):
             if i not in pairs:
                 continue
@@ -195,3 +197,56 @@ def correlate(model, measured, identification: str = "auto") -> Correlation:
                        frac=frac(a, m), csac=csac(a, m), csf=csf(a, m),
                        mode_pairs={k: modes[k].to_numpy() for k in modes.columns},
                        identification=identified.method, measured_modes=identified)
+
+
+def correlate_modes(model, measured, speed: float = 0.0, model_modes=None):
+    """Measured mode shapes (e.g. a Universal File's dataset 55, as modal analysis programs
+    export them: ``rdm.read_uff_modes``) against the model's modes at ``speed``, at the sensors:
+    the MAC-paired natural-frequency table of :func:`pair_modes`.
+
+    Parameters
+    ----------
+    model : Model
+    measured : MeasuredModes
+        Modes with their shapes at the sensors, e.g. of a Universal File's dataset 55
+        (:func:`~rotordyn_modal.io.uff_modes.read_uff_modes`).
+    speed : float [rad/s]
+        Reference rotor speed of the model's modes (default 0: the machine at rest, as in a
+        hammer test).
+    model_modes : ModalResult, optional
+        The model's modes at ``speed`` when already computed (default: computed here).
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``measured_mode, measured_hz, measured_damping, model_mode, model_hz, model_damping,
+        difference_pct, mac`` (``model_mode`` is the 'mode' column of ``modes``; the MAC over the
+        sensors the file has, ``measured.outputs``).
+
+    Raises
+    ------
+    InputError
+        Fewer than two sensors in the file (one sensor's MAC is 1 for any pair of modes).
+    """
+    from ..assembly import sensor_rows
+    from .modal import modal
+
+    check_mode_sensors(measured)
+    unseen = np.flatnonzero(~np.any(measured.shapes != 0, axis=(1, 2)))
+    if unseen.size:
+        import warnings
+
+        warnings.warn(f"measured mode{'s' if unseen.size > 1 else ''} {', '.join(str(i + 1) for i in unseen)} "
+                      f"{'are' if unseen.size > 1 else 'is'} zero at every sensor ({', '.join(measured.outputs)}): "
+                      "paired by frequency only, MAC nan", stacklevel=2)
+    model_modes = modal(model, speed) if model_modes is None else model_modes
+    return pair_modes(model_modes, measured, sensor_rows(model, list(measured.outputs)), excitation_index=0)
+
+
+def check_mode_sensors(measured):
+    """``measured`` (MeasuredModes) when its shapes are at two sensors or more, else InputError:
+    one sensor's MAC is 1 for any pair of modes."""
+    if len(measured.outputs) < 2:
+        raise InputError(f"measured mode shapes at {len(measured.outputs)} sensor ({', '.join(measured.outputs)}): a "
+                         "MAC needs two or more (one sensor's MAC is 1 for any pair of modes)")
+    return measured

@@ -42,6 +42,14 @@ follows its elements' shape functions between the nodes; a rigid rotor's is stra
 Lengths on the figures' axes are in m, or in in with --units us (docs/units.md); the table
 has no unit to convert (Hz, ratios) and --outline is read in metres, as the model file.
 
+--measured FILE.uff reads measured mode shapes (dataset 55, as modal analysis programs export
+identified modes: normal modes or complex eigenvalues, 3 or 6 values a node) and writes, instead
+of the modes table, each measured mode paired one to one with a model mode at --speed by MAC at
+the sensors and by frequency (columns measured_mode,measured_hz,measured_damping,model_mode,
+model_hz,model_damping,difference_pct,mac; model_mode is the modes table's 'mode'). Sensor k is
+node k along its axis, or as --mapping FILE.csv (name,node,direction[,sign]) says, as for frf
+--measured; the sensors the file has are named on stderr.
+
 CSV columns: mode,frequency_hz,damping_ratio,log_decrement,whirl,whirl_ratio,real_part; with a
 flexible rotor then shaft_energy,bearing_energy,mount_energy,pedestal_energy,mesh_energy (those
 the model has: the fractions of the mode's strain energy in the shafts, bearings, mounts, pedestals
@@ -53,7 +61,8 @@ examples:
   rotordyn-modal modes examples/gear_machine.toml --speed 3000 --out modes.csv
   rotordyn-modal modes examples/gear_machine.toml --speed 3000 --shape 5 --plot mode5.png
   rotordyn-modal modes examples/gear_machine.toml --speed 3000 --animate 5 --plot mode5.gif
-  rotordyn-modal modes examples/compressor_rotor.toml --speed 3000 --plot-shaft lines.png --modes 1-6"""
+  rotordyn-modal modes examples/compressor_rotor.toml --speed 3000 --plot-shaft lines.png --modes 1-6
+  rotordyn-modal modes examples/gear_machine.toml --measured ema_modes.uff --mapping nodes.csv --out mac.csv"""
 
 _ANIMATION_ENDINGS = (".gif", ".html", ".mp4")
 #: panels of --plot-shaft in one figure
@@ -85,6 +94,11 @@ def add_arguments(parser):
                         help="modes drawn by --plot-shaft (default 1-6) or by --plot's bars (default every mode, "
                              f"1-{_DEFAULT_BARS} where there are more than {_MOST_PANELS}): numbers and ranges of the "
                              "table's 'mode' column, e.g. 1-6 or 1,3,7-9")
+    add_input_file(parser, "--measured", metavar="FILE.uff",
+                   help="measured mode shapes (Universal File, dataset 55): the table pairs them with the model's "
+                        "modes by MAC at the sensors and by frequency")
+    add_input_file(parser, "--mapping", metavar="FILE.csv",
+                   help="UFF node/direction to channel table of --measured: name,node,direction[,sign]")
     add_allow_long(parser)
     add_outputs(parser)
 
@@ -103,6 +117,7 @@ def run(args) -> int:
     model = open_model(args)
     speed = speed_value(args.speed, args.speed_unit, "--speed")
     outline = read_outline(args.outline) if args.outline else None   # refused before the solve
+    measured = _measured_modes(args, model)                           # refused before the solve too
     # every root is one dense eigen-solution of the state matrix: a long flexible rotor's takes hours;
     # the estimate is the sweeps' (analysis/_cost.py), modal's solve run with one BLAS thread as theirs
     work = refuse_long_work(model, [speed], critical=False, advice=_ADVICE)
@@ -118,7 +133,10 @@ def run(args) -> int:
         _check_modes(result, wanted, args)
     table = undamped_zeros(result.to_dataframe(), model, speed)
     counts = _not_listed(result)
-    write_table(table, args, empty=f"no oscillating modes at {args.speed} {args.speed_unit}: {counts}")
+    if measured is not None:
+        _write_pairs(model, measured, speed, result, args)
+    else:
+        write_table(table, args, empty=f"no oscillating modes at {args.speed} {args.speed_unit}: {counts}")
     if counts and len(table) and not args.quiet:
         print(f"{counts} not listed as modes (docs/model-file.md, roots that are not modes)", file=sys.stderr)
     unstrained = _unstrained(result)
@@ -139,6 +157,33 @@ def run(args) -> int:
             else:
                 save_figure(_bars(result, wanted, args) if view is None else view.plot(units=args.units), args)
     return 0
+
+
+def _measured_modes(args, model):
+    """--measured FILE.uff: its dataset 55 modes at the sensors (None without --measured);
+    --mapping without --measured is refused."""
+    if args.measured is None:
+        if args.mapping is not None:
+            raise InputError(f"--mapping {args.mapping}: expected it only beside --measured FILE.uff (it places the "
+                             "file's nodes and directions on the sensors)")
+        return None
+    from ..analysis.correlation import check_mode_sensors
+    from ..io.uff_modes import read_uff_modes
+
+    return check_mode_sensors(read_uff_modes(args.measured, model, args.mapping))
+
+
+def _write_pairs(model, measured, speed, result, args):
+    """The table of --measured: each measured mode, the model mode paired to it (MAC at the
+    sensors the file has and relative frequency distance) and their MAC; the sensors on stderr."""
+    from ..analysis.correlation import correlate_modes
+
+    pairs = correlate_modes(model, measured, speed, model_modes=result)
+    write_table(pairs, args, empty=f"no oscillating model modes at {args.speed} {args.speed_unit} to pair with the "
+                                   f"{len(measured.poles)} measured modes of {args.measured}")
+    if not args.quiet:
+        print(f"--measured {args.measured}: {len(measured.poles)} modes (dataset 55) at {len(measured.outputs)} "
+              f"sensors ({', '.join(measured.outputs)}); MAC over those sensors", file=sys.stderr)
 
 
 def _announce_long_solve(model, work, args):

@@ -19,7 +19,7 @@ from .._limits import environment_number
 from ..errors import InputError
 
 __all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "PIPE_WAIT_S", "check_size", "limit_bytes", "read_limited",
-           "input_path"]
+           "input_path", "refuse_unsized"]
 
 #: default limit of model and study files [MB]; environment: ROTORDYN_MODAL_MAX_MODEL_MB
 MODEL_FILE_MB = 10
@@ -76,6 +76,26 @@ def check_size(path, kind: str, what: str) -> None:
     if size > limit:
         raise InputError(f"{path}: a {what} of {size / 2**20:.1f} MB is larger than the limit of "
                          f"{limit / 2**20:g} MB and is not read (set {variable} to a number of MB to allow it)")
+
+
+def refuse_unsized(path, what: str) -> None:
+    """Refuse a pipe or a device (``/dev/zero``, a FIFO) given to a reader that reads to the end
+    (pyuff, npTDMS): it never ends, or blocks until a program writes to it.
+
+    Parameters
+    ----------
+    path : path-like
+    what : str
+        The file expected, with its article ('a Universal File', 'a TDMS file').
+
+    Raises
+    ------
+    InputError
+        ``path`` exists and is neither a regular file nor a folder. A missing file or a folder
+        passes (the reader reports it).
+    """
+    if os.path.exists(path) and not os.path.isdir(path) and not os.path.isfile(path):
+        raise InputError(f"{path}: expected {what}, not a pipe or device (its size is not known before reading)")
 
 
 def read_limited(path, kind: str, what: str) -> bytes:

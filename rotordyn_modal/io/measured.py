@@ -169,6 +169,34 @@ def _universal_hint(table) -> str:
     return ""
 
 
+#: cells of the row of display formats Simcenter Testlab writes under the units row of a text export
+_DISPLAY_FORMATS = {"linear", "log", "phase", "real", "imaginary", "db", "amplitude", "magnitude"}
+
+
+def _refuse_testlab_layout(data: bytes, path) -> None:
+    """Refuse, on one line, a Simcenter Testlab text export of FRFs: metadata lines, a row of
+    units (``Hz  g/N  °`` for each FRF), a row of display formats (``Linear  Log  Phase``), then
+    the numbers. It names no output and input channel in its columns (was "cannot read as CSV
+    (Error tokenizing data ...)"), so it cannot be placed on the model's sensors and excitations."""
+    import re
+
+    from .text import decode_text
+
+    lines = decode_text(data[:65536]).splitlines()[:200]
+    for k in range(len(lines) - 1):
+        formats = [c.strip() for c in re.split(r"[\t;]", lines[k + 1]) if c.strip()]
+        units = [c.strip() for c in re.split(r"[\t;]", lines[k]) if c.strip()]
+        if (len(formats) >= 2 and all(f.lower() in _DISPLAY_FORMATS for f in formats) and units
+                and units[0].lower() in ("hz", "khz", "s")):
+            functions = max(1, sum(u.lower() in ("hz", "khz", "s") for u in units))
+            raise InputError(f"{path}: line {k + 1}: units {', '.join(units)} over display formats "
+                             f"{', '.join(formats)} (line {k + 2}), as Simcenter Testlab's text export writes them: "
+                             f"its columns name no output and input channel of its {functions} function(s), so they "
+                             "cannot be placed on the model's sensors and excitations; export the FRFs as UFF 58 "
+                             "(nodes and directions, placed by --mapping), or write the columns frequency_hz,output,"
+                             "input,magnitude [unit],phase_deg, one line per frequency and channel pair")
+
+
 def read_csv(path, model) -> list[FRFResult]:
     """Read the plain CSV layout (see the module docstring): also with ``;`` or tabs between the
     cells and decimal commas, header names in any case with their units (``Frequency [kHz]``,
@@ -181,7 +209,9 @@ def read_csv(path, model) -> list[FRFResult]:
     data = read_limited(path, "measured", "measured-data file")
     if data[:4] == TDMS_MAGIC:     # was "cannot read as CSV (Error tokenizing data ...)"
         raise InputError(f"{path}: {TDMS_WORDS}")
+    _refuse_testlab_layout(data, path)
     table, decimal = read_csv_table(data, path, "as CSV")
+    table = _units_row_folded(table, path)
     table, scales, value_unit = _canonical_columns(table, path)
     needed = {"frequency_hz", "output", "input"}
     if not needed <= set(table.columns) or not ({"real", "imag"} <= set(table.columns)
@@ -225,6 +255,43 @@ _HEADER_UNITS = {"frequency_hz": {"hz": 1.0, "khz": 1e3},
                  "speed_rpm": {"rpm": 1.0, "1/min": 1.0, "rad/s": 30.0 / np.pi, "hz": 60.0},
                  "phase_deg": {"deg": 1.0, "°": 1.0, "degree": 1.0, "degrees": 1.0, "rad": 180.0 / np.pi}}
 _VALUE_COLUMNS = ("real", "imag", "magnitude")
+
+
+def _units_row_folded(table, path):
+    """The table with a row of units under its header (``Hz,,,g/N,g/N`` under
+    ``frequency,output,input,real,imag``, as data recorders and spreadsheets export them) folded
+    into the header names (``frequency [Hz]``, ``real [g/N]``), read then as header units are;
+    unchanged without such a row. A units row is the first row when it holds no number and its
+    frequency column holds text (a unit)."""
+    from .csv_tables import split_header
+
+    if table.empty:
+        return table
+    first = {column: str(table.iloc[0][column]).strip() for column in table.columns}
+    frequency = [c for c in table.columns if _ALIASES.get(split_header(c)[0], split_header(c)[0]) == "frequency_hz"]
+    if not frequency or not first[frequency[0]] or any(_is_number(cell) for cell in first.values()):
+        return table
+    renamed = {}
+    for column, unit in first.items():
+        if not unit or unit == "-" and split_header(column)[0] in ("output", "input"):
+            continue
+        name, given = split_header(column)
+        if given is not None and given != unit:
+            raise InputError(f"{path}: column {column!r}: unit [{given}] in the header and {unit!r} on the line "
+                             "under it (a row of units): expected one unit")
+        renamed[column] = f"{column} [{unit}]" if given is None else column
+    folded = table.iloc[1:].rename(columns=renamed).reset_index(drop=True)
+    folded.attrs = {**table.attrs, "first_line": table.attrs.get("first_line", 2) + 1}
+    return folded
+
+
+def _is_number(cell: str) -> bool:
+    """True for a cell that reads as a number (a decimal comma too)."""
+    try:
+        float(cell.replace(",", "."))
+    except ValueError:
+        return False
+    return True
 
 
 def _canonical_columns(table, path):

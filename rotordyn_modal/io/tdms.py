@@ -14,8 +14,6 @@ factor 0.
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
 
 from ..errors import InputError
@@ -35,12 +33,10 @@ def _tdms_file(path):
         from nptdms import TdmsFile
     except ImportError:
         raise InputError(f"{path}: reading TDMS needs npTDMS: pip install 'rotordyn_modal[tdms]'") from None
-    from .limits import check_size
+    from .limits import check_size, refuse_unsized
 
     check_size(path, "measured", "measured-data file")
-    if os.path.exists(path) and not os.path.isdir(path) and not os.path.isfile(path):
-        # a pipe no program writes to blocked the open for ever (rdm.read_tdms_records hung)
-        raise InputError(f"{path}: expected a TDMS file, not a pipe or device (its size is not known before reading)")
+    refuse_unsized(path, "a TDMS file")   # a pipe no program writes to blocked npTDMS for ever
     try:
         return TdmsFile.read(str(path))
     except FileNotFoundError:

@@ -166,7 +166,7 @@ def _warn_speed_loss(rpm, path) -> None:
 
 def _check_writable_channels(results, mapping, path):
     """Refuse what UFF 58 cannot say: a channel along no model axis (without a mapping naming its
-    node and direction), or a name longer than an ID line (80 characters)."""
+    node and direction), or a name longer than an ID line (80 bytes in UTF-8)."""
     for name in sorted({n for res in results for n in (*res.outputs, *res.inputs)}):
         if name in mapping.oblique:
             direction = ", ".join(f"{v:.4g}" for v in mapping.oblique[name])
@@ -174,9 +174,10 @@ def _check_writable_channels(results, mapping, path):
                              "gives a direction only as a code +-1..+-6 (X, Y, Z, RX, RY, RZ) of its node's "
                              "coordinate system; give a mapping table (--mapping FILE.csv: name,node,direction) "
                              "naming a node whose coordinate system has that axis, or write CSV")
-        if len(name) > 80:
-            raise InputError(f"{path}: channel name {name[:40]!r}... has {len(name)} characters: a UFF 58 ID line "
-                             "holds 80")
+        size = len(name.encode("utf-8"))
+        if size > 80:   # the line is written in UTF-8: 80 bytes, not characters (a 'ü' takes 2)
+            count = f"{len(name)} characters" if size == len(name) else f"{len(name)} characters, {size} bytes in UTF-8"
+            raise InputError(f"{path}: channel name {name[:40]!r}... has {count}: a UFF 58 ID line holds 80 bytes")
         if name in getattr(mapping, "twice", {}):
             table, ((line_a, (node_a, dir_a)), (line_b, (node_b, dir_b))) = mapping.twice[name]
             raise InputError(f"{table}: line {line_b}: name {name!r} is given node {node_b} direction {dir_b} here "
@@ -186,9 +187,10 @@ def _check_writable_channels(results, mapping, path):
 
 
 def _entity(name):
-    """Record 6 holds 10 characters (bytes) of an entity name: longer names are 'NONE' there (ID
-    lines 1-2 hold them)."""
-    return name if len(name.encode("utf-8")) <= 10 else "NONE"
+    """Record 6 holds 10 columns of an entity name: longer names are 'NONE' there (ID lines 1-2
+    hold them), and so are names beyond ASCII, whose columns a reader counting bytes (the
+    definition, UFFFiles.jl) and one counting characters (pyuff) would find in different places."""
+    return name if name.isascii() and len(name) <= 10 else "NONE"
 
 
 def _datasets(res, mapping, binary, grid):
@@ -241,12 +243,18 @@ def _dataset(function, names, dof, ordinate, denominator, x, values, rpm, grid, 
     rsp_node, rsp_dir, rsp_name, ref_node, ref_dir, ref_name = dof
     data = _data_binary(x, values, even) if binary else _data_ascii(x, values, even)
     ident = (f"{58:6d}b{1:6d}{2:6d}{11:12d}{len(data):12d}{0:6d}{0:6d}{0:12d}{0:12d}" if binary else f"{58:6d}")
-    lines = [f"{-1:6d}", ident, *(f"{text:<80s}" for text in (*names, "NONE", f"{rpm:.6g} rpm"[:80], "NONE")),
+    lines = [f"{-1:6d}", ident, *(_padded(text, 80) for text in (*names, "NONE", f"{rpm:.6g} rpm"[:80], "NONE")),
              f"{function:5d}{0:10d}{0:5d}{0:10d} {rsp_name:<10s}{rsp_node:10d}{rsp_dir:4d} {ref_name:<10s}{ref_node:10d}"
              f"{ref_dir:4d}",
              f"{6 if complex_ else 4:10d}{count:10d}{int(even):10d}{first:13.5E}{step:13.5E}{rpm:13.5E}",
              _axis(_FREQUENCY, 0, 0, "Hz"), _axis(*ordinate), _axis(*denominator), _axis(_RPM, 0, 0, "rpm")]
     return ("\n".join(lines) + "\n").encode("utf-8") + data + f"{-1:6d}\n".encode()
+
+
+def _padded(text, width) -> str:
+    """``text`` and blanks to ``width`` bytes in UTF-8, the columns a reader of the definition
+    counts (``f"{text:<80s}"`` counts characters: 40 'ü' made a line of 120 bytes)."""
+    return text + " " * (width - len(text.encode("utf-8")))
 
 
 def _axis(kind, length, force, unit) -> str:
@@ -510,13 +518,10 @@ def _not_wide_text(head: bytes, path) -> None:
 
 def _check_complete(path):
     """Refuse a truncated or padded ASCII file: datasets sit between pairs of ``-1`` lines."""
-    from .limits import check_size
+    from .limits import check_size, refuse_unsized
 
     check_size(path, "measured", "measured-data file")
-    if os.path.exists(path) and not os.path.isdir(path) and not os.path.isfile(path):
-        # pyuff reads a device or pipe to its end: /dev/zero never ended (rdm.read_uff_info hung)
-        raise InputError(f"{path}: expected a Universal File, not a pipe or device (its size is not known "
-                         "before reading)")
+    refuse_unsized(path, "a Universal File")   # pyuff read /dev/zero to its end: rdm.read_uff_info hung
     try:
         with open(path, "rb") as handle:
             head = handle.read(4096)
@@ -543,8 +548,9 @@ def _read_sets(path):
     _check_complete(path)
     uff, types, index, sets = _pyuff_read(path, (58, 164))
     if 58 not in types:
+        modes = " (mode shapes: modes --measured, rdm.read_uff_modes)" if 55 in types else ""
         raise InputError(f"{path}: no dataset 58/58b (FRF) in the file; datasets found: "
-                         f"{_datasets_named(int(t) for t in types)}")
+                         f"{_datasets_named(int(t) for t in types)}{modes}")
     units = _units([{**s, "type": 164} for number, s in zip(index, sets) if types[number] == 164], path)
     frfs = []
     for number, s in zip(index, sets):

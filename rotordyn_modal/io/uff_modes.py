@@ -1,0 +1,275 @@
+"""Measured mode shapes from Universal Files: dataset 55 (data at nodes), as modal analysis
+programs (EMA, OMA) export identified modes.
+
+Read by the dataset 55 definition (records 1 to 10; pyuff 2.5.8 reads records 7 and 8 as one
+line each whatever their counts, and no complex 6-value node), one set a mode:
+
+* record 6: data characteristic 2 (3 values a node: X, Y, Z) or 3 (6: X, Y, Z, RX, RY, RZ), or
+  0 (unknown) with 3 or 6 values; real (data type 2) or complex (5) values; a specific data
+  type of a motion (8 displacement, 11 velocity, 12 acceleration) or 0/1 (unknown, general);
+* records 7 and 8 by their own counts (NINT integers, NRVAL reals, over as many lines as they
+  take): analysis type 2 (normal mode: frequency [Hz], modal mass, viscous and hysteretic damping
+  ratios; fewer reals leave the damping ratio unknown, nan; more are passed over) or 3/7
+  (complex eigenvalue: the eigenvalue [rad/s], modal A, modal B, six reals);
+* records 9 and 10 for each node: its label, then its values (6 a line).
+
+Refused, in one line naming the file, the set and the field: other analysis types (static,
+transient, frequency response, buckling: data at nodes, not modes); scalar or tensor data; a
+complex eigenvalue's record 7 of other than 6 reals (e.g. 4, whose meaning cannot be told:
+permas4edu's ema/examples/019/Rotor_2_BandsFit.uff writes such sets, its first two reals no
+eigenvalue in rad/s); a normal mode without its frequency; a node given twice
+in a set; a count of values that does not match record 6.
+
+The values at the model's sensors come through the mapping of node and direction to channel
+name (the FRFs' mapping, :mod:`.channels`): a sensor at node ``n`` direction ``-3`` reads minus
+the set's Z value of node ``n``. A node missing from a set reads 0 there (definition, note 9); a
+sensor whose node is in no set is not measured. Shapes are taken as the file gives them (no
+unit conversion: a modal assurance criterion and the frequencies do not depend on their scale).
+"""
+
+from __future__ import annotations
+
+import re
+import warnings
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["read_uff_modes"]
+
+#: analysis types of dataset 55 (record 6, field 2)
+_ANALYSIS = {0: "unknown", 1: "static", 2: "normal mode", 3: "complex eigenvalue first order", 4: "transient",
+             5: "frequency response", 6: "buckling", 7: "complex eigenvalue second order"}
+#: record 7 counts (integers, reals) the definition gives each modal analysis type
+_COUNTS = {2: (2, 4), 3: (2, 6), 7: (2, 6)}
+#: the fewest reals read: a normal mode's frequency (its damping ratios may be left out)
+_FEWEST_REALS = {2: 1, 3: 6, 7: 6}
+#: data characteristic -> values a node (3 DOF, 6 DOF)
+_PER_NODE = {2: 3, 3: 6}
+#: specific data types of a motion (or unknown/general), record 6 field 4
+_MOTIONS = {0: "unknown", 1: "general", 8: "displacement", 11: "velocity", 12: "acceleration"}
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][-+]?\d+)?")
+
+
+def read_uff_modes(path, model, mapping=None):
+    """Measured modes (frequency, damping ratio, shape at the sensors) from the dataset 55 sets of
+    a Universal File.
+
+    Parameters
+    ----------
+    path : path-like
+    model : Model
+        Gives the sensors (and the default mapping: sensor k is node k along its axis).
+    mapping : path-like or ChannelMap, optional
+        Node/direction to channel table (``name,node,direction[,sign]``).
+
+    Returns
+    -------
+    MeasuredModes
+        In the order of frequency: ``frequencies_hz`` (the package's damped frequency,
+        ``Im(pole) / 2 pi``: a normal mode's record 8 frequency, a complex eigenvalue's imaginary
+        part over 2 pi), ``damping_ratios``, ``poles`` [1/s], ``shapes`` of shape
+        (n_modes, n_sensors, 1) at the sensors the file has, ``outputs`` those sensors, ``inputs``
+        ``('uff-55',)``, ``method`` ``'uff-55'``.
+
+    Raises
+    ------
+    InputError
+        No dataset 55, a layout that cannot be understood (see the module), no sensor in the file.
+    """
+    from ..analysis.identification import MeasuredModes
+    from .channels import ChannelMap, default_mapping, read_mapping
+    from .limits import input_path
+    from .uff import _check_complete
+
+    path = input_path(path, "path")
+    _check_complete(path)
+    channels = mapping if isinstance(mapping, ChannelMap) else (
+        read_mapping(mapping, model) if mapping is not None else default_mapping(model))
+    sets = [_mode(block, start, path) for block, start in _blocks(path)]
+    if not sets:
+        raise InputError(f"{path}: no dataset 55 (mode shapes, data at nodes) in the file; {_holds(path)}")
+    sets.sort(key=lambda s: s["frequency_hz"])
+    outputs, shapes = _at_sensors(sets, channels, path)
+    return MeasuredModes(frequencies_hz=np.array([s["frequency_hz"] for s in sets]),
+                         damping_ratios=np.array([s["damping"] for s in sets]),
+                         poles=np.array([s["pole"] for s in sets]), shapes=shapes[:, :, None],
+                         outputs=tuple(outputs), inputs=("uff-55",), method="uff-55")
+
+
+def _holds(path) -> str:
+    """What a file without dataset 55 holds: ``datasets found: 58 (function data), ...``, and
+    where FRFs are read (``frf --measured``)."""
+    from .uff import _datasets_named, _pyuff_read
+
+    types = _pyuff_read(path, kinds=())[1]
+    hint = " (FRFs and time records: frf --measured, rdm.read_measured)" if 58 in types else ""
+    return f"datasets found: {_datasets_named(types)}{hint}"
+
+
+def _blocks(path):
+    """``(lines, first_line_number)`` of each dataset 55 block (the lines after its ``55`` line up
+    to its closing ``-1``); a 58b set's binary bytes elsewhere in the file are passed over."""
+    with open(path, "rb") as handle:
+        text = handle.read().decode("latin-1").removeprefix("\xef\xbb\xbf")
+    lines = text.splitlines()
+    k = 0
+    while k < len(lines) - 1:
+        if lines[k].strip() == "-1" and lines[k + 1].strip() == "55":
+            end = next((j for j in range(k + 2, len(lines)) if lines[j].strip() == "-1"), len(lines))
+            last = end
+            while last > k + 2 and not lines[last - 1].strip():     # blank lines before the closing -1
+                last -= 1
+            yield lines[k + 2:last], k + 3
+            k = end + 1
+        else:
+            k += 1
+
+
+class _Lines:
+    """The lines of one dataset, read in order, for messages with their line numbers."""
+
+    def __init__(self, lines, first, path):
+        self.lines, self.first, self.path, self.at = lines, first, path, 0
+
+    def where(self) -> str:
+        return f"{self.path}: line {self.first + self.at - 1}"
+
+    def next(self, what) -> str:
+        if self.at >= len(self.lines):
+            raise InputError(f"{self.path}: dataset 55 from line {self.first - 1} ends before its {what}")
+        self.at += 1
+        return self.lines[self.at - 1]
+
+    def integers(self, count, what):
+        """``count`` integers over as many lines as they take (I10 fields)."""
+        values = []
+        while len(values) < count:
+            line = self.next(what)
+            try:
+                values += [int(v) for v in line.split()]
+            except ValueError:
+                raise InputError(f"{self.where()}: {what}: expected whole numbers, found {line.strip()!r}") from None
+        if len(values) != count:
+            raise InputError(f"{self.where()}: {what}: expected {count} whole numbers, found {len(values)}")
+        return values
+
+    def reals(self, count, what):
+        """``count`` reals over as many lines as they take (E13.5 fields, touching or not)."""
+        values = []
+        while len(values) < count:
+            line = self.next(what)
+            found = _NUMBER.findall(line)
+            if "".join(found).replace(" ", "") != "".join(line.split()):
+                raise InputError(f"{self.where()}: {what}: expected numbers, found {line.strip()!r}")
+            values += [float(v.replace("D", "E").replace("d", "e")) for v in found]
+        if len(values) != count:
+            raise InputError(f"{self.where()}: {what}: expected {count} numbers, found {len(values)}")
+        return values
+
+
+def _mode(block, first, path) -> dict:
+    """One dataset 55 set: ``mode``, ``frequency_hz``, ``damping``, ``pole`` and ``nodes``
+    (label -> complex values, X, Y, Z[, RX, RY, RZ])."""
+    lines = _Lines(block, first, path)
+    for k in range(5):
+        lines.next(f"ID line {k + 1}")
+    _, analysis, character, specific, data_type, per_node = lines.integers(6, "record 6")
+    where = f"{path}: dataset 55 from line {first - 1}"
+    if analysis not in _COUNTS:
+        raise InputError(f"{where}: analysis type {analysis} ({_ANALYSIS.get(analysis, 'not in the definition')}) "
+                         "is not a mode: expected 2 (normal mode), 3 or 7 (complex eigenvalue)")
+    values_per_node = _PER_NODE.get(character, per_node if character == 0 else None)
+    if values_per_node not in (3, 6) or per_node != values_per_node:
+        raise InputError(f"{where}: record 6: data characteristic {character} with {per_node} values a node: "
+                         "expected 2 (3 values: X, Y, Z) or 3 (6 values: X, Y, Z, RX, RY, RZ)")
+    if specific not in _MOTIONS:
+        raise InputError(f"{where}: record 6: specific data type {specific} is not a motion: expected 8 "
+                         "(displacement), 11 (velocity), 12 (acceleration), 0 or 1")
+    if data_type not in (2, 5):
+        raise InputError(f"{where}: record 6: data type {data_type}: expected 2 (real) or 5 (complex)")
+    n_int, n_real, ints = _record7(lines)
+    if n_int < 2 or n_real < _FEWEST_REALS[analysis] or (analysis != 2 and n_real != _COUNTS[analysis][1]):
+        raise InputError(f"{where}: record 7 gives {n_int} integer and {n_real} real values where analysis type "
+                         f"{analysis} ({_ANALYSIS[analysis]}) has {_COUNTS[analysis][0]} and "
+                         f"{_COUNTS[analysis][1]}: a record 8 of another layout, whose fields cannot be told")
+    reals = lines.reals(n_real, "record 8")
+    frequency, damping, pole = _pole(analysis, reals, where)
+    parts = 2 if data_type == 5 else 1
+    nodes = {}
+    while lines.at < len(lines.lines):
+        label = lines.integers(1, "record 9 (node label)")[0]
+        if label in nodes:
+            raise InputError(f"{lines.where()}: node {label} is given twice in one mode")
+        values = np.array(lines.reals(values_per_node * parts, f"record 10 (the values of node {label})"))
+        nodes[label] = values[0::2] + 1j * values[1::2] if parts == 2 else values.astype(complex)
+    return {"mode": ints[1] if len(ints) > 1 else None, "frequency_hz": frequency, "damping": damping, "pole": pole, "nodes": nodes,
+            "where": where}
+
+
+def _record7(lines):
+    """Record 7: its counts NINT and NRVAL and its NINT integers (8I10: a record of more than 8
+    fields goes on over lines)."""
+    line = lines.next("record 7")
+    try:
+        first = [int(v) for v in line.split()]
+    except ValueError:
+        raise InputError(f"{lines.where()}: record 7: expected whole numbers, found {line.strip()!r}") from None
+    if len(first) < 2 or not 1 <= first[0] <= 10 or not 1 <= first[1] <= 12:
+        raise InputError(f"{lines.where()}: record 7: expected NINT (1 to 10) and NRVAL (1 to 12) first, found "
+                         f"{line.strip()!r}")
+    values = first[2:]
+    while len(values) < first[0]:
+        values += lines.integers(min(8, first[0] - len(values)), "record 7")
+    if len(values) != first[0]:
+        raise InputError(f"{lines.where()}: record 7: NINT = {first[0]} integers, found {len(values)}")
+    return first[0], first[1], values
+
+
+def _pole(analysis, reals, where):
+    """``(frequency [Hz], damping ratio, pole [1/s])`` of a mode's record 8."""
+    if analysis == 2:       # frequency, modal mass, viscous and hysteretic damping ratios (those given)
+        frequency, _, viscous, hysteretic = (list(reals[:4]) + [np.nan] * 3)[:4]
+        if not frequency > 0:
+            raise InputError(f"{where}: record 8: frequency {frequency:g} Hz: expected > 0")
+        damping = viscous
+        if viscous == 0 and hysteretic != 0 and not np.isnan(hysteretic):
+            warnings.warn(f"{where}: record 8 gives a hysteretic damping ratio ({hysteretic:g}) and no viscous one: "
+                          "read as no damping ratio (nan)", stacklevel=4)
+            damping = np.nan
+        if not (np.isnan(damping) or -1 < damping < 1):
+            raise InputError(f"{where}: record 8: viscous damping ratio {damping:g}: expected between -1 and 1")
+        zeta = 0.0 if np.isnan(damping) else damping
+        omega = 2 * np.pi * frequency
+        return frequency, damping, complex(-zeta * omega / np.sqrt(1 - zeta**2), omega)
+    pole = complex(reals[0], abs(reals[1]))     # the upper half-plane root of the conjugate pair
+    if pole.imag == 0:
+        raise InputError(f"{where}: record 8: eigenvalue {reals[0]:g} + {reals[1]:g}i is real: not an oscillating "
+                         "mode")
+    if pole.real > 0:
+        warnings.warn(f"{where}: eigenvalue {pole.real:g} + {pole.imag:g}i [rad/s] has a positive real part: read "
+                      "as a growing mode (negative damping ratio)", stacklevel=4)
+    return pole.imag / (2 * np.pi), -pole.real / abs(pole), pole
+
+
+def _at_sensors(sets, channels, path):
+    """``(outputs, shapes)``: the sensors whose node and direction some set has, and each mode's
+    values there (n_modes, n_sensors); the mapping's sign and the direction's sign applied."""
+    outputs, columns = [], []
+    for (node, code), (name, sign) in channels.outputs.items():
+        component = abs(int(code)) - 1     # direction 0 (a scalar channel of the FRFs' tables): no component
+        if component >= 0 and any(node in s["nodes"] and component < len(s["nodes"][node]) for s in sets) \
+                and name not in outputs:
+            outputs.append(name)
+            columns.append((node, component, float(np.sign(code)) * sign))
+    if not outputs:
+        found = sorted({node for s in sets for node in s["nodes"]})
+        known = ", ".join(f"{n}:{d}={name}" for (n, d), (name, _) in sorted(channels.outputs.items()))
+        shown = ", ".join(map(str, found[:12])) + (", ..." if len(found) > 12 else "")
+        raise InputError(f"{path}: no sensor of the model is at a node of the mode shapes (nodes {shown or 'none'}; "
+                         f"mapping node:direction=name: {known}); give --mapping FILE.csv with columns "
+                         "name,node,direction")
+    shapes = np.array([[s["nodes"][node][component] * sign if node in s["nodes"] else 0.0
+                        for node, component, sign in columns] for s in sets], dtype=complex)
+    return outputs, shapes

@@ -389,7 +389,7 @@ def static(model, speed=None, forces=None, torques=None, power=None, units: str 
         raise InputError(f"allowable_stress = {allowable_stress!r}: expected a stress > 0 [Pa]")
     loads = _loads(model, speed, forces, _torques(model, speed, torques, power), units)
     loads += _couplings(model, loads)
-    load_vector = _load_vector(model, loads)
+    load_vector = _load_vector(model, loads) + _fixed_journal_forces(model)
     stiffness, supports, q = _loaded_films(model, speed, load_vector)
     reactions = tuple(_reaction(model, speed, q, *support) for support in supports) + _axial_holds(model, loads)
     reactions += _pedestal_reactions(model, q, reactions, loads)
@@ -658,6 +658,28 @@ def _loaded_films(model, speed, load_vector):
                      f"{abs(speed) * 30 / np.pi:.6g} rpm (give each journal's load)")
 
 
+def _fixed_load(bearing) -> np.ndarray | None:
+    """The force [N] (3,) a journal whose given ``load`` is fixed in its rotor's split puts on its
+    bearing (:attr:`JournalData.fixed_load`), else None."""
+    journal = bearing.coefficients.journal if bearing.coefficients.kind == "journal" else None
+    if journal is None or not journal.fixed_load:
+        return None
+    return journal.load * np.asarray(journal.axes[0], dtype=float)
+
+
+def _fixed_journal_forces(model) -> np.ndarray:
+    """The generalized force (n,) of the journals whose given load is fixed (:func:`_fixed_load`):
+    each bearing pushes its rotor with ``-load`` (and its pedestal, or the stator, with ``+load``),
+    whatever the journal's motion; their film adds no stiffness here (``_bearing_stiffness``)."""
+    total = np.zeros(model.dofs.n)
+    for b in model.bearings:
+        load = _fixed_load(b)
+        if load is not None:
+            rows, moves = bearing_motion(model, b)
+            total[rows] += moves.T @ np.r_[-load, np.zeros(3)]
+    return total
+
+
 def _loaded_film(bearing) -> bool:
     """A journal bearing whose static load the model solves at each speed."""
     journal = bearing.coefficients.journal if bearing.coefficients.kind == "journal" else None
@@ -744,6 +766,8 @@ def _bearing_stiffness(model, bearing, speed, load=None) -> np.ndarray:
         raise InputError(f"{where}: a journal bearing at speed 0 has no oil film to stand on: give a speed "
                          "other than 0")
     k6 = coefficients.stiffness[0].copy()
+    if journal.fixed_load:        # a fixed force (_fixed_journal_forces), no spring
+        return k6
     if load is not None:
         try:
             k6[:3, :3] += _secant_film(journal, own, load, model.spin_axis)
@@ -799,6 +823,9 @@ def _reaction(model, speed, q, kind, item, k6) -> SupportReaction:
         motion = moves @ q[rows]
         body, ground = item.rotor, layout.frame == "ground" and item.pedestal is None
     wrench = -k6 @ motion
+    fixed = _fixed_load(item) if kind == "bearing" else None
+    if fixed is not None:
+        wrench[:3] -= fixed
     extra = _journal_state(model, speed, item, wrench[:3]) if kind == "bearing" else {}
     return SupportReaction(kind=kind, name=item.name, body=body, ground=ground,
                            point=np.asarray(item.position, dtype=float), force=wrench[:3], moment=wrench[3:],

@@ -12,18 +12,17 @@ frequency, bearings at the operating speed) is solved for the generalized coordi
 * a bearing's stiffness at the carried rotor's own speed (constant, or its table's row);
   a plain journal bearing holds its journal with the light-load film (a spring of
   ``k = pi viscosity |speed| D L**3 / (8 c**3)`` turned by 90 degrees, the short bearing's
-  limit at small eccentricity), which splits a rotor's loads among three or more journal
-  bearings as the validation splits a rigid rotor's weight (``_bearing_validation.journal_load_shares``;
-  a flexible rotor's journal loads are its continuous beam on the journals, rigid or on their
-  pedestals' springs, ``continuous_beam_loads``);
+  limit at small eccentricity: a rotor on one or two journals, or on three or more whose loads are
+  all given);
   each journal's eccentricity at its load is reported from the full short-bearing solution;
   a journal whose load the model solves at each speed (a rigid or flexible rotor on three or more
-  journals, some on pedestals: ``JournalData.load_over_speed``) stands instead on its **loaded film**, the
+  journals, with or without pedestals: ``JournalData.load_over_speed``) stands instead on its **loaded film**, the
   secant of the short bearing at its load (the spring that moves the journal to the film's
   offset ``c eps (cos phi x + sin phi e x x)`` under that load), iterated until the loads it
   carries are those it was drawn at: under the weights alone the rotor's solved loads
   (``journal_bearing.rigid_rotor_journal_loads``), so that ``static`` and the analyses stand the
-  rotor on the same films (:func:`_loaded_films`);
+  rotor on the same films (:func:`_loaded_films`); a journal whose given load is fixed in such a
+  rotor's split (``JournalData.fixed_load``) is that fixed force, no spring (:func:`_fixed_journal_forces`);
 * each rotor's spin is held at its speed by a drive or a load outside the model (a coupling):
   the moment about its spin axis of the loads on it is taken there (a ``coupling`` load), not
   by its bearings.

@@ -271,7 +271,7 @@ def rigid_rotor_journal_loads(speed, *, stations, weight, spin_axis, diameter, l
                               pedestal_stiffness=None, pedestal_weight=None, flexibility=None, sag=None,
                               given_stations=(), given_loads=(), iterations: int = 60) -> np.ndarray:
     """Static load on each journal of a rigid rotor on three or more plain short journal bearings,
-    some on pedestals, at each speed: the statically indeterminate split solved by Newton (a
+    with or without pedestals, at each speed: the statically indeterminate split solved by Newton (a
     flexible rotor's too, given its shaft's ``flexibility`` and ``sag``).
 
     A journal carrying the load ``F`` (a vector normal to the spin axis) sits at the film's offset
@@ -453,8 +453,8 @@ def _newton_step(loads, compliance, soft, s, settle, total, offset, phi):
 
 
 class JournalLoadOverSpeed:
-    """The static load of one journal of a rotor (rigid or flexible) on three or more journals, some on
-    pedestals, at any speed (:func:`rigid_rotor_journal_loads`; the rotor's journals share one
+    """The static load of one journal of a rotor (rigid or flexible) on three or more journals, with or
+    without pedestals, at any speed (:func:`rigid_rotor_journal_loads`; the rotor's journals share one
     solver, which keeps the last few sweeps' solutions).
 
     Parameters

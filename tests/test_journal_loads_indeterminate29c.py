@@ -259,3 +259,40 @@ def test_one_journal_left_beside_given_loads_is_refused_naming_its_key():
     weight = 50.0 * G                                          # consistent: j0 -0.4, j1 0, j2 +0.4
     model = _rigid([-0.4, 0.0, 0.4], [0.02] * 3, loads=[weight / 4, weight / 2, None])
     assert model.bearings[2].coefficients.journal.load == pytest.approx(weight / 4, rel=1e-12)
+
+
+def _simply_supported(x, a, l, inertia):
+    """The deflection [m/N] at ``x`` of a simply supported beam of span ``l`` under a unit force at
+    ``a`` (Roark, Table 8.1 case 1e): b x (l^2 - b^2 - x^2) / (6 l E I) for x <= a, b = l - a."""
+    if x > a:
+        x, a = l - x, l - a
+    b = l - a
+    return b * x * (l**2 - b**2 - x**2) / (6 * l * E * inertia)
+
+
+def test_a_flexible_rotor_on_four_journals_with_a_given_load_bends_under_it():
+    """Journals at 0, 0.4, 0.8 and 1.2 m on the shaft of ``_flexible``, j2's load given (60 N down):
+    j0, j1, j3 are solved with the given load a fixed force that also bends the shaft. Held at its
+    end journals the shaft sags at j1 (x = 0.4 m) by w x (l^3 - 2 l x^2 + x^3) / (24 E I) under its
+    weight, by the point-load formula under the disk's weight at 0.3 m, and rises under j2's load
+    pushing it up at 0.8 m; it bends at j1 by the same formula per newton there."""
+    inertia = np.pi * SHAFT**4 / 64
+    w, P, l, given = DENSITY * np.pi * SHAFT**2 / 4 * G, DISK * G, 2 * SPAN, 60.0
+    x = 0.4
+    sag = (w * x * (l**3 - 2 * l * x**2 + x**3) / (24 * E * inertia) + P * _simply_supported(x, SPAN / 2, l, inertia)
+           - given * _simply_supported(x, 0.8, l, inertia))
+    flexibility = np.zeros((3, 3))
+    flexibility[1, 1] = _simply_supported(x, x, l, inertia)
+    weight, moment = (w * l + P) * DOWN, (w * l * l / 2 + P * SPAN / 2) * DOWN
+    data = _flexible().to_dict()
+    data["bearings"] = [dict(data["bearings"][0], name=f"j{i}", axial_position=z) for i, z in
+                        enumerate((0.0, 0.4, 0.8, 1.2))]
+    data["bearings"][2]["load"] = given
+    model = rdm.Model.from_dict(data)
+    for rpm in (1500.0, 6000.0):
+        rest = _root(rdm.rpm(rpm), [0.0, 0.4, 1.2], [LENGTHS[0]] * 3, weight, moment,
+                     given=[(0.8, given * DOWN)], flexibility=flexibility,
+                     sag=np.array([np.zeros(2), sag * DOWN, np.zeros(2)]))
+        expected = np.insert(rest, 2, given * DOWN, axis=0)
+        np.testing.assert_allclose(_analyses_loads(model, rdm.rpm(rpm)), expected, rtol=0, atol=1e-9 * (w * l + P))
+        np.testing.assert_allclose(_static_loads(model, rdm.rpm(rpm)), expected, rtol=0, atol=1e-9 * (w * l + P))

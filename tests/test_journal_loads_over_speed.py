@@ -172,11 +172,18 @@ def test_the_model_gives_each_journal_the_coefficients_of_its_load_at_each_speed
     assert abs(middle[0] - middle[2]) > 0.2 * max(middle)
 
 
-def test_a_journals_load_given_keeps_the_films_split_and_its_warning():
-    """Some loads given: the split is the films' (the one line still says it moves with speed)."""
-    with pytest.warns(ModelWarning, match="changes with speed"):
+def test_a_journals_load_given_is_fixed_and_the_two_others_take_the_lever_rule():
+    """Some loads given: they are fixed forces, and the two journals left (j1 on its pedestal, j2)
+    carry the rest by statics alone (issue 29's follow-up; it was the films' split with a warning):
+    F1 + F2 = W - 200 N, 0.1 F1 + 0.4 F2 = 0.4 * 200 N m, at every speed."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ModelWarning)
         model = _mixed()
     assert model.bearings[1].coefficients.journal.load_over_speed is None
+    weight = 50.0 * G
+    f2 = (80.0 - 0.1 * (weight - 200.0)) / 0.3
+    np.testing.assert_allclose([b.coefficients.journal.load for b in model.bearings],
+                               [200.0, weight - 200.0 - f2, f2], rtol=1e-13)
 
 
 def _mixed():
@@ -188,7 +195,8 @@ def _mixed():
 
 def test_check_says_the_films_split_is_not_the_analyses_load(tmp_path, capsys):
     """`check` prints each journal's load on the films alone and says the analyses solve it at each
-    speed with the pedestals (one journal on a pedestal); without a pedestal it says nothing more."""
+    speed, with the pedestals (one journal on a pedestal) or without (no pedestal: since issue 29's
+    follow-up every rotor on three or more journals has its loads solved at each speed)."""
     from rotordyn_modal.cli import main
 
     journal = 'type = "journal"\nlength = 0.02\ndiameter = 0.05\nclearance = 5e-5\nviscosity = 0.02\n'
@@ -201,7 +209,8 @@ def test_check_says_the_films_split_is_not_the_analyses_load(tmp_path, capsys):
         path.write_text(rotor + bearings)
         assert main(["check", str(path)]) == 0
         out = capsys.readouterr().out
-        assert ("analyses solve it at each speed with the pedestals" in out) is said
+        assert out.count("analyses and static solve it at each speed on the nonlinear films") == 3
+        assert ("with the pedestals" in out) is said
         assert out.count("static load") == 3
 
 

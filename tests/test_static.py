@@ -236,7 +236,12 @@ def _journal_rotor(lengths, stations, centre=0.08, mass=50.0, loads=None):
 
 def test_three_journal_bearings_carry_the_statically_indeterminate_split():
     """Journal films at light load are springs k = pi mu |w| D L**3 / (8 c**3): the weight splits as
-    on a rigid beam on springs proportional to L**3, whatever the speed, and rdm.static agrees."""
+    on a rigid beam on springs proportional to L**3 (the journals' printed load, the high-speed
+    limit). At a speed rdm.static carries the split of the nonlinear films, which the independent
+    root-finder of tests/test_journal_loads_indeterminate29c.py gives (the light-load split was
+    off by 2 % at 3,000 rpm), and tends to the beam on springs as the speed grows."""
+    from test_journal_loads_indeterminate29c import DOWN, _root
+
     lengths, stations, mass, centre = [0.02, 0.03, 0.025], [-0.35, 0.0, 0.3], 50.0, 0.08
     model = _journal_rotor(lengths, stations, centre, mass)
     expected = _beam_on_springs(stations, np.asarray(lengths)**3, mass * G, centre)
@@ -244,7 +249,10 @@ def test_three_journal_bearings_carry_the_statically_indeterminate_split():
     np.testing.assert_allclose(loads, np.abs(expected), rtol=1e-12)
     for rpm in (3000.0, 12000.0):
         result = rdm.static(model, speed=rdm.rpm(rpm))
-        np.testing.assert_allclose(_forces(result)[:, 2], expected, rtol=1e-10)
+        films = _root(rdm.rpm(rpm), np.asarray(stations) - centre, lengths, mass * G * DOWN)
+        np.testing.assert_allclose(_forces(result)[:, 1:], -films, rtol=0, atol=1e-9 * mass * G)
+    result = rdm.static(model, speed=rdm.rpm(1e6))
+    np.testing.assert_allclose(_forces(result)[:, 2], expected, rtol=2e-3)
 
 
 def test_two_journal_bearings_keep_the_lever_rule():

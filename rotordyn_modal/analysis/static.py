@@ -12,18 +12,17 @@ frequency, bearings at the operating speed) is solved for the generalized coordi
 * a bearing's stiffness at the carried rotor's own speed (constant, or its table's row);
   a plain journal bearing holds its journal with the light-load film (a spring of
   ``k = pi viscosity |speed| D L**3 / (8 c**3)`` turned by 90 degrees, the short bearing's
-  limit at small eccentricity), which splits a rotor's loads among three or more journal
-  bearings as the validation splits a rigid rotor's weight (``_bearing_validation.journal_load_shares``;
-  a flexible rotor's journal loads are its continuous beam on the journals, rigid or on their
-  pedestals' springs, ``continuous_beam_loads``);
+  limit at small eccentricity: a rotor on one or two journals, or on three or more whose loads are
+  all given);
   each journal's eccentricity at its load is reported from the full short-bearing solution;
   a journal whose load the model solves at each speed (a rigid or flexible rotor on three or more
-  journals, some on pedestals: ``JournalData.load_over_speed``) stands instead on its **loaded film**, the
+  journals, with or without pedestals: ``JournalData.load_over_speed``) stands instead on its **loaded film**, the
   secant of the short bearing at its load (the spring that moves the journal to the film's
   offset ``c eps (cos phi x + sin phi e x x)`` under that load), iterated until the loads it
   carries are those it was drawn at: under the weights alone the rotor's solved loads
   (``journal_bearing.rigid_rotor_journal_loads``), so that ``static`` and the analyses stand the
-  rotor on the same films (:func:`_loaded_films`);
+  rotor on the same films (:func:`_loaded_films`); a journal whose given load is fixed in such a
+  rotor's split (``JournalData.fixed_load``) is that fixed force, no spring (:func:`_fixed_journal_forces`);
 * each rotor's spin is held at its speed by a drive or a load outside the model (a coupling):
   the moment about its spin axis of the loads on it is taken there (a ``coupling`` load), not
   by its bearings.
@@ -389,7 +388,7 @@ def static(model, speed=None, forces=None, torques=None, power=None, units: str 
         raise InputError(f"allowable_stress = {allowable_stress!r}: expected a stress > 0 [Pa]")
     loads = _loads(model, speed, forces, _torques(model, speed, torques, power), units)
     loads += _couplings(model, loads)
-    load_vector = _load_vector(model, loads)
+    load_vector = _load_vector(model, loads) + _fixed_journal_forces(model)
     stiffness, supports, q = _loaded_films(model, speed, load_vector)
     reactions = tuple(_reaction(model, speed, q, *support) for support in supports) + _axial_holds(model, loads)
     reactions += _pedestal_reactions(model, q, reactions, loads)
@@ -658,6 +657,28 @@ def _loaded_films(model, speed, load_vector):
                      f"{abs(speed) * 30 / np.pi:.6g} rpm (give each journal's load)")
 
 
+def _fixed_load(bearing) -> np.ndarray | None:
+    """The force [N] (3,) a journal whose given ``load`` is fixed in its rotor's split puts on its
+    bearing (:attr:`JournalData.fixed_load`), else None."""
+    journal = bearing.coefficients.journal if bearing.coefficients.kind == "journal" else None
+    if journal is None or not journal.fixed_load:
+        return None
+    return journal.load * np.asarray(journal.axes[0], dtype=float)
+
+
+def _fixed_journal_forces(model) -> np.ndarray:
+    """The generalized force (n,) of the journals whose given load is fixed (:func:`_fixed_load`):
+    each bearing pushes its rotor with ``-load`` (and its pedestal, or the stator, with ``+load``),
+    whatever the journal's motion; their film adds no stiffness here (``_bearing_stiffness``)."""
+    total = np.zeros(model.dofs.n)
+    for b in model.bearings:
+        load = _fixed_load(b)
+        if load is not None:
+            rows, moves = bearing_motion(model, b)
+            total[rows] += moves.T @ np.r_[-load, np.zeros(3)]
+    return total
+
+
 def _loaded_film(bearing) -> bool:
     """A journal bearing whose static load the model solves at each speed."""
     journal = bearing.coefficients.journal if bearing.coefficients.kind == "journal" else None
@@ -744,6 +765,8 @@ def _bearing_stiffness(model, bearing, speed, load=None) -> np.ndarray:
         raise InputError(f"{where}: a journal bearing at speed 0 has no oil film to stand on: give a speed "
                          "other than 0")
     k6 = coefficients.stiffness[0].copy()
+    if journal.fixed_load:        # a fixed force (_fixed_journal_forces), no spring
+        return k6
     if load is not None:
         try:
             k6[:3, :3] += _secant_film(journal, own, load, model.spin_axis)
@@ -799,6 +822,9 @@ def _reaction(model, speed, q, kind, item, k6) -> SupportReaction:
         motion = moves @ q[rows]
         body, ground = item.rotor, layout.frame == "ground" and item.pedestal is None
     wrench = -k6 @ motion
+    fixed = _fixed_load(item) if kind == "bearing" else None
+    if fixed is not None:
+        wrench[:3] -= fixed
     extra = _journal_state(model, speed, item, wrench[:3]) if kind == "bearing" else {}
     return SupportReaction(kind=kind, name=item.name, body=body, ground=ground,
                            point=np.asarray(item.position, dtype=float), force=wrench[:3], moment=wrench[3:],

@@ -217,7 +217,9 @@ def _bearing_lines(model, u=_Units()) -> list[str]:
     for b in model.bearings:
         lines.append(f"    {b.name:<16} rotor {b.rotor!r} at {np.round(u(b.position, 'length'), 4).tolist()} "
                      f"{u.label('length')}, " + _coefficient_text(b.coefficients, model.spin_axis, u,
-                                                                   model.rotor(b.rotor).flexible is None)
+                                                                   model.rotor(b.rotor).flexible is None,
+                                                                   any(m.pedestal is not None
+                                                                       for m in model.bearings_of(b.rotor)))
                      + _pedestal_text(b, model.spin_axis, u))
     return lines
 
@@ -232,18 +234,29 @@ def _pedestal_text(bearing, spin_axis, u=_Units()) -> str:
             f"{np.array2string(u(values, 'stiffness'), precision=4)} {u.label('stiffness')}")
 
 
-def _coefficient_text(coefficients, spin_axis, u=_Units(), rigid: bool = True) -> str:
+def _solved_load_text(journal, rigid: bool, pedestals: bool) -> str:
+    """What a journal's printed static load is when the analyses solve it at each speed (a rotor on
+    three or more journals, docs/static.md), or that a given load is fixed in the split."""
+    if journal.fixed_load:
+        return " (given: a fixed force in the rotor's split)"
+    if journal.load_over_speed is None:
+        return ""
+    if rigid:
+        return (" on the films alone at light load (their high-speed limit); analyses and static solve it at each "
+                "speed on the nonlinear films" + (" with the pedestals" if pedestals else "") + " (docs/static.md)")
+    return (" on rigid films" + (" and the pedestals" if pedestals else "") + " (its high-speed limit); analyses and "
+            "static solve it at each speed on the films" + (" with the pedestals" if pedestals else "")
+            + " (docs/static.md)")
+
+
+def _coefficient_text(coefficients, spin_axis, u=_Units(), rigid: bool = True, pedestals: bool = False) -> str:
     if coefficients.kind == "journal":
         j = coefficients.journal
         m = u.label("length")
         return (f"plain journal D {u(j.diameter, 'length'):g} {m} x L {u(j.length, 'length'):g} {m}, clearance "
                 f"{u(j.clearance, 'length'):g} {m}, viscosity {u(j.viscosity, 'viscosity'):g} "
                 f"{u.label('viscosity')}, static load {u(j.load, 'force'):.4g} {u.label('force')}"
-                + ("" if j.load_over_speed is None else
-                   " on the films alone; analyses solve it at each speed with the pedestals (docs/static.md)"
-                   if rigid else
-                   " on rigid films and the pedestals (its high-speed limit); analyses solve it at each speed "
-                   "with the pedestals on the films (docs/static.md)"))
+                + _solved_load_text(j, rigid, pedestals))
     # the translational stiffness in the plane normal to the spin axis (whatever the axial one)
     plane = transverse_axes(spin_axis)                                          # (2, 3), orthonormal
     radial = np.linalg.eigvals(plane @ coefficients.stiffness[0][:3, :3] @ plane.T)

@@ -23,8 +23,8 @@ mass and at each bearing, and each bearing's pedestal), and the force and moment
 bearing and pedestal on the body it carries (a pedestal's weight is a load), with the balance of all of them (zero to round-off). Rubber mounts stand on their
 static stiffness (Maxwell branches add nothing at zero frequency); bearings on their stiffness at
 the operating speed, journal bearings on their light-load film (those of a rotor on three or more
-journals with pedestals, whose loads the analyses solve at each speed, on their loaded film:
-the same loads), with each journal's eccentricity at its load (docs/static.md).
+journals, whose loads the analyses solve at each speed, on their loaded film: the same loads;
+a journal's given load there is a fixed force), with each journal's eccentricity at its load (docs/static.md).
 
 A flexible rotor's shaft bends under its weight, distributed along it, and the loads on it;
 then the sag (relative to the stator and absolute), the shear force and the bending moment in

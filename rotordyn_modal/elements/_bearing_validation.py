@@ -295,6 +295,8 @@ def _static_load(bearing, tables, every, rotor, e, gravity) -> np.ndarray:
         raise table.error("load", "<missing>", "a static load [N] > 0 (without it the load is the "
                           "rotor's weight share, but gravity has no component normal to spin_axis)")
     mates = [b for b in every if b.rotor == bearing.rotor]
+    if len(mates) > 2 and any("load" in tables[b.name].data for b in mates):
+        return _split_beside_given(bearing, table, mates, rotor, e, gravity, tables)
     if rotor.flexible is not None and len(mates) > 2:
         return _continuous_beam_load(bearing, table, mates, rotor, gravity, tables)
     share = _weight_share(bearing, table, mates, rotor, e, tables)
@@ -353,7 +355,6 @@ def _weight_share(bearing, table: Table, mates, rotor, e, tables) -> float:
                                      [(np.asarray(b.position) - np.asarray(rotor.center_of_mass)) @ e
                                       for b in mates])
         share = shares[[b.name for b in mates].index(bearing.name)]
-        _warn_pedestal_split(bearing, table, mates, rotor, tables)
     else:
         centre = np.asarray(rotor.center_of_mass)
         s_self, s_other = ((np.asarray(b.position) - centre) @ e for b in
@@ -367,12 +368,84 @@ def _weight_share(bearing, table: Table, mates, rotor, e, tables) -> float:
 
 
 def _splits_over_speed(mates, rotor, tables) -> bool:
-    """True for a rotor (rigid or flexible) on three or more plain journals, one at least on a
-    pedestal, none with a given ``load``: its journals' loads are solved at each speed
-    (:func:`_with_loads_over_speed`)."""
-    return (len(mates) > 2 and any(b.pedestal is not None for b in mates)
-            and all(b.type == "journal" and b.moment_stiffness is None and "load" not in tables[b.name].data
-                    for b in mates))
+    """True for a rotor (rigid or flexible) on three or more plain journals, three at least
+    without a given ``load``: those journals' loads are solved at each speed (the given ones
+    fixed, :func:`_with_loads_over_speed`). Two journals left to solve are the lever rule
+    (statically determinate, :func:`_split_beside_given`)."""
+    return (len(mates) > 2 and all(b.type == "journal" and b.moment_stiffness is None for b in mates)
+            and sum("load" not in tables[b.name].data for b in mates) > 2)
+
+
+def _fixed_journals(mates, tables) -> list:
+    """The journals of a rotor on three or more plain journals whose ``load`` is given while two at
+    least are not: fixed forces in the split (:attr:`JournalData.fixed_load`)."""
+    if not (len(mates) > 2 and all(b.type == "journal" and b.moment_stiffness is None for b in mates)):
+        return []
+    given = [b for b in mates if "load" in tables[b.name].data]
+    return given if len(mates) - len(given) > 1 else []
+
+
+def _given_loads(mates, rotor, tables, e, gravity):
+    """``(stations (G,), loads (G, 3))`` of the journals of ``mates`` whose ``load`` is given: their
+    axial place from the rotor's centre of mass [m] and the force each puts on its bearing [N]."""
+    given = [b for b in mates if "load" in tables[b.name].data]
+    stations = np.array([(np.asarray(b.position) - np.asarray(rotor.center_of_mass)) @ e for b in given])
+    loads = np.array([_static_load(b, tables, mates, rotor, e, gravity) for b in given]).reshape(-1, 3)
+    return stations, loads
+
+
+def _split_beside_given(bearing, table: Table, mates, rotor, e, gravity, tables) -> np.ndarray:
+    """The load vector [N] on ``bearing`` (no ``load`` given), one of three or more journals of a
+    rotor some of which have their ``load`` given: the given loads are fixed forces on the rotor
+    and the journals left carry the rest of its weight. Two left: the lever rule (statics alone);
+    three or more: as the rigid rotor on their light-load films splits it (a flexible rotor's: its
+    continuous beam on them), the speed-free limit of what the analyses solve at each speed
+    (:func:`_with_loads_over_speed`). One left: its load is fixed by the force balance, and the
+    moment balance must hold too, else refused naming its ``load``."""
+    if not all(b.type == "journal" and b.moment_stiffness is None for b in mates):
+        raise table.error("load", "<missing>", f"a static load [N]: rotor {rotor.name!r} has "
+                          f"{len(mates)} bearings, so its weight split is statically indeterminate, "
+                          "and not all are plain journal bearings without moment_stiffness (docs/static.md)")
+    weight = rotor.mass * _normal_part(gravity, e)
+    given_stations, given_loads = _given_loads(mates, rotor, tables, e, gravity)
+    left = [b for b in mates if "load" not in tables[b.name].data]
+    stations = np.array([(np.asarray(b.position) - np.asarray(rotor.center_of_mass)) @ e for b in left])
+    rest, moment = weight - given_loads.sum(0), -(given_stations @ given_loads)   # on the journals left
+    if len(left) == 1:
+        span = max(np.ptp(np.r_[stations, given_stations]), 1e-300)
+        if np.linalg.norm(moment - stations[0] * rest) > 1e-9 * np.linalg.norm(weight) * span:
+            raise table.error("load", "<missing>", f"a static load [N]: the loads given to the other journals of "
+                              f"rotor {rotor.name!r} leave this one alone to carry the rest of its weight, "
+                              "which then cannot balance its moment: give this journal's load too, or leave "
+                              "two journals' load ungiven (docs/static.md)")
+        load = rest
+    elif rotor.flexible is not None and len(left) > 2:
+        shaft = rotor.flexible
+        given = [b for b in mates if b not in left]
+        loads = continuous_beam_loads(
+            shaft, [shaft.z_of(b.position) for b in left], gravity, [_film_weight(tables[b.name]) for b in left],
+            [None if b.pedestal is None else b.pedestal.stiffness for b in left],
+            [None if b.pedestal is None else b.pedestal.mass * np.asarray(gravity, dtype=float) for b in left],
+            point_loads=[(shaft.z_of(b.position), -f) for b, f in zip(given, given_loads)])
+        load = loads[left.index(bearing)]
+    else:
+        load = beam_on_springs([_film_weight(tables[b.name]) for b in left], stations, rest, moment)[left.index(bearing)]
+    if not np.linalg.norm(load) > _LEAST_SHARE * np.linalg.norm(weight):
+        raise table.error("load", "<missing>", f"a static load [N]: this bearing carries none of rotor "
+                          f"{rotor.name!r}'s weight beside the loads given to its other journals")
+    return load
+
+
+def beam_on_springs(weights, stations, force, moment) -> np.ndarray:
+    """The forces [N] (N, 3) on springs of stiffness proportional to ``weights`` at ``stations``
+    [m] along a rigid rotor that carry ``force`` [N] (3,) and the ``moment`` [N m] (3,) of the
+    forces they carry about the origin of the stations, ``sum F_i = force``, ``sum s_i F_i =
+    moment``: the rotor moves by ``u + s theta`` and ``F_i = k_i (u + s_i theta)``. Two springs
+    at different stations: the lever rule, whatever their stiffness."""
+    k, s = np.asarray(weights, dtype=float), np.asarray(stations, dtype=float)
+    matrix = np.array([[k.sum(), k @ s], [k @ s, k @ s**2]])
+    u, theta = np.linalg.solve(matrix, np.array([force, moment], dtype=float))
+    return k[:, None] * (u[None] + s[:, None] * theta[None])
 
 
 def _with_loads_over_speed(parsed, tables, rotors, e, gravity) -> list:
@@ -385,49 +458,40 @@ def _with_loads_over_speed(parsed, tables, rotors, e, gravity) -> list:
     for name in dict.fromkeys(b.rotor for b in parsed):
         rotor = rotors[name]
         mates = [b for b in parsed if b.rotor == name]
+        for bearing in _fixed_journals(mates, tables):
+            journal = dataclasses.replace(bearing.coefficients.journal, fixed_load=True)
+            coefficients = dataclasses.replace(bearing.coefficients, journal=journal)
+            out[next(i for i, b in enumerate(out) if b is bearing)] = dataclasses.replace(bearing, coefficients=coefficients)
+        mates = [b for b in out if b.rotor == name]
         if not _splits_over_speed(mates, rotor, tables):
             continue
-        journals = [b.coefficients.journal for b in mates]
+        solved = [b for b in mates if "load" not in tables[b.name].data]
+        journals = [b.coefficients.journal for b in solved]
+        given_stations, given_loads = _given_loads(mates, rotor, tables, e, gravity)
         solver = dict(
-            stations=[float((np.asarray(b.position) - np.asarray(rotor.center_of_mass)) @ e) for b in mates],
+            stations=[float((np.asarray(b.position) - np.asarray(rotor.center_of_mass)) @ e) for b in solved],
             weight=rotor.mass * _normal_part(gravity, e), spin_axis=e,
             diameter=[j.diameter for j in journals], length=[j.length for j in journals],
             clearance=[j.clearance for j in journals], viscosity=[j.viscosity for j in journals],
-            pedestal_stiffness=[None if b.pedestal is None else b.pedestal.stiffness for b in mates],
+            pedestal_stiffness=[None if b.pedestal is None else b.pedestal.stiffness for b in solved],
             pedestal_weight=[None if b.pedestal is None else b.pedestal.mass * np.asarray(gravity, dtype=float)
-                             for b in mates],
+                             for b in solved],
             cache={})
+        if len(given_loads):
+            solver["given_stations"], solver["given_loads"] = given_stations, given_loads
         if rotor.flexible is not None:
-            solver["flexibility"], solver["sag"] = shaft_flexibility(
-                rotor.flexible, [rotor.flexible.z_of(b.position) for b in mates], gravity)
-        for index, (bearing, journal) in enumerate(zip(mates, journals)):
+            order = solved + [b for b in mates if b not in solved]
+            flexibility, sag = shaft_flexibility(rotor.flexible, [rotor.flexible.z_of(b.position) for b in order],
+                                                 gravity)
+            n = len(solved)       # the given loads bend the shaft too: a sag of -phi_ig F_g
+            solver["flexibility"] = flexibility[:n, :n]
+            solver["sag"] = sag[:n] - flexibility[:n, n:] @ given_loads
+        for index, (bearing, journal) in enumerate(zip(solved, journals)):
             journal = dataclasses.replace(journal, load_over_speed=JournalLoadOverSpeed(index, solver))
             coefficients = dataclasses.replace(bearing.coefficients, journal=journal)
             place = next(i for i, b in enumerate(out) if b is bearing)
             out[place] = dataclasses.replace(bearing, coefficients=coefficients)
     return out
-
-
-def _warn_pedestal_split(bearing, table: Table, mates, rotor, tables) -> None:
-    """One line, once per rotor (at its first journal without a given ``load``), when a rigid
-    rotor on three or more journals has one on a pedestal and some journals' ``load`` given:
-    the films in series with the pedestal's springs split its weight as their stiffness does,
-    which the film's grows with speed and the pedestal's does not, so no split holds at every
-    speed; with no load given the split is solved at each speed instead
-    (:func:`_with_loads_over_speed`, docs/static.md)."""
-    if _splits_over_speed(mates, rotor, tables):
-        return
-    on_pedestals = [b.name for b in mates if b.pedestal is not None]
-    unloaded = [b.name for b in mates if "load" not in tables[b.name].data]
-    if not on_pedestals or not unloaded or bearing.name != unloaded[0]:
-        return
-    which = (f"{on_pedestals[0]!r} stands on a pedestal" if len(on_pedestals) == 1
-             else f"{', '.join(map(repr, on_pedestals))} stand on pedestals")
-    warnings.warn(f"{table.source}: [{table.label}] load: rotor {rotor.name!r} is rigid on {len(mates)} journal "
-                  f"bearings and {which}, so the split of its weight changes with speed (the films in series "
-                  "with the pedestals' springs); the journals' loads are the films' split without the pedestals "
-                  "(give each journal's load, e.g. from rdm.static at the operating speed)",
-                  ModelWarning, stacklevel=2)
 
 
 def journal_load_shares(weights, stations) -> np.ndarray:
@@ -489,7 +553,8 @@ def _continuous_beam_load(bearing, table: Table, mates, rotor, gravity, tables) 
     return load
 
 
-def continuous_beam_loads(shaft, stations, gravity, weights=None, supports=None, pedestal_loads=None) -> np.ndarray:
+def continuous_beam_loads(shaft, stations, gravity, weights=None, supports=None, pedestal_loads=None,
+                          point_loads=()) -> np.ndarray:
     """The loads a flexible shaft puts on supports at ``stations`` under its weight: the
     statically indeterminate continuous beam, solved on the shaft's finite elements.
 
@@ -520,6 +585,10 @@ def continuous_beam_loads(shaft, stations, gravity, weights=None, supports=None,
     pedestal_loads : sequence of (array_like, shape (3,), or None), shape (N,), optional
         The weight [N], model axes, of each elastic support's pedestal (its part normal to the
         axis counts): a load on the spring, not on the support (None or omitted: none).
+    point_loads : sequence of (float, array_like shape (3,))
+        Further forces on the shaft beside its weight: the axial position from the shaft's start
+        [m] and the force [N], model axes (its part normal to the axis counts); e.g. a journal's
+        given load, pushing the shaft up with ``-load``.
 
     Returns
     -------
@@ -532,10 +601,13 @@ def continuous_beam_loads(shaft, stations, gravity, weights=None, supports=None,
 
     z = np.asarray(stations, dtype=float)
     springs = [None] * len(z) if supports is None else list(supports)
-    mesh, M, K, T, g = _lateral_shaft(shaft, z, gravity)
+    mesh, M, K, T, g = _lateral_shaft(shaft, np.r_[z, [p for p, _ in point_loads]], gravity)
     force = T.T @ (M @ g)
     a, b = transverse_axes(shaft.axis)                          # lateral_basis's a, b
     ab = np.array([a, b])                                       # (2, 3)
+    for place, load in point_loads:
+        node = mesh.node(place)
+        force[[4 * node, 4 * node + 1]] += ab @ np.asarray(load, dtype=float)
     nodes = np.array([mesh.node(s) for s in z])
     settling = [np.zeros(2) if w is None else ab @ np.asarray(w, dtype=float)
                 for w in ([None] * len(z) if pedestal_loads is None else pedestal_loads)]

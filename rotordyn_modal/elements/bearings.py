@@ -50,12 +50,16 @@ class JournalData:
         journal (normal to the spin axis), ``y = e x x``, ``e`` the spin axis. The
         film coefficients are computed in ``(x, y)``.
     load_over_speed : callable or None
-        For a journal of a rotor (rigid or flexible) on three or more journals with pedestals, whose load moves
-        with speed: own speeds (S,) [rad/s] to the load vectors (S, 3) [N], model axes
+        For a journal of a rotor (rigid or flexible) on three or more journals (three at least without a
+        given ``load``), whose load moves with speed: own speeds (S,) [rad/s] to the load vectors (S, 3) [N], model axes
         (:class:`~rotordyn_modal.elements.journal_bearing.JournalLoadOverSpeed`); the film's
         coefficients then follow that load and its direction at each speed, ``load`` and ``axes``
         being the light-load films' split (a flexible rotor's: the continuous beam on rigid films and
         the pedestals' springs). None: ``load`` and ``axes`` at every speed.
+    fixed_load : bool
+        The journal's ``load`` is given and fixed in its rotor's statically indeterminate split (a
+        rotor on three or more journals, two at least without a given ``load``, which carry the
+        rest of its weight): ``rdm.static`` applies it as a fixed force on the rotor.
     """
 
     diameter: float
@@ -65,6 +69,7 @@ class JournalData:
     load: float
     axes: np.ndarray
     load_over_speed: object = None
+    fixed_load: bool = False
 
 
 @dataclass(frozen=True)

@@ -269,9 +269,9 @@ def _matrix(xx, xy, yx, yy):
 
 def rigid_rotor_journal_loads(speed, *, stations, weight, spin_axis, diameter, length, clearance, viscosity,
                               pedestal_stiffness=None, pedestal_weight=None, flexibility=None, sag=None,
-                              iterations: int = 60) -> np.ndarray:
+                              given_stations=(), given_loads=(), iterations: int = 60) -> np.ndarray:
     """Static load on each journal of a rigid rotor on three or more plain short journal bearings,
-    some on pedestals, at each speed: the statically indeterminate split solved by Newton (a
+    with or without pedestals, at each speed: the statically indeterminate split solved by Newton (a
     flexible rotor's too, given its shaft's ``flexibility`` and ``sag``).
 
     A journal carrying the load ``F`` (a vector normal to the spin axis) sits at the film's offset
@@ -290,6 +290,10 @@ def rigid_rotor_journal_loads(speed, *, stations, weight, spin_axis, diameter, l
     journals held rigidly (the reference line ``u + s theta``; for loads in balance the free shaft
     bends as the shaft held there does, its two reactions being those journals' loads), so the
     journal's equation gains ``sum_k phi_ik F_k - w_i`` and Newton's matrix ``phi``.
+
+    Journals whose load is given (``given_loads``) are fixed forces on the rotor: the journals
+    solved here carry the rest, ``sum F_i = W - sum F_g``, ``sum s_i F_i = -sum s_g F_g`` (a
+    flexible rotor's ``sag`` then includes the bending under them, ``w_i - sum_g phi_ig F_g``).
 
     The Jacobian of ``d_i`` is the inverse of the film's stiffness ``K`` of that load (a small
     journal motion ``delta`` changes the film force by ``K delta``), so Newton's matrix is built
@@ -319,6 +323,10 @@ def rigid_rotor_journal_loads(speed, *, stations, weight, spin_axis, diameter, l
     sag : array_like, shape (N, 3), optional
         With ``flexibility``: the shaft's deflection [m] at each journal under its weight, held the
         same way, model axes.
+    given_stations : array_like, shape (G,), optional
+        The axial positions [m] from the centre of mass of journals whose load is given.
+    given_loads : array_like, shape (G, 3), optional
+        Those journals' loads [N], model axes: the force each puts on its bearing.
     iterations : int
         Newton steps at most.
 
@@ -350,7 +358,10 @@ def rigid_rotor_journal_loads(speed, *, stations, weight, spin_axis, diameter, l
     phi = np.zeros((n, n)) if flexibility is None else np.asarray(flexibility, dtype=float)
     if sag is not None:
         settle = settle - np.asarray(sag, dtype=float) @ plane.T      # the shaft's own sag: a settlement the other way
-    total = np.array([np.linalg.norm(weight), 0.0])
+    given = np.asarray(given_loads, dtype=float).reshape(-1, 3)
+    scale = float(np.linalg.norm(weight))
+    total = np.r_[plane @ (weight - given.sum(0)) if len(given) else [scale, 0.0],            # the force balance
+                  plane @ -(np.asarray(given_stations, dtype=float) @ given) if len(given) else [0.0, 0.0]]
     light = np.pi * films[3] * np.abs(speed)[:, None] * films[0] * films[1]**3 / (8 * films[2]**3)   # (S, N)
     turn = np.sign(speed)[:, None, None, None] * np.array([[0.0, -1.0], [1.0, 0.0]])            # R(+-90 deg)
     state = _newton_step(np.zeros((len(speed), n, 2)), turn / light[..., None, None], soft, s, settle, total,
@@ -358,12 +369,12 @@ def rigid_rotor_journal_loads(speed, *, stations, weight, spin_axis, diameter, l
     done = np.zeros(len(speed), dtype=bool)
     for _ in range(iterations):
         loads = state[:, :2 * n].reshape(-1, n, 2)
-        offset, compliance = _film_offset(loads, speed, films, total[0])
+        offset, compliance = _film_offset(loads, speed, films, scale)
         step = _newton_step(loads, compliance, soft, s, settle, total, offset, phi) - state
-        done |= np.max(np.abs(step[:, :2 * n]), axis=1) <= 1e-13 * total[0]
+        done |= np.max(np.abs(step[:, :2 * n]), axis=1) <= 1e-13 * scale
         if done.all():
             return state[:, :2 * n].reshape(-1, n, 2) @ plane
-        state = _damped(state, np.where(done[:, None], 0.0, step), offset, speed, films, soft, s, settle, total[0],
+        state = _damped(state, np.where(done[:, None], 0.0, step), offset, speed, films, soft, s, settle, scale,
                         phi)
     bad = int(np.flatnonzero(~done)[0])
     raise InputError(f"journal loads: no static equilibrium of the rigid rotor on its films and pedestals found at "
@@ -437,13 +448,13 @@ def _newton_step(loads, compliance, soft, s, settle, total, offset, phi):
         matrix[:, 2 * n:2 * n + 2, rows] = eye
         matrix[:, 2 * n + 2:, rows] = s[i] * eye
         right[:, rows] = np.einsum("sij,sj->si", compliance[:, i], loads[:, i]) - offset[:, i] - settle[i]
-    right[:, 2 * n:2 * n + 2] = total
+    right[:, 2 * n:] = total
     return np.linalg.solve(matrix, right[..., None])[..., 0]
 
 
 class JournalLoadOverSpeed:
-    """The static load of one journal of a rotor (rigid or flexible) on three or more journals, some on
-    pedestals, at any speed (:func:`rigid_rotor_journal_loads`; the rotor's journals share one
+    """The static load of one journal of a rotor (rigid or flexible) on three or more journals, with or
+    without pedestals, at any speed (:func:`rigid_rotor_journal_loads`; the rotor's journals share one
     solver, which keeps the last few sweeps' solutions).
 
     Parameters

@@ -221,7 +221,7 @@ _JOURNAL_NOTE = ('<p class="note">At a journal bearing the displacement above is
                  "90&deg; to its offset); the journal's position at its load is its eccentricity ratio (of the "
                  "radial clearance) and attitude angle (from the load, in the sense of rotation) in the reactions "
                  "table, from the full short-bearing solution. A journal whose load the analyses solve at each "
-                 "speed (a rotor on three or more journals with pedestals) stands on its loaded film instead: its "
+                 "speed (a rotor on three or more journals) stands on its loaded film instead: its "
                  "displacement is the film's offset at that load (docs/static.md).</p>")
 
 

@@ -1,0 +1,111 @@
+"""Inputs of issues 27-29's families that the earlier red teams had not tried (redteam11).
+
+* A disk given by its mass (no ``width``: a point on the axis) inside another disk's width is
+  an overlap of two disks, refused as two overlapping widths are (issue 28, "overlapping disks").
+* The report's checks run "from 0 to the MCS" and its margins from the operating range, but its
+  sweep (``points`` from 2 % to 150 % of the MCS) held neither the MCS nor the range's ends:
+  with the default 151 points at an MCS of 3000 rpm the probe-limit check stopped at 2990.4 rpm,
+  below the MCS, and judged a response smaller than the one at the MCS (issue 29).
+"""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.errors import InputError
+
+STEEL = {"name": "steel", "density": 7810.0, "young_modulus": 2.11e11, "poisson_ratio": 0.3}
+SHAFT = {
+    "spin_axis": [1.0, 0.0, 0.0],
+    "materials": [STEEL],
+    "rotors": [{"name": "r", "speed_ratio": 1.0, "start": [0.0, 0.0, 0.0],
+                "shaft": [{"length": 1.0, "outer_diameter": 0.05, "material": "steel"}],
+                "disks": [{"name": "hub", "axial_position": 0.5, "outer_diameter": 0.3, "width": 0.1,
+                           "material": "steel"}]}],
+    "bearings": [{"name": n, "rotor": "r", "axial_position": z, "stiffness": 1e7} for n, z in (("a", 0.0), ("b", 1.0))],
+}
+
+
+def _with_point_disk(z):
+    data = copy.deepcopy(SHAFT)
+    data["rotors"][0]["disks"].append({"name": "balance-ring", "axial_position": z, "mass": 2.0,
+                                       "polar_inertia": 0.01, "diametral_inertia": 0.006})
+    return data
+
+
+@pytest.mark.parametrize("z", [0.52, 0.46, 0.5495])
+def test_a_disk_without_width_inside_another_disks_width_is_refused(z):
+    """The hub spans 0.45 to 0.55 m: a point disk anywhere inside it is a second disk in the
+    same material; the line names the disk, its key and value, and the hub's width."""
+    with pytest.raises(InputError) as caught:
+        rdm.Model.from_dict(_with_point_disk(z))
+    line = str(caught.value)
+    assert "[rotors.r.disks.balance-ring] axial_position" in line and "overlap disk 'hub'" in line, line
+    assert "width 0.1 m" in line and "0.05 m apart" in line, line
+
+
+@pytest.mark.parametrize("z", [0.55, 0.7, 0.2])
+def test_a_disk_without_width_beside_another_disks_width_is_read(z):
+    """At the hub's face (0.55 m) or clear of it, the point disk is a disk of its own: the rotor's
+    mass is the shaft's, the hub's (a solid ring) and the point disk's, added by hand."""
+    model = rdm.Model.from_dict(_with_point_disk(z))
+    shaft = 7810.0 * np.pi / 4 * 0.05 ** 2 * 1.0
+    hub = 7810.0 * np.pi / 4 * 0.3 ** 2 * 0.1
+    assert model.rotors[0].mass == pytest.approx(shaft + hub + 2.0, rel=1e-12)
+
+
+def test_two_disks_without_width_close_together_stay_allowed():
+    """Two disks given by mass alone have no width to overlap: 1 cm apart is legal."""
+    data = copy.deepcopy(SHAFT)
+    data["rotors"][0]["disks"] = [{"name": n, "axial_position": z, "mass": 2.0, "polar_inertia": 0.01,
+                                   "diametral_inertia": 0.006} for n, z in (("a", 0.50), ("b", 0.51))]
+    assert len(rdm.Model.from_dict(data).rotors[0].disks) == 2
+
+
+# -- the report's sweep holds the MCS and the operating range ---------------------------------------
+def _probed_rotor():
+    """A rigid rotor of 50 kg on two bearings of 1e7 N/m, four probes: its first critical speed
+    (about 6000 rpm) lies far above an MCS of 3000 rpm, so its response rises all the way to the
+    MCS and the largest one "from 0 to the MCS" is the one at the MCS."""
+    probes = [{"name": f"p{n}{c}", "rotor": "r", "measure": "relative", "position": [x, 0.0, 0.0], "direction": v}
+              for n, x in (("a", -0.3), ("b", 0.3)) for c, v in (("y", [0.0, 1.0, 0.0]), ("z", [0.0, 0.0, 1.0]))]
+    return rdm.Model.from_dict({
+        "spin_axis": [1.0, 0.0, 0.0],
+        "rotors": [{"name": "r", "mass": 50.0, "center_of_mass": [0.0, 0.0, 0.0], "polar_inertia": 0.5,
+                    "diametral_inertia": 1.0}],
+        "bearings": [{"name": n, "rotor": "r", "position": [x, 0.0, 0.0], "stiffness": 1e7, "damping": 500.0}
+                     for n, x in (("a", -0.3), ("b", 0.3))],
+        "sensors": probes})
+
+
+def test_the_report_sweep_holds_the_mcs_and_the_operating_range_ends():
+    from rotordyn_modal.report.collect import ReportInputs
+
+    rpm = np.pi / 30
+    inputs = ReportInputs("api684", 3000 * rpm, operating=(2000 * rpm, 2900 * rpm))
+    speeds = inputs.speeds
+    for speed in (3000 * rpm, 2000 * rpm, 2900 * rpm):
+        assert np.any(speeds == speed), speed / rpm
+    assert np.all(np.diff(speeds) > 0)
+    assert speeds[0] == pytest.approx(0.02 * 3000 * rpm) and speeds[-1] == pytest.approx(1.5 * 3000 * rpm)
+    assert len(speeds) == 151 + 3
+
+
+def test_the_report_judges_the_probes_at_the_mcs():
+    """The governing probe amplitude is the response at the MCS itself, computed alone."""
+    from rotordyn_modal.analysis.unbalance import api_unbalance_response
+    from rotordyn_modal.report.collect import ReportInputs, collect
+
+    model, mcs = _probed_rotor(), 3000 * np.pi / 30
+    data = collect(model, ReportInputs("api684", mcs, points=151, stiffness=np.geomspace(1e6, 1e8, 3)))
+    checks = data.results["checks"].to_dataframe()
+    checks = checks[checks["check"] == "API 617 probe limit"]
+    assert checks["speed_rpm"].max() == pytest.approx(3000.0, rel=1e-12)
+    alone = api_unbalance_response(model, [mcs], mcs).to_dataframe()
+    assert checks["value"].max() == pytest.approx(2 * alone["amplitude"].max(), rel=1e-9)
+    criterion = next(c for c in data.criteria if c.name == "API 617 probe vibration limit")
+    assert "at 3000 rpm" in criterion.why, criterion.why

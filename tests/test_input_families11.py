@@ -109,3 +109,39 @@ def test_the_report_judges_the_probes_at_the_mcs():
     assert checks["value"].max() == pytest.approx(2 * alone["amplitude"].max(), rel=1e-9)
     criterion = next(c for c in data.criteria if c.name == "API 617 probe vibration limit")
     assert "at 3000 rpm" in criterion.why, criterion.why
+
+
+# -- the UCS map over many decades ------------------------------------------------------------------
+def _undamped_compressor(examples_dir):
+    """examples/compressor_rotor.toml without its bearings' damping (the map is undamped, and so
+    are then the critical speeds it must equal)."""
+    import tomllib
+
+    data = tomllib.loads((examples_dir / "compressor_rotor.toml").read_text())
+    for bearing in data["bearings"]:
+        bearing.pop("damping", None)
+    return rdm.Model.from_dict(data)
+
+
+def test_a_ucs_map_from_1e_3_n_per_m_keeps_every_mode_at_the_bearings_own_stiffness(examples_dir):
+    """The map's value at one stiffness cannot depend on the other stiffness values swept. Its
+    free motions were found on the first (softest) one: on 1e-3 N/m bearings the rotor's rigid
+    motions are free to round-off beside its shaft, and were dropped at every stiffness, so at
+    the bearings' own 5e7 N/m the map gave 30647 and 54044 rpm (the third and fourth modes) as
+    the two lowest forward critical speeds. They must equal critical-speeds' forward 1X crossings
+    of the model (5721 and 14391 rpm) to 1e-9, and the map of that stiffness alone."""
+    from rotordyn_modal.analysis.ucs_map import ucs_map
+
+    model = _undamped_compressor(examples_dir)
+    wide = ucs_map(model, np.geomspace(1e-3, 1e16, 20), modes=4)
+    at = ucs_map(model, np.array([1e-3, 5e7, 1e16]), modes=4).speeds[1]
+    alone = ucs_map(model, np.array([5e7]), modes=4).speeds[0]
+    np.testing.assert_allclose(at, alone, rtol=1e-12)
+    critical = rdm.critical_speeds(model, np.linspace(0.0, 16000.0, 33) * np.pi / 30, orders=(1,)).to_dataframe()
+    forward = np.sort(critical.loc[critical["whirl"] == "forward", "speed_rpm"].to_numpy())
+    np.testing.assert_allclose(at[:2] * 30 / np.pi, forward[:2], rtol=1e-9)
+    # the whole wide sweep holds the rigid-body modes, which rise as sqrt(k) on soft bearings
+    # (1 to 100 N/m: at 1e-3 N/m their 1e-13 share of the stiffness costs them digits)
+    soft = wide.speeds[3:6, 0]
+    np.testing.assert_allclose(soft[1:] / soft[:-1], np.sqrt(10.0), rtol=1e-5)
+    assert np.all(np.isfinite(wide.speeds[:, 0])) and wide.speeds[0, 0] * 30 / np.pi < 0.1

@@ -145,3 +145,48 @@ def test_a_ucs_map_from_1e_3_n_per_m_keeps_every_mode_at_the_bearings_own_stiffn
     soft = wide.speeds[3:6, 0]
     np.testing.assert_allclose(soft[1:] / soft[:-1], np.sqrt(10.0), rtol=1e-5)
     assert np.all(np.isfinite(wide.speeds[:, 0])) and wide.speeds[0, 0] * 30 / np.pi < 0.1
+
+
+# -- one vocabulary: a second figure is --plot-WHAT everywhere ---------------------------------------
+def _subcommands():
+    from rotordyn_modal.cli.main import build_parser
+
+    return build_parser()._subparsers._group_actions[0].choices
+
+
+def test_every_figure_option_is_spelled_plot_what():
+    """``modes --plot-shaft``, ``study --plot-map``/``--plot-histogram``/``--plot-sensitivity``
+    beside ``unbalance --orbit-plot`` and ``level1 --csr-plot``: one concept, two word orders.
+    Every figure option --help shows is ``--plot`` or ``--plot-WHAT``."""
+    import argparse
+
+    for command, sub in _subcommands().items():
+        for action in sub._actions:
+            if action.help is argparse.SUPPRESS:
+                continue
+            for option in action.option_strings:
+                if "plot" in option:
+                    assert option == "--plot" or option.startswith("--plot-"), (command, option)
+
+
+@pytest.mark.parametrize("command, shown, old", [("unbalance", "--plot-orbits", "--orbit-plot"),
+                                                 ("level1", "--plot-csr", "--csr-plot")])
+def test_the_earlier_figure_spelling_still_works_hidden(command, shown, old):
+    import argparse
+
+    sub = _subcommands()[command]
+    new, hidden = sub._option_string_actions[shown], sub._option_string_actions[old]
+    assert new.help is not argparse.SUPPRESS and hidden.help is argparse.SUPPRESS
+    assert (hidden.dest, hidden.metavar) == (new.dest, new.metavar)
+    assert old not in sub.format_help()
+
+
+def test_a_file_refusal_names_the_figure_option_as_typed(tmp_path, examples_dir, capsys):
+    from rotordyn_modal.cli.main import main
+
+    base = ["unbalance", str(examples_dir / "compressor_rotor.toml"), "--speeds", "500:1000:3", "--quiet"]
+    for spelling in ("--orbit-plot", "--plot-orbits"):
+        assert main(base + [spelling, str(tmp_path / "p.png"), "--plot", str(tmp_path / "p.png")]) == 2
+        err = capsys.readouterr().err
+        assert f"{spelling} and --plot name the same file" in err and err.count("\n") == 1, err
+    assert not (tmp_path / "p.png").exists()

@@ -190,3 +190,28 @@ def test_a_file_refusal_names_the_figure_option_as_typed(tmp_path, examples_dir,
         err = capsys.readouterr().err
         assert f"{spelling} and --plot name the same file" in err and err.count("\n") == 1, err
     assert not (tmp_path / "p.png").exists()
+
+
+# -- a circular orbit has no major axis ------------------------------------------------------------
+def test_a_circular_orbit_has_inclination_zero_not_noise(examples_dir):
+    """compressor_rotor: an axisymmetric rotor on isotropic bearings, so each probe pair's
+    unbalance orbit is a forward circle (forward part m e w^2 / ..., backward part exactly 0 but
+    computed as round-off). The inclination of the major axis of a circle was the phase of that
+    round-off: 0.0156 deg at the left pair, 180 deg at the right. It is 0; an ellipse keeps its
+    angle (fan_on_bearings' anisotropic bearings, checked against the definition by hand)."""
+    from rotordyn_modal.analysis.orbits import orbit_ellipses
+
+    model = rdm.load_model(examples_dir / "compressor_rotor.toml")
+    orbits = rdm.unbalance_response(model, np.array([10.0, 20.0, 3000.0]) * np.pi / 30).orbits()
+    assert len(orbits) and np.allclose(orbits["minor"], orbits["major"], rtol=1e-9)
+    assert (orbits["inclination_deg"] == 0.0).all(), orbits["inclination_deg"].tolist()
+    assert (orbits["precession"] == "forward").all()
+    # an ellipse: x = cos(wt), y = 0.5 sin(wt + 30 deg) has its major axis where |x + i y| is largest
+    t = np.linspace(0.0, 2 * np.pi, 200001)
+    plane = np.array([1.0, 0.5 * np.exp(1j * np.radians(-60.0))])     # y = 0.5 cos(wt - 60 deg)
+    x, y = np.real(plane[0] * np.exp(1j * t)), np.real(plane[1] * np.exp(1j * t))
+    far = np.argmax(x * x + y * y)
+    angle = np.degrees(np.arctan2(y[far], x[far])) % 180.0
+    major, minor, inclination, _ = orbit_ellipses(plane, 1.0)
+    assert inclination == pytest.approx(angle, abs=1e-3)
+    assert major == pytest.approx(np.hypot(x[far], y[far]), rel=1e-9)

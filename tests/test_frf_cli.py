@@ -241,7 +241,7 @@ def test_unbalance_orbits_written_and_drawn_as_the_python_result_gives_them(tmp_
         assert f"{major:.6g}" in printed
     assert main(["unbalance", FANS, "--speeds", "0:6000:13", "--output", "acc-fan-z",
                  "--orbits", str(tmp_path / "none.csv"), "--quiet"]) == 2
-    assert "--orbits/--orbit-plot need a probe pair among the outputs" in capsys.readouterr().err
+    assert "--orbits/--plot-orbits need a probe pair among the outputs" in capsys.readouterr().err
     assert not (tmp_path / "none.csv").exists()
 
 

@@ -178,14 +178,16 @@ def test_report_parses_with_every_section_and_valid_pngs(name, reports, built):
     assert hashlib.sha256((ROOT / "examples" / f"{name}.toml").read_bytes()).hexdigest() in text
 
 
-def _speeds():
+def _speeds(low_rpm=MCS_RPM):
+    """The MCS and the report's sweep [rad/s]: POINTS from 2 % to 150 % of the MCS, with the MCS
+    and the operating range's bottom ``low_rpm`` added (docs/report.md)."""
     mcs = MCS_RPM * np.pi / 30
-    return mcs, np.linspace(0.02 * mcs, 1.5 * mcs, POINTS)
+    return mcs, np.union1d(np.linspace(0.02 * mcs, 1.5 * mcs, POINTS), [low_rpm * np.pi / 30, mcs])
 
 
 def _probe_verdict(model):
     """(verdict, largest peak-to-peak displacement [um]) of the probes over the API cases."""
-    mcs, speeds = _speeds()
+    mcs, speeds = _speeds(2000.0)
     response = api_unbalance_response(model, speeds, mcs)
     checked = np.abs(response.speeds) <= mcs
     relative = {s.name for s in model.sensors if s.measure == "relative"}
@@ -213,7 +215,7 @@ def _margin_verdict(response, operating, outputs):
 def test_journal_rotor_verdicts_equal_the_analyses(reports):
     model = load_model(ROOT / "examples" / "journal_rotor.toml")
     verdicts = _verdicts(_page(reports["journal_rotor"]))
-    mcs, speeds = _speeds()
+    mcs, speeds = _speeds(2000.0)
     result = level1(model, mcs, ["rotor"], 2e5)
     assert verdicts["API 617 Level I: log decrement at Qa"] == ("pass" if result.log_decrement_at_qa >= 0.1
                                                                 else "fail")
@@ -584,7 +586,7 @@ def test_rigid_rotor_report_shows_the_lowest_modes_when_none_is_near_the_range(r
     from rotordyn_modal.analysis.modal import modal
 
     model = load_model(ROOT / "examples" / "journal_rotor.toml")
-    mcs, speeds = _speeds()
+    mcs, speeds = _speeds(2000.0)
     low, high = 0.83 * 2000, 1.17 * MCS_RPM
     table = modal(model, mcs).to_dataframe()
     assert not ((table["frequency_hz"] * 60 >= low) & (table["frequency_hz"] * 60 <= high)).any()

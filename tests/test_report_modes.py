@@ -104,7 +104,7 @@ def test_clearance_table_and_criterion_equal_the_analysis(page):
     html, _ = page
     model = load_model(MODEL)
     mcs = MCS_RPM * np.pi / 30
-    speeds = np.linspace(0.02 * mcs, 1.5 * mcs, POINTS)
+    speeds = np.union1d(np.linspace(0.02 * mcs, 1.5 * mcs, POINTS), [LOW_RPM * np.pi / 30, mcs])   # the report's sweep
     check = api_unbalance_response(model, speeds, mcs).clearance_check(
         model, mcs=mcs, min_operating=LOW_RPM * np.pi / 30).to_dataframe()
     section = _section(html, "unbalance")

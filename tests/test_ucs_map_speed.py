@@ -21,9 +21,9 @@ def test_journal_crossings_are_refined_in_batches_to_the_critical_speed(monkeypa
     sizes = []
     solve = module._synchronous_roots
 
-    def counted(M, G, K, forms):
+    def counted(M, G, K, forms, **options):
         sizes.append(len(K))
-        return solve(M, G, K, forms)
+        return solve(M, G, K, forms, **options)
 
     monkeypatch.setattr(module, "_synchronous_roots", counted)
     model = rdm.load_model(EXAMPLES / "journal_rotor.toml")

@@ -107,6 +107,12 @@ def _unit_lower_inverse(a, b):
     return [[1.0, 0.0], [(0.0 - a) * r, r]]
 
 
+#: an orbit whose smaller circular part (forward or backward) is at most this fraction of the
+#: larger is a circle: its inclination is 0 (a circular response computes its other part as
+#: round-off, ~1e-16 of it, whose phase would make the angle noise: 0.02 deg beside 180 deg)
+CIRCLE = 1e-9
+
+
 def orbit_ellipses(plane, spin_sign):
     """Semi-axes, inclination and precession of harmonic orbits.
 
@@ -121,7 +127,9 @@ def orbit_ellipses(plane, spin_sign):
     -------
     major, minor : ndarray [same unit as ``plane``]
     inclination_deg : ndarray
-        Angle of the major axis from the first probe's direction towards ``e x u``, in [0, 180).
+        Angle of the major axis from the first probe's direction towards ``e x u``, in [0, 180);
+        0 for a circle (the smaller of the forward and backward parts below :data:`CIRCLE` of
+        the larger: a circle has no major axis, and the angle of a part that is round-off is noise).
     precession : ndarray of float
         Signed ratio ``2ab / (a^2 + b^2)``: +1 circular forward, -1 circular backward.
     """
@@ -130,6 +138,7 @@ def orbit_ellipses(plane, spin_sign):
     f, b = np.abs(forward), np.abs(backward)
     major, minor = f + b, np.abs(f - b)
     inclination = np.degrees(0.5 * (np.angle(forward) + np.angle(backward))) % 180.0
+    inclination = np.where(np.minimum(f, b) <= CIRCLE * np.maximum(f, b), 0.0, inclination)
     with np.errstate(invalid="ignore", divide="ignore"):
         turning = np.where(f * f + b * b > 0, (f * f - b * b) / (f * f + b * b), 0.0)
     return major, minor, inclination, turning * np.asarray(spin_sign)

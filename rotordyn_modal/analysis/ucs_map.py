@@ -316,7 +316,7 @@ class _Pencil:
     def roots(self, stiffness) -> "_Roots":
         """:class:`_Roots` for the stiffness values (K,) [N/m]."""
         K = self.rest + np.asarray(stiffness, dtype=float)[:, None, None] * self.unit
-        return _synchronous_roots(self.M, self.G, K, self.forms)
+        return _synchronous_roots(self.M, self.G, K, self.forms, probe=_free_probe([self.rest, self.unit]))
 
     def weighted(self, shapes) -> np.ndarray:
         """Mass-weighted unit shapes (..., m, n) for the MAC."""
@@ -357,10 +357,26 @@ class _Roots(NamedTuple):
     forward: np.ndarray
 
 
-def _synchronous_roots(M, G, K, forms) -> _Roots:
-    """:class:`_Roots` of ``K phi = Omega^2 (M - i G) phi`` for each of K (S, n, n), one batch."""
+def _free_probe(parts) -> np.ndarray:
+    """A stiffness matrix whose null space is the motions free in every one of ``parts`` (PSD
+    matrices (n, n)): their sum, each scaled to a largest entry of 1. The free motions of a
+    batch are found on it rather than on one member: on a bearing of 1e-3 N/m beside a shaft's
+    1e9 N/m the rotor's rigid motions look free to round-off, and were dropped at every
+    stiffness of the batch (a UCS map from 1e-3 N/m lost its rigid-body modes at 1e6 N/m too)."""
+    probe = np.zeros(np.shape(parts[0]))
+    for part in parts:
+        size = np.abs(part).max()
+        if size > 0:
+            probe = probe + part / size
+    return probe
+
+
+def _synchronous_roots(M, G, K, forms, probe=None) -> _Roots:
+    """:class:`_Roots` of ``K phi = Omega^2 (M - i G) phi`` for each of K (S, n, n), one batch;
+    ``probe`` (n, n): a stiffness with the batch's free motions as its null space (default
+    :func:`_free_probe` of the batch's matrices)."""
     B = M - 1j * G
-    W = _constrained_basis(M, B, K[0])
+    W = _constrained_basis(M, B, _free_probe(list(K)) if probe is None else probe)
     if not W.shape[1]:                      # every motion free: no mode at all
         empty = np.zeros((len(K), 0))
         return _Roots(empty, empty, np.zeros((len(K), 0, len(M)), dtype=complex), empty.astype(bool))

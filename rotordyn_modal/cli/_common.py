@@ -487,7 +487,7 @@ def file_options(parser) -> dict:
 
 def _given(args, role):
     """(option, path) of every file of ``role`` named on the command line."""
-    return [(option, getattr(args, dest)) for dest, option in getattr(args, "file_options", {}).get(role, ())
+    return [(as_typed(args, option), getattr(args, dest)) for dest, option in getattr(args, "file_options", {}).get(role, ())
             if getattr(args, dest, None) not in (None, "", "-")]
 
 
@@ -503,6 +503,7 @@ def check_files(args) -> None:
 
     for role in ("input", "output"):
         for dest, option in getattr(args, "file_options", {}).get(role, ()):
+            option = as_typed(args, option)      # the spelling typed (--orbit-plot for --plot-orbits)
             if getattr(args, dest, None) == "":   # an empty variable in a script: never "not given"
                 raise InputError(f"{option} '': expected a file name")
             if role == "input" and getattr(args, dest, None) == "-":   # was 'no such file' of a file named '-'

@@ -50,7 +50,7 @@ kg/m^3, the critical speed ratio CSR = MCS / first forward critical speed on rig
 (every bearing radially rigid, the casing and pedestals held) is placed on API 617's chart
 against the average density: above the dividing line (Region B: CSR 2.5 up to 16.53 kg/m^3,
 then 2.69 - 0.0115 rho to 2.0 at 60 kg/m^3, as ROSS implements it) with Q0/Qa below 10, Level
-II is required too. --csr-plot FILE draws the chart. docs/standards.md gives the line's source.
+II is required too. --plot-csr FILE draws the chart. docs/standards.md gives the line's source.
 
 With --units us, --qa is in lbf/in, --rated-power in hp, the diameter, height and OFFSET in in, the
 gas density in lb/ft^3; the table's
@@ -78,8 +78,9 @@ def add_arguments(parser):
     parser.add_argument("--factor", default="10", help="the sweep reaches FACTOR x Qa (default 10)")
     parser.add_argument("--forward-mode", metavar="N",
                         help="follow the N-th forward mode alone (default: the first three, the least stable judged)")
-    add_output_file(parser, "--csr-plot", metavar="FILE.png|FILE.svg|FILE.pdf",
+    add_output_file(parser, "--plot-csr", dest="csr_plot", metavar="FILE.png|FILE.svg|FILE.pdf",
                     help="draw the CSR against gas density chart (needs --gas-density)")
+    add_alias(parser, "--plot-csr", "--csr-plot")   # a second figure is --plot-WHAT, as modes --plot-shaft
     add_outputs(parser)
 
 
@@ -135,8 +136,8 @@ def run(args) -> int:
     forward = None if args.forward_mode is None else parse_count(args.forward_mode, "--forward-mode")
     density = gas_density(args)
     if args.csr_plot and density is None:
-        raise InputError("--csr-plot: give --gas-density (the chart places the rotor by its average gas density)")
-    check_extra_output(args, args.csr_plot, "--csr-plot", figure=True)   # before the work and its table
+        raise InputError(f"{as_typed(args, '--plot-csr')}: give --gas-density (the chart places the rotor by its average gas density)")
+    check_extra_output(args, args.csr_plot, as_typed(args, "--plot-csr"), figure=True)   # before the work and its table
     model = open_model(args)
     result = level1(model, speed, stations, qa, shares=shares, factor=factor, forward_mode=forward,
                     gas_density=density)
@@ -160,7 +161,7 @@ def run(args) -> int:
     if args.csr_plot:
         use_agg()
         save_figure(result.csr.plot(units=args.units, title=f"API 617 Level I: {result.title}" if result.title
-                                    else None, verdict=result.verdict().rpartition(": ")[2]), args, args.csr_plot, "--csr-plot")
+                                    else None, verdict=result.verdict().rpartition(": ")[2]), args, args.csr_plot, as_typed(args, "--plot-csr"))
     return 0
 
 

@@ -42,7 +42,8 @@ shapes at the MCS of the modes whose 1X critical speed or frequency lies within 
           ratio against average gas density (its criterion line and chart, as 'level1')
   iso     the response to the model's [[unbalances]] (amounts or ISO 21940-11 grades) and the
           ISO 20816-3 zones of the casing sensors (--iso-group and --iso-support)
-The sweeps run from 2 % of --mcs to 1.5 x --mcs (--points speeds); the operating range
+The sweeps run from 2 % of --mcs to 1.5 x --mcs (--points speeds, with --mcs and the operating
+range's ends among them); the operating range
 (--operating-range LO:HI, default the MCS alone) measures the separation margins. docs/report.md
 lists what each section holds and where its numbers come from. With --units us (or
 ROTORDYN_MODAL_UNITS=us) every table, figure and criterion shows US customary units: vibration
@@ -73,7 +74,7 @@ def add_arguments(parser):
                         help=f"operating speed range {IN_SPEED_UNIT} (default: the MCS alone)")
     add_alias(parser, "--operating-range", "--operating")
     add_speed_unit(parser)
-    parser.add_argument("--points", default="151", metavar="N", help="speeds of the sweeps (default 151)")
+    parser.add_argument("--points", default="151", metavar="N", help="speeds of the sweeps (default 151; the MCS and the operating range's ends are added)")
     parser.add_argument("--stiffness", metavar="START:STOP:N",
                         help="bearing stiffness of the UCS map (api617, api684) [N/m; lbf/in with --units us], log-spaced "
                              "(default 1e5:1e10:41 N/m, widened by decades to reach the bearings' own stiffness)")

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..unbalance_standards import amplitude_column, amplitude_label, one_convention
-from ._common import (IN_SPEED_UNIT, add_model_argument, add_output_file, add_outputs, add_sensor_argument, add_speed_unit, check_ending,
+from ._common import (IN_SPEED_UNIT, add_alias, add_model_argument, as_typed, add_output_file, add_outputs, add_sensor_argument, add_speed_unit, check_ending,
                       check_extra_output, mcs_option, open_model, print_table, save_figure, speeds_option,
                       speed_value, speeds_text, use_agg, whole_number, write_csv, write_table)
 from ._units import convert_table
@@ -67,7 +67,7 @@ limit and the unscaled response in m (mil with --units us), peak-to-peak whateve
 Two sensors at one point of the same body with directions normal to the spin axis (a
 pair of proximity probes, measure = "relative") see an orbit: --orbits FILE.csv writes
 each pair's ellipse per source and speed (semi-axes: 0-peak, inclination, forward/backward
-precession) and --orbit-plot FILE.png draws them, one panel per pair and source (as in
+precession) and --plot-orbits FILE.png draws them, one panel per pair and source (as in
 the CSV), at that source's largest orbit and at the last speed.
 
 --plot draws one amplitude (log axis, in um or mm, mil with --units us, whichever reads the
@@ -122,8 +122,9 @@ def add_arguments(parser):
                         help="replace the model's unbalances by the API 617/684 cases (needs --mcs)")
     add_output_file(parser, "--checks", metavar="FILE.csv", help="write the table of the standards' checks")
     add_output_file(parser, "--orbits", metavar="FILE.csv", help="write the orbits of the probe pairs")
-    add_output_file(parser, "--orbit-plot", metavar="FILE.png|FILE.svg|FILE.pdf",
+    add_output_file(parser, "--plot-orbits", dest="orbit_plot", metavar="FILE.png|FILE.svg|FILE.pdf",
                     help="draw the orbits of the probe pairs")
+    add_alias(parser, "--plot-orbits", "--orbit-plot")   # a second figure is --plot-WHAT, as modes --plot-shaft
     add_outputs(parser)
 
 
@@ -132,7 +133,7 @@ def run(args) -> int:
     check_extra_output(args, args.orbits, "--orbits")
     check_ending(args.orbits, (".csv",), "--orbits", stdout=False)
     check_ending(args.checks, (".csv",), "--checks", stdout=False)
-    check_extra_output(args, args.orbit_plot, "--orbit-plot", figure=True)
+    check_extra_output(args, args.orbit_plot, as_typed(args, "--plot-orbits"), figure=True)
     model = open_model(args)
     operating = _speed(args, args.operating_speed, "--operating-speed")
     if operating == 0:
@@ -152,7 +153,7 @@ def run(args) -> int:
         result = unbalance_response(model, speeds_option(args), outputs=sensor_names(args, model),
                                     quantity=args.quantity, amplitude=args.amplitude)
     if (args.orbits or args.orbit_plot) and not result.orbit_pairs:
-        raise InputError(f"{model.source}: --orbits/--orbit-plot need a probe pair among the outputs: two "
+        raise InputError(f"{model.source}: --orbits/{as_typed(args, '--plot-orbits')} need a probe pair among the outputs: two "
                          "sensors at one point of the same body, directions normal to spin_axis")
     if not args.quiet and args.out != "-":
         print(_response_heading(args.amplitude), file=sys.stderr)
@@ -306,7 +307,7 @@ def _write_orbits(result, args):
         write_csv(_orbits_in_units(result.orbits(), result, args.units), args.orbits)
     if args.orbit_plot:
         use_agg()
-        save_figure(result.plot_orbits(units=args.units), args, args.orbit_plot, "--orbit-plot")
+        save_figure(result.plot_orbits(units=args.units), args, args.orbit_plot, as_typed(args, "--plot-orbits"))
 
 
 def _orbits_in_units(table, result, system):

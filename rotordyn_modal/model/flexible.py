@@ -422,14 +422,21 @@ def _check_on_shaft(table: Table, key: str, z: float, length: float, centre: flo
 
 
 def _check_apart(table: Table, disk: Disk, other: Disk) -> None:
+    """Refuse ``disk`` at ``other``'s station or overlapping it; a disk without ``width`` is a
+    point on the axis, refused inside the other's width as well."""
     gap = abs(disk.z - other.z)
     if gap <= STATION_TOLERANCE:
         raise table.error("axial_position", disk.z, f"a position other than disk {visible(other.name)!r}'s "
                           f"({other.z:g} m): two disks at one station are one disk")
-    if disk.width is not None and other.width is not None and gap < 0.5 * (disk.width + other.width) - 1e-12:
+    if disk.width is None and other.width is None:
+        return
+    widths = [w for w in (disk.width, other.width) if w is not None]
+    if gap < 0.5 * sum(widths) - 1e-12:
+        said = (f"widths {disk.width:g} and {other.width:g} m" if len(widths) == 2 else
+                f"width {widths[0]:g} m; a disk without width is a point on the axis")
         raise table.error("axial_position", disk.z, f"a disk that does not overlap disk {visible(other.name)!r} "
-                          f"at {other.z:g} m (widths {disk.width:g} and {other.width:g} m: their centres must be "
-                          f"at least {0.5 * (disk.width + other.width):g} m apart)")
+                          f"at {other.z:g} m ({said}: their centres must be at least {0.5 * sum(widths):g} m "
+                          "apart)")
 
 
 # ----------------------------------------------------------------------------------------

@@ -148,7 +148,8 @@ class ReportInputs:
     operating : (float, float) [rad/s]
         Operating speed range (0 < low <= high <= mcs); default (mcs, mcs).
     points : int
-        Speeds of the sweeps, from 2 % of the MCS to 1.5 MCS (journal bearings have no film at rest).
+        Speeds of the sweeps, from 2 % of the MCS to 1.5 MCS (journal bearings have no film at rest);
+        the MCS and the operating range's ends are added to them (:attr:`speeds`).
     iso_group, iso_support : ISO 20816-3 class (both or neither).
     amplitude : {'pk-pk', 'peak', 'rms'}
         Convention of every vibration amplitude shown (tables, figure, summary; default
@@ -178,7 +179,14 @@ class ReportInputs:
 
     @property
     def speeds(self) -> np.ndarray:
-        return np.linspace(0.02 * self.mcs, 1.5 * self.mcs, self.points)
+        """The sweeps' speeds [rad/s]: ``points`` from 2 % of the MCS to 1.5 MCS, and the MCS and
+        the operating range's ends themselves (the checks run "from 0 to the MCS" and the margins
+        from the range: a grid point just below the MCS would miss a peak between it and the MCS);
+        a grid point within 1e-9 of one of them gives way to it."""
+        grid = np.linspace(0.02 * self.mcs, 1.5 * self.mcs, self.points)
+        marks = np.unique([self.mcs, *self.range])
+        apart = np.all(np.abs(grid[:, None] - marks[None, :]) > 1e-9 * self.mcs, axis=1)
+        return np.sort(np.concatenate([grid[apart], marks]))
 
     @property
     def range(self) -> tuple:

@@ -160,7 +160,7 @@ def _model(data, units) -> str:
              ("maximum continuous speed [rpm]", f"{inputs.mcs * 30 / np.pi:.6g}"),
              ("operating range [rpm]", f"{low:.6g} to {high:.6g}" if high > low else f"{low:.6g} (one speed)"),
              ("speeds analysed [rpm]", f"{inputs.speeds[0] * 30 / np.pi:.6g} to {inputs.speeds[-1] * 30 / np.pi:.6g}"
-                                       f" ({inputs.points} points)"),
+                                       f" ({len(inputs.speeds)} points, the MCS and the operating range's ends among them)"),
              (f"stator (casing) mass [{mass}]",
               "none" if info["stator_mass"] is None else f"{info['stator_mass'] * kg:.6g}")]
     parts = [_heading("model"), _table([[k, (f'<span class="mono">{escape(v)}</span>', "text")] for k, v in facts],

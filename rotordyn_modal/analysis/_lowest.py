@@ -369,67 +369,19 @@ def _needed_size(bound, rho, size):
 
 
 def _by_whirl(stack, values, shapes, rows):
-    """A double root's two shapes (any basis of its plane, as Newton's iteration left them) made its
-    backward and forward whirl combinations at the speeds ``rows`` (S,) bool, written over
-    ``shapes`` (S, k, n): as the full eigen-solve gives them (:func:`._eigensolve.resolve_repeated`),
-    so an axisymmetric rotor at rest has the same whirl either way. ``values`` (S, k) by frequency."""
-    from ._eigensolve import _repeated_pairs, resolve_repeated
+    """A multiple root's shapes (any basis of its eigenspace, as Newton's iteration left them) made
+    its whirl-sorted combinations, backward first, at the speeds ``rows`` (S,) bool, written over
+    ``shapes`` (S, k, n): as the full eigen-solve gives them (:func:`._eigensolve.resolve_repeated`,
+    pairs and groups of three or more), so an axisymmetric rotor at rest has the same whirl either
+    way. ``values`` (S, k) by frequency."""
+    from ._eigensolve import _repeated_pairs, resolve_groups, resolve_repeated
 
     every = np.nonzero(rows)[0]
     rows = np.unique(every[_repeated_pairs(values[every])[0]]) if len(every) else every
     if len(rows):
         shapes[rows] = resolve_repeated(values[rows], shapes[rows], stack.repeated_forms,
-                                        np.zeros(len(rows), int))
-    _by_whirl_in_groups(stack, values, shapes, every)
-
-
-def _by_whirl_in_groups(stack, values, shapes, rows):
-    """The shapes of each root of multiplicity three or more (adjacent coinciding roots of
-    ``values`` (S, k), by frequency, within ``_eigensolve.REPEATED_TOLERANCE`` of the speed's
-    largest |lambda|) at the speeds ``rows`` (R,) made the whirl-sorted combinations of their
-    eigenspace, backward first, written over ``shapes`` (S, k, n): ``-i Phi^H W Phi v = mu Phi^H
-    T Phi v`` (``T`` the total form), as :func:`._eigensolve.resolve_repeated` makes a pair's
-    (which leaves groups of three or more as they are). Two identical rotors at rest have four
-    roots of each double root's value: any basis of them came out of Newton's iteration, whirl
-    ratios anywhere in ``[-1, 1]``; now two of ratio -1 and two of +1. Groups whose shapes do not
-    span their space or do not whirl keep their shapes."""
-    from ._eigensolve import REPEATED_TOLERANCE, _extreme_whirl
-
-    forms = stack.repeated_forms
-    for s in rows:
-        lam = values[s]
-        with np.errstate(invalid="ignore"):
-            close = np.abs(np.diff(lam)) <= REPEATED_TOLERANCE * (np.nanmax(np.abs(lam)) + 1e-300)
-        for start, stop in _runs(close):
-            if stop - start < 3 or lam[start] == 0:
-                continue
-            basis = shapes[s, start:stop].T                                    # (n, g)
-            total, momentum = (basis.conj().T @ _dense(form, basis) for form in (forms.total, forms.W))
-            spread = np.linalg.eigvalsh(0.5 * (total + total.conj().T))
-            if not spread[0] > 1e-6 * spread[-1]:
-                continue
-            mu, resolved = _extreme_whirl(basis[None], total[None], -1j * momentum[None])
-            if mu[0, -1] - mu[0, 0] > 1e-6:
-                shapes[s, start:stop] = resolved[0].T
-
-
-def _runs(close):
-    """``(start, stop)`` of each run of roots joined by ``close`` (k - 1,) bool: roots
-    ``start:stop``, at least two."""
-    runs, j = [], 0
-    while j < len(close):
-        if close[j]:
-            start = j
-            while j < len(close) and close[j]:
-                j += 1
-            runs.append((start, j + 1))
-        j += 1
-    return runs
-
-
-def _dense(form, basis):
-    """``form @ basis`` (n, g) of a whirl form (n, n), (1, n, n) or ``scipy.sparse``."""
-    return (form[0] if getattr(form, "ndim", 2) == 3 else form) @ basis
+                                        np.zeros(len(rows), int), groups=False)
+    resolve_groups(values, shapes, stack.repeated_forms, rows=every)
 
 
 def _distinct(values, shapes=None):

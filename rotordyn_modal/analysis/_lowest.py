@@ -745,11 +745,10 @@ def _unmissed_below(starts, values, limit, count):
 
 def _by_frequency_over(values, shapes, count=None):
     """:func:`._lowest_starts._by_frequency` with ``shapes`` (S, k, n) reordered over itself, a part
-    of the speeds at a time: no second copy of every speed's shapes. Returns the roots (S, k) by
-    frequency and ``shapes``."""
+    of the speeds at a time (:func:`._batches.reordered_over`, as campbell's tracking): no second
+    copy of every speed's shapes. Returns the roots (S, k) by frequency and ``shapes``."""
     order = lowest_order(values, count)
-    for part in _batches.chunk_slices(len(order), shapes[:1].nbytes, budget=_NEWTON_BYTES):
-        shapes[part] = np.take_along_axis(shapes[part], order[part, :, None], 1)
+    _batches.reordered_over(shapes[None], order[None], _NEWTON_BYTES)
     return np.take_along_axis(values, order, 1), shapes
 
 

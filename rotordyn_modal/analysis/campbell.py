@@ -463,15 +463,9 @@ _REORDER_BYTES = 16 * 2**20
 
 
 def _reordered(shapes, order):
-    """``shapes[v, k, order[v, k]]`` for shapes (V, N, m, n) and ``order`` (V, N, c), ``c <= m``,
-    written over the first ``c`` columns of ``shapes`` itself a part of the speeds at a time (a
-    view of them): a reordered copy of the whole would double the sweep's largest arrays (two of
-    them at once for a 100-rotor machine: 420 MB at 51 speeds)."""
-    variants = np.arange(len(order))[:, None, None]
-    columns = order.shape[-1]
-    for part in _batches.chunk_slices(order.shape[1], shapes[:, 0].nbytes, budget=_REORDER_BYTES):
-        shapes[:, part, :columns] = shapes[variants, np.arange(part.start, part.stop)[None, :, None], order[:, part]]
-    return shapes[:, :, :columns]
+    """``shapes[v, k, order[v, k]]`` (V, N, c) over ``shapes`` (V, N, m, n) itself
+    (:func:`._batches.reordered_over`, parts of ``_REORDER_BYTES``)."""
+    return _batches.reordered_over(shapes, order, _REORDER_BYTES)
 
 
 def _variant_rows(count, per):

@@ -161,7 +161,7 @@ def _reduced_roots(stack, speeds, count, progress=False):
 _MULTIPLE_EXTRA = 4
 
 
-def _cut_in_a_multiple_root(stack, pencils, bound, out, count):
+def _cut_in_a_multiple_root(stack, pencils, bound, out, count, project=None):
     """The speeds that failed a check because the cut falls inside a multiple root, refined again
     with more starts, written into ``out`` = (values (S, k), shapes (S, k, n), ok (S,)), ``k =
     count + 1``, by frequency.
@@ -177,8 +177,13 @@ def _cut_in_a_multiple_root(stack, pencils, bound, out, count):
     the cut, where it is a double root, are its backward and forward whirl combinations, backward
     first (:func:`._eigensolve.resolve_repeated`): the root kept below the cut is the backward one,
     the lower of the two as soon as the rotor turns (``docs/theory.md`` section 17, "Multiple
-    roots"); the full eigen-solve, before, kept either.
+    roots"); the full eigen-solve, before, kept either. ``project`` (``pencils``, basis, ``want``,
+    rows) -> starts, vectors: the projected pencils' roots (:func:`._lowest_starts._projected_starts`
+    by default; the rational pencil's, :func:`._lowest_branches._projected_starts`, for mounts with
+    Maxwell branches). The modes route, :func:`roots_below` with a ``count`` and the Maxwell route
+    take it alike.
     """
+    project = _projected_starts if project is None else project
     values, shapes, ok = out
     k = values.shape[1]
     if k <= count or ok.all():
@@ -191,8 +196,8 @@ def _cut_in_a_multiple_root(stack, pencils, bound, out, count):
         if not len(rows) or k + extra > n:
             return
         want = k + extra
-        basis, suffices = _basis_for(pencils, bound, want, rows)
-        starts, vectors = _projected_starts(pencils, basis, want, rows)
+        basis, suffices = _basis_for(pencils, bound, want, rows, project)
+        starts, vectors = project(pencils, basis, want, rows)
         found, found_shapes, converged = _refined(pencils, starts, vectors, rows)
         top = _top_of_group(found, count)                              # (R,) the multiple root's last place
         above = top + 1 < want                                          # a start above it was refined
@@ -211,13 +216,14 @@ def _cut_in_a_multiple_root(stack, pencils, bound, out, count):
         rows = rows[~passed & ~above]                                   # more starts may reach above it
 
 
-def _basis_for(pencils, bound, want, rows):
+def _basis_for(pencils, bound, want, rows, project=None):
     """The reduced basis (n, m) for the ``want`` lowest roots at the speeds ``rows``, sized as
     :func:`_reduced_roots` sizes it, and its check (roots (S, want), NaN at the other speeds ->
-    (S,) bool, :func:`_basis_suffices`)."""
+    (S,) bool, :func:`_basis_suffices`). ``project``: as :func:`_cut_in_a_multiple_root`'s."""
+    project = _projected_starts if project is None else project
     n = len(bound.omegas)
     size = min(n, max(3 * want, want + 10))
-    rho = _MARGIN * np.max(np.abs(_projected_starts(pencils, bound.modes[:, :size], want, rows)[0]))
+    rho = _MARGIN * np.nanmax(np.abs(project(pencils, bound.modes[:, :size], want, rows)[0]))
     size = min(n, max(_needed_size(bound, rho, size), want))
     _, attached = bound.shares(size, rho)
     return (np.hstack([bound.modes[:, :size], attached]),
@@ -714,7 +720,10 @@ def _reduced_below(stack, speeds, limit, count):
     values, shapes = _by_frequency_over(values, shapes, count)
     # the bound at the wanted roots (a missed one lies below the limit, :func:`_unmissed_below`)
     wanted = _wanted(values, limit, count)
-    return values, shapes, ok & _basis_suffices(np.where(wanted, values, 0), bound, size, attached.shape[1], rho)
+    ok &= _basis_suffices(np.where(wanted, values, 0), bound, size, attached.shape[1], rho)
+    if count is not None:               # the count-th root's other half the first start above it
+        _cut_in_a_multiple_root(stack, pencils, bound, (values, shapes, ok), count)
+    return values, shapes, ok
 
 
 def _starts_below(pencils, basis, limit, count, want, vectors_at=None):

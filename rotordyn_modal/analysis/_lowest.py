@@ -149,11 +149,13 @@ def _reduced_roots(stack, speeds, count, progress=False):
         return (*_by_frequency(values, shapes, count), ok)
     basis = np.hstack([modes[:, :size], attached])
     values, shapes, ok, unmissed = _swept(pencils, basis, want, count)
-    ok &= _distinct(values, shapes) & unmissed
+    ok &= _distinct(values, shapes)
+    near = ok & ~unmissed               # every root refined and distinct; the next start within the error
+    ok &= unmissed
     # Newton may reorder roots of close frequency: by frequency again
     values, shapes = _by_frequency_over(values, shapes, count)
     ok &= _basis_suffices(values, bound, size, attached.shape[1], rho)
-    _cut_in_a_multiple_root(stack, pencils, bound, (values, shapes, ok), count)
+    _cut_in_a_multiple_root(stack, pencils, bound, (values, shapes, ok), count, near=near)
     return values, shapes, ok
 
 
@@ -161,7 +163,7 @@ def _reduced_roots(stack, speeds, count, progress=False):
 _MULTIPLE_EXTRA = 4
 
 
-def _cut_in_a_multiple_root(stack, pencils, bound, out, count, project=None):
+def _cut_in_a_multiple_root(stack, pencils, bound, out, count, project=None, near=None):
     """The speeds that failed a check because the cut falls inside a multiple root, refined again
     with more starts, written into ``out`` = (values (S, k), shapes (S, k, n), ok (S,)), ``k =
     count + 1``, by frequency.
@@ -182,6 +184,13 @@ def _cut_in_a_multiple_root(stack, pencils, bound, out, count, project=None):
     by default; the rational pencil's, :func:`._lowest_branches._projected_starts`, for mounts with
     Maxwell branches). The modes route, :func:`roots_below` with a ``count`` and the Maxwell route
     take it alike.
+
+    ``near`` (S,) bool: speeds whose roots all converged and are distinct but whose highest start,
+    less the projection's error, does not lie above the ``count``-th root (:func:`_unmissed`)
+    where the ``count + 1``-th is a distinct root just above the ``count``-th (a pair split by the
+    speed, closer than the projection's error: a 400-coordinate shaft at 300 rad/s, 4101.0 and
+    4102.8 rad/s with an error of 0.96): refined again the same way, the next start then the
+    ``count + 2``-th, well above (issue 28).
     """
     project = _projected_starts if project is None else project
     values, shapes, ok = out
@@ -190,6 +199,10 @@ def _cut_in_a_multiple_root(stack, pencils, bound, out, count, project=None):
         return
     with np.errstate(invalid="ignore"):
         cut = np.abs(values[:, count] - values[:, count - 1]) <= _SAME * np.abs(values[:, count - 1])
+    if near is not None:                # a distinct root just above the cut (not a multiple root)
+        with np.errstate(invalid="ignore"):
+            cut |= near & (np.abs(values[:, count].imag - values[:, count - 1].imag)
+                           > _SAME * np.abs(values[:, count - 1]))
     rows = np.nonzero(~ok & cut)[0]
     n = len(bound.omegas)
     for extra in range(1, _MULTIPLE_EXTRA + 1):

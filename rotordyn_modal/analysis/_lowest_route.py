@@ -19,7 +19,7 @@ from . import _arnoldi, _lowest_bound
 from ._lowest_bound import _FEW, _MARGIN
 from ._lowest_pencils import _block, _nonzero
 from ._lowest_starts import _projected_starts
-from ._vectors import seeded_start
+from .._blas import seeded_start
 
 __all__: list[str] = []
 

@@ -6,10 +6,7 @@ import numpy as np
 
 from .._blas import one_blas_thread
 
-__all__ = ["mac_matrix", "mass_normalized", "real_product", "row_norms", "seeded_start", "unit_rows"]
-
-#: the seed of :func:`seeded_start`
-_START_SEED = 20261129
+__all__ = ["mac_matrix", "mass_normalized", "real_product", "row_norms", "unit_rows"]
 
 #: shapes of at most this many coordinates are multiplied by a real matrix as complex rows
 #: (see :func:`real_product`)
@@ -72,12 +69,3 @@ def mac_matrix(a, b) -> np.ndarray:
     """
     return np.abs(a.conj() @ np.swapaxes(b, -1, -2)) ** 2  # batched BLAS, not einsum's loops
 
-
-def seeded_start(n: int) -> np.ndarray:
-    """A fixed start vector (n,) of standard normal draws for ARPACK (``eigsh``/``eigs``'s ``v0``)
-    and inverse iterations: without one, ARPACK draws its start from a random sequence that runs
-    on from call to call in a process, so the modes' last bits (and their signs) depended on how
-    many solves the process had made before. The one start of every such call (Lanczos of the
-    lowest-modes route test, the shaft's bending frequencies, shift-invert Arnoldi, the rigid-body
-    count of ``check``)."""
-    return np.random.default_rng(_START_SEED).standard_normal(n)

@@ -112,7 +112,7 @@ def _sparse_rank(model, K) -> int:
     import scipy.sparse
     import scipy.sparse.linalg
 
-    from ..analysis._vectors import seeded_start
+    from .._blas import seeded_start
     from ..assembly import is_large, mass_matrix, sparse_constant_matrices
 
     stiffness = scipy.sparse.csc_matrix(0.5 * (K + K.T))

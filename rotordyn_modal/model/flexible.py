@@ -967,7 +967,7 @@ def _bending_sparse(mass, shaft_k, supported_k):
     digits while ``s`` is below a thousand times the lowest)."""
     import scipy.sparse.linalg
 
-    from ..analysis._vectors import seeded_start
+    from .._blas import seeded_start
 
     diagonal = mass.diagonal()
     largest = float(np.max(shaft_k.diagonal() / np.where(diagonal > 0, diagonal, np.inf)))

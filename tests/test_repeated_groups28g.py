@@ -32,7 +32,7 @@ def twins():
     model = _twin_shafts()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return model, rdm.campbell(model, SPEEDS, critical=False)
+        return model, rdm.campbell(model, SPEEDS, critical=False), _lowest_by_scipy(model, SPEEDS, 12)
 
 
 def _groups_at_rest(reference):
@@ -42,8 +42,7 @@ def _groups_at_rest(reference):
 
 
 def test_groups_of_four_at_rest_are_two_backward_then_two_forward(twins):
-    model, result = twins
-    reference = _lowest_by_scipy(model, SPEEDS, 12)
+    model, result, reference = twins
     groups = _groups_at_rest(reference)
     assert groups[:3] == [0, 4, 8]                   # the model does have them
     at_rest = result.eigenvalues[0]
@@ -56,8 +55,7 @@ def test_groups_of_four_at_rest_are_two_backward_then_two_forward(twins):
 def test_a_group_at_rest_goes_on_as_the_split_roots(twins):
     """Each tracked mode of a group keeps its whirl once the rotors turn: the two backward ones
     go on as the lower (backward) double root, the forward ones as the upper."""
-    model, result = twins
-    reference = _lowest_by_scipy(model, SPEEDS, 12)
+    model, result, reference = twins
     for j in _groups_at_rest(reference):
         for column in range(j, j + 4):
             labels = set(result.whirl[:, column])
@@ -73,7 +71,7 @@ def test_any_basis_of_the_group_gives_the_same_whirl_sorted_shapes(twins):
     """The resolved shapes do not depend on the basis the solver gave: a random unitary mixing
     of the group's four shapes resolves to shapes of ratios -1, -1, +1, +1 that span the same
     backward and forward planes as the solve's own (principal angles ~0)."""
-    model, _ = twins
+    model, _, _ = twins
     form = speed_linear_form(model)
     forms = _whirl.whirl_forms(model)
     lam, shapes = _eigensolve.upper_shapes(form.at(np.array([0.0])), form.n_dof, mass=form.matrices.M)

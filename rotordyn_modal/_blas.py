@@ -15,6 +15,10 @@ at 2,006; the product ``inv(M) @ M`` 0.92/1.07/1.33 at 1,000 and 1.01/1.05/1.08 
 from the threads). A study's workers hold every library to one thread already
 (:func:`.study.execution.worker_initializer`); this is the same limit in the
 command line's and the Python API's own process.
+
+:func:`seeded_start`: the one fixed start vector of ARPACK's iterations (and of an inverse
+iteration's right-hand side), for every caller on every floor (the shaft's bending frequencies in
+:mod:`.model.flexible`, the analyses' Lanczos and Arnoldi, ``check``'s rigid-body count).
 """
 
 from __future__ import annotations
@@ -23,7 +27,10 @@ import contextlib
 import functools
 import sys
 
-__all__ = ["one_blas_thread", "BLAS_THREADED_BYTES"]
+__all__ = ["one_blas_thread", "BLAS_THREADED_BYTES", "seeded_start"]
+
+#: the seed of :func:`seeded_start`
+_START_SEED = 20261129
 
 #: items (matrices) whose work exceeds this may make BLAS start threads of its own [bytes]
 BLAS_THREADED_BYTES = 72 * 48 * 48
@@ -60,3 +67,15 @@ def _blas_controller(scipy_linalg_loaded: bool):
     except ImportError:  # pragma: no cover
         return None
     return ThreadpoolController()
+
+
+def seeded_start(n: int):
+    """A fixed start vector (n,) of standard normal draws for ARPACK (``eigsh``/``eigs``'s ``v0``)
+    and inverse iterations: without one, ARPACK draws its start from a random sequence that runs
+    on from call to call in a process, so the modes' last bits (and their signs) depended on how
+    many solves the process had made before. The one start of every such call (Lanczos of the
+    lowest-modes route test, the shaft's bending frequencies, shift-invert Arnoldi, the rigid-body
+    count of ``check``)."""
+    import numpy as np
+
+    return np.random.default_rng(_START_SEED).standard_normal(n)

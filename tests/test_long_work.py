@@ -168,7 +168,7 @@ def test_python_and_the_command_line_allow_long_work_by_one_switch(examples_dir,
 
     # axisymmetric: the cut inside its double root at rest is left to the full solve, as before that
     # cut got its own refinement (tests/test_lowest_cut_in_double_root.py; as test_lowest_fallback_limits)
-    monkeypatch.setattr(_lowest, "_cut_in_a_multiple_root", lambda *args: None)
+    monkeypatch.setattr(_lowest, "_cut_in_a_multiple_root", lambda *args, **kwargs: None)
     path = str(examples_dir / "compressor_rotor.toml")
     model, speeds = rdm.load_model(path), np.array([0.0, 500.0])
     command = ["campbell", path, "--speeds", "0:500:2", "--speed-unit", "rad/s", "--no-critical", "--quiet",

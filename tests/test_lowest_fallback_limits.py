@@ -27,7 +27,7 @@ def cut_in_a_double_root_left_whole(monkeypatch):
     """The speed left to the full solve: the cut inside a double root at rest, as before its own
     refinement (``_lowest._cut_in_a_multiple_root``, tests/test_lowest_cut_in_double_root.py)
     serves it; these tests are of the fallback's limits, whatever the speed it serves."""
-    monkeypatch.setattr(_lowest, "_cut_in_a_multiple_root", lambda *args: None)
+    monkeypatch.setattr(_lowest, "_cut_in_a_multiple_root", lambda *args, **kwargs: None)
 
 
 @pytest.fixture

@@ -14,7 +14,7 @@ import numpy as np
 
 from . import _batches, _roots, _vectors
 
-__all__ = ["REPEATED_TOLERANCE", "eigenvalues_of", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
+__all__ = ["REPEATED_TOLERANCE", "eigenvalues_of", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
            "upper_indices", "upper_shapes", "ratio_round_off"]
 
 
@@ -193,7 +193,7 @@ def solve_batch(form, speeds, forms=None):
 REPEATED_TOLERANCE = 1e-9
 
 
-def resolve_repeated(eigenvalues, shapes, forms, variants=None):
+def resolve_repeated(eigenvalues, shapes, forms, variants=None, groups=True):
     """Make the shapes of a repeated eigenvalue its forward and backward whirl combinations.
 
     Any combination of the shapes of a double eigenvalue is a mode shape, so the
@@ -201,7 +201,10 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
     pair this picks the two combinations with extreme whirl ratio: the
     eigenvectors of ``-i Phi^H W Phi v = mu Phi^H M Phi v`` (circular orbits, one
     turning each way, for an axisymmetric machine). Pairs whose motion has no
-    whirl keep their shapes. Groups of three or more are left as they are.
+    whirl keep their shapes. Groups of three or more coinciding roots (identical
+    rotors at rest: a root of multiplicity four) are made the whirl-sorted
+    eigenvectors of the same pencil over their eigenspace, backward first
+    (:func:`resolve_groups`).
 
     Parameters
     ----------
@@ -211,11 +214,15 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
         Each (n, n), or (V, n, n) for rows of several variants.
     variants : ndarray of int, shape (N,), optional
         The variant of each row, with forms stacked over variants.
+    groups : bool
+        Also resolve groups of three or more (False: the pairs only).
 
     Returns
     -------
     ndarray, shape (N, m, n): shapes, with repeated pairs replaced (backward first)
     """
+    if groups:
+        shapes = resolve_groups(eigenvalues, shapes, forms, variants, copy=True)
     rows, first = _repeated_pairs(eigenvalues)
     if not len(rows):
         return shapes
@@ -233,6 +240,91 @@ def resolve_repeated(eigenvalues, shapes, forms, variants=None):
     out[rows, first] = resolved[:, :, 0]
     out[rows, first + 1] = resolved[:, :, 1]
     return out
+
+
+def resolve_groups(eigenvalues, shapes, forms, variants=None, rows=None, copy=False):
+    """The shapes of each root of multiplicity three or more made the whirl-sorted combinations
+    of its eigenspace, backward first: ``-i Phi^H W Phi v = mu Phi^H T Phi v`` (``T`` the total
+    form), as :func:`resolve_repeated` makes a pair's. A group is a run of adjacent roots of
+    ``eigenvalues`` (N, m) (by frequency; NaN where a row has fewer roots) within
+    :data:`REPEATED_TOLERANCE` of the row's largest |lambda|, not zero. Two identical rotors at
+    rest have four roots of each double root's value: any basis of them comes out of a solver
+    (whirl ratios anywhere in ``[-1, 1]``); made two of ratio -1 and two of +1, each the same
+    combination whichever basis the solver gave, so the shapes go on as the split roots' once
+    the rotors turn. Groups whose shapes do not span their space, or do not whirl, keep their
+    shapes.
+
+    Parameters
+    ----------
+    eigenvalues : ndarray, shape (N, m)
+    shapes : ndarray, shape (N, m, n)
+        Written over where a group is resolved, unless ``copy`` or real (then a complex copy is).
+    forms : WhirlForms
+        Each (n, n), (V, n, n) with ``variants`` or ``scipy.sparse`` (n, n).
+    variants : ndarray of int, shape (N,), optional
+    rows : sequence of int, optional
+        The rows to look at (all by default).
+    copy : bool
+        Leave ``shapes`` as it is: write a copy.
+
+    Returns
+    -------
+    ndarray, shape (N, m, n): ``shapes``, or its complex copy where one was written
+    """
+    at = np.arange(len(eigenvalues)) if rows is None else np.asarray(rows, dtype=int)
+    if eigenvalues.shape[-1] < 3 or not len(at):
+        return shapes
+    lam = eigenvalues[at]
+    with np.errstate(invalid="ignore"):
+        scale = np.nanmax(np.abs(lam), axis=-1) + 1e-300
+        close = np.abs(np.diff(lam, axis=-1)) <= REPEATED_TOLERANCE * scale[:, None]
+    # runs of three or more: two closes in a row somewhere
+    candidates = np.nonzero((close[:, 1:] & close[:, :-1]).any(axis=-1))[0]
+    copied = False
+    for c in candidates:
+        s = at[c]
+        for start, stop in _runs(close[c]):
+            if stop - start < 3 or eigenvalues[s, start] == 0:
+                continue
+            resolved = _whirl_sorted(shapes[s, start:stop].T, forms, None if variants is None else variants[s])
+            if resolved is not None:
+                if not copied and (copy or not np.iscomplexobj(shapes)):
+                    shapes, copied = shapes.astype(complex), True
+                shapes[s, start:stop] = resolved.T
+    return shapes
+
+
+def _whirl_sorted(basis, forms, variant=None):
+    """The whirl-sorted combinations (n, g) of the ``g`` shapes ``basis`` (n, g) of one multiple
+    root (:func:`resolve_groups`), or None where they do not span their space or do not whirl."""
+    total, momentum = (basis.conj().T @ _dense(form, basis, variant) for form in (forms.total, forms.W))
+    spread = np.linalg.eigvalsh(0.5 * (total + total.conj().T))
+    if not spread[0] > 1e-6 * spread[-1]:
+        return None
+    mu, resolved = _extreme_whirl(basis[None], total[None], -1j * momentum[None])
+    return resolved[0] if mu[0, -1] - mu[0, 0] > 1e-6 else None
+
+
+def _dense(form, basis, variant=None):
+    """``form @ basis`` (n, g) of a whirl form (n, n), (V, n, n) (``variant``'s; the first where
+    None) or ``scipy.sparse``."""
+    if getattr(form, "ndim", 2) == 3:
+        form = form[0 if variant is None else variant]
+    return form @ basis
+
+
+def _runs(close):
+    """``(start, stop)`` of each run of roots joined by ``close`` (k - 1,) bool: roots
+    ``start:stop``, at least two."""
+    runs, j = [], 0
+    while j < len(close):
+        if close[j]:
+            start = j
+            while j < len(close) and close[j]:
+                j += 1
+            runs.append((start, j + 1))
+        j += 1
+    return runs
 
 
 def _whirling_pairs(shapes, rows, first, forms, variants):

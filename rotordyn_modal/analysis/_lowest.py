@@ -149,11 +149,13 @@ def _reduced_roots(stack, speeds, count, progress=False):
         return (*_by_frequency(values, shapes, count), ok)
     basis = np.hstack([modes[:, :size], attached])
     values, shapes, ok, unmissed = _swept(pencils, basis, want, count)
-    ok &= _distinct(values, shapes) & unmissed
+    ok &= _distinct(values, shapes)
+    near = ok & ~unmissed               # every root refined and distinct; the next start within the error
+    ok &= unmissed
     # Newton may reorder roots of close frequency: by frequency again
     values, shapes = _by_frequency_over(values, shapes, count)
     ok &= _basis_suffices(values, bound, size, attached.shape[1], rho)
-    _cut_in_a_multiple_root(stack, pencils, bound, (values, shapes, ok), count)
+    _cut_in_a_multiple_root(stack, pencils, bound, (values, shapes, ok), count, near=near)
     return values, shapes, ok
 
 
@@ -161,7 +163,7 @@ def _reduced_roots(stack, speeds, count, progress=False):
 _MULTIPLE_EXTRA = 4
 
 
-def _cut_in_a_multiple_root(stack, pencils, bound, out, count):
+def _cut_in_a_multiple_root(stack, pencils, bound, out, count, project=None, near=None):
     """The speeds that failed a check because the cut falls inside a multiple root, refined again
     with more starts, written into ``out`` = (values (S, k), shapes (S, k, n), ok (S,)), ``k =
     count + 1``, by frequency.
@@ -177,22 +179,38 @@ def _cut_in_a_multiple_root(stack, pencils, bound, out, count):
     the cut, where it is a double root, are its backward and forward whirl combinations, backward
     first (:func:`._eigensolve.resolve_repeated`): the root kept below the cut is the backward one,
     the lower of the two as soon as the rotor turns (``docs/theory.md`` section 17, "Multiple
-    roots"); the full eigen-solve, before, kept either.
+    roots"); the full eigen-solve, before, kept either. ``project`` (``pencils``, basis, ``want``,
+    rows) -> starts, vectors: the projected pencils' roots (:func:`._lowest_starts._projected_starts`
+    by default; the rational pencil's, :func:`._lowest_branches._projected_starts`, for mounts with
+    Maxwell branches). The modes route, :func:`roots_below` with a ``count`` and the Maxwell route
+    take it alike.
+
+    ``near`` (S,) bool: speeds whose roots all converged and are distinct but whose highest start,
+    less the projection's error, does not lie above the ``count``-th root (:func:`_unmissed`)
+    where the ``count + 1``-th is a distinct root just above the ``count``-th (a pair split by the
+    speed, closer than the projection's error: a 400-coordinate shaft at 300 rad/s, 4101.0 and
+    4102.8 rad/s with an error of 0.96): refined again the same way, the next start then the
+    ``count + 2``-th, well above (issue 28).
     """
+    project = _projected_starts if project is None else project
     values, shapes, ok = out
     k = values.shape[1]
     if k <= count or ok.all():
         return
     with np.errstate(invalid="ignore"):
         cut = np.abs(values[:, count] - values[:, count - 1]) <= _SAME * np.abs(values[:, count - 1])
+    if near is not None:                # a distinct root just above the cut (not a multiple root)
+        with np.errstate(invalid="ignore"):
+            cut |= near & (np.abs(values[:, count].imag - values[:, count - 1].imag)
+                           > _SAME * np.abs(values[:, count - 1]))
     rows = np.nonzero(~ok & cut)[0]
     n = len(bound.omegas)
     for extra in range(1, _MULTIPLE_EXTRA + 1):
         if not len(rows) or k + extra > n:
             return
         want = k + extra
-        basis, suffices = _basis_for(pencils, bound, want, rows)
-        starts, vectors = _projected_starts(pencils, basis, want, rows)
+        basis, suffices = _basis_for(pencils, bound, want, rows, project)
+        starts, vectors = project(pencils, basis, want, rows)
         found, found_shapes, converged = _refined(pencils, starts, vectors, rows)
         top = _top_of_group(found, count)                              # (R,) the multiple root's last place
         above = top + 1 < want                                          # a start above it was refined
@@ -211,13 +229,14 @@ def _cut_in_a_multiple_root(stack, pencils, bound, out, count):
         rows = rows[~passed & ~above]                                   # more starts may reach above it
 
 
-def _basis_for(pencils, bound, want, rows):
+def _basis_for(pencils, bound, want, rows, project=None):
     """The reduced basis (n, m) for the ``want`` lowest roots at the speeds ``rows``, sized as
     :func:`_reduced_roots` sizes it, and its check (roots (S, want), NaN at the other speeds ->
-    (S,) bool, :func:`_basis_suffices`)."""
+    (S,) bool, :func:`_basis_suffices`). ``project``: as :func:`_cut_in_a_multiple_root`'s."""
+    project = _projected_starts if project is None else project
     n = len(bound.omegas)
     size = min(n, max(3 * want, want + 10))
-    rho = _MARGIN * np.max(np.abs(_projected_starts(pencils, bound.modes[:, :size], want, rows)[0]))
+    rho = _MARGIN * np.nanmax(np.abs(project(pencils, bound.modes[:, :size], want, rows)[0]))
     size = min(n, max(_needed_size(bound, rho, size), want))
     _, attached = bound.shares(size, rho)
     return (np.hstack([bound.modes[:, :size], attached]),
@@ -369,67 +388,19 @@ def _needed_size(bound, rho, size):
 
 
 def _by_whirl(stack, values, shapes, rows):
-    """A double root's two shapes (any basis of its plane, as Newton's iteration left them) made its
-    backward and forward whirl combinations at the speeds ``rows`` (S,) bool, written over
-    ``shapes`` (S, k, n): as the full eigen-solve gives them (:func:`._eigensolve.resolve_repeated`),
-    so an axisymmetric rotor at rest has the same whirl either way. ``values`` (S, k) by frequency."""
-    from ._eigensolve import _repeated_pairs, resolve_repeated
+    """A multiple root's shapes (any basis of its eigenspace, as Newton's iteration left them) made
+    its whirl-sorted combinations, backward first, at the speeds ``rows`` (S,) bool, written over
+    ``shapes`` (S, k, n): as the full eigen-solve gives them (:func:`._eigensolve.resolve_repeated`,
+    pairs and groups of three or more), so an axisymmetric rotor at rest has the same whirl either
+    way. ``values`` (S, k) by frequency."""
+    from ._eigensolve import _repeated_pairs, resolve_groups, resolve_repeated
 
     every = np.nonzero(rows)[0]
     rows = np.unique(every[_repeated_pairs(values[every])[0]]) if len(every) else every
     if len(rows):
         shapes[rows] = resolve_repeated(values[rows], shapes[rows], stack.repeated_forms,
-                                        np.zeros(len(rows), int))
-    _by_whirl_in_groups(stack, values, shapes, every)
-
-
-def _by_whirl_in_groups(stack, values, shapes, rows):
-    """The shapes of each root of multiplicity three or more (adjacent coinciding roots of
-    ``values`` (S, k), by frequency, within ``_eigensolve.REPEATED_TOLERANCE`` of the speed's
-    largest |lambda|) at the speeds ``rows`` (R,) made the whirl-sorted combinations of their
-    eigenspace, backward first, written over ``shapes`` (S, k, n): ``-i Phi^H W Phi v = mu Phi^H
-    T Phi v`` (``T`` the total form), as :func:`._eigensolve.resolve_repeated` makes a pair's
-    (which leaves groups of three or more as they are). Two identical rotors at rest have four
-    roots of each double root's value: any basis of them came out of Newton's iteration, whirl
-    ratios anywhere in ``[-1, 1]``; now two of ratio -1 and two of +1. Groups whose shapes do not
-    span their space or do not whirl keep their shapes."""
-    from ._eigensolve import REPEATED_TOLERANCE, _extreme_whirl
-
-    forms = stack.repeated_forms
-    for s in rows:
-        lam = values[s]
-        with np.errstate(invalid="ignore"):
-            close = np.abs(np.diff(lam)) <= REPEATED_TOLERANCE * (np.nanmax(np.abs(lam)) + 1e-300)
-        for start, stop in _runs(close):
-            if stop - start < 3 or lam[start] == 0:
-                continue
-            basis = shapes[s, start:stop].T                                    # (n, g)
-            total, momentum = (basis.conj().T @ _dense(form, basis) for form in (forms.total, forms.W))
-            spread = np.linalg.eigvalsh(0.5 * (total + total.conj().T))
-            if not spread[0] > 1e-6 * spread[-1]:
-                continue
-            mu, resolved = _extreme_whirl(basis[None], total[None], -1j * momentum[None])
-            if mu[0, -1] - mu[0, 0] > 1e-6:
-                shapes[s, start:stop] = resolved[0].T
-
-
-def _runs(close):
-    """``(start, stop)`` of each run of roots joined by ``close`` (k - 1,) bool: roots
-    ``start:stop``, at least two."""
-    runs, j = [], 0
-    while j < len(close):
-        if close[j]:
-            start = j
-            while j < len(close) and close[j]:
-                j += 1
-            runs.append((start, j + 1))
-        j += 1
-    return runs
-
-
-def _dense(form, basis):
-    """``form @ basis`` (n, g) of a whirl form (n, n), (1, n, n) or ``scipy.sparse``."""
-    return (form[0] if getattr(form, "ndim", 2) == 3 else form) @ basis
+                                        np.zeros(len(rows), int), groups=False)
+    resolve_groups(values, shapes, stack.repeated_forms, rows=every)
 
 
 def _distinct(values, shapes=None):
@@ -762,7 +733,10 @@ def _reduced_below(stack, speeds, limit, count):
     values, shapes = _by_frequency_over(values, shapes, count)
     # the bound at the wanted roots (a missed one lies below the limit, :func:`_unmissed_below`)
     wanted = _wanted(values, limit, count)
-    return values, shapes, ok & _basis_suffices(np.where(wanted, values, 0), bound, size, attached.shape[1], rho)
+    ok &= _basis_suffices(np.where(wanted, values, 0), bound, size, attached.shape[1], rho)
+    if count is not None:               # the count-th root's other half the first start above it
+        _cut_in_a_multiple_root(stack, pencils, bound, (values, shapes, ok), count)
+    return values, shapes, ok
 
 
 def _starts_below(pencils, basis, limit, count, want, vectors_at=None):
@@ -793,11 +767,10 @@ def _unmissed_below(starts, values, limit, count):
 
 def _by_frequency_over(values, shapes, count=None):
     """:func:`._lowest_starts._by_frequency` with ``shapes`` (S, k, n) reordered over itself, a part
-    of the speeds at a time: no second copy of every speed's shapes. Returns the roots (S, k) by
-    frequency and ``shapes``."""
+    of the speeds at a time (:func:`._batches.reordered_over`, as campbell's tracking): no second
+    copy of every speed's shapes. Returns the roots (S, k) by frequency and ``shapes``."""
     order = lowest_order(values, count)
-    for part in _batches.chunk_slices(len(order), shapes[:1].nbytes, budget=_NEWTON_BYTES):
-        shapes[part] = np.take_along_axis(shapes[part], order[part, :, None], 1)
+    _batches.reordered_over(shapes[None], order[None], _NEWTON_BYTES)
     return np.take_along_axis(values, order, 1), shapes
 
 

@@ -161,8 +161,10 @@ def _reduced_roots(stack, speeds, count):
     ok &= np.isfinite(starts).all(axis=1) & (modal.all(axis=1) | complete)
     ok &= _lowest._unmissed(starts, values, count)
     values, shapes = _lowest._by_frequency_over(values, shapes, count)
-    return values, shapes, ok & _lowest._basis_suffices(np.where(modal, values, 0), bound, size,
-                                                        attached.shape[1], rho)
+    ok &= _lowest._basis_suffices(np.where(modal, values, 0), bound, size, attached.shape[1], rho)
+    if not complete:                    # the count-th root's other half the first start above it
+        _lowest._cut_in_a_multiple_root(stack, pencils, bound, (values, shapes, ok), count, _projected_starts)
+    return values, shapes, ok
 
 
 def _swept(stack, pencils, basis, want, complete):

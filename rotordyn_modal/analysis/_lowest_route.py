@@ -19,6 +19,7 @@ from . import _arnoldi, _lowest_bound
 from ._lowest_bound import _FEW, _MARGIN
 from ._lowest_pencils import _block, _nonzero
 from ._lowest_starts import _projected_starts
+from .._blas import seeded_start
 
 __all__: list[str] = []
 
@@ -27,15 +28,6 @@ __all__: list[str] = []
 #: first modes (the reduced route takes it from the ``eigh``'s), and the lower bound of the
 #: completeness bound asked to exceed ``_SHARE`` this many times
 _LOWER_RHO, _CLEAR = 0.9, 2.0
-#: the seed of Lanczos's start vector (:func:`_start`)
-_START_SEED = 20261129
-
-
-def _start(n: int) -> np.ndarray:
-    """A fixed start vector (n,) for ``eigsh``: without one, ARPACK draws its start from a random
-    sequence that runs on from call to call in a process, so the modes' last bits (and their signs)
-    depended on how many Lanczos solves the process had made before."""
-    return np.random.default_rng(_START_SEED).standard_normal(n)
 
 
 #: bisection steps for a mode in the middle of the spectrum (one sparse factorisation each)
@@ -158,7 +150,7 @@ def _cheap_modes(stack, pencils, size: int):
     elif size:
         try:
             _, modes = scipy.sparse.linalg.eigsh(symmetric.tocsc(), k=size, M=mass, sigma=-1e-6 * pencils.scale,
-                                                 which="LM", v0=_start(symmetric.shape[0]))
+                                                 which="LM", v0=seeded_start(symmetric.shape[0]))
         except (ValueError, RuntimeError, scipy.sparse.linalg.ArpackError):
             return None
         modes = modes / np.sqrt(np.einsum("ij,ij->j", modes, mass @ modes))
@@ -207,7 +199,7 @@ def _mode_above(symmetric, mass, index: int, low: float, scale: float):
     edge = low if at_low == index else high
     try:
         values, vectors = scipy.sparse.linalg.eigsh(symmetric.tocsc(), k=min(3, n - 2), M=mass, sigma=edge,
-                                                    which="LM", v0=_start(n))
+                                                    which="LM", v0=seeded_start(n))
     except (ValueError, RuntimeError, scipy.sparse.linalg.ArpackError):
         return None
     above = np.nonzero(values >= edge)[0]

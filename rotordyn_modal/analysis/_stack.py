@@ -440,19 +440,20 @@ class Pencils:
         """``M phi``, ``(C + Omega G) phi`` and ``K phi`` of ``rows`` for complex vectors (R, n),
         stacked: (3, R, n).
 
-        Row by row (each result independent of the others, so that a study's variant and the
-        single analysis of its model agree bit for bit), except for one large model with constant
-        coefficients: there one matrix product serves all rows."""
+        Row by row: each result independent of the others, so that a study's variant and the
+        single analysis of its model agree bit for bit, and a critical speed's refinement does not
+        depend on which other crossings share its batch (issue 28: one matrix product over all
+        rows of a model above ``BATCHED_DOF`` coordinates gave their last bits by the batch's
+        size). A large machine's sparse matrices multiply all rows at once, each output entry
+        summed over its row's entries in their stored order whatever the rows (``scipy.sparse``'s
+        CSR product): row by row too."""
         stack = self.stack
         speeds = self.speeds[rows, None]
         if self.shared and vectors.shape[-1] > _pencils.BATCHED_DOF:
             sparse = stack.sparse_matrices()
             if sparse is not None:         # a large machine's sparse matrices: O(nnz) per vector
                 m_phi, c_phi, g_phi, k_phi = ((matrix @ vectors.T).T for matrix in sparse)
-            else:
-                m_phi, c_phi, g_phi, k_phi = (_vectors.real_product(vectors, matrix[0].T)
-                                              for matrix in (stack.M, stack.C, stack.G, stack.K))
-            return np.array((m_phi, c_phi + speeds * g_phi, k_phi))
+                return np.array((m_phi, c_phi + speeds * g_phi, k_phi))
         if stack.dependent and stack.sparse_constant is not None:      # a large model's: sparse, row by row
             M, C, G, K = stack.sparse_constant
             columns = vectors.T

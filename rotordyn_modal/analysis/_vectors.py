@@ -68,3 +68,4 @@ def mac_matrix(a, b) -> np.ndarray:
     ndarray, shape (..., m, p), values in [0, 1]
     """
     return np.abs(a.conj() @ np.swapaxes(b, -1, -2)) ** 2  # batched BLAS, not einsum's loops
+

@@ -396,10 +396,12 @@ def solve_sweep(model, speeds, progress=False, whirl_noise=False):
     -------
     eigenvalues : ndarray, shape (N, m), complex, tracked columns
     shapes : ndarray, shape (N, m, n), complex, unit norm
-    weighted : ndarray, shape (N, m, n), complex, unit mass-weighted
+    weighted : array-like, shape (N, m, n), complex, unit mass-weighted
+        Read like an array, computed a part at a time where read (:class:`._weighted_rows.WeightedRows`).
     noise : ndarray, shape (N, m), with ``whirl_noise`` only
     """
-    return tuple(part[0] for part in solve_sweeps(Stack([model]), speeds, progress, whirl_noise))
+    values, shapes, weighted, *noise = solve_sweeps(Stack([model]), speeds, progress, whirl_noise)
+    return (values[0], shapes[0], weighted.variant(0)) + tuple(part[0] for part in noise)
 
 
 def solve_sweeps(stack, speeds, progress=False, whirl_noise=False):
@@ -410,8 +412,10 @@ def solve_sweeps(stack, speeds, progress=False, whirl_noise=False):
 
     Returns
     -------
-    eigenvalues : ndarray, shape (V, N, m); shapes, weighted : ndarray, shape (V, N, m, n);
-    with ``whirl_noise`` also noise : ndarray, shape (V, N, m)
+    eigenvalues : ndarray, shape (V, N, m); shapes : ndarray, shape (V, N, m, n);
+    weighted : WeightedRows, read like an array (V, N, m, n) of the mass-weighted shapes, computed
+    a part at a time where read (one copy of the shapes held, not two); with ``whirl_noise`` also
+    noise : ndarray, shape (V, N, m)
     """
     speeds = np.asarray(speeds, dtype=float)
     count = len(stack)
@@ -441,15 +445,17 @@ def solve_sweeps(stack, speeds, progress=False, whirl_noise=False):
             if whirl_noise:
                 noise[:, part] = solved[2].reshape(lam.shape)
         del lam, phi, solved
-    flat = shapes.reshape((-1,) + shapes.shape[-2:])
-    weighted = stack.weighted(flat, _variant_rows(count, len(speeds))).reshape(shapes.shape)
+    # read by part where tracking and the critical speeds compare shapes (the rows of
+    # Stack.weighted of the whole, bit for bit): not a second copy of every shape
+    weighted = WeightedRows(stack, shapes)
     order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
     extra = (noise,) if whirl_noise else ()
     if (order == np.arange(order.shape[-1])).all():     # every root keeps its place: nothing to reorder
         return (values, shapes, weighted) + extra
     variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
     extra = (noise[variants, rows, order],) if whirl_noise else ()
-    return (values[variants, rows, order], _reordered(shapes, order), _reordered(weighted, order)) + extra
+    shapes = _reordered(shapes, order)
+    return (values[variants, rows, order], shapes, weighted.reordered(order, shapes)) + extra
 
 
 #: a sweep of more work than this [bytes] shown by a progress bar is solved in at least
@@ -463,15 +469,9 @@ _REORDER_BYTES = 16 * 2**20
 
 
 def _reordered(shapes, order):
-    """``shapes[v, k, order[v, k]]`` for shapes (V, N, m, n) and ``order`` (V, N, c), ``c <= m``,
-    written over the first ``c`` columns of ``shapes`` itself a part of the speeds at a time (a
-    view of them): a reordered copy of the whole would double the sweep's largest arrays (two of
-    them at once for a 100-rotor machine: 420 MB at 51 speeds)."""
-    variants = np.arange(len(order))[:, None, None]
-    columns = order.shape[-1]
-    for part in _batches.chunk_slices(order.shape[1], shapes[:, 0].nbytes, budget=_REORDER_BYTES):
-        shapes[:, part, :columns] = shapes[variants, np.arange(part.start, part.stop)[None, :, None], order[:, part]]
-    return shapes[:, :, :columns]
+    """``shapes[v, k, order[v, k]]`` (V, N, c) over ``shapes`` (V, N, m, n) itself
+    (:func:`._batches.reordered_over`, parts of ``_REORDER_BYTES``)."""
+    return _batches.reordered_over(shapes, order, _REORDER_BYTES)
 
 
 def _variant_rows(count, per):
@@ -779,8 +779,10 @@ def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossi
                     sparse=False) -> float:
     """Peak memory of :func:`campbell_many` [bytes], estimated from the sizes alone.
 
-    The sweep keeps two sets of unit shapes (plain and mass-weighted: ``2 V N m n`` complex
-    numbers, ``m = n_states - n_states // 2`` roots per speed) beside its eigen-solver's work (a
+    The sweep keeps one set of unit shapes (``V N m n`` complex numbers, ``m = n_states -
+    n_states // 2`` roots per speed; their mass-weighted rows, which tracking and the critical
+    speeds read, are computed a part of at most ``_batches._PART_BYTES`` at a time,
+    :class:`._weighted_rows.WeightedRows`) beside its eigen-solver's work (a
     part of the speeds of ``_batches.CHUNK_BYTES``, at least one speed of about 72 bytes per
     entry of the state matrix); the critical speeds' refinement adds its parts' work and the
     brackets swept again (``_SUB_SPEEDS`` speeds' shapes, twice, at each of ``_SUB_DEPTH``
@@ -826,7 +828,8 @@ def memory_estimate(n_dof, n_states, n_speeds, variants=1, critical=True, crossi
         solver = 4 * 8.0 * variants * n_dof ** 2
     small = 16.0 * 12 * variants * n_speeds * roots                    # eigenvalues and their quantities
     work = solver + per_speed * n_speeds                                # while solving: the shapes so far
-    after = 2 * per_speed * n_speeds                                    # shapes and weighted shapes
+    # the shapes, and their weighted rows a part at a time (the whole where it is one part)
+    after = per_speed * n_speeds + min(per_speed * n_speeds, _batches._PART_BYTES)
     if critical:
         refine = _batches.CHUNK_BYTES if sparse else max(_batches.CHUNK_BYTES, 64.0 * n_dof ** 2)
         sub = _SUB_DEPTH * 2 * _SUB_SPEEDS * roots * n_dof * 16.0 + (0.0 if lowest else one_speed / variants)

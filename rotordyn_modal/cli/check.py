@@ -112,7 +112,7 @@ def _sparse_rank(model, K) -> int:
     import scipy.sparse
     import scipy.sparse.linalg
 
-    from ..analysis._lowest_route import _start
+    from .._blas import seeded_start
     from ..assembly import is_large, mass_matrix, sparse_constant_matrices
 
     stiffness = scipy.sparse.csc_matrix(0.5 * (K + K.T))
@@ -120,7 +120,7 @@ def _sparse_rank(model, K) -> int:
     diagonal = mass.diagonal()
     largest = float(np.max(np.abs(stiffness.diagonal()) / np.where(diagonal > 0, diagonal, np.inf)))
     values = scipy.sparse.linalg.eigsh(stiffness, k=min(12, K.shape[0] - 2), M=mass, sigma=-1e-12 * largest,
-                                       which="LM", return_eigenvectors=False, v0=_start(K.shape[0]))
+                                       which="LM", return_eigenvectors=False, v0=seeded_start(K.shape[0]))
     return K.shape[0] - int(np.count_nonzero(values <= 1e-9 * largest))
 
 

@@ -974,14 +974,16 @@ def _bending_sparse(mass, shaft_k, supported_k):
     digits while ``s`` is below a thousand times the lowest)."""
     import scipy.sparse.linalg
 
+    from .._blas import seeded_start
+
     diagonal = mass.diagonal()
     largest = float(np.max(shaft_k.diagonal() / np.where(diagonal > 0, diagonal, np.inf)))
     largest = max(largest, float(np.max(supported_k.diagonal() / np.where(diagonal > 0, diagonal, np.inf))))
     shift = -1e-12 * largest
 
     def lowest(stiffness, count):
-        start = np.random.default_rng(20261129).standard_normal(stiffness.shape[0])   # ARPACK's own start is random
-        values, vectors = scipy.sparse.linalg.eigsh(stiffness, k=count, M=mass, sigma=shift, which="LM", v0=start)
+        values, vectors = scipy.sparse.linalg.eigsh(stiffness, k=count, M=mass, sigma=shift, which="LM",
+                                                    v0=seeded_start(stiffness.shape[0]))
         order = np.argsort(values)
         return values[order], vectors[:, order]
 

@@ -679,8 +679,8 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0, to_unit=1.0):
     if cut:                           # one legend entry (no line of the axes) says what the marks are
         from matplotlib.lines import Line2D
 
-        mag._legend_extra = [Line2D([], [], linestyle="none", label="response at a damped critical speed\n"
-                                    "between swept speeds", **_CUT_PEAK)]
+        mag._legend_extra = [Line2D([], [], linestyle="none", label="peak between swept speeds\n"
+                                    "(near a damped critical speed)", **_CUT_PEAK)]
     _limit_range(mag)
     phase.set_yticks([-180, -90, 0, 90, 180])
     phase.set_ylabel("Phase [deg]")
@@ -688,8 +688,8 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0, to_unit=1.0):
 
 
 def _mark_cut_speed_peaks(mag, result, i, j, to_unit, factor, colour) -> int:
-    """An open diamond in the curve's colour at the response at each damped critical speed of
-    output ``i`` and source ``j`` that the line through the swept speeds cuts
+    """An open diamond in the curve's colour at each peak of output ``i`` and source ``j`` that
+    the line through the swept speeds cuts (the true maximum between them)
     (:meth:`~rotordyn_modal.analysis.unbalance.UnbalanceResult.cut_peaks`), ``to_unit`` the
     axis' speed unit per rad/s; returns how many."""
     at, response, _ = result.cut_peaks(result.outputs[i], result.sources[j])

@@ -112,7 +112,7 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     fig, ax = new_figure(ax)
     scale = speed_scale(speed_unit)
     x = result.speeds * scale
-    curves = _Curves(result, scale, axis_scale == "log", whirl=not color_by)
+    curves = _Curves(result, scale, axis_scale == "log", whirl=not color_by, frequencies=freqs)
     if color_by:
         _show_coincident_coloured(fig, ax, curves, _draw_coloured(ax, fig, curves, result, color_by))
     else:
@@ -236,9 +236,10 @@ class _Curves:
         ``result.whirl_changes()`` (``whirl=True``).
     """
 
-    def __init__(self, result, scale, log, whirl=False):
+    def __init__(self, result, scale, log, whirl=False, frequencies=None):
         sweep = result.speeds
-        frequencies = np.where(result.oscillatory, result.frequencies_hz, np.nan)
+        if frequencies is None:
+            frequencies = np.where(result.oscillatory, result.frequencies_hz, np.nan)
         curves = result.mode_curves()
         self.sweep = sweep
         self.changes = result.whirl_changes() if whirl else None
@@ -256,8 +257,8 @@ class _Curves:
             low, high = frequencies[k], frequencies[after]
             with np.errstate(all="ignore"):
                 self.f[self.inserted] = low * (high / low) ** t if log else low + t * (high - low)
-            for m, (at, values, _) in enumerate(curves):
-                own = at != sweep[np.searchsorted(sweep, at, side="right") - 1]
+            for m, (at, values, index) in enumerate(curves):
+                own = at != sweep[index]
                 self.f[np.searchsorted(speeds, at[own]), m] = values[own]
 
     def mask(self, mask):

@@ -358,11 +358,10 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0, 
         mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=name,
                      **({} if sparse is None else {"marker": ".", "ms": 3, "markevery": sparse}))
         phase.plot(*_broken_at_wraps(result.frequencies_hz, phase_values), color=colour, ls=style, lw=0.9)
-        cut += _mark_cut_peaks(mag, result, o, i, factor, colour)
-    if cut:                           # one legend entry (no line of the axes) says what the marks are
-        from matplotlib.lines import Line2D
-
-        mag._legend_extra = [Line2D([], [], linestyle="none", label="peak between computed frequencies", **_CUT_PEAK)]
+        at, peak = result.cut_peaks(o, i)
+        cut += _mark_cut(mag, at, np.abs(peak) * abs(factor), colour)
+    if cut:
+        _cut_legend(mag, "peak between computed frequencies")
     _limit_range(mag)
     _frequency_scale(mag, result.frequencies_hz)
 
@@ -371,16 +370,22 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0, 
 _CUT_PEAK = {"marker": "D", "ms": 4.5, "mfc": "none", "mew": 1.0, "color": "0.2"}
 
 
-def _mark_cut_peaks(mag, result, o, i, factor, colour) -> int:
-    """An open diamond in the curve's colour at the height of each resonance of FRF ``(o, i)``
-    that its line cuts (:meth:`~rotordyn_modal.analysis.frf.FRFResult.cut_peaks`: more than 3 dB
-    above both computed frequencies around it), on a dense-looking stretch as on a sparse one;
-    returns how many."""
-    at, h = result.cut_peaks(o, i)
-    if len(at):
-        mag.plot(at, np.abs(h) * abs(factor), linestyle="none", gid="cut-peak", label="_cut-peak",
-                 **dict(_CUT_PEAK, color=colour))
-    return len(at)
+def _mark_cut(mag, x, height, colour) -> int:
+    """An open diamond in the curve's colour at each ``(x, height)`` (as drawn: axis units) of a
+    peak that the curve's line cuts (:meth:`~rotordyn_modal.analysis.frf.FRFResult.cut_peaks`,
+    :meth:`~rotordyn_modal.analysis.unbalance.UnbalanceResult.cut_peaks`: more than 3 dB above
+    both computed points around it), on a dense-looking stretch as on a sparse one; returns
+    how many."""
+    if len(x):
+        mag.plot(x, height, linestyle="none", gid="cut-peak", label="_cut-peak", **dict(_CUT_PEAK, color=colour))
+    return len(x)
+
+
+def _cut_legend(mag, label) -> None:
+    """One legend entry of ``mag`` (no line of the axes) saying what the diamonds are."""
+    from matplotlib.lines import Line2D
+
+    mag._legend_extra = [Line2D([], [], linestyle="none", label=label, **_CUT_PEAK)]
 
 
 #: on a logarithmic frequency axis, computed frequencies farther apart than this ratio (30 per
@@ -675,28 +680,14 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0, to_unit=1.0):
             # broken where the phase wraps: a line from -180 to 180 deg read as a curve of its own
             phase.plot(*_broken_at_wraps(x, result.phase_deg[i, j]), color=colour, ls=style, lw=0.9)
             colours[i, j] = colour
-            cut += _mark_cut_speed_peaks(mag, result, i, j, to_unit, factor, colour)
-    if cut:                           # one legend entry (no line of the axes) says what the marks are
-        from matplotlib.lines import Line2D
-
-        mag._legend_extra = [Line2D([], [], linestyle="none", label="peak between swept speeds\n"
-                                    "(near a damped critical speed)", **_CUT_PEAK)]
+            at, response, _ = result.cut_peaks(result.outputs[i], s)
+            cut += _mark_cut(mag, at * to_unit, np.abs(response) * factor, colour)
+    if cut:
+        _cut_legend(mag, "peak between swept speeds\n(near a damped critical speed)")
     _limit_range(mag)
     phase.set_yticks([-180, -90, 0, 90, 180])
     phase.set_ylabel("Phase [deg]")
     return colours
-
-
-def _mark_cut_speed_peaks(mag, result, i, j, to_unit, factor, colour) -> int:
-    """An open diamond in the curve's colour at each peak of output ``i`` and source ``j`` that
-    the line through the swept speeds cuts (the true maximum between them)
-    (:meth:`~rotordyn_modal.analysis.unbalance.UnbalanceResult.cut_peaks`), ``to_unit`` the
-    axis' speed unit per rad/s; returns how many."""
-    at, response, _ = result.cut_peaks(result.outputs[i], result.sources[j])
-    if len(at):
-        mag.plot(at * to_unit, np.abs(response) * factor, linestyle="none", gid="cut-peak", label="_cut-peak",
-                 **dict(_CUT_PEAK, color=colour))
-    return len(at)
 
 
 def _show_overlaps(axes, x, speed_unit):
@@ -935,30 +926,41 @@ def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=
     return kept[:_LABELLED]
 
 
+#: the peak labels' leaders, tried in turn: crossing no curve; crossing curves at the labels'
+#: default cost (:data:`._labels._MOST_COST`); and at this many label heights
+_LEADER_WAYS = ((False, None), (True, None), (True, 40.0))
+
+
 def _label_peaks(ax, chosen, renderer, top=np.nan):
     """Label the chosen peaks (the largest first) where there is room, the axis ending above
     ``top`` (the largest value drawn) by the least of :data:`_LABEL_HEADROOMS` that labels the
     largest peak and, of those, the most; mark those labelled."""
     from ._labels import place_point_labels
 
-    def place(share):
+    def place(way):
+        share, crossing, most_cost = way
         _fit_top(ax, top, share)
         return place_point_labels(ax, [(c[0], c[1]) for c in chosen], [c[2] for c in chosen],
-                                  [c[3] for c in chosen], renderer=renderer, crossing=False)
+                                  [c[3] for c in chosen], renderer=renderer, crossing=crossing,
+                                  most_cost=most_cost)
 
     # the largest peak labelled first, then as many as may be: the most labels at a headroom
     # that left the largest out put gear_machine's AF 21.6 at 1400 rpm (25 um, the panel's
-    # highest) unlabelled beside three smaller ones
+    # highest) unlabelled beside three smaller ones. Leaders crossing no curve first; where
+    # those leave a chosen peak out (peaks clustered under each other's curves: the report's
+    # casing panel of motor_pump_on_mounts labelled 1 of 6), leaders that may cross curves
+    # (never a label, nor another leader where some box avoids it), then reaching farther
+    # (into the room the curves leave beside the cluster)
     counts = {}
-    for share in _LABEL_HEADROOMS:
-        drawn = place(share)
-        counts[share] = (any(label.xy == tuple(chosen[0][:2]) for label in drawn), len(drawn))
+    for way in [(share, crossing, cost) for crossing, cost in _LEADER_WAYS for share in _LABEL_HEADROOMS]:
+        drawn = place(way)
+        counts[way] = (any(label.xy == tuple(chosen[0][:2]) for label in drawn), len(drawn))
         if len(drawn) == len(chosen) or not np.isfinite(top):
             break
         for label in drawn:
             label.remove()
     else:
-        drawn = place(min(counts, key=lambda share: (not counts[share][0], -counts[share][1], share)))
+        drawn = place(min(counts, key=lambda way: (not counts[way][0], -counts[way][1], way[1], way[2] or 0, way[0])))
     for label in drawn:
         ax.plot(*label.xy, "v", color=label.get_color(), mec="k", mew=0.5, ms=5, label="_peak")
 

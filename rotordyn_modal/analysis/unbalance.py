@@ -198,6 +198,10 @@ class UnbalanceResult:
     cut_peak_widths : ndarray, shape (n_outputs, n_sources, Q), or None
         The width ``N2 - N1`` [rad/s] between the peak's half-power points on the exact
         response (API 684's amplification factor is ``|speed| / width``).
+    cut_peak_note : str
+        Why those peaks were not looked for ('not looked for in a model of 5400 coordinates',
+        :func:`~rotordyn_modal.analysis.unbalance_peaks.not_looked_for`; the figure's legend
+        says it), or ''.
     """
 
     speeds: np.ndarray
@@ -226,6 +230,7 @@ class UnbalanceResult:
     cut_peak_speeds: np.ndarray | None = None
     cut_peak_response: np.ndarray | None = None
     cut_peak_widths: np.ndarray | None = None
+    cut_peak_note: str = ""
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -671,10 +676,12 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
     found (:func:`api_unbalance_response`'s cases, one machine)."""
     from .unbalance_peaks import cut_maxima, unresolved_criticals
 
+    from .unbalance_peaks import not_looked_for
+
     if wanted and found is None:
         found = unresolved_criticals(model, speeds, ratios)
     if not wanted or found is None:
-        return dict.fromkeys(_RESONANCE_FIELDS)
+        return dict(dict.fromkeys(_RESONANCE_FIELDS), cut_peak_note=not_looked_for(model, speeds) if wanted else "")
     n_outputs = swept.shape[0]
     width = max(len(c) for c, _ in found)
     at = np.full((len(found), width), np.nan)
@@ -766,7 +773,7 @@ def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: st
     -------
     UnbalanceResult
     """
-    from .unbalance_peaks import unresolved_criticals
+    from .unbalance_peaks import not_looked_for, unresolved_criticals
 
     cases = api_unbalance_cases(model, mcs)
     # one machine: its damped critical speeds found once, for each case's rotor
@@ -788,7 +795,7 @@ def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: st
         ground_forces=joined("ground_forces", 2), bearing_forces=joined("bearing_forces", 2),
         bearing_point_forces=joined("bearing_point_forces", 2), orbit_planes=joined("orbit_planes", 1),
         spin_signs=joined("spin_signs", 0), clearance_planes=joined("clearance_planes", 1),
-        **_joined_resonances(results))
+        **_joined_resonances(results), cut_peak_note="" if found is not None else not_looked_for(model, speeds))
 
 
 def _joined_resonances(results) -> dict:

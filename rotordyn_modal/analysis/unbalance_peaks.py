@@ -22,7 +22,7 @@ from ..assembly import is_large
 from ..linear_system import speed_linear_form
 from ._eigensolve import eigenvalues_of
 
-__all__ = ["cut_maxima", "unresolved_criticals"]
+__all__ = ["cut_maxima", "not_looked_for", "unresolved_criticals"]
 
 #: the roots are looked for when the sweep's eigen-solutions cost at most this many
 #: ``N n_states^3`` (about a second of one core)
@@ -53,24 +53,71 @@ def unresolved_criticals(model, speeds, ratios):
         frequency equals the source's frequency and no swept speed lies within a quarter of
         ``band``, shape (P_j,) [rad/s]: the mode's half-power band ``|Re lam| / pi`` [Hz]
         over the speed rate of the distance between the two frequencies. None where not
-        computed: loss factors (no state form of their damping), a large model, or
-        eigen-solutions of the sweep costing more than :data:`_WORK`.
+        computed (:func:`not_looked_for`): a large model, or eigen-solutions of the sweep
+        costing more than :data:`_WORK`. Hysteretic mounts (loss factors): the roots of
+        :class:`_LossyForm`, whose viscous equivalent of the loss stiffness is exact at the
+        source's frequency.
     """
     x = np.unique(np.asarray(speeds, dtype=float))
-    if x.size < 2 or any(s.loss_factor for s in model.suspensions) or is_large(model):
+    if x.size < 2 or is_large(model):
         return None
     form = speed_linear_form(model)
-    if x.size * float(form.n_states) ** 3 > _WORK:
+    if not_looked_for(model, x, form):
         return None
-    roots = _oscillating_roots(form, x)
-    found = {r: _source_criticals(form, x, roots, r) for r in {abs(float(r)) for r in ratios}}   # once a ratio
+    lossy = any(s.loss_factor for s in model.suspensions)
+    found = {}
+    for r in {abs(float(r)) for r in ratios}:                              # once a ratio
+        each = _LossyForm(form, model, r) if lossy and r else form
+        found[r] = _source_criticals(each, x, _oscillating_roots(each, x), r) if r or not lossy \
+            else (np.zeros(0), np.zeros(0))
     return [found[abs(float(r))] for r in ratios]
+
+
+def not_looked_for(model, speeds, form=None) -> str:
+    """Why the peaks between ``speeds`` (N,) [rad/s] are not looked for (the unbalance figure's
+    legend says it), or '' where they are: a large model, or eigen-solutions of the sweep
+    costing more than :data:`_WORK` (``form``: the model's state form, if made already)."""
+    if is_large(model):
+        return f"not looked for in a model of {model.dofs.n} coordinates"
+    n_states = (form or speed_linear_form(model)).n_states
+    if np.unique(np.asarray(speeds, dtype=float)).size * float(n_states) ** 3 > _WORK:
+        return f"not looked for: {len(np.unique(speeds))} eigen-solutions of {n_states} states"
+    return ""
+
+
+class _LossyForm:
+    """The state matrix of a model with hysteretic mounts (``K (1 + i eta)``) for a source of
+    speed ratio ``r``: the loss stiffness ``eta K`` taken as the viscous damping
+    ``eta K / (r |Omega|)`` it equals at the source's frequency ``r |Omega|``, so that where a
+    root's damped frequency equals that frequency (a damped critical speed) the root is the
+    hysteretic model's; no root at speed 0 (NaN). ``at(speeds)`` as
+    :meth:`~rotordyn_modal.linear_system.SpeedLinearForm.at`."""
+
+    def __init__(self, form, model, ratio):
+        from ..assembly import loss_stiffness
+
+        self.form, self.ratio, self.n_states = form, ratio, form.n_states
+        self.extra = form.mass_inverse @ loss_stiffness(model)
+
+    def at(self, speeds):
+        speeds = np.asarray(speeds, dtype=float)
+        out = np.array(self.form.at(speeds), dtype=float)
+        n = self.form.n_dof
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out[..., n:2 * n, n:2 * n] -= self.extra / (self.ratio * np.abs(speeds))[..., None, None]
+        out[speeds == 0] = np.nan
+        return out
 
 
 def _oscillating_roots(form, speeds):
     """The roots with ``Im > 0`` and ``-Re > _LEAST_DAMPING |lam|`` of the state matrix at each of
-    ``speeds`` (S,), sorted by frequency, NaN after the last: shape (S, m), complex [1/s]."""
-    values = eigenvalues_of(form.at(np.asarray(speeds, dtype=float)))
+    ``speeds`` (S,), sorted by frequency, NaN after the last (all NaN where the matrix is not
+    finite): shape (S, m), complex [1/s]."""
+    matrices = form.at(np.asarray(speeds, dtype=float))
+    finite = np.all(np.isfinite(matrices), axis=(1, 2))          # (:class:`_LossyForm`: none at speed 0)
+    values = np.full(matrices.shape[:2], np.nan + 0j)
+    if finite.any():
+        values[finite] = eigenvalues_of(matrices[finite] if not finite.all() else matrices)
     keep = (values.imag > 0) & (values.real < -_LEAST_DAMPING * np.abs(values))
     key = np.where(keep, values.imag, np.inf)
     order = np.argsort(key, axis=1)

@@ -684,6 +684,10 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0, to_unit=1.0):
             cut += _mark_cut(mag, at * to_unit, np.abs(response) * factor, colour)
     if cut:
         _cut_legend(mag, "peak between swept speeds\n(near a damped critical speed)")
+    elif getattr(result, "cut_peak_note", ""):        # say why no peak between swept speeds is marked
+        from matplotlib.lines import Line2D
+
+        mag._legend_extra = [Line2D([], [], linestyle="none", label=f"peaks between swept speeds\n{result.cut_peak_note}")]
     _limit_range(mag)
     phase.set_yticks([-180, -90, 0, 90, 180])
     phase.set_ylabel("Phase [deg]")

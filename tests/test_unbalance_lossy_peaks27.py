@@ -81,3 +81,25 @@ def test_a_model_whose_roots_are_not_looked_for_says_so(lossy, monkeypatch):
             assert any("not looked for" in t for t in texts), texts
     finally:
         matplotlib.pyplot.close(fig)
+
+
+def test_an_frf_of_the_direct_engine_says_its_peaks_are_not_looked_for(lossy):
+    """The direct engine (loss factors) solves no roots: its FRF figure marks no cut peak and its
+    legend says that none was looked for (a figure of the modal engine has no such entry)."""
+    model, _, _ = lossy
+    result = rdm.frf(model, rdm.rpm(1500.0), np.linspace(1.0, 300.0, 300), outputs=["acc-pump-z"])
+    assert result.engine == "direct" and result.resonances_hz is None
+    fig = result.plot()
+    try:
+        texts = [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
+        assert any("not looked for" in t for t in texts), texts
+    finally:
+        matplotlib.pyplot.close(fig)
+    viscous = rdm.frf(rdm.load_model(EXAMPLES / "motor_pump_on_mounts.toml"), rdm.rpm(1500.0),
+                      np.linspace(1.0, 300.0, 300), outputs=["acc-pump-z"])
+    fig = viscous.plot()
+    try:
+        texts = [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
+        assert not any("not looked for" in t for t in texts), texts
+    finally:
+        matplotlib.pyplot.close(fig)

@@ -362,10 +362,17 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0, 
         cut += _mark_cut(mag, at, np.abs(peak) * abs(factor), colour)
     if cut:
         _cut_legend(mag, "peak between computed frequencies")
+    elif result.engine == "direct" and result.resonances_hz is None and pairs:
+        # the direct engine (loss factors, Maxwell branches, a large model) has no roots: say so
+        from matplotlib.lines import Line2D
+
+        mag._legend_extra = [Line2D([], [], linestyle="none", label=_NOT_LOOKED_FOR)]
     _limit_range(mag)
     _frequency_scale(mag, result.frequencies_hz)
 
 
+#: the legend's word on an FRF of the direct engine: no roots, so no cut peak is looked for
+_NOT_LOOKED_FOR = "peaks between computed frequencies\nnot looked for (direct engine: no roots)"
 #: the mark of a resonance's peak that the line between two computed frequencies cuts
 _CUT_PEAK = {"marker": "D", "ms": 4.5, "mfc": "none", "mew": 1.0, "color": "0.2"}
 

@@ -1012,8 +1012,7 @@ def box_distance(box, x, y) -> float:
     return float(np.hypot(du, dv))
 
 
-def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=None, curves=None, crossing=True,
-                       most_cost=None):
+def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=None, curves=None, crossing=True):
     """Annotate points of ``ax`` in the order given, each label inside the axes and apart.
 
     Each label takes the free box (:func:`first_free_box`: inside the axes, clear of every
@@ -1041,9 +1040,6 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
         leader crosses no curve (but within :data:`ANCHOR_POINTS` of its anchor) and is at
         most :data:`_LONGEST_LEADER` label heights long are taken, the nearest, boxes straight
         above and below the anchor among them.
-    most_cost : float, optional
-        With ``crossing``: the cost (label heights) above which a label is left out, default
-        :data:`_MOST_COST`.
 
     Returns
     -------
@@ -1068,7 +1064,7 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
         w, h = text_size(fig, text, fontsize, renderer)
         candidates = boxes_around(px, py, w, h, pad, marker, _FAR_ROWS, _FAR_COLUMNS, across=not crossing)
         box = _leader_box(candidates, (px, py), h, placed, (pad, inner), (labels, leaders), curves,
-                          ANCHOR_POINTS * points, crossing, _MOST_COST if most_cost is None else most_cost)
+                          ANCHOR_POINTS * points, crossing)
         if box is None:
             continue
         end = nearest_in(box, (px, py))
@@ -1084,14 +1080,13 @@ def place_point_labels(ax, anchors, texts, colors, fontsize="x-small", renderer=
     return drawn
 
 
-def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossing=True, most_cost=_MOST_COST):
+def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossing=True):
     """The box of ``candidates`` for a label of height ``h`` joined to ``point`` by a leader
     line, of least cost (:func:`place_point_labels`), or None.
 
     ``room`` is (gap, frame), ``drawn`` (label boxes, leader lines) drawn so far, ``keep``
     the half size of the square around ``point`` where curves may cross the label (and its
-    leader), ``crossing`` whether the leader may cross curves beyond it, ``most_cost`` the
-    cost (label heights) above which a label is left out.
+    leader), ``crossing`` whether the leader may cross curves beyond it.
     """
     labels, leaders = drawn
     square = anchor_box(*point, keep)
@@ -1113,7 +1108,7 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
     for apart in (True, False) if crossing else (True,):
         box = first_free_box(candidates, placed, (gap, gap), frame, allowed=lambda b: clear(b, apart), cost=cost,
                              bound=lambda box: box_distance(box, *point))
-        if box is not None and cost(box) > max(most_cost * h, box_distance(box, *point)):
+        if box is not None and cost(box) > max(_MOST_COST * h, box_distance(box, *point)):
             placed.pop()            # far, its leader across curves: left out
             box = None
         if box is not None:

@@ -57,6 +57,12 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None, units:
     matplotlib.figure.Figure
     """
     pairs = pairs or [(o, i) for o in result.outputs for i in result.inputs]
+    if not pairs:                # force outputs of a part the model has none of (no [[suspensions]])
+        from ..errors import InputError
+
+        raise InputError(f"nothing to draw: the FRF has no {'outputs' if not result.outputs else 'inputs'} (force "
+                         "outputs of a part the model has none of, e.g. --force-outputs suspensions without "
+                         "[[suspensions]])")
     nonzero = [(o, i) for o, i in pairs if np.any(result.H[result.outputs.index(o), result.inputs.index(i)])]
     zero, pairs = len(pairs) - len(nonzero), nonzero or pairs
     default = (f"{result.quantity.capitalize()} at {result.speed * 30 / np.pi:.0f} rpm"
@@ -937,43 +943,123 @@ def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=
     return kept[:_LABELLED]
 
 
-#: the peak labels' leaders, tried in turn: crossing no curve; crossing curves at the labels'
-#: default cost (:data:`._labels._MOST_COST`); and at this many label heights
-_LEADER_WAYS = ((False, None), (True, None), (True, 40.0))
-
-
 def _label_peaks(ax, chosen, renderer, top=np.nan):
     """Label the chosen peaks (the largest first) where there is room, the axis ending above
     ``top`` (the largest value drawn) by the least of :data:`_LABEL_HEADROOMS` that labels the
-    largest peak and, of those, the most; mark those labelled."""
+    largest peak and, of those, the most; mark those labelled. Where chosen peaks are left out
+    (clustered under each other's curves: the report's casing panel of motor_pump_on_mounts
+    labelled 1 of its 6), each gets a number at its peak instead and a key inside the axes,
+    clear of the curves and labels, gives its text (:func:`_keyed_labels`)."""
     from ._labels import place_point_labels
 
-    def place(way):
-        share, crossing, most_cost = way
+    def place(share, texts=None):
         _fit_top(ax, top, share)
-        return place_point_labels(ax, [(c[0], c[1]) for c in chosen], [c[2] for c in chosen],
-                                  [c[3] for c in chosen], renderer=renderer, crossing=crossing,
-                                  most_cost=most_cost)
+        return place_point_labels(ax, [(c[0], c[1]) for c in chosen], texts or [c[2] for c in chosen],
+                                  [c[3] for c in chosen], renderer=renderer, crossing=False)
 
     # the largest peak labelled first, then as many as may be: the most labels at a headroom
     # that left the largest out put gear_machine's AF 21.6 at 1400 rpm (25 um, the panel's
-    # highest) unlabelled beside three smaller ones. Leaders crossing no curve first; where
-    # those leave a chosen peak out (peaks clustered under each other's curves: the report's
-    # casing panel of motor_pump_on_mounts labelled 1 of 6), leaders that may cross curves
-    # (never a label, nor another leader where some box avoids it), then reaching farther
-    # (into the room the curves leave beside the cluster)
+    # highest) unlabelled beside three smaller ones
     counts = {}
-    for way in [(share, crossing, cost) for crossing, cost in _LEADER_WAYS for share in _LABEL_HEADROOMS]:
-        drawn = place(way)
-        counts[way] = (any(label.xy == tuple(chosen[0][:2]) for label in drawn), len(drawn))
+    for share in _LABEL_HEADROOMS:
+        drawn = place(share)
+        counts[share] = (any(label.xy == tuple(chosen[0][:2]) for label in drawn), len(drawn))
         if len(drawn) == len(chosen) or not np.isfinite(top):
             break
         for label in drawn:
             label.remove()
     else:
-        drawn = place(min(counts, key=lambda way: (not counts[way][0], -counts[way][1], way[1], way[2] or 0, way[0])))
+        share = min(counts, key=lambda share: (not counts[share][0], -counts[share][1], share))
+        drawn = place(share)
+    if len(drawn) < len(chosen):
+        drawn = _keyed_labels(ax, chosen, drawn, lambda texts: place(share, texts), renderer)
     for label in drawn:
         ax.plot(*label.xy, "v", color=label.get_color(), mec="k", mew=0.5, ms=5, label="_peak")
+
+
+#: the font size of the key of the peaks labelled by a number
+_KEY_FONT = "x-small"
+
+
+def _keyed_labels(ax, chosen, drawn, place, renderer):
+    """``drawn`` (the labels placed, ``chosen`` the peaks) with the peaks left out labelled by a
+    number ('1', '2', ...) at the peak instead, and a key inside ``ax`` giving each number's
+    text in its colour ('1: AF 6.7 at 578 rpm (1X pump), SM 81 % (API 14 %)'), clear of the
+    curves, the labels and their leaders; ``place(texts)`` places every chosen peak's label
+    again (the full ones first kept, the numbers small enough to fit where a text did not).
+    Where no room takes the key, ``drawn`` as it was. Returns the labels drawn."""
+    full = {c[2] for c in chosen if any(label.xy == (c[0], c[1]) for label in drawn)}
+    for _ in range(3):                       # a number may take a full label's room: number that one too
+        numbered = [c for c in chosen if c[2] not in full]
+        tags = {c[2]: str(n) for n, c in enumerate(numbered, start=1)}
+        for label in drawn:
+            label.remove()
+        drawn = place([c[2] if c[2] in full else tags[c[2]] for c in chosen])
+        shown = {label.get_text() for label in drawn}
+        if full <= shown:
+            break
+        full &= shown
+    # numbered in order of speed, those with no room for their number last, keyed without one
+    by_tag = {label.get_text(): label for label in drawn if label.get_text() in tags.values()}
+    numbered.sort(key=lambda c: (tags[c[2]] not in by_tag, c[0]))
+    texts = []
+    for n, c in enumerate(numbered, start=1):
+        text = c[2].replace(chr(10), ", ")
+        if tags[c[2]] in by_tag:
+            texts.append(f"{n}: {text}")
+        else:
+            texts.append(f"no room at its peak: {text}")
+    for n, c in enumerate(numbered, start=1):
+        if tags[c[2]] in by_tag:
+            by_tag[tags[c[2]]].set_text(str(n))
+    colours = [c[3] for c in numbered]
+    key = _place_key(ax, texts, colours, drawn, renderer) if texts else []
+    if key:
+        return drawn
+    for label in drawn:                      # no room for the key: the full labels alone
+        label.remove()
+    return [label for label in place([c[2] for c in chosen]) if label.get_text() in {c[2] for c in chosen}]
+
+
+def _place_key(ax, texts, colours, labels, renderer) -> list:
+    """Lines of ``texts`` (each in its colour) stacked in a box inside ``ax`` where no curve,
+    no label of ``labels`` or its leader, no other text or arrow of ``ax`` lies (the first
+    free of a grid, top rows first, right to left); returns the texts drawn, or [] where none
+    is free."""
+    from ._labels import CurveMap, crosses_any, first_free_box, text_size
+
+    fig = ax.figure
+    sizes = [text_size(fig, t, _KEY_FONT, renderer) for t in texts]
+    pad, gap = 3.0 * fig.dpi / 72.0, 1.0 * fig.dpi / 72.0           # around the key, between its lines
+    w, h = max(s[0] for s in sizes) + 2 * pad, sum(s[1] + gap for s in sizes) - gap + 2 * pad
+    frame = ax.get_window_extent(renderer)
+    curves = CurveMap(ax, renderer)
+    boxes = [tuple(label.get_window_extent(renderer).extents) for label in labels]
+    leaders = [(label.arrow_patch.get_path().vertices[0], ax.transData.transform(label.xy)) for label in labels
+               if label.arrow_patch is not None]
+    markers = [tuple(ax.transData.transform(label.xy)) for label in labels]
+    boxes += [(x - pad, y - pad, x + pad, y + pad) for x, y in markers]
+    for other in ax.texts:                  # the axes' other texts and arrows (a probe limit above the axis)
+        if other in labels or not other.get_visible():
+            continue
+        boxes.append(tuple(other.get_window_extent(renderer).extents))
+        arrow = getattr(other, "arrow_patch", None)
+        if arrow is not None:
+            boxes.append(tuple(arrow.get_window_extent(renderer).extents))
+    candidates = [(u, v, u + w, v + h) for v in np.linspace(frame.y1 - pad - h, frame.y0 + pad, 16)
+                  for u in np.linspace(frame.x1 - pad - w, frame.x0 + pad, 16)]
+    box = first_free_box(candidates, boxes, frame=(frame.x0 + pad, frame.y0 + pad, frame.x1 - pad, frame.y1 - pad),
+                         allowed=lambda b: curves.free(b) and not crosses_any(leaders, [b]))
+    if box is None:
+        return []
+    drawn, y = [], box[3] - pad
+    for text, colour, (_, height) in zip(texts, colours, sizes):
+        y -= height
+        at = ax.transAxes.inverted().transform((box[0] + pad, y))
+        drawn.append(ax.text(*at, text, transform=ax.transAxes, fontsize=_KEY_FONT, color=colour, ha="left",
+                             va="bottom", gid="peak-key"))
+        y -= gap
+    return drawn
 
 
 #: magnitudes below this fraction of the largest are round-off (an FRF zero by symmetry): not shown

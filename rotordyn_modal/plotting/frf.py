@@ -1052,12 +1052,15 @@ def _place_key(ax, texts, colours, labels, renderer) -> list:
                          allowed=lambda b: curves.free(b) and not crosses_any(leaders, [b]))
     if box is None:
         return []
+    # aligned on the box's side nearer the axes' edge: a figure saved at another resolution,
+    # laid out again, may draw the text a little wider, towards the axes' middle
+    right = (box[0] + box[2]) / 2 > (frame.x0 + frame.x1) / 2
     drawn, y = [], box[3] - pad
     for text, colour, (_, height) in zip(texts, colours, sizes):
         y -= height
-        at = ax.transAxes.inverted().transform((box[0] + pad, y))
-        drawn.append(ax.text(*at, text, transform=ax.transAxes, fontsize=_KEY_FONT, color=colour, ha="left",
-                             va="bottom", gid="peak-key"))
+        at = ax.transAxes.inverted().transform((box[2] - pad if right else box[0] + pad, y))
+        drawn.append(ax.text(*at, text, transform=ax.transAxes, fontsize=_KEY_FONT, color=colour,
+                             ha="right" if right else "left", va="bottom", gid="peak-key"))
         y -= gap
     return drawn
 

@@ -186,6 +186,22 @@ class UnbalanceResult:
         The half-power band in speed [rad/s] of the mode there.
     resonance_response : ndarray, shape (n_outputs, n_sources, P), complex, or None
         The response at those speeds.
+    cut_peak_speeds : ndarray, shape (n_outputs, n_sources, Q), or None
+        Each curve's maxima of the amplitude between swept speeds that the line through the
+        swept speeds cuts (more than sqrt(2) times both swept amplitudes around it), found on
+        the exact response near those damped critical speeds
+        (:func:`~rotordyn_modal.analysis.unbalance_peaks.cut_maxima`: two close modes sharing
+        one peak give one maximum, at the peak) [rad/s], NaN after a curve's last; None where
+        not computed.
+    cut_peak_response : ndarray, shape (n_outputs, n_sources, Q), complex, or None
+        The response there.
+    cut_peak_widths : ndarray, shape (n_outputs, n_sources, Q), or None
+        The width ``N2 - N1`` [rad/s] between the peak's half-power points on the exact
+        response (API 684's amplification factor is ``|speed| / width``).
+    cut_peak_note : str
+        Why those peaks were not looked for ('not looked for in a model of 5400 coordinates',
+        :func:`~rotordyn_modal.analysis.unbalance_peaks.not_looked_for`; the figure's legend
+        says it), or ''.
     """
 
     speeds: np.ndarray
@@ -211,6 +227,10 @@ class UnbalanceResult:
     resonance_speeds: np.ndarray | None = None
     resonance_bands: np.ndarray | None = None
     resonance_response: np.ndarray | None = None
+    cut_peak_speeds: np.ndarray | None = None
+    cut_peak_response: np.ndarray | None = None
+    cut_peak_widths: np.ndarray | None = None
+    cut_peak_note: str = ""
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -326,28 +346,21 @@ class UnbalanceResult:
         return plot_orbits(self, speeds=speeds, **kwargs)
 
     def cut_peaks(self, output: str, source: str):
-        """The damped critical speeds of one output's curve of one source that the line drawn
-        through the swept speeds cuts: those of :attr:`resonance_speeds` where the amplitude is
-        more than sqrt(2) (3 dB) times that at both swept speeds around it (of the same
-        direction of spin).
+        """The peaks of one output's curve of one source that the line drawn through the swept
+        speeds cuts: the maxima of the exact response between swept speeds more than sqrt(2)
+        (3 dB) times the amplitude at both swept speeds around them (:attr:`cut_peak_speeds`).
 
         Returns
         -------
         speeds : ndarray, shape (K,) [rad/s]; response : ndarray, shape (K,), complex;
-        bands : ndarray, shape (K,) [rad/s] (the mode's half-power band in speed)
+        widths : ndarray, shape (K,) [rad/s] (between the peak's half-power points)
         """
-        if self.resonance_speeds is None:
+        if self.cut_peak_speeds is None:
             return np.zeros(0), np.zeros(0, complex), np.zeros(0)
         o, j = self.outputs.index(output), self.sources.index(source)
-        at = self.resonance_speeds[j]
+        at = self.cut_peak_speeds[o, j]
         known = np.isfinite(at)
-        at, value, band = at[known], self.resonance_response[o, j, known], self.resonance_bands[j, known]
-        order = np.argsort(self.speeds)
-        x, y = self.speeds[order], self.amplitude[o, j, order]
-        where = np.clip(np.searchsorted(x, at), 1, max(len(x) - 1, 1))
-        around = np.maximum(y[where - 1], y[where])
-        cut = np.abs(value) > np.sqrt(2.0) * around
-        return at[cut], value[cut], band[cut]
+        return at[known], self.cut_peak_response[o, j, known], self.cut_peak_widths[o, j, known]
 
     def peaks(self, operating_speed: float | None = None, amplitude: str | None = None):
         """Peaks of each sensor's amplitude vs speed with API 684 figures.
@@ -367,9 +380,9 @@ class UnbalanceResult:
             ``output, source, speed_rpm, amplitude (0-peak), amplification_factor,
             separation_margin_pct, required_margin_pct`` [, ``amplitude_pkpk`` | ``amplitude_rms``].
             A peak that the line through the swept speeds cuts (:meth:`cut_peaks`) is reported at
-            its damped critical speed, with the response there and ``AF = |speed| / band``, the
-            mode's half-power band in speed (the swept points around it would give a lower peak
-            and a wider band). A peak of a curve at round-off (amplitude at most :data:`ROUND_OFF_AMPLITUDE` times
+            the maximum of the exact response, with the response there and ``AF = |speed| /
+            (N2 - N1)``, its half-power points on the exact response (the swept points around it
+            would give a lower peak and a wider band). A peak of a curve at round-off (amplitude at most :data:`ROUND_OFF_AMPLITUDE` times
             the largest of the response, every output and source: an API couple case seen at
             the centre of mass of a symmetric rotor, 3.5e-21 m beside 1e-5 m) is no resonance
             and is left out.
@@ -400,8 +413,8 @@ class UnbalanceResult:
 
     def _resolved_peaks(self, output: str, source: str):
         """:func:`amplification_factors` of one curve, a peak that the swept speeds cut
-        (:meth:`cut_peaks`) reported at its damped critical speed, with the response there and
-        ``AF = |speed| / band`` (the mode's half-power band in speed): one between the two swept
+        (:meth:`cut_peaks`) reported at the maximum of the exact response, with the response there
+        and ``AF = |speed| / (N2 - N1)`` (its half-power points): one between the two swept
         speeds around a swept peak replaces it, one elsewhere (the swept curve showing no peak)
         is added; ``[(speed [rad/s], amplitude, AF), ...]`` by speed."""
         o, j = self.outputs.index(output), self.sources.index(source)
@@ -630,7 +643,7 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         amplitude_kind=amplitude,
         clearance_names=tuple(c.name for c in model.clearances),
         clearance_planes=_clearance_planes(model, q, motions, n_src, n),
-        **_unresolved_fields(model, speeds, outputs, quantity, ratios, len(names), resonances, _criticals),
+        **_unresolved_fields(model, speeds, outputs, quantity, ratios, response, resonances, _criticals),
     )
 
 
@@ -652,19 +665,24 @@ def _sensor_response(model, speeds, outputs, quantity):
     return sources, w, response, (rotor_forces, speed_all, omega, q, shifts, motions)
 
 
-def _unresolved_fields(model, speeds, outputs, quantity, ratios, n_outputs, wanted=True, found=None) -> dict:
+def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=True, found=None) -> dict:
     """``resonance_speeds``, ``resonance_bands`` (n_src, P) [rad/s] and ``resonance_response``
     (n_outputs, n_src, P) of :class:`UnbalanceResult`: each source's damped critical speeds
     that no swept speed resolves (:func:`.unbalance_peaks.unresolved_criticals`) and the
-    response there, NaN after a source's last; None each where not computed or not
-    ``wanted``. ``found``: those speeds already found (:func:`api_unbalance_response`'s cases,
-    one machine)."""
-    from .unbalance_peaks import unresolved_criticals
+    response there, NaN after a source's last; ``cut_peak_speeds``, ``cut_peak_response`` and
+    ``cut_peak_widths`` (n_outputs, n_src, Q): each curve's maxima that the swept line cuts
+    (:func:`.unbalance_peaks.cut_maxima`); None each where not computed or not ``wanted``.
+    ``swept``: the response at ``speeds`` (n_outputs, n_src, N); ``found``: those speeds already
+    found (:func:`api_unbalance_response`'s cases, one machine)."""
+    from .unbalance_peaks import cut_maxima, unresolved_criticals
+
+    from .unbalance_peaks import not_looked_for
 
     if wanted and found is None:
         found = unresolved_criticals(model, speeds, ratios)
     if not wanted or found is None:
-        return {"resonance_speeds": None, "resonance_bands": None, "resonance_response": None}
+        return dict(dict.fromkeys(_RESONANCE_FIELDS), cut_peak_note=not_looked_for(model, speeds) if wanted else "")
+    n_outputs = swept.shape[0]
     width = max(len(c) for c, _ in found)
     at = np.full((len(found), width), np.nan)
     bands = np.full((len(found), width), np.nan)
@@ -672,12 +690,23 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, n_outputs, want
         at[j, :len(critical)], bands[j, :len(band)] = critical, band
     values = np.full((n_outputs, len(found), width), np.nan + 0j)
     every = np.concatenate([c for c, _ in found])
+
+    def response(s):
+        return _sensor_response(model, s, outputs, quantity)[2]                 # (n_out, n_src, K)
+
     if every.size:
-        response = _sensor_response(model, every, outputs, quantity)[2]          # (n_out, n_src, sum P)
         start = np.cumsum([0] + [len(c) for c, _ in found])
+        computed = response(every)
         for j in range(len(found)):
-            values[:, j, :start[j + 1] - start[j]] = response[:, j, start[j]:start[j + 1]]
-    return {"resonance_speeds": at, "resonance_bands": bands, "resonance_response": values}
+            values[:, j, :start[j + 1] - start[j]] = computed[:, j, start[j]:start[j + 1]]
+    peak_at, peak_value, peak_width = cut_maxima(response, speeds, np.abs(swept), found)
+    return {"resonance_speeds": at, "resonance_bands": bands, "resonance_response": values,
+            "cut_peak_speeds": peak_at, "cut_peak_response": peak_value, "cut_peak_widths": peak_width}
+
+
+#: the fields of :class:`UnbalanceResult` that :func:`_unresolved_fields` gives
+_RESONANCE_FIELDS = ("resonance_speeds", "resonance_bands", "resonance_response",
+                     "cut_peak_speeds", "cut_peak_response", "cut_peak_widths")
 
 
 def _clearance_planes(model, q, motions, n_src, n):
@@ -744,7 +773,7 @@ def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: st
     -------
     UnbalanceResult
     """
-    from .unbalance_peaks import unresolved_criticals
+    from .unbalance_peaks import not_looked_for, unresolved_criticals
 
     cases = api_unbalance_cases(model, mcs)
     # one machine: its damped critical speeds found once, for each case's rotor
@@ -766,21 +795,21 @@ def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: st
         ground_forces=joined("ground_forces", 2), bearing_forces=joined("bearing_forces", 2),
         bearing_point_forces=joined("bearing_point_forces", 2), orbit_planes=joined("orbit_planes", 1),
         spin_signs=joined("spin_signs", 0), clearance_planes=joined("clearance_planes", 1),
-        **_joined_resonances(results))
+        **_joined_resonances(results), cut_peak_note="" if found is not None else not_looked_for(model, speeds))
 
 
 def _joined_resonances(results) -> dict:
     """The resonance fields of :class:`UnbalanceResult` of ``results`` (one source each) as
     one result's, each source's padded with NaN to the longest."""
-    names = ("resonance_speeds", "resonance_bands", "resonance_response")
     if any(r.resonance_speeds is None for r in results):
-        return dict.fromkeys(names)
-    width = max(r.resonance_speeds.shape[1] for r in results)
+        return dict.fromkeys(_RESONANCE_FIELDS)
 
-    def padded(array):
-        extra = [(0, 0)] * (array.ndim - 1) + [(0, width - array.shape[-1])]
-        return np.pad(array, extra, constant_values=np.nan)
+    def joined(name, axis):
+        parts = [getattr(r, name) for r in results]
+        width = max(part.shape[-1] for part in parts)
+        padded = [np.pad(part, [(0, 0)] * (part.ndim - 1) + [(0, width - part.shape[-1])], constant_values=np.nan)
+                  for part in parts]
+        return np.concatenate(padded, axis=axis)
 
-    return {"resonance_speeds": np.concatenate([padded(r.resonance_speeds) for r in results], axis=0),
-            "resonance_bands": np.concatenate([padded(r.resonance_bands) for r in results], axis=0),
-            "resonance_response": np.concatenate([padded(r.resonance_response) for r in results], axis=1)}
+    return {name: joined(name, 0 if name in ("resonance_speeds", "resonance_bands") else 1)
+            for name in _RESONANCE_FIELDS}

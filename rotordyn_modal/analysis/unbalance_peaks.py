@@ -8,6 +8,10 @@ peak). These speeds are found from the state matrix's roots at the swept speeds 
 lowest damped frequency is continuous in speed, so a change of sign of its distance to
 ``f_j`` between two swept speeds brackets a crossing), each bracket then halved until it is
 a small share of the mode's band.
+
+The peaks themselves are the maxima of each curve's exact response near those speeds
+(:func:`cut_maxima`): two close modes may share one peak between their damped critical
+speeds, which neither speed's response reaches.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ from ..assembly import is_large
 from ..linear_system import speed_linear_form
 from ._eigensolve import eigenvalues_of
 
-__all__ = ["unresolved_criticals"]
+__all__ = ["cut_maxima", "not_looked_for", "unresolved_criticals"]
 
 #: the roots are looked for when the sweep's eigen-solutions cost at most this many
 #: ``N n_states^3`` (about a second of one core)
@@ -49,24 +53,71 @@ def unresolved_criticals(model, speeds, ratios):
         frequency equals the source's frequency and no swept speed lies within a quarter of
         ``band``, shape (P_j,) [rad/s]: the mode's half-power band ``|Re lam| / pi`` [Hz]
         over the speed rate of the distance between the two frequencies. None where not
-        computed: loss factors (no state form of their damping), a large model, or
-        eigen-solutions of the sweep costing more than :data:`_WORK`.
+        computed (:func:`not_looked_for`): a large model, or eigen-solutions of the sweep
+        costing more than :data:`_WORK`. Hysteretic mounts (loss factors): the roots of
+        :class:`_LossyForm`, whose viscous equivalent of the loss stiffness is exact at the
+        source's frequency.
     """
     x = np.unique(np.asarray(speeds, dtype=float))
-    if x.size < 2 or any(s.loss_factor for s in model.suspensions) or is_large(model):
+    if x.size < 2 or is_large(model):
         return None
     form = speed_linear_form(model)
-    if x.size * float(form.n_states) ** 3 > _WORK:
+    if not_looked_for(model, x, form):
         return None
-    roots = _oscillating_roots(form, x)
-    found = {r: _source_criticals(form, x, roots, r) for r in {abs(float(r)) for r in ratios}}   # once a ratio
+    lossy = any(s.loss_factor for s in model.suspensions)
+    found = {}
+    for r in {abs(float(r)) for r in ratios}:                              # once a ratio
+        each = _LossyForm(form, model, r) if lossy and r else form
+        found[r] = _source_criticals(each, x, _oscillating_roots(each, x), r) if r or not lossy \
+            else (np.zeros(0), np.zeros(0))
     return [found[abs(float(r))] for r in ratios]
+
+
+def not_looked_for(model, speeds, form=None) -> str:
+    """Why the peaks between ``speeds`` (N,) [rad/s] are not looked for (the unbalance figure's
+    legend says it), or '' where they are: a large model, or eigen-solutions of the sweep
+    costing more than :data:`_WORK` (``form``: the model's state form, if made already)."""
+    if is_large(model):
+        return f"not looked for in a model of {model.dofs.n} coordinates"
+    n_states = (form or speed_linear_form(model)).n_states
+    if np.unique(np.asarray(speeds, dtype=float)).size * float(n_states) ** 3 > _WORK:
+        return f"not looked for: {len(np.unique(speeds))} eigen-solutions of {n_states} states"
+    return ""
+
+
+class _LossyForm:
+    """The state matrix of a model with hysteretic mounts (``K (1 + i eta)``) for a source of
+    speed ratio ``r``: the loss stiffness ``eta K`` taken as the viscous damping
+    ``eta K / (r |Omega|)`` it equals at the source's frequency ``r |Omega|``, so that where a
+    root's damped frequency equals that frequency (a damped critical speed) the root is the
+    hysteretic model's; no root at speed 0 (NaN). ``at(speeds)`` as
+    :meth:`~rotordyn_modal.linear_system.SpeedLinearForm.at`."""
+
+    def __init__(self, form, model, ratio):
+        from ..assembly import loss_stiffness
+
+        self.form, self.ratio, self.n_states = form, ratio, form.n_states
+        self.extra = form.mass_inverse @ loss_stiffness(model)
+
+    def at(self, speeds):
+        speeds = np.asarray(speeds, dtype=float)
+        out = np.array(self.form.at(speeds), dtype=float)
+        n = self.form.n_dof
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out[..., n:2 * n, n:2 * n] -= self.extra / (self.ratio * np.abs(speeds))[..., None, None]
+        out[speeds == 0] = np.nan
+        return out
 
 
 def _oscillating_roots(form, speeds):
     """The roots with ``Im > 0`` and ``-Re > _LEAST_DAMPING |lam|`` of the state matrix at each of
-    ``speeds`` (S,), sorted by frequency, NaN after the last: shape (S, m), complex [1/s]."""
-    values = eigenvalues_of(form.at(np.asarray(speeds, dtype=float)))
+    ``speeds`` (S,), sorted by frequency, NaN after the last (all NaN where the matrix is not
+    finite): shape (S, m), complex [1/s]."""
+    matrices = form.at(np.asarray(speeds, dtype=float))
+    finite = np.all(np.isfinite(matrices), axis=(1, 2))          # (:class:`_LossyForm`: none at speed 0)
+    values = np.full(matrices.shape[:2], np.nan + 0j)
+    if finite.any():
+        values[finite] = eigenvalues_of(matrices[finite] if not finite.all() else matrices)
     keep = (values.imag > 0) & (values.real < -_LEAST_DAMPING * np.abs(values))
     key = np.where(keep, values.imag, np.inf)
     order = np.argsort(key, axis=1)
@@ -115,3 +166,167 @@ def _source_criticals(form, x, roots, ratio):
     unresolved = 4 * nearest > band
     order = np.argsort(critical[unresolved])
     return critical[unresolved][order], band[unresolved][order]
+
+
+#: each damped critical speed's neighbourhood is sampled at this share of its mode's half-power
+#: band in speed (there a single mode's response is at least about 0.9 of its peak) ...
+_GRID_STEP = 0.25
+#: ... this many bands either side (two close modes' shared peak lies between them)
+_GRID_REACH = 2.0
+#: the golden-section and bisection searches stop below this share of their first interval
+_SEARCH_SHARE = 1e-4
+#: two maxima of one curve closer than this share of their search intervals are one
+_SAME_MAXIMUM = 1e-3
+
+
+def cut_maxima(response, speeds, amplitude, found):
+    """The maxima of each curve's amplitude between swept speeds that the line through the swept
+    speeds cuts, with their API 684 half-power width, found on the exact response.
+
+    Around each damped critical speed that no swept speed resolves
+    (:func:`unresolved_criticals`) the response is sampled at a quarter of the mode's band,
+    two bands either side, within the two swept speeds around it; each interior maximum of
+    those samples is refined by a golden-section search on ``|response|`` (two close modes
+    sharing one peak give one maximum, at the peak, not one at each damped critical speed).
+    A maximum more than sqrt(2) (3 dB) times both swept amplitudes around it is cut; its
+    half-power points (``|response| = peak / sqrt(2)``, the nearest either side) are found by
+    bisection on the exact response.
+
+    Parameters
+    ----------
+    response : callable
+        ``response(s)``, ``s`` shape (K,) [rad/s] -> shape (n_out, n_src, K), complex.
+    speeds : ndarray, shape (N,) [rad/s]
+        The swept speeds, any order (repeats allowed).
+    amplitude : ndarray, shape (n_out, n_src, N)
+        ``|response|`` at ``speeds``.
+    found : list of (critical, band) per source
+        :func:`unresolved_criticals`' result.
+
+    Returns
+    -------
+    at, value, width : ndarray, shape (n_out, n_src, Q)
+        Each curve's cut maxima by speed [rad/s], the response there (complex) and the width
+        ``N2 - N1`` [rad/s] between the half-power points, NaN after a curve's last.
+    """
+    x, first = np.unique(np.asarray(speeds, dtype=float), return_index=True)
+    swept = np.asarray(amplitude)[:, :, first]                                  # (n_out, n_src, N')
+    n_out, n_src = swept.shape[:2]
+    segments = _segments(x, found)                    # [(j, k, points), ...]: source, bracket, samples
+    peaks = _candidates(response, segments, n_out) if segments else []
+    peaks = _refined(response, peaks) if peaks else []
+    peaks = [p for p in _distinct(peaks)
+             if abs(p["value"]) > np.sqrt(2.0) * max(swept[p["o"], p["j"], p["k"]], swept[p["o"], p["j"], p["k"] + 1])]
+    widths = _half_power_widths(response, peaks) if peaks else []
+    count = {}
+    for p in peaks:
+        count[p["o"], p["j"]] = count.get((p["o"], p["j"]), 0) + 1
+    q = max(count.values(), default=0)
+    at, width = np.full((n_out, n_src, q), np.nan), np.full((n_out, n_src, q), np.nan)
+    value = np.full((n_out, n_src, q), np.nan + 0j)
+    filled = {}
+    for p, w in sorted(zip(peaks, widths), key=lambda item: item[0]["at"]):
+        n = filled.get((p["o"], p["j"]), 0)
+        at[p["o"], p["j"], n], value[p["o"], p["j"], n], width[p["o"], p["j"], n] = p["at"], p["value"], w
+        filled[p["o"], p["j"]] = n + 1
+    return at, value, width
+
+
+def _segments(x, found):
+    """``[(j, k, points), ...]``: for each source ``j`` and each swept interval
+    ``[x_k, x_k+1]`` holding damped critical speeds of it, the sorted speeds sampled there
+    (both ends, and :data:`_GRID_STEP` bands apart within :data:`_GRID_REACH` bands of each)."""
+    out = []
+    offsets = np.arange(-_GRID_REACH, _GRID_REACH + _GRID_STEP / 2, _GRID_STEP)
+    for j, (critical, band) in enumerate(found):
+        if not len(critical):
+            continue
+        k = np.clip(np.searchsorted(x, critical) - 1, 0, len(x) - 2)
+        for bracket in np.unique(k):
+            lo, hi = x[bracket], x[bracket + 1]
+            grid = (critical[k == bracket, None] + band[k == bracket, None] * offsets).ravel()
+            points = np.unique(np.concatenate([[lo, hi], grid[(grid > lo) & (grid < hi)]]))
+            out.append((j, int(bracket), points))
+    return out
+
+
+def _candidates(response, segments, n_out):
+    """Each interior maximum of each output's sampled ``|response|`` in each segment of
+    :func:`_segments`: ``{"o", "j", "k", "a", "b", "points", "y"}`` (the search interval
+    ``[a, b]``, the neighbours' samples; ``points``, ``y`` the segment's samples)."""
+    every = np.concatenate([points for _, _, points in segments])
+    values = np.abs(response(every))                                             # (n_out, n_src, K)
+    start = np.cumsum([0] + [len(points) for _, _, points in segments])
+    out = []
+    for (j, k, points), s in zip(segments, start):
+        for o in range(n_out):
+            y = values[o, j, s:s + len(points)]
+            inner = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:])) + 1
+            out += [{"o": o, "j": j, "k": k, "a": points[i - 1], "b": points[i + 1], "points": points, "y": y}
+                    for i in inner]
+    return out
+
+
+def _picked(response, speeds, peaks):
+    """The response of each of ``peaks``' curves at its own speed of ``speeds`` (C,), complex."""
+    values = response(np.asarray(speeds, dtype=float))
+    return values[[p["o"] for p in peaks], [p["j"] for p in peaks], np.arange(len(peaks))]
+
+
+def _refined(response, peaks):
+    """``peaks`` (:func:`_candidates`) each with ``at``, the maximum of ``|response|`` in its
+    interval ``[a, b]`` by golden-section search (all at once, one response call a step), and
+    ``value``, the response there."""
+    a = np.array([p["a"] for p in peaks])
+    b = np.array([p["b"] for p in peaks])
+    first = b - a
+    ratio = (np.sqrt(5.0) - 1) / 2
+    c, d = b - ratio * (b - a), a + ratio * (b - a)
+    fc, fd = np.abs(_picked(response, c, peaks)), np.abs(_picked(response, d, peaks))
+    while np.any(b - a > _SEARCH_SHARE * first):
+        left = fc > fd                                  # the maximum lies in [a, d]
+        b, a = np.where(left, d, b), np.where(left, a, c)
+        c, d, fc, fd = (np.where(left, b - ratio * (b - a), d), np.where(left, c, a + ratio * (b - a)),
+                        np.where(left, np.nan, fd), np.where(left, fc, np.nan))
+        new = np.where(left, c, d)
+        f_new = np.abs(_picked(response, new, peaks))
+        fc, fd = np.where(left, f_new, fc), np.where(left, fd, f_new)
+    at = 0.5 * (a + b)
+    value = _picked(response, at, peaks)
+    return [dict(p, at=float(s), value=complex(v), span=float(w)) for p, s, v, w in zip(peaks, at, value, first)]
+
+
+def _distinct(peaks):
+    """``peaks`` of :func:`_refined`, one of those of a curve that converged to the same speed
+    (within :data:`_SAME_MAXIMUM` of their search intervals): the highest."""
+    out = []
+    for p in sorted(peaks, key=lambda p: -abs(p["value"])):
+        if not any(q["o"] == p["o"] and q["j"] == p["j"]
+                   and abs(q["at"] - p["at"]) < _SAME_MAXIMUM * min(q["span"], p["span"]) for q in out):
+            out.append(p)
+    return out
+
+
+def _half_power_widths(response, peaks):
+    """Each of ``peaks``' ``N2 - N1`` [rad/s]: its nearest speeds either side where
+    ``|response| = |value| / sqrt(2)``, bisected (all at once) between its segment's sample
+    nearest to it below that level and the next one towards it."""
+    level = np.array([abs(p["value"]) for p in peaks]) / np.sqrt(2.0)
+    lo, hi = [], []                                     # each side's bracket: (outside, inside)
+    for p, h in zip(peaks, level):
+        points, y = p["points"], p["y"]
+        below = np.flatnonzero((points < p["at"]) & (y < h))[-1]
+        lo.append((points[below], min(points[below + 1], p["at"])))
+        above = np.flatnonzero((points > p["at"]) & (y < h))[0]
+        hi.append((points[above], max(points[above - 1], p["at"])))
+    outside = np.array([s for s, _ in lo] + [s for s, _ in hi])
+    inside = np.array([s for _, s in lo] + [s for _, s in hi])
+    both, level2 = peaks + peaks, np.concatenate([level, level])
+    first = np.abs(inside - outside)
+    while np.any(np.abs(inside - outside) > _SEARCH_SHARE * first):
+        mid = 0.5 * (inside + outside)
+        over = np.abs(_picked(response, mid, both)) >= level2
+        inside, outside = np.where(over, mid, inside), np.where(over, outside, mid)
+    crossing = 0.5 * (inside + outside)
+    n = len(peaks)
+    return list(crossing[n:] - crossing[:n])

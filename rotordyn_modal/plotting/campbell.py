@@ -108,11 +108,13 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     matplotlib.figure.Figure
     """
     freqs = np.where(result.oscillatory, result.frequencies_hz, np.nan)
-    bottom, top, axis_scale = frequency_axis(freqs, freq_range, freq_scale)
+    far = _far_modes(result, freqs) if freq_range is None else None
+    bottom, top, axis_scale = frequency_axis(freqs if far is None else np.where(far[0], np.nan, freqs),
+                                             freq_range, freq_scale)
     fig, ax = new_figure(ax)
     scale = speed_scale(speed_unit)
     x = result.speeds * scale
-    curves = _Curves(result, scale, axis_scale == "log", whirl=not color_by)
+    curves = _Curves(result, scale, axis_scale == "log", whirl=not color_by, frequencies=freqs)
     if color_by:
         _show_coincident_coloured(fig, ax, curves, _draw_coloured(ax, fig, curves, result, color_by))
     else:
@@ -142,8 +144,50 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
         labels.none_note = labels._text(f"no critical speed between {_speed_text(x.min())} and "
                                         f"{_speed_text(x.max())} {_UNIT_WORDS[speed_unit]}", gid="no-critical-note",
                                         fontsize="x-small")
+    if far is not None:            # the modes far above every order line: named, not scaled to
+        words = f"{_numbers_text(far[1])} above {far[2]:,.0f} Hz ({_ORDER_REACH:g}x the highest order line) " \
+                "not drawn: freq_range / --freq-max draws them"
+        if labels.none_note is None:
+            labels.none_note = labels._text(words, gid="far-modes-note", fontsize="x-small")
+        else:
+            labels.none_note.set_text(labels.none_note.get_text() + "\n" + words)
     ax.add_artist(draw_time_layout(labels.place))
     return fig
+
+
+#: without ``freq_range`` the frequency axis is scaled to the modes below this many times the
+#: highest order line's frequency at the sweep's top speed; a mode above it at every speed is
+#: named in a note, not drawn (a flexible shaft's modes up to 100 kHz squeezed the mounts' and
+#: the bearings' modes, 5 Hz to 1 kHz, and all 25 critical speeds into the axis' bottom tenth;
+#: the stability figure scales to ten times the top speed likewise)
+_ORDER_REACH = 10.0
+
+
+def _far_modes(result, freqs):
+    """``(far, numbers, reach)``: the modes (columns of ``freqs``, shape (n_modes,) bool) above
+    ``reach`` [Hz] (:data:`_ORDER_REACH` times the highest order line at the top speed) at
+    every speed, their mode numbers; None where there is none, or no mode below it."""
+    slopes = np.abs(np.asarray(result.order_slopes(), float))
+    if not slopes.size or not len(result.speeds):
+        return None
+    reach = _ORDER_REACH * float(slopes.max()) * float(np.max(np.abs(result.speeds)))
+    finite = np.isfinite(freqs)
+    far = finite.any(axis=0) & np.all(~finite | (freqs > reach), axis=0)
+    if not reach > 0 or not far.any() or not (finite & (freqs <= reach)).any():
+        return None
+    return far, [m + 1 for m in np.flatnonzero(far)], reach
+
+
+def _numbers_text(numbers) -> str:
+    """'mode 7' or 'modes 23-68' or 'modes 19, 21, 23-30' (runs of consecutive numbers joined)."""
+    runs, start = [], None
+    for k, n in enumerate(numbers):
+        if start is None:
+            start = n
+        if k + 1 == len(numbers) or numbers[k + 1] != n + 1:
+            runs.append(f"{start}" if start == n else f"{start}\u2013{n}")
+            start = None
+    return ("mode " if len(numbers) == 1 else "modes ") + ", ".join(runs)
 
 
 def frequency_axis(freqs, freq_range=None, freq_scale: str = "auto"):
@@ -236,9 +280,10 @@ class _Curves:
         ``result.whirl_changes()`` (``whirl=True``).
     """
 
-    def __init__(self, result, scale, log, whirl=False):
+    def __init__(self, result, scale, log, whirl=False, frequencies=None):
         sweep = result.speeds
-        frequencies = np.where(result.oscillatory, result.frequencies_hz, np.nan)
+        if frequencies is None:
+            frequencies = np.where(result.oscillatory, result.frequencies_hz, np.nan)
         curves = result.mode_curves()
         self.sweep = sweep
         self.changes = result.whirl_changes() if whirl else None
@@ -256,8 +301,8 @@ class _Curves:
             low, high = frequencies[k], frequencies[after]
             with np.errstate(all="ignore"):
                 self.f[self.inserted] = low * (high / low) ** t if log else low + t * (high - low)
-            for m, (at, values, _) in enumerate(curves):
-                own = at != sweep[np.searchsorted(sweep, at, side="right") - 1]
+            for m, (at, values, index) in enumerate(curves):
+                own = at != sweep[index]
                 self.f[np.searchsorted(speeds, at[own]), m] = values[own]
 
     def mask(self, mask):

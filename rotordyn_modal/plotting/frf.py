@@ -57,6 +57,12 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None, units:
     matplotlib.figure.Figure
     """
     pairs = pairs or [(o, i) for o in result.outputs for i in result.inputs]
+    if not pairs:                # force outputs of a part the model has none of (no [[suspensions]])
+        from ..errors import InputError
+
+        raise InputError(f"nothing to draw: the FRF has no {'outputs' if not result.outputs else 'inputs'} (force "
+                         "outputs of a part the model has none of, e.g. --force-outputs suspensions without "
+                         "[[suspensions]])")
     nonzero = [(o, i) for o, i in pairs if np.any(result.H[result.outputs.index(o), result.inputs.index(i)])]
     zero, pairs = len(pairs) - len(nonzero), nonzero or pairs
     default = (f"{result.quantity.capitalize()} at {result.speed * 30 / np.pi:.0f} rpm"
@@ -358,29 +364,41 @@ def _draw_frfs(mag, phase, result, measured, pairs, label, scale=None, first=0, 
         mag.semilogy(result.frequencies_hz, np.abs(h), color=colour, ls=style, label=name,
                      **({} if sparse is None else {"marker": ".", "ms": 3, "markevery": sparse}))
         phase.plot(*_broken_at_wraps(result.frequencies_hz, phase_values), color=colour, ls=style, lw=0.9)
-        cut += _mark_cut_peaks(mag, result, o, i, factor, colour)
-    if cut:                           # one legend entry (no line of the axes) says what the marks are
+        at, peak = result.cut_peaks(o, i)
+        cut += _mark_cut(mag, at, np.abs(peak) * abs(factor), colour)
+    if cut:
+        _cut_legend(mag, "peak between computed frequencies")
+    elif result.engine == "direct" and result.resonances_hz is None and pairs:
+        # the direct engine (loss factors, Maxwell branches, a large model) has no roots: say so
         from matplotlib.lines import Line2D
 
-        mag._legend_extra = [Line2D([], [], linestyle="none", label="peak between computed frequencies", **_CUT_PEAK)]
+        mag._legend_extra = [Line2D([], [], linestyle="none", label=_NOT_LOOKED_FOR)]
     _limit_range(mag)
     _frequency_scale(mag, result.frequencies_hz)
 
 
+#: the legend's word on an FRF of the direct engine: no roots, so no cut peak is looked for
+_NOT_LOOKED_FOR = "peaks between computed frequencies\nnot looked for (direct engine: no roots)"
 #: the mark of a resonance's peak that the line between two computed frequencies cuts
 _CUT_PEAK = {"marker": "D", "ms": 4.5, "mfc": "none", "mew": 1.0, "color": "0.2"}
 
 
-def _mark_cut_peaks(mag, result, o, i, factor, colour) -> int:
-    """An open diamond in the curve's colour at the height of each resonance of FRF ``(o, i)``
-    that its line cuts (:meth:`~rotordyn_modal.analysis.frf.FRFResult.cut_peaks`: more than 3 dB
-    above both computed frequencies around it), on a dense-looking stretch as on a sparse one;
-    returns how many."""
-    at, h = result.cut_peaks(o, i)
-    if len(at):
-        mag.plot(at, np.abs(h) * abs(factor), linestyle="none", gid="cut-peak", label="_cut-peak",
-                 **dict(_CUT_PEAK, color=colour))
-    return len(at)
+def _mark_cut(mag, x, height, colour) -> int:
+    """An open diamond in the curve's colour at each ``(x, height)`` (as drawn: axis units) of a
+    peak that the curve's line cuts (:meth:`~rotordyn_modal.analysis.frf.FRFResult.cut_peaks`,
+    :meth:`~rotordyn_modal.analysis.unbalance.UnbalanceResult.cut_peaks`: more than 3 dB above
+    both computed points around it), on a dense-looking stretch as on a sparse one; returns
+    how many."""
+    if len(x):
+        mag.plot(x, height, linestyle="none", gid="cut-peak", label="_cut-peak", **dict(_CUT_PEAK, color=colour))
+    return len(x)
+
+
+def _cut_legend(mag, label) -> None:
+    """One legend entry of ``mag`` (no line of the axes) saying what the diamonds are."""
+    from matplotlib.lines import Line2D
+
+    mag._legend_extra = [Line2D([], [], linestyle="none", label=label, **_CUT_PEAK)]
 
 
 #: on a logarithmic frequency axis, computed frequencies farther apart than this ratio (30 per
@@ -675,28 +693,18 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0, to_unit=1.0):
             # broken where the phase wraps: a line from -180 to 180 deg read as a curve of its own
             phase.plot(*_broken_at_wraps(x, result.phase_deg[i, j]), color=colour, ls=style, lw=0.9)
             colours[i, j] = colour
-            cut += _mark_cut_speed_peaks(mag, result, i, j, to_unit, factor, colour)
-    if cut:                           # one legend entry (no line of the axes) says what the marks are
+            at, response, _ = result.cut_peaks(result.outputs[i], s)
+            cut += _mark_cut(mag, at * to_unit, np.abs(response) * factor, colour)
+    if cut:
+        _cut_legend(mag, "peak between swept speeds\n(near a damped critical speed)")
+    elif getattr(result, "cut_peak_note", ""):        # say why no peak between swept speeds is marked
         from matplotlib.lines import Line2D
 
-        mag._legend_extra = [Line2D([], [], linestyle="none", label="response at a damped critical speed\n"
-                                    "between swept speeds", **_CUT_PEAK)]
+        mag._legend_extra = [Line2D([], [], linestyle="none", label=f"peaks between swept speeds\n{result.cut_peak_note}")]
     _limit_range(mag)
     phase.set_yticks([-180, -90, 0, 90, 180])
     phase.set_ylabel("Phase [deg]")
     return colours
-
-
-def _mark_cut_speed_peaks(mag, result, i, j, to_unit, factor, colour) -> int:
-    """An open diamond in the curve's colour at the response at each damped critical speed of
-    output ``i`` and source ``j`` that the line through the swept speeds cuts
-    (:meth:`~rotordyn_modal.analysis.unbalance.UnbalanceResult.cut_peaks`), ``to_unit`` the
-    axis' speed unit per rad/s; returns how many."""
-    at, response, _ = result.cut_peaks(result.outputs[i], result.sources[j])
-    if len(at):
-        mag.plot(at * to_unit, np.abs(response) * factor, linestyle="none", gid="cut-peak", label="_cut-peak",
-                 **dict(_CUT_PEAK, color=colour))
-    return len(at)
 
 
 def _show_overlaps(axes, x, speed_unit):
@@ -938,12 +946,15 @@ def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=
 def _label_peaks(ax, chosen, renderer, top=np.nan):
     """Label the chosen peaks (the largest first) where there is room, the axis ending above
     ``top`` (the largest value drawn) by the least of :data:`_LABEL_HEADROOMS` that labels the
-    largest peak and, of those, the most; mark those labelled."""
+    largest peak and, of those, the most; mark those labelled. Where chosen peaks are left out
+    (clustered under each other's curves: the report's casing panel of motor_pump_on_mounts
+    labelled 1 of its 6), each gets a number at its peak instead and a key inside the axes,
+    clear of the curves and labels, gives its text (:func:`_keyed_labels`)."""
     from ._labels import place_point_labels
 
-    def place(share):
+    def place(share, texts=None):
         _fit_top(ax, top, share)
-        return place_point_labels(ax, [(c[0], c[1]) for c in chosen], [c[2] for c in chosen],
+        return place_point_labels(ax, [(c[0], c[1]) for c in chosen], texts or [c[2] for c in chosen],
                                   [c[3] for c in chosen], renderer=renderer, crossing=False)
 
     # the largest peak labelled first, then as many as may be: the most labels at a headroom
@@ -958,9 +969,100 @@ def _label_peaks(ax, chosen, renderer, top=np.nan):
         for label in drawn:
             label.remove()
     else:
-        drawn = place(min(counts, key=lambda share: (not counts[share][0], -counts[share][1], share)))
+        share = min(counts, key=lambda share: (not counts[share][0], -counts[share][1], share))
+        drawn = place(share)
+    if len(drawn) < len(chosen):
+        drawn = _keyed_labels(ax, chosen, drawn, lambda texts: place(share, texts), renderer)
     for label in drawn:
         ax.plot(*label.xy, "v", color=label.get_color(), mec="k", mew=0.5, ms=5, label="_peak")
+
+
+#: the font size of the key of the peaks labelled by a number
+_KEY_FONT = "x-small"
+
+
+def _keyed_labels(ax, chosen, drawn, place, renderer):
+    """``drawn`` (the labels placed, ``chosen`` the peaks) with the peaks left out labelled by a
+    number ('1', '2', ...) at the peak instead, and a key inside ``ax`` giving each number's
+    text in its colour ('1: AF 6.7 at 578 rpm (1X pump), SM 81 % (API 14 %)'), clear of the
+    curves, the labels and their leaders; ``place(texts)`` places every chosen peak's label
+    again (the full ones first kept, the numbers small enough to fit where a text did not).
+    Where no room takes the key, ``drawn`` as it was. Returns the labels drawn."""
+    full = {c[2] for c in chosen if any(label.xy == (c[0], c[1]) for label in drawn)}
+    for _ in range(3):                       # a number may take a full label's room: number that one too
+        numbered = [c for c in chosen if c[2] not in full]
+        tags = {c[2]: str(n) for n, c in enumerate(numbered, start=1)}
+        for label in drawn:
+            label.remove()
+        drawn = place([c[2] if c[2] in full else tags[c[2]] for c in chosen])
+        shown = {label.get_text() for label in drawn}
+        if full <= shown:
+            break
+        full &= shown
+    # numbered in order of speed, those with no room for their number last, keyed without one
+    by_tag = {label.get_text(): label for label in drawn if label.get_text() in tags.values()}
+    numbered.sort(key=lambda c: (tags[c[2]] not in by_tag, c[0]))
+    texts = []
+    for n, c in enumerate(numbered, start=1):
+        text = c[2].replace(chr(10), ", ")
+        if tags[c[2]] in by_tag:
+            texts.append(f"{n}: {text}")
+        else:
+            texts.append(f"no room at its peak: {text}")
+    for n, c in enumerate(numbered, start=1):
+        if tags[c[2]] in by_tag:
+            by_tag[tags[c[2]]].set_text(str(n))
+    colours = [c[3] for c in numbered]
+    key = _place_key(ax, texts, colours, drawn, renderer) if texts else []
+    if key:
+        return drawn
+    for label in drawn:                      # no room for the key: the full labels alone
+        label.remove()
+    return [label for label in place([c[2] for c in chosen]) if label.get_text() in {c[2] for c in chosen}]
+
+
+def _place_key(ax, texts, colours, labels, renderer) -> list:
+    """Lines of ``texts`` (each in its colour) stacked in a box inside ``ax`` where no curve,
+    no label of ``labels`` or its leader, no other text or arrow of ``ax`` lies (the first
+    free of a grid, top rows first, right to left); returns the texts drawn, or [] where none
+    is free."""
+    from ._labels import CurveMap, crosses_any, first_free_box, text_size
+
+    fig = ax.figure
+    sizes = [text_size(fig, t, _KEY_FONT, renderer) for t in texts]
+    pad, gap = 3.0 * fig.dpi / 72.0, 1.0 * fig.dpi / 72.0           # around the key, between its lines
+    w, h = max(s[0] for s in sizes) + 2 * pad, sum(s[1] + gap for s in sizes) - gap + 2 * pad
+    frame = ax.get_window_extent(renderer)
+    curves = CurveMap(ax, renderer)
+    boxes = [tuple(label.get_window_extent(renderer).extents) for label in labels]
+    leaders = [(label.arrow_patch.get_path().vertices[0], ax.transData.transform(label.xy)) for label in labels
+               if label.arrow_patch is not None]
+    markers = [tuple(ax.transData.transform(label.xy)) for label in labels]
+    boxes += [(x - pad, y - pad, x + pad, y + pad) for x, y in markers]
+    for other in ax.texts:                  # the axes' other texts and arrows (a probe limit above the axis)
+        if other in labels or not other.get_visible():
+            continue
+        boxes.append(tuple(other.get_window_extent(renderer).extents))
+        arrow = getattr(other, "arrow_patch", None)
+        if arrow is not None:
+            boxes.append(tuple(arrow.get_window_extent(renderer).extents))
+    candidates = [(u, v, u + w, v + h) for v in np.linspace(frame.y1 - pad - h, frame.y0 + pad, 16)
+                  for u in np.linspace(frame.x1 - pad - w, frame.x0 + pad, 16)]
+    box = first_free_box(candidates, boxes, frame=(frame.x0 + pad, frame.y0 + pad, frame.x1 - pad, frame.y1 - pad),
+                         allowed=lambda b: curves.free(b) and not crosses_any(leaders, [b]))
+    if box is None:
+        return []
+    # aligned on the box's side nearer the axes' edge: a figure saved at another resolution,
+    # laid out again, may draw the text a little wider, towards the axes' middle
+    right = (box[0] + box[2]) / 2 > (frame.x0 + frame.x1) / 2
+    drawn, y = [], box[3] - pad
+    for text, colour, (_, height) in zip(texts, colours, sizes):
+        y -= height
+        at = ax.transAxes.inverted().transform((box[2] - pad if right else box[0] + pad, y))
+        drawn.append(ax.text(*at, text, transform=ax.transAxes, fontsize=_KEY_FONT, color=colour,
+                             ha="right" if right else "left", va="bottom", gid="peak-key"))
+        y -= gap
+    return drawn
 
 
 #: magnitudes below this fraction of the largest are round-off (an FRF zero by symmetry): not shown

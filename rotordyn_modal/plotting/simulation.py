@@ -363,6 +363,8 @@ def _unlabelled_note(axes, critical, missing, placed, renderer, maps):
     critical lines may pass behind its opaque box) and :data:`_NOTE_MARGIN` off the spines,
     trying the top, the bottom and the middle from left to right; where none has room, at the
     top left of the first axes. Returns the note."""
+    from ._labels import first_free_box
+
     rpm = 30.0 / np.pi
     entries = [f"mode {critical.mode[k]}, {critical.order[k]:g}X {critical.source[k]}: {critical.speeds[k] * rpm:.0f}"
                for k in missing]
@@ -376,16 +378,16 @@ def _unlabelled_note(axes, critical, missing, placed, renderer, maps):
         note = ax.text(0.0, 0.0, text, transform=None, **style)
         box = note.get_window_extent(renderer)
         w, h = box.width, box.height
-        for v in (frame.y1 - margin - h, frame.y0 + margin, frame.y0 + (frame.height - h) / 2):
-            for u in np.linspace(frame.x0 + margin, frame.x1 - margin - w, 12):
-                candidate = (u, v, u + w, v + h)
-                if u < frame.x0 + margin or v < frame.y0 + margin:
-                    continue
-                if maps[id(ax)].free(candidate) and not any(
-                        u < b.x1 and b.x0 < u + w and v < b.y1 and b.y0 < v + h for b in placed[id(ax)]):
-                    note.remove()
-                    return _note_at(ax, text, style, (u, v), (w, h), placed[id(ax)])
+        candidates = [(u, v, u + w, v + h)
+                      for v in (frame.y1 - margin - h, frame.y0 + margin, frame.y0 + (frame.height - h) / 2)
+                      for u in np.linspace(frame.x0 + margin, frame.x1 - margin - w, 12)]
+        # a copy: first_free_box appends the box it takes, which _note_at adds to placed
+        found = first_free_box(candidates, [tuple(b.extents) for b in placed[id(ax)]],
+                               frame=(frame.x0 + margin, frame.y0 + margin, np.inf, np.inf),
+                               allowed=maps[id(ax)].free)
         note.remove()
+        if found is not None:
+            return _note_at(ax, text, style, found[:2], (w, h), placed[id(ax)])
     ax = axes[0]
     frame = ax.get_window_extent(renderer)
     margin = _NOTE_MARGIN * ax.figure.dpi / 72.0

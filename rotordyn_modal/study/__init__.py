@@ -100,7 +100,7 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
         definition = dataclasses.replace(definition, seed=seed)
     values = sample_variants(definition)
     variables, coords, layouts = describe(model, definition.analyses)
-    shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
+    shapes = _shapes(variables, coords)
     size = chunk_size or definition.chunk_size or default_chunk_size(len(values), executor)
     per_variant = variant_bytes(shapes, values.shape[1])
     streamed = out is not None and not _device(out)
@@ -155,8 +155,7 @@ class _Run:
         from .results import Assembly
 
         _, variables, coords, _, _ = self.described
-        shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
-        assembly = Assembly(len(self.values), shapes)
+        assembly = Assembly(len(self.values), _shapes(variables, coords))
         resumed = self._execute(assembly)
         return StudyResult(self._dataset(assembly, self.values), resumed_chunks=resumed)
 
@@ -181,8 +180,8 @@ class _Run:
                 result = self.in_memory()
                 result.save(temporary, progress=self.progress)
                 return result
-            small = Assembly(len(self.values), {name: tuple(len(coords[d][1]) for d in dims)
-                                                for name, dims in variables.items() if name not in sweeps})
+            small = Assembly(len(self.values), _shapes({name: dims for name, dims in variables.items()
+                                                        if name not in sweeps}, coords))
             try:
                 resumed = self._execute(_Both(writer, small))
                 writer.finish()
@@ -208,9 +207,22 @@ class _Both:
 
 def _empty_chunk(variables, coords) -> dict:
     """A chunk of one variant that did not fail, every output NaN (the results file's header)."""
-    shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
+    shapes = _shapes(variables, coords)
     return {"start": 0, "error": np.array([""], dtype=str),
             **{name: np.full((1,) + shape, np.nan) for name, shape in shapes.items()}}
+
+
+def _shapes(variables, coords) -> dict:
+    """Output variable -> its shape per variant (the lengths of its dims after ``variant``).
+
+    Parameters
+    ----------
+    variables : dict
+        Output variable -> dims after ``variant``.
+    coords : dict
+        Coordinate name -> (dim, values, attrs).
+    """
+    return {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
 
 
 def _device(out) -> bool:

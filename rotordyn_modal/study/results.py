@@ -49,8 +49,7 @@ def held_bytes(variables, shapes, n_parameters: int) -> int:
         Output variable -> shape per variant.
     n_parameters : int
     """
-    numbers = sum(int(np.prod(shapes[name])) for name, dims in variables.items()
-                  if not any(d in _SWEEP_DIMS for d in dims))
+    numbers = sum(int(np.prod(shapes[name])) for name in set(variables) - set(sweep_variables(variables)))
     speeds = shapes["frequency_hz"][0] if "frequency_hz" in shapes else 0
     return 3 * 8 * (numbers + n_parameters) + 3 * 8 * speeds + 2
 
@@ -321,11 +320,27 @@ class StudyResult:
         low, median, high : ndarray, shape (n_modes, N) [Hz]
             NaN where no variant has the mode at that speed (all NaN for a mode no variant has).
         """
+        return self.frequency_envelope(percentiles)[:3]
+
+    def frequency_envelope(self, percentiles=(5.0, 95.0)):
+        """:meth:`frequency_bands` and each mode's highest frequency, from one pass over the modes
+        (:meth:`mode_frequencies`: a study written to its file reads each mode once).
+
+        Returns
+        -------
+        low, median, high : ndarray, shape (n_modes, N) [Hz]
+            As :meth:`frequency_bands`.
+        highest : ndarray, shape (n_modes,) [Hz]
+            Each mode's highest frequency over the variants and speeds (NaN for a mode no
+            variant has).
+        """
         bands = np.full((3, self.dataset.sizes["mode"], self.dataset.sizes["speed"]), np.nan)
+        highest = np.full(self.dataset.sizes["mode"], np.nan)
         for m, column in enumerate(self.mode_frequencies()):
             if np.isfinite(column).any():
                 bands[:, m] = np.nanpercentile(column, [percentiles[0], 50.0, percentiles[1]], axis=0)
-        return bands[0], bands[1], bands[2]
+                highest[m] = np.nanmax(column)
+        return bands[0], bands[1], bands[2], highest
 
     def mode_frequencies(self):
         """Each tracked mode's damped natural frequency at every speed of the ``campbell`` analysis

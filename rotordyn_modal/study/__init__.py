@@ -73,13 +73,25 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
         into it as it comes (a temporary file beside it, renamed at the end), so that memory
         holds a chunk, not the results. The result then reads its data set from the file as it
         is used (``xarray``'s lazy loading); the file is the one :meth:`StudyResult.save` writes.
-        A device (``/dev/null``) is written once the results are assembled in memory.
+        A device (``/dev/null``) is written once the results are assembled in memory. Without
+        it, results up to :data:`SPOOL_BYTES` (256 MiB) are held in memory; larger ones go the
+        same way to a temporary file in ``TMPDIR``, unlinked at once, whose space is freed by
+        :meth:`StudyResult.close`, the end of a ``with`` block or garbage collection.
 
     Returns
     -------
     StudyResult
         One data set over (variant, speed, mode, ...); failed variants are NaN
         with their reason in ``error``.
+
+    Raises
+    ------
+    InputError
+        Before any work, in one line with the estimate: results that cannot fit in memory or on
+        the disk (of the checkpoint, of the temporary file); a base model whose Campbell or
+        stability sweep cannot fit in memory; a study estimated to take more CPU time than the
+        limit every command keeps (``ROTORDYN_MODAL_MAX_CPU_MINUTES``, 30 min), unless run inside
+        ``with rdm.long_work_allowed():`` (the command line's ``--allow-long``).
 
     Warns
     -----

@@ -27,7 +27,7 @@ from .analyses import batch_caches, run_analyses
 
 __all__ = ["ChunkTask", "run_chunk", "make_tasks", "execute", "Checkpoint", "finished_chunks", "ResultsLock", "limit_threads",
            "worker_initializer", "default_chunk_size", "remove_checkpoint", "check_memory", "check_disk",
-           "check_cpu_time", "check_analyses_fit", "check_spool", "variant_seconds", "variant_parts"]
+           "check_cpu_time", "check_analyses_fit", "check_spool", "variant_bound", "variant_parts"]
 
 
 @dataclass(frozen=True)
@@ -617,9 +617,11 @@ def check_cpu_time(model, definition, n_variants: int, first=None) -> None:
     if _cost.long_work_is_allowed() or n_variants == 0:
         return
     limit = _cost.limit_seconds()
-    if limit == float("inf") or n_variants * variant_seconds(model, definition.analyses, quick=True) <= limit:
+    if limit == float("inf") or n_variants * variant_bound(model, definition.analyses) <= limit:
         return
-    parts = variant_parts(model, definition.analyses) + ([] if first is None else [_making_part(model, definition, first)])
+    parts = variant_parts(model, definition.analyses)
+    if first is not None:
+        parts.append(_making_part(model, definition, first))
     each = sum(seconds for _, seconds in parts)
     if n_variants * each <= limit:
         return
@@ -633,12 +635,10 @@ def check_cpu_time(model, definition, n_variants: int, first=None) -> None:
                      f"(rdm.long_work_allowed() in Python; {_cost.ENVIRONMENT} sets the limit)")
 
 
-def variant_seconds(model, analyses, quick: bool = False) -> float:
-    """The CPU time of one variant's analyses [s]: the sum of :func:`variant_parts`, or with
-    ``quick`` a pessimistic bound from the sizes alone (no timing, no matrices) of them and of
-    making the variant, which passes small studies before anything is measured."""
-    if not quick:
-        return sum(seconds for _, seconds in variant_parts(model, analyses))
+def variant_bound(model, analyses) -> float:
+    """A pessimistic bound of one variant's CPU time [s] from the sizes alone (no timing, no
+    matrices): of :func:`variant_parts` and of making the variant. It passes small studies
+    before anything is measured."""
     from ..analysis import _work
 
     seconds = _MAKING_BOUND * (1 + model.dofs.n / 100)

@@ -79,7 +79,8 @@ def _traced_peak(model, samples: int) -> int:
     frequency = result.dataset["frequency_hz"]
     for variant in (0, samples // 2, samples - 1):
         assert np.all(frequency[variant].values == variant)
-    result.close()
+    del result, frequency
+    gc.collect()
     return peak
 
 

@@ -8,6 +8,10 @@ it: split the work into several runs, or raise the limit with the environment va
 An analysis whose arrays would not fit in the memory at hand (:func:`available_memory`) is
 refused before its work with its estimate (:func:`memory_problem`); the environment variable
 ``ROTORDYN_MODAL_MEMORY_GB`` sets the memory to count on instead (``inf``: no check).
+
+The limit of CPU time is not here: every command reads it from :mod:`.analysis._cost` (30 min,
+``ROTORDYN_MODAL_MAX_CPU_MINUTES``; ``--allow-long`` and ``rdm.long_work_allowed()`` lift it), the
+study command and ``rdm.study`` included (:func:`.study.execution.check_cpu_time`).
 """
 
 from __future__ import annotations

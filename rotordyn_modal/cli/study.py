@@ -39,10 +39,11 @@ memory) is replaced once by a fresh pool of half the workers; on dask the schedu
 computes a lost worker's chunk again elsewhere, and a chunk whose workers all died stops
 the study with one line (its finished chunks kept: run again). Each chunk goes into
 RESULTS.nc as it comes (a temporary file renamed at the end): memory holds a chunk and a few
-numbers per variant, not the results. A study that cannot fit in memory or on the disk is
-refused before any work, in one line with the estimate (docs/study-file.md); so is one
-estimated to take more CPU time than the limit (30 min; ROTORDYN_MODAL_MAX_CPU_MINUTES),
-unless --allow-long is given.
+numbers per variant, not the results. A study that cannot fit in memory or on the disk (or whose
+base model's Campbell or stability sweep cannot fit) is refused before any work, in one line with
+the estimate (docs/study-file.md); so is one estimated to take more CPU time than the limit (30
+min; ROTORDYN_MODAL_MAX_CPU_MINUTES), every analysis counted (the unbalance responses timed on the
+base model), unless --allow-long is given.
 
 With --units us the --table CSV and the --plot-map axes give a parameter that sets a key (apply
 = "value", a values grid) in the US unit of the key's quantity (lbf/in, lbf s/in, lb, lb in², in,

@@ -61,9 +61,7 @@ def plot_study_campbell(result, percentiles=(5.0, 95.0), band_rpm=None, speed_un
     ds = result.dataset
     fig, ax = new_figure(ax)
     x = ds["speed"].values * speed_scale(speed_unit)
-    highest = [np.nanmax(column) if np.isfinite(column).any() else np.nan       # one mode at a time
-               for column in result.mode_frequencies()]
-    bands = result.frequency_bands(percentiles)
+    *bands, highest = result.frequency_envelope(percentiles)          # one pass over the modes
     colors = [f"C{i}" for i in range(10)]
     for m, label in enumerate(ds["mode"].values):
         low, mid, high = (band[m] for band in bands)

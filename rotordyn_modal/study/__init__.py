@@ -18,6 +18,7 @@ The study file is described in ``docs/study-file.md``. This module is callable:
 from __future__ import annotations
 
 import dataclasses
+import os
 import sys
 import types
 import warnings
@@ -72,13 +73,25 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
         into it as it comes (a temporary file beside it, renamed at the end), so that memory
         holds a chunk, not the results. The result then reads its data set from the file as it
         is used (``xarray``'s lazy loading); the file is the one :meth:`StudyResult.save` writes.
-        A device (``/dev/null``) is written once the results are assembled in memory.
+        A device (``/dev/null``) is written once the results are assembled in memory. Without
+        it, results up to :data:`SPOOL_BYTES` (256 MiB) are held in memory; larger ones go the
+        same way to a temporary file in ``TMPDIR``, unlinked at once, whose space is freed by
+        :meth:`StudyResult.close`, the end of a ``with`` block or garbage collection.
 
     Returns
     -------
     StudyResult
         One data set over (variant, speed, mode, ...); failed variants are NaN
         with their reason in ``error``.
+
+    Raises
+    ------
+    InputError
+        Before any work, in one line with the estimate: results that cannot fit in memory or on
+        the disk (of the checkpoint, of the temporary file); a base model whose Campbell or
+        stability sweep cannot fit in memory; a study estimated to take more CPU time than the
+        limit every command keeps (``ROTORDYN_MODAL_MAX_CPU_MINUTES``, 30 min), unless run inside
+        ``with rdm.long_work_allowed():`` (the command line's ``--allow-long``).
 
     Warns
     -----
@@ -88,8 +101,8 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
         how many, and the first one's warning. The results are the same either way.
     """
     from .analyses import describe
-    from .execution import (Checkpoint, check_cpu_time, check_disk, check_memory, default_chunk_size, fingerprint,
-                            make_tasks)
+    from .execution import (Checkpoint, check_analyses_fit, check_cpu_time, check_disk, check_memory,
+                            check_spool, default_chunk_size, fingerprint, make_tasks)
     from .results import held_bytes, variant_bytes
 
     _require_xarray()
@@ -100,15 +113,20 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
         definition = dataclasses.replace(definition, seed=seed)
     values = sample_variants(definition)
     variables, coords, layouts = describe(model, definition.analyses)
-    shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
-    size = chunk_size or definition.chunk_size or default_chunk_size(len(values), executor)
+    shapes = _shapes(variables, coords)
+    size = chunk_size or definition.chunk_size or _saved_chunk_size(checkpoint) \
+        or default_chunk_size(len(values), executor)
     per_variant = variant_bytes(shapes, values.shape[1])
-    streamed = out is not None and not _device(out)
+    spooled = out is None and len(values) * per_variant > SPOOL_BYTES
+    streamed = (out is not None and not _device(out)) or spooled
     held = held_bytes(variables, shapes, values.shape[1]) if streamed else None     # None: all of it
     check_memory(len(values), per_variant, size, definition, _outputs_text(shapes), held=held)
     if checkpoint is not None:
         check_disk(checkpoint, len(values), per_variant, definition, _outputs_text(shapes))
-    check_cpu_time(model, definition, len(values))
+    if spooled:
+        check_spool(_spool_folder(), len(values), per_variant, definition, _outputs_text(shapes))
+    check_analyses_fit(model, definition)        # what cannot fit is refused first: --allow-long runs nothing more
+    check_cpu_time(model, definition, len(values), values[0] if len(values) else None)
     base = {"keys": tuple(p.keys for p in definition.parameters),
             "applies": tuple(p.apply for p in definition.parameters),
             "model_data": model.to_dict(), "model_source": model.source, "analyses": definition.analyses,
@@ -116,9 +134,10 @@ def study(model, spec, executor=None, checkpoint=None, chunk_size: int | None = 
     tasks = make_tasks(values, size, base)
     store = None
     if checkpoint is not None:
-        store = Checkpoint(checkpoint, fingerprint(model.to_dict(), definition.raw, size, values), definition.seed)
+        store = Checkpoint(checkpoint, fingerprint(model.to_dict(), definition.raw, size, values), definition.seed,
+                           size)
     run = _Run(tasks, executor, store, progress, values, (definition, variables, coords, model, size))
-    result = run.to_file(out) if streamed else run.in_memory()
+    result = run.spooled(_spool_folder()) if spooled else run.to_file(out) if streamed else run.in_memory()
     if out is not None and not streamed:
         result.save(out, progress=progress)
     if run.tally.count:
@@ -155,8 +174,7 @@ class _Run:
         from .results import Assembly
 
         _, variables, coords, _, _ = self.described
-        shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
-        assembly = Assembly(len(self.values), shapes)
+        assembly = Assembly(len(self.values), _shapes(variables, coords))
         resumed = self._execute(assembly)
         return StudyResult(self._dataset(assembly, self.values), resumed_chunks=resumed)
 
@@ -165,34 +183,84 @@ class _Run:
         or not at all. The result holds the per-variant numbers in memory (assembled as the chunks
         come) and reads the variables over speeds from the file as they are used
         (:class:`~.results.FileRecords`)."""
-        from xarray.core.indexing import LazilyIndexedArray
-
         from ..io import atomic_write
         from ..io.atomic import real_target
-        from .results import Assembly, NewEncoding, ResultsWriter, file_records, sweep_variables
+        from .results import NewEncoding
 
-        _, variables, coords, _, _ = self.described
-        sweeps = sweep_variables(variables)
-        template = self._dataset([_empty_chunk(variables, coords)], self.values[:1])
         with atomic_write(out, None) as temporary:
             try:
-                writer = ResultsWriter(temporary, template, self.values, self.progress)
+                return self._written(temporary, lambda: {"path": temporary, "reopen": real_target(out)})
             except NewEncoding:  # pragma: no cover - an xarray that lays records out otherwise
                 result = self.in_memory()
                 result.save(temporary, progress=self.progress)
                 return result
-            small = Assembly(len(self.values), {name: tuple(len(coords[d][1]) for d in dims)
-                                                for name, dims in variables.items() if name not in sweeps})
+
+    def spooled(self, folder) -> StudyResult:
+        """The results written chunk by chunk to a temporary file in ``folder`` (:data:`SPOOL_BYTES`),
+        which is unlinked as soon as it is opened: its space is the system's to free once the last
+        descriptor closes (:meth:`StudyResult.close`, the result garbage-collected, the process
+        ending in any way, ``kill -9`` included), and nothing is left in ``folder``. As
+        :meth:`to_file`, the result reads the variables over speeds from it as they are used."""
+        import contextlib
+        import tempfile
+
+        from .results import NewEncoding
+
+        descriptor, path = tempfile.mkstemp(prefix="rotordyn_modal-study-", suffix=".nc", dir=folder)
+        try:
             try:
-                resumed = self._execute(_Both(writer, small))
-                writer.finish()
-            finally:
-                writer.close()
-            small.arrays = small.arrays or {}
-            for name in sweeps:          # opened before the rename: the descriptor follows the file
-                small.arrays[name] = LazilyIndexedArray(file_records(temporary, real_target(out), len(writer.prefix),
-                                                                    writer.layout, name, len(self.values)))
-        return StudyResult(self._dataset(small, self.values), resumed_chunks=resumed)
+                return self._written(path, lambda: {"fd": descriptor}, unlink=path)
+            except NewEncoding:  # pragma: no cover - an xarray that lays records out otherwise
+                return self.in_memory()
+        finally:
+            os.close(descriptor)
+            with contextlib.suppress(OSError):
+                os.unlink(path)
+
+    def _written(self, path, reader, unlink=None) -> StudyResult:
+        """The chunks written into ``path`` (:class:`~.results.ResultsWriter`), the per-variant
+        numbers assembled in memory, the variables over speeds read from the file as they are used
+        (:class:`~.results.FileRecords` opened with ``reader()``'s arguments: ``path`` and
+        ``reopen``, or ``fd``); ``unlink``: the path removed once the writer has it open."""
+        import contextlib
+
+        from xarray.core.indexing import LazilyIndexedArray
+
+        from .results import Assembly, ResultsWriter, file_records, sweep_variables
+
+        _, variables, coords, _, _ = self.described
+        sweeps = sweep_variables(variables)
+        template = self._dataset([_empty_chunk(variables, coords)], self.values[:1])
+        writer = ResultsWriter(path, template, self.values, self.progress)
+        if unlink is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(unlink)
+        small = Assembly(len(self.values), _shapes({name: dims for name, dims in variables.items()
+                                                    if name not in sweeps}, coords))
+        try:
+            resumed = self._execute(_Both(writer, small))
+            writer.finish()
+        finally:
+            writer.close()
+        small.arrays = small.arrays or {}
+        records = [file_records(begin=len(writer.prefix), layout=writer.layout, name=name, n=len(self.values),
+                                **reader()) for name in sweeps]
+        for name, array in zip(sweeps, records):  # opened before a rename: the descriptor follows the file
+            small.arrays[name] = LazilyIndexedArray(array)
+        dataset = self._dataset(small, self.values)
+        dataset.set_close(_Closer(records))
+        return StudyResult(dataset, resumed_chunks=resumed)
+
+
+class _Closer:
+    """Closes the results file's descriptors of a data set (``Dataset.close``, :meth:`StudyResult.close`)."""
+
+    def __init__(self, records):
+        self.records = records
+
+    def __call__(self):
+        for array in self.records:
+            array.close()
 
 
 class _Both:
@@ -208,9 +276,44 @@ class _Both:
 
 def _empty_chunk(variables, coords) -> dict:
     """A chunk of one variant that did not fail, every output NaN (the results file's header)."""
-    shapes = {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
+    shapes = _shapes(variables, coords)
     return {"start": 0, "error": np.array([""], dtype=str),
             **{name: np.full((1,) + shape, np.nan) for name, shape in shapes.items()}}
+
+
+#: results larger than this [bytes] of ``rdm.study`` without ``out=`` go to a temporary file (in
+#: :func:`tempfile.gettempdir`: ``TMPDIR``), not memory: :meth:`_Run.spooled`
+SPOOL_BYTES = 256 * 2**20
+
+
+def _spool_folder() -> str:
+    """The folder of the temporary results file of a study without ``out=`` (``TMPDIR``, ...)."""
+    import tempfile
+
+    return tempfile.gettempdir()
+
+
+def _saved_chunk_size(checkpoint):
+    """The chunk size a checkpoint folder records (None without one): chosen for the first run's
+    executor, it holds for the run that resumes it on another (the command's fresh pool of fewer
+    workers after one died; another ``--workers``), whose own choice would make other chunks and
+    a fingerprint the folder refuses."""
+    from .execution import Checkpoint
+
+    return None if checkpoint is None else Checkpoint.saved_chunk_size(checkpoint)
+
+
+def _shapes(variables, coords) -> dict:
+    """Output variable -> its shape per variant (the lengths of its dims after ``variant``).
+
+    Parameters
+    ----------
+    variables : dict
+        Output variable -> dims after ``variant``.
+    coords : dict
+        Coordinate name -> (dim, values, attrs).
+    """
+    return {name: tuple(len(coords[d][1]) for d in dims) for name, dims in variables.items()}
 
 
 def _device(out) -> bool:

@@ -194,7 +194,8 @@ def _describe_critical(model, options):
     from ..analysis.campbell import excitation_sources
 
     sources = excitation_sources(model).names
-    rows = [(s, o, m) for s in sources for o in options["orders"] for m in range(1, mode_count(model) + 1)]
+    modes = mode_count(model)           # once: it builds the model's state form (0.3 s at 606 coordinates)
+    rows = [(s, o, m) for s in sources for o in options["orders"] for m in range(1, modes + 1)]
     coords = {"crossing": ("crossing", np.arange(len(rows)), {}),
               "crossing_source": ("crossing", np.array([r[0] for r in rows], dtype=str), {}),
               "crossing_order": ("crossing", np.array([r[1] for r in rows]), {}),

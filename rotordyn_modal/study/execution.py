@@ -27,7 +27,7 @@ from .analyses import batch_caches, run_analyses
 
 __all__ = ["ChunkTask", "run_chunk", "make_tasks", "execute", "Checkpoint", "finished_chunks", "ResultsLock", "limit_threads",
            "worker_initializer", "default_chunk_size", "remove_checkpoint", "check_memory", "check_disk",
-           "check_cpu_time"]
+           "check_cpu_time", "check_analyses_fit", "check_spool", "variant_bound", "variant_parts"]
 
 
 @dataclass(frozen=True)
@@ -290,6 +290,9 @@ class Checkpoint:
     seed : int, optional
         The seed the samples were drawn with (kept so that a study without a
         seed of its own resumes with the same samples).
+    chunk_size : int, optional
+        The variants per chunk (kept so that a study whose chunk size was chosen
+        for its executor resumes with the same chunks: :meth:`saved_chunk_size`).
     """
 
     @staticmethod
@@ -298,7 +301,17 @@ class Checkpoint:
         recorded = _read_json(Path(folder) / "study.json")
         return recorded.get("seed") if recorded else None
 
-    def __init__(self, folder, fingerprint: str, seed=None):
+    @staticmethod
+    def saved_chunk_size(folder):
+        """The chunk size recorded in a checkpoint folder (None if there is none, it is unreadable
+        or was written before chunk sizes were recorded), so that a study whose chunk size was
+        chosen for its executor resumes with the same chunks on another one (a pool of fewer
+        workers after one died, another ``--workers``)."""
+        recorded = _read_json(Path(folder) / "study.json")
+        size = recorded.get("chunk_size") if recorded else None
+        return size if isinstance(size, int) and not isinstance(size, bool) and size >= 1 else None
+
+    def __init__(self, folder, fingerprint: str, seed=None, chunk_size=None):
         self.folder = Path(folder)
         self.fingerprint = fingerprint
         _check_folder(self.folder)
@@ -313,7 +326,8 @@ class Checkpoint:
                              "study file or chunk size); delete the folder to start afresh")
         if recorded is None:
             self.folder.mkdir(parents=True, exist_ok=True)
-            _atomic_bytes(manifest, json.dumps({"fingerprint": fingerprint, "seed": seed}).encode())
+            _atomic_bytes(manifest, json.dumps({"fingerprint": fingerprint, "seed": seed,
+                                                "chunk_size": chunk_size}).encode())
 
     def done(self, tasks=None) -> dict:
         """Finished chunks whose files check out: index -> chunk result.
@@ -558,55 +572,254 @@ def check_disk(folder, n_variants: int, per_variant: int, definition, outputs: s
                          f"there: run fewer variants (about {fit:,} fit), free space, or give an --out on a larger disk")
 
 
-def check_cpu_time(model, definition, n_variants: int) -> None:
-    """Refuse, before any work, a study estimated to take more CPU time than the limit the other
-    commands keep (``ROTORDYN_MODAL_MAX_CPU_MINUTES``, 30 min by default), unless long work is
-    allowed (``--allow-long``, :func:`rotordyn_modal.long_work_allowed`): its variants times the
-    estimate of one variant's eigen-solutions and crossings on the base model
-    (:func:`rotordyn_modal.analysis._work.estimate`; the Campbell sweep and its critical speeds,
-    the stability map's speeds, the modes' one speed; the unbalance responses are not counted).
+def check_spool(folder, n_variants: int, per_variant: int, definition, outputs: str) -> None:
+    """Refuse, before any work, a study of ``rdm.study`` without ``out=`` whose results, too large
+    for memory (``SPOOL_BYTES``), would not fit in the free space of the temporary ``folder``.
 
     Raises
     ------
     InputError
-        ``STUDY: samples = N: N variants x about X s of CPU time each (MODEL: ...) = about Y h of
-        CPU time, more than the limit of 30 min: ADVICE``, one line.
+        ``STUDY: samples = N: N variants x X kB (...) = Y GB of results, kept in a temporary file in
+        FOLDER (...), more than the Z GB free there: ADVICE``, one line.
     """
-    from ..analysis import _cost, _work
+    import shutil
+
+    try:
+        free = shutil.disk_usage(folder).free
+    except OSError:
+        return
+    needed = n_variants * per_variant
+    if needed <= free:
+        return
+    fit = int(free // max(per_variant, 1))
+    raise InputError(f"{_where(definition)}{n_variants:,} variants x {per_variant / 1e3:.4g} kB ({outputs}) = "
+                     f"{needed / 1e9:.4g} GB of results, kept in a temporary file in {folder} (rdm.study without "
+                     f"out=, results too large for memory), more than the {free / 1e9:.4g} GB free there: give "
+                     f"out= a file on a larger disk (or set TMPDIR), or run fewer variants (about {fit:,} fit)")
+
+
+def check_cpu_time(model, definition, n_variants: int, first=None) -> None:
+    """Refuse, before any work, a study estimated to take more CPU time than the limit the other
+    commands keep (``ROTORDYN_MODAL_MAX_CPU_MINUTES``, 30 min by default), unless long work is
+    allowed (``--allow-long``, ``with rdm.long_work_allowed():`` in Python): its variants times
+    the estimate of one variant's analyses on the base model (:func:`variant_parts`) and of making
+    it (``first``: the first variant's parameter values, ndarray (n_parameters,), timed).
+
+    Raises
+    ------
+    InputError
+        ``STUDY: samples = N: N variants x about X s of CPU time each (PARTS; MODEL as the
+        study's base model) = about Y h of CPU time, more than the limit of 30 min: ADVICE``, one
+        line.
+    """
+    from ..analysis import _cost
 
     if _cost.long_work_is_allowed() or n_variants == 0:
         return
     limit = _cost.limit_seconds()
-    if limit == float("inf"):
+    if limit == float("inf") or n_variants * variant_bound(model, definition.analyses) <= limit:
         return
-    runs = _variant_runs(definition.analyses)
-    if not runs or n_variants * sum(_work._quick_bound(model, *run) for run in runs) <= limit:
-        return
-    works = [_work.estimate(model, *run) for run in runs]
-    each = sum(work.seconds for work in works)
+    parts = variant_parts(model, definition.analyses)
+    if first is not None:
+        parts.append(_making_part(model, definition, first))
+    each = sum(seconds for _, seconds in parts)
     if n_variants * each <= limit:
         return
-    largest = max(works, key=lambda work: work.seconds)
     fit = int(limit // max(each, 1e-12))
-    raise InputError(f"{_where(definition)}{n_variants:,} variants x {largest.text().replace(' of CPU time', '')} each "
-                     f"({model.source} as the study's base model) = about {_cost.duration(n_variants * each)} of CPU "
-                     f"time, more than the limit of {_cost.duration(limit)}: run fewer variants (about {fit:,} fit), "
-                     f"or add --allow-long ({_cost.ENVIRONMENT} sets the limit)")
+    fewer = (f"run fewer variants (about {fit:,} fit)" if fit else
+             "one variant alone takes longer than the limit: ask its analyses for fewer speeds")
+    text = "; ".join(text for text, _ in parts)
+    raise InputError(f"{_where(definition)}{n_variants:,} variants x about {_cost.duration(each)} of CPU time each "
+                     f"({text}; {model.source} as the study's base model) = about {_cost.duration(n_variants * each)} "
+                     f"of CPU time, more than the limit of {_cost.duration(limit)}: {fewer}, or add --allow-long "
+                     f"(rdm.long_work_allowed() in Python; {_cost.ENVIRONMENT} sets the limit)")
+
+
+def variant_bound(model, analyses) -> float:
+    """A pessimistic bound of one variant's CPU time [s] from the sizes alone (no timing, no
+    matrices): of :func:`variant_parts` and of making the variant. It passes small studies
+    before anything is measured."""
+    from ..analysis import _work
+
+    seconds = _MAKING_BOUND * (1 + model.dofs.n / 100)
+    seconds += sum(_work._quick_bound(model, *run) for _, run in _variant_runs(analyses))
+    if "unbalance" in analyses:
+        seconds += _unbalance_bound(model, analyses["unbalance"])
+    return seconds
+
+
+def variant_parts(model, analyses) -> list:
+    """What one variant's analyses cost on the base model: ``(text, seconds)`` per part.
+
+    - the eigen-solutions and crossings of the Campbell sweep (shared by ``campbell`` and
+      ``critical_speeds``), the stability sweep and the modes' one speed: the estimate of the
+      commands that run them (:func:`rotordyn_modal.analysis._work.estimate`, docs/theory.md,
+      "How long a sweep takes");
+    - the unbalance responses, which solve no eigenproblem (a linear system per speed and
+      source, and the peaks of every curve): the study's own analysis timed on the base model
+      (:func:`_unbalance_seconds`).
+    """
+    from ..analysis import _work
+
+    parts = []
+    for name, run in _variant_runs(analyses):
+        work = _work.estimate(model, *run)
+        parts.append((f"{name}: {work.text().replace(' of CPU time', '')}", work.seconds))
+    if "unbalance" in analyses:
+        options = analyses["unbalance"]
+        seconds = _unbalance_seconds(model, options)
+        parts.append((f"unbalance at {len(options['speeds']):,} speeds: about {_duration(seconds)}, timed on the "
+                      "base model", seconds))
+    return parts
+
+
+def _making_part(model, definition, values) -> tuple:
+    """``(text, seconds)`` of making one variant from the base model and checking it
+    (:func:`variant_model`, :func:`first_implausible`), timed on the variant of parameter values
+    ``values`` (the shortest of three timings); 0 where it fails (the variants record why)."""
+    import time
+
+    keys, applies = tuple(p.keys for p in definition.parameters), tuple(p.apply for p in definition.parameters)
+    try:
+        best = float("inf")
+        for _ in range(3):
+            start = time.process_time()
+            first_implausible(variant_model(None, model.source, keys, applies, values, model))
+            best = min(best, time.process_time() - start)
+    except Exception:  # noqa: BLE001 - the variants record what fails
+        best = 0.0
+    return f"making and checking the variant: about {_duration(best)}", best
+
+
+def _duration(seconds: float) -> str:
+    from ..analysis._cost import duration
+
+    return duration(seconds)
 
 
 def _variant_runs(analyses) -> list:
-    """The eigen-solutions of one variant's analyses, as arguments of ``_work.estimate`` after the
-    model: (speeds, orders, critical, numbers, solutions)."""
+    """The eigen-solutions of one variant's analyses: ``(name, arguments of _work.estimate after
+    the model: (speeds, orders, critical, numbers, solutions))``."""
     runs = []
     if "campbell" in analyses or "critical_speeds" in analyses:  # one sweep, shared, with its crossings
         options = analyses.get("campbell") or analyses["critical_speeds"]
-        runs.append((options["speeds"], options["orders"], True, False, len(options["speeds"])))
+        name = " and ".join(n.replace("_", " ") for n in ("campbell", "critical_speeds") if n in analyses)
+        runs.append((name, (options["speeds"], options["orders"], True, False, len(options["speeds"]))))
     if "stability" in analyses:
         speeds = analyses["stability"]["speeds"]
-        runs.append((speeds, (), False, False, len(speeds)))
+        runs.append(("stability", (speeds, (), False, False, len(speeds))))
     if "modes" in analyses:
-        runs.append((np.array([analyses["modes"]["speed"]]), (), False, False, 1))
+        runs.append(("modes", (np.array([analyses["modes"]["speed"]]), (), False, False, 1)))
     return runs
+
+
+#: pessimistic CPU seconds of one unbalance analysis's fixed part (its forces, sensors' rows,
+#: force rows, tables) and of each speed and source beside its solve, for a bound without timing
+#: (measured about 5 ms and 30 us on the bundled examples, one thread)
+_UNBALANCE_CALL_BOUND, _UNBALANCE_SPEED_BOUND = 0.1, 1e-3
+#: pessimistic CPU seconds of making and checking a variant of 100 coordinates, for a bound without
+#: timing (measured 0.3-0.7 ms on the gear machine's 6)
+_MAKING_BOUND = 0.01
+#: speeds of the longer timing of :func:`_unbalance_seconds` (the shorter takes 2)
+_TIMED_SPEEDS = 32
+
+
+def _unbalance_bound(model, options) -> float:
+    """A pessimistic bound of :func:`_unbalance_seconds` from the sizes alone: a fixed part and, per
+    speed and source, a dense complex solve (four real ones) of every coordinate."""
+    from ..analysis._cost import _PESSIMISTIC
+
+    per = _UNBALANCE_SPEED_BOUND + 4 * _PESSIMISTIC * float(model.dofs.n) ** 3
+    return _UNBALANCE_CALL_BOUND + len(options["speeds"]) * max(len(model.unbalances), 1) * per
+
+
+def _unbalance_seconds(model, options) -> float:
+    """CPU seconds of one variant's unbalance analysis, timed on the base model (one BLAS thread,
+    as a study's workers run): the analysis at 2 of its speeds and at up to ``_TIMED_SPEEDS``
+    (spread over its range; each the shortest of a few timings), the time per speed taken from the
+    two and scaled to every speed. 0 where the base model's analysis fails (each variant then
+    records its own failure)."""
+    import time
+
+    from .analyses import ANALYSES
+
+    speeds = options["speeds"]
+    n = len(speeds)
+
+    def timed(count: int) -> float:
+        chosen = dict(options, speeds=speeds[np.unique(np.linspace(0, n - 1, count).round().astype(int))])
+        _, _, layout = ANALYSES["unbalance"].describe(model, chosen)
+        best = float("inf")
+        for _ in range(3):
+            start = time.process_time()
+            ANALYSES["unbalance"].run(model, chosen, layout, {})
+            best = min(best, time.process_time() - start)
+            if best > 1.0:                                  # long enough to be measured once
+                break
+        return best
+
+    few, more = min(n, 2), min(n, _TIMED_SPEEDS)
+    try:
+        with limit_threads():
+            short = timed(few)
+            if more == few:
+                return short
+            long = timed(more)
+    except Exception:  # noqa: BLE001 - the variants record what fails; nothing to count
+        return 0.0
+    return short + max(long - short, 0.0) / (more - few) * (n - few)
+
+
+def check_analyses_fit(model, definition) -> None:
+    """Refuse, before any work, a study whose analyses cannot fit in memory for one variant: the
+    Campbell sweep (shared by ``campbell`` and ``critical_speeds``, with its crossings) and the
+    stability sweep, estimated on the base model as :func:`rotordyn_modal.analysis.campbell.campbell`
+    estimates its own (``memory_estimate``; the variants have the base model's sizes). Each variant
+    would otherwise fail with campbell's own refusal. The unbalance responses are solved a few MB
+    at a time, the modes at one speed.
+
+    Raises
+    ------
+    InputError
+        ``STUDY: [analyses.campbell] speeds_rpm = '0:3000:101': one variant's Campbell sweep of
+        606 coordinates at 101 speeds (MODEL as the study's base model) needs about X GiB of
+        memory, Y GiB is available: ADVICE``, one line.
+    """
+    from .._limits import memory_problem
+    from ..analysis._work import _n_states
+    from ..analysis.campbell import _CHECKED_BYTES, memory_estimate
+
+    sweeps = [(name, critical) for name, critical in (("campbell", True), ("critical_speeds", True),
+                                                      ("stability", False)) if name in definition.analyses]
+    if not sweeps:
+        return
+    n_dof, n_states = model.dofs.n, _n_states(model)
+    for name, critical in sweeps:
+        n_speeds = len(definition.analyses[name]["speeds"])
+        needed = memory_estimate(n_dof, n_states, n_speeds, 1, critical)
+        if needed < _CHECKED_BYTES:
+            continue
+        fixed = memory_estimate(n_dof, n_states, 0, 1, critical)
+        per_speed = memory_estimate(n_dof, n_states, 1, 1, critical) - fixed
+        fitting = int(max(0.0, memory_room()[0] - fixed) // max(per_speed, 1.0))
+        advice = (f"ask [analyses.{name}] for fewer speeds (about {fitting:,} fit)" if fitting >= 2 else
+                  "the base model is too large for this machine's memory at any number of speeds")
+        sweep = "stability sweep" if name == "stability" else "Campbell sweep"
+        problem = memory_problem(needed, f"{_analysis_where(definition, name)}one variant's {sweep} of {n_dof:,} "
+                                 f"coordinates at {n_speeds:,} speeds ({model.source} as the study's base model)",
+                                 advice)
+        if problem:
+            raise InputError(problem)
+
+
+def _analysis_where(definition, name) -> str:
+    """``'STUDY: [analyses.NAME] speeds_rpm = VALUE: '``: the study file and the key that sets the
+    analysis's speeds (the Campbell sweep's, for critical speeds without their own)."""
+    tables = definition.raw.get("analyses") or {}
+    table = tables.get(name) or {}
+    if "speeds_rpm" not in table and name == "critical_speeds":
+        name, table = "campbell", tables.get("campbell") or {}
+    return f"{definition.source}: [analyses.{name}] speeds_rpm = {table.get('speeds_rpm')!r}: "
 
 
 # ---------------------------------------------------------------------------- one writer

@@ -49,8 +49,7 @@ def held_bytes(variables, shapes, n_parameters: int) -> int:
         Output variable -> shape per variant.
     n_parameters : int
     """
-    numbers = sum(int(np.prod(shapes[name])) for name, dims in variables.items()
-                  if not any(d in _SWEEP_DIMS for d in dims))
+    numbers = sum(int(np.prod(shapes[name])) for name in set(variables) - set(sweep_variables(variables)))
     speeds = shapes["frequency_hz"][0] if "frequency_hz" in shapes else 0
     return 3 * 8 * (numbers + n_parameters) + 3 * 8 * speeds + 2
 
@@ -215,6 +214,21 @@ class StudyResult:
     dataset: object
     resumed_chunks: int = 0
 
+    # -- the file behind it ----------------------------------------------------------------
+    def close(self) -> None:
+        """Let go of the results file the data set reads its curves over speed from (a study
+        written with ``out=``, or one of ``rdm.study`` without it too large for memory, whose
+        temporary file's space is then freed); nothing for results held in memory. The data set's
+        curves cannot be read afterwards. Garbage collection does the same."""
+        self.dataset.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
     # -- basic views ----------------------------------------------------------------------
     @property
     def n_variants(self) -> int:
@@ -321,11 +335,27 @@ class StudyResult:
         low, median, high : ndarray, shape (n_modes, N) [Hz]
             NaN where no variant has the mode at that speed (all NaN for a mode no variant has).
         """
+        return self.frequency_envelope(percentiles)[:3]
+
+    def frequency_envelope(self, percentiles=(5.0, 95.0)):
+        """:meth:`frequency_bands` and each mode's highest frequency, from one pass over the modes
+        (:meth:`mode_frequencies`: a study written to its file reads each mode once).
+
+        Returns
+        -------
+        low, median, high : ndarray, shape (n_modes, N) [Hz]
+            As :meth:`frequency_bands`.
+        highest : ndarray, shape (n_modes,) [Hz]
+            Each mode's highest frequency over the variants and speeds (NaN for a mode no
+            variant has).
+        """
         bands = np.full((3, self.dataset.sizes["mode"], self.dataset.sizes["speed"]), np.nan)
+        highest = np.full(self.dataset.sizes["mode"], np.nan)
         for m, column in enumerate(self.mode_frequencies()):
             if np.isfinite(column).any():
                 bands[:, m] = np.nanpercentile(column, [percentiles[0], 50.0, percentiles[1]], axis=0)
-        return bands[0], bands[1], bands[2]
+                highest[m] = np.nanmax(column)
+        return bands[0], bands[1], bands[2], highest
 
     def mode_frequencies(self):
         """Each tracked mode's damped natural frequency at every speed of the ``campbell`` analysis
@@ -544,7 +574,7 @@ def sweep_variables(variables) -> list:
     return [name for name, dims in variables.items() if any(d in _SWEEP_DIMS for d in dims)]
 
 
-def file_records(*args):
+def file_records(*args, **kwargs):
     """A :class:`FileRecords` that is an xarray backend array (xarray imported here, when a study
     writes its file: the package imports without it)."""
     from xarray.backends import BackendArray
@@ -552,7 +582,7 @@ def file_records(*args):
     global _FileRecordsArray
     if _FileRecordsArray is None:
         _FileRecordsArray = type("_FileRecordsArray", (FileRecords, BackendArray), {"__module__": __name__})
-    return _FileRecordsArray(*args)
+    return _FileRecordsArray(*args, **kwargs)
 
 
 _FileRecordsArray = None
@@ -565,10 +595,6 @@ class FileRecords:
 
     Parameters
     ----------
-    path : str
-        The file (a temporary one may be renamed: the descriptor opened here follows it).
-    reopen : str
-        The file's final name (messages; opened again by a pickled copy).
     begin : int
         Byte offset of the first record.
     layout : dict
@@ -577,25 +603,46 @@ class FileRecords:
         The variable.
     n : int
         Records (variants).
+    path : str, optional
+        The file (a temporary one may be renamed: the descriptor opened here follows it).
+    reopen : str, optional
+        The file's final name (messages; opened again by a pickled copy). None: a temporary file
+        that has no name (``rdm.study`` without ``out=``): a pickled copy carries the values.
+    fd : int, optional
+        A descriptor of the file, instead of ``path`` (duplicated: the caller keeps its own).
     """
 
-    def __init__(self, path, reopen, begin: int, layout: dict, name: str, n: int):
+    def __init__(self, begin: int, layout: dict, name: str, n: int, path=None, reopen=None, fd=None):
         _, self.offset, disk, shape, self.count = next(f for f in layout["fields"] if f[0] == name)
         self.disk, self.dtype = disk, disk.newbyteorder("=")
         self.shape = (n,) + tuple(shape)
-        self.record, self.begin, self.reopen = layout["size"], begin, str(reopen)
-        self._fd = os.open(path, os.O_RDONLY)
+        self.record, self.begin = layout["size"], begin
+        self.reopen = None if reopen is None else str(reopen)
+        self._values = None
+        self._fd = os.dup(fd) if fd is not None else os.open(path, os.O_RDONLY)
         self._closer = weakref.finalize(self, os.close, self._fd)
 
-    def __getstate__(self):          # a pickle (a worker's copy) opens the file by its final name
+    def close(self) -> None:
+        """Close the file's descriptor (at once, rather than when garbage-collected); reading
+        afterwards fails."""
+        self._closer()
+
+    def __getstate__(self):
+        """A pickle (a worker's copy) opens the file by its final name; a temporary file's, which
+        has none (``rdm.study`` without ``out=``), carries the values themselves."""
         state = dict(self.__dict__)
         state.pop("_fd"), state.pop("_closer")
+        if self.reopen is None and self._values is None:
+            state["_values"] = self._block(0, self.shape[0])
         return state
 
     def __setstate__(self, state):
         self.__dict__.update(state)
-        self._fd = os.open(self.reopen, os.O_RDONLY)
-        self._closer = weakref.finalize(self, os.close, self._fd)
+        if self._values is None:
+            self._fd = os.open(self.reopen, os.O_RDONLY)
+            self._closer = weakref.finalize(self, os.close, self._fd)
+        else:
+            self._fd, self._closer = None, (lambda: None)
 
     @property
     def ndim(self) -> int:
@@ -637,10 +684,13 @@ class FileRecords:
 
     def _block(self, start: int, stop: int) -> np.ndarray:
         """Records start..stop-1 of the variable, shape (stop - start, ...)."""
+        if self._values is not None:
+            return self._values[start:stop]
         size = (stop - start) * self.record
         data = os.pread(self._fd, size, self.begin + start * self.record)
         if len(data) != size:
-            raise OSError(f"{self.reopen}: the results file ends before its records do")
+            raise OSError(f"{self.reopen or 'the temporary results file'}: the results file ends before its "
+                          "records do")
         fields = np.frombuffer(data, np.uint8).reshape(stop - start, self.record)[:, self.offset:self.offset + self.count]
         return np.ascontiguousarray(fields).view(self.disk).reshape((stop - start,) + self.shape[1:]).astype(self.dtype)
 

@@ -49,7 +49,7 @@ def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False, mass=N
                               item_bytes=72 * size * size)
 
 
-def ratio_round_off(upper, every, matrices) -> np.ndarray:
+def ratio_round_off(upper, every, matrices, own=None) -> np.ndarray:
     """How far round-off can move the whirl ratio of each root's shape (:func:`._roots.whirl_round_off`),
     with the round-off of each solve (:func:`._roots.round_off` of its matrix) and its repeated
     roots (within :data:`REPEATED_TOLERANCE` of its largest root) as ``modal`` takes them.
@@ -62,6 +62,8 @@ def ratio_round_off(upper, every, matrices) -> np.ndarray:
         All roots of each solve.
     matrices : ndarray, shape (R, n_s, n_s)
         The state matrices solved.
+    own : ndarray, shape (R, m), optional
+        Each root's own round-off where it differs (:func:`._roots.snapped_with_round_off`).
 
     Returns
     -------
@@ -69,19 +71,22 @@ def ratio_round_off(upper, every, matrices) -> np.ndarray:
     """
     noise = _roots.round_off(matrices)
     repeated = REPEATED_TOLERANCE * np.abs(upper).max(axis=-1, initial=0.0)
-    return np.stack([_roots.whirl_round_off(u, e, z, r) for u, e, z, r in zip(upper, every, noise, repeated)]) \
-        if len(upper) else np.zeros(upper.shape)
+    if own is not None:
+        own = np.where(own < noise[:, None], own, noise[:, None])
+    return _roots.whirl_round_off(upper, every, noise, repeated, own)
 
 
 def _upper_part(matrices: np.ndarray, mass=None, n: int = 0, whirl_noise: bool = False):
     values, vectors = np.linalg.eig(matrices)
     every = values
-    values = _roots.snapped(values, _roots.deciding_round_off(values, matrices), matrices, vectors, n, mass)
+    values, own = _roots.snapped_with_round_off(values, _roots.deciding_round_off(values, matrices), matrices,
+                                                vectors, n, mass)
     index, eigenvalues = upper_indices(values)
     # advanced indices apart put their axes first: shapes[r, k, j] = vectors[r, j, index[r, k]]
     shapes = vectors[np.arange(len(vectors))[:, None], :n, index]
     if whirl_noise:
-        return eigenvalues, _vectors.unit_rows(shapes), ratio_round_off(eigenvalues, every, matrices)
+        own = np.take_along_axis(np.broadcast_to(own, values.shape), index, axis=-1)
+        return eigenvalues, _vectors.unit_rows(shapes), ratio_round_off(eigenvalues, every, matrices, own)
     return eigenvalues, _vectors.unit_rows(shapes)
 
 
@@ -288,9 +293,11 @@ def _sparse_form(form, basis):
 
 def _repeated_pairs(lam):
     """Rows and first columns of the eigenvalues equal to the next one, exactly two equal (not
-    three) and not rigid-body zeros; ``lam`` shape (N, m), equal values adjacent."""
+    three) and not rigid-body zeros; ``lam`` shape (N, m), equal values adjacent. Equal: within
+    :data:`REPEATED_TOLERANCE` of the row's largest root and within a part of their own size
+    (:func:`._roots.one_root`)."""
     scale = np.abs(lam).max(axis=-1, keepdims=True) + 1e-300
-    close = np.abs(lam[..., 1:] - lam[..., :-1]) <= REPEATED_TOLERANCE * scale  # (N, m-1), numpy.diff
+    close = _roots.one_root(lam[..., 1:], lam[..., :-1], REPEATED_TOLERANCE * scale)  # (N, m-1)
     if not close.any():                    # the usual case: no repeated eigenvalue at all
         return close.nonzero()
     pair = close.copy()                    # not part of three equal: its neighbours not close

@@ -409,7 +409,8 @@ def _all_roots(stack, variants, x, shapes):
     if shapes:
         return _batches.concatenated([stack.solve(stack.at(variants[part], x[part]), variants[part])
                                     for part in _batches.chunk_slices(len(x), 80 * size * size)])
-    return _batches.concatenated([_eigensolve.select_upper(_eigensolve.eigenvalues_of(stack.at(variants[part], x[part])))
+    return _batches.concatenated([_eigensolve.select_upper(_eigensolve.eigenvalues_of(
+        stack.at(variants[part], x[part]), stack.n_dof, stack.M[0] if len(stack.M) == 1 else stack.M[variants[part]]))
                                 for part in _batches.chunk_slices(len(x), 32 * size * size)]), None
 
 

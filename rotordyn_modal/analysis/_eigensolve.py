@@ -90,16 +90,49 @@ def _upper_part(matrices: np.ndarray, mass=None, n: int = 0, whirl_noise: bool =
     return eigenvalues, _vectors.unit_rows(shapes)
 
 
-def eigenvalues_of(matrices: np.ndarray) -> np.ndarray:
+def eigenvalues_of(matrices: np.ndarray, n: int | None = None, mass=None) -> np.ndarray:
     """``numpy.linalg.eigvals`` of a stack of matrices, in threads and parts of bounded memory,
-    their round-off removed (:func:`._roots.snapped`)."""
+    their round-off removed (:func:`._roots.snapped`).
+
+    With the state matrices' ``n`` coordinates and ``mass`` (n, n) or (R, n, n), each root is
+    judged by its own shape as :func:`upper_shapes` judges it: the matrices with a nonzero root
+    at or below the square root of their round-off are solved again with their eigenvectors
+    (:func:`._roots.zero_roots`; usually none), so a slow mode is never taken for a zero root
+    because some other root of the machine is large. Without them every root below that square
+    root is zero."""
     size = matrices.shape[-1]
-    return _batches._threaded(_snapped_eigenvalues, matrices, item_bytes=24 * size * size)
+    if mass is None:
+        return _batches._threaded(_snapped_eigenvalues, matrices, item_bytes=24 * size * size)
+    if np.ndim(mass) == 3:
+        return _batches._threaded(functools.partial(_snapped_eigenvalues, n=n), matrices,
+                                  np.asarray(mass, dtype=float), item_bytes=24 * size * size)
+    return _batches._threaded(functools.partial(_snapped_eigenvalues, n=n, mass=mass), matrices,
+                              item_bytes=24 * size * size)
 
 
-def _snapped_eigenvalues(matrices: np.ndarray) -> np.ndarray:
+def _snapped_eigenvalues(matrices: np.ndarray, mass=None, n: int | None = None) -> np.ndarray:
     values = np.linalg.eigvals(matrices)
-    return _roots.snapped(values, _roots.deciding_round_off(values, matrices))
+    noise = _roots.deciding_round_off(values, matrices)
+    if mass is None:
+        return _roots.snapped(values, noise)
+    rows = np.flatnonzero(_judged_by_shape(values, noise))
+    out = _roots.snapped(values, noise)
+    if len(rows):
+        masses = mass[rows] if np.ndim(mass) == 3 else mass
+        again, vectors = np.linalg.eig(matrices[rows])
+        judged = _roots.snapped(again, _roots.deciding_round_off(again, matrices[rows]), matrices[rows], vectors,
+                                n, masses)
+        # eig's roots where its shapes keep a slow mode; elsewhere eigvals' (the same verdicts, the same bits)
+        kept = (judged == 0).sum(axis=-1) != (out[rows] == 0).sum(axis=-1)
+        out[rows[kept]] = judged[kept]
+    return out
+
+
+def _judged_by_shape(values, noise) -> np.ndarray:
+    """(R,) bool: the solves whose roots ``values`` (R, M) have one that only its shape can tell
+    from a zero root: nonzero and at or below :func:`._roots.zero_floor` of ``noise`` (R,)."""
+    magnitude = np.abs(values)
+    return ((magnitude > 0) & (magnitude <= _roots.zero_floor(noise)[:, None])).any(axis=-1)
 
 
 def upper_eigenvalues(matrices: np.ndarray):

@@ -620,10 +620,11 @@ def roundoff_levels(form, speeds) -> np.ndarray:
 
 def _largest_real_part(form, speed, clip: bool = True) -> float:
     """The largest real part at one speed [1/s], of the roots a sweep keeps (one of each
-    conjugate pair, their round-off removed as the sweep's: :func:`._roots.snapped`)."""
+    conjugate pair, their round-off removed as the sweep's, each slow root judged by its own
+    shape: :func:`._eigensolve.eigenvalues_of`)."""
     matrix = form.at(speed)
     roundoff = roundoff_levels(form, [speed]) if clip else None
-    roots = _eigensolve.select_upper(_roots.snapped(np.linalg.eigvals(matrix), _roots.round_off(matrix))[None])
+    roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(matrix[None], form.n_dof, form.matrices.M))
     return float(_significant_real_parts(roots, clip, roundoff).max())
 
 

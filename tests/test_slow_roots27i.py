@@ -1,0 +1,96 @@
+"""A mode's test depends on that mode and the model's own scales, never on an unrelated root
+(issue 27 §1.1; docs/theory.md section 8). A symmetric rigid rotor (centre of mass midway between
+two equal isotropic bearings at +-a) of 1e6 kg on 1e-6 N/m bearings has, at speed Omega, the
+cylindrical pair ``sqrt(2 k / m)`` (1.414e-6 rad/s) and the conical whirls ``Id w^2 -+ Ip Omega w
+- 2 k a^2 = 0``: a forward one near ``Ip Omega / Id`` and a backward one ``2 k_t / (Ip Omega + ...)``
+(8.9e-15 rad/s at 100 rad/s), far below the solve's round-off (5.7e-12 1/s at 100 rad/s), which the
+forward whirl sets. Each is checked against these closed forms, and the stability threshold of a
+cross-coupled slow mode against ``q = c w``."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+from rotordyn_modal.analysis import mode_numbers
+
+from test_slow_modes27h import _conical, _cylindrical, _load, _rotor
+
+MASS, STIFFNESS = 1e6, 1e-6
+
+
+@pytest.fixture(scope="module")
+def rotor(tmp_path_factory):
+    return _load(tmp_path_factory.mktemp("slow"), MASS, STIFFNESS)[0]
+
+
+@pytest.mark.parametrize("speed", [100.0, 1000.0, 1e4])
+def test_the_backward_conical_root_below_round_off_is_kept(rotor, speed):
+    """It was zeroed (a root below the solve's round-off was a zero root whatever its shape);
+    its value comes from its shape's own equation, to 1e-9 of the closed form (numpy's root is
+    9e-7 off at 1e4 rad/s), and it whirls backward."""
+    backward = _conical(MASS, STIFFNESS, speed)[1]
+    result = rdm.modal(rotor, speed)
+    listed = result.eigenvalues[result.oscillatory]
+    near = np.isclose(listed.imag, backward, rtol=1e-9, atol=0.0)
+    assert near.sum() == 1, (listed, backward)
+    assert listed[near][0].real == 0.0
+    assert result.whirl[result.oscillatory][near][0] == "backward"
+    sweep = rdm.campbell(rotor, np.array([speed]))
+    row = sweep.eigenvalues[0][sweep.oscillatory[0]]
+    near = np.isclose(row.imag, backward, rtol=1e-9, atol=0.0)
+    assert near.sum() == 1, row
+    assert sweep.whirl[0][sweep.oscillatory[0]][near][0] == "backward"
+
+
+@pytest.mark.parametrize("speed", [1000.0, 1e4])
+def test_the_cylindrical_pair_whirls_backward_and_forward(rotor, speed):
+    """At 1000 rad/s (9549 rpm) the pair was labelled whirl none: a repeated-root tolerance of
+    1e-9 of the largest root (1.8e-6 1/s) joined the pair with the backward conical root into a
+    group of three, and the solver's planar shapes were kept. A repeated root's shapes are its
+    circular whirls: ratios -1 and +1."""
+    cylindrical = _cylindrical(MASS, STIFFNESS)
+    result = rdm.modal(rotor, speed)
+    near = np.isclose(result.eigenvalues.imag, cylindrical, rtol=1e-9, atol=0.0) & result.oscillatory
+    assert sorted(result.whirl[near]) == ["backward", "forward"]
+    np.testing.assert_allclose(np.sort(result.whirl_ratios[near]), [-1.0, 1.0], atol=1e-6)
+    sweep = rdm.campbell(rotor, np.array([speed]))
+    near = np.isclose(sweep.eigenvalues[0].imag, cylindrical, rtol=1e-9, atol=0.0) & sweep.oscillatory[0]
+    assert sorted(sweep.whirl[0][near]) == ["backward", "forward"]
+
+
+def test_mode_numbers_count_the_slow_modes(rotor):
+    """The number ``modes`` gives the forward conical whirl at 100 rad/s is 4 (below it: the
+    backward conical root and the cylindrical pair); the numbering's own solve (no shapes) gave 1,
+    its slow roots below the square root of round-off all zero."""
+    speed = 100.0
+    forward = _conical(MASS, STIFFNESS, speed)[0]
+    numbers = mode_numbers._solved_numbers(rotor, np.array([speed]), np.array([1j * forward]))
+    assert numbers.tolist() == [4]
+    result = rdm.modal(rotor, speed)
+    assert int(np.flatnonzero(np.isclose(result.eigenvalues[result.oscillatory].imag, forward))[0]) + 1 == 4
+
+
+def _cross_coupled(tmp_path, q_max):
+    """The rotor with ``c`` = 1e-3 N s/m and a cross-coupled stiffness growing linearly from 0 to
+    ``q_max`` between 0 and 2000 rpm in both bearings."""
+    text = _rotor(MASS, STIFFNESS).replace(
+        "stiffness = 1e-06\n",
+        f"stiffness = [[[1e-6, 0.0], [0.0, 1e-6]], [[1e-6, {q_max!r}], [{-q_max!r}, 1e-6]]]\n"
+        "damping = [1e-3, 1e-3]\nspeeds_rpm = [0.0, 2000.0]\n")
+    path = tmp_path / "cross_coupled.toml"
+    path.write_text(text)
+    return rdm.load_model(path)
+
+
+def test_the_stability_threshold_of_a_slow_mode(tmp_path):
+    """The cylindrical forward whirl ``m lam^2 + 2 c lam + 2 k - 2 i q = 0`` loses stability where
+    ``q = c sqrt(2 k / m)`` (lam = i w): at 100 rad/s here. The threshold's refinement solved
+    without shapes, found every root there zero and stopped at the grid's 110 rad/s."""
+    q_max = 2.9619219587e-9
+    model = _cross_coupled(tmp_path, q_max)
+    expected = 1e-3 * _cylindrical(MASS, STIFFNESS) / q_max * 2000.0 * np.pi / 30.0
+    result = rdm.stability(model, np.linspace(0.0, 200.0, 21))
+    assert len(result.thresholds) == 1
+    np.testing.assert_allclose(result.thresholds[0], expected, rtol=1e-6)

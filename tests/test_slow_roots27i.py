@@ -94,3 +94,27 @@ def test_the_stability_threshold_of_a_slow_mode(tmp_path):
     result = rdm.stability(model, np.linspace(0.0, 200.0, 21))
     assert len(result.thresholds) == 1
     np.testing.assert_allclose(result.thresholds[0], expected, rtol=1e-6)
+
+
+def test_the_table_prints_a_whirl_ratio_within_its_round_off_as_0(tmp_path):
+    """The Campbell table's whirl-ratio column printed as 0 only what was within a fixed 1e-9,
+    while the labels use each ratio's own round-off: rubber_mounts with a 1e-12 s Maxwell branch
+    (round-off 3e-2 on the mount modes' ratios) printed ratios of 2e-3..1.2e-2 beside whirl
+    'none'. Every ratio labelled none by its round-off now prints 0 on the terminal."""
+    import warnings
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parent.parent / "examples" / "rubber_mounts.toml").read_text()
+    path = tmp_path / "fast.toml"
+    path.write_text(text.replace("maxwell_time = [0.02, 0.002]", "maxwell_time = [0.02, 1e-12]"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = rdm.campbell(rdm.load_model(path), rdm.rpm(np.linspace(0.0, 3000.0, 7)), orders=(1,), critical=False)
+    table = result.to_dataframe()
+    level = table.attrs["round_off"]["whirl_ratio"]
+    ratio = table["whirl_ratio"].to_numpy(dtype=float)
+    by_round_off = (table["whirl"].to_numpy() == "none") & (np.abs(ratio) > 1e-3)
+    assert by_round_off.sum() >= 7
+    assert (np.abs(ratio[by_round_off]) <= level[by_round_off]).all()
+    whirling = table["whirl"].to_numpy() != "none"
+    assert (np.abs(ratio[whirling]) > level[whirling]).all()

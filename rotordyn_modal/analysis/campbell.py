@@ -318,7 +318,8 @@ class CampbellResult:
         })
         table.loc[table["mode_at_speed"] == 0, "mode_at_speed"] = pd.NA
         table = table[keep].reset_index(drop=True)
-        table.attrs["round_off"] = _round_off_columns(self.eigenvalues.ravel()[keep])
+        table.attrs["round_off"] = _round_off_columns(
+            self.eigenvalues.ravel()[keep], None if self.whirl_round_off is None else self.whirl_round_off.ravel()[keep])
         return table
 
     def plot(self, **kwargs):
@@ -366,17 +367,21 @@ ROUND_OFF_RELATIVE = 1e-10
 WHIRL_ROUND_OFF = 1e-9
 
 
-def _round_off_columns(eigenvalues) -> dict:
+def _round_off_columns(eigenvalues, whirl_round_off=None) -> dict:
     """What round-off can move each damping column of the roots ``eigenvalues`` (shape (m,))
     by, row by row: ``ROUND_OFF_RELATIVE |lam|`` on the real part, and the whirl ratio by
-    :data:`WHIRL_ROUND_OFF`. The terminal prints those
+    :data:`WHIRL_ROUND_OFF` or its own round-off ``whirl_round_off`` (m,) where that is larger
+    (the level its whirl label uses, :attr:`CampbellResult.whirl_round_off`: a ratio labelled
+    ``none`` for being within it prints 0). The terminal prints those
     within it as 0 (``cli._common.print_table``): a damping ratio of -3.9e-15 on an undamped
     axial mode must not read as unstable; the CSV keeps every digit."""
     lam = np.asarray(eigenvalues, dtype=complex)
     tolerance = ROUND_OFF_RELATIVE * np.abs(lam)
     with np.errstate(divide="ignore", invalid="ignore"):
         return {"real_part": tolerance, "damping_ratio": np.full(len(lam), ROUND_OFF_RELATIVE),
-                "log_decrement": 2 * np.pi * tolerance / lam.imag, "whirl_ratio": np.full(len(lam), WHIRL_ROUND_OFF)}
+                "log_decrement": 2 * np.pi * tolerance / lam.imag,
+                "whirl_ratio": np.full(len(lam), WHIRL_ROUND_OFF) if whirl_round_off is None
+                else np.maximum(WHIRL_ROUND_OFF, whirl_round_off)}
 
 
 # ----------------------------------------------------------------------------------------

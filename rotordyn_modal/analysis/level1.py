@@ -364,9 +364,8 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
                              f"whirling forward at station {stations[0]} at this speed")
         label = int(np.nonzero(order[pick] == forward[number - 1])[0][0])
         followed_sweep = lam[np.arange(len(sweep)), order[:, label]]
-        _, _, log_dec_sweep = modal_quantities(followed_sweep)
-        followed = followed_sweep[at_grid]
-        freq, _, log_dec = modal_quantities(followed)
+        freq_sweep, _, log_dec_sweep = modal_quantities(followed_sweep)       # elementwise: Qa's grid is a part
+        freq, log_dec = freq_sweep[at_grid], log_dec_sweep[at_grid]
         start = lam[0, order[0, label]]
         # its number among the modes at Q = 0; a root no mode there has none (the count of the
         # modes before it would name another mode)

@@ -118,3 +118,27 @@ def test_the_table_prints_a_whirl_ratio_within_its_round_off_as_0(tmp_path):
     assert (np.abs(ratio[by_round_off]) <= level[by_round_off]).all()
     whirling = table["whirl"].to_numpy() != "none"
     assert (np.abs(ratio[whirling]) > level[whirling]).all()
+
+
+def test_the_lowest_route_labels_whirl_as_the_full_diagram(tmp_path):
+    """``campbell --lowest`` labelled whirl by the ratio's sign beyond WHIRL_TOLERANCE alone; on
+    rubber_mounts with a 1e-12 s Maxwell branch (mount modes' ratios within their round-off, 3e-2)
+    it said forward/backward where ``modes`` and the full diagram say none. Now each carried
+    root's label and round-off are the full diagram's (the round-off to 2 %, the same rule)."""
+    import warnings
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parent.parent / "examples" / "rubber_mounts.toml").read_text()
+    path = tmp_path / "fast.toml"
+    path.write_text(text.replace("maxwell_time = [0.02, 0.002]", "maxwell_time = [0.02, 1e-12]"))
+    speeds = rdm.rpm(np.linspace(0.0, 3000.0, 7))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = rdm.load_model(path)
+        full = rdm.campbell(model, speeds, orders=(1,), critical=False)
+        lowest = rdm.campbell(model, speeds, orders=(1,), critical=False, modes=6)
+    # the same roots (the 1e-12 s branch's state matrix knows them to about 1e-4 only)
+    np.testing.assert_allclose(lowest.eigenvalues, full.eigenvalues[:, :6], rtol=1e-3)
+    assert (lowest.whirl == full.whirl[:, :6]).all(), (lowest.whirl, full.whirl[:, :6])
+    assert (np.abs(full.whirl_ratios[:, :6]) > 1e-3).sum() >= 7          # the round-off decided
+    np.testing.assert_allclose(lowest.whirl_round_off, full.whirl_round_off[:, :6], rtol=0.02)

@@ -21,7 +21,7 @@ import numpy as np
 
 from . import _batches
 
-__all__ = ["BACKWARD_FACTOR", "round_off", "deciding_round_off", "conservative", "balanced_norm", "snapped", "snapped_with_round_off", "zero_roots", "zero_floor", "FREE_LOADING", "whirl_round_off", "one_root", "REPEATED_OWN", "at_round_off"]
+__all__ = ["BACKWARD_FACTOR", "round_off", "affine_round_off", "deciding_round_off", "conservative", "balanced_norm", "snapped", "snapped_with_round_off", "zero_roots", "zero_floor", "FREE_LOADING", "whirl_round_off", "one_root", "REPEATED_OWN", "at_round_off"]
 
 #: the backward error of a dense eigen-solve taken as this many ``eps ||B||_F``, ``B`` the
 #: balanced matrix (LAPACK's bound grows slowly with the size; measured errors are a few eps ||B||)
@@ -129,9 +129,33 @@ def balanced_norm(matrices) -> np.ndarray:
 _BALANCE_BYTES = 2**21
 
 
-def _balanced_norms(matrices) -> np.ndarray:
+def affine_round_off(A0, A1, speeds) -> np.ndarray:
+    """:func:`round_off` of state matrices ``A0 + Omega A1`` (n_s, n_s) each at ``speeds`` (N,)
+    [rad/s] without forming them: the balancing ``D`` of the one at the largest ``|Omega|``
+    (:func:`balanced_norm`'s) kept for all, so ``||D^-1 A D||_F^2`` is a quadratic in ``Omega``
+    (three sums). Equal to :func:`round_off` at that speed; elsewhere the norm of a balancing that
+    is not that matrix's own, within the factor by which the balancing moves with speed (measured
+    on the examples with a rotor: within 2 % across 0-600 rad/s).
+
+    Returns
+    -------
+    ndarray, shape (N,) [1/s]
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    if not len(speeds):
+        return np.zeros(0)
+    reference = speeds[np.argmax(np.abs(speeds))]
+    log_d = _balanced_norms((A0 + reference * A1)[None], exponents=True)[1][0]
+    scale = np.exp2(log_d[None, :] - log_d[:, None])              # b_ij = a_ij d_j / d_i
+    B0, B1 = A0 * scale, A1 * scale
+    squares = np.sum(B0 * B0) + 2.0 * speeds * np.sum(B0 * B1) + speeds * speeds * np.sum(B1 * B1)
+    return BACKWARD_FACTOR * np.finfo(float).eps * np.sqrt(np.maximum(squares, 0.0))
+
+
+def _balanced_norms(matrices, exponents: bool = False):
     """:func:`balanced_norm` of a stack (P, n, n): the sweeps go on for the matrices not yet
-    balanced only; each matrix's products are its own (a row's bits do not depend on the others)."""
+    balanced only; each matrix's products are its own (a row's bits do not depend on the others).
+    With ``exponents`` also ``log2`` of each balancing's ``D`` (P, n)."""
     squares = matrices * matrices
     diagonal = np.einsum("pii->pi", squares).copy()
     np.einsum("pii->pi", squares)[...] = 0.0             # the off-diagonal part
@@ -161,7 +185,8 @@ def _balanced_norms(matrices) -> np.ndarray:
                 d2 = np.exp2(2.0 * log_d[active])
     d2 = np.exp2(2.0 * log_d)
     off_squares = (((1.0 / d2)[:, None, :] @ squares) @ d2[:, :, None])[:, 0, 0]
-    return np.sqrt(off_squares + diagonal.sum(axis=-1))
+    norms = np.sqrt(off_squares + diagonal.sum(axis=-1))
+    return (norms, log_d) if exponents else norms
 
 
 def zero_floor(noise) -> np.ndarray:

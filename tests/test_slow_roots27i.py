@@ -142,3 +142,19 @@ def test_the_lowest_route_labels_whirl_as_the_full_diagram(tmp_path):
     assert (lowest.whirl == full.whirl[:, :6]).all(), (lowest.whirl, full.whirl[:, :6])
     assert (np.abs(full.whirl_ratios[:, :6]) > 1e-3).sum() >= 7          # the round-off decided
     np.testing.assert_allclose(lowest.whirl_round_off, full.whirl_round_off[:, :6], rtol=0.02)
+
+
+def test_a_damped_slow_root_goes_on_smoothly_over_speed(tmp_path):
+    """With damping and cross-coupling the solve's backward conical root at 100 rad/s is 2.6e-3
+    from its shape's own (at 50 rad/s they agree to 4e-6): it was a zero root at 75-125 rad/s and
+    a mode beside them. Its frequency is the undamped closed form's to 1e-4 (damping moves it by
+    about the square of its tiny damping ratio) and it whirls backward at every speed, in the full
+    diagram and the lowest modes' route alike."""
+    model = _cross_coupled(tmp_path, 2.9619219587e-9)
+    speeds = np.array([50.0, 75.0, 100.0, 125.0, 150.0])
+    for sweep in (rdm.campbell(model, speeds, critical=False), rdm.campbell(model, speeds, modes=4, critical=False)):
+        for row, speed in enumerate(speeds):
+            backward = _conical(MASS, STIFFNESS, speed)[1]
+            near = np.isclose(sweep.eigenvalues[row].imag, backward, rtol=1e-4, atol=0.0) & sweep.oscillatory[row]
+            assert near.sum() == 1, (speed, sweep.eigenvalues[row])
+            assert sweep.whirl[row][near][0] == "backward", (speed, sweep.whirl[row])

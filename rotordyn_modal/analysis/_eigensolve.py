@@ -78,9 +78,8 @@ def ratio_round_off(upper, every, matrices, own=None) -> np.ndarray:
 
 def _upper_part(matrices: np.ndarray, mass=None, n: int = 0, whirl_noise: bool = False):
     values, vectors = np.linalg.eig(matrices)
-    every = values
-    values, own = _roots.snapped_with_round_off(values, _roots.deciding_round_off(values, matrices), matrices,
-                                                vectors, n, mass)
+    values, own, every = _roots.snapped_with_round_off(values, _roots.deciding_round_off(values, matrices), matrices,
+                                                       vectors, n, mass)
     index, eigenvalues = upper_indices(values)
     # advanced indices apart put their axes first: shapes[r, k, j] = vectors[r, j, index[r, k]]
     shapes = vectors[np.arange(len(vectors))[:, None], :n, index]

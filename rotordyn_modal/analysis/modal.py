@@ -346,7 +346,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
         values, vectors = scipy.linalg.eig(matrix)
     n = form.n_dof
     noise = float(_roots.round_off(matrix))
-    snapped, own = _roots.snapped_with_round_off(values, noise, matrix, vectors, n, form.matrices.M)
+    snapped, own, refined = _roots.snapped_with_round_off(values, noise, matrix, vectors, n, form.matrices.M)
     upper = _eigensolve.select_upper(snapped)
     # the LAPACK vectors of the chosen eigenvalues (nearest match; values are identical)
     index = [int(np.argmin(np.abs(values - lam))) for lam in upper]
@@ -355,7 +355,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     shapes = _eigensolve.resolve_repeated(upper[None], vectors[:n, index].T[None], forms)[0]
     shapes = _normalise(shapes, form.matrices.M)
     oscillatory = is_oscillating(upper)
-    ratio_noise = _roots.whirl_round_off(upper, values, noise, _eigensolve.REPEATED_TOLERANCE * np.abs(upper).max(),
+    ratio_noise = _roots.whirl_round_off(upper, refined, noise, _eigensolve.REPEATED_TOLERANCE * np.abs(upper).max(),
                                          np.broadcast_to(own, values.shape)[index])
     ratios = np.where(oscillatory, _whirl.whirl_ratios(shapes[None], forms, np.array([speed]))[0], 0.0)
     rotor_ratios = _rotor_whirl_ratios(model, shapes, speed) * oscillatory[:, None]

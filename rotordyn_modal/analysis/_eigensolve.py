@@ -138,8 +138,8 @@ def upper_eigenvalues(matrices: np.ndarray):
     """Upper eigenvalues (see :func:`upper_indices`) of a stack of state matrices from
     ``numpy.linalg.eigvals`` (no eigenvectors: about 60 % of ``eig``'s work), in threads and parts
     of bounded memory, and which rows need their eigenvectors to judge their roots: those with
-    a root between the round-off and its square root (whether it is a zero root depends on its
-    shape, :func:`._roots.zero_roots`). Elsewhere the eigenvalues equal :func:`upper_shapes`' to
+    a nonzero root up to the square root of the round-off (whether it is a zero root depends on
+    its shape, :func:`._roots.zero_roots`). Elsewhere the eigenvalues equal :func:`upper_shapes`' to
     round-off.
 
     Parameters
@@ -157,9 +157,7 @@ def upper_eigenvalues(matrices: np.ndarray):
 def _upper_eigenvalues_part(matrices: np.ndarray):
     values = np.linalg.eigvals(matrices)
     noise = _roots.deciding_round_off(values, matrices)      # decides `needed` as the round-off would
-    magnitude, floor = np.abs(values), noise[:, None]
-    needed = ((magnitude > floor) & (magnitude <= _roots.zero_floor(floor))).any(axis=-1)
-    return upper_indices(_roots.snapped(values, noise))[1], needed
+    return upper_indices(_roots.snapped(values, noise))[1], _judged_by_shape(values, noise)
 
 
 def select_upper(values: np.ndarray) -> np.ndarray:

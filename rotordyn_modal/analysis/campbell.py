@@ -686,8 +686,10 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
 
 
 #: the largest state matrix [bytes] whose round-off the lowest modes' route takes for its whirl
-#: labels (:func:`_lowest_whirl_round_off`); above it the labels keep WHIRL_TOLERANCE alone
-_LOWEST_ROUND_OFF_BYTES = 2**27
+#: labels (:func:`_lowest_whirl_round_off`): 512 states. Above it the labels keep WHIRL_TOLERANCE
+#: alone: the route forms no state matrix, and forming one to balance it cost a 4 m shaft of 404
+#: coordinates 0.63 -> 0.82 s CPU at 101 speeds (804 coordinates: 1.40 -> 1.83 s); 212: 0.145 -> 0.146 s
+_LOWEST_ROUND_OFF_BYTES = 2**21
 
 
 def _lowest_whirl_round_off(stack, speeds, values):

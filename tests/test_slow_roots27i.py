@@ -158,3 +158,27 @@ def test_a_damped_slow_root_goes_on_smoothly_over_speed(tmp_path):
             near = np.isclose(sweep.eigenvalues[row].imag, backward, rtol=1e-4, atol=0.0) & sweep.oscillatory[row]
             assert near.sum() == 1, (speed, sweep.eigenvalues[row])
             assert sweep.whirl[row][near][0] == "backward", (speed, sweep.whirl[row])
+
+
+def test_a_root_its_shape_does_not_resolve_is_zero_and_counted(rotor):
+    """A root below the round-off whose value disagrees with its own shape's equation (here the
+    solve's backward conical pair, 8.9e-15 1/s, made 3 times too large; its shapes, loaded by
+    the bearings' tilt stiffness, kept) is no mode it can tell: a zero root, counted (and said on
+    `modes`' stderr), never a mode at a wrong frequency nor dropped without a word. As solved,
+    nothing is unresolved."""
+    from rotordyn_modal.analysis import _roots
+    from rotordyn_modal.linear_system import speed_linear_form
+
+    form = speed_linear_form(rotor)
+    matrix = form.at(100.0)
+    values, vectors = np.linalg.eig(matrix)
+    noise = float(_roots.round_off(matrix))
+    small = np.abs(values) <= noise
+    assert small.sum() == 2 and np.allclose(np.abs(values[small]), _conical(MASS, STIFFNESS, 100.0)[1], rtol=1e-6)
+    args = (matrix, vectors, form.n_dof, form.matrices.M)
+    assert _roots.unresolved_roots(values, noise, *args) == 0
+    assert not _roots.zero_roots(values, noise, *args)[small].any()
+    wrong = np.where(small, 3.0 * values, values)
+    assert _roots.unresolved_roots(wrong, noise, *args) == 2
+    assert _roots.zero_roots(wrong, noise, *args)[small].all()
+    assert rdm.modal(rotor, 100.0).unresolved_roots == 0

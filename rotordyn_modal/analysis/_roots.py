@@ -21,7 +21,7 @@ import numpy as np
 
 from . import _batches
 
-__all__ = ["BACKWARD_FACTOR", "round_off", "affine_round_off", "deciding_round_off", "conservative", "balanced_norm", "snapped", "snapped_with_round_off", "zero_roots", "zero_floor", "FREE_LOADING", "whirl_round_off", "one_root", "REPEATED_OWN", "at_round_off"]
+__all__ = ["BACKWARD_FACTOR", "round_off", "affine_round_off", "deciding_round_off", "conservative", "balanced_norm", "snapped", "snapped_with_round_off", "zero_roots", "unresolved_roots", "zero_floor", "FREE_LOADING", "whirl_round_off", "one_root", "REPEATED_OWN", "at_round_off"]
 
 #: the backward error of a dense eigen-solve taken as this many ``eps ||B||_F``, ``B`` the
 #: balanced matrix (LAPACK's bound grows slowly with the size; measured errors are a few eps ||B||)
@@ -402,13 +402,8 @@ def _below_noise(values, noise, which, matrices, vectors, n: int, mass):
     refined : ndarray, shape (..., m), complex
         ``values``, the modes kept with the root of their shape's equation (:func:`_shape_root`).
     """
-    matrices_p, masses_p, states = _candidates(values, which, matrices, vectors, mass)
     lam = values[which]
-    stiffness, damping, inertia, stiffness_noise, damping_noise = _terms(matrices_p, masses_p, states, n)
-    resolution = _own_round_off(lam, stiffness, damping, inertia, stiffness_noise + damping_noise)
-    own_root = _shape_root(lam, matrices_p, masses_p, states[:, :n], stiffness, n)
-    mode = ((np.abs(stiffness) > FREE_LOADING * stiffness_noise) & (np.abs(lam) > FREE_LOADING * resolution)
-            & (np.abs(own_root - lam) <= AGREEMENT * np.abs(lam)))
+    loaded, mode, resolution, own_root = _verdicts(values, which, matrices, vectors, n, mass)
     zero = np.abs(values) <= noise
     zero[which] = ~mode
     refined = np.array(values, dtype=complex)
@@ -417,6 +412,34 @@ def _below_noise(values, noise, which, matrices, vectors, n: int, mass):
     own = np.array(np.broadcast_to(noise, values.shape), dtype=float)
     own[which] = np.where(mode, np.fmax(resolution, np.abs(own_root - lam)), own[which])
     return zero, own, refined
+
+
+def _verdicts(values, which, matrices, vectors, n: int, mass):
+    """For the roots ``which`` (..., m) bool of ``values`` (:func:`_below_noise`), each (P,):
+    whether its shape's stiffness term is loaded, whether it is a mode, its own round-off and
+    the root of its shape's equation."""
+    matrices_p, masses_p, states = _candidates(values, which, matrices, vectors, mass)
+    lam = values[which]
+    stiffness, damping, inertia, stiffness_noise, damping_noise = _terms(matrices_p, masses_p, states, n)
+    resolution = _own_round_off(lam, stiffness, damping, inertia, stiffness_noise + damping_noise)
+    own_root = _shape_root(lam, matrices_p, masses_p, states[:, :n], stiffness, n)
+    loaded = np.abs(stiffness) > FREE_LOADING * stiffness_noise
+    mode = loaded & (np.abs(lam) > FREE_LOADING * resolution) & (np.abs(own_root - lam) <= AGREEMENT * np.abs(lam))
+    return loaded, mode, resolution, own_root
+
+
+def unresolved_roots(values, noise, matrices, vectors, n: int, mass) -> int:
+    """How many nonzero roots below ``noise`` have a shape that its own stiffness loads (not a
+    direction without suspension) but are not resolved by it (:func:`_below_noise`): zero roots
+    that may be slow modes, which the solve cannot tell (``modes`` says so on stderr). Arguments
+    as :func:`zero_roots`, one solve or a stack."""
+    values = np.asarray(values)
+    noise = np.asarray(noise, dtype=float)[..., None]
+    which = (np.abs(values) <= noise) & (np.abs(values) > 0)
+    if not which.any():
+        return 0
+    loaded, mode = _verdicts(values, which, matrices, vectors, n, mass)[:2]
+    return int((loaded & ~mode).sum())
 
 
 #: how near a root below the solve's round-off must be to the root of its own shape's equation

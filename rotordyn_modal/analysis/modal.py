@@ -130,6 +130,10 @@ class ModalResult:
         they are, docs/theory.md section 8); ``eigenvalues`` keeps the half of them nearest zero
         (:attr:`real_roots`), as it keeps one root of each pair. None where not known (a result
         not solved from a state matrix).
+    unresolved_roots : int
+        Roots of the state matrix below its round-off whose shapes their own stiffness loads but
+        does not resolve (``docs/theory.md`` section 8): zero roots here, among the real roots,
+        that may be slow modes the solve cannot tell (``modes`` says so on stderr).
     """
 
     speed: float
@@ -152,6 +156,7 @@ class ModalResult:
     energy_parts: tuple = ()
     energy_fractions: np.ndarray | None = None
     state_real_roots: int | None = None
+    unresolved_roots: int = 0
 
     @property
     def kinds(self) -> np.ndarray:
@@ -374,6 +379,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
         body_motions=np.array([layout.frame_motion()] + [layout.body_motion(r.name) for r in model.rotors]),
         round_off=noise, whirl_round_off=ratio_noise, dofs=layout if layout.shafts else None,
         energy_parts=parts, energy_fractions=fractions, state_real_roots=int((snapped.imag == 0).sum()),
+        unresolved_roots=_roots.unresolved_roots(values, noise, matrix, vectors, n, form.matrices.M),
     )
 
 

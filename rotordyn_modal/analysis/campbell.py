@@ -702,15 +702,15 @@ def _lowest_whirl_round_off(stack, speeds, values):
     examples); speed-dependent coefficients balance each speed's matrix. The roots not carried
     are not known: a gap to one of them is not seen (the top carried root's may be smaller).
     None (no round-off: ``WHIRL_TOLERANCE`` alone) for a model whose state matrix exceeds
-    :data:`_LOWEST_ROUND_OFF_BYTES`.
+    :data:`_LOWEST_ROUND_OFF_BYTES` or that the route keeps sparse.
 
     Returns
     -------
     ndarray, shape (S, k), or None
     """
     size = stack.forms[0].n_states
-    if 8 * size * size > _LOWEST_ROUND_OFF_BYTES or not values.shape[-1]:
-        return None
+    if 8 * size * size > _LOWEST_ROUND_OFF_BYTES or not values.shape[-1] or stack.sparse_constant is not None:
+        return None                     # a large model's route forms no dense matrix (assembly.SPARSE_DOF)
     if stack.dependent:
         noise = _batches.concatenated([_roots.round_off(stack.at(np.zeros(part.stop - part.start, int), speeds[part]))
                                        for part in _batches.chunk_slices(len(speeds), 8 * size * size)])

@@ -144,7 +144,14 @@ def implausible(model, units: str = "si") -> list[str]:
                          f"L/D = {journal.length / journal.diameter:.3g} is beyond {LONG_JOURNAL:g}, where "
                          "short-bearing (Ocvirk) theory stops matching measurements: its coefficients are rough")
     return lines + _merge_lines(model) + _material_lines(model) + _clearance_lines(model) \
-        + stiffness_spread_lines(model) + maxwell_spread_lines(model)
+        + _spread_lines(model)
+
+
+def _spread_lines(model) -> list[str]:
+    """:func:`stiffness_spread_lines` and :func:`maxwell_spread_lines`, the stiffness scales of
+    the machine found once for both (:func:`_support_scales`)."""
+    parts = _support_scales(model)
+    return stiffness_spread_lines(model, parts) + maxwell_spread_lines(model, parts)
 
 
 #: the largest radial running clearance [m] of a close-clearance station that draws no warning:
@@ -608,7 +615,7 @@ SPREAD_WARN_DIGITS = 6.0
 SPREAD_REFUSE_DIGITS = float(-np.log10(np.finfo(float).eps))
 
 
-def stiffness_spread_lines(model) -> list[str]:
+def stiffness_spread_lines(model, parts=None) -> list[str]:
     """The warning about a support far stiffer than what it holds, one line each (or none).
 
     Each support (a bearing's radial or moment stiffness, a mount, a pedestal, a gear mesh)
@@ -626,7 +633,7 @@ def stiffness_spread_lines(model) -> list[str]:
         modes is left (its stiffness also rounds the rest away in ``K``).
     """
     found = []
-    for where, key, value, digits, rigid, unit in support_spreads(model):
+    for where, key, value, digits, rigid, unit in support_spreads(model, parts):
         if not digits > SPREAD_WARN_DIGITS:
             continue
         said = (f"{model.source}: {where} {key} = {value:.3g}: {10 ** digits:.1e} times the scale of what it holds "
@@ -655,7 +662,7 @@ def stiffness_spread_lines(model) -> list[str]:
 MAXWELL_REFUSE_DIGITS = 12.0
 
 
-def maxwell_spread_lines(model) -> list[str]:
+def maxwell_spread_lines(model, parts=None) -> list[str]:
     """The warning about a mount's Maxwell branch far faster than the machine's modes, one line
     (the worst branch, the others counted), or none.
 
@@ -675,10 +682,7 @@ def maxwell_spread_lines(model) -> list[str]:
                 for i, tau in enumerate(np.ravel(s.maxwell_time))]
     if not branches:
         return []
-    with np.errstate(all="ignore"):
-        mass = mass_diagonal(model)
-        scales = [_scale(d, mass)[0] for _, _, _, d in _stiffness_pieces(model)]
-    scales = [lam for lam in scales if np.isfinite(lam) and lam > 0]
+    scales = [p[3][0] for p in (_support_scales(model) if parts is None else parts)]
     if not scales:
         return []
     slowest = float(np.sqrt(min(scales)))                 # [rad/s]
@@ -706,18 +710,25 @@ def maxwell_spread_lines(model) -> list[str]:
     return [line + (f" (and {more} other branch{'es' if more > 1 else ''})" if more else "")]
 
 
-def support_spreads(model) -> list:
+def _support_scales(model) -> list:
+    """``(where, key, value, (lam, j))`` of each stiffness of the machine (:func:`_stiffness_pieces`)
+    with a finite positive scale ``lam = max_j K_jj / M_jj`` [1/s^2] (:func:`_scale`)."""
+    with np.errstate(all="ignore"):
+        mass = mass_diagonal(model)
+        parts = [(where, key, value, _scale(K, mass)) for where, key, value, K in _stiffness_pieces(model)]
+    return [p for p in parts if np.isfinite(p[3][0]) and p[3][0] > 0]
+
+
+def support_spreads(model, parts=None) -> list:
     """What each support costs the low modes: ``(where, key, value, digits, rigid, unit)``.
 
     ``digits = log10(lam_e / lam_h)`` (see :func:`stiffness_spread_lines`), ``value`` the
     support's largest coefficient, ``rigid = value lam_h / lam_e`` what it holds against in the
     units of its key, ``unit`` (``'N/m'``; ``'N m/rad'`` for ``moment_stiffness``). Only
-    supports that some other stiffness of the machine holds against are listed.
+    supports that some other stiffness of the machine holds against are listed. ``parts``: the
+    machine's :func:`_support_scales`, where already found.
     """
-    with np.errstate(all="ignore"):
-        mass = mass_diagonal(model)
-        parts = [(where, key, value, _scale(K, mass)) for where, key, value, K in _stiffness_pieces(model)]
-    parts = [p for p in parts if np.isfinite(p[3][0]) and p[3][0] > 0]
+    parts = _support_scales(model) if parts is None else parts
     softest = sorted((p[3][0], p[0]) for p in parts)     # a few steps per support, not all pairs
     out = []
     for where, key, value, (scale, at) in parts:

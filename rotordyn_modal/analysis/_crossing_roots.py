@@ -402,6 +402,15 @@ def _candidates(stack, values, variants, x, centers, shapes=False, count=None):
     return _roots_near(stack, variants, x, centers, shapes, count)
 
 
+def _masses(stack, variants):
+    """The mass matrix of each row's variant (n, n) or (P, n, n), with which a slow root is judged
+    by its shape (:func:`._eigensolve.eigenvalues_of`); None for a model kept sparse (no dense n x n
+    matrix of it is formed: its slow roots below the square root of round-off are zero roots)."""
+    if stack.sparse_constant is not None:
+        return None
+    return stack.M[0] if len(stack.M) == 1 else stack.M[variants]
+
+
 def _all_roots(stack, variants, x, shapes):
     """All upper roots of the state matrices at ``x`` (R, m), with their unit shapes (R, m, n)
     when ``shapes`` (None otherwise)."""
@@ -409,7 +418,8 @@ def _all_roots(stack, variants, x, shapes):
     if shapes:
         return _batches.concatenated([stack.solve(stack.at(variants[part], x[part]), variants[part])
                                     for part in _batches.chunk_slices(len(x), 80 * size * size)])
-    return _batches.concatenated([_eigensolve.select_upper(_eigensolve.eigenvalues_of(stack.at(variants[part], x[part])))
+    return _batches.concatenated([_eigensolve.select_upper(_eigensolve.eigenvalues_of(
+        stack.at(variants[part], x[part]), stack.n_dof, _masses(stack, variants[part])))
                                 for part in _batches.chunk_slices(len(x), 32 * size * size)]), None
 
 

@@ -49,7 +49,7 @@ def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False, mass=N
                               item_bytes=72 * size * size)
 
 
-def ratio_round_off(upper, every, matrices) -> np.ndarray:
+def ratio_round_off(upper, every, matrices, own=None) -> np.ndarray:
     """How far round-off can move the whirl ratio of each root's shape (:func:`._roots.whirl_round_off`),
     with the round-off of each solve (:func:`._roots.round_off` of its matrix) and its repeated
     roots (within :data:`REPEATED_TOLERANCE` of its largest root) as ``modal`` takes them.
@@ -62,6 +62,8 @@ def ratio_round_off(upper, every, matrices) -> np.ndarray:
         All roots of each solve.
     matrices : ndarray, shape (R, n_s, n_s)
         The state matrices solved.
+    own : ndarray, shape (R, m), optional
+        Each root's own round-off where it differs (:func:`._roots.snapped_with_round_off`).
 
     Returns
     -------
@@ -69,40 +71,75 @@ def ratio_round_off(upper, every, matrices) -> np.ndarray:
     """
     noise = _roots.round_off(matrices)
     repeated = REPEATED_TOLERANCE * np.abs(upper).max(axis=-1, initial=0.0)
-    return np.stack([_roots.whirl_round_off(u, e, z, r) for u, e, z, r in zip(upper, every, noise, repeated)]) \
-        if len(upper) else np.zeros(upper.shape)
+    if own is not None:
+        own = np.where(own < noise[:, None], own, noise[:, None])
+    return _roots.whirl_round_off(upper, every, noise, repeated, own)
 
 
 def _upper_part(matrices: np.ndarray, mass=None, n: int = 0, whirl_noise: bool = False):
     values, vectors = np.linalg.eig(matrices)
-    every = values
-    values = _roots.snapped(values, _roots.deciding_round_off(values, matrices), matrices, vectors, n, mass)
+    values, own, every = _roots.snapped_with_round_off(values, _roots.deciding_round_off(values, matrices), matrices,
+                                                       vectors, n, mass)
     index, eigenvalues = upper_indices(values)
     # advanced indices apart put their axes first: shapes[r, k, j] = vectors[r, j, index[r, k]]
     shapes = vectors[np.arange(len(vectors))[:, None], :n, index]
     if whirl_noise:
-        return eigenvalues, _vectors.unit_rows(shapes), ratio_round_off(eigenvalues, every, matrices)
+        own = np.take_along_axis(np.broadcast_to(own, values.shape), index, axis=-1)
+        return eigenvalues, _vectors.unit_rows(shapes), ratio_round_off(eigenvalues, every, matrices, own)
     return eigenvalues, _vectors.unit_rows(shapes)
 
 
-def eigenvalues_of(matrices: np.ndarray) -> np.ndarray:
+def eigenvalues_of(matrices: np.ndarray, n: int | None = None, mass=None) -> np.ndarray:
     """``numpy.linalg.eigvals`` of a stack of matrices, in threads and parts of bounded memory,
-    their round-off removed (:func:`._roots.snapped`)."""
+    their round-off removed (:func:`._roots.snapped`).
+
+    With the state matrices' ``n`` coordinates and ``mass`` (n, n) or (R, n, n), each root is
+    judged by its own shape as :func:`upper_shapes` judges it: the matrices with a nonzero root
+    at or below the square root of their round-off are solved again with their eigenvectors
+    (:func:`._roots.zero_roots`; usually none), so a slow mode is never taken for a zero root
+    because some other root of the machine is large. Without them every root below that square
+    root is zero."""
     size = matrices.shape[-1]
-    return _batches._threaded(_snapped_eigenvalues, matrices, item_bytes=24 * size * size)
+    if mass is None:
+        return _batches._threaded(_snapped_eigenvalues, matrices, item_bytes=24 * size * size)
+    if np.ndim(mass) == 3:
+        return _batches._threaded(functools.partial(_snapped_eigenvalues, n=n), matrices,
+                                  np.asarray(mass, dtype=float), item_bytes=24 * size * size)
+    return _batches._threaded(functools.partial(_snapped_eigenvalues, n=n, mass=mass), matrices,
+                              item_bytes=24 * size * size)
 
 
-def _snapped_eigenvalues(matrices: np.ndarray) -> np.ndarray:
+def _snapped_eigenvalues(matrices: np.ndarray, mass=None, n: int | None = None) -> np.ndarray:
     values = np.linalg.eigvals(matrices)
-    return _roots.snapped(values, _roots.deciding_round_off(values, matrices))
+    noise = _roots.deciding_round_off(values, matrices)
+    if mass is None:
+        return _roots.snapped(values, noise)
+    rows = np.flatnonzero(_judged_by_shape(values, noise))
+    out = _roots.snapped(values, noise)
+    if len(rows):
+        masses = mass[rows] if np.ndim(mass) == 3 else mass
+        again, vectors = np.linalg.eig(matrices[rows])
+        judged = _roots.snapped(again, _roots.deciding_round_off(again, matrices[rows]), matrices[rows], vectors,
+                                n, masses)
+        # eig's roots where its shapes keep a slow mode; elsewhere eigvals' (the same verdicts, the same bits)
+        kept = (judged == 0).sum(axis=-1) != (out[rows] == 0).sum(axis=-1)
+        out[rows[kept]] = judged[kept]
+    return out
+
+
+def _judged_by_shape(values, noise) -> np.ndarray:
+    """(R,) bool: the solves whose roots ``values`` (R, M) have one that only its shape can tell
+    from a zero root: nonzero and at or below :func:`._roots.zero_floor` of ``noise`` (R,)."""
+    magnitude = np.abs(values)
+    return ((magnitude > 0) & (magnitude <= _roots.zero_floor(noise)[:, None])).any(axis=-1)
 
 
 def upper_eigenvalues(matrices: np.ndarray):
     """Upper eigenvalues (see :func:`upper_indices`) of a stack of state matrices from
     ``numpy.linalg.eigvals`` (no eigenvectors: about 60 % of ``eig``'s work), in threads and parts
     of bounded memory, and which rows need their eigenvectors to judge their roots: those with
-    a root between the round-off and its square root (whether it is a zero root depends on its
-    shape, :func:`._roots.zero_roots`). Elsewhere the eigenvalues equal :func:`upper_shapes`' to
+    a nonzero root up to the square root of the round-off (whether it is a zero root depends on
+    its shape, :func:`._roots.zero_roots`). Elsewhere the eigenvalues equal :func:`upper_shapes`' to
     round-off.
 
     Parameters
@@ -120,9 +157,7 @@ def upper_eigenvalues(matrices: np.ndarray):
 def _upper_eigenvalues_part(matrices: np.ndarray):
     values = np.linalg.eigvals(matrices)
     noise = _roots.deciding_round_off(values, matrices)      # decides `needed` as the round-off would
-    magnitude, floor = np.abs(values), noise[:, None]
-    needed = ((magnitude > floor) & (magnitude <= _roots.zero_floor(floor))).any(axis=-1)
-    return upper_indices(_roots.snapped(values, noise))[1], needed
+    return upper_indices(_roots.snapped(values, noise))[1], _judged_by_shape(values, noise)
 
 
 def select_upper(values: np.ndarray) -> np.ndarray:
@@ -380,9 +415,11 @@ def _sparse_form(form, basis):
 
 def _repeated_pairs(lam):
     """Rows and first columns of the eigenvalues equal to the next one, exactly two equal (not
-    three) and not rigid-body zeros; ``lam`` shape (N, m), equal values adjacent."""
+    three) and not rigid-body zeros; ``lam`` shape (N, m), equal values adjacent. Equal: within
+    :data:`REPEATED_TOLERANCE` of the row's largest root and within a part of their own size
+    (:func:`._roots.one_root`)."""
     scale = np.abs(lam).max(axis=-1, keepdims=True) + 1e-300
-    close = np.abs(lam[..., 1:] - lam[..., :-1]) <= REPEATED_TOLERANCE * scale  # (N, m-1), numpy.diff
+    close = _roots.one_root(lam[..., 1:], lam[..., :-1], REPEATED_TOLERANCE * scale)  # (N, m-1)
     if not close.any():                    # the usual case: no repeated eigenvalue at all
         return close.nonzero()
     pair = close.copy()                    # not part of three equal: its neighbours not close

@@ -21,7 +21,7 @@ import numpy as np
 
 from . import _batches
 
-__all__ = ["BACKWARD_FACTOR", "round_off", "deciding_round_off", "conservative", "balanced_norm", "snapped", "zero_roots", "zero_floor", "FREE_LOADING", "whirl_round_off", "at_round_off"]
+__all__ = ["BACKWARD_FACTOR", "round_off", "affine_round_off", "deciding_round_off", "conservative", "balanced_norm", "snapped", "snapped_with_round_off", "zero_roots", "unresolved_roots", "zero_floor", "FREE_LOADING", "whirl_round_off", "one_root", "REPEATED_OWN", "at_round_off"]
 
 #: the backward error of a dense eigen-solve taken as this many ``eps ||B||_F``, ``B`` the
 #: balanced matrix (LAPACK's bound grows slowly with the size; measured errors are a few eps ||B||)
@@ -129,9 +129,33 @@ def balanced_norm(matrices) -> np.ndarray:
 _BALANCE_BYTES = 2**21
 
 
-def _balanced_norms(matrices) -> np.ndarray:
+def affine_round_off(A0, A1, speeds) -> np.ndarray:
+    """:func:`round_off` of state matrices ``A0 + Omega A1`` (n_s, n_s) each at ``speeds`` (N,)
+    [rad/s] without forming them: the balancing ``D`` of the one at the largest ``|Omega|``
+    (:func:`balanced_norm`'s) kept for all, so ``||D^-1 A D||_F^2`` is a quadratic in ``Omega``
+    (three sums). Equal to :func:`round_off` at that speed; elsewhere the norm of a balancing that
+    is not that matrix's own, within the factor by which the balancing moves with speed (measured
+    on the examples with a rotor: within 2 % across 0-600 rad/s).
+
+    Returns
+    -------
+    ndarray, shape (N,) [1/s]
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    if not len(speeds):
+        return np.zeros(0)
+    reference = speeds[np.argmax(np.abs(speeds))]
+    log_d = _balanced_norms((A0 + reference * A1)[None], exponents=True)[1][0]
+    scale = np.exp2(log_d[None, :] - log_d[:, None])              # b_ij = a_ij d_j / d_i
+    B0, B1 = A0 * scale, A1 * scale
+    squares = np.sum(B0 * B0) + 2.0 * speeds * np.sum(B0 * B1) + speeds * speeds * np.sum(B1 * B1)
+    return BACKWARD_FACTOR * np.finfo(float).eps * np.sqrt(np.maximum(squares, 0.0))
+
+
+def _balanced_norms(matrices, exponents: bool = False):
     """:func:`balanced_norm` of a stack (P, n, n): the sweeps go on for the matrices not yet
-    balanced only; each matrix's products are its own (a row's bits do not depend on the others)."""
+    balanced only; each matrix's products are its own (a row's bits do not depend on the others).
+    With ``exponents`` also ``log2`` of each balancing's ``D`` (P, n)."""
     squares = matrices * matrices
     diagonal = np.einsum("pii->pi", squares).copy()
     np.einsum("pii->pi", squares)[...] = 0.0             # the off-diagonal part
@@ -161,7 +185,8 @@ def _balanced_norms(matrices) -> np.ndarray:
                 d2 = np.exp2(2.0 * log_d[active])
     d2 = np.exp2(2.0 * log_d)
     off_squares = (((1.0 / d2)[:, None, :] @ squares) @ d2[:, :, None])[:, 0, 0]
-    return np.sqrt(off_squares + diagonal.sum(axis=-1))
+    norms = np.sqrt(off_squares + diagonal.sum(axis=-1))
+    return (norms, log_d) if exponents else norms
 
 
 def zero_floor(noise) -> np.ndarray:
@@ -188,9 +213,18 @@ def snapped(values, noise, matrices=None, vectors=None, n: int | None = None, ma
     -------
     ndarray, shape (..., m), complex
     """
+    return snapped_with_round_off(values, noise, matrices, vectors, n, mass)[0]
+
+
+def snapped_with_round_off(values, noise, matrices=None, vectors=None, n: int | None = None, mass=None):
+    """:func:`snapped`, the round-off of each root (..., m) [1/s]: ``noise``, or for a slow
+    mode below it that its own shape resolves, that shape's (:func:`_below_noise`, whose root
+    replaces the solve's), and ``values`` with those roots replaced (nothing else snapped: the
+    roots a whirl's gap is measured to, :func:`whirl_round_off`)."""
     values = np.asarray(values, dtype=complex)
-    out = np.where(np.abs(values.imag) <= np.asarray(noise, dtype=float)[..., None], values.real + 0j, values)
-    return np.where(zero_roots(values, noise, matrices, vectors, n, mass), 0j, out)
+    zero, own, values = _judged(values, noise, matrices, vectors, n, mass)
+    out = np.where(np.abs(values.imag) <= own, values.real + 0j, values)
+    return np.where(zero, 0j, out), own, values
 
 
 def zero_roots(values, noise, matrices=None, vectors=None, n: int | None = None, mass=None) -> np.ndarray:
@@ -235,13 +269,31 @@ def zero_roots(values, noise, matrices=None, vectors=None, n: int | None = None,
     -------
     ndarray of bool, shape (..., m)
     """
+    return _judged(values, noise, matrices, vectors, n, mass)[0]
+
+
+def _judged(values, noise, matrices=None, vectors=None, n: int | None = None, mass=None):
+    """:func:`zero_roots` of ``values`` (..., m), the round-off (..., m) of each root (below which
+    its imaginary part is 0): ``noise``, or for a slow mode below ``noise`` kept by its own shape
+    that shape's, and the roots with such modes' values from their shapes (:func:`_below_noise`)."""
     values = np.asarray(values)
     noise = np.asarray(noise, dtype=float)[..., None]
+    own = np.broadcast_to(noise, values.shape)
     magnitude = np.abs(values)
     zero = magnitude <= noise
     split = (magnitude <= zero_floor(noise)) & ~zero
-    if vectors is None or not split.any():
-        return zero | split
+    if vectors is None:
+        return zero | split, own, values
+    if mass is not None and (zero & (magnitude > 0)).any():
+        zero, own, values = _below_noise(values, noise, zero & (magnitude > 0), matrices, vectors, n, mass)
+    if not split.any():
+        return zero | split, own, values
+    return _split_roots(values, noise, zero, split, matrices, vectors, n, mass), own, values
+
+
+def _split_roots(values, noise, zero, split, matrices, vectors, n, mass):
+    """:func:`zero_roots` given the roots ``zero`` below ``noise`` (..., m) and the candidates
+    ``split`` between it and its square root (..., m)."""
     # the few candidates only: usually none
     rows = np.broadcast_to(np.arange(values.size // values.shape[-1]).reshape(values.shape[:-1] + (1,)), values.shape)
     flat_matrices = np.asarray(matrices).reshape((-1,) + np.shape(matrices)[-2:])
@@ -281,18 +333,149 @@ def _loaded(matrices, masses, states, n: int) -> np.ndarray:
         The candidates' eigenvectors.
     n : int
     """
+    stiffness, damping, _, stiffness_noise, damping_noise = _terms(matrices, masses, states, n)
+    return (np.abs(stiffness) > FREE_LOADING * stiffness_noise) | (np.abs(damping) > FREE_LOADING * damping_noise)
+
+
+def _terms(matrices, masses, states, n: int):
+    """The terms of each candidate's scalar equation ``m lam^2 + lam d + k = 0`` from its own
+    shape (``phi^H M`` times the ``v`` rows of ``A x = lam x``), and the round-off of forming
+    them (arguments as :func:`_loaded`).
+
+    Returns
+    -------
+    stiffness, damping, inertia : ndarray, shape (P,), complex
+        ``k = -phi^H M (A_vq phi + A_vz x_z)`` (``phi^H K phi`` without Maxwell branches ``z``),
+        ``lam d = -phi^H M A_vv x_v`` (``lam phi^H (C + Omega G) phi``) and ``phi^H M x_v``
+        (``lam m``).
+    stiffness_noise, damping_noise : ndarray, shape (P,)
+        ``eps ||M|| ||phi||`` times ``||A_vq|| ||phi|| + ||A_vz|| ||x_z||`` and ``||A_vv|| ||x_v||``
+        (Frobenius norms).
+    """
     eps = np.finfo(float).eps
     phi, velocity, branches = states[:, :n], states[:, n:2 * n], states[:, 2 * n:]
     weighted = np.einsum("pij,pj->pi", masses, phi).conj()                          # (M phi)^H
     rows = matrices[:, n:2 * n]
-    stiffness = np.abs(np.einsum("pi,pij,pj->p", weighted, rows[:, :, :n], phi)
-                       + np.einsum("pi,pij,pj->p", weighted, rows[:, :, 2 * n:], branches))
-    damping = np.abs(np.einsum("pi,pij,pj->p", weighted, rows[:, :, n:2 * n], velocity))
+    stiffness = -(np.einsum("pi,pij,pj->p", weighted, rows[:, :, :n], phi)
+                  + np.einsum("pi,pij,pj->p", weighted, rows[:, :, 2 * n:], branches))
+    damping = -np.einsum("pi,pij,pj->p", weighted, rows[:, :, n:2 * n], velocity)
+    inertia = np.einsum("pi,pi->p", weighted, velocity)
     size = eps * np.linalg.norm(masses, axis=(-2, -1)) * np.linalg.norm(phi, axis=-1)
     stiffness_noise = size * (np.linalg.norm(rows[:, :, :n], axis=(-2, -1)) * np.linalg.norm(phi, axis=-1)
                               + np.linalg.norm(rows[:, :, 2 * n:], axis=(-2, -1)) * np.linalg.norm(branches, axis=-1))
     damping_noise = size * np.linalg.norm(rows[:, :, n:2 * n], axis=(-2, -1)) * np.linalg.norm(velocity, axis=-1)
-    return (stiffness > FREE_LOADING * stiffness_noise) | (damping > FREE_LOADING * damping_noise)
+    return stiffness, damping, inertia, stiffness_noise, damping_noise
+
+
+def _candidates(values, which, matrices, vectors, mass):
+    """The state matrix (P, n_s, n_s), mass matrix (P, n, n) and eigenvector (P, n_s) of each
+    root ``which`` (..., m) bool of ``values``."""
+    rows = np.broadcast_to(np.arange(values.size // values.shape[-1]).reshape(values.shape[:-1] + (1,)), values.shape)
+    flat_matrices = np.asarray(matrices).reshape((-1,) + np.shape(matrices)[-2:])
+    flat_vectors = np.asarray(vectors).reshape((-1,) + np.shape(vectors)[-2:])
+    r, k = rows[which], np.nonzero(which.reshape(-1, values.shape[-1]))[1]
+    masses = np.asarray(mass, dtype=float)
+    masses = masses.reshape((-1,) + masses.shape[-2:])
+    return flat_matrices[r], masses[r if len(masses) > 1 else np.zeros(len(r), dtype=int)], flat_vectors[r, :, k]
+
+
+def _below_noise(values, noise, which, matrices, vectors, n: int, mass):
+    """Which of the nonzero roots ``which`` (..., m) below ``noise`` are modes made by their own
+    stiffness, and the round-off of each root's imaginary part (..., m).
+
+    A root below the solve's round-off is a mode where its shape's own stiffness term ``k =
+    phi^H K phi`` is above :data:`FREE_LOADING` times the round-off of forming it (:func:`_terms`)
+    and the root is resolved by its shape's own equation ``m lam^2 + d lam + k = 0``: ``|lam|``
+    above :data:`FREE_LOADING` times :func:`_own_round_off`, and within :data:`AGREEMENT` of
+    that equation's root (:func:`_shape_root`, which it takes: the shape's Rayleigh value). The backward conical whirl of a
+    1e6 kg rotor on 1e-6 N/m bearings at 100 rad/s, ``2 k_t / (I_p Omega + ...) = 8.9e-15`` 1/s,
+    has ``k`` 1e12 times its round-off, while the solve's round-off is 5.7e-12 1/s. A direction
+    without suspension (``K phi = 0``: a free rotor's precession, whose root ``-k/d`` is nothing
+    but round-off) stays a zero root. The imaginary part of a kept root is 0 within its own
+    round-off, not the solve's (which is larger than the root itself).
+
+    Returns
+    -------
+    zero : ndarray of bool, shape (..., m)
+        ``|lam| <= noise`` and not such a mode.
+    own : ndarray, shape (..., m) [1/s]
+    refined : ndarray, shape (..., m), complex
+        ``values``, the modes kept with the root of their shape's equation (:func:`_shape_root`).
+    """
+    lam = values[which]
+    loaded, mode, resolution, own_root = _verdicts(values, which, matrices, vectors, n, mass)
+    zero = np.abs(values) <= noise
+    zero[which] = ~mode
+    refined = np.array(values, dtype=complex)
+    kept = np.where(mode, own_root, lam)
+    refined[which] = np.where(np.abs(kept.real) <= resolution, 1j * kept.imag, kept)    # no -0 nor 1e-63
+    own = np.array(np.broadcast_to(noise, values.shape), dtype=float)
+    own[which] = np.where(mode, np.fmax(resolution, np.abs(own_root - lam)), own[which])
+    return zero, own, refined
+
+
+def _verdicts(values, which, matrices, vectors, n: int, mass):
+    """For the roots ``which`` (..., m) bool of ``values`` (:func:`_below_noise`), each (P,):
+    whether its shape's stiffness term is loaded, whether it is a mode, its own round-off and
+    the root of its shape's equation."""
+    matrices_p, masses_p, states = _candidates(values, which, matrices, vectors, mass)
+    lam = values[which]
+    stiffness, damping, inertia, stiffness_noise, damping_noise = _terms(matrices_p, masses_p, states, n)
+    resolution = _own_round_off(lam, stiffness, damping, inertia, stiffness_noise + damping_noise)
+    own_root = _shape_root(lam, matrices_p, masses_p, states[:, :n], stiffness, n)
+    loaded = np.abs(stiffness) > FREE_LOADING * stiffness_noise
+    mode = loaded & (np.abs(lam) > FREE_LOADING * resolution) & (np.abs(own_root - lam) <= AGREEMENT * np.abs(lam))
+    return loaded, mode, resolution, own_root
+
+
+def unresolved_roots(values, noise, matrices, vectors, n: int, mass) -> int:
+    """How many nonzero roots below ``noise`` have a shape that its own stiffness loads (not a
+    direction without suspension) but are not resolved by it (:func:`_below_noise`): zero roots
+    that may be slow modes, which the solve cannot tell (``modes`` says so on stderr). Arguments
+    as :func:`zero_roots`, one solve or a stack."""
+    values = np.asarray(values)
+    noise = np.asarray(noise, dtype=float)[..., None]
+    which = (np.abs(values) <= noise) & (np.abs(values) > 0)
+    if not which.any():
+        return 0
+    loaded, mode = _verdicts(values, which, matrices, vectors, n, mass)[:2]
+    return int((loaded & ~mode).sum())
+
+
+#: how near a root below the solve's round-off must be to the root of its own shape's equation
+#: (:func:`_shape_root`), relative, to be that shape's mode: the same root, its disagreement its
+#: round-off (the cross-coupled, damped rotor of 1e6 kg on 1e-6 N/m at 100 rad/s: numpy's backward
+#: conical root is 2.6e-3 from its shape's, which is the one that goes on smoothly from the speeds
+#: where the two agree to 4e-6)
+AGREEMENT = 0.1
+
+
+def _shape_root(lam, matrices, masses, phi, stiffness, n: int):
+    """The root nearest ``lam`` (P,) of each shape's own equation ``m mu^2 + d mu + k = 0``, ``m
+    = phi^H M phi``, ``d = phi^H (C + Omega G) phi = -phi^H M A_vv phi`` and ``k`` (:func:`_terms`)
+    (P,): its Rayleigh value, exact for an exact shape (the backward conical whirl 2 k_t / (I_p
+    Omega + sqrt(...)) of a rotor on 1e-6 N/m at 1e4 rad/s to 1e-10, where the solve's root is
+    9e-7 off), each root of the quadratic taken without cancellation."""
+    weighted = np.einsum("pij,pj->pi", masses, phi).conj()
+    m = np.einsum("pi,pi->p", weighted, phi)
+    d = -np.einsum("pi,pij,pj->p", weighted, matrices[:, n:2 * n, n:2 * n], phi)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        disc = np.sqrt(d * d - 4.0 * m * stiffness + 0j)
+        q = -0.5 * np.where(np.abs(d + disc) >= np.abs(d - disc), d + disc, d - disc)
+        roots = np.stack([q / m, stiffness / q])
+    roots = np.where(np.isfinite(roots), roots, np.inf)
+    return roots[np.argmin(np.abs(roots - lam), axis=0), np.arange(len(lam))]
+
+
+def _own_round_off(lam, stiffness, damping, inertia, noise):
+    """How far the round-off ``noise`` (P,) of a shape's terms (:func:`_terms`) moves the root
+    ``lam`` (P,) of its scalar equation ``m lam^2 + d lam + k = 0`` [1/s]: ``noise / |P'(lam)|``,
+    ``P'(lam) = 2 m lam + d = (m lam^2 - k) / lam``, at most ``sqrt(noise / |m|)`` (a double root
+    of the scalar equation)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mass = np.abs(inertia / lam)
+        slope = np.abs(inertia * lam - stiffness) / np.abs(lam)
+        return np.fmin(noise / slope, np.sqrt(noise / mass))
 
 
 def _free_bound(values, noise, matrices, rows, n: int) -> np.ndarray:
@@ -314,7 +497,7 @@ def _free_bound(values, noise, matrices, rows, n: int) -> np.ndarray:
     return size * size + noise * (1.0 + size + damping)
 
 
-def whirl_round_off(eigenvalues, every, noise, repeated: float) -> np.ndarray:
+def whirl_round_off(eigenvalues, every, noise, repeated: float, own=None) -> np.ndarray:
     """How far round-off can move the whirl ratio of each root's shape (dimensionless).
 
     An eigenvector is known to about ``noise / gap``, ``gap`` the distance to the nearest other
@@ -332,17 +515,38 @@ def whirl_round_off(eigenvalues, every, noise, repeated: float) -> np.ndarray:
     repeated : float or ndarray, shape (...)
         Distance below which two roots are one repeated root [1/s] (as
         ``_eigensolve.resolve_repeated`` decides).
+    own : ndarray, shape (..., m), optional
+        The round-off of each root where it is its own (:func:`snapped_with_round_off`: a slow
+        mode below ``noise`` that its shape resolves); ``noise`` for every root by default.
 
     Returns
     -------
     ndarray, shape (..., m)
     """
     lam = np.asarray(eigenvalues, dtype=complex)
-    distance = np.abs(lam[..., :, None] - np.asarray(every, dtype=complex)[..., None, :])
-    distance[distance <= np.asarray(repeated, dtype=float)[..., None, None]] = np.inf
+    every = np.asarray(every, dtype=complex)
+    distance = np.abs(lam[..., :, None] - every[..., None, :])
+    distance[one_root(lam[..., :, None], every[..., None, :], np.asarray(repeated, dtype=float)[..., None, None])] = np.inf
     gap = distance.min(axis=-1, initial=np.inf)
+    level = np.asarray(noise, dtype=float)[..., None] if own is None else np.asarray(own, dtype=float)
     with np.errstate(divide="ignore"):
-        return np.where(gap > 0, np.asarray(noise, dtype=float)[..., None] / gap, np.inf)
+        return np.where(gap > 0, level / gap, np.inf)
+
+
+#: two roots further apart than this part of the larger are two roots, never one repeated root
+REPEATED_OWN = 1e-3
+
+
+def one_root(a, b, tolerance) -> np.ndarray:
+    """Whether the roots ``a`` and ``b`` (broadcast) are one repeated root: within ``tolerance``
+    [1/s] (``_eigensolve.REPEATED_TOLERANCE`` of the solve's largest root) and within
+    :data:`REPEATED_OWN` of their own size. The second keeps a tolerance set by another root from
+    joining roots that differ by their whole size: the cylindrical pair of a 1e6 kg rotor on
+    1e-6 N/m bearings (1.4e-6 1/s) with its backward conical whirl (8.9e-16 1/s) at 1000 rad/s,
+    within 1.8e-6 1/s of each other, made a group of three, and the pair's whirl was the
+    solver's planar shapes' (ratio 0, not +-1)."""
+    distance = np.abs(np.asarray(a) - np.asarray(b))
+    return (distance <= tolerance) & (distance <= REPEATED_OWN * np.maximum(np.abs(a), np.abs(b)))
 
 
 def at_round_off(values, noise) -> np.ndarray:

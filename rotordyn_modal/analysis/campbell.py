@@ -13,7 +13,7 @@ import numpy as np
 
 from .._limits import memory_problem
 from ..errors import InputError
-from . import _arguments, _batches, _whirl
+from . import _arguments, _batches, _eigensolve, _roots, _whirl
 from ._stack import Stack
 from .critical_speeds import (_SUB_DEPTH, _SUB_SPEEDS, JUMP_TOLERANCE, CriticalSpeeds, ExcitationSources,
                               _critical_table, _find_critical_speeds, _warn_of_jumps, _with_sweep, excitation_sources,
@@ -318,7 +318,8 @@ class CampbellResult:
         })
         table.loc[table["mode_at_speed"] == 0, "mode_at_speed"] = pd.NA
         table = table[keep].reset_index(drop=True)
-        table.attrs["round_off"] = _round_off_columns(self.eigenvalues.ravel()[keep])
+        table.attrs["round_off"] = _round_off_columns(
+            self.eigenvalues.ravel()[keep], None if self.whirl_round_off is None else self.whirl_round_off.ravel()[keep])
         return table
 
     def plot(self, **kwargs):
@@ -366,17 +367,21 @@ ROUND_OFF_RELATIVE = 1e-10
 WHIRL_ROUND_OFF = 1e-9
 
 
-def _round_off_columns(eigenvalues) -> dict:
+def _round_off_columns(eigenvalues, whirl_round_off=None) -> dict:
     """What round-off can move each damping column of the roots ``eigenvalues`` (shape (m,))
     by, row by row: ``ROUND_OFF_RELATIVE |lam|`` on the real part, and the whirl ratio by
-    :data:`WHIRL_ROUND_OFF`. The terminal prints those
+    :data:`WHIRL_ROUND_OFF` or its own round-off ``whirl_round_off`` (m,) where that is larger
+    (the level its whirl label uses, :attr:`CampbellResult.whirl_round_off`: a ratio labelled
+    ``none`` for being within it prints 0). The terminal prints those
     within it as 0 (``cli._common.print_table``): a damping ratio of -3.9e-15 on an undamped
     axial mode must not read as unstable; the CSV keeps every digit."""
     lam = np.asarray(eigenvalues, dtype=complex)
     tolerance = ROUND_OFF_RELATIVE * np.abs(lam)
     with np.errstate(divide="ignore", invalid="ignore"):
         return {"real_part": tolerance, "damping_ratio": np.full(len(lam), ROUND_OFF_RELATIVE),
-                "log_decrement": 2 * np.pi * tolerance / lam.imag, "whirl_ratio": np.full(len(lam), WHIRL_ROUND_OFF)}
+                "log_decrement": 2 * np.pi * tolerance / lam.imag,
+                "whirl_ratio": np.full(len(lam), WHIRL_ROUND_OFF) if whirl_round_off is None
+                else np.maximum(WHIRL_ROUND_OFF, whirl_round_off)}
 
 
 # ----------------------------------------------------------------------------------------
@@ -664,17 +669,58 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
         _warn_of_jumps(tables[0], sources[0], model)
     else:
         tables = [_critical_table([], [], [], [], [], [], [], [])]
+    noise = _lowest_whirl_round_off(stack, speeds, values[0])
     if wanted is not None:                     # the roots not asked for are no result
         values = np.where(wanted, values, complex(np.nan, np.nan))
         shapes[~wanted] = 0.0
         ratios = np.where(wanted, ratios, 0.0)
+    if noise is not None:
+        noise = np.where(oscillating[0] & np.isfinite(values[0]), noise, 0.0)
     freq, zeta, log_dec = modal_quantities(values)
     return CampbellResult(
         speeds=speeds, eigenvalues=values[0], frequencies_hz=freq[0], damping_ratios=zeta[0],
-        log_decrements=log_dec[0], whirl_ratios=ratios[0], whirl=_whirl.whirl_labels(ratios)[0], shapes=shapes[0],
+        log_decrements=log_dec[0], whirl_ratios=ratios[0], whirl=_whirl.whirl_labels(ratios[0], noise), shapes=shapes[0],
         modes=np.arange(1, values.shape[-1] + 1), sources=sources[0],
         critical=_with_sweep(tables[0], model, speeds, values[0], progress),
-        orders=tuple(float(o) for o in orders))
+        orders=tuple(float(o) for o in orders), whirl_round_off=noise)
+
+
+#: the largest state matrix [bytes] whose round-off the lowest modes' route takes for its whirl
+#: labels (:func:`_lowest_whirl_round_off`): 512 states. Above it the labels keep WHIRL_TOLERANCE
+#: alone: the route forms no state matrix, and forming one to balance it cost a 4 m shaft of 404
+#: coordinates 0.63 -> 0.82 s CPU at 101 speeds (804 coordinates: 1.40 -> 1.83 s); 212: 0.145 -> 0.146 s
+_LOWEST_ROUND_OFF_BYTES = 2**21
+
+
+def _lowest_whirl_round_off(stack, speeds, values):
+    """How far round-off can move the whirl ratio of each carried root ``values`` (S, k) of the
+    lowest modes' route, as ``modes`` and the full Campbell diagram take it
+    (:func:`._roots.whirl_round_off`): the round-off of each speed's state matrix over the gap to
+    the nearest other root among the carried ones and their conjugates (a repeated root's partner
+    excluded as there). No eigen-solve: the round-off of ``A0 + Omega A1`` comes from one
+    balancing (:func:`._roots.affine_round_off`, within 0.87-1.23 of each speed's own on the
+    examples); speed-dependent coefficients balance each speed's matrix. The roots not carried
+    are not known: a gap to one of them is not seen (the top carried root's may be smaller).
+    None (no round-off: ``WHIRL_TOLERANCE`` alone) for a model whose state matrix exceeds
+    :data:`_LOWEST_ROUND_OFF_BYTES` or that the route keeps sparse.
+
+    Returns
+    -------
+    ndarray, shape (S, k), or None
+    """
+    size = stack.forms[0].n_states
+    if 8 * size * size > _LOWEST_ROUND_OFF_BYTES or not values.shape[-1] or stack.sparse_constant is not None:
+        return None                     # a large model's route forms no dense matrix (assembly.SPARSE_DOF)
+    if stack.dependent:
+        noise = _batches.concatenated([_roots.round_off(stack.at(np.zeros(part.stop - part.start, int), speeds[part]))
+                                       for part in _batches.chunk_slices(len(speeds), 8 * size * size)])
+    else:
+        noise = _roots.affine_round_off(stack.A0[0], stack.A1[0], speeds)
+    lam = np.where(np.isfinite(values), values, np.inf)        # a root not found is no neighbour
+    every = np.concatenate([lam, lam.conj()], axis=-1)
+    with np.errstate(invalid="ignore"):
+        repeated = _eigensolve.REPEATED_TOLERANCE * np.abs(np.where(np.isfinite(values), values, 0)).max(axis=-1)
+        return _roots.whirl_round_off(lam, every, noise, repeated)
 
 
 def _no_modes(model, speeds, orders, n) -> CampbellResult:

@@ -354,8 +354,7 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     # with as many forward modes as Qa's first grid point has (a small Q where the machine is
     # isotropic enough; never above Qa / 10)
     spin = np.sign(speed) * _spin_sign(model, stations)
-    pick = _pick_index(model, lam, shapes, form.matrices.M, stations[0], spin, at_grid[1], forward_mode, order)
-    forward = _forward_modes(model, lam[pick], shapes[pick], form.matrices.M, stations[0], spin)
+    pick, forward = _pick_index(model, lam, shapes, form.matrices.M, stations[0], spin, at_grid[1], forward_mode, order)
     numbers = [forward_mode] if forward_mode is not None else range(1, max(1, min(FORWARD_MODES, len(forward))) + 1)
     runs = []
     for number in numbers:
@@ -364,9 +363,8 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
                              f"whirling forward at station {stations[0]} at this speed")
         label = int(np.nonzero(order[pick] == forward[number - 1])[0][0])
         followed_sweep = lam[np.arange(len(sweep)), order[:, label]]
-        _, _, log_dec_sweep = modal_quantities(followed_sweep)
-        followed = followed_sweep[at_grid]
-        freq, _, log_dec = modal_quantities(followed)
+        freq_sweep, _, log_dec_sweep = modal_quantities(followed_sweep)       # elementwise: Qa's grid is a part
+        freq, log_dec = freq_sweep[at_grid], log_dec_sweep[at_grid]
         start = lam[0, order[0, label]]
         # its number among the modes at Q = 0; a root no mode there has none (the count of the
         # modes before it would name another mode)
@@ -594,14 +592,22 @@ def _pick_index(model, lam, shapes, M, station, spin, last: int, forward_mode, o
     rotor has as many forward modes (:func:`_forward_modes`, at most :data:`FORWARD_MODES`, or
     ``forward_mode``) as at ``last``, each of them (followed by ``order``, (n_q, n_roots)) a mode
     at Q = 0 too; else ``last``: a rotor whose roots at Q = 0 do not oscillate (overdamped) has no
-    forward modes until Q makes them whirl, and is followed from there, as chosen at ``last``."""
+    forward modes until Q makes them whirl, and is followed from there, as chosen at ``last``.
+
+    Returns
+    -------
+    index : int
+    forward : ndarray of int
+        :func:`_forward_modes` at ``index`` (found once where it is ``last``).
+    """
     wanted = forward_mode if forward_mode is not None else FORWARD_MODES
-    target = min(wanted, len(_forward_modes(model, lam[last], shapes[last], M, station, spin)))
+    at_last = _forward_modes(model, lam[last], shapes[last], M, station, spin)
+    target = min(wanted, len(at_last))
     for index in range(1, last):
         forward = _forward_modes(model, lam[index], shapes[index], M, station, spin, among_all=True)
         if len(forward) >= max(target, 1) and _modes_at_rest(lam, order, index, forward[:max(target, 1)]):
-            return index
-    return last
+            return index, _forward_modes(model, lam[index], shapes[index], M, station, spin)
+    return last, at_last
 
 
 def _modes_at_rest(lam, order, index, roots) -> bool:

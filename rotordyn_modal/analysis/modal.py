@@ -130,6 +130,10 @@ class ModalResult:
         they are, docs/theory.md section 8); ``eigenvalues`` keeps the half of them nearest zero
         (:attr:`real_roots`), as it keeps one root of each pair. None where not known (a result
         not solved from a state matrix).
+    unresolved_roots : int
+        Roots of the state matrix below its round-off whose shapes their own stiffness loads but
+        does not resolve (``docs/theory.md`` section 8): zero roots here, among the real roots,
+        that may be slow modes the solve cannot tell (``modes`` says so on stderr).
     """
 
     speed: float
@@ -152,6 +156,7 @@ class ModalResult:
     energy_parts: tuple = ()
     energy_fractions: np.ndarray | None = None
     state_real_roots: int | None = None
+    unresolved_roots: int = 0
 
     @property
     def kinds(self) -> np.ndarray:
@@ -346,7 +351,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
         values, vectors = scipy.linalg.eig(matrix)
     n = form.n_dof
     noise = float(_roots.round_off(matrix))
-    snapped = _roots.snapped(values, noise, matrix, vectors, n, form.matrices.M)
+    snapped, own, refined = _roots.snapped_with_round_off(values, noise, matrix, vectors, n, form.matrices.M)
     upper = _eigensolve.select_upper(snapped)
     # the LAPACK vectors of the chosen eigenvalues (nearest match; values are identical)
     index = [int(np.argmin(np.abs(values - lam))) for lam in upper]
@@ -355,7 +360,8 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     shapes = _eigensolve.resolve_repeated(upper[None], vectors[:n, index].T[None], forms)[0]
     shapes = _normalise(shapes, form.matrices.M)
     oscillatory = is_oscillating(upper)
-    ratio_noise = _roots.whirl_round_off(upper, values, noise, _eigensolve.REPEATED_TOLERANCE * np.abs(upper).max())
+    ratio_noise = _roots.whirl_round_off(upper, refined, noise, _eigensolve.REPEATED_TOLERANCE * np.abs(upper).max(),
+                                         np.broadcast_to(own, values.shape)[index])
     ratios = np.where(oscillatory, _whirl.whirl_ratios(shapes[None], forms, np.array([speed]))[0], 0.0)
     rotor_ratios = _rotor_whirl_ratios(model, shapes, speed) * oscillatory[:, None]
     freq, zeta, log_dec = modal_quantities(upper)
@@ -373,6 +379,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
         body_motions=np.array([layout.frame_motion()] + [layout.body_motion(r.name) for r in model.rotors]),
         round_off=noise, whirl_round_off=ratio_noise, dofs=layout if layout.shafts else None,
         energy_parts=parts, energy_fractions=fractions, state_real_roots=int((snapped.imag == 0).sum()),
+        unresolved_roots=_roots.unresolved_roots(values, noise, matrix, vectors, n, form.matrices.M),
     )
 
 

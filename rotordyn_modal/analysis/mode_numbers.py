@@ -198,7 +198,7 @@ def _solved_numbers(model, speeds, eigenvalues, lowest=None, progress=False):
     try:
         for part in _batches.chunk_slices(len(todo), 32 * size * size):
             rows = todo[part]
-            roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(form.at(speeds[rows])))
+            roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(form.at(speeds[rows]), form.n_dof, form.matrices.M))
             out[rows] = [number_of_root(row, lam) for row, lam in zip(roots, eigenvalues[rows])]
             if bar is not None:
                 bar.update(len(rows))

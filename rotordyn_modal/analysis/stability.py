@@ -12,8 +12,8 @@ from scipy.optimize import brentq
 from ..errors import InputError
 from ..linear_system import speed_linear_form
 from . import _eigensolve, _roots, _whirl
-from .campbell import (_arguments_frequency, _arguments_modes, _campbell_lowest, _check_speeds, _progress,
-                       lowest_stack, solve_sweep, stack_root_count)
+from .campbell import (_arguments_frequency, _arguments_modes, _campbell_lowest, _check_speeds,
+                       _lowest_whirl_round_off, _progress, lowest_stack, solve_sweep, stack_root_count)
 from .modal import is_oscillating, modal, modal_quantities
 from .mode_numbers import numbers_at_speed
 
@@ -401,8 +401,10 @@ class _LowestRoots:
         nearest = int(np.nanargmin(np.abs(values - guess)))
         ratio = self.stack.whirl_ratios(shapes[None, nearest:nearest + 1], np.zeros(1, int), np.array([speed]))
         ratio = np.where(is_oscillating(values[nearest]), ratio.reshape(1), 0.0)
+        noise = _lowest_whirl_round_off(self.stack, np.array([speed]), values[None])    # as the sweep's labels
+        noise = None if noise is None else noise[0, nearest:nearest + 1]
         # the lowest roots of a speed are its lowest modes: their order is modes' own numbering
-        return (float(values[nearest].imag / (2 * np.pi)), str(_whirl.whirl_labels(ratio)[0]),
+        return (float(values[nearest].imag / (2 * np.pi)), str(_whirl.whirl_labels(ratio, noise)[0]),
                 int(numbers_at_speed(values)[nearest]))
 
 
@@ -620,10 +622,11 @@ def roundoff_levels(form, speeds) -> np.ndarray:
 
 def _largest_real_part(form, speed, clip: bool = True) -> float:
     """The largest real part at one speed [1/s], of the roots a sweep keeps (one of each
-    conjugate pair, their round-off removed as the sweep's: :func:`._roots.snapped`)."""
+    conjugate pair, their round-off removed as the sweep's, each slow root judged by its own
+    shape: :func:`._eigensolve.eigenvalues_of`)."""
     matrix = form.at(speed)
     roundoff = roundoff_levels(form, [speed]) if clip else None
-    roots = _eigensolve.select_upper(_roots.snapped(np.linalg.eigvals(matrix), _roots.round_off(matrix))[None])
+    roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(matrix[None], form.n_dof, form.matrices.M))
     return float(_significant_real_parts(roots, clip, roundoff).max())
 
 

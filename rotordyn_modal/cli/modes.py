@@ -139,6 +139,11 @@ def run(args) -> int:
         write_table(table, args, empty=f"no oscillating modes at {args.speed} {args.speed_unit}: {counts}")
     if counts and len(table) and not args.quiet:
         print(f"{counts} not listed as modes (docs/model-file.md, roots that are not modes)", file=sys.stderr)
+    if result.unresolved_roots and not args.quiet:
+        print(f"{result.unresolved_roots} of the real roots lie below the eigen-solve's round-off "
+              f"({result.round_off:.3g} 1/s) with shapes their stiffness loads, but their own shapes do not "
+              "resolve them: they may be slow modes this solve cannot tell (docs/theory.md section 8)",
+              file=sys.stderr)
     unstrained = _unstrained(result)
     if unstrained and not args.quiet:
         print(f"mode{'s' if len(unstrained) > 1 else ''} {', '.join(map(str, unstrained))} strain nothing to "

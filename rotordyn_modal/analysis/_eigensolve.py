@@ -312,7 +312,7 @@ def resolve_groups(eigenvalues, shapes, forms, variants=None, rows=None, copy=Fa
     lam = eigenvalues[at]
     with np.errstate(invalid="ignore"):
         scale = np.nanmax(np.abs(lam), axis=-1) + 1e-300
-        close = np.abs(np.diff(lam, axis=-1)) <= REPEATED_TOLERANCE * scale[:, None]
+        close = _roots.one_root(lam[..., 1:], lam[..., :-1], REPEATED_TOLERANCE * scale[:, None])
     # runs of three or more: two closes in a row somewhere
     candidates = np.nonzero((close[:, 1:] & close[:, :-1]).any(axis=-1))[0]
     copied = False

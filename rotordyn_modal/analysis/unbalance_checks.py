@@ -228,8 +228,9 @@ def separation_margins(result, operating, outputs=None, amplitude: str = "peak")
     A peak below the range (nearer zero speed than its nearer end: the minimum operating
     speed) is measured from that end, one above it from its far end (the maximum continuous
     speed), each as a percentage of that end (``UnbalanceResult.peaks`` at that end, with its
-    required margin: below or above); a peak inside the range has margin 0 and fails where a
-    margin is required. One operating speed is a range of one speed: the table is then that of
+    required margin: below or above); a peak inside the range has margin 0 (against the
+    required margin of a critical speed above the range's low end) and fails where a margin is
+    required (AF >= 2.5). One operating speed is a range of one speed: the table is then that of
     ``UnbalanceResult.peaks(speed)``. A peak of a curve at round-off is left out (as ``peaks``).
 
     Parameters

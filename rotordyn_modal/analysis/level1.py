@@ -728,7 +728,7 @@ class CsrScreening:
         evaluated: no critical speed on rigid supports ...`` where :attr:`evaluated` is False."""
         scale, unit = _density_unit(units)
         if not self.evaluated:
-            return f"CSR not evaluated: {NO_RIGID_SUPPORT_CRITICAL}"
+            return f"CSR not evaluated at {self.density * scale:.4g} {unit}: {NO_RIGID_SUPPORT_CRITICAL}"
         return (f"CSR = {self.csr:.3g} at {self.density * scale:.4g} {unit}: Region {self.region} "
                 f"(line {self.boundary:.3g})")
 

@@ -260,7 +260,8 @@ class Level1Result:
         checks = (f"log dec at Qa = {self.log_decrement_at_qa:.3g} ({'>=' if self.passes_log_decrement else '<'} "
                   f"{LOG_DEC_CRITERION:g}), {ratio} ({'>=' if self.passes_ratio else '<'} {RATIO_CRITERION:g})")
         if self.csr is not None:
-            checks += f", {self.csr.summary(units)}" + ("" if self.csr_applies else f" (not applied: Q0/Qa >= "
+            checks += f", {self.csr.summary(units)}" + ("" if self.csr_applies or not self.csr.evaluated
+                                                        else f" (not applied: Q0/Qa >= "
                                                                                f"{CSR_RATIO_LIMIT:g})")
         return f"{checks}: Level II {'required' if self.level2_required else 'not required'}"
 
@@ -722,9 +723,18 @@ class CsrScreening:
                                               if x <= end]]))
         return rho, csr_boundary(rho)
 
+    @property
+    def evaluated(self) -> bool:
+        """False where there is no critical speed on rigid supports (a rigid rotor pinned at its
+        bearings has no bending mode): the ratio has nothing to judge."""
+        return bool(np.isfinite(self.critical_speed))
+
     def summary(self, units: str = "si") -> str:
-        """``CSR = 1.9 at 35 kg/m³: Region A (line 2.29)``, the density in ``units``."""
+        """``CSR = 1.9 at 35 kg/m³: Region A (line 2.29)``, the density in ``units``; ``CSR not
+        evaluated: no critical speed on rigid supports ...`` where :attr:`evaluated` is False."""
         scale, unit = _density_unit(units)
+        if not self.evaluated:
+            return f"CSR not evaluated at {self.density * scale:.4g} {unit}: {NO_RIGID_SUPPORT_CRITICAL}"
         return (f"CSR = {self.csr:.3g} at {self.density * scale:.4g} {unit}: Region {self.region} "
                 f"(line {self.boundary:.3g})")
 
@@ -733,6 +743,11 @@ class CsrScreening:
         from ..plotting import plot_csr_chart
 
         return plot_csr_chart(self, **kwargs)
+
+
+#: why a critical speed ratio is not evaluated
+NO_RIGID_SUPPORT_CRITICAL = ("no critical speed on rigid supports (the rotor pinned at its bearings has no "
+                             "bending mode: a rigid rotor)")
 
 
 def _density_unit(units):

@@ -445,11 +445,20 @@ class UnbalanceResult:
             table["source"] = table["source"].map(rotor_of)
         return table
 
-    def checks(self, model, mcs=None, min_speed: float = 0.0, iso_group=None, iso_support=None):
-        """API 617 probe limits and ISO 20816-3 zones; see
-        :func:`rotordyn_modal.analysis.unbalance_checks.unbalance_checks` (speeds in rad/s)."""
+    def checks(self, model, mcs=None, min_speed: float = 0.0, iso_group=None, iso_support=None, iso_range=None):
+        """API 617 probe limits and ISO 20816-3 zones (over ``iso_range``, the operating range,
+        where given); see :func:`rotordyn_modal.analysis.unbalance_checks.unbalance_checks`
+        (speeds in rad/s)."""
         return unbalance_checks(self, model, mcs=mcs, min_speed=min_speed, iso_group=iso_group,
-                                iso_support=iso_support)
+                                iso_support=iso_support, iso_range=iso_range)
+
+    def separation_margins(self, operating, outputs=None, amplitude: str | None = None):
+        """:meth:`peaks` with the API 684 separation margin from an operating range ``(low,
+        high)`` or speed [rad/s] and a verdict; see
+        :func:`rotordyn_modal.analysis.unbalance_checks.separation_margins`."""
+        from .unbalance_checks import separation_margins
+
+        return separation_margins(self, operating, outputs=outputs, amplitude=amplitude or self.amplitude_kind)
 
     def clearance_check(self, model, mcs=None, min_speed: float = 0.0, trip_speed=None, **options):
         """The API 617 / 684 clearance check at the model's close-clearance stations, the response

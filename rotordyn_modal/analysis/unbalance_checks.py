@@ -1,5 +1,6 @@
 """Standard checks of an unbalance response: the API 617 probe limit and ISO 20816-3 zones,
-and the API 617 / 684 unbalance cases of a model (``docs/standards.md``).
+and the API 617 / 684 unbalance cases of a model, and the API 684 separation margins of its peaks
+from an operating range (``docs/standards.md``).
 
 - **Probes** (sensors with ``measure = "relative"``: shaft relative to the stator): the
   peak-to-peak displacement ``sum_j 2 |x_j|`` over the sources (exact for one source; the
@@ -11,8 +12,10 @@ and the API 617 / 684 unbalance cases of a model (``docs/standards.md``).
   the displacement (x w_j), the velocity, or the acceleration (/ w_j), in the ISO 20816-3 zones
   of a machine group and support class.
 
-Both over the speeds of the sweep in the checked range ``min_speed <= |speed| <= mcs``; for a
-response to the API unbalance cases
+Both over the speeds of the sweep in the checked range ``min_speed <= |speed| <= mcs``, the ISO
+zones over the operating range instead where one is given (``iso_range``: ISO 20816-3 judges
+steady operation, not the run-up through a mount's resonance); for a response to the API
+unbalance cases
 (:func:`~rotordyn_modal.analysis.unbalance.api_unbalance_response`) each case on its own.
 """
 
@@ -26,7 +29,8 @@ from ..errors import InputError
 from ..model import Model
 from ..unbalance_standards import api_analysis_unbalance, api_probe_limit, iso_zone_boundaries, iso_zones
 
-__all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "sensor_groups"]
+__all__ = ["UnbalanceChecks", "unbalance_checks", "api_unbalance_cases", "sensor_groups", "separation_margins",
+           "operating_range"]
 
 _ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
@@ -57,6 +61,11 @@ class UnbalanceChecks:
         e.g. ``'group 2, rigid'`` ('' without zones).
     cases : tuple of str
         The API unbalance cases (one source each), or ``('',)``: all sources together.
+    iso_checked : ndarray of bool, shape (N,), or None
+        The speeds the ISO zones judge (None: :attr:`checked`): the operating range's, where one
+        is given (:attr:`iso_span`).
+    iso_span : (float, float) or None
+        [rad/s] the operating range the ISO zones judge (None: the checked range).
     """
 
     speeds: np.ndarray
@@ -70,6 +79,13 @@ class UnbalanceChecks:
     zone_boundaries: tuple | None = None
     iso_class: str = ""
     cases: tuple = ("",)
+    iso_checked: np.ndarray | None = None
+    iso_span: tuple | None = None
+
+    @property
+    def zone_checked(self) -> np.ndarray:
+        """The speeds the ISO zones judge, shape (N,) of bool: :attr:`iso_checked`, else :attr:`checked`."""
+        return self.checked if self.iso_checked is None else self.iso_checked
 
     def to_dataframe(self):
         """One row per check: ``output, check, speed_rpm, value, amplitude, limit, verdict, zone``
@@ -92,7 +108,7 @@ class UnbalanceChecks:
                                  "verdict": _verdict(value, value <= limit), "zone": "", "case": case})
             if self.zone_boundaries is not None:
                 for name, values in zip(self.casing, self.casing_velocity_rms[:, c]):
-                    k, value = self._largest(values)
+                    k, value = self._largest(values, self.zone_checked)
                     zone = str(iso_zones(value, *self._group_support())) if np.isfinite(value) else ""
                     rows.append({"output": name, "check": f"ISO 20816-3 {self.iso_class}", "speed_rpm": k,
                                  "value": value, "amplitude": "RMS", "limit": self.zone_boundaries[1],
@@ -100,11 +116,13 @@ class UnbalanceChecks:
         columns = ["output", "check", "speed_rpm", "value", "amplitude", "limit", "verdict", "zone", "case"]
         return pd.DataFrame(rows, columns=columns if self.cases != ("",) else columns[:-1])
 
-    def _largest(self, values):
-        """(speed [rpm], value) of the largest value over the checked speeds (NaN, NaN if none)."""
-        if not self.checked.any():
+    def _largest(self, values, checked=None):
+        """(speed [rpm], value) of the largest value over the ``checked`` speeds (default
+        :attr:`checked`; NaN, NaN if none)."""
+        checked = self.checked if checked is None else checked
+        if not checked.any():
             return np.nan, np.nan
-        masked = np.where(self.checked, values, -np.inf)
+        masked = np.where(checked, values, -np.inf)
         k = int(np.argmax(masked))
         return float(self.speeds[k] * 30 / np.pi), float(values[k])
 
@@ -119,7 +137,7 @@ def _verdict(value, passed) -> str:
 
 
 def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=None,
-                     iso_support=None) -> UnbalanceChecks:
+                     iso_support=None, iso_range=None) -> UnbalanceChecks:
     """API 617 probe limits and ISO 20816-3 zones of ``result`` (see the module's text).
 
     Parameters
@@ -135,6 +153,11 @@ def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=
     iso_group : {1, 2}, optional
     iso_support : {'rigid', 'flexible'}, optional
         Both or neither: the ISO 20816-3 class of the machine.
+    iso_range : (float, float), optional
+        [rad/s] the operating range (:func:`operating_range`): the ISO zones judge the speeds of
+        the sweep in it, steady operation (ISO 20816-3 clause 1: the zones apply to steady-state
+        operation at the nominal operating speed range, not to transient run-up or run-down);
+        default: the checked range (``min_speed`` to ``mcs``).
     """
     if mcs is not None and not (np.isfinite(mcs) and mcs > 0):
         raise InputError(f"maximum continuous speed {mcs!r} rad/s: expected a finite speed > 0")
@@ -149,6 +172,8 @@ def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=
     bounds = None if iso_group is None else iso_zone_boundaries(iso_group, iso_support)
     speed = np.abs(result.speeds)
     checked = (speed >= min_speed) & (speed <= (np.inf if mcs is None else mcs))
+    span = None if iso_range is None else operating_range(iso_range)
+    iso_checked = None if span is None else _in_range(result.speeds, span)
     sensors = {s.name: s for s in model.sensors}
     probes = [i for i, name in enumerate(result.outputs) if sensors[name].measure == "relative"]
     casing = [i for i, name in enumerate(result.outputs) if sensors[name].rotor is None]
@@ -167,7 +192,82 @@ def unbalance_checks(result, model, mcs=None, min_speed: float = 0.0, iso_group=
         casing=tuple(result.outputs[i] for i in casing),
         casing_velocity_rms=np.sqrt(combine(_derivative(result, casing, w, 1) ** 2 / 2)),
         zone_boundaries=bounds, iso_class="" if bounds is None else f"group {iso_group}, {iso_support}",
-        cases=("",) if together else tuple(result.sources))
+        cases=("",) if together else tuple(result.sources), iso_checked=iso_checked, iso_span=span)
+
+
+def operating_range(operating) -> tuple:
+    """An operating range ``(low, high)`` [rad/s], or one operating speed (a range of one speed),
+    checked: finite, both ends of one sign and not 0, ``|low| <= |high|`` after ordering.
+
+    Returns
+    -------
+    (float, float)
+        The range's ends ordered by magnitude: the one nearer zero speed first.
+    """
+    ends = np.atleast_1d(np.asarray(operating, dtype=float)).ravel()
+    if ends.size == 1:
+        ends = np.repeat(ends, 2)
+    if ends.size != 2 or not np.all(np.isfinite(ends)) or not (np.all(ends > 0) or np.all(ends < 0)):
+        raise InputError(f"operating range {np.asarray(operating).tolist()!r} rad/s: expected one speed or two "
+                         "(low, high), finite, of one direction of spin and not 0 (the separation margin is a "
+                         "percentage of them)")
+    near, far = sorted(ends.tolist(), key=abs)
+    return float(near), float(far)
+
+
+def _in_range(speeds, span) -> np.ndarray:
+    """Which of ``speeds`` (N,) [rad/s] lie in the range ``span`` (its direction of spin), shape (N,)."""
+    sign = np.sign(span[0])
+    speed = sign * np.asarray(speeds, dtype=float)
+    return (speed >= abs(span[0]) * (1 - 1e-12)) & (speed <= abs(span[1]) * (1 + 1e-12))
+
+
+def separation_margins(result, operating, outputs=None, amplitude: str = "peak"):
+    """API 684 peaks of an unbalance response with their separation margin from an operating range.
+
+    A peak below the range (nearer zero speed than its nearer end: the minimum operating
+    speed) is measured from that end, one above it from its far end (the maximum continuous
+    speed), each as a percentage of that end (``UnbalanceResult.peaks`` at that end, with its
+    required margin: below or above); a peak inside the range has margin 0 (against the
+    required margin of a critical speed above the range's low end) and fails where a margin is
+    required (AF >= 2.5). One operating speed is a range of one speed: the table is then that of
+    ``UnbalanceResult.peaks(speed)``. A peak of a curve at round-off is left out (as ``peaks``).
+
+    Parameters
+    ----------
+    result : UnbalanceResult
+    operating : float or (float, float) [rad/s]
+        The operating speed or range (:func:`operating_range`), in the direction of spin of
+        some speed of the sweep.
+    outputs : sequence of str, optional
+        The outputs whose peaks count (default all).
+    amplitude : {'peak', 'pk-pk', 'rms'}
+        As ``UnbalanceResult.peaks``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``peaks`` columns plus ``verdict``: 'pass' when margin >= required, 'fail' else, 'not
+        evaluated' where the amplification factor is unknown (the amplitude does not fall to
+        peak / sqrt(2) on both sides within the sweep).
+    """
+    import pandas as pd
+
+    near, far = operating_range(operating)
+    below, above = result.peaks(near, amplitude=amplitude), result.peaks(far, amplitude=amplitude)
+    speed = np.sign(near) * below["speed_rpm"].to_numpy(dtype=float) * np.pi / 30   # along the range's spin
+    under, over = speed < abs(near), speed > abs(far)
+    table = below.copy()
+    table["separation_margin_pct"] = np.where(under, below["separation_margin_pct"],
+                                              np.where(over, above["separation_margin_pct"], 0.0))
+    # a peak above the range needs the margin of a critical speed above it (API 617)
+    table["required_margin_pct"] = np.where(over, above["required_margin_pct"], below["required_margin_pct"])
+    if outputs is not None:
+        table = table[table["output"].isin(list(outputs))].reset_index(drop=True)
+    required = table["required_margin_pct"].to_numpy(dtype=float)
+    table["verdict"] = np.where(np.isnan(required), "not evaluated",
+                                np.where(table["separation_margin_pct"] >= required, "pass", "fail"))
+    return pd.DataFrame(table)
 
 
 def _derivative(result, rows, w, order):

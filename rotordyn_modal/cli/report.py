@@ -44,7 +44,8 @@ shapes at the MCS of the modes whose 1X critical speed or frequency lies within 
           ISO 20816-3 zones of the casing sensors (--iso-group and --iso-support)
 The sweeps run from 2 % of --mcs to 1.5 x --mcs (--points speeds, with --mcs and the operating
 range's ends among them); the operating range
-(--operating-range LO:HI, default the MCS alone) measures the separation margins. docs/report.md
+(--operating-range LO:HI, default the MCS alone) measures the separation margins and, where
+given, is the span the ISO zones judge (steady operation; without it 0 to the MCS). docs/report.md
 lists what each section holds and where its numbers come from. With --units us (or
 ROTORDYN_MODAL_UNITS=us) every table, figure and criterion shows US customary units: vibration
 in mil, casing velocity in in/s RMS, static displacement in in, forces in lbf, stiffness and Q

@@ -10,7 +10,7 @@ import numpy as np
 from ..errors import InputError
 from ..unbalance_standards import amplitude_column, amplitude_label, one_convention
 from ._common import (IN_SPEED_UNIT, add_alias, add_model_argument, as_typed, add_output_file, add_outputs, add_sensor_argument, add_speed_unit, check_ending,
-                      check_extra_output, mcs_option, open_model, print_table, save_figure, speeds_option,
+                      check_extra_output, check_speeds, mcs_option, open_model, parse_band, print_table, save_figure, speeds_option,
                       speed_value, speeds_text, use_agg, whole_number, write_csv, write_table)
 from ._units import convert_table
 from .frf import QUANTITY_HELP, QUANTITY_METAVAR, quantity_type, sensor_names
@@ -28,7 +28,11 @@ NAME:Fx ... NAME:Mz, N and N m) after them: suspensions (each suspension's force
 ground), bearings (each [[bearings]] entry's force on the stator or the ground at its point,
 and each rigidly attached rotor's at its centre of mass), rotors (each rotor's total force
 on the stator) or all (suspensions, bearings and rotors). Peaks get the API 684
-amplification factor and, with --operating-speed, the separation margin.
+amplification factor and, with --operating-range LO:HI (as report, study and ucs-map take it)
+or --operating-speed SPEED (a range of one speed), the separation margin and its verdict: a
+peak below the range measured from LO (the minimum operating speed), above it from HI (the
+maximum continuous speed), each as a percentage of that end; a peak inside the range has
+margin 0 and fails where API 684 requires a margin (docs/standards.md).
 
 Amplitudes (--amplitude peak|pk-pk|rms, default peak: 0-peak): one choice for the printed
 peaks table, the CSV and the figure. The peaks table (AF and separation margins) holds the
@@ -45,7 +49,9 @@ rpm), checked on the probe's peak-to-peak displacement over the speeds from --mi
 (default 0) to --mcs (a sweep stopping below --mcs, or below --trip-speed, is
 warned of: the speeds above it go unchecked); --iso-group 1|2 with --iso-support
 rigid|flexible evaluates the RMS vibration velocity of every stator (casing) sensor in the ISO 20816-3 zones A-D over the
-same speeds (the whole sweep without --mcs). The checks table (output, check, speed_rpm,
+same speeds (the whole sweep without --mcs), or over --operating-range where it is given (the
+zones judge steady operation, not the run-up through a mount's resonance; --operating-speed
+leaves them over the checked speeds). The checks table (output, check, speed_rpm,
 value, amplitude, limit, verdict, zone; values in m and m/s) is printed and written by
 --checks FILE.csv; --plot draws the probe limits and a velocity panel with the zones.
 --api-unbalance (with --mcs) replaces the model's [[unbalances]] by the API 617/684
@@ -84,7 +90,7 @@ orbit CSV columns: speed_rpm,pair,source,frequency_hz,major,minor,inclination_de
 
 examples:
   rotordyn-modal unbalance examples/gear_machine.toml --speeds 0:6000:601 --sensor acc-top-z \\
-      --operating-speed 3000 --plot unbalance.png
+      --operating-range 2700:3000 --plot unbalance.png
   rotordyn-modal unbalance examples/gear_machine.toml --speeds 0:6000:61 --sensor acc-top-z \\
       --forces suspensions --out unbalance.csv
   rotordyn-modal unbalance examples/fan_on_bearings.toml --speeds 100:9000:446 --mcs 3000 \\
@@ -102,7 +108,11 @@ def add_arguments(parser):
                         + QUANTITY_HELP)
     parser.add_argument("--forces", choices=["suspensions", "bearings", "rotors", "all"],
                         help="add force rows after the sensors' (default none)")
-    parser.add_argument("--operating-speed", metavar="SPEED", help="operating speed (same unit as --speeds, in the direction of spin of the sweep) for the separation margin")
+    parser.add_argument("--operating-range", dest="operating", metavar="LO:HI",
+                        help="operating speed range (same unit as --speeds, in the direction of spin of the sweep; "
+                             "LO = HI: one speed) for the separation margins and the ISO 20816-3 zones")
+    parser.add_argument("--operating-speed", metavar="SPEED", help="operating speed (same unit as --speeds, in the "
+                        "direction of spin of the sweep) for the separation margin: --operating-range SPEED:SPEED")
     parser.add_argument("--amplitude", choices=["peak", "pk-pk", "rms"], default="peak",
                         help="amplitude convention of the peaks table, the figure and the CSV's added column: "
                              "0-peak (default, as the CSV's amplitude column), peak-to-peak or RMS")
@@ -129,22 +139,15 @@ def add_arguments(parser):
 
 
 def run(args) -> int:
-    from ..analysis.unbalance import api_unbalance_response, check_operating_speed, unbalance_response
+    from ..analysis.unbalance import api_unbalance_response, unbalance_response
+    from ..analysis.unbalance_checks import separation_margins
     check_extra_output(args, args.orbits, "--orbits")
     check_ending(args.orbits, (".csv",), "--orbits", stdout=False)
     check_ending(args.checks, (".csv",), "--checks", stdout=False)
     check_extra_output(args, args.orbit_plot, as_typed(args, "--plot-orbits"), figure=True)
     model = open_model(args)
-    operating = _speed(args, args.operating_speed, "--operating-speed")
-    if operating == 0:
-        raise InputError(f"--operating-speed {args.operating_speed}: expected a speed other than 0 (the "
-                         "separation margin is a percentage of it)")
+    operating = _operating_range(args)
     mcs, min_speed = _check_options(args)
-    try:                                                        # before anything is computed or written
-        check_operating_speed(speeds_option(args), operating)
-    except InputError as error:    # 'operating speed -0.10472 rad/s (-1 rpm)': said as typed
-        raise InputError(f"--operating-speed {args.operating_speed} {args.speed_unit}: "
-                         f"{str(error).partition(': ')[2]}") from None
     _warn_below_checked_speeds(speeds_option(args), mcs, args)
     if args.api_unbalance:
         result = api_unbalance_response(model, speeds_option(args), mcs, outputs=sensor_names(args, model),
@@ -158,12 +161,13 @@ def run(args) -> int:
     if not args.quiet and args.out != "-":
         print(_response_heading(args.amplitude), file=sys.stderr)
     write_table(in_units(result.to_dataframe(forces=args.forces), result, args.units), args)
-    peaks = result.peaks(operating)
+    peaks = result.peaks() if operating is None else separation_margins(result, operating, amplitude=args.amplitude)
     if not args.quiet:
         print(f"\npeaks (API 684; amplitude {amplitude_label(args.amplitude)}):", file=sys.stderr)
         print_table(in_units(one_convention(peaks, args.amplitude), result, args.units),
                     empty=f"no resonance peak {speeds_text(args)}")
-    checks = _write_checks(result, model, mcs, min_speed, args)
+    checks = _write_checks(result, model, mcs, min_speed, args,
+                           None if args.operating is None else operating)
     _print_clearances(result, model, mcs, min_speed, args)
     if args.plot:
         use_agg()
@@ -179,6 +183,39 @@ def _speed(args, text, option):
     if text is None:
         return None
     return speed_value(text, args.speed_unit, option)
+
+
+def _operating_range(args):
+    """``(low, high)`` [rad/s] of --operating-range LO:HI or --operating-speed SPEED (a range of
+    one speed), None with neither: finite, not 0, of one direction of spin, and that of some
+    speed of the sweep (checked before anything is computed or written)."""
+    from ..analysis.unbalance import check_operating_speed
+
+    if args.operating is not None and args.operating_speed is not None:
+        raise InputError(f"--operating-speed {args.operating_speed}: expected it or --operating-range "
+                         f"{args.operating}, not both (one speed is the range SPEED:SPEED)")
+    if args.operating is not None:
+        option, text = as_typed(args, "--operating-range"), args.operating
+        band = parse_band(text, option, args.speed_unit, low=None, example="2000:3000", largest=None, single=True)
+        ends = tuple(check_speeds(np.array(band), text, args.speed_unit, option))
+        if not (min(band) > 0 or max(band) < 0):
+            raise InputError(f"{option} {text!r}: expected LO and HI of one sign and not 0 [{args.speed_unit}] "
+                             "(the separation margin is a percentage of them)")
+    elif args.operating_speed is not None:
+        option, text = "--operating-speed", args.operating_speed
+        speed = _speed(args, text, option)
+        if speed == 0:
+            raise InputError(f"--operating-speed {text}: expected a speed other than 0 (the "
+                             "separation margin is a percentage of it)")
+        ends = (speed, speed)
+    else:
+        return None
+    try:
+        for end in ends:
+            check_operating_speed(speeds_option(args), end)
+    except InputError as error:    # 'operating speed -0.10472 rad/s (-1 rpm)': said as typed
+        raise InputError(f"{option} {text} {args.speed_unit}: {str(error).partition(': ')[2]}") from None
+    return ends
 
 
 def _warn_below_checked_speeds(speeds, mcs, args):
@@ -229,12 +266,15 @@ def _check_options(args):
     return mcs, min_speed or 0.0
 
 
-def _write_checks(result, model, mcs, min_speed, args):
-    """The standards' checks (None when none is asked): printed, and written to --checks."""
+def _write_checks(result, model, mcs, min_speed, args, iso_range=None):
+    """The standards' checks (None when none is asked): printed, and written to --checks; the ISO
+    zones over ``iso_range`` [rad/s] (--operating-range) where it is given."""
+    from ..analysis.unbalance_checks import unbalance_checks
+
     if mcs is None and args.iso_group is None:
         return None
-    checks = result.checks(model, mcs=mcs, min_speed=min_speed, iso_group=args.iso_group,
-                           iso_support=args.iso_support)
+    checks = unbalance_checks(result, model, mcs=mcs, min_speed=min_speed, iso_group=args.iso_group,
+                              iso_support=args.iso_support, iso_range=iso_range if args.iso_group else None)
     table = checks.to_dataframe()
     if args.units != "si":
         kinds = ["displacement" if check.startswith("API") else "velocity" for check in table["check"]]

@@ -885,7 +885,8 @@ def _draw_zone_panel(ax, checks, x, units="si"):
                     label=f"{name} ({case})" if case else name)
     bounds = [b * scale for b in checks.zone_boundaries]
     top = max(bounds[2] * 3, float(np.nanmax(checks.casing_velocity_rms, initial=0)) * 2 * scale)
-    largest = np.nanmax(np.where(checks.checked, checks.casing_velocity_rms, np.nan), axis=-1, initial=0) * scale
+    checked = checks.zone_checked          # the speeds the zones judge (the operating range, where given)
+    largest = np.nanmax(np.where(checked, checks.casing_velocity_rms, np.nan), axis=-1, initial=0) * scale
     shown = largest[largest > 0]             # each curve's largest checked value stays above the bottom
     bottom = max(min(bounds[0] / 30, 0.5 * float(shown.min()) if shown.size else np.inf), top * 1e-5)
     edges = (bottom, *bounds, top)
@@ -896,8 +897,8 @@ def _draw_zone_panel(ax, checks, x, units="si"):
     ax.set_yscale("log")
     plain_log_ticks(ax.yaxis)
     ax.set_ylim(edges[0], top)
-    if checks.mcs is not None or checks.checked.sum() < len(checks.checked):
-        ax.plot(x, np.where(checks.checked, edges[0], np.nan), color="k", lw=6, solid_capstyle="butt",
+    if checks.mcs is not None or checked.sum() < len(checked):
+        ax.plot(x, np.where(checked, edges[0], np.nan), color="k", lw=6, solid_capstyle="butt",
                 label="checked speeds")
     ax.set_ylabel(f"Velocity, RMS [{unit}]")
     ax.set_title(f"Casing vibration velocity, ISO 20816-3 zones ({checks.iso_class})", fontsize="medium")

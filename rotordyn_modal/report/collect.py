@@ -23,7 +23,7 @@ from ..unbalance_standards import AMPLITUDE_WORDS, amplitude_factor
 from ..units import check_system, unit_scale
 
 __all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "AMPLITUDE_WORDS", "from_pkpk", "CRITERION_SOURCES", "Criterion", "ReportInputs", "ReportData", "collect",
-           "separation_margins", "ucs_stiffness", "UCS_STIFFNESS", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
+           "separation_margins", "iso_span", "ucs_stiffness", "UCS_STIFFNESS", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
 
 #: section id -> heading
 SECTIONS = {"model": "Model", "static": "Static loads and sag", "campbell": "Campbell diagram and critical speeds",
@@ -388,44 +388,12 @@ def _case(row) -> str:
 
 
 def separation_margins(response, operating, outputs=None):
-    """API 684 peaks of ``response`` with their separation margin from the operating range.
+    """API 684 peaks of ``response`` with their separation margin from the operating range: the
+    one function ``unbalance --operating-range`` calls too,
+    :func:`rotordyn_modal.analysis.unbalance_checks.separation_margins` (0-peak amplitudes)."""
+    from ..analysis.unbalance_checks import separation_margins as margins
 
-    A peak below the range is measured from its low end, above from its high end
-    (``UnbalanceResult.peaks`` at that end); inside it the margin is 0. A peak of a curve at
-    round-off (amplitude below :data:`..analysis.unbalance.ROUND_OFF_AMPLITUDE` times the response's largest, every
-    sensor and source: a couple case seen at the centre of mass of a symmetric rotor, 1e-21 m
-    beside 6e-5 m) is no resonance of the machine and is left out.
-
-    Parameters
-    ----------
-    response : UnbalanceResult
-    operating : (float, float) [rad/s]
-    outputs : sequence of str, optional
-        The outputs whose peaks count (default all).
-
-    Returns
-    -------
-    pandas.DataFrame
-        ``peaks`` columns plus ``verdict``: 'pass' when margin >= required, 'not evaluated' where
-        the amplification factor is unknown (the amplitude does not fall to peak / sqrt(2) on both
-        sides within the sweep).
-    """
-    import pandas as pd
-
-    low, high = operating
-    below, above = response.peaks(low, amplitude="peak"), response.peaks(high, amplitude="peak")
-    speed = below["speed_rpm"].to_numpy() * np.pi / 30
-    table = below.copy()
-    table["separation_margin_pct"] = np.where(speed < low, below["separation_margin_pct"],
-                                              np.where(speed > high, above["separation_margin_pct"], 0.0))
-    # a peak above the range needs the margin of a critical speed above it (API 617)
-    table["required_margin_pct"] = np.where(speed > high, above["required_margin_pct"], below["required_margin_pct"])
-    if outputs is not None:
-        table = table[table["output"].isin(list(outputs))].reset_index(drop=True)
-    required = table["required_margin_pct"].to_numpy(dtype=float)
-    table["verdict"] = np.where(np.isnan(required), "not evaluated",
-                                np.where(table["separation_margin_pct"] >= required, "pass", "fail"))
-    return pd.DataFrame(table)
+    return margins(response, operating, outputs=outputs, amplitude="peak")
 
 
 def _peak_outputs(model, response):
@@ -540,6 +508,7 @@ def _critical_numbers(data, result):
 
 def _unbalance(data):
     from ..analysis.unbalance import api_unbalance_response, unbalance_response
+    from ..analysis.unbalance_checks import unbalance_checks
 
     if "unbalance" in data.results or "unbalance" in data.skipped:
         return
@@ -555,9 +524,10 @@ def _unbalance(data):
     else:
         data.results["unbalance"] = api_unbalance_response(data.model, inputs.speeds, inputs.mcs)
     group = inputs.iso_group if inputs.standard == "iso" else None
-    data.results["checks"] = data.results["unbalance"].checks(
-        data.model, mcs=inputs.mcs, min_speed=0.0, iso_group=group,
-        iso_support=inputs.iso_support if group else None)
+    # ISO 20816-3 judges steady operation: the zones over the operating range where one is given
+    data.results["checks"] = unbalance_checks(
+        data.results["unbalance"], data.model, mcs=inputs.mcs, min_speed=0.0, iso_group=group,
+        iso_support=inputs.iso_support if group else None, iso_range=inputs.operating)
     if data.model.clearances and inputs.standard != "iso":
         data.results["clearance"] = data.results["unbalance"].clearance_check(data.model, mcs=inputs.mcs,
                                                                               min_operating=inputs.range[0])
@@ -705,8 +675,15 @@ def _level1(data):
 
 
 def _csr_criterion(data, result):
-    """The critical speed ratio against the average gas density: Region B with Q0/Qa < 10 fails."""
+    """The critical speed ratio against the average gas density: Region B with Q0/Qa < 10 fails;
+    not evaluated without a critical speed on rigid supports (a rigid rotor)."""
+    from ..analysis.level1 import NO_RIGID_SUPPORT_CRITICAL
+
     csr = result.csr
+    if not csr.evaluated:        # nothing to judge: not a pass (a CSR of 0 read as Region A was)
+        data.criteria.append(Criterion("API 617 Level I: critical speed ratio", "", "", "not evaluated", "level1",
+                                       NO_RIGID_SUPPORT_CRITICAL))
+        return
     why = ("Region A" if csr.region == "A" else "Region B" + ("" if result.csr_applies else ", not applied: Q0/Qa >= 10")) \
         + " at {0:.4g} {unit}; MCS / first critical speed on rigid supports"
     data.criteria.append(Criterion.of("API 617 Level I: critical speed ratio",
@@ -733,9 +710,21 @@ def _iso(data):
     worst = table.iloc[int(np.argmax(table["value"]))]
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
     data.criteria.append(Criterion.of(
-        name, verdict, "iso", f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm",
+        name, verdict, "iso", f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm; {iso_span(checks)}",
         quantities=[("value", "{0:.3g} {unit} RMS (zone %s)" % worst.zone, "velocity", (worst.value,)),
                     ("limit", "<= {0:.3g} {unit} RMS (zone B)", "velocity", (worst.limit,))]))
+
+
+def iso_span(checks) -> str:
+    """The speeds the ISO 20816-3 zones judged, in words: the operating range (steady operation,
+    ISO 20816-3 clause 1), or from 0 to the MCS where no range was given."""
+    if checks.iso_span is not None:
+        low, high = (abs(x) * 30 / np.pi for x in checks.iso_span)
+        where = f"at the operating speed {low:.6g} rpm" if low == high else \
+            f"over the operating range {low:.6g} to {high:.6g} rpm"
+        return f"judged {where} (steady operation)"
+    return (f"judged from 0 to the MCS {checks.mcs * 30 / np.pi:.6g} rpm, run-up included "
+            "(no operating range given)")
 
 
 def _nothing(data):

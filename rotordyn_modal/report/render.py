@@ -530,11 +530,12 @@ def _level1(data, units) -> str:
     csr = result.csr
     if csr is not None:
         dscale, dunit = shown_scale("density", units)
-        critical = _g(csr.critical_speed * 30 / np.pi) if np.isfinite(csr.critical_speed) else "none (rigid rotor)"
+        critical = _g(csr.critical_speed * 30 / np.pi) if csr.evaluated else "none (rigid rotor)"
         rows += [["first critical speed on rigid supports [rpm]", critical, ""],
                  [f"average gas density [{dunit}]", _g(csr.density * dscale), ""],
-                 ["critical speed ratio CSR [-]", _g(csr.csr, 3),
-                  f"Region A: <= {csr.boundary:.3g}" + ("" if result.csr_applies else " (Q0/Qa >= 10: not applied)")]]
+                 ["critical speed ratio CSR [-]", _g(csr.csr, 3) if csr.evaluated else "not evaluated",
+                  (f"Region A: <= {csr.boundary:.3g}" + ("" if result.csr_applies else " (Q0/Qa >= 10: not applied)"))
+                  if csr.evaluated else "no critical speed on rigid supports: nothing to judge"]]
     runs = result.swept or (result,)
     return "\n".join([
         _heading("level1"),
@@ -546,7 +547,7 @@ def _level1(data, units) -> str:
         _figure(result.plot(**_units(units)), f"Figure: log decrement of each swept forward mode against the "
                 f"applied cross-coupling Q, {result.mode_label} (bold), the least stable at Qa; Q0 the smallest of "
                 "the swept modes' (API 617 Level I; docs/level1_and_ucs.md).", "Level I stability")]
-        + ([] if csr is None else [_figure(csr.plot(verdict=result.verdict().rpartition(": ")[2], **_units(units)),
+        + ([] if csr is None or not csr.evaluated else [_figure(csr.plot(verdict=result.verdict().rpartition(": ")[2], **_units(units)),
                                            "Figure: critical speed ratio against average gas density, the dividing "
                                            "line between Regions A and B (API 617 Level I; docs/standards.md).",
                                            "Critical speed ratio chart")]))
@@ -583,10 +584,18 @@ def _iso(data, units) -> str:
     factor, unit = shown_scale("velocity", units)
     low, mid, high = (b * factor for b in checks.zone_boundaries)
     return "\n".join([_heading("iso"),
-                      f"<p>RMS vibration velocity of every casing sensor, largest over the speeds up to the MCS, "
+                      f"<p>RMS vibration velocity of every casing sensor, largest "
+                      f"{escape(_iso_speeds(checks))}, "
                       f"{escape(checks.iso_class)}: zone boundaries A/B {low:.3g}, B/C {mid:.3g}, C/D {high:.3g} {unit} "
                       "RMS; pass in zones A and B (docs/standards.md).</p>",
                       _check_table(table, factor, f"{unit} RMS")])
+
+
+def _iso_speeds(checks) -> str:
+    """Which speeds the ISO zones judged (``collect.iso_span`` without its first word)."""
+    from .collect import iso_span
+
+    return iso_span(checks).partition(" ")[2]
 
 
 def _units(units) -> dict:

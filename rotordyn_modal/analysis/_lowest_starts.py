@@ -355,21 +355,38 @@ class _Expansions:
             self.starts[part] = np.take_along_axis(lam, order, axis=1)
             shapes = np.take_along_axis(V, order[:, None, :], axis=2)[:, :m]           # (P, m, want)
             self.vectors[part] = _vectors.unit_rows(np.swapaxes(shapes, 1, 2) @ basis.T)
-            try:
-                inverse = np.linalg.inv(V)
-            except np.linalg.LinAlgError:        # a defective anchor: the speeds near it take their own roots
-                continue
-            # the decomposition's own error R_a = V^-1 (A V - V Lambda): each row's sum of moduli at most
-            # |V^-1| |A V - V Lambda| summed (added to the discs' radii)
-            error = np.abs(A @ V - V * lam[:, None, :]).sum(axis=2)
-            error = np.einsum("pij,pj->pi", np.abs(inverse), error)
-            lower = inverse[:, :, m:]                                               # V^-1 [0; I], (P, 2m, m)
-            # the bearings' entries by their distinct rows and columns (a bearing's 2 x 2 block: half as many)
-            at_rows, at_cols = basis[entries.rows].T, basis[entries.cols]
-            factors = (lower @ Gr @ V[:, m:], lower @ at_rows, at_cols @ V[:, :m], at_cols @ V[:, m:])
-            for place in range(part.start, part.stop):
-                at = place - part.start
-                self._near(pencils, place, lam[at], order[at], error[at], [f[at] for f in factors] + [entries])
+            # each anchor's decomposition and the speeds nearer it: in threads (numpy's products release the GIL)
+            work = functools.partial(self._decomposed, pencils, basis, Gr, entries)
+            _batches._threaded(work, np.arange(part.start, part.stop), A, lam, V, order, item_bytes=80 * (2 * m) ** 2)
+
+    def _decomposed(self, pencils, basis, Gr, entries, places, A, lam, V, order):
+        """:meth:`_near` of the anchors ``places`` (P,) from their state matrices ``A`` (P, 2m, 2m),
+        roots ``lam`` (P, 2m), eigenvectors ``V`` (P, 2m, 2m) and wanted roots ``order`` (P, want):
+        (P,) bool, whether each was decomposed (False: a defective anchor, whose nearer speeds take
+        their own roots). Each anchor's numbers are its own, whichever anchors share the call."""
+        m = basis.shape[1]
+        try:
+            inverse = np.linalg.inv(V)
+            done = np.ones(len(places), bool)
+        except np.linalg.LinAlgError:            # each alone: only a defective anchor is left out
+            inverse, done = np.empty(V.shape, complex), np.zeros(len(places), bool)
+            for at in range(len(places)):
+                try:
+                    inverse[at], done[at] = np.linalg.inv(V[at]), True
+                except np.linalg.LinAlgError:
+                    pass
+            A, lam, V, order, inverse, places = A[done], lam[done], V[done], order[done], inverse[done], places[done]
+        # the decomposition's own error R_a = V^-1 (A V - V Lambda): each row's sum of moduli at most
+        # |V^-1| |A V - V Lambda| summed (added to the discs' radii)
+        error = np.abs(A @ V - V * lam[:, None, :]).sum(axis=2)
+        error = np.einsum("pij,pj->pi", np.abs(inverse), error)
+        lower = inverse[:, :, m:]                                               # V^-1 [0; I], (P, 2m, m)
+        # the bearings' entries by their distinct rows and columns (a bearing's 2 x 2 block: half as many)
+        at_rows, at_cols = basis[entries.rows].T, basis[entries.cols]
+        factors = (lower @ Gr @ V[:, m:], lower @ at_rows, at_cols @ V[:, :m], at_cols @ V[:, m:])
+        for at, place in enumerate(places):
+            self._near(pencils, place, lam[at], order[at], error[at], [f[at] for f in factors] + [entries])
+        return done
 
     def _near(self, pencils, place, lam, order, error, factors):
         """The discs and the roots' changes at the speeds nearer the anchor ``place`` and at their

@@ -45,7 +45,9 @@ difference of the lowest 12 roots from the 12 lowest of all modes ("low vs all")
 package has the Hermitian route of small undamped gyroscopic models (``_lowest._gyroscopic_lowest``),
 each repeat also times ``modes=12`` with that route switched off (``eigvals`` of the state
 matrices, the route before it): a baseline from the same run, printed under the rotor's row as
-its time per speed, ROSS / it, and it / the lowest 12 (min/median/max). Without flexible rotors in rotordyn_modal (a checkout
+its time per speed, ROSS / it, and it / the lowest 12 (min/median/max). The same calls' CPU times (``time.process_time``: every thread of
+the process, so rotordyn_modal's second thread counts against it) give a second ratio, ROSS / the
+lowest 12, which other processes' load sways less than the wall times. Without flexible rotors in rotordyn_modal (a checkout
 before them) the script says so and keeps the rigid comparison.
 """
 
@@ -462,11 +464,17 @@ def flexible_comparison(names, n_speeds: int, repeat: int) -> None:
         speeds = [case["speed"] for case in reference["modal"]]
         grid = np.linspace(min(speeds), max(speeds), n_speeds)
         t_ross, t_all, t_low, low_vs_all = campbell_times(model, path, grid, repeat)
+        cpu = _CPU[0]
         per_speed = [f"{np.median(t) / n_speeds * 1e3:{w}.3f}" if t is not None else f"{'-':>{w}}"
                      for t, w in ((t_all, 9), (t_low, 10))]
         ratios = [_spread(t_ross / t) if t is not None else f"{'-':>20}" for t in (t_all, t_low)]
         print(f"{name:>20} {rotor.ndof:8d} {model.dofs.n:7d} | {rel:13.1e} {log_dec:12.1e} {low_vs_all:10.1e} | "
               f"{np.median(t_ross) / n_speeds * 1e3:13.2f} {per_speed[0]} {per_speed[1]} | {ratios[0]} {ratios[1]}")
+        if t_low is not None:
+            print(f"{'':>20} CPU time (all threads of the process) of the same calls: ROSS "
+                  f"{np.median(cpu[0]) / n_speeds * 1e3:.2f} ms/speed, rdm low 12 {np.median(cpu[2]) / n_speeds * 1e3:.3f} "
+                  f"ms/speed, ROSS/low {_spread(cpu[0] / cpu[2]).strip()} (less swayed by other processes' load "
+                  "than the wall times)")
         base = _BASELINE[0]
         if t_low is not None and np.isfinite(base).all():
             print(f"{'':>20} lowest 12 by the state matrices' eigvals (the route before the Hermitian one, same run): "
@@ -509,27 +517,28 @@ def campbell_times(model, path, grid, repeat):
     rdm.campbell(model, grid[:3], **keywords)  # first call: imports, caches
     if lowest is not None:
         rdm.campbell(model, grid[:3], **lowest)
-    times = np.full((4, repeat), np.nan)
+    times, cpu = np.full((4, repeat), np.nan), np.full((3, repeat), np.nan)
     baseline = _state_matrix_route() if lowest is not None else None
     for r in range(repeat):
         with _quiet():
             rotor = rs.Rotor.load(path)
-            start = time.perf_counter()
+            start, busy = time.perf_counter(), time.process_time()
             rotor.run_campbell(grid, frequencies=CAMPBELL_MODES)
-            times[0, r] = time.perf_counter() - start
-        start = time.perf_counter()
+            times[0, r], cpu[0, r] = time.perf_counter() - start, time.process_time() - busy
+        start, busy = time.perf_counter(), time.process_time()
         every = rdm.campbell(model, grid, **keywords)
-        times[1, r] = time.perf_counter() - start
+        times[1, r], cpu[1, r] = time.perf_counter() - start, time.process_time() - busy
         if lowest is not None:
-            start = time.perf_counter()
+            start, busy = time.perf_counter(), time.process_time()
             low = rdm.campbell(model, grid, **lowest)
-            times[2, r] = time.perf_counter() - start
+            times[2, r], cpu[2, r] = time.perf_counter() - start, time.process_time() - busy
         if baseline is not None:
             with baseline():
                 start = time.perf_counter()
                 rdm.campbell(model, grid, **lowest)
                 times[3, r] = time.perf_counter() - start
     _BASELINE[:] = [times[3]]
+    _CPU[:] = [cpu]
     if lowest is None:
         return times[0], times[1], None, np.nan
     roots = np.where(every.oscillatory, every.eigenvalues, np.nan + 1e30j)
@@ -540,6 +549,8 @@ def campbell_times(model, path, grid, repeat):
 
 #: the last campbell_times' baseline times [s] (repeat,), NaN where there is none
 _BASELINE = [np.array([np.nan])]
+#: the last campbell_times' CPU times [s] of the process (every thread) (3, repeat): ROSS, rdm all, rdm low 12
+_CPU = [np.full((3, 1), np.nan)]
 
 
 def _state_matrix_route():

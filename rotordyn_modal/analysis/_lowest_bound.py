@@ -33,8 +33,14 @@ def _basis(stack, speed):
     """The undamped modes of the symmetric parts of K and M at ``speed`` (an array of one
     speed): the square roots of their eigenvalues (n,) [rad/s], the symmetric stiffness (n, n,
     ``scipy.sparse`` CSR: a large model's is sparse, and only its departures from K are used),
-    and the mass-orthonormal modes (n, n), ascending."""
+    and the mass-orthonormal modes (n, n), ascending. Where the cheap route test
+    (``_lowest_route._cheap_modes``) solved the same ``eigh`` at this speed, its result (the same
+    bits: the same K_0 and M in the same routine)."""
     sparse = stack.sparse_constant
+    done = stack.__dict__.get("_lowest_eigh")
+    if done is not None and sparse is None and done[0] == float(np.ravel(speed)[0]):
+        _, symmetric, values, vectors = done
+        return np.sqrt(np.maximum(values, 0.0)), symmetric, vectors
     if sparse is not None:       # a large model's: dense only for the eigh, from its sparse K and M
         return _sparse_basis(stack, sparse, float(np.ravel(speed)[0]))
     _, stiffness = stack.damping_stiffness(np.zeros(1, int), speed)
@@ -222,11 +228,10 @@ def _gershgorin_count(centers, radii, limit):
     -------
     ndarray of int, shape (J,)
     """
-    counts = np.empty(len(centers), int)
-    # a part of the speeds at a time: their discs' (p, p) contacts
-    for part in _batches.chunk_slices(len(centers), 40 * centers.shape[1] ** 2, budget=_batches._PART_BYTES):
-        counts[part] = _counted(centers[part], radii[part], limit[part])
-    return counts
+    # parts of the speeds, in threads: their discs' (p, p) contacts (each speed's count its own)
+    if not len(centers):
+        return np.zeros(0, int)
+    return _batches._threaded(_counted, centers, radii, np.asarray(limit), item_bytes=40 * centers.shape[1] ** 2)
 
 
 def _counted(centers, radii, limit):

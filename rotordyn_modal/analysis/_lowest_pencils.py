@@ -74,7 +74,7 @@ class _Pencils:
         # the products Q'(s) x: sparse (a dense complex product of n x n per root cost more than the solves)
         self.sparse = [scipy.sparse.csr_matrix(matrix) for matrix in (self.M, self.C, self.G)]
         self._stacked = scipy.sparse.vstack(self.sparse, format="csr")
-        self._stiffness = None        # K as CSR, made on first use (:meth:`residual_times`)
+        self._stiffness = None        # M, C, G and K stacked as CSR, made on first use (:meth:`residual_times`)
         # each bearing entry's row, (n, nb): the bearings' terms of the rows' products, scattered
         self.scatter = scipy.sparse.csr_matrix((np.ones(len(self.rows)), (self.rows, np.arange(len(self.rows)))),
                                                shape=(n, len(self.rows)))
@@ -212,11 +212,11 @@ class _Pencils:
         """``Q(lam_p) x_p`` (P, n) in double precision (``_lowest_newton._residuals`` is the
         extended-precision one of the polish)."""
         n = x.shape[1]
-        if self._stiffness is None:
-            self._stiffness = scipy.sparse.csr_matrix(self.K)
-        products = self._stacked @ np.ascontiguousarray(x.T)                     # (3 n, P)
-        out = lam * (lam * products[:n] + products[n:2 * n] + self.speeds[index] * products[2 * n:])
-        out += self._stiffness @ np.ascontiguousarray(x.T)
+        if self._stiffness is None:       # [M; C; G; K] as CSR: one product (and one copy of the rows) for all four
+            self._stiffness = scipy.sparse.vstack([self._stacked, scipy.sparse.csr_matrix(self.K)], format="csr")
+        products = self._stiffness @ np.ascontiguousarray(x.T)                   # (4 n, P)
+        out = lam * (lam * products[:n] + products[n:2 * n] + self.speeds[index] * products[2 * n:3 * n])
+        out += products[3 * n:]
         if len(self.rows):
             out += self.scatter @ ((lam[:, None] * self.cb[index] + self.kb[index]) * x[:, self.cols]).T
         return out.T + self.more_terms(index, lam, x)

@@ -122,7 +122,8 @@ def _cheap_modes(stack, pencils, size: int):
     mass (CSC) and the first ``size`` undamped modes (n, size), mass-orthonormal, by sparse
     shift-invert Lanczos (one sparse LU); kept on the stack for its other sweeps; None where
     Lanczos fails. At most ``_DENSE_MODES`` coordinates, every mode by one dense ``eigh``, and the
-    mode of index ``n // 2`` (frequency, mass-normalised shape) kept on the stack for :func:`_crowded`."""
+    mode of index ``n // 2`` (frequency, mass-normalised shape) kept on the stack for :func:`_crowded`,
+    and the whole ``eigh`` (with its speed and ``K_0``) for ``_lowest_bound._basis``."""
     cached = stack.__dict__.get("_lowest_cheap")
     if cached is not None and cached[2].shape[1] >= size:
         return cached
@@ -144,6 +145,8 @@ def _cheap_modes(stack, pencils, size: int):
     modes = np.zeros((symmetric.shape[0], 0))
     if symmetric.shape[0] <= _DENSE_MODES:      # every mode by one dense eigh (and the one in the middle)
         values, vectors = scipy.linalg.eigh(symmetric.toarray(), mass.toarray())
+        # the same eigh as the completeness bound's basis (_lowest_bound._basis), bit for bit: kept for it
+        stack.__dict__["_lowest_eigh"] = speed, symmetric, values, vectors
         middle = symmetric.shape[0] // 2
         stack.__dict__["_lowest_middle"] = np.sqrt(max(values[middle], 0.0)), vectors[:, middle].copy()
         modes = vectors[:, :size].copy()

@@ -10,6 +10,7 @@ across the ``count``-th place the least stable kept.
 from __future__ import annotations
 
 import functools
+import typing
 
 import numpy as np
 import scipy.sparse
@@ -345,6 +346,7 @@ class _Expansions:
         D0, K0, Gr = projected_first(pencils, solved, basis)
         left, right = basis[pencils.rows].T, basis[pencils.cols]
         self.pencils, self.first = pencils, (D0, K0, Gr, left, right)
+        entries = _BearingEntries.of(pencils)
         # a part of the anchors at a time: their state matrices, eigenvectors, inverses and products
         for part in _batches.chunk_slices(len(solved), 16 * 8 * (2 * m) ** 2, budget=_batches._PART_BYTES):
             A = _state_matrices(pencils, solved[part], solved[0], D0, K0, Gr, left, right)
@@ -353,19 +355,38 @@ class _Expansions:
             self.starts[part] = np.take_along_axis(lam, order, axis=1)
             shapes = np.take_along_axis(V, order[:, None, :], axis=2)[:, :m]           # (P, m, want)
             self.vectors[part] = _vectors.unit_rows(np.swapaxes(shapes, 1, 2) @ basis.T)
-            try:
-                inverse = np.linalg.inv(V)
-            except np.linalg.LinAlgError:        # a defective anchor: the speeds near it take their own roots
-                continue
-            # the decomposition's own error R_a = V^-1 (A V - V Lambda): each row's sum of moduli at most
-            # |V^-1| |A V - V Lambda| summed (added to the discs' radii)
-            error = np.abs(A @ V - V * lam[:, None, :]).sum(axis=2)
-            error = np.einsum("pij,pj->pi", np.abs(inverse), error)
-            lower = inverse[:, :, m:]                                               # V^-1 [0; I], (P, 2m, m)
-            factors = (lower @ Gr @ V[:, m:], lower @ left, right @ V[:, :m], right @ V[:, m:])
-            for place in range(part.start, part.stop):
-                at = place - part.start
-                self._near(pencils, place, lam[at], order[at], error[at], [f[at] for f in factors])
+            # each anchor's decomposition and the speeds nearer it: in threads (numpy's products release the GIL)
+            work = functools.partial(self._decomposed, pencils, basis, Gr, entries)
+            _batches._threaded(work, np.arange(part.start, part.stop), A, lam, V, order, item_bytes=80 * (2 * m) ** 2)
+
+    def _decomposed(self, pencils, basis, Gr, entries, places, A, lam, V, order):
+        """:meth:`_near` of the anchors ``places`` (P,) from their state matrices ``A`` (P, 2m, 2m),
+        roots ``lam`` (P, 2m), eigenvectors ``V`` (P, 2m, 2m) and wanted roots ``order`` (P, want):
+        (P,) bool, whether each was decomposed (False: a defective anchor, whose nearer speeds take
+        their own roots). Each anchor's numbers are its own, whichever anchors share the call."""
+        m = basis.shape[1]
+        try:
+            inverse = np.linalg.inv(V)
+            done = np.ones(len(places), bool)
+        except np.linalg.LinAlgError:            # each alone: only a defective anchor is left out
+            inverse, done = np.empty(V.shape, complex), np.zeros(len(places), bool)
+            for at in range(len(places)):
+                try:
+                    inverse[at], done[at] = np.linalg.inv(V[at]), True
+                except np.linalg.LinAlgError:
+                    pass
+            A, lam, V, order, inverse, places = A[done], lam[done], V[done], order[done], inverse[done], places[done]
+        # the decomposition's own error R_a = V^-1 (A V - V Lambda): each row's sum of moduli at most
+        # |V^-1| |A V - V Lambda| summed (added to the discs' radii)
+        error = np.abs(A @ V - V * lam[:, None, :]).sum(axis=2)
+        error = np.einsum("pij,pj->pi", np.abs(inverse), error)
+        lower = inverse[:, :, m:]                                               # V^-1 [0; I], (P, 2m, m)
+        # the bearings' entries by their distinct rows and columns (a bearing's 2 x 2 block: half as many)
+        at_rows, at_cols = basis[entries.rows].T, basis[entries.cols]
+        factors = (lower @ Gr @ V[:, m:], lower @ at_rows, at_cols @ V[:, :m], at_cols @ V[:, m:])
+        for at, place in enumerate(places):
+            self._near(pencils, place, lam[at], order[at], error[at], [f[at] for f in factors] + [entries])
+        return done
 
     def _near(self, pencils, place, lam, order, error, factors):
         """The discs and the roots' changes at the speeds nearer the anchor ``place`` and at their
@@ -419,24 +440,56 @@ def _state_matrices(pencils, index, base, D0, K0, Gr, left, right):
     return A
 
 
+class _BearingEntries(typing.NamedTuple):
+    """The speed-dependent bearings' entries (``pencils.rows``, ``pencils.cols``, (e,) each) by
+    their distinct rows (r,) and columns (c,), ascending: a bearing's 2 x 2 block has two rows and
+    two columns for its four entries, so ``W^T dK_b W`` is a product through ``r``, not ``e``,
+    terms (:func:`_changed`). Each row's entries are padded to the most any row has (``q``): an
+    entry ``e`` (a zero coefficient where a row has fewer)."""
+
+    rows: np.ndarray           # (r,) the distinct rows
+    cols: np.ndarray           # (c,) the distinct columns
+    entry: np.ndarray          # (r, q) each row's entries (any, where ``used`` is False)
+    column: np.ndarray         # (r, q) their columns' places in ``cols``
+    used: np.ndarray           # (r, q) bool: a real entry
+
+    @classmethod
+    def of(cls, pencils):
+        rows, row_of = np.unique(pencils.rows, return_inverse=True)
+        cols, col_of = np.unique(pencils.cols, return_inverse=True)
+        by_row = np.argsort(row_of, kind="stable")
+        counts = np.bincount(row_of, minlength=len(rows))
+        q = int(counts.max(initial=0))
+        slot = np.arange(len(by_row)) - np.repeat(np.cumsum(counts) - counts, counts)
+        entry, used = np.zeros((len(rows), q), int), np.zeros((len(rows), q), bool)
+        entry[row_of[by_row], slot], used[row_of[by_row], slot] = by_row, True
+        return cls(rows, cols, entry, col_of[entry], used)
+
+
 def _changed(pencils, at, anchor, factors, order=None):
     """``F = V^-1 (A_j - A_a) V`` at the speeds ``at`` (X,) from the anchor's decomposition:
-    ``factors`` = (``V^-1 [0; I] W^T G W V_bottom``, ``V^-1 [0; I] W^T`` at the bearings' rows (2m, e),
-    ``W`` at their columns times ``V_top`` and ``V_bottom`` (e, 2m) each). (X, 2m, 2m); with ``order``
-    (k,) its rows and columns (transposed) at those roots only, (X, k, 2m) each."""
-    gyroscopic, lower, stiff, damp = factors
+    ``factors`` = (``V^-1 [0; I] W^T G W V_bottom``, ``V^-1 [0; I] W^T`` at the bearings' distinct
+    rows (2m, r), ``W`` at their distinct columns times ``V_top`` and ``V_bottom`` (c, 2m) each, and
+    their :class:`_BearingEntries`). (X, 2m, 2m); with ``order`` (k,) its rows and columns
+    (transposed) at those roots only, (X, k, 2m) each."""
+    gyroscopic, lower, stiff, damp, entries = factors
     step = (pencils.speeds[at] - pencils.speeds[anchor])[:, None, None]
-    dk = (pencils.kb[at] - pencils.kb[anchor])[:, :, None]
-    dc = (pencils.cb[at] - pencils.cb[anchor])[:, :, None]
+    if len(pencils.rows):
+        # dK_b V_top + dC_b V_bottom on the bearings' distinct rows, (X, r, 2m): each row's entries in turn
+        dk = np.where(entries.used, pencils.kb[at][:, entries.entry] - pencils.kb[anchor][entries.entry], 0.0)
+        dc = np.where(entries.used, pencils.cb[at][:, entries.entry] - pencils.cb[anchor][entries.entry], 0.0)
+        rows = dk[:, :, 0, None] * stiff[entries.column[:, 0]] + dc[:, :, 0, None] * damp[entries.column[:, 0]]
+        for j in range(1, entries.entry.shape[1]):
+            rows += dk[:, :, j, None] * stiff[entries.column[:, j]] + dc[:, :, j, None] * damp[entries.column[:, j]]
     if order is None:
         F = -step * gyroscopic
         if len(pencils.rows):
-            F -= lower @ (dk * stiff + dc * damp)
+            F -= lower @ rows
         return F
     along, across = -step * gyroscopic[order], -step * gyroscopic[:, order].T
     if len(pencils.rows):
-        along = along - lower[order] @ (dk * stiff + dc * damp)
-        across = across - np.swapaxes(lower @ (dk * stiff[:, order] + dc * damp[:, order]), 1, 2)
+        along = along - lower[order] @ rows
+        across = across - np.swapaxes(lower @ rows[:, :, order], 1, 2)
     return along, across
 
 

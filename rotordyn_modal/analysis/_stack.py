@@ -341,6 +341,9 @@ class Stack:
                 self._whirl_stacked = [_whirl.sparse_stacked_forms(self._sparse_whirl())]
             elif self.shared_whirl and self.n_dof > _pencils.SPARSE_SHAPES_DOF:    # sparse: 3 n x n fewer
                 self._whirl_stacked = [_whirl.sparse_stacked_forms(_whirl.WhirlForms(*(f[0] for f in self.whirl)))]
+            elif self.n_dof > _whirl._COMPLEX_PRODUCT_DOF and _sparse_forms(self.whirl):
+                self._whirl_stacked = [_whirl.entry_forms(_whirl.WhirlForms(*(f[v] for f in self.whirl)))
+                                       for v in range(1 if self.shared_whirl else len(self))]
             else:
                 self._whirl_stacked = _whirl.stacked_forms(self.whirl)
         for variant, part in _variant_parts(variants, 160 * shapes[0].size):
@@ -509,6 +512,18 @@ def _row_products(matrices, vectors):
     R, n, n)) times complex vectors (R, n), one row at a time: (..., R, n)."""
     column = vectors[..., None]
     return (matrices @ column.real)[..., 0] + 1j * (matrices @ column.imag)[..., 0]
+
+
+#: whirl forms with at most this part of their entries nonzero are summed by their entries
+#: (:class:`._whirl.EntryForms`), not multiplied dense
+_SPARSE_FORMS = 1 / 16
+
+
+def _sparse_forms(forms) -> bool:
+    """Whether every variant's whirl forms (V, n, n) each have at most ``_SPARSE_FORMS`` of their
+    entries nonzero (a flexible shaft's: each node coupled with its neighbours)."""
+    n = forms.W.shape[-1]
+    return all(np.count_nonzero(form, axis=(1, 2)).max() <= _SPARSE_FORMS * n * n for form in forms)
 
 
 def _variant_parts(variants, item_bytes: int):

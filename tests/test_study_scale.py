@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from forked import run_forked
+from study_stand_in import stand_in_chunk
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = str(ROOT / "examples" / "gear_machine.toml")
@@ -44,15 +45,6 @@ def _vm_size() -> int:
     raise AssertionError("no VmSize")
 
 
-def _stand_in(task):
-    """A chunk as ``run_chunk`` returns it, each value its variant's number (no analysis)."""
-    n = len(task.values)
-    rows = np.arange(task.start, task.start + n, dtype=float)
-    out = {name: np.broadcast_to(rows.reshape((n,) + (1,) * len(shape)), (n,) + shape).copy()
-           for name, shape in task.shapes.items()}
-    return {"index": task.index, "start": task.start, "error": np.array([""] * n), **out}
-
-
 def _run_limited(argv, headroom: int, stand_in=True):
     """``main(argv)`` in a forked child whose address space may grow by ``headroom`` bytes
     beyond what it takes once everything is imported; (exit code, stderr)."""
@@ -68,7 +60,7 @@ def _run_limited(argv, headroom: int, stand_in=True):
         def never(task):
             raise AssertionError("a chunk was computed")
 
-        execution.run_chunk = _stand_in if stand_in else never
+        execution.run_chunk = stand_in_chunk if stand_in else never
         limit = _vm_size() + headroom
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from study_stand_in import stand_in_chunk
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = str(ROOT / "examples" / "gear_machine.toml")
@@ -29,15 +30,6 @@ def _spec(samples, speeds=201):
     return {"seed": 2, "samples": samples, "parameters": [
         {"key": "stator.mass", "distribution": "uniform", "low": 140.0, "high": 160.0}],
         "analyses": {"campbell": {"speeds_rpm": f"0:6000:{speeds}"}}}
-
-
-def _stand_in(task):
-    """A chunk as ``run_chunk`` returns it, each value its variant's number (no analysis)."""
-    n = len(task.values)
-    rows = np.arange(task.start, task.start + n, dtype=float)
-    out = {name: np.broadcast_to(rows.reshape((n,) + (1,) * len(shape)), (n,) + shape).copy()
-           for name, shape in task.shapes.items()}
-    return {"index": task.index, "start": task.start, "error": np.array([""] * n), **out}
 
 
 @pytest.fixture
@@ -92,7 +84,7 @@ def test_the_memory_of_a_study_without_a_file_does_not_grow_with_its_results(spo
     import rotordyn_modal as rdm
     from rotordyn_modal.study import execution
 
-    monkeypatch.setattr(execution, "run_chunk", _stand_in)
+    monkeypatch.setattr(execution, "run_chunk", stand_in_chunk)
     model = rdm.load_model(EXAMPLE)
     _traced_peak(model, 50)                                    # imports and caches out of the way
     small = _traced_peak(model, 200)

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from study_stand_in import stand_in_chunk
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = str(ROOT / "examples" / "gear_machine.toml")
@@ -32,15 +33,6 @@ speeds_rpm = "0:6000:201"
 """
 #: one variant's results of SPEC: 201 speeds x 6 modes x 4 quantities [bytes]
 VARIANT_BYTES = 201 * 6 * 4 * 8
-
-
-def _stand_in(task):
-    """A chunk as ``run_chunk`` returns it, each value its variant's number (no analysis)."""
-    n = len(task.values)
-    rows = np.arange(task.start, task.start + n, dtype=float)
-    out = {name: np.broadcast_to(rows.reshape((n,) + (1,) * len(shape)), (n,) + shape).copy()
-           for name, shape in task.shapes.items()}
-    return {"index": task.index, "start": task.start, "error": np.array([""] * n), **out}
 
 
 def _traced_peak(tmp_path, samples: int, name: str, traced: bool = True) -> int:
@@ -74,7 +66,7 @@ def test_the_memory_of_a_study_does_not_grow_with_its_chunks(tmp_path, monkeypat
     where it grew with the results before (held whole, 23 and 48 MB traced)."""
     from rotordyn_modal.study import execution
 
-    monkeypatch.setattr(execution, "run_chunk", _stand_in)
+    monkeypatch.setattr(execution, "run_chunk", stand_in_chunk)
     _traced_peak(tmp_path, 50, "warm", traced=False)          # imports and caches out of the way
     small = _traced_peak(tmp_path, 200, "small")
     large = _traced_peak(tmp_path, 800, "large")
@@ -234,6 +226,6 @@ def test_a_study_over_the_cpu_time_limit_is_refused_before_any_work_unless_allow
     assert err.startswith(f"rotordyn-modal study: error: {spec}: samples = 200: 200 variants x about "), err
     assert "201 eigen-solutions of 12 states" in err and "more than the limit of 0.06 s" in err, err
     assert "--allow-long" in err and sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
-    monkeypatch.setattr(execution, "run_chunk", _stand_in)
+    monkeypatch.setattr(execution, "run_chunk", stand_in_chunk)
     assert main(argv + ["--allow-long"]) == 0
     assert (tmp_path / "r.nc").exists()

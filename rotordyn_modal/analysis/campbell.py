@@ -804,6 +804,7 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     del weighted
     for table, source, model in zip(tables, sources, stack.models):
         _warn_of_jumps(table, source, model)
+    _warn_of_inexact(stack, speeds, values, shapes)
     noise = np.where(oscillating, noise, 0.0)
     labels = _whirl.whirl_labels(ratios, noise)          # modal's rule: within round-off no whirl
     return [CampbellResult(
@@ -813,6 +814,23 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
         critical=_with_sweep(tables[v], stack.models[v], speeds, values[v], progress),
         orders=tuple(float(o) for o in orders), whirl_round_off=noise[v]) for v in range(count)]
 
+
+
+def _warn_of_inexact(stack, speeds, values, shapes):
+    """Warn, once per model, of the roots ``values`` (V, N, m) with ``shapes`` (V, N, m, n) at
+    ``speeds`` [rad/s] that double precision leaves further off than
+    :data:`._eigensolve.INEXACT_LEVEL` (:func:`._eigensolve.pencil_round_off`); models with
+    Maxwell branches are not estimated (their pencil is not quadratic)."""
+    for v, form in enumerate(stack.forms):
+        if len(form.branch_times):
+            continue
+        damping, stiffness, G = form.damping_at(speeds), form.stiffness_at(speeds), form.matrices.G
+        bound = np.array([_eigensolve.pencil_round_off(values[v, i], shapes[v, i], form.matrices.M,
+                                                       (damping if damping.ndim == 2 else damping[i]) + speed * G,
+                                                       stiffness if stiffness.ndim == 2 else stiffness[i])
+                          for i, speed in enumerate(speeds)])
+        name = stack.models[v].name if len(stack.forms) > 1 else ""
+        _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
 
 #: memory of the interpreter and the package's imports [bytes]
 _BASE_BYTES = 256 * 2**20

@@ -15,7 +15,7 @@ import numpy as np
 from . import _batches, _roots, _vectors
 
 __all__ = ["REPEATED_TOLERANCE", "eigenvalues_of", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
-           "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "pencil_round_off", "warn_of_inexact_roots"]
+           "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots"]
 
 
 def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False, mass=None):
@@ -503,6 +503,43 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None) -> np
             out = np.maximum(out, noise / size)
     return np.where(size > 0, np.nan_to_num(out, nan=np.inf, posinf=np.inf), 0.0)
 
+
+
+def refined_pairs(values, shapes, mass, damping, stiffness, bound):
+    """The roots of one speed whose round-off ``bound`` (:func:`pencil_round_off`) exceeds
+    :data:`INEXACT_LEVEL` and whose neighbour in frequency is closer than it, polished two at a
+    time on the quadratic pencil (:func:`._lowest_newton.pair_polished`: block Newton steps with
+    the residual's stiffness term summed exactly), in place; the others, every root of a
+    well-conditioned machine, untouched.
+
+    Parameters
+    ----------
+    values : ndarray, shape (m,), complex [1/s]
+    shapes : ndarray, shape (m, n), complex, unit norm
+    mass, damping, stiffness : ndarray, shape (n, n)
+    bound : ndarray, shape (m,)
+
+    Returns
+    -------
+    ndarray, shape (m,): ``bound``, the polished pairs' the error the polish leaves
+    """
+    from ._lowest_newton import pair_polished
+
+    bound = np.array(bound, dtype=float)
+    wanted = np.flatnonzero((bound > INEXACT_LEVEL) & (np.asarray(values).imag > 0))
+    if len(wanted) < 2:
+        return bound
+    order = wanted[np.argsort(values[wanted].imag)]
+    done = set()
+    for a, b in zip(order[:-1], order[1:]):
+        gap = abs(values[b] - values[a]) / max(abs(values[a]), abs(values[b]))
+        if a in done or not gap < max(bound[a], bound[b]):
+            continue
+        found = pair_polished(mass, damping, stiffness, values[[a, b]], shapes[[a, b]])
+        if found is not None:
+            values[[a, b]], shapes[[a, b]], bound[[a, b]] = found
+            done.update((a, b))
+    return bound
 
 def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3):
     """One :class:`~rotordyn_modal.errors.ModelWarning` naming the speeds [rad/s] (N,) and the

@@ -787,6 +787,7 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     critical = bool(critical) and len(orders) > 0
     _refuse_what_cannot_fit(stack, len(speeds), critical)
     values, shapes, weighted, noise = solve_sweeps(stack, speeds, progress, whirl_noise=True)
+    _refine_inexact(stack, speeds, values, shapes)
     count, n_speeds, m = values.shape
     every = _variant_rows(count, n_speeds)
     ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every,
@@ -804,7 +805,6 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     del weighted
     for table, source, model in zip(tables, sources, stack.models):
         _warn_of_jumps(table, source, model)
-    _warn_of_inexact(stack, speeds, values, shapes)
     noise = np.where(oscillating, noise, 0.0)
     labels = _whirl.whirl_labels(ratios, noise)          # modal's rule: within round-off no whirl
     return [CampbellResult(
@@ -816,19 +816,22 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
 
 
 
-def _warn_of_inexact(stack, speeds, values, shapes):
-    """Warn, once per model, of the roots ``values`` (V, N, m) with ``shapes`` (V, N, m, n) at
-    ``speeds`` [rad/s] that double precision leaves further off than
-    :data:`._eigensolve.INEXACT_LEVEL` (:func:`._eigensolve.pencil_round_off`); models with
+def _refine_inexact(stack, speeds, values, shapes):
+    """The roots ``values`` (V, N, m) with ``shapes`` (V, N, m, n) at ``speeds`` [rad/s] that
+    double precision leaves further off than :data:`._eigensolve.INEXACT_LEVEL`
+    (:func:`._eigensolve.pencil_round_off`): pairs closer than that polished in place
+    (:func:`._eigensolve.refined_pairs`), the rest warned of, once per model; models with
     Maxwell branches are not estimated (their pencil is not quadratic)."""
     for v, form in enumerate(stack.forms):
         if len(form.branch_times):
             continue
         damping, stiffness, G = form.damping_at(speeds), form.stiffness_at(speeds), form.matrices.G
-        bound = np.array([_eigensolve.pencil_round_off(values[v, i], shapes[v, i], form.matrices.M,
-                                                       (damping if damping.ndim == 2 else damping[i]) + speed * G,
-                                                       stiffness if stiffness.ndim == 2 else stiffness[i])
-                          for i, speed in enumerate(speeds)])
+        bound = np.zeros(values.shape[1:])
+        for i, speed in enumerate(speeds):
+            pencil = (form.matrices.M, (damping if damping.ndim == 2 else damping[i]) + speed * G,
+                      stiffness if stiffness.ndim == 2 else stiffness[i])
+            bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], *pencil,
+                                                 _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil))
         name = stack.models[v].name if len(stack.forms) > 1 else ""
         _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
 

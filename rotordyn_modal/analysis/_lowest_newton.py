@@ -278,8 +278,9 @@ def pair_polished(M, damping, stiffness, pair, shapes):
     X = basis
     S = triangle @ np.diag(pair) @ np.linalg.inv(triangle)
     W, I2 = basis.conj(), np.eye(2)
-    for _ in range(_PAIR_STEPS):
-        residual = _block_residual(M, damping, stiffness, X, S)
+    low = np.zeros_like(X)        # X's low part: X + low in double-double (a stiff element's product of X's rounding
+    for _ in range(_PAIR_STEPS):  # exceeds what tells two close roots apart)
+        residual = _block_residual(M, damping, stiffness, X, S) + _block_residual(M, damping, stiffness, low, S, False)
         J = np.zeros((2 * n + 4, 2 * n + 4), complex)
         J[:2 * n, :2 * n] = np.kron((S @ S).T, M) + np.kron(S.T, damping) + np.kron(I2, stiffness)
         MX = M @ X
@@ -291,7 +292,9 @@ def pair_polished(M, damping, stiffness, pair, shapes):
             return None
         if not np.all(np.isfinite(d)):
             return None
-        X = X + d[:2 * n].reshape((n, 2), order="F")
+        more = low + d[:2 * n].reshape((n, 2), order="F")
+        high = X + more
+        X, low = high, more - (high - X)                   # two-sum: X + low the exact sum
         step = d[2 * n:].reshape((2, 2), order="F")
         S = S + step
         moved = np.abs(step).max() / np.abs(S).max()
@@ -327,13 +330,16 @@ def _dense_pencil(pencils, speed):
     return damping, stiffness
 
 
-def _block_residual(M, damping, stiffness, X, S):
+def _block_residual(M, damping, stiffness, X, S, exact=True):
     """``M X S^2 + D X S + K X`` (n, 2) in ``_EXTENDED`` precision from the double ``X``, ``S``, rounded
-    to complex (the products of a low mode's smooth shape with stiff elements cancel)."""
+    to complex (the products of a low mode's smooth shape with stiff elements cancel); ``exact``:
+    the stiffness term summed exactly (:func:`_exact_product`), else in ``_EXTENDED`` (``X`` a
+    low part)."""
     wide = np.result_type(_EXTENDED, 1j)
     Xw, Sw = X.astype(wide), S.astype(wide)
     XS = Xw @ Sw
-    out = M.astype(_EXTENDED) @ (XS @ Sw) + damping.astype(_EXTENDED) @ XS + _exact_product(stiffness, X)
+    K = _exact_product(stiffness, X) if exact else stiffness.astype(_EXTENDED) @ Xw
+    out = M.astype(_EXTENDED) @ (XS @ Sw) + damping.astype(_EXTENDED) @ XS + K
     return out.astype(complex)
 
 

@@ -505,7 +505,7 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None) -> np
 
 
 
-def refined_pairs(values, shapes, mass, damping, stiffness, bound):
+def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None):
     """The roots of one speed whose round-off ``bound`` (:func:`pencil_round_off`) exceeds
     :data:`INEXACT_LEVEL` and whose neighbour in frequency is closer than it, polished two at a
     time on the quadratic pencil (:func:`._lowest_newton.pair_polished`: block Newton steps with
@@ -518,6 +518,10 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound):
     shapes : ndarray, shape (m, n), complex, unit norm
     mass, damping, stiffness : ndarray, shape (n, n)
     bound : ndarray, shape (m,)
+    forms : WhirlForms, optional
+        Where given, a pair polished into one root (a double root: the machine at rest) has its
+        shapes made the extreme-whirl pair (:func:`resolve_repeated`; the polish's basis of the
+        plane is any), ``variant`` the row's variant where the forms are stacked.
 
     Returns
     -------
@@ -539,6 +543,9 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound):
         if found is not None:
             values[[a, b]], shapes[[a, b]], bound[[a, b]] = found
             done.update((a, b))
+            if forms is not None:
+                shapes[[a, b]] = resolve_repeated(values[[a, b]][None], shapes[[a, b]][None], forms,
+                                                  None if variant is None else np.array([variant]), groups=False)[0]
     return bound
 
 def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3):

@@ -831,7 +831,8 @@ def _refine_inexact(stack, speeds, values, shapes):
             pencil = (form.matrices.M, (damping if damping.ndim == 2 else damping[i]) + speed * G,
                       stiffness if stiffness.ndim == 2 else stiffness[i])
             bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], *pencil,
-                                                 _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil))
+                                                 _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil),
+                                                 stack.whirl, v)
         name = stack.models[v].name if len(stack.forms) > 1 else ""
         _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
 

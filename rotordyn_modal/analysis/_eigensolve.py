@@ -492,11 +492,16 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None) -> np
     """
     x = np.asarray(shapes).T                               # (n, m)
     s = np.asarray(values)
+    m = x.shape[1]
     a = np.abs(x)
     size = np.abs(s)
     terms = (size * size * np.einsum("im,im->m", a, np.abs(mass) @ a) + size * np.einsum("im,im->m", a, np.abs(damping) @ a)
              + np.einsum("im,im->m", a, np.abs(stiffness) @ a))
-    derivative = np.abs(np.einsum("im,im->m", x.conj(), 2.0 * s * (mass @ x) + damping @ x))
+    # real products of the real matrices with both parts (a complex product would cost twice as much)
+    parts = np.concatenate([x.real, x.imag], axis=1)
+    Mx, Dx = mass @ parts, damping @ parts
+    Mx, Dx = Mx[:, :m] + 1j * Mx[:, m:], Dx[:, :m] + 1j * Dx[:, m:]
+    derivative = np.abs(np.einsum("im,im->m", x.conj(), 2.0 * s * Mx + Dx))
     with np.errstate(divide="ignore", invalid="ignore"):
         out = np.finfo(float).eps * terms / (size * derivative)
         if noise is not None:

@@ -825,11 +825,11 @@ def _refine_inexact(stack, speeds, values, shapes):
     for v, form in enumerate(stack.forms):
         if len(form.branch_times):
             continue
-        damping, stiffness, G = form.damping_at(speeds), form.stiffness_at(speeds), form.matrices.G
+        G = form.matrices.G
         bound = np.zeros(values.shape[1:])
-        for i, speed in enumerate(speeds):
-            pencil = (form.matrices.M, (damping if damping.ndim == 2 else damping[i]) + speed * G,
-                      stiffness if stiffness.ndim == 2 else stiffness[i])
+        for i, speed in enumerate(speeds):        # one speed's bearings at a time (not N dense (n, n) at once)
+            damping, stiffness = form.damping_at(speeds[i:i + 1]), form.stiffness_at(speeds[i:i + 1])
+            pencil = (form.matrices.M, damping.reshape(damping.shape[-2:]) + speed * G, stiffness.reshape(stiffness.shape[-2:]))
             bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], *pencil,
                                                  _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil),
                                                  stack.whirl, v)

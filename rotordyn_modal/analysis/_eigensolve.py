@@ -15,7 +15,7 @@ import numpy as np
 from . import _batches, _roots, _vectors
 
 __all__ = ["REPEATED_TOLERANCE", "eigenvalues_of", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
-           "upper_indices", "upper_shapes", "ratio_round_off"]
+           "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots"]
 
 
 def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False, mass=None):
@@ -451,3 +451,127 @@ def _extreme_whirl(basis, total, momentum):
     resolved = basis @ combinations  # (P, n, 2)
     resolved /= np.linalg.norm(resolved, axis=1, keepdims=True)
     return mu, resolved
+
+
+#: a root whose estimated relative error (:func:`pencil_round_off`) exceeds this is warned of
+#: (:func:`warn_of_inexact_roots`): one part in a million, the sixth significant digit of a
+#: frequency, which the CSV files print and which a comparison of two designs or of a model with
+#: a test reads; below it the estimate (a first-order bound, measured 0.01 to 0.35 times the
+#: error) says nothing an engineer acts on
+INEXACT_LEVEL = 1e-6
+
+
+def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None) -> np.ndarray:
+    """How far double precision can move each root of a dense eigen-solve, relative [-]: the
+    first-order change of the root under a change of every entry of the pencil
+    ``M s^2 + D s + K`` by ``eps`` of itself, for the root's own shape,
+    ``eps |x|^T (|s|^2 |M| + |s| |D| + |K|) |x| / (|s| |x^H (2 s M + D) x|)`` (as the lowest
+    modes' polish takes it, :func:`._lowest_newton._roundoff`), and at least the solve's own
+    ``noise / |s|`` (:func:`._roots.round_off`, the backward error of the state matrix's QR).
+
+    The state matrix holds ``M^-1 K``: forming it rounds each product of a low mode's smooth
+    shape with a stiff element (a 1 mm shaft section: terms 1e12 times their sum) to ``eps`` of
+    the terms, not of the sum, and the root moves by that ratio whatever the solver (a 10 m shaft
+    with a 1 mm section: 2e-4 for its lowest pair, whose roots ``eig`` gave 6.6e-5 and 4.7e-5 off).
+    Near a root of the pencil the change is at most this much for an undamped (Hermitian) pencil
+    even where two roots are closer than it (Weyl); a damped pair closer than its round-off can
+    move by more (``docs/theory.md``, "Close roots").
+
+    Parameters
+    ----------
+    values : ndarray, shape (m,), complex [1/s]
+    shapes : ndarray, shape (m, n), complex (any scale)
+    mass, damping, stiffness : ndarray, shape (n, n)
+        ``M``, ``D = C + Omega G`` (speed-dependent bearings' damping included) and ``K`` at the speed.
+    noise : float, optional
+        The solve's absolute round-off [1/s].
+
+    Returns
+    -------
+    ndarray, shape (m,): 0 for a zero root
+    """
+    x = np.asarray(shapes).T                               # (n, m)
+    s = np.asarray(values)
+    m = x.shape[1]
+    a = np.abs(x)
+    size = np.abs(s)
+    terms = (size * size * np.einsum("im,im->m", a, np.abs(mass) @ a) + size * np.einsum("im,im->m", a, np.abs(damping) @ a)
+             + np.einsum("im,im->m", a, np.abs(stiffness) @ a))
+    # real products of the real matrices with both parts (a complex product would cost twice as much)
+    parts = np.concatenate([x.real, x.imag], axis=1)
+    Mx, Dx = mass @ parts, damping @ parts
+    Mx, Dx = Mx[:, :m] + 1j * Mx[:, m:], Dx[:, :m] + 1j * Dx[:, m:]
+    derivative = np.abs(np.einsum("im,im->m", x.conj(), 2.0 * s * Mx + Dx))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.finfo(float).eps * terms / (size * derivative)
+        if noise is not None:
+            out = np.maximum(out, noise / size)
+    return np.where(size > 0, np.nan_to_num(out, nan=np.inf, posinf=np.inf), 0.0)
+
+
+
+def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None):
+    """The roots of one speed whose round-off ``bound`` (:func:`pencil_round_off`) exceeds
+    :data:`INEXACT_LEVEL` and whose neighbour in frequency is closer than it, polished two at a
+    time on the quadratic pencil (:func:`._lowest_newton.pair_polished`: block Newton steps with
+    the residual's stiffness term summed exactly), in place; the others, every root of a
+    well-conditioned machine, untouched.
+
+    Parameters
+    ----------
+    values : ndarray, shape (m,), complex [1/s]
+    shapes : ndarray, shape (m, n), complex, unit norm
+    mass, damping, stiffness : ndarray, shape (n, n)
+    bound : ndarray, shape (m,)
+    forms : WhirlForms, optional
+        Where given, a pair polished into one root (a double root: the machine at rest) has its
+        shapes made the extreme-whirl pair (:func:`resolve_repeated`; the polish's basis of the
+        plane is any), ``variant`` the row's variant where the forms are stacked.
+
+    Returns
+    -------
+    ndarray, shape (m,): ``bound``, the polished pairs' the error the polish leaves
+    """
+    from ._lowest_newton import pair_polished
+
+    bound = np.array(bound, dtype=float)
+    wanted = np.flatnonzero((bound > INEXACT_LEVEL) & (np.asarray(values).imag > 0))
+    if len(wanted) < 2:
+        return bound
+    order = wanted[np.argsort(values[wanted].imag)]
+    done = set()
+    for a, b in zip(order[:-1], order[1:]):
+        gap = abs(values[b] - values[a]) / max(abs(values[a]), abs(values[b]))
+        if a in done or not gap < max(bound[a], bound[b]):
+            continue
+        found = pair_polished(mass, damping, stiffness, values[[a, b]], shapes[[a, b]])
+        if found is not None:
+            values[[a, b]], shapes[[a, b]], bound[[a, b]] = found
+            done.update((a, b))
+            if forms is not None:
+                shapes[[a, b]] = resolve_repeated(values[[a, b]][None], shapes[[a, b]][None], forms,
+                                                  None if variant is None else np.array([variant]), groups=False)[0]
+    return bound
+
+def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3):
+    """One :class:`~rotordyn_modal.errors.ModelWarning` naming the speeds [rad/s] (N,) and the
+    modes (1-based columns of ``bound`` (N, m), by frequency) whose estimated relative error
+    ``bound`` (:func:`pencil_round_off`) exceeds :data:`INEXACT_LEVEL`, and the largest bound;
+    nothing where none does. Returns whether it warned."""
+    import warnings
+
+    from ..errors import ModelWarning
+
+    bound = np.atleast_2d(np.asarray(bound, dtype=float))
+    over = bound > INEXACT_LEVEL
+    if not over.any():
+        return False
+    speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+    rows = np.flatnonzero(over.any(axis=1))
+    modes = np.flatnonzero(over.any(axis=0)) + 1
+    rpm = ", ".join(f"{speed * 30 / np.pi:,.6g}" for speed in speeds[rows[:5]]) + (", ..." if len(rows) > 5 else "")
+    numbers = ", ".join(str(k) for k in modes[:8]) + (", ..." if len(modes) > 8 else "")
+    warnings.warn(f"{name + ': ' if name else ''}mode(s) {numbers} at {rpm} rpm: frequencies exact only to about "
+                  f"{np.max(bound[over]):.1e} relative (double precision's round-off of a low mode beside stiff "
+                  "elements; docs/theory.md, \"Close roots\")", ModelWarning, stacklevel=stacklevel)
+    return True

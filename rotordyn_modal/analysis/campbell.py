@@ -787,6 +787,7 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     critical = bool(critical) and len(orders) > 0
     _refuse_what_cannot_fit(stack, len(speeds), critical)
     values, shapes, weighted, noise = solve_sweeps(stack, speeds, progress, whirl_noise=True)
+    _refine_inexact(stack, speeds, values, shapes)
     count, n_speeds, m = values.shape
     every = _variant_rows(count, n_speeds)
     ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every,
@@ -813,6 +814,27 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
         critical=_with_sweep(tables[v], stack.models[v], speeds, values[v], progress),
         orders=tuple(float(o) for o in orders), whirl_round_off=noise[v]) for v in range(count)]
 
+
+
+def _refine_inexact(stack, speeds, values, shapes):
+    """The roots ``values`` (V, N, m) with ``shapes`` (V, N, m, n) at ``speeds`` [rad/s] that
+    double precision leaves further off than :data:`._eigensolve.INEXACT_LEVEL`
+    (:func:`._eigensolve.pencil_round_off`): pairs closer than that polished in place
+    (:func:`._eigensolve.refined_pairs`), the rest warned of, once per model; models with
+    Maxwell branches are not estimated (their pencil is not quadratic)."""
+    for v, form in enumerate(stack.forms):
+        if len(form.branch_times):
+            continue
+        G = form.matrices.G
+        bound = np.zeros(values.shape[1:])
+        for i, speed in enumerate(speeds):        # one speed's bearings at a time (not N dense (n, n) at once)
+            damping, stiffness = form.damping_at(speeds[i:i + 1]), form.stiffness_at(speeds[i:i + 1])
+            pencil = (form.matrices.M, damping.reshape(damping.shape[-2:]) + speed * G, stiffness.reshape(stiffness.shape[-2:]))
+            bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], *pencil,
+                                                 _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil),
+                                                 stack.whirl, v)
+        name = stack.models[v].name if len(stack.forms) > 1 else ""
+        _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
 
 #: memory of the interpreter and the package's imports [bytes]
 _BASE_BYTES = 256 * 2**20

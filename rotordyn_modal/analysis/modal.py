@@ -329,6 +329,22 @@ def _rotor_whirl_ratios(model, shapes, speed) -> np.ndarray:
     return out
 
 
+def _refine_inexact(form, speed, values, shapes, stacklevel=4) -> np.ndarray | None:
+    """The roots ``values`` (m,) with shapes (m, n) at ``speed`` [rad/s] whose double-precision
+    round-off (:func:`._eigensolve.pencil_round_off`) exceeds :data:`._eigensolve.INEXACT_LEVEL`:
+    pairs closer than it polished in place (:func:`._eigensolve.refined_pairs`), the rest warned of;
+    returns the error left (m,); None for a model with Maxwell branches (its pencil is not quadratic)."""
+    if len(form.branch_times):
+        return None
+    damping = form.damping_at(np.array([speed])) + speed * form.matrices.G
+    stiffness = form.stiffness_at(np.array([speed]))
+    damping, stiffness = damping.reshape(damping.shape[-2:]), stiffness.reshape(stiffness.shape[-2:])
+    bound = _eigensolve.pencil_round_off(values, shapes, form.matrices.M, damping, stiffness)
+    bound = _eigensolve.refined_pairs(values, shapes, form.matrices.M, damping, stiffness, bound)
+    _eigensolve.warn_of_inexact_roots([speed], bound[None], stacklevel=stacklevel)
+    return bound
+
+
 def modal(model, speed: float = 0.0) -> ModalResult:
     """Modal analysis at one speed.
 
@@ -357,7 +373,9 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     index = [int(np.argmin(np.abs(values - lam))) for lam in upper]
     index = _unique_indices(index, values, upper)
     forms = _whirl.whirl_forms(model)
-    shapes = _eigensolve.resolve_repeated(upper[None], vectors[:n, index].T[None], forms)[0]
+    shapes = vectors[:n, index].T
+    _refine_inexact(form, speed, upper, shapes)
+    shapes = _eigensolve.resolve_repeated(upper[None], shapes[None], forms)[0]
     shapes = _normalise(shapes, form.matrices.M)
     oscillatory = is_oscillating(upper)
     ratio_noise = _roots.whirl_round_off(upper, refined, noise, _eigensolve.REPEATED_TOLERANCE * np.abs(upper).max(),

@@ -88,17 +88,25 @@ class Waterfall:
 
 
 def order_track(result, sensor, order=1.0, rotor=None, revolutions=None) -> OrderTrack:
-    """Order tracking by demodulation with the rotor's own angle.
+    """Order tracking by a least-squares fit against the rotor's own angle.
 
     Over consecutive windows of ``revolutions`` turns of the rotor (counted as travelled, so a
-    run-down through zero speed works), the complex amplitude
-    ``c = 2 <s(t) exp(-i k phi(t))>`` (time average) gives ``s ~ |c| cos(k phi + arg c)``.
+    run-down through zero speed works), the complex amplitude ``c`` of
+    ``s ~ |c| cos(k phi + arg c)`` is fitted by least squares (:func:`_fitted`) together with
+    the same order of the other rotors at another speed and a polynomial in time of degree
+    :data:`_TREND_DEGREE`. The polynomial takes
+    the slow part of the signal that plain demodulation (``2 <s exp(-i k phi)>``) passes: a
+    casing ringing at its mounts' natural frequency after the ramp's start, and the offset of
+    the ramp's reaction torque (motor_pump_on_mounts, 300 to 3,000 rpm in 2 s: that
+    demodulation's 1X phases zig-zagged by about 120 deg from one window to the next above
+    2,000 rpm, its amplitudes up to 3 times the steady unbalance response).
 
-    The window passes some of every other frequency: the same order ``k`` of another rotor
-    (``A_j cos(k phi_j + theta_j)``, at another speed) adds at most ``A_j L_j`` to ``c``, ``L_j``
-    the window's response to it (:func:`leakage_floor`). Where ``|c|`` is below twice that
-    floor the order's own amplitude may be below the leakage, whose phase then rules
-    (the phase turns with the other rotor's angle): there the phase is unknown, NaN.
+    The fitted order of another rotor is bounded by its leakage through the window: the same
+    order ``k`` of another rotor (``A_j cos(k phi_j + theta_j)``, at another speed) would add at
+    most ``A_j L_j`` to a demodulated ``c``, ``L_j`` the window's response to it
+    (:func:`leakage_floor`). Where ``|c|`` is below twice that floor the order's own amplitude
+    may be below the leakage, whose phase then rules: there the phase is taken as unknown, NaN
+    (a conservative mark: the joint fit takes much of that leakage out).
 
     Parameters
     ----------
@@ -122,16 +130,18 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=None) -> Orde
         revolutions = window_turns(result.speed_ratios, index)
     angles = np.asarray(result.rotor_angles, dtype=float)
     windows = _windows(result.time, angles[:, index], revolutions)
-    values = np.array([_demodulated(signal[w], order * angles[w, index], result.time[w]) for w in windows],
-                      dtype=complex)
+    others = _other_orders(result.speed_ratios, index)
+    values = np.array([_fitted(signal[w], order * angles[w, index], order * angles[w][:, others], result.time[w], order)
+                       for w in windows], dtype=complex)
     speeds = np.array([np.trapezoid(result.drive_speed[w], result.time[w]) / np.ptp(result.time[w]) for w in windows])
     middles = np.array([result.time[w].mean() for w in windows])
-    others = _other_orders(result.speed_ratios, index)
     neighbours = np.zeros((len(windows), len(others)))
     for k, j in enumerate(others):        # each other rotor's order through its own windows, at these times
         own = _windows(result.time, angles[:, j], revolutions)
         if own:
-            found = [abs(_demodulated(signal[w], order * angles[w, j], result.time[w])) for w in own]
+            rest = _other_orders(result.speed_ratios, j)
+            found = [abs(_fitted(signal[w], order * angles[w, j], order * angles[w][:, rest], result.time[w], order))
+                     for w in own]
             neighbours[:, k] = np.interp(middles, [result.time[w].mean() for w in own], found)
     floors = np.array([leakage_floor(order * angles[w, index], order * angles[w][:, others], neighbours[i], result.time[w])
                        for i, w in enumerate(windows)])
@@ -186,9 +196,59 @@ def _windows(time, angle, revolutions) -> list:
     return [w for w in windows if w.sum() >= 8]
 
 
-def _demodulated(signal, phase, t) -> complex:
-    """``2 <s exp(-i phase)>`` over the window's times ``t`` (trapezoid rule) [unit of s]."""
-    return 2 * np.trapezoid(signal * np.exp(-1j * phase), t) / (t[-1] - t[0])
+#: the degree of the polynomial in time fitted with the orders over each window (the slow part
+#: of the signal): a synthetic 6 Hz ringing of 40 um, 0.7 of a cycle a window, moves a 2.3 um 1X
+#: by 1 % and 0.1 deg (a cubic: 10 % and 6 deg)
+_TREND_DEGREE = 5
+
+
+#: the rotor's own whole orders 1 to this fitted with the tracked one: over whole turns plain
+#: demodulation is blind to them; the polynomial alone would pass some of them
+_OWN_HARMONICS = 4
+
+
+def _own_harmonics(phase, order):
+    """The angles ``m phase / order`` (P, M) of the rotor's whole orders ``m`` = 1 to
+    :data:`_OWN_HARMONICS` other than ``order`` (none for order 0)."""
+    if order == 0:
+        return np.zeros((len(phase), 0))
+    whole = [m for m in range(1, _OWN_HARMONICS + 1) if abs(m - abs(order)) > 1e-9]
+    return np.asarray(phase)[:, None] * (np.array(whole, dtype=float) / order)[None]
+
+
+def _fitted(signal, phase, others, t, order=1.0) -> complex:
+    """The complex amplitude ``c`` [unit of s] of ``s ~ Re(c exp(i phase))`` over one window,
+    by least squares together with ``Re(c_j exp(i others_j))`` and a polynomial of degree
+    :data:`_TREND_DEGREE` in time.
+
+    Parameters
+    ----------
+    signal, phase : ndarray, shape (P,)
+        The samples and the tracked order's angle ``k phi`` [rad] there.
+    others : ndarray, shape (P, J)
+        The other rotors' same order ``k phi_j`` [rad] (J may be 0).
+    t : ndarray, shape (P,)
+        Times [s].
+    order : float
+        ``k``: the rotor's own whole orders (:func:`_own_harmonics`) are fitted too.
+
+    Returns
+    -------
+    complex
+        Exact for ``s = A cos(phase + theta) + sum_j A_j cos(others_j + theta_j)`` plus the
+        rotor's whole orders up to :data:`_OWN_HARMONICS` and the polynomial:
+        ``A exp(i theta)``.
+    """
+    centred = 2.0 * (t - 0.5 * (t[0] + t[-1])) / (t[-1] - t[0])      # -1 to 1
+    others = np.asarray(others, dtype=float).reshape(len(t), -1)
+    own = _own_harmonics(phase, order)
+    columns = np.column_stack([np.cos(phase), np.sin(phase), np.cos(others), np.sin(others),
+                               np.cos(own), np.sin(own),
+                               np.vander(centred, _TREND_DEGREE + 1, increasing=True)])
+    scale = np.linalg.norm(columns, axis=0)
+    scale[scale == 0] = 1.0
+    coefficients = np.linalg.lstsq(columns / scale, signal, rcond=None)[0] / scale
+    return complex(coefficients[0], -coefficients[1])
 
 
 def leakage_floor(phase, others, amplitudes, t) -> float:

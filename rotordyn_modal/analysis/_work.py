@@ -256,13 +256,14 @@ def _quick_bound(model, speeds, orders, critical, numbers, solutions) -> float:
 
 
 def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, solutions=None,
-                     advice="", memory=False) -> Work | None:
+                     advice="", memory=False, what="a Campbell sweep") -> Work | None:
     """Refuse, before its first eigen-solution, an analysis estimated (:func:`estimate`) to take
     longer than :func:`limit_seconds`, unless long work is allowed
     (:func:`._cost.long_work_is_allowed`: ``--allow-long``); returns the estimate where one was
     made (None where the quick bound already passed it, or long work is allowed). With ``memory``,
     a Campbell sweep whose arrays would not fit is refused first (:func:`.campbell.campbell`'s own
-    check, from the sizes; where long work is allowed, that check refuses it at its start).
+    check, from the sizes; where long work is allowed, that check refuses it at its start), the
+    message naming it ``what`` (``stability``'s sweep keeps the same arrays).
 
     Raises
     ------
@@ -276,7 +277,7 @@ def refuse_long_work(model, speeds, orders=(), critical=True, numbers=False, sol
         from .campbell import _refuse_sizes_that_cannot_fit
 
         _refuse_sizes_that_cannot_fit(model.dofs.n, _n_states(model), len(speeds), 1, critical,
-                                      f"{model.source}: " if getattr(model, "source", None) else "")
+                                      f"{model.source}: " if getattr(model, "source", None) else "", what)
     limit = limit_seconds()
     solutions = len(speeds) if solutions is None else solutions
     if limit == float("inf") or _quick_bound(model, speeds, orders, critical, numbers, solutions) <= limit:

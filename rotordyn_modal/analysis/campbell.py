@@ -927,9 +927,10 @@ def _source(stack) -> str:
     return f"{source}: " if source else ""
 
 
-def _refuse_sizes_that_cannot_fit(n_dof, n_states, n_speeds, variants, critical, source=""):
+def _refuse_sizes_that_cannot_fit(n_dof, n_states, n_speeds, variants, critical, source="", what="a Campbell sweep"):
     """:func:`_refuse_what_cannot_fit` from the sizes alone (``n_dof`` coordinates, ``n_states``
-    states, ``variants`` models); ``source`` (``'MODEL: '``) starts the message."""
+    states, ``variants`` models); ``source`` (``'MODEL: '``) starts the message, ``what`` names
+    the sweep (``stability`` keeps the same arrays)."""
     needed = memory_estimate(n_dof, n_states, n_speeds, variants, critical)
     if needed < _CHECKED_BYTES:
         return
@@ -944,7 +945,7 @@ def _refuse_sizes_that_cannot_fit(n_dof, n_states, n_speeds, variants, critical,
         advice += ", or leave out the critical speeds (campbell --no-critical, critical=False)"
     if variants == 1:
         advice += f", or {_LOWEST_ADVICE}"
-    problem = memory_problem(needed, f"{source}a Campbell sweep of {n_dof:,} coordinates at {n_speeds:,} speeds"
+    problem = memory_problem(needed, f"{source}{what} of {n_dof:,} coordinates at {n_speeds:,} speeds"
                              + (f" of {variants} models" if variants > 1 else ""), advice)
     if problem:
         raise InputError(problem)

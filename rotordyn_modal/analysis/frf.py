@@ -554,14 +554,19 @@ def _modal_terms(model, speed, rows, columns):
     eigenvectors are ill conditioned."""
     import scipy.linalg
 
+    from .._blas import one_blas_thread
     from ..linear_system import speed_linear_form
 
     form = speed_linear_form(model)
     n = form.n_dof
-    values, vectors = scipy.linalg.eig(form.at(float(speed)))
-    # the LU that solves for V^-1 B also estimates V's condition (LAPACK gecon, 1-norm):
-    # O(n^2) where the 2-norm's SVD would cost about half the eigen-decomposition again
-    factors = scipy.linalg.lu_factor(vectors, check_finite=False)
+    matrix = form.at(float(speed))
+    # one BLAS thread, as modal's eigen-solution and its CPU estimate (rotordyn_modal/_blas.py):
+    # with OpenBLAS's threads, frf on 500 geared rotors (4,012 states) took 118 s of CPU, modes 45 s
+    with one_blas_thread(72 * matrix.shape[-1] ** 2):
+        values, vectors = scipy.linalg.eig(matrix)
+        # the LU that solves for V^-1 B also estimates V's condition (LAPACK gecon, 1-norm):
+        # O(n^2) where the 2-norm's SVD would cost about half the eigen-decomposition again
+        factors = scipy.linalg.lu_factor(vectors, check_finite=False)
     gecon = scipy.linalg.get_lapack_funcs("gecon", (factors[0],))
     rcond, _ = gecon(factors[0], np.linalg.norm(vectors, 1), norm="1")
     if not rcond * _MAX_CONDITION >= 1.0:

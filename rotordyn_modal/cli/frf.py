@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 import numpy as np
 
@@ -119,8 +120,9 @@ def run(args) -> int:
     if args.forces:
         result = force_frf(model, speed, freqs, inputs=excitation_names(args, model), where=args.forces)
     else:
-        result = frf(model, speed, freqs, inputs=excitation_names(args, model), outputs=sensor_names(args, model),
-                     quantity=args.quantity)
+        inputs, outputs = excitation_names(args, model), sensor_names(args, model)
+        _announce_long_solve(model, args)
+        result = frf(model, speed, freqs, inputs=inputs, outputs=outputs, quantity=args.quantity)
     measured = _measured_at(args, model, speed) if args.measured else None
     if args.out and args.out.lower().endswith((".uff", ".unv")):
         _write_uff(result, model, args)
@@ -131,6 +133,30 @@ def run(args) -> int:
         use_agg()
         save_figure(result.plot(measured=measured, units=args.units, input_kinds=_input_kinds(model)), args)
     return 0
+
+
+#: CPU seconds of the modal superposition's eigen-solution above which it is announced
+_NOTICE_SECONDS = 20.0
+
+
+def _announce_long_solve(model, args):
+    """Before the modal superposition's eigen-solution of a large model (estimated over
+    :data:`_NOTICE_SECONDS` of CPU time), one line on stderr with its estimate, as ``modes``
+    gives: LAPACK's single call shows no progress (500 geared rotors, 2,006 coordinates: about
+    4 min of wall time on a shared machine without a word)."""
+    from ..analysis import _cost, _work
+    from ..analysis.frf import choose_engine
+
+    if args.quiet or choose_engine(model) != "modal":
+        return
+    n_states = _work._n_states(model)
+    if _cost._PESSIMISTIC * n_states ** 3 <= _NOTICE_SECONDS:
+        return                                          # small: no timing at all
+    seconds = _work.eig_seconds(n_states)
+    if seconds > _NOTICE_SECONDS:
+        print(f"{NAME}: one eigen-solution of {n_states:,} states ({model.dofs.n:,} coordinates) for the modal "
+              f"superposition: about {_cost.duration(seconds)} of CPU time (LAPACK shows no progress)",
+              file=sys.stderr, flush=True)
 
 
 def _is_moment(output: str) -> bool:

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
+from casing_on_mounts import casing_displacement, casing_model
 from rotordyn_modal.analysis.unbalance import api_unbalance_response, unbalance_response
 from rotordyn_modal.analysis.unbalance_checks import api_unbalance_cases
 from rotordyn_modal.cli.main import main
@@ -174,27 +175,12 @@ def test_iso_zone_refuses_unknown_class():
 
 # -- verdicts against closed forms ------------------------------------------------------------
 
-M_STATOR, M_ROTOR, KZ, CZ = 80.0, 20.0, 4 * 2.5e5, 4 * 300.0
-
-
 def _casing_model(amount=2e-4):
-    """A stator with a rotor rigidly at its centre of mass on four equal mounts in the plane of
-    the centre of mass: the unbalance only translates it, ``|z| = U w^2 / |Kz - M w^2 + i w Cz|``."""
-    return rdm.Model.from_dict({
-        "name": "casing", "spin_axis": [1.0, 0.0, 0.0],
-        "stator": {"mass": M_STATOR, "center_of_mass": [0.0, 0.0, 0.0], "inertia": [4.0, 6.0, 7.0]},
-        "rotors": [{"name": "rotor", "mass": M_ROTOR, "center_of_mass": [0.0, 0.0, 0.0],
-                    "polar_inertia": 0.3, "diametral_inertia": 0.2, "speed_ratio": 1.0}],
-        "suspensions": [{"name": f"m{i}", "position": [x, y, 0.0], "stiffness": [2e5, 2e5, KZ / 4],
-                         "damping": [300.0, 300.0, CZ / 4]}
-                        for i, (x, y) in enumerate([(0.4, 0.3), (0.4, -0.3), (-0.4, 0.3), (-0.4, -0.3)])],
-        "unbalances": [{"rotor": "rotor", "amount": amount}],
-        "sensors": [{"name": "casing-z", "position": [0.0, 0.0, 0.0], "direction": [0.0, 0.0, 1.0]}],
-    })
+    return casing_model(amount)
 
 
 def _casing_closed_form(w, amount=2e-4):
-    return amount * w ** 2 / np.abs(KZ - (M_STATOR + M_ROTOR) * w ** 2 + 1j * w * CZ)
+    return casing_displacement(w, amount)
 
 
 @pytest.mark.parametrize("quantity", ["displacement", "velocity", "acceleration"])

@@ -23,33 +23,24 @@ import pandas as pd
 import pytest
 
 import rotordyn_modal as rdm
-from casing_on_mounts import casing_displacement, casing_model
+from closed_form_machines import casing_displacement, casing_model, rotor_displacement, rotor_on_springs
 from rotordyn_modal.cli.main import main
 
 report_collect = importlib.import_module("rotordyn_modal.report.collect")
 
 # -- a rigid rotor on two isotropic bearings, a probe at its centre of mass ----------------------
-K_B, C_B, M_R, HALF, U = 2.0e6, 400.0, 30.0, 0.25, 5e-5
+U = 5e-5
 
 
 def _rotor_model():
-    return rdm.Model.from_dict({
-        "name": "rotor on springs", "spin_axis": [1.0, 0.0, 0.0],
-        "rotors": [{"name": "shaft", "mass": M_R, "center_of_mass": [0.0, 0.0, 0.0],
-                    "polar_inertia": 0.4, "diametral_inertia": 0.9, "speed_ratio": 1.0}],
-        "bearings": [{"name": n, "rotor": "shaft", "position": [x, 0.0, 0.0], "stiffness": K_B, "damping": C_B}
-                     for n, x in (("DE", HALF), ("NDE", -HALF))],
-        "unbalances": [{"rotor": "shaft", "amount": U}],
-        "sensors": [{"name": "probe-x", "rotor": "shaft", "measure": "relative", "position": [0.0, 0.0, 0.0],
-                     "direction": [0.0, 0.0, 1.0]}],
-    })
+    return rotor_on_springs([{"rotor": "shaft", "amount": U}])
 
 
 def _rotor_peak():
     """(N_c [rpm], AF) of ``|x| = U w^2 / |2k - m w^2 + 2 i w c|`` by hand: the maximum on a fine
     grid and API 684's AF = N_c / (N2 - N1) between its half-power points."""
     w = np.linspace(200.0, 600.0, 400001)
-    x = U * w ** 2 / np.abs(2 * K_B - M_R * w ** 2 + 2j * w * C_B)
+    x = rotor_displacement(w, U)
     k = int(np.argmax(x))
     band = w[x >= x[k] / math.sqrt(2)]
     return w[k] * 30 / np.pi, w[k] / (band[-1] - band[0])

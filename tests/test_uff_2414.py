@@ -209,6 +209,27 @@ def test_other_2414_results_beside_modes_are_passed_over_with_one_warning(model,
     np.testing.assert_array_equal(read.frequencies_hz, [10.0])
 
 
+def test_rigid_body_modes_of_an_fe_model_are_passed_over(model, tmp_path):
+    """A free-free FE model's rigid-body modes (0 Hz, or round-off below) say no oscillation: passed
+    over beside the elastic modes, named in the refusal of a file of none but them; a data
+    characteristic 0 with an unknown 3-value vector (result type 95) is read as the shape."""
+    values = np.arange(1.0, 13.0).reshape(2, 2, 3)
+    sets = _normal_modes([1, 2], values, [(0.0, 0.0), (-1.5e-4, 0.0)])
+    alone = _write(tmp_path / "rigid.uff", sets)
+    with pytest.raises(InputError, match=r"2414 holds no mode shape at nodes: 1 set of analysis type 2 \(normal mode\) "
+                                         r"of frequency 0 Hz \(a rigid-body mode\); 1 set of analysis type 2 "
+                                         r"\(normal mode\) of frequency -0.00015 Hz \(a rigid-body mode\)"):
+        rdm.read_uff_modes(alone, model)
+    elastic = _set_2414(3, 2, 2, 3, [1, 2], [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]], record10=(0, 0, 1, 0, 0, 3),
+                        record12=(0.0, 250.0, 0.0, 1.0, 0.0, 0.0), result=95, character=0)
+    path = _write(tmp_path / "free.uff", sets + [elastic])
+    with pytest.warns(UserWarning, match=r"passed over 2 other dataset 2414 sets: 1 set of analysis type 2 \(normal "
+                                         r"mode\) of frequency 0 Hz \(a rigid-body mode\)"):
+        read = rdm.read_uff_modes(path, model)
+    np.testing.assert_array_equal(read.frequencies_hz, [250.0])
+    np.testing.assert_array_equal(read.shapes[0, :, 0], [3.0, 5.0])     # node 1 Z, node 2 Y (default mapping)
+
+
 def test_modes_as_both_55_and_2414_are_refused(model, tmp_path):
     path = tmp_path / "both.uff"
     path.write_bytes((DATA / "pyuff_uff55_record10.uff").read_bytes()
@@ -224,7 +245,8 @@ BAD = {
     "integer data": (dict(data_type=1), r"record 9: data type 1: expected 2 or 4 \(real\), 5 or 6 \(complex\)"),
     "a node twice": (dict(nodes=[1, 1]), r"node 1 is given twice in one mode"),
     "values short": (dict(values=[[1.0, 2.0, 3.0], [1.0, 2.0]]), r"record 15 \(the values of node 2\)"),
-    "a frequency of 0": (dict(record12=(0.0, 0.0)), r"dataset 2414 from line 2: record 12: frequency 0 Hz"),
+    "a complex eigenvalue that is real": (dict(analysis=3, record13=(-5.0, 0.0)),
+                                          r"dataset 2414 from line 2: record 13: eigenvalue -5 \+ 0i is real"),
 }
 
 

@@ -35,8 +35,9 @@ and 2, the eigenvalue [rad/s] as in dataset 55), data characteristic 2 or 3 (3 o
 and 96 unknown 3- and 6-value vectors), real (2, 4) or complex (5, 6) values; record 10 field 6 the
 mode number; records 14 and 15 a node and its values, over as many lines as they take (the
 definition writes 6 a line, pyuff all on one). Its other sets (static or frequency response
-results, stresses, strain energies, temperatures, data on elements) say no mode: beside modes they
-are passed over with one warning naming them; a file of none but them is refused naming them. A
+results, stresses, strain energies, temperatures, data on elements) say no mode, nor does a normal
+mode of frequency 0 or below (an FE model's rigid-body modes): beside modes they are passed over
+with one warning naming them; a file of none but them is refused naming them. A
 frequency response set is one frequency's response at the nodes to a load case whose force the
 file does not give: it is no FRF (FRFs are read from dataset 58, ``frf --measured``). Dataset 55
 and 2414 modes in one file are refused (whether they are the same modes cannot be told).
@@ -275,6 +276,8 @@ def _result_2414(block, first, path) -> dict:
     ints = _integers_line(lines, "record 10")
     _integers_line(lines, "record 11")
     reals = lines.reals(6, "record 12") + lines.reals(6, "record 13")
+    if analysis == 2 and reals[1] <= 0:     # an FE model's free-free rigid-body modes (0 Hz, or round-off below)
+        return {"what": f"analysis type 2 (normal mode) of frequency {reals[1]:g} Hz (a rigid-body mode)"}
     # normal mode: frequency, modal mass, viscous and hysteretic damping (fields 2, 4, 5, 6 of record 12);
     # complex eigenvalue: its real and imaginary parts (record 13 fields 1 and 2)
     frequency, damping, pole = _pole(analysis, [reals[1], *reals[3:6]] if analysis == 2 else reals[6:8], where,

@@ -193,6 +193,17 @@ def test_a_static_temperature_2414_is_no_mode(model):
         rdm.read_uff_modes(DATA / "heat_engine_housing.uff", model)
 
 
+def test_an_element_result_of_ufffiles_jl_is_no_mode(model):
+    """UFFFiles.jl's dataset2414_elt.unv (MIT, tests/data/uff/README.md): a thickness on 20
+    elements (location 2, result type 94, an unknown scalar), refused as modes and as FRFs naming it."""
+    path = DATA / "ufffiles_2414_elements.unv"
+    named = r"1 set of analysis type 1 \(static\) unknown scalar, data on elements"
+    with pytest.raises(InputError, match=r"its dataset 2414 holds no mode shape at nodes: " + named):
+        rdm.read_uff_modes(path, model)
+    with pytest.raises(InputError, match=r"no dataset 58/58b \(FRF\) in the file; .*: dataset 2414: " + named + "$"):
+        rdm.read_measured(path, model)
+
+
 def test_other_2414_results_beside_modes_are_passed_over_with_one_warning(model, tmp_path):
     """An FE export of modes and, per mode, element strain energies: the modes read, the others
     named in one warning."""

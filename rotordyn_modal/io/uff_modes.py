@@ -245,7 +245,9 @@ _MOTIONS_2414 = {8: "displacement", 11: "velocity", 12: "acceleration", 95: "unk
 _RESULTS_2414 = {**_MOTIONS_2414, 1: "unknown", 2: "stress", 3: "strain", 4: "element force", 5: "temperature",
                  6: "heat flux", 7: "strain energy", 9: "reaction force", 10: "kinetic energy",
                  13: "strain energy density", 14: "kinetic energy density", 15: "hydro-static pressure",
-                 301: "sound pressure", 302: "sound power", 303: "sound intensity"}
+                 93: "unknown", 94: "unknown scalar", 97: "unknown symmetric tensor", 98: "unknown global tensor",
+                 99: "unknown shell and plate resultant", 301: "sound pressure", 302: "sound power",
+                 303: "sound intensity"}
 _ANALYSIS_2414 = {**_ANALYSIS, 9: "static non-linear"}
 _LOCATIONS_2414 = {1: "data at nodes", 2: "data on elements", 3: "data at nodes on elements", 5: "data at points"}
 #: dataset 2414 data types (record 9 field 5) -> values of a number (1 real, 2 complex)

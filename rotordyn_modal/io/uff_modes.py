@@ -226,14 +226,7 @@ def _mode(block, first, path) -> dict:
                          f"{_COUNTS[analysis][1]}: a record 8 of another layout, whose fields cannot be told")
     reals = lines.reals(n_real, "record 8")
     frequency, damping, pole = _pole(analysis, reals, where)
-    parts = 2 if data_type == 5 else 1
-    nodes = {}
-    while lines.at < len(lines.lines):
-        label = lines.integers(1, "record 9 (node label)")[0]
-        if label in nodes:
-            raise InputError(f"{lines.where()}: node {label} is given twice in one mode")
-        values = np.array(lines.reals(values_per_node * parts, f"record 10 (the values of node {label})"))
-        nodes[label] = values[0::2] + 1j * values[1::2] if parts == 2 else values.astype(complex)
+    nodes = _node_values(lines, values_per_node, 2 if data_type == 5 else 1, ("record 9", "node label"), "record 10")
     return {"mode": ints[1] if len(ints) > 1 else None, "frequency_hz": frequency, "damping": damping, "pole": pole, "nodes": nodes,
             "where": where}
 
@@ -284,14 +277,7 @@ def _result_2414(block, first, path) -> dict:
     # complex eigenvalue: its real and imaginary parts (record 13 fields 1 and 2)
     frequency, damping, pole = _pole(analysis, [reals[1], *reals[3:6]] if analysis == 2 else reals[6:8], where,
                                      "record 12" if analysis == 2 else "record 13")
-    parts = _PARTS_2414[data_type]
-    nodes = {}
-    while lines.at < len(lines.lines):
-        label = lines.integers(1, "record 14 (node number)")[0]
-        if label in nodes:
-            raise InputError(f"{lines.where()}: node {label} is given twice in one mode")
-        values = np.array(lines.reals(values_per_node * parts, f"record 15 (the values of node {label})"))
-        nodes[label] = values[0::2] + 1j * values[1::2] if parts == 2 else values.astype(complex)
+    nodes = _node_values(lines, values_per_node, _PARTS_2414[data_type], ("record 14", "node number"), "record 15")
     return {"mode": ints[5] if len(ints) > 5 else None, "frequency_hz": frequency, "damping": damping, "pole": pole,
             "nodes": nodes, "where": where}
 
@@ -336,6 +322,20 @@ def describe_2414(path) -> str:
         parts.append("a frequency response set is one frequency's response at the nodes to a load case whose force "
                      "the file does not give: no FRF (export FRFs as dataset 58)")
     return "; ".join(parts)
+
+
+def _node_values(lines, values_per_node, parts, label_record, values_record) -> dict:
+    """The rest of a set: each node's label (``label_record``: record name and field) and values
+    (``values_record``), label -> complex values; ``parts`` 2 for complex numbers (real and
+    imaginary parts in turn), 1 for real ones. A node given twice is refused."""
+    nodes = {}
+    while lines.at < len(lines.lines):
+        label = lines.integers(1, f"{label_record[0]} ({label_record[1]})")[0]
+        if label in nodes:
+            raise InputError(f"{lines.where()}: node {label} is given twice in one mode")
+        values = np.array(lines.reals(values_per_node * parts, f"{values_record} (the values of node {label})"))
+        nodes[label] = values[0::2] + 1j * values[1::2] if parts == 2 else values.astype(complex)
+    return nodes
 
 
 def _record7(lines):

@@ -455,7 +455,13 @@ def _newton_step(loads, compliance, soft, s, settle, total, offset, phi):
 class JournalLoadOverSpeed:
     """The static load of one journal of a rotor (rigid or flexible) on three or more journals, with or
     without pedestals, at any speed (:func:`rigid_rotor_journal_loads`; the rotor's journals share one
-    solver, which keeps the last few sweeps' solutions).
+    solver, which remembers the loads at each speed it has solved).
+
+    The cache is per speed, not per sweep: an analysis that evaluates its coefficients at a whole
+    sweep and then again speed by speed (campbell's refinement, ``stiffness_at`` and ``damping_at``
+    of one speed) solves each speed once. Each speed's solution does not depend on the others of its
+    batch (Newton stops per speed, the line search halves per speed), so a speed solved in a sweep
+    and alone give the same loads to the bit.
 
     Parameters
     ----------
@@ -463,22 +469,23 @@ class JournalLoadOverSpeed:
         The journal's place among the rotor's journals.
     solver : dict
         The keyword arguments of :func:`rigid_rotor_journal_loads` but ``speed``, and a
-        ``"cache"`` dict shared by the rotor's journals.
+        ``"cache"`` dict shared by the rotor's journals (speed [rad/s] -> loads (N, 3) [N]).
     """
 
-    _KEEP = 8   # sweeps remembered per rotor
+    _KEEP = 100_000   # speeds remembered per rotor (then forgotten all at once)
 
     def __init__(self, index: int, solver: dict):
         self.index, self.solver = index, solver
 
     def __call__(self, speeds) -> np.ndarray:
         """The force [N] this journal puts on its bearing at each own speed (S,) [rad/s], (S, 3)."""
-        speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+        speeds = np.atleast_1d(np.asarray(speeds, dtype=float)).ravel().tolist()
         cache = self.solver["cache"]
-        key = speeds.tobytes()
-        if key not in cache:
-            if len(cache) >= self._KEEP:
-                cache.pop(next(iter(cache)))
+        missing = [speed for speed in dict.fromkeys(speeds) if speed not in cache]
+        if missing:
             arguments = {name: value for name, value in self.solver.items() if name != "cache"}
-            cache[key] = rigid_rotor_journal_loads(speeds, **arguments)
-        return cache[key][:, self.index]
+            solved = rigid_rotor_journal_loads(np.array(missing), **arguments)          # (M, N, 3)
+            if len(cache) + len(missing) > self._KEEP:
+                cache.clear()
+            cache.update(zip(missing, solved))
+        return np.array([cache[speed][self.index] for speed in speeds], dtype=float).reshape(len(speeds), 3)

@@ -849,7 +849,8 @@ def _refine_inexact(stack, speeds, values, shapes):
         # own: a journal's film and load over speed are computed once for the part, not once a speed),
         # a part's dense (n, n) matrices within _PART_BYTES (one speed at a time for a large model)
         for part in _batches.chunk_slices(len(speeds), _REFINE_ARRAYS * 8 * n * n, budget=_batches._PART_BYTES):
-            damping, stiffness = _at_speeds(form.damping_at(speeds[part]), part), _at_speeds(form.stiffness_at(speeds[part]), part)
+            damping = _at_speeds(form.damping_at(speeds[part]), part)
+            stiffness = _at_speeds(form.stiffness_at(speeds[part]), part)
             for j, i in enumerate(range(part.start, part.stop)):
                 pencil = (form.matrices.M, damping[j] + speeds[i] * G, stiffness[j])
                 bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], *pencil,
@@ -857,6 +858,7 @@ def _refine_inexact(stack, speeds, values, shapes):
                                                      stack.whirl, v)
         name = stack.models[v].name if len(stack.forms) > 1 else ""
         _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
+
 
 #: dense (n, n) arrays of one speed that :func:`_refine_inexact`'s bearing evaluation holds at once
 #: (each of damping_at and stiffness_at: the bearings' K and C, and their sum with the constant part)

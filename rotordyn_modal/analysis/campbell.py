@@ -843,16 +843,32 @@ def _refine_inexact(stack, speeds, values, shapes):
     for v, form in enumerate(stack.forms):
         if len(form.branch_times):
             continue
-        G = form.matrices.G
+        G, n = form.matrices.G, form.n_dof
         bound = np.zeros(values.shape[1:])
-        for i, speed in enumerate(speeds):        # one speed's bearings at a time (not N dense (n, n) at once)
-            damping, stiffness = form.damping_at(speeds[i:i + 1]), form.stiffness_at(speeds[i:i + 1])
-            pencil = (form.matrices.M, damping.reshape(damping.shape[-2:]) + speed * G, stiffness.reshape(stiffness.shape[-2:]))
-            bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], *pencil,
-                                                 _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil),
-                                                 stack.whirl, v)
+        # the bearings evaluated for a part of the speeds at a time (each speed's coefficients its
+        # own: a journal's film and load over speed are computed once for the part, not once a speed),
+        # a part's dense (n, n) matrices within _PART_BYTES (one speed at a time for a large model)
+        for part in _batches.chunk_slices(len(speeds), _REFINE_ARRAYS * 8 * n * n, budget=_batches._PART_BYTES):
+            damping = _at_speeds(form.damping_at(speeds[part]), part)
+            stiffness = _at_speeds(form.stiffness_at(speeds[part]), part)
+            for j, i in enumerate(range(part.start, part.stop)):
+                pencil = (form.matrices.M, damping[j] + speeds[i] * G, stiffness[j])
+                bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], *pencil,
+                                                     _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil),
+                                                     stack.whirl, v)
         name = stack.models[v].name if len(stack.forms) > 1 else ""
         _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
+
+
+#: dense (n, n) arrays of one speed that :func:`_refine_inexact`'s bearing evaluation holds at once
+#: (each of damping_at and stiffness_at: the bearings' K and C, and their sum with the constant part)
+_REFINE_ARRAYS = 6
+
+
+def _at_speeds(matrices, part):
+    """``matrices`` (P, n, n), or one constant (n, n), as (P, n, n) for the speeds of ``part``."""
+    return np.broadcast_to(matrices, (part.stop - part.start,) + matrices.shape[-2:])
+
 
 #: memory of the interpreter and the package's imports [bytes]
 _BASE_BYTES = 256 * 2**20

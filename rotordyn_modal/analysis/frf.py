@@ -80,8 +80,9 @@ class FRFResult:
         The response at those frequencies.
     cut_hz : ndarray, shape (n_outputs, n_inputs, Q), or None
         Each FRF's maxima between computed frequencies that the line through them cuts
-        (:func:`~rotordyn_modal.analysis.unbalance_peaks.cut_maxima` on the exact modal sum near
-        :attr:`resonances_hz`: two close modes sharing one peak give one maximum, at the peak)
+        (:func:`frf_cut_maxima`: the exact response near :attr:`resonances_hz`, the modal
+        sum's or, for force FRFs, direct solves; two close modes sharing one peak give one
+        maximum, at the peak; modes damped at round-off, of no finite peak, are left out)
         [Hz], NaN after a curve's last; None where not looked for (then :meth:`cut_peaks`
         reads :attr:`resonances_hz`).
     cut_H : ndarray, shape like ``cut_hz``, complex, or None
@@ -477,7 +478,9 @@ def _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine, mass_checked
 
 def _cut_maxima(terms, f, H, resonances, band, power):
     """The maxima of each FRF between computed frequencies that its line cuts, by
-    :func:`~rotordyn_modal.analysis.unbalance_peaks.cut_maxima` on the exact modal sum.
+    :func:`~rotordyn_modal.analysis.unbalance_peaks.cut_maxima` on the exact modal sum, each
+    candidate on its own FRF (:func:`_modal_curve`). Roots damped at round-off (less than
+    ``unbalance_peaks._LEAST_DAMPING``, no finite peak) are not looked at.
 
     Parameters
     ----------
@@ -495,13 +498,50 @@ def _cut_maxima(terms, f, H, resonances, band, power):
     -------
     cut_hz : ndarray, shape (n_outputs, n_inputs, Q) [Hz]; cut_H : same shape, complex
     """
-    from .unbalance_peaks import cut_maxima
+    def curve(s, o, i):
+        return _modal_curve(terms, 2 * np.pi * np.asarray(s, dtype=float), o, i) * (2j * np.pi * s) ** power
 
-    def response(s):
-        return _modal_sum(terms, 2 * np.pi * s) * (2j * np.pi * s) ** power
+    return frf_cut_maxima(curve, f, H, resonances, band)
 
-    at, value, _ = cut_maxima(response, f, np.abs(H), [(resonances, band)] * H.shape[1])
+
+def frf_cut_maxima(curve, f, H, resonances, band):
+    """:func:`~rotordyn_modal.analysis.unbalance_peaks.cut_maxima` of FRFs ``H`` (n_outputs,
+    n_inputs, n_freq) computed at ``f`` [Hz], near the damped natural frequencies
+    ``resonances`` (P,) [Hz] of half-power bandwidths ``band`` (P,) [Hz] (those damped at
+    round-off left out), each candidate on its own FRF: ``curve(s, o, i)``, each shape (K,) ->
+    (K,), complex, is FRF ``(o[k], i[k])`` at ``s[k]`` [Hz] alone.
+
+    Returns
+    -------
+    cut_hz : ndarray, shape (n_outputs, n_inputs, Q) [Hz]; cut_H : same shape, complex
+        NaN after an FRF's last.
+    """
+    from .unbalance_peaks import _LEAST_DAMPING, cut_maxima
+
+    resonances, band = np.asarray(resonances, dtype=float), np.asarray(band, dtype=float)
+    damped = np.pi * band > _LEAST_DAMPING * np.hypot(np.pi * band, 2 * np.pi * resonances)
+    found = [(resonances[damped], band[damped])] * H.shape[1]
+    at, value, _ = cut_maxima(None, f, np.abs(H), found, curve=curve, half_power=False)
     return at, value
+
+
+def _modal_curve(terms, omega, o, i):
+    """The receptance of output ``o[k]`` to input ``i[k]`` at ``omega[k]`` [rad/s] alone, shape
+    (K,), complex: :func:`_modal_sum`'s entries, each of its own FRF (``terms``:
+    :func:`_modal_terms`)."""
+    values, left, right = terms
+    omega, o, i = np.asarray(omega, dtype=float), np.asarray(o, dtype=int), np.asarray(i, dtype=int)
+    out = np.empty(omega.shape, dtype=complex)
+    step = max(1, _CURVE_ENTRIES // max(values.size, 1))          # (step, 2n) at a time: memory bounded
+    for start in range(0, omega.size, step):
+        part = slice(start, start + step)
+        poles = 1.0 / (1j * omega[part, None] - values[None, :])                # (step, 2n)
+        out[part] = np.sum(left[o[part]] * right[:, i[part]].T * poles, axis=1)
+    return out
+
+
+#: :func:`_modal_curve` forms at most this many (frequency, root) terms at a time (16 bytes each)
+_CURVE_ENTRIES = 1 << 20
 
 
 def _check_channels(model, rows, columns):

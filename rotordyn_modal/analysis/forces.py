@@ -442,7 +442,7 @@ def _cut_maxima(model, speed, f, columns, where, H, resonances, band):
     frequencies ``f`` [Hz] that its line cuts, near the damped natural frequencies
     ``resonances`` (P,) [Hz] of half-power bandwidths ``band`` (P,) [Hz]
     (:func:`.frf.frf_cut_maxima`): each candidate solves for its own input at its own frequency
-    (:func:`_force_frf`, one call an input). Returns ``(cut_hz, cut_H)``, shape
+    (:func:`_force_frf`, one call an input, each distinct frequency once). Returns ``(cut_hz, cut_H)``, shape
     (6 n_items, n_inputs, Q), NaN after an FRF's last."""
     from .frf import frf_cut_maxima
 
@@ -451,8 +451,9 @@ def _cut_maxima(model, speed, f, columns, where, H, resonances, band):
         out = np.empty(s.shape, dtype=complex)
         for each in np.unique(i):
             mine = np.flatnonzero(i == each)
-            forces = _force_frf(model, speed, s[mine], columns[:, each:each + 1], where)[0]   # (6 n_items, 1, K)
-            out[mine] = forces[o[mine], 0, np.arange(mine.size)]
+            at, where_ = np.unique(s[mine], return_inverse=True)                   # each frequency once
+            forces = _force_frf(model, speed, at, columns[:, each:each + 1], where)[0]   # (6 n_items, 1, K')
+            out[mine] = forces[o[mine], 0, where_.ravel()]
         return out
 
     return frf_cut_maxima(curve, f, H, resonances, band)

@@ -700,17 +700,41 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
     values = np.full((n_outputs, len(found), width), np.nan + 0j)
     every = np.concatenate([c for c, _ in found])
 
-    def response(s):
-        return _sensor_response(model, s, outputs, quantity)[2]                 # (n_out, n_src, K)
-
     if every.size:
         start = np.cumsum([0] + [len(c) for c, _ in found])
-        computed = response(every)
+        computed = _sensor_response(model, every, outputs, quantity)[2]             # (n_out, n_src, K)
         for j in range(len(found)):
             values[:, j, :start[j + 1] - start[j]] = computed[:, j, start[j]:start[j + 1]]
-    peak_at, peak_value, peak_width = cut_maxima(response, speeds, np.abs(swept), found)
+    peak_at, peak_value, peak_width = cut_maxima(None, speeds, np.abs(swept), found,
+                                                 curve=_own_source_curve(model, outputs, quantity))
     return {"resonance_speeds": at, "resonance_bands": bands, "resonance_response": values,
             "cut_peak_speeds": peak_at, "cut_peak_response": peak_value, "cut_peak_widths": peak_width}
+
+
+def _own_source_curve(model, outputs, quantity):
+    """``curve(s, o, j)`` of :func:`.unbalance_peaks.cut_maxima`: the response of output ``o[k]``
+    to source ``j[k]`` at speed ``s[k]`` [rad/s], shape (K,), complex, each speed solved for its
+    own source only, once a distinct speed (:func:`_sensor_response`'s numbers, one source at a
+    time)."""
+    shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
+    motions = model.dofs.motions([(r.name, False) for r in model.rotors])
+    rows = sensor_rows(model, outputs, motions)
+
+    def curve(s, o, j):
+        s, o, j = np.asarray(s, dtype=float), np.asarray(o, dtype=int), np.asarray(j, dtype=int)
+        sources, w, rotor_forces = unbalance_forces(model, s)
+        out = np.empty(s.shape, dtype=complex)
+        for each in np.unique(j):
+            mine = np.flatnonzero(j == each)
+            at, where = np.unique(s[mine], return_index=True, return_inverse=True)[1:]   # each speed once
+            at = mine[at]
+            q = _coordinate_response(model, [sources[each]], rotor_forces[each:each + 1, at], s[at],
+                                     w[each, at], shifts, motions)
+            factor = (1j * w[each, at]) ** _ORDER[quantity] if _ORDER[quantity] else np.ones(at.size, complex)
+            out[mine] = (rows @ q[..., 0].T)[o[mine], where.ravel()] * factor[where.ravel()]
+        return out
+
+    return curve
 
 
 #: the fields of :class:`UnbalanceResult` that :func:`_unresolved_fields` gives

@@ -521,7 +521,7 @@ def frf_cut_maxima(curve, f, H, resonances, band):
     resonances, band = np.asarray(resonances, dtype=float), np.asarray(band, dtype=float)
     damped = np.pi * band > _LEAST_DAMPING * np.hypot(np.pi * band, 2 * np.pi * resonances)
     found = [(resonances[damped], band[damped])] * H.shape[1]
-    at, value, _ = cut_maxima(None, f, np.abs(H), found, curve=curve, half_power=False)
+    at, value, _ = cut_maxima(curve, f, np.abs(H), found, half_power=False)
     return at, value
 
 

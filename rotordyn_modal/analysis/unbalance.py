@@ -705,8 +705,8 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
         computed = _sensor_response(model, every, outputs, quantity)[2]             # (n_out, n_src, K)
         for j in range(len(found)):
             values[:, j, :start[j + 1] - start[j]] = computed[:, j, start[j]:start[j + 1]]
-    peak_at, peak_value, peak_width = cut_maxima(None, speeds, np.abs(swept), found,
-                                                 curve=_own_source_curve(model, outputs, quantity))
+    peak_at, peak_value, peak_width = cut_maxima(_own_source_curve(model, outputs, quantity), speeds,
+                                                 np.abs(swept), found)
     return {"resonance_speeds": at, "resonance_bands": bands, "resonance_response": values,
             "cut_peak_speeds": peak_at, "cut_peak_response": peak_value, "cut_peak_widths": peak_width}
 

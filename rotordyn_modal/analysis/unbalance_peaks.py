@@ -182,7 +182,7 @@ _SEARCH_STEPS = 60
 _SAME_MAXIMUM = 1e-3
 
 
-def cut_maxima(response, speeds, amplitude, found, curve=None, half_power=True):
+def cut_maxima(curve, speeds, amplitude, found, half_power=True):
     """The maxima of each curve's amplitude between swept speeds that the line through the swept
     speeds cuts, with their API 684 half-power width, found on the exact response.
 
@@ -197,21 +197,17 @@ def cut_maxima(response, speeds, amplitude, found, curve=None, half_power=True):
 
     Parameters
     ----------
-    response : callable or None
-        ``response(s)``, ``s`` shape (K,) [rad/s] -> shape (n_out, n_src, K), complex: every
-        curve at each speed. Used where ``curve`` is not given (each candidate's step then
-        costs every curve's response at its speed).
+    curve : callable
+        ``curve(s, o, j)``, ``s`` [rad/s] and the integer arrays ``o``, ``j`` each shape (K,)
+        -> shape (K,), complex: the response of output ``o[k]`` to source ``j[k]`` at
+        ``s[k]`` alone, so that each candidate evaluates its own curve only (the search's cost
+        grows as the number of candidates, not as its square).
     speeds : ndarray, shape (N,) [rad/s]
         The swept speeds, any order (repeats allowed).
     amplitude : ndarray, shape (n_out, n_src, N)
         ``|response|`` at ``speeds``.
     found : list of (critical, band) per source
         :func:`unresolved_criticals`' result.
-    curve : callable, optional
-        ``curve(s, o, j)``, ``s`` [rad/s] and the integer arrays ``o``, ``j`` each shape (K,)
-        -> shape (K,), complex: the response of output ``o[k]`` to source ``j[k]`` at
-        ``s[k]`` alone, so that each candidate evaluates its own curve only (the search's cost
-        grows as the number of candidates, not as its square).
     half_power : bool
         Whether the half-power widths are wanted (False: NaN, and no bisection).
 
@@ -224,10 +220,8 @@ def cut_maxima(response, speeds, amplitude, found, curve=None, half_power=True):
     x, first = np.unique(np.asarray(speeds, dtype=float), return_index=True)
     swept = np.asarray(amplitude)[:, :, first]                                  # (n_out, n_src, N')
     n_out, n_src = swept.shape[:2]
-    every = curve is None                   # every curve at each speed: the samples in one call
-    curve = _picking(response) if every else curve
     samples = _samples(x, found, n_out)
-    y = _sampled(response if every else None, curve, samples) if samples["s"].size else np.zeros(0)
+    y = np.abs(curve(samples["s"], samples["o"], samples["j"])) if samples["s"].size else np.zeros(0)
     c = _candidates(samples, y)
     if not c["o"].size:
         return np.full((n_out, n_src, 0), np.nan), np.full((n_out, n_src, 0), np.nan + 0j), \
@@ -240,13 +234,6 @@ def cut_maxima(response, speeds, amplitude, found, curve=None, half_power=True):
     return _per_curve(c, widths, n_out, n_src)
 
 
-def _picking(response):
-    """``curve(s, o, j)`` of :func:`cut_maxima` from ``response(s)`` (every curve at each speed)."""
-    def curve(s, o, j):
-        return response(np.asarray(s, dtype=float))[o, j, np.arange(len(s))]
-    return curve
-
-
 def _samples(x, found, n_out):
     """The speeds sampled around the damped critical speeds, as rows laid end to end: one row a
     source ``j``, swept interval ``[x_k, x_k+1]`` holding damped critical speeds of it, and output
@@ -257,9 +244,7 @@ def _samples(x, found, n_out):
     -------
     dict
         ``s`` (L,) [rad/s], ``o``, ``j`` (L,) each sample's curve, ``row`` (L,) its row;
-        ``start`` (R + 1,) each row's first sample; ``k`` (R,) each row's swept interval;
-        ``segment`` (R,) each row's segment and ``points`` the segments' speeds (for a
-        response of every curve at each speed, :func:`_sampled`).
+        ``start`` (R + 1,) each row's first sample; ``k`` (R,) each row's swept interval.
     """
     offsets = np.arange(-_GRID_REACH, _GRID_REACH + _GRID_STEP / 2, _GRID_STEP)
     points, sources, brackets = [], [], []
@@ -280,20 +265,7 @@ def _samples(x, found, n_out):
     s = np.concatenate([points[g] for g in segment]) if segment.size else np.zeros(0)
     return {"s": s, "o": output[row], "j": np.asarray(sources, dtype=int)[segment][row] if row.size else row,
             "row": row, "start": np.concatenate([[0], np.cumsum(lengths)]),
-            "k": np.asarray(brackets, dtype=int)[segment] if segment.size else segment,
-            "segment": segment, "points": points}
-
-
-def _sampled(response, curve, samples):
-    """``|response|`` at :func:`_samples`' speeds, shape (L,): each sample's own curve, or, with
-    ``response`` (every curve at each speed; None: ``curve``), one call on the segments' speeds."""
-    if response is None:
-        return np.abs(curve(samples["s"], samples["o"], samples["j"]))
-    every = np.concatenate(samples["points"])
-    values = np.abs(response(every))                                               # (n_out, n_src, K)
-    begin = np.cumsum([0] + [len(p) for p in samples["points"]])
-    local = np.arange(samples["s"].size) - samples["start"][samples["row"]]
-    return values[samples["o"], samples["j"], begin[samples["segment"][samples["row"]]] + local]
+            "k": np.asarray(brackets, dtype=int)[segment] if segment.size else segment}
 
 
 def _candidates(samples, y):

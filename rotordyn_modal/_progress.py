@@ -15,7 +15,9 @@ only when the bar advances, so a step of one long LAPACK call (a sweep's part of
 about 100 s on a shared machine) left the elapsed time standing, as if the program had stopped. A
 thread redraws the bar every :data:`TICK_SECONDS` until it closes. :func:`phase` shows one line
 naming work that has no steps to count (tracking the modes after a sweep, the thresholds), with
-its clock.
+its clock. The clock runs while the step's LAPACK call runs only where that call releases the GIL:
+``numpy.linalg``'s do (the sweeps' eigen-solutions, the direct solves), ``scipy.linalg``'s wrappers
+do not (a thread cannot draw during ``scipy.linalg.eig``).
 """
 
 from __future__ import annotations

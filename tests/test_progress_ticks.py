@@ -183,3 +183,17 @@ def test_a_bar_left_unclosed_stops_its_clock_when_collected():
     while ticker_threads() and time.monotonic() < deadline:
         time.sleep(0.05)
     assert not ticker_threads()
+
+
+def test_ucs_map_on_a_terminal_shows_its_solve_with_a_clock(monkeypatch, tmp_path):
+    """``ucs-map`` on a terminal names its work and the model's size while it runs (slowed), its
+    clock advancing (500 geared rotors ran more than 400 s without a word)."""
+    from rotordyn_modal.analysis import ucs_map
+
+    monkeypatch.setattr(ucs_map, "ucs_map", slowed(ucs_map.ucs_map))
+    terminal = on_terminal(monkeypatch)
+    assert main(["ucs-map", str(EXAMPLES / "fan_on_bearings.toml"), "--stiffness", "1e5:1e8:3",
+                 "--out", str(tmp_path / "u.csv")]) == 0
+    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+    shown = drawings(terminal.getvalue(), f"ucs-map: 3 stiffness values, {model.dofs.n} coordinates: [")
+    assert len({seconds(d) for d in shown}) >= 2, terminal.getvalue()

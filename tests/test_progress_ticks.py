@@ -197,3 +197,20 @@ def test_ucs_map_on_a_terminal_shows_its_solve_with_a_clock(monkeypatch, tmp_pat
     model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
     shown = drawings(terminal.getvalue(), f"ucs-map: 3 stiffness values, {model.dofs.n} coordinates: [")
     assert len({seconds(d) for d in shown}) >= 2, terminal.getvalue()
+
+
+def test_report_names_each_section_under_way_with_its_clock(monkeypatch):
+    """``report``'s analyses, section after section, each shown by its heading while it runs more
+    than the line's delay (a section made slow here; the others do nothing), its clock advancing."""
+    import importlib
+
+    collect = importlib.import_module("rotordyn_modal.report.collect")    # the module (the package names its function)
+    steps = {name: (lambda data: None) for name in collect._STEPS}
+    steps["static"] = slowed(lambda data: None)
+    monkeypatch.setattr(collect, "_STEPS", steps)
+    terminal = on_terminal(monkeypatch)
+    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+    collect.collect(model, collect.ReportInputs("api684", 300.0), progress=True)
+    shown = drawings(terminal.getvalue(), "report: ")
+    assert shown and all(d.startswith("report: Static loads and sag: [") for d in shown), shown
+    assert len({seconds(d) for d in shown}) >= 2, shown

@@ -33,6 +33,8 @@ __all__ = ["tqdm", "terminal_defaults", "phase", "TICK_SECONDS", "PHASE_DELAY"]
 
 #: seconds between two drawings of a bar on a terminal while its step runs
 TICK_SECONDS = 1.0
+#: the longest wait for the clock's thread to end when its bar closes [s]
+_JOIN_SECONDS = 5.0
 #: seconds of work a :func:`phase` waits before its line is shown (shorter work shows nothing)
 PHASE_DELAY = 2.0
 
@@ -156,5 +158,5 @@ class _Ticker:
         """Stop redrawing; returns once the thread has ended (at once from the thread itself: a
         bar collected there)."""
         self._stopped.set()
-        if threading.current_thread() is not self._thread:
-            self._thread.join()
+        if threading.current_thread() is not self._thread and not sys.is_finalizing():
+            self._thread.join(_JOIN_SECONDS)     # a bound: never hang on a thread the interpreter froze

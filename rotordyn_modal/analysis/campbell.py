@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._limits import memory_problem
+from .._progress import phase
 from ..errors import InputError
 from . import _arguments, _batches, _eigensolve, _roots, _whirl
 from ._stack import Stack
@@ -453,14 +454,15 @@ def solve_sweeps(stack, speeds, progress=False, whirl_noise=False):
     # read by part where tracking and the critical speeds compare shapes (the rows of
     # Stack.weighted of the whole, bit for bit): not a second copy of every shape
     weighted = WeightedRows(stack, shapes)
-    order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
-    extra = (noise,) if whirl_noise else ()
-    if (order == np.arange(order.shape[-1])).all():     # every root keeps its place: nothing to reorder
-        return (values, shapes, weighted) + extra
-    variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
-    extra = (noise[variants, rows, order],) if whirl_noise else ()
-    shapes = _reordered(shapes, order)
-    return (values[variants, rows, order], shapes, weighted.reordered(order, shapes)) + extra
+    with phase(progress, "tracking modes"):         # a large model's tracking: tens of seconds
+        order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
+        extra = (noise,) if whirl_noise else ()
+        if (order == np.arange(order.shape[-1])).all():     # every root keeps its place: nothing to reorder
+            return (values, shapes, weighted) + extra
+        variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
+        extra = (noise[variants, rows, order],) if whirl_noise else ()
+        shapes = _reordered(shapes, order)
+        return (values[variants, rows, order], shapes, weighted.reordered(order, shapes)) + extra
 
 
 #: a sweep of more work than this [bytes] shown by a progress bar is solved in at least
@@ -805,11 +807,12 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     critical = bool(critical) and len(orders) > 0
     _refuse_what_cannot_fit(stack, len(speeds), critical)
     values, shapes, weighted, noise = solve_sweeps(stack, speeds, progress, whirl_noise=True)
-    _refine_inexact(stack, speeds, values, shapes)
     count, n_speeds, m = values.shape
-    every = _variant_rows(count, n_speeds)
-    ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every,
-                                speeds if count == 1 else np.tile(speeds, count))
+    with phase(progress, "round-off and whirl"):
+        _refine_inexact(stack, speeds, values, shapes)
+        every = _variant_rows(count, n_speeds)
+        ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every,
+                                    speeds if count == 1 else np.tile(speeds, count))
     oscillating = is_oscillating(values)
     ratios = np.where(oscillating, ratios.reshape(values.shape), 0.0)
     freq, zeta, log_dec = modal_quantities(values)

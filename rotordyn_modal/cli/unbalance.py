@@ -7,11 +7,12 @@ import warnings
 
 import numpy as np
 
+from .._progress import phase
 from ..errors import InputError
 from ..unbalance_standards import amplitude_column, amplitude_label, one_convention
 from ._common import (IN_SPEED_UNIT, add_alias, add_model_argument, as_typed, add_output_file, add_outputs, add_sensor_argument, add_speed_unit, check_ending,
-                      check_extra_output, check_speeds, mcs_option, open_model, parse_band, print_table, save_figure, speeds_option,
-                      speed_value, speeds_text, use_agg, whole_number, write_csv, write_table)
+                      check_extra_output, check_speeds, mcs_option, open_model, parse_band, print_table, save_figure, show_progress,
+                      speeds_option, speed_value, speeds_text, use_agg, whole_number, write_csv, write_table)
 from ._units import convert_table
 from .frf import QUANTITY_HELP, QUANTITY_METAVAR, quantity_type, sensor_names
 
@@ -153,17 +154,18 @@ def run(args) -> int:
     _warn_below_checked_speeds(speeds_option(args), mcs, args)
     if args.api_unbalance:
         result = api_unbalance_response(model, speeds_option(args), mcs, outputs=sensor_names(args, model),
-                                        quantity=args.quantity, amplitude=args.amplitude)
+                                        quantity=args.quantity, amplitude=args.amplitude, progress=show_progress(args))
     else:
         result = unbalance_response(model, speeds_option(args), outputs=sensor_names(args, model),
-                                    quantity=args.quantity, amplitude=args.amplitude)
+                                    quantity=args.quantity, amplitude=args.amplitude, progress=show_progress(args))
     if (args.orbits or args.orbit_plot) and not result.orbit_pairs:
         raise InputError(f"{model.source}: --orbits/{as_typed(args, '--plot-orbits')} need a probe pair among the outputs: two "
                          "sensors at one point of the same body, directions normal to spin_axis")
     if not args.quiet and args.out != "-":
         print(_response_heading(args.amplitude), file=sys.stderr)
     write_table(in_units(result.to_dataframe(forces=args.forces), result, args.units), args)
-    peaks = result.peaks() if operating is None else separation_margins(result, operating, amplitude=args.amplitude)
+    with phase(show_progress(args), "unbalance: peaks"):
+        peaks = result.peaks() if operating is None else separation_margins(result, operating, amplitude=args.amplitude)
     if not args.quiet:
         print(f"\npeaks (API 684; amplitude {amplitude_label(args.amplitude)}):", file=sys.stderr)
         print_table(in_units(one_convention(peaks, args.amplitude), result, args.units),

@@ -210,7 +210,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     """
     import matplotlib.pyplot as plt
 
-    from ..simulation.runup import order_track, waterfall
+    from ..simulation.runup import order_track, unsettled_spans, waterfall
     from ._labels import laid_out_renderer
 
     if critical is not None:  # the rotors' own orders (gear-mesh crossings sit at very low speeds)
@@ -228,7 +228,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
         amplitude_ax.plot(track.speeds * rpm, track.amplitude * scale, ".-", ms=3, label=f"1X {rotor}")
         drawn = phase_ax.plot(track.speeds * rpm, track.unwrapped_phase_deg, ".-", ms=3, label=f"1X {rotor}")
         notes += _unknown_phase_note(track, result.rotor_names, drawn[0].get_color())
-        spans = _unsettled_spans(result, track, critical)
+        spans = unsettled_spans(result, track, critical)
         notes += _shade_unsettled((amplitude_ax, phase_ax), spans, rotor, drawn[0].get_color())
         if spans:
             unsure.append(f"1X {rotor} at " + ", ".join(f"{low * rpm:.0f}-{high * rpm:.0f}" for low, high in spans) + " rpm")
@@ -257,29 +257,6 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
                 axis.axvline(speed * rpm, color="tab:red", lw=0.7, ls="--", label="_critical")
         _label_critical_lines([amplitude_ax, phase_ax, axes[0, 0]], critical, laid_out_renderer(fig))
     return fig
-
-
-def _unsettled_spans(result, track, critical) -> list:
-    """Reference speeds [rad/s], as merged ``(low, high)`` spans, where ``track`` need not follow
-    the steady response: its unsettled windows (``OrderTrack.unsettled``, each from halfway to
-    its neighbours) and, with the crossings ``critical``, the spans of
-    :func:`~rotordyn_modal.simulation.runup.passage_spans`, cut to the run's speeds."""
-    from ..simulation.runup import _merged, passage_spans, window_turns
-
-    index = list(result.rotor_names).index(track.rotor)
-    speeds = np.asarray(track.speeds, dtype=float)
-    spans = []
-    if track.unsettled is not None and len(speeds) > 1:
-        edges = np.concatenate([[1.5 * speeds[0] - 0.5 * speeds[1]], 0.5 * (speeds[1:] + speeds[:-1]),
-                                [1.5 * speeds[-1] - 0.5 * speeds[-2]]])
-        spans += [tuple(sorted((edges[k], edges[k + 1]))) for k in np.flatnonzero(track.unsettled)]
-    time, drive = np.asarray(result.time, dtype=float), np.asarray(result.drive_speed, dtype=float)
-    if critical is not None and len(time) > 1 and time[-1] > time[0]:
-        acceleration = (drive[-1] - drive[0]) / (time[-1] - time[0])
-        spans += passage_spans(critical, result.speed_ratios[index], track.order, acceleration,
-                               window_turns(result.speed_ratios, index))
-    low, high = drive.min(), drive.max()
-    return [(max(a, low), min(b, high)) for a, b in _merged(spans) if b > low and a < high]
 
 
 def _shade_unsettled(axes, spans, rotor, color):

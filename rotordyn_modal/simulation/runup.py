@@ -8,8 +8,8 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["OrderTrack", "Waterfall", "leakage_floor", "order_track", "passage_spans", "unsettled", "waterfall",
-           "window_turns"]
+__all__ = ["OrderTrack", "Waterfall", "leakage_floor", "order_track", "passage_spans", "unsettled",
+           "unsettled_spans", "waterfall", "window_turns"]
 
 
 @dataclass
@@ -119,6 +119,11 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=None) -> Orde
     (:func:`leakage_floor`). Where ``|c|`` is below twice that floor the order's own amplitude
     may be below the leakage, whose phase then rules: there the phase is taken as unknown, NaN
     (a conservative mark: the joint fit takes much of that leakage out).
+
+    The same fit over windows shifted by half a window marks the windows it does not confirm
+    (``OrderTrack.unsettled``, :func:`unsettled`). A free vibration within about a cycle a window
+    of the order's frequency is not told apart at all (:func:`passage_spans` gives where a fast
+    passage through a mode leaves one; the run-up figure shades both).
 
     Parameters
     ----------
@@ -270,9 +275,10 @@ def passage_spans(critical, ratio, order, acceleration, revolutions=SHORTEST_WIN
     the mode by how far the order moves while the ringing decays by ``e`` (``sigma = zeta 2 pi f
     / sqrt(1 - zeta^2)``), but not where the ringing turns under :data:`POLYNOMIAL_CYCLES` a
     window (the fitted polynomial takes it). One mode at 6 Hz, ``zeta`` 0.03, swept by an
-    unbalance from 2 to 20 Hz (``alpha / (zeta f)^2`` from 0.5 to 56): the track (4-turn windows)
-    was more than 10 % off the steady response only in that band, by up to 8 % at 0.5, 15 % at
-    1 and 2.3 times at 56 (tests/test_runup_passage27.py).
+    unbalance from 2 to 20 Hz from rest (4-turn windows): at ``alpha / (zeta f)^2`` of 0.5 and 1
+    (not marked) the track was at most 8 % and 15 % off the closed-form steady response; at 6,
+    19 and 56, 0.7, 1.2 and 1.0 times off inside that band and within 10 % outside it and the
+    start's unsettled windows (tests/test_runup_passage27.py).
 
     Parameters
     ----------
@@ -310,6 +316,42 @@ def passage_spans(critical, ratio, order, acceleration, revolutions=SHORTEST_WIN
         held = 2 * np.pi * f * revolutions / (POLYNOMIAL_CYCLES * abs(ratio))    # the polynomial takes it above
         spans.append((max(f - 2 * zeta * f - np.sqrt(own), 0.0) / per_speed, min(high, max(held, f / per_speed))))
     return _merged(spans)
+
+
+def unsettled_spans(result, track, critical=None) -> list:
+    """Reference speeds [rad/s], as merged ``(low, high)`` spans, where ``track`` need not follow
+    the steady response (the run-up figure shades them).
+
+    Parameters
+    ----------
+    result : SimulationResult
+        The ramp the track was taken from.
+    track : OrderTrack
+        :func:`order_track` of ``result``.
+    critical : CriticalSpeeds, optional
+        The crossings over the ramp's speeds.
+
+    Returns
+    -------
+    list of (float, float)
+        The track's unsettled windows (``OrderTrack.unsettled``, each from halfway to its
+        neighbours) and, with ``critical``, the spans of :func:`passage_spans`; merged, rising,
+        cut to the run's speeds.
+    """
+    index = list(result.rotor_names).index(track.rotor)
+    speeds = np.asarray(track.speeds, dtype=float)
+    spans = []
+    if track.unsettled is not None and len(speeds) > 1:
+        edges = np.concatenate([[1.5 * speeds[0] - 0.5 * speeds[1]], 0.5 * (speeds[1:] + speeds[:-1]),
+                                [1.5 * speeds[-1] - 0.5 * speeds[-2]]])
+        spans += [tuple(sorted((edges[k], edges[k + 1]))) for k in np.flatnonzero(track.unsettled)]
+    time, drive = np.asarray(result.time, dtype=float), np.asarray(result.drive_speed, dtype=float)
+    if critical is not None and len(time) > 1 and time[-1] > time[0]:
+        acceleration = (drive[-1] - drive[0]) / (time[-1] - time[0])
+        spans += passage_spans(critical, result.speed_ratios[index], track.order, acceleration,
+                               window_turns(result.speed_ratios, index))
+    low, high = drive.min(), drive.max()
+    return [(max(a, low), min(b, high)) for a, b in _merged(spans) if b > low and a < high]
 
 
 def _merged(spans) -> list:

@@ -341,12 +341,13 @@ def unsettled_spans(result, track, critical=None) -> list:
     index = list(result.rotor_names).index(track.rotor)
     speeds = np.asarray(track.speeds, dtype=float)
     spans = []
-    if track.unsettled is not None and len(speeds) > 1:
+    if getattr(track, "unsettled", None) is not None and len(speeds) > 1:
         edges = np.concatenate([[1.5 * speeds[0] - 0.5 * speeds[1]], 0.5 * (speeds[1:] + speeds[:-1]),
                                 [1.5 * speeds[-1] - 0.5 * speeds[-2]]])
         spans += [tuple(sorted((edges[k], edges[k + 1]))) for k in np.flatnonzero(track.unsettled)]
-    time, drive = np.asarray(result.time, dtype=float), np.asarray(result.drive_speed, dtype=float)
-    if critical is not None and len(time) > 1 and time[-1] > time[0]:
+    drive = np.asarray(result.drive_speed, dtype=float)
+    time = np.asarray(getattr(result, "time", ()), dtype=float)    # a figure's stand-in may have none
+    if critical is not None and len(time) == len(drive) > 1 and time[-1] > time[0]:
         acceleration = (drive[-1] - drive[0]) / (time[-1] - time[0])
         spans += passage_spans(critical, result.speed_ratios[index], track.order, acceleration,
                                window_turns(result.speed_ratios, index))

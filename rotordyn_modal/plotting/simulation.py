@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import warnings
 
 import numpy as np
 
@@ -209,7 +210,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     """
     import matplotlib.pyplot as plt
 
-    from ..simulation.runup import order_track, waterfall
+    from ..simulation.runup import order_track, unsettled_spans, waterfall
     from ._labels import laid_out_renderer
 
     if critical is not None:  # the rotors' own orders (gear-mesh crossings sit at very low speeds)
@@ -221,12 +222,16 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     ax.plot(result.drive_speed * rpm, result.sensor(sensor) * scale, lw=0.5)
     ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor} [{unit}]", title="Sensor during the run-up")
     amplitude_ax, phase_ax = axes[0, 1], axes[1, 0]
-    notes = []
+    notes, unsure = [], []
     for rotor in result.rotor_names:
         track = order_track(result, sensor, rotor=rotor)
         amplitude_ax.plot(track.speeds * rpm, track.amplitude * scale, ".-", ms=3, label=f"1X {rotor}")
         drawn = phase_ax.plot(track.speeds * rpm, track.unwrapped_phase_deg, ".-", ms=3, label=f"1X {rotor}")
         notes += _unknown_phase_note(track, result.rotor_names, drawn[0].get_color())
+        spans = unsettled_spans(result, track, critical)
+        notes += _shade_unsettled((amplitude_ax, phase_ax), spans, rotor, drawn[0].get_color())
+        if spans:
+            unsure.append(f"1X {rotor} at " + ", ".join(f"{low * rpm:.0f}-{high * rpm:.0f}" for low, high in spans) + " rpm")
     amplitude_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X amplitude, 0-peak [{unit}]",
                      title="Order-tracked amplitude")
     phase_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X phase, unwrapped [deg]",
@@ -242,12 +247,30 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     _draw_waterfall(fig, axes[1, 1], waterfall(result, sensor, segments=segments), result, critical, sensor,
                     (scale, unit))
     fig.suptitle(title or f"Run-up of {result.model_name or 'the machine'}")
+    if unsure:
+        warnings.warn("run-up: order track not separable from free vibration (a mode rung by a fast passage, or "
+                      "the start's transient) at " + "; ".join(unsure) + ": shaded on the figure; a slower ramp "
+                      "or a later start narrows it")
     if critical is not None and len(critical):
         for axis in (axes[0, 0], amplitude_ax, phase_ax):
             for speed in critical.speeds:
                 axis.axvline(speed * rpm, color="tab:red", lw=0.7, ls="--", label="_critical")
         _label_critical_lines([amplitude_ax, phase_ax, axes[0, 0]], critical, laid_out_renderer(fig))
     return fig
+
+
+def _shade_unsettled(axes, spans, rotor, color):
+    """Shade ``spans`` [rad/s] on ``axes`` in the track's colour; a legend entry saying what the
+    shade means, or none without spans."""
+    from matplotlib.patches import Patch
+
+    if not spans:
+        return []
+    for axis in axes:
+        for low, high in spans:
+            axis.axvspan(low * 30 / np.pi, high * 30 / np.pi, color=color, alpha=0.12, lw=0, zorder=0)
+    return [Patch(color=color, alpha=0.25, lw=0,
+                  label=f"1X {rotor}: not separable from free vibration (fast passage of a mode, start transient)")]
 
 
 def _unknown_phase_note(track, rotors, color):

@@ -139,14 +139,17 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
             raise InputError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
         return _simulate_flexible(model, duration, speed, drive, final_speed, initial, impulse, impulse_size,
                                   samples, rtol, atol, unbalance_phases_deg, modes_below, progress, backend)
-    rate = _fastest_rate(model, speed, final_speed)
-    _check_duration(duration, rate)                # before any work on a run that would not end
+    spin = _fastest_spin(model, speed, final_speed)
+    _check_duration(duration, spin)                # before any work on a run that would not end
     system = system_arrays(model, unbalance_phases_deg)
     mode, accel = _drive(drive, speed, final_speed, duration)
     span = [speed] if final_speed is None else [speed, final_speed]
     check_table_speeds(model, span, "the simulation's speeds " + " .. ".join(f"{v:.6g}" for v in span) + " rad/s")
     kn = kernels(backend)
     extra = (mode, accel, 0.0, duration)
+    _check_before_eigenvalues(kn, system, extra, duration, spin, samples, speed)
+    rate = _fastest_rate(model, speed, final_speed)
+    _check_duration(duration, rate)
     count = samples or _default_samples(rate, duration)
     steps = _fewest_steps(model, speed, duration, impulse)
     _check_cpu_time(kn, system, extra, duration, rate, count, steps)   # before compiling anything
@@ -208,6 +211,41 @@ _EXCITED_SHARE = 1e-9
 _TIMED_CALLS = 200
 #: output times whose derived outputs (``sample_outputs``) are timed, for the numpy path
 _TIMED_SAMPLES = 20
+
+
+#: below this many coordinates one compiled right-hand side evaluation costs less than 10 ms
+#: (its Cholesky solve grows as n^3: 1.15 ms at 206 coordinates, 1.15 s at 2,006, 500 geared
+#: rotors), the bound under which :func:`_check_cpu_time` skips timing a short run
+_SMALL_DOF = 300
+
+
+def _check_before_eigenvalues(kn, system, extra, duration, spin, samples, speed):
+    """Refuse, before any eigen-solution, a run whose output times alone surely exceed the CPU limit.
+
+    The fastest motion is at least the fastest spin ``spin`` [rad/s], so the default output times
+    are at least those of ``spin`` (``samples`` given: those); the integrator's steps are not
+    counted (0). The check without compilation (:func:`_check_cpu_time` with ``y0`` None) is made
+    first; where that bound is not short even at 10 ms an evaluation, or where the machine is
+    large (:data:`_SMALL_DOF` coordinates or more, whose evaluations may cost more than that), the
+    compiled right-hand side is compiled (its notice first) and timed at the rest state spinning at
+    ``speed`` [rad/s]. At 2,006 coordinates (500 geared rotors) this refuses in seconds a run that
+    the eigen-solutions of the state matrix kept silent for 4 min before refusing (or, before the
+    evaluations were timed there, letting a run of about 3 h through)."""
+    from ..analysis._cost import limit_seconds, long_work_is_allowed
+
+    if long_work_is_allowed():
+        return
+    count = samples or _default_samples(spin, duration)
+    _check_cpu_time(kn, system, extra, duration, spin, count)
+    if getattr(kn, "rhs_flat", None) is None:
+        return                                                 # the numpy path was timed whole above
+    small = system.n_dof < _SMALL_DOF and count * (_EVALUATIONS_PER_SAMPLE + 1) * 1e-2 <= limit_seconds()
+    if small:
+        return
+    announce_compilation(kn)
+    rest = np.zeros(2 * system.n_dof)
+    rest[-1] = speed
+    _check_cpu_time(kn, system, extra, duration, spin, count, y0=rest)
 
 
 def _fewest_steps(model, speed, duration, impulse) -> float:
@@ -277,8 +315,10 @@ def _check_cpu_time(kn, system, extra, duration, rate, samples, steps=0.0, y0=No
         evaluations = max(samples * _EVALUATIONS_PER_SAMPLE, _EVALUATIONS_PER_STEP * steps)
     else:
         evaluations = _EVALUATIONS_PER_STEP * max(steps, 1.0)
-    if (evaluations + samples) * 1e-2 <= limit or (y0 is not None and not compiled):   # short even at 10 ms each
+    if y0 is not None and not compiled:
         return
+    if (evaluations + samples) * 1e-2 <= limit and (y0 is None or system.n_dof < _SMALL_DOF):
+        return                                                  # short even at 10 ms each
     zeros = np.zeros(2 * system.n_dof)
     if compiled:
         from ._fast import pack
@@ -305,16 +345,22 @@ def _does_nothing(t, y, floats, ints):
 
 def _seconds_per_call(call, y, arguments) -> float:
     """CPU time of one ``call(0.0, y, *arguments)`` [s]: the best of three runs of
-    :data:`_TIMED_CALLS` calls, after one call (which compiles a numba kernel)."""
+    :data:`_TIMED_CALLS` calls, after one call (which compiles a numba kernel); of fewer where a
+    call costs more than 5 ms (runs of about 0.2 s, at least one call: 1.15 s a call at 2,006
+    coordinates would have taken 11 min to time)."""
     import time
 
     call(0.0, y, *arguments)
-    best = np.inf
-    for _ in range(3):
+    start = time.process_time()
+    call(0.0, y, *arguments)
+    once = time.process_time() - start
+    count = _TIMED_CALLS if once * _TIMED_CALLS <= 1.0 else max(1, int(0.2 / once))
+    best = once if count == 1 else np.inf
+    for _ in range(3 if count > 1 else 2):
         start = time.process_time()
-        for _ in range(_TIMED_CALLS):
+        for _ in range(count):
             call(0.0, y, *arguments)
-        best = min(best, (time.process_time() - start) / _TIMED_CALLS)
+        best = min(best, (time.process_time() - start) / count)
     return best
 
 
@@ -515,13 +561,18 @@ def _impulse_velocity(model, system, kn, y0, name, size, mode):
 _FASTEST_JUMP = 1e4
 
 
+def _fastest_spin(model, speed, final_speed) -> float:
+    """The fastest rotor's spin [rad/s] at the reference speeds ``speed`` and ``final_speed``."""
+    return max(abs(speed), abs(final_speed or 0.0)) * max(abs(r) for r in model.speed_ratios.values())
+
+
 def _fastest_rate(model, speed, final_speed):
     """The fastest of the rotors' spins and the natural frequencies at rest [rad/s].
 
     The natural frequencies are the state matrix's eigenvalues alone (the largest ``|Im lambda|``,
     as ``modal``'s): no shapes, whirl forms or repeated roots' resolution, which took over 5 min
     of CPU time at 2,006 coordinates (500 geared rotors) before the CPU estimate was made."""
-    fastest_spin = max(abs(speed), abs(final_speed or 0.0)) * max(abs(r) for r in model.speed_ratios.values())
+    fastest_spin = _fastest_spin(model, speed, final_speed)
     natural = 0.0
     for at in [v for v in (0.0, speed, final_speed) if v is not None]:  # tables may not reach 0
         try:

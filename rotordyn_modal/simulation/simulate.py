@@ -139,17 +139,19 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
             raise InputError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
         return _simulate_flexible(model, duration, speed, drive, final_speed, initial, impulse, impulse_size,
                                   samples, rtol, atol, unbalance_phases_deg, modes_below, progress, backend)
-    spin = _fastest_spin(model, speed, final_speed)
-    _check_duration(duration, spin)                # before any work on a run that would not end
+    large = model.dofs.n >= _SMALL_DOF             # the eigen-solutions below cost minutes
+    rate = _fastest_spin(model, speed, final_speed) if large else _fastest_rate(model, speed, final_speed)
+    _check_duration(duration, rate)                # before any work on a run that would not end
     system = system_arrays(model, unbalance_phases_deg)
     mode, accel = _drive(drive, speed, final_speed, duration)
     span = [speed] if final_speed is None else [speed, final_speed]
     check_table_speeds(model, span, "the simulation's speeds " + " .. ".join(f"{v:.6g}" for v in span) + " rad/s")
     kn = kernels(backend)
     extra = (mode, accel, 0.0, duration)
-    _check_before_eigenvalues(kn, system, extra, duration, spin, samples, speed)
-    rate = _fastest_rate(model, speed, final_speed)
-    _check_duration(duration, rate)
+    if large:
+        _check_before_eigenvalues(kn, system, extra, duration, rate, samples, speed)
+        rate = _fastest_rate(model, speed, final_speed)
+        _check_duration(duration, rate)
     count = samples or _default_samples(rate, duration)
     steps = _fewest_steps(model, speed, duration, impulse)
     _check_cpu_time(kn, system, extra, duration, rate, count, steps)   # before compiling anything
@@ -220,18 +222,18 @@ _SMALL_DOF = 300
 
 
 def _check_before_eigenvalues(kn, system, extra, duration, spin, samples, speed):
-    """Refuse, before any eigen-solution, a run whose output times alone surely exceed the CPU limit.
+    """Refuse, before any eigen-solution, a run on a large machine (:data:`_SMALL_DOF` coordinates
+    or more) whose output times alone surely exceed the CPU limit.
 
     The fastest motion is at least the fastest spin ``spin`` [rad/s], so the default output times
     are at least those of ``spin`` (``samples`` given: those); the integrator's steps are not
     counted (0). The check without compilation (:func:`_check_cpu_time` with ``y0`` None) is made
-    first; where that bound is not short even at 10 ms an evaluation, or where the machine is
-    large (:data:`_SMALL_DOF` coordinates or more, whose evaluations may cost more than that), the
-    compiled right-hand side is compiled (its notice first) and timed at the rest state spinning at
-    ``speed`` [rad/s]. At 2,006 coordinates (500 geared rotors) this refuses in seconds a run that
+    first; then the compiled right-hand side (whose evaluations may cost more than 10 ms at this
+    size) is compiled, its notice first, and timed at the rest state spinning at ``speed``
+    [rad/s]. At 2,006 coordinates (500 geared rotors) this refuses in seconds a run that
     the eigen-solutions of the state matrix kept silent for 4 min before refusing (or, before the
     evaluations were timed there, letting a run of about 3 h through)."""
-    from ..analysis._cost import limit_seconds, long_work_is_allowed
+    from ..analysis._cost import long_work_is_allowed
 
     if long_work_is_allowed():
         return
@@ -239,9 +241,6 @@ def _check_before_eigenvalues(kn, system, extra, duration, spin, samples, speed)
     _check_cpu_time(kn, system, extra, duration, spin, count)
     if getattr(kn, "rhs_flat", None) is None:
         return                                                 # the numpy path was timed whole above
-    small = system.n_dof < _SMALL_DOF and count * (_EVALUATIONS_PER_SAMPLE + 1) * 1e-2 <= limit_seconds()
-    if small:
-        return
     announce_compilation(kn)
     rest = np.zeros(2 * system.n_dof)
     rest[-1] = speed

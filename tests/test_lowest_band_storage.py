@@ -65,7 +65,11 @@ def test_banded_solves_let_other_threads_run():
     """A sweep's banded solves are shared between threads: LAPACK's ``zgbsv`` must release the
     GIL while it works (scipy's wrapper does not: a second thread then starts only after the
     first's solves are done). With the interpreter's switch interval at 5 s, a thread started
-    while another runs 400 solves gets to run before they end; the solutions are numpy's."""
+    while another runs 400 solves, then goes on solving for up to 2 s until that thread has run,
+    gets to run before they end; the solutions are numpy's. (The 2 s keep the test from reading
+    a loaded machine's slow scheduling of the second thread as a held GIL: 400 solves take a few
+    ms; a wrapper that holds the GIL keeps the second thread out for the whole 2 s, under the 5 s
+    switch interval.)"""
     rng = np.random.default_rng(8)
     count, n, kl, ku = 400, 100, 7, 7
     width = 2 * kl + ku + 1
@@ -79,12 +83,21 @@ def test_banded_solves_let_other_threads_run():
                 dense[p, i, j] = ab[p, j, kl + ku + i - j]
     y = rng.normal(size=(count, 1, n)) + 0j
     rhs = y[:2, 0].copy()
+    # small systems to go on solving (copies of under numpy's 500 elements: numpy's own copy,
+    # like scipy's wrapper, keeps the GIL, so only the solve itself can let the other thread in)
+    small_ab = np.zeros((4, 12), complex, order="F")                     # kl = ku = 1
+    small_ab[1:] = rng.normal(size=(3, 12))
+    small_ab[2] += 20.0
+    small_y = np.asfortranarray(rng.normal(size=(12, 1)) + 0j)
     stamps = {}
 
     def solves():
         stamps["start"] = time.perf_counter()
         for p in range(count):
             assert _lowest_pencils._zgbsv(kl, ku, ab[p].T, y[p].T, overwrite_ab=1, overwrite_b=1)[3] == 0
+        while "other" not in stamps and time.perf_counter() < stamps["start"] + 2.0:
+            a, b = small_ab.copy(order="F"), small_y.copy(order="F")
+            assert _lowest_pencils._zgbsv(1, 1, a, b, overwrite_ab=1, overwrite_b=1)[3] == 0
         stamps["end"] = time.perf_counter()
 
     def other():

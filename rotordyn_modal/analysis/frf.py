@@ -78,14 +78,6 @@ class FRFResult:
         or selected data).
     resonance_H : ndarray, shape (n_outputs, n_inputs, P), complex, or None
         The response at those frequencies.
-    cut_hz : ndarray, shape (n_outputs, n_inputs, Q), or None
-        Each FRF's maxima between computed frequencies that the line through them cuts
-        (:func:`~rotordyn_modal.analysis.unbalance_peaks.cut_maxima` on the exact modal sum near
-        :attr:`resonances_hz`: two close modes sharing one peak give one maximum, at the peak)
-        [Hz], NaN after a curve's last; None where not looked for (then :meth:`cut_peaks`
-        reads :attr:`resonances_hz`).
-    cut_H : ndarray, shape like ``cut_hz``, complex, or None
-        The response at those maxima.
     """
 
     H: np.ndarray
@@ -98,8 +90,6 @@ class FRFResult:
     coherence: np.ndarray | None = None
     resonances_hz: np.ndarray | None = None
     resonance_H: np.ndarray | None = None
-    cut_hz: np.ndarray | None = None
-    cut_H: np.ndarray | None = None
 
     @property
     def omega(self) -> np.ndarray:
@@ -128,16 +118,13 @@ class FRFResult:
         i = _positions(self.inputs, inputs, "input")
         coh = None if self.coherence is None else self.coherence[np.ix_(o, i)]
         peaks = None if self.resonance_H is None else self.resonance_H[np.ix_(o, i)]
-        cut_hz, cut_H = ((None, None) if self.cut_hz is None
-                         else (self.cut_hz[np.ix_(o, i)], self.cut_H[np.ix_(o, i)]))
         return FRFResult(self.H[np.ix_(o, i)], self.frequencies_hz, self.speed,
                          tuple(self.inputs[k] for k in i), tuple(self.outputs[k] for k in o),
-                         self.quantity, self.engine, coh, self.resonances_hz, peaks, cut_hz, cut_H)
+                         self.quantity, self.engine, coh, self.resonances_hz, peaks)
 
     def cut_peaks(self, output: str, input: str):
         """The resonances of one FRF that the line drawn through the computed frequencies cuts:
-        its maxima of :attr:`cut_hz` where known (the true maxima of ``|H|``), otherwise those
-        of :attr:`resonances_hz` where the response is more than sqrt(2) (3 dB) times that at
+        those of :attr:`resonances_hz` where the response is more than sqrt(2) (3 dB) times that at
         both computed frequencies around it (a straight line between them, on any axis whose
         scale is monotonic, lies below the larger of the two).
 
@@ -145,10 +132,6 @@ class FRFResult:
         -------
         frequencies : ndarray, shape (K,) [Hz]; H : ndarray, shape (K,), complex
         """
-        if self.cut_hz is not None:
-            o, i = self.outputs.index(output), self.inputs.index(input)
-            keep = np.isfinite(self.cut_hz[o, i])
-            return self.cut_hz[o, i, keep], self.cut_H[o, i, keep]
         if self.resonances_hz is None or not len(self.resonances_hz):
             return np.zeros(0), np.zeros(0, complex)
         o, i = self.outputs.index(output), self.inputs.index(input)
@@ -456,12 +439,10 @@ def _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine, mass_checked
     omega = 2 * np.pi * f
     terms = _modal_terms(model, speed, rows, columns) if used == "modal" else None
     H = None if terms is None else _modal_sum(terms, omega)
-    peaks = peak_H = cut_hz = cut_H = None
+    peaks = peak_H = None
     if H is not None:                  # the resonances no computed frequency resolves, at their own frequency
-        peaks, band = _unresolved(terms[0], f)
+        peaks = unresolved_resonances(terms[0], f)
         peak_H = _modal_sum(terms, 2 * np.pi * peaks) * (2j * np.pi * peaks) ** QUANTITIES[quantity]
-        cut_hz, cut_H = _cut_maxima(terms, f, H * (1j * omega) ** QUANTITIES[quantity], peaks, band,
-                                    QUANTITIES[quantity])
     if H is None:
         if not mass_checked:   # the modal engine's state form made the check, if it was tried
             from ..linear_system import speed_linear_form
@@ -472,36 +453,7 @@ def _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine, mass_checked
     H = H * (1j * omega) ** QUANTITIES[quantity]
     return FRFResult(H=H, frequencies_hz=f, speed=float(speed), inputs=_names(model.excitations, inputs),
                      outputs=_names(model.sensors, outputs), quantity=quantity, engine=used,
-                     resonances_hz=peaks, resonance_H=peak_H, cut_hz=cut_hz, cut_H=cut_H)
-
-
-def _cut_maxima(terms, f, H, resonances, band, power):
-    """The maxima of each FRF between computed frequencies that its line cuts, by
-    :func:`~rotordyn_modal.analysis.unbalance_peaks.cut_maxima` on the exact modal sum.
-
-    Parameters
-    ----------
-    terms : tuple
-        :func:`_modal_terms`' result.
-    f : ndarray, shape (n_freq,) [Hz]
-    H : ndarray, shape (n_outputs, n_inputs, n_freq), complex
-        The FRFs at ``f`` (the quantity's factor applied).
-    resonances, band : ndarray, shape (P,) [Hz]
-        :func:`_unresolved`'s damped natural frequencies and half-power bandwidths.
-    power : int
-        The quantity's power of ``i w`` (0 receptance, 1 mobility, 2 accelerance).
-
-    Returns
-    -------
-    cut_hz : ndarray, shape (n_outputs, n_inputs, Q) [Hz]; cut_H : same shape, complex
-    """
-    from .unbalance_peaks import cut_maxima
-
-    def response(s):
-        return _modal_sum(terms, 2 * np.pi * s) * (2j * np.pi * s) ** power
-
-    at, value, _ = cut_maxima(response, f, np.abs(H), [(resonances, band)] * H.shape[1])
-    return at, value
+                     resonances_hz=peaks, resonance_H=peak_H)
 
 
 def _check_channels(model, rows, columns):
@@ -522,12 +474,6 @@ def unresolved_resonances(eigenvalues, frequencies_hz) -> np.ndarray:
     -------
     ndarray, shape (P,) [Hz], increasing
     """
-    return _unresolved(eigenvalues, frequencies_hz)[0]
-
-
-def _unresolved(eigenvalues, frequencies_hz):
-    """:func:`unresolved_resonances` (P,) [Hz], increasing, and their half-power bandwidths
-    ``|Re lam| / pi`` (P,) [Hz]."""
     f = np.sort(np.asarray(frequencies_hz, dtype=float))
     lam = np.asarray(eigenvalues, dtype=complex)
     lam = lam[(lam.imag > 0) & (lam.real < 0)]
@@ -536,9 +482,7 @@ def _unresolved(eigenvalues, frequencies_hz):
     fd, bandwidth = fd[inside], bandwidth[inside]
     where = np.clip(np.searchsorted(f, fd), 1, max(f.size - 1, 1))
     nearest = np.minimum(np.abs(f[where] - fd), np.abs(fd - f[where - 1])) if f.size > 1 else np.zeros(0)
-    keep = 4 * nearest > bandwidth
-    order = np.argsort(fd[keep])
-    return fd[keep][order], bandwidth[keep][order]
+    return np.sort(fd[4 * nearest > bandwidth])
 
 
 def _modal_sum(terms, omega):

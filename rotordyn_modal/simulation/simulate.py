@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 
 from ..errors import InputError, ModelError
@@ -444,21 +446,55 @@ def _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar):
 
     from ._fast import pack
 
-    import warnings
-
     arguments = pack(system, *extra)
     # compiled (or loaded from numba's cache) here, from Python, not on the first call from
     # inside the Fortran integrator's callback (docs/DEVELOPING.md, "numba's cache")
     kn.rhs_flat(times[0], y0, *arguments)
-    solver = ode(kn.rhs_flat).set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
-    solver.set_initial_value(y0, times[0]).set_f_params(*arguments)
+    with _signals_noted() as caught:
+        solver = ode(kn.rhs_flat).set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
+        _stop_at_a_step_when(solver, caught)
+        solver.set_initial_value(y0, times[0]).set_f_params(*arguments)
+        return _output_times(solver, times, y0, bar, caught)
+
+
+def _stop_at_a_step_when(solver, caught):
+    """Make the DOP853 ``solver`` (scipy's ``ode``, before its initial value is set) stop at the end
+    of its step in progress once the list ``caught`` is not empty.
+
+    The step callback (``solout``) is the only Python code that runs while DOP853 drives the compiled
+    right-hand side, so a signal's Python handler runs there, at the end of a step. It must not
+    raise: an exception inside it does not stop scipy 1.17's DOP853, which then crawls on with
+    steps of 1e-10 s for ever. It takes any arguments: scipy 1.17 passes the right-hand side's
+    ``f_params`` to it too, and its own wrapper, which takes ``(t, y)`` only, raises TypeError
+    (sim27k's attempt hung on that). ``iout = 1`` only calls it: the steps and the results are the
+    same as without it."""
+    def step(*_):
+        return -1 if caught else 0
+
+    solver.set_solout(step)
+    solver._integrator._solout = step   # read by reset(), from set_initial_value
+
+
+def _output_times(solver, times, y0, bar, caught):
+    """The states at ``times`` (shape (len(times), len(y0))) from the DOP853 ``solver``. A signal
+    noted in ``caught`` (``[(signum, frame, handler)]``) stops it at the end of its step, and the
+    handler is called then (the command line's raises; where it returns, the integration goes on
+    from there)."""
+    import warnings
+
     states = np.empty((len(times), len(y0)))
     states[0] = y0
     for i in range(1, len(times)):
         last = solver.y.copy()
-        with warnings.catch_warnings():   # a failure is raised below with its return code
-            warnings.simplefilter("ignore", UserWarning)
-            states[i] = solver.integrate(times[i])
+        while True:
+            with warnings.catch_warnings():   # a failure is raised below with its return code
+                warnings.simplefilter("ignore", UserWarning)
+                states[i] = solver.integrate(times[i])
+            if not caught:
+                break
+            signum, frame, handler = caught.pop(0)
+            caught.clear()
+            handler(signum, frame)
         if not solver.successful() or not np.all(np.isfinite(states[i])):
             code = solver.get_return_code()
             reason = {-3: ", step size too small", -4: ", the problem became stiff"}.get(code, "")
@@ -466,6 +502,43 @@ def _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar):
         if bar is not None:
             bar.update(times[i] - times[i - 1])
     return states
+
+
+#: signals whose Python handlers (Ctrl-C's KeyboardInterrupt, the command line's ``Terminated``)
+#: are held back inside DOP853 until the end of its step
+_STOPPING = ("SIGINT", "SIGTERM", "SIGHUP")
+
+
+@contextlib.contextmanager
+def _signals_noted():
+    """Inside: SIGINT, SIGTERM and SIGHUP, where a Python handler is set for them, are only noted
+    in the yielded list, with that handler, as ``(signum, frame, handler)``; on leaving, the
+    handlers are back. Signals left to their default action (the process ends at once) or ignored
+    are not touched, nor is anything outside the main thread.
+
+    Python runs a signal's handler only between its own instructions: inside scipy's DOP853 calling
+    the compiled right-hand side none runs, and on 500 geared rotors ``timeout``'s SIGTERM went
+    unheeded for minutes. The integrator's step callback runs the handler that notes the signal;
+    :func:`_output_times` then calls the handler noted."""
+    import signal
+    import threading
+
+    caught, previous = [], {}
+
+    def note(signum, frame):
+        caught.append((signum, frame, previous[signum]))
+
+    if threading.current_thread() is threading.main_thread():
+        for name in _STOPPING:
+            number = getattr(signal, name, None)
+            if number is not None and callable(signal.getsignal(number)):
+                previous[number] = signal.signal(number, note)
+    try:
+        yield caught
+    finally:
+        for number, handler in previous.items():
+            if signal.getsignal(number) is note:
+                signal.signal(number, handler)
 
 
 def _integrate_plain(kn, system, extra, y0, times, rtol, atol, bar):

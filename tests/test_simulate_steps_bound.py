@@ -21,6 +21,7 @@ import scipy.linalg
 
 import rotordyn_modal as rdm
 from rotordyn_modal.linear_system import speed_linear_form
+from rotordyn_modal.simulation._system import system_arrays
 from test_large_machine_cli import chained_gear_toml
 
 simulate_module = importlib.import_module("rotordyn_modal.simulation.simulate")
@@ -38,8 +39,9 @@ def model():
     return built
 
 
-def _record(monkeypatch, name):
-    calls = []
+def _record(monkeypatch, name, calls=None):
+    """``scipy.linalg.<name>``'s calls, recorded in ``calls`` (a new list by default), which is returned."""
+    calls = [] if calls is None else calls
     original = getattr(scipy.linalg, name)
 
     def recorded(*args, **kwargs):
@@ -50,10 +52,13 @@ def _record(monkeypatch, name):
     return calls
 
 
-def test_a_large_machine_within_the_limit_runs_without_an_eigenvector_solve(model, monkeypatch):
-    calls = _record(monkeypatch, "eig")
+def test_a_large_machine_within_the_limit_with_its_output_times_given_runs_without_a_dense_eigen_solution(
+        model, monkeypatch):
+    calls = []
+    for name in ("eig", "eigvals"):
+        calls = _record(monkeypatch, name, calls)
     result = rdm.simulate(model, 1e-3, speed=SPEED, samples=3, impulse="hammer-z", impulse_size=0.01)
-    assert calls == []           # main: ['eig'] (the impulse's fastest excited mode, every eigenvector)
+    assert calls == []   # main: ['eigvals', 'eig'] (the natural frequencies; the impulse's fastest excited mode)
     assert len(result.time) == 3 and np.isfinite(result.states).all()
 
 
@@ -73,15 +78,23 @@ def test_the_bound_is_the_largest_root_of_the_dense_solution_raised_by_at_most_t
     assert simulate_module._most_steps(small, SPEED, duration, None) == 0.0
 
 
+@pytest.mark.parametrize("final", [None, 300.0])
+def test_the_rate_bound_is_above_the_fastest_rate_by_at_most_the_margin(small, final):
+    exact = simulate_module._fastest_rate(small, SPEED, final)
+    bound = simulate_module._most_rate(small, SPEED, final)
+    largest = np.abs(scipy.linalg.eigvals(speed_linear_form(small).at(0.0))).max()
+    assert exact <= bound <= 1.06 * max(largest, SPEED * max(small.speed_ratios.values()), abs(final or 0))
+
+
 def _checked(small, monkeypatch, bound):
     """The check before compiling, with ``_most_steps`` giving ``bound``: the steps checked with."""
-    from rotordyn_modal.simulation._system import system_arrays
-
     monkeypatch.setattr(simulate_module, "_most_steps", lambda *args: bound)
     duration, samples = 1e-3, 3
-    steps = simulate_module._Steps(small, SPEED, duration, "hammer-z", bounded=True)
-    simulate_module._check_cpu_time_with(steps, simulate_module.kernels("auto"), system_arrays(small), (0, 0.0, 0.0, duration),
-                                         duration, 1e4, samples)
+    steps = simulate_module._Bounded(lambda: simulate_module._fewest_steps(small, SPEED, duration, "hammer-z"),
+                                     simulate_module._most_steps(small, SPEED, duration, "hammer-z"))
+    kn, system = simulate_module.kernels("auto"), system_arrays(small)
+    simulate_module._checked_with(lambda: simulate_module._check_cpu_time(
+        kn, system, (0, 0.0, 0.0, duration), duration, 1e4, samples, steps.value), steps)
     return steps
 
 

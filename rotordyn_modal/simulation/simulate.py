@@ -152,11 +152,18 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     extra = (mode, accel, 0.0, duration)
     if large:
         _check_before_eigenvalues(kn, system, extra, duration, rate, samples, speed)
-        rate = _fastest_rate(model, speed, final_speed)
-        _check_duration(duration, rate)
-    count = samples or _default_samples(rate, duration)
-    steps = _Steps(model, speed, duration, impulse, bounded=large)
-    _check_cpu_time_with(steps, kn, system, extra, duration, rate, count)   # before compiling anything
+        # the output times given, the rate only enters the checks: its bound serves where they pass
+        rate = _Bounded(lambda: _fastest_rate(model, speed, final_speed, announce=True),
+                        _most_rate(model, speed, final_speed) if samples else None)
+        _checked_with(lambda: _check_duration(duration, rate.value), rate)
+    else:
+        exact_rate = rate
+        rate = _Bounded(lambda: exact_rate, None)
+    count = samples or _default_samples(rate.value, duration)
+    steps = _Bounded(lambda: _fewest_steps(model, speed, duration, impulse),
+                     _most_steps(model, speed, duration, impulse) if large else None)
+    _checked_with(lambda: _check_cpu_time(kn, system, extra, duration, rate.value, count, steps.value),
+                  rate, steps)                                          # before compiling anything
     announce_compilation(kn)
     n = system.n_dof
     y0 = np.zeros(2 * n)
@@ -168,7 +175,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     if impulse is not None:
         y0[n:] += _impulse_velocity(model, system, kn, y0, impulse, impulse_size, mode)
     times = np.linspace(0.0, duration, count)
-    _check_cpu_time_with(steps, kn, system, extra, duration, rate, count, y0=y0)     # before the integration
+    _checked_with(lambda: _check_cpu_time(kn, system, extra, duration, rate.value, count, steps.value, y0=y0),
+                  rate, steps)                                          # before the integration
     states = _integrate(kn, system, extra, y0, times, rtol, atol, progress, model)
     if drive == "free":
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
@@ -285,46 +293,48 @@ def _fewest_steps(model, speed, duration, impulse) -> float:
     return float(duration * np.abs(roots[excited]).max() / _STEP_REACH)
 
 
-class _Steps:
-    """The integrator's fewest steps for the CPU check (:func:`_fewest_steps`), made only where needed.
+class _Bounded:
+    """A number the CPU checks read, whose exact value costs eigen-solutions: on a large machine its
+    upper bound (ARPACK's largest ``|lambda|``, 0.3 s at 2,006 coordinates where the dense
+    eigen-solutions took minutes) is checked first. The checks refuse only more than the bound,
+    so one the bound passes, the exact value passes too; only where the bound is refused is the
+    exact value made (and the check made again with it, whose line is the one shown:
+    :func:`_checked_with`).
 
-    On a large machine (``bounded``) an upper bound comes first: ARPACK's largest ``|lambda|`` of
-    the same state matrix (:func:`_most_steps`), 0.3 s at 2,006 coordinates where the eigenvectors
-    and the solve for the impulse's shares took minutes. The CPU estimate grows with the steps,
-    so a check the bound passes, the exact count passes too; only where the bound is refused is
-    the exact count made (and the check made again with it, whose line is the one shown).
+    Parameters
+    ----------
+    exact : callable
+        Makes the exact value (no arguments).
+    bound : float or None
+        Its upper bound; None: the exact value is made at once.
 
     Attributes
     ----------
     value : float
-        The steps to check with now: the bound, or the exact count once made.
-    exact : bool
-        Whether ``value`` is :func:`_fewest_steps`'s count.
+        The bound, or the exact value once made.
     """
 
-    def __init__(self, model, speed, duration, impulse, bounded):
-        self._arguments = (model, speed, duration, impulse)
-        bound = _most_steps(*self._arguments) if bounded else None
-        self.exact = bound is None
-        self.value = _fewest_steps(*self._arguments) if self.exact else bound
+    def __init__(self, exact, bound):
+        self._exact, self.exact = exact, bound is None
+        self.value = exact() if self.exact else bound
 
     def make_exact(self) -> bool:
-        """Replace the bound by the exact count; False where it was exact already."""
+        """Replace the bound by the exact value; False where it was exact already."""
         if self.exact:
             return False
-        self.value, self.exact = _fewest_steps(*self._arguments), True
+        self.value, self.exact = self._exact(), True
         return True
 
 
-def _check_cpu_time_with(steps, kn, system, extra, duration, rate, samples, y0=None):
-    """:func:`_check_cpu_time` with ``steps`` (a :class:`_Steps`): refused on its bound, checked
-    again with the exact count, which alone may refuse."""
+def _checked_with(check, *numbers):
+    """Call ``check`` (which reads the :class:`_Bounded` ``numbers``' values); where it refuses
+    (InputError) on a bound, make every number exact and call it again, which alone may refuse."""
     try:
-        _check_cpu_time(kn, system, extra, duration, rate, samples, steps.value, y0=y0)
+        check()
     except InputError:
-        if not steps.make_exact():
+        if not any([number.make_exact() for number in numbers]):
             raise
-        _check_cpu_time(kn, system, extra, duration, rate, samples, steps.value, y0=y0)
+        check()
 
 
 #: ARPACK's tolerance for the largest ``|lambda|`` (:func:`_most_steps`) and the factor it is
@@ -340,8 +350,6 @@ def _most_steps(model, speed, duration, impulse):
     where ARPACK fails (the exact count is then made)."""
     if impulse is None:
         return 0.0
-    from scipy.sparse.linalg import eigs
-
     from ..analysis._cost import limit_seconds, long_work_is_allowed
     from ..assembly import _select
     from ..linear_system import speed_linear_form
@@ -350,14 +358,47 @@ def _most_steps(model, speed, duration, impulse):
     if long_work_is_allowed() or not np.isfinite(limit_seconds()):
         return 0.0
     try:
-        matrix = speed_linear_form(model).at(float(speed))
-        largest = eigs(matrix, k=1, which="LM", tol=_ARPACK_TOLERANCE, return_eigenvectors=False)
-        fastest = float(np.abs(largest).max())
-    except Exception:   # noqa: BLE001 - no convergence: the exact count is made
-        return None
-    if not np.isfinite(fastest):
+        fastest = _largest_modulus(speed_linear_form(model).at(float(speed)))
+    except Exception:   # noqa: BLE001 - ARPACK's failure, or the model's that _fewest_steps takes as 0
         return None
     return duration * fastest * _ARPACK_MARGIN / _STEP_REACH
+
+
+def _most_rate(model, speed, final_speed):
+    """An upper bound of :func:`_fastest_rate` [rad/s] (the same arguments): at the same speed, the
+    largest ``|lambda|`` (ARPACK, times :data:`_ARPACK_MARGIN`) for the largest ``|Im lambda|``.
+    None where ARPACK fails (the exact rate is then made)."""
+    from ..analysis import _arguments
+    from ..linear_system import speed_linear_form
+
+    fastest_spin = _fastest_spin(model, speed, final_speed)
+    for at in [v for v in (0.0, speed, final_speed) if v is not None]:
+        try:
+            matrix = speed_linear_form(model).at(_arguments.speed(at))
+            return max(fastest_spin, _largest_modulus(matrix) * _ARPACK_MARGIN)
+        except (ModelError, _NoBound):
+            return None                  # the exact rate: the model's fault refused, or the dense solution
+        except Exception:  # noqa: BLE001 - as _fastest_rate: a speed the model cannot take
+            continue
+    return fastest_spin
+
+
+class _NoBound(RuntimeError):
+    """ARPACK did not give the largest root."""
+
+
+def _largest_modulus(matrix) -> float:
+    """The largest ``|lambda|`` of ``matrix`` (n, n) (ARPACK, ``k = 1``, tolerance
+    :data:`_ARPACK_TOLERANCE`); :class:`_NoBound` where ARPACK fails."""
+    from scipy.sparse.linalg import eigs
+
+    try:
+        largest = float(np.abs(eigs(matrix, k=1, which="LM", tol=_ARPACK_TOLERANCE, return_eigenvectors=False)).max())
+    except Exception as error:  # noqa: BLE001 - no convergence, a matrix too small for ARPACK
+        raise _NoBound(str(error)) from None
+    if not np.isfinite(largest):
+        raise _NoBound("not finite")
+    return largest
 
 
 def _check_cpu_time(kn, system, extra, duration, rate, samples, steps=0.0, y0=None):
@@ -713,12 +754,18 @@ def _fastest_spin(model, speed, final_speed) -> float:
     return max(abs(speed), abs(final_speed or 0.0)) * max(abs(r) for r in model.speed_ratios.values())
 
 
-def _fastest_rate(model, speed, final_speed):
+def _fastest_rate(model, speed, final_speed, announce=False):
     """The fastest of the rotors' spins and the natural frequencies at rest [rad/s].
 
     The natural frequencies are the state matrix's eigenvalues alone (the largest ``|Im lambda|``,
     as ``modal``'s): no shapes, whirl forms or repeated roots' resolution, which took over 5 min
-    of CPU time at 2,006 coordinates (500 geared rotors) before the CPU estimate was made."""
+    of CPU time at 2,006 coordinates (500 geared rotors) before the CPU estimate was made.
+    ``announce``: say so on stderr first where that takes long (:data:`_ANNOUNCED_DOF` coordinates
+    or more: about a minute of CPU time at 2,006)."""
+    if announce and model.dofs.n >= _ANNOUNCED_DOF:
+        import sys
+
+        print(EIGENVALUE_NOTICE.format(2 * model.dofs.n), file=sys.stderr, flush=True)
     fastest_spin = _fastest_spin(model, speed, final_speed)
     natural = 0.0
     for at in [v for v in (0.0, speed, final_speed) if v is not None]:  # tables may not reach 0
@@ -730,6 +777,14 @@ def _fastest_rate(model, speed, final_speed):
         except Exception:  # noqa: BLE001 - a model without restoring force still simulates
             continue
     return max(fastest_spin, natural)
+
+
+#: coordinates from which the natural frequencies that set the default output times are
+#: announced (:data:`EIGENVALUE_NOTICE`)
+_ANNOUNCED_DOF = 1000
+#: the line on stderr before the natural frequencies of a large machine (the number of states)
+EIGENVALUE_NOTICE = ("simulate: the natural frequencies of the {:,} states of the linear model, for the default "
+                     "output times (minutes at this size; --samples spares them)...")
 
 
 def _largest_frequency(model, speed) -> float:

@@ -88,3 +88,40 @@ def test_a_signal_stops_the_integration_within_seconds_and_leaves_no_file(signum
     assert err.strip().splitlines() == [f"rotordyn-modal simulate: {line}"]
     assert os.listdir(tmp_path) == []
     assert waited < PROMPT
+
+
+#: a program's own time-out in Python: SIGALRM's handler raises, 1 s into a long run
+ALARM = """
+import signal, sys, time
+import rotordyn_modal as rdm
+
+class Late(Exception):
+    pass
+
+def late(signum, frame):
+    raise Late()
+
+model = rdm.load_model(sys.argv[1])
+rdm.simulate(model, 0.01, 157.0, samples=3)          # compiled (or loaded) first
+signal.signal(signal.SIGALRM, late)
+start = time.monotonic()
+signal.alarm(1)
+try:
+    with rdm.long_work_allowed():
+        rdm.simulate(model, 500.0, 157.0, samples=3)
+except Late:
+    print(f"{time.monotonic() - start:.3f}")
+"""
+
+
+def test_a_programs_own_raising_handler_is_called_at_the_end_of_a_step(tmp_path):
+    """Any Python handler, not only those of SIGTERM, SIGHUP and SIGINT: one raising inside the
+    integrator's step callback would leave DOP853 crawling on for ever (scipy 1.17)."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    try:
+        done = subprocess.run([sys.executable, "-c", ALARM, str(EXAMPLE)], capture_output=True, text=True,
+                              env=env, cwd=tmp_path, timeout=60)
+    except subprocess.TimeoutExpired:
+        pytest.fail("the alarm's exception did not end the run within 60 s")
+    assert done.returncode == 0, done.stderr
+    assert 1.0 <= float(done.stdout) < 1.0 + PROMPT

@@ -620,22 +620,19 @@ def _output_times(solver, times, y0, bar, caught):
     return states
 
 
-#: signals whose Python handlers (Ctrl-C's KeyboardInterrupt, the command line's ``Terminated``)
-#: are held back inside DOP853 until the end of its step
-_STOPPING = ("SIGINT", "SIGTERM", "SIGHUP")
-
-
 @contextlib.contextmanager
 def _signals_noted():
-    """Inside: SIGINT, SIGTERM and SIGHUP, where a Python handler is set for them, are only noted
-    in the yielded list, with that handler, as ``(signum, frame, handler)``; on leaving, the
-    handlers are back. Signals left to their default action (the process ends at once) or ignored
-    are not touched, nor is anything outside the main thread.
+    """Inside: every signal with a Python handler (Ctrl-C's ``KeyboardInterrupt``, the command
+    line's SIGTERM and SIGHUP, a program's own, such as a SIGALRM time-out) is only noted in the
+    yielded list, with that handler, as ``(signum, frame, handler)``; on leaving, the handlers are
+    back. Signals left to their default action (SIGTERM outside the command line: the process
+    ends at once) or ignored are not touched, nor is anything outside the main thread.
 
     Python runs a signal's handler only between its own instructions: inside scipy's DOP853 calling
-    the compiled right-hand side none runs, and on 500 geared rotors ``timeout``'s SIGTERM went
+    the compiled right-hand side none runs, and on 100 geared rotors ``timeout``'s SIGTERM went
     unheeded for minutes. The integrator's step callback runs the handler that notes the signal;
-    :func:`_output_times` then calls the handler noted."""
+    :func:`_output_times` then calls the handler noted. Every Python handler is held so, not only
+    those that stop the run: one raising inside the step callback would leave DOP853 crawling."""
     import signal
     import threading
 
@@ -645,10 +642,12 @@ def _signals_noted():
         caught.append((signum, frame, previous[signum]))
 
     if threading.current_thread() is threading.main_thread():
-        for name in _STOPPING:
-            number = getattr(signal, name, None)
-            if number is not None and callable(signal.getsignal(number)):
-                previous[number] = signal.signal(number, note)
+        for number in signal.valid_signals():
+            try:
+                if callable(signal.getsignal(number)):
+                    previous[number] = signal.signal(number, note)
+            except (OSError, ValueError):    # a signal Python may not handle
+                continue
     try:
         yield caught
     finally:

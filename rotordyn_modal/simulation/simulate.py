@@ -760,7 +760,7 @@ def _fastest_rate(model, speed, final_speed, announce=False):
     as ``modal``'s): no shapes, whirl forms or repeated roots' resolution, which took over 5 min
     of CPU time at 2,006 coordinates (500 geared rotors) before the CPU estimate was made.
     ``announce``: say so on stderr first where that takes long (:data:`_ANNOUNCED_DOF` coordinates
-    or more: about a minute of CPU time at 2,006)."""
+    or more: 22 s of CPU time at 2,006, more than 100 s on a loaded machine)."""
     if announce and model.dofs.n >= _ANNOUNCED_DOF:
         import sys
 
@@ -783,7 +783,7 @@ def _fastest_rate(model, speed, final_speed, announce=False):
 _ANNOUNCED_DOF = 1000
 #: the line on stderr before the natural frequencies of a large machine (the number of states)
 EIGENVALUE_NOTICE = ("simulate: the natural frequencies of the {:,} states of the linear model, for the default "
-                     "output times (minutes at this size; --samples spares them)...")
+                     "output times (seconds to minutes at this size; --samples spares them)...")
 
 
 def _largest_frequency(model, speed) -> float:

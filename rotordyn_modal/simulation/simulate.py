@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 
 from ..errors import InputError, ModelError
@@ -139,7 +141,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
             raise InputError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
         return _simulate_flexible(model, duration, speed, drive, final_speed, initial, impulse, impulse_size,
                                   samples, rtol, atol, unbalance_phases_deg, modes_below, progress, backend)
-    rate = _fastest_rate(model, speed, final_speed)
+    large = model.dofs.n >= _SMALL_DOF             # the eigen-solutions below cost minutes
+    rate = _fastest_spin(model, speed, final_speed) if large else _fastest_rate(model, speed, final_speed)
     _check_duration(duration, rate)                # before any work on a run that would not end
     system = system_arrays(model, unbalance_phases_deg)
     mode, accel = _drive(drive, speed, final_speed, duration)
@@ -147,9 +150,20 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     check_table_speeds(model, span, "the simulation's speeds " + " .. ".join(f"{v:.6g}" for v in span) + " rad/s")
     kn = kernels(backend)
     extra = (mode, accel, 0.0, duration)
-    count = samples or _default_samples(rate, duration)
-    steps = _fewest_steps(model, speed, duration, impulse)
-    _check_cpu_time(kn, system, extra, duration, rate, count, steps)   # before compiling anything
+    if large:
+        _check_before_eigenvalues(kn, system, extra, duration, rate, samples, speed)
+        # the output times given, the rate only enters the checks: its bound serves where they pass
+        rate = _Bounded(lambda: _fastest_rate(model, speed, final_speed, announce=True),
+                        _most_rate(model, speed, final_speed) if samples else None)
+        _checked_with(lambda: _check_duration(duration, rate.value), rate)
+    else:
+        exact_rate = rate
+        rate = _Bounded(lambda: exact_rate, None)
+    count = samples or _default_samples(rate.value, duration)
+    steps = _Bounded(lambda: _fewest_steps(model, speed, duration, impulse),
+                     _most_steps(model, speed, duration, impulse) if large else None)
+    _checked_with(lambda: _check_cpu_time(kn, system, extra, duration, rate.value, count, steps.value),
+                  rate, steps)                                          # before compiling anything
     announce_compilation(kn)
     n = system.n_dof
     y0 = np.zeros(2 * n)
@@ -161,7 +175,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     if impulse is not None:
         y0[n:] += _impulse_velocity(model, system, kn, y0, impulse, impulse_size, mode)
     times = np.linspace(0.0, duration, count)
-    _check_cpu_time(kn, system, extra, duration, rate, count, steps, y0=y0)     # before the integration
+    _checked_with(lambda: _check_cpu_time(kn, system, extra, duration, rate.value, count, steps.value, y0=y0),
+                  rate, steps)                                          # before the integration
     states = _integrate(kn, system, extra, y0, times, rtol, atol, progress, model)
     if drive == "free":
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
@@ -210,6 +225,38 @@ _TIMED_CALLS = 200
 _TIMED_SAMPLES = 20
 
 
+#: below this many coordinates one compiled right-hand side evaluation costs less than 10 ms
+#: (its Cholesky solve grows as n^3: 1.15 ms at 206 coordinates, 1.15 s at 2,006, 500 geared
+#: rotors), the bound under which :func:`_check_cpu_time` skips timing a short run
+_SMALL_DOF = 300
+
+
+def _check_before_eigenvalues(kn, system, extra, duration, spin, samples, speed):
+    """Refuse, before any eigen-solution, a run on a large machine (:data:`_SMALL_DOF` coordinates
+    or more) whose output times alone surely exceed the CPU limit.
+
+    The fastest motion is at least the fastest spin ``spin`` [rad/s], so the default output times
+    are at least those of ``spin`` (``samples`` given: those); the integrator's steps are not
+    counted (0). The check without compilation (:func:`_check_cpu_time` with ``y0`` None) is made
+    first; then the compiled right-hand side (whose evaluations may cost more than 10 ms at this
+    size) is compiled, its notice first, and timed at the rest state spinning at ``speed``
+    [rad/s]. At 2,006 coordinates (500 geared rotors) this refuses in seconds a run that
+    the eigen-solutions of the state matrix kept silent for 4 min before refusing (or, before the
+    evaluations were timed there, letting a run of about 3 h through)."""
+    from ..analysis._cost import long_work_is_allowed
+
+    if long_work_is_allowed():
+        return
+    count = samples or _default_samples(spin, duration)
+    _check_cpu_time(kn, system, extra, duration, spin, count)
+    if getattr(kn, "rhs_flat", None) is None:
+        return                                                 # the numpy path was timed whole above
+    announce_compilation(kn)
+    rest = np.zeros(2 * system.n_dof)
+    rest[-1] = speed
+    _check_cpu_time(kn, system, extra, duration, spin, count, y0=rest)
+
+
 def _fewest_steps(model, speed, duration, impulse) -> float:
     """A low bound of DOP853's steps over ``duration`` [s]: the fastest mode an impulse through
     ``impulse`` (an excitation's name, or None: no bound, 0) excites, of the linear model at
@@ -246,6 +293,114 @@ def _fewest_steps(model, speed, duration, impulse) -> float:
     return float(duration * np.abs(roots[excited]).max() / _STEP_REACH)
 
 
+class _Bounded:
+    """A number the CPU checks read, whose exact value costs eigen-solutions: on a large machine its
+    upper bound (ARPACK's largest ``|lambda|``, 0.3 s at 2,006 coordinates where the dense
+    eigen-solutions took minutes) is checked first. The checks refuse only more than the bound,
+    so one the bound passes, the exact value passes too; only where the bound is refused is the
+    exact value made (and the check made again with it, whose line is the one shown:
+    :func:`_checked_with`).
+
+    Parameters
+    ----------
+    exact : callable
+        Makes the exact value (no arguments).
+    bound : float or None
+        Its upper bound; None: the exact value is made at once.
+
+    Attributes
+    ----------
+    value : float
+        The bound, or the exact value once made.
+    """
+
+    def __init__(self, exact, bound):
+        self._exact, self.exact = exact, bound is None
+        self.value = exact() if self.exact else bound
+
+    def make_exact(self) -> bool:
+        """Replace the bound by the exact value; False where it was exact already."""
+        if self.exact:
+            return False
+        self.value, self.exact = self._exact(), True
+        return True
+
+
+def _checked_with(check, *numbers):
+    """Call ``check`` (which reads the :class:`_Bounded` ``numbers``' values); where it refuses
+    (InputError) on a bound, make every number exact and call it again, which alone may refuse."""
+    try:
+        check()
+    except InputError:
+        if not any([number.make_exact() for number in numbers]):
+            raise
+        check()
+
+
+#: ARPACK's tolerance for the largest ``|lambda|`` (:func:`_most_steps`) and the factor it is
+#: raised by, so that it bounds the true value (a Ritz value converges from below: 4099.89698991
+#: at tolerance 1e-6 for 4099.89699095 at 2,006 coordinates; 1863.84212415 for 1863.84213846 at 406)
+_ARPACK_TOLERANCE, _ARPACK_MARGIN = 1e-8, 1.05
+
+
+def _most_steps(model, speed, duration, impulse):
+    """An upper bound of :func:`_fewest_steps` (the same arguments): the fastest root of the linear
+    model at ``speed`` [rad/s], ``|lambda|`` largest (ARPACK, times :data:`_ARPACK_MARGIN`), as if
+    the impulse excited it. 0 where :func:`_fewest_steps` is 0 without an eigen-solution; None
+    where ARPACK fails (the exact count is then made)."""
+    if impulse is None:
+        return 0.0
+    from ..analysis._cost import limit_seconds, long_work_is_allowed
+    from ..assembly import _select
+    from ..linear_system import speed_linear_form
+
+    _select(model.excitations, [impulse], "excitation")      # an unknown name: the line of the impulse's own check
+    if long_work_is_allowed() or not np.isfinite(limit_seconds()):
+        return 0.0
+    try:
+        fastest = _largest_modulus(speed_linear_form(model).at(float(speed)))
+    except Exception:   # noqa: BLE001 - ARPACK's failure, or the model's that _fewest_steps takes as 0
+        return None
+    return duration * fastest * _ARPACK_MARGIN / _STEP_REACH
+
+
+def _most_rate(model, speed, final_speed):
+    """An upper bound of :func:`_fastest_rate` [rad/s] (the same arguments): at the same speed, the
+    largest ``|lambda|`` (ARPACK, times :data:`_ARPACK_MARGIN`) for the largest ``|Im lambda|``.
+    None where ARPACK fails (the exact rate is then made)."""
+    from ..analysis import _arguments
+    from ..linear_system import speed_linear_form
+
+    fastest_spin = _fastest_spin(model, speed, final_speed)
+    for at in [v for v in (0.0, speed, final_speed) if v is not None]:
+        try:
+            matrix = speed_linear_form(model).at(_arguments.speed(at))
+            return max(fastest_spin, _largest_modulus(matrix) * _ARPACK_MARGIN)
+        except (ModelError, _NoBound):
+            return None                  # the exact rate: the model's fault refused, or the dense solution
+        except Exception:  # noqa: BLE001 - as _fastest_rate: a speed the model cannot take
+            continue
+    return fastest_spin
+
+
+class _NoBound(RuntimeError):
+    """ARPACK did not give the largest root."""
+
+
+def _largest_modulus(matrix) -> float:
+    """The largest ``|lambda|`` of ``matrix`` (n, n) (ARPACK, ``k = 1``, tolerance
+    :data:`_ARPACK_TOLERANCE`); :class:`_NoBound` where ARPACK fails."""
+    from scipy.sparse.linalg import eigs
+
+    try:
+        largest = float(np.abs(eigs(matrix, k=1, which="LM", tol=_ARPACK_TOLERANCE, return_eigenvectors=False)).max())
+    except Exception as error:  # noqa: BLE001 - no convergence, a matrix too small for ARPACK
+        raise _NoBound(str(error)) from None
+    if not np.isfinite(largest):
+        raise _NoBound("not finite")
+    return largest
+
+
 def _check_cpu_time(kn, system, extra, duration, rate, samples, steps=0.0, y0=None):
     """Refuse, before the work, a run estimated to take more CPU time than the limit of every
     analysis (``analysis._cost``: ``ROTORDYN_MODAL_MAX_CPU_MINUTES``, ``--allow-long``).
@@ -277,8 +432,10 @@ def _check_cpu_time(kn, system, extra, duration, rate, samples, steps=0.0, y0=No
         evaluations = max(samples * _EVALUATIONS_PER_SAMPLE, _EVALUATIONS_PER_STEP * steps)
     else:
         evaluations = _EVALUATIONS_PER_STEP * max(steps, 1.0)
-    if (evaluations + samples) * 1e-2 <= limit or (y0 is not None and not compiled):   # short even at 10 ms each
+    if y0 is not None and not compiled:
         return
+    if (evaluations + samples) * 1e-2 <= limit and (y0 is None or system.n_dof < _SMALL_DOF):
+        return                                                  # short even at 10 ms each
     zeros = np.zeros(2 * system.n_dof)
     if compiled:
         from ._fast import pack
@@ -305,16 +462,22 @@ def _does_nothing(t, y, floats, ints):
 
 def _seconds_per_call(call, y, arguments) -> float:
     """CPU time of one ``call(0.0, y, *arguments)`` [s]: the best of three runs of
-    :data:`_TIMED_CALLS` calls, after one call (which compiles a numba kernel)."""
+    :data:`_TIMED_CALLS` calls, after one call (which compiles a numba kernel); of fewer where a
+    call costs more than 5 ms (runs of about 0.2 s, at least one call: 1.15 s a call at 2,006
+    coordinates would have taken 11 min to time)."""
     import time
 
     call(0.0, y, *arguments)
-    best = np.inf
-    for _ in range(3):
+    start = time.process_time()
+    call(0.0, y, *arguments)
+    once = time.process_time() - start
+    count = _TIMED_CALLS if once * _TIMED_CALLS <= 1.0 else max(1, int(0.2 / once))
+    best = once if count == 1 else np.inf
+    for _ in range(3 if count > 1 else 2):
         start = time.process_time()
-        for _ in range(_TIMED_CALLS):
+        for _ in range(count):
             call(0.0, y, *arguments)
-        best = min(best, (time.process_time() - start) / _TIMED_CALLS)
+        best = min(best, (time.process_time() - start) / count)
     return best
 
 
@@ -399,21 +562,55 @@ def _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar):
 
     from ._fast import pack
 
-    import warnings
-
     arguments = pack(system, *extra)
     # compiled (or loaded from numba's cache) here, from Python, not on the first call from
     # inside the Fortran integrator's callback (docs/DEVELOPING.md, "numba's cache")
     kn.rhs_flat(times[0], y0, *arguments)
-    solver = ode(kn.rhs_flat).set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
-    solver.set_initial_value(y0, times[0]).set_f_params(*arguments)
+    with _signals_noted() as caught:
+        solver = ode(kn.rhs_flat).set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
+        _stop_at_a_step_when(solver, caught)
+        solver.set_initial_value(y0, times[0]).set_f_params(*arguments)
+        return _output_times(solver, times, y0, bar, caught)
+
+
+def _stop_at_a_step_when(solver, caught):
+    """Make the DOP853 ``solver`` (scipy's ``ode``, before its initial value is set) stop at the end
+    of its step in progress once the list ``caught`` is not empty.
+
+    The step callback (``solout``) is the only Python code that runs while DOP853 drives the compiled
+    right-hand side, so a signal's Python handler runs there, at the end of a step. It must not
+    raise: an exception inside it does not stop scipy 1.17's DOP853, which then crawls on with
+    steps of 1e-10 s for ever. It takes any arguments: scipy 1.17 passes the right-hand side's
+    ``f_params`` to it too, and its own wrapper, which takes ``(t, y)`` only, raises TypeError
+    (sim27k's attempt hung on that). ``iout = 1`` only calls it: the steps and the results are the
+    same as without it."""
+    def step(*_):
+        return -1 if caught else 0
+
+    solver.set_solout(step)
+    solver._integrator._solout = step   # read by reset(), from set_initial_value
+
+
+def _output_times(solver, times, y0, bar, caught):
+    """The states at ``times`` (shape (len(times), len(y0))) from the DOP853 ``solver``. A signal
+    noted in ``caught`` (``[(signum, frame, handler)]``) stops it at the end of its step, and the
+    handler is called then (the command line's raises; where it returns, the integration goes on
+    from there)."""
+    import warnings
+
     states = np.empty((len(times), len(y0)))
     states[0] = y0
     for i in range(1, len(times)):
         last = solver.y.copy()
-        with warnings.catch_warnings():   # a failure is raised below with its return code
-            warnings.simplefilter("ignore", UserWarning)
-            states[i] = solver.integrate(times[i])
+        while True:
+            with warnings.catch_warnings():   # a failure is raised below with its return code
+                warnings.simplefilter("ignore", UserWarning)
+                states[i] = solver.integrate(times[i])
+            if not caught:
+                break
+            signum, frame, handler = caught.pop(0)
+            caught.clear()
+            handler(signum, frame)
         if not solver.successful() or not np.all(np.isfinite(states[i])):
             code = solver.get_return_code()
             reason = {-3: ", step size too small", -4: ", the problem became stiff"}.get(code, "")
@@ -421,6 +618,42 @@ def _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar):
         if bar is not None:
             bar.update(times[i] - times[i - 1])
     return states
+
+
+@contextlib.contextmanager
+def _signals_noted():
+    """Inside: every signal with a Python handler (Ctrl-C's ``KeyboardInterrupt``, the command
+    line's SIGTERM and SIGHUP, a program's own, such as a SIGALRM time-out) is only noted in the
+    yielded list, with that handler, as ``(signum, frame, handler)``; on leaving, the handlers are
+    back. Signals left to their default action (SIGTERM outside the command line: the process
+    ends at once) or ignored are not touched, nor is anything outside the main thread.
+
+    Python runs a signal's handler only between its own instructions: inside scipy's DOP853 calling
+    the compiled right-hand side none runs, and on 100 geared rotors ``timeout``'s SIGTERM went
+    unheeded for minutes. The integrator's step callback runs the handler that notes the signal;
+    :func:`_output_times` then calls the handler noted. Every Python handler is held so, not only
+    those that stop the run: one raising inside the step callback would leave DOP853 crawling."""
+    import signal
+    import threading
+
+    caught, previous = [], {}
+
+    def note(signum, frame):
+        caught.append((signum, frame, previous[signum]))
+
+    if threading.current_thread() is threading.main_thread():
+        for number in signal.valid_signals():
+            try:
+                if callable(signal.getsignal(number)):
+                    previous[number] = signal.signal(number, note)
+            except (OSError, ValueError):    # a signal Python may not handle
+                continue
+    try:
+        yield caught
+    finally:
+        for number, handler in previous.items():
+            if signal.getsignal(number) is note:
+                signal.signal(number, handler)
 
 
 def _integrate_plain(kn, system, extra, y0, times, rtol, atol, bar):
@@ -515,13 +748,24 @@ def _impulse_velocity(model, system, kn, y0, name, size, mode):
 _FASTEST_JUMP = 1e4
 
 
-def _fastest_rate(model, speed, final_speed):
+def _fastest_spin(model, speed, final_speed) -> float:
+    """The fastest rotor's spin [rad/s] at the reference speeds ``speed`` and ``final_speed``."""
+    return max(abs(speed), abs(final_speed or 0.0)) * max(abs(r) for r in model.speed_ratios.values())
+
+
+def _fastest_rate(model, speed, final_speed, announce=False):
     """The fastest of the rotors' spins and the natural frequencies at rest [rad/s].
 
     The natural frequencies are the state matrix's eigenvalues alone (the largest ``|Im lambda|``,
     as ``modal``'s): no shapes, whirl forms or repeated roots' resolution, which took over 5 min
-    of CPU time at 2,006 coordinates (500 geared rotors) before the CPU estimate was made."""
-    fastest_spin = max(abs(speed), abs(final_speed or 0.0)) * max(abs(r) for r in model.speed_ratios.values())
+    of CPU time at 2,006 coordinates (500 geared rotors) before the CPU estimate was made.
+    ``announce``: say so on stderr first where that takes long (:data:`_ANNOUNCED_DOF` coordinates
+    or more: 22 s of CPU time at 2,006, more than 100 s on a loaded machine)."""
+    if announce and model.dofs.n >= _ANNOUNCED_DOF:
+        import sys
+
+        print(EIGENVALUE_NOTICE.format(2 * model.dofs.n), file=sys.stderr, flush=True)
+    fastest_spin = _fastest_spin(model, speed, final_speed)
     natural = 0.0
     for at in [v for v in (0.0, speed, final_speed) if v is not None]:  # tables may not reach 0
         try:
@@ -532,6 +776,14 @@ def _fastest_rate(model, speed, final_speed):
         except Exception:  # noqa: BLE001 - a model without restoring force still simulates
             continue
     return max(fastest_spin, natural)
+
+
+#: coordinates from which the natural frequencies that set the default output times are
+#: announced (:data:`EIGENVALUE_NOTICE`)
+_ANNOUNCED_DOF = 1000
+#: the line on stderr before the natural frequencies of a large machine (the number of states)
+EIGENVALUE_NOTICE = ("simulate: the natural frequencies of the {:,} states of the linear model, for the default "
+                     "output times (seconds to minutes at this size; --samples spares them)...")
 
 
 def _largest_frequency(model, speed) -> float:

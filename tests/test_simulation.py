@@ -258,6 +258,15 @@ def test_steady_unbalance_orbit_equals_the_linear_unbalance_response(gear_machin
     speed = rdm.rpm(3000.0)
     res = rdm.simulate(model, 1.2, speed, samples=12001, rtol=1e-10, atol=1e-14)
     assert_steady_harmonics_equal_the_linear_response(res, model, speed, after=0.7, rtol=1e-4)
+    # the order track's last window: the same amplitude and phase, also for the fan, geared at
+    # ratio -0.4 (its phase was the linear one's negative: fitted against its falling angle)
+    linear = rdm.unbalance_response(model, [speed])
+    for i, name in enumerate(linear.outputs):
+        for j, rotor in enumerate(linear.sources):
+            track = res.order_track(name, rotor=rotor)
+            tracked = track.amplitude[-1] * np.exp(1j * np.radians(track.phase_deg[-1]))
+            expected = linear.amplitude[i, j, 0] * np.exp(1j * np.radians(linear.phase_deg[i, j, 0]))
+            assert abs(tracked - expected) < 1e-3 * abs(expected), (name, rotor, tracked, expected)
 
 
 def test_free_floating_machine_tumbling_keeps_momenta_and_energy(gear_machine):

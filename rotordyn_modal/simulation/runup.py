@@ -23,8 +23,11 @@ class OrderTrack:
     amplitude : ndarray, shape (K,)
         Amplitude of the order, 0-peak [m] (the signal's units).
     phase_deg : ndarray, shape (K,)
-        Phase of the order relative to the rotor's angle [deg] (signal ~ A cos(k phi + phase));
-        NaN where the phase is unknown: the amplitude is below twice ``leakage_floor``.
+        Phase of the order relative to the angle the rotor has turned through [deg] (signal ~
+        A cos(k |phi| + phase), ``|phi|`` growing whichever way the rotor turns): the phase
+        ``unbalance_response`` gives, ``A cos(w t + phase)`` with ``w = |k r Omega|``, also for a
+        rotor turning against the reference (a geared fan at ratio -0.4); NaN where the phase is
+        unknown: the amplitude is below twice ``leakage_floor``.
     sensor, rotor : str
     order : float
     leakage_floor : ndarray, shape (K,), optional
@@ -154,6 +157,8 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=None) -> Orde
     moved = np.array([_fitted(signal[w], order * angles[w, index], order * angles[w][:, others], result.time[w], order)
                       for w in shifted], dtype=complex)
     speeds = np.array([np.trapezoid(result.drive_speed[w], result.time[w]) / np.ptp(result.time[w]) for w in windows])
+    values = _as_turned(values, windows, angles[:, index])
+    moved = _as_turned(moved, shifted, angles[:, index])
     middles = np.array([result.time[w].mean() for w in windows])
     neighbours = np.zeros((len(windows), len(others)))
     for k, j in enumerate(others):        # each other rotor's order through its own windows, at these times
@@ -171,6 +176,15 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=None) -> Orde
     return OrderTrack(speeds=speeds, amplitude=amplitude, phase_deg=phase, sensor=sensor,
                       rotor=result.rotor_names[index], order=float(order), leakage_floor=floors.reshape(-1),
                       unsettled=unsure)
+
+
+def _as_turned(values, windows, angle):
+    """The fitted ``c`` of ``A cos(k phi + arg c)`` (shape (K,), one a window) as the phase
+    against the angle turned through, ``A cos(k |phi| + phase)``: conjugated in the windows
+    where the rotor's angle ``phi`` falls (it turns against the positive spin direction), so
+    that the phase is the linear unbalance response's ``A cos(w t + phase)``, ``w > 0``."""
+    falling = np.array([angle[w][-1] < angle[w][0] for w in windows], dtype=bool)
+    return np.where(falling, np.conj(values), values) if len(windows) else values
 
 
 #: the share of a window's tracked amplitude by which the track over windows shifted by half a

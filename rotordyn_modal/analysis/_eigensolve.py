@@ -512,10 +512,11 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None) -> np
 
 def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None):
     """The roots of one speed whose round-off ``bound`` (:func:`pencil_round_off`) exceeds
-    :data:`INEXACT_LEVEL` and whose neighbour in frequency is closer than it, polished two at a
-    time on the quadratic pencil (:func:`._lowest_newton.pair_polished`: block Newton steps with
-    the residual's stiffness term summed exactly), in place; the others, every root of a
-    well-conditioned machine, untouched.
+    :data:`INEXACT_LEVEL`, polished in place on the quadratic pencil: those whose neighbour in
+    frequency is closer than it two at a time (:func:`._lowest_newton.pair_polished`: block Newton
+    steps with the residual's stiffness term summed exactly), the others one at a time
+    (:func:`._lowest_newton.root_polished`: the same steps for one root, its shape's phase kept);
+    every root of a well-conditioned machine untouched.
 
     Parameters
     ----------
@@ -530,14 +531,17 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
 
     Returns
     -------
-    ndarray, shape (m,): ``bound``, the polished pairs' the error the polish leaves
+    ndarray, shape (m,): ``bound``, the polished roots' the error the polish leaves (a root the
+    polish could not converge keeps its bound)
     """
-    from ._lowest_newton import pair_polished
-
     bound = np.array(bound, dtype=float)
     wanted = np.flatnonzero((bound > INEXACT_LEVEL) & (np.asarray(values).imag > 0))
-    if len(wanted) < 2:
+    if not len(wanted):
         return bound
+    from ._lowest_newton import pair_polished, root_polished
+
+    mass, damping, stiffness = (matrix.toarray() if hasattr(matrix, "toarray") else np.asarray(matrix)
+                                for matrix in (mass, damping, stiffness))
     order = wanted[np.argsort(values[wanted].imag)]
     done = set()
     for a, b in zip(order[:-1], order[1:]):
@@ -551,7 +555,14 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
             if forms is not None:
                 shapes[[a, b]] = resolve_repeated(values[[a, b]][None], shapes[[a, b]][None], forms,
                                                   None if variant is None else np.array([variant]), groups=False)[0]
+    for a in order:
+        if a in done:
+            continue
+        found = root_polished(mass, damping, stiffness, values[a], shapes[a])
+        if found is not None:
+            values[a], shapes[a], bound[a] = found
     return bound
+
 
 def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3):
     """One :class:`~rotordyn_modal.errors.ModelWarning` naming the speeds [rad/s] (N,) and the

@@ -414,6 +414,41 @@ def _exact_product(matrix, X):
             out[:, k] += unit * np.array([math.fsum(row) for row in terms], dtype=_EXTENDED)
     return out
 
+def _exact_sums(matrix, X):
+    """``matrix @ X`` (n, k) of a double matrix (n, n) and complex ``X`` (n, k), each entry within
+    ``eps`` of itself plus ``n eps^2`` of its terms' sum of magnitudes, rounded to complex: the
+    products exact (Dekker's splitting) and summed in pairs with their rounding errors kept
+    (``TwoSum`` in a tree, the errors added at the end), all in array operations (:func:`_exact_product`
+    sums each row with ``math.fsum``, exactly but a row at a time)."""
+    split = 134217729.0                                     # 2^27 + 1: Dekker's splitting of a double
+
+    def halves(a):
+        c = split * a
+        high = c - (c - a)
+        return high, a - high
+
+    A = np.asarray(matrix, dtype=float)
+    a_hi, a_lo = halves(A)
+    parts = np.concatenate([X.real, X.imag], axis=1)       # (n, 2k)
+    b_hi, b_lo = halves(parts)
+    p = A[:, :, None] * parts[None, :, :]                   # (n, n, 2k)
+    e = ((a_hi[:, :, None] * b_hi[None] - p) + a_hi[:, :, None] * b_lo[None] + a_lo[:, :, None] * b_hi[None]) \
+        + a_lo[:, :, None] * b_lo[None]
+    terms = np.concatenate([p, e], axis=1)                  # (n, 2n, 2k)
+    errors = []
+    while terms.shape[1] > 1:
+        if terms.shape[1] % 2:
+            terms = np.concatenate([terms, np.zeros_like(terms[:, :1])], axis=1)
+        a, b = terms[:, 0::2], terms[:, 1::2]
+        total = a + b
+        virtual = total - a
+        errors.append((a - (total - virtual)) + (b - virtual))
+        terms = total
+    out = terms[:, 0] + np.concatenate(errors, axis=1).sum(axis=1)
+    k = X.shape[1]
+    return out[:, :k] + 1j * out[:, k:]
+
+
 def _polish_part(pencils, parts, index, lam, x):
     """:func:`_polished`'s steps on some roots (P,), shapes (P, n); ``parts`` are M, C, G, K as CSR."""
     n = x.shape[1]

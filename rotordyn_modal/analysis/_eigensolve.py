@@ -461,7 +461,7 @@ def _extreme_whirl(basis, total, momentum):
 INEXACT_LEVEL = 1e-6
 
 
-def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None) -> np.ndarray:
+def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branches=None) -> np.ndarray:
     """How far double precision can move each root of a dense eigen-solve, relative [-]: the
     first-order change of the root under a change of every entry of the pencil
     ``M s^2 + D s + K`` by ``eps`` of itself, for the root's own shape,
@@ -485,6 +485,12 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None) -> np
         ``M``, ``D = C + Omega G`` (speed-dependent bearings' damping included) and ``K`` at the speed.
     noise : float, optional
         The solve's absolute round-off [1/s].
+    branches : (ndarray (b, n, n), ndarray (b,)), optional
+        Maxwell branches' stiffness ``K_t`` and times ``tau_t`` [s]: the pencil is then the rational
+        ``M s^2 + D s + K + sum_t K_t s tau_t / (1 + s tau_t)`` (the Schur complement of the state
+        matrix's linear pencil on the branches' own states), each term's size and derivative
+        counted as the others'; a root of the branches' own states (at a pole ``s = -1 / tau``,
+        or without displacement) is not estimated (0).
 
     Returns
     -------
@@ -501,16 +507,29 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None) -> np
     parts = np.concatenate([x.real, x.imag], axis=1)
     Mx, Dx = mass @ parts, damping @ parts
     Mx, Dx = Mx[:, :m] + 1j * Mx[:, m:], Dx[:, :m] + 1j * Dx[:, m:]
-    derivative = np.abs(np.einsum("im,im->m", x.conj(), 2.0 * s * Mx + Dx))
+    slope = np.einsum("im,im->m", x.conj(), 2.0 * s * Mx + Dx)
+    if branches is not None:
+        stiff, times = np.asarray(branches[0]), np.asarray(branches[1])
+        used = np.flatnonzero(np.abs(stiff).sum(axis=(0, 1)) + np.abs(stiff).sum(axis=(0, 2)))  # the stator's
+        stiff, xs, As = stiff[:, used][:, :, used], x[used], a[used]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            for K_t, tau in zip(stiff, times):
+                form = np.einsum("im,im->m", xs.conj(), K_t @ xs)
+                terms = terms + np.abs(s * tau / (1.0 + s * tau)) * np.einsum("im,im->m", As, np.abs(K_t) @ As)
+                slope = slope + tau / (1.0 + s * tau) ** 2 * form
+    derivative = np.abs(slope)
     with np.errstate(divide="ignore", invalid="ignore"):
         out = np.finfo(float).eps * terms / (size * derivative)
         if noise is not None:
             out = np.maximum(out, noise / size)
-    return np.where(size > 0, np.nan_to_num(out, nan=np.inf, posinf=np.inf), 0.0)
+    out = np.nan_to_num(out, nan=np.inf, posinf=np.inf)
+    if branches is not None:            # a root of the branches' own states (at a pole, s = -1/tau, or with
+        out = np.where(np.isfinite(out), out, 0.0)     # no displacement): not estimated
+    return np.where(size > 0, out, 0.0)
 
 
 
-def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None):
+def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None, branches=None):
     """The roots of one speed whose round-off ``bound`` (:func:`pencil_round_off`) exceeds
     :data:`INEXACT_LEVEL`, polished in place on the quadratic pencil: those whose neighbour in
     frequency is closer than it two at a time (:func:`._lowest_newton.pair_polished`: block Newton
@@ -528,17 +547,21 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
         Where given, a pair polished into one root (a double root: the machine at rest) has its
         shapes made the extreme-whirl pair (:func:`resolve_repeated`; the polish's basis of the
         plane is any), ``variant`` the row's variant where the forms are stacked.
+    branches : (ndarray (b, n, n), ndarray (b,)), optional
+        Maxwell branches (:func:`pencil_round_off`): single roots polished on the rational pencil
+        (:func:`._lowest_newton.rational_root_polished`); pairs closer than their round-off are
+        left (and warned of: the block polish is the quadratic pencil's).
 
     Returns
     -------
     ndarray, shape (m,): ``bound``, the polished roots' the error the polish leaves (a root the
-    polish could not converge keeps its bound)
+    polish could not converge keeps its bound; so do both roots of a pair it could not separate)
     """
     bound = np.array(bound, dtype=float)
     wanted = np.flatnonzero((bound > INEXACT_LEVEL) & (np.asarray(values).imag > 0))
     if not len(wanted):
         return bound
-    from ._lowest_newton import pair_polished, root_polished
+    from ._lowest_newton import pair_polished, rational_root_polished, root_polished
 
     mass, damping, stiffness = (matrix.toarray() if hasattr(matrix, "toarray") else np.asarray(matrix)
                                 for matrix in (mass, damping, stiffness))
@@ -548,17 +571,22 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
         gap = abs(values[b] - values[a]) / max(abs(values[a]), abs(values[b]))
         if a in done or not gap < max(bound[a], bound[b]):
             continue
+        done.update((a, b))                 # polished together, or left (one at a time cannot part them)
+        if branches is not None:
+            continue
         found = pair_polished(mass, damping, stiffness, values[[a, b]], shapes[[a, b]])
         if found is not None:
             values[[a, b]], shapes[[a, b]], bound[[a, b]] = found
-            done.update((a, b))
             if forms is not None:
                 shapes[[a, b]] = resolve_repeated(values[[a, b]][None], shapes[[a, b]][None], forms,
                                                   None if variant is None else np.array([variant]), groups=False)[0]
     for a in order:
         if a in done:
             continue
-        found = root_polished(mass, damping, stiffness, values[a], shapes[a])
+        if branches is None:
+            found = root_polished(mass, damping, stiffness, values[a], shapes[a])
+        else:
+            found = rational_root_polished(mass, damping, stiffness, branches, values[a], shapes[a])
         if found is not None:
             values[a], shapes[a], bound[a] = found
     return bound

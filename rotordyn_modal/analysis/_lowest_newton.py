@@ -19,7 +19,7 @@ import scipy.sparse.linalg
 
 from . import _batches, _vectors
 
-__all__ = ["pair_polished", "root_polished", "block_polished"]
+__all__ = ["pair_polished", "root_polished", "block_polished", "rational_root_polished"]
 
 #: speeds named in a warning (and in the full solve's refusal, :mod:`._lowest`) at most
 _NAMED = 5
@@ -291,6 +291,57 @@ def root_polished(M, damping, stiffness, root, shape):
     roots, shapes, left = found
     turn = np.vdot(shapes[0], shape)
     return roots[0], shapes[0] * (turn / abs(turn) if abs(turn) > 0 else 1.0), left
+
+
+def rational_root_polished(M, damping, stiffness, branches, root, shape):
+    """:func:`root_polished` on the rational pencil of Maxwell branches, ``T(s) = M s^2 + D s + K +
+    sum_t K_t s tau_t / (1 + s tau_t)`` (``branches`` = ``K_t`` (b, n, n), ``tau_t`` (b,) [s]):
+    chord steps of Newton's bordered system ``[[T(s), T'(s) x], [x0^H, 0]]`` (factored once), the
+    residual's ``K x`` and ``K_t x`` summed exactly (:func:`_exact_sums`), the rest in
+    ``_EXTENDED``. Returns None where the steps do not converge below ``_PROMISED``, else the root,
+    its unit shape (the phase of ``shape``) and the error left (relative)."""
+    K_t, times = branches
+    n = M.shape[0]
+    wide = np.result_type(_EXTENDED, 1j)
+    x = np.asarray(shape, complex) / np.linalg.norm(shape)
+    start = x.copy()
+    s = complex(root)
+
+    def factors(value, derivative=False):
+        return [t / (1.0 + value * t) ** 2 if derivative else value * t / (1.0 + value * t) for t in times]
+
+    T = M * s * s + damping * s + stiffness + sum(f * K for f, K in zip(factors(s), K_t))
+    slope = (2.0 * s * M + damping + sum(f * K for f, K in zip(factors(s, True), K_t))) @ x
+    J = np.zeros((n + 1, n + 1), complex)
+    J[:n, :n], J[:n, n], J[n, :n] = T, slope, start.conj()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+            lu = scipy.linalg.lu_factor(J, check_finite=False)
+    except (ValueError, np.linalg.LinAlgError):
+        return None
+    moved = np.inf
+    for _ in range(_PAIR_STEPS + 1):
+        sw, xw = np.asarray(s, wide), x.astype(wide)
+        residual = (M.astype(_EXTENDED) @ xw) * sw * sw + (damping.astype(_EXTENDED) @ xw) * sw \
+            + _exact_sums(stiffness, x[:, None])[:, 0].astype(wide)
+        for t, K in zip(times, K_t):
+            ratio = sw * _EXTENDED(t) / (1 + sw * _EXTENDED(t))
+            residual = residual + ratio * _exact_sums(K, x[:, None])[:, 0].astype(wide)
+        d = scipy.linalg.lu_solve(lu, -np.append(residual.astype(complex), 0.0), check_finite=False)
+        if not np.all(np.isfinite(d)):
+            return None
+        x, s = x + d[:n], s + d[n]
+        moved = abs(d[n]) / abs(s)
+        if moved <= 4 * np.finfo(float).eps:
+            break
+    if not moved <= _PROMISED:
+        return None
+    unit = x / np.linalg.norm(x)
+    turn = np.vdot(unit, shape)
+    unit = unit * (turn / abs(turn) if abs(turn) > 0 else 1.0)
+    inertia = float(_round_off_of(M, damping, np.array([s]), unit[None])[0]) * np.finfo(_EXTENDED).eps / np.finfo(float).eps
+    return s, unit, max(moved, inertia, 4 * np.finfo(float).eps)
 
 
 def block_polished(M, damping, stiffness, roots, shapes):

@@ -838,19 +838,19 @@ def _refine_inexact(stack, speeds, values, shapes):
     """The roots ``values`` (V, N, m) with ``shapes`` (V, N, m, n) at ``speeds`` [rad/s] that
     double precision leaves further off than :data:`._eigensolve.INEXACT_LEVEL`
     (:func:`._eigensolve.pencil_round_off`): pairs closer than that polished in place
-    (:func:`._eigensolve.refined_pairs`), the rest warned of, once per model; models with
-    Maxwell branches are not estimated (their pencil is not quadratic)."""
+    (:func:`._eigensolve.refined_pairs`), the rest warned of, once per model (models with
+    Maxwell branches on their rational pencil)."""
     for v, form in enumerate(stack.forms):
-        if len(form.branch_times):
-            continue
+        branches = (form.branch_stiffness, form.branch_times) if len(form.branch_times) else None
         G = form.matrices.G
         bound = np.zeros(values.shape[1:])
         for i, speed in enumerate(speeds):        # one speed's bearings at a time (not N dense (n, n) at once)
             damping, stiffness = form.damping_at(speeds[i:i + 1]), form.stiffness_at(speeds[i:i + 1])
             pencil = (form.matrices.M, damping.reshape(damping.shape[-2:]) + speed * G, stiffness.reshape(stiffness.shape[-2:]))
             bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], *pencil,
-                                                 _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil),
-                                                 stack.whirl, v)
+                                                 _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil,
+                                                                              branches=branches),
+                                                 stack.whirl, v, branches=branches)
         name = stack.models[v].name if len(stack.forms) > 1 else ""
         _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
 

@@ -15,7 +15,7 @@ import numpy as np
 from . import _batches, _roots, _vectors
 
 __all__ = ["REPEATED_TOLERANCE", "eigenvalues_of", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
-           "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots"]
+           "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots", "branch_terms"]
 
 
 def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False, mass=None):
@@ -485,8 +485,9 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
         ``M``, ``D = C + Omega G`` (speed-dependent bearings' damping included) and ``K`` at the speed.
     noise : float, optional
         The solve's absolute round-off [1/s].
-    branches : (ndarray (b, n, n), ndarray (b,)), optional
-        Maxwell branches' stiffness ``K_t`` and times ``tau_t`` [s]: the pencil is then the rational
+    branches : (ndarray (b, k, k), ndarray (b,)), optional
+        Maxwell branches' stiffness ``K_t`` on the first ``k`` coordinates (the stator's,
+        :func:`branch_terms`) and times ``tau_t`` [s]: the pencil is then the rational
         ``M s^2 + D s + K + sum_t K_t s tau_t / (1 + s tau_t)`` (the Schur complement of the state
         matrix's linear pencil on the branches' own states), each term's size and derivative
         counted as the others'; a root of the branches' own states (at a pole ``s = -1 / tau``,
@@ -510,8 +511,8 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
     slope = np.einsum("im,im->m", x.conj(), 2.0 * s * Mx + Dx)
     if branches is not None:
         stiff, times = np.asarray(branches[0]), np.asarray(branches[1])
-        used = np.flatnonzero(np.abs(stiff).sum(axis=(0, 1)) + np.abs(stiff).sum(axis=(0, 2)))  # the stator's
-        stiff, xs, As = stiff[:, used][:, :, used], x[used], a[used]
+        k = stiff.shape[-1]
+        xs, As = x[:k], a[:k]
         with np.errstate(divide="ignore", invalid="ignore"):
             for K_t, tau in zip(stiff, times):
                 form = np.einsum("im,im->m", xs.conj(), K_t @ xs)
@@ -527,6 +528,17 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
         out = np.where(np.isfinite(out), out, 0.0)     # no displacement): not estimated
     return np.where(size > 0, out, 0.0)
 
+
+
+def branch_terms(form):
+    """A form's Maxwell branches for :func:`pencil_round_off` and :func:`refined_pairs`: their
+    stiffness on the stator's coordinates, the first ``k`` (b, k, k), and times (b,) [s]; None
+    without branches (not the (b, n, n) ``form.branch_stiffness``: 16 branches of a 2,000-coordinate
+    model would hold 512 MB)."""
+    if not len(form.branch_times):
+        return None
+    k = form.model.dofs.n_frame
+    return np.asarray(form.branch_blocks)[:, :k, :k], np.asarray(form.branch_times)
 
 
 def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None, branches=None):
@@ -547,8 +559,8 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
         Where given, a pair polished into one root (a double root: the machine at rest) has its
         shapes made the extreme-whirl pair (:func:`resolve_repeated`; the polish's basis of the
         plane is any), ``variant`` the row's variant where the forms are stacked.
-    branches : (ndarray (b, n, n), ndarray (b,)), optional
-        Maxwell branches (:func:`pencil_round_off`): single roots polished on the rational pencil
+    branches : (ndarray (b, k, k), ndarray (b,)), optional
+        Maxwell branches (:func:`branch_terms`): single roots polished on the rational pencil
         (:func:`._lowest_newton.rational_root_polished`); pairs closer than their round-off are
         left (and warned of: the block polish is the quadratic pencil's).
 

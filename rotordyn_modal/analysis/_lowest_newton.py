@@ -295,13 +295,14 @@ def root_polished(M, damping, stiffness, root, shape):
 
 def rational_root_polished(M, damping, stiffness, branches, root, shape):
     """:func:`root_polished` on the rational pencil of Maxwell branches, ``T(s) = M s^2 + D s + K +
-    sum_t K_t s tau_t / (1 + s tau_t)`` (``branches`` = ``K_t`` (b, n, n), ``tau_t`` (b,) [s]):
+    sum_t K_t s tau_t / (1 + s tau_t)`` (``branches`` = ``K_t`` (b, k, k) on the first ``k``
+    coordinates, ``tau_t`` (b,) [s]):
     chord steps of Newton's bordered system ``[[T(s), T'(s) x], [x0^H, 0]]`` (factored once), the
     residual's ``K x`` and ``K_t x`` summed exactly (:func:`_exact_sums`), the rest in
     ``_EXTENDED``. Returns None where the steps do not converge below ``_PROMISED``, else the root,
     its unit shape (the phase of ``shape``) and the error left (relative)."""
     K_t, times = branches
-    n = M.shape[0]
+    n, k = M.shape[0], np.shape(K_t)[-1]
     wide = np.result_type(_EXTENDED, 1j)
     x = np.asarray(shape, complex) / np.linalg.norm(shape)
     start = x.copy()
@@ -310,8 +311,10 @@ def rational_root_polished(M, damping, stiffness, branches, root, shape):
     def factors(value, derivative=False):
         return [t / (1.0 + value * t) ** 2 if derivative else value * t / (1.0 + value * t) for t in times]
 
-    T = M * s * s + damping * s + stiffness + sum(f * K for f, K in zip(factors(s), K_t))
-    slope = (2.0 * s * M + damping + sum(f * K for f, K in zip(factors(s, True), K_t))) @ x
+    T = M * s * s + damping * s + stiffness + 0j
+    T[:k, :k] += sum(f * K for f, K in zip(factors(s), K_t))
+    slope = (2.0 * s * M + damping) @ x
+    slope[:k] += sum(f * K for f, K in zip(factors(s, True), K_t)) @ x[:k]
     J = np.zeros((n + 1, n + 1), complex)
     J[:n, :n], J[:n, n], J[n, :n] = T, slope, start.conj()
     try:
@@ -327,7 +330,7 @@ def rational_root_polished(M, damping, stiffness, branches, root, shape):
             + _exact_sums(stiffness, x[:, None])[:, 0].astype(wide)
         for t, K in zip(times, K_t):
             ratio = sw * _EXTENDED(t) / (1 + sw * _EXTENDED(t))
-            residual = residual + ratio * _exact_sums(K, x[:, None])[:, 0].astype(wide)
+            residual[:k] = residual[:k] + ratio * _exact_sums(K, x[:k, None])[:, 0].astype(wide)
         d = scipy.linalg.lu_solve(lu, -np.append(residual.astype(complex), 0.0), check_finite=False)
         if not np.all(np.isfinite(d)):
             return None

@@ -841,7 +841,7 @@ def _refine_inexact(stack, speeds, values, shapes):
     (:func:`._eigensolve.refined_pairs`), the rest warned of, once per model (models with
     Maxwell branches on their rational pencil)."""
     for v, form in enumerate(stack.forms):
-        branches = (form.branch_stiffness, form.branch_times) if len(form.branch_times) else None
+        branches = _eigensolve.branch_terms(form)
         G = form.matrices.G
         bound = np.zeros(values.shape[1:])
         for i, speed in enumerate(speeds):        # one speed's bearings at a time (not N dense (n, n) at once)

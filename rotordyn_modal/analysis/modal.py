@@ -334,7 +334,7 @@ def _refine_inexact(form, speed, values, shapes, stacklevel=4) -> np.ndarray | N
     round-off (:func:`._eigensolve.pencil_round_off`) exceeds :data:`._eigensolve.INEXACT_LEVEL`:
     pairs closer than it polished in place (:func:`._eigensolve.refined_pairs`), the rest warned of;
     returns the error left (m,) (a model with Maxwell branches: on its rational pencil)."""
-    branches = (form.branch_stiffness, form.branch_times) if len(form.branch_times) else None
+    branches = _eigensolve.branch_terms(form)
     damping = form.damping_at(np.array([speed])) + speed * form.matrices.G
     stiffness = form.stiffness_at(np.array([speed]))
     damping, stiffness = damping.reshape(damping.shape[-2:]), stiffness.reshape(stiffness.shape[-2:])

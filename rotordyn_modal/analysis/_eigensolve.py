@@ -513,11 +513,12 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
         stiff, times = np.asarray(branches[0]), np.asarray(branches[1])
         k = stiff.shape[-1]
         xs, As = x[:k], a[:k]
+        forms = np.einsum("im,tim->tm", xs.conj(), stiff @ xs)                        # (b, m)
+        sizes = np.einsum("im,tim->tm", As, np.abs(stiff) @ As)
+        tau = times[:, None]
         with np.errstate(divide="ignore", invalid="ignore"):
-            for K_t, tau in zip(stiff, times):
-                form = np.einsum("im,im->m", xs.conj(), K_t @ xs)
-                terms = terms + np.abs(s * tau / (1.0 + s * tau)) * np.einsum("im,im->m", As, np.abs(K_t) @ As)
-                slope = slope + tau / (1.0 + s * tau) ** 2 * form
+            terms = terms + np.sum(np.abs(s * tau / (1.0 + s * tau)) * sizes, axis=0)
+            slope = slope + np.sum(tau / (1.0 + s * tau) ** 2 * forms, axis=0)
     derivative = np.abs(slope)
     with np.errstate(divide="ignore", invalid="ignore"):
         out = np.finfo(float).eps * terms / (size * derivative)

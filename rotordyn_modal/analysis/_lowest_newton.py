@@ -324,13 +324,14 @@ def rational_root_polished(M, damping, stiffness, branches, root, shape):
     except (ValueError, np.linalg.LinAlgError):
         return None
     moved = np.inf
+    stacked = np.asarray(K_t, dtype=float).reshape(-1, k)                # (b k, k): every branch's rows
     for _ in range(_PAIR_STEPS + 1):
         sw, xw = np.asarray(s, wide), x.astype(wide)
         residual = (M.astype(_EXTENDED) @ xw) * sw * sw + (damping.astype(_EXTENDED) @ xw) * sw \
             + _exact_sums(stiffness, x[:, None])[:, 0].astype(wide)
-        for t, K in zip(times, K_t):
-            ratio = sw * _EXTENDED(t) / (1 + sw * _EXTENDED(t))
-            residual[:k] = residual[:k] + ratio * _exact_sums(K, x[:k, None])[:, 0].astype(wide)
+        products = _exact_sums(stacked, x[:k, None])[:, 0].astype(wide).reshape(len(times), k)   # each K_t x
+        ratios = sw * np.asarray(times, _EXTENDED) / (1 + sw * np.asarray(times, _EXTENDED))
+        residual[:k] = residual[:k] + ratios @ products
         d = scipy.linalg.lu_solve(lu, -np.append(residual.astype(complex), 0.0), check_finite=False)
         if not np.all(np.isfinite(d)):
             return None

@@ -420,23 +420,21 @@ _POLISH_LEVEL = 1e-10
 _GROUP_LARGEST, _CHORD_STEPS, _POLISHED = 4, 12, 1e-13
 
 
-def _round_off(M, G, rest, unit, k, nu, shapes, parts=False):
-    """Estimated relative error of each root ``nu`` (m,) = ``1 / Omega^2`` of ``K phi = Omega^2
-    (M - i G) phi`` at one stiffness ``k`` [N/m], shapes (n, m): the conditioning of the root in the
-    matrix's entries, ``eps |phi|^T (|K_rest| + k |K_unit|) |phi| / (Omega^2 |phi^H B phi|)`` (the
-    Cholesky of ``K``), plus the Hermitian solve's own ``eps max |nu| / |nu|`` (its absolute error is
-    ``eps`` of the largest ``nu``: a rigid rotor's, 1e13 times a shaft mode's on bearings of 1e-3
-    N/m). Inf where ``nu <= 0`` (no critical speed: not polished). ``parts``: the two terms apart
-    (each (m,))."""
+def _round_off(M, G, rest, unit, k, nu, shapes, largest):
+    """Estimated relative error of roots ``nu`` (S, c) = ``1 / Omega^2`` of ``K phi = Omega^2 (M -
+    i G) phi`` at the stiffness values ``k`` (S,) [N/m], shapes (S, n, c): the conditioning of the
+    root in the matrix's entries, ``eps |phi|^T (|K_rest| + k |K_unit|) |phi| / (Omega^2 |phi^H B
+    phi|)`` (the Cholesky of ``K``), and the Hermitian solve's own ``eps max |nu| / |nu|`` (its
+    absolute error is ``eps`` of the largest ``nu``, ``largest`` (S,): a rigid rotor's, 1e13 times a
+    shaft mode's on bearings of 1e-3 N/m). Returns the two (S, c) each, inf where ``nu <= 0`` (no
+    critical speed: not polished)."""
     a = np.abs(shapes)
-    terms = np.einsum("im,im->m", a, np.abs(rest) @ a) + k * np.einsum("im,im->m", a, np.abs(unit) @ a)
-    B = M - 1j * G
-    inertia = np.abs(np.einsum("im,im->m", shapes.conj(), B @ shapes))
+    terms = np.einsum("sim,sim->sm", a, np.abs(rest) @ a) + k[:, None] * np.einsum("sim,sim->sm", a, np.abs(unit) @ a)
+    inertia = np.abs(np.einsum("sim,sim->sm", shapes.conj(), (M - 1j * G) @ shapes))
     eps = np.finfo(float).eps
     with np.errstate(divide="ignore", invalid="ignore"):
-        stiff, solve = eps * terms * nu / inertia, eps * np.abs(nu).max() / np.abs(nu)
-    stiff, solve = np.where(nu > 0, stiff, np.inf), np.where(nu > 0, solve, np.inf)
-    return (stiff, solve) if parts else stiff + solve
+        stiff, solve = eps * terms * nu / inertia, eps * largest[:, None] / np.abs(nu)
+    return np.where(nu > 0, stiff, np.inf), np.where(nu > 0, solve, np.inf)
 
 
 def _polished_count(modes):
@@ -454,13 +452,15 @@ def _polished(M, G, rest, unit, stiffness, count, nu, shapes):
     loses a bearing of 1e-3 N/m beside a shaft's 1e10 N/m to rounding), together where roots are
     closer than their errors. Returns ``nu`` and the shapes, new arrays; the others untouched."""
     nu, shapes = nu.copy(), shapes.copy()
-    for s, k in enumerate(stiffness):
-        stiff, solve = _round_off(M, G, rest, unit, k, nu[s], shapes[s], parts=True)
-        error = stiff + solve
-        wanted = np.isfinite(error) & (error > _POLISH_LEVEL)
-        wanted[np.argsort(-nu[s])[count:]] = False
-        if not wanted.any():
-            continue
+    lowest = np.argsort(-nu, axis=1)[:, :count]                                       # (S, c)
+    parts = _round_off(M, G, rest, unit, np.asarray(stiffness, dtype=float), np.take_along_axis(nu, lowest, 1),
+                       np.take_along_axis(shapes, lowest[:, None, :], 2), np.abs(nu).max(axis=1))
+    stiffs, errors = (np.full(nu.shape, np.inf) for _ in range(2))
+    np.put_along_axis(stiffs, lowest, parts[0], 1)
+    np.put_along_axis(errors, lowest, parts[0] + parts[1], 1)
+    over = np.isfinite(errors) & (errors > _POLISH_LEVEL)
+    for s in np.flatnonzero(over.any(axis=1)):
+        k, stiff, error, wanted = stiffness[s], stiffs[s], errors[s], over[s]
         for group in _groups(nu[s], error, wanted):
             exact = bool(np.any(stiff[group] > _POLISH_LEVEL))
             found = _group_polished(M, G, rest, unit, k, nu[s, group], shapes[s][:, group], exact)
@@ -472,7 +472,9 @@ def _polished(M, G, rest, unit, stiffness, count, nu, shapes):
 def _groups(nu, error, wanted):
     """Index arrays of the roots ``nu`` (m,) to polish together: runs of positive roots each closer
     to the next than ten times their errors ``error`` (m,) allow to tell apart, those with a root
-    ``wanted`` (m,) bool, at most ``_GROUP_LARGEST`` long."""
+    ``wanted`` (m,) bool, at most ``_GROUP_LARGEST`` long (a root not estimated, inf: its
+    neighbour's error decides)."""
+    error = np.where(np.isfinite(error), error, 0.0)
     positive = np.flatnonzero(nu > 0)
     positive = positive[np.argsort(nu[positive])]
     runs, run = [], [positive[0]] if len(positive) else []

@@ -9,14 +9,34 @@ showed ``... (more hidden) ...`` in place of the bar. :func:`tqdm` gives such te
 defaults for an unknown size instead: the counts and rates without the meter (``ncols=0``: nothing
 to overflow a width that is not known) and 20 rows; terminals of a known size, files, pipes and
 notebooks are left to tqdm.
+
+A bar on a terminal also keeps its clock going between its steps (:class:`_Ticker`): tqdm draws
+only when the bar advances, so a step of one long LAPACK call (a sweep's part of 4,012 states:
+about 100 s on a shared machine) left the elapsed time standing, as if the program had stopped. A
+thread redraws the bar every :data:`TICK_SECONDS` until it closes. :func:`phase` shows one line
+naming work that has no steps to count (tracking the modes after a sweep, the thresholds), with
+its clock. The clock runs while the step's LAPACK call runs only where that call releases the GIL:
+``numpy.linalg``'s do (the sweeps' eigen-solutions, the direct solves), ``scipy.linalg``'s wrappers
+do not (a thread cannot draw during ``scipy.linalg.eig``).
 """
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import os
 import sys
+import threading
+import weakref
 
-__all__ = ["tqdm", "terminal_defaults"]
+__all__ = ["tqdm", "terminal_defaults", "phase", "TICK_SECONDS", "PHASE_DELAY"]
+
+#: seconds between two drawings of a bar on a terminal while its step runs
+TICK_SECONDS = 1.0
+#: the longest wait for the clock's thread to end when its bar closes [s]
+_JOIN_SECONDS = 5.0
+#: seconds of work a :func:`phase` waits before its line is shown (shorter work shows nothing)
+PHASE_DELAY = 2.0
 
 #: rows tqdm assumes where the terminal's height is not known
 _UNKNOWN_ROWS = 20
@@ -51,4 +71,92 @@ def tqdm(*args, **kwargs):
 
     for key, value in terminal_defaults(kwargs.get("file")).items():
         kwargs.setdefault(key, value)
-    return bar(*args, **kwargs)
+    return _ticking(bar)(*args, **kwargs)
+
+
+@contextlib.contextmanager
+def phase(enabled, description, delay=None, file=None):
+    """While the ``with`` block runs: one line ``description: [elapsed]`` on ``file`` (default
+    ``sys.stderr``), its clock ticking, shown once the work has taken ``delay`` seconds (default
+    :data:`PHASE_DELAY`) and cleared at the end; nothing when not ``enabled``.
+
+    Yields the bar (a :func:`tqdm` bar without a total: ``set_description(text, refresh=False)``
+    renames the work, e.g. with a count of its steps, drawn at the clock's next tick), or None when
+    not ``enabled``."""
+    if not enabled:
+        yield None
+        return
+    bar = tqdm(total=None, desc=f"{description}: ", bar_format="{desc}[{elapsed}]", leave=False, file=file,
+               delay=PHASE_DELAY if delay is None else delay)
+    try:
+        yield bar
+    finally:
+        bar.close()
+
+
+@functools.lru_cache(maxsize=None)
+def _ticking(base):
+    """``base`` (a tqdm class) whose bars on a terminal redraw themselves every
+    :data:`TICK_SECONDS` until closed (:class:`_Ticker`)."""
+
+    class Ticking(base):
+        def __init__(self, *args, **kwargs):
+            self._ticker = None
+            super().__init__(*args, **kwargs)
+            if _on_terminal(self):
+                self._ticker = _Ticker(self)
+
+        def close(self):
+            ticker, self._ticker = getattr(self, "_ticker", None), None
+            if ticker is not None:
+                ticker.stop()
+                if ticker.drawn and hasattr(self, "last_print_t"):   # tqdm clears only a bar it knows it drew
+                    self.last_print_t = max(self.last_print_t, self.start_t + self.delay)
+            super().close()
+
+    Ticking.__name__ = Ticking.__qualname__ = base.__name__
+    Ticking.__doc__ = base.__doc__
+    return Ticking
+
+
+def _on_terminal(bar) -> bool:
+    """Whether ``bar`` draws on a terminal (not a file, a pipe or a notebook's widget)."""
+    try:
+        return not bar.disable and bool(bar.fp.isatty())
+    except (AttributeError, OSError, ValueError):
+        return False
+
+
+class _Ticker:
+    """A daemon thread that redraws a bar every :data:`TICK_SECONDS` (its elapsed time, rate and
+    remaining time as of now) until :meth:`stop`, or until the bar is closed or gone. It holds the
+    bar by a weak reference only: a bar left unclosed is still collected (and closed) as tqdm's
+    own would be. A bar with a ``delay`` is first drawn once that delay is past."""
+
+    def __init__(self, bar):
+        self.drawn = False
+        self._stopped = threading.Event()
+        self._thread = threading.Thread(target=self._run, args=(weakref.ref(bar),), daemon=True,
+                                        name="rotordyn_modal progress ticker")
+        self._thread.start()
+
+    def _run(self, reference):
+        while not self._stopped.wait(TICK_SECONDS):
+            bar = reference()
+            if bar is None or bar.disable:
+                return
+            try:
+                if bar._time() >= bar.start_t + bar.delay:
+                    bar.refresh()
+                    self.drawn = True
+            except Exception:          # a closed or broken stream: stop drawing, never raise here
+                return
+            finally:
+                del bar
+
+    def stop(self):
+        """Stop redrawing; returns once the thread has ended (at once from the thread itself: a
+        bar collected there)."""
+        self._stopped.set()
+        if threading.current_thread() is not self._thread and not sys.is_finalizing():
+            self._thread.join(_JOIN_SECONDS)     # a bound: never hang on a thread the interpreter froze

@@ -35,6 +35,20 @@ def examples_dir() -> Path:
 
 
 @pytest.fixture
+def no_solutions(monkeypatch):
+    """Any eigen-solution of a sweep fails the test (a refusal must come before the work), with
+    the CPU limit at its default (``ROTORDYN_MODAL_MAX_CPU_MINUTES`` unset)."""
+    from rotordyn_modal.analysis import _eigensolve, _work
+
+    def refused(*args, **kwargs):
+        raise AssertionError("an eigen-solution was started")
+
+    monkeypatch.setattr(_eigensolve, "upper_shapes", refused)
+    monkeypatch.setattr(_eigensolve, "eigenvalues_of", refused)
+    monkeypatch.delenv(_work.ENVIRONMENT, raising=False)
+
+
+@pytest.fixture
 def without_module(monkeypatch):
     """``without_module("plotly")``: importing that package (or its submodules) fails, as when
     an optional extra is not installed."""

@@ -94,6 +94,20 @@ def test_anticipated_cross_coupling_reproduces_a_worked_example():
     assert q.sum() * 9.55 / (30 / np.pi) == pytest.approx(23022.32142857143, rel=1e-12)
 
 
+def test_anticipated_cross_coupling_reproduces_ross_tests_compressor_and_turbine():
+    """ROSS's own tests of its Level I (petrobras/ross commit 03f22ea9c21445f6ccaea73990d4f517bcacf02c,
+    ``ross/tests/test_api_report.py::test_stability_level1``, lines 305-341, removed from ROSS in
+    August 2020 with ``ross/api_report.py``): two compressor impellers D = 0.28 / 0.35 m, H = 0.07 m,
+    6 / 8 kW, density ratios 1.11 / 1.14 at 1000 rpm give Qa = 20399.969387755104 N/m; the turbine
+    rotor of the same file has one stage among its disks (the first: D = 0.28 m, H = 0.07 m, 6 kW,
+    B = 1.5, no density ratio): Qa = 4385.204081632653 N/m. ROSS's C = 9.55, here 60 / 2 pi."""
+    rounded = 9.55 / (30 / np.pi)
+    compressor = anticipated_cross_coupling([6e3, 8e3], rdm.rpm(1000), [0.28, 0.35], [0.07, 0.07], [1.11, 1.14])
+    assert compressor.sum() * rounded == pytest.approx(20399.969387755104, rel=1e-12)
+    turbine = anticipated_cross_coupling([6e3], rdm.rpm(1000), [0.28], [0.07], machine="turbine")
+    assert turbine.sum() * rounded == pytest.approx(4385.204081632653, rel=1e-12)
+
+
 def test_the_us_constant_63_is_the_same_formula():
     """API's US form q = B 63 HP / (D H N) [klbf/in, HP, in, rpm]: 63 is the torque of 1 hp at
     1 rpm in klbf in (63,025 lbf in); the SI formula gives it to 0.04 %."""

@@ -23,32 +23,24 @@ import pandas as pd
 import pytest
 
 import rotordyn_modal as rdm
+from closed_form_machines import casing_displacement, casing_model, rotor_displacement, rotor_on_springs
 from rotordyn_modal.cli.main import main
 
 report_collect = importlib.import_module("rotordyn_modal.report.collect")
 
 # -- a rigid rotor on two isotropic bearings, a probe at its centre of mass ----------------------
-K_B, C_B, M_R, HALF, U = 2.0e6, 400.0, 30.0, 0.25, 5e-5
+U = 5e-5
 
 
 def _rotor_model():
-    return rdm.Model.from_dict({
-        "name": "rotor on springs", "spin_axis": [1.0, 0.0, 0.0],
-        "rotors": [{"name": "shaft", "mass": M_R, "center_of_mass": [0.0, 0.0, 0.0],
-                    "polar_inertia": 0.4, "diametral_inertia": 0.9, "speed_ratio": 1.0}],
-        "bearings": [{"name": n, "rotor": "shaft", "position": [x, 0.0, 0.0], "stiffness": K_B, "damping": C_B}
-                     for n, x in (("DE", HALF), ("NDE", -HALF))],
-        "unbalances": [{"rotor": "shaft", "amount": U}],
-        "sensors": [{"name": "probe-x", "rotor": "shaft", "measure": "relative", "position": [0.0, 0.0, 0.0],
-                     "direction": [0.0, 0.0, 1.0]}],
-    })
+    return rotor_on_springs([{"rotor": "shaft", "amount": U}])
 
 
 def _rotor_peak():
     """(N_c [rpm], AF) of ``|x| = U w^2 / |2k - m w^2 + 2 i w c|`` by hand: the maximum on a fine
     grid and API 684's AF = N_c / (N2 - N1) between its half-power points."""
     w = np.linspace(200.0, 600.0, 400001)
-    x = U * w ** 2 / np.abs(2 * K_B - M_R * w ** 2 + 2j * w * C_B)
+    x = rotor_displacement(w, U)
     k = int(np.argmax(x))
     band = w[x >= x[k] / math.sqrt(2)]
     return w[k] * 30 / np.pi, w[k] / (band[-1] - band[0])
@@ -127,27 +119,16 @@ def test_python_api_takes_the_range_too():
 
 
 # -- a casing on mounts: its mount resonance below the operating range ---------------------------
-M_STATOR, M_ROTOR, KZ, CZ, U_CASING = 80.0, 20.0, 1.0e6, 400.0, 5e-4
+U_CASING, CZ_CASING = 5e-4, 400.0
 
 
 def _casing_model():
-    """A stator with a rotor rigidly at its centre of mass on four equal mounts in its plane: the
-    unbalance only translates it, ``|z| = U w^2 / |Kz - M w^2 + i w Cz|``, resonance ~955 rpm."""
-    return rdm.Model.from_dict({
-        "name": "casing", "spin_axis": [1.0, 0.0, 0.0],
-        "stator": {"mass": M_STATOR, "center_of_mass": [0.0, 0.0, 0.0], "inertia": [4.0, 6.0, 7.0]},
-        "rotors": [{"name": "rotor", "mass": M_ROTOR, "center_of_mass": [0.0, 0.0, 0.0],
-                    "polar_inertia": 0.3, "diametral_inertia": 0.2, "speed_ratio": 1.0}],
-        "suspensions": [{"name": f"m{i}", "position": [x, y, 0.0], "stiffness": [2e5, 2e5, KZ / 4],
-                         "damping": [300.0, 300.0, CZ / 4]}
-                        for i, (x, y) in enumerate([(0.4, 0.3), (0.4, -0.3), (-0.4, 0.3), (-0.4, -0.3)])],
-        "unbalances": [{"rotor": "rotor", "amount": U_CASING}],
-        "sensors": [{"name": "casing-z", "position": [0.0, 0.0, 0.0], "direction": [0.0, 0.0, 1.0]}],
-    })
+    """The translating casing (tests/casing_on_mounts.py), resonance ~955 rpm."""
+    return casing_model(U_CASING, cz=CZ_CASING)
 
 
 def _casing_velocity_rms(w):
-    return w * U_CASING * w ** 2 / np.abs(KZ - (M_STATOR + M_ROTOR) * w ** 2 + 1j * w * CZ) / math.sqrt(2)
+    return w * casing_displacement(w, U_CASING, cz=CZ_CASING) / math.sqrt(2)
 
 
 #: ISO 20816-3 group 2, rigid support: A/B, B/C, C/D [m/s RMS] (Annex A, Table A.2)

@@ -9,23 +9,12 @@ from pathlib import Path
 
 import pytest
 
-from rotordyn_modal.analysis import _eigensolve, _work
 from rotordyn_modal.analysis import campbell as campbell_module
 from rotordyn_modal.analysis.campbell import memory_estimate
 from rotordyn_modal.cli import main
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "fan_on_bearings.toml"
 GIB = 2.0 ** 30
-
-
-@pytest.fixture
-def no_solutions(monkeypatch):
-    def refused(*args, **kwargs):
-        raise AssertionError("an eigen-solution was started")
-
-    monkeypatch.setattr(_eigensolve, "upper_shapes", refused)
-    monkeypatch.setattr(_eigensolve, "eigenvalues_of", refused)
-    monkeypatch.delenv(_work.ENVIRONMENT, raising=False)
 
 
 @pytest.mark.parametrize("extra", [[], ["--vary", "suspensions.mount-FL.damping", "--scale", "0.5:2:3"]])

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
+from closed_form_machines import HALF, M_R, casing_displacement, casing_model, rotor_displacement, rotor_on_springs
 from rotordyn_modal.analysis.unbalance import api_unbalance_response, unbalance_response
 from rotordyn_modal.analysis.unbalance_checks import api_unbalance_cases
 from rotordyn_modal.cli.main import main
@@ -174,27 +175,12 @@ def test_iso_zone_refuses_unknown_class():
 
 # -- verdicts against closed forms ------------------------------------------------------------
 
-M_STATOR, M_ROTOR, KZ, CZ = 80.0, 20.0, 4 * 2.5e5, 4 * 300.0
-
-
 def _casing_model(amount=2e-4):
-    """A stator with a rotor rigidly at its centre of mass on four equal mounts in the plane of
-    the centre of mass: the unbalance only translates it, ``|z| = U w^2 / |Kz - M w^2 + i w Cz|``."""
-    return rdm.Model.from_dict({
-        "name": "casing", "spin_axis": [1.0, 0.0, 0.0],
-        "stator": {"mass": M_STATOR, "center_of_mass": [0.0, 0.0, 0.0], "inertia": [4.0, 6.0, 7.0]},
-        "rotors": [{"name": "rotor", "mass": M_ROTOR, "center_of_mass": [0.0, 0.0, 0.0],
-                    "polar_inertia": 0.3, "diametral_inertia": 0.2, "speed_ratio": 1.0}],
-        "suspensions": [{"name": f"m{i}", "position": [x, y, 0.0], "stiffness": [2e5, 2e5, KZ / 4],
-                         "damping": [300.0, 300.0, CZ / 4]}
-                        for i, (x, y) in enumerate([(0.4, 0.3), (0.4, -0.3), (-0.4, 0.3), (-0.4, -0.3)])],
-        "unbalances": [{"rotor": "rotor", "amount": amount}],
-        "sensors": [{"name": "casing-z", "position": [0.0, 0.0, 0.0], "direction": [0.0, 0.0, 1.0]}],
-    })
+    return casing_model(amount)
 
 
 def _casing_closed_form(w, amount=2e-4):
-    return amount * w ** 2 / np.abs(KZ - (M_STATOR + M_ROTOR) * w ** 2 + 1j * w * CZ)
+    return casing_displacement(w, amount)
 
 
 @pytest.mark.parametrize("quantity", ["displacement", "velocity", "acceleration"])
@@ -224,26 +210,12 @@ def test_casing_zone_moves_with_the_unbalance():
     assert zones == ["A", "D"]
 
 
-K_B, C_B, M_R, HALF = 2.0e6, 400.0, 30.0, 0.25
-
-
 def _rotor_on_springs(unbalances=None):
-    """A rigid rotor on two equal isotropic bearings to the ground, symmetric about its centre of
-    mass, with a probe at the centre of mass: ``|x| = U w^2 / |2k - m w^2 + 2 i w c|``."""
-    return rdm.Model.from_dict({
-        "name": "rotor on springs", "spin_axis": [1.0, 0.0, 0.0],
-        "rotors": [{"name": "shaft", "mass": M_R, "center_of_mass": [0.0, 0.0, 0.0],
-                    "polar_inertia": 0.4, "diametral_inertia": 0.9, "speed_ratio": 1.0}],
-        "bearings": [{"name": n, "rotor": "shaft", "position": [x, 0.0, 0.0], "stiffness": K_B, "damping": C_B}
-                     for n, x in (("DE", HALF), ("NDE", -HALF))],
-        "unbalances": unbalances or [{"rotor": "shaft", "amount": 5e-5}],
-        "sensors": [{"name": "probe-x", "rotor": "shaft", "measure": "relative", "position": [0.0, 0.0, 0.0],
-                     "direction": [0.0, 0.0, 1.0]}],
-    })
+    return rotor_on_springs(unbalances or [{"rotor": "shaft", "amount": 5e-5}])
 
 
 def _rotor_closed_form(w, amount):
-    return amount * w ** 2 / np.abs(2 * K_B - M_R * w ** 2 + 2j * w * C_B)
+    return rotor_displacement(w, amount)
 
 
 @pytest.mark.parametrize("mcs_rpm", [2000.0, 3000.0, 12000.0, 27000.0])

@@ -186,7 +186,7 @@ def test_what_cannot_be_understood_is_refused_in_one_line(model, tmp_path, case)
 
 
 def test_a_file_without_dataset_55_is_refused(model):
-    with pytest.raises(InputError, match=r"no dataset 55 \(mode shapes, data at nodes\) in the file; datasets "
+    with pytest.raises(InputError, match=r"no dataset 55 or 2414 mode shapes \(data at nodes\) in the file; datasets "
                                          r"found: 58 \(function data\) \(FRFs and time records: frf --measured"):
         rdm.read_uff_modes(DATA / "ufffiles_frf_filled_excerpt.unv", model)
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._limits import memory_problem
+from .._progress import phase
 from ..errors import InputError
 from . import _arguments, _batches, _eigensolve, _roots, _whirl
 from ._stack import Stack
@@ -453,14 +454,15 @@ def solve_sweeps(stack, speeds, progress=False, whirl_noise=False):
     # read by part where tracking and the critical speeds compare shapes (the rows of
     # Stack.weighted of the whole, bit for bit): not a second copy of every shape
     weighted = WeightedRows(stack, shapes)
-    order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
-    extra = (noise,) if whirl_noise else ()
-    if (order == np.arange(order.shape[-1])).all():     # every root keeps its place: nothing to reorder
-        return (values, shapes, weighted) + extra
-    variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
-    extra = (noise[variants, rows, order],) if whirl_noise else ()
-    shapes = _reordered(shapes, order)
-    return (values[variants, rows, order], shapes, weighted.reordered(order, shapes)) + extra
+    with phase(progress, "tracking modes"):         # a large model's tracking: tens of seconds
+        order = _relabel_by_frequency(track_modes_many(values, weighted), values, speeds)
+        extra = (noise,) if whirl_noise else ()
+        if (order == np.arange(order.shape[-1])).all():     # every root keeps its place: nothing to reorder
+            return (values, shapes, weighted) + extra
+        variants, rows = np.arange(count)[:, None, None], np.arange(len(speeds))[None, :, None]
+        extra = (noise[variants, rows, order],) if whirl_noise else ()
+        shapes = _reordered(shapes, order)
+        return (values[variants, rows, order], shapes, weighted.reordered(order, shapes)) + extra
 
 
 #: a sweep of more work than this [bytes] shown by a progress bar is solved in at least
@@ -805,11 +807,12 @@ def campbell_many(models, speeds, orders=(1,), progress=False, critical=True) ->
     critical = bool(critical) and len(orders) > 0
     _refuse_what_cannot_fit(stack, len(speeds), critical)
     values, shapes, weighted, noise = solve_sweeps(stack, speeds, progress, whirl_noise=True)
-    _refine_inexact(stack, speeds, values, shapes)
     count, n_speeds, m = values.shape
-    every = _variant_rows(count, n_speeds)
-    ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every,
-                                speeds if count == 1 else np.tile(speeds, count))
+    with phase(progress, "round-off and whirl"):
+        _refine_inexact(stack, speeds, values, shapes)
+        every = _variant_rows(count, n_speeds)
+        ratios = stack.whirl_ratios(shapes.reshape((-1,) + shapes.shape[-2:]), every,
+                                    speeds if count == 1 else np.tile(speeds, count))
     oscillating = is_oscillating(values)
     ratios = np.where(oscillating, ratios.reshape(values.shape), 0.0)
     freq, zeta, log_dec = modal_quantities(values)
@@ -842,17 +845,33 @@ def _refine_inexact(stack, speeds, values, shapes):
     Maxwell branches on their rational pencil)."""
     for v, form in enumerate(stack.forms):
         branches = _eigensolve.branch_terms(form)
-        G = form.matrices.G
+        G, n = form.matrices.G, form.n_dof
         bound = np.zeros(values.shape[1:])
-        for i, speed in enumerate(speeds):        # one speed's bearings at a time (not N dense (n, n) at once)
-            damping, stiffness = form.damping_at(speeds[i:i + 1]), form.stiffness_at(speeds[i:i + 1])
-            pencil = (form.matrices.M, damping.reshape(damping.shape[-2:]) + speed * G, stiffness.reshape(stiffness.shape[-2:]))
-            bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], *pencil,
-                                                 _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil,
-                                                                              branches=branches),
-                                                 stack.whirl, v, branches=branches)
+        # the bearings evaluated for a part of the speeds at a time (each speed's coefficients its
+        # own: a journal's film and load over speed are computed once for the part, not once a speed),
+        # a part's dense (n, n) matrices within _PART_BYTES (one speed at a time for a large model)
+        for part in _batches.chunk_slices(len(speeds), _REFINE_ARRAYS * 8 * n * n, budget=_batches._PART_BYTES):
+            damping = _at_speeds(form.damping_at(speeds[part]), part)
+            stiffness = _at_speeds(form.stiffness_at(speeds[part]), part)
+            for j, i in enumerate(range(part.start, part.stop)):
+                pencil = (form.matrices.M, damping[j] + speeds[i] * G, stiffness[j])
+                bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], *pencil,
+                                                     _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil,
+                                                                                  branches=branches),
+                                                     stack.whirl, v, branches=branches)
         name = stack.models[v].name if len(stack.forms) > 1 else ""
         _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
+
+
+#: dense (n, n) arrays of one speed that :func:`_refine_inexact`'s bearing evaluation holds at once
+#: (each of damping_at and stiffness_at: the bearings' K and C, and their sum with the constant part)
+_REFINE_ARRAYS = 6
+
+
+def _at_speeds(matrices, part):
+    """``matrices`` (P, n, n), or one constant (n, n), as (P, n, n) for the speeds of ``part``."""
+    return np.broadcast_to(matrices, (part.stop - part.start,) + matrices.shape[-2:])
+
 
 #: memory of the interpreter and the package's imports [bytes]
 _BASE_BYTES = 256 * 2**20

@@ -425,11 +425,38 @@ def force_frf(model, speed: float, freqs_hz, inputs=None, where: str = "suspensi
         raise InputError(f"{model.source}: the model has no [[excitations]]: a force FRF needs one")
     H, items = _force_frf(model, speed, f, columns, where)
     outputs = tuple(f"{item.name}:{c}" for item in items for c in COMPONENTS)
-    peaks = _resonances(model, speed, f)
-    peak_H = None if peaks is None else _force_frf(model, speed, peaks, columns, where)[0] if len(peaks) \
-        else np.zeros(H.shape[:2] + (0,), complex)
+    found = _resonances(model, speed, f)
+    peaks = peak_H = cut_hz = cut_H = None
+    if found is not None:
+        peaks, band = found
+        peak_H = _force_frf(model, speed, peaks, columns, where)[0] if len(peaks) \
+            else np.zeros(H.shape[:2] + (0,), complex)
+        cut_hz, cut_H = _cut_maxima(model, speed, f, columns, where, H, peaks, band)
     return FRFResult(H=H, frequencies_hz=f, speed=float(speed), inputs=_names(model.excitations, inputs),
-                     outputs=outputs, quantity="force", engine="direct", resonances_hz=peaks, resonance_H=peak_H)
+                     outputs=outputs, quantity="force", engine="direct", resonances_hz=peaks, resonance_H=peak_H,
+                     cut_hz=cut_hz, cut_H=cut_H)
+
+
+def _cut_maxima(model, speed, f, columns, where, H, resonances, band):
+    """The maxima of each force FRF ``H`` (6 n_items, n_inputs, len(f)) between the computed
+    frequencies ``f`` [Hz] that its line cuts, near the damped natural frequencies
+    ``resonances`` (P,) [Hz] of half-power bandwidths ``band`` (P,) [Hz]
+    (:func:`.frf.frf_cut_maxima`): each candidate solves for its own input at its own frequency
+    (:func:`_force_frf`, one call an input, each distinct frequency once). Returns ``(cut_hz, cut_H)``, shape
+    (6 n_items, n_inputs, Q), NaN after an FRF's last."""
+    from .frf import frf_cut_maxima
+
+    def curve(s, o, i):
+        s, o, i = np.asarray(s, dtype=float), np.asarray(o, dtype=int), np.asarray(i, dtype=int)
+        out = np.empty(s.shape, dtype=complex)
+        for each in np.unique(i):
+            mine = np.flatnonzero(i == each)
+            at, where_ = np.unique(s[mine], return_inverse=True)                   # each frequency once
+            forces = _force_frf(model, speed, at, columns[:, each:each + 1], where)[0]   # (6 n_items, 1, K')
+            out[mine] = forces[o[mine], 0, where_.ravel()]
+        return out
+
+    return frf_cut_maxima(curve, f, H, resonances, band)
 
 
 #: the largest state matrix whose roots a force FRF solves to mark the resonances its frequencies
@@ -439,11 +466,12 @@ _RESONANCE_STATES = 1200
 
 def _resonances(model, speed, f):
     """The damped natural frequencies [Hz] within ``f`` that no frequency of ``f`` resolves
-    (:func:`.frf.unresolved_resonances`), from the roots of the state matrix at ``speed``; None
-    where the model has loss factors (no state form) or more than :data:`_RESONANCE_STATES`
-    states (the figure then marks none)."""
+    (:func:`.frf.unresolved_resonances`), from the roots of the state matrix at ``speed``, and
+    their half-power bandwidths ``|Re lam| / pi`` [Hz], each shape (P,); None where the model has
+    loss factors (no state form) or more than :data:`_RESONANCE_STATES` states (the figure then
+    marks none)."""
     from ..linear_system import speed_linear_form
-    from .frf import choose_engine, unresolved_resonances
+    from .frf import _unresolved, choose_engine
 
     if choose_engine(model) != "modal" or len(f) < 2:
         return None
@@ -452,7 +480,7 @@ def _resonances(model, speed, f):
         return None
     with _batches.one_blas_thread(72 * form.n_states ** 2):
         roots = np.linalg.eigvals(form.at(float(speed)))
-    return unresolved_resonances(roots, f)
+    return _unresolved(roots, f)
 
 
 def _force_frf(model, speed, f, columns, where):

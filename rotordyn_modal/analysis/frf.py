@@ -78,6 +78,15 @@ class FRFResult:
         or selected data).
     resonance_H : ndarray, shape (n_outputs, n_inputs, P), complex, or None
         The response at those frequencies.
+    cut_hz : ndarray, shape (n_outputs, n_inputs, Q), or None
+        Each FRF's maxima between computed frequencies that the line through them cuts
+        (:func:`frf_cut_maxima`: the exact response near :attr:`resonances_hz`, the modal
+        sum's or, for force FRFs, direct solves; two close modes sharing one peak give one
+        maximum, at the peak; modes damped at round-off, of no finite peak, are left out)
+        [Hz], NaN after a curve's last; None where not looked for (then :meth:`cut_peaks`
+        reads :attr:`resonances_hz`).
+    cut_H : ndarray, shape like ``cut_hz``, complex, or None
+        The response at those maxima.
     """
 
     H: np.ndarray
@@ -90,6 +99,8 @@ class FRFResult:
     coherence: np.ndarray | None = None
     resonances_hz: np.ndarray | None = None
     resonance_H: np.ndarray | None = None
+    cut_hz: np.ndarray | None = None
+    cut_H: np.ndarray | None = None
 
     @property
     def omega(self) -> np.ndarray:
@@ -118,13 +129,16 @@ class FRFResult:
         i = _positions(self.inputs, inputs, "input")
         coh = None if self.coherence is None else self.coherence[np.ix_(o, i)]
         peaks = None if self.resonance_H is None else self.resonance_H[np.ix_(o, i)]
+        cut_hz, cut_H = ((None, None) if self.cut_hz is None
+                         else (self.cut_hz[np.ix_(o, i)], self.cut_H[np.ix_(o, i)]))
         return FRFResult(self.H[np.ix_(o, i)], self.frequencies_hz, self.speed,
                          tuple(self.inputs[k] for k in i), tuple(self.outputs[k] for k in o),
-                         self.quantity, self.engine, coh, self.resonances_hz, peaks)
+                         self.quantity, self.engine, coh, self.resonances_hz, peaks, cut_hz, cut_H)
 
     def cut_peaks(self, output: str, input: str):
         """The resonances of one FRF that the line drawn through the computed frequencies cuts:
-        those of :attr:`resonances_hz` where the response is more than sqrt(2) (3 dB) times that at
+        its maxima of :attr:`cut_hz` where known (the true maxima of ``|H|``), otherwise those
+        of :attr:`resonances_hz` where the response is more than sqrt(2) (3 dB) times that at
         both computed frequencies around it (a straight line between them, on any axis whose
         scale is monotonic, lies below the larger of the two).
 
@@ -132,6 +146,10 @@ class FRFResult:
         -------
         frequencies : ndarray, shape (K,) [Hz]; H : ndarray, shape (K,), complex
         """
+        if self.cut_hz is not None:
+            o, i = self.outputs.index(output), self.inputs.index(input)
+            keep = np.isfinite(self.cut_hz[o, i])
+            return self.cut_hz[o, i, keep], self.cut_H[o, i, keep]
         if self.resonances_hz is None or not len(self.resonances_hz):
             return np.zeros(0), np.zeros(0, complex)
         o, i = self.outputs.index(output), self.inputs.index(input)
@@ -439,10 +457,12 @@ def _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine, mass_checked
     omega = 2 * np.pi * f
     terms = _modal_terms(model, speed, rows, columns) if used == "modal" else None
     H = None if terms is None else _modal_sum(terms, omega)
-    peaks = peak_H = None
+    peaks = peak_H = cut_hz = cut_H = None
     if H is not None:                  # the resonances no computed frequency resolves, at their own frequency
-        peaks = unresolved_resonances(terms[0], f)
+        peaks, band = _unresolved(terms[0], f)
         peak_H = _modal_sum(terms, 2 * np.pi * peaks) * (2j * np.pi * peaks) ** QUANTITIES[quantity]
+        cut_hz, cut_H = _cut_maxima(terms, f, H * (1j * omega) ** QUANTITIES[quantity], peaks, band,
+                                    QUANTITIES[quantity])
     if H is None:
         if not mass_checked:   # the modal engine's state form made the check, if it was tried
             from ..linear_system import speed_linear_form
@@ -453,7 +473,75 @@ def _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine, mass_checked
     H = H * (1j * omega) ** QUANTITIES[quantity]
     return FRFResult(H=H, frequencies_hz=f, speed=float(speed), inputs=_names(model.excitations, inputs),
                      outputs=_names(model.sensors, outputs), quantity=quantity, engine=used,
-                     resonances_hz=peaks, resonance_H=peak_H)
+                     resonances_hz=peaks, resonance_H=peak_H, cut_hz=cut_hz, cut_H=cut_H)
+
+
+def _cut_maxima(terms, f, H, resonances, band, power):
+    """The maxima of each FRF between computed frequencies that its line cuts, by
+    :func:`~rotordyn_modal.analysis.unbalance_peaks.cut_maxima` on the exact modal sum, each
+    candidate on its own FRF (:func:`_modal_curve`). Roots damped at round-off (less than
+    ``unbalance_peaks._LEAST_DAMPING``, no finite peak) are not looked at.
+
+    Parameters
+    ----------
+    terms : tuple
+        :func:`_modal_terms`' result.
+    f : ndarray, shape (n_freq,) [Hz]
+    H : ndarray, shape (n_outputs, n_inputs, n_freq), complex
+        The FRFs at ``f`` (the quantity's factor applied).
+    resonances, band : ndarray, shape (P,) [Hz]
+        :func:`_unresolved`'s damped natural frequencies and half-power bandwidths.
+    power : int
+        The quantity's power of ``i w`` (0 receptance, 1 mobility, 2 accelerance).
+
+    Returns
+    -------
+    cut_hz : ndarray, shape (n_outputs, n_inputs, Q) [Hz]; cut_H : same shape, complex
+    """
+    def curve(s, o, i):
+        return _modal_curve(terms, 2 * np.pi * np.asarray(s, dtype=float), o, i) * (2j * np.pi * s) ** power
+
+    return frf_cut_maxima(curve, f, H, resonances, band)
+
+
+def frf_cut_maxima(curve, f, H, resonances, band):
+    """:func:`~rotordyn_modal.analysis.unbalance_peaks.cut_maxima` of FRFs ``H`` (n_outputs,
+    n_inputs, n_freq) computed at ``f`` [Hz], near the damped natural frequencies
+    ``resonances`` (P,) [Hz] of half-power bandwidths ``band`` (P,) [Hz] (those damped at
+    round-off left out), each candidate on its own FRF: ``curve(s, o, i)``, each shape (K,) ->
+    (K,), complex, is FRF ``(o[k], i[k])`` at ``s[k]`` [Hz] alone.
+
+    Returns
+    -------
+    cut_hz : ndarray, shape (n_outputs, n_inputs, Q) [Hz]; cut_H : same shape, complex
+        NaN after an FRF's last.
+    """
+    from .unbalance_peaks import _LEAST_DAMPING, cut_maxima
+
+    resonances, band = np.asarray(resonances, dtype=float), np.asarray(band, dtype=float)
+    damped = np.pi * band > _LEAST_DAMPING * np.hypot(np.pi * band, 2 * np.pi * resonances)
+    found = [(resonances[damped], band[damped])] * H.shape[1]
+    at, value, _ = cut_maxima(curve, f, np.abs(H), found, half_power=False)
+    return at, value
+
+
+def _modal_curve(terms, omega, o, i):
+    """The receptance of output ``o[k]`` to input ``i[k]`` at ``omega[k]`` [rad/s] alone, shape
+    (K,), complex: :func:`_modal_sum`'s entries, each of its own FRF (``terms``:
+    :func:`_modal_terms`)."""
+    values, left, right = terms
+    omega, o, i = np.asarray(omega, dtype=float), np.asarray(o, dtype=int), np.asarray(i, dtype=int)
+    out = np.empty(omega.shape, dtype=complex)
+    step = max(1, _CURVE_ENTRIES // max(values.size, 1))          # (step, 2n) at a time: memory bounded
+    for start in range(0, omega.size, step):
+        part = slice(start, start + step)
+        poles = 1.0 / (1j * omega[part, None] - values[None, :])                # (step, 2n)
+        out[part] = np.sum(left[o[part]] * right[:, i[part]].T * poles, axis=1)
+    return out
+
+
+#: :func:`_modal_curve` forms at most this many (frequency, root) terms at a time (16 bytes each)
+_CURVE_ENTRIES = 1 << 20
 
 
 def _check_channels(model, rows, columns):
@@ -474,6 +562,12 @@ def unresolved_resonances(eigenvalues, frequencies_hz) -> np.ndarray:
     -------
     ndarray, shape (P,) [Hz], increasing
     """
+    return _unresolved(eigenvalues, frequencies_hz)[0]
+
+
+def _unresolved(eigenvalues, frequencies_hz):
+    """:func:`unresolved_resonances` (P,) [Hz], increasing, and their half-power bandwidths
+    ``|Re lam| / pi`` (P,) [Hz]."""
     f = np.sort(np.asarray(frequencies_hz, dtype=float))
     lam = np.asarray(eigenvalues, dtype=complex)
     lam = lam[(lam.imag > 0) & (lam.real < 0)]
@@ -482,7 +576,9 @@ def unresolved_resonances(eigenvalues, frequencies_hz) -> np.ndarray:
     fd, bandwidth = fd[inside], bandwidth[inside]
     where = np.clip(np.searchsorted(f, fd), 1, max(f.size - 1, 1))
     nearest = np.minimum(np.abs(f[where] - fd), np.abs(fd - f[where - 1])) if f.size > 1 else np.zeros(0)
-    return np.sort(fd[4 * nearest > bandwidth])
+    keep = 4 * nearest > bandwidth
+    order = np.argsort(fd[keep])
+    return fd[keep][order], bandwidth[keep][order]
 
 
 def _modal_sum(terms, omega):

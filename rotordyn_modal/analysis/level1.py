@@ -24,6 +24,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import brentq
 
+from .._limits import memory_problem
 from ..errors import InputError
 from ..linear_system import speed_linear_form
 from ..model._table import LARGEST
@@ -346,6 +347,7 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     # at a Q far below anything that moves them (not at Qa / 10, which for a large Qa is a
     # machine of other modes: Q0 must not depend on Qa), followed up through Qa's grid
     sweep, at_grid = _sweep_grid(grid, _small_q(base, unit, form.n_dof))
+    _refuse_what_cannot_fit(model, form, len(sweep))
     lam, shapes = _eigensolve.upper_shapes(base + sweep[:, None, None] * unit, form.n_dof)
     shapes = _eigensolve.resolve_repeated(lam, shapes, _whirl.whirl_forms(model))
     order = track_modes(lam, _vectors.mass_normalized(shapes, form.matrices.M))
@@ -616,6 +618,23 @@ def _modes_at_rest(lam, order, index, roots) -> bool:
     a mode there (:func:`~rotordyn_modal.analysis.modal.is_oscillating`)."""
     labels = [int(np.nonzero(order[index] == root)[0][0]) for root in roots]
     return bool(np.all(is_oscillating(lam[0, order[0, labels]])))
+
+
+#: bytes of the sweep per value of Q per squared state: its state matrices (8), the upper shapes
+#: (4: half the states by half, complex) and the eigen-solutions' parts and copies (about 4)
+_SWEEP_BYTES = 16
+
+
+def _refuse_what_cannot_fit(model, form, count: int):
+    """Refuse, before its arrays are made, a sweep of ``count`` values of Q whose state matrices and
+    shapes (all held at once, :data:`_SWEEP_BYTES`) would not fit in the memory at hand: 500 geared
+    rotors (4,012 states) at about 150 values asked for 20 GB and were killed by the system."""
+    where = f"{model.source}: " if getattr(model, "source", None) else ""
+    problem = memory_problem(_SWEEP_BYTES * count * form.n_states ** 2,
+                             f"{where}an API 617 Level I sweep of {form.n_dof:,} coordinates at {count} "
+                             "values of Q", "sweep a shorter range (a smaller factor, --factor) or use a smaller model")
+    if problem:
+        raise InputError(problem)
 
 
 def _sweep_grid(grid, small: float):

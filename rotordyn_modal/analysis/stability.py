@@ -9,9 +9,11 @@ import numpy as np
 import scipy.linalg.lapack
 from scipy.optimize import brentq
 
+from .. import _progress as _lines
+from .._progress import phase
 from ..errors import InputError
 from ..linear_system import speed_linear_form
-from . import _eigensolve, _roots, _whirl
+from . import _cost, _eigensolve, _roots, _whirl
 from .campbell import (_arguments_frequency, _arguments_modes, _campbell_lowest, _check_speeds,
                        _lowest_whirl_round_off, _progress, lowest_stack, solve_sweep, stack_root_count)
 from .modal import is_oscillating, modal, modal_quantities
@@ -307,18 +309,49 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
             return _stability_lowest(stack, speeds, modes, max_frequency)
     form = speed_linear_form(model)
     eigenvalues, shapes, _, noise = solve_sweep(model, speeds, progress, whirl_noise=True)
-    ratios = np.where(is_oscillating(eigenvalues),
-                      _whirl.whirl_ratios(shapes, _whirl.whirl_forms(model), speeds), 0.0)
-    freq, zeta, log_dec = modal_quantities(eigenvalues)
-    roundoff = roundoff_levels(form, speeds)
-    thresholds, threshold_modes, onsets = threshold_speeds(form, speeds, eigenvalues, roundoff)
-    crossing = _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes)
+    with phase(progress, "whirl and round-off"):
+        ratios = np.where(is_oscillating(eigenvalues),
+                          _whirl.whirl_ratios(shapes, _whirl.whirl_forms(model), speeds), 0.0)
+        freq, zeta, log_dec = modal_quantities(eigenvalues)
+        roundoff = roundoff_levels(form, speeds)
+    with phase(progress, _THRESHOLDS) as bar:          # each step of the refinement: a whole eigen-solution
+        thresholds, threshold_modes, onsets = threshold_speeds(
+            form, speeds, eigenvalues, roundoff, largest=_counted(functools.partial(_largest_real_part, form), bar))
+    with phase(progress, "modes at the thresholds", delay=_at_once(form.n_states) if len(thresholds) else None):
+        crossing = _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes)
     return StabilityResult(
         speeds=speeds, eigenvalues=eigenvalues, real_parts=eigenvalues.real, damping_ratios=zeta,
         log_decrements=log_dec, frequencies_hz=freq, whirl=_whirl.whirl_labels(ratios, noise),
         modes=np.arange(1, eigenvalues.shape[1] + 1), thresholds=thresholds,
         threshold_modes=threshold_modes, threshold_onsets=onsets, roundoff=roundoff, **crossing,
     )
+
+
+#: the line shown while the thresholds are refined (:func:`.._progress.phase`)
+_THRESHOLDS = "stability thresholds"
+
+
+def _at_once(n_states):
+    """0 (the :func:`.._progress.phase` line drawn at once) where one eigen-solution through
+    ``scipy.linalg`` (:func:`.modal.modal`'s, which holds the GIL: the line's clock cannot start
+    during it) of ``n_states`` states may take longer than the line's usual delay; else None."""
+    return 0.0 if _cost._PESSIMISTIC * n_states ** 3 > _lines.PHASE_DELAY else None
+
+
+def _counted(largest, bar):
+    """``largest`` (see :func:`threshold_speeds`) that names on ``bar`` (a :func:`.._progress.phase`
+    line, or None) how many eigen-solutions the refinement has made."""
+    if bar is None:
+        return largest
+    done = [0]
+
+    def counted(speed, clip=True):
+        value = largest(speed, clip)
+        done[0] += 1
+        bar.set_description(f"{_THRESHOLDS}: {done[0]} eigen-solution{'s' if done[0] > 1 else ''}", refresh=False)
+        return value
+
+    return counted
 
 
 def _stability_lowest(stack, speeds, count, limit_hz=None) -> StabilityResult:

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._progress import phase
 from ..assembly import generalized_force, point_rows, sensor_rows
 from ..errors import InputError
 from ..linear_system import speed_linear_form
@@ -596,7 +597,7 @@ def required_separation_margin(af: float, position: str = "below") -> float:
 
 def unbalance_response(model, speeds, outputs=None, quantity: str = "displacement",
                        progress: bool = False, amplitude: str = "peak", resonances: bool = True,
-                       _criticals=None) -> UnbalanceResult:
+                       _criticals=None, _label="unbalance") -> UnbalanceResult:
     """Steady response to the model's ``[[unbalances]]`` over a speed sweep.
 
     Parameters
@@ -608,7 +609,10 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         Sensor names (default all).
     quantity : {'displacement', 'velocity', 'acceleration'}
     progress : bool
-        Unused (the sweep is one batched solve); kept for a uniform interface.
+        Show a line naming the work under way (the model's check, the direct solves, the
+        resonances) with its elapsed time, once it has run a few seconds (a sweep is one batched
+        solve: there are no steps to count; 500 geared rotors, 2,006 coordinates, take about
+        40 s on a shared machine).
     amplitude : {'peak', 'pk-pk', 'rms'}
         Amplitude convention of the result's tables and figure (``amplitude_kind``); the
         response itself is the same.
@@ -628,9 +632,29 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
     if not model.unbalances:
         raise InputError(f"{model.source}: the model has no [[unbalances]]: nothing excites an unbalance response")
     speeds = _arguments.speeds(speeds, increasing=False)
-    speed_linear_form(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
-    sources, w, response, (rotor_forces, speed_all, omega, q, shifts, motions) = \
-        _sensor_response(model, speeds, outputs, quantity)
+    with phase(progress, f"{_label}: the model's matrices") as bar:      # _label: the line's start
+        speed_linear_form(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
+        _rename(bar, f"{_label}: direct solves at {len(speeds):,} speeds ({model.dofs.n:,} coordinates)")
+        solved = _sensor_response(model, speeds, outputs, quantity)
+        _rename(bar, f"{_label}: forces and resonances")
+        fields = _result_fields(model, speeds, outputs, quantity, solved, resonances, _criticals)
+    sources, w, response, _ = solved
+    return UnbalanceResult(speeds=speeds, sources=tuple(sources), frequencies_hz=w / (2 * np.pi),
+                           response=response, quantity=quantity, amplitude_kind=amplitude, **fields)
+
+
+def _rename(bar, description):
+    """Name the work under way on a :func:`.._progress.phase` line (None: no line)."""
+    if bar is not None:
+        bar.set_description(description, refresh=False)
+
+
+def _result_fields(model, speeds, outputs, quantity, solved, resonances, criticals) -> dict:
+    """The fields of :class:`UnbalanceResult` beside the speeds, sources, frequencies, response,
+    quantity and amplitude convention: the forces, orbits' planes, clearances and resonances
+    (``solved``: :func:`_sensor_response`'s; ``resonances``, ``criticals``: see
+    :func:`unbalance_response`)."""
+    sources, _, response, (rotor_forces, speed_all, omega, q, shifts, motions) = solved
     n_src, n = len(sources), len(speeds)
     names = tuple(s.name for s in model.sensors) if outputs is None else \
         ((outputs,) if isinstance(outputs, str) else tuple(outputs))
@@ -640,19 +664,17 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         np.zeros((0, n_src, n, 2), dtype=complex)
     ratios = [model.rotor(src).speed_ratio for src in sources]
     spin_signs = np.where(np.array(ratios, dtype=float)[:, None] * speeds < 0, -1.0, 1.0)
-    return UnbalanceResult(
-        speeds=speeds, sources=tuple(sources), frequencies_hz=w / (2 * np.pi), outputs=names,
-        response=response, quantity=quantity,
+    return dict(
+        outputs=names,
         suspension_names=tuple(s.name for s in model.suspensions),
         rotor_names=tuple(r.name for r in model.rotors),
         bearing_names=tuple(b.name for b in model.bearings),
         **_force_fields(model, sources, rotor_forces, speed_all, omega, q, centre_motions(shifts, motions)),
         orbit_pairs=pairs.names, orbit_planes=planes, spin_signs=spin_signs.reshape(n_src, n),
         rigid_rotor_names=tuple(r.name for r in model.rotors if not model.bearings_of(r.name)),
-        amplitude_kind=amplitude,
         clearance_names=tuple(c.name for c in model.clearances),
         clearance_planes=_clearance_planes(model, q, motions, n_src, n),
-        **_unresolved_fields(model, speeds, outputs, quantity, ratios, response, resonances, _criticals),
+        **_unresolved_fields(model, speeds, outputs, quantity, ratios, response, resonances, criticals),
     )
 
 
@@ -700,17 +722,41 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
     values = np.full((n_outputs, len(found), width), np.nan + 0j)
     every = np.concatenate([c for c, _ in found])
 
-    def response(s):
-        return _sensor_response(model, s, outputs, quantity)[2]                 # (n_out, n_src, K)
-
     if every.size:
         start = np.cumsum([0] + [len(c) for c, _ in found])
-        computed = response(every)
+        computed = _sensor_response(model, every, outputs, quantity)[2]             # (n_out, n_src, K)
         for j in range(len(found)):
             values[:, j, :start[j + 1] - start[j]] = computed[:, j, start[j]:start[j + 1]]
-    peak_at, peak_value, peak_width = cut_maxima(response, speeds, np.abs(swept), found)
+    peak_at, peak_value, peak_width = cut_maxima(_own_source_curve(model, outputs, quantity), speeds,
+                                                 np.abs(swept), found)
     return {"resonance_speeds": at, "resonance_bands": bands, "resonance_response": values,
             "cut_peak_speeds": peak_at, "cut_peak_response": peak_value, "cut_peak_widths": peak_width}
+
+
+def _own_source_curve(model, outputs, quantity):
+    """``curve(s, o, j)`` of :func:`.unbalance_peaks.cut_maxima`: the response of output ``o[k]``
+    to source ``j[k]`` at speed ``s[k]`` [rad/s], shape (K,), complex, each speed solved for its
+    own source only, once a distinct speed (:func:`_sensor_response`'s numbers, one source at a
+    time)."""
+    shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
+    motions = model.dofs.motions([(r.name, False) for r in model.rotors])
+    rows = sensor_rows(model, outputs, motions)
+
+    def curve(s, o, j):
+        s, o, j = np.asarray(s, dtype=float), np.asarray(o, dtype=int), np.asarray(j, dtype=int)
+        sources, w, rotor_forces = unbalance_forces(model, s)
+        out = np.empty(s.shape, dtype=complex)
+        for each in np.unique(j):
+            mine = np.flatnonzero(j == each)
+            at, where = np.unique(s[mine], return_index=True, return_inverse=True)[1:]   # each speed once
+            at = mine[at]
+            q = _coordinate_response(model, [sources[each]], rotor_forces[each:each + 1, at], s[at],
+                                     w[each, at], shifts, motions)
+            factor = (1j * w[each, at]) ** _ORDER[quantity] if _ORDER[quantity] else np.ones(at.size, complex)
+            out[mine] = (rows @ q[..., 0].T)[o[mine], where.ravel()] * factor[where.ravel()]
+        return out
+
+    return curve
 
 
 #: the fields of :class:`UnbalanceResult` that :func:`_unresolved_fields` gives
@@ -764,7 +810,7 @@ def _force_fields(model, sources, rotor_forces, speed_all, omega, q, centres=Non
 
 
 def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: str = "displacement",
-                           amplitude: str = "peak"):
+                           amplitude: str = "peak", progress: bool = False):
     """Unbalance response to each API 617/684 case of the model, as one result whose sources
     are the cases (``case_rotors`` the rotor of each); cases: see
     :func:`~rotordyn_modal.analysis.unbalance_checks.api_unbalance_cases`.
@@ -775,8 +821,9 @@ def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: st
     speeds : array_like, shape (N,) [rad/s]
     mcs : float
         [rad/s] the reference rotor's maximum continuous speed, > 0.
-    outputs, quantity, amplitude
-        As :func:`~rotordyn_modal.analysis.unbalance.unbalance_response`.
+    outputs, quantity, amplitude, progress
+        As :func:`~rotordyn_modal.analysis.unbalance.unbalance_response` (the line shown names
+        the case: ``unbalance case 2 of 4``).
 
     Returns
     -------
@@ -787,10 +834,13 @@ def api_unbalance_response(model, speeds, mcs: float, outputs=None, quantity: st
     cases = api_unbalance_cases(model, mcs)
     # one machine: its damped critical speeds found once, for each case's rotor
     rotors = [case.unbalances[0].rotor for _, case in cases]
-    found = unresolved_criticals(model, _arguments.speeds(speeds, increasing=False),
-                                 [model.rotor(r).speed_ratio for r in rotors])
+    with phase(progress, "unbalance: damped critical speeds"):
+        found = unresolved_criticals(model, _arguments.speeds(speeds, increasing=False),
+                                     [model.rotor(r).speed_ratio for r in rotors])
     results = [unbalance_response(case, speeds, outputs=outputs, quantity=quantity, amplitude=amplitude,
-                                  resonances=found is not None, _criticals=None if found is None else [found[k]])
+                                  progress=progress, resonances=found is not None,
+                                  _criticals=None if found is None else [found[k]],
+                                  _label=f"unbalance case {k + 1} of {len(cases)}")
                for k, (_, case) in enumerate(cases)]
     first = results[0]
 

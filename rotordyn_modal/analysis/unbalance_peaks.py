@@ -175,33 +175,41 @@ _GRID_STEP = 0.25
 _GRID_REACH = 2.0
 #: the golden-section and bisection searches stop below this share of their first interval
 _SEARCH_SHARE = 1e-4
+#: ... or after this many steps: an interval a few units in the last place wide (a mode damped
+#: at round-off) shrinks no further
+_SEARCH_STEPS = 60
 #: two maxima of one curve closer than this share of their search intervals are one
 _SAME_MAXIMUM = 1e-3
 
 
-def cut_maxima(response, speeds, amplitude, found):
+def cut_maxima(curve, speeds, amplitude, found, half_power=True):
     """The maxima of each curve's amplitude between swept speeds that the line through the swept
     speeds cuts, with their API 684 half-power width, found on the exact response.
 
     Around each damped critical speed that no swept speed resolves
     (:func:`unresolved_criticals`) the response is sampled at a quarter of the mode's band,
     two bands either side, within the two swept speeds around it; each interior maximum of
-    those samples is refined by a golden-section search on ``|response|`` (two close modes
-    sharing one peak give one maximum, at the peak, not one at each damped critical speed).
-    A maximum more than sqrt(2) (3 dB) times both swept amplitudes around it is cut; its
-    half-power points (``|response| = peak / sqrt(2)``, the nearest either side) are found by
-    bisection on the exact response.
+    those samples (a candidate) is refined by a golden-section search on ``|response|`` (two
+    close modes sharing one peak give one maximum, at the peak, not one at each damped critical
+    speed). A maximum more than sqrt(2) (3 dB) times both swept amplitudes around it is cut;
+    its half-power points (``|response| = peak / sqrt(2)``, the nearest either side) are found
+    by bisection on the exact response. All candidates step together, one call a step.
 
     Parameters
     ----------
-    response : callable
-        ``response(s)``, ``s`` shape (K,) [rad/s] -> shape (n_out, n_src, K), complex.
+    curve : callable
+        ``curve(s, o, j)``, ``s`` [rad/s] and the integer arrays ``o``, ``j`` each shape (K,)
+        -> shape (K,), complex: the response of output ``o[k]`` to source ``j[k]`` at
+        ``s[k]`` alone, so that each candidate evaluates its own curve only (the search's cost
+        grows as the number of candidates, not as its square).
     speeds : ndarray, shape (N,) [rad/s]
         The swept speeds, any order (repeats allowed).
     amplitude : ndarray, shape (n_out, n_src, N)
         ``|response|`` at ``speeds``.
     found : list of (critical, band) per source
         :func:`unresolved_criticals`' result.
+    half_power : bool
+        Whether the half-power widths are wanted (False: NaN, and no bisection).
 
     Returns
     -------
@@ -212,32 +220,34 @@ def cut_maxima(response, speeds, amplitude, found):
     x, first = np.unique(np.asarray(speeds, dtype=float), return_index=True)
     swept = np.asarray(amplitude)[:, :, first]                                  # (n_out, n_src, N')
     n_out, n_src = swept.shape[:2]
-    segments = _segments(x, found)                    # [(j, k, points), ...]: source, bracket, samples
-    peaks = _candidates(response, segments, n_out) if segments else []
-    peaks = _refined(response, peaks) if peaks else []
-    peaks = [p for p in _distinct(peaks)
-             if abs(p["value"]) > np.sqrt(2.0) * max(swept[p["o"], p["j"], p["k"]], swept[p["o"], p["j"], p["k"] + 1])]
-    widths = _half_power_widths(response, peaks) if peaks else []
-    count = {}
-    for p in peaks:
-        count[p["o"], p["j"]] = count.get((p["o"], p["j"]), 0) + 1
-    q = max(count.values(), default=0)
-    at, width = np.full((n_out, n_src, q), np.nan), np.full((n_out, n_src, q), np.nan)
-    value = np.full((n_out, n_src, q), np.nan + 0j)
-    filled = {}
-    for p, w in sorted(zip(peaks, widths), key=lambda item: item[0]["at"]):
-        n = filled.get((p["o"], p["j"]), 0)
-        at[p["o"], p["j"], n], value[p["o"], p["j"], n], width[p["o"], p["j"], n] = p["at"], p["value"], w
-        filled[p["o"], p["j"]] = n + 1
-    return at, value, width
+    samples = _samples(x, found, n_out)
+    y = np.abs(curve(samples["s"], samples["o"], samples["j"])) if samples["s"].size else np.zeros(0)
+    c = _candidates(samples, y)
+    if not c["o"].size:
+        return np.full((n_out, n_src, 0), np.nan), np.full((n_out, n_src, 0), np.nan + 0j), \
+            np.full((n_out, n_src, 0), np.nan)
+    c = _distinct(_refined(curve, c))
+    o, j, k = c["o"], c["j"], c["k"]
+    c = _taken(c, np.abs(c["value"]) > np.sqrt(2.0) * np.maximum(swept[o, j, k], swept[o, j, k + 1]))
+    widths = (_half_power_widths(curve, c, samples, y) if half_power and c["o"].size
+              else np.full(c["o"].size, np.nan))
+    return _per_curve(c, widths, n_out, n_src)
 
 
-def _segments(x, found):
-    """``[(j, k, points), ...]``: for each source ``j`` and each swept interval
-    ``[x_k, x_k+1]`` holding damped critical speeds of it, the sorted speeds sampled there
-    (both ends, and :data:`_GRID_STEP` bands apart within :data:`_GRID_REACH` bands of each)."""
-    out = []
+def _samples(x, found, n_out):
+    """The speeds sampled around the damped critical speeds, as rows laid end to end: one row a
+    source ``j``, swept interval ``[x_k, x_k+1]`` holding damped critical speeds of it, and output
+    (segments in order, outputs within a segment). A row's speeds are sorted: both ends of the
+    interval, and :data:`_GRID_STEP` bands apart within :data:`_GRID_REACH` bands of each.
+
+    Returns
+    -------
+    dict
+        ``s`` (L,) [rad/s], ``o``, ``j`` (L,) each sample's curve, ``row`` (L,) its row;
+        ``start`` (R + 1,) each row's first sample; ``k`` (R,) each row's swept interval.
+    """
     offsets = np.arange(-_GRID_REACH, _GRID_REACH + _GRID_STEP / 2, _GRID_STEP)
+    points, sources, brackets = [], [], []
     for j, (critical, band) in enumerate(found):
         if not len(critical):
             continue
@@ -245,88 +255,115 @@ def _segments(x, found):
         for bracket in np.unique(k):
             lo, hi = x[bracket], x[bracket + 1]
             grid = (critical[k == bracket, None] + band[k == bracket, None] * offsets).ravel()
-            points = np.unique(np.concatenate([[lo, hi], grid[(grid > lo) & (grid < hi)]]))
-            out.append((j, int(bracket), points))
-    return out
+            points.append(np.unique(np.concatenate([[lo, hi], grid[(grid > lo) & (grid < hi)]])))
+            sources.append(j)
+            brackets.append(int(bracket))
+    segment = np.repeat(np.arange(len(points)), n_out)                             # (R,)
+    output = np.tile(np.arange(n_out), len(points))
+    lengths = np.array([len(points[g]) for g in segment], dtype=int)
+    row = np.repeat(np.arange(segment.size), lengths)
+    s = np.concatenate([points[g] for g in segment]) if segment.size else np.zeros(0)
+    return {"s": s, "o": output[row], "j": np.asarray(sources, dtype=int)[segment][row] if row.size else row,
+            "row": row, "start": np.concatenate([[0], np.cumsum(lengths)]),
+            "k": np.asarray(brackets, dtype=int)[segment] if segment.size else segment}
 
 
-def _candidates(response, segments, n_out):
-    """Each interior maximum of each output's sampled ``|response|`` in each segment of
-    :func:`_segments`: ``{"o", "j", "k", "a", "b", "points", "y"}`` (the search interval
-    ``[a, b]``, the neighbours' samples; ``points``, ``y`` the segment's samples)."""
-    every = np.concatenate([points for _, _, points in segments])
-    values = np.abs(response(every))                                             # (n_out, n_src, K)
-    start = np.cumsum([0] + [len(points) for _, _, points in segments])
-    out = []
-    for (j, k, points), s in zip(segments, start):
-        for o in range(n_out):
-            y = values[o, j, s:s + len(points)]
-            inner = np.flatnonzero((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:])) + 1
-            out += [{"o": o, "j": j, "k": k, "a": points[i - 1], "b": points[i + 1], "points": points, "y": y}
-                    for i in inner]
-    return out
+def _candidates(samples, y):
+    """Each interior maximum of each row's samples ``y`` (L,) (:func:`_samples`), in row order:
+    a dict of arrays ``o``, ``j``, ``k`` (its curve and swept interval), ``row``, and ``a``, ``b``
+    its neighbours' speeds (the search interval)."""
+    s, row = samples["s"], samples["row"]
+    inner = np.zeros(s.size, dtype=bool)
+    if s.size > 2:
+        same = (row[1:-1] == row[:-2]) & (row[1:-1] == row[2:])
+        inner[1:-1] = same & (y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:])
+    i = np.flatnonzero(inner)
+    return {"o": samples["o"][i], "j": samples["j"][i], "k": samples["k"][row[i]], "row": row[i],
+            "a": s[i - 1], "b": s[i + 1]}
 
 
-def _picked(response, speeds, peaks):
-    """The response of each of ``peaks``' curves at its own speed of ``speeds`` (C,), complex."""
-    values = response(np.asarray(speeds, dtype=float))
-    return values[[p["o"] for p in peaks], [p["j"] for p in peaks], np.arange(len(peaks))]
+def _taken(c, keep):
+    """The candidates ``c`` (a dict of arrays of one length) where ``keep`` (an index or mask)."""
+    return {key: value[keep] for key, value in c.items()}
 
 
-def _refined(response, peaks):
-    """``peaks`` (:func:`_candidates`) each with ``at``, the maximum of ``|response|`` in its
-    interval ``[a, b]`` by golden-section search (all at once, one response call a step), and
-    ``value``, the response there."""
-    a = np.array([p["a"] for p in peaks])
-    b = np.array([p["b"] for p in peaks])
+def _refined(curve, c):
+    """The candidates ``c`` (:func:`_candidates`) with ``at``, the maximum of ``|response|`` in
+    each interval ``[a, b]`` by golden-section search (all at once, one ``curve`` call a step,
+    each candidate on its own curve), ``value``, the response there, and ``span``, ``b - a``."""
+    o, j = c["o"], c["j"]
+    a, b = c["a"].astype(float), c["b"].astype(float)
     first = b - a
     ratio = (np.sqrt(5.0) - 1) / 2
-    c, d = b - ratio * (b - a), a + ratio * (b - a)
-    fc, fd = np.abs(_picked(response, c, peaks)), np.abs(_picked(response, d, peaks))
-    while np.any(b - a > _SEARCH_SHARE * first):
+    c_, d = b - ratio * (b - a), a + ratio * (b - a)
+    fc, fd = np.abs(curve(c_, o, j)), np.abs(curve(d, o, j))
+    for _ in range(_SEARCH_STEPS):
+        if not np.any(b - a > _SEARCH_SHARE * first):
+            break
         left = fc > fd                                  # the maximum lies in [a, d]
-        b, a = np.where(left, d, b), np.where(left, a, c)
-        c, d, fc, fd = (np.where(left, b - ratio * (b - a), d), np.where(left, c, a + ratio * (b - a)),
-                        np.where(left, np.nan, fd), np.where(left, fc, np.nan))
-        new = np.where(left, c, d)
-        f_new = np.abs(_picked(response, new, peaks))
+        b, a = np.where(left, d, b), np.where(left, a, c_)
+        c_, d, fc, fd = (np.where(left, b - ratio * (b - a), d), np.where(left, c_, a + ratio * (b - a)),
+                         np.where(left, np.nan, fd), np.where(left, fc, np.nan))
+        new = np.where(left, c_, d)
+        f_new = np.abs(curve(new, o, j))
         fc, fd = np.where(left, f_new, fc), np.where(left, fd, f_new)
     at = 0.5 * (a + b)
-    value = _picked(response, at, peaks)
-    return [dict(p, at=float(s), value=complex(v), span=float(w)) for p, s, v, w in zip(peaks, at, value, first)]
+    return dict(c, at=at, value=np.asarray(curve(at, o, j), dtype=complex), span=first)
 
 
-def _distinct(peaks):
-    """``peaks`` of :func:`_refined`, one of those of a curve that converged to the same speed
-    (within :data:`_SAME_MAXIMUM` of their search intervals): the highest."""
-    out = []
-    for p in sorted(peaks, key=lambda p: -abs(p["value"])):
-        if not any(q["o"] == p["o"] and q["j"] == p["j"]
-                   and abs(q["at"] - p["at"]) < _SAME_MAXIMUM * min(q["span"], p["span"]) for q in out):
-            out.append(p)
-    return out
+def _distinct(c):
+    """The candidates ``c`` of :func:`_refined`, one of those of a curve that converged to the
+    same speed (within :data:`_SAME_MAXIMUM` of their search intervals): the highest."""
+    kept: dict = {}
+    chosen = []
+    for n in np.argsort(-np.abs(c["value"]), kind="stable"):
+        others = kept.setdefault((int(c["o"][n]), int(c["j"][n])), [])
+        if not any(abs(c["at"][m] - c["at"][n]) < _SAME_MAXIMUM * min(c["span"][m], c["span"][n])
+                   for m in others):
+            others.append(n)
+            chosen.append(n)
+    return _taken(c, np.array(chosen, dtype=int))
 
 
-def _half_power_widths(response, peaks):
-    """Each of ``peaks``' ``N2 - N1`` [rad/s]: its nearest speeds either side where
-    ``|response| = |value| / sqrt(2)``, bisected (all at once) between its segment's sample
-    nearest to it below that level and the next one towards it."""
-    level = np.array([abs(p["value"]) for p in peaks]) / np.sqrt(2.0)
+def _half_power_widths(curve, c, samples, y):
+    """Each candidate's ``N2 - N1`` [rad/s] (shape (C,)): its nearest speeds either side where
+    ``|response| = |value| / sqrt(2)``, bisected (all at once) between its row's sample nearest
+    to it below that level and the next one towards it."""
+    level = np.abs(c["value"]) / np.sqrt(2.0)
     lo, hi = [], []                                     # each side's bracket: (outside, inside)
-    for p, h in zip(peaks, level):
-        points, y = p["points"], p["y"]
-        below = np.flatnonzero((points < p["at"]) & (y < h))[-1]
-        lo.append((points[below], min(points[below + 1], p["at"])))
-        above = np.flatnonzero((points > p["at"]) & (y < h))[0]
-        hi.append((points[above], max(points[above - 1], p["at"])))
+    for r, at, h in zip(c["row"], c["at"], level):
+        points = samples["s"][samples["start"][r]:samples["start"][r + 1]]
+        below_level = y[samples["start"][r]:samples["start"][r + 1]] < h
+        below = np.flatnonzero((points < at) & below_level)[-1]
+        lo.append((points[below], min(points[below + 1], at)))
+        above = np.flatnonzero((points > at) & below_level)[0]
+        hi.append((points[above], max(points[above - 1], at)))
     outside = np.array([s for s, _ in lo] + [s for s, _ in hi])
     inside = np.array([s for _, s in lo] + [s for _, s in hi])
-    both, level2 = peaks + peaks, np.concatenate([level, level])
+    o, j, level2 = np.tile(c["o"], 2), np.tile(c["j"], 2), np.tile(level, 2)
     first = np.abs(inside - outside)
-    while np.any(np.abs(inside - outside) > _SEARCH_SHARE * first):
+    for _ in range(_SEARCH_STEPS):
+        if not np.any(np.abs(inside - outside) > _SEARCH_SHARE * first):
+            break
         mid = 0.5 * (inside + outside)
-        over = np.abs(_picked(response, mid, both)) >= level2
+        over = np.abs(curve(mid, o, j)) >= level2
         inside, outside = np.where(over, mid, inside), np.where(over, outside, mid)
     crossing = 0.5 * (inside + outside)
-    n = len(peaks)
-    return list(crossing[n:] - crossing[:n])
+    n = len(level)
+    return crossing[n:] - crossing[:n]
+
+
+def _per_curve(c, widths, n_out, n_src):
+    """``at``, ``value``, ``width`` of :func:`cut_maxima` (n_out, n_src, Q) from the cut maxima
+    ``c`` and their ``widths``: each curve's by speed, NaN after its last."""
+    o, j = c["o"].astype(int), c["j"].astype(int)
+    order = np.lexsort((c["at"], j, o)) if o.size else np.zeros(0, dtype=int)
+    o, j = o[order], j[order]
+    curve_id = o * n_src + j
+    starts = np.flatnonzero(np.r_[True, curve_id[1:] != curve_id[:-1]]) if o.size else np.zeros(0, dtype=int)
+    rank = np.arange(o.size) - np.repeat(starts, np.diff(np.r_[starts, o.size]))
+    q = int(rank.max()) + 1 if o.size else 0
+    at, width = np.full((n_out, n_src, q), np.nan), np.full((n_out, n_src, q), np.nan)
+    value = np.full((n_out, n_src, q), np.nan + 0j)
+    at[o, j, rank], value[o, j, rank], width[o, j, rank] = c["at"][order], c["value"][order], widths[order]
+    return at, value, width

@@ -165,7 +165,7 @@ def run(args) -> int:
 
 
 def _measured_modes(args, model):
-    """--measured FILE.uff: its dataset 55 modes at the sensors (None without --measured);
+    """--measured FILE.uff: its dataset 55 (or 2414) modes at the sensors (None without --measured);
     --mapping without --measured is refused."""
     if args.measured is None:
         if args.mapping is not None:
@@ -187,7 +187,7 @@ def _write_pairs(model, measured, speed, result, args):
     write_table(pairs, args, empty=f"no oscillating model modes at {args.speed} {args.speed_unit} to pair with the "
                                    f"{len(measured.poles)} measured modes of {args.measured}")
     if not args.quiet:
-        print(f"--measured {args.measured}: {len(measured.poles)} modes (dataset 55) at {len(measured.outputs)} "
+        print(f"--measured {args.measured}: {len(measured.poles)} modes (dataset {measured.method.removeprefix('uff-')}) at {len(measured.outputs)} "
               f"sensors ({', '.join(measured.outputs)}); MAC over those sensors", file=sys.stderr)
 
 

@@ -15,7 +15,7 @@ from ..errors import InputError
 from ..io import atomic_write
 from ..units import from_system
 from ._common import IN_SPEED_UNIT, add_alias, add_model_argument, add_output_file, as_typed, add_speed_unit, check_ending, check_extra_output, \
-    mcs_option, open_model, whole_number
+    mcs_option, open_model, show_progress, whole_number
 from .level1 import add_stage_arguments, anticipated, gas_density
 from .ucs_map import _operating, _stiffness
 
@@ -107,7 +107,7 @@ def run(args) -> int:
     import matplotlib
 
     matplotlib.use("Agg")
-    data = collect(model, inputs)
+    data = collect(model, inputs, progress=show_progress(args))
     units = getattr(args, "units", None) or "si"
     html = render_html(data, units=units)
     with atomic_write(args.out, "w", encoding="utf-8") as handle:

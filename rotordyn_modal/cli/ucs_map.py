@@ -6,9 +6,10 @@ import sys
 
 import numpy as np
 
+from .._progress import phase
 from ..errors import InputError
 from ._common import (IN_SPEED_UNIT, add_alias, as_typed, NAME_LIST_HELP, add_model_argument, add_outputs, add_speed_unit, check_speeds, open_model,
-                      parse_band, parse_names, parse_range, save_figure, use_agg, whole_number, write_table)
+                      parse_band, parse_names, parse_range, save_figure, show_progress, use_agg, whole_number, write_table)
 from ..units import from_system, to_system, unit_label
 from ._units import convert_table, kinds_by_ending
 
@@ -74,7 +75,9 @@ def run(args) -> int:
     bearings = parse_names(args.bearings, "--bearings", [b.name for b in model.bearings])
     check_operating_tables(model, operating, [b for b in model.bearings if bearings is None or b.name in bearings],
                            f"{as_typed(args, '--operating-range')} {args.operating}")
-    result = ucs_map(model, stiffness, modes=modes, bearings=bearings, speeds=speeds, operating=operating)
+    # one batched solve per stiffness value, no steps to count (500 geared rotors: more than 400 s)
+    with phase(show_progress(args), f"ucs-map: {len(stiffness):,} stiffness values, {model.dofs.n:,} coordinates"):
+        result = ucs_map(model, stiffness, modes=modes, bearings=bearings, speeds=speeds, operating=operating)
     table = result.modes_dataframe()      # the figure's followed modes: one numbering
     write_table(convert_table(table, kinds_by_ending(table.columns), args.units), args)
     if not args.quiet:

@@ -7,11 +7,12 @@ import warnings
 
 import numpy as np
 
+from .._progress import phase
 from ..errors import InputError
 from ..unbalance_standards import amplitude_column, amplitude_label, one_convention
 from ._common import (IN_SPEED_UNIT, add_alias, add_model_argument, as_typed, add_output_file, add_outputs, add_sensor_argument, add_speed_unit, check_ending,
-                      check_extra_output, check_speeds, mcs_option, open_model, parse_band, print_table, save_figure, speeds_option,
-                      speed_value, speeds_text, use_agg, whole_number, write_csv, write_table)
+                      check_extra_output, check_speeds, mcs_option, open_model, parse_band, print_table, save_figure, show_progress,
+                      speeds_option, speed_value, speeds_text, use_agg, whole_number, write_csv, write_table)
 from ._units import convert_table
 from .frf import QUANTITY_HELP, QUANTITY_METAVAR, quantity_type, sensor_names
 
@@ -63,7 +64,8 @@ With --mcs, a model with close-clearance stations ([[rotors.clearances]]) gets t
 617/684 clearance check, printed after the checks: at each station the peak-to-peak
 displacement of the rotor relative to the stator (twice its orbit's semi-major axis),
 scaled by Scc = Avl/Amax (at most 6; Avl the probe limit A1, Amax the largest pk-pk at the
-rotor's probes from --min-operating-speed, default --min-speed, to --mcs; 1 without a
+rotor's probes from --min-operating-speed (default the low end of --operating-range, or
+--operating-speed, where one is given, else --min-speed) to --mcs; 1 without a
 probe), against 75 % of the diametral clearance (1.5 x radial_clearance), largest over the
 speeds from --min-speed to --trip-speed (default --mcs), each API case on its own with
 --api-unbalance (the criterion's unbalance), else the model's unbalances together; value,
@@ -124,7 +126,7 @@ def add_arguments(parser):
                         "unit as --speeds; default --mcs)")
     parser.add_argument("--min-operating-speed", metavar="SPEED", help="minimum allowable speed (same unit as "
                         "--speeds): bottom of the probe amplitudes of the clearance check's scale factor "
-                        "Scc = Avl/Amax (default --min-speed)")
+                        "Scc = Avl/Amax (default the low end of --operating-range or --operating-speed, else --min-speed)")
     parser.add_argument("--iso-group", type=whole_number, choices=[1, 2],
                         help="ISO 20816-3 machine group (1: above 300 kW, 2: 15-300 kW), with --iso-support")
     parser.add_argument("--iso-support", choices=["rigid", "flexible"], help="ISO 20816-3 support class")
@@ -148,27 +150,29 @@ def run(args) -> int:
     model = open_model(args)
     operating = _operating_range(args)
     mcs, min_speed = _check_options(args)
+    min_operating = _min_operating(args, operating, mcs, model)     # refused before anything is written
     _warn_below_checked_speeds(speeds_option(args), mcs, args)
     if args.api_unbalance:
         result = api_unbalance_response(model, speeds_option(args), mcs, outputs=sensor_names(args, model),
-                                        quantity=args.quantity, amplitude=args.amplitude)
+                                        quantity=args.quantity, amplitude=args.amplitude, progress=show_progress(args))
     else:
         result = unbalance_response(model, speeds_option(args), outputs=sensor_names(args, model),
-                                    quantity=args.quantity, amplitude=args.amplitude)
+                                    quantity=args.quantity, amplitude=args.amplitude, progress=show_progress(args))
     if (args.orbits or args.orbit_plot) and not result.orbit_pairs:
         raise InputError(f"{model.source}: --orbits/{as_typed(args, '--plot-orbits')} need a probe pair among the outputs: two "
                          "sensors at one point of the same body, directions normal to spin_axis")
     if not args.quiet and args.out != "-":
         print(_response_heading(args.amplitude), file=sys.stderr)
     write_table(in_units(result.to_dataframe(forces=args.forces), result, args.units), args)
-    peaks = result.peaks() if operating is None else separation_margins(result, operating, amplitude=args.amplitude)
+    with phase(show_progress(args), "unbalance: peaks"):
+        peaks = result.peaks() if operating is None else separation_margins(result, operating, amplitude=args.amplitude)
     if not args.quiet:
         print(f"\npeaks (API 684; amplitude {amplitude_label(args.amplitude)}):", file=sys.stderr)
         print_table(in_units(one_convention(peaks, args.amplitude), result, args.units),
                     empty=f"no resonance peak {speeds_text(args)}")
     checks = _write_checks(result, model, mcs, min_speed, args,
                            None if args.operating is None else operating)
-    _print_clearances(result, model, mcs, min_speed, args)
+    _print_clearances(result, model, mcs, min_speed, args, min_operating)
     if args.plot:
         use_agg()
         save_figure(result.plot(peaks=peaks, speed_unit=args.speed_unit, groups=sensor_groups(model),
@@ -288,10 +292,28 @@ def _write_checks(result, model, mcs, min_speed, args, iso_range=None):
     return checks
 
 
-def _print_clearances(result, model, mcs, min_speed, args):
-    """The clearance check (with --mcs, when the model has close-clearance stations), printed."""
+def _min_operating(args, operating, mcs, model):
+    """The minimum operating speed [rad/s] of the clearance check's scale factor: --min-operating-speed,
+    else the low end (in magnitude) of the operating range ``operating`` [rad/s] (--operating-range, or
+    --operating-speed's range of one speed) as the report takes it, else None (--min-speed). An
+    operating range whose low end lies above --mcs is refused where the clearance check runs."""
+    given = _speed(args, args.min_operating_speed, "--min-operating-speed")
+    if given is not None or operating is None or mcs is None or not model.clearances:
+        return given
+    low = float(min(abs(operating[0]), abs(operating[1])))
+    if low > mcs:
+        option, text = ((as_typed(args, "--operating-range"), args.operating) if args.operating is not None
+                        else ("--operating-speed", args.operating_speed))
+        raise InputError(f"{option} {text}: expected its low end at most --mcs {args.mcs} (the minimum operating "
+                         "speed, bottom of the clearance check's scale factor Scc = Avl/Amax; or give "
+                         "--min-operating-speed)")
+    return low
+
+
+def _print_clearances(result, model, mcs, min_speed, args, operating=None):
+    """The clearance check (with --mcs, when the model has close-clearance stations), printed;
+    ``operating`` [rad/s] the minimum operating speed (:func:`_min_operating`; None: --min-speed)."""
     trip = _speed(args, args.trip_speed, "--trip-speed")
-    operating = _speed(args, args.min_operating_speed, "--min-operating-speed")
     if mcs is None or not model.clearances or args.quiet:
         return
     table = result.clearance_check(model, mcs=mcs, min_speed=min_speed, trip_speed=trip,

@@ -394,24 +394,29 @@ def _misfit(state, offset, soft, s, settle, clearance, phi):
 def _damped(state, step, offset, speed, films, soft, s, settle, scale, phi, halvings: int = 40):
     """``state + a step``, ``a`` halved (per speed) from 1 until the compatibility misfit falls:
     the films' offset saturates at the clearance, where a full Newton step from a light-load
-    guess overshoots. The balance equations, linear, hold along the whole step."""
+    guess overshoots. The balance equations, linear, hold along the whole step. Each speed is
+    searched alone, and only while its step is being halved; a speed already converged (a step of
+    0) is not searched at all (its misfit, at round-off, never fell: 40 halvings of nothing)."""
     n = len(s)
     before = _misfit(state, offset, soft, s, settle, films[2], phi)
     length = np.ones(len(state))
-    for _ in range(halvings):
-        trial = state + length[:, None] * step
-        trial_offset = _film_offset(trial[:, :2 * n].reshape(-1, n, 2), speed, films, scale)[0]
+    trying = np.flatnonzero(np.any(step != 0, axis=1))     # the speeds whose step is still being halved
+    for _ in range(halvings if len(trying) else 0):
+        trial = state[trying] + length[trying, None] * step[trying]
+        trial_offset = _film_offset(trial[:, :2 * n].reshape(-1, n, 2), speed[trying], films, scale, False)[0]
         after = _misfit(trial, trial_offset, soft, s, settle, films[2], phi)
-        worse = ~(after <= (1 - 1e-4 * length) * before) & (before > 0)
+        worse = ~(after <= (1 - 1e-4 * length[trying]) * before[trying]) & (before[trying] > 0)
         if not worse.any():
             break
-        length = np.where(worse, 0.5 * length, length)
+        trying = trying[worse]                     # each speed's own halving: the others are settled
+        length[trying] *= 0.5
     return state + length[:, None] * step
 
 
-def _film_offset(loads, speed, films, scale):
+def _film_offset(loads, speed, films, scale, compliance: bool = True):
     """Each journal's offset from its bearing's centre (S, N, 2) and the film's compliance
-    ``K^-1`` (S, N, 2, 2), in the plane's axes, under the loads (S, N, 2)."""
+    ``K^-1`` (S, N, 2, 2), in the plane's axes, under the loads (S, N, 2); without
+    ``compliance`` (a line search's trial) the offset alone, and None."""
     magnitude = np.linalg.norm(loads, axis=-1)
     safe = np.maximum(magnitude, 1e-12 * scale)
     x = np.where(magnitude[..., None] > 0, loads / safe[..., None], [1.0, 0.0])
@@ -421,6 +426,8 @@ def _film_offset(loads, speed, films, scale):
     eps, film = _eccentricity(sigma)
     phi = np.sign(speed)[:, None] * np.arctan2(np.pi * np.sqrt(film), 4.0 * eps)
     offset = (clearance * eps)[..., None] * (np.cos(phi)[..., None] * x + np.sin(phi)[..., None] * y)
+    if not compliance:
+        return offset, None
     mirror = np.where(speed[:, None, None, None] < 0, np.array([[1.0, -1.0], [-1.0, 1.0]]), 1.0)
     with np.errstate(all="ignore"):
         local = (safe / clearance)[..., None, None] * mirror * _dimensionless_coefficients(eps, film)[0]
@@ -455,7 +462,13 @@ def _newton_step(loads, compliance, soft, s, settle, total, offset, phi):
 class JournalLoadOverSpeed:
     """The static load of one journal of a rotor (rigid or flexible) on three or more journals, with or
     without pedestals, at any speed (:func:`rigid_rotor_journal_loads`; the rotor's journals share one
-    solver, which keeps the last few sweeps' solutions).
+    solver, which remembers the loads at each speed it has solved).
+
+    The cache is per speed, not per sweep: an analysis that evaluates its coefficients at a whole
+    sweep and then again speed by speed (campbell's refinement, ``stiffness_at`` and ``damping_at``
+    of one speed) solves each speed once. Each speed's solution does not depend on the others of its
+    batch (Newton stops per speed, the line search halves per speed), so a speed solved in a sweep
+    and alone give the same loads to the bit.
 
     Parameters
     ----------
@@ -463,22 +476,23 @@ class JournalLoadOverSpeed:
         The journal's place among the rotor's journals.
     solver : dict
         The keyword arguments of :func:`rigid_rotor_journal_loads` but ``speed``, and a
-        ``"cache"`` dict shared by the rotor's journals.
+        ``"cache"`` dict shared by the rotor's journals (speed [rad/s] -> loads (N, 3) [N]).
     """
 
-    _KEEP = 8   # sweeps remembered per rotor
+    _KEEP = 100_000   # speeds remembered per rotor (then forgotten all at once)
 
     def __init__(self, index: int, solver: dict):
         self.index, self.solver = index, solver
 
     def __call__(self, speeds) -> np.ndarray:
         """The force [N] this journal puts on its bearing at each own speed (S,) [rad/s], (S, 3)."""
-        speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+        speeds = np.atleast_1d(np.asarray(speeds, dtype=float)).ravel().tolist()
         cache = self.solver["cache"]
-        key = speeds.tobytes()
-        if key not in cache:
-            if len(cache) >= self._KEEP:
-                cache.pop(next(iter(cache)))
+        missing = [speed for speed in dict.fromkeys(speeds) if speed not in cache]
+        if missing:
             arguments = {name: value for name, value in self.solver.items() if name != "cache"}
-            cache[key] = rigid_rotor_journal_loads(speeds, **arguments)
-        return cache[key][:, self.index]
+            solved = rigid_rotor_journal_loads(np.array(missing), **arguments)          # (M, N, 3)
+            if len(cache) + len(missing) > self._KEEP:
+                cache.clear()
+            cache.update(zip(missing, solved))
+        return np.array([cache[speed][self.index] for speed in speeds], dtype=float).reshape(len(speeds), 3)

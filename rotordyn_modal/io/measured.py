@@ -70,13 +70,16 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
     except OSError as error:   # a file without read permission: PermissionError, exit 1
         raise InputError(f"{path}: cannot read the measured-data file ({error.strerror or error})") from None
     if is_universal_file(path):
-        from .uff import read_uff58
+        from .uff import NoFunctionData, read_uff58
 
         if mapping is None or isinstance(mapping, ChannelMap):
             channel_map = mapping or default_mapping(model)
         else:
             channel_map = read_mapping(mapping, model)
-        return read_uff58(path, model, channel_map)
+        try:
+            return read_uff58(path, model, channel_map)
+        except NoFunctionData as error:
+            raise _with_2414(error, path) from None
     if path.suffix.lower() in TABLE_ENDINGS:
         if mapping is not None and not isinstance(mapping, ChannelMap):
             read_mapping(mapping, model)   # a missing or broken table named is refused, never passed over
@@ -90,6 +93,16 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
 
 
 #: endings of the Universal Files a mapping table places the channels of
+def _with_2414(error, path) -> InputError:
+    """The FRF reader's refusal of a file without dataset 58, with what its dataset 2414 sets hold
+    (FE results: mode shapes read by ``modes --measured``, frequency response sets that are no
+    FRFs, static results)."""
+    from .uff_modes import describe_2414
+
+    held = describe_2414(path) if 2414 in error.types else ""
+    return InputError(f"{error}: {held}") if held else error
+
+
 UFF_ENDINGS = (".uff", ".unv", ".uf")
 
 

@@ -543,14 +543,23 @@ def _check_complete(path):
                          f"(from line {line}): the file is truncated or has trailing text")
 
 
+class NoFunctionData(InputError):
+    """A Universal File without dataset 58, refused by the FRF reader; ``types`` its dataset
+    numbers (:func:`.measured.read_measured` adds what its dataset 2414 sets hold)."""
+
+    def __init__(self, message, types):
+        super().__init__(message)
+        self.types = [int(t) for t in types]
+
+
 def _read_sets(path):
     """``(sets, units)``: the file's datasets 58 and its units (dataset 164), in one read."""
     _check_complete(path)
     uff, types, index, sets = _pyuff_read(path, (58, 164))
     if 58 not in types:
         modes = " (mode shapes: modes --measured, rdm.read_uff_modes)" if 55 in types else ""
-        raise InputError(f"{path}: no dataset 58/58b (FRF) in the file; datasets found: "
-                         f"{_datasets_named(int(t) for t in types)}{modes}")
+        raise NoFunctionData(f"{path}: no dataset 58/58b (FRF) in the file; datasets found: "
+                             f"{_datasets_named(int(t) for t in types)}{modes}", types)
     units = _units([{**s, "type": 164} for number, s in zip(index, sets) if types[number] == 164], path)
     frfs = []
     for number, s in zip(index, sets):

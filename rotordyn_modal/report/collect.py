@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._progress import phase
 from ..errors import InputError
 from ..unbalance_standards import AMPLITUDE_WORDS, amplitude_factor
 from ..units import check_system, unit_scale
@@ -237,8 +238,9 @@ class ReportData:
     warnings: list = field(default_factory=list)
 
 
-def collect(model, inputs: ReportInputs) -> ReportData:
-    """Run the analyses of ``inputs.standard`` on ``model``.
+def collect(model, inputs: ReportInputs, progress: bool = False) -> ReportData:
+    """Run the analyses of ``inputs.standard`` on ``model`` (``progress``: a line naming the section
+    under way, with its elapsed time, where it runs more than a few seconds).
 
     Returns
     -------
@@ -259,10 +261,12 @@ def collect(model, inputs: ReportInputs) -> ReportData:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if "level1" in data.sections:   # first: a bad --station is refused before the long work
-            _level1(data)
+            with phase(progress, f"report: {SECTIONS['level1']}"):
+                _level1(data)
         for section in data.sections:
             if section != "level1":
-                _STEPS[section](data)
+                with phase(progress, f"report: {SECTIONS[section]}"):
+                    _STEPS[section](data)
     order = {s: i for i, s in enumerate(data.sections)}
     data.criteria.sort(key=lambda c: order[c.section])
     data.warnings = sorted({str(w.message) for w in caught})

@@ -12,7 +12,6 @@ entry of K exact in double) whose lowest roots are ``sqrt(k / m)`` exactly.
 
 from __future__ import annotations
 
-import re
 import warnings
 
 import numpy as np
@@ -64,20 +63,19 @@ def test_lowest_route_separates_the_pair(tmp_path):
     assert error.max() < 1e-9, error
 
 
-def test_full_solve_warns_of_the_roots_it_leaves_inexact(tmp_path):
-    """Modes 5 and 6 (single roots, round-off 1.3e-5) stay as the QR solve gives them: one
-    ModelWarning names them and a bound at least their distance to the lowest route's roots
-    (Newton on the pencil with an extended-precision residual, an independent algorithm);
-    main: no warning."""
+def test_full_solve_leaves_no_root_inexact(tmp_path):
+    """Modes 5 and 6 (single roots, round-off 1.3e-5) were warned of here; since roots27l they are
+    polished one at a time (``_lowest_newton.root_polished``): they agree with the lowest route's
+    roots (Newton on the pencil with an extended-precision residual, an independent algorithm) to
+    1e-9, and nothing is warned (the warning for a root the polish leaves: test_exact_roots27l)."""
     model = _model(tmp_path)
     full, caught = _caught(lambda: rdm.modal(model, SPEED))
     lines = [str(w.message) for w in caught if issubclass(w.category, ModelWarning) and "exact only to" in str(w.message)]
-    assert len(lines) == 1 and "mode(s) 5, 6 at 3,000 rpm" in lines[0], lines
-    bound = float(re.search(r"exact only to about ([0-9.e+-]+) relative", lines[0]).group(1))
+    assert lines == []
     lowest, _ = _caught(lambda: rdm.campbell(model, np.array([SPEED]), modes=6, critical=False))
     mine, theirs = np.sort(full.frequencies_hz[full.frequencies_hz > 0])[:6], np.sort(lowest.frequencies_hz[0])
     distance = np.abs(mine - theirs) / theirs
-    assert 1e-7 < distance[4:].max() <= bound, (distance, bound)
+    assert distance[4:].max() < 1e-9, distance
 
 
 def _chains(m=1.0, k=1e3, link=1e14):

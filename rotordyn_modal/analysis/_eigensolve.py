@@ -15,7 +15,7 @@ import numpy as np
 from . import _batches, _roots, _vectors
 
 __all__ = ["REPEATED_TOLERANCE", "eigenvalues_of", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
-           "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots"]
+           "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots", "branch_terms"]
 
 
 def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False, mass=None):
@@ -461,7 +461,7 @@ def _extreme_whirl(basis, total, momentum):
 INEXACT_LEVEL = 1e-6
 
 
-def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None) -> np.ndarray:
+def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branches=None) -> np.ndarray:
     """How far double precision can move each root of a dense eigen-solve, relative [-]: the
     first-order change of the root under a change of every entry of the pencil
     ``M s^2 + D s + K`` by ``eps`` of itself, for the root's own shape,
@@ -485,6 +485,13 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None) -> np
         ``M``, ``D = C + Omega G`` (speed-dependent bearings' damping included) and ``K`` at the speed.
     noise : float, optional
         The solve's absolute round-off [1/s].
+    branches : (ndarray (b, k, k), ndarray (b,)), optional
+        Maxwell branches' stiffness ``K_t`` on the first ``k`` coordinates (the stator's,
+        :func:`branch_terms`) and times ``tau_t`` [s]: the pencil is then the rational
+        ``M s^2 + D s + K + sum_t K_t s tau_t / (1 + s tau_t)`` (the Schur complement of the state
+        matrix's linear pencil on the branches' own states), each term's size and derivative
+        counted as the others'; a root of the branches' own states (at a pole ``s = -1 / tau``,
+        or without displacement) is not estimated (0).
 
     Returns
     -------
@@ -501,21 +508,47 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None) -> np
     parts = np.concatenate([x.real, x.imag], axis=1)
     Mx, Dx = mass @ parts, damping @ parts
     Mx, Dx = Mx[:, :m] + 1j * Mx[:, m:], Dx[:, :m] + 1j * Dx[:, m:]
-    derivative = np.abs(np.einsum("im,im->m", x.conj(), 2.0 * s * Mx + Dx))
+    slope = np.einsum("im,im->m", x.conj(), 2.0 * s * Mx + Dx)
+    if branches is not None:
+        stiff, times = np.asarray(branches[0]), np.asarray(branches[1])
+        k = stiff.shape[-1]
+        xs, As = x[:k], a[:k]
+        forms = np.einsum("im,tim->tm", xs.conj(), stiff @ xs)                        # (b, m)
+        sizes = np.einsum("im,tim->tm", As, np.abs(stiff) @ As)
+        tau = times[:, None]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            terms = terms + np.sum(np.abs(s * tau / (1.0 + s * tau)) * sizes, axis=0)
+            slope = slope + np.sum(tau / (1.0 + s * tau) ** 2 * forms, axis=0)
+    derivative = np.abs(slope)
     with np.errstate(divide="ignore", invalid="ignore"):
         out = np.finfo(float).eps * terms / (size * derivative)
         if noise is not None:
             out = np.maximum(out, noise / size)
-    return np.where(size > 0, np.nan_to_num(out, nan=np.inf, posinf=np.inf), 0.0)
+    out = np.nan_to_num(out, nan=np.inf, posinf=np.inf)
+    if branches is not None:            # a root of the branches' own states (at a pole, s = -1/tau, or with
+        out = np.where(np.isfinite(out), out, 0.0)     # no displacement): not estimated
+    return np.where(size > 0, out, 0.0)
 
 
 
-def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None):
+def branch_terms(form):
+    """A form's Maxwell branches for :func:`pencil_round_off` and :func:`refined_pairs`: their
+    stiffness on the stator's coordinates, the first ``k`` (b, k, k), and times (b,) [s]; None
+    without branches (not the (b, n, n) ``form.branch_stiffness``: 16 branches of a 2,000-coordinate
+    model would hold 512 MB)."""
+    if not len(form.branch_times):
+        return None
+    k = form.model.dofs.n_frame
+    return np.asarray(form.branch_blocks)[:, :k, :k], np.asarray(form.branch_times)
+
+
+def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None, branches=None):
     """The roots of one speed whose round-off ``bound`` (:func:`pencil_round_off`) exceeds
-    :data:`INEXACT_LEVEL` and whose neighbour in frequency is closer than it, polished two at a
-    time on the quadratic pencil (:func:`._lowest_newton.pair_polished`: block Newton steps with
-    the residual's stiffness term summed exactly), in place; the others, every root of a
-    well-conditioned machine, untouched.
+    :data:`INEXACT_LEVEL`, polished in place on the quadratic pencil: those whose neighbour in
+    frequency is closer than it two at a time (:func:`._lowest_newton.pair_polished`: block Newton
+    steps with the residual's stiffness term summed exactly), the others one at a time
+    (:func:`._lowest_newton.root_polished`: the same steps for one root, its shape's phase kept);
+    every root of a well-conditioned machine untouched.
 
     Parameters
     ----------
@@ -527,31 +560,50 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
         Where given, a pair polished into one root (a double root: the machine at rest) has its
         shapes made the extreme-whirl pair (:func:`resolve_repeated`; the polish's basis of the
         plane is any), ``variant`` the row's variant where the forms are stacked.
+    branches : (ndarray (b, k, k), ndarray (b,)), optional
+        Maxwell branches (:func:`branch_terms`): single roots polished on the rational pencil
+        (:func:`._lowest_newton.rational_root_polished`); pairs closer than their round-off are
+        left (and warned of: the block polish is the quadratic pencil's).
 
     Returns
     -------
-    ndarray, shape (m,): ``bound``, the polished pairs' the error the polish leaves
+    ndarray, shape (m,): ``bound``, the polished roots' the error the polish leaves (a root the
+    polish could not converge keeps its bound; so do both roots of a pair it could not separate)
     """
-    from ._lowest_newton import pair_polished
-
     bound = np.array(bound, dtype=float)
     wanted = np.flatnonzero((bound > INEXACT_LEVEL) & (np.asarray(values).imag > 0))
-    if len(wanted) < 2:
+    if not len(wanted):
         return bound
+    from ._lowest_newton import pair_polished, rational_root_polished, root_polished
+
+    mass, damping, stiffness = (matrix.toarray() if hasattr(matrix, "toarray") else np.asarray(matrix)
+                                for matrix in (mass, damping, stiffness))
     order = wanted[np.argsort(values[wanted].imag)]
     done = set()
     for a, b in zip(order[:-1], order[1:]):
         gap = abs(values[b] - values[a]) / max(abs(values[a]), abs(values[b]))
         if a in done or not gap < max(bound[a], bound[b]):
             continue
+        done.update((a, b))                 # polished together, or left (one at a time cannot part them)
+        if branches is not None:
+            continue
         found = pair_polished(mass, damping, stiffness, values[[a, b]], shapes[[a, b]])
         if found is not None:
             values[[a, b]], shapes[[a, b]], bound[[a, b]] = found
-            done.update((a, b))
             if forms is not None:
                 shapes[[a, b]] = resolve_repeated(values[[a, b]][None], shapes[[a, b]][None], forms,
                                                   None if variant is None else np.array([variant]), groups=False)[0]
+    for a in order:
+        if a in done:
+            continue
+        if branches is None:
+            found = root_polished(mass, damping, stiffness, values[a], shapes[a])
+        else:
+            found = rational_root_polished(mass, damping, stiffness, branches, values[a], shapes[a])
+        if found is not None:
+            values[a], shapes[a], bound[a] = found
     return bound
+
 
 def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3):
     """One :class:`~rotordyn_modal.errors.ModelWarning` naming the speeds [rad/s] (N,) and the

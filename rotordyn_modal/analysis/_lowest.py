@@ -134,8 +134,7 @@ def _reduced_roots(stack, speeds, count, progress=False):
     size = min(n, max(3 * count, count + 10))
     pencils = _Pencils(stack, speeds)
     if _lowest_route._crowded(stack, pencils, count=count):      # Arnoldi, shown without the dense set-up below
-        values, shapes, ok = _arnoldi.lowest(pencils, count, _refined, _distinct, progress)
-        return (*_by_frequency(values, shapes, count), ok)
+        return _arnoldi_roots(stack, pencils, count, progress)
     bound = _stack_bound(stack, pencils)
     modes = bound.modes
     want = min(count + 1, size)
@@ -145,8 +144,7 @@ def _reduced_roots(stack, speeds, count, progress=False):
     size = min(n, max(_needed_size(bound, rho, size), want))
     _, attached = bound.shares(size, rho)
     if _arnoldi.takes(size + attached.shape[1], n):     # the undamped modes crowd above the wanted roots
-        values, shapes, ok = _arnoldi.lowest(pencils, count, _refined, _distinct, progress)
-        return (*_by_frequency(values, shapes, count), ok)
+        return _arnoldi_roots(stack, pencils, count, progress)
     basis = np.hstack([modes[:, :size], attached])
     values, shapes, ok, unmissed = _swept(pencils, basis, want, count)
     ok &= _distinct(values, shapes)
@@ -156,6 +154,22 @@ def _reduced_roots(stack, speeds, count, progress=False):
     values, shapes = _by_frequency_over(values, shapes, count)
     ok &= _basis_suffices(values, bound, size, attached.shape[1], rho)
     _cut_in_a_multiple_root(stack, pencils, bound, (values, shapes, ok), count, near=near)
+    return values, shapes, ok
+
+
+def _arnoldi_roots(stack, pencils, count, progress=False, limit=None):
+    """:func:`_reduced_roots` by shift-invert Arnoldi (:func:`._arnoldi.lowest`; with a ``limit``
+    [rad/s], :func:`_reduced_below`'s, :func:`._arnoldi.below`): the ``count + 1`` roots by
+    frequency, a multiple root's shapes by whirl, backward first, before the cut keeps the first
+    ``count`` (where the cut falls inside a double root, the root kept is its backward whirl, as on
+    the reduced route, :func:`_cut_in_a_multiple_root`; ARPACK's ``k`` cutting inside it is retried
+    there, :func:`._arnoldi._arnoldi`)."""
+    if limit is None:
+        values, shapes, ok = _arnoldi.lowest(pencils, count, _refined, _distinct, progress)
+    else:
+        values, shapes, ok = _arnoldi.below(pencils, limit, count, _refined, _distinct)
+    values, shapes = _by_frequency(values, shapes, count)
+    _by_whirl(stack, values, shapes, ok)
     return values, shapes, ok
 
 
@@ -706,8 +720,7 @@ def _reduced_below(stack, speeds, limit, count):
     n = stack.n_dof
     pencils = _Pencils(stack, speeds)
     if _lowest_route._crowded(stack, pencils, limit=limit):      # Arnoldi, shown without the dense set-up below
-        values, shapes, ok = _arnoldi.below(pencils, limit, count, _refined, _distinct)
-        return (*_by_frequency(values, shapes, count), ok)
+        return _arnoldi_roots(stack, pencils, count, limit=limit)
     bound = _stack_bound(stack, pencils)
     omegas, modes = bound.omegas, bound.modes
     # the largest |lam| below the limit, from a few speeds' projected roots on the modes up to twice it
@@ -719,8 +732,7 @@ def _reduced_below(stack, speeds, limit, count):
     size = min(n, _needed_size(bound, rho, size))
     attached = bound.shares(size, rho)[1] if size < n else np.zeros((n, 0))
     if _arnoldi.takes(size + attached.shape[1], n):     # the undamped modes crowd above the limit
-        values, shapes, ok = _arnoldi.below(pencils, limit, count, _refined, _distinct)
-        return (*_by_frequency(values, shapes, count), ok)
+        return _arnoldi_roots(stack, pencils, count, limit=limit)
     if size >= n:
         return None
     basis = np.hstack([modes[:, :size], attached])

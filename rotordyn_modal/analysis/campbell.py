@@ -841,11 +841,10 @@ def _refine_inexact(stack, speeds, values, shapes):
     """The roots ``values`` (V, N, m) with ``shapes`` (V, N, m, n) at ``speeds`` [rad/s] that
     double precision leaves further off than :data:`._eigensolve.INEXACT_LEVEL`
     (:func:`._eigensolve.pencil_round_off`): pairs closer than that polished in place
-    (:func:`._eigensolve.refined_pairs`), the rest warned of, once per model; models with
-    Maxwell branches are not estimated (their pencil is not quadratic)."""
+    (:func:`._eigensolve.refined_pairs`), the rest warned of, once per model (models with
+    Maxwell branches on their rational pencil)."""
     for v, form in enumerate(stack.forms):
-        if len(form.branch_times):
-            continue
+        branches = _eigensolve.branch_terms(form)
         G, n = form.matrices.G, form.n_dof
         bound = np.zeros(values.shape[1:])
         # the bearings evaluated for a part of the speeds at a time (each speed's coefficients its
@@ -857,8 +856,9 @@ def _refine_inexact(stack, speeds, values, shapes):
             for j, i in enumerate(range(part.start, part.stop)):
                 pencil = (form.matrices.M, damping[j] + speeds[i] * G, stiffness[j])
                 bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], *pencil,
-                                                     _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil),
-                                                     stack.whirl, v)
+                                                     _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil,
+                                                                                  branches=branches),
+                                                     stack.whirl, v, branches=branches)
         name = stack.models[v].name if len(stack.forms) > 1 else ""
         _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
 

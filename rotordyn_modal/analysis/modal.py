@@ -333,14 +333,13 @@ def _refine_inexact(form, speed, values, shapes, stacklevel=4) -> np.ndarray | N
     """The roots ``values`` (m,) with shapes (m, n) at ``speed`` [rad/s] whose double-precision
     round-off (:func:`._eigensolve.pencil_round_off`) exceeds :data:`._eigensolve.INEXACT_LEVEL`:
     pairs closer than it polished in place (:func:`._eigensolve.refined_pairs`), the rest warned of;
-    returns the error left (m,); None for a model with Maxwell branches (its pencil is not quadratic)."""
-    if len(form.branch_times):
-        return None
+    returns the error left (m,) (a model with Maxwell branches: on its rational pencil)."""
+    branches = _eigensolve.branch_terms(form)
     damping = form.damping_at(np.array([speed])) + speed * form.matrices.G
     stiffness = form.stiffness_at(np.array([speed]))
     damping, stiffness = damping.reshape(damping.shape[-2:]), stiffness.reshape(stiffness.shape[-2:])
-    bound = _eigensolve.pencil_round_off(values, shapes, form.matrices.M, damping, stiffness)
-    bound = _eigensolve.refined_pairs(values, shapes, form.matrices.M, damping, stiffness, bound)
+    bound = _eigensolve.pencil_round_off(values, shapes, form.matrices.M, damping, stiffness, branches=branches)
+    bound = _eigensolve.refined_pairs(values, shapes, form.matrices.M, damping, stiffness, bound, branches=branches)
     _eigensolve.warn_of_inexact_roots([speed], bound[None], stacklevel=stacklevel)
     return bound
 

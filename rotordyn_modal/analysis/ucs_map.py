@@ -236,7 +236,7 @@ def ucs_map(model, stiffness, modes: int = 4, bearings=None, speeds=None, operat
 
 
 def _ucs_map(model, chosen, stiffness, modes, speeds, operating) -> UcsMap:
-    parts = _Pencil(model, chosen)
+    parts = _Pencil(model, chosen, polished=_polished_count(modes))
     constants = _constant_values(chosen)
     grid = np.union1d(stiffness, constants)           # the constant bearings' stiffness followed too
     roots = parts.roots(grid)
@@ -305,8 +305,9 @@ class _Pencil:
     """``M``, ``G``, and ``K(k) = K_rest + k K_unit`` of a model with its chosen bearings' radial
     stiffness ``k`` (isotropic), and the forward critical speeds of any ``k``."""
 
-    def __init__(self, model, chosen):
-        checked_mass_inverse(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
+    def __init__(self, model, chosen, polished=0):
+        checked_mass_inverse(model)
+        self.polished = polished     # the lowest roots polished where double precision leaves them inexact   # a mass matrix rounding leaves singular: refused, as every analysis does
         self.model = model
         self.M = mass_matrix(model)
         self.G = gyroscopic_matrix(model)
@@ -315,8 +316,10 @@ class _Pencil:
 
     def roots(self, stiffness) -> "_Roots":
         """:class:`_Roots` for the stiffness values (K,) [N/m]."""
-        K = self.rest + np.asarray(stiffness, dtype=float)[:, None, None] * self.unit
-        return _synchronous_roots(self.M, self.G, K, self.forms, probe=_free_probe([self.rest, self.unit]))
+        stiffness = np.asarray(stiffness, dtype=float)
+        K = self.rest + stiffness[:, None, None] * self.unit
+        return _synchronous_roots(self.M, self.G, K, self.forms, probe=_free_probe([self.rest, self.unit]),
+                                  exact=(self.rest, self.unit, stiffness, self.polished) if self.polished else None)
 
     def weighted(self, shapes) -> np.ndarray:
         """Mass-weighted unit shapes (..., m, n) for the MAC."""
@@ -371,10 +374,12 @@ def _free_probe(parts) -> np.ndarray:
     return probe
 
 
-def _synchronous_roots(M, G, K, forms, probe=None) -> _Roots:
+def _synchronous_roots(M, G, K, forms, probe=None, exact=None) -> _Roots:
     """:class:`_Roots` of ``K phi = Omega^2 (M - i G) phi`` for each of K (S, n, n), one batch;
     ``probe`` (n, n): a stiffness with the batch's free motions as its null space (default
-    :func:`_free_probe` of the batch's matrices)."""
+    :func:`_free_probe` of the batch's matrices); ``exact``: ``(K_rest, K_unit, k, count)`` with ``K =
+    K_rest + k K_unit`` (``k`` (S,)), where given the lowest ``count`` roots double precision leaves
+    inexact are polished (:func:`_polished`)."""
     B = M - 1j * G
     W = _constrained_basis(M, B, _free_probe(list(K)) if probe is None else probe)
     if not W.shape[1]:                      # every motion free: no mode at all
@@ -386,18 +391,155 @@ def _synchronous_roots(M, G, K, forms, probe=None) -> _Roots:
     Ri = np.linalg.inv(R)                    # one factorisation; the products below are cheaper than solves
     H = Ri @ Bw @ Ri.conj().swapaxes(-1, -2)                         # R^-1 Bw R^-H
     nu, y = np.linalg.eigh(0.5 * (H + H.conj().swapaxes(-1, -2)))
+    polished = None
+    if exact is not None:
+        nu, polished = _polished(M, G, *exact, nu, (W @ (Ri.conj().swapaxes(-1, -2) @ y)))
     with np.errstate(divide="ignore", invalid="ignore"):
         omega = np.where(nu > 0, 1 / np.sqrt(np.where(nu > 0, nu, 1.0)), np.inf)
         signed = np.sign(nu) / np.sqrt(np.maximum(np.abs(nu), 1e-300))
     order = np.argsort(omega, axis=-1)
     omega, signed, nu = (np.take_along_axis(x, order, axis=-1) for x in (omega, signed, nu))
-    y = np.take_along_axis(y, order[:, None, :], axis=-1)
-    shapes = (W @ (Ri.conj().swapaxes(-1, -2) @ y)).swapaxes(-1, -2)                 # (s, m, n)
+    if polished is None:
+        y = np.take_along_axis(y, order[:, None, :], axis=-1)
+        shapes = (W @ (Ri.conj().swapaxes(-1, -2) @ y)).swapaxes(-1, -2)                 # (s, m, n)
+    else:
+        shapes = np.take_along_axis(polished, order[:, None, :], axis=-1).swapaxes(-1, -2)
     finite = np.isfinite(omega)
     lam = 1j * np.where(finite, omega, 0.0)
     shapes = _eigensolve.resolve_repeated(lam, shapes, forms)
     ratios = _whirl.whirl_ratios(shapes, forms, np.ones(len(K)))
     return _Roots(omega, signed, shapes, finite & (_whirl.whirl_labels(ratios) == "forward"))
+
+
+#: a root of the map whose estimated relative error (:func:`_round_off`) exceeds this is polished
+#: (:func:`_polished`): the crossings are found to 1e-10 of the speed
+_POLISH_LEVEL = 1e-10
+#: roots polished together at most (a double root: a rotor's forward and backward cylindrical
+#: motion where the gyroscopic moments do not act); chord steps at most; a group whose last step
+#: is above ``_POLISHED`` (relative) is left as the solve gave it
+_GROUP_LARGEST, _CHORD_STEPS, _POLISHED = 4, 12, 1e-13
+
+
+def _round_off(M, G, rest, unit, k, nu, shapes, largest):
+    """Estimated relative error of roots ``nu`` (S, c) = ``1 / Omega^2`` of ``K phi = Omega^2 (M -
+    i G) phi`` at the stiffness values ``k`` (S,) [N/m], shapes (S, n, c): the conditioning of the
+    root in the matrix's entries, ``eps |phi|^T (|K_rest| + k |K_unit|) |phi| / (Omega^2 |phi^H B
+    phi|)`` (the Cholesky of ``K``), and the Hermitian solve's own ``eps max |nu| / |nu|`` (its
+    absolute error is ``eps`` of the largest ``nu``, ``largest`` (S,): a rigid rotor's, 1e13 times a
+    shaft mode's on bearings of 1e-3 N/m). Returns the two (S, c) each, inf where ``nu <= 0`` (no
+    critical speed: not polished)."""
+    a = np.abs(shapes)
+    terms = np.einsum("sim,sim->sm", a, np.abs(rest) @ a) + k[:, None] * np.einsum("sim,sim->sm", a, np.abs(unit) @ a)
+    inertia = np.abs(np.einsum("sim,sim->sm", shapes.conj(), (M - 1j * G) @ shapes))
+    eps = np.finfo(float).eps
+    with np.errstate(divide="ignore", invalid="ignore"):
+        stiff, solve = eps * terms * nu / inertia, eps * largest[:, None] / np.abs(nu)
+    return np.where(nu > 0, stiff, np.inf), np.where(nu > 0, solve, np.inf)
+
+
+def _polished_count(modes):
+    """How many of the lowest roots (forward and backward) the map polishes for ``modes`` forward
+    critical speeds a stiffness: what it reports and follows, and the backward roots between."""
+    return 2 * modes + 2
+
+
+def _polished(M, G, rest, unit, stiffness, count, nu, shapes):
+    """Roots ``nu`` (S, m) with shapes (S, n, m) of the map's pencil at the stiffness values
+    ``stiffness`` (S,) [N/m], the ``count`` lowest (largest ``nu > 0``) at each, whose estimated error
+    (:func:`_round_off`) exceeds ``_POLISH_LEVEL``,
+    polished on ``K_rest phi + k K_unit phi = Omega^2 (M - i G) phi`` (:func:`_group_polished`: the
+    stiffness term summed exactly from ``K_rest`` and ``k`` apart; formed, ``K_rest + k K_unit``
+    loses a bearing of 1e-3 N/m beside a shaft's 1e10 N/m to rounding), together where roots are
+    closer than their errors. Returns ``nu`` and the shapes, new arrays; the others untouched."""
+    nu, shapes = nu.copy(), shapes.copy()
+    lowest = np.argsort(-nu, axis=1)[:, :count]                                       # (S, c)
+    parts = _round_off(M, G, rest, unit, np.asarray(stiffness, dtype=float), np.take_along_axis(nu, lowest, 1),
+                       np.take_along_axis(shapes, lowest[:, None, :], 2), np.abs(nu).max(axis=1))
+    stiffs, errors = (np.full(nu.shape, np.inf) for _ in range(2))
+    np.put_along_axis(stiffs, lowest, parts[0], 1)
+    np.put_along_axis(errors, lowest, parts[0] + parts[1], 1)
+    over = np.isfinite(errors) & (errors > _POLISH_LEVEL)
+    for s in np.flatnonzero(over.any(axis=1)):
+        k, stiff, error, wanted = stiffness[s], stiffs[s], errors[s], over[s]
+        for group in _groups(nu[s], error, wanted):
+            exact = bool(np.any(stiff[group] > _POLISH_LEVEL))
+            found = _group_polished(M, G, rest, unit, k, nu[s, group], shapes[s][:, group], exact)
+            if found is not None:
+                nu[s, group], shapes[s][:, group] = found
+    return nu, shapes
+
+
+def _groups(nu, error, wanted):
+    """Index arrays of the roots ``nu`` (m,) to polish together: runs of positive roots each closer
+    to the next than ten times their errors ``error`` (m,) allow to tell apart, those with a root
+    ``wanted`` (m,) bool, at most ``_GROUP_LARGEST`` long (a root not estimated, inf: its
+    neighbour's error decides)."""
+    error = np.where(np.isfinite(error), error, 0.0)
+    positive = np.flatnonzero(nu > 0)
+    positive = positive[np.argsort(nu[positive])]
+    runs, run = [], [positive[0]] if len(positive) else []
+    for a, b in zip(positive[:-1], positive[1:]):
+        gap = (nu[b] - nu[a]) / nu[b]
+        if gap < 10 * max(error[a], error[b], _POLISH_LEVEL):
+            run.append(b)
+        else:
+            runs.append(run)
+            run = [b]
+    if run:
+        runs.append(run)
+    return [np.array(r) for r in runs if wanted[r].any() and len(r) <= _GROUP_LARGEST]
+
+
+def _group_polished(M, G, rest, unit, k, nu, shapes, exact=True):
+    """Roots ``nu`` (g,) with shapes (n, g) of ``(K_rest + k K_unit) X = B X S``, ``B = M - i G``,
+    polished together: chord steps of Newton's method for the invariant pair ``(X, S)`` with ``W^H
+    X = I`` (``W`` the start's orthonormal basis; its Jacobian factored once), the residual's
+    ``K_rest X`` summed exactly (:func:`._lowest_newton._exact_sums`) and ``k K_unit X`` apart, until
+    the step is below ``_POLISHED`` (not ``exact``: summed in double, where the roots' error is
+    the Hermitian solve's, not their conditioning's). Returns the roots ``1 / Omega^2`` (g,) and shapes (n, g) (each
+    with its start's scale and, for one root, phase), or None where the steps do not converge."""
+    from ._lowest_newton import _exact_sums
+
+    n, g = shapes.shape
+    B = M - 1j * G
+    basis, triangle = np.linalg.qr(shapes)
+    X = basis
+    S = triangle @ np.diag(1.0 / nu) @ np.linalg.inv(triangle)              # Omega^2
+    Ig = np.eye(g)
+    K = rest + k * unit
+    J = np.zeros((g * n + g * g, g * n + g * g), complex)
+    J[:g * n, :g * n] = np.kron(Ig, K) - np.kron(S.T, B)
+    J[:g * n, g * n:] = -np.kron(Ig, B @ X)
+    J[g * n:, :g * n] = np.kron(Ig, basis.conj().T)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+            factors = scipy.linalg.lu_factor(J, check_finite=False)
+    except (ValueError, np.linalg.LinAlgError):
+        return None
+    for _ in range(_CHORD_STEPS):
+        stiff = (_exact_sums(rest, X) if exact else rest @ X) + k * (unit @ X)
+        residual = stiff - (B @ X) @ S
+        d = scipy.linalg.lu_solve(factors, -np.concatenate([residual.reshape(-1, order="F"), np.zeros(g * g)]),
+                                  check_finite=False)
+        if not np.all(np.isfinite(d)):
+            return None
+        X = X + d[:g * n].reshape((n, g), order="F")
+        step = d[g * n:].reshape((g, g), order="F")
+        S = S + step
+        if np.abs(step).max() <= _POLISHED * np.abs(S).max():
+            break
+    else:
+        return None
+    values, combinations = np.linalg.eig(S)
+    if np.any(np.abs(values.imag) > 1e-8 * np.abs(values)) or np.any(values.real <= 0):
+        return None                          # a Hermitian pencil's roots are real: a start that went astray
+    out = X @ combinations
+    out *= np.linalg.norm(shapes, axis=0) / np.linalg.norm(out, axis=0)
+    if g == 1:
+        turn = np.vdot(out[:, 0], shapes[:, 0])
+        out *= turn / abs(turn) if abs(turn) > 0 else 1.0
+    return 1.0 / values.real, out
 
 
 def _lowest_forward(roots: _Roots, count: int) -> np.ndarray:

@@ -479,9 +479,11 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
 
     Parameters
     ----------
-    values : ndarray, shape (m,), complex [1/s]
-    shapes : ndarray, shape (m, n), complex (any scale)
-    mass, damping, stiffness : ndarray, shape (n, n)
+    values : ndarray, shape (..., m), complex [1/s]
+        The roots of one speed, or of several (leading dimensions, e.g. (P,) speeds, each with
+        its own ``damping`` and ``stiffness``: one batched product, not a loop over speeds).
+    shapes : ndarray, shape (..., m, n), complex (any scale)
+    mass, damping, stiffness : ndarray, shape (n, n) or (..., n, n)
         ``M``, ``D = C + Omega G`` (speed-dependent bearings' damping included) and ``K`` at the speed.
     noise : float, optional
         The solve's absolute round-off [1/s].
@@ -495,30 +497,31 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
 
     Returns
     -------
-    ndarray, shape (m,): 0 for a zero root
+    ndarray, shape (..., m): 0 for a zero root
     """
-    x = np.asarray(shapes).T                               # (n, m)
+    x = np.swapaxes(np.asarray(shapes), -1, -2)            # (..., n, m)
     s = np.asarray(values)
-    m = x.shape[1]
+    m = x.shape[-1]
     a = np.abs(x)
     size = np.abs(s)
-    terms = (size * size * np.einsum("im,im->m", a, np.abs(mass) @ a) + size * np.einsum("im,im->m", a, np.abs(damping) @ a)
-             + np.einsum("im,im->m", a, np.abs(stiffness) @ a))
+    terms = (size * size * np.einsum("...im,...im->...m", a, np.abs(mass) @ a)
+             + size * np.einsum("...im,...im->...m", a, np.abs(damping) @ a)
+             + np.einsum("...im,...im->...m", a, np.abs(stiffness) @ a))
     # real products of the real matrices with both parts (a complex product would cost twice as much)
-    parts = np.concatenate([x.real, x.imag], axis=1)
+    parts = np.concatenate([x.real, x.imag], axis=-1)
     Mx, Dx = mass @ parts, damping @ parts
-    Mx, Dx = Mx[:, :m] + 1j * Mx[:, m:], Dx[:, :m] + 1j * Dx[:, m:]
-    slope = np.einsum("im,im->m", x.conj(), 2.0 * s * Mx + Dx)
+    Mx, Dx = Mx[..., :m] + 1j * Mx[..., m:], Dx[..., :m] + 1j * Dx[..., m:]
+    slope = np.einsum("...im,...im->...m", x.conj(), 2.0 * s[..., None, :] * Mx + Dx)
     if branches is not None:
         stiff, times = np.asarray(branches[0]), np.asarray(branches[1])
         k = stiff.shape[-1]
-        xs, As = x[:k], a[:k]
-        forms = np.einsum("im,tim->tm", xs.conj(), stiff @ xs)                        # (b, m)
-        sizes = np.einsum("im,tim->tm", As, np.abs(stiff) @ As)
-        tau = times[:, None]
+        xs, As = x[..., None, :k, :], a[..., None, :k, :]                            # (..., 1, k, m)
+        forms = np.einsum("...tim,...tim->...tm", xs.conj(), stiff @ xs)               # (..., b, m)
+        sizes = np.einsum("...tim,...tim->...tm", As, np.abs(stiff) @ As)
+        tau, root = times[:, None], s[..., None, :]
         with np.errstate(divide="ignore", invalid="ignore"):
-            terms = terms + np.sum(np.abs(s * tau / (1.0 + s * tau)) * sizes, axis=0)
-            slope = slope + np.sum(tau / (1.0 + s * tau) ** 2 * forms, axis=0)
+            terms = terms + np.sum(np.abs(root * tau / (1.0 + root * tau)) * sizes, axis=-2)
+            slope = slope + np.sum(tau / (1.0 + root * tau) ** 2 * forms, axis=-2)
     derivative = np.abs(slope)
     with np.errstate(divide="ignore", invalid="ignore"):
         out = np.finfo(float).eps * terms / (size * derivative)

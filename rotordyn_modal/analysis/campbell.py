@@ -851,21 +851,24 @@ def _refine_inexact(stack, speeds, values, shapes):
         # own: a journal's film and load over speed are computed once for the part, not once a speed),
         # a part's dense (n, n) matrices within _PART_BYTES (one speed at a time for a large model)
         for part in _batches.chunk_slices(len(speeds), _REFINE_ARRAYS * 8 * n * n, budget=_batches._PART_BYTES):
-            damping = _at_speeds(form.damping_at(speeds[part]), part)
+            damping = _at_speeds(form.damping_at(speeds[part]), part) + speeds[part, None, None] * G
             stiffness = _at_speeds(form.stiffness_at(speeds[part]), part)
-            for j, i in enumerate(range(part.start, part.stop)):
-                pencil = (form.matrices.M, damping[j] + speeds[i] * G, stiffness[j])
-                bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], *pencil,
-                                                     _eigensolve.pencil_round_off(values[v, i], shapes[v, i], *pencil,
-                                                                                  branches=branches),
-                                                     stack.whirl, v, branches=branches)
+            # every speed's estimate in one batched product; the polish only where a root needs it
+            bound[part] = _eigensolve.pencil_round_off(values[v, part], shapes[v, part], form.matrices.M,
+                                                       damping, stiffness, branches=branches)
+            inexact = (bound[part] > _eigensolve.INEXACT_LEVEL) & (values[v, part].imag > 0)
+            for j in np.flatnonzero(inexact.any(axis=-1)):
+                i = part.start + j
+                bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], form.matrices.M, damping[j],
+                                                     stiffness[j], bound[i], stack.whirl, v, branches=branches)
         name = stack.models[v].name if len(stack.forms) > 1 else ""
         _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
 
 
 #: dense (n, n) arrays of one speed that :func:`_refine_inexact`'s bearing evaluation holds at once
-#: (each of damping_at and stiffness_at: the bearings' K and C, and their sum with the constant part)
-_REFINE_ARRAYS = 6
+#: (each of damping_at and stiffness_at: the bearings' K and C, and their sum with the constant part;
+#: the estimate's |D|, |K| and its (n, m) products with the shapes)
+_REFINE_ARRAYS = 12
 
 
 def _at_speeds(matrices, part):

@@ -1,0 +1,86 @@
+"""Figure audit of issue 27 (figs27m): every CLI figure of every example looked at.
+
+Measured on the drawn figure (the axes' limits and the data of the lines they draw), against
+the result's own numbers, never the placer's.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pytest
+
+import rotordyn_modal as rdm
+
+matplotlib.use("Agg")
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def _drawn_inside(ax):
+    """Every finite y value [panel units] of the panel's drawn lines (modes and grey roots; not
+    the zero line or thresholds, which are axhline/axvline) that lies within its limits."""
+    low, high = ax.get_ylim()
+    values = []
+    for line in ax.get_lines():
+        y = np.asarray(line.get_ydata(), float)
+        if not line.get_visible() or y.size < 3:
+            continue
+        values.append(y[np.isfinite(y) & (y >= low) & (y <= high)])
+    return np.concatenate(values) if values else np.empty(0)
+
+
+@pytest.fixture(scope="module")
+def compressor():
+    """compressor_rotor, 0-12,000 rpm, modes below 450 Hz (docs: stability --max-frequency 450)."""
+    model = rdm.load_model(EXAMPLES / "compressor_rotor.toml")
+    return rdm.stability(model, rdm.rpm(np.linspace(0.0, 12000.0, 13)), max_frequency=450.0)
+
+
+def test_the_log_decrement_panel_shows_the_damped_modes_beside_an_undamped_axial_one(compressor):
+    """The compressor's axial mode is undamped (real part 0 to round-off, log decrement 1e-31)
+    and held the log decrement panel at 0 to 0.001: the bending modes (log decrements 0.09 to
+    0.39) all lay above it, the panel empty but for the zero line. On the drawn figure: the
+    least damped mode that is damped (the smallest log decrement at each speed among the roots
+    whose real part is not round-off, from the result) lies inside the panel, at least a third
+    of the panel's height above zero."""
+    import matplotlib.pyplot as plt
+
+    significant = compressor.significant_real_parts
+    log_dec = np.where(np.isfinite(compressor.log_decrements) & (significant != 0), compressor.log_decrements, np.inf)
+    assert np.any(np.all(significant[:, np.isfinite(compressor.log_decrements).all(axis=0)] == 0, axis=0))
+    least = log_dec.min(axis=1)
+    assert np.all(np.isfinite(least)) and least.min() > 0.05
+    fig = compressor.plot()
+    bottom = fig.axes[1]
+    low, high = bottom.get_ylim()
+    assert low <= least.min() and least.max() <= high, (least, low, high)
+    assert least.min() >= (high - low) / 3, (least, low, high)
+    plt.close(fig)
+
+
+def _cross_coupled():
+    model = rdm.load_model(EXAMPLES / "unstable_cross_coupled.toml")
+    return rdm.stability(model, rdm.rpm(np.linspace(0.0, 20000.0, 41)))
+
+
+@pytest.mark.parametrize("case", ["cross_coupled", "compressor"])
+def test_the_real_part_panel_ends_at_its_lowest_curve(case, compressor):
+    """unstable_cross_coupled, 0-20,000 rpm: the real-part panel reached -3.6 1/s, its lowest
+    curve inside ending at -2.2 (a third of the panel empty); the compressor's reached -29 1/s
+    under curves at -9.4 (two thirds empty): the panel was held at three times the least damped
+    mode's real part, the modes beyond being named in a note. On the drawn figure: the gap between
+    the panel's bottom and the lowest value drawn inside it is at most an eighth of the panel's
+    height (the limits reach 10 % beyond the data)."""
+    import matplotlib.pyplot as plt
+
+    result = _cross_coupled() if case == "cross_coupled" else compressor
+    fig = result.plot()
+    top = fig.axes[0]
+    low, high = top.get_ylim()
+    inside = _drawn_inside(top)
+    assert inside.size and inside.min() < 0
+    assert inside.min() - low <= (high - low) / 8, (inside.min(), low, high)
+    plt.close(fig)

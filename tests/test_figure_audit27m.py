@@ -84,3 +84,37 @@ def test_the_real_part_panel_ends_at_its_lowest_curve(case, compressor):
     assert inside.size and inside.min() < 0
     assert inside.min() - low <= (high - low) / 8, (inside.min(), low, high)
     plt.close(fig)
+
+
+def _line_style(handle):
+    """What tells a legend entry's line apart: colour (RGBA), dash pattern, marker."""
+    from matplotlib.colors import to_rgba
+
+    offset, dashes = handle._unscaled_dash_pattern if hasattr(handle, "_unscaled_dash_pattern") else (0, None)
+    pattern = None if handle.get_linestyle() in ("-", "solid", "None", "") else (offset, tuple(dashes or ()))
+    return to_rgba(handle.get_color()), handle.get_linestyle() if pattern is None else pattern, handle.get_marker()
+
+
+def test_the_ucs_map_legend_gives_every_mode_its_own_line():
+    """``ucs-map fan_on_bearings.toml --stiffness 1e5:1e9:41 --bearings fan-DE,fan-NDE`` follows
+    11 modes; its 10 colours came round again, and '1 fan cylindrical' and '11 motor
+    cylindrical' were drawn and listed in the legend with the same blue solid line. On the drawn
+    figure: the legend's mode entries ('N name') differ pairwise in colour, dash pattern or
+    marker, and there are more of them than colours (else the test proves nothing)."""
+    import re
+
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLES / "fan_on_bearings.toml")
+    result = rdm.ucs_map(model, np.geomspace(1e5, 1e9, 9), modes=12, bearings=["fan-DE", "fan-NDE"])
+    fig = result.plot()
+    fig.canvas.draw()
+    legend = fig.axes[0].get_legend()
+    entries = [(t.get_text(), h) for t, h in zip(legend.get_texts(), legend.legend_handles)
+               if re.fullmatch(r"\d+ .+", t.get_text())]
+    assert len(entries) == result.mode_speeds.shape[1] and len(entries) > 10, [t for t, _ in entries]
+    styles = [_line_style(h) for _, h in entries]
+    for i in range(len(styles)):
+        for j in range(i):
+            assert styles[i] != styles[j], (entries[i][0], entries[j][0], styles[i])
+    plt.close(fig)

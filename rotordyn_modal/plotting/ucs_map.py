@@ -11,6 +11,9 @@ __all__ = ["plot_ucs_map"]
 
 _MODE_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive",
                  "tab:cyan", "navy", "goldenrod")
+#: the modes past the colours' count are told apart by their line: dashed, then dash-dotted (the
+#: fan's 11th mode was drawn and listed in the legend exactly as its 1st)
+_MODE_LINES = ("-", (0, (5, 2)), (0, (6, 2, 1, 2)))
 _BEARING_COLOURS = ("0.15", "tab:red", "0.45", "darkgoldenrod", "teal", "indigo")
 
 
@@ -54,7 +57,9 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     ends = []
     for j in range(rpm.shape[1]):
         colour = _MODE_COLOURS[j % len(_MODE_COLOURS)]
-        ax.plot(k, rpm[:, j], color=colour, linewidth=1.8, marker=".", markersize=3, label=f"{j + 1} {names[j]}")
+        line = _MODE_LINES[(j // len(_MODE_COLOURS)) % len(_MODE_LINES)]
+        ax.plot(k, rpm[:, j], color=colour, linestyle=line, linewidth=1.8, marker=".", markersize=3,
+                label=f"{j + 1} {names[j]}")
         ends += _draw_ends(ax, k, rpm[:, j], colour)
     if ends:
         ax.plot([], [], "s", color="0.3", markersize=4, label="a mode starts or stops being a forward crossing")

@@ -143,3 +143,37 @@ def test_the_largest_moment_note_of_an_arch_hides_no_curve():
     moment = next(t for _, t in notes if t.get_text().startswith("|M|")).get_text()
     assert f"{np.abs(shaft.moment).max():.3g} N m" in moment
     plt.close(fig)
+
+
+def test_the_reports_campbell_diagram_shows_the_operating_range(tmp_path, monkeypatch):
+    """``report --standard api684 --operating-range 2000:3000``: the separation margins are
+    measured from the operating range, the UCS map shades it, but the Campbell diagram only
+    named it in its caption. On the drawn figure: the Campbell axes hold a band whose speed
+    extent is the range given, with a legend entry."""
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.cli import main
+
+    figures = []
+
+    def keep(fig, **kwargs):
+        fig.canvas.draw()
+        figures.append(fig)
+        return "data:image/png;base64,"
+
+    monkeypatch.setattr("rotordyn_modal.report.render.figure_png", keep)
+    out = tmp_path / "r.html"
+    assert main(["report", str(EXAMPLES / "spring_block_rotor.toml"), "--standard", "api684", "--mcs", "3000",
+                 "--operating-range", "2000:3000", "--points", "15", "--stiffness", "1e5:1e10:9",
+                 "--out", str(out), "--quiet"]) == 0
+    campbell = [ax for fig in figures for ax in fig.axes if ax.get_ylabel().startswith("Damped natural frequency")]
+    assert len(campbell) == 1
+    ax = campbell[0]
+    spans = []
+    for patch in ax.patches:
+        x = ax.transData.inverted().transform(patch.get_window_extent())[:, 0]
+        spans.append((round(float(x.min()), 6), round(float(x.max()), 6)))
+    assert (2000.0, 3000.0) in spans, spans
+    assert "operating range" in [t.get_text() for t in ax.get_legend().get_texts()]
+    for fig in figures:
+        plt.close(fig)

@@ -177,3 +177,28 @@ def test_the_reports_campbell_diagram_shows_the_operating_range(tmp_path, monkey
     assert "operating range" in [t.get_text() for t in ax.get_legend().get_texts()]
     for fig in figures:
         plt.close(fig)
+
+
+def test_a_ucs_map_within_a_decade_numbers_its_speed_axis():
+    """``ucs-map spring_block_rotor.toml --stiffness 1e3:1e8:41``: the speed axis spans 62 to
+    194 rpm (less than a decade, log scale) and only '10^2' was numbered: the curve's plateau
+    (129 rpm) could not be read. On the drawn figure: at least four numbered speed ticks
+    inside the axis, and the plateau lies between two of them, which read as their own
+    positions (plain numbers)."""
+    import matplotlib.pyplot as plt
+
+    model = rdm.load_model(EXAMPLES / "spring_block_rotor.toml")
+    result = rdm.ucs_map(model, np.geomspace(1e3, 1e8, 11))
+    fig = result.plot()
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    low, high = ax.get_ylim()
+    assert high < 10 * low
+    ticks = [(t.get_position()[1], t.get_text()) for minor in (False, True)
+             for t in ax.get_yticklabels(minor=minor) if t.get_text() and low <= t.get_position()[1] <= high]
+    assert len(ticks) >= 4, ticks
+    for value, text in ticks:
+        assert float(text.replace(",", "").replace("\u2212", "-")) == pytest.approx(value), (value, text)
+    plateau = float(np.nanmax(result.mode_speeds[:, 0]) * 30 / np.pi)
+    assert min(v for v, _ in ticks) < plateau < max(v for v, _ in ticks), (plateau, ticks)
+    plt.close(fig)

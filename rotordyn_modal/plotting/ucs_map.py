@@ -52,6 +52,7 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     ax.set_yscale("log")
     limits = _speed_limits(rpm, result)
     ax.set_ylim(*limits)
+    _label_short_speed_axis(ax, limits)
     rigid = _rigid_speeds(result, limits)
     ax.set_xlim(k[0], k[-1] * (_asymptote_margin(k) if rigid.size else 1.0))
     ends = []
@@ -126,6 +127,22 @@ _MARGIN = 0.1
 
 def _asymptote_margin(k):
     return 10 ** max(0.3, _MARGIN * np.log10(k[-1] / k[0]))
+
+
+def _label_short_speed_axis(ax, limits):
+    """On a speed axis spanning less than two decades, ticks numbered in plain rpm: within one
+    decade at round steps (60, 80, 100, 120, ...), else at each digit (20, 30, ..., 200): its
+    powers of ten alone numbered one tick (spring_block_rotor's map, 62 to 194 rpm: only
+    '10^2', the curves' plateau at 129 rpm unreadable)."""
+    from matplotlib.ticker import LogFormatter, MaxNLocator, NullLocator, StrMethodFormatter
+
+    if limits[1] < 10.0 * limits[0]:
+        ax.yaxis.set_major_locator(MaxNLocator(nbins=8))
+        ax.yaxis.set_major_formatter(StrMethodFormatter("{x:,.6g}"))
+        ax.yaxis.set_minor_locator(NullLocator())
+    elif limits[1] < 100.0 * limits[0]:
+        ax.yaxis.set_major_formatter(LogFormatter(labelOnlyBase=False))
+        ax.yaxis.set_minor_formatter(LogFormatter(labelOnlyBase=False, minor_thresholds=(2.0, 1.0)))
 
 
 def _speed_limits(rpm, result):

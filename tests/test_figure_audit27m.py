@@ -202,3 +202,37 @@ def test_a_ucs_map_within_a_decade_numbers_its_speed_axis():
     plateau = float(np.nanmax(result.mode_speeds[:, 0]) * 30 / np.pi)
     assert min(v for v, _ in ticks) < plateau < max(v for v, _ in ticks), (plateau, ticks)
     plt.close(fig)
+
+
+def test_an_order_label_at_the_right_edge_has_no_curve_between_it_and_its_exit():
+    """``campbell compressor_rotor.toml --speeds 0:12000:201 --orders 1,2 --max-frequency 450``:
+    the 1X line leaves the axes at the right edge at 200 Hz; its label '1X compressor' stood two
+    heights above the exit, mode 4's dashed line (216 Hz) between them, as if it named that mode.
+    On the drawn figure: the vertical way along the right edge from the 1X line's exit to the
+    label's glyph box crosses no other curve (exact segment geometry, tests/label_geometry.py)."""
+    import matplotlib.pyplot as plt
+    from label_geometry import curve_segments, glyph_box
+
+    model = rdm.load_model(EXAMPLES / "compressor_rotor.toml")
+    result = rdm.campbell(model, rdm.rpm(np.linspace(0.0, 12000.0, 201)), orders=(1, 2), max_frequency=450.0)
+    fig = result.plot(title=model.name)
+    fig.set_dpi(150)                                  # as the command line saves it
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    label = next(t for t in ax.texts if t.get_visible() and t.get_text() == "1X compressor")
+    box = glyph_box(label, renderer)
+    exit_y = ax.transData.transform((12000.0, 12000.0 / 60.0))[1]
+    x = box.x1 - 1.0                      # beside the right edge, where the way runs
+    low, high = sorted((exit_y, box.y0 if box.y0 > exit_y else box.y1))
+    own = [line for line in ax.get_lines() if len(line.get_xdata()) >= 2
+           and np.allclose(np.asarray(line.get_ydata(), float)[-1:], 200.0, rtol=1e-9)
+           and np.isclose(np.asarray(line.get_xdata(), float)[-1], 12000.0)]
+    segments = curve_segments(ax, skip=own)
+    x0, y0, x1, y1 = segments.T
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (x - x0) / (x1 - x0)
+        y = y0 + t * (y1 - y0)
+    between = (t >= 0) & (t <= 1) & (y > low + 1.0) & (y < high - 1.0)
+    assert not between.any(), (label.get_text(), box, exit_y, y[between])
+    plt.close(fig)

@@ -191,7 +191,8 @@ def edge_label_boxes(ax, labels, fontsize, renderer, placed, curves=None, along=
             others = [other for other in merged if other is not label]
             box = first_free_box(boxes, placed, (pad_u, pad_v), frame,
                                  allowed=lambda b, k=keep, lab=label: curves.free(b, k)
-                                 and nearest_own_exit(b, lab, others, pixels))
+                                 and nearest_own_exit(b, lab, others, pixels)
+                                 and _no_curve_between(b, lab, curves, k, 2 * pad_u))
         else:
             box = first_free_box(boxes, placed, (pad_u, pad_v), frame)
         if box is not None:
@@ -215,6 +216,19 @@ def edge_label_boxes(ax, labels, fontsize, renderer, placed, curves=None, along=
                                  curves, frame, (pad_u, pad_v), turned) for m in members]
             taken += [item for item in [found] + singles if item is not None]
     return taken
+
+
+def _no_curve_between(box, label, curves, keep, reach):
+    """Whether no curve runs between a side-edge label's ``box`` (axes fraction) standing at its
+    edge (within ``reach`` of it) and its exit: the straight way from the exit along the edge
+    to the box's nearest point crosses none ('1X compressor' stood two heights above its
+    exit at the right edge, mode 4's line between them, as if naming it). Top-edge labels and
+    boxes away from the edge (beside the line farther back): True."""
+    if label.edge == "top" or not (box[2] >= 1.0 - reach or box[0] <= reach):
+        return True
+    v = min(max(0.5 * (box[1] + box[3]), label.v), label.v + label.spread)
+    near = (min(max(label.u, box[0]), box[2]), min(max(v, box[1]), box[3]))
+    return curves.crossings((label.u, v), near, keep) == 0
 
 
 def _short_orders(prefix: str) -> str:

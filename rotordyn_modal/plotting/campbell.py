@@ -54,7 +54,7 @@ _NOTE_MARGIN_POINTS = 4.0
 
 def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None = None,
                   sources=None, annotate_critical: bool = True, title: str | None = None,
-                  freq_range=None, freq_scale: str = "auto"):
+                  freq_range=None, freq_scale: str = "auto", operating=None):
     """Draw a Campbell diagram.
 
     Tracked modes are drawn solid blue where they whirl forward, dashed red
@@ -102,6 +102,9 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
         'auto': logarithmic when, at some speed, the highest mode within ``freq_range``
         is more than :data:`LOG_SPAN` times the lowest (and the range does not start at
         0), else linear.
+    operating : (float, float), optional
+        Operating speed range (low, high) in ``speed_unit``: a grey band under the curves with
+        its legend entry (one speed: a dashed line), where separation margins are measured.
 
     Returns
     -------
@@ -133,6 +136,7 @@ def plot_campbell(result, ax=None, speed_unit: str = "rpm", color_by: str | None
     ax.grid(True, which="major", alpha=0.3)
     if axis_scale == "log":
         ax.grid(True, which="minor", alpha=0.1)
+    _draw_operating(ax, operating)
     _legend_under(fig, ax)
     slopes = result.order_slopes(scale)[_drawn_sources(result, lines)]      # [Hz per unit of the axis]
     labels = _CampbellLabels(ax, curves, freqs, result, lines, slopes, critical[:2], annotate_critical,
@@ -582,6 +586,20 @@ def _distinct_points(speeds, freqs):
 def _speed_text(value: float) -> str:
     """A critical speed's label: whole units from 100 on, three digits below."""
     return f"{value:.0f}" if abs(value) >= 100 else f"{value:.3g}"
+
+
+def _draw_operating(ax, operating):
+    """The operating speed range (low, high) [speed axis units] under the curves: a grey band,
+    or a dashed line for one speed, with its legend entry (None: nothing)."""
+    if operating is None:
+        return
+    low, high = sorted(float(v) for v in operating)
+    if high > low:
+        ax.axvspan(low, high, color="0.6", alpha=0.25, zorder=0.5, linewidth=0, label="operating range",
+                   gid="operating-range")
+    else:
+        ax.axvline(low, color="0.35", linestyle="--", linewidth=1.2, zorder=0.6, label="operating speed",
+                   gid="operating-range")
 
 
 def _legend_under(fig, ax):

@@ -74,7 +74,9 @@ def plot_shaft_statics(shafts, title: str | None = None, units: str = "si"):
 
 def _clear_notes(fig):
     """Move each largest-value note to the first corner of its point where no curve runs under
-    its box (it hid the moment line rising from its largest)."""
+    its box (it hid the moment line rising from its largest), else centred above or below it
+    (under an arch's top, where the curve falls away on both sides: the compressor on journals'
+    moment, 536 N m, hid the line falling from it at every corner)."""
     import matplotlib.text
 
     from ._labels import CurveMap, laid_out_renderer
@@ -94,11 +96,14 @@ def _clear_notes(fig):
             near = [(8, 8), (8, -8), (-8, 8), (-8, -8)]
             far = [(sx * dx, sy * dy) for dx in (30, 60, 100, 150) for dy in (16, 40, 70) for sx in (1, -1)
                    for sy in (1, -1)]
-            for dx, dy in near + far:
-                note.set(position=(dx, dy), ha="left" if dx > 0 else "right", va="bottom" if dy > 0 else "top")
+            centred = [(0, sy * dy) for dy in (24, 40, 70, 100) for sy in (-1, 1)]
+            for dx, dy in near + far + centred:
+                side = "center" if dx == 0 else "left" if dx > 0 else "right"
+                note.set(position=(dx, dy), ha=side, va="bottom" if dy > 0 else "top")
                 box = matplotlib.text.Text.get_window_extent(note, renderer).padded(3.0)   # its rounded box
                 inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
-                corner = (box.x0 if dx > 0 else box.x1, box.y0 if dy > 0 else box.y1)
+                corner = (0.5 * (box.x0 + box.x1) if dx == 0 else box.x0 if dx > 0 else box.x1,
+                          box.y0 if dy > 0 else box.y1)
                 if inside and curves.free((box.x0, box.y0, box.x1, box.y1), keep=keep) \
                         and ((dx, dy) in near or curves.crossings(tuple(point), corner, keep=keep) == 0):
                     if (dx, dy) not in near:       # away from its point: a leader line to it
@@ -107,7 +112,8 @@ def _clear_notes(fig):
                                     gid="largest-note", bbox=_NOTE_BOX,
                                     arrowprops={"arrowstyle": "-", "color": "0.5", "linewidth": 0.6,
                                                 "shrinkA": 0, "shrinkB": 3,
-                                                "relpos": (0.0 if dx > 0 else 1.0, 0.0 if dy > 0 else 1.0)})
+                                                "relpos": (0.5 if dx == 0 else 0.0 if dx > 0 else 1.0,
+                                                           0.0 if dy > 0 else 1.0)})
                         note.remove()
                     break
             else:

@@ -80,7 +80,8 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     top.set_ylim(*zero_centred_limits(*_real_part_span(np.where(near, real, np.nan), focus, relevant,
                                                        result.significant_real_parts),
                                       _NOISE * largest, tiny=_ROUND_OFF * largest))
-    bottom.set_ylim(*zero_centred_limits(*_log_decrement_span(focus, relevant), 1e-3))
+    bottom.set_ylim(*zero_centred_limits(*_log_decrement_span(focus, relevant, result.significant_real_parts),
+                                         1e-3))
     shown = [m for m in relevant + [m for m in _by_damping(focus) if m not in relevant]
              if _within(real[:, m], top.get_ylim()) or _within(log_dec[:, m], bottom.get_ylim())][:_LEGEND]
     _draw_modes(top, bottom, x, result, real, log_dec, shown, others="other roots (more damped)" if near.all()
@@ -182,19 +183,45 @@ def _real_part_span(real, log_dec, relevant, significant=None):
         damped = modes
     least = np.array([_nan(np.max, row) for row in damped])
     # NaN where there is no mode (none below max_frequency): no warning
-    lowest = _nan(np.max, [_nan(np.min, chosen), _REACH * _nan(np.min, least)])
+    lowest = _drawn_end(chosen, modes, _REACH * _nan(np.min, least), np.min)
     highest = _nan(np.max, [_nan(np.max, chosen), max(_nan(np.max, real), 0.0)])
     return lowest, highest
 
 
-def _log_decrement_span(log_dec, relevant):
+def _drawn_end(chosen, every, reach, end):
+    """The panel's end on one side: ``end`` (np.min or np.max) of ``chosen`` (the modes that
+    matter; NaN: none), no farther than ``reach`` (NaN: no bound); where some of them lie beyond
+    it, the farthest value of ``every`` mode (same shape or columns of it) drawn inside ``reach``:
+    the curves that leave the panel are named in its note, and the room between ``reach`` and
+    the farthest curve inside was empty (unstable_cross_coupled: -3.6 1/s under curves ending
+    at -2.2; compressor_rotor: -29 1/s under -9.4)."""
+    whole = _nan(end, chosen)
+    if not np.isfinite(reach) or not np.isfinite(whole):
+        return whole
+    sign = -1.0 if end is np.min else 1.0
+    if sign * whole <= sign * reach:
+        return whole
+    every = np.asarray(every, float)
+    with np.errstate(invalid="ignore"):
+        inside = every[sign * every <= sign * reach]
+    return _nan(end, inside) if np.isfinite(inside).any() else reach
+
+
+def _log_decrement_span(log_dec, relevant, significant=None):
     """(lowest, highest) log decrement to show: the modes that matter, but no higher than
-    :data:`_REACH` times the largest of the speeds' least log decrements (when it is > 0)."""
+    :data:`_REACH` times the largest of the speeds' least log decrements (when it is > 0),
+    and there no higher than the highest drawn inside (:func:`_drawn_end`). With
+    ``significant`` (the real parts with round-off set to 0, shape of ``log_dec``), the least
+    log decrements are those of the modes whose real part is not round-off, where some is: an
+    undamped axial mode (log decrement 1e-31) held compressor_rotor's panel at 0-0.001, every
+    bending mode (0.09-0.39) above it, the panel empty but for the zero line."""
     chosen = log_dec[:, relevant] if relevant else log_dec
-    least = np.array([_nan(np.min, row) for row in log_dec])
+    damped = log_dec if significant is None else np.where(np.asarray(significant) != 0, log_dec, np.nan)
+    if not np.isfinite(damped).any():
+        damped = log_dec
+    least = np.array([_nan(np.min, row) for row in damped])
     reach = _REACH * _nan(np.max, least)
-    highest = _nan(np.max, chosen)
-    return _nan(np.min, chosen), min(highest, reach) if reach > 0 else highest
+    return _nan(np.min, chosen), _drawn_end(chosen, log_dec, reach if reach > 0 else np.nan, np.max)
 
 
 def zero_centred_limits(lowest, highest, floor, tiny=None):

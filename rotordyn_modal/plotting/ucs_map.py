@@ -11,6 +11,9 @@ __all__ = ["plot_ucs_map"]
 
 _MODE_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive",
                  "tab:cyan", "navy", "goldenrod")
+#: the modes past the colours' count are told apart by their line: dashed, then dash-dotted (the
+#: fan's 11th mode was drawn and listed in the legend exactly as its 1st)
+_MODE_LINES = ("-", (0, (5, 2)), (0, (6, 2, 1, 2)))
 _BEARING_COLOURS = ("0.15", "tab:red", "0.45", "darkgoldenrod", "teal", "indigo")
 
 
@@ -49,12 +52,15 @@ def plot_ucs_map(result, title: str | None = None, ax=None, units: str = "si"):
     ax.set_yscale("log")
     limits = _speed_limits(rpm, result)
     ax.set_ylim(*limits)
+    _label_short_speed_axis(ax, limits)
     rigid = _rigid_speeds(result, limits)
     ax.set_xlim(k[0], k[-1] * (_asymptote_margin(k) if rigid.size else 1.0))
     ends = []
     for j in range(rpm.shape[1]):
         colour = _MODE_COLOURS[j % len(_MODE_COLOURS)]
-        ax.plot(k, rpm[:, j], color=colour, linewidth=1.8, marker=".", markersize=3, label=f"{j + 1} {names[j]}")
+        line = _MODE_LINES[(j // len(_MODE_COLOURS)) % len(_MODE_LINES)]
+        ax.plot(k, rpm[:, j], color=colour, linestyle=line, linewidth=1.8, marker=".", markersize=3,
+                label=f"{j + 1} {names[j]}")
         ends += _draw_ends(ax, k, rpm[:, j], colour)
     if ends:
         ax.plot([], [], "s", color="0.3", markersize=4, label="a mode starts or stops being a forward crossing")
@@ -121,6 +127,22 @@ _MARGIN = 0.1
 
 def _asymptote_margin(k):
     return 10 ** max(0.3, _MARGIN * np.log10(k[-1] / k[0]))
+
+
+def _label_short_speed_axis(ax, limits):
+    """On a speed axis spanning less than two decades, ticks numbered in plain rpm: within one
+    decade at round steps (60, 80, 100, 120, ...), else at each digit (20, 30, ..., 200): its
+    powers of ten alone numbered one tick (spring_block_rotor's map, 62 to 194 rpm: only
+    '10^2', the curves' plateau at 129 rpm unreadable)."""
+    from matplotlib.ticker import LogFormatter, MaxNLocator, NullLocator, StrMethodFormatter
+
+    if limits[1] < 10.0 * limits[0]:
+        ax.yaxis.set_major_locator(MaxNLocator(nbins=8))
+        ax.yaxis.set_major_formatter(StrMethodFormatter("{x:,.6g}"))
+        ax.yaxis.set_minor_locator(NullLocator())
+    elif limits[1] < 100.0 * limits[0]:
+        ax.yaxis.set_major_formatter(LogFormatter(labelOnlyBase=False))
+        ax.yaxis.set_minor_formatter(LogFormatter(labelOnlyBase=False, minor_thresholds=(2.0, 1.0)))
 
 
 def _speed_limits(rpm, result):

@@ -20,6 +20,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..unbalance_standards import AMPLITUDE_WORDS, amplitude_factor
+from ..io.text import shown_text
 from ..units import check_system, unit_scale
 
 __all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "AMPLITUDE_WORDS", "from_pkpk", "CRITERION_SOURCES", "Criterion", "ReportInputs", "ReportData", "collect",
@@ -276,7 +277,7 @@ def model_summary(model) -> dict:
     path = Path(model.source)
     digest = hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else "(not a file)"
     stator = None if model.stator is None else float(model.stator.mass)
-    return {"name": model.name or path.stem, "file": path.name, "sha256": digest, "version": __version__,
+    return {"name": model.name or shown_text(path.stem), "file": shown_text(path.name), "sha256": digest, "version": __version__,
             "stator_mass": stator, "rotors": [(r.name, float(r.mass), float(r.speed_ratio)) for r in model.rotors],
             "bearings": [(b.name, b.rotor, b.type) for b in model.bearings],
             "suspensions": [s.name for s in model.suspensions],

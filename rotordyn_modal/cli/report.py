@@ -13,6 +13,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..io import atomic_write
+from ..io.text import shown_text
 from ..units import from_system
 from ._common import IN_SPEED_UNIT, add_alias, add_model_argument, add_output_file, as_typed, add_speed_unit, check_ending, check_extra_output, \
     mcs_option, open_model, show_progress, whole_number
@@ -217,7 +218,7 @@ def _check_tables(model, inputs, args):
 
 
 def _command_line() -> str:
-    return "rotordyn-modal " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:] else ""
+    return "rotordyn-modal " + " ".join(shlex.quote(shown_text(a)) for a in sys.argv[1:]) if sys.argv[1:] else ""
 
 
 def _browser():

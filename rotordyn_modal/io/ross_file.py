@@ -22,6 +22,7 @@ from pathlib import Path
 from ..errors import ModelError, ModelWarning
 from .atomic import atomic_write, check_not_input
 from .model_file import read_toml
+from .text import shown_text
 
 __all__ = ["read_ross_rotor", "check_description", "write_model_file", "model_text", "BEARING_CLASSES"]
 
@@ -68,7 +69,7 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
     data = read_toml(path, "ROSS rotor file")
     elements = _elements(source, data)
     _check_parameters(source, data)
-    rotor_name = name or Path(source).stem
+    rotor_name = name or shown_text(Path(source).stem)
     materials: dict[str, dict] = {}
     sections, shear, node_z = _shaft(source, elements.get("ShaftElement", []), materials)
     rotor = {"name": rotor_name, "start": [0.0, 0.0, 0.0], "speed_ratio": 1.0, "shear": shear,
@@ -80,7 +81,7 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
                 for cls in BEARING_CLASSES for key, table in elements.get(cls, [])]
     bearings.sort(key=lambda b: b["axial_position"])
     version = data.get("ross_version", "unknown")
-    return {"name": f"{rotor_name} (ROSS {version} file {Path(source).name})", "spin_axis": [0.0, 0.0, 1.0],
+    return {"name": f"{rotor_name} (ROSS {version} file {shown_text(Path(source).name)})", "spin_axis": [0.0, 0.0, 1.0],
             "materials": list(materials.values()), "rotors": [rotor], "bearings": bearings}
 
 

@@ -7,7 +7,9 @@ told by its NUL bytes at every other position; else UTF-8, else the reader's fal
 
 from __future__ import annotations
 
-__all__ = ["decode_text", "marked_encoding", "utf16_without_mark", "UTF16_WITHOUT_MARK"]
+import os
+
+__all__ = ["decode_text", "marked_encoding", "utf16_without_mark", "UTF16_WITHOUT_MARK", "shown_text"]
 
 #: byte-order marks and the codec that reads the text after them (UTF-32's before UTF-16's:
 #: UTF-32 LE's mark begins with UTF-16 LE's)
@@ -96,3 +98,26 @@ def decode_text(data: bytes, fallback: str | None = "latin-1") -> str:
         if fallback is None:
             raise
         return data.decode(fallback)
+
+
+def shown_text(text) -> str:
+    """``text`` (a file name, a command line) as every UTF-8 writer takes it: bytes of a file name
+    that are no UTF-8 (Python holds them as lone surrogates, ``'g\\udcffear.toml'``, which a UTF-8
+    file, an HTML page or a netCDF attribute refuses) shown as ``\\xNN`` (``'g\\xffear.toml'``);
+    any other text unchanged.
+
+    Parameters
+    ----------
+    text : str, bytes or path-like
+
+    Returns
+    -------
+    str
+    """
+    text = os.fspath(text)
+    if isinstance(text, bytes):
+        return text.decode("utf-8", "backslashreplace")
+    try:
+        return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+    except UnicodeEncodeError:          # a surrogate no file name's byte gives: escaped as itself
+        return text.encode("utf-8", "backslashreplace").decode("utf-8")

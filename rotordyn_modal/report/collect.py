@@ -12,6 +12,7 @@ stations), ``level1`` (API 617 Level I stability), ``iso`` (ISO 20816-3 zones).
 from __future__ import annotations
 
 import hashlib
+import math
 import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -21,6 +22,7 @@ import numpy as np
 from .._progress import phase
 from ..errors import InputError
 from ..unbalance_standards import AMPLITUDE_WORDS, amplitude_factor
+from ..io.text import shown_text
 from ..units import check_system, unit_scale
 
 __all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "AMPLITUDE_WORDS", "from_pkpk", "CRITERION_SOURCES", "Criterion", "ReportInputs", "ReportData", "collect",
@@ -273,6 +275,16 @@ def collect(model, inputs: ReportInputs, progress: bool = False) -> ReportData:
     return data
 
 
+
+def _rpm(speed: float) -> str:
+    """A speed [rpm] for a sentence: whole rpm from 100 rpm up (as it always was), else to 3
+    significant digits (``5.73``, ``0.0573``): a slow machine's peak at 5.726 rpm is not "6 rpm"."""
+    speed = float(speed)
+    if not np.isfinite(speed) or abs(speed) >= 99.5 or speed == 0.0:
+        return f"{speed:.0f}"
+    return f"{speed:.{max(0, 2 - math.floor(math.log10(abs(speed))))}f}"
+
+
 def model_summary(model) -> dict:
     """Name, file, SHA-256 of its bytes, bodies, bearings, mounts, sensors, package version."""
     from .._version import __version__
@@ -280,7 +292,7 @@ def model_summary(model) -> dict:
     path = Path(model.source)
     digest = hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else "(not a file)"
     stator = None if model.stator is None else float(model.stator.mass)
-    return {"name": model.name or path.stem, "file": path.name, "sha256": digest, "version": __version__,
+    return {"name": model.name or shown_text(path.stem), "file": shown_text(path.name), "sha256": digest, "version": __version__,
             "stator_mass": stator, "rotors": [(r.name, float(r.mass), float(r.speed_ratio)) for r in model.rotors],
             "bearings": [(b.name, b.rotor, b.type) for b in model.bearings],
             "suspensions": [s.name for s in model.suspensions],
@@ -379,7 +391,7 @@ def _campbell(data):
     data.criteria.append(Criterion(
         name, f"{worst.separation_margin_pct:.1f} % (AF {worst.amplification_factor:.2f})",
         f">= {worst.required_margin_pct:.1f} %", verdict, "campbell",
-        f"governing peak: {worst.output} at {worst.speed_rpm:.0f} rpm" + (_case(worst) or f", 1X {worst.source}")
+        f"governing peak: {worst.output} at {_rpm(worst.speed_rpm)} rpm" + (_case(worst) or f", 1X {worst.source}")
         + note))
 
 
@@ -422,10 +434,10 @@ def _modes(data):
     frequencies = 2 * np.pi * result.frequencies_hz[result.oscillatory]
     for number, w in enumerate(frequencies, start=1):
         if window[0] <= w <= window[1]:
-            reasons.setdefault(number, f"frequency at the MCS {w * 30 / np.pi:.0f} rpm (1X) in the window")
+            reasons.setdefault(number, f"frequency at the MCS {_rpm(w * 30 / np.pi)} rpm (1X) in the window")
     for number, speed in _critical_numbers(data, result):
         if window[0] <= speed <= window[1]:
-            reasons[number] = f"1X critical speed {speed * 30 / np.pi:.0f} rpm in the window"
+            reasons[number] = f"1X critical speed {_rpm(speed * 30 / np.pi)} rpm in the window"
     if not reasons:
         reasons = {n: "one of the lowest at the MCS (none in the window)" for n in range(1, min(count, LOWEST_MODES) + 1)}
     numbers = tuple(sorted(reasons)[:MOST_MODES])
@@ -483,7 +495,7 @@ def _nearest_lateral(model, result, window) -> dict:
             if line.lateral:
                 speed = speeds[number - 1] * 30 / np.pi
                 chosen[int(number)] = (f"nearest lateral mode {side} the window (frequency at the MCS "
-                                       f"{speed:.0f} rpm as 1X), shown as the window has none", line)
+                                       f"{_rpm(speed)} rpm as 1X), shown as the window has none", line)
                 found += 1
                 if found == NEAREST_LATERAL:
                     break
@@ -624,7 +636,7 @@ def _probe_limits(data):
     worst = table.iloc[int(np.argmax(table["value"] / table["limit"]))]
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
     data.criteria.append(Criterion.of("API 617 probe vibration limit", verdict, "unbalance",
-                                      f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm" + _case(worst),
+                                      f"governing: {worst.output} at {_rpm(worst.speed_rpm)} rpm" + _case(worst),
                                       quantities=[("value", "{0:.3g} {unit} {amplitude}", "vibration", (worst.value,)),
                                                   ("limit", "<= {0:.3g} {unit} {amplitude}", "vibration", (worst.limit,))]))
 
@@ -645,7 +657,7 @@ def _clearance(data):
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
     data.criteria.append(Criterion.of(
         CLEARANCE_CHECK, verdict, "unbalance",
-        f"governing: {worst.clearance} at {worst.speed_rpm:.0f} rpm" + _case(worst) + f", ratio {worst.ratio:.3g}",
+        f"governing: {worst.clearance} at {_rpm(worst.speed_rpm)} rpm" + _case(worst) + f", ratio {worst.ratio:.3g}",
         quantities=[("value", "{0:.3g} {unit} {amplitude}", "vibration", (worst.value,)),
                     ("limit", "<= {0:.3g} {unit} {amplitude}", "vibration", (worst.limit,))]))
 
@@ -714,7 +726,7 @@ def _iso(data):
     worst = table.iloc[int(np.argmax(table["value"]))]
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
     data.criteria.append(Criterion.of(
-        name, verdict, "iso", f"governing: {worst.output} at {worst.speed_rpm:.0f} rpm; {iso_span(checks)}",
+        name, verdict, "iso", f"governing: {worst.output} at {_rpm(worst.speed_rpm)} rpm; {iso_span(checks)}",
         quantities=[("value", "{0:.3g} {unit} RMS (zone %s)" % worst.zone, "velocity", (worst.value,)),
                     ("limit", "<= {0:.3g} {unit} RMS (zone B)", "velocity", (worst.limit,))]))
 

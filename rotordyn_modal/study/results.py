@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..io.text import shown_text
+
 __all__ = ["StudyResult", "Assembly", "ResultsWriter", "FileRecords", "sweep_variables", "held_bytes", "build_dataset", "load_study", "percentile_interval", "variant_bytes"]
 
 #: dimensions too long to spread into columns of the per-variant table
@@ -134,11 +136,11 @@ def build_dataset(chunks, values, definition, variables, coords, model, attrs=No
     coordinates["parameter_is_grid"] = ("parameter", np.array([p.is_grid for p in params], dtype=np.int8), {})
     ds = xr.Dataset(data, coords=coordinates)
     ds.attrs.update({
-        "title": f"rotordyn_modal parameter study of {model.name or model.source}",
+        "title": f"rotordyn_modal parameter study of {model.name or shown_text(model.source)}",
         "design": definition.design, "samples": definition.samples,
         "seed": -1 if definition.seed is None else definition.seed,
         "study": json.dumps(definition.raw, default=str), "model": json.dumps(model.to_dict(), default=str),
-        "model_source": model.source, "study_source": definition.source,
+        "model_source": shown_text(model.source), "study_source": shown_text(definition.source),
         "rotordyn_modal_version": __version__,
         "conventions": "speeds in rad/s (speed_rpm coordinate in rpm); frequencies in Hz; "
                        "NaN where a quantity does not exist or the variant failed (see error)",

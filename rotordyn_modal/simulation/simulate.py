@@ -151,13 +151,13 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     kn = kernels(backend)
     extra = (mode, accel, 0.0, duration)
     if large:
-        _check_before_eigenvalues(kn, system, extra, duration, rate, samples, speed)
+        timed = _check_before_eigenvalues(kn, system, extra, duration, rate, samples, speed)
         # the output times given, the rate only enters the checks: its bound serves where they pass
         rate = _Bounded(lambda: _fastest_rate(model, speed, final_speed, announce=True),
                         _most_rate(model, speed, final_speed) if samples else None)
         _checked_with(lambda: _check_duration(duration, rate.value), rate)
     else:
-        exact_rate = rate
+        exact_rate, timed = rate, None
         rate = _Bounded(lambda: exact_rate, None)
     count = samples or _default_samples(rate.value, duration)
     steps = _Bounded(lambda: _fewest_steps(model, speed, duration, impulse),
@@ -175,8 +175,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     if impulse is not None:
         y0[n:] += _impulse_velocity(model, system, kn, y0, impulse, impulse_size, mode)
     times = np.linspace(0.0, duration, count)
-    _checked_with(lambda: _check_cpu_time(kn, system, extra, duration, rate.value, count, steps.value, y0=y0),
-                  rate, steps)                                          # before the integration
+    _checked_with(lambda: _check_cpu_time(kn, system, extra, duration, rate.value, count, steps.value, y0=y0,
+                                          each=timed), rate, steps)     # before the integration
     states = _integrate(kn, system, extra, y0, times, rtol, atol, progress, model)
     if drive == "free":
         check_table_speeds(model, states[:, -1], "free spin: the speed drifted outside the table; simulate "
@@ -242,19 +242,25 @@ def _check_before_eigenvalues(kn, system, extra, duration, spin, samples, speed)
     size) is compiled, its notice first, and timed at the rest state spinning at ``speed``
     [rad/s]. At 2,006 coordinates (500 geared rotors) this refuses in seconds a run that
     the eigen-solutions of the state matrix kept silent for 4 min before refusing (or, before the
-    evaluations were timed there, letting a run of about 3 h through)."""
+    evaluations were timed there, letting a run of about 3 h through).
+
+    Returns
+    -------
+    float or None
+        The CPU time of one compiled right-hand side evaluation [s], for the check before the
+        integration to use instead of timing it again (None: not timed, no limit or the numpy path)."""
     from ..analysis._cost import long_work_is_allowed
 
     if long_work_is_allowed():
-        return
+        return None
     count = samples or _default_samples(spin, duration)
     _check_cpu_time(kn, system, extra, duration, spin, count)
     if getattr(kn, "rhs_flat", None) is None:
-        return                                                 # the numpy path was timed whole above
+        return None                                            # the numpy path was timed whole above
     announce_compilation(kn)
     rest = np.zeros(2 * system.n_dof)
     rest[-1] = speed
-    _check_cpu_time(kn, system, extra, duration, spin, count, y0=rest)
+    return _check_cpu_time(kn, system, extra, duration, spin, count, y0=rest)
 
 
 def _fewest_steps(model, speed, duration, impulse) -> float:
@@ -401,7 +407,7 @@ def _largest_modulus(matrix) -> float:
     return largest
 
 
-def _check_cpu_time(kn, system, extra, duration, rate, samples, steps=0.0, y0=None):
+def _check_cpu_time(kn, system, extra, duration, rate, samples, steps=0.0, y0=None, each=None):
     """Refuse, before the work, a run estimated to take more CPU time than the limit of every
     analysis (``analysis._cost``: ``ROTORDYN_MODAL_MAX_CPU_MINUTES``, ``--allow-long``).
 
@@ -421,7 +427,14 @@ def _check_cpu_time(kn, system, extra, duration, rate, samples, steps=0.0, y0=No
     kernel's compilation (~20 s on a fresh machine); with the state ``y0`` (shape (2 n_dof,)), the
     compiled right-hand side timed on it. All are low bounds (the timed compiled one measured 0.75
     of the CPU time taken, the integrator's own steps aside), so that only what would surely
-    exceed the limit is refused."""
+    exceed the limit is refused. ``each`` [s]: the compiled right-hand side's evaluation already
+    timed (by :func:`_check_before_eigenvalues`), used with ``y0`` instead of timing it again.
+
+    Returns
+    -------
+    float or None
+        The CPU time of one compiled right-hand side evaluation on ``y0`` [s] where it was timed
+        (or given), else None."""
     from ..analysis._cost import limit_seconds, long_work_is_allowed
 
     if long_work_is_allowed():
@@ -442,7 +455,8 @@ def _check_cpu_time(kn, system, extra, duration, rate, samples, steps=0.0, y0=No
 
         arguments, outputs, each_output = pack(system, *extra), "", 0.0
         if y0 is not None:
-            each, what = _seconds_per_call(kn.rhs_flat, y0, arguments), "evaluations of {} us"
+            each = _seconds_per_call(kn.rhs_flat, y0, arguments) if each is None else each
+            what = "evaluations of {} us"
         else:
             each = _seconds_per_call(_does_nothing, zeros, arguments)
             what = "evaluations of more than the {} us of the call alone"
@@ -454,6 +468,7 @@ def _check_cpu_time(kn, system, extra, duration, rate, samples, steps=0.0, y0=No
     seconds = evaluations * each + samples * each_output
     if seconds > limit:
         raise InputError(_too_long(duration, rate, samples, evaluations, each, what, limit, steps, seconds, outputs))
+    return each if compiled and y0 is not None else None
 
 
 def _does_nothing(t, y, floats, ints):

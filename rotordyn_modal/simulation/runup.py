@@ -151,11 +151,16 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=None) -> Orde
     angles = np.asarray(result.rotor_angles, dtype=float)
     windows = _windows(result.time, angles[:, index], revolutions)
     others = _other_orders(result.speed_ratios, index)
-    values = np.array([_fitted(signal[w], order * angles[w, index], order * angles[w][:, others], result.time[w], order)
-                       for w in windows], dtype=complex)
+
+    def fit(ws, j, rest):
+        """The order's complex amplitude of rotor ``j`` in each window of ``ws``, the orders of the
+        rotors ``rest`` fitted with it; shape (len(ws),)."""
+        return np.array([_fitted(signal[w], order * angles[w, j], order * angles[w][:, rest], result.time[w], order)
+                         for w in ws], dtype=complex)
+
+    values = fit(windows, index, others)
     shifted = _windows(result.time, angles[:, index], revolutions, offset=0.5 * revolutions)
-    moved = np.array([_fitted(signal[w], order * angles[w, index], order * angles[w][:, others], result.time[w], order)
-                      for w in shifted], dtype=complex)
+    moved = fit(shifted, index, others)
     speeds = np.array([np.trapezoid(result.drive_speed[w], result.time[w]) / np.ptp(result.time[w]) for w in windows])
     values = _as_turned(values, windows, angles[:, index])
     moved = _as_turned(moved, shifted, angles[:, index])
@@ -164,9 +169,7 @@ def order_track(result, sensor, order=1.0, rotor=None, revolutions=None) -> Orde
     for k, j in enumerate(others):        # each other rotor's order through its own windows, at these times
         own = _windows(result.time, angles[:, j], revolutions)
         if own:
-            rest = _other_orders(result.speed_ratios, j)
-            found = [abs(_fitted(signal[w], order * angles[w, j], order * angles[w][:, rest], result.time[w], order))
-                     for w in own]
+            found = np.abs(fit(own, j, _other_orders(result.speed_ratios, j)))
             neighbours[:, k] = np.interp(middles, [result.time[w].mean() for w in own], found)
     floors = np.array([leakage_floor(order * angles[w, index], order * angles[w][:, others], neighbours[i], result.time[w])
                        for i, w in enumerate(windows)])

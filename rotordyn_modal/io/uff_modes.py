@@ -104,8 +104,9 @@ def read_uff_modes(path, model, mapping=None):
     _check_complete(path)
     channels = mapping if isinstance(mapping, ChannelMap) else (
         read_mapping(mapping, model) if mapping is not None else default_mapping(model))
-    sets = [_mode(block, start, path) for block, start in _blocks(path)]
-    read_2414 = [_result_2414(block, start, path) for block, start in _blocks(path, 2414)]
+    blocks = _blocks(path, (55, 2414))
+    sets = [_mode(block, start, path) for block, start in blocks[55]]
+    read_2414 = [_result_2414(block, start, path) for block, start in blocks[2414]]
     modes_2414 = [r for r in read_2414 if "nodes" in r]
     others = [r for r in read_2414 if "nodes" not in r]
     if sets and modes_2414:
@@ -137,13 +138,18 @@ def _holds(path) -> str:
     return f"datasets found: {_datasets_named(types)}{hint}"
 
 
-def _blocks(path, number=55):
-    """``(lines, first_line_number)`` of each dataset ``number`` block (the lines after its number
-    line up to its closing ``-1``); a 58b set's binary bytes elsewhere in the file are passed
-    over."""
+def _blocks(path, numbers=(55,)) -> dict:
+    """The blocks of each dataset number of ``numbers``, the file read once: number -> list of
+    ``(lines, first_line_number)`` (the lines after its number line up to its closing ``-1``); a
+    58b set's binary bytes elsewhere in the file are passed over."""
     with open(path, "rb") as handle:
         text = handle.read().decode("latin-1").removeprefix("\xef\xbb\xbf")
     lines = text.splitlines()
+    return {number: list(_scan(lines, number)) for number in numbers}
+
+
+def _scan(lines, number):
+    """``(lines, first_line_number)`` of each dataset ``number`` block of ``lines`` (a file's)."""
     k = 0
     while k < len(lines) - 1:
         if lines[k].strip() == "-1" and lines[k + 1].strip() == str(number):
@@ -306,7 +312,7 @@ def describe_2414(path) -> str:
     dataset 58: mode shapes (read by ``modes --measured``), frequency response sets (no FRFs),
     other results; '' for a file without dataset 2414."""
     sets = []
-    for block, start in _blocks(path, 2414):
+    for block, start in _blocks(path, (2414,))[2414]:
         try:
             sets.append(_result_2414(block, start, path))
         except InputError as error:

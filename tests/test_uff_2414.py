@@ -271,3 +271,30 @@ def test_a_2414_mode_that_cannot_be_understood_is_refused_in_one_line(model, tmp
     with pytest.raises(InputError, match=message) as error:
         rdm.read_uff_modes(path, model)
     assert str(path) in str(error.value) and "\n" not in str(error.value)
+
+
+def test_dataset_55_modes_beside_other_2414_results_are_counted_as_read(model, tmp_path):
+    """A file of one dataset 55 mode (pyuff's record-10 example) and one 2414 strain energy on
+    elements: the warning counts the dataset 55 mode read, not 0 dataset 2414 ones."""
+    energy = _set_2414(2, 2, 2, 1, [1, 2], [[0.5], [0.25]], result=7, location=2, character=1)
+    energy["element_nums"] = np.array([1, 2])
+    energy["data_at_element"] = energy.pop("data_at_node")
+    path = tmp_path / "mixed55.uff"
+    path.write_bytes((DATA / "pyuff_uff55_record10.uff").read_bytes()
+                     + _write(tmp_path / "energy.uff", [energy]).read_bytes())
+    with pytest.warns(UserWarning, match=r"read the 1 dataset 55 mode shapes and passed over 1 other dataset 2414 "
+                                         r"sets: 1 set of analysis type 2 \(normal mode\) strain energy"):
+        read = rdm.read_uff_modes(path, model, ChannelMap({(60101, 1): ("s0", 1.0)}, {}))
+    assert read.method == "uff-55" and len(read.frequencies_hz) == 1
+
+
+def test_a_2414_hysteretic_damping_warning_names_record_12(model, tmp_path):
+    """A 2414 normal mode of hysteretic damping only (record 12 field 6): the warning names record
+    12, where the ratio is, not dataset 55's record 8."""
+    mode = _set_2414(1, 2, 2, 3, [1, 2], [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]], record10=(0, 0, 1, 0, 0, 1),
+                     record12=(0.0, 40.0, 0.0, 1.0, 0.0, 0.03))
+    path = _write(tmp_path / "hysteretic.uff", [mode])
+    with pytest.warns(UserWarning, match=r"record 12 gives a hysteretic damping ratio \(0.03\)") as caught:
+        read = rdm.read_uff_modes(path, model)
+    assert not any("record 8" in str(w.message) for w in caught)
+    assert np.isnan(read.damping_ratios[0])

@@ -117,10 +117,10 @@ def read_uff_modes(path, model, mapping=None):
         raise InputError(f"{path}: no dataset 55 or 2414 mode shapes (data at nodes) in the file{found}; "
                          f"{_holds(path)}")
     number = 55 if sets else 2414
-    if others:
-        warnings.warn(f"{path}: read the {len(modes_2414)} dataset 2414 mode shapes and passed over "
-                      f"{len(others)} other dataset 2414 sets: {_others_named(others)}", stacklevel=2)
     sets = sorted(sets or modes_2414, key=lambda s: s["frequency_hz"])
+    if others:
+        warnings.warn(f"{path}: read the {len(sets)} dataset {number} mode shapes and passed over "
+                      f"{len(others)} other dataset 2414 sets: {_others_named(others)}", stacklevel=2)
     outputs, shapes = _at_sensors(sets, channels, path)
     return MeasuredModes(frequencies_hz=np.array([s["frequency_hz"] for s in sets]),
                          damping_ratios=np.array([s["damping"] for s in sets]),
@@ -372,7 +372,7 @@ def _pole(analysis, reals, where, record="record 8"):
             raise InputError(f"{where}: {record}: frequency {frequency:g} Hz: expected > 0")
         damping = viscous
         if viscous == 0 and hysteretic != 0 and not np.isnan(hysteretic):
-            warnings.warn(f"{where}: record 8 gives a hysteretic damping ratio ({hysteretic:g}) and no viscous one: "
+            warnings.warn(f"{where}: {record} gives a hysteretic damping ratio ({hysteretic:g}) and no viscous one: "
                           "read as no damping ratio (nan)", stacklevel=4)
             damping = np.nan
         if not (np.isnan(damping) or -1 < damping < 1):

@@ -149,8 +149,7 @@ def run(args) -> int:
     check_extra_output(args, args.orbit_plot, as_typed(args, "--plot-orbits"), figure=True)
     model = open_model(args)
     operating = _operating_range(args)
-    mcs, min_speed = _check_options(args)
-    min_operating = _min_operating(args, operating, mcs, model)     # refused before anything is written
+    mcs, min_speed, min_operating = _check_options(args, operating, model)   # refused before anything is written
     _warn_below_checked_speeds(speeds_option(args), mcs, args)
     if args.api_unbalance:
         result = api_unbalance_response(model, speeds_option(args), mcs, outputs=sensor_names(args, model),
@@ -236,8 +235,10 @@ def _warn_below_checked_speeds(speeds, mcs, args):
                       f"speeds only, those above {reached / top:.0%} of {option} go unchecked (sweep up to it)")
 
 
-def _check_options(args):
-    """``(mcs, min_speed)`` [rad/s] of the standards' checks, the options checked together."""
+def _check_options(args, operating, model):
+    """``(mcs, min_speed, min_operating)`` [rad/s] of the standards' checks, the options checked
+    together; ``operating`` [rad/s] the operating range (:func:`_operating_range`), the default of
+    the minimum operating speed (:func:`_min_operating`)."""
     mcs = None if args.mcs is None else mcs_option(args)      # the one check level1 and report share
     min_speed = _speed(args, args.min_speed, "--min-speed")
     if min_speed is not None and not min_speed >= 0:
@@ -254,8 +255,8 @@ def _check_options(args):
     if trip is not None and (mcs is None or not trip >= mcs):
         raise InputError(f"--trip-speed {args.trip_speed}: expected --mcs too and a trip speed at least --mcs"
                          f"{given} (the clearance check's speeds run up to it)")
-    operating = _speed(args, args.min_operating_speed, "--min-operating-speed")
-    if operating is not None and not (mcs is not None and 0 <= operating <= mcs):
+    operating_speed = _speed(args, args.min_operating_speed, "--min-operating-speed")
+    if operating_speed is not None and not (mcs is not None and 0 <= operating_speed <= mcs):
         raise InputError(f"--min-operating-speed {args.min_operating_speed}: expected --mcs too and a speed >= 0 "
                          f"and at most --mcs{given} (the scale factor's probe amplitudes run from one to the other)")
     if args.api_unbalance and mcs is None:
@@ -267,7 +268,7 @@ def _check_options(args):
     if args.checks and mcs is None and args.iso_group is None:
         raise InputError(f"--checks {args.checks}: expected --mcs (API 617 probe limits) or --iso-group and "
                          "--iso-support (ISO 20816-3 zones): nothing to check")
-    return mcs, min_speed or 0.0
+    return mcs, min_speed or 0.0, _min_operating(args, operating, mcs, model, given=operating_speed)
 
 
 def _write_checks(result, model, mcs, min_speed, args, iso_range=None):
@@ -292,12 +293,12 @@ def _write_checks(result, model, mcs, min_speed, args, iso_range=None):
     return checks
 
 
-def _min_operating(args, operating, mcs, model):
-    """The minimum operating speed [rad/s] of the clearance check's scale factor: --min-operating-speed,
-    else the low end (in magnitude) of the operating range ``operating`` [rad/s] (--operating-range, or
-    --operating-speed's range of one speed) as the report takes it, else None (--min-speed). An
-    operating range whose low end lies above --mcs is refused where the clearance check runs."""
-    given = _speed(args, args.min_operating_speed, "--min-operating-speed")
+def _min_operating(args, operating, mcs, model, given=None):
+    """The minimum operating speed [rad/s] of the clearance check's scale factor: ``given``
+    (--min-operating-speed, checked by :func:`_check_options`), else the low end (in magnitude) of
+    the operating range ``operating`` [rad/s] (--operating-range, or --operating-speed's range of one
+    speed) as the report takes it, else None (--min-speed). An operating range whose low end lies
+    above --mcs is refused where the clearance check runs."""
     if given is not None or operating is None or mcs is None or not model.clearances:
         return given
     low = float(min(abs(operating[0]), abs(operating[1])))

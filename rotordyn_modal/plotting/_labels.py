@@ -1133,3 +1133,20 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
 def nearest_in(box, point):
     """The point of ``box`` nearest ``point``: where a leader line from ``point`` meets the box."""
     return min(max(point[0], box[0]), box[2]), min(max(point[1], box[1]), box[3])
+
+
+def operating_band(ax, low, high, label, vertical=True, edge=True, gid=None):
+    """The operating speed range under a figure's curves: a grey band from ``low`` to ``high``
+    [speed axis units] where ``high > low``, else a dashed line at ``low`` (one speed), named
+    ``label`` in the legend.
+
+    ``vertical``: the speed on the x axis (``axvspan``/``axvline``, Campbell diagrams), else on
+    the y axis (``axhspan``/``axhline``, the UCS map); ``edge`` False draws the band without its
+    outline; ``gid`` names the artist (in an SVG)."""
+    if high > low:
+        span = ax.axvspan if vertical else ax.axhspan
+        span(low, high, color="0.6", alpha=0.25, zorder=0.5, label=label, gid=gid,
+             **({} if edge else {"linewidth": 0}))
+    else:
+        line = ax.axvline if vertical else ax.axhline
+        line(low, color="0.35", linestyle="--", linewidth=1.2, zorder=0.6, label=label, gid=gid)

@@ -7,7 +7,7 @@ import numpy as np
 from ..errors import InputError
 from ._labels import (ANCHOR_POINTS, CurveMap, box_distance, boxes_around, column_positions, draw_time_layout,
                       edge_label_boxes, exits_of_orders, first_free_box, nearest_in, crosses_any, crosses_segments,
-                      font_points, set_if_changed, text_size, _overlap, _short_orders)
+                      font_points, operating_band, set_if_changed, text_size, _overlap, _short_orders)
 from ._style import WHIRL_STYLE, fitted_title, new_figure, speed_label, speed_scale
 
 __all__ = ["plot_campbell", "LOG_SPAN"]
@@ -594,11 +594,7 @@ def _draw_operating(ax, operating):
     if operating is None:
         return
     low, high = sorted(float(v) for v in operating)
-    if high > low:
-        ax.axvspan(low, high, color="0.6", alpha=0.25, zorder=0.5, linewidth=0, label="operating range",
-                   gid="operating-range")
-    else:
-        ax.axvline(low, color="0.35", linestyle="--", linewidth=1.2, zorder=0.6, label="operating speed",
+    operating_band(ax, low, high, "operating range" if high > low else "operating speed", edge=False,
                    gid="operating-range")
 
 

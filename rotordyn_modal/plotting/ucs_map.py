@@ -6,6 +6,7 @@ import numpy as np
 
 from ..units import unit_scale
 from ._style import fitted_title, new_figure
+from ._labels import operating_band
 
 __all__ = ["plot_ucs_map"]
 
@@ -93,11 +94,11 @@ def _draw_operating(ax, operating, left) -> list:
         return []
     low, high = (s * 30 / np.pi for s in operating)
     if high > low * THINNEST_BAND:
-        ax.axhspan(low, high, color="0.6", alpha=0.25, zorder=0.5, label="operating range")
+        operating_band(ax, low, high, "operating range", vertical=False)
         return []
     speed = np.sqrt(low * high)
     text = f"operating speed {low:.0f} rpm" if high == low else f"operating speed {low:.0f} to {high:.0f} rpm"
-    ax.axhline(speed, color="0.35", linestyle="--", linewidth=1.2, zorder=0.6, label=text)
+    operating_band(ax, speed, speed, text, vertical=False)
     return [(left, speed, text, "0.25")]
 
 

@@ -92,7 +92,6 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
                      f"{time_records}")
 
 
-#: endings of the Universal Files a mapping table places the channels of
 def _with_2414(error, path) -> InputError:
     """The FRF reader's refusal of a file without dataset 58, with what its dataset 2414 sets hold
     (FE results: mode shapes read by ``modes --measured``, frequency response sets that are no
@@ -103,6 +102,7 @@ def _with_2414(error, path) -> InputError:
     return InputError(f"{error}: {held}") if held else error
 
 
+#: endings of the Universal Files a mapping table places the channels of
 UFF_ENDINGS = (".uff", ".unv", ".uf")
 
 

@@ -229,7 +229,7 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
         drawn = phase_ax.plot(track.speeds * rpm, track.unwrapped_phase_deg, ".-", ms=3, label=f"1X {rotor}")
         notes += _unknown_phase_note(track, result.rotor_names, drawn[0].get_color())
         spans = unsettled_spans(result, track, critical)
-        notes += _shade_unsettled((amplitude_ax, phase_ax), spans, rotor, drawn[0].get_color())
+        notes += _shade_unsettled((amplitude_ax, phase_ax), spans, rotor, drawn[0].get_color(), rpm)
         if spans:
             unsure.append(f"1X {rotor} at " + ", ".join(f"{low * rpm:.0f}-{high * rpm:.0f}" for low, high in spans) + " rpm")
     amplitude_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X amplitude, 0-peak [{unit}]",
@@ -259,16 +259,16 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
     return fig
 
 
-def _shade_unsettled(axes, spans, rotor, color):
-    """Shade ``spans`` [rad/s] on ``axes`` in the track's colour; a legend entry saying what the
-    shade means, or none without spans."""
+def _shade_unsettled(axes, spans, rotor, color, rpm):
+    """Shade ``spans`` [rad/s] on ``axes`` (speed axis in rpm, ``rpm`` the factor from rad/s) in
+    the track's colour; a legend entry saying what the shade means, or none without spans."""
     from matplotlib.patches import Patch
 
     if not spans:
         return []
     for axis in axes:
         for low, high in spans:
-            axis.axvspan(low * 30 / np.pi, high * 30 / np.pi, color=color, alpha=0.12, lw=0, zorder=0)
+            axis.axvspan(low * rpm, high * rpm, color=color, alpha=0.12, lw=0, zorder=0)
     return [Patch(color=color, alpha=0.25, lw=0,
                   label=f"1X {rotor}: not separable from free vibration (fast passage of a mode, start transient)")]
 

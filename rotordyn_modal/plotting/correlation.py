@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from ._style import rpm_text
 
 __all__ = ["plot_correlation", "plot_fit_correlation", "plot_rigid_body"]
 
@@ -29,7 +30,7 @@ def plot_correlation(result, title: str | None = None):
     ax.set_xlabel("Frequency [Hz]")
     ax.set_ylabel("Correlation [-]")
     ax.legend(fontsize="small", loc="lower left")
-    ax.set_title(title or f"Model versus measurement at {result.speed * 30 / np.pi:.0f} rpm")
+    ax.set_title(title or f"Model versus measurement at {rpm_text(result.speed * 30 / np.pi)} rpm")
     return fig
 
 

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..units import FRF_OUTPUT_KINDS, ratio_scale, unit_scale
+from ._style import rpm_text
 
 __all__ = ["plot_frf", "plot_unbalance", "plot_overlay"]
 
@@ -65,7 +66,7 @@ def plot_frf(result, measured=None, pairs=None, title: str | None = None, units:
                          "[[suspensions]])")
     nonzero = [(o, i) for o, i in pairs if np.any(result.H[result.outputs.index(o), result.inputs.index(i)])]
     zero, pairs = len(pairs) - len(nonzero), nonzero or pairs
-    default = (f"{result.quantity.capitalize()} at {result.speed * 30 / np.pi:.0f} rpm"
+    default = (f"{result.quantity.capitalize()} at {rpm_text(result.speed * 30 / np.pi)} rpm"
                + (f" ({len(pairs)} FRFs)" if len(pairs) > _MAX_LEGEND else "")
                + (f"; {zero} FRFs zero at every frequency, not drawn" if zero and nonzero else ""))
     groups = _frf_groups(pairs)
@@ -513,7 +514,7 @@ def plot_overlay(models, measured, title: str | None = None, units: str = "si", 
         mag, phase = block.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [2, 1]})
         _draw_frfs(mag, phase, model, meas, pairs, lambda o, i: f"{o} / {i}", scale, samples=False)
         mag.set_ylabel(f"|H| [{unit}]")
-        mag.set_title(f"at {model.speed * 30 / np.pi:.0f} rpm", fontsize="medium")
+        mag.set_title(f"at {rpm_text(model.speed * 30 / np.pi)} rpm", fontsize="medium")
         mag.legend(*_legend_entries(mag), fontsize="x-small", title="model (line), measured (dots)",
                    title_fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
         phase.set_yticks([-180, -90, 0, 90, 180])
@@ -931,7 +932,7 @@ def _marked_peaks(peaks, result, rows, colours, rpm_to_unit, unit="rpm", factor=
         i, j = index.get(row.output), sources.get(source)
         if i is None or j is None or not np.isfinite(row.amplification_factor)                 or row.amplification_factor < _AF_MARKED                 or row.amplitude < _PEAK_SHARE * np.nanmax(result.amplitude[i, j]):
             continue
-        speed = f"{row.speed_rpm:.0f} rpm" if unit == "rpm" else \
+        speed = f"{rpm_text(row.speed_rpm)} rpm" if unit == "rpm" else \
             f"{row.speed_rpm * rpm_to_unit:.4g} {'Hz' if unit == 'hz' else unit}"
         text = f"AF {row.amplification_factor:.1f} at {speed} (1X {source})"
         if np.isfinite(row.separation_margin_pct):

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from ._style import rpm_text
 
 __all__ = ["campbell_figure", "stability_figure", "overlay_figure", "TuningWidget"]
 
@@ -197,7 +198,7 @@ def overlay_figure(models, measured, modes=None, title: str | None = None):
         for a, out in enumerate(meas.outputs):
             for b, inp in enumerate(meas.inputs):
                 colour = palette[(n * len(meas.outputs) * len(meas.inputs) + a * len(meas.inputs) + b) % 6]
-                name = f"{out} / {inp}, {rpm:.0f} rpm"
+                name = f"{out} / {inp}, {rpm_text(rpm)} rpm"
                 _bode_pair(go, fig, meas, a, b, name, colour, model)
     for k, f in enumerate([] if modes is None else modes.frequencies_hz):
         fig.add_vline(x=f, line={"color": "#999999", "dash": "dot"}, row=1, col=1,

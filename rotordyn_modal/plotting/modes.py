@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from ._style import rpm_text
 
 __all__ = ["plot_modes"]
 
@@ -70,5 +71,5 @@ def plot_modes(result, title: str | None = None, modes=None, columns: int | None
         ax.set_title(f"mode {number}: {result.frequencies_hz[m]:.2f} Hz, ζ={small_number(result.damping_ratios[m])}\n"
                      f"{result.whirl[m]} (ratio {small_number(result.whirl_ratios[m], sign=True)})", fontsize="small")
         ax.set_ylim(0, 1.05)
-    fig.suptitle(title or f"Mode shapes at {result.speed * 30 / np.pi:.0f} rpm (|shape|, normalised)")
+    fig.suptitle(title or f"Mode shapes at {rpm_text(result.speed * 30 / np.pi)} rpm (|shape|, normalised)")
     return fig

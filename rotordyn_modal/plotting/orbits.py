@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..units import unit_scale
+from ._style import rpm_text
 
 __all__ = ["plot_orbits"]
 
@@ -56,7 +57,7 @@ def _draw_orbit(ax, result, p, s, chosen, scale, unit):
     for n, k in enumerate(chosen):
         path = result.orbit_path(p, s, k) * scale
         colour = f"C{n % 10}"
-        ax.plot(path[0], path[1], color=colour, label=f"{result.speeds[k] * 30 / np.pi:.0f} rpm")
+        ax.plot(path[0], path[1], color=colour, label=f"{rpm_text(result.speeds[k] * 30 / np.pi)} rpm")
         ax.plot(path[0, 0], path[1, 0], "o", color=colour, ms=5)      # keyphasor: t = 0
         ax.annotate("", xy=(path[0, 12], path[1, 12]), xytext=(path[0, 6], path[1, 6]),
                     arrowprops={"arrowstyle": "->", "color": colour})

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..units import unit_scale
 from ._labels import column_positions, draw_time_layout
+from ._style import rpm_text
 
 __all__ = ["plot_shaft_modes"]
 
@@ -71,7 +72,7 @@ def plot_shaft_modes(views, title: str | None = None, relative: bool = False, co
     _legend(fig, views[0], colours, 5 if cols > 1 else 3)
     speed = views[0].speed * 30 / np.pi
     what = "relative to the casing, largest = 1 in each panel" if relative else "absolute, largest = 1"
-    fig.suptitle(title or f"Deflected shaft lines at {speed:.0f} rpm ({what})", fontsize="medium")
+    fig.suptitle(title or f"Deflected shaft lines at {rpm_text(speed)} rpm ({what})", fontsize="medium")
     return fig
 
 

@@ -15,6 +15,7 @@ import numpy as np
 from ..errors import InputError
 from ..units import unit_scale
 from .modes import small_number
+from ._style import rpm_text
 
 __all__ = ["plot_mode_shape", "plot_mode_shapes", "animate_mode_shape", "ANIMATION_FORMATS"]
 
@@ -933,7 +934,7 @@ def _title(view):
     rpm = view.speed * 30 / np.pi
     whirl = "no whirl" if view.whirl == "none" else f"{view.whirl} whirl ({small_number(view.whirl_ratio, sign=True)})"
     return (f"{view.label.capitalize()} mode {view.mode}: {view.frequency_hz:.3f} Hz, "
-            f"ζ = {view.damping_ratio:.4f}, {whirl}, {rpm:.0f} rpm")
+            f"ζ = {view.damping_ratio:.4f}, {whirl}, {rpm_text(rpm)} rpm")
 
 
 def _displaced_kinds(view):

@@ -8,6 +8,7 @@ import warnings
 import numpy as np
 
 from ..units import unit_scale
+from ._style import rpm_text
 
 __all__ = ["plot_simulation", "plot_runup"]
 
@@ -231,7 +232,8 @@ def plot_runup(result, sensor: str, critical=None, title: str | None = None, seg
         spans = unsettled_spans(result, track, critical)
         notes += _shade_unsettled((amplitude_ax, phase_ax), spans, rotor, drawn[0].get_color(), rpm)
         if spans:
-            unsure.append(f"1X {rotor} at " + ", ".join(f"{low * rpm:.0f}-{high * rpm:.0f}" for low, high in spans) + " rpm")
+            unsure.append(f"1X {rotor} at " + ", ".join(f"{rpm_text(low * rpm)}-{rpm_text(high * rpm)}"
+                                                        for low, high in spans) + " rpm")
     amplitude_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X amplitude, 0-peak [{unit}]",
                      title="Order-tracked amplitude")
     phase_ax.set(xlabel="Speed of the reference rotor [rpm]", ylabel=f"{sensor}, 1X phase, unwrapped [deg]",
@@ -347,8 +349,8 @@ def _label_critical_lines(axes, critical, renderer):
     data = {id(ax): CurveMap(ax, renderer, skip=[line for line in ax.get_lines() if line.get_label() == "_critical"])
             for ax in axes}
     labels, missing = [], []
-    texts = {k: f"mode {critical.mode[k]}, {critical.order[k]:g}X {critical.source[k]}, {critical.speeds[k] * rpm:.0f} rpm"
-             for k in range(len(critical.speeds))}
+    texts = {k: f"mode {critical.mode[k]}, {critical.order[k]:g}X {critical.source[k]}, "
+                f"{rpm_text(critical.speeds[k] * rpm)} rpm" for k in range(len(critical.speeds))}
     for k in np.argsort(critical.speeds):
         label = _first_room(axes, critical.speeds[k] * rpm, texts[k], placed, renderer, curves, across=False)
         if label is None:
@@ -361,7 +363,7 @@ def _label_critical_lines(axes, critical, renderer):
     for wrap, maps in ((False, data), (True, curves), (True, data)):
         still = []
         for k in missing:
-            speed = f"{critical.speeds[k] * rpm:.0f} rpm"
+            speed = f"{rpm_text(critical.speeds[k] * rpm)} rpm"
             text = texts[k].replace(f", {speed}", f"\n{speed}") if wrap else texts[k]
             label = _first_room(axes, critical.speeds[k] * rpm, text, placed, renderer, maps, across=maps is data)
             if label is None:

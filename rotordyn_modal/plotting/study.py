@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import new_figure, speed_label, speed_scale
+from ._style import new_figure, rpm_text, speed_label, speed_scale
 
 __all__ = ["plot_study_campbell", "plot_critical_histograms", "plot_study_stability_map", "plot_sensitivity"]
 
@@ -230,7 +230,7 @@ def plot_study_stability_map(result, x: str | None = None, y: str | None = None,
         ax.contour(xs, ys, filled, levels=[level], colors="k", linewidths=2.0)
     ax.set_xlabel(x if x_unit is None else f"{x} [{x_unit}]")
     ax.set_ylabel(y if y_unit is None else f"{y} [{y_unit}]")
-    ax.set_title(title or f"Stability map: stable up to {level:.0f} rpm below/right of the black line")
+    ax.set_title(title or f"Stability map: stable up to {rpm_text(level)} rpm below/right of the black line")
     return fig
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..units import unit_scale
-from ._style import fitted_title, new_figure
+from ._style import fitted_title, new_figure, rpm_text
 from ._labels import operating_band
 
 __all__ = ["plot_ucs_map"]
@@ -97,7 +97,8 @@ def _draw_operating(ax, operating, left) -> list:
         operating_band(ax, low, high, "operating range", vertical=False)
         return []
     speed = np.sqrt(low * high)
-    text = f"operating speed {low:.0f} rpm" if high == low else f"operating speed {low:.0f} to {high:.0f} rpm"
+    text = (f"operating speed {rpm_text(low)} rpm" if high == low
+            else f"operating speed {rpm_text(low)} to {rpm_text(high)} rpm")
     operating_band(ax, speed, speed, text, vertical=False)
     return [(left, speed, text, "0.25")]
 

@@ -684,16 +684,19 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0, to_unit=1.0):
     """Each sensor and source: amplitude (0-peak times ``factor``) on a log axis, phase, over
     ``x`` (the speeds times ``to_unit``, the axis' unit per rad/s), the peaks the lines cut
     marked; returns the colour of each (i, j)."""
-    colours, cut = {}, 0
+    colours, cut, silent = {}, 0, {}
     styles = ["-", "--", ":", "-."]
     for m, i in enumerate(rows):
         for j, s in enumerate(result.sources):
             colour, style = f"C{m % 10}", styles[j % len(styles)]
+            colours[i, j] = colour
+            if not np.any(result.amplitude[i, j] > 0):      # no response at all: no curve, no phase
+                silent.setdefault(j, []).append(result.outputs[i])
+                continue
             amplitude = np.where(result.amplitude[i, j] > 0, result.amplitude[i, j] * factor, np.nan)
             mag.semilogy(x, amplitude, color=colour, ls=style, label=f"{result.outputs[i]}: 1X {s}")
             # broken where the phase wraps: a line from -180 to 180 deg read as a curve of its own
             phase.plot(*_broken_at_wraps(x, result.phase_deg[i, j]), color=colour, ls=style, lw=0.9)
-            colours[i, j] = colour
             at, response, _ = result.cut_peaks(result.outputs[i], s)
             cut += _mark_cut(mag, at * to_unit, np.abs(response) * factor, colour)
     if cut:
@@ -702,10 +705,28 @@ def _draw_sensor_panel(mag, phase, result, rows, x, factor=1.0, to_unit=1.0):
         from matplotlib.lines import Line2D
 
         mag._legend_extra = [Line2D([], [], linestyle="none", label=f"peaks between swept speeds\n{result.cut_peak_note}")]
+    if silent:
+        mag._legend_extra = getattr(mag, "_legend_extra", []) + _silent_entries(result, rows, silent)
     _limit_range(mag)
     phase.set_yticks([-180, -90, 0, 90, 180])
     phase.set_ylabel("Phase [deg]")
     return colours
+
+
+def _silent_entries(result, rows, silent):
+    """Legend entries (no line) naming the curves not drawn because the source gives no response
+    at any speed (``silent``: source index -> the sensors): a rotor that does not turn (speed
+    ratio 0: its 1X frequency 0 at every speed) or an unbalance no sensor sees."""
+    from matplotlib.lines import Line2D
+
+    entries = []
+    for j, sensors in silent.items():
+        still = np.all(np.asarray(result.frequencies_hz[j]) == 0)
+        who = "" if len(sensors) == len(rows) else ", ".join(sensors) + ": "
+        why = f" ({result.sources[j]} does not turn)" if still else ""
+        entries.append(Line2D([], [], linestyle="none", label=f"{who}1X {result.sources[j]}: zero at every "
+                                                              f"speed{why}, not drawn"))
+    return entries
 
 
 def _show_overlaps(axes, x, speed_unit):
@@ -1076,7 +1097,8 @@ def _limit_range(ax):
     to :data:`_DEEPEST` of it, where a curve of the model (not round-off) reaches there (a
     genuine antiresonance is drawn whole); where a curve still runs below the axis, mark
     each stretch below it (:func:`_mark_clipped`)."""
-    values = [np.nanmax(line.get_ydata()) for line in ax.get_lines() if len(line.get_ydata())]
+    values = [np.nanmax(y) for y in (np.asarray(line.get_ydata(), float) for line in ax.get_lines())
+              if np.any(~np.isnan(y))]              # an all-NaN curve (nothing drawn) has no largest value
     if values and np.isfinite(max(values)) and max(values) > 0:
         top = max(values)
         low = ax.get_ylim()[0]

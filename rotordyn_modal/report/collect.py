@@ -24,7 +24,8 @@ from ..unbalance_standards import AMPLITUDE_WORDS, amplitude_factor
 from ..units import check_system, unit_scale
 
 __all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "AMPLITUDE_WORDS", "from_pkpk", "CRITERION_SOURCES", "Criterion", "ReportInputs", "ReportData", "collect",
-           "separation_margins", "iso_span", "ucs_stiffness", "UCS_STIFFNESS", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
+           "separation_margins", "iso_span", "ucs_stiffness", "UCS_STIFFNESS", "ReportWork", "estimate_work",
+           "refuse_long_work", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
 
 #: section id -> heading
 SECTIONS = {"model": "Model", "static": "Static loads and sag", "campbell": "Campbell diagram and critical speeds",
@@ -271,6 +272,173 @@ def collect(model, inputs: ReportInputs, progress: bool = False) -> ReportData:
     data.criteria.sort(key=lambda c: order[c.section])
     data.warnings = sorted({str(w.message) for w in caught})
     return data
+
+
+#: the report's undamped critical speed map, per value of its stiffness grid (its own and the
+#: constant bearings' values): a complex Hermitian eigen-solution of the coordinates, its
+#: factorisations and the modes' following, as a share of one dense eigen-solution of the state
+#: matrix (:func:`.._cost.eig_seconds`; measured about 0.1 on the 60-rotor gear chain, 246
+#: coordinates and 443 values, a map of 41 values taking 6.1 s of CPU)
+UCS_SHARE = 0.25
+#: one API unbalance case (a model of its own, its state form made, checked and solved at every
+#: speed), as a share of one dense eigen-solution: per case, and per case and speed (the direct
+#: solve); measured on the gear chains of 60 and 100 rotors (246 and 406 coordinates)
+CASE_SHARE = 0.5
+SOLVE_SHARE = 0.05
+#: a Level I sweep's values of Q beyond Qa's grid taken by the bound without timing (the
+#: machine's own points below Qa's first grid point, :data:`_DECADE_POINTS` a decade: 300 is 30
+#: decades)
+_LEVEL1_EXTRA = 300
+
+
+@dataclass(frozen=True)
+class ReportWork:
+    """A report's estimated CPU time [s], by section (:func:`estimate_work`).
+
+    Attributes
+    ----------
+    n_dof, n_states : int
+        Coordinates and states of the model.
+    parts : tuple of (str, float, str)
+        ``(section id, seconds, what)``: each section's estimate and what it counts.
+    """
+
+    n_dof: int
+    n_states: int
+    parts: tuple
+
+    @property
+    def seconds(self) -> float:
+        return float(sum(seconds for _, seconds, _ in self.parts))
+
+    def text(self) -> str:
+        """``about 9.6 h of CPU time (Campbell diagram and critical speeds: 2.1 h, 153
+        eigen-solutions of 4,012 states...; Unbalance response...: 7.5 h, 1,000 API cases at
+        153 speeds)``, the sections that take any time, the longest first."""
+        from ..analysis._cost import duration
+
+        shown = sorted((p for p in self.parts if p[1] > 0), key=lambda p: -p[1])
+        inner = "; ".join(f"{SECTIONS[section]}: {duration(seconds)}, {what}" for section, seconds, what in shown)
+        return f"about {duration(self.seconds)} of CPU time ({inner})"
+
+
+def _sweep_counts(model, inputs) -> dict:
+    """What each section of ``inputs.standard`` solves, from the sizes (no matrix): section id
+    -> count (eigen-solutions of the sweep, values of the UCS map, (cases, speeds) of the
+    unbalance response, or the Level I sweep's values of Q before its machine's own points)."""
+    from ..analysis.ucs_map import _constant_values
+
+    sections, speeds = STANDARDS[inputs.standard], len(inputs.speeds)
+    counts = {"campbell": speeds, "modes": 1}
+    if "ucs" in sections and model.bearings:
+        stiffness = UCS_STIFFNESS if inputs.stiffness is None else np.asarray(inputs.stiffness, dtype=float)
+        counts["ucs"] = len(np.union1d(stiffness, _constant_values(model.bearings))) + 1   # and rigid supports
+    if "unbalance" in sections and model.sensors:
+        if inputs.standard != "iso":
+            counts["unbalance"] = (_api_cases(model), speeds)
+        elif model.unbalances:
+            counts["unbalance"] = (len({u.rotor for u in model.unbalances}), speeds)
+    return counts
+
+
+def _api_cases(model) -> int:
+    """How many API unbalance cases :func:`..analysis.unbalance_checks.api_unbalance_cases`
+    makes, without making them (each is a model of its own): a static case per turning rotor,
+    and a couple case for one on bearings at two axial places or more."""
+    count = 0
+    for rotor in model.rotors:
+        if rotor.speed_ratio == 0:
+            continue
+        centre = np.asarray(rotor.center_of_mass, dtype=float)
+        places = {float((np.asarray(b.position, dtype=float) - centre) @ model.spin_axis)
+                  for b in model.bearings_of(rotor.name)}
+        count += 1 + (len(places) >= 2)
+    return count
+
+
+def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
+    """The CPU time the report's sections are estimated to take [s], before any of them runs.
+
+    The sweeps of eigen-solutions are counted as ``campbell``, ``critical-speeds`` and
+    ``stability`` count theirs (:func:`..analysis._work.estimate`, one dense eigen-solution of
+    the state matrix timed on this machine and scaled by the cube of its size): the Campbell
+    diagram with its 1X critical speeds and their mode numbers, the mode shapes at the MCS (one
+    solution), the UCS map (:data:`UCS_SHARE` of a solution per value of its stiffness grid),
+    the API unbalance cases (:data:`CASE_SHARE` per case, :data:`SOLVE_SHARE` per case and
+    speed) and the Level I sweep (:func:`..analysis.level1.sweep_solutions`). Not counted: the
+    static loads (one solve), a UCS map widened to the bearings' own stiffness (a second map
+    where they lie outside the first), the whirl forms of repeated roots.
+
+    Parameters
+    ----------
+    model : Model
+    inputs : ReportInputs
+    quick : bool
+        A pessimistic bound [s] from the sizes alone instead (no timing, no matrices: every mode
+        crossing every order line, :data:`.._cost._PESSIMISTIC` per cubed state, the Level I
+        sweep with :data:`_LEVEL1_EXTRA` more values).
+
+    Returns
+    -------
+    ReportWork, or float [s] with ``quick``
+    """
+    from ..analysis import _cost, _work
+    from ..analysis.level1 import sweep_size, sweep_solutions
+
+    counts = _sweep_counts(model, inputs)
+    speeds = inputs.speeds
+    level1 = inputs.level1 if "level1" in STANDARDS[inputs.standard] else None
+    cases, points = counts.get("unbalance", (0, 0))
+    shares = {"modes": 1.0, "ucs": UCS_SHARE * counts.get("ucs", 0),
+              "unbalance": cases * (CASE_SHARE + SOLVE_SHARE * points)}
+    if quick:
+        n_states = 2 * model.dofs.n + 6 * len(model.suspensions)
+        grid = int(np.ceil(10 * 10 - 1e-9)) + 1 + _LEVEL1_EXTRA          # factor 10, 10 steps per Qa
+        solutions = sum(shares.values()) + (sweep_solutions(grid) if level1 else 0)
+        return (_work._quick_bound(model, speeds, (1,), True, True, len(speeds))
+                + solutions * _cost._PESSIMISTIC * float(n_states) ** 3)
+    campbell = _work.estimate(model, speeds, (1,), critical=True, numbers=True)
+    eig = _work.eig_seconds(campbell.n_states)
+    parts = [("campbell", campbell.seconds, campbell.text().split(" of CPU time (", 1)[1][:-1]),
+             ("modes", eig, f"1 eigen-solution of {campbell.n_states:,} states")]
+    if "ucs" in counts:
+        parts.append(("ucs", shares["ucs"] * eig, f"{counts['ucs']:,} stiffness values"))
+    if "unbalance" in counts:
+        what = "API unbalance cases" if inputs.standard != "iso" else "rotors unbalanced"
+        parts.append(("unbalance", shares["unbalance"] * eig, f"{cases:,} {what} at {points:,} speeds"))
+    if level1:
+        count = sweep_size(model, inputs.mcs, level1["stations"], level1["qa"], shares=level1.get("shares"))
+        parts.append(("level1", sweep_solutions(count) * eig, f"{count:,} values of Q"))
+    return ReportWork(campbell.n_dof, campbell.n_states, tuple(parts))
+
+
+def refuse_long_work(model, inputs) -> "ReportWork | None":
+    """Refuse, before any section runs, a report estimated (:func:`estimate_work`) to take more
+    CPU time than the limit in force (``ROTORDYN_MODAL_MAX_CPU_MINUTES``, 30 min by default),
+    unless long work is allowed (``--allow-long``, ``rdm.long_work_allowed()``); returns the
+    estimate where one was made (None where the bound without timing passed it).
+
+    Raises
+    ------
+    InputError
+        ``MODEL: this report of N coordinates would take about 9.6 h of CPU time (SECTION: TIME,
+        WHAT; ...), more than the limit of 30 min: fewer speeds (--points), ..., or add
+        --allow-long (ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit)``, one line.
+    """
+    from ..analysis import _cost
+
+    if _cost.long_work_is_allowed():
+        return None
+    limit = _cost.limit_seconds()
+    if limit == float("inf") or estimate_work(model, inputs, quick=True) <= limit:
+        return None
+    work = estimate_work(model, inputs)
+    if work.seconds <= limit:
+        return work
+    where = f"{model.source}: " if getattr(model, "source", None) else ""
+    raise InputError(f"{where}this report of {work.n_dof:,} coordinates would take {work.text()}, more than the limit "
+                     f"of {_cost.duration(limit)}: fewer speeds (--points), a smaller model, or add --allow-long "
+                     f"({_cost.ENVIRONMENT} sets the limit)")
 
 
 def model_summary(model) -> dict:

@@ -275,7 +275,8 @@ def collect(model, inputs: ReportInputs, progress: bool = False) -> ReportData:
 
 
 #: the report's undamped critical speed map, per value of its stiffness grid (its own and the
-#: constant bearings' values): a complex Hermitian eigen-solution of the coordinates, its
+#: constant bearings' values) and of its speed-dependent bearings' curves (``_CURVE_POINTS`` a
+#: bearing and axis): a complex Hermitian eigen-solution of the coordinates, its
 #: factorisations and the modes' following, as a share of one dense eigen-solution of the state
 #: matrix (:func:`.._cost.eig_seconds`; measured about 0.1 on the 60-rotor gear chain, 246
 #: coordinates and 443 values, a map of 41 values taking 6.1 s of CPU)
@@ -326,13 +327,16 @@ def _sweep_counts(model, inputs) -> dict:
     """What each section of ``inputs.standard`` solves, from the sizes (no matrix): section id
     -> count (eigen-solutions of the sweep, values of the UCS map, (cases, speeds) of the
     unbalance response, or the Level I sweep's values of Q before its machine's own points)."""
-    from ..analysis.ucs_map import _constant_values
+    from ..analysis.ucs_map import _CURVE_POINTS, _constant_values
 
     sections, speeds = STANDARDS[inputs.standard], len(inputs.speeds)
     counts = {"campbell": speeds, "modes": 1}
     if "ucs" in sections and model.bearings:
         stiffness = UCS_STIFFNESS if inputs.stiffness is None else np.asarray(inputs.stiffness, dtype=float)
-        counts["ucs"] = len(np.union1d(stiffness, _constant_values(model.bearings))) + 1   # and rigid supports
+        # the grid (its own values and the constant bearings'), the rigid supports, and each
+        # speed-dependent bearing's Kxx and Kyy curves (their crossings' refinement not counted)
+        curves = sum(b.coefficients.kind != "constant" for b in model.bearings)
+        counts["ucs"] = len(np.union1d(stiffness, _constant_values(model.bearings))) + 1 + 2 * _CURVE_POINTS * curves
     if "unbalance" in sections and model.sensors:
         if inputs.standard != "iso":
             counts["unbalance"] = (_api_cases(model), speeds)
@@ -363,11 +367,15 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     ``stability`` count theirs (:func:`..analysis._work.estimate`, one dense eigen-solution of
     the state matrix timed on this machine and scaled by the cube of its size): the Campbell
     diagram with its 1X critical speeds and their mode numbers, the mode shapes at the MCS (one
-    solution), the UCS map (:data:`UCS_SHARE` of a solution per value of its stiffness grid),
+    solution), the UCS map (:data:`UCS_SHARE` of a solution per value of its stiffness grid
+    and of its speed-dependent bearings' curves),
     the API unbalance cases (:data:`CASE_SHARE` per case, :data:`SOLVE_SHARE` per case and
     speed) and the Level I sweep (:func:`..analysis.level1.sweep_solutions`). Not counted: the
     static loads (one solve), a UCS map widened to the bearings' own stiffness (a second map
-    where they lie outside the first), the whirl forms of repeated roots.
+    where they lie outside the first) and the refinement of its curves' crossings, the damped
+    critical speeds the unbalance response looks for (bounded by
+    :data:`..analysis.unbalance_peaks._WORK`, about a second a rotor's speed ratio), the whirl
+    forms of repeated roots.
 
     Parameters
     ----------

@@ -674,7 +674,7 @@ def _refuse_long_work(model, form, count: int, followed: int):
     """Refuse, before its first eigen-solution, a sweep of ``count`` values of Q estimated
     (:func:`sweep_solutions`, :func:`._cost.eig_seconds`) to take more CPU time than the limit
     in force, unless long work is allowed (``--allow-long``, ``rdm.long_work_allowed()``): 500
-    geared rotors (4,012 states) at 130 values of Q are about 2 h of CPU time."""
+    geared rotors (4,012 states) at 130 values of Q are about 3 h of CPU time."""
     from . import _cost
 
     solutions = sweep_solutions(count, followed)

@@ -205,3 +205,30 @@ def test_unbalance_makes_the_state_form_once_where_the_peaks_are_not_looked_for(
     assert len(made) == 1
     assert result.cut_peak_note == unbalance_peaks.not_looked_for(model, speeds) != ""
     assert result.resonance_speeds is None
+
+
+def test_the_critical_speeds_round_off_holds_a_bounded_part_of_the_state_matrices(monkeypatch, examples_dir):
+    """``critical_round_off`` stacked the state matrix of every critical speed at once: 60 geared
+    rotors (16,600 critical speeds of 492 states) asked for 32 GB and the report was killed. Now
+    a part at a time, each matrix's round-off the same to the bit."""
+    from rotordyn_modal.analysis import _roots
+
+    collect_module = importlib.import_module("rotordyn_modal.report.collect")
+    model = rdm.load_model(examples_dir / "gear_machine.toml")
+    critical = rdm.campbell(model, rdm.rpm(np.linspace(100, 3000, 31)), orders=(1, 2)).critical
+    from rotordyn_modal.linear_system import speed_linear_form
+
+    form = speed_linear_form(model)
+    speeds = np.asarray(critical.speeds_rpm, dtype=float) * (np.pi / 30)
+    assert len(speeds) > 6
+    whole = _roots.round_off(np.stack([form.at(s) for s in speeds]))
+    batches = []
+    real = _roots.round_off
+    monkeypatch.setattr(_roots, "round_off", lambda matrices: batches.append(len(matrices)) or real(matrices))
+    monkeypatch.setattr(collect_module, "_ROUND_OFF_BYTES", 3 * 8 * form.n_states ** 2)
+    shown = collect_module.critical_round_off(model, critical)
+    assert max(batches) == 3 and sum(batches) == len(speeds)
+    zeta = np.clip(np.abs(np.asarray(critical.damping_ratios, dtype=float)), 0.0, 1.0 - 1e-12)
+    size = 2 * np.pi * np.asarray(critical.frequencies_hz, dtype=float) / np.sqrt(1 - zeta ** 2)
+    finite = np.isfinite(shown)
+    assert finite.any() and np.array_equal(shown[finite], (whole / size)[finite])

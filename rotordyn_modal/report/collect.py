@@ -494,6 +494,10 @@ def _stress_criterion(data, check):
                     ("limit", "<= {0:.3g} {unit} (allowable_stress)", "stress", (check.allowable,))]))
 
 
+#: bytes of state matrices held at once by :func:`critical_round_off`
+_ROUND_OFF_BYTES = 64e6
+
+
 def critical_round_off(model, critical) -> np.ndarray:
     """What round-off can move each critical speed's damping ratio by, reckoned as ``modes``
     reckons it (``ModalResult.to_dataframe``): the eigen-solve's round-off at that speed over
@@ -517,7 +521,11 @@ def critical_round_off(model, critical) -> np.ndarray:
     if not len(speeds):
         return np.zeros(0)
     form = speed_linear_form(model)
-    noise = round_off(np.stack([form.at(speed) for speed in speeds]))
+    # a part of the state matrices at a time (60 geared rotors: 16,600 critical speeds of 492
+    # states would be 32 GB at once); each matrix's round-off is its own
+    step = max(1, int(_ROUND_OFF_BYTES // (8 * form.n_states ** 2)))
+    noise = np.concatenate([round_off(np.stack([form.at(speed) for speed in speeds[k:k + step]]))
+                            for k in range(0, len(speeds), step)])
     zeta = np.clip(np.abs(np.asarray(critical.damping_ratios, dtype=float)), 0.0, 1.0 - 1e-12)
     size = 2 * np.pi * np.asarray(critical.frequencies_hz, dtype=float) / np.sqrt(1 - zeta ** 2)   # |lambda|
     with np.errstate(divide="ignore"):

@@ -7,7 +7,7 @@ import numpy as np
 
 __all__ = ["rpm", "to_rpm", "hz", "to_hz", "SPEED_UNITS", "speed_to_rad_s", "speed_from_rad_s",
            "UNIT_SYSTEMS", "QUANTITIES", "unit_size", "unit_label", "unit_scale", "to_system", "from_system",
-           "check_system", "ratio_scale", "FRF_OUTPUT_KINDS"]
+           "check_system", "ratio_scale", "FRF_OUTPUT_KINDS", "rpm_text"]
 
 _RPM = np.pi / 30.0
 _HZ = 2.0 * np.pi
@@ -24,6 +24,19 @@ def rpm(value):
 def to_rpm(value):
     """Speed in rad/s -> rpm."""
     return np.asarray(value, dtype=float) / _RPM if np.ndim(value) else float(value) / _RPM
+
+
+def rpm_text(speed) -> str:
+    """A speed [rpm] as text for a sentence, title, label or legend, without its unit: whole rpm
+    from 99.5 rpm up (as the report and the figures always wrote it), else to 3 significant
+    digits (``5.75``, ``0.0573``), so that a slow machine's 5.75 rpm is not written "6 rpm".
+    0, inf and nan as whole numbers."""
+    import math
+
+    speed = float(speed)
+    if not np.isfinite(speed) or abs(speed) >= 99.5 or speed == 0.0:
+        return f"{speed:.0f}"
+    return f"{speed:.{max(0, 2 - math.floor(math.log10(abs(speed))))}f}"
 
 
 def hz(value):

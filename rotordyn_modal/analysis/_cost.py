@@ -156,8 +156,9 @@ def eigen_solutions_over_limit(n_states: int, count: int) -> tuple[float, float]
     ----------
     n_states : int
         States of each state matrix.
-    count : int
-        Eigen-solutions (speeds).
+    count : int or float
+        Eigen-solutions (speeds; a share of one counts eigenvalue-only solutions, ``EIGVALS_SHARE``
+        each).
     """
     if long_work_is_allowed():
         return None

@@ -348,6 +348,7 @@ def level1(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_
     # machine of other modes: Q0 must not depend on Qa), followed up through Qa's grid
     sweep, at_grid = _sweep_grid(grid, _small_q(base, unit, form.n_dof))
     _refuse_what_cannot_fit(model, form, len(sweep))
+    _refuse_long_work(model, form, len(sweep), 1 if forward_mode is not None else FORWARD_MODES)
     lam, shapes = _eigensolve.upper_shapes(base + sweep[:, None, None] * unit, form.n_dof)
     shapes = _eigensolve.resolve_repeated(lam, shapes, _whirl.whirl_forms(model))
     order = track_modes(lam, _vectors.mass_normalized(shapes, form.matrices.M))
@@ -635,6 +636,58 @@ def _refuse_what_cannot_fit(model, form, count: int):
                              "values of Q", "sweep a shorter range (a smaller factor, --factor) or use a smaller model")
     if problem:
         raise InputError(problem)
+
+
+#: eigenvalue-only solutions of the search for Q0 per followed mode (:func:`_zero_crossing`: the
+#: two ends of the bracket and Brent's steps to 1e-12 of it: 8-9 counted per mode on the bundled
+#: examples' documented commands, taken with room)
+ZERO_SOLUTIONS = 16
+
+
+def sweep_solutions(count: int, followed: int = FORWARD_MODES) -> float:
+    """Dense eigen-solutions with vectors a Level I sweep of ``count`` values of Q is reckoned to
+    take: one per value, and :data:`ZERO_SOLUTIONS` eigenvalue-only ones per followed mode (each
+    ``_cost.EIGVALS_SHARE`` of one with vectors) for its Q0."""
+    from ._cost import EIGVALS_SHARE
+
+    return count + followed * ZERO_SOLUTIONS * EIGVALS_SHARE
+
+
+def sweep_size(model, speed, stations, qa, shares=None, factor: float = 10.0, steps_per_qa: int = 10) -> int:
+    """Values of Q :func:`level1` sweeps for these arguments (its grid to ``factor * qa`` and the
+    machine's own points below Qa's first), from the model's state matrices at ``speed``
+    [rad/s] alone: no eigen-solution (``report`` estimates its work with it before any)."""
+    speed = _checked(speed, qa, factor, steps_per_qa)
+    if isinstance(stations, (str, Station)):
+        stations = (stations,)
+    stations = tuple(s if isinstance(s, Station) else Station.parse(s) for s in stations)
+    shares = _shares(shares, len(stations))
+    _check_stations(model, stations)
+    steps = int(steps_per_qa)
+    grid = qa * (np.arange(int(np.ceil(factor * steps - 1e-9)) + 1) / steps)
+    form = speed_linear_form(model)
+    unit = _unit_state_matrix(model, form, stations, shares, speed)
+    return len(_sweep_grid(grid, _small_q(form.at(speed), unit, form.n_dof))[0])
+
+
+def _refuse_long_work(model, form, count: int, followed: int):
+    """Refuse, before its first eigen-solution, a sweep of ``count`` values of Q estimated
+    (:func:`sweep_solutions`, :func:`._cost.eig_seconds`) to take more CPU time than the limit
+    in force, unless long work is allowed (``--allow-long``, ``rdm.long_work_allowed()``): 500
+    geared rotors (4,012 states) at 130 values of Q are about 3 h of CPU time."""
+    from . import _cost
+
+    solutions = sweep_solutions(count, followed)
+    over = _cost.eigen_solutions_over_limit(form.n_states, solutions)
+    if over is None:
+        return
+    seconds, limit = over
+    where = f"{model.source}: " if getattr(model, "source", None) else ""
+    raise InputError(f"{where}an API 617 Level I sweep of {form.n_dof:,} coordinates at {count} values of Q would take "
+                     f"about {_cost.duration(seconds)} of CPU time ({count} eigen-solutions of {form.n_states:,} "
+                     f"states, and about {followed * ZERO_SOLUTIONS} more of the eigenvalues alone for Q0), more than the limit "
+                     f"of {_cost.duration(limit)}: sweep a shorter range (a smaller factor, --factor) or use a smaller "
+                     f"model, or add --allow-long ({_cost.ENVIRONMENT} sets the limit)")
 
 
 def _sweep_grid(grid, small: float):

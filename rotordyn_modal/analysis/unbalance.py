@@ -633,11 +633,13 @@ def unbalance_response(model, speeds, outputs=None, quantity: str = "displacemen
         raise InputError(f"{model.source}: the model has no [[unbalances]]: nothing excites an unbalance response")
     speeds = _arguments.speeds(speeds, increasing=False)
     with phase(progress, f"{_label}: the model's matrices") as bar:      # _label: the line's start
-        speed_linear_form(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
+        # a mass matrix rounding leaves singular: refused, as every analysis does; the form is
+        # made once a call (500 geared rotors: about 4 s), and says whether the peaks are looked for
+        form = speed_linear_form(model)
         _rename(bar, f"{_label}: direct solves at {len(speeds):,} speeds ({model.dofs.n:,} coordinates)")
         solved = _sensor_response(model, speeds, outputs, quantity)
         _rename(bar, f"{_label}: forces and resonances")
-        fields = _result_fields(model, speeds, outputs, quantity, solved, resonances, _criticals)
+        fields = _result_fields(model, speeds, outputs, quantity, solved, resonances, _criticals, form)
     sources, w, response, _ = solved
     return UnbalanceResult(speeds=speeds, sources=tuple(sources), frequencies_hz=w / (2 * np.pi),
                            response=response, quantity=quantity, amplitude_kind=amplitude, **fields)
@@ -649,11 +651,11 @@ def _rename(bar, description):
         bar.set_description(description, refresh=False)
 
 
-def _result_fields(model, speeds, outputs, quantity, solved, resonances, criticals) -> dict:
+def _result_fields(model, speeds, outputs, quantity, solved, resonances, criticals, form=None) -> dict:
     """The fields of :class:`UnbalanceResult` beside the speeds, sources, frequencies, response,
     quantity and amplitude convention: the forces, orbits' planes, clearances and resonances
     (``solved``: :func:`_sensor_response`'s; ``resonances``, ``criticals``: see
-    :func:`unbalance_response`)."""
+    :func:`unbalance_response`; ``form``: the model's state form, if made already)."""
     sources, _, response, (rotor_forces, speed_all, omega, q, shifts, motions) = solved
     n_src, n = len(sources), len(speeds)
     names = tuple(s.name for s in model.sensors) if outputs is None else \
@@ -674,7 +676,7 @@ def _result_fields(model, speeds, outputs, quantity, solved, resonances, critica
         rigid_rotor_names=tuple(r.name for r in model.rotors if not model.bearings_of(r.name)),
         clearance_names=tuple(c.name for c in model.clearances),
         clearance_planes=_clearance_planes(model, q, motions, n_src, n),
-        **_unresolved_fields(model, speeds, outputs, quantity, ratios, response, resonances, criticals),
+        **_unresolved_fields(model, speeds, outputs, quantity, ratios, response, resonances, criticals, form),
     )
 
 
@@ -696,7 +698,7 @@ def _sensor_response(model, speeds, outputs, quantity):
     return sources, w, response, (rotor_forces, speed_all, omega, q, shifts, motions)
 
 
-def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=True, found=None) -> dict:
+def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=True, found=None, form=None) -> dict:
     """``resonance_speeds``, ``resonance_bands`` (n_src, P) [rad/s] and ``resonance_response``
     (n_outputs, n_src, P) of :class:`UnbalanceResult`: each source's damped critical speeds
     that no swept speed resolves (:func:`.unbalance_peaks.unresolved_criticals`) and the
@@ -704,15 +706,18 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
     ``cut_peak_widths`` (n_outputs, n_src, Q): each curve's maxima that the swept line cuts
     (:func:`.unbalance_peaks.cut_maxima`); None each where not computed or not ``wanted``.
     ``swept``: the response at ``speeds`` (n_outputs, n_src, N); ``found``: those speeds already
-    found (:func:`api_unbalance_response`'s cases, one machine)."""
+    found (:func:`api_unbalance_response`'s cases, one machine); ``form``: the model's state form,
+    if made already (whether the peaks are looked for is read from it: where they are not, the
+    form is not made again)."""
     from .unbalance_peaks import cut_maxima, unresolved_criticals
 
     from .unbalance_peaks import not_looked_for
 
-    if wanted and found is None:
+    why = not_looked_for(model, speeds, form) if wanted and found is None else ""
+    if wanted and found is None and not why:
         found = unresolved_criticals(model, speeds, ratios)
     if not wanted or found is None:
-        return dict(dict.fromkeys(_RESONANCE_FIELDS), cut_peak_note=not_looked_for(model, speeds) if wanted else "")
+        return dict(dict.fromkeys(_RESONANCE_FIELDS), cut_peak_note=why)
     n_outputs = swept.shape[0]
     width = max(len(c) for c, _ in found)
     at = np.full((len(found), width), np.nan)

@@ -11,7 +11,7 @@ from ..errors import InputError
 from ..model._table import LARGEST
 from ..units import from_system, unit_scale
 from ._units import convert_table, kinds_by_ending
-from ._common import (IN_SPEED_UNIT, add_alias, as_typed, add_model_argument, add_output_file, add_outputs, add_speed_unit, check_extra_output,
+from ._common import (IN_SPEED_UNIT, add_alias, add_allow_long, as_typed, add_model_argument, add_output_file, add_outputs, add_speed_unit, check_extra_output,
                       mcs_option, open_model, parse_count, parse_list, parse_number, save_figure, speed_value, use_agg,
                       write_table)
 
@@ -52,6 +52,11 @@ against the average density: above the dividing line (Region B: CSR 2.5 up to 16
 then 2.69 - 0.0115 rho to 2.0 at 60 kg/m^3, as ROSS implements it) with Q0/Qa below 10, Level
 II is required too. --plot-csr FILE draws the chart. docs/standards.md gives the line's source.
 
+A sweep estimated to take more than 30 minutes of CPU time (one eigen-solution of the machine per
+value of Q, timed on this machine before the first) is refused before it starts, with the
+estimate (--allow-long runs it anyway, ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit); so is one
+whose arrays cannot fit in memory.
+
 With --units us, --qa is in lbf/in, --rated-power in hp, the diameter, height and OFFSET in in, the
 gas density in lb/ft^3; the table's
 first column is then q_lbf_per_in and Q is printed and drawn in lbf/in (the formula is the same
@@ -81,6 +86,7 @@ def add_arguments(parser):
     add_output_file(parser, "--plot-csr", dest="csr_plot", metavar="FILE.png|FILE.svg|FILE.pdf",
                     help="draw the CSR against gas density chart (needs --gas-density)")
     add_alias(parser, "--plot-csr", "--csr-plot")   # a second figure is --plot-WHAT, as modes --plot-shaft
+    add_allow_long(parser)
     add_outputs(parser)
 
 

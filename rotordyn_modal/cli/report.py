@@ -15,7 +15,7 @@ from ..errors import InputError
 from ..io import atomic_write
 from ..io.text import shown_text
 from ..units import from_system
-from ._common import IN_SPEED_UNIT, add_alias, add_model_argument, add_output_file, as_typed, add_speed_unit, check_ending, check_extra_output, \
+from ._common import IN_SPEED_UNIT, add_alias, add_allow_long, add_model_argument, add_output_file, as_typed, add_speed_unit, check_ending, check_extra_output, \
     mcs_option, open_model, show_progress, whole_number
 from .level1 import add_stage_arguments, anticipated, gas_density
 from .ucs_map import _operating, _stiffness
@@ -58,6 +58,10 @@ amplitude of the report, the AF table, the unbalance figure, the probe-limit and
 tables and the summary alike (the API limits, written peak-to-peak, converted exactly: 0-peak =
 pk-pk / 2, RMS = pk-pk / (2 sqrt 2)); the page says which under its title. The ISO 20816-3
 casing velocities are RMS whatever it is (the zones are RMS).
+A report estimated to take more than 30 minutes of CPU time (its sections' sweeps counted from
+the model's size, an eigen-solution timed on this machine) is refused before any section runs,
+with the estimate by section (--allow-long runs it anyway, ROTORDYN_MODAL_MAX_CPU_MINUTES sets
+the limit).
 
 examples:
   rotordyn-modal report examples/journal_rotor.toml --standard api617 --mcs 6000 \\
@@ -90,11 +94,13 @@ def add_arguments(parser):
     add_output_file(parser, "--out", required=True, metavar="FILE.html", help="the report")
     parser.set_defaults(out_endings=(".html", ".htm"))
     add_output_file(parser, "--pdf", metavar="FILE.pdf", help="also print the report to PDF (needs Chromium)")
+    add_allow_long(parser)
     parser.add_argument("--quiet", action="store_true", help="nothing on the terminal")
 
 
 def run(args) -> int:
     from ..report import collect, render_html
+    from ..report.collect import refuse_long_work
 
     check_ending(args.out, (".html", ".htm"), "--out", stdout=False)
     check_ending(args.pdf, (".pdf",), "--pdf", stdout=False)
@@ -105,6 +111,7 @@ def run(args) -> int:
     inputs = _inputs(args)
     model = open_model(args)
     _check_tables(model, inputs, args)
+    refuse_long_work(model, inputs)          # before any section: one line with the estimate, nothing written
     import matplotlib
 
     matplotlib.use("Agg")

@@ -35,19 +35,6 @@ def speed_scale(unit: str) -> float:
     return {"rpm": 30.0 / math.pi, "rad/s": 1.0, "hz": 1.0 / (2.0 * math.pi)}[unit]
 
 
-def rpm_text(speed) -> str:
-    """A speed [rpm] for a figure's title, label or legend, without its unit: whole rpm from
-    99.5 rpm up (as the figures always wrote it), else to 3 significant digits (``5.75``,
-    ``0.0573``), so that a slow machine's 5.75 rpm is not written "6 rpm"; the rule of the
-    report's sentences (``report.collect._rpm``). 0, inf and nan as whole numbers."""
-    import math
-
-    speed = float(speed)
-    if not np.isfinite(speed) or abs(speed) >= 99.5 or speed == 0.0:
-        return f"{speed:.0f}"
-    return f"{speed:.{max(0, 2 - math.floor(math.log10(abs(speed))))}f}"
-
-
 #: amplitude units of a kind and system, smallest first: (label, factor from the SI unit); the
 #: figure takes the largest in which the largest amplitude drawn is at least 1
 _READABLE_UNITS = {

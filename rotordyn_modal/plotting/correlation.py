@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from ._style import rpm_text
+from ..units import rpm_text
 
 __all__ = ["plot_correlation", "plot_fit_correlation", "plot_rigid_body"]
 

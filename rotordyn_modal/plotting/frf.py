@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..units import FRF_OUTPUT_KINDS, ratio_scale, unit_scale
-from ._style import rpm_text
+from ..units import rpm_text
 
 __all__ = ["plot_frf", "plot_unbalance", "plot_overlay"]
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ._style import rpm_text
+from ..units import rpm_text
 
 __all__ = ["campbell_figure", "stability_figure", "overlay_figure", "TuningWidget"]
 

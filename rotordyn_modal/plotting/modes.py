@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from ._style import rpm_text
+from ..units import rpm_text
 
 __all__ = ["plot_modes"]
 

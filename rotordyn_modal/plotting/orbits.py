@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..units import unit_scale
-from ._style import rpm_text
+from ..units import rpm_text
 
 __all__ = ["plot_orbits"]
 

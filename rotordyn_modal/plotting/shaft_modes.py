@@ -16,7 +16,7 @@ import numpy as np
 
 from ..units import unit_scale
 from ._labels import column_positions, draw_time_layout
-from ._style import rpm_text
+from ..units import rpm_text
 
 __all__ = ["plot_shaft_modes"]
 

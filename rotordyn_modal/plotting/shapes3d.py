@@ -15,7 +15,7 @@ import numpy as np
 from ..errors import InputError
 from ..units import unit_scale
 from .modes import small_number
-from ._style import rpm_text
+from ..units import rpm_text
 
 __all__ = ["plot_mode_shape", "plot_mode_shapes", "animate_mode_shape", "ANIMATION_FORMATS"]
 

@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 
 from ..units import unit_scale
-from ._style import rpm_text
+from ..units import rpm_text
 
 __all__ = ["plot_simulation", "plot_runup"]
 

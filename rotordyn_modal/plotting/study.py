@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._style import new_figure, rpm_text, speed_label, speed_scale
+from ..units import rpm_text
+from ._style import new_figure, speed_label, speed_scale
 
 __all__ = ["plot_study_campbell", "plot_critical_histograms", "plot_study_stability_map", "plot_sensitivity"]
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..units import unit_scale
-from ._style import fitted_title, new_figure, rpm_text
+from ..units import rpm_text
+from ._style import fitted_title, new_figure
 from ._labels import operating_band
 
 __all__ = ["plot_ucs_map"]

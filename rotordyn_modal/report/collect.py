@@ -12,7 +12,6 @@ stations), ``level1`` (API 617 Level I stability), ``iso`` (ISO 20816-3 zones).
 from __future__ import annotations
 
 import hashlib
-import math
 import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -23,10 +22,11 @@ from .._progress import phase
 from ..errors import InputError
 from ..unbalance_standards import AMPLITUDE_WORDS, amplitude_factor
 from ..io.text import shown_text
-from ..units import check_system, unit_scale
+from ..units import check_system, rpm_text, unit_scale
 
 __all__ = ["STANDARDS", "SECTIONS", "SHOWN_UNITS", "shown_scale", "AMPLITUDE_WORDS", "from_pkpk", "CRITERION_SOURCES", "Criterion", "ReportInputs", "ReportData", "collect",
-           "separation_margins", "iso_span", "ucs_stiffness", "UCS_STIFFNESS", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
+           "separation_margins", "iso_span", "ucs_stiffness", "UCS_STIFFNESS", "ReportWork", "estimate_work",
+           "refuse_long_work", "ModeShapes", "MODE_WINDOW", "LOWEST_MODES", "MOST_MODES"]
 
 #: section id -> heading
 SECTIONS = {"model": "Model", "static": "Static loads and sag", "campbell": "Campbell diagram and critical speeds",
@@ -275,14 +275,181 @@ def collect(model, inputs: ReportInputs, progress: bool = False) -> ReportData:
     return data
 
 
+#: the report's undamped critical speed map, per value of its stiffness grid (its own and the
+#: constant bearings' values) and of its speed-dependent bearings' curves (``_CURVE_POINTS`` a
+#: bearing and axis): a complex Hermitian eigen-solution of the coordinates, its
+#: factorisations and the modes' following, as a share of one dense eigen-solution of the state
+#: matrix (:func:`.._cost.eig_seconds`; measured about 0.1 on the 60-rotor gear chain, 246
+#: coordinates and 443 values, a map of 41 values taking 6.1 s of CPU)
+UCS_SHARE = 0.25
+#: one API unbalance case (a model of its own, its state form made, checked and solved at every
+#: speed), as a share of one dense eigen-solution of the state matrix: per case, and per case
+#: and speed (the direct solve). Measured on gear chains with a sensor, making the case included,
+#: its peaks not looked for: a case at 41 speeds 0.75 at 100 rotors (406 coordinates), 0.43 at
+#: 200 (806 coordinates; at 5 speeds 0.13): these take 0.92, 0.92 and 0.38
+CASE_SHARE = 0.3
+SOLVE_SHARE = 0.015
+#: a Level I sweep's values of Q beyond Qa's grid taken by the bound without timing (the
+#: machine's own points below Qa's first grid point, :data:`_DECADE_POINTS` a decade: 300 is 30
+#: decades)
+_LEVEL1_EXTRA = 300
 
-def _rpm(speed: float) -> str:
-    """A speed [rpm] for a sentence: whole rpm from 100 rpm up (as it always was), else to 3
-    significant digits (``5.73``, ``0.0573``): a slow machine's peak at 5.726 rpm is not "6 rpm"."""
-    speed = float(speed)
-    if not np.isfinite(speed) or abs(speed) >= 99.5 or speed == 0.0:
-        return f"{speed:.0f}"
-    return f"{speed:.{max(0, 2 - math.floor(math.log10(abs(speed))))}f}"
+
+@dataclass(frozen=True)
+class ReportWork:
+    """A report's estimated CPU time [s], by section (:func:`estimate_work`).
+
+    Attributes
+    ----------
+    n_dof, n_states : int
+        Coordinates and states of the model.
+    parts : tuple of (str, float, str)
+        ``(section id, seconds, what)``: each section's estimate and what it counts.
+    """
+
+    n_dof: int
+    n_states: int
+    parts: tuple
+
+    @property
+    def seconds(self) -> float:
+        return float(sum(seconds for _, seconds, _ in self.parts))
+
+    def text(self) -> str:
+        """``about 9.6 h of CPU time (Campbell diagram and critical speeds: 2.1 h, 153
+        eigen-solutions of 4,012 states...; Unbalance response...: 7.5 h, 1,000 API cases at
+        153 speeds)``, the sections that take any time, the longest first."""
+        from ..analysis._cost import duration
+
+        shown = sorted((p for p in self.parts if p[1] > 0), key=lambda p: -p[1])
+        inner = "; ".join(f"{SECTIONS[section]}: {duration(seconds)}, {what}" for section, seconds, what in shown)
+        return f"about {duration(self.seconds)} of CPU time ({inner})"
+
+
+def _sweep_counts(model, inputs) -> dict:
+    """What each section of ``inputs.standard`` solves, from the sizes (no matrix): section id
+    -> count (eigen-solutions of the sweep, values of the UCS map, (cases, speeds) of the
+    unbalance response, or the Level I sweep's values of Q before its machine's own points)."""
+    from ..analysis.ucs_map import _CURVE_POINTS, _constant_values
+
+    sections, speeds = STANDARDS[inputs.standard], len(inputs.speeds)
+    counts = {"campbell": speeds, "modes": 1}
+    if "ucs" in sections and model.bearings:
+        stiffness = UCS_STIFFNESS if inputs.stiffness is None else np.asarray(inputs.stiffness, dtype=float)
+        # the grid (its own values and the constant bearings'), the rigid supports, and each
+        # speed-dependent bearing's Kxx and Kyy curves (their crossings' refinement not counted)
+        curves = sum(b.coefficients.kind != "constant" for b in model.bearings)
+        counts["ucs"] = len(np.union1d(stiffness, _constant_values(model.bearings))) + 1 + 2 * _CURVE_POINTS * curves
+    if "unbalance" in sections and model.sensors:
+        if inputs.standard != "iso":
+            counts["unbalance"] = (_api_cases(model), speeds)
+        elif model.unbalances:
+            counts["unbalance"] = (len({u.rotor for u in model.unbalances}), speeds)
+    return counts
+
+
+def _api_cases(model) -> int:
+    """How many API unbalance cases :func:`..analysis.unbalance_checks.api_unbalance_cases`
+    makes, without making them (each is a model of its own): a static case per turning rotor,
+    and a couple case for one on bearings at two axial places or more."""
+    count = 0
+    for rotor in model.rotors:
+        if rotor.speed_ratio == 0:
+            continue
+        centre = np.asarray(rotor.center_of_mass, dtype=float)
+        places = {float((np.asarray(b.position, dtype=float) - centre) @ model.spin_axis)
+                  for b in model.bearings_of(rotor.name)}
+        count += 1 + (len(places) >= 2)
+    return count
+
+
+def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
+    """The CPU time the report's sections are estimated to take [s], before any of them runs.
+
+    The sweeps of eigen-solutions are counted as ``campbell``, ``critical-speeds`` and
+    ``stability`` count theirs (:func:`..analysis._work.estimate`, one dense eigen-solution of
+    the state matrix timed on this machine and scaled by the cube of its size): the Campbell
+    diagram with its 1X critical speeds and their mode numbers, the mode shapes at the MCS (one
+    solution), the UCS map (:data:`UCS_SHARE` of a solution per value of its stiffness grid
+    and of its speed-dependent bearings' curves),
+    the API unbalance cases (:data:`CASE_SHARE` per case, :data:`SOLVE_SHARE` per case and
+    speed) and the Level I sweep (:func:`..analysis.level1.sweep_solutions`). Not counted: the
+    static loads (one solve), a UCS map widened to the bearings' own stiffness (a second map
+    where they lie outside the first) and the refinement of its curves' crossings, the damped
+    critical speeds the unbalance response looks for (bounded by
+    :data:`..analysis.unbalance_peaks._WORK`, about a second a rotor's speed ratio), the whirl
+    forms of repeated roots.
+
+    Parameters
+    ----------
+    model : Model
+    inputs : ReportInputs
+    quick : bool
+        A pessimistic bound [s] from the sizes alone instead (no timing, no matrices: every mode
+        crossing every order line, :data:`.._cost._PESSIMISTIC` per cubed state, the Level I
+        sweep with :data:`_LEVEL1_EXTRA` more values).
+
+    Returns
+    -------
+    ReportWork, or float [s] with ``quick``
+    """
+    from ..analysis import _cost, _work
+    from ..analysis.level1 import sweep_size, sweep_solutions
+
+    counts = _sweep_counts(model, inputs)
+    speeds = inputs.speeds
+    level1 = inputs.level1 if "level1" in STANDARDS[inputs.standard] else None
+    cases, points = counts.get("unbalance", (0, 0))
+    shares = {"modes": 1.0, "ucs": UCS_SHARE * counts.get("ucs", 0),
+              "unbalance": cases * (CASE_SHARE + SOLVE_SHARE * points)}
+    if quick:
+        n_states = 2 * model.dofs.n + 6 * len(model.suspensions)
+        grid = int(np.ceil(10 * 10 - 1e-9)) + 1 + _LEVEL1_EXTRA          # factor 10, 10 steps per Qa
+        solutions = sum(shares.values()) + (sweep_solutions(grid) if level1 else 0)
+        return (_work._quick_bound(model, speeds, (1,), True, True, len(speeds))
+                + solutions * _cost._PESSIMISTIC * float(n_states) ** 3)
+    campbell = _work.estimate(model, speeds, (1,), critical=True, numbers=True)
+    eig = _work.eig_seconds(campbell.n_states)
+    parts = [("campbell", campbell.seconds, campbell.text().split(" of CPU time (", 1)[1][:-1]),
+             ("modes", eig, f"1 eigen-solution of {campbell.n_states:,} states")]
+    if "ucs" in counts:
+        parts.append(("ucs", shares["ucs"] * eig, f"{counts['ucs']:,} stiffness values"))
+    if "unbalance" in counts:
+        what = "API unbalance cases" if inputs.standard != "iso" else "rotors unbalanced"
+        parts.append(("unbalance", shares["unbalance"] * eig, f"{cases:,} {what} at {points:,} speeds"))
+    if level1:
+        count = sweep_size(model, inputs.mcs, level1["stations"], level1["qa"], shares=level1.get("shares"))
+        parts.append(("level1", sweep_solutions(count) * eig, f"{count:,} values of Q"))
+    return ReportWork(campbell.n_dof, campbell.n_states, tuple(parts))
+
+
+def refuse_long_work(model, inputs) -> "ReportWork | None":
+    """Refuse, before any section runs, a report estimated (:func:`estimate_work`) to take more
+    CPU time than the limit in force (``ROTORDYN_MODAL_MAX_CPU_MINUTES``, 30 min by default),
+    unless long work is allowed (``--allow-long``, ``rdm.long_work_allowed()``); returns the
+    estimate where one was made (None where the bound without timing passed it).
+
+    Raises
+    ------
+    InputError
+        ``MODEL: this report of N coordinates would take about 9.6 h of CPU time (SECTION: TIME,
+        WHAT; ...), more than the limit of 30 min: fewer speeds (--points), ..., or add
+        --allow-long (ROTORDYN_MODAL_MAX_CPU_MINUTES sets the limit)``, one line.
+    """
+    from ..analysis import _cost
+
+    if _cost.long_work_is_allowed():
+        return None
+    limit = _cost.limit_seconds()
+    if limit == float("inf") or estimate_work(model, inputs, quick=True) <= limit:
+        return None
+    work = estimate_work(model, inputs)
+    if work.seconds <= limit:
+        return work
+    where = f"{model.source}: " if getattr(model, "source", None) else ""
+    raise InputError(f"{where}this report of {work.n_dof:,} coordinates would take {work.text()}, more than the limit "
+                     f"of {_cost.duration(limit)}: fewer speeds (--points), a smaller model, or add --allow-long "
+                     f"({_cost.ENVIRONMENT} sets the limit)")
 
 
 def model_summary(model) -> dict:
@@ -328,6 +495,10 @@ def _stress_criterion(data, check):
                     ("limit", "<= {0:.3g} {unit} (allowable_stress)", "stress", (check.allowable,))]))
 
 
+#: bytes of state matrices held at once by :func:`critical_round_off`
+_ROUND_OFF_BYTES = 64e6
+
+
 def critical_round_off(model, critical) -> np.ndarray:
     """What round-off can move each critical speed's damping ratio by, reckoned as ``modes``
     reckons it (``ModalResult.to_dataframe``): the eigen-solve's round-off at that speed over
@@ -351,7 +522,11 @@ def critical_round_off(model, critical) -> np.ndarray:
     if not len(speeds):
         return np.zeros(0)
     form = speed_linear_form(model)
-    noise = round_off(np.stack([form.at(speed) for speed in speeds]))
+    # a part of the state matrices at a time (60 geared rotors: 16,600 critical speeds of 492
+    # states would be 32 GB at once); each matrix's round-off is its own
+    step = max(1, int(_ROUND_OFF_BYTES // (8 * form.n_states ** 2)))
+    noise = np.concatenate([round_off(np.stack([form.at(speed) for speed in speeds[k:k + step]]))
+                            for k in range(0, len(speeds), step)])
     zeta = np.clip(np.abs(np.asarray(critical.damping_ratios, dtype=float)), 0.0, 1.0 - 1e-12)
     size = 2 * np.pi * np.asarray(critical.frequencies_hz, dtype=float) / np.sqrt(1 - zeta ** 2)   # |lambda|
     with np.errstate(divide="ignore"):
@@ -391,7 +566,7 @@ def _campbell(data):
     data.criteria.append(Criterion(
         name, f"{worst.separation_margin_pct:.1f} % (AF {worst.amplification_factor:.2f})",
         f">= {worst.required_margin_pct:.1f} %", verdict, "campbell",
-        f"governing peak: {worst.output} at {_rpm(worst.speed_rpm)} rpm" + (_case(worst) or f", 1X {worst.source}")
+        f"governing peak: {worst.output} at {rpm_text(worst.speed_rpm)} rpm" + (_case(worst) or f", 1X {worst.source}")
         + note))
 
 
@@ -434,10 +609,10 @@ def _modes(data):
     frequencies = 2 * np.pi * result.frequencies_hz[result.oscillatory]
     for number, w in enumerate(frequencies, start=1):
         if window[0] <= w <= window[1]:
-            reasons.setdefault(number, f"frequency at the MCS {_rpm(w * 30 / np.pi)} rpm (1X) in the window")
+            reasons.setdefault(number, f"frequency at the MCS {rpm_text(w * 30 / np.pi)} rpm (1X) in the window")
     for number, speed in _critical_numbers(data, result):
         if window[0] <= speed <= window[1]:
-            reasons[number] = f"1X critical speed {_rpm(speed * 30 / np.pi)} rpm in the window"
+            reasons[number] = f"1X critical speed {rpm_text(speed * 30 / np.pi)} rpm in the window"
     if not reasons:
         reasons = {n: "one of the lowest at the MCS (none in the window)" for n in range(1, min(count, LOWEST_MODES) + 1)}
     numbers = tuple(sorted(reasons)[:MOST_MODES])
@@ -495,7 +670,7 @@ def _nearest_lateral(model, result, window) -> dict:
             if line.lateral:
                 speed = speeds[number - 1] * 30 / np.pi
                 chosen[int(number)] = (f"nearest lateral mode {side} the window (frequency at the MCS "
-                                       f"{_rpm(speed)} rpm as 1X), shown as the window has none", line)
+                                       f"{rpm_text(speed)} rpm as 1X), shown as the window has none", line)
                 found += 1
                 if found == NEAREST_LATERAL:
                     break
@@ -636,7 +811,7 @@ def _probe_limits(data):
     worst = table.iloc[int(np.argmax(table["value"] / table["limit"]))]
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
     data.criteria.append(Criterion.of("API 617 probe vibration limit", verdict, "unbalance",
-                                      f"governing: {worst.output} at {_rpm(worst.speed_rpm)} rpm" + _case(worst),
+                                      f"governing: {worst.output} at {rpm_text(worst.speed_rpm)} rpm" + _case(worst),
                                       quantities=[("value", "{0:.3g} {unit} {amplitude}", "vibration", (worst.value,)),
                                                   ("limit", "<= {0:.3g} {unit} {amplitude}", "vibration", (worst.limit,))]))
 
@@ -657,7 +832,7 @@ def _clearance(data):
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
     data.criteria.append(Criterion.of(
         CLEARANCE_CHECK, verdict, "unbalance",
-        f"governing: {worst.clearance} at {_rpm(worst.speed_rpm)} rpm" + _case(worst) + f", ratio {worst.ratio:.3g}",
+        f"governing: {worst.clearance} at {rpm_text(worst.speed_rpm)} rpm" + _case(worst) + f", ratio {worst.ratio:.3g}",
         quantities=[("value", "{0:.3g} {unit} {amplitude}", "vibration", (worst.value,)),
                     ("limit", "<= {0:.3g} {unit} {amplitude}", "vibration", (worst.limit,))]))
 
@@ -726,7 +901,7 @@ def _iso(data):
     worst = table.iloc[int(np.argmax(table["value"]))]
     verdict = "pass" if (table["verdict"] == "pass").all() else "fail"
     data.criteria.append(Criterion.of(
-        name, verdict, "iso", f"governing: {worst.output} at {_rpm(worst.speed_rpm)} rpm; {iso_span(checks)}",
+        name, verdict, "iso", f"governing: {worst.output} at {rpm_text(worst.speed_rpm)} rpm; {iso_span(checks)}",
         quantities=[("value", "{0:.3g} {unit} RMS (zone %s)" % worst.zone, "velocity", (worst.value,)),
                     ("limit", "<= {0:.3g} {unit} RMS (zone B)", "velocity", (worst.limit,))]))
 

@@ -63,6 +63,6 @@ def test_rpm_text_keeps_three_digits_below_100_rpm(speed, text):
 
 def test_rpm_text_is_the_reports_rule():
     """The report's sentences and the figures write speeds by one function."""
-    from rotordyn_modal.report import collect
+    import importlib
 
-    assert collect.rpm_text is rpm_text
+    assert importlib.import_module("rotordyn_modal.report.collect").rpm_text is rpm_text

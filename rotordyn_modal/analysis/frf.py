@@ -457,12 +457,6 @@ def _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine, mass_checked
     omega = 2 * np.pi * f
     terms = _modal_terms(model, speed, rows, columns) if used == "modal" else None
     H = None if terms is None else _modal_sum(terms, omega)
-    peaks = peak_H = cut_hz = cut_H = None
-    if H is not None:                  # the resonances no computed frequency resolves, at their own frequency
-        peaks, band = _unresolved(terms[0], f)
-        peak_H = _modal_sum(terms, 2 * np.pi * peaks) * (2j * np.pi * peaks) ** QUANTITIES[quantity]
-        cut_hz, cut_H = _cut_maxima(terms, f, H * (1j * omega) ** QUANTITIES[quantity], peaks, band,
-                                    QUANTITIES[quantity])
     if H is None:
         if not mass_checked:   # the modal engine's state form made the check, if it was tried
             from ..linear_system import speed_linear_form
@@ -471,6 +465,11 @@ def _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine, mass_checked
         used = "direct"
         H = np.einsum("sd,fdi->sif", rows, dof_response(model, speed, omega, columns))
     H = H * (1j * omega) ** QUANTITIES[quantity]
+    peaks = peak_H = cut_hz = cut_H = None
+    if terms is not None:              # the resonances no computed frequency resolves, at their own frequency
+        peaks, band = _unresolved(terms[0], f)
+        peak_H = _modal_sum(terms, 2 * np.pi * peaks) * (2j * np.pi * peaks) ** QUANTITIES[quantity]
+        cut_hz, cut_H = _cut_maxima(terms, f, H, peaks, band, QUANTITIES[quantity])
     return FRFResult(H=H, frequencies_hz=f, speed=float(speed), inputs=_names(model.excitations, inputs),
                      outputs=_names(model.sensors, outputs), quantity=quantity, engine=used,
                      resonances_hz=peaks, resonance_H=peak_H, cut_hz=cut_hz, cut_H=cut_H)

@@ -471,7 +471,7 @@ def _resonances(model, speed, f):
     loss factors (no state form) or more than :data:`_RESONANCE_STATES` states (the figure then
     marks none)."""
     from ..linear_system import speed_linear_form
-    from .frf import _unresolved, choose_engine
+    from .frf import choose_engine, unresolved_resonances
 
     if choose_engine(model) != "modal" or len(f) < 2:
         return None
@@ -480,7 +480,7 @@ def _resonances(model, speed, f):
         return None
     with _batches.one_blas_thread(72 * form.n_states ** 2):
         roots = np.linalg.eigvals(form.at(float(speed)))
-    return _unresolved(roots, f)
+    return unresolved_resonances(roots, f)
 
 
 def _force_frf(model, speed, f, columns, where):

@@ -289,8 +289,7 @@ def root_polished(M, damping, stiffness, root, shape):
     if found is None:
         return None
     roots, shapes, left = found
-    turn = np.vdot(shapes[0], shape)
-    return roots[0], shapes[0] * (turn / abs(turn) if abs(turn) > 0 else 1.0), left
+    return roots[0], _vectors.phase_aligned(shapes[0], shape), left
 
 
 def rational_root_polished(M, damping, stiffness, branches, root, shape):
@@ -341,9 +340,7 @@ def rational_root_polished(M, damping, stiffness, branches, root, shape):
             break
     if not moved <= _PROMISED:
         return None
-    unit = x / np.linalg.norm(x)
-    turn = np.vdot(unit, shape)
-    unit = unit * (turn / abs(turn) if abs(turn) > 0 else 1.0)
+    unit = _vectors.phase_aligned(x / np.linalg.norm(x), shape)
     inertia = float(_round_off_of(M, damping, np.array([s]), unit[None])[0]) * np.finfo(_EXTENDED).eps / np.finfo(float).eps
     return s, unit, max(moved, inertia, 4 * np.finfo(float).eps)
 

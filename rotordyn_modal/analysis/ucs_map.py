@@ -537,8 +537,7 @@ def _group_polished(M, G, rest, unit, k, nu, shapes, exact=True):
     out = X @ combinations
     out *= np.linalg.norm(shapes, axis=0) / np.linalg.norm(out, axis=0)
     if g == 1:
-        turn = np.vdot(out[:, 0], shapes[:, 0])
-        out *= turn / abs(turn) if abs(turn) > 0 else 1.0
+        out = _vectors.phase_aligned(out[:, 0], shapes[:, 0])[:, None]
     return 1.0 / values.real, out
 
 

@@ -533,7 +533,6 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
     return np.where(size > 0, out, 0.0)
 
 
-
 def branch_terms(form):
     """A form's Maxwell branches for :func:`pencil_round_off` and :func:`refined_pairs`: their
     stiffness on the stator's coordinates, the first ``k`` (b, k, k), and times (b,) [s]; None

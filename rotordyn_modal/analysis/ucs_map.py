@@ -306,8 +306,8 @@ class _Pencil:
     stiffness ``k`` (isotropic), and the forward critical speeds of any ``k``."""
 
     def __init__(self, model, chosen, polished=0):
-        checked_mass_inverse(model)
-        self.polished = polished     # the lowest roots polished where double precision leaves them inexact   # a mass matrix rounding leaves singular: refused, as every analysis does
+        checked_mass_inverse(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
+        self.polished = polished     # the lowest roots polished where double precision leaves them inexact
         self.model = model
         self.M = mass_matrix(model)
         self.G = gyroscopic_matrix(model)

@@ -496,7 +496,7 @@ def _relabel_by_frequency(order, values, speeds):
     k0 = int(np.argmin(np.abs(speeds)))
     variants = np.arange(len(order))[:, None]
     at_k0 = values[variants, k0, order[:, k0]]
-    labels = np.lexsort((at_k0.real, at_k0.imag, ~is_oscillating(at_k0)), axis=-1)
+    labels = _eigensolve.frequency_order(at_k0, ~is_oscillating(at_k0))
     return order[variants[..., None], np.arange(order.shape[1])[:, None], labels[:, None, :]]
 
 

@@ -178,8 +178,9 @@ def upper_indices(values: np.ndarray):
     upper : ndarray, shape (..., n), complex
         Sorted by imaginary part, then real part (one of each conjugate pair and the smaller half
         of the real roots); imaginary parts within :data:`TIE_TOLERANCE` of the row's largest
-        root of each other are one frequency, ordered by real part (:func:`_ties_by_real_part`,
-        so that the order does not depend on round-off or on the model's units).
+        root of each other are one frequency, its modes ordered by damping, the least damped first
+        (:func:`_ties_by_real_part`, so that the order does not depend on round-off or on the
+        model's units).
     """
     n = values.shape[-1] // 2
     # by imaginary part; within the real block the smaller |lam| last, so that the upper half
@@ -193,9 +194,9 @@ def upper_indices(values: np.ndarray):
 
 
 def frequency_order(values, first=None):
-    """The order (..., m) of roots ``values`` (..., m) by frequency, then real part, with the
-    frequencies that agree to round-off taken as one (:func:`_ties_by_real_part`): the order of
-    mode numbers, whatever the model's units.
+    """The order (..., m) of roots ``values`` (..., m) by frequency, with the frequencies that
+    agree to round-off taken as one, its modes by damping, the least damped first
+    (:func:`_ties_by_real_part`): the order of mode numbers, whatever the model's units.
 
     Parameters
     ----------
@@ -218,19 +219,20 @@ def frequency_order(values, first=None):
 #: imaginary parts closer than this, relative to the largest root of their row, are one frequency
 #: to :func:`upper_indices`, and real parts as close one damping: a frequency shared to round-off
 #: by roots of different damping (an isotropic machine's two whirls under cross-coupling at rest)
-#: is ordered by real part, not by which one round-off puts a few units in the last place higher
+#: is ordered by damping, not by which one round-off puts a few units in the last place higher
 #: (which changes when the model's time is scaled)
 TIE_TOLERANCE = 256 * np.finfo(float).eps
 
 
 def _ties_by_real_part(upper, groups=None):
     """The order (..., n) of roots ``upper`` (..., n), sorted by imaginary part and then real part,
-    that orders roots of one frequency by their real parts.
+    that orders the modes of one frequency by damping, the least damped (largest real part) first.
 
     Runs of imaginary parts each within ``TIE_TOLERANCE * max |lam|`` (the row's largest finite
     root) of the next are one frequency; within a run, real parts each within as much of the next
-    are one damping (a repeated root: its order, and its shapes' whirl, kept as they are). So the
-    order is unchanged wherever no two frequencies agree to that little with different damping.
+    are one damping (a repeated root: its order, and its shapes' whirl, kept as they are). Roots
+    that do not oscillate (imaginary part 0) stay by real part, the smallest first. So the order
+    is unchanged wherever no two frequencies agree to that little with different damping.
     ``groups`` (..., n), optional: a key the roots are sorted by before their frequency (a
     change of it starts a new run).
     """
@@ -242,11 +244,12 @@ def _ties_by_real_part(upper, groups=None):
         apart |= np.diff(groups.astype(int), axis=-1) != 0
     runs = np.cumsum(np.concatenate([start, apart], axis=-1), axis=-1)
     along = _gather(upper.shape)
-    by_real = np.lexsort((upper.real, runs), axis=-1)                      # within each run by real part
-    real, run = along(upper.real, by_real), along(runs, by_real)
-    apart = ~(np.diff(real, axis=-1) <= tie) | (np.diff(run, axis=-1) != 0)  # NaN: a damping of its own
+    key = np.where(upper.imag > 0, -upper.real, upper.real)             # modes: the least damped first
+    by_damping = np.lexsort((key, runs), axis=-1)
+    damped, run = along(key, by_damping), along(runs, by_damping)
+    apart = ~(np.diff(damped, axis=-1) <= tie) | (np.diff(run, axis=-1) != 0)   # NaN: a damping of its own
     damping = np.empty_like(runs)
-    np.put_along_axis(damping, by_real, np.cumsum(np.concatenate([start, apart], axis=-1), axis=-1), axis=-1)
+    np.put_along_axis(damping, by_damping, np.cumsum(np.concatenate([start, apart], axis=-1), axis=-1), axis=-1)
     return np.lexsort((np.broadcast_to(np.arange(upper.shape[-1]), upper.shape), damping), axis=-1)
 
 

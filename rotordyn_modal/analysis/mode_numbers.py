@@ -35,8 +35,8 @@ def numbers_at_speed(eigenvalues) -> np.ndarray:
     lam = np.asarray(eigenvalues)
     modes = is_oscillating(lam)
     # the modes first, by frequency then real part: modal's order (its upper roots sorted by
-    # imaginary, then real part, frequencies equal to round-off as one, the modes numbered in
-    # that order: _eigensolve.frequency_order)
+    # imaginary, then real part, the modes numbered in that order; a frequency shared to
+    # round-off by modes of different damping: the least damped first, _eigensolve.frequency_order)
     order = _eigensolve.frequency_order(lam, ~modes)
     ranks = np.empty(lam.shape, dtype=int)
     np.put_along_axis(ranks, order, np.broadcast_to(np.arange(lam.shape[-1]), lam.shape), axis=-1)

@@ -455,6 +455,26 @@ class SpeedLinearForm:
             return self.matrices.C
         return self.matrices.C + dependent_bearing_matrices(self.model, speeds)[1]
 
+    def pencil_at(self, speeds) -> tuple[np.ndarray, np.ndarray]:
+        """Stiffness ``K(Omega)`` and damping ``C(Omega)`` (without the gyroscopic part) from one
+        evaluation of the speed-dependent bearings (:meth:`stiffness_at` and :meth:`damping_at`
+        each evaluate them whole).
+
+        Parameters
+        ----------
+        speeds : array_like, shape (N,)
+            Speeds [rad/s].
+
+        Returns
+        -------
+        stiffness, damping : ndarray, shape (N, n, n) each (or (n, n) when constant)
+            [N/m, ...] and [N s/m, ...].
+        """
+        if not self._dependent:
+            return self.matrices.K, self.matrices.C
+        bearing_k, bearing_c = dependent_bearing_matrices(self.model, speeds)
+        return self.matrices.K + bearing_k, self.matrices.C + bearing_c
+
     def pattern(self, sparse: bool = False):
         """Where ``M``, ``C(Omega)``, ``G`` and ``K(Omega)`` may be nonzero at any speed: the
         constant parts' nonzero entries and each speed-dependent bearing's rotor block.

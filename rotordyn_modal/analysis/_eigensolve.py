@@ -14,7 +14,7 @@ import numpy as np
 
 from . import _batches, _roots, _vectors
 
-__all__ = ["REPEATED_TOLERANCE", "eigenvalues_of", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
+__all__ = ["REPEATED_TOLERANCE", "TIE_TOLERANCE", "eigenvalues_of", "frequency_order", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
            "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots", "branch_terms"]
 
 
@@ -176,7 +176,11 @@ def upper_indices(values: np.ndarray):
     index : ndarray of int, shape (..., n)
         Positions in ``values`` (and in the columns of the eigenvector matrices).
     upper : ndarray, shape (..., n), complex
-        Sorted by imaginary part, then real part (one of each conjugate pair and the smaller half of the real roots).
+        Sorted by imaginary part, then real part (one of each conjugate pair and the smaller half
+        of the real roots); imaginary parts within :data:`TIE_TOLERANCE` of the row's largest
+        root of each other are one frequency, its modes ordered by damping, the least damped first
+        (:func:`_ties_by_real_part`, so that the order does not depend on round-off or on the
+        model's units).
     """
     n = values.shape[-1] // 2
     # by imaginary part; within the real block the smaller |lam| last, so that the upper half
@@ -185,8 +189,68 @@ def upper_indices(values: np.ndarray):
     chosen = order[..., n:]
     along = _gather(values.shape)
     upper = along(values, chosen)
-    final = np.lexsort((upper.real, upper.imag), axis=-1)
+    final = frequency_order(upper)
     return along(chosen, final), along(upper, final)
+
+
+def frequency_order(values, first=None):
+    """The order (..., m) of roots ``values`` (..., m) by frequency, with the frequencies that
+    agree to round-off taken as one, its modes by damping, the least damped first
+    (:func:`_ties_by_real_part`): the order of mode numbers, whatever the model's units.
+
+    Parameters
+    ----------
+    values : ndarray, shape (..., m), complex [1/s]
+    first : ndarray of bool, shape (..., m), optional
+        A key before the frequency: the roots where it is False first (e.g. ``~oscillating``:
+        the modes first).
+
+    Returns
+    -------
+    ndarray of int, shape (..., m)
+    """
+    keys = (values.real, values.imag) + (() if first is None else (first,))
+    order = np.lexsort(keys, axis=-1)
+    along = _gather(values.shape)
+    groups = None if first is None else along(np.asarray(first), order)
+    return along(order, _ties_by_real_part(along(values, order), groups))
+
+
+#: imaginary parts closer than this, relative to the largest root of their row, are one frequency
+#: to :func:`upper_indices`, and real parts as close one damping: a frequency shared to round-off
+#: by roots of different damping (an isotropic machine's two whirls under cross-coupling at rest)
+#: is ordered by damping, not by which one round-off puts a few units in the last place higher
+#: (which changes when the model's time is scaled)
+TIE_TOLERANCE = 256 * np.finfo(float).eps
+
+
+def _ties_by_real_part(upper, groups=None):
+    """The order (..., n) of roots ``upper`` (..., n), sorted by imaginary part and then real part,
+    that orders the modes of one frequency by damping, the least damped (largest real part) first.
+
+    Runs of imaginary parts each within ``TIE_TOLERANCE * max |lam|`` (the row's largest finite
+    root) of the next are one frequency; within a run, real parts each within as much of the next
+    are one damping (a repeated root: its order, and its shapes' whirl, kept as they are). Roots
+    that do not oscillate (imaginary part 0) stay by real part, the smallest first. So the order
+    is unchanged wherever no two frequencies agree to that little with different damping.
+    ``groups`` (..., n), optional: a key the roots are sorted by before their frequency (a
+    change of it starts a new run).
+    """
+    size = np.abs(upper)
+    tie = TIE_TOLERANCE * np.max(np.where(np.isfinite(size), size, 0.0), axis=-1, keepdims=True, initial=0.0)
+    start = np.zeros(upper.shape[:-1] + (1,), dtype=bool)
+    apart = ~(np.diff(upper.imag, axis=-1) <= tie)                       # NaN or inf: a run of its own
+    if groups is not None:
+        apart |= np.diff(groups.astype(int), axis=-1) != 0
+    runs = np.cumsum(np.concatenate([start, apart], axis=-1), axis=-1)
+    along = _gather(upper.shape)
+    key = np.where(upper.imag > 0, -upper.real, upper.real)             # modes: the least damped first
+    by_damping = np.lexsort((key, runs), axis=-1)
+    damped, run = along(key, by_damping), along(runs, by_damping)
+    apart = ~(np.diff(damped, axis=-1) <= tie) | (np.diff(run, axis=-1) != 0)   # NaN: a damping of its own
+    damping = np.empty_like(runs)
+    np.put_along_axis(damping, by_damping, np.cumsum(np.concatenate([start, apart], axis=-1), axis=-1), axis=-1)
+    return np.lexsort((np.broadcast_to(np.arange(upper.shape[-1]), upper.shape), damping), axis=-1)
 
 
 def _gather(shape):
@@ -531,7 +595,6 @@ def pencil_round_off(values, shapes, mass, damping, stiffness, noise=None, branc
     if branches is not None:            # a root of the branches' own states (at a pole, s = -1/tau, or with
         out = np.where(np.isfinite(out), out, 0.0)     # no displacement): not estimated
     return np.where(size > 0, out, 0.0)
-
 
 
 def branch_terms(form):

@@ -289,8 +289,7 @@ def root_polished(M, damping, stiffness, root, shape):
     if found is None:
         return None
     roots, shapes, left = found
-    turn = np.vdot(shapes[0], shape)
-    return roots[0], shapes[0] * (turn / abs(turn) if abs(turn) > 0 else 1.0), left
+    return roots[0], _vectors.phase_aligned(shapes[0], shape), left
 
 
 def rational_root_polished(M, damping, stiffness, branches, root, shape):
@@ -341,9 +340,7 @@ def rational_root_polished(M, damping, stiffness, branches, root, shape):
             break
     if not moved <= _PROMISED:
         return None
-    unit = x / np.linalg.norm(x)
-    turn = np.vdot(unit, shape)
-    unit = unit * (turn / abs(turn) if abs(turn) > 0 else 1.0)
+    unit = _vectors.phase_aligned(x / np.linalg.norm(x), shape)
     inertia = float(_round_off_of(M, damping, np.array([s]), unit[None])[0]) * np.finfo(_EXTENDED).eps / np.finfo(float).eps
     return s, unit, max(moved, inertia, 4 * np.finfo(float).eps)
 
@@ -444,6 +441,18 @@ def _block_residual(M, damping, stiffness, X, S, exact=True):
     return out.astype(complex)
 
 
+#: 2^27 + 1: Dekker's splitting of a double (:func:`_halves`)
+_SPLIT = 134217729.0
+
+
+def _halves(a):
+    """Dekker's splitting of doubles ``a`` (any shape): ``high + low == a`` exactly, each half of
+    at most 26 significant bits, so that the product of two halves is exact in double."""
+    c = _SPLIT * a
+    high = c - (c - a)
+    return high, a - high
+
+
 def _exact_product(matrix, X):
     """``matrix @ X`` (n, k) of a double matrix (n, n) and complex ``X`` (n, k), each entry the exact
     sum rounded once (Dekker's exact products, ``math.fsum``), as ``_EXTENDED`` complex: the stiffness
@@ -451,23 +460,18 @@ def _exact_product(matrix, X):
     64-bit residual leaves a pair 1e-8 off."""
     import math
 
-    split = 134217729.0                                     # 2^27 + 1: Dekker's splitting of a double
-    def halves(a):
-        c = split * a
-        high = c - (c - a)
-        return high, a - high
-
     A = np.asarray(matrix, dtype=float)
-    a_hi, a_lo = halves(A)
+    a_hi, a_lo = _halves(A)
     out = np.zeros(X.shape, np.result_type(_EXTENDED, 1j))
     for k in range(X.shape[1]):
         for part, unit in ((X[:, k].real, 1.0), (X[:, k].imag, 1j)):
-            b_hi, b_lo = halves(part)
+            b_hi, b_lo = _halves(part)
             p = A * part
             e = ((a_hi * b_hi - p) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo
             terms = np.concatenate([p, e], axis=1)
             out[:, k] += unit * np.array([math.fsum(row) for row in terms], dtype=_EXTENDED)
     return out
+
 
 def _exact_sums(matrix, X):
     """``matrix @ X`` (n, k) of a double matrix (n, n) and complex ``X`` (n, k), each entry within
@@ -475,17 +479,10 @@ def _exact_sums(matrix, X):
     products exact (Dekker's splitting) and summed in pairs with their rounding errors kept
     (``TwoSum`` in a tree, the errors added at the end), all in array operations (:func:`_exact_product`
     sums each row with ``math.fsum``, exactly but a row at a time)."""
-    split = 134217729.0                                     # 2^27 + 1: Dekker's splitting of a double
-
-    def halves(a):
-        c = split * a
-        high = c - (c - a)
-        return high, a - high
-
     A = np.asarray(matrix, dtype=float)
-    a_hi, a_lo = halves(A)
+    a_hi, a_lo = _halves(A)
     parts = np.concatenate([X.real, X.imag], axis=1)       # (n, 2k)
-    b_hi, b_lo = halves(parts)
+    b_hi, b_lo = _halves(parts)
     p = A[:, :, None] * parts[None, :, :]                   # (n, n, 2k)
     e = ((a_hi[:, :, None] * b_hi[None] - p) + a_hi[:, :, None] * b_lo[None] + a_lo[:, :, None] * b_hi[None]) \
         + a_lo[:, :, None] * b_lo[None]

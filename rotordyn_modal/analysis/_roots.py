@@ -563,7 +563,7 @@ def conservative(form, speeds) -> np.ndarray:
     speeds = np.asarray(speeds, dtype=float)
     if form.n_states != 2 * form.n_dof:
         return np.zeros(len(speeds), dtype=bool)
-    damping, stiffness = form.damping_at(speeds), form.stiffness_at(speeds)
+    stiffness, damping = form.pencil_at(speeds)
     if damping.ndim == 2 and stiffness.ndim == 2:         # constant: one test for every speed
         return np.full(len(speeds), not np.any(damping) and _symmetric_semidefinite(stiffness))
     damping = np.broadcast_to(damping, (len(speeds),) + (form.n_dof,) * 2)

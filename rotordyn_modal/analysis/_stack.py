@@ -209,8 +209,8 @@ class Stack:
         stiffness = np.array(np.broadcast_to(K, damping.shape))
         for v in np.unique(variants):
             rows = variants == v
-            damping[rows] = self.forms[v].damping_at(x[rows]) + x[rows, None, None] * self.G[v]
-            stiffness[rows] = self.forms[v].stiffness_at(x[rows])
+            stiffness[rows], damping[rows] = self.forms[v].pencil_at(x[rows])
+            damping[rows] += x[rows, None, None] * self.G[v]
         return damping, stiffness
 
     def sparse_layout(self, variant: int):

@@ -6,7 +6,7 @@ import numpy as np
 
 from .._blas import one_blas_thread
 
-__all__ = ["mac_matrix", "mass_normalized", "real_product", "row_norms", "unit_rows"]
+__all__ = ["mac_matrix", "mass_normalized", "phase_aligned", "real_product", "row_norms", "unit_rows"]
 
 #: shapes of at most this many coordinates are multiplied by a real matrix as complex rows
 #: (see :func:`real_product`)
@@ -43,6 +43,13 @@ def row_norms(x) -> np.ndarray:
     with ``keepdims``, without its temporaries)."""
     pairs = np.ascontiguousarray(x).view(float)
     return np.sqrt(np.einsum("...i,...i->...", pairs, pairs))[..., None]
+
+
+def phase_aligned(x, ref) -> np.ndarray:
+    """``x`` (n,) turned by a unit complex factor so that ``x^H ref`` is real and positive (the
+    phase of a reference shape ``ref`` (n,)); unchanged where ``x^H ref`` is 0."""
+    turn = np.vdot(x, ref)
+    return x * (turn / abs(turn) if abs(turn) > 0 else 1.0)
 
 
 def unit_rows(x) -> np.ndarray:

@@ -496,7 +496,7 @@ def _relabel_by_frequency(order, values, speeds):
     k0 = int(np.argmin(np.abs(speeds)))
     variants = np.arange(len(order))[:, None]
     at_k0 = values[variants, k0, order[:, k0]]
-    labels = np.lexsort((at_k0.real, at_k0.imag, ~is_oscillating(at_k0)), axis=-1)
+    labels = _eigensolve.frequency_order(at_k0, ~is_oscillating(at_k0))
     return order[variants[..., None], np.arange(order.shape[1])[:, None], labels[:, None, :]]
 
 
@@ -851,8 +851,9 @@ def _refine_inexact(stack, speeds, values, shapes):
         # own: a journal's film and load over speed are computed once for the part, not once a speed),
         # a part's dense (n, n) matrices within _PART_BYTES (one speed at a time for a large model)
         for part in _batches.chunk_slices(len(speeds), _REFINE_ARRAYS * 8 * n * n, budget=_batches._PART_BYTES):
-            damping = _at_speeds(form.damping_at(speeds[part]), part) + speeds[part, None, None] * G
-            stiffness = _at_speeds(form.stiffness_at(speeds[part]), part)
+            stiffness, damping = form.pencil_at(speeds[part])
+            damping = damping + speeds[part, None, None] * G
+            stiffness = _at_speeds(stiffness, part)
             # every speed's estimate in one batched product; the polish only where a root needs it
             bound[part] = _eigensolve.pencil_round_off(values[v, part], shapes[v, part], form.matrices.M,
                                                        damping, stiffness, branches=branches)
@@ -866,9 +867,9 @@ def _refine_inexact(stack, speeds, values, shapes):
 
 
 #: dense (n, n) arrays of one speed that :func:`_refine_inexact`'s bearing evaluation holds at once
-#: (each of damping_at and stiffness_at: the bearings' K and C, and their sum with the constant part;
+#: (pencil_at's bearing K and C and their sums with the constant parts, the damping with ``Omega G``;
 #: the estimate's |D|, |K| and its (n, m) products with the shapes)
-_REFINE_ARRAYS = 12
+_REFINE_ARRAYS = 10
 
 
 def _at_speeds(matrices, part):

@@ -445,18 +445,12 @@ def _cut_maxima(model, speed, f, columns, where, H, resonances, band):
     (:func:`_force_frf`, one call an input, each distinct frequency once). Returns ``(cut_hz, cut_H)``, shape
     (6 n_items, n_inputs, Q), NaN after an FRF's last."""
     from .frf import frf_cut_maxima
+    from .unbalance_peaks import per_source
 
-    def curve(s, o, i):
-        s, o, i = np.asarray(s, dtype=float), np.asarray(o, dtype=int), np.asarray(i, dtype=int)
-        out = np.empty(s.shape, dtype=complex)
-        for each in np.unique(i):
-            mine = np.flatnonzero(i == each)
-            at, where_ = np.unique(s[mine], return_inverse=True)                   # each frequency once
-            forces = _force_frf(model, speed, at, columns[:, each:each + 1], where)[0]   # (6 n_items, 1, K')
-            out[mine] = forces[o[mine], 0, where_.ravel()]
-        return out
+    def solve(at, each):
+        return _force_frf(model, speed, at, columns[:, each:each + 1], where)[0][:, 0]   # (6 n_items, K')
 
-    return frf_cut_maxima(curve, f, H, resonances, band)
+    return frf_cut_maxima(per_source(solve), f, H, resonances, band)
 
 
 #: the largest state matrix whose roots a force FRF solves to mark the resonances its frequencies
@@ -471,7 +465,7 @@ def _resonances(model, speed, f):
     loss factors (no state form) or more than :data:`_RESONANCE_STATES` states (the figure then
     marks none)."""
     from ..linear_system import speed_linear_form
-    from .frf import _unresolved, choose_engine
+    from .frf import choose_engine, unresolved_resonances
 
     if choose_engine(model) != "modal" or len(f) < 2:
         return None
@@ -480,7 +474,7 @@ def _resonances(model, speed, f):
         return None
     with _batches.one_blas_thread(72 * form.n_states ** 2):
         roots = np.linalg.eigvals(form.at(float(speed)))
-    return _unresolved(roots, f)
+    return unresolved_resonances(roots, f)
 
 
 def _force_frf(model, speed, f, columns, where):

@@ -457,12 +457,6 @@ def _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine, mass_checked
     omega = 2 * np.pi * f
     terms = _modal_terms(model, speed, rows, columns) if used == "modal" else None
     H = None if terms is None else _modal_sum(terms, omega)
-    peaks = peak_H = cut_hz = cut_H = None
-    if H is not None:                  # the resonances no computed frequency resolves, at their own frequency
-        peaks, band = _unresolved(terms[0], f)
-        peak_H = _modal_sum(terms, 2 * np.pi * peaks) * (2j * np.pi * peaks) ** QUANTITIES[quantity]
-        cut_hz, cut_H = _cut_maxima(terms, f, H * (1j * omega) ** QUANTITIES[quantity], peaks, band,
-                                    QUANTITIES[quantity])
     if H is None:
         if not mass_checked:   # the modal engine's state form made the check, if it was tried
             from ..linear_system import speed_linear_form
@@ -471,6 +465,11 @@ def _frf(model, speed, freqs_hz, inputs, outputs, quantity, engine, mass_checked
         used = "direct"
         H = np.einsum("sd,fdi->sif", rows, dof_response(model, speed, omega, columns))
     H = H * (1j * omega) ** QUANTITIES[quantity]
+    peaks = peak_H = cut_hz = cut_H = None
+    if terms is not None:              # the resonances no computed frequency resolves, at their own frequency
+        peaks, band = unresolved_resonances(terms[0], f)
+        peak_H = _modal_sum(terms, 2 * np.pi * peaks) * (2j * np.pi * peaks) ** QUANTITIES[quantity]
+        cut_hz, cut_H = _cut_maxima(terms, f, H, peaks, band, QUANTITIES[quantity])
     return FRFResult(H=H, frequencies_hz=f, speed=float(speed), inputs=_names(model.excitations, inputs),
                      outputs=_names(model.sensors, outputs), quantity=quantity, engine=used,
                      resonances_hz=peaks, resonance_H=peak_H, cut_hz=cut_hz, cut_H=cut_H)
@@ -490,7 +489,7 @@ def _cut_maxima(terms, f, H, resonances, band, power):
     H : ndarray, shape (n_outputs, n_inputs, n_freq), complex
         The FRFs at ``f`` (the quantity's factor applied).
     resonances, band : ndarray, shape (P,) [Hz]
-        :func:`_unresolved`'s damped natural frequencies and half-power bandwidths.
+        :func:`unresolved_resonances`' damped natural frequencies and half-power bandwidths.
     power : int
         The quantity's power of ``i w`` (0 receptance, 1 mobility, 2 accelerance).
 
@@ -551,7 +550,7 @@ def _check_channels(model, rows, columns):
                              "sensor and one excitation (see docs/model-file.md)")
 
 
-def unresolved_resonances(eigenvalues, frequencies_hz) -> np.ndarray:
+def unresolved_resonances(eigenvalues, frequencies_hz) -> tuple[np.ndarray, np.ndarray]:
     """The damped natural frequencies [Hz] of the roots ``eigenvalues`` (all of a state matrix,
     [1/s]) that lie within the computed ``frequencies_hz`` but have no computed frequency within
     a quarter of their half-power bandwidth ``|Re lam| / pi`` [Hz]: there a single mode's
@@ -560,14 +559,10 @@ def unresolved_resonances(eigenvalues, frequencies_hz) -> np.ndarray:
 
     Returns
     -------
-    ndarray, shape (P,) [Hz], increasing
+    resonances : ndarray, shape (P,) [Hz], increasing
+    bandwidths : ndarray, shape (P,) [Hz]
+        Their half-power bandwidths ``|Re lam| / pi``.
     """
-    return _unresolved(eigenvalues, frequencies_hz)[0]
-
-
-def _unresolved(eigenvalues, frequencies_hz):
-    """:func:`unresolved_resonances` (P,) [Hz], increasing, and their half-power bandwidths
-    ``|Re lam| / pi`` (P,) [Hz]."""
     f = np.sort(np.asarray(frequencies_hz, dtype=float))
     lam = np.asarray(eigenvalues, dtype=complex)
     lam = lam[(lam.imag > 0) & (lam.real < 0)]

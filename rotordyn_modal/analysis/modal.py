@@ -335,8 +335,8 @@ def _refine_inexact(form, speed, values, shapes, stacklevel=4) -> np.ndarray | N
     pairs closer than it polished in place (:func:`._eigensolve.refined_pairs`), the rest warned of;
     returns the error left (m,) (a model with Maxwell branches: on its rational pencil)."""
     branches = _eigensolve.branch_terms(form)
-    damping = form.damping_at(np.array([speed])) + speed * form.matrices.G
-    stiffness = form.stiffness_at(np.array([speed]))
+    stiffness, damping = form.pencil_at(np.array([speed]))
+    damping = damping + speed * form.matrices.G
     damping, stiffness = damping.reshape(damping.shape[-2:]), stiffness.reshape(stiffness.shape[-2:])
     bound = _eigensolve.pencil_round_off(values, shapes, form.matrices.M, damping, stiffness, branches=branches)
     bound = _eigensolve.refined_pairs(values, shapes, form.matrices.M, damping, stiffness, bound, branches=branches)

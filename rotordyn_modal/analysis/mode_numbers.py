@@ -35,8 +35,9 @@ def numbers_at_speed(eigenvalues) -> np.ndarray:
     lam = np.asarray(eigenvalues)
     modes = is_oscillating(lam)
     # the modes first, by frequency then real part: modal's order (its upper roots sorted by
-    # imaginary, then real part, the modes numbered in that order)
-    order = np.lexsort((lam.real, lam.imag, ~modes), axis=-1)
+    # imaginary, then real part, the modes numbered in that order; a frequency shared to
+    # round-off by modes of different damping: the least damped first, _eigensolve.frequency_order)
+    order = _eigensolve.frequency_order(lam, ~modes)
     ranks = np.empty(lam.shape, dtype=int)
     np.put_along_axis(ranks, order, np.broadcast_to(np.arange(lam.shape[-1]), lam.shape), axis=-1)
     return np.where(modes, ranks + 1, 0)

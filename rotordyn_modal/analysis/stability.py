@@ -9,8 +9,7 @@ import numpy as np
 import scipy.linalg.lapack
 from scipy.optimize import brentq
 
-from .. import _progress as _lines
-from .._progress import phase
+from .._progress import PHASE_DELAY, phase
 from ..errors import InputError
 from ..linear_system import speed_linear_form
 from . import _cost, _eigensolve, _roots, _whirl
@@ -335,7 +334,7 @@ def _at_once(n_states):
     """0 (the :func:`.._progress.phase` line drawn at once) where one eigen-solution through
     ``scipy.linalg`` (:func:`.modal.modal`'s, which holds the GIL: the line's clock cannot start
     during it) of ``n_states`` states may take longer than the line's usual delay; else None."""
-    return 0.0 if _cost._PESSIMISTIC * n_states ** 3 > _lines.PHASE_DELAY else None
+    return 0.0 if _cost._PESSIMISTIC * n_states ** 3 > PHASE_DELAY else None
 
 
 def _counted(largest, bar):

@@ -306,8 +306,8 @@ class _Pencil:
     stiffness ``k`` (isotropic), and the forward critical speeds of any ``k``."""
 
     def __init__(self, model, chosen, polished=0):
-        checked_mass_inverse(model)
-        self.polished = polished     # the lowest roots polished where double precision leaves them inexact   # a mass matrix rounding leaves singular: refused, as every analysis does
+        checked_mass_inverse(model)   # a mass matrix rounding leaves singular: refused, as every analysis does
+        self.polished = polished     # the lowest roots polished where double precision leaves them inexact
         self.model = model
         self.M = mass_matrix(model)
         self.G = gyroscopic_matrix(model)
@@ -537,8 +537,7 @@ def _group_polished(M, G, rest, unit, k, nu, shapes, exact=True):
     out = X @ combinations
     out *= np.linalg.norm(shapes, axis=0) / np.linalg.norm(out, axis=0)
     if g == 1:
-        turn = np.vdot(out[:, 0], shapes[:, 0])
-        out *= turn / abs(turn) if abs(turn) > 0 else 1.0
+        out = _vectors.phase_aligned(out[:, 0], shapes[:, 0])[:, None]
     return 1.0 / values.real, out
 
 

@@ -743,25 +743,19 @@ def _own_source_curve(model, outputs, quantity):
     to source ``j[k]`` at speed ``s[k]`` [rad/s], shape (K,), complex, each speed solved for its
     own source only, once a distinct speed (:func:`_sensor_response`'s numbers, one source at a
     time)."""
+    from .unbalance_peaks import per_source
+
     shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
     motions = model.dofs.motions([(r.name, False) for r in model.rotors])
     rows = sensor_rows(model, outputs, motions)
 
-    def curve(s, o, j):
-        s, o, j = np.asarray(s, dtype=float), np.asarray(o, dtype=int), np.asarray(j, dtype=int)
-        sources, w, rotor_forces = unbalance_forces(model, s)
-        out = np.empty(s.shape, dtype=complex)
-        for each in np.unique(j):
-            mine = np.flatnonzero(j == each)
-            at, where = np.unique(s[mine], return_index=True, return_inverse=True)[1:]   # each speed once
-            at = mine[at]
-            q = _coordinate_response(model, [sources[each]], rotor_forces[each:each + 1, at], s[at],
-                                     w[each, at], shifts, motions)
-            factor = (1j * w[each, at]) ** _ORDER[quantity] if _ORDER[quantity] else np.ones(at.size, complex)
-            out[mine] = (rows @ q[..., 0].T)[o[mine], where.ravel()] * factor[where.ravel()]
-        return out
+    def solve(at, each):
+        sources, w, rotor_forces = unbalance_forces(model, at)
+        q = _coordinate_response(model, [sources[each]], rotor_forces[each:each + 1], at, w[each], shifts, motions)
+        factor = (1j * w[each]) ** _ORDER[quantity] if _ORDER[quantity] else np.ones(at.size, complex)
+        return (rows @ q[..., 0].T) * factor
 
-    return curve
+    return per_source(solve)
 
 
 #: the fields of :class:`UnbalanceResult` that :func:`_unresolved_fields` gives

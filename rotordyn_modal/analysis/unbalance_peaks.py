@@ -22,7 +22,7 @@ from ..assembly import is_large
 from ..linear_system import speed_linear_form
 from ._eigensolve import eigenvalues_of
 
-__all__ = ["cut_maxima", "not_looked_for", "unresolved_criticals"]
+__all__ = ["cut_maxima", "not_looked_for", "per_source", "unresolved_criticals"]
 
 #: the roots are looked for when the sweep's eigen-solutions cost at most this many
 #: ``N n_states^3`` (about a second of one core)
@@ -232,6 +232,34 @@ def cut_maxima(curve, speeds, amplitude, found, half_power=True):
     widths = (_half_power_widths(curve, c, samples, y) if half_power and c["o"].size
               else np.full(c["o"].size, np.nan))
     return _per_curve(c, widths, n_out, n_src)
+
+
+def per_source(solve):
+    """A ``curve(s, o, j)`` of :func:`cut_maxima` from ``solve(at, j)``: the response (n_out, K')
+    of every output to source (or input) ``j`` alone at the distinct speeds (or frequencies)
+    ``at`` (K',), increasing; each source solved once at each of its distinct speeds, the
+    entries scattered back to the candidates.
+
+    Parameters
+    ----------
+    solve : callable
+        ``solve(at, j)``, ``at`` ndarray (K',) and ``j`` int -> ndarray, shape (n_out, K'), complex.
+
+    Returns
+    -------
+    callable
+        ``curve(s, o, j)``, each shape (K,) -> shape (K,), complex.
+    """
+    def curve(s, o, j):
+        s, o, j = np.asarray(s, dtype=float), np.asarray(o, dtype=int), np.asarray(j, dtype=int)
+        out = np.empty(s.shape, dtype=complex)
+        for each in np.unique(j):
+            mine = np.flatnonzero(j == each)
+            at, where = np.unique(s[mine], return_inverse=True)                 # each speed once
+            out[mine] = solve(at, int(each))[o[mine], where.ravel()]
+        return out
+
+    return curve
 
 
 def _samples(x, found, n_out):

@@ -211,6 +211,8 @@ def frequency_order(values, first=None):
     """
     keys = (values.real, values.imag) + (() if first is None else (first,))
     order = np.lexsort(keys, axis=-1)
+    if values.shape[-1] < 2:            # no root or one: nothing to tie (a sweep with no mode below a limit)
+        return order
     along = _gather(values.shape)
     groups = None if first is None else along(np.asarray(first), order)
     return along(order, _ties_by_real_part(along(values, order), groups))

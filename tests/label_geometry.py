@@ -240,3 +240,15 @@ def point_segments_distance(segments, point) -> float:
     d = b - a
     t = np.clip(np.einsum("ij,ij->i", point - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300), 0.0, 1.0)
     return float(np.min(np.hypot(*(a + t[:, None] * d - point).T)))
+
+
+def marker_points(ax) -> list:
+    """``(x, y)`` in data units of every point of the axes' marker-only lines (no line style, a
+    marker other than a dot): the peak marks an FRF or unbalance figure draws."""
+    points = []
+    for line in ax.get_lines():
+        x, y = (np.asarray(v, float) for v in line.get_data())
+        if line.get_linestyle() in ("None", "none", "", " ") and len(x) \
+                and line.get_marker() not in (None, "None", "", "."):
+            points += list(zip(x, y))
+    return points

@@ -15,8 +15,6 @@ turns is the backward one, so the root kept below a cut inside a double root whi
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import pytest
 
@@ -25,6 +23,7 @@ from rotordyn_modal.analysis import _arnoldi, _lowest, _lowest_route
 from rotordyn_modal.analysis._lowest_pencils import _Pencils
 from rotordyn_modal.analysis._stack import Stack
 from rotordyn_modal.linear_system import state_matrices
+from test_cut_in_double_root_routes28g import _no_fallback
 
 SPEEDS = np.array([0.0, 50.0])
 
@@ -63,14 +62,6 @@ def _reference(model, count):
         roots = roots[roots.imag > 1e-9 * np.abs(roots)]
         out.append(roots[np.argsort(roots.imag)][:count + 1])
     return np.array(out)
-
-
-def _no_fallback(call):
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        result = call()
-    assert not [w for w in caught if "solved whole" in str(w.message)], [str(w.message) for w in caught]
-    return result
 
 
 @pytest.mark.parametrize("count", [1, 3, 5])

@@ -23,16 +23,11 @@ import rotordyn_modal as rdm
 from rotordyn_modal.analysis import _lowest_newton
 from rotordyn_modal.errors import ModelWarning
 
-from test_input_families10 import _shaft_model
+from test_close_roots28h import _model
 
 SPEED = rdm.rpm(3000.0)
 #: modes 5 and 6 [Hz] at 3,000 rpm, 40-digit Newton (see the module's docstring)
 TRUTH_HZ = np.array([2.338344515830158490936843, 2.346049643944307657831522])
-
-
-def _model(tmp_path):
-    return rdm.load_model(_shaft_model(tmp_path / "shaft.toml", [(5.0, 0.05), (0.001, 0.05), (4.999, 0.05)],
-                                       [1.0, 9.0], 1e3, element_length=1.0))
 
 
 def _caught(call):

@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 import rotordyn_modal as rdm
+from label_geometry import marker_points
 
 matplotlib.use("Agg")
 
@@ -76,12 +77,7 @@ def test_the_figure_has_one_diamond_at_the_shared_peak_inside_the_axes(truth):
     fig = rdm.frf(_model(), 0.0, F).plot()
     fig.canvas.draw()
     mag = fig.axes[0]
-    marks = []
-    for line in mag.get_lines():
-        x, y = (np.asarray(v, float) for v in line.get_data())
-        if line.get_linestyle() in ("None", "none", "", " ") and len(x) \
-                and line.get_marker() not in (None, "None", "", "."):
-            marks += list(zip(x, y))
+    marks = marker_points(mag)
     assert len(marks) == 1
     x, y = marks[0]
     assert abs(x - at_true) <= 0.001 and top <= y <= (1 + 1e-6) * top

@@ -126,23 +126,11 @@ def test_the_largest_moment_note_of_an_arch_hides_no_curve():
     free corner of its point and stood where the line falling from the top ran under it. On
     the drawn figure: no curve (but the disks' pale bands) runs under either note's box, and
     the moment's note names the largest moment."""
-    import matplotlib.pyplot as plt
-    from label_geometry import crossings, curve_segments
+    from test_static_shafts import assert_largest_value_notes_hide_no_curve
 
     model = rdm.load_model(EXAMPLES / "compressor_on_journals.toml")
     shaft = rdm.static(model, rdm.rpm(9000.0)).shafts["compressor"]
-    fig = shaft.plot()
-    fig.canvas.draw()
-    renderer = fig.canvas.get_renderer()
-    notes = [(ax, t) for ax in fig.axes for t in ax.texts if t.get_text().startswith(("|u|", "|M|"))]
-    assert len(notes) == 2
-    for ax, note in notes:
-        box = note.get_bbox_patch().get_window_extent(renderer)
-        bands = [line for line in ax.get_lines() if str(line.get_gid()).startswith("disk:")]
-        assert len(crossings(box, curve_segments(ax, skip=bands))) == 0, note.get_text()
-    moment = next(t for _, t in notes if t.get_text().startswith("|M|")).get_text()
-    assert f"{np.abs(shaft.moment).max():.3g} N m" in moment
-    plt.close(fig)
+    assert_largest_value_notes_hide_no_curve(shaft)
 
 
 def test_the_reports_campbell_diagram_shows_the_operating_range(tmp_path, monkeypatch):

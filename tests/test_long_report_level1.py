@@ -23,6 +23,7 @@ from rotordyn_modal.cli import main
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_large_machine_cli import chained_gear_toml  # noqa: E402
+from test_long_work import _refusal  # noqa: E402
 
 #: a casing sensor: the report's unbalance section runs (a model without sensors skips it)
 SENSOR = """
@@ -37,14 +38,6 @@ JOURNAL = ["examples/journal_rotor.toml", "--mcs", "4000", "--station", "rotor",
 @pytest.fixture(autouse=True)
 def default_limit(monkeypatch):
     monkeypatch.delenv(_cost.ENVIRONMENT, raising=False)
-
-
-def _refusal(capsys, argv):
-    code = main([str(a) for a in argv])
-    err = capsys.readouterr().err.strip().splitlines()
-    assert code == 2, err
-    assert len(err) == 1, err
-    return err[0]
 
 
 def _solved_values(monkeypatch):

@@ -389,25 +389,8 @@ def test_static_plot_largest_value_notes_hide_no_curve(examples_dir):
     line rising from its point and hid it. Measured on the drawn figure: no curve (but the
     disks' pale background bands) runs under a note's box, and the moment's note names the
     largest moment."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from label_geometry import crossings, curve_segments
-
     shaft = rdm.static(rdm.load_model(examples_dir / "flexible_pump_on_mounts.toml")).shafts["pump"]
-    fig = shaft.plot()
-    fig.canvas.draw()
-    renderer = fig.canvas.get_renderer()
-    notes = [(ax, t) for ax in fig.axes for t in ax.texts if t.get_text().startswith(("|u|", "|M|"))]
-    assert len(notes) == 2
-    for ax, note in notes:
-        box = note.get_bbox_patch().get_window_extent(renderer)
-        bands = [line for line in ax.get_lines() if str(line.get_gid()).startswith("disk:")]
-        assert len(crossings(box, curve_segments(ax, skip=bands))) == 0, note.get_text()
-    moment = next(t for _, t in notes if t.get_text().startswith("|M|")).get_text()
-    assert f"{np.abs(shaft.moment).max():.3g} N m" in moment
-    plt.close(fig)
+    assert_largest_value_notes_hide_no_curve(shaft)
 
 
 def test_a_shaft_without_load_says_so_in_the_figure_and_the_summary(examples_dir, capsys):
@@ -426,3 +409,25 @@ def test_a_shaft_without_load_says_so_in_the_figure_and_the_summary(examples_dir
     assert main(["static", str(examples_dir / "compressor_rotor.toml")]) == 0
     out = capsys.readouterr().out
     assert "compressor: no static load on this shaft" in out and "largest sag" not in out
+
+
+def assert_largest_value_notes_hide_no_curve(shaft):
+    """The static shaft figure's two notes of the largest sag and moment (opaque boxes): no curve
+    (but the disks' pale background bands) runs under either box, measured on the drawn figure
+    (``label_geometry``), and the moment's note names the largest moment."""
+    import matplotlib.pyplot as plt
+
+    from label_geometry import crossings, curve_segments
+
+    fig = shaft.plot()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    notes = [(ax, t) for ax in fig.axes for t in ax.texts if t.get_text().startswith(("|u|", "|M|"))]
+    assert len(notes) == 2
+    for ax, note in notes:
+        box = note.get_bbox_patch().get_window_extent(renderer)
+        bands = [line for line in ax.get_lines() if str(line.get_gid()).startswith("disk:")]
+        assert len(crossings(box, curve_segments(ax, skip=bands))) == 0, note.get_text()
+    moment = next(t for _, t in notes if t.get_text().startswith("|M|")).get_text()
+    assert f"{np.abs(shaft.moment).max():.3g} N m" in moment
+    plt.close(fig)

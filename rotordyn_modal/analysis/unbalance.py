@@ -709,9 +709,7 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
     found (:func:`api_unbalance_response`'s cases, one machine); ``form``: the model's state form,
     if made already (whether the peaks are looked for is read from it: where they are not, the
     form is not made again)."""
-    from .unbalance_peaks import cut_maxima, unresolved_criticals
-
-    from .unbalance_peaks import not_looked_for
+    from .unbalance_peaks import cut_maxima, not_looked_for, unresolved_criticals
 
     why = not_looked_for(model, speeds, form) if wanted and found is None else ""
     if wanted and found is None and not why:

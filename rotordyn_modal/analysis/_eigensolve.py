@@ -15,7 +15,8 @@ import numpy as np
 from . import _batches, _roots, _vectors
 
 __all__ = ["REPEATED_TOLERANCE", "TIE_TOLERANCE", "eigenvalues_of", "frequency_order", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
-           "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots", "branch_terms"]
+           "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots", "branch_terms",
+           "POLISH_WORK", "polish_work"]
 
 
 def upper_shapes(matrices: np.ndarray, n: int, whirl_noise: bool = False, mass=None):
@@ -613,10 +614,12 @@ def branch_terms(form):
 def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, variant=None, branches=None):
     """The roots of one speed whose round-off ``bound`` (:func:`pencil_round_off`) exceeds
     :data:`INEXACT_LEVEL`, polished in place on the quadratic pencil: those whose neighbour in
-    frequency is closer than it two at a time (:func:`._lowest_newton.pair_polished`: block Newton
-    steps with the residual's stiffness term summed exactly), the others one at a time
-    (:func:`._lowest_newton.root_polished`: the same steps for one root, its shape's phase kept);
-    every root of a well-conditioned machine untouched.
+    frequency is closer than it together, as a cluster (:func:`_clusters`,
+    :func:`._lowest_newton.pair_polished`: block Newton steps with the residual's stiffness term
+    summed exactly), the others one at a time (:func:`._lowest_newton.root_polished`: the same
+    steps for one root, its shape's phase kept); every root of a well-conditioned machine
+    untouched. Lowest first, within :data:`POLISH_WORK` a speed (:func:`polish_work`): past it the
+    roots keep their bound (and are warned of).
 
     Parameters
     ----------
@@ -629,9 +632,9 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
         shapes made the extreme-whirl pair (:func:`resolve_repeated`; the polish's basis of the
         plane is any), ``variant`` the row's variant where the forms are stacked.
     branches : (ndarray (b, k, k), ndarray (b,)), optional
-        Maxwell branches (:func:`branch_terms`): single roots polished on the rational pencil
-        (:func:`._lowest_newton.rational_root_polished`); pairs closer than their round-off are
-        left (and warned of: the block polish is the quadratic pencil's).
+        Maxwell branches (:func:`branch_terms`): every root polished on the rational pencil
+        (single roots by :func:`._lowest_newton.rational_root_polished`, clusters by the same
+        block Newton steps with the branches' terms).
 
     Returns
     -------
@@ -646,24 +649,20 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
 
     mass, damping, stiffness = (matrix.toarray() if hasattr(matrix, "toarray") else np.asarray(matrix)
                                 for matrix in (mass, damping, stiffness))
-    order = wanted[np.argsort(values[wanted].imag)]
-    done = set()
-    for a, b in zip(order[:-1], order[1:]):
-        gap = abs(values[b] - values[a]) / max(abs(values[a]), abs(values[b]))
-        if a in done or not gap < max(bound[a], bound[b]):
+    spent, budget = 0.0, POLISH_WORK
+    for run in _clusters(values, bound, wanted[np.argsort(values[wanted].imag)]):
+        spent += polish_work(len(run))
+        if spent > budget:              # the rest left as the solve gave them (and warned of, with their bound)
+            break
+        if len(run) > 1:
+            found = pair_polished(mass, damping, stiffness, values[run], shapes[run], branches)
+            if found is not None:
+                values[run], shapes[run], bound[run] = found
+                if forms is not None and len(run) == 2:
+                    shapes[run] = resolve_repeated(values[run][None], shapes[run][None], forms,
+                                                   None if variant is None else np.array([variant]), groups=False)[0]
             continue
-        done.update((a, b))                 # polished together, or left (one at a time cannot part them)
-        if branches is not None:
-            continue
-        found = pair_polished(mass, damping, stiffness, values[[a, b]], shapes[[a, b]])
-        if found is not None:
-            values[[a, b]], shapes[[a, b]], bound[[a, b]] = found
-            if forms is not None:
-                shapes[[a, b]] = resolve_repeated(values[[a, b]][None], shapes[[a, b]][None], forms,
-                                                  None if variant is None else np.array([variant]), groups=False)[0]
-    for a in order:
-        if a in done:
-            continue
+        a = run[0]
         if branches is None:
             found = root_polished(mass, damping, stiffness, values[a], shapes[a])
         else:
@@ -671,6 +670,34 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
         if found is not None:
             values[a], shapes[a], bound[a] = found
     return bound
+
+
+#: the polish's work at one speed at most [``n^3`` operations, ``n`` coordinates]: about the
+#: speed's own eigen-solve (the QR of the ``2n`` state matrix with its vectors, ~200 ``n^3``),
+#: so that polishing at most doubles a speed's cost however many roots need it
+#: (:func:`polish_work`; measured in docs/theory.md, "Close roots")
+POLISH_WORK = 200.0
+
+
+def polish_work(size):
+    """The work of polishing a cluster of ``size`` roots [``n^3`` operations]: one root, one
+    complex LU of ``n + 1`` unknowns (``8/3 n^3``); a cluster of ``k``, block Newton's
+    ``_PAIR_STEPS`` (3) complex solves of ``k n + k^2`` unknowns (``8 k^3 n^3``)."""
+    return 8.0 / 3.0 if size == 1 else 8.0 * size ** 3
+
+
+def _clusters(values, bound, order):
+    """The roots ``order`` (indices into ``values``, by frequency) in clusters (a list of index
+    arrays, by frequency): runs of neighbours closer than either's round-off ``bound`` (relative),
+    which one-root steps cannot tell apart, and the others one by one."""
+    runs = [[order[0]]]
+    for a, b in zip(order[:-1], order[1:]):
+        gap = abs(values[b] - values[a]) / max(abs(values[a]), abs(values[b]))
+        if gap < max(bound[a], bound[b]):
+            runs[-1].append(b)
+        else:
+            runs.append([b])
+    return [np.array(run) for run in runs]
 
 
 def warn_of_inexact_roots(speeds, bound, name="", stacklevel=3):

@@ -256,20 +256,21 @@ def _plain_more_terms():
     return _Pencils.more_terms
 
 
-def pair_polished(M, damping, stiffness, pair, shapes):
+def pair_polished(M, damping, stiffness, pair, shapes, branches=None):
     """Two roots ``pair`` (2,) of the quadratic pencil ``M s^2 + D s + K`` (``M``, ``damping``,
     ``stiffness`` dense (n, n)) with shapes (2, n) (any scale), closer than double precision can separate one at a time,
     polished together (:func:`block_polished`). The pair's plane is as well conditioned as its
     distance to the other roots, however close the two are: measured on a 10 m shaft with a 1 mm
     section, a pair 6.5e-5 apart whose round-off is 2e-4 came within 5e-13 of a 40-digit solve (the
     steps 1.8e-4, 1.5e-8, 7e-15: quadratic), where the 64-bit residual alone left 1.4e-8 and the
-    one-root polish 1.2e-4.
+    one-root polish 1.2e-4. ``branches``: the rational pencil of Maxwell branches (see
+    :func:`block_polished`).
 
     Returns
     -------
     None or (roots (2,), shapes (2, n), left): see :func:`block_polished`
     """
-    return block_polished(M, damping, stiffness, pair, shapes)
+    return block_polished(M, damping, stiffness, pair, shapes, branches)
 
 
 def root_polished(M, damping, stiffness, root, shape):
@@ -345,7 +346,7 @@ def rational_root_polished(M, damping, stiffness, branches, root, shape):
     return s, unit, max(moved, inertia, 4 * np.finfo(float).eps)
 
 
-def block_polished(M, damping, stiffness, roots, shapes):
+def block_polished(M, damping, stiffness, roots, shapes, branches=None):
     """``k`` roots ``roots`` (k,) of the quadratic pencil ``M s^2 + D s + K`` (``M``, ``damping``,
     ``stiffness`` dense (n, n)) with shapes (k, n) (any scale), polished together: Newton's steps for
     an invariant pair ``(X, S)``, ``X`` (n, k), ``S`` (k, k), ``M X S^2 + D X S + K X = 0`` with
@@ -353,7 +354,10 @@ def block_polished(M, damping, stiffness, roots, shapes):
     (block Newton, Kressner 2009; for one root the bordered Newton step). The roots are the
     eigenvalues of ``S``. The residual's stiffness term is summed exactly (:func:`_exact_product`),
     and ``X`` is kept as double-double (a stiff element's product of ``X``'s rounding exceeds what
-    tells two close roots apart, and what a low mode's residual is).
+    tells two close roots apart, and what a low mode's residual is). ``branches`` (``K_t`` (b, q, q)
+    on the first ``q`` coordinates, ``tau_t`` (b,) [s]), where given: the rational pencil of Maxwell
+    branches, ``+ sum_t K_t X F_t(S)`` with ``F_t(S) = tau_t S (I + tau_t S)^-1``
+    (:func:`_branch_block`), its ``K_t X`` summed exactly too.
 
     Returns
     -------
@@ -370,6 +374,8 @@ def block_polished(M, damping, stiffness, roots, shapes):
     factors = None
     for _ in range(_PAIR_STEPS):
         residual = _block_residual(M, damping, stiffness, X, S) + _block_residual(M, damping, stiffness, low, S, False)
+        if branches is not None:
+            residual = residual + _branch_block(branches, X, low, S)
         right = -np.concatenate([residual.reshape(-1, order="F"), np.zeros(k * k)])
         if factors is None:
             J = np.zeros((k * n + k * k, k * n + k * k), complex)
@@ -377,6 +383,8 @@ def block_polished(M, damping, stiffness, roots, shapes):
             MX = M @ X
             J[:k * n, k * n:] = np.kron(S.T, MX) + np.kron(Ik, MX @ S + damping @ X)
             J[k * n:, :k * n] = np.kron(Ik, W.T)
+            if branches is not None:
+                _branch_jacobian(J, branches, X, S)
         try:
             if k > 1:
                 d = np.linalg.solve(J, right)
@@ -404,6 +412,52 @@ def block_polished(M, damping, stiffness, roots, shapes):
     # the mass and damping terms' residual is 64-bit: what it can leave (the stiffness's is exact)
     inertia = np.max(_round_off_of(M, damping, found[order], shapes)) * np.finfo(_EXTENDED).eps / np.finfo(float).eps
     return found[order], shapes, max(moved, inertia, 4 * np.finfo(float).eps)
+
+
+def _branch_inverses(times, S):
+    """``H_t = (I + tau_t S)^-1`` (b, k, k) for the times ``tau_t`` (b,) [s] and ``S`` (k, k), in
+    ``_EXTENDED`` precision (solved in double, then one step of iterative refinement)."""
+    wide = np.result_type(_EXTENDED, 1j)
+    tau = np.asarray(times, float)[:, None, None]
+    A = np.eye(len(S)) + tau * S                                               # (b, k, k), double
+    H = np.linalg.inv(A).astype(wide)
+    Aw = np.eye(len(S), dtype=wide) + np.asarray(times, _EXTENDED)[:, None, None] * S.astype(wide)
+    return H + H @ (np.eye(len(S), dtype=wide) - Aw @ H)
+
+
+def _branch_block(branches, X, low, S):
+    """The Maxwell branches' part of the block residual, ``sum_t K_t X_q F_t(S)`` on the first ``q``
+    rows (n, k) (``F_t = I - H_t``, :func:`_branch_inverses`), with ``K_t X_q`` summed exactly
+    (:func:`_exact_sums`) and ``K_t low_q`` (``X``'s low part) in ``_EXTENDED``, rounded to complex."""
+    K_t, times = branches
+    b, q = len(times), np.shape(K_t)[-1]
+    wide = np.result_type(_EXTENDED, 1j)
+    stacked = np.asarray(K_t, dtype=float).reshape(-1, q)                   # (b q, q)
+    products = _exact_sums(stacked, X[:q]).astype(wide).reshape(b, q, -1) \
+        + (stacked.astype(_EXTENDED) @ low[:q].astype(wide)).reshape(b, q, -1)
+    F = np.eye(len(S), dtype=wide) - _branch_inverses(times, S)
+    out = np.zeros(X.shape, complex)
+    out[:q] = np.sum(products @ F, axis=0).astype(complex)
+    return out
+
+
+def _branch_jacobian(J, branches, X, S):
+    """The Maxwell branches' terms added to :func:`block_polished`'s Jacobian ``J`` in place: in
+    ``X``, ``kron(F_t^T, K_t)`` on each block's first ``q`` rows and columns; in ``S``, the
+    derivative of ``F_t``, ``H_t tau_t dS H_t``: ``kron(H_t^T, tau_t K_t X_q H_t)``."""
+    K_t, times = branches
+    n, k = X.shape
+    q = np.shape(K_t)[-1]
+    H = _branch_inverses(times, S).astype(complex)
+    eye = np.eye(k)
+    for K, tau, h in zip(np.asarray(K_t, float), times, H):
+        F = eye - h
+        for i in range(k):
+            for j in range(k):
+                J[i * n:i * n + q, j * n:j * n + q] += F[j, i] * K
+        part = np.zeros((n, k), complex)
+        part[:q] = tau * (K @ X[:q]) @ h
+        J[:k * n, k * n:] += np.kron(h.T, part)
 
 
 def _round_off_of(M, damping, roots, shapes):

@@ -33,13 +33,15 @@ def _refine_parts(stack, speeds, values, weighted, brackets, shapes=None):
     """
     chunks = _batches.chunk_slices(len(brackets.k), 64 * stack.n_dof ** 2)
     if len(chunks) == 1:                             # all in one part (small models): no copies
-        found = _compact(stack, brackets, *_refined_part(stack, speeds, values, weighted, brackets, shapes))
+        found = _compact(stack, brackets, *_exact_crossings(
+            stack, brackets, *_refined_part(stack, speeds, values, weighted, brackets, shapes)))
         _progress_advance(len(brackets.k))
         return found
     parts = []
     for part in chunks:
         mine = brackets.subset(part)
-        parts.append(_compact(stack, mine, *_refined_part(stack, speeds, values, weighted, mine, shapes)))
+        parts.append(_compact(stack, mine, *_exact_crossings(
+            stack, mine, *_refined_part(stack, speeds, values, weighted, mine, shapes))))
         _progress_advance(len(mine.k))
     return _batches.concatenated(parts)
 
@@ -49,6 +51,91 @@ def _compact(stack, brackets, roots, lam, phi, sure):
     ratio and its fingerprint (:func:`_fingerprints`)."""
     ratio = stack.whirl_ratios(phi[:, None], brackets.variant, roots)[:, 0]
     return roots, lam, ratio, _fingerprints(phi), sure
+
+
+#: secant steps at most of a crossing on the polished roots (:func:`_exact_crossings`; it takes 2 to 4)
+_EXACT_STEPS = 10
+
+
+def _exact_crossings(stack, brackets, roots, lam, phi, sure):
+    """The crossings ``roots`` (P,) [rad/s] with eigenvalues ``lam`` (P,) and shapes ``phi`` (P, n)
+    of a stack whose sweep had roots double precision leaves further off than
+    :data:`._eigensolve.INEXACT_LEVEL` (``stack.inexact``, set by :func:`.campbell._refine_inexact`),
+    solved again on the polished roots: where the tracked root at the crossing is itself inexact,
+    secant steps on ``g(Omega) = Im lam(Omega) - slope |Omega|`` with ``lam`` the polished root
+    (:func:`_exact_root_at`) until a step is below ``_STEP_TOLERANCE``; the pencil iteration above
+    converges to a nearby pencil's root (its residual in double), off by the root's round-off
+    (docs/theory.md, "Close roots"). Every other stack's crossings are returned as they are."""
+    if not getattr(stack, "inexact", False) or not len(roots):
+        return roots, lam, phi, sure
+    roots, lam, phi = roots.copy(), lam.copy(), phi.copy()
+    for p in range(len(roots)):
+        found = _exact_crossing(stack, brackets.subset([p]), roots[p], lam[p], phi[p])
+        if found is not None:
+            roots[p], lam[p], phi[p] = found
+    return roots, lam, phi, sure
+
+
+def _exact_crossing(stack, bracket, speed, value, shape):
+    """:func:`_exact_crossings` of one crossing (``bracket`` its one row): the speed, eigenvalue
+    and unit shape on the polished roots, or None where the root there is exact in double (or
+    the steps do not converge inside the bracket)."""
+    slope, start, width = float(bracket.slope[0]), float(bracket.start[0]), float(bracket.width[0])
+    sign = np.sign(stack.whirl_ratios(shape[None, None], bracket.variant, np.array([speed]))[0, 0])
+    found = _exact_root_at(stack, int(bracket.variant[0]), speed, value, sign)
+    if found is None:
+        return None
+    x0, (lam0, phi0) = speed, found
+    g0 = lam0.imag - slope * abs(x0)
+    # the first step's slope from the bracket's ends (g moves by its own error's size only)
+    dg = (bracket.high[0].imag - bracket.low[0].imag) / width - slope * np.sign(x0 if x0 else 1.0)
+    x1 = x0 - g0 / dg
+    for _ in range(_EXACT_STEPS):
+        if not start - 1e-9 * width <= x1 <= start + width * (1 + 1e-9):
+            return None
+        found = _exact_root_at(stack, int(bracket.variant[0]), x1, lam0, sign, always=True)
+        if found is None:
+            return None
+        lam1, phi1 = found
+        g1 = lam1.imag - slope * abs(x1)
+        step = 0.0 if g1 == g0 else -g1 * (x1 - x0) / (g1 - g0)
+        if abs(x1 - x0) <= _STEP_TOLERANCE * max(abs(x1), 1.0) or step == 0.0:
+            return x1, lam1, phi1
+        x0, g0, x1 = x1, g1, x1 + step
+    return None
+
+
+def _exact_root_at(stack, v, speed, near, sign, always=False):
+    """The root of variant ``v`` at ``speed`` [rad/s] nearest ``near`` among those of whirl sign
+    ``sign`` (any where none is), with its unit shape, after the full solve's polish
+    (:func:`._eigensolve.refined_pairs`); None where that root is exact in double (its round-off
+    at most :data:`._eigensolve.INEXACT_LEVEL`) unless ``always``."""
+    from . import _eigensolve
+
+    form = stack.forms[v]
+    values, shapes = _eigensolve.solve_batch(form, np.array([speed]))
+    values, shapes = values[0], shapes[0]
+    stiffness, damping = form.pencil_at(np.array([speed]))
+    damping = (damping + speed * form.matrices.G).reshape(damping.shape[-2:])
+    stiffness = stiffness.reshape(stiffness.shape[-2:])
+    branches = _eigensolve.branch_terms(form)
+    bound = _eigensolve.pencil_round_off(values, shapes, form.matrices.M, damping, stiffness, branches=branches)
+    reach = max(np.max(bound), 1e-6) * 4 * abs(near)
+    close = np.flatnonzero(np.abs(values - near) <= reach)
+    if not len(close):
+        close = np.array([int(np.argmin(np.abs(values - near)))])
+    if not always and np.all(bound[close] <= _eigensolve.INEXACT_LEVEL):
+        return None
+    _eigensolve.refined_pairs(values, shapes, form.matrices.M, damping, stiffness, bound, stack.whirl, v,
+                              branches=branches)
+    close = np.flatnonzero(np.abs(values - near) <= reach)
+    if not len(close):
+        return None
+    ratios = stack.whirl_ratios(shapes[close][None], np.array([v]), np.array([speed]))[0]
+    same = close[np.sign(ratios) == sign]
+    pick = same if len(same) else close
+    best = pick[int(np.argmin(np.abs(values[pick] - near)))]
+    return values[best], shapes[best] / np.linalg.norm(shapes[best])
 
 
 #: shapes of more coordinates than this are kept as fingerprints of this many numbers

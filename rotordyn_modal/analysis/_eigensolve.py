@@ -669,7 +669,24 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
             found = rational_root_polished(mass, damping, stiffness, branches, values[a], shapes[a])
         if found is not None:
             values[a], shapes[a], bound[a] = found
+            continue
+        # one root's steps that do not converge: a neighbour near its round-off (a gap of a few
+        # times it slows them to a crawl) polished with it, as a pair
+        spent += polish_work(2)
+        if spent > budget:
+            break
+        pair = np.array([a, _nearest_other(values, a)])
+        found = pair_polished(mass, damping, stiffness, values[pair], shapes[pair], branches)
+        if found is not None:
+            values[pair], shapes[pair], bound[pair] = found
     return bound
+
+
+def _nearest_other(values, a):
+    """The index of the root of ``values`` (m,) nearest ``values[a]``, itself excepted."""
+    distance = np.abs(values - values[a])
+    distance[a] = np.inf
+    return int(np.argmin(distance))
 
 
 #: the polish's work at one speed at most [``n^3`` operations, ``n`` coordinates]: about the

@@ -842,7 +842,8 @@ def _refine_inexact(stack, speeds, values, shapes):
     double precision leaves further off than :data:`._eigensolve.INEXACT_LEVEL`
     (:func:`._eigensolve.pencil_round_off`): pairs closer than that polished in place
     (:func:`._eigensolve.refined_pairs`), the rest warned of, once per model (models with
-    Maxwell branches on their rational pencil)."""
+    Maxwell branches on their rational pencil). Returns whether any root needed the polish."""
+    needed = False
     for v, form in enumerate(stack.forms):
         branches = _eigensolve.branch_terms(form)
         G, n = form.matrices.G, form.n_dof
@@ -858,12 +859,15 @@ def _refine_inexact(stack, speeds, values, shapes):
             bound[part] = _eigensolve.pencil_round_off(values[v, part], shapes[v, part], form.matrices.M,
                                                        damping, stiffness, branches=branches)
             inexact = (bound[part] > _eigensolve.INEXACT_LEVEL) & (values[v, part].imag > 0)
+            needed |= bool(inexact.any())
             for j in np.flatnonzero(inexact.any(axis=-1)):
                 i = part.start + j
                 bound[i] = _eigensolve.refined_pairs(values[v, i], shapes[v, i], form.matrices.M, damping[j],
                                                      stiffness[j], bound[i], stack.whirl, v, branches=branches)
         name = stack.models[v].name if len(stack.forms) > 1 else ""
         _eigensolve.warn_of_inexact_roots(speeds, bound, name, stacklevel=4)
+    stack.inexact = needed              # the critical speeds are then refined on polished roots too
+    return needed
 
 
 #: dense (n, n) arrays of one speed that :func:`_refine_inexact`'s bearing evaluation holds at once

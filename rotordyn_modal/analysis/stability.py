@@ -10,11 +10,12 @@ import scipy.linalg.lapack
 from scipy.optimize import brentq
 
 from .._progress import PHASE_DELAY, phase
-from ..errors import InputError
+from ..errors import InputError, ModelWarning
 from ..linear_system import speed_linear_form
 from . import _cost, _eigensolve, _roots, _whirl
-from .campbell import (_arguments_frequency, _arguments_modes, _campbell_lowest, _check_speeds,
-                       _lowest_whirl_round_off, _progress, lowest_stack, solve_sweep, stack_root_count)
+from ._stack import Stack
+from .campbell import (_arguments_frequency, _arguments_modes, _campbell_lowest, _check_speeds, _refine_inexact,
+                       _lowest_whirl_round_off, _progress, lowest_stack, solve_sweep, solve_sweeps, stack_root_count)
 from .modal import is_oscillating, modal, modal_quantities
 from .mode_numbers import numbers_at_speed
 
@@ -309,13 +310,18 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
     form = speed_linear_form(model)
     eigenvalues, shapes, _, noise = solve_sweep(model, speeds, progress, whirl_noise=True)
     with phase(progress, "whirl and round-off"):
+        # the roots double precision leaves inexact polished, as campbell's (docs/theory.md, "Close roots")
+        stack = Stack([model])
+        inexact = _refine_inexact(stack, speeds, eigenvalues[None], shapes[None])
         ratios = np.where(is_oscillating(eigenvalues),
                           _whirl.whirl_ratios(shapes, _whirl.whirl_forms(model), speeds), 0.0)
         freq, zeta, log_dec = modal_quantities(eigenvalues)
         roundoff = roundoff_levels(form, speeds)
     with phase(progress, _THRESHOLDS) as bar:          # each step of the refinement: a whole eigen-solution
         thresholds, threshold_modes, onsets = threshold_speeds(
-            form, speeds, eigenvalues, roundoff, largest=_counted(functools.partial(_largest_real_part, form), bar))
+            form, speeds, eigenvalues, roundoff,
+            largest=_counted(functools.partial(_polished_largest_real_part, stack) if inexact
+                             else functools.partial(_largest_real_part, form), bar))
     with phase(progress, "modes at the thresholds", delay=_at_once(form.n_states) if len(thresholds) else None):
         crossing = _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes)
     return StabilityResult(
@@ -660,6 +666,22 @@ def _largest_real_part(form, speed, clip: bool = True) -> float:
     roundoff = roundoff_levels(form, [speed]) if clip else None
     roots = _eigensolve.select_upper(_eigensolve.eigenvalues_of(matrix[None], form.n_dof, form.matrices.M))
     return float(_significant_real_parts(roots, clip, roundoff).max())
+
+
+def _polished_largest_real_part(stack, speed, clip: bool = True) -> float:
+    """:func:`_largest_real_part` of the model of a one-model ``stack`` some of whose roots double
+    precision leaves further off than :data:`._eigensolve.INEXACT_LEVEL`: of the roots the sweep
+    keeps at one speed, with their shapes, polished as the sweep's (:func:`.campbell._refine_inexact`;
+    the sweep has warned of what is left)."""
+    import warnings
+
+    speeds = np.array([float(speed)])
+    values, shapes = solve_sweeps(stack, speeds)[:2]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        _refine_inexact(stack, speeds, values, shapes)
+    roundoff = roundoff_levels(stack.forms[0], speeds) if clip else None
+    return float(_significant_real_parts(values[0], clip, roundoff).max())
 
 
 def _significant_real_parts(eigenvalues, clip: bool = True, roundoff=None) -> np.ndarray:

@@ -85,7 +85,7 @@ def _exact_crossing(stack, bracket, speed, value, shape):
     found = _exact_root_at(stack, int(bracket.variant[0]), speed, value, sign)
     if found is None:
         return None
-    x0, (lam0, phi0) = speed, found
+    x0, lam0 = speed, found[0]
     g0 = lam0.imag - slope * abs(x0)
     # the first step's slope from the bracket's ends (g moves by its own error's size only)
     dg = (bracket.high[0].imag - bracket.low[0].imag) / width - slope * np.sign(x0 if x0 else 1.0)

@@ -651,9 +651,9 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
                                 for matrix in (mass, damping, stiffness))
     spent, budget = 0.0, POLISH_WORK
     for run in _clusters(values, bound, wanted[np.argsort(values[wanted].imag)]):
+        if spent + polish_work(len(run)) > budget:      # left as the solve gave it (warned of, with its bound)
+            continue
         spent += polish_work(len(run))
-        if spent > budget:              # the rest left as the solve gave them (and warned of, with their bound)
-            break
         if len(run) > 1:
             found = pair_polished(mass, damping, stiffness, values[run], shapes[run], branches)
             if found is not None:
@@ -672,9 +672,9 @@ def refined_pairs(values, shapes, mass, damping, stiffness, bound, forms=None, v
             continue
         # one root's steps that do not converge: a neighbour near its round-off (a gap of a few
         # times it slows them to a crawl) polished with it, as a pair
+        if spent + polish_work(2) > budget:
+            continue
         spent += polish_work(2)
-        if spent > budget:
-            break
         pair = np.array([a, _nearest_other(values, a)])
         found = pair_polished(mass, damping, stiffness, values[pair], shapes[pair], branches)
         if found is not None:
@@ -689,18 +689,19 @@ def _nearest_other(values, a):
     return int(np.argmin(distance))
 
 
-#: the polish's work at one speed at most [``n^3`` operations, ``n`` coordinates]: about the
-#: speed's own eigen-solve (the QR of the ``2n`` state matrix with its vectors, ~200 ``n^3``),
-#: so that polishing at most doubles a speed's cost however many roots need it
-#: (:func:`polish_work`; measured in docs/theory.md, "Close roots")
-POLISH_WORK = 200.0
+#: the polish's work at one speed at most, in eigen-solves of that speed (:func:`polish_work`):
+#: however many roots need it, polishing costs a speed at most this many times its own solve, so a
+#: machine with many inexact roots stays linear in them (the lowest first; past it the roots keep
+#: their bound and are warned of)
+POLISH_WORK = 10.0
 
 
 def polish_work(size):
-    """The work of polishing a cluster of ``size`` roots [``n^3`` operations]: one root, one
-    complex LU of ``n + 1`` unknowns (``8/3 n^3``); a cluster of ``k``, block Newton's
-    ``_PAIR_STEPS`` (3) complex solves of ``k n + k^2`` unknowns (``8 k^3 n^3``)."""
-    return 8.0 / 3.0 if size == 1 else 8.0 * size ** 3
+    """The work of polishing a cluster of ``size`` roots, in eigen-solves of the speed (the QR of
+    the ``2n`` state matrix with its vectors). Measured (``docs/theory.md``, "Close roots"): one
+    root 0.55 to 0.87 of the solve at 60 to 240 coordinates (at most 1), two roots 1.5 to 2; a
+    cluster of ``k`` solves ``k n + k^2`` unknowns three times, ``k^3 / 4`` (2 for a pair)."""
+    return 1.0 if size == 1 else size ** 3 / 4.0
 
 
 def _clusters(values, bound, order):

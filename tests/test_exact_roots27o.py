@@ -10,8 +10,8 @@ the bordered system ``[[T(s), T'(s) x], [c^H, 0]]`` with ``mpmath.lu_solve``, ``
 ``form.branch_stiffness``, not the stator blocks the code polishes with), until the step is below
 1e-34 (40 digits) or 1e-27 (30 digits); a critical speed or a threshold by secant steps on the
 speed over those solves (``Im s = Omega``, ``Re s = 0``) until the speed's step is below 1e-22
-relative. The scripts are ``/tmp/roots27o/mp_pair.py``, ``mp_crit.py`` and ``mp_thr.py`` of the
-report (notes/reports15/roots27o.md).
+relative (the scripts ``mp_pair.py``, ``mp_crit.py`` and ``mp_thr.py``, kept beside the helper's
+report, ``notes/reports15/roots27o_scripts``).
 """
 
 from __future__ import annotations

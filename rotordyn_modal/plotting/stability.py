@@ -281,16 +281,6 @@ def _panel_legends(top, bottom):
                         annotation_clip=False)
 
 
-def _beyond(values, limits):
-    """'below' or 'above' where every finite value lies below or above ``limits`` (and some is
-    finite), else ''."""
-    finite = np.asarray(values, dtype=float)
-    finite = finite[np.isfinite(finite)]
-    if not finite.size or _within(finite, limits):
-        return ""
-    return "below" if np.all(finite < limits[0]) else "above" if np.all(finite > limits[1]) else ""
-
-
 def _note_far(ax, result, log_dec, near, speed_unit):
     """Name the modes the axes are not scaled to (far above the running speed, stable:
     :func:`near_operating_range`), how far they lie, and the least damped of them with its log

@@ -49,3 +49,48 @@ def test_each_stability_panel_lists_exactly_the_coloured_modes_it_draws(example,
             assert not any(e.startswith(f"mode {mode} ") for e in entries), entries
     assert off_somewhere            # the case: some coloured mode lies off one panel
     plt.close(fig)
+
+
+# -- critical speeds: a leader crosses no mode's curve where a box allows it ---------------------
+
+def _ray(line) -> bool:
+    """An order line: frequency proportional to speed (a ray from the origin), in data units."""
+    x, y = (np.asarray(v, float) for v in (line.get_xdata(), line.get_ydata()))
+    if line.get_transform() is not line.axes.transData or len(x) < 3 or not np.all(np.isfinite(x * y)):
+        return False
+    k = np.abs(x) > 0
+    return bool(k.sum() >= 2 and np.allclose(y[k] / x[k], y[k][0] / x[k][0], rtol=1e-9) and np.all(y[~k] == 0))
+
+
+def test_no_critical_speed_leader_crosses_a_modes_curve_on_the_compressor():
+    """``critical-speeds examples/compressor_rotor.toml --speeds 0:12000:121 --orders 1 --plot``
+    (150 dpi, as the command line saves it): the '11115' label stood above mode 4's line, its
+    leader down across that line to the circle on mode 3, 7 pixels under it, as if naming a
+    crossing on mode 4. On the drawn figure: no critical-speed leader crosses a curve of a mode
+    (the axes' lines and line collections but the order lines, which every critical speed lies
+    on) farther than the circle's radius from its own marker, and the crossing is labelled."""
+    import matplotlib.pyplot as plt
+    from label_geometry import curve_segments, segment_crossings
+
+    model = rdm.load_model(EXAMPLES / "compressor_rotor.toml")
+    result = rdm.campbell(model, rdm.rpm(np.linspace(0.0, 12000.0, 121)), orders=(1,))
+    fig = result.plot(title=model.name)
+    fig.set_dpi(150)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    leaders = [line for line in ax.get_lines() if line.get_gid() == "critical-leader" and line.get_visible()]
+    skip = [line for line in ax.get_lines() if line.get_gid() in ("critical-leader", "order-key-leader")
+            or str(line.get_gid()).startswith("mode-leader") or not len(line.get_xdata()) or _ray(line)]
+    modes = curve_segments(ax, skip=skip)
+    labels = [t for t in ax.texts if t.get_gid() == "critical-label" and t.get_visible()]
+    assert any("11115" in t.get_text() for t in labels), [t.get_text() for t in labels]
+    markers = ax.transData.transform(np.column_stack([result.critical.speeds * 30 / np.pi,
+                                                      result.critical.frequencies_hz]))
+    radius = 0.5 * 6 * fig.dpi / 72.0 + 0.5          # the circle's (6 points across) and half a pixel
+    assert leaders
+    for line in leaders:
+        start, end = line.get_transform().transform(np.column_stack([line.get_xdata(), line.get_ydata()]))
+        anchor = markers[np.argmin(np.hypot(*(markers - end).T))]
+        hits = segment_crossings(start, end, modes, anchor=anchor, radius=radius)
+        assert not len(hits), (start, end, anchor, hits)
+    plt.close(fig)

@@ -1147,13 +1147,14 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
             and (crossing or (not curves.crossings(nearest_in(box, point), point, square)
                               and np.hypot(*np.subtract(nearest_in(box, point), point)) <= _LONGEST_LEADER * h))
 
+    def crossing_cost(box):
+        return box_distance(box, *point) + _CROSSING_COST * h * curves.crossings(nearest_in(box, point), point, square)
+
     def cost(box):
         # (defined before ``circle``, read when called) a leader's length along curves counts
         # twice: the fan's '3943' took a box 58 pixels off along its own curve over one whose
-        # leader crossed a curve
-        start = nearest_in(box, point)
-        return box_distance(box, *point) + _CROSSING_COST * h * curves.crossings(start, point, square) \
-            + _ALONG_COST * curves.along(start, point, circle)
+        # leader crossed a curve (not in the limit: a label is left out for its crossings only)
+        return crossing_cost(box) + _ALONG_COST * curves.along(nearest_in(box, point), point, circle)
 
     gap, frame = room
     # a leader across a curve, or laid along one, reads as naming a point of that curve or is
@@ -1179,7 +1180,7 @@ def _leader_box(candidates, point, h, placed, room, drawn, curves, keep, crossin
     for apart in (True, False) if crossing else (True,):
         box = first_free_box(candidates, placed, (gap, gap), frame, allowed=lambda b: clear(b, apart), cost=cost,
                              bound=lambda box: box_distance(box, *point))
-        if box is not None and cost(box) > max(_MOST_COST * h, box_distance(box, *point)):
+        if box is not None and crossing_cost(box) > max(_MOST_COST * h, box_distance(box, *point)):
             placed.pop()            # far, its leader across curves: left out
             box = None
         if box is not None:

@@ -147,3 +147,70 @@ def test_no_ucs_crossing_label_hangs_on_a_leader_laid_along_a_curve():
         along = _length_on_curves(start, anchor, segments, anchor, radius, 1.5)
         assert along <= 0.5 * box.height, (text.get_text(), text.xy, along, box.height)
     plt.close(fig)
+
+
+# -- run-up: the legend's notes do not narrow the panels ----------------------------------------
+
+def _two_rotor_run_up(duration=10.0, f0=2.0, f1=20.0, rate=200.0, ratio=1.25, small=1e-3):
+    """One mode (6 Hz, damping ratio 0.03) pushed by two rotors' unbalance, the second turning
+    ``ratio`` times as fast with 1000 times the first's: ramped from ``f0`` to ``f1`` [Hz] over
+    ``duration`` [s] from rest, as a run-up record (the first rotor's 1X track is under the
+    second's leakage at most speeds: its phase is not drawn, a legend note says so)."""
+    from types import SimpleNamespace
+
+    from scipy.integrate import solve_ivp
+
+    wn, zeta = 2 * np.pi * 6.0, 0.03
+    sweep = (f1 - f0) / duration
+
+    def angle(t):
+        return 2 * np.pi * (f0 * t + 0.5 * sweep * t * t)
+
+    def speed(t):
+        return 2 * np.pi * (f0 + sweep * t)
+
+    def rhs(t, y):
+        force = small * speed(t) ** 2 * np.cos(angle(t)) + (ratio * speed(t)) ** 2 * np.cos(ratio * angle(t))
+        return [y[1], force - 2 * zeta * wn * y[1] - wn * wn * y[0]]
+
+    t = np.arange(0.0, duration, 1.0 / rate)
+    x = solve_ivp(rhs, (0.0, t[-1]), [0.0, 0.0], t_eval=t, rtol=1e-9, atol=1e-12, method="DOP853").y[0]
+    return SimpleNamespace(time=t, rotor_angles=np.column_stack([angle(t), ratio * angle(t)]),
+                           speed_ratios=np.array([1.0, ratio]), rotor_names=["motor", "pump"],
+                           drive_speed=speed(t), sensor=lambda name: x, sensor_names=["s"], model_name="two rotors")
+
+
+def test_the_run_up_legend_notes_leave_the_panels_their_width():
+    """``simulate examples/motor_pump_on_mounts.toml --speed 0 --ramp 3000 --duration 3 --plot``:
+    the phase panel's legend held one-line notes of 85 characters ('1X motor: not separable from
+    free vibration (fast passage of a mode, start transient)') in two columns beside the phase
+    note, wider than the panel: constrained layout narrowed all four panels to a fifth of the
+    figure's width each, blank between the columns. On the drawn figure (150 dpi) of a two-rotor
+    run-up with both notes: the four panels together take at least 70 % of the figure's width
+    across its two columns, and the legend stays inside the figure."""
+    import warnings
+
+    import matplotlib.pyplot as plt
+
+    from rotordyn_modal.plotting.simulation import plot_runup
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")             # the run-up's own 'not separable' warning
+        fig = plot_runup(_two_rotor_run_up(), "s")
+    fig.set_dpi(150)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    panels = [ax for ax in fig.axes if ax.get_title()]
+    assert len(panels) == 4
+    phase = next(ax for ax in panels if ax.get_title() == "Order-tracked phase")
+    texts = [t.get_text() for t in phase.get_legend().get_texts()]
+    assert any("not separable" in t for t in texts) and any("phase unknown" in t for t in texts), texts
+    left = [ax for ax in panels if ax.get_position().x0 < 0.5]
+    right = [ax for ax in panels if ax.get_position().x0 >= 0.5]
+    width = fig.bbox.width
+    for a, b in zip(left, right):
+        share = (a.get_window_extent(renderer).width + b.get_window_extent(renderer).width) / width
+        assert share >= 0.70, (a.get_title(), b.get_title(), share)
+    box = phase.get_legend().get_window_extent(renderer)
+    assert fig.bbox.x0 <= box.x0 and box.x1 <= fig.bbox.x1 and fig.bbox.y0 <= box.y0
+    plt.close(fig)

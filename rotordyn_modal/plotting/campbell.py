@@ -543,7 +543,7 @@ def _draw_orders(ax, result, scale, lines, dense):
     frequencies = result.order_frequencies(speeds)
     for (_, _, color), s in zip(lines, _drawn_sources(result, lines)):
         for o in range(len(result.orders)):
-            ax.plot(speeds * scale, frequencies[s, o], color=color, linewidth=0.9, alpha=0.8)
+            ax.plot(speeds * scale, frequencies[s, o], color=color, linewidth=0.9, alpha=0.8, gid="order-line")
 
 
 def _draw_critical(ax, result, scale, sources):
@@ -734,6 +734,7 @@ class _CampbellLabels:
         self.to_axes = (ax.transData + ax.transAxes.inverted()).transform
         self.curves = CurveMap(ax, renderer, skip=self.leaders + self.critical_leaders + self.key_leaders,
                                units="axes")
+        self.renderer, self.mode_map = renderer, None
         self.leader_lines = []          # (start, end) of the leader lines drawn inside the axes
         placed = []
         self._place_orders(renderer, placed)
@@ -939,8 +940,28 @@ class _CampbellLabels:
             return box_distance(box * to_px, u / self.to_u, v / self.to_v) \
                 + _CROSSING_COST * h / self.to_v * self.curves.crossings(start, anchor, keep)
 
-        box = first_free_box(grid, placed, gap, frame, obstacles=markers, allowed=leader_clear, cost=cost,
-                             bound=lambda box: box_distance(box * to_px, u / self.to_u, v / self.to_v))
+        def distance(box):
+            return box_distance(box * to_px, u / self.to_u, v / self.to_v)
+
+        radius = 0.5 * _MARKER_POINTS * self.points      # the circle's, as drawn
+        circle = (u - radius * self.to_u, v - radius * self.to_v, u + radius * self.to_u, v + radius * self.to_v)
+
+        def uncrossed(box):
+            return leader_clear(box) and not self._mode_curves().crossings(nearest_in(box, anchor), anchor, circle,
+                                                                           into_keep=False)
+
+        # a leader across a mode's curve reads as pointing at that mode (compressor_rotor's
+        # '11115' stood over mode 4's line, its leader across it): such a box only where no box
+        # within the cost's reach has a leader crossing none (order lines it may cross: every
+        # critical speed lies on one; nor the curves it runs beside into the marker: the anchor's
+        # own. The square of ANCHOR_POINTS exempts any curve near the anchor: mode 4's line, 7
+        # pixels above the circle, was crossed inside it)
+        reach = [b for b in grid if distance(b) <= _MOST_COST * h / self.to_v]
+        box = first_free_box(reach, placed, gap, frame, obstacles=markers, allowed=uncrossed, cost=distance,
+                             bound=distance)
+        if box is None:
+            box = first_free_box(grid, placed, gap, frame, obstacles=markers, allowed=leader_clear, cost=cost,
+                                 bound=distance)
         if box is None:
             return None, None
         if cost(box) > max(_MOST_COST * h / self.to_v, box_distance(box * to_px, u / self.to_u, v / self.to_v)):
@@ -952,6 +973,16 @@ class _CampbellLabels:
         end = (u + shorten * direction[0] * self.to_u, v + shorten * direction[1] * self.to_v)
         self.leader_lines.append((start, anchor))
         return box, (start, end)
+
+    def _mode_curves(self):
+        """Where the curves run but the order lines (:class:`CurveMap`, axes fraction), made once
+        per drawing."""
+        if getattr(self, "mode_map", None) is None:
+            ax = self.ax
+            orders = [line for line in ax.get_lines() if line.get_gid() == "order-line"]
+            self.mode_map = CurveMap(ax, self.renderer, units="axes",
+                                     skip=self.leaders + self.critical_leaders + self.key_leaders + orders)
+        return self.mode_map
 
     @staticmethod
     def _show_leader(line, leader, colour):

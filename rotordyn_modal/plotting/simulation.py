@@ -272,13 +272,19 @@ def _shade_unsettled(axes, spans, rotor, color, rpm):
         for low, high in spans:
             axis.axvspan(low * rpm, high * rpm, color=color, alpha=0.12, lw=0, zorder=0)
     return [Patch(color=color, alpha=0.25, lw=0,
-                  label=f"1X {rotor}: not separable from free vibration (fast passage of a mode, start transient)")]
+                  label=f"1X {rotor}: not separable from free vibration\n(fast passage of a mode, start transient)")]
+
+
+#: the run-up's legend notes are wrapped at this many characters
+_NOTE_WIDTH = 45
 
 
 def _unknown_phase_note(track, rotors, color):
     """A legend entry (a handle of no line) saying at how many speeds the track's phase is not
     drawn and why (the other rotors' same order leaks through the window: ``OrderTrack``),
     or no entry where every phase is known."""
+    import textwrap
+
     from matplotlib.lines import Line2D
 
     unknown = int(np.count_nonzero(~np.isfinite(track.phase_deg)))
@@ -286,8 +292,11 @@ def _unknown_phase_note(track, rotors, color):
         return []
     others = ", ".join(f"{track.order:g}X {name}" for name in rotors if name != track.rotor)
     where = "throughout" if unknown == len(track.phase_deg) else f"at {unknown} of {len(track.phase_deg)} speeds"
-    text = (f"{track.order:g}X {track.rotor}: phase unknown {where}, not drawn:\n"
-            f"its amplitude is under 2x the leakage of {others}")
+    # in lines of at most about 45 characters: the legend below the phase panel is as wide as its
+    # two columns, and constrained layout narrowed every panel to fit it (two rotors: each panel
+    # a fifth of the figure's width, half of it blank between the columns)
+    text = "\n".join(textwrap.wrap(f"{track.order:g}X {track.rotor}: phase unknown {where}, not drawn: its "
+                                  f"amplitude is under 2x the leakage of {others}", _NOTE_WIDTH))
     return [Line2D([], [], ls="none", marker="x", color=color, label=text)]
 
 

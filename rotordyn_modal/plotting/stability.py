@@ -48,8 +48,8 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     range (its lowest real part, its highest log decrement over the speeds), and keep zero
     well inside; a note beside each panel names the roots that reach beyond it and how far
     (overdamped roots of journal bearings reach real parts of -10,000 1/s and log
-    decrements of 1,000). A coloured mode that a panel does not show says so in its legend
-    entry. Where a mode far above the running speed is less damped than every mode near it,
+    decrements of 1,000). Each panel's legend names the curves drawn inside it (a coloured
+    mode that a panel does not show is named by its note instead). Where a mode far above the running speed is less damped than every mode near it,
     the figure is scaled to the modes near it (:func:`near_operating_range`), and a note names
     the far ones and the least damped of them. Each threshold speed is a labelled vertical
     line: red where a mode becomes unstable with rising speed, green where it becomes stable
@@ -98,8 +98,7 @@ def plot_stability(result, speed_unit: str = "rpm", title: str | None = None):
     bottom.set_ylabel("Log decrement [-]\n(< 0: unstable)")
     bottom.set_xlabel(speed_label(speed_unit))
     top.set_title(title or "Stability over speed")
-    if top.get_legend_handles_labels()[0]:      # none: no mode (none below max_frequency)
-        top.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    _panel_legends(top, bottom)
     _draw_thresholds(top, bottom, result, scale, speed_unit)
     return fig
 
@@ -243,36 +242,43 @@ def zero_centred_limits(lowest, highest, floor, tiny=None):
 
 def _draw_modes(top, bottom, x, result, real, log_dec, relevant, others="other roots (more damped)"):
     """The coloured modes ``relevant`` (columns) in both panels, the other roots grey (legend
-    entry ``others``). The legend is the top panel's: a coloured mode that one panel does not
-    show (all its values beyond that panel's axis) says so in its entry, as the panel's note of
-    the roots beyond it does."""
+    entry ``others``). Each panel's legend (:func:`_panel_legends`) names the curves drawn
+    inside it: a coloured mode whose values in a panel all lie beyond its axis is left out of
+    that panel's legend (the panel's note of the roots beyond it names it); the top panel's
+    legend listed it, marked '(bottom: above the axis)', as if the figure drew it there."""
     import matplotlib.pyplot as plt
 
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for rank, m in enumerate(relevant):
         style = {"color": colours[rank % len(colours)], "linestyle": _STYLES[(rank // len(colours)) % len(_STYLES)],
                  "linewidth": 1.7}
-        off = [f"{name}: {side} the axis" for name, axis, values in (("top", top, real[:, m]),
-                                                                      ("bottom", bottom, log_dec[:, m]))
-               for side in [_beyond(values, axis.get_ylim())] if side]
-        label = f"mode {result.modes[m]}" + (f" ({'; '.join(off)})" if off else "")
-        top.plot(x, real[:, m], label=label, gid=f"mode {result.modes[m]}", **style)
-        bottom.plot(x, log_dec[:, m], gid=f"mode {result.modes[m]}", **style)
+        for axis, values in ((top, real[:, m]), (bottom, log_dec[:, m])):
+            shown = _within(values, axis.get_ylim())
+            axis.plot(x, values, label=f"mode {result.modes[m]}" if shown else None,
+                      gid=f"mode {result.modes[m]}", **style)
     rest = [m for m in range(real.shape[1]) if m not in relevant]
-    for i, m in enumerate(rest):
-        kwargs = {"color": "0.72", "linewidth": 0.8, "zorder": 1.5}
-        top.plot(x, real[:, m], label=others if i == 0 else None, **kwargs)
-        bottom.plot(x, log_dec[:, m], **kwargs)
+    for axis, values in ((top, real), (bottom, log_dec)):
+        inside = [m for m in rest if _within(values[:, m], axis.get_ylim())]
+        for m in rest:
+            axis.plot(x, values[:, m], label=others if inside and m == inside[0] else None,
+                      color="0.72", linewidth=0.8, zorder=1.5)
 
 
-def _beyond(values, limits):
-    """'below' or 'above' where every finite value lies below or above ``limits`` (and some is
-    finite), else ''."""
-    finite = np.asarray(values, dtype=float)
-    finite = finite[np.isfinite(finite)]
-    if not finite.size or _within(finite, limits):
-        return ""
-    return "below" if np.all(finite < limits[0]) else "above" if np.all(finite > limits[1]) else ""
+def _panel_legends(top, bottom):
+    """Each panel's legend beside its top right, naming the curves drawn inside it; the bottom
+    panel's notes beside it (``flat-note``) moved below its legend."""
+    for axis in (top, bottom):
+        if axis.get_legend_handles_labels()[0]:      # none: no mode (none below max_frequency)
+            axis.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    legend = bottom.get_legend()
+    if legend is None:
+        return
+    for note in [t for t in bottom.texts if t.get_gid() == "flat-note"]:
+        text, colour = note.get_text(), note.get_color()
+        note.remove()
+        bottom.annotate(text, (0.0, 0.0), xycoords=legend, xytext=(0.0, -4.0), textcoords="offset points",
+                        fontsize="x-small", ha="left", va="top", color=colour, gid="flat-note",
+                        annotation_clip=False)
 
 
 def _note_far(ax, result, log_dec, near, speed_unit):
@@ -347,7 +353,8 @@ def _note_flat(ax, result, log_dec, shown):
     undamped modes names, :func:`_note_on_zero`): the
     flexible pump's 61-69 kHz shaft modes have log decrements of 1e-8 to 6e-6 beside bearing
     modes of 1e-3, and their colours were in the legend but nowhere on the figure (beside the
-    panel, at its top; the note of the roots cut off is at its bottom)."""
+    panel, at its top, then moved under its legend by :func:`_panel_legends`; the note of the
+    roots cut off is at its bottom)."""
     import textwrap
 
     low, high = ax.get_ylim()

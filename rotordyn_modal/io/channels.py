@@ -98,7 +98,7 @@ def read_mapping(path, model) -> ChannelMap:
     sensors, excitations = {s.name for s in model.sensors}, {x.name for x in model.excitations}
     outputs, inputs = {}, {}
     given = {}          # name -> (line, key) of its first row
-    for line, row in enumerate(table.itertuples(index=False), start=2):
+    for line, row in zip(table.attrs["lines"], table.itertuples(index=False)):
         key, sign = _mapping_row(row, "sign" in table.columns, path, line)
         _check_one_node(given, row.name, key, line, path, both=row.name in sensors and row.name in excitations)
         # a name that is a sensor's and an excitation's (a driving point named once) maps both

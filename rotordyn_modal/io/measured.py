@@ -164,13 +164,16 @@ def check_mapping_used(mapping, measured=None, out=None) -> None:
 def _check_column(table, column, name, path, valid, expected) -> None:
     """Refuse the first row of ``column[name]`` (one value per row of ``table``) that is not
     ``valid``, naming the column, the value and the row's channel pair and frequency."""
+    from .csv_tables import file_line
+
     values = column[name]
     bad = np.flatnonzero(~valid(values))
     if bad.size:
         first = int(bad[0])
         row = table.iloc[first]
         where = f"{row.get('output', '?')} / {row.get('input', '?')} at {column['frequency_hz'][first]:g} Hz"
-        raise InputError(f"{path}: {name} = {values[first]:g} in data row {first + 1} ({where}; {bad.size} such "
+        raise InputError(f"{path}: {name} = {values[first]:g} in data row {first + 1} (line {file_line(table, first)}, "
+                         f"{where}; {bad.size} such "
                          f"row(s)): expected {expected}")
 
 
@@ -294,7 +297,8 @@ def _units_row_folded(table, path):
                              "under it (a row of units): expected one unit")
         renamed[column] = f"{column} [{unit}]" if given is None else column
     folded = table.iloc[1:].rename(columns=renamed).reset_index(drop=True)
-    folded.attrs = {**table.attrs, "first_line": table.attrs.get("first_line", 2) + 1}
+    folded.attrs = {**table.attrs, "first_line": table.attrs.get("first_line", 2) + 1,
+                    "lines": table.attrs.get("lines", [])[1:]}
     return folded
 
 
@@ -373,6 +377,7 @@ def _csv_units(table, quantity, model, path):
     (str, ndarray of shape (n_rows,))
     """
     from ..units import FRF_OUTPUT_KINDS, ratio_scale
+    from .csv_tables import file_line
     from .unit_labels import quantity_of
 
     moments = {x.name for x in model.excitations if getattr(x, "kind", "force") == "moment"}
@@ -386,7 +391,7 @@ def _csv_units(table, quantity, model, path):
         read = known.get(str(label).strip()) or (quantity_of(label) if kind == "force" else None)
         if read is None or read[0] not in _QUANTITIES or (given and read[0] != quantity):
             wanted = [lab for lab, (q, _) in known.items() if not given or q == quantity]
-            raise InputError(f"{path}: column unit line {row + 2} = {str(label)[:40]!r}: expected a unit of "
+            raise InputError(f"{path}: column unit line {file_line(table, row)} = {str(label)[:40]!r}: expected a unit of "
                              f"{quantity if given else ' or '.join(_QUANTITIES)} over a {kind} "
                              f"({', '.join(wanted)})")
         found.add(read[0])

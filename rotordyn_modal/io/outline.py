@@ -76,12 +76,14 @@ def _check_whole_rows(points, table, path):
     """Refuse a row with some of x, y, z empty: neither a point nor the empty row between lines."""
     import numpy as np
 
+    from .csv_tables import file_line
+
     empty = np.isnan(points)
     partial = empty.any(axis=1) & ~empty.all(axis=1)
     if partial.any():
         row = int(np.argmax(partial))
         missing = ",".join(name for name, e in zip(_COLUMNS, empty[row]) if e)
-        raise InputError(f"{path}: line {row + table.attrs.get('first_line', 2)}: {missing} empty: expected a point "
+        raise InputError(f"{path}: line {file_line(table, row)}: {missing} empty: expected a point "
                          f"x,y,z (three numbers) or an empty row between two lines")
 
 

@@ -81,12 +81,12 @@ def _along_an_axis(direction) -> bool:
 def read_mapping(path, model) -> ChannelMap:
     """Read a mapping table ``name,node,direction[,sign]`` (CSV) against the model's channel names."""
     from .csv_tables import read_csv_table, split_header
-    from .limits import read_limited
+    from .limits import read_limited, unreadable
 
     try:
         data = read_limited(path, "model", "mapping table")  # a pipe too, bounded
     except OSError as error:
-        raise InputError(f"{path}: cannot read the mapping table ({' '.join(str(error).split())})") from None
+        raise unreadable(path, "mapping table", error) from None
     table, _ = read_csv_table(data, path, "the mapping table")   # ';' or tabs, names as written
     table.columns = [split_header(c)[0] for c in table.columns]
     missing = {"name", "node", "direction"} - set(table.columns)

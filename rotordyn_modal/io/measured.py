@@ -67,10 +67,14 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
         raise InputError(f"{path}: measured data file not found" if not path.exists() else
                          f"{path}: expected a measured data file, not a "
                          f"{'folder' if path.is_dir() else 'device (a terminal, /dev/zero: its size is not known before reading)'}")
+    from .limits import refuse_compressed
+
     try:
-        open(path, "rb").close()
+        with open(path, "rb") as handle:
+            head = handle.read(16)
     except OSError as error:   # a file without read permission: PermissionError, exit 1
         raise InputError(f"{path}: cannot read the measured-data file ({error.strerror or error})") from None
+    refuse_compressed(head, path, "measured-data file")   # m.uff.gz was "unknown measured data format '.gz'"
     if is_universal_file(path):
         from .uff import NoFunctionData, read_uff58
 

@@ -36,12 +36,12 @@ def read_outline(path):
     """
     from ..analysis.mode_shapes import _outline_body
     from .csv_tables import read_csv_table
-    from .limits import read_limited
+    from .limits import read_limited, unreadable
 
     try:
         data = read_limited(path, "model", "stator outline")
     except OSError as error:
-        raise InputError(f"{path}: cannot read the outline ({' '.join(str(error).split())})") from None
+        raise unreadable(path, "outline", error) from None
     table, decimal = read_csv_table(data, path, "the outline", text_only=True, skip_blank_lines=False)
     points = _coordinates(table, decimal, path)
     try:

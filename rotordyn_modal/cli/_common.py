@@ -527,16 +527,16 @@ def pipes_copied(args):
         for k, (dest, path) in enumerate(piped):
             part = os.path.join(folder, str(k))
             os.mkdir(part)
-            copy = str(copy_of_pipe(path, part))
-            args.shown_names[copy] = str(path)
-            setattr(args, dest, copy)
+            duplicate = str(copy_of_pipe(path, part))
+            args.shown_names[duplicate] = str(path)
+            setattr(args, dest, duplicate)
         yield
 
 
 def shown_as_typed(text: str, args) -> str:
     """``text`` (a message) with the names of :func:`pipes_copied`'s copies replaced by the names typed."""
-    for copy, typed in getattr(args, "shown_names", {}).items():
-        text = text.replace(copy, typed)
+    for duplicate, typed in getattr(args, "shown_names", {}).items():
+        text = text.replace(duplicate, typed)
     return text
 
 

@@ -25,6 +25,7 @@ direction (signed).
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 import numpy as np
 
@@ -150,8 +151,6 @@ def is_universal_file(path) -> bool:
     -------
     bool
     """
-    from pathlib import Path
-
     path = Path(path)
     if path.suffix.lower() in UFF_ENDINGS:
         return True
@@ -219,8 +218,6 @@ def copy_of_pipe(path, folder) -> Path:
     InputError
         The pipe holds more than the limit, or nothing writes to it (:func:`.limits.read_limited`).
     """
-    from pathlib import Path
-
     from .limits import read_limited
 
     data = read_limited(path, "measured", "measured-data file")

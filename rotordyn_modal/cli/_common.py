@@ -556,8 +556,8 @@ def check_files(args) -> None:
             if getattr(args, dest, None) == "":   # an empty variable in a script: never "not given"
                 raise InputError(f"{option} '': expected a file name")
             if role == "input" and getattr(args, dest, None) == "-":   # was 'no such file' of a file named '-'
-                raise InputError(f"{option} -: expected a file name (standard input is not read: save it to a "
-                                 "file and name that)")
+                raise InputError(f"{option} -: expected a file name ('-' for standard input is not read: name "
+                                 "/dev/stdin, or save it to a file and name that)")
     inputs, outputs = _given(args, "input"), _given(args, "output")
     for option, path in inputs + outputs:
         if "\0" in str(path):

@@ -223,6 +223,12 @@ def test_an_empty_table_is_refused_saying_so(tmp_path, capsys, with_uff, kind, t
     assert "no line of text (empty, or blank lines only)" in err and "expected a header line" in err, err
 
 
+def test_a_cell_beyond_the_csv_modules_field_limit_is_one_line(tmp_path, capsys, with_uff):
+    """Python's csv module refuses a cell over 131,072 characters ('field larger than field limit'):
+    said on one line with exit 2, never exit 1 (pandas, on main, read it and refused the number)."""
+    _refused(tmp_path, capsys, "outline", "x,y,z\n0,0,0\n" + "1" * 200_000 + ",1,1\n")
+
+
 def test_separators_at_the_line_ends_are_no_column():
     """``x,y,z,`` rows of a spreadsheet: on main the first column became row labels, so the
     outline was refused as 'z empty' (or read shifted); now the same points as without them."""

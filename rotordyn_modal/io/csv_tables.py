@@ -127,7 +127,13 @@ def _rows(text: str, separator: str, path, what: str, start: int, skip_blank_lin
             if "end of data" in str(error):   # pandas: "EOF inside string starting at row N"
                 raise InputError(f"{path}: cannot read {what}: line {start + first}: a quoted cell (\") is never "
                                  "closed: expected a closing quote before the end of the file") from None
-            raise
+            if "field limit" in str(error):
+                raise InputError(f"{path}: cannot read {what}: line {start + first}: a cell of more than "
+                                 f"{csv.field_size_limit():,} characters: expected a table's cells") from None
+            if strict:
+                raise
+            raise InputError(f"{path}: cannot read {what}: line {start + first}: {error}: expected cells "
+                             f"separated by {separator!r}") from None
         return found
 
     try:

@@ -330,10 +330,10 @@ def test_animation_frames_are_one_period_of_the_mode(gear, tmp_path):
 
 @pytest.mark.parametrize("kind, message", [
     ("text", "column x line 3 = 'foo': expected a number (an empty row starts a new line)"),
-    ("folder", "cannot read the outline ([Errno 21]"),
+    ("folder", "cannot read the outline (a folder, not a file)"),
     # a UTF-16 byte-order mark: read as UTF-16 text (a spreadsheet's "Unicode text"), whose header names no x,y,z
     ("binary", "the outline needs the columns x,y,z (metres, model axes); found 戀摡"),
-    ("missing", "cannot read the outline ([Errno 2]"),
+    ("missing", "cannot read the outline (no such file)"),
 ])
 def test_unreadable_outlines_are_refused_by_name(tmp_path, capsys, kind, message):
     from rotordyn_modal.cli import main

@@ -118,7 +118,8 @@ def _refusal(tmp_path, capsys, data: bytes):
     ("x [s],y,z\n0,0,0\n1,0,0\n", ["column 'x [s]'", "unit 's' is no length", "expected m, cm, mm"]),
     # a row of more cells than the header: the file's own line, counting the comment line
     ("# exported by CAD\n# units: m\nx,y,z\n0,0,0\n1,2,3,4\n",
-     ["cannot read the outline", "Expected 3 fields in line 5, saw 4"]),
+     ["cannot read the outline", "line 5, column 4: '4' beyond the header's 3 column(s) (x, y, z)",
+      "expected at most 3 cells on a line"]),
     # x twice, once in millimetres: which one is meant?
     ("x,y,z,X [mm]\n0,0,0,0\n1,0,0,1000\n", ["two columns are x", "'x' and 'X [mm]'", "each column once"]),
     # a point without its y: neither a point nor the empty row between two lines

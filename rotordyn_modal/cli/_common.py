@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import copy
 import math
 import sys
@@ -491,6 +492,54 @@ def _given(args, role):
             if getattr(args, dest, None) not in (None, "", "-")]
 
 
+#: input options whose readers need a regular file (UFF and TDMS readers open the file by its
+#: name and seek): a pipe given to them is copied first (:func:`pipes_copied`)
+_COPIED_PIPES = ("measured",)
+
+
+@contextlib.contextmanager
+def pipes_copied(args):
+    """Each ``--measured`` given a pipe (``<(cat m.uff)``, ``/dev/stdin`` of a pipe, a FIFO a
+    program writes to) read once into a temporary file (:func:`rotordyn_modal.io.measured.copy_of_pipe`:
+    the format its ending or its bytes show), ``args.measured`` then naming it, as models are
+    read from pipes. ``args.shown_names`` maps the copy's name back to the name typed (messages
+    say that one: :func:`shown_as_typed`). The copies are removed at the end."""
+    import os
+    import stat
+    import tempfile
+
+    piped = []
+    for dest, _ in getattr(args, "file_options", {}).get("input", ()):
+        path = getattr(args, dest, None)
+        if dest in _COPIED_PIPES and path not in (None, "", "-"):
+            try:
+                if stat.S_ISFIFO(os.stat(path).st_mode):
+                    piped.append((dest, path))
+            except (OSError, ValueError):
+                pass                            # missing, unreadable: the reader says so
+    if not piped:
+        yield
+        return
+    from ..io.measured import copy_of_pipe
+
+    with tempfile.TemporaryDirectory(prefix="rotordyn-modal-pipe-") as folder:
+        args.shown_names = {}
+        for k, (dest, path) in enumerate(piped):
+            part = os.path.join(folder, str(k))
+            os.mkdir(part)
+            duplicate = str(copy_of_pipe(path, part))
+            args.shown_names[duplicate] = str(path)
+            setattr(args, dest, duplicate)
+        yield
+
+
+def shown_as_typed(text: str, args) -> str:
+    """``text`` (a message) with the names of :func:`pipes_copied`'s copies replaced by the names typed."""
+    for duplicate, typed in getattr(args, "shown_names", {}).items():
+        text = text.replace(duplicate, typed)
+    return text
+
+
 def check_files(args) -> None:
     """Refuse, before any work, an output that names an input file or another output,
     whatever the spelling: a symbolic link, a hard link, a path through a linked folder.
@@ -507,8 +556,8 @@ def check_files(args) -> None:
             if getattr(args, dest, None) == "":   # an empty variable in a script: never "not given"
                 raise InputError(f"{option} '': expected a file name")
             if role == "input" and getattr(args, dest, None) == "-":   # was 'no such file' of a file named '-'
-                raise InputError(f"{option} -: expected a file name (standard input is not read: save it to a "
-                                 "file and name that)")
+                raise InputError(f"{option} -: expected a file name ('-' for standard input is not read: name "
+                                 "/dev/stdin, or save it to a file and name that)")
     inputs, outputs = _given(args, "input"), _given(args, "output")
     for option, path in inputs + outputs:
         if "\0" in str(path):

@@ -32,12 +32,14 @@ def add_arguments(parser):
     add_input_file(parser, "ross_file", metavar="ROSS.toml", help="rotor file written by ROSS's Rotor.save")
     add_output_file(parser, "--out", required=True, metavar="MODEL.toml",
                     help="model file to write ('-': standard output)")
-    parser.add_argument("--name", help="the rotor's name (default: the ROSS file's stem)")
+    parser.add_argument("--name", help="the rotor's name (default: the ROSS file's stem, as ROSS saves no name of the rotor; "
+                        "'rotor' for a file read from a pipe)")
     parser.add_argument("--quiet", action="store_true", help="no summary line on stderr")
 
 
 def run(args) -> int:
-    from ..io.ross_file import check_description, model_text, read_ross_rotor, write_model_file
+    from ..io.ross_file import (DEFAULT_NAME, check_description, model_text, read_ross_rotor, without_name,
+                                write_model_file)
 
     check_ending(args.out, (".toml",), "--out")
     if args.name is not None and not args.name.strip():   # a script's empty variable: was the file's stem
@@ -49,6 +51,9 @@ def run(args) -> int:
     else:
         write_model_file(description, args.out, inputs=[args.ross_file])
     rotor = description["rotors"][0]
+    if args.name is None and without_name(args.ross_file):   # was the rotor '63' of /dev/fd/63
+        print(f"{NAME}: {args.ross_file} is a pipe, whose name is no file's: the rotor is named "
+              f"{DEFAULT_NAME!r} (give --name NAME to name it)", file=sys.stderr)
     if not args.quiet:
         print(f"{args.out}: rotor {rotor['name']!r}, {len(rotor['shaft'])} shaft sections, "
               f"{len(rotor.get('disks', []))} disks, {len(description['bearings'])} bearings", file=sys.stderr)

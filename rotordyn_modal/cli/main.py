@@ -11,7 +11,7 @@ import warnings
 
 from ..errors import InputError, OutputWriteError
 from ._common import (VALUE_OPTIONS, check_files, file_options, join_negative_values, options_as_typed,
-                      say_warnings, typed_spellings)
+                      pipes_copied, say_warnings, shown_as_typed, typed_spellings)
 
 PROGRAM = "rotordyn-modal"
 
@@ -65,12 +65,13 @@ def main(argv=None) -> int:
     # an option's earlier spelling (--band for --freq-band), so that messages say it as typed
     args.spelled = typed_spellings(parser._subparsers._group_actions[0].choices[args.command], argv)
     try:
-        with _signals_as_interrupts(), _warnings_as_lines(args.command):
+        with _signals_as_interrupts(), _warnings_as_lines(args.command, args):
             args.units = resolve_units(args.units)
             check_files(args)
             # --allow-long: the one switch every check of the CPU time reads (analysis/_cost.py)
             try:
-                with verbose_log(args), outputs_together(), long_work_allowed(getattr(args, "allow_long", False)):
+                with (verbose_log(args), outputs_together(), long_work_allowed(getattr(args, "allow_long", False)),
+                      pipes_copied(args)):
                     code = int(args.handler(args) or 0)
             except InputError:
                 raise                 # the model's warnings held by open_model are moot: one line
@@ -81,7 +82,7 @@ def main(argv=None) -> int:
             report_peak_memory(args)
             return code
     except InputError as error:   # "duration = -1.0: ..." of the Python API reads "--duration -1: ..."
-        message = options_as_typed(_one_line(error), args, getattr(args, "api_names", {}))
+        message = options_as_typed(shown_as_typed(_one_line(error), args), args, getattr(args, "api_names", {}))
         print(f"{PROGRAM} {args.command}: error: {message}", file=sys.stderr)
         return 2
     except OutputWriteError as error:  # full disk, size limit: the machine's failure, not the input's
@@ -147,11 +148,11 @@ def _signals_as_interrupts():
 
 
 @contextlib.contextmanager
-def _warnings_as_lines(command):
+def _warnings_as_lines(command, args=None):
     """Warnings printed as one line each, ``rotordyn-modal COMMAND: warning: ...`` (not Python's
-    file, line and source line)."""
+    file, line and source line), a pipe's copy named as typed (:func:`._common.shown_as_typed`)."""
     def one_line(message, category, filename, lineno, file=None, line=None):
-        print(f"{PROGRAM} {command}: warning: {message}", file=sys.stderr)
+        print(f"{PROGRAM} {command}: warning: {shown_as_typed(str(message), args)}", file=sys.stderr)
 
     with warnings.catch_warnings():
         warnings.showwarning = one_line

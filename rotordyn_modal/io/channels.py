@@ -81,12 +81,12 @@ def _along_an_axis(direction) -> bool:
 def read_mapping(path, model) -> ChannelMap:
     """Read a mapping table ``name,node,direction[,sign]`` (CSV) against the model's channel names."""
     from .csv_tables import read_csv_table, split_header
-    from .limits import read_limited
+    from .limits import read_limited, unreadable
 
     try:
         data = read_limited(path, "model", "mapping table")  # a pipe too, bounded
     except OSError as error:
-        raise InputError(f"{path}: cannot read the mapping table ({' '.join(str(error).split())})") from None
+        raise unreadable(path, "mapping table", error) from None
     table, _ = read_csv_table(data, path, "the mapping table")   # ';' or tabs, names as written
     table.columns = [split_header(c)[0] for c in table.columns]
     missing = {"name", "node", "direction"} - set(table.columns)
@@ -98,7 +98,7 @@ def read_mapping(path, model) -> ChannelMap:
     sensors, excitations = {s.name for s in model.sensors}, {x.name for x in model.excitations}
     outputs, inputs = {}, {}
     given = {}          # name -> (line, key) of its first row
-    for line, row in enumerate(table.itertuples(index=False), start=2):
+    for line, row in zip(table.attrs["lines"], table.itertuples(index=False)):
         key, sign = _mapping_row(row, "sign" in table.columns, path, line)
         _check_one_node(given, row.name, key, line, path, both=row.name in sensors and row.name in excitations)
         # a name that is a sensor's and an excitation's (a driving point named once) maps both

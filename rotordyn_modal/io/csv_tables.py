@@ -9,13 +9,14 @@ comment and ``sep=`` lines before the header.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import re
 
 from ..errors import InputError
 from .text import decode_text
 
-__all__ = ["read_csv_table", "numbers", "split_header"]
+__all__ = ["read_csv_table", "numbers", "split_header", "file_line"]
 
 _SEPARATORS = (",", ";", "\t")
 #: the first line Excel writes to name the separator (``sep=;``)
@@ -26,7 +27,7 @@ _EMPTY = ["", "nan", "-nan", "na", "n/a", "#n/a", "#na", "null", "none", "<na>"]
 _HEADER = re.compile(r"^(?P<name>.*?)\s*(?:\[(?P<bracket>[^\]]*)\]|\((?P<paren>[^)]*)\))\s*$")
 
 
-def read_csv_table(data: bytes, path, what: str, text_only: bool = False, **options):
+def read_csv_table(data: bytes, path, what: str, text_only: bool = False, skip_blank_lines: bool = True):
     """A CSV table of ``data`` (a file's bytes): its cells as text without the spaces around them
     (names stay as written otherwise: ``01``, ``NA``), the header names stripped, and the decimal
     mark of its numbers. ``table.attrs['first_line']`` is the file's line of the first row
@@ -43,8 +44,8 @@ def read_csv_table(data: bytes, path, what: str, text_only: bool = False, **opti
         Refuse text holding control characters other than tabs and line breaks (a binary file
         read as Latin-1) as "cannot read ...", naming the line; else such a header is read and
         shown escaped by the caller's message about its columns.
-    **options
-        More arguments of ``pandas.read_csv`` (``skip_blank_lines``).
+    skip_blank_lines : bool
+        Leave out the empty lines (else each is a row of empty cells: an outline's break).
 
     Returns
     -------
@@ -54,10 +55,11 @@ def read_csv_table(data: bytes, path, what: str, text_only: bool = False, **opti
     Raises
     ------
     InputError
-        The text is no table, on one line naming the file.
+        The text is no table, on one line naming the file, the line (and the column) and what
+        was expected: no header (an empty file), a quoted cell never closed, a line with a cell
+        beyond the header's columns (pandas took such a file's first column as its row labels
+        without a word, or refused it in its own words).
     """
-    import pandas as pd
-
     try:
         text = decode_text(data)
     except UnicodeDecodeError as problem:   # UTF-16 without a mark that is no UTF-16
@@ -76,18 +78,109 @@ def read_csv_table(data: bytes, path, what: str, text_only: bool = False, **opti
     separator = declared.group(1) if declared else max(_SEPARATORS, key=lambda s: (header.count(s), s == ","))
     body = "".join(lines[start + 1:start + 200])
     decimal = "," if separator != "," and re.search(r'(^|[;\t])\s*"?[-+]?\d+,\d+"?\s*([;\t]|$)', body, re.M) else "."
-    try:
-        table = pd.read_csv(io.StringIO(text), sep=separator, dtype=str, keep_default_na=False, **options)
-    except (OSError, ValueError) as error:   # pandas counts the lines from the header: the file's lines
-        said = re.sub(r"\bline (\d+)", lambda m: f"line {int(m.group(1)) + start}", " ".join(str(error).split()))
-        raise InputError(f"{path}: cannot read {what} ({said})") from None
+    with _collector_paused():
+        table = _table(_rows(text, separator, path, what, start, skip_blank_lines), path, what)
     _check_columns_once(header, separator, path)
-    table.columns = [str(c).strip() for c in table.columns]
-    # cells padded to line up in a text editor or exported so (`` 1.0 ``, `` acc-top-z ``)
-    table = table.apply(lambda column: column.map(lambda cell: cell.strip() if isinstance(cell, str) else cell))
+    lines = table.attrs["lines"]
     table = _without_trailing_empty_rows(table)
-    table.attrs["first_line"] = start + 2
+    table.attrs["lines"] = lines[:len(table)]
+    table.attrs["first_line"] = int(lines[0]) if len(lines) else start + 2
     return table, decimal
+
+
+@contextlib.contextmanager
+def _collector_paused():
+    """Python's cyclic garbage collector paused while a table's millions of small lists and strings
+    are made (none holds a cycle): it ran over them again and again, 3x the parse (a 200,000-line
+    table: 6 s, 2 s paused, pandas' parser 2.4 s)."""
+    import gc
+
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
+def _rows(text: str, separator: str, path, what: str, start: int, skip_blank_lines: bool):
+    """``[(file line, cells), ...]`` of the text's records, the header first (the first line that
+    is not empty); an empty line is left out or, without ``skip_blank_lines``, a row of no cell.
+    ``start`` lines of the file (comments, ``sep=``) come before ``text``.
+
+    Raises
+    ------
+    InputError
+        No header line; a quoted cell not closed before the end of the file.
+    """
+    import csv
+
+    def records(strict):
+        reader = csv.reader(io.StringIO(text, newline=""), delimiter=separator, strict=strict)
+        found, first = [], 1
+        try:
+            for cells in reader:
+                found.append((start + first, cells))
+                first = reader.line_num + 1
+        except csv.Error as error:
+            if "end of data" in str(error):   # pandas: "EOF inside string starting at row N"
+                raise InputError(f"{path}: cannot read {what}: line {start + first}: a quoted cell (\") is never "
+                                 "closed: expected a closing quote before the end of the file") from None
+            if "field limit" in str(error):
+                raise InputError(f"{path}: cannot read {what}: line {start + first}: a cell of more than "
+                                 f"{csv.field_size_limit():,} characters: expected a table's cells") from None
+            if strict:
+                raise
+            raise InputError(f"{path}: cannot read {what}: line {start + first}: {error}: expected cells "
+                             f"separated by {separator!r}") from None
+        return found
+
+    try:
+        found = records(strict=True)
+    except csv.Error:              # a quote inside a cell ('"ab"c'): read as pandas read it
+        found = records(strict=False)
+    found = [(line, cells) for line, cells in found if cells or not skip_blank_lines]
+    while found and not any(cell.strip() for cell in found[0][1]):
+        found.pop(0)              # empty lines before the header
+    if not found:
+        raise InputError(f"{path}: cannot read {what}: the file holds no line of text (empty, or blank lines only): "
+                         "expected a header line naming the columns, then a line per row")
+    return found
+
+
+def _table(rows, path, what: str):
+    """The DataFrame of ``rows`` (:func:`_rows`): the header's cells as column names (an empty one
+    ``Unnamed: k``, as pandas named it), every row as many cells as the header (missing cells
+    empty, empty cells beyond the header dropped: a spreadsheet's trailing separators), and
+    ``attrs['lines']`` the file line of each row. A cell beyond the header is refused."""
+    import numpy as np
+    import pandas as pd
+
+    (_, header), body = rows[0], rows[1:]
+    header = list(header)
+    while len(header) > 1 and not header[-1].strip():     # 'x,y,z,': the trailing separator names no column
+        header.pop()
+    width = len(header)
+    shown = ", ".join(name.strip() for name in header)
+    kept = []
+    for line, cells in body:
+        if len(cells) != width:
+            extra = next((k for k in range(width, len(cells)) if cells[k].strip()), None)
+            if extra is not None:
+                raise InputError(f"{path}: cannot read {what}: line {line}, column {extra + 1}: "
+                                 f"{cells[extra].strip()[:40]!r} beyond the header's {width} column(s) "
+                                 f"({shown[:120]}): expected at most {width} cells on a line (a separator too many?)")
+            cells = (cells + [""] * width)[:width]
+        kept.append(cells)
+    names = [name.strip() or f"Unnamed: {k}" for k, name in enumerate(header)]
+    # cells padded to line up in a text editor or exported so (`` 1.0 ``, `` acc-top-z ``)
+    columns = zip(*kept) if kept else [()] * width
+    table = pd.DataFrame({k: pd.Series([cell.strip() for cell in column], dtype=object)
+                          for k, column in enumerate(columns)})
+    table.columns = names
+    table.attrs["lines"] = np.array([line for line, _ in body], dtype=np.int64)   # an array: pandas copies attrs
+    return table
 
 
 #: control characters no text table holds (tab, line feed, carriage return and form feed may)
@@ -119,7 +212,7 @@ def _check_columns_once(header: str, separator: str, path) -> None:
 def _without_trailing_empty_rows(table):
     """The table without the rows of empty cells at its end (a spreadsheet's export: ``,,,,``),
     which were read as a line of no frequency and no channel."""
-    empty = (table.apply(lambda column: column.astype(str).str.strip()) == "").all(axis=1).to_numpy()
+    empty = (table.to_numpy(dtype=object) == "").all(axis=1)       # cells stripped by _table
     keep = len(empty)
     while keep and empty[keep - 1]:
         keep -= 1
@@ -144,9 +237,18 @@ def numbers(table, name, path, decimal: str = ".", first_line: int | None = None
     bad = np.isnan(values) & ~cells.str.lower().isin(_EMPTY).to_numpy()
     if bad.any():
         row = int(np.argmax(bad))
-        first_line = table.attrs.get("first_line", 2) if first_line is None else first_line
-        raise InputError(f"{path}: column {name} line {row + first_line} = {cells.iloc[row][:40]!r}: expected a number")
+        raise InputError(f"{path}: column {name} line {file_line(table, row, first_line)} = {cells.iloc[row][:40]!r}: "
+                         "expected a number")
     return values
+
+
+def file_line(table, row: int, first_line: int | None = None) -> int:
+    """The file line of the table's row ``row`` (from 0): ``attrs['lines']`` (:func:`read_csv_table`),
+    else ``first_line`` (or ``attrs['first_line']``, else 2) plus the row."""
+    lines = table.attrs.get("lines")
+    if first_line is None and lines is not None and len(lines) == len(table):
+        return int(lines[row])
+    return row + (table.attrs.get("first_line", 2) if first_line is None else first_line)
 
 
 def split_header(cell) -> tuple[str, str | None]:

@@ -19,7 +19,7 @@ from .._limits import environment_number
 from ..errors import InputError
 
 __all__ = ["MODEL_FILE_MB", "MEASURED_FILE_MB", "PIPE_WAIT_S", "check_size", "limit_bytes", "read_limited",
-           "input_path", "refuse_unsized"]
+           "input_path", "refuse_unsized", "refuse_compressed", "unreadable"]
 
 #: default limit of model and study files [MB]; environment: ROTORDYN_MODAL_MAX_MODEL_MB
 MODEL_FILE_MB = 10
@@ -98,6 +98,68 @@ def refuse_unsized(path, what: str) -> None:
         raise InputError(f"{path}: expected {what}, not a pipe or device (its size is not known before reading)")
 
 
+#: first bytes of a compressed file or an archive: (bytes, what it is, what opens it)
+_COMPRESSED = ((b"\x1f\x8b", "a gzip-compressed file", "gunzip it first"),
+               (b"\xfd7zXZ\x00", "an xz-compressed file", "unxz it first"),
+               (b"\x28\xb5\x2f\xfd", "a zstd-compressed file", "unzstd it first"),
+               (b"PK\x03\x04", "a zip archive (a spreadsheet's .xlsx is one)", "unzip it, or export the sheet as CSV"))
+
+
+def refuse_compressed(head: bytes, path, what: str) -> None:
+    """Refuse a compressed file or an archive by its first bytes (``head``: 8 are enough), e.g.
+    ``m.csv.gz`` or a gzip file named ``m.csv``: its bytes were read as text and refused in words
+    about the text (a control character, a byte that is no UTF-8, no dataset), or taken for a
+    bzip2 file's ``BZh1``... header.
+
+    Parameters
+    ----------
+    head : bytes
+    path : path-like
+        Named in the message.
+    what : str
+        The file expected ('model file', 'stator outline', 'Universal File').
+
+    Raises
+    ------
+    InputError
+    """
+    for magic, kind, remedy in _COMPRESSED + _BZIP2:
+        if head.startswith(magic):
+            raise InputError(f"{path}: {kind}: expected the {what} itself, uncompressed ({remedy})")
+
+
+#: bzip2's 'BZh' and a block size '1'..'9', then the block's 0x314159265359 (text rarely begins so)
+_BZIP2 = tuple((b"BZh" + str(k).encode() + b"\x31\x41\x59\x26\x53\x59", "a bzip2-compressed file",
+                "bunzip2 it first") for k in range(1, 10))
+
+
+def unreadable(path, what: str, error: OSError) -> InputError:
+    """The one line of a file that ``open`` refused: missing, a folder, no permission to read it.
+
+    Parameters
+    ----------
+    path : path-like
+    what : str
+        The file expected, as in "cannot read the stator outline".
+    error : OSError
+
+    Returns
+    -------
+    InputError
+        ``PATH: cannot read the WHAT (no such file)``, ``(a folder, not a file)``, ``(no
+        permission to read it)``, else the system's words (``strerror``).
+    """
+    if isinstance(error, FileNotFoundError):
+        said = "no such file"
+    elif isinstance(error, IsADirectoryError):
+        said = "a folder, not a file"
+    elif isinstance(error, PermissionError):
+        said = "no permission to read it"
+    else:
+        said = error.strerror or " ".join(str(error).split())
+    return InputError(f"{path}: cannot read the {what} ({said})")
+
+
 def read_limited(path, kind: str, what: str) -> bytes:
     """The bytes of a file read whole, never more than its kind's limit: also a pipe or a
     device (``/dev/stdin``, a FIFO, ``/dev/zero``), whose size no ``stat`` tells.
@@ -114,6 +176,7 @@ def read_limited(path, kind: str, what: str) -> bytes:
     InputError
         The file is larger than the limit (a regular file before a byte is read).
         A pipe that nothing writes to within :data:`PIPE_WAIT_S` (opening it would wait forever).
+        A compressed file (:func:`refuse_compressed`).
     OSError
         As ``open`` raises it (missing file, folder, permission): the caller names it.
     """
@@ -124,6 +187,7 @@ def read_limited(path, kind: str, what: str) -> bytes:
     if len(data) > limit:
         raise InputError(f"{path}: a {what} of more than the limit of {limit / 2**20:g} MB is not read "
                          f"(set {variable} to a number of MB to allow it)")
+    refuse_compressed(data[:16], path, what)
     return data
 
 

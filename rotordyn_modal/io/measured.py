@@ -25,6 +25,7 @@ direction (signed).
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 import numpy as np
 
@@ -34,7 +35,7 @@ from ..model._table import visible_names
 from .channels import ChannelMap, assemble, default_mapping, read_mapping
 
 __all__ = ["read_measured", "read_csv", "write_csv", "read_mapping", "default_mapping", "ChannelMap",
-           "check_mapping_used", "is_universal_file"]
+           "check_mapping_used", "is_universal_file", "sniffed_ending", "copy_of_pipe"]
 
 _QUANTITIES = ("receptance", "mobility", "accelerance")
 
@@ -58,17 +59,23 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
     from .limits import input_path
 
     path = input_path(path, "measured-data file")
+    if _is_pipe(path):
+        return _read_from_pipe(path, model, mapping)
     if not path.is_file():
         if path.is_symlink() and not path.exists():
             raise InputError(f"{path}: a symbolic link that leads to no file (to {os.readlink(path)}, a missing file "
                              "or a loop of links)")
         raise InputError(f"{path}: measured data file not found" if not path.exists() else
                          f"{path}: expected a measured data file, not a "
-                         f"{'folder' if path.is_dir() else 'pipe or device (its size is not known before reading)'}")
+                         f"{'folder' if path.is_dir() else 'device (a terminal, /dev/zero: its size is not known before reading)'}")
+    from .limits import refuse_compressed
+
     try:
-        open(path, "rb").close()
+        with open(path, "rb") as handle:
+            head = handle.read(16)
     except OSError as error:   # a file without read permission: PermissionError, exit 1
         raise InputError(f"{path}: cannot read the measured-data file ({error.strerror or error})") from None
+    refuse_compressed(head, path, "measured-data file")   # m.uff.gz was "unknown measured data format '.gz'"
     if is_universal_file(path):
         from .uff import NoFunctionData, read_uff58
 
@@ -80,16 +87,40 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
             return read_uff58(path, model, channel_map)
         except NoFunctionData as error:
             raise _with_2414(error, path) from None
-    if path.suffix.lower() in TABLE_ENDINGS:
+    ending = path.suffix.lower() or _ending_of(path)    # /dev/stdin of a file, a name without an ending
+    if ending in TABLE_ENDINGS:
         if mapping is not None and not isinstance(mapping, ChannelMap):
             read_mapping(mapping, model)   # a missing or broken table named is refused, never passed over
         return read_csv(path, model)
-    time_records = (f": a {path.suffix} file holds time records, not FRFs: read them with rdm.read_tdms_records "
+    time_records = (f": a {ending} file holds time records, not FRFs: read them with rdm.read_tdms_records "
                     "and compute the FRFs with rdm.estimate_frf (docs/frf-and-measurement.md, 'From time records')"
-                    if path.suffix.lower() == ".tdms" else "")
+                    if ending == ".tdms" else "")
     raise InputError(f"{path}: unknown measured data format {path.suffix!r}: expected .uff/.unv "
                      "(UFF 58/58b) or a text table .csv (also .txt or .tsv, as other tools export it)"
                      f"{time_records}")
+
+
+def _is_pipe(path) -> bool:
+    """True for a named pipe (``<(cat m.uff)``'s /dev/fd/63, ``/dev/stdin`` of a pipe, a FIFO)."""
+    import stat
+
+    try:
+        return stat.S_ISFIFO(os.stat(path).st_mode)
+    except (OSError, ValueError):
+        return False
+
+
+def _read_from_pipe(path, model, mapping):
+    """:func:`read_measured` of a pipe: its bytes copied into a temporary file
+    (:func:`copy_of_pipe`), read, and removed; messages name the pipe."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="rotordyn-modal-pipe-") as folder:
+        copy = copy_of_pipe(path, folder)
+        try:
+            return read_measured(copy, model, mapping)
+        except InputError as error:
+            raise InputError(str(error).replace(str(copy), str(path))) from None
 
 
 def _with_2414(error, path) -> InputError:
@@ -120,9 +151,6 @@ def is_universal_file(path) -> bool:
     -------
     bool
     """
-    import re
-    from pathlib import Path
-
     path = Path(path)
     if path.suffix.lower() in UFF_ENDINGS:
         return True
@@ -133,8 +161,70 @@ def is_universal_file(path) -> bool:
             head = handle.read(512)
     except OSError:
         return False
+    return _universal_head(head)
+
+
+def _universal_head(head: bytes) -> bool:
+    """True when the first bytes of a file open a Universal File's dataset (:func:`is_universal_file`)."""
+    import re
+
     lines = [line.strip() for line in head.removeprefix(b"\xef\xbb\xbf").splitlines() if line.strip()]
     return len(lines) >= 2 and lines[0] == b"-1" and re.fullmatch(rb"\d{1,6}b?(\s.*)?", lines[1]) is not None
+
+
+def sniffed_ending(head: bytes) -> str:
+    """The ending of the measured-data format that a file's first bytes (512 are enough) show:
+    ``'.tdms'`` (npTDMS's 'TDSm'), ``'.uff'`` (:func:`is_universal_file`'s test), else ``'.csv'``
+    (a text table, which the CSV reader refuses on one line if it is none)."""
+    from .uff import TDMS_MAGIC
+
+    if head[:4] == TDMS_MAGIC:
+        return ".tdms"
+    return ".uff" if _universal_head(head) else ".csv"
+
+
+def _ending_of(path) -> str:
+    """:func:`sniffed_ending` of a regular file's first bytes ('' when it cannot be read: the reader says why)."""
+    try:
+        with open(path, "rb") as handle:
+            return sniffed_ending(handle.read(512))
+    except OSError:
+        return ""
+
+
+#: endings whose name says a measured file's format (any other is told from the bytes)
+_KNOWN_ENDINGS = (".uff", ".unv", ".uf", ".csv", ".txt", ".tsv", ".tdms")
+
+
+def copy_of_pipe(path, folder) -> Path:
+    """A pipe's bytes (``<(cat m.uff)``, ``/dev/stdin`` of a pipe, a FIFO a program writes to) read
+    once, up to the measured-data limit, into a regular file in ``folder``: the readers of UFF
+    and TDMS read a file by its name, and seek. The copy is named ``pipe`` and the pipe's ending
+    when it is one of the formats', else the ending its bytes show (:func:`sniffed_ending`).
+
+    Parameters
+    ----------
+    path : path-like
+        A named pipe (``stat.S_ISFIFO``).
+    folder : path-like
+        An existing folder (a temporary one, removed by the caller).
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    InputError
+        The pipe holds more than the limit, or nothing writes to it (:func:`.limits.read_limited`).
+    """
+    from .limits import read_limited
+
+    data = read_limited(path, "measured", "measured-data file")
+    ending = Path(path).suffix.lower()
+    copy = Path(folder) / ("pipe" + (ending if ending in _KNOWN_ENDINGS else sniffed_ending(data[:512])))
+    copy.write_bytes(data)
+    return copy
 #: endings of a measured FRF table read as CSV (``,``, ``;`` or tab separated: :mod:`.csv_tables`);
 #: test rigs and spreadsheets export tab-separated text as .txt or .tsv
 TABLE_ENDINGS = (".csv", ".txt", ".tsv")
@@ -164,13 +254,16 @@ def check_mapping_used(mapping, measured=None, out=None) -> None:
 def _check_column(table, column, name, path, valid, expected) -> None:
     """Refuse the first row of ``column[name]`` (one value per row of ``table``) that is not
     ``valid``, naming the column, the value and the row's channel pair and frequency."""
+    from .csv_tables import file_line
+
     values = column[name]
     bad = np.flatnonzero(~valid(values))
     if bad.size:
         first = int(bad[0])
         row = table.iloc[first]
         where = f"{row.get('output', '?')} / {row.get('input', '?')} at {column['frequency_hz'][first]:g} Hz"
-        raise InputError(f"{path}: {name} = {values[first]:g} in data row {first + 1} ({where}; {bad.size} such "
+        raise InputError(f"{path}: {name} = {values[first]:g} in data row {first + 1} (line {file_line(table, first)}, "
+                         f"{where}; {bad.size} such "
                          f"row(s)): expected {expected}")
 
 
@@ -294,7 +387,8 @@ def _units_row_folded(table, path):
                              "under it (a row of units): expected one unit")
         renamed[column] = f"{column} [{unit}]" if given is None else column
     folded = table.iloc[1:].rename(columns=renamed).reset_index(drop=True)
-    folded.attrs = {**table.attrs, "first_line": table.attrs.get("first_line", 2) + 1}
+    folded.attrs = {**table.attrs, "first_line": table.attrs.get("first_line", 2) + 1,
+                    "lines": table.attrs.get("lines", [])[1:]}
     return folded
 
 
@@ -373,6 +467,7 @@ def _csv_units(table, quantity, model, path):
     (str, ndarray of shape (n_rows,))
     """
     from ..units import FRF_OUTPUT_KINDS, ratio_scale
+    from .csv_tables import file_line
     from .unit_labels import quantity_of
 
     moments = {x.name for x in model.excitations if getattr(x, "kind", "force") == "moment"}
@@ -386,7 +481,7 @@ def _csv_units(table, quantity, model, path):
         read = known.get(str(label).strip()) or (quantity_of(label) if kind == "force" else None)
         if read is None or read[0] not in _QUANTITIES or (given and read[0] != quantity):
             wanted = [lab for lab, (q, _) in known.items() if not given or q == quantity]
-            raise InputError(f"{path}: column unit line {row + 2} = {str(label)[:40]!r}: expected a unit of "
+            raise InputError(f"{path}: column unit line {file_line(table, row)} = {str(label)[:40]!r}: expected a unit of "
                              f"{quantity if given else ' or '.join(_QUANTITIES)} over a {kind} "
                              f"({', '.join(wanted)})")
         found.add(read[0])

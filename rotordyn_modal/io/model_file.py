@@ -118,6 +118,9 @@ def read_toml(path, what: str, error=ModelError) -> dict:
         raise error(source, "<file>", str(problem), "valid TOML") from None
     except RecursionError:
         raise error(source, "<file>", "arrays or tables nested too deep to parse", nested) from None
+    if not data:        # was refused for its first missing table ('rotors = []', 'no ShaftElement tables')
+        raise error(source, "<file>", "an empty file" if not text.strip() else "no table or key (comments only)",
+                    f"a {what} (TOML tables and keys)")
     if (deep := _too_deep(data)) is not None:
         where, value = deep
         where = where if len(where) <= 60 else where[:57] + "..."

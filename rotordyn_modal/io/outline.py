@@ -36,12 +36,12 @@ def read_outline(path):
     """
     from ..analysis.mode_shapes import _outline_body
     from .csv_tables import read_csv_table
-    from .limits import read_limited
+    from .limits import read_limited, unreadable
 
     try:
         data = read_limited(path, "model", "stator outline")
     except OSError as error:
-        raise InputError(f"{path}: cannot read the outline ({' '.join(str(error).split())})") from None
+        raise unreadable(path, "outline", error) from None
     table, decimal = read_csv_table(data, path, "the outline", text_only=True, skip_blank_lines=False)
     points = _coordinates(table, decimal, path)
     try:
@@ -76,12 +76,14 @@ def _check_whole_rows(points, table, path):
     """Refuse a row with some of x, y, z empty: neither a point nor the empty row between lines."""
     import numpy as np
 
+    from .csv_tables import file_line
+
     empty = np.isnan(points)
     partial = empty.any(axis=1) & ~empty.all(axis=1)
     if partial.any():
         row = int(np.argmax(partial))
         missing = ",".join(name for name, e in zip(_COLUMNS, empty[row]) if e)
-        raise InputError(f"{path}: line {row + table.attrs.get('first_line', 2)}: {missing} empty: expected a point "
+        raise InputError(f"{path}: line {file_line(table, row)}: {missing} empty: expected a point "
                          f"x,y,z (three numbers) or an empty row between two lines")
 
 

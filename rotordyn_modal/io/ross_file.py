@@ -40,6 +40,20 @@ _REFUSED = {
 _RAD_S_TO_RPM = 30.0 / math.pi
 
 
+#: the rotor's name when neither ``--name`` nor the file's name gives one (a pipe)
+DEFAULT_NAME = "rotor"
+
+
+def without_name(path) -> bool:
+    """True when ``path`` names a pipe or a descriptor, not a file whose stem names the rotor:
+    ``/dev/fd/N`` (bash's ``<(cat r.toml)``), ``/proc/self/fd/N``, ``/proc/PID/fd/N``,
+    ``/dev/stdin``."""
+    import re
+
+    text = str(path)
+    return (text in ("/dev/stdin", "-") or re.fullmatch(r"/dev/fd/\d+|/proc/(self|\d+)/fd/\d+", text) is not None)
+
+
 def read_ross_rotor(path, name: str | None = None) -> dict:
     """Read a rotor saved by ROSS's ``Rotor.save`` (TOML) into a model-file description.
 
@@ -48,7 +62,9 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
     path : str or path-like
         The ROSS file.
     name : str, optional
-        The rotor's name (default: the file's stem).
+        The rotor's name. By default the file's stem (ROSS's ``Rotor.save`` writes no name of the
+        rotor), or :data:`DEFAULT_NAME` for a pipe, whose name (``/dev/fd/63`` of ``<(cat r.toml)``,
+        ``/dev/stdin``) is no file's (:func:`without_name`).
 
     Returns
     -------
@@ -69,7 +85,8 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
     data = read_toml(path, "ROSS rotor file")
     elements = _elements(source, data)
     _check_parameters(source, data)
-    rotor_name = name or shown_text(Path(source).stem)
+    named = not without_name(source)
+    rotor_name = name or (shown_text(Path(source).stem) if named else DEFAULT_NAME)
     materials: dict[str, dict] = {}
     sections, shear, node_z = _shaft(source, elements.get("ShaftElement", []), materials)
     rotor = {"name": rotor_name, "start": [0.0, 0.0, 0.0], "speed_ratio": 1.0, "shear": shear,
@@ -81,7 +98,8 @@ def read_ross_rotor(path, name: str | None = None) -> dict:
                 for cls in BEARING_CLASSES for key, table in elements.get(cls, [])]
     bearings.sort(key=lambda b: b["axial_position"])
     version = data.get("ross_version", "unknown")
-    return {"name": f"{rotor_name} (ROSS {version} file {shown_text(Path(source).name)})", "spin_axis": [0.0, 0.0, 1.0],
+    origin = f"file {shown_text(Path(source).name)}" if named else "file read from a pipe"
+    return {"name": f"{rotor_name} (ROSS {version} {origin})", "spin_axis": [0.0, 0.0, 1.0],
             "materials": list(materials.values()), "rotors": [rotor], "bearings": bearings}
 
 

@@ -518,7 +518,7 @@ def _not_wide_text(head: bytes, path) -> None:
 
 def _check_complete(path):
     """Refuse a truncated or padded ASCII file: datasets sit between pairs of ``-1`` lines."""
-    from .limits import check_size, refuse_unsized
+    from .limits import check_size, refuse_compressed, refuse_unsized, unreadable
 
     check_size(path, "measured", "measured-data file")
     refuse_unsized(path, "a Universal File")   # pyuff read /dev/zero to its end: rdm.read_uff_info hung
@@ -526,7 +526,10 @@ def _check_complete(path):
         with open(path, "rb") as handle:
             head = handle.read(4096)
     except OSError as error:   # missing, a folder, no read permission: PermissionError out of the API
-        raise InputError(f"{path}: cannot read the Universal File ({error.strerror or error})") from None
+        raise unreadable(path, "Universal File", error) from None
+    if not head.strip():       # was "no dataset 58/58b (FRF) in the file; datasets found: none"
+        raise InputError(f"{path}: an empty file: expected a Universal File (datasets between '    -1' lines)")
+    refuse_compressed(head, path, "Universal File")
     _not_wide_text(head, path)
     if head[:4] == TDMS_MAGIC:     # was "no dataset 58/58b (FRF) in the file; datasets found: none"
         raise InputError(f"{path}: {TDMS_WORDS}")

@@ -1009,7 +1009,6 @@ def _hermitian_eigenvalues(constant, gyroscopic, speeds):
     return out
 
 
-
 def _pencil_shapes(stack, speeds, lam):
     """Unit shapes (S, k, n) of the roots ``lam`` (S, k), one inverse-iteration step each on its
     speed's pencil (``_pencils.pencil_shapes``), the speeds shared between threads."""

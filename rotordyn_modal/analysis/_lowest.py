@@ -988,10 +988,25 @@ def _within_round_off(part, matrix) -> bool:
 
 
 def _hermitian_eigenvalues(constant, gyroscopic, speeds):
-    """Ascending eigenvalues (P, 2 n) of ``constant + speeds[p] gyroscopic`` (Hermitian)."""
-    matrices = np.multiply(speeds[:, None, None], gyroscopic)
-    matrices += constant
-    return np.linalg.eigvalsh(matrices)
+    """Ascending eigenvalues (P, 2 n) of ``B = constant + speeds[p] gyroscopic`` (Hermitian, each
+    ``i`` times a real skew matrix ``S``), in real arithmetic: an orthogonal Hessenberg reduction
+    of ``S`` (``dgehrd``) is skew and so tridiagonal, ``T`` with subdiagonal ``e`` (2 n - 1,), and
+    ``i T`` is unitarily similar (``diag(i^k)``) to the real symmetric tridiagonal with zero
+    diagonal and off-diagonals ``e``, whose eigenvalues ``dsterf`` gives. Within ``eps |B|`` of
+    ``B``'s, as ``eigvalsh``'s (the reduction is backward stable and ``T`` is taken exactly skew),
+    at two thirds of its time (a real reduction, not a complex one: rotor_example, 56 states)."""
+    matrices = np.multiply(speeds[:, None, None], gyroscopic.imag)
+    matrices += constant.imag
+    out = np.empty(matrices.shape[:2])
+    zero = np.zeros(matrices.shape[1])
+    for p, matrix in enumerate(matrices):
+        # S^T = -S, Fortran-ordered as LAPACK takes it (no copy): its reduction is -T, the same eigenvalues
+        reduced, _, info = scipy.linalg.lapack.dgehrd(matrix.T, overwrite_a=1)
+        if info == 0:
+            out[p], info = scipy.linalg.lapack.dsterf(zero, np.diagonal(reduced, -1).copy(), overwrite_e=1)
+        if info != 0:           # pragma: no cover (LAPACK's reduction and root-free QR do not fail on finite input)
+            out[p] = np.linalg.eigvalsh(1j * (constant.imag + speeds[p] * gyroscopic.imag))
+    return out
 
 
 def _pencil_shapes(stack, speeds, lam):

@@ -3,9 +3,10 @@
 On 500 geared rotors (2,006 coordinates) the state matrix's eigenvalues (the fastest rate) and
 its eigenvectors (the fastest excited mode) took 4 min of silence before the CPU estimate, and
 that estimate, assuming at most 10 ms an evaluation, let through a run of about 3 h (one
-compiled evaluation costs 1.15 s there: the mass matrix's Cholesky solve grows as n^3). The same
-machine scaled down: 75 rotors chained by gears, 306 coordinates (3 ms an evaluation), with the
-CPU limit lowered so that its 21 output times are over it. The truth the estimate is checked
+compiled evaluation cost 1.15 s there: the mass matrix's Cholesky solve grew as n^3; 4.3 ms since
+sim27o's reordered solve). The same machine scaled down: 75 rotors chained by gears, 306
+coordinates (0.17 ms an evaluation; 3 ms before), with the CPU limit lowered so that its 201 output
+times are over it. The truth the estimate is checked
 against is the CPU time the run then takes (``--allow-long``): the estimate is a low bound.
 """
 
@@ -32,7 +33,7 @@ simulate_module = importlib.import_module("rotordyn_modal.simulation.simulate")
 
 ROTORS = 75                 # 306 coordinates
 SPEED = 100.0               # rad/s of the first rotor
-DURATION, SAMPLES = 0.01, 21
+DURATION, SAMPLES = 0.01, 201
 LIMIT_MINUTES = "0.002"     # 0.12 s of CPU
 
 

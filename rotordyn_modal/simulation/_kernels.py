@@ -490,7 +490,8 @@ def compiled_namespace():
     namespace = compile_together(functions, {"np": np, "FREE": FREE, "PRESCRIBED": PRESCRIBED,
                                              "SERIES_ANGLE": kinematics.SERIES_ANGLE}, __name__)
     fast = compile_together([getattr(_fast, name) for name in _fast.FUNCTIONS],
-                            {"np": np, "SERIES": _fast.SERIES}, _fast.__name__, inlined=_fast.INLINED)
+                            {"np": np, "SERIES": _fast.SERIES, "ORDERED_FROM": _fast.ORDERED_FROM}, _fast.__name__,
+                            inlined=_fast.INLINED)
     for name in _FAST:     # looked up by the readable callers when they compile, on first call
         namespace[name] = fast[name]
     compiled = types.SimpleNamespace(**{name: namespace[name] for name in _KERNELS})

@@ -153,7 +153,7 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     if large:
         timed = _check_before_eigenvalues(kn, system, extra, duration, rate, samples, speed)
         # the output times given, the rate only enters the checks: its bound serves where they pass
-        rate = _Bounded(lambda: _fastest_rate(model, speed, final_speed, announce=True),
+        rate = _Bounded(lambda: _fastest_rate(model, speed, final_speed, announce=True, progress=progress),
                         _most_rate(model, speed, final_speed) if samples else None)
         _checked_with(lambda: _check_duration(duration, rate.value), rate)
     else:
@@ -226,8 +226,9 @@ _TIMED_SAMPLES = 20
 
 
 #: below this many coordinates one compiled right-hand side evaluation costs less than 10 ms
-#: (its Cholesky solve grows as n^3: 1.15 ms at 206 coordinates, 1.15 s at 2,006, 500 geared
-#: rotors), the bound under which :func:`_check_cpu_time` skips timing a short run
+#: (while its Cholesky solve grew as n^3, 1.15 ms at 206 coordinates, 1.15 s at 2,006, 500 geared
+#: rotors; 4.3 ms there solved rotor by rotor, ``_fast._solve_order``), the bound under which
+#: :func:`_check_cpu_time` skips timing a short run
 _SMALL_DOF = 300
 
 
@@ -373,20 +374,30 @@ def _most_steps(model, speed, duration, impulse):
 def _most_rate(model, speed, final_speed):
     """An upper bound of :func:`_fastest_rate` [rad/s] (the same arguments): at the same speed, the
     largest ``|lambda|`` (ARPACK, times :data:`_ARPACK_MARGIN`) for the largest ``|Im lambda|``.
-    None where ARPACK fails (the exact rate is then made)."""
+    None where ARPACK fails or the model is at fault (the exact rate is then made, and refuses)."""
+    try:
+        natural = _at_first_speed(model, speed, final_speed, lambda matrix: _largest_modulus(matrix) * _ARPACK_MARGIN)
+    except (ModelError, _NoBound):
+        return None
+    return max(_fastest_spin(model, speed, final_speed), natural)
+
+
+def _at_first_speed(model, speed, final_speed, solve) -> float:
+    """``solve`` (a function of a state matrix, to a number) on the linear model's state matrix at the
+    first of the speeds 0, ``speed`` and ``final_speed`` [rad/s] that the model takes (bearing tables
+    may not reach 0); 0 where it takes none (a model without restoring force still simulates). A fault
+    of the model (:class:`ModelError`, not of one speed) and :class:`_NoBound` raise."""
     from ..analysis import _arguments
     from ..linear_system import speed_linear_form
 
-    fastest_spin = _fastest_spin(model, speed, final_speed)
     for at in [v for v in (0.0, speed, final_speed) if v is not None]:
         try:
-            matrix = speed_linear_form(model).at(_arguments.speed(at))
-            return max(fastest_spin, _largest_modulus(matrix) * _ARPACK_MARGIN)
+            return solve(speed_linear_form(model).at(_arguments.speed(at)))
         except (ModelError, _NoBound):
-            return None                  # the exact rate: the model's fault refused, or the dense solution
-        except Exception:  # noqa: BLE001 - as _fastest_rate: a speed the model cannot take
+            raise
+        except Exception:  # noqa: BLE001 - a speed the model cannot take: the next one
             continue
-    return fastest_spin
+    return 0.0
 
 
 class _NoBound(RuntimeError):
@@ -581,10 +592,15 @@ def _integrate_compiled(kn, system, extra, y0, times, rtol, atol, bar):
     # compiled (or loaded from numba's cache) here, from Python, not on the first call from
     # inside the Fortran integrator's callback (docs/DEVELOPING.md, "numba's cache")
     kn.rhs_flat(times[0], y0, *arguments)
+    rhs_flat, (floats, ints) = kn.rhs_flat, arguments
+
+    def rhs(t, y):     # the arguments bound here, not as f_params: see _stop_at_a_step_when
+        return rhs_flat(t, y, floats, ints)
+
     with _signals_noted() as caught:
-        solver = ode(kn.rhs_flat).set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
+        solver = ode(rhs).set_integrator("dop853", rtol=rtol, atol=atol, nsteps=10**9)
         _stop_at_a_step_when(solver, caught)
-        solver.set_initial_value(y0, times[0]).set_f_params(*arguments)
+        solver.set_initial_value(y0, times[0])
         return _output_times(solver, times, y0, bar, caught)
 
 
@@ -592,18 +608,20 @@ def _stop_at_a_step_when(solver, caught):
     """Make the DOP853 ``solver`` (scipy's ``ode``, before its initial value is set) stop at the end
     of its step in progress once the list ``caught`` is not empty.
 
-    The step callback (``solout``) is the only Python code that runs while DOP853 drives the compiled
-    right-hand side, so a signal's Python handler runs there, at the end of a step. It must not
-    raise: an exception inside it does not stop scipy 1.17's DOP853, which then crawls on with
-    steps of 1e-10 s for ever. It takes any arguments: scipy 1.17 passes the right-hand side's
-    ``f_params`` to it too, and its own wrapper, which takes ``(t, y)`` only, raises TypeError
-    (sim27k's attempt hung on that). ``iout = 1`` only calls it: the steps and the results are the
-    same as without it."""
-    def step(*_):
-        return -1 if caught else 0
+    The step callback (``solout``, scipy's public ``ode.set_solout``) is the only Python code that
+    runs while DOP853 drives the compiled right-hand side, so a signal's Python handler runs there,
+    at the end of a step. It must not raise: an exception inside it does not stop scipy 1.17's
+    DOP853, which then crawls on with steps of 1e-10 s for ever. The right-hand side must take no
+    ``f_params``: scipy 1.17's DOP853 passes them to the callback too, and its own wrapper, which
+    takes ``(t, y)`` only, raises TypeError (sim27k's attempt hung on that). ``iout = 1`` only calls
+    it: the steps and the results are the same as without it. It is also called at the start point
+    of each ``integrate`` (``solver.t``, before any step), where stopping fails the solver for good
+    (return code -3, "step size too small"): a signal noted between two output times stops it at
+    the end of the next one's first step instead."""
+    def step(t, *_):
+        return -1 if caught and t != solver.t else 0
 
     solver.set_solout(step)
-    solver._integrator._solout = step   # read by reset(), from set_initial_value
 
 
 def _output_times(solver, times, y0, bar, caught):
@@ -768,52 +786,86 @@ def _fastest_spin(model, speed, final_speed) -> float:
     return max(abs(speed), abs(final_speed or 0.0)) * max(abs(r) for r in model.speed_ratios.values())
 
 
-def _fastest_rate(model, speed, final_speed, announce=False):
+def _fastest_rate(model, speed, final_speed, announce=False, progress=False):
     """The fastest of the rotors' spins and the natural frequencies at rest [rad/s].
 
     The natural frequencies are the state matrix's eigenvalues alone (the largest ``|Im lambda|``,
     as ``modal``'s): no shapes, whirl forms or repeated roots' resolution, which took over 5 min
-    of CPU time at 2,006 coordinates (500 geared rotors) before the CPU estimate was made.
-    ``announce``: say so on stderr first where that takes long (:data:`_ANNOUNCED_DOF` coordinates
-    or more: 22 s of CPU time at 2,006, more than 100 s on a loaded machine)."""
-    if announce and model.dofs.n >= _ANNOUNCED_DOF:
-        import sys
+    of CPU time at 2,006 coordinates (500 geared rotors) before the CPU estimate was made; on a
+    large machine only its largest roots (:func:`_largest_frequency`). ``announce``: say so on
+    stderr first where the dense eigenvalues are made at a size where they take long
+    (:data:`_ANNOUNCED_DOF` coordinates or more: 22 s of CPU time at 2,006, more than 100 s on a
+    loaded machine). ``progress``: the work shown as a :func:`~rotordyn_modal._progress.phase`."""
+    from .._progress import phase
 
-        print(EIGENVALUE_NOTICE.format(2 * model.dofs.n), file=sys.stderr, flush=True)
-    fastest_spin = _fastest_spin(model, speed, final_speed)
-    natural = 0.0
-    for at in [v for v in (0.0, speed, final_speed) if v is not None]:  # tables may not reach 0
-        try:
-            natural = max(natural, _largest_frequency(model, at))
-            break
-        except ModelError:   # a fault of the model (not of one speed) refuses the simulation too
-            raise
-        except Exception:  # noqa: BLE001 - a model without restoring force still simulates
-            continue
-    return max(fastest_spin, natural)
+    with phase(progress, "simulate: the natural frequencies, for the default output times"):
+        natural = _at_first_speed(model, speed, final_speed, lambda matrix: _largest_frequency(matrix, announce))
+    return max(_fastest_spin(model, speed, final_speed), natural)
 
 
 #: coordinates from which the natural frequencies that set the default output times are
-#: announced (:data:`EIGENVALUE_NOTICE`)
+#: announced where they are the dense eigenvalues (:data:`EIGENVALUE_NOTICE`)
 _ANNOUNCED_DOF = 1000
 #: the line on stderr before the natural frequencies of a large machine (the number of states)
 EIGENVALUE_NOTICE = ("simulate: the natural frequencies of the {:,} states of the linear model, for the default "
                      "output times (seconds to minutes at this size; --samples spares them)...")
+#: coordinates (half the states) from which the largest natural frequency is first sought among
+#: the largest roots (:func:`_largest_imaginary`) rather than among all of them
+_KRYLOV_DOF = _SMALL_DOF
+#: how many roots of largest ``|lambda|`` ARPACK is asked for, in turn, until they hold the largest
+#: ``|Im lambda|`` (:func:`_largest_imaginary`)
+_KRYLOV_COUNTS = (4, 8, 16, 32)
 
 
-def _largest_frequency(model, speed) -> float:
-    """The largest ``|Im lambda|`` [rad/s] of the linear model's roots at ``speed`` [rad/s]
-    (eigenvalues only, one BLAS thread as every dense eigen-solution); a model fault raises
-    :class:`ModelError` as ``modal`` does."""
+def _largest_frequency(matrix, announce=False) -> float:
+    """The largest ``|Im lambda|`` [rad/s] of the state ``matrix`` (n, n): among its largest roots
+    (:func:`_largest_imaginary`) from :data:`_KRYLOV_DOF` coordinates, else (or where that does not
+    settle it) from the dense eigenvalues, on one BLAS thread as every dense eigen-solution
+    (announced on stderr first from :data:`_ANNOUNCED_DOF` coordinates where ``announce``)."""
     import scipy.linalg
 
-    from ..analysis import _arguments, _batches
-    from ..linear_system import speed_linear_form
+    from ..analysis import _batches
 
-    matrix = speed_linear_form(model).at(_arguments.speed(speed))
-    with _batches.one_blas_thread(24 * matrix.shape[-1] ** 2):
+    states = matrix.shape[-1]
+    if states >= 2 * _KRYLOV_DOF:
+        try:
+            return _largest_imaginary(matrix)
+        except _NoBound:
+            pass
+    if announce and states >= 2 * _ANNOUNCED_DOF:
+        import sys
+
+        print(EIGENVALUE_NOTICE.format(states), file=sys.stderr, flush=True)
+    with _batches.one_blas_thread(24 * states ** 2):
         values = scipy.linalg.eigvals(matrix)
     return float(np.max(np.abs(values.imag), initial=0.0))
+
+
+def _largest_imaginary(matrix) -> float:
+    """The largest ``|Im lambda|`` of ``matrix`` (n, n) from its ``k`` roots of largest ``|lambda|``
+    (ARPACK to machine precision, its one start vector; ``k`` of :data:`_KRYLOV_COUNTS` in turn):
+    every other root has ``|Im lambda| <= |lambda|`` at most the smallest ``|lambda|`` found, so where
+    the largest ``|Im lambda|`` found is at least that, it is the largest of all. At 2,006
+    coordinates (500 geared rotors, 4,012 states) 0.3 s of CPU time with ``k = 4``, where the dense
+    eigenvalues took 22 s; the same number to 1e-13 (measured: docs/simulate.md). :class:`_NoBound`
+    where no ``k`` settles it (all roots real, or ARPACK fails)."""
+    from scipy.sparse.linalg import eigs
+
+    from .._blas import seeded_start
+
+    for k in _KRYLOV_COUNTS:
+        if k >= matrix.shape[0] - 1:     # ARPACK's eigs takes k < n - 1
+            break
+        try:
+            values = eigs(matrix, k=k, which="LM", tol=0, return_eigenvectors=False, v0=seeded_start(matrix.shape[0]))
+        except Exception:  # noqa: BLE001 - no convergence: more roots, or the dense eigenvalues
+            continue
+        if not np.all(np.isfinite(values)):
+            continue
+        largest = float(np.abs(values.imag).max())
+        if largest >= np.abs(values).min():
+            return largest
+    raise _NoBound("the largest roots do not hold the largest |Im lambda|")
 
 
 def _positive(value, name):

@@ -399,14 +399,16 @@ STATIC_SHARE = 1.0
 #: eigen-solutions of the state matrix (measured 10 on the 20-rotor gear chain, 172 states: the
 #: solution is a small part at that size)
 MODES_SHARE = 10.0
-#: each critical speed's round-off (:func:`critical_round_off`: the balanced norm of its state
-#: matrix), as a share of one eigen-solution (measured 0.018 at 172 states; it falls as 1/n)
-ROUND_OFF_SHARE = 0.03
+#: each critical speed's round-off (:func:`critical_round_off`: its state matrix made and
+#: balanced, work of the square of its size) [CPU s per squared state]: measured 7e-9 at 172
+#: states (1,910 critical speeds of the 20-rotor gear chain in 0.4 s)
+ROUND_OFF_SECONDS = 1e-8
 #: the damped critical speeds the unbalance response looks for
 #: (:func:`..analysis.unbalance_peaks.unresolved_criticals`): eigenvalue-only solutions per
 #: bracket (a mode's frequency crossing a source's line between two swept speeds), the bracket
-#: halved until it is a 64th of the mode's band (measured 7.5 a bracket on the 20-rotor chain)
-HALVINGS = 10.0
+#: halved until it is a 64th of the mode's band (measured on gear chains at 12 and 22 speeds:
+#: 8.1 a bracket at 6 rotors, 8.3 at 10, 7.5 at 20; 4.1 at 60, two of its ratios)
+HALVINGS = 8.0
 #: each API case's peaks cut between swept speeds, refined on the exact response
 #: (:func:`..analysis.unbalance_peaks.cut_maxima`), per bracket of its rotor's line, as a share
 #: of one eigen-solution of the state matrix (measured 0.5 on the 20-rotor chain)
@@ -489,7 +491,7 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
 
     - the static loads: :data:`STATIC_SHARE` of a solution;
     - the Campbell diagram with its 1X critical speeds, their mode numbers and their round-off
-      (:data:`ROUND_OFF_SHARE` a crossing);
+      (:data:`ROUND_OFF_SECONDS` a crossing and squared state);
     - the mode shapes at the MCS: :data:`MODES_SHARE` solutions;
     - the UCS map: :data:`UCS_SHARE` of a solution per value of its stiffness grid and of its
       speed-dependent bearings' curves, and a second map where the bearings' own stiffness lies
@@ -531,13 +533,13 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
         search = (cases * points + HALVINGS * every) * _cost.EIGVALS_SHARE + PEAK_SHARE * every
         ucs = 2 * shares["ucs"]                                                 # and a map widened
         crossings = 2 * model.dofs.n * len(_work._line_slopes(model, (1,)))
-        solutions = (sum(shares.values()) + ucs + search + ROUND_OFF_SHARE * crossings
+        solutions = (sum(shares.values()) + ucs + search + crossings / n_states
                      + (sweep_solutions(grid) if level1 else 0))
         return (_work._quick_bound(model, speeds, (1,), True, True, len(speeds))
                 + solutions * _cost._PESSIMISTIC * float(n_states) ** 3)
     campbell = _work.estimate(model, speeds, (1,), critical=True, numbers=True)
     eig = _work.eig_seconds(campbell.n_states)
-    round_off = ROUND_OFF_SHARE * campbell.crossings * eig
+    round_off = ROUND_OFF_SECONDS * campbell.crossings * float(campbell.n_states) ** 2
     parts = [("static", shares["static"] * eig, "1 solve at the MCS"),
              ("campbell", campbell.seconds + round_off,
               campbell.text().split(" of CPU time (", 1)[1][:-1] + f"; their round-off: {_cost.duration(round_off)}"),

@@ -40,9 +40,11 @@ def _journal(examples_dir):
 
 
 def _over_the_limit(monkeypatch):
-    """1 ms a solution of any size, and a limit below the bound without timing."""
+    """1 ms a solution of any size (and a call of the direct solve), and a limit below the bound
+    without timing."""
     monkeypatch.setattr(_cost, "_timed_eig", lambda size: 1e-3)
     monkeypatch.setattr(_work, "_timed_eig", lambda size: 1e-3)
+    monkeypatch.setattr(collect_module, "_timed_response", lambda model, speed: (1e-3, 1e-4))
     monkeypatch.setenv(_cost.ENVIRONMENT, "1e-6")
 
 
@@ -128,6 +130,7 @@ def test_every_piece_of_the_report_is_in_its_estimate(examples_dir, monkeypatch)
     """The static loads, the critical speeds' round-off, the mode shapes' solution and the
     crossings' dense roots of a small pencil (every root a candidate) are counted."""
     monkeypatch.setattr(_work, "_timed_eig", lambda size: 1.0)
+    monkeypatch.setattr(collect_module, "_timed_response", lambda model, speed: (0.5, 0.25))
     model, inputs = _journal(examples_dir)
     work = collect_module.estimate_work(model, inputs)
     parts = {section: (seconds, what) for section, seconds, what in work.parts}
@@ -138,3 +141,10 @@ def test_every_piece_of_the_report_is_in_its_estimate(examples_dir, monkeypatch)
     round_off = collect_module.ROUND_OFF_SECONDS * campbell.crossings * 8 ** 2      # 8 states
     assert parts["campbell"][0] == pytest.approx(campbell.seconds + round_off)
     assert work.seconds == pytest.approx(sum(seconds for seconds, _ in parts.values()))
+    # the unbalance: 2 API cases at 12 speeds, the damped critical speeds looked for (12
+    # eigenvalue solutions of the one speed ratio, no bracket: one rotor), each case's calls of
+    # the direct solve for its peaks
+    assert parts["unbalance"][1].startswith("2 API unbalance cases at 12 speeds; their damped critical speeds")
+    cases = 2 * (collect_module.CASE_SHARE + collect_module.SOLVE_SHARE * 12)
+    search = 12 * _cost.EIGVALS_SHARE + 2 * collect_module.PEAK_CALLS * 0.5
+    assert parts["unbalance"][0] == pytest.approx(cases + search)

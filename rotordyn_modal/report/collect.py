@@ -410,9 +410,12 @@ ROUND_OFF_SECONDS = 1e-8
 #: 8.1 a bracket at 6 rotors, 8.3 at 10, 7.5 at 20; 4.1 at 60, two of its ratios)
 HALVINGS = 8.0
 #: each API case's peaks cut between swept speeds, refined on the exact response
-#: (:func:`..analysis.unbalance_peaks.cut_maxima`), per bracket of its rotor's line, as a share
-#: of one eigen-solution of the state matrix (measured 0.5 on the 20-rotor chain)
-PEAK_SHARE = 1.0
+#: (:func:`..analysis.unbalance_peaks.cut_maxima`): calls of the response (each assembles the
+#: matrices again; measured 40 a case on the 20-rotor chain) ...
+PEAK_CALLS = 40
+#: ... and speeds solved per bracket of the case's rotor's line (measured 11-40 there, 29 on a case of
+#: the 60-rotor chain)
+PEAK_SPEEDS = 10
 
 
 def _searched_ratios(model, inputs) -> list:
@@ -452,6 +455,29 @@ def _peak_search(model, inputs, n_states) -> tuple:
     distinct = {r for r in ratios if r}
     solutions = len(distinct) * x.size + HALVINGS * sum(brackets(r) for r in distinct)
     return solutions, sum(brackets(r) for r in ratios if r)
+
+
+def _timed_response(model, speed) -> tuple:
+    """CPU seconds of one call of the unbalance response's direct solve
+    (:func:`..analysis.frf.dof_response`) at one speed, and per speed of a call at 8 speeds,
+    near ``speed`` [rad/s]: timed on the model, as it runs (its matrices assembled at each call,
+    the solve with the BLAS threads it takes)."""
+    import time
+
+    from ..analysis import _cost
+    from ..analysis.frf import dof_response
+
+    forces = np.ones((model.dofs.n, 1))
+    times = []
+    for count in (1, 8):
+        w = np.linspace(0.9, 1.1, count) * speed
+        best = np.inf
+        for _ in range(_cost._REPEATS):         # the shortest: a shared machine's single timing varies
+            start = time.process_time()
+            dof_response(model, np.full(count, speed), w, forces)
+            best = min(best, time.process_time() - start)
+        times.append(best)
+    return times[0], times[1] / 8
 
 
 def _ucs_widened(model, inputs) -> int:
@@ -499,7 +525,9 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
       is not counted;
     - the unbalance response: :data:`CASE_SHARE` per case, :data:`SOLVE_SHARE` per case and
       speed, the damped critical speeds it looks for (:func:`_peak_search`, eigenvalues alone)
-      and each case's peaks refined between swept speeds (:data:`PEAK_SHARE` a bracket);
+      and each case's peaks refined between swept speeds (:data:`PEAK_CALLS` calls of the
+      direct solve a case, :data:`PEAK_SPEEDS` speeds a bracket, timed on the model:
+      :func:`_timed_response`);
     - the Level I sweep (:func:`..analysis.level1.sweep_solutions`).
 
     The checks (probe limits, clearances, ISO zones) read the response and solve nothing.
@@ -530,7 +558,7 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
         n_states = 2 * model.dofs.n + 6 * len(model.suspensions)
         grid = int(np.ceil(10 * 10 - 1e-9)) + 1 + _LEVEL1_EXTRA          # factor 10, 10 steps per Qa
         every = 2 * model.dofs.n * cases if "unbalance" in counts else 0        # every mode, every case's line
-        search = (cases * points + HALVINGS * every) * _cost.EIGVALS_SHARE + PEAK_SHARE * every
+        search = (cases * points + HALVINGS * every) * _cost.EIGVALS_SHARE + (cases * PEAK_CALLS + PEAK_SPEEDS * every)
         ucs = 2 * shares["ucs"]                                                 # and a map widened
         crossings = 2 * model.dofs.n * len(_work._line_slopes(model, (1,)))
         solutions = (sum(shares.values()) + ucs + search + crossings / n_states
@@ -552,7 +580,10 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     if "unbalance" in counts:
         what = "API unbalance cases" if inputs.standard != "iso" else "rotors unbalanced"
         search, brackets = _peak_search(model, inputs, campbell.n_states)
-        seconds = (shares["unbalance"] + search * _cost.EIGVALS_SHARE + PEAK_SHARE * brackets) * eig
+        seconds = (shares["unbalance"] + search * _cost.EIGVALS_SHARE) * eig
+        if search:
+            call, per_speed = _timed_response(model, inputs.mcs)
+            seconds += cases * PEAK_CALLS * call + PEAK_SPEEDS * brackets * per_speed
         found = (f"; their damped critical speeds and peaks between speeds: {search:,.0f} eigenvalue solutions, "
                  f"{brackets:,} brackets") if search else ""
         parts.append(("unbalance", seconds, f"{cases:,} {what} at {points:,} speeds{found}"))

@@ -44,7 +44,7 @@ def _over_the_limit(monkeypatch):
     without timing."""
     monkeypatch.setattr(_cost, "_timed_eig", lambda size: 1e-3)
     monkeypatch.setattr(_work, "_timed_eig", lambda size: 1e-3)
-    monkeypatch.setattr(collect_module, "_timed_response", lambda model, speed: (1e-3, 1e-4))
+    monkeypatch.setattr(collect_module, "_timed_response", lambda model, speed: (1e-3, 1e-4), raising=False)
     monkeypatch.setenv(_cost.ENVIRONMENT, "1e-6")
 
 
@@ -130,7 +130,7 @@ def test_every_piece_of_the_report_is_in_its_estimate(examples_dir, monkeypatch)
     """The static loads, the critical speeds' round-off, the mode shapes' solution and the
     crossings' dense roots of a small pencil (every root a candidate) are counted."""
     monkeypatch.setattr(_work, "_timed_eig", lambda size: 1.0)
-    monkeypatch.setattr(collect_module, "_timed_response", lambda model, speed: (0.5, 0.25))
+    monkeypatch.setattr(collect_module, "_timed_response", lambda model, speed: (0.5, 0.25), raising=False)
     model, inputs = _journal(examples_dir)
     work = collect_module.estimate_work(model, inputs)
     parts = {section: (seconds, what) for section, seconds, what in work.parts}

@@ -38,13 +38,16 @@ def examples_dir() -> Path:
 def no_solutions(monkeypatch):
     """Any eigen-solution of a sweep fails the test (a refusal must come before the work), with
     the CPU limit at its default (``ROTORDYN_MODAL_MAX_CPU_MINUTES`` unset)."""
-    from rotordyn_modal.analysis import _eigensolve, _work
+    # unbalance_peaks binds eigenvalues_of when first imported: imported here first (a refusal's
+    # estimate reads it), so that it never keeps the refusing one, and refused there too
+    from rotordyn_modal.analysis import _eigensolve, _work, unbalance_peaks
 
     def refused(*args, **kwargs):
         raise AssertionError("an eigen-solution was started")
 
     monkeypatch.setattr(_eigensolve, "upper_shapes", refused)
     monkeypatch.setattr(_eigensolve, "eigenvalues_of", refused)
+    monkeypatch.setattr(unbalance_peaks, "eigenvalues_of", refused)
     monkeypatch.delenv(_work.ENVIRONMENT, raising=False)
 
 

@@ -179,14 +179,16 @@ def test_a_sweep_is_refused_exactly_where_its_estimate_crosses_the_limit(fan, ca
 
 def test_critical_speeds_are_refused_exactly_where_their_estimate_crosses_the_limit(fan, capsys, monkeypatch,
                                                                                   tmp_path):
-    """The sweep, the crossings' refinement (a dense pencil factored: 1/75 of a solution) and their
-    mode numbers (eigenvalues alone at half of them), from the crossings counted."""
+    """The sweep, the crossings' refinement (a dense pencil factored: 1/75 of a solution, and all
+    its roots' eigenvalues at half of them) and their mode numbers (eigenvalues alone at half of
+    them), from the crossings counted."""
     _timing(monkeypatch)
     model = rdm.load_model(fan)
     speeds = rdm.rpm(np.linspace(0, 9000, 31))
     crossings = _work.expected_crossings(model, speeds, (1.0,))
     assert crossings > 0
     estimate = (31 * ONE + crossings * (_work._COORDINATE_SECONDS * 16 + ONE / 75)
+                + crossings * 0.5 * _cost.EIGVALS_SHARE * ONE          # every root a candidate (16 <= 96)
                 + crossings * 0.5 * _cost.EIGVALS_SHARE * ONE)
     argv = ["critical-speeds", fan, "--speeds", "0:9000:31", "--out", tmp_path / "out.csv"]
     _limit(monkeypatch, 0.98 * estimate)

@@ -112,7 +112,7 @@ def test_the_report_estimate_counts_what_the_report_then_solves(monkeypatch, cap
     # 41 values and the two speed-dependent bearings' curves, 2 x 200 points each (the rigid
     # supports counted: pinned at both bearings the rotor has no mode left to solve)
     assert ucs - 1 <= sum(mapped) <= ucs and sum(mapped) > 800
-    assert parts["unbalance"] == f"{len(cases[0])} API unbalance cases at {len(inputs.speeds)} speeds"
+    assert parts["unbalance"].startswith(f"{len(cases[0])} API unbalance cases at {len(inputs.speeds)} speeds")
     assert parts["campbell"].startswith(f"{len(inputs.speeds)} eigen-solutions of 8 states")
 
 

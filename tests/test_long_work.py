@@ -117,6 +117,7 @@ def test_the_work_is_one_solution_per_speed_and_the_crossings_cost_per_coordinat
     assert (work.n_dof, work.n_states, work.solutions) == (16, 32, 41)
     assert work.sweep_seconds == pytest.approx(41 * eig)
     per = _work._COORDINATE_SECONDS * 16 + _work._FACTOR_SHARE * eig          # a dense pencil (16 < SPARSE_DOF)
+    per += _work._DENSE_ROOTS * _cost.EIGVALS_SHARE * eig          # every root a candidate (16 <= 96)
     assert work.crossing_seconds == pytest.approx(work.crossings * per)
     assert work.numbers_seconds == pytest.approx(work.crossings * _work._NUMBERS_SHARE * _cost.EIGVALS_SHARE * eig)
     assert _work.estimate(model, speeds, (1, 2), critical=False).crossings == 0

@@ -17,7 +17,8 @@ The estimate adds three parts (``docs/theory.md``, "How long a sweep takes"):
   coordinate (residual inverse iteration on the pencil, its whirl ratio and fingerprint:
   measured 2.8 ms at 126, 6.5 ms at 406, 25-35 ms at 2,006 coordinates), plus a dense
   factorisation of the pencil per crossing where the pencil is factored dense (below
-  ``_pencils.SPARSE_DOF`` coordinates);
+  ``_pencils.SPARSE_DOF`` coordinates) and ``_DENSE_ROOTS`` eigenvalue-only solutions where its
+  candidates are every root (up to ``_pencils.NEAREST_ROOTS_DOF`` coordinates);
 - the numbers ``modes --speed`` gives the critical speeds' modes (``critical-speeds``' column
   ``mode_at_speed``): the roots solved at a share ``_NUMBERS_SHARE`` of the crossings, each the
   eigenvalues alone (``_cost.EIGVALS_SHARE`` of a solution with vectors).
@@ -49,6 +50,11 @@ __all__ = ["ENVIRONMENT", "DEFAULT_MINUTES", "Work", "limit_seconds", "eig_secon
 _COORDINATE_SECONDS = 15e-6
 #: a dense factorisation of the pencil costs about this share of a dense eigen-solution
 _FACTOR_SHARE = 1 / 75
+#: eigenvalue-only solutions of the whole state matrix per crossing where the pencil has at most
+#: ``_pencils.NEAREST_ROOTS_DOF`` coordinates (its candidates are all the roots, not the nearest
+#: by shift-invert Arnoldi): measured 0.49 on the 20-rotor gear chain (86 coordinates, 1,889
+#: crossings at 22 speeds)
+_DENSE_ROOTS = 0.5
 #: share of the crossings whose mode number is solved for (measured on grids of 11 speeds: 0.36
 #: on the 126-coordinate chain, 0.53 on the 406-coordinate one; 0.16 on a grid 6 times finer,
 #: none on the bundled examples)
@@ -217,6 +223,8 @@ def _crossing_seconds(n_dof: int, n_states: int, eig: float) -> float:
     from . import _pencils
 
     dense = eig * _FACTOR_SHARE if n_dof < _pencils.SPARSE_DOF else 0.0
+    if n_dof <= _pencils.NEAREST_ROOTS_DOF:             # every root of the state matrix a candidate
+        dense += _DENSE_ROOTS * _cost.EIGVALS_SHARE * eig
     return _COORDINATE_SECONDS * n_dof + dense
 
 

@@ -100,7 +100,6 @@ def add_arguments(parser):
 
 def run(args) -> int:
     from ..report import collect, render_html
-    from ..report.collect import refuse_long_work
 
     check_ending(args.out, (".html", ".htm"), "--out", stdout=False)
     check_ending(args.pdf, (".pdf",), "--pdf", stdout=False)
@@ -111,10 +110,10 @@ def run(args) -> int:
     inputs = _inputs(args)
     model = open_model(args)
     _check_tables(model, inputs, args)
-    refuse_long_work(model, inputs)          # before any section: one line with the estimate, nothing written
     import matplotlib
 
     matplotlib.use("Agg")
+    # refused before any section where over the limit (one line with the estimate, nothing written)
     data = collect(model, inputs, progress=show_progress(args))
     units = getattr(args, "units", None) or "si"
     html = render_html(data, units=units)

@@ -240,14 +240,41 @@ class ReportData:
     warnings: list = field(default_factory=list)
 
 
-def collect(model, inputs: ReportInputs, progress: bool = False) -> ReportData:
+def collect(model, inputs: ReportInputs, progress: bool = False, allow_long: bool = False) -> ReportData:
     """Run the analyses of ``inputs.standard`` on ``model`` (``progress``: a line naming the section
     under way, with its elapsed time, where it runs more than a few seconds).
+
+    Work estimated to take more CPU time than the limit in force (``ROTORDYN_MODAL_MAX_CPU_MINUTES``,
+    30 min by default) is refused before any section runs (:func:`refuse_long_work`), as the
+    ``report`` command refuses it, unless ``allow_long`` (the command's ``--allow-long``) or inside
+    ``rdm.long_work_allowed()``.
+
+    Parameters
+    ----------
+    model : Model
+    inputs : ReportInputs
+    progress : bool
+    allow_long : bool
+        Run work estimated over the limit anyway (the sections' own refusals lifted too).
 
     Returns
     -------
     ReportData
+
+    Raises
+    ------
+    InputError
+        Bad inputs, or work over the limit: ``MODEL: this report of N coordinates would take about
+        ... of CPU time (...), more than the limit of 30 min: ...``.
     """
+    from ..analysis._cost import long_work_allowed, long_work_is_allowed
+
+    with long_work_allowed(allow_long or long_work_is_allowed()):
+        return _collected(model, inputs, progress)
+
+
+def _collected(model, inputs, progress) -> ReportData:
+    """:func:`collect`, its limit of CPU time as :func:`..analysis._cost.long_work_is_allowed` says."""
     if inputs.standard not in STANDARDS:
         raise InputError(f"standard {inputs.standard!r}: expected one of {', '.join(STANDARDS)}")
     if not (np.isfinite(inputs.mcs) and inputs.mcs > 0):
@@ -259,6 +286,7 @@ def collect(model, inputs: ReportInputs, progress: bool = False) -> ReportData:
     if high > inputs.mcs * (1 + 1e-12):
         raise InputError(f"operating range {low!r}:{high!r} rad/s: expected its top at most the maximum continuous "
                          f"speed {inputs.mcs!r} rad/s (the top of the operating range)")
+    refuse_long_work(model, inputs)          # before any section: one line with the estimate
     data = ReportData(inputs, model, model_summary(model), STANDARDS[inputs.standard])
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -330,16 +358,11 @@ def _sweep_counts(model, inputs) -> dict:
     """What each section of ``inputs.standard`` solves, from the sizes (no matrix): section id
     -> count (eigen-solutions of the sweep, values of the UCS map, (cases, speeds) of the
     unbalance response, or the Level I sweep's values of Q before its machine's own points)."""
-    from ..analysis.ucs_map import _CURVE_POINTS, _constant_values
-
     sections, speeds = STANDARDS[inputs.standard], len(inputs.speeds)
     counts = {"campbell": speeds, "modes": 1}
     if "ucs" in sections and model.bearings:
         stiffness = UCS_STIFFNESS if inputs.stiffness is None else np.asarray(inputs.stiffness, dtype=float)
-        # the grid (its own values and the constant bearings'), the rigid supports, and each
-        # speed-dependent bearing's Kxx and Kyy curves (their crossings' refinement not counted)
-        curves = sum(b.coefficients.kind != "constant" for b in model.bearings)
-        counts["ucs"] = len(np.union1d(stiffness, _constant_values(model.bearings))) + 1 + 2 * _CURVE_POINTS * curves
+        counts["ucs"] = _map_values(model, stiffness)
     if "unbalance" in sections and model.sensors:
         if inputs.standard != "iso":
             counts["unbalance"] = (_api_cases(model), speeds)
@@ -352,33 +375,162 @@ def _api_cases(model) -> int:
     """How many API unbalance cases :func:`..analysis.unbalance_checks.api_unbalance_cases`
     makes, without making them (each is a model of its own): a static case per turning rotor,
     and a couple case for one on bearings at two axial places or more."""
-    count = 0
+    return len(_api_case_ratios(model))
+
+
+def _api_case_ratios(model) -> list:
+    """The speed ratio of each API unbalance case's rotor, in the order
+    :func:`..analysis.unbalance_checks.api_unbalance_cases` makes them (not made here)."""
+    ratios = []
     for rotor in model.rotors:
         if rotor.speed_ratio == 0:
             continue
         centre = np.asarray(rotor.center_of_mass, dtype=float)
         places = {float((np.asarray(b.position, dtype=float) - centre) @ model.spin_axis)
                   for b in model.bearings_of(rotor.name)}
-        count += 1 + (len(places) >= 2)
-    return count
+        ratios += [abs(float(rotor.speed_ratio))] * (1 + (len(places) >= 2))
+    return ratios
+
+
+#: the static loads (one solve of the stiffness at the MCS, the shafts' stresses), as a share of
+#: one dense eigen-solution of the state matrix (measured below 0.01 on the gear chains)
+STATIC_SHARE = 1.0
+#: the mode shapes at the MCS (``modal``: its eigen-solution, the modes' names and numbers), in
+#: eigen-solutions of the state matrix (measured 10 on the 20-rotor gear chain, 172 states: the
+#: solution is a small part at that size)
+MODES_SHARE = 10.0
+#: each critical speed's round-off (:func:`critical_round_off`: its state matrix made and
+#: balanced, work of the square of its size) [CPU s per squared state]: measured 7e-9 at 172
+#: states (1,910 critical speeds of the 20-rotor gear chain in 0.4 s)
+ROUND_OFF_SECONDS = 1e-8
+#: the damped critical speeds the unbalance response looks for
+#: (:func:`..analysis.unbalance_peaks.unresolved_criticals`): eigenvalue-only solutions per
+#: bracket (a mode's frequency crossing a source's line between two swept speeds), the bracket
+#: halved until it is a 64th of the mode's band (measured on gear chains at 12 and 22 speeds:
+#: 8.1 a bracket at 6 rotors, 8.3 at 10, 7.5 at 20; 4.1 at 60, two of its ratios)
+HALVINGS = 8.0
+#: each API case's peaks cut between swept speeds, refined on the exact response
+#: (:func:`..analysis.unbalance_peaks.cut_maxima`): calls of the response (each assembles the
+#: matrices again; measured 40 a case on the 20-rotor chain) ...
+PEAK_CALLS = 40
+#: ... and speeds solved per bracket of the case's rotor's line (measured 11-40 there, 29 on a case of
+#: the 60-rotor chain)
+PEAK_SPEEDS = 10
+
+
+def _searched_ratios(model, inputs) -> list:
+    """The speed ratio of each source whose damped critical speeds the unbalance response looks
+    for: each API case's rotor (each unbalanced rotor for ``iso``)."""
+    if inputs.standard != "iso":
+        return _api_case_ratios(model)
+    rotors = sorted({u.rotor for u in model.unbalances})
+    return [abs(float(model.rotor(name).speed_ratio)) for name in rotors]
+
+
+def _peak_search(model, inputs, n_states) -> tuple:
+    """``(eigenvalue-only solutions, brackets of every source)`` of the unbalance response's search
+    for damped critical speeds and peaks between swept speeds (0, 0 where it does not look for
+    them: :func:`..analysis.unbalance_peaks.not_looked_for`'s rule, from the sizes). The brackets
+    are counted from the undamped machine's frequencies at the middle speed
+    (:func:`..analysis._work._undamped_frequencies`) between each ratio's line's ends: the
+    search solves every swept speed once a distinct ratio and :data:`HALVINGS` a bracket."""
+    from ..analysis import _work
+    from ..assembly import is_large
+
+    x = np.unique(np.abs(inputs.speeds))
+    ratios = _searched_ratios(model, inputs)
+    if not ratios or x.size < 2 or is_large(model):
+        return 0.0, 0
+    # imported here, not first: it binds _eigensolve's functions when first imported (tests replace them)
+    from ..analysis import unbalance_peaks
+
+    if x.size * float(n_states) ** 3 > unbalance_peaks._WORK:
+        return 0.0, 0
+    frequencies = _work._undamped_frequencies(model, float(x[len(x) // 2]))
+    frequencies = np.zeros(0) if frequencies is None else np.sort(frequencies[frequencies > 0])
+
+    def brackets(r):
+        return int(np.searchsorted(frequencies, r * x.max()) - np.searchsorted(frequencies, r * x.min()))
+
+    distinct = {r for r in ratios if r}
+    solutions = len(distinct) * x.size + HALVINGS * sum(brackets(r) for r in distinct)
+    return solutions, sum(brackets(r) for r in ratios if r)
+
+
+def _timed_response(model, speed) -> tuple:
+    """CPU seconds of one call of the unbalance response's direct solve
+    (:func:`..analysis.frf.dof_response`) at one speed, and per speed of a call at 8 speeds,
+    near ``speed`` [rad/s]: timed on the model, as it runs (its matrices assembled at each call,
+    the solve with the BLAS threads it takes)."""
+    import time
+
+    from ..analysis import _cost
+    from ..analysis.frf import dof_response
+
+    forces = np.ones((model.dofs.n, 1))
+    times = []
+    for count in (1, 8):
+        w = np.linspace(0.9, 1.1, count) * speed
+        best = np.inf
+        for _ in range(_cost._REPEATS):         # the shortest: a shared machine's single timing varies
+            start = time.process_time()
+            dof_response(model, np.full(count, speed), w, forces)
+            best = min(best, time.process_time() - start)
+        times.append(best)
+    return times[0], times[1] / 8
+
+
+def _ucs_widened(model, inputs) -> int:
+    """Values (as :func:`_map_values` counts them) of the second UCS map :func:`_ucs` makes where the bearings' own stiffness lies
+    outside the default grid (:func:`ucs_stiffness`), 0 where it does not: the constant bearings'
+    values, and the speed-dependent ones' at the ends of the operating range (as the map's own
+    curves give them, not solved here)."""
+    from types import SimpleNamespace
+
+    from ..analysis.ucs_map import _direct, _radial_axes
+    from ..elements.bearings import evaluate
+
+    if inputs.stiffness is not None or not model.bearings:
+        return 0
+    curves = []
+    for bearing in model.bearings:
+        if bearing.coefficients.kind == "constant":
+            k = np.asarray(bearing.coefficients.stiffness[:1], dtype=float)
+        else:
+            ratio = model.rotor(bearing.rotor).speed_ratio
+            try:
+                k = evaluate(bearing.coefficients, ratio * np.asarray(inputs.range, dtype=float), str(model.source))[0]
+            except InputError:                  # no film there: the map's own curve decides
+                continue
+        kxx, kyy = _direct(k, _radial_axes(bearing))
+        curves.append(SimpleNamespace(constant=True, kxx=kxx, kyy=kyy))
+    wider = ucs_stiffness(SimpleNamespace(curves=curves, stiffness=UCS_STIFFNESS), inputs.range)
+    return 0 if wider is None else _map_values(model, wider)
 
 
 def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     """The CPU time the report's sections are estimated to take [s], before any of them runs.
 
-    The sweeps of eigen-solutions are counted as ``campbell``, ``critical-speeds`` and
-    ``stability`` count theirs (:func:`..analysis._work.estimate`, one dense eigen-solution of
-    the state matrix timed on this machine and scaled by the cube of its size): the Campbell
-    diagram with its 1X critical speeds and their mode numbers, the mode shapes at the MCS (one
-    solution), the UCS map (:data:`UCS_SHARE` of a solution per value of its stiffness grid
-    and of its speed-dependent bearings' curves),
-    the API unbalance cases (:data:`CASE_SHARE` per case, :data:`SOLVE_SHARE` per case and
-    speed) and the Level I sweep (:func:`..analysis.level1.sweep_solutions`). Not counted: the
-    static loads (one solve), a UCS map widened to the bearings' own stiffness (a second map
-    where they lie outside the first) and the refinement of its curves' crossings, the damped
-    critical speeds the unbalance response looks for (bounded by
-    :data:`..analysis.unbalance_peaks._WORK`, about a second a rotor's speed ratio), the whirl
-    forms of repeated roots.
+    Every piece of work is counted in dense eigen-solutions of the state matrix, as
+    ``campbell``, ``critical-speeds`` and ``stability`` count theirs (:func:`..analysis._work.estimate`:
+    one solution timed on this machine and scaled by the cube of its size):
+
+    - the static loads: :data:`STATIC_SHARE` of a solution;
+    - the Campbell diagram with its 1X critical speeds, their mode numbers and their round-off
+      (:data:`ROUND_OFF_SECONDS` a crossing and squared state);
+    - the mode shapes at the MCS: :data:`MODES_SHARE` solutions;
+    - the UCS map: :data:`UCS_SHARE` of a solution per value of its stiffness grid and of its
+      speed-dependent bearings' curves, and a second map where the bearings' own stiffness lies
+      outside the default grid (:func:`_ucs_widened`); the refinement of its curves' crossings
+      is not counted;
+    - the unbalance response: :data:`CASE_SHARE` per case, :data:`SOLVE_SHARE` per case and
+      speed, the damped critical speeds it looks for (:func:`_peak_search`, eigenvalues alone)
+      and each case's peaks refined between swept speeds (:data:`PEAK_CALLS` calls of the
+      direct solve a case, :data:`PEAK_SPEEDS` speeds a bracket, timed on the model:
+      :func:`_timed_response`);
+    - the Level I sweep (:func:`..analysis.level1.sweep_solutions`).
+
+    The checks (probe limits, clearances, ISO zones) read the response and solve nothing.
 
     Parameters
     ----------
@@ -387,7 +539,7 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     quick : bool
         A pessimistic bound [s] from the sizes alone instead (no timing, no matrices: every mode
         crossing every order line, :data:`.._cost._PESSIMISTIC` per cubed state, the Level I
-        sweep with :data:`_LEVEL1_EXTRA` more values).
+        sweep with :data:`_LEVEL1_EXTRA` more values, every mode a bracket of every source).
 
     Returns
     -------
@@ -400,27 +552,55 @@ def estimate_work(model, inputs, quick: bool = False) -> "ReportWork | float":
     speeds = inputs.speeds
     level1 = inputs.level1 if "level1" in STANDARDS[inputs.standard] else None
     cases, points = counts.get("unbalance", (0, 0))
-    shares = {"modes": 1.0, "ucs": UCS_SHARE * counts.get("ucs", 0),
+    shares = {"static": STATIC_SHARE, "modes": MODES_SHARE, "ucs": UCS_SHARE * counts.get("ucs", 0),
               "unbalance": cases * (CASE_SHARE + SOLVE_SHARE * points)}
     if quick:
         n_states = 2 * model.dofs.n + 6 * len(model.suspensions)
         grid = int(np.ceil(10 * 10 - 1e-9)) + 1 + _LEVEL1_EXTRA          # factor 10, 10 steps per Qa
-        solutions = sum(shares.values()) + (sweep_solutions(grid) if level1 else 0)
+        every = 2 * model.dofs.n * cases if "unbalance" in counts else 0        # every mode, every case's line
+        search = (cases * points + HALVINGS * every) * _cost.EIGVALS_SHARE + (cases * PEAK_CALLS + PEAK_SPEEDS * every)
+        ucs = 2 * shares["ucs"]                                                 # and a map widened
+        crossings = 2 * model.dofs.n * len(_work._line_slopes(model, (1,)))
+        solutions = (sum(shares.values()) + ucs + search + crossings / n_states
+                     + (sweep_solutions(grid) if level1 else 0))
         return (_work._quick_bound(model, speeds, (1,), True, True, len(speeds))
                 + solutions * _cost._PESSIMISTIC * float(n_states) ** 3)
     campbell = _work.estimate(model, speeds, (1,), critical=True, numbers=True)
     eig = _work.eig_seconds(campbell.n_states)
-    parts = [("campbell", campbell.seconds, campbell.text().split(" of CPU time (", 1)[1][:-1]),
-             ("modes", eig, f"1 eigen-solution of {campbell.n_states:,} states")]
+    round_off = ROUND_OFF_SECONDS * campbell.crossings * float(campbell.n_states) ** 2
+    parts = [("static", shares["static"] * eig, "1 solve at the MCS"),
+             ("campbell", campbell.seconds + round_off,
+              campbell.text().split(" of CPU time (", 1)[1][:-1] + f"; their round-off: {_cost.duration(round_off)}"),
+             ("modes", shares["modes"] * eig, f"1 eigen-solution of {campbell.n_states:,} states")]
     if "ucs" in counts:
-        parts.append(("ucs", shares["ucs"] * eig, f"{counts['ucs']:,} stiffness values"))
+        wider = _ucs_widened(model, inputs)
+        values = counts["ucs"] + wider
+        parts.append(("ucs", UCS_SHARE * values * eig, f"{values:,} stiffness values"
+                      + (f" (a second map of {wider:,} reaching the bearings' own stiffness)" if wider else "")))
     if "unbalance" in counts:
         what = "API unbalance cases" if inputs.standard != "iso" else "rotors unbalanced"
-        parts.append(("unbalance", shares["unbalance"] * eig, f"{cases:,} {what} at {points:,} speeds"))
+        search, brackets = _peak_search(model, inputs, campbell.n_states)
+        seconds = (shares["unbalance"] + search * _cost.EIGVALS_SHARE) * eig
+        if search:
+            call, per_speed = _timed_response(model, inputs.mcs)
+            seconds += cases * PEAK_CALLS * call + PEAK_SPEEDS * brackets * per_speed
+        found = (f"; their damped critical speeds and peaks between speeds: {search:,.0f} eigenvalue solutions, "
+                 f"{brackets:,} brackets") if search else ""
+        parts.append(("unbalance", seconds, f"{cases:,} {what} at {points:,} speeds{found}"))
     if level1:
         count = sweep_size(model, inputs.mcs, level1["stations"], level1["qa"], shares=level1.get("shares"))
         parts.append(("level1", sweep_solutions(count) * eig, f"{count:,} values of Q"))
     return ReportWork(campbell.n_dof, campbell.n_states, tuple(parts))
+
+
+def _map_values(model, stiffness) -> int:
+    """Values a UCS map of ``stiffness`` (G,) [N/m] solves: its grid with the constant bearings'
+    values, the rigid supports, and each speed-dependent bearing's Kxx and Kyy curves (their
+    crossings' refinement not counted)."""
+    from ..analysis.ucs_map import _CURVE_POINTS, _constant_values
+
+    curves = sum(b.coefficients.kind != "constant" for b in model.bearings)
+    return len(np.union1d(stiffness, _constant_values(model.bearings))) + 1 + 2 * _CURVE_POINTS * curves
 
 
 def refuse_long_work(model, inputs) -> "ReportWork | None":

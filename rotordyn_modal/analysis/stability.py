@@ -9,10 +9,10 @@ import numpy as np
 import scipy.linalg.lapack
 from scipy.optimize import brentq
 
-from .._progress import PHASE_DELAY, phase
+from .._progress import phase
 from ..errors import InputError
 from ..linear_system import speed_linear_form
-from . import _cost, _eigensolve, _roots, _whirl
+from . import _eigensolve, _roots, _whirl
 from .campbell import (_arguments_frequency, _arguments_modes, _campbell_lowest, _check_speeds,
                        _lowest_whirl_round_off, _progress, lowest_stack, solve_sweep, stack_root_count)
 from .modal import is_oscillating, modal, modal_quantities
@@ -316,7 +316,7 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
     with phase(progress, _THRESHOLDS) as bar:          # each step of the refinement: a whole eigen-solution
         thresholds, threshold_modes, onsets = threshold_speeds(
             form, speeds, eigenvalues, roundoff, largest=_counted(functools.partial(_largest_real_part, form), bar))
-    with phase(progress, "modes at the thresholds", delay=_at_once(form.n_states) if len(thresholds) else None):
+    with phase(progress, "modes at the thresholds"):   # modal's solve lets the clock run (_eigensolve.eig)
         crossing = _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes)
     return StabilityResult(
         speeds=speeds, eigenvalues=eigenvalues, real_parts=eigenvalues.real, damping_ratios=zeta,
@@ -328,13 +328,6 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
 
 #: the line shown while the thresholds are refined (:func:`.._progress.phase`)
 _THRESHOLDS = "stability thresholds"
-
-
-def _at_once(n_states):
-    """0 (the :func:`.._progress.phase` line drawn at once) where one eigen-solution through
-    ``scipy.linalg`` (:func:`.modal.modal`'s, which holds the GIL: the line's clock cannot start
-    during it) of ``n_states`` states may take longer than the line's usual delay; else None."""
-    return 0.0 if _cost._PESSIMISTIC * n_states ** 3 > PHASE_DELAY else None
 
 
 def _counted(largest, bar):

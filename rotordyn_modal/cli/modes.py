@@ -5,10 +5,11 @@ from __future__ import annotations
 import sys
 import numpy as np
 
+from .._progress import phase
 from ..errors import InputError
 from ..io.outline import read_outline
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
-                      add_speed_unit, check_extra_output, open_model, save_figure, speed_value, use_agg,
+                      add_speed_unit, check_extra_output, open_model, save_figure, show_progress, speed_value, use_agg,
                       undamped_zeros, whole_number, write_table)
 
 NAME = "modes"
@@ -122,7 +123,8 @@ def run(args) -> int:
     # the estimate is the sweeps' (analysis/_cost.py), modal's solve run with one BLAS thread as theirs
     work = refuse_long_work(model, [speed], critical=False, advice=_ADVICE)
     _announce_long_solve(model, work, args)
-    result = modal(model, speed)
+    with phase(show_progress(args), f"{NAME}: eigen-solution and shapes"):   # its clock ticks during LAPACK's solve
+        result = modal(model, speed)
     view = None
     if args.shape is not None or args.animate is not None:
         from ..analysis.mode_shapes import mode_shape_3d

@@ -47,8 +47,9 @@ PHASE_DELAY = 2.0
 
 #: rows tqdm assumes where the terminal's height is not known
 _UNKNOWN_ROWS = 20
-#: the shortest delay of a phase's line, however long the terminal has been silent before it [s]
-_SHORTEST_DELAY = 0.25
+#: the shortest delay of a phase's line, however long the terminal has been silent before it, as a
+#: fraction of :data:`PHASE_DELAY` (0.25 s)
+_SHORTEST_DELAY = 0.125
 #: monotonic times [s]: ``since``, the start of the terminal's silence (the last drawing or clearing
 #: by a bar of this module, or the start of the work that followed it); ``ended``, when the last bar
 #: or phase ended (None: none yet)
@@ -110,12 +111,13 @@ def phase(enabled, description, delay=None, file=None):
 def _phase_delay() -> float:
     """:data:`PHASE_DELAY` less the silence the phase continues: the time since the terminal's
     last drawing where the last bar or phase ended at most :data:`PHASE_DELAY` ago (work one step
-    after another), at least :data:`_SHORTEST_DELAY`; else :data:`PHASE_DELAY` (a new silence)."""
+    after another), at least its fraction :data:`_SHORTEST_DELAY`; else :data:`PHASE_DELAY` (a new
+    silence)."""
     now = time.monotonic()
     since, ended = _silence["since"], _silence["ended"]
     if since is None or ended is None or now - ended > PHASE_DELAY:
         _silence["since"] = since = now
-    return max(PHASE_DELAY - (now - since), _SHORTEST_DELAY)
+    return max(PHASE_DELAY - (now - since), _SHORTEST_DELAY * PHASE_DELAY)
 
 
 def _drawn():

@@ -22,8 +22,8 @@ that are not modes (real roots: relaxations of rubber mounts, directions without
 overdamped pairs) are counted on a line of their own: every real root of the state matrix,
 and how many of them (the half nearest zero) the result keeps beside one root of each pair.
 Numbers within the eigen-solve's round-off print as 0 (docs/theory.md section 8). A solve estimated over 20 s of CPU time (a flexible
-rotor of hundreds of nodes) is announced on stderr with its estimate before it starts, and one
-over the limit of CPU time (30 min, ROTORDYN_MODAL_MAX_CPU_MINUTES) is refused unless
+rotor of hundreds of nodes) is announced on stderr with its estimate before it starts (on a
+terminal, a line then shows its elapsed time while it runs), and one over the limit of CPU time (30 min, ROTORDYN_MODAL_MAX_CPU_MINUTES) is refused unless
 --allow-long; campbell --lowest N --speeds S:S:1 gives the lowest modes of such a model faster.
 --plot draws the modes' participation bars (--modes, default every mode, or modes 1-12 where
 there are more than 24), or, on a machine with a flexible rotor, its deflected shaft lines as

@@ -196,8 +196,9 @@ def eig(matrix: np.ndarray):
     wr, wi, left, vectors = np.empty(n), np.empty(n), np.empty((1, 1), order="F"), np.empty((n, n), order="F")
     space, status = np.empty(max(lwork, 1)), ctypes.c_int(0)
     size, one, length = ctypes.c_int(n), ctypes.c_int(1), ctypes.c_int(lwork)
+    jobs = ctypes.c_char(b"N"), ctypes.c_char(b"V")                         # no left vectors, right ones
     with _batches.one_blas_thread(72 * n * n):      # asked once scipy.linalg is loaded: its library too
-        function(ctypes.byref(ctypes.c_char(b"N")), ctypes.byref(ctypes.c_char(b"V")), ctypes.byref(size), a.ctypes.data, ctypes.byref(size),
+        function(ctypes.byref(jobs[0]), ctypes.byref(jobs[1]), ctypes.byref(size), a.ctypes.data, ctypes.byref(size),
                  wr.ctypes.data, wi.ctypes.data, left.ctypes.data, ctypes.byref(one), vectors.ctypes.data,
                  ctypes.byref(size), space.ctypes.data, ctypes.byref(length), ctypes.byref(status))
     if status.value != 0:

@@ -16,8 +16,14 @@ about 100 s on a shared machine) left the elapsed time standing, as if the progr
 thread redraws the bar every :data:`TICK_SECONDS` until it closes. :func:`phase` shows one line
 naming work that has no steps to count (tracking the modes after a sweep, the thresholds), with
 its clock. The clock runs while the step's LAPACK call runs only where that call releases the GIL:
-``numpy.linalg``'s do (the sweeps' eigen-solutions, the direct solves), ``scipy.linalg``'s wrappers
-do not (a thread cannot draw during ``scipy.linalg.eig``).
+``numpy.linalg``'s do (the sweeps' eigen-solutions, the direct solves), and so does
+:func:`.analysis._eigensolve.eig` (``modes``, frf's modal superposition, the modes at the stability
+thresholds); ``scipy.linalg``'s wrappers do not (a thread cannot draw during ``scipy.linalg.eig``:
+``modes`` at 500 geared rotors showed nothing for 181 s).
+
+A phase's delay counts from the terminal's last drawing by these bars, not from the phase's own
+start, where the phase follows other work at once (within :data:`PHASE_DELAY`): phases one after
+the other, each shorter than the delay, showed nothing for their sum (3.7 s at 200 geared rotors).
 """
 
 from __future__ import annotations
@@ -27,6 +33,7 @@ import functools
 import os
 import sys
 import threading
+import time
 import weakref
 
 __all__ = ["tqdm", "terminal_defaults", "phase", "TICK_SECONDS", "PHASE_DELAY"]
@@ -40,6 +47,13 @@ PHASE_DELAY = 2.0
 
 #: rows tqdm assumes where the terminal's height is not known
 _UNKNOWN_ROWS = 20
+#: the shortest delay of a phase's line, however long the terminal has been silent before it, as a
+#: fraction of :data:`PHASE_DELAY` (0.25 s)
+_SHORTEST_DELAY = 0.125
+#: monotonic times [s]: ``since``, the start of the terminal's silence (the last drawing or clearing
+#: by a bar of this module, or the start of the work that followed it); ``ended``, when the last bar
+#: or phase ended (None: none yet)
+_silence = {"since": None, "ended": None}
 
 
 def terminal_defaults(stream=None) -> dict:
@@ -87,11 +101,28 @@ def phase(enabled, description, delay=None, file=None):
         yield None
         return
     bar = tqdm(total=None, desc=f"{description}: ", bar_format="{desc}[{elapsed}]", leave=False, file=file,
-               delay=PHASE_DELAY if delay is None else delay)
+               delay=_phase_delay() if delay is None else delay)
     try:
         yield bar
     finally:
         bar.close()
+
+
+def _phase_delay() -> float:
+    """:data:`PHASE_DELAY` less the silence the phase continues: the time since the terminal's
+    last drawing where the last bar or phase ended at most :data:`PHASE_DELAY` ago (work one step
+    after another), at least its fraction :data:`_SHORTEST_DELAY`; else :data:`PHASE_DELAY` (a new
+    silence)."""
+    now = time.monotonic()
+    since, ended = _silence["since"], _silence["ended"]
+    if since is None or ended is None or now - ended > PHASE_DELAY:
+        _silence["since"] = since = now
+    return max(PHASE_DELAY - (now - since), _SHORTEST_DELAY * PHASE_DELAY)
+
+
+def _drawn():
+    """The terminal was drawn on (a bar's line drawn or cleared) just now: its silence starts again."""
+    _silence["since"] = time.monotonic()
 
 
 @functools.lru_cache(maxsize=None)
@@ -112,6 +143,9 @@ def _ticking(base):
                 ticker.stop()
                 if ticker.drawn and hasattr(self, "last_print_t"):   # tqdm clears only a bar it knows it drew
                     self.last_print_t = max(self.last_print_t, self.start_t + self.delay)
+                if ticker.drawn or not getattr(self, "delay", 0):    # drawn, now cleared or left
+                    _drawn()
+                _silence["ended"] = time.monotonic()
             super().close()
 
     Ticking.__name__ = Ticking.__qualname__ = base.__name__
@@ -141,7 +175,7 @@ class _Ticker:
         self._thread.start()
 
     def _run(self, reference):
-        while not self._stopped.wait(TICK_SECONDS):
+        while not self._stopped.wait(self._wait(reference)):
             bar = reference()
             if bar is None or bar.disable:
                 return
@@ -149,10 +183,21 @@ class _Ticker:
                 if bar._time() >= bar.start_t + bar.delay:
                     bar.refresh()
                     self.drawn = True
+                    _drawn()
             except Exception:          # a closed or broken stream: stop drawing, never raise here
                 return
             finally:
                 del bar
+
+    def _wait(self, reference) -> float:
+        """Seconds to the next drawing: :data:`TICK_SECONDS`, or less to the end of the first
+        drawing's delay (a phase's delay shortened by the silence before it is kept to)."""
+        bar = reference()
+        try:
+            left = TICK_SECONDS if bar is None or self.drawn else bar.start_t + bar.delay - bar._time()
+        except Exception:
+            left = TICK_SECONDS
+        return min(TICK_SECONDS, left + 0.001) if left > 0 else TICK_SECONDS
 
     def stop(self):
         """Stop redrawing; returns once the thread has ended (at once from the thread itself: a

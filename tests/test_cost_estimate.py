@@ -116,6 +116,8 @@ def test_the_dense_solves_run_with_one_blas_thread_as_estimated(examples_dir, mo
             return _original(*args, **kwargs)
 
         monkeypatch.setattr(module, name, spy)
+    dgeev = _eigensolve._dgeev()                                             # scipy's LAPACK, the GIL released
+    monkeypatch.setattr(_eigensolve, "_dgeev", lambda: lambda *args: spy(*args, _original=dgeev))
     model = rdm.load_model(examples_dir / "compressor_rotor.toml")           # 106 states
     rdm.modal(model, 300.0)
     _eigensolve.upper_shapes(rdm.linear_system.speed_linear_form(model).at(np.array([300.0])), model.dofs.n)

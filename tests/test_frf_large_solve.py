@@ -5,6 +5,7 @@ announced on stderr with its estimate before it starts (it ran about 4 minutes w
 
 from __future__ import annotations
 
+import functools
 import sys
 from pathlib import Path
 
@@ -13,7 +14,7 @@ import pytest
 import scipy.linalg
 
 import rotordyn_modal as rdm
-from rotordyn_modal.analysis import _cost, _work
+from rotordyn_modal.analysis import _cost, _eigensolve, _work
 from rotordyn_modal.cli import main
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -31,13 +32,14 @@ def test_the_modal_superposition_solves_with_one_blas_thread(tmp_path, monkeypat
         pytest.skip("BLAS runs one thread here anyway")
     model = rdm.Model.from_dict(__import__("tomllib").loads(chained_gear_toml(20, 20) + EXCITATION + SENSOR))
     assert model.dofs.n == 86                               # 172 states: BLAS would start threads
-    seen, original = [], scipy.linalg.eig
+    seen, original, dgeev = [], scipy.linalg.eig, _eigensolve._dgeev()
 
-    def spy(*args, **kwargs):
+    def spy(*args, _original=original, **kwargs):
         seen.append(_blas_threads())
-        return original(*args, **kwargs)
+        return _original(*args, **kwargs)
 
     monkeypatch.setattr(scipy.linalg, "eig", spy)
+    monkeypatch.setattr(_eigensolve, "_dgeev", lambda: functools.partial(spy, _original=dgeev))  # scipy's LAPACK
     result = rdm.frf(model, 100.0, np.linspace(1.0, 50.0, 5))
     assert result.engine == "modal" and seen == [1]
 

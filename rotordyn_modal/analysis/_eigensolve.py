@@ -8,13 +8,14 @@ eigenvector."""
 
 from __future__ import annotations
 
+import ctypes
 import functools
 
 import numpy as np
 
 from . import _batches, _roots, _vectors
 
-__all__ = ["REPEATED_TOLERANCE", "TIE_TOLERANCE", "eigenvalues_of", "frequency_order", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
+__all__ = ["REPEATED_TOLERANCE", "TIE_TOLERANCE", "eig", "eigenvalues_of", "frequency_order", "resolve_groups", "resolve_repeated", "select_upper", "solve_batch", "upper_eigenvalues",
            "upper_indices", "upper_shapes", "ratio_round_off", "INEXACT_LEVEL", "pencil_round_off", "refined_pairs", "warn_of_inexact_roots", "branch_terms",
            "POLISH_WORK", "polish_work"]
 
@@ -159,6 +160,77 @@ def _upper_eigenvalues_part(matrices: np.ndarray):
     values = np.linalg.eigvals(matrices)
     noise = _roots.deciding_round_off(values, matrices)      # decides `needed` as the round-off would
     return upper_indices(_roots.snapped(values, noise))[1], _judged_by_shape(values, noise)
+
+
+def eig(matrix: np.ndarray):
+    """``scipy.linalg.eig(matrix)`` (eigenvalues and right eigenvectors), bit for bit, with the
+    GIL released during LAPACK's ``dgeev``: scipy's own ``dgeev`` (from
+    ``scipy.linalg.cython_lapack``, the library scipy's wrapper calls) through ``ctypes``, with
+    scipy's workspace (``geev_lwork``) and its packing of complex vectors. scipy's wrapper holds
+    the GIL (no ``threadsafe``): no other thread ran during it, so the clock of a progress line
+    (:mod:`.._progress`) stood for the whole solve (500 geared rotors, 4,012 states: about 45 s of
+    CPU). LAPACK runs with one BLAS thread (:func:`._batches.one_blas_thread`), as every dense
+    eigen-solution. Matrices other than a real square one, or where the routine cannot be had:
+    scipy's.
+
+    Parameters
+    ----------
+    matrix : ndarray, shape (n, n)
+
+    Returns
+    -------
+    values : ndarray, shape (n,), complex
+    vectors : ndarray, shape (n, n), Fortran-ordered, real where every value is real, else complex
+    """
+    import scipy.linalg
+
+    a = np.asarray_chkfinite(matrix)
+    function = _dgeev()
+    if function is None or a.dtype != np.float64 or a.ndim != 2 or a.shape[0] != a.shape[1] or a.size == 0:
+        return scipy.linalg.eig(matrix)
+    n = a.shape[0]
+    work, info = scipy.linalg.get_lapack_funcs("geev_lwork", (a,))(n, compute_vl=0, compute_vr=1)
+    if info != 0:                                                           # pragma: no cover
+        return scipy.linalg.eig(matrix)
+    a = np.array(a, order="F")
+    lwork = int(work.real)
+    wr, wi, left, vectors = np.empty(n), np.empty(n), np.empty((1, 1), order="F"), np.empty((n, n), order="F")
+    space, status = np.empty(max(lwork, 1)), ctypes.c_int(0)
+    size, one, length = ctypes.c_int(n), ctypes.c_int(1), ctypes.c_int(lwork)
+    jobs = ctypes.c_char(b"N"), ctypes.c_char(b"V")                         # no left vectors, right ones
+    with _batches.one_blas_thread(72 * n * n):      # asked once scipy.linalg is loaded: its library too
+        function(ctypes.byref(jobs[0]), ctypes.byref(jobs[1]), ctypes.byref(size), a.ctypes.data, ctypes.byref(size),
+                 wr.ctypes.data, wi.ctypes.data, left.ctypes.data, ctypes.byref(one), vectors.ctypes.data,
+                 ctypes.byref(size), space.ctypes.data, ctypes.byref(length), ctypes.byref(status))
+    if status.value != 0:
+        return scipy.linalg.eig(matrix)                                     # scipy's own error
+    values = wr + 1j * wi
+    if np.all(values.imag == 0.0):
+        return values, vectors
+    out = np.array(vectors, dtype=complex)               # as scipy's _make_complex_eigvecs
+    pairs = values.imag > 0
+    pairs[:-1] |= values.imag[1:] < 0
+    for i in np.flatnonzero(pairs):
+        out.imag[:, i] = vectors[:, i + 1]
+        np.conj(out[:, i], out[:, i + 1])
+    return values, out
+
+
+@functools.lru_cache(maxsize=1)
+def _dgeev():
+    """LAPACK's ``dgeev`` as a ``ctypes`` function (its pointer from ``scipy.linalg.cython_lapack``;
+    ``ctypes`` releases the GIL during the call), or None where it cannot be had."""
+    try:
+        from scipy.linalg import cython_lapack
+
+        capsule = cython_lapack.__pyx_capi__["dgeev"]
+        get_name = ctypes.PYFUNCTYPE(ctypes.c_char_p, ctypes.py_object)(("PyCapsule_GetName", ctypes.pythonapi))
+        pointer = ctypes.PYFUNCTYPE(ctypes.c_void_p, ctypes.py_object, ctypes.c_char_p)(
+            ("PyCapsule_GetPointer", ctypes.pythonapi))
+        address = pointer(capsule, get_name(capsule))
+    except (ImportError, AttributeError, KeyError, ValueError, OSError):   # pragma: no cover
+        return None
+    return ctypes.CFUNCTYPE(None, *([ctypes.c_void_p] * 14))(address) if address else None
 
 
 def select_upper(values: np.ndarray) -> np.ndarray:

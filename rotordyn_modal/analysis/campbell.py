@@ -663,7 +663,7 @@ def _campbell_lowest(stack, speeds, orders, critical, count, limit=None, progres
     critical = bool(critical) and len(orders) > 0 and values.shape[-1] > 0
     if critical:
         tables = _find_critical_speeds(stack, speeds, values, weighted, sources, tuple(orders), shapes,
-                                       oscillating if wanted is None else oscillating & _near(wanted), False,
+                                       oscillating if wanted is None else oscillating & _near(wanted), progress,
                                        lambda crossings: _refuse_crossings(stack, len(speeds), crossings,
                                                                            values.shape[-1]))
         if wanted is not None:

@@ -34,7 +34,7 @@ from ..assembly import constant_matrices, dependent_bearing_matrices, excitation
 from ..errors import InputError
 from ..model._table import visible_names
 from ..elements.mounts import has_frequency_dependence, maxwell_frame_stiffness, maxwell_stiffness
-from . import _arguments, _batches
+from . import _arguments, _batches, _eigensolve
 
 __all__ = ["FRFResult", "frf", "frf_of_checked_model", "dynamic_stiffness", "dof_response", "choose_engine", "QUANTITIES"]
 
@@ -598,7 +598,7 @@ def _modal_terms(model, speed, rows, columns):
     # one BLAS thread, as modal's eigen-solution and its CPU estimate (rotordyn_modal/_blas.py):
     # with OpenBLAS's threads, frf on 500 geared rotors (4,012 states) took 118 s of CPU, modes 45 s
     with one_blas_thread(72 * matrix.shape[-1] ** 2):
-        values, vectors = scipy.linalg.eig(matrix)
+        values, vectors = _eigensolve.eig(matrix)      # scipy.linalg.eig's, the GIL released (a clock ticks)
         # the LU that solves for V^-1 B also estimates V's condition (LAPACK gecon, 1-norm):
         # O(n^2) where the 2-norm's SVD would cost about half the eigen-decomposition again
         factors = scipy.linalg.lu_factor(vectors, check_finite=False)

@@ -6,7 +6,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import scipy.linalg
 
 from ..model.geometry import point_motion_row
 from ..linear_system import speed_linear_form
@@ -363,7 +362,7 @@ def modal(model, speed: float = 0.0) -> ModalResult:
     # one BLAS thread, as every dense eigen-solution runs and as its estimate times it
     # (analysis/_cost.py): OpenBLAS's own threads cost 6-20 times the CPU on a shared machine
     with _batches.one_blas_thread(72 * matrix.shape[-1] ** 2):
-        values, vectors = scipy.linalg.eig(matrix)
+        values, vectors = _eigensolve.eig(matrix)      # scipy.linalg.eig's, the GIL released (a clock ticks)
     n = form.n_dof
     noise = float(_roots.round_off(matrix))
     snapped, own, refined = _roots.snapped_with_round_off(values, noise, matrix, vectors, n, form.matrices.M)

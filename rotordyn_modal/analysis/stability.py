@@ -9,10 +9,10 @@ import numpy as np
 import scipy.linalg.lapack
 from scipy.optimize import brentq
 
-from .._progress import PHASE_DELAY, phase
+from .._progress import phase
 from ..errors import InputError, ModelWarning
 from ..linear_system import speed_linear_form
-from . import _cost, _eigensolve, _roots, _whirl
+from . import _eigensolve, _roots, _whirl
 from ._stack import Stack
 from .campbell import (_arguments_frequency, _arguments_modes, _campbell_lowest, _check_speeds, _refine_inexact,
                        _lowest_whirl_round_off, _progress, lowest_stack, solve_sweep, solve_sweeps, stack_root_count)
@@ -322,7 +322,7 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
             form, speeds, eigenvalues, roundoff,
             largest=_counted(functools.partial(_polished_largest_real_part, stack) if inexact
                              else functools.partial(_largest_real_part, form), bar))
-    with phase(progress, "modes at the thresholds", delay=_at_once(form.n_states) if len(thresholds) else None):
+    with phase(progress, "modes at the thresholds"):   # modal's solve lets the clock run (_eigensolve.eig)
         crossing = _crossing_roots(model, speeds, eigenvalues, thresholds, threshold_modes)
     return StabilityResult(
         speeds=speeds, eigenvalues=eigenvalues, real_parts=eigenvalues.real, damping_ratios=zeta,
@@ -334,13 +334,6 @@ def stability(model, speeds, vary: str | None = None, values=None, scale=None, p
 
 #: the line shown while the thresholds are refined (:func:`.._progress.phase`)
 _THRESHOLDS = "stability thresholds"
-
-
-def _at_once(n_states):
-    """0 (the :func:`.._progress.phase` line drawn at once) where one eigen-solution through
-    ``scipy.linalg`` (:func:`.modal.modal`'s, which holds the GIL: the line's clock cannot start
-    during it) of ``n_states`` states may take longer than the line's usual delay; else None."""
-    return 0.0 if _cost._PESSIMISTIC * n_states ** 3 > PHASE_DELAY else None
 
 
 def _counted(largest, bar):

@@ -8,11 +8,12 @@ import sys
 import numpy as np
 
 from ..analysis.spectra import QUANTITY_OF_RESPONSE
+from .._progress import phase
 from ..errors import InputError
 from ..units import FRF_OUTPUT_KINDS, ratio_scale
 from ._common import (IN_SPEED_UNIT, NAME_LIST_HELP, add_alias, add_input_file, add_model_argument, add_outputs,
                       add_sensor_argument, add_speed_unit, as_typed, check_known, open_model, parse_names, parse_range,
-                      save_figure, speed_value, use_agg, write_table)
+                      save_figure, show_progress, speed_value, use_agg, write_table)
 
 NAME = "frf"
 #: the Python arguments the options set, as messages name them (``main`` says the option as typed)
@@ -122,7 +123,8 @@ def run(args) -> int:
     else:
         inputs, outputs = excitation_names(args, model), sensor_names(args, model)
         _announce_long_solve(model, args)
-        result = frf(model, speed, freqs, inputs=inputs, outputs=outputs, quantity=args.quantity)
+        with phase(show_progress(args), f"{NAME}: FRFs at {len(freqs):,} frequencies"):   # ticks during LAPACK's solve
+            result = frf(model, speed, freqs, inputs=inputs, outputs=outputs, quantity=args.quantity)
     measured = _measured_at(args, model, speed) if args.measured else None
     if args.out and args.out.lower().endswith((".uff", ".unv")):
         _write_uff(result, model, args)

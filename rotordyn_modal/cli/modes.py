@@ -5,10 +5,11 @@ from __future__ import annotations
 import sys
 import numpy as np
 
+from .._progress import phase
 from ..errors import InputError
 from ..io.outline import read_outline
 from ._common import (IN_SPEED_UNIT, add_allow_long, add_input_file, add_model_argument, add_output_file, add_outputs,
-                      add_speed_unit, check_extra_output, open_model, save_figure, speed_value, use_agg,
+                      add_speed_unit, check_extra_output, open_model, save_figure, show_progress, speed_value, use_agg,
                       undamped_zeros, whole_number, write_table)
 
 NAME = "modes"
@@ -21,8 +22,8 @@ that are not modes (real roots: relaxations of rubber mounts, directions without
 overdamped pairs) are counted on a line of their own: every real root of the state matrix,
 and how many of them (the half nearest zero) the result keeps beside one root of each pair.
 Numbers within the eigen-solve's round-off print as 0 (docs/theory.md section 8). A solve estimated over 20 s of CPU time (a flexible
-rotor of hundreds of nodes) is announced on stderr with its estimate before it starts, and one
-over the limit of CPU time (30 min, ROTORDYN_MODAL_MAX_CPU_MINUTES) is refused unless
+rotor of hundreds of nodes) is announced on stderr with its estimate before it starts (on a
+terminal, a line then shows its elapsed time while it runs), and one over the limit of CPU time (30 min, ROTORDYN_MODAL_MAX_CPU_MINUTES) is refused unless
 --allow-long; campbell --lowest N --speeds S:S:1 gives the lowest modes of such a model faster.
 --plot draws the modes' participation bars (--modes, default every mode, or modes 1-12 where
 there are more than 24), or, on a machine with a flexible rotor, its deflected shaft lines as
@@ -122,7 +123,8 @@ def run(args) -> int:
     # the estimate is the sweeps' (analysis/_cost.py), modal's solve run with one BLAS thread as theirs
     work = refuse_long_work(model, [speed], critical=False, advice=_ADVICE)
     _announce_long_solve(model, work, args)
-    result = modal(model, speed)
+    with phase(show_progress(args), f"{NAME}: eigen-solution and shapes"):   # its clock ticks during LAPACK's solve
+        result = modal(model, speed)
     view = None
     if args.shape is not None or args.animate is not None:
         from ..analysis.mode_shapes import mode_shape_3d

@@ -109,3 +109,38 @@ def _exact_terms(a, b):
     p = a * b
     (ah, al), (bh, bl) = split(a), split(b)
     return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+def test_a_simulation_of_a_large_machine_builds_its_linear_form_once(monkeypatch):
+    """The rate's and the steps' bounds (ARPACK) and, where a check refuses on them, their exact
+    values (dense eigen-solutions) each built the form: four times (review_io)."""
+    import importlib
+    import tomllib
+
+    from rotordyn_modal import linear_system
+    from rotordyn_modal.errors import InputError
+    from test_large_machine_cli import chained_gear_toml
+
+    simulate_module = importlib.import_module("rotordyn_modal.simulation.simulate")
+    tap = '\n[[excitations]]\nname = "tap"\nposition = [0.0, 0.0, 0.4]\ndirection = [0.0, 0.0, 1.0]\n'
+    model = rdm.Model.from_dict(tomllib.loads(chained_gear_toml(10, 10) + tap), source="chain.toml")
+    monkeypatch.setattr(simulate_module, "_SMALL_DOF", 40)              # the large machine's checks, at 46
+    builds, checks = [], []
+    original = linear_system.SpeedLinearForm.__init__
+
+    def counted(self, *args, **kwargs):
+        builds.append(1)
+        original(self, *args, **kwargs)
+
+    def refused(*args, **kwargs):             # every CPU check refuses: the bounds, then the exact values
+        checks.append(1)
+        raise InputError("refused")
+
+    monkeypatch.setattr(linear_system.SpeedLinearForm, "__init__", counted)
+    monkeypatch.setattr(simulate_module, "_check_before_eigenvalues", lambda *args: None)
+    monkeypatch.setattr(simulate_module, "_check_cpu_time", refused)
+    monkeypatch.setenv("ROTORDYN_MODAL_MAX_CPU_MINUTES", "1000")          # a limit in force: the steps are read
+    with pytest.raises(InputError, match="^refused$"):
+        rdm.simulate(model, 1e-3, speed=100.0, samples=3, impulse="tap", backend="numpy")
+    assert checks                             # the exact values made (main: four builds, ARPACK's bounds or not)
+    assert len(builds) == 1

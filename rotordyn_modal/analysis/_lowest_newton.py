@@ -532,15 +532,33 @@ def _exact_sums(matrix, X):
     ``eps`` of itself plus ``n eps^2`` of its terms' sum of magnitudes, rounded to complex: the
     products exact (Dekker's splitting) and summed in pairs with their rounding errors kept
     (``TwoSum`` in a tree, the errors added at the end), all in array operations (:func:`_exact_product`
-    sums each row with ``math.fsum``, exactly but a row at a time)."""
+    sums each row with ``math.fsum``, exactly but a row at a time). The rows go through in parts of
+    about ``_batches._PART_BYTES`` (n = 2,000, k = 4: not 1.5 GB at once); each row's sums are its
+    own, so the parts do not change them."""
     A = np.asarray(matrix, dtype=float)
-    a_hi, a_lo = _halves(A)
     parts = np.concatenate([X.real, X.imag], axis=1)       # (n, 2k)
+    out = np.empty((A.shape[0], parts.shape[1]))
+    for rows in _batches.chunk_slices(A.shape[0], _SUMS_ROW_BYTES * A.shape[1] * parts.shape[1],
+                                      budget=_batches._PART_BYTES):
+        out[rows] = _row_sums(A[rows], parts)
+    k = X.shape[1]
+    return out[:, :k] + 1j * out[:, k:]
+
+
+#: work memory of :func:`_row_sums` per row, column of ``matrix`` and column of ``parts`` [bytes]
+#: (tracemalloc: 66 at n = 400, k = 4, the terms (2n, 2k) and their pairs' sums and errors)
+_SUMS_ROW_BYTES = 68
+
+
+def _row_sums(A, parts):
+    """:func:`_exact_sums`'s sums of the rows ``A`` (r, n) times the real parts ``parts`` (n, 2k),
+    shape (r, 2k)."""
+    a_hi, a_lo = _halves(A)
     b_hi, b_lo = _halves(parts)
-    p = A[:, :, None] * parts[None, :, :]                   # (n, n, 2k)
+    p = A[:, :, None] * parts[None, :, :]                   # (r, n, 2k)
     e = ((a_hi[:, :, None] * b_hi[None] - p) + a_hi[:, :, None] * b_lo[None] + a_lo[:, :, None] * b_hi[None]) \
         + a_lo[:, :, None] * b_lo[None]
-    terms = np.concatenate([p, e], axis=1)                  # (n, 2n, 2k)
+    terms = np.concatenate([p, e], axis=1)                  # (r, 2n, 2k)
     errors = []
     while terms.shape[1] > 1:
         if terms.shape[1] % 2:
@@ -550,9 +568,7 @@ def _exact_sums(matrix, X):
         virtual = total - a
         errors.append((a - (total - virtual)) + (b - virtual))
         terms = total
-    out = terms[:, 0] + np.concatenate(errors, axis=1).sum(axis=1)
-    k = X.shape[1]
-    return out[:, :k] + 1j * out[:, k:]
+    return terms[:, 0] + np.concatenate(errors, axis=1).sum(axis=1)
 
 
 def _polish_part(pencils, parts, index, lam, x):

@@ -680,10 +680,11 @@ def _result_fields(model, speeds, outputs, quantity, solved, resonances, critica
     )
 
 
-def _sensor_response(model, speeds, outputs, quantity):
+def _sensor_response(model, speeds, outputs, quantity, solved=None):
     """``(sources, w, response, (rotor_forces, speed_all, omega, q, shifts, motions))``: the sources, their
     circular frequencies ``w`` (n_src, N) [rad/s], the sensors' complex amplitudes ``response``
-    (n_outputs, n_src, N) and what the forces are computed from (``q`` (n_src N, n_dof, 1))."""
+    (n_outputs, n_src, N) and what the forces are computed from (``q`` (n_src N, n_dof, 1));
+    ``solved``: see :func:`_coordinate_response`."""
     sources, w, rotor_forces = unbalance_forces(model, speeds)
     n_src, n = len(sources), len(speeds)
     # (n_src * N,): sources one after another (one source: the speeds themselves, read only)
@@ -691,7 +692,7 @@ def _sensor_response(model, speeds, outputs, quantity):
     # every rotor's B_SR and motion T_j, found once for its unbalance force and its bearing force
     shifts = shift_matrices(model.reference_point, [r.center_of_mass for r in model.rotors])
     motions = model.dofs.motions([(r.name, False) for r in model.rotors])
-    q = _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions)
+    q = _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions, solved)
     # (i w)^0 is 1 + 0i: that scalar, not an array of it
     factor = (1j * w) ** _ORDER[quantity] if _ORDER[quantity] else 1.0 + 0.0j
     response = (sensor_rows(model, outputs, motions) @ q[..., 0].T).reshape(-1, n_src, n) * factor
@@ -727,7 +728,10 @@ def _unresolved_fields(model, speeds, outputs, quantity, ratios, swept, wanted=T
 
     if every.size:
         start = np.cumsum([0] + [len(c) for c, _ in found])
-        computed = _sensor_response(model, every, outputs, quantity)[2]             # (n_out, n_src, K)
+        own = np.zeros((len(found), every.size), dtype=bool)          # each source at its own speeds only
+        for j in range(len(found)):
+            own[j, start[j]:start[j + 1]] = True
+        computed = _sensor_response(model, every, outputs, quantity, own.ravel())[2]   # (n_out, n_src, K)
         for j in range(len(found)):
             values[:, j, :start[j + 1] - start[j]] = computed[:, j, start[j]:start[j + 1]]
     peak_at, peak_value, peak_width = cut_maxima(_own_source_curve(model, outputs, quantity), speeds,
@@ -771,17 +775,23 @@ def _clearance_planes(model, q, motions, n_src, n):
     return (rows @ q[..., 0].T).reshape(-1, 2, n_src, n).transpose(0, 2, 3, 1)
 
 
-def _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions):
+def _coordinate_response(model, sources, rotor_forces, speed_all, omega, shifts, motions, solved=None):
     """Complex amplitudes of the generalized coordinates, shape (n_src N, n_dof, 1), every
     source's unbalance force applied at its rotor's centre of mass (``shifts`` (R, 6, 6) and
-    ``motions`` (R, 6, n_dof): each rotor's ``shift_matrix(S, R_j)`` and body motion)."""
+    ``motions`` (R, 6, n_dof): each rotor's ``shift_matrix(S, R_j)`` and body motion);
+    ``solved`` (n_src N,) bool, optional: only those systems solved, the others' amplitudes zero
+    (each system is solved on its own: the solved ones are bit for bit as without it)."""
     index = {r.name: k for k, r in enumerate(model.rotors)}
     each = [generalized_force(model, src, None, rotor_forces[j], shifts[index[src]], motions[index[src]])
             if model.rotor(src).flexible is None else
             _flexible_generalized(model, src, np.reshape(speed_all, (len(sources), -1))[j])
             for j, src in enumerate(sources)]                                  # (n_src, N, n_dof)
-    generalized = np.stack(each) if len(each) > 1 else each[0]
-    return dof_response(model, speed_all, omega, generalized.reshape(len(omega), -1)[:, :, None])
+    generalized = (np.stack(each) if len(each) > 1 else each[0]).reshape(len(omega), -1)
+    if solved is None:
+        return dof_response(model, speed_all, omega, generalized[:, :, None])
+    q = np.zeros(generalized.shape + (1,), dtype=complex)
+    q[solved] = dof_response(model, speed_all[solved], omega[solved], generalized[solved][:, :, None])
+    return q
 
 
 def _force_fields(model, sources, rotor_forces, speed_all, omega, q, centres=None):

@@ -142,7 +142,8 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
         return _simulate_flexible(model, duration, speed, drive, final_speed, initial, impulse, impulse_size,
                                   samples, rtol, atol, unbalance_phases_deg, modes_below, progress, backend)
     large = model.dofs.n >= _SMALL_DOF             # the eigen-solutions below cost minutes
-    rate = _fastest_spin(model, speed, final_speed) if large else _fastest_rate(model, speed, final_speed)
+    form = _form_once(model)                       # the checks below share one linear form
+    rate = _fastest_spin(model, speed, final_speed) if large else _fastest_rate(model, speed, final_speed, form=form)
     _check_duration(duration, rate)                # before any work on a run that would not end
     system = system_arrays(model, unbalance_phases_deg)
     mode, accel = _drive(drive, speed, final_speed, duration)
@@ -153,15 +154,16 @@ def simulate(model, duration, speed=0.0, *, drive="constant", final_speed=None, 
     if large:
         timed = _check_before_eigenvalues(kn, system, extra, duration, rate, samples, speed)
         # the output times given, the rate only enters the checks: its bound serves where they pass
-        rate = _Bounded(lambda: _fastest_rate(model, speed, final_speed, announce=True, progress=progress),
-                        _most_rate(model, speed, final_speed) if samples else None)
+        rate = _Bounded(lambda: _fastest_rate(model, speed, final_speed, announce=True, progress=progress,
+                                                form=form),
+                        _most_rate(model, speed, final_speed, form) if samples else None)
         _checked_with(lambda: _check_duration(duration, rate.value), rate)
     else:
         exact_rate, timed = rate, None
         rate = _Bounded(lambda: exact_rate, None)
     count = samples or _default_samples(rate.value, duration)
-    steps = _Bounded(lambda: _fewest_steps(model, speed, duration, impulse),
-                     _most_steps(model, speed, duration, impulse) if large else None)
+    steps = _Bounded(lambda: _fewest_steps(model, speed, duration, impulse, form),
+                     _most_steps(model, speed, duration, impulse, form) if large else None)
     _checked_with(lambda: _check_cpu_time(kn, system, extra, duration, rate.value, count, steps.value),
                   rate, steps)                                          # before compiling anything
     announce_compilation(kn)
@@ -264,7 +266,7 @@ def _check_before_eigenvalues(kn, system, extra, duration, spin, samples, speed)
     return _check_cpu_time(kn, system, extra, duration, spin, count, y0=rest)
 
 
-def _fewest_steps(model, speed, duration, impulse) -> float:
+def _fewest_steps(model, speed, duration, impulse, form=None) -> float:
     """A low bound of DOP853's steps over ``duration`` [s]: the fastest mode an impulse through
     ``impulse`` (an excitation's name, or None: no bound, 0) excites, of the linear model at
     ``speed`` [rad/s] (its roots ``lambda_k`` and shapes ``v_k``; the impulse's velocity jump
@@ -272,13 +274,13 @@ def _fewest_steps(model, speed, duration, impulse) -> float:
     :data:`_EXCITED_SHARE` of the largest, needs ``duration |lambda_k| /`` :data:`_STEP_REACH` steps
     at least: the explicit integrator's stability, whatever the tolerances and the output times.
     0 where the decomposition cannot be made (the estimate then rests on the output times), and
-    where no CPU limit is in force (:func:`_check_cpu_time` would not read it)."""
+    where no CPU limit is in force (:func:`_check_cpu_time` would not read it). ``form``: see
+    :func:`_form_once`."""
     if impulse is None:
         return 0.0
     import scipy.linalg
 
     from ..assembly import _select, excitation_columns
-    from ..linear_system import speed_linear_form
 
     _select(model.excitations, [impulse], "excitation")      # an unknown name: the line of the impulse's own check
     from ..analysis._cost import limit_seconds, long_work_is_allowed
@@ -286,7 +288,7 @@ def _fewest_steps(model, speed, duration, impulse) -> float:
     if long_work_is_allowed() or not np.isfinite(limit_seconds()):
         return 0.0                                            # no limit to check it against: no eigen-solve
     try:
-        form = speed_linear_form(model)
+        form = (form or _form_once(model))()
         n = form.n_dof
         state = np.zeros(form.n_states)
         state[n:2 * n] = form.mass_inverse @ excitation_columns(model, [impulse])[:, 0]
@@ -350,49 +352,50 @@ def _checked_with(check, *numbers):
 _ARPACK_TOLERANCE, _ARPACK_MARGIN = 1e-8, 1.05
 
 
-def _most_steps(model, speed, duration, impulse):
+def _most_steps(model, speed, duration, impulse, form=None):
     """An upper bound of :func:`_fewest_steps` (the same arguments): the fastest root of the linear
     model at ``speed`` [rad/s], ``|lambda|`` largest (ARPACK, times :data:`_ARPACK_MARGIN`), as if
     the impulse excited it. 0 where :func:`_fewest_steps` is 0 without an eigen-solution; None
-    where ARPACK fails (the exact count is then made)."""
+    where ARPACK fails (the exact count is then made). ``form``: see :func:`_form_once`."""
     if impulse is None:
         return 0.0
     from ..analysis._cost import limit_seconds, long_work_is_allowed
     from ..assembly import _select
-    from ..linear_system import speed_linear_form
 
     _select(model.excitations, [impulse], "excitation")      # an unknown name: the line of the impulse's own check
     if long_work_is_allowed() or not np.isfinite(limit_seconds()):
         return 0.0
     try:
-        fastest = _largest_modulus(speed_linear_form(model).at(float(speed)))
+        fastest = _largest_modulus((form or _form_once(model))().at(float(speed)))
     except Exception:   # noqa: BLE001 - ARPACK's failure, or the model's that _fewest_steps takes as 0
         return None
     return duration * fastest * _ARPACK_MARGIN / _STEP_REACH
 
 
-def _most_rate(model, speed, final_speed):
+def _most_rate(model, speed, final_speed, form=None):
     """An upper bound of :func:`_fastest_rate` [rad/s] (the same arguments): at the same speed, the
     largest ``|lambda|`` (ARPACK, times :data:`_ARPACK_MARGIN`) for the largest ``|Im lambda|``.
-    None where ARPACK fails or the model is at fault (the exact rate is then made, and refuses)."""
+    None where ARPACK fails or the model is at fault (the exact rate is then made, and refuses).
+    ``form``: see :func:`_form_once`."""
     try:
-        natural = _at_first_speed(model, speed, final_speed, lambda matrix: _largest_modulus(matrix) * _ARPACK_MARGIN)
+        natural = _at_first_speed(model, speed, final_speed, lambda matrix: _largest_modulus(matrix) * _ARPACK_MARGIN,
+                                  form)
     except (ModelError, _NoBound):
         return None
     return max(_fastest_spin(model, speed, final_speed), natural)
 
 
-def _at_first_speed(model, speed, final_speed, solve) -> float:
+def _at_first_speed(model, speed, final_speed, solve, form=None) -> float:
     """``solve`` (a function of a state matrix, to a number) on the linear model's state matrix at the
     first of the speeds 0, ``speed`` and ``final_speed`` [rad/s] that the model takes (bearing tables
     may not reach 0); 0 where it takes none (a model without restoring force still simulates). A fault
-    of the model (:class:`ModelError`, not of one speed) and :class:`_NoBound` raise."""
+    of the model (:class:`ModelError`, not of one speed) and :class:`_NoBound` raise. ``form``: see :func:`_form_once`."""
     from ..analysis import _arguments
-    from ..linear_system import speed_linear_form
 
+    form = form or _form_once(model)
     for at in [v for v in (0.0, speed, final_speed) if v is not None]:
         try:
-            return solve(speed_linear_form(model).at(_arguments.speed(at)))
+            return solve(form().at(_arguments.speed(at)))
         except (ModelError, _NoBound):
             raise
         except Exception:  # noqa: BLE001 - a speed the model cannot take: the next one
@@ -781,12 +784,29 @@ def _impulse_velocity(model, system, kn, y0, name, size, mode):
 _FASTEST_JUMP = 1e4
 
 
+def _form_once(model):
+    """A callable giving ``model``'s linear form (:func:`.linear_system.speed_linear_form`), built
+    on its first call only: one simulation's checks (the rate's and the steps' bounds and their
+    exact values) share it (2,006 coordinates: its assembly and mass factor, about 4 s, had been
+    made up to four times). A build that raises is tried again on the next call, as before."""
+    from ..linear_system import speed_linear_form
+
+    built = []
+
+    def form():
+        if not built:
+            built.append(speed_linear_form(model))
+        return built[0]
+
+    return form
+
+
 def _fastest_spin(model, speed, final_speed) -> float:
     """The fastest rotor's spin [rad/s] at the reference speeds ``speed`` and ``final_speed``."""
     return max(abs(speed), abs(final_speed or 0.0)) * max(abs(r) for r in model.speed_ratios.values())
 
 
-def _fastest_rate(model, speed, final_speed, announce=False, progress=False):
+def _fastest_rate(model, speed, final_speed, announce=False, progress=False, form=None):
     """The fastest of the rotors' spins and the natural frequencies at rest [rad/s].
 
     The natural frequencies are the state matrix's eigenvalues alone (the largest ``|Im lambda|``,
@@ -795,11 +815,13 @@ def _fastest_rate(model, speed, final_speed, announce=False, progress=False):
     large machine only its largest roots (:func:`_largest_frequency`). ``announce``: say so on
     stderr first where the dense eigenvalues are made at a size where they take long
     (:data:`_ANNOUNCED_DOF` coordinates or more: 22 s of CPU time at 2,006, more than 100 s on a
-    loaded machine). ``progress``: the work shown as a :func:`~rotordyn_modal._progress.phase`."""
+    loaded machine). ``progress``: the work shown as a :func:`~rotordyn_modal._progress.phase`. ``form``: see
+    :func:`_form_once`."""
     from .._progress import phase
 
     with phase(progress, "simulate: the natural frequencies, for the default output times"):
-        natural = _at_first_speed(model, speed, final_speed, lambda matrix: _largest_frequency(matrix, announce))
+        natural = _at_first_speed(model, speed, final_speed, lambda matrix: _largest_frequency(matrix, announce),
+                                  form)
     return max(_fastest_spin(model, speed, final_speed), natural)
 
 

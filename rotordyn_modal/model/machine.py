@@ -203,9 +203,11 @@ class Model:
 
     @property
     def total_mass(self) -> float:
-        """Mass of the machine [kg]."""
+        """Mass of the machine [kg]: the stator's, the rotors' and the bearings' pedestals'
+        (a pedestal's weight is carried by the mounts as the others', docs/static.md)."""
         stator_mass = self.stator.mass if self.stator is not None else 0.0
-        return stator_mass + sum(r.mass for r in self.rotors)
+        pedestals = sum(b.pedestal.mass for b in self.bearings if getattr(b, "pedestal", None) is not None)
+        return stator_mass + sum(r.mass for r in self.rotors) + pedestals
 
     @property
     def dofs(self):

@@ -16,7 +16,32 @@ from ._common import (VALUE_OPTIONS, check_files, file_options, join_negative_va
 PROGRAM = "rotordyn-modal"
 
 
+class _StoreOnce(argparse._StoreAction):
+    """A value option given twice is refused in one line: argparse keeps the last value without a
+    word, so ``frf --sensor a --sensor b`` silently answered for ``b`` alone."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = parser.values_given
+        if self.dest in given:
+            first, spelling = given[self.dest]
+            listed = "[,"in str(self.metavar or "") or "," in str(self.metavar or "")
+            hint = f" (several values go in one option: {option_string} a,b)" if listed else ""
+            parser.error(f"{option_string} given twice ({spelling} {first!r}, then {values!r}): give it once{hint}")
+        given[self.dest] = (values, option_string)
+        super().__call__(parser, namespace, values, option_string)
+
+
 class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.register("action", None, _StoreOnce)
+        self.register("action", "store", _StoreOnce)
+        self.values_given = {}
+
+    def parse_known_args(self, args=None, namespace=None):
+        self.values_given = {}          # {dest: (value, spelling)} of this parse (_StoreOnce)
+        return super().parse_known_args(args, namespace)
+
     def error(self, message):  # usage errors: one line (no usage block before it), exit 2
         if message.startswith("one of the arguments ") and " " not in message[21:-12]:  # a required option
             message = f"the following arguments are required: {message[21:-12]}"     # and its hidden alias

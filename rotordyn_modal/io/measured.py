@@ -72,11 +72,11 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
 
     try:
         with open(path, "rb") as handle:
-            head = handle.read(16)
+            head = handle.read(512)
     except OSError as error:   # a file without read permission: PermissionError, exit 1
         raise InputError(f"{path}: cannot read the measured-data file ({error.strerror or error})") from None
     refuse_compressed(head, path, "measured-data file")   # m.uff.gz was "unknown measured data format '.gz'"
-    if is_universal_file(path):
+    if path.suffix.lower() in UFF_ENDINGS or _universal_head(head):   # is_universal_file of the head read
         from .uff import NoFunctionData, read_uff58
 
         if mapping is None or isinstance(mapping, ChannelMap):
@@ -87,7 +87,7 @@ def read_measured(path, model, mapping=None) -> list[FRFResult]:
             return read_uff58(path, model, channel_map)
         except NoFunctionData as error:
             raise _with_2414(error, path) from None
-    ending = path.suffix.lower() or _ending_of(path)    # /dev/stdin of a file, a name without an ending
+    ending = path.suffix.lower() or sniffed_ending(head)    # /dev/stdin of a file, a name without an ending
     if ending in TABLE_ENDINGS:
         if mapping is not None and not isinstance(mapping, ChannelMap):
             read_mapping(mapping, model)   # a missing or broken table named is refused, never passed over
@@ -181,15 +181,6 @@ def sniffed_ending(head: bytes) -> str:
     if head[:4] == TDMS_MAGIC:
         return ".tdms"
     return ".uff" if _universal_head(head) else ".csv"
-
-
-def _ending_of(path) -> str:
-    """:func:`sniffed_ending` of a regular file's first bytes ('' when it cannot be read: the reader says why)."""
-    try:
-        with open(path, "rb") as handle:
-            return sniffed_ending(handle.read(512))
-    except OSError:
-        return ""
 
 
 #: endings whose name says a measured file's format (any other is told from the bytes)

@@ -378,8 +378,7 @@ def _units_row_folded(table, path):
                              "under it (a row of units): expected one unit")
         renamed[column] = f"{column} [{unit}]" if given is None else column
     folded = table.iloc[1:].rename(columns=renamed).reset_index(drop=True)
-    folded.attrs = {**table.attrs, "first_line": table.attrs.get("first_line", 2) + 1,
-                    "lines": table.attrs.get("lines", [])[1:]}
+    folded.attrs = {**table.attrs, "lines": table.attrs.get("lines", [])[1:]}
     return folded
 
 

@@ -444,7 +444,7 @@ def _peak_search(model, inputs, n_states) -> tuple:
     # imported here, not first: it binds _eigensolve's functions when first imported (tests replace them)
     from ..analysis import unbalance_peaks
 
-    if x.size * float(n_states) ** 3 > unbalance_peaks._WORK:
+    if unbalance_peaks.not_looked_for(model, x, n_states=n_states):
         return 0.0, 0
     frequencies = _work._undamped_frequencies(model, float(x[len(x) // 2]))
     frequencies = np.zeros(0) if frequencies is None else np.sort(frequencies[frequencies > 0])
